@@ -1,0 +1,79 @@
+//! Machine instruction blocks: the narrow interface between the translator (AP) and the pulse
+//! core (NCBR/PGEN), held in the block buffer B1 (patent lines 283–357; SPEC §6).
+//!
+//! A block carries the axis amounts in pulses with their signs (direction and feed amount),
+//! the motion kind, the feed rate and the M, S and T functions (claim 7). It also keeps the
+//! absolute end point the translator computed, so that it can print as an ISO 6983 line.
+
+/// The motion a block commands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Motion {
+    /// Positioning at the rapid rate (G00), distributed by POUT.
+    Rapid,
+    /// Linear contouring at the block's feed (G01), distributed by LINE and PCHK.
+    Linear,
+    /// Clockwise arc in the XY plane (G02).
+    ArcCw,
+    /// Counter-clockwise arc in the XY plane (G03).
+    ArcCcw,
+    /// Dwell for `dwell_ns` of machine time (G04).
+    Dwell,
+    /// No motion: only M, S and T functions.
+    Aux,
+}
+
+/// One machine instruction block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    /// Block sequence number (the ISO `N` word), from 1.
+    pub seq: u32,
+    /// Source statement line (1-based) the block was generated from.
+    pub stmt: u32,
+    /// The motion kind.
+    pub motion: Motion,
+    /// Signed axis amounts in pulses, X, Y, Z: direction and feed amount.
+    pub delta: [i64; 3],
+    /// Absolute machine position in pulses at the end of the block, as translated.
+    pub end: [i64; 3],
+    /// Arc centre relative to the start point, pulses (I, J); only for arcs.
+    /// An arc whose `delta` is zero in X and Y is a full circle.
+    pub center: Option<[i64; 2]>,
+    /// Feed rate, mm/min, before override (0 for rapid, dwell and aux blocks).
+    pub feed: f64,
+    /// Dwell time, ns (only for `Motion::Dwell`).
+    pub dwell_ns: u64,
+    /// Spindle speed S, rpm, if the block sets it.
+    pub s: Option<u32>,
+    /// T code to select, if the block calls a tool.
+    pub t: Option<u32>,
+    /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end).
+    pub m: Option<u8>,
+}
+
+impl Block {
+    /// A block with no motion and no functions, to fill in field by field.
+    pub fn aux(seq: u32, stmt: u32, end: [i64; 3]) -> Block {
+        Block {
+            seq,
+            stmt,
+            motion: Motion::Aux,
+            delta: [0; 3],
+            end,
+            center: None,
+            feed: 0.0,
+            dwell_ns: 0,
+            s: None,
+            t: None,
+            m: None,
+        }
+    }
+
+    /// The absolute machine position in pulses where the block starts.
+    pub fn start(&self) -> [i64; 3] {
+        [
+            self.end[0] - self.delta[0],
+            self.end[1] - self.delta[1],
+            self.end[2] - self.delta[2],
+        ]
+    }
+}

@@ -1,0 +1,111 @@
+//! A small command-line parser: positional arguments, `--flag`, `--opt VALUE` (or
+//! `--opt=VALUE`), and repeatable options such as `-c CMD`.
+
+use std::collections::HashMap;
+
+/// How one option is spelled and whether it takes a value.
+#[derive(Clone, Copy, Debug)]
+pub struct Opt {
+    /// The spelling, with its dashes: `--tools`, `-c`.
+    pub name: &'static str,
+    /// Whether a value follows.
+    pub takes_value: bool,
+}
+
+/// Parsed arguments.
+#[derive(Clone, Debug, Default)]
+pub struct Args {
+    /// Positional arguments, in order.
+    pub positional: Vec<String>,
+    values: HashMap<&'static str, Vec<String>>,
+    flags: Vec<&'static str>,
+}
+
+impl Args {
+    /// Parses `argv` (without the program and subcommand names) against `opts`.
+    pub fn parse(argv: &[String], opts: &[Opt]) -> Result<Args, String> {
+        let mut a = Args::default();
+        let mut i = 0;
+        let mut only_positional = false;
+        while i < argv.len() {
+            let s = &argv[i];
+            i += 1;
+            if only_positional || !s.starts_with('-') || s == "-" {
+                a.positional.push(s.clone());
+                continue;
+            }
+            if s == "--" {
+                only_positional = true;
+                continue;
+            }
+            let (name, inline) = match s.split_once('=') {
+                Some((n, v)) if n.starts_with("--") => (n, Some(v.to_string())),
+                _ => (s.as_str(), None),
+            };
+            let opt = opts
+                .iter()
+                .find(|o| o.name == name)
+                .ok_or_else(|| format!("unknown option '{name}' (see --help)"))?;
+            if opt.takes_value {
+                let v = match inline {
+                    Some(v) => v,
+                    None => {
+                        let v = argv
+                            .get(i)
+                            .ok_or_else(|| format!("option '{name}' needs a value"))?;
+                        i += 1;
+                        v.clone()
+                    }
+                };
+                a.values.entry(opt.name).or_default().push(v);
+            } else {
+                if inline.is_some() {
+                    return Err(format!("option '{name}' takes no value"));
+                }
+                a.flags.push(opt.name);
+            }
+        }
+        Ok(a)
+    }
+
+    /// Whether a flag was given.
+    pub fn flag(&self, name: &str) -> bool {
+        self.flags.contains(&name)
+    }
+
+    /// The last value of an option.
+    pub fn value(&self, name: &str) -> Option<&str> {
+        self.values.get(name)?.last().map(|s| s.as_str())
+    }
+
+    /// Every value of a repeatable option, in order.
+    pub fn values(&self, name: &str) -> &[String] {
+        self.values.get(name).map(|v| v.as_slice()).unwrap_or(&[])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(s: &[&str]) -> Vec<String> {
+        s.iter().map(|x| x.to_string()).collect()
+    }
+
+    #[test]
+    fn parses_positional_values_and_flags() {
+        let opts = [
+            Opt { name: "-c", takes_value: true },
+            Opt { name: "--write", takes_value: false },
+            Opt { name: "--tools", takes_value: true },
+        ];
+        let a = Args::parse(&v(&["f", "-c", "1L", "--write", "-c", "I*", "--tools=t.tt"]), &opts)
+            .unwrap();
+        assert_eq!(a.positional, v(&["f"]));
+        assert_eq!(a.values("-c"), &v(&["1L", "I*"])[..]);
+        assert!(a.flag("--write"));
+        assert_eq!(a.value("--tools"), Some("t.tt"));
+        assert!(Args::parse(&v(&["--bogus"]), &opts).unwrap_err().contains("unknown option"));
+        assert!(Args::parse(&v(&["-c"]), &opts).unwrap_err().contains("needs a value"));
+    }
+}

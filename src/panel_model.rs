@@ -1,0 +1,350 @@
+//! The panel model shared by every front end (terminal, window, script): the selector
+//! positions, the operator's actions (panel events) and the view a front end draws.
+//! The `Console` consumes `PanelEvent`s and produces a `PanelView` (SPEC §1, §8).
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Operation mode selector 17 (relay panel), seven positions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OpMode {
+    /// CONTINUOUS: jog while held.
+    Continuous,
+    /// AUTO: run program memory.
+    Auto,
+    /// MDI: run the MDI buffer.
+    Mdi,
+    /// DATA INPUT: editing and data entry, machine stopped.
+    Data,
+    /// HANDLE: manual pulse generator.
+    Handle,
+    /// STEP: incremental jog.
+    Step,
+    /// SINGLE BLOCK: each START runs one block.
+    Single,
+}
+
+impl OpMode {
+    /// The seven positions in selector order.
+    pub const ALL: [OpMode; 7] = [
+        OpMode::Continuous,
+        OpMode::Auto,
+        OpMode::Mdi,
+        OpMode::Data,
+        OpMode::Handle,
+        OpMode::Step,
+        OpMode::Single,
+    ];
+
+    /// The script word (`op WORD`).
+    pub fn word(self) -> &'static str {
+        match self {
+            OpMode::Continuous => "CONTINUOUS",
+            OpMode::Auto => "AUTO",
+            OpMode::Mdi => "MDI",
+            OpMode::Data => "DATA",
+            OpMode::Handle => "HANDLE",
+            OpMode::Step => "STEP",
+            OpMode::Single => "SINGLE",
+        }
+    }
+
+    /// The position parsed from its script word (case-insensitive).
+    pub fn from_word(w: &str) -> Option<OpMode> {
+        OpMode::ALL
+            .into_iter()
+            .find(|m| m.word().eq_ignore_ascii_case(w))
+    }
+}
+
+/// Data-processing mode selector 16 (NC panel), seven positions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DataMode {
+    /// SEARCH: position the program at a statement.
+    Search,
+    /// PROGRAM READ: tape to program memory.
+    Read,
+    /// PROGRAM REVISION: the editor on program memory.
+    Revise,
+    /// TOOL DATA READ: tool tape to the tool file.
+    ToolRead,
+    /// TOOL DATA REVISION: the editor on the tool file.
+    ToolRevise,
+    /// T-CODE SETTING: assign tool numbers to T codes.
+    TCode,
+    /// MDI: the editor on the MDI buffer.
+    Mdi,
+}
+
+impl DataMode {
+    /// The seven positions in selector order.
+    pub const ALL: [DataMode; 7] = [
+        DataMode::Search,
+        DataMode::Read,
+        DataMode::Revise,
+        DataMode::ToolRead,
+        DataMode::ToolRevise,
+        DataMode::TCode,
+        DataMode::Mdi,
+    ];
+
+    /// The script word (`data WORD`).
+    pub fn word(self) -> &'static str {
+        match self {
+            DataMode::Search => "SEARCH",
+            DataMode::Read => "READ",
+            DataMode::Revise => "REVISE",
+            DataMode::ToolRead => "TOOLREAD",
+            DataMode::ToolRevise => "TOOLREVISE",
+            DataMode::TCode => "TCODE",
+            DataMode::Mdi => "MDI",
+        }
+    }
+
+    /// The position parsed from its script word (case-insensitive).
+    pub fn from_word(w: &str) -> Option<DataMode> {
+        DataMode::ALL
+            .into_iter()
+            .find(|m| m.word().eq_ignore_ascii_case(w))
+    }
+}
+
+/// A machine axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// X axis.
+    X,
+    /// Y axis.
+    Y,
+    /// Z axis.
+    Z,
+}
+
+impl Axis {
+    /// Index 0, 1, 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// The axis letter parsed (case-insensitive).
+    pub fn from_word(w: &str) -> Option<Axis> {
+        match w.to_ascii_uppercase().as_str() {
+            "X" => Some(Axis::X),
+            "Y" => Some(Axis::Y),
+            "Z" => Some(Axis::Z),
+            _ => None,
+        }
+    }
+
+    /// The axis letter.
+    pub fn letter(self) -> char {
+        ['X', 'Y', 'Z'][self.index()]
+    }
+}
+
+/// One operator action at the panel. The script format of SPEC §8 maps line for line onto it;
+/// interactive front ends add per-key events.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PanelEvent {
+    /// Turn the operation mode selector 17.
+    Op(OpMode),
+    /// Turn the data-processing mode selector 16.
+    Data(DataMode),
+    /// Data keys: a whole line, then EOB (`type TEXT`).
+    Type(String),
+    /// One data key (interactive typing).
+    Key(char),
+    /// Rub out the last typed character (interactive typing).
+    Rubout,
+    /// The end-of-block key (Enter).
+    Eob,
+    /// Put a file in the tape reader.
+    Tape(PathBuf),
+    /// Cycle start.
+    Start,
+    /// Feed hold.
+    Stop,
+    /// Reset.
+    Reset,
+    /// Emergency stop.
+    EStop,
+    /// Feed override, percent (0–150, 10 % steps).
+    Override(u32),
+    /// Handwheel: N detents on an axis, at the selected ×1/×10/×100 scale.
+    Wheel(Axis, i32),
+    /// Handwheel pulses-per-detent selector (1, 10 or 100).
+    WheelScale(u32),
+    /// Jog button pressed (CONTINUOUS: move while held; STEP: one increment), +1 or -1.
+    Jog(Axis, i8),
+    /// Jog button released.
+    JogRelease,
+    /// Wait until the machine is idle (script only).
+    Wait,
+    /// Print the display frame (script only).
+    Show,
+}
+
+/// A bad panel-script line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptError {
+    /// 1-based line in the script.
+    pub line: u32,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "line {}: {}", self.line, self.message)
+    }
+}
+
+impl PanelEvent {
+    /// Parses one script line (SPEC §8). `Ok(None)` for a blank or comment line.
+    pub fn parse_script_line(raw: &str) -> Result<Option<PanelEvent>, String> {
+        let line = raw.trim_end_matches(['\r', '\n']);
+        let trimmed = line.trim_start();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            return Ok(None);
+        }
+        let (word, rest) = match trimmed.find(char::is_whitespace) {
+            Some(i) => (&trimmed[..i], &trimmed[i + 1..]),
+            None => (trimmed, ""),
+        };
+        // `type` keeps its text verbatim (a `#` there is data); other lines may carry comments.
+        if word == "type" {
+            return Ok(Some(PanelEvent::Type(rest.to_string())));
+        }
+        let rest = rest.split('#').next().unwrap_or("").trim();
+        let args: Vec<&str> = rest.split_whitespace().collect();
+        let one = |what: &str| -> Result<&str, String> {
+            match args.as_slice() {
+                [a] => Ok(*a),
+                _ => Err(format!("'{word}' takes one {what}")),
+            }
+        };
+        let none = || -> Result<(), String> {
+            if args.is_empty() {
+                Ok(())
+            } else {
+                Err(format!("'{word}' takes no argument"))
+            }
+        };
+        let ev = match word {
+            "op" => {
+                let a = one("position")?;
+                PanelEvent::Op(OpMode::from_word(a).ok_or_else(|| {
+                    format!("unknown operation mode '{a}' (CONTINUOUS AUTO MDI DATA HANDLE STEP SINGLE)")
+                })?)
+            }
+            "data" => {
+                let a = one("position")?;
+                PanelEvent::Data(DataMode::from_word(a).ok_or_else(|| {
+                    format!("unknown data mode '{a}' (SEARCH READ REVISE TOOLREAD TOOLREVISE TCODE MDI)")
+                })?)
+            }
+            "tape" => {
+                if rest.is_empty() {
+                    return Err("'tape' takes a file path".into());
+                }
+                PanelEvent::Tape(PathBuf::from(rest))
+            }
+            "start" => none().map(|_| PanelEvent::Start)?,
+            "stop" => none().map(|_| PanelEvent::Stop)?,
+            "reset" => none().map(|_| PanelEvent::Reset)?,
+            "estop" => none().map(|_| PanelEvent::EStop)?,
+            "wait" => none().map(|_| PanelEvent::Wait)?,
+            "show" => none().map(|_| PanelEvent::Show)?,
+            "override" => {
+                let a = one("percentage")?;
+                let p: u32 = a
+                    .trim_end_matches('%')
+                    .parse()
+                    .map_err(|_| format!("override '{a}' is not a whole percentage"))?;
+                if p > 150 || p % 10 != 0 {
+                    return Err(format!("override {p} % is not 0 to 150 in 10 % steps"));
+                }
+                PanelEvent::Override(p)
+            }
+            "wheel" => match args.as_slice() {
+                [a, n] => {
+                    let axis = Axis::from_word(a)
+                        .ok_or_else(|| format!("unknown axis '{a}' (X, Y or Z)"))?;
+                    let n: i32 = n
+                        .parse()
+                        .map_err(|_| format!("detents '{n}' is not a whole number"))?;
+                    PanelEvent::Wheel(axis, n)
+                }
+                _ => return Err("'wheel' takes an axis and a number of detents".into()),
+            },
+            other => return Err(format!("unknown script word '{other}'")),
+        };
+        Ok(Some(ev))
+    }
+
+    /// Parses a whole script; the first bad line fails it.
+    pub fn parse_script(text: &str) -> Result<Vec<PanelEvent>, ScriptError> {
+        let mut out = Vec::new();
+        for (i, l) in text.lines().enumerate() {
+            match PanelEvent::parse_script_line(l) {
+                Ok(Some(e)) => out.push(e),
+                Ok(None) => {}
+                Err(message) => {
+                    return Err(ScriptError {
+                        line: i as u32 + 1,
+                        message,
+                    })
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The lamps of the relay panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Lamps {
+    /// RUN ≠ 0.
+    pub run: bool,
+    /// Feed hold in force.
+    pub hold: bool,
+    /// Emergency stop in force (RESET required).
+    pub estop: bool,
+    /// An alarm is shown (fault, travel limit, translation error).
+    pub alarm: bool,
+}
+
+/// Everything a front end draws: produced by the console, identical for terminal and window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PanelView {
+    /// The plasma display: exactly `rows` lines of exactly `cols` characters.
+    pub display: Vec<String>,
+    /// Operation mode selector position.
+    pub op_mode: OpMode,
+    /// Data-processing mode selector position.
+    pub data_mode: DataMode,
+    /// RUN flag: 0 stopped, 1 AUTO, 2 MDI.
+    pub run: u8,
+    /// Relay panel lamps.
+    pub lamps: Lamps,
+    /// Feed override, percent.
+    pub feed_override: u32,
+    /// Axis positions, mm (machine coordinates).
+    pub axis_mm: [f64; 3],
+    /// Tool-tip position, mm (Z less the set length of the tool in the spindle).
+    pub tip_mm: [f64; 3],
+    /// T code in the spindle, if any.
+    pub tool: Option<u32>,
+    /// Spindle speed, rpm, signed; 0 stopped.
+    pub spindle: i64,
+    /// Handwheel axis and pulses per detent.
+    pub wheel: (Axis, u32),
+    /// The line being typed on the data keys.
+    pub entry: String,
+    /// Machine time, ns.
+    pub machine_ns: u64,
+}

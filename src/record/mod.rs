@@ -1,0 +1,116 @@
+//! Recording: events from the pulse core and the console go to a recorder thread that writes
+//! an MCAP file (SPEC §7). The sender side never blocks: if the recorder falls behind, events are
+//! dropped, the recording is marked incomplete, and the operator is told.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{SyncSender, TrySendError};
+use std::sync::Arc;
+
+/// One thing to record. Every time is machine time in ns since the run started.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Event {
+    /// `/nc/block`: a block starts executing.
+    Block {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// Block sequence number.
+        seq: u32,
+        /// Source statement line, 1-based.
+        stmt: u32,
+        /// The block's ISO line.
+        text: String,
+    },
+    /// `/nc/position`: axis positions in pulses (mm derived from the pulse length).
+    Position {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// Pulse counters X, Y, Z.
+        pulses: [i64; 3],
+    },
+    /// `/nc/pulses`: a batch of pulses of one axis in one direction.
+    Pulses {
+        /// Axis 0 = X, 1 = Y, 2 = Z.
+        axis: u8,
+        /// +1 or -1.
+        dir: i8,
+        /// Pulse times, ns, ascending.
+        t_ns: Vec<u64>,
+    },
+    /// `/nc/state`: RUN, modes, override, tool, spindle.
+    State {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// RUN flag: 0 stopped, 1 AUTO, 2 MDI.
+        run: u8,
+        /// Operation mode selector position name.
+        op_mode: String,
+        /// Data-processing mode selector position name.
+        data_mode: String,
+        /// Feed override, percent.
+        feed_override: u32,
+        /// T code in the spindle, 0 for none.
+        tool: u32,
+        /// Spindle speed, rpm, signed (negative = reverse), 0 stopped.
+        spindle: i64,
+    },
+    /// `/panel/display`: the display frame changed.
+    Display {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// The display lines.
+        lines: Vec<String>,
+    },
+    /// `/panel/event`: an operator action.
+    PanelEvent {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// The action as a panel-script line.
+        event: String,
+    },
+}
+
+/// The non-blocking sending side of a recording. Cloneable; shared by every producer.
+#[derive(Clone, Debug)]
+pub struct EventSink {
+    tx: SyncSender<Event>,
+    incomplete: Arc<AtomicBool>,
+    dropped: Arc<AtomicU64>,
+}
+
+impl EventSink {
+    /// Wraps the sender of a bounded channel whose receiver is the recorder thread.
+    pub fn new(tx: SyncSender<Event>) -> EventSink {
+        EventSink {
+            tx,
+            incomplete: Arc::new(AtomicBool::new(false)),
+            dropped: Arc::new(AtomicU64::new(0)),
+        }
+    }
+
+    /// Sends an event without ever blocking; on a full queue or a gone recorder the event is
+    /// dropped and the recording marked incomplete.
+    pub fn send(&self, ev: Event) {
+        match self.tx.try_send(ev) {
+            Ok(()) => {}
+            Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
+                self.incomplete.store(true, Ordering::Relaxed);
+                self.dropped.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// Marks the recording incomplete (for example after a disk error in the recorder).
+    pub fn mark_incomplete(&self) {
+        self.incomplete.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether any event has been lost.
+    pub fn is_incomplete(&self) -> bool {
+        self.incomplete.load(Ordering::Relaxed)
+    }
+
+    /// How many events were dropped.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+}

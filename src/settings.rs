@@ -1,0 +1,84 @@
+//! Machine settings: the numbers a machine builder sets once (units, rates, limits, timings).
+//!
+//! Every length is in millimetres, every feed in mm/min, every time in nanoseconds of machine
+//! time. One pulse is `pulse_mm` (0.001 mm by default). Positions inside the controller are whole
+//! pulses in machine coordinates; machine zero (the `CL` position) is (0, 0, 0).
+
+/// The machine settings in force for the translator, the pulse core and the console.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MachineSettings {
+    /// Length of one feed pulse, mm (the least input increment).
+    pub pulse_mm: f64,
+    /// Rapid traverse rate, mm/min (G00).
+    pub rapid_mm_min: f64,
+    /// Path acceleration and deceleration, mm/s².
+    pub accel_mm_s2: f64,
+    /// Default clearance SCL above the surface where rapid advance ends, mm.
+    pub clearance_mm: f64,
+    /// Lower travel limit of X, Y, Z in machine coordinates, mm.
+    pub travel_min_mm: [f64; 3],
+    /// Upper travel limit of X, Y, Z in machine coordinates, mm.
+    pub travel_max_mm: [f64; 3],
+    /// Jog feed in CONTINUOUS mode, mm/min.
+    pub jog_mm_min: f64,
+    /// Increment of one STEP jog, mm.
+    pub step_mm: f64,
+    /// Time a tool change (M06) takes, ns.
+    pub tool_change_ns: u64,
+    /// Time the spindle takes to start, stop or reverse (M03/M04/M05), ns.
+    pub spindle_ns: u64,
+    /// Number of pockets in the magazine (T codes 1..=capacity).
+    pub magazine_capacity: u32,
+    /// Capacity of the block buffer B1, in blocks.
+    pub b1_capacity: usize,
+    /// NCBR real-time clock period, ns (5 ms in the patent).
+    pub ncbr_period_ns: u64,
+}
+
+impl Default for MachineSettings {
+    fn default() -> Self {
+        MachineSettings {
+            pulse_mm: 0.001,
+            rapid_mm_min: 12_000.0,
+            accel_mm_s2: 1_000.0,
+            clearance_mm: 2.0,
+            travel_min_mm: [0.0, 0.0, -600.0],
+            travel_max_mm: [1_000.0, 800.0, 0.0],
+            jog_mm_min: 1_000.0,
+            step_mm: 0.1,
+            tool_change_ns: 4_000_000_000,
+            spindle_ns: 1_000_000_000,
+            magazine_capacity: 24,
+            b1_capacity: 64,
+            ncbr_period_ns: 5_000_000,
+        }
+    }
+}
+
+impl MachineSettings {
+    /// Millimetres to the nearest whole pulse.
+    pub fn to_pulses(&self, mm: f64) -> i64 {
+        (mm / self.pulse_mm).round() as i64
+    }
+
+    /// Whole pulses to millimetres.
+    pub fn to_mm(&self, pulses: i64) -> f64 {
+        pulses as f64 * self.pulse_mm
+    }
+
+    /// Travel limits of one axis (0 = X, 1 = Y, 2 = Z) in pulses, (min, max).
+    pub fn travel_pulses(&self, axis: usize) -> (i64, i64) {
+        (
+            self.to_pulses(self.travel_min_mm[axis]),
+            self.to_pulses(self.travel_max_mm[axis]),
+        )
+    }
+
+    /// Whether a machine position in pulses lies inside every travel limit.
+    pub fn within_travel(&self, pos: [i64; 3]) -> bool {
+        (0..3).all(|a| {
+            let (lo, hi) = self.travel_pulses(a);
+            pos[a] >= lo && pos[a] <= hi
+        })
+    }
+}
