@@ -13,3 +13,5 @@ pub mod record;
 pub mod settings;
 pub mod store;
 pub mod tooldata;
+#[cfg(feature = "window")]
+pub mod window;

@@ -95,17 +95,33 @@ mod tests {
     #[test]
     fn parses_positional_values_and_flags() {
         let opts = [
-            Opt { name: "-c", takes_value: true },
-            Opt { name: "--write", takes_value: false },
-            Opt { name: "--tools", takes_value: true },
+            Opt {
+                name: "-c",
+                takes_value: true,
+            },
+            Opt {
+                name: "--write",
+                takes_value: false,
+            },
+            Opt {
+                name: "--tools",
+                takes_value: true,
+            },
         ];
-        let a = Args::parse(&v(&["f", "-c", "1L", "--write", "-c", "I*", "--tools=t.tt"]), &opts)
-            .unwrap();
+        let a = Args::parse(
+            &v(&["f", "-c", "1L", "--write", "-c", "I*", "--tools=t.tt"]),
+            &opts,
+        )
+        .unwrap();
         assert_eq!(a.positional, v(&["f"]));
         assert_eq!(a.values("-c"), &v(&["1L", "I*"])[..]);
         assert!(a.flag("--write"));
         assert_eq!(a.value("--tools"), Some("t.tt"));
-        assert!(Args::parse(&v(&["--bogus"]), &opts).unwrap_err().contains("unknown option"));
-        assert!(Args::parse(&v(&["-c"]), &opts).unwrap_err().contains("needs a value"));
+        assert!(Args::parse(&v(&["--bogus"]), &opts)
+            .unwrap_err()
+            .contains("unknown option"));
+        assert!(Args::parse(&v(&["-c"]), &opts)
+            .unwrap_err()
+            .contains("needs a value"));
     }
 }

@@ -102,13 +102,20 @@ pub struct PulseCore {
 
 impl PulseCore {
     /// Starts the pulse core thread.
-    pub fn spawn(_settings: MachineSettings, _clock: ClockMode, _sink: Option<EventSink>) -> PulseCore {
+    pub fn spawn(
+        _settings: MachineSettings,
+        _clock: ClockMode,
+        _sink: Option<EventSink>,
+    ) -> PulseCore {
         todo!("pulse core")
     }
 
     /// Loads a program: a translator thread fills B1 from these statements, concurrently
     /// with execution, waiting when B1 is full. Replaces any loaded program.
-    pub fn load(&self, _statements: Box<dyn Iterator<Item = Result<Statement, crate::ap::TranslateError>> + Send>) {
+    pub fn load(
+        &self,
+        _statements: Box<dyn Iterator<Item = Result<Statement, crate::ap::TranslateError>> + Send>,
+    ) {
         todo!("pulse core")
     }
 

@@ -117,7 +117,10 @@ impl ToolFile {
 
     /// Store or clear the record of T code `t`; false if `t` is not a pocket.
     pub fn set(&mut self, t: u32, rec: Option<ToolRecord>) -> bool {
-        match (t as usize).checked_sub(1).and_then(|i| self.slots.get_mut(i)) {
+        match (t as usize)
+            .checked_sub(1)
+            .and_then(|i| self.slots.get_mut(i))
+        {
             Some(slot) => {
                 *slot = rec;
                 true
@@ -200,7 +203,7 @@ pub const SAMPLE_TCODES: &str = include_str!("../../tooldata/magazine.tc");
 /// The embedded default magazine: the sample T-code table loaded from the sample tape.
 pub fn sample_magazine() -> Magazine {
     let tape = parse_tape(SAMPLE_TAPE, "tools.tt").unwrap_or_default();
-    let tcodes = parse_tcodes(SAMPLE_TCODES, "magazine.tc", 24)
-        .unwrap_or_else(|_| TCodeTable::new(24));
+    let tcodes =
+        parse_tcodes(SAMPLE_TCODES, "magazine.tc", 24).unwrap_or_else(|_| TCodeTable::new(24));
     Magazine::load(tcodes, &tape)
 }

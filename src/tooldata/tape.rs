@@ -153,9 +153,15 @@ mod tests {
 
     #[test]
     fn rejects_bad_records_with_line() {
-        let e = parse_tape("; c\n00106 DR 6.2 150 40 1200 120 3\n00107 XX 1 1 1 1 1 1\n", "t.tt")
-            .unwrap_err();
-        assert_eq!(e.to_string(), "t.tt:3: unknown tool kind 'XX' (kinds: DR CD TP RM EM FM BB)");
+        let e = parse_tape(
+            "; c\n00106 DR 6.2 150 40 1200 120 3\n00107 XX 1 1 1 1 1 1\n",
+            "t.tt",
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.tt:3: unknown tool kind 'XX' (kinds: DR CD TP RM EM FM BB)"
+        );
         let e = parse_tape("00106 DR 6.2 150 40 1200 120\n", "t").unwrap_err();
         assert!(e.message.contains("8 fields"), "{e}");
         let e = parse_tape("00106 DR 6.2 -150 40 1200 120 3\n", "t").unwrap_err();

@@ -42,7 +42,9 @@ impl TCodeTable {
     pub fn assign(&mut self, t: u32, tool: Option<u32>) -> Result<(), String> {
         let cap = self.capacity();
         if t == 0 || t > cap {
-            return Err(format!("T{t:02} is not a pocket (the magazine has T01 to T{cap:02})"));
+            return Err(format!(
+                "T{t:02} is not a pocket (the magazine has T01 to T{cap:02})"
+            ));
         }
         if let Some(n) = tool {
             if n == 0 || n > 99_999 {
@@ -100,7 +102,12 @@ pub fn parse_tcodes(text: &str, file: &str, capacity: u32) -> Result<TCodeTable,
             .parse::<u32>()
             .ok()
             .filter(|_| fields[1].len() <= 5 && fields[1].bytes().all(|b| b.is_ascii_digit()))
-            .ok_or_else(|| err(format!("'{}' is not a tool number of 1 to 5 digits", fields[1])))?;
+            .ok_or_else(|| {
+                err(format!(
+                    "'{}' is not a tool number of 1 to 5 digits",
+                    fields[1]
+                ))
+            })?;
         if table.tool_in(t).is_some() {
             return Err(err(format!("T{t:02} is assigned twice")));
         }
