@@ -265,7 +265,7 @@ impl PanelEvent {
                     .trim_end_matches('%')
                     .parse()
                     .map_err(|_| format!("override '{a}' is not a whole percentage"))?;
-                if p > 150 || p % 10 != 0 {
+                if p > 150 || !p.is_multiple_of(10) {
                     return Err(format!("override {p} % is not 0 to 150 in 10 % steps"));
                 }
                 PanelEvent::Override(p)

@@ -54,13 +54,16 @@ impl fmt::Display for EditError {
 
 impl std::error::Error for EditError {}
 
+/// A check of the whole buffer after a command line; an Err rejects the line.
+pub type Validator<'a> = &'a dyn Fn(&Buffer) -> Result<(), String>;
+
 /// What a caller may ask of one command line.
 #[derive(Clone, Copy, Default)]
 pub struct ExecOptions<'a> {
     /// The most lines `Y` may show (the display height); None = no limit (batch editing).
     pub y_max_lines: Option<usize>,
     /// Checks the buffer after the whole line ran; an Err rejects the line (rolled back).
-    pub validator: Option<&'a dyn Fn(&Buffer) -> Result<(), String>>,
+    pub validator: Option<Validator<'a>>,
 }
 
 /// What a successful command line produced.
