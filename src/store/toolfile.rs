@@ -1,7 +1,7 @@
 //! The tool file as text, for TOOL DATA REVISION: one line per T code, in T-code order.
 //!
 //! ```text
-//! T01 00610  BB     40.0    250.0     90.0     300      40     5.0
+//! T01 00610  BB     40.0    220.0     80.0   400.0    60.0    25.0
 //! T20 00108                          (tool assigned, no data read yet)
 //! T21                                (empty pocket)
 //! ```
