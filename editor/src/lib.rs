@@ -5,9 +5,17 @@
 
 use std::fmt;
 
+// Lets `tests/model.rs` name this crate when it is compiled as a unit test too.
+#[cfg(test)]
+extern crate self as novanc_editor;
+
 mod exec;
 #[cfg(test)]
 mod exec_tests;
+/// The property test of `tests/model.rs`, run again here with tiny chunks.
+#[cfg(test)]
+#[path = "../tests/model.rs"]
+mod model_tests;
 mod parse;
 mod text;
 mod view;
@@ -156,6 +164,11 @@ impl Buffer {
     /// Character position where line `line` (0-based) starts; past the last line, the length.
     pub fn line_start(&self, line: usize) -> usize {
         self.text.line_start(line)
+    }
+
+    /// Bytes of memory held by the text store (for the benchmark's memory figure).
+    pub fn heap_bytes(&self) -> usize {
+        self.text.heap_bytes()
     }
 
     /// The lines around the pointer for a display of `rows` × `cols`, EOB shown as `*`.

@@ -264,7 +264,19 @@ fn random_command(rng: &mut Rng, m: &Model, last: bool) -> (Command, String) {
 
 #[test]
 fn random_command_lines_match_the_naive_model() {
-    let mut rng = Rng(0x4E4F_5641_4E43);
+    let failures = check(0x4E4F_5641_4E43, 20_000, 30);
+    assert!(failures > 5_000, "too few failing lines: {failures}");
+}
+
+#[test]
+fn long_buffers_spanning_many_chunks_match_the_naive_model() {
+    check(0x5350_414E, 100, 50_000);
+}
+
+/// Runs `cases` random buffers of up to `max_len` characters, four random lines on each;
+/// returns how many lines failed (as the model also said).
+fn check(seed: u64, cases: usize, max_len: usize) -> usize {
+    let mut rng = Rng(seed);
     let no_qq = |b: &Buffer| {
         if b.text().contains("QQ") {
             Err("QQ is not a record".to_string())
@@ -273,8 +285,8 @@ fn random_command_lines_match_the_naive_model() {
         }
     };
     let mut failures = 0;
-    for case in 0..20_000 {
-        let text = random_text(&mut rng, 30);
+    for case in 0..cases {
+        let text = random_text(&mut rng, max_len);
         let mut buf = Buffer::from_text(&text);
         let mut model = Model {
             chars: text.chars().collect(),
@@ -360,8 +372,5 @@ fn random_command_lines_match_the_naive_model() {
             assert_eq!(buf.len(), model.chars.len());
         }
     }
-    assert!(
-        failures > 5_000,
-        "too few failing lines exercised: {failures}"
-    );
+    failures
 }
