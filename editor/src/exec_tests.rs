@@ -327,3 +327,82 @@ fn view_shows_lines_around_the_pointer() {
     assert_eq!(v.lines, vec![""]);
     assert_eq!(Buffer::new().view(0, 0).lines.len(), 0);
 }
+
+#[test]
+fn any_typing_never_panics_and_a_failure_changes_nothing() {
+    const KEYS: &[char] = &[
+        'L', 'M', 'K', 'D', 'I', 'S', 'C', 'Y', 'l', 's', 'c', '0', '1', '2', '9', '+', '-', '$',
+        '*', '\\', ' ', 'é', '\n', 'Q', 'a', '€',
+    ];
+    let mut state = 99u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state as usize
+    };
+    for _ in 0..20_000 {
+        let text: String = (0..next() % 20)
+            .map(|_| KEYS[next() % KEYS.len()])
+            .collect();
+        let line: String = (0..next() % 12)
+            .map(|_| KEYS[next() % KEYS.len()])
+            .collect();
+        let mut b = Buffer::from_text(&text);
+        b.set_pointer(next() % (text.len() + 1));
+        let at = b.pointer();
+        let opts = ExecOptions {
+            y_max_lines: Some(next() % 3),
+            validator: None,
+        };
+        if let Err(e) = b.execute(&line, &opts) {
+            assert_eq!((b.text(), b.pointer()), (text.clone(), at), "{line:?}: {e}");
+            assert!(e
+                .to_string()
+                .starts_with(&format!("command {} '", e.index + 1)));
+        }
+        assert!(b.pointer() <= b.len());
+    }
+    for line in [
+        "9223372036854775807L",
+        "-9223372036854775807L",
+        "9223372036854775807K",
+        "-9223372036854775807K",
+        "9223372036854775807Y",
+        "-9223372036854775807Y",
+        "-9223372036854775807M",
+        "9223372036854775807D",
+        "-9223372036854775807D",
+        "-9223372036854775808D",
+    ] {
+        let mut b = Buffer::from_text(T);
+        b.set_pointer(10);
+        let _ = b.execute(line, &ExecOptions::default());
+        assert!(b.pointer() <= b.len(), "{line}");
+    }
+}
+
+#[test]
+fn the_examples_of_docs_editor_md_hold() {
+    ok(T, 0, "L", T, 7);
+    ok(T, 0, "2L", T, 14);
+    ok(T, 0, "9L", T, 21);
+    ok(T, 0, "SX10$ 0L", T, 7);
+    ok(T, 0, "L K", "N1 G00\nN3 Y20\n", 7);
+    ok(T, 0, "SX$ 0K", "N1 G00\n10\nN3 Y20\n", 7);
+    ok(T, 0, "L IN15 M03*", "N1 G00\nN15 M03\nN2 X10\nN3 Y20\n", 15);
+    ok(T, 0, "CX10$X25", "N1 G00\nN2 X25\nN3 Y20\n", 13);
+    ok(T, 0, "C X10$", "N1 G00\nN2\nN3 Y20\n", 9);
+    ok(T, 0, "C*N2 X10$", "N1 G00\nN3 Y20\n", 6);
+    ok(T, 0, "3D", "G00\nN2 X10\nN3 Y20\n", 0);
+    ok(T, 0, "L -D", "N1 G00N2 X10\nN3 Y20\n", 6);
+    ok(T, 0, "IX$$L", "XN1 G00\nN2 X10\nN3 Y20\n", 8);
+    fails(T, 0, "IN15*$SQQ$K", "command 2 'SQQ$': 'QQ' not found");
+    fails(T, 0, "3 L", "command 1 '3': count without a command letter");
+    fails(
+        T,
+        0,
+        "L -$",
+        "command 2 '-': count without a command letter",
+    );
+}

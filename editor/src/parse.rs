@@ -89,6 +89,9 @@ pub fn parse_typed(line: &str) -> Result<Vec<Typed>, EditError> {
                     }
                 }
             }
+            other if is_blank(other) => {
+                return Err(fail(i - 1, "count without a command letter".to_string()));
+            }
             other => {
                 return Err(fail(i, format!("unknown command '{other}'")));
             }
@@ -105,9 +108,9 @@ pub fn parse(line: &str) -> Result<Vec<Command>, EditError> {
     Ok(parse_typed(line)?.into_iter().map(|t| t.command).collect())
 }
 
-/// Blanks separate commands; they are literal inside text arguments.
+/// Blanks (and a stray `$`, as in TECO) separate commands; they are literal inside text.
 fn is_blank(c: char) -> bool {
-    c == ' ' || c == '\t' || c == '\r' || c == '\n'
+    c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '$'
 }
 
 /// Reads a text argument from `chars[*i..]`; returns it and whether a `$` ended it.
@@ -183,6 +186,14 @@ mod tests {
         assert_eq!(
             parse(r"I\*\$\\\q$").unwrap(),
             vec![Command::I(r"*$\\q".into())]
+        );
+    }
+
+    #[test]
+    fn a_stray_dollar_between_commands_is_a_separator() {
+        assert_eq!(
+            parse("$IX$$ $L$").unwrap(),
+            vec![Command::I("X".into()), Command::L(1)]
         );
     }
 

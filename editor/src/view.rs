@@ -47,10 +47,10 @@ fn view_with(buf: &Buffer, rows: usize, cols: usize, quick: usize) -> View {
     }
     let mut first = cur.saturating_sub((rows - 1) / 2);
     first = first.min(last.saturating_sub(rows - 1));
-    let shown_last = last.min(first + rows - 1);
+    let shown_last = last.min(first.saturating_add(rows - 1));
     let start = buf.line_start(first);
     let end = buf.line_start(shown_last + 1);
-    let mut lines = Vec::with_capacity(rows);
+    let mut lines = Vec::with_capacity(shown_last - first + 1);
     if end - start <= quick {
         // One slice, cut into lines: a few chunk look-ups in all.
         let text = buf.slice(start, end);
@@ -75,7 +75,7 @@ fn view_with(buf: &Buffer, rows: usize, cols: usize, quick: usize) -> View {
         for line in first..=shown_last {
             let next = buf.line_start(line + 1);
             let from = (start + first_col).min(next);
-            let to = (from + cols).min(next);
+            let to = from.saturating_add(cols).min(next);
             lines.push(buf.slice(from, to).replace(EOB, "*"));
             start = next;
         }
@@ -92,6 +92,15 @@ fn view_with(buf: &Buffer, rows: usize, cols: usize, quick: usize) -> View {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn huge_displays_do_not_overflow() {
+        let mut b = Buffer::from_text("a\nbb\nccc");
+        b.set_pointer(5);
+        let v = b.view(usize::MAX, usize::MAX);
+        assert_eq!(v.lines, vec!["a*", "bb*", "ccc"]);
+        assert_eq!((v.pointer_row, v.pointer_col, v.first_line), (2, 0, 0));
+    }
 
     #[test]
     fn the_quick_and_the_long_line_paths_agree() {
