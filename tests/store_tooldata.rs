@@ -266,7 +266,7 @@ fn bad_tool_file_revisions_change_nothing() {
     refused(
         "rev-add",
         revise("-99LIT00*"),
-        "line 1 must start with T01 (found 'T00'); lines cannot be renumbered or reordered",
+        "command 2 'IT00*': the tool file has one line per T code (T01 to T24); a line cannot be added",
     );
     refused(
         "rev-remove",
@@ -274,6 +274,11 @@ fn bad_tool_file_revisions_change_nothing() {
         "line 3 must start with T03 (found 'T04')",
     );
     refused("rev-last", revise("99LIT25*"), "a line cannot be added");
+    refused(
+        "rev-swap",
+        revise("-9LKLIT01*"),
+        "line 1 must start with T01 (found 'T02'); lines cannot be renumbered or reordered",
+    );
     refused(
         "rev-join",
         revise("S*$-1D"),

@@ -64,24 +64,9 @@ pub fn tape_text(text: &str) -> String {
     text.replace("\r\n", "\n").replace('\r', "\n")
 }
 
-/// Moves a fresh buffer's pointer to `p` (clamped to the buffer).
+/// Moves a buffer's pointer to `p` (clamped to the buffer).
 pub fn set_pointer(b: &mut Buffer, p: usize) {
-    let p = p.min(b.len());
-    if p > 0 {
-        let _ = b.execute(&format!("{p}M"), &ExecOptions::default());
-    }
-}
-
-/// The character offset of the start of line `k` (0-based) in `text`, or its end.
-fn line_start(text: &str, k: usize) -> usize {
-    let mut chars = 0;
-    for (i, line) in text.split_inclusive('\n').enumerate() {
-        if i == k {
-            return chars;
-        }
-        chars += line.chars().count();
-    }
-    chars
+    b.set_pointer(p);
 }
 
 impl State {
@@ -122,11 +107,10 @@ impl State {
     /// Rebuilds the tool-file text from the T-code table and tool file, keeping the pointer
     /// at the start of the same line.
     fn refresh_tool_buf(&mut self) {
-        let old = self.tool_buf.slice(0, self.tool_buf.pointer());
-        let line = old.matches('\n').count();
-        let text = tool_text(&self.magazine());
-        let mut b = Buffer::from_text(&text);
-        set_pointer(&mut b, line_start(&text, line));
+        let line = self.tool_buf.line_of(self.tool_buf.pointer());
+        let mut b = Buffer::from_text(&tool_text(&self.magazine()));
+        let start = b.line_start(line);
+        b.set_pointer(start);
         self.tool_buf = b;
     }
 
