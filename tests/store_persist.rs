@@ -265,3 +265,27 @@ fn program_memory_refusals_change_nothing() {
     s.program_read("tableb", "CL\r").unwrap();
     assert_eq!(text(&s, Target::Program), "CL\n");
 }
+
+#[test]
+fn deleting_programs() {
+    let d = fresh("delete");
+    let (mut s, _) = open(&d);
+    assert_eq!(
+        s.delete_program("TABLEB").unwrap_err().message,
+        "TABLEB is the only program; program memory keeps at least one"
+    );
+    assert_eq!(
+        s.delete_program("NOPE").unwrap_err().message,
+        "no program NOPE in program memory"
+    );
+    assert_eq!(text(&s, Target::Program), TABLEB);
+    s.program_read("A1", "CL\n").unwrap();
+    s.delete_program("a1").unwrap();
+    assert_eq!(s.current_program(), "TABLEB");
+    s.program_read("A2", "CL\n").unwrap();
+    s.delete_program("TABLEB").unwrap();
+    drop(s);
+    let (s, _) = open(&d);
+    assert_eq!(s.program_names(), ["A2"]);
+    assert_eq!(s.current_program(), "A2");
+}

@@ -327,3 +327,68 @@ fn a_tool_file_revision_reaches_the_translator_and_survives() {
     drop(s);
     check(&open(&d));
 }
+
+fn tcode_file(text: &'static str) -> impl FnOnce(&mut Stores) -> String {
+    move |s| match s.tcode_read(text, "m.tc") {
+        Ok(()) => "accepted".to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_tcode_files_change_nothing() {
+    refused(
+        "tf-dup",
+        tcode_file("T01 00106\n# c\nT02 00106\n"),
+        "m.tc:3: tool 00106 is already in T01",
+    );
+    refused(
+        "tf-twice",
+        tcode_file("T01 00106\nT01 00107\n"),
+        "m.tc:2: T01 is assigned twice",
+    );
+    refused(
+        "tf-pocket",
+        tcode_file("T25 00106\n"),
+        "m.tc:1: T25 is not a pocket (the magazine has T01 to T24)",
+    );
+    refused(
+        "tf-form",
+        tcode_file("T01 00106 DR\n"),
+        "m.tc:1: expected 'Tnn TOOLNO', found 'T01 00106 DR'",
+    );
+    refused(
+        "tf-tcode",
+        tcode_file("X01 00106\n"),
+        "m.tc:1: 'X01' is not a T code like T05",
+    );
+    refused(
+        "tf-tool",
+        tcode_file("T01 1234567\n"),
+        "m.tc:1: '1234567' is not a tool number of 1 to 5 digits",
+    );
+}
+
+#[test]
+fn a_tcode_file_replaces_the_table_and_keeps_unchanged_pockets_data() {
+    let d = fresh("tcfile");
+    let mut s = open(&d);
+    s.tcode_read("T01 00610 ; same\nT02 00107\nT05 00999\n", "m.tc")
+        .unwrap();
+    let check = |s: &Stores| {
+        let m = s.magazine();
+        assert_eq!(m.tcodes.iter().count(), 3);
+        assert_eq!(m.find(610).unwrap().1.diameter, 40.0);
+        assert!(matches!(m.find(107), Err(ToolLookupError::NoData { .. })));
+        assert!(matches!(
+            m.find(106),
+            Err(ToolLookupError::NotInMagazine(106))
+        ));
+        let text = s.buffer(Target::ToolFile).text();
+        assert_eq!(text.lines().nth(1), Some("T02 00107"));
+        assert_eq!(text.lines().nth(2), Some("T03"));
+    };
+    check(&s);
+    drop(s);
+    check(&open(&d));
+}

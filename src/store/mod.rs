@@ -13,7 +13,7 @@ pub mod toolfile;
 pub use fsutil::write_atomic;
 pub use state::{program_name, TABLEB};
 
-use crate::tooldata::{parse_tape, Magazine, TapeError};
+use crate::tooldata::{parse_tape, parse_tcodes, Magazine, TapeError};
 use fsutil::DirLock;
 use journal::Journal;
 use novanc_editor::{Buffer, EditError, Outcome};
@@ -466,6 +466,27 @@ impl Stores {
                 None => Err(format!("tool {tool:05} is in no T code")),
             },
         }
+    }
+
+    /// T-CODE SETTING from a T-code table file (`Tnn TOOLNO` lines): replaces the whole table.
+    /// Pockets whose tool changes lose their tool data. A bad file changes nothing.
+    pub fn tcode_read(&mut self, text: &str, file_name: &str) -> Result<(), TapeError> {
+        parse_tcodes(text, file_name, self.capacity)?;
+        self.commit(Record::TCodes(text.to_string()), None)
+            .map(|_| ())
+            .map_err(|e| TapeError {
+                file: file_name.to_string(),
+                line: 0,
+                message: format!("the T-code table was not changed: {e}"),
+            })
+    }
+
+    /// Deletes a program from program memory (not the last one). If it was current, the
+    /// first remaining program (by name) becomes current.
+    pub fn delete_program(&mut self, name: &str) -> Result<(), StoreError> {
+        self.commit(Record::Delete(name.to_string()), None)
+            .map(|_| ())
+            .map_err(to_store)
     }
 
     /// The magazine (T-code table and tool file) the translator gets.

@@ -37,6 +37,10 @@ pub enum Record {
     },
     /// TOOL DATA READ: the tool file replaced (tool-file text).
     ToolFile(String),
+    /// A T-code table file read: the whole table replaced (T-code table text).
+    TCodes(String),
+    /// A program deleted from program memory.
+    Delete(String),
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -59,6 +63,8 @@ impl Record {
             Record::NewProgram(n) => format!("new {n}"),
             Record::ProgramRead { name, text } => format!("read {name}\n{text}"),
             Record::ToolFile(text) => format!("tools\n{text}"),
+            Record::TCodes(text) => format!("tcodes\n{text}"),
+            Record::Delete(n) => format!("delete {n}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
         }
@@ -95,6 +101,8 @@ impl Record {
                 text: body_of(body)?,
             },
             ["tools"] => Record::ToolFile(body_of(body)?),
+            ["tcodes"] => Record::TCodes(body_of(body)?),
+            ["delete", n] => Record::Delete(n.to_string()),
             ["tcode", t, n] => Record::TCode {
                 t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
                 tool: match *n {
@@ -134,6 +142,8 @@ mod tests {
                 text: "P1 = (1, 2)\nDRL\n".into(),
             },
             Record::ToolFile("T01\nT02\n".into()),
+            Record::TCodes("T01 00106\n".into()),
+            Record::Delete("OLD".into()),
             Record::TCode {
                 t: 5,
                 tool: Some(106),

@@ -218,6 +218,38 @@ impl State {
                 self.tool_buf = Buffer::from_text(text);
                 Ok((Outcome::default(), true))
             }
+            Record::TCodes(text) => {
+                let cap = self.tcodes.capacity();
+                let new = parse_tcodes(text, "T-code table", cap)
+                    .map_err(|e| Refusal::Other(e.to_string()))?;
+                for t in 1..=cap {
+                    if new.tool_in(t) != self.tcodes.tool_in(t) {
+                        self.tools.set(t, None);
+                    }
+                }
+                let changed = new != self.tcodes;
+                self.tcodes = new;
+                self.refresh_tool_buf();
+                Ok((Outcome::default(), changed))
+            }
+            Record::Delete(name) => {
+                let n = program_name(name).map_err(Refusal::Other)?;
+                if !self.programs.contains_key(&n) {
+                    return Err(Refusal::Other(format!("no program {n} in program memory")));
+                }
+                if self.programs.len() == 1 {
+                    return Err(Refusal::Other(format!(
+                        "{n} is the only program; program memory keeps at least one"
+                    )));
+                }
+                self.programs.remove(&n);
+                if self.current == n {
+                    if let Some(first) = self.programs.keys().next() {
+                        self.current = first.clone();
+                    }
+                }
+                Ok((Outcome::default(), true))
+            }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));
