@@ -289,3 +289,18 @@ fn deleting_programs() {
     assert_eq!(s.program_names(), ["A2"]);
     assert_eq!(s.current_program(), "A2");
 }
+
+#[test]
+fn the_mdi_buffer_can_be_cleared_and_names_are_normalised() {
+    let d = fresh("mdi-clear");
+    let (mut s, _) = open(&d);
+    s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
+    s.clear_mdi().unwrap();
+    s.program_read("two", "CL\n").unwrap();
+    s.select_program("  tableb ").unwrap();
+    drop(s);
+    let (s, w) = open(&d);
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(text(&s, Target::Mdi), "");
+    assert_eq!(s.current_program(), "TABLEB");
+}

@@ -245,8 +245,13 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
-        std::fs::create_dir_all(dir)
-            .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+        if !dir.is_dir() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+            if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
+                let _ = fsutil::fsync_dir(parent);
+            }
+        }
         let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
@@ -349,7 +354,8 @@ impl Stores {
 
     /// SEARCH: makes another program current (names are case-insensitive).
     pub fn select_program(&mut self, name: &str) -> Result<(), StoreError> {
-        self.commit(Record::Select(name.to_string()), None)
+        let n = program_name(name).map_err(serr)?;
+        self.commit(Record::Select(n), None)
             .map(|_| ())
             .map_err(to_store)
     }
@@ -484,7 +490,15 @@ impl Stores {
     /// Deletes a program from program memory (not the last one). If it was current, the
     /// first remaining program (by name) becomes current.
     pub fn delete_program(&mut self, name: &str) -> Result<(), StoreError> {
-        self.commit(Record::Delete(name.to_string()), None)
+        let n = program_name(name).map_err(serr)?;
+        self.commit(Record::Delete(n), None)
+            .map(|_| ())
+            .map_err(to_store)
+    }
+
+    /// Empties the MDI buffer (for example after its blocks ran).
+    pub fn clear_mdi(&mut self) -> Result<(), StoreError> {
+        self.commit(Record::ClearMdi, None)
             .map(|_| ())
             .map_err(to_store)
     }

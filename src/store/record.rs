@@ -41,6 +41,8 @@ pub enum Record {
     TCodes(String),
     /// A program deleted from program memory.
     Delete(String),
+    /// The MDI buffer emptied.
+    ClearMdi,
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -65,6 +67,7 @@ impl Record {
             Record::ToolFile(text) => format!("tools\n{text}"),
             Record::TCodes(text) => format!("tcodes\n{text}"),
             Record::Delete(n) => format!("delete {n}"),
+            Record::ClearMdi => "clear M".to_string(),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
         }
@@ -103,6 +106,7 @@ impl Record {
             ["tools"] => Record::ToolFile(body_of(body)?),
             ["tcodes"] => Record::TCodes(body_of(body)?),
             ["delete", n] => Record::Delete(n.to_string()),
+            ["clear", "M"] => Record::ClearMdi,
             ["tcode", t, n] => Record::TCode {
                 t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
                 tool: match *n {
@@ -144,6 +148,7 @@ mod tests {
             Record::ToolFile("T01\nT02\n".into()),
             Record::TCodes("T01 00106\n".into()),
             Record::Delete("OLD".into()),
+            Record::ClearMdi,
             Record::TCode {
                 t: 5,
                 tool: Some(106),

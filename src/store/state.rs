@@ -232,6 +232,11 @@ impl State {
                 self.refresh_tool_buf();
                 Ok((Outcome::default(), changed))
             }
+            Record::ClearMdi => {
+                let changed = !self.mdi.is_empty();
+                self.mdi = Buffer::new();
+                Ok((Outcome::default(), changed))
+            }
             Record::Delete(name) => {
                 let n = program_name(name).map_err(Refusal::Other)?;
                 if !self.programs.contains_key(&n) {
