@@ -392,3 +392,46 @@ fn a_tcode_file_replaces_the_table_and_keeps_unchanged_pockets_data() {
     drop(s);
     check(&open(&d));
 }
+
+#[test]
+fn moving_a_tool_keeps_its_data_in_one_change() {
+    let d = fresh("move");
+    let mut s = open(&d);
+    s.move_tool(106, 22).unwrap(); // from T02, into an empty pocket
+    s.move_tool(610, 3).unwrap(); // from T01 onto T03's 00208, which leaves the magazine
+    s.move_tool(777, 1).unwrap(); // a tool from nowhere: assigned, no data
+    let check = |s: &Stores| {
+        let m = s.magazine();
+        let (t, r) = m.find(106).unwrap();
+        assert_eq!((t, r.diameter), (22, 6.2));
+        assert_eq!(m.find(610).unwrap().0, 3);
+        assert!(matches!(
+            m.find(208),
+            Err(ToolLookupError::NotInMagazine(208))
+        ));
+        assert!(matches!(
+            m.find(777),
+            Err(ToolLookupError::NoData { tcode: 1, .. })
+        ));
+        assert_eq!(m.tcodes.tool_in(2), None);
+    };
+    check(&s);
+    drop(s);
+    check(&open(&d));
+}
+
+#[test]
+fn bad_moves_change_nothing() {
+    let mv = |tool: u32, t: u32| {
+        move |s: &mut Stores| match s.move_tool(tool, t) {
+            Ok(()) => "accepted".to_string(),
+            Err(e) => e,
+        }
+    };
+    refused(
+        "mv-pocket",
+        mv(106, 25),
+        "T25 is not a pocket (the magazine has T01 to T24)",
+    );
+    refused("mv-number", mv(0, 21), "tool number 0 is not 1 to 5 digits");
+}

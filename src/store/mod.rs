@@ -503,6 +503,15 @@ impl Stores {
             .map_err(to_store)
     }
 
+    /// T-CODE SETTING by tool number, as one change: moves `tool` into pocket `t` together with
+    /// its tool data, out of the pocket that held it (if any). A tool that was in pocket `t`
+    /// leaves the magazine (its data with it).
+    pub fn move_tool(&mut self, tool: u32, t: u32) -> Result<(), String> {
+        self.commit(Record::Move { tool, t }, None)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+
     /// The magazine (T-code table and tool file) the translator gets.
     pub fn magazine(&self) -> Magazine {
         self.state.magazine()

@@ -43,6 +43,13 @@ pub enum Record {
     Delete(String),
     /// The MDI buffer emptied.
     ClearMdi,
+    /// T-CODE SETTING by tool: a tool moved to a pocket, with its data, out of any other.
+    Move {
+        /// The tool number.
+        tool: u32,
+        /// The pocket it goes to.
+        t: u32,
+    },
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -68,6 +75,7 @@ impl Record {
             Record::TCodes(text) => format!("tcodes\n{text}"),
             Record::Delete(n) => format!("delete {n}"),
             Record::ClearMdi => "clear M".to_string(),
+            Record::Move { tool, t } => format!("move {tool} {t}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
         }
@@ -107,6 +115,10 @@ impl Record {
             ["tcodes"] => Record::TCodes(body_of(body)?),
             ["delete", n] => Record::Delete(n.to_string()),
             ["clear", "M"] => Record::ClearMdi,
+            ["move", n, t] => Record::Move {
+                tool: n.parse().map_err(|_| format!("bad tool in '{head}'"))?,
+                t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
+            },
             ["tcode", t, n] => Record::TCode {
                 t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
                 tool: match *n {

@@ -232,6 +232,25 @@ impl State {
                 self.refresh_tool_buf();
                 Ok((Outcome::default(), changed))
             }
+            Record::Move { tool, t } => {
+                let old = self.tcodes.tcode_of(*tool);
+                if old == Some(*t) {
+                    return Ok((Outcome::default(), false));
+                }
+                let mut tc = self.tcodes.clone();
+                if let Some(o) = old {
+                    tc.assign(o, None).map_err(Refusal::Other)?;
+                }
+                tc.assign(*t, Some(*tool)).map_err(Refusal::Other)?;
+                let data = old.and_then(|o| self.tools.get(o).cloned());
+                if let Some(o) = old {
+                    self.tools.set(o, None);
+                }
+                self.tools.set(*t, data);
+                self.tcodes = tc;
+                self.refresh_tool_buf();
+                Ok((Outcome::default(), true))
+            }
             Record::ClearMdi => {
                 let changed = !self.mdi.is_empty();
                 self.mdi = Buffer::new();
