@@ -286,3 +286,52 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn program_names_and_tape_text() {
+        assert_eq!(program_name(" part-7.a "), Ok("PART-7.A".to_string()));
+        assert!(program_name("").unwrap_err().contains("1 to 32"));
+        assert!(program_name(&"A".repeat(33))
+            .unwrap_err()
+            .contains("1 to 32"));
+        assert!(program_name("a/b").unwrap_err().contains("'/'"));
+        assert_eq!(tape_text("A\r\nB\rC\n"), "A\nB\nC\n");
+    }
+
+    #[test]
+    fn refused_changes_leave_the_state_alone() {
+        let mut s = State::defaults(24);
+        let tool_text = s.tool_buf.text();
+        let bad = [
+            Record::TCode {
+                t: 3,
+                tool: Some(106),
+            },
+            Record::Move { tool: 106, t: 30 },
+            Record::ToolFile("T01\n".into()),
+            Record::TCodes("T01 1\nT02 1\n".into()),
+            Record::Select("NONE".into()),
+            Record::Delete("TABLEB".into()),
+            Record::Edit {
+                target: EditTarget::Program("NONE".into()),
+                line: "IX".into(),
+            },
+        ];
+        for r in &bad {
+            assert!(s.apply(r, None).is_err(), "{r:?}");
+            assert_eq!(s.tool_buf.text(), tool_text, "{r:?}");
+            assert_eq!(s.magazine(), crate::tooldata::sample_magazine(), "{r:?}");
+            assert_eq!(s.program_names_for_test(), ["TABLEB"]);
+        }
+    }
+
+    impl State {
+        fn program_names_for_test(&self) -> Vec<&str> {
+            self.programs.keys().map(|k| k.as_str()).collect()
+        }
+    }
+}
