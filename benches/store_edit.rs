@@ -124,7 +124,8 @@ fn main() {
     for i in 0..200u64 {
         let line = format!("{}LIN{i}*", (i * 7919) % 1_000_000);
         let s = Instant::now();
-        st.edit(Target::Program, &format!("-9999999L{line}"), None).unwrap();
+        st.edit(Target::Program, &format!("-9999999L{line}"), None)
+            .unwrap();
         t.push(s.elapsed());
     }
     println!("  acknowledged edit, 30 MB program {}", stats(t));
