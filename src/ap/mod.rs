@@ -149,9 +149,15 @@ impl Translator {
     }
 }
 
-/// Rapid positioning (GO, GD) to an axis position: when the move goes up, Z first then X Y;
+/// Rapid positioning (GO, GD) to an axis position. A tool still inside a hole (after SDP)
+/// first rises to the hole's clearance plane. Then when the move goes up, Z first then X Y;
 /// when it goes down, X Y first then Z; so the tool never moves sideways below where it was.
 fn position(o: &mut Out, end: [i64; 3]) {
+    if let Some(clear) = o.m.clear {
+        if o.m.tip() < clear {
+            o.rapid_tip(clear);
+        }
+    }
     let pos = o.m.pos;
     if end[2] >= pos[2] {
         o.rapid([pos[0], pos[1], end[2]]);
@@ -234,7 +240,7 @@ fn cutting(
                     ))
                 }
             };
-            if d > rec.diameter {
+            if rec.kind == ToolKind::Drill && d > rec.diameter {
                 return Err(o.err(
                     col,
                     format!(
