@@ -352,3 +352,110 @@ fn a_good_statement_before_the_error_is_whole() {
     assert_eq!((e.line, e.col), (4, 20));
     assert!(t.next().is_none());
 }
+
+/// xorshift64*: a small seeded PRNG for the no-panic test.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+}
+
+#[test]
+fn no_input_makes_the_translator_panic() {
+    // Table B with random characters replaced, inserted and deleted, and random soup made of
+    // the language's own pieces: every run must end in statements or an error, never a panic.
+    let base = include_str!("../programs/tableb.ap");
+    let pieces = [
+        "DRL",
+        "TAP",
+        "MIL",
+        "BOR",
+        "REM",
+        "P",
+        "DA",
+        "L",
+        "C",
+        "PAT",
+        "MAC",
+        "GO",
+        "GD",
+        "CL",
+        "RGT",
+        "LFT",
+        "DP",
+        "DI",
+        "FR",
+        "SS",
+        "SCL",
+        "SDP",
+        "DW",
+        "DH",
+        "NH",
+        "R",
+        "SA",
+        "IA",
+        "A",
+        "XL",
+        "YS",
+        "1",
+        "2",
+        "0",
+        "-3",
+        "106",
+        "402",
+        "99999999999",
+        ".5",
+        "(",
+        ")",
+        ",",
+        "/",
+        "=",
+        " ",
+        "\n",
+        ";",
+        "1e5",
+        "é",
+    ];
+    let mut rng = Rng(0x00C0_FFEE);
+    let (mut ok, mut failed) = (0, 0);
+    for round in 0..3000 {
+        let src = if round % 2 == 0 {
+            let mut b: Vec<char> = base.chars().collect();
+            for _ in 0..1 + rng.next() % 4 {
+                let i = (rng.next() % b.len() as u64) as usize;
+                let piece = pieces[(rng.next() % pieces.len() as u64) as usize];
+                match rng.next() % 3 {
+                    0 => {
+                        b.remove(i);
+                    }
+                    1 => b.splice(i..i, piece.chars()).for_each(drop),
+                    _ => b[i] = piece.chars().next().unwrap_or(' '),
+                }
+            }
+            b.into_iter().collect::<String>()
+        } else {
+            (0..rng.next() % 60)
+                .map(|_| pieces[(rng.next() % pieces.len() as u64) as usize])
+                .collect::<String>()
+        };
+        let r = novanc::ap::translate_all(
+            &src,
+            &sample_magazine(),
+            &MachineSettings::default(),
+            [0, 0, 0],
+        );
+        match r {
+            Ok(_) => ok += 1,
+            Err(e) => {
+                assert!(e.line >= 1 && e.col >= 1 && !e.message.is_empty(), "{e}");
+                failed += 1;
+            }
+        }
+    }
+    assert!(ok > 0 && failed > 0, "ok {ok}, failed {failed}");
+}
