@@ -8,6 +8,7 @@
 //! statement is handed out, so an error never leaves a partial move. The language is described
 //! for part programmers in `docs/language.md`.
 
+pub mod ast;
 pub mod cycle;
 pub mod defs;
 pub mod emit;
