@@ -29,13 +29,37 @@ pub enum PointExpr {
     /// `(x, y[, z])`, part coordinates.
     Coords([f64; 3]),
     /// `Pm(dx, dy[, dz])`, relative to point m.
-    Rel { base: Name, d: [f64; 3] },
+    Rel {
+        /// Point m.
+        base: Name,
+        /// The offset (dx, dy, dz).
+        d: [f64; 3],
+    },
     /// `La, Lb`.
-    LineLine { a: Name, b: Name },
+    LineLine {
+        /// The first line.
+        a: Name,
+        /// The second line.
+        b: Name,
+    },
     /// `La, Cb, SEL` (or `Cb, La, SEL`).
-    LineCircle { l: Name, c: Name, sel: Sel },
+    LineCircle {
+        /// The line.
+        l: Name,
+        /// The circle.
+        c: Name,
+        /// Which intersection.
+        sel: Sel,
+    },
     /// `Ca, Cb, SEL`.
-    CircleCircle { a: Name, b: Name, sel: Sel },
+    CircleCircle {
+        /// The first circle.
+        a: Name,
+        /// The second circle.
+        b: Name,
+        /// Which intersection.
+        sel: Sel,
+    },
 }
 
 /// A designation in a cutting statement or a macro.
@@ -53,8 +77,11 @@ pub enum Desig {
     Circle(Name),
     /// `(expr[=Pn])`: an inline point, named if `=Pn` is given.
     Inline {
+        /// Where the point is.
         expr: PointExpr,
+        /// The name it is defined under, if any.
         name: Option<Name>,
+        /// Column of the opening parenthesis.
         col: u32,
     },
 }
@@ -151,32 +178,74 @@ pub struct Cut {
 pub enum Stmt {
     /// `DAn = (x,y,z)` or `DAn = DAm, (dx,dy,dz)`.
     Da {
+        /// The origin defined.
         name: Name,
+        /// The origin it is relative to, if any.
         base: Option<Name>,
+        /// The coordinates (or offsets).
         v: [f64; 3],
     },
     /// `Pn = ...`.
-    Point { name: Name, expr: PointExpr },
+    Point {
+        /// The point defined.
+        name: Name,
+        /// Where it is.
+        expr: PointExpr,
+    },
     /// `Ln = Pa, ...`.
-    Line { name: Name, a: Name, by: LineBy },
+    Line {
+        /// The line defined.
+        name: Name,
+        /// The point it passes through.
+        a: Name,
+        /// A second point or an angle.
+        by: LineBy,
+    },
     /// `Cn = Pa, ...`.
-    Circle { name: Name, c: Name, by: CircleBy },
+    Circle {
+        /// The circle defined.
+        name: Name,
+        /// The centre, or the first of three points.
+        c: Name,
+        /// A radius or two more points.
+        by: CircleBy,
+    },
     /// `PATn = DAm, NHk, Pc, Rr, SAa, IAi`.
     Pat {
+        /// The pattern defined.
         name: Name,
+        /// Its origin, if given.
         da: Option<Name>,
+        /// NH, the number of holes (with its column).
         nh: (f64, u32),
+        /// P, the centre point.
         centre: Name,
+        /// R, the radius (with its column).
         r: (f64, u32),
+        /// SA, the first hole's angle, degrees.
         sa: f64,
+        /// IA, the angle between holes, degrees, if given.
         ia: Option<f64>,
     },
     /// `MACn = designations`.
-    Mac { name: Name, items: Vec<Desig> },
+    Mac {
+        /// The macro defined.
+        name: Name,
+        /// Its designations.
+        items: Vec<Desig>,
+    },
     /// `GO, [DAm,] x, y, z`.
-    Go { da: Option<Name>, v: [f64; 3] },
+    Go {
+        /// The origin of the coordinates, if given.
+        da: Option<Name>,
+        /// Tool-tip x, y, z.
+        v: [f64; 3],
+    },
     /// `GD, dx, dy, dz`.
-    Gd { v: [f64; 3] },
+    Gd {
+        /// dx, dy, dz.
+        v: [f64; 3],
+    },
     /// `CL`.
     Cl,
     /// A cutting statement.
