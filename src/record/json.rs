@@ -83,7 +83,7 @@ pub fn push_mm(out: &mut Vec<u8>, mm: f64) {
     if frac != 0 {
         out.push(b'.');
         let mut digits = 6;
-        while frac % 10 == 0 {
+        while frac.is_multiple_of(10) {
             frac /= 10;
             digits -= 1;
         }

@@ -250,7 +250,7 @@ impl fmt::Display for RecordSummary {
             if sep.is_empty() {
                 write!(f, " events were lost")?;
             }
-            write!(f, "; kept")?;
+            write!(f, "; in the file:")?;
         } else {
             write!(f, "recording {}:", self.path.display())?;
         }

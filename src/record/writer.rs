@@ -35,10 +35,10 @@ pub struct WriterOutcome {
     pub disk_error: Option<String>,
 }
 
-/// Writes events as SPEC §7 MCAP messages to one file.
-pub struct RecordWriter {
+/// Writes events as SPEC §7 MCAP messages to one file (or any seekable output, for tests).
+pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
     /// `None` once a write failed (or after finish).
-    mcap: Option<mcap::Writer<BufWriter<File>>>,
+    mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
     pulse_mm: f64,
     channels: [u16; 6],
@@ -55,6 +55,17 @@ impl RecordWriter {
     pub fn create(path: &Path, settings: &MachineSettings) -> Result<RecordWriter, String> {
         let file = File::create(path)
             .map_err(|e| format!("cannot create recording {}: {e}", path.display()))?;
+        Ok(RecordWriter::with_output(
+            BufWriter::with_capacity(FILE_BUFFER_BYTES, file),
+            path,
+            settings,
+        ))
+    }
+}
+
+impl<W: Write + Seek> RecordWriter<W> {
+    /// As `create`, on an output already open; `path` only names it in error messages.
+    pub fn with_output(output: W, path: &Path, settings: &MachineSettings) -> RecordWriter<W> {
         let mut w = RecordWriter {
             mcap: None,
             path: path.to_path_buf(),
@@ -65,19 +76,14 @@ impl RecordWriter {
             out: WriterOutcome::default(),
             buf: Vec::with_capacity(64 * 1024),
         };
-        let result = w.open(BufWriter::with_capacity(FILE_BUFFER_BYTES, file), settings);
-        if let Err(e) = result {
+        if let Err(e) = w.open(output, settings) {
             w.fail(e);
         }
-        Ok(w)
+        w
     }
 
     /// Header, settings metadata (before any chunk), schemas, channels.
-    fn open(
-        &mut self,
-        file: BufWriter<File>,
-        settings: &MachineSettings,
-    ) -> Result<(), mcap::McapError> {
+    fn open(&mut self, file: W, settings: &MachineSettings) -> Result<(), mcap::McapError> {
         let options = mcap::WriteOptions::new()
             .compression(None)
             .chunk_size(Some(CHUNK_BYTES))
@@ -112,9 +118,14 @@ impl RecordWriter {
 
     /// Keeps the first error, drops the MCAP writer (its `Drop` tries to finish and ignores the
     /// error), and from now on only counts events.
-    fn fail(&mut self, e: impl std::fmt::Display) {
+    fn fail(&mut self, e: impl std::error::Error + 'static) {
         if self.out.disk_error.is_none() {
-            self.out.disk_error = Some(format!("writing {}: {e}", self.path.display()));
+            // The innermost cause says what the operator needs ("No space left on device").
+            let mut cause: &dyn std::error::Error = &e;
+            while let Some(s) = cause.source() {
+                cause = s;
+            }
+            self.out.disk_error = Some(format!("writing {}: {cause}", self.path.display()));
         }
         self.mcap = None;
     }
@@ -199,6 +210,63 @@ impl RecordWriter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An output whose disk fills up after `limit` bytes.
+    struct FillsUp {
+        inner: std::io::Cursor<Vec<u8>>,
+        limit: u64,
+    }
+
+    impl Write for FillsUp {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.inner.position() + buf.len() as u64 > self.limit {
+                return Err(std::io::Error::other("No space left on device"));
+            }
+            self.inner.write(buf)
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Seek for FillsUp {
+        fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+            self.inner.seek(pos)
+        }
+    }
+
+    #[test]
+    fn disk_filling_up_mid_recording_is_kept_and_later_events_are_counted() {
+        let out = FillsUp {
+            inner: std::io::Cursor::new(Vec::new()),
+            limit: 200_000,
+        };
+        let mut w =
+            RecordWriter::with_output(out, Path::new("full.mcap"), &MachineSettings::default());
+        assert!(!w.failed(), "the header fits");
+        let batch = |i: u64| Event::Pulses {
+            axis: 0,
+            dir: 1,
+            t_ns: (i * 1000..i * 1000 + 1000).collect(),
+        };
+        let mut written = 0;
+        while w.write(&batch(written)) {
+            written += 1;
+            assert!(written < 1000, "the output never filled up");
+        }
+        assert!(w.failed());
+        for i in 0..5 {
+            assert!(!w.write(&batch(written + 1 + i)));
+        }
+        let out = w.finish(true, 0);
+        assert_eq!(out.messages[Topic::Pulses.index()], written);
+        assert_eq!(out.lost_to_disk_error, 6);
+        let err = out.disk_error.unwrap();
+        assert!(
+            err.contains("full.mcap") && err.contains("No space"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn unwritable_path_is_an_error_naming_the_file() {
