@@ -116,8 +116,7 @@ impl<W: Write + Seek> RecordWriter<W> {
         Ok(())
     }
 
-    /// Keeps the first error, drops the MCAP writer (its `Drop` tries to finish and ignores the
-    /// error), and from now on only counts events.
+    /// Keeps the first error, lets go of the MCAP writer, and from now on only counts events.
     fn fail(&mut self, e: impl std::error::Error + 'static) {
         if self.out.disk_error.is_none() {
             // The innermost cause says what the operator needs ("No space left on device").
@@ -127,7 +126,12 @@ impl<W: Write + Seek> RecordWriter<W> {
             }
             self.out.disk_error = Some(format!("writing {}: {cause}", self.path.display()));
         }
-        self.mcap = None;
+        // `into_inner` hands the file back without another write attempt (dropping the MCAP
+        // writer would try to finish a file in an unknown state); the buffer's own drop makes
+        // one last, silent attempt to write what it holds.
+        if let Some(mcap) = self.mcap.take() {
+            drop(mcap.into_inner());
+        }
     }
 
     /// Whether a disk error has happened.
@@ -200,7 +204,10 @@ impl<W: Write + Seek> RecordWriter<W> {
                         Err(e) => self.fail(e),
                     }
                 }
-                Err(e) => self.fail(e),
+                Err(e) => {
+                    drop(mcap.into_inner());
+                    self.fail(e);
+                }
             }
         }
         self.out
@@ -266,6 +273,32 @@ mod tests {
             err.contains("full.mcap") && err.contains("No space"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn disk_filling_up_while_closing_is_reported_not_panicked() {
+        let run = |limit: u64| {
+            let out = FillsUp {
+                inner: std::io::Cursor::new(Vec::new()),
+                limit,
+            };
+            let mut w =
+                RecordWriter::with_output(out, Path::new("end.mcap"), &MachineSettings::default());
+            for i in 0..10u64 {
+                assert!(w.write(&Event::Position {
+                    t_ns: i,
+                    pulses: [i as i64, 0, 0]
+                }));
+            }
+            w.finish(false, 0)
+        };
+        let whole = run(u64::MAX);
+        assert_eq!(whole.disk_error, None);
+        for cut in [1, 30, 200, 400] {
+            let out = run(whole.bytes - cut);
+            assert!(out.disk_error.is_some(), "cut {cut}: {out:?}");
+            assert_eq!(out.bytes, 0);
+        }
     }
 
     #[test]
