@@ -75,19 +75,50 @@ fn digit_count(v: u64) -> usize {
     }
 }
 
+/// Writes `v` < 10^8 as exactly 8 digits into `buf[..8]` (leading zeros kept).
+#[inline(always)]
+fn put8(buf: &mut [u8], v: u32) {
+    let (a, b) = ((v / 10_000) as usize, (v % 10_000) as usize);
+    let pairs = [(a / 100) * 2, (a % 100) * 2, (b / 100) * 2, (b % 100) * 2];
+    for (k, d) in pairs.into_iter().enumerate() {
+        buf[2 * k] = DIGIT_PAIRS[d];
+        buf[2 * k + 1] = DIGIT_PAIRS[d + 1];
+    }
+}
+
 /// Appends `v0,v1,...` (no brackets): the pulse-time fast path. It sizes the output once and
-/// writes each number in place, most significant digit pair first from a known digit count.
+/// writes each number in place. A time ≥ 10^8 ns is written as its leading digits, kept from
+/// the previous number while they do not change (pulse times are ascending), and 8 fixed
+/// digits.
 pub fn push_u64_list(out: &mut Vec<u8>, values: &[u64]) {
+    const LOW: u64 = 100_000_000;
     let start = out.len();
     // 20 digits + a comma is the most any u64 needs.
     out.resize(start + values.len() * 21, 0);
     let buf = &mut out[start..];
     let mut p = 0;
+    let mut hi_value = 0u64;
+    let mut hi_digits = [0u8; 12];
+    let mut hi_len = 0usize;
     for &v in values {
-        let n = digit_count(v);
-        put_digits(&mut buf[p..p + n], v, n);
-        buf[p + n] = b',';
-        p += n + 1;
+        if v < LOW {
+            let n = digit_count(v);
+            put_digits(&mut buf[p..p + n], v, n);
+            p += n;
+        } else {
+            let hi = v / LOW;
+            if hi != hi_value || hi_len == 0 {
+                hi_value = hi;
+                hi_len = digit_count(hi);
+                put_digits(&mut hi_digits[..hi_len], hi, hi_len);
+            }
+            buf[p..p + hi_len].copy_from_slice(&hi_digits[..hi_len]);
+            p += hi_len;
+            put8(&mut buf[p..p + 8], (v % LOW) as u32);
+            p += 8;
+        }
+        buf[p] = b',';
+        p += 1;
     }
     // Drop the last comma.
     out.truncate(start + p.saturating_sub(1));
@@ -443,6 +474,22 @@ mod tests {
             .join(",");
         assert_eq!(s(|o| push_u64_list(o, &cases)), want);
         assert_eq!(s(|o| push_u64_list(o, &[])), "");
+        // Ascending runs that share leading digits, across digit-count and 10^8 boundaries.
+        for base in [
+            0u64,
+            99_999_990,
+            9_999_999_990,
+            60_000_000_000,
+            99_999_999_999_999_990,
+        ] {
+            let run: Vec<u64> = (0..40).map(|k| base + k * 3).chain([u64::MAX]).collect();
+            let want = run
+                .iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join(",");
+            assert_eq!(s(|o| push_u64_list(o, &run)), want);
+        }
         let mut o = b"[".to_vec();
         push_u64_list(&mut o, &[5]);
         assert_eq!(o, b"[5");
