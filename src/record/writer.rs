@@ -6,7 +6,8 @@
 //! drives one directly. After the first write error the MCAP writer is dropped and every later
 //! event is only counted, so the caller can keep draining its queue at full speed.
 
-use super::json::{encode_event, Topic};
+use super::json::encode_event;
+use super::topic::Topic;
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
