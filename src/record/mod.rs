@@ -7,6 +7,7 @@
 
 pub mod json;
 pub mod recorder;
+pub mod testkit;
 pub mod topic;
 pub mod writer;
 
