@@ -91,6 +91,25 @@ impl<W: Write + Seek> RecordWriter<W> {
             .profile("")
             .library(concat!("novanc ", env!("CARGO_PKG_VERSION")));
         let mut mcap = options.create(file)?;
+        match Self::declare(&mut mcap, settings, &mut self.channels) {
+            Ok(()) => {
+                self.mcap = Some(mcap);
+                Ok(())
+            }
+            Err(e) => {
+                // No finish attempt on a half-written file (see `fail`).
+                drop(mcap.into_inner());
+                Err(e)
+            }
+        }
+    }
+
+    /// Writes the settings metadata, the schemas and the channels; fills in the channel ids.
+    fn declare(
+        mcap: &mut mcap::Writer<W>,
+        settings: &MachineSettings,
+        channels: &mut [u16; 6],
+    ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
             (
@@ -110,10 +129,9 @@ impl<W: Write + Seek> RecordWriter<W> {
         for topic in Topic::ALL {
             let schema =
                 mcap.add_schema(topic.schema_name(), "jsonschema", topic.schema().as_bytes())?;
-            self.channels[topic.index()] =
+            channels[topic.index()] =
                 mcap.add_channel(schema, topic.name(), "json", &no_metadata)?;
         }
-        self.mcap = Some(mcap);
         Ok(())
     }
 
@@ -274,6 +292,26 @@ mod tests {
             err.contains("full.mcap") && err.contains("No space"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn disk_full_before_the_channels_are_written_is_kept_not_panicked() {
+        for limit in [0, 10, 100, 1_000] {
+            let out = FillsUp {
+                inner: std::io::Cursor::new(Vec::new()),
+                limit,
+            };
+            let mut w =
+                RecordWriter::with_output(out, Path::new("tiny.mcap"), &MachineSettings::default());
+            assert!(w.failed(), "limit {limit}");
+            assert!(!w.write(&Event::PanelEvent {
+                t_ns: 0,
+                event: "key START".into()
+            }));
+            let out = w.finish(true, 0);
+            assert_eq!(out.lost_to_disk_error, 1);
+            assert!(out.disk_error.is_some());
+        }
     }
 
     #[test]
