@@ -5,16 +5,15 @@ use crate::screen::{Screen, Style};
 
 /// Draws a rotary selector: a framed list of numbered positions with the knob's pointer
 /// `◉━` on the selected one. `w` is the outer width; the height is `labels.len() + 2`.
+/// `styles` are (frame and unselected positions, selected position).
 pub fn rotary(
     s: &mut Screen,
-    x: usize,
-    y: usize,
+    (x, y): (usize, usize),
     w: usize,
     title: &str,
     labels: &[&str],
     selected: usize,
-    frame: Style,
-    active: Style,
+    (frame, active): (Style, Style),
 ) {
     s.frame(x, y, w, labels.len() + 2, title, frame);
     for (i, l) in labels.iter().enumerate() {
@@ -81,14 +80,12 @@ mod tests {
         let mut s = Screen::new(16, 5);
         rotary(
             &mut s,
-            0,
-            0,
+            (0, 0),
             16,
             "MODE",
             &["AUTO", "MDI", "DATA"],
             1,
-            Style::PLAIN,
-            Style::PLAIN,
+            (Style::PLAIN, Style::PLAIN),
         );
         let t = s.to_text();
         assert!(t.contains("◉━2 MDI"), "{t}");
