@@ -10,6 +10,7 @@
 
 mod config;
 mod display;
+pub mod layout;
 mod memory;
 mod run;
 pub mod search;
@@ -188,6 +189,19 @@ impl Console {
     pub fn wait_idle(&mut self) {
         run::wait_idle(self);
         self.refresh();
+    }
+
+    /// The tape reader key: the line typed on the data keys names the tape file to put in
+    /// the reader (the line is used up).
+    pub fn tape_from_entry(&mut self) {
+        let path = std::mem::take(&mut self.entry);
+        let path = path.trim();
+        if path.is_empty() {
+            self.message = "tape reader: type the tape's file path first, then the tape key".into();
+            self.refresh();
+            return;
+        }
+        self.handle(PanelEvent::Tape(PathBuf::from(path)));
     }
 
     /// The latest pulse-core status snapshot.

@@ -6,7 +6,7 @@ use super::{search, Console};
 use crate::ap::translate_all;
 use crate::nc::{Command, RunKind};
 use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
-use crate::record::{Event, EventSink};
+use crate::record::{Event, EventSink, Recorder};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use std::path::Path;
@@ -306,6 +306,7 @@ pub(super) fn wait_idle(c: &mut Console) {
 /// The recording of a session (SPEC §7): panel events, display frames and state changes go
 /// to the recorder; the pulse core gets the same sink for blocks, positions and pulses.
 pub(super) struct Recording {
+    recorder: Option<Recorder>,
     sink: Option<EventSink>,
     last_state: Option<StateRecord>,
 }
@@ -323,15 +324,14 @@ pub(super) struct StateRecord {
 
 impl Recording {
     /// Starts recording to `path`, if given.
-    pub fn start(path: Option<&Path>, _settings: &MachineSettings) -> Result<Recording, String> {
-        if let Some(p) = path {
-            return Err(format!(
-                "cannot record to {}: the recorder is not in this build yet",
-                p.display()
-            ));
-        }
+    pub fn start(path: Option<&Path>, settings: &MachineSettings) -> Result<Recording, String> {
+        let recorder = match path {
+            Some(p) => Some(Recorder::start(p, settings)?),
+            None => None,
+        };
         Ok(Recording {
-            sink: None,
+            sink: recorder.as_ref().map(|r| r.sink()),
+            recorder,
             last_state: None,
         })
     }
@@ -382,6 +382,10 @@ impl Recording {
 
     /// Closes the recording; its summary.
     pub fn finish(self) -> Result<Option<String>, String> {
-        Ok(None)
+        drop(self.sink);
+        match self.recorder {
+            Some(r) => r.finish().map(|s| Some(s.to_string())),
+            None => Ok(None),
+        }
     }
 }
