@@ -334,12 +334,22 @@ impl Text {
             return None;
         }
         let m = pat.len();
+        // A one-character pattern is searched as a char (a fast byte scan).
+        let mut it = pat.chars();
+        let single = match (it.next(), it.next()) {
+            (Some(ch), None) => Some(ch),
+            _ => None,
+        };
         let place = self.locate(from);
         let mut before = place.chars_before;
         let mut bo = self.chunks[place.chunk].byte_of(place.off);
         for ci in place.chunk..self.chunks.len() {
             let c = &self.chunks[ci];
-            if let Some(x) = c.s[bo..].find(pat) {
+            let hit = match single {
+                Some(ch) => c.s[bo..].find(ch),
+                None => c.s[bo..].find(pat),
+            };
+            if let Some(x) = hit {
                 return Some(before + c.chars_before(bo + x));
             }
             // A match that starts near the end of this chunk and runs into the next ones.
