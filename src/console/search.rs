@@ -1,4 +1,5 @@
-//! SEARCH: positions the program so that AUTO starts at a chosen statement. The program is
+//! SEARCH: a program name makes that program current; a line number or text positions the
+//! program so that AUTO starts at a chosen statement. The program is
 //! translated from the top without moving; the statements before the chosen one are not
 //! executed, but the tool, spindle and origin in force there are rebuilt: the run starts with
 //! restoring blocks (T/M06, S/M03 or M04, then a safe rapid to where the chosen statement
@@ -199,6 +200,20 @@ fn find_line(source: &str, what: &str) -> Result<Option<u32>, String> {
 
 /// SEARCH: a command line (a line number, or text to find) entered with EOB.
 pub(super) fn enter(c: &mut Console, line: &str) {
+    let wanted = line.trim();
+    if let Some(name) = c
+        .mem
+        .program_names()
+        .into_iter()
+        .find(|n| n.eq_ignore_ascii_case(wanted))
+    {
+        c.message = match c.mem.select_program(&name) {
+            Ok(()) => format!("program {name} is current; AUTO starts at the top"),
+            Err(e) => format!("SEARCH: {e}"),
+        };
+        c.search = None;
+        return;
+    }
     let source = c.mem.text(Target::Program);
     let n = match find_line(&source, line) {
         Ok(Some(n)) => n,
