@@ -46,7 +46,10 @@ fn check(name: &str) {
     let want = std::fs::read_to_string(&golden)
         .unwrap_or_else(|e| panic!("{}: {e} (run with UPDATE_GOLDEN=1)", golden.display()));
     if stdout != want {
-        panic!("{name}: frames differ from {}\n--- got:\n{stdout}\n--- want:\n{want}", golden.display());
+        panic!(
+            "{name}: frames differ from {}\n--- got:\n{stdout}\n--- want:\n{want}",
+            golden.display()
+        );
     }
 }
 

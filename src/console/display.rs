@@ -277,7 +277,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
 fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let name = data_name(c.data);
     let mut bottom = vec![format!("cmd: {}", c.last_line)];
-    bottom.extend(message_lines(c, cols, 2));
+    bottom.extend(message_lines(c, cols, 3));
     let entry_room = cols.saturating_sub(3);
     let typed: Vec<char> = c.entry.chars().collect();
     let shown: String = typed[typed.len().saturating_sub(entry_room)..]

@@ -60,8 +60,10 @@ pub struct Console {
     /// Lines of the last TOOL DATA READ report.
     read_report: Vec<String>,
     jogging: bool,
-    /// What the pulse core looked like when the last motion command was sent.
-    sent: Option<(u64, [i64; 3], u64)>,
+    /// The selector positions last told to the pulse core (for `/nc/state`).
+    modes_told: Option<(OpMode, DataMode)>,
+    /// The last pulse-core notice shown.
+    notice_seen: Option<String>,
     recorder: run::Recording,
 }
 
@@ -73,6 +75,7 @@ impl Console {
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
         let recorder = run::Recording::start(cfg.record.as_deref(), &cfg.settings)?;
         let core = PulseCore::spawn(cfg.settings.clone(), cfg.clock, recorder.sink());
+        core.set_magazine(mem.magazine());
         let status = core.status();
         let mut c = Console {
             cfg,
@@ -96,7 +99,8 @@ impl Console {
             tool_focus: 1,
             read_report: Vec::new(),
             jogging: false,
-            sent: None,
+            modes_told: None,
+            notice_seen: None,
             recorder,
         };
         if let Some(w) = warnings.first() {
@@ -180,7 +184,7 @@ impl Console {
 
     /// Whether the machine is idle: RUN = 0 and no axis moving.
     pub fn is_idle(&self) -> bool {
-        self.status.run == 0 && !self.status.moving
+        self.status.idle
     }
 
     /// Waits until the machine is idle (RUN = 0, no motion, the last command taken up), then
@@ -232,36 +236,27 @@ impl Console {
                 self.alarm = Some(a.clone());
             }
         }
+        if self.status.notice != self.notice_seen {
+            if let Some(n) = &self.status.notice {
+                self.message = n.clone();
+            }
+            self.notice_seen = self.status.notice.clone();
+        }
         let lines = display::compose(self);
         if lines != self.display {
             self.display = lines;
             self.recorder.display(&self.display, self.status.machine_ns);
         }
-        let st = run::StateRecord {
-            run: self.status.run,
-            op: self.op,
-            data: self.data,
-            feed_override: self.feed_override,
-            tool: self.status.tool.unwrap_or(0),
-            spindle: self.status.spindle,
-        };
-        self.recorder.state(st, self.status.machine_ns);
+        let modes = (self.op, self.data);
+        if self.modes_told != Some(modes) {
+            self.core.set_panel_modes(self.op.word(), self.data.word());
+            self.modes_told = Some(modes);
+        }
     }
 
     /// Whether the machine is running or moving.
     fn running(&self) -> bool {
         self.status.run != 0 || self.status.moving
-    }
-
-    /// Sends a command that moves the machine, remembering the status at that moment (for
-    /// `wait_idle`).
-    fn send_motion(&mut self, c: Command) {
-        self.sent = Some((
-            self.status.blocks_done,
-            self.status.pos,
-            self.status.machine_ns,
-        ));
-        self.core.command(c);
     }
 
     /// Dispatches one event (the rules of SPEC §1).

@@ -5,12 +5,12 @@
 use super::{search, Console};
 use crate::ap::translate_all;
 use crate::nc::{Command, RunKind};
-use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::record::{Event, EventSink, Recorder};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// START in AUTO, SINGLE BLOCK (kind Auto) or MDI (kind Mdi).
 pub(super) fn start_program(c: &mut Console, kind: RunKind) {
@@ -18,7 +18,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     if let Some(loaded) = c.loaded {
         if loaded == kind {
             c.core.command(Command::SingleBlock(single));
-            c.send_motion(Command::Start(kind));
+            c.core.command(Command::Start(kind));
             c.message.clear();
             return;
         }
@@ -64,10 +64,11 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         return;
     }
     c.alarm = None;
+    c.core.set_magazine(magazine);
     c.core.command(Command::Override(c.feed_override));
     c.core.load(Box::new(stmts.into_iter().map(Ok)));
     c.core.command(Command::SingleBlock(single));
-    c.send_motion(Command::Start(kind));
+    c.core.command(Command::Start(kind));
     c.loaded = Some(kind);
     c.message = match c.started_at {
         Some(l) => format!("running from line {l} (SEARCH)"),
@@ -212,7 +213,7 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
         return;
     }
     if pulses != 0 {
-        c.send_motion(Command::Increment {
+        c.core.command(Command::Increment {
             axis: axis.index(),
             pulses,
         });
@@ -235,7 +236,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
                 c.message = format!("jog refused: {} is at its travel limit", axis.letter());
                 return;
             }
-            c.send_motion(Command::Jog {
+            c.core.command(Command::Jog {
                 axis: axis.index(),
                 dir,
             });
@@ -251,7 +252,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
                 c.message = e;
                 return;
             }
-            c.send_motion(Command::Increment {
+            c.core.command(Command::Increment {
                 axis: axis.index(),
                 pulses,
             });
@@ -269,57 +270,21 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
     }
 }
 
-/// Waits until RUN = 0, no axis moves, and the last motion command has been taken up.
+/// Waits until RUN = 0, no axis moves, and every command sent has been applied (at most an
+/// hour of wall-clock time).
 pub(super) fn wait_idle(c: &mut Console) {
-    let begun = Instant::now();
-    let mut seen_active = false;
-    loop {
-        c.status = c.core.status();
-        let st = &c.status;
-        let active = st.run != 0 || st.moving;
-        seen_active |= active;
-        if !active {
-            let taken_up = match c.sent {
-                None => true,
-                Some((blocks, pos, ns)) => {
-                    seen_active
-                        || st.blocks_done != blocks
-                        || st.pos != pos
-                        || st.machine_ns != ns
-                        || st.alarm.is_some()
-                        || st.estop
-                        || begun.elapsed() > Duration::from_millis(300)
-                }
-            };
-            if taken_up {
-                break;
-            }
-        }
-        if st.estop && !st.moving {
-            break;
-        }
-        std::thread::sleep(Duration::from_micros(500));
+    match c.core.wait_idle(Duration::from_secs(3600)) {
+        Some(st) => c.status = st,
+        None => c.message = "wait: the machine did not come to rest within an hour".into(),
     }
-    c.sent = None;
 }
 
-/// The recording of a session (SPEC §7): panel events, display frames and state changes go
-/// to the recorder; the pulse core gets the same sink for blocks, positions and pulses.
+/// The recording of a session (SPEC §7): panel events and display frames go to the recorder;
+/// the pulse core gets the same sink for blocks, positions, pulses and `/nc/state` (the
+/// console tells it the selector positions).
 pub(super) struct Recording {
     recorder: Option<Recorder>,
     sink: Option<EventSink>,
-    last_state: Option<StateRecord>,
-}
-
-/// The `/nc/state` fields the console knows.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct StateRecord {
-    pub run: u8,
-    pub op: OpMode,
-    pub data: DataMode,
-    pub feed_override: u32,
-    pub tool: u32,
-    pub spindle: i64,
 }
 
 impl Recording {
@@ -332,7 +297,6 @@ impl Recording {
         Ok(Recording {
             sink: recorder.as_ref().map(|r| r.sink()),
             recorder,
-            last_state: None,
         })
     }
 
@@ -359,25 +323,6 @@ impl Recording {
                 lines: lines.iter().map(|l| l.trim_end().to_string()).collect(),
             });
         }
-    }
-
-    /// Records the state when it changed.
-    pub fn state(&mut self, st: StateRecord, t_ns: u64) {
-        if self.last_state.as_ref() == Some(&st) {
-            return;
-        }
-        if let Some(s) = &self.sink {
-            s.send(Event::State {
-                t_ns,
-                run: st.run,
-                op_mode: st.op.word().into(),
-                data_mode: st.data.word().into(),
-                feed_override: st.feed_override,
-                tool: st.tool,
-                spindle: st.spindle,
-            });
-        }
-        self.last_state = Some(st);
     }
 
     /// Closes the recording; its summary.

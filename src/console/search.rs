@@ -97,7 +97,7 @@ pub fn plan(
         resume = b.end;
     }
     let rest = &stmts[first..];
-    // What the chosen part does itself before its first move needs no restoring.
+    // What the chosen part does itself before it first cuts (feeds) needs no restoring.
     let mut own_tool = false;
     let mut own_spindle = false;
     for b in rest.iter().flat_map(|s| s.blocks.iter()) {
@@ -107,7 +107,7 @@ pub fn plan(
         if matches!(b.m, Some(3..=5)) {
             own_spindle = true;
         }
-        if b.motion != Motion::Aux {
+        if !matches!(b.motion, Motion::Aux | Motion::Rapid) {
             break;
         }
     }
