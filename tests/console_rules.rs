@@ -10,9 +10,12 @@ use std::path::PathBuf;
 /// A fresh state directory.
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!(
-        "novanc-console-{name}-{}-{:?}",
+        "novanc-console-{name}-{}-{}",
         std::process::id(),
         std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
     ));
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -8,9 +8,12 @@ use std::process::Command;
 /// A fresh, empty state directory for one test.
 fn temp_state(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!(
-        "novanc-golden-{name}-{}-{:?}",
+        "novanc-golden-{name}-{}-{}",
         std::process::id(),
         std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
     ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();

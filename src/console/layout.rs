@@ -144,13 +144,11 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         &format!("RUN {}  {tool}  S{}", v.run, v.spindle),
         PANEL,
     );
-    let secs = v.machine_ns as f64 / 1e9;
-    s.text(
-        rx + 1,
-        top + 3,
-        &format!("machine time {secs:>9.1} s"),
-        PANEL,
-    );
+    let room = rw.saturating_sub(10);
+    let e: Vec<char> = v.entry.chars().collect();
+    let shown: String = e[e.len().saturating_sub(room)..].iter().collect();
+    s.text(rx + 1, top + 3, "ENTRY > ", PANEL);
+    s.text(rx + 9, top + 3, &shown, LIT);
     // Data keys 15.
     let kw = rx + rw;
     s.frame(
@@ -173,14 +171,6 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         "1 2 3 4 5 6 7 8 9 0 . , / = ( ) - + $ *  SHIFT  EOB  RUBOUT",
         PANEL,
     );
-    let entry: String = {
-        let e: Vec<char> = v.entry.chars().collect();
-        let room = kw.saturating_sub(56).max(1);
-        e[e.len().saturating_sub(room)..].iter().collect()
-    };
-    if !entry.is_empty() {
-        s.text(54, top + 6, &entry, LIT);
-    }
     s.text(0, top + 9, LEGEND, PANEL);
 }
 
@@ -269,7 +259,7 @@ mod tests {
             "○ RUN",
             "T02  S1200",
             "F9 START",
-            "2L",
+            "ENTRY > 2L",
         ] {
             assert!(t.contains(want), "missing {want:?} in\n{t}");
         }
