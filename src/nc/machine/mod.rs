@@ -30,6 +30,11 @@ mod report;
 
 pub use check::axis_name;
 
+/// Sends an event to the recording (lossless in virtual time, see `pulse_out::emit`).
+fn send_ev(s: &EventSink, lossless: bool, ev: Event) {
+    super::pulse_out::emit(s, ev, lossless);
+}
+
 /// Where the executing block is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Phase {
@@ -145,6 +150,12 @@ impl Machine {
         self.events = sink;
         self.last_state = None;
         self.send_state();
+    }
+
+    /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
+    /// Only for virtual time, where machine time does not follow the wall clock.
+    pub fn set_lossless_recording(&mut self, on: bool) {
+        self.out.lossless = on;
     }
 
     /// The pulses captured since the last call (with `capture_pulses` on).
@@ -460,12 +471,16 @@ impl Machine {
             return;
         }
         if let Some(s) = &self.events {
-            s.send(Event::Block {
-                t_ns: self.now,
-                seq: b.seq,
-                stmt: b.stmt,
-                text: crate::ap::iso_line(&b, &self.settings),
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Block {
+                    t_ns: self.now,
+                    seq: b.seq,
+                    stmt: b.stmt,
+                    text: crate::ap::iso_line(&b, &self.settings),
+                },
+            );
         }
         let mut pre = 0;
         if b.m == Some(6) {
@@ -604,10 +619,14 @@ impl Machine {
         self.just_completed = true;
         self.out.flush();
         if let Some(s) = &self.events {
-            s.send(Event::Position {
-                t_ns: t,
-                pulses: self.out.pos,
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Position {
+                    t_ns: t,
+                    pulses: self.out.pos,
+                },
+            );
         }
         if m == Some(30) {
             self.run = 0;

@@ -1,16 +1,20 @@
 //! What the machine tells the outside: the status snapshot and the recorded events.
 
-use super::Machine;
+use super::{send_ev, Machine};
 use crate::nc::Status;
 use crate::record::Event;
 
 impl Machine {
     pub(super) fn send_position(&self) {
         if let Some(s) = &self.events {
-            s.send(Event::Position {
-                t_ns: self.now,
-                pulses: self.out.pos,
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Position {
+                    t_ns: self.now,
+                    pulses: self.out.pos,
+                },
+            );
         }
     }
     pub(super) fn send_state(&mut self) {
@@ -24,15 +28,19 @@ impl Machine {
             self.data_mode.clone(),
         );
         if self.last_state.as_ref() != Some(&key) {
-            s.send(Event::State {
-                t_ns: self.now,
-                run: key.0,
-                op_mode: key.4.clone(),
-                data_mode: key.5.clone(),
-                feed_override: key.1,
-                tool: key.2,
-                spindle: key.3,
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::State {
+                    t_ns: self.now,
+                    run: key.0,
+                    op_mode: key.4.clone(),
+                    data_mode: key.5.clone(),
+                    feed_override: key.1,
+                    tool: key.2,
+                    spindle: key.3,
+                },
+            );
             self.last_state = Some(key);
         }
     }
