@@ -112,8 +112,7 @@ fn block_ends(r: &Rec, stmt: i64, g: &str) -> Vec<[i64; 3]> {
         let p = r
             .positions
             .iter()
-            .filter(|p| p.0 >= *t && p.0 < next)
-            .next_back()
+            .rfind(|p| p.0 >= *t && p.0 < next)
             .expect("a position at the block end");
         out.push(p.1);
     }
