@@ -12,8 +12,12 @@ use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 
-/// The statements a translator yields.
-pub type StatementIter = Box<dyn Iterator<Item = Result<Statement, TranslateError>> + Send>;
+/// The statements a translator yields (made and used on the translator thread, so it need
+/// not be `Send`).
+pub type StatementIter = Box<dyn Iterator<Item = Result<Statement, TranslateError>>>;
+
+/// Makes the translator on the translator thread.
+pub type MakeStatements = Box<dyn FnOnce() -> StatementIter + Send>;
 
 #[derive(Debug)]
 struct State {
@@ -62,8 +66,8 @@ impl B1 {
         self.not_empty.notify_all();
     }
 
-    /// Empties B1 and starts a translator thread filling it from `stmts`.
-    pub fn load(self: &Arc<B1>, stmts: StatementIter) {
+    /// Empties B1 and starts a translator thread filling it from the statements `make` gives.
+    pub fn load(self: &Arc<B1>, make: MakeStatements) {
         let gen = {
             let mut s = self.lock();
             s.q.clear();
@@ -75,7 +79,7 @@ impl B1 {
         let b1 = self.clone();
         let spawned = std::thread::Builder::new()
             .name("translator".into())
-            .spawn(move || b1.translate(gen, stmts));
+            .spawn(move || b1.translate(gen, make()));
         if spawned.is_err() {
             let mut s = self.lock();
             if s.gen == gen {

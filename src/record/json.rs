@@ -50,6 +50,49 @@ pub fn push_u64(out: &mut Vec<u8>, mut v: u64) {
     out.extend_from_slice(&buf[i..]);
 }
 
+/// Writes the `digits` decimal digits of `v` into `buf[..digits]` (`digits` ≥ the digit count).
+#[inline(always)]
+fn put_digits(buf: &mut [u8], mut v: u64, digits: usize) {
+    let mut i = digits;
+    while i >= 2 {
+        let d = (v % 100) as usize * 2;
+        v /= 100;
+        i -= 2;
+        buf[i] = DIGIT_PAIRS[d];
+        buf[i + 1] = DIGIT_PAIRS[d + 1];
+    }
+    if i == 1 {
+        buf[0] = b'0' + (v % 10) as u8;
+    }
+}
+
+/// Number of decimal digits of `v` (1 for 0).
+#[inline(always)]
+fn digit_count(v: u64) -> usize {
+    match v.checked_ilog10() {
+        Some(l) => l as usize + 1,
+        None => 1,
+    }
+}
+
+/// Appends `v0,v1,...` (no brackets): the pulse-time fast path. It sizes the output once and
+/// writes each number in place, most significant digit pair first from a known digit count.
+pub fn push_u64_list(out: &mut Vec<u8>, values: &[u64]) {
+    let start = out.len();
+    // 20 digits + a comma is the most any u64 needs.
+    out.resize(start + values.len() * 21, 0);
+    let buf = &mut out[start..];
+    let mut p = 0;
+    for &v in values {
+        let n = digit_count(v);
+        put_digits(&mut buf[p..p + n], v, n);
+        buf[p + n] = b',';
+        p += n + 1;
+    }
+    // Drop the last comma.
+    out.truncate(start + p.saturating_sub(1));
+}
+
 /// Appends a signed integer.
 #[inline]
 pub fn push_i64(out: &mut Vec<u8>, v: i64) {
@@ -307,13 +350,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             } else {
                 b",\"dir\":1,\"t_ns\":["
             });
-            if let Some((first, rest)) = t_ns.split_first() {
-                push_u64(out, *first);
-                for t in rest {
-                    out.push(b',');
-                    push_u64(out, *t);
-                }
-            }
+            push_u64_list(out, t_ns);
             out.extend_from_slice(b"]}");
             t_ns.first().copied().unwrap_or(0)
         }
@@ -382,12 +419,33 @@ mod tests {
             x ^= x << 17;
             cases.push(x >> (x % 64));
         }
+        let joined = cases
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        assert_eq!(s(|o| push_u64_list(o, &cases)), joined);
         for v in cases {
             assert_eq!(s(|o| push_u64(o, v)), v.to_string());
             let i = v as i64;
             assert_eq!(s(|o| push_i64(o, i)), i.to_string());
         }
         assert_eq!(s(|o| push_i64(o, i64::MIN)), i64::MIN.to_string());
+    }
+
+    #[test]
+    fn integer_lists_match_std_formatting() {
+        let cases: Vec<u64> = vec![0, 7, 10, 99, 100, 12_345, 60_000_000_123, u64::MAX, 1];
+        let want = cases
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        assert_eq!(s(|o| push_u64_list(o, &cases)), want);
+        assert_eq!(s(|o| push_u64_list(o, &[])), "");
+        let mut o = b"[".to_vec();
+        push_u64_list(&mut o, &[5]);
+        assert_eq!(o, b"[5");
     }
 
     #[test]
