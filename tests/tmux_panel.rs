@@ -232,3 +232,46 @@ fn sigterm_hands_the_terminal_back() {
     assert_eq!(before, after, "stty -a changed");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_panic_hands_the_terminal_back() {
+    if !have_tmux() {
+        if std::env::var("CI").as_deref() == Ok("true") {
+            panic!("tmux is required in CI (install it in .ci/run)");
+        }
+        eprintln!("SKIPPED: tmux is not installed; the panic test did not run");
+        return;
+    }
+    let d = temp_dir();
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let cmd = format!(
+        "stty -a > '{d}/before'; NOVANC_TEST_PANIC=1 '{exe}' --state '{d}/state' 2> '{d}/stderr'; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
+        d = d.display()
+    );
+    let t = Tmux {
+        socket: format!("novanc-panic-{}", std::process::id()),
+    };
+    t.run(&[
+        "-f",
+        "/dev/null",
+        "new-session",
+        "-d",
+        "-x",
+        "80",
+        "-y",
+        "24",
+        "sh",
+        "-c",
+        &cmd,
+    ]);
+    let exit = wait_file(&d.join("exit"), 20);
+    assert_eq!(exit.trim(), "exit=101");
+    let stderr = std::fs::read_to_string(d.join("stderr")).unwrap();
+    assert!(stderr.contains("NOVANC_TEST_PANIC"), "{stderr}");
+    let after = wait_file(&d.join("after"), 10);
+    let before = std::fs::read_to_string(d.join("before")).unwrap();
+    assert_eq!(before, after, "stty -a changed");
+    let s = t.screen();
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    let _ = std::fs::remove_dir_all(&d);
+}
