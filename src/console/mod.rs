@@ -229,7 +229,13 @@ impl Console {
     fn refresh(&mut self) {
         self.status = self.core.status();
         if self.status.run == 0 && !self.status.moving && self.status.program_end {
-            self.loaded = None;
+            if self.loaded.take().is_some() && self.status.alarm.is_none() {
+                self.message = format!(
+                    "program end: {} blocks in {:.1} s",
+                    self.status.blocks_done,
+                    self.status.machine_ns as f64 / 1e9
+                );
+            }
         }
         if let Some(a) = &self.status.alarm {
             if self.alarm.as_ref() != Some(a) {
