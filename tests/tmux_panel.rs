@@ -169,6 +169,19 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     t.run(&["resize-window", "-t", "0", "-x", "80", "-y", "24"]);
     t.wait_for(&["PLASMA DISPLAY 14", "T02 00106  DR      6.2    155▌"], 10);
 
+    // STEP: one press, one 0.1 mm increment; HANDLE x100: one detent, 0.1 mm.
+    t.keys(&["M-6"]);
+    t.wait_for(&["◉━6 STEP"], 10);
+    t.keys(&["Right"]);
+    t.wait_for(&["X    350.100"], 10);
+    t.keys(&["M-5"]);
+    t.wait_for(&["◉━5 HANDLE"], 10);
+    t.keys(&["M-w"]);
+    t.keys(&["M-w"]);
+    t.wait_for(&["HANDWHEEL X x100"], 10);
+    t.keys(&["Up"]);
+    t.wait_for(&["Y    130.100"], 10);
+
     // Help and back.
     t.keys(&["F8"]);
     t.wait_for(&["novanc terminal panel: keys"], 10);
