@@ -329,3 +329,27 @@ fn small_arcs_in_every_quadrant() {
         }
     }
 }
+
+#[test]
+fn tiny_and_empty_moves_complete() {
+    for delta in [
+        [1, 0, 0],
+        [0, -1, 0],
+        [1, 1, 1],
+        [2, -1, 0],
+        [0, 0, 0],
+        [3, 0, -2],
+    ] {
+        let mut m = machine();
+        let pulses = run(&mut m, vec![linear(1, MID, delta, 1000.0)]);
+        assert_eq!(
+            m.pos(),
+            [MID[0] + delta[0], MID[1] + delta[1], MID[2] + delta[2]]
+        );
+        assert_eq!(
+            pulses.len() as i64,
+            delta.iter().map(|d| d.abs()).sum::<i64>()
+        );
+        assert_eq!(m.blocks_done(), 1);
+    }
+}
