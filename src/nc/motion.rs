@@ -3,8 +3,8 @@
 //! Timing (all machine time, ns, in f64 inside a motion and u64 on the pulses):
 //! - A motion is a sequence of steps along the path. A linear step is one pulse of the major
 //!   axis (LINE), with PCHK pulsing each minor axis when its ΣLF falls to 0 or below; its path
-//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both
-//!   (ds = 1 or √2).
+//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both;
+//!   its ds is the length of circle it advances, R·Δθ (see `arc.rs`).
 //! - The period KT of a step is ds / v. The path speed v ramps at the machine's constant
 //!   acceleration a: across a step of length ds, v² changes by at most 2·a·ds, and the step
 //!   takes 2·ds / (v + v') (exact for constant acceleration). The speed is held to the target
@@ -13,7 +13,7 @@
 //! - A step's pulses carry the time at the end of the step. A step that would end at or after
 //!   the horizon (the end of the current NCBR tick) is not taken yet.
 
-use super::arc::ArcStepper;
+use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
 
 /// What a call to `Motion::run` left the motion in.
@@ -92,7 +92,7 @@ enum Path {
     Linear(Linear),
     Arc {
         st: ArcStepper,
-        pending: Option<(i8, i8)>,
+        pending: Option<ArcStep>,
         s_left: f64,
         steps_left: u64,
     },
@@ -171,12 +171,8 @@ impl Motion {
     pub fn arc(st: ArcStepper, speed: f64, accel: f64, t0: u64) -> Motion {
         let mut dry = st.clone();
         let (mut s, mut n) = (0.0, 0u64);
-        while let Some((dx, dy)) = dry.next_step() {
-            s += if dx != 0 && dy != 0 {
-                std::f64::consts::SQRT_2
-            } else {
-                1.0
-            };
+        while let Some(a) = dry.next_step() {
+            s += a.ds;
             n += 1;
         }
         Motion {
@@ -253,11 +249,7 @@ impl Motion {
                         }
                     },
                 };
-                let ds = if step.0 != 0 && step.1 != 0 {
-                    std::f64::consts::SQRT_2
-                } else {
-                    1.0
-                };
+                let ds = step.ds;
                 let rem = *s_left - ds;
                 let Some((vn, dt)) = self.prof.step(ds, rem, *steps_left == 1) else {
                     return Progress::AtRest;
@@ -272,11 +264,11 @@ impl Motion {
                 *steps_left -= 1;
                 *pending = None;
                 let t = tn as u64;
-                if step.0 != 0 {
-                    out.pulse(0, step.0, t);
+                if step.dx != 0 {
+                    out.pulse(0, step.dx, t);
                 }
-                if step.1 != 0 {
-                    out.pulse(1, step.1, t);
+                if step.dy != 0 {
+                    out.pulse(1, step.dy, t);
                 }
             },
         }
