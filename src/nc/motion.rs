@@ -308,3 +308,51 @@ fn run_linear(ln: &mut Linear, prof: &mut Profile, h: f64, out: &mut PulseOut) -
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_kt_ramp_is_constant_acceleration_and_ends_at_rest() {
+        let a = accel_pulses_ns2(1000.0, 0.001);
+        let fast = speed_pulses_ns(1e9, 0.001); // never reached in 20,000 pulses
+        let mut m = Motion::linear([20_000, 0, 0], fast, a, 0);
+        let mut out = PulseOut::default();
+        out.set_log(None, true);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::Done);
+        let p = out.take_capture();
+        assert_eq!(p.len(), 20_000);
+        // accelerating half: s = a t² / 2, so pulse k is at √(2k / a)
+        for k in [1usize, 10, 100, 1000, 9000] {
+            let want = (2.0 * k as f64 / a).sqrt();
+            let got = p[k - 1].t_ns as f64;
+            assert!(
+                (got - want).abs() <= want * 1e-3 + 1.0,
+                "pulse {k}: {got} vs {want}"
+            );
+        }
+        // braking half mirrors it: ends at rest at 2·√(2·10,000 / a)
+        let t_end = 2.0 * (2.0 * 10_000.0 / a).sqrt();
+        let last = p[19_999].t_ns as f64;
+        assert!((last - t_end).abs() <= t_end * 1e-3, "{last} vs {t_end}");
+        assert!(m.at_rest());
+    }
+
+    #[test]
+    fn a_hold_brakes_to_rest_and_a_resume_finishes_the_move() {
+        let a = accel_pulses_ns2(1000.0, 0.001);
+        let v = speed_pulses_ns(6000.0, 0.001);
+        let mut m = Motion::linear([0, 50_000, -20_000], v, a, 0);
+        let mut out = PulseOut::default();
+        assert_eq!(m.run(200_000_000, &mut out), Progress::Pending);
+        m.set_hold(true);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::AtRest);
+        let held = out.pos;
+        assert!(held[1] > 0 && held[1] < 50_000);
+        m.set_hold(false);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::Done);
+        assert_eq!(out.pos, [0, 50_000, -20_000]);
+        assert_eq!(out.count, [0, 50_000, 20_000]);
+    }
+}
