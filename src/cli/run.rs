@@ -131,11 +131,10 @@ pub fn main(argv: &[String]) -> i32 {
     core.load_program(&source, magazine, [0, 0, 0]);
     core.command(Command::Start(RunKind::Auto));
     let status = loop {
-        if let Some(st) = core.wait_idle(Duration::from_secs(3600)) {
-            break Some(st);
-        }
-        if core.status().commands_applied == 0 {
-            break None;
+        match core.wait_idle(Duration::from_secs(3600)) {
+            Some(st) => break Some(st),
+            None if core.is_running() => continue,
+            None => break None,
         }
     };
     drop(core);

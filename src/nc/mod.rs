@@ -29,7 +29,7 @@ mod runner;
 mod source;
 pub mod testkit;
 
-pub use self::arc::{ArcError, ArcStepper};
+pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::machine::{axis_name, Machine};
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};

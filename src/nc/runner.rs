@@ -150,6 +150,11 @@ impl PulseCore {
         self.send(Msg::Position(pos));
     }
 
+    /// Whether the pulse core thread is still running.
+    pub fn is_running(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
+    }
+
     /// Blocks now waiting in B1.
     pub fn b1_len(&self) -> usize {
         self.b1.len()
