@@ -213,11 +213,17 @@ fn main() {
     println!("maximum sustained rate without drops: >= {best:.0} M pulses/s");
 
     let default_queue = novanc::record::DEFAULT_QUEUE_EVENTS;
-    if let Some((dropped, finish_s, pulses, mb, _)) = paced(10e6, 3.0, n, default_queue) {
-        println!(
-            "default queue ({default_queue} events) at 10 M pulses/s for 3 s: {pulses} pulses, \
-             {dropped} dropped, finish {finish_s:.3} s, {:.0} MB",
-            mb
-        );
+    println!("recorder thread, default queue ({default_queue} events), 3 s per rate:");
+    for rate_m in [10.0, 20.0, 40.0] {
+        if let Some((dropped, finish_s, pulses, mb, cpu)) =
+            paced(rate_m * 1e6, 3.0, n, default_queue)
+        {
+            println!(
+                "  {rate_m:>5.0} M pulses/s: {pulses:>9} pulses recorded, {dropped:>6} events dropped, \
+                 finish {finish_s:>6.3} s, {:>6.1} MB/s, recorder thread {:>3.0} % of a CPU",
+                mb / 3.0,
+                cpu / 3.0 * 100.0
+            );
+        }
     }
 }

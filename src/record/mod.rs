@@ -2,14 +2,17 @@
 //! an MCAP file (SPEC §7). The sender side never blocks: if the recorder falls behind, events are
 //! dropped, the recording is marked incomplete, and the operator is told.
 //!
-//! `json` encodes the messages, `writer` lays them out as MCAP, `recorder` runs the thread.
+//! `topic` names the topics and their schemas, `json` encodes the messages, `writer` lays them
+//! out as MCAP, `recorder` runs the thread.
 
 pub mod json;
 pub mod recorder;
+pub mod testkit;
+pub mod topic;
 pub mod writer;
 
-pub use json::Topic;
 pub use recorder::{RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
+pub use topic::Topic;
 pub use writer::{RecordWriter, WriterOutcome};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
