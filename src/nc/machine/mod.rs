@@ -50,6 +50,8 @@ enum Phase {
 #[derive(Debug)]
 struct Current {
     entry: B1Entry,
+    /// A copy of the entry's block.
+    block: Block,
     phase: Phase,
     until: u64,
     motion: Option<Motion>,
@@ -409,7 +411,7 @@ impl Machine {
             let feed = self
                 .current
                 .as_ref()
-                .and_then(|c| c.entry.stmt.blocks.get(c.entry.index))
+                .map(|c| &c.block)
                 .filter(|b| b.motion != Kind::Rapid)
                 .map(|b| b.feed);
             if let Some(feed) = feed {
@@ -495,6 +497,7 @@ impl Machine {
         self.last_entry = Some(e.clone());
         self.current = Some(Current {
             entry: e,
+            block: b,
             phase: Phase::PreAux,
             until: self.now + pre,
             motion: None,
@@ -510,7 +513,7 @@ impl Machine {
                         break;
                     }
                     let t0 = c.until;
-                    let b = c.entry.stmt.blocks[c.entry.index].clone();
+                    let b = c.block.clone();
                     self.pre_effects(&b);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Motion::linear(
@@ -554,7 +557,7 @@ impl Machine {
                     } else if c.until >= end {
                         break;
                     }
-                    let b = &c.entry.stmt.blocks[c.entry.index];
+                    let b = &c.block;
                     let post = match b.m {
                         Some(5) | Some(30) if self.spindle != 0 => self.settings.spindle_ns,
                         _ => 0,
@@ -568,7 +571,7 @@ impl Machine {
                         break;
                     }
                     let t = c.until;
-                    let m = c.entry.stmt.blocks[c.entry.index].m;
+                    let m = c.block.m;
                     self.current = None;
                     self.finish_block(t, m);
                 }
