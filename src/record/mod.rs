@@ -112,6 +112,21 @@ impl EventSink {
         }
     }
 
+    /// Sends an event without ever blocking, but hands it back when the queue is full instead
+    /// of dropping it, so that a producer with no real-time duty (the pulse core in virtual
+    /// time) can let the recorder catch up and retry. A gone recorder drops it as `send` does.
+    pub fn try_send(&self, ev: Event) -> Result<(), Event> {
+        match self.tx.try_send(ev) {
+            Ok(()) => Ok(()),
+            Err(TrySendError::Full(ev)) => Err(ev),
+            Err(TrySendError::Disconnected(_)) => {
+                self.incomplete.store(true, Ordering::Relaxed);
+                self.dropped.fetch_add(1, Ordering::Relaxed);
+                Ok(())
+            }
+        }
+    }
+
     /// Marks the recording incomplete (for example after a disk error in the recorder).
     pub fn mark_incomplete(&self) {
         self.incomplete.store(true, Ordering::Relaxed);
