@@ -301,7 +301,9 @@ impl Machine {
             Command::Override(p) => self.pending_override = Some(p.min(150)),
             Command::SingleBlock(b) => self.single_block = b,
             Command::Jog { axis, dir } => {
-                if let Some(lim) = self.jog_check(axis) {
+                if self.jog.is_some() || !self.increments.is_empty() {
+                    self.notice = Some("jog in progress".into());
+                } else if let Some(lim) = self.jog_check(axis) {
                     let (lo, hi) = lim;
                     let target = if dir > 0 { hi } else { lo };
                     let d = target - self.out.pos[axis];
