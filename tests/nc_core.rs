@@ -185,3 +185,46 @@ fn real_time_follows_the_wall_clock() {
     let rt = core.realtime_stats();
     assert!(!rt.lateness_ns.is_empty());
 }
+
+#[test]
+fn a_recorder_that_falls_behind_never_holds_up_the_machine() {
+    // real time: a queue of 1 event that nobody reads; the move still takes its real time
+    let (tx, _rx) = std::sync::mpsc::sync_channel(1);
+    let sink = EventSink::new(tx);
+    let core = PulseCore::spawn(
+        MachineSettings::default(),
+        ClockMode::RealTime,
+        Some(sink.clone()),
+    );
+    core.set_position(MID);
+    let stmt = Statement {
+        line: 1,
+        text: "GD, 6, 0, 0".into(),
+        blocks: vec![novanc::nc::testkit::linear(1, MID, [6_000, 0, 0], 1200.0)],
+    };
+    let t0 = std::time::Instant::now();
+    core.load(iter(vec![stmt]));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos[0], MID[0] + 6_000);
+    assert!(t0.elapsed().as_secs_f64() < 2.0);
+    assert!(
+        sink.is_incomplete() && sink.dropped() > 0,
+        "the operator is told"
+    );
+    drop(core);
+
+    // virtual time: a stuck recorder is waited for once (2 s), then the run goes on lossy
+    let (tx, _rx) = std::sync::mpsc::sync_channel(1);
+    let sink = EventSink::new(tx);
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, Some(sink.clone()));
+    core.set_position(MID);
+    let (stmts, end) = program(30, 5);
+    let t0 = std::time::Instant::now();
+    core.load(iter(stmts));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos, end);
+    assert!(t0.elapsed().as_secs_f64() < 10.0);
+    assert!(sink.is_incomplete());
+}

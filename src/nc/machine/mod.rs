@@ -31,7 +31,7 @@ mod report;
 pub use check::axis_name;
 
 /// Sends an event to the recording (lossless in virtual time, see `pulse_out::emit`).
-fn send_ev(s: &EventSink, lossless: bool, ev: Event) {
+fn send_ev(s: &EventSink, lossless: &std::cell::Cell<bool>, ev: Event) {
     super::pulse_out::emit(s, ev, lossless);
 }
 
@@ -157,7 +157,7 @@ impl Machine {
     /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
     /// Only for virtual time, where machine time does not follow the wall clock.
     pub fn set_lossless_recording(&mut self, on: bool) {
-        self.out.lossless = on;
+        self.out.lossless.set(on);
     }
 
     /// The pulses captured since the last call (with `capture_pulses` on).
@@ -477,7 +477,7 @@ impl Machine {
         if let Some(s) = &self.events {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::Block {
                     t_ns: self.now,
                     seq: b.seq,
@@ -626,7 +626,7 @@ impl Machine {
         if let Some(s) = &self.events {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::Position {
                     t_ns: t,
                     pulses: self.out.pos,
