@@ -56,7 +56,7 @@ pub struct PulseRec {
 }
 
 /// The axis counters and the pulse log.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct PulseOut {
     /// Axis positions, pulses.
     pub pos: [i64; 3],

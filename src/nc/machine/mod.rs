@@ -48,7 +48,7 @@ enum Phase {
 }
 
 /// The block being executed.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Current {
     entry: B1Entry,
     /// A copy of the entry's block.
@@ -59,7 +59,7 @@ struct Current {
 }
 
 /// A jog in progress (CONTINUOUS, STEP or HANDLE).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Jog {
     motion: Motion,
     /// CONTINUOUS: stop and drop the rest once at rest.
@@ -67,7 +67,7 @@ struct Jog {
 }
 
 /// The simulated machine: axes, relay logic, RUN and the operator state.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Machine {
     settings: MachineSettings,
     accel: f64,
