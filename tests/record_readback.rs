@@ -340,7 +340,8 @@ fn every_event_reads_back_on_its_topic_and_every_pulse_exactly_once() {
     assert_eq!(summary.dropped, 0);
     assert_eq!(summary.total_messages(), evs.len() as u64);
 
-    // Per topic: the same events, in the order they were sent, with non-decreasing log times.
+    // Per topic: the same events, in the order they were sent; log time = the event's machine
+    // time, non-decreasing on every topic but /nc/pulses (batches of different axes interleave).
     let mut sent: BTreeMap<&str, Vec<Event>> = BTreeMap::new();
     for ev in &evs {
         sent.entry(Topic::of(ev).name())
@@ -349,14 +350,17 @@ fn every_event_reads_back_on_its_topic_and_every_pulse_exactly_once() {
     }
     let mut got: BTreeMap<&str, Vec<Event>> = BTreeMap::new();
     let mut last_log: BTreeMap<String, u64> = BTreeMap::new();
-    let mut clamped = 0;
+    let mut out_of_order = 0;
     for (topic, log, publish, json) in &msgs {
         let last = last_log.entry(topic.clone()).or_insert(0);
-        assert!(*log >= *last, "{topic}: log time goes back");
-        assert!(*log >= *publish, "log time is never before the event");
-        if log > publish {
-            clamped += 1;
+        if topic == "/nc/pulses" {
+            if *log < *last {
+                out_of_order += 1;
+            }
+        } else {
+            assert!(*log >= *last, "{topic}: log time goes back");
         }
+        assert_eq!(*log, *publish, "log time is the event's machine time");
         *last = *log;
         let t: &str = sent
             .keys()
@@ -372,7 +376,7 @@ fn every_event_reads_back_on_its_topic_and_every_pulse_exactly_once() {
         assert_eq!(summary.count(topic), evs.len() as u64, "{topic}");
     }
     assert!(
-        clamped > 0,
+        out_of_order > 0,
         "the run exercises a batch starting before the previous one"
     );
 

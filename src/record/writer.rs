@@ -44,7 +44,6 @@ pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
     pulse_mm: f64,
     channels: [u16; 6],
     sequence: [u32; 6],
-    last_log_ns: [u64; 6],
     out: WriterOutcome,
     buf: Vec<u8>,
 }
@@ -73,7 +72,6 @@ impl<W: Write + Seek> RecordWriter<W> {
             pulse_mm: settings.pulse_mm,
             channels: [0; 6],
             sequence: [0; 6],
-            last_log_ns: [0; 6],
             out: WriterOutcome::default(),
             buf: Vec::with_capacity(64 * 1024),
         };
@@ -158,9 +156,9 @@ impl<W: Write + Seek> RecordWriter<W> {
         self.out.disk_error.is_some()
     }
 
-    /// Writes one event as a message on its topic. The log time is the event's machine time
-    /// (the first pulse's for a batch), raised if need be to the topic's previous log time so
-    /// that log times never decrease within a topic; the publish time is the event's own time.
+    /// Writes one event as a message on its topic. Log and publish time are the event's machine
+    /// time (the first pulse's for a batch; SPEC §7). Pulse batches of different axes may reach
+    /// the file slightly out of time order, which MCAP allows: readers sort by log time.
     /// An empty pulse batch is not written. Returns false if the event could not be written.
     pub fn write(&mut self, ev: &Event) -> bool {
         let Some(mcap) = self.mcap.as_mut() else {
@@ -176,7 +174,7 @@ impl<W: Write + Seek> RecordWriter<W> {
         }
         self.buf.clear();
         let t = encode_event(&mut self.buf, ev, self.pulse_mm);
-        let log_time = t.max(self.last_log_ns[i]);
+        let log_time = t;
         let header = mcap::records::MessageHeader {
             channel_id: self.channels[i],
             sequence: self.sequence[i],
@@ -185,7 +183,6 @@ impl<W: Write + Seek> RecordWriter<W> {
         };
         match mcap.write_to_known_channel(&header, &self.buf) {
             Ok(()) => {
-                self.last_log_ns[i] = log_time;
                 self.sequence[i] = self.sequence[i].wrapping_add(1);
                 self.out.messages[i] += 1;
                 if let Event::Pulses { t_ns, .. } = ev {
