@@ -135,13 +135,17 @@ fn table_b_runs_to_completion_with_a_complete_recording() {
         "{stdout}{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("blocks executed: 98"), "{stdout}");
+    assert!(stdout.contains("blocks executed: 101"), "{stdout}");
     assert!(stdout.contains("machine time: "), "{stdout}");
     assert!(stdout.contains("final position: X "), "{stdout}");
     assert!(!stdout.contains("INCOMPLETE"), "{stdout}");
     assert!(stdout.contains("recording complete: yes"), "{stdout}");
     let r = read(&rec);
-    assert_eq!(r.blocks.len(), 98);
+    assert_eq!(
+        r.blocks.len(),
+        101,
+        "98 cycle blocks + M05, G00 Z0, M30 at the end"
+    );
 
     // Every pulse exactly once: the recorded pulses are the summary's counts, and their net
     // sum is the final position (the run starts at machine zero).

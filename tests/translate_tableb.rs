@@ -47,7 +47,8 @@ fn the_printed_program_matches_the_golden_listing() {
 fn definitions_yield_statements_without_blocks() {
     let s = translate();
     let lines: Vec<u32> = s.iter().map(|s| s.line).collect();
-    assert_eq!(lines, vec![1, 2, 3, 4, 5, 6, 7, 8, 9]);
+    // Lines 1-9 are Table B; line 10 is the end of program the translator adds.
+    assert_eq!(lines, vec![1, 2, 3, 4, 5, 6, 7, 8, 9, 10]);
     for def in [1, 2, 4, 7] {
         assert!(s[def - 1].blocks.is_empty(), "line {def} is a definition");
     }
@@ -211,4 +212,25 @@ fn blocks_carry_pulses_and_motion_kinds() {
     assert_eq!(feed.feed, 120.0);
     let change = drl.iter().find(|b| b.m == Some(6)).expect("M06");
     assert_eq!((change.t, change.motion), (Some(2), Motion::Aux));
+}
+
+#[test]
+fn the_program_ends_with_spindle_stop_retract_and_m30() {
+    // Table B has 9 lines; the translator adds the end of program as line 10. The last TAP
+    // hole (tool 206, set length 140) ends at Za = -453 tip, axis -313, with the spindle
+    // forward again (S400 M03). So: M05 (spindle stop), G00 Z0.000 (up to machine zero, the
+    // tool change height), then M30. The tool does not sit turning above the part.
+    let s = translate();
+    let last = s.last().expect("statements");
+    assert_eq!((last.line, last.text.as_str()), (10, "(end of program)"));
+    assert_eq!(lines_of(&s, 10), vec!["M05", "G00 Z0.000", "M30"]);
+    // A program that only positions gets just M30: the tool stays where it was sent.
+    let go = translate_all(
+        "GO, 100, 100, -50\n",
+        &sample_magazine(),
+        &MachineSettings::default(),
+        [0, 0, 0],
+    )
+    .expect("GO translates");
+    assert_eq!(lines_of(&go, 2), vec!["M30"]);
 }

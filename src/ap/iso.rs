@@ -88,17 +88,22 @@ pub fn iso_line(block: &Block, settings: &MachineSettings) -> String {
     s
 }
 
-/// The whole program: the preamble, one line per block, then `M30`.
+/// The whole program: the preamble, one line per block, then `M30` unless the last block
+/// already is the translator's end-of-program `M30`.
 pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> String {
     let mut s = String::new();
     s.push_str(PREAMBLE);
     s.push('\n');
+    let mut last_m = None;
     for b in statements.iter().flat_map(|st| &st.blocks) {
         write_line(&mut s, b, settings);
         s.push('\n');
+        last_m = b.m;
     }
-    s.push_str(END);
-    s.push('\n');
+    if last_m != Some(30) {
+        s.push_str(END);
+        s.push('\n');
+    }
     s
 }
 

@@ -61,6 +61,9 @@ pub struct Statement {
     pub blocks: Vec<Block>,
 }
 
+/// The text of the statement the translator adds after the last line (see `end_of_program`).
+pub const END_OF_PROGRAM: &str = "(end of program)";
+
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
 pub struct Translator {
@@ -72,6 +75,7 @@ pub struct Translator {
     tables: Tables,
     machine: Machine,
     done: bool,
+    ended: bool,
     toks: Vec<lex::Token>,
     items: Vec<Item>,
 }
@@ -100,8 +104,36 @@ impl Translator {
                 seq: 0,
             },
             done: false,
+            ended: false,
             toks: Vec::new(),
             items: Vec::new(),
+        }
+    }
+
+    /// The end of the program, after the last line: a tool that has been cutting rises to its
+    /// clearance plane and then to machine zero Z (the spindle stops on the way up, so the
+    /// tool does not sit turning above the part), then `M30`. A program that only positions
+    /// (for example an MDI `GO`) gets just `M30`, so the tool stays where it was sent.
+    fn end_of_program(&mut self) -> Statement {
+        let line = self.line + 1;
+        let mut o = Out::new(self.machine, line, &self.settings);
+        if o.m.spindle != Spindle::Stopped {
+            if let Some(clear) = o.m.clear {
+                if o.m.tip() < clear {
+                    o.rapid_tip(clear);
+                }
+            }
+            o.aux(None, None, Some(5));
+            o.m.spindle = Spindle::Stopped;
+            o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+            o.m.clear = None;
+        }
+        o.aux(None, None, Some(30));
+        self.machine = o.m;
+        Statement {
+            line,
+            text: END_OF_PROGRAM.to_string(),
+            blocks: o.blocks,
         }
     }
 
@@ -391,7 +423,7 @@ impl Iterator for Translator {
             let rest = &self.source[self.next_byte..];
             if rest.is_empty() {
                 self.done = true;
-                break;
+                return Some(Ok(self.end_of_program()));
             }
             let (raw, used) = match rest.find('\n') {
                 Some(i) => (&rest[..i], i + 1),

@@ -73,8 +73,15 @@ pub fn plan(
     pos: [i64; 3],
     s: &MachineSettings,
 ) -> Result<Plan, String> {
-    let Some(first) = stmts.iter().position(|st| st.line >= line) else {
-        let last = stmts.last().map(|s| s.line).unwrap_or(0);
+    // The translator's end of program is not a statement of the source: it cannot be searched.
+    let in_source = |st: &Statement| st.text != crate::ap::END_OF_PROGRAM;
+    let Some(first) = stmts.iter().position(|st| st.line >= line && in_source(st)) else {
+        let last = stmts
+            .iter()
+            .rev()
+            .find(|s| in_source(s))
+            .map(|s| s.line)
+            .unwrap_or(0);
         return Err(format!(
             "no statement at or after line {line} (the last is line {last})"
         ));
