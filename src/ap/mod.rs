@@ -75,7 +75,6 @@ pub struct Translator {
     tables: Tables,
     machine: Machine,
     done: bool,
-    ended: bool,
     toks: Vec<lex::Token>,
     items: Vec<Item>,
 }
@@ -104,7 +103,6 @@ impl Translator {
                 seq: 0,
             },
             done: false,
-            ended: false,
             toks: Vec::new(),
             items: Vec::new(),
         }
