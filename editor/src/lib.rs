@@ -1,9 +1,28 @@
 //! The NC editor core (SPEC §5; patent lines 437–485, Figs. 21–29): a text buffer with a
 //! pointer, and atomic command lines of `L M K D I S C Y`. Pure: no I/O, no threads.
 //!
-//! OWNER: editor work (issue 2).
+//! The operator's reference and every choice made where SPEC is silent: `docs/editor.md`.
+//! Modules: `parse` (command line → commands), `exec` (atomic run with an undo log), `text`
+//! (chunked store with character and EOB counts), `view` (the display around the pointer).
 
 use std::fmt;
+
+// Lets `tests/model.rs` name this crate when it is compiled as a unit test too.
+#[cfg(test)]
+extern crate self as novanc_editor;
+
+mod exec;
+#[cfg(test)]
+mod exec_tests;
+/// The property test of `tests/model.rs`, run again here with tiny chunks.
+#[cfg(test)]
+#[path = "../tests/model.rs"]
+mod model_tests;
+mod parse;
+mod text;
+mod view;
+
+pub use view::View;
 
 /// The end-of-block character as stored in a buffer (shown as `*` on the display).
 pub const EOB: char = '\n';
@@ -78,23 +97,27 @@ pub struct Outcome {
 /// A text buffer with a pointer between characters (0..=len, counted in characters).
 #[derive(Clone, Debug, Default)]
 pub struct Buffer {
-    _private: (),
+    text: text::Text,
+    pointer: usize,
 }
 
 impl Buffer {
     /// An empty buffer, pointer at 0.
     pub fn new() -> Buffer {
-        todo!("editor")
+        Buffer::default()
     }
 
     /// A buffer holding `text`, pointer at 0.
-    pub fn from_text(_text: &str) -> Buffer {
-        todo!("editor")
+    pub fn from_text(text: &str) -> Buffer {
+        Buffer {
+            text: text::Text::from_str(text),
+            pointer: 0,
+        }
     }
 
     /// Length in characters.
     pub fn len(&self) -> usize {
-        todo!("editor")
+        self.text.len()
     }
 
     /// Whether the buffer is empty.
@@ -104,26 +127,64 @@ impl Buffer {
 
     /// The pointer, in characters from the start.
     pub fn pointer(&self) -> usize {
-        todo!("editor")
+        self.pointer
+    }
+
+    /// Moves the pointer to `pos`, clamped to the buffer (0..=len).
+    pub fn set_pointer(&mut self, pos: usize) {
+        self.pointer = pos.min(self.len());
     }
 
     /// The whole text.
     pub fn text(&self) -> String {
-        todo!("editor")
+        self.text.slice(0, self.len())
     }
 
     /// The characters `start..end` (clamped to the buffer).
-    pub fn slice(&self, _start: usize, _end: usize) -> String {
-        todo!("editor")
+    pub fn slice(&self, start: usize, end: usize) -> String {
+        self.text.slice(start, end)
+    }
+
+    /// Number of lines (blocks), counted as `str::lines` does: a last line without EOB counts,
+    /// the empty place after a final EOB does not.
+    pub fn line_count(&self) -> usize {
+        let eobs = self.text.eob_count();
+        let len = self.len();
+        if len > 0 && self.text.line_start(eobs) < len {
+            eobs + 1
+        } else {
+            eobs
+        }
+    }
+
+    /// 0-based index of the line holding character position `pos` (the EOBs before it;
+    /// `pos` is clamped). After a final EOB this is `line_count()`.
+    pub fn line_of(&self, pos: usize) -> usize {
+        self.text.line_of(pos)
+    }
+
+    /// Character position where line `line` (0-based) starts; past the last line, the length.
+    pub fn line_start(&self, line: usize) -> usize {
+        self.text.line_start(line)
+    }
+
+    /// Bytes of memory held by the text store (for the benchmark's memory figure).
+    pub fn heap_bytes(&self) -> usize {
+        self.text.heap_bytes()
+    }
+
+    /// The lines around the pointer for a display of `rows` × `cols`, EOB shown as `*`.
+    pub fn view(&self, rows: usize, cols: usize) -> View {
+        view::view(self, rows, cols)
     }
 
     /// Runs one command line atomically: on any failure the buffer and pointer are unchanged.
-    pub fn execute(&mut self, _line: &str, _opts: &ExecOptions) -> Result<Outcome, EditError> {
-        todo!("editor")
+    pub fn execute(&mut self, line: &str, opts: &ExecOptions) -> Result<Outcome, EditError> {
+        exec::execute(self, line, opts)
     }
 }
 
 /// Parses a command line into commands (`*` = EOB in text, `$` ends a text argument).
-pub fn parse(_line: &str) -> Result<Vec<Command>, EditError> {
-    todo!("editor")
+pub fn parse(line: &str) -> Result<Vec<Command>, EditError> {
+    parse::parse(line)
 }

@@ -1,12 +1,32 @@
 //! The translator (automatic programming, AP): source statements to machine instruction
 //! blocks (patent lines 283–357, Figs. 10–13, Tables 1, B and C; SPEC §4 and §6).
 //!
-//! OWNER: translator work (issue 3). The signatures below are the contract with the pulse core
-//! and the console; the bodies are to be written.
+//! The translator reads one statement at a time (Fig. 10A step (2)). Definitions fill the point
+//! table and the DA table ([`defs`]); cutting statements look their tool up through the T-code
+//! table, fill a cycle table per point ([`cycle`], [`mill`]) and output it as blocks for B1
+//! ([`emit`]). Each statement's blocks are checked against the travel limits before the
+//! statement is handed out, so an error never leaves a partial move. The language is described
+//! for part programmers in `docs/language.md`.
+
+pub mod cycle;
+pub mod defs;
+pub mod emit;
+pub mod geom;
+pub mod iso;
+pub mod lex;
+pub mod mill;
+pub mod parse;
+
+pub use iso::{iso_line, iso_program};
 
 use crate::block::Block;
 use crate::settings::MachineSettings;
-use crate::tooldata::Magazine;
+use crate::tooldata::{Magazine, ToolKind};
+use cycle::Cycle;
+use defs::{Item, Tables};
+use emit::{Machine, Out, Spindle};
+use mill::{Elem, V3};
+use parse::{Cut, CycleKind, Stmt};
 use std::fmt;
 
 /// A translation error at a statement: `LINE:COL: message`.
@@ -43,10 +63,16 @@ pub struct Statement {
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
 pub struct Translator {
-    _source: String,
-    _magazine: Magazine,
-    _settings: MachineSettings,
-    _start: [i64; 3],
+    source: String,
+    next_byte: usize,
+    line: u32,
+    magazine: Magazine,
+    settings: MachineSettings,
+    tables: Tables,
+    machine: Machine,
+    done: bool,
+    toks: Vec<lex::Token>,
+    items: Vec<Item>,
 }
 
 impl Translator {
@@ -59,19 +85,321 @@ impl Translator {
         start: [i64; 3],
     ) -> Translator {
         Translator {
-            _source: source.to_string(),
-            _magazine: magazine,
-            _settings: settings,
-            _start: start,
+            source: source.to_string(),
+            next_byte: 0,
+            line: 0,
+            magazine,
+            settings,
+            tables: Tables::default(),
+            machine: Machine {
+                pos: start,
+                tool: None,
+                spindle: Spindle::Stopped,
+                clear: None,
+                seq: 0,
+            },
+            done: false,
+            toks: Vec::new(),
+            items: Vec::new(),
         }
     }
+
+    /// Translates one statement (a source line with something on it).
+    fn statement(&mut self, line: u32, raw: &str) -> Result<Vec<Block>, TranslateError> {
+        let mut toks = std::mem::take(&mut self.toks);
+        let r = lex::scan(raw, line, &mut toks)
+            .and_then(|()| parse::parse(&toks, line, raw.chars().count() as u32 + 1));
+        self.toks = toks;
+        let stmt = r?;
+        let settings = &self.settings;
+        let mut o = Out::new(self.machine, line, settings);
+        match &stmt {
+            Stmt::Cut(cut) => {
+                let mut items = std::mem::take(&mut self.items);
+                items.clear();
+                let r = cutting(&mut o, &mut self.tables, &self.magazine, cut, &mut items);
+                self.items = items;
+                r?;
+            }
+            Stmt::Go { da, v } => {
+                let origin = match da {
+                    Some(d) => self.tables.origin(*d, line)?,
+                    None => V3::zeros(),
+                };
+                let p = origin + V3::new(v[0], v[1], v[2]);
+                let z = o.p(p.z) + o.m.set();
+                let end = [o.p(p.x), o.p(p.y), z];
+                position(&mut o, end);
+            }
+            Stmt::Gd { v } => {
+                let pos = o.m.pos;
+                let end = [pos[0] + o.p(v[0]), pos[1] + o.p(v[1]), pos[2] + o.p(v[2])];
+                position(&mut o, end);
+            }
+            Stmt::Cl => {
+                o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+                o.rapid([0, 0, 0]);
+                o.m.clear = None;
+            }
+            def => self.tables.define(def, line)?,
+        }
+        o.check_travel(self.machine.pos)?;
+        self.machine = o.m;
+        Ok(o.blocks)
+    }
+}
+
+/// Rapid positioning (GO, GD) to an axis position: when the move goes up, Z first then X Y;
+/// when it goes down, X Y first then Z; so the tool never moves sideways below where it was.
+fn position(o: &mut Out, end: [i64; 3]) {
+    let pos = o.m.pos;
+    if end[2] >= pos[2] {
+        o.rapid([pos[0], pos[1], end[2]]);
+        o.rapid(end);
+    } else {
+        o.rapid([end[0], end[1], pos[2]]);
+        o.rapid(end);
+    }
+    o.m.clear = None;
+}
+
+/// A modifier that the cycle does not use is an error.
+fn refuse(o: &Out, c: &Cut, col: Option<u32>, what: &str) -> Result<(), TranslateError> {
+    match col {
+        Some(col) => Err(o.err(col, format!("{what} has no meaning in {}", c.kind.word()))),
+        None => Ok(()),
+    }
+}
+
+fn col_of(v: &parse::Valued) -> Option<u32> {
+    v.map(|(_, c)| c)
+}
+
+/// A cutting statement: tool lookup (AP10), the cycle conditions, then the cycle per point.
+fn cutting(
+    o: &mut Out,
+    tables: &mut Tables,
+    magazine: &Magazine,
+    c: &Cut,
+    items: &mut Vec<Item>,
+) -> Result<(), TranslateError> {
+    let (tool, tcol) = c.tool;
+    let (tcode, rec) = magazine
+        .find(tool)
+        .map_err(|e| o.err(tcol, e.to_string()))?;
+    let m = &c.mods;
+    let kind = c.kind;
+    if kind != CycleKind::Mil {
+        refuse(o, c, m.rgt, "RGT")?;
+        refuse(o, c, m.lft, "LFT")?;
+    }
+    if let (Some(_), Some(col)) = (m.rgt, m.lft) {
+        return Err(o.err(col, "give RGT or LFT, not both".to_string()));
+    }
+    if kind != CycleKind::Drl {
+        refuse(o, c, col_of(&m.dh), "DH (peck step)")?;
+        refuse(o, c, col_of(&m.di), "DI (chamfer diameter)")?;
+    }
+    if matches!(kind, CycleKind::Tap | CycleKind::Mil) {
+        refuse(o, c, col_of(&m.dw), "DW (dwell)")?;
+    }
+    let positive = |v: &parse::Valued, what: &str| -> Result<Option<f64>, TranslateError> {
+        match *v {
+            Some((x, col)) if x.is_nan() || x <= 0.0 => {
+                Err(o.err(col, format!("{what} must be greater than 0, not {x}")))
+            }
+            Some((x, _)) => Ok(Some(x)),
+            None => Ok(None),
+        }
+    };
+    let dp = positive(&m.dp, "the depth DP")?;
+    let di = positive(&m.di, "the chamfer diameter DI")?;
+    let depth = match (dp, di) {
+        (Some(_), Some(_)) => {
+            return Err(o.err(
+                col_of(&m.di).unwrap_or(1),
+                "give the depth DP or the chamfer DI, not both".to_string(),
+            ))
+        }
+        (Some(d), None) => d,
+        (None, Some(d)) => {
+            let col = col_of(&m.di).unwrap_or(1);
+            let half_angle: f64 = match rec.kind {
+                ToolKind::CentreDrill => 45.0,
+                ToolKind::Drill => 59.0,
+                k => {
+                    return Err(o.err(
+                        col,
+                        format!("DI chamfers with the point of a centre drill (CD) or drill (DR), and tool {tool:05} is {k}"),
+                    ))
+                }
+            };
+            if d > rec.diameter {
+                return Err(o.err(
+                    col,
+                    format!(
+                        "the chamfer diameter DI{d} is larger than the tool (diameter {})",
+                        rec.diameter
+                    ),
+                ));
+            }
+            d / 2.0 / half_angle.to_radians().tan()
+        }
+        (None, None) => {
+            return Err(o.err(
+                1,
+                format!("{} needs a depth: give DP (for example DP10)", kind.word()),
+            ));
+        }
+    };
+    let feed = positive(&m.fr, "the feed rate FR")?.unwrap_or(rec.feed);
+    let speed = positive(&m.ss, "the spindle speed SS")?.unwrap_or(rec.speed);
+    if feed <= 0.0 || speed.round() < 1.0 || speed > 1e6 {
+        return Err(o.err(
+            tcol,
+            format!("tool {tool:05} has no usable feed or spindle speed in the tool file; give FR and SS"),
+        ));
+    }
+    let scl = match m.scl {
+        Some((x, col)) if x.is_nan() || x < 0.0 => {
+            return Err(o.err(
+                col,
+                format!("the clearance SCL must not be negative, not {x}"),
+            ))
+        }
+        Some((x, _)) => x,
+        None => o.settings.clearance_mm,
+    };
+    let sdp = match m.sdp {
+        Some((v, col)) => {
+            let d = v.unwrap_or(rec.depth);
+            if d.is_nan() || d < 0.0 || d >= depth {
+                return Err(o.err(
+                    col,
+                    format!("the rapid-feed depth SDP{d} must be from 0 up to less than the depth {depth}"),
+                ));
+            }
+            Some(d)
+        }
+        None => None,
+    };
+    let dwell = match m.dw {
+        Some((x, col)) if x.is_nan() || x < 0.0 => {
+            return Err(o.err(col, format!("the dwell DW must not be negative, not {x}")))
+        }
+        v => v.map(|(x, _)| x),
+    };
+    let peck = positive(&m.dh, "the peck step DH")?;
+    if let (Some(step), Some((_, col))) = (peck, m.dh) {
+        if (depth + scl) / step > 1000.0 {
+            return Err(o.err(col, format!("DH{step} would make more than 1000 pecks")));
+        }
+    }
+    let cycle = Cycle {
+        kind,
+        tcode,
+        set: o.p(rec.set_length),
+        feed,
+        speed: speed.round() as u32,
+        depth,
+        scl,
+        sdp,
+        dwell,
+        peck,
+    };
+    let radius = rec.diameter / 2.0;
+    let side = match (m.rgt, m.lft) {
+        (Some(_), _) => 1.0,
+        (_, Some(_)) => -1.0,
+        _ => 0.0,
+    };
+    tables.resolve(&c.desigs, o.line, items)?;
+    let mut origin = V3::zeros();
+    let mut elems: Vec<Elem> = Vec::new();
+    for it in items.iter() {
+        match it {
+            Item::Origin(v) => origin = *v,
+            Item::Point(p, col) => elems.push(Elem::Pt {
+                p: origin + p,
+                col: *col,
+            }),
+            Item::Holes(h, col) => elems.extend(h.iter().map(|p| Elem::Pt { p: *p, col: *col })),
+            Item::Circle(ci, z, col) => {
+                if kind != CycleKind::Mil {
+                    return Err(o.err(
+                        *col,
+                        format!(
+                            "a circle is a milling contour; {} machines points",
+                            kind.word()
+                        ),
+                    ));
+                }
+                elems.push(Elem::Circle {
+                    c: origin + V3::new(ci.c.x, ci.c.y, *z),
+                    r: ci.r,
+                    col: *col,
+                });
+            }
+        }
+    }
+    if elems.is_empty() {
+        return Err(o.err(
+            tcol,
+            format!(
+                "{} has nothing to machine: designate points (P, PAT, MAC or an inline point)",
+                kind.word()
+            ),
+        ));
+    }
+    o.col = tcol;
+    cycle::tool_change(o, cycle.tcode, cycle.set);
+    if kind == CycleKind::Mil {
+        return mill::mill(o, &cycle, side, radius, &elems);
+    }
+    for e in &elems {
+        if let Elem::Pt { p, col } = *e {
+            o.col = col;
+            let (x, y) = (o.p(p.x), o.p(p.y));
+            cycle::hole(o, &cycle, x, y, p.z);
+        }
+    }
+    Ok(())
 }
 
 impl Iterator for Translator {
     type Item = Result<Statement, TranslateError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        todo!("translator")
+        while !self.done {
+            let rest = &self.source[self.next_byte..];
+            if rest.is_empty() {
+                self.done = true;
+                break;
+            }
+            let (raw, used) = match rest.find('\n') {
+                Some(i) => (&rest[..i], i + 1),
+                None => (rest, rest.len()),
+            };
+            self.next_byte += used;
+            self.line += 1;
+            let raw = raw.strip_suffix('\r').unwrap_or(raw);
+            let code = raw.split(';').next().unwrap_or("");
+            if code.trim().is_empty() {
+                continue;
+            }
+            let text = raw.trim().to_string();
+            let line = self.line;
+            // Borrow juggling: the raw line lives in self.source.
+            let raw = raw.to_string();
+            return Some(match self.statement(line, &raw) {
+                Ok(blocks) => Ok(Statement { line, text, blocks }),
+                Err(e) => {
+                    self.done = true;
+                    Err(e)
+                }
+            });
+        }
+        None
     }
 }
 
@@ -83,9 +411,4 @@ pub fn translate_all(
     start: [i64; 3],
 ) -> Result<Vec<Statement>, TranslateError> {
     Translator::new(source, magazine.clone(), settings.clone(), start).collect()
-}
-
-/// One block as an ISO 6983 word-address line in absolute mm with 3 decimals.
-pub fn iso_line(_block: &Block, _settings: &MachineSettings) -> String {
-    todo!("ISO printing")
 }

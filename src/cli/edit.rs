@@ -1,6 +1,96 @@
-//! `novanc edit` (SPEC §8).
+//! `novanc edit` (SPEC §8): batch editing of a file with the editor's command lines. The
+//! pointer starts at 0; the command lines run in order; `Y` output goes to stdout. With
+//! `--write` the file is replaced atomically, and only if every command line succeeded.
+
+use super::args::{Args, Opt};
+use crate::store::write_atomic;
+use novanc_editor::{Buffer, ExecOptions};
+use std::io::Write;
+use std::path::Path;
+
+const HELP: &str = "\
+usage: novanc edit FILE -c 'CMDLINE' [-c 'CMDLINE' ..] [--write]
+
+Applies editor command lines (SPEC §5) to the text of FILE, in order, with the pointer
+starting at 0. Commands: nL (line), mM (move), nK (kill lines), nD (delete characters),
+Itext (insert), Stext (search), Cold$new (substitute), nY (display). In text arguments
+'*' is the end of block (a newline) and '$' ends the argument.
+
+  -c CMDLINE   a command line; repeat for several, run in order
+  --write      replace FILE with the result (atomically: temporary file, fsync, rename)
+  -h, --help   this help
+
+Y output goes to stdout. If a command line fails, its message goes to stderr as
+'novanc edit: command line N: command M 'X': reason', the file is left unchanged
+and the exit code is 1. Usage errors exit 2.
+";
 
 /// Runs `novanc edit`; returns the exit code.
-pub fn main(_argv: &[String]) -> i32 {
-    super::usage_error("'edit' is not built yet")
+pub fn main(argv: &[String]) -> i32 {
+    let opts = [
+        Opt {
+            name: "-c",
+            takes_value: true,
+        },
+        Opt {
+            name: "--write",
+            takes_value: false,
+        },
+        Opt {
+            name: "-h",
+            takes_value: false,
+        },
+        Opt {
+            name: "--help",
+            takes_value: false,
+        },
+    ];
+    let args = match Args::parse(argv, &opts) {
+        Ok(a) => a,
+        Err(e) => return super::usage_error(&format!("edit: {e}")),
+    };
+    if args.flag("-h") || args.flag("--help") {
+        print!("{HELP}");
+        return 0;
+    }
+    let file = match args.positional.as_slice() {
+        [f] => f.as_str(),
+        [] => return super::usage_error("edit: no FILE given (see --help)"),
+        _ => return super::usage_error("edit: give exactly one FILE (see --help)"),
+    };
+    let fail = |msg: String| {
+        let _ = writeln!(std::io::stderr(), "novanc edit: {msg}");
+        1
+    };
+    let bytes = match std::fs::read(file) {
+        Ok(b) => b,
+        Err(e) => return fail(format!("cannot read {file}: {e}")),
+    };
+    let text = match String::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(_) => return fail(format!("{file} is not a text file (UTF-8)")),
+    };
+    let mut buf = Buffer::from_text(&text);
+    let exec = ExecOptions::default();
+    let mut out = std::io::stdout().lock();
+    for (i, line) in args.values("-c").iter().enumerate() {
+        match buf.execute(line, &exec) {
+            Ok(o) => {
+                if out.write_all(o.y_output.as_bytes()).is_err() {
+                    return fail("cannot write to stdout".to_string());
+                }
+            }
+            Err(e) => {
+                let _ = out.flush();
+                return fail(format!("command line {}: {e}", i + 1));
+            }
+        }
+    }
+    let _ = out.flush();
+    if args.flag("--write") {
+        if let Err(e) = write_atomic(Path::new(file), buf.text().as_bytes()) {
+            return fail(format!("cannot write {file}: {e} (the file is unchanged)"));
+        }
+    }
+    0
 }

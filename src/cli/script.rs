@@ -1,6 +1,136 @@
-//! `novanc script` (SPEC §8).
+//! `novanc script` (SPEC §8): a headless panel session driven by a script of panel events,
+//! on the same `Console` as the terminal, in virtual time (deterministic frames).
+
+use crate::console::{config_from_args, virtual_clock, Console};
+use crate::panel_model::PanelEvent;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+const HELP: &str = "\
+usage: novanc script FILE [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
+
+Runs a panel event script (one event per line, # comments):
+  op CONTINUOUS|AUTO|MDI|DATA|HANDLE|STEP|SINGLE
+  data SEARCH|READ|REVISE|TOOLREAD|TOOLREVISE|TCODE|MDI
+  type TEXT      data keys, then EOB
+  tape PATH      put a file in the tape reader (relative to the current directory,
+                 else to the script's directory)
+  start | stop | reset | estop | override PCT | wheel AXIS N | wait | show
+
+`show` prints the display between `--- display` and `---`. A bad line stops the script before
+anything runs (exit 1). Without --state, the session runs on a fresh temporary state directory
+(the embedded defaults) that is removed afterwards; with --state DIR it uses and keeps DIR.
+";
 
 /// Runs `novanc script`; returns the exit code.
-pub fn main(_argv: &[String]) -> i32 {
-    super::usage_error("'script' is not built yet")
+pub fn main(argv: &[String]) -> i32 {
+    if argv.iter().any(|a| a == "-h" || a == "--help") {
+        print!("{HELP}");
+        return 0;
+    }
+    let has_state = argv
+        .iter()
+        .any(|a| a == "--state" || a.starts_with("--state="));
+    let (mut cfg, rest) = match config_from_args(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+    };
+    let file = match rest.as_slice() {
+        [f] if !f.starts_with('-') => PathBuf::from(f),
+        [] => return super::usage_error("script: which script? (novanc script FILE)"),
+        _ => {
+            return super::usage_error(&format!(
+                "script: unexpected arguments {rest:?} (see --help)"
+            ))
+        }
+    };
+    let text = match std::fs::read_to_string(&file) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("novanc script: {}: {e}", file.display());
+            return 1;
+        }
+    };
+    let events = match PanelEvent::parse_script(&text) {
+        Ok(ev) => ev,
+        Err(e) => {
+            eprintln!(
+                "novanc script: {}:{}: {}",
+                file.display(),
+                e.line,
+                e.message
+            );
+            return 1;
+        }
+    };
+    let temp = if has_state {
+        None
+    } else {
+        let d = fresh_temp_dir();
+        cfg.state_dir = d.clone();
+        Some(d)
+    };
+    let code = run(virtual_clock(cfg), &file, events);
+    if let Some(d) = temp {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    code
+}
+
+/// A new, empty temporary directory for one script's state.
+fn fresh_temp_dir() -> PathBuf {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    std::env::temp_dir().join(format!("novanc-script-{}-{nanos}", std::process::id()))
+}
+
+/// A tape path: as given if it exists, else relative to the script's directory.
+fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
+    if p.is_absolute() || p.exists() {
+        return p;
+    }
+    match script.parent() {
+        Some(dir) if dir.join(&p).exists() => dir.join(p),
+        _ => p,
+    }
+}
+
+/// Runs the events on a console; returns the exit code.
+fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>) -> i32 {
+    let (mut console, warnings) = match Console::open(cfg) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("novanc script: {e}");
+            return 1;
+        }
+    };
+    for w in warnings {
+        eprintln!("novanc script: warning: {w}");
+    }
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for ev in events {
+        match ev {
+            PanelEvent::Show => {
+                console.tick();
+                let _ = writeln!(out, "--- display\n{}\n---", console.frame_text());
+            }
+            PanelEvent::Tape(p) => console.handle(PanelEvent::Tape(resolve_tape(p, file))),
+            ev => console.handle(ev),
+        }
+    }
+    let _ = out.flush();
+    match console.finish() {
+        Ok(Some(summary)) => {
+            eprintln!("novanc script: {summary}");
+            0
+        }
+        Ok(None) => 0,
+        Err(e) => {
+            eprintln!("novanc script: recording: {e}");
+            1
+        }
+    }
 }

@@ -1,6 +1,117 @@
-//! `novanc translate` (SPEC §8).
+//! `novanc translate` (SPEC §8): translate a part program and print its blocks as an ISO 6983
+//! program on stdout; errors on stderr as `PROG:LINE:COL: message`, exit 1.
+
+use super::args::{Args, Opt};
+use crate::ap::{iso_program, translate_all};
+use crate::settings::MachineSettings;
+use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
+use std::io::Write;
+
+const HELP: &str = "\
+usage: novanc translate PROG [--tools TAPE] [--magazine TCODES]
+
+Translates the part program PROG (source language, see docs/language.md) into machine
+instruction blocks and prints them, one ISO 6983 line per block, in absolute millimetres:
+a preamble line 'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J F S T M',
+and 'M30'. The printed program is G-code for a standard interpreter (Z is the machine
+axis: tool-tip Z plus the tool's set length). The machine starts at machine zero with no
+tool in the spindle.
+
+options:
+  --tools TAPE        tool tape (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH per line);
+                      default: the sample tape tooldata/tools.tt (embedded)
+  --magazine TCODES   T-code table ('Tnn TOOLNO' per line);
+                      default: the sample table tooldata/magazine.tc (embedded)
+  -h, --help          this help
+
+Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
+T-code table), with exit code 1; nothing is printed on stdout then.
+";
+
+const OPTS: [Opt; 4] = [
+    Opt {
+        name: "--tools",
+        takes_value: true,
+    },
+    Opt {
+        name: "--magazine",
+        takes_value: true,
+    },
+    Opt {
+        name: "--help",
+        takes_value: false,
+    },
+    Opt {
+        name: "-h",
+        takes_value: false,
+    },
+];
+
+fn fail(msg: &str) -> i32 {
+    let _ = writeln!(std::io::stderr(), "{msg}");
+    1
+}
+
+fn read(path: &str) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("novanc: cannot read {path}: {e}"))
+}
+
+/// Loads the magazine from the given tape and T-code files, or the embedded samples.
+pub fn load_magazine(
+    tools: Option<&str>,
+    tcodes: Option<&str>,
+    settings: &MachineSettings,
+) -> Result<Magazine, String> {
+    let (tape_text, tape_name) = match tools {
+        Some(p) => (read(p)?, p.to_string()),
+        None => (SAMPLE_TAPE.to_string(), "tooldata/tools.tt".to_string()),
+    };
+    let (tc_text, tc_name) = match tcodes {
+        Some(p) => (read(p)?, p.to_string()),
+        None => (
+            SAMPLE_TCODES.to_string(),
+            "tooldata/magazine.tc".to_string(),
+        ),
+    };
+    let tape = parse_tape(&tape_text, &tape_name).map_err(|e| e.to_string())?;
+    let table =
+        parse_tcodes(&tc_text, &tc_name, settings.magazine_capacity).map_err(|e| e.to_string())?;
+    Ok(Magazine::load(table, &tape))
+}
 
 /// Runs `novanc translate`; returns the exit code.
-pub fn main(_argv: &[String]) -> i32 {
-    super::usage_error("'translate' is not built yet")
+pub fn main(argv: &[String]) -> i32 {
+    let args = match Args::parse(argv, &OPTS) {
+        Ok(a) => a,
+        Err(e) => return super::usage_error(&e),
+    };
+    if args.flag("--help") || args.flag("-h") {
+        print!("{HELP}");
+        return 0;
+    }
+    let prog = match args.positional.as_slice() {
+        [p] => p.clone(),
+        [] => return super::usage_error("translate: which program? (see --help)"),
+        _ => return super::usage_error("translate takes one program (see --help)"),
+    };
+    let settings = MachineSettings::default();
+    let magazine = match load_magazine(args.value("--tools"), args.value("--magazine"), &settings) {
+        Ok(m) => m,
+        Err(e) => return fail(&e),
+    };
+    let source = match read(&prog) {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    match translate_all(&source, &magazine, &settings, [0, 0, 0]) {
+        Ok(stmts) => {
+            let out = iso_program(&stmts, &settings);
+            let mut stdout = std::io::stdout().lock();
+            if stdout.write_all(out.as_bytes()).is_err() {
+                return 1;
+            }
+            0
+        }
+        Err(e) => fail(&format!("{prog}:{e}")),
+    }
 }

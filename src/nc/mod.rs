@@ -1,13 +1,42 @@
-//! The pulse core: a thread that owns the simulated machine (X, Y, Z servo axes and the relay
-//! logic for M, S, T) and does the patent's NCBR (5 ms real-time clock) and PGEN (each counter
-//! period KT: POUT, LINE, PCHK) work (seed 000 lines 357–430, 486–530; SPEC §6).
+//! The pulse core: a thread that owns the simulated machine (X, Y and Z servo axes and the
+//! relay logic for M, S, T) and does the patent's NCBR (5 ms real-time clock) and PGEN (each
+//! counter period KT: POUT, LINE, PCHK) work (seed 000 lines 357–430, 486–530; SPEC §6).
 //!
-//! OWNER: pulse core work (issue 4). The signatures below are the contract with the console;
-//! the bodies are to be written.
+//! Layout (one module, one job; see `docs/pulse-core.md` for the timing and every choice):
+//! - [`Machine`] (`machine.rs`): the machine as a pure, deterministic state machine advanced
+//!   NCBR tick by NCBR tick; tests and benchmarks drive it directly, without threads.
+//! - `motion.rs`: PGEN for one motion: LINE/PCHK with ΣLF, the KT ramp.
+//! - `arc.rs`: circular interpolation by integer circle stepping.
+//! - `pulse_out.rs`: the axis counters and the pulse log (recording batches, test capture).
+//! - `source.rs`: the reading side of B1 ([`BlockSource`], [`VecSource`]).
+//! - `b1.rs`: the bounded B1 shared with the translator thread.
+//! - `runner.rs`: [`PulseCore`], the thread around the machine (virtual or real time).
+//!
+//! What the console uses: [`PulseCore::spawn`], [`PulseCore::load`], [`PulseCore::command`],
+//! [`PulseCore::status`] (a cheap snapshot, republished after every NCBR tick),
+//! [`PulseCore::wait_idle`] (the script's `wait`), [`PulseCore::settings`],
+//! [`PulseCore::set_magazine`] (set lengths for the tool readout),
+//! [`PulseCore::set_panel_modes`] (mode names recorded in `/nc/state`) and
+//! [`PulseCore::set_position`]. Faults show in [`Status::alarm`] (RESET clears them); refused
+//! operator actions that are not alarms show in [`Status::notice`].
+
+mod arc;
+mod b1;
+mod machine;
+mod motion;
+mod pulse_out;
+mod runner;
+mod source;
+pub mod testkit;
+
+pub use self::arc::{ArcError, ArcStepper};
+pub use self::machine::{axis_name, Machine};
+pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
+pub use self::pulse_out::{PulseRec, BATCH};
+pub use self::runner::{PulseCore, RtStats};
+pub use self::source::{BlockSource, Fetch, VecSource};
 
 use crate::ap::Statement;
-use crate::record::EventSink;
-use crate::settings::MachineSettings;
 use std::sync::Arc;
 
 /// How machine time relates to the wall clock.
@@ -35,6 +64,13 @@ pub struct B1Entry {
     pub stmt: Arc<Statement>,
     /// Which of `stmt.blocks` this entry is.
     pub index: usize,
+}
+
+impl B1Entry {
+    /// The block this entry names, if the index is valid.
+    pub fn block(&self) -> Option<&crate::block::Block> {
+        self.stmt.blocks.get(self.index)
+    }
 }
 
 /// Operator commands to the pulse core.
@@ -93,39 +129,15 @@ pub struct Status {
     pub moving: bool,
     /// Whether the program (translator and B1) has been run to its end.
     pub program_end: bool,
-}
-
-/// The handle to the pulse core thread.
-pub struct PulseCore {
-    _private: (),
-}
-
-impl PulseCore {
-    /// Starts the pulse core thread.
-    pub fn spawn(
-        _settings: MachineSettings,
-        _clock: ClockMode,
-        _sink: Option<EventSink>,
-    ) -> PulseCore {
-        todo!("pulse core")
-    }
-
-    /// Loads a program: a translator thread fills B1 from these statements, concurrently
-    /// with execution, waiting when B1 is full. Replaces any loaded program.
-    pub fn load(
-        &self,
-        _statements: Box<dyn Iterator<Item = Result<Statement, crate::ap::TranslateError>> + Send>,
-    ) {
-        todo!("pulse core")
-    }
-
-    /// Sends an operator command.
-    pub fn command(&self, _c: Command) {
-        todo!("pulse core")
-    }
-
-    /// The latest status snapshot.
-    pub fn status(&self) -> Status {
-        todo!("pulse core")
-    }
+    /// Nothing happens until the next command: no motion, nothing pending, and RUN = 0 (or a
+    /// feed hold at rest, or an emergency stop).
+    pub idle: bool,
+    /// A refused operator action that is not an alarm (jog at a limit, START before RESET).
+    pub notice: Option<String>,
+    /// SINGLE BLOCK in force.
+    pub single_block: bool,
+    /// Path speed, mm/min.
+    pub speed_mm_min: f64,
+    /// Messages (commands, loads, settings) the core has applied so far.
+    pub commands_applied: u64,
 }

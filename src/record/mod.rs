@@ -1,6 +1,16 @@
 //! Recording: events from the pulse core and the console go to a recorder thread that writes
 //! an MCAP file (SPEC §7). The sender side never blocks: if the recorder falls behind, events are
 //! dropped, the recording is marked incomplete, and the operator is told.
+//!
+//! `json` encodes the messages, `writer` lays them out as MCAP, `recorder` runs the thread.
+
+pub mod json;
+pub mod recorder;
+pub mod writer;
+
+pub use json::Topic;
+pub use recorder::{RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
+pub use writer::{RecordWriter, WriterOutcome};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{SyncSender, TrySendError};
@@ -110,6 +120,39 @@ impl EventSink {
     }
 
     /// How many events were dropped.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+
+    /// The sink's shared incomplete/dropped flags without its sender, so that the recorder
+    /// thread can mark the recording incomplete without holding the channel open.
+    pub fn flags(&self) -> SinkFlags {
+        SinkFlags {
+            incomplete: Arc::clone(&self.incomplete),
+            dropped: Arc::clone(&self.dropped),
+        }
+    }
+}
+
+/// The incomplete flag and dropped-event count shared by every clone of one `EventSink`.
+#[derive(Clone, Debug)]
+pub struct SinkFlags {
+    incomplete: Arc<AtomicBool>,
+    dropped: Arc<AtomicU64>,
+}
+
+impl SinkFlags {
+    /// Marks the recording incomplete (every clone of the sink sees it).
+    pub fn mark_incomplete(&self) {
+        self.incomplete.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether any event has been lost.
+    pub fn is_incomplete(&self) -> bool {
+        self.incomplete.load(Ordering::Relaxed)
+    }
+
+    /// How many events the sink dropped.
     pub fn dropped(&self) -> u64 {
         self.dropped.load(Ordering::Relaxed)
     }

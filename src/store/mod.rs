@@ -1,13 +1,33 @@
 //! The stores the controller remembers across restarts: program memory, the MDI buffer, the
-//! tool file and the T-code table (patent Table A; SPEC §2). Every accepted edit is journaled and
-//! fsynced before it is acknowledged.
-//!
-//! OWNER: memory and data entry work (issue 2). The signatures below are the contract with the
-//! console; the bodies are to be written.
+//! tool file and the T-code table (patent Table A; SPEC §2). Every accepted change is journaled
+//! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
-use crate::tooldata::Magazine;
+mod frame;
+pub mod fsutil;
+mod journal;
+mod record;
+mod snapshot;
+mod state;
+pub mod toolfile;
+
+pub use fsutil::write_atomic;
+pub use state::{program_name, TABLEB};
+
+use crate::tooldata::{parse_tape, Magazine, TapeError};
+use fsutil::DirLock;
+use journal::Journal;
+use novanc_editor::{Buffer, EditError, Outcome};
+use record::{EditTarget, Record};
+use state::{Refusal, State};
 use std::fmt;
 use std::path::{Path, PathBuf};
+
+/// The snapshot file name in the state directory.
+const SNAPSHOT: &str = "state.snap";
+/// Journal records after which the journal is compacted into a new snapshot.
+const JOURNAL_RECORDS: usize = 4096;
+/// Journal bytes after which the journal is compacted into a new snapshot.
+const JOURNAL_BYTES: u64 = 4 << 20;
 
 /// Which buffer an edit applies to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,26 +53,436 @@ impl fmt::Display for StoreError {
     }
 }
 
+impl std::error::Error for StoreError {}
+
+/// A StoreError from a message.
+fn serr(message: impl Into<String>) -> StoreError {
+    StoreError {
+        message: message.into(),
+    }
+}
+
+/// Why an edit was not accepted. In every case the buffer and its pointer are unchanged.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EditFailure {
+    /// The command line failed, or the tool-file validator refused its result.
+    Command(EditError),
+    /// The edit could not be saved (disk full, I/O error), so it was not accepted.
+    Store(StoreError),
+}
+
+impl fmt::Display for EditFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EditFailure::Command(e) => e.fmt(f),
+            EditFailure::Store(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for EditFailure {}
+
+/// What TOOL DATA READ did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ToolReadReport {
+    /// The T codes whose data was loaded from the tape, in T-code order.
+    pub loaded: Vec<u32>,
+    /// Tape records skipped because no T code holds their tool.
+    pub skipped: usize,
+    /// (T code, tool) assigned but not on the tape; their data is unchanged.
+    pub missing: Vec<(u32, u32)>,
+}
+
+impl ToolReadReport {
+    /// One line for the display, e.g. `20 tools loaded, 22 skipped (not in the magazine)`.
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "{} tools loaded, {} skipped (not in the magazine)",
+            self.loaded.len(),
+            self.skipped
+        );
+        if !self.missing.is_empty() {
+            let list: Vec<String> = self
+                .missing
+                .iter()
+                .map(|(t, n)| format!("T{t:02} {n:05}"))
+                .collect();
+            s.push_str(&format!("; not on the tape: {}", list.join(", ")));
+        }
+        s
+    }
+}
+
 /// Program memory, MDI buffer, tool file and T-code table, persisted in a state directory.
 pub struct Stores {
-    _private: (),
+    dir: PathBuf,
+    capacity: u32,
+    state: State,
+    gen: u64,
+    /// None after a failed compaction: a new journal is created before the next append.
+    journal: Option<Journal>,
+    journal_limit: usize,
+    _lock: DirLock,
+}
+
+/// What loading a state directory found.
+struct Loaded {
+    state: State,
+    gen: u64,
+    warnings: Vec<String>,
+    /// Whether the files on disk should be rewritten (anything replayed, damaged or missing).
+    compact: bool,
+}
+
+/// Keeps a damaged file for inspection as `NAME.bad-SECONDS`; returns the new name.
+fn keep_aside(dir: &Path, name: &str) -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let bad = format!("{name}.bad-{secs}");
+    match std::fs::copy(dir.join(name), dir.join(&bad)) {
+        Ok(_) => bad,
+        Err(_) => format!("{name} (could not be copied)"),
+    }
+}
+
+/// Reads the snapshot and replays the journal of `dir`.
+fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
+    let io = |what: &str, e: std::io::Error| serr(format!("cannot read {what}: {e}"));
+    let mut warnings = Vec::new();
+    let snap_path = dir.join(SNAPSHOT);
+    let (mut state, gen, mut compact) = match std::fs::read(&snap_path) {
+        Ok(bytes) => match snapshot::decode(&bytes) {
+            Ok((gen, _, s)) => (s, gen, false),
+            Err(e) => {
+                let kept = keep_aside(dir, SNAPSHOT);
+                warnings.push(format!(
+                    "the saved state {} is damaged ({e}); it is kept as {kept}; starting on the embedded defaults",
+                    snap_path.display()
+                ));
+                (State::defaults(capacity), 0, true)
+            }
+        },
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => (State::defaults(capacity), 0, true),
+        Err(e) => return Err(io(&snap_path.display().to_string(), e)),
+    };
+    match journal::read(dir).map_err(|e| io(journal::JOURNAL, e))? {
+        None => compact = true,
+        Some(j) => {
+            if j.gen == Some(gen) {
+                for (i, rec) in j.records.iter().enumerate() {
+                    if let Err(e) = state.apply(rec, None) {
+                        let why = match e {
+                            Refusal::Edit(e) => e.to_string(),
+                            Refusal::Other(m) => m,
+                        };
+                        warnings.push(format!(
+                            "journal record {} could not be replayed ({why}); it and the {} after it were skipped",
+                            i + 1,
+                            j.records.len() - i - 1
+                        ));
+                        break;
+                    }
+                }
+                compact |= !j.records.is_empty();
+            } else if j.gen.is_some_and(|g| g > gen) {
+                warnings.push(format!(
+                    "the journal is newer than the saved state (generation {} > {gen}); it was not replayed",
+                    j.gen.unwrap_or(0)
+                ));
+                compact = true;
+            } else {
+                // An older journal is already in the snapshot (a crash during compaction).
+                compact = true;
+            }
+            if let Some(d) = j.damage {
+                let kept = keep_aside(dir, journal::JOURNAL);
+                warnings.push(format!(
+                    "{d}. This is what a crash while writing leaves; edits before it are kept. The damaged journal is kept as {kept}"
+                ));
+                compact = true;
+            }
+        }
+    }
+    if state.tcodes.capacity() != capacity {
+        warnings.extend(state.resize(capacity));
+        compact = true;
+    }
+    Ok(Loaded {
+        state,
+        gen,
+        warnings,
+        compact,
+    })
 }
 
 impl Stores {
     /// The state directory: `NOVANC_STATE`, else `$XDG_STATE_HOME/novanc`, else
-    /// `~/.local/state/novanc`.
+    /// `~/.local/state/novanc` (`./novanc-state` if there is no home directory).
     pub fn default_dir() -> PathBuf {
-        todo!("stores")
+        let var = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+        if let Some(d) = var("NOVANC_STATE") {
+            return PathBuf::from(d);
+        }
+        if let Some(d) = var("XDG_STATE_HOME").map(PathBuf::from) {
+            if d.is_absolute() {
+                return d.join("novanc");
+            }
+        }
+        match var("HOME") {
+            Some(h) => PathBuf::from(h).join(".local/state/novanc"),
+            None => PathBuf::from("novanc-state"),
+        }
     }
 
     /// Opens (or creates, on the embedded defaults) the stores in `dir`, replaying the journal.
     /// Returns warnings to show the operator (for example a corrupt journal tail skipped).
-    pub fn open(_dir: &Path, _capacity: u32) -> Result<(Stores, Vec<String>), StoreError> {
-        todo!("stores")
+    /// `capacity` is the magazine's number of pockets (the setting; 24 by default).
+    pub fn open(dir: &Path, capacity: u32) -> Result<(Stores, Vec<String>), StoreError> {
+        if capacity == 0 || capacity > 999 {
+            return Err(serr(format!(
+                "magazine capacity {capacity} must be 1 to 999 pockets"
+            )));
+        }
+        std::fs::create_dir_all(dir)
+            .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+        let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
+        let l = load(dir, capacity)?;
+        let mut s = Stores {
+            dir: dir.to_path_buf(),
+            capacity,
+            state: l.state,
+            gen: l.gen,
+            journal: None,
+            journal_limit: JOURNAL_RECORDS,
+            _lock: lock,
+        };
+        if l.compact {
+            s.compact()
+                .map_err(|e| serr(format!("cannot save to {}: {e}", dir.display())))?;
+        } else {
+            let j = Journal::open_append(&dir.join(journal::JOURNAL))
+                .map_err(|e| serr(format!("cannot open the journal: {e}")))?;
+            s.journal = Some(j);
+        }
+        Ok((s, l.warnings))
+    }
+
+    /// Writes the whole state as a new snapshot and starts an empty journal.
+    fn compact(&mut self) -> std::io::Result<()> {
+        let gen = self.gen + 1;
+        write_atomic(
+            &self.dir.join(SNAPSHOT),
+            &snapshot::encode(&self.state, gen),
+        )?;
+        self.gen = gen;
+        self.journal = None;
+        self.journal = Some(Journal::create(&self.dir, gen)?);
+        Ok(())
+    }
+
+    /// Sets after how many journal records the journal is compacted (default 4096).
+    pub fn set_journal_limit(&mut self, records: usize) {
+        self.journal_limit = records.max(1);
+    }
+
+    /// Applies a change, journals it (fsynced) if it changed anything, and only then returns.
+    fn commit(&mut self, rec: Record, y_max_lines: Option<usize>) -> Result<Outcome, EditFailure> {
+        let (out, changed) = self.state.apply(&rec, y_max_lines).map_err(|e| match e {
+            Refusal::Edit(e) => EditFailure::Command(e),
+            Refusal::Other(m) => EditFailure::Store(serr(m)),
+        })?;
+        if !changed {
+            return Ok(out);
+        }
+        let saved = match self.journal.as_mut() {
+            Some(j) => j.append(&rec),
+            None => Journal::create(&self.dir, self.gen)
+                .and_then(|mut j| j.append(&rec).map(|_| j))
+                .map(|j| self.journal = Some(j)),
+        };
+        if let Err(e) = saved {
+            // Memory is ahead of the disk: go back to what the disk holds.
+            let back = load(&self.dir, self.capacity).map(|l| self.state = l.state);
+            let note = if back.is_ok() {
+                "nothing was changed"
+            } else {
+                "restart novanc"
+            };
+            return Err(EditFailure::Store(serr(format!("not saved ({e}); {note}"))));
+        }
+        if let Some(j) = &self.journal {
+            if j.records >= self.journal_limit || j.len >= JOURNAL_BYTES {
+                // A failed compaction loses nothing: the journal still holds every change.
+                let _ = self.compact();
+            }
+        }
+        Ok(out)
+    }
+
+    /// The state directory in use.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The magazine capacity (number of T codes).
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// The names of the programs in program memory, in order.
+    pub fn program_names(&self) -> Vec<String> {
+        self.state.programs.keys().cloned().collect()
+    }
+
+    /// The name of the current program (the one PROGRAM REVISION and AUTO use).
+    pub fn current_program(&self) -> &str {
+        &self.state.current
+    }
+
+    /// The text of a program in program memory.
+    pub fn program_text(&self, name: &str) -> Option<String> {
+        let n = program_name(name).ok()?;
+        self.state.programs.get(&n).map(Buffer::text)
+    }
+
+    /// SEARCH: makes another program current (names are case-insensitive).
+    pub fn select_program(&mut self, name: &str) -> Result<(), StoreError> {
+        self.commit(Record::Select(name.to_string()), None)
+            .map(|_| ())
+            .map_err(to_store)
+    }
+
+    /// Creates an empty program and makes it current.
+    pub fn new_program(&mut self, name: &str) -> Result<(), StoreError> {
+        let n = program_name(name).map_err(serr)?;
+        self.commit(Record::NewProgram(n), None)
+            .map(|_| ())
+            .map_err(to_store)
+    }
+
+    /// PROGRAM READ: adds `text` (a tape file; CR and CR LF become end of block) as program
+    /// `name`, replacing a program of that name, and makes it current.
+    pub fn program_read(&mut self, name: &str, text: &str) -> Result<(), StoreError> {
+        let n = program_name(name).map_err(serr)?;
+        self.commit(
+            Record::ProgramRead {
+                name: n,
+                text: text.to_string(),
+            },
+            None,
+        )
+        .map(|_| ())
+        .map_err(to_store)
+    }
+
+    /// The buffer of a target, for the display.
+    pub fn buffer(&self, target: Target) -> &Buffer {
+        match target {
+            Target::Program => self
+                .state
+                .programs
+                .get(&self.state.current)
+                .unwrap_or(&self.state.mdi),
+            Target::Mdi => &self.state.mdi,
+            Target::ToolFile => &self.state.tool_buf,
+        }
+    }
+
+    /// Runs one editor command line on a target, atomically. The tool file is checked by its
+    /// validator. When this returns Ok the edit is on disk (journaled and fsynced).
+    pub fn edit(
+        &mut self,
+        target: Target,
+        cmdline: &str,
+        y_max_lines: Option<usize>,
+    ) -> Result<Outcome, EditFailure> {
+        let target = match target {
+            Target::Program => EditTarget::Program(self.state.current.clone()),
+            Target::Mdi => EditTarget::Mdi,
+            Target::ToolFile => EditTarget::ToolFile,
+        };
+        self.commit(
+            Record::Edit {
+                target,
+                line: cmdline.to_string(),
+            },
+            y_max_lines,
+        )
+    }
+
+    /// TOOL DATA READ: loads the records of `tape_text` whose tools are assigned to a T code,
+    /// each into its T code's slot. A bad tape (any bad record) changes nothing.
+    pub fn tool_read(
+        &mut self,
+        tape_text: &str,
+        file_name: &str,
+    ) -> Result<ToolReadReport, TapeError> {
+        let tape = parse_tape(tape_text, file_name)?;
+        let mut m = self.state.magazine();
+        let mut report = ToolReadReport::default();
+        for rec in &tape {
+            match m.tcodes.tcode_of(rec.number) {
+                Some(t) => {
+                    m.tools.set(t, Some(rec.clone()));
+                    report.loaded.push(t);
+                }
+                None => report.skipped += 1,
+            }
+        }
+        report.loaded.sort_unstable();
+        report.missing = m
+            .tcodes
+            .iter()
+            .filter(|(t, _)| !report.loaded.contains(t))
+            .collect();
+        let text = toolfile::tool_text(&m);
+        self.commit(Record::ToolFile(text), None)
+            .map_err(|e| TapeError {
+                file: file_name.to_string(),
+                line: 0,
+                message: format!("the tool file was not changed: {e}"),
+            })?;
+        Ok(report)
+    }
+
+    /// T-CODE SETTING by T code: puts `tool` in pocket `t`, or empties it (None). The pocket's
+    /// tool data is cleared when its tool changes (read the tape again, or enter it in TOOL
+    /// DATA REVISION). Two T codes never hold the same tool.
+    pub fn set_tcode(&mut self, t: u32, tool: Option<u32>) -> Result<(), String> {
+        self.commit(Record::TCode { t, tool }, None)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    }
+
+    /// T-CODE SETTING by tool number: puts `tool` in pocket `t`, or (None) takes it out of
+    /// whichever pocket holds it.
+    pub fn assign_tool(&mut self, tool: u32, t: Option<u32>) -> Result<(), String> {
+        match t {
+            Some(t) => self.set_tcode(t, Some(tool)),
+            None => match self.state.tcodes.tcode_of(tool) {
+                Some(t) => self.set_tcode(t, None),
+                None => Err(format!("tool {tool:05} is in no T code")),
+            },
+        }
+    }
+
+    /// The magazine (T-code table and tool file) the translator gets.
+    pub fn magazine(&self) -> Magazine {
+        self.state.magazine()
+    }
+}
+
+/// An edit failure as a StoreError (for the operations that are not editor command lines).
+fn to_store(e: EditFailure) -> StoreError {
+    match e {
+        EditFailure::Store(e) => e,
+        EditFailure::Command(e) => serr(e.to_string()),
     }
 }
 
 /// The magazine (T-code table and tool file) the translator uses.
-pub fn magazine_of(_s: &Stores) -> Magazine {
-    todo!("stores")
+pub fn magazine_of(s: &Stores) -> Magazine {
+    s.magazine()
 }

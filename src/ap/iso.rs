@@ -1,0 +1,138 @@
+//! Printing blocks as ISO 6983 word-address lines (SPEC §6): absolute millimetres with three
+//! decimals, words in the order `N G X Y Z I J P F S T M`, at most one M per line. Arc centres
+//! are incremental (I J from the start point), the standard default.
+
+use super::Statement;
+use crate::block::{Block, Motion};
+use crate::settings::MachineSettings;
+use std::fmt::Write;
+
+/// The program preamble: metric, absolute, XY plane, feed per minute, no cutter-radius or
+/// tool-length compensation, no canned cycle.
+pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
+
+/// The program end.
+pub const END: &str = "M30";
+
+fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
+    let _ = write!(out, " {word}{:.3}", st.to_mm(pulses));
+}
+
+fn number(out: &mut String, word: char, v: f64) {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        let _ = write!(out, " {word}{}", v as i64);
+    } else {
+        let s = format!("{v:.3}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        let _ = write!(out, " {word}{s}");
+    }
+}
+
+/// Appends one block's ISO line (no newline) to `out`.
+pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
+    let _ = write!(out, "N{}", b.seq);
+    let g = match b.motion {
+        Motion::Rapid => Some("G00"),
+        Motion::Linear => Some("G01"),
+        Motion::ArcCw => Some("G02"),
+        Motion::ArcCcw => Some("G03"),
+        Motion::Dwell => Some("G04"),
+        Motion::Aux => None,
+    };
+    if let Some(g) = g {
+        out.push(' ');
+        out.push_str(g);
+    }
+    match b.motion {
+        Motion::Rapid | Motion::Linear => {
+            let all = b.delta == [0; 3];
+            for (i, w) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                if all || b.delta[i] != 0 {
+                    mm(out, w, b.end[i], st);
+                }
+            }
+        }
+        Motion::ArcCw | Motion::ArcCcw => {
+            mm(out, 'X', b.end[0], st);
+            mm(out, 'Y', b.end[1], st);
+            if b.delta[2] != 0 {
+                mm(out, 'Z', b.end[2], st);
+            }
+            let c = b.center.unwrap_or([0, 0]);
+            mm(out, 'I', c[0], st);
+            mm(out, 'J', c[1], st);
+        }
+        Motion::Dwell => {
+            let _ = write!(out, " P{:.3}", b.dwell_ns as f64 / 1e9);
+        }
+        Motion::Aux => {}
+    }
+    if matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) {
+        number(out, 'F', b.feed);
+    }
+    if let Some(s) = b.s {
+        let _ = write!(out, " S{s}");
+    }
+    if let Some(t) = b.t {
+        let _ = write!(out, " T{t:02}");
+    }
+    if let Some(m) = b.m {
+        let _ = write!(out, " M{m:02}");
+    }
+}
+
+/// One block as an ISO 6983 word-address line in absolute mm with 3 decimals.
+pub fn iso_line(block: &Block, settings: &MachineSettings) -> String {
+    let mut s = String::with_capacity(48);
+    write_line(&mut s, block, settings);
+    s
+}
+
+/// The whole program: the preamble, one line per block, then `M30`.
+pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> String {
+    let mut s = String::new();
+    s.push_str(PREAMBLE);
+    s.push('\n');
+    for b in statements.iter().flat_map(|st| &st.blocks) {
+        write_line(&mut s, b, settings);
+        s.push('\n');
+    }
+    s.push_str(END);
+    s.push('\n');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prints_words_in_order_with_three_decimals() {
+        let st = MachineSettings::default();
+        let mut b = Block::aux(12, 1, [406_292, 162_500, -485_000]);
+        b.motion = Motion::Linear;
+        b.delta = [0, 0, -10_000];
+        b.feed = 120.0;
+        assert_eq!(iso_line(&b, &st), "N12 G01 Z-485.000 F120");
+        b.motion = Motion::ArcCcw;
+        b.center = Some([-5_000, 0]);
+        b.feed = 62.5;
+        b.delta = [0; 3];
+        assert_eq!(
+            iso_line(&b, &st),
+            "N12 G03 X406.292 Y162.500 I-5.000 J0.000 F62.5"
+        );
+        let mut a = Block::aux(3, 1, [0, 0, 0]);
+        a.t = Some(2);
+        a.m = Some(6);
+        assert_eq!(iso_line(&a, &st), "N3 T02 M06");
+        a.t = None;
+        a.s = Some(1200);
+        a.m = Some(3);
+        assert_eq!(iso_line(&a, &st), "N3 S1200 M03");
+        let mut d = Block::aux(4, 1, [0, 0, 0]);
+        d.motion = Motion::Dwell;
+        d.dwell_ns = 1_500_000_000;
+        assert_eq!(iso_line(&d, &st), "N4 G04 P1.500");
+    }
+}

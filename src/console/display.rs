@@ -1,0 +1,483 @@
+//! The display program: fills the plasma display (14) for the mode in force (patent lines
+//! 170–178, 486–488; SPEC §1).
+//!
+//! - Running (AUTO, MDI, SINGLE BLOCK): the source statement, the blocks generated from it
+//!   (ISO lines) with `>` on the executing block, a message line and the state line.
+//! - Data modes (DATA INPUT): a header, the text around the pointer (pointer line marked `>`,
+//!   pointer shown as `▌`), the last command line, the result or error, the line being typed.
+//! - Tool data modes: one T code per line.
+//! - Manual modes (CONTINUOUS, HANDLE, STEP): positions, handwheel, tool and spindle.
+
+use super::Console;
+use crate::ap::iso_line;
+use crate::panel_model::{DataMode, OpMode, PanelEvent};
+use crate::store::Target;
+use crate::tooldata::Magazine;
+
+/// The pointer as drawn inside a line of text.
+pub const POINTER: char = '▌';
+
+/// The operator's name of an operation mode position.
+pub fn op_name(m: OpMode) -> &'static str {
+    match m {
+        OpMode::Continuous => "CONTINUOUS",
+        OpMode::Auto => "AUTO",
+        OpMode::Mdi => "MDI",
+        OpMode::Data => "DATA INPUT",
+        OpMode::Handle => "HANDLE",
+        OpMode::Step => "STEP",
+        OpMode::Single => "SINGLE BLOCK",
+    }
+}
+
+/// The operator's name of a data-processing mode position.
+pub fn data_name(m: DataMode) -> &'static str {
+    match m {
+        DataMode::Search => "SEARCH",
+        DataMode::Read => "PROGRAM READ",
+        DataMode::Revise => "PROGRAM REVISION",
+        DataMode::ToolRead => "TOOL DATA READ",
+        DataMode::ToolRevise => "TOOL DATA REVISION",
+        DataMode::TCode => "T-CODE SETTING",
+        DataMode::Mdi => "MDI",
+    }
+}
+
+/// Rows of text a data page shows around the pointer (header, command, message and entry
+/// lines take the rest).
+pub fn text_rows(rows: usize) -> usize {
+    rows.saturating_sub(4).max(1)
+}
+
+/// An event as its panel-script line (for the recording).
+pub fn script_line(ev: &PanelEvent) -> String {
+    match ev {
+        PanelEvent::Op(m) => format!("op {}", m.word()),
+        PanelEvent::Data(m) => format!("data {}", m.word()),
+        PanelEvent::Type(t) => format!("type {t}"),
+        PanelEvent::Key(c) => format!("key {c}"),
+        PanelEvent::Rubout => "rubout".into(),
+        PanelEvent::Eob => "eob".into(),
+        PanelEvent::Tape(p) => format!("tape {}", p.display()),
+        PanelEvent::Start => "start".into(),
+        PanelEvent::Stop => "stop".into(),
+        PanelEvent::Reset => "reset".into(),
+        PanelEvent::EStop => "estop".into(),
+        PanelEvent::Override(p) => format!("override {p}"),
+        PanelEvent::Wheel(a, n) => format!("wheel {} {n}", a.letter()),
+        PanelEvent::WheelScale(s) => format!("wheelscale {s}"),
+        PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
+        PanelEvent::JogRelease => "jogrelease".into(),
+        PanelEvent::Wait => "wait".into(),
+        PanelEvent::Show => "show".into(),
+    }
+}
+
+/// Exactly `cols` characters: cut or padded with blanks.
+fn fit(s: &str, cols: usize) -> String {
+    let mut out: String = s.chars().take(cols).collect();
+    let n = out.chars().count();
+    out.extend(std::iter::repeat_n(' ', cols - n));
+    out
+}
+
+/// `left` and `right` on one line, `right` flush right (cut first if too long).
+fn split_line(left: &str, right: &str, cols: usize) -> String {
+    let r = right.chars().count();
+    let l = left.chars().count();
+    if l + 1 + r <= cols {
+        format!("{left}{}{right}", " ".repeat(cols - l - r))
+    } else {
+        fit(left, cols)
+    }
+}
+
+/// A message wrapped on at most `max` lines of `cols` (words kept whole where possible).
+fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for w in msg.split(' ') {
+        let need = cur.chars().count() + usize::from(!cur.is_empty()) + w.chars().count();
+        if need > cols && !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+        if !cur.is_empty() {
+            cur.push(' ');
+        }
+        cur.push_str(w);
+        while cur.chars().count() > cols {
+            let head: String = cur.chars().take(cols).collect();
+            cur = cur.chars().skip(cols).collect();
+            out.push(head);
+        }
+    }
+    if !cur.is_empty() || out.is_empty() {
+        out.push(cur);
+    }
+    out.truncate(max.max(1));
+    out
+}
+
+/// A page being filled: body lines between a header and the bottom lines.
+struct Page {
+    rows: usize,
+    cols: usize,
+    header: String,
+    body: Vec<String>,
+    /// Bottom lines (command, message, entry or state), in order.
+    bottom: Vec<String>,
+}
+
+impl Page {
+    fn new(rows: usize, cols: usize, header: String) -> Page {
+        Page {
+            rows,
+            cols,
+            header,
+            body: Vec::new(),
+            bottom: Vec::new(),
+        }
+    }
+
+    /// Rows left for the body.
+    fn body_rows(&self) -> usize {
+        self.rows.saturating_sub(1 + self.bottom.len())
+    }
+
+    fn lines(self) -> Vec<String> {
+        let n = self.body_rows();
+        let mut out = vec![fit(&self.header, self.cols)];
+        for i in 0..n {
+            out.push(fit(
+                self.body.get(i).map(|s| s.as_str()).unwrap_or(""),
+                self.cols,
+            ));
+        }
+        for b in &self.bottom {
+            out.push(fit(b, self.cols));
+        }
+        out.truncate(self.rows);
+        while out.len() < self.rows {
+            out.push(fit("", self.cols));
+        }
+        out
+    }
+}
+
+/// The display frame for the console's state.
+pub(super) fn compose(c: &Console) -> Vec<String> {
+    let rows = c.cfg.rows;
+    let cols = c.cfg.cols;
+    let running = c.status.run != 0 || c.loaded.is_some();
+    match c.op {
+        OpMode::Auto | OpMode::Single | OpMode::Mdi => run_page(c, rows, cols),
+        _ if running => run_page(c, rows, cols),
+        OpMode::Data => data_page(c, rows, cols),
+        OpMode::Continuous | OpMode::Handle | OpMode::Step => manual_page(c, rows, cols),
+    }
+}
+
+/// The message line(s), alarm first.
+fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
+    let msg = match (&c.alarm, c.message.is_empty()) {
+        (Some(a), true) => format!("ALARM {a}"),
+        (Some(a), false) if !c.message.contains(a.as_str()) => {
+            format!("{} / ALARM {a}", c.message)
+        }
+        _ => c.message.clone(),
+    };
+    wrap(&msg, cols, max)
+}
+
+/// The state line: RUN, mode, feed override, T, S (and HOLD / E-STOP).
+fn state_line(c: &Console) -> String {
+    let mode = match c.op {
+        OpMode::Continuous => "CONT",
+        OpMode::Auto => "AUTO",
+        OpMode::Mdi => "MDI",
+        OpMode::Data => "DATA",
+        OpMode::Handle => "HANDLE",
+        OpMode::Step => "STEP",
+        OpMode::Single => "SINGLE",
+    };
+    let t = match c.status.tool {
+        Some(t) => format!("T{t:02}"),
+        None => "T--".into(),
+    };
+    let mut s = format!(
+        "RUN {} {mode} OVR{:>3}% {t} S{}",
+        c.status.run, c.feed_override, c.status.spindle
+    );
+    if c.status.estop {
+        s.push_str(" ESTOP");
+    } else if c.status.hold {
+        s.push_str(" HOLD");
+    }
+    s
+}
+
+/// Running or single block: the statement, its blocks with the executing one marked, the
+/// message and the state.
+fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
+    let kind = if c.op == OpMode::Mdi { "MDI" } else { "AUTO" };
+    let exec = c.status.executing.as_ref();
+    let header = match exec {
+        Some(e) => format!("L{} {}", e.stmt.line, e.stmt.text.trim()),
+        None => match (c.op, &c.search) {
+            (OpMode::Mdi, _) => "MDI buffer: press START".to_string(),
+            (_, Some(sp)) => format!(
+                "{} from line {}: press START",
+                c.mem.program_name(),
+                sp.line
+            ),
+            _ => format!("{}: press START", c.mem.program_name()),
+        },
+    };
+    let mut p = Page::new(rows, cols, header);
+    p.bottom = message_lines(c, cols, 2);
+    p.bottom.push(state_line(c));
+    let n = p.body_rows();
+    match exec {
+        Some(e) => {
+            let blocks = &e.stmt.blocks;
+            let first = if blocks.len() <= n || e.index < n / 2 {
+                0
+            } else {
+                (e.index - n / 2).min(blocks.len() - n)
+            };
+            for (i, b) in blocks.iter().enumerate().skip(first).take(n) {
+                let mark = if i == e.index { '>' } else { ' ' };
+                p.body
+                    .push(format!("{mark}{}", iso_line(b, &c.cfg.settings)));
+            }
+        }
+        None => {
+            let target = if c.op == OpMode::Mdi {
+                Target::Mdi
+            } else {
+                Target::Program
+            };
+            let text = c.mem.text(target);
+            if text.trim().is_empty() {
+                p.body.push(format!("({kind}: nothing to run)"));
+            }
+            let skip = match (&c.search, target) {
+                (Some(sp), Target::Program) => sp.line.saturating_sub(1) as usize,
+                _ => 0,
+            };
+            for l in text.lines().skip(skip).take(n) {
+                p.body.push(format!(" {l}"));
+            }
+        }
+    }
+    p.lines()
+}
+
+/// DATA INPUT pages, by data-processing mode.
+fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
+    let name = data_name(c.data);
+    let mut bottom = vec![format!("cmd: {}", c.last_line)];
+    bottom.extend(message_lines(c, cols, 3));
+    let entry_room = cols.saturating_sub(3);
+    let typed: Vec<char> = c.entry.chars().collect();
+    let shown: String = typed[typed.len().saturating_sub(entry_room)..]
+        .iter()
+        .collect();
+    bottom.push(format!("> {shown}_"));
+    let mut p = Page::new(rows, cols, String::new());
+    p.bottom = bottom;
+    let n = p.body_rows();
+    match c.data {
+        DataMode::Revise | DataMode::Mdi | DataMode::ToolRevise => {
+            let target = match c.data {
+                DataMode::Revise => Target::Program,
+                DataMode::Mdi => Target::Mdi,
+                _ => Target::ToolFile,
+            };
+            let what = match target {
+                Target::Program => c.mem.program_name(),
+                Target::Mdi => "buffer".into(),
+                Target::ToolFile => "tool file".into(),
+            };
+            let w = c.mem.window(target, n, cols.saturating_sub(2));
+            p.header = split_line(
+                &format!("{name} {what}"),
+                &format!(
+                    "L{}/{}",
+                    w.first_line + w.pointer_row + 1,
+                    w.line_count.max(1)
+                ),
+                cols,
+            );
+            match &c.y_output {
+                Some(y) => {
+                    for l in y.split_inclusive('\n').take(n) {
+                        p.body.push(format!(" {}", l.replace('\n', "*")));
+                    }
+                }
+                None => {
+                    for (i, l) in w.lines.iter().enumerate() {
+                        if i == w.pointer_row {
+                            let mut chars: Vec<char> = l.chars().collect();
+                            let at = w.pointer_col.min(chars.len());
+                            chars.insert(at, POINTER);
+                            p.body
+                                .push(format!(">{}", chars.iter().collect::<String>()));
+                        } else {
+                            p.body.push(format!(" {l}"));
+                        }
+                    }
+                }
+            }
+        }
+        DataMode::TCode => {
+            let m = c.mem.magazine();
+            p.header = split_line(
+                name,
+                &format!(
+                    "{}/{} pockets",
+                    m.tcodes.iter().count(),
+                    m.tcodes.capacity()
+                ),
+                cols,
+            );
+            p.body = tool_lines(&m, c.tool_focus, n);
+        }
+        DataMode::ToolRead => {
+            let tape = tape_name(c);
+            p.header = split_line(name, &tape, cols);
+            let m = c.mem.magazine();
+            p.body = c.read_report.clone();
+            let left = n.saturating_sub(p.body.len());
+            p.body.extend(tool_lines(&m, c.tool_focus, left));
+        }
+        DataMode::Read => {
+            p.header = split_line(name, &tape_name(c), cols);
+            let text = c.mem.text(Target::Program);
+            p.body.push(format!(
+                "program memory: {} ({} lines)",
+                c.mem.program_name(),
+                text.lines().count()
+            ));
+            for l in text.lines().take(n.saturating_sub(1)) {
+                p.body.push(format!(" {l}"));
+            }
+        }
+        DataMode::Search => {
+            p.header = split_line(name, &c.mem.program_name(), cols);
+            match &c.search {
+                Some(sp) => {
+                    p.body.push(format!(">L{} {}", sp.line, sp.text.trim()));
+                    p.body.push("restored first, not run before it:".into());
+                    if sp.restored.is_empty() {
+                        p.body.push("  (nothing in force)".into());
+                    }
+                    for r in &sp.restored {
+                        p.body.push(format!("  {r}"));
+                    }
+                }
+                None => {
+                    p.body.push("AUTO starts at the top.".into());
+                    p.body.push("Type a line number or text, EOB:".into());
+                    p.body.push("AUTO will start at that statement.".into());
+                }
+            }
+        }
+    }
+    p.lines()
+}
+
+/// The tape in the reader, for a header.
+fn tape_name(c: &Console) -> String {
+    match &c.tape {
+        Some(t) => format!(
+            "tape {}",
+            t.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        ),
+        None => "reader empty".into(),
+    }
+}
+
+/// One T code per line, `n` lines around `focus` (marked `>`).
+pub fn tool_lines(m: &Magazine, focus: u32, n: usize) -> Vec<String> {
+    let cap = m.tcodes.capacity();
+    if n == 0 || cap == 0 {
+        return Vec::new();
+    }
+    let focus = focus.clamp(1, cap);
+    let first = focus
+        .saturating_sub((n as u32) / 3)
+        .max(1)
+        .min(cap.saturating_sub(n as u32 - 1).max(1));
+    (first..=cap)
+        .take(n)
+        .map(|t| {
+            let mark = if t == focus { '>' } else { ' ' };
+            let body = match m.tcodes.tool_in(t) {
+                None => "-----".to_string(),
+                Some(n) => match m.tools.get(t) {
+                    Some(r) if r.number == n => format!(
+                        "{n:05} {} D{} L{} S{} F{}",
+                        r.kind.code(),
+                        r.diameter,
+                        r.set_length,
+                        r.speed,
+                        r.feed
+                    ),
+                    _ => format!("{n:05} (no data: TOOL DATA READ)"),
+                },
+            };
+            format!("{mark}T{t:02} {body}")
+        })
+        .collect()
+}
+
+/// CONTINUOUS, HANDLE, STEP: positions, handwheel, tool and spindle.
+fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
+    let v = c.view();
+    let hint = match c.op {
+        OpMode::Continuous => "jog keys move while held".to_string(),
+        OpMode::Step => format!("{:.3} mm per jog key", c.cfg.settings.step_mm),
+        _ => format!("wheel {} x{}", v.wheel.0.letter(), v.wheel.1),
+    };
+    let mut p = Page::new(rows, cols, split_line(op_name(c.op), &hint, cols));
+    p.bottom = message_lines(c, cols, 2);
+    p.bottom.push(state_line(c));
+    for (i, a) in ["X", "Y", "Z"].iter().enumerate() {
+        p.body.push(format!(
+            "{a} {:>10.3}   tip {a} {:>10.3}",
+            v.axis_mm[i], v.tip_mm[i]
+        ));
+    }
+    p.lines()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fit_and_wrap_keep_widths() {
+        assert_eq!(fit("abc", 5), "abc  ");
+        assert_eq!(fit("abcdef", 4), "abcd");
+        assert_eq!(split_line("L", "R", 5), "L   R");
+        let w = wrap("one two three four", 9, 3);
+        assert_eq!(w, vec!["one two", "three", "four"]);
+        assert_eq!(wrap("abcdefghij", 4, 2), vec!["abcd", "efgh"]);
+        assert_eq!(wrap("", 4, 2), vec![""]);
+    }
+
+    #[test]
+    fn tool_lines_centre_on_the_focus_and_mark_it() {
+        let m = crate::tooldata::sample_magazine();
+        let l = tool_lines(&m, 10, 6);
+        assert_eq!(l.len(), 6);
+        assert!(l.iter().any(|s| s.starts_with(">T10 00209 TP")), "{l:?}");
+        let l = tool_lines(&m, 24, 6);
+        assert!(l.last().unwrap().starts_with(">T24 -----"), "{l:?}");
+        let l = tool_lines(&m, 1, 3);
+        assert!(l[0].starts_with(">T01 00610 BB"), "{l:?}");
+    }
+}

@@ -1,0 +1,277 @@
+//! The terminal panel's layout: the plasma display (orange on black), both selectors as rotary
+//! switches, the relay panel (buttons, feed override, handwheel), the position readout, the
+//! lamps, the data keys and a key legend; the help screen; and the "enlarge" notice.
+//!
+//! For a display of R×C the panel needs (C + 39) × (max(R + 2, 14) + 10) cells: 79×24 for
+//! the default 12×40.
+
+use crate::panel_model::{DataMode, OpMode, PanelView};
+use novanc_panel::draw::{button, gauge, lamp, rotary};
+use novanc_panel::{Color, Screen, Style};
+
+/// Plasma orange.
+const ORANGE: Color = Color::Idx(208);
+/// The display's black.
+const BLACK: Color = Color::Idx(16);
+/// The plasma display's style.
+const PLASMA: Style = Style::on(ORANGE, BLACK);
+/// Panel frames and labels.
+const PANEL: Style = Style::fg(Color::Idx(250));
+/// A selected or lit item.
+const LIT: Style = Style::fg(Color::Idx(226)).bold();
+/// The e-stop / alarm red.
+const RED: Style = Style::fg(Color::Idx(196)).bold();
+/// A lit green lamp (RUN).
+const GREEN: Style = Style::fg(Color::Idx(46)).bold();
+
+/// Width of one selector switch.
+const SEL_W: usize = 18;
+
+/// Operation mode selector labels, in position order.
+pub const OP_LABELS: [&str; 7] = [
+    "CONTINUOUS",
+    "AUTO",
+    "MDI",
+    "DATA INPUT",
+    "HANDLE",
+    "STEP",
+    "SINGLE BLK",
+];
+/// Data-processing mode selector labels, in position order.
+pub const DATA_LABELS: [&str; 7] = [
+    "SEARCH",
+    "PROG READ",
+    "PROG REVISE",
+    "TOOL READ",
+    "TOOL REVISE",
+    "T-CODE SET",
+    "MDI",
+];
+
+/// The key legend under the panel.
+pub const LEGEND: &str =
+    "F1-7 data  Alt+1-7 op  F9 START F10 STOP F11 RESET F12 E-STOP  F8 help ^C quit";
+
+/// The cells the panel needs for a display of `rows` × `cols`: (width, height).
+pub fn panel_size(rows: usize, cols: usize) -> (usize, usize) {
+    (cols + 3 + 2 * SEL_W, (rows + 2).max(14) + 10)
+}
+
+/// Draws the whole panel for `v` (display of `v.display.len()` lines) at the top left.
+pub fn draw_panel(s: &mut Screen, v: &PanelView) {
+    let rows = v.display.len();
+    let cols = v.display.first().map(|l| l.chars().count()).unwrap_or(40);
+    let dw = cols + 2;
+    let rx = dw + 1;
+    let top = (rows + 2).max(14);
+    // Plasma display 14.
+    s.frame(0, 0, dw, rows + 2, "PLASMA DISPLAY 14", PANEL);
+    for (i, line) in v.display.iter().enumerate() {
+        s.text(1, 1 + i, line, PLASMA);
+    }
+    // Selectors 17 and 16.
+    let op = OpMode::ALL
+        .iter()
+        .position(|m| *m == v.op_mode)
+        .unwrap_or(0);
+    let data = DataMode::ALL
+        .iter()
+        .position(|m| *m == v.data_mode)
+        .unwrap_or(0);
+    rotary(
+        s,
+        (rx, 0),
+        SEL_W,
+        "OPERATION 17",
+        &OP_LABELS,
+        op,
+        (PANEL, LIT),
+    );
+    rotary(
+        s,
+        (rx + SEL_W, 0),
+        SEL_W,
+        "DATA MODE 16",
+        &DATA_LABELS,
+        data,
+        (PANEL, LIT),
+    );
+    // Relay panel 12: buttons, override, handwheel.
+    let rw = 2 * SEL_W;
+    s.frame(rx, 9, rw, 5, "RELAY PANEL 12", PANEL);
+    let mut x = rx + 1;
+    x += button(s, x, 10, "START", v.lamps.run, PANEL, GREEN) + 1;
+    x += button(s, x, 10, "STOP", v.lamps.hold, PANEL, LIT) + 1;
+    x += button(s, x, 10, "RESET", false, PANEL, LIT) + 1;
+    button(s, x, 10, "E-STOP", v.lamps.estop, RED, RED.reversed());
+    let o = format!("OVERRIDE {:>3}% ", v.feed_override);
+    let n = s.text(rx + 1, 11, &o, PANEL);
+    gauge(s, rx + 1 + n, 11, 15, v.feed_override, 150, LIT);
+    s.text(
+        rx + 1,
+        12,
+        &format!(
+            "HANDWHEEL {} x{:<3} Alt+, Alt+.",
+            v.wheel.0.letter(),
+            v.wheel.1
+        ),
+        PANEL,
+    );
+    // Position readout.
+    s.frame(0, top, dw, 5, "POSITION mm", PANEL);
+    for (i, a) in ["X", "Y", "Z"].iter().enumerate() {
+        s.text(
+            1,
+            top + 1 + i,
+            &format!("{a} {:>10.3}  tip {a} {:>10.3}", v.axis_mm[i], v.tip_mm[i]),
+            PLASMA,
+        );
+    }
+    // Lamps and machine state.
+    s.frame(rx, top, rw, 5, "LAMPS", PANEL);
+    let mut x = rx + 1;
+    x += lamp(s, x, top + 1, "RUN", v.lamps.run, PANEL, GREEN) + 1;
+    x += lamp(s, x, top + 1, "HOLD", v.lamps.hold, PANEL, LIT) + 1;
+    x += lamp(s, x, top + 1, "E-STOP", v.lamps.estop, PANEL, RED) + 1;
+    lamp(s, x, top + 1, "ALARM", v.lamps.alarm, PANEL, RED);
+    let tool = v
+        .tool
+        .map(|t| format!("T{t:02}"))
+        .unwrap_or_else(|| "T--".into());
+    s.text(
+        rx + 1,
+        top + 2,
+        &format!("RUN {}  {tool}  S{}", v.run, v.spindle),
+        PANEL,
+    );
+    let room = rw.saturating_sub(10);
+    let e: Vec<char> = v.entry.chars().collect();
+    let shown: String = e[e.len().saturating_sub(room)..].iter().collect();
+    s.text(rx + 1, top + 3, "ENTRY > ", PANEL);
+    s.text(rx + 9, top + 3, &shown, LIT);
+    // Data keys 15.
+    let kw = rx + rw;
+    s.frame(
+        0,
+        top + 5,
+        kw,
+        4,
+        "DATA KEYS 15 (type; Enter = EOB *)",
+        PANEL,
+    );
+    s.text(
+        1,
+        top + 6,
+        "A B C D E F G H I J K L M N O P Q R S T U V W X Y Z",
+        PANEL,
+    );
+    s.text(
+        1,
+        top + 7,
+        "1 2 3 4 5 6 7 8 9 0 . , / = ( ) - + $ *  SHIFT  EOB  RUBOUT",
+        PANEL,
+    );
+    s.text(0, top + 9, LEGEND, PANEL);
+}
+
+/// The help screen: every key of the panel.
+pub const HELP: &[&str] = &[
+    "novanc terminal panel: keys",
+    "",
+    "Operation mode selector 17   Alt+1 CONTINUOUS  Alt+2 AUTO  Alt+3 MDI",
+    "                             Alt+4 DATA INPUT  Alt+5 HANDLE  Alt+6 STEP",
+    "                             Alt+7 SINGLE BLOCK",
+    "Data mode selector 16        F1 SEARCH  F2 PROGRAM READ  F3 PROGRAM REVISION",
+    "                             F4 TOOL DATA READ  F5 TOOL DATA REVISION",
+    "                             F6 T-CODE SETTING  F7 MDI",
+    "Relay buttons                F9/Alt+s START  F10/Alt+p STOP (feed hold)",
+    "                             F11/Alt+r RESET  F12/Alt+e EMERGENCY STOP",
+    "Feed override                Alt+= up 10 %   Alt+- down 10 %",
+    "Jog (CONTINUOUS, STEP)       arrows X and Y, PgUp/PgDn Z",
+    "Handwheel (HANDLE)           arrows/PgUp/PgDn: 1 detent on that axis",
+    "                             Alt+, Alt+. turn the wheel; Alt+w x1/x10/x100",
+    "Data keys (DATA INPUT)       type; Enter = EOB; Backspace = RUBOUT",
+    "Tape reader                  type the file path, then Alt+t",
+    "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
+    "",
+    "Press any key to return to the panel.",
+];
+
+/// Draws the help screen.
+pub fn draw_help(s: &mut Screen) {
+    for (i, l) in HELP.iter().enumerate() {
+        s.text(1, i, l, if i == 0 { LIT } else { PANEL });
+    }
+}
+
+/// Draws the notice for a terminal smaller than the panel.
+pub fn draw_too_small(s: &mut Screen, need: (usize, usize)) {
+    let (w, h) = (s.width(), s.height());
+    let lines = [
+        "terminal too small".to_string(),
+        format!("enlarge to {}x{}", need.0, need.1),
+        format!("(now {w}x{h})"),
+        "Ctrl-C quits".to_string(),
+    ];
+    for (i, l) in lines.iter().enumerate() {
+        s.text(0, i, l, if i < 2 { LIT } else { PANEL });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::panel_model::{Axis, Lamps};
+
+    fn view() -> PanelView {
+        PanelView {
+            display: vec![format!("{:<40}", "HELLO"); 12],
+            op_mode: OpMode::Data,
+            data_mode: DataMode::Revise,
+            run: 0,
+            lamps: Lamps::default(),
+            feed_override: 100,
+            axis_mm: [1.0, 2.0, -3.5],
+            tip_mm: [1.0, 2.0, -153.5],
+            tool: Some(2),
+            spindle: 1200,
+            wheel: (Axis::Y, 10),
+            entry: "2L".into(),
+            machine_ns: 0,
+        }
+    }
+
+    #[test]
+    fn the_default_panel_fits_80_by_24_and_shows_every_device() {
+        assert_eq!(panel_size(12, 40), (79, 24));
+        let mut s = Screen::new(79, 24);
+        draw_panel(&mut s, &view());
+        let t = s.to_text();
+        for want in [
+            "HELLO",
+            "◉━4 DATA INPUT",
+            "◉━3 PROG REVISE",
+            "[START]",
+            "[E-STOP]",
+            "OVERRIDE 100%",
+            "HANDWHEEL Y x10",
+            "Z     -3.500  tip Z   -153.500",
+            "○ RUN",
+            "T02  S1200",
+            "F9 START",
+            "ENTRY > 2L",
+        ] {
+            assert!(t.contains(want), "missing {want:?} in\n{t}");
+        }
+        assert!(LEGEND.chars().count() <= 79);
+    }
+
+    #[test]
+    fn the_small_notice_fits_20_by_5() {
+        let mut s = Screen::new(20, 5);
+        draw_too_small(&mut s, (79, 24));
+        let t = s.to_text();
+        assert!(t.contains("enlarge to 79x24"), "{t}");
+        assert!(t.contains("(now 20x5)"), "{t}");
+    }
+}

@@ -1,0 +1,146 @@
+//! The console's view of the controller's memory (program memory, MDI buffer, tool file,
+//! T-code table; patent Table A). A thin adapter over `crate::store::Stores`, so that the
+//! console speaks one vocabulary: texts, windows around the pointer, command lines.
+
+use crate::store::{Stores, Target};
+use crate::tooldata::Magazine;
+use std::path::{Path, PathBuf};
+
+/// The lines of a buffer around its pointer, ready for the display.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TextWindow {
+    /// The lines shown (EOB shown as `*`), at most `cols` characters each.
+    pub lines: Vec<String>,
+    /// Row of the pointer within `lines`.
+    pub pointer_row: usize,
+    /// Column of the pointer within its line.
+    pub pointer_col: usize,
+    /// 0-based number of the first line shown.
+    pub first_line: usize,
+    /// Lines in the whole buffer.
+    pub line_count: usize,
+}
+
+/// What TOOL DATA READ did, in the operator's words.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReadReport {
+    /// T codes loaded from the tape.
+    pub loaded: Vec<u32>,
+    /// Records on the tape skipped (tool number not in the T-code table).
+    pub skipped: usize,
+    /// Tools assigned to a T code but not on the tape.
+    pub missing: Vec<u32>,
+}
+
+/// The state directory the console uses when none is given: `NOVANC_STATE`, else
+/// `$XDG_STATE_HOME/novanc`, else `~/.local/state/novanc`.
+pub fn default_state_dir() -> PathBuf {
+    Stores::default_dir()
+}
+
+/// Program memory, MDI buffer, tool file and T-code table, kept by the stores.
+pub struct Memory {
+    stores: Stores,
+}
+
+impl Memory {
+    /// Opens the memory kept in `dir` (created on the embedded defaults when new).
+    pub fn open(dir: &Path, capacity: u32) -> Result<(Memory, Vec<String>), String> {
+        let (stores, warnings) = Stores::open(dir, capacity)
+            .map_err(|e| format!("cannot open the memory in {}: {e}", dir.display()))?;
+        Ok((Memory { stores }, warnings))
+    }
+
+    /// Name of the current program in program memory.
+    pub fn program_name(&self) -> String {
+        self.stores.current_program().to_string()
+    }
+
+    /// Names of the programs in program memory.
+    pub fn program_names(&self) -> Vec<String> {
+        self.stores.program_names()
+    }
+
+    /// Makes another program current.
+    pub fn select_program(&mut self, name: &str) -> Result<(), String> {
+        self.stores.select_program(name).map_err(|e| e.to_string())
+    }
+
+    /// The whole text of a buffer.
+    pub fn text(&self, t: Target) -> String {
+        self.stores.buffer(t).text()
+    }
+
+    /// The lines around the pointer of a buffer.
+    pub fn window(&self, t: Target, rows: usize, cols: usize) -> TextWindow {
+        let b = self.stores.buffer(t);
+        let v = b.view(rows, cols);
+        TextWindow {
+            lines: v.lines,
+            pointer_row: v.pointer_row,
+            pointer_col: v.pointer_col,
+            first_line: v.first_line,
+            line_count: b.line_count(),
+        }
+    }
+
+    /// Runs one editor command line on a buffer (journaled before it returns Ok); Ok carries
+    /// the `Y` output.
+    pub fn edit(&mut self, t: Target, line: &str, y_max: Option<usize>) -> Result<String, String> {
+        self.stores
+            .edit(t, line, y_max)
+            .map(|o| o.y_output)
+            .map_err(|e| e.to_string())
+    }
+
+    /// PROGRAM READ: stores a program read from the tape and makes it current.
+    pub fn program_read(&mut self, name: &str, text: &str) -> Result<(), String> {
+        self.stores
+            .program_read(name, text)
+            .map_err(|e| e.to_string())
+    }
+
+    /// TOOL DATA READ: stores the tape's records of the tools assigned to T codes.
+    pub fn tool_read(&mut self, tape: &str, file: &str) -> Result<ReadReport, String> {
+        let r = self
+            .stores
+            .tool_read(tape, file)
+            .map_err(|e| e.to_string())?;
+        Ok(ReadReport {
+            loaded: r.loaded,
+            skipped: r.skipped,
+            missing: r.missing.into_iter().map(|(_, n)| n).collect(),
+        })
+    }
+
+    /// T-CODE SETTING: puts `tool` in pocket `t` (None empties it).
+    pub fn set_tcode(&mut self, t: u32, tool: Option<u32>) -> Result<(), String> {
+        self.stores.set_tcode(t, tool)
+    }
+
+    /// T-CODE SETTING the other way: moves `tool` to pocket `t`, out of any other pocket.
+    pub fn assign_tool(&mut self, tool: u32, t: u32) -> Result<(), String> {
+        let old = self.stores.magazine().tcodes.tcode_of(tool);
+        if old == Some(t) {
+            return Ok(());
+        }
+        if let Some(o) = old {
+            self.stores.set_tcode(o, None)?;
+        }
+        match self.stores.set_tcode(t, Some(tool)) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                if let Some(o) = old {
+                    // Put the tool back where it was; the refusal is what the operator sees.
+                    let _ = self.stores.set_tcode(o, Some(tool));
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// The magazine (T-code table and tool file) the translator uses.
+    pub fn magazine(&self) -> Magazine {
+        self.stores.magazine()
+    }
+}

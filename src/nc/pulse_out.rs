@@ -1,0 +1,106 @@
+//! The servo side of PGEN: the axis pulse counters, and the pulse log that batches pulse times
+//! for the recording (`/nc/pulses`) or captures them for tests.
+//!
+//! With logging off the cost of a pulse is a counter update and one flag check.
+
+use crate::record::{Event, EventSink};
+
+/// Pulses of one (axis, direction) are sent when a batch reaches this many.
+pub const BATCH: usize = 4096;
+
+/// One captured pulse: axis (0 = X), direction (±1), machine time in ns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PulseRec {
+    /// Axis 0 = X, 1 = Y, 2 = Z.
+    pub axis: u8,
+    /// +1 or −1.
+    pub dir: i8,
+    /// Machine time, ns.
+    pub t_ns: u64,
+}
+
+/// The axis counters and the pulse log.
+#[derive(Debug, Default)]
+pub struct PulseOut {
+    /// Axis positions, pulses.
+    pub pos: [i64; 3],
+    /// Pulses output per axis in this run.
+    pub count: [u64; 3],
+    log: bool,
+    batches: [[Vec<u64>; 2]; 3],
+    capture: Option<Vec<PulseRec>>,
+    sink: Option<EventSink>,
+}
+
+impl PulseOut {
+    /// Sets where logged pulses go.
+    pub fn set_log(&mut self, sink: Option<EventSink>, capture: bool) {
+        self.sink = sink;
+        self.capture = if capture { Some(Vec::new()) } else { None };
+        self.log = self.sink.is_some() || self.capture.is_some();
+    }
+
+    /// Takes the captured pulses so far.
+    pub fn take_capture(&mut self) -> Vec<PulseRec> {
+        self.capture
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
+    /// One pulse on `axis` in direction `dir` at machine time `t`.
+    #[inline(always)]
+    pub fn pulse(&mut self, axis: usize, dir: i8, t: u64) {
+        self.pos[axis] += dir as i64;
+        self.count[axis] += 1;
+        if self.log {
+            self.log_pulse(axis, dir, t);
+        }
+    }
+
+    #[inline]
+    fn log_pulse(&mut self, axis: usize, dir: i8, t: u64) {
+        if let Some(c) = &mut self.capture {
+            c.push(PulseRec {
+                axis: axis as u8,
+                dir,
+                t_ns: t,
+            });
+        }
+        if self.sink.is_some() {
+            let d = usize::from(dir < 0);
+            let b = &mut self.batches[axis][d];
+            b.push(t);
+            if b.len() >= BATCH {
+                self.flush_one(axis, d);
+            }
+        }
+    }
+
+    fn flush_one(&mut self, axis: usize, d: usize) {
+        let b = &mut self.batches[axis][d];
+        if b.is_empty() {
+            return;
+        }
+        let t_ns = std::mem::replace(b, Vec::with_capacity(BATCH));
+        if let Some(s) = &self.sink {
+            s.send(Event::Pulses {
+                axis: axis as u8,
+                dir: if d == 0 { 1 } else { -1 },
+                t_ns,
+            });
+        }
+    }
+
+    /// Sends every pending batch (at each NCBR tick and block end).
+    pub fn flush(&mut self) {
+        if self.sink.is_none() {
+            return;
+        }
+        for a in 0..3 {
+            for d in 0..2 {
+                self.flush_one(a, d);
+            }
+        }
+    }
+}

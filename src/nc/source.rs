@@ -1,0 +1,95 @@
+//! Where NCBR reads blocks from: the block buffer B1 as seen by the pulse core.
+
+use super::B1Entry;
+use crate::ap::{Statement, TranslateError};
+use crate::block::Block;
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+/// What NCBR finds when it reads the next block.
+#[derive(Clone, Debug)]
+pub enum Fetch {
+    /// The next block.
+    Block(B1Entry),
+    /// B1 is empty but the translator is still working.
+    Pending,
+    /// The program has been run to its end.
+    End,
+    /// The translator stopped at this error; every block before it has been read.
+    Error(TranslateError),
+}
+
+/// The reading side of B1.
+pub trait BlockSource {
+    /// Takes the next block (or says why there is none).
+    fn fetch(&mut self) -> Fetch;
+}
+
+/// An in-memory B1 filled up front (tests, benchmarks, `translate_all` results).
+#[derive(Clone, Debug, Default)]
+pub struct VecSource {
+    q: VecDeque<Fetch>,
+}
+
+impl VecSource {
+    /// B1 holding every block of these statements, then the end (or the error).
+    pub fn from_statements<I>(stmts: I) -> VecSource
+    where
+        I: IntoIterator<Item = Result<Statement, TranslateError>>,
+    {
+        let mut q = VecDeque::new();
+        for r in stmts {
+            match r {
+                Ok(s) => {
+                    let s = Arc::new(s);
+                    for index in 0..s.blocks.len() {
+                        q.push_back(Fetch::Block(B1Entry {
+                            stmt: s.clone(),
+                            index,
+                        }));
+                    }
+                }
+                Err(e) => {
+                    q.push_back(Fetch::Error(e));
+                    return VecSource { q };
+                }
+            }
+        }
+        q.push_back(Fetch::End);
+        VecSource { q }
+    }
+
+    /// B1 holding these blocks, each as its own statement (line = `block.stmt`).
+    pub fn from_blocks(blocks: Vec<Block>) -> VecSource {
+        VecSource::from_statements(blocks.into_iter().map(|b| {
+            Ok(Statement {
+                line: b.stmt,
+                text: String::new(),
+                blocks: vec![b],
+            })
+        }))
+    }
+
+    /// Blocks still in the buffer.
+    pub fn len(&self) -> usize {
+        self.q
+            .iter()
+            .filter(|f| matches!(f, Fetch::Block(_)))
+            .count()
+    }
+
+    /// Whether no block is left.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl BlockSource for VecSource {
+    fn fetch(&mut self) -> Fetch {
+        match self.q.front() {
+            None => Fetch::End,
+            Some(Fetch::End) => Fetch::End,
+            Some(_) => self.q.pop_front().unwrap_or(Fetch::End),
+        }
+    }
+}

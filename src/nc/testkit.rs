@@ -1,0 +1,85 @@
+//! Hand-made blocks and a small seeded PRNG, for the pulse core's tests and benchmarks (no
+//! translator needed).
+
+use crate::block::{Block, Motion};
+
+/// splitmix64: a small, seeded, deterministic PRNG.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// A uniform integer in `lo..=hi`.
+    pub fn range(&mut self, lo: i64, hi: i64) -> i64 {
+        let span = (hi - lo + 1).max(1) as u64;
+        lo + (self.next_u64() % span) as i64
+    }
+
+    /// A uniform float in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A block of `motion` moving `delta` pulses from `start`, at `feed` mm/min.
+pub fn block(seq: u32, motion: Motion, start: [i64; 3], delta: [i64; 3], feed: f64) -> Block {
+    let mut b = Block::aux(
+        seq,
+        seq,
+        [
+            start[0] + delta[0],
+            start[1] + delta[1],
+            start[2] + delta[2],
+        ],
+    );
+    b.motion = motion;
+    b.delta = delta;
+    b.feed = feed;
+    b
+}
+
+/// A G01 block.
+pub fn linear(seq: u32, start: [i64; 3], delta: [i64; 3], feed: f64) -> Block {
+    block(seq, Motion::Linear, start, delta, feed)
+}
+
+/// A G02 (`ccw` false) or G03 arc block with the centre `center` relative to the start.
+pub fn arc(
+    seq: u32,
+    start: [i64; 3],
+    delta: [i64; 2],
+    center: [i64; 2],
+    ccw: bool,
+    feed: f64,
+) -> Block {
+    let m = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
+    let mut b = block(seq, m, start, [delta[0], delta[1], 0], feed);
+    b.center = Some(center);
+    b
+}
+
+/// A chain of linear blocks through `points` (absolute pulses), the first point being the
+/// start.
+pub fn polyline(points: &[[i64; 3]], feed: f64) -> Vec<Block> {
+    points
+        .windows(2)
+        .enumerate()
+        .map(|(i, w)| {
+            let d = [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]];
+            linear(i as u32 + 1, w[0], d, feed)
+        })
+        .collect()
+}

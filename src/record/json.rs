@@ -1,0 +1,527 @@
+//! The small JSON encoder of the recorder (no serde): strings with correct escaping, fast
+//! integers for the pulse time arrays, millimetre floats, and one encoder per SPEC §7 topic.
+//!
+//! Everything appends to a caller-owned `Vec<u8>` so the recorder thread reuses one buffer for
+//! every message. The output is always valid UTF-8 JSON.
+
+use super::Event;
+
+/// Two ASCII digits for every value 0..100, for the integer formatter.
+const DIGIT_PAIRS: &[u8; 200] = b"\
+0001020304050607080910111213141516171819\
+2021222324252627282930313233343536373839\
+4041424344454647484950515253545556575859\
+6061626364656667686970717273747576777879\
+8081828384858687888990919293949596979899";
+
+/// Appends the decimal digits of `v` (the fast path used for every pulse time).
+#[inline]
+pub fn push_u64(out: &mut Vec<u8>, mut v: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    while v >= 10_000 {
+        let rem = (v % 10_000) as usize;
+        v /= 10_000;
+        let hi = (rem / 100) * 2;
+        let lo = (rem % 100) * 2;
+        i -= 4;
+        buf[i] = DIGIT_PAIRS[hi];
+        buf[i + 1] = DIGIT_PAIRS[hi + 1];
+        buf[i + 2] = DIGIT_PAIRS[lo];
+        buf[i + 3] = DIGIT_PAIRS[lo + 1];
+    }
+    let mut v = v as usize;
+    if v >= 100 {
+        let lo = (v % 100) * 2;
+        v /= 100;
+        i -= 2;
+        buf[i] = DIGIT_PAIRS[lo];
+        buf[i + 1] = DIGIT_PAIRS[lo + 1];
+    }
+    if v >= 10 {
+        let d = v * 2;
+        i -= 2;
+        buf[i] = DIGIT_PAIRS[d];
+        buf[i + 1] = DIGIT_PAIRS[d + 1];
+    } else {
+        i -= 1;
+        buf[i] = b'0' + v as u8;
+    }
+    out.extend_from_slice(&buf[i..]);
+}
+
+/// Appends a signed integer.
+#[inline]
+pub fn push_i64(out: &mut Vec<u8>, v: i64) {
+    if v < 0 {
+        out.push(b'-');
+    }
+    push_u64(out, v.unsigned_abs());
+}
+
+/// Appends a length in millimetres rounded to 6 decimals, without trailing zeros
+/// (`12.5`, `-0.003`, `0`). A non-finite value (never expected) is written as `null`.
+pub fn push_mm(out: &mut Vec<u8>, mm: f64) {
+    if !mm.is_finite() {
+        out.extend_from_slice(b"null");
+        return;
+    }
+    // Whole micro-millimetres (nanometres) as an integer: exact digits, no float noise.
+    let scaled = (mm * 1_000_000.0).round();
+    if scaled.abs() >= 9.0e18 {
+        // Beyond any machine's travel; fall back to Rust's shortest round-trip form.
+        out.extend_from_slice(format!("{mm:e}").as_bytes());
+        return;
+    }
+    let n = scaled as i64;
+    if n < 0 {
+        out.push(b'-');
+    }
+    let a = n.unsigned_abs();
+    push_u64(out, a / 1_000_000);
+    let mut frac = a % 1_000_000;
+    if frac != 0 {
+        out.push(b'.');
+        let mut digits = 6;
+        while frac.is_multiple_of(10) {
+            frac /= 10;
+            digits -= 1;
+        }
+        let start = out.len();
+        push_u64(out, frac);
+        let written = out.len() - start;
+        // Leading zeros of the fraction (0.003 → "003").
+        for _ in written..digits {
+            out.insert(start, b'0');
+        }
+    }
+}
+
+/// Appends a JSON string literal: quotes, backslash and control characters escaped, everything
+/// else (including non-ASCII UTF-8) copied as is.
+pub fn push_str(out: &mut Vec<u8>, s: &str) {
+    out.push(b'"');
+    let bytes = s.as_bytes();
+    let mut start = 0;
+    for (i, &b) in bytes.iter().enumerate() {
+        let esc: &[u8] = match b {
+            b'"' => b"\\\"",
+            b'\\' => b"\\\\",
+            b'\n' => b"\\n",
+            b'\r' => b"\\r",
+            b'\t' => b"\\t",
+            0x08 => b"\\b",
+            0x0c => b"\\f",
+            0x00..=0x1f => b"",
+            _ => continue,
+        };
+        out.extend_from_slice(&bytes[start..i]);
+        if esc.is_empty() {
+            const HEX: &[u8; 16] = b"0123456789abcdef";
+            out.extend_from_slice(b"\\u00");
+            out.push(HEX[(b >> 4) as usize]);
+            out.push(HEX[(b & 0xf) as usize]);
+        } else {
+            out.extend_from_slice(esc);
+        }
+        start = i + 1;
+    }
+    out.extend_from_slice(&bytes[start..]);
+    out.push(b'"');
+}
+
+/// The six SPEC §7 topics, in channel order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Topic {
+    /// `/nc/block`: a block starts executing.
+    Block,
+    /// `/nc/position`: axis positions.
+    Position,
+    /// `/nc/pulses`: a batch of pulses of one axis.
+    Pulses,
+    /// `/nc/state`: RUN, modes, override, tool, spindle.
+    State,
+    /// `/panel/display`: the display frame.
+    Display,
+    /// `/panel/event`: an operator action.
+    PanelEvent,
+}
+
+impl Topic {
+    /// Every topic, in channel order.
+    pub const ALL: [Topic; 6] = [
+        Topic::Block,
+        Topic::Position,
+        Topic::Pulses,
+        Topic::State,
+        Topic::Display,
+        Topic::PanelEvent,
+    ];
+
+    /// The MCAP topic name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Topic::Block => "/nc/block",
+            Topic::Position => "/nc/position",
+            Topic::Pulses => "/nc/pulses",
+            Topic::State => "/nc/state",
+            Topic::Display => "/panel/display",
+            Topic::PanelEvent => "/panel/event",
+        }
+    }
+
+    /// Index 0..6 (channel order).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The topic an event is recorded on.
+    pub fn of(ev: &Event) -> Topic {
+        match ev {
+            Event::Block { .. } => Topic::Block,
+            Event::Position { .. } => Topic::Position,
+            Event::Pulses { .. } => Topic::Pulses,
+            Event::State { .. } => Topic::State,
+            Event::Display { .. } => Topic::Display,
+            Event::PanelEvent { .. } => Topic::PanelEvent,
+        }
+    }
+
+    /// The schema name (shown by Foxglove and `mcap info`).
+    pub fn schema_name(self) -> &'static str {
+        match self {
+            Topic::Block => "novanc.Block",
+            Topic::Position => "novanc.Position",
+            Topic::Pulses => "novanc.Pulses",
+            Topic::State => "novanc.State",
+            Topic::Display => "novanc.PanelDisplay",
+            Topic::PanelEvent => "novanc.PanelEvent",
+        }
+    }
+
+    /// The JSON schema (draft 2020-12) of the topic's messages.
+    pub fn schema(self) -> &'static str {
+        match self {
+            Topic::Block => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Block","#,
+                r#""description":"A block starts executing","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""text":{"type":"string","description":"the block's ISO line"}},"#,
+                r#""required":["seq","stmt","text"]}"#
+            ),
+            Topic::Position => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Position","#,
+                r#""description":"Axis positions, machine coordinates","type":"object","#,
+                r#""properties":{"x":{"type":"number","description":"X, mm"},"#,
+                r#""y":{"type":"number","description":"Y, mm"},"#,
+                r#""z":{"type":"number","description":"Z, mm"},"#,
+                r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
+                r#""description":"pulse counters X, Y, Z"}},"#,
+                r#""required":["x","y","z","pulses"]}"#
+            ),
+            Topic::Pulses => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Pulses","#,
+                r#""description":"A batch of feed pulses of one axis in one direction","type":"object","#,
+                r#""properties":{"axis":{"type":"string","enum":["X","Y","Z"]},"#,
+                r#""dir":{"type":"integer","enum":[1,-1]},"#,
+                r#""t_ns":{"type":"array","items":{"type":"integer"},"#,
+                r#""description":"pulse times, ns of machine time, ascending"}},"#,
+                r#""required":["axis","dir","t_ns"]}"#
+            ),
+            Topic::State => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.State","#,
+                r#""description":"Machine state, written on change","type":"object","#,
+                r#""properties":{"run":{"type":"integer","description":"RUN: 0 stopped, 1 AUTO, 2 MDI"},"#,
+                r#""op_mode":{"type":"string"},"data_mode":{"type":"string"},"#,
+                r#""feed_override":{"type":"integer","description":"percent"},"#,
+                r#""tool":{"type":"integer","description":"T code in the spindle, 0 none"},"#,
+                r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped"}},"#,
+                r#""required":["run","op_mode","data_mode","feed_override","tool","spindle"]}"#
+            ),
+            Topic::Display => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelDisplay","#,
+                r#""description":"The panel display frame","type":"object","#,
+                r#""properties":{"lines":{"type":"array","items":{"type":"string"}}},"#,
+                r#""required":["lines"]}"#
+            ),
+            Topic::PanelEvent => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelEvent","#,
+                r#""description":"An operator action, as a panel-script line","type":"object","#,
+                r#""properties":{"event":{"type":"string"}},"#,
+                r#""required":["event"]}"#
+            ),
+        }
+    }
+}
+
+/// The axis letter of a pulse batch; anything but 0, 1, 2 is written as `"?"` (never expected).
+fn axis_letter(axis: u8) -> &'static [u8] {
+    match axis {
+        0 => b"\"X\"",
+        1 => b"\"Y\"",
+        2 => b"\"Z\"",
+        _ => b"\"?\"",
+    }
+}
+
+/// Appends the JSON message of `ev` to `out` and returns its machine time in ns (for a pulse
+/// batch, the first pulse's time; 0 for an empty batch).
+pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
+    match ev {
+        Event::Block {
+            t_ns,
+            seq,
+            stmt,
+            text,
+        } => {
+            out.extend_from_slice(b"{\"seq\":");
+            push_u64(out, u64::from(*seq));
+            out.extend_from_slice(b",\"stmt\":");
+            push_u64(out, u64::from(*stmt));
+            out.extend_from_slice(b",\"text\":");
+            push_str(out, text);
+            out.push(b'}');
+            *t_ns
+        }
+        Event::Position { t_ns, pulses } => {
+            for (i, key) in [b"{\"x\":", b",\"y\":", b",\"z\":"].iter().enumerate() {
+                out.extend_from_slice(*key);
+                push_mm(out, pulses[i] as f64 * pulse_mm);
+            }
+            out.extend_from_slice(b",\"pulses\":[");
+            push_i64(out, pulses[0]);
+            out.push(b',');
+            push_i64(out, pulses[1]);
+            out.push(b',');
+            push_i64(out, pulses[2]);
+            out.extend_from_slice(b"]}");
+            *t_ns
+        }
+        Event::Pulses { axis, dir, t_ns } => {
+            out.reserve(40 + t_ns.len() * 15);
+            out.extend_from_slice(b"{\"axis\":");
+            out.extend_from_slice(axis_letter(*axis));
+            out.extend_from_slice(if *dir < 0 {
+                b",\"dir\":-1,\"t_ns\":["
+            } else {
+                b",\"dir\":1,\"t_ns\":["
+            });
+            if let Some((first, rest)) = t_ns.split_first() {
+                push_u64(out, *first);
+                for t in rest {
+                    out.push(b',');
+                    push_u64(out, *t);
+                }
+            }
+            out.extend_from_slice(b"]}");
+            t_ns.first().copied().unwrap_or(0)
+        }
+        Event::State {
+            t_ns,
+            run,
+            op_mode,
+            data_mode,
+            feed_override,
+            tool,
+            spindle,
+        } => {
+            out.extend_from_slice(b"{\"run\":");
+            push_u64(out, u64::from(*run));
+            out.extend_from_slice(b",\"op_mode\":");
+            push_str(out, op_mode);
+            out.extend_from_slice(b",\"data_mode\":");
+            push_str(out, data_mode);
+            out.extend_from_slice(b",\"feed_override\":");
+            push_u64(out, u64::from(*feed_override));
+            out.extend_from_slice(b",\"tool\":");
+            push_u64(out, u64::from(*tool));
+            out.extend_from_slice(b",\"spindle\":");
+            push_i64(out, *spindle);
+            out.push(b'}');
+            *t_ns
+        }
+        Event::Display { t_ns, lines } => {
+            out.extend_from_slice(b"{\"lines\":[");
+            for (i, line) in lines.iter().enumerate() {
+                if i > 0 {
+                    out.push(b',');
+                }
+                push_str(out, line);
+            }
+            out.extend_from_slice(b"]}");
+            *t_ns
+        }
+        Event::PanelEvent { t_ns, event } => {
+            out.extend_from_slice(b"{\"event\":");
+            push_str(out, event);
+            out.push(b'}');
+            *t_ns
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(f: impl FnOnce(&mut Vec<u8>)) -> String {
+        let mut out = Vec::new();
+        f(&mut out);
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn integers_match_std_formatting() {
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut cases = vec![0, 1, 9, 10, 99, 100, 999, 1000, 9999, 10_000, 123_456_789];
+        cases.extend([u64::MAX, u64::MAX - 1, 10u64.pow(19), 10u64.pow(19) - 1]);
+        for _ in 0..10_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            cases.push(x >> (x % 64));
+        }
+        for v in cases {
+            assert_eq!(s(|o| push_u64(o, v)), v.to_string());
+            let i = v as i64;
+            assert_eq!(s(|o| push_i64(o, i)), i.to_string());
+        }
+        assert_eq!(s(|o| push_i64(o, i64::MIN)), i64::MIN.to_string());
+    }
+
+    #[test]
+    fn millimetres_have_at_most_six_decimals_and_no_noise() {
+        assert_eq!(s(|o| push_mm(o, 0.0)), "0");
+        assert_eq!(s(|o| push_mm(o, -0.0)), "0");
+        assert_eq!(s(|o| push_mm(o, 12.5)), "12.5");
+        assert_eq!(s(|o| push_mm(o, 3.0 * 0.001)), "0.003");
+        assert_eq!(s(|o| push_mm(o, -0.003)), "-0.003");
+        assert_eq!(s(|o| push_mm(o, 0.1 + 0.2)), "0.3");
+        assert_eq!(s(|o| push_mm(o, 123_456.000_001)), "123456.000001");
+        assert_eq!(s(|o| push_mm(o, -1.000_000_4)), "-1");
+        assert_eq!(s(|o| push_mm(o, 0.010_2)), "0.0102");
+        assert_eq!(s(|o| push_mm(o, f64::NAN)), "null");
+        assert_eq!(s(|o| push_mm(o, f64::INFINITY)), "null");
+        for p in -5000i64..5000 {
+            let text = s(|o| push_mm(o, p as f64 * 0.001));
+            let back: f64 = text.parse().unwrap();
+            assert!((back - p as f64 * 0.001).abs() < 1e-9, "{p} -> {text}");
+        }
+    }
+
+    #[test]
+    fn strings_escape_quotes_backslash_and_control_characters() {
+        assert_eq!(s(|o| push_str(o, "")), r#""""#);
+        assert_eq!(s(|o| push_str(o, r#"a"b\c"#)), r#""a\"b\\c""#);
+        assert_eq!(s(|o| push_str(o, "l1\nl2\r\t")), r#""l1\nl2\r\t""#);
+        assert_eq!(
+            s(|o| push_str(o, "\u{0}\u{1}\u{8}\u{c}\u{1f}\u{7f}")),
+            "\"\\u0000\\u0001\\b\\f\\u001f\u{7f}\""
+        );
+        assert_eq!(s(|o| push_str(o, "Ø 20 µm → ÷")), "\"Ø 20 µm → ÷\"");
+    }
+
+    #[test]
+    fn every_topic_encodes_its_fields() {
+        let enc = |ev: Event| {
+            let mut out = Vec::new();
+            let t = encode_event(&mut out, &ev, 0.001);
+            (t, String::from_utf8(out).unwrap())
+        };
+        assert_eq!(
+            enc(Event::Block {
+                t_ns: 5,
+                seq: 3,
+                stmt: 12,
+                text: "N3 G01 X10.\"".into()
+            }),
+            (5, r#"{"seq":3,"stmt":12,"text":"N3 G01 X10.\""}"#.into())
+        );
+        assert_eq!(
+            enc(Event::Position {
+                t_ns: 7,
+                pulses: [12_500, -3, 0]
+            }),
+            (
+                7,
+                r#"{"x":12.5,"y":-0.003,"z":0,"pulses":[12500,-3,0]}"#.into()
+            )
+        );
+        assert_eq!(
+            enc(Event::Pulses {
+                axis: 1,
+                dir: -1,
+                t_ns: vec![100, 200, 1_000_000_000_000]
+            }),
+            (
+                100,
+                r#"{"axis":"Y","dir":-1,"t_ns":[100,200,1000000000000]}"#.into()
+            )
+        );
+        assert_eq!(
+            enc(Event::Pulses {
+                axis: 2,
+                dir: 1,
+                t_ns: vec![]
+            }),
+            (0, r#"{"axis":"Z","dir":1,"t_ns":[]}"#.into())
+        );
+        assert_eq!(
+            enc(Event::State {
+                t_ns: 9,
+                run: 1,
+                op_mode: "AUTO".into(),
+                data_mode: "RUN".into(),
+                feed_override: 100,
+                tool: 4,
+                spindle: -1200
+            }),
+            (
+                9,
+                r#"{"run":1,"op_mode":"AUTO","data_mode":"RUN","feed_override":100,"tool":4,"spindle":-1200}"#
+                    .into()
+            )
+        );
+        assert_eq!(
+            enc(Event::Display {
+                t_ns: 1,
+                lines: vec!["A".into(), "Ø\"".into()]
+            }),
+            (1, r#"{"lines":["A","Ø\""]}"#.into())
+        );
+        assert_eq!(
+            enc(Event::PanelEvent {
+                t_ns: 2,
+                event: "key START".into()
+            }),
+            (2, r#"{"event":"key START"}"#.into())
+        );
+    }
+
+    #[test]
+    fn schemas_name_every_required_field() {
+        let required: [&[&str]; 6] = [
+            &["seq", "stmt", "text"],
+            &["x", "y", "z", "pulses"],
+            &["axis", "dir", "t_ns"],
+            &[
+                "run",
+                "op_mode",
+                "data_mode",
+                "feed_override",
+                "tool",
+                "spindle",
+            ],
+            &["lines"],
+            &["event"],
+        ];
+        for (topic, fields) in Topic::ALL.iter().zip(required) {
+            let schema = topic.schema();
+            for f in fields {
+                assert!(schema.contains(&format!("\"{f}\"")), "{topic:?} lacks {f}");
+            }
+            assert!(schema.contains(topic.schema_name()));
+        }
+    }
+}

@@ -1,0 +1,352 @@
+//! The recorder thread: it drains a bounded event queue into a `RecordWriter`, so file I/O
+//! never stalls the pulse core (its PGEN loop only ever does a `try_send`).
+//!
+//! Timing: the thread blocks on the queue and wakes at least every `POLL` to see whether
+//! `finish` was called while some producer still holds a sink. A full queue drops the event
+//! (counted, recording marked incomplete); a disk error marks the recording incomplete at once
+//! and the thread keeps draining, so producers never notice.
+
+use super::writer::{RecordWriter, WriterOutcome};
+use super::{Event, EventSink, SinkFlags, Topic};
+use crate::settings::MachineSettings;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// Queue capacity of `Recorder::start`, in events (a pulse batch is one event).
+pub const DEFAULT_QUEUE_EVENTS: usize = 32_768;
+
+/// How often the idle recorder thread looks at the finish request.
+const POLL: Duration = Duration::from_millis(10);
+
+/// A running recording: the file, the queue and the thread that writes it.
+pub struct Recorder {
+    sink: Option<EventSink>,
+    flags: SinkFlags,
+    closing: Arc<AtomicBool>,
+    thread: Option<JoinHandle<WriterOutcome>>,
+    path: PathBuf,
+    capacity: usize,
+}
+
+impl Recorder {
+    /// Creates the MCAP file and starts the recorder thread with a queue of
+    /// `DEFAULT_QUEUE_EVENTS` events. Fails if the file cannot be created.
+    pub fn start(path: &Path, settings: &MachineSettings) -> Result<Recorder, String> {
+        Recorder::start_with_capacity(path, settings, DEFAULT_QUEUE_EVENTS)
+    }
+
+    /// As `start`, with a queue of `capacity` events (at least 1); small ones are for tests.
+    pub fn start_with_capacity(
+        path: &Path,
+        settings: &MachineSettings,
+        capacity: usize,
+    ) -> Result<Recorder, String> {
+        let capacity = capacity.max(1);
+        let writer = RecordWriter::create(path, settings)?;
+        let (tx, rx) = sync_channel(capacity);
+        let sink = EventSink::new(tx);
+        let flags = sink.flags();
+        let closing = Arc::new(AtomicBool::new(false));
+        let thread = {
+            let flags = flags.clone();
+            let closing = Arc::clone(&closing);
+            std::thread::Builder::new()
+                .name("recorder".to_string())
+                .spawn(move || drain(rx, writer, &flags, &closing, capacity))
+                .map_err(|e| format!("cannot start the recorder thread: {e}"))?
+        };
+        Ok(Recorder {
+            sink: Some(sink),
+            flags,
+            closing,
+            thread: Some(thread),
+            path: path.to_path_buf(),
+            capacity,
+        })
+    }
+
+    /// A sending side for one more producer (pulse core, console).
+    pub fn sink(&self) -> EventSink {
+        match &self.sink {
+            Some(sink) => sink.clone(),
+            // Only reachable during `finish`/`drop`; a sink on a closed channel drops everything.
+            None => EventSink::new(sync_channel(0).0),
+        }
+    }
+
+    /// Whether an event has been lost so far (queue full or disk error), for the display.
+    pub fn is_incomplete(&self) -> bool {
+        self.flags.is_incomplete()
+    }
+
+    /// The file being written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The queue capacity, events.
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// Closes the queue, writes what is still in it, then the summary section and the footer.
+    /// A disk error does not make this fail: it is in the summary (`disk_error`, `incomplete`).
+    /// Fails only if the recorder thread itself was lost. Producers that still hold a sink
+    /// afterwards have their events dropped and counted by the sink.
+    pub fn finish(mut self) -> Result<RecordSummary, String> {
+        self.close()
+    }
+
+    /// The body of `finish` (also run by `drop`).
+    fn close(&mut self) -> Result<RecordSummary, String> {
+        self.sink = None;
+        self.closing.store(true, Ordering::Release);
+        let Some(thread) = self.thread.take() else {
+            return Err(format!(
+                "recording {} was already finished",
+                self.path.display()
+            ));
+        };
+        let out = thread.join().map_err(|_| {
+            self.flags.mark_incomplete();
+            format!(
+                "the recorder thread stopped unexpectedly; recording {} is incomplete",
+                self.path.display()
+            )
+        })?;
+        if out.disk_error.is_some() {
+            self.flags.mark_incomplete();
+        }
+        Ok(RecordSummary {
+            path: self.path.clone(),
+            messages: out.messages,
+            pulses: out.pulses,
+            bytes: out.bytes,
+            incomplete: self.flags.is_incomplete(),
+            dropped: self.flags.dropped(),
+            lost_to_disk_error: out.lost_to_disk_error,
+            disk_error: out.disk_error,
+        })
+    }
+}
+
+impl Drop for Recorder {
+    /// An unfinished recording is still closed properly (summary and footer written).
+    fn drop(&mut self) {
+        if self.thread.is_some() {
+            let _ = self.close();
+        }
+    }
+}
+
+/// The recorder thread: write every event until every sink is gone or `finish` was called,
+/// then drain at most one queue's worth more (so a producer that keeps sending cannot keep the
+/// thread alive) and close the file.
+fn drain(
+    rx: Receiver<Event>,
+    mut writer: RecordWriter,
+    flags: &SinkFlags,
+    closing: &AtomicBool,
+    capacity: usize,
+) -> WriterOutcome {
+    let write = |ev: Event, writer: &mut RecordWriter| {
+        if !writer.write(&ev) {
+            flags.mark_incomplete();
+        }
+    };
+    loop {
+        match rx.recv_timeout(POLL) {
+            Ok(ev) => {
+                write(ev, &mut writer);
+                if closing.load(Ordering::Acquire) {
+                    break;
+                }
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if closing.load(Ordering::Acquire) {
+                    break;
+                }
+            }
+            Err(RecvTimeoutError::Disconnected) => break,
+        }
+    }
+    for _ in 0..capacity {
+        match rx.try_recv() {
+            Ok(ev) => write(ev, &mut writer),
+            Err(_) => break,
+        }
+    }
+    drop(rx);
+    if writer.failed() {
+        flags.mark_incomplete();
+    }
+    writer.finish(flags.is_incomplete(), flags.dropped())
+}
+
+/// What the operator is told when a recording ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordSummary {
+    /// The MCAP file.
+    pub path: PathBuf,
+    /// Messages written per topic, in `Topic::ALL` order.
+    pub messages: [u64; 6],
+    /// Pulses written in `/nc/pulses`.
+    pub pulses: u64,
+    /// File size, bytes (0 after a disk error).
+    pub bytes: u64,
+    /// Whether any event is missing from the file.
+    pub incomplete: bool,
+    /// Events dropped because the queue was full (the recorder fell behind) or closed.
+    pub dropped: u64,
+    /// Events that reached the recorder after a disk error, hence not in the file.
+    pub lost_to_disk_error: u64,
+    /// The disk error, if one happened.
+    pub disk_error: Option<String>,
+}
+
+impl RecordSummary {
+    /// Messages written on a topic, by its name (`"/nc/pulses"`); 0 for an unknown topic.
+    pub fn count(&self, topic: &str) -> u64 {
+        Topic::ALL
+            .iter()
+            .find(|t| t.name() == topic)
+            .map_or(0, |t| self.messages[t.index()])
+    }
+
+    /// Messages written on every topic together.
+    pub fn total_messages(&self) -> u64 {
+        self.messages.iter().sum()
+    }
+}
+
+impl fmt::Display for RecordSummary {
+    /// One line for the operator, e.g. `recording run.mcap: 12 blocks, 40 positions,
+    /// 1234567 pulses in 620 batches, 5 states, 3 displays, 2 panel events, 17.2 MB`, led by
+    /// `RECORDING INCOMPLETE` and the reason when anything is missing.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.incomplete {
+            write!(f, "RECORDING INCOMPLETE {}:", self.path.display())?;
+            let mut sep = "";
+            if self.dropped > 0 {
+                write!(
+                    f,
+                    " {} events dropped (the recorder fell behind)",
+                    self.dropped
+                )?;
+                sep = ";";
+            }
+            if let Some(e) = &self.disk_error {
+                write!(f, "{sep} DISK ERROR {e}")?;
+                if self.lost_to_disk_error > 0 {
+                    write!(f, ", {} events not written", self.lost_to_disk_error)?;
+                }
+                sep = ";";
+            }
+            if sep.is_empty() {
+                write!(f, " events were lost")?;
+            }
+            write!(f, "; in the file:")?;
+        } else {
+            write!(f, "recording {}:", self.path.display())?;
+        }
+        let m = &self.messages;
+        write!(
+            f,
+            " {} blocks, {} positions, {} pulses in {} batches, {} states, {} displays, {} panel events",
+            m[0], m[1], self.pulses, m[2], m[3], m[4], m[5]
+        )?;
+        if self.disk_error.is_none() {
+            write!(f, ", {:.1} MB", self.bytes as f64 / 1e6)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary() -> RecordSummary {
+        RecordSummary {
+            path: PathBuf::from("run.mcap"),
+            messages: [12, 40, 620, 5, 3, 2],
+            pulses: 1_234_567,
+            bytes: 17_200_000,
+            incomplete: false,
+            dropped: 0,
+            lost_to_disk_error: 0,
+            disk_error: None,
+        }
+    }
+
+    #[test]
+    fn complete_summary_line_counts_every_topic() {
+        let s = summary();
+        assert_eq!(
+            s.to_string(),
+            "recording run.mcap: 12 blocks, 40 positions, 1234567 pulses in 620 batches, \
+             5 states, 3 displays, 2 panel events, 17.2 MB"
+        );
+        assert_eq!(s.count("/nc/pulses"), 620);
+        assert_eq!(s.count("/panel/event"), 2);
+        assert_eq!(s.count("/nope"), 0);
+        assert_eq!(s.total_messages(), 682);
+    }
+
+    #[test]
+    fn incomplete_summary_line_says_why() {
+        let mut s = summary();
+        s.incomplete = true;
+        s.dropped = 17;
+        let line = s.to_string();
+        assert!(
+            line.starts_with("RECORDING INCOMPLETE run.mcap: 17 events dropped"),
+            "{line}"
+        );
+        s.dropped = 0;
+        s.disk_error = Some("writing /dev/full: No space left on device".into());
+        s.lost_to_disk_error = 3;
+        let line = s.to_string();
+        assert!(
+            line.contains(
+                "DISK ERROR writing /dev/full: No space left on device, 3 events not written"
+            ),
+            "{line}"
+        );
+        assert!(!line.contains("MB"), "{line}");
+    }
+
+    #[test]
+    fn finish_after_every_event_writes_them_all() {
+        let path =
+            std::env::temp_dir().join(format!("novanc-rec-unit-{}.mcap", std::process::id()));
+        let rec = Recorder::start(&path, &MachineSettings::default()).unwrap();
+        let sink = rec.sink();
+        for i in 0..100u64 {
+            sink.send(Event::Pulses {
+                axis: (i % 3) as u8,
+                dir: 1,
+                t_ns: vec![i * 10, i * 10 + 1],
+            });
+        }
+        // The producer keeps its sink: finish must not wait for it.
+        let s = rec.finish().unwrap();
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(s.count("/nc/pulses"), 100);
+        assert_eq!(s.pulses, 200);
+        assert!(!s.incomplete);
+        sink.send(Event::PanelEvent {
+            t_ns: 0,
+            event: "late".into(),
+        });
+        assert!(
+            sink.is_incomplete(),
+            "an event after finish is lost and said so"
+        );
+    }
+}

@@ -1,0 +1,149 @@
+//! The changes the journal records, one per accepted operator action, and their payload text.
+//! A payload is a header line (`edit P NAME`, `tcode 5 106`, ...) and, for the changes that
+//! carry text, a body after the first `\n`.
+
+/// Which buffer an edit record applies to; a program is named so replay does not depend on
+/// which program was current.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EditTarget {
+    /// A named program in program memory.
+    Program(String),
+    /// The MDI buffer.
+    Mdi,
+    /// The tool file.
+    ToolFile,
+}
+
+/// One accepted change.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Record {
+    /// An editor command line that was accepted.
+    Edit {
+        /// The buffer.
+        target: EditTarget,
+        /// The command line as typed.
+        line: String,
+    },
+    /// SEARCH: another program made current.
+    Select(String),
+    /// A new empty program, made current.
+    NewProgram(String),
+    /// PROGRAM READ: a program added or replaced from tape, made current.
+    ProgramRead {
+        /// The program name.
+        name: String,
+        /// Its text.
+        text: String,
+    },
+    /// TOOL DATA READ: the tool file replaced (tool-file text).
+    ToolFile(String),
+    /// T-CODE SETTING: a T code given a tool, or emptied.
+    TCode {
+        /// The T code.
+        t: u32,
+        /// The tool number, or None for an empty pocket.
+        tool: Option<u32>,
+    },
+}
+
+impl Record {
+    /// The payload text.
+    pub fn encode(&self) -> String {
+        match self {
+            Record::Edit { target, line } => match target {
+                EditTarget::Program(n) => format!("edit P {n}\n{line}"),
+                EditTarget::Mdi => format!("edit M\n{line}"),
+                EditTarget::ToolFile => format!("edit T\n{line}"),
+            },
+            Record::Select(n) => format!("select {n}"),
+            Record::NewProgram(n) => format!("new {n}"),
+            Record::ProgramRead { name, text } => format!("read {name}\n{text}"),
+            Record::ToolFile(text) => format!("tools\n{text}"),
+            Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
+            Record::TCode { t, tool: None } => format!("tcode {t} -"),
+        }
+    }
+
+    /// Parses a payload; the error says what is wrong.
+    pub fn decode(payload: &str) -> Result<Record, String> {
+        let (head, body) = match payload.split_once('\n') {
+            Some((h, b)) => (h, Some(b)),
+            None => (payload, None),
+        };
+        let f: Vec<&str> = head.split(' ').collect();
+        let body_of = |b: Option<&str>| {
+            b.map(str::to_string)
+                .ok_or_else(|| format!("record '{head}' has no text"))
+        };
+        let rec = match f.as_slice() {
+            ["edit", "P", n] => Record::Edit {
+                target: EditTarget::Program(n.to_string()),
+                line: body_of(body)?,
+            },
+            ["edit", "M"] => Record::Edit {
+                target: EditTarget::Mdi,
+                line: body_of(body)?,
+            },
+            ["edit", "T"] => Record::Edit {
+                target: EditTarget::ToolFile,
+                line: body_of(body)?,
+            },
+            ["select", n] => Record::Select(n.to_string()),
+            ["new", n] => Record::NewProgram(n.to_string()),
+            ["read", n] => Record::ProgramRead {
+                name: n.to_string(),
+                text: body_of(body)?,
+            },
+            ["tools"] => Record::ToolFile(body_of(body)?),
+            ["tcode", t, n] => Record::TCode {
+                t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
+                tool: match *n {
+                    "-" => None,
+                    n => Some(n.parse().map_err(|_| format!("bad tool in '{head}'"))?),
+                },
+            },
+            _ => return Err(format!("unknown record '{head}'")),
+        };
+        Ok(rec)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_record_round_trips() {
+        let all = [
+            Record::Edit {
+                target: EditTarget::Program("TABLEB".into()),
+                line: "2LIG00*".into(),
+            },
+            Record::Edit {
+                target: EditTarget::Mdi,
+                line: "".into(),
+            },
+            Record::Edit {
+                target: EditTarget::ToolFile,
+                line: "Sx$\ny".into(),
+            },
+            Record::Select("A".into()),
+            Record::NewProgram("B".into()),
+            Record::ProgramRead {
+                name: "C".into(),
+                text: "P1 = (1, 2)\nDRL\n".into(),
+            },
+            Record::ToolFile("T01\nT02\n".into()),
+            Record::TCode {
+                t: 5,
+                tool: Some(106),
+            },
+            Record::TCode { t: 7, tool: None },
+        ];
+        for r in all {
+            assert_eq!(Record::decode(&r.encode()), Ok(r));
+        }
+        assert!(Record::decode("frobnicate").is_err());
+        assert!(Record::decode("edit M").is_err());
+    }
+}

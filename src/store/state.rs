@@ -1,0 +1,248 @@
+//! The stores in memory (patent Table A): program memory, the MDI buffer, the T-code table and
+//! the tool file, and how one journal record changes them. The same `apply` serves a live
+//! operator action and the replay of the journal at start, so both give the same result.
+
+use super::record::{EditTarget, Record};
+use super::toolfile::{parse_tool_text, tool_text};
+use crate::tooldata::{
+    parse_tape, parse_tcodes, Magazine, TCodeTable, ToolFile, SAMPLE_TAPE, SAMPLE_TCODES,
+};
+use novanc_editor::{Buffer, EditError, ExecOptions, Outcome};
+use std::collections::BTreeMap;
+
+/// Table B, the embedded default part program (SPEC §4).
+pub const TABLEB: &str = include_str!("../../programs/tableb.ap");
+
+/// Why a change was not applied (nothing changed).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Refusal {
+    /// The editor refused the command line (or the tool-file validator did).
+    Edit(EditError),
+    /// Anything else, with the operator's message.
+    Other(String),
+}
+
+/// Program memory, MDI buffer, T-code table and tool file.
+#[derive(Clone, Debug)]
+pub struct State {
+    /// Part programs by name.
+    pub programs: BTreeMap<String, Buffer>,
+    /// The current program's name (always a key of `programs`).
+    pub current: String,
+    /// The MDI buffer.
+    pub mdi: Buffer,
+    /// Which tool sits in which pocket.
+    pub tcodes: TCodeTable,
+    /// The tool file as the operator sees and edits it (one T code per line).
+    pub tool_buf: Buffer,
+    /// The tool file parsed from `tool_buf`.
+    pub tools: ToolFile,
+}
+
+/// A program name as stored: trimmed, upper case, 1 to 32 of `A-Z 0-9 _ - .`.
+pub fn program_name(name: &str) -> Result<String, String> {
+    let n = name.trim().to_ascii_uppercase();
+    if n.is_empty() || n.len() > 32 {
+        return Err(format!(
+            "program name '{}' must be 1 to 32 characters",
+            name.trim()
+        ));
+    }
+    if let Some(c) = n
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
+    {
+        return Err(format!(
+            "program name '{n}' may not contain '{c}' (letters, digits, _ - . only)"
+        ));
+    }
+    Ok(n)
+}
+
+/// Tape text with its record separators (CR, CR LF) made end-of-block characters.
+pub fn tape_text(text: &str) -> String {
+    text.replace("\r\n", "\n").replace('\r', "\n")
+}
+
+/// Moves a fresh buffer's pointer to `p` (clamped to the buffer).
+pub fn set_pointer(b: &mut Buffer, p: usize) {
+    let p = p.min(b.len());
+    if p > 0 {
+        let _ = b.execute(&format!("{p}M"), &ExecOptions::default());
+    }
+}
+
+/// The character offset of the start of line `k` (0-based) in `text`, or its end.
+fn line_start(text: &str, k: usize) -> usize {
+    let mut chars = 0;
+    for (i, line) in text.split_inclusive('\n').enumerate() {
+        if i == k {
+            return chars;
+        }
+        chars += line.chars().count();
+    }
+    chars
+}
+
+impl State {
+    /// The embedded defaults: Table B as `TABLEB`, an empty MDI buffer, the sample T-code table
+    /// and the tool file read from the sample tape.
+    pub fn defaults(capacity: u32) -> State {
+        let tape = parse_tape(SAMPLE_TAPE, "tools.tt").unwrap_or_default();
+        let tcodes = parse_tcodes(SAMPLE_TCODES, "magazine.tc", capacity).unwrap_or_else(|_| {
+            let mut t = TCodeTable::new(capacity);
+            if let Ok(s) = parse_tcodes(SAMPLE_TCODES, "magazine.tc", 99) {
+                for (tc, n) in s.iter() {
+                    let _ = t.assign(tc, Some(n));
+                }
+            }
+            t
+        });
+        let m = Magazine::load(tcodes, &tape);
+        let mut programs = BTreeMap::new();
+        programs.insert("TABLEB".to_string(), Buffer::from_text(&tape_text(TABLEB)));
+        State {
+            programs,
+            current: "TABLEB".to_string(),
+            mdi: Buffer::new(),
+            tool_buf: Buffer::from_text(&tool_text(&m)),
+            tcodes: m.tcodes,
+            tools: m.tools,
+        }
+    }
+
+    /// The magazine the translator gets.
+    pub fn magazine(&self) -> Magazine {
+        Magazine {
+            tcodes: self.tcodes.clone(),
+            tools: self.tools.clone(),
+        }
+    }
+
+    /// Rebuilds the tool-file text from the T-code table and tool file, keeping the pointer
+    /// at the start of the same line.
+    fn refresh_tool_buf(&mut self) {
+        let old = self.tool_buf.slice(0, self.tool_buf.pointer());
+        let line = old.matches('\n').count();
+        let text = tool_text(&self.magazine());
+        let mut b = Buffer::from_text(&text);
+        set_pointer(&mut b, line_start(&text, line));
+        self.tool_buf = b;
+    }
+
+    /// Changes the magazine capacity, dropping (with a warning) pockets beyond it.
+    pub fn resize(&mut self, capacity: u32) -> Vec<String> {
+        let mut warnings = Vec::new();
+        if capacity == self.tcodes.capacity() {
+            return warnings;
+        }
+        let mut tc = TCodeTable::new(capacity);
+        let mut tools = ToolFile::new(capacity);
+        for (t, n) in self.tcodes.iter() {
+            if tc.assign(t, Some(n)).is_err() {
+                warnings.push(format!(
+                    "T{t:02} (tool {n:05}) is beyond the magazine's {capacity} pockets; it was removed from the T-code table"
+                ));
+                continue;
+            }
+            tools.set(t, self.tools.get(t).cloned());
+        }
+        self.tcodes = tc;
+        self.tools = tools;
+        self.refresh_tool_buf();
+        warnings
+    }
+
+    /// The buffer an edit record names.
+    fn buffer_mut(&mut self, target: &EditTarget) -> Result<&mut Buffer, Refusal> {
+        match target {
+            EditTarget::Program(n) => self
+                .programs
+                .get_mut(n)
+                .ok_or_else(|| Refusal::Other(format!("no program {n} in program memory"))),
+            EditTarget::Mdi => Ok(&mut self.mdi),
+            EditTarget::ToolFile => Ok(&mut self.tool_buf),
+        }
+    }
+
+    /// Applies one change atomically. Returns what the editor produced and whether anything
+    /// (text or pointer) changed, so that nothing-changing lines need no journal record.
+    pub fn apply(
+        &mut self,
+        rec: &Record,
+        y_max_lines: Option<usize>,
+    ) -> Result<(Outcome, bool), Refusal> {
+        match rec {
+            Record::Edit { target, line } => {
+                if *target == EditTarget::ToolFile {
+                    let tcodes = &self.tcodes;
+                    let check = |b: &Buffer| parse_tool_text(&b.text(), tcodes).map(|_| ());
+                    let opts = ExecOptions {
+                        y_max_lines,
+                        validator: Some(&check),
+                    };
+                    let before = self.tool_buf.pointer();
+                    let out = self.tool_buf.execute(line, &opts).map_err(Refusal::Edit)?;
+                    if out.changed {
+                        if let Ok(tools) = parse_tool_text(&self.tool_buf.text(), &self.tcodes) {
+                            self.tools = tools;
+                        }
+                    }
+                    let moved = out.changed || self.tool_buf.pointer() != before;
+                    return Ok((out, moved));
+                }
+                let b = self.buffer_mut(target)?;
+                let before = b.pointer();
+                let opts = ExecOptions {
+                    y_max_lines,
+                    validator: None,
+                };
+                let out = b.execute(line, &opts).map_err(Refusal::Edit)?;
+                let moved = out.changed || b.pointer() != before;
+                Ok((out, moved))
+            }
+            Record::Select(name) => {
+                let n = program_name(name).map_err(Refusal::Other)?;
+                if !self.programs.contains_key(&n) {
+                    return Err(Refusal::Other(format!("no program {n} in program memory")));
+                }
+                let moved = self.current != n;
+                self.current = n;
+                Ok((Outcome::default(), moved))
+            }
+            Record::NewProgram(name) => {
+                let n = program_name(name).map_err(Refusal::Other)?;
+                if self.programs.contains_key(&n) {
+                    return Err(Refusal::Other(format!(
+                        "program {n} is already in program memory"
+                    )));
+                }
+                self.programs.insert(n.clone(), Buffer::new());
+                self.current = n;
+                Ok((Outcome::default(), true))
+            }
+            Record::ProgramRead { name, text } => {
+                let n = program_name(name).map_err(Refusal::Other)?;
+                self.programs
+                    .insert(n.clone(), Buffer::from_text(&tape_text(text)));
+                self.current = n;
+                Ok((Outcome::default(), true))
+            }
+            Record::ToolFile(text) => {
+                let tools = parse_tool_text(text, &self.tcodes).map_err(Refusal::Other)?;
+                self.tools = tools;
+                self.tool_buf = Buffer::from_text(text);
+                Ok((Outcome::default(), true))
+            }
+            Record::TCode { t, tool } => {
+                if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
+                    return Ok((Outcome::default(), false));
+                }
+                self.tcodes.assign(*t, *tool).map_err(Refusal::Other)?;
+                self.tools.set(*t, None);
+                self.refresh_tool_buf();
+                Ok((Outcome::default(), true))
+            }
+        }
+    }
+}

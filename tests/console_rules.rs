@@ -1,0 +1,276 @@
+//! The console's rules (SPEC §1) through its public API: keys that are not valid change
+//! nothing, DATA INPUT clears RUN, a translation error moves nothing, manual moves respect
+//! the travel limits, edits survive a restart.
+
+use novanc::console::{Console, ConsoleConfig};
+use novanc::nc::ClockMode;
+use novanc::panel_model::{Axis, DataMode, OpMode, PanelEvent as E};
+use std::path::PathBuf;
+
+/// A fresh state directory.
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "novanc-console-{name}-{}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn open_in(dir: PathBuf) -> Console {
+    let mut cfg = ConsoleConfig::new(dir);
+    cfg.clock = ClockMode::Virtual;
+    Console::open(cfg).unwrap().0
+}
+
+fn open(name: &str) -> Console {
+    open_in(temp_dir(name))
+}
+
+/// The operator-visible state that bad keys must not touch.
+fn snapshot(c: &Console) -> (String, String, [i64; 3], u8) {
+    (
+        c.program_text(),
+        format!("{:?}", c.magazine()),
+        c.status().pos,
+        c.status().run,
+    )
+}
+
+#[test]
+fn data_keys_outside_data_input_change_nothing_and_say_why() {
+    let mut c = open("keys");
+    for op in OpMode::ALL {
+        if op == OpMode::Data {
+            continue;
+        }
+        c.handle(E::Op(op));
+        let before = snapshot(&c);
+        for ev in [E::Type("2K".into()), E::Key('X'), E::Eob, E::Rubout] {
+            c.handle(ev);
+            c.wait_idle();
+            assert_eq!(snapshot(&c), before, "in {op:?}");
+            assert!(
+                c.frame_text().contains("refused"),
+                "in {op:?}:\n{}",
+                c.frame_text()
+            );
+            assert!(c.view().entry.is_empty());
+        }
+    }
+}
+
+#[test]
+fn start_jog_and_wheel_in_the_wrong_mode_change_nothing() {
+    let mut c = open("wrongmode");
+    c.handle(E::Op(OpMode::Data));
+    let before = snapshot(&c);
+    for ev in [
+        E::Start,
+        E::Wheel(Axis::X, 5),
+        E::Jog(Axis::Y, 1),
+        E::Override(155),
+        E::WheelScale(7),
+    ] {
+        c.handle(ev.clone());
+        c.wait_idle();
+        assert_eq!(snapshot(&c), before, "{ev:?}");
+    }
+    assert_eq!(c.view().feed_override, 100);
+    assert_eq!(c.view().wheel.1, 1);
+}
+
+#[test]
+fn switching_to_data_input_clears_run() {
+    let mut c = open("clearrun");
+    c.handle(E::Override(0));
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    // Override 0: RUN = 1, the machine waits.
+    for _ in 0..200 {
+        c.tick();
+        if c.view().run == 1 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert_eq!(c.view().run, 1);
+    c.handle(E::Op(OpMode::Data));
+    c.wait_idle();
+    assert_eq!(c.view().run, 0);
+    assert!(c.frame_text().contains("RUN cleared"), "{}", c.frame_text());
+    // Editing is accepted now.
+    c.handle(E::Data(DataMode::Revise));
+    c.handle(E::Type("99LI; a comment*".into()));
+    assert!(c.program_text().ends_with("; a comment\n"));
+}
+
+#[test]
+fn a_translation_error_shows_its_line_and_nothing_moves() {
+    let mut c = open("xlate");
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Revise));
+    c.handle(E::Type("99LIDRL, 999/DP5/DA1, P1*".into()));
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.wait_idle();
+    let f = c.frame_text();
+    assert!(f.contains("line 10:"), "{f}");
+    assert!(c.view().lamps.alarm);
+    assert_eq!(c.status().pos, [0, 0, 0]);
+    assert_eq!(c.status().blocks_done, 0);
+    // RESET clears the alarm.
+    c.handle(E::Reset);
+    assert!(!c.view().lamps.alarm);
+}
+
+#[test]
+fn handwheel_and_step_move_within_the_travel_limits_only() {
+    let mut c = open("manual");
+    c.handle(E::Op(OpMode::Handle));
+    c.handle(E::WheelScale(100));
+    c.handle(E::Wheel(Axis::X, 10));
+    c.wait_idle();
+    assert_eq!(c.status().pos, [1000, 0, 0]);
+    // X would go to -9 mm: below the travel limit, refused.
+    c.handle(E::Wheel(Axis::X, -100));
+    c.wait_idle();
+    assert_eq!(c.status().pos, [1000, 0, 0]);
+    assert!(
+        c.frame_text().contains("outside travel"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Op(OpMode::Step));
+    c.handle(E::Jog(Axis::Y, 1));
+    c.wait_idle();
+    assert_eq!(c.status().pos, [1000, 100, 0]);
+    // Z is at its upper limit (0): a step up is refused.
+    c.handle(E::Jog(Axis::Z, 1));
+    c.wait_idle();
+    assert_eq!(c.status().pos, [1000, 100, 0]);
+}
+
+#[test]
+fn emergency_stop_refuses_start_until_reset() {
+    let mut c = open("estop");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::EStop);
+    c.wait_idle();
+    assert!(c.view().lamps.estop);
+    c.handle(E::Start);
+    c.wait_idle();
+    assert_eq!(c.status().blocks_done, 0);
+    assert!(
+        c.frame_text().contains("EMERGENCY STOP"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Reset);
+    c.wait_idle();
+    assert!(!c.view().lamps.estop);
+    c.handle(E::Start);
+    c.wait_idle();
+    assert!(c.status().blocks_done > 50, "{}", c.status().blocks_done);
+}
+
+#[test]
+fn single_block_runs_one_block_per_start() {
+    let mut c = open("single");
+    c.handle(E::Op(OpMode::Single));
+    for n in 1..=5u64 {
+        c.handle(E::Start);
+        c.wait_idle();
+        assert_eq!(c.status().blocks_done, n);
+        assert_eq!(c.view().run, 0);
+    }
+    // Turning to AUTO and START runs the rest.
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.wait_idle();
+    assert!(c.status().program_end);
+}
+
+#[test]
+fn accepted_edits_survive_a_restart() {
+    let dir = temp_dir("persist");
+    {
+        let mut c = open_in(dir.clone());
+        c.handle(E::Op(OpMode::Data));
+        c.handle(E::Data(DataMode::Revise));
+        c.handle(E::Type("99LIGO, 10, 10, -10*".into()));
+        c.handle(E::Data(DataMode::TCode));
+        c.handle(E::Type("T21=111".into()));
+    }
+    let c = open_in(dir);
+    assert!(c.program_text().ends_with("GO, 10, 10, -10\n"));
+    assert_eq!(c.magazine().tcodes.tool_in(21), Some(111));
+}
+
+/// splitmix64: a small seeded PRNG for the random session.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+#[test]
+fn a_random_session_never_corrupts_the_display_or_edits_outside_data_input() {
+    let mut c = open("random");
+    let mut r = Rng(0x5eed);
+    let words = [
+        "2K", "I*", "-5D", "S$", "C$", "Y", "T5=", "0", "6", "Q", "%%", "", "9999999L",
+    ];
+    let rows = c.config().rows;
+    let cols = c.config().cols;
+    for _ in 0..1500 {
+        let ev = match r.below(14) {
+            0 => E::Op(OpMode::ALL[r.below(7) as usize]),
+            1 => E::Data(DataMode::ALL[r.below(7) as usize]),
+            2 | 3 => E::Type(words[r.below(words.len() as u64) as usize].into()),
+            4 => E::Key(char::from(32 + r.below(95) as u8)),
+            5 => E::Eob,
+            6 => E::Rubout,
+            7 => E::Start,
+            8 => E::Stop,
+            9 => E::Reset,
+            10 => E::Override((r.below(17) * 10) as u32),
+            11 => E::Wheel(Axis::Z, r.below(5) as i32 - 2),
+            12 => E::Jog(Axis::X, if r.below(2) == 0 { -1 } else { 1 }),
+            _ => E::JogRelease,
+        };
+        let op = c.view().op_mode;
+        let text = c.program_text();
+        c.handle(ev.clone());
+        if op != OpMode::Data && !matches!(ev, E::Op(_)) {
+            assert_eq!(
+                c.program_text(),
+                text,
+                "{ev:?} in {op:?} edited the program"
+            );
+        }
+        let v = c.view();
+        assert_eq!(v.display.len(), rows);
+        assert!(v.display.iter().all(|l| l.chars().count() == cols));
+        let s = c.settings().clone();
+        for a in 0..3 {
+            let (lo, hi) = s.travel_pulses(a);
+            assert!(c.status().pos[a] >= lo && c.status().pos[a] <= hi);
+        }
+    }
+    c.handle(E::Reset);
+    c.wait_idle();
+}

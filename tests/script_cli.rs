@@ -1,0 +1,96 @@
+//! `novanc script` on the command line: a bad script line is reported with its line number
+//! before anything runs; `--record` writes an MCAP file; `show` frames are deterministic.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "novanc-scriptcli-{name}-{}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn novanc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_bad_line_fails_the_script_before_anything_runs() {
+    let d = temp_dir("bad");
+    let script = d.join("s.script");
+    std::fs::write(
+        &script,
+        "op DATA\ndata REVISE\ntype 99LIGO, 1, 1, -1*\nshow\nwheel Q 3\n",
+    )
+    .unwrap();
+    let state = d.join("state");
+    let out = novanc(&[
+        "script",
+        script.to_str().unwrap(),
+        "--state",
+        state.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("s.script:5: unknown axis 'Q'"), "{err}");
+    assert!(out.stdout.is_empty(), "nothing may run");
+    // The edit on line 3 never happened: a fresh console still has Table B unchanged.
+    let show = d.join("show.script");
+    std::fs::write(&show, "op DATA\ndata REVISE\ntype 99L-1L\nshow\n").unwrap();
+    let out = novanc(&[
+        "script",
+        show.to_str().unwrap(),
+        "--state",
+        state.to_str().unwrap(),
+    ]);
+    let frame = String::from_utf8_lossy(&out.stdout);
+    assert!(frame.contains("TAP, 206/DP12/DA1, P2, P3, P4*"), "{frame}");
+    assert!(!frame.contains("GO, 1, 1, -1"), "{frame}");
+}
+
+#[test]
+fn frames_are_deterministic_and_recorded() {
+    let d = temp_dir("rec");
+    let script = d.join("run.script");
+    std::fs::write(&script, "op AUTO\nstart\nwait\nshow\n").unwrap();
+    let mut frames = Vec::new();
+    for i in 0..2 {
+        let rec = d.join(format!("run{i}.mcap"));
+        let out = novanc(&[
+            "script",
+            script.to_str().unwrap(),
+            "--record",
+            rec.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = std::fs::read(&rec).unwrap();
+        assert!(bytes.starts_with(b"\x89MCAP0\r\n"), "not an MCAP file");
+        frames.push(String::from_utf8_lossy(&out.stdout).into_owned());
+    }
+    assert_eq!(frames[0], frames[1]);
+    assert!(frames[0].contains("RUN 0 AUTO"), "{}", frames[0]);
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    let out = novanc(&["script"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = novanc(&["script", "x.script", "--rows", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--rows 2"));
+}
