@@ -105,9 +105,11 @@ impl App {
     fn play_script(&mut self, ctx: &egui::Context) {
         if let Some((since, idle_frames)) = self.waiting {
             if self.machine.is_idle() {
-                // Idle over a few frames, so that a START the core has not picked up yet
-                // does not pass for the end of the block.
+                // Idle over a few frames: then let the console confirm that every action has
+                // been taken up (brief, unless a START had not been picked up yet, in which
+                // case it waits for that block as the script asks).
                 if idle_frames >= 2 {
+                    self.machine.wait_idle();
                     self.waiting = None;
                 } else {
                     self.waiting = Some((since, idle_frames + 1));
@@ -115,7 +117,7 @@ impl App {
             } else {
                 self.waiting = Some((since, 0));
             }
-            if since.elapsed() > self.drive.wait_limit {
+            if self.waiting.is_some() && since.elapsed() > self.drive.wait_limit {
                 self.fail(
                     ctx,
                     format!(
@@ -123,6 +125,8 @@ impl App {
                         self.drive.wait_limit.as_secs()
                     ),
                 );
+                self.drive.script.clear();
+                self.waiting = None;
             }
             if self.waiting.is_some() {
                 return;

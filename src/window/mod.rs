@@ -33,6 +33,40 @@ pub trait Machine {
     fn settings(&self) -> MachineSettings;
     /// RUN = 0 and no motion.
     fn is_idle(&self) -> bool;
+    /// Waits until every action so far has been taken up and the machine is idle.
+    fn wait_idle(&mut self);
+    /// Pulses output in this run, all axes together (the pulse counters).
+    fn pulses(&self) -> u64;
+}
+
+impl Machine for crate::console::Console {
+    fn handle(&mut self, ev: PanelEvent) {
+        crate::console::Console::handle(self, ev)
+    }
+    fn tick(&mut self) {
+        crate::console::Console::tick(self)
+    }
+    fn view(&self) -> PanelView {
+        crate::console::Console::view(self)
+    }
+    fn program_text(&self) -> String {
+        crate::console::Console::program_text(self)
+    }
+    fn magazine(&self) -> Magazine {
+        crate::console::Console::magazine(self)
+    }
+    fn settings(&self) -> MachineSettings {
+        crate::console::Console::settings(self).clone()
+    }
+    fn is_idle(&self) -> bool {
+        crate::console::Console::is_idle(self)
+    }
+    fn wait_idle(&mut self) {
+        crate::console::Console::wait_idle(self)
+    }
+    fn pulses(&self) -> u64 {
+        self.status().pulses.iter().sum()
+    }
 }
 
 const HELP: &str = "\
@@ -201,8 +235,15 @@ pub fn run(argv: &[String]) -> i32 {
 
 /// Opens the console the window drives.
 fn open_console(args: &[String]) -> Result<Box<dyn Machine>, String> {
-    let _ = args;
-    Err("the console is not built yet".into())
+    let (cfg, rest) = crate::console::config_from_args(args)?;
+    if let Some(a) = rest.first() {
+        return Err(format!("unknown option '{a}' (see novanc --window --help)"));
+    }
+    let (console, warnings) = crate::console::Console::open(cfg)?;
+    for w in warnings {
+        eprintln!("novanc: {w}");
+    }
+    Ok(Box::new(console))
 }
 
 #[cfg(test)]

@@ -188,6 +188,14 @@ impl PlotState {
         draw_grid(&painter, rect, &xf, plane);
         for (kind, pts) in &self.polylines {
             let px: Vec<Pos2> = pts.iter().map(to_px).collect();
+            // A cut straight into the plane (a drill plunge seen from above) is a ring.
+            let span = px
+                .iter()
+                .fold(Rect::NOTHING, |r, p| r.union(Rect::from_pos(*p)));
+            if *kind != PathKind::Rapid && span.width() < 1.0 && span.height() < 1.0 {
+                painter.circle_stroke(span.center(), 4.0, Stroke::new(1.5, FEED));
+                continue;
+            }
             match kind {
                 PathKind::Rapid => {
                     painter.extend(Shape::dashed_line(&px, Stroke::new(1.0, RAPID), 6.0, 4.0))
