@@ -36,8 +36,8 @@ struct Bench {
     last_frame: Option<Instant>,
     intervals_ms: Vec<f64>,
     cpu_ms: Vec<f64>,
-    travel_pulses: f64,
-    last_pos: Option<[f64; 3]>,
+    pulses: u64,
+    last_pulses: Option<u64>,
 }
 
 /// Where the screenshot stands.
@@ -235,17 +235,19 @@ impl App {
         if let Some(cpu) = frame.info().cpu_usage {
             b.cpu_ms.push(cpu as f64 * 1e3);
         }
-        let pulse = self.machine.settings().pulse_mm;
-        if let Some(p) = b.last_pos {
-            b.travel_pulses += (0..3)
-                .map(|a| (self.view.axis_mm[a] - p[a]).abs() / pulse)
-                .sum::<f64>();
-        }
-        b.last_pos = Some(self.view.axis_mm);
+        // The pulse counters restart with each run: count what they gained.
+        let now_pulses = self.machine.pulses();
+        b.pulses += match b.last_pulses {
+            Some(last) if now_pulses >= last => now_pulses - last,
+            Some(_) => now_pulses,
+            None => 0,
+        };
+        b.last_pulses = Some(now_pulses);
         if b.intervals_ms.len() as u64 >= n {
             let wall = b.started.map_or(0.0, |s| s.elapsed().as_secs_f64());
             let machine = (self.view.machine_ns - b.machine_ns0) as f64 / 1e9;
             println!("{}", bench_report(b, wall, machine));
+            self.drive.bench_frames = None;
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
     }
@@ -274,12 +276,12 @@ fn bench_report(b: &Bench, wall: f64, machine: f64) -> String {
         "bench-frames {n}: frame interval ms median {i50:.2} p95 {i95:.2} max {imax:.2} \
          ({fps:.1} fps); frame cpu ms median {c50:.2} p95 {c95:.2} max {cmax:.2}; \
          wall {wall:.2} s, machine {machine:.2} s (machine/wall {ratio:.3}); \
-         axis travel {tp:.0} pulses ({rate:.0} pulses/s)",
+         pulses {p} ({rate:.0} pulses/s)",
         n = b.intervals_ms.len(),
         ratio = if wall > 0.0 { machine / wall } else { 0.0 },
-        tp = b.travel_pulses,
+        p = b.pulses,
         rate = if wall > 0.0 {
-            b.travel_pulses / wall
+            b.pulses as f64 / wall
         } else {
             0.0
         },
@@ -315,12 +317,15 @@ impl eframe::App for App {
         }
         self.screenshot(&ctx);
         self.measure(&ctx, frame);
-        let busy = !self.script_done()
+        let headless_busy = !self.script_done()
             || self.bench.is_some()
-            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_))
-            || !self.machine.is_idle();
-        if busy {
+            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
+        if headless_busy {
+            // Scripts, screenshots and the benchmark run frames back to back.
             ctx.request_repaint();
+        } else if !self.machine.is_idle() {
+            // The machine moves: about 60 frames a second, no more (the pulse core's CPU).
+            ctx.request_repaint_after(Duration::from_millis(16));
         } else {
             // Idle: still look at the console now and then (messages, alarms).
             ctx.request_repaint_after(Duration::from_millis(100));
