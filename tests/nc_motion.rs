@@ -329,3 +329,62 @@ fn small_arcs_in_every_quadrant() {
         }
     }
 }
+
+#[test]
+fn tiny_and_empty_moves_complete() {
+    for delta in [
+        [1, 0, 0],
+        [0, -1, 0],
+        [1, 1, 1],
+        [2, -1, 0],
+        [0, 0, 0],
+        [3, 0, -2],
+    ] {
+        let mut m = machine();
+        let pulses = run(&mut m, vec![linear(1, MID, delta, 1000.0)]);
+        assert_eq!(
+            m.pos(),
+            [MID[0] + delta[0], MID[1] + delta[1], MID[2] + delta[2]]
+        );
+        assert_eq!(
+            pulses.len() as i64,
+            delta.iter().map(|d| d.abs()).sum::<i64>()
+        );
+        assert_eq!(m.blocks_done(), 1);
+    }
+}
+
+#[test]
+fn arc_path_speed_is_the_feed_in_every_direction() {
+    // a full circle of radius 50 mm at 1200 mm/min (and 50 % override): over each eighth of
+    // the middle of the circle the speed along the circle is the feed within 1 %
+    for ovr in [100, 50] {
+        let r = 50_000i64;
+        let start = [MID[0] + r, MID[1], MID[2]];
+        let mut m = machine();
+        assert!(m.set_position(start));
+        m.command(Command::Override(ovr));
+        let pulses = run(&mut m, vec![arc(1, start, [0, 0], [-r, 0], true, 1200.0)]);
+        assert_eq!(m.pos(), start);
+        let pts = positions(start, &pulses);
+        let mut times: Vec<u64> = pulses.iter().map(|p| p.t_ns).collect();
+        times.dedup();
+        let ang = |p: [i64; 3]| ((p[1] - MID[1]) as f64).atan2((p[0] - MID[0]) as f64);
+        let want = 1200.0 * ovr as f64 / 100.0;
+        let n = pts.len();
+        for k in 1..7 {
+            let (i0, i1) = (n * k / 8, n * (k + 1) / 8 - 1);
+            let mut da = ang(pts[i1]) - ang(pts[i0]);
+            if da < 0.0 {
+                da += std::f64::consts::TAU;
+            }
+            let len_mm = da * r as f64 * 0.001;
+            let secs = (times[i1] - times[i0]) as f64 * 1e-9;
+            let v = len_mm / secs * 60.0;
+            assert!(
+                (v - want).abs() <= want * 0.01,
+                "octant {k}: {v} mm/min for {want}"
+            );
+        }
+    }
+}

@@ -184,40 +184,46 @@ impl<'s> Out<'s> {
     /// Checks every block end (and the extent of every arc) against the travel limits.
     pub fn check_travel(&self, start: [i64; 3]) -> Result<(), TranslateError> {
         let st = self.settings;
+        let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
         let mut from = start;
         for (b, &col) in self.blocks.iter().zip(&self.cols) {
-            let mut pts = vec![b.end];
+            self.check_point(b.end, &limits, col)?;
             if let Some(c) = b.center {
                 let centre = [from[0] + c[0], from[1] + c[1]];
-                pts.extend(arc_extremes(
-                    from,
-                    b.end,
-                    centre,
-                    b.motion == Motion::ArcCcw,
-                ));
-            }
-            for p in pts {
-                for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
-                    let (lo, hi) = st.travel_pulses(axis);
-                    if p[axis] < lo || p[axis] > hi {
-                        return Err(self.err(
-                            col,
-                            format!(
-                                "{name}{:.3} is beyond the {name} travel ({:.3} to {:.3} mm){}",
-                                st.to_mm(p[axis]),
-                                st.travel_min_mm[axis],
-                                st.travel_max_mm[axis],
-                                if axis == 2 {
-                                    " (machine Z = tool-tip Z + set length)"
-                                } else {
-                                    ""
-                                }
-                            ),
-                        ));
-                    }
+                for p in arc_extremes(from, b.end, centre, b.motion == Motion::ArcCcw) {
+                    self.check_point(p, &limits, col)?;
                 }
             }
             from = b.end;
+        }
+        Ok(())
+    }
+
+    fn check_point(
+        &self,
+        p: [i64; 3],
+        limits: &[(i64, i64); 3],
+        col: u32,
+    ) -> Result<(), TranslateError> {
+        let st = self.settings;
+        for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+            let (lo, hi) = limits[axis];
+            if p[axis] < lo || p[axis] > hi {
+                return Err(self.err(
+                    col,
+                    format!(
+                        "{name}{:.3} is beyond the {name} travel ({:.3} to {:.3} mm){}",
+                        st.to_mm(p[axis]),
+                        st.travel_min_mm[axis],
+                        st.travel_max_mm[axis],
+                        if axis == 2 {
+                            " (machine Z = tool-tip Z + set length)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
         }
         Ok(())
     }

@@ -8,6 +8,9 @@
 
 use super::TranslateError;
 
+/// The largest number a statement may hold (mm, degrees, rpm, seconds).
+pub const MAX_NUMBER: f64 = 1e9;
+
 /// What a token is.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Tok {
@@ -94,8 +97,15 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
                 i += 1;
             }
             let s: String = chars[start..i].iter().collect();
-            let v: f64 = match s.parse() {
-                Ok(v) if dots <= 1 => v,
+            let v: f64 = match s.parse::<f64>() {
+                Ok(v) if dots <= 1 && v.abs() <= MAX_NUMBER => v,
+                Ok(v) if v.is_finite() && dots <= 1 => {
+                    return Err(TranslateError {
+                        line,
+                        col,
+                        message: format!("{s} is too large (numbers go up to {MAX_NUMBER})"),
+                    })
+                }
                 _ => {
                     return Err(TranslateError {
                         line,
@@ -193,5 +203,9 @@ mod tests {
         assert!(scan("P1 = (1, 2", 1, &mut v).is_err());
         assert!(scan("P1 = 1, 2)", 1, &mut v).is_err());
         assert!(scan("P1 = (1.2.3, 2)", 1, &mut v).is_err());
+        let big = format!("GO, {}, 0, 0", "9".repeat(400));
+        assert!(scan(&big, 1, &mut v).is_err());
+        let e = scan("GD, 1000000001, 0, 0", 1, &mut v).unwrap_err();
+        assert!(e.message.contains("too large"), "{e}");
     }
 }

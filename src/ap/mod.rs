@@ -8,6 +8,7 @@
 //! statement is handed out, so an error never leaves a partial move. The language is described
 //! for part programmers in `docs/language.md`.
 
+pub mod ast;
 pub mod cycle;
 pub mod defs;
 pub mod emit;
@@ -149,9 +150,15 @@ impl Translator {
     }
 }
 
-/// Rapid positioning (GO, GD) to an axis position: when the move goes up, Z first then X Y;
+/// Rapid positioning (GO, GD) to an axis position. A tool still inside a hole (after SDP)
+/// first rises to the hole's clearance plane. Then when the move goes up, Z first then X Y;
 /// when it goes down, X Y first then Z; so the tool never moves sideways below where it was.
 fn position(o: &mut Out, end: [i64; 3]) {
+    if let Some(clear) = o.m.clear {
+        if o.m.tip() < clear {
+            o.rapid_tip(clear);
+        }
+    }
     let pos = o.m.pos;
     if end[2] >= pos[2] {
         o.rapid([pos[0], pos[1], end[2]]);
@@ -162,6 +169,9 @@ fn position(o: &mut Out, end: [i64; 3]) {
     }
     o.m.clear = None;
 }
+
+/// The highest spindle speed S a block may carry, rpm.
+pub const MAX_SPEED: f64 = 100_000.0;
 
 /// A modifier that the cycle does not use is an error.
 fn refuse(o: &Out, c: &Cut, col: Option<u32>, what: &str) -> Result<(), TranslateError> {
@@ -234,7 +244,7 @@ fn cutting(
                     ))
                 }
             };
-            if d > rec.diameter {
+            if rec.kind == ToolKind::Drill && d > rec.diameter {
                 return Err(o.err(
                     col,
                     format!(
@@ -254,10 +264,17 @@ fn cutting(
     };
     let feed = positive(&m.fr, "the feed rate FR")?.unwrap_or(rec.feed);
     let speed = positive(&m.ss, "the spindle speed SS")?.unwrap_or(rec.speed);
-    if feed <= 0.0 || speed.round() < 1.0 || speed > 1e6 {
+    if !(1.0..=MAX_SPEED).contains(&speed.round()) {
+        let col = col_of(&m.ss).unwrap_or(tcol);
+        return Err(o.err(
+            col,
+            format!("spindle speed {speed} rpm is not usable (1 to {MAX_SPEED} rpm); give SS"),
+        ));
+    }
+    if feed <= 0.0 {
         return Err(o.err(
             tcol,
-            format!("tool {tool:05} has no usable feed or spindle speed in the tool file; give FR and SS"),
+            format!("tool {tool:05} has no feed rate in the tool file; give FR"),
         ));
     }
     let scl = match m.scl {

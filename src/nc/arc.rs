@@ -47,6 +47,20 @@ pub struct ArcStepper {
     cap: u64,
     /// Clockwise arc: canonical Y is machine −Y.
     mirror: bool,
+    /// 1 / start radius, for the path length of a step.
+    inv_r: f64,
+}
+
+/// One step of an arc: the pulses of X and Y (−1, 0, +1) and the path length it stands for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcStep {
+    /// X pulse direction, 0 for none.
+    pub dx: i8,
+    /// Y pulse direction, 0 for none.
+    pub dy: i8,
+    /// Length along the circle, pulses: R·Δθ = (x·dy − y·dx) / R, so that the steps of an
+    /// arc add up to its true length (a straight step to the end point counts its own length).
+    pub ds: f64,
 }
 
 /// Why an arc block cannot be run.
@@ -105,6 +119,7 @@ impl ArcStepper {
             tail: false,
             cap: (16.0 * (rs + 2.0)) as u64 + 16,
             mirror: !ccw,
+            inv_r: 1.0 / rs,
         };
         if needed == 0 {
             st.f = r2 - r2_end;
@@ -130,9 +145,9 @@ impl ArcStepper {
             .collect()
     }
 
-    /// The next step (dx, dy) in machine axes, or `None` at the end point.
+    /// The next step in machine axes, or `None` at the end point.
     #[inline]
-    pub fn next_step(&mut self) -> Option<(i8, i8)> {
+    pub fn next_step(&mut self) -> Option<ArcStep> {
         if self.crossings >= self.needed {
             if (self.x, self.y) == (self.ex, self.ey) {
                 return None;
@@ -144,7 +159,7 @@ impl ArcStepper {
                 || self.x * self.ey - self.y * self.ex <= 0
             {
                 self.tail = true;
-                return Some(self.apply(dx.signum(), dy.signum()));
+                return Some(self.straight(dx.signum(), dy.signum()));
             }
         }
         if self.cap == 0 {
@@ -154,7 +169,7 @@ impl ArcStepper {
             if (dx, dy) == (0, 0) {
                 return None;
             }
-            return Some(self.apply(dx.signum(), dy.signum()));
+            return Some(self.straight(dx.signum(), dy.signum()));
         }
         self.cap -= 1;
         let (x, y, f) = (self.x, self.y, self.f);
@@ -177,7 +192,13 @@ impl ArcStepper {
             best = (0, sy);
         }
         let q = quadrant(x, y);
-        let step = self.apply(best.0, best.1);
+        let turn = (x * best.1 - y * best.0) as f64 * self.inv_r;
+        let (sx, sy) = self.apply(best.0, best.1);
+        let step = ArcStep {
+            dx: sx,
+            dy: sy,
+            ds: turn,
+        };
         self.f = match best {
             (a, 0) if a != 0 => fx,
             (0, _) => fy,
@@ -191,6 +212,15 @@ impl ArcStepper {
             }
         }
         Some(step)
+    }
+
+    fn straight(&mut self, dx: i64, dy: i64) -> ArcStep {
+        let (sx, sy) = self.apply(dx, dy);
+        ArcStep {
+            dx: sx,
+            dy: sy,
+            ds: ((dx * dx + dy * dy) as f64).sqrt(),
+        }
     }
 
     fn apply(&mut self, dx: i64, dy: i64) -> (i8, i8) {
@@ -209,8 +239,8 @@ mod tests {
         let mut st = ArcStepper::new(s, e, ccw).unwrap();
         let mut p = s;
         let mut v = vec![p];
-        while let Some((dx, dy)) = st.next_step() {
-            p = [p[0] + dx as i64, p[1] + dy as i64];
+        while let Some(a) = st.next_step() {
+            p = [p[0] + a.dx as i64, p[1] + a.dy as i64];
             v.push(p);
             assert!(v.len() < 10_000_000);
         }

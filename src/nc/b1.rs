@@ -12,8 +12,12 @@ use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 
-/// The statements a translator yields.
-pub type StatementIter = Box<dyn Iterator<Item = Result<Statement, TranslateError>> + Send>;
+/// The statements a translator yields (made and used on the translator thread, so it need
+/// not be `Send`).
+pub type StatementIter = Box<dyn Iterator<Item = Result<Statement, TranslateError>>>;
+
+/// Makes the translator on the translator thread.
+pub type MakeStatements = Box<dyn FnOnce() -> StatementIter + Send>;
 
 #[derive(Debug)]
 struct State {
@@ -62,8 +66,8 @@ impl B1 {
         self.not_empty.notify_all();
     }
 
-    /// Empties B1 and starts a translator thread filling it from `stmts`.
-    pub fn load(self: &Arc<B1>, stmts: StatementIter) {
+    /// Empties B1 and starts a translator thread filling it from the statements `make` gives.
+    pub fn load(self: &Arc<B1>, make: MakeStatements) {
         let gen = {
             let mut s = self.lock();
             s.q.clear();
@@ -75,7 +79,19 @@ impl B1 {
         let b1 = self.clone();
         let spawned = std::thread::Builder::new()
             .name("translator".into())
-            .spawn(move || b1.translate(gen, stmts));
+            .spawn(move || {
+                let run = std::panic::AssertUnwindSafe(|| b1.translate(gen, make()));
+                if std::panic::catch_unwind(run).is_err() {
+                    b1.finish(
+                        gen,
+                        Some(TranslateError {
+                            line: 0,
+                            col: 0,
+                            message: "internal error in the translator; the run is stopped".into(),
+                        }),
+                    );
+                }
+            });
         if spawned.is_err() {
             let mut s = self.lock();
             if s.gen == gen {
@@ -188,5 +204,73 @@ fn lower_priority() {
     unsafe {
         let tid = libc::syscall(libc::SYS_gettid) as libc::id_t;
         let _ = libc::setpriority(libc::PRIO_PROCESS, tid, 10);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::block::Block;
+
+    fn stmts(n: u32) -> MakeStatements {
+        Box::new(move || {
+            Box::new((1..=n).map(|i| {
+                Ok(Statement {
+                    line: i,
+                    text: String::new(),
+                    blocks: vec![Block::aux(i, i, [0; 3])],
+                })
+            }))
+        })
+    }
+
+    fn wait_len(b1: &B1, n: usize) {
+        for _ in 0..500 {
+            if b1.len() == n {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    #[test]
+    fn the_translator_waits_while_b1_is_full_and_blocks_come_in_order() {
+        let b1 = B1::new(3);
+        b1.load(stmts(10));
+        wait_len(&b1, 3);
+        std::thread::sleep(Duration::from_millis(20));
+        assert_eq!(b1.len(), 3, "never more than the capacity");
+        let mut seen = vec![];
+        let mut src = &*b1;
+        loop {
+            match src.fetch() {
+                Fetch::Block(e) => seen.push(e.stmt.line),
+                Fetch::Pending => b1.wait_ready(Duration::from_millis(50)),
+                Fetch::End => break,
+                Fetch::Error(e) => panic!("{e}"),
+            }
+        }
+        assert_eq!(seen, (1..=10).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn clear_abandons_the_translator() {
+        let b1 = B1::new(2);
+        b1.load(stmts(100));
+        wait_len(&b1, 2);
+        b1.clear();
+        std::thread::sleep(Duration::from_millis(20));
+        assert_eq!(b1.len(), 0);
+        assert!(matches!((&*b1).fetch(), Fetch::End));
+    }
+
+    #[test]
+    fn a_panicking_translator_stops_the_run_with_an_error() {
+        let b1 = B1::new(2);
+        b1.load(Box::new(|| {
+            Box::new((0..1).map(|_| -> Result<Statement, TranslateError> { panic!("bug") }))
+        }));
+        b1.wait_ready(Duration::from_secs(5));
+        assert!(matches!((&*b1).fetch(), Fetch::Error(_)));
     }
 }

@@ -29,7 +29,7 @@ mod runner;
 mod source;
 pub mod testkit;
 
-pub use self::arc::{ArcError, ArcStepper};
+pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::machine::{axis_name, Machine};
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
@@ -89,11 +89,21 @@ pub enum Command {
     /// SINGLE BLOCK on or off: RUN is cleared after each block.
     SingleBlock(bool),
     /// CONTINUOUS jog: move axis (0..3) in direction ±1 at the jog feed until `JogRelease`.
-    Jog { axis: usize, dir: i8 },
+    Jog {
+        /// Axis 0 = X, 1 = Y, 2 = Z.
+        axis: usize,
+        /// +1 or −1.
+        dir: i8,
+    },
     /// End a CONTINUOUS jog (decelerate).
     JogRelease,
     /// Move an axis by a signed number of pulses at the jog feed (STEP and HANDLE).
-    Increment { axis: usize, pulses: i64 },
+    Increment {
+        /// Axis 0 = X, 1 = Y, 2 = Z.
+        axis: usize,
+        /// Signed number of pulses.
+        pulses: i64,
+    },
 }
 
 /// A snapshot of the machine, published at display rate.

@@ -3,8 +3,8 @@
 //! Timing (all machine time, ns, in f64 inside a motion and u64 on the pulses):
 //! - A motion is a sequence of steps along the path. A linear step is one pulse of the major
 //!   axis (LINE), with PCHK pulsing each minor axis when its ΣLF falls to 0 or below; its path
-//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both
-//!   (ds = 1 or √2).
+//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both;
+//!   its ds is the length of circle it advances, R·Δθ (see `arc.rs`).
 //! - The period KT of a step is ds / v. The path speed v ramps at the machine's constant
 //!   acceleration a: across a step of length ds, v² changes by at most 2·a·ds, and the step
 //!   takes 2·ds / (v + v') (exact for constant acceleration). The speed is held to the target
@@ -13,7 +13,7 @@
 //! - A step's pulses carry the time at the end of the step. A step that would end at or after
 //!   the horizon (the end of the current NCBR tick) is not taken yet.
 
-use super::arc::ArcStepper;
+use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
 
 /// What a call to `Motion::run` left the motion in.
@@ -92,7 +92,7 @@ enum Path {
     Linear(Linear),
     Arc {
         st: ArcStepper,
-        pending: Option<(i8, i8)>,
+        pending: Option<ArcStep>,
         s_left: f64,
         steps_left: u64,
     },
@@ -171,12 +171,8 @@ impl Motion {
     pub fn arc(st: ArcStepper, speed: f64, accel: f64, t0: u64) -> Motion {
         let mut dry = st.clone();
         let (mut s, mut n) = (0.0, 0u64);
-        while let Some((dx, dy)) = dry.next_step() {
-            s += if dx != 0 && dy != 0 {
-                std::f64::consts::SQRT_2
-            } else {
-                1.0
-            };
+        while let Some(a) = dry.next_step() {
+            s += a.ds;
             n += 1;
         }
         Motion {
@@ -253,11 +249,7 @@ impl Motion {
                         }
                     },
                 };
-                let ds = if step.0 != 0 && step.1 != 0 {
-                    std::f64::consts::SQRT_2
-                } else {
-                    1.0
-                };
+                let ds = step.ds;
                 let rem = *s_left - ds;
                 let Some((vn, dt)) = self.prof.step(ds, rem, *steps_left == 1) else {
                     return Progress::AtRest;
@@ -272,11 +264,11 @@ impl Motion {
                 *steps_left -= 1;
                 *pending = None;
                 let t = tn as u64;
-                if step.0 != 0 {
-                    out.pulse(0, step.0, t);
+                if step.dx != 0 {
+                    out.pulse(0, step.dx, t);
                 }
-                if step.1 != 0 {
-                    out.pulse(1, step.1, t);
+                if step.dy != 0 {
+                    out.pulse(1, step.dy, t);
                 }
             },
         }
@@ -314,5 +306,53 @@ fn run_linear(ln: &mut Linear, prof: &mut Profile, h: f64, out: &mut PulseOut) -
                 out.pulse(a, ln.dir[a], t);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_kt_ramp_is_constant_acceleration_and_ends_at_rest() {
+        let a = accel_pulses_ns2(1000.0, 0.001);
+        let fast = speed_pulses_ns(1e9, 0.001); // never reached in 20,000 pulses
+        let mut m = Motion::linear([20_000, 0, 0], fast, a, 0);
+        let mut out = PulseOut::default();
+        out.set_log(None, true);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::Done);
+        let p = out.take_capture();
+        assert_eq!(p.len(), 20_000);
+        // accelerating half: s = a t² / 2, so pulse k is at √(2k / a)
+        for k in [1usize, 10, 100, 1000, 9000] {
+            let want = (2.0 * k as f64 / a).sqrt();
+            let got = p[k - 1].t_ns as f64;
+            assert!(
+                (got - want).abs() <= want * 1e-3 + 1.0,
+                "pulse {k}: {got} vs {want}"
+            );
+        }
+        // braking half mirrors it: ends at rest at 2·√(2·10,000 / a)
+        let t_end = 2.0 * (2.0 * 10_000.0 / a).sqrt();
+        let last = p[19_999].t_ns as f64;
+        assert!((last - t_end).abs() <= t_end * 1e-3, "{last} vs {t_end}");
+        assert!(m.at_rest());
+    }
+
+    #[test]
+    fn a_hold_brakes_to_rest_and_a_resume_finishes_the_move() {
+        let a = accel_pulses_ns2(1000.0, 0.001);
+        let v = speed_pulses_ns(6000.0, 0.001);
+        let mut m = Motion::linear([0, 50_000, -20_000], v, a, 0);
+        let mut out = PulseOut::default();
+        assert_eq!(m.run(200_000_000, &mut out), Progress::Pending);
+        m.set_hold(true);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::AtRest);
+        let held = out.pos;
+        assert!(held[1] > 0 && held[1] < 50_000);
+        m.set_hold(false);
+        assert_eq!(m.run(u64::MAX, &mut out), Progress::Done);
+        assert_eq!(out.pos, [0, 50_000, -20_000]);
+        assert_eq!(out.count, [0, 50_000, 20_000]);
     }
 }

@@ -8,6 +8,38 @@ use crate::record::{Event, EventSink};
 /// Pulses of one (axis, direction) are sent when a batch reaches this many.
 pub const BATCH: usize = 4096;
 
+/// Longest a lossless sender waits for room in the recorder's queue before dropping an event.
+const LOSSLESS_PATIENCE: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// Sends an event to the recording. Lossy (real time): never waits; a full queue drops it
+/// and marks the recording incomplete. Lossless (virtual time, where no wall-clock duty
+/// exists): waits for room, up to `LOSSLESS_PATIENCE`, then drops it as a lossy send would.
+pub fn emit(sink: &EventSink, ev: Event, lossless: bool) {
+    if !lossless {
+        sink.send(ev);
+        return;
+    }
+    let mut ev = ev;
+    let start = std::time::Instant::now();
+    let mut spins = 0u32;
+    loop {
+        match sink.try_send(ev) {
+            Ok(()) => return,
+            Err(back) => ev = back,
+        }
+        if start.elapsed() > LOSSLESS_PATIENCE {
+            sink.send(ev);
+            return;
+        }
+        spins += 1;
+        if spins < 16 {
+            std::thread::yield_now();
+        } else {
+            std::thread::sleep(std::time::Duration::from_micros(50));
+        }
+    }
+}
+
 /// One captured pulse: axis (0 = X), direction (±1), machine time in ns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PulseRec {
@@ -30,6 +62,8 @@ pub struct PulseOut {
     batches: [[Vec<u64>; 2]; 3],
     capture: Option<Vec<PulseRec>>,
     sink: Option<EventSink>,
+    /// Wait for room in the recorder's queue rather than drop (virtual time).
+    pub lossless: bool,
 }
 
 impl PulseOut {
@@ -84,11 +118,12 @@ impl PulseOut {
         }
         let t_ns = std::mem::replace(b, Vec::with_capacity(BATCH));
         if let Some(s) = &self.sink {
-            s.send(Event::Pulses {
+            let ev = Event::Pulses {
                 axis: axis as u8,
                 dir: if d == 0 { 1 } else { -1 },
                 t_ns,
-            });
+            };
+            emit(s, ev, self.lossless);
         }
     }
 

@@ -11,7 +11,7 @@
 //! The snapshot is republished after every NCBR tick (5 ms of machine time by default, which
 //! includes every block start) and after every command.
 
-use super::b1::{StatementIter, B1};
+use super::b1::{MakeStatements, B1};
 use super::machine::Machine;
 use super::{ClockMode, Command, Status};
 use crate::record::EventSink;
@@ -35,7 +35,7 @@ pub struct RtStats {
 
 enum Msg {
     Cmd(Command),
-    Load(StatementIter),
+    Load(MakeStatements),
     Magazine(Box<Magazine>),
     Modes(String, String),
     Position([i64; 3]),
@@ -69,6 +69,7 @@ impl PulseCore {
         let mut machine = Machine::new(settings.clone());
         if sink.is_some() {
             machine.set_recording(sink, false);
+            machine.set_lossless_recording(clock == ClockMode::Virtual);
         }
         let shared = Arc::new(Shared {
             status: Mutex::new(machine.status()),
@@ -104,7 +105,19 @@ impl PulseCore {
             dyn Iterator<Item = Result<crate::ap::Statement, crate::ap::TranslateError>> + Send,
         >,
     ) {
-        self.send(Msg::Load(statements));
+        self.send(Msg::Load(Box::new(move || statements)));
+    }
+
+    /// Loads a part program: the translator is made and run on the translator thread (so it
+    /// need not be `Send`), filling B1 concurrently with execution. Replaces any loaded program.
+    pub fn load_program(&self, source: &str, magazine: Magazine, start: [i64; 3]) {
+        let source = source.to_string();
+        let settings = self.settings.clone();
+        self.send(Msg::Load(Box::new(move || {
+            Box::new(crate::ap::Translator::new(
+                &source, magazine, settings, start,
+            ))
+        })));
     }
 
     /// Sends an operator command.
@@ -135,6 +148,11 @@ impl PulseCore {
     /// Sets the axis positions (pulses); ignored unless the machine is at rest.
     pub fn set_position(&self, pos: [i64; 3]) {
         self.send(Msg::Position(pos));
+    }
+
+    /// Whether the pulse core thread is still running.
+    pub fn is_running(&self) -> bool {
+        self.thread.as_ref().is_some_and(|t| !t.is_finished())
     }
 
     /// Blocks now waiting in B1.

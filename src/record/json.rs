@@ -14,7 +14,7 @@ const DIGIT_PAIRS: &[u8; 200] = b"\
 6061626364656667686970717273747576777879\
 8081828384858687888990919293949596979899";
 
-/// Appends the decimal digits of `v` (the fast path used for every pulse time).
+/// Appends the decimal digits of `v`.
 #[inline]
 pub fn push_u64(out: &mut Vec<u8>, mut v: u64) {
     let mut buf = [0u8; 20];
@@ -48,6 +48,80 @@ pub fn push_u64(out: &mut Vec<u8>, mut v: u64) {
         buf[i] = b'0' + v as u8;
     }
     out.extend_from_slice(&buf[i..]);
+}
+
+/// Writes the `digits` decimal digits of `v` into `buf[..digits]` (`digits` ≥ the digit count).
+#[inline(always)]
+fn put_digits(buf: &mut [u8], mut v: u64, digits: usize) {
+    let mut i = digits;
+    while i >= 2 {
+        let d = (v % 100) as usize * 2;
+        v /= 100;
+        i -= 2;
+        buf[i] = DIGIT_PAIRS[d];
+        buf[i + 1] = DIGIT_PAIRS[d + 1];
+    }
+    if i == 1 {
+        buf[0] = b'0' + (v % 10) as u8;
+    }
+}
+
+/// Number of decimal digits of `v` (1 for 0).
+#[inline(always)]
+fn digit_count(v: u64) -> usize {
+    match v.checked_ilog10() {
+        Some(l) => l as usize + 1,
+        None => 1,
+    }
+}
+
+/// Writes `v` < 10^8 as exactly 8 digits into `buf[..8]` (leading zeros kept).
+#[inline(always)]
+fn put8(buf: &mut [u8], v: u32) {
+    let (a, b) = ((v / 10_000) as usize, (v % 10_000) as usize);
+    let pairs = [(a / 100) * 2, (a % 100) * 2, (b / 100) * 2, (b % 100) * 2];
+    for (k, d) in pairs.into_iter().enumerate() {
+        buf[2 * k] = DIGIT_PAIRS[d];
+        buf[2 * k + 1] = DIGIT_PAIRS[d + 1];
+    }
+}
+
+/// Appends `v0,v1,...` (no brackets): the pulse-time fast path. It sizes the output once and
+/// writes each number in place. A time ≥ 10^8 ns is written as its leading digits, kept from
+/// the previous number while they do not change (pulse times are ascending), and 8 fixed
+/// digits.
+pub fn push_u64_list(out: &mut Vec<u8>, values: &[u64]) {
+    const LOW: u64 = 100_000_000;
+    let start = out.len();
+    // 20 digits + a comma is the most any u64 needs.
+    out.resize(start + values.len() * 21, 0);
+    let buf = &mut out[start..];
+    let mut p = 0;
+    let mut hi_value = 0u64;
+    let mut hi_digits = [0u8; 12];
+    let mut hi_len = 0usize;
+    for &v in values {
+        if v < LOW {
+            let n = digit_count(v);
+            put_digits(&mut buf[p..p + n], v, n);
+            p += n;
+        } else {
+            let hi = v / LOW;
+            if hi != hi_value || hi_len == 0 {
+                hi_value = hi;
+                hi_len = digit_count(hi);
+                put_digits(&mut hi_digits[..hi_len], hi, hi_len);
+            }
+            buf[p..p + hi_len].copy_from_slice(&hi_digits[..hi_len]);
+            p += hi_len;
+            put8(&mut buf[p..p + 8], (v % LOW) as u32);
+            p += 8;
+        }
+        buf[p] = b',';
+        p += 1;
+    }
+    // Drop the last comma.
+    out.truncate(start + p.saturating_sub(1));
 }
 
 /// Appends a signed integer.
@@ -130,131 +204,6 @@ pub fn push_str(out: &mut Vec<u8>, s: &str) {
     out.push(b'"');
 }
 
-/// The six SPEC §7 topics, in channel order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Topic {
-    /// `/nc/block`: a block starts executing.
-    Block,
-    /// `/nc/position`: axis positions.
-    Position,
-    /// `/nc/pulses`: a batch of pulses of one axis.
-    Pulses,
-    /// `/nc/state`: RUN, modes, override, tool, spindle.
-    State,
-    /// `/panel/display`: the display frame.
-    Display,
-    /// `/panel/event`: an operator action.
-    PanelEvent,
-}
-
-impl Topic {
-    /// Every topic, in channel order.
-    pub const ALL: [Topic; 6] = [
-        Topic::Block,
-        Topic::Position,
-        Topic::Pulses,
-        Topic::State,
-        Topic::Display,
-        Topic::PanelEvent,
-    ];
-
-    /// The MCAP topic name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Topic::Block => "/nc/block",
-            Topic::Position => "/nc/position",
-            Topic::Pulses => "/nc/pulses",
-            Topic::State => "/nc/state",
-            Topic::Display => "/panel/display",
-            Topic::PanelEvent => "/panel/event",
-        }
-    }
-
-    /// Index 0..6 (channel order).
-    pub fn index(self) -> usize {
-        self as usize
-    }
-
-    /// The topic an event is recorded on.
-    pub fn of(ev: &Event) -> Topic {
-        match ev {
-            Event::Block { .. } => Topic::Block,
-            Event::Position { .. } => Topic::Position,
-            Event::Pulses { .. } => Topic::Pulses,
-            Event::State { .. } => Topic::State,
-            Event::Display { .. } => Topic::Display,
-            Event::PanelEvent { .. } => Topic::PanelEvent,
-        }
-    }
-
-    /// The schema name (shown by Foxglove and `mcap info`).
-    pub fn schema_name(self) -> &'static str {
-        match self {
-            Topic::Block => "novanc.Block",
-            Topic::Position => "novanc.Position",
-            Topic::Pulses => "novanc.Pulses",
-            Topic::State => "novanc.State",
-            Topic::Display => "novanc.PanelDisplay",
-            Topic::PanelEvent => "novanc.PanelEvent",
-        }
-    }
-
-    /// The JSON schema (draft 2020-12) of the topic's messages.
-    pub fn schema(self) -> &'static str {
-        match self {
-            Topic::Block => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Block","#,
-                r#""description":"A block starts executing","type":"object","#,
-                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
-                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
-                r#""text":{"type":"string","description":"the block's ISO line"}},"#,
-                r#""required":["seq","stmt","text"]}"#
-            ),
-            Topic::Position => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Position","#,
-                r#""description":"Axis positions, machine coordinates","type":"object","#,
-                r#""properties":{"x":{"type":"number","description":"X, mm"},"#,
-                r#""y":{"type":"number","description":"Y, mm"},"#,
-                r#""z":{"type":"number","description":"Z, mm"},"#,
-                r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
-                r#""description":"pulse counters X, Y, Z"}},"#,
-                r#""required":["x","y","z","pulses"]}"#
-            ),
-            Topic::Pulses => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Pulses","#,
-                r#""description":"A batch of feed pulses of one axis in one direction","type":"object","#,
-                r#""properties":{"axis":{"type":"string","enum":["X","Y","Z"]},"#,
-                r#""dir":{"type":"integer","enum":[1,-1]},"#,
-                r#""t_ns":{"type":"array","items":{"type":"integer"},"#,
-                r#""description":"pulse times, ns of machine time, ascending"}},"#,
-                r#""required":["axis","dir","t_ns"]}"#
-            ),
-            Topic::State => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.State","#,
-                r#""description":"Machine state, written on change","type":"object","#,
-                r#""properties":{"run":{"type":"integer","description":"RUN: 0 stopped, 1 AUTO, 2 MDI"},"#,
-                r#""op_mode":{"type":"string"},"data_mode":{"type":"string"},"#,
-                r#""feed_override":{"type":"integer","description":"percent"},"#,
-                r#""tool":{"type":"integer","description":"T code in the spindle, 0 none"},"#,
-                r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped"}},"#,
-                r#""required":["run","op_mode","data_mode","feed_override","tool","spindle"]}"#
-            ),
-            Topic::Display => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelDisplay","#,
-                r#""description":"The panel display frame","type":"object","#,
-                r#""properties":{"lines":{"type":"array","items":{"type":"string"}}},"#,
-                r#""required":["lines"]}"#
-            ),
-            Topic::PanelEvent => concat!(
-                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelEvent","#,
-                r#""description":"An operator action, as a panel-script line","type":"object","#,
-                r#""properties":{"event":{"type":"string"}},"#,
-                r#""required":["event"]}"#
-            ),
-        }
-    }
-}
-
 /// The axis letter of a pulse batch; anything but 0, 1, 2 is written as `"?"` (never expected).
 fn axis_letter(axis: u8) -> &'static [u8] {
     match axis {
@@ -307,13 +256,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             } else {
                 b",\"dir\":1,\"t_ns\":["
             });
-            if let Some((first, rest)) = t_ns.split_first() {
-                push_u64(out, *first);
-                for t in rest {
-                    out.push(b',');
-                    push_u64(out, *t);
-                }
-            }
+            push_u64_list(out, t_ns);
             out.extend_from_slice(b"]}");
             t_ns.first().copied().unwrap_or(0)
         }
@@ -382,12 +325,49 @@ mod tests {
             x ^= x << 17;
             cases.push(x >> (x % 64));
         }
+        let joined = cases
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        assert_eq!(s(|o| push_u64_list(o, &cases)), joined);
         for v in cases {
             assert_eq!(s(|o| push_u64(o, v)), v.to_string());
             let i = v as i64;
             assert_eq!(s(|o| push_i64(o, i)), i.to_string());
         }
         assert_eq!(s(|o| push_i64(o, i64::MIN)), i64::MIN.to_string());
+    }
+
+    #[test]
+    fn integer_lists_match_std_formatting() {
+        let cases: Vec<u64> = vec![0, 7, 10, 99, 100, 12_345, 60_000_000_123, u64::MAX, 1];
+        let want = cases
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        assert_eq!(s(|o| push_u64_list(o, &cases)), want);
+        assert_eq!(s(|o| push_u64_list(o, &[])), "");
+        // Ascending runs that share leading digits, across digit-count and 10^8 boundaries.
+        for base in [
+            0u64,
+            99_999_990,
+            9_999_999_990,
+            60_000_000_000,
+            99_999_999_999_999_990,
+        ] {
+            let run: Vec<u64> = (0..40).map(|k| base + k * 3).chain([u64::MAX]).collect();
+            let want = run
+                .iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join(",");
+            assert_eq!(s(|o| push_u64_list(o, &run)), want);
+        }
+        let mut o = b"[".to_vec();
+        push_u64_list(&mut o, &[5]);
+        assert_eq!(o, b"[5");
     }
 
     #[test]
@@ -497,31 +477,5 @@ mod tests {
             }),
             (2, r#"{"event":"key START"}"#.into())
         );
-    }
-
-    #[test]
-    fn schemas_name_every_required_field() {
-        let required: [&[&str]; 6] = [
-            &["seq", "stmt", "text"],
-            &["x", "y", "z", "pulses"],
-            &["axis", "dir", "t_ns"],
-            &[
-                "run",
-                "op_mode",
-                "data_mode",
-                "feed_override",
-                "tool",
-                "spindle",
-            ],
-            &["lines"],
-            &["event"],
-        ];
-        for (topic, fields) in Topic::ALL.iter().zip(required) {
-            let schema = topic.schema();
-            for f in fields {
-                assert!(schema.contains(&format!("\"{f}\"")), "{topic:?} lacks {f}");
-            }
-            assert!(schema.contains(topic.schema_name()));
-        }
     }
 }

@@ -2,14 +2,17 @@
 //! an MCAP file (SPEC §7). The sender side never blocks: if the recorder falls behind, events are
 //! dropped, the recording is marked incomplete, and the operator is told.
 //!
-//! `json` encodes the messages, `writer` lays them out as MCAP, `recorder` runs the thread.
+//! `topic` names the topics and their schemas, `json` encodes the messages, `writer` lays them
+//! out as MCAP, `recorder` runs the thread.
 
 pub mod json;
 pub mod recorder;
+pub mod testkit;
+pub mod topic;
 pub mod writer;
 
-pub use json::Topic;
 pub use recorder::{RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
+pub use topic::Topic;
 pub use writer::{RecordWriter, WriterOutcome};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -105,6 +108,21 @@ impl EventSink {
             Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
                 self.incomplete.store(true, Ordering::Relaxed);
                 self.dropped.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// Sends an event without ever blocking, but hands it back when the queue is full instead
+    /// of dropping it, so that a producer with no real-time duty (the pulse core in virtual
+    /// time) can let the recorder catch up and retry. A gone recorder drops it as `send` does.
+    pub fn try_send(&self, ev: Event) -> Result<(), Event> {
+        match self.tx.try_send(ev) {
+            Ok(()) => Ok(()),
+            Err(TrySendError::Full(ev)) => Err(ev),
+            Err(TrySendError::Disconnected(_)) => {
+                self.incomplete.store(true, Ordering::Relaxed);
+                self.dropped.fetch_add(1, Ordering::Relaxed);
+                Ok(())
             }
         }
     }

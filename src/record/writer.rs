@@ -6,7 +6,8 @@
 //! drives one directly. After the first write error the MCAP writer is dropped and every later
 //! event is only counted, so the caller can keep draining its queue at full speed.
 
-use super::json::{encode_event, Topic};
+use super::json::encode_event;
+use super::topic::Topic;
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
@@ -90,6 +91,25 @@ impl<W: Write + Seek> RecordWriter<W> {
             .profile("")
             .library(concat!("novanc ", env!("CARGO_PKG_VERSION")));
         let mut mcap = options.create(file)?;
+        match Self::declare(&mut mcap, settings, &mut self.channels) {
+            Ok(()) => {
+                self.mcap = Some(mcap);
+                Ok(())
+            }
+            Err(e) => {
+                // No finish attempt on a half-written file (see `fail`).
+                drop(mcap.into_inner());
+                Err(e)
+            }
+        }
+    }
+
+    /// Writes the settings metadata, the schemas and the channels; fills in the channel ids.
+    fn declare(
+        mcap: &mut mcap::Writer<W>,
+        settings: &MachineSettings,
+        channels: &mut [u16; 6],
+    ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
             (
@@ -109,15 +129,13 @@ impl<W: Write + Seek> RecordWriter<W> {
         for topic in Topic::ALL {
             let schema =
                 mcap.add_schema(topic.schema_name(), "jsonschema", topic.schema().as_bytes())?;
-            self.channels[topic.index()] =
+            channels[topic.index()] =
                 mcap.add_channel(schema, topic.name(), "json", &no_metadata)?;
         }
-        self.mcap = Some(mcap);
         Ok(())
     }
 
-    /// Keeps the first error, drops the MCAP writer (its `Drop` tries to finish and ignores the
-    /// error), and from now on only counts events.
+    /// Keeps the first error, lets go of the MCAP writer, and from now on only counts events.
     fn fail(&mut self, e: impl std::error::Error + 'static) {
         if self.out.disk_error.is_none() {
             // The innermost cause says what the operator needs ("No space left on device").
@@ -127,7 +145,12 @@ impl<W: Write + Seek> RecordWriter<W> {
             }
             self.out.disk_error = Some(format!("writing {}: {cause}", self.path.display()));
         }
-        self.mcap = None;
+        // `into_inner` hands the file back without another write attempt (dropping the MCAP
+        // writer would try to finish a file in an unknown state); the buffer's own drop makes
+        // one last, silent attempt to write what it holds.
+        if let Some(mcap) = self.mcap.take() {
+            drop(mcap.into_inner());
+        }
     }
 
     /// Whether a disk error has happened.
@@ -200,7 +223,10 @@ impl<W: Write + Seek> RecordWriter<W> {
                         Err(e) => self.fail(e),
                     }
                 }
-                Err(e) => self.fail(e),
+                Err(e) => {
+                    drop(mcap.into_inner());
+                    self.fail(e);
+                }
             }
         }
         self.out
@@ -266,6 +292,52 @@ mod tests {
             err.contains("full.mcap") && err.contains("No space"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn disk_full_before_the_channels_are_written_is_kept_not_panicked() {
+        for limit in [0, 10, 100, 1_000] {
+            let out = FillsUp {
+                inner: std::io::Cursor::new(Vec::new()),
+                limit,
+            };
+            let mut w =
+                RecordWriter::with_output(out, Path::new("tiny.mcap"), &MachineSettings::default());
+            assert!(w.failed(), "limit {limit}");
+            assert!(!w.write(&Event::PanelEvent {
+                t_ns: 0,
+                event: "key START".into()
+            }));
+            let out = w.finish(true, 0);
+            assert_eq!(out.lost_to_disk_error, 1);
+            assert!(out.disk_error.is_some());
+        }
+    }
+
+    #[test]
+    fn disk_filling_up_while_closing_is_reported_not_panicked() {
+        let run = |limit: u64| {
+            let out = FillsUp {
+                inner: std::io::Cursor::new(Vec::new()),
+                limit,
+            };
+            let mut w =
+                RecordWriter::with_output(out, Path::new("end.mcap"), &MachineSettings::default());
+            for i in 0..10u64 {
+                assert!(w.write(&Event::Position {
+                    t_ns: i,
+                    pulses: [i as i64, 0, 0]
+                }));
+            }
+            w.finish(false, 0)
+        };
+        let whole = run(u64::MAX);
+        assert_eq!(whole.disk_error, None);
+        for cut in [1, 30, 200, 400] {
+            let out = run(whole.bytes - cut);
+            assert!(out.disk_error.is_some(), "cut {cut}: {out:?}");
+            assert_eq!(out.bytes, 0);
+        }
     }
 
     #[test]

@@ -13,16 +13,27 @@
 //! A block that completes mid-tick leaves the machine at rest until the next tick reads the
 //! following block (as the patent's NCBR does).
 
-use super::arc::{ArcError, ArcStepper};
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Motion, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
-use super::{B1Entry, Command, RunKind, Status};
+use super::{B1Entry, Command, RunKind};
 use crate::block::{Block, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
+use check::{arc_stepper, check_block};
 use std::collections::VecDeque;
+
+mod check;
+mod jog;
+mod report;
+
+pub use check::axis_name;
+
+/// Sends an event to the recording (lossless in virtual time, see `pulse_out::emit`).
+fn send_ev(s: &EventSink, lossless: bool, ev: Event) {
+    super::pulse_out::emit(s, ev, lossless);
+}
 
 /// Where the executing block is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,6 +50,8 @@ enum Phase {
 #[derive(Debug)]
 struct Current {
     entry: B1Entry,
+    /// A copy of the entry's block.
+    block: Block,
     phase: Phase,
     until: u64,
     motion: Option<Motion>,
@@ -139,6 +152,12 @@ impl Machine {
         self.events = sink;
         self.last_state = None;
         self.send_state();
+    }
+
+    /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
+    /// Only for virtual time, where machine time does not follow the wall clock.
+    pub fn set_lossless_recording(&mut self, on: bool) {
+        self.out.lossless = on;
     }
 
     /// The pulses captured since the last call (with `capture_pulses` on).
@@ -337,53 +356,6 @@ impl Machine {
         }
     }
 
-    /// The travel limits of `axis` if a jog may start now.
-    fn jog_check(&mut self, axis: usize) -> Option<(i64, i64)> {
-        if axis > 2 {
-            self.notice = Some(format!("no axis {axis}"));
-            return None;
-        }
-        if self.estop {
-            self.notice = Some("emergency stop: press RESET".into());
-            return None;
-        }
-        if self.run != 0 || self.current.is_some() {
-            self.notice = Some("jog refused: the program is running (press RESET)".into());
-            return None;
-        }
-        Some(self.settings.travel_pulses(axis))
-    }
-
-    fn start_jog(&mut self, axis: usize, d: i64, release: bool) {
-        let mut delta = [0; 3];
-        delta[axis] = d;
-        let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
-        self.jog = Some(Jog {
-            motion: Motion::linear(delta, v, self.accel, self.now),
-            release,
-        });
-    }
-
-    fn next_increment(&mut self) {
-        if self.jog.is_some() {
-            return;
-        }
-        while let Some((axis, pulses)) = self.increments.pop_front() {
-            let (lo, hi) = self.settings.travel_pulses(axis);
-            let to = self.out.pos[axis] + pulses;
-            if to < lo || to > hi {
-                self.notice = Some(format!(
-                    "{} jog refused: {:.3} mm is beyond the travel limit",
-                    axis_name(axis),
-                    self.settings.to_mm(to)
-                ));
-                continue;
-            }
-            self.start_jog(axis, pulses, false);
-            return;
-        }
-    }
-
     /// Runs whole NCBR ticks (and the PGEN work inside them) until machine time `until`.
     pub fn advance_to(&mut self, until: u64, src: &mut dyn BlockSource) {
         while self.now < until {
@@ -439,7 +411,7 @@ impl Machine {
             let feed = self
                 .current
                 .as_ref()
-                .and_then(|c| c.entry.stmt.blocks.get(c.entry.index))
+                .map(|c| &c.block)
                 .filter(|b| b.motion != Kind::Rapid)
                 .map(|b| b.feed);
             if let Some(feed) = feed {
@@ -496,17 +468,21 @@ impl Machine {
             self.refuse(&e, None, "no such block".into());
             return;
         };
-        if let Err(why) = self.check_block(&b) {
+        if let Err(why) = check_block(&self.settings, self.out.pos, &b) {
             self.refuse(&e, Some(&b), why);
             return;
         }
         if let Some(s) = &self.events {
-            s.send(Event::Block {
-                t_ns: self.now,
-                seq: b.seq,
-                stmt: b.stmt,
-                text: crate::ap::iso_line(&b, &self.settings),
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Block {
+                    t_ns: self.now,
+                    seq: b.seq,
+                    stmt: b.stmt,
+                    text: crate::ap::iso_line(&b, &self.settings),
+                },
+            );
         }
         let mut pre = 0;
         if b.m == Some(6) {
@@ -521,60 +497,11 @@ impl Machine {
         self.last_entry = Some(e.clone());
         self.current = Some(Current {
             entry: e,
+            block: b,
             phase: Phase::PreAux,
             until: self.now + pre,
             motion: None,
         });
-    }
-
-    /// Travel limits, arc geometry and feed of a block, before any of its pulses.
-    fn check_block(&self, b: &Block) -> Result<(), String> {
-        let pos = self.out.pos;
-        let to = [
-            pos[0] + b.delta[0],
-            pos[1] + b.delta[1],
-            pos[2] + b.delta[2],
-        ];
-        let limit = |p: [i64; 3]| -> Result<(), String> {
-            for (a, &v) in p.iter().enumerate() {
-                let (lo, hi) = self.settings.travel_pulses(a);
-                if v < lo || v > hi {
-                    let lim = if v < lo { lo } else { hi };
-                    return Err(format!(
-                        "travel limit: {} would go to {:.3} mm, beyond {:.3} mm",
-                        axis_name(a),
-                        self.settings.to_mm(v),
-                        self.settings.to_mm(lim)
-                    ));
-                }
-            }
-            Ok(())
-        };
-        match b.motion {
-            Kind::Rapid | Kind::Linear => {
-                limit(to)?;
-                if b.motion == Kind::Linear && b.delta != [0; 3] && b.feed <= 0.0 {
-                    return Err("no feed rate".into());
-                }
-            }
-            Kind::ArcCw | Kind::ArcCcw => {
-                limit(to)?;
-                if b.delta[2] != 0 {
-                    return Err("helical arcs (Z with G02/G03) are not supported".into());
-                }
-                if b.feed <= 0.0 {
-                    return Err("no feed rate".into());
-                }
-                let st = arc_stepper(b)?;
-                let c = arc_centre(b, pos);
-                let r = arc_radius(b) + 1;
-                for p in st.extremes(r) {
-                    limit([c[0] + p[0], c[1] + p[1], pos[2]])?;
-                }
-            }
-            Kind::Dwell | Kind::Aux => {}
-        }
-        Ok(())
     }
 
     /// PGEN up to `end`: the block's phases, then any jog.
@@ -586,7 +513,7 @@ impl Machine {
                         break;
                     }
                     let t0 = c.until;
-                    let b = c.entry.stmt.blocks[c.entry.index].clone();
+                    let b = c.block.clone();
                     self.pre_effects(&b);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Motion::linear(
@@ -630,7 +557,7 @@ impl Machine {
                     } else if c.until >= end {
                         break;
                     }
-                    let b = &c.entry.stmt.blocks[c.entry.index];
+                    let b = &c.block;
                     let post = match b.m {
                         Some(5) | Some(30) if self.spindle != 0 => self.settings.spindle_ns,
                         _ => 0,
@@ -644,7 +571,7 @@ impl Machine {
                         break;
                     }
                     let t = c.until;
-                    let m = c.entry.stmt.blocks[c.entry.index].m;
+                    let m = c.block.m;
                     self.current = None;
                     self.finish_block(t, m);
                 }
@@ -695,10 +622,14 @@ impl Machine {
         self.just_completed = true;
         self.out.flush();
         if let Some(s) = &self.events {
-            s.send(Event::Position {
-                t_ns: t,
-                pulses: self.out.pos,
-            });
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Position {
+                    t_ns: t,
+                    pulses: self.out.pos,
+                },
+            );
         }
         if m == Some(30) {
             self.run = 0;
@@ -706,102 +637,4 @@ impl Machine {
             self.just_completed = false;
         }
     }
-
-    fn send_position(&self) {
-        if let Some(s) = &self.events {
-            s.send(Event::Position {
-                t_ns: self.now,
-                pulses: self.out.pos,
-            });
-        }
-    }
-
-    fn send_state(&mut self) {
-        let Some(s) = &self.events else { return };
-        let key = (
-            self.run,
-            self.feed_override,
-            self.tool.unwrap_or(0),
-            self.spindle,
-            self.op_mode.clone(),
-            self.data_mode.clone(),
-        );
-        if self.last_state.as_ref() != Some(&key) {
-            s.send(Event::State {
-                t_ns: self.now,
-                run: key.0,
-                op_mode: key.4.clone(),
-                data_mode: key.5.clone(),
-                feed_override: key.1,
-                tool: key.2,
-                spindle: key.3,
-            });
-            self.last_state = Some(key);
-        }
-    }
-
-    /// A snapshot for the display.
-    pub fn status(&self) -> Status {
-        let motion = self
-            .current
-            .as_ref()
-            .and_then(|c| c.motion.as_ref())
-            .or(self.jog.as_ref().map(|j| &j.motion));
-        Status {
-            run: self.run,
-            hold: self.hold,
-            estop: self.estop,
-            alarm: self.alarm.clone(),
-            pos: self.out.pos,
-            executing: self
-                .current
-                .as_ref()
-                .map(|c| c.entry.clone())
-                .or_else(|| self.last_entry.clone()),
-            blocks_done: self.blocks_done,
-            pulses: self.out.count,
-            tool: self.tool,
-            tool_set_length: self.tool_len,
-            spindle: self.spindle,
-            feed_override: self.pending_override.unwrap_or(self.feed_override),
-            machine_ns: self.now,
-            moving: motion.is_some_and(|m| !m.at_rest()),
-            program_end: self.program_end,
-            idle: self.is_idle(),
-            notice: self.notice.clone(),
-            single_block: self.single_block,
-            speed_mm_min: motion.map_or(0.0, |m| m.speed_mm_min(self.settings.pulse_mm)),
-            commands_applied: self.commands,
-        }
-    }
-}
-
-/// "X", "Y" or "Z".
-pub fn axis_name(a: usize) -> &'static str {
-    ["X", "Y", "Z"].get(a).copied().unwrap_or("?")
-}
-
-fn arc_centre(b: &Block, pos: [i64; 3]) -> [i64; 2] {
-    let c = b.center.unwrap_or([0, 0]);
-    [pos[0] + c[0], pos[1] + c[1]]
-}
-
-fn arc_radius(b: &Block) -> i64 {
-    let c = b.center.unwrap_or([0, 0]);
-    ((c[0] as f64).hypot(c[1] as f64)).ceil() as i64
-}
-
-fn arc_stepper(b: &Block) -> Result<ArcStepper, String> {
-    let Some(c) = b.center else {
-        return Err("arc without a centre".into());
-    };
-    let rel_start = [-c[0], -c[1]];
-    let rel_end = [b.delta[0] - c[0], b.delta[1] - c[1]];
-    ArcStepper::new(rel_start, rel_end, b.motion == Kind::ArcCcw).map_err(|e| match e {
-        ArcError::TooSmall => "arc radius too small".to_string(),
-        ArcError::TooLarge => "arc radius too large".to_string(),
-        ArcError::EndNotOnCircle { r_start, r_end } => format!(
-            "arc end point is not on the circle (radius {r_start:.1} at the start, {r_end:.1} at the end, pulses)"
-        ),
-    })
 }

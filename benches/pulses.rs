@@ -1,0 +1,188 @@
+//! Pulse core benchmarks that print (issue 4): axis pulses per second in virtual time on a long
+//! 3-axis contour with recording off and on, and real-time pacing at 200,000 pulses/s.
+//!
+//! Run with `cargo bench --bench pulses`.
+
+use novanc::ap::Statement;
+use novanc::nc::testkit::{polyline, Rng};
+use novanc::nc::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::record::{Event, EventSink, Recorder};
+use novanc::settings::MachineSettings;
+use std::time::{Duration, Instant};
+
+const MID: [i64; 3] = [500_000, 400_000, -300_000];
+
+/// A long 3-axis contour: `n` blocks zigzagging about the middle of the travel, 10–30 mm out
+/// in X and Y and 3–10 mm in Z from it (so about 20–60 mm and 6–20 mm per block).
+fn contour(n: usize, feed: f64) -> Vec<novanc::block::Block> {
+    let mut rng = Rng::new(42);
+    let mut pts = vec![MID];
+    for i in 0..n {
+        let s = if i % 2 == 0 { 1 } else { -1 };
+        pts.push([
+            MID[0] + s * rng.range(10_000, 30_000),
+            MID[1] - s * rng.range(10_000, 30_000),
+            MID[2] + s * rng.range(3_000, 10_000),
+        ]);
+    }
+    polyline(&pts, feed)
+}
+
+fn total(m: &Machine) -> u64 {
+    m.status().pulses.iter().sum()
+}
+
+fn virtual_off(blocks: &[novanc::block::Block]) -> (u64, f64, f64) {
+    let mut m = Machine::new(MachineSettings::default());
+    m.set_position(MID);
+    let mut src = VecSource::from_blocks(blocks.to_vec());
+    m.command(Command::Start(RunKind::Auto));
+    let t = Instant::now();
+    m.run_until_idle(&mut src, u64::MAX / 4);
+    let st = m.status();
+    assert!(
+        st.alarm.is_none() && st.blocks_done == blocks.len() as u64,
+        "{:?}",
+        st.alarm
+    );
+    (total(&m), t.elapsed().as_secs_f64(), m.now() as f64 * 1e-9)
+}
+
+/// Recording on, the core's side only: every event into a channel drained by a thread.
+fn virtual_sink(blocks: &[novanc::block::Block]) -> (u64, f64, u64, bool) {
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Event>(1 << 16);
+    let drain = std::thread::spawn(move || {
+        let mut n = 0u64;
+        for ev in rx {
+            if let Event::Pulses { t_ns, .. } = ev {
+                n += t_ns.len() as u64;
+            }
+        }
+        n
+    });
+    let sink = EventSink::new(tx);
+    let mut m = Machine::new(MachineSettings::default());
+    m.set_position(MID);
+    m.set_recording(Some(sink.clone()), false);
+    m.set_lossless_recording(true);
+    let mut src = VecSource::from_blocks(blocks.to_vec());
+    m.command(Command::Start(RunKind::Auto));
+    let t = Instant::now();
+    m.run_until_idle(&mut src, u64::MAX / 4);
+    let secs = t.elapsed().as_secs_f64();
+    let n = total(&m);
+    let incomplete = sink.is_incomplete();
+    drop(m);
+    drop(sink);
+    let recorded = drain.join().unwrap_or(0);
+    (n, secs, recorded, incomplete)
+}
+
+/// Recording on, end to end: the pulse core thread and the MCAP recorder writing a file.
+fn virtual_mcap(blocks: &[novanc::block::Block]) -> (u64, f64, String) {
+    let s = MachineSettings::default();
+    let path = std::env::temp_dir().join(format!("novanc-bench-{}.mcap", std::process::id()));
+    let rec = match Recorder::start(&path, &s) {
+        Ok(r) => r,
+        Err(e) => return (0, 0.0, e),
+    };
+    let core = PulseCore::spawn(s, ClockMode::Virtual, Some(rec.sink()));
+    core.set_position(MID);
+    let stmt = Statement {
+        line: 1,
+        text: "contour".into(),
+        blocks: blocks.to_vec(),
+    };
+    let t = Instant::now();
+    core.load(Box::new(std::iter::once(Ok(stmt))));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(Duration::from_secs(600));
+    drop(core);
+    let line = match rec.finish() {
+        Ok(sum) => sum.to_string(),
+        Err(e) => e,
+    };
+    let secs = t.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&path);
+    (st.map_or(0, |s| s.pulses.iter().sum()), secs, line)
+}
+
+fn realtime(seconds: f64) {
+    let s = MachineSettings::default();
+    let core = PulseCore::spawn(s.clone(), ClockMode::RealTime, None);
+    let start = [0, 400_000, -300_000];
+    core.set_position(start);
+    // 12 m/min on X = 200,000 pulses/s at 1 µm
+    let len = (200_000.0 * seconds) as i64;
+    let b = novanc::nc::testkit::block(1, novanc::block::Motion::Rapid, start, [len, 0, 0], 0.0);
+    let stmt = Statement {
+        line: 1,
+        text: "GD".into(),
+        blocks: vec![b],
+    };
+    let t = Instant::now();
+    core.load(Box::new(std::iter::once(Ok(stmt))));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(Duration::from_secs(600));
+    let wall = t.elapsed().as_secs_f64();
+    let rt = core.realtime_stats();
+    let mut l = rt.lateness_ns.clone();
+    l.sort_unstable();
+    let q = |f: f64| {
+        l.get(((l.len() as f64 - 1.0) * f) as usize)
+            .copied()
+            .unwrap_or(0)
+    };
+    println!(
+        "real time, X at 12 m/min (200,000 pulses/s), {} pulses in {:.3} s wall ({:.3} s machine):",
+        st.as_ref().map_or(0, |s| s.pulses[0]),
+        wall,
+        st.as_ref().map_or(0.0, |s| s.machine_ns as f64 * 1e-9)
+    );
+    println!(
+        "  slice lateness vs wall clock (negative = generated ahead): median {:.3} ms, p99 {:.3} ms, max {:.3} ms over {} slices",
+        q(0.5) as f64 * 1e-6,
+        q(0.99) as f64 * 1e-6,
+        l.last().copied().unwrap_or(0) as f64 * 1e-6,
+        l.len()
+    );
+    println!(
+        "  queue ran dry: {} ({} slices finished after their start time)",
+        if rt.dry > 0 { "yes" } else { "no" },
+        rt.dry
+    );
+}
+
+fn main() {
+    let blocks = contour(3000, 10_000.0);
+    println!("pulse core benchmarks (virtual time, 3000-block 3-axis contour at F10000)");
+    let mut best = 0.0f64;
+    let mut n = 0;
+    let mut machine_s = 0.0;
+    for _ in 0..3 {
+        let (p, secs, ms) = virtual_off(&blocks);
+        best = best.max(p as f64 / secs);
+        n = p;
+        machine_s = ms;
+    }
+    println!(
+        "recording off: {:.1} M axis pulses/s ({} pulses, {:.0} s of machine time; best of 3)",
+        best / 1e6,
+        n,
+        machine_s
+    );
+    let (p, secs, recorded, inc) = virtual_sink(&blocks);
+    println!(
+        "recording on, core side (every pulse into the event queue, drained by a thread): {:.1} M axis pulses/s ({} recorded of {}, incomplete: {inc})",
+        p as f64 / secs / 1e6,
+        recorded,
+        p
+    );
+    let (p, secs, line) = virtual_mcap(&blocks[..500]);
+    println!(
+        "recording on, end to end (pulse core thread + MCAP recorder to a file, lossless; first 500 blocks): {:.1} M axis pulses/s",
+        p as f64 / secs / 1e6
+    );
+    println!("  {line}");
+    realtime(3.0);
+}

@@ -1,0 +1,85 @@
+//! The checks NCBR makes on a block before any of its pulses: travel limits (including the
+//! bulge of an arc), arc geometry and feed.
+
+use crate::block::{Block, Motion as Kind};
+use crate::nc::arc::{ArcError, ArcStepper};
+use crate::settings::MachineSettings;
+
+/// Travel limits, arc geometry and feed of a block, before any of its pulses.
+pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Result<(), String> {
+    let to = [
+        pos[0] + b.delta[0],
+        pos[1] + b.delta[1],
+        pos[2] + b.delta[2],
+    ];
+    let limit = |p: [i64; 3]| -> Result<(), String> {
+        for (a, &v) in p.iter().enumerate() {
+            let (lo, hi) = settings.travel_pulses(a);
+            if v < lo || v > hi {
+                let lim = if v < lo { lo } else { hi };
+                return Err(format!(
+                    "travel limit: {} would go to {:.3} mm, beyond {:.3} mm",
+                    axis_name(a),
+                    settings.to_mm(v),
+                    settings.to_mm(lim)
+                ));
+            }
+        }
+        Ok(())
+    };
+    match b.motion {
+        Kind::Rapid | Kind::Linear => {
+            limit(to)?;
+            if b.motion == Kind::Linear && b.delta != [0; 3] && b.feed <= 0.0 {
+                return Err("no feed rate".into());
+            }
+        }
+        Kind::ArcCw | Kind::ArcCcw => {
+            limit(to)?;
+            if b.delta[2] != 0 {
+                return Err("helical arcs (Z with G02/G03) are not supported".into());
+            }
+            if b.feed <= 0.0 {
+                return Err("no feed rate".into());
+            }
+            let st = arc_stepper(b)?;
+            let c = arc_centre(b, pos);
+            let r = arc_radius(b) + 1;
+            for p in st.extremes(r) {
+                limit([c[0] + p[0], c[1] + p[1], pos[2]])?;
+            }
+        }
+        Kind::Dwell | Kind::Aux => {}
+    }
+    Ok(())
+}
+
+/// "X", "Y" or "Z".
+pub fn axis_name(a: usize) -> &'static str {
+    ["X", "Y", "Z"].get(a).copied().unwrap_or("?")
+}
+
+pub fn arc_centre(b: &Block, pos: [i64; 3]) -> [i64; 2] {
+    let c = b.center.unwrap_or([0, 0]);
+    [pos[0] + c[0], pos[1] + c[1]]
+}
+
+pub fn arc_radius(b: &Block) -> i64 {
+    let c = b.center.unwrap_or([0, 0]);
+    ((c[0] as f64).hypot(c[1] as f64)).ceil() as i64
+}
+
+pub fn arc_stepper(b: &Block) -> Result<ArcStepper, String> {
+    let Some(c) = b.center else {
+        return Err("arc without a centre".into());
+    };
+    let rel_start = [-c[0], -c[1]];
+    let rel_end = [b.delta[0] - c[0], b.delta[1] - c[1]];
+    ArcStepper::new(rel_start, rel_end, b.motion == Kind::ArcCcw).map_err(|e| match e {
+        ArcError::TooSmall => "arc radius too small".to_string(),
+        ArcError::TooLarge => "arc radius too large".to_string(),
+        ArcError::EndNotOnCircle { r_start, r_end } => format!(
+            "arc end point is not on the circle (radius {r_start:.1} at the start, {r_end:.1} at the end, pulses)"
+        ),
+    })
+}

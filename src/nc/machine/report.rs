@@ -1,0 +1,81 @@
+//! What the machine tells the outside: the status snapshot and the recorded events.
+
+use super::{send_ev, Machine};
+use crate::nc::Status;
+use crate::record::Event;
+
+impl Machine {
+    pub(super) fn send_position(&self) {
+        if let Some(s) = &self.events {
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::Position {
+                    t_ns: self.now,
+                    pulses: self.out.pos,
+                },
+            );
+        }
+    }
+    pub(super) fn send_state(&mut self) {
+        let Some(s) = &self.events else { return };
+        let key = (
+            self.run,
+            self.feed_override,
+            self.tool.unwrap_or(0),
+            self.spindle,
+            self.op_mode.clone(),
+            self.data_mode.clone(),
+        );
+        if self.last_state.as_ref() != Some(&key) {
+            send_ev(
+                s,
+                self.out.lossless,
+                Event::State {
+                    t_ns: self.now,
+                    run: key.0,
+                    op_mode: key.4.clone(),
+                    data_mode: key.5.clone(),
+                    feed_override: key.1,
+                    tool: key.2,
+                    spindle: key.3,
+                },
+            );
+            self.last_state = Some(key);
+        }
+    }
+    /// A snapshot for the display.
+    pub fn status(&self) -> Status {
+        let motion = self
+            .current
+            .as_ref()
+            .and_then(|c| c.motion.as_ref())
+            .or(self.jog.as_ref().map(|j| &j.motion));
+        Status {
+            run: self.run,
+            hold: self.hold,
+            estop: self.estop,
+            alarm: self.alarm.clone(),
+            pos: self.out.pos,
+            executing: self
+                .current
+                .as_ref()
+                .map(|c| c.entry.clone())
+                .or_else(|| self.last_entry.clone()),
+            blocks_done: self.blocks_done,
+            pulses: self.out.count,
+            tool: self.tool,
+            tool_set_length: self.tool_len,
+            spindle: self.spindle,
+            feed_override: self.pending_override.unwrap_or(self.feed_override),
+            machine_ns: self.now,
+            moving: motion.is_some_and(|m| !m.at_rest()),
+            program_end: self.program_end,
+            idle: self.is_idle(),
+            notice: self.notice.clone(),
+            single_block: self.single_block,
+            speed_mm_min: motion.map_or(0.0, |m| m.speed_mm_min(self.settings.pulse_mm)),
+            commands_applied: self.commands,
+        }
+    }
+}

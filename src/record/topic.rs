@@ -1,0 +1,160 @@
+//! The SPEC §7 topics: their MCAP names, and the JSON schema of each topic's messages (a
+//! public interface: Foxglove, `tests/mcap_check.py` and other helpers' tests read them).
+
+use super::Event;
+
+/// The six SPEC §7 topics, in channel order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Topic {
+    /// `/nc/block`: a block starts executing.
+    Block,
+    /// `/nc/position`: axis positions.
+    Position,
+    /// `/nc/pulses`: a batch of pulses of one axis.
+    Pulses,
+    /// `/nc/state`: RUN, modes, override, tool, spindle.
+    State,
+    /// `/panel/display`: the display frame.
+    Display,
+    /// `/panel/event`: an operator action.
+    PanelEvent,
+}
+
+impl Topic {
+    /// Every topic, in channel order.
+    pub const ALL: [Topic; 6] = [
+        Topic::Block,
+        Topic::Position,
+        Topic::Pulses,
+        Topic::State,
+        Topic::Display,
+        Topic::PanelEvent,
+    ];
+
+    /// The MCAP topic name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Topic::Block => "/nc/block",
+            Topic::Position => "/nc/position",
+            Topic::Pulses => "/nc/pulses",
+            Topic::State => "/nc/state",
+            Topic::Display => "/panel/display",
+            Topic::PanelEvent => "/panel/event",
+        }
+    }
+
+    /// Index 0..6 (channel order).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The topic an event is recorded on.
+    pub fn of(ev: &Event) -> Topic {
+        match ev {
+            Event::Block { .. } => Topic::Block,
+            Event::Position { .. } => Topic::Position,
+            Event::Pulses { .. } => Topic::Pulses,
+            Event::State { .. } => Topic::State,
+            Event::Display { .. } => Topic::Display,
+            Event::PanelEvent { .. } => Topic::PanelEvent,
+        }
+    }
+
+    /// The schema name (shown by Foxglove and `mcap info`).
+    pub fn schema_name(self) -> &'static str {
+        match self {
+            Topic::Block => "novanc.Block",
+            Topic::Position => "novanc.Position",
+            Topic::Pulses => "novanc.Pulses",
+            Topic::State => "novanc.State",
+            Topic::Display => "novanc.PanelDisplay",
+            Topic::PanelEvent => "novanc.PanelEvent",
+        }
+    }
+
+    /// The JSON schema (draft 2020-12) of the topic's messages.
+    pub fn schema(self) -> &'static str {
+        match self {
+            Topic::Block => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Block","#,
+                r#""description":"A block starts executing","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""text":{"type":"string","description":"the block's ISO line"}},"#,
+                r#""required":["seq","stmt","text"]}"#
+            ),
+            Topic::Position => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Position","#,
+                r#""description":"Axis positions, machine coordinates","type":"object","#,
+                r#""properties":{"x":{"type":"number","description":"X, mm"},"#,
+                r#""y":{"type":"number","description":"Y, mm"},"#,
+                r#""z":{"type":"number","description":"Z, mm"},"#,
+                r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
+                r#""description":"pulse counters X, Y, Z"}},"#,
+                r#""required":["x","y","z","pulses"]}"#
+            ),
+            Topic::Pulses => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Pulses","#,
+                r#""description":"A batch of feed pulses of one axis in one direction","type":"object","#,
+                r#""properties":{"axis":{"type":"string","enum":["X","Y","Z"]},"#,
+                r#""dir":{"type":"integer","enum":[1,-1]},"#,
+                r#""t_ns":{"type":"array","items":{"type":"integer"},"#,
+                r#""description":"pulse times, ns of machine time, ascending"}},"#,
+                r#""required":["axis","dir","t_ns"]}"#
+            ),
+            Topic::State => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.State","#,
+                r#""description":"Machine state, written on change","type":"object","#,
+                r#""properties":{"run":{"type":"integer","description":"RUN: 0 stopped, 1 AUTO, 2 MDI"},"#,
+                r#""op_mode":{"type":"string"},"data_mode":{"type":"string"},"#,
+                r#""feed_override":{"type":"integer","description":"percent"},"#,
+                r#""tool":{"type":"integer","description":"T code in the spindle, 0 none"},"#,
+                r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped"}},"#,
+                r#""required":["run","op_mode","data_mode","feed_override","tool","spindle"]}"#
+            ),
+            Topic::Display => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelDisplay","#,
+                r#""description":"The panel display frame","type":"object","#,
+                r#""properties":{"lines":{"type":"array","items":{"type":"string"}}},"#,
+                r#""required":["lines"]}"#
+            ),
+            Topic::PanelEvent => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.PanelEvent","#,
+                r#""description":"An operator action, as a panel-script line","type":"object","#,
+                r#""properties":{"event":{"type":"string"}},"#,
+                r#""required":["event"]}"#
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schemas_name_every_required_field() {
+        let required: [&[&str]; 6] = [
+            &["seq", "stmt", "text"],
+            &["x", "y", "z", "pulses"],
+            &["axis", "dir", "t_ns"],
+            &[
+                "run",
+                "op_mode",
+                "data_mode",
+                "feed_override",
+                "tool",
+                "spindle",
+            ],
+            &["lines"],
+            &["event"],
+        ];
+        for (topic, fields) in Topic::ALL.iter().zip(required) {
+            let schema = topic.schema();
+            for f in fields {
+                assert!(schema.contains(&format!("\"{f}\"")), "{topic:?} lacks {f}");
+            }
+            assert!(schema.contains(topic.schema_name()));
+        }
+    }
+}

@@ -1,0 +1,187 @@
+//! The pulse core thread (`PulseCore`) on virtual time: B1 filled concurrently by the translator
+//! thread, commands, `wait_idle`, determinism through the thread, recording every pulse.
+
+use novanc::ap::{Statement, TranslateError};
+use novanc::nc::testkit::{polyline, Rng};
+use novanc::nc::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::record::{Event, EventSink};
+use novanc::settings::MachineSettings;
+use std::time::Duration;
+
+const MID: [i64; 3] = [500_000, 400_000, -300_000];
+const WAIT: Duration = Duration::from_secs(60);
+
+fn program(n: usize, seed: u64) -> (Vec<Statement>, [i64; 3]) {
+    let mut rng = Rng::new(seed);
+    let mut p = MID;
+    let mut pts = vec![p];
+    for _ in 0..n {
+        p = [
+            p[0] + rng.range(-3_000, 3_000),
+            p[1] + rng.range(-3_000, 3_000),
+            p[2] + rng.range(-1_000, 1_000),
+        ];
+        pts.push(p);
+    }
+    // three blocks per statement
+    let blocks = polyline(&pts, 2400.0);
+    let stmts = blocks
+        .chunks(3)
+        .enumerate()
+        .map(|(i, c)| Statement {
+            line: i as u32 + 1,
+            text: format!("statement {}", i + 1),
+            blocks: c.to_vec(),
+        })
+        .collect();
+    (stmts, p)
+}
+
+fn small_b1() -> MachineSettings {
+    MachineSettings {
+        b1_capacity: 2,
+        ..MachineSettings::default()
+    }
+}
+
+fn iter(
+    stmts: Vec<Statement>,
+) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>> + Send> {
+    Box::new(stmts.into_iter().map(Ok))
+}
+
+#[test]
+fn runs_a_program_through_a_small_b1_to_its_end() {
+    let (stmts, end) = program(300, 1);
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
+    core.set_position(MID);
+    core.load(iter(stmts));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.run, 0);
+    assert!(st.program_end);
+    assert_eq!(st.blocks_done, 300);
+    assert_eq!(st.pos, end);
+    assert!(st.alarm.is_none());
+    assert!(st.executing.is_some());
+}
+
+fn recorded_pulses(rx: &std::sync::mpsc::Receiver<Event>) -> Vec<(u8, i8, u64)> {
+    let mut v = vec![];
+    while let Ok(ev) = rx.try_recv() {
+        if let Event::Pulses { axis, dir, t_ns } = ev {
+            v.extend(t_ns.into_iter().map(|t| (axis, dir, t)));
+        }
+    }
+    v.sort_by_key(|p| (p.2, p.0));
+    v
+}
+
+#[test]
+fn the_thread_gives_the_same_pulse_times_as_the_machine_and_records_each_once() {
+    let (stmts, _) = program(120, 2);
+    // direct
+    let mut m = Machine::new(small_b1());
+    m.set_position(MID);
+    m.set_recording(None, true);
+    let mut src = VecSource::from_statements(stmts.clone().into_iter().map(Ok));
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, u64::MAX / 4);
+    let mut direct: Vec<(u8, i8, u64)> = m
+        .take_pulses()
+        .into_iter()
+        .map(|p| (p.axis, p.dir, p.t_ns))
+        .collect();
+    direct.sort_by_key(|p| (p.2, p.0));
+    // through the thread, recorded, twice
+    for _ in 0..2 {
+        let (tx, rx) = std::sync::mpsc::sync_channel(1 << 20);
+        let sink = EventSink::new(tx);
+        let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, Some(sink.clone()));
+        core.set_position(MID);
+        core.load(iter(stmts.clone()));
+        core.command(Command::Start(RunKind::Auto));
+        let st = core.wait_idle(WAIT).expect("idle");
+        drop(core);
+        assert!(!sink.is_incomplete());
+        let got = recorded_pulses(&rx);
+        assert_eq!(got.len() as u64, st.pulses.iter().sum::<u64>());
+        assert_eq!(got, direct);
+    }
+}
+
+#[test]
+fn hold_resume_reset_and_estop_through_the_thread() {
+    let (stmts, end) = program(60, 3);
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
+    core.set_position(MID);
+    core.load(iter(stmts.clone()));
+    core.command(Command::SingleBlock(true));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!((st.blocks_done, st.run), (1, 0));
+    core.command(Command::SingleBlock(false));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos, end);
+    assert_eq!(st.blocks_done, 60);
+    // reset mid-program empties B1: a new START finds nothing to run
+    core.load(iter(stmts.clone()));
+    core.command(Command::Reset);
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos, end, "nothing ran after RESET");
+    assert_eq!(core.b1_len(), 0);
+    // e-stop: refused START until RESET
+    core.command(Command::EStop);
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert!(st.estop && st.alarm.is_some());
+    core.command(Command::Reset);
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert!(!st.estop && st.alarm.is_none());
+}
+
+#[test]
+fn a_translation_error_stops_after_the_blocks_before_it() {
+    let (stmts, _) = program(9, 4);
+    let first: Vec<Statement> = stmts[..2].to_vec();
+    let end = first[1].blocks[2].end;
+    let mut items: Vec<Result<Statement, TranslateError>> = first.into_iter().map(Ok).collect();
+    items.push(Err(TranslateError {
+        line: 3,
+        col: 7,
+        message: "no such point P9".into(),
+    }));
+    items.extend(stmts[2..].iter().cloned().map(Ok));
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
+    core.set_position(MID);
+    core.load(Box::new(items.into_iter()));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.alarm.as_deref(), Some("3:7: no such point P9"));
+    assert_eq!(st.blocks_done, 6);
+    assert_eq!(st.pos, end);
+}
+
+#[test]
+fn real_time_follows_the_wall_clock() {
+    let s = MachineSettings::default();
+    let core = PulseCore::spawn(s, ClockMode::RealTime, None);
+    core.set_position(MID);
+    // 6 mm at 1200 mm/min: 0.3 s plus ramps
+    let stmt = Statement {
+        line: 1,
+        text: "GD, 6, 0, 0".into(),
+        blocks: vec![novanc::nc::testkit::linear(1, MID, [6_000, 0, 0], 1200.0)],
+    };
+    let t0 = std::time::Instant::now();
+    core.load(iter(vec![stmt]));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    let wall = t0.elapsed().as_secs_f64();
+    assert_eq!(st.pos[0], MID[0] + 6_000);
+    assert!(wall > 0.28, "not faster than the machine: {wall}");
+    assert!(wall < 2.0, "{wall}");
+    let rt = core.realtime_stats();
+    assert!(!rt.lateness_ns.is_empty());
+}
