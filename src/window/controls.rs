@@ -500,4 +500,114 @@ mod tests {
             ]
         );
     }
+
+    /// One egui frame with these input events, the widget at the top left of a 400×300 screen.
+    fn frame(ctx: &egui::Context, t: f64, events: Vec<egui::Event>, mut f: impl FnMut(&mut Ui)) {
+        let raw = egui::RawInput {
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(400.0, 300.0))),
+            time: Some(t),
+            events,
+            ..Default::default()
+        };
+        ctx.run_ui(raw, |ui| f(ui)).drop_without_applying_deltas();
+    }
+
+    fn press(pos: Pos2, pressed: bool) -> egui::Event {
+        egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        }
+    }
+
+    const LABELS: [&str; 7] = ["A", "B", "C", "D", "E", "F", "G"];
+
+    #[test]
+    fn clicking_a_position_of_a_rotary_selector_turns_it_there() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState::default();
+        let size = vec2(240.0, 170.0);
+        // The knob centre and the label radius, as `rotary` lays them out at the top left.
+        let c = pos2(size.x / 2.0, size.y * 0.56);
+        let target = at_angle(c, size.y * 0.2 * 2.0, position_angle(5, 7, 1.35 * PI));
+        let mut got = Vec::new();
+        let evs = [
+            vec![egui::Event::PointerMoved(target)],
+            vec![press(target, true)],
+            vec![press(target, false)],
+            vec![],
+        ];
+        for (i, e) in evs.into_iter().enumerate() {
+            frame(&ctx, i as f64 * 0.05, e, |ui| {
+                got.push(rotary(ui, "T", &LABELS, 1, size, &mut hand));
+            });
+        }
+        assert!(got.contains(&Some(5)), "{got:?}");
+        assert!(!got.iter().any(|g| matches!(g, Some(i) if *i != 5)));
+    }
+
+    #[test]
+    fn scrolling_over_a_rotary_selector_turns_it_one_detent_per_notch_within_its_ends() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState::default();
+        let size = vec2(240.0, 170.0);
+        let over = pos2(120.0, 95.0);
+        let mut got = None;
+        for (i, (notches, sel)) in [(0.0, 3), (2.0, 3), (-9.0, 1)].into_iter().enumerate() {
+            hand.scroll = notches;
+            frame(
+                &ctx,
+                i as f64 * 0.05,
+                vec![egui::Event::PointerMoved(over)],
+                |ui| {
+                    got = rotary(ui, "T", &LABELS, sel, size, &mut hand);
+                },
+            );
+            match i {
+                1 => assert_eq!(got, Some(5)),
+                2 => assert_eq!(got, Some(0), "clamped at the first position"),
+                _ => {}
+            }
+        }
+        // Scroll with the pointer elsewhere turns nothing.
+        hand.scroll = 1.0;
+        frame(
+            &ctx,
+            1.0,
+            vec![egui::Event::PointerMoved(pos2(390.0, 290.0))],
+            |ui| {
+                got = rotary(ui, "T", &LABELS, 3, size, &mut hand);
+            },
+        );
+        assert_eq!(got, None);
+    }
+
+    #[test]
+    fn the_handwheel_turns_by_scroll_on_the_selected_axis() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState {
+            wheel_axis: Axis::Z,
+            ..HandState::default()
+        };
+        let mut out = Vec::new();
+        frame(
+            &ctx,
+            0.0,
+            vec![egui::Event::PointerMoved(pos2(65.0, 65.0))],
+            |ui| {
+                handwheel(ui, &mut hand, &mut out);
+            },
+        );
+        hand.scroll = -3.0;
+        frame(
+            &ctx,
+            0.1,
+            vec![egui::Event::PointerMoved(pos2(65.0, 65.0))],
+            |ui| {
+                handwheel(ui, &mut hand, &mut out);
+            },
+        );
+        assert_eq!(out, vec![PanelEvent::Wheel(Axis::Z, -3)]);
+    }
 }
