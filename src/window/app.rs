@@ -77,13 +77,17 @@ impl App {
     /// The application around an opened console. `exit` receives the exit code.
     pub fn new(machine: Box<dyn Machine>, drive: Drive, exit: Arc<AtomicI32>) -> App {
         let view = machine.view();
+        let wheel_axis = view.wheel.0;
         let bench = drive.bench_frames.map(|_| Bench::default());
         App {
             machine,
             view,
             plasma: Plasma::new(),
             plot: PlotState::new(),
-            hand: HandState::default(),
+            hand: HandState {
+                wheel_axis,
+                ..HandState::default()
+            },
             drive,
             waiting: None,
             shot: Shot::Idle,
@@ -307,7 +311,7 @@ impl eframe::App for App {
         self.plot.trail.push(self.view.axis_mm);
         self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
         let mut out = Vec::new();
-        controls::keyboard(&ctx.input(|i| i.events.clone()), &mut out);
+        super::keys::keyboard(&ctx.input(|i| i.events.clone()), &mut out);
         self.draw(ui, &mut out);
         // Whole notches nobody under the pointer took are dropped.
         self.hand.scroll = self.hand.scroll.fract();
@@ -433,7 +437,7 @@ impl App {
                     out.push(PanelEvent::Data(DataMode::ALL[i]));
                 }
             });
-            ui.vertical(|ui| controls::data_keys(ui, &mut self.hand, out));
+            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out));
             ui.vertical(|ui| controls::readout(ui, view));
         });
         ui.label(

@@ -7,6 +7,7 @@ mod app;
 mod controls;
 pub mod font;
 pub mod image;
+mod keys;
 mod plasma;
 mod plot;
 
