@@ -71,6 +71,12 @@ pub struct App {
     layout: Layout,
     exit: Arc<AtomicI32>,
     status: String,
+    /// A panel event may have changed program memory or tool data since the last look.
+    program_dirty: bool,
+    /// The frame of the last look.
+    program_checked: u64,
+    /// A backplot translation is running.
+    translating: bool,
 }
 
 impl App {
@@ -96,6 +102,9 @@ impl App {
             layout: Layout::default(),
             exit,
             status: String::new(),
+            program_dirty: true,
+            program_checked: 0,
+            translating: false,
         }
     }
 
@@ -149,7 +158,10 @@ impl App {
                     }
                     println!("---");
                 }
-                other => self.machine.handle(other),
+                other => {
+                    self.program_dirty = true;
+                    self.machine.handle(other);
+                }
             }
         }
     }
@@ -163,7 +175,9 @@ impl App {
             return;
         };
         match &self.shot {
-            Shot::Idle if self.script_done() => self.shot = Shot::Settling(3),
+            Shot::Idle if self.script_done() && !self.translating && !self.program_dirty => {
+                self.shot = Shot::Settling(3)
+            }
             Shot::Settling(0) => {
                 let slot = Arc::new(Mutex::new(None));
                 let s2 = slot.clone();
@@ -301,14 +315,24 @@ impl eframe::App for App {
         self.view = self.machine.view();
         // Program memory or tool data may have changed: recompute the programmed path now and
         // then (cheap when unchanged: a hash).
-        if self.frames % 15 == 1 {
+        // Program memory and tool data change only through panel events: look again (on the
+        // backplot's own thread) after events, at most every 15 frames.
+        if self.program_dirty
+            && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
+        {
             let s = self.machine.settings();
             let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
-            let text = self.machine.program_text();
-            let mag = self.machine.magazine();
-            self.plot.update_program(&text, &mag, &s, start);
+            self.plot.request_program(
+                self.machine.program_text(),
+                self.machine.magazine(),
+                s,
+                start,
+            );
+            self.program_dirty = false;
+            self.program_checked = self.frames;
         }
-        self.plot.trail.push(self.view.axis_mm);
+        self.translating = self.plot.poll();
+        self.plot.record(self.view.axis_mm);
         self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
         let mut out = Vec::new();
         super::keys::keyboard(&ctx.input(|i| i.events.clone()), &mut out);
@@ -316,12 +340,14 @@ impl eframe::App for App {
         // Whole notches nobody under the pointer took are dropped.
         self.hand.scroll = self.hand.scroll.fract();
         for ev in out {
+            self.program_dirty = true;
             self.status = format!("{ev:?}");
             self.machine.handle(ev);
         }
         self.screenshot(&ctx);
         self.measure(&ctx, frame);
         let headless_busy = !self.script_done()
+            || self.translating
             || self.bench.is_some()
             || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
         if headless_busy {

@@ -3,10 +3,12 @@
 //! XZ view with zoom (scroll, about the pointer) and pan (drag). The geometry is
 //! `crate::backplot`; this file only draws it.
 
-use crate::backplot::{Backplot, PathKind, Plane, Trail, ViewTransform};
+use crate::backplot::{Backplot, Bounds, PathKind, Plane, Trail, ViewTransform};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 use egui::{pos2, Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke, Ui};
+use std::hash::{Hash, Hasher};
+use std::sync::mpsc;
 
 /// The plot's background.
 pub const PLOT_BG: Color32 = Color32::from_rgb(8, 12, 20);
@@ -22,6 +24,22 @@ pub const EXECUTED: Color32 = Color32::from_rgb(0, 255, 140);
 pub const TOOL: Color32 = Color32::from_rgb(255, 70, 70);
 const GRID: Color32 = Color32::from_rgb(28, 34, 46);
 
+/// One piece of the programmed path ready to draw: its kind, its points (mm) and its box.
+struct Piece {
+    kind: PathKind,
+    points: Vec<[f64; 3]>,
+    bounds: Bounds,
+}
+
+/// A translation for the backplot running on its own thread (so that a long program never
+/// holds up a frame): the key of what it translates, and where the result arrives.
+struct Job {
+    rx: mpsc::Receiver<(u64, Option<Backplot>)>,
+}
+
+/// What a backplot translation needs: program text, magazine, settings, start (pulses).
+type Request = (String, Magazine, MachineSettings, [i64; 3]);
+
 /// The backplot's state: the path of the loaded program, the executed trail, the view.
 pub struct PlotState {
     /// The plane shown.
@@ -32,10 +50,14 @@ pub struct PlotState {
     auto_fit: [bool; 2],
     /// The programmed path.
     pub backplot: Backplot,
-    polylines: Vec<(PathKind, Vec<[f64; 3]>)>,
+    pieces: Vec<Piece>,
+    path_bounds: Option<Bounds>,
     program_key: Option<u64>,
+    job: Option<Job>,
+    queued: Option<Request>,
     /// The executed path.
-    pub trail: Trail,
+    trail: Trail,
+    trail_bounds: Option<Bounds>,
 }
 
 impl Default for PlotState {
@@ -51,6 +73,14 @@ fn plane_index(p: Plane) -> usize {
     }
 }
 
+/// The key of a translation request: a hash of everything the path depends on.
+fn request_key(r: &Request) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    r.0.hash(&mut h);
+    format!("{:?}{:?}", r.1, r.2).hash(&mut h);
+    h.finish()
+}
+
 impl PlotState {
     /// An empty plot in the XY plane.
     pub fn new() -> PlotState {
@@ -59,44 +89,114 @@ impl PlotState {
             xf: [ViewTransform::default(); 2],
             auto_fit: [true; 2],
             backplot: Backplot::default(),
-            polylines: Vec::new(),
+            pieces: Vec::new(),
+            path_bounds: None,
             program_key: None,
+            job: None,
+            queued: None,
             trail: Trail::new(),
+            trail_bounds: None,
         }
     }
 
-    /// Recomputes the programmed path if the program or the tool data changed (the same
-    /// translator as the machine, from machine position `start`, pulses). Returns whether it did.
-    pub fn update_program(
+    /// Asks for the programmed path of this program (the same translator as the machine, from
+    /// machine position `start`, pulses). The translation runs on its own thread and only if
+    /// the program, the tool data or the settings changed; `poll` takes the result.
+    pub fn request_program(
         &mut self,
-        text: &str,
-        magazine: &Magazine,
-        settings: &MachineSettings,
+        text: String,
+        magazine: Magazine,
+        settings: MachineSettings,
         start: [i64; 3],
-    ) -> bool {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        text.hash(&mut h);
-        format!("{magazine:?}{settings:?}").hash(&mut h);
-        let key = h.finish();
-        if self.program_key == Some(key) {
-            return false;
+    ) {
+        self.queued = Some((text, magazine, settings, start));
+        self.poll();
+    }
+
+    /// Takes a finished translation and starts the queued one; true while one is running.
+    pub fn poll(&mut self) -> bool {
+        if let Some(job) = &self.job {
+            match job.rx.try_recv() {
+                Ok((key, result)) => {
+                    self.job = None;
+                    if let Some(bp) = result {
+                        // A changed program starts a fresh executed path; the first one
+                        // loaded keeps what the machine did meanwhile.
+                        if self.program_key.is_some() {
+                            self.clear_trail();
+                        }
+                        self.program_key = Some(key);
+                        self.set_backplot(bp);
+                    }
+                }
+                Err(mpsc::TryRecvError::Empty) => return true,
+                Err(mpsc::TryRecvError::Disconnected) => self.job = None,
+            }
         }
-        self.program_key = Some(key);
-        self.backplot = if text.trim().is_empty() {
-            Backplot::default()
-        } else {
-            Backplot::from_program(text, magazine, settings, start)
-        };
-        self.polylines = self
-            .backplot
+        if let Some(req) = self.queued.take() {
+            let known = self.program_key;
+            let (tx, rx) = mpsc::channel();
+            let spawned = std::thread::Builder::new()
+                .name("backplot".into())
+                .spawn(move || {
+                    let key = request_key(&req);
+                    let result = (known != Some(key)).then(|| {
+                        let (text, mag, settings, start) = &req;
+                        if text.trim().is_empty() {
+                            Backplot::default()
+                        } else {
+                            Backplot::from_program(text, mag, settings, *start)
+                        }
+                    });
+                    let _ = tx.send((key, result));
+                });
+            if spawned.is_ok() {
+                self.job = Some(Job { rx });
+                return true;
+            }
+        }
+        false
+    }
+
+    fn set_backplot(&mut self, bp: Backplot) {
+        self.pieces = bp
             .segments
             .iter()
-            .map(|s| (s.kind, s.points()))
+            .map(|s| {
+                let points = s.points();
+                let mut bounds = Bounds::point(points[0]);
+                for p in &points {
+                    bounds.include(*p);
+                }
+                Piece {
+                    kind: s.kind,
+                    points,
+                    bounds,
+                }
+            })
             .collect();
-        self.trail.clear();
+        self.path_bounds = self.pieces.iter().map(|p| p.bounds).reduce(|mut a, b| {
+            a.include(b.min);
+            a.include(b.max);
+            a
+        });
+        self.backplot = bp;
         self.auto_fit = [true; 2];
-        true
+    }
+
+    /// Records an axis position sampled from the pulse counters (the executed path).
+    pub fn record(&mut self, p: [f64; 3]) {
+        self.trail.push(p);
+        match &mut self.trail_bounds {
+            Some(b) => b.include(p),
+            None => self.trail_bounds = Some(Bounds::point(p)),
+        }
+    }
+
+    /// Forgets the executed path.
+    pub fn clear_trail(&mut self) {
+        self.trail.clear();
+        self.trail_bounds = None;
     }
 
     /// Fits both views to the drawing again.
@@ -105,21 +205,12 @@ impl PlotState {
     }
 
     fn fitted(&self, plane: Plane, tool: [f64; 3], size: [f64; 2]) -> ViewTransform {
-        let mut lo = plane.project(tool);
-        let mut hi = lo;
-        let pts = self
-            .polylines
-            .iter()
-            .flat_map(|(_, p)| p.iter())
-            .chain(self.trail.points().iter());
-        for p in pts {
-            let q = plane.project(*p);
-            for a in 0..2 {
-                lo[a] = lo[a].min(q[a]);
-                hi[a] = hi[a].max(q[a]);
-            }
+        let mut b = Bounds::point(tool);
+        for bb in self.path_bounds.iter().chain(self.trail_bounds.iter()) {
+            b.include(bb.min);
+            b.include(bb.max);
         }
-        ViewTransform::fit(lo, hi, size, 24.0)
+        ViewTransform::fit(plane.project(b.min), plane.project(b.max), size, 24.0)
     }
 
     /// Draws the plot in the space left in `ui`, handling zoom and pan. `scroll` is this
@@ -140,7 +231,7 @@ impl PlotState {
                 self.fit();
             }
             if ui.button("Clear path").clicked() {
-                self.trail.clear();
+                self.clear_trail();
             }
             ui.label(
                 egui::RichText::new("scroll: zoom · drag: pan")
@@ -186,8 +277,19 @@ impl PlotState {
         };
         let painter = painter.with_clip_rect(rect);
         draw_grid(&painter, rect, &xf, plane);
-        for (kind, pts) in &self.polylines {
-            let px: Vec<Pos2> = pts.iter().map(to_px).collect();
+        // The part of the plane in view, to skip pieces wholly outside it.
+        let lo = xf.to_plane([(rect.min.x - c.x) as f64, (rect.max.y - c.y) as f64]);
+        let hi = xf.to_plane([(rect.max.x - c.x) as f64, (rect.min.y - c.y) as f64]);
+        for piece in &self.pieces {
+            let (bmin, bmax) = (
+                plane.project(piece.bounds.min),
+                plane.project(piece.bounds.max),
+            );
+            if bmax[0] < lo[0] || bmin[0] > hi[0] || bmax[1] < lo[1] || bmin[1] > hi[1] {
+                continue;
+            }
+            let kind = &piece.kind;
+            let px: Vec<Pos2> = piece.points.iter().map(to_px).collect();
             // A cut straight into the plane (a drill plunge seen from above) is a ring.
             let span = px
                 .iter()
