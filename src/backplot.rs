@@ -256,6 +256,7 @@ impl Backplot {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Trail {
     points: Vec<[f64; 3]>,
+    epoch: u64,
 }
 
 /// Most points a trail keeps; beyond this every other inner point is dropped.
@@ -281,6 +282,7 @@ impl Trail {
         }
         self.points.push(p);
         if self.points.len() > MAX_TRAIL_POINTS {
+            self.epoch += 1;
             let last = self.points.len() - 1;
             let mut i = 0;
             self.points.retain(|_| {
@@ -294,6 +296,13 @@ impl Trail {
     /// Forgets the trail (a new program, or the operator cleared the plot).
     pub fn clear(&mut self) {
         self.points.clear();
+        self.epoch += 1;
+    }
+
+    /// Changes whenever points other than the last may have changed (cleared or thinned), so
+    /// that a drawing of all but the last point can be kept until then.
+    pub fn epoch(&self) -> u64 {
+        self.epoch
     }
 
     /// The recorded points, oldest first.
@@ -576,8 +585,10 @@ mod tests {
         // Going back along the same line is a corner, not a merge.
         t.push([100.0, 5.0, 0.0]);
         assert_eq!(t.points().len(), 4);
+        assert_eq!(t.epoch(), 0);
         t.clear();
         assert!(t.points().is_empty());
+        assert_eq!(t.epoch(), 1);
     }
 
     #[test]
@@ -589,6 +600,7 @@ mod tests {
             t.push([i as f64, (i % 2) as f64, 0.0]);
         }
         assert!(t.points().len() <= MAX_TRAIL_POINTS);
+        assert_eq!(t.epoch(), 1, "thinned once");
         assert_eq!(t.points()[0], [0.0, 0.0, 0.0]);
         assert_eq!(
             *t.points().last().unwrap(),

@@ -175,7 +175,12 @@ impl App {
             return;
         };
         match &self.shot {
-            Shot::Idle if self.script_done() && !self.translating && !self.program_dirty => {
+            Shot::Idle
+                if self.script_done()
+                    && !self.translating
+                    && !self.program_dirty
+                    && (self.bench.is_none() || self.drive.bench_frames.is_none()) =>
+            {
                 self.shot = Shot::Settling(3)
             }
             Shot::Settling(0) => {
@@ -224,9 +229,7 @@ impl App {
                         r(self.layout.plot)
                     );
                     self.shot = Shot::Done;
-                    if self.bench.is_none() {
-                        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-                    }
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
                 }
             }
             _ => {}
@@ -266,7 +269,10 @@ impl App {
             let machine = (self.view.machine_ns - b.machine_ns0) as f64 / 1e9;
             println!("{}", bench_report(b, wall, machine));
             self.drive.bench_frames = None;
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            // With a screenshot asked for too, it is taken now, and that closes the window.
+            if self.drive.screenshot.is_none() {
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
         }
     }
 }

@@ -76,7 +76,8 @@ usage: novanc --window [console options] [--script FILE] [--screenshot OUT.ppm|O
 
 The console in an egui window (see docs/window.md).
   --script FILE       play a panel script (SPEC §8) into the console, then keep running
-  --screenshot OUT    after the script, write a screenshot (PPM, or PNG if OUT ends in .png)
+  --screenshot OUT    after the script (and the benchmark), write a screenshot (PPM, or PNG
+                      if OUT ends in .png)
                       and close; prints the plasma and backplot rectangles
   --bench-frames N    after the script, measure N frames, print frame time and pulse rate, close
   --size WxH          window size in points (default 1400x860)

@@ -6,9 +6,10 @@
 use crate::backplot::{Backplot, Bounds, PathKind, Plane, Trail, ViewTransform};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
+use egui::epaint::{Mesh, Tessellator};
 use egui::{pos2, Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke, Ui};
 use std::hash::{Hash, Hasher};
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc};
 
 /// The plot's background.
 pub const PLOT_BG: Color32 = Color32::from_rgb(8, 12, 20);
@@ -37,6 +38,36 @@ struct Job {
     rx: mpsc::Receiver<(u64, Option<Backplot>)>,
 }
 
+/// What the tessellated programmed path was made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct MeshKey {
+    plane: usize,
+    view: [f64; 3],
+    rect: [f32; 4],
+    version: u64,
+    ppp: f32,
+}
+
+/// Trail points per frozen chunk of the executed path's drawing.
+const TRAIL_CHUNK: usize = 256;
+
+/// The executed path tessellated in chunks for one view and one trail epoch.
+#[derive(Default)]
+struct TrailMesh {
+    key: Option<(usize, [f64; 3], [f32; 4], f32, u64)>,
+    chunks: Vec<Arc<Mesh>>,
+    /// Points `0..=frozen_to` are in `chunks` (0 when there are none).
+    frozen_to: usize,
+}
+
+/// A drawn stretch of path in half-pixel steps, the same whichever way it is travelled.
+fn seg_key(kind: PathKind, a: Pos2, b: Pos2) -> (PathKind, [i32; 4]) {
+    let q = |v: f32| (v * 2.0).round() as i32;
+    let (a, b) = ([q(a.x), q(a.y)], [q(b.x), q(b.y)]);
+    let (lo, hi) = if a <= b { (a, b) } else { (b, a) };
+    (kind, [lo[0], lo[1], hi[0], hi[1]])
+}
+
 /// What a backplot translation needs: program text, magazine, settings, start (pulses).
 type Request = (String, Magazine, MachineSettings, [i64; 3]);
 
@@ -55,6 +86,12 @@ pub struct PlotState {
     program_key: Option<u64>,
     job: Option<Job>,
     queued: Option<Request>,
+    /// Bumped when the programmed path changes.
+    path_version: u64,
+    /// The programmed path tessellated for one view.
+    mesh: Option<(MeshKey, Arc<Mesh>)>,
+    /// The executed path's frozen chunks tessellated for one view.
+    trail_mesh: TrailMesh,
     /// The executed path.
     trail: Trail,
     trail_bounds: Option<Bounds>,
@@ -94,6 +131,9 @@ impl PlotState {
             program_key: None,
             job: None,
             queued: None,
+            path_version: 0,
+            mesh: None,
+            trail_mesh: TrailMesh::default(),
             trail: Trail::new(),
             trail_bounds: None,
         }
@@ -181,6 +221,7 @@ impl PlotState {
             a
         });
         self.backplot = bp;
+        self.path_version += 1;
         self.auto_fit = [true; 2];
     }
 
@@ -211,6 +252,83 @@ impl PlotState {
             b.include(bb.max);
         }
         ViewTransform::fit(plane.project(b.min), plane.project(b.max), size, 24.0)
+    }
+
+    /// The programmed path as shapes for this view: pieces wholly outside the plot skipped,
+    /// consecutive pieces of one kind joined into one line, points closer than half a pixel
+    /// to the last one dropped, plunges into the plane drawn as rings.
+    fn path_shapes(&self, rect: Rect, xf: &ViewTransform, plane: Plane) -> Vec<Shape> {
+        let c = rect.center();
+        let to_px = |p: &[f64; 3]| -> Pos2 {
+            let s = xf.to_screen(plane.project(*p));
+            pos2(c.x + s[0] as f32, c.y + s[1] as f32)
+        };
+        let lo = xf.to_plane([(rect.min.x - c.x) as f64, (rect.max.y - c.y) as f64]);
+        let hi = xf.to_plane([(rect.max.x - c.x) as f64, (rect.min.y - c.y) as f64]);
+        let mut shapes = Vec::new();
+        let mut run: Option<(PathKind, Vec<Pos2>)> = None;
+        let mut seen = std::collections::HashSet::new();
+        let flush = |run: &mut Option<(PathKind, Vec<Pos2>)>, shapes: &mut Vec<Shape>| {
+            if let Some((kind, px)) = run.take() {
+                if px.len() < 2 {
+                    return;
+                }
+                match kind {
+                    PathKind::Rapid => {
+                        shapes.extend(Shape::dashed_line(&px, Stroke::new(1.0, RAPID), 6.0, 4.0))
+                    }
+                    PathKind::Feed => shapes.push(Shape::line(px, Stroke::new(1.5, FEED))),
+                    PathKind::Arc => shapes.push(Shape::line(px, Stroke::new(1.5, ARC))),
+                }
+            }
+        };
+        for piece in &self.pieces {
+            let (bmin, bmax) = (
+                plane.project(piece.bounds.min),
+                plane.project(piece.bounds.max),
+            );
+            if bmax[0] < lo[0] || bmin[0] > hi[0] || bmax[1] < lo[1] || bmin[1] > hi[1] {
+                flush(&mut run, &mut shapes);
+                continue;
+            }
+            let (pmin, pmax) = (to_px(&piece.bounds.min), to_px(&piece.bounds.max));
+            let plunge = (pmax.x - pmin.x).abs() < 1.0 && (pmax.y - pmin.y).abs() < 1.0;
+            if plunge && piece.kind != PathKind::Rapid {
+                flush(&mut run, &mut shapes);
+                shapes.push(Shape::circle_stroke(
+                    to_px(&piece.points[0]),
+                    4.0,
+                    Stroke::new(1.5, FEED),
+                ));
+                continue;
+            }
+            let first = to_px(&piece.points[0]);
+            let joins = matches!(&run, Some((k, px)) if *k == piece.kind
+                && px.last().is_some_and(|l| l.distance(first) < 0.5));
+            if !joins {
+                flush(&mut run, &mut shapes);
+                run = Some((piece.kind, vec![first]));
+            }
+            let n = piece.points.len();
+            let mut last = first;
+            for (i, p) in piece.points.iter().enumerate().skip(1) {
+                let q = to_px(p);
+                if last.distance(q) < 0.5 && i + 1 < n {
+                    continue;
+                }
+                // A stretch already drawn (another pass over the same place, e.g. the same
+                // contour at the next depth seen from above) is not drawn again.
+                if !seen.insert(seg_key(piece.kind, last, q)) {
+                    flush(&mut run, &mut shapes);
+                    run = Some((piece.kind, vec![q]));
+                } else if let Some((_, px)) = &mut run {
+                    px.push(q);
+                }
+                last = q;
+            }
+        }
+        flush(&mut run, &mut shapes);
+        shapes
     }
 
     /// Draws the plot in the space left in `ui`, handling zoom and pan. `scroll` is this
@@ -277,42 +395,63 @@ impl PlotState {
         };
         let painter = painter.with_clip_rect(rect);
         draw_grid(&painter, rect, &xf, plane);
-        // The part of the plane in view, to skip pieces wholly outside it.
-        let lo = xf.to_plane([(rect.min.x - c.x) as f64, (rect.max.y - c.y) as f64]);
-        let hi = xf.to_plane([(rect.max.x - c.x) as f64, (rect.min.y - c.y) as f64]);
-        for piece in &self.pieces {
-            let (bmin, bmax) = (
-                plane.project(piece.bounds.min),
-                plane.project(piece.bounds.max),
-            );
-            if bmax[0] < lo[0] || bmin[0] > hi[0] || bmax[1] < lo[1] || bmin[1] > hi[1] {
-                continue;
+        // The programmed path changes only with the program or the view: it is tessellated
+        // once into a mesh and that mesh is drawn again each frame.
+        let key = MeshKey {
+            plane: pi,
+            view: [xf.center[0], xf.center[1], xf.scale],
+            rect: [rect.min.x, rect.min.y, rect.max.x, rect.max.y],
+            version: self.path_version,
+            ppp: ui.ctx().pixels_per_point(),
+        };
+        let mesh = match &self.mesh {
+            Some((k, m)) if *k == key => m.clone(),
+            _ => {
+                let opts = ui.ctx().tessellation_options(|o| *o);
+                let mut tess = Tessellator::new(key.ppp, opts, [1, 1], Vec::new());
+                tess.set_clip_rect(rect);
+                let mut mesh = Mesh::default();
+                for shape in self.path_shapes(rect, &xf, plane) {
+                    tess.tessellate_shape(shape, &mut mesh);
+                }
+                let m = Arc::new(mesh);
+                self.mesh = Some((key, m.clone()));
+                m
             }
-            let kind = &piece.kind;
-            let px: Vec<Pos2> = piece.points.iter().map(to_px).collect();
-            // A cut straight into the plane (a drill plunge seen from above) is a ring.
-            let span = px
-                .iter()
-                .fold(Rect::NOTHING, |r, p| r.union(Rect::from_pos(*p)));
-            if *kind != PathKind::Rapid && span.width() < 1.0 && span.height() < 1.0 {
-                painter.circle_stroke(span.center(), 4.0, Stroke::new(1.5, FEED));
-                continue;
-            }
-            match kind {
-                PathKind::Rapid => {
-                    painter.extend(Shape::dashed_line(&px, Stroke::new(1.0, RAPID), 6.0, 4.0))
-                }
-                PathKind::Feed => {
-                    painter.add(Shape::line(px, Stroke::new(1.5, FEED)));
-                }
-                PathKind::Arc => {
-                    painter.add(Shape::line(px, Stroke::new(1.5, ARC)));
-                }
+        };
+        painter.add(Shape::mesh(mesh));
+        // The executed path: frozen chunks tessellated once (for this view), the live tail
+        // drawn each frame.
+        let tkey = (key.plane, key.view, key.rect, key.ppp, self.trail.epoch());
+        if self.trail_mesh.key != Some(tkey) {
+            self.trail_mesh = TrailMesh {
+                key: Some(tkey),
+                ..TrailMesh::default()
             };
         }
-        let trail: Vec<Pos2> = self.trail.points().iter().map(to_px).collect();
-        if trail.len() >= 2 {
-            painter.add(Shape::line(trail, Stroke::new(3.0, EXECUTED)));
+        let pts = self.trail.points();
+        // Every point but the last is final; freeze whole chunks of them.
+        while pts.len() >= self.trail_mesh.frozen_to + TRAIL_CHUNK + 2 {
+            let from = self.trail_mesh.frozen_to;
+            let to = from + TRAIL_CHUNK;
+            let line: Vec<Pos2> = pts[from..=to].iter().map(to_px).collect();
+            let opts = ui.ctx().tessellation_options(|o| *o);
+            let mut tess = Tessellator::new(key.ppp, opts, [1, 1], Vec::new());
+            tess.set_clip_rect(rect);
+            let mut mesh = Mesh::default();
+            tess.tessellate_shape(Shape::line(line, Stroke::new(3.0, EXECUTED)), &mut mesh);
+            self.trail_mesh.chunks.push(Arc::new(mesh));
+            self.trail_mesh.frozen_to = to;
+        }
+        for m in &self.trail_mesh.chunks {
+            painter.add(Shape::mesh(m.clone()));
+        }
+        let tail: Vec<Pos2> = pts[self.trail_mesh.frozen_to.min(pts.len())..]
+            .iter()
+            .map(to_px)
+            .collect();
+        if tail.len() >= 2 {
+            painter.add(Shape::line(tail, Stroke::new(3.0, EXECUTED)));
         }
         let t = to_px(&tool);
         painter.circle_stroke(t, 6.0, Stroke::new(2.0, TOOL));
