@@ -54,7 +54,8 @@ const TRAIL_CHUNK: usize = 256;
 /// The executed path tessellated in chunks for one view and one trail epoch.
 #[derive(Default)]
 struct TrailMesh {
-    key: Option<(usize, [f64; 3], [f32; 4], f32, u64)>,
+    /// The view (and path version) and the trail epoch the chunks were made for.
+    key: Option<(MeshKey, u64)>,
     chunks: Vec<Arc<Mesh>>,
     /// Points `0..=frozen_to` are in `chunks` (0 when there are none).
     frozen_to: usize,
@@ -422,7 +423,7 @@ impl PlotState {
         painter.add(Shape::mesh(mesh));
         // The executed path: frozen chunks tessellated once (for this view), the live tail
         // drawn each frame.
-        let tkey = (key.plane, key.view, key.rect, key.ppp, self.trail.epoch());
+        let tkey = (key, self.trail.epoch());
         if self.trail_mesh.key != Some(tkey) {
             self.trail_mesh = TrailMesh {
                 key: Some(tkey),
