@@ -3,10 +3,12 @@
 //! pulse core keeps meanwhile, compared with the same console run for the same wall time with
 //! no window. Prints its figures; needs Xvfb (skips with a message without it).
 //!
+//! Two programs: Table B, and a generated 60,000-block milling program (a heavy backplot).
+//!
 //! `cargo bench --features window --bench window` (frames: NOVANC_BENCH_FRAMES, default 600).
 
 use novanc::console::{config_from_args, Console};
-use novanc::panel_model::{OpMode, PanelEvent};
+use novanc::panel_model::PanelEvent;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -58,14 +60,18 @@ fn field(line: &str, key: &str) -> Option<f64> {
     w.get(i + 1)?.trim_start_matches('(').parse().ok()
 }
 
-/// The same console with no window: AUTO, START, ticked at 60 Hz for `wall`.
-/// Returns (machine seconds, pulses).
-fn headless(state: &Path, wall: Duration) -> Result<(f64, u64), String> {
+/// The same console with no window: the same panel events (a `wait` waits for the machine),
+/// then ticked at 60 Hz for `wall`. Returns (machine seconds, pulses).
+fn headless(state: &Path, events: &[PanelEvent], wall: Duration) -> Result<(f64, u64), String> {
     let args = vec!["--state".to_string(), state.display().to_string()];
     let (cfg, _) = config_from_args(&args)?;
     let (mut c, _) = Console::open(cfg)?;
-    c.handle(PanelEvent::Op(OpMode::Auto));
-    c.handle(PanelEvent::Start);
+    for ev in events {
+        match ev {
+            PanelEvent::Wait => c.wait_idle(),
+            e => c.handle(e.clone()),
+        }
+    }
     let t0 = Instant::now();
     let m0 = c.view().machine_ns;
     let (mut pulses, mut last) = (0u64, 0u64);
@@ -81,28 +87,39 @@ fn headless(state: &Path, wall: Duration) -> Result<(f64, u64), String> {
     Ok((machine, pulses))
 }
 
-fn main() {
-    let frames: u64 = std::env::var("NOVANC_BENCH_FRAMES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(600);
-    let Some(x) = start_xvfb() else {
-        println!("window bench: SKIPPED, Xvfb is not installed (apt-get install xvfb)");
-        return;
-    };
-    let dir = scratch("win");
-    let script = dir.join("auto.txt");
-    if std::fs::write(&script, "op AUTO\nstart\n").is_err() {
-        println!("window bench: cannot write {}", script.display());
+/// A milling program of about 60,000 blocks: 300 passes round a 200-point contour.
+fn big_program() -> String {
+    let mut s = String::from("DA1 = (100, 100, -450)\n");
+    for i in 1..=200 {
+        let a = i as f64 * std::f64::consts::TAU / 200.0;
+        s += &format!(
+            "P{i} = ({:.3}, {:.3})\n",
+            200.0 + 150.0 * a.cos(),
+            200.0 + 150.0 * a.sin()
+        );
+    }
+    let pts: Vec<String> = (1..=200).map(|i| format!("P{i}")).collect();
+    for k in 0..300 {
+        s += &format!("MIL, 402/DP{}/DA1, {}\n", 1 + k % 5, pts.join(", "));
+    }
+    s
+}
+
+/// Runs one scenario: the window, then the console without it for the same wall time.
+fn scenario(title: &str, display: &str, script: &str, frames: u64) {
+    let dir = scratch(title.split_whitespace().next().unwrap_or("x"));
+    let path = dir.join("script.txt");
+    if std::fs::write(&path, script).is_err() {
+        println!("window bench: cannot write {}", path.display());
         return;
     }
     let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .args(["--window", "--size", "1400x860", "--state"])
         .arg(dir.join("state"))
         .arg("--script")
-        .arg(&script)
+        .arg(&path)
         .args(["--bench-frames", &frames.to_string()])
-        .env("DISPLAY", &x.1)
+        .env("DISPLAY", display)
         .env_remove("WAYLAND_DISPLAY")
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
         .output();
@@ -122,26 +139,67 @@ fn main() {
         );
         return;
     };
-    println!("window (Xvfb, llvmpipe, 1400x860, Table B in AUTO, real time):\n  {line}");
+    println!("{title}\n  window (Xvfb, llvmpipe, 1400x860):\n    {line}");
     let wall = field(line, "wall").unwrap_or(10.0);
     let win_pulses = field(line, "pulses").unwrap_or(0.0);
+    let events = match PanelEvent::parse_script(script) {
+        Ok(e) => e,
+        Err(e) => {
+            println!("window bench: bad script: {e}");
+            return;
+        }
+    };
     match headless(
-        &scratch("nowin").join("state"),
+        &dir.join("state-nowin"),
+        &events,
         Duration::from_secs_f64(wall),
     ) {
         Ok((machine, pulses)) => {
             println!(
-                "no window (same program, same {wall:.2} s of wall time):\n  machine {machine:.2} s (machine/wall {:.3}); pulses {pulses} ({:.0} pulses/s)",
+                "  no window (same events, same {wall:.2} s of wall time):\n    machine {machine:.2} s (machine/wall {:.3}); pulses {pulses} ({:.0} pulses/s)",
                 machine / wall,
                 pulses as f64 / wall
             );
             if pulses > 0 {
                 println!(
-                    "pulse rate with the window / without: {:.3}",
+                    "  pulse rate with the window / without: {:.3}",
                     win_pulses / pulses as f64
                 );
             }
         }
-        Err(e) => println!("no-window run failed: {e}"),
+        Err(e) => println!("  no-window run failed: {e}"),
     }
+}
+
+fn main() {
+    let frames: u64 = std::env::var("NOVANC_BENCH_FRAMES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(600);
+    let Some(x) = start_xvfb() else {
+        println!("window bench: SKIPPED, Xvfb is not installed (apt-get install xvfb)");
+        return;
+    };
+    scenario(
+        "Table B in AUTO, real time",
+        &x.1,
+        "op AUTO\nstart\n",
+        frames,
+    );
+    let dir = scratch("bigprog");
+    let prog = dir.join("big.ap");
+    if std::fs::write(&prog, big_program()).is_err() {
+        println!("window bench: cannot write {}", prog.display());
+        return;
+    }
+    let script = format!(
+        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\n",
+        prog.display()
+    );
+    scenario(
+        "A 60,000-block milling program (300 passes of a 200-point contour) in AUTO, real time",
+        &x.1,
+        &script,
+        frames,
+    );
 }
