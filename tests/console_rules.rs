@@ -274,3 +274,31 @@ fn a_random_session_never_corrupts_the_display_or_edits_outside_data_input() {
     c.handle(E::Reset);
     c.wait_idle();
 }
+
+/// Z axis position after the first four blocks of Table B in single block (tool T01 changed,
+/// rapid to the first hole, spindle on, rapid down): axis Z = tip Z + set length.
+fn z_after_four_blocks(c: &mut Console) -> i64 {
+    c.handle(E::Op(OpMode::Single));
+    for _ in 0..4 {
+        c.handle(E::Start);
+        c.wait_idle();
+    }
+    assert_eq!(c.status().blocks_done, 4);
+    c.status().pos[2]
+}
+
+#[test]
+fn a_tool_revision_changes_the_next_run_not_the_program() {
+    let mut plain = open("rev-a");
+    let z0 = z_after_four_blocks(&mut plain);
+    let mut c = open("rev-b");
+    let program = c.program_text();
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::ToolRevise));
+    // T01 is the boring bar 00610: set length 220 → 225.
+    c.handle(E::Type("C220$225".into()));
+    assert!(c.frame_text().contains("ok"), "{}", c.frame_text());
+    let z1 = z_after_four_blocks(&mut c);
+    assert_eq!(z1 - z0, 5000, "Z carries the set length");
+    assert_eq!(c.program_text(), program);
+}

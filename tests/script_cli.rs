@@ -78,6 +78,8 @@ fn frames_are_deterministic_and_recorded() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("3 panel events"), "{err}");
         let bytes = std::fs::read(&rec).unwrap();
         assert!(bytes.starts_with(b"\x89MCAP0\r\n"), "not an MCAP file");
         frames.push(String::from_utf8_lossy(&out.stdout).into_owned());

@@ -95,3 +95,8 @@ fn search() {
 fn bad_keys() {
     check("bad_keys");
 }
+
+#[test]
+fn program_read() {
+    check("program_read");
+}

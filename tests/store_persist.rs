@@ -265,3 +265,42 @@ fn program_memory_refusals_change_nothing() {
     s.program_read("tableb", "CL\r").unwrap();
     assert_eq!(text(&s, Target::Program), "CL\n");
 }
+
+#[test]
+fn deleting_programs() {
+    let d = fresh("delete");
+    let (mut s, _) = open(&d);
+    assert_eq!(
+        s.delete_program("TABLEB").unwrap_err().message,
+        "TABLEB is the only program; program memory keeps at least one"
+    );
+    assert_eq!(
+        s.delete_program("NOPE").unwrap_err().message,
+        "no program NOPE in program memory"
+    );
+    assert_eq!(text(&s, Target::Program), TABLEB);
+    s.program_read("A1", "CL\n").unwrap();
+    s.delete_program("a1").unwrap();
+    assert_eq!(s.current_program(), "TABLEB");
+    s.program_read("A2", "CL\n").unwrap();
+    s.delete_program("TABLEB").unwrap();
+    drop(s);
+    let (s, _) = open(&d);
+    assert_eq!(s.program_names(), ["A2"]);
+    assert_eq!(s.current_program(), "A2");
+}
+
+#[test]
+fn the_mdi_buffer_can_be_cleared_and_names_are_normalised() {
+    let d = fresh("mdi-clear");
+    let (mut s, _) = open(&d);
+    s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
+    s.clear_mdi().unwrap();
+    s.program_read("two", "CL\n").unwrap();
+    s.select_program("  tableb ").unwrap();
+    drop(s);
+    let (s, w) = open(&d);
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(text(&s, Target::Mdi), "");
+    assert_eq!(s.current_program(), "TABLEB");
+}

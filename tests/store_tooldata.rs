@@ -266,7 +266,7 @@ fn bad_tool_file_revisions_change_nothing() {
     refused(
         "rev-add",
         revise("-99LIT00*"),
-        "line 1 must start with T01 (found 'T00'); lines cannot be renumbered or reordered",
+        "command 2 'IT00*': the tool file has one line per T code (T01 to T24); a line cannot be added",
     );
     refused(
         "rev-remove",
@@ -274,6 +274,11 @@ fn bad_tool_file_revisions_change_nothing() {
         "line 3 must start with T03 (found 'T04')",
     );
     refused("rev-last", revise("99LIT25*"), "a line cannot be added");
+    refused(
+        "rev-swap",
+        revise("-9LKLIT01*"),
+        "line 1 must start with T01 (found 'T02'); lines cannot be renumbered or reordered",
+    );
     refused(
         "rev-join",
         revise("S*$-1D"),
@@ -321,4 +326,112 @@ fn a_tool_file_revision_reaches_the_translator_and_survives() {
     check(&s);
     drop(s);
     check(&open(&d));
+}
+
+fn tcode_file(text: &'static str) -> impl FnOnce(&mut Stores) -> String {
+    move |s| match s.tcode_read(text, "m.tc") {
+        Ok(()) => "accepted".to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bad_tcode_files_change_nothing() {
+    refused(
+        "tf-dup",
+        tcode_file("T01 00106\n# c\nT02 00106\n"),
+        "m.tc:3: tool 00106 is already in T01",
+    );
+    refused(
+        "tf-twice",
+        tcode_file("T01 00106\nT01 00107\n"),
+        "m.tc:2: T01 is assigned twice",
+    );
+    refused(
+        "tf-pocket",
+        tcode_file("T25 00106\n"),
+        "m.tc:1: T25 is not a pocket (the magazine has T01 to T24)",
+    );
+    refused(
+        "tf-form",
+        tcode_file("T01 00106 DR\n"),
+        "m.tc:1: expected 'Tnn TOOLNO', found 'T01 00106 DR'",
+    );
+    refused(
+        "tf-tcode",
+        tcode_file("X01 00106\n"),
+        "m.tc:1: 'X01' is not a T code like T05",
+    );
+    refused(
+        "tf-tool",
+        tcode_file("T01 1234567\n"),
+        "m.tc:1: '1234567' is not a tool number of 1 to 5 digits",
+    );
+}
+
+#[test]
+fn a_tcode_file_replaces_the_table_and_keeps_unchanged_pockets_data() {
+    let d = fresh("tcfile");
+    let mut s = open(&d);
+    s.tcode_read("T01 00610 ; same\nT02 00107\nT05 00999\n", "m.tc")
+        .unwrap();
+    let check = |s: &Stores| {
+        let m = s.magazine();
+        assert_eq!(m.tcodes.iter().count(), 3);
+        assert_eq!(m.find(610).unwrap().1.diameter, 40.0);
+        assert!(matches!(m.find(107), Err(ToolLookupError::NoData { .. })));
+        assert!(matches!(
+            m.find(106),
+            Err(ToolLookupError::NotInMagazine(106))
+        ));
+        let text = s.buffer(Target::ToolFile).text();
+        assert_eq!(text.lines().nth(1), Some("T02 00107"));
+        assert_eq!(text.lines().nth(2), Some("T03"));
+    };
+    check(&s);
+    drop(s);
+    check(&open(&d));
+}
+
+#[test]
+fn moving_a_tool_keeps_its_data_in_one_change() {
+    let d = fresh("move");
+    let mut s = open(&d);
+    s.move_tool(106, 22).unwrap(); // from T02, into an empty pocket
+    s.move_tool(610, 3).unwrap(); // from T01 onto T03's 00208, which leaves the magazine
+    s.move_tool(777, 1).unwrap(); // a tool from nowhere: assigned, no data
+    let check = |s: &Stores| {
+        let m = s.magazine();
+        let (t, r) = m.find(106).unwrap();
+        assert_eq!((t, r.diameter), (22, 6.2));
+        assert_eq!(m.find(610).unwrap().0, 3);
+        assert!(matches!(
+            m.find(208),
+            Err(ToolLookupError::NotInMagazine(208))
+        ));
+        assert!(matches!(
+            m.find(777),
+            Err(ToolLookupError::NoData { tcode: 1, .. })
+        ));
+        assert_eq!(m.tcodes.tool_in(2), None);
+    };
+    check(&s);
+    drop(s);
+    check(&open(&d));
+}
+
+#[test]
+fn bad_moves_change_nothing() {
+    let mv = |tool: u32, t: u32| {
+        move |s: &mut Stores| match s.move_tool(tool, t) {
+            Ok(()) => "accepted".to_string(),
+            Err(e) => e,
+        }
+    };
+    refused(
+        "mv-pocket",
+        mv(106, 25),
+        "T25 is not a pocket (the magazine has T01 to T24)",
+    );
+    refused("mv-number", mv(0, 21), "tool number 0 is not 1 to 5 digits");
 }

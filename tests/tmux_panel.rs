@@ -169,6 +169,19 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     t.run(&["resize-window", "-t", "0", "-x", "80", "-y", "24"]);
     t.wait_for(&["PLASMA DISPLAY 14", "T02 00106  DR      6.2    155▌"], 10);
 
+    // STEP: one press, one 0.1 mm increment; HANDLE x100: one detent, 0.1 mm.
+    t.keys(&["M-6"]);
+    t.wait_for(&["◉━6 STEP"], 10);
+    t.keys(&["Right"]);
+    t.wait_for(&["X    350.100"], 10);
+    t.keys(&["M-5"]);
+    t.wait_for(&["◉━5 HANDLE"], 10);
+    t.keys(&["M-w"]);
+    t.keys(&["M-w"]);
+    t.wait_for(&["HANDWHEEL X x100"], 10);
+    t.keys(&["Up"]);
+    t.wait_for(&["Y    130.100"], 10);
+
     // Help and back.
     t.keys(&["F8"]);
     t.wait_for(&["novanc terminal panel: keys"], 10);
@@ -230,5 +243,48 @@ fn sigterm_hands_the_terminal_back() {
     let after = wait_file(&d.join("after"), 10);
     let before = std::fs::read_to_string(d.join("before")).unwrap();
     assert_eq!(before, after, "stty -a changed");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_panic_hands_the_terminal_back() {
+    if !have_tmux() {
+        if std::env::var("CI").as_deref() == Ok("true") {
+            panic!("tmux is required in CI (install it in .ci/run)");
+        }
+        eprintln!("SKIPPED: tmux is not installed; the panic test did not run");
+        return;
+    }
+    let d = temp_dir();
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let cmd = format!(
+        "stty -a > '{d}/before'; NOVANC_TEST_PANIC=1 '{exe}' --state '{d}/state' 2> '{d}/stderr'; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
+        d = d.display()
+    );
+    let t = Tmux {
+        socket: format!("novanc-panic-{}", std::process::id()),
+    };
+    t.run(&[
+        "-f",
+        "/dev/null",
+        "new-session",
+        "-d",
+        "-x",
+        "80",
+        "-y",
+        "24",
+        "sh",
+        "-c",
+        &cmd,
+    ]);
+    let exit = wait_file(&d.join("exit"), 20);
+    assert_eq!(exit.trim(), "exit=101");
+    let stderr = std::fs::read_to_string(d.join("stderr")).unwrap();
+    assert!(stderr.contains("NOVANC_TEST_PANIC"), "{stderr}");
+    let after = wait_file(&d.join("after"), 10);
+    let before = std::fs::read_to_string(d.join("before")).unwrap();
+    assert_eq!(before, after, "stty -a changed");
+    let s = t.screen();
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
     let _ = std::fs::remove_dir_all(&d);
 }

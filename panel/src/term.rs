@@ -96,6 +96,8 @@ impl Terminal {
             let prev = std::panic::take_hook();
             std::panic::set_hook(Box::new(move |info| {
                 restore_terminal();
+                // A panic in any thread ends the panel loop too (exit 128 + SIGABRT).
+                TERMINATE.store(libc::SIGABRT, Ordering::SeqCst);
                 prev(info);
             }));
         });

@@ -228,8 +228,18 @@ impl Console {
     /// Polls the status, keeps the run bookkeeping, recomposes the display and records it.
     fn refresh(&mut self) {
         self.status = self.core.status();
-        if self.status.run == 0 && !self.status.moving && self.status.program_end {
-            self.loaded = None;
+        // A finished run (the loaded program taken up to its end) is no longer held.
+        if self.status.run == 0
+            && !self.status.moving
+            && self.status.program_end
+            && self.loaded.take().is_some()
+            && self.status.alarm.is_none()
+        {
+            self.message = format!(
+                "program end: {} blocks in {:.1} s",
+                self.status.blocks_done,
+                self.status.machine_ns as f64 / 1e9
+            );
         }
         if let Some(a) = &self.status.alarm {
             if self.alarm.as_ref() != Some(a) {

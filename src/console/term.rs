@@ -122,6 +122,8 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
     let mut help = false;
     let mut jog: Option<(Axis, i8, Instant)> = None;
     let need = panel_size(console.config().rows, console.config().cols);
+    // Test hook: proves that a panic hands the terminal back (tests/tmux_panel.rs).
+    let panic_requested = std::env::var_os("NOVANC_TEST_PANIC").is_some();
     loop {
         if let Some(sig) = term.terminate_requested() {
             return (128 + sig, console);
@@ -200,6 +202,9 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
         renderer.render(&screen, &mut out);
         if !out.is_empty() && term.write_all(&out).is_err() {
             return (1, console);
+        }
+        if panic_requested && !out.is_empty() {
+            panic!("NOVANC_TEST_PANIC: a panic after the first frame, as requested");
         }
     }
 }

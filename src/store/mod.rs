@@ -13,7 +13,7 @@ pub mod toolfile;
 pub use fsutil::write_atomic;
 pub use state::{program_name, TABLEB};
 
-use crate::tooldata::{parse_tape, Magazine, TapeError};
+use crate::tooldata::{parse_tape, parse_tcodes, Magazine, TapeError};
 use fsutil::DirLock;
 use journal::Journal;
 use novanc_editor::{Buffer, EditError, Outcome};
@@ -245,8 +245,13 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
-        std::fs::create_dir_all(dir)
-            .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+        if !dir.is_dir() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+            if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
+                let _ = fsutil::fsync_dir(parent);
+            }
+        }
         let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
@@ -349,7 +354,8 @@ impl Stores {
 
     /// SEARCH: makes another program current (names are case-insensitive).
     pub fn select_program(&mut self, name: &str) -> Result<(), StoreError> {
-        self.commit(Record::Select(name.to_string()), None)
+        let n = program_name(name).map_err(serr)?;
+        self.commit(Record::Select(n), None)
             .map(|_| ())
             .map_err(to_store)
     }
@@ -466,6 +472,44 @@ impl Stores {
                 None => Err(format!("tool {tool:05} is in no T code")),
             },
         }
+    }
+
+    /// T-CODE SETTING from a T-code table file (`Tnn TOOLNO` lines): replaces the whole table.
+    /// Pockets whose tool changes lose their tool data. A bad file changes nothing.
+    pub fn tcode_read(&mut self, text: &str, file_name: &str) -> Result<(), TapeError> {
+        parse_tcodes(text, file_name, self.capacity)?;
+        self.commit(Record::TCodes(text.to_string()), None)
+            .map(|_| ())
+            .map_err(|e| TapeError {
+                file: file_name.to_string(),
+                line: 0,
+                message: format!("the T-code table was not changed: {e}"),
+            })
+    }
+
+    /// Deletes a program from program memory (not the last one). If it was current, the
+    /// first remaining program (by name) becomes current.
+    pub fn delete_program(&mut self, name: &str) -> Result<(), StoreError> {
+        let n = program_name(name).map_err(serr)?;
+        self.commit(Record::Delete(n), None)
+            .map(|_| ())
+            .map_err(to_store)
+    }
+
+    /// Empties the MDI buffer (for example after its blocks ran).
+    pub fn clear_mdi(&mut self) -> Result<(), StoreError> {
+        self.commit(Record::ClearMdi, None)
+            .map(|_| ())
+            .map_err(to_store)
+    }
+
+    /// T-CODE SETTING by tool number, as one change: moves `tool` into pocket `t` together with
+    /// its tool data, out of the pocket that held it (if any). A tool that was in pocket `t`
+    /// leaves the magazine (its data with it).
+    pub fn move_tool(&mut self, tool: u32, t: u32) -> Result<(), String> {
+        self.commit(Record::Move { tool, t }, None)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
     }
 
     /// The magazine (T-code table and tool file) the translator gets.

@@ -37,6 +37,19 @@ pub enum Record {
     },
     /// TOOL DATA READ: the tool file replaced (tool-file text).
     ToolFile(String),
+    /// A T-code table file read: the whole table replaced (T-code table text).
+    TCodes(String),
+    /// A program deleted from program memory.
+    Delete(String),
+    /// The MDI buffer emptied.
+    ClearMdi,
+    /// T-CODE SETTING by tool: a tool moved to a pocket, with its data, out of any other.
+    Move {
+        /// The tool number.
+        tool: u32,
+        /// The pocket it goes to.
+        t: u32,
+    },
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -59,6 +72,10 @@ impl Record {
             Record::NewProgram(n) => format!("new {n}"),
             Record::ProgramRead { name, text } => format!("read {name}\n{text}"),
             Record::ToolFile(text) => format!("tools\n{text}"),
+            Record::TCodes(text) => format!("tcodes\n{text}"),
+            Record::Delete(n) => format!("delete {n}"),
+            Record::ClearMdi => "clear M".to_string(),
+            Record::Move { tool, t } => format!("move {tool} {t}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
         }
@@ -95,6 +112,13 @@ impl Record {
                 text: body_of(body)?,
             },
             ["tools"] => Record::ToolFile(body_of(body)?),
+            ["tcodes"] => Record::TCodes(body_of(body)?),
+            ["delete", n] => Record::Delete(n.to_string()),
+            ["clear", "M"] => Record::ClearMdi,
+            ["move", n, t] => Record::Move {
+                tool: n.parse().map_err(|_| format!("bad tool in '{head}'"))?,
+                t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
+            },
             ["tcode", t, n] => Record::TCode {
                 t: t.parse().map_err(|_| format!("bad T code in '{head}'"))?,
                 tool: match *n {
@@ -134,6 +158,9 @@ mod tests {
                 text: "P1 = (1, 2)\nDRL\n".into(),
             },
             Record::ToolFile("T01\nT02\n".into()),
+            Record::TCodes("T01 00106\n".into()),
+            Record::Delete("OLD".into()),
+            Record::ClearMdi,
             Record::TCode {
                 t: 5,
                 tool: Some(106),

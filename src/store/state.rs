@@ -64,24 +64,9 @@ pub fn tape_text(text: &str) -> String {
     text.replace("\r\n", "\n").replace('\r', "\n")
 }
 
-/// Moves a fresh buffer's pointer to `p` (clamped to the buffer).
+/// Moves a buffer's pointer to `p` (clamped to the buffer).
 pub fn set_pointer(b: &mut Buffer, p: usize) {
-    let p = p.min(b.len());
-    if p > 0 {
-        let _ = b.execute(&format!("{p}M"), &ExecOptions::default());
-    }
-}
-
-/// The character offset of the start of line `k` (0-based) in `text`, or its end.
-fn line_start(text: &str, k: usize) -> usize {
-    let mut chars = 0;
-    for (i, line) in text.split_inclusive('\n').enumerate() {
-        if i == k {
-            return chars;
-        }
-        chars += line.chars().count();
-    }
-    chars
+    b.set_pointer(p);
 }
 
 impl State {
@@ -122,11 +107,10 @@ impl State {
     /// Rebuilds the tool-file text from the T-code table and tool file, keeping the pointer
     /// at the start of the same line.
     fn refresh_tool_buf(&mut self) {
-        let old = self.tool_buf.slice(0, self.tool_buf.pointer());
-        let line = old.matches('\n').count();
-        let text = tool_text(&self.magazine());
-        let mut b = Buffer::from_text(&text);
-        set_pointer(&mut b, line_start(&text, line));
+        let line = self.tool_buf.line_of(self.tool_buf.pointer());
+        let mut b = Buffer::from_text(&tool_text(&self.magazine()));
+        let start = b.line_start(line);
+        b.set_pointer(start);
         self.tool_buf = b;
     }
 
@@ -234,6 +218,62 @@ impl State {
                 self.tool_buf = Buffer::from_text(text);
                 Ok((Outcome::default(), true))
             }
+            Record::TCodes(text) => {
+                let cap = self.tcodes.capacity();
+                let new = parse_tcodes(text, "T-code table", cap)
+                    .map_err(|e| Refusal::Other(e.to_string()))?;
+                for t in 1..=cap {
+                    if new.tool_in(t) != self.tcodes.tool_in(t) {
+                        self.tools.set(t, None);
+                    }
+                }
+                let changed = new != self.tcodes;
+                self.tcodes = new;
+                self.refresh_tool_buf();
+                Ok((Outcome::default(), changed))
+            }
+            Record::Move { tool, t } => {
+                let old = self.tcodes.tcode_of(*tool);
+                if old == Some(*t) {
+                    return Ok((Outcome::default(), false));
+                }
+                let mut tc = self.tcodes.clone();
+                if let Some(o) = old {
+                    tc.assign(o, None).map_err(Refusal::Other)?;
+                }
+                tc.assign(*t, Some(*tool)).map_err(Refusal::Other)?;
+                let data = old.and_then(|o| self.tools.get(o).cloned());
+                if let Some(o) = old {
+                    self.tools.set(o, None);
+                }
+                self.tools.set(*t, data);
+                self.tcodes = tc;
+                self.refresh_tool_buf();
+                Ok((Outcome::default(), true))
+            }
+            Record::ClearMdi => {
+                let changed = !self.mdi.is_empty();
+                self.mdi = Buffer::new();
+                Ok((Outcome::default(), changed))
+            }
+            Record::Delete(name) => {
+                let n = program_name(name).map_err(Refusal::Other)?;
+                if !self.programs.contains_key(&n) {
+                    return Err(Refusal::Other(format!("no program {n} in program memory")));
+                }
+                if self.programs.len() == 1 {
+                    return Err(Refusal::Other(format!(
+                        "{n} is the only program; program memory keeps at least one"
+                    )));
+                }
+                self.programs.remove(&n);
+                if self.current == n {
+                    if let Some(first) = self.programs.keys().next() {
+                        self.current = first.clone();
+                    }
+                }
+                Ok((Outcome::default(), true))
+            }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));
@@ -243,6 +283,55 @@ impl State {
                 self.refresh_tool_buf();
                 Ok((Outcome::default(), true))
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn program_names_and_tape_text() {
+        assert_eq!(program_name(" part-7.a "), Ok("PART-7.A".to_string()));
+        assert!(program_name("").unwrap_err().contains("1 to 32"));
+        assert!(program_name(&"A".repeat(33))
+            .unwrap_err()
+            .contains("1 to 32"));
+        assert!(program_name("a/b").unwrap_err().contains("'/'"));
+        assert_eq!(tape_text("A\r\nB\rC\n"), "A\nB\nC\n");
+    }
+
+    #[test]
+    fn refused_changes_leave_the_state_alone() {
+        let mut s = State::defaults(24);
+        let tool_text = s.tool_buf.text();
+        let bad = [
+            Record::TCode {
+                t: 3,
+                tool: Some(106),
+            },
+            Record::Move { tool: 106, t: 30 },
+            Record::ToolFile("T01\n".into()),
+            Record::TCodes("T01 1\nT02 1\n".into()),
+            Record::Select("NONE".into()),
+            Record::Delete("TABLEB".into()),
+            Record::Edit {
+                target: EditTarget::Program("NONE".into()),
+                line: "IX".into(),
+            },
+        ];
+        for r in &bad {
+            assert!(s.apply(r, None).is_err(), "{r:?}");
+            assert_eq!(s.tool_buf.text(), tool_text, "{r:?}");
+            assert_eq!(s.magazine(), crate::tooldata::sample_magazine(), "{r:?}");
+            assert_eq!(s.program_names_for_test(), ["TABLEB"]);
+        }
+    }
+
+    impl State {
+        fn program_names_for_test(&self) -> Vec<&str> {
+            self.programs.keys().map(|k| k.as_str()).collect()
         }
     }
 }

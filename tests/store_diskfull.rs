@@ -1,0 +1,92 @@
+//! A journal append that fails (here: the file size limit, as on a full disk) is not an
+//! accepted edit: the operator is told it was not saved, the buffer is as before, and the next
+//! edit that fits is saved normally. Runs in a child process, because the file size limit
+//! applies to the whole process.
+
+use novanc::store::{EditFailure, Stores, Target};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const CHILD_DIR: &str = "NOVANC_DISKFULL_TEST_DIR";
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("store-diskfull")
+}
+
+/// The child: edits under a file size limit just above the journal's length.
+#[test]
+fn child_under_a_size_limit() {
+    let Some(d) = std::env::var_os(CHILD_DIR) else {
+        return;
+    };
+    let d = PathBuf::from(d);
+    let (mut s, _) = Stores::open(&d, 24).unwrap();
+    s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
+    let len = std::fs::metadata(d.join("journal.log")).unwrap().len();
+    // SAFETY: plain libc calls with valid arguments; SIGXFSZ ignored so the write fails with
+    // EFBIG instead of killing the process.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        let lim = libc::rlimit {
+            rlim_cur: len + 60,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
+    }
+    let big = format!("I{}*", "X".repeat(200));
+    let before = (
+        s.buffer(Target::Mdi).text(),
+        s.buffer(Target::Mdi).pointer(),
+    );
+    match s.edit(Target::Mdi, &big, None) {
+        Err(EditFailure::Store(e)) => {
+            assert!(e.message.starts_with("not saved ("), "{e}");
+            assert!(e.message.ends_with("; nothing was changed"), "{e}");
+        }
+        other => panic!("expected a store failure, got {other:?}"),
+    }
+    let after = (
+        s.buffer(Target::Mdi).text(),
+        s.buffer(Target::Mdi).pointer(),
+    );
+    assert_eq!(after, before);
+    // A TOOL DATA READ that does not fit is refused the same way.
+    let e = s
+        .tool_read("00106 DR 9 150 40 1200 120 3\n", "t.tt")
+        .unwrap_err();
+    assert!(
+        e.message
+            .starts_with("the tool file was not changed: not saved"),
+        "{e}"
+    );
+    assert_eq!(s.magazine().find(106).unwrap().1.diameter, 6.2);
+    // A small edit still fits after the failed one (the journal was cut back).
+    s.edit(Target::Mdi, "ICL*", None).unwrap();
+    println!("\nchild done");
+}
+
+#[test]
+fn a_failed_journal_write_is_reported_and_changes_nothing() {
+    let d = dir();
+    let _ = std::fs::remove_dir_all(&d);
+    let out = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "child_under_a_size_limit",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(CHILD_DIR, &d)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("\nchild done"),
+        "child failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (s, w) = Stores::open(&d, 24).unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(s.buffer(Target::Mdi).text(), "GO, 1, 2, 3\nCL\n");
+    assert_eq!(s.magazine().find(106).unwrap().1.diameter, 6.2);
+}
