@@ -126,6 +126,14 @@ fn realtime(seconds: f64) {
     let st = core.wait_idle(Duration::from_secs(600));
     let wall = t.elapsed().as_secs_f64();
     let rt = core.realtime_stats();
+    let late_at: Vec<usize> = rt
+        .lateness_ns
+        .iter()
+        .enumerate()
+        .filter(|(_, &x)| x > 0)
+        .map(|(i, _)| i)
+        .take(10)
+        .collect();
     let mut l = rt.lateness_ns.clone();
     l.sort_unstable();
     let q = |f: f64| {
@@ -147,9 +155,10 @@ fn realtime(seconds: f64) {
         l.len()
     );
     println!(
-        "  queue ran dry: {} ({} slices finished after their start time)",
+        "  queue ran dry: {} ({} slices finished after their start time; first late slices: {:?})",
         if rt.dry > 0 { "yes" } else { "no" },
-        rt.dry
+        rt.dry,
+        late_at
     );
 }
 

@@ -185,3 +185,118 @@ fn real_time_follows_the_wall_clock() {
     let rt = core.realtime_stats();
     assert!(!rt.lateness_ns.is_empty());
 }
+
+#[test]
+fn a_recorder_that_falls_behind_never_holds_up_the_machine() {
+    // real time: a queue of 1 event that nobody reads; the move still takes its real time
+    let (tx, _rx) = std::sync::mpsc::sync_channel(1);
+    let sink = EventSink::new(tx);
+    let core = PulseCore::spawn(
+        MachineSettings::default(),
+        ClockMode::RealTime,
+        Some(sink.clone()),
+    );
+    core.set_position(MID);
+    let stmt = Statement {
+        line: 1,
+        text: "GD, 6, 0, 0".into(),
+        blocks: vec![novanc::nc::testkit::linear(1, MID, [6_000, 0, 0], 1200.0)],
+    };
+    let t0 = std::time::Instant::now();
+    core.load(iter(vec![stmt]));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos[0], MID[0] + 6_000);
+    assert!(t0.elapsed().as_secs_f64() < 2.0);
+    assert!(
+        sink.is_incomplete() && sink.dropped() > 0,
+        "the operator is told"
+    );
+    drop(core);
+
+    // virtual time: a stuck recorder is waited for once (2 s), then the run goes on lossy
+    let (tx, _rx) = std::sync::mpsc::sync_channel(1);
+    let sink = EventSink::new(tx);
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, Some(sink.clone()));
+    core.set_position(MID);
+    let (stmts, end) = program(30, 5);
+    let t0 = std::time::Instant::now();
+    core.load(iter(stmts));
+    core.command(Command::Start(RunKind::Auto));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos, end);
+    assert!(t0.elapsed().as_secs_f64() < 10.0);
+    assert!(sink.is_incomplete());
+}
+
+#[test]
+fn real_time_emergency_stop_stops_the_pulses_within_one_period() {
+    let (tx, rx) = std::sync::mpsc::sync_channel(1 << 20);
+    let sink = EventSink::new(tx);
+    let spawned = std::time::Instant::now();
+    let core = PulseCore::spawn(
+        MachineSettings::default(),
+        ClockMode::RealTime,
+        Some(sink.clone()),
+    );
+    core.set_position(MID);
+    // 100 mm at 6000 mm/min: 100,000 pulses/s, a pulse every 10 µs once at speed
+    let stmt = Statement {
+        line: 1,
+        text: "GD, 100, 0, 0".into(),
+        blocks: vec![novanc::nc::testkit::linear(1, MID, [100_000, 0, 0], 6000.0)],
+    };
+    core.load(iter(vec![stmt]));
+    core.command(Command::Start(RunKind::Auto));
+    std::thread::sleep(Duration::from_millis(400));
+    core.command(Command::EStop);
+    let st = core.wait_idle(WAIT).expect("idle");
+    let returned_ns = spawned.elapsed().as_nanos() as u64;
+    assert!(st.estop);
+    std::thread::sleep(Duration::from_millis(50));
+    let st2 = core.status();
+    drop(core);
+    assert_eq!(st2.pos, st.pos, "nothing moves after the e-stop");
+    let evs: Vec<Event> = rx.try_iter().collect();
+    // the e-stop's own position record is the last one: its time is the e-stop's
+    let (mw, stop_pos) = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Position { t_ns, pulses } => Some((*t_ns, *pulses)),
+            _ => None,
+        })
+        .max_by_key(|p| p.0)
+        .expect("positions");
+    assert_eq!(stop_pos, st.pos);
+    let mut pulses: Vec<u64> = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Pulses { t_ns, .. } => Some(t_ns.clone()),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    pulses.sort_unstable();
+    assert!(pulses.iter().all(|&t| t < mw), "no pulse after the e-stop");
+    let last = pulses.last().copied().unwrap_or(0);
+    assert!(
+        mw - last <= 11_000,
+        "the last pulse is within one period: {} ns",
+        mw - last
+    );
+    assert_eq!(
+        pulses.len() as i64,
+        st.pos[0] - MID[0],
+        "recorded = counted"
+    );
+    assert_eq!(st.pulses[0], pulses.len() as u64);
+    assert!(st.pos[0] < MID[0] + 100_000, "stopped mid-move");
+    // it took effect when it arrived (machine time = wall clock, which started after
+    // `spawned`), not at the end of the slices already queued ahead of the wall clock (5 to
+    // 10 ms later)
+    assert!(
+        mw <= returned_ns,
+        "{mw} is ahead of the wall clock ({returned_ns})"
+    );
+    assert!(!sink.is_incomplete());
+}

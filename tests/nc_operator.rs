@@ -229,6 +229,13 @@ fn jog_continuous_step_and_handle() {
     m.command(Command::Jog { axis: 1, dir: -1 });
     m.advance_to(m.now() + 100 * TICK, &mut src);
     assert!(m.pos()[1] < MID[1]);
+    // a second jog while one moves is refused; the first goes on
+    m.command(Command::Jog { axis: 0, dir: 1 });
+    assert_eq!(m.status().notice.as_deref(), Some("jog in progress"));
+    let y = m.pos()[1];
+    m.advance_to(m.now() + 10 * TICK, &mut src);
+    assert!(m.pos()[1] < y);
+    assert_eq!(m.pos()[0], MID[0]);
     m.command(Command::JogRelease);
     m.run_until_idle(&mut src, HOUR);
     let p = m.pos();

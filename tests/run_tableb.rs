@@ -139,6 +139,7 @@ fn table_b_runs_to_completion_with_a_complete_recording() {
     assert!(stdout.contains("machine time: "), "{stdout}");
     assert!(stdout.contains("final position: X "), "{stdout}");
     assert!(!stdout.contains("INCOMPLETE"), "{stdout}");
+    assert!(stdout.contains("recording complete: yes"), "{stdout}");
     let r = read(&rec);
     assert_eq!(r.blocks.len(), 98);
 

@@ -142,8 +142,9 @@ pub fn main(argv: &[String]) -> i32 {
         return fail("novanc: the pulse core stopped unexpectedly");
     };
     let rec_line = recorder.map(|r| match r.finish() {
-        Ok(sum) => sum.to_string(),
-        Err(e) => format!("RECORDING INCOMPLETE: {e}"),
+        Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
+        Ok(sum) => format!("recording complete: yes\n{sum}"),
+        Err(e) => format!("recording complete: NO\nRECORDING INCOMPLETE: {e}"),
     });
     print!("{}", summary(&status, &settings));
     if let Some(l) = rec_line {

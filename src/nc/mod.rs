@@ -11,6 +11,7 @@
 //! - `source.rs`: the reading side of B1 ([`BlockSource`], [`VecSource`]).
 //! - `b1.rs`: the bounded B1 shared with the translator thread.
 //! - `runner.rs`: [`PulseCore`], the thread around the machine (virtual or real time).
+//! - `realtime.rs`: the real-time step queue (events released at their time; e-stop rollback).
 //!
 //! What the console uses: [`PulseCore::spawn`], [`PulseCore::load`], [`PulseCore::command`],
 //! [`PulseCore::status`] (a cheap snapshot, republished after every NCBR tick),
@@ -25,6 +26,7 @@ mod b1;
 mod machine;
 mod motion;
 mod pulse_out;
+mod realtime;
 mod runner;
 mod source;
 pub mod testkit;

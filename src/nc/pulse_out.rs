@@ -4,6 +4,7 @@
 //! With logging off the cost of a pulse is a counter update and one flag check.
 
 use crate::record::{Event, EventSink};
+use std::cell::Cell;
 
 /// Pulses of one (axis, direction) are sent when a batch reaches this many.
 pub const BATCH: usize = 4096;
@@ -13,9 +14,11 @@ const LOSSLESS_PATIENCE: std::time::Duration = std::time::Duration::from_secs(2)
 
 /// Sends an event to the recording. Lossy (real time): never waits; a full queue drops it
 /// and marks the recording incomplete. Lossless (virtual time, where no wall-clock duty
-/// exists): waits for room, up to `LOSSLESS_PATIENCE`, then drops it as a lossy send would.
-pub fn emit(sink: &EventSink, ev: Event, lossless: bool) {
-    if !lossless {
+/// exists): waits for room, up to `LOSSLESS_PATIENCE`; a recorder that makes no room in that
+/// time is taken as stuck: the event is dropped as a lossy send would, and `lossless` is
+/// switched off for the rest of the run so that the machine is never held up again.
+pub fn emit(sink: &EventSink, ev: Event, lossless: &Cell<bool>) {
+    if !lossless.get() {
         sink.send(ev);
         return;
     }
@@ -28,6 +31,7 @@ pub fn emit(sink: &EventSink, ev: Event, lossless: bool) {
             Err(back) => ev = back,
         }
         if start.elapsed() > LOSSLESS_PATIENCE {
+            lossless.set(false);
             sink.send(ev);
             return;
         }
@@ -52,7 +56,7 @@ pub struct PulseRec {
 }
 
 /// The axis counters and the pulse log.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct PulseOut {
     /// Axis positions, pulses.
     pub pos: [i64; 3],
@@ -63,7 +67,7 @@ pub struct PulseOut {
     capture: Option<Vec<PulseRec>>,
     sink: Option<EventSink>,
     /// Wait for room in the recorder's queue rather than drop (virtual time).
-    pub lossless: bool,
+    pub lossless: Cell<bool>,
 }
 
 impl PulseOut {
@@ -123,7 +127,7 @@ impl PulseOut {
                 dir: if d == 0 { 1 } else { -1 },
                 t_ns,
             };
-            emit(s, ev, self.lossless);
+            emit(s, ev, &self.lossless);
         }
     }
 

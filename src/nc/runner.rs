@@ -13,6 +13,7 @@
 
 use super::b1::{MakeStatements, B1};
 use super::machine::Machine;
+use super::realtime::{apply, Op, StepQueue};
 use super::{ClockMode, Command, Status};
 use crate::record::EventSink;
 use crate::settings::MachineSettings;
@@ -67,9 +68,12 @@ impl PulseCore {
     ) -> PulseCore {
         let (tx, rx) = mpsc::channel();
         let mut machine = Machine::new(settings.clone());
-        if sink.is_some() {
+        let mut rt_sink = None;
+        if clock == ClockMode::RealTime {
+            rt_sink = sink;
+        } else if sink.is_some() {
             machine.set_recording(sink, false);
-            machine.set_lossless_recording(clock == ClockMode::Virtual);
+            machine.set_lossless_recording(true);
         }
         let shared = Arc::new(Shared {
             status: Mutex::new(machine.status()),
@@ -80,7 +84,13 @@ impl PulseCore {
         let (sh, b) = (shared.clone(), b1.clone());
         let thread = std::thread::Builder::new()
             .name("pulse-core".into())
-            .spawn(move || Runner::new(machine, sh, b, rx).run(clock))
+            .spawn(move || {
+                let mut r = Runner::new(machine, sh, b, rx);
+                if clock == ClockMode::RealTime {
+                    r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
+                }
+                r.run(clock)
+            })
             .ok();
         PulseCore {
             tx,
@@ -212,6 +222,8 @@ struct Runner {
     rx: Receiver<Msg>,
     applied: u64,
     quit: bool,
+    /// The step queue, in real time.
+    rt: Option<StepQueue>,
 }
 
 impl Runner {
@@ -223,27 +235,38 @@ impl Runner {
             rx,
             applied: 0,
             quit: false,
+            rt: None,
         }
     }
 
     fn handle(&mut self, msg: Msg) {
-        match msg {
+        let op = match msg {
             Msg::Cmd(c) => {
                 if c == Command::Reset {
                     self.b1.clear();
                 }
-                self.m.command(c);
+                Op::Cmd(c)
             }
             Msg::Load(it) => {
-                self.m.new_run();
                 self.b1.load(it);
+                Op::NewRun
             }
-            Msg::Magazine(mg) => self.m.set_magazine(*mg),
-            Msg::Modes(o, d) => self.m.set_panel_modes(&o, &d),
-            Msg::Position(p) => {
-                self.m.set_position(p);
+            Msg::Magazine(mg) => Op::Magazine(mg),
+            Msg::Modes(o, d) => Op::Modes(o, d),
+            Msg::Position(p) => Op::Position(p),
+            Msg::Shutdown => {
+                self.quit = true;
+                self.applied += 1;
+                return;
             }
-            Msg::Shutdown => self.quit = true,
+        };
+        match &mut self.rt {
+            Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(&mut self.m),
+            Some(rt) => {
+                apply(&mut self.m, &op);
+                rt.applied(op);
+            }
+            None => apply(&mut self.m, &op),
         }
         self.applied += 1;
     }
@@ -283,6 +306,9 @@ impl Runner {
             ClockMode::Virtual => self.run_virtual(),
             ClockMode::RealTime => self.run_realtime(),
         }
+        if let Some(rt) = &mut self.rt {
+            rt.release_all();
+        }
         self.publish();
     }
 
@@ -308,24 +334,24 @@ impl Runner {
 
     fn run_realtime(&mut self) {
         let period = self.m.settings().ncbr_period_ns.max(1);
-        let wall0 = Instant::now();
-        let t0 = self.m.now();
-        let wall_of = |t: u64| wall0 + Duration::from_nanos(t - t0);
         while self.drain() {
-            let slice_start = wall_of(self.m.now());
+            let Some(rt) = &mut self.rt else { return };
+            rt.release();
+            let slice_start = rt.wall_of(self.m.now());
             let gen_at = slice_start
                 .checked_sub(Duration::from_nanos(period))
                 .unwrap_or(slice_start);
             let now = Instant::now();
             if now < gen_at {
-                if !self.wait_msg(gen_at - now) {
+                // wake at least every millisecond to release queued events on time
+                let nap = (gen_at - now).min(Duration::from_millis(1));
+                if !self.wait_msg(nap) {
                     return;
                 }
                 continue;
             }
-            let b1 = self.b1.clone();
             let moving = !self.m.is_idle();
-            self.m.tick(&mut &*b1);
+            rt.slice(&mut self.m, &self.b1);
             let done = Instant::now();
             if moving {
                 let late = if done >= slice_start {
@@ -333,12 +359,12 @@ impl Runner {
                 } else {
                     -((slice_start - done).as_nanos() as i64)
                 };
-                let mut rt = lock(&self.shared.rt);
+                let mut st = lock(&self.shared.rt);
                 if late > 0 {
-                    rt.dry += 1;
+                    st.dry += 1;
                 }
-                if rt.lateness_ns.len() < 1_000_000 {
-                    rt.lateness_ns.push(late);
+                if st.lateness_ns.len() < 1_000_000 {
+                    st.lateness_ns.push(late);
                 }
             }
             self.publish();

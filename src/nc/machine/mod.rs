@@ -16,7 +16,7 @@
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Motion, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
-use super::{B1Entry, Command, RunKind};
+use super::B1Entry;
 use crate::block::{Block, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
@@ -25,13 +25,14 @@ use check::{arc_stepper, check_block};
 use std::collections::VecDeque;
 
 mod check;
+mod commands;
 mod jog;
 mod report;
 
 pub use check::axis_name;
 
 /// Sends an event to the recording (lossless in virtual time, see `pulse_out::emit`).
-fn send_ev(s: &EventSink, lossless: bool, ev: Event) {
+fn send_ev(s: &EventSink, lossless: &std::cell::Cell<bool>, ev: Event) {
     super::pulse_out::emit(s, ev, lossless);
 }
 
@@ -47,7 +48,7 @@ enum Phase {
 }
 
 /// The block being executed.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Current {
     entry: B1Entry,
     /// A copy of the entry's block.
@@ -58,7 +59,7 @@ struct Current {
 }
 
 /// A jog in progress (CONTINUOUS, STEP or HANDLE).
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Jog {
     motion: Motion,
     /// CONTINUOUS: stop and drop the rest once at rest.
@@ -66,7 +67,7 @@ struct Jog {
 }
 
 /// The simulated machine: axes, relay logic, RUN and the operator state.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Machine {
     settings: MachineSettings,
     accel: f64,
@@ -157,7 +158,7 @@ impl Machine {
     /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
     /// Only for virtual time, where machine time does not follow the wall clock.
     pub fn set_lossless_recording(&mut self, on: bool) {
-        self.out.lossless = on;
+        self.out.lossless.set(on);
     }
 
     /// The pulses captured since the last call (with `capture_pulses` on).
@@ -252,108 +253,6 @@ impl Machine {
             && !self.estop
             && self.current.is_none()
             && !(self.just_completed && self.single_block)
-    }
-
-    /// Applies an operator command at the current machine time.
-    pub fn command(&mut self, c: Command) {
-        self.commands += 1;
-        match c {
-            Command::Start(kind) => self.start(kind),
-            Command::Stop => {
-                if self.run != 0 && !self.hold {
-                    self.hold = true;
-                    if let Some(m) = self.current.as_mut().and_then(|c| c.motion.as_mut()) {
-                        m.set_hold(true);
-                    }
-                }
-                if let Some(j) = &mut self.jog {
-                    j.motion.set_hold(true);
-                    j.release = true;
-                }
-                self.increments.clear();
-            }
-            Command::Reset => {
-                self.out.flush();
-                self.current = None;
-                self.jog = None;
-                self.increments.clear();
-                self.run = 0;
-                self.hold = false;
-                self.estop = false;
-                self.alarm = None;
-                self.notice = None;
-                self.just_completed = false;
-                self.spindle = 0;
-                self.send_position();
-            }
-            Command::EStop => {
-                self.out.flush();
-                self.current = None;
-                self.jog = None;
-                self.increments.clear();
-                self.run = 0;
-                self.hold = false;
-                self.estop = true;
-                self.spindle = 0;
-                self.alarm = Some("EMERGENCY STOP: press RESET".into());
-                self.send_position();
-            }
-            Command::Override(p) => self.pending_override = Some(p.min(150)),
-            Command::SingleBlock(b) => self.single_block = b,
-            Command::Jog { axis, dir } => {
-                if let Some(lim) = self.jog_check(axis) {
-                    let (lo, hi) = lim;
-                    let target = if dir > 0 { hi } else { lo };
-                    let d = target - self.out.pos[axis];
-                    if dir == 0 || d == 0 || d.signum() != i64::from(dir.signum()) {
-                        self.notice = Some(format!("{}: at the travel limit", axis_name(axis)));
-                    } else {
-                        self.start_jog(axis, d, true);
-                    }
-                }
-            }
-            Command::JogRelease => {
-                if let Some(j) = &mut self.jog {
-                    if j.release {
-                        j.motion.set_hold(true);
-                    }
-                }
-            }
-            Command::Increment { axis, pulses } => {
-                if self.jog_check(axis).is_some() && pulses != 0 {
-                    self.increments.push_back((axis, pulses));
-                    self.next_increment();
-                }
-            }
-        }
-        self.send_state();
-    }
-
-    fn start(&mut self, kind: RunKind) {
-        if self.estop || self.alarm.is_some() {
-            self.notice = Some("press RESET first".into());
-            return;
-        }
-        if self.jog.is_some() {
-            self.notice = Some("jog in progress".into());
-            return;
-        }
-        let flag = match kind {
-            RunKind::Auto => 1,
-            RunKind::Mdi => 2,
-        };
-        self.notice = None;
-        if self.hold {
-            self.hold = false;
-            if let Some(m) = self.current.as_mut().and_then(|c| c.motion.as_mut()) {
-                m.set_hold(false);
-            }
-            return;
-        }
-        if self.run == 0 {
-            self.run = flag;
-            self.just_completed = false;
-        }
     }
 
     /// Runs whole NCBR ticks (and the PGEN work inside them) until machine time `until`.
@@ -475,7 +374,7 @@ impl Machine {
         if let Some(s) = &self.events {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::Block {
                     t_ns: self.now,
                     seq: b.seq,
@@ -624,7 +523,7 @@ impl Machine {
         if let Some(s) = &self.events {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::Position {
                     t_ns: t,
                     pulses: self.out.pos,

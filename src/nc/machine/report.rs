@@ -9,7 +9,7 @@ impl Machine {
         if let Some(s) = &self.events {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::Position {
                     t_ns: self.now,
                     pulses: self.out.pos,
@@ -30,7 +30,7 @@ impl Machine {
         if self.last_state.as_ref() != Some(&key) {
             send_ev(
                 s,
-                self.out.lossless,
+                &self.out.lossless,
                 Event::State {
                     t_ns: self.now,
                     run: key.0,
