@@ -341,10 +341,15 @@ impl eframe::App for App {
         self.plot.record(self.view.axis_mm);
         self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
         let mut out = Vec::new();
-        super::keys::keyboard(&ctx.input(|i| i.events.clone()), &mut out);
+        let events = ctx.input(|i| i.events.clone());
+        super::keys::keyboard(&events, &self.view, &mut self.hand, &mut out);
         self.draw(ui, &mut out);
         // Whole notches nobody under the pointer took are dropped.
         self.hand.scroll = self.hand.scroll.fract();
+        if std::mem::take(&mut self.hand.tape_requested) {
+            self.program_dirty = true;
+            self.machine.tape_from_entry();
+        }
         for ev in out {
             self.program_dirty = true;
             self.status = format!("{ev:?}");

@@ -37,6 +37,10 @@ pub struct HandState {
     pub scroll: f32,
     /// The jog button held down, if any.
     pub jog_held: Option<(Axis, i8)>,
+    /// The axis key held down for a CONTINUOUS jog, if any.
+    pub key_jog: Option<(Axis, i8)>,
+    /// The tape reader key was pressed (the typed line names the tape).
+    pub tape_requested: bool,
 }
 
 impl Default for HandState {
@@ -48,6 +52,8 @@ impl Default for HandState {
             wheel_angle: 0.0,
             scroll: 0.0,
             jog_held: None,
+            key_jog: None,
+            tape_requested: false,
         }
     }
 }

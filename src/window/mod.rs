@@ -38,6 +38,8 @@ pub trait Machine {
     fn wait_idle(&mut self);
     /// Pulses output in this run, all axes together (the pulse counters).
     fn pulses(&self) -> u64;
+    /// The tape reader key: the typed line names the tape to put in the reader.
+    fn tape_from_entry(&mut self);
 }
 
 impl Machine for crate::console::Console {
@@ -67,6 +69,9 @@ impl Machine for crate::console::Console {
     }
     fn pulses(&self) -> u64 {
         self.status().pulses.iter().sum()
+    }
+    fn tape_from_entry(&mut self) {
+        crate::console::Console::tape_from_entry(self)
     }
 }
 
