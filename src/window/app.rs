@@ -58,7 +58,7 @@ struct Layout {
 
 /// The window application.
 pub struct App {
-    machine: Box<dyn Machine>,
+    machine: Option<Box<dyn Machine>>,
     view: PanelView,
     plasma: Plasma,
     plot: PlotState,
@@ -86,7 +86,7 @@ impl App {
         let wheel_axis = view.wheel.0;
         let bench = drive.bench_frames.map(|_| Bench::default());
         App {
-            machine,
+            machine: Some(machine),
             view,
             plasma: Plasma::new(),
             plot: PlotState::new(),
@@ -115,14 +115,14 @@ impl App {
     }
 
     /// Plays script events until a `wait` that is not yet satisfied.
-    fn play_script(&mut self, ctx: &egui::Context) {
+    fn play_script(&mut self, m: &mut dyn Machine, ctx: &egui::Context) {
         if let Some((since, idle_frames)) = self.waiting {
-            if self.machine.is_idle() {
+            if m.is_idle() {
                 // Idle over a few frames: then let the console confirm that every action has
                 // been taken up (brief, unless a START had not been picked up yet, in which
                 // case it waits for that block as the script asks).
                 if idle_frames >= 2 {
-                    self.machine.wait_idle();
+                    m.wait_idle();
                     self.waiting = None;
                 } else {
                     self.waiting = Some((since, idle_frames + 1));
@@ -153,14 +153,14 @@ impl App {
                 }
                 PanelEvent::Show => {
                     println!("--- display");
-                    for l in &self.machine.view().display {
+                    for l in &m.view().display {
                         println!("{l}");
                     }
                     println!("---");
                 }
                 other => {
                     self.program_dirty = true;
-                    self.machine.handle(other);
+                    m.handle(other);
                 }
             }
         }
@@ -236,7 +236,7 @@ impl App {
         }
     }
 
-    fn measure(&mut self, ctx: &egui::Context, frame: &eframe::Frame) {
+    fn measure(&mut self, m: &mut dyn Machine, ctx: &egui::Context, frame: &eframe::Frame) {
         let (Some(b), Some(n)) = (self.bench.as_mut(), self.drive.bench_frames) else {
             return;
         };
@@ -257,7 +257,7 @@ impl App {
             b.cpu_ms.push(cpu as f64 * 1e3);
         }
         // The pulse counters restart with each run: count what they gained.
-        let now_pulses = self.machine.pulses();
+        let now_pulses = m.pulses();
         b.pulses += match b.last_pulses {
             Some(last) if now_pulses >= last => now_pulses - last,
             Some(_) => now_pulses,
@@ -273,6 +273,63 @@ impl App {
             if self.drive.screenshot.is_none() {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
+        }
+    }
+
+    /// One frame: tick the console, play the script, draw, hand the operator's actions over.
+    fn frame(&mut self, m: &mut dyn Machine, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.frames += 1;
+        m.tick();
+        self.play_script(m, &ctx);
+        self.view = m.view();
+        // Program memory or tool data may have changed: recompute the programmed path now and
+        // then (cheap when unchanged: a hash).
+        // Program memory and tool data change only through panel events: look again (on the
+        // backplot's own thread) after events, at most every 15 frames.
+        if self.program_dirty
+            && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
+        {
+            let s = m.settings();
+            let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
+            self.plot
+                .request_program(m.program_text(), m.magazine(), s, start);
+            self.program_dirty = false;
+            self.program_checked = self.frames;
+        }
+        self.translating = self.plot.poll();
+        self.plot.record(self.view.axis_mm);
+        self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
+        let mut out = Vec::new();
+        let events = ctx.input(|i| i.events.clone());
+        super::keys::keyboard(&events, &self.view, &mut self.hand, &mut out);
+        self.draw(ui, &mut out);
+        // Whole notches nobody under the pointer took are dropped.
+        self.hand.scroll = self.hand.scroll.fract();
+        if std::mem::take(&mut self.hand.tape_requested) {
+            self.program_dirty = true;
+            m.tape_from_entry();
+        }
+        for ev in out {
+            self.program_dirty = true;
+            self.status = format!("{ev:?}");
+            m.handle(ev);
+        }
+        self.screenshot(&ctx);
+        self.measure(m, &ctx, frame);
+        let headless_busy = !self.script_done()
+            || self.translating
+            || self.bench.is_some()
+            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
+        if headless_busy {
+            // Scripts, screenshots and the benchmark run frames back to back.
+            ctx.request_repaint();
+        } else if !m.is_idle() {
+            // The machine moves: about 60 frames a second, no more (the pulse core's CPU).
+            ctx.request_repaint_after(Duration::from_millis(16));
+        } else {
+            // Idle: still look at the console now and then (messages, alarms).
+            ctx.request_repaint_after(Duration::from_millis(100));
         }
     }
 }
@@ -314,65 +371,25 @@ fn bench_report(b: &Bench, wall: f64, machine: f64) -> String {
 
 impl eframe::App for App {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        let ctx = ui.ctx().clone();
-        self.frames += 1;
-        self.machine.tick();
-        self.play_script(&ctx);
-        self.view = self.machine.view();
-        // Program memory or tool data may have changed: recompute the programmed path now and
-        // then (cheap when unchanged: a hash).
-        // Program memory and tool data change only through panel events: look again (on the
-        // backplot's own thread) after events, at most every 15 frames.
-        if self.program_dirty
-            && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
-        {
-            let s = self.machine.settings();
-            let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
-            self.plot.request_program(
-                self.machine.program_text(),
-                self.machine.magazine(),
-                s,
-                start,
-            );
-            self.program_dirty = false;
-            self.program_checked = self.frames;
-        }
-        self.translating = self.plot.poll();
-        self.plot.record(self.view.axis_mm);
-        self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
-        let mut out = Vec::new();
-        let events = ctx.input(|i| i.events.clone());
-        super::keys::keyboard(&events, &self.view, &mut self.hand, &mut out);
-        self.draw(ui, &mut out);
-        // Whole notches nobody under the pointer took are dropped.
-        self.hand.scroll = self.hand.scroll.fract();
-        if std::mem::take(&mut self.hand.tape_requested) {
-            self.program_dirty = true;
-            self.machine.tape_from_entry();
-        }
-        for ev in out {
-            self.program_dirty = true;
-            self.status = format!("{ev:?}");
-            self.machine.handle(ev);
-        }
-        self.screenshot(&ctx);
-        self.measure(&ctx, frame);
-        let headless_busy = !self.script_done()
-            || self.translating
-            || self.bench.is_some()
-            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
-        if headless_busy {
-            // Scripts, screenshots and the benchmark run frames back to back.
-            ctx.request_repaint();
-        } else if !self.machine.is_idle() {
-            // The machine moves: about 60 frames a second, no more (the pulse core's CPU).
-            ctx.request_repaint_after(Duration::from_millis(16));
-        } else {
-            // Idle: still look at the console now and then (messages, alarms).
-            ctx.request_repaint_after(Duration::from_millis(100));
-        }
+        // The console is taken out for the frame (and put back), so that it can be finished
+        // when the window closes.
+        let Some(mut m) = self.machine.take() else {
+            return;
+        };
+        self.frame(&mut *m, ui, frame);
+        self.machine = Some(m);
     }
 
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        // Stop the machine and close the recording, as the terminal panel does on quitting.
+        if let Some(m) = self.machine.take() {
+            match m.finish() {
+                Ok(Some(summary)) => eprintln!("novanc: {summary}"),
+                Ok(None) => {}
+                Err(e) => eprintln!("novanc: recording: {e}"),
+            }
+        }
+    }
     fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
         controls::ENAMEL.to_normalized_gamma_f32()
     }

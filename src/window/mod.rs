@@ -40,6 +40,8 @@ pub trait Machine {
     fn pulses(&self) -> u64;
     /// The tape reader key: the typed line names the tape to put in the reader.
     fn tape_from_entry(&mut self);
+    /// Ends the session: stops the machine, closes the recording; its summary, if any.
+    fn finish(self: Box<Self>) -> Result<Option<String>, String>;
 }
 
 impl Machine for crate::console::Console {
@@ -72,6 +74,9 @@ impl Machine for crate::console::Console {
     }
     fn tape_from_entry(&mut self) {
         crate::console::Console::tape_from_entry(self)
+    }
+    fn finish(self: Box<Self>) -> Result<Option<String>, String> {
+        crate::console::Console::finish(*self)
     }
 }
 
