@@ -232,6 +232,8 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
         .arg("--screenshot")
         .arg(&shot)
         .args(["--size", "1400x860"])
+        .arg("--record")
+        .arg(dir.join("run.mcap"))
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
         .env("LIBGL_ALWAYS_SOFTWARE", "1");
@@ -241,6 +243,13 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
         Some(0),
         "novanc --window failed.\nstdout:\n{out}\nstderr:\n{err}"
     );
+    // Closing the window finished the console: the recording is closed, with its summary.
+    assert!(
+        err.contains("recording"),
+        "no recording summary on stderr: {err}"
+    );
+    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
+    assert!(mcap.starts_with(b"\x89MCAP0\r\n") && mcap.ends_with(b"\x89MCAP0\r\n"));
     let (plasma, pitch, plot) = parse_layout(&out);
     let bytes = std::fs::read(&shot).unwrap();
     let img = read_ppm(&bytes).expect("a P6 screenshot");
