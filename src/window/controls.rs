@@ -97,6 +97,9 @@ pub fn rotary(
 ) -> Option<usize> {
     let n = labels.len();
     let (rect, resp) = ui.allocate_exact_size(size, Sense::click_and_drag());
+    if n == 0 {
+        return None;
+    }
     let p = ui.painter_at(rect);
     let c = pos2(rect.center().x, rect.min.y + rect.height() * 0.56);
     let knob_r = rect.height() * 0.2;
