@@ -282,9 +282,12 @@ impl App {
         self.frames += 1;
         m.tick();
         self.play_script(m, &ctx);
+        let was = self.view.wheel.0;
         self.view = m.view();
-        // Program memory or tool data may have changed: recompute the programmed path now and
-        // then (cheap when unchanged: a hash).
+        // The handwheel axis turned by another input (a script) shows on the selector too.
+        if self.view.wheel.0 != was {
+            self.hand.wheel_axis = self.view.wheel.0;
+        }
         // Program memory and tool data change only through panel events: look again (on the
         // backplot's own thread) after events, at most every 15 frames.
         if self.program_dirty
