@@ -122,6 +122,7 @@ fn scenario(title: &str, display: &str, script: &str, frames: u64) {
         .env("DISPLAY", display)
         .env_remove("WAYLAND_DISPLAY")
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1")
         .output();
     let out = match out {
         Ok(o) => o,

@@ -236,7 +236,8 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
         .arg(dir.join("run.mcap"))
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1");
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
     let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
     assert_eq!(
         code,
