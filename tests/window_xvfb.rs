@@ -9,7 +9,7 @@
 
 use novanc::window::font::{char_of, CELL_H, CELL_W};
 use novanc::window::image::read_ppm;
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -91,7 +91,8 @@ fn xvfb_or_skip(test: &str) -> Option<Xvfb> {
             if std::env::var("CI").is_ok_and(|v| v == "true") {
                 panic!("{test}: {why}, and CI=true requires it");
             }
-            eprintln!("\n*** SKIPPED {test}: {why} ***\n");
+            // Straight to the process's stderr, past the test harness's output capture.
+            let _ = writeln!(std::io::stderr(), "\n*** SKIPPED {test}: {why} ***\n");
             None
         }
     }
