@@ -525,3 +525,102 @@ fn draw_grid(p: &egui::Painter, rect: Rect, xf: &ViewTransform, plane: Plane) {
         Color32::from_rgb(120, 130, 150),
     );
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::block::{Block, Motion};
+
+    fn line(seq: u32, motion: Motion, from: [i64; 3], to: [i64; 3]) -> Block {
+        let mut b = Block::aux(seq, 1, to);
+        b.motion = motion;
+        b.delta = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+        b
+    }
+
+    /// Points drawn by the shapes (dashed rapids count each dash).
+    fn drawn_points(shapes: &[Shape]) -> usize {
+        shapes
+            .iter()
+            .map(|s| match s {
+                Shape::Path(p) => p.points.len(),
+                Shape::LineSegment { .. } => 2,
+                _ => 1,
+            })
+            .sum()
+    }
+
+    fn plot_of(blocks: &[Block]) -> PlotState {
+        let mut p = PlotState::new();
+        p.set_backplot(Backplot::from_blocks(blocks, &MachineSettings::default()));
+        p
+    }
+
+    #[test]
+    fn a_second_pass_over_the_same_place_draws_nothing_more_from_above() {
+        // A square at Z −1, then the same square at Z −2: from above (XY) the same lines.
+        let sq = |z: i64, seq: u32| -> Vec<Block> {
+            let c = [[0, 0], [10_000, 0], [10_000, 10_000], [0, 10_000], [0, 0]];
+            c.windows(2)
+                .enumerate()
+                .map(|(i, w)| {
+                    line(
+                        seq + i as u32,
+                        Motion::Linear,
+                        [w[0][0], w[0][1], z],
+                        [w[1][0], w[1][1], z],
+                    )
+                })
+                .collect()
+        };
+        let one = plot_of(&sq(-1_000, 1));
+        let mut both_blocks = sq(-1_000, 1);
+        both_blocks.extend(sq(-2_000, 10));
+        let both = plot_of(&both_blocks);
+        let rect = Rect::from_min_size(Pos2::ZERO, egui::vec2(200.0, 200.0));
+        let xf = ViewTransform::fit([0.0, 0.0], [10.0, 10.0], [200.0, 200.0], 10.0);
+        let a = one.path_shapes(rect, &xf, Plane::XY);
+        let b = both.path_shapes(rect, &xf, Plane::XY);
+        assert_eq!(a.len(), 1, "one closed square is one line");
+        assert_eq!(drawn_points(&a), 5);
+        assert_eq!(
+            drawn_points(&b),
+            drawn_points(&a),
+            "the second pass is not drawn again"
+        );
+        // From the front (XZ) the two depths are different lines: both are drawn.
+        let xz = ViewTransform::fit([0.0, -3.0], [10.0, 0.0], [200.0, 200.0], 10.0);
+        assert!(drawn_points(&both.path_shapes(rect, &xz, Plane::XZ)) > 2);
+        assert!(
+            both.path_shapes(rect, &xz, Plane::XZ).len() >= 2,
+            "the two depths are separate lines"
+        );
+    }
+
+    #[test]
+    fn pieces_outside_the_view_are_skipped_and_plunges_are_rings() {
+        let blocks = vec![
+            line(1, Motion::Rapid, [0, 0, 0], [5_000, 5_000, 0]),
+            line(2, Motion::Linear, [5_000, 5_000, 0], [5_000, 5_000, -3_000]),
+            line(
+                3,
+                Motion::Linear,
+                [5_000, 5_000, -3_000],
+                [900_000, 5_000, -3_000],
+            ),
+        ];
+        let p = plot_of(&blocks);
+        let rect = Rect::from_min_size(Pos2::ZERO, egui::vec2(200.0, 200.0));
+        // A view of the first 10 mm only: the long feed reaches into it, so it is drawn.
+        let xf = ViewTransform::fit([0.0, 0.0], [10.0, 10.0], [200.0, 200.0], 10.0);
+        let shapes = p.path_shapes(rect, &xf, Plane::XY);
+        let rings = shapes
+            .iter()
+            .filter(|s| matches!(s, Shape::Circle(_)))
+            .count();
+        assert_eq!(rings, 1, "the plunge seen from above is a ring");
+        // A view far away from everything draws nothing.
+        let far = ViewTransform::fit([0.0, 500.0], [10.0, 510.0], [200.0, 200.0], 10.0);
+        assert!(p.path_shapes(rect, &far, Plane::XY).is_empty());
+    }
+}
