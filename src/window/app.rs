@@ -3,6 +3,7 @@
 //! as `PanelEvent`s. It also plays a panel script, takes a screenshot and measures frames when
 //! asked (headless runs under Xvfb). No NC logic lives here.
 
+use super::bench::Bench;
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::plot::PlotState;
@@ -26,18 +27,6 @@ pub struct Drive {
     pub bench_frames: Option<u64>,
     /// Longest a script `wait` may take before the run is abandoned.
     pub wait_limit: Duration,
-}
-
-/// Figures measured over a `--bench-frames` run.
-#[derive(Debug, Default)]
-struct Bench {
-    started: Option<Instant>,
-    machine_ns0: u64,
-    last_frame: Option<Instant>,
-    intervals_ms: Vec<f64>,
-    cpu_ms: Vec<f64>,
-    pulses: u64,
-    last_pulses: Option<u64>,
 }
 
 /// Where the screenshot stands.
@@ -243,31 +232,9 @@ impl App {
         if !self.drive.script.is_empty() {
             return;
         }
-        let now = Instant::now();
-        if b.started.is_none() {
-            b.started = Some(now);
-            b.machine_ns0 = self.view.machine_ns;
-        }
-        if let Some(last) = b.last_frame {
-            b.intervals_ms
-                .push(now.duration_since(last).as_secs_f64() * 1e3);
-        }
-        b.last_frame = Some(now);
-        if let Some(cpu) = frame.info().cpu_usage {
-            b.cpu_ms.push(cpu as f64 * 1e3);
-        }
-        // The pulse counters restart with each run: count what they gained.
-        let now_pulses = m.pulses();
-        b.pulses += match b.last_pulses {
-            Some(last) if now_pulses >= last => now_pulses - last,
-            Some(_) => now_pulses,
-            None => 0,
-        };
-        b.last_pulses = Some(now_pulses);
-        if b.intervals_ms.len() as u64 >= n {
-            let wall = b.started.map_or(0.0, |s| s.elapsed().as_secs_f64());
-            let machine = (self.view.machine_ns - b.machine_ns0) as f64 / 1e9;
-            println!("{}", bench_report(b, wall, machine));
+        let cpu = frame.info().cpu_usage;
+        if let Some(report) = b.frame(n, self.view.machine_ns, cpu, m.pulses()) {
+            println!("{report}");
             self.drive.bench_frames = None;
             // With a screenshot asked for too, it is taken now, and that closes the window.
             if self.drive.screenshot.is_none() {
@@ -335,41 +302,6 @@ impl App {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
     }
-}
-
-/// Median, 95th percentile and largest of a sample.
-fn spread(v: &[f64]) -> (f64, f64, f64) {
-    if v.is_empty() {
-        return (0.0, 0.0, 0.0);
-    }
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let at = |q: f64| s[((s.len() - 1) as f64 * q).round() as usize];
-    (at(0.5), at(0.95), s[s.len() - 1])
-}
-
-fn bench_report(b: &Bench, wall: f64, machine: f64) -> String {
-    let (i50, i95, imax) = spread(&b.intervals_ms);
-    let (c50, c95, cmax) = spread(&b.cpu_ms);
-    let fps = if wall > 0.0 {
-        b.intervals_ms.len() as f64 / wall
-    } else {
-        0.0
-    };
-    format!(
-        "bench-frames {n}: frame interval ms median {i50:.2} p95 {i95:.2} max {imax:.2} \
-         ({fps:.1} fps); frame cpu ms median {c50:.2} p95 {c95:.2} max {cmax:.2}; \
-         wall {wall:.2} s, machine {machine:.2} s (machine/wall {ratio:.3}); \
-         pulses {p} ({rate:.0} pulses/s)",
-        n = b.intervals_ms.len(),
-        ratio = if wall > 0.0 { machine / wall } else { 0.0 },
-        p = b.pulses,
-        rate = if wall > 0.0 {
-            b.pulses as f64 / wall
-        } else {
-            0.0
-        },
-    )
 }
 
 impl eframe::App for App {
@@ -610,9 +542,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn spread_and_notches() {
-        assert_eq!(spread(&[3.0, 1.0, 2.0]), (2.0, 3.0, 3.0));
-        assert_eq!(spread(&[]), (0.0, 0.0, 0.0));
+    fn scroll_is_counted_in_notches() {
         let evs = vec![egui::Event::MouseWheel {
             unit: egui::MouseWheelUnit::Line,
             delta: vec2(0.0, 2.0),

@@ -4,10 +4,12 @@
 //! `Console` as the terminal; see docs/window.md.
 
 mod app;
+mod bench;
 mod controls;
 pub mod font;
 pub mod image;
 mod keys;
+mod pathdraw;
 mod plasma;
 mod plot;
 
