@@ -1,8 +1,298 @@
-//! The egui window: the same console drawn as a desktop front panel with a backplot.
-//!
-//! OWNER: window work (issue 6).
+//! The egui window (`novanc --window`, cargo feature `window`): the same console drawn as a
+//! desktop front panel — plasma display, selectors, relay panel, data keys, handwheel,
+//! position readout — with a backplot. It is only a renderer and input source for the same
+//! `Console` as the terminal; see docs/window.md.
+
+mod app;
+mod bench;
+mod controls;
+pub mod font;
+pub mod image;
+mod keys;
+mod pathdraw;
+mod plasma;
+mod plot;
+
+use crate::panel_model::{PanelEvent, PanelView};
+use crate::settings::MachineSettings;
+use crate::tooldata::Magazine;
+use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// What the window needs from the console: feed it events, let it run, read its view.
+pub trait Machine {
+    /// One operator action.
+    fn handle(&mut self, ev: PanelEvent);
+    /// Lets the console look at the pulse core and the translator (once per frame).
+    fn tick(&mut self);
+    /// The panel to draw.
+    fn view(&self) -> PanelView;
+    /// The program in program memory (for the backplot).
+    fn program_text(&self) -> String;
+    /// The magazine in force (T codes and tool data, for the backplot's translation).
+    fn magazine(&self) -> Magazine;
+    /// The machine settings.
+    fn settings(&self) -> MachineSettings;
+    /// RUN = 0 and no motion.
+    fn is_idle(&self) -> bool;
+    /// Waits until every action so far has been taken up and the machine is idle.
+    fn wait_idle(&mut self);
+    /// Pulses output in this run, all axes together (the pulse counters).
+    fn pulses(&self) -> u64;
+    /// The tape reader key: the typed line names the tape to put in the reader.
+    fn tape_from_entry(&mut self);
+    /// Ends the session: stops the machine, closes the recording; its summary, if any.
+    fn finish(self: Box<Self>) -> Result<Option<String>, String>;
+}
+
+impl Machine for crate::console::Console {
+    fn handle(&mut self, ev: PanelEvent) {
+        crate::console::Console::handle(self, ev)
+    }
+    fn tick(&mut self) {
+        crate::console::Console::tick(self)
+    }
+    fn view(&self) -> PanelView {
+        crate::console::Console::view(self)
+    }
+    fn program_text(&self) -> String {
+        crate::console::Console::program_text(self)
+    }
+    fn magazine(&self) -> Magazine {
+        crate::console::Console::magazine(self)
+    }
+    fn settings(&self) -> MachineSettings {
+        crate::console::Console::settings(self).clone()
+    }
+    fn is_idle(&self) -> bool {
+        crate::console::Console::is_idle(self)
+    }
+    fn wait_idle(&mut self) {
+        crate::console::Console::wait_idle(self)
+    }
+    fn pulses(&self) -> u64 {
+        self.status().pulses.iter().sum()
+    }
+    fn tape_from_entry(&mut self) {
+        crate::console::Console::tape_from_entry(self)
+    }
+    fn finish(self: Box<Self>) -> Result<Option<String>, String> {
+        crate::console::Console::finish(*self)
+    }
+}
+
+const HELP: &str = "\
+usage: novanc --window [console options] [--script FILE] [--screenshot OUT.ppm|OUT.png]
+                       [--bench-frames N] [--size WxH]
+
+The console in an egui window (see docs/window.md).
+  --script FILE       play a panel script (SPEC §8) into the console, then keep running
+  --screenshot OUT    after the script (and the benchmark), write a screenshot (PPM, or PNG
+                      if OUT ends in .png)
+                      and close; prints the plasma and backplot rectangles
+  --bench-frames N    after the script, measure N frames, print frame time and pulse rate, close
+  --size WxH          window size in points (default 1400x860)
+Other options go to the console (e.g. --state DIR, --rows N, --cols N).
+";
+
+/// The window's own options, split from the console's.
+#[derive(Debug, Default, PartialEq)]
+pub struct WindowOptions {
+    /// `--script FILE`.
+    pub script: Option<String>,
+    /// `--screenshot OUT`.
+    pub screenshot: Option<String>,
+    /// `--bench-frames N`.
+    pub bench_frames: Option<u64>,
+    /// `--size WxH`.
+    pub size: Option<(f32, f32)>,
+    /// `--help`.
+    pub help: bool,
+    /// Everything else, for the console (without `--window`).
+    pub console_args: Vec<String>,
+}
+
+/// Splits `argv` into the window's options and the console's.
+pub fn parse_options(argv: &[String]) -> Result<WindowOptions, String> {
+    let mut o = WindowOptions::default();
+    let mut it = argv.iter();
+    while let Some(a) = it.next() {
+        let (name, inline) = match a.split_once('=') {
+            Some((n, v)) if n.starts_with("--") => (n, Some(v.to_string())),
+            _ => (a.as_str(), None),
+        };
+        let mut value = |inline: Option<String>| -> Result<String, String> {
+            inline
+                .or_else(|| it.next().cloned())
+                .ok_or_else(|| format!("option '{name}' needs a value"))
+        };
+        match name {
+            "--window" => {}
+            "-h" | "--help" => o.help = true,
+            "--script" => o.script = Some(value(inline)?),
+            "--screenshot" => o.screenshot = Some(value(inline)?),
+            "--bench-frames" => {
+                let v = value(inline)?;
+                let n: u64 = v
+                    .parse()
+                    .map_err(|_| format!("--bench-frames '{v}' is not a whole number"))?;
+                if n == 0 {
+                    return Err("--bench-frames needs at least 1 frame".into());
+                }
+                o.bench_frames = Some(n);
+            }
+            "--size" => {
+                let v = value(inline)?;
+                let bad = || format!("--size '{v}' is not WIDTHxHEIGHT (e.g. 1400x860)");
+                let (w, h) = v.split_once(['x', 'X']).ok_or_else(bad)?;
+                let w: f32 = w.parse().map_err(|_| bad())?;
+                let h: f32 = h.parse().map_err(|_| bad())?;
+                if !(320.0..=8192.0).contains(&w) || !(240.0..=8192.0).contains(&h) {
+                    return Err(bad());
+                }
+                o.size = Some((w, h));
+            }
+            _ => o.console_args.push(a.clone()),
+        }
+    }
+    Ok(o)
+}
+
+/// Whether a display server is named in the environment (X11 `DISPLAY` or `WAYLAND_DISPLAY`).
+pub fn display_named() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+}
+
+const NO_WINDOW_HINT: &str =
+    "run the terminal panel instead: novanc (without --window), or a headless panel session: novanc script FILE";
 
 /// Opens the console in a window (`novanc --window`); returns the exit code.
-pub fn run(_argv: &[String]) -> i32 {
-    crate::cli::usage_error("the window is not built yet")
+pub fn run(argv: &[String]) -> i32 {
+    let opts = match parse_options(argv) {
+        Ok(o) => o,
+        Err(e) => return crate::cli::usage_error(&e),
+    };
+    if opts.help {
+        print!("{HELP}");
+        return 0;
+    }
+    if !display_named() {
+        eprintln!(
+            "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
+             novanc: {NO_WINDOW_HINT}"
+        );
+        return 1;
+    }
+    let mut drive = app::Drive {
+        wait_limit: Duration::from_secs(300),
+        ..app::Drive::default()
+    };
+    if let Some(path) = &opts.script {
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("novanc: cannot read script {path}: {e}");
+                return 1;
+            }
+        };
+        match PanelEvent::parse_script(&text) {
+            Ok(evs) => drive.script = evs.into(),
+            Err(e) => {
+                eprintln!("novanc: {path}:{}: {}", e.line, e.message);
+                return 1;
+            }
+        }
+    }
+    drive.screenshot = opts.screenshot.as_ref().map(Into::into);
+    drive.bench_frames = opts.bench_frames;
+    let machine = match open_console(&opts.console_args) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            return 1;
+        }
+    };
+    let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("novanc — NC panel")
+            .with_inner_size([w, h]),
+        ..eframe::NativeOptions::default()
+    };
+    let exit = Arc::new(AtomicI32::new(0));
+    let exit2 = exit.clone();
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        eframe::run_native(
+            "novanc",
+            native,
+            Box::new(move |cc| {
+                cc.egui_ctx.set_visuals(egui::Visuals::dark());
+                Ok(Box::new(app::App::new(machine, drive, exit2)))
+            }),
+        )
+    }));
+    match result {
+        Ok(Ok(())) => exit.load(Ordering::SeqCst),
+        Ok(Err(e)) => {
+            eprintln!("novanc: the window cannot open: {e}\nnovanc: {NO_WINDOW_HINT}");
+            1
+        }
+        Err(_) => {
+            eprintln!("novanc: the window failed while opening.\nnovanc: {NO_WINDOW_HINT}");
+            1
+        }
+    }
+}
+
+/// Opens the console the window drives.
+fn open_console(args: &[String]) -> Result<Box<dyn Machine>, String> {
+    let (cfg, rest) = crate::console::config_from_args(args)?;
+    if let Some(a) = rest.first() {
+        return Err(format!("unknown option '{a}' (see novanc --window --help)"));
+    }
+    let (console, warnings) = crate::console::Console::open(cfg)?;
+    for w in warnings {
+        eprintln!("novanc: {w}");
+    }
+    Ok(Box::new(console))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(s: &[&str]) -> Vec<String> {
+        s.iter().map(|x| x.to_string()).collect()
+    }
+
+    #[test]
+    fn window_options_are_split_from_the_consoles() {
+        let o = parse_options(&v(&[
+            "--window",
+            "--state",
+            "d",
+            "--script=s.txt",
+            "--screenshot",
+            "o.ppm",
+            "--bench-frames",
+            "10",
+            "--size",
+            "800x600",
+        ]))
+        .unwrap();
+        assert_eq!(o.script.as_deref(), Some("s.txt"));
+        assert_eq!(o.screenshot.as_deref(), Some("o.ppm"));
+        assert_eq!(o.bench_frames, Some(10));
+        assert_eq!(o.size, Some((800.0, 600.0)));
+        assert_eq!(o.console_args, v(&["--state", "d"]));
+        assert!(parse_options(&v(&["--bench-frames", "x"])).is_err());
+        assert!(parse_options(&v(&["--bench-frames", "0"])).is_err());
+        assert!(parse_options(&v(&["--size", "10x10"])).is_err());
+        assert!(parse_options(&v(&["--script"]))
+            .unwrap_err()
+            .contains("needs a value"));
+    }
 }

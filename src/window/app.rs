@@ -1,0 +1,555 @@
+//! The eframe application: each frame it ticks the console, draws its `PanelView` (plasma,
+//! selectors, relay panel, data keys, readout, backplot) and hands the operator's actions back
+//! as `PanelEvent`s. It also plays a panel script, takes a screenshot and measures frames when
+//! asked (headless runs under Xvfb). No NC logic lives here.
+
+use super::bench::Bench;
+use super::controls::{self, HandState};
+use super::plasma::Plasma;
+use super::plot::PlotState;
+use super::Machine;
+use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
+use egui::{vec2, Color32, Rect};
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// What a headless run asks of the window (all optional).
+#[derive(Debug, Default)]
+pub struct Drive {
+    /// Panel events to play, in order (`--script FILE`).
+    pub script: VecDeque<PanelEvent>,
+    /// Where to write a screenshot once the script has been played (`--screenshot OUT`).
+    pub screenshot: Option<PathBuf>,
+    /// Frames to measure, then print the figures and close (`--bench-frames N`).
+    pub bench_frames: Option<u64>,
+    /// Longest a script `wait` may take before the run is abandoned.
+    pub wait_limit: Duration,
+}
+
+/// Where the screenshot stands.
+enum Shot {
+    Idle,
+    Settling(u32),
+    Requested(Arc<Mutex<Option<Arc<egui::ColorImage>>>>),
+    Done,
+}
+
+/// The screen rectangles a test needs to read a screenshot (physical pixels).
+#[derive(Clone, Copy, Debug, Default)]
+struct Layout {
+    plasma: Option<Rect>,
+    pitch: usize,
+    plot: Option<Rect>,
+}
+
+/// The window application.
+pub struct App {
+    machine: Option<Box<dyn Machine>>,
+    view: PanelView,
+    plasma: Plasma,
+    plot: PlotState,
+    hand: HandState,
+    drive: Drive,
+    waiting: Option<(Instant, u32)>,
+    shot: Shot,
+    bench: Option<Bench>,
+    frames: u64,
+    layout: Layout,
+    exit: Arc<AtomicI32>,
+    status: String,
+    /// A panel event may have changed program memory or tool data since the last look.
+    program_dirty: bool,
+    /// The frame of the last look.
+    program_checked: u64,
+    /// A backplot translation is running.
+    translating: bool,
+}
+
+impl App {
+    /// The application around an opened console. `exit` receives the exit code.
+    pub fn new(machine: Box<dyn Machine>, drive: Drive, exit: Arc<AtomicI32>) -> App {
+        let view = machine.view();
+        let wheel_axis = view.wheel.0;
+        let bench = drive.bench_frames.map(|_| Bench::default());
+        App {
+            machine: Some(machine),
+            view,
+            plasma: Plasma::new(),
+            plot: PlotState::new(),
+            hand: HandState {
+                wheel_axis,
+                ..HandState::default()
+            },
+            drive,
+            waiting: None,
+            shot: Shot::Idle,
+            bench,
+            frames: 0,
+            layout: Layout::default(),
+            exit,
+            status: String::new(),
+            program_dirty: true,
+            program_checked: 0,
+            translating: false,
+        }
+    }
+
+    fn fail(&mut self, ctx: &egui::Context, msg: String) {
+        eprintln!("novanc: {msg}");
+        self.exit.store(1, Ordering::SeqCst);
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
+
+    /// Plays script events until a `wait` that is not yet satisfied.
+    fn play_script(&mut self, m: &mut dyn Machine, ctx: &egui::Context) {
+        if let Some((since, idle_frames)) = self.waiting {
+            if m.is_idle() {
+                // Idle over a few frames: then let the console confirm that every action has
+                // been taken up (brief, unless a START had not been picked up yet, in which
+                // case it waits for that block as the script asks).
+                if idle_frames >= 2 {
+                    m.wait_idle();
+                    self.waiting = None;
+                } else {
+                    self.waiting = Some((since, idle_frames + 1));
+                }
+            } else {
+                self.waiting = Some((since, 0));
+            }
+            if self.waiting.is_some() && since.elapsed() > self.drive.wait_limit {
+                self.fail(
+                    ctx,
+                    format!(
+                        "script 'wait': the machine was not idle after {} s",
+                        self.drive.wait_limit.as_secs()
+                    ),
+                );
+                self.drive.script.clear();
+                self.waiting = None;
+            }
+            if self.waiting.is_some() {
+                return;
+            }
+        }
+        while let Some(ev) = self.drive.script.pop_front() {
+            match ev {
+                PanelEvent::Wait => {
+                    self.waiting = Some((Instant::now(), 0));
+                    return;
+                }
+                PanelEvent::Show => {
+                    println!("--- display");
+                    for l in &m.view().display {
+                        println!("{l}");
+                    }
+                    println!("---");
+                }
+                other => {
+                    self.program_dirty = true;
+                    m.handle(other);
+                }
+            }
+        }
+    }
+
+    fn script_done(&self) -> bool {
+        self.drive.script.is_empty() && self.waiting.is_none()
+    }
+
+    fn screenshot(&mut self, ctx: &egui::Context) {
+        let Some(path) = self.drive.screenshot.clone() else {
+            return;
+        };
+        match &self.shot {
+            Shot::Idle
+                if self.script_done()
+                    && !self.translating
+                    && !self.program_dirty
+                    && (self.bench.is_none() || self.drive.bench_frames.is_none()) =>
+            {
+                self.shot = Shot::Settling(3)
+            }
+            Shot::Settling(0) => {
+                let slot = Arc::new(Mutex::new(None));
+                let s2 = slot.clone();
+                let c2 = ctx.clone();
+                ctx.request_screenshot(move |img| {
+                    if let Ok(mut g) = s2.lock() {
+                        *g = Some(img);
+                    }
+                    c2.request_repaint();
+                });
+                self.shot = Shot::Requested(slot);
+            }
+            Shot::Settling(n) => self.shot = Shot::Settling(n - 1),
+            Shot::Requested(slot) => {
+                let img = slot.lock().ok().and_then(|mut g| g.take());
+                if let Some(img) = img {
+                    let [w, h] = img.size;
+                    let rgb: Vec<u8> = img
+                        .pixels
+                        .iter()
+                        .flat_map(|p| [p.r(), p.g(), p.b()])
+                        .collect();
+                    if let Err(e) = super::image::write(&path, w, h, &rgb) {
+                        self.fail(ctx, format!("cannot write {}: {e}", path.display()));
+                        return;
+                    }
+                    let ppp = ctx.pixels_per_point();
+                    let r = |o: Option<Rect>| {
+                        o.map_or("none".to_string(), |r| {
+                            format!(
+                                "{} {} {} {}",
+                                (r.min.x * ppp).round(),
+                                (r.min.y * ppp).round(),
+                                (r.width() * ppp).round(),
+                                (r.height() * ppp).round()
+                            )
+                        })
+                    };
+                    println!(
+                        "screenshot {} {w}x{h} plasma {} pitch {} plot {}",
+                        path.display(),
+                        r(self.layout.plasma),
+                        self.layout.pitch,
+                        r(self.layout.plot)
+                    );
+                    self.shot = Shot::Done;
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn measure(&mut self, m: &mut dyn Machine, ctx: &egui::Context, frame: &eframe::Frame) {
+        let (Some(b), Some(n)) = (self.bench.as_mut(), self.drive.bench_frames) else {
+            return;
+        };
+        if !self.drive.script.is_empty() {
+            return;
+        }
+        let cpu = frame.info().cpu_usage;
+        if let Some(report) = b.frame(n, self.view.machine_ns, cpu, m.pulses()) {
+            println!("{report}");
+            self.drive.bench_frames = None;
+            // With a screenshot asked for too, it is taken now, and that closes the window.
+            if self.drive.screenshot.is_none() {
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        }
+    }
+
+    /// One frame: tick the console, play the script, draw, hand the operator's actions over.
+    fn frame(&mut self, m: &mut dyn Machine, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        self.frames += 1;
+        m.tick();
+        self.play_script(m, &ctx);
+        let was = self.view.wheel.0;
+        self.view = m.view();
+        // The handwheel axis turned by another input (a script) shows on the selector too.
+        if self.view.wheel.0 != was {
+            self.hand.wheel_axis = self.view.wheel.0;
+        }
+        // Program memory and tool data change only through panel events: look again (on the
+        // backplot's own thread) after events, at most every 15 frames.
+        if self.program_dirty
+            && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
+        {
+            let s = m.settings();
+            let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
+            self.plot
+                .request_program(m.program_text(), m.magazine(), s, start);
+            self.program_dirty = false;
+            self.program_checked = self.frames;
+        }
+        self.translating = self.plot.poll();
+        self.plot.record(self.view.axis_mm);
+        self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
+        let mut out = Vec::new();
+        let events = ctx.input(|i| i.events.clone());
+        super::keys::keyboard(&events, &self.view, &mut self.hand, &mut out);
+        self.draw(ui, &mut out);
+        // Whole notches nobody under the pointer took are dropped.
+        self.hand.scroll = self.hand.scroll.fract();
+        if std::mem::take(&mut self.hand.tape_requested) {
+            self.program_dirty = true;
+            m.tape_from_entry();
+        }
+        for ev in out {
+            self.program_dirty = true;
+            self.status = format!("{ev:?}");
+            m.handle(ev);
+        }
+        self.screenshot(&ctx);
+        self.measure(m, &ctx, frame);
+        let headless_busy = !self.script_done()
+            || self.translating
+            || self.bench.is_some()
+            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
+        if headless_busy {
+            // Scripts, screenshots and the benchmark run frames back to back.
+            ctx.request_repaint();
+        } else if !m.is_idle() {
+            // The machine moves: about 60 frames a second, no more (the pulse core's CPU).
+            ctx.request_repaint_after(Duration::from_millis(16));
+        } else {
+            // Idle: still look at the console now and then (messages, alarms).
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+}
+
+impl eframe::App for App {
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        // The console is taken out for the frame (and put back), so that it can be finished
+        // when the window closes.
+        let Some(mut m) = self.machine.take() else {
+            return;
+        };
+        self.frame(&mut *m, ui, frame);
+        self.machine = Some(m);
+    }
+
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        // Stop the machine and close the recording, as the terminal panel does on quitting.
+        if let Some(m) = self.machine.take() {
+            match m.finish() {
+                Ok(Some(summary)) => eprintln!("novanc: {summary}"),
+                Ok(None) => {}
+                Err(e) => eprintln!("novanc: recording: {e}"),
+            }
+        }
+    }
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        controls::ENAMEL.to_normalized_gamma_f32()
+    }
+}
+
+/// Mouse-wheel movement in notches (one line = one notch, 40 points = one notch), positive up.
+fn scroll_notches(events: &[egui::Event]) -> f32 {
+    events
+        .iter()
+        .map(|e| match e {
+            egui::Event::MouseWheel { unit, delta, .. } => match unit {
+                egui::MouseWheelUnit::Line => delta.y,
+                egui::MouseWheelUnit::Point => delta.y / 40.0,
+                egui::MouseWheelUnit::Page => delta.y * 10.0,
+            },
+            _ => 0.0,
+        })
+        .sum()
+}
+
+const OP_LABELS: [&str; 7] = ["CONT", "AUTO", "MDI", "DATA", "HANDLE", "STEP", "SINGLE"];
+const DATA_LABELS: [&str; 7] = [
+    "SEARCH",
+    "PROG READ",
+    "PROG REV",
+    "TOOL READ",
+    "TOOL REV",
+    "T-CODE",
+    "MDI",
+];
+
+impl App {
+    fn draw(&mut self, ui: &mut egui::Ui, out: &mut Vec<PanelEvent>) {
+        let view = self.view.clone();
+        let frame = egui::Frame::new().fill(controls::ENAMEL).inner_margin(8.0);
+        egui::Panel::bottom("relay")
+            .resizable(false)
+            .frame(frame.fill(Color32::from_rgb(48, 52, 56)))
+            .show(ui, |ui| self.relay_panel(ui, &view, out));
+        egui::Panel::left("nc")
+            .resizable(false)
+            .frame(frame)
+            .show(ui, |ui| self.nc_panel(ui, &view, out));
+        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
+            let tool = view.axis_mm;
+            let mut scroll = self.hand.scroll;
+            let r = self.plot.show(ui, tool, &mut scroll);
+            self.hand.scroll = scroll;
+            self.layout.plot = Some(r);
+        });
+    }
+
+    /// The NC panel (11): plasma display, data-processing mode selector, data keys, readout.
+    fn nc_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
+        let rows = view.display.len().max(1);
+        let cols = view
+            .display
+            .iter()
+            .map(|l| l.chars().count())
+            .max()
+            .unwrap_or(40)
+            .max(1);
+        let ppp = ui.ctx().pixels_per_point();
+        // The largest whole dot pitch (physical pixels) that fits 760 points across.
+        let pitch = ((760.0 * ppp) / (cols * super::font::CELL_W + 1) as f32)
+            .floor()
+            .clamp(1.0, 6.0) as usize;
+        let tex = self.plasma.texture(ui.ctx(), &view.display, pitch);
+        let size = tex.size_vec2() / ppp;
+        let id = tex.id();
+        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+        // Snap to whole physical pixels so each dot is drawn pixel for pixel.
+        let min = (rect.min.to_vec2() * ppp).round() / ppp;
+        let rect = Rect::from_min_size(min.to_pos2(), size);
+        ui.painter().image(
+            id,
+            rect,
+            Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+            Color32::WHITE,
+        );
+        self.layout.plasma = Some(rect);
+        self.layout.pitch = pitch;
+        let _ = rows;
+        ui.add_space(6.0);
+        ui.horizontal(|ui| {
+            let sel = DataMode::ALL
+                .iter()
+                .position(|m| *m == view.data_mode)
+                .unwrap_or(0);
+            ui.vertical(|ui| {
+                if let Some(i) = controls::rotary(
+                    ui,
+                    "DATA PROCESSING MODE",
+                    &DATA_LABELS,
+                    sel,
+                    vec2(240.0, 170.0),
+                    &mut self.hand,
+                ) {
+                    out.push(PanelEvent::Data(DataMode::ALL[i]));
+                }
+            });
+            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out));
+            ui.vertical(|ui| controls::readout(ui, view));
+        });
+        ui.label(
+            egui::RichText::new(format!("entry: {}", view.entry))
+                .monospace()
+                .color(controls::LEGEND),
+        );
+    }
+
+    /// The relay panel (12): operation mode selector, buttons and lamps, feed override,
+    /// handwheel, jog.
+    fn relay_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
+        ui.horizontal(|ui| {
+            let sel = OpMode::ALL
+                .iter()
+                .position(|m| *m == view.op_mode)
+                .unwrap_or(0);
+            if let Some(i) = controls::rotary(
+                ui,
+                "OPERATION MODE",
+                &OP_LABELS,
+                sel,
+                vec2(240.0, 170.0),
+                &mut self.hand,
+            ) {
+                out.push(PanelEvent::Op(OpMode::ALL[i]));
+            }
+            ui.vertical(|ui| {
+                ui.horizontal(|ui| {
+                    let l = &view.lamps;
+                    if controls::lamp_button(
+                        ui,
+                        "START",
+                        Color32::from_rgb(30, 120, 40),
+                        Some((l.run, controls::LAMP_RUN)),
+                    )
+                    .clicked()
+                    {
+                        out.push(PanelEvent::Start);
+                    }
+                    if controls::lamp_button(
+                        ui,
+                        "STOP",
+                        Color32::from_rgb(150, 110, 20),
+                        Some((l.hold, controls::LAMP_HOLD)),
+                    )
+                    .clicked()
+                    {
+                        out.push(PanelEvent::Stop);
+                    }
+                    if controls::lamp_button(
+                        ui,
+                        "RESET",
+                        Color32::from_rgb(60, 70, 110),
+                        Some((l.alarm, controls::LAMP_RED)),
+                    )
+                    .clicked()
+                    {
+                        out.push(PanelEvent::Reset);
+                    }
+                    if controls::estop_button(ui, l.estop).clicked() {
+                        out.push(PanelEvent::EStop);
+                    }
+                });
+                ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
+                controls::jog_buttons(ui, &mut self.hand, out);
+            });
+            let ov_labels: Vec<String> = (0..=15)
+                .map(|i| {
+                    if i % 5 == 0 {
+                        format!("{}", i * 10)
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
+            let ov_refs: Vec<&str> = ov_labels.iter().map(String::as_str).collect();
+            let sel = (view.feed_override / 10).min(15) as usize;
+            if let Some(i) = controls::rotary(
+                ui,
+                &format!("FEED OVERRIDE {} %", view.feed_override),
+                &ov_refs,
+                sel,
+                vec2(170.0, 170.0),
+                &mut self.hand,
+            ) {
+                out.push(PanelEvent::Override(i as u32 * 10));
+            }
+            ui.vertical(|ui| {
+                ui.label(
+                    egui::RichText::new("MANUAL PULSE GENERATOR")
+                        .small()
+                        .color(controls::LEGEND),
+                );
+                ui.horizontal(|ui| {
+                    controls::handwheel(ui, &mut self.hand, out);
+                    ui.vertical(|ui| controls::wheel_selectors(ui, view, &mut self.hand, out));
+                });
+            });
+        });
+        if !self.status.is_empty() {
+            ui.label(
+                egui::RichText::new(format!("last action: {}", self.status))
+                    .small()
+                    .color(Color32::GRAY),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scroll_is_counted_in_notches() {
+        let evs = vec![egui::Event::MouseWheel {
+            unit: egui::MouseWheelUnit::Line,
+            delta: vec2(0.0, 2.0),
+            phase: egui::TouchPhase::Move,
+            source: egui::MouseWheelSource::Unknown,
+            modifiers: Default::default(),
+        }];
+        assert_eq!(scroll_notches(&evs), 2.0);
+    }
+}

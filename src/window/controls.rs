@@ -1,0 +1,500 @@
+//! The front-panel controls drawn with egui: rotary selectors, the relay-panel buttons with
+//! their lamps, the feed-override knob, the handwheel (manual pulse generator 12b), the jog
+//! buttons and the position readout (the data keys are in `keys`).
+//! Each widget only draws the `PanelView` and turns the operator's clicks, drags, scrolls and
+//! keys into `PanelEvent`s; the console decides what they mean.
+
+use crate::panel_model::{Axis, PanelEvent, PanelView};
+use egui::{
+    pos2, vec2, Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Ui,
+};
+use std::f32::consts::PI;
+
+/// Panel paint: the grey enamel of the cabinet.
+pub const ENAMEL: Color32 = Color32::from_rgb(58, 62, 66);
+/// Legend paint on the panel.
+pub const LEGEND: Color32 = Color32::from_rgb(225, 225, 215);
+/// The RUN lamp.
+pub const LAMP_RUN: Color32 = Color32::from_rgb(110, 230, 60);
+/// The feed-hold lamp.
+pub const LAMP_HOLD: Color32 = Color32::from_rgb(255, 190, 40);
+/// The e-stop and alarm lamps.
+pub const LAMP_RED: Color32 = Color32::from_rgb(255, 50, 40);
+
+/// What the operator's hands hold between frames: shift latched, the handwheel axis switch,
+/// half-turned detents, a held jog button, scroll not yet worth a notch.
+#[derive(Debug)]
+pub struct HandState {
+    /// SHIFT (15c) latched for the next data key.
+    pub shift: bool,
+    /// Handwheel axis selector position.
+    pub wheel_axis: Axis,
+    /// Handwheel angle not yet a whole detent, radians.
+    pub wheel_rest: f32,
+    /// Handwheel dimple angle, radians (drawn).
+    pub wheel_angle: f32,
+    /// Mouse-wheel scroll of this frame, in notches (positive turns clockwise / up).
+    pub scroll: f32,
+    /// The jog button held down, if any.
+    pub jog_held: Option<(Axis, i8)>,
+    /// The axis key held down for a CONTINUOUS jog, if any.
+    pub key_jog: Option<(Axis, i8)>,
+    /// The tape reader key was pressed (the typed line names the tape).
+    pub tape_requested: bool,
+}
+
+impl Default for HandState {
+    fn default() -> Self {
+        HandState {
+            shift: false,
+            wheel_axis: Axis::X,
+            wheel_rest: 0.0,
+            wheel_angle: 0.0,
+            scroll: 0.0,
+            jog_held: None,
+            key_jog: None,
+            tape_requested: false,
+        }
+    }
+}
+
+/// Detents per handwheel turn.
+pub const DETENTS_PER_TURN: f32 = 100.0;
+
+/// Takes the whole notches of this frame's scroll for a hovered widget.
+fn take_scroll(hand: &mut HandState, hovered: bool) -> i32 {
+    if !hovered {
+        return 0;
+    }
+    let n = hand.scroll.trunc();
+    hand.scroll -= n;
+    n as i32
+}
+
+/// Angle (radians, 0 = up, clockwise positive) of position `i` of `n` on a rotary switch
+/// whose positions span `sweep` radians.
+fn position_angle(i: usize, n: usize, sweep: f32) -> f32 {
+    if n <= 1 {
+        return 0.0;
+    }
+    -sweep / 2.0 + sweep * i as f32 / (n - 1) as f32
+}
+
+fn at_angle(c: Pos2, r: f32, a: f32) -> Pos2 {
+    pos2(c.x + r * a.sin(), c.y - r * a.cos())
+}
+
+/// A rotary selector with `labels.len()` positions (empty labels are unmarked detents).
+/// Click a position (or near it) to turn there; scroll over it to turn one detent; drag the knob.
+/// Returns the newly chosen position.
+pub fn rotary(
+    ui: &mut Ui,
+    title: &str,
+    labels: &[&str],
+    selected: usize,
+    size: egui::Vec2,
+    hand: &mut HandState,
+) -> Option<usize> {
+    let n = labels.len();
+    let (rect, resp) = ui.allocate_exact_size(size, Sense::click_and_drag());
+    if n == 0 {
+        return None;
+    }
+    let p = ui.painter_at(rect);
+    let c = pos2(rect.center().x, rect.min.y + rect.height() * 0.56);
+    let knob_r = rect.height() * 0.2;
+    let label_r = knob_r * 2.0;
+    let sweep = if n > 9 { 1.5 * PI } else { 1.35 * PI };
+    p.text(
+        pos2(rect.center().x, rect.min.y + 2.0),
+        Align2::CENTER_TOP,
+        title,
+        FontId::proportional(12.0),
+        LEGEND,
+    );
+    for (i, l) in labels.iter().enumerate() {
+        let a = position_angle(i, n, sweep);
+        let col = if i == selected { LAMP_HOLD } else { LEGEND };
+        p.line_segment(
+            [at_angle(c, knob_r * 1.08, a), at_angle(c, knob_r * 1.3, a)],
+            Stroke::new(1.5, col),
+        );
+        if !l.is_empty() {
+            p.text(
+                at_angle(c, label_r, a),
+                Align2::CENTER_CENTER,
+                *l,
+                FontId::proportional(11.0),
+                col,
+            );
+        }
+    }
+    p.circle_filled(c, knob_r, Color32::from_rgb(25, 25, 28));
+    p.circle_stroke(
+        c,
+        knob_r,
+        Stroke::new(2.0, Color32::from_rgb(120, 120, 125)),
+    );
+    let a = position_angle(selected.min(n.saturating_sub(1)), n, sweep);
+    p.line_segment(
+        [at_angle(c, knob_r * 0.2, a), at_angle(c, knob_r * 0.95, a)],
+        Stroke::new(4.0, Color32::WHITE),
+    );
+    let nearest = |pt: Pos2| -> usize {
+        let v = pt - c;
+        let ang = v.x.atan2(-v.y);
+        (0..n)
+            .min_by(|&i, &j| {
+                let di = (position_angle(i, n, sweep) - ang).abs();
+                let dj = (position_angle(j, n, sweep) - ang).abs();
+                di.total_cmp(&dj)
+            })
+            .unwrap_or(selected)
+    };
+    let mut chosen = None;
+    if resp.clicked() || resp.dragged() {
+        if let Some(pt) = resp.interact_pointer_pos() {
+            chosen = Some(nearest(pt));
+        }
+    }
+    let notches = take_scroll(hand, resp.hovered());
+    if notches != 0 {
+        let to = (selected as i64 + notches as i64).clamp(0, n as i64 - 1) as usize;
+        chosen = Some(to);
+    }
+    chosen.filter(|&i| i != selected && i < n)
+}
+
+/// A push button with a lamp above it; returns the button's response.
+pub fn lamp_button(
+    ui: &mut Ui,
+    label: &str,
+    face: Color32,
+    lamp: Option<(bool, Color32)>,
+) -> Response {
+    let (rect, resp) = ui.allocate_exact_size(vec2(74.0, 70.0), Sense::click());
+    let p = ui.painter_at(rect);
+    if let Some((on, col)) = lamp {
+        let lc = pos2(rect.center().x, rect.min.y + 9.0);
+        let fill = if on { col } else { col.gamma_multiply(0.18) };
+        if on {
+            p.circle_filled(lc, 10.0, col.gamma_multiply(0.25));
+        }
+        p.circle_filled(lc, 6.0, fill);
+    }
+    let b = Rect::from_min_max(
+        pos2(rect.min.x + 4.0, rect.min.y + 22.0),
+        pos2(rect.max.x - 4.0, rect.max.y - 2.0),
+    );
+    let down = resp.is_pointer_button_down_on();
+    let f = if down {
+        face.gamma_multiply(0.7)
+    } else if resp.hovered() {
+        face.gamma_multiply(1.15)
+    } else {
+        face
+    };
+    p.rect_filled(b, 6.0, f);
+    p.rect_stroke(b, 6.0, Stroke::new(1.0, Color32::BLACK), StrokeKind::Inside);
+    p.text(
+        b.center(),
+        Align2::CENTER_CENTER,
+        label,
+        FontId::proportional(13.0),
+        Color32::WHITE,
+    );
+    resp
+}
+
+/// The emergency stop: a red mushroom head on a yellow collar, with its lamp.
+pub fn estop_button(ui: &mut Ui, on: bool) -> Response {
+    let (rect, resp) = ui.allocate_exact_size(vec2(84.0, 84.0), Sense::click());
+    let p = ui.painter_at(rect);
+    let c = rect.center();
+    p.circle_filled(c, 40.0, Color32::from_rgb(230, 190, 20));
+    let head = if resp.is_pointer_button_down_on() || on {
+        Color32::from_rgb(150, 10, 10)
+    } else {
+        Color32::from_rgb(210, 20, 20)
+    };
+    p.circle_filled(c, 30.0, head);
+    p.text(
+        c,
+        Align2::CENTER_CENTER,
+        "E-STOP",
+        FontId::proportional(12.0),
+        Color32::WHITE,
+    );
+    if on {
+        p.circle_stroke(c, 38.0, Stroke::new(3.0, LAMP_RED));
+    }
+    resp
+}
+
+/// The handwheel: drag round it or scroll over it; emits `Wheel(axis, detents)`.
+pub fn handwheel(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
+    let (rect, resp) = ui.allocate_exact_size(vec2(130.0, 130.0), Sense::drag());
+    let p = ui.painter_at(rect);
+    let c = rect.center();
+    let r = 58.0;
+    p.circle_filled(c, r, Color32::from_rgb(30, 30, 34));
+    for k in 0..DETENTS_PER_TURN as usize {
+        let a = hand.wheel_angle + k as f32 * 2.0 * PI / DETENTS_PER_TURN;
+        let len = if k % 10 == 0 { 9.0 } else { 4.0 };
+        p.line_segment(
+            [at_angle(c, r - len, a), at_angle(c, r, a)],
+            Stroke::new(1.0, LEGEND),
+        );
+    }
+    p.circle_filled(c, r * 0.55, Color32::from_rgb(70, 70, 76));
+    p.circle_filled(at_angle(c, r * 0.72, hand.wheel_angle), 7.0, Color32::BLACK);
+    let mut detents = 0i32;
+    if resp.dragged() {
+        if let Some(pt) = resp.interact_pointer_pos() {
+            let prev = pt - resp.drag_delta();
+            let a1 = (pt - c).x.atan2(-(pt - c).y);
+            let a0 = (prev - c).x.atan2(-(prev - c).y);
+            let mut d = a1 - a0;
+            if d > PI {
+                d -= 2.0 * PI;
+            } else if d < -PI {
+                d += 2.0 * PI;
+            }
+            hand.wheel_rest += d;
+            let step = 2.0 * PI / DETENTS_PER_TURN;
+            let whole = (hand.wheel_rest / step).trunc();
+            hand.wheel_rest -= whole * step;
+            detents += whole as i32;
+        }
+    }
+    detents += take_scroll(hand, resp.hovered());
+    if detents != 0 {
+        hand.wheel_angle += detents as f32 * 2.0 * PI / DETENTS_PER_TURN;
+        out.push(PanelEvent::Wheel(hand.wheel_axis, detents));
+    }
+}
+
+/// The handwheel's axis and ×1/×10/×100 selectors.
+pub fn wheel_selectors(
+    ui: &mut Ui,
+    view: &PanelView,
+    hand: &mut HandState,
+    out: &mut Vec<PanelEvent>,
+) {
+    ui.horizontal(|ui| {
+        for a in [Axis::X, Axis::Y, Axis::Z] {
+            if ui
+                .selectable_label(hand.wheel_axis == a, a.letter().to_string())
+                .clicked()
+            {
+                hand.wheel_axis = a;
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        for s in [1u32, 10, 100] {
+            if ui
+                .selectable_label(view.wheel.1 == s, format!("×{s}"))
+                .clicked()
+                && view.wheel.1 != s
+            {
+                out.push(PanelEvent::WheelScale(s));
+            }
+        }
+    });
+}
+
+/// The jog buttons (CONTINUOUS: move while held; STEP: one increment per press).
+pub fn jog_buttons(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
+    let mut held_now = None;
+    ui.horizontal(|ui| {
+        for a in [Axis::X, Axis::Y, Axis::Z] {
+            for dir in [-1i8, 1] {
+                let sign = if dir < 0 { '−' } else { '+' };
+                let r = ui.add(
+                    egui::Button::new(format!("{}{sign}", a.letter()))
+                        .min_size(vec2(30.0, 24.0))
+                        .sense(Sense::click_and_drag()),
+                );
+                if r.is_pointer_button_down_on() {
+                    held_now = Some((a, dir));
+                }
+            }
+        }
+    });
+    if held_now != hand.jog_held {
+        if hand.jog_held.is_some() {
+            out.push(PanelEvent::JogRelease);
+        }
+        if let Some((a, d)) = held_now {
+            out.push(PanelEvent::Jog(a, d));
+        }
+        hand.jog_held = held_now;
+    }
+}
+
+/// The position readout: axis positions, tool tip, tool, spindle, feed override, RUN, time.
+pub fn readout(ui: &mut Ui, view: &PanelView) {
+    let big = FontId::monospace(20.0);
+    ui.label(egui::RichText::new("POSITION mm").small().color(LEGEND));
+    for (i, a) in ['X', 'Y', 'Z'].iter().enumerate() {
+        ui.add(
+            egui::Label::new(
+                egui::RichText::new(format!("{a}{:>10.3}", view.axis_mm[i]))
+                    .font(big.clone())
+                    .color(Color32::from_rgb(140, 255, 200)),
+            )
+            .extend(),
+        );
+    }
+    let small = |ui: &mut Ui, s: String| {
+        ui.add(egui::Label::new(egui::RichText::new(s).monospace().color(LEGEND)).extend());
+    };
+    small(ui, format!("tip Z {:>10.3}", view.tip_mm[2]));
+    let tool = view.tool.map_or("T--".to_string(), |t| format!("T{t:02}"));
+    small(ui, format!("{tool}  S {}", view.spindle));
+    small(
+        ui,
+        format!(
+            "RUN {}  F {}%  {:.1} s",
+            view.run,
+            view.feed_override,
+            view.machine_ns as f64 / 1e9
+        ),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_span_the_sweep_symmetrically() {
+        let s = 1.35 * PI;
+        assert_eq!(position_angle(0, 7, s), -s / 2.0);
+        assert!((position_angle(6, 7, s) - s / 2.0).abs() < 1e-6);
+        assert!(position_angle(3, 7, s).abs() < 1e-6);
+        assert_eq!(position_angle(0, 1, s), 0.0);
+    }
+
+    #[test]
+    fn scroll_is_taken_in_whole_notches_by_the_hovered_widget_only() {
+        let mut h = HandState {
+            scroll: 2.5,
+            ..HandState::default()
+        };
+        assert_eq!(take_scroll(&mut h, false), 0);
+        assert_eq!(take_scroll(&mut h, true), 2);
+        assert!((h.scroll - 0.5).abs() < 1e-6);
+    }
+
+    /// One egui frame with these input events, the widget at the top left of a 400×300 screen.
+    fn frame(ctx: &egui::Context, t: f64, events: Vec<egui::Event>, mut f: impl FnMut(&mut Ui)) {
+        let raw = egui::RawInput {
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(400.0, 300.0))),
+            time: Some(t),
+            events,
+            ..Default::default()
+        };
+        ctx.run_ui(raw, |ui| f(ui)).drop_without_applying_deltas();
+    }
+
+    fn press(pos: Pos2, pressed: bool) -> egui::Event {
+        egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        }
+    }
+
+    const LABELS: [&str; 7] = ["A", "B", "C", "D", "E", "F", "G"];
+
+    #[test]
+    fn clicking_a_position_of_a_rotary_selector_turns_it_there() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState::default();
+        let size = vec2(240.0, 170.0);
+        // The knob centre and the label radius, as `rotary` lays them out at the top left.
+        let c = pos2(size.x / 2.0, size.y * 0.56);
+        let target = at_angle(c, size.y * 0.2 * 2.0, position_angle(5, 7, 1.35 * PI));
+        let mut got = Vec::new();
+        let evs = [
+            vec![egui::Event::PointerMoved(target)],
+            vec![press(target, true)],
+            vec![press(target, false)],
+            vec![],
+        ];
+        for (i, e) in evs.into_iter().enumerate() {
+            frame(&ctx, i as f64 * 0.05, e, |ui| {
+                got.push(rotary(ui, "T", &LABELS, 1, size, &mut hand));
+            });
+        }
+        assert!(got.contains(&Some(5)), "{got:?}");
+        assert!(!got.iter().any(|g| matches!(g, Some(i) if *i != 5)));
+    }
+
+    #[test]
+    fn scrolling_over_a_rotary_selector_turns_it_one_detent_per_notch_within_its_ends() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState::default();
+        let size = vec2(240.0, 170.0);
+        let over = pos2(120.0, 95.0);
+        let mut got = None;
+        for (i, (notches, sel)) in [(0.0, 3), (2.0, 3), (-9.0, 1)].into_iter().enumerate() {
+            hand.scroll = notches;
+            frame(
+                &ctx,
+                i as f64 * 0.05,
+                vec![egui::Event::PointerMoved(over)],
+                |ui| {
+                    got = rotary(ui, "T", &LABELS, sel, size, &mut hand);
+                },
+            );
+            match i {
+                1 => assert_eq!(got, Some(5)),
+                2 => assert_eq!(got, Some(0), "clamped at the first position"),
+                _ => {}
+            }
+        }
+        // Scroll with the pointer elsewhere turns nothing.
+        hand.scroll = 1.0;
+        frame(
+            &ctx,
+            1.0,
+            vec![egui::Event::PointerMoved(pos2(390.0, 290.0))],
+            |ui| {
+                got = rotary(ui, "T", &LABELS, 3, size, &mut hand);
+            },
+        );
+        assert_eq!(got, None);
+    }
+
+    #[test]
+    fn the_handwheel_turns_by_scroll_on_the_selected_axis() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState {
+            wheel_axis: Axis::Z,
+            ..HandState::default()
+        };
+        let mut out = Vec::new();
+        frame(
+            &ctx,
+            0.0,
+            vec![egui::Event::PointerMoved(pos2(65.0, 65.0))],
+            |ui| {
+                handwheel(ui, &mut hand, &mut out);
+            },
+        );
+        hand.scroll = -3.0;
+        frame(
+            &ctx,
+            0.1,
+            vec![egui::Event::PointerMoved(pos2(65.0, 65.0))],
+            |ui| {
+                handwheel(ui, &mut hand, &mut out);
+            },
+        );
+        assert_eq!(out, vec![PanelEvent::Wheel(Axis::Z, -3)]);
+    }
+}

@@ -1,0 +1,141 @@
+//! Writing a screenshot: binary PPM (P6), or PNG (8-bit RGB, stored deflate blocks) when the
+//! file name ends in `.png`. Encoded here, so no image crate is needed.
+
+use std::io::Write;
+use std::path::Path;
+
+/// Encodes `rgb` (width × height × 3 bytes) as a binary PPM.
+pub fn ppm(width: usize, height: usize, rgb: &[u8]) -> Vec<u8> {
+    let mut out = format!("P6\n{width} {height}\n255\n").into_bytes();
+    out.extend_from_slice(rgb);
+    out
+}
+
+/// Encodes `rgb` (width × height × 3 bytes) as a PNG.
+pub fn png(width: usize, height: usize, rgb: &[u8]) -> Vec<u8> {
+    let mut raw = Vec::with_capacity((width * 3 + 1) * height);
+    for row in rgb.chunks(width * 3).take(height) {
+        raw.push(0); // filter: none
+        raw.extend_from_slice(row);
+    }
+    let mut z = vec![0x78, 0x01];
+    let mut blocks = raw.chunks(65_535).peekable();
+    if blocks.peek().is_none() {
+        z.extend_from_slice(&[1, 0, 0, 0xFF, 0xFF]);
+    }
+    while let Some(b) = blocks.next() {
+        let last = blocks.peek().is_none();
+        z.push(u8::from(last));
+        let len = b.len() as u16;
+        z.extend_from_slice(&len.to_le_bytes());
+        z.extend_from_slice(&(!len).to_le_bytes());
+        z.extend_from_slice(b);
+    }
+    z.extend_from_slice(&adler32(&raw).to_be_bytes());
+    let mut out = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&(width as u32).to_be_bytes());
+    ihdr.extend_from_slice(&(height as u32).to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+    chunk(&mut out, b"IHDR", &ihdr);
+    chunk(&mut out, b"IDAT", &z);
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+    out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+    let start = out.len();
+    out.extend_from_slice(kind);
+    out.extend_from_slice(data);
+    let crc = crc32(&out[start..]);
+    out.extend_from_slice(&crc.to_be_bytes());
+}
+
+fn crc32(data: &[u8]) -> u32 {
+    let mut c = 0xFFFF_FFFFu32;
+    for &b in data {
+        c ^= b as u32;
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+fn adler32(data: &[u8]) -> u32 {
+    let (mut a, mut b) = (1u32, 0u32);
+    for &x in data {
+        a = (a + x as u32) % 65_521;
+        b = (b + a) % 65_521;
+    }
+    (b << 16) | a
+}
+
+/// Writes the image to `path`, PNG if it ends in `.png`, PPM otherwise.
+pub fn write(path: &Path, width: usize, height: usize, rgb: &[u8]) -> std::io::Result<()> {
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let bytes = if is_png {
+        png(width, height, rgb)
+    } else {
+        ppm(width, height, rgb)
+    };
+    let mut f = std::fs::File::create(path)?;
+    f.write_all(&bytes)?;
+    f.sync_all()
+}
+
+/// Reads a binary PPM written by `ppm` back: (width, height, rgb).
+pub fn read_ppm(bytes: &[u8]) -> Option<(usize, usize, Vec<u8>)> {
+    let mut fields = Vec::new();
+    let mut i = 0;
+    while fields.len() < 4 && i < bytes.len() {
+        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        let s = i;
+        while i < bytes.len() && !bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        fields.push(std::str::from_utf8(&bytes[s..i]).ok()?.to_string());
+    }
+    if fields.first().map(String::as_str) != Some("P6") || fields.get(3)? != "255" {
+        return None;
+    }
+    let w: usize = fields[1].parse().ok()?;
+    let h: usize = fields[2].parse().ok()?;
+    let data = bytes.get(i + 1..i + 1 + w * h * 3)?;
+    Some((w, h, data.to_vec()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc_and_adler_match_known_values() {
+        assert_eq!(crc32(b"IEND"), 0xAE42_6082);
+        assert_eq!(adler32(b"Wikipedia"), 0x11E6_0398);
+    }
+
+    #[test]
+    fn ppm_round_trips_and_png_is_well_formed() {
+        let rgb: Vec<u8> = (0..2 * 3 * 3).map(|i| i as u8 * 10).collect();
+        let p = ppm(2, 3, &rgb);
+        assert_eq!(read_ppm(&p), Some((2, 3, rgb.clone())));
+        assert_eq!(read_ppm(b"P5\n1 1\n255\n\0"), None);
+        let g = png(2, 3, &rgb);
+        assert_eq!(&g[..8], &[0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A]);
+        assert_eq!(&g[12..16], b"IHDR");
+        assert_eq!(&g[g.len() - 8..g.len() - 4], b"IEND");
+        // The IDAT payload holds the filtered rows verbatim (stored blocks).
+        let filtered_len = (2 * 3 + 1) * 3;
+        assert!(g.len() > filtered_len + 8 + 25 + 12);
+    }
+}

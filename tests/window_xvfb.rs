@@ -1,0 +1,349 @@
+//! The window under Xvfb (issue 6): `novanc --window` with Table B, driven by a panel script
+//! through SINGLE BLOCK and 3 STARTs, takes a screenshot; the pixels must show the executing
+//! block marker in the plasma display and the executed path in the backplot. Also: with no
+//! display at all, `novanc --window` says so, suggests the terminal panel and exits non-zero.
+//!
+//! Needs Xvfb (Debian package `xvfb`, installed by `.ci/run`). Without it the Xvfb tests fail
+//! when CI=true and are skipped loudly otherwise.
+#![cfg(feature = "window")]
+
+use novanc::window::font::{char_of, CELL_H, CELL_W};
+use novanc::window::image::read_ppm;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_novanc");
+
+/// The executing-block marker the console's display program puts before the executing block.
+const MARKER: char = '>';
+
+/// A scratch directory under the target directory, fresh for each test.
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("window_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// An Xvfb server on a display number it picked itself (`-displayfd`); killed on drop.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn find_in_path(prog: &str) -> Option<PathBuf> {
+    std::env::var_os("PATH").and_then(|p| {
+        std::env::split_paths(&p)
+            .map(|d| d.join(prog))
+            .find(|f| f.is_file())
+    })
+}
+
+/// Starts Xvfb, or says why not: `Err` means skip (or fail under CI).
+fn start_xvfb() -> Result<Xvfb, String> {
+    let Some(xvfb) = find_in_path("Xvfb") else {
+        return Err("Xvfb is not installed (apt-get install xvfb)".into());
+    };
+    let mut child = Command::new(xvfb)
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "1600x1000x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot start Xvfb: {e}"))?;
+    let mut line = String::new();
+    let out = child.stdout.take().ok_or("no Xvfb stdout")?;
+    BufReader::new(out)
+        .read_line(&mut line)
+        .map_err(|e| format!("Xvfb did not report its display: {e}"))?;
+    let n: u32 = line
+        .trim()
+        .parse()
+        .map_err(|_| format!("Xvfb reported '{}' as its display", line.trim()))?;
+    Ok(Xvfb {
+        child,
+        display: format!(":{n}"),
+    })
+}
+
+/// Starts Xvfb, or skips loudly (fails when CI=true).
+fn xvfb_or_skip(test: &str) -> Option<Xvfb> {
+    match start_xvfb() {
+        Ok(x) => Some(x),
+        Err(why) => {
+            if std::env::var("CI").is_ok_and(|v| v == "true") {
+                panic!("{test}: {why}, and CI=true requires it");
+            }
+            // Straight to the process's stderr, past the test harness's output capture.
+            let _ = writeln!(std::io::stderr(), "\n*** SKIPPED {test}: {why} ***\n");
+            None
+        }
+    }
+}
+
+/// Runs the command to its end within `limit`, returning (exit code, stdout, stderr).
+fn run_with_limit(mut cmd: Command, limit: Duration) -> (Option<i32>, String, String) {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn novanc");
+    let mut so = child.stdout.take().unwrap();
+    let mut se = child.stderr.take().unwrap();
+    let t_out = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = so.read_to_string(&mut s);
+        s
+    });
+    let t_err = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = se.read_to_string(&mut s);
+        s
+    });
+    let start = Instant::now();
+    let code = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st.code();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!(
+                "novanc --window did not finish within {} s; stderr: {}",
+                limit.as_secs(),
+                t_err.join().unwrap_or_default()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    (code, t_out.join().unwrap(), t_err.join().unwrap())
+}
+
+/// A rectangle in screenshot pixels.
+#[derive(Clone, Copy, Debug)]
+struct R {
+    x: usize,
+    y: usize,
+    w: usize,
+    h: usize,
+}
+
+/// The `screenshot PATH WxH plasma X Y W H pitch P plot X Y W H` line the window prints.
+fn parse_layout(stdout: &str) -> (R, usize, R) {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("screenshot "))
+        .unwrap_or_else(|| panic!("no screenshot line in stdout:\n{stdout}"));
+    let w: Vec<&str> = line.split_whitespace().collect();
+    let num = |i: usize| -> usize { w[i].parse::<f64>().unwrap() as usize };
+    let at = |k: &str| w.iter().position(|x| *x == k).unwrap();
+    let p = at("plasma");
+    let plasma = R {
+        x: num(p + 1),
+        y: num(p + 2),
+        w: num(p + 3),
+        h: num(p + 4),
+    };
+    let pitch = num(at("pitch") + 1);
+    let q = at("plot");
+    let plot = R {
+        x: num(q + 1),
+        y: num(q + 2),
+        w: num(q + 3),
+        h: num(q + 4),
+    };
+    (plasma, pitch, plot)
+}
+
+fn px(img: &(usize, usize, Vec<u8>), x: usize, y: usize) -> [u8; 3] {
+    let i = (y * img.0 + x) * 3;
+    [img.2[i], img.2[i + 1], img.2[i + 2]]
+}
+
+/// A lit plasma dot: orange (red high, green middling, blue low).
+fn is_orange(p: [u8; 3]) -> bool {
+    p[0] > 200 && (90..=190).contains(&p[1]) && p[2] < 90
+}
+
+/// Reads the plasma display back from the screenshot: each cell's 5×7 dots to a character.
+fn read_plasma(img: &(usize, usize, Vec<u8>), r: R, pitch: usize) -> Vec<String> {
+    let rows = (r.h - pitch) / (CELL_H * pitch);
+    let cols = (r.w - pitch) / (CELL_W * pitch);
+    (0..rows)
+        .map(|row| {
+            (0..cols)
+                .map(|col| {
+                    let mut g = [0u8; 7];
+                    for (dy, bits) in g.iter_mut().enumerate() {
+                        for dx in 0..5 {
+                            let x = r.x + pitch + (col * CELL_W + dx) * pitch;
+                            let y = r.y + pitch + (row * CELL_H + dy) * pitch;
+                            if is_orange(px(img, x, y)) {
+                                *bits |= 0x10 >> dx;
+                            }
+                        }
+                    }
+                    char_of(g).unwrap_or('\u{FFFD}')
+                })
+                .collect::<String>()
+        })
+        .collect()
+}
+
+/// The executed path's colour (plot::EXECUTED = 0, 255, 140), allowing for anti-aliasing.
+fn is_executed_path(p: [u8; 3]) -> bool {
+    p[0] < 70 && p[1] > 200 && (100..=185).contains(&p[2])
+}
+
+#[test]
+fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
+    let Some(x) = xvfb_or_skip("window_xvfb table B") else {
+        return;
+    };
+    let dir = scratch("tableb");
+    let script = dir.join("single3.txt");
+    std::fs::write(
+        &script,
+        "# SINGLE BLOCK, three STARTs, each waited for\nop SINGLE\nstart\nwait\nstart\nwait\nstart\nwait\nshow\n",
+    )
+    .unwrap();
+    let shot = dir.join("shot.ppm");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--size", "1400x860"])
+        .arg("--record")
+        .arg(dir.join("run.mcap"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(
+        code,
+        Some(0),
+        "novanc --window failed.\nstdout:\n{out}\nstderr:\n{err}"
+    );
+    // Closing the window finished the console: the recording is closed, with its summary.
+    assert!(
+        err.contains("recording"),
+        "no recording summary on stderr: {err}"
+    );
+    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
+    assert!(mcap.starts_with(b"\x89MCAP0\r\n") && mcap.ends_with(b"\x89MCAP0\r\n"));
+    let (plasma, pitch, plot) = parse_layout(&out);
+    let bytes = std::fs::read(&shot).unwrap();
+    let img = read_ppm(&bytes).expect("a P6 screenshot");
+    assert!(plasma.x + plasma.w <= img.0 && plasma.y + plasma.h <= img.1);
+    assert!(plot.x + plot.w <= img.0 && plot.y + plot.h <= img.1);
+
+    // The plasma display: read back as text, it is the frame the console showed (`show`),
+    // and it holds the executing-block marker, in orange.
+    let seen = read_plasma(&img, plasma, pitch);
+    let shown: Vec<&str> = out
+        .lines()
+        .skip_while(|l| *l != "--- display")
+        .skip(1)
+        .take_while(|l| *l != "---")
+        .collect();
+    assert!(
+        !shown.is_empty(),
+        "the script's `show` printed no frame:\n{out}"
+    );
+    let marker_line = seen
+        .iter()
+        .position(|l| l.contains(MARKER))
+        .unwrap_or_else(|| {
+            panic!(
+                "no '{MARKER}' marker in the plasma display:\n{}",
+                seen.join("\n")
+            )
+        });
+    assert_eq!(
+        seen.iter().map(|l| l.trim_end()).collect::<Vec<_>>(),
+        shown.iter().map(|l| l.trim_end()).collect::<Vec<_>>(),
+        "the window's plasma display differs from the console's frame"
+    );
+    assert!(shown[marker_line].contains(MARKER));
+
+    // The backplot: the executed path's colour, which nothing else in the plot uses.
+    let mut path_px = 0;
+    for y in plot.y..plot.y + plot.h {
+        for xx in plot.x..plot.x + plot.w {
+            if is_executed_path(px(&img, xx, y)) {
+                path_px += 1;
+            }
+        }
+    }
+    assert!(
+        path_px >= 20,
+        "the backplot shows no executed path ({path_px} pixels)"
+    );
+    // And nowhere outside the plot (it is the executed path's own colour).
+    let outside = (0..img.1)
+        .flat_map(|y| (0..plasma.x + plasma.w).map(move |xx| (xx, y)))
+        .filter(|&(xx, y)| is_executed_path(px(&img, xx, y)))
+        .count();
+    assert_eq!(
+        outside, 0,
+        "the executed-path colour appears left of the plot"
+    );
+}
+
+#[test]
+fn without_a_display_the_window_says_so_and_suggests_the_terminal() {
+    let dir = scratch("nodisplay");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--state"])
+        .arg(dir.join("state"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(30));
+    assert!(
+        matches!(code, Some(c) if c != 0),
+        "exit {code:?}; stdout {out}"
+    );
+    assert!(err.contains("no display"), "stderr: {err}");
+    assert!(err.contains("terminal panel"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+}
+
+#[test]
+fn a_display_that_does_not_answer_is_reported_not_a_panic() {
+    let dir = scratch("deaddisplay");
+    let mut cmd = Command::new(BIN);
+    // A display number nobody serves (no socket), so the connection is refused.
+    cmd.args(["--window", "--state"])
+        .arg(dir.join("state"))
+        .env("DISPLAY", ":4093")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, _out, err) = run_with_limit(cmd, Duration::from_secs(60));
+    assert!(
+        matches!(code, Some(c) if c != 0),
+        "exit {code:?}; stderr {err}"
+    );
+    assert!(err.contains("cannot open"), "stderr: {err}");
+    assert!(err.contains("terminal panel"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+}
