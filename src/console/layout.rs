@@ -207,15 +207,46 @@ pub fn draw_help(s: &mut Screen) {
 /// Draws the notice for a terminal smaller than the panel.
 pub fn draw_too_small(s: &mut Screen, need: (usize, usize)) {
     let (w, h) = (s.width(), s.height());
+    // Most important first, each wrapped at word boundaries to the width, so that even a
+    // 10-column terminal shows the size to enlarge to.
     let lines = [
-        "terminal too small".to_string(),
-        format!("enlarge to {}x{}", need.0, need.1),
-        format!("(now {w}x{h})"),
-        "Ctrl-C quits".to_string(),
+        (format!("enlarge to {}x{}", need.0, need.1), LIT),
+        (format!("(now {w}x{h})"), PANEL),
+        ("terminal too small".to_string(), LIT),
+        ("Ctrl-C quits".to_string(), PANEL),
     ];
-    for (i, l) in lines.iter().enumerate() {
-        s.text(0, i, l, if i < 2 { LIT } else { PANEL });
+    let mut row = 0;
+    for (text, style) in &lines {
+        for l in wrap_words(text, w) {
+            if row >= h {
+                return;
+            }
+            s.text(0, row, &l, *style);
+            row += 1;
+        }
     }
+}
+
+/// Splits `text` into lines of at most `width` characters at spaces (a longer word is cut).
+fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for word in text.split(' ') {
+        let word: String = word.chars().take(width).collect();
+        let len = cur.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > width {
+            out.push(std::mem::take(&mut cur));
+        }
+        if !cur.is_empty() {
+            cur.push(' ');
+        }
+        cur.push_str(&word);
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
 }
 
 #[cfg(test)]
@@ -273,5 +304,18 @@ mod tests {
         let t = s.to_text();
         assert!(t.contains("enlarge to 79x24"), "{t}");
         assert!(t.contains("(now 20x5)"), "{t}");
+        assert!(t.contains("terminal too small"), "{t}");
+    }
+
+    #[test]
+    fn the_small_notice_keeps_the_size_at_10_columns() {
+        let mut s = Screen::new(10, 4);
+        draw_too_small(&mut s, (79, 24));
+        let t = s.to_text();
+        let lines: Vec<&str> = t.lines().map(|l| l.trim_end()).collect();
+        assert_eq!(&lines[..3], &["enlarge to", "79x24", "(now 10x4)"], "{t}");
+        let mut s = Screen::new(3, 1);
+        draw_too_small(&mut s, (79, 24));
+        assert_eq!(s.to_text().trim_end(), "enl");
     }
 }
