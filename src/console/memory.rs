@@ -118,25 +118,13 @@ impl Memory {
         self.stores.set_tcode(t, tool)
     }
 
-    /// T-CODE SETTING the other way: moves `tool` to pocket `t`, out of any other pocket.
+    /// T-CODE SETTING the other way: moves `tool` to pocket `t`, out of any other pocket, with
+    /// its tool data, as one journaled change (a crash cannot leave it in no pocket).
     pub fn assign_tool(&mut self, tool: u32, t: u32) -> Result<(), String> {
-        let old = self.stores.magazine().tcodes.tcode_of(tool);
-        if old == Some(t) {
+        if self.stores.magazine().tcodes.tcode_of(tool) == Some(t) {
             return Ok(());
         }
-        if let Some(o) = old {
-            self.stores.set_tcode(o, None)?;
-        }
-        match self.stores.set_tcode(t, Some(tool)) {
-            Ok(()) => Ok(()),
-            Err(e) => {
-                if let Some(o) = old {
-                    // Put the tool back where it was; the refusal is what the operator sees.
-                    let _ = self.stores.set_tcode(o, Some(tool));
-                }
-                Err(e)
-            }
-        }
+        self.stores.move_tool(tool, t)
     }
 
     /// The magazine (T-code table and tool file) the translator uses.
