@@ -302,3 +302,17 @@ fn a_tool_revision_changes_the_next_run_not_the_program() {
     assert_eq!(z1 - z0, 5000, "Z carries the set length");
     assert_eq!(c.program_text(), program);
 }
+
+#[test]
+fn run_text_is_the_mdi_buffer_in_mdi_and_program_memory_otherwise() {
+    let mut c = open("runtext");
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Mdi));
+    c.handle(E::Type("IGO, 100, 50, -20*".into()));
+    assert_eq!(c.run_text(), c.program_text(), "DATA INPUT: program memory");
+    assert!(c.program_text().starts_with("DA1 = (200, 0, -450)"));
+    c.handle(E::Op(OpMode::Mdi));
+    assert_eq!(c.run_text(), "GO, 100, 50, -20\n");
+    c.handle(E::Op(OpMode::Auto));
+    assert_eq!(c.run_text(), c.program_text());
+}

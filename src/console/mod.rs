@@ -172,6 +172,16 @@ impl Console {
         self.mem.text(crate::store::Target::Program)
     }
 
+    /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
+    /// otherwise (what a backplot should draw).
+    pub fn run_text(&self) -> String {
+        if self.op == OpMode::Mdi {
+            self.mem.text(crate::store::Target::Mdi)
+        } else {
+            self.program_text()
+        }
+    }
+
     /// The magazine (T-code table and tool file) the next translation uses.
     pub fn magazine(&self) -> Magazine {
         self.mem.magazine()

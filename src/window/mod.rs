@@ -28,7 +28,8 @@ pub trait Machine {
     fn tick(&mut self);
     /// The panel to draw.
     fn view(&self) -> PanelView;
-    /// The program in program memory (for the backplot).
+    /// The text START runs in the current operation mode (program memory, or the MDI buffer in
+    /// MDI), for the backplot.
     fn program_text(&self) -> String;
     /// The magazine in force (T codes and tool data, for the backplot's translation).
     fn magazine(&self) -> Magazine;
@@ -57,7 +58,7 @@ impl Machine for crate::console::Console {
         crate::console::Console::view(self)
     }
     fn program_text(&self) -> String {
-        crate::console::Console::program_text(self)
+        crate::console::Console::run_text(self)
     }
     fn magazine(&self) -> Magazine {
         crate::console::Console::magazine(self)
