@@ -94,23 +94,29 @@ fn wait_file(p: &Path, secs: u64) -> String {
     }
 }
 
-#[test]
-fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
-    if !have_tmux() {
-        if std::env::var("CI").as_deref() == Ok("true") {
-            panic!("tmux is required in CI (install it in .ci/run)");
-        }
-        eprintln!("SKIPPED: tmux is not installed; the terminal panel test did not run");
-        return;
+/// Whether tmux can run this test: in CI it must (a missing tmux fails the test); elsewhere a
+/// missing tmux skips it, loudly.
+fn tmux_or_skip(what: &str) -> bool {
+    if have_tmux() {
+        return true;
     }
-    let d = temp_dir();
-    let exe = env!("CARGO_BIN_EXE_novanc");
+    if std::env::var("CI").as_deref() == Ok("true") {
+        panic!("tmux is required in CI (install it in .ci/run)");
+    }
+    eprintln!("SKIPPED: tmux is not installed; the {what} test did not run");
+    false
+}
+
+/// Starts an 80x24 tmux session on its own socket running `run` (a shell command line that
+/// starts novanc), with `stty -a` written to `before` and `after` it, and its exit status to
+/// `exit`.
+fn session(name: &str, d: &Path, run: &str) -> Tmux {
     let cmd = format!(
-        "stty -a > '{d}/before'; '{exe}' --state '{d}/state'; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
+        "stty -a > '{d}/before'; {run}; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
         d = d.display()
     );
     let t = Tmux {
-        socket: format!("novanc-test-{}", std::process::id()),
+        socket: format!("novanc-{name}-{}", std::process::id()),
     };
     t.run(&[
         "-f",
@@ -125,6 +131,28 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
         "-c",
         &cmd,
     ]);
+    t
+}
+
+/// The terminal settings after novanc exited are the ones before it started.
+fn assert_stty_unchanged(d: &Path) {
+    let after = wait_file(&d.join("after"), 10);
+    let before = std::fs::read_to_string(d.join("before")).unwrap();
+    assert_eq!(before, after, "stty -a changed");
+}
+
+#[test]
+fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
+    if !tmux_or_skip("terminal panel") {
+        return;
+    }
+    let d = temp_dir();
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let t = session(
+        "test",
+        &d,
+        &format!("'{exe}' --state '{}/state'", d.display()),
+    );
     t.wait_for(
         &["PLASMA DISPLAY 14", "◉━4 DATA INPUT", "◉━3 PROG REVISE"],
         20,
@@ -192,9 +220,7 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     t.keys(&["C-c"]);
     let exit = wait_file(&d.join("exit"), 20);
     assert_eq!(exit.trim(), "exit=0");
-    let after = wait_file(&d.join("after"), 10);
-    let before = std::fs::read_to_string(d.join("before")).unwrap();
-    assert_eq!(before, after, "stty -a changed");
+    assert_stty_unchanged(&d);
     let s = t.screen();
     assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
     let _ = std::fs::remove_dir_all(&d);
@@ -202,35 +228,19 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
 
 #[test]
 fn sigterm_hands_the_terminal_back() {
-    if !have_tmux() {
-        if std::env::var("CI").as_deref() == Ok("true") {
-            panic!("tmux is required in CI (install it in .ci/run)");
-        }
-        eprintln!("SKIPPED: tmux is not installed; the SIGTERM test did not run");
+    if !tmux_or_skip("SIGTERM") {
         return;
     }
     let d = temp_dir();
     let exe = env!("CARGO_BIN_EXE_novanc");
-    let cmd = format!(
-        "stty -a > '{d}/before'; sh -c 'echo $$ > {d}/pid; exec {exe} --state {d}/state'; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
-        d = d.display()
+    let t = session(
+        "term",
+        &d,
+        &format!(
+            "sh -c 'echo $$ > {d}/pid; exec {exe} --state {d}/state'",
+            d = d.display()
+        ),
     );
-    let t = Tmux {
-        socket: format!("novanc-term-{}", std::process::id()),
-    };
-    t.run(&[
-        "-f",
-        "/dev/null",
-        "new-session",
-        "-d",
-        "-x",
-        "80",
-        "-y",
-        "24",
-        "sh",
-        "-c",
-        &cmd,
-    ]);
     t.wait_for(&["PLASMA DISPLAY 14"], 20);
     let pid = wait_file(&d.join("pid"), 10);
     let ok = Command::new("kill")
@@ -240,50 +250,30 @@ fn sigterm_hands_the_terminal_back() {
     assert!(ok.success());
     let exit = wait_file(&d.join("exit"), 20);
     assert_eq!(exit.trim(), "exit=143");
-    let after = wait_file(&d.join("after"), 10);
-    let before = std::fs::read_to_string(d.join("before")).unwrap();
-    assert_eq!(before, after, "stty -a changed");
+    assert_stty_unchanged(&d);
     let _ = std::fs::remove_dir_all(&d);
 }
 
 #[test]
 fn a_panic_hands_the_terminal_back() {
-    if !have_tmux() {
-        if std::env::var("CI").as_deref() == Ok("true") {
-            panic!("tmux is required in CI (install it in .ci/run)");
-        }
-        eprintln!("SKIPPED: tmux is not installed; the panic test did not run");
+    if !tmux_or_skip("panic") {
         return;
     }
     let d = temp_dir();
     let exe = env!("CARGO_BIN_EXE_novanc");
-    let cmd = format!(
-        "stty -a > '{d}/before'; NOVANC_TEST_PANIC=1 '{exe}' --state '{d}/state' 2> '{d}/stderr'; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
-        d = d.display()
+    let t = session(
+        "panic",
+        &d,
+        &format!(
+            "NOVANC_TEST_PANIC=1 '{exe}' --state '{d}/state' 2> '{d}/stderr'",
+            d = d.display()
+        ),
     );
-    let t = Tmux {
-        socket: format!("novanc-panic-{}", std::process::id()),
-    };
-    t.run(&[
-        "-f",
-        "/dev/null",
-        "new-session",
-        "-d",
-        "-x",
-        "80",
-        "-y",
-        "24",
-        "sh",
-        "-c",
-        &cmd,
-    ]);
     let exit = wait_file(&d.join("exit"), 20);
     assert_eq!(exit.trim(), "exit=101");
     let stderr = std::fs::read_to_string(d.join("stderr")).unwrap();
     assert!(stderr.contains("NOVANC_TEST_PANIC"), "{stderr}");
-    let after = wait_file(&d.join("after"), 10);
-    let before = std::fs::read_to_string(d.join("before")).unwrap();
-    assert_eq!(before, after, "stty -a changed");
+    assert_stty_unchanged(&d);
     let s = t.screen();
     assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
     let _ = std::fs::remove_dir_all(&d);
