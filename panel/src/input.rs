@@ -143,19 +143,7 @@ fn decode_escape(b: &[u8]) -> Option<(Key, usize)> {
         b'[' => decode_csi(b),
         b'O' => {
             let third = *b.get(2)?;
-            let k = match third {
-                b'A' => Key::Up,
-                b'B' => Key::Down,
-                b'C' => Key::Right,
-                b'D' => Key::Left,
-                b'H' => Key::Home,
-                b'F' => Key::End,
-                b'P' => Key::F(1),
-                b'Q' => Key::F(2),
-                b'R' => Key::F(3),
-                b'S' => Key::F(4),
-                _ => Key::Unknown,
-            };
+            let k = final_letter(third).unwrap_or(Key::Unknown);
             Some((k, 3))
         }
         0x1b => Some((Key::Esc, 1)),
@@ -163,6 +151,24 @@ fn decode_escape(b: &[u8]) -> Option<(Key, usize)> {
         b'\r' => Some((Key::Alt('\r'), 2)),
         _ => Some((Key::Esc, 1)),
     }
+}
+
+/// The key of a final letter shared by `ESC O x` (SS3) and `ESC [ params x` (CSI): arrows,
+/// Home, End and F1–F4.
+fn final_letter(c: u8) -> Option<Key> {
+    Some(match c {
+        b'A' => Key::Up,
+        b'B' => Key::Down,
+        b'C' => Key::Right,
+        b'D' => Key::Left,
+        b'H' => Key::Home,
+        b'F' => Key::End,
+        b'P' => Key::F(1),
+        b'Q' => Key::F(2),
+        b'R' => Key::F(3),
+        b'S' => Key::F(4),
+        _ => return None,
+    })
 }
 
 /// `ESC [ params final`.
@@ -181,18 +187,9 @@ fn decode_csi(b: &[u8]) -> Option<(Key, usize)> {
         .next()
         .and_then(|p| p.parse().ok())
         .unwrap_or(0);
-    let k = match fin {
-        b'A' => Key::Up,
-        b'B' => Key::Down,
-        b'C' => Key::Right,
-        b'D' => Key::Left,
-        b'H' => Key::Home,
-        b'F' => Key::End,
-        b'P' => Key::F(1),
-        b'Q' => Key::F(2),
-        b'R' => Key::F(3),
-        b'S' => Key::F(4),
-        b'~' => match first {
+    let k = match (final_letter(fin), fin) {
+        (Some(k), _) => k,
+        (None, b'~') => match first {
             1 | 7 => Key::Home,
             2 => Key::Insert,
             3 => Key::Delete,
@@ -204,7 +201,6 @@ fn decode_csi(b: &[u8]) -> Option<(Key, usize)> {
             23 | 24 => Key::F((first - 12) as u8),
             _ => Key::Unknown,
         },
-        0x40..=0x7e => Key::Unknown,
         _ => Key::Unknown,
     };
     Some((k, i + 1))

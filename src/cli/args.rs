@@ -12,6 +12,24 @@ pub struct Opt {
     pub takes_value: bool,
 }
 
+impl Opt {
+    /// An option that takes a value (`--tools TAPE`).
+    pub const fn value(name: &'static str) -> Opt {
+        Opt {
+            name,
+            takes_value: true,
+        }
+    }
+
+    /// A flag, with no value (`--write`).
+    pub const fn flag(name: &'static str) -> Opt {
+        Opt {
+            name,
+            takes_value: false,
+        }
+    }
+}
+
 /// Parsed arguments.
 #[derive(Clone, Debug, Default)]
 pub struct Args {

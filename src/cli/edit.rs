@@ -28,22 +28,10 @@ and the exit code is 1. Usage errors exit 2.
 /// Runs `novanc edit`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
     let opts = [
-        Opt {
-            name: "-c",
-            takes_value: true,
-        },
-        Opt {
-            name: "--write",
-            takes_value: false,
-        },
-        Opt {
-            name: "-h",
-            takes_value: false,
-        },
-        Opt {
-            name: "--help",
-            takes_value: false,
-        },
+        Opt::value("-c"),
+        Opt::flag("--write"),
+        Opt::flag("-h"),
+        Opt::flag("--help"),
     ];
     let args = match Args::parse(argv, &opts) {
         Ok(a) => a,

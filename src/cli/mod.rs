@@ -39,6 +39,13 @@ pub fn main(argv: Vec<String>) -> i32 {
     }
 }
 
+/// Prints a failure (already in its final form, e.g. `PROG:LINE:COL: message`) on stderr and
+/// returns exit code 1.
+pub fn fail(msg: &str) -> i32 {
+    let _ = writeln!(std::io::stderr(), "{msg}");
+    1
+}
+
 /// Prints an error on stderr as `novanc: message` and returns exit code 2 (usage error).
 pub fn usage_error(msg: &str) -> i32 {
     let _ = writeln!(std::io::stderr(), "novanc: {msg}");

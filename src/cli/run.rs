@@ -3,11 +3,11 @@
 //! a summary.
 
 use super::args::{Args, Opt};
+use super::fail;
 use crate::ap::translate_all;
 use crate::nc::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::record::Recorder;
 use crate::settings::MachineSettings;
-use std::io::Write;
 use std::path::Path;
 use std::time::Duration;
 
@@ -34,40 +34,14 @@ options:
 ";
 
 const OPTS: [Opt; 7] = [
-    Opt {
-        name: "--tools",
-        takes_value: true,
-    },
-    Opt {
-        name: "--magazine",
-        takes_value: true,
-    },
-    Opt {
-        name: "--record",
-        takes_value: true,
-    },
-    Opt {
-        name: "--realtime",
-        takes_value: false,
-    },
-    Opt {
-        name: "--feed-override",
-        takes_value: true,
-    },
-    Opt {
-        name: "--help",
-        takes_value: false,
-    },
-    Opt {
-        name: "-h",
-        takes_value: false,
-    },
+    Opt::value("--tools"),
+    Opt::value("--magazine"),
+    Opt::value("--record"),
+    Opt::flag("--realtime"),
+    Opt::value("--feed-override"),
+    Opt::flag("--help"),
+    Opt::flag("-h"),
 ];
-
-fn fail(msg: &str) -> i32 {
-    let _ = writeln!(std::io::stderr(), "{msg}");
-    1
-}
 
 /// Runs `novanc run`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {

@@ -2,6 +2,7 @@
 //! program on stdout; errors on stderr as `PROG:LINE:COL: message`, exit 1.
 
 use super::args::{Args, Opt};
+use super::fail;
 use crate::ap::{iso_program, translate_all};
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
@@ -29,28 +30,11 @@ T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
 const OPTS: [Opt; 4] = [
-    Opt {
-        name: "--tools",
-        takes_value: true,
-    },
-    Opt {
-        name: "--magazine",
-        takes_value: true,
-    },
-    Opt {
-        name: "--help",
-        takes_value: false,
-    },
-    Opt {
-        name: "-h",
-        takes_value: false,
-    },
+    Opt::value("--tools"),
+    Opt::value("--magazine"),
+    Opt::flag("--help"),
+    Opt::flag("-h"),
 ];
-
-fn fail(msg: &str) -> i32 {
-    let _ = writeln!(std::io::stderr(), "{msg}");
-    1
-}
 
 fn read(path: &str) -> Result<String, String> {
     std::fs::read_to_string(path).map_err(|e| format!("novanc: cannot read {path}: {e}"))
