@@ -2,10 +2,10 @@
 //! bytes for an idle frame, bytes for a frame where only the position readout changed, and
 //! frames per second while a program runs. `cargo bench --bench frame`.
 
-use novanc::console::layout::{draw_panel, panel_size};
 use novanc::console::{Console, ConsoleConfig};
-use novanc::nc::ClockMode;
 use novanc::panel_model::{OpMode, PanelEvent};
+use novanc::pulse_core::ClockMode;
+use novanc::terminal::layout::{draw_panel, panel_size};
 use novanc_panel::{Renderer, Screen};
 use std::time::{Duration, Instant};
 

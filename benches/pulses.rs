@@ -3,11 +3,11 @@
 //!
 //! Run with `cargo bench --bench pulses`.
 
-use novanc::ap::Statement;
-use novanc::nc::testkit::{polyline, Rng};
-use novanc::nc::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::pulse_core::testkit::{polyline, Rng};
+use novanc::pulse_core::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
 use novanc::record::{Event, EventSink, Recorder};
 use novanc::settings::MachineSettings;
+use novanc::translator::Statement;
 use std::time::{Duration, Instant};
 
 const MID: [i64; 3] = [500_000, 400_000, -300_000];
@@ -114,7 +114,13 @@ fn realtime(seconds: f64) {
     core.set_position(start);
     // 12 m/min on X = 200,000 pulses/s at 1 µm
     let len = (200_000.0 * seconds) as i64;
-    let b = novanc::nc::testkit::block(1, novanc::block::Motion::Rapid, start, [len, 0, 0], 0.0);
+    let b = novanc::pulse_core::testkit::block(
+        1,
+        novanc::block::Motion::Rapid,
+        start,
+        [len, 0, 0],
+        0.0,
+    );
     let stmt = Statement {
         line: 1,
         text: "GD".into(),

@@ -4,9 +4,9 @@
 //!
 //! Run: `cargo bench --bench translate`.
 
-use novanc::ap::{iso_program, Statement, Translator};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
+use novanc::translator::{iso_program, Statement, Translator};
 use std::time::Instant;
 
 /// Ten statements per unit: 5 definitions and 5 cycles.

@@ -7,7 +7,8 @@
 //!
 //! `cargo bench --features window --bench window` (frames: NOVANC_BENCH_FRAMES, default 600).
 
-use novanc::console::{config_from_args, Console};
+use novanc::cli::console_opts::config_from_args;
+use novanc::console::Console;
 use novanc::panel_model::PanelEvent;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};

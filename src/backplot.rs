@@ -7,10 +7,10 @@
 //! path from the axis pulse counters, so the two lie on top of each other when the machine
 //! follows the program.
 
-use crate::ap::{TranslateError, Translator};
 use crate::block::{Block, Motion};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
+use crate::translator::{TranslateError, Translator};
 use std::f64::consts::TAU;
 
 /// What kind of move a piece of the programmed path is (how it is drawn).

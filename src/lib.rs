@@ -2,16 +2,18 @@
 //! embedded controller core; the terminal, the window, the command line and the tests all drive
 //! it through the same `Console`.
 
-pub mod ap;
 pub mod backplot;
 pub mod block;
 pub mod cli;
 pub mod console;
-pub mod nc;
+pub mod crc32;
 pub mod panel_model;
+pub mod pulse_core;
 pub mod record;
 pub mod settings;
 pub mod store;
+pub mod terminal;
 pub mod tooldata;
+pub mod translator;
 #[cfg(feature = "window")]
 pub mod window;

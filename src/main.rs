@@ -1,4 +1,4 @@
-//! The `novanc` binary: the command line of SPEC §8.
+//! The `novanc` binary: the command line of docs/cli.md.
 
 fn main() {
     let code = novanc::cli::main(std::env::args().collect());

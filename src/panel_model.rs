@@ -1,9 +1,63 @@
 //! The panel model shared by every front end (terminal, window, script): the selector
 //! positions, the operator's actions (panel events) and the view a front end draws.
-//! The `Console` consumes `PanelEvent`s and produces a `PanelView` (SPEC §1, §8).
+//! The `Console` consumes `PanelEvent`s and produces a `PanelView` (docs/panel.md, docs/cli.md).
 
 use std::fmt;
 use std::path::PathBuf;
+
+/// The names of one selector position, in every length a front end needs.
+#[derive(Debug, PartialEq, Eq)]
+pub struct ModeNames {
+    /// The panel script word (`op AUTO`, `data TOOLREVISE`) and the `/nc/state` value.
+    pub word: &'static str,
+    /// The operator's name, for messages and page headers.
+    pub name: &'static str,
+    /// The label on the terminal's rotary selector (at most 11 characters).
+    pub label: &'static str,
+    /// The short form, for the state line and the window's selector (at most 8 characters).
+    pub short: &'static str,
+}
+
+const fn names(
+    word: &'static str,
+    name: &'static str,
+    label: &'static str,
+    short: &'static str,
+) -> ModeNames {
+    ModeNames {
+        word,
+        name,
+        label,
+        short,
+    }
+}
+
+/// Operation mode names, in selector order (the order of [`OpMode::ALL`]).
+pub const OP_NAMES: [ModeNames; 7] = [
+    names("CONTINUOUS", "CONTINUOUS", "CONTINUOUS", "CONT"),
+    names("AUTO", "AUTO", "AUTO", "AUTO"),
+    names("MDI", "MDI", "MDI", "MDI"),
+    names("DATA", "DATA INPUT", "DATA INPUT", "DATA"),
+    names("HANDLE", "HANDLE", "HANDLE", "HANDLE"),
+    names("STEP", "STEP", "STEP", "STEP"),
+    names("SINGLE", "SINGLE BLOCK", "SINGLE BLK", "SINGLE"),
+];
+
+/// Data-processing mode names, in selector order (the order of [`DataMode::ALL`]).
+pub const DATA_NAMES: [ModeNames; 7] = [
+    names("SEARCH", "SEARCH", "SEARCH", "SEARCH"),
+    names("READ", "PROGRAM READ", "PROG READ", "PROG READ"),
+    names("REVISE", "PROGRAM REVISION", "PROG REVISE", "PROG REV"),
+    names("TOOLREAD", "TOOL DATA READ", "TOOL READ", "TOOL READ"),
+    names(
+        "TOOLREVISE",
+        "TOOL DATA REVISION",
+        "TOOL REVISE",
+        "TOOL REV",
+    ),
+    names("TCODE", "T-CODE SETTING", "T-CODE SET", "T-CODE"),
+    names("MDI", "MDI", "MDI", "MDI"),
+];
 
 /// Operation mode selector 17 (relay panel), seven positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -36,17 +90,19 @@ impl OpMode {
         OpMode::Single,
     ];
 
+    /// The names of this position: the one table every front end takes them from.
+    pub fn names(self) -> &'static ModeNames {
+        &OP_NAMES[self as usize]
+    }
+
     /// The script word (`op WORD`).
     pub fn word(self) -> &'static str {
-        match self {
-            OpMode::Continuous => "CONTINUOUS",
-            OpMode::Auto => "AUTO",
-            OpMode::Mdi => "MDI",
-            OpMode::Data => "DATA",
-            OpMode::Handle => "HANDLE",
-            OpMode::Step => "STEP",
-            OpMode::Single => "SINGLE",
-        }
+        self.names().word
+    }
+
+    /// The operator's name, as the display writes it in messages.
+    pub fn name(self) -> &'static str {
+        self.names().name
     }
 
     /// The position parsed from its script word (case-insensitive).
@@ -88,17 +144,19 @@ impl DataMode {
         DataMode::Mdi,
     ];
 
+    /// The names of this position: the one table every front end takes them from.
+    pub fn names(self) -> &'static ModeNames {
+        &DATA_NAMES[self as usize]
+    }
+
     /// The script word (`data WORD`).
     pub fn word(self) -> &'static str {
-        match self {
-            DataMode::Search => "SEARCH",
-            DataMode::Read => "READ",
-            DataMode::Revise => "REVISE",
-            DataMode::ToolRead => "TOOLREAD",
-            DataMode::ToolRevise => "TOOLREVISE",
-            DataMode::TCode => "TCODE",
-            DataMode::Mdi => "MDI",
-        }
+        self.names().word
+    }
+
+    /// The operator's name, as the display writes it in headers and messages.
+    pub fn name(self) -> &'static str {
+        self.names().name
     }
 
     /// The position parsed from its script word (case-insensitive).
@@ -146,7 +204,7 @@ impl Axis {
     }
 }
 
-/// One operator action at the panel. The script format of SPEC §8 maps line for line onto it;
+/// One operator action at the panel. The script format of docs/cli.md maps line for line onto it;
 /// interactive front ends add per-key events.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PanelEvent {
@@ -204,7 +262,7 @@ impl fmt::Display for ScriptError {
 }
 
 impl PanelEvent {
-    /// Parses one script line (SPEC §8). `Ok(None)` for a blank or comment line.
+    /// Parses one script line (docs/cli.md). `Ok(None)` for a blank or comment line.
     pub fn parse_script_line(raw: &str) -> Result<Option<PanelEvent>, String> {
         let line = raw.trim_end_matches(['\r', '\n']);
         let trimmed = line.trim_start();

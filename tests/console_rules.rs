@@ -1,10 +1,10 @@
-//! The console's rules (SPEC §1) through its public API: keys that are not valid change
+//! The console's rules (docs/panel.md) through its public API: keys that are not valid change
 //! nothing, DATA INPUT clears RUN, a translation error moves nothing, manual moves respect
 //! the travel limits, edits survive a restart.
 
 use novanc::console::{Console, ConsoleConfig};
-use novanc::nc::ClockMode;
 use novanc::panel_model::{Axis, DataMode, OpMode, PanelEvent as E};
+use novanc::pulse_core::ClockMode;
 use std::path::PathBuf;
 
 /// A fresh state directory.

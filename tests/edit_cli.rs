@@ -1,4 +1,4 @@
-//! `novanc edit FILE -c 'CMDLINE' [-c ..] [--write]` (SPEC §8), driven as a process.
+//! `novanc edit FILE -c 'CMDLINE' [-c ..] [--write]` (docs/cli.md), driven as a process.
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -1,11 +1,11 @@
 //! The pulse core thread (`PulseCore`) on virtual time: B1 filled concurrently by the translator
 //! thread, commands, `wait_idle`, determinism through the thread, recording every pulse.
 
-use novanc::ap::{Statement, TranslateError};
-use novanc::nc::testkit::{polyline, Rng};
-use novanc::nc::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::pulse_core::testkit::{polyline, Rng};
+use novanc::pulse_core::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
 use novanc::record::{Event, EventSink};
 use novanc::settings::MachineSettings;
+use novanc::translator::{Statement, TranslateError};
 use std::time::Duration;
 
 const MID: [i64; 3] = [500_000, 400_000, -300_000];
@@ -172,7 +172,12 @@ fn real_time_follows_the_wall_clock() {
     let stmt = Statement {
         line: 1,
         text: "GD, 6, 0, 0".into(),
-        blocks: vec![novanc::nc::testkit::linear(1, MID, [6_000, 0, 0], 1200.0)],
+        blocks: vec![novanc::pulse_core::testkit::linear(
+            1,
+            MID,
+            [6_000, 0, 0],
+            1200.0,
+        )],
     };
     let t0 = std::time::Instant::now();
     core.load(iter(vec![stmt]));
@@ -200,7 +205,12 @@ fn a_recorder_that_falls_behind_never_holds_up_the_machine() {
     let stmt = Statement {
         line: 1,
         text: "GD, 6, 0, 0".into(),
-        blocks: vec![novanc::nc::testkit::linear(1, MID, [6_000, 0, 0], 1200.0)],
+        blocks: vec![novanc::pulse_core::testkit::linear(
+            1,
+            MID,
+            [6_000, 0, 0],
+            1200.0,
+        )],
     };
     let t0 = std::time::Instant::now();
     core.load(iter(vec![stmt]));
@@ -244,7 +254,12 @@ fn real_time_emergency_stop_stops_the_pulses_within_one_period() {
     let stmt = Statement {
         line: 1,
         text: "GD, 100, 0, 0".into(),
-        blocks: vec![novanc::nc::testkit::linear(1, MID, [100_000, 0, 0], 6000.0)],
+        blocks: vec![novanc::pulse_core::testkit::linear(
+            1,
+            MID,
+            [100_000, 0, 0],
+            6000.0,
+        )],
     };
     core.load(iter(vec![stmt]));
     core.command(Command::Start(RunKind::Auto));

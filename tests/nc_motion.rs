@@ -2,8 +2,8 @@
 //! moves, arcs, feed, determinism.
 
 use novanc::block::Motion;
-use novanc::nc::testkit::{arc, linear, Rng};
-use novanc::nc::{Command, Machine, PulseRec, RunKind, VecSource};
+use novanc::pulse_core::testkit::{arc, linear, Rng};
+use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
 use novanc::settings::MachineSettings;
 
 const MID: [i64; 3] = [500_000, 400_000, -300_000];
@@ -217,7 +217,7 @@ fn rapid_runs_at_the_rapid_rate_and_ignores_override() {
     let delta = [300_000, 0, 0];
     let mut m = machine();
     m.command(Command::Override(10));
-    let b = novanc::nc::testkit::block(1, Motion::Rapid, MID, delta, 0.0);
+    let b = novanc::pulse_core::testkit::block(1, Motion::Rapid, MID, delta, 0.0);
     let pulses = run(&mut m, vec![b]);
     let v = cruise_speed_mm_min(&pulses, delta, &s);
     assert!((v - s.rapid_mm_min).abs() <= s.rapid_mm_min * 0.01, "{v}");
@@ -260,7 +260,7 @@ fn same_program_gives_the_same_pulse_times() {
             ];
             pts.push(p);
         }
-        let mut bl = novanc::nc::testkit::polyline(&pts, 1500.0);
+        let mut bl = novanc::pulse_core::testkit::polyline(&pts, 1500.0);
         let last = *pts.last().unwrap();
         bl.push(arc(30, last, [0, 0], [10_000, 0], true, 1000.0));
         bl

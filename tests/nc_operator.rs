@@ -1,11 +1,11 @@
 //! Operator commands on the pulse core, on virtual time: single block, feed hold, e-stop,
 //! reset, travel limits, translation errors, override, jog and the relay logic.
 
-use novanc::ap::{Statement, TranslateError};
 use novanc::block::{Block, Motion};
-use novanc::nc::testkit::{arc, linear, polyline};
-use novanc::nc::{Command, Machine, RunKind, VecSource};
+use novanc::pulse_core::testkit::{arc, linear, polyline};
+use novanc::pulse_core::{Command, Machine, RunKind, VecSource};
 use novanc::settings::MachineSettings;
+use novanc::translator::{Statement, TranslateError};
 
 const MID: [i64; 3] = [500_000, 400_000, -300_000];
 const HOUR: u64 = 3_600_000_000_000;

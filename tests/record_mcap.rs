@@ -1,4 +1,4 @@
-//! The recorder writes SPEC §7 MCAP that Python's `mcap` reader accepts (`tests/mcap_check.py`:
+//! The recorder writes docs/recording.md MCAP that Python's `mcap` reader accepts (`tests/mcap_check.py`:
 //! CRCs, encodings, required fields, log-time order), and the script rejects what it should.
 
 use novanc::record::testkit::synthetic_run;

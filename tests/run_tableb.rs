@@ -1,5 +1,5 @@
 //! `novanc run` end to end on Table B with a recording: the summary, the drill positions in the
-//! recording (SPEC §4 hole positions), every pulse once, and Python's `mcap` reader.
+//! recording (docs/language.md hole positions), every pulse once, and Python's `mcap` reader.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,4 +1,4 @@
-//! `novanc translate PROG [--tools TAPE] [--magazine TCODES]` (SPEC §8): the printed program on
+//! `novanc translate PROG [--tools TAPE] [--magazine TCODES]` (docs/cli.md): the printed program on
 //! stdout, errors on stderr as `PROG:LINE:COL: message` or `FILE:LINE: message`, exit 1.
 
 use std::path::PathBuf;

@@ -1,9 +1,9 @@
 //! The cycles, positioning and milling choices of docs/language.md, block by block. The
 //! expected numbers are worked out in the comments from the sample tool data.
 
-use novanc::ap::{iso_line, translate_all};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
+use novanc::translator::{iso_line, translate_all};
 
 /// The ISO lines (without N) of every block, statement by statement.
 fn lines(src: &str) -> Vec<Vec<String>> {

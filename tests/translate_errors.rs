@@ -1,9 +1,9 @@
 //! Bad input: every error carries LINE:COL and an operator's message, and the statement in
 //! error yields no blocks (the translator hands out nothing after it).
 
-use novanc::ap::{TranslateError, Translator};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::{parse_tape, parse_tcodes, sample_magazine, Magazine};
+use novanc::translator::{TranslateError, Translator};
 
 /// Translates `src` statement by statement; returns the error and checks that every statement
 /// before it came out whole, and that nothing comes after it.
@@ -443,7 +443,7 @@ fn no_input_makes_the_translator_panic() {
                 .map(|_| pieces[(rng.next() % pieces.len() as u64) as usize])
                 .collect::<String>()
         };
-        let r = novanc::ap::translate_all(
+        let r = novanc::translator::translate_all(
             &src,
             &sample_magazine(),
             &MachineSettings::default(),

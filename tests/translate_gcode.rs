@@ -3,10 +3,10 @@
 //! checks every line against its block — end point, axis amounts, motion, F, S, T, M, dwell —
 //! on Table B, a milling program and seeded random programs.
 
-use novanc::ap::{iso_program, translate_all, Statement};
 use novanc::block::{Block, Motion};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
+use novanc::translator::{iso_program, translate_all, Statement};
 
 /// One word: letter and value.
 fn words(line: &str) -> Vec<(char, f64)> {

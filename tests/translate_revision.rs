@@ -1,10 +1,10 @@
 //! A tool-data revision changes the Z moves and not the part program: with tool 106's set
 //! length changed in the tool file, only the Z values of the 106 blocks move, by exactly the
-//! difference (SPEC §3, §4 "Tool length").
+//! difference (docs/language.md "Coordinates and heights").
 
-use novanc::ap::{iso_line, translate_all, Statement};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
+use novanc::translator::{iso_line, translate_all, Statement};
 
 const TABLEB: &str = include_str!("../programs/tableb.ap");
 

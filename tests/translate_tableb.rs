@@ -1,11 +1,11 @@
 //! The Table B golden listing (`programs/tableb.ap` with the sample tool data), checked by hand:
-//! every number below is derived in the comments from SPEC §4 and the sample tool data, not
+//! every number below is derived in the comments from docs/language.md and the sample tool data, not
 //! copied from the translator's output.
 
-use novanc::ap::{iso_line, iso_program, translate_all, Statement};
 use novanc::block::Motion;
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
+use novanc::translator::{iso_line, iso_program, translate_all, Statement};
 
 const TABLEB: &str = include_str!("../programs/tableb.ap");
 const GOLDEN: &str = include_str!("golden/tableb.iso");
@@ -90,7 +90,7 @@ fn bor_610_with_sdp_rapids_into_the_bore() {
 #[test]
 fn drl_106_on_pat1_drills_the_six_holes_of_spec_4() {
     // PAT1 = DA1, NH6, P1, R65, SA30, IA60: holes at P1 + 65(cos a, sin a), a = 30, 90, ...
-    // which SPEC §4 gives relative to DA1 as (206.292, 162.5), (150, 195), (93.708, 162.5),
+    // which docs/language.md gives relative to DA1 as (206.292, 162.5), (150, 195), (93.708, 162.5),
     // (93.708, 97.5), (150, 65), (206.292, 97.5); plus DA1 (200, 0): machine X 406.292 Y 162.5,
     // X 350 Y 195, X 293.708 Y 162.5, X 293.708 Y 97.5, X 350 Y 65, X 406.292 Y 97.5.
     // Tool 106 is T02: DR 6.2, set length 150, 1200 rpm, 120 mm/min.

@@ -1,4 +1,4 @@
-//! The backplot's programmed path computed with the real translator (`novanc::ap::Translator`):
+//! The backplot's programmed path computed with the real translator (`novanc::translator::Translator`):
 //! Table B and a milled circle. Feature-independent (no egui).
 
 use novanc::backplot::{Backplot, PathKind, Segment};
@@ -31,7 +31,7 @@ fn table_b_path_from_the_translator_has_rapids_and_plunges_at_the_pattern_holes(
             w[0].seq, w[1].seq
         );
     }
-    // Every PAT1 hole (DA1 + SPEC §4's pattern points) gets a feed straight down in Z.
+    // Every PAT1 hole (DA1 + docs/language.md's pattern points) gets a feed straight down in Z.
     let holes = [
         (206.292, 162.5),
         (150.0, 195.0),

@@ -1,4 +1,4 @@
-//! Unit tests of every command and its edges (SPEC §5).
+//! Unit tests of every command and its edges (docs/editor.md).
 
 use crate::{Buffer, ExecOptions, Outcome};
 

@@ -1,7 +1,7 @@
-//! The NC editor core (SPEC §5; patent lines 437–485, Figs. 21–29): a text buffer with a
+//! The NC editor core (docs/editor.md; patent lines 437–485, Figs. 21–29): a text buffer with a
 //! pointer, and atomic command lines of `L M K D I S C Y`. Pure: no I/O, no threads.
 //!
-//! The operator's reference and every choice made where SPEC is silent: `docs/editor.md`.
+//! The operator's reference and every choice made: `docs/editor.md`.
 //! Modules: `parse` (command line → commands), `exec` (atomic run with an undo log), `text`
 //! (chunked store with character and EOB counts), `view` (the display around the pointer).
 

@@ -1,4 +1,4 @@
-//! Reading a command line into commands (SPEC §5): counts with sign and default, text arguments
+//! Reading a command line into commands (docs/editor.md): counts with sign and default, text arguments
 //! with `*` for EOB, `$` as the terminator and `\` to take `*`, `$` or `\` literally.
 
 use crate::{Command, EditError, EOB};

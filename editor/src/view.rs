@@ -1,4 +1,4 @@
-//! The display of a buffer around its pointer (SPEC §5: "the display shows the text around the
+//! The display of a buffer around its pointer (docs/editor.md: "the display shows the text around the
 //! pointer, with the pointer marked"). Costs a few line look-ups, whatever the buffer size.
 
 use crate::{Buffer, EOB};

@@ -1,4 +1,4 @@
-//! `novanc edit` (SPEC §8): batch editing of a file with the editor's command lines. The
+//! `novanc edit` (docs/cli.md): batch editing of a file with the editor's command lines. The
 //! pointer starts at 0; the command lines run in order; `Y` output goes to stdout. With
 //! `--write` the file is replaced atomically, and only if every command line succeeded.
 
@@ -11,7 +11,7 @@ use std::path::Path;
 const HELP: &str = "\
 usage: novanc edit FILE -c 'CMDLINE' [-c 'CMDLINE' ..] [--write]
 
-Applies editor command lines (SPEC §5) to the text of FILE, in order, with the pointer
+Applies editor command lines (docs/editor.md) to the text of FILE, in order, with the pointer
 starting at 0. Commands: nL (line), mM (move), nK (kill lines), nD (delete characters),
 Itext (insert), Stext (search), Cold$new (substitute), nY (display). In text arguments
 '*' is the end of block (a newline) and '$' ends the argument.

@@ -1,7 +1,8 @@
-//! The command line (SPEC §8, a stable interface): one module per subcommand, each with a
+//! The command line (docs/cli.md, a stable interface): one module per subcommand, each with a
 //! `main(argv) -> exit code` and its own `--help`.
 
 pub mod args;
+pub mod console_opts;
 pub mod edit;
 pub mod run;
 pub mod script;
@@ -35,8 +36,59 @@ pub fn main(argv: Vec<String>) -> i32 {
             print!("{USAGE}");
             0
         }
-        _ => crate::console::main(rest),
+        _ => console(rest),
     }
+}
+
+/// The interactive console (no subcommand): the terminal panel, or the window with `--window`.
+fn console(argv: &[String]) -> i32 {
+    if argv.iter().any(|a| a == "--window") {
+        #[cfg(feature = "window")]
+        {
+            return window(argv);
+        }
+        #[cfg(not(feature = "window"))]
+        {
+            return usage_error(
+                "this build has no window: run `novanc` for the terminal panel, or build with `cargo run --release --features window -- --window`",
+            );
+        }
+    }
+    if argv.iter().any(|a| a == "-h" || a == "--help") {
+        print!("{}", crate::terminal::HELP);
+        return 0;
+    }
+    let (cfg, rest) = match console_opts::config_from_args(argv) {
+        Ok(x) => x,
+        Err(e) => return usage_error(&e),
+    };
+    if let Some(r) = rest.first() {
+        return usage_error(&format!("unexpected argument '{r}' (see --help)"));
+    }
+    crate::terminal::run(cfg)
+}
+
+/// `novanc --window`: the window's options, then the console's.
+#[cfg(feature = "window")]
+fn window(argv: &[String]) -> i32 {
+    let opts = match crate::window::parse_options(argv) {
+        Ok(o) => o,
+        Err(e) => return usage_error(&e),
+    };
+    if opts.help {
+        print!("{}", crate::window::HELP);
+        return 0;
+    }
+    let (cfg, rest) = match console_opts::config_from_args(&opts.console_args) {
+        Ok(x) => x,
+        Err(e) => return usage_error(&e),
+    };
+    if let Some(a) = rest.first() {
+        return usage_error(&format!(
+            "unknown option '{a}' (see novanc --window --help)"
+        ));
+    }
+    crate::window::run(cfg, opts)
 }
 
 /// Prints a failure (already in its final form, e.g. `PROG:LINE:COL: message`) on stderr and

@@ -1,13 +1,13 @@
-//! `novanc run` (SPEC §8): translate-check a part program, run it headless to completion on the
+//! `novanc run` (docs/cli.md): translate-check a part program, run it headless to completion on the
 //! pulse core (virtual time, or real time with `--realtime`), optionally recording it, and print
 //! a summary.
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::ap::translate_all;
-use crate::nc::{ClockMode, Command, PulseCore, RunKind, Status};
+use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::record::Recorder;
 use crate::settings::MachineSettings;
+use crate::translator::translate_all;
 use std::path::Path;
 use std::time::Duration;
 
@@ -26,7 +26,7 @@ geometry) stops the run with a message naming the statement, exit code 1.
 options:
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES     T-code table; default: the sample table tooldata/magazine.tc (embedded)
-  --record OUT.mcap     record the run to an MCAP file (SPEC section 7)
+  --record OUT.mcap     record the run to an MCAP file (docs/recording.md)
   --realtime            pace the machine clock to the wall clock (default: virtual time, as
                         fast as possible, deterministic)
   --feed-override PCT   feed override, 1-150 percent (default 100); rapids are not overridden

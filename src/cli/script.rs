@@ -1,7 +1,8 @@
-//! `novanc script` (SPEC §8): a headless panel session driven by a script of panel events,
+//! `novanc script` (docs/cli.md): a headless panel session driven by a script of panel events,
 //! on the same `Console` as the terminal, in virtual time (deterministic frames).
 
-use crate::console::{config_from_args, virtual_clock, Console};
+use super::console_opts::config_from_args;
+use crate::console::{virtual_clock, Console};
 use crate::panel_model::PanelEvent;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -1,11 +1,11 @@
-//! `novanc translate` (SPEC §8): translate a part program and print its blocks as an ISO 6983
+//! `novanc translate` (docs/cli.md): translate a part program and print its blocks as an ISO 6983
 //! program on stdout; errors on stderr as `PROG:LINE:COL: message`, exit 1.
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::ap::{iso_program, translate_all};
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
+use crate::translator::{iso_program, translate_all};
 use std::io::Write;
 
 const HELP: &str = "\

@@ -1,5 +1,5 @@
 //! The display program: fills the plasma display (14) for the mode in force (patent lines
-//! 170–178, 486–488; SPEC §1).
+//! 170–178, 486–488; docs/panel.md).
 //!
 //! - Running (AUTO, MDI, SINGLE BLOCK): the source statement, the blocks generated from it
 //!   (ISO lines) with `>` on the executing block, a message line and the state line.
@@ -9,38 +9,17 @@
 //! - Manual modes (CONTINUOUS, HANDLE, STEP): positions, handwheel, tool and spindle.
 
 use super::Console;
-use crate::ap::iso_line;
 use crate::panel_model::{DataMode, OpMode, PanelEvent};
 use crate::store::Target;
 use crate::tooldata::Magazine;
+use crate::translator::iso_line;
 
 /// The pointer as drawn inside a line of text.
 pub const POINTER: char = '▌';
 
 /// The operator's name of an operation mode position.
 pub fn op_name(m: OpMode) -> &'static str {
-    match m {
-        OpMode::Continuous => "CONTINUOUS",
-        OpMode::Auto => "AUTO",
-        OpMode::Mdi => "MDI",
-        OpMode::Data => "DATA INPUT",
-        OpMode::Handle => "HANDLE",
-        OpMode::Step => "STEP",
-        OpMode::Single => "SINGLE BLOCK",
-    }
-}
-
-/// The operator's name of a data-processing mode position.
-pub fn data_name(m: DataMode) -> &'static str {
-    match m {
-        DataMode::Search => "SEARCH",
-        DataMode::Read => "PROGRAM READ",
-        DataMode::Revise => "PROGRAM REVISION",
-        DataMode::ToolRead => "TOOL DATA READ",
-        DataMode::ToolRevise => "TOOL DATA REVISION",
-        DataMode::TCode => "T-CODE SETTING",
-        DataMode::Mdi => "MDI",
-    }
+    m.name()
 }
 
 /// Rows of text a data page shows around the pointer (header, command, message and entry
@@ -191,15 +170,7 @@ fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
 
 /// The state line: RUN, mode, feed override, T, S (and HOLD / E-STOP).
 fn state_line(c: &Console) -> String {
-    let mode = match c.op {
-        OpMode::Continuous => "CONT",
-        OpMode::Auto => "AUTO",
-        OpMode::Mdi => "MDI",
-        OpMode::Data => "DATA",
-        OpMode::Handle => "HANDLE",
-        OpMode::Step => "STEP",
-        OpMode::Single => "SINGLE",
-    };
+    let mode = c.op.names().short;
     let t = match c.status.tool {
         Some(t) => format!("T{t:02}"),
         None => "T--".into(),
@@ -275,7 +246,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
 
 /// DATA INPUT pages, by data-processing mode.
 fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let name = data_name(c.data);
+    let name = c.data.name();
     let mut bottom = vec![format!("cmd: {}", c.last_line)];
     bottom.extend(message_lines(c, cols, 3));
     let entry_room = cols.saturating_sub(3);

@@ -1,4 +1,4 @@
-//! The console: the panel state, the rules of SPEC §1, and the display program. Every front
+//! The console: the panel state, the rules of docs/panel.md, and the display program. Every front
 //! end (terminal, window, panel script) drives the same `Console`.
 //!
 //! The console owns the two selectors (operation mode 17, data-processing mode 16), the data
@@ -10,18 +10,16 @@
 
 mod config;
 mod display;
-pub mod layout;
 mod memory;
 mod run;
 pub mod search;
 pub mod tcode;
-pub mod term;
 
-pub use config::{config_from_args, ConsoleConfig};
+pub use config::ConsoleConfig;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 
-use crate::nc::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::panel_model::{Axis, DataMode, Lamps, OpMode, PanelEvent, PanelView};
+use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 use memory::Memory;
@@ -279,7 +277,7 @@ impl Console {
         self.status.run != 0 || self.status.moving
     }
 
-    /// Dispatches one event (the rules of SPEC §1).
+    /// Dispatches one event (the rules of docs/panel.md).
     fn apply(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Op(m) => self.turn_op(m),
@@ -500,23 +498,6 @@ impl Console {
             }
         }
     }
-}
-
-/// The interactive console (no subcommand): terminal panel, or the window with `--window`.
-pub fn main(argv: &[String]) -> i32 {
-    if argv.iter().any(|a| a == "--window") {
-        #[cfg(feature = "window")]
-        {
-            return crate::window::run(argv);
-        }
-        #[cfg(not(feature = "window"))]
-        {
-            return crate::cli::usage_error(
-                "this build has no window: run `novanc` for the terminal panel, or build with `cargo run --release --features window -- --window`",
-            );
-        }
-    }
-    term::main(argv)
 }
 
 /// A clock choice for scripts and tests: virtual time.

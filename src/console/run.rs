@@ -3,12 +3,12 @@
 //! jog/STEP/HANDLE, waiting for idle, and the session recording.
 
 use super::{search, Console};
-use crate::ap::translate_all;
-use crate::nc::{Command, RunKind};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
+use crate::pulse_core::{Command, RunKind};
 use crate::record::{Event, EventSink, Recorder};
 use crate::settings::MachineSettings;
 use crate::store::Target;
+use crate::translator::translate_all;
 use std::path::Path;
 use std::time::Duration;
 
@@ -279,7 +279,7 @@ pub(super) fn wait_idle(c: &mut Console) {
     }
 }
 
-/// The recording of a session (SPEC §7): panel events and display frames go to the recorder;
+/// The recording of a session (docs/recording.md): panel events and display frames go to the recorder;
 /// the pulse core gets the same sink for blocks, positions, pulses and `/nc/state` (the
 /// console tells it the selector positions).
 pub(super) struct Recording {

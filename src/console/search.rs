@@ -6,10 +6,10 @@
 //! begins), shown on the display as one extra statement.
 
 use super::Console;
-use crate::ap::{translate_all, Statement};
 use crate::block::{Block, Motion};
 use crate::settings::MachineSettings;
 use crate::store::Target;
+use crate::translator::{translate_all, Statement};
 
 /// Where SEARCH positioned the program.
 #[derive(Clone, Debug, PartialEq)]
@@ -74,7 +74,7 @@ pub fn plan(
     s: &MachineSettings,
 ) -> Result<Plan, String> {
     // The translator's end of program is not a statement of the source: it cannot be searched.
-    let in_source = |st: &Statement| st.text != crate::ap::END_OF_PROGRAM;
+    let in_source = |st: &Statement| st.text != crate::translator::END_OF_PROGRAM;
     let Some(first) = stmts.iter().position(|st| st.line >= line && in_source(st)) else {
         let last = stmts
             .iter()

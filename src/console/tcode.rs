@@ -1,5 +1,5 @@
 //! T-CODE SETTING at the data keys: assign tool numbers to T codes (magazine pockets), or
-//! T codes to tool numbers (patent lines 197–203; SPEC §3).
+//! T codes to tool numbers (patent lines 197–203; docs/stores.md).
 //!
 //! Command lines (one per EOB):
 //! - `T5=206` (or `T05 206`): pocket T5 holds tool 206. Refused if another pocket holds it.

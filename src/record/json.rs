@@ -1,5 +1,5 @@
 //! The small JSON encoder of the recorder (no serde): strings with correct escaping, fast
-//! integers for the pulse time arrays, millimetre floats, and one encoder per SPEC §7 topic.
+//! integers for the pulse time arrays, millimetre floats, and one encoder per docs/recording.md topic.
 //!
 //! Everything appends to a caller-owned `Vec<u8>` so the recorder thread reuses one buffer for
 //! every message. The output is always valid UTF-8 JSON.

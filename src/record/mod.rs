@@ -1,5 +1,5 @@
 //! Recording: events from the pulse core and the console go to a recorder thread that writes
-//! an MCAP file (SPEC §7). The sender side never blocks: if the recorder falls behind, events are
+//! an MCAP file (docs/recording.md). The sender side never blocks: if the recorder falls behind, events are
 //! dropped, the recording is marked incomplete, and the operator is told.
 //!
 //! `topic` names the topics and their schemas, `json` encodes the messages, `writer` lays them

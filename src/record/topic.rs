@@ -1,9 +1,9 @@
-//! The SPEC §7 topics: their MCAP names, and the JSON schema of each topic's messages (a
+//! The docs/recording.md topics: their MCAP names, and the JSON schema of each topic's messages (a
 //! public interface: Foxglove, `tests/mcap_check.py` and other helpers' tests read them).
 
 use super::Event;
 
-/// The six SPEC §7 topics, in channel order.
+/// The six docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Topic {
     /// `/nc/block`: a block starts executing.

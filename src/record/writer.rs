@@ -1,4 +1,4 @@
-//! The MCAP side of the recorder: one JSON-schema schema and one JSON channel per SPEC §7
+//! The MCAP side of the recorder: one JSON-schema schema and one JSON channel per docs/recording.md
 //! topic, uncompressed chunks (the `mcap` crate is built without zstd/lz4), and the bookkeeping
 //! the operator's summary needs (messages per topic, pulses, bytes, the first disk error).
 //!
@@ -36,7 +36,7 @@ pub struct WriterOutcome {
     pub disk_error: Option<String>,
 }
 
-/// Writes events as SPEC §7 MCAP messages to one file (or any seekable output, for tests).
+/// Writes events as docs/recording.md MCAP messages to one file (or any seekable output, for tests).
 pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
     /// `None` once a write failed (or after finish).
     mcap: Option<mcap::Writer<W>>,
@@ -157,7 +157,7 @@ impl<W: Write + Seek> RecordWriter<W> {
     }
 
     /// Writes one event as a message on its topic. Log and publish time are the event's machine
-    /// time (the first pulse's for a batch; SPEC §7). Pulse batches of different axes may reach
+    /// time (the first pulse's for a batch; docs/recording.md). Pulse batches of different axes may reach
     /// the file slightly out of time order, which MCAP allows: readers sort by log time.
     /// An empty pulse batch is not written. Returns false if the event could not be written.
     pub fn write(&mut self, ev: &Event) -> bool {

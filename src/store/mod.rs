@@ -1,5 +1,5 @@
 //! The stores the controller remembers across restarts: program memory, the MDI buffer, the
-//! tool file and the T-code table (patent Table A; SPEC §2). Every accepted change is journaled
+//! tool file and the T-code table (patent Table A; docs/stores.md). Every accepted change is journaled
 //! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
 mod frame;

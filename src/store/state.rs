@@ -10,7 +10,7 @@ use crate::tooldata::{
 use novanc_editor::{Buffer, EditError, ExecOptions, Outcome};
 use std::collections::BTreeMap;
 
-/// Table B, the embedded default part program (SPEC §4).
+/// Table B, the embedded default part program (docs/language.md).
 pub const TABLEB: &str = include_str!("../../programs/tableb.ap");
 
 /// Why a change was not applied (nothing changed).

@@ -6,7 +6,7 @@
 //! T21                                (empty pocket)
 //! ```
 //!
-//! A line is `Tnn`, then the tape record (SPEC §3 field order) of the tool the T-code table puts
+//! A line is `Tnn`, then the tape record (docs/stores.md field order) of the tool the T-code table puts
 //! in that pocket. The validator refuses any result that adds, removes, reorders or renumbers a
 //! line, that is not a valid record, or whose tool number is not the one the T-code table
 //! assigns (that is changed in T-CODE SETTING).

@@ -1,5 +1,5 @@
 //! Tool data: tool records, the tool tape format, the T-code table and the tool file
-//! (patent lines 197–203 and 279–281, Figs. 6 and 8; SPEC §3).
+//! (patent lines 197–203 and 279–281, Figs. 6 and 8; docs/stores.md).
 //!
 //! The tool file is indexed by T code (magazine pocket). The T-code table says which tool number
 //! sits in which pocket. TOOL DATA READ stores only the tape records whose tool number is in the

@@ -345,17 +345,6 @@ fn scroll_notches(events: &[egui::Event]) -> f32 {
         .sum()
 }
 
-const OP_LABELS: [&str; 7] = ["CONT", "AUTO", "MDI", "DATA", "HANDLE", "STEP", "SINGLE"];
-const DATA_LABELS: [&str; 7] = [
-    "SEARCH",
-    "PROG READ",
-    "PROG REV",
-    "TOOL READ",
-    "TOOL REV",
-    "T-CODE",
-    "MDI",
-];
-
 impl App {
     fn draw(&mut self, ui: &mut egui::Ui, out: &mut Vec<PanelEvent>) {
         let view = self.view.clone();
@@ -418,7 +407,7 @@ impl App {
                 if let Some(i) = controls::rotary(
                     ui,
                     "DATA PROCESSING MODE",
-                    &DATA_LABELS,
+                    &DataMode::ALL.map(|m| m.names().short),
                     sel,
                     vec2(240.0, 170.0),
                     &mut self.hand,
@@ -447,7 +436,7 @@ impl App {
             if let Some(i) = controls::rotary(
                 ui,
                 "OPERATION MODE",
-                &OP_LABELS,
+                &OpMode::ALL.map(|m| m.names().short),
                 sel,
                 vec2(240.0, 170.0),
                 &mut self.hand,

@@ -1,6 +1,8 @@
 //! Writing a screenshot: binary PPM (P6), or PNG (8-bit RGB, stored deflate blocks) when the
 //! file name ends in `.png`. Encoded here, so no image crate is needed.
 
+use crate::crc32::crc32;
+
 use std::io::Write;
 use std::path::Path;
 
@@ -50,21 +52,6 @@ fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
     out.extend_from_slice(data);
     let crc = crc32(&out[start..]);
     out.extend_from_slice(&crc.to_be_bytes());
-}
-
-fn crc32(data: &[u8]) -> u32 {
-    let mut c = 0xFFFF_FFFFu32;
-    for &b in data {
-        c ^= b as u32;
-        for _ in 0..8 {
-            c = if c & 1 != 0 {
-                0xEDB8_8320 ^ (c >> 1)
-            } else {
-                c >> 1
-            };
-        }
-    }
-    !c
 }
 
 fn adler32(data: &[u8]) -> u32 {

@@ -83,12 +83,13 @@ impl Machine for crate::console::Console {
     }
 }
 
-const HELP: &str = "\
+/// The window's `--help`.
+pub const HELP: &str = "\
 usage: novanc --window [console options] [--script FILE] [--screenshot OUT.ppm|OUT.png]
                        [--bench-frames N] [--size WxH]
 
 The console in an egui window (see docs/window.md).
-  --script FILE       play a panel script (SPEC §8) into the console, then keep running
+  --script FILE       play a panel script (docs/cli.md) into the console, then keep running
   --screenshot OUT    after the script (and the benchmark), write a screenshot (PPM, or PNG
                       if OUT ends in .png)
                       and close; prints the plasma and backplot rectangles
@@ -170,16 +171,9 @@ pub fn display_named() -> bool {
 const NO_WINDOW_HINT: &str =
     "run the terminal panel instead: novanc (without --window), or a headless panel session: novanc script FILE";
 
-/// Opens the console in a window (`novanc --window`); returns the exit code.
-pub fn run(argv: &[String]) -> i32 {
-    let opts = match parse_options(argv) {
-        Ok(o) => o,
-        Err(e) => return crate::cli::usage_error(&e),
-    };
-    if opts.help {
-        print!("{HELP}");
-        return 0;
-    }
+/// Opens the console configured by `cfg` in a window (`novanc --window`); returns the exit
+/// code.
+pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
     if !display_named() {
         eprintln!(
             "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
@@ -209,7 +203,7 @@ pub fn run(argv: &[String]) -> i32 {
     }
     drive.screenshot = opts.screenshot.as_ref().map(Into::into);
     drive.bench_frames = opts.bench_frames;
-    let machine = match open_console(&opts.console_args) {
+    let machine = match open_console(cfg) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("novanc: {e}");
@@ -249,11 +243,7 @@ pub fn run(argv: &[String]) -> i32 {
 }
 
 /// Opens the console the window drives.
-fn open_console(args: &[String]) -> Result<Box<dyn Machine>, String> {
-    let (cfg, rest) = crate::console::config_from_args(args)?;
-    if let Some(a) = rest.first() {
-        return Err(format!("unknown option '{a}' (see novanc --window --help)"));
-    }
+fn open_console(cfg: crate::console::ConsoleConfig) -> Result<Box<dyn Machine>, String> {
     let (console, warnings) = crate::console::Console::open(cfg)?;
     for w in warnings {
         eprintln!("novanc: {w}");

@@ -1,6 +1,6 @@
 //! The pulse core: a thread that owns the simulated machine (X, Y and Z servo axes and the
 //! relay logic for M, S, T) and does the patent's NCBR (5 ms real-time clock) and PGEN (each
-//! counter period KT: POUT, LINE, PCHK) work (seed 000 lines 357–430, 486–530; SPEC §6).
+//! counter period KT: POUT, LINE, PCHK) work (seed 000 lines 357–430, 486–530; docs/pulse-core.md).
 //!
 //! Layout (one module, one job; see `docs/pulse-core.md` for the timing and every choice):
 //! - [`Machine`] (`machine.rs`): the machine as a pure, deterministic state machine advanced
@@ -22,7 +22,7 @@
 //! operator actions that are not alarms show in [`Status::notice`].
 
 mod arc;
-mod b1;
+mod block_buffer;
 mod machine;
 mod motion;
 mod pulse_out;
@@ -38,7 +38,7 @@ pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};
 pub use self::source::{BlockSource, Fetch, VecSource};
 
-use crate::ap::Statement;
+use crate::translator::Statement;
 use std::sync::Arc;
 
 /// How machine time relates to the wall clock.

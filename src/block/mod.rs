@@ -1,9 +1,20 @@
 //! Machine instruction blocks: the narrow interface between the translator (AP) and the pulse
-//! core (NCBR/PGEN), held in the block buffer B1 (patent lines 283–357; SPEC §6).
+//! core (NCBR/PGEN), held in the block buffer B1 (patent lines 283–357; docs/pulse-core.md).
 //!
 //! A block carries the axis amounts in pulses with their signs (direction and feed amount),
 //! the motion kind, the feed rate and the M, S and T functions (claim 7). It also keeps the
-//! absolute end point the translator computed, so that it can print as an ISO 6983 line.
+//! absolute end point the translator computed, so that it can print as an ISO 6983 line
+//! ([`iso`]).
+//!
+//! This module is the whole of what the pulse core knows of the program sources: blocks, the
+//! statements they were generated from (as an opaque line number and text for the display),
+//! and the error a source stops at. See `docs/pulse-core.md`.
+
+pub mod iso;
+
+pub use iso::{iso_line, iso_program};
+
+use std::fmt;
 
 /// The motion a block commands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,4 +87,37 @@ impl Block {
             self.end[2] - self.delta[2],
         ]
     }
+}
+
+/// An error at a source statement: `LINE:COL: message`. Every program source (the
+/// source-language translator, later the G-code reader) reports its errors with it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TranslateError {
+    /// 1-based source line.
+    pub line: u32,
+    /// 1-based column.
+    pub col: u32,
+    /// What is wrong, in a part programmer's words.
+    pub message: String,
+}
+
+impl fmt::Display for TranslateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}: {}", self.line, self.col, self.message)
+    }
+}
+
+impl std::error::Error for TranslateError {}
+
+/// One source statement and every block generated from it (what the display shows while
+/// running: the statement, its blocks, and a marker on the executing one). To the pulse core
+/// the line and text are opaque: it passes them on, it never reads them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Statement {
+    /// 1-based source line (0 for a statement the console or the core made, e.g. a return).
+    pub line: u32,
+    /// The statement's source text.
+    pub text: String,
+    /// The blocks generated from it (empty for most definitions).
+    pub blocks: Vec<Block>,
 }

@@ -2,7 +2,7 @@
 //! bulge of an arc), arc geometry and feed.
 
 use crate::block::{Block, Motion as Kind};
-use crate::nc::arc::{ArcError, ArcStepper};
+use crate::pulse_core::arc::{ArcError, ArcStepper};
 use crate::settings::MachineSettings;
 
 /// Travel limits, arc geometry and feed of a block, before any of its pulses.

@@ -28,25 +28,13 @@ const GREEN: Style = Style::fg(Color::Idx(46)).bold();
 const SEL_W: usize = 18;
 
 /// Operation mode selector labels, in position order.
-pub const OP_LABELS: [&str; 7] = [
-    "CONTINUOUS",
-    "AUTO",
-    "MDI",
-    "DATA INPUT",
-    "HANDLE",
-    "STEP",
-    "SINGLE BLK",
-];
+fn op_labels() -> [&'static str; 7] {
+    OpMode::ALL.map(|m| m.names().label)
+}
 /// Data-processing mode selector labels, in position order.
-pub const DATA_LABELS: [&str; 7] = [
-    "SEARCH",
-    "PROG READ",
-    "PROG REVISE",
-    "TOOL READ",
-    "TOOL REVISE",
-    "T-CODE SET",
-    "MDI",
-];
+fn data_labels() -> [&'static str; 7] {
+    DataMode::ALL.map(|m| m.names().label)
+}
 
 /// The key legend under the panel.
 pub const LEGEND: &str =
@@ -83,7 +71,7 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         (rx, 0),
         SEL_W,
         "OPERATION 17",
-        &OP_LABELS,
+        &op_labels(),
         op,
         (PANEL, LIT),
     );
@@ -92,7 +80,7 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         (rx + SEL_W, 0),
         SEL_W,
         "DATA MODE 16",
-        &DATA_LABELS,
+        &data_labels(),
         data,
         (PANEL, LIT),
     );

@@ -1,7 +1,7 @@
 //! Operator commands: START, STOP (feed hold), RESET, E-STOP, override, SINGLE BLOCK, jog.
 
 use super::{axis_name, Machine};
-use crate::nc::{Command, RunKind};
+use crate::pulse_core::{Command, RunKind};
 
 impl Machine {
     /// Applies an operator command at the current machine time.

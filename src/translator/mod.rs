@@ -1,5 +1,5 @@
 //! The translator (automatic programming, AP): source statements to machine instruction
-//! blocks (patent lines 283–357, Figs. 10–13, Tables 1, B and C; SPEC §4 and §6).
+//! blocks (patent lines 283–357, Figs. 10–13, Tables 1, B and C; docs/language.md, docs/pulse-core.md).
 //!
 //! The translator reads one statement at a time (Fig. 10A step (2)). Definitions fill the point
 //! table and the DA table ([`defs`]); cutting statements look their tool up through the T-code
@@ -13,12 +13,11 @@ pub mod cycle;
 pub mod defs;
 pub mod emit;
 pub mod geom;
-pub mod iso;
 pub mod lex;
 pub mod mill;
 pub mod parse;
 
-pub use iso::{iso_line, iso_program};
+pub use crate::block::{iso_line, iso_program, Statement, TranslateError};
 
 use crate::block::Block;
 use crate::settings::MachineSettings;
@@ -28,38 +27,6 @@ use defs::{Item, Tables};
 use emit::{Machine, Out, Spindle};
 use mill::{Elem, V3};
 use parse::{Cut, CycleKind, Stmt};
-use std::fmt;
-
-/// A translation error at a statement: `LINE:COL: message`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TranslateError {
-    /// 1-based source line.
-    pub line: u32,
-    /// 1-based column.
-    pub col: u32,
-    /// What is wrong, in a part programmer's words.
-    pub message: String,
-}
-
-impl fmt::Display for TranslateError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}: {}", self.line, self.col, self.message)
-    }
-}
-
-impl std::error::Error for TranslateError {}
-
-/// One source statement and every block generated from it (what the display shows while
-/// running: the statement, its blocks, and a marker on the executing one).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Statement {
-    /// 1-based source line.
-    pub line: u32,
-    /// The statement's source text.
-    pub text: String,
-    /// The blocks generated from it (empty for most definitions).
-    pub blocks: Vec<Block>,
-}
 
 /// The text of the statement the translator adds after the last line (see `end_of_program`).
 pub const END_OF_PROGRAM: &str = "(end of program)";

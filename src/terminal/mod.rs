@@ -1,11 +1,13 @@
-//! The interactive terminal console: the thin loop between the terminal panel (`novanc-panel`)
-//! and the `Console`. It reads stdin without blocking (poll, 20 ms), maps keys to panel
+//! The terminal front end: the thin loop between the terminal's devices (`novanc-panel`: raw
+//! mode, keys, cells) and the `Console`. It reads stdin without blocking (poll, 20 ms), maps keys to panel
 //! events, ticks the console (about 50 Hz) and draws the panel with diff rendering. The
 //! terminal is handed back on exit, on panic and on SIGTERM/SIGINT/SIGHUP.
 
-use super::layout::{draw_help, draw_panel, draw_too_small, panel_size};
-use super::{config_from_args, Console};
+pub mod layout;
+
+use crate::console::{Console, ConsoleConfig};
 use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
+use layout::{draw_help, draw_panel, draw_too_small, panel_size};
 use novanc_panel::{Decoder, Key, Renderer, Screen, Terminal};
 use std::time::{Duration, Instant};
 
@@ -70,22 +72,14 @@ pub fn map_key(k: Key) -> Action {
     }
 }
 
-/// Runs the terminal panel; returns the exit code.
-pub fn main(argv: &[String]) -> i32 {
-    if argv.iter().any(|a| a == "-h" || a == "--help") {
-        print!(
-            "usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap]\n\
-             The terminal front panel; F8 in the panel shows the keys.\n"
-        );
-        return 0;
-    }
-    let (cfg, rest) = match config_from_args(argv) {
-        Ok(x) => x,
-        Err(e) => return crate::cli::usage_error(&e),
-    };
-    if let Some(r) = rest.first() {
-        return crate::cli::usage_error(&format!("unexpected argument '{r}' (see --help)"));
-    }
+/// The terminal front end's `--help`.
+pub const HELP: &str = "\
+usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap]
+The terminal front panel; F8 in the panel shows the keys.
+";
+
+/// Runs the terminal panel on a console opened with `cfg`; returns the exit code.
+pub fn run(cfg: ConsoleConfig) -> i32 {
     let (console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {

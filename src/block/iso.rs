@@ -1,9 +1,8 @@
-//! Printing blocks as ISO 6983 word-address lines (SPEC §6): absolute millimetres with three
+//! Printing blocks as ISO 6983 word-address lines (docs/pulse-core.md): absolute millimetres with three
 //! decimals, words in the order `N G X Y Z I J P F S T M`, at most one M per line. Arc centres
 //! are incremental (I J from the start point), the standard default.
 
-use super::Statement;
-use crate::block::{Block, Motion};
+use super::{Block, Motion, Statement};
 use crate::settings::MachineSettings;
 use std::fmt::Write;
 

@@ -1,5 +1,5 @@
 //! Circular interpolation in the XY plane by integer circle stepping (the "equivalent integer
-//! method" SPEC §6 allows in place of the Pratt & Whitney chord-and-perpendicular method).
+//! method" the docs allow in place of the Pratt & Whitney chord-and-perpendicular method).
 //!
 //! The arc is stepped in a canonical counter-clockwise frame (a clockwise arc is mirrored in Y).
 //! Each step moves one pulse along the tangent direction (−y, x): the candidates are the

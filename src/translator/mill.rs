@@ -1,6 +1,6 @@
 //! MIL: contours of points joined by straight cuts and full circles cut with circular
 //! interpolation, optionally offset by the tool radius to the right (RGT) or left (LFT) of the
-//! direction of travel (patent subroutine AP13; SPEC §4).
+//! direction of travel (patent subroutine AP13; docs/language.md).
 //!
 //! Offsets are exact: each line moves sideways by the radius; at an inside corner the two offset
 //! lines are cut off where they meet; at an outside corner the tool rolls round the corner on an

@@ -379,7 +379,7 @@ impl Machine {
                     t_ns: self.now,
                     seq: b.seq,
                     stmt: b.stmt,
-                    text: crate::ap::iso_line(&b, &self.settings),
+                    text: crate::translator::iso_line(&b, &self.settings),
                 },
             );
         }

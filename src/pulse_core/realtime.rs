@@ -10,7 +10,7 @@
 //! applied again, and the e-stop is applied there; queued events after m_w are dropped. No
 //! pulse after m_w is counted or recorded.
 
-use super::b1::B1;
+use super::block_buffer::B1;
 use super::machine::Machine;
 use super::source::{BlockSource, Fetch};
 use super::Command;

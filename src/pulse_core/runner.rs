@@ -11,7 +11,7 @@
 //! The snapshot is republished after every NCBR tick (5 ms of machine time by default, which
 //! includes every block start) and after every command.
 
-use super::b1::{MakeStatements, B1};
+use super::block_buffer::{MakeStatements, B1};
 use super::machine::Machine;
 use super::realtime::{apply, Op, StepQueue};
 use super::{ClockMode, Command, Status};
@@ -112,7 +112,9 @@ impl PulseCore {
     pub fn load(
         &self,
         statements: Box<
-            dyn Iterator<Item = Result<crate::ap::Statement, crate::ap::TranslateError>> + Send,
+            dyn Iterator<
+                    Item = Result<crate::translator::Statement, crate::translator::TranslateError>,
+                > + Send,
         >,
     ) {
         self.send(Msg::Load(Box::new(move || statements)));
@@ -124,7 +126,7 @@ impl PulseCore {
         let source = source.to_string();
         let settings = self.settings.clone();
         self.send(Msg::Load(Box::new(move || {
-            Box::new(crate::ap::Translator::new(
+            Box::new(crate::translator::Translator::new(
                 &source, magazine, settings, start,
             ))
         })));

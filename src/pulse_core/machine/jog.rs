@@ -2,7 +2,7 @@
 //! queued one after the other; all only with the program stopped.
 
 use super::{axis_name, Jog, Machine};
-use crate::nc::motion::{speed_pulses_ns, Motion};
+use crate::pulse_core::motion::{speed_pulses_ns, Motion};
 
 impl Machine {
     /// The travel limits of `axis` if a jog may start now.

@@ -1,7 +1,7 @@
 //! What the machine tells the outside: the status snapshot and the recorded events.
 
 use super::{send_ev, Machine};
-use crate::nc::Status;
+use crate::pulse_core::Status;
 use crate::record::Event;
 
 impl Machine {

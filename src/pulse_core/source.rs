@@ -1,8 +1,8 @@
 //! Where NCBR reads blocks from: the block buffer B1 as seen by the pulse core.
 
 use super::B1Entry;
-use crate::ap::{Statement, TranslateError};
 use crate::block::Block;
+use crate::translator::{Statement, TranslateError};
 use std::collections::VecDeque;
 use std::sync::Arc;
 

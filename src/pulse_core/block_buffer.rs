@@ -7,7 +7,7 @@
 
 use super::source::{BlockSource, Fetch};
 use super::B1Entry;
-use crate::ap::{Statement, TranslateError};
+use crate::translator::{Statement, TranslateError};
 use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
