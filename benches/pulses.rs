@@ -4,7 +4,7 @@
 //! Run with `cargo bench --bench pulses`.
 
 use novanc::pulse_core::testkit::{polyline, Rng};
-use novanc::pulse_core::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::pulse_core::{ClockMode, Command, Machine, MakeRun, PulseCore, RunKind, VecSource};
 use novanc::record::{Event, EventSink, Recorder};
 use novanc::settings::MachineSettings;
 use novanc::translator::Statement;
@@ -26,6 +26,11 @@ fn contour(n: usize, feed: f64) -> Vec<novanc::block::Block> {
         ]);
     }
     polyline(&pts, feed)
+}
+
+/// A program source of one statement.
+fn once(stmt: Statement) -> MakeRun {
+    Box::new(move |_| Box::new(std::iter::once(Ok(stmt))))
 }
 
 fn total(m: &Machine) -> u64 {
@@ -94,8 +99,7 @@ fn virtual_mcap(blocks: &[novanc::block::Block]) -> (u64, f64, String) {
         blocks: blocks.to_vec(),
     };
     let t = Instant::now();
-    core.load(Box::new(std::iter::once(Ok(stmt))));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, Some(once(stmt)));
     let st = core.wait_idle(Duration::from_secs(600));
     drop(core);
     let line = match rec.finish() {
@@ -127,8 +131,7 @@ fn realtime(seconds: f64) {
         blocks: vec![b],
     };
     let t = Instant::now();
-    core.load(Box::new(std::iter::once(Ok(stmt))));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, Some(once(stmt)));
     let st = core.wait_idle(Duration::from_secs(600));
     let wall = t.elapsed().as_secs_f64();
     let rt = core.realtime_stats();

@@ -240,11 +240,21 @@ pub enum PanelEvent {
     Jog(Axis, i8),
     /// Jog button released.
     JogRelease,
+    /// A key of the terminal's key map, pressed and released (`key NAME`).
+    Press(novanc_panel::Key),
     /// Wait until the machine is idle (script only).
     Wait,
+    /// Wait until block N (its N number) of the current run starts executing, or the run
+    /// ends (script only: `wait block N`).
+    WaitBlock(u32),
+    /// Let T milliseconds of machine time pass (script only: `wait ms T`).
+    WaitMs(u64),
     /// Print the display frame (script only).
     Show,
 }
+
+/// The longest `wait ms` a script may ask for, ms (100 hours of machine time).
+pub const MAX_WAIT_MS: u64 = 360_000_000;
 
 /// A bad panel-script line.
 #[derive(Clone, Debug, PartialEq)]
@@ -315,7 +325,41 @@ impl PanelEvent {
             "stop" => none().map(|_| PanelEvent::Stop)?,
             "reset" => none().map(|_| PanelEvent::Reset)?,
             "estop" => none().map(|_| PanelEvent::EStop)?,
-            "wait" => none().map(|_| PanelEvent::Wait)?,
+            "wait" => match args.as_slice() {
+                [] => PanelEvent::Wait,
+                ["block", n] => PanelEvent::WaitBlock(
+                    n.parse()
+                        .map_err(|_| format!("wait block: '{n}' is not a block number"))?,
+                ),
+                ["ms", t] => {
+                    let t: u64 = t.parse().map_err(|_| {
+                        format!("wait ms: '{t}' is not a whole number of milliseconds")
+                    })?;
+                    if t > MAX_WAIT_MS {
+                        return Err(format!(
+                            "wait ms: {t} is more than {MAX_WAIT_MS} ms (100 hours)"
+                        ));
+                    }
+                    PanelEvent::WaitMs(t)
+                }
+                _ => return Err("'wait' takes nothing, 'block N' or 'ms T'".into()),
+            },
+            "key" => {
+                // The key name is taken as written: a single character may be '#' or ' '.
+                let raw = trimmed[word.len()..].strip_prefix(' ').unwrap_or("");
+                let name = if raw.chars().count() == 1 {
+                    raw
+                } else {
+                    raw.split('#').next().unwrap_or("").trim()
+                };
+                if name.is_empty() {
+                    return Err(
+                        "'key' takes a key name (F1-F12, Alt+1, Up, Enter, a character, ...)"
+                            .into(),
+                    );
+                }
+                PanelEvent::Press(crate::console::keys::parse_key(name)?)
+            }
             "show" => none().map(|_| PanelEvent::Show)?,
             "override" => {
                 let a = one("percentage")?;
@@ -405,4 +449,8 @@ pub struct PanelView {
     pub entry: String,
     /// Machine time, ns.
     pub machine_ns: u64,
+    /// The help screen is up (the terminal draws it instead of the panel).
+    pub help: bool,
+    /// The last key ignored while the terminal was too small, for its notice.
+    pub ignored: Option<String>,
 }

@@ -49,7 +49,7 @@ impl Default for MachineSettings {
             tool_change_ns: 4_000_000_000,
             spindle_ns: 1_000_000_000,
             magazine_capacity: 24,
-            b1_capacity: 64,
+            b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
         }
     }

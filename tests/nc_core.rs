@@ -2,7 +2,9 @@
 //! thread, commands, `wait_idle`, determinism through the thread, recording every pulse.
 
 use novanc::pulse_core::testkit::{polyline, Rng};
-use novanc::pulse_core::{ClockMode, Command, Machine, PulseCore, RunKind, VecSource};
+use novanc::pulse_core::{
+    ClockMode, Command, EndCause, Machine, MakeRun, PulseCore, RunKind, VecSource,
+};
 use novanc::record::{Event, EventSink};
 use novanc::settings::MachineSettings;
 use novanc::translator::{Statement, TranslateError};
@@ -44,10 +46,14 @@ fn small_b1() -> MachineSettings {
     }
 }
 
-fn iter(
-    stmts: Vec<Statement>,
-) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>> + Send> {
-    Box::new(stmts.into_iter().map(Ok))
+/// A program source of these statements.
+fn make(stmts: Vec<Statement>) -> Option<MakeRun> {
+    make_items(stmts.into_iter().map(Ok).collect())
+}
+
+/// A program source of these statements and errors.
+fn make_items(items: Vec<Result<Statement, TranslateError>>) -> Option<MakeRun> {
+    Some(Box::new(move |_| Box::new(items.into_iter())))
 }
 
 #[test]
@@ -55,15 +61,19 @@ fn runs_a_program_through_a_small_b1_to_its_end() {
     let (stmts, end) = program(300, 1);
     let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
     core.set_position(MID);
-    core.load(iter(stmts));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(stmts));
     let st = core.wait_idle(WAIT).expect("idle");
     assert_eq!(st.run, 0);
     assert!(st.program_end);
     assert_eq!(st.blocks_done, 300);
     assert_eq!(st.pos, end);
     assert!(st.alarm.is_none());
-    assert!(st.executing.is_some());
+    let end = st.last_end.expect("the run's end");
+    assert_eq!((end.cause, end.blocks), (EndCause::ProgramEnd, 300));
+    assert!(
+        st.job.is_none() && st.executing.is_none(),
+        "nothing loaded after the end"
+    );
 }
 
 fn recorded_pulses(rx: &std::sync::mpsc::Receiver<Event>) -> Vec<(u8, i8, u64)> {
@@ -99,8 +109,7 @@ fn the_thread_gives_the_same_pulse_times_as_the_machine_and_records_each_once() 
         let sink = EventSink::new(tx);
         let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, Some(sink.clone()));
         core.set_position(MID);
-        core.load(iter(stmts.clone()));
-        core.command(Command::Start(RunKind::Auto));
+        core.start(RunKind::Auto, make(stmts.clone()));
         let st = core.wait_idle(WAIT).expect("idle");
         drop(core);
         assert!(!sink.is_incomplete());
@@ -115,23 +124,41 @@ fn hold_resume_reset_and_estop_through_the_thread() {
     let (stmts, end) = program(60, 3);
     let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
     core.set_position(MID);
-    core.load(iter(stmts.clone()));
     core.command(Command::SingleBlock(true));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(stmts.clone()));
     let st = core.wait_idle(WAIT).expect("idle");
     assert_eq!((st.blocks_done, st.run), (1, 0));
     core.command(Command::SingleBlock(false));
-    core.command(Command::Start(RunKind::Auto));
+    // the single-blocked run resumes: the source offered now is not used
+    core.start(RunKind::Auto, make(vec![]));
     let st = core.wait_idle(WAIT).expect("idle");
     assert_eq!(st.pos, end);
     assert_eq!(st.blocks_done, 60);
-    // reset mid-program empties B1: a new START finds nothing to run
-    core.load(iter(stmts.clone()));
-    core.command(Command::Reset);
-    core.command(Command::Start(RunKind::Auto));
+    // RESET mid-program abandons the run and empties B1
+    core.command(Command::SingleBlock(true));
+    let (more, _) = program(10, 9);
+    let more: Vec<Statement> = more
+        .into_iter()
+        .map(|mut s| {
+            for b in &mut s.blocks {
+                for a in 0..3 {
+                    b.end[a] += end[a] - MID[a];
+                }
+            }
+            s
+        })
+        .collect();
+    core.start(RunKind::Auto, make(more));
     let st = core.wait_idle(WAIT).expect("idle");
-    assert_eq!(st.pos, end, "nothing ran after RESET");
+    assert_eq!(st.blocks_done, 1);
+    let st = core.command(Command::Reset);
+    assert!(st.job.is_none());
     assert_eq!(core.b1_len(), 0);
+    let at = st.pos;
+    core.command(Command::SingleBlock(false));
+    core.start(RunKind::Auto, None);
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(st.pos, at, "nothing of the abandoned run ran after RESET");
     // e-stop: refused START until RESET
     core.command(Command::EStop);
     let st = core.wait_idle(WAIT).expect("idle");
@@ -155,10 +182,20 @@ fn a_translation_error_stops_after_the_blocks_before_it() {
     items.extend(stmts[2..].iter().cloned().map(Ok));
     let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
     core.set_position(MID);
-    core.load(Box::new(items.into_iter()));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make_items(items));
     let st = core.wait_idle(WAIT).expect("idle");
-    assert_eq!(st.alarm.as_deref(), Some("3:7: no such point P9"));
+    assert!(st.alarm.is_none());
+    let e = st.last_end.expect("the run ended");
+    match e.cause {
+        EndCause::Error {
+            error,
+            nothing_moved,
+        } => {
+            assert_eq!(error.to_string(), "3:7: no such point P9");
+            assert!(!nothing_moved);
+        }
+        other => panic!("{other:?}"),
+    }
     assert_eq!(st.blocks_done, 6);
     assert_eq!(st.pos, end);
 }
@@ -180,8 +217,7 @@ fn real_time_follows_the_wall_clock() {
         )],
     };
     let t0 = std::time::Instant::now();
-    core.load(iter(vec![stmt]));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(vec![stmt]));
     let st = core.wait_idle(WAIT).expect("idle");
     let wall = t0.elapsed().as_secs_f64();
     assert_eq!(st.pos[0], MID[0] + 6_000);
@@ -213,8 +249,7 @@ fn a_recorder_that_falls_behind_never_holds_up_the_machine() {
         )],
     };
     let t0 = std::time::Instant::now();
-    core.load(iter(vec![stmt]));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(vec![stmt]));
     let st = core.wait_idle(WAIT).expect("idle");
     assert_eq!(st.pos[0], MID[0] + 6_000);
     assert!(t0.elapsed().as_secs_f64() < 2.0);
@@ -231,8 +266,7 @@ fn a_recorder_that_falls_behind_never_holds_up_the_machine() {
     core.set_position(MID);
     let (stmts, end) = program(30, 5);
     let t0 = std::time::Instant::now();
-    core.load(iter(stmts));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(stmts));
     let st = core.wait_idle(WAIT).expect("idle");
     assert_eq!(st.pos, end);
     assert!(t0.elapsed().as_secs_f64() < 10.0);
@@ -261,8 +295,7 @@ fn real_time_emergency_stop_stops_the_pulses_within_one_period() {
             6000.0,
         )],
     };
-    core.load(iter(vec![stmt]));
-    core.command(Command::Start(RunKind::Auto));
+    core.start(RunKind::Auto, make(vec![stmt]));
     std::thread::sleep(Duration::from_millis(400));
     core.command(Command::EStop);
     let st = core.wait_idle(WAIT).expect("idle");

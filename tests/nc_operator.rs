@@ -3,7 +3,7 @@
 
 use novanc::block::{Block, Motion};
 use novanc::pulse_core::testkit::{arc, linear, polyline};
-use novanc::pulse_core::{Command, Machine, RunKind, VecSource};
+use novanc::pulse_core::{Command, EndCause, Machine, RunKind, VecSource};
 use novanc::settings::MachineSettings;
 use novanc::translator::{Statement, TranslateError};
 
@@ -146,8 +146,8 @@ fn travel_limit_refuses_the_block_before_any_pulse() {
     m.run_until_idle(&mut src, HOUR);
     let st = m.status();
     let alarm = st.alarm.unwrap_or_default();
-    assert!(alarm.starts_with("7: N3 travel limit: X"), "{alarm}");
-    assert!(alarm.contains("GO, 1200, 10, -5"), "{alarm}");
+    assert!(alarm.starts_with("line 7: N3 travel limit: X"), "{alarm}");
+    assert!(st.job.is_none(), "the run is over; RESET clears the alarm");
     assert_eq!(st.run, 0);
     assert_eq!(st.blocks_done, 1);
     assert_eq!(m.pos(), [MID[0] + 1000, MID[1], MID[2]]);
@@ -192,7 +192,19 @@ fn translation_error_runs_the_blocks_before_it_then_alarms() {
     m.command(Command::Start(RunKind::Auto));
     m.run_until_idle(&mut src, HOUR);
     let st = m.status();
-    assert_eq!(st.alarm.as_deref(), Some("2:5: unknown keyword"));
+    assert!(st.alarm.is_none(), "a program error is not a machine fault");
+    let end = st.last_end.expect("the run ended");
+    assert_eq!(
+        end.cause,
+        EndCause::Error {
+            error: TranslateError {
+                line: 2,
+                col: 5,
+                message: "unknown keyword".into()
+            },
+            nothing_moved: false
+        }
+    );
     assert_eq!(st.blocks_done, 1);
     assert_eq!(m.pos()[0], MID[0] + 1000);
 }

@@ -1,5 +1,6 @@
 //! Printing blocks as ISO 6983 word-address lines (docs/pulse-core.md): absolute millimetres with three
-//! decimals, words in the order `N G X Y Z I J P F S T M`, at most one M per line. Arc centres
+//! decimals, words in the order `N G X Y Z I J P F S T M`, at most one M per line (no `N` on a
+//! block with sequence number 0: the restore blocks of a SEARCH). Arc centres
 //! are incremental (I J from the start point), the standard default.
 
 use super::{Block, Motion, Statement};
@@ -29,7 +30,11 @@ fn number(out: &mut String, word: char, v: f64) {
 
 /// Appends one block's ISO line (no newline) to `out`.
 pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
-    let _ = write!(out, "N{}", b.seq);
+    let start = out.len();
+    // A block the console or the core made (a SEARCH restore) has no N number.
+    if b.seq != 0 {
+        let _ = write!(out, "N{}", b.seq);
+    }
     let g = match b.motion {
         Motion::Rapid => Some("G00"),
         Motion::Linear => Some("G01"),
@@ -77,6 +82,9 @@ pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
     }
     if let Some(m) = b.m {
         let _ = write!(out, " M{m:02}");
+    }
+    if b.seq == 0 && out[start..].starts_with(' ') {
+        out.remove(start);
     }
 }
 

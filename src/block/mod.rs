@@ -121,3 +121,27 @@ pub struct Statement {
     /// The blocks generated from it (empty for most definitions).
     pub blocks: Vec<Block>,
 }
+
+/// The machine's actual state where a program source starts translating: where the axes are,
+/// which tool is in the spindle and how the spindle turns. The pulse core reports it; SEARCH
+/// and MDI translate from it, so the blocks start from where the machine really is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MachineState {
+    /// Axis positions, pulses, machine coordinates.
+    pub pos: [i64; 3],
+    /// T code of the tool in the spindle, if any.
+    pub tool: Option<u32>,
+    /// Spindle speed, rpm, signed (negative = reverse), 0 stopped.
+    pub spindle: i64,
+}
+
+impl MachineState {
+    /// A machine at `pos` with no tool in the spindle and the spindle stopped.
+    pub fn at(pos: [i64; 3]) -> MachineState {
+        MachineState {
+            pos,
+            tool: None,
+            spindle: 0,
+        }
+    }
+}

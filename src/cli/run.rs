@@ -4,12 +4,13 @@
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
+use crate::console::RunSource;
+use crate::pulse_core::{
+    ClockMode, Command, EndCause, PulseCore, Reached, RunEnd, RunKind, Status,
+};
 use crate::record::Recorder;
 use crate::settings::MachineSettings;
-use crate::translator::translate_all;
 use std::path::Path;
-use std::time::Duration;
 
 const HELP: &str = "\
 usage: novanc run PROG [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
@@ -19,9 +20,11 @@ Runs the part program PROG headless on the pulse core, from machine zero with no
 spindle, in AUTO to its end, and prints a summary: blocks executed, pulses per axis, final
 position (mm, machine coordinates), machine time, and whether the recording is complete.
 
-The whole program is translated first: an error there goes to stderr as PROG:LINE:COL: message
-with exit code 1, and nothing moves. A block refused by the pulse core (travel limit, arc
-geometry) stops the run with a message naming the statement, exit code 1.
+The program is translated while it runs, into the bounded block buffer B1; the run takes no
+block before B1 is full or the translation is done, so an error found by then goes to stderr as
+PROG:LINE:COL: message with exit code 1, and nothing moves. An error further on (in a program
+longer than B1) stops the run before that statement, exit code 1. A block refused by the pulse
+core (travel limit, arc geometry) stops the run with a message naming the statement, exit 1.
 
 options:
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
@@ -82,10 +85,6 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(s) => s,
         Err(e) => return fail(&format!("novanc: cannot read {prog}: {e}")),
     };
-    // Nothing moves unless the whole program translates.
-    if let Err(e) = translate_all(&source, &magazine, &settings, [0, 0, 0]) {
-        return fail(&format!("{prog}:{e}"));
-    }
     let recorder = match args.value("--record") {
         None => None,
         Some(p) => match Recorder::start(Path::new(p), &settings) {
@@ -102,19 +101,38 @@ pub fn main(argv: &[String]) -> i32 {
     core.set_magazine(magazine.clone());
     core.set_panel_modes("AUTO", "SEARCH");
     core.command(Command::Override(feed_override));
-    core.load_program(&source, magazine, [0, 0, 0]);
-    core.command(Command::Start(RunKind::Auto));
-    let status = loop {
-        match core.wait_idle(Duration::from_secs(3600)) {
-            Some(st) => break Some(st),
-            None if core.is_running() => continue,
-            None => break None,
-        }
+    let src = RunSource {
+        text: source.into(),
+        definitions: None,
+        resume_at: None,
+        magazine,
+        settings: settings.clone(),
     };
+    core.start(RunKind::Auto, Some(src.make_run()));
+    let (reached, status) = core.run_until_idle(u64::MAX);
+    let status = (reached == Reached::Idle && core.is_running()).then_some(status);
     drop(core);
     let Some(status) = status else {
         return fail("novanc: the pulse core stopped unexpectedly");
     };
+    let source_error = match &status.last_end {
+        Some(RunEnd {
+            cause:
+                EndCause::Error {
+                    error,
+                    nothing_moved,
+                },
+            ..
+        }) => Some((error.clone(), *nothing_moved)),
+        _ => None,
+    };
+    if let Some((e, true)) = &source_error {
+        // Nothing moved: the program is refused, as a translation error.
+        if let Some(r) = recorder {
+            let _ = r.finish();
+        }
+        return fail(&format!("{prog}:{e}"));
+    }
     let rec_line = recorder.map(|r| match r.finish() {
         Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
         Ok(sum) => format!("recording complete: yes\n{sum}"),
@@ -123,6 +141,11 @@ pub fn main(argv: &[String]) -> i32 {
     print!("{}", summary(&status, &settings));
     if let Some(l) = rec_line {
         println!("{l}");
+    }
+    if let Some((e, _)) = source_error {
+        return fail(&format!(
+            "{prog}:{e} (the run stopped before this statement)"
+        ));
     }
     match &status.alarm {
         Some(a) => fail(&format!("{prog}:{a}")),

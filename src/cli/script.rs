@@ -16,10 +16,21 @@ Runs a panel event script (one event per line, # comments):
   type TEXT      data keys, then EOB
   tape PATH      put a file in the tape reader (relative to the current directory,
                  else to the script's directory)
-  start | stop | reset | estop | override PCT | wheel AXIS N | wait | show
+  start | stop | reset | estop | override PCT | wheel AXIS N | show
+  key NAME       press a key of the terminal's key map by name: F1-F12, Alt+1-Alt+7 (and
+                 the other Alt keys of the panel), Up, Down, Left, Right, PgUp, PgDn, Enter,
+                 Backspace, or one character; recorded on /panel/event as `key NAME`
+  wait           until the machine is idle (RUN = 0 and nothing moving, or a feed hold at
+                 rest, or an e-stop)
+  wait block N   until block N (its N number) of the current run starts executing, or the
+                 run ends
+  wait ms T      let T milliseconds of machine time pass
 
-`show` prints the display between `--- display` and `---`. A bad line stops the script before
-anything runs (exit 1). Without --state, the session runs on a fresh temporary state directory
+The session runs in virtual time: machine time passes only inside the waits, as fast as the
+machine can compute, so every run of a script gives the same frames. A wait that cannot end
+(feed override 0 with a block in progress) or that is not done within 1000 hours of machine
+time stops the script with an error (exit 1). `show` prints the display between `--- display`
+and `---`. A bad line stops the script before anything runs (exit 1). Without --state, the session runs on a fresh temporary state directory
 (the embedded defaults) that is removed afterwards; with --state DIR it uses and keeps DIR.
 ";
 
@@ -112,7 +123,11 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
-    for ev in events {
+    for (i, ev) in events.into_iter().enumerate() {
+        let waits = matches!(
+            ev,
+            PanelEvent::Wait | PanelEvent::WaitBlock(_) | PanelEvent::WaitMs(_)
+        );
         match ev {
             PanelEvent::Show => {
                 console.tick();
@@ -120,6 +135,12 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
             }
             PanelEvent::Tape(p) => console.handle(PanelEvent::Tape(resolve_tape(p, file))),
             ev => console.handle(ev),
+        }
+        if let Some(e) = console.wait_error().filter(|_| waits) {
+            let _ = out.flush();
+            eprintln!("novanc script: event {}: {e}", i + 1);
+            let _ = console.finish();
+            return 1;
         }
     }
     let _ = out.flush();

@@ -9,10 +9,11 @@
 //! - Manual modes (CONTINUOUS, HANDLE, STEP): positions, handwheel, tool and spindle.
 
 use super::Console;
+use crate::block::iso_line;
 use crate::panel_model::{DataMode, OpMode, PanelEvent};
+use crate::pulse_core::RunKind;
 use crate::store::Target;
 use crate::tooldata::Magazine;
-use crate::translator::iso_line;
 
 /// The pointer as drawn inside a line of text.
 pub const POINTER: char = '▌';
@@ -47,15 +48,28 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::WheelScale(s) => format!("wheelscale {s}"),
         PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
         PanelEvent::JogRelease => "jogrelease".into(),
+        PanelEvent::Press(k) => format!("key {}", super::keys::key_name(*k)),
         PanelEvent::Wait => "wait".into(),
+        PanelEvent::WaitBlock(n) => format!("wait block {n}"),
+        PanelEvent::WaitMs(t) => format!("wait ms {t}"),
         PanelEvent::Show => "show".into(),
     }
 }
 
-/// Exactly `cols` characters: cut or padded with blanks.
+/// The mark at the end of a line that was cut to fit the display.
+pub const CUT: char = '…';
+
+/// Exactly `cols` characters: padded with blanks, or cut with [`CUT`] as its last character.
 fn fit(s: &str, cols: usize) -> String {
-    let mut out: String = s.chars().take(cols).collect();
-    let n = out.chars().count();
+    let n = s.chars().count();
+    if n > cols {
+        let mut out: String = s.chars().take(cols.saturating_sub(1)).collect();
+        if cols > 0 {
+            out.push(CUT);
+        }
+        return out;
+    }
+    let mut out = s.to_string();
     out.extend(std::iter::repeat_n(' ', cols - n));
     out
 }
@@ -71,7 +85,8 @@ fn split_line(left: &str, right: &str, cols: usize) -> String {
     }
 }
 
-/// A message wrapped on at most `max` lines of `cols` (words kept whole where possible).
+/// A message wrapped on at most `max` lines of `cols` (words kept whole where possible); if it
+/// needs more, the last line shown ends in [`CUT`].
 fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut cur = String::new();
@@ -93,7 +108,14 @@ fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
     if !cur.is_empty() || out.is_empty() {
         out.push(cur);
     }
-    out.truncate(max.max(1));
+    let max = max.max(1);
+    if out.len() > max {
+        out.truncate(max);
+        if let Some(last) = out.last_mut() {
+            let keep: String = last.chars().take(cols.saturating_sub(1)).collect();
+            *last = format!("{keep}{CUT}");
+        }
+    }
     out
 }
 
@@ -147,25 +169,76 @@ impl Page {
 pub(super) fn compose(c: &Console) -> Vec<String> {
     let rows = c.cfg.rows;
     let cols = c.cfg.cols;
-    let running = c.status.run != 0 || c.loaded.is_some();
+    let loaded = c.status.run != 0 || c.status.job.is_some();
     match c.op {
         OpMode::Auto | OpMode::Single | OpMode::Mdi => run_page(c, rows, cols),
-        _ if running => run_page(c, rows, cols),
         OpMode::Data => data_page(c, rows, cols),
+        _ if loaded => run_page(c, rows, cols),
         OpMode::Continuous | OpMode::Handle | OpMode::Step => manual_page(c, rows, cols),
     }
 }
 
-/// The message line(s), alarm first.
+/// What the run page says first when the operator has moved the axes of a stopped run.
+fn jogged_note(c: &Console) -> Option<String> {
+    let job = c.status.job.as_ref()?;
+    let to = job.return_to?;
+    let s = &c.cfg.settings;
+    if job.returning {
+        return Some(format!(
+            "returning to X{:.3} Y{:.3} Z{:.3}, where the run stopped",
+            s.to_mm(to[0]),
+            s.to_mm(to[1]),
+            s.to_mm(to[2])
+        ));
+    }
+    let pos = c.status.pos;
+    if pos == to {
+        return None;
+    }
+    let moved: Vec<String> = (0..3)
+        .filter(|&a| pos[a] != to[a])
+        .map(|a| format!("{}{:+.3}", ["X", "Y", "Z"][a], s.to_mm(pos[a] - to[a])))
+        .collect();
+    Some(format!(
+        "JOGGED {}: START returns to X{:.3} Y{:.3} Z{:.3} first",
+        moved.join(" "),
+        s.to_mm(to[0]),
+        s.to_mm(to[1]),
+        s.to_mm(to[2])
+    ))
+}
+
+/// The message line(s): a note on a jogged run, then the alarm, then the message.
 fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
-    let msg = match (&c.alarm, c.message.is_empty()) {
-        (Some(a), true) => format!("ALARM {a}"),
-        (Some(a), false) if !c.message.contains(a.as_str()) => {
-            format!("{} / ALARM {a}", c.message)
+    let mut parts: Vec<String> = Vec::new();
+    if let Some(n) = jogged_note(c) {
+        parts.push(n);
+    }
+    let alarm = c.status.alarm.clone().or_else(|| {
+        c.program_alarm.as_ref().map(|a| {
+            format!(
+                "{} line {}:{}: {}",
+                a.kind.name(),
+                a.error.line,
+                a.error.col,
+                a.error.message
+            )
+        })
+    });
+    match alarm {
+        Some(a) if !c.message.contains(a.as_str()) => {
+            if !c.message.is_empty() {
+                parts.push(c.message.clone());
+            }
+            parts.push(format!("ALARM {a}"));
         }
-        _ => c.message.clone(),
-    };
-    wrap(&msg, cols, max)
+        _ => {
+            if !c.message.is_empty() {
+                parts.push(c.message.clone());
+            }
+        }
+    }
+    wrap(&parts.join(" / "), cols, max)
 }
 
 /// The state line: RUN, mode, feed override, T, S (and HOLD / E-STOP).
@@ -187,29 +260,28 @@ fn state_line(c: &Console) -> String {
     s
 }
 
-/// Running or single block: the statement, its blocks with the executing one marked, the
-/// message and the state.
+/// The run pages (AUTO, SINGLE BLOCK, MDI): the run the core has loaded, or what START will
+/// run: the statement, its blocks with the executing one marked, the message and the state.
 fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let kind = if c.op == OpMode::Mdi { "MDI" } else { "AUTO" };
-    let exec = c.status.executing.as_ref();
-    let header = match exec {
-        Some(e) => format!("L{} {}", e.stmt.line, e.stmt.text.trim()),
-        None => match (c.op, &c.search) {
-            (OpMode::Mdi, _) => "MDI buffer: press START".to_string(),
-            (_, Some(sp)) => format!(
-                "{} from line {}: press START",
-                c.mem.program_name(),
-                sp.line
-            ),
-            _ => format!("{}: press START", c.mem.program_name()),
-        },
+    let page = if c.op == OpMode::Mdi {
+        RunKind::Mdi
+    } else {
+        RunKind::Auto
     };
-    let mut p = Page::new(rows, cols, header);
+    let job = c.status.job.as_ref();
+    let shown = job
+        .filter(|j| j.kind == page || !matches!(c.op, OpMode::Auto | OpMode::Single | OpMode::Mdi));
+    let mut p = Page::new(rows, cols, String::new());
     p.bottom = message_lines(c, cols, 2);
     p.bottom.push(state_line(c));
     let n = p.body_rows();
-    match exec {
-        Some(e) => {
+    if let Some(j) = shown {
+        let exec = c.status.executing.as_ref();
+        p.header = match exec {
+            Some(e) => format!("L{} {}", e.stmt.line, e.stmt.text.trim()),
+            None => format!("{} run {}: reading the first block", j.kind.name(), j.id),
+        };
+        if let Some(e) = exec {
             let blocks = &e.stmt.blocks;
             let first = if blocks.len() <= n || e.index < n / 2 {
                 0
@@ -222,23 +294,55 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                     .push(format!("{mark}{}", iso_line(b, &c.cfg.settings)));
             }
         }
-        None => {
-            let target = if c.op == OpMode::Mdi {
-                Target::Mdi
-            } else {
-                Target::Program
-            };
-            let text = c.mem.text(target);
+        return p.lines();
+    }
+    if let Some(j) = job {
+        p.header = format!("{} run loaded: RESET to run {}", j.kind.name(), page.name());
+    }
+    match page {
+        RunKind::Mdi => {
+            if job.is_none() {
+                p.header = "MDI buffer: press START".into();
+            }
+            let text = c.mem.text(Target::Mdi);
             if text.trim().is_empty() {
-                p.body.push(format!("({kind}: nothing to run)"));
+                p.body.push("(MDI: nothing to run)".into());
             }
-            let skip = match (&c.search, target) {
-                (Some(sp), Target::Program) => sp.line.saturating_sub(1) as usize,
-                _ => 0,
-            };
-            for l in text.lines().skip(skip).take(n) {
-                p.body.push(format!(" {l}"));
+            p.body.extend(text.lines().take(n).map(|l| format!(" {l}")));
+        }
+        RunKind::Auto => {
+            let name = c.mem.program_name();
+            let text = c.mem.text(Target::Program);
+            let mut skip = 0;
+            match &c.search {
+                Some(sp) => {
+                    if job.is_none() {
+                        p.header = format!("{name} from line {}: press START", sp.line);
+                    }
+                    skip = sp.line.saturating_sub(1) as usize;
+                    match &c.plan_shown {
+                        Some(Ok(plan)) if !plan.restore.is_empty() => {
+                            p.body.push("restore first:".into());
+                            for b in &plan.restore {
+                                p.body.push(format!("  {}", iso_line(b, &c.cfg.settings)));
+                            }
+                        }
+                        Some(Err(e)) => p.body.push(format!("SEARCH: {e}")),
+                        _ => {}
+                    }
+                }
+                None => {
+                    if job.is_none() {
+                        p.header = format!("{name}: press START");
+                    }
+                }
             }
+            if text.trim().is_empty() {
+                p.body.push("(AUTO: nothing to run)".into());
+            }
+            let left = n.saturating_sub(p.body.len());
+            p.body
+                .extend(text.lines().skip(skip).take(left).map(|l| format!(" {l}")));
         }
     }
     p.lines()
@@ -339,12 +443,19 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             match &c.search {
                 Some(sp) => {
                     p.body.push(format!(">L{} {}", sp.line, sp.text.trim()));
-                    p.body.push("restored first, not run before it:".into());
-                    if sp.restored.is_empty() {
-                        p.body.push("  (nothing in force)".into());
-                    }
-                    for r in &sp.restored {
-                        p.body.push(format!("  {r}"));
+                    match &c.plan_shown {
+                        Some(Ok(plan)) if plan.restore.is_empty() => p
+                            .body
+                            .push("nothing to restore: the machine is ready".into()),
+                        Some(Ok(plan)) => {
+                            p.body
+                                .push("START restores first (machine as it is now):".into());
+                            for b in &plan.restore {
+                                p.body.push(format!("  {}", iso_line(b, &c.cfg.settings)));
+                            }
+                        }
+                        Some(Err(e)) => p.body.push(format!("SEARCH: {e}")),
+                        None => {}
                     }
                 }
                 None => {
@@ -432,11 +543,13 @@ mod tests {
     #[test]
     fn fit_and_wrap_keep_widths() {
         assert_eq!(fit("abc", 5), "abc  ");
-        assert_eq!(fit("abcdef", 4), "abcd");
+        assert_eq!(fit("abcdef", 4), "abc…");
         assert_eq!(split_line("L", "R", 5), "L   R");
         let w = wrap("one two three four", 9, 3);
         assert_eq!(w, vec!["one two", "three", "four"]);
-        assert_eq!(wrap("abcdefghij", 4, 2), vec!["abcd", "efgh"]);
+        assert_eq!(wrap("abcdefghij", 4, 2), vec!["abcd", "efg…"]);
+        assert_eq!(wrap("one two three", 20, 1), vec!["one two three"]);
+        assert_eq!(wrap("one two three four", 9, 2), vec!["one two", "three…"]);
         assert_eq!(wrap("", 4, 2), vec![""]);
     }
 

@@ -41,6 +41,9 @@ pub fn default_state_dir() -> PathBuf {
 /// Program memory, MDI buffer, tool file and T-code table, kept by the stores.
 pub struct Memory {
     stores: Stores,
+    /// Counts the changes to any text or table: what was checked at one revision holds until
+    /// the next.
+    rev: u64,
 }
 
 impl Memory {
@@ -48,7 +51,7 @@ impl Memory {
     pub fn open(dir: &Path, capacity: u32) -> Result<(Memory, Vec<String>), String> {
         let (stores, warnings) = Stores::open(dir, capacity)
             .map_err(|e| format!("cannot open the memory in {}: {e}", dir.display()))?;
-        Ok((Memory { stores }, warnings))
+        Ok((Memory { stores, rev: 0 }, warnings))
     }
 
     /// Name of the current program in program memory.
@@ -61,9 +64,22 @@ impl Memory {
         self.stores.program_names()
     }
 
+    /// The revision: it changes whenever a text, the tool file or the T-code table does.
+    pub fn rev(&self) -> u64 {
+        self.rev
+    }
+
+    fn bump<T, E>(&mut self, r: Result<T, E>) -> Result<T, E> {
+        if r.is_ok() {
+            self.rev += 1;
+        }
+        r
+    }
+
     /// Makes another program current.
     pub fn select_program(&mut self, name: &str) -> Result<(), String> {
-        self.stores.select_program(name).map_err(|e| e.to_string())
+        let r = self.stores.select_program(name).map_err(|e| e.to_string());
+        self.bump(r)
     }
 
     /// The whole text of a buffer.
@@ -87,25 +103,29 @@ impl Memory {
     /// Runs one editor command line on a buffer (journaled before it returns Ok); Ok carries
     /// the `Y` output.
     pub fn edit(&mut self, t: Target, line: &str, y_max: Option<usize>) -> Result<String, String> {
-        self.stores
+        let o = self
+            .stores
             .edit(t, line, y_max)
-            .map(|o| o.y_output)
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+        if o.changed {
+            self.rev += 1;
+        }
+        Ok(o.y_output)
     }
 
     /// PROGRAM READ: stores a program read from the tape and makes it current.
     pub fn program_read(&mut self, name: &str, text: &str) -> Result<(), String> {
-        self.stores
+        let r = self
+            .stores
             .program_read(name, text)
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string());
+        self.bump(r)
     }
 
     /// TOOL DATA READ: stores the tape's records of the tools assigned to T codes.
     pub fn tool_read(&mut self, tape: &str, file: &str) -> Result<ReadReport, String> {
-        let r = self
-            .stores
-            .tool_read(tape, file)
-            .map_err(|e| e.to_string())?;
+        let r = self.stores.tool_read(tape, file).map_err(|e| e.to_string());
+        let r = self.bump(r)?;
         Ok(ReadReport {
             loaded: r.loaded,
             skipped: r.skipped,
@@ -115,7 +135,8 @@ impl Memory {
 
     /// T-CODE SETTING: puts `tool` in pocket `t` (None empties it).
     pub fn set_tcode(&mut self, t: u32, tool: Option<u32>) -> Result<(), String> {
-        self.stores.set_tcode(t, tool)
+        let r = self.stores.set_tcode(t, tool);
+        self.bump(r)
     }
 
     /// T-CODE SETTING the other way: moves `tool` to pocket `t`, out of any other pocket, with
@@ -124,7 +145,8 @@ impl Memory {
         if self.stores.magazine().tcodes.tcode_of(tool) == Some(t) {
             return Ok(());
         }
-        self.stores.move_tool(tool, t)
+        let r = self.stores.move_tool(tool, t);
+        self.bump(r)
     }
 
     /// The magazine (T-code table and tool file) the translator uses.

@@ -1,15 +1,19 @@
-//! The console: the panel state, the rules of docs/panel.md, and the display program. Every front
-//! end (terminal, window, panel script) drives the same `Console`.
+//! The console: the panel state, the rules of `docs/panel.md`, and the display program. Every
+//! front end (terminal, window, panel script) drives the same `Console`.
 //!
 //! The console owns the two selectors (operation mode 17, data-processing mode 16), the data
-//! keys' entry line, the tape reader and the feed override; it enforces which key is valid in
-//! which mode (editing only in DATA INPUT with RUN = 0; switching to DATA INPUT clears RUN), and
-//! drives the editor on the stores, the translator (AP) and the pulse core (NCBR/PGEN) that
-//! runs in its own thread. `tick` polls the pulse core's status at display rate and refreshes
-//! the plasma display.
+//! keys' entry line, the tape reader, the feed override, the help screen and the SEARCH point;
+//! it enforces which key is valid in which mode (editing only in DATA INPUT with RUN = 0;
+//! switching to DATA INPUT clears RUN), and drives the editor on the stores and the pulse core
+//! (NCBR/PGEN) in its own thread. The run itself (what is executing, where the machine is, the
+//! tool in the spindle) belongs to the pulse core: START hands it a program source that
+//! translates from the machine's actual state, and the display shows what the core reports.
+//! Every command to the core waits until the core has applied it, so what the display shows
+//! after a key is the core's answer to that key.
 
 mod config;
 mod display;
+pub mod keys;
 mod memory;
 mod run;
 pub mod search;
@@ -17,13 +21,29 @@ pub mod tcode;
 
 pub use config::ConsoleConfig;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
+pub use run::{RunSource, WAIT_LIMIT_NS};
 
+use crate::block::TranslateError;
 use crate::panel_model::{Axis, DataMode, Lamps, OpMode, PanelEvent, PanelView};
 use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::settings::MachineSettings;
+use crate::store::Target;
 use crate::tooldata::Magazine;
 use memory::Memory;
 use std::path::PathBuf;
+use std::time::Instant;
+
+/// A program that would not translate: shown with the ALARM lamp until the program (or the
+/// tool data) changes and translates, or RESET.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramAlarm {
+    /// The text START would run: program memory (AUTO) or the MDI buffer (MDI).
+    pub kind: RunKind,
+    /// The error.
+    pub error: TranslateError,
+    /// The memory revision it was found at.
+    rev: u64,
+}
 
 /// The console: panel state plus the controller behind it.
 pub struct Console {
@@ -38,8 +58,8 @@ pub struct Console {
     last_line: String,
     /// The result or error of the last action.
     message: String,
-    /// A fault shown with the alarm lamp until RESET (translation error, travel limit, ...).
-    alarm: Option<String>,
+    /// A program that does not translate (see [`ProgramAlarm`]).
+    program_alarm: Option<ProgramAlarm>,
     /// `Y` output of the last editor command line, shown instead of the text window.
     y_output: Option<String>,
     feed_override: u32,
@@ -47,21 +67,34 @@ pub struct Console {
     status: Status,
     display: Vec<String>,
     tape: Option<PathBuf>,
-    /// Where SEARCH positioned the program (AUTO starts there).
+    /// Where SEARCH positioned the program (the next new AUTO run starts there).
     search: Option<search::SearchPoint>,
-    /// The run loaded in the pulse core and not finished (held, single-blocked or running).
-    loaded: Option<RunKind>,
-    /// First line of the statement the run started from (SEARCH), for the display.
-    started_at: Option<u32>,
+    /// The restore plan shown for the SEARCH point, for the state it was made in.
+    plan: search::PlanCache,
+    /// The restore plan on display, if there is a SEARCH point.
+    plan_shown: Option<Result<search::Plan, String>>,
     /// The T code the tool displays centre on.
     tool_focus: u32,
     /// Lines of the last TOOL DATA READ report.
     read_report: Vec<String>,
+    /// A CONTINUOUS jog is in progress.
     jogging: bool,
+    /// The CONTINUOUS jog key held, and when it last repeated.
+    jog_key: Option<(Axis, i8, Instant)>,
+    /// The help screen is up.
+    help: bool,
+    /// The terminal is large enough for the panel.
+    screen_fits: bool,
+    /// The last key ignored while the terminal was too small.
+    ignored: Option<String>,
     /// The selector positions last told to the pulse core (for `/nc/state`).
     modes_told: Option<(OpMode, DataMode)>,
     /// The last pulse-core notice shown.
     notice_seen: Option<String>,
+    /// The last run whose end has been reported.
+    end_seen: u64,
+    /// Why the last `wait` ended early, if it did.
+    wait_error: Option<String>,
     recorder: run::Recording,
 }
 
@@ -84,7 +117,7 @@ impl Console {
             entry: String::new(),
             last_line: String::new(),
             message: String::new(),
-            alarm: None,
+            program_alarm: None,
             y_output: None,
             feed_override: 100,
             wheel: (Axis::X, 1),
@@ -92,13 +125,19 @@ impl Console {
             display: Vec::new(),
             tape: None,
             search: None,
-            loaded: None,
-            started_at: None,
+            plan: search::PlanCache::default(),
+            plan_shown: None,
             tool_focus: 1,
             read_report: Vec::new(),
             jogging: false,
+            jog_key: None,
+            help: false,
+            screen_fits: true,
+            ignored: None,
             modes_told: None,
             notice_seen: None,
+            end_seen: 0,
+            wait_error: None,
             recorder,
         };
         if let Some(w) = warnings.first() {
@@ -120,6 +159,7 @@ impl Console {
 
     /// Polls the pulse core and refreshes the display; call at display rate.
     pub fn tick(&mut self) {
+        self.expire_jog_key();
         self.refresh();
     }
 
@@ -142,7 +182,7 @@ impl Console {
                 run: self.status.run != 0,
                 hold: self.status.hold,
                 estop: self.status.estop,
-                alarm: self.alarm.is_some() || self.status.alarm.is_some(),
+                alarm: self.alarm_lit(),
             },
             feed_override: self.feed_override,
             axis_mm,
@@ -152,7 +192,20 @@ impl Console {
             wheel: self.wheel,
             entry: self.entry.clone(),
             machine_ns: self.status.machine_ns,
+            help: self.help,
+            ignored: self.ignored.clone(),
         }
+    }
+
+    /// Whether the ALARM lamp is lit: a fault in the core (RESET clears it) or a program that
+    /// does not translate (fixing it or RESET clears it).
+    pub fn alarm_lit(&self) -> bool {
+        self.status.alarm.is_some() || self.program_alarm.is_some()
+    }
+
+    /// The program alarm in force, if any.
+    pub fn program_alarm(&self) -> Option<&ProgramAlarm> {
+        self.program_alarm.as_ref()
     }
 
     /// The display frame as text (what `show` prints between `--- display` and `---`): the
@@ -167,14 +220,14 @@ impl Console {
 
     /// The current program in program memory.
     pub fn program_text(&self) -> String {
-        self.mem.text(crate::store::Target::Program)
+        self.mem.text(Target::Program)
     }
 
     /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
     /// otherwise (what a backplot should draw).
     pub fn run_text(&self) -> String {
         if self.op == OpMode::Mdi {
-            self.mem.text(crate::store::Target::Mdi)
+            self.mem.text(Target::Mdi)
         } else {
             self.program_text()
         }
@@ -196,11 +249,16 @@ impl Console {
     }
 
     /// Waits until the machine is idle (RUN = 0, no motion, the last command taken up), then
-    /// refreshes the display. In real time this waits for the machine; in virtual time it
-    /// returns as soon as the pulse core has caught up.
+    /// refreshes the display. In real time this waits for the machine; in virtual time the
+    /// machine runs until then (at most [`run::WAIT_LIMIT_NS`] of machine time).
     pub fn wait_idle(&mut self) {
-        run::wait_idle(self);
+        run::wait(self, run::WaitFor::Idle);
         self.refresh();
+    }
+
+    /// Why the last script `wait` ended before its condition, if it did.
+    pub fn wait_error(&self) -> Option<&str> {
+        self.wait_error.as_deref()
     }
 
     /// The tape reader key: the line typed on the data keys names the tape file to put in
@@ -221,6 +279,11 @@ impl Console {
         &self.status
     }
 
+    /// The pulse core (tests read its audit of block ends).
+    pub fn core(&self) -> &PulseCore {
+        &self.core
+    }
+
     /// The configuration the console was opened with.
     pub fn config(&self) -> &ConsoleConfig {
         &self.cfg
@@ -233,27 +296,12 @@ impl Console {
         self.recorder.finish()
     }
 
-    /// Polls the status, keeps the run bookkeeping, recomposes the display and records it.
+    /// Polls the status, reports what the core did on its own (a run's end, a refusal),
+    /// recomposes the display and records it.
     fn refresh(&mut self) {
         self.status = self.core.status();
-        // A finished run (the loaded program taken up to its end) is no longer held.
-        if self.status.run == 0
-            && !self.status.moving
-            && self.status.program_end
-            && self.loaded.take().is_some()
-            && self.status.alarm.is_none()
-        {
-            self.message = format!(
-                "program end: {} blocks in {:.1} s",
-                self.status.blocks_done,
-                self.status.machine_ns as f64 / 1e9
-            );
-        }
-        if let Some(a) = &self.status.alarm {
-            if self.alarm.as_ref() != Some(a) {
-                self.alarm = Some(a.clone());
-            }
-        }
+        run::note_run_end(self);
+        self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {
                 self.message = n.clone();
@@ -272,12 +320,18 @@ impl Console {
         }
     }
 
-    /// Whether the machine is running or moving.
+    /// Whether the machine is running or moving (by the latest status).
     fn running(&self) -> bool {
         self.status.run != 0 || self.status.moving
     }
 
-    /// Dispatches one event (the rules of docs/panel.md).
+    /// Sends a command to the core and takes its answer as the status.
+    fn command(&mut self, c: Command) {
+        self.status = self.core.command(c);
+        self.notice_seen = None;
+    }
+
+    /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Op(m) => self.turn_op(m),
@@ -331,30 +385,35 @@ impl Console {
             }
             PanelEvent::Start => self.start(),
             PanelEvent::Stop => {
-                if self.running() {
-                    self.core.command(Command::Stop);
-                    self.message = "feed hold: press START to resume, RESET to abandon".into();
+                let had_run = self.status.job.is_some();
+                self.command(Command::Stop);
+                self.message = if self.status.hold {
+                    "feed hold: press START to resume, RESET to abandon".into()
+                } else if self.status.moving {
+                    "STOP: the manual move decelerates to rest".into()
+                } else if had_run {
+                    "STOP: the run is already stopped (START continues, RESET abandons)".into()
                 } else {
-                    self.message = "STOP: the machine is not running".into();
-                }
+                    "STOP: the machine is not running".into()
+                };
             }
             PanelEvent::Reset => {
-                self.core.command(Command::Reset);
-                self.loaded = None;
-                self.alarm = None;
-                self.started_at = None;
+                self.command(Command::Reset);
+                self.program_alarm = None;
                 self.jogging = false;
+                self.jog_key = None;
                 self.message = "reset: machine idle, block buffer empty".into();
             }
             PanelEvent::EStop => {
-                self.core.command(Command::EStop);
+                self.command(Command::EStop);
                 self.jogging = false;
+                self.jog_key = None;
                 self.message = "EMERGENCY STOP: pulses stopped; press RESET".into();
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
                     self.feed_override = p;
-                    self.core.command(Command::Override(p));
+                    self.command(Command::Override(p));
                 } else {
                     self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
                 }
@@ -370,11 +429,15 @@ impl Console {
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
             PanelEvent::JogRelease => {
                 if self.jogging {
-                    self.core.command(Command::JogRelease);
+                    self.command(Command::JogRelease);
                     self.jogging = false;
                 }
+                self.jog_key = None;
             }
-            PanelEvent::Wait => run::wait_idle(self),
+            PanelEvent::Press(k) => self.press(k),
+            PanelEvent::Wait => run::wait(self, run::WaitFor::Idle),
+            PanelEvent::WaitBlock(n) => run::wait(self, run::WaitFor::Block(n)),
+            PanelEvent::WaitMs(t) => run::wait(self, run::WaitFor::Ms(t)),
             PanelEvent::Show => {}
         }
     }
@@ -385,43 +448,40 @@ impl Console {
             return;
         }
         if self.jogging {
-            self.core.command(Command::JogRelease);
+            self.command(Command::JogRelease);
             self.jogging = false;
         }
+        self.jog_key = None;
         let was = self.op;
         self.op = m;
         self.entry.clear();
         if m == OpMode::Data {
-            // Lines 441–443: DATA INPUT clears RUN. A run in progress is held and abandoned.
-            if self.running() || self.loaded.is_some() {
-                self.core.command(Command::Stop);
-                self.core.command(Command::Reset);
-                self.loaded = None;
-                self.started_at = None;
-                self.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+            // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
+            // stays in force).
+            let had_run = self.status.job.is_some() || self.running();
+            self.command(Command::Abandon);
+            self.message = if had_run {
+                "DATA INPUT: RUN cleared, the run was abandoned".into()
             } else {
-                self.message.clear();
-            }
+                String::new()
+            };
             return;
         }
         let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
         if runs(was) && runs(m) {
-            self.core.command(Command::SingleBlock(m == OpMode::Single));
+            self.command(Command::SingleBlock(m == OpMode::Single));
             self.message = if m == OpMode::Single {
                 "SINGLE BLOCK: the machine stops after this block".into()
-            } else if self.loaded.is_some() {
+            } else if self.status.job.is_some() {
                 "AUTO: press START to continue".into()
             } else {
                 String::new()
             };
             return;
         }
-        if self.running() {
-            self.core.command(Command::Stop);
-            self.message = format!(
-                "feed hold: mode changed to {} while running",
-                display::op_name(m)
-            );
+        if self.status.run != 0 && !self.status.hold {
+            self.command(Command::Stop);
+            self.message = format!("feed hold: mode changed to {} while running", m.name());
         } else {
             self.message.clear();
         }
@@ -432,7 +492,7 @@ impl Console {
         if self.op != OpMode::Data {
             self.message = format!(
                 "{what} refused: data keys work in DATA INPUT only (now {})",
-                display::op_name(self.op)
+                self.op.name()
             );
             return false;
         }
@@ -445,7 +505,6 @@ impl Console {
 
     /// A command line ended with EOB, in DATA INPUT with RUN = 0.
     fn enter_line(&mut self, line: String) {
-        use crate::store::Target;
         self.last_line = line.clone();
         self.y_output = None;
         let target = match self.data {
@@ -460,15 +519,18 @@ impl Console {
             }
         };
         let rows = display::text_rows(self.cfg.rows);
+        let rev = self.mem.rev();
         match self.mem.edit(target, &line, Some(rows)) {
             Ok(y) => {
                 if !y.is_empty() {
                     self.y_output = Some(y);
                 }
                 self.message = "ok".into();
-                if target == Target::Program && self.search.take().is_some() {
+                if target == Target::Program && self.mem.rev() != rev && self.search.is_some() {
+                    self.search = None;
                     self.message = "ok; SEARCH point cleared (program changed)".into();
                 }
+                run::recheck_program_alarm(self);
             }
             Err(e) => self.message = e,
         }
@@ -476,10 +538,6 @@ impl Console {
 
     /// START: run, resume, or read the tape, by mode.
     fn start(&mut self) {
-        if self.status.estop {
-            self.message = "START refused: EMERGENCY STOP in force, press RESET".into();
-            return;
-        }
         match self.op {
             OpMode::Auto | OpMode::Single => run::start_program(self, RunKind::Auto),
             OpMode::Mdi => run::start_program(self, RunKind::Mdi),
@@ -493,7 +551,7 @@ impl Console {
             OpMode::Continuous | OpMode::Step | OpMode::Handle => {
                 self.message = format!(
                     "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
-                    display::op_name(self.op)
+                    self.op.name()
                 );
             }
         }

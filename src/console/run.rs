@@ -1,87 +1,215 @@
-//! Running the machine from the console: START of AUTO, MDI and SINGLE BLOCK runs through the
-//! pulse core (after validating the whole program with the translator), the tape reader,
-//! jog/STEP/HANDLE, waiting for idle, and the session recording.
+//! Running the machine from the console: START of AUTO, MDI and SINGLE BLOCK runs (the core
+//! decides whether START resumes or begins a run; a new run's program source translates from
+//! the machine's actual state), the program alarm, the tape reader, jog/STEP/HANDLE, the
+//! script's waits, and the session recording.
 
-use super::{search, Console};
+use super::{Console, ProgramAlarm};
+use crate::block::MachineState;
 use crate::panel_model::{Axis, OpMode, PanelEvent};
-use crate::pulse_core::{Command, RunKind};
+use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
 use crate::record::{Event, EventSink, Recorder};
 use crate::settings::MachineSettings;
 use crate::store::Target;
-use crate::translator::translate_all;
+use crate::tooldata::Magazine;
+use crate::translator::Translator;
 use std::path::Path;
-use std::time::Duration;
+use std::sync::Arc;
 
-/// START in AUTO, SINGLE BLOCK (kind Auto) or MDI (kind Mdi).
-pub(super) fn start_program(c: &mut Console, kind: RunKind) {
-    let single = c.op == OpMode::Single;
-    if let Some(loaded) = c.loaded {
-        if loaded == kind {
-            c.core.command(Command::SingleBlock(single));
-            c.core.command(Command::Start(kind));
-            c.message.clear();
-            return;
-        }
-        c.message = format!(
-            "START refused: {} run is held; press RESET first",
-            kind_name(loaded)
-        );
-        return;
-    }
-    let (target, what) = match kind {
-        RunKind::Auto => (Target::Program, "program memory"),
-        RunKind::Mdi => (Target::Mdi, "the MDI buffer"),
-    };
-    let source = c.mem.text(target);
-    let magazine = c.mem.magazine();
-    let stmts = match translate_all(&source, &magazine, &c.cfg.settings, c.status.pos) {
-        Ok(s) => s,
-        Err(e) => {
-            let msg = format!("line {}:{}: {}", e.line, e.col, e.message);
-            c.message = format!("START refused, nothing moved: {msg}");
-            c.alarm = Some(msg);
-            return;
-        }
-    };
-    let mut stmts = stmts;
-    c.started_at = None;
-    if kind == RunKind::Auto {
-        if let Some(sp) = c.search.take() {
-            match search::plan(&stmts, sp.line, c.status.pos, &c.cfg.settings) {
-                Ok(p) => {
-                    stmts = p.statements;
-                    c.started_at = Some(sp.line);
-                }
-                Err(e) => {
-                    c.message = format!("START refused: {e}");
-                    return;
-                }
-            }
-        }
-    }
-    if stmts.iter().all(|s| s.blocks.is_empty()) {
-        c.message = format!("nothing to run: {what} generates no blocks");
-        return;
-    }
-    c.alarm = None;
-    c.core.set_magazine(magazine);
-    c.core.command(Command::Override(c.feed_override));
-    c.core.load(Box::new(stmts.into_iter().map(Ok)));
-    c.core.command(Command::SingleBlock(single));
-    c.core.command(Command::Start(kind));
-    c.loaded = Some(kind);
-    c.message = match c.started_at {
-        Some(l) => format!("running from line {l} (SEARCH)"),
-        None => String::new(),
-    };
+/// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
+pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
+
+/// What a program source is made from at START.
+#[derive(Clone)]
+pub struct RunSource {
+    /// The text to run.
+    pub text: Arc<str>,
+    /// MDI: program memory, whose definitions the MDI text may use.
+    pub definitions: Option<Arc<str>>,
+    /// SEARCH: start at this source line, restoring the state before it.
+    pub resume_at: Option<u32>,
+    /// The tool data.
+    pub magazine: Magazine,
+    /// The machine settings.
+    pub settings: MachineSettings,
 }
 
-/// "AUTO" or "MDI".
-fn kind_name(k: RunKind) -> &'static str {
-    match k {
-        RunKind::Auto => "an AUTO",
-        RunKind::Mdi => "an MDI",
+impl RunSource {
+    /// The translator for this source, from the machine's actual state.
+    pub fn translator(self, state: MachineState) -> Translator {
+        let mut t = Translator::from_state(self.text, self.magazine, self.settings, state);
+        if let Some(p) = &self.definitions {
+            t = t.with_definitions_from(p);
+        }
+        if let Some(l) = self.resume_at {
+            t = t.resume_at(l);
+        }
+        t
     }
+
+    /// The program source the pulse core starts a new run with.
+    pub fn make_run(self) -> MakeRun {
+        Box::new(move |state| -> StatementIter { Box::new(self.translator(state)) })
+    }
+}
+
+/// The program source START would begin a new run of `kind` with.
+pub(super) fn run_source(c: &Console, kind: RunKind) -> RunSource {
+    let (text, definitions, resume_at) = match kind {
+        RunKind::Auto => (
+            c.mem.text(Target::Program),
+            None,
+            c.search.as_ref().map(|s| s.line),
+        ),
+        RunKind::Mdi => (
+            c.mem.text(Target::Mdi),
+            Some(Arc::from(c.mem.text(Target::Program))),
+            None,
+        ),
+    };
+    RunSource {
+        text: Arc::from(text),
+        definitions,
+        resume_at,
+        magazine: c.mem.magazine(),
+        settings: c.cfg.settings.clone(),
+    }
+}
+
+/// START in AUTO, SINGLE BLOCK (kind Auto) or MDI (kind Mdi): the core resumes the run loaded,
+/// or begins a new one from the program source, or says why it cannot.
+pub(super) fn start_program(c: &mut Console, kind: RunKind) {
+    let single = c.op == OpMode::Single;
+    c.command(Command::SingleBlock(single));
+    let make = if c.status.job.is_none() {
+        c.core.set_magazine(c.mem.magazine());
+        Some(run_source(c, kind).make_run())
+    } else {
+        None
+    };
+    let runs_before = c.status.runs;
+    c.status = c.core.start(kind, make);
+    c.notice_seen = c.status.notice.clone();
+    if let Some(n) = &c.status.notice {
+        c.message = n.clone();
+        return;
+    }
+    if c.status.runs > runs_before {
+        // A new run took the program as it is now: what it finds decides the alarm.
+        c.program_alarm = None;
+        c.message.clear();
+        if kind == RunKind::Auto {
+            if let Some(sp) = c.search.take() {
+                c.message = format!("running from line {} (SEARCH)", sp.line);
+            }
+        }
+        note_run_end(c);
+    } else {
+        c.message = match &c.status.job {
+            Some(j) if j.returning => "START: returning to where the run stopped".into(),
+            _ => String::new(),
+        };
+    }
+}
+
+/// Reports a run's end once: the message, and the program alarm for a source error.
+pub(super) fn note_run_end(c: &mut Console) {
+    let Some(end) = c.status.last_end.clone() else {
+        return;
+    };
+    if end.id <= c.end_seen {
+        return;
+    }
+    c.end_seen = end.id;
+    let secs = end.machine_ns as f64 / 1e9;
+    match end.cause {
+        EndCause::ProgramEnd => {
+            c.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
+        }
+        EndCause::Error {
+            error,
+            nothing_moved,
+        } => {
+            let what = if nothing_moved {
+                "START refused, nothing moved"
+            } else {
+                "the run stopped before the statement in error"
+            };
+            c.message = format!(
+                "{what}: line {}:{}: {}",
+                error.line, error.col, error.message
+            );
+            c.program_alarm = Some(ProgramAlarm {
+                kind: end.kind,
+                error,
+                rev: c.mem.rev(),
+            });
+        }
+        EndCause::Abandoned | EndCause::Alarm => {}
+    }
+}
+
+/// After a change to memory: a program alarm whose text now translates is cleared; one that
+/// still fails shows the error it fails with now.
+pub(super) fn recheck_program_alarm(c: &mut Console) {
+    let Some(a) = &c.program_alarm else { return };
+    if a.rev == c.mem.rev() {
+        return;
+    }
+    let kind = a.kind;
+    let mut src = run_source(c, kind);
+    src.resume_at = None;
+    let state = c.status.machine_state();
+    let found = src.translator(state).find_map(|r| r.err());
+    match found {
+        None => {
+            c.program_alarm = None;
+            c.message
+                .push_str("; the program alarm is cleared (the program translates)");
+        }
+        Some(error) => {
+            c.program_alarm = Some(ProgramAlarm {
+                kind,
+                error,
+                rev: c.mem.rev(),
+            });
+        }
+    }
+}
+
+/// What a script wait runs until.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum WaitFor {
+    Idle,
+    Block(u32),
+    Ms(u64),
+}
+
+/// The script's waits: the machine runs (virtual time) or is waited for (real time) until the
+/// condition, at most [`WAIT_LIMIT_NS`] of machine time; a wait that cannot end says why.
+pub(super) fn wait(c: &mut Console, w: WaitFor) {
+    c.wait_error = None;
+    let (r, st) = match w {
+        WaitFor::Idle => c.core.run_until_idle(WAIT_LIMIT_NS),
+        WaitFor::Block(n) => c.core.run_until_block(n, WAIT_LIMIT_NS),
+        WaitFor::Ms(t) => c.core.run_for(t.saturating_mul(1_000_000)),
+    };
+    c.status = st;
+    let hours = WAIT_LIMIT_NS / 3_600_000_000_000;
+    let err = match r {
+        Reached::Stalled => Some(format!(
+            "wait: the machine stands still at feed override {} %; raise the override",
+            c.status.feed_override
+        )),
+        Reached::Limit => Some(format!(
+            "wait: not done within {hours} hours of machine time"
+        )),
+        _ => None,
+    };
+    if let Some(e) = err {
+        c.message = e.clone();
+        c.wait_error = Some(e);
+    }
+    note_run_end(c);
 }
 
 /// Reads the tape in the reader: its text and its name.
@@ -187,11 +315,20 @@ fn manual_allowed(c: &mut Console, what: &str) -> bool {
         c.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
         return false;
     }
-    if c.status.run != 0 {
-        c.message = format!("{what} refused: a program is running");
+    if c.status.run != 0 && !c.status.hold {
+        c.message = format!("{what} refused: a program is running (STOP first)");
         return false;
     }
     true
+}
+
+/// The message after a manual move command: the core's refusal, or what START will do.
+fn after_manual(c: &mut Console) {
+    c.notice_seen = c.status.notice.clone();
+    c.message = match &c.status.notice {
+        Some(n) => n.clone(),
+        None => String::new(),
+    };
 }
 
 /// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only.
@@ -200,7 +337,7 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
     if c.op != OpMode::Handle {
         c.message = format!(
             "handwheel refused: turn the operation selector to HANDLE (now {})",
-            super::display::op_name(c.op)
+            c.op.name()
         );
         return;
     }
@@ -213,12 +350,12 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
         return;
     }
     if pulses != 0 {
-        c.core.command(Command::Increment {
+        c.command(Command::Increment {
             axis: axis.index(),
             pulses,
         });
     }
-    c.message.clear();
+    after_manual(c);
 }
 
 /// A jog button: CONTINUOUS jogs while held, STEP moves one increment.
@@ -236,12 +373,12 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
                 c.message = format!("jog refused: {} is at its travel limit", axis.letter());
                 return;
             }
-            c.core.command(Command::Jog {
+            c.command(Command::Jog {
                 axis: axis.index(),
                 dir,
             });
-            c.jogging = true;
-            c.message.clear();
+            c.jogging = c.status.notice.is_none();
+            after_manual(c);
         }
         OpMode::Step => {
             if !manual_allowed(c, "step") {
@@ -252,30 +389,16 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
                 c.message = e;
                 return;
             }
-            c.core.command(Command::Increment {
+            c.command(Command::Increment {
                 axis: axis.index(),
                 pulses,
             });
-            c.message.clear();
+            after_manual(c);
         }
         OpMode::Handle => {
             c.message = "HANDLE: turn the handwheel (jog keys work in CONTINUOUS and STEP)".into()
         }
-        _ => {
-            c.message = format!(
-                "jog refused in {}: use CONTINUOUS or STEP",
-                super::display::op_name(c.op)
-            )
-        }
-    }
-}
-
-/// Waits until RUN = 0, no axis moves, and every command sent has been applied (at most an
-/// hour of wall-clock time).
-pub(super) fn wait_idle(c: &mut Console) {
-    match c.core.wait_idle(Duration::from_secs(3600)) {
-        Some(st) => c.status = st,
-        None => c.message = "wait: the machine did not come to rest within an hour".into(),
+        _ => c.message = format!("jog refused in {}: use CONTINUOUS or STEP", c.op.name()),
     }
 }
 

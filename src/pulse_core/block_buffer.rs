@@ -1,49 +1,67 @@
-//! B1, the bounded block buffer between the translator thread and the pulse core.
+//! The block buffer (the patent's B1, lines 283–357 and claims 1–2): bounded, between the
+//! translator thread and the pulse core.
 //!
-//! The translator thread pushes blocks and waits while B1 is full; the pulse core takes them.
-//! Each lock is held only for a queue operation (no allocation, no translation inside), so the
-//! translator never holds a lock the core waits on for longer than a push. A generation number
-//! lets RESET and a new load abandon a translator thread that is still running.
+//! The translator thread pushes blocks and waits while the buffer is full; the pulse core takes
+//! them. Each lock is held only for a queue operation (no allocation, no translation inside).
+//! A thread is woken only when the other side is known to be waiting, so a run that never
+//! waits makes no wake-up calls at all. A generation number lets RESET and a new run abandon a
+//! translator thread that is still running.
+//!
+//! **Priming.** A new run takes no block until the buffer is full or the translator has
+//! finished. If the translator finished with an error by then, the run is refused before its
+//! first block, so nothing moves; a program longer than the buffer is checked as it runs,
+//! at most one buffer ahead of the machine (`docs/pulse-core.md`).
 
 use super::source::{BlockSource, Fetch};
-use super::B1Entry;
-use crate::translator::{Statement, TranslateError};
+use super::BlockEntry;
+use crate::block::{MachineState, Statement, TranslateError};
 use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 
-/// The statements a translator yields (made and used on the translator thread, so it need
+/// The statements a program source yields (made and used on the translator thread, so it need
 /// not be `Send`).
 pub type StatementIter = Box<dyn Iterator<Item = Result<Statement, TranslateError>>>;
 
-/// Makes the translator on the translator thread.
-pub type MakeStatements = Box<dyn FnOnce() -> StatementIter + Send>;
+/// Makes a run's program source on the translator thread, from the machine's actual state at
+/// the START that begins the run.
+pub type MakeRun = Box<dyn FnOnce(MachineState) -> StatementIter + Send>;
 
 #[derive(Debug)]
 struct State {
-    q: VecDeque<B1Entry>,
+    q: VecDeque<BlockEntry>,
     /// The translator's last word: `Some(None)` = end, `Some(Some(e))` = error.
     done: Option<Option<TranslateError>>,
     gen: u64,
+    /// The run may take blocks (the buffer has been full, or the translator is done).
+    primed: bool,
+    /// Blocks taken in this generation.
+    taken: u64,
+    translator_waits: bool,
+    core_waits: bool,
 }
 
 /// The shared buffer.
 #[derive(Debug)]
-pub struct B1 {
+pub struct BlockBuffer {
     state: Mutex<State>,
     not_full: Condvar,
     not_empty: Condvar,
     cap: usize,
 }
 
-impl B1 {
-    /// An empty B1 of `cap` blocks with nothing loaded.
-    pub fn new(cap: usize) -> Arc<B1> {
-        Arc::new(B1 {
+impl BlockBuffer {
+    /// An empty buffer of `cap` blocks with nothing loaded.
+    pub fn new(cap: usize) -> Arc<BlockBuffer> {
+        Arc::new(BlockBuffer {
             state: Mutex::new(State {
-                q: VecDeque::with_capacity(cap.max(1)),
+                q: VecDeque::with_capacity(cap.clamp(1, 1 << 16)),
                 done: Some(None),
                 gen: 0,
+                primed: true,
+                taken: 0,
+                translator_waits: false,
+                core_waits: false,
             }),
             not_full: Condvar::new(),
             not_empty: Condvar::new(),
@@ -55,34 +73,38 @@ impl B1 {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// Empties B1 and abandons any translator thread (RESET).
+    /// Empties the buffer and abandons any translator thread (RESET).
     pub fn clear(&self) {
         let mut s = self.lock();
         s.q.clear();
         s.done = Some(None);
+        s.primed = true;
         s.gen += 1;
         drop(s);
         self.not_full.notify_all();
         self.not_empty.notify_all();
     }
 
-    /// Empties B1 and starts a translator thread filling it from the statements `make` gives.
-    pub fn load(self: &Arc<B1>, make: MakeStatements) {
+    /// Empties the buffer and starts a translator thread filling it from the source `make`
+    /// gives for the machine state `state`.
+    pub fn load(self: &Arc<BlockBuffer>, make: MakeRun, state: MachineState) {
         let gen = {
             let mut s = self.lock();
             s.q.clear();
             s.done = None;
+            s.primed = false;
+            s.taken = 0;
             s.gen += 1;
             s.gen
         };
         self.not_full.notify_all();
-        let b1 = self.clone();
+        let buf = self.clone();
         let spawned = std::thread::Builder::new()
             .name("translator".into())
             .spawn(move || {
-                let run = std::panic::AssertUnwindSafe(|| b1.translate(gen, make()));
+                let run = std::panic::AssertUnwindSafe(|| buf.translate(gen, make(state)));
                 if std::panic::catch_unwind(run).is_err() {
-                    b1.finish(
+                    buf.finish(
                         gen,
                         Some(TranslateError {
                             line: 0,
@@ -93,18 +115,18 @@ impl B1 {
                 }
             });
         if spawned.is_err() {
-            let mut s = self.lock();
-            if s.gen == gen {
-                s.done = Some(Some(TranslateError {
+            self.finish(
+                gen,
+                Some(TranslateError {
                     line: 1,
                     col: 1,
                     message: "could not start the translator".into(),
-                }));
-            }
+                }),
+            );
         }
     }
 
-    /// The translator thread: statements to blocks in B1, waiting while B1 is full.
+    /// The translator thread: statements to blocks, waiting while the buffer is full.
     fn translate(&self, gen: u64, stmts: StatementIter) {
         lower_priority();
         for r in stmts {
@@ -112,7 +134,7 @@ impl B1 {
                 Ok(stmt) => {
                     let stmt = Arc::new(stmt);
                     for index in 0..stmt.blocks.len() {
-                        let e = B1Entry {
+                        let e = BlockEntry {
                             stmt: stmt.clone(),
                             index,
                         };
@@ -126,22 +148,31 @@ impl B1 {
                     return;
                 }
             }
-            std::thread::yield_now();
         }
         self.finish(gen, None);
     }
 
-    fn push(&self, gen: u64, e: B1Entry) -> bool {
+    fn push(&self, gen: u64, e: BlockEntry) -> bool {
         let mut s = self.lock();
         while s.gen == gen && s.q.len() >= self.cap {
+            s.primed = true;
+            if s.core_waits {
+                self.not_empty.notify_all();
+            }
+            s.translator_waits = true;
             s = self.not_full.wait(s).unwrap_or_else(|p| p.into_inner());
+            s.translator_waits = false;
         }
         if s.gen != gen {
             return false;
         }
         s.q.push_back(e);
-        drop(s);
-        self.not_empty.notify_all();
+        if s.q.len() >= self.cap {
+            s.primed = true;
+        }
+        if s.core_waits && s.primed {
+            self.not_empty.notify_all();
+        }
         true
     }
 
@@ -149,38 +180,103 @@ impl B1 {
         let mut s = self.lock();
         if s.gen == gen {
             s.done = Some(err);
+            s.primed = true;
         }
+        let wake = s.core_waits;
         drop(s);
-        self.not_empty.notify_all();
+        if wake {
+            self.not_empty.notify_all();
+        }
     }
 
     /// Whether a fetch now would not be `Pending`.
     pub fn ready(&self) -> bool {
         let s = self.lock();
-        !s.q.is_empty() || s.done.is_some()
+        s.primed && (!s.q.is_empty() || s.done.is_some())
     }
 
     /// Waits up to `timeout` for a block or the translator's last word.
     pub fn wait_ready(&self, timeout: Duration) {
-        let s = self.lock();
-        if s.q.is_empty() && s.done.is_none() {
-            let _ = self.not_empty.wait_timeout(s, timeout);
+        let mut s = self.lock();
+        if !(s.primed && (!s.q.is_empty() || s.done.is_some())) {
+            s.core_waits = true;
+            s = self
+                .not_empty
+                .wait_timeout(s, timeout)
+                .map(|r| r.0)
+                .unwrap_or_else(|p| p.into_inner().0);
+            s.core_waits = false;
         }
     }
 
-    /// Blocks in B1 now.
+    /// Waits until a new run may take blocks (the buffer full, or the translator done), at most
+    /// `patience` (for ever with `None`).
+    pub fn wait_primed(&self, patience: Option<Duration>) {
+        let deadline = patience.map(|p| std::time::Instant::now() + p);
+        let mut s = self.lock();
+        while !s.primed {
+            let nap = match deadline {
+                Some(d) => {
+                    let now = std::time::Instant::now();
+                    if now >= d {
+                        return;
+                    }
+                    (d - now).min(Duration::from_millis(50))
+                }
+                None => Duration::from_millis(50),
+            };
+            s.core_waits = true;
+            s = self
+                .not_empty
+                .wait_timeout(s, nap)
+                .map(|r| r.0)
+                .unwrap_or_else(|p| p.into_inner().0);
+            s.core_waits = false;
+        }
+    }
+
+    /// The source's error, if it failed before the run took its first block (the run is then
+    /// refused as a whole: nothing moves).
+    pub fn take_early_error(&self) -> Option<TranslateError> {
+        let mut s = self.lock();
+        if s.primed && s.taken == 0 && matches!(s.done, Some(Some(_))) {
+            s.q.clear();
+            if let Some(Some(e)) = s.done.replace(None) {
+                return Some(e);
+            }
+        }
+        None
+    }
+
+    /// Blocks in the buffer now.
     pub fn len(&self) -> usize {
         self.lock().q.len()
     }
+
+    /// Whether the buffer holds no block now.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
-/// The pulse core reads B1 through this.
-impl BlockSource for &B1 {
+/// The pulse core reads the buffer through this.
+impl BlockSource for &BlockBuffer {
     fn fetch(&mut self) -> Fetch {
         let mut s = self.lock();
+        if !s.primed {
+            return Fetch::Pending;
+        }
+        // A source that failed before the run took its first block: refuse the whole run.
+        if s.taken == 0 && matches!(s.done, Some(Some(_))) {
+            s.q.clear();
+        }
         if let Some(e) = s.q.pop_front() {
+            s.taken += 1;
+            let wake = s.translator_waits;
             drop(s);
-            self.not_full.notify_all();
+            if wake {
+                self.not_full.notify_all();
+            }
             return Fetch::Block(e);
         }
         match s.done.take() {
@@ -212,8 +308,8 @@ mod tests {
     use super::*;
     use crate::block::Block;
 
-    fn stmts(n: u32) -> MakeStatements {
-        Box::new(move || {
+    fn stmts(n: u32) -> MakeRun {
+        Box::new(move |_| {
             Box::new((1..=n).map(|i| {
                 Ok(Statement {
                     line: i,
@@ -224,9 +320,9 @@ mod tests {
         })
     }
 
-    fn wait_len(b1: &B1, n: usize) {
+    fn wait_len(b: &BlockBuffer, n: usize) {
         for _ in 0..500 {
-            if b1.len() == n {
+            if b.len() == n {
                 return;
             }
             std::thread::sleep(Duration::from_millis(2));
@@ -234,18 +330,18 @@ mod tests {
     }
 
     #[test]
-    fn the_translator_waits_while_b1_is_full_and_blocks_come_in_order() {
-        let b1 = B1::new(3);
-        b1.load(stmts(10));
-        wait_len(&b1, 3);
+    fn the_translator_waits_while_the_buffer_is_full_and_blocks_come_in_order() {
+        let b = BlockBuffer::new(3);
+        b.load(stmts(10), MachineState::default());
+        wait_len(&b, 3);
         std::thread::sleep(Duration::from_millis(20));
-        assert_eq!(b1.len(), 3, "never more than the capacity");
+        assert_eq!(b.len(), 3, "never more than the capacity");
         let mut seen = vec![];
-        let mut src = &*b1;
+        let mut src = &*b;
         loop {
             match src.fetch() {
                 Fetch::Block(e) => seen.push(e.stmt.line),
-                Fetch::Pending => b1.wait_ready(Duration::from_millis(50)),
+                Fetch::Pending => b.wait_ready(Duration::from_millis(50)),
                 Fetch::End => break,
                 Fetch::Error(e) => panic!("{e}"),
             }
@@ -255,22 +351,86 @@ mod tests {
 
     #[test]
     fn clear_abandons_the_translator() {
-        let b1 = B1::new(2);
-        b1.load(stmts(100));
-        wait_len(&b1, 2);
-        b1.clear();
+        let b = BlockBuffer::new(2);
+        b.load(stmts(100), MachineState::default());
+        wait_len(&b, 2);
+        b.clear();
         std::thread::sleep(Duration::from_millis(20));
-        assert_eq!(b1.len(), 0);
-        assert!(matches!((&*b1).fetch(), Fetch::End));
+        assert_eq!(b.len(), 0);
+        assert!(matches!((&*b).fetch(), Fetch::End));
     }
 
     #[test]
     fn a_panicking_translator_stops_the_run_with_an_error() {
-        let b1 = B1::new(2);
-        b1.load(Box::new(|| {
-            Box::new((0..1).map(|_| -> Result<Statement, TranslateError> { panic!("bug") }))
-        }));
-        b1.wait_ready(Duration::from_secs(5));
-        assert!(matches!((&*b1).fetch(), Fetch::Error(_)));
+        let b = BlockBuffer::new(2);
+        b.load(
+            Box::new(|_| {
+                Box::new((0..1).map(|_| -> Result<Statement, TranslateError> { panic!("bug") }))
+            }),
+            MachineState::default(),
+        );
+        b.wait_ready(Duration::from_secs(5));
+        assert!(matches!((&*b).fetch(), Fetch::Error(_)));
+    }
+
+    #[test]
+    fn an_error_before_the_first_block_is_taken_refuses_the_whole_run() {
+        let b = BlockBuffer::new(8);
+        b.load(
+            Box::new(|_| {
+                Box::new((1..=3).map(|i| {
+                    if i < 3 {
+                        Ok(Statement {
+                            line: i,
+                            text: String::new(),
+                            blocks: vec![Block::aux(i, i, [0; 3])],
+                        })
+                    } else {
+                        Err(TranslateError {
+                            line: 3,
+                            col: 1,
+                            message: "bad".into(),
+                        })
+                    }
+                }))
+            }),
+            MachineState::default(),
+        );
+        for _ in 0..100 {
+            if b.ready() {
+                break;
+            }
+            b.wait_ready(Duration::from_millis(50));
+        }
+        assert!(matches!((&*b).fetch(), Fetch::Error(e) if e.line == 3));
+    }
+
+    #[test]
+    fn a_new_run_waits_until_the_buffer_is_primed() {
+        let b = BlockBuffer::new(4);
+        let (tx, rx) = std::sync::mpsc::channel::<()>();
+        b.load(
+            Box::new(move |_| {
+                Box::new((1..=10).map(move |i| {
+                    if i == 3 {
+                        let _ = rx.recv();
+                    }
+                    Ok(Statement {
+                        line: i,
+                        text: String::new(),
+                        blocks: vec![Block::aux(i, i, [0; 3])],
+                    })
+                }))
+            }),
+            MachineState::default(),
+        );
+        wait_len(&b, 2);
+        assert!(
+            matches!((&*b).fetch(), Fetch::Pending),
+            "2 of 4: not primed"
+        );
+        tx.send(()).unwrap();
+        wait_len(&b, 4);
+        assert!(matches!((&*b).fetch(), Fetch::Block(_)));
     }
 }

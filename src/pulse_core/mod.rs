@@ -1,25 +1,26 @@
 //! The pulse core: a thread that owns the simulated machine (X, Y and Z servo axes and the
-//! relay logic for M, S, T) and does the patent's NCBR (5 ms real-time clock) and PGEN (each
-//! counter period KT: POUT, LINE, PCHK) work (seed 000 lines 357–430, 486–530; docs/pulse-core.md).
+//! relay logic for M, S, T) and the run in progress, and does the patent's NCBR (5 ms
+//! real-time clock) and PGEN (each counter period KT: POUT, LINE, PCHK) work (seed 000 lines
+//! 357–430, 486–530). The timing and every choice are in `docs/pulse-core.md`.
 //!
-//! Layout (one module, one job; see `docs/pulse-core.md` for the timing and every choice):
-//! - [`Machine`] (`machine.rs`): the machine as a pure, deterministic state machine advanced
-//!   NCBR tick by NCBR tick; tests and benchmarks drive it directly, without threads.
+//! The core owns the run: the blocks being run (read from the block buffer, B1), the modal
+//! state they run in (tool in the spindle, spindle, feed) and the position. Every block carries
+//! its absolute end point and the core moves to it from where the machine actually is. START
+//! after a feed hold resumes the held block; START with no run loaded starts a new one from the
+//! program source the caller hands over; a START that cannot act says why in
+//! [`Status::notice`]. The core knows [`Block`](crate::block::Block) and the machine settings,
+//! nothing of any programming language.
+//!
+//! Layout (one module, one job):
+//! - [`Machine`] (`machine/`): the machine as a pure, deterministic state machine advanced NCBR
+//!   tick by NCBR tick; tests and benchmarks drive it directly, without threads.
 //! - `motion.rs`: PGEN for one motion: LINE/PCHK with ΣLF, the KT ramp.
 //! - `arc.rs`: circular interpolation by integer circle stepping.
 //! - `pulse_out.rs`: the axis counters and the pulse log (recording batches, test capture).
 //! - `source.rs`: the reading side of B1 ([`BlockSource`], [`VecSource`]).
-//! - `b1.rs`: the bounded B1 shared with the translator thread.
+//! - `block_buffer.rs`: the bounded B1 shared with the translator thread.
 //! - `runner.rs`: [`PulseCore`], the thread around the machine (virtual or real time).
 //! - `realtime.rs`: the real-time step queue (events released at their time; e-stop rollback).
-//!
-//! What the console uses: [`PulseCore::spawn`], [`PulseCore::load`], [`PulseCore::command`],
-//! [`PulseCore::status`] (a cheap snapshot, republished after every NCBR tick),
-//! [`PulseCore::wait_idle`] (the script's `wait`), [`PulseCore::settings`],
-//! [`PulseCore::set_magazine`] (set lengths for the tool readout),
-//! [`PulseCore::set_panel_modes`] (mode names recorded in `/nc/state`) and
-//! [`PulseCore::set_position`]. Faults show in [`Status::alarm`] (RESET clears them); refused
-//! operator actions that are not alarms show in [`Status::notice`].
 
 mod arc;
 mod block_buffer;
@@ -32,19 +33,22 @@ mod source;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
-pub use self::machine::{axis_name, Machine};
+pub use self::block_buffer::{MakeRun, StatementIter};
+pub use self::machine::{axis_name, Machine, Reached, Until};
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};
 pub use self::source::{BlockSource, Fetch, VecSource};
 
-use crate::translator::Statement;
+use crate::block::{Block, Statement, TranslateError};
 use std::sync::Arc;
 
 /// How machine time relates to the wall clock.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ClockMode {
-    /// As fast as possible, deterministic (tests, dry runs, benchmarks, scripts).
+    /// Deterministic and stepped: machine time passes only when the caller waits for it
+    /// (`wait`, `wait ms`, `wait block`), as fast as the machine can compute (tests, dry runs,
+    /// benchmarks, scripts).
     Virtual,
     /// Paced to the wall clock, pulses generated at most one NCBR tick ahead.
     RealTime,
@@ -59,18 +63,36 @@ pub enum RunKind {
     Mdi,
 }
 
+impl RunKind {
+    /// The RUN flag value.
+    pub fn flag(self) -> u8 {
+        match self {
+            RunKind::Auto => 1,
+            RunKind::Mdi => 2,
+        }
+    }
+
+    /// "AUTO" or "MDI".
+    pub fn name(self) -> &'static str {
+        match self {
+            RunKind::Auto => "AUTO",
+            RunKind::Mdi => "MDI",
+        }
+    }
+}
+
 /// One entry of the block buffer B1: a block, by index into the statement it came from.
 #[derive(Clone, Debug)]
-pub struct B1Entry {
+pub struct BlockEntry {
     /// The statement and all its blocks.
     pub stmt: Arc<Statement>,
     /// Which of `stmt.blocks` this entry is.
     pub index: usize,
 }
 
-impl B1Entry {
+impl BlockEntry {
     /// The block this entry names, if the index is valid.
-    pub fn block(&self) -> Option<&crate::block::Block> {
+    pub fn block(&self) -> Option<&Block> {
         self.stmt.blocks.get(self.index)
     }
 }
@@ -78,12 +100,15 @@ impl B1Entry {
 /// Operator commands to the pulse core.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Command {
-    /// Cycle start: RUN = 1 or 2; resumes after a feed hold.
+    /// Cycle start: resumes a held or single-blocked run of this kind; with no run loaded,
+    /// starts a new one from the source the caller has loaded (RUN = 1 or 2).
     Start(RunKind),
     /// Feed hold: decelerate to rest mid-block.
     Stop,
-    /// Abandon the run, empty B1, machine idle; clears an e-stop.
+    /// Abandon the run, empty B1, machine idle; clears an e-stop and the alarm.
     Reset,
+    /// Abandon the run (DATA INPUT clears RUN): as RESET, but an e-stop stays in force.
+    Abandon,
     /// Pulses stop within one PGEN period; RESET required.
     EStop,
     /// Feed override percent, from the next NCBR tick.
@@ -108,7 +133,57 @@ pub enum Command {
     },
 }
 
-/// A snapshot of the machine, published at display rate.
+/// The run loaded in the core, as the status tells it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunInfo {
+    /// AUTO or MDI.
+    pub kind: RunKind,
+    /// The run's number (1 for the first run of the core).
+    pub id: u64,
+    /// Machine time at its START, ns.
+    pub started_ns: u64,
+    /// Where the run came to rest before the operator moved the axes by hand; START returns
+    /// there first (manual intervention, `docs/pulse-core.md`).
+    pub return_to: Option<[i64; 3]>,
+    /// The return to `return_to` is in progress.
+    pub returning: bool,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunEnd {
+    /// The run's number.
+    pub id: u64,
+    /// AUTO or MDI.
+    pub kind: RunKind,
+    /// Blocks it completed.
+    pub blocks: u64,
+    /// Machine time from its START to its end, ns.
+    pub machine_ns: u64,
+    /// Why it ended, if not at the end of its program.
+    pub cause: EndCause,
+}
+
+/// Why a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EndCause {
+    /// The end of the program (or M30).
+    ProgramEnd,
+    /// The program source stopped at this error. `nothing_moved`: it was found before the
+    /// first block, so the run never started.
+    Error {
+        /// The error.
+        error: TranslateError,
+        /// No block of the run was started.
+        nothing_moved: bool,
+    },
+    /// RESET, DATA INPUT or E-STOP abandoned it.
+    Abandoned,
+    /// The core refused a block (travel limit, arc geometry): see the alarm.
+    Alarm,
+}
+
+/// A snapshot of the machine, published at display rate and after every message.
 #[derive(Clone, Debug, Default)]
 pub struct Status {
     /// RUN flag: 0 stopped, 1 AUTO, 2 MDI.
@@ -117,15 +192,23 @@ pub struct Status {
     pub hold: bool,
     /// Emergency stop in force.
     pub estop: bool,
-    /// The alarm shown to the operator (travel limit, translation error, ...).
+    /// A fault that needs RESET (e-stop, travel limit, arc geometry).
     pub alarm: Option<String>,
     /// Axis positions, pulses, machine coordinates.
     pub pos: [i64; 3],
-    /// The statement and block index executing (or last executed).
-    pub executing: Option<B1Entry>,
-    /// Blocks completed in this run.
+    /// The run loaded (running, held or stopped between single blocks), if any.
+    pub job: Option<RunInfo>,
+    /// The block executing, or the last one executed, in the loaded run.
+    pub executing: Option<BlockEntry>,
+    /// Whether `executing` is in progress (false: it is complete).
+    pub in_block: bool,
+    /// The latest run's end, once it has ended.
+    pub last_end: Option<RunEnd>,
+    /// Runs begun so far (the latest run's number).
+    pub runs: u64,
+    /// Blocks completed in the current (or last) run.
     pub blocks_done: u64,
-    /// Pulses output per axis in this run.
+    /// Pulses output per axis in the current (or last) run.
     pub pulses: [u64; 3],
     /// T code in the spindle.
     pub tool: Option<u32>,
@@ -139,7 +222,7 @@ pub struct Status {
     pub machine_ns: u64,
     /// Whether any axis is moving.
     pub moving: bool,
-    /// Whether the program (translator and B1) has been run to its end.
+    /// Whether the last run ended at the end of its program.
     pub program_end: bool,
     /// Nothing happens until the next command: no motion, nothing pending, and RUN = 0 (or a
     /// feed hold at rest, or an emergency stop).
@@ -152,4 +235,15 @@ pub struct Status {
     pub speed_mm_min: f64,
     /// Messages (commands, loads, settings) the core has applied so far.
     pub commands_applied: u64,
+}
+
+impl Status {
+    /// The machine's state for a program source to translate from.
+    pub fn machine_state(&self) -> crate::block::MachineState {
+        crate::block::MachineState {
+            pos: self.pos,
+            tool: self.tool,
+            spindle: self.spindle,
+        }
+    }
 }

@@ -206,6 +206,19 @@ impl Motion {
         self.prof.vt = if hold { 0.0 } else { self.target };
     }
 
+    /// After a rest (feed hold), the next step is timed from `t` on, not from the last pulse
+    /// before the rest.
+    pub fn resume_at(&mut self, t: u64) {
+        if self.prof.v == 0.0 {
+            self.prof.t = self.prof.t.max(t as f64);
+        }
+    }
+
+    /// Whether a feed hold is in force on this motion.
+    pub fn is_held(&self) -> bool {
+        self.hold
+    }
+
     /// Whether the path speed is 0.
     pub fn at_rest(&self) -> bool {
         self.prof.v == 0.0

@@ -10,7 +10,7 @@
 //! applied again, and the e-stop is applied there; queued events after m_w are dropped. No
 //! pulse after m_w is counted or recorded.
 
-use super::block_buffer::B1;
+use super::block_buffer::BlockBuffer;
 use super::machine::Machine;
 use super::source::{BlockSource, Fetch};
 use super::Command;
@@ -25,8 +25,6 @@ use std::time::{Duration, Instant};
 pub enum Op {
     /// An operator command.
     Cmd(Command),
-    /// A program was loaded: new run.
-    NewRun,
     /// New tool data.
     Magazine(Box<Magazine>),
     /// Panel mode names.
@@ -39,7 +37,6 @@ pub enum Op {
 pub fn apply(m: &mut Machine, op: &Op) {
     match op {
         Op::Cmd(c) => m.command(c.clone()),
-        Op::NewRun => m.new_run(),
         Op::Magazine(mg) => m.set_magazine((**mg).clone()),
         Op::Modes(o, d) => m.set_panel_modes(o, d),
         Op::Position(p) => {
@@ -58,7 +55,7 @@ struct Snap {
 
 /// Reads B1 and logs what it read.
 struct Logging<'a> {
-    b1: &'a B1,
+    b1: &'a BlockBuffer,
     log: Option<&'a mut Vec<Fetch>>,
 }
 
@@ -140,7 +137,7 @@ impl StepQueue {
     }
 
     /// Generates the next NCBR slice, keeping a snapshot for an e-stop rollback.
-    pub fn slice(&mut self, m: &mut Machine, b1: &B1) {
+    pub fn slice(&mut self, m: &mut Machine, b1: &BlockBuffer) {
         self.snaps.push_back(Snap {
             start: m.now(),
             machine: m.clone(),

@@ -1,26 +1,29 @@
 //! The pulse core thread around [`Machine`]: operator commands in, status snapshots out.
 //!
-//! - Virtual time: ticks run as fast as possible. The machine clock stops while the machine is
-//!   idle, stalled at override 0, or waiting for the translator to put a block in B1, so the
-//!   same program always gives the same pulse times.
+//! - Virtual time is stepped: machine time passes only inside [`PulseCore::advance`] (the
+//!   script's `wait`, `wait ms`, `wait block`, and `novanc run`), as fast as the machine can
+//!   compute, and stands still while the translator is behind. Whatever the thread scheduling,
+//!   the same commands give the same pulses at the same machine times.
 //! - Real time: slice k (the NCBR tick starting at machine time t_k) is generated when the wall
 //!   clock reaches t_k − one NCBR period, so pulses are at most one tick ahead of the wall
 //!   clock, like a step queue. A slice finished after its own start time t_k means the queue
 //!   ran dry; each slice's lateness (finish − t_k, negative = ahead) is kept in [`RtStats`].
 //!
-//! The snapshot is republished after every NCBR tick (5 ms of machine time by default, which
-//! includes every block start) and after every command.
+//! Every call that sends a message waits until the thread has applied it, so the snapshot a
+//! caller reads afterwards already shows its effect. The snapshot is republished after every
+//! message, after every real-time slice, and at most every 20 ms of wall time during a long
+//! virtual advance; a waiting caller is woken only when one waits.
 
-use super::block_buffer::{MakeStatements, B1};
-use super::machine::Machine;
+use super::block_buffer::{BlockBuffer, MakeRun};
+use super::machine::{BlockEnd, Machine, Reached, Until};
 use super::realtime::{apply, Op, StepQueue};
-use super::{ClockMode, Command, Status};
+use super::{ClockMode, Command, RunKind, Status};
 use crate::record::EventSink;
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -34,18 +37,31 @@ pub struct RtStats {
     pub dry: u64,
 }
 
+/// What a virtual-time advance runs until.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Wait {
+    Idle(u64),
+    For(u64),
+    Block(u32, u64),
+}
+
 enum Msg {
     Cmd(Command),
-    Load(MakeStatements),
+    Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),
     Modes(String, String),
     Position([i64; 3]),
+    Advance(Wait),
+    Audit(bool),
     Shutdown,
 }
 
 struct Shared {
     status: Mutex<Status>,
     changed: Condvar,
+    waiters: AtomicUsize,
+    reached: Mutex<Option<Reached>>,
+    audit: Mutex<Vec<BlockEnd>>,
     rt: Mutex<RtStats>,
 }
 
@@ -53,11 +69,18 @@ struct Shared {
 pub struct PulseCore {
     tx: Sender<Msg>,
     shared: Arc<Shared>,
-    b1: Arc<B1>,
+    buffer: Arc<BlockBuffer>,
     sent: AtomicU64,
     settings: MachineSettings,
+    clock: ClockMode,
     thread: Option<JoinHandle<()>>,
 }
+
+/// Longest a new run's START waits in real time for its source to fill the block buffer.
+const PRIMING: Duration = Duration::from_millis(40);
+
+/// Longest a caller waits for the thread to apply a message before giving up on it.
+const APPLY_PATIENCE: Duration = Duration::from_secs(60);
 
 impl PulseCore {
     /// Starts the pulse core thread.
@@ -71,21 +94,35 @@ impl PulseCore {
         let mut rt_sink = None;
         if clock == ClockMode::RealTime {
             rt_sink = sink;
-        } else if sink.is_some() {
-            machine.set_recording(sink, false);
-            machine.set_lossless_recording(true);
+        } else {
+            machine.set_starve_stops(true);
+            if sink.is_some() {
+                machine.set_recording(sink, false);
+                machine.set_lossless_recording(true);
+            }
         }
         let shared = Arc::new(Shared {
             status: Mutex::new(machine.status()),
             changed: Condvar::new(),
+            waiters: AtomicUsize::new(0),
+            reached: Mutex::new(None),
+            audit: Mutex::new(Vec::new()),
             rt: Mutex::new(RtStats::default()),
         });
-        let b1 = B1::new(settings.b1_capacity);
-        let (sh, b) = (shared.clone(), b1.clone());
+        let buffer = BlockBuffer::new(settings.b1_capacity);
+        let (sh, b) = (shared.clone(), buffer.clone());
         let thread = std::thread::Builder::new()
             .name("pulse-core".into())
             .spawn(move || {
-                let mut r = Runner::new(machine, sh, b, rx);
+                let mut r = Runner {
+                    m: machine,
+                    shared: sh,
+                    buffer: b,
+                    rx,
+                    applied: 0,
+                    quit: false,
+                    rt: None,
+                };
                 if clock == ClockMode::RealTime {
                     r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
                 }
@@ -95,46 +132,71 @@ impl PulseCore {
         PulseCore {
             tx,
             shared,
-            b1,
+            buffer,
             sent: AtomicU64::new(0),
             settings,
+            clock,
             thread,
         }
     }
 
-    fn send(&self, m: Msg) {
-        self.sent.fetch_add(1, Ordering::SeqCst);
+    fn send(&self, m: Msg) -> u64 {
+        let n = self.sent.fetch_add(1, Ordering::SeqCst) + 1;
         let _ = self.tx.send(m);
+        n
     }
 
-    /// Loads a program: a translator thread fills B1 from these statements, concurrently
-    /// with execution, waiting when B1 is full. Replaces any loaded program.
-    pub fn load(
+    /// Sends a message and waits until the thread has applied it; the status then.
+    fn send_sync(&self, m: Msg) -> Status {
+        let n = self.send(m);
+        self.wait_until(|st| st.commands_applied >= n, Some(APPLY_PATIENCE))
+            .unwrap_or_else(|| self.status())
+    }
+
+    /// Waits until `done` holds for the published status (or the thread has ended, or
+    /// `patience` has passed).
+    fn wait_until(
         &self,
-        statements: Box<
-            dyn Iterator<
-                    Item = Result<crate::translator::Statement, crate::translator::TranslateError>,
-                > + Send,
-        >,
-    ) {
-        self.send(Msg::Load(Box::new(move || statements)));
+        done: impl Fn(&Status) -> bool,
+        patience: Option<Duration>,
+    ) -> Option<Status> {
+        let deadline = patience.map(|p| Instant::now() + p);
+        let mut st = lock(&self.shared.status);
+        loop {
+            if done(&st) {
+                return Some(st.clone());
+            }
+            let now = Instant::now();
+            if deadline.is_some_and(|d| now >= d)
+                || self.thread.as_ref().is_none_or(|t| t.is_finished())
+            {
+                return None;
+            }
+            let nap = deadline.map_or(Duration::from_millis(100), |d| {
+                (d - now).min(Duration::from_millis(100))
+            });
+            self.shared.waiters.fetch_add(1, Ordering::SeqCst);
+            st = self
+                .shared
+                .changed
+                .wait_timeout(st, nap)
+                .map(|r| r.0)
+                .unwrap_or_else(|p| p.into_inner().0);
+            self.shared.waiters.fetch_sub(1, Ordering::SeqCst);
+        }
     }
 
-    /// Loads a part program: the translator is made and run on the translator thread (so it
-    /// need not be `Send`), filling B1 concurrently with execution. Replaces any loaded program.
-    pub fn load_program(&self, source: &str, magazine: Magazine, start: [i64; 3]) {
-        let source = source.to_string();
-        let settings = self.settings.clone();
-        self.send(Msg::Load(Box::new(move || {
-            Box::new(crate::translator::Translator::new(
-                &source, magazine, settings, start,
-            ))
-        })));
+    /// START: resumes a run of `kind` that is held or stopped between single blocks; with no
+    /// run loaded, starts a new one, whose blocks `make` gives from the machine's actual state
+    /// (on the translator thread, filling B1 concurrently with execution). A START that cannot
+    /// act says why in the status's notice. Returns the status after it.
+    pub fn start(&self, kind: RunKind, make: Option<MakeRun>) -> Status {
+        self.send_sync(Msg::Start(kind, make))
     }
 
-    /// Sends an operator command.
-    pub fn command(&self, c: Command) {
-        self.send(Msg::Cmd(c));
+    /// Sends an operator command; returns the status once it is applied.
+    pub fn command(&self, c: Command) -> Status {
+        self.send_sync(Msg::Cmd(c))
     }
 
     /// The latest status snapshot.
@@ -147,9 +209,14 @@ impl PulseCore {
         &self.settings
     }
 
-    /// The tool data the set length of the tool in the spindle is taken from (at M06).
+    /// The clock the core runs on.
+    pub fn clock(&self) -> ClockMode {
+        self.clock
+    }
+
+    /// The tool data the set length of the tool in the spindle is taken from.
     pub fn set_magazine(&self, m: Magazine) {
-        self.send(Msg::Magazine(Box::new(m)));
+        self.send_sync(Msg::Magazine(Box::new(m)));
     }
 
     /// The operation and data-processing mode names recorded in `/nc/state`.
@@ -157,9 +224,19 @@ impl PulseCore {
         self.send(Msg::Modes(op_mode.into(), data_mode.into()));
     }
 
-    /// Sets the axis positions (pulses); ignored unless the machine is at rest.
+    /// Sets the axis positions (pulses); ignored unless the machine is at rest with no run.
     pub fn set_position(&self, pos: [i64; 3]) {
-        self.send(Msg::Position(pos));
+        self.send_sync(Msg::Position(pos));
+    }
+
+    /// Keeps a log of every block end (programmed end and actual position), for tests.
+    pub fn set_audit(&self, on: bool) {
+        self.send_sync(Msg::Audit(on));
+    }
+
+    /// The block ends logged since the last call (with the audit on).
+    pub fn take_audit(&self) -> Vec<BlockEnd> {
+        std::mem::take(&mut *lock(&self.shared.audit))
     }
 
     /// Whether the pulse core thread is still running.
@@ -169,7 +246,7 @@ impl PulseCore {
 
     /// Blocks now waiting in B1.
     pub fn b1_len(&self) -> usize {
-        self.b1.len()
+        self.buffer.len()
     }
 
     /// Real-time pacing figures so far (empty in virtual time).
@@ -177,42 +254,85 @@ impl PulseCore {
         lock(&self.shared.rt).clone()
     }
 
-    /// Waits until every message sent so far has been applied and the machine is idle
-    /// (RUN = 0, or a feed hold at rest, or an e-stop; no motion, nothing pending). Returns
-    /// the status then, or `None` on timeout.
-    pub fn wait_idle(&self, timeout: Duration) -> Option<Status> {
-        let target = self.sent.load(Ordering::SeqCst);
-        let deadline = Instant::now() + timeout;
-        let mut st = lock(&self.shared.status);
-        loop {
-            if st.commands_applied >= target && st.idle {
-                return Some(st.clone());
-            }
-            let now = Instant::now();
-            if now >= deadline || self.thread.as_ref().is_none_or(|t| t.is_finished()) {
-                return None;
-            }
-            st = self
-                .shared
-                .changed
-                .wait_timeout(st, deadline - now)
-                .map(|r| r.0)
-                .unwrap_or_else(|p| p.into_inner().0);
+    /// Virtual time: lets the machine run until it is idle (`limit_ns` of machine time at
+    /// most), `for_ns` of machine time, or block `seq` starts. Real time: waits on the wall
+    /// clock for the same. Returns why it stopped and the status then.
+    fn advance(&self, w: Wait) -> (Reached, Status) {
+        if self.clock == ClockMode::Virtual {
+            let st = self.send_sync(Msg::Advance(w));
+            let r = lock(&self.shared.reached).take().unwrap_or(Reached::Limit);
+            return (r, st);
         }
+        let start = self.status().machine_ns;
+        let n = self.sent.load(Ordering::SeqCst);
+        let applied = move |st: &Status| st.commands_applied >= n;
+        let r = match w {
+            Wait::Idle(limit) => self.wait_until(
+                |st| applied(st) && (st.idle || st.machine_ns >= start.saturating_add(limit)),
+                None,
+            ),
+            Wait::For(ns) => self.wait_until(|st| st.machine_ns >= start.saturating_add(ns), None),
+            Wait::Block(seq, limit) => self.wait_until(
+                |st| {
+                    applied(st)
+                        && (st.idle
+                            || st.machine_ns >= start.saturating_add(limit)
+                            || (st.in_block
+                                && st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq)
+                                    == Some(seq)))
+                },
+                None,
+            ),
+        };
+        let st = r.unwrap_or_else(|| self.status());
+        let reached = if st.idle {
+            Reached::Idle
+        } else {
+            match w {
+                Wait::For(_) => Reached::Time,
+                Wait::Block(..) if st.in_block => Reached::BlockStart,
+                _ => Reached::Limit,
+            }
+        };
+        (reached, st)
+    }
+
+    /// Runs (or waits) until the machine is idle: RUN = 0, or a feed hold at rest, or an
+    /// e-stop; no motion, nothing pending. At most `limit_ns` of machine time.
+    pub fn run_until_idle(&self, limit_ns: u64) -> (Reached, Status) {
+        self.advance(Wait::Idle(limit_ns))
+    }
+
+    /// Lets `ns` of machine time pass.
+    pub fn run_for(&self, ns: u64) -> (Reached, Status) {
+        self.advance(Wait::For(ns))
+    }
+
+    /// Runs until block `seq` (its N number) starts executing, or the machine is idle; at most
+    /// `limit_ns` of machine time.
+    pub fn run_until_block(&self, seq: u32, limit_ns: u64) -> (Reached, Status) {
+        self.advance(Wait::Block(seq, limit_ns))
+    }
+
+    /// Waits until the machine is idle (see [`PulseCore::run_until_idle`]); `None` if it is not
+    /// within `timeout` of wall time (real time) or of machine time (virtual time).
+    pub fn wait_idle(&self, timeout: Duration) -> Option<Status> {
+        let (r, st) = self.run_until_idle(timeout.as_nanos().min(u64::MAX as u128) as u64);
+        (r == Reached::Idle).then_some(st)
     }
 }
 
 impl Drop for PulseCore {
     fn drop(&mut self) {
         let _ = self.tx.send(Msg::Shutdown);
-        self.b1.clear();
+        self.buffer.clear();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
     }
 }
 
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
@@ -220,7 +340,7 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 struct Runner {
     m: Machine,
     shared: Arc<Shared>,
-    b1: Arc<B1>,
+    buffer: Arc<BlockBuffer>,
     rx: Receiver<Msg>,
     applied: u64,
     quit: bool,
@@ -229,39 +349,62 @@ struct Runner {
 }
 
 impl Runner {
-    fn new(m: Machine, shared: Arc<Shared>, b1: Arc<B1>, rx: Receiver<Msg>) -> Runner {
-        Runner {
-            m,
-            shared,
-            b1,
-            rx,
-            applied: 0,
-            quit: false,
-            rt: None,
-        }
-    }
-
     fn handle(&mut self, msg: Msg) {
         let op = match msg {
             Msg::Cmd(c) => {
-                if c == Command::Reset {
-                    self.b1.clear();
+                if matches!(c, Command::Reset | Command::Abandon | Command::EStop) {
+                    self.buffer.clear();
                 }
                 Op::Cmd(c)
             }
-            Msg::Load(it) => {
-                self.b1.load(it);
-                Op::NewRun
+            Msg::Start(kind, make) => {
+                if !self.m.start_begins_run(kind) {
+                    Op::Cmd(Command::Start(kind))
+                } else {
+                    match make {
+                        Some(make) => self.buffer.load(make, self.m.machine_state()),
+                        None => self.buffer.clear(),
+                    }
+                    // Priming: the run takes no block before the buffer is full or the source is
+                    // done, so an error found by then refuses the whole run. Real time waits at
+                    // most PRIMING so a slow source cannot hold up the core; the machine then
+                    // waits at its first block instead.
+                    let patience = self.rt.is_some().then_some(PRIMING);
+                    self.buffer.wait_primed(patience);
+                    let op = Op::Cmd(Command::Start(kind));
+                    self.apply_op(op);
+                    if let Some(e) = self.buffer.take_early_error() {
+                        self.m.refuse_run(e);
+                    }
+                    self.applied += 1;
+                    return;
+                }
             }
             Msg::Magazine(mg) => Op::Magazine(mg),
             Msg::Modes(o, d) => Op::Modes(o, d),
             Msg::Position(p) => Op::Position(p),
+            Msg::Audit(on) => {
+                self.m.set_audit(on);
+                self.applied += 1;
+                return;
+            }
+            Msg::Advance(w) => {
+                let r = self.advance(w);
+                *lock(&self.shared.reached) = Some(r);
+                self.applied += 1;
+                return;
+            }
             Msg::Shutdown => {
                 self.quit = true;
                 self.applied += 1;
                 return;
             }
         };
+        self.apply_op(op);
+        self.applied += 1;
+    }
+
+    fn apply_op(&mut self, op: Op) {
         match &mut self.rt {
             Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(&mut self.m),
             Some(rt) => {
@@ -270,7 +413,41 @@ impl Runner {
             }
             None => apply(&mut self.m, &op),
         }
-        self.applied += 1;
+    }
+
+    /// Virtual time: runs the machine until the wait is over.
+    fn advance(&mut self, w: Wait) -> Reached {
+        let now = self.m.now();
+        let (until, deadline) = match w {
+            Wait::Idle(limit) => (Until::Idle, now.saturating_add(limit)),
+            Wait::For(ns) => {
+                let t = now.saturating_add(ns);
+                (Until::Time(t), t)
+            }
+            Wait::Block(seq, limit) => (Until::BlockStart(seq), now.saturating_add(limit)),
+        };
+        let mut shown = Instant::now();
+        loop {
+            let buffer = self.buffer.clone();
+            let left = deadline.saturating_sub(self.m.now());
+            let r = self.m.run(&mut &*buffer, until, left);
+            if r != Reached::Starved {
+                self.drain_audit();
+                return r;
+            }
+            if shown.elapsed() > Duration::from_millis(20) {
+                self.publish();
+                shown = Instant::now();
+            }
+            self.buffer.wait_ready(Duration::from_millis(20));
+        }
+    }
+
+    fn drain_audit(&mut self) {
+        let a = self.m.take_audit();
+        if !a.is_empty() {
+            lock(&self.shared.audit).extend(a);
+        }
     }
 
     fn drain(&mut self) -> bool {
@@ -285,21 +462,13 @@ impl Runner {
         !self.quit
     }
 
-    fn publish(&self) {
+    fn publish(&mut self) {
+        self.drain_audit();
         let mut st = self.m.status();
         st.commands_applied = self.applied;
         *lock(&self.shared.status) = st;
-        self.shared.changed.notify_all();
-    }
-
-    fn wait_msg(&mut self, timeout: Duration) -> bool {
-        match self.rx.recv_timeout(timeout) {
-            Ok(msg) => {
-                self.handle(msg);
-                self.drain()
-            }
-            Err(RecvTimeoutError::Timeout) => true,
-            Err(RecvTimeoutError::Disconnected) => false,
+        if self.shared.waiters.load(Ordering::SeqCst) > 0 {
+            self.shared.changed.notify_all();
         }
     }
 
@@ -315,28 +484,33 @@ impl Runner {
     }
 
     fn run_virtual(&mut self) {
-        while self.drain() {
-            if self.m.is_idle() || self.m.is_stalled() {
-                self.publish();
-                if !self.wait_msg(Duration::from_millis(100)) {
-                    return;
-                }
-                continue;
-            }
-            if self.m.wants_block() && !self.b1.ready() {
-                self.publish();
-                self.b1.wait_ready(Duration::from_millis(20));
-                continue;
-            }
-            let b1 = self.b1.clone();
-            self.m.tick(&mut &*b1);
+        while let Ok(msg) = self.rx.recv() {
+            self.handle(msg);
             self.publish();
+            if !self.drain() {
+                return;
+            }
+        }
+    }
+
+    fn wait_msg(&mut self, timeout: Duration) -> bool {
+        match self.rx.recv_timeout(timeout) {
+            Ok(msg) => {
+                self.handle(msg);
+                self.publish();
+                self.drain()
+            }
+            Err(RecvTimeoutError::Timeout) => true,
+            Err(RecvTimeoutError::Disconnected) => false,
         }
     }
 
     fn run_realtime(&mut self) {
         let period = self.m.settings().ncbr_period_ns.max(1);
-        while self.drain() {
+        loop {
+            if !self.drain() {
+                return;
+            }
             let Some(rt) = &mut self.rt else { return };
             rt.release();
             let slice_start = rt.wall_of(self.m.now());
@@ -353,7 +527,7 @@ impl Runner {
                 continue;
             }
             let moving = !self.m.is_idle();
-            rt.slice(&mut self.m, &self.b1);
+            rt.slice(&mut self.m, &self.buffer);
             let done = Instant::now();
             if moving {
                 let late = if done >= slice_start {

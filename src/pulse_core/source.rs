@@ -1,8 +1,7 @@
 //! Where NCBR reads blocks from: the block buffer B1 as seen by the pulse core.
 
-use super::B1Entry;
-use crate::block::Block;
-use crate::translator::{Statement, TranslateError};
+use super::BlockEntry;
+use crate::block::{Block, Statement, TranslateError};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -10,7 +9,7 @@ use std::sync::Arc;
 #[derive(Clone, Debug)]
 pub enum Fetch {
     /// The next block.
-    Block(B1Entry),
+    Block(BlockEntry),
     /// B1 is empty but the translator is still working.
     Pending,
     /// The program has been run to its end.
@@ -43,7 +42,7 @@ impl VecSource {
                 Ok(s) => {
                     let s = Arc::new(s);
                     for index in 0..s.blocks.len() {
-                        q.push_back(Fetch::Block(B1Entry {
+                        q.push_back(Fetch::Block(BlockEntry {
                             stmt: s.clone(),
                             index,
                         }));

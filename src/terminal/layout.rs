@@ -182,7 +182,7 @@ pub const HELP: &[&str] = &[
     "Tape reader                  type the file path, then Alt+t",
     "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
     "",
-    "Press any key to return to the panel.",
+    "Any key returns to the panel; STOP, RESET and E-STOP also act at once.",
 ];
 
 /// Draws the help screen.
@@ -192,8 +192,8 @@ pub fn draw_help(s: &mut Screen) {
     }
 }
 
-/// Draws the notice for a terminal smaller than the panel.
-pub fn draw_too_small(s: &mut Screen, need: (usize, usize)) {
+/// Draws the notice for a terminal smaller than the panel, with the last key ignored.
+pub fn draw_too_small(s: &mut Screen, need: (usize, usize), ignored: Option<&str>) {
     let (w, h) = (s.width(), s.height());
     // Most important first, each wrapped at word boundaries to the width, so that even a
     // 10-column terminal shows the size to enlarge to.
@@ -201,7 +201,11 @@ pub fn draw_too_small(s: &mut Screen, need: (usize, usize)) {
         (format!("enlarge to {}x{}", need.0, need.1), LIT),
         (format!("(now {w}x{h})"), PANEL),
         ("terminal too small".to_string(), LIT),
-        ("Ctrl-C quits".to_string(), PANEL),
+        (
+            "keys are ignored but STOP RESET E-STOP; Ctrl-C quits".to_string(),
+            PANEL,
+        ),
+        (ignored.unwrap_or("").to_string(), RED),
     ];
     let mut row = 0;
     for (text, style) in &lines {
@@ -257,6 +261,8 @@ mod tests {
             wheel: (Axis::Y, 10),
             entry: "2L".into(),
             machine_ns: 0,
+            help: false,
+            ignored: None,
         }
     }
 
@@ -288,7 +294,7 @@ mod tests {
     #[test]
     fn the_small_notice_fits_20_by_5() {
         let mut s = Screen::new(20, 5);
-        draw_too_small(&mut s, (79, 24));
+        draw_too_small(&mut s, (79, 24), None);
         let t = s.to_text();
         assert!(t.contains("enlarge to 79x24"), "{t}");
         assert!(t.contains("(now 20x5)"), "{t}");
@@ -298,12 +304,12 @@ mod tests {
     #[test]
     fn the_small_notice_keeps_the_size_at_10_columns() {
         let mut s = Screen::new(10, 4);
-        draw_too_small(&mut s, (79, 24));
+        draw_too_small(&mut s, (79, 24), None);
         let t = s.to_text();
         let lines: Vec<&str> = t.lines().map(|l| l.trim_end()).collect();
         assert_eq!(&lines[..3], &["enlarge to", "79x24", "(now 10x4)"], "{t}");
         let mut s = Screen::new(3, 1);
-        draw_too_small(&mut s, (79, 24));
+        draw_too_small(&mut s, (79, 24), None);
         assert_eq!(s.to_text().trim_end(), "enl");
     }
 }

@@ -18,6 +18,9 @@ pub struct Def<T> {
     pub v: T,
     /// The source line of the definition.
     pub line: u32,
+    /// Defined by program memory for an MDI translation: the MDI text may define the name
+    /// again (its own definition then stands).
+    pub base: bool,
 }
 
 /// A resolved designation.
@@ -53,6 +56,8 @@ pub struct Tables {
     c: HashMap<u32, Def<(Circle, f64)>>,
     pat: HashMap<u32, Def<Rc<[V3]>>>,
     mac: HashMap<u32, Def<Rc<[Item]>>>,
+    /// Definitions made now are program memory's, for MDI (see [`Def::base`]).
+    base: bool,
 }
 
 fn err(line: u32, col: u32, message: String) -> TranslateError {
@@ -83,8 +88,9 @@ fn define<T>(
     name: Name,
     v: T,
     line: u32,
+    base: bool,
 ) -> Result<(), TranslateError> {
-    if let Some(d) = map.get(&name.n) {
+    if let Some(d) = map.get(&name.n).filter(|d| !d.base || base) {
         return Err(err(
             line,
             name.col,
@@ -94,7 +100,7 @@ fn define<T>(
             ),
         ));
     }
-    map.insert(name.n, Def { v, line });
+    map.insert(name.n, Def { v, line, base });
     Ok(())
 }
 
@@ -103,6 +109,12 @@ fn v2(p: &V3) -> V2 {
 }
 
 impl Tables {
+    /// From now on, definitions are program memory's, defined for an MDI translation (`on`),
+    /// or the text's own.
+    pub fn set_base(&mut self, on: bool) {
+        self.base = on;
+    }
+
     /// The origin DAn.
     pub fn origin(&self, name: Name, line: u32) -> Result<V3, TranslateError> {
         get(&self.da, "DA", name, line).copied()
@@ -156,11 +168,12 @@ impl Tables {
                     *name,
                     b + V3::new(v[0], v[1], v[2]),
                     line,
+                    self.base,
                 )
             }
             Stmt::Point { name, expr } => {
                 let p = self.point(expr, line)?;
-                define(&mut self.p, "P", *name, p, line)
+                define(&mut self.p, "P", *name, p, line, self.base)
             }
             Stmt::Line { name, a, by } => {
                 let pa = v2(get(&self.p, "P", *a, line)?);
@@ -171,7 +184,7 @@ impl Tables {
                         Line::through(pa, pb).map_err(|m| err(line, b.col, m))?
                     }
                 };
-                define(&mut self.l, "L", *name, l, line)
+                define(&mut self.l, "L", *name, l, line, self.base)
             }
             Stmt::Circle { name, c, by } => {
                 let pc = *get(&self.p, "P", *c, line)?;
@@ -185,7 +198,7 @@ impl Tables {
                         Circle::through(v2(&pc), pb, pd).map_err(|m| err(line, c.col, m))?
                     }
                 };
-                define(&mut self.c, "C", *name, (ci, pc.z), line)
+                define(&mut self.c, "C", *name, (ci, pc.z), line, self.base)
             }
             Stmt::Pat {
                 name,
@@ -223,12 +236,12 @@ impl Tables {
                         origin + c + V3::new(r.0 * a.cos(), r.0 * a.sin(), 0.0)
                     })
                     .collect();
-                define(&mut self.pat, "PAT", *name, holes.into(), line)
+                define(&mut self.pat, "PAT", *name, holes.into(), line, self.base)
             }
             Stmt::Mac { name, items } => {
                 let mut v = Vec::new();
                 self.resolve(items, line, &mut v)?;
-                define(&mut self.mac, "MAC", *name, v.into(), line)
+                define(&mut self.mac, "MAC", *name, v.into(), line, self.base)
             }
             _ => Ok(()),
         }
@@ -259,7 +272,7 @@ impl Tables {
                 Desig::Inline { expr, name, col } => {
                     let p = self.point(expr, line)?;
                     if let Some(n) = name {
-                        define(&mut self.p, "P", *n, p, line)?;
+                        define(&mut self.p, "P", *n, p, line, self.base)?;
                     }
                     out.push(Item::Point(p, *col));
                 }

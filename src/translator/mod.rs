@@ -19,28 +19,42 @@ pub mod parse;
 
 pub use crate::block::{iso_line, iso_program, Statement, TranslateError};
 
-use crate::block::Block;
+use crate::block::{Block, MachineState};
 use crate::settings::MachineSettings;
 use crate::tooldata::{Magazine, ToolKind};
 use cycle::Cycle;
 use defs::{Item, Tables};
-use emit::{Machine, Out, Spindle};
+use emit::{Loaded, Machine, Out, Spindle};
 use mill::{Elem, V3};
 use parse::{Cut, CycleKind, Stmt};
+use std::sync::Arc;
 
 /// The text of the statement the translator adds after the last line (see `end_of_program`).
 pub const END_OF_PROGRAM: &str = "(end of program)";
 
+/// The text of the statement that restores the machine's state before a SEARCH point.
+pub fn restore_text(line: u32) -> String {
+    format!("(SEARCH: restore for line {line})")
+}
+
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
 pub struct Translator {
-    source: String,
+    source: Arc<str>,
     next_byte: usize,
     line: u32,
     magazine: Magazine,
     settings: MachineSettings,
     tables: Tables,
     machine: Machine,
+    /// The machine's actual state where the translation started.
+    start: Machine,
+    /// SEARCH: statements before this line are translated for their state, not run.
+    resume_at: Option<u32>,
+    /// The statement a SEARCH restore was emitted before, translated next.
+    held: Option<(u32, String)>,
+    /// A cutting statement has been translated.
+    cut: bool,
     done: bool,
     toks: Vec<lex::Token>,
     items: Vec<Item>,
@@ -48,41 +62,196 @@ pub struct Translator {
 
 impl Translator {
     /// A translator for `source`, looking tools up in `magazine`, starting with the machine at
-    /// `start` (pulses) and no tool in the spindle.
+    /// `start` (pulses), no tool in the spindle and the spindle stopped.
     pub fn new(
         source: &str,
         magazine: Magazine,
         settings: MachineSettings,
         start: [i64; 3],
     ) -> Translator {
+        Translator::from_state(source.into(), magazine, settings, MachineState::at(start))
+    }
+
+    /// A translator for `source` starting from the machine's actual state: where the axes are,
+    /// the tool in the spindle (its set length from `magazine`) and the spindle.
+    pub fn from_state(
+        source: Arc<str>,
+        magazine: Magazine,
+        settings: MachineSettings,
+        state: MachineState,
+    ) -> Translator {
+        let tool = state.tool.map(|tcode| Loaded {
+            tcode,
+            set: magazine
+                .tools
+                .get(tcode)
+                .map_or(0, |r| settings.to_pulses(r.set_length)),
+        });
+        let spindle = match state.spindle {
+            0 => Spindle::Stopped,
+            s if s > 0 => Spindle::Forward(s.min(u32::MAX as i64) as u32),
+            _ => Spindle::Reverse,
+        };
+        let machine = Machine {
+            pos: state.pos,
+            tool,
+            spindle,
+            clear: None,
+            seq: 0,
+        };
         Translator {
-            source: source.to_string(),
+            source,
             next_byte: 0,
             line: 0,
             magazine,
             settings,
             tables: Tables::default(),
-            machine: Machine {
-                pos: start,
-                tool: None,
-                spindle: Spindle::Stopped,
-                clear: None,
-                seq: 0,
-            },
+            machine,
+            start: machine,
+            resume_at: None,
+            held: None,
+            cut: false,
             done: false,
             toks: Vec::new(),
             items: Vec::new(),
         }
     }
 
-    /// The end of the program, after the last line: a tool that has been cutting rises to its
-    /// clearance plane and then to machine zero Z (the spindle stops on the way up, so the
-    /// tool does not sit turning above the part), then `M30`. A program that only positions
-    /// (for example an MDI `GO`) gets just `M30`, so the tool stays where it was sent.
+    /// SEARCH: the statements before source line `line` are translated for the state they
+    /// leave (tool, spindle, position, definitions) but yield no blocks; the first statement at
+    /// or after `line` is preceded by a restore statement that brings the machine from its
+    /// actual state to that state: a tool change if the spindle holds another tool, the
+    /// spindle, then Z up to machine zero before any X Y rapid, X Y, then Z down. A cutting
+    /// statement there changes its own tool and approaches its first point itself: it is
+    /// translated from the actual state after Z has risen to machine zero (`docs/operator.md`,
+    /// SEARCH).
+    pub fn resume_at(mut self, line: u32) -> Translator {
+        self.resume_at = Some(line);
+        self
+    }
+
+    /// MDI: the definitions (DA, P, L, C, PAT, MAC, and the inline points of cutting
+    /// statements) of `program` may be used by name. A line of `program` that does not
+    /// translate defines nothing; a name the MDI text defines again is the MDI text's.
+    pub fn with_definitions_from(mut self, program: &str) -> Translator {
+        self.tables.set_base(true);
+        for (i, raw) in program.lines().enumerate() {
+            let line = i as u32 + 1;
+            let code = raw.split(';').next().unwrap_or("");
+            if code.trim().is_empty() {
+                continue;
+            }
+            let mut toks = std::mem::take(&mut self.toks);
+            let r = lex::scan(raw, line, &mut toks)
+                .and_then(|()| parse::parse(&toks, line, raw.chars().count() as u32 + 1));
+            self.toks = toks;
+            match r {
+                Ok(Stmt::Cut(cut)) => {
+                    let mut items = Vec::new();
+                    let _ = self.tables.resolve(&cut.desigs, line, &mut items);
+                }
+                Ok(def) => {
+                    let _ = self.tables.define(&def, line);
+                }
+                Err(_) => {}
+            }
+        }
+        self.tables.set_base(false);
+        self
+    }
+
+    /// Whether the line is a cutting statement.
+    fn is_cut(&mut self, line: u32, raw: &str) -> bool {
+        let mut toks = std::mem::take(&mut self.toks);
+        let r = lex::scan(raw, line, &mut toks)
+            .and_then(|()| parse::parse(&toks, line, raw.chars().count() as u32 + 1));
+        self.toks = toks;
+        matches!(r, Ok(Stmt::Cut(_)))
+    }
+
+    /// Before a cutting statement at the SEARCH point: the statement puts its own tool in the
+    /// spindle, starts the spindle over its first point and moves there safely, so it is
+    /// translated from the machine's actual state; the restore only raises Z to machine zero
+    /// first, so no X Y rapid happens below it.
+    fn restore_for_cut(&mut self, line: u32) -> Result<Statement, TranslateError> {
+        let seq = self.machine.seq;
+        let mut o = Out::new(self.start, line, &self.settings);
+        o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+        let mut blocks = o.blocks;
+        for b in &mut blocks {
+            b.seq = 0;
+        }
+        self.machine = Machine {
+            seq,
+            clear: None,
+            ..o.m
+        };
+        Ok(Statement {
+            line,
+            text: restore_text(line),
+            blocks,
+        })
+    }
+
+    /// The restore statement before source line `line` (see [`Translator::resume_at`]); it
+    /// leaves the translator's machine where the restore ends.
+    fn restore(&mut self, line: u32) -> Result<Statement, TranslateError> {
+        let target = self.machine;
+        let mut o = Out::new(self.start, line, &self.settings);
+        if let Some(t) = target.tool {
+            if o.m.tool.map(|x| x.tcode) != Some(t.tcode) {
+                cycle::tool_change(&mut o, t.tcode, t.set);
+            }
+        }
+        o.m.tool = target.tool;
+        match target.spindle {
+            Spindle::Forward(s) => o.spindle_forward(s),
+            Spindle::Reverse => {
+                if o.m.spindle != Spindle::Reverse {
+                    o.aux(None, None, Some(4));
+                }
+            }
+            Spindle::Stopped => {
+                if o.m.spindle != Spindle::Stopped {
+                    o.aux(None, None, Some(5));
+                }
+            }
+        }
+        o.m.spindle = target.spindle;
+        // Never back down into a hole: at least the clearance plane the tool last left.
+        let mut to = target.pos;
+        if let Some(clear) = target.clear {
+            to[2] = to[2].max(clear + target.set());
+        }
+        let pos = o.m.pos;
+        if to[0] != pos[0] || to[1] != pos[1] {
+            o.rapid([pos[0], pos[1], 0]);
+            o.rapid([to[0], to[1], 0]);
+        }
+        o.rapid(to);
+        o.check_travel(self.start.pos)?;
+        let mut blocks = o.blocks;
+        for b in &mut blocks {
+            b.seq = 0;
+        }
+        self.machine.pos = to;
+        self.machine.clear = target.clear.filter(|&c| to[2] - target.set() < c);
+        Ok(Statement {
+            line,
+            text: restore_text(line),
+            blocks,
+        })
+    }
+
+    /// The end of the program, after the last line: when the program has cut and the spindle
+    /// turns, a tool still in a hole rises to its clearance plane, the spindle stops and Z
+    /// returns to machine zero (so the tool does not sit turning above the part), then `M30`.
+    /// A program that only positions (for example an MDI `GO`) gets just `M30`, so the tool
+    /// stays where it was sent.
     fn end_of_program(&mut self) -> Statement {
         let line = self.line + 1;
         let mut o = Out::new(self.machine, line, &self.settings);
-        if o.m.spindle != Spindle::Stopped {
+        if self.cut && o.m.spindle != Spindle::Stopped {
             if let Some(clear) = o.m.clear {
                 if o.m.tip() < clear {
                     o.rapid_tip(clear);
@@ -113,6 +282,7 @@ impl Translator {
         let mut o = Out::new(self.machine, line, settings);
         match &stmt {
             Stmt::Cut(cut) => {
+                self.cut = true;
                 let mut items = std::mem::take(&mut self.items);
                 items.clear();
                 let r = cutting(&mut o, &mut self.tables, &self.magazine, cut, &mut items);
@@ -384,10 +554,23 @@ impl Iterator for Translator {
     type Item = Result<Statement, TranslateError>;
 
     fn next(&mut self) -> Option<Self::Item> {
+        if let Some((line, raw)) = self.held.take() {
+            return Some(self.translate_line(line, &raw));
+        }
         while !self.done {
             let rest = &self.source[self.next_byte..];
             if rest.is_empty() {
                 self.done = true;
+                if let Some(at) = self.resume_at {
+                    return Some(Err(TranslateError {
+                        line: at,
+                        col: 1,
+                        message: format!(
+                            "no statement at or after line {at} (the program has {} lines)",
+                            self.line
+                        ),
+                    }));
+                }
                 return Some(Ok(self.end_of_program()));
             }
             let (raw, used) = match rest.find('\n') {
@@ -401,19 +584,55 @@ impl Iterator for Translator {
             if code.trim().is_empty() {
                 continue;
             }
-            let text = raw.trim().to_string();
             let line = self.line;
             // Borrow juggling: the raw line lives in self.source.
             let raw = raw.to_string();
-            return Some(match self.statement(line, &raw) {
-                Ok(blocks) => Ok(Statement { line, text, blocks }),
-                Err(e) => {
-                    self.done = true;
-                    Err(e)
+            match self.resume_at {
+                Some(at) if line < at => {
+                    // Before the SEARCH point: its state counts, its blocks are not run.
+                    if let Err(e) = self.statement(line, &raw) {
+                        self.done = true;
+                        return Some(Err(e));
+                    }
+                    continue;
                 }
-            });
+                Some(_) => {
+                    self.resume_at = None;
+                    let restored = if self.is_cut(line, &raw) {
+                        self.restore_for_cut(line)
+                    } else {
+                        self.restore(line)
+                    };
+                    match restored {
+                        Ok(r) if !r.blocks.is_empty() => {
+                            self.held = Some((line, raw));
+                            return Some(Ok(r));
+                        }
+                        Ok(_) => {}
+                        Err(e) => {
+                            self.done = true;
+                            return Some(Err(e));
+                        }
+                    }
+                }
+                None => {}
+            }
+            return Some(self.translate_line(line, &raw));
         }
         None
+    }
+}
+
+impl Translator {
+    fn translate_line(&mut self, line: u32, raw: &str) -> Result<Statement, TranslateError> {
+        let text = raw.trim().to_string();
+        match self.statement(line, raw) {
+            Ok(blocks) => Ok(Statement { line, text, blocks }),
+            Err(e) => {
+                self.done = true;
+                Err(e)
+            }
+        }
     }
 }
 

@@ -29,6 +29,17 @@ pub struct Drive {
     pub wait_limit: Duration,
 }
 
+/// What a script wait is waiting for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Waiting {
+    /// `wait`: the machine idle.
+    Idle,
+    /// `wait block N`: block N executing, or the machine idle.
+    Block(u32),
+    /// `wait ms T`: machine time at or past this, ns.
+    Until(u64),
+}
+
 /// Where the screenshot stands.
 enum Shot {
     Idle,
@@ -53,7 +64,7 @@ pub struct App {
     plot: PlotState,
     hand: HandState,
     drive: Drive,
-    waiting: Option<(Instant, u32)>,
+    waiting: Option<(Instant, u32, Waiting)>,
     shot: Shot,
     bench: Option<Bench>,
     frames: u64,
@@ -105,25 +116,25 @@ impl App {
 
     /// Plays script events until a `wait` that is not yet satisfied.
     fn play_script(&mut self, m: &mut dyn Machine, ctx: &egui::Context) {
-        if let Some((since, idle_frames)) = self.waiting {
-            if m.is_idle() {
-                // Idle over a few frames: then let the console confirm that every action has
-                // been taken up (brief, unless a START had not been picked up yet, in which
-                // case it waits for that block as the script asks).
-                if idle_frames >= 2 {
-                    m.wait_idle();
-                    self.waiting = None;
-                } else {
-                    self.waiting = Some((since, idle_frames + 1));
-                }
+        if let Some((since, idle_frames, what)) = self.waiting {
+            let idle = m.is_idle();
+            let done = match what {
+                Waiting::Idle => idle && idle_frames >= 2,
+                Waiting::Block(n) => idle || m.block_executing() == Some(n),
+                Waiting::Until(t) => m.view().machine_ns >= t,
+            };
+            self.waiting = if done {
+                None
+            } else if idle {
+                Some((since, idle_frames + 1, what))
             } else {
-                self.waiting = Some((since, 0));
-            }
+                Some((since, 0, what))
+            };
             if self.waiting.is_some() && since.elapsed() > self.drive.wait_limit {
                 self.fail(
                     ctx,
                     format!(
-                        "script 'wait': the machine was not idle after {} s",
+                        "script 'wait': not done after {} s",
                         self.drive.wait_limit.as_secs()
                     ),
                 );
@@ -137,7 +148,19 @@ impl App {
         while let Some(ev) = self.drive.script.pop_front() {
             match ev {
                 PanelEvent::Wait => {
-                    self.waiting = Some((Instant::now(), 0));
+                    self.waiting = Some((Instant::now(), 0, Waiting::Idle));
+                    return;
+                }
+                PanelEvent::WaitBlock(n) => {
+                    self.waiting = Some((Instant::now(), 0, Waiting::Block(n)));
+                    return;
+                }
+                PanelEvent::WaitMs(t) => {
+                    let at = m
+                        .view()
+                        .machine_ns
+                        .saturating_add(t.saturating_mul(1_000_000));
+                    self.waiting = Some((Instant::now(), 0, Waiting::Until(at)));
                     return;
                 }
                 PanelEvent::Show => {

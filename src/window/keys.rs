@@ -223,6 +223,8 @@ mod tests {
             wheel: (Axis::X, 10),
             entry: String::new(),
             machine_ns: 0,
+            help: false,
+            ignored: None,
         }
     }
 

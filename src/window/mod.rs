@@ -37,6 +37,8 @@ pub trait Machine {
     fn settings(&self) -> MachineSettings;
     /// RUN = 0 and no motion.
     fn is_idle(&self) -> bool;
+    /// The N number of the block executing now, if one is.
+    fn block_executing(&self) -> Option<u32>;
     /// Waits until every action so far has been taken up and the machine is idle.
     fn wait_idle(&mut self);
     /// Pulses output in this run, all axes together (the pulse counters).
@@ -68,6 +70,14 @@ impl Machine for crate::console::Console {
     }
     fn is_idle(&self) -> bool {
         crate::console::Console::is_idle(self)
+    }
+    fn block_executing(&self) -> Option<u32> {
+        let st = self.status();
+        st.executing
+            .as_ref()
+            .filter(|_| st.in_block)
+            .and_then(|e| e.block())
+            .map(|b| b.seq)
     }
     fn wait_idle(&mut self) {
         crate::console::Console::wait_idle(self)

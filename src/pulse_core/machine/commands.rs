@@ -1,6 +1,7 @@
-//! Operator commands: START, STOP (feed hold), RESET, E-STOP, override, SINGLE BLOCK, jog.
+//! Operator commands: START, STOP (feed hold), RESET, E-STOP, override, SINGLE BLOCK, jog, and
+//! the run's lifecycle they drive (`docs/pulse-core.md`, "Operator commands").
 
-use super::{axis_name, Machine};
+use super::{axis_name, EndCause, Machine};
 use crate::pulse_core::{Command, RunKind};
 
 impl Machine {
@@ -21,26 +22,27 @@ impl Machine {
                     j.release = true;
                 }
                 self.increments.clear();
+                if let Some(r) = &mut self.ret {
+                    // The return stops too; START finishes it from where it stands.
+                    r.motion.set_hold(true);
+                    self.hold = true;
+                }
             }
             Command::Reset => {
-                self.out.flush();
-                self.current = None;
-                self.jog = None;
-                self.increments.clear();
-                self.run = 0;
-                self.hold = false;
+                self.abandon();
                 self.estop = false;
                 self.alarm = None;
                 self.notice = None;
-                self.just_completed = false;
-                self.spindle = 0;
-                self.send_position();
             }
+            Command::Abandon => self.abandon(),
             Command::EStop => {
                 self.out.flush();
                 self.current = None;
                 self.jog = None;
                 self.increments.clear();
+                if self.job.is_some() {
+                    self.end_run(EndCause::Abandoned);
+                }
                 self.run = 0;
                 self.hold = false;
                 self.estop = true;
@@ -60,7 +62,8 @@ impl Machine {
                     if dir == 0 || d == 0 || d.signum() != i64::from(dir.signum()) {
                         self.notice = Some(format!("{}: at the travel limit", axis_name(axis)));
                     } else {
-                        self.start_jog(axis, d, true);
+                        self.note_manual_move();
+                        self.start_jog(axis, d, true, self.now);
                     }
                 }
             }
@@ -74,37 +77,129 @@ impl Machine {
             Command::Increment { axis, pulses } => {
                 if self.jog_check(axis).is_some() && pulses != 0 {
                     self.increments.push_back((axis, pulses));
-                    self.next_increment();
+                    self.next_increment(self.now);
                 }
             }
         }
         self.send_state();
     }
 
+    /// RESET without clearing an e-stop or alarm: the run is abandoned, the axes stop where
+    /// they are, the spindle stops.
+    fn abandon(&mut self) {
+        self.out.flush();
+        self.current = None;
+        self.jog = None;
+        self.increments.clear();
+        if self.job.is_some() {
+            self.end_run(EndCause::Abandoned);
+        }
+        self.run = 0;
+        self.hold = false;
+        self.just_completed = false;
+        self.ret = None;
+        self.ret_queue.clear();
+        self.spindle = 0;
+        self.send_position();
+    }
+
     fn start(&mut self, kind: RunKind) {
-        if self.estop || self.alarm.is_some() {
-            self.notice = Some("press RESET first".into());
+        if self.estop {
+            self.notice = Some("START refused: EMERGENCY STOP in force, press RESET".into());
             return;
         }
-        if self.jog.is_some() {
-            self.notice = Some("jog in progress".into());
+        if self.alarm.is_some() {
+            self.notice = Some("START refused: alarm in force, press RESET".into());
             return;
         }
-        let flag = match kind {
-            RunKind::Auto => 1,
-            RunKind::Mdi => 2,
+        if self.jog.is_some() || !self.increments.is_empty() {
+            self.notice = Some("START refused: a manual move is in progress".into());
+            return;
+        }
+        let Some(job) = &self.job else {
+            self.notice = None;
+            self.begin_run(kind);
+            return;
         };
+        if job.kind != kind {
+            self.notice = Some(format!(
+                "START refused: an {} run is loaded; press RESET first",
+                job.kind.name()
+            ));
+            return;
+        }
+        let resting = self.hold || (self.run == 0 && self.current.is_none());
+        if !resting {
+            self.notice = Some(match &self.current {
+                Some(c) => format!(
+                    "START ignored: N{} is still executing; press START again when it stops",
+                    c.block.seq
+                ),
+                None => "START ignored: the program is running".into(),
+            });
+            return;
+        }
         self.notice = None;
+        self.run = kind.flag();
+        self.just_completed = false;
+        let back = self.job.as_mut().and_then(|j| j.return_to.take());
+        if let Some(to) = back {
+            if to != self.out.pos || self.ret.is_some() {
+                // Manual intervention: back to where the run stopped first, Z-safe, at the
+                // jog feed; the run resumes when the return is complete.
+                self.hold = true;
+                if let Some(r) = &mut self.ret {
+                    r.motion.set_hold(false);
+                    r.motion.resume_at(self.now);
+                } else {
+                    self.ret_queue = return_path(self.out.pos, to).into();
+                    self.next_return(self.now);
+                }
+                if let Some(j) = &mut self.job {
+                    j.return_to = Some(to);
+                }
+                return;
+            }
+        }
+        self.resume_held(self.now);
+    }
+
+    /// A new run whose source failed before its first block: the run ends at once, nothing
+    /// moved.
+    pub fn refuse_run(&mut self, error: crate::block::TranslateError) {
+        if self.job.as_ref().is_some_and(|j| j.started_blocks == 0) {
+            self.end_run(EndCause::Error {
+                error,
+                nothing_moved: true,
+            });
+        }
+    }
+
+    /// Ends a feed hold: the held motion accelerates again from time `t`.
+    pub(super) fn resume_held(&mut self, t: u64) {
         if self.hold {
             self.hold = false;
             if let Some(m) = self.current.as_mut().and_then(|c| c.motion.as_mut()) {
                 m.set_hold(false);
+                m.resume_at(t);
             }
-            return;
-        }
-        if self.run == 0 {
-            self.run = flag;
-            self.just_completed = false;
         }
     }
+}
+
+/// The return from `from` to `to` in a safe order: up first if the target is higher, else
+/// across first and down last, so the tool never moves sideways below either point.
+pub fn return_path(from: [i64; 3], to: [i64; 3]) -> Vec<[i64; 3]> {
+    let mid = if to[2] > from[2] {
+        [from[0], from[1], to[2]]
+    } else {
+        [to[0], to[1], from[2]]
+    };
+    let mut out = Vec::new();
+    for p in [mid, to] {
+        if p != *out.last().unwrap_or(&from) {
+            out.push(p);
+        }
+    }
+    out
 }

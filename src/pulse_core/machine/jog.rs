@@ -1,11 +1,16 @@
-//! Jogging: CONTINUOUS at the jog feed up to the travel limit, STEP and HANDLE increments
-//! queued one after the other; all only with the program stopped.
+//! Manual moves: CONTINUOUS at the jog feed up to the travel limit, STEP and HANDLE increments
+//! queued one after the other; and the return to where the run stopped.
+//!
+//! Manual intervention (`docs/pulse-core.md`): with a run loaded but at rest (a feed hold at
+//! rest, or stopped between single blocks) the operator may move the axes by hand. The core
+//! notes where the run stood; the next START first returns there (Z-safe, at the jog feed) and
+//! only then resumes, so every block still ends on its programmed point.
 
-use super::{axis_name, Jog, Machine};
+use super::{axis_name, Jog, Machine, Phase};
 use crate::pulse_core::motion::{speed_pulses_ns, Motion};
 
 impl Machine {
-    /// The travel limits of `axis` if a jog may start now.
+    /// The travel limits of `axis` if a manual move may start now; if not, says why.
     pub(super) fn jog_check(&mut self, axis: usize) -> Option<(i64, i64)> {
         if axis > 2 {
             self.notice = Some(format!("no axis {axis}"));
@@ -15,22 +20,53 @@ impl Machine {
             self.notice = Some("emergency stop: press RESET".into());
             return None;
         }
-        if self.run != 0 || self.current.is_some() {
-            self.notice = Some("jog refused: the program is running (press RESET)".into());
+        if let Some(c) = &self.current {
+            let at_rest = self.hold
+                && c.phase == Phase::Move
+                && c.motion.as_ref().is_some_and(|m| m.at_rest());
+            if !at_rest {
+                let why = match c.phase {
+                    Phase::PreAux | Phase::PostAux => {
+                        "an auxiliary function (tool change or spindle) is in progress"
+                    }
+                    Phase::Move if self.hold => "the feed hold is still braking",
+                    Phase::Move => "the program is running (STOP first)",
+                };
+                self.notice = Some(format!("jog refused: {why}"));
+                return None;
+            }
+        } else if self.run != 0 && !self.hold {
+            self.notice = Some("jog refused: the program is running (STOP first)".into());
             return None;
         }
         Some(self.settings.travel_pulses(axis))
     }
-    pub(super) fn start_jog(&mut self, axis: usize, d: i64, release: bool) {
+
+    /// A manual move begins while a run is loaded: remember where the run stood, and drop a
+    /// return that was under way (START plans it again from the new position).
+    pub(super) fn note_manual_move(&mut self) {
+        let pos = self.out.pos;
+        if let Some(j) = &mut self.job {
+            if j.return_to.is_none() {
+                j.return_to = Some(pos);
+            }
+            self.ret = None;
+            self.ret_queue.clear();
+        }
+    }
+
+    pub(super) fn start_jog(&mut self, axis: usize, d: i64, release: bool, t0: u64) {
         let mut delta = [0; 3];
         delta[axis] = d;
         let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
         self.jog = Some(Jog {
-            motion: Motion::linear(delta, v, self.accel, self.now),
+            motion: Motion::linear(delta, v, self.accel, t0),
             release,
         });
     }
-    pub(super) fn next_increment(&mut self) {
+
+    /// Starts the next queued STEP/HANDLE increment at time `t`.
+    pub(super) fn next_increment(&mut self, t: u64) {
         if self.jog.is_some() {
             return;
         }
@@ -45,8 +81,31 @@ impl Machine {
                 ));
                 continue;
             }
-            self.start_jog(axis, pulses, false);
+            self.note_manual_move();
+            self.start_jog(axis, pulses, false, t);
             return;
         }
+    }
+
+    /// Starts the next leg of the return at time `t`; when none is left, the run resumes.
+    pub(super) fn next_return(&mut self, t: u64) {
+        while let Some(to) = self.ret_queue.pop_front() {
+            let pos = self.out.pos;
+            let delta = [to[0] - pos[0], to[1] - pos[1], to[2] - pos[2]];
+            if delta == [0; 3] {
+                continue;
+            }
+            let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
+            self.ret = Some(Jog {
+                motion: Motion::linear(delta, v, self.accel, t),
+                release: false,
+            });
+            return;
+        }
+        if let Some(j) = &mut self.job {
+            j.return_to = None;
+        }
+        self.send_position();
+        self.resume_held(t);
     }
 }

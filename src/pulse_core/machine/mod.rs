@@ -1,23 +1,29 @@
 //! The simulated machine as a pure, deterministic state machine: NCBR every NCBR period of
-//! machine time, PGEN inside each tick, the relay logic for M, S and T, and the operator
-//! commands. Tests drive it directly; the pulse core thread only wraps it.
+//! machine time, PGEN inside each tick, the relay logic for M, S and T, the operator commands
+//! and the run being executed. Tests drive it directly; the pulse core thread only wraps it.
 //!
 //! Timing of one NCBR tick at machine time t (period P, 5 ms by default):
 //! 1. a new feed override takes effect (the target speed of the motion in force changes);
-//! 2. if RUN ≠ 0, no feed hold, and the last block is complete (DEN and auxiliary function
-//!    complete): in SINGLE BLOCK RUN is cleared; otherwise the next block is read from B1,
-//!    checked against the travel limits, and started (its auxiliary functions first);
+//! 2. if RUN ≠ 0, no feed hold, no return after a manual move, and the last block is complete
+//!    (DEN and auxiliary function complete): in SINGLE BLOCK RUN is cleared; otherwise the next
+//!    block is read from B1, checked against the travel limits from where the machine is, and
+//!    started (its auxiliary functions first);
 //! 3. PGEN distributes every pulse whose time falls in [t, t + P);
 //! 4. pending pulse batches are flushed and, while moving, the position is recorded.
 //!
 //! A block that completes mid-tick leaves the machine at rest until the next tick reads the
 //! following block (as the patent's NCBR does).
+//!
+//! **Whole blocks at once.** With nothing recorded, no override pending and no manual move,
+//! the ticks inside a block change nothing but time, so [`Machine::run`] distributes the block
+//! in one PGEN call and sets the clock to the tick where it completes. The pulses and times are
+//! the same as tick by tick (tested); a dry run then costs pulses, not ticks.
 
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Motion, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
-use super::B1Entry;
-use crate::block::{Block, Motion as Kind};
+use super::{BlockEntry, EndCause, RunEnd, RunKind};
+use crate::block::{Block, MachineState, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
@@ -50,15 +56,16 @@ enum Phase {
 /// The block being executed.
 #[derive(Clone, Debug)]
 struct Current {
-    entry: B1Entry,
-    /// A copy of the entry's block.
+    entry: BlockEntry,
+    /// A copy of the entry's block, its amounts taken from where the machine was at its start.
     block: Block,
     phase: Phase,
     until: u64,
     motion: Option<Motion>,
 }
 
-/// A jog in progress (CONTINUOUS, STEP or HANDLE).
+/// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
+/// stopped.
 #[derive(Clone, Debug)]
 struct Jog {
     motion: Motion,
@@ -66,7 +73,65 @@ struct Jog {
     release: bool,
 }
 
-/// The simulated machine: axes, relay logic, RUN and the operator state.
+/// The run loaded: running, held, or stopped between single blocks.
+#[derive(Clone, Debug)]
+struct Job {
+    kind: RunKind,
+    id: u64,
+    started_ns: u64,
+    /// The block executing or last executed.
+    last: Option<BlockEntry>,
+    /// Blocks started.
+    started_blocks: u64,
+    /// Where the run stood when the operator first moved an axis by hand while it was stopped.
+    return_to: Option<[i64; 3]>,
+}
+
+/// What [`Machine::run`] runs until.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Until {
+    /// The machine is idle (RUN = 0 and nothing moving, a feed hold at rest, an e-stop).
+    Idle,
+    /// Machine time reaches this, ns.
+    Time(u64),
+    /// A block with this sequence number starts executing, or the machine is idle.
+    BlockStart(u32),
+}
+
+/// Why [`Machine::run`] returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reached {
+    /// The machine is idle.
+    Idle,
+    /// The machine time asked for.
+    Time,
+    /// The block asked for has started.
+    BlockStart,
+    /// B1 is empty and the translator is still working (virtual time only): call again once it
+    /// has caught up; the clock has not moved past the tick that wanted the block.
+    Starved,
+    /// Standing still mid-block at feed override 0: nothing will happen until it is raised.
+    Stalled,
+    /// The machine-time limit passed without reaching the condition.
+    Limit,
+}
+
+/// One completed block, for tests that check where every block ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BlockEnd {
+    /// The run it belongs to.
+    pub run: u64,
+    /// The block's sequence number (N).
+    pub seq: u32,
+    /// Its source line.
+    pub stmt: u32,
+    /// The programmed end point, pulses.
+    pub end: [i64; 3],
+    /// Where the machine was when it completed, pulses.
+    pub pos: [i64; 3],
+}
+
+/// The simulated machine: axes, relay logic, RUN, the run and the operator state.
 #[derive(Clone, Debug)]
 pub struct Machine {
     settings: MachineSettings,
@@ -82,7 +147,9 @@ pub struct Machine {
     feed_override: u32,
     pending_override: Option<u32>,
     current: Option<Current>,
-    last_entry: Option<B1Entry>,
+    job: Option<Job>,
+    runs: u64,
+    last_end: Option<RunEnd>,
     just_completed: bool,
     blocks_done: u64,
     out: PulseOut,
@@ -95,6 +162,16 @@ pub struct Machine {
     magazine: Option<Magazine>,
     jog: Option<Jog>,
     increments: VecDeque<(usize, i64)>,
+    /// The return to where the run stopped: the move in progress and the targets after it.
+    ret: Option<Jog>,
+    ret_queue: VecDeque<[i64; 3]>,
+    /// Virtual time: an empty B1 stops [`Machine::run`] instead of letting the tick pass.
+    starve_stops: bool,
+    starved: bool,
+    started_seq: Option<u32>,
+    /// Time the block in progress completed inside the last PGEN call.
+    finished_at: Option<u64>,
+    audit: Option<Vec<BlockEnd>>,
     events: Option<EventSink>,
     last_state: Option<(u8, u32, u32, i64, String, String)>,
     op_mode: String,
@@ -103,7 +180,7 @@ pub struct Machine {
 }
 
 impl Machine {
-    /// A machine at rest at machine zero, time 0.
+    /// A machine at rest at machine zero, time 0, no tool in the spindle.
     pub fn new(settings: MachineSettings) -> Machine {
         let accel = accel_pulses_ns2(settings.accel_mm_s2, settings.pulse_mm);
         Machine {
@@ -120,7 +197,9 @@ impl Machine {
             feed_override: 100,
             pending_override: None,
             current: None,
-            last_entry: None,
+            job: None,
+            runs: 0,
+            last_end: None,
             just_completed: false,
             blocks_done: 0,
             out: PulseOut::default(),
@@ -133,6 +212,13 @@ impl Machine {
             magazine: None,
             jog: None,
             increments: VecDeque::new(),
+            ret: None,
+            ret_queue: VecDeque::new(),
+            starve_stops: false,
+            starved: false,
+            started_seq: None,
+            finished_at: None,
+            audit: None,
             events: None,
             last_state: None,
             op_mode: "AUTO".into(),
@@ -161,6 +247,22 @@ impl Machine {
         self.out.lossless.set(on);
     }
 
+    /// Virtual time: an empty B1 with the translator still working makes [`Machine::run`]
+    /// return [`Reached::Starved`] without advancing the clock (real time lets the tick pass).
+    pub fn set_starve_stops(&mut self, on: bool) {
+        self.starve_stops = on;
+    }
+
+    /// Keeps a log of every block end (programmed end and actual position) for `take_audit`.
+    pub fn set_audit(&mut self, on: bool) {
+        self.audit = if on { Some(Vec::new()) } else { None };
+    }
+
+    /// The block ends logged since the last call (with the audit on).
+    pub fn take_audit(&mut self) -> Vec<BlockEnd> {
+        self.audit.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
     /// The pulses captured since the last call (with `capture_pulses` on).
     pub fn take_pulses(&mut self) -> Vec<PulseRec> {
         self.out.take_capture()
@@ -169,6 +271,15 @@ impl Machine {
     /// The tool data used for the set length of the tool in the spindle.
     pub fn set_magazine(&mut self, m: Magazine) {
         self.magazine = Some(m);
+        if self.job.is_none() {
+            self.tool_len = self.set_length_of(self.tool);
+        }
+    }
+
+    fn set_length_of(&self, t: Option<u32>) -> f64 {
+        t.and_then(|t| self.magazine.as_ref()?.tools.get(t))
+            .map(|r| r.set_length)
+            .unwrap_or(0.0)
     }
 
     /// The operation and data-processing mode names recorded in `/nc/state`.
@@ -178,22 +289,14 @@ impl Machine {
         self.send_state();
     }
 
-    /// Sets the axis positions (pulses) with the machine at rest; refused while anything moves.
+    /// Sets the axis positions (pulses) with the machine at rest and no run loaded; refused
+    /// otherwise.
     pub fn set_position(&mut self, pos: [i64; 3]) -> bool {
-        if self.current.is_some() || self.jog.is_some() {
+        if self.current.is_some() || self.jog.is_some() || self.job.is_some() {
             return false;
         }
         self.out.pos = pos;
         true
-    }
-
-    /// A new run: block and pulse counters to zero, program end cleared.
-    pub fn new_run(&mut self) {
-        self.blocks_done = 0;
-        self.out.count = [0; 3];
-        self.program_end = false;
-        self.just_completed = false;
-        self.last_entry = None;
     }
 
     /// Machine time, ns.
@@ -206,6 +309,15 @@ impl Machine {
         self.out.pos
     }
 
+    /// The machine's state for a program source to start from.
+    pub fn machine_state(&self) -> MachineState {
+        MachineState {
+            pos: self.out.pos,
+            tool: self.tool,
+            spindle: self.spindle,
+        }
+    }
+
     /// RUN flag.
     pub fn run_flag(&self) -> u8 {
         self.run
@@ -216,6 +328,16 @@ impl Machine {
         self.blocks_done
     }
 
+    /// Whether a START of `kind` now would begin a new run (rather than resume one or be
+    /// refused): the caller must then have loaded the new run's blocks.
+    pub fn start_begins_run(&self, _kind: RunKind) -> bool {
+        self.job.is_none()
+            && !self.estop
+            && self.alarm.is_none()
+            && self.jog.is_none()
+            && self.increments.is_empty()
+    }
+
     /// Nothing will happen until a command: no motion, nothing pending, and RUN = 0 (or a feed
     /// hold at rest, or an emergency stop).
     pub fn is_idle(&self) -> bool {
@@ -224,6 +346,11 @@ impl Machine {
         }
         if self.jog.is_some() || !self.increments.is_empty() {
             return false;
+        }
+        if let Some(r) = &self.ret {
+            if !(r.motion.is_held() && r.motion.at_rest()) {
+                return false;
+            }
         }
         if self.run == 0 {
             return self.current.is_none();
@@ -237,10 +364,15 @@ impl Machine {
         false
     }
 
+    fn returning(&self) -> bool {
+        self.ret.is_some() || !self.ret_queue.is_empty()
+    }
+
     /// Standing still mid-block at feed override 0 (time passes but nothing moves).
     pub fn is_stalled(&self) -> bool {
         self.feed_override == 0
             && self.pending_override.is_none()
+            && !self.hold
             && self.current.as_ref().is_some_and(|c| {
                 c.phase == Phase::Move && c.motion.as_ref().is_some_and(|m| m.at_rest())
             })
@@ -252,21 +384,15 @@ impl Machine {
             && !self.hold
             && !self.estop
             && self.current.is_none()
-            && !(self.just_completed && self.single_block)
+            && !self.returning()
+            && (!self.just_completed || !self.single_block)
     }
 
     /// Runs whole NCBR ticks (and the PGEN work inside them) until machine time `until`.
     pub fn advance_to(&mut self, until: u64, src: &mut dyn BlockSource) {
         while self.now < until {
-            if self.now >= self.next_tick {
-                self.ncbr(src);
-                self.next_tick = self.now + self.settings.ncbr_period_ns.max(1);
-            }
-            let end = until.min(self.next_tick);
-            self.pgen(end);
-            self.now = end;
-            if self.now >= self.next_tick {
-                self.tick_end();
+            if self.run(src, Until::Time(until), u64::MAX) != Reached::Starved {
+                return;
             }
         }
     }
@@ -274,29 +400,97 @@ impl Machine {
     /// Runs exactly one NCBR tick from the current (tick-aligned) time.
     pub fn tick(&mut self, src: &mut dyn BlockSource) {
         let t = if self.now >= self.next_tick {
-            self.now + self.settings.ncbr_period_ns.max(1)
+            self.now + self.period()
         } else {
             self.next_tick
         };
         self.advance_to(t, src);
     }
 
-    /// Runs ticks until the machine is idle (or `max_ns` of machine time has passed).
+    /// Runs until the machine is idle (or `max_ns` of machine time has passed, or it stalls at
+    /// override 0).
     pub fn run_until_idle(&mut self, src: &mut dyn BlockSource, max_ns: u64) {
-        let stop = self.now.saturating_add(max_ns);
-        while !self.is_idle() && self.now < stop {
-            self.tick(src);
+        self.run(src, Until::Idle, max_ns);
+    }
+
+    fn period(&self) -> u64 {
+        self.settings.ncbr_period_ns.max(1)
+    }
+
+    /// Runs the machine until `until`, or until `limit_ns` of machine time has passed.
+    pub fn run(&mut self, src: &mut dyn BlockSource, until: Until, limit_ns: u64) -> Reached {
+        let p = self.period();
+        let t_end = match until {
+            Until::Time(t) => t,
+            _ => self.now.saturating_add(limit_ns),
+        };
+        let waits_for_rest = !matches!(until, Until::Time(_));
+        loop {
+            if waits_for_rest {
+                if self.is_idle() {
+                    return Reached::Idle;
+                }
+                if self.is_stalled() {
+                    return Reached::Stalled;
+                }
+            }
+            if self.now >= t_end {
+                return if waits_for_rest {
+                    Reached::Limit
+                } else {
+                    Reached::Time
+                };
+            }
+            if self.now >= self.next_tick {
+                self.started_seq = None;
+                self.ncbr(src);
+                if std::mem::take(&mut self.starved) {
+                    return Reached::Starved;
+                }
+                self.next_tick = self.now + p;
+                if let Until::BlockStart(seq) = until {
+                    if self.started_seq == Some(seq) {
+                        return Reached::BlockStart;
+                    }
+                }
+            }
+            let whole_block = self.events.is_none()
+                && self.pending_override.is_none()
+                && self.current.is_some()
+                && self.jog.is_none()
+                && self.increments.is_empty()
+                && !self.returning();
+            if whole_block {
+                self.finished_at = None;
+                self.pgen(t_end);
+                self.now = match self.finished_at.take() {
+                    Some(t) => ((t / p + 1) * p).min(t_end),
+                    None => t_end,
+                };
+                self.next_tick = self.now.div_ceil(p) * p;
+            } else {
+                let end = t_end.min(self.next_tick);
+                self.pgen(end);
+                self.now = end;
+            }
+            if self.now >= self.next_tick {
+                self.tick_end();
+            }
         }
     }
 
     fn tick_end(&mut self) {
         self.out.flush();
+        if self.events.is_none() {
+            return;
+        }
         let moving = self
             .current
             .as_ref()
             .and_then(|c| c.motion.as_ref())
             .is_some_and(|m| !m.at_rest())
-            || self.jog.as_ref().is_some_and(|j| !j.motion.at_rest());
+            || self.jog.as_ref().is_some_and(|j| !j.motion.at_rest())
+            || self.ret.as_ref().is_some_and(|j| !j.motion.at_rest());
         if moving {
             self.send_position();
         }
@@ -329,16 +523,18 @@ impl Machine {
         }
         match src.fetch() {
             Fetch::Block(e) => self.start_block(e),
-            Fetch::Pending => {}
-            Fetch::End => {
-                self.run = 0;
-                self.program_end = true;
-                self.just_completed = false;
+            Fetch::Pending => {
+                if self.starve_stops {
+                    self.starved = true;
+                }
             }
-            Fetch::Error(e) => {
-                self.run = 0;
-                self.just_completed = false;
-                self.alarm = Some(e.to_string());
+            Fetch::End => self.end_run(EndCause::ProgramEnd),
+            Fetch::Error(error) => {
+                let nothing_moved = self.job.as_ref().is_none_or(|j| j.started_blocks == 0);
+                self.end_run(EndCause::Error {
+                    error,
+                    nothing_moved,
+                });
             }
         }
     }
@@ -349,25 +545,80 @@ impl Machine {
         speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
     }
 
-    fn refuse(&mut self, e: &B1Entry, b: Option<&Block>, why: String) {
+    /// A block the core will not run: alarm (RESET needed), the run ends before it.
+    fn refuse(&mut self, e: &BlockEntry, b: Option<&Block>, why: String) {
         let line = e.stmt.line;
         let seq = b.map(|b| format!("N{} ", b.seq)).unwrap_or_default();
-        self.alarm = Some(format!(
-            "{line}: {seq}{why} (statement: {})",
-            e.stmt.text.trim()
-        ));
-        self.run = 0;
-        self.just_completed = false;
-        self.last_entry = Some(e.clone());
+        self.alarm = Some(format!("line {line}: {seq}{why}"));
+        if let Some(j) = &mut self.job {
+            j.last = Some(e.clone());
+        }
+        self.end_run(EndCause::Alarm);
     }
 
-    /// Reads a block into the NC table: checks, auxiliary functions, then the motion.
-    fn start_block(&mut self, e: B1Entry) {
-        let Some(b) = e.stmt.blocks.get(e.index).cloned() else {
+    /// Ends the loaded run: RUN = 0, nothing held, the end recorded for the display.
+    fn end_run(&mut self, cause: EndCause) {
+        self.run = 0;
+        self.hold = false;
+        self.just_completed = false;
+        self.ret = None;
+        self.ret_queue.clear();
+        self.program_end = cause == EndCause::ProgramEnd;
+        if let Some(j) = self.job.take() {
+            self.last_end = Some(RunEnd {
+                id: j.id,
+                kind: j.kind,
+                blocks: self.blocks_done,
+                machine_ns: self.now.saturating_sub(j.started_ns),
+                cause,
+            });
+        }
+    }
+
+    /// Starts a new run of `kind` (its blocks come from the source the caller passes).
+    fn begin_run(&mut self, kind: RunKind) {
+        self.runs += 1;
+        self.job = Some(Job {
+            kind,
+            id: self.runs,
+            started_ns: self.now,
+            last: None,
+            started_blocks: 0,
+            return_to: None,
+        });
+        self.blocks_done = 0;
+        self.out.count = [0; 3];
+        self.program_end = false;
+        self.just_completed = false;
+        self.tool_len = self.set_length_of(self.tool);
+        self.run = kind.flag();
+    }
+
+    /// Reads a block into the NC table: checks from where the machine is, auxiliary
+    /// functions, then the motion. The block's amounts are taken as its absolute end point less
+    /// the actual position, so no shift can accumulate.
+    fn start_block(&mut self, e: BlockEntry) {
+        let Some(mut b) = e.stmt.blocks.get(e.index).cloned() else {
             self.refuse(&e, None, "no such block".into());
             return;
         };
-        if let Err(why) = check_block(&self.settings, self.out.pos, &b) {
+        let pos = self.out.pos;
+        if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) && b.start() != pos {
+            let s = b.start();
+            let why = format!(
+                "the arc starts at X{:.3} Y{:.3} Z{:.3}, the machine is at X{:.3} Y{:.3} Z{:.3}",
+                self.settings.to_mm(s[0]),
+                self.settings.to_mm(s[1]),
+                self.settings.to_mm(s[2]),
+                self.settings.to_mm(pos[0]),
+                self.settings.to_mm(pos[1]),
+                self.settings.to_mm(pos[2]),
+            );
+            self.refuse(&e, Some(&b), why);
+            return;
+        }
+        b.delta = [b.end[0] - pos[0], b.end[1] - pos[1], b.end[2] - pos[2]];
+        if let Err(why) = check_block(&self.settings, pos, &b) {
             self.refuse(&e, Some(&b), why);
             return;
         }
@@ -379,7 +630,7 @@ impl Machine {
                     t_ns: self.now,
                     seq: b.seq,
                     stmt: b.stmt,
-                    text: crate::translator::iso_line(&b, &self.settings),
+                    text: crate::block::iso_line(&b, &self.settings),
                 },
             );
         }
@@ -393,7 +644,11 @@ impl Machine {
             pre += self.settings.spindle_ns;
         }
         self.just_completed = false;
-        self.last_entry = Some(e.clone());
+        self.started_seq = Some(b.seq);
+        if let Some(j) = &mut self.job {
+            j.last = Some(e.clone());
+            j.started_blocks += 1;
+        }
         self.current = Some(Current {
             entry: e,
             block: b,
@@ -403,7 +658,7 @@ impl Machine {
         });
     }
 
-    /// PGEN up to `end`: the block's phases, then any jog.
+    /// PGEN up to `end`: the block's phases, then any manual move or return.
     fn pgen(&mut self, end: u64) {
         while let Some(c) = &mut self.current {
             match c.phase {
@@ -470,19 +725,27 @@ impl Machine {
                         break;
                     }
                     let t = c.until;
-                    let m = c.block.m;
-                    self.current = None;
-                    self.finish_block(t, m);
+                    if let Some(c) = self.current.take() {
+                        self.finish_block(t, c);
+                    }
                 }
             }
         }
         if let Some(j) = &mut self.jog {
             let p = j.motion.run(end, &mut self.out);
             if p == Progress::Done || (p == Progress::AtRest && j.release) {
+                let t = j.motion.last_t().max(self.now);
                 self.jog = None;
                 self.out.flush();
                 self.send_position();
-                self.next_increment();
+                self.next_increment(t);
+            }
+        }
+        if let Some(j) = &mut self.ret {
+            if j.motion.run(end, &mut self.out) == Progress::Done {
+                let t = j.motion.last_t().max(self.now);
+                self.ret = None;
+                self.next_return(t);
             }
         }
     }
@@ -497,11 +760,7 @@ impl Machine {
         match b.m {
             Some(6) => {
                 self.tool = self.selected_t;
-                self.tool_len = self
-                    .tool
-                    .and_then(|t| self.magazine.as_ref()?.tools.get(t))
-                    .map(|r| r.set_length)
-                    .unwrap_or(0.0);
+                self.tool_len = self.set_length_of(self.tool);
             }
             Some(3) => self.spindle = i64::from(self.s_rpm),
             Some(4) => self.spindle = -i64::from(self.s_rpm),
@@ -513,27 +772,53 @@ impl Machine {
         }
     }
 
-    fn finish_block(&mut self, t: u64, m: Option<u8>) {
+    fn finish_block(&mut self, t: u64, c: Current) {
+        let m = c.block.m;
         if matches!(m, Some(5) | Some(30)) {
             self.spindle = 0;
         }
         self.blocks_done += 1;
         self.just_completed = true;
+        self.finished_at = Some(t);
         self.out.flush();
+        let pos = self.out.pos;
+        let run = self.job.as_ref().map_or(0, |j| j.id);
+        if let Some(a) = &mut self.audit {
+            a.push(BlockEnd {
+                run,
+                seq: c.block.seq,
+                stmt: c.block.stmt,
+                end: c.block.end,
+                pos,
+            });
+        }
         if let Some(s) = &self.events {
             send_ev(
                 s,
                 &self.out.lossless,
                 Event::Position {
                     t_ns: t,
-                    pulses: self.out.pos,
+                    pulses: pos,
                 },
             );
         }
+        if pos != c.block.end {
+            // The in-position check: a block must end on its programmed point.
+            let e = c.entry.clone();
+            let why = format!(
+                "position error: ended at X{:.3} Y{:.3} Z{:.3}, programmed X{:.3} Y{:.3} Z{:.3}",
+                self.settings.to_mm(pos[0]),
+                self.settings.to_mm(pos[1]),
+                self.settings.to_mm(pos[2]),
+                self.settings.to_mm(c.block.end[0]),
+                self.settings.to_mm(c.block.end[1]),
+                self.settings.to_mm(c.block.end[2]),
+            );
+            self.refuse(&e, Some(&c.block), why);
+            return;
+        }
         if m == Some(30) {
-            self.run = 0;
-            self.program_end = true;
-            self.just_completed = false;
+            self.end_run(EndCause::ProgramEnd);
         }
     }
 }

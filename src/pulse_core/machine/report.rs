@@ -1,7 +1,7 @@
 //! What the machine tells the outside: the status snapshot and the recorded events.
 
 use super::{send_ev, Machine};
-use crate::pulse_core::Status;
+use crate::pulse_core::{RunInfo, Status};
 use crate::record::Event;
 
 impl Machine {
@@ -50,18 +50,29 @@ impl Machine {
             .current
             .as_ref()
             .and_then(|c| c.motion.as_ref())
-            .or(self.jog.as_ref().map(|j| &j.motion));
+            .or(self.jog.as_ref().map(|j| &j.motion))
+            .or(self.ret.as_ref().map(|j| &j.motion));
         Status {
             run: self.run,
             hold: self.hold,
             estop: self.estop,
             alarm: self.alarm.clone(),
             pos: self.out.pos,
+            job: self.job.as_ref().map(|j| RunInfo {
+                kind: j.kind,
+                id: j.id,
+                started_ns: j.started_ns,
+                return_to: j.return_to,
+                returning: self.ret.is_some() || !self.ret_queue.is_empty(),
+            }),
             executing: self
                 .current
                 .as_ref()
                 .map(|c| c.entry.clone())
-                .or_else(|| self.last_entry.clone()),
+                .or_else(|| self.job.as_ref().and_then(|j| j.last.clone())),
+            in_block: self.current.is_some(),
+            last_end: self.last_end.clone(),
+            runs: self.runs,
             blocks_done: self.blocks_done,
             pulses: self.out.count,
             tool: self.tool,

@@ -1,0 +1,308 @@
+//! The keyboard map of the terminal panel (`docs/panel.md`), the help screen and the
+//! "terminal too small" notice, as console state so that every front end and the panel script
+//! (`key NAME`) press the same keys with the same effect.
+//!
+//! The relay panel always acts: STOP, RESET and E-STOP work on every screen (help, too small,
+//! any mode). While the help screen is up any other key only closes it; while the terminal is
+//! too small every other key is ignored and the notice says so.
+
+use super::Console;
+use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
+use crate::pulse_core::{ClockMode, Command};
+use novanc_panel::Key;
+use std::time::{Duration, Instant};
+
+/// A CONTINUOUS jog stops when its key has not repeated for this long (terminals report no
+/// key release; auto-repeat keeps a held key coming). A key pressed once jogs this long.
+pub const JOG_RELEASE: Duration = Duration::from_millis(150);
+
+/// What a key asks of the console.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// A panel event.
+    Event(PanelEvent),
+    /// A jog or handwheel key on an axis and direction (its meaning depends on the mode).
+    Move(Axis, i8),
+    /// Feed override up or down 10 %.
+    Override(i32),
+    /// Next handwheel scale (x1, x10, x100).
+    WheelScale,
+    /// Turn the handwheel one detent on its selected axis.
+    Wheel(i32),
+    /// The typed line names the tape to put in the reader.
+    Tape,
+    /// Show the help screen.
+    Help,
+    /// Nothing.
+    None,
+}
+
+/// The keyboard map (`docs/panel.md`). Quit (Ctrl-C, Alt+q) and redraw (Ctrl-L) belong to the
+/// terminal itself and are not here.
+pub fn map_key(k: Key) -> Action {
+    use Action as A;
+    match k {
+        Key::Char(c) => A::Event(PanelEvent::Key(c)),
+        Key::Enter => A::Event(PanelEvent::Eob),
+        Key::Backspace => A::Event(PanelEvent::Rubout),
+        Key::F(n @ 1..=7) => A::Event(PanelEvent::Data(DataMode::ALL[n as usize - 1])),
+        Key::Alt(c @ '1'..='7') => A::Event(PanelEvent::Op(OpMode::ALL[c as usize - '1' as usize])),
+        Key::F(8) | Key::Alt('h') => A::Help,
+        Key::F(9) | Key::Alt('s') => A::Event(PanelEvent::Start),
+        Key::F(10) | Key::Alt('p') => A::Event(PanelEvent::Stop),
+        Key::F(11) | Key::Alt('r') => A::Event(PanelEvent::Reset),
+        Key::F(12) | Key::Alt('e') => A::Event(PanelEvent::EStop),
+        Key::Alt('=') | Key::Alt('+') => A::Override(10),
+        Key::Alt('-') => A::Override(-10),
+        Key::Alt('w') => A::WheelScale,
+        Key::Alt(',') => A::Wheel(-1),
+        Key::Alt('.') => A::Wheel(1),
+        Key::Alt('t') => A::Tape,
+        Key::Left => A::Move(Axis::X, -1),
+        Key::Right => A::Move(Axis::X, 1),
+        Key::Up => A::Move(Axis::Y, 1),
+        Key::Down => A::Move(Axis::Y, -1),
+        Key::PageUp => A::Move(Axis::Z, 1),
+        Key::PageDown => A::Move(Axis::Z, -1),
+        _ => A::None,
+    }
+}
+
+/// Whether a key is on the relay panel's stop side (STOP, RESET, E-STOP): these always act.
+pub fn is_relay_stop(k: Key) -> bool {
+    matches!(
+        map_key(k),
+        Action::Event(PanelEvent::Stop | PanelEvent::Reset | PanelEvent::EStop)
+    )
+}
+
+/// A key's name in the panel script (`key NAME`) and the recording.
+pub fn key_name(k: Key) -> String {
+    match k {
+        Key::Char(c) => c.to_string(),
+        Key::Enter => "Enter".into(),
+        Key::Backspace => "Backspace".into(),
+        Key::Tab => "Tab".into(),
+        Key::Esc => "Esc".into(),
+        Key::Up => "Up".into(),
+        Key::Down => "Down".into(),
+        Key::Left => "Left".into(),
+        Key::Right => "Right".into(),
+        Key::PageUp => "PgUp".into(),
+        Key::PageDown => "PgDn".into(),
+        Key::Home => "Home".into(),
+        Key::End => "End".into(),
+        Key::Insert => "Insert".into(),
+        Key::Delete => "Delete".into(),
+        Key::F(n) => format!("F{n}"),
+        Key::Alt(c) => format!("Alt+{c}"),
+        Key::Ctrl(c) => format!("Ctrl+{c}"),
+        Key::Unknown => "Unknown".into(),
+    }
+}
+
+/// A key from its name (see [`key_name`]); names other than one character are matched without
+/// regard to case.
+pub fn parse_key(name: &str) -> Result<Key, String> {
+    let mut chars = name.chars();
+    if let (Some(c), None) = (chars.next(), chars.next()) {
+        return Ok(Key::Char(c));
+    }
+    let low = name.to_ascii_lowercase();
+    let named = match low.as_str() {
+        "enter" => Some(Key::Enter),
+        "backspace" => Some(Key::Backspace),
+        "up" => Some(Key::Up),
+        "down" => Some(Key::Down),
+        "left" => Some(Key::Left),
+        "right" => Some(Key::Right),
+        "pgup" | "pageup" => Some(Key::PageUp),
+        "pgdn" | "pagedown" => Some(Key::PageDown),
+        _ => None,
+    };
+    if let Some(k) = named {
+        return Ok(k);
+    }
+    if let Some(n) = low.strip_prefix('f').and_then(|n| n.parse::<u8>().ok()) {
+        if (1..=12).contains(&n) {
+            return Ok(Key::F(n));
+        }
+    }
+    if let Some(rest) = name.get(4..).filter(|_| low.starts_with("alt+")) {
+        let mut cs = rest.chars();
+        if let (Some(c), None) = (cs.next(), cs.next()) {
+            return Ok(Key::Alt(c.to_ascii_lowercase()));
+        }
+    }
+    Err(format!(
+        "unknown key '{name}' (F1-F12, Alt+1-Alt+7 and the other Alt keys of docs/panel.md, Up, Down, Left, Right, PgUp, PgDn, Enter, Backspace, or one character)"
+    ))
+}
+
+impl Console {
+    /// Presses a key of the terminal's key map. The relay panel (STOP, RESET, E-STOP) acts on
+    /// every screen; with the help screen up any other key closes it; with the terminal too
+    /// small any other key is ignored, and the notice says so.
+    pub fn press(&mut self, k: Key) {
+        let action = map_key(k);
+        if is_relay_stop(k) {
+            self.help = false;
+            if let Action::Event(e) = action {
+                self.handle(e);
+            }
+            return;
+        }
+        if self.help {
+            self.help = false;
+            self.refresh();
+            return;
+        }
+        if !self.screen_fits {
+            self.ignored = Some(format!(
+                "key {} ignored: the terminal is too small",
+                key_name(k)
+            ));
+            return;
+        }
+        match action {
+            Action::Event(e) => self.handle(e),
+            Action::Move(axis, dir) => match self.op {
+                OpMode::Handle => self.handle(PanelEvent::Wheel(axis, dir as i32)),
+                OpMode::Continuous => self.hold_jog(axis, dir),
+                _ => self.handle(PanelEvent::Jog(axis, dir)),
+            },
+            Action::Override(d) => {
+                let o = self.feed_override as i32 + d;
+                self.handle(PanelEvent::Override(o.clamp(0, 150) as u32));
+            }
+            Action::WheelScale => {
+                let s = match self.wheel.1 {
+                    1 => 10,
+                    10 => 100,
+                    _ => 1,
+                };
+                self.handle(PanelEvent::WheelScale(s));
+            }
+            Action::Wheel(n) => {
+                let axis = self.wheel.0;
+                self.handle(PanelEvent::Wheel(axis, n));
+            }
+            Action::Tape => self.tape_from_entry(),
+            Action::Help => {
+                self.help = true;
+                self.refresh();
+            }
+            Action::None => {}
+        }
+    }
+
+    /// A CONTINUOUS jog key: starts the jog (or keeps it going while the key repeats); it is
+    /// released [`JOG_RELEASE`] after the last press. In virtual time that much machine time
+    /// passes at once.
+    fn hold_jog(&mut self, axis: Axis, dir: i8) {
+        let same = matches!(self.jog_key, Some((a, d, _)) if a == axis && d == dir);
+        if !same {
+            if self.jog_key.is_some() {
+                self.handle(PanelEvent::JogRelease);
+            }
+            self.handle(PanelEvent::Jog(axis, dir));
+        }
+        if !self.jogging {
+            self.jog_key = None;
+            return;
+        }
+        self.jog_key = Some((axis, dir, Instant::now()));
+        if self.cfg.clock == ClockMode::Virtual {
+            self.core.run_for(JOG_RELEASE.as_nanos() as u64);
+            self.release_jog_key();
+        }
+    }
+
+    /// Releases a CONTINUOUS jog whose key has not repeated for [`JOG_RELEASE`] (called each
+    /// display tick).
+    pub(super) fn expire_jog_key(&mut self) {
+        if let Some((_, _, at)) = self.jog_key {
+            if at.elapsed() > JOG_RELEASE {
+                self.release_jog_key();
+            }
+        }
+    }
+
+    fn release_jog_key(&mut self) {
+        self.jog_key = None;
+        if self.jogging {
+            self.core.command(Command::JogRelease);
+            self.jogging = false;
+        }
+        self.refresh();
+    }
+
+    /// Tells the console whether the terminal is large enough for the panel (the terminal
+    /// front end calls it every frame).
+    pub fn set_screen_fits(&mut self, fits: bool) {
+        if fits && !self.screen_fits {
+            self.ignored = None;
+        }
+        self.screen_fits = fits;
+    }
+
+    /// Whether the help screen is up.
+    pub fn help_shown(&self) -> bool {
+        self.help
+    }
+
+    /// The last key ignored because the terminal is too small, for the notice.
+    pub fn ignored_key(&self) -> Option<&str> {
+        self.ignored.as_deref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_selector_position_and_button_has_a_key() {
+        for (i, m) in OpMode::ALL.iter().enumerate() {
+            let c = char::from(b'1' + i as u8);
+            assert_eq!(map_key(Key::Alt(c)), Action::Event(PanelEvent::Op(*m)));
+        }
+        for (i, m) in DataMode::ALL.iter().enumerate() {
+            assert_eq!(
+                map_key(Key::F(i as u8 + 1)),
+                Action::Event(PanelEvent::Data(*m))
+            );
+        }
+        assert_eq!(map_key(Key::F(9)), Action::Event(PanelEvent::Start));
+        assert_eq!(map_key(Key::F(10)), Action::Event(PanelEvent::Stop));
+        assert_eq!(map_key(Key::F(11)), Action::Event(PanelEvent::Reset));
+        assert_eq!(map_key(Key::F(12)), Action::Event(PanelEvent::EStop));
+        assert_eq!(map_key(Key::Enter), Action::Event(PanelEvent::Eob));
+        assert_eq!(map_key(Key::Char('*')), Action::Event(PanelEvent::Key('*')));
+        assert_eq!(map_key(Key::PageDown), Action::Move(Axis::Z, -1));
+        assert!(is_relay_stop(Key::F(12)) && is_relay_stop(Key::Alt('p')));
+        assert!(!is_relay_stop(Key::F(9)));
+    }
+
+    #[test]
+    fn key_names_round_trip() {
+        for k in [
+            Key::F(1),
+            Key::F(12),
+            Key::Alt('7'),
+            Key::Alt('='),
+            Key::Up,
+            Key::PageDown,
+            Key::Enter,
+            Key::Backspace,
+            Key::Char('x'),
+            Key::Char('*'),
+        ] {
+            assert_eq!(parse_key(&key_name(k)), Ok(k), "{k:?}");
+        }
+        assert_eq!(parse_key("pgup"), Ok(Key::PageUp));
+        assert_eq!(parse_key("ALT+2"), Ok(Key::Alt('2')));
+        assert!(parse_key("F13").is_err());
+        assert!(parse_key("Hyper").unwrap_err().contains("unknown key"));
+    }
+}
