@@ -29,6 +29,8 @@ pub struct ConsoleConfig {
     pub cols: usize,
     /// Record the session to this MCAP file.
     pub record: Option<PathBuf>,
+    /// Send the session's events here instead (tests read them back); ignored with `record`.
+    pub sink: Option<crate::record::EventSink>,
 }
 
 impl ConsoleConfig {
@@ -41,6 +43,7 @@ impl ConsoleConfig {
             rows: 12,
             cols: 40,
             record: None,
+            sink: None,
         }
     }
 

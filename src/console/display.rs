@@ -215,15 +215,9 @@ fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
         parts.push(n);
     }
     let alarm = c.status.alarm.clone().or_else(|| {
-        c.program_alarm.as_ref().map(|a| {
-            format!(
-                "{} line {}:{}: {}",
-                a.kind.name(),
-                a.error.line,
-                a.error.col,
-                a.error.message
-            )
-        })
+        c.program_alarm
+            .as_ref()
+            .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
     });
     match alarm {
         Some(a) if !c.message.contains(a.as_str()) => {
@@ -272,7 +266,8 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let shown = job
         .filter(|j| j.kind == page || !matches!(c.op, OpMode::Auto | OpMode::Single | OpMode::Mdi));
     let mut p = Page::new(rows, cols, String::new());
-    p.bottom = message_lines(c, cols, 2);
+    // The message takes the lines it needs, up to a third of the display; the body the rest.
+    p.bottom = message_lines(c, cols, (rows / 3).max(2));
     p.bottom.push(state_line(c));
     let n = p.body_rows();
     if let Some(j) = shown {
@@ -352,7 +347,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
 fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let name = c.data.name();
     let mut bottom = vec![format!("cmd: {}", c.last_line)];
-    bottom.extend(message_lines(c, cols, 3));
+    bottom.extend(message_lines(c, cols, (rows / 3).max(3)));
     let entry_room = cols.saturating_sub(3);
     let typed: Vec<char> = c.entry.chars().collect();
     let shown: String = typed[typed.len().saturating_sub(entry_room)..]

@@ -104,7 +104,8 @@ impl Console {
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {
         cfg.check()?;
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
-        let recorder = run::Recording::start(cfg.record.as_deref(), &cfg.settings)?;
+        let recorder =
+            run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
         let core = PulseCore::spawn(cfg.settings.clone(), cfg.clock, recorder.sink());
         core.set_magazine(mem.magazine());
         let status = core.status();

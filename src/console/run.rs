@@ -411,14 +411,18 @@ pub(super) struct Recording {
 }
 
 impl Recording {
-    /// Starts recording to `path`, if given.
-    pub fn start(path: Option<&Path>, settings: &MachineSettings) -> Result<Recording, String> {
+    /// Starts recording to `path`, if given; else to `sink`, if given.
+    pub fn start(
+        path: Option<&Path>,
+        sink: Option<EventSink>,
+        settings: &MachineSettings,
+    ) -> Result<Recording, String> {
         let recorder = match path {
             Some(p) => Some(Recorder::start(p, settings)?),
             None => None,
         };
         Ok(Recording {
-            sink: recorder.as_ref().map(|r| r.sink()),
+            sink: recorder.as_ref().map(|r| r.sink()).or(sink),
             recorder,
         })
     }

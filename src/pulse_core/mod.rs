@@ -34,7 +34,7 @@ pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::block_buffer::{MakeRun, StatementIter};
-pub use self::machine::{axis_name, Machine, Reached, Until};
+pub use self::machine::{axis_name, BlockEnd, Machine, Reached, Until};
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};

@@ -129,6 +129,8 @@ pub struct BlockEnd {
     pub end: [i64; 3],
     /// Where the machine was when it completed, pulses.
     pub pos: [i64; 3],
+    /// The tool-tip Z then, pulses: axis Z less the set length of the tool in the spindle.
+    pub tip: i64,
 }
 
 /// The simulated machine: axes, relay logic, RUN, the run and the operator state.
@@ -417,8 +419,15 @@ impl Machine {
         self.settings.ncbr_period_ns.max(1)
     }
 
-    /// Runs the machine until `until`, or until `limit_ns` of machine time has passed.
+    /// Runs the machine until `until`, or until `limit_ns` of machine time has passed. Every
+    /// pulse made is in the recording when it returns.
     pub fn run(&mut self, src: &mut dyn BlockSource, until: Until, limit_ns: u64) -> Reached {
+        let r = self.run_inner(src, until, limit_ns);
+        self.out.flush();
+        r
+    }
+
+    fn run_inner(&mut self, src: &mut dyn BlockSource, until: Until, limit_ns: u64) -> Reached {
         let p = self.period();
         let t_end = match until {
             Until::Time(t) => t,
@@ -463,9 +472,26 @@ impl Machine {
             if whole_block {
                 self.finished_at = None;
                 self.pgen(t_end);
-                self.now = match self.finished_at.take() {
-                    Some(t) => ((t / p + 1) * p).min(t_end),
-                    None => t_end,
+                // The block completed: the tick it completed in ends. The motion came to rest
+                // (feed hold, override 0): the tick it stopped in ends, after which nothing
+                // happens until a command. Otherwise it is still going at `t_end`.
+                let resting = self
+                    .current
+                    .as_ref()
+                    .and_then(|c| c.motion.as_ref())
+                    .filter(|m| m.at_rest())
+                    .map(|m| m.last_t());
+                self.now = match (self.finished_at.take(), resting) {
+                    (Some(t), _) => ((t / p + 1) * p).min(t_end),
+                    (None, Some(t)) => {
+                        let rest = ((t / p + 1) * p).min(t_end);
+                        if rest > self.now {
+                            rest
+                        } else {
+                            t_end
+                        }
+                    }
+                    (None, None) => t_end,
                 };
                 self.next_tick = self.now.div_ceil(p) * p;
             } else {
@@ -790,6 +816,7 @@ impl Machine {
                 stmt: c.block.stmt,
                 end: c.block.end,
                 pos,
+                tip: pos[2] - self.settings.to_pulses(self.tool_len),
             });
         }
         if let Some(s) = &self.events {

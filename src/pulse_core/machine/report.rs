@@ -19,30 +19,37 @@ impl Machine {
     }
     pub(super) fn send_state(&mut self) {
         let Some(s) = &self.events else { return };
+        let tool = self.tool.unwrap_or(0);
+        let same = self.last_state.as_ref().is_some_and(|k| {
+            (k.0, k.1, k.2, k.3) == (self.run, self.feed_override, tool, self.spindle)
+                && k.4 == self.op_mode
+                && k.5 == self.data_mode
+        });
+        if same {
+            return;
+        }
         let key = (
             self.run,
             self.feed_override,
-            self.tool.unwrap_or(0),
+            tool,
             self.spindle,
             self.op_mode.clone(),
             self.data_mode.clone(),
         );
-        if self.last_state.as_ref() != Some(&key) {
-            send_ev(
-                s,
-                &self.out.lossless,
-                Event::State {
-                    t_ns: self.now,
-                    run: key.0,
-                    op_mode: key.4.clone(),
-                    data_mode: key.5.clone(),
-                    feed_override: key.1,
-                    tool: key.2,
-                    spindle: key.3,
-                },
-            );
-            self.last_state = Some(key);
-        }
+        send_ev(
+            s,
+            &self.out.lossless,
+            Event::State {
+                t_ns: self.now,
+                run: key.0,
+                op_mode: key.4.clone(),
+                data_mode: key.5.clone(),
+                feed_override: key.1,
+                tool: key.2,
+                spindle: key.3,
+            },
+        );
+        self.last_state = Some(key);
     }
     /// A snapshot for the display.
     pub fn status(&self) -> Status {

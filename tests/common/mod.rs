@@ -1,0 +1,76 @@
+//! Helpers shared by the console tests: a console on a fresh state directory in virtual time,
+//! keys by name, and the block-end audit.
+
+#![allow(dead_code)]
+
+use novanc::console::{keys::parse_key, Console, ConsoleConfig};
+use novanc::panel_model::PanelEvent;
+use novanc::pulse_core::{BlockEnd, ClockMode};
+use std::path::PathBuf;
+
+/// A fresh state directory.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "novanc-{name}-{}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos())
+            .unwrap_or(0)
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A console on a fresh state directory (the embedded defaults), virtual time, 12×40, with the
+/// pulse core's audit of block ends on.
+pub fn open(name: &str) -> Console {
+    let mut cfg = ConsoleConfig::new(temp_dir(name));
+    cfg.clock = ClockMode::Virtual;
+    let c = Console::open(cfg).unwrap().0;
+    c.core().set_audit(true);
+    c
+}
+
+/// Presses keys by their script names (`F9`, `Alt+2`, `Right`, `x`, ...).
+pub fn keys(c: &mut Console, names: &[&str]) {
+    for n in names {
+        let k = parse_key(n).unwrap_or_else(|e| panic!("{e}"));
+        c.handle(PanelEvent::Press(k));
+    }
+}
+
+/// Types a line on the data keys and ends it with EOB.
+pub fn type_line(c: &mut Console, line: &str) {
+    c.handle(PanelEvent::Type(line.to_string()));
+}
+
+/// Every block end since the last call; each must have ended on its programmed point.
+pub fn audit(c: &Console) -> Vec<BlockEnd> {
+    let a = c.core().take_audit();
+    for e in &a {
+        assert_eq!(
+            e.pos, e.end,
+            "run {} N{} (line {}) ended off its programmed point",
+            e.run, e.seq, e.stmt
+        );
+    }
+    a
+}
+
+/// Millimetres to pulses at the default 0.001 mm.
+pub fn p(mm: f64) -> i64 {
+    (mm * 1000.0).round() as i64
+}
+
+/// Whether the display shows `text` somewhere (lines joined with spaces, so a wrapped
+/// message is found too).
+pub fn shows(c: &Console, text: &str) -> bool {
+    let joined = c
+        .frame_text()
+        .lines()
+        .map(|l| l.trim())
+        .collect::<Vec<_>>()
+        .join(" ");
+    joined.contains(text)
+}

@@ -1,0 +1,351 @@
+//! Regression tests for the operator sequences of "The core owns the run", each by its keys as
+//! the issue reproduced it, through the same `Console` the terminal drives (virtual time). Every
+//! block end is checked against its programmed point (`common::audit`).
+
+mod common;
+
+use common::{audit, keys, open, p, shows, type_line};
+use novanc::panel_model::PanelEvent as E;
+use novanc::pulse_core::EndCause;
+
+/// 1. Hold and resume after a finished run: the second START runs the program from the top
+/// once; a hold and resume in its BOR does not run anything twice or shift the rest.
+#[test]
+fn hold_and_resume_after_a_finished_run_shifts_nothing() {
+    let mut c = open("defect1");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::Wait);
+    let first = audit(&c);
+    assert_eq!(first.len(), 101);
+    assert!(shows(&c, "program end: 101 blocks"));
+    keys(&mut c, &["F9"]);
+    c.handle(E::WaitBlock(5));
+    assert!(shows(&c, ">N5 G01 Z-265.000 F60"), "{}", c.frame_text());
+    keys(&mut c, &["F10"]);
+    c.handle(E::Wait);
+    assert!(c.status().hold);
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    let second = audit(&c);
+    let seqs: Vec<u32> = second.iter().map(|e| e.seq).collect();
+    assert_eq!(
+        seqs,
+        (1..=101).collect::<Vec<_>>(),
+        "each block once, in order"
+    );
+    let tap = second.iter().find(|e| e.seq == 36).unwrap();
+    assert_eq!(tap.end[2], p(-316.0), "the M8 tap's bottom");
+    assert!(shows(&c, "program end: 101 blocks"));
+    assert_eq!(c.status().last_end.as_ref().map(|e| e.id), Some(2));
+}
+
+/// 1 (MDI). Run an MDI drilling to its end, run it again, hold and resume in the G01: the hole
+/// is drilled once and the run ends at Z0 after its `G00 Z0.000`.
+#[test]
+fn mdi_hold_and_resume_after_a_finished_run() {
+    let mut c = open("defect1mdi");
+    keys(&mut c, &["Alt+4", "F7"]);
+    type_line(&mut c, "IDRL, 105/DP20, FR60/(220, 20, -450)");
+    assert_eq!(c.frame_text().lines().last(), Some("> _"));
+    keys(&mut c, &["Alt+3", "F9"]);
+    c.handle(E::Wait);
+    assert_eq!(audit(&c).len(), 9);
+    keys(&mut c, &["F9"]);
+    // T04 is in the spindle and the tool above the hole: spindle, down, then the feed, N3.
+    c.handle(E::WaitBlock(3));
+    assert!(shows(&c, ">N3 G01 Z-330.000 F60"), "{}", c.frame_text());
+    c.handle(E::WaitMs(2000));
+    keys(&mut c, &["F10"]);
+    c.handle(E::Wait);
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    let run = audit(&c);
+    let n = run.len() as u32;
+    assert_eq!(
+        run.iter().map(|e| e.seq).collect::<Vec<_>>(),
+        (1..=n).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        run.iter().filter(|e| e.end[2] == p(-330.0)).count(),
+        1,
+        "drilled once"
+    );
+    assert_eq!(c.status().pos[2], 0, "ends at Z0 after G00 Z0.000");
+    assert!(shows(&c, &format!("program end: {n} blocks")));
+}
+
+/// 2. MDI `GO` puts the tip of the tool in the spindle where the statement says.
+#[test]
+fn mdi_go_positions_the_tip_of_the_tool_in_the_spindle() {
+    let mut c = open("defect2");
+    keys(&mut c, &["Alt+4", "F7"]);
+    type_line(&mut c, "IDRL, 105/DP20, FR60/(220, 20, -450)");
+    keys(&mut c, &["Alt+3", "F9"]);
+    c.handle(E::Wait);
+    assert_eq!(c.status().tool, Some(4));
+    assert_eq!(c.status().tool_set_length, 140.0);
+    keys(&mut c, &["Alt+4", "F7"]);
+    type_line(&mut c, "0LKIGO, 500, 300, -200");
+    keys(&mut c, &["Alt+3", "F9"]);
+    c.handle(E::Wait);
+    audit(&c);
+    let pos = c.status().pos;
+    assert_eq!(pos, [p(500.0), p(300.0), p(-200.0 + 140.0)], "tip at -200");
+    assert!((c.view().tip_mm[2] + 200.0).abs() < 1e-9);
+}
+
+/// 3. SEARCH with another tool in the spindle: the run changes to the statement's tool and
+/// never puts the tip below what the program commands; no X Y rapid below machine zero Z
+/// before the statement's own approach.
+#[test]
+fn search_restores_for_the_tool_in_the_spindle() {
+    let mut c = open("defect3");
+    keys(&mut c, &["Alt+7"]);
+    for _ in 0..4 {
+        keys(&mut c, &["F9"]);
+        c.handle(E::Wait);
+    }
+    assert_eq!(c.status().tool, Some(1), "T01 (220 mm) in the spindle");
+    assert_eq!(
+        c.status().pos,
+        [p(350.0), p(130.0), p(-255.0)],
+        "down at the bore"
+    );
+    keys(&mut c, &["F11", "Alt+4", "F1"]);
+    type_line(&mut c, "DRL, 105");
+    assert!(shows(&c, "AUTO starts at line 8"), "{}", c.frame_text());
+    assert!(shows(&c, "G00 Z0.000"), "{}", c.frame_text());
+    audit(&c);
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::Wait);
+    let run = audit(&c);
+    assert!(c.status().alarm.is_none(), "{:?}", c.status().alarm);
+    // The first block raises Z to machine zero; the tool change to T04 follows.
+    assert_eq!(run[0].end[2], 0);
+    let lowest_tip = -470.0; // DRL 105: surface -455, DP15
+    let t04 = p(140.0);
+    let t01 = p(220.0);
+    for e in &run {
+        let set = if e.seq == 0 { t01 } else { t04 };
+        assert!(
+            e.pos[2] - set >= p(lowest_tip),
+            "N{}: tip {}",
+            e.seq,
+            e.pos[2] - set
+        );
+    }
+    assert!(shows(&c, "program end"));
+}
+
+/// 4. E-STOP, STOP and RESET act while the help screen is up.
+#[test]
+fn the_relay_panel_acts_on_the_help_screen() {
+    let mut c = open("defect4");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(6000));
+    assert!(c.status().moving || c.status().in_block);
+    keys(&mut c, &["F8"]);
+    assert!(c.view().help);
+    keys(&mut c, &["F12"]);
+    assert!(c.status().estop, "E-STOP acted");
+    assert!(!c.view().help);
+    keys(&mut c, &["F11", "F9"]);
+    c.handle(E::WaitMs(6000));
+    keys(&mut c, &["F8", "F10"]);
+    assert!(c.status().hold, "STOP acted");
+    keys(&mut c, &["F8", "F11"]);
+    assert!(c.status().job.is_none(), "RESET acted");
+    keys(&mut c, &["F8", "F9"]);
+    assert!(
+        !c.view().help && c.status().job.is_none(),
+        "START only closes the help"
+    );
+}
+
+/// 5. A jog between single blocks: START returns to where the run stopped before the next
+/// block, and the display says so until it does.
+#[test]
+fn a_jog_between_single_blocks_is_undone_before_the_next_block() {
+    let mut c = open("defect5");
+    keys(&mut c, &["Alt+7", "F9"]);
+    c.handle(E::Wait);
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    assert_eq!(c.status().pos[0], p(350.0));
+    keys(&mut c, &["Alt+6"]);
+    for _ in 0..10 {
+        keys(&mut c, &["Right"]);
+        c.handle(E::Wait);
+    }
+    assert_eq!(c.status().pos[0], p(351.0));
+    keys(&mut c, &["Alt+2"]);
+    assert!(
+        shows(
+            &c,
+            "JOGGED X+1.000: START returns to X350.000 Y130.000 Z0.000 first"
+        ),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    let run = audit(&c);
+    let bore = run.iter().find(|e| e.seq == 5).unwrap();
+    assert_eq!(bore.pos[0], p(350.0), "the bore is cut at X350");
+    assert!(!shows(&c, "JOGGED"));
+    assert!(shows(&c, "program end: 101 blocks"));
+}
+
+/// 6. While the terminal is too small every key but the relay panel is ignored, and the
+/// notice says so.
+#[test]
+fn keys_do_not_act_while_the_terminal_is_too_small() {
+    let mut c = open("defect6");
+    let before = c.program_text();
+    c.set_screen_fits(false);
+    keys(&mut c, &["Alt+4", "F3", "L", "K", "Enter", "Alt+2", "F9"]);
+    assert_eq!(c.program_text(), before, "program memory unchanged");
+    assert!(c.status().job.is_none(), "nothing started");
+    assert_eq!(
+        c.view().ignored.as_deref(),
+        Some("key F9 ignored: the terminal is too small")
+    );
+    keys(&mut c, &["F12"]);
+    assert!(c.status().estop, "E-STOP acts");
+    c.set_screen_fits(true);
+    assert!(c.view().ignored.is_none());
+}
+
+/// Each run reports its own end with its own block count and machine time, also the second.
+#[test]
+fn each_run_reports_its_own_end() {
+    let mut c = open("ends");
+    keys(&mut c, &["Alt+4", "F7"]);
+    type_line(&mut c, "IDRL, 105/DP20, FR60/(220, 20, -450)");
+    keys(&mut c, &["Alt+3", "F9"]);
+    c.handle(E::Wait);
+    let first = c.status().last_end.clone().unwrap();
+    let msg1 = c.frame_text();
+    c.handle(E::WaitMs(30_000));
+    keys(&mut c, &["F9"]);
+    assert!(!shows(&c, "program end"), "the old end is not shown again");
+    c.handle(E::Wait);
+    let second = c.status().last_end.clone().unwrap();
+    assert_eq!((first.id, second.id), (1, 2));
+    assert_eq!(second.blocks, 7);
+    assert_eq!(second.cause, EndCause::ProgramEnd);
+    // The second run starts with T04 already in the spindle: no tool change, so it is shorter,
+    // and its time does not include the first run's or the 30 s between them.
+    assert!(
+        second.machine_ns < first.machine_ns,
+        "{second:?} vs {first:?}"
+    );
+    let want = format!(
+        "program end: 7 blocks in {:.1} s",
+        second.machine_ns as f64 / 1e9
+    );
+    assert!(shows(&c, &want), "{}\nfirst:\n{msg1}", c.frame_text());
+}
+
+/// One RESET after E-STOP clears the alarm, and START works at once; the lamp and START agree.
+#[test]
+fn one_reset_clears_an_emergency_stop() {
+    let mut c = open("estop");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(5000));
+    keys(&mut c, &["F12"]);
+    assert!(c.view().lamps.alarm && c.view().lamps.estop);
+    keys(&mut c, &["F9"]);
+    assert!(
+        c.status().job.is_none(),
+        "START refused while the lamp is lit"
+    );
+    keys(&mut c, &["F11"]);
+    assert!(!c.view().lamps.alarm && !c.view().lamps.estop);
+    keys(&mut c, &["F9"]);
+    assert!(
+        c.status().job.is_some() && c.status().run == 1,
+        "START works"
+    );
+}
+
+/// A translation alarm clears when the program is fixed, without a START.
+#[test]
+fn a_program_alarm_clears_when_the_program_is_fixed() {
+    let mut c = open("alarmfix");
+    keys(&mut c, &["Alt+4", "F3"]);
+    type_line(&mut c, "CDP35$DP0");
+    keys(&mut c, &["Alt+2", "F9"]);
+    assert!(c.view().lamps.alarm);
+    assert!(
+        shows(&c, "START refused, nothing moved: line 3"),
+        "{}",
+        c.frame_text()
+    );
+    assert_eq!(c.status().pos, [0, 0, 0]);
+    keys(&mut c, &["Alt+4", "F3"]);
+    assert!(c.view().lamps.alarm, "still in error on every page");
+    type_line(&mut c, "0LCDP0$DP35");
+    assert!(!c.view().lamps.alarm, "fixed: {}", c.frame_text());
+    assert!(c.program_alarm().is_none());
+}
+
+/// After RESET and SEARCH the AUTO page shows what START will run; the MDI page shows the MDI
+/// buffer, not the last AUTO statement.
+#[test]
+fn the_run_page_shows_what_start_will_run() {
+    let mut c = open("runpage");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(20_000));
+    keys(&mut c, &["F11", "Alt+4", "F1"]);
+    type_line(&mut c, "8");
+    keys(&mut c, &["Alt+2"]);
+    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    assert_eq!(first, "TABLEB from line 8: press START");
+    keys(&mut c, &["Alt+3"]);
+    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    assert_eq!(first, "MDI buffer: press START");
+    assert!(!shows(&c, "BOR"), "{}", c.frame_text());
+}
+
+/// A long message wraps; a line that is cut ends with the mark.
+#[test]
+fn long_messages_wrap_and_cut_lines_are_marked() {
+    let mut c = open("wrap");
+    keys(&mut c, &["Alt+4", "F3"]);
+    type_line(&mut c, "SDA1, P1$-1DI9");
+    keys(&mut c, &["Alt+2"]);
+    assert!(
+        c.frame_text().contains("(P2(0,30)=P3), …"),
+        "a cut program line is marked: {}",
+        c.frame_text()
+    );
+    keys(&mut c, &["F9"]);
+    let text = c.frame_text();
+    assert!(
+        shows(&c, "is not defined (define it on an earlier line)"),
+        "{text}"
+    );
+    for l in text.lines() {
+        assert!(l.chars().count() <= 40);
+    }
+}
+
+/// A START pressed in SINGLE BLOCK during the tool change is refused with a message.
+#[test]
+fn start_during_a_single_block_tool_change_says_why() {
+    let mut c = open("sbstart");
+    keys(&mut c, &["Alt+7", "F9"]);
+    c.handle(E::WaitMs(1000));
+    keys(&mut c, &["F9"]);
+    assert!(
+        shows(
+            &c,
+            "START ignored: N1 is still executing; press START again when it stops"
+        ),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Wait);
+    assert_eq!(audit(&c).len(), 1, "exactly one block");
+}
