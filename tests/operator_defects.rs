@@ -8,7 +8,7 @@ use common::{audit, keys, open, p, shows, type_line};
 use novanc::panel_model::PanelEvent as E;
 use novanc::pulse_core::EndCause;
 
-/// 1. Hold and resume after a finished run: the second START runs the program from the top
+/// Defect 1: Hold and resume after a finished run: the second START runs the program from the top
 /// once; a hold and resume in its BOR does not run anything twice or shift the rest.
 #[test]
 fn hold_and_resume_after_a_finished_run_shifts_nothing() {
@@ -39,7 +39,7 @@ fn hold_and_resume_after_a_finished_run_shifts_nothing() {
     assert_eq!(c.status().last_end.as_ref().map(|e| e.id), Some(2));
 }
 
-/// 1 (MDI). Run an MDI drilling to its end, run it again, hold and resume in the G01: the hole
+/// Defect 1, in MDI: Run an MDI drilling to its end, run it again, hold and resume in the G01: the hole
 /// is drilled once and the run ends at Z0 after its `G00 Z0.000`.
 #[test]
 fn mdi_hold_and_resume_after_a_finished_run() {
@@ -74,7 +74,7 @@ fn mdi_hold_and_resume_after_a_finished_run() {
     assert!(shows(&c, &format!("program end: {n} blocks")));
 }
 
-/// 2. MDI `GO` puts the tip of the tool in the spindle where the statement says.
+/// Defect 2: MDI `GO` puts the tip of the tool in the spindle where the statement says.
 #[test]
 fn mdi_go_positions_the_tip_of_the_tool_in_the_spindle() {
     let mut c = open("defect2");
@@ -94,7 +94,7 @@ fn mdi_go_positions_the_tip_of_the_tool_in_the_spindle() {
     assert!((c.view().tip_mm[2] + 200.0).abs() < 1e-9);
 }
 
-/// 3. SEARCH with another tool in the spindle: the run changes to the statement's tool and
+/// Defect 3: SEARCH with another tool in the spindle: the run changes to the statement's tool and
 /// never puts the tip below what the program commands; no X Y rapid below machine zero Z
 /// before the statement's own approach.
 #[test]
@@ -137,7 +137,7 @@ fn search_restores_for_the_tool_in_the_spindle() {
     assert!(shows(&c, "program end"));
 }
 
-/// 4. E-STOP, STOP and RESET act while the help screen is up.
+/// Defect 4: E-STOP, STOP and RESET act while the help screen is up.
 #[test]
 fn the_relay_panel_acts_on_the_help_screen() {
     let mut c = open("defect4");
@@ -162,7 +162,7 @@ fn the_relay_panel_acts_on_the_help_screen() {
     );
 }
 
-/// 5. A jog between single blocks: START returns to where the run stopped before the next
+/// Defect 5: A jog between single blocks: START returns to where the run stopped before the next
 /// block, and the display says so until it does.
 #[test]
 fn a_jog_between_single_blocks_is_undone_before_the_next_block() {
@@ -196,7 +196,7 @@ fn a_jog_between_single_blocks_is_undone_before_the_next_block() {
     assert!(shows(&c, "program end: 101 blocks"));
 }
 
-/// 6. While the terminal is too small every key but the relay panel is ignored, and the
+/// Defect 6: While the terminal is too small every key but the relay panel is ignored, and the
 /// notice says so.
 #[test]
 fn keys_do_not_act_while_the_terminal_is_too_small() {
