@@ -5,11 +5,21 @@
 //!   axis (LINE), with PCHK pulsing each minor axis when its ΣLF falls to 0 or below; its path
 //!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both;
 //!   its ds is the length of circle it advances, R·Δθ (see `arc.rs`).
-//! - The period KT of a step is ds / v. The path speed v ramps at the machine's constant
-//!   acceleration a: across a step of length ds, v² changes by at most 2·a·ds, and the step
-//!   takes 2·ds / (v + v') (exact for constant acceleration). The speed is held to the target
-//!   (feed × override, or 0 in a feed hold) and to √(2·a·remaining) so that every block ends at
-//!   rest on its end point; the last step always ends at speed 0.
+//! - The path speed v ramps at the machine's constant acceleration a and is held to the
+//!   target (feed × override, or 0 in a feed hold) and to √(2·a·remaining), so that every block
+//!   ends at rest on its end point. The period KT of a step follows from the time the path
+//!   position at the end of the step is reached, computed in closed form from the start of the
+//!   phase of the ramp in force (the anchor), never summed step by step:
+//!   - accelerating from (t₀, v₀, s₀): v² = v₀² + 2a(s − s₀), t = t₀ + (v − v₀)/a;
+//!   - cruising at v₀: t = t₀ + (s − s₀)/v₀;
+//!   - braking to a lower target: v² = v₀² − 2a(s − s₀), t = t₀ + (v₀ − v)/a;
+//!   - braking for the end: v² = 2a·(remaining), t = t₀ + (v₀ − v)/a.
+//!
+//!   A phase ends where its speed meets the next limit (computed exactly, mid-step if need be),
+//!   which anchors the next phase; a new target (override at an NCBR tick, feed hold, resume)
+//!   anchors a new phase where the motion is. So a step's time depends only on the anchor and
+//!   the step's position: the same whether the motion is run tick by tick or a whole block at
+//!   once, and with no square root or division carried from step to step.
 //! - A step's pulses carry the time at the end of the step. A step that would end at or after
 //!   the horizon (the end of the current NCBR tick) is not taken yet.
 
@@ -27,45 +37,220 @@ pub enum Progress {
     AtRest,
 }
 
-/// The speed ramp (KT control): path speed in pulses per ns and time of the last step.
+/// The phase of the speed ramp in force.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    /// Standing still (feed hold or override 0 at rest).
+    Rest,
+    /// Speeding up toward the target.
+    Accel,
+    /// At the target.
+    Cruise,
+    /// Slowing down toward a lower target (feed hold, override lowered).
+    Brake,
+    /// Slowing down so as to stop on the end point.
+    End,
+}
+
+/// The speed ramp (KT control), in pulses and ns.
 #[derive(Clone, Debug)]
 struct Profile {
-    v: f64,
-    vt: f64,
-    a: f64,
     a2: f64,
+    inv_a: f64,
+    /// Target speed: feed × override, or 0 in a feed hold.
+    vt: f64,
+    /// Path length of the whole motion.
+    total: f64,
+    phase: Phase,
+    /// The anchor of the phase: time, speed and path position where it began.
+    t0: f64,
+    v0: f64,
+    s0: f64,
+    /// 1 / v0 (cruise).
+    inv_v0: f64,
+    /// Path position where the phase ends, and the phase that follows it.
+    s_end: f64,
+    next: Phase,
+    /// After the last step taken: speed, time, path position.
+    v: f64,
     t: f64,
+    s: f64,
 }
 
 impl Profile {
-    /// Speed at the end of a step of length `ds` with `rem` path left after it; `None` when
-    /// the machine stands still.
-    #[inline(always)]
-    fn step(&self, ds: f64, rem: f64, last: bool) -> Option<(f64, f64)> {
-        let (v, vt) = (self.v, self.vt);
-        let mut vn = if v == vt {
-            v
-        } else if v < vt {
-            (v * v + self.a2 * ds).sqrt().min(vt)
-        } else {
-            (v * v - self.a2 * ds).max(0.0).sqrt().max(vt)
+    fn new(vt: f64, a: f64, total: f64, t0: u64) -> Profile {
+        let mut p = Profile {
+            a2: 2.0 * a,
+            inv_a: 1.0 / a,
+            vt,
+            total,
+            phase: Phase::Rest,
+            t0: t0 as f64,
+            v0: 0.0,
+            s0: 0.0,
+            inv_v0: 0.0,
+            s_end: 0.0,
+            next: Phase::Rest,
+            v: 0.0,
+            t: t0 as f64,
+            s: 0.0,
         };
-        let lim = self.a2 * rem;
-        if vn * vn > lim {
-            vn = lim.max(0.0).sqrt();
-        }
-        if last {
-            vn = 0.0;
-        }
-        let s = v + vn;
-        if s > 0.0 {
-            Some((vn, 2.0 * ds / s))
-        } else if vt > 0.0 {
-            // From rest to rest in one step: half accelerating, half braking.
-            Some((0.0, 2.0 * ds / (self.a * ds).sqrt()))
+        p.anchor();
+        p
+    }
+
+    /// Starts the phase that fits where the motion is now.
+    fn anchor(&mut self) {
+        let (v, s) = (self.v, self.s);
+        let e2 = self.a2 * (self.total - s).max(0.0);
+        let phase = if v > 0.0 && v * v > e2 {
+            Phase::End
+        } else if v < self.vt {
+            Phase::Accel
+        } else if v == self.vt {
+            if v > 0.0 {
+                Phase::Cruise
+            } else {
+                Phase::Rest
+            }
         } else {
-            None
+            Phase::Brake
+        };
+        self.begin(phase, self.t, v, s);
+    }
+
+    /// Begins `phase` at time `t`, speed `v`, path position `s`: where it ends and what follows.
+    fn begin(&mut self, phase: Phase, t: f64, v: f64, s: f64) {
+        self.phase = phase;
+        self.t0 = t;
+        self.v0 = v;
+        self.s0 = s;
+        self.inv_v0 = if v > 0.0 { 1.0 / v } else { 0.0 };
+        let vt2 = self.vt * self.vt;
+        (self.s_end, self.next) = match phase {
+            Phase::Rest => (s, Phase::Rest),
+            Phase::Accel => {
+                // The first limit met: the target, or braking for the end.
+                let sc = s + (vt2 - v * v) / self.a2;
+                let sx = 0.5 * (self.total + s - v * v / self.a2);
+                if sc <= sx {
+                    (sc, Phase::Cruise)
+                } else {
+                    (sx, Phase::End)
+                }
+            }
+            Phase::Cruise => (self.total - v * v / self.a2, Phase::End),
+            // Both this braking and the end's lose v² at 2a per unit of path: begun below the
+            // end's limit, it stays below.
+            Phase::Brake => (
+                s + (v * v - vt2) / self.a2,
+                if self.vt > 0.0 {
+                    Phase::Cruise
+                } else {
+                    Phase::Rest
+                },
+            ),
+            Phase::End => (f64::INFINITY, Phase::Rest),
+        };
+    }
+
+    /// Speed and time at path position `s1` in the phase in force, `rem` path left there.
+    #[inline(always)]
+    fn formula(&self, s1: f64, rem: f64) -> (f64, f64) {
+        match self.phase {
+            Phase::Cruise => self.cruise(s1, rem),
+            Phase::Accel => self.accel(s1, rem),
+            Phase::Brake => self.brake(s1, rem),
+            Phase::End => self.end(s1, rem),
+            Phase::Rest => (0.0, self.t0),
         }
+    }
+
+    /// Cruising at v₀: t = t₀ + (s − s₀)/v₀.
+    #[inline(always)]
+    fn cruise(&self, s1: f64, _rem: f64) -> (f64, f64) {
+        (self.v0, self.t0 + (s1 - self.s0) * self.inv_v0)
+    }
+
+    /// Accelerating: v² = v₀² + 2a(s − s₀), t = t₀ + (v − v₀)/a.
+    #[inline(always)]
+    fn accel(&self, s1: f64, _rem: f64) -> (f64, f64) {
+        let v = (self.v0 * self.v0 + self.a2 * (s1 - self.s0)).sqrt();
+        (v, self.t0 + (v - self.v0) * self.inv_a)
+    }
+
+    /// Braking to a lower target: v² = v₀² − 2a(s − s₀), t = t₀ + (v₀ − v)/a.
+    #[inline(always)]
+    fn brake(&self, s1: f64, _rem: f64) -> (f64, f64) {
+        let v = (self.v0 * self.v0 - self.a2 * (s1 - self.s0))
+            .max(0.0)
+            .sqrt();
+        (v, self.t0 + (self.v0 - v) * self.inv_a)
+    }
+
+    /// Braking for the end: v² = 2a·remaining, t = t₀ + (v₀ − v)/a.
+    #[inline(always)]
+    fn end(&self, _s1: f64, rem: f64) -> (f64, f64) {
+        let v = (self.a2 * rem).sqrt();
+        (v, self.t0 + (self.v0 - v) * self.inv_a)
+    }
+
+    /// Moves on to the phase that follows the one in force, at its end.
+    fn switch(&mut self) {
+        let s = self.s_end;
+        let (v, t) = match self.phase {
+            Phase::Accel if self.next == Phase::Cruise => {
+                (self.vt, self.t0 + (self.vt - self.v0) * self.inv_a)
+            }
+            Phase::Accel => {
+                let v = (self.a2 * (self.total - s)).max(0.0).sqrt();
+                (v, self.t0 + (v - self.v0) * self.inv_a)
+            }
+            Phase::Cruise => (self.v0, self.t0 + (s - self.s0) * self.inv_v0),
+            Phase::Brake => (self.vt, self.t0 + (self.v0 - self.vt) * self.inv_a),
+            Phase::End | Phase::Rest => (0.0, self.t0),
+        };
+        let t = t.max(self.t);
+        if self.next == Phase::Rest {
+            // Comes to rest before the next step's end: the last step taken stands.
+            self.v = 0.0;
+            self.t = t;
+        }
+        self.begin(self.next, t, v, s);
+    }
+
+    /// Takes the step to path position `s1` (`last`: the motion's last step): its time, if it
+    /// ends before `h`; else why not (nothing of the step is taken).
+    #[inline(always)]
+    fn take(&mut self, s1: f64, last: bool, h: f64) -> Result<f64, Progress> {
+        loop {
+            match self.phase {
+                Phase::Rest => {
+                    if self.vt <= 0.0 {
+                        return Err(Progress::AtRest);
+                    }
+                    self.v = 0.0;
+                    self.anchor();
+                }
+                Phase::End => break,
+                _ if s1 > self.s_end => self.switch(),
+                _ => break,
+            }
+        }
+        let rem = if last {
+            0.0
+        } else {
+            (self.total - s1).max(0.0)
+        };
+        let (v, t) = self.formula(s1, rem);
+        let t = if t < self.t { self.t } else { t };
+        if t >= h {
+            return Err(Progress::Pending);
+        }
+        self.v = if last { 0.0 } else { v };
+        self.t = t;
+        self.s = s1;
+        Ok(t)
     }
 }
 
@@ -138,6 +323,7 @@ impl Motion {
         }
         let len = ((l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) as f64).sqrt();
         let lb = l[major];
+        let ds = if lb > 0 { len / lb as f64 } else { 1.0 };
         let dir = [
             delta[0].signum() as i8,
             delta[1].signum() as i8,
@@ -153,15 +339,9 @@ impl Motion {
                 minors,
                 n_minor,
                 steps_left: lb,
-                ds: if lb > 0 { len / lb as f64 } else { 1.0 },
+                ds,
             }),
-            prof: Profile {
-                v: 0.0,
-                vt: speed,
-                a: accel,
-                a2: 2.0 * accel,
-                t: t0 as f64,
-            },
+            prof: Profile::new(speed, accel, lb as f64 * ds, t0),
             target: speed,
             hold: false,
         }
@@ -182,13 +362,7 @@ impl Motion {
                 s_left: s,
                 steps_left: n,
             },
-            prof: Profile {
-                v: 0.0,
-                vt: speed,
-                a: accel,
-                a2: 2.0 * accel,
-                t: t0 as f64,
-            },
+            prof: Profile::new(speed, accel, s, t0),
             target: speed,
             hold: false,
         }
@@ -198,12 +372,14 @@ impl Motion {
     pub fn set_target(&mut self, speed: f64) {
         self.target = speed;
         self.prof.vt = if self.hold { 0.0 } else { speed };
+        self.prof.anchor();
     }
 
     /// Feed hold on or off: decelerate to rest, or accelerate back to the target.
     pub fn set_hold(&mut self, hold: bool) {
         self.hold = hold;
         self.prof.vt = if hold { 0.0 } else { self.target };
+        self.prof.anchor();
     }
 
     /// After a rest (feed hold), the next step is timed from `t` on, not from the last pulse
@@ -211,6 +387,7 @@ impl Motion {
     pub fn resume_at(&mut self, t: u64) {
         if self.prof.v == 0.0 {
             self.prof.t = self.prof.t.max(t as f64);
+            self.prof.anchor();
         }
     }
 
@@ -263,29 +440,71 @@ impl Motion {
                     },
                 };
                 let ds = step.ds;
-                let rem = *s_left - ds;
-                let Some((vn, dt)) = self.prof.step(ds, rem, *steps_left == 1) else {
-                    return Progress::AtRest;
+                let tn = match self.prof.take(self.prof.s + ds, *steps_left == 1, h) {
+                    Ok(t) => t,
+                    Err(p) => return p,
                 };
-                let tn = self.prof.t + dt;
-                if tn >= h {
-                    return Progress::Pending;
-                }
-                self.prof.t = tn;
-                self.prof.v = vn;
-                *s_left = rem;
+                *s_left -= ds;
                 *steps_left -= 1;
                 *pending = None;
-                let t = tn as u64;
                 if step.dx != 0 {
-                    out.pulse(0, step.dx, t);
+                    out.pulse_at(0, step.dx, tn);
                 }
                 if step.dy != 0 {
-                    out.pulse(1, step.dy, t);
+                    out.pulse_at(1, step.dy, tn);
                 }
             },
         }
     }
+}
+
+/// Takes the steps of `ln` that lie in the phase in force (all but the last step of the
+/// motion), timed by `f` (which must be that phase's `Profile::formula`). Whether it stopped at
+/// the horizon.
+#[inline(always)]
+fn phase_run(
+    ln: &mut Linear,
+    prof: &mut Profile,
+    h: f64,
+    out: &mut PulseOut,
+    f: impl Fn(&Profile, f64, f64) -> (f64, f64),
+) -> bool {
+    let (ds, lb, major) = (ln.ds, ln.lb, ln.major);
+    let dmaj = ln.dir[major];
+    let (mut left, mut t, mut v) = (ln.steps_left, prof.t, prof.v);
+    let (end, total) = (prof.s_end, prof.total);
+    let mut pending = false;
+    while left > 1 {
+        let nl = left - 1;
+        let s1 = (lb - nl) as f64 * ds;
+        if s1 > end {
+            break;
+        }
+        let (vn, tn) = f(prof, s1, (total - s1).max(0.0));
+        let tn = if tn < t { t } else { tn };
+        if tn >= h {
+            pending = true;
+            break;
+        }
+        left = nl;
+        t = tn;
+        v = vn;
+        out.pulse_at(major, dmaj, tn);
+        for &a in &ln.minors[..ln.n_minor] {
+            ln.sigma[a] -= ln.l[a];
+            if ln.sigma[a] <= 0 {
+                ln.sigma[a] += ln.lb;
+                out.pulse_at(a, ln.dir[a], tn);
+            }
+        }
+    }
+    if left != ln.steps_left {
+        prof.s = (lb - left) as f64 * ds;
+        prof.t = t;
+        prof.v = v;
+        ln.steps_left = left;
+    }
+    pending
 }
 
 /// LINE: the major axis gets a pulse every step; PCHK gives each minor axis a pulse when its
@@ -295,28 +514,35 @@ fn run_linear(ln: &mut Linear, prof: &mut Profile, h: f64, out: &mut PulseOut) -
     let ds = ln.ds;
     let major = ln.major;
     let dmaj = ln.dir[major];
+    let lb = ln.lb;
     loop {
         if ln.steps_left == 0 {
             return Progress::Done;
         }
-        let rem = (ln.steps_left - 1) as f64 * ds;
-        let Some((vn, dt)) = prof.step(ds, rem, ln.steps_left == 1) else {
-            return Progress::AtRest;
+        // Many steps of one phase: the same formula as `Profile::take`, one loop per phase.
+        let pending = match prof.phase {
+            Phase::Cruise => phase_run(ln, prof, h, out, Profile::cruise),
+            Phase::Accel => phase_run(ln, prof, h, out, Profile::accel),
+            Phase::End => phase_run(ln, prof, h, out, Profile::end),
+            Phase::Brake => phase_run(ln, prof, h, out, Profile::brake),
+            Phase::Rest => false,
         };
-        let tn = prof.t + dt;
-        if tn >= h {
+        if pending {
             return Progress::Pending;
         }
-        prof.t = tn;
-        prof.v = vn;
-        ln.steps_left -= 1;
-        let t = tn as u64;
-        out.pulse(major, dmaj, t);
+        let left = ln.steps_left - 1;
+        let s1 = (lb - left) as f64 * ds;
+        let tn = match prof.take(s1, left == 0, h) {
+            Ok(t) => t,
+            Err(p) => return p,
+        };
+        ln.steps_left = left;
+        out.pulse_at(major, dmaj, tn);
         for &a in &ln.minors[..ln.n_minor] {
             ln.sigma[a] -= ln.l[a];
             if ln.sigma[a] <= 0 {
                 ln.sigma[a] += ln.lb;
-                out.pulse(a, ln.dir[a], t);
+                out.pulse_at(a, ln.dir[a], tn);
             }
         }
     }

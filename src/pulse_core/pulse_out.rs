@@ -86,13 +86,14 @@ impl PulseOut {
             .unwrap_or_default()
     }
 
-    /// One pulse on `axis` in direction `dir` at machine time `t`.
+    /// One pulse at machine time `t` ns given as a float (truncated to whole ns, and only
+    /// when the pulse is logged: a dry run never converts it).
     #[inline(always)]
-    pub fn pulse(&mut self, axis: usize, dir: i8, t: u64) {
+    pub fn pulse_at(&mut self, axis: usize, dir: i8, t: f64) {
         self.pos[axis] += dir as i64;
         self.count[axis] += 1;
         if self.log {
-            self.log_pulse(axis, dir, t);
+            self.log_pulse(axis, dir, t as u64);
         }
     }
 
