@@ -6,6 +6,7 @@ pub mod console_opts;
 pub mod edit;
 pub mod run;
 pub mod script;
+pub mod signals;
 pub mod translate;
 
 use std::io::Write;

@@ -86,6 +86,7 @@ pub fn main(argv: &[String]) -> i32 {
     if let Err(e) = translate_all(&source, &magazine, &settings, [0, 0, 0]) {
         return fail(&format!("{prog}:{e}"));
     }
+    super::signals::install();
     let recorder = match args.value("--record") {
         None => None,
         Some(p) => match Recorder::start(Path::new(p), &settings) {
@@ -105,9 +106,9 @@ pub fn main(argv: &[String]) -> i32 {
     core.load_program(&source, magazine, [0, 0, 0]);
     core.command(Command::Start(RunKind::Auto));
     let status = loop {
-        match core.wait_idle(Duration::from_secs(3600)) {
+        match core.wait_idle(Duration::from_millis(50)) {
             Some(st) => break Some(st),
-            None if core.is_running() => continue,
+            None if core.is_running() => super::signals::on_signal(|| core.command(Command::Reset)),
             None => break None,
         }
     };
@@ -115,19 +116,23 @@ pub fn main(argv: &[String]) -> i32 {
     let Some(status) = status else {
         return fail("novanc: the pulse core stopped unexpectedly");
     };
+    let mut code = 0;
     let rec_line = recorder.map(|r| match r.finish() {
         Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
         Ok(sum) => format!("recording complete: yes\n{sum}"),
-        Err(e) => format!("recording complete: NO\nRECORDING INCOMPLETE: {e}"),
+        Err(e) => {
+            code = fail(&format!("novanc: {e}"));
+            format!("recording complete: NO\n{e}")
+        }
     });
     print!("{}", summary(&status, &settings));
     if let Some(l) = rec_line {
         println!("{l}");
     }
-    match &status.alarm {
+    super::signals::exit_code(match &status.alarm {
         Some(a) => fail(&format!("{prog}:{a}")),
-        None => 0,
-    }
+        None => code,
+    })
 }
 
 /// The summary printed at the end of a run.

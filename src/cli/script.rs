@@ -71,7 +71,7 @@ pub fn main(argv: &[String]) -> i32 {
         cfg.state_dir = d.clone();
         Some(d)
     };
-    let code = run(virtual_clock(cfg), &file, events);
+    let code = super::signals::exit_code(run(virtual_clock(cfg), &file, events));
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -100,6 +100,7 @@ fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
 
 /// Runs the events on a console; returns the exit code.
 fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>) -> i32 {
+    super::signals::install();
     let (mut console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {
@@ -113,6 +114,9 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for ev in events {
+        if super::signals::caught().is_some() {
+            break;
+        }
         match ev {
             PanelEvent::Show => {
                 console.tick();
