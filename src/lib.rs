@@ -12,6 +12,7 @@ pub mod pulse_core;
 pub mod record;
 pub mod settings;
 pub mod store;
+pub mod tape;
 pub mod terminal;
 pub mod tooldata;
 pub mod translator;

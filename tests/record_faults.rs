@@ -50,7 +50,7 @@ fn full_disk_marks_the_recording_incomplete_and_never_blocks_the_producer() {
     );
     assert!(rec.is_incomplete());
     let summary = rec
-        .finish()
+        .close()
         .expect("the recorder thread survives a disk error");
     eprintln!(
         "{summary}\n(sent {} events in {:?}, worst send {:?})",
@@ -80,6 +80,28 @@ fn full_disk_marks_the_recording_incomplete_and_never_blocks_the_producer() {
     assert!(line.contains("DISK ERROR"), "{line}");
     // Sending afterwards neither blocks nor panics.
     sink.send(batch(0, 10));
+}
+
+#[test]
+fn finish_fails_after_a_disk_error_with_the_operators_line() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("\n!!!!! SKIPPED: no /dev/full on this system !!!!!\n");
+        return;
+    }
+    let rec = Recorder::start(Path::new("/dev/full"), &MachineSettings::default())
+        .expect("/dev/full opens; only writes fail");
+    rec.sink().send(batch(0, 10));
+    let err = match rec.finish() {
+        Ok(s) => panic!("finish reported success on /dev/full: {s}"),
+        Err(e) => e,
+    };
+    assert!(
+        err.starts_with(
+            "RECORDING INCOMPLETE /dev/full: DISK ERROR writing /dev/full: No space left on device"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("in the file: 0 blocks"), "{err}");
 }
 
 #[test]

@@ -6,7 +6,9 @@ use novanc::record::{Event, Recorder};
 use novanc::settings::MachineSettings;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod common;
+use common::python_check;
 
 fn temp_path(name: &str) -> PathBuf {
     std::env::temp_dir().join(format!("novanc-{name}-{}.mcap", std::process::id()))
@@ -22,39 +24,6 @@ fn record(path: &Path, evs: &[Event]) -> novanc::record::RecordSummary {
 }
 
 // ---------------------------------------------------------------- Python's mcap reader
-
-/// Runs `tests/mcap_check.py`; `None` if python3 or its `mcap` module is missing (a test
-/// failure when `CI=true`).
-fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
-    let has_mcap = Command::new("python3")
-        .args(["-c", "import mcap"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false);
-    if !has_mcap {
-        if std::env::var("CI").as_deref() == Ok("true") {
-            panic!("python3 with the `mcap` module is required in CI (pip install mcap)");
-        }
-        eprintln!(
-            "\n!!!!! SKIPPED: python3 or its `mcap` module is missing; \
-             `python3 -m pip install mcap` to run the Python reader check !!!!!\n"
-        );
-        return None;
-    }
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mcap_check.py");
-    let out = Command::new("python3")
-        .arg(script)
-        .arg(path)
-        .args(extra)
-        .output()
-        .expect("run mcap_check.py");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Some((out.status.success(), text))
-}
 
 const ALL_TOPICS: [&str; 7] = [
     "--expect-topics",

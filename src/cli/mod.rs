@@ -6,6 +6,8 @@ pub mod console_opts;
 pub mod edit;
 pub mod run;
 pub mod script;
+pub mod signals;
+pub mod tape;
 pub mod translate;
 
 use std::io::Write;
@@ -20,6 +22,8 @@ usage:
   novanc run PROG [--tools ..] [--magazine ..] [--record OUT.mcap] [--realtime] [--feed-override PCT]
   novanc edit FILE -c 'CMDLINE' [-c ..] [--write]
   novanc script FILE [--record OUT.mcap]
+  novanc tape read IMAGE [--block-parity] [--holes]
+  novanc tape punch FILE --code iso|eia [--leader N] [--label TEXT] -o IMAGE
 
 Each subcommand has --help.
 ";
@@ -32,6 +36,7 @@ pub fn main(argv: Vec<String>) -> i32 {
         Some("run") => run::main(&rest[1..]),
         Some("edit") => edit::main(&rest[1..]),
         Some("script") => script::main(&rest[1..]),
+        Some("tape") => tape::main(&rest[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             print!("{USAGE}");
             0

@@ -85,6 +85,7 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(s) => s,
         Err(e) => return fail(&format!("novanc: cannot read {prog}: {e}")),
     };
+    super::signals::install();
     let recorder = match args.value("--record") {
         None => None,
         Some(p) => match Recorder::start(Path::new(p), &settings) {
@@ -109,8 +110,31 @@ pub fn main(argv: &[String]) -> i32 {
         settings: settings.clone(),
     };
     core.start(RunKind::Auto, Some(src.make_run()));
-    let (reached, status) = core.run_until_idle(u64::MAX);
-    let status = (reached == Reached::Idle && core.is_running()).then_some(status);
+    // The machine runs a slice of machine time at a time, so a stop signal is seen between
+    // slices: an hour of machine time in virtual time (milliseconds of work), 50 ms in real
+    // time.
+    let slice = if clock == ClockMode::Virtual {
+        3_600_000_000_000
+    } else {
+        50_000_000
+    };
+    let status = loop {
+        let (reached, st) = core.run_until_idle(slice);
+        if !core.is_running() {
+            break None;
+        }
+        match reached {
+            Reached::Limit => {
+                super::signals::on_signal(|| {
+                    core.command(Command::Reset);
+                });
+                if super::signals::caught().is_some() {
+                    break Some(core.status());
+                }
+            }
+            _ => break Some(st),
+        }
+    };
     drop(core);
     let Some(status) = status else {
         return fail("novanc: the pulse core stopped unexpectedly");
@@ -133,24 +157,28 @@ pub fn main(argv: &[String]) -> i32 {
         }
         return fail(&format!("{prog}:{e}"));
     }
+    let mut code = 0;
     let rec_line = recorder.map(|r| match r.finish() {
         Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
         Ok(sum) => format!("recording complete: yes\n{sum}"),
-        Err(e) => format!("recording complete: NO\nRECORDING INCOMPLETE: {e}"),
+        Err(e) => {
+            code = fail(&format!("novanc: {e}"));
+            format!("recording complete: NO\n{e}")
+        }
     });
     print!("{}", summary(&status, &settings));
     if let Some(l) = rec_line {
         println!("{l}");
     }
     if let Some((e, _)) = source_error {
-        return fail(&format!(
+        return super::signals::exit_code(fail(&format!(
             "{prog}:{e} (the run stopped before this statement)"
-        ));
+        )));
     }
-    match &status.alarm {
+    super::signals::exit_code(match &status.alarm {
         Some(a) => fail(&format!("{prog}:{a}")),
-        None => 0,
-    }
+        None => code,
+    })
 }
 
 /// The summary printed at the end of a run.

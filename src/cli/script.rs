@@ -82,7 +82,8 @@ pub fn main(argv: &[String]) -> i32 {
         cfg.state_dir = d.clone();
         Some(d)
     };
-    let code = run(virtual_clock(cfg), &file, events);
+    cfg.interrupt = Some(super::signals::pending);
+    let code = super::signals::exit_code(run(virtual_clock(cfg), &file, events));
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -111,6 +112,7 @@ fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
 
 /// Runs the events on a console; returns the exit code.
 fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>) -> i32 {
+    super::signals::install();
     let (mut console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {
@@ -124,6 +126,9 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for (i, ev) in events.into_iter().enumerate() {
+        if super::signals::caught().is_some() {
+            break;
+        }
         let waits = matches!(
             ev,
             PanelEvent::Wait | PanelEvent::WaitBlock(_) | PanelEvent::WaitMs(_)
@@ -135,6 +140,9 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
             }
             PanelEvent::Tape(p) => console.handle(PanelEvent::Tape(resolve_tape(p, file))),
             ev => console.handle(ev),
+        }
+        if super::signals::caught().is_some() {
+            break;
         }
         if let Some(e) = console.wait_error().filter(|_| waits) {
             let _ = out.flush();

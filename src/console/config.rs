@@ -31,6 +31,8 @@ pub struct ConsoleConfig {
     pub record: Option<PathBuf>,
     /// Send the session's events here instead (tests read them back); ignored with `record`.
     pub sink: Option<crate::record::EventSink>,
+    /// Asked during long virtual-time waits: true ends the wait early (a stop signal).
+    pub interrupt: Option<fn() -> bool>,
 }
 
 impl ConsoleConfig {
@@ -44,6 +46,7 @@ impl ConsoleConfig {
             cols: 40,
             record: None,
             sink: None,
+            interrupt: None,
         }
     }
 

@@ -108,6 +108,9 @@ impl Console {
             run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
         let core = PulseCore::spawn(cfg.settings.clone(), cfg.clock, recorder.sink());
         core.set_magazine(mem.magazine());
+        if let Some(f) = cfg.interrupt {
+            core.set_interrupt(f);
+        }
         let status = core.status();
         let mut c = Console {
             cfg,

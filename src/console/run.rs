@@ -203,6 +203,7 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
         Reached::Limit => Some(format!(
             "wait: not done within {hours} hours of machine time"
         )),
+        Reached::Interrupted => Some("wait: interrupted".to_string()),
         _ => None,
     };
     if let Some(e) = err {

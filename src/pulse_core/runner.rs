@@ -53,6 +53,7 @@ enum Msg {
     Position([i64; 3]),
     Advance(Wait),
     Audit(bool),
+    Interrupt(fn() -> bool),
     Shutdown,
 }
 
@@ -75,6 +76,9 @@ pub struct PulseCore {
     clock: ClockMode,
     thread: Option<JoinHandle<()>>,
 }
+
+/// A virtual-time advance runs this much machine time between looks at the interrupt.
+const SLICE_NS: u64 = 10_000_000_000;
 
 /// Longest a new run's START waits in real time for its source to fill the block buffer.
 const PRIMING: Duration = Duration::from_millis(40);
@@ -122,6 +126,7 @@ impl PulseCore {
                     applied: 0,
                     quit: false,
                     rt: None,
+                    interrupt: None,
                 };
                 if clock == ClockMode::RealTime {
                     r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
@@ -232,6 +237,12 @@ impl PulseCore {
     /// Keeps a log of every block end (programmed end and actual position), for tests.
     pub fn set_audit(&self, on: bool) {
         self.send_sync(Msg::Audit(on));
+    }
+
+    /// A virtual-time advance asks `f` between slices of machine time and ends early
+    /// ([`Reached::Interrupted`]) when it returns true (a stop signal).
+    pub fn set_interrupt(&self, f: fn() -> bool) {
+        self.send_sync(Msg::Interrupt(f));
     }
 
     /// The block ends logged since the last call (with the audit on).
@@ -346,6 +357,8 @@ struct Runner {
     quit: bool,
     /// The step queue, in real time.
     rt: Option<StepQueue>,
+    /// Asked between slices of a virtual-time advance: true ends it (a stop signal).
+    interrupt: Option<fn() -> bool>,
 }
 
 impl Runner {
@@ -388,6 +401,11 @@ impl Runner {
                 self.applied += 1;
                 return;
             }
+            Msg::Interrupt(f) => {
+                self.interrupt = Some(f);
+                self.applied += 1;
+                return;
+            }
             Msg::Advance(w) => {
                 let r = self.advance(w);
                 *lock(&self.shared.reached) = Some(r);
@@ -415,7 +433,8 @@ impl Runner {
         }
     }
 
-    /// Virtual time: runs the machine until the wait is over.
+    /// Virtual time: runs the machine until the wait is over, a slice of machine time at a
+    /// time so that an interrupt is seen between slices.
     fn advance(&mut self, w: Wait) -> Reached {
         let now = self.m.now();
         let (until, deadline) = match w {
@@ -429,17 +448,30 @@ impl Runner {
         let mut shown = Instant::now();
         loop {
             let buffer = self.buffer.clone();
-            let left = deadline.saturating_sub(self.m.now());
-            let r = self.m.run(&mut &*buffer, until, left);
-            if r != Reached::Starved {
+            let slice_end = deadline.min(self.m.now().saturating_add(SLICE_NS));
+            let r = match until {
+                Until::Time(_) => self.m.run(&mut &*buffer, Until::Time(slice_end), 0),
+                _ => self.m.run(&mut &*buffer, until, slice_end - self.m.now()),
+            };
+            let sliced = match r {
+                Reached::Time | Reached::Limit => self.m.now() < deadline,
+                _ => false,
+            };
+            if r != Reached::Starved && !sliced {
                 self.drain_audit();
                 return r;
+            }
+            if self.interrupt.is_some_and(|f| f()) {
+                self.drain_audit();
+                return Reached::Interrupted;
             }
             if shown.elapsed() > Duration::from_millis(20) {
                 self.publish();
                 shown = Instant::now();
             }
-            self.buffer.wait_ready(Duration::from_millis(20));
+            if r == Reached::Starved {
+                self.buffer.wait_ready(Duration::from_millis(20));
+            }
         }
     }
 

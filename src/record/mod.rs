@@ -11,7 +11,7 @@ pub mod testkit;
 pub mod topic;
 pub mod writer;
 
-pub use recorder::{RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
+pub use recorder::{interrupt_all, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
 pub use topic::Topic;
 pub use writer::{RecordWriter, WriterOutcome};
 

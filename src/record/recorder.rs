@@ -13,7 +13,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, RecvTimeoutError};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -22,6 +22,16 @@ pub const DEFAULT_QUEUE_EVENTS: usize = 32_768;
 
 /// How often the idle recorder thread looks at the finish request.
 const POLL: Duration = Duration::from_millis(10);
+
+/// Why this process is stopping early, once `interrupt_all` was called.
+static INTERRUPTED: OnceLock<String> = OnceLock::new();
+
+/// Marks every recording of this process finished from now on as interrupted (a stop signal,
+/// docs/recording.md): its closing metadata says `complete: false` and `interrupted: WHY`.
+/// Process-wide because a signal is; the first reason given stays.
+pub fn interrupt_all(why: &str) {
+    let _ = INTERRUPTED.set(why.to_string());
+}
 
 /// A running recording: the file, the queue and the thread that writes it.
 pub struct Recorder {
@@ -94,16 +104,27 @@ impl Recorder {
         self.capacity
     }
 
-    /// Closes the queue, writes what is still in it, then the summary section and the footer.
-    /// A disk error does not make this fail: it is in the summary (`disk_error`, `incomplete`).
-    /// Fails only if the recorder thread itself was lost. Producers that still hold a sink
-    /// afterwards have their events dropped and counted by the sink.
+    /// Closes the queue, writes what is still in it, then the summary section and the footer,
+    /// and returns the summary. Fails with the operator's summary line (`RECORDING INCOMPLETE
+    /// …: DISK ERROR …`) when a disk error left the file unfinished, and when the recorder
+    /// thread itself was lost; `close` returns the summary in the first case. Producers that
+    /// still hold a sink afterwards have their events dropped and counted by the sink.
     pub fn finish(mut self) -> Result<RecordSummary, String> {
-        self.close()
+        let sum = self.close_file()?;
+        match sum.disk_error {
+            Some(_) => Err(sum.to_string()),
+            None => Ok(sum),
+        }
     }
 
-    /// The body of `finish` (also run by `drop`).
-    fn close(&mut self) -> Result<RecordSummary, String> {
+    /// As `finish`, but a disk error is only reported in the summary (`disk_error`,
+    /// `incomplete`, the counts of what is on disk). Fails only if the recorder thread was lost.
+    pub fn close(mut self) -> Result<RecordSummary, String> {
+        self.close_file()
+    }
+
+    /// The body of `finish` and `close` (also run by `drop`).
+    fn close_file(&mut self) -> Result<RecordSummary, String> {
         self.sink = None;
         self.closing.store(true, Ordering::Release);
         let Some(thread) = self.thread.take() else {
@@ -131,6 +152,7 @@ impl Recorder {
             dropped: self.flags.dropped(),
             lost_to_disk_error: out.lost_to_disk_error,
             disk_error: out.disk_error,
+            interrupted: out.interrupted,
         })
     }
 }
@@ -139,7 +161,7 @@ impl Drop for Recorder {
     /// An unfinished recording is still closed properly (summary and footer written).
     fn drop(&mut self) {
         if self.thread.is_some() {
-            let _ = self.close();
+            let _ = self.close_file();
         }
     }
 }
@@ -185,6 +207,10 @@ fn drain(
     if writer.failed() {
         flags.mark_incomplete();
     }
+    if let Some(why) = INTERRUPTED.get() {
+        flags.mark_incomplete();
+        writer.note_interrupted(why);
+    }
     writer.finish(flags.is_incomplete(), flags.dropped())
 }
 
@@ -207,6 +233,8 @@ pub struct RecordSummary {
     pub lost_to_disk_error: u64,
     /// The disk error, if one happened.
     pub disk_error: Option<String>,
+    /// Why the recording was cut short (a stop signal, `interrupt_all`), if it was.
+    pub interrupted: Option<String>,
 }
 
 impl RecordSummary {
@@ -232,10 +260,14 @@ impl fmt::Display for RecordSummary {
         if self.incomplete {
             write!(f, "RECORDING INCOMPLETE {}:", self.path.display())?;
             let mut sep = "";
+            if let Some(why) = &self.interrupted {
+                write!(f, " {why}")?;
+                sep = ";";
+            }
             if self.dropped > 0 {
                 write!(
                     f,
-                    " {} events dropped (the recorder fell behind)",
+                    "{sep} {} events dropped (the recorder fell behind)",
                     self.dropped
                 )?;
                 sep = ";";
@@ -281,6 +313,7 @@ mod tests {
             dropped: 0,
             lost_to_disk_error: 0,
             disk_error: None,
+            interrupted: None,
         }
     }
 
@@ -319,6 +352,26 @@ mod tests {
             "{line}"
         );
         assert!(!line.contains("MB"), "{line}");
+    }
+
+    #[test]
+    fn interrupted_summary_line_leads_with_the_signal() {
+        let mut s = summary();
+        s.incomplete = true;
+        s.interrupted = Some("interrupted by SIGTERM".into());
+        let line = s.to_string();
+        assert!(
+            line.starts_with(
+                "RECORDING INCOMPLETE run.mcap: interrupted by SIGTERM; in the file: 12 blocks"
+            ),
+            "{line}"
+        );
+        s.dropped = 4;
+        let line = s.to_string();
+        assert!(
+            line.contains("interrupted by SIGTERM; 4 events dropped"),
+            "{line}"
+        );
     }
 
     #[test]

@@ -5,6 +5,11 @@
 //! Synchronous and single-threaded: the recorder thread owns one `RecordWriter`; the benchmark
 //! drives one directly. After the first write error the MCAP writer is dropped and every later
 //! event is only counted, so the caller can keep draining its queue at full speed.
+//!
+//! The counts are of what is on disk (docs/recording.md, "Incomplete recordings"): the writer
+//! closes each chunk itself once it holds `CHUNK_BYTES` and flushes it to the file, and only then
+//! adds the chunk's messages and pulses to the outcome. The messages of a chunk that a disk error
+//! cut short are counted as lost, not written.
 
 use super::json::encode_event;
 use super::topic::Topic;
@@ -24,16 +29,19 @@ const FILE_BUFFER_BYTES: usize = 1024 * 1024;
 /// What a finished `RecordWriter` reports.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WriterOutcome {
-    /// Messages written per topic, in `Topic::ALL` order.
+    /// Messages on disk per topic (in chunks flushed to the file), in `Topic::ALL` order.
     pub messages: [u64; 6],
-    /// Pulses written in `/nc/pulses` batches.
+    /// Pulses on disk in `/nc/pulses` batches.
     pub pulses: u64,
-    /// Events received after a disk error, hence not in the file.
+    /// Events not in the file because of a disk error: those of the chunk it cut short, and
+    /// every later one.
     pub lost_to_disk_error: u64,
     /// Size of the file, bytes (0 when unknown, e.g. after a disk error).
     pub bytes: u64,
     /// The first disk error, with the file name.
     pub disk_error: Option<String>,
+    /// Why the recording was cut short (a stop signal), if it was.
+    pub interrupted: Option<String>,
 }
 
 /// Writes events as docs/recording.md MCAP messages to one file (or any seekable output, for tests).
@@ -45,8 +53,24 @@ pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
     channels: [u16; 6],
     sequence: [u32; 6],
     out: WriterOutcome,
+    /// Messages and pulses of the chunk still open (not yet flushed to the file).
+    pending: Pending,
+    /// Size at which the open chunk is closed and flushed, bytes.
+    chunk_bytes: u64,
     buf: Vec<u8>,
 }
+
+/// What the open chunk holds: counted in the outcome only once the chunk is on disk.
+#[derive(Clone, Copy, Debug, Default)]
+struct Pending {
+    messages: [u64; 6],
+    pulses: u64,
+    bytes: u64,
+}
+
+/// Bytes of an MCAP Message record besides its data: opcode, length, channel id, sequence,
+/// log time, publish time.
+const MESSAGE_RECORD_OVERHEAD: u64 = 1 + 8 + 2 + 4 + 8 + 8;
 
 impl RecordWriter {
     /// Creates the file and writes the MCAP header, the schemas, the channels and the machine
@@ -73,6 +97,8 @@ impl<W: Write + Seek> RecordWriter<W> {
             channels: [0; 6],
             sequence: [0; 6],
             out: WriterOutcome::default(),
+            pending: Pending::default(),
+            chunk_bytes: CHUNK_BYTES,
             buf: Vec::with_capacity(64 * 1024),
         };
         if let Err(e) = w.open(output, settings) {
@@ -83,9 +109,11 @@ impl<W: Write + Seek> RecordWriter<W> {
 
     /// Header, settings metadata (before any chunk), schemas, channels.
     fn open(&mut self, file: W, settings: &MachineSettings) -> Result<(), mcap::McapError> {
+        // No automatic chunk size: `write` closes chunks itself, so that it knows which
+        // messages reached the file.
         let options = mcap::WriteOptions::new()
             .compression(None)
-            .chunk_size(Some(CHUNK_BYTES))
+            .chunk_size(None)
             .profile("")
             .library(concat!("novanc ", env!("CARGO_PKG_VERSION")));
         let mut mcap = options.create(file)?;
@@ -135,6 +163,9 @@ impl<W: Write + Seek> RecordWriter<W> {
 
     /// Keeps the first error, lets go of the MCAP writer, and from now on only counts events.
     fn fail(&mut self, e: impl std::error::Error + 'static) {
+        // The open chunk never got its length and CRC: its messages are not readable.
+        let lost = std::mem::take(&mut self.pending);
+        self.out.lost_to_disk_error += lost.messages.iter().sum::<u64>();
         if self.out.disk_error.is_none() {
             // The innermost cause says what the operator needs ("No space left on device").
             let mut cause: &dyn std::error::Error = &e;
@@ -159,34 +190,43 @@ impl<W: Write + Seek> RecordWriter<W> {
     /// Writes one event as a message on its topic. Log and publish time are the event's machine
     /// time (the first pulse's for a batch; docs/recording.md). Pulse batches of different axes may reach
     /// the file slightly out of time order, which MCAP allows: readers sort by log time.
-    /// An empty pulse batch is not written. Returns false if the event could not be written.
+    /// An empty pulse batch is not written. Returns false if the event could not be written
+    /// (this one or, when a chunk was being flushed, earlier ones: see `WriterOutcome`).
     pub fn write(&mut self, ev: &Event) -> bool {
+        if self.mcap.is_none() {
+            self.out.lost_to_disk_error += 1;
+            return false;
+        }
+        if let Event::Pulses { t_ns, .. } = ev {
+            if t_ns.is_empty() {
+                return true;
+            }
+        }
+        if self.pending.bytes >= self.chunk_bytes && !self.flush_chunk() {
+            self.out.lost_to_disk_error += 1;
+            return false;
+        }
         let Some(mcap) = self.mcap.as_mut() else {
             self.out.lost_to_disk_error += 1;
             return false;
         };
         let topic = Topic::of(ev);
         let i = topic.index();
-        if let Event::Pulses { t_ns, .. } = ev {
-            if t_ns.is_empty() {
-                return true;
-            }
-        }
         self.buf.clear();
         let t = encode_event(&mut self.buf, ev, self.pulse_mm);
-        let log_time = t;
         let header = mcap::records::MessageHeader {
             channel_id: self.channels[i],
             sequence: self.sequence[i],
-            log_time,
+            log_time: t,
             publish_time: t,
         };
         match mcap.write_to_known_channel(&header, &self.buf) {
             Ok(()) => {
                 self.sequence[i] = self.sequence[i].wrapping_add(1);
-                self.out.messages[i] += 1;
+                self.pending.messages[i] += 1;
+                self.pending.bytes += self.buf.len() as u64 + MESSAGE_RECORD_OVERHEAD;
                 if let Event::Pulses { t_ns, .. } = ev {
-                    self.out.pulses += t_ns.len() as u64;
+                    self.pending.pulses += t_ns.len() as u64;
                 }
                 true
             }
@@ -198,14 +238,56 @@ impl<W: Write + Seek> RecordWriter<W> {
         }
     }
 
-    /// Writes a closing `novanc.recording` metadata record (complete or not, events dropped),
-    /// the summary section and the footer, and flushes the file.
+    /// Closes the open chunk (length, CRC, message indexes) and flushes it to the file; its
+    /// messages then count as written. False after a disk error (kept by `fail`).
+    fn flush_chunk(&mut self) -> bool {
+        let Some(mcap) = self.mcap.as_mut() else {
+            return false;
+        };
+        match mcap.flush() {
+            Ok(()) => {
+                self.commit();
+                true
+            }
+            Err(e) => {
+                self.fail(e);
+                false
+            }
+        }
+    }
+
+    /// Adds what the chunk just flushed holds to the outcome.
+    fn commit(&mut self) {
+        let p = std::mem::take(&mut self.pending);
+        for (n, m) in self.out.messages.iter_mut().zip(p.messages) {
+            *n += m;
+        }
+        self.out.pulses += p.pulses;
+    }
+
+    /// Notes that the process was interrupted (a stop signal, docs/recording.md): `finish` then
+    /// writes `interrupted` with this reason in the closing metadata, and `complete: false`.
+    pub fn note_interrupted(&mut self, why: &str) {
+        self.out.interrupted = Some(why.to_string());
+    }
+
+    /// Writes a closing `novanc.recording` metadata record (complete or not, events dropped,
+    /// the interruption if any), the summary section and the footer, and flushes the file.
+    /// The last chunk is flushed first, so its messages count as written even if the summary
+    /// section then fails to fit on the disk.
     pub fn finish(mut self, incomplete: bool, dropped: u64) -> WriterOutcome {
+        if !self.flush_chunk() {
+            return self.out;
+        }
         if let Some(mut mcap) = self.mcap.take() {
-            let metadata = BTreeMap::from([
+            let incomplete = incomplete || self.out.interrupted.is_some();
+            let mut metadata = BTreeMap::from([
                 ("complete".to_string(), (!incomplete).to_string()),
                 ("dropped_events".to_string(), dropped.to_string()),
             ]);
+            if let Some(why) = &self.out.interrupted {
+                metadata.insert("interrupted".to_string(), why.clone());
+            }
             let closed = mcap
                 .write_metadata(&mcap::records::Metadata {
                     name: "novanc.recording".to_string(),
@@ -234,18 +316,29 @@ impl<W: Write + Seek> RecordWriter<W> {
 mod tests {
     use super::*;
 
-    /// An output whose disk fills up after `limit` bytes.
+    /// An output whose disk fills up after `limit` bytes; the bytes stay readable through
+    /// `disk` after the writer is gone.
     struct FillsUp {
-        inner: std::io::Cursor<Vec<u8>>,
+        disk: std::rc::Rc<std::cell::RefCell<std::io::Cursor<Vec<u8>>>>,
         limit: u64,
+    }
+
+    impl FillsUp {
+        fn new(limit: u64) -> FillsUp {
+            FillsUp {
+                disk: Default::default(),
+                limit,
+            }
+        }
     }
 
     impl Write for FillsUp {
         fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-            if self.inner.position() + buf.len() as u64 > self.limit {
+            let mut disk = self.disk.borrow_mut();
+            if disk.position() + buf.len() as u64 > self.limit {
                 return Err(std::io::Error::other("No space left on device"));
             }
-            self.inner.write(buf)
+            disk.write(buf)
         }
         fn flush(&mut self) -> std::io::Result<()> {
             Ok(())
@@ -254,36 +347,68 @@ mod tests {
 
     impl Seek for FillsUp {
         fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
-            self.inner.seek(pos)
+            self.disk.borrow_mut().seek(pos)
+        }
+    }
+
+    /// Messages and pulses a reader gets out of what reached the disk (the finished chunks of
+    /// a file that may have no footer), stopping at the first unreadable record.
+    fn readable(bytes: &[u8]) -> (u64, u64) {
+        let (mut messages, mut pulses) = (0, 0);
+        let Ok(stream) = mcap::MessageStream::new_with_options(
+            bytes,
+            mcap::read::Options::IgnoreEndMagic | mcap::read::Options::ValidateChunkCrcs,
+        ) else {
+            return (0, 0);
+        };
+        for m in stream {
+            let Ok(m) = m else { break };
+            messages += 1;
+            // `{"axis":"X","dir":1,"t_ns":[…]}`: two commas before the times, n - 1 among them.
+            pulses += m.data.iter().filter(|&&b| b == b',').count() as u64 - 1;
+        }
+        (messages, pulses)
+    }
+
+    fn batch(i: u64) -> Event {
+        Event::Pulses {
+            axis: 0,
+            dir: 1,
+            t_ns: (i * 1000..i * 1000 + 1000).collect(),
         }
     }
 
     #[test]
-    fn disk_filling_up_mid_recording_is_kept_and_later_events_are_counted() {
-        let out = FillsUp {
-            inner: std::io::Cursor::new(Vec::new()),
-            limit: 200_000,
-        };
+    fn disk_filling_up_mid_recording_counts_only_the_chunks_on_disk() {
+        // Regression (issue 15, item 5): messages of a chunk the disk error cut short were
+        // counted as written although no reader can get them.
+        let out = FillsUp::new(200_000);
+        let disk = std::rc::Rc::clone(&out.disk);
         let mut w =
             RecordWriter::with_output(out, Path::new("full.mcap"), &MachineSettings::default());
+        w.chunk_bytes = 30_000;
         assert!(!w.failed(), "the header fits");
-        let batch = |i: u64| Event::Pulses {
-            axis: 0,
-            dir: 1,
-            t_ns: (i * 1000..i * 1000 + 1000).collect(),
-        };
-        let mut written = 0;
-        while w.write(&batch(written)) {
-            written += 1;
-            assert!(written < 1000, "the output never filled up");
+        let mut sent = 0;
+        while w.write(&batch(sent)) {
+            sent += 1;
+            assert!(sent < 1000, "the output never filled up");
         }
+        sent += 1;
         assert!(w.failed());
         for i in 0..5 {
-            assert!(!w.write(&batch(written + 1 + i)));
+            assert!(!w.write(&batch(sent + i)));
         }
+        sent += 5;
         let out = w.finish(true, 0);
-        assert_eq!(out.messages[Topic::Pulses.index()], written);
-        assert_eq!(out.lost_to_disk_error, 6);
+        let on_disk = out.messages[Topic::Pulses.index()];
+        assert!(
+            on_disk > 0,
+            "some chunks were flushed before the disk filled"
+        );
+        assert_eq!(on_disk + out.lost_to_disk_error, sent);
+        let (messages, pulses) = readable(&disk.borrow().get_ref()[..]);
+        assert_eq!((messages, pulses), (on_disk, out.pulses));
+        assert_eq!(out.pulses, on_disk * 1000);
         let err = out.disk_error.unwrap();
         assert!(
             err.contains("full.mcap") && err.contains("No space"),
@@ -292,12 +417,27 @@ mod tests {
     }
 
     #[test]
+    fn a_disk_filling_up_in_the_first_chunk_leaves_nothing_counted() {
+        // The issue's 64 KiB tmpfs: header and settings fit, the first chunk does not.
+        let out = FillsUp::new(64 * 1024);
+        let disk = std::rc::Rc::clone(&out.disk);
+        let mut w =
+            RecordWriter::with_output(out, Path::new("tiny.mcap"), &MachineSettings::default());
+        let mut sent = 0;
+        while w.write(&batch(sent)) {
+            sent += 1;
+        }
+        let out = w.finish(true, 0);
+        assert_eq!(out.messages, [0; 6]);
+        assert_eq!(out.pulses, 0);
+        assert_eq!(out.lost_to_disk_error, sent + 1);
+        assert_eq!(readable(&disk.borrow().get_ref()[..]), (0, 0));
+    }
+
+    #[test]
     fn disk_full_before_the_channels_are_written_is_kept_not_panicked() {
         for limit in [0, 10, 100, 1_000] {
-            let out = FillsUp {
-                inner: std::io::Cursor::new(Vec::new()),
-                limit,
-            };
+            let out = FillsUp::new(limit);
             let mut w =
                 RecordWriter::with_output(out, Path::new("tiny.mcap"), &MachineSettings::default());
             assert!(w.failed(), "limit {limit}");
@@ -314,10 +454,7 @@ mod tests {
     #[test]
     fn disk_filling_up_while_closing_is_reported_not_panicked() {
         let run = |limit: u64| {
-            let out = FillsUp {
-                inner: std::io::Cursor::new(Vec::new()),
-                limit,
-            };
+            let out = FillsUp::new(limit);
             let mut w =
                 RecordWriter::with_output(out, Path::new("end.mcap"), &MachineSettings::default());
             for i in 0..10u64 {
@@ -335,6 +472,41 @@ mod tests {
             assert!(out.disk_error.is_some(), "cut {cut}: {out:?}");
             assert_eq!(out.bytes, 0);
         }
+    }
+
+    #[test]
+    fn an_interrupted_recording_is_finished_and_says_so() {
+        let out = FillsUp::new(u64::MAX);
+        let disk = std::rc::Rc::clone(&out.disk);
+        let mut w =
+            RecordWriter::with_output(out, Path::new("sig.mcap"), &MachineSettings::default());
+        assert!(w.write(&batch(0)));
+        w.note_interrupted("interrupted by SIGINT");
+        let out = w.finish(false, 0);
+        assert_eq!(out.disk_error, None);
+        assert_eq!(out.interrupted.as_deref(), Some("interrupted by SIGINT"));
+        let bytes = disk.borrow().get_ref().clone();
+        let n = mcap::MessageStream::new_with_options(
+            &bytes,
+            mcap::read::Options::ValidateChunkCrcs.into(),
+        )
+        .unwrap()
+        .collect::<Result<Vec<_>, _>>()
+        .unwrap()
+        .len();
+        assert_eq!(n, 1);
+        let closing = mcap::read::LinearReader::new(&bytes)
+            .unwrap()
+            .filter_map(|r| match r.unwrap() {
+                mcap::records::Record::Metadata(m) if m.name == "novanc.recording" => {
+                    Some(m.metadata)
+                }
+                _ => None,
+            })
+            .next()
+            .expect("the closing metadata");
+        assert_eq!(closing["complete"], "false");
+        assert_eq!(closing["interrupted"], "interrupted by SIGINT");
     }
 
     #[test]

@@ -114,6 +114,8 @@ pub enum Reached {
     Stalled,
     /// The machine-time limit passed without reaching the condition.
     Limit,
+    /// The caller's interrupt (a stop signal) ended the wait early.
+    Interrupted,
 }
 
 /// One completed block, for tests that check where every block ended.

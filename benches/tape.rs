@@ -1,0 +1,132 @@
+//! Tape reading speed (docs/tape.md, "Speed"): a generated program of about 100 MB punched in
+//! ISO and in EIA, decoded in-process (`tape::read_image`, best of 5) and by a whole
+//! `novanc tape read IMAGE` process with its text going to /dev/null (best of 3, the file in the
+//! page cache). Target: 100 MB/s. Prints MB/s of image.
+//!
+//! Run: `cargo bench --bench tape`.
+
+use novanc::tape::{self, Code, PunchOptions, ReadOptions};
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// Image size to aim for, bytes.
+const TARGET_BYTES: usize = 100_000_000;
+
+/// G-code-like blocks with a comment now and then (small letters: EIA case shifts).
+fn program(bytes: usize) -> String {
+    let mut s = String::with_capacity(bytes + 100);
+    let mut n = 0u64;
+    while s.len() < bytes {
+        n += 1;
+        let x = (n * 7919) % 400_000;
+        let y = (n * 104_729) % 300_000;
+        s += &format!(
+            "N{n} G01 X{}.{:03} Y-{}.{:03} Z-{}.5 F{}",
+            x / 1000,
+            x % 1000,
+            y / 1000,
+            y % 1000,
+            n % 40,
+            100 + n % 900
+        );
+        if n.is_multiple_of(10) {
+            s += " ; pass over the pocket";
+        }
+        s.push('\n');
+    }
+    s
+}
+
+fn mb(bytes: usize, secs: f64) -> f64 {
+    bytes as f64 / secs / 1e6
+}
+
+fn main() {
+    let cpus = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    let load: Vec<&str> = load.split_whitespace().take(3).collect();
+    println!(
+        "tape benchmark: {cpus} CPUs, load average {}",
+        load.join(" ")
+    );
+    let text = program(TARGET_BYTES * 9 / 10);
+    for code in [Code::Iso, Code::Eia] {
+        let opts = PunchOptions {
+            code,
+            leader: 100,
+            label: Some("BENCH".into()),
+        };
+        let t = Instant::now();
+        let image = match tape::punch(&text, &opts) {
+            Ok(i) => i,
+            Err(e) => {
+                eprintln!("cannot punch the generated program: {e}");
+                std::process::exit(1);
+            }
+        };
+        let punch_s = t.elapsed().as_secs_f64();
+        // In-process, best of 5, block parity checked.
+        let mut best = f64::MAX;
+        let mut blocks = 0;
+        for _ in 0..5 {
+            let t = Instant::now();
+            let r = tape::read_image(&image, ReadOptions { block_parity: true });
+            let dt = t.elapsed().as_secs_f64();
+            match r {
+                Ok(tape) if tape.text.len() == text.len() => {
+                    best = best.min(dt);
+                    blocks = tape.blocks;
+                }
+                Ok(_) => {
+                    eprintln!("the text read differs from the text punched");
+                    std::process::exit(1);
+                }
+                Err(e) => {
+                    eprintln!("{e}");
+                    std::process::exit(1);
+                }
+            }
+        }
+        // Whole process: read the file, decode, write the text to /dev/null.
+        let path = std::env::temp_dir().join(format!(
+            "novanc-bench-{}.{}",
+            std::process::id(),
+            code.name()
+        ));
+        if let Err(e) = std::fs::write(&path, &image) {
+            eprintln!("cannot write {}: {e}", path.display());
+            std::process::exit(1);
+        }
+        let mut best_proc = f64::MAX;
+        for _ in 0..3 {
+            let t = Instant::now();
+            let st = Command::new(env!("CARGO_BIN_EXE_novanc"))
+                .args(["tape", "read"])
+                .arg(&path)
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status();
+            let dt = t.elapsed().as_secs_f64();
+            match st {
+                Ok(s) if s.success() => best_proc = best_proc.min(dt),
+                other => {
+                    eprintln!("novanc tape read failed: {other:?}");
+                    std::process::exit(1);
+                }
+            }
+        }
+        let _ = std::fs::remove_file(&path);
+        println!(
+            "{}: image {:.1} MB ({} frames, {blocks} blocks), text {:.1} MB; punch {:.0} MB/s; read in-process {:.0} MB/s ({:.3} s); `novanc tape read` process {:.0} MB/s ({:.3} s)",
+            code.name(),
+            image.len() as f64 / 1e6,
+            image.len(),
+            text.len() as f64 / 1e6,
+            mb(image.len(), punch_s),
+            mb(image.len(), best),
+            best,
+            mb(image.len(), best_proc),
+            best_proc
+        );
+    }
+}
