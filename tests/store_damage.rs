@@ -184,3 +184,19 @@ fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
     }
     eprintln!("{opens} opens with a flipped byte: no acknowledged edit lost");
 }
+
+#[test]
+fn a_state_path_that_is_a_file_is_named_as_such() {
+    let d = fresh("afile");
+    fs::create_dir_all(&d).unwrap();
+    let f = d.join("afile");
+    fs::write(&f, b"keep me").unwrap();
+    for p in [f.clone(), f.join("sub")] {
+        let e = Stores::open(&p, 24).err().unwrap();
+        assert_eq!(
+            e.message,
+            format!("{} is a regular file, not a directory", f.display())
+        );
+    }
+    assert_eq!(fs::read(&f).unwrap(), b"keep me");
+}

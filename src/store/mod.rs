@@ -183,6 +183,33 @@ fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
     ))
 }
 
+/// Creates the state directory if missing; a path that exists but is not a directory (or
+/// lies under a file) is refused saying so.
+fn make_dir(dir: &Path) -> Result<(), StoreError> {
+    if dir.is_dir() {
+        return Ok(());
+    }
+    for a in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
+        if let Ok(m) = std::fs::metadata(a) {
+            if m.is_dir() {
+                break;
+            }
+            let what = if m.is_file() {
+                "a regular file"
+            } else {
+                "a special file"
+            };
+            return Err(serr(format!("{} is {what}, not a directory", a.display())));
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
+    if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
+        let _ = fsutil::fsync_dir(parent);
+    }
+    Ok(())
+}
+
 impl Stores {
     /// The state directory: `NOVANC_STATE`, else `$XDG_STATE_HOME/novanc`, else
     /// `~/.local/state/novanc` (`./novanc-state` if there is no home directory).
@@ -211,13 +238,7 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
-        if !dir.is_dir() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
-            if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
-                let _ = fsutil::fsync_dir(parent);
-            }
-        }
+        make_dir(dir)?;
         let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
