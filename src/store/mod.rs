@@ -480,7 +480,7 @@ impl Stores {
             .iter()
             .filter(|(t, _)| !report.loaded.contains(t))
             .collect();
-        let text = toolfile::tool_text(&m);
+        let text = toolfile::tool_text_keeping(&self.state.tool_buf.text(), &m);
         self.commit(Record::ToolFile(text), None)
             .map_err(|e| TapeError {
                 file: file_name.to_string(),

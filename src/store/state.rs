@@ -3,7 +3,7 @@
 //! operator action and the replay of the journal at start, so both give the same result.
 
 use super::record::{EditTarget, Record};
-use super::toolfile::{parse_tool_text, tool_text};
+use super::toolfile::{parse_tool_text, tool_text, tool_text_keeping};
 use crate::tooldata::{
     parse_tape, parse_tcodes, Magazine, TCodeTable, ToolFile, SAMPLE_TAPE, SAMPLE_TCODES,
 };
@@ -104,11 +104,15 @@ impl State {
         }
     }
 
-    /// Rebuilds the tool-file text from the T-code table and tool file, keeping the pointer
-    /// at the start of the same line.
+    /// Rebuilds the tool-file text from the T-code table and tool file, keeping the lines that
+    /// did not change as typed and the pointer at the start of the same line.
     fn refresh_tool_buf(&mut self) {
         let line = self.tool_buf.line_of(self.tool_buf.pointer());
-        let mut b = Buffer::from_text(&tool_text(&self.magazine()));
+        let text = tool_text_keeping(&self.tool_buf.text(), &self.magazine());
+        if text == self.tool_buf.text() {
+            return;
+        }
+        let mut b = Buffer::from_text(&text);
         let start = b.line_start(line);
         b.set_pointer(start);
         self.tool_buf = b;
