@@ -378,3 +378,35 @@ fn the_mdi_buffer_can_be_cleared_and_names_are_normalised() {
     assert_eq!(text(&s, Target::Mdi), "");
     assert_eq!(s.current_program(), "TABLEB");
 }
+
+#[test]
+fn program_read_of_a_file_names_the_program_and_never_replaces_a_lookalike() {
+    let d = fresh("read-file");
+    let (mut s, _) = open(&d);
+    // The reproducer: PRF exists; prüf.ap used to become PRF and silently replace it.
+    s.program_read("PRF", "CL\n").unwrap();
+    let r = s
+        .program_read_file("/tapes/prüf.ap", "DA1 = (1, 2, 3)\n")
+        .unwrap();
+    assert_eq!(r.name, "PRUF");
+    assert_eq!(r.changes, ["ü → U"]);
+    assert!(!r.replaced);
+    assert_eq!(s.program_text("PRF").unwrap(), "CL\n");
+    // pruf.ap would be PRUF too, but with no change: the same tape read again replaces it.
+    let r = s.program_read_file("pruf.ap", "X\r").unwrap();
+    assert!(r.replaced && r.changes.is_empty());
+    // prüf.ap again: PRUF exists and the name had to be changed: refused, nothing changed.
+    let before = (s.program_names(), s.current_program().to_string());
+    let e = s.program_read_file("prüf.ap", "Y\n").unwrap_err();
+    assert_eq!(
+        e.message,
+        "tape prüf.ap is named PRUF (ü → U), and program memory already holds a program PRUF: it is not replaced, since the names match only because the file name was changed; rename the file, or delete PRUF first"
+    );
+    let e = s.program_read_file("prüf€.ap", "Y\n").unwrap_err();
+    assert!(e.message.contains("'€' has no equivalent"), "{e}");
+    assert_eq!((s.program_names(), s.current_program().to_string()), before);
+    assert_eq!(s.program_text("PRUF").unwrap(), "X\n");
+    drop(s);
+    let (s, _) = open(&d);
+    assert_eq!(s.program_names(), ["PRF", "PRUF", "TABLEB"]);
+}

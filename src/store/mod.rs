@@ -5,6 +5,7 @@
 mod frame;
 pub mod fsutil;
 mod journal;
+mod names;
 mod record;
 mod recover;
 mod snapshot;
@@ -12,7 +13,8 @@ mod state;
 pub mod toolfile;
 
 pub use fsutil::write_atomic;
-pub use state::{program_name, TABLEB};
+pub use names::{program_name, program_name_from_file, FileProgramName};
+pub use state::TABLEB;
 
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, TapeError};
 use fsutil::DirLock;
@@ -113,6 +115,17 @@ impl ToolReadReport {
         }
         s
     }
+}
+
+/// What PROGRAM READ of a tape file did (`Stores::program_read_file`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramReadReport {
+    /// The program name given to the tape (`program_name_from_file`).
+    pub name: String,
+    /// The characters of the file name changed to make it, e.g. `ü → U` (empty if none).
+    pub changes: Vec<String>,
+    /// Whether a program of that name was replaced (the same tape read again).
+    pub replaced: bool,
 }
 
 /// Program memory, MDI buffer, tool file and T-code table, persisted in a state directory.
@@ -418,6 +431,36 @@ impl Stores {
         )
         .map(|_| ())
         .map_err(to_store)
+    }
+
+    /// PROGRAM READ of the tape file `file` (its name as given; only the file name part is
+    /// used): the program is named by `program_name_from_file`, added or replaced, and made
+    /// current. A program of the same name is replaced only when the file's name gives it
+    /// without change beyond upper case (the same tape read again): when characters had to be
+    /// changed (`prüf.ap` gives PRUF, as `pruf.ap` does) and a PRUF exists, the read is refused,
+    /// saying so, and nothing changes.
+    pub fn program_read_file(
+        &mut self,
+        file: &str,
+        text: &str,
+    ) -> Result<ProgramReadReport, StoreError> {
+        let n = program_name_from_file(file).map_err(serr)?;
+        let replaced = self.state.programs.contains_key(&n.name);
+        if replaced && !n.changes.is_empty() {
+            return Err(serr(format!(
+                "tape {file} is named {} ({}), and program memory already holds a program {}: it is not replaced, since the names match only because the file name was changed; rename the file, or delete {} first",
+                n.name,
+                n.changes.join(", "),
+                n.name,
+                n.name
+            )));
+        }
+        self.program_read(&n.name, text)?;
+        Ok(ProgramReadReport {
+            name: n.name,
+            changes: n.changes,
+            replaced,
+        })
     }
 
     /// The buffer of a target, for the display.
