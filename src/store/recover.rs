@@ -119,6 +119,8 @@ pub fn recover(
             if let Some(jg) = j.gen {
                 gen = gen.max(jg);
             }
+            // A journal not replayed must be replaced before anything is appended to it.
+            compact |= !replay_it;
             if replay_it {
                 let skipped = replay(&mut state, &j.records, stand_ins);
                 compact |= n > 0;
@@ -322,6 +324,60 @@ mod tests {
                 assert!(l.compact);
             }
         }
+    }
+
+    #[test]
+    fn an_older_journal_is_ignored_and_replaced() {
+        // A crash between writing snapshot G+1 and the journal of G+1: the journal of G is
+        // already in the snapshot. It must not be replayed, nor appended to (it would be
+        // ignored again at the next open, with whatever was appended).
+        let s = State::defaults(24);
+        let snap = snapshot::encode(&s, 8);
+        let mut jour = crate::store::frame::encode_pair(b"novanc-journal 2 7");
+        jour.extend(crate::store::frame::encode_pair(b"edit M\nIX*"));
+        let l = open(&snap, &jour);
+        assert!(l.notes.is_empty(), "{:?}", l.notes);
+        assert_eq!(l.state.mdi.text(), "");
+        assert_eq!(l.gen, 8);
+        assert!(l.compact, "the old journal is replaced at open");
+    }
+
+    /// The same records in format 1: one copy each, the header's version 1.
+    fn format_1(data: &[u8], head: &[u8]) -> Vec<u8> {
+        let d = crate::store::frame::decode_paired(data);
+        assert!(d.damage.is_none());
+        let mut out = Vec::new();
+        for (i, r) in d.records.iter().enumerate() {
+            let mut p = r.to_vec();
+            if i == 0 {
+                p.splice(..head.len(), head.iter().copied());
+            }
+            out.extend(crate::store::frame::encode(&p));
+        }
+        out
+    }
+
+    #[test]
+    fn format_1_files_are_read_and_rewritten() {
+        let (snap, jour) = files("v1");
+        let want = snapshot::encode(&open(&snap, &jour).state, 0);
+        let snap1 = format_1(&snap, b"novanc-state 1");
+        let jour1 = format_1(&jour, b"novanc-journal 1");
+        assert!(snap1.len() < snap.len() * 6 / 10);
+        let l = open(&snap1, &jour1);
+        assert!(l.notes.is_empty(), "{:?}", l.notes);
+        assert!(snapshot::encode(&l.state, 0) == want);
+        assert!(l.compact, "rewritten as format 2");
+        // A damaged format 1 snapshot: what reads before the damage is kept and said.
+        let mut bad = snap1.clone();
+        let at = bad.windows(13).position(|w| w == b"program PART7").unwrap();
+        bad[at + 9] ^= 1;
+        let l = open(&bad, &jour1);
+        assert!(
+            l.notes[0].text.contains("format 1 keeps one copy"),
+            "{:?}",
+            l.notes
+        );
     }
 
     #[test]
