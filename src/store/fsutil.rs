@@ -233,6 +233,64 @@ pub fn interrupted_rewrite(path: &Path) -> Option<PathBuf> {
     None
 }
 
+/// Keeps a damaged file for inspection as `NAME.bad-SECONDS` (a hard link, so it needs no
+/// space even on a full disk; a copy where links are not possible). Returns the new name.
+pub fn keep_aside(dir: &Path, name: &str) -> io::Result<String> {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let mut last = io::Error::other("no name free");
+    for i in 0..100 {
+        let bad = match i {
+            0 => format!("{name}.bad-{secs}"),
+            i => format!("{name}.bad-{secs}-{i}"),
+        };
+        if dir.join(&bad).exists() {
+            continue;
+        }
+        match fs::hard_link(dir.join(name), dir.join(&bad)) {
+            Ok(()) => return Ok(bad),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(_) => match fs::copy(dir.join(name), dir.join(&bad)) {
+                Ok(_) => return Ok(bad),
+                Err(e) => {
+                    let _ = fs::remove_file(dir.join(&bad));
+                    last = e;
+                    break;
+                }
+            },
+        }
+    }
+    Err(last)
+}
+
+/// Creates the state directory if missing; a path that exists but is not a directory (or
+/// lies under a file) is refused saying so.
+pub fn make_dir(dir: &Path) -> Result<(), String> {
+    if dir.is_dir() {
+        return Ok(());
+    }
+    for a in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
+        if let Ok(m) = fs::metadata(a) {
+            if m.is_dir() {
+                break;
+            }
+            let what = if m.is_file() {
+                "a regular file"
+            } else {
+                "a special file"
+            };
+            return Err(format!("{} is {what}, not a directory", a.display()));
+        }
+    }
+    fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
+        let _ = fsync_dir(parent);
+    }
+    Ok(())
+}
+
 /// An exclusive lock on a state directory, held while the file stays open (released by the
 /// kernel when the process ends, even by `kill -9`).
 #[derive(Debug)]

@@ -146,38 +146,6 @@ pub struct Stores {
     _lock: DirLock,
 }
 
-/// Keeps a damaged file for inspection as `NAME.bad-SECONDS` (a hard link, so it needs no
-/// space even on a full disk; a copy where links are not possible). Returns the new name.
-fn keep_aside(dir: &Path, name: &str) -> std::io::Result<String> {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0);
-    let mut last = std::io::Error::other("no name free");
-    for i in 0..100 {
-        let bad = match i {
-            0 => format!("{name}.bad-{secs}"),
-            i => format!("{name}.bad-{secs}-{i}"),
-        };
-        if dir.join(&bad).exists() {
-            continue;
-        }
-        match std::fs::hard_link(dir.join(name), dir.join(&bad)) {
-            Ok(()) => return Ok(bad),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(_) => match std::fs::copy(dir.join(name), dir.join(&bad)) {
-                Ok(_) => return Ok(bad),
-                Err(e) => {
-                    let _ = std::fs::remove_file(dir.join(&bad));
-                    last = e;
-                    break;
-                }
-            },
-        }
-    }
-    Err(last)
-}
-
 /// Reads the snapshot and the journal of `dir` and builds the state (docs/stores.md).
 fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
     let io = |what: &Path, e: std::io::Error| serr(format!("cannot read {}: {e}", what.display()));
@@ -194,33 +162,6 @@ fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
         capacity,
         (SNAPSHOT, journal::JOURNAL),
     ))
-}
-
-/// Creates the state directory if missing; a path that exists but is not a directory (or
-/// lies under a file) is refused saying so.
-fn make_dir(dir: &Path) -> Result<(), StoreError> {
-    if dir.is_dir() {
-        return Ok(());
-    }
-    for a in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
-        if let Ok(m) = std::fs::metadata(a) {
-            if m.is_dir() {
-                break;
-            }
-            let what = if m.is_file() {
-                "a regular file"
-            } else {
-                "a special file"
-            };
-            return Err(serr(format!("{} is {what}, not a directory", a.display())));
-        }
-    }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
-    if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
-        let _ = fsutil::fsync_dir(parent);
-    }
-    Ok(())
 }
 
 impl Stores {
@@ -251,7 +192,7 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
-        make_dir(dir)?;
+        fsutil::make_dir(dir).map_err(serr)?;
         let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
@@ -269,7 +210,7 @@ impl Stores {
         let mut kept: Vec<(&str, Result<String, String>)> = Vec::new();
         for f in l.notes.iter().filter_map(|n| n.file) {
             if kept.iter().all(|(k, _)| *k != f) {
-                kept.push((f, keep_aside(dir, f).map_err(|e| e.to_string())));
+                kept.push((f, fsutil::keep_aside(dir, f).map_err(|e| e.to_string())));
             }
         }
         let mut warnings: Vec<String> = l
@@ -312,7 +253,7 @@ impl Stores {
     /// (the next change creates it).
     fn compact(&mut self) -> std::io::Result<()> {
         while let Some(f) = self.aside.first() {
-            keep_aside(&self.dir, f).map_err(|e| {
+            fsutil::keep_aside(&self.dir, f).map_err(|e| {
                 std::io::Error::other(format!("cannot keep the damaged {f} aside: {e}"))
             })?;
             self.aside.remove(0);
