@@ -119,10 +119,17 @@ pub fn parse(data: &[u8]) -> JournalRead {
                     0 => "the journal header".to_string(),
                     n => format!("journal record {n}"),
                 };
-                format!(
-                    "{which} at byte {} was damaged ({}); its second copy was used, nothing is lost",
-                    r.offset, r.reason
-                )
+                if r.reason.starts_with("its second copy") {
+                    format!(
+                        "{which}: {} (at byte {}); its first copy was used, nothing is lost",
+                        r.reason, r.offset
+                    )
+                } else {
+                    format!(
+                        "{which} at byte {} was damaged ({}); its second copy was used, nothing is lost",
+                        r.offset, r.reason
+                    )
+                }
             })
             .collect();
         (d.records, d.damage, d.good_len, d.after.len())

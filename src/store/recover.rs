@@ -54,7 +54,7 @@ pub fn recover(
                 note(
                     Some(snap_file),
                     format!(
-                        "the saved state {snap_file} was damaged ({}); the second copy of each damaged record was used, nothing is lost",
+                        "the saved state {snap_file} was damaged ({}); each damaged record was read from its other copy, nothing is lost",
                         r.repaired.join("; ")
                     ),
                 );
