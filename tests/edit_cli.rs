@@ -137,3 +137,139 @@ fn a_file_that_is_not_text_is_refused_unchanged() {
     assert!(s(&o.stderr).contains("is not a text file"));
     assert_eq!(fs::read(&p).unwrap(), b"\xff\xfe\x00");
 }
+
+/// A fresh directory of its own (the tests run in parallel).
+fn own_dir(tag: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("edit-cli-{tag}"));
+    let _ = fs::remove_dir_all(&d);
+    fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The names in a directory, sorted.
+fn names(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The pid of a process that has ended.
+fn dead_pid() -> u32 {
+    let mut c = Command::new("true").spawn().unwrap();
+    let pid = c.id();
+    c.wait().unwrap();
+    pid
+}
+
+#[test]
+fn write_goes_through_a_symlink_and_keeps_hard_links() {
+    use std::os::unix::fs::MetadataExt;
+    let d = own_dir("links");
+    let real = d.join("real.ap");
+    fs::write(&real, PROG).unwrap();
+    let link = d.join("link.ap");
+    std::os::unix::fs::symlink("real.ap", &link).unwrap();
+    let o = novanc(&["edit", link.to_str().unwrap(), "-c", "IN1*", "--write"]);
+    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+    assert!(fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(fs::read_to_string(&real).unwrap(), format!("N1\n{PROG}"));
+    // A second name for the same file: both see every write, through either name.
+    let hard = d.join("hard.ap");
+    fs::hard_link(&real, &hard).unwrap();
+    let ino = fs::metadata(&real).unwrap().ino();
+    for (p, cmd) in [(&hard, "IN2*"), (&link, "IN3*"), (&real, "K")] {
+        let o = novanc(&["edit", p.to_str().unwrap(), "-c", cmd, "--write"]);
+        assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+    }
+    let want = format!("N2\nN1\n{PROG}");
+    assert_eq!(fs::read_to_string(&real).unwrap(), want);
+    assert_eq!(fs::read_to_string(&hard).unwrap(), want);
+    assert_eq!(fs::metadata(&hard).unwrap().ino(), ino);
+    assert_eq!(fs::metadata(&hard).unwrap().nlink(), 2);
+    assert_eq!(names(&d), ["hard.ap", "link.ap", "real.ap"]);
+}
+
+#[test]
+fn temporary_files_of_killed_writes_are_cleaned_up() {
+    let d = own_dir("stale");
+    let p = d.join("f.ap");
+    fs::write(&p, PROG).unwrap();
+    // What nine killed 31 MB writes left behind (their processes are gone).
+    for _ in 0..9 {
+        fs::write(d.join(format!(".f.ap.tmp-{}", dead_pid())), "partial").unwrap();
+    }
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN1*", "--write"]);
+    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+    assert_eq!(names(&d), ["f.ap"]);
+
+    // Kill real writes of a 4 MB file at random moments: the file is the old text or the new,
+    // and no write leaves more than its own temporary file, which the next write removes.
+    let big: String = (0..200_000).map(|i| format!("N{i:06} G01 X1\n")).collect();
+    fs::write(&p, &big).unwrap();
+    let mut seed = 0x5EED_0008u64;
+    for round in 0..6u64 {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let mut c = Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .args(["edit", p.to_str().unwrap(), "-c", "IN1*", "--write"])
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_micros((seed >> 33) % 40_000));
+        let _ = c.kill();
+        let _ = c.wait();
+        let now = fs::read_to_string(&p).unwrap();
+        assert!(
+            now == big || now == format!("N1\n{big}"),
+            "round {round}: torn file"
+        );
+        fs::write(&p, &big).unwrap();
+        assert!(names(&d).len() <= 2, "round {round}: {:?}", names(&d));
+    }
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "L", "--write"]);
+    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+    assert_eq!(names(&d), ["f.ap"]);
+}
+
+#[test]
+fn an_interrupted_rewrite_in_place_is_reported_not_overwritten() {
+    let d = own_dir("torn");
+    let p = d.join("f.ap");
+    fs::write(&p, "N1 G00\nN2 X1").unwrap(); // cut short by the kill
+    fs::hard_link(&p, d.join("g.ap")).unwrap();
+    let left = d.join(format!(".f.ap.rewrite-{}", dead_pid()));
+    fs::write(&left, "N1 G00\nN2 X10\nN3 Y20\n").unwrap();
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN0*", "--write"]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = s(&o.stderr);
+    assert!(
+        e.starts_with("novanc edit: an earlier 'novanc edit --write' was killed while rewriting")
+            && e.contains("may be cut short; the whole text it was writing is in")
+            && e.trim_end().ends_with("(nothing was written)"),
+        "{e}"
+    );
+    assert_eq!(fs::read_to_string(&p).unwrap(), "N1 G00\nN2 X1");
+    assert!(left.exists());
+    // Without --write it is a warning; once the file is settled it is removed quietly.
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "Y"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(
+        s(&o.stderr).starts_with("novanc edit: warning: an earlier"),
+        "{}",
+        s(&o.stderr)
+    );
+    fs::copy(&left, &p).unwrap();
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN0*", "--write"]);
+    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+    assert_eq!(names(&d), ["f.ap", "g.ap"]);
+    assert_eq!(
+        fs::read_to_string(d.join("g.ap")).unwrap(),
+        "N0\nN1 G00\nN2 X10\nN3 Y20\n"
+    );
+}

@@ -1,13 +1,15 @@
 //! A journal append that fails (here: the file size limit, as on a full disk) is not an
 //! accepted edit: the operator is told it was not saved, the buffer is as before, and the next
-//! edit that fits is saved normally. Runs in a child process, because the file size limit
-//! applies to the whole process.
+//! edit that fits is saved normally. Stores that need rewriting at open (a journal to compact,
+//! a damaged tail) still open on a full disk, read as they are, refusing changes until there
+//! is room. Runs in child processes, because the file size limit applies to the whole process.
 
 use novanc::store::{EditFailure, Stores, Target};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const CHILD_DIR: &str = "NOVANC_DISKFULL_TEST_DIR";
+const CHILD_OPEN_DIR: &str = "NOVANC_DISKFULL_OPEN_DIR";
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("store-diskfull")
@@ -23,16 +25,7 @@ fn child_under_a_size_limit() {
     let (mut s, _) = Stores::open(&d, 24).unwrap();
     s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
     let len = std::fs::metadata(d.join("journal.log")).unwrap().len();
-    // SAFETY: plain libc calls with valid arguments; SIGXFSZ ignored so the write fails with
-    // EFBIG instead of killing the process.
-    unsafe {
-        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
-        let lim = libc::rlimit {
-            rlim_cur: len + 60,
-            rlim_max: libc::RLIM_INFINITY,
-        };
-        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
-    }
+    limit_file_size(len + 120);
     let big = format!("I{}*", "X".repeat(200));
     let before = (
         s.buffer(Target::Mdi).text(),
@@ -89,4 +82,96 @@ fn a_failed_journal_write_is_reported_and_changes_nothing() {
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(s.buffer(Target::Mdi).text(), "GO, 1, 2, 3\nCL\n");
     assert_eq!(s.magazine().find(106).unwrap().1.diameter, 6.2);
+}
+
+/// Sets the file size limit of this process (SIGXFSZ ignored, so writes fail with EFBIG).
+fn limit_file_size(bytes: u64) {
+    // SAFETY: plain libc calls with valid arguments.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        let lim = libc::rlimit {
+            rlim_cur: bytes,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
+    }
+}
+
+/// The child: opens stores that need compacting while nothing can be written.
+#[test]
+fn child_opens_on_a_full_disk() {
+    let Some(d) = std::env::var_os(CHILD_OPEN_DIR) else {
+        return;
+    };
+    let d = PathBuf::from(d);
+    let journal = std::fs::read(d.join("journal.log")).unwrap();
+    limit_file_size(1);
+    let (mut s, w) = Stores::open(&d, 24).unwrap();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("crash while writing") && w[0].contains("It is kept as journal.log.bad-"),
+        "{}",
+        w[0]
+    );
+    assert!(
+        w[1].starts_with(&format!("cannot save to {} (", d.display()))
+            && w[1].ends_with("the stores are open as they were read, nothing is lost, and changes are refused until there is room to save them"),
+        "{}",
+        w[1]
+    );
+    assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\n");
+    // Nothing was rewritten: the damaged journal is still there as it was.
+    assert_eq!(std::fs::read(d.join("journal.log")).unwrap(), journal);
+    match s.edit(Target::Mdi, "ID*", None) {
+        Err(EditFailure::Store(e)) => {
+            assert!(e.message.starts_with("not saved ("), "{e}");
+            assert!(e.message.ends_with("; nothing was changed"), "{e}");
+        }
+        other => panic!("expected a store failure, got {other:?}"),
+    }
+    assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\n");
+    assert!(s
+        .set_tcode(21, Some(999))
+        .unwrap_err()
+        .starts_with("not saved ("));
+    assert_eq!(s.magazine().tcodes.tool_in(21), None);
+    // Room again: the next change saves everything.
+    limit_file_size(libc::RLIM_INFINITY);
+    s.edit(Target::Mdi, "IE*", None).unwrap();
+    println!("\nchild done");
+}
+
+#[test]
+fn stores_open_on_a_full_disk_and_refuse_changes_until_there_is_room() {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("store-diskfull-open");
+    let _ = std::fs::remove_dir_all(&d);
+    {
+        let (mut s, _) = Stores::open(&d, 24).unwrap();
+        for l in ["IA*", "IB*", "IC*"] {
+            s.edit(Target::Mdi, l, None).unwrap();
+        }
+    }
+    // A torn last record (cut in its first copy), as a crash leaves it.
+    let j = std::fs::read(d.join("journal.log")).unwrap();
+    std::fs::write(d.join("journal.log"), &j[..j.len() - 30]).unwrap();
+    let out = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "child_opens_on_a_full_disk",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(CHILD_OPEN_DIR, &d)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("\nchild done"),
+        "child failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (s, w) = Stores::open(&d, 24).unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\nE\n");
+    assert_eq!(s.magazine().tcodes.tool_in(21), None);
 }

@@ -138,11 +138,19 @@ fn bad_copies(d: &Path) -> usize {
         .count()
 }
 
+/// The byte length of one copy of the journal record of an MDI edit `line`.
+fn one_copy(line: &str) -> usize {
+    let payload = format!("edit M\n{line}");
+    format!("@ {} 01234567\n", payload.len()).len() + payload.len() + 1
+}
+
 #[test]
 fn a_truncated_journal_tail_is_reported_and_skipped() {
     let d = fresh("trunc");
     let j = three_edits(&d);
-    fs::write(d.join("journal.log"), &j[..j.len() - 4]).unwrap();
+    // Cut inside the first copy of the last record: a crash while it was being written.
+    let cut = j.len() - one_copy("IC*") - 4;
+    fs::write(d.join("journal.log"), &j[..cut]).unwrap();
     let (s, w) = open(&d);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(
@@ -151,6 +159,7 @@ fn a_truncated_journal_tail_is_reported_and_skipped() {
         w[0]
     );
     assert!(w[0].contains("edits before it are kept"), "{}", w[0]);
+    assert!(w[0].contains("It is kept as journal.log.bad-"), "{}", w[0]);
     assert_eq!(text(&s, Target::Mdi), "A\nB\n");
     assert_eq!(bad_copies(&d), 1, "the damaged journal is kept");
     drop(s);
@@ -160,17 +169,60 @@ fn a_truncated_journal_tail_is_reported_and_skipped() {
 }
 
 #[test]
-fn a_corrupt_journal_record_stops_replay_there() {
+fn a_journal_cut_in_the_second_copy_keeps_the_record() {
+    let d = fresh("trunc2");
+    let j = three_edits(&d);
+    fs::write(d.join("journal.log"), &j[..j.len() - 4]).unwrap();
+    let (s, w) = open(&d);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("journal record 3: its second copy is cut short")
+            && w[0].contains("its first copy was used, nothing is lost"),
+        "{}",
+        w[0]
+    );
+    assert_eq!(text(&s, Target::Mdi), "A\nB\nC\n");
+}
+
+#[test]
+fn a_corrupt_journal_record_is_read_from_its_second_copy() {
     let d = fresh("flip");
     let mut j = three_edits(&d);
-    // Flip a byte inside the second edit record's payload ("IB*").
+    // Flip a byte inside the second edit record's first copy ("IB*").
     let i = j.windows(3).position(|w| w == b"IB*").unwrap();
     j[i + 1] = b'X';
     fs::write(d.join("journal.log"), &j).unwrap();
     let (s, w) = open(&d);
     assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].contains("checksum does not match"), "{}", w[0]);
+    assert!(
+        w[0].starts_with("journal record 2 at byte")
+            && w[0].contains("checksum does not match")
+            && w[0].contains("its second copy was used, nothing is lost"),
+        "{}",
+        w[0]
+    );
+    assert_eq!(text(&s, Target::Mdi), "A\nB\nC\n");
+    assert_eq!(bad_copies(&d), 1);
+}
+
+#[test]
+fn a_journal_record_damaged_in_both_copies_stops_replay_there() {
+    let d = fresh("flip2");
+    let mut j = three_edits(&d);
+    let i = j.windows(3).position(|w| w == b"IB*").unwrap();
+    j[i + 1] = b'X';
+    j[i + 1 + one_copy("IB*")] = b'X';
+    fs::write(d.join("journal.log"), &j).unwrap();
+    let (s, w) = open(&d);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("in both copies; it and the 1 records after it cannot be replayed"),
+        "{}",
+        w[0]
+    );
+    assert!(!w[0].contains("crash while writing"), "{}", w[0]);
     assert_eq!(text(&s, Target::Mdi), "A\n");
+    assert_eq!(bad_copies(&d), 1);
 }
 
 #[test]
@@ -199,7 +251,7 @@ fn an_unreadable_journal_header_is_reported() {
 }
 
 #[test]
-fn a_damaged_snapshot_is_kept_and_the_defaults_used() {
+fn a_damaged_snapshot_is_read_from_its_second_copies_and_kept() {
     let d = fresh("snap");
     {
         let (mut s, _) = open(&d);
@@ -211,13 +263,40 @@ fn a_damaged_snapshot_is_kept_and_the_defaults_used() {
     snap[n / 2] ^= 0x55;
     fs::write(d.join("state.snap"), &snap).unwrap();
     let (s, w) = open(&d);
+    assert_eq!(w.len(), 1, "{w:?}");
     assert!(
-        w.iter()
-            .any(|m| m.contains("is damaged") && m.contains("embedded defaults")),
-        "{w:?}"
+        w[0].starts_with("the saved state state.snap was damaged (record ")
+            && w[0].contains("nothing is lost. It is kept as state.snap.bad-"),
+        "{}",
+        w[0]
+    );
+    assert_eq!(text(&s, Target::Program), format!("N1\n{TABLEB}"));
+    assert_eq!(bad_copies(&d), 1);
+}
+
+#[test]
+fn an_unreadable_snapshot_starts_on_the_defaults_and_keeps_the_journal() {
+    let d = fresh("snap-gone");
+    {
+        let (mut s, _) = open(&d);
+        s.edit(Target::Program, "IN1*", None).unwrap();
+    }
+    fs::write(d.join("state.snap"), b"not a snapshot").unwrap();
+    let (s, w) = open(&d);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("cannot be read") && w[0].contains("embedded defaults"),
+        "{}",
+        w[0]
+    );
+    assert!(
+        w[1].contains("the journal (1 records) was not replayed")
+            && w[1].contains("kept as journal.log.bad-"),
+        "{}",
+        w[1]
     );
     assert_eq!(text(&s, Target::Program), TABLEB);
-    assert_eq!(bad_copies(&d), 1);
+    assert_eq!(bad_copies(&d), 2);
 }
 
 #[test]
@@ -303,4 +382,36 @@ fn the_mdi_buffer_can_be_cleared_and_names_are_normalised() {
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(text(&s, Target::Mdi), "");
     assert_eq!(s.current_program(), "TABLEB");
+}
+
+#[test]
+fn program_read_of_a_file_names_the_program_and_never_replaces_a_lookalike() {
+    let d = fresh("read-file");
+    let (mut s, _) = open(&d);
+    // The reproducer: PRF exists; prüf.ap used to become PRF and silently replace it.
+    s.program_read("PRF", "CL\n").unwrap();
+    let r = s
+        .program_read_file("/tapes/prüf.ap", "DA1 = (1, 2, 3)\n")
+        .unwrap();
+    assert_eq!(r.name, "PRUF");
+    assert_eq!(r.changes, ["ü → U"]);
+    assert!(!r.replaced);
+    assert_eq!(s.program_text("PRF").unwrap(), "CL\n");
+    // pruf.ap would be PRUF too, but with no change: the same tape read again replaces it.
+    let r = s.program_read_file("pruf.ap", "X\r").unwrap();
+    assert!(r.replaced && r.changes.is_empty());
+    // prüf.ap again: PRUF exists and the name had to be changed: refused, nothing changed.
+    let before = (s.program_names(), s.current_program().to_string());
+    let e = s.program_read_file("prüf.ap", "Y\n").unwrap_err();
+    assert_eq!(
+        e.message,
+        "tape prüf.ap is named PRUF (ü → U), and program memory already holds a program PRUF: it is not replaced, since the names match only because the file name was changed; rename the file, or delete PRUF first"
+    );
+    let e = s.program_read_file("prüf€.ap", "Y\n").unwrap_err();
+    assert!(e.message.contains("'€' has no equivalent"), "{e}");
+    assert_eq!((s.program_names(), s.current_program().to_string()), before);
+    assert_eq!(s.program_text("PRUF").unwrap(), "X\n");
+    drop(s);
+    let (s, _) = open(&d);
+    assert_eq!(s.program_names(), ["PRF", "PRUF", "TABLEB"]);
 }

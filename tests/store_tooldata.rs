@@ -435,3 +435,55 @@ fn bad_moves_change_nothing() {
     );
     refused("mv-number", mv(0, 21), "tool number 0 is not 1 to 5 digits");
 }
+
+#[test]
+fn a_t_code_change_keeps_the_spacing_typed_on_the_other_lines() {
+    let d = fresh("spacing");
+    let mut s = open(&d);
+    let tf = |s: &Stores| s.buffer(Target::ToolFile).text();
+    let t02 = tf(&s).lines().nth(1).unwrap().to_string();
+    // TOOL DATA REVISION: T02 retyped with single spaces, T01 with extra ones.
+    s.edit(
+        Target::ToolFile,
+        "LKIT02 00106 DR 6.2 150 40 1200 120 3*",
+        None,
+    )
+    .unwrap();
+    s.edit(Target::ToolFile, "-2LSBB$I   ", None).unwrap();
+    let typed = tf(&s);
+    assert!(
+        !typed.contains(&t02) && typed.starts_with("T01 00610  BB   "),
+        "{typed}"
+    );
+    let lines = |t: &str| t.lines().map(str::to_string).collect::<Vec<_>>();
+    let want = lines(&typed);
+    // Every kind of T-CODE SETTING, and a TOOL DATA READ that does not change T01 or T02.
+    s.set_tcode(21, Some(999)).unwrap();
+    s.move_tool(999, 23).unwrap();
+    s.assign_tool(108, None).unwrap();
+    s.tcode_read(
+        &s.magazine()
+            .tcodes
+            .to_text()
+            .replace("T23 00999", "T24 00999"),
+        "m.tc",
+    )
+    .unwrap();
+    s.tool_read(
+        "00610 BB 40 220 80 400 60 25\n00106 DR 6.2 150 40 1200 120 3\n",
+        "t.tt",
+    )
+    .unwrap();
+    let after = lines(&tf(&s));
+    assert_eq!(
+        after[..2],
+        want[..2],
+        "T01 and T02 keep their typed spacing"
+    );
+    assert_eq!(after[19], "T20");
+    assert_eq!(after[20], "T21");
+    assert_eq!(after[23], "T24 00999");
+    drop(s);
+    let s = open(&d);
+    assert_eq!(lines(&tf(&s)), after, "the same after replay");
+}

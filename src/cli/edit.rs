@@ -1,9 +1,10 @@
-//! `novanc edit` (docs/cli.md): batch editing of a file with the editor's command lines. The
-//! pointer starts at 0; the command lines run in order; `Y` output goes to stdout. With
-//! `--write` the file is replaced atomically, and only if every command line succeeded.
+//! `novanc edit` (docs/stores.md "novanc edit"): batch editing of a file with the editor's
+//! command lines. The pointer starts at 0; the command lines run in order; `Y` output goes to
+//! stdout. With `--write` the file is written (through a symlink, keeping hard links), and only
+//! if every command line succeeded.
 
 use super::args::{Args, Opt};
-use crate::store::write_atomic;
+use crate::store::fsutil::{interrupted_rewrite, rewrite_file};
 use novanc_editor::{Buffer, ExecOptions};
 use std::io::Write;
 use std::path::Path;
@@ -17,7 +18,9 @@ Itext (insert), Stext (search), Cold$new (substitute), nY (display). In text arg
 '*' is the end of block (a newline) and '$' ends the argument.
 
   -c CMDLINE   a command line; repeat for several, run in order
-  --write      replace FILE with the result (atomically: temporary file, fsync, rename)
+  --write      write the result to FILE: atomically (temporary file, fsync, rename), or,
+               if FILE has other hard links, in place after the whole result is saved
+               beside it; a symlink is followed
   -h, --help   this help
 
 Y output goes to stdout. If a command line fails, its message goes to stderr as
@@ -75,9 +78,23 @@ pub fn main(argv: &[String]) -> i32 {
         }
     }
     let _ = out.flush();
+    if let Some(left) = interrupted_rewrite(Path::new(file)) {
+        let msg = format!(
+            "an earlier 'novanc edit --write' was killed while rewriting {file} in place, so {file} may be cut short; the whole text it was writing is in {}. Keep the right one and remove the other",
+            left.display()
+        );
+        if args.flag("--write") {
+            return fail(format!("{msg} (nothing was written)"));
+        }
+        let _ = writeln!(std::io::stderr(), "novanc edit: warning: {msg}");
+    }
     if args.flag("--write") {
-        if let Err(e) = write_atomic(Path::new(file), buf.text().as_bytes()) {
-            return fail(format!("cannot write {file}: {e} (the file is unchanged)"));
+        if let Err(e) = rewrite_file(Path::new(file), buf.text().as_bytes()) {
+            let note = match e.torn {
+                None => " (the file is unchanged)",
+                Some(_) => "",
+            };
+            return fail(format!("cannot write {file}: {e}{note}"));
         }
     }
     0

@@ -1,7 +1,8 @@
 //! The journal `journal.log`: every accepted change, appended as a framed record and fsynced
-//! before the operator is told it was accepted. Its first record, `novanc-journal 1 GEN`, names
+//! before the operator is told it was accepted. Its first record, `novanc-journal 2 GEN`, names
 //! the snapshot generation it continues; a journal of an older generation is already in the
-//! snapshot and is ignored.
+//! snapshot and is ignored. Format 2 writes every record twice in a row, so one damaged copy
+//! loses nothing; format 1 journals (one copy) are still read (docs/stores.md).
 
 use super::frame;
 use super::fsutil::write_atomic;
@@ -21,18 +22,20 @@ pub struct Journal {
     pub len: u64,
     /// Records appended since the journal was created or opened.
     pub records: usize,
+    /// Set when a failed append could not be cut back: nothing more may go after it.
+    pub broken: bool,
 }
 
 /// The header payload of a journal continuing generation `gen`.
 fn header(gen: u64) -> String {
-    format!("novanc-journal 1 {gen}")
+    format!("novanc-journal 2 {gen}")
 }
 
 impl Journal {
     /// Creates an empty journal continuing generation `gen` (atomically replacing any old one).
     pub fn create(dir: &Path, gen: u64) -> io::Result<Journal> {
         let path = dir.join(JOURNAL);
-        write_atomic(&path, &frame::encode(header(gen).as_bytes()))?;
+        write_atomic(&path, &frame::encode_pair(header(gen).as_bytes()))?;
         Journal::open_append(&path)
     }
 
@@ -44,13 +47,18 @@ impl Journal {
             file,
             len,
             records: 0,
+            broken: false,
         })
     }
 
-    /// Appends one record and waits until it is on disk. On failure the file is cut back to
-    /// its good length, so a half-written record never hides the ones that follow.
+    /// Appends one record (both copies) and waits until it is on disk. On failure the file is
+    /// cut back to its good length, so a half-written record never hides the ones that follow;
+    /// if even that fails, the journal is marked `broken`.
     pub fn append(&mut self, rec: &Record) -> io::Result<()> {
-        let bytes = frame::encode(rec.encode().as_bytes());
+        if self.broken {
+            return Err(io::Error::other("the journal needs rewriting"));
+        }
+        let bytes = frame::encode_pair(rec.encode().as_bytes());
         let r = self
             .file
             .write_all(&bytes)
@@ -62,7 +70,14 @@ impl Journal {
                 Ok(())
             }
             Err(e) => {
-                let _ = self.file.set_len(self.len);
+                if self
+                    .file
+                    .set_len(self.len)
+                    .and_then(|_| self.file.sync_data())
+                    .is_err()
+                {
+                    self.broken = true;
+                }
                 Err(e)
             }
         }
@@ -74,31 +89,69 @@ impl Journal {
 pub struct JournalRead {
     /// The generation its header names (None if the header is unreadable).
     pub gen: Option<u64>,
-    /// The records that checked, in order.
+    /// Whether it is format 1 (one copy of each record).
+    pub old_format: bool,
+    /// The records that read, in order, up to the first that could not be read.
     pub records: Vec<Record>,
+    /// Damaged copies whose other copy was used: nothing lost.
+    pub repaired: Vec<String>,
     /// Where and why reading stopped early, in the operator's words.
     pub damage: Option<String>,
+    /// Records found after the damage: they exist, but follow one that is lost, so they
+    /// cannot be replayed (their edits are lost).
+    pub lost_after: usize,
 }
 
-/// Reads the journal in `dir`; None if there is none.
-pub fn read(dir: &Path) -> io::Result<Option<JournalRead>> {
-    let data = match std::fs::read(dir.join(JOURNAL)) {
-        Ok(d) => d,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(e),
-    };
-    let d = frame::decode(&data);
+/// Reads a journal's bytes.
+pub fn parse(data: &[u8]) -> JournalRead {
     let mut out = JournalRead::default();
-    let skipped = data.len() - d.good_len;
-    let mut recs = d.records.iter();
+    let old = frame::first_record(data).is_some_and(|r| r.starts_with(b"novanc-journal 1 "));
+    let (recs, damage, good_len, after) = if old {
+        let d = frame::decode(data);
+        (d.records, d.damage, d.good_len, 0)
+    } else {
+        let d = frame::decode_paired(data);
+        out.repaired = d
+            .repaired
+            .iter()
+            .map(|r| {
+                let which = match r.record {
+                    0 => "the journal header".to_string(),
+                    n => format!("journal record {n}"),
+                };
+                if r.reason.starts_with("its second copy") {
+                    format!(
+                        "{which}: {} (at byte {}); its first copy was used, nothing is lost",
+                        r.reason, r.offset
+                    )
+                } else {
+                    format!(
+                        "{which} at byte {} was damaged ({}); its second copy was used, nothing is lost",
+                        r.offset, r.reason
+                    )
+                }
+            })
+            .collect();
+        (d.records, d.damage, d.good_len, d.after.len())
+    };
+    out.old_format = old;
+    let skipped = data.len() - good_len;
+    let mut recs = recs.iter();
     let head = recs.next().and_then(|h| std::str::from_utf8(h).ok());
-    let gen = head.and_then(|h| h.strip_prefix("novanc-journal 1 ")?.parse::<u64>().ok());
+    let prefix = if old {
+        "novanc-journal 1 "
+    } else {
+        "novanc-journal 2 "
+    };
+    let gen = head.and_then(|h| h.strip_prefix(prefix)?.parse::<u64>().ok());
     if gen.is_none() {
+        let n = recs.len() + after;
         out.damage = Some(format!(
-            "the journal header is unreadable; all {} bytes of it were skipped",
+            "the journal header is unreadable; all {} bytes of it were skipped ({n} records in it are lost)",
             data.len()
         ));
-        return Ok(Some(out));
+        out.lost_after = n;
+        return out;
     }
     out.gen = gen;
     for (i, r) in recs.enumerate() {
@@ -112,18 +165,34 @@ pub fn read(dir: &Path) -> io::Result<Option<JournalRead>> {
                     "journal record {} cannot be read ({e}); it and the records after it were skipped",
                     i + 1
                 ));
-                return Ok(Some(out));
+                return out;
             }
         }
     }
-    if let Some(dmg) = d.damage {
+    if let Some(dmg) = damage {
+        let what = if after > 0 {
+            out.lost_after = after;
+            format!(
+                "in both copies; it and the {after} records after it cannot be replayed (their edits are lost)"
+            )
+        } else {
+            format!("it and the {skipped} bytes after it were skipped")
+        };
         out.damage = Some(format!(
-            "journal record {} at byte {} is damaged ({}); it and the {} bytes after it were skipped",
+            "journal record {} at byte {} is damaged ({}); {what}",
             dmg.record.max(1),
             dmg.offset,
-            dmg.reason,
-            skipped
+            dmg.reason
         ));
     }
-    Ok(Some(out))
+    out
+}
+
+/// Reads the journal in `dir`; None if there is none.
+pub fn read(dir: &Path) -> io::Result<Option<JournalRead>> {
+    match std::fs::read(dir.join(JOURNAL)) {
+        Ok(d) => Ok(Some(parse(&d))),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e),
+    }
 }

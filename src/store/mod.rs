@@ -5,19 +5,23 @@
 mod frame;
 pub mod fsutil;
 mod journal;
+mod names;
 mod record;
+mod recover;
 mod snapshot;
 mod state;
 pub mod toolfile;
 
 pub use fsutil::write_atomic;
-pub use state::{program_name, TABLEB};
+pub use names::{program_name, program_name_from_file, FileProgramName};
+pub use state::TABLEB;
 
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, TapeError};
 use fsutil::DirLock;
 use journal::Journal;
 use novanc_editor::{Buffer, EditError, Outcome};
 use record::{EditTarget, Record};
+use recover::Loaded;
 use state::{Refusal, State};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -113,6 +117,17 @@ impl ToolReadReport {
     }
 }
 
+/// What PROGRAM READ of a tape file did (`Stores::program_read_file`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramReadReport {
+    /// The program name given to the tape (`program_name_from_file`).
+    pub name: String,
+    /// The characters of the file name changed to make it, e.g. `ü → U` (empty if none).
+    pub changes: Vec<String>,
+    /// Whether a program of that name was replaced (the same tape read again).
+    pub replaced: bool,
+}
+
 /// Program memory, MDI buffer, tool file and T-code table, persisted in a state directory.
 pub struct Stores {
     dir: PathBuf,
@@ -121,100 +136,32 @@ pub struct Stores {
     gen: u64,
     /// None after a failed compaction: a new journal is created before the next append.
     journal: Option<Journal>,
+    /// Memory holds more than the files say in a way the journal cannot record (a compaction
+    /// at open that failed, or a journal that could not be cut back): the next change writes a
+    /// whole snapshot instead of a journal record.
+    unsaved: bool,
+    /// Damaged files not yet kept aside; no compaction overwrites them before they are.
+    aside: Vec<&'static str>,
     journal_limit: usize,
     _lock: DirLock,
 }
 
-/// What loading a state directory found.
-struct Loaded {
-    state: State,
-    gen: u64,
-    warnings: Vec<String>,
-    /// Whether the files on disk should be rewritten (anything replayed, damaged or missing).
-    compact: bool,
-}
-
-/// Keeps a damaged file for inspection as `NAME.bad-SECONDS`; returns the new name.
-fn keep_aside(dir: &Path, name: &str) -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0);
-    let bad = format!("{name}.bad-{secs}");
-    match std::fs::copy(dir.join(name), dir.join(&bad)) {
-        Ok(_) => bad,
-        Err(_) => format!("{name} (could not be copied)"),
-    }
-}
-
-/// Reads the snapshot and replays the journal of `dir`.
+/// Reads the snapshot and the journal of `dir` and builds the state (docs/stores.md).
 fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
-    let io = |what: &str, e: std::io::Error| serr(format!("cannot read {what}: {e}"));
-    let mut warnings = Vec::new();
+    let io = |what: &Path, e: std::io::Error| serr(format!("cannot read {}: {e}", what.display()));
     let snap_path = dir.join(SNAPSHOT);
-    let (mut state, gen, mut compact) = match std::fs::read(&snap_path) {
-        Ok(bytes) => match snapshot::decode(&bytes) {
-            Ok((gen, _, s)) => (s, gen, false),
-            Err(e) => {
-                let kept = keep_aside(dir, SNAPSHOT);
-                warnings.push(format!(
-                    "the saved state {} is damaged ({e}); it is kept as {kept}; starting on the embedded defaults",
-                    snap_path.display()
-                ));
-                (State::defaults(capacity), 0, true)
-            }
-        },
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => (State::defaults(capacity), 0, true),
-        Err(e) => return Err(io(&snap_path.display().to_string(), e)),
+    let snap = match std::fs::read(&snap_path) {
+        Ok(b) => Some(b),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(io(&snap_path, e)),
     };
-    match journal::read(dir).map_err(|e| io(journal::JOURNAL, e))? {
-        None => compact = true,
-        Some(j) => {
-            if j.gen == Some(gen) {
-                for (i, rec) in j.records.iter().enumerate() {
-                    if let Err(e) = state.apply(rec, None) {
-                        let why = match e {
-                            Refusal::Edit(e) => e.to_string(),
-                            Refusal::Other(m) => m,
-                        };
-                        warnings.push(format!(
-                            "journal record {} could not be replayed ({why}); it and the {} after it were skipped",
-                            i + 1,
-                            j.records.len() - i - 1
-                        ));
-                        break;
-                    }
-                }
-                compact |= !j.records.is_empty();
-            } else if j.gen.is_some_and(|g| g > gen) {
-                warnings.push(format!(
-                    "the journal is newer than the saved state (generation {} > {gen}); it was not replayed",
-                    j.gen.unwrap_or(0)
-                ));
-                compact = true;
-            } else {
-                // An older journal is already in the snapshot (a crash during compaction).
-                compact = true;
-            }
-            if let Some(d) = j.damage {
-                let kept = keep_aside(dir, journal::JOURNAL);
-                warnings.push(format!(
-                    "{d}. This is what a crash while writing leaves; edits before it are kept. The damaged journal is kept as {kept}"
-                ));
-                compact = true;
-            }
-        }
-    }
-    if state.tcodes.capacity() != capacity {
-        warnings.extend(state.resize(capacity));
-        compact = true;
-    }
-    Ok(Loaded {
-        state,
-        gen,
-        warnings,
-        compact,
-    })
+    let jour = journal::read(dir).map_err(|e| io(&dir.join(journal::JOURNAL), e))?;
+    Ok(recover::recover(
+        snap.as_deref(),
+        jour,
+        capacity,
+        (SNAPSHOT, journal::JOURNAL),
+    ))
 }
 
 impl Stores {
@@ -245,13 +192,7 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
-        if !dir.is_dir() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| serr(format!("cannot create {}: {e}", dir.display())))?;
-            if let Some(parent) = dir.parent().filter(|p| !p.as_os_str().is_empty()) {
-                let _ = fsutil::fsync_dir(parent);
-            }
-        }
+        fsutil::make_dir(dir).map_err(serr)?;
         let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
@@ -260,30 +201,71 @@ impl Stores {
             state: l.state,
             gen: l.gen,
             journal: None,
+            unsaved: false,
+            aside: Vec::new(),
             journal_limit: JOURNAL_RECORDS,
             _lock: lock,
         };
-        if l.compact {
-            s.compact()
-                .map_err(|e| serr(format!("cannot save to {}: {e}", dir.display())))?;
-        } else {
-            let j = Journal::open_append(&dir.join(journal::JOURNAL))
-                .map_err(|e| serr(format!("cannot open the journal: {e}")))?;
-            s.journal = Some(j);
+        // Keep the damaged files aside first, then word the notes with their new names.
+        let mut kept: Vec<(&str, Result<String, String>)> = Vec::new();
+        for f in l.notes.iter().filter_map(|n| n.file) {
+            if kept.iter().all(|(k, _)| *k != f) {
+                kept.push((f, fsutil::keep_aside(dir, f).map_err(|e| e.to_string())));
+            }
         }
-        Ok((s, l.warnings))
+        let mut warnings: Vec<String> = l
+            .notes
+            .into_iter()
+            .map(|n| match kept.iter().find(|(k, _)| Some(*k) == n.file) {
+                Some((_, Ok(name))) => format!("{}. It is kept as {name}", n.text),
+                Some((f, Err(e))) => format!(
+                    "{}. It could not be kept aside ({e}); novanc will not overwrite {f} until it can",
+                    n.text
+                ),
+                None => n.text,
+            })
+            .collect();
+        s.aside = kept
+            .iter()
+            .filter(|(_, r)| r.is_err())
+            .map(|(f, _)| *f)
+            .collect();
+        let opened = if l.compact {
+            s.compact()
+        } else {
+            Journal::open_append(&dir.join(journal::JOURNAL)).map(|j| s.journal = Some(j))
+        };
+        if let Err(e) = opened {
+            // A full disk (or a read-only one): the state read is all there, and stays
+            // readable; changes are refused until it can be saved (docs/stores.md).
+            s.unsaved = true;
+            warnings.push(format!(
+                "cannot save to {} ({e}): the stores are open as they were read, nothing is lost, and changes are refused until there is room to save them",
+                dir.display()
+            ));
+        }
+        Ok((s, warnings))
     }
 
-    /// Writes the whole state as a new snapshot and starts an empty journal.
+    /// Writes the whole state as a new snapshot and starts an empty journal. Damaged files
+    /// are kept aside first (a compaction never overwrites one that is not). Once the
+    /// snapshot is written the state is saved, even if the new journal cannot be created
+    /// (the next change creates it).
     fn compact(&mut self) -> std::io::Result<()> {
+        while let Some(f) = self.aside.first() {
+            fsutil::keep_aside(&self.dir, f).map_err(|e| {
+                std::io::Error::other(format!("cannot keep the damaged {f} aside: {e}"))
+            })?;
+            self.aside.remove(0);
+        }
         let gen = self.gen + 1;
         write_atomic(
             &self.dir.join(SNAPSHOT),
             &snapshot::encode(&self.state, gen),
         )?;
         self.gen = gen;
-        self.journal = None;
-        self.journal = Some(Journal::create(&self.dir, gen)?);
+        self.unsaved = false;
+        self.journal = Journal::create(&self.dir, gen).ok();
         Ok(())
     }
 
@@ -301,13 +283,22 @@ impl Stores {
         if !changed {
             return Ok(out);
         }
-        let saved = match self.journal.as_mut() {
-            Some(j) => j.append(&rec),
-            None => Journal::create(&self.dir, self.gen)
-                .and_then(|mut j| j.append(&rec).map(|_| j))
-                .map(|j| self.journal = Some(j)),
+        let saved = if self.unsaved {
+            // The files hold less than memory did before this change: write it all.
+            self.compact()
+        } else {
+            match self.journal.as_mut() {
+                Some(j) => j.append(&rec),
+                None => Journal::create(&self.dir, self.gen)
+                    .and_then(|mut j| j.append(&rec).map(|_| j))
+                    .map(|j| self.journal = Some(j)),
+            }
         };
         if let Err(e) = saved {
+            if self.journal.as_ref().is_some_and(|j| j.broken) {
+                self.journal = None;
+                self.unsaved = true;
+            }
             // Memory is ahead of the disk: go back to what the disk holds.
             let back = load(&self.dir, self.capacity).map(|l| self.state = l.state);
             let note = if back.is_ok() {
@@ -383,6 +374,36 @@ impl Stores {
         .map_err(to_store)
     }
 
+    /// PROGRAM READ of the tape file `file` (its name as given; only the file name part is
+    /// used): the program is named by `program_name_from_file`, added or replaced, and made
+    /// current. A program of the same name is replaced only when the file's name gives it
+    /// without change beyond upper case (the same tape read again): when characters had to be
+    /// changed (`prüf.ap` gives PRUF, as `pruf.ap` does) and a PRUF exists, the read is refused,
+    /// saying so, and nothing changes.
+    pub fn program_read_file(
+        &mut self,
+        file: &str,
+        text: &str,
+    ) -> Result<ProgramReadReport, StoreError> {
+        let n = program_name_from_file(file).map_err(serr)?;
+        let replaced = self.state.programs.contains_key(&n.name);
+        if replaced && !n.changes.is_empty() {
+            return Err(serr(format!(
+                "tape {file} is named {} ({}), and program memory already holds a program {}: it is not replaced, since the names match only because the file name was changed; rename the file, or delete {} first",
+                n.name,
+                n.changes.join(", "),
+                n.name,
+                n.name
+            )));
+        }
+        self.program_read(&n.name, text)?;
+        Ok(ProgramReadReport {
+            name: n.name,
+            changes: n.changes,
+            replaced,
+        })
+    }
+
     /// The buffer of a target, for the display.
     pub fn buffer(&self, target: Target) -> &Buffer {
         match target {
@@ -443,7 +464,7 @@ impl Stores {
             .iter()
             .filter(|(t, _)| !report.loaded.contains(t))
             .collect();
-        let text = toolfile::tool_text(&m);
+        let text = toolfile::tool_text_keeping(&self.state.tool_buf.text(), &m);
         self.commit(Record::ToolFile(text), None)
             .map_err(|e| TapeError {
                 file: file_name.to_string(),

@@ -1,8 +1,8 @@
 //! The snapshot file `state.snap`: the whole state at one journal generation, as framed
-//! records (see `frame`). Records, in order:
+//! records (see `frame`), each written twice in a row (format 2). Records, in order:
 //!
 //! ```text
-//! novanc-state 1 GEN CAPACITY     header: format version, generation, magazine capacity
+//! novanc-state 2 GEN CAPACITY     header: format version, generation, magazine capacity
 //! current NAME                    the current program
 //! program NAME POINTER\n<text>    one per program in program memory
 //! mdi POINTER\n<text>             the MDI buffer
@@ -10,19 +10,24 @@
 //! tools POINTER\n<text>           the tool file, one T code per line
 //! end                             written last: a snapshot without it is incomplete
 //! ```
+//!
+//! Format 1 (one copy of each record) is still read. Reading salvages what it can from a
+//! snapshot damaged in both copies of a record, and says what was lost (docs/stores.md
+//! "Damage").
 
 use super::frame;
-use super::state::{set_pointer, State};
-use super::toolfile::parse_tool_text;
-use crate::tooldata::parse_tcodes;
+use super::record::EditTarget;
+use super::state::{set_pointer, tape_text, State, TABLEB};
+use super::toolfile::{parse_tool_text, tool_text};
+use crate::tooldata::{parse_tcodes, Magazine, TCodeTable, ToolFile};
 use novanc_editor::Buffer;
 use std::collections::BTreeMap;
 
-/// The snapshot of `s` at generation `gen`, as file bytes.
+/// The snapshot of `s` at generation `gen`, as file bytes (format 2: every record twice).
 pub fn encode(s: &State, gen: u64) -> Vec<u8> {
     let mut out = Vec::new();
-    let mut put = |p: String| out.extend(frame::encode(p.as_bytes()));
-    put(format!("novanc-state 1 {gen} {}", s.tcodes.capacity()));
+    let mut put = |p: String| out.extend(frame::encode_pair(p.as_bytes()));
+    put(format!("novanc-state 2 {gen} {}", s.tcodes.capacity()));
     put(format!("current {}", s.current));
     for (name, b) in &s.programs {
         put(format!("program {name} {}\n{}", b.pointer(), b.text()));
@@ -46,73 +51,223 @@ fn buffer_at(text: &str, p: &str) -> Result<Buffer, String> {
     Ok(b)
 }
 
-/// Reads a snapshot: (generation, capacity, state). Any damage is an error saying what.
-pub fn decode(data: &[u8]) -> Result<(u64, u32, State), String> {
-    let d = frame::decode(data);
-    if let Some(dmg) = &d.damage {
-        return Err(format!(
-            "record {} at byte {}: {}",
-            dmg.record + 1,
-            dmg.offset,
-            dmg.reason
-        ));
+/// What reading a snapshot found.
+#[derive(Debug)]
+pub struct SnapRead {
+    /// The generation in the header (None if the header could not be read).
+    pub gen: Option<u64>,
+    /// The state read (whole, or salvaged around damage).
+    pub state: State,
+    /// Whether the file is format 1 (records not written twice).
+    pub old_format: bool,
+    /// Damaged copies whose other copy was used (nothing lost), e.g. `record 3 at byte 120:
+    /// record checksum does not match`.
+    pub repaired: Vec<String>,
+    /// Damage nothing could make good, then what was lost or rebuilt because of it.
+    pub lost: Vec<String>,
+    /// Whether no record at all could be read (the state is the embedded defaults).
+    pub nothing: bool,
+    /// Buffers that hold a stand-in for what was lost (journal edits of them cannot be
+    /// replayed).
+    pub stand_ins: Vec<EditTarget>,
+}
+
+/// `record N at byte X: reason` for a damaged record.
+fn where_(d: &frame::Damage) -> String {
+    format!("record {} at byte {}: {}", d.record + 1, d.offset, d.reason)
+}
+
+/// The T-code table a tool-file text describes (each line `Tnn TOOLNO ...`).
+fn tcodes_from_tool_text(text: &str, capacity: u32) -> TCodeTable {
+    let mut tc = TCodeTable::new(capacity);
+    for (i, line) in text.lines().enumerate() {
+        if let Some(n) = line.split_whitespace().nth(1).and_then(|n| n.parse().ok()) {
+            let _ = tc.assign(i as u32 + 1, Some(n));
+        }
     }
-    let mut recs = d.records.iter().map(|r| std::str::from_utf8(r));
-    let head = recs
-        .next()
-        .ok_or("the file is empty")?
-        .map_err(|_| "the header is not text")?;
-    let h: Vec<&str> = head.split(' ').collect();
-    let (gen, cap) = match h.as_slice() {
-        ["novanc-state", "1", g, c] => (
-            g.parse::<u64>().map_err(|_| "bad generation")?,
-            c.parse::<u32>()
-                .ok()
-                .filter(|&c| c >= 1)
-                .ok_or("bad capacity")?,
-        ),
-        _ => return Err(format!("not a novanc state file (header '{head}')")),
+    tc
+}
+
+/// Reads a snapshot. Never fails: damage in one copy of a record is made good by the other;
+/// damage in both is reported in `lost`, and the state is salvaged from the records that read
+/// (a missing MDI buffer is empty, a missing T-code table is rebuilt from the tool file, ...).
+/// `capacity` is used when the header cannot be read.
+pub fn read(data: &[u8], capacity: u32) -> SnapRead {
+    let old_format = frame::first_record(data).is_some_and(|r| r.starts_with(b"novanc-state 1 "));
+    let mut repaired = Vec::new();
+    let mut lost = Vec::new();
+    let records: Vec<&[u8]> = if old_format {
+        let d = frame::decode(data);
+        if let Some(dmg) = &d.damage {
+            lost.push(format!(
+                "{} (format 1 keeps one copy; nothing after it could be read)",
+                where_(dmg)
+            ));
+        }
+        d.records
+    } else {
+        let d = frame::decode_paired(data);
+        repaired.extend(d.repaired.iter().map(where_));
+        if let Some(dmg) = &d.damage {
+            let after = if d.after.is_empty() {
+                "nothing after it could be read".to_string()
+            } else {
+                format!("{} records after it were read", d.after.len())
+            };
+            lost.push(format!("{}, in both copies; {after}", where_(dmg)));
+        }
+        let mut r = d.records;
+        r.extend(d.after);
+        r
     };
+    let damaged = !lost.is_empty();
+    let nothing = records.is_empty();
+    let mut gen = None;
+    let mut cap = capacity;
     let mut programs = BTreeMap::new();
-    let (mut current, mut mdi, mut tcodes, mut tools, mut end) = (None, None, None, None, false);
-    for r in recs {
-        let r = r.map_err(|_| "a record is not text")?;
+    let (mut current, mut mdi, mut tcodes_text, mut tools, mut end) =
+        (None, None, None, None, false);
+    for r in &records {
+        let Ok(r) = std::str::from_utf8(r) else {
+            lost.push("a record that is not text".to_string());
+            continue;
+        };
         let (head, body) = r.split_once('\n').unwrap_or((r, ""));
         let f: Vec<&str> = head.split(' ').collect();
         match f.as_slice() {
+            ["novanc-state", "1" | "2", g, c] if gen.is_none() => {
+                match (g.parse::<u64>(), c.parse::<u32>()) {
+                    (Ok(g), Ok(c)) if c >= 1 => {
+                        gen = Some(g);
+                        cap = c;
+                    }
+                    _ => lost.push(format!("the header '{head}' does not read")),
+                }
+            }
             ["current", n] => current = Some(n.to_string()),
-            ["program", n, p] => {
-                programs.insert(n.to_string(), buffer_at(body, p)?);
-            }
-            ["mdi", p] => mdi = Some(buffer_at(body, p)?),
-            ["tcodes"] => {
-                tcodes = Some(
-                    parse_tcodes(body, "state.snap", cap)
-                        .map_err(|e| format!("T-code table: {}", e.message))?,
-                )
-            }
+            ["program", n, p] => match buffer_at(body, p) {
+                Ok(b) => {
+                    programs.insert(n.to_string(), b);
+                }
+                Err(e) => lost.push(format!("program {n} ({e})")),
+            },
+            ["mdi", p] => match buffer_at(body, p) {
+                Ok(b) => mdi = Some(b),
+                Err(e) => lost.push(format!("the MDI buffer record ({e})")),
+            },
+            ["tcodes"] => tcodes_text = Some(body.to_string()),
             ["tools", p] => tools = Some((body.to_string(), p.to_string())),
             ["end"] => end = true,
-            _ => return Err(format!("unknown record '{head}'")),
+            _ => lost.push(format!("an unknown record '{head}'")),
         }
     }
-    if !end {
-        return Err("the file is incomplete (no end record)".to_string());
+    if nothing {
+        return SnapRead {
+            gen,
+            state: State::defaults(capacity),
+            old_format,
+            repaired,
+            lost,
+            nothing,
+            stand_ins: Vec::new(),
+        };
     }
-    let current = current.ok_or("no current program")?;
-    if !programs.contains_key(&current) {
-        return Err(format!("current program {current} is missing"));
+    if gen.is_none() {
+        lost.push(format!(
+            "the header (its generation is unknown; the magazine is taken as {cap} pockets)"
+        ));
     }
-    let tcodes = tcodes.ok_or("no T-code table")?;
-    let (ttext, tp) = tools.ok_or("no tool file")?;
-    let tool_file = parse_tool_text(&ttext, &tcodes).map_err(|e| format!("tool file: {e}"))?;
-    let s = State {
-        programs,
-        current,
-        mdi: mdi.ok_or("no MDI buffer")?,
-        tool_buf: buffer_at(&ttext, &tp)?,
-        tcodes,
-        tools: tool_file,
+    if !end && !damaged {
+        lost.push("the end of the file (it is cut short)".to_string());
+    }
+    let mut stand_ins = Vec::new();
+    if programs.is_empty() {
+        stand_ins.push(EditTarget::Program("TABLEB".to_string()));
+        lost.push("every program (program memory holds Table B again)".to_string());
+        programs.insert("TABLEB".to_string(), Buffer::from_text(&tape_text(TABLEB)));
+    }
+    let first = programs.keys().next().cloned().unwrap_or_default();
+    let current = match current {
+        Some(c) if programs.contains_key(&c) => c,
+        Some(c) => {
+            lost.push(format!("program {c}, which was current (now {first})"));
+            first
+        }
+        None => {
+            lost.push(format!("which program was current (now {first})"));
+            first
+        }
     };
-    Ok((gen, cap, s))
+    let mdi = mdi.unwrap_or_else(|| {
+        lost.push("the MDI buffer (now empty)".to_string());
+        stand_ins.push(EditTarget::Mdi);
+        Buffer::new()
+    });
+    let tcodes = match tcodes_text.map(|t| parse_tcodes(&t, "state.snap", cap)) {
+        Some(Ok(tc)) => Some(tc),
+        Some(Err(e)) => {
+            lost.push(format!("the T-code table ({})", e.message));
+            None
+        }
+        None => None,
+    };
+    let (tcodes, tools_file, tool_buf) = match (tcodes, tools) {
+        (Some(tc), Some((text, p))) => match (parse_tool_text(&text, &tc), buffer_at(&text, &p)) {
+            (Ok(tf), Ok(b)) => (tc, tf, b),
+            (Err(e), _) | (_, Err(e)) => {
+                lost.push(format!("the tool data ({e}); read the tool tape again"));
+                stand_ins.push(EditTarget::ToolFile);
+                no_data(tc)
+            }
+        },
+        (None, Some((text, p))) => {
+            let tc = tcodes_from_tool_text(&text, cap);
+            lost.push("the T-code table (rebuilt from the tool file)".to_string());
+            match (parse_tool_text(&text, &tc), buffer_at(&text, &p)) {
+                (Ok(tf), Ok(b)) => (tc, tf, b),
+                (Err(e), _) | (_, Err(e)) => {
+                    lost.push(format!("the tool data ({e}); read the tool tape again"));
+                    stand_ins.push(EditTarget::ToolFile);
+                    no_data(tc)
+                }
+            }
+        }
+        (Some(tc), None) => {
+            lost.push("the tool data (the T-code table is kept; read the tool tape again)".into());
+            stand_ins.push(EditTarget::ToolFile);
+            no_data(tc)
+        }
+        (None, None) => {
+            lost.push("the T-code table and the tool file (now the embedded samples)".into());
+            stand_ins.push(EditTarget::ToolFile);
+            let d = State::defaults(cap);
+            (d.tcodes, d.tools, d.tool_buf)
+        }
+    };
+    SnapRead {
+        gen,
+        state: State {
+            programs,
+            current,
+            mdi,
+            tcodes,
+            tools: tools_file,
+            tool_buf,
+        },
+        old_format,
+        repaired,
+        lost,
+        nothing,
+        stand_ins,
+    }
+}
+
+/// A T-code table with no tool data, and its tool-file text.
+fn no_data(tc: TCodeTable) -> (TCodeTable, ToolFile, Buffer) {
+    let m = Magazine {
+        tools: ToolFile::new(tc.capacity()),
+        tcodes: tc,
+    };
+    let b = Buffer::from_text(&tool_text(&m));
+    (m.tcodes, m.tools, b)
 }

@@ -2,8 +2,9 @@
 //! the tool file, and how one journal record changes them. The same `apply` serves a live
 //! operator action and the replay of the journal at start, so both give the same result.
 
+use super::names::program_name;
 use super::record::{EditTarget, Record};
-use super::toolfile::{parse_tool_text, tool_text};
+use super::toolfile::{parse_tool_text, tool_text, tool_text_keeping};
 use crate::tooldata::{
     parse_tape, parse_tcodes, Magazine, TCodeTable, ToolFile, SAMPLE_TAPE, SAMPLE_TCODES,
 };
@@ -37,26 +38,6 @@ pub struct State {
     pub tool_buf: Buffer,
     /// The tool file parsed from `tool_buf`.
     pub tools: ToolFile,
-}
-
-/// A program name as stored: trimmed, upper case, 1 to 32 of `A-Z 0-9 _ - .`.
-pub fn program_name(name: &str) -> Result<String, String> {
-    let n = name.trim().to_ascii_uppercase();
-    if n.is_empty() || n.len() > 32 {
-        return Err(format!(
-            "program name '{}' must be 1 to 32 characters",
-            name.trim()
-        ));
-    }
-    if let Some(c) = n
-        .chars()
-        .find(|c| !(c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.')))
-    {
-        return Err(format!(
-            "program name '{n}' may not contain '{c}' (letters, digits, _ - . only)"
-        ));
-    }
-    Ok(n)
 }
 
 /// Tape text with its record separators (CR, CR LF) made end-of-block characters.
@@ -104,11 +85,15 @@ impl State {
         }
     }
 
-    /// Rebuilds the tool-file text from the T-code table and tool file, keeping the pointer
-    /// at the start of the same line.
+    /// Rebuilds the tool-file text from the T-code table and tool file, keeping the lines that
+    /// did not change as typed and the pointer at the start of the same line.
     fn refresh_tool_buf(&mut self) {
         let line = self.tool_buf.line_of(self.tool_buf.pointer());
-        let mut b = Buffer::from_text(&tool_text(&self.magazine()));
+        let text = tool_text_keeping(&self.tool_buf.text(), &self.magazine());
+        if text == self.tool_buf.text() {
+            return;
+        }
+        let mut b = Buffer::from_text(&text);
         let start = b.line_start(line);
         b.set_pointer(start);
         self.tool_buf = b;
@@ -292,13 +277,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn program_names_and_tape_text() {
-        assert_eq!(program_name(" part-7.a "), Ok("PART-7.A".to_string()));
-        assert!(program_name("").unwrap_err().contains("1 to 32"));
-        assert!(program_name(&"A".repeat(33))
-            .unwrap_err()
-            .contains("1 to 32"));
-        assert!(program_name("a/b").unwrap_err().contains("'/'"));
+    fn tape_text_ends_blocks() {
         assert_eq!(tape_text("A\r\nB\rC\n"), "A\nB\nC\n");
     }
 

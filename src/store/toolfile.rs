@@ -32,6 +32,23 @@ pub fn tool_text(m: &Magazine) -> String {
     s
 }
 
+/// The tool file as text, keeping each line of `old` (its spacing as typed) whose tool and data
+/// are unchanged in `m`; only the lines that changed are formatted anew (docs/stores.md).
+pub fn tool_text_keeping(old: &str, m: &Magazine) -> String {
+    let mut old_lines = old.split_terminator('\n');
+    let mut s = String::new();
+    for t in 1..=m.tcodes.capacity() {
+        let tool = m.tcodes.tool_in(t);
+        let rec = m.tools.get(t).filter(|r| Some(r.number) == tool);
+        match old_lines.next() {
+            Some(line) if parse_line(t, line) == Ok((tool, rec.cloned())) => s.push_str(line),
+            _ => s.push_str(&format_line(t, tool, rec)),
+        }
+        s.push('\n');
+    }
+    s
+}
+
 /// What one line says: the tool number and, if given, its data.
 type Line = (Option<u32>, Option<ToolRecord>);
 
@@ -133,6 +150,25 @@ mod tests {
         assert!(text.contains("\nT21\n"));
         let tools = parse_tool_text(&text, &m.tcodes).unwrap();
         assert_eq!(tools, m.tools);
+    }
+
+    #[test]
+    fn only_changed_lines_are_formatted_anew() {
+        let mut m = sample_magazine();
+        let text = tool_text(&m);
+        let typed = text.replacen(
+            text.lines().nth(1).unwrap(),
+            "T02 00106 DR 6.2 150 40 1200 120 3",
+            1,
+        );
+        assert_eq!(tool_text_keeping(&typed, &m), typed);
+        m.tcodes.assign(21, Some(999)).unwrap();
+        m.tools.set(1, None);
+        let got = tool_text_keeping(&typed, &m);
+        let want = typed
+            .replacen(text.lines().next().unwrap(), "T01 00610", 1)
+            .replacen("\nT21\n", "\nT21 00999\n", 1);
+        assert_eq!(got, want);
     }
 
     #[test]

@@ -1,0 +1,202 @@
+//! A damaged snapshot or journal never loses an acknowledged edit when one copy of the damaged
+//! record survives (both files hold every record twice), and damage beyond that is salvaged,
+//! reported and both files kept aside (docs/stores.md "Damage").
+
+use novanc::store::{Stores, Target, TABLEB};
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn fresh(tag: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("store-damage-{tag}"));
+    let _ = fs::remove_dir_all(&d);
+    d
+}
+
+fn open(d: &Path) -> (Stores, Vec<String>) {
+    match Stores::open(d, 24) {
+        Ok(x) => x,
+        Err(e) => panic!("open {}: {e}", d.display()),
+    }
+}
+
+/// Everything the stores show, as one string to compare.
+fn dump(s: &Stores) -> String {
+    let mut out = format!("current {}\n", s.current_program());
+    for n in s.program_names() {
+        out.push_str(&format!("program {n}\n{}", s.program_text(&n).unwrap()));
+    }
+    for t in [Target::Program, Target::Mdi, Target::ToolFile] {
+        let b = s.buffer(t);
+        out.push_str(&format!("{t:?} {}\n{}", b.pointer(), b.text()));
+    }
+    out.push_str(&format!("{:?}", s.magazine()));
+    out
+}
+
+fn bad_copies(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(d)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".bad-"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Position of the first `needle` in `hay`.
+fn find(hay: &[u8], needle: &[u8]) -> usize {
+    hay.windows(needle.len()).position(|w| w == needle).unwrap()
+}
+
+#[test]
+fn the_reproducer_an_acknowledged_edit_survives_a_flipped_byte_in_the_snapshot() {
+    let d = fresh("repro");
+    {
+        let (mut s, _) = open(&d);
+        s.edit(Target::Program, "999999LI;E1*", None).unwrap(); // the display said ok
+    }
+    let mut snap = fs::read(d.join("state.snap")).unwrap();
+    let i = find(&snap, TABLEB.lines().nth(2).unwrap().as_bytes());
+    snap[i] ^= 0x01; // one byte of the program text
+    fs::write(d.join("state.snap"), &snap).unwrap();
+    let (s, w) = open(&d);
+    assert_eq!(s.program_text("TABLEB").unwrap(), format!("{TABLEB};E1\n"));
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("state.snap was damaged")
+            && w[0].contains("record checksum does not match")
+            && w[0].contains("nothing is lost"),
+        "{}",
+        w[0]
+    );
+    assert_eq!(bad_copies(&d).len(), 1);
+    drop(s);
+    let (s, w) = open(&d);
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(s.program_text("TABLEB").unwrap(), format!("{TABLEB};E1\n"));
+}
+
+#[test]
+fn the_reproducer_damaged_in_both_copies_reports_the_loss_and_keeps_both_files() {
+    let d = fresh("repro-both");
+    {
+        let (mut s, _) = open(&d);
+        s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
+        s.edit(Target::Program, "999999LI;E1*", None).unwrap();
+        s.edit(Target::Mdi, "ICL*", None).unwrap();
+    }
+    let mut snap = fs::read(d.join("state.snap")).unwrap();
+    let line = TABLEB.lines().nth(2).unwrap().as_bytes();
+    let i = find(&snap, line);
+    let j = i + 1 + find(&snap[i + 1..], line);
+    snap[i] ^= 0x01;
+    snap[j] ^= 0x01;
+    fs::write(d.join("state.snap"), &snap).unwrap();
+    let journal = fs::read(d.join("journal.log")).unwrap();
+    let (s, w) = open(&d);
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert!(
+        w[0].contains("state.snap is damaged beyond repair")
+            && w[0].contains("every program (program memory holds Table B again)"),
+        "{}",
+        w[0]
+    );
+    assert!(
+        w[1].contains("1 of 3 journal records could not be replayed")
+            && w[1]
+                .contains("record 2 (an edit of program TABLEB: it was lost from the saved state)")
+            && w[1].contains("It is kept as journal.log.bad-"),
+        "{}",
+        w[1]
+    );
+    // The edits that did not need the lost program are there.
+    assert_eq!(s.buffer(Target::Mdi).text(), "GO, 1, 2, 3\nCL\n");
+    let kept = bad_copies(&d);
+    assert_eq!(kept.len(), 2, "{kept:?}");
+    assert_eq!(fs::read(d.join(&kept[0])).unwrap(), journal);
+    assert_eq!(fs::read(d.join(&kept[1])).unwrap(), snap);
+}
+
+/// A state directory with a snapshot holding several programs and revised tools, and a
+/// journal with every kind of change after it.
+fn mixed(d: &Path) -> String {
+    {
+        let (mut s, _) = open(d);
+        s.program_read("PART7", "P1 = (1, 2)\nDRL, 106/DP5/DA1, P1\n")
+            .unwrap();
+        s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
+        s.edit(Target::ToolFile, "S00106$C1200$1500", None).unwrap();
+    }
+    let (mut s, _) = open(d);
+    s.edit(Target::Program, "LIN5*", None).unwrap();
+    s.select_program("TABLEB").unwrap();
+    s.edit(Target::Program, "999999LI;E1*", None).unwrap();
+    s.edit(Target::Mdi, "ICL*", None).unwrap();
+    s.set_tcode(21, Some(999)).unwrap();
+    s.move_tool(999, 22).unwrap();
+    s.tool_read("00106 DR 6.5 150 40 1300 120 3\n", "t.tt")
+        .unwrap();
+    s.edit(Target::ToolFile, "S00106$C6.5$6.6", None).unwrap();
+    s.program_read("R1", "CL\n").unwrap();
+    s.tcode_read("T01 00610\nT02 00106\nT05 00999\n", "m.tc")
+        .unwrap();
+    s.clear_mdi().unwrap();
+    dump(&s)
+}
+
+#[test]
+fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
+    let d = fresh("flips");
+    let want = mixed(&d);
+    let snap = fs::read(d.join("state.snap")).unwrap();
+    let jour = fs::read(d.join("journal.log")).unwrap();
+    let mut seed = 0x5EED_0015u64;
+    let mut rnd = || {
+        // splitmix64
+        seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = seed;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut opens = 0;
+    for (name, data) in [("state.snap", &snap), ("journal.log", &jour)] {
+        // The first record's header and 60 random places.
+        let mut at: Vec<usize> = (0..24).collect();
+        at.extend((0..60).map(|_| (rnd() % data.len() as u64) as usize));
+        for i in at {
+            let mut bad = data.clone();
+            bad[i] ^= (rnd() % 255 + 1) as u8;
+            fs::write(d.join("state.snap"), &snap).unwrap();
+            fs::write(d.join("journal.log"), &jour).unwrap();
+            fs::write(d.join(name), &bad).unwrap();
+            for b in bad_copies(&d) {
+                fs::remove_file(d.join(b)).unwrap();
+            }
+            let (s, w) = open(&d);
+            opens += 1;
+            assert_eq!(dump(&s), want, "{name} byte {i}: {w:?}");
+            assert_eq!(w.len(), 1, "{name} byte {i}: {w:?}");
+            assert!(w[0].contains("nothing is lost"), "{name} byte {i}: {w:?}");
+            assert_eq!(bad_copies(&d).len(), 1, "{name} byte {i}");
+        }
+    }
+    eprintln!("{opens} opens with a flipped byte: no acknowledged edit lost");
+}
+
+#[test]
+fn a_state_path_that_is_a_file_is_named_as_such() {
+    let d = fresh("afile");
+    fs::create_dir_all(&d).unwrap();
+    let f = d.join("afile");
+    fs::write(&f, b"keep me").unwrap();
+    for p in [f.clone(), f.join("sub")] {
+        let e = Stores::open(&p, 24).err().unwrap();
+        assert_eq!(
+            e.message,
+            format!("{} is a regular file, not a directory", f.display())
+        );
+    }
+    assert_eq!(fs::read(&f).unwrap(), b"keep me");
+}
