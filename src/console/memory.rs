@@ -113,11 +113,16 @@ impl Memory {
         Ok(o.y_output)
     }
 
-    /// PROGRAM READ: stores a program read from the tape and makes it current.
-    pub fn program_read(&mut self, name: &str, text: &str) -> Result<(), String> {
+    /// PROGRAM READ of the tape file `file`: stores it as the program named after the file
+    /// (`store::program_name_from_file`) and makes it current.
+    pub fn program_read_file(
+        &mut self,
+        file: &str,
+        text: &str,
+    ) -> Result<crate::store::ProgramReadReport, String> {
         let r = self
             .stores
-            .program_read(name, text)
+            .program_read_file(file, text)
             .map_err(|e| e.to_string());
         self.bump(r)
     }

@@ -238,33 +238,23 @@ pub(super) fn read_program_tape(c: &mut Console) {
     let Some((text, file)) = read_tape(c) else {
         return;
     };
-    let name = program_name(&file);
-    match c.mem.program_read(&name, &text) {
-        Ok(()) => {
+    match c.mem.program_read_file(&file, &text) {
+        Ok(r) => {
             let n = text.lines().count();
             c.search = None;
-            c.message = format!("read {file}: program {name}, {n} lines");
+            let how = if r.changes.is_empty() {
+                String::new()
+            } else {
+                format!(" (name: {})", r.changes.join(", "))
+            };
+            let again = if r.replaced {
+                ", replacing the old one"
+            } else {
+                ""
+            };
+            c.message = format!("read {file}: program {}{how}, {n} lines{again}", r.name);
         }
         Err(e) => c.message = format!("PROGRAM READ refused: {e}"),
-    }
-}
-
-/// A program name from a tape file name: its stem, upper case, letters/digits only.
-pub fn program_name(file: &str) -> String {
-    let stem = Path::new(file)
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let n: String = stem
-        .chars()
-        .filter(|ch| ch.is_ascii_alphanumeric() || *ch == '_')
-        .map(|ch| ch.to_ascii_uppercase())
-        .take(16)
-        .collect();
-    if n.is_empty() {
-        "TAPE".into()
-    } else {
-        n
     }
 }
 
