@@ -140,6 +140,11 @@ impl Buffer {
         self.text.slice(0, self.len())
     }
 
+    /// The whole text in one shared allocation (copied once, for another thread).
+    pub fn text_shared(&self) -> std::sync::Arc<str> {
+        self.text.to_shared()
+    }
+
     /// The characters `start..end` (clamped to the buffer).
     pub fn slice(&self, start: usize, end: usize) -> String {
         self.text.slice(start, end)

@@ -203,6 +203,28 @@ impl Text {
         place
     }
 
+    /// The whole text in one shared allocation, copied once from the chunks (a long program
+    /// handed to a translator thread at START).
+    pub fn to_shared(&self) -> std::sync::Arc<str> {
+        let total: usize = self.chunks.iter().map(|c| c.s.len()).sum();
+        let mut bytes = std::sync::Arc::<[u8]>::new_uninit_slice(total);
+        let Some(buf) = std::sync::Arc::get_mut(&mut bytes) else {
+            return std::sync::Arc::from(self.slice(0, self.len));
+        };
+        let mut off = 0;
+        for c in &self.chunks {
+            for (dst, &b) in buf[off..off + c.s.len()].iter_mut().zip(c.s.as_bytes()) {
+                dst.write(b);
+            }
+            off += c.s.len();
+        }
+        // SAFETY: every one of the `total` bytes was written just above.
+        let bytes = unsafe { bytes.assume_init() };
+        // SAFETY: the bytes are the chunks' strings one after the other, so valid UTF-8 (every
+        // chunk holds whole characters); `str` and `[u8]` have the same layout.
+        unsafe { std::sync::Arc::from_raw(std::sync::Arc::into_raw(bytes) as *const str) }
+    }
+
     /// Characters `start..end`, clamped.
     pub fn slice(&self, start: usize, end: usize) -> String {
         let end = end.min(self.len);
@@ -458,6 +480,14 @@ mod tests {
         const A: &[char] = &['a', 'b', 'a', '\n', 'é', '€', 'x'];
         let n = next(state) % (max + 1);
         (0..n).map(|_| A[next(state) % A.len()]).collect()
+    }
+
+    #[test]
+    fn the_shared_text_is_the_text() {
+        let mut t = Text::from_str("héllo*wörld*\n");
+        t.insert(3, "ABCDEFGHIJKLMNOPQRSTUVWXYZ ñ");
+        assert_eq!(&*t.to_shared(), t.slice(0, t.len()).as_str());
+        assert_eq!(&*Text::from_str("").to_shared(), "");
     }
 
     #[test]

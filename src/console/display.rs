@@ -299,15 +299,18 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             if job.is_none() {
                 p.header = "MDI buffer: press START".into();
             }
-            let text = c.mem.text(Target::Mdi);
-            if text.trim().is_empty() {
+            if c.mem.is_blank(Target::Mdi) {
                 p.body.push("(MDI: nothing to run)".into());
             }
-            p.body.extend(text.lines().take(n).map(|l| format!(" {l}")));
+            p.body.extend(
+                c.mem
+                    .lines(Target::Mdi, 0, n)
+                    .iter()
+                    .map(|l| format!(" {l}")),
+            );
         }
         RunKind::Auto => {
             let name = c.mem.program_name();
-            let text = c.mem.text(Target::Program);
             let mut skip = 0;
             match &c.search {
                 Some(sp) => {
@@ -332,12 +335,16 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                     }
                 }
             }
-            if text.trim().is_empty() {
+            if c.mem.is_blank(Target::Program) {
                 p.body.push("(AUTO: nothing to run)".into());
             }
             let left = n.saturating_sub(p.body.len());
-            p.body
-                .extend(text.lines().skip(skip).take(left).map(|l| format!(" {l}")));
+            p.body.extend(
+                c.mem
+                    .lines(Target::Program, skip, left)
+                    .iter()
+                    .map(|l| format!(" {l}")),
+            );
         }
     }
     p.lines()
@@ -423,13 +430,12 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         }
         DataMode::Read => {
             p.header = split_line(name, &tape_name(c), cols);
-            let text = c.mem.text(Target::Program);
             p.body.push(format!(
                 "program memory: {} ({} lines)",
                 c.mem.program_name(),
-                text.lines().count()
+                c.mem.line_count(Target::Program)
             ));
-            for l in text.lines().take(n.saturating_sub(1)) {
+            for l in c.mem.lines(Target::Program, 0, n.saturating_sub(1)) {
                 p.body.push(format!(" {l}"));
             }
         }

@@ -5,6 +5,7 @@
 use crate::store::{Stores, Target};
 use crate::tooldata::Magazine;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The lines of a buffer around its pointer, ready for the display.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -44,6 +45,9 @@ pub struct Memory {
     /// Counts the changes to any text or table: what was checked at one revision holds until
     /// the next.
     rev: u64,
+    /// The shared texts, one per target, and what each is of (target, revision, current
+    /// program).
+    shared: Vec<((Target, u64, String), Arc<str>)>,
 }
 
 impl Memory {
@@ -51,7 +55,14 @@ impl Memory {
     pub fn open(dir: &Path, capacity: u32) -> Result<(Memory, Vec<String>), String> {
         let (stores, warnings) = Stores::open(dir, capacity)
             .map_err(|e| format!("cannot open the memory in {}: {e}", dir.display()))?;
-        Ok((Memory { stores, rev: 0 }, warnings))
+        Ok((
+            Memory {
+                stores,
+                rev: 0,
+                shared: Vec::new(),
+            },
+            warnings,
+        ))
     }
 
     /// Name of the current program in program memory.
@@ -85,6 +96,51 @@ impl Memory {
     /// The whole text of a buffer.
     pub fn text(&self, t: Target) -> String {
         self.stores.buffer(t).text()
+    }
+
+    /// Up to `n` lines of a buffer from line `first` (0-based), without their end of block:
+    /// what a display shows, without copying the whole text.
+    pub fn lines(&self, t: Target, first: usize, n: usize) -> Vec<String> {
+        let b = self.stores.buffer(t);
+        let count = b.line_count();
+        if first >= count || n == 0 {
+            return Vec::new();
+        }
+        let start = b.line_start(first);
+        let end = if first + n >= count {
+            b.len()
+        } else {
+            b.line_start(first + n)
+        };
+        b.slice(start, end)
+            .lines()
+            .take(n)
+            .map(|l| l.to_string())
+            .collect()
+    }
+
+    /// Whether a buffer holds nothing but blanks (looked at in its first lines only when long).
+    pub fn is_blank(&self, t: Target) -> bool {
+        let b = self.stores.buffer(t);
+        b.is_empty() || (b.len() < 4096 && b.text().trim().is_empty())
+    }
+
+    /// Lines in a buffer.
+    pub fn line_count(&self, t: Target) -> usize {
+        self.stores.buffer(t).line_count()
+    }
+
+    /// The whole text of a buffer, shared: made once per revision (START of a long program
+    /// copies nothing the second time).
+    pub fn text_shared(&mut self, t: Target) -> Arc<str> {
+        let key = (t, self.rev, self.program_name());
+        if let Some((_, text)) = self.shared.iter().find(|(k, _)| *k == key) {
+            return text.clone();
+        }
+        let text = self.stores.buffer(t).text_shared();
+        self.shared.retain(|(k, _)| k.0 != t);
+        self.shared.push((key, text.clone()));
+        text
     }
 
     /// The lines around the pointer of a buffer.

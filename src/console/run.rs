@@ -53,21 +53,21 @@ impl RunSource {
 }
 
 /// The program source START would begin a new run of `kind` with.
-pub(super) fn run_source(c: &Console, kind: RunKind) -> RunSource {
+pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
     let (text, definitions, resume_at) = match kind {
         RunKind::Auto => (
-            c.mem.text(Target::Program),
+            c.mem.text_shared(Target::Program),
             None,
             c.search.as_ref().map(|s| s.line),
         ),
         RunKind::Mdi => (
-            c.mem.text(Target::Mdi),
-            Some(Arc::from(c.mem.text(Target::Program))),
+            c.mem.text_shared(Target::Mdi),
+            Some(c.mem.text_shared(Target::Program)),
             None,
         ),
     };
     RunSource {
-        text: Arc::from(text),
+        text,
         definitions,
         resume_at,
         magazine: c.mem.magazine(),

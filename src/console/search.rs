@@ -40,7 +40,11 @@ pub struct PlanCache {
 
 /// Translates up to the statement at or after `line` from `state`: the statement's line and
 /// text, and the restore blocks before it.
-fn make_plan(c: &Console, line: u32, state: MachineState) -> Result<(u32, String, Plan), String> {
+fn make_plan(
+    c: &mut Console,
+    line: u32,
+    state: MachineState,
+) -> Result<(u32, String, Plan), String> {
     let mut src = run_source(c, RunKind::Auto);
     src.resume_at = Some(line);
     let mut t = src.translator(state);
