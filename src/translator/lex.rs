@@ -7,9 +7,9 @@
 //! regard to case. `;` ends the statement (the rest is a comment).
 
 use super::TranslateError;
+use crate::input_text::{describe_char, quote};
 
-/// The largest number a statement may hold (mm, degrees, rpm, seconds).
-pub const MAX_NUMBER: f64 = 1e9;
+pub use crate::input_text::{number, MAX_NUMBER};
 
 /// What a token is.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,7 +43,7 @@ impl Tok {
     /// How the token reads in a message.
     pub fn describe(&self) -> String {
         match self {
-            Tok::Word(w) => format!("'{w}'"),
+            Tok::Word(w) => quote(w),
             Tok::Num(n) => format!("the number {n}"),
             Tok::Comma => "','".to_string(),
             Tok::Slash => "'/'".to_string(),
@@ -91,29 +91,11 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
         if starts_number {
             let start = i;
             i += 1;
-            let mut dots = usize::from(c == '.');
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                dots += usize::from(chars[i] == '.');
                 i += 1;
             }
             let s: String = chars[start..i].iter().collect();
-            let v: f64 = match s.parse::<f64>() {
-                Ok(v) if dots <= 1 && v.abs() <= MAX_NUMBER => v,
-                Ok(v) if v.is_finite() && dots <= 1 => {
-                    return Err(TranslateError {
-                        line,
-                        col,
-                        message: format!("{s} is too large (numbers go up to {MAX_NUMBER})"),
-                    })
-                }
-                _ => {
-                    return Err(TranslateError {
-                        line,
-                        col,
-                        message: format!("'{s}' is not a number"),
-                    })
-                }
-            };
+            let v = number(&s).map_err(|message| TranslateError { line, col, message })?;
             out.push(Token {
                 tok: Tok::Num(v),
                 col,
@@ -143,7 +125,7 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
                 return Err(TranslateError {
                     line,
                     col,
-                    message: format!("'{c}' is not part of the language"),
+                    message: format!("{} is not part of the language", describe_char(c)),
                 })
             }
         };

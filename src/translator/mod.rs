@@ -31,6 +31,9 @@ use parse::{Cut, CycleKind, Stmt};
 /// The text of the statement the translator adds after the last line (see `end_of_program`).
 pub const END_OF_PROGRAM: &str = "(end of program)";
 
+/// The most characters a source line may hold, comment included (docs/language.md, *Limits*).
+pub const MAX_LINE_CHARS: usize = 10_000;
+
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
 pub struct Translator {
@@ -57,7 +60,13 @@ impl Translator {
     ) -> Translator {
         Translator {
             source: source.to_string(),
-            next_byte: 0,
+            // A leading byte order mark is not part of the text (PROGRAM READ keeps it, and a
+            // file from some editors starts with one); columns count from after it.
+            next_byte: if source.starts_with(crate::input_text::BOM) {
+                crate::input_text::BOM.len_utf8()
+            } else {
+                0
+            },
             line: 0,
             magazine,
             settings,
@@ -397,6 +406,19 @@ impl Iterator for Translator {
             self.next_byte += used;
             self.line += 1;
             let raw = raw.strip_suffix('\r').unwrap_or(raw);
+            if raw.len() > MAX_LINE_CHARS {
+                let n = raw.chars().count();
+                if n > MAX_LINE_CHARS {
+                    self.done = true;
+                    return Some(Err(TranslateError {
+                        line: self.line,
+                        col: MAX_LINE_CHARS as u32 + 1,
+                        message: format!(
+                            "the line is {n} characters long; a line holds at most {MAX_LINE_CHARS} (split the statement: a MAC can hold part of a list)"
+                        ),
+                    }));
+                }
+            }
             let code = raw.split(';').next().unwrap_or("");
             if code.trim().is_empty() {
                 continue;
