@@ -128,14 +128,14 @@ pub fn format_record(r: &ToolRecord) -> String {
     )
 }
 
-/// A number with at least one decimal, and no more than it needs (up to 3).
+/// A number with at least one decimal and no more than it needs to read back as the same
+/// value: `150.0`, `6.2`, `0.0004` (a tape value with more than 3 decimals is kept, not rounded,
+/// so the tool file, which is kept as this text, holds what the tape held).
 fn num(x: f64) -> String {
-    let s = format!("{x:.3}");
-    let s = s.trim_end_matches('0');
-    if s.ends_with('.') {
-        format!("{s}0")
+    if x.fract() == 0.0 {
+        format!("{x:.1}")
     } else {
-        s.to_string()
+        format!("{x}")
     }
 }
 
@@ -150,6 +150,19 @@ mod tests {
         assert_eq!(r.kind, ToolKind::Drill);
         assert_eq!(r.set_length, 150.0);
         assert_eq!(parse_record(&format_record(&r)).unwrap(), r);
+    }
+
+    /// Found by the fuzz command (tape:0xd4262d85334ed688): a diameter of 0.0004 printed as
+    /// `0.0`, which does not read back, so the tool file could not be revised.
+    #[test]
+    fn every_value_prints_so_that_it_reads_back_the_same() {
+        let r = parse_record("00001 CD 0.0004 1453 369.119 139.47 145.5049 0.1234567").unwrap();
+        let line = format_record(&r);
+        assert_eq!(
+            line,
+            "00001  CD   0.0004   1453.0  369.119  139.47  145.5049  0.1234567"
+        );
+        assert_eq!(parse_record(&line).unwrap(), r);
     }
 
     #[test]
