@@ -163,27 +163,28 @@ fn needs_escape(c: char) -> bool {
     c != ' ' && (c.is_control() || c.is_whitespace() || describe_char(c).starts_with("U+"))
 }
 
-/// Appends `c` to `out`, escaped as `\u{..}` if it would be invisible or move the cursor.
-fn push_shown(out: &mut String, c: char) {
+/// `c` as a message shows it: escaped as `\u{..}` if it would be invisible or move the cursor.
+fn shown(c: char) -> String {
     if needs_escape(c) {
-        out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        format!("\\u{{{:x}}}", c as u32)
     } else {
-        out.push(c);
+        c.to_string()
     }
 }
 
 /// Text for a message, without quotes: control and invisible characters escaped as `\u{..}`,
-/// and cut after `QUOTE_CHARS` characters with `…(N characters)`.
+/// and cut once `QUOTE_CHARS` characters are shown, with `…(N characters)` (N of the text).
 pub fn quote_plain(s: &str) -> String {
     let mut out = String::new();
-    let mut chars = s.chars();
-    for (n, c) in chars.by_ref().enumerate() {
-        if n == QUOTE_CHARS {
-            let total = QUOTE_CHARS + 1 + chars.count();
-            out.push_str(&format!("…({total} characters)"));
+    let mut width = 0;
+    for c in s.chars() {
+        let sc = shown(c);
+        width += sc.chars().count();
+        if width > QUOTE_CHARS {
+            out.push_str(&format!("…({} characters)", s.chars().count()));
             return out;
         }
-        push_shown(&mut out, c);
+        out.push_str(&sc);
     }
     out
 }
@@ -199,7 +200,7 @@ pub fn escape_bytes(b: &[u8]) -> String {
     let mut out = String::new();
     for chunk in b.utf8_chunks() {
         for c in chunk.valid().chars() {
-            push_shown(&mut out, c);
+            out.push_str(&shown(c));
         }
         for byte in chunk.invalid() {
             out.push_str(&format!("\\x{byte:02X}"));

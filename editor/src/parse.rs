@@ -119,16 +119,23 @@ pub fn parse_typed(line: &str) -> Result<Vec<Typed>, EditError> {
 /// The most characters of typed text a message quotes; longer text is cut with `…`.
 pub const QUOTE_CHARS: usize = 40;
 
-/// Typed text for a message: cut after `QUOTE_CHARS` characters with `…(N characters)`, and
-/// control or invisible characters shown as `\u{..}`, so a message stays one short line.
+/// Typed text for a message: control or invisible characters shown as `\u{..}`, cut once
+/// `QUOTE_CHARS` characters are shown, with `…(N characters)`, so a message stays one short line.
 pub fn cut(s: &str) -> String {
     let mut out = String::new();
-    for (n, c) in s.chars().enumerate() {
-        if n == QUOTE_CHARS {
+    let mut width = 0;
+    for c in s.chars() {
+        let shown = if invisible(c) {
+            format!("\\u{{{:x}}}", c as u32)
+        } else {
+            c.to_string()
+        };
+        width += shown.chars().count();
+        if width > QUOTE_CHARS {
             out.push_str(&format!("…({} characters)", s.chars().count()));
             break;
         }
-        push_shown(&mut out, c);
+        out.push_str(&shown);
     }
     out
 }
@@ -138,14 +145,6 @@ fn invisible(c: char) -> bool {
         && (c.is_control()
             || c.is_whitespace()
             || matches!(c, '\u{feff}' | '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{206f}'))
-}
-
-fn push_shown(out: &mut String, c: char) {
-    if invisible(c) {
-        out.push_str(&format!("\\u{{{:x}}}", c as u32));
-    } else {
-        out.push(c);
-    }
 }
 
 /// A command letter for a message: `'Q'`, or `U+0000` for an invisible character.
@@ -298,6 +297,14 @@ mod tests {
         assert!(r.len() < 200, "{r}");
         assert!(r.contains("…(100000 characters)"), "{r}");
         assert_eq!(cut("a\u{7}b"), "a\\u{7}b");
+        // Found by the fuzz command (editor:0x16ac78ff448fc923): escapes counted as one
+        // character each made a 700-character message; the cut counts what is shown.
+        let mut b = crate::Buffer::from_text("x\n");
+        let line = format!("S{}", "\u{200b}\n\t".repeat(150));
+        let e = b.execute(&line, &crate::ExecOptions::default()).unwrap_err();
+        assert!(e.to_string().len() < 200, "{e}");
+        let shown = cut(&"\u{200b}".repeat(100));
+        assert_eq!(shown, format!("{}…(100 characters)", "\\u{200b}".repeat(5)));
     }
 
     #[test]
