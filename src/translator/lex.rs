@@ -94,6 +94,22 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
                 i += 1;
             }
+            // No keyword starts with E, so a number followed by E is written with an exponent.
+            if chars.get(i).is_some_and(|e| matches!(e, 'e' | 'E')) {
+                let mut end = i + 1;
+                if chars.get(end).is_some_and(|c| matches!(c, '+' | '-')) {
+                    end += 1;
+                }
+                while end < chars.len() && chars[end].is_ascii_alphanumeric() {
+                    end += 1;
+                }
+                let s: String = chars[start..end].iter().collect();
+                return Err(TranslateError {
+                    line,
+                    col,
+                    message: number(&s).err().unwrap_or_default(),
+                });
+            }
             let s: String = chars[start..i].iter().collect();
             let v = number(&s).map_err(|message| TranslateError { line, col, message })?;
             out.push(Token {
@@ -189,5 +205,15 @@ mod tests {
         assert!(scan(&big, 1, &mut v).is_err());
         let e = scan("GD, 1000000001, 0, 0", 1, &mut v).unwrap_err();
         assert!(e.message.contains("too large"), "{e}");
+        let e = scan("GO, 1e5, 0, 0", 1, &mut v).unwrap_err();
+        assert_eq!(
+            (e.col, e.message.as_str()),
+            (
+                5,
+                "'1e5' is not a number (digits with at most one decimal point, no exponent)"
+            )
+        );
+        let e = scan("GO, 2.5E-3, 0, 0", 1, &mut v).unwrap_err();
+        assert!(e.message.starts_with("'2.5E-3' is not a number"), "{e}");
     }
 }
