@@ -301,7 +301,9 @@ mod tests {
         // character each made a 700-character message; the cut counts what is shown.
         let mut b = crate::Buffer::from_text("x\n");
         let line = format!("S{}", "\u{200b}\n\t".repeat(150));
-        let e = b.execute(&line, &crate::ExecOptions::default()).unwrap_err();
+        let e = b
+            .execute(&line, &crate::ExecOptions::default())
+            .unwrap_err();
         assert!(e.to_string().len() < 200, "{e}");
         let shown = cut(&"\u{200b}".repeat(100));
         assert_eq!(shown, format!("{}…(100 characters)", "\\u{200b}".repeat(5)));
