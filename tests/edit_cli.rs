@@ -134,7 +134,11 @@ fn a_file_that_is_not_text_is_refused_unchanged() {
     fs::write(&p, b"\xff\xfe\x00").unwrap();
     let o = novanc(&["edit", p.to_str().unwrap(), "-c", "Ix", "--write"]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(s(&o.stderr).contains("is not a text file"));
+    assert!(
+        s(&o.stderr).contains("bin.ap:1:1: the file is not UTF-8 text: byte 0xFF at byte offset 0"),
+        "{}",
+        s(&o.stderr)
+    );
     assert_eq!(fs::read(&p).unwrap(), b"\xff\xfe\x00");
 }
 

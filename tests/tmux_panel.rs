@@ -160,11 +160,11 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
 
     // Edit Table B in PROGRAM REVISION.
     t.type_line("2L");
-    t.type_line("SPAT1$CNH6$NH8");
-    t.wait_for(&["PAT1 = DA1, NH8▌, P1", "cmd: SPAT1$CNH6$NH8", "│ok"], 10);
+    t.type_line("SPAT1$CNH6$NH5");
+    t.wait_for(&["PAT1 = DA1, NH5▌, P1", "cmd: SPAT1$CNH6$NH5", "│ok"], 10);
     // A failing command line changes nothing and says why.
     t.type_line("0LSxyz$");
-    t.wait_for(&["'xyz' not found", "PAT1 = DA1, NH8▌, P1"], 10);
+    t.wait_for(&["'xyz' not found", "PAT1 = DA1, NH5▌, P1"], 10);
 
     // A bad key: data keys in CONTINUOUS are refused.
     t.keys(&["M-1"]);

@@ -185,5 +185,5 @@ fn find(buf: &Buffer, from: usize, pat: &str) -> Result<usize, String> {
     }
     buf.text
         .find(from, pat)
-        .ok_or_else(|| format!("'{}' not found", shown(pat)))
+        .ok_or_else(|| format!("'{}' not found", crate::parse::cut(&shown(pat))))
 }

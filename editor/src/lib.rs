@@ -65,7 +65,7 @@ impl fmt::Display for EditError {
             f,
             "command {} '{}': {}",
             self.index + 1,
-            self.command,
+            parse::cut(&self.command),
             self.reason
         )
     }

@@ -31,7 +31,8 @@ pub fn parse_typed(line: &str) -> Result<Vec<Typed>, EditError> {
             command: chars[start..end.min(chars.len())].iter().collect(),
             reason,
         };
-        // Count: optional sign, optional digits.
+        // Count: optional sign, optional digits. The sign is read with the digits, so the
+        // whole 64-bit range is a count, -9223372036854775808 included.
         let mut sign = 1i64;
         let mut has_count = false;
         if chars[i] == '+' || chars[i] == '-' {
@@ -47,10 +48,22 @@ pub fn parse_typed(line: &str) -> Result<Vec<Typed>, EditError> {
         }
         let count = if i > digits_start {
             has_count = true;
-            let digits: String = chars[digits_start..i].iter().collect();
+            let mut digits: String = if sign < 0 { "-".into() } else { String::new() };
+            digits.extend(&chars[digits_start..i]);
             match digits.parse::<i64>() {
-                Ok(v) => v * sign,
-                Err(_) => return Err(fail(i, "count too large".to_string())),
+                Ok(v) => v,
+                Err(_) => {
+                    let what = if sign < 0 { "small" } else { "large" };
+                    return Err(fail(
+                        i,
+                        format!(
+                            "count too {what}: {} (counts go from {} to {})",
+                            cut(&digits),
+                            i64::MIN,
+                            i64::MAX
+                        ),
+                    ));
+                }
             }
         } else {
             sign
@@ -93,13 +106,53 @@ pub fn parse_typed(line: &str) -> Result<Vec<Typed>, EditError> {
                 return Err(fail(i - 1, "count without a command letter".to_string()));
             }
             other => {
-                return Err(fail(i, format!("unknown command '{other}'")));
+                return Err(fail(i, format!("unknown command {}", shown_char(other))));
             }
         };
         out.push(Typed {
             command,
             typed: chars[start..i].iter().collect(),
         });
+    }
+}
+
+/// The most characters of typed text a message quotes; longer text is cut with `…`.
+pub const QUOTE_CHARS: usize = 40;
+
+/// Typed text for a message: control or invisible characters shown as `\u{..}`, cut once
+/// `QUOTE_CHARS` characters are shown, with `…(N characters)`, so a message stays one short line.
+pub fn cut(s: &str) -> String {
+    let mut out = String::new();
+    let mut width = 0;
+    for c in s.chars() {
+        let shown = if invisible(c) {
+            format!("\\u{{{:x}}}", c as u32)
+        } else {
+            c.to_string()
+        };
+        width += shown.chars().count();
+        if width > QUOTE_CHARS {
+            out.push_str(&format!("…({} characters)", s.chars().count()));
+            break;
+        }
+        out.push_str(&shown);
+    }
+    out
+}
+
+fn invisible(c: char) -> bool {
+    c != ' '
+        && (c.is_control()
+            || c.is_whitespace()
+            || matches!(c, '\u{feff}' | '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{206f}'))
+}
+
+/// A command letter for a message: `'Q'`, or `U+0000` for an invisible character.
+fn shown_char(c: char) -> String {
+    if invisible(c) {
+        format!("U+{:04X}", c as u32)
+    } else {
+        format!("'{c}'")
     }
 }
 
@@ -217,10 +270,43 @@ mod tests {
         assert_eq!(parse("3IX").unwrap_err().reason, "I takes no count");
         assert_eq!(
             parse("99999999999999999999L").unwrap_err().reason,
-            "count too large"
+            "count too large: 99999999999999999999 (counts go from -9223372036854775808 to 9223372036854775807)"
         );
+        assert!(parse("-9223372036854775809L")
+            .unwrap_err()
+            .reason
+            .starts_with("count too small: -9223372036854775809"));
         assert!(parse("Cabc").unwrap_err().reason.contains("no $"));
         assert_eq!(parse("C$x").unwrap_err().reason, "search text is empty");
+    }
+
+    #[test]
+    fn the_whole_64_bit_range_is_a_count() {
+        assert_eq!(
+            parse("-9223372036854775808M 9223372036854775807L -0D").unwrap(),
+            vec![Command::M(i64::MIN), Command::L(i64::MAX), Command::D(0)]
+        );
+    }
+
+    #[test]
+    fn messages_cut_long_text_and_show_control_characters() {
+        let e = parse("\u{0}").unwrap_err();
+        assert_eq!(e.reason, "unknown command U+0000");
+        let long = format!("{}L", "9".repeat(100_000));
+        let r = parse(&long).unwrap_err().reason;
+        assert!(r.len() < 200, "{r}");
+        assert!(r.contains("…(100000 characters)"), "{r}");
+        assert_eq!(cut("a\u{7}b"), "a\\u{7}b");
+        // Found by the fuzz command (editor:0x16ac78ff448fc923): escapes counted as one
+        // character each made a 700-character message; the cut counts what is shown.
+        let mut b = crate::Buffer::from_text("x\n");
+        let line = format!("S{}", "\u{200b}\n\t".repeat(150));
+        let e = b
+            .execute(&line, &crate::ExecOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().len() < 200, "{e}");
+        let shown = cut(&"\u{200b}".repeat(100));
+        assert_eq!(shown, format!("{}…(100 characters)", "\\u{200b}".repeat(5)));
     }
 
     #[test]

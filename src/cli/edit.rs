@@ -57,9 +57,9 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(b) => b,
         Err(e) => return fail(format!("cannot read {file}: {e}")),
     };
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(_) => return fail(format!("{file} is not a text file (UTF-8)")),
+    let text = match crate::input_text::decode(&bytes) {
+        Ok(t) => t.to_string(),
+        Err(e) => return fail(format!("{file}:{e}")),
     };
     let mut buf = Buffer::from_text(&text);
     let exec = ExecOptions::default();

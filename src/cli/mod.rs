@@ -28,6 +28,25 @@ usage:
 Each subcommand has --help.
 ";
 
+/// Runs the command line from the process's arguments, which may not be UTF-8: an argument that
+/// is not is refused as a usage error (exit 2) naming it, with its bad bytes shown as `\xHH`.
+pub fn main_os(args: impl IntoIterator<Item = std::ffi::OsString>) -> i32 {
+    use std::os::unix::ffi::OsStrExt;
+    let mut argv = Vec::new();
+    for (i, a) in args.into_iter().enumerate() {
+        match a.into_string() {
+            Ok(s) => argv.push(s),
+            Err(os) => {
+                return usage_error(&format!(
+                    "argument {i} '{}' is not UTF-8 text; novanc takes its arguments, file names included, as UTF-8 (rename the file)",
+                    crate::input_text::escape_bytes(os.as_bytes())
+                ))
+            }
+        }
+    }
+    main(argv)
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main(argv: Vec<String>) -> i32 {
     let rest = argv.get(1..).unwrap_or(&[]);

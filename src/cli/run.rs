@@ -81,9 +81,9 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(m) => m,
         Err(e) => return fail(&e),
     };
-    let source = match std::fs::read_to_string(&prog) {
+    let source = match super::translate::read(&prog) {
         Ok(s) => s,
-        Err(e) => return fail(&format!("novanc: cannot read {prog}: {e}")),
+        Err(e) => return fail(&e),
     };
     super::signals::install();
     let recorder = match args.value("--record") {

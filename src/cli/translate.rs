@@ -3,9 +3,10 @@
 
 use super::args::{Args, Opt};
 use super::fail;
+use crate::block::iso::{write_line, END, PREAMBLE};
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
-use crate::translator::{iso_program, translate_all};
+use crate::translator::Translator;
 use std::io::Write;
 
 const HELP: &str = "\
@@ -36,8 +37,10 @@ const OPTS: [Opt; 4] = [
     Opt::flag("-h"),
 ];
 
-fn read(path: &str) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|e| format!("novanc: cannot read {path}: {e}"))
+/// Reads a program, tape or table file as PROGRAM READ reads a tape: UTF-8 (a bad byte is named
+/// by line, column and byte offset), CR and CR LF as line ends.
+pub fn read(path: &str) -> Result<String, String> {
+    crate::input_text::read_tape_file(path)
 }
 
 /// Loads the magazine from the given tape and T-code files, or the embedded samples.
@@ -61,6 +64,32 @@ pub fn load_magazine(
     let table =
         parse_tcodes(&tc_text, &tc_name, settings.magazine_capacity).map_err(|e| e.to_string())?;
     Ok(Magazine::load(table, &tape))
+}
+
+/// The printed program of `source`, or its first error. It is built as text statement by
+/// statement, each statement's blocks dropped once printed, so the memory it takes is about
+/// that of the text it prints (docs/language.md, *Limits*).
+pub fn iso_text(
+    source: &str,
+    magazine: Magazine,
+    settings: &MachineSettings,
+) -> Result<String, crate::translator::TranslateError> {
+    let mut out = String::new();
+    out.push_str(PREAMBLE);
+    out.push('\n');
+    let mut last_m = None;
+    for st in Translator::new(source, magazine, settings.clone(), [0, 0, 0]) {
+        for b in &st?.blocks {
+            write_line(&mut out, b, settings);
+            out.push('\n');
+            last_m = b.m;
+        }
+    }
+    if last_m != Some(30) {
+        out.push_str(END);
+        out.push('\n');
+    }
+    Ok(out)
 }
 
 /// Runs `novanc translate`; returns the exit code.
@@ -87,15 +116,13 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
-    match translate_all(&source, &magazine, &settings, [0, 0, 0]) {
-        Ok(stmts) => {
-            let out = iso_program(&stmts, &settings);
-            let mut stdout = std::io::stdout().lock();
-            if stdout.write_all(out.as_bytes()).is_err() {
-                return 1;
-            }
-            0
-        }
-        Err(e) => fail(&format!("{prog}:{e}")),
+    let out = match iso_text(&source, magazine, &settings) {
+        Ok(t) => t,
+        Err(e) => return fail(&format!("{prog}:{e}")),
+    };
+    let mut stdout = std::io::stdout().lock();
+    if stdout.write_all(out.as_bytes()).is_err() {
+        return 1;
     }
+    0
 }

@@ -2,6 +2,7 @@
 //! with `;` comments (patent Fig. 8: a 5-digit tool number heads each CR-separated record).
 
 use super::{ToolKind, ToolRecord};
+use crate::input_text::{number as language_number, quote, tape_lines};
 use std::collections::HashSet;
 use std::fmt;
 
@@ -24,7 +25,10 @@ impl fmt::Display for TapeError {
 
 impl std::error::Error for TapeError {}
 
-/// Parses one record (no comment, not blank). The error is the message alone.
+/// Parses one record (no comment, not blank). The error is the message alone. Each number is
+/// read as the part-program language reads it (`input_text::number`: digits with at most
+/// one decimal point, no exponent, at most 1,000,000,000), so a tape holds nothing a part
+/// program could not write.
 pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     let text = text.split(';').next().unwrap_or("");
     let fields: Vec<&str> = text.split_whitespace().collect();
@@ -36,7 +40,7 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     }
     let no = fields[0];
     if no.is_empty() || no.len() > 5 || !no.bytes().all(|b| b.is_ascii_digit()) {
-        return Err(format!("tool number '{no}' is not 1 to 5 digits"));
+        return Err(format!("tool number {} is not 1 to 5 digits", quote(no)));
     }
     let number: u32 = no.parse().map_err(|_| format!("bad tool number '{no}'"))?;
     if number == 0 {
@@ -44,8 +48,8 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     }
     let kind = ToolKind::from_code(fields[1]).ok_or_else(|| {
         format!(
-            "unknown tool kind '{}' (kinds: DR CD TP RM EM FM BB)",
-            fields[1]
+            "unknown tool kind {} (kinds: DR CD TP RM EM FM BB)",
+            quote(fields[1])
         )
     })?;
     let names = [
@@ -59,12 +63,7 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     let mut v = [0.0f64; 6];
     for (i, name) in names.iter().enumerate() {
         let s = fields[2 + i];
-        let x: f64 = s
-            .parse()
-            .map_err(|_| format!("{name} '{s}' is not a number"))?;
-        if !x.is_finite() {
-            return Err(format!("{name} '{s}' is not a number"));
-        }
+        let x = language_number(s).map_err(|e| format!("{name} {e}"))?;
         if x < 0.0 {
             return Err(format!("{name} {s} is negative"));
         }
@@ -85,11 +84,13 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     })
 }
 
-/// Parses a whole tape. Any bad record fails the whole tape, with the first error.
+/// Parses a whole tape. Any bad record fails the whole tape, with the first error. Records end
+/// with CR, CR LF or LF (the patent's tape separates records with CR); a leading byte order
+/// mark is skipped. Numbers are read as the part-program language reads them.
 pub fn parse_tape(text: &str, file: &str) -> Result<Vec<ToolRecord>, TapeError> {
     let mut out = Vec::new();
     let mut seen = HashSet::new();
-    for (i, raw) in text.lines().enumerate() {
+    for (i, raw) in tape_lines(text).enumerate() {
         let line = (i + 1) as u32;
         let body = raw.split(';').next().unwrap_or("").trim();
         if body.is_empty() {
@@ -127,14 +128,14 @@ pub fn format_record(r: &ToolRecord) -> String {
     )
 }
 
-/// A number with at least one decimal, and no more than it needs (up to 3).
+/// A number with at least one decimal and no more than it needs to read back as the same
+/// value: `150.0`, `6.2`, `0.0004` (a tape value with more than 3 decimals is kept, not rounded,
+/// so the tool file, which is kept as this text, holds what the tape held).
 fn num(x: f64) -> String {
-    let s = format!("{x:.3}");
-    let s = s.trim_end_matches('0');
-    if s.ends_with('.') {
-        format!("{s}0")
+    if x.fract() == 0.0 {
+        format!("{x:.1}")
     } else {
-        s.to_string()
+        format!("{x}")
     }
 }
 
@@ -149,6 +150,19 @@ mod tests {
         assert_eq!(r.kind, ToolKind::Drill);
         assert_eq!(r.set_length, 150.0);
         assert_eq!(parse_record(&format_record(&r)).unwrap(), r);
+    }
+
+    /// Found by the fuzz command (tape:0xd4262d85334ed688): a diameter of 0.0004 printed as
+    /// `0.0`, which does not read back, so the tool file could not be revised.
+    #[test]
+    fn every_value_prints_so_that_it_reads_back_the_same() {
+        let r = parse_record("00001 CD 0.0004 1453 369.119 139.47 145.5049 0.1234567").unwrap();
+        let line = format_record(&r);
+        assert_eq!(
+            line,
+            "00001  CD   0.0004   1453.0  369.119  139.47  145.5049  0.1234567"
+        );
+        assert_eq!(parse_record(&line).unwrap(), r);
     }
 
     #[test]

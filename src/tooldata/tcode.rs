@@ -79,7 +79,7 @@ impl TCodeTable {
 /// Parses a T-code table file for a magazine of `capacity` pockets.
 pub fn parse_tcodes(text: &str, file: &str, capacity: u32) -> Result<TCodeTable, TapeError> {
     let mut table = TCodeTable::new(capacity);
-    for (i, raw) in text.lines().enumerate() {
+    for (i, raw) in crate::input_text::tape_lines(text).enumerate() {
         let line = (i + 1) as u32;
         let err = |message: String| TapeError {
             file: file.to_string(),
@@ -92,20 +92,29 @@ pub fn parse_tcodes(text: &str, file: &str, capacity: u32) -> Result<TCodeTable,
         }
         let fields: Vec<&str> = body.split_whitespace().collect();
         if fields.len() != 2 {
-            return Err(err(format!("expected 'Tnn TOOLNO', found '{body}'")));
+            return Err(err(format!(
+                "expected 'Tnn TOOLNO', found {}",
+                crate::input_text::quote(body)
+            )));
         }
         let t = fields[0]
             .strip_prefix(['T', 't'])
+            .filter(|d| d.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|d| d.parse::<u32>().ok())
-            .ok_or_else(|| err(format!("'{}' is not a T code like T05", fields[0])))?;
+            .ok_or_else(|| {
+                err(format!(
+                    "{} is not a T code like T05",
+                    crate::input_text::quote(fields[0])
+                ))
+            })?;
         let n = fields[1]
             .parse::<u32>()
             .ok()
             .filter(|_| fields[1].len() <= 5 && fields[1].bytes().all(|b| b.is_ascii_digit()))
             .ok_or_else(|| {
                 err(format!(
-                    "'{}' is not a tool number of 1 to 5 digits",
-                    fields[1]
+                    "{} is not a tool number of 1 to 5 digits",
+                    crate::input_text::quote(fields[1])
                 ))
             })?;
         if table.tool_in(t).is_some() {

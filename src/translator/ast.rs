@@ -224,8 +224,8 @@ pub enum Stmt {
         r: (f64, u32),
         /// SA, the first hole's angle, degrees.
         sa: f64,
-        /// IA, the angle between holes, degrees, if given.
-        ia: Option<f64>,
+        /// IA, the angle between holes, degrees, with its column, if given.
+        ia: Option<(f64, u32)>,
     },
     /// `MACn = designations`.
     Mac {

@@ -7,9 +7,9 @@
 //! regard to case. `;` ends the statement (the rest is a comment).
 
 use super::TranslateError;
+use crate::input_text::{describe_char, quote};
 
-/// The largest number a statement may hold (mm, degrees, rpm, seconds).
-pub const MAX_NUMBER: f64 = 1e9;
+pub use crate::input_text::{number, MAX_NUMBER};
 
 /// What a token is.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,7 +43,7 @@ impl Tok {
     /// How the token reads in a message.
     pub fn describe(&self) -> String {
         match self {
-            Tok::Word(w) => format!("'{w}'"),
+            Tok::Word(w) => quote(w),
             Tok::Num(n) => format!("the number {n}"),
             Tok::Comma => "','".to_string(),
             Tok::Slash => "'/'".to_string(),
@@ -91,29 +91,27 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
         if starts_number {
             let start = i;
             i += 1;
-            let mut dots = usize::from(c == '.');
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                dots += usize::from(chars[i] == '.');
                 i += 1;
             }
+            // No keyword starts with E, so a number followed by E is written with an exponent.
+            if chars.get(i).is_some_and(|e| matches!(e, 'e' | 'E')) {
+                let mut end = i + 1;
+                if chars.get(end).is_some_and(|c| matches!(c, '+' | '-')) {
+                    end += 1;
+                }
+                while end < chars.len() && chars[end].is_ascii_alphanumeric() {
+                    end += 1;
+                }
+                let s: String = chars[start..end].iter().collect();
+                return Err(TranslateError {
+                    line,
+                    col,
+                    message: number(&s).err().unwrap_or_default(),
+                });
+            }
             let s: String = chars[start..i].iter().collect();
-            let v: f64 = match s.parse::<f64>() {
-                Ok(v) if dots <= 1 && v.abs() <= MAX_NUMBER => v,
-                Ok(v) if v.is_finite() && dots <= 1 => {
-                    return Err(TranslateError {
-                        line,
-                        col,
-                        message: format!("{s} is too large (numbers go up to {MAX_NUMBER})"),
-                    })
-                }
-                _ => {
-                    return Err(TranslateError {
-                        line,
-                        col,
-                        message: format!("'{s}' is not a number"),
-                    })
-                }
-            };
+            let v = number(&s).map_err(|message| TranslateError { line, col, message })?;
             out.push(Token {
                 tok: Tok::Num(v),
                 col,
@@ -143,7 +141,7 @@ pub fn scan(text: &str, line: u32, out: &mut Vec<Token>) -> Result<(), Translate
                 return Err(TranslateError {
                     line,
                     col,
-                    message: format!("'{c}' is not part of the language"),
+                    message: format!("{} is not part of the language", describe_char(c)),
                 })
             }
         };
@@ -207,5 +205,15 @@ mod tests {
         assert!(scan(&big, 1, &mut v).is_err());
         let e = scan("GD, 1000000001, 0, 0", 1, &mut v).unwrap_err();
         assert!(e.message.contains("too large"), "{e}");
+        let e = scan("GO, 1e5, 0, 0", 1, &mut v).unwrap_err();
+        assert_eq!(
+            (e.col, e.message.as_str()),
+            (
+                5,
+                "'1e5' is not a number (digits with at most one decimal point, no exponent)"
+            )
+        );
+        let e = scan("GO, 2.5E-3, 0, 0", 1, &mut v).unwrap_err();
+        assert!(e.message.starts_with("'2.5E-3' is not a number"), "{e}");
     }
 }

@@ -37,6 +37,25 @@ pub fn restore_text(line: u32) -> String {
     format!("(SEARCH: restore for line {line})")
 }
 
+pub use defs::{MAX_COORD_MM, MAX_DESIGNATIONS, MAX_HOLES};
+pub use lex::MAX_NUMBER;
+
+/// The most characters a source line may hold, comment included (docs/language.md, *Limits*).
+pub const MAX_LINE_CHARS: usize = 10_000;
+
+/// The most blocks one statement may generate (B1 holds a whole statement's blocks).
+pub const MAX_BLOCKS: usize = 1_000_000;
+
+/// The longest dwell `DW`, seconds.
+pub const MAX_DWELL_S: f64 = 1_000.0;
+
+/// The slowest cutting feed, mm/min, from `FR` or from the tool file: slower would print as
+/// `F0` and take a pulse core an unbounded time.
+pub const MIN_FEED: f64 = 1.0;
+
+/// The most pecks of a `DH` cycle per hole.
+pub const MAX_PECKS: f64 = 1_000.0;
+
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
 pub struct Translator {
@@ -100,8 +119,14 @@ impl Translator {
             seq: 0,
         };
         Translator {
+            // A leading byte order mark is not part of the text (PROGRAM READ keeps it, and a
+            // file from some editors starts with one); columns count from after it.
+            next_byte: if source.starts_with(crate::input_text::BOM) {
+                crate::input_text::BOM.len_utf8()
+            } else {
+                0
+            },
             source,
-            next_byte: 0,
             line: 0,
             magazine,
             settings,
@@ -430,6 +455,14 @@ fn cutting(
         }
     };
     let feed = positive(&m.fr, "the feed rate FR")?.unwrap_or(rec.feed);
+    if let Some((f, col)) = m.fr {
+        if f < MIN_FEED {
+            return Err(o.err(
+                col,
+                format!("the feed rate FR{f} is below the slowest feed, {MIN_FEED} mm/min"),
+            ));
+        }
+    }
     let speed = positive(&m.ss, "the spindle speed SS")?.unwrap_or(rec.speed);
     if !(1.0..=MAX_SPEED).contains(&speed.round()) {
         let col = col_of(&m.ss).unwrap_or(tcol);
@@ -442,6 +475,14 @@ fn cutting(
         return Err(o.err(
             tcol,
             format!("tool {tool:05} has no feed rate in the tool file; give FR"),
+        ));
+    }
+    if feed < MIN_FEED {
+        return Err(o.err(
+            tcol,
+            format!(
+                "tool {tool:05} has a feed rate of {feed} mm/min in the tool file, below the slowest feed, {MIN_FEED} mm/min; give FR or revise the tool"
+            ),
         ));
     }
     let scl = match m.scl {
@@ -471,12 +512,21 @@ fn cutting(
         Some((x, col)) if x.is_nan() || x < 0.0 => {
             return Err(o.err(col, format!("the dwell DW must not be negative, not {x}")))
         }
+        Some((x, col)) if x > MAX_DWELL_S => {
+            return Err(o.err(
+                col,
+                format!("the dwell DW{x} is longer than the longest dwell, {MAX_DWELL_S} s"),
+            ))
+        }
         v => v.map(|(x, _)| x),
     };
     let peck = positive(&m.dh, "the peck step DH")?;
     if let (Some(step), Some((_, col))) = (peck, m.dh) {
-        if (depth + scl) / step > 1000.0 {
-            return Err(o.err(col, format!("DH{step} would make more than 1000 pecks")));
+        if (depth + scl) / step > MAX_PECKS {
+            return Err(o.err(
+                col,
+                format!("DH{step} would make more than {MAX_PECKS} pecks"),
+            ));
         }
     }
     let cycle = Cycle {
@@ -500,18 +550,15 @@ fn cutting(
     tables.resolve(&c.desigs, o.line, items)?;
     let mut origin = V3::zeros();
     let mut elems: Vec<Elem> = Vec::new();
-    for it in items.iter() {
+    tables.each(items, |it, col| {
         match it {
             Item::Origin(v) => origin = *v,
-            Item::Point(p, col) => elems.push(Elem::Pt {
-                p: origin + p,
-                col: *col,
-            }),
-            Item::Holes(h, col) => elems.extend(h.iter().map(|p| Elem::Pt { p: *p, col: *col })),
-            Item::Circle(ci, z, col) => {
+            Item::Point(p, _) => elems.push(Elem::Pt { p: origin + p, col }),
+            Item::Holes(h, _) => elems.extend((0..h.k).map(|i| Elem::Pt { p: h.hole(i), col })),
+            Item::Circle(ci, z, _) => {
                 if kind != CycleKind::Mil {
                     return Err(o.err(
-                        *col,
+                        col,
                         format!(
                             "a circle is a milling contour; {} machines points",
                             kind.word()
@@ -521,11 +568,13 @@ fn cutting(
                 elems.push(Elem::Circle {
                     c: origin + V3::new(ci.c.x, ci.c.y, *z),
                     r: ci.r,
-                    col: *col,
+                    col,
                 });
             }
+            Item::Macro(..) => {}
         }
-    }
+        Ok(())
+    })?;
     if elems.is_empty() {
         return Err(o.err(
             tcol,
@@ -538,16 +587,33 @@ fn cutting(
     o.col = tcol;
     cycle::tool_change(o, cycle.tcode, cycle.set);
     if kind == CycleKind::Mil {
-        return mill::mill(o, &cycle, side, radius, &elems);
+        mill::mill(o, &cycle, side, radius, &elems)?;
+        return too_many_blocks(o);
     }
     for e in &elems {
         if let Elem::Pt { p, col } = *e {
             o.col = col;
             let (x, y) = (o.p(p.x), o.p(p.y));
             cycle::hole(o, &cycle, x, y, p.z);
+            too_many_blocks(o)?;
         }
     }
     Ok(())
+}
+
+/// The error once a statement has generated more than `MAX_BLOCKS` blocks, charged to the
+/// designation being machined. Checked after each hole, so at most one hole's blocks
+/// (a few thousand with pecks) are made past the limit.
+fn too_many_blocks(o: &Out) -> Result<(), TranslateError> {
+    if o.blocks.len() <= MAX_BLOCKS {
+        return Ok(());
+    }
+    Err(o.err(
+        o.col,
+        format!(
+            "this statement makes more than {MAX_BLOCKS} blocks (the most one statement may make); split the work over several statements"
+        ),
+    ))
 }
 
 impl Iterator for Translator {
@@ -580,6 +646,19 @@ impl Iterator for Translator {
             self.next_byte += used;
             self.line += 1;
             let raw = raw.strip_suffix('\r').unwrap_or(raw);
+            if raw.len() > MAX_LINE_CHARS {
+                let n = raw.chars().count();
+                if n > MAX_LINE_CHARS {
+                    self.done = true;
+                    return Some(Err(TranslateError {
+                        line: self.line,
+                        col: MAX_LINE_CHARS as u32 + 1,
+                        message: format!(
+                            "the line is {n} characters long; a line holds at most {MAX_LINE_CHARS} (split the statement: a MAC can hold part of a list)"
+                        ),
+                    }));
+                }
+            }
             let code = raw.split(';').next().unwrap_or("");
             if code.trim().is_empty() {
                 continue;

@@ -308,7 +308,9 @@ impl Parser<'_> {
                     .is_some(),
                 "R" => r.replace((self.num("a radius after R")?.0, col)).is_some(),
                 "SA" => sa.replace(self.num("an angle after SA")?.0).is_some(),
-                "IA" => ia.replace(self.num("an angle after IA")?.0).is_some(),
+                "IA" => ia
+                    .replace((self.num("an angle after IA")?.0, col))
+                    .is_some(),
                 _ => {
                     return Err(self.err_at(
                         col,

@@ -1,0 +1,37 @@
+//! What the fuzz command (`tests/fuzz/main.rs`) found, each as a regression test with the seed
+//! that found it. Findings about the language's limits and messages are in
+//! `tests/translate_limits.rs` and `tests/bad_input.rs`.
+
+use novanc::store::{Stores, Target};
+
+fn fresh(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("novanc-findings-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// tape:0xd4262d85334ed688: a tape value with more than three decimals (diameter 0.0004) was
+/// printed in the tool file as `0.0`, which is not a valid record, so after TOOL DATA READ no
+/// revision of the tool file was accepted, and values were silently rounded.
+#[test]
+fn a_tape_value_with_many_decimals_is_kept_and_the_tool_file_stays_revisable() {
+    let d = fresh("decimals");
+    let (mut s, _) = Stores::open(&d, 24).unwrap();
+    let tape = "00106  DR  0.0004  150.0  40.0  1200  120.1234  3.0\n";
+    s.tool_read(tape, "t.tt").unwrap();
+    let t02 = s.magazine().tools.get(2).cloned().unwrap();
+    assert_eq!((t02.diameter, t02.feed), (0.0004, 120.1234));
+    assert!(s
+        .buffer(Target::ToolFile)
+        .text()
+        .contains("T02 00106  DR   0.0004"));
+    // Revise another tool: the whole tool file is validated, T02's line included.
+    s.edit(Target::ToolFile, "S00610$C400.0$410.0", None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.magazine().tools.get(1).unwrap().speed, 410.0);
+    assert_eq!(s.magazine().tools.get(2).unwrap().diameter, 0.0004);
+    drop(s);
+    let (s, _) = Stores::open(&d, 24).unwrap();
+    assert_eq!(s.magazine().tools.get(2).cloned().unwrap(), t02);
+    let _ = std::fs::remove_dir_all(&d);
+}
