@@ -96,3 +96,45 @@ fn usage_errors_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--rows 2"));
 }
+
+/// Runs a script given as text on a fresh state; its output and exit code.
+fn script_text(name: &str, text: &str) -> (Option<i32>, String, String) {
+    let d = temp_dir(name);
+    let script = d.join("s.script");
+    std::fs::write(&script, text).unwrap();
+    let out = novanc(&["script", script.to_str().unwrap()]);
+    let _ = std::fs::remove_dir_all(&d);
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Issue 15, defect 3: STOP right after START holds the run; nothing runs to its end.
+#[test]
+fn stop_right_after_start_holds_the_run() {
+    let (code, out, err) = script_text("stopstart", "op AUTO\nstart\nstop\nwait\nshow\n");
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("feed hold: press START to resume"), "{out}");
+    assert!(out.contains("HOLD"), "{out}");
+    assert!(!out.contains("program end"), "{out}");
+    assert!(!out.contains("not running"), "{out}");
+}
+
+/// Issue 15, defect 6: a wait that can never end (override 0 with a feed in progress) stops the
+/// script with a clear error at once, instead of sleeping forever.
+#[test]
+fn a_wait_at_override_zero_ends_with_an_error() {
+    let t = std::time::Instant::now();
+    let (code, _out, err) = script_text(
+        "ovr0",
+        "op AUTO\nstart\nwait block 5\noverride 0\nwait\nshow\n",
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("wait: the machine stands still at feed override 0 %; raise the override"),
+        "{err}"
+    );
+    assert!(t.elapsed().as_secs() < 30);
+}

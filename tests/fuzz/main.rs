@@ -1,6 +1,6 @@
 //! The fuzz command of issue 15 (README, *Limits*): generated part programs (by grammar and by
-//! mutation of `programs/*.ap`), tool tapes, T-code tables and editor command lines (on a
-//! buffer and on the stores), each case checked for no panic, no case slower than 5 s, no heap
+//! mutation of `programs/*.ap`), tool tapes, T-code tables, editor command lines (on a buffer
+//! and on the stores), panel scripts run on a console, and damaged state directories, each case checked for no panic, no case slower than 5 s, no heap
 //! growth over 256 MB, the messages and limits of docs/language.md, and no store changed by a
 //! refused input.
 //!
@@ -13,10 +13,11 @@
 //! CI runs `fuzz_briefly`, a 3-second budget from a fixed seed (`NOVANC_FUZZ_BRIEF_SECS`).
 //! Each finding becomes a regression test (`tests/translate_limits.rs`, `tests/bad_input.rs`).
 //!
-//! To add a family (panel scripts, damaged state directories), write a function
+//! To add a family, write a function
 //! `fn(&mut Rng, &Ctx) -> Result<(), String>` that generates one case from the generator, calls
 //! `note` with its input and checks it, and add it to `FAMILIES`.
 
+mod console;
 mod editor;
 mod harness;
 mod programs;
@@ -54,6 +55,14 @@ const FAMILIES: &[Family] = &[
     Family {
         name: "stores",
         case: editor::stores_case,
+    },
+    Family {
+        name: "panel-script",
+        case: console::script_case,
+    },
+    Family {
+        name: "state-damage",
+        case: console::damage_case,
     },
 ];
 
