@@ -394,14 +394,27 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 }
                 None => {
                     for (i, l) in w.lines.iter().enumerate() {
-                        if i == w.pointer_row {
-                            let mut chars: Vec<char> = l.chars().collect();
-                            let at = w.pointer_col.min(chars.len());
-                            chars.insert(at, POINTER);
-                            p.body
-                                .push(format!(">{}", chars.iter().collect::<String>()));
-                        } else {
-                            p.body.push(format!(" {l}"));
+                        let mut chars: Vec<char> = l.chars().collect();
+                        let pointer = (i == w.pointer_row).then_some(w.pointer_col);
+                        // A line cut at either side says so, where the pointer is not.
+                        if w.scrolled && !chars.is_empty() && pointer != Some(0) {
+                            chars[0] = CUT;
+                        }
+                        let last = chars.len().saturating_sub(1);
+                        if w.more.get(i) == Some(&true) && pointer.is_none_or(|c| c < last) {
+                            if let Some(ch) = chars.last_mut() {
+                                *ch = CUT;
+                            }
+                        }
+                        match pointer {
+                            Some(at) => {
+                                chars.insert(at.min(chars.len()), POINTER);
+                                p.body
+                                    .push(format!(">{}", chars.iter().collect::<String>()));
+                            }
+                            None => p
+                                .body
+                                .push(format!(" {}", chars.iter().collect::<String>())),
                         }
                     }
                 }

@@ -20,6 +20,10 @@ pub struct TextWindow {
     pub first_line: usize,
     /// Lines in the whole buffer.
     pub line_count: usize,
+    /// The lines are shown from a later column (scrolled sideways to the pointer).
+    pub scrolled: bool,
+    /// For each line shown, whether it goes on past the display.
+    pub more: Vec<bool>,
 }
 
 /// What TOOL DATA READ did, in the operator's words.
@@ -147,12 +151,30 @@ impl Memory {
     pub fn window(&self, t: Target, rows: usize, cols: usize) -> TextWindow {
         let b = self.stores.buffer(t);
         let v = b.view(rows, cols);
+        let count = b.line_count();
+        let more = v
+            .lines
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let n = v.first_line + i;
+                let start = b.line_start(n);
+                let end = if n + 1 >= count {
+                    b.len()
+                } else {
+                    b.line_start(n + 1)
+                };
+                v.first_col + l.chars().count() < end.saturating_sub(start)
+            })
+            .collect();
         TextWindow {
             lines: v.lines,
             pointer_row: v.pointer_row,
             pointer_col: v.pointer_col,
             first_line: v.first_line,
-            line_count: b.line_count(),
+            line_count: count,
+            scrolled: v.first_col > 0,
+            more,
         }
     }
 

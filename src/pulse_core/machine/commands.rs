@@ -47,7 +47,7 @@ impl Machine {
                 self.hold = false;
                 self.estop = true;
                 self.spindle = 0;
-                self.alarm = Some("EMERGENCY STOP: press RESET".into());
+                self.alarm = Some("EMERGENCY STOP: pulses stopped; press RESET".into());
                 self.send_position();
             }
             Command::Override(p) => self.pending_override = Some(p.min(150)),
