@@ -127,7 +127,10 @@ fn s_searches_forward_inclusive() {
     ok(T, 0, "SN1", T, 2);
     ok(T, 0, "SN$SN", T, 8);
     fails(T, 1, "SN1", "command 1 'SN1': 'N1' not found");
-    fails(T, 0, "Sn1", "command 1 'Sn1': 'n1' not found");
+    // Letters match either case (TECO's default): the language has no case.
+    ok(T, 0, "Sn1", T, 2);
+    ok(T, 0, "Sx10", T, 13);
+    fails(T, 0, "Sn9", "command 1 'Sn9': 'n9' not found");
     fails(T, 21, "S*", "command 1 'S*': '*' not found");
     fails("", 0, "Sa", "command 1 'Sa': 'a' not found");
     fails(T, 0, "S$", "command 1 'S$': search text is empty");
@@ -142,7 +145,8 @@ fn c_substitutes_and_deletes() {
     ok(T, 0, "C*N2 X10$", "N1 G00\nN3 Y20\n", 6);
     ok(T, 0, "cG00$G01", "N1 G01\nN2 X10\nN3 Y20\n", 6);
     ok("aXb", 3, "-3MCX$", "ab", 1);
-    fails(T, 0, "cg00$G01", "command 1 'cg00$G01': 'g00' not found");
+    ok(T, 0, "cg00$G01", "N1 G01\nN2 X10\nN3 Y20\n", 6);
+    fails(T, 0, "cg09$G01", "command 1 'cg09$G01': 'g09' not found");
     fails(T, 0, "C$x", "command 1 'C$': search text is empty");
     fails(
         T,

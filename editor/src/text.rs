@@ -43,6 +43,37 @@ struct Chunk {
     eobs: usize,
 }
 
+/// The first place `pat` occurs in `hay`, ASCII letters matching either case. A match starts
+/// on a character boundary: the pattern's first byte is a whole ASCII character or a UTF-8
+/// lead byte, never a continuation byte.
+fn find_folded(hay: &[u8], pat: &[u8]) -> Option<usize> {
+    let (&first, _) = pat.split_first()?;
+    let last = hay.len().checked_sub(pat.len())?;
+    // A letter matches in either case: b | 0x20 is its lower case, and no other byte maps
+    // there. Any other first byte must match exactly.
+    let (mask, want) = if first.is_ascii_alphabetic() {
+        (0x20u8, first.to_ascii_lowercase())
+    } else {
+        (0, first)
+    };
+    let hit = |b: u8| (b | mask) == want;
+    const LANES: usize = 32;
+    let mut i = 0;
+    while i <= last {
+        let end = (i + LANES).min(last + 1);
+        // Whole lanes are looked at without an early exit, so the compiler can use vectors.
+        if hay[i..end].iter().fold(false, |acc, &b| acc | hit(b)) {
+            for j in i..end {
+                if hit(hay[j]) && hay[j..j + pat.len()].eq_ignore_ascii_case(pat) {
+                    return Some(j);
+                }
+            }
+        }
+        i = end;
+    }
+    None
+}
+
 /// Number of EOBs in some bytes.
 fn count_eobs(b: &[u8]) -> usize {
     b.iter().filter(|&&c| c == EOB_BYTE).count()
@@ -350,16 +381,18 @@ impl Text {
         }
     }
 
-    /// Start of the first occurrence of `pat` at or after `from`.
+    /// Start of the first occurrence of `pat` at or after `from`, ASCII letters matching
+    /// without regard to case (as TECO's search does by default; docs/editor.md).
     pub fn find(&self, from: usize, pat: &str) -> Option<usize> {
         if pat.is_empty() || from > self.len || self.chunks.is_empty() {
             return None;
         }
         let m = pat.len();
+        let fold = pat.bytes().any(|b| b.is_ascii_alphabetic());
         // A one-character pattern is searched as a char (a fast byte scan).
         let mut it = pat.chars();
         let single = match (it.next(), it.next()) {
-            (Some(ch), None) => Some(ch),
+            (Some(ch), None) if !fold => Some(ch),
             _ => None,
         };
         let place = self.locate(from);
@@ -369,6 +402,7 @@ impl Text {
             let c = &self.chunks[ci];
             let hit = match single {
                 Some(ch) => c.s[bo..].find(ch),
+                None if fold => find_folded(&c.s.as_bytes()[bo..], pat.as_bytes()),
                 None => c.s[bo..].find(pat),
             };
             if let Some(x) = hit {
@@ -387,7 +421,10 @@ impl Text {
                     let nb = next.s.as_bytes();
                     window.extend_from_slice(&nb[..need.min(nb.len())]);
                 }
-                if let Some(x) = window.windows(m).position(|w| w == pat.as_bytes()) {
+                if let Some(x) = window
+                    .windows(m)
+                    .position(|w| w.eq_ignore_ascii_case(pat.as_bytes()))
+                {
                     if x < tail {
                         return Some(before + c.chars_before(tail_start + x));
                     }

@@ -72,8 +72,13 @@ impl Model {
         s
     }
     fn find(&self, from: usize, pat: &[char]) -> Option<usize> {
-        (from..self.chars.len())
-            .find(|&i| i + pat.len() <= self.chars.len() && self.chars[i..i + pat.len()] == *pat)
+        (from..self.chars.len()).find(|&i| {
+            i + pat.len() <= self.chars.len()
+                && self.chars[i..i + pat.len()]
+                    .iter()
+                    .zip(pat)
+                    .all(|(a, b)| a.eq_ignore_ascii_case(b))
+        })
     }
     /// Runs one command; Ok(whether text changed).
     fn run(&mut self, c: &Command, ymax: Option<usize>, y: &mut String) -> Result<bool, ()> {
