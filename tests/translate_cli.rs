@@ -110,3 +110,56 @@ fn help_and_usage() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("cannot read /nonexistent/prog.ap"));
 }
+
+/// `--state DIR` translates the console's own memory (its selected program and tool file)
+/// without changing a byte of it.
+#[test]
+fn state_uses_the_consoles_memory_and_leaves_it_alone() {
+    use novanc::store::{Stores, Target};
+    let dir = std::env::temp_dir().join(format!("novanc-trstate-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    {
+        let (mut s, _) = Stores::open(&dir, 24).unwrap();
+        // T02's set length 150 -> 155 (TOOL DATA REVISION).
+        s.edit(Target::ToolFile, "1LS150.0$-5DI155.0", None)
+            .unwrap();
+    }
+    let files = |d: &std::path::Path| -> Vec<(String, Vec<u8>)> {
+        let mut v: Vec<_> = std::fs::read_dir(d)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .map(|e| {
+                (
+                    e.file_name().to_string_lossy().into_owned(),
+                    std::fs::read(e.path()).unwrap_or_default(),
+                )
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    let before = files(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "--state"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Drill 106 (T02) goes to tip -470: axis -470 + 155.
+    assert!(text.contains("G01 Z-315.000 F120"), "{text}");
+    assert!(!text.contains("G01 Z-320.000 F120"), "{text}");
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "NOSUCH", "--state"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("NOSUCH is neither a program in"));
+    assert_eq!(files(&dir), before, "the memory is read, never changed");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -15,6 +15,7 @@ use std::path::Path;
 const HELP: &str = "\
 usage: novanc run PROG [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--realtime] [--feed-override PCT]
+       novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT]
 
 Runs the part program PROG headless on the pulse core, from machine zero with no tool in the
 spindle, in AUTO to its end, and prints a summary: blocks executed, pulses per axis, final
@@ -29,6 +30,9 @@ core (travel limit, arc geometry) stops the run with a message naming the statem
 options:
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES     T-code table; default: the sample table tooldata/magazine.tc (embedded)
+  --state DIR           use a console's memory (read, never changed): its tool file and T
+                        codes, and PROG names a program in it (else a file); with no PROG,
+                        the program selected there
   --record OUT.mcap     record the run to an MCAP file (docs/recording.md)
   --realtime            pace the machine clock to the wall clock (default: virtual time, as
                         fast as possible, deterministic)
@@ -36,9 +40,10 @@ options:
   -h, --help            this help
 ";
 
-const OPTS: [Opt; 7] = [
+const OPTS: [Opt; 8] = [
     Opt::value("--tools"),
     Opt::value("--magazine"),
+    Opt::value("--state"),
     Opt::value("--record"),
     Opt::flag("--realtime"),
     Opt::value("--feed-override"),
@@ -56,11 +61,6 @@ pub fn main(argv: &[String]) -> i32 {
         print!("{HELP}");
         return 0;
     }
-    let prog = match args.positional.as_slice() {
-        [p] => p.clone(),
-        [] => return super::usage_error("run: which program? (see --help)"),
-        _ => return super::usage_error("run takes one program (see --help)"),
-    };
     let feed_override = match args.value("--feed-override") {
         None => 100,
         Some(v) => match v.trim().parse::<u32>() {
@@ -73,18 +73,11 @@ pub fn main(argv: &[String]) -> i32 {
         },
     };
     let settings = MachineSettings::default();
-    let magazine = match super::translate::load_magazine(
-        args.value("--tools"),
-        args.value("--magazine"),
-        &settings,
-    ) {
-        Ok(m) => m,
-        Err(e) => return fail(&e),
-    };
-    let source = match super::translate::read(&prog) {
-        Ok(s) => s,
-        Err(e) => return fail(&e),
-    };
+    let (prog, source, magazine) =
+        match super::translate::program_and_tools(&args, &settings, "run") {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     super::signals::install();
     let recorder = match args.value("--record") {
         None => None,

@@ -11,6 +11,7 @@ use std::io::Write;
 
 const HELP: &str = "\
 usage: novanc translate PROG [--tools TAPE] [--magazine TCODES]
+       novanc translate [PROG] --state DIR
 
 Translates the part program PROG (source language, see docs/language.md) into machine
 instruction blocks and prints them, one ISO 6983 line per block, in absolute millimetres:
@@ -24,18 +25,80 @@ options:
                       default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES   T-code table ('Tnn TOOLNO' per line);
                       default: the sample table tooldata/magazine.tc (embedded)
+  --state DIR         use a console's memory (read, never changed, even while the console
+                      has it open): its tool file and T codes, and PROG names a program in
+                      it (else a file); with no PROG, the program selected there
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
-const OPTS: [Opt; 4] = [
+const OPTS: [Opt; 5] = [
     Opt::value("--tools"),
     Opt::value("--magazine"),
+    Opt::value("--state"),
     Opt::flag("--help"),
     Opt::flag("-h"),
 ];
+
+/// The program to work on and the tool data, from the files given or from a console's memory
+/// (`--state DIR`): the name errors are reported under, the text and the magazine. `Err` is the
+/// exit code after a message.
+pub fn program_and_tools(
+    args: &Args,
+    settings: &MachineSettings,
+    what: &str,
+) -> Result<(String, String, Magazine), i32> {
+    let prog = match args.positional.as_slice() {
+        [p] => Some(p.clone()),
+        [] => None,
+        _ => {
+            return Err(super::usage_error(&format!(
+                "{what} takes one program (see --help)"
+            )))
+        }
+    };
+    let Some(dir) = args.value("--state") else {
+        let Some(prog) = prog else {
+            return Err(super::usage_error(&format!(
+                "{what}: which program? (see --help)"
+            )));
+        };
+        let magazine = load_magazine(args.value("--tools"), args.value("--magazine"), settings)
+            .map_err(|e| fail(&e))?;
+        let source = read(&prog).map_err(|e| fail(&e))?;
+        return Ok((prog, source, magazine));
+    };
+    if args.value("--tools").is_some() || args.value("--magazine").is_some() {
+        return Err(super::usage_error(&format!(
+            "{what}: --state uses the console's tool file and T codes; leave out --tools and --magazine"
+        )));
+    }
+    let view =
+        crate::store::MemoryView::read(std::path::Path::new(dir), settings.magazine_capacity)
+            .map_err(|e| fail(&format!("novanc: {e}")))?;
+    for w in &view.warnings {
+        eprintln!("novanc: {dir}: {w}");
+    }
+    let name = prog.unwrap_or_else(|| view.current.clone());
+    if let Some((n, text)) = view
+        .programs
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(&name))
+    {
+        return Ok((n.clone(), text.clone(), view.magazine));
+    }
+    if std::path::Path::new(&name).is_file() {
+        let source = read(&name).map_err(|e| fail(&e))?;
+        return Ok((name, source, view.magazine));
+    }
+    let names: Vec<&str> = view.programs.keys().map(|n| n.as_str()).collect();
+    Err(fail(&format!(
+        "novanc: {name} is neither a program in {dir} ({}) nor a file",
+        names.join(", ")
+    )))
+}
 
 /// Reads a program, tape or table file as PROGRAM READ reads a tape: UTF-8 (a bad byte is named
 /// by line, column and byte offset), CR and CR LF as line ends.
@@ -102,19 +165,10 @@ pub fn main(argv: &[String]) -> i32 {
         print!("{HELP}");
         return 0;
     }
-    let prog = match args.positional.as_slice() {
-        [p] => p.clone(),
-        [] => return super::usage_error("translate: which program? (see --help)"),
-        _ => return super::usage_error("translate takes one program (see --help)"),
-    };
     let settings = MachineSettings::default();
-    let magazine = match load_magazine(args.value("--tools"), args.value("--magazine"), &settings) {
-        Ok(m) => m,
-        Err(e) => return fail(&e),
-    };
-    let source = match read(&prog) {
-        Ok(s) => s,
-        Err(e) => return fail(&e),
+    let (prog, source, magazine) = match program_and_tools(&args, &settings, "translate") {
+        Ok(x) => x,
+        Err(code) => return code,
     };
     let out = match iso_text(&source, magazine, &settings) {
         Ok(t) => t,

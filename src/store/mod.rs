@@ -164,6 +164,45 @@ fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
     ))
 }
 
+/// What the command line reads of a console's memory (`novanc translate --state`, `novanc run
+/// --state`): read without locking or writing the directory, so a console may have it open.
+#[derive(Clone, Debug)]
+pub struct MemoryView {
+    /// The current program's name.
+    pub current: String,
+    /// Every program by name.
+    pub programs: std::collections::BTreeMap<String, String>,
+    /// The T-code table and the tool file.
+    pub magazine: Magazine,
+    /// What the reading found (a damaged file read around, a journal tail skipped).
+    pub warnings: Vec<String>,
+}
+
+impl MemoryView {
+    /// Reads the memory kept in `dir` (which must exist) as a console would open it, without
+    /// changing a byte of it.
+    pub fn read(dir: &Path, capacity: u32) -> Result<MemoryView, StoreError> {
+        if !dir.is_dir() {
+            return Err(serr(format!(
+                "{} is not a state directory (a console's memory)",
+                dir.display()
+            )));
+        }
+        let l = load(dir, capacity)?;
+        Ok(MemoryView {
+            current: l.state.current.clone(),
+            programs: l
+                .state
+                .programs
+                .iter()
+                .map(|(n, b)| (n.clone(), b.text()))
+                .collect(),
+            magazine: l.state.magazine(),
+            warnings: l.notes.into_iter().map(|n| n.text).collect(),
+        })
+    }
+}
+
 impl Stores {
     /// The state directory: `NOVANC_STATE`, else `$XDG_STATE_HOME/novanc`, else
     /// `~/.local/state/novanc` (`./novanc-state` if there is no home directory).
