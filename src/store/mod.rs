@@ -3,6 +3,7 @@
 //! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
 mod frame;
+pub mod history;
 pub mod fsutil;
 mod journal;
 mod names;
@@ -554,6 +555,32 @@ impl Stores {
         self.commit(Record::Delete(n), None)
             .map(|_| ())
             .map_err(to_store)
+    }
+
+    /// Copies program `from` as `to` and makes the copy current (journaled).
+    pub fn copy_program(&mut self, from: &str, to: &str) -> Result<(), StoreError> {
+        self.commit(
+            Record::Copy {
+                from: from.to_string(),
+                to: to.to_string(),
+            },
+            None,
+        )
+        .map(|_| ())
+        .map_err(to_store)
+    }
+
+    /// Renames program `from` to `to` (journaled); it stays current if it was.
+    pub fn rename_program(&mut self, from: &str, to: &str) -> Result<(), StoreError> {
+        self.commit(
+            Record::Rename {
+                from: from.to_string(),
+                to: to.to_string(),
+            },
+            None,
+        )
+        .map(|_| ())
+        .map_err(to_store)
     }
 
     /// Empties the MDI buffer (for example after its blocks ran).

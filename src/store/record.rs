@@ -41,6 +41,20 @@ pub enum Record {
     TCodes(String),
     /// A program deleted from program memory.
     Delete(String),
+    /// A program copied under a new name (the copy is made current).
+    Copy {
+        /// The program copied.
+        from: String,
+        /// The new name.
+        to: String,
+    },
+    /// A program renamed (it stays current if it was).
+    Rename {
+        /// The old name.
+        from: String,
+        /// The new name.
+        to: String,
+    },
     /// The MDI buffer emptied.
     ClearMdi,
     /// T-CODE SETTING by tool: a tool moved to a pocket, with its data, out of any other.
@@ -74,6 +88,8 @@ impl Record {
             Record::ToolFile(text) => format!("tools\n{text}"),
             Record::TCodes(text) => format!("tcodes\n{text}"),
             Record::Delete(n) => format!("delete {n}"),
+            Record::Copy { from, to } => format!("copy {from} {to}"),
+            Record::Rename { from, to } => format!("rename {from} {to}"),
             Record::ClearMdi => "clear M".to_string(),
             Record::Move { tool, t } => format!("move {tool} {t}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
@@ -114,6 +130,14 @@ impl Record {
             ["tools"] => Record::ToolFile(body_of(body)?),
             ["tcodes"] => Record::TCodes(body_of(body)?),
             ["delete", n] => Record::Delete(n.to_string()),
+            ["copy", a, b] => Record::Copy {
+                from: a.to_string(),
+                to: b.to_string(),
+            },
+            ["rename", a, b] => Record::Rename {
+                from: a.to_string(),
+                to: b.to_string(),
+            },
             ["clear", "M"] => Record::ClearMdi,
             ["move", n, t] => Record::Move {
                 tool: n.parse().map_err(|_| format!("bad tool in '{head}'"))?,

@@ -259,6 +259,29 @@ impl State {
                 }
                 Ok((Outcome::default(), true))
             }
+            Record::Copy { from, to } | Record::Rename { from, to } => {
+                let a = program_name(from).map_err(Refusal::Other)?;
+                let b = program_name(to).map_err(Refusal::Other)?;
+                let Some(text) = self.programs.get(&a).map(|buf| buf.text()) else {
+                    return Err(Refusal::Other(format!("no program {a} in program memory")));
+                };
+                if self.programs.contains_key(&b) {
+                    return Err(Refusal::Other(format!(
+                        "program memory already holds a program {b}; delete or rename it first"
+                    )));
+                }
+                let rename = matches!(rec, Record::Rename { .. });
+                let buf = if rename {
+                    self.programs.remove(&a).unwrap_or_default()
+                } else {
+                    Buffer::from_text(&text)
+                };
+                self.programs.insert(b.clone(), buf);
+                if !rename || self.current == a {
+                    self.current = b;
+                }
+                Ok((Outcome::default(), true))
+            }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));

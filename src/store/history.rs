@@ -1,0 +1,281 @@
+//! The alarm and message history and the counters, kept in the state directory beside the
+//! stores (docs/stores.md, "History and counters").
+//!
+//! - `messages.log`: one framed record per message (`@ LEN CRC32`, as the journal), the payload
+//!   `MACHINE_NS KIND TEXT`; appended and fdatasynced as each message is shown, so the history
+//!   survives a restart and a kill. When it passes [`MAX_BYTES`] it is rewritten (atomically)
+//!   with its newest [`KEEP`] messages. A damaged tail is read around, as the journal's is.
+//! - `counters`: the part counter, its target, the last cycle time and the run hours, one line of
+//!   numbers written atomically (temporary file, fsync, rename) at each change.
+//!
+//! These are not operator data: a write that fails is reported, never fatal, and never blocks
+//! the machine.
+
+use super::fsutil;
+use super::frame;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The history file in the state directory.
+pub const MESSAGES: &str = "messages.log";
+/// The counters file in the state directory.
+pub const COUNTERS: &str = "counters";
+/// The history is rewritten with its newest [`KEEP`] messages once it passes this size.
+pub const MAX_BYTES: u64 = 1 << 20;
+/// Messages kept when the history is rewritten.
+pub const KEEP: usize = 1000;
+
+/// What kind of message.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A fault: E-STOP, a travel limit, a program that does not translate.
+    Alarm,
+    /// Anything else shown on the message line.
+    Message,
+}
+
+/// One entry of the history.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// Machine time when it was shown, ns.
+    pub machine_ns: u64,
+    /// Alarm or message.
+    pub kind: Kind,
+    /// The full text.
+    pub text: String,
+}
+
+impl Entry {
+    fn encode(&self) -> String {
+        let k = match self.kind {
+            Kind::Alarm => "A",
+            Kind::Message => "M",
+        };
+        format!("{} {k} {}", self.machine_ns, self.text)
+    }
+
+    fn decode(payload: &[u8]) -> Option<Entry> {
+        let s = std::str::from_utf8(payload).ok()?;
+        let (t, rest) = s.split_once(' ')?;
+        let (k, text) = rest.split_once(' ').unwrap_or((rest, ""));
+        Some(Entry {
+            machine_ns: t.parse().ok()?,
+            kind: match k {
+                "A" => Kind::Alarm,
+                "M" => Kind::Message,
+                _ => return None,
+            },
+            text: text.to_string(),
+        })
+    }
+}
+
+/// The alarm and message history of a state directory.
+#[derive(Debug)]
+pub struct History {
+    path: PathBuf,
+    entries: Vec<Entry>,
+    bytes: u64,
+}
+
+impl History {
+    /// Reads the history kept in `dir` (none yet: empty). Returns it and a warning if part of
+    /// the file could not be read.
+    pub fn open(dir: &Path) -> (History, Option<String>) {
+        let path = dir.join(MESSAGES);
+        let data = std::fs::read(&path).unwrap_or_default();
+        let d = frame::decode(&data);
+        let entries: Vec<Entry> = d.records.iter().filter_map(|r| Entry::decode(r)).collect();
+        let warning = d.damage.map(|dmg| {
+            format!(
+                "the message history {} is damaged after {} messages ({}); the rest was not read",
+                path.display(),
+                dmg.record,
+                dmg.reason
+            )
+        });
+        let bytes = d.good_len as u64;
+        let mut h = History {
+            path,
+            entries,
+            bytes,
+        };
+        if warning.is_some() {
+            // Keep what was read; the damaged tail is written over.
+            let _ = h.rewrite();
+        }
+        (h, warning)
+    }
+
+    /// The entries, oldest first.
+    pub fn entries(&self) -> &[Entry] {
+        &self.entries
+    }
+
+    /// Appends an entry and makes it durable; the error says why it could not be kept.
+    pub fn push(&mut self, e: Entry) -> Result<(), String> {
+        let rec = frame::encode(e.encode().as_bytes());
+        self.entries.push(e);
+        if self.bytes + rec.len() as u64 > MAX_BYTES {
+            let from = self.entries.len().saturating_sub(KEEP);
+            self.entries.drain(..from);
+            return self.rewrite();
+        }
+        let r = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&self.path)
+            .and_then(|mut f| {
+                f.write_all(&rec)?;
+                f.sync_data()
+            });
+        match r {
+            Ok(()) => {
+                self.bytes += rec.len() as u64;
+                Ok(())
+            }
+            Err(e) => Err(format!("the message history was not saved: {e}")),
+        }
+    }
+
+    fn rewrite(&mut self) -> Result<(), String> {
+        let mut data = Vec::new();
+        for e in &self.entries {
+            data.extend(frame::encode(e.encode().as_bytes()));
+        }
+        fsutil::write_atomic(&self.path, &data)
+            .map_err(|e| format!("the message history was not saved: {e}"))?;
+        self.bytes = data.len() as u64;
+        Ok(())
+    }
+}
+
+/// The counters: parts made, the target, the last cycle time and the run hours.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Parts made: runs of program memory that reached their end.
+    pub parts: u64,
+    /// The part counter's target (0: none).
+    pub target: u64,
+    /// Machine time of the last run that reached its end, ns.
+    pub last_cycle_ns: u64,
+    /// Machine time with a run in progress, in total, ns.
+    pub run_ns: u64,
+}
+
+impl Counters {
+    /// Reads the counters kept in `dir` (zero if there are none; a damaged file says so).
+    pub fn open(dir: &Path) -> (Counters, Option<String>) {
+        let path = dir.join(COUNTERS);
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            return (Counters::default(), None);
+        };
+        let n: Vec<u64> = text
+            .split_whitespace()
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        match n.as_slice() {
+            [parts, target, last, run] => (
+                Counters {
+                    parts: *parts,
+                    target: *target,
+                    last_cycle_ns: *last,
+                    run_ns: *run,
+                },
+                None,
+            ),
+            _ => (
+                Counters::default(),
+                Some(format!(
+                    "the counters {} could not be read; they start again at 0",
+                    path.display()
+                )),
+            ),
+        }
+    }
+
+    /// Writes the counters to `dir` atomically.
+    pub fn save(&self, dir: &Path) -> Result<(), String> {
+        let text = format!(
+            "{} {} {} {}\n",
+            self.parts, self.target, self.last_cycle_ns, self.run_ns
+        );
+        fsutil::write_atomic(&dir.join(COUNTERS), text.as_bytes())
+            .map_err(|e| format!("the counters were not saved: {e}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("novanc-hist-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn the_history_survives_a_reopen_and_a_damaged_tail() {
+        let d = dir("reopen");
+        let (mut h, w) = History::open(&d);
+        assert!(w.is_none() && h.entries().is_empty());
+        for i in 0..5 {
+            h.push(Entry {
+                machine_ns: i,
+                kind: if i % 2 == 0 { Kind::Alarm } else { Kind::Message },
+                text: format!("message {i} with spaces"),
+            })
+            .unwrap();
+        }
+        let (h2, _) = History::open(&d);
+        assert_eq!(h2.entries(), h.entries());
+        let mut data = std::fs::read(d.join(MESSAGES)).unwrap();
+        let n = data.len();
+        data.truncate(n - 3);
+        std::fs::write(d.join(MESSAGES), &data).unwrap();
+        let (h3, w) = History::open(&d);
+        assert_eq!(h3.entries().len(), 4);
+        assert!(w.unwrap().contains("damaged"));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn a_long_history_keeps_its_newest_messages() {
+        let d = dir("long");
+        let (mut h, _) = History::open(&d);
+        let text = "x".repeat(900);
+        for i in 0..1300 {
+            h.push(Entry {
+                machine_ns: i,
+                kind: Kind::Message,
+                text: text.clone(),
+            })
+            .unwrap();
+        }
+        assert!(std::fs::metadata(d.join(MESSAGES)).unwrap().len() <= MAX_BYTES);
+        let (h2, _) = History::open(&d);
+        assert_eq!(h2.entries().last().map(|e| e.machine_ns), Some(1299));
+        assert!(h2.entries().len() <= 1300 && h2.entries().len() >= KEEP);
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn counters_round_trip() {
+        let d = dir("counters");
+        let c = Counters {
+            parts: 7,
+            target: 100,
+            last_cycle_ns: 226_000_000_000,
+            run_ns: 1_000_000_000_000,
+        };
+        c.save(&d).unwrap();
+        assert_eq!(Counters::open(&d), (c, None));
+        std::fs::write(d.join(COUNTERS), "garbage").unwrap();
+        let (z, w) = Counters::open(&d);
+        assert_eq!(z, Counters::default());
+        assert!(w.is_some());
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}
