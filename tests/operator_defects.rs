@@ -349,3 +349,19 @@ fn start_during_a_single_block_tool_change_says_why() {
     c.handle(E::Wait);
     assert_eq!(audit(&c).len(), 1, "exactly one block");
 }
+
+/// Found by the operator-sequence test: a CONTINUOUS tap right after a refused action (which
+/// left the core's notice set) was taken as refused and never released, so the axis ran to its
+/// travel limit. A tap now moves a few millimetres at most, whatever came before.
+#[test]
+fn a_continuous_tap_after_a_refused_action_stops() {
+    let mut c = open("tapnotice");
+    keys(&mut c, &["Alt+7", "F9", "F9"]);
+    assert!(shows(&c, "START ignored"), "{}", c.frame_text());
+    c.handle(E::Wait);
+    let z = c.status().pos[2];
+    keys(&mut c, &["Alt+1", "PgDn"]);
+    c.handle(E::Wait);
+    let moved = z - c.status().pos[2];
+    assert!(moved > 0 && moved < p(5.0), "the tap moved {moved} pulses");
+}

@@ -138,6 +138,16 @@ impl Session {
 
     fn ev(&mut self, e: E) {
         self.log.push(format!("{e:?}"));
+        if std::env::var_os("NOVANC_SEQUENCE_LOG").is_some() {
+            let st = self.c.status();
+            eprintln!(
+                "{e:?}  -> pos {:?} tool {:?} run {} job {:?}",
+                st.pos,
+                st.tool,
+                st.run,
+                st.job.as_ref().map(|j| j.id)
+            );
+        }
         self.c.handle(e);
     }
 
@@ -365,7 +375,7 @@ fn run_many(n: u64, len: usize) -> Stats {
                 .cloned()
                 .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default();
-            panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1)");
+            panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1; NOVANC_SEQUENCE_LOG=1 prints the events)");
         }
     }
     eprintln!("{n} sequences of {len} steps: {total:?}");

@@ -215,6 +215,8 @@ impl Console {
         if self.cfg.clock == ClockMode::Virtual {
             self.core.run_for(JOG_RELEASE.as_nanos() as u64);
             self.release_jog_key();
+            // The release has decelerated the jog to rest.
+            self.core.run_until_idle(JOG_RELEASE.as_nanos() as u64);
         }
     }
 
@@ -230,10 +232,9 @@ impl Console {
 
     fn release_jog_key(&mut self) {
         self.jog_key = None;
-        if self.jogging {
-            self.core.command(Command::JogRelease);
-            self.jogging = false;
-        }
+        // Always told: a jog the console lost track of must still stop.
+        self.core.command(Command::JogRelease);
+        self.jogging = false;
         self.refresh();
     }
 

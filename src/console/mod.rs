@@ -432,10 +432,8 @@ impl Console {
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
             PanelEvent::JogRelease => {
-                if self.jogging {
-                    self.command(Command::JogRelease);
-                    self.jogging = false;
-                }
+                self.command(Command::JogRelease);
+                self.jogging = false;
                 self.jog_key = None;
             }
             PanelEvent::Press(k) => self.press(k),

@@ -11,8 +11,8 @@
 //! These are not operator data: a write that fails is reported, never fatal, and never blocks
 //! the machine.
 
-use super::fsutil;
 use super::frame;
+use super::fsutil;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -224,7 +224,11 @@ mod tests {
         for i in 0..5 {
             h.push(Entry {
                 machine_ns: i,
-                kind: if i % 2 == 0 { Kind::Alarm } else { Kind::Message },
+                kind: if i % 2 == 0 {
+                    Kind::Alarm
+                } else {
+                    Kind::Message
+                },
                 text: format!("message {i} with spaces"),
             })
             .unwrap();

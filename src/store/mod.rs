@@ -3,8 +3,8 @@
 //! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
 mod frame;
-pub mod history;
 pub mod fsutil;
+pub mod history;
 mod journal;
 mod names;
 mod record;

@@ -8,6 +8,10 @@ impl Machine {
     /// Applies an operator command at the current machine time.
     pub fn command(&mut self, c: Command) {
         self.commands += 1;
+        // The notice answers the latest operator action: a new action starts without one.
+        if !matches!(c, Command::Override(_) | Command::SingleBlock(_)) {
+            self.notice = None;
+        }
         match c {
             Command::Start(kind) => self.start(kind),
             Command::Stop => {
