@@ -17,6 +17,7 @@ pub mod keys;
 mod memory;
 mod run;
 pub mod search;
+pub mod tape;
 pub mod tcode;
 
 pub use config::ConsoleConfig;
@@ -67,6 +68,12 @@ pub struct Console {
     status: Status,
     display: Vec<String>,
     tape: Option<PathBuf>,
+    /// The tape read in progress (docs/tape.md, "At the console").
+    tape_read: Option<tape::TapeRead>,
+    /// The read an error stopped, shown until RESET, a selector turn or another read.
+    tape_stopped: Option<tape::TapeRead>,
+    /// The alarm of the read an error stopped (RESET clears it; START is refused until then).
+    tape_alarm: Option<String>,
     /// Where SEARCH positioned the program (the next new AUTO run starts there).
     search: Option<search::SearchPoint>,
     /// The restore plan shown for the SEARCH point, for the state it was made in.
@@ -128,6 +135,9 @@ impl Console {
             status,
             display: Vec::new(),
             tape: None,
+            tape_read: None,
+            tape_stopped: None,
+            tape_alarm: None,
             search: None,
             plan: search::PlanCache::default(),
             plan_shown: None,
@@ -204,7 +214,22 @@ impl Console {
     /// Whether the ALARM lamp is lit: a fault in the core (RESET clears it) or a program that
     /// does not translate (fixing it or RESET clears it).
     pub fn alarm_lit(&self) -> bool {
-        self.status.alarm.is_some() || self.program_alarm.is_some()
+        self.status.alarm.is_some() || self.program_alarm.is_some() || self.tape_alarm.is_some()
+    }
+
+    /// The alarm of the tape read an error stopped, until RESET.
+    pub fn tape_alarm(&self) -> Option<&str> {
+        self.tape_alarm.as_deref()
+    }
+
+    /// The tape read in progress, or the one an error stopped, for a front end to draw.
+    pub fn tape_view(&self) -> Option<tape::TapeView> {
+        tape::view(self)
+    }
+
+    /// Whether the tape reader is reading (the tape is moving).
+    pub fn tape_reading(&self) -> bool {
+        tape::reading(self)
     }
 
     /// The program alarm in force, if any.
@@ -247,9 +272,9 @@ impl Console {
         &self.cfg.settings
     }
 
-    /// Whether the machine is idle: RUN = 0 and no axis moving.
+    /// Whether the machine is idle: RUN = 0, no axis moving and the tape reader not reading.
     pub fn is_idle(&self) -> bool {
-        self.status.idle
+        self.status.idle && !tape::reading(self)
     }
 
     /// Waits until the machine is idle (RUN = 0, no motion, the last command taken up), then
@@ -268,6 +293,10 @@ impl Console {
     /// The tape reader key: the line typed on the data keys names the tape file to put in
     /// the reader (the line is used up).
     pub fn tape_from_entry(&mut self) {
+        if tape::refuse_key(self, "the tape reader key") {
+            self.refresh();
+            return;
+        }
         let path = std::mem::take(&mut self.entry);
         let path = path.trim();
         if path.is_empty() {
@@ -276,6 +305,13 @@ impl Console {
             return;
         }
         self.handle(PanelEvent::Tape(PathBuf::from(path)));
+    }
+
+    /// The punch key (docs/panel.md): in PROGRAM READ the typed line names the image to punch
+    /// program memory to (`PATH`, or `PATH EIA` for the EIA code).
+    pub fn punch_from_entry(&mut self) {
+        tape::punch_from_entry(self);
+        self.refresh();
     }
 
     /// The latest pulse-core status snapshot.
@@ -304,6 +340,7 @@ impl Console {
     /// recomposes the display and records it.
     fn refresh(&mut self) {
         self.status = self.core.status();
+        tape::advance(self);
         run::note_run_end(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
@@ -337,6 +374,31 @@ impl Console {
 
     /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
+        let note = match tape::gate(self, &ev) {
+            tape::Gate::Done => return,
+            tape::Gate::Pass(note) => note,
+        };
+        let turned = match &ev {
+            PanelEvent::Op(m) => *m != self.op,
+            PanelEvent::Data(d) => *d != self.data,
+            PanelEvent::Reset => true,
+            _ => false,
+        };
+        if turned {
+            self.tape_stopped = None;
+        }
+        self.apply_event(ev);
+        if let Some(n) = note {
+            self.message = if self.message.is_empty() {
+                n
+            } else {
+                format!("{}; {n}", self.message)
+            };
+        }
+    }
+
+    /// Dispatches one event the tape rules let through.
+    fn apply_event(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Op(m) => self.turn_op(m),
             PanelEvent::Data(d) => {
@@ -404,6 +466,7 @@ impl Console {
             PanelEvent::Reset => {
                 self.command(Command::Reset);
                 self.program_alarm = None;
+                self.tape_alarm = None;
                 self.jogging = false;
                 self.jog_key = None;
                 self.message = "reset: machine idle, block buffer empty".into();
@@ -542,12 +605,16 @@ impl Console {
 
     /// START: run, resume, or read the tape, by mode.
     fn start(&mut self) {
+        if self.tape_alarm.is_some() {
+            self.message = "START refused: TAPE ALARM in force, press RESET".into();
+            return;
+        }
         match self.op {
             OpMode::Auto | OpMode::Single => run::start_program(self, RunKind::Auto),
             OpMode::Mdi => run::start_program(self, RunKind::Mdi),
             OpMode::Data => match self.data {
-                DataMode::Read => run::read_program_tape(self),
-                DataMode::ToolRead => run::read_tool_tape(self),
+                DataMode::Read => tape::start_read(self, tape::ReadTarget::Program),
+                DataMode::ToolRead => tape::start_read(self, tape::ReadTarget::Tools),
                 _ => {
                     self.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
                 }
