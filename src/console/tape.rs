@@ -111,6 +111,8 @@ pub struct TapeView {
     /// The last frames read (at most [`STRIP_FRAMES`]), oldest first: the last one is under
     /// the read head. Empty for a text file.
     pub frames: Vec<Frame>,
+    /// The number (0-based in the image) of the first frame in `frames`.
+    pub first: u64,
     /// Frames passed under the read head.
     pub frame: u64,
     /// Frames on the image.
@@ -129,19 +131,21 @@ fn shown(c: &Console) -> Option<&TapeRead> {
 /// The view of the read on display, if one is.
 pub(super) fn view(c: &Console) -> Option<TapeView> {
     let r = shown(c)?;
-    let (code, frames, block) = match &r.reader {
+    let (code, frames, first, block) = match &r.reader {
         Some(rd) => {
             let f = rd.frames();
             let from = f.len().saturating_sub(STRIP_FRAMES);
             (
                 rd.code(),
                 f[from..].iter().map(|&b| Frame(b)).collect(),
+                from as u64,
                 rd.block(),
             )
         }
         None => (
             None,
             Vec::new(),
+            0,
             r.image[..r.fed].iter().filter(|&&b| b == b'\n').count() as u64 + 1,
         ),
     };
@@ -151,6 +155,7 @@ pub(super) fn view(c: &Console) -> Option<TapeView> {
         code,
         plain: r.reader.is_none(),
         frames,
+        first,
         frame: r.fed as u64,
         total: r.image.len() as u64,
         block,
