@@ -424,3 +424,31 @@ fn the_punch_key_is_refused_outside_program_read_and_writes_nothing_on_error() {
         "no temporary file is left: {leftovers:?}"
     );
 }
+
+#[test]
+fn in_real_time_the_tape_moves_at_its_speed_between_display_ticks() {
+    let mut cfg = ConsoleConfig::new(temp_dir("tape-rt"));
+    cfg.clock = ClockMode::RealTime;
+    cfg.settings.tape_chars_per_s = 1000;
+    let mut c = Console::open(cfg).unwrap().0;
+    let path = repo("tests/golden/tableb.iso.tape");
+    load(&mut c, DataMode::Read, &path);
+    let started = std::time::Instant::now();
+    c.handle(E::Start);
+    let mut seen = std::collections::BTreeSet::new();
+    while c.tape_reading() && started.elapsed() < std::time::Duration::from_secs(10) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        c.tick();
+        if let Some(v) = c.tape_view() {
+            seen.insert(v.frame);
+        }
+    }
+    let took = started.elapsed();
+    assert!(!c.tape_reading(), "the read ends on its own");
+    // 276 frames at 1000 a second: 0.28 s, shown part way at several ticks.
+    assert!(took.as_millis() >= 270, "{took:?}");
+    assert!(seen.len() >= 3, "the display moved: {seen:?}");
+    let want = tape::read_image(&std::fs::read(&path).unwrap(), ReadOptions::default()).unwrap();
+    assert_eq!(c.program_text(), want.text);
+    let _ = c.finish();
+}
