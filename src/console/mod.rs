@@ -15,6 +15,7 @@ mod config;
 mod display;
 pub mod keys;
 mod memory;
+mod punch;
 mod run;
 pub mod search;
 pub mod tape;
@@ -217,21 +218,6 @@ impl Console {
         self.status.alarm.is_some() || self.program_alarm.is_some() || self.tape_alarm.is_some()
     }
 
-    /// The alarm of the tape read an error stopped, until RESET.
-    pub fn tape_alarm(&self) -> Option<&str> {
-        self.tape_alarm.as_deref()
-    }
-
-    /// The tape read in progress, or the one an error stopped, for a front end to draw.
-    pub fn tape_view(&self) -> Option<tape::TapeView> {
-        tape::view(self)
-    }
-
-    /// Whether the tape reader is reading (the tape is moving).
-    pub fn tape_reading(&self) -> bool {
-        tape::reading(self)
-    }
-
     /// The program alarm in force, if any.
     pub fn program_alarm(&self) -> Option<&ProgramAlarm> {
         self.program_alarm.as_ref()
@@ -307,13 +293,6 @@ impl Console {
         self.handle(PanelEvent::Tape(PathBuf::from(path)));
     }
 
-    /// The punch key (docs/panel.md): in PROGRAM READ the typed line names the image to punch
-    /// program memory to (`PATH`, or `PATH EIA` for the EIA code).
-    pub fn punch_from_entry(&mut self) {
-        tape::punch_from_entry(self);
-        self.refresh();
-    }
-
     /// The latest pulse-core status snapshot.
     pub fn status(&self) -> &Status {
         &self.status
@@ -374,27 +353,7 @@ impl Console {
 
     /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
-        let note = match tape::gate(self, &ev) {
-            tape::Gate::Done => return,
-            tape::Gate::Pass(note) => note,
-        };
-        let turned = match &ev {
-            PanelEvent::Op(m) => *m != self.op,
-            PanelEvent::Data(d) => *d != self.data,
-            PanelEvent::Reset => true,
-            _ => false,
-        };
-        if turned {
-            self.tape_stopped = None;
-        }
-        self.apply_event(ev);
-        if let Some(n) = note {
-            self.message = if self.message.is_empty() {
-                n
-            } else {
-                format!("{}; {n}", self.message)
-            };
-        }
+        tape::apply(self, ev);
     }
 
     /// Dispatches one event the tape rules let through.

@@ -9,14 +9,13 @@
 //! error stops it with the ALARM lamp lit (RESET clears it): in every such case program memory
 //! and the tool file are unchanged. Keys other than those are refused while the tape moves.
 //!
-//! The punch key (docs/panel.md) punches the program in memory to an image.
+//! The punch key is in `punch.rs`.
 
 use super::display::script_line;
 use super::Console;
-use crate::panel_model::{DataMode, OpMode, PanelEvent};
-use crate::tape::{self, Code, Frame, Meaning, PunchOptions, ReadOptions, Reader, Tape, TapeError};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use crate::panel_model::PanelEvent;
+use crate::tape::{self, Code, Frame, Meaning, ReadOptions, Reader, Tape, TapeError};
+use std::path::Path;
 
 /// The largest file the tape reader takes: 4 MiB, about 10 km of tape and almost 4 hours at
 /// 300 characters/s (a 1,000-foot roll holds 120,000 frames).
@@ -166,6 +165,30 @@ pub(super) fn view(c: &Console) -> Option<TapeView> {
 /// Whether the tape is moving.
 pub(super) fn reading(c: &Console) -> bool {
     c.tape_read.is_some()
+}
+
+impl Console {
+    /// The alarm of the tape read an error stopped, until RESET.
+    pub fn tape_alarm(&self) -> Option<&str> {
+        self.tape_alarm.as_deref()
+    }
+
+    /// The tape read in progress, or the one an error stopped, for a front end to draw.
+    pub fn tape_view(&self) -> Option<TapeView> {
+        view(self)
+    }
+
+    /// Whether the tape reader is reading (the tape is moving).
+    pub fn tape_reading(&self) -> bool {
+        reading(self)
+    }
+
+    /// The punch key (docs/panel.md): in PROGRAM READ the typed line names the image to punch
+    /// program memory to (`PATH`, or `PATH EIA` for the EIA code).
+    pub fn punch_from_entry(&mut self) {
+        super::punch::punch_from_entry(self);
+        self.refresh();
+    }
 }
 
 /// START in PROGRAM READ or TOOL DATA READ: the tape in the reader starts moving.
@@ -361,6 +384,33 @@ fn store_tools(c: &mut Console, file: &str, text: &str, how: &str) {
     }
 }
 
+/// One operator action under the tape rules ([`gate`]): a turned selector or RESET also takes
+/// a stopped read off the display; a note that the read was abandoned follows the event's
+/// own message.
+pub(super) fn apply(c: &mut Console, ev: PanelEvent) {
+    let note = match gate(c, &ev) {
+        Gate::Done => return,
+        Gate::Pass(note) => note,
+    };
+    let turned = match &ev {
+        PanelEvent::Op(m) => *m != c.op,
+        PanelEvent::Data(d) => *d != c.data,
+        PanelEvent::Reset => true,
+        _ => false,
+    };
+    if turned {
+        c.tape_stopped = None;
+    }
+    c.apply_event(ev);
+    if let Some(n) = note {
+        c.message = if c.message.is_empty() {
+            n
+        } else {
+            format!("{}; {n}", c.message)
+        };
+    }
+}
+
 /// What an event does while the tape moves.
 pub(super) enum Gate {
     /// The event acts as usual; the note (the read was abandoned) goes after its message.
@@ -526,145 +576,10 @@ fn meaning(code: Option<Code>, b: u8) -> String {
     }
 }
 
-/// The punch key (docs/panel.md): in DATA INPUT with the data selector on PROGRAM READ, the
-/// typed line names the image to punch the current program to, `PATH` (ISO) or `PATH EIA`
-/// (`PATH ISO` also works); the line is used up. The image is written whole or not at all.
-pub(super) fn punch_from_entry(c: &mut Console) {
-    if refuse_key(c, "punch") {
-        return;
-    }
-    if c.op != OpMode::Data || c.data != DataMode::Read {
-        c.message = format!(
-            "punch refused: it punches program memory in DATA INPUT with the data selector on PROGRAM READ (now {} / {})",
-            c.op.name(),
-            c.data.name()
-        );
-        return;
-    }
-    if c.running() {
-        c.message = "punch refused: the machine is running".into();
-        return;
-    }
-    let line = std::mem::take(&mut c.entry);
-    let (path, code) = match parse_punch_line(&line) {
-        Ok(x) => x,
-        Err(e) => {
-            c.message = e;
-            return;
-        }
-    };
-    let name = c.mem.program_name();
-    let text = c.mem.text(crate::store::Target::Program);
-    if text.trim().is_empty() {
-        c.message = format!("punch refused: program {name} is empty; nothing written");
-        return;
-    }
-    let opts = PunchOptions {
-        code,
-        leader: tape::DEFAULT_LEADER,
-        label: Some(name.clone()),
-    };
-    let image = match tape::punch(&text, &opts) {
-        Ok(i) => i,
-        Err(e) => {
-            c.message = format!("punch refused, nothing written: program {name} line {e}");
-            return;
-        }
-    };
-    match write_whole(&path, &image) {
-        Ok(()) => {
-            c.message = format!(
-                "punched {name} to {} in the {} code: {} frames ({:.1} m of tape)",
-                path.display(),
-                code.name(),
-                image.len(),
-                image.len() as f64 * 2.54e-3
-            );
-        }
-        Err(e) => {
-            c.message = format!(
-                "punch: cannot write {}: {e}; nothing written",
-                path.display()
-            )
-        }
-    }
-}
-
-/// The punch key's line: `PATH`, `PATH EIA` or `PATH ISO` (the code word in either case).
-pub fn parse_punch_line(line: &str) -> Result<(PathBuf, Code), String> {
-    let line = line.trim();
-    let (path, code) = match line.rsplit_once(char::is_whitespace) {
-        Some((p, w)) if Code::from_name(w).is_some() && !p.trim().is_empty() => {
-            (p.trim(), Code::from_name(w).unwrap_or(Code::Iso))
-        }
-        _ => (line, Code::Iso),
-    };
-    if path.is_empty() {
-        return Err(
-            "punch: type the image's file path first (add EIA for the EIA code), then the punch key"
-                .into(),
-        );
-    }
-    Ok((PathBuf::from(path), code))
-}
-
-/// Writes `data` to `path` whole or not at all: a temporary file beside it, synced, then
-/// renamed over it.
-fn write_whole(path: &Path, data: &[u8]) -> Result<(), String> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let base = path
-        .file_name()
-        .ok_or_else(|| "the path names no file".to_string())?;
-    if path.is_dir() {
-        return Err("it is a directory".into());
-    }
-    let tmp = dir.join(format!(
-        ".{}.punch-{}",
-        base.to_string_lossy(),
-        std::process::id()
-    ));
-    let r = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(data)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = r {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e.to_string());
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_punch_line_names_the_path_and_the_code() {
-        assert_eq!(
-            parse_punch_line("out.tape").unwrap(),
-            (PathBuf::from("out.tape"), Code::Iso)
-        );
-        assert_eq!(
-            parse_punch_line(" out.tape eia ").unwrap(),
-            (PathBuf::from("out.tape"), Code::Eia)
-        );
-        assert_eq!(
-            parse_punch_line("my tape ISO").unwrap(),
-            (PathBuf::from("my tape"), Code::Iso)
-        );
-        assert_eq!(
-            parse_punch_line("EIA").unwrap(),
-            (PathBuf::from("EIA"), Code::Iso)
-        );
-        assert!(parse_punch_line("  ")
-            .unwrap_err()
-            .contains("type the image"));
-    }
+    use crate::tape::PunchOptions;
 
     #[test]
     fn the_stop_frame_is_where_the_reader_stops() {
