@@ -33,6 +33,9 @@ pub struct MachineSettings {
     pub b1_capacity: usize,
     /// NCBR real-time clock period, ns (5 ms in the patent).
     pub ncbr_period_ns: u64,
+    /// Tape reader 13's speed, frames (characters) per second: 300 by default, a common
+    /// photoelectric reader (docs/tape.md, "At the console").
+    pub tape_chars_per_s: u32,
 }
 
 impl Default for MachineSettings {
@@ -51,6 +54,7 @@ impl Default for MachineSettings {
             magazine_capacity: 24,
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
+            tape_chars_per_s: 300,
         }
     }
 }

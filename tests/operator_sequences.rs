@@ -1,14 +1,17 @@
 //! A model-based test of operator sequences: random sequences of panel events (START, STOP,
 //! RESET, E-STOP, mode changes, SINGLE BLOCK, jog, STEP and HANDLE between blocks, SEARCH to
-//! random statements, MDI runs, tool revisions, the help screen, waits) driven through the
+//! random statements, MDI runs, tool revisions, the help screen, waits, PROGRAM READ and TOOL
+//! DATA READ of good and corrupted tape images, whole or abandoned) driven through the
 //! `Console` the terminal uses, in virtual time.
 //!
 //! Invariants:
 //! - at every block end the machine is on that block's programmed end point (the pulse core's
 //!   audit; manual moves are undone by the return before the next block, so no shift is kept);
-//! - the tool tip never goes below the lowest tip Z the programs run command;
+//! - no block takes the tool tip down below the lowest tip Z the programs run command;
 //! - every pulse is recorded exactly once: the recorded pulses add up to the position;
 //! - E-STOP and an alarm refuse START; one RESET clears them; the lamps agree;
+//! - a tape read stores exactly what the codec decodes, or nothing: an error leaves program
+//!   memory and the tool data unchanged with the ALARM lamp lit, and so does abandoning it;
 //! - a stopped run the operator moved by hand says so on its run page;
 //! - the display is always rows × at most cols; nothing panics.
 //!
@@ -24,7 +27,9 @@ use novanc::panel_model::{OpMode, PanelEvent as E};
 use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
 use novanc::record::{Event, EventSink};
+use novanc::tape::{self, ReadOptions};
 use novanc::tooldata::format_record;
+use std::path::PathBuf;
 use std::sync::mpsc::Receiver;
 
 /// MDI programs and the lowest tool-tip Z each commands, mm.
@@ -54,6 +59,8 @@ struct Session {
     lowest_mm: f64,
     log: Vec<String>,
     stats: Stats,
+    /// Where the session's tape images are written.
+    tapes: PathBuf,
 }
 
 /// What the sequences exercised, so a run that tested nothing cannot pass.
@@ -66,6 +73,9 @@ struct Stats {
     returns: u64,
     searches: u64,
     estops: u64,
+    tape_reads: u64,
+    tape_alarms: u64,
+    tape_abandoned: u64,
 }
 
 impl Stats {
@@ -77,6 +87,9 @@ impl Stats {
         self.returns += o.returns;
         self.searches += o.searches;
         self.estops += o.estops;
+        self.tape_reads += o.tape_reads;
+        self.tape_alarms += o.tape_alarms;
+        self.tape_abandoned += o.tape_abandoned;
     }
 }
 
@@ -113,6 +126,7 @@ impl Session {
             lowest_mm: TABLE_B_LOW,
             log: Vec::new(),
             stats: Stats::default(),
+            tapes: temp_dir("seq-tapes"),
         }
     }
 
@@ -161,7 +175,7 @@ impl Session {
 
     /// One random operator action.
     fn step(&mut self) {
-        let r = self.rng.range(0, 99);
+        let r = self.rng.range(0, 101);
         match r {
             0..=11 => {
                 let k = self.pick(&["Alt+2", "Alt+7", "Alt+3", "Alt+6", "Alt+5", "Alt+1"]);
@@ -169,8 +183,12 @@ impl Session {
             }
             12..=24 => {
                 let before = self.c.status().clone();
+                let tape_alarm = self.c.tape_alarm().is_some();
                 self.key("F9");
                 let after = self.c.status();
+                if tape_alarm {
+                    assert_eq!(after.runs, before.runs, "START acted with a tape alarm");
+                }
                 if before.estop || before.alarm.is_some() {
                     assert!(
                         after.job.is_none() || after.job == before.job,
@@ -255,10 +273,77 @@ impl Session {
                     self.ev(E::Type(format!("-99L{down}KI{line}*")));
                 }
             }
+            100..=101 => self.tape_read(),
             _ => {
                 // Junk on the data keys, in whatever mode.
                 let k = self.pick(&["Q", "7", "Enter", "Backspace", "*", "Alt+t"]);
                 self.key(k);
+            }
+        }
+    }
+
+    /// PROGRAM READ (or TOOL DATA READ) of a tape image, good or with one bit flipped, read to
+    /// its end or abandoned part way by STOP, RESET, E-STOP or a selector turn.
+    fn tape_read(&mut self) {
+        let tools = self.rng.range(0, 3) == 0;
+        let good = match (tools, self.rng.range(0, 1)) {
+            (true, 0) => "tests/golden/tools.iso.tape",
+            (true, _) => "tests/golden/tools.eia.tape",
+            (false, 0) => "tests/golden/tableb.iso.tape",
+            (false, _) => "tests/golden/tableb.eia.tape",
+        };
+        let mut image =
+            std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(good)).unwrap();
+        // Mostly corrupted: a good read stores (and fsyncs), which costs the most time.
+        if self.rng.range(0, 2) != 0 {
+            let i = self.rng.range(0, image.len() as i64 - 1) as usize;
+            image[i] ^= 1 << self.rng.range(0, 7);
+        }
+        let path = self.tapes.join("tape.tape");
+        std::fs::write(&path, &image).unwrap();
+        let expect = tape::read_image(&image, ReadOptions::default());
+        let program = self.c.program_text();
+        let magazine = self.c.magazine();
+        let alarm_before = self.c.tape_alarm().is_some();
+        self.key("Alt+4");
+        self.key(if tools { "F4" } else { "F2" });
+        self.ev(E::Tape(path));
+        self.key("F9");
+        if !self.c.tape_reading() {
+            assert!(alarm_before, "START in a READ mode starts the tape");
+            assert_eq!(self.c.program_text(), program);
+            return;
+        }
+        self.stats.tape_reads += 1;
+        if self.rng.range(0, 3) == 0 {
+            let t = self.rng.range(1, 3000) as u64;
+            self.ev(E::WaitMs(t));
+            if self.c.tape_reading() {
+                let k = self.pick(&["F10", "F11", "F12", "Alt+2", "F3"]);
+                self.key(k);
+                assert!(!self.c.tape_reading(), "{k} abandons the read");
+                assert_eq!(self.c.program_text(), program, "{k}: nothing stored");
+                assert_eq!(self.c.magazine(), magazine, "{k}: nothing stored");
+                self.stats.tape_abandoned += 1;
+                return;
+            }
+        } else {
+            self.ev(E::Wait);
+        }
+        assert!(!self.c.tape_reading(), "wait lets the read end");
+        match expect {
+            Ok(t) => {
+                assert!(self.c.tape_alarm().is_none());
+                if !tools {
+                    assert_eq!(self.c.program_text(), t.text, "the tape's text is stored");
+                }
+            }
+            Err(e) => {
+                self.stats.tape_alarms += 1;
+                assert_eq!(self.c.tape_alarm(), Some(e.to_string().as_str()));
+                assert!(self.c.view().lamps.alarm, "a tape error lights ALARM");
+                assert_eq!(self.c.program_text(), program, "nothing stored");
+                assert_eq!(self.c.magazine(), magazine, "nothing stored");
             }
         }
     }
@@ -297,8 +382,11 @@ impl Session {
                 "run {} N{} (line {}) ended off its programmed point",
                 e.run, e.seq, e.stmt
             );
+            // A block that takes Z down must not take the tip below what the programs
+            // command. (A block that does not descend may end lower: the tool was already
+            // there, or a tool revision changed what its tip is.)
             assert!(
-                e.tip >= settings.to_pulses(self.lowest_mm),
+                e.pos[2] >= e.start[2] || e.tip >= settings.to_pulses(self.lowest_mm),
                 "run {} N{}: tip Z {:.3} is below {:.3}",
                 e.run,
                 e.seq,
@@ -397,6 +485,10 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.block_ends > 1000, "{st:?}");
         assert!(st.jogged_stops > 0 && st.returns > 0, "{st:?}");
         assert!(st.holds > 0 && st.searches > 0 && st.estops > 0, "{st:?}");
+        assert!(
+            st.tape_reads > 0 && st.tape_alarms > 0 && st.tape_abandoned > 0,
+            "{st:?}"
+        );
     }
 }
 

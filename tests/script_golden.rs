@@ -100,3 +100,18 @@ fn bad_keys() {
 fn program_read() {
     check("program_read");
 }
+
+#[test]
+fn tape_read_image() {
+    check("tape_read_image");
+}
+
+#[test]
+fn tape_read_error() {
+    check("tape_read_error");
+}
+
+#[test]
+fn tape_read_stop() {
+    check("tape_read_stop");
+}

@@ -199,7 +199,7 @@ fn a_blank_frame_inside_eia_data_is_a_lost_hole() {
     assert_eq!((e.frame, e.block, e.position), (at as u64 + 1, 1, 3));
     assert!(
         e.to_string().starts_with(&format!(
-            "TAPE ERROR at frame {} (block 1, character 3): a blank frame inside the data",
+            "TAPE ERROR at frame {} (block 1, character 3): holes blank (·····•···), a blank frame inside the data",
             at + 1
         )),
         "{e}"

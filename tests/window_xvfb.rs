@@ -311,6 +311,117 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
     );
 }
 
+/// A punched hole in the tape strip: dark (the panel through the paper), or red for the frame
+/// in error; the paper itself is light yellow.
+fn is_hole(p: [u8; 3]) -> bool {
+    let dark = p[0] < 80 && p[1] < 80 && p[2] < 80;
+    let red = p[0] > 180 && p[1] < 90 && p[2] < 90;
+    dark || red
+}
+
+#[test]
+fn a_tape_read_draws_the_strip_of_frames_with_their_holes_and_the_sprocket() {
+    let Some(x) = xvfb_or_skip("window_xvfb tape strip") else {
+        return;
+    };
+    let dir = scratch("tape");
+    // The parity error stops the tape at frame 87, so the strip holds still for the screenshot.
+    let tape = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/frames/drill2_parity.tape");
+    let image = std::fs::read(&tape).unwrap();
+    let script = dir.join("tape.txt");
+    std::fs::write(
+        &script,
+        format!(
+            "op DATA\ndata READ\ntape {}\nstart\nwait\nshow\n",
+            tape.display()
+        ),
+    )
+    .unwrap();
+    let shot = dir.join("shot.ppm");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--size", "1400x860"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    let (plasma, pitch, _) = parse_layout(&out);
+    let img = read_ppm(&std::fs::read(&shot).unwrap()).expect("a P6 screenshot");
+    // The plasma display shows where the tape stopped, the frame in error marked `!`.
+    let seen = read_plasma(&img, plasma, pitch);
+    assert!(
+        seen.iter().any(|l| l.contains("ISO frame 87/159 block 3")),
+        "{}",
+        seen.join("\n")
+    );
+    assert!(
+        seen.iter().any(|l| l.starts_with("!●·●··•●·· ERR")),
+        "{}",
+        seen.join("\n")
+    );
+    // `tape X Y W H strip P first F count N`: frame F + i is column i, channel 8 on top, the
+    // sprocket between channels 4 and 3.
+    let line = out.lines().find(|l| l.starts_with("screenshot ")).unwrap();
+    let w: Vec<&str> = line.split_whitespace().collect();
+    let at = w.iter().position(|x| *x == "tape").unwrap();
+    let n = |i: usize| -> usize { w[at + i].parse::<f64>().unwrap() as usize };
+    let (x0, y0, step, first, count) = (n(1), n(2), n(6), n(8), n(10));
+    assert_eq!(w[at + 5], "strip", "{line}");
+    assert_eq!(
+        first + count,
+        87,
+        "the last frame drawn is the one in error: {line}"
+    );
+    assert!(count >= 20, "{line}");
+    let mut holes = 0;
+    for i in 0..count {
+        let f = image[first + i];
+        let cx = x0 + i * step + step / 2;
+        for ch in 1..=8u8 {
+            let row = if ch >= 4 {
+                8 - ch as usize
+            } else {
+                9 - ch as usize
+            };
+            let cy = y0 + row * step + step / 2;
+            let want = f & (1 << (ch - 1)) != 0;
+            assert_eq!(
+                is_hole(px(&img, cx, cy)),
+                want,
+                "frame {} channel {ch} at ({cx}, {cy}): {:?}",
+                first + i + 1,
+                px(&img, cx, cy)
+            );
+            holes += usize::from(want);
+        }
+        let sy = y0 + 5 * step + step / 2;
+        assert!(
+            is_hole(px(&img, cx, sy)),
+            "sprocket of frame {}",
+            first + i + 1
+        );
+    }
+    assert!(holes > count, "{holes} holes in {count} frames");
+    // The frame in error is drawn red.
+    let last = x0 + (count - 1) * step + step / 2;
+    let bad = image[86];
+    let ch = (1..=8u8).find(|c| bad & (1 << (c - 1)) != 0).unwrap();
+    let row = if ch >= 4 {
+        8 - ch as usize
+    } else {
+        9 - ch as usize
+    };
+    let p = px(&img, last, y0 + row * step + step / 2);
+    assert!(p[0] > 180 && p[1] < 90, "the bad frame is red: {p:?}");
+}
+
 #[test]
 fn without_a_display_the_window_says_so_and_suggests_the_terminal() {
     let dir = scratch("nodisplay");

@@ -214,11 +214,16 @@ fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
     if let Some(n) = jogged_note(c) {
         parts.push(n);
     }
-    let alarm = c.status.alarm.clone().or_else(|| {
-        c.program_alarm
-            .as_ref()
-            .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
-    });
+    let alarm = c
+        .status
+        .alarm
+        .clone()
+        .or_else(|| {
+            c.program_alarm
+                .as_ref()
+                .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
+        })
+        .or_else(|| c.tape_alarm.clone());
     match alarm {
         Some(a) if !c.message.contains(a.as_str()) => {
             if !c.message.is_empty() {
@@ -432,6 +437,11 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 cols,
             );
             p.body = tool_lines(&m, c.tool_focus, n);
+        }
+        DataMode::ToolRead | DataMode::Read if c.tape_view().is_some() => {
+            // The tape passing under the read head (docs/tape.md, "At the console").
+            p.header = split_line(name, &tape_name(c), cols);
+            p.body = super::tape::page_body(c, n, cols).unwrap_or_default();
         }
         DataMode::ToolRead => {
             let tape = tape_name(c);

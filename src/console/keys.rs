@@ -31,6 +31,8 @@ pub enum Action {
     Wheel(i32),
     /// The typed line names the tape to put in the reader.
     Tape,
+    /// The punch: the typed line names the image to punch program memory to (PROGRAM READ).
+    Punch,
     /// Show the help screen.
     Help,
     /// Nothing.
@@ -58,6 +60,7 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt(',') => A::Wheel(-1),
         Key::Alt('.') => A::Wheel(1),
         Key::Alt('t') => A::Tape,
+        Key::Alt('u') => A::Punch,
         Key::Left => A::Move(Axis::X, -1),
         Key::Right => A::Move(Axis::X, 1),
         Key::Up => A::Move(Axis::Y, 1),
@@ -188,6 +191,7 @@ impl Console {
                 self.handle(PanelEvent::Wheel(axis, n));
             }
             Action::Tape => self.tape_from_entry(),
+            Action::Punch => self.punch_from_entry(),
             Action::Help => {
                 self.help = true;
                 self.refresh();

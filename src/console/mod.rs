@@ -15,8 +15,10 @@ mod config;
 mod display;
 pub mod keys;
 mod memory;
+mod punch;
 mod run;
 pub mod search;
+pub mod tape;
 pub mod tcode;
 
 pub use config::ConsoleConfig;
@@ -67,6 +69,12 @@ pub struct Console {
     status: Status,
     display: Vec<String>,
     tape: Option<PathBuf>,
+    /// The tape read in progress (docs/tape.md, "At the console").
+    tape_read: Option<tape::TapeRead>,
+    /// The read an error stopped, shown until RESET, a selector turn or another read.
+    tape_stopped: Option<tape::TapeRead>,
+    /// The alarm of the read an error stopped (RESET clears it; START is refused until then).
+    tape_alarm: Option<String>,
     /// Where SEARCH positioned the program (the next new AUTO run starts there).
     search: Option<search::SearchPoint>,
     /// The restore plan shown for the SEARCH point, for the state it was made in.
@@ -128,6 +136,9 @@ impl Console {
             status,
             display: Vec::new(),
             tape: None,
+            tape_read: None,
+            tape_stopped: None,
+            tape_alarm: None,
             search: None,
             plan: search::PlanCache::default(),
             plan_shown: None,
@@ -204,7 +215,7 @@ impl Console {
     /// Whether the ALARM lamp is lit: a fault in the core (RESET clears it) or a program that
     /// does not translate (fixing it or RESET clears it).
     pub fn alarm_lit(&self) -> bool {
-        self.status.alarm.is_some() || self.program_alarm.is_some()
+        self.status.alarm.is_some() || self.program_alarm.is_some() || self.tape_alarm.is_some()
     }
 
     /// The program alarm in force, if any.
@@ -247,9 +258,9 @@ impl Console {
         &self.cfg.settings
     }
 
-    /// Whether the machine is idle: RUN = 0 and no axis moving.
+    /// Whether the machine is idle: RUN = 0, no axis moving and the tape reader not reading.
     pub fn is_idle(&self) -> bool {
-        self.status.idle
+        self.status.idle && !tape::reading(self)
     }
 
     /// Waits until the machine is idle (RUN = 0, no motion, the last command taken up), then
@@ -268,6 +279,10 @@ impl Console {
     /// The tape reader key: the line typed on the data keys names the tape file to put in
     /// the reader (the line is used up).
     pub fn tape_from_entry(&mut self) {
+        if tape::refuse_key(self, "the tape reader key") {
+            self.refresh();
+            return;
+        }
         let path = std::mem::take(&mut self.entry);
         let path = path.trim();
         if path.is_empty() {
@@ -304,6 +319,7 @@ impl Console {
     /// recomposes the display and records it.
     fn refresh(&mut self) {
         self.status = self.core.status();
+        tape::advance(self);
         run::note_run_end(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
@@ -337,6 +353,11 @@ impl Console {
 
     /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
+        tape::apply(self, ev);
+    }
+
+    /// Dispatches one event the tape rules let through.
+    fn apply_event(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Op(m) => self.turn_op(m),
             PanelEvent::Data(d) => {
@@ -404,6 +425,7 @@ impl Console {
             PanelEvent::Reset => {
                 self.command(Command::Reset);
                 self.program_alarm = None;
+                self.tape_alarm = None;
                 self.jogging = false;
                 self.jog_key = None;
                 self.message = "reset: machine idle, block buffer empty".into();
@@ -540,12 +562,16 @@ impl Console {
 
     /// START: run, resume, or read the tape, by mode.
     fn start(&mut self) {
+        if self.tape_alarm.is_some() {
+            self.message = "START refused: TAPE ALARM in force, press RESET".into();
+            return;
+        }
         match self.op {
             OpMode::Auto | OpMode::Single => run::start_program(self, RunKind::Auto),
             OpMode::Mdi => run::start_program(self, RunKind::Mdi),
             OpMode::Data => match self.data {
-                DataMode::Read => run::read_program_tape(self),
-                DataMode::ToolRead => run::read_tool_tape(self),
+                DataMode::Read => tape::start_read(self, tape::ReadTarget::Program),
+                DataMode::ToolRead => tape::start_read(self, tape::ReadTarget::Tools),
                 _ => {
                     self.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
                 }

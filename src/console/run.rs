@@ -1,7 +1,7 @@
 //! Running the machine from the console: START of AUTO, MDI and SINGLE BLOCK runs (the core
 //! decides whether START resumes or begins a run; a new run's program source translates from
-//! the machine's actual state), the program alarm, the tape reader, jog/STEP/HANDLE, the
-//! script's waits, and the session recording.
+//! the machine's actual state), the program alarm, jog/STEP/HANDLE, the
+//! script's waits (a tape read in progress runs to its end first), and the session recording.
 
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
@@ -188,6 +188,17 @@ pub(super) enum WaitFor {
 /// condition, at most [`WAIT_LIMIT_NS`] of machine time; a wait that cannot end says why.
 pub(super) fn wait(c: &mut Console, w: WaitFor) {
     c.wait_error = None;
+    if let WaitFor::Ms(t) = w {
+        // The tape moves with machine time (docs/tape.md, "At the console").
+        if super::tape::reading(c) {
+            let (_, st) = c.core.run_for(t.saturating_mul(1_000_000));
+            c.status = st;
+            super::tape::advance(c);
+            return;
+        }
+    } else {
+        wait_tape(c);
+    }
     let (r, st) = match w {
         WaitFor::Idle => c.core.run_until_idle(WAIT_LIMIT_NS),
         WaitFor::Block(n) => c.core.run_until_block(n, WAIT_LIMIT_NS),
@@ -213,72 +224,16 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
     note_run_end(c);
 }
 
-/// Reads the tape in the reader: its text and its name.
-fn read_tape(c: &mut Console) -> Option<(String, String)> {
-    let Some(path) = c.tape.clone() else {
-        c.message = "the tape reader is empty: put a tape in (tape PATH)".into();
-        return None;
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    match std::fs::read_to_string(&path) {
-        Ok(t) => Some((t, name)),
-        Err(e) => {
-            c.message = format!("tape {name} cannot be read: {e}");
-            None
+/// Lets the tape read in progress, if any, run to its end (a script's `wait` or `wait block`):
+/// the machine time it takes passes.
+fn wait_tape(c: &mut Console) {
+    while let Some(ns) = super::tape::remaining_ns(c) {
+        let (r, st) = c.core.run_for(ns.max(1));
+        c.status = st;
+        super::tape::advance(c);
+        if r == Reached::Interrupted {
+            break;
         }
-    }
-}
-
-/// PROGRAM READ: the tape becomes a program in program memory (named after the file) and the
-/// current one.
-pub(super) fn read_program_tape(c: &mut Console) {
-    let Some((text, file)) = read_tape(c) else {
-        return;
-    };
-    match c.mem.program_read_file(&file, &text) {
-        Ok(r) => {
-            let n = text.lines().count();
-            c.search = None;
-            let how = if r.changes.is_empty() {
-                String::new()
-            } else {
-                format!(" (name: {})", r.changes.join(", "))
-            };
-            let again = if r.replaced {
-                ", replacing the old one"
-            } else {
-                ""
-            };
-            c.message = format!("read {file}: program {}{how}, {n} lines{again}", r.name);
-        }
-        Err(e) => c.message = format!("PROGRAM READ refused: {e}"),
-    }
-}
-
-/// TOOL DATA READ: only the tape records of tools assigned to T codes are stored.
-pub(super) fn read_tool_tape(c: &mut Console) {
-    let Some((text, file)) = read_tape(c) else {
-        return;
-    };
-    match c.mem.tool_read(&text, &file) {
-        Ok(r) => {
-            c.message = format!(
-                "read {file}: {} T codes loaded, {} skipped",
-                r.loaded.len(),
-                r.skipped
-            );
-            let mut lines = Vec::new();
-            if !r.missing.is_empty() {
-                let m: Vec<String> = r.missing.iter().map(|t| format!("{t:05}")).collect();
-                lines.push(format!("not on tape: {}", m.join(" ")));
-            }
-            c.read_report = lines;
-            c.tool_focus = r.loaded.first().copied().unwrap_or(1);
-        }
-        Err(e) => c.message = format!("TOOL DATA READ refused, tool file unchanged: {e}"),
     }
 }
 

@@ -122,8 +122,9 @@ impl fmt::Display for TapeError {
             ),
             ErrorKind::BlankInData => write!(
                 f,
-                "TAPE ERROR at {}: a blank frame inside the data; every EIA character has a hole",
-                self.place()
+                "TAPE ERROR at {}: {}, a blank frame inside the data; every EIA character has a hole",
+                self.place(),
+                self.holes
             ),
             ErrorKind::AfterRewindStop => write!(
                 f,

@@ -7,6 +7,7 @@ use super::bench::Bench;
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::plot::PlotState;
+use super::tapestrip::{self, StripLayout};
 use super::Machine;
 use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
 use egui::{vec2, Color32, Rect};
@@ -54,12 +55,15 @@ struct Layout {
     plasma: Option<Rect>,
     pitch: usize,
     plot: Option<Rect>,
+    tape: Option<StripLayout>,
 }
 
 /// The window application.
 pub struct App {
     machine: Option<Box<dyn Machine>>,
     view: PanelView,
+    /// The tape read on display, if any (the tape strip).
+    tape: Option<crate::console::tape::TapeView>,
     plasma: Plasma,
     plot: PlotState,
     hand: HandState,
@@ -88,6 +92,7 @@ impl App {
         App {
             machine: Some(machine),
             view,
+            tape: None,
             plasma: Plasma::new(),
             plot: PlotState::new(),
             hand: HandState {
@@ -233,8 +238,17 @@ impl App {
                             )
                         })
                     };
+                    let tape = self.layout.tape.map_or("none".to_string(), |t| {
+                        format!(
+                            "{} strip {} first {} count {}",
+                            r(Some(t.rect)),
+                            (t.pitch * ppp).round(),
+                            t.first,
+                            t.count
+                        )
+                    });
                     println!(
-                        "screenshot {} {w}x{h} plasma {} pitch {} plot {}",
+                        "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape}",
                         path.display(),
                         r(self.layout.plasma),
                         self.layout.pitch,
@@ -274,6 +288,7 @@ impl App {
         self.play_script(m, &ctx);
         let was = self.view.wheel.0;
         self.view = m.view();
+        self.tape = m.tape();
         // The handwheel axis turned by another input (a script) shows on the selector too.
         if self.view.wheel.0 != was {
             self.hand.wheel_axis = self.view.wheel.0;
@@ -302,6 +317,9 @@ impl App {
         if std::mem::take(&mut self.hand.tape_requested) {
             self.program_dirty = true;
             m.tape_from_entry();
+        }
+        if std::mem::take(&mut self.hand.punch_requested) {
+            m.punch_from_entry();
         }
         for ev in out {
             self.program_dirty = true;
@@ -420,6 +438,14 @@ impl App {
         self.layout.plasma = Some(rect);
         self.layout.pitch = pitch;
         let _ = rows;
+        // The tape passing the read head, while a read is shown (docs/window.md).
+        self.layout.tape = match &self.tape {
+            Some(t) => {
+                ui.add_space(4.0);
+                Some(tapestrip::show(ui, t, size.x))
+            }
+            None => None,
+        };
         ui.add_space(6.0);
         ui.horizontal(|ui| {
             let sel = DataMode::ALL

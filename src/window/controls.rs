@@ -41,6 +41,8 @@ pub struct HandState {
     pub key_jog: Option<(Axis, i8)>,
     /// The tape reader key was pressed (the typed line names the tape).
     pub tape_requested: bool,
+    /// The punch key was pressed (the typed line names the image).
+    pub punch_requested: bool,
 }
 
 impl Default for HandState {
@@ -54,6 +56,7 @@ impl Default for HandState {
             jog_held: None,
             key_jog: None,
             tape_requested: false,
+            punch_requested: false,
         }
     }
 }

@@ -120,6 +120,9 @@ pub fn glyph(c: char) -> [u8; 7] {
         '█' => [0x1F; 7],
         '■' => [0x00, 0x0E, 0x0E, 0x0E, 0x0E, 0x0E, 0x00],
         '·' => [0x00, 0x00, 0x00, 0x04, 0x00, 0x00, 0x00],
+        // A punched hole and the smaller sprocket hole of a tape frame (docs/tape.md).
+        '●' => [0x00, 0x0E, 0x1F, 0x1F, 0x1F, 0x0E, 0x00],
+        '•' => [0x00, 0x00, 0x0E, 0x0E, 0x0E, 0x00, 0x00],
         '°' => [0x0C, 0x12, 0x12, 0x0C, 0x00, 0x00, 0x00],
         'Σ' => [0x1F, 0x10, 0x08, 0x04, 0x08, 0x10, 0x1F],
         'µ' | 'μ' => [0x00, 0x00, 0x11, 0x11, 0x13, 0x1D, 0x10],
@@ -135,7 +138,7 @@ pub fn glyph(c: char) -> [u8; 7] {
 /// screen, as the window test uses: it turns screenshot dots back into text).
 pub fn char_of(rows: [u8; 7]) -> Option<char> {
     let mut found = None;
-    for c in (' '..='~').chain("▶◀→←█■·°Σµ×±".chars()) {
+    for c in (' '..='~').chain("▶◀→←█■·●•°Σµ×±".chars()) {
         if glyph(c) == rows {
             if found.is_some() {
                 return None;

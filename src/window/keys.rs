@@ -1,5 +1,5 @@
 //! The data keys of the NC panel: alphabetic (15a), numeric with their shifted characters
-//! (15b), SHIFT (15c), SPACE, RUBOUT, EOB and the tape reader key, clickable; and the physical
+//! (15b), SHIFT (15c), SPACE, RUBOUT, EOB, the tape reader and punch keys, clickable; and the physical
 //! keyboard, with the terminal panel's key map. Each key becomes a `PanelEvent`; the console decides what it means.
 
 use super::controls::HandState;
@@ -71,6 +71,9 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
         if key(ui, "TAPE", 50.0, false) {
             hand.tape_requested = true;
         }
+        if key(ui, "PUNCH", 56.0, false) {
+            hand.punch_requested = true;
+        }
     });
 }
 
@@ -80,7 +83,8 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
 /// - F1–F7 turn the data-processing mode selector, Alt+1–Alt+7 the operation mode selector;
 /// - F9 START, F10 STOP, F11 RESET, F12 E-STOP (also Alt+S, Alt+P, Alt+R, Alt+E);
 /// - Alt+= / Alt+- feed override ±10 %; Alt+W the ×1/×10/×100 selector; Alt+, / Alt+. one
-///   handwheel detent; Alt+T the tape reader (the typed line names the file);
+///   handwheel detent; Alt+T the tape reader (the typed line names the file); Alt+U the punch
+///   (in PROGRAM READ the typed line names the image, `PATH` or `PATH EIA`);
 /// - arrows (X, Y) and Page Up/Down (Z): in HANDLE one handwheel detent on that axis, in
 ///   CONTINUOUS jog while held, otherwise one jog press (STEP).
 pub fn keyboard(
@@ -154,6 +158,7 @@ pub fn keyboard(
                         K::R if alt => out.push(PanelEvent::Reset),
                         K::E if alt => out.push(PanelEvent::EStop),
                         K::T if alt => hand.tape_requested = true,
+                        K::U if alt => hand.punch_requested = true,
                         K::Equals | K::Plus if alt => {
                             out.push(PanelEvent::Override((view.feed_override + 10).min(150)))
                         }

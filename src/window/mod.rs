@@ -12,6 +12,7 @@ mod keys;
 mod pathdraw;
 mod plasma;
 mod plot;
+mod tapestrip;
 
 use crate::panel_model::{PanelEvent, PanelView};
 use crate::settings::MachineSettings;
@@ -45,6 +46,11 @@ pub trait Machine {
     fn pulses(&self) -> u64;
     /// The tape reader key: the typed line names the tape to put in the reader.
     fn tape_from_entry(&mut self);
+    /// The punch key: in PROGRAM READ the typed line names the image to punch program memory
+    /// to (docs/tape.md).
+    fn punch_from_entry(&mut self);
+    /// The tape read in progress (or the one an error stopped), for the tape strip.
+    fn tape(&self) -> Option<crate::console::tape::TapeView>;
     /// Ends the session: stops the machine, closes the recording; its summary, if any.
     fn finish(self: Box<Self>) -> Result<Option<String>, String>;
 }
@@ -87,6 +93,12 @@ impl Machine for crate::console::Console {
     }
     fn tape_from_entry(&mut self) {
         crate::console::Console::tape_from_entry(self)
+    }
+    fn punch_from_entry(&mut self) {
+        crate::console::Console::punch_from_entry(self)
+    }
+    fn tape(&self) -> Option<crate::console::tape::TapeView> {
+        crate::console::Console::tape_view(self)
     }
     fn finish(self: Box<Self>) -> Result<Option<String>, String> {
         crate::console::Console::finish(*self)

@@ -127,6 +127,8 @@ pub struct BlockEnd {
     pub seq: u32,
     /// Its source line.
     pub stmt: u32,
+    /// Where the machine was when it started, pulses.
+    pub start: [i64; 3],
     /// The programmed end point, pulses.
     pub end: [i64; 3],
     /// Where the machine was when it completed, pulses.
@@ -816,6 +818,7 @@ impl Machine {
                 run,
                 seq: c.block.seq,
                 stmt: c.block.stmt,
+                start: c.block.start(),
                 end: c.block.end,
                 pos,
                 tip: pos[2] - self.settings.to_pulses(self.tool_len),
