@@ -108,7 +108,7 @@ fn iso_and_eia_images_and_a_text_file_read_at_the_console_as_the_codec_reads_the
 fn the_reader_speed_is_the_machine_setting() {
     let mut cfg = ConsoleConfig::new(temp_dir("tape-speed"));
     cfg.clock = ClockMode::Virtual;
-    cfg.settings.tape_chars_per_s = 1000;
+    cfg.settings.tape_chars_per_s = 300;
     let mut c = Console::open(cfg).unwrap().0;
     load(
         &mut c,
@@ -429,7 +429,7 @@ fn the_punch_key_is_refused_outside_program_read_and_writes_nothing_on_error() {
 fn in_real_time_the_tape_moves_at_its_speed_between_display_ticks() {
     let mut cfg = ConsoleConfig::new(temp_dir("tape-rt"));
     cfg.clock = ClockMode::RealTime;
-    cfg.settings.tape_chars_per_s = 1000;
+    cfg.settings.tape_chars_per_s = 300;
     let mut c = Console::open(cfg).unwrap().0;
     let path = repo("tests/golden/tableb.iso.tape");
     load(&mut c, DataMode::Read, &path);
@@ -445,8 +445,9 @@ fn in_real_time_the_tape_moves_at_its_speed_between_display_ticks() {
     }
     let took = started.elapsed();
     assert!(!c.tape_reading(), "the read ends on its own");
-    // 276 frames at 1000 a second: 0.28 s, shown part way at several ticks.
-    assert!(took.as_millis() >= 270, "{took:?}");
+    // 276 frames at 300 a second: 0.92 s, shown part way at several ticks (even with the
+    // display ticking slowly on a loaded machine).
+    assert!(took.as_millis() >= 900, "{took:?}");
     assert!(seen.len() >= 3, "the display moved: {seen:?}");
     let want = tape::read_image(&std::fs::read(&path).unwrap(), ReadOptions::default()).unwrap();
     assert_eq!(c.program_text(), want.text);
