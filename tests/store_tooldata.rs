@@ -71,7 +71,7 @@ fn bad_tool_tapes_change_nothing() {
     refused(
         "fields",
         tape_err("00106 DR 6.2 150 40 1200 120\n"),
-        "t.tt:1: a tool record has 8 fields (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH), this one has 7",
+        "t.tt:1: a tool record has 8 fields (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH), and the tool file may add the wear (WEARLEN WEARDIA), this one has 7",
     );
     refused(
         "numeric",

@@ -88,6 +88,25 @@ pub struct ToolRecord {
     pub feed: f64,
     /// Normal depth, mm (used by `SDP` with no value).
     pub depth: f64,
+    /// Length wear, mm, added to the set length (the OFS page; 0 on a tape).
+    pub wear_length: f64,
+    /// Diameter wear, mm, added to the diameter (the OFS page; 0 on a tape).
+    pub wear_diameter: f64,
+}
+
+/// The largest length or diameter wear, mm, either way.
+pub const MAX_WEAR_MM: f64 = 10.0;
+
+impl ToolRecord {
+    /// The length the Z axis carries: set length plus length wear, mm.
+    pub fn length(&self) -> f64 {
+        self.set_length + self.wear_length
+    }
+
+    /// The diameter that cuts: diameter plus diameter wear, mm.
+    pub fn cutting_diameter(&self) -> f64 {
+        self.diameter + self.wear_diameter
+    }
 }
 
 /// The tool file: one optional record per T code, slots 1..=capacity.

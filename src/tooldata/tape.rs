@@ -32,9 +32,9 @@ impl std::error::Error for TapeError {}
 pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     let text = text.split(';').next().unwrap_or("");
     let fields: Vec<&str> = text.split_whitespace().collect();
-    if fields.len() != 8 {
+    if fields.len() != 8 && fields.len() != 10 {
         return Err(format!(
-            "a tool record has 8 fields (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH), this one has {}",
+            "a tool record has 8 fields (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH), and the tool file may add the wear (WEARLEN WEARDIA), this one has {}",
             fields.len()
         ));
     }
@@ -72,6 +72,24 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
     if v[0] <= 0.0 {
         return Err(format!("diameter {} must be greater than 0", fields[2]));
     }
+    let mut wear = [0.0f64; 2];
+    for (i, name) in ["length wear", "diameter wear"].iter().enumerate() {
+        let Some(s) = fields.get(8 + i) else { break };
+        let x = language_number(s).map_err(|e| format!("{name} {e}"))?;
+        if x.abs() > super::MAX_WEAR_MM {
+            return Err(format!(
+                "{name} {s} is more than {} mm either way",
+                super::MAX_WEAR_MM
+            ));
+        }
+        wear[i] = x;
+    }
+    if v[0] + wear[1] <= 0.0 {
+        return Err(format!(
+            "the diameter wear {} leaves no diameter (diameter {})",
+            fields[9], fields[2]
+        ));
+    }
     Ok(ToolRecord {
         number,
         kind,
@@ -81,6 +99,8 @@ pub fn parse_record(text: &str) -> Result<ToolRecord, String> {
         speed: v[3],
         feed: v[4],
         depth: v[5],
+        wear_length: wear[0],
+        wear_diameter: wear[1],
     })
 }
 
@@ -115,7 +135,7 @@ pub fn parse_tape(text: &str, file: &str) -> Result<Vec<ToolRecord>, TapeError> 
 
 /// Formats a record as one tape line, in the column layout of the sample tape.
 pub fn format_record(r: &ToolRecord) -> String {
-    format!(
+    let mut s = format!(
         "{:05}  {}  {:>7}  {:>7}  {:>7}  {:>6}  {:>6}  {:>6}",
         r.number,
         r.kind.code(),
@@ -125,7 +145,15 @@ pub fn format_record(r: &ToolRecord) -> String {
         num(r.speed),
         num(r.feed),
         num(r.depth)
-    )
+    );
+    if r.wear_length != 0.0 || r.wear_diameter != 0.0 {
+        s.push_str(&format!(
+            "  {:>6}  {:>6}",
+            num(r.wear_length),
+            num(r.wear_diameter)
+        ));
+    }
+    s
 }
 
 /// A number with at least one decimal and no more than it needs to read back as the same
