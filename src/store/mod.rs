@@ -10,6 +10,7 @@ mod names;
 mod record;
 mod recover;
 mod snapshot;
+pub mod stamps;
 mod state;
 pub mod toolfile;
 
@@ -144,6 +145,8 @@ pub struct Stores {
     /// Damaged files not yet kept aside; no compaction overwrites them before they are.
     aside: Vec<&'static str>,
     journal_limit: usize,
+    /// When each program last changed (`program-times`, not operator data).
+    stamps: stamps::Stamps,
     _lock: DirLock,
 }
 
@@ -163,6 +166,21 @@ fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
         capacity,
         (SNAPSHOT, journal::JOURNAL),
     ))
+}
+
+/// One program of program memory, as the PROG page lists it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramInfo {
+    /// Its name.
+    pub name: String,
+    /// Its size in characters.
+    pub chars: usize,
+    /// Its lines.
+    pub lines: usize,
+    /// Its first line (at most 80 characters).
+    pub first_line: String,
+    /// When it last changed, in seconds since 1970, if known (`stamps`).
+    pub changed_s: Option<u64>,
 }
 
 /// What the command line reads of a console's memory (`novanc translate --state`, `novanc run
@@ -244,6 +262,7 @@ impl Stores {
             unsaved: false,
             aside: Vec::new(),
             journal_limit: JOURNAL_RECORDS,
+            stamps: stamps::Stamps::open(dir),
             _lock: lock,
         };
         // Keep the damaged files aside first, then word the notes with their new names.
@@ -314,6 +333,24 @@ impl Stores {
         self.journal_limit = records.max(1);
     }
 
+    /// Notes the time of a change that landed in a program's text or name.
+    fn stamp(&mut self, rec: &Record) {
+        let now = stamps::now_s();
+        match rec {
+            Record::Edit {
+                target: EditTarget::Program(name),
+                ..
+            } => self.stamps.touch(name, now),
+            Record::NewProgram(name) | Record::ProgramRead { name, .. } => {
+                self.stamps.touch(name, now)
+            }
+            Record::Copy { to, .. } => self.stamps.touch(to, now),
+            Record::Rename { from, to } => self.stamps.rename(from, to),
+            Record::Delete(name) => self.stamps.remove(name),
+            _ => {}
+        }
+    }
+
     /// Applies a change, journals it (fsynced) if it changed anything, and only then returns.
     fn commit(&mut self, rec: Record, y_max_lines: Option<usize>) -> Result<Outcome, EditFailure> {
         let (out, changed) = self.state.apply(&rec, y_max_lines).map_err(|e| match e {
@@ -348,6 +385,7 @@ impl Stores {
             };
             return Err(EditFailure::Store(serr(format!("not saved ({e}); {note}"))));
         }
+        self.stamp(&rec);
         if let Some(j) = &self.journal {
             if j.records >= self.journal_limit || j.len >= JOURNAL_BYTES {
                 // A failed compaction loses nothing: the journal still holds every change.
@@ -581,6 +619,26 @@ impl Stores {
         )
         .map(|_| ())
         .map_err(to_store)
+    }
+
+    /// Each program's name, size in characters, lines, and its first line (for the language).
+    pub fn program_list(&self) -> Vec<ProgramInfo> {
+        self.state
+            .programs
+            .iter()
+            .map(|(name, b)| ProgramInfo {
+                name: name.clone(),
+                chars: b.len(),
+                lines: b.line_count(),
+                first_line: b
+                    .slice(0, b.len().min(80))
+                    .lines()
+                    .next()
+                    .unwrap_or("")
+                    .to_string(),
+                changed_s: self.stamps.get(name),
+            })
+            .collect()
     }
 
     /// Empties the MDI buffer (for example after its blocks ran).
