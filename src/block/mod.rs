@@ -59,6 +59,13 @@ pub struct Block {
     pub t: Option<u32>,
     /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end).
     pub m: Option<u8>,
+    /// Z follows the length of the tool in the spindle: the translator worked its Z out as
+    /// tool-tip Z plus the tool's length. A length revised after translation (OFS during a
+    /// hold or between single blocks) moves a block with Z motion by the difference, and a
+    /// block without keeps the Z the machine is at (docs/pulse-core.md, "Tool length revised
+    /// during a run"). False for moves to machine zero and for sources that apply a revised
+    /// length only when asked (G-code's G43).
+    pub tool_z: bool,
 }
 
 impl Block {
@@ -76,6 +83,7 @@ impl Block {
             s: None,
             t: None,
             m: None,
+            tool_z: false,
         }
     }
 

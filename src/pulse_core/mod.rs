@@ -34,7 +34,7 @@ pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::block_buffer::{MakeRun, StatementIter};
-pub use self::machine::{axis_name, BlockEnd, Machine, Reached, Until};
+pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Until};
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};
@@ -200,6 +200,12 @@ pub struct Status {
     pub job: Option<RunInfo>,
     /// The block executing, or the last one executed, in the loaded run.
     pub executing: Option<BlockEntry>,
+    /// The executing (or last executed) block as the machine runs it: its Z moved by a tool
+    /// length revised during the run (`as_executed`).
+    pub executed: Option<crate::block::Block>,
+    /// How much longer, pulses, the tool in the spindle is now than the loaded run's blocks
+    /// were translated for (0 with no run loaded).
+    pub length_shift: i64,
     /// Whether `executing` is in progress (false: it is complete).
     pub in_block: bool,
     /// The latest run's end, once it has ended.
@@ -212,6 +218,8 @@ pub struct Status {
     pub pulses: [u64; 3],
     /// T code in the spindle.
     pub tool: Option<u32>,
+    /// The T code a tool change (M06) in progress is putting in the spindle.
+    pub changing_tool: Option<u32>,
     /// Set length of the tool in the spindle, mm (0 for none).
     pub tool_set_length: f64,
     /// Spindle rpm, signed (negative = reverse), 0 stopped.

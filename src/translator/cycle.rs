@@ -69,7 +69,7 @@ pub fn tool_change(o: &mut Out, tcode: u32, set: i64) {
     if o.m.tool.map(|t| t.tcode) == Some(tcode) {
         return;
     }
-    o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+    o.rapid_home(None);
     if o.m.spindle != Spindle::Stopped {
         o.aux(None, None, Some(5));
         o.m.spindle = Spindle::Stopped;

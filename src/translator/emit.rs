@@ -103,6 +103,7 @@ impl<'s> Out<'s> {
 
     fn push(&mut self, mut b: Block) {
         self.m.seq += 1;
+        b.tool_z = self.m.tool.is_some();
         b.seq = self.m.seq;
         b.stmt = self.line;
         b.delta = [
@@ -133,6 +134,24 @@ impl<'s> Out<'s> {
     /// G01 at `feed` mm/min to an axis position (nothing if already there).
     pub fn feed(&mut self, end: [i64; 3], feed: f64) {
         self.motion(Motion::Linear, end, feed);
+    }
+
+    /// G00 of Z alone to machine zero, then of X Y at machine zero when `xy` is given: moves
+    /// that do not depend on the tool's length (tool change, CL, the end of the program).
+    pub fn rapid_home(&mut self, xy: Option<[i64; 2]>) {
+        for end in [
+            Some([self.m.pos[0], self.m.pos[1], 0]),
+            xy.map(|[x, y]| [x, y, 0]),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            let n = self.blocks.len();
+            self.rapid(end);
+            if let Some(b) = self.blocks.get_mut(n) {
+                b.tool_z = false;
+            }
+        }
     }
 
     /// G00 of Z alone to tool-tip Z `tip` (pulses).

@@ -104,7 +104,7 @@ impl Translator {
             set: magazine
                 .tools
                 .get(tcode)
-                .map_or(0, |r| settings.to_pulses(r.set_length)),
+                .map_or(0, |r| settings.to_pulses(r.length())),
         });
         let spindle = match state.spindle {
             0 => Spindle::Stopped,
@@ -201,7 +201,7 @@ impl Translator {
     fn restore_for_cut(&mut self, line: u32) -> Result<Statement, TranslateError> {
         let seq = self.machine.seq;
         let mut o = Out::new(self.start, line, &self.settings);
-        o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+        o.rapid_home(None);
         let mut blocks = o.blocks;
         for b in &mut blocks {
             b.seq = 0;
@@ -250,8 +250,7 @@ impl Translator {
         }
         let pos = o.m.pos;
         if to[0] != pos[0] || to[1] != pos[1] {
-            o.rapid([pos[0], pos[1], 0]);
-            o.rapid([to[0], to[1], 0]);
+            o.rapid_home(Some([to[0], to[1]]));
         }
         o.rapid(to);
         o.check_travel(self.start.pos)?;
@@ -284,7 +283,7 @@ impl Translator {
             }
             o.aux(None, None, Some(5));
             o.m.spindle = Spindle::Stopped;
-            o.rapid([o.m.pos[0], o.m.pos[1], 0]);
+            o.rapid_home(None);
             o.m.clear = None;
         }
         o.aux(None, None, Some(30));
@@ -330,8 +329,7 @@ impl Translator {
                 position(&mut o, end);
             }
             Stmt::Cl => {
-                o.rapid([o.m.pos[0], o.m.pos[1], 0]);
-                o.rapid([0, 0, 0]);
+                o.rapid_home(Some([0, 0]));
                 o.m.clear = None;
             }
             def => self.tables.define(def, line)?,
@@ -532,7 +530,7 @@ fn cutting(
     let cycle = Cycle {
         kind,
         tcode,
-        set: o.p(rec.set_length),
+        set: o.p(rec.length()),
         feed,
         speed: speed.round() as u32,
         depth,
@@ -541,7 +539,7 @@ fn cutting(
         dwell,
         peck,
     };
-    let radius = rec.diameter / 2.0;
+    let radius = rec.cutting_diameter() / 2.0;
     let side = match (m.rgt, m.lft) {
         (Some(_), _) => 1.0,
         (_, Some(_)) => -1.0,

@@ -81,6 +81,8 @@ struct Job {
     started_ns: u64,
     /// The block executing or last executed.
     last: Option<BlockEntry>,
+    /// That block as the machine runs it (`as_executed`).
+    last_block: Option<Block>,
     /// Blocks started.
     started_blocks: u64,
     /// Where the run stood when the operator first moved an axis by hand while it was stopped.
@@ -137,6 +139,23 @@ pub struct BlockEnd {
     pub tip: i64,
 }
 
+/// A block as the machine runs it when the tool in the spindle is `shift` pulses longer than
+/// the block was translated for and Z is at `z_now` (docs/pulse-core.md, "Tool length revised
+/// during a run"): a block whose Z follows the tool (`Block::tool_z`) and moves Z goes to its Z
+/// moved by the difference; one that does not move Z stays at the Z the machine is at, so X Y
+/// never turn into a slant. Other blocks are unchanged. `delta` is left to the caller.
+pub fn as_executed(b: &mut Block, shift: i64, z_now: i64) {
+    if !b.tool_z {
+        return;
+    }
+    if b.delta[2] == 0 {
+        b.end[2] = z_now;
+        b.delta[2] = 0;
+    } else {
+        b.end[2] += shift;
+    }
+}
+
 /// The simulated machine: axes, relay logic, RUN, the run and the operator state.
 #[derive(Clone, Debug)]
 pub struct Machine {
@@ -166,6 +185,8 @@ pub struct Machine {
     s_rpm: u32,
     program_end: bool,
     magazine: Option<Magazine>,
+    /// The tool data the loaded run's blocks were translated with.
+    run_magazine: Option<Magazine>,
     jog: Option<Jog>,
     increments: VecDeque<(usize, i64)>,
     /// The return to where the run stopped: the move in progress and the targets after it.
@@ -216,6 +237,7 @@ impl Machine {
             s_rpm: 0,
             program_end: false,
             magazine: None,
+            run_magazine: None,
             jog: None,
             increments: VecDeque::new(),
             ret: None,
@@ -274,18 +296,36 @@ impl Machine {
         self.out.take_capture()
     }
 
-    /// The tool data used for the set length of the tool in the spindle.
+    /// The tool data used for the set length of the tool in the spindle. With no run loaded it
+    /// is also what the next run's blocks are translated with; during a run (a revision in a
+    /// feed hold) the difference moves the Z of the blocks started from then on.
     pub fn set_magazine(&mut self, m: Magazine) {
-        self.magazine = Some(m);
         if self.job.is_none() {
-            self.tool_len = self.set_length_of(self.tool);
+            self.run_magazine = Some(m.clone());
         }
+        self.magazine = Some(m);
+        self.tool_len = self.set_length_of(self.tool);
     }
 
+    /// The length the Z axis carries for tool `t` (set length plus wear), by the tool data in
+    /// force now.
     fn set_length_of(&self, t: Option<u32>) -> f64 {
-        t.and_then(|t| self.magazine.as_ref()?.tools.get(t))
-            .map(|r| r.set_length)
+        Self::length_in(self.magazine.as_ref(), t)
+    }
+
+    fn length_in(m: Option<&Magazine>, t: Option<u32>) -> f64 {
+        t.and_then(|t| m?.tools.get(t))
+            .map(|r| r.length())
             .unwrap_or(0.0)
+    }
+
+    /// How much longer (pulses) the tool in the spindle is now than the run's blocks were
+    /// translated for: the Z of every block started from now on is moved by it, so a length
+    /// revised during a feed hold applies from the next block (docs/pulse-core.md).
+    pub(super) fn length_shift(&self) -> i64 {
+        let now = self.set_length_of(self.tool);
+        let then = Self::length_in(self.run_magazine.as_ref(), self.tool);
+        self.settings.to_pulses(now) - self.settings.to_pulses(then)
     }
 
     /// The operation and data-processing mode names recorded in `/nc/state`.
@@ -613,6 +653,7 @@ impl Machine {
             id: self.runs,
             started_ns: self.now,
             last: None,
+            last_block: None,
             started_blocks: 0,
             return_to: None,
         });
@@ -620,6 +661,7 @@ impl Machine {
         self.out.count = [0; 3];
         self.program_end = false;
         self.just_completed = false;
+        self.run_magazine = self.magazine.clone();
         self.tool_len = self.set_length_of(self.tool);
         self.run = kind.flag();
     }
@@ -633,8 +675,11 @@ impl Machine {
             return;
         };
         let pos = self.out.pos;
-        if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) && b.start() != pos {
-            let s = b.start();
+        let shift = self.length_shift();
+        as_executed(&mut b, shift, pos[2]);
+        let start = b.start();
+        if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) && start != pos {
+            let s = start;
             let why = format!(
                 "the arc starts at X{:.3} Y{:.3} Z{:.3}, the machine is at X{:.3} Y{:.3} Z{:.3}",
                 self.settings.to_mm(s[0]),
@@ -677,6 +722,7 @@ impl Machine {
         self.started_seq = Some(b.seq);
         if let Some(j) = &mut self.job {
             j.last = Some(e.clone());
+            j.last_block = Some(b.clone());
             j.started_blocks += 1;
         }
         self.current = Some(Current {

@@ -1,6 +1,6 @@
 //! What the machine tells the outside: the status snapshot and the recorded events.
 
-use super::{send_ev, Machine};
+use super::{send_ev, Machine, Phase};
 use crate::pulse_core::{RunInfo, Status};
 use crate::record::Event;
 
@@ -77,12 +77,27 @@ impl Machine {
                 .as_ref()
                 .map(|c| c.entry.clone())
                 .or_else(|| self.job.as_ref().and_then(|j| j.last.clone())),
+            executed: self
+                .current
+                .as_ref()
+                .map(|c| c.block.clone())
+                .or_else(|| self.job.as_ref().and_then(|j| j.last_block.clone())),
+            length_shift: if self.job.is_some() {
+                self.length_shift()
+            } else {
+                0
+            },
             in_block: self.current.is_some(),
             last_end: self.last_end.clone(),
             runs: self.runs,
             blocks_done: self.blocks_done,
             pulses: self.out.count,
             tool: self.tool,
+            changing_tool: self
+                .current
+                .as_ref()
+                .filter(|c| c.phase == Phase::PreAux && c.block.m == Some(6))
+                .and_then(|c| c.block.t.or(self.selected_t)),
             tool_set_length: self.tool_len,
             spindle: self.spindle,
             feed_override: self.pending_override.unwrap_or(self.feed_override),
