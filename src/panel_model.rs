@@ -167,6 +167,39 @@ impl DataMode {
     }
 }
 
+/// The page on the plasma display: the mode's display program, or an operator page chosen by
+/// the row of page keys (docs/panel.md, "Pages").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Page {
+    /// The display program of the selectors' modes (the patent's).
+    #[default]
+    Mode,
+    /// POS: positions, feed, spindle, counters.
+    Pos,
+    /// PROG: the programs in memory.
+    Prog,
+    /// OFS: the tool offsets.
+    Ofs,
+    /// MSG: the alarm and message history.
+    Msg,
+}
+
+impl Page {
+    /// The pages of the row of page keys, in order.
+    pub const KEYS: [Page; 4] = [Page::Pos, Page::Prog, Page::Ofs, Page::Msg];
+
+    /// The key's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Page::Mode => "MODE",
+            Page::Pos => "POS",
+            Page::Prog => "PROG",
+            Page::Ofs => "OFS",
+            Page::Msg => "MSG",
+        }
+    }
+}
+
 /// A machine axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Axis {
@@ -232,9 +265,10 @@ pub enum PanelEvent {
     EStop,
     /// Feed override, percent (0–150, 10 % steps).
     Override(u32),
-    /// Handwheel: N detents on an axis, at the selected ×1/×10/×100 scale.
+    /// Handwheel: N detents on an axis, at the selected increment (×1/×10/×100/×1000).
     Wheel(Axis, i32),
-    /// Handwheel pulses-per-detent selector (1, 10 or 100).
+    /// The increment selector, in pulses (1, 10, 100 or 1000): per handwheel detent and per
+    /// STEP key, and a CONTINUOUS tap.
     WheelScale(u32),
     /// Jog button pressed (CONTINUOUS: move while held; STEP: one increment), +1 or -1.
     Jog(Axis, i8),
@@ -383,6 +417,14 @@ impl PanelEvent {
                 }
                 _ => return Err("'wheel' takes an axis and a number of detents".into()),
             },
+            "wheelscale" => {
+                let a = one("increment")?;
+                let n: u32 = a
+                    .trim_start_matches(['x', 'X'])
+                    .parse()
+                    .map_err(|_| format!("increment '{a}' is not 1, 10, 100 or 1000"))?;
+                PanelEvent::WheelScale(n)
+            }
             other => return Err(format!("unknown script word '{other}'")),
         };
         Ok(Some(ev))
@@ -449,8 +491,10 @@ pub struct PanelView {
     pub entry: String,
     /// Machine time, ns.
     pub machine_ns: u64,
-    /// The help screen is up (the terminal draws it instead of the panel).
-    pub help: bool,
+    /// The help screen page up (0: none; the terminal draws it instead of the panel).
+    pub help: u8,
+    /// The page on the plasma display.
+    pub page: Page,
     /// The last key ignored while the terminal was too small, for its notice.
     pub ignored: Option<String>,
 }

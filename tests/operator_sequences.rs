@@ -169,6 +169,43 @@ impl Session {
         self.ev(E::Press(parse_key(name).unwrap()));
     }
 
+    /// A jog key. With the machine at rest (no run, or a held one), a jog key in CONTINUOUS
+    /// (a tap), STEP or HANDLE moves its axis by exactly one increment or not at all, and no
+    /// other axis; in any other mode it moves nothing.
+    fn manual_key(&mut self, name: &str) {
+        let st = self.c.status().clone();
+        let v = self.c.view();
+        let at_rest = st.idle && !st.moving && (st.job.is_none() || st.hold);
+        self.key(name);
+        if !at_rest {
+            return;
+        }
+        self.ev(E::Wait);
+        let axis = match name {
+            "Left" | "Right" => 0,
+            "Up" | "Down" => 1,
+            _ => 2,
+        };
+        let now = self.c.status().pos;
+        let moved: Vec<i64> = (0..3).map(|a| now[a] - st.pos[a]).collect();
+        let manual = matches!(
+            v.op_mode,
+            OpMode::Continuous | OpMode::Step | OpMode::Handle
+        ) && v.page == novanc::panel_model::Page::Mode;
+        for (a, d) in moved.iter().enumerate() {
+            if a == axis && manual {
+                assert!(
+                    *d == 0 || d.abs() == i64::from(v.wheel.1),
+                    "{name} in {:?} moved {d} pulses, not one increment of {}",
+                    v.op_mode,
+                    v.wheel.1
+                );
+            } else {
+                assert_eq!(*d, 0, "{name} in {:?} moved axis {a}", v.op_mode);
+            }
+        }
+    }
+
     fn pick<'a>(&mut self, xs: &[&'a str]) -> &'a str {
         xs[self.rng.range(0, xs.len() as i64 - 1) as usize]
     }
@@ -217,7 +254,7 @@ impl Session {
             }
             38..=51 => {
                 let k = self.pick(&["Left", "Right", "Up", "Down", "PgUp", "PgDn"]);
-                self.key(k);
+                self.manual_key(k);
             }
             52..=54 => {
                 let k = self.pick(&["Alt+w", "Alt+=", "Alt+-"]);

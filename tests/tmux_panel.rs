@@ -197,24 +197,38 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     t.run(&["resize-window", "-t", "0", "-x", "80", "-y", "24"]);
     t.wait_for(&["PLASMA DISPLAY 14", "T02 00106  DR      6.2    155▌"], 10);
 
-    // STEP: one press, one 0.1 mm increment; HANDLE x100: one detent, 0.1 mm.
+    // STEP: one press, one 0.1 mm increment (the default x100); HANDLE x100: one detent,
+    // 0.1 mm; Alt+w to x1000: 1 mm.
     t.keys(&["M-6"]);
-    t.wait_for(&["◉━6 STEP"], 10);
+    t.wait_for(&["◉━6 STEP", "0.100 mm (x100) per jog key"], 10);
     t.keys(&["Right"]);
     t.wait_for(&["X    350.100"], 10);
     t.keys(&["M-5"]);
-    t.wait_for(&["◉━5 HANDLE"], 10);
-    t.keys(&["M-w"]);
-    t.keys(&["M-w"]);
-    t.wait_for(&["HANDWHEEL X x100"], 10);
+    t.wait_for(&["◉━5 HANDLE", "HANDWHEEL X x100"], 10);
     t.keys(&["Up"]);
     t.wait_for(&["Y    130.100"], 10);
+    t.keys(&["M-w"]);
+    t.wait_for(&["HANDWHEEL Y x1000"], 10);
+    t.keys(&["Up"]);
+    t.wait_for(&["Y    131.100"], 10);
 
     // Help and back.
     t.keys(&["F8"]);
     t.wait_for(&["novanc terminal panel: keys"], 10);
     t.keys(&["Space"]);
     t.wait_for(&["PLASMA DISPLAY 14"], 10);
+
+    // Every page of the row of page keys, and back to the mode's display.
+    t.keys(&["C-p"]);
+    t.wait_for(&["WORK      REL     MACH    TO GO", "JOG "], 10);
+    t.keys(&["C-d"]);
+    t.wait_for(&["NAME", "LNG", "CHANGED", "*TABLEB"], 10);
+    t.keys(&["C-o"]);
+    t.wait_for(&["OFS", "Enter INPUT", "T02 00106"], 10);
+    t.keys(&["C-e"]);
+    t.wait_for(&["MSG", "entries"], 10);
+    t.keys(&["C-e"]);
+    t.wait_for(&["HANDLE", "wheel Y"], 10);
 
     // Quit; the terminal is handed back as it was.
     t.keys(&["C-c"]);

@@ -60,7 +60,7 @@ pub fn script_line(ev: &PanelEvent) -> String {
 pub const CUT: char = '…';
 
 /// Exactly `cols` characters: padded with blanks, or cut with [`CUT`] as its last character.
-fn fit(s: &str, cols: usize) -> String {
+pub(super) fn fit(s: &str, cols: usize) -> String {
     let n = s.chars().count();
     if n > cols {
         let mut out: String = s.chars().take(cols.saturating_sub(1)).collect();
@@ -75,7 +75,7 @@ fn fit(s: &str, cols: usize) -> String {
 }
 
 /// `left` and `right` on one line, `right` flush right (cut first if too long).
-fn split_line(left: &str, right: &str, cols: usize) -> String {
+pub(super) fn split_line(left: &str, right: &str, cols: usize) -> String {
     let r = right.chars().count();
     let l = left.chars().count();
     if l + 1 + r <= cols {
@@ -87,7 +87,7 @@ fn split_line(left: &str, right: &str, cols: usize) -> String {
 
 /// A message wrapped on at most `max` lines of `cols` (words kept whole where possible); if it
 /// needs more, the last line shown ends in [`CUT`].
-fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
+pub(super) fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut cur = String::new();
     for w in msg.split(' ') {
@@ -120,17 +120,19 @@ fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
 }
 
 /// A page being filled: body lines between a header and the bottom lines.
-struct Page {
+pub(super) struct Page {
     rows: usize,
     cols: usize,
-    header: String,
-    body: Vec<String>,
+    /// The first line.
+    pub(super) header: String,
+    /// The lines between the header and the bottom lines.
+    pub(super) body: Vec<String>,
     /// Bottom lines (command, message, entry or state), in order.
-    bottom: Vec<String>,
+    pub(super) bottom: Vec<String>,
 }
 
 impl Page {
-    fn new(rows: usize, cols: usize, header: String) -> Page {
+    pub(super) fn new(rows: usize, cols: usize, header: String) -> Page {
         Page {
             rows,
             cols,
@@ -141,11 +143,11 @@ impl Page {
     }
 
     /// Rows left for the body.
-    fn body_rows(&self) -> usize {
+    pub(super) fn body_rows(&self) -> usize {
         self.rows.saturating_sub(1 + self.bottom.len())
     }
 
-    fn lines(self) -> Vec<String> {
+    pub(super) fn lines(self) -> Vec<String> {
         let n = self.body_rows();
         let mut out = vec![fit(&self.header, self.cols)];
         for i in 0..n {
@@ -170,6 +172,9 @@ pub(super) fn compose(c: &Console) -> Vec<String> {
     let rows = c.cfg.rows;
     let cols = c.cfg.cols;
     let loaded = c.status.run != 0 || c.status.job.is_some();
+    if c.pages.page != super::pages::Page::Mode {
+        return super::pages::compose(c, rows, cols);
+    }
     match c.op {
         OpMode::Auto | OpMode::Single | OpMode::Mdi => run_page(c, rows, cols),
         OpMode::Data => data_page(c, rows, cols),
@@ -209,7 +214,7 @@ fn jogged_note(c: &Console) -> Option<String> {
 }
 
 /// The message line(s): a note on a jogged run, then the alarm, then the message.
-fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
+pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
     let mut parts: Vec<String> = Vec::new();
     if let Some(n) = jogged_note(c) {
         parts.push(n);
@@ -241,7 +246,7 @@ fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
 }
 
 /// The state line: RUN, mode, feed override, T, S (and HOLD / E-STOP).
-fn state_line(c: &Console) -> String {
+pub(super) fn state_line(c: &Console) -> String {
     let mode = c.op.names().short;
     let t = match c.status.tool {
         Some(t) => format!("T{t:02}"),
@@ -288,10 +293,28 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             } else {
                 (e.index - n / 2).min(blocks.len() - n)
             };
+            // The executing block as the machine runs it, and the blocks after it as they will
+            // run: a tool length revised during the run moves their Z (docs/panel.md).
+            let executed = c
+                .status
+                .executed
+                .as_ref()
+                .filter(|x| blocks.get(e.index).is_some_and(|b| b.seq == x.seq));
+            let mut z = executed.map(|x| x.end[2]);
             for (i, b) in blocks.iter().enumerate().skip(first).take(n) {
                 let mark = if i == e.index { '>' } else { ' ' };
+                let shown = match (i.cmp(&e.index), executed, z) {
+                    (std::cmp::Ordering::Equal, Some(x), _) => x.clone(),
+                    (std::cmp::Ordering::Greater, _, Some(z_now)) => {
+                        let mut nb = b.clone();
+                        crate::pulse_core::as_executed(&mut nb, c.status.length_shift, z_now);
+                        z = Some(nb.end[2]);
+                        nb
+                    }
+                    _ => b.clone(),
+                };
                 p.body
-                    .push(format!("{mark}{}", iso_line(b, &c.cfg.settings)));
+                    .push(format!("{mark}{}", iso_line(&shown, &c.cfg.settings)));
             }
         }
         return p.lines();
@@ -381,7 +404,17 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 Target::Mdi => "buffer".into(),
                 Target::ToolFile => "tool file".into(),
             };
-            let w = c.mem.window(target, n, cols.saturating_sub(2));
+            // Line numbers (the numbers SEARCH takes) in a gutter, when the screen has room.
+            let count = c.mem.line_count(target).max(1);
+            let digits = count.to_string().len().max(2);
+            let gutter = if cols >= 30 { digits + 1 } else { 0 };
+            let w = c.mem.window(target, n, cols.saturating_sub(2 + gutter));
+            let number = |i: usize| -> String {
+                match gutter {
+                    0 => String::new(),
+                    _ => format!("{:>digits$} ", w.first_line + i + 1),
+                }
+            };
             p.header = split_line(
                 &format!("{name} {what}"),
                 &format!(
@@ -414,12 +447,17 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                         match pointer {
                             Some(at) => {
                                 chars.insert(at.min(chars.len()), POINTER);
-                                p.body
-                                    .push(format!(">{}", chars.iter().collect::<String>()));
+                                p.body.push(format!(
+                                    "{}>{}",
+                                    number(i),
+                                    chars.iter().collect::<String>()
+                                ));
                             }
-                            None => p
-                                .body
-                                .push(format!(" {}", chars.iter().collect::<String>())),
+                            None => p.body.push(format!(
+                                "{} {}",
+                                number(i),
+                                chars.iter().collect::<String>()
+                            )),
                         }
                     }
                 }
@@ -544,9 +582,20 @@ pub fn tool_lines(m: &Magazine, focus: u32, n: usize) -> Vec<String> {
 fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let v = c.view();
     let hint = match c.op {
-        OpMode::Continuous => "jog keys move while held".to_string(),
-        OpMode::Step => format!("{:.3} mm per jog key", c.cfg.settings.step_mm),
-        _ => format!("wheel {} x{}", v.wheel.0.letter(), v.wheel.1),
+        OpMode::Continuous => format!(
+            "tap {:.3} mm, hold jogs",
+            c.cfg.settings.to_mm(i64::from(v.wheel.1))
+        ),
+        OpMode::Step => format!(
+            "{} per jog key",
+            super::run::increment_text(&c.cfg.settings, v.wheel.1)
+        ),
+        _ => format!(
+            "wheel {} {:.3} mm x{}",
+            v.wheel.0.letter(),
+            c.cfg.settings.to_mm(i64::from(v.wheel.1)),
+            v.wheel.1
+        ),
     };
     let mut p = Page::new(rows, cols, split_line(op_name(c.op), &hint, cols));
     p.bottom = message_lines(c, cols, 2);

@@ -6,6 +6,7 @@
 //! any mode). While the help screen is up any other key only closes it; while the terminal is
 //! too small every other key is ignored and the notice says so.
 
+use super::pages::{self, Page};
 use super::Console;
 use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
@@ -13,8 +14,27 @@ use novanc_panel::Key;
 use std::time::{Duration, Instant};
 
 /// A CONTINUOUS jog stops when its key has not repeated for this long (terminals report no
-/// key release; auto-repeat keeps a held key coming). A key pressed once jogs this long.
+/// key release; auto-repeat keeps a held key coming).
 pub const JOG_RELEASE: Duration = Duration::from_millis(150);
+
+/// Two presses of one jog key closer than this are the terminal's auto-repeat (25 to 30 a
+/// second), so the key is held; a person tapping twice is slower (docs/panel.md, "Jogging").
+pub const REPEAT_GAP: Duration = Duration::from_millis(90);
+
+/// Machine time a tap's increment gets to come to rest in virtual time (1 mm at the slowest
+/// jog feed takes far less).
+const TAP_LIMIT_NS: u64 = 60_000_000_000;
+
+/// The CONTINUOUS jog key last pressed.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JogKey {
+    axis: Axis,
+    dir: i8,
+    /// When it was last pressed (or repeated).
+    at: Instant,
+    /// Repeating: a continuous jog is running (else it was tapped: one increment).
+    held: bool,
+}
 
 /// What a key asks of the console.
 #[derive(Clone, Debug, PartialEq)]
@@ -121,6 +141,12 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
         "right" => Some(Key::Right),
         "pgup" | "pageup" => Some(Key::PageUp),
         "pgdn" | "pagedown" => Some(Key::PageDown),
+        "tab" => Some(Key::Tab),
+        "esc" => Some(Key::Esc),
+        "home" => Some(Key::Home),
+        "end" => Some(Key::End),
+        "insert" => Some(Key::Insert),
+        "delete" => Some(Key::Delete),
         _ => None,
     };
     if let Some(k) = named {
@@ -137,8 +163,14 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
             return Ok(Key::Alt(c.to_ascii_lowercase()));
         }
     }
+    if let Some(rest) = name.get(5..).filter(|_| low.starts_with("ctrl+")) {
+        let mut cs = rest.chars();
+        if let (Some(c @ ('a'..='z' | 'A'..='Z')), None) = (cs.next(), cs.next()) {
+            return Ok(Key::Ctrl(c.to_ascii_lowercase()));
+        }
+    }
     Err(format!(
-        "unknown key '{name}' (F1-F12, Alt+1-Alt+7 and the other Alt keys of docs/panel.md, Up, Down, Left, Right, PgUp, PgDn, Enter, Backspace, or one character)"
+        "unknown key '{name}' (F1-F12, Alt+1-Alt+7 and the other Alt keys of docs/panel.md, Ctrl+P/D/O/E (the page keys), Up, Down, Left, Right, PgUp, PgDn, Home, End, Tab, Enter, Backspace, or one character)"
     ))
 }
 
@@ -149,14 +181,19 @@ impl Console {
     pub fn press(&mut self, k: Key) {
         let action = map_key(k);
         if is_relay_stop(k) {
-            self.help = false;
+            self.help = 0;
             if let Action::Event(e) = action {
                 self.handle(e);
             }
             return;
         }
-        if self.help {
-            self.help = false;
+        if self.help > 0 {
+            // F8 again turns to the second help page; any other key closes the help.
+            self.help = if action == Action::Help && self.help == 1 {
+                2
+            } else {
+                0
+            };
             self.refresh();
             return;
         }
@@ -165,6 +202,27 @@ impl Console {
                 "key {} ignored: the terminal is too small",
                 key_name(k)
             ));
+            return;
+        }
+        if let Some(p) = pages::page_of_key(k) {
+            self.recorder
+                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+            pages::page_key(self, p);
+            self.refresh();
+            return;
+        }
+        if matches!(
+            action,
+            Action::Event(PanelEvent::Op(_) | PanelEvent::Data(_))
+        ) {
+            self.pages.page = Page::Mode;
+        }
+        if self.pages.page != Page::Mode && pages::press(self, k) {
+            return;
+        }
+        if self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down) {
+            super::entry::recall(self, k == Key::Up);
+            self.refresh();
             return;
         }
         match action {
@@ -182,6 +240,7 @@ impl Console {
                 let s = match self.wheel.1 {
                     1 => 10,
                     10 => 100,
+                    100 => 1000,
                     _ => 1,
                 };
                 self.handle(PanelEvent::WheelScale(s));
@@ -193,43 +252,74 @@ impl Console {
             Action::Tape => self.tape_from_entry(),
             Action::Punch => self.punch_from_entry(),
             Action::Help => {
-                self.help = true;
+                self.help = 1;
                 self.refresh();
             }
             Action::None => {}
         }
     }
 
-    /// A CONTINUOUS jog key: starts the jog (or keeps it going while the key repeats); it is
-    /// released [`JOG_RELEASE`] after the last press. In virtual time that much machine time
-    /// passes at once.
+    /// A CONTINUOUS jog key (docs/panel.md, "Jogging"). A tap moves one increment, as STEP
+    /// does; a key pressed again within [`REPEAT_GAP`] is the terminal's auto-repeat of a held
+    /// key, and then the axis jogs until the key stops repeating for [`JOG_RELEASE`]. In
+    /// virtual time every press is a tap, and the increment is run to rest at once.
     fn hold_jog(&mut self, axis: Axis, dir: i8) {
-        let same = matches!(self.jog_key, Some((a, d, _)) if a == axis && d == dir);
-        if !same {
-            if self.jog_key.is_some() {
-                self.handle(PanelEvent::JogRelease);
+        let now = Instant::now();
+        let virtual_time = self.cfg.clock == ClockMode::Virtual;
+        let repeat = match self.jog_key {
+            Some(k) if k.axis == axis && k.dir == dir && !virtual_time => {
+                k.held || now.duration_since(k.at) <= REPEAT_GAP
             }
-            self.handle(PanelEvent::Jog(axis, dir));
-        }
-        if !self.jogging {
-            self.jog_key = None;
+            _ => false,
+        };
+        if repeat {
+            let mut k = self.jog_key.expect("a repeat has a key");
+            k.at = now;
+            if !k.held {
+                // The tap's increment may still be moving: the jog starts on a later repeat.
+                self.status = self.core.status();
+                if self.status.moving {
+                    self.jog_key = Some(k);
+                    return;
+                }
+                self.handle(PanelEvent::Jog(axis, dir));
+                if !self.jogging {
+                    self.jog_key = None;
+                    return;
+                }
+                k.held = true;
+            }
+            self.jog_key = Some(k);
             return;
         }
-        self.jog_key = Some((axis, dir, Instant::now()));
-        if self.cfg.clock == ClockMode::Virtual {
-            self.core.run_for(JOG_RELEASE.as_nanos() as u64);
+        if self.jog_key.is_some_and(|k| k.held) {
             self.release_jog_key();
-            // The release has decelerated the jog to rest.
-            self.core.run_until_idle(JOG_RELEASE.as_nanos() as u64);
+        }
+        self.jog_key = None;
+        super::run::step(self, axis, dir, "jog");
+        if virtual_time {
+            self.core.run_until_idle(TAP_LIMIT_NS);
+            self.refresh();
+        } else {
+            self.jog_key = Some(JogKey {
+                axis,
+                dir,
+                at: now,
+                held: false,
+            });
         }
     }
 
-    /// Releases a CONTINUOUS jog whose key has not repeated for [`JOG_RELEASE`] (called each
-    /// display tick).
+    /// Forgets a tapped CONTINUOUS key, or releases a held one, once it has not repeated for
+    /// [`JOG_RELEASE`] (called each display tick).
     pub(super) fn expire_jog_key(&mut self) {
-        if let Some((_, _, at)) = self.jog_key {
-            if at.elapsed() > JOG_RELEASE {
-                self.release_jog_key();
+        if let Some(k) = self.jog_key {
+            if k.at.elapsed() > JOG_RELEASE {
+                if k.held {
+                    self.release_jog_key();
+                } else {
+                    self.jog_key = None;
+                }
             }
         }
     }
@@ -253,7 +343,7 @@ impl Console {
 
     /// Whether the help screen is up.
     pub fn help_shown(&self) -> bool {
-        self.help
+        self.help > 0
     }
 
     /// The last key ignored because the terminal is too small, for the notice.
@@ -302,11 +392,16 @@ mod tests {
             Key::Backspace,
             Key::Char('x'),
             Key::Char('*'),
+            Key::Ctrl('p'),
+            Key::Tab,
+            Key::Home,
         ] {
             assert_eq!(parse_key(&key_name(k)), Ok(k), "{k:?}");
         }
         assert_eq!(parse_key("pgup"), Ok(Key::PageUp));
         assert_eq!(parse_key("ALT+2"), Ok(Key::Alt('2')));
+        assert_eq!(parse_key("CTRL+O"), Ok(Key::Ctrl('o')));
+        assert!(parse_key("Ctrl+1").is_err());
         assert!(parse_key("F13").is_err());
         assert!(parse_key("Hyper").unwrap_err().contains("unknown key"));
     }

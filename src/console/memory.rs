@@ -91,6 +91,57 @@ impl Memory {
         r
     }
 
+    /// The programs in memory, with their size and first line.
+    pub fn program_list(&self) -> Vec<crate::store::ProgramInfo> {
+        self.stores.program_list()
+    }
+
+    /// Copies a program under a new name (made current).
+    pub fn copy_program(&mut self, from: &str, to: &str) -> Result<(), String> {
+        let r = self
+            .stores
+            .copy_program(from, to)
+            .map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
+    /// Renames a program.
+    pub fn rename_program(&mut self, from: &str, to: &str) -> Result<(), String> {
+        let r = self
+            .stores
+            .rename_program(from, to)
+            .map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
+    /// Deletes a program (never the last one).
+    pub fn delete_program(&mut self, name: &str) -> Result<(), String> {
+        let r = self.stores.delete_program(name).map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
+    /// Replaces the MDI buffer with one line (MDI typed at the keys), journaled.
+    pub fn set_mdi(&mut self, line: &str) -> Result<(), String> {
+        let mut cmd = String::from("I");
+        for ch in line.chars() {
+            if matches!(ch, '*' | '$' | '\\') {
+                cmd.push('\\');
+            }
+            cmd.push(ch);
+        }
+        cmd.push('*');
+        if !self.stores.buffer(Target::Mdi).is_empty() {
+            let r = self.stores.clear_mdi().map_err(|e| e.to_string());
+            self.bump(r)?;
+        }
+        let r = self
+            .stores
+            .edit(Target::Mdi, &cmd, None)
+            .map(|_| ())
+            .map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
     /// Makes another program current.
     pub fn select_program(&mut self, name: &str) -> Result<(), String> {
         let r = self.stores.select_program(name).map_err(|e| e.to_string());

@@ -13,8 +13,10 @@
 
 mod config;
 mod display;
+mod entry;
 pub mod keys;
 mod memory;
+pub mod pages;
 mod punch;
 mod run;
 pub mod search;
@@ -33,7 +35,6 @@ use crate::store::Target;
 use crate::tooldata::Magazine;
 use memory::Memory;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// A program that would not translate: shown with the ALARM lamp until the program (or the
 /// tool data) changes and translates, or RESET.
@@ -87,10 +88,12 @@ pub struct Console {
     read_report: Vec<String>,
     /// A CONTINUOUS jog is in progress.
     jogging: bool,
-    /// The CONTINUOUS jog key held, and when it last repeated.
-    jog_key: Option<(Axis, i8, Instant)>,
-    /// The help screen is up.
-    help: bool,
+    /// The CONTINUOUS jog key last pressed: when, and whether it is held (a continuous jog).
+    jog_key: Option<keys::JogKey>,
+    /// The help screen page up (0: none, 1: the panel keys, 2: the editor commands and pages).
+    help: u8,
+    /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
+    pages: pages::Pages,
     /// The terminal is large enough for the panel.
     screen_fits: bool,
     /// The last key ignored while the terminal was too small.
@@ -112,9 +115,12 @@ impl Console {
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {
         cfg.check()?;
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
+        let (pages, more) = pages::Pages::open(&cfg.state_dir);
+        warnings.extend(more);
         let recorder =
             run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
         let core = PulseCore::spawn(cfg.settings.clone(), cfg.clock, recorder.sink());
+        let scale = run::default_scale(&cfg.settings);
         core.set_magazine(mem.magazine());
         if let Some(f) = cfg.interrupt {
             core.set_interrupt(f);
@@ -132,7 +138,7 @@ impl Console {
             program_alarm: None,
             y_output: None,
             feed_override: 100,
-            wheel: (Axis::X, 1),
+            wheel: (Axis::X, scale),
             status,
             display: Vec::new(),
             tape: None,
@@ -146,7 +152,8 @@ impl Console {
             read_report: Vec::new(),
             jogging: false,
             jog_key: None,
-            help: false,
+            help: 0,
+            pages,
             screen_fits: true,
             ignored: None,
             modes_told: None,
@@ -208,6 +215,7 @@ impl Console {
             entry: self.entry.clone(),
             machine_ns: self.status.machine_ns,
             help: self.help,
+            page: self.pages.page,
             ignored: self.ignored.clone(),
         }
     }
@@ -328,6 +336,13 @@ impl Console {
             }
             self.notice_seen = self.status.notice.clone();
         }
+        let alarm = self
+            .status
+            .alarm
+            .clone()
+            .or_else(|| self.program_alarm.as_ref().map(|a| a.error.to_string()))
+            .or_else(|| self.tape_alarm.clone());
+        pages::log(self, alarm);
         let lines = display::compose(self);
         if lines != self.display {
             self.display = lines;
@@ -369,32 +384,10 @@ impl Console {
                     self.last_line.clear();
                 }
             }
-            PanelEvent::Key(ch) => {
-                if self.may_enter(&format!("key '{ch}'")) {
-                    if self.entry.chars().count() < 240 {
-                        self.entry.push(ch);
-                    } else {
-                        self.message = "the command line is full (240 characters)".into();
-                    }
-                }
-            }
-            PanelEvent::Rubout => {
-                if self.may_enter("RUBOUT") {
-                    self.entry.pop();
-                }
-            }
-            PanelEvent::Eob => {
-                if self.may_enter("EOB") {
-                    let line = std::mem::take(&mut self.entry);
-                    self.enter_line(line);
-                }
-            }
-            PanelEvent::Type(text) => {
-                if self.may_enter(&format!("'{text}'")) {
-                    self.entry.clear();
-                    self.enter_line(text);
-                }
-            }
+            PanelEvent::Key(ch) => entry::key(self, ch),
+            PanelEvent::Rubout => entry::rubout(self),
+            PanelEvent::Eob => entry::eob(self),
+            PanelEvent::Type(text) => entry::typed(self, text),
             PanelEvent::Tape(path) => {
                 let name = path
                     .file_name()
@@ -445,10 +438,14 @@ impl Console {
                 }
             }
             PanelEvent::WheelScale(s) => {
-                if [1, 10, 100].contains(&s) {
+                if run::SCALES.contains(&s) {
                     self.wheel.1 = s;
+                    self.message = format!(
+                        "increment {}: handwheel detent and STEP",
+                        run::increment_text(&self.cfg.settings, s)
+                    );
                 } else {
-                    self.message = format!("handwheel scale x{s}: only x1, x10, x100");
+                    self.message = format!("increment x{s}: only x1, x10, x100, x1000");
                 }
             }
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
@@ -508,55 +505,6 @@ impl Console {
             self.message = format!("feed hold: mode changed to {} while running", m.name());
         } else {
             self.message.clear();
-        }
-    }
-
-    /// Whether the data keys may be used now; if not, says why on the display.
-    fn may_enter(&mut self, what: &str) -> bool {
-        if self.op != OpMode::Data {
-            self.message = format!(
-                "{what} refused: data keys work in DATA INPUT only (now {})",
-                self.op.name()
-            );
-            return false;
-        }
-        if self.running() {
-            self.message = format!("{what} refused: the machine is running");
-            return false;
-        }
-        true
-    }
-
-    /// A command line ended with EOB, in DATA INPUT with RUN = 0.
-    fn enter_line(&mut self, line: String) {
-        self.last_line = line.clone();
-        self.y_output = None;
-        let target = match self.data {
-            DataMode::Revise => Target::Program,
-            DataMode::Mdi => Target::Mdi,
-            DataMode::ToolRevise => Target::ToolFile,
-            DataMode::TCode => return tcode::enter(self, &line),
-            DataMode::Search => return search::enter(self, &line),
-            DataMode::Read | DataMode::ToolRead => {
-                self.message = "put the tape in the reader and press START to read it".into();
-                return;
-            }
-        };
-        let rows = display::text_rows(self.cfg.rows);
-        let rev = self.mem.rev();
-        match self.mem.edit(target, &line, Some(rows)) {
-            Ok(y) => {
-                if !y.is_empty() {
-                    self.y_output = Some(y);
-                }
-                self.message = "ok".into();
-                if target == Target::Program && self.mem.rev() != rev && self.search.is_some() {
-                    self.search = None;
-                    self.message = "ok; SEARCH point cleared (program changed)".into();
-                }
-                run::recheck_program_alarm(self);
-            }
-            Err(e) => self.message = e,
         }
     }
 

@@ -120,6 +120,8 @@ pub(super) fn note_run_end(c: &mut Console) {
         return;
     }
     c.end_seen = end.id;
+    let done = end.cause == EndCause::ProgramEnd;
+    super::pages::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
     let secs = end.machine_ns as f64 / 1e9;
     match end.cause {
         EndCause::ProgramEnd => {
@@ -304,6 +306,44 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
     after_manual(c);
 }
 
+/// The increments, in pulses: the handwheel per detent, and STEP per key (docs/panel.md,
+/// "Jogging"): 0.001, 0.01, 0.1 and 1 mm at the default pulse of 0.001 mm.
+pub(super) const SCALES: [u32; 4] = [1, 10, 100, 1000];
+
+/// The increment the console starts with: the configured STEP length when it is one of
+/// [`SCALES`], else 0.1 mm's worth (x100).
+pub(super) fn default_scale(s: &MachineSettings) -> u32 {
+    let p = s.to_pulses(s.step_mm);
+    SCALES
+        .iter()
+        .copied()
+        .find(|&k| i64::from(k) == p)
+        .unwrap_or(100)
+}
+
+/// An increment as the operator reads it: "0.100 mm (x100)".
+pub(super) fn increment_text(s: &MachineSettings, scale: u32) -> String {
+    format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
+}
+
+/// One increment (the selected scale) on `axis` at jog feed: the STEP key, and a CONTINUOUS
+/// key tapped once.
+pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
+    if !manual_allowed(c, what) {
+        return;
+    }
+    let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
+    if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
+        c.message = e;
+        return;
+    }
+    c.command(Command::Increment {
+        axis: axis.index(),
+        pulses,
+    });
+    after_manual(c);
+}
+
 /// A jog button: CONTINUOUS jogs while held, STEP moves one increment.
 pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
     let dir: i8 = if dir < 0 { -1 } else { 1 };
@@ -326,21 +366,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
             c.jogging = c.status.notice.is_none();
             after_manual(c);
         }
-        OpMode::Step => {
-            if !manual_allowed(c, "step") {
-                return;
-            }
-            let pulses = dir as i64 * c.cfg.settings.to_pulses(c.cfg.settings.step_mm);
-            if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
-                c.message = e;
-                return;
-            }
-            c.command(Command::Increment {
-                axis: axis.index(),
-                pulses,
-            });
-            after_manual(c);
-        }
+        OpMode::Step => step(c, axis, dir, "step"),
         OpMode::Handle => {
             c.message = "HANDLE: turn the handwheel (jog keys work in CONTINUOUS and STEP)".into()
         }

@@ -5,7 +5,7 @@
 //! For a display of R×C the panel needs (C + 39) × (max(R + 2, 14) + 10) cells: 79×24 for
 //! the default 12×40.
 
-use crate::panel_model::{DataMode, OpMode, PanelView};
+use crate::panel_model::{DataMode, OpMode, Page, PanelView};
 use novanc_panel::draw::{button, gauge, lamp, rotary};
 use novanc_panel::{Color, Screen, Style};
 
@@ -99,7 +99,7 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         rx + 1,
         12,
         &format!(
-            "HANDWHEEL {} x{:<3} Alt+, Alt+.",
+            "HANDWHEEL {} x{:<4} Alt+, Alt+.",
             v.wheel.0.letter(),
             v.wheel.1
         ),
@@ -159,6 +159,13 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         "1 2 3 4 5 6 7 8 9 0 . , / = ( ) - + $ *  SHIFT  EOB  RUBOUT",
         PANEL,
     );
+    // The row of page keys (docs/panel.md, "Pages"), right of the letters, each key's control
+    // letter on the frame above its button; the page shown is lit.
+    let mut x = kw.saturating_sub(25);
+    for (p, key) in Page::KEYS.iter().zip(["^P", "^D", "^O", "^E"]) {
+        s.text(x + 1, top + 5, key, PANEL);
+        x += button(s, x, top + 6, p.label(), v.page == *p, PANEL, LIT) + 1;
+    }
     s.text(0, top + 9, LEGEND, PANEL);
 }
 
@@ -177,18 +184,45 @@ pub const HELP: &[&str] = &[
     "Feed override                Alt+= up 10 %   Alt+- down 10 %",
     "Jog (CONTINUOUS, STEP)       arrows X and Y, PgUp/PgDn Z",
     "Handwheel (HANDLE)           arrows/PgUp/PgDn: 1 detent on that axis",
-    "                             Alt+, Alt+. turn the wheel; Alt+w x1/x10/x100",
-    "Data keys (DATA INPUT)       type; Enter = EOB; Backspace = RUBOUT",
+    "                             Alt+, Alt+. turn the wheel; Alt+w x1 x10 x100 x1000",
+    "STEP increment               Alt+w: 0.001 0.01 0.1 1 mm (a CONTINUOUS tap: one step)",
+    "Data keys (DATA INPUT, MDI)  type; Enter = EOB; Backspace = RUBOUT",
     "Tape reader                  type the file path, then Alt+t; START reads it",
     "Tape punch (PROGRAM READ)    type PATH (ISO code) or PATH EIA, then Alt+u",
+    "Pages                        Ctrl-P POS  Ctrl-D PROG  Ctrl-O OFS  Ctrl-E MSG",
     "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
+    "F8 again: the editor commands and the page keys. Any key returns to the panel;",
+    "STOP, RESET and E-STOP also act at once.",
+];
+
+/// The second help page: the editor commands with an example each, and the page keys.
+pub const HELP_EDITOR: &[&str] = &[
+    "novanc terminal panel: the editor commands (DATA INPUT, F3 F5 F7) and the pages",
+    "",
+    "nL   lines: 2L down two, 0L line start, -1L up one     L",
+    "mM   move m characters: -5M back five                  M",
+    "nK   kill through the nth EOB: K the rest of the line  K",
+    "nD   delete n characters: -3D the three before        D",
+    "Itext   insert: IP9 = (10, 20)*  (* is EOB)           I",
+    "Stext   search (either case): Sdrl, 105$              S",
+    "Cold$new  change: CDP20$DP22                           C",
+    "nY   show n lines: 5Y                                  Y",
+    "Several on a line: 2LCNH6$NH5  (a failed line changes nothing)",
+    "",
+    "Pages (any mode; the same key again goes back):",
+    "  Ctrl-P POS   positions, feed, spindle, counters; X Enter zeroes rel X",
+    "  Ctrl-D PROG  programs: Enter selects, C NAME copies, R NAME renames, D deletes",
+    "  Ctrl-O OFS   tool offsets: value Enter sets, value Tab adds (+INPUT)",
+    "  Ctrl-E MSG   alarm and message history, newest first",
+    "MDI mode: type a statement, Enter, F9; Up/Down recall the last 20",
     "",
     "Any key returns to the panel; STOP, RESET and E-STOP also act at once.",
 ];
 
-/// Draws the help screen.
-pub fn draw_help(s: &mut Screen) {
-    for (i, l) in HELP.iter().enumerate() {
+/// Draws help page `page` (1: the panel keys, 2: the editor commands and pages).
+pub fn draw_help(s: &mut Screen, page: u8) {
+    let lines = if page == 2 { HELP_EDITOR } else { HELP };
+    for (i, l) in lines.iter().enumerate() {
         s.text(1, i, l, if i == 0 { LIT } else { PANEL });
     }
 }
@@ -262,7 +296,8 @@ mod tests {
             wheel: (Axis::Y, 10),
             entry: "2L".into(),
             machine_ns: 0,
-            help: false,
+            help: 0,
+            page: crate::panel_model::Page::Mode,
             ignored: None,
         }
     }

@@ -82,8 +82,8 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
         let view = console.view();
         if w < need.0 || h < need.1 {
             draw_too_small(&mut screen, need, view.ignored.as_deref());
-        } else if view.help {
-            draw_help(&mut screen);
+        } else if view.help > 0 {
+            draw_help(&mut screen, view.help);
         } else {
             draw_panel(&mut screen, &view);
         }

@@ -228,7 +228,8 @@ mod tests {
             wheel: (Axis::X, 10),
             entry: String::new(),
             machine_ns: 0,
-            help: false,
+            help: 0,
+            page: crate::panel_model::Page::Mode,
             ignored: None,
         }
     }

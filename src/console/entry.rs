@@ -1,0 +1,144 @@
+//! The data keys and the entry line: where a typed line goes (docs/panel.md, "Rules").
+//!
+//! - On an operator page (POS, PROG, OFS): to the page, in any mode (`pages`).
+//! - In MDI (the operation selector), as on a Fanuc MDI page: the line becomes the MDI buffer,
+//!   and START runs it; the last lines are kept for recall (Up and Down).
+//! - In DATA INPUT with the machine stopped: to the editor on the buffer of the data mode, or
+//!   to SEARCH, T-CODE SETTING.
+//! - Anywhere else the data keys are refused with a message, and the line is not kept.
+
+use super::pages::{self, Page};
+use super::{display, run, search, tcode, Console};
+use crate::panel_model::{DataMode, OpMode};
+use crate::store::Target;
+
+/// Where the data keys type now.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum To {
+    Page,
+    Mdi,
+    Data,
+}
+
+/// Where the data keys go now, or why they are refused (said on the display).
+fn target(c: &mut Console, what: &str) -> Option<To> {
+    if c.pages.page != Page::Mode {
+        return Some(To::Page);
+    }
+    if c.op == OpMode::Mdi {
+        return Some(To::Mdi);
+    }
+    if c.op != OpMode::Data {
+        c.message = format!(
+            "{what} refused: data keys work in DATA INPUT, MDI or on a page (now {})",
+            c.op.name()
+        );
+        return None;
+    }
+    if c.running() {
+        c.message = format!("{what} refused: the machine is running");
+        return None;
+    }
+    Some(To::Data)
+}
+
+/// One data key.
+pub(super) fn key(c: &mut Console, ch: char) {
+    if target(c, &format!("key '{ch}'")).is_some() {
+        if c.entry.chars().count() < 240 {
+            c.entry.push(ch);
+        } else {
+            c.message = "the command line is full (240 characters)".into();
+        }
+    }
+}
+
+/// RUBOUT.
+pub(super) fn rubout(c: &mut Console) {
+    if target(c, "RUBOUT").is_some() {
+        c.entry.pop();
+    }
+}
+
+/// EOB: the line typed is entered.
+pub(super) fn eob(c: &mut Console) {
+    if let Some(to) = target(c, "EOB") {
+        let line = std::mem::take(&mut c.entry);
+        enter(c, to, line);
+    }
+}
+
+/// A whole line typed, then EOB (`type TEXT`).
+pub(super) fn typed(c: &mut Console, text: String) {
+    if let Some(to) = target(c, &format!("'{text}'")) {
+        c.entry.clear();
+        enter(c, to, text);
+    }
+}
+
+fn enter(c: &mut Console, to: To, line: String) {
+    match to {
+        To::Page => pages::enter(c, &line, false),
+        To::Mdi => mdi_line(c, line),
+        To::Data => enter_line(c, line),
+    }
+}
+
+/// MDI at the keys: the line becomes the MDI buffer (START runs it).
+fn mdi_line(c: &mut Console, line: String) {
+    if line.trim().is_empty() {
+        c.message = "MDI: type a statement, Enter, then START".into();
+        return;
+    }
+    c.pages.remember(&line);
+    if c.status.job.is_some() {
+        c.message = "MDI refused: a run is loaded; RESET first (Up recalls the line)".into();
+        return;
+    }
+    match c.mem.set_mdi(&line) {
+        Ok(()) => c.message = "MDI buffer set: START runs it".into(),
+        Err(e) => c.message = format!("MDI refused: {e} (Up recalls the line)"),
+    }
+    run::recheck_program_alarm(c);
+}
+
+/// Up or Down in MDI: the previous or next line typed into the entry line.
+pub(super) fn recall(c: &mut Console, back: bool) {
+    match c.pages.recall_step(back) {
+        Some(l) => c.entry = l,
+        None => c.message = "MDI: no line to recall".into(),
+    }
+}
+
+/// A command line ended with EOB, in DATA INPUT with RUN = 0.
+fn enter_line(c: &mut Console, line: String) {
+    c.last_line = line.clone();
+    c.y_output = None;
+    let target = match c.data {
+        DataMode::Revise => Target::Program,
+        DataMode::Mdi => Target::Mdi,
+        DataMode::ToolRevise => Target::ToolFile,
+        DataMode::TCode => return tcode::enter(c, &line),
+        DataMode::Search => return search::enter(c, &line),
+        DataMode::Read | DataMode::ToolRead => {
+            c.message = "put the tape in the reader and press START to read it".into();
+            return;
+        }
+    };
+    let rows = display::text_rows(c.cfg.rows);
+    let rev = c.mem.rev();
+    match c.mem.edit(target, &line, Some(rows)) {
+        Ok(y) => {
+            if !y.is_empty() {
+                c.y_output = Some(y);
+            }
+            c.message = "ok".into();
+            if target == Target::Program && c.mem.rev() != rev && c.search.is_some() {
+                c.search = None;
+                c.message = "ok; SEARCH point cleared (program changed)".into();
+            }
+            run::recheck_program_alarm(c);
+        }
+        Err(e) => c.message = e,
+    }
+}

@@ -1,0 +1,59 @@
+//! MSG: the alarm and message history with machine time, newest first, each in full (wrapped,
+//! never cut), kept across restarts (`store::history`). Up and Down scroll it.
+
+use super::super::display::{split_line, wrap, Page as Frame};
+use super::Console;
+use crate::store::history::Kind;
+use novanc_panel::Key;
+
+/// Scrolls the history.
+pub(super) fn arrow(c: &mut Console, k: Key) {
+    let n = c.pages.history.entries().len();
+    let f = &mut c.pages.msg_first;
+    match k {
+        Key::Down | Key::PageDown => *f = (*f + 1).min(n.saturating_sub(1)),
+        Key::Up | Key::PageUp => *f = f.saturating_sub(1),
+        _ => {}
+    }
+}
+
+/// The MSG page.
+pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
+    let all = c.pages.history.entries();
+    let mut p = Frame::new(
+        rows,
+        cols,
+        split_line("MSG", &format!("{} entries", all.len()), cols),
+    );
+    let n = p.body_rows();
+    if all.is_empty() {
+        p.body.push("(no alarm or message yet)".into());
+    }
+    for e in all.iter().rev().skip(c.pages.msg_first) {
+        if p.body.len() >= n {
+            break;
+        }
+        let kind = match e.kind {
+            Kind::Alarm => "ALARM ",
+            Kind::Message => "",
+        };
+        let t = e.machine_ns as f64 / 1e9;
+        let text = format!("{t:>9.1} s {kind}{}", e.text);
+        // Full text: wrapped on as many lines as it needs, the continuation indented.
+        for (i, l) in wrap(&text, cols.saturating_sub(2), usize::MAX)
+            .into_iter()
+            .enumerate()
+        {
+            p.body.push(if i == 0 { l } else { format!("  {l}") });
+        }
+    }
+    if p.body.len() > n {
+        // The rest is further down: said, not cut silently.
+        p.body.truncate(n);
+        if let Some(last) = p.body.last_mut() {
+            let keep: String = last.chars().take(cols.saturating_sub(1)).collect();
+            *last = format!("{keep}{}", super::super::display::CUT);
+        }
+    }
+    p.lines()
+}
