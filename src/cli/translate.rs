@@ -9,29 +9,37 @@ use crate::translator::{iso_program, translate_all};
 use std::io::Write;
 
 const HELP: &str = "\
-usage: novanc translate PROG [--tools TAPE] [--magazine TCODES]
+usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
+                                [--optional-stop]
 
-Translates the part program PROG (source language, see docs/language.md) into machine
-instruction blocks and prints them, one ISO 6983 line per block, in absolute millimetres:
+Translates the part program PROG into machine instruction blocks: the source language
+(docs/language.md), or ISO G-code (docs/gcode.md) when PROG ends in .ngc, .nc or .iso or its
+first line is % or O and a number. It prints the blocks and prints them, one ISO 6983 line per block, in absolute millimetres:
 a preamble line 'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J F S T M',
 and 'M30'. The printed program is G-code for a standard interpreter (Z is the machine
-axis: tool-tip Z plus the tool's set length). The machine starts at machine zero with no
-tool in the spindle.
+axis: tool-tip Z plus the tool's set length; for G-code, the gauge line: program Z plus
+the work offset plus the G43 tool length). Arcs outside the XY plane say G18 or G19. The
+machine starts at machine zero with no tool in the spindle; G-code starts with every work
+offset at zero.
 
 options:
   --tools TAPE        tool tape (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH per line);
                       default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES   T-code table ('Tnn TOOLNO' per line);
                       default: the sample table tooldata/magazine.tc (embedded)
+  --block-delete      G-code: skip lines that start with / (the BLOCK DELETE switch)
+  --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
-const OPTS: [Opt; 4] = [
+const OPTS: [Opt; 6] = [
     Opt::value("--tools"),
     Opt::value("--magazine"),
+    Opt::flag("--block-delete"),
+    Opt::flag("--optional-stop"),
     Opt::flag("--help"),
     Opt::flag("-h"),
 ];
@@ -87,7 +95,24 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
-    match translate_all(&source, &magazine, &settings, [0, 0, 0]) {
+    let result = if crate::gcode::is_gcode(&prog, &source) {
+        let switches = crate::gcode::Switches {
+            block_delete: args.flag("--block-delete"),
+            optional_stop: args.flag("--optional-stop"),
+        };
+        crate::gcode::GcodeSource::new(
+            source.into(),
+            magazine,
+            settings.clone(),
+            crate::block::MachineState::at([0, 0, 0]),
+            crate::gcode::WorkOffsets::default(),
+            switches,
+        )
+        .collect()
+    } else {
+        translate_all(&source, &magazine, &settings, [0, 0, 0])
+    };
+    match result {
         Ok(stmts) => {
             let out = iso_program(&stmts, &settings);
             let mut stdout = std::io::stdout().lock();

@@ -1,0 +1,213 @@
+//! The canonical moves the interpreter produces (machine millimetres, absolute), and their
+//! conversion into machine instruction blocks in pulses with the travel check
+//! (docs/gcode.md "The listing").
+
+use crate::block::{Block, Motion, Plane, TranslateError};
+use crate::settings::MachineSettings;
+
+/// One canonical action, in machine coordinates (mm): where the spindle's gauge line goes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Canon {
+    /// G00 to a point.
+    Rapid([f64; 3]),
+    /// G01 to a point at a feed, mm/min.
+    Feed([f64; 3], f64),
+    /// G02/G03 to `end` about `centre` (absolute, mm; its normal coordinate unused).
+    Arc {
+        /// End point.
+        end: [f64; 3],
+        /// Centre.
+        centre: [f64; 3],
+        /// Plane.
+        plane: Plane,
+        /// G03.
+        ccw: bool,
+        /// Feed, mm/min.
+        feed: f64,
+    },
+    /// G04 for seconds.
+    Dwell(f64),
+    /// S, T and M functions.
+    Aux {
+        /// Spindle speed.
+        s: Option<u32>,
+        /// T code.
+        t: Option<u32>,
+        /// M code.
+        m: Option<u8>,
+    },
+}
+
+/// Turns canonical actions into blocks: positions in whole pulses, `delta` the exact
+/// difference of consecutive ends, sequence numbers counted on.
+pub struct Emitter {
+    /// Machine position, pulses, after the last block.
+    pub pos: [i64; 3],
+    /// The last sequence number.
+    pub seq: u32,
+}
+
+impl Emitter {
+    /// Appends the blocks of `items` (each with its source line and column) to `out`, checking
+    /// travel; on an error nothing is appended and the position is unchanged.
+    pub fn emit(
+        &mut self,
+        items: &[(Canon, u32, u32)],
+        st: &MachineSettings,
+        out: &mut Vec<Block>,
+    ) -> Result<(), TranslateError> {
+        let (pos0, seq0, n0) = (self.pos, self.seq, out.len());
+        let r = self.emit_inner(items, st, out);
+        if r.is_err() {
+            self.pos = pos0;
+            self.seq = seq0;
+            out.truncate(n0);
+        }
+        r
+    }
+
+    fn emit_inner(
+        &mut self,
+        items: &[(Canon, u32, u32)],
+        st: &MachineSettings,
+        out: &mut Vec<Block>,
+    ) -> Result<(), TranslateError> {
+        let p3 = |v: [f64; 3]| [st.to_pulses(v[0]), st.to_pulses(v[1]), st.to_pulses(v[2])];
+        for (c, line, col) in items {
+            let err = |message: String| TranslateError {
+                line: *line,
+                col: *col,
+                message,
+            };
+            let mut b = Block::aux(0, *line, self.pos);
+            match c {
+                Canon::Rapid(e) | Canon::Feed(e, _) => {
+                    let end = p3(*e);
+                    if end == self.pos {
+                        continue;
+                    }
+                    b.end = end;
+                    if let Canon::Feed(_, f) = c {
+                        b.motion = Motion::Linear;
+                        b.feed = *f;
+                    } else {
+                        b.motion = Motion::Rapid;
+                    }
+                    check_point(st, end).map_err(err)?;
+                }
+                Canon::Arc {
+                    end,
+                    centre,
+                    plane,
+                    ccw,
+                    feed,
+                } => {
+                    let e = p3(*end);
+                    let c = p3(*centre);
+                    let [a0, a1, _] = plane.axes();
+                    let s = self.pos;
+                    let rad = |p: [i64; 3], c: [i64; 3]| {
+                        ((p[a0] - c[a0]) as f64).hypot((p[a1] - c[a1]) as f64)
+                    };
+                    // Rounding to pulses may part the radii; take the nearest pulse centre
+                    // that keeps them within one pulse of each other.
+                    let mut best = c;
+                    let mut diff = (rad(s, c) - rad(e, c)).abs();
+                    if diff > 1.0 {
+                        for du in -1..=1 {
+                            for dv in -1..=1 {
+                                let mut cc = c;
+                                cc[a0] += du;
+                                cc[a1] += dv;
+                                let d = (rad(s, cc) - rad(e, cc)).abs();
+                                if d < diff {
+                                    diff = d;
+                                    best = cc;
+                                }
+                            }
+                        }
+                    }
+                    if rad(s, best) < 2.0 {
+                        return Err(err(format!(
+                            "arc radius {:.4} mm is below 2 pulses",
+                            st.to_mm(rad(s, best) as i64)
+                        )));
+                    }
+                    b.end = e;
+                    b.motion = if *ccw { Motion::ArcCcw } else { Motion::ArcCw };
+                    b.plane = *plane;
+                    b.center = Some([best[a0] - s[a0], best[a1] - s[a1]]);
+                    b.feed = *feed;
+                    check_point(st, e).map_err(err)?;
+                    check_arc(st, s, e, best, *plane, *ccw).map_err(err)?;
+                }
+                Canon::Dwell(secs) => {
+                    b.motion = Motion::Dwell;
+                    b.dwell_ns = (secs * 1e9).round().max(0.0) as u64;
+                }
+                Canon::Aux { s, t, m } => {
+                    b.s = *s;
+                    b.t = *t;
+                    b.m = *m;
+                }
+            }
+            self.seq += 1;
+            b.seq = self.seq;
+            b.delta = [
+                b.end[0] - self.pos[0],
+                b.end[1] - self.pos[1],
+                b.end[2] - self.pos[2],
+            ];
+            self.pos = b.end;
+            out.push(b);
+        }
+        Ok(())
+    }
+}
+
+/// A point inside every travel limit, or why not.
+fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
+    for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+        let (lo, hi) = st.travel_pulses(axis);
+        if p[axis] < lo || p[axis] > hi {
+            return Err(format!(
+                "{name}{:.3} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
+                st.to_mm(p[axis]),
+                st.travel_min_mm[axis],
+                st.travel_max_mm[axis],
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The axis points (centre ± R) an arc sweeps over must be inside the travel too.
+fn check_arc(
+    st: &MachineSettings,
+    s: [i64; 3],
+    e: [i64; 3],
+    c: [i64; 3],
+    plane: Plane,
+    ccw: bool,
+) -> Result<(), String> {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let [u, v] = plane.turn_axes();
+    let a = |p: [i64; 3]| ((p[v] - c[v]) as f64).atan2((p[u] - c[u]) as f64);
+    let r = ((s[u] - c[u]) as f64).hypot((s[v] - c[v]) as f64);
+    let (a0, a1) = (a(s), a(e));
+    let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
+    if s[u] == e[u] && s[v] == e[v] {
+        sweep = TAU;
+    }
+    for k in 0..4 {
+        let q = k as f64 * FRAC_PI_2;
+        let d = if ccw { q - a0 } else { a0 - q }.rem_euclid(TAU);
+        if d <= sweep {
+            let mut p = s;
+            p[u] = c[u] + (r * q.cos()).round() as i64;
+            p[v] = c[v] + (r * q.sin()).round() as i64;
+            check_point(st, p)?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,873 @@
+//! The interpreter's state and the execution of one read line, in LinuxCNC's order of
+//! execution (docs/gcode.md "Order of execution"): F, S, T, M06, M03/M04/M05, M08/M09, G04,
+//! plane, units, cutter compensation, tool length, coordinate system, distance mode, retract
+//! mode, G10/G28/G53, motion, then the stops.
+
+use super::canon::Canon;
+use super::comp::Comp;
+use super::expr::{Line, Word};
+use super::geom::{self, ArcFault};
+use super::{OffsetChange, WorkOffsets};
+use crate::block::{Plane, TranslateError};
+use crate::settings::MachineSettings;
+use crate::tooldata::Magazine;
+
+/// The motion mode in force (modal group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// G00.
+    Rapid,
+    /// G01.
+    Feed,
+    /// G02.
+    Cw,
+    /// G03.
+    Ccw,
+    /// A canned cycle (G73, G81–G89).
+    Cycle(u8),
+    /// G80.
+    None,
+}
+
+/// What a line asks of the program flow after it has executed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// Go on with the next line.
+    Next,
+    /// M98 P L: call O-number `o`, `l` times.
+    Call { o: u32, l: u32, col: u32 },
+    /// M99: return from the subprogram.
+    Return { col: u32 },
+    /// M02 or M30: the program ends.
+    End,
+}
+
+/// The letters a line may hold, besides G and M.
+const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
+
+/// The words of one line sorted out: G and M codes, one value per other letter.
+#[derive(Clone, Debug, Default)]
+pub struct Words {
+    /// G codes ×10 (G04 = 40, G43.1 = 431) with columns.
+    pub g: Vec<(u32, u32)>,
+    /// M codes with columns.
+    pub m: Vec<(u32, u32)>,
+    vals: [Option<(f64, u32)>; 26],
+}
+
+impl Words {
+    /// The value of a letter's word, if given.
+    pub fn get(&self, c: char) -> Option<f64> {
+        self.vals[(c as u8 - b'A') as usize].map(|v| v.0)
+    }
+
+    /// The column of a letter's word, if given.
+    pub fn col(&self, c: char) -> Option<u32> {
+        self.vals[(c as u8 - b'A') as usize].map(|v| v.1)
+    }
+
+    /// Whether a G code (×10) is on the line, and its column.
+    pub fn has_g(&self, g: u32) -> Option<u32> {
+        self.g.iter().find(|x| x.0 == g).map(|x| x.1)
+    }
+
+    /// Whether an M code is on the line, and its column.
+    pub fn has_m(&self, m: u32) -> Option<u32> {
+        self.m.iter().find(|x| x.0 == m).map(|x| x.1)
+    }
+
+    /// Whether any of X, Y, Z is given.
+    pub fn has_axis(&self) -> bool {
+        ['X', 'Y', 'Z'].iter().any(|&c| self.get(c).is_some())
+    }
+}
+
+/// The modal group of a G code (×10), or `None` for one novanc does not know.
+fn g_group(g: u32) -> Option<u8> {
+    Some(match g {
+        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 890 => 1,
+        170 | 180 | 190 => 2,
+        900 | 910 => 3,
+        940 => 5,
+        200 | 210 => 6,
+        400 | 410 | 420 => 7,
+        430 | 490 => 8,
+        980 | 990 => 10,
+        540 | 550 | 560 | 570 | 580 | 590 => 12,
+        40 | 100 | 280 | 530 => 0,
+        _ => return None,
+    })
+}
+
+/// The modal group of an M code, or `None` for one novanc does not know.
+fn m_group(m: u32) -> Option<u8> {
+    Some(match m {
+        0 | 1 | 2 | 30 => 4,
+        6 => 6,
+        3 | 4 | 5 => 7,
+        8 | 9 => 8,
+        98 | 99 => 10,
+        _ => return None,
+    })
+}
+
+/// Sorts a line's words, refusing unknown letters and codes, a letter twice, and two codes of
+/// one modal group.
+pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
+    let err = |col: u32, message: String| TranslateError {
+        line: n,
+        col,
+        message,
+    };
+    let mut w = Words::default();
+    let mut g_seen: [Option<(u32, u32)>; 13] = [None; 13];
+    let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
+    for &Word { letter, value, col } in &line.words {
+        match letter {
+            'G' => {
+                let g10 = (value * 10.0).round();
+                if (value * 10.0 - g10).abs() > 1e-6 || g10 < 0.0 {
+                    return Err(err(col, format!("unknown code G{value}")));
+                }
+                let g = g10 as u32;
+                let name = if g % 10 == 0 {
+                    format!("G{:02}", g / 10)
+                } else {
+                    format!("G{}.{}", g / 10, g % 10)
+                };
+                let Some(grp) = g_group(g) else {
+                    let why = match g {
+                        920..=923 => " (G92 offsets are not supported: use G54–G59 with G10)",
+                        930 => " (inverse-time feed is not supported: G94 only)",
+                        870 | 880 => " (G87 and G88 are not supported)",
+                        _ => "",
+                    };
+                    return Err(err(col, format!("unknown or unsupported code {name}{why}")));
+                };
+                if let Some((other, _)) = g_seen[grp as usize] {
+                    let on = if other % 10 == 0 {
+                        format!("G{:02}", other / 10)
+                    } else {
+                        format!("G{}.{}", other / 10, other % 10)
+                    };
+                    return Err(err(
+                        col,
+                        format!("{name} and {on} are in the same modal group: give one"),
+                    ));
+                }
+                g_seen[grp as usize] = Some((g, col));
+                w.g.push((g, col));
+            }
+            'M' => {
+                if value.fract() != 0.0 || value < 0.0 {
+                    return Err(err(col, format!("unknown code M{value}")));
+                }
+                let m = value as u32;
+                let Some(grp) = m_group(m) else {
+                    return Err(err(col, format!("unknown or unsupported code M{m:02}")));
+                };
+                if let Some((other, _)) = m_seen[grp as usize] {
+                    return Err(err(
+                        col,
+                        format!("M{m:02} and M{other:02} are in the same modal group: give one"),
+                    ));
+                }
+                m_seen[grp as usize] = Some((m, col));
+                w.m.push((m, col));
+            }
+            c if LETTERS.contains(c) => {
+                let slot = &mut w.vals[(c as u8 - b'A') as usize];
+                if slot.is_some() {
+                    return Err(err(col, format!("two {c} words on one line")));
+                }
+                *slot = Some((value, col));
+            }
+            c => {
+                return Err(err(
+                    col,
+                    format!("unknown word {c} (novanc has the axes X, Y and Z)"),
+                ))
+            }
+        }
+    }
+    Ok(w)
+}
+
+/// The interpreter's modal state and machine, all lengths in mm.
+#[derive(Clone, Debug)]
+pub struct State {
+    /// Where the spindle's gauge line is, machine mm.
+    pub cur: [f64; 3],
+    /// G20 in force.
+    pub inch: bool,
+    /// G91 in force.
+    pub incremental: bool,
+    /// Arc plane.
+    pub plane: Plane,
+    /// Motion mode.
+    pub mode: Mode,
+    /// Feed, mm/min (0 = none given yet).
+    pub feed: f64,
+    /// Spindle speed S, rpm.
+    pub speed: f64,
+    /// T code selected by the last T word.
+    pub selected: Option<u32>,
+    /// T code in the spindle.
+    pub tool: Option<u32>,
+    /// Spindle: 1 forward, −1 reverse, 0 stopped.
+    pub spindle: i8,
+    /// Tool length offset in force (G43), mm.
+    pub tlo: f64,
+    /// Work offsets and the system in force (0 = G54).
+    pub offsets: WorkOffsets,
+    /// The coordinate system in force, 0 = G54 … 5 = G59.
+    pub cs: usize,
+    /// G99 (retract to R) in force, else G98.
+    pub retract_r: bool,
+    /// Canned cycles: the initial level (program Z, mm) of the series, sticky R, Z, P, Q.
+    pub cycle_il: Option<f64>,
+    /// Sticky R of the cycles (program Z, mm).
+    pub cycle_r: Option<f64>,
+    /// Sticky Z of the cycles.
+    pub cycle_z: Option<f64>,
+    /// Sticky P (dwell, s).
+    pub cycle_p: f64,
+    /// Sticky Q (peck, mm).
+    pub cycle_q: Option<f64>,
+    /// Cutter radius compensation.
+    pub comp: Comp,
+}
+
+impl State {
+    /// The length factor of the units in force (25.4 for inches).
+    pub fn factor(&self) -> f64 {
+        if self.inch {
+            25.4
+        } else {
+            1.0
+        }
+    }
+
+    /// The machine offset of the program frame: work offset plus tool length on Z.
+    pub fn frame(&self) -> [f64; 3] {
+        let o = self.offsets.0[self.cs];
+        [o[0], o[1], o[2] + self.tlo]
+    }
+
+    /// The current point in program coordinates, mm.
+    pub fn prog(&self) -> [f64; 3] {
+        let f = self.frame();
+        [self.cur[0] - f[0], self.cur[1] - f[1], self.cur[2] - f[2]]
+    }
+
+    /// A program point (mm) in machine coordinates.
+    pub fn machine(&self, p: [f64; 3]) -> [f64; 3] {
+        let f = self.frame();
+        [p[0] + f[0], p[1] + f[1], p[2] + f[2]]
+    }
+}
+
+/// What one line produced.
+pub struct Exec<'a> {
+    /// The line number.
+    pub n: u32,
+    /// Canonical actions with their column.
+    pub out: Vec<(Canon, u32, u32)>,
+    /// Work offsets changed by G10.
+    pub changes: Vec<OffsetChange>,
+    /// The settings.
+    pub settings: &'a MachineSettings,
+    /// The tool data.
+    pub magazine: &'a Magazine,
+    /// OPTIONAL STOP is on.
+    pub optional_stop: bool,
+}
+
+impl Exec<'_> {
+    /// An error at column `col` of this line.
+    pub fn err(&self, col: u32, message: impl Into<String>) -> TranslateError {
+        TranslateError {
+            line: self.n,
+            col,
+            message: message.into(),
+        }
+    }
+
+    /// Adds a canonical action charged to `col`.
+    pub fn push(&mut self, c: Canon, col: u32) {
+        self.out.push((c, self.n, col));
+    }
+
+    fn tool_data(
+        &self,
+        t: u32,
+        col: u32,
+        what: &str,
+    ) -> Result<&crate::tooldata::ToolRecord, TranslateError> {
+        self.magazine.tools.get(t).ok_or_else(|| {
+            self.err(
+                col,
+                format!("{what}{t} names T code {t}, which has no tool data in the tool file"),
+            )
+        })
+    }
+}
+
+fn int_word(x: &Exec, w: &Words, c: char, lo: f64, hi: f64) -> Result<Option<u32>, TranslateError> {
+    match (w.get(c), w.col(c)) {
+        (Some(v), Some(col)) => {
+            if v.fract() != 0.0 || v < lo || v > hi {
+                return Err(x.err(
+                    col,
+                    format!("{c}{v} must be a whole number from {lo} to {hi}"),
+                ));
+            }
+            Ok(Some(v as u32))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// Executes one sorted line on the state.
+pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, TranslateError> {
+    let line_col =
+        w.g.first()
+            .map(|g| g.1)
+            .or(w.m.first().map(|m| m.1))
+            .unwrap_or(1);
+    // Units first, so that the line's lengths are read in the new units (LinuxCNC converts
+    // lengths at execution).
+    if w.has_g(200).is_some() {
+        st.inch = true;
+    }
+    if w.has_g(210).is_some() {
+        st.inch = false;
+    }
+    let k = st.factor();
+    if let Some(f) = w.get('F') {
+        if f < 0.0 {
+            return Err(x.err(w.col('F').unwrap_or(1), "a negative F"));
+        }
+        st.feed = f * k;
+    }
+    // S and T, then M06, then the spindle.
+    let mut aux_s = None;
+    if let Some(s) = w.get('S') {
+        if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
+            return Err(x.err(
+                w.col('S').unwrap_or(1),
+                format!("spindle speed S{s} is not usable"),
+            ));
+        }
+        st.speed = s;
+        aux_s = Some(s.round() as u32);
+    }
+    let mut aux_t = None;
+    if let Some(t) = int_word(x, w, 'T', 0.0, 999.0)? {
+        let col = w.col('T').unwrap_or(1);
+        if t != 0 {
+            x.tool_data(t, col, "T")?;
+        }
+        st.selected = Some(t);
+        aux_t = Some(t);
+    }
+    let m6 = w.has_m(6);
+    if let Some(col) = m6 {
+        let t = st
+            .selected
+            .ok_or_else(|| x.err(col, "M06 without a T word before it: which tool?"))?;
+        st.tool = if t == 0 { None } else { Some(t) };
+        x.push(
+            Canon::Aux {
+                s: None,
+                t: Some(t),
+                m: Some(6),
+            },
+            col,
+        );
+        aux_t = None;
+        // LinuxCNC stops the spindle for the change.
+        st.spindle = 0;
+    }
+    let spindle_m = [3u32, 4, 5]
+        .into_iter()
+        .find_map(|m| w.has_m(m).map(|c| (m, c)));
+    if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
+        x.push(
+            Canon::Aux {
+                s: aux_s.take(),
+                t: aux_t,
+                m: None,
+            },
+            w.col('T').or(w.col('S')).unwrap_or(1),
+        );
+    }
+    if let Some((m, col)) = spindle_m {
+        st.spindle = match m {
+            3 => 1,
+            4 => -1,
+            _ => 0,
+        };
+        let s = if m == 5 {
+            aux_s
+        } else {
+            Some(aux_s.unwrap_or(st.speed.round() as u32))
+        };
+        x.push(
+            Canon::Aux {
+                s,
+                t: None,
+                m: Some(m as u8),
+            },
+            col,
+        );
+    }
+    for m in [8u32, 9] {
+        if let Some(col) = w.has_m(m) {
+            x.push(
+                Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(m as u8),
+                },
+                col,
+            );
+        }
+    }
+    if let Some(col) = w.has_g(40) {
+        let p = w
+            .get('P')
+            .ok_or_else(|| x.err(col, "G04 needs P, the dwell in seconds"))?;
+        if p < 0.0 {
+            return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
+        }
+        x.push(Canon::Dwell(p), col);
+    }
+    for (g, p) in [(170, Plane::XY), (180, Plane::XZ), (190, Plane::YZ)] {
+        if let Some(col) = w.has_g(g) {
+            if st.comp.active() && p != Plane::XY {
+                return Err(x.err(
+                    col,
+                    "cannot change the plane with cutter radius compensation on",
+                ));
+            }
+            st.plane = p;
+        }
+    }
+    // Cutter radius compensation.
+    if let Some(col) = w.has_g(400) {
+        st.comp.off(col);
+    }
+    for (g, left) in [(410, true), (420, false)] {
+        if let Some(col) = w.has_g(g) {
+            if st.comp.active() {
+                return Err(x.err(col, "cutter radius compensation is already on: G40 first"));
+            }
+            if st.plane != Plane::XY {
+                return Err(x.err(
+                    col,
+                    "cutter radius compensation works in the XY plane (G17)",
+                ));
+            }
+            let t = match int_word(x, w, 'D', 0.0, 999.0)? {
+                Some(d) => Some(d),
+                None => st.tool,
+            };
+            let d_col = w.col('D').unwrap_or(col);
+            let radius = match t {
+                Some(0) | None => 0.0,
+                Some(t) => x.tool_data(t, d_col, "D")?.diameter / 2.0,
+            };
+            st.comp.on(left, radius, col);
+        }
+    }
+    if w.get('D').is_some() && w.has_g(410).is_none() && w.has_g(420).is_none() {
+        return Err(x.err(
+            w.col('D').unwrap_or(1),
+            "D is the tool of G41/G42: give it with G41 or G42",
+        ));
+    }
+    // Tool length.
+    if let Some(col) = w.has_g(430) {
+        let h = match int_word(x, w, 'H', 0.0, 999.0)? {
+            Some(h) => Some(h),
+            None => st.tool,
+        };
+        let new = match h {
+            Some(0) | None => 0.0,
+            Some(h) => x.tool_data(h, w.col('H').unwrap_or(col), "H")?.set_length,
+        };
+        st.tlo = new;
+    } else if w.get('H').is_some() {
+        return Err(x.err(
+            w.col('H').unwrap_or(1),
+            "H is the tool of G43: give it with G43",
+        ));
+    }
+    if w.has_g(490).is_some() {
+        st.tlo = 0.0;
+    }
+    for (i, g) in [540u32, 550, 560, 570, 580, 590].into_iter().enumerate() {
+        if let Some(col) = w.has_g(g) {
+            if st.comp.active() {
+                return Err(x.err(
+                    col,
+                    "cannot change the coordinate system with cutter radius compensation on",
+                ));
+            }
+            st.cs = i;
+        }
+    }
+    if w.has_g(900).is_some() {
+        st.incremental = false;
+    }
+    if w.has_g(910).is_some() {
+        st.incremental = true;
+    }
+    if w.has_g(980).is_some() {
+        st.retract_r = false;
+    }
+    if w.has_g(990).is_some() {
+        st.retract_r = true;
+    }
+    // The motion mode this line sets.
+    let mut mode_col = None;
+    for &(g, col) in &w.g {
+        let m = match g {
+            0 => Mode::Rapid,
+            10 => Mode::Feed,
+            20 => Mode::Cw,
+            30 => Mode::Ccw,
+            800 => Mode::None,
+            730 | 810 | 820 | 830 | 840 | 850 | 860 | 890 => Mode::Cycle((g / 10) as u8),
+            _ => continue,
+        };
+        if m == Mode::None && w.has_axis() {
+            return Err(x.err(col, "G80 cancels the canned cycle: it takes no X, Y or Z"));
+        }
+        if let Mode::Cycle(_) = m {
+            if !matches!(st.mode, Mode::Cycle(_)) {
+                st.cycle_il = None;
+            }
+        }
+        st.mode = m;
+        mode_col = Some(col);
+    }
+    let non_modal = w.has_g(100).or(w.has_g(280)).or(w.has_g(530));
+    if let Some(col) = w.has_g(100) {
+        g10(st, x, w, col)?;
+    } else if let Some(col) = w.has_g(280) {
+        if st.comp.active() {
+            return Err(x.err(col, "G28 cannot be used with cutter radius compensation on"));
+        }
+        g28(st, x, w, col);
+    } else if let Some(col) = w.has_g(530) {
+        if !matches!(st.mode, Mode::Rapid | Mode::Feed) || mode_col.is_none() {
+            return Err(x.err(col, "G53 moves with G00 or G01 on its line"));
+        }
+        if st.comp.active() {
+            return Err(x.err(col, "G53 cannot be used with cutter radius compensation on"));
+        }
+        if st.incremental {
+            return Err(x.err(col, "G53 cannot be used in incremental mode (G91)"));
+        }
+        let mut e = st.cur;
+        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if let Some(v) = w.get(c) {
+                e[i] = v * k;
+            }
+        }
+        move_to(st, x, e, mode_col.unwrap_or(col), w)?;
+    }
+    if non_modal.is_none() {
+        let col = mode_col
+            .or(w.col('X'))
+            .or(w.col('Y'))
+            .or(w.col('Z'))
+            .unwrap_or(line_col);
+        let arc_words = ['I', 'J', 'K', 'R'].iter().any(|&c| w.get(c).is_some());
+        match st.mode {
+            Mode::Cycle(kind) if w.has_axis() || mode_col.is_some() => {
+                super::cycles::cycle(st, x, w, kind, col)?;
+            }
+            Mode::Rapid | Mode::Feed
+                if w.has_axis() || (mode_col.is_some() && st.comp.pending_exit()) =>
+            {
+                let e = target(st, w);
+                if st.mode == Mode::Feed && st.feed <= 0.0 {
+                    return Err(x.err(
+                        col,
+                        "a feed move without F: give F (mm/min, or in/min under G20)",
+                    ));
+                }
+                move_to(st, x, e, col, w)?;
+            }
+            Mode::Cw | Mode::Ccw if w.has_axis() || arc_words => {
+                if st.feed <= 0.0 {
+                    return Err(x.err(
+                        col,
+                        "a feed move without F: give F (mm/min, or in/min under G20)",
+                    ));
+                }
+                arc(st, x, w, col)?;
+            }
+            _ => {
+                if w.has_axis() {
+                    return Err(x.err(
+                        w.col('X').or(w.col('Y')).or(w.col('Z')).unwrap_or(col),
+                        "X, Y or Z with no motion in force (G80): give G00, G01, G02, G03 or a cycle",
+                    ));
+                }
+            }
+        }
+    }
+    // Stops and program flow, last.
+    if let Some(col) = w.has_m(0) {
+        x.push(
+            Canon::Aux {
+                s: None,
+                t: None,
+                m: Some(0),
+            },
+            col,
+        );
+    }
+    if let Some(col) = w.has_m(1) {
+        if x.optional_stop {
+            x.push(
+                Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(1),
+                },
+                col,
+            );
+        }
+    }
+    if let Some(col) = w.has_m(98) {
+        let p = int_word(x, w, 'P', 0.0, 99_999.0)?
+            .ok_or_else(|| x.err(col, "M98 needs P, the O number of the subprogram"))?;
+        let l = int_word(x, w, 'L', 0.0, super::MAX_REPEATS as f64)
+            .map_err(|e| {
+                x.err(
+                    e.col,
+                    format!("{} (the most repeats is {})", e.message, super::MAX_REPEATS),
+                )
+            })?
+            .unwrap_or(1);
+        return Ok(Flow::Call { o: p, l, col });
+    }
+    if let Some(col) = w.has_m(99) {
+        return Ok(Flow::Return { col });
+    }
+    if w.has_m(2).is_some() || w.has_m(30).is_some() {
+        return Ok(Flow::End);
+    }
+    Ok(Flow::Next)
+}
+
+/// The end point of a straight move in machine mm from the axis words (program frame).
+pub fn target(st: &State, w: &Words) -> [f64; 3] {
+    let k = st.factor();
+    let p = st.prog();
+    let mut e = p;
+    for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+        if let Some(v) = w.get(c) {
+            e[i] = if st.incremental { p[i] + v * k } else { v * k };
+        }
+    }
+    st.machine(e)
+}
+
+/// A straight move (rapid or feed by the mode) to machine point `e`, through compensation.
+fn move_to(
+    st: &mut State,
+    x: &mut Exec,
+    e: [f64; 3],
+    col: u32,
+    _w: &Words,
+) -> Result<(), TranslateError> {
+    let rapid = st.mode == Mode::Rapid;
+    let feed = st.feed;
+    let from = st.cur;
+    st.comp.line(x, from, e, rapid, feed, col)?;
+    st.cur = e;
+    Ok(())
+}
+
+/// G02/G03 with I J K or R; a helix with the normal axis's word.
+fn arc(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(), TranslateError> {
+    let k = st.factor();
+    let plane = st.plane;
+    let [a0, a1, _] = plane.axes();
+    let [u, v] = plane.turn_axes();
+    let names = ['I', 'J', 'K'];
+    for (i, c) in names.into_iter().enumerate() {
+        if i != a0 && i != a1 {
+            if let Some(cc) = w.col(c) {
+                return Err(x.err(
+                    cc,
+                    format!(
+                        "{c} has no meaning for an arc in the {} plane ({})",
+                        ["YZ", "XZ", "XY"][i],
+                        plane.g_code()
+                    ),
+                ));
+            }
+        }
+    }
+    let e = target(st, w);
+    let s = st.cur;
+    let cw = st.mode == Mode::Cw;
+    let r = w.get('R');
+    let has_ijk = w.get(names[a0]).is_some() || w.get(names[a1]).is_some();
+    let su = [s[u], s[v]];
+    let eu = [e[u], e[v]];
+    let cuv = match (r, has_ijk) {
+        (Some(_), true) => {
+            return Err(x.err(
+                w.col('R').unwrap_or(col),
+                "give the arc's centre by I J K or by R, not both",
+            ));
+        }
+        (None, false) => {
+            return Err(x.err(
+                col,
+                format!("an arc needs its centre: {}{} or R", names[a0], names[a1]),
+            ));
+        }
+        (Some(r), false) => {
+            let tol = if st.inch {
+                geom::R_TOLERANCE_INCH * 25.4
+            } else {
+                geom::R_TOLERANCE_MM
+            };
+            geom::centre_r(su, eu, r * k, cw, tol)
+                .map_err(|f| fault(x, f, w.col('R').unwrap_or(col), k))?
+        }
+        (None, true) => {
+            let mut c = s;
+            c[a0] += w.get(names[a0]).unwrap_or(0.0) * k;
+            c[a1] += w.get(names[a1]).unwrap_or(0.0) * k;
+            let cuv = [c[u], c[v]];
+            let tol = if st.inch {
+                geom::IJK_ABS_TOLERANCE_INCH * 25.4
+            } else {
+                geom::IJK_ABS_TOLERANCE_MM
+            };
+            geom::check_ijk(su, eu, cuv, tol).map_err(|f| fault(x, f, col, k))?;
+            cuv
+        }
+    };
+    let mut centre = s;
+    centre[u] = cuv[0];
+    centre[v] = cuv[1];
+    let feed = st.feed;
+    st.comp.arc(x, s, e, centre, plane, !cw, feed, col)?;
+    st.cur = e;
+    Ok(())
+}
+
+fn fault(x: &Exec, f: ArcFault, col: u32, k: f64) -> TranslateError {
+    let unit = if k == 1.0 { "mm" } else { "in" };
+    let m = |v: f64| v / k;
+    match f {
+        ArcFault::RTooSmall { half, r } => x.err(
+            col,
+            format!("R{:.4} is too small for the chord: the end point is {:.4} {unit} from the start, more than 2·R", m(r), m(2.0 * half)),
+        ),
+        ArcFault::RFullCircle => x.err(col, "an R arc cannot be a full circle (the end is the start): use I J K"),
+        ArcFault::NotOnCircle { r0, r1 } => x.err(
+            col,
+            format!(
+                "the arc's end point is not on its circle: radius {:.4} {unit} at the start, {:.4} {unit} at the end (novanc accepts {:.3} mm)",
+                m(r0),
+                m(r1),
+                geom::NOVANC_RADIUS_DIFF_MM
+            ),
+        ),
+        ArcFault::ZeroRadius => x.err(col, "an arc of zero radius"),
+    }
+}
+
+/// G10 L2 P (set a work offset) and G10 L20 P (set it so the current point reads X Y Z).
+fn g10(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(), TranslateError> {
+    let l = w.get('L');
+    let lcol = w.col('L').unwrap_or(col);
+    let l = match l {
+        Some(l) if l == 2.0 || l == 20.0 => l as u32,
+        Some(l) => {
+            return Err(x.err(
+                lcol,
+                format!("G10 L{l} is not supported: G10 L2 or L20 set work offsets"),
+            ))
+        }
+        None => return Err(x.err(col, "G10 needs L2 or L20 (work offsets)")),
+    };
+    let pcol = w.col('P').unwrap_or(col);
+    let p = w.get('P').ok_or_else(|| {
+        x.err(
+            col,
+            "G10 needs P, the coordinate system: P1 (G54) to P6 (G59), P0 the one in force",
+        )
+    })?;
+    if p.fract() != 0.0 || !(0.0..=6.0).contains(&p) {
+        return Err(x.err(
+            pcol,
+            format!("bad G10 P{p}: P1 (G54) to P6 (G59), or P0 for the one in force"),
+        ));
+    }
+    if st.comp.active() {
+        return Err(x.err(col, "G10 cannot be used with cutter radius compensation on"));
+    }
+    let idx = if p == 0.0 { st.cs } else { p as usize - 1 };
+    let k = st.factor();
+    let mut o = st.offsets.0[idx];
+    for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+        if let Some(v) = w.get(c) {
+            o[i] = if l == 2 {
+                v * k
+            } else {
+                let tl = if i == 2 { st.tlo } else { 0.0 };
+                st.cur[i] - tl - v * k
+            };
+        }
+    }
+    for (a, &v) in o.iter().enumerate() {
+        if !v.is_finite() || v.abs() > 1e6 {
+            return Err(x.err(
+                col,
+                format!("work offset {} of {v} mm is not usable", ["X", "Y", "Z"][a]),
+            ));
+        }
+    }
+    st.offsets.0[idx] = o;
+    x.changes.push(OffsetChange {
+        system: idx,
+        offset: o,
+    });
+    Ok(())
+}
+
+/// G28: through the intermediate point (the named axes) to machine zero (those axes; all
+/// three when none is named).
+fn g28(st: &mut State, x: &mut Exec, w: &Words, col: u32) {
+    let mut home = st.cur;
+    if w.has_axis() {
+        let mid = target(st, w);
+        // Only the named axes move to the intermediate point.
+        let mut m = st.cur;
+        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if w.get(c).is_some() {
+                m[i] = mid[i];
+                home[i] = 0.0;
+            }
+        }
+        x.push(Canon::Rapid(m), col);
+        st.cur = m;
+    } else {
+        home = [0.0; 3];
+    }
+    x.push(Canon::Rapid(home), col);
+    st.cur = home;
+}
