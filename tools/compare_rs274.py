@@ -73,6 +73,7 @@ def rs274_moves(prog, tbl):
             e = [vals[0] * factor + g5x[0], vals[1] * factor + g5x[1], vals[2] * factor + g5x[2] + tlo]
             if max(abs(e[i] - last[i]) for i in range(3)) > 1e-9:
                 moves.append(("R" if name == "STRAIGHT_TRAVERSE" else "F", *e))
+                inch.append(factor != 1.0)
             last = e
         elif name == "ARC_FEED":
             fe, se, fa, sa, rot, ae = vals[:6]
@@ -91,6 +92,7 @@ def rs274_moves(prog, tbl):
             if abs(rot) != 1:
                 return moves, "multi-turn arc (P) is not in the subset"
             moves.append(("A", int(rot > 0), plane, *e, *c))
+            inch.append(factor != 1.0)
             last = e
         elif name == "SELECT_PLANE":
             current_plane[0] = {"CANON_PLANE_XY": "XY", "CANON_PLANE_XZ": "XZ", "CANON_PLANE_YZ": "YZ"}[args.strip()]
@@ -98,6 +100,8 @@ def rs274_moves(prog, tbl):
 
 
 current_plane = ["XY"]
+# Per rs274 move: whether it was printed in inches (4 decimals = 0.00127 mm).
+inch = []
 
 
 def novanc_moves(prog, novanc):
@@ -153,6 +157,8 @@ def compare(a, b):
         nums_x = [v for v in x if isinstance(v, float)]
         nums_y = [v for v in y if isinstance(v, float)]
         tol = TOL + 0.0006 if x[0] == "A" else TOL
+        if i < len(inch) and inch[i]:
+            tol += 0.00127
         if any(abs(p - q) > tol for p, q in zip(nums_x, nums_y)):
             return f"move {i + 1}: rs274 {fmt(x)}, novanc {fmt(y)}"
     if len(a) != len(b):
@@ -182,6 +188,7 @@ def main(argv):
     refused = 0
     for prog in progs:
         current_plane[0] = "XY"
+        inch.clear()
         ref, ref_err = rs274_moves(prog, tbl)
         got, got_err = novanc_moves(prog, novanc)
         name = os.path.basename(prog)

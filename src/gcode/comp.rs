@@ -378,7 +378,9 @@ impl Comp {
         };
         match h.geo {
             Geo::Line => {
-                let d0 = sub(h.end, h.start);
+                // Against the programmed direction, as LinuxCNC: a held move that would run
+                // against it gouges.
+                let d0 = h.tangent;
                 let d1 = sub(p, h.start);
                 if d0[0] * d1[0] + d0[1] * d1[1] < 0.0 {
                     return Err(x.err(col, format!(

@@ -31,6 +31,17 @@ pub fn cycle(
         ));
     }
     let k = st.factor();
+    let name = format!("G{kind}");
+    // A new cycle (or the first) must say its R and Z; they are sticky within one cycle.
+    if st.cycle_kind != Some(kind) {
+        if w.get('R').is_none() {
+            return Err(x.err(col, format!("{name} needs R, the level where the feed starts (R is kept only while the same cycle repeats)")));
+        }
+        if w.get('Z').is_none() {
+            return Err(x.err(col, format!("{name} needs Z, the bottom of the hole (Z is kept only while the same cycle repeats)")));
+        }
+        st.cycle_kind = Some(kind);
+    }
     if let Some(r) = w.get('R') {
         st.cycle_r = Some(r * k);
     }
@@ -52,7 +63,6 @@ pub fn cycle(
         }
         st.cycle_q = Some(q * k);
     }
-    let name = format!("G{kind}");
     let r_in = st.cycle_r.ok_or_else(|| {
         x.err(
             col,
@@ -119,10 +129,9 @@ pub fn cycle(
         x.push(Canon::Feed(m(p), feed), col);
         *pos = p;
     };
-    // Below R: up to R first.
+    // Below R: the move to the first hole rises to R on the way (as rs274 2.9 does).
     if pos[2] < r {
-        let to = [pos[0], pos[1], r];
-        rapid(x, &mut pos, to);
+        pos[2] = r;
     }
     let spindle_m = |dir: i8| -> Option<u8> {
         match dir {

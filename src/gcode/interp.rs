@@ -226,6 +226,8 @@ pub struct State {
     pub retract_r: bool,
     /// Canned cycles: the initial level (program Z, mm) of the series, sticky R, Z, P, Q.
     pub cycle_il: Option<f64>,
+    /// The cycle whose R and Z are kept.
+    pub cycle_kind: Option<u8>,
     /// Sticky R of the cycles (program Z, mm).
     pub cycle_r: Option<f64>,
     /// Sticky Z of the cycles.
@@ -548,6 +550,7 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         if let Mode::Cycle(_) = m {
             if !matches!(st.mode, Mode::Cycle(_)) {
                 st.cycle_il = None;
+                st.cycle_kind = None;
             }
         }
         st.mode = m;

@@ -162,6 +162,7 @@ impl GcodeSource {
             cs: 0,
             retract_r: false,
             cycle_il: None,
+            cycle_kind: None,
             cycle_r: None,
             cycle_z: None,
             cycle_p: 0.0,
