@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TOL = 0.001
+TOL = 0.001 + 1e-6
 
 
 def tool_table():
@@ -68,6 +68,7 @@ def rs274_moves(prog, tbl):
             if any(abs(v) > 0 for v in vals[:3]):
                 return moves, "G92 offsets in use"
         elif name == "USE_TOOL_LENGTH_OFFSET":
+            # Printed in the program's units.
             tlo = vals[2] * factor
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             e = [vals[0] * factor + g5x[0], vals[1] * factor + g5x[1], vals[2] * factor + g5x[2] + tlo]

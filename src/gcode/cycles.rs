@@ -40,6 +40,12 @@ pub fn cycle(
         if w.get('Z').is_none() {
             return Err(x.err(col, format!("{name} needs Z, the bottom of the hole (Z is kept only while the same cycle repeats)")));
         }
+        if matches!(kind, 82 | 86 | 89) && w.get('P').is_none() {
+            return Err(x.err(
+                col,
+                format!("{name} needs P, the dwell at the bottom in seconds"),
+            ));
+        }
         st.cycle_kind = Some(kind);
     }
     if let Some(r) = w.get('R') {
@@ -82,6 +88,12 @@ pub fn cycle(
     if st.feed <= 0.0 {
         return Err(x.err(col, "a feed move without F: canned cycles feed, give F"));
     }
+    if matches!(kind, 84 | 86) && st.spindle == 0 {
+        return Err(x.err(
+            col,
+            format!("{name} needs the spindle turning: give M03 (or M04) first"),
+        ));
+    }
     let l = match (w.get('L'), w.col('L')) {
         (Some(l), Some(lc)) => {
             if l.fract() != 0.0 || l < 0.0 || l > super::MAX_REPEATS as f64 {
@@ -98,6 +110,7 @@ pub fn cycle(
         _ => 1,
     };
     let prog = st.prog();
+    let series_starts = st.cycle_il.is_none();
     let il = *st.cycle_il.get_or_insert(prog[2]);
     let (r, bottom) = if st.incremental {
         (il + r_in, il + r_in + z_in)
@@ -129,9 +142,15 @@ pub fn cycle(
         x.push(Canon::Feed(m(p), feed), col);
         *pos = p;
     };
-    // Below R: the move to the first hole rises to R on the way (as rs274 2.9 does).
+    // Below R: the first cycle of a series rises to R first; a later one rises on the way to
+    // its first hole (as rs274 2.9 does).
     if pos[2] < r {
-        pos[2] = r;
+        if series_starts {
+            let to = [pos[0], pos[1], r];
+            rapid(x, &mut pos, to);
+        } else {
+            pos[2] = r;
+        }
     }
     let spindle_m = |dir: i8| -> Option<u8> {
         match dir {
@@ -194,7 +213,7 @@ pub fn cycle(
                 if st.cycle_p > 0.0 {
                     x.push(Canon::Dwell(st.cycle_p), col);
                 }
-                feed_to(x, &mut pos, at(r));
+                feed_to(x, &mut pos, at(clear));
                 x.push(
                     Canon::Aux {
                         s: None,
@@ -234,10 +253,10 @@ pub fn cycle(
                 }
             }
             _ => {
-                // G89: bore, dwell, feed out.
+                // G89: bore, dwell, feed out to the clear level.
                 feed_to(x, &mut pos, at(bottom));
                 x.push(Canon::Dwell(st.cycle_p), col);
-                feed_to(x, &mut pos, at(r));
+                feed_to(x, &mut pos, at(clear));
             }
         }
         rapid(x, &mut pos, at(clear));

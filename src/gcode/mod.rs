@@ -88,6 +88,7 @@ pub struct GcodeSource {
     source: Arc<str>,
     lines: Vec<(usize, usize)>,
     subs: HashMap<u32, usize>,
+    called: std::collections::HashSet<u32>,
     pc: usize,
     stack: Vec<Frame>,
     st: State,
@@ -173,6 +174,7 @@ impl GcodeSource {
             source,
             lines,
             subs,
+            called: Default::default(),
             pc: 0,
             stack: Vec::new(),
             st,
@@ -404,7 +406,21 @@ impl GcodeSource {
             match flow {
                 Flow::Next => {}
                 Flow::Call { o, l, col } => {
-                    let Some(&at) = self.subs.get(&o) else {
+                    // rs274 finds a subprogram by searching forward from the call, or one it
+                    // has called before.
+                    let found = self
+                        .subs
+                        .get(&o)
+                        .copied()
+                        .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
+                    let Some(at) = found else {
+                        if self.subs.contains_key(&o) {
+                            return self.fail(TranslateError {
+                                line: n,
+                                col,
+                                message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
+                            });
+                        }
                         return self.fail(TranslateError {
                             line: n,
                             col,
@@ -420,6 +436,7 @@ impl GcodeSource {
                             ),
                         });
                     }
+                    self.called.insert(o);
                     if l > 0 {
                         self.stack.push(Frame {
                             o,
