@@ -218,8 +218,11 @@ def main(argv):
                 if ref_err:
                     out.write("ERROR " + ref_err + "\n")
                 else:
-                    for m in ref:
-                        out.write(fmt(m) + "\n")
+                    out.write("# rs274 moves in machine mm: kind, end X Y Z (arcs: A0 cw / A1 ccw, plane,\n")
+                    out.write("# end, centre), then the tolerance in mm (wider where rs274 printed inches)\n")
+                    for i, m in enumerate(ref):
+                        tol = TOL + (0.0006 if m[0] == "A" else 0.0) + (0.00127 if inch[i] else 0.0)
+                        out.write(f"{fmt(m)} {tol:.5f}\n")
     os.unlink(tbl)
     print(f"{len(progs)} programs: {len(progs) - bad} agree ({refused} refused by both), {bad} differ; {total_moves} moves compared")
     return 1 if bad else 0
