@@ -361,7 +361,7 @@ pub fn read_line(raw: &str, line: u32, params: &Params) -> Result<Line, Translat
     let mut col = 0u32;
     for ch in raw.chars() {
         col += 1;
-        if let Some(_) = in_comment {
+        if in_comment.is_some() {
             if ch == ')' {
                 in_comment = None;
             } else {

@@ -104,7 +104,7 @@ fn m_group(m: u32) -> Option<u8> {
     Some(match m {
         0 | 1 | 2 | 30 => 4,
         6 => 6,
-        3 | 4 | 5 => 7,
+        3..=5 => 7,
         8 | 9 => 8,
         98 | 99 => 10,
         _ => return None,
@@ -130,7 +130,7 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                     return Err(err(col, format!("unknown code G{value}")));
                 }
                 let g = g10 as u32;
-                let name = if g % 10 == 0 {
+                let name = if g.is_multiple_of(10) {
                     format!("G{:02}", g / 10)
                 } else {
                     format!("G{}.{}", g / 10, g % 10)
@@ -145,7 +145,7 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                     return Err(err(col, format!("unknown or unsupported code {name}{why}")));
                 };
                 if let Some((other, _)) = g_seen[grp as usize] {
-                    let on = if other % 10 == 0 {
+                    let on = if other.is_multiple_of(10) {
                         format!("G{:02}", other / 10)
                     } else {
                         format!("G{}.{}", other / 10, other % 10)
@@ -222,7 +222,7 @@ pub struct State {
     pub offsets: WorkOffsets,
     /// The coordinate system in force, 0 = G54 … 5 = G59.
     pub cs: usize,
-    /// G99 (retract to R) in force, else G98.
+    /// G99 (retract to R) in force, else G98; G99 at the start, as in rs274 2.9.
     pub retract_r: bool,
     /// Canned cycles: the initial level (program Z, mm) of the series, sticky R, Z, P, Q.
     pub cycle_il: Option<f64>,

@@ -102,6 +102,7 @@ pub struct GcodeSource {
     held: Option<Statement>,
     changes: Vec<OffsetChange>,
     executed: u64,
+    max_lines: u64,
     first_code: Option<usize>,
     mdi: bool,
     done: bool,
@@ -161,7 +162,7 @@ impl GcodeSource {
             tlo: 0.0,
             offsets,
             cs: 0,
-            retract_r: false,
+            retract_r: true,
             cycle_il: None,
             cycle_kind: None,
             cycle_r: None,
@@ -191,10 +192,17 @@ impl GcodeSource {
             held: None,
             changes: Vec::new(),
             executed: 0,
+            max_lines: MAX_LINES,
             first_code,
             mdi: false,
             done: false,
         }
+    }
+
+    /// The most lines this program may execute (default [`MAX_LINES`]).
+    pub fn line_limit(mut self, lines: u64) -> GcodeSource {
+        self.max_lines = lines;
+        self
     }
 
     /// MDI: the text need not end with M02, M30 or `%`.
@@ -338,11 +346,14 @@ impl GcodeSource {
                 continue;
             }
             self.executed += 1;
-            if self.executed > MAX_LINES {
+            if self.executed > self.max_lines {
+                let max = self.max_lines;
                 return self.fail(TranslateError {
                     line: n,
                     col: 1,
-                    message: format!("the program executes more than {MAX_LINES} lines (subprogram repeats): refused"),
+                    message: format!(
+                        "the program executes more than {max} lines (subprogram repeats): refused"
+                    ),
                 });
             }
             let line = match expr::read_line(raw, n, &self.params) {
