@@ -16,7 +16,39 @@ pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
 /// The program end.
 pub const END: &str = "M30";
 
+/// Appends a whole number in decimal (what `{}` prints, without the formatting machinery).
+fn push_u64(out: &mut String, mut v: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+}
+
 fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
+    if st.pulse_mm == 0.001 {
+        // Whole pulses of 0.001 mm are exactly three decimals: print the integer (the same
+        // text as formatting the float, several times faster).
+        out.push(' ');
+        out.push(word);
+        if pulses < 0 {
+            out.push('-');
+        }
+        let p = pulses.unsigned_abs();
+        push_u64(out, p / 1000);
+        out.push('.');
+        let f = (p % 1000) as u32;
+        out.push(char::from(b'0' + (f / 100) as u8));
+        out.push(char::from(b'0' + (f / 10 % 10) as u8));
+        out.push(char::from(b'0' + (f % 10) as u8));
+        return;
+    }
     let _ = write!(out, " {word}{:.3}", st.to_mm(pulses));
 }
 
@@ -42,7 +74,8 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
     let start = out.len();
     // A block the console or the core made (a SEARCH restore) has no N number.
     if b.seq != 0 {
-        let _ = write!(out, "N{}", b.seq);
+        out.push('N');
+        push_u64(out, u64::from(b.seq));
     }
     let g = match b.motion {
         Motion::Rapid => Some("G00"),
@@ -116,20 +149,49 @@ pub fn iso_line(block: &Block, settings: &MachineSettings) -> String {
 /// already is the translator's end-of-program `M30`.
 pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> String {
     let mut s = String::new();
-    s.push_str(PREAMBLE);
-    s.push('\n');
-    let mut last_m = None;
-    let mut plane = Plane::XY;
-    for b in statements.iter().flat_map(|st| &st.blocks) {
-        write_line_in(&mut s, b, settings, &mut plane);
-        s.push('\n');
-        last_m = b.m;
+    let mut w = IsoWriter::new(&mut s);
+    for st in statements {
+        w.statement(&mut s, st, settings);
     }
-    if last_m != Some(30) {
-        s.push_str(END);
-        s.push('\n');
-    }
+    w.finish(&mut s);
     s
+}
+
+/// Prints a program statement by statement (the same text as [`iso_program`]), so that a
+/// long program need not be held whole.
+#[derive(Clone, Copy, Debug)]
+pub struct IsoWriter {
+    plane: Plane,
+    last_m: Option<u8>,
+}
+
+impl IsoWriter {
+    /// Starts a program: appends the preamble to `out`.
+    pub fn new(out: &mut String) -> IsoWriter {
+        out.push_str(PREAMBLE);
+        out.push('\n');
+        IsoWriter {
+            plane: Plane::XY,
+            last_m: None,
+        }
+    }
+
+    /// Appends the lines of one statement's blocks.
+    pub fn statement(&mut self, out: &mut String, st: &Statement, settings: &MachineSettings) {
+        for b in &st.blocks {
+            write_line_in(out, b, settings, &mut self.plane);
+            out.push('\n');
+            self.last_m = b.m;
+        }
+    }
+
+    /// Ends the program: `M30` unless the last block was one.
+    pub fn finish(self, out: &mut String) {
+        if self.last_m != Some(30) {
+            out.push_str(END);
+            out.push('\n');
+        }
+    }
 }
 
 #[cfg(test)]
@@ -164,6 +226,29 @@ mod tests {
         d.motion = Motion::Dwell;
         d.dwell_ns = 1_500_000_000;
         assert_eq!(iso_line(&d, &st), "N4 G04 P1.500");
+    }
+
+    #[test]
+    fn millimetres_print_as_the_float_would() {
+        let st = MachineSettings::default();
+        for p in [
+            0i64,
+            1,
+            -1,
+            5,
+            -5,
+            999,
+            -999,
+            1000,
+            -1000,
+            123_456,
+            -485_000,
+            1 << 40,
+        ] {
+            let mut a = String::new();
+            mm(&mut a, 'X', p, &st);
+            assert_eq!(a, format!(" X{:.3}", st.to_mm(p)), "{p}");
+        }
     }
 
     #[test]

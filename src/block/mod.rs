@@ -12,7 +12,7 @@
 
 pub mod iso;
 
-pub use iso::{iso_line, iso_program};
+pub use iso::{iso_line, iso_program, IsoWriter};
 
 use std::fmt;
 

@@ -3,9 +3,10 @@
 
 use super::args::{Args, Opt};
 use super::fail;
+use crate::block::{IsoWriter, Statement, TranslateError};
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
-use crate::translator::{iso_program, translate_all};
+use crate::translator::Translator;
 use std::io::Write;
 
 const HELP: &str = "\
@@ -95,6 +96,13 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
+    // Statements are printed as they come, into memory: nothing reaches stdout on an error.
+    let mut out = String::with_capacity(source.len() * 2);
+    let mut w = IsoWriter::new(&mut out);
+    let mut print = |r: Result<Statement, TranslateError>| -> Result<(), TranslateError> {
+        w.statement(&mut out, &r?, &settings);
+        Ok(())
+    };
     let result = if crate::gcode::is_gcode(&prog, &source) {
         let switches = crate::gcode::Switches {
             block_delete: args.flag("--block-delete"),
@@ -108,13 +116,13 @@ pub fn main(argv: &[String]) -> i32 {
             crate::gcode::WorkOffsets::default(),
             switches,
         )
-        .collect()
+        .try_for_each(&mut print)
     } else {
-        translate_all(&source, &magazine, &settings, [0, 0, 0])
+        Translator::new(&source, magazine, settings.clone(), [0, 0, 0]).try_for_each(&mut print)
     };
     match result {
-        Ok(stmts) => {
-            let out = iso_program(&stmts, &settings);
+        Ok(()) => {
+            w.finish(&mut out);
             let mut stdout = std::io::stdout().lock();
             if stdout.write_all(out.as_bytes()).is_err() {
                 return 1;

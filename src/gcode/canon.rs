@@ -72,7 +72,16 @@ impl Emitter {
         st: &MachineSettings,
         out: &mut Vec<Block>,
     ) -> Result<(), TranslateError> {
-        let p3 = |v: [f64; 3]| [st.to_pulses(v[0]), st.to_pulses(v[1]), st.to_pulses(v[2])];
+        let inv = 1.0 / st.pulse_mm;
+        let p3 = |v: [f64; 3]| {
+            [
+                (v[0] * inv).round() as i64,
+                (v[1] * inv).round() as i64,
+                (v[2] * inv).round() as i64,
+            ]
+        };
+        let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
+        let check_point = |st: &MachineSettings, p: [i64; 3]| check_in(st, &limits, p);
         for (c, line, col) in items {
             let err = |message: String| TranslateError {
                 line: *line,
@@ -167,8 +176,15 @@ impl Emitter {
 
 /// A point inside every travel limit, or why not.
 fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
+    let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
+    check_in(st, &limits, p)
+}
+
+/// A point inside the travel limits given in pulses, or why not.
+#[inline]
+fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Result<(), String> {
     for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
-        let (lo, hi) = st.travel_pulses(axis);
+        let (lo, hi) = limits[axis];
         if p[axis] < lo || p[axis] > hi {
             return Err(format!(
                 "{name}{:.3} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",

@@ -35,8 +35,8 @@ pub struct Line {
     pub percent: bool,
     /// An `O` word with its number, if the line has one (first word).
     pub o_number: Option<(u32, u32)>,
-    /// Text of the line's comments, for a message.
-    pub comment: Option<String>,
+    /// The line has a comment.
+    pub comment: bool,
 }
 
 /// The parameters `#1` to `#5400`, all 0 at the start.
@@ -71,9 +71,17 @@ impl Params {
     }
 }
 
+/// Reusable buffers for reading lines without allocating per line.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    bytes: Vec<u8>,
+    cols: Vec<u32>,
+}
+
 struct Reader<'a> {
-    /// The line's characters with their columns, spaces outside comments removed.
-    c: Vec<(char, u32)>,
+    /// The line's characters (ASCII) and their columns, spaces outside comments removed.
+    b: &'a [u8],
+    cols: &'a [u32],
     i: usize,
     line: u32,
     params: &'a Params,
@@ -94,15 +102,17 @@ impl Reader<'_> {
     }
 
     fn col(&self) -> u32 {
-        self.c.get(self.i).map_or(self.end_col, |x| x.1)
+        self.cols.get(self.i).copied().unwrap_or(self.end_col)
     }
 
     fn peek(&self) -> Option<char> {
-        self.c.get(self.i).map(|x| x.0)
+        self.b.get(self.i).map(|&x| x as char)
     }
 
     fn upper_at(&self, k: usize) -> Option<char> {
-        self.c.get(self.i + k).map(|x| x.0.to_ascii_uppercase())
+        self.b
+            .get(self.i + k)
+            .map(|&x| (x as char).to_ascii_uppercase())
     }
 
     fn eat(&mut self, ch: char) -> bool {
@@ -114,40 +124,55 @@ impl Reader<'_> {
         }
     }
 
-    /// Whether the next characters spell `name` (upper case), and consumes them if so.
+    /// Whether the next characters spell `name` (upper case ASCII), and consumes them if so.
     fn eat_name(&mut self, name: &str) -> bool {
-        let n = name.chars().count();
-        let ok = name
-            .chars()
-            .enumerate()
-            .all(|(k, ch)| self.upper_at(k) == Some(ch));
-        if ok {
+        let n = name.len();
+        let Some(next) = self.b.get(self.i..self.i + n) else {
+            return false;
+        };
+        if next.eq_ignore_ascii_case(name.as_bytes()) {
             self.i += n;
+            true
+        } else {
+            false
         }
-        ok
     }
 
     fn number(&mut self) -> Result<f64, TranslateError> {
         let col = self.col();
         let start = self.i;
-        let mut s = String::new();
-        while let Some(ch) = self.peek() {
-            if ch.is_ascii_digit() || ch == '.' {
-                s.push(ch);
-                self.i += 1;
+        // Digits into an integer mantissa: exact, and correctly rounded by one division
+        // while it stays below 2^53 with at most 22 decimals (else the standard parser).
+        let (mut mant, mut digits, mut decimals, mut dot) = (0u64, 0u32, 0i32, false);
+        while let Some(&c) = self.b.get(self.i) {
+            if c.is_ascii_digit() {
+                if digits < 19 {
+                    mant = mant * 10 + u64::from(c - b'0');
+                }
+                digits += 1;
+                if dot {
+                    decimals += 1;
+                }
+            } else if c == b'.' && !dot {
+                dot = true;
             } else {
                 break;
             }
+            self.i += 1;
         }
-        if s.is_empty() || s == "." || s.matches('.').count() > 1 {
+        if digits == 0 {
             self.i = start;
             let what = self
                 .peek()
                 .map_or("the end of the line".to_string(), |c| format!("'{c}'"));
             return Err(self.err(col, format!("a number was expected, not {what}")));
         }
-        s.parse::<f64>()
-            .map_err(|_| self.err(col, format!("bad number {s}")))
+        if digits <= 15 && decimals <= 22 {
+            return Ok(mant as f64 / 10f64.powi(decimals));
+        }
+        let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
+        text.parse::<f64>()
+            .map_err(|_| self.err(col, format!("bad number {text}")))
     }
 
     /// A real value: number, parameter, bracket expression or unary function, with sign.
@@ -286,6 +311,14 @@ impl Reader<'_> {
     /// Binary operators by precedence level: 0 logical, 1 relational, 2 additive,
     /// 3 multiplicative, 4 power.
     fn op(&mut self, level: u8) -> Option<&'static str> {
+        // Most values are followed by ']' or the next word: no operator starts with those.
+        let first = self.upper_at(0)?;
+        if !matches!(
+            first,
+            '+' | '-' | '*' | '/' | 'A' | 'O' | 'X' | 'E' | 'N' | 'G' | 'L' | 'M'
+        ) {
+            return None;
+        }
         let table: &[&'static str] = match level {
             0 => &["AND", "OR", "XOR"],
             1 => &["EQ", "NE", "GT", "GE", "LT", "LE"],
@@ -303,10 +336,7 @@ impl Reader<'_> {
         let mut a = self.expr(level + 1)?;
         loop {
             // '*' must not take the first star of '**'.
-            if level == 3
-                && self.peek() == Some('*')
-                && self.c.get(self.i + 1).map(|x| x.0) == Some('*')
-            {
+            if level == 3 && self.peek() == Some('*') && self.b.get(self.i + 1) == Some(&b'*') {
                 return Ok(a);
             }
             let col = self.col();
@@ -355,27 +385,90 @@ impl Reader<'_> {
 /// Reads one line (without its newline) against the parameters in force.
 pub fn read_line(raw: &str, line: u32, params: &Params) -> Result<Line, TranslateError> {
     let mut out = Line::default();
-    let mut c = Vec::with_capacity(raw.len());
-    let mut comment = String::new();
+    read_into(&mut Scratch::default(), &mut out, raw, line, params)?;
+    Ok(out)
+}
+
+/// Reads one line into `out` (cleared first), with reusable buffers.
+pub fn read_into(
+    scratch: &mut Scratch,
+    out: &mut Line,
+    raw: &str,
+    line: u32,
+    params: &Params,
+) -> Result<(), TranslateError> {
+    out.block_delete = false;
+    out.words.clear();
+    out.assigns.clear();
+    out.percent = false;
+    out.o_number = None;
+    out.comment = false;
+    let (bytes, cols) = (&mut scratch.bytes, &mut scratch.cols);
+    bytes.clear();
+    cols.clear();
     let mut in_comment: Option<u32> = None;
     let mut col = 0u32;
-    for ch in raw.chars() {
+    if raw.is_ascii() {
+        // The usual case: one byte per column.
+        for &c in raw.as_bytes() {
+            col += 1;
+            if in_comment.is_some() {
+                if c == b')' {
+                    in_comment = None;
+                }
+                continue;
+            }
+            match c {
+                b'(' => {
+                    in_comment = Some(col);
+                    out.comment = true;
+                }
+                b';' => {
+                    out.comment = true;
+                    break;
+                }
+                b' ' | b'\t' | b'\r' => {}
+                _ => {
+                    bytes.push(c);
+                    cols.push(col);
+                }
+            }
+        }
+    }
+    let chars = if raw.is_ascii() {
+        "".chars()
+    } else {
+        raw.chars()
+    };
+    for ch in chars {
         col += 1;
         if in_comment.is_some() {
             if ch == ')' {
                 in_comment = None;
-            } else {
-                comment.push(ch);
             }
             continue;
         }
         match ch {
-            '(' => in_comment = Some(col),
+            '(' => {
+                in_comment = Some(col);
+                out.comment = true;
+            }
             ';' => {
+                out.comment = true;
                 break;
             }
             ' ' | '\t' | '\r' => {}
-            _ => c.push((ch, col)),
+            c if c.is_ascii() => {
+                bytes.push(c as u8);
+                cols.push(col);
+            }
+            c => {
+                return Err(TranslateError {
+                    line,
+                    col,
+                    message: format!("'{c}' is not part of the language (outside a comment)"),
+                })
+            }
         }
     }
     if let Some(at) = in_comment {
@@ -385,15 +478,13 @@ pub fn read_line(raw: &str, line: u32, params: &Params) -> Result<Line, Translat
             message: "comment '(' not closed on its line".into(),
         });
     }
-    if !comment.trim().is_empty() {
-        out.comment = Some(comment.trim().to_string());
-    }
-    if c.len() == 1 && c[0].0 == '%' {
+    if bytes.len() == 1 && bytes[0] == b'%' {
         out.percent = true;
-        return Ok(out);
+        return Ok(());
     }
     let mut r = Reader {
-        c,
+        b: bytes,
+        cols,
         i: 0,
         line,
         params,
@@ -477,7 +568,7 @@ pub fn read_line(raw: &str, line: u32, params: &Params) -> Result<Line, Translat
         }
         out.words.push(Word { letter, value, col });
     }
-    Ok(out)
+    Ok(())
 }
 
 #[cfg(test)]
@@ -527,7 +618,7 @@ mod tests {
         assert_eq!(l.assigns, vec![(1, 2.0), (2, 5.0)]);
         assert_eq!(l.words.len(), 2);
         assert_eq!(l.words[1].value, 5.0);
-        assert_eq!(l.comment.as_deref(), Some("cut"));
+        assert!(l.comment);
         let l = read_line("/ g 0 x 1 0", 1, &p).unwrap();
         assert!(l.block_delete);
         assert_eq!(l.words[1].value, 10.0);

@@ -45,14 +45,47 @@ pub enum Flow {
 /// The letters a line may hold, besides G and M.
 const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
 
+/// A short list of codes with their columns (one per modal group at most).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Codes {
+    v: [(u32, u32); 13],
+    n: usize,
+}
+
+impl Codes {
+    fn push(&mut self, c: (u32, u32)) {
+        if self.n < self.v.len() {
+            self.v[self.n] = c;
+            self.n += 1;
+        }
+    }
+
+    /// The codes in the order written.
+    pub fn as_slice(&self) -> &[(u32, u32)] {
+        &self.v[..self.n]
+    }
+
+    /// The first code.
+    pub fn first(&self) -> Option<&(u32, u32)> {
+        self.as_slice().first()
+    }
+
+    fn iter(&self) -> std::slice::Iter<'_, (u32, u32)> {
+        self.as_slice().iter()
+    }
+}
+
 /// The words of one line sorted out: G and M codes, one value per other letter.
 #[derive(Clone, Debug, Default)]
 pub struct Words {
     /// G codes ×10 (G04 = 40, G43.1 = 431) with columns.
-    pub g: Vec<(u32, u32)>,
+    pub g: Codes,
     /// M codes with columns.
-    pub m: Vec<(u32, u32)>,
+    pub m: Codes,
     vals: [Option<(f64, u32)>; 26],
+    /// Bit g/10 for each whole G code, bit m for each M code below 128.
+    g_bits: u128,
+    m_bits: u128,
 }
 
 impl Words {
@@ -67,12 +100,20 @@ impl Words {
     }
 
     /// Whether a G code (×10) is on the line, and its column.
+    #[inline]
     pub fn has_g(&self, g: u32) -> Option<u32> {
+        if g.is_multiple_of(10) && g < 1280 && self.g_bits & (1u128 << (g / 10)) == 0 {
+            return None;
+        }
         self.g.iter().find(|x| x.0 == g).map(|x| x.1)
     }
 
     /// Whether an M code is on the line, and its column.
+    #[inline]
     pub fn has_m(&self, m: u32) -> Option<u32> {
+        if m < 128 && self.m_bits & (1u128 << m) == 0 {
+            return None;
+        }
         self.m.iter().find(|x| x.0 == m).map(|x| x.1)
     }
 
@@ -157,6 +198,9 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                 }
                 g_seen[grp as usize] = Some((g, col));
                 w.g.push((g, col));
+                if g.is_multiple_of(10) && g < 1280 {
+                    w.g_bits |= 1u128 << (g / 10);
+                }
             }
             'M' => {
                 if value.fract() != 0.0 || value < 0.0 {
@@ -174,8 +218,11 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                 }
                 m_seen[grp as usize] = Some((m, col));
                 w.m.push((m, col));
+                if m < 128 {
+                    w.m_bits |= 1u128 << m;
+                }
             }
-            c if LETTERS.contains(c) => {
+            c if LETTERS.as_bytes().contains(&(c as u8)) => {
                 let slot = &mut w.vals[(c as u8 - b'A') as usize];
                 if slot.is_some() {
                     return Err(err(col, format!("two {c} words on one line")));
@@ -534,7 +581,7 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
     }
     // The motion mode this line sets.
     let mut mode_col = None;
-    for &(g, col) in &w.g {
+    for &(g, col) in w.g.as_slice() {
         let m = match g {
             0 => Mode::Rapid,
             10 => Mode::Feed,

@@ -104,6 +104,9 @@ pub struct GcodeSource {
     executed: u64,
     max_lines: u64,
     first_code: Option<usize>,
+    scratch: expr::Scratch,
+    line_buf: expr::Line,
+    out_buf: Vec<(Canon, u32, u32)>,
     mdi: bool,
     done: bool,
 }
@@ -136,6 +139,9 @@ impl GcodeSource {
             }
             if first_code.is_none() && code != "%" {
                 first_code = Some(i);
+            }
+            if !code.starts_with(['O', 'o']) {
+                continue;
             }
             if let Ok(l) = expr::read_line(t, i as u32 + 1, &params) {
                 if let Some((o, _)) = l.o_number {
@@ -194,6 +200,9 @@ impl GcodeSource {
             executed: 0,
             max_lines: MAX_LINES,
             first_code,
+            scratch: expr::Scratch::default(),
+            line_buf: expr::Line::default(),
+            out_buf: Vec::new(),
             mdi: false,
             done: false,
         }
@@ -331,7 +340,13 @@ impl GcodeSource {
             let Some(&(a, b)) = self.lines.get(self.pc) else {
                 if self.mdi && self.stack.is_empty() {
                     self.done = true;
-                    let mut x = ctx(n, &self.settings, &self.magazine, self.switches);
+                    let mut x = ctx(
+                        n,
+                        &self.settings,
+                        &self.magazine,
+                        self.switches,
+                        std::mem::take(&mut self.out_buf),
+                    );
                     self.st.comp.flush(&mut x);
                     let out = x.out;
                     return self.finish(n, String::new(), out, true);
@@ -356,31 +371,55 @@ impl GcodeSource {
                     ),
                 });
             }
-            let line = match expr::read_line(raw, n, &self.params) {
-                Ok(l) => l,
+            let mut line = std::mem::take(&mut self.line_buf);
+            let r = expr::read_into(&mut self.scratch, &mut line, raw, n, &self.params);
+            let r = r.and_then(|()| self.line_of(n, raw, &line));
+            self.line_buf = line;
+            match r {
+                Ok(Some(s)) => return s,
+                Ok(None) => continue,
                 Err(e) => return self.fail(e),
-            };
-            if line.percent {
-                if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
-                    continue;
-                }
-                if !self.stack.is_empty() {
-                    let e = self.end_error(n);
-                    return self.fail(e);
-                }
-                // The closing %: the program ends.
-                self.done = true;
-                let mut x = ctx(n, &self.settings, &self.magazine, self.switches);
-                self.st.comp.flush(&mut x);
-                let out = x.out;
-                return self.finish(n, raw.trim().to_string(), out, true);
             }
-            if let Some((o, col)) = line.o_number {
-                if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
-                    // The main program's number.
-                    continue;
+        }
+    }
+
+    /// Executes one read line: `None` to go on to the next, or what to yield.
+    #[allow(clippy::type_complexity)]
+    fn line_of(
+        &mut self,
+        n: u32,
+        raw: &str,
+        line: &expr::Line,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
+        {
+            {
+                if line.percent {
+                    if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
+                        return Ok(None);
+                    }
+                    if !self.stack.is_empty() {
+                        let e = self.end_error(n);
+                        return Err(e);
+                    }
+                    // The closing %: the program ends.
+                    self.done = true;
+                    let mut x = ctx(
+                        n,
+                        &self.settings,
+                        &self.magazine,
+                        self.switches,
+                        std::mem::take(&mut self.out_buf),
+                    );
+                    self.st.comp.flush(&mut x);
+                    let out = x.out;
+                    return Ok(Some(self.finish(n, raw.trim().to_string(), out, true)));
                 }
-                return self.fail(TranslateError {
+                if let Some((o, col)) = line.o_number {
+                    if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
+                        // The main program's number.
+                        return Ok(None);
+                    }
+                    return Err(TranslateError {
                     line: n,
                     col,
                     message: match self.stack.last() {
@@ -388,79 +427,89 @@ impl GcodeSource {
                         None => format!("the main program runs into subprogram O{o}: end it with M30 (or M02) first"),
                     },
                 });
-            }
-            if line.block_delete && self.switches.block_delete {
-                continue;
-            }
-            for &(p, v) in &line.assigns {
-                self.params.set(p, v);
-            }
-            if line.words.is_empty() {
-                if line.assigns.is_empty() && line.comment.is_none() {
-                    continue;
                 }
-                return self.finish(n, raw.trim().to_string(), Vec::new(), false);
-            }
-            let words = match interp::sort_words(&line, n) {
-                Ok(w) => w,
-                Err(e) => return self.fail(e),
-            };
-            let mut x = ctx(n, &self.settings, &self.magazine, self.switches);
-            let flow = interp::execute(&mut self.st, &mut x, &words);
-            let flow = match flow {
-                Ok(f) => f,
-                Err(e) => return self.fail(e),
-            };
-            let mut out = std::mem::take(&mut x.out);
-            self.changes.append(&mut x.changes);
-            let mut end = false;
-            match flow {
-                Flow::Next => {}
-                Flow::Call { o, l, col } => {
-                    // rs274 finds a subprogram by searching forward from the call, or one it
-                    // has called before.
-                    let found = self
-                        .subs
-                        .get(&o)
-                        .copied()
-                        .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
-                    let Some(at) = found else {
-                        if self.subs.contains_key(&o) {
-                            return self.fail(TranslateError {
+                if line.block_delete && self.switches.block_delete {
+                    return Ok(None);
+                }
+                for &(p, v) in &line.assigns {
+                    self.params.set(p, v);
+                }
+                if line.words.is_empty() {
+                    if line.assigns.is_empty() && !line.comment {
+                        return Ok(None);
+                    }
+                    return Ok(Some(self.finish(
+                        n,
+                        raw.trim().to_string(),
+                        Vec::new(),
+                        false,
+                    )));
+                }
+                let words = match interp::sort_words(&line, n) {
+                    Ok(w) => w,
+                    Err(e) => return Err(e),
+                };
+                let mut x = ctx(
+                    n,
+                    &self.settings,
+                    &self.magazine,
+                    self.switches,
+                    std::mem::take(&mut self.out_buf),
+                );
+                let flow = interp::execute(&mut self.st, &mut x, &words);
+                let flow = match flow {
+                    Ok(f) => f,
+                    Err(e) => return Err(e),
+                };
+                let mut out = std::mem::take(&mut x.out);
+                self.changes.append(&mut x.changes);
+                let mut end = false;
+                match flow {
+                    Flow::Next => {}
+                    Flow::Call { o, l, col } => {
+                        // rs274 finds a subprogram by searching forward from the call, or one it
+                        // has called before.
+                        let found = self
+                            .subs
+                            .get(&o)
+                            .copied()
+                            .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
+                        let Some(at) = found else {
+                            if self.subs.contains_key(&o) {
+                                return Err(TranslateError {
                                 line: n,
                                 col,
                                 message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
                             });
+                            }
+                            return Err(TranslateError {
+                                line: n,
+                                col,
+                                message: format!("M98 P{o}: subprogram O{o} is not in the program"),
+                            });
+                        };
+                        if self.stack.len() >= MAX_DEPTH {
+                            return Err(TranslateError {
+                                line: n,
+                                col,
+                                message: format!(
+                                    "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
+                                ),
+                            });
                         }
-                        return self.fail(TranslateError {
-                            line: n,
-                            col,
-                            message: format!("M98 P{o}: subprogram O{o} is not in the program"),
-                        });
-                    };
-                    if self.stack.len() >= MAX_DEPTH {
-                        return self.fail(TranslateError {
-                            line: n,
-                            col,
-                            message: format!(
-                                "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
-                            ),
-                        });
+                        self.called.insert(o);
+                        if l > 0 {
+                            self.stack.push(Frame {
+                                o,
+                                ret: self.pc,
+                                start: at + 1,
+                                left: l,
+                            });
+                            self.pc = at + 1;
+                        }
                     }
-                    self.called.insert(o);
-                    if l > 0 {
-                        self.stack.push(Frame {
-                            o,
-                            ret: self.pc,
-                            start: at + 1,
-                            left: l,
-                        });
-                        self.pc = at + 1;
-                    }
-                }
-                Flow::Return { col } => {
-                    match self.stack.last_mut() {
-                        None => return self.fail(TranslateError {
+                    Flow::Return { col } => match self.stack.last_mut() {
+                        None => return Err(TranslateError {
                             line: n,
                             col,
                             message:
@@ -476,51 +525,57 @@ impl GcodeSource {
                                 self.stack.pop();
                             }
                         }
-                    }
-                }
-                Flow::End => {
-                    let mut x = ctx(n, &self.settings, &self.magazine, self.switches);
-                    self.st.comp.flush(&mut x);
-                    let mut tail = x.out;
-                    // The end function after the held compensation move.
-                    let endm = out.iter().rposition(|(c, _, _)| {
-                        matches!(
-                            c,
-                            Canon::Aux {
-                                m: Some(2 | 30),
-                                ..
+                    },
+                    Flow::End => {
+                        let mut x = ctx(
+                            n,
+                            &self.settings,
+                            &self.magazine,
+                            self.switches,
+                            std::mem::take(&mut self.out_buf),
+                        );
+                        self.st.comp.flush(&mut x);
+                        let mut tail = x.out;
+                        // The end function after the held compensation move.
+                        let endm = out.iter().rposition(|(c, _, _)| {
+                            matches!(
+                                c,
+                                Canon::Aux {
+                                    m: Some(2 | 30),
+                                    ..
+                                }
+                            )
+                        });
+                        if endm.is_none() {
+                            let m = if words.has_m(2).is_some() { 2 } else { 30 };
+                            if m == 2 && self.st.spindle != 0 {
+                                tail.push((
+                                    Canon::Aux {
+                                        s: None,
+                                        t: None,
+                                        m: Some(5),
+                                    },
+                                    n,
+                                    1,
+                                ));
                             }
-                        )
-                    });
-                    if endm.is_none() {
-                        let m = if words.has_m(2).is_some() { 2 } else { 30 };
-                        if m == 2 && self.st.spindle != 0 {
                             tail.push((
                                 Canon::Aux {
                                     s: None,
                                     t: None,
-                                    m: Some(5),
+                                    m: Some(m),
                                 },
                                 n,
                                 1,
                             ));
                         }
-                        tail.push((
-                            Canon::Aux {
-                                s: None,
-                                t: None,
-                                m: Some(m),
-                            },
-                            n,
-                            1,
-                        ));
+                        out.append(&mut tail);
+                        self.done = true;
+                        end = true;
                     }
-                    out.append(&mut tail);
-                    self.done = true;
-                    end = true;
                 }
+                return Ok(Some(self.finish(n, raw.trim().to_string(), out, end)));
             }
-            return self.finish(n, raw.trim().to_string(), out, end);
         }
     }
 
@@ -528,11 +583,16 @@ impl GcodeSource {
         &mut self,
         n: u32,
         text: String,
-        out: Vec<(Canon, u32, u32)>,
+        mut out: Vec<(Canon, u32, u32)>,
         _end: bool,
     ) -> Option<Result<Statement, TranslateError>> {
         let mut blocks = Vec::with_capacity(out.len());
-        if let Err(e) = self.emitter.emit(&out, &self.settings, &mut blocks) {
+        let r = self.emitter.emit(&out, &self.settings, &mut blocks);
+        out.clear();
+        if out.capacity() > self.out_buf.capacity() {
+            self.out_buf = out;
+        }
+        if let Err(e) = r {
             return self.fail(e);
         }
         Some(Ok(Statement {
@@ -548,10 +608,11 @@ fn ctx<'a>(
     settings: &'a MachineSettings,
     magazine: &'a Magazine,
     sw: Switches,
+    out: Vec<(Canon, u32, u32)>,
 ) -> Exec<'a> {
     Exec {
         n,
-        out: Vec::new(),
+        out,
         changes: Vec::new(),
         settings,
         magazine,
