@@ -73,13 +73,7 @@ impl Emitter {
         out: &mut Vec<Block>,
     ) -> Result<(), TranslateError> {
         let inv = 1.0 / st.pulse_mm;
-        let p3 = |v: [f64; 3]| {
-            [
-                (v[0] * inv).round() as i64,
-                (v[1] * inv).round() as i64,
-                (v[2] * inv).round() as i64,
-            ]
-        };
+        let p3 = |v: [f64; 3]| [round(v[0] * inv), round(v[1] * inv), round(v[2] * inv)];
         let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
         let check_point = |st: &MachineSettings, p: [i64; 3]| check_in(st, &limits, p);
         for (c, line, col) in items {
@@ -174,6 +168,21 @@ impl Emitter {
     }
 }
 
+/// `x.round() as i64` (half away from zero) without the library call: `x − trunc(x)` is exact
+/// below 2^52, beyond any travel in pulses.
+#[inline]
+fn round(x: f64) -> i64 {
+    let i = x as i64;
+    let f = x - i as f64;
+    if f >= 0.5 {
+        i + 1
+    } else if f <= -0.5 {
+        i - 1
+    } else {
+        i
+    }
+}
+
 /// A point inside every travel limit, or why not.
 fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
     let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
@@ -226,4 +235,14 @@ fn check_arc(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn round_is_half_away_from_zero_like_f64_round() {
+        for x in [0.0, 0.49999999999999994, 0.5, 1.5, 2.5, -0.5, -1.5, -2.4999, 123456.5, -7.0, 1e15 + 0.5] {
+            assert_eq!(super::round(x), x.round() as i64, "{x}");
+        }
+    }
 }

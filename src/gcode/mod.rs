@@ -132,15 +132,19 @@ impl GcodeSource {
         let mut subs = HashMap::new();
         let mut first_code = None;
         for (i, &(a, b)) in lines.iter().enumerate() {
-            let t = source[a..b].trim();
-            let code = t.split(['(', ';']).next().unwrap_or("").trim();
-            if code.is_empty() {
+            // Only the first byte that is not a space matters here.
+            let line = &source.as_bytes()[a..b];
+            let Some(&c) = line.iter().find(|c| !c.is_ascii_whitespace()) else {
+                continue;
+            };
+            if c == b'(' || c == b';' {
                 continue;
             }
-            if first_code.is_none() && code != "%" {
+            let t = source[a..b].trim();
+            if first_code.is_none() && t != "%" {
                 first_code = Some(i);
             }
-            if !code.starts_with(['O', 'o']) {
+            if c != b'O' && c != b'o' {
                 continue;
             }
             if let Ok(l) = expr::read_line(t, i as u32 + 1, &params) {
