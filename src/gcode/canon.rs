@@ -241,7 +241,19 @@ fn check_arc(
 mod tests {
     #[test]
     fn round_is_half_away_from_zero_like_f64_round() {
-        for x in [0.0, 0.49999999999999994, 0.5, 1.5, 2.5, -0.5, -1.5, -2.4999, 123456.5, -7.0, 1e15 + 0.5] {
+        for x in [
+            0.0,
+            0.49999999999999994,
+            0.5,
+            1.5,
+            2.5,
+            -0.5,
+            -1.5,
+            -2.4999,
+            123456.5,
+            -7.0,
+            1e15 + 0.5,
+        ] {
             assert_eq!(super::round(x), x.round() as i64, "{x}");
         }
     }

@@ -13,8 +13,12 @@ pub mod cycles;
 pub mod expr;
 pub mod geom;
 pub mod interp;
+pub mod search;
+pub mod words;
 
-use crate::block::{Block, MachineState, Statement, TranslateError};
+pub use search::translate_all;
+
+use crate::block::{MachineState, Statement, TranslateError};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 use canon::{Canon, Emitter};
@@ -260,80 +264,6 @@ impl GcodeSource {
         }
     }
 
-    /// The restore statement before `line`: from the machine's actual state to the state the
-    /// lines before it left.
-    fn restore(&mut self, line: u32) -> Result<Statement, TranslateError> {
-        let st = &self.settings;
-        let p = |v: f64| st.to_pulses(v);
-        let target = [p(self.st.cur[0]), p(self.st.cur[1]), p(self.st.cur[2])];
-        let mut items = Vec::new();
-        let here = self.start.pos;
-        let mm = |v: i64| st.to_mm(v);
-        items.push((Canon::Rapid([mm(here[0]), mm(here[1]), 0.0]), line, 1));
-        if self.st.tool != self.start.tool {
-            if let Some(t) = self.st.tool {
-                items.push((
-                    Canon::Aux {
-                        s: None,
-                        t: Some(t),
-                        m: Some(6),
-                    },
-                    line,
-                    1,
-                ));
-            }
-        }
-        let s = Some(self.st.speed.round() as u32);
-        match self.st.spindle {
-            1 => items.push((
-                Canon::Aux {
-                    s,
-                    t: None,
-                    m: Some(3),
-                },
-                line,
-                1,
-            )),
-            -1 => items.push((
-                Canon::Aux {
-                    s,
-                    t: None,
-                    m: Some(4),
-                },
-                line,
-                1,
-            )),
-            _ if self.start.spindle != 0 => items.push((
-                Canon::Aux {
-                    s: None,
-                    t: None,
-                    m: Some(5),
-                },
-                line,
-                1,
-            )),
-            _ => {}
-        }
-        items.push((Canon::Rapid([mm(target[0]), mm(target[1]), 0.0]), line, 1));
-        items.push((
-            Canon::Rapid([mm(target[0]), mm(target[1]), mm(target[2])]),
-            line,
-            1,
-        ));
-        let mut em = Emitter { pos: here, seq: 0 };
-        let mut blocks: Vec<Block> = Vec::new();
-        em.emit(&items, st, &mut blocks)?;
-        for b in &mut blocks {
-            b.seq = 0;
-        }
-        self.emitter.pos = em.pos;
-        Ok(Statement {
-            line,
-            text: restore_text(line),
-            blocks,
-        })
-    }
-
     /// Executes the next line; `None` when there is nothing more to do.
     fn step(&mut self) -> Option<Result<Statement, TranslateError>> {
         loop {
@@ -395,35 +325,33 @@ impl GcodeSource {
         raw: &str,
         line: &expr::Line,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
-        {
-            {
-                if line.percent {
-                    if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
-                        return Ok(None);
-                    }
-                    if !self.stack.is_empty() {
-                        let e = self.end_error(n);
-                        return Err(e);
-                    }
-                    // The closing %: the program ends.
-                    self.done = true;
-                    let mut x = ctx(
-                        n,
-                        &self.settings,
-                        &self.magazine,
-                        self.switches,
-                        std::mem::take(&mut self.out_buf),
-                    );
-                    self.st.comp.flush(&mut x);
-                    let out = x.out;
-                    return Ok(Some(self.finish(n, raw.trim().to_string(), out, true)));
-                }
-                if let Some((o, col)) = line.o_number {
-                    if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
-                        // The main program's number.
-                        return Ok(None);
-                    }
-                    return Err(TranslateError {
+        if line.percent {
+            if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
+                return Ok(None);
+            }
+            if !self.stack.is_empty() {
+                let e = self.end_error(n);
+                return Err(e);
+            }
+            // The closing %: the program ends.
+            self.done = true;
+            let mut x = ctx(
+                n,
+                &self.settings,
+                &self.magazine,
+                self.switches,
+                std::mem::take(&mut self.out_buf),
+            );
+            self.st.comp.flush(&mut x);
+            let out = x.out;
+            return Ok(Some(self.finish(n, raw.trim().to_string(), out, true)));
+        }
+        if let Some((o, col)) = line.o_number {
+            if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
+                // The main program's number.
+                return Ok(None);
+            }
+            return Err(TranslateError {
                     line: n,
                     col,
                     message: match self.stack.last() {
@@ -431,28 +359,100 @@ impl GcodeSource {
                         None => format!("the main program runs into subprogram O{o}: end it with M30 (or M02) first"),
                     },
                 });
-                }
-                if line.block_delete && self.switches.block_delete {
-                    return Ok(None);
-                }
-                for &(p, v) in &line.assigns {
-                    self.params.set(p, v);
-                }
-                if line.words.is_empty() {
-                    if line.assigns.is_empty() && !line.comment {
-                        return Ok(None);
+        }
+        if line.block_delete && self.switches.block_delete {
+            return Ok(None);
+        }
+        for &(p, v) in &line.assigns {
+            self.params.set(p, v);
+        }
+        if line.words.is_empty() {
+            if line.assigns.is_empty() && !line.comment {
+                return Ok(None);
+            }
+            return Ok(Some(self.finish(
+                n,
+                raw.trim().to_string(),
+                Vec::new(),
+                false,
+            )));
+        }
+        let words = interp::sort_words(line, n)?;
+        let mut x = ctx(
+            n,
+            &self.settings,
+            &self.magazine,
+            self.switches,
+            std::mem::take(&mut self.out_buf),
+        );
+        let flow = interp::execute(&mut self.st, &mut x, &words)?;
+        let mut out = std::mem::take(&mut x.out);
+        self.changes.append(&mut x.changes);
+        let mut end = false;
+        match flow {
+            Flow::Next => {}
+            Flow::Call { o, l, col } => {
+                // rs274 finds a subprogram by searching forward from the call, or one it
+                // has called before.
+                let found = self
+                    .subs
+                    .get(&o)
+                    .copied()
+                    .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
+                let Some(at) = found else {
+                    if self.subs.contains_key(&o) {
+                        return Err(TranslateError {
+                                line: n,
+                                col,
+                                message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
+                            });
                     }
-                    return Ok(Some(self.finish(
-                        n,
-                        raw.trim().to_string(),
-                        Vec::new(),
-                        false,
-                    )));
-                }
-                let words = match interp::sort_words(&line, n) {
-                    Ok(w) => w,
-                    Err(e) => return Err(e),
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: format!("M98 P{o}: subprogram O{o} is not in the program"),
+                    });
                 };
+                if self.stack.len() >= MAX_DEPTH {
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: format!(
+                            "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
+                        ),
+                    });
+                }
+                self.called.insert(o);
+                if l > 0 {
+                    self.stack.push(Frame {
+                        o,
+                        ret: self.pc,
+                        start: at + 1,
+                        left: l,
+                    });
+                    self.pc = at + 1;
+                }
+            }
+            Flow::Return { col } => match self.stack.last_mut() {
+                None => {
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: "M99 outside a subprogram (novanc does not loop the main program)"
+                            .into(),
+                    })
+                }
+                Some(f) => {
+                    f.left -= 1;
+                    if f.left > 0 {
+                        self.pc = f.start;
+                    } else {
+                        self.pc = f.ret;
+                        self.stack.pop();
+                    }
+                }
+            },
+            Flow::End => {
                 let mut x = ctx(
                     n,
                     &self.settings,
@@ -460,127 +460,47 @@ impl GcodeSource {
                     self.switches,
                     std::mem::take(&mut self.out_buf),
                 );
-                let flow = interp::execute(&mut self.st, &mut x, &words);
-                let flow = match flow {
-                    Ok(f) => f,
-                    Err(e) => return Err(e),
-                };
-                let mut out = std::mem::take(&mut x.out);
-                self.changes.append(&mut x.changes);
-                let mut end = false;
-                match flow {
-                    Flow::Next => {}
-                    Flow::Call { o, l, col } => {
-                        // rs274 finds a subprogram by searching forward from the call, or one it
-                        // has called before.
-                        let found = self
-                            .subs
-                            .get(&o)
-                            .copied()
-                            .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
-                        let Some(at) = found else {
-                            if self.subs.contains_key(&o) {
-                                return Err(TranslateError {
-                                line: n,
-                                col,
-                                message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
-                            });
-                            }
-                            return Err(TranslateError {
-                                line: n,
-                                col,
-                                message: format!("M98 P{o}: subprogram O{o} is not in the program"),
-                            });
-                        };
-                        if self.stack.len() >= MAX_DEPTH {
-                            return Err(TranslateError {
-                                line: n,
-                                col,
-                                message: format!(
-                                    "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
-                                ),
-                            });
+                self.st.comp.flush(&mut x);
+                let mut tail = x.out;
+                // The end function after the held compensation move.
+                let endm = out.iter().rposition(|(c, _, _)| {
+                    matches!(
+                        c,
+                        Canon::Aux {
+                            m: Some(2 | 30),
+                            ..
                         }
-                        self.called.insert(o);
-                        if l > 0 {
-                            self.stack.push(Frame {
-                                o,
-                                ret: self.pc,
-                                start: at + 1,
-                                left: l,
-                            });
-                            self.pc = at + 1;
-                        }
-                    }
-                    Flow::Return { col } => match self.stack.last_mut() {
-                        None => return Err(TranslateError {
-                            line: n,
-                            col,
-                            message:
-                                "M99 outside a subprogram (novanc does not loop the main program)"
-                                    .into(),
-                        }),
-                        Some(f) => {
-                            f.left -= 1;
-                            if f.left > 0 {
-                                self.pc = f.start;
-                            } else {
-                                self.pc = f.ret;
-                                self.stack.pop();
-                            }
-                        }
-                    },
-                    Flow::End => {
-                        let mut x = ctx(
+                    )
+                });
+                if endm.is_none() {
+                    let m = if words.has_m(2).is_some() { 2 } else { 30 };
+                    if m == 2 && self.st.spindle != 0 {
+                        tail.push((
+                            Canon::Aux {
+                                s: None,
+                                t: None,
+                                m: Some(5),
+                            },
                             n,
-                            &self.settings,
-                            &self.magazine,
-                            self.switches,
-                            std::mem::take(&mut self.out_buf),
-                        );
-                        self.st.comp.flush(&mut x);
-                        let mut tail = x.out;
-                        // The end function after the held compensation move.
-                        let endm = out.iter().rposition(|(c, _, _)| {
-                            matches!(
-                                c,
-                                Canon::Aux {
-                                    m: Some(2 | 30),
-                                    ..
-                                }
-                            )
-                        });
-                        if endm.is_none() {
-                            let m = if words.has_m(2).is_some() { 2 } else { 30 };
-                            if m == 2 && self.st.spindle != 0 {
-                                tail.push((
-                                    Canon::Aux {
-                                        s: None,
-                                        t: None,
-                                        m: Some(5),
-                                    },
-                                    n,
-                                    1,
-                                ));
-                            }
-                            tail.push((
-                                Canon::Aux {
-                                    s: None,
-                                    t: None,
-                                    m: Some(m),
-                                },
-                                n,
-                                1,
-                            ));
-                        }
-                        out.append(&mut tail);
-                        self.done = true;
-                        end = true;
+                            1,
+                        ));
                     }
+                    tail.push((
+                        Canon::Aux {
+                            s: None,
+                            t: None,
+                            m: Some(m),
+                        },
+                        n,
+                        1,
+                    ));
                 }
-                return Ok(Some(self.finish(n, raw.trim().to_string(), out, end)));
+                out.append(&mut tail);
+                self.done = true;
+                end = true;
             }
         }
+        Ok(Some(self.finish(n, raw.trim().to_string(), out, end)))
     }
 
     fn finish(
@@ -622,72 +542,4 @@ fn ctx<'a>(
         magazine,
         optional_stop: sw.optional_stop,
     }
-}
-
-impl Iterator for GcodeSource {
-    type Item = Result<Statement, TranslateError>;
-
-    fn next(&mut self) -> Option<Self::Item> {
-        if let Some(s) = self.held.take() {
-            return Some(Ok(s));
-        }
-        let Some(at) = self.resume_at else {
-            return self.step();
-        };
-        // SEARCH: run the lines before `at` for their state only.
-        loop {
-            let before = self.stack.is_empty() && (self.pc as u32 + 1) < at;
-            if !before && self.stack.is_empty() {
-                break;
-            }
-            match self.step() {
-                Some(Ok(_)) => {}
-                Some(Err(e)) => return Some(Err(e)),
-                None => {
-                    return Some(Err(TranslateError {
-                        line: at,
-                        col: 1,
-                        message: format!(
-                            "no line to run at or after line {at}: the program ends before it"
-                        ),
-                    }))
-                }
-            }
-        }
-        self.resume_at = None;
-        let restore = match self.restore(at) {
-            Ok(r) => r,
-            Err(e) => return self.fail(e),
-        };
-        match self.step() {
-            Some(Ok(s)) => {
-                if restore.blocks.is_empty() {
-                    return Some(Ok(s));
-                }
-                self.held = Some(s);
-                Some(Ok(restore))
-            }
-            other => other,
-        }
-    }
-}
-
-/// Reads a whole G-code program from machine zero state `start`, G54 offsets `offsets` and
-/// both switches off; the first error fails it.
-pub fn translate_all(
-    source: &str,
-    magazine: &Magazine,
-    settings: &MachineSettings,
-    start: [i64; 3],
-    offsets: WorkOffsets,
-) -> Result<Vec<Statement>, TranslateError> {
-    GcodeSource::new(
-        source.into(),
-        magazine.clone(),
-        settings.clone(),
-        MachineState::at(start),
-        offsets,
-        Switches::default(),
-    )
-    .collect()
 }
