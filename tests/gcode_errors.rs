@@ -93,6 +93,14 @@ fn an_arc_end_not_on_the_circle() {
 }
 
 #[test]
+fn multi_turn_arcs_are_refused() {
+    assert_eq!(
+        error("G2 X0 Y0 I5 J0 P2 F10"),
+        "4:16: P (turns) on G02/G03 is not supported: one arc makes at most one full turn"
+    );
+}
+
+#[test]
 fn r_too_small_for_the_chord() {
     assert_eq!(
         error("G2 X10 Y0 R4 F10"),

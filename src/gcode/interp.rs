@@ -568,6 +568,12 @@ fn arc(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(), Translat
             }
         }
     }
+    if let Some(pc) = w.col('P') {
+        return Err(x.err(
+            pc,
+            "P (turns) on G02/G03 is not supported: one arc makes at most one full turn",
+        ));
+    }
     let e = target(st, w);
     let s = st.cur;
     let cw = st.mode == Mode::Cw;
