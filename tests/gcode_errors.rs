@@ -88,7 +88,7 @@ fn a_feed_move_without_f() {
 fn an_arc_end_not_on_the_circle() {
     assert_eq!(
         error("G2 X10 Y0 I5.1 J0 F10"),
-        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end (novanc accepts 0.002 mm)"
+        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end (at most 0.028 mm apart)"
     );
 }
 

@@ -41,6 +41,19 @@ fn positions(start: [i64; 3], pulses: &[PulseRec]) -> Vec<[i64; 3]> {
 
 /// One random arc or helix in `plane`; `normal` pulses along the plane's normal.
 fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, normal: i64, r_max: i64) {
+    check_spiral(rng, plane, ccw, full, normal, r_max, 0);
+}
+
+/// The same with the end radius `dr` pulses off the start radius (a spiral, as G-code allows).
+fn check_spiral(
+    rng: &mut Rng,
+    plane: Plane,
+    ccw: bool,
+    full: bool,
+    normal: i64,
+    r_max: i64,
+    dr: i64,
+) {
     let [u, v] = plane.turn_axes();
     let [a0x, a1x, n] = plane.axes();
     let r = rng.range(300, r_max) as f64;
@@ -57,8 +70,9 @@ fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, normal: i64, r_max:
     s[v] += (r * th0.sin()).round() as i64;
     let mut e = if full { s } else { c };
     if !full {
-        e[u] += (r * th1.cos()).round() as i64;
-        e[v] += (r * th1.sin()).round() as i64;
+        let re = r + dr as f64;
+        e[u] += (re * th1.cos()).round() as i64;
+        e[v] += (re * th1.sin()).round() as i64;
     }
     e[n] = s[n] + normal;
     let mut b = Block::aux(1, 1, e);
@@ -151,6 +165,22 @@ fn helices_in_every_plane_follow_the_curve_and_end_exactly() {
             };
             let r_max = if i % 4 == 1 { 20_000 } else { 120_000 };
             check(&mut rng, plane, i % 2 == 1, i % 3 == 0, normal, r_max);
+        }
+    }
+}
+
+#[test]
+fn spirals_within_30_pulses_end_exactly_between_their_radii() {
+    let mut rng = Rng::new(23);
+    for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
+        for i in 0..8 {
+            let dr = rng.range(-28, 28);
+            let normal = if i % 2 == 0 {
+                0
+            } else {
+                rng.range(-5_000, 5_000)
+            };
+            check_spiral(&mut rng, plane, i % 3 == 0, false, normal, 60_000, dr);
         }
     }
 }

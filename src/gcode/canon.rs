@@ -116,7 +116,11 @@ impl Emitter {
                     // that keeps them within one pulse of each other.
                     let mut best = c;
                     let mut diff = (rad(s, c) - rad(e, c)).abs();
-                    if diff > 1.0 {
+                    // Only an arc programmed on its circle is nudged; a spiral stays as given.
+                    let radius_mm = |p: [f64; 3]| (p[a0] - centre[a0]).hypot(p[a1] - centre[a1]);
+                    let s_mm = [st.to_mm(s[0]), st.to_mm(s[1]), st.to_mm(s[2])];
+                    let on_circle = (radius_mm(s_mm) - radius_mm(*end)).abs() < 0.5 * st.pulse_mm;
+                    if diff > 1.0 && on_circle {
                         for du in -1..=1 {
                             for dv in -1..=1 {
                                 let mut cc = c;

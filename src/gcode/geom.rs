@@ -16,9 +16,10 @@ pub const IJK_ABS_TOLERANCE_INCH: f64 = 0.002_828_43;
 /// The relative part of the I J K tolerance.
 pub const IJK_REL_TOLERANCE: f64 = 0.001;
 
-/// novanc's own limit on an arc's radius difference (its pulse core steps the circle of the
-/// start radius and accepts an end within 2 pulses), mm.
-pub const NOVANC_RADIUS_DIFF_MM: f64 = 0.002;
+/// novanc's own limit on an arc's radius difference, mm: its pulse core turns a spiral of up
+/// to 30 pulses into the end radius (`pulse_core::arc::MAX_RADIUS_DIFF`); this leaves room for
+/// rounding to pulses.
+pub const NOVANC_RADIUS_DIFF_MM: f64 = 0.028;
 
 /// Why an arc has no centre.
 #[derive(Clone, Debug, PartialEq)]
@@ -139,6 +140,15 @@ mod tests {
     #[test]
     fn ijk_tolerance_is_linuxcnc_and_the_pulse_core() {
         assert!(check_ijk([0.0, 0.0], [20.001, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
-        assert!(check_ijk([0.0, 0.0], [20.003, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_err());
+        assert!(check_ijk([0.0, 0.0], [20.02, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
+        assert!(check_ijk([0.0, 0.0], [20.03, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_err());
+        // Large radii: LinuxCNC's 0.1 % would allow more; novanc stops at 0.028 mm.
+        assert!(check_ijk(
+            [0.0, 0.0],
+            [2000.05, 0.0],
+            [1000.0, 0.0],
+            IJK_ABS_TOLERANCE_MM
+        )
+        .is_err());
     }
 }

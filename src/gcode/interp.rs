@@ -638,7 +638,7 @@ fn fault(x: &Exec, f: ArcFault, col: u32, k: f64) -> TranslateError {
         ArcFault::NotOnCircle { r0, r1 } => x.err(
             col,
             format!(
-                "the arc's end point is not on its circle: radius {:.4} {unit} at the start, {:.4} {unit} at the end (novanc accepts {:.3} mm)",
+                "the arc's end point is not on its circle: radius {:.4} {unit} at the start, {:.4} {unit} at the end (at most {:.3} mm apart)",
                 m(r0),
                 m(r1),
                 geom::NOVANC_RADIUS_DIFF_MM

@@ -61,6 +61,11 @@ struct Circle {
     inv_r: f64,
 }
 
+/// The most start and end radii may differ, pulses: the translator's rounding (up to 2), and
+/// the spiral arcs LinuxCNC accepts from G-code (docs/gcode.md "Arcs"), which the stepper
+/// turns into the end radius on the way, every point between the two radii.
+pub const MAX_RADIUS_DIFF: i64 = 30;
+
 /// One step of an arc: the pulses of X, Y and Z (−1, 0, +1) and the path length it stands for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArcStep {
@@ -91,7 +96,7 @@ pub enum ArcError {
     TooSmall,
     /// The radius is beyond what the stepper handles.
     TooLarge,
-    /// Start and end radii differ by more than 2 pulses.
+    /// Start and end radii differ by more than [`MAX_RADIUS_DIFF`] pulses.
     EndNotOnCircle {
         /// Start radius, pulses.
         r_start: f64,
@@ -116,7 +121,7 @@ impl Circle {
             return Err(ArcError::TooSmall);
         }
         let (rs, re) = ((r2 as f64).sqrt(), (r2_end as f64).sqrt());
-        if (rs - re).abs() > 2.0 {
+        if (rs - re).abs() > MAX_RADIUS_DIFF as f64 {
             return Err(ArcError::EndNotOnCircle {
                 r_start: rs,
                 r_end: re,
@@ -492,8 +497,26 @@ mod tests {
     #[test]
     fn refuses_end_off_circle() {
         assert!(matches!(
-            ArcStepper::new([100, 0], [0, 110], true),
+            ArcStepper::new([100, 0], [0, 131], true),
             Err(ArcError::EndNotOnCircle { .. })
         ));
+    }
+
+    #[test]
+    fn a_spiral_within_the_limit_ends_exactly_between_its_radii() {
+        for (s, e, ccw) in [
+            ([1000, 0], [0, 1030], true),
+            ([1000, 0], [0, -970], false),
+            ([0, 500], [-470, 10], true),
+            ([700, 0], [729, 0], true),
+        ] {
+            let pts = run(s, e, ccw);
+            assert_eq!(*pts.last().unwrap(), e);
+            let r = |p: [i64; 2]| ((p[0] * p[0] + p[1] * p[1]) as f64).sqrt();
+            let (lo, hi) = (r(s).min(r(e)) - 1.0, r(s).max(r(e)) + 1.0);
+            for p in &pts {
+                assert!(r(*p) >= lo && r(*p) <= hi, "{p:?} of {s:?} -> {e:?}");
+            }
+        }
     }
 }
