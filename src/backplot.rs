@@ -663,4 +663,24 @@ mod tests {
         let d = ViewTransform::fit([5.0, 5.0], [5.0, 5.0], [100.0, 100.0], 10.0);
         assert!(d.scale.is_finite() && d.scale > 0.0);
     }
+
+    #[test]
+    fn an_arc_in_the_xz_plane_is_drawn_in_x_and_z() {
+        // G18 G02 from (10, 5, 0) to (0, 5, 10) about (0, 5, 0): seen from +Y, clockwise turns
+        // X toward Z (Z→X is counter-clockwise), a quarter circle of radius 10.
+        let mut b = block(1, Motion::ArcCw, [10_000, 5_000, 0], [0, 5_000, 10_000]);
+        b.plane = ArcPlane::XZ;
+        b.center = Some([-10_000, 0]);
+        let seg = Segment::of_block(&b, &s()).unwrap();
+        let a = seg.arc.unwrap();
+        assert!(close(a.sweep, -std::f64::consts::FRAC_PI_2), "{}", a.sweep);
+        for p in seg.points() {
+            assert!(close(p[0].hypot(p[2]), 10.0), "{p:?}");
+            assert!(close(p[1], 5.0));
+            assert!(
+                p[0] >= -1e-9 && p[2] >= -1e-9,
+                "stays in the first quadrant: {p:?}"
+            );
+        }
+    }
 }

@@ -104,7 +104,8 @@ pub struct Block {
     pub s: Option<u32>,
     /// T code to select, if the block calls a tool.
     pub t: Option<u32>,
-    /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end).
+    /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end; from
+    /// G-code also 0 stop, 1 optional stop, 2 end, 8 and 9 coolant).
     pub m: Option<u8>,
 }
 
