@@ -107,6 +107,13 @@ impl Emitter {
                 } => {
                     let e = p3(*end);
                     let c = p3(*centre);
+                    // Far beyond any travel: refused before any integer arithmetic on it.
+                    if c.iter()
+                        .chain(e.iter())
+                        .any(|v| v.abs() > 1_000_000_000_000)
+                    {
+                        return Err(err("arc centre or end point out of all range".to_string()));
+                    }
                     let [a0, a1, _] = plane.axes();
                     let s = self.pos;
                     let rad = |p: [i64; 3], c: [i64; 3]| {
@@ -133,6 +140,12 @@ impl Emitter {
                                 }
                             }
                         }
+                    }
+                    if rad(s, best) > 100_000_000.0 {
+                        return Err(err(format!(
+                            "arc radius {:.3} mm is over the 100 m the pulse core steps",
+                            st.to_mm(rad(s, best) as i64)
+                        )));
                     }
                     if rad(s, best) < 2.0 {
                         return Err(err(format!(
@@ -179,9 +192,9 @@ fn round(x: f64) -> i64 {
     let i = x as i64;
     let f = x - i as f64;
     if f >= 0.5 {
-        i + 1
+        i.saturating_add(1)
     } else if f <= -0.5 {
-        i - 1
+        i.saturating_sub(1)
     } else {
         i
     }

@@ -10,6 +10,9 @@ use super::canon::Canon;
 use super::interp::{Exec, State, Words};
 use crate::block::{Plane, TranslateError};
 
+/// The most pecks one G73 or G83 hole may take (bounded work, docs/gcode.md "Limits").
+pub const MAX_PECKS: u32 = 1000;
+
 /// G73 and G83 retract this far above the last depth before the next peck, inches.
 const PECK_CLEARANCE_INCH: f64 = 0.010;
 
@@ -126,6 +129,14 @@ pub fn cycle(
                 r / k
             ),
         ));
+    }
+    if let Some(q) = q {
+        if (r - bottom) / q > MAX_PECKS as f64 {
+            return Err(x.err(
+                w.col('Q').unwrap_or(col),
+                format!("{name}: Q{} would make more than {MAX_PECKS} pecks", q / k),
+            ));
+        }
     }
     let clear = if st.retract_r { r } else { il.max(r) };
     let clearance = PECK_CLEARANCE_INCH * 25.4;

@@ -86,7 +86,12 @@ struct Reader<'a> {
     line: u32,
     params: &'a Params,
     end_col: u32,
+    /// Nesting of values being read (brackets, signs, parameters), bounded.
+    depth: u32,
 }
+
+/// The deepest nesting of brackets, signs and parameter references in one value.
+pub const MAX_NESTING: u32 = 64;
 
 const CONTROL: [&str; 8] = [
     "IF", "WHILE", "GOTO", "SUB", "ENDSUB", "DO", "REPEAT", "CALL",
@@ -177,6 +182,20 @@ impl Reader<'_> {
 
     /// A real value: number, parameter, bracket expression or unary function, with sign.
     fn value(&mut self) -> Result<f64, TranslateError> {
+        self.depth += 1;
+        let r = if self.depth > MAX_NESTING {
+            Err(self.err(
+                self.col(),
+                format!("brackets, signs or # nested more than {MAX_NESTING} deep"),
+            ))
+        } else {
+            self.value_inner()
+        };
+        self.depth -= 1;
+        r
+    }
+
+    fn value_inner(&mut self) -> Result<f64, TranslateError> {
         if self.eat('-') {
             return Ok(-self.value()?);
         }
@@ -378,6 +397,9 @@ impl Reader<'_> {
                 "OR" => t(a != 0.0 || b != 0.0),
                 _ => t((a != 0.0) != (b != 0.0)),
             };
+            if !a.is_finite() {
+                return Err(self.err(col, format!("the result of {op} is not a finite number")));
+            }
         }
     }
 }
@@ -489,6 +511,7 @@ pub fn read_into(
         line,
         params,
         end_col: col + 1,
+        depth: 0,
     };
     if r.eat('/') {
         out.block_delete = true;
