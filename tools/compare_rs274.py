@@ -4,8 +4,8 @@
 and a built novanc; the test suite never runs this.
 
 For each program: rs274 -g prints canonical calls in program coordinates; this script adds the
-work offset, the tool length offset and the units to get machine millimetres, drops zero-length
-moves, and compares every move's kind and end point and every arc's centre and direction with
+work offset, the tool length offset and the units to get machine millimetres, drops moves shorter
+than half a pulse (0.0005 mm), and compares every move's kind and end point and every arc's centre and direction with
 the blocks `novanc translate` prints, in the same order, to 0.001 mm. Where rs274 refuses a
 program, novanc must refuse it.
 
@@ -72,7 +72,8 @@ def rs274_moves(prog, tbl):
             tlo = vals[2] * factor
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             e = [vals[0] * factor + g5x[0], vals[1] * factor + g5x[1], vals[2] * factor + g5x[2] + tlo]
-            if max(abs(e[i] - last[i]) for i in range(3)) > 1e-9:
+            # Shorter than half a pulse (rs274's inch rounding): novanc cannot move it.
+            if max(abs(e[i] - last[i]) for i in range(3)) >= 0.0005:
                 moves.append(("R" if name == "STRAIGHT_TRAVERSE" else "F", *e))
                 inch.append(factor != 1.0)
             last = e

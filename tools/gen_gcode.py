@@ -236,8 +236,11 @@ class Gen:
                 f"G1 Y{y0 + cr + 5}",
                 f"G40 G1 X{x0 - 20} Y{y0 + cr + 5}",
             ]
-        for p in pts:
+        for i, p in enumerate(pts):
             self.emit(p)
+            # Z-only moves and functions between compensated moves (LinuxCNC queues them).
+            if 0 < i < len(pts) - 2 and r.random() < 0.25:
+                self.emit(r.choice([f"G1 Z{round(r.uniform(-10, 5), 2)}", "M8", "M9", "G4 P0.1"]))
         self.pos = [None, None, self.pos[2]]
         self.goto([self.coord(), self.coord(), self.pos[2]], "G0")
 

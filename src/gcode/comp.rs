@@ -12,8 +12,8 @@
 //! - The exit move (the first move after G40) runs from the last offset point to its
 //!   programmed end point.
 //!
-//! Moves without X or Y (Z only), and any S, T or M function, end the holding: the held move
-//! keeps its square offset end (LinuxCNC would still move it for a Z-only move; docs/gcode.md).
+//! Moves without X or Y (Z only), S, T and M functions and dwells wait behind the held move;
+//! the Z-only moves follow its end when a concave corner moves it, as in LinuxCNC.
 
 use super::canon::Canon;
 use super::interp::Exec;
@@ -59,6 +59,9 @@ pub struct Comp {
     side: f64,
     r: f64,
     held: Option<Held>,
+    /// What came after the held move: Z-only moves (which follow its end when it moves, as in
+    /// LinuxCNC) and S, T, M functions and dwells, in order.
+    queue: Vec<(Canon, u32, u32)>,
 }
 
 impl Default for Comp {
@@ -68,6 +71,7 @@ impl Default for Comp {
             side: 1.0,
             r: 0.0,
             held: None,
+            queue: Vec::new(),
         }
     }
 }
@@ -123,10 +127,32 @@ impl Comp {
         };
     }
 
-    /// Emits the held move as it stands.
+    /// Emits the held move as it stands, and what is queued behind it.
     pub fn flush(&mut self, x: &mut Exec) {
         if let Some(h) = self.held.take() {
-            x.out.push((h.canon, h.line, h.col));
+            let end = h.end;
+            self.emit_held(x, h, end);
+        }
+    }
+
+    /// Emits the held move ending at `end`, then the queue, its Z-only moves at `end` too.
+    fn emit_held(&mut self, x: &mut Exec, mut h: Held, end: [f64; 2]) {
+        set_end(&mut h.canon, end);
+        x.out.push((h.canon, h.line, h.col));
+        for (mut c, line, col) in self.queue.drain(..) {
+            if matches!(c, Canon::Rapid(_) | Canon::Feed(..)) {
+                set_end(&mut c, end);
+            }
+            x.out.push((c, line, col));
+        }
+    }
+
+    /// An S, T or M function or a dwell: after the held move if there is one.
+    pub fn aux(&mut self, x: &mut Exec, c: Canon, col: u32) {
+        if self.held.is_some() {
+            self.queue.push((c, x.n, col));
+        } else {
+            x.push(c, col);
         }
     }
 
@@ -166,18 +192,14 @@ impl Comp {
             _ => {}
         }
         if !xy_move {
-            self.flush(x);
-            let mut e = to;
-            if let Some(last) = x.out.iter().rev().find_map(|(cn, _, _)| match cn {
-                Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => Some(*e),
-                _ => None,
-            }) {
-                if self.phase == Phase::On {
-                    e[0] = last[0];
-                    e[1] = last[1];
+            // A Z-only move: queued behind the held move, it will follow that move's end.
+            match &self.held {
+                Some(h) => {
+                    let e = [h.end[0], h.end[1], to[2]];
+                    self.queue.push((mk(e), x.n, col));
                 }
+                None => x.push(mk(to), col),
             }
-            x.push(mk(e), col);
             return Ok(());
         }
         let d = unit(sub(p, c));
@@ -314,7 +336,7 @@ impl Comp {
         feed: f64,
         col: u32,
     ) -> Result<[f64; 2], TranslateError> {
-        let Some(mut h) = self.held.take() else {
+        let Some(h) = self.held.take() else {
             return Ok(s2);
         };
         let t1 = h.tangent;
@@ -323,19 +345,27 @@ impl Comp {
         let turn = cross.atan2(dot) * self.side;
         if turn.abs() <= TANGENT && dist(h.end, s2) < 1e-6 + self.r * TANGENT {
             let start = h.end;
-            x.out.push((h.canon, h.line, h.col));
+            self.emit_held(x, h, start);
             return Ok(start);
         }
         if turn < 0.0 {
             // Convex: round the programmed corner.
-            let z = canon_end(&h.canon)[2];
-            let e1 = h.end;
-            x.out.push((h.canon, h.line, h.col));
+            let (e1, corner) = (h.end, h.corner);
+            self.emit_held(x, h, e1);
+            let z = x
+                .out
+                .iter()
+                .rev()
+                .find_map(|(c, _, _)| match c {
+                    Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => Some(e[2]),
+                    _ => None,
+                })
+                .unwrap_or(0.0);
             if dist(e1, s2) > 1e-9 {
                 x.push(
                     Canon::Arc {
                         end: [s2[0], s2[1], z],
-                        centre: [h.corner[0], h.corner[1], z],
+                        centre: [corner[0], corner[1], z],
                         plane: Plane::XY,
                         ccw: self.side < 0.0,
                         feed,
@@ -404,16 +434,8 @@ impl Comp {
                 }
             }
         }
-        set_end(&mut h.canon, p);
-        x.out.push((h.canon, h.line, h.col));
+        self.emit_held(x, h, p);
         Ok(p)
-    }
-}
-
-fn canon_end(c: &Canon) -> [f64; 3] {
-    match c {
-        Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => *e,
-        _ => [0.0; 3],
     }
 }
 

@@ -228,7 +228,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
             .selected
             .ok_or_else(|| x.err(col, "M06 without a T word before it: which tool?"))?;
         st.tool = if t == 0 { None } else { Some(t) };
-        x.push(
+        st.comp.aux(
+            x,
             Canon::Aux {
                 s: None,
                 t: Some(t),
@@ -244,7 +245,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         .into_iter()
         .find_map(|m| w.has_m(m).map(|c| (m, c)));
     if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
-        x.push(
+        st.comp.aux(
+            x,
             Canon::Aux {
                 s: aux_s.take(),
                 t: aux_t,
@@ -264,7 +266,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         } else {
             Some(aux_s.unwrap_or(st.speed.round() as u32))
         };
-        x.push(
+        st.comp.aux(
+            x,
             Canon::Aux {
                 s,
                 t: None,
@@ -275,7 +278,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
     }
     for m in [8u32, 9] {
         if let Some(col) = w.has_m(m) {
-            x.push(
+            st.comp.aux(
+                x,
                 Canon::Aux {
                     s: None,
                     t: None,
@@ -292,7 +296,7 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         if p < 0.0 {
             return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
         }
-        x.push(Canon::Dwell(p), col);
+        st.comp.aux(x, Canon::Dwell(p), col);
     }
     for (g, p) in [(170, Plane::XY), (180, Plane::XZ), (190, Plane::YZ)] {
         if let Some(col) = w.has_g(g) {
@@ -475,7 +479,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
     }
     // Stops and program flow, last.
     if let Some(col) = w.has_m(0) {
-        x.push(
+        st.comp.aux(
+            x,
             Canon::Aux {
                 s: None,
                 t: None,
@@ -486,7 +491,8 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
     }
     if let Some(col) = w.has_m(1) {
         if x.optional_stop {
-            x.push(
+            st.comp.aux(
+                x,
                 Canon::Aux {
                     s: None,
                     t: None,
