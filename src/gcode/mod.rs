@@ -13,6 +13,7 @@ pub mod cycles;
 pub mod expr;
 pub mod geom;
 pub mod interp;
+pub mod moves;
 pub mod search;
 pub mod words;
 
