@@ -7,7 +7,7 @@
 //! path from the axis pulse counters, so the two lie on top of each other when the machine
 //! follows the program.
 
-use crate::block::{Block, Motion};
+use crate::block::{Block, Motion, Plane as ArcPlane};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 use crate::translator::{TranslateError, Translator};
@@ -27,11 +27,13 @@ pub enum PathKind {
 /// The circle an arc segment lies on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArcGeom {
-    /// Centre X, Y in mm (absolute).
+    /// Centre in mm (absolute) in the two axes of `plane`, X Y Z order (X, Y for G17).
     pub center: [f64; 2],
     /// Signed sweep angle in radians: positive counter-clockwise (G03), negative clockwise
-    /// (G02). A full circle sweeps ±2π.
+    /// (G02), seen from the positive end of the plane's normal. A full circle sweeps ±2π.
     pub sweep: f64,
+    /// The arc's plane.
+    pub plane: ArcPlane,
 }
 
 /// One drawable piece of the programmed path: one motion block.
@@ -73,7 +75,7 @@ impl Segment {
             Motion::Rapid => (PathKind::Rapid, None),
             Motion::Linear => (PathKind::Feed, None),
             Motion::ArcCw | Motion::ArcCcw => {
-                let Some([i, j]) = b.center else {
+                let Some(ij) = b.center else {
                     // An arc without a centre cannot be drawn true; draw its chord as a feed.
                     return Some(Segment {
                         kind: PathKind::Feed,
@@ -85,9 +87,24 @@ impl Segment {
                     });
                 };
                 let ccw = b.motion == Motion::ArcCcw;
-                let sweep = arc_sweep([start[0], start[1]], [b.end[0], b.end[1]], [i, j], ccw);
-                let center = [settings.to_mm(start[0] + i), settings.to_mm(start[1] + j)];
-                (PathKind::Arc, Some(ArcGeom { center, sweep }))
+                let [a0, a1, _] = b.plane.axes();
+                let [u, v] = b.plane.turn_axes();
+                // The sweep is measured in turning order (Z→X for G18).
+                let c = if u == a0 { ij } else { [ij[1], ij[0]] };
+                let sweep = arc_sweep([start[u], start[v]], [b.end[u], b.end[v]], c, ccw);
+                let center = [
+                    settings.to_mm(start[a0] + ij[0]),
+                    settings.to_mm(start[a1] + ij[1]),
+                ];
+                let plane = b.plane;
+                (
+                    PathKind::Arc,
+                    Some(ArcGeom {
+                        center,
+                        sweep,
+                        plane,
+                    }),
+                )
             }
         };
         Some(Segment {
@@ -101,12 +118,20 @@ impl Segment {
     }
 
     /// The segment as a polyline, mm: two points for a straight move, the true arc in steps of
-    /// at most `ARC_STEP_RAD` for an arc (Z interpolated linearly, for a helix).
+    /// at most `ARC_STEP_RAD` for an arc (the plane's normal axis interpolated linearly, for a helix).
     pub fn points(&self) -> Vec<[f64; 3]> {
         let Some(a) = self.arc else {
             return vec![self.from, self.to];
         };
-        let r0 = [self.from[0] - a.center[0], self.from[1] - a.center[1]];
+        let [p0, _, normal] = a.plane.axes();
+        let [u, v] = a.plane.turn_axes();
+        // The centre in turning order.
+        let c = if u == p0 {
+            a.center
+        } else {
+            [a.center[1], a.center[0]]
+        };
+        let r0 = [self.from[u] - c[0], self.from[v] - c[1]];
         let radius = (r0[0] * r0[0] + r0[1] * r0[1]).sqrt();
         let a0 = r0[1].atan2(r0[0]);
         let n = ((a.sweep.abs() / ARC_STEP_RAD).ceil() as usize).clamp(1, 10_000);
@@ -115,11 +140,11 @@ impl Segment {
         for k in 1..n {
             let t = k as f64 / n as f64;
             let ang = a0 + a.sweep * t;
-            out.push([
-                a.center[0] + radius * ang.cos(),
-                a.center[1] + radius * ang.sin(),
-                self.from[2] + (self.to[2] - self.from[2]) * t,
-            ]);
+            let mut p = [0.0; 3];
+            p[u] = c[0] + radius * ang.cos();
+            p[v] = c[1] + radius * ang.sin();
+            p[normal] = self.from[normal] + (self.to[normal] - self.from[normal]) * t;
+            out.push(p);
         }
         // End exactly on the block's end point (as the pulse core does).
         out.push(self.to);
@@ -637,5 +662,25 @@ mod tests {
         // A degenerate box (one point) still gives a finite view.
         let d = ViewTransform::fit([5.0, 5.0], [5.0, 5.0], [100.0, 100.0], 10.0);
         assert!(d.scale.is_finite() && d.scale > 0.0);
+    }
+
+    #[test]
+    fn an_arc_in_the_xz_plane_is_drawn_in_x_and_z() {
+        // G18 G02 from (10, 5, 0) to (0, 5, 10) about (0, 5, 0): seen from +Y, clockwise turns
+        // X toward Z (Z→X is counter-clockwise), a quarter circle of radius 10.
+        let mut b = block(1, Motion::ArcCw, [10_000, 5_000, 0], [0, 5_000, 10_000]);
+        b.plane = ArcPlane::XZ;
+        b.center = Some([-10_000, 0]);
+        let seg = Segment::of_block(&b, &s()).unwrap();
+        let a = seg.arc.unwrap();
+        assert!(close(a.sweep, -std::f64::consts::FRAC_PI_2), "{}", a.sweep);
+        for p in seg.points() {
+            assert!(close(p[0].hypot(p[2]), 10.0), "{p:?}");
+            assert!(close(p[1], 5.0));
+            assert!(
+                p[0] >= -1e-9 && p[2] >= -1e-9,
+                "stays in the first quadrant: {p:?}"
+            );
+        }
     }
 }

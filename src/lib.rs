@@ -7,6 +7,7 @@ pub mod block;
 pub mod cli;
 pub mod console;
 pub mod crc32;
+pub mod gcode;
 pub mod input_text;
 pub mod panel_model;
 pub mod pulse_core;

@@ -184,7 +184,13 @@ fn no_input_of_1_mib_takes_long_or_much_memory() {
         let base = NOW.load(Ordering::Relaxed);
         PEAK.store(base, Ordering::Relaxed);
         let t = Instant::now();
-        let r = iso_text(&src, magazine.clone(), &settings);
+        let r = iso_text(
+            "p.ap",
+            &src,
+            magazine.clone(),
+            &settings,
+            Default::default(),
+        );
         let took = t.elapsed();
         let peak = PEAK.load(Ordering::Relaxed) - base;
         let lines = match &r {

@@ -1,9 +1,11 @@
 //! Printing blocks as ISO 6983 word-address lines (docs/pulse-core.md): absolute millimetres with three
-//! decimals, words in the order `N G X Y Z I J P F S T M`, at most one M per line (no `N` on a
+//! decimals, words in the order `N G X Y Z I J K P F S T M`, at most one M per line (no `N` on a
 //! block with sequence number 0: the restore blocks of a SEARCH). Arc centres
-//! are incremental (I J from the start point), the standard default.
+//! are incremental (I J K from the start point), the standard default. An arc outside the XY
+//! plane says its plane on its own line (`G18 G02 X Z I K`, `G19 G03 Y Z J K`), with the third
+//! axis when it is a helix; in a whole program an XY arc after one of those says `G17`.
 
-use super::{Block, Motion, Statement};
+use super::{Block, Motion, Plane, Statement};
 use crate::settings::MachineSettings;
 use std::fmt::Write;
 
@@ -14,7 +16,39 @@ pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
 /// The program end.
 pub const END: &str = "M30";
 
+/// Appends a whole number in decimal (what `{}` prints, without the formatting machinery).
+fn push_u64(out: &mut String, mut v: u64) {
+    let mut buf = [0u8; 20];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+}
+
 fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
+    if st.pulse_mm == 0.001 {
+        // Whole pulses of 0.001 mm are exactly three decimals: print the integer (the same
+        // text as formatting the float, several times faster).
+        out.push(' ');
+        out.push(word);
+        if pulses < 0 {
+            out.push('-');
+        }
+        let p = pulses.unsigned_abs();
+        push_u64(out, p / 1000);
+        out.push('.');
+        let f = (p % 1000) as u32;
+        out.push(char::from(b'0' + (f / 100) as u8));
+        out.push(char::from(b'0' + (f / 10 % 10) as u8));
+        out.push(char::from(b'0' + (f % 10) as u8));
+        return;
+    }
     let _ = write!(out, " {word}{:.3}", st.to_mm(pulses));
 }
 
@@ -30,10 +64,18 @@ fn number(out: &mut String, word: char, v: f64) {
 
 /// Appends one block's ISO line (no newline) to `out`.
 pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
+    let mut plane = Plane::XY;
+    write_line_in(out, b, st, &mut plane);
+}
+
+/// Appends one block's ISO line to `out`, with `plane` the plane a reader has in force before
+/// it (updated): an arc in another plane prints its G17, G18 or G19.
+fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut Plane) {
     let start = out.len();
     // A block the console or the core made (a SEARCH restore) has no N number.
     if b.seq != 0 {
-        let _ = write!(out, "N{}", b.seq);
+        out.push('N');
+        push_u64(out, u64::from(b.seq));
     }
     let g = match b.motion {
         Motion::Rapid => Some("G00"),
@@ -43,6 +85,12 @@ pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
         Motion::Dwell => Some("G04"),
         Motion::Aux => None,
     };
+    let arc = matches!(b.motion, Motion::ArcCw | Motion::ArcCcw);
+    if arc && (b.plane != Plane::XY || *plane != Plane::XY) {
+        out.push(' ');
+        out.push_str(b.plane.g_code());
+        *plane = b.plane;
+    }
     if let Some(g) = g {
         out.push(' ');
         out.push_str(g);
@@ -57,14 +105,16 @@ pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
             }
         }
         Motion::ArcCw | Motion::ArcCcw => {
-            mm(out, 'X', b.end[0], st);
-            mm(out, 'Y', b.end[1], st);
-            if b.delta[2] != 0 {
-                mm(out, 'Z', b.end[2], st);
+            let [a0, a1, normal] = b.plane.axes();
+            for (i, w) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                if i != normal || b.delta[i] != 0 {
+                    mm(out, w, b.end[i], st);
+                }
             }
             let c = b.center.unwrap_or([0, 0]);
-            mm(out, 'I', c[0], st);
-            mm(out, 'J', c[1], st);
+            let names = ['I', 'J', 'K'];
+            mm(out, names[a0], c[0], st);
+            mm(out, names[a1], c[1], st);
         }
         Motion::Dwell => {
             let _ = write!(out, " P{:.3}", b.dwell_ns as f64 / 1e9);
@@ -99,19 +149,49 @@ pub fn iso_line(block: &Block, settings: &MachineSettings) -> String {
 /// already is the translator's end-of-program `M30`.
 pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> String {
     let mut s = String::new();
-    s.push_str(PREAMBLE);
-    s.push('\n');
-    let mut last_m = None;
-    for b in statements.iter().flat_map(|st| &st.blocks) {
-        write_line(&mut s, b, settings);
-        s.push('\n');
-        last_m = b.m;
+    let mut w = IsoWriter::new(&mut s);
+    for st in statements {
+        w.statement(&mut s, st, settings);
     }
-    if last_m != Some(30) {
-        s.push_str(END);
-        s.push('\n');
-    }
+    w.finish(&mut s);
     s
+}
+
+/// Prints a program statement by statement (the same text as [`iso_program`]), so that a
+/// long program need not be held whole.
+#[derive(Clone, Copy, Debug)]
+pub struct IsoWriter {
+    plane: Plane,
+    last_m: Option<u8>,
+}
+
+impl IsoWriter {
+    /// Starts a program: appends the preamble to `out`.
+    pub fn new(out: &mut String) -> IsoWriter {
+        out.push_str(PREAMBLE);
+        out.push('\n');
+        IsoWriter {
+            plane: Plane::XY,
+            last_m: None,
+        }
+    }
+
+    /// Appends the lines of one statement's blocks.
+    pub fn statement(&mut self, out: &mut String, st: &Statement, settings: &MachineSettings) {
+        for b in &st.blocks {
+            write_line_in(out, b, settings, &mut self.plane);
+            out.push('\n');
+            self.last_m = b.m;
+        }
+    }
+
+    /// Ends the program: `M30` unless the last block was one.
+    pub fn finish(self, out: &mut String) {
+        if self.last_m != Some(30) {
+            out.push_str(END);
+            out.push('\n');
+        }
+    }
 }
 
 #[cfg(test)]
@@ -146,5 +226,65 @@ mod tests {
         d.motion = Motion::Dwell;
         d.dwell_ns = 1_500_000_000;
         assert_eq!(iso_line(&d, &st), "N4 G04 P1.500");
+    }
+
+    #[test]
+    fn millimetres_print_as_the_float_would() {
+        let st = MachineSettings::default();
+        for p in [
+            0i64,
+            1,
+            -1,
+            5,
+            -5,
+            999,
+            -999,
+            1000,
+            -1000,
+            123_456,
+            -485_000,
+            1 << 40,
+        ] {
+            let mut a = String::new();
+            mm(&mut a, 'X', p, &st);
+            assert_eq!(a, format!(" X{:.3}", st.to_mm(p)), "{p}");
+        }
+    }
+
+    #[test]
+    fn arcs_outside_xy_say_their_plane_and_ijk_from_the_start() {
+        let st = MachineSettings::default();
+        let mut b = Block::aux(5, 1, [10_000, 20_000, -5_000]);
+        b.motion = Motion::ArcCw;
+        b.plane = Plane::XZ;
+        b.center = Some([-2_000, 1_500]);
+        b.delta = [4_000, 0, -3_000];
+        b.feed = 100.0;
+        assert_eq!(
+            iso_line(&b, &st),
+            "N5 G18 G02 X10.000 Z-5.000 I-2.000 K1.500 F100"
+        );
+        b.plane = Plane::YZ;
+        b.motion = Motion::ArcCcw;
+        b.delta = [1_000, 4_000, -3_000];
+        assert_eq!(
+            iso_line(&b, &st),
+            "N5 G19 G03 X10.000 Y20.000 Z-5.000 J-2.000 K1.500 F100"
+        );
+        // In a program, the XY arc after a G19 arc says G17; the next XY arc need not.
+        let mut xy = b.clone();
+        xy.plane = Plane::XY;
+        xy.seq = 6;
+        let mut xy2 = xy.clone();
+        xy2.seq = 7;
+        let stmt = Statement {
+            line: 1,
+            text: String::new(),
+            blocks: vec![b, xy, xy2],
+        };
+        let prog = iso_program(&[stmt], &st);
+        let lines: Vec<&str> = prog.lines().collect();
+        assert!(lines[2].starts_with("N6 G17 G03 X10.000 Y20.000 Z-5.000 I-2.000 J1.500"));
+        assert!(lines[3].starts_with("N7 G03 "));
     }
 }

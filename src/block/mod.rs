@@ -12,7 +12,7 @@
 
 pub mod iso;
 
-pub use iso::{iso_line, iso_program};
+pub use iso::{iso_line, iso_program, IsoWriter};
 
 use std::fmt;
 
@@ -23,14 +23,57 @@ pub enum Motion {
     Rapid,
     /// Linear contouring at the block's feed (G01), distributed by LINE and PCHK.
     Linear,
-    /// Clockwise arc in the XY plane (G02).
+    /// Clockwise arc (G02) in the block's plane, seen from the positive end of its normal.
     ArcCw,
-    /// Counter-clockwise arc in the XY plane (G03).
+    /// Counter-clockwise arc (G03) in the block's plane, seen from the positive end of its
+    /// normal.
     ArcCcw,
     /// Dwell for `dwell_ns` of machine time (G04).
     Dwell,
     /// No motion: only M, S and T functions.
     Aux,
+}
+
+/// The plane of an arc: G17 (XY), G18 (XZ) or G19 (YZ).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Plane {
+    /// G17: X and Y, normal Z.
+    #[default]
+    XY,
+    /// G18: X and Z, normal Y.
+    XZ,
+    /// G19: Y and Z, normal X.
+    YZ,
+}
+
+impl Plane {
+    /// The plane's two axes in X Y Z order, then its normal axis (0 = X, 1 = Y, 2 = Z).
+    pub fn axes(self) -> [usize; 3] {
+        match self {
+            Plane::XY => [0, 1, 2],
+            Plane::XZ => [0, 2, 1],
+            Plane::YZ => [1, 2, 0],
+        }
+    }
+
+    /// The plane's axes in the order in which a counter-clockwise turn (seen from the positive
+    /// end of the normal) goes from the first to the second: X→Y, Z→X, Y→Z.
+    pub fn turn_axes(self) -> [usize; 2] {
+        match self {
+            Plane::XY => [0, 1],
+            Plane::XZ => [2, 0],
+            Plane::YZ => [1, 2],
+        }
+    }
+
+    /// The G code that selects the plane.
+    pub fn g_code(self) -> &'static str {
+        match self {
+            Plane::XY => "G17",
+            Plane::XZ => "G18",
+            Plane::YZ => "G19",
+        }
+    }
 }
 
 /// One machine instruction block.
@@ -46,9 +89,13 @@ pub struct Block {
     pub delta: [i64; 3],
     /// Absolute machine position in pulses at the end of the block, as translated.
     pub end: [i64; 3],
-    /// Arc centre relative to the start point, pulses (I, J); only for arcs.
-    /// An arc whose `delta` is zero in X and Y is a full circle.
+    /// Arc centre relative to the start point, pulses, in the two axes of `plane` in X Y Z
+    /// order: (I, J) in XY, (I, K) in XZ, (J, K) in YZ; only for arcs. An arc whose `delta` is
+    /// zero in both axes of its plane is a full circle; a `delta` along the plane's normal
+    /// makes it a helix.
     pub center: Option<[i64; 2]>,
+    /// The plane of an arc (G17 XY, the default; G18 XZ; G19 YZ); ignored by other motions.
+    pub plane: Plane,
     /// Feed rate, mm/min, before override (0 for rapid, dwell and aux blocks).
     pub feed: f64,
     /// Dwell time, ns (only for `Motion::Dwell`).
@@ -57,7 +104,8 @@ pub struct Block {
     pub s: Option<u32>,
     /// T code to select, if the block calls a tool.
     pub t: Option<u32>,
-    /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end).
+    /// Miscellaneous function M (3 forward, 4 reverse, 5 stop, 6 tool change, 30 end; from
+    /// G-code also 0 stop, 1 optional stop, 2 end, 8 and 9 coolant).
     pub m: Option<u8>,
     /// Z follows the length of the tool in the spindle: the translator worked its Z out as
     /// tool-tip Z plus the tool's length. A length revised after translation (OFS during a
@@ -78,6 +126,7 @@ impl Block {
             delta: [0; 3],
             end,
             center: None,
+            plane: Plane::XY,
             feed: 0.0,
             dwell_ns: 0,
             s: None,
@@ -85,6 +134,17 @@ impl Block {
             m: None,
             tool_z: false,
         }
+    }
+
+    /// The arc centre relative to the start as (I, J, K) pulses, 0 along the plane's normal;
+    /// `None` for a block without a centre.
+    pub fn centre3(&self) -> Option<[i64; 3]> {
+        let c = self.center?;
+        let [a, b, _] = self.plane.axes();
+        let mut v = [0; 3];
+        v[a] = c[0];
+        v[b] = c[1];
+        Some(v)
     }
 
     /// The absolute machine position in pulses where the block starts.

@@ -3,22 +3,26 @@
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::block::iso::{write_line, END, PREAMBLE};
+use crate::block::{IsoWriter, Statement, TranslateError};
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
 use crate::translator::Translator;
 use std::io::Write;
 
 const HELP: &str = "\
-usage: novanc translate PROG [--tools TAPE] [--magazine TCODES]
-       novanc translate [PROG] --state DIR
+usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
+                                [--optional-stop]
+       novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
 
-Translates the part program PROG (source language, see docs/language.md) into machine
-instruction blocks and prints them, one ISO 6983 line per block, in absolute millimetres:
-a preamble line 'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J F S T M',
-and 'M30'. The printed program is G-code for a standard interpreter (Z is the machine
-axis: tool-tip Z plus the tool's set length). The machine starts at machine zero with no
-tool in the spindle.
+Translates the part program PROG into machine instruction blocks and prints them, one ISO
+6983 line per block, in absolute millimetres. PROG is in the source language
+(docs/language.md), or in ISO G-code (docs/gcode.md) when its name ends in .ngc, .nc or .iso
+or its first line is % or O and a number. The output is a preamble line
+'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J K F S T M', and 'M30'. The
+printed program is G-code for a standard interpreter (Z is the machine axis: tool-tip Z plus
+the tool's set length; for G-code, the gauge line: program Z plus the work offset plus the
+G43 tool length). Arcs outside the XY plane say G18 or G19. The machine starts at machine
+zero with no tool in the spindle; G-code starts with every work offset at zero.
 
 options:
   --tools TAPE        tool tape (TOOLNO KIND DIAMETER SETLEN EFFLEN SPEED FEED DEPTH per line);
@@ -28,16 +32,20 @@ options:
   --state DIR         use a console's memory (read, never changed, even while the console
                       has it open): its tool file and T codes, and PROG names a program in
                       it (else a file); with no PROG, the program selected there
+  --block-delete      G-code: skip lines that start with / (the BLOCK DELETE switch)
+  --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
-const OPTS: [Opt; 5] = [
+const OPTS: [Opt; 7] = [
     Opt::value("--tools"),
     Opt::value("--magazine"),
     Opt::value("--state"),
+    Opt::flag("--block-delete"),
+    Opt::flag("--optional-stop"),
     Opt::flag("--help"),
     Opt::flag("-h"),
 ];
@@ -129,29 +137,37 @@ pub fn load_magazine(
     Ok(Magazine::load(table, &tape))
 }
 
-/// The printed program of `source`, or its first error. It is built as text statement by
-/// statement, each statement's blocks dropped once printed, so the memory it takes is about
-/// that of the text it prints (docs/language.md, *Limits*).
+/// The printed program of `source` (named `name`, whose extension or first line says its
+/// language), or its first error. It is built as text statement by statement, each
+/// statement's blocks dropped once printed, so the memory it takes is about that of the text
+/// it prints (docs/language.md, *Limits*).
 pub fn iso_text(
+    name: &str,
     source: &str,
     magazine: Magazine,
     settings: &MachineSettings,
-) -> Result<String, crate::translator::TranslateError> {
-    let mut out = String::new();
-    out.push_str(PREAMBLE);
-    out.push('\n');
-    let mut last_m = None;
-    for st in Translator::new(source, magazine, settings.clone(), [0, 0, 0]) {
-        for b in &st?.blocks {
-            write_line(&mut out, b, settings);
-            out.push('\n');
-            last_m = b.m;
-        }
+    switches: crate::gcode::Switches,
+) -> Result<String, TranslateError> {
+    let mut out = String::with_capacity(source.len() * 2);
+    let mut w = IsoWriter::new(&mut out);
+    let mut print = |r: Result<Statement, TranslateError>| -> Result<(), TranslateError> {
+        w.statement(&mut out, &r?, settings);
+        Ok(())
+    };
+    if crate::gcode::is_gcode(name, source) {
+        crate::gcode::GcodeSource::new(
+            source.into(),
+            magazine,
+            settings.clone(),
+            crate::block::MachineState::at([0, 0, 0]),
+            crate::gcode::WorkOffsets::default(),
+            switches,
+        )
+        .try_for_each(&mut print)?;
+    } else {
+        Translator::new(source, magazine, settings.clone(), [0, 0, 0]).try_for_each(&mut print)?;
     }
-    if last_m != Some(30) {
-        out.push_str(END);
-        out.push('\n');
-    }
+    w.finish(&mut out);
     Ok(out)
 }
 
@@ -170,7 +186,11 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(x) => x,
         Err(code) => return code,
     };
-    let out = match iso_text(&source, magazine, &settings) {
+    let switches = crate::gcode::Switches {
+        block_delete: args.flag("--block-delete"),
+        optional_stop: args.flag("--optional-stop"),
+    };
+    let out = match iso_text(&prog, &source, magazine, &settings, switches) {
         Ok(t) => t,
         Err(e) => return fail(&format!("{prog}:{e}")),
     };

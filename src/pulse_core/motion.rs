@@ -3,8 +3,9 @@
 //! Timing (all machine time, ns, in f64 inside a motion and u64 on the pulses):
 //! - A motion is a sequence of steps along the path. A linear step is one pulse of the major
 //!   axis (LINE), with PCHK pulsing each minor axis when its ΣLF falls to 0 or below; its path
-//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of X, of Y, or of both;
-//!   its ds is the length of circle it advances, R·Δθ (see `arc.rs`).
+//!   length is ds = |delta| / |major| pulses. An arc step is one pulse of one or both axes of
+//!   its plane, or (on a helix) of the normal axis; its ds is the length of path it advances,
+//!   R·Δθ in the plane (see `arc.rs`).
 //! - The path speed v ramps at the machine's constant acceleration a and is held to the
 //!   target (feed × override, or 0 in a feed hold) and to √(2·a·remaining), so that every block
 //!   ends at rest on its end point. The period KT of a step follows from the time the path
@@ -452,6 +453,9 @@ impl Motion {
                 }
                 if step.dy != 0 {
                     out.pulse_at(1, step.dy, tn);
+                }
+                if step.dz != 0 {
+                    out.pulse_at(2, step.dz, tn);
                 }
             },
         }

@@ -78,7 +78,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Err("PROG: Enter selects; C NAME copies, R NAME renames, D deletes (asked twice)".into())
     };
     c.message = r.unwrap_or_else(|e| format!("PROG refused: {e}"));
-    if !matches!(c.pages.confirm_delete, Some(_)) && c.search.is_some() {
+    if c.pages.confirm_delete.is_none() && c.search.is_some() {
         c.search = None;
     }
     let n = c.mem.program_names().len();

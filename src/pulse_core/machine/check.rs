@@ -36,17 +36,15 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
         }
         Kind::ArcCw | Kind::ArcCcw => {
             limit(to)?;
-            if b.delta[2] != 0 {
-                return Err("helical arcs (Z with G02/G03) are not supported".into());
-            }
             if b.feed <= 0.0 {
                 return Err("no feed rate".into());
             }
             let st = arc_stepper(b)?;
+            // The normal axis of a helix moves linearly between two points within the limits.
             let c = arc_centre(b, pos);
             let r = arc_radius(b) + 1;
             for p in st.extremes(r) {
-                limit([c[0] + p[0], c[1] + p[1], pos[2]])?;
+                limit([c[0] + p[0], c[1] + p[1], c[2] + p[2]])?;
             }
         }
         Kind::Dwell | Kind::Aux => {}
@@ -59,23 +57,28 @@ pub fn axis_name(a: usize) -> &'static str {
     ["X", "Y", "Z"].get(a).copied().unwrap_or("?")
 }
 
-pub fn arc_centre(b: &Block, pos: [i64; 3]) -> [i64; 2] {
-    let c = b.center.unwrap_or([0, 0]);
-    [pos[0] + c[0], pos[1] + c[1]]
+/// The arc's centre in machine axes, pulses (the start's coordinate along the normal).
+pub fn arc_centre(b: &Block, pos: [i64; 3]) -> [i64; 3] {
+    let c = b.centre3().unwrap_or([0; 3]);
+    [pos[0] + c[0], pos[1] + c[1], pos[2] + c[2]]
 }
 
+/// The arc's start radius, pulses, rounded up.
 pub fn arc_radius(b: &Block) -> i64 {
     let c = b.center.unwrap_or([0, 0]);
     ((c[0] as f64).hypot(c[1] as f64)).ceil() as i64
 }
 
+/// The stepper of an arc block in its plane (a helix with a move along the normal).
 pub fn arc_stepper(b: &Block) -> Result<ArcStepper, String> {
     let Some(c) = b.center else {
         return Err("arc without a centre".into());
     };
+    let [a0, a1, normal] = b.plane.axes();
     let rel_start = [-c[0], -c[1]];
-    let rel_end = [b.delta[0] - c[0], b.delta[1] - c[1]];
-    ArcStepper::new(rel_start, rel_end, b.motion == Kind::ArcCcw).map_err(|e| match e {
+    let rel_end = [b.delta[a0] - c[0], b.delta[a1] - c[1]];
+    let ccw = b.motion == Kind::ArcCcw;
+    ArcStepper::in_plane(b.plane, rel_start, rel_end, ccw, b.delta[normal]).map_err(|e| match e {
         ArcError::TooSmall => "arc radius too small".to_string(),
         ArcError::TooLarge => "arc radius too large".to_string(),
         ArcError::EndNotOnCircle { r_start, r_end } => format!(

@@ -1,0 +1,277 @@
+//! The canonical moves the interpreter produces (machine millimetres, absolute), and their
+//! conversion into machine instruction blocks in pulses with the travel check
+//! (docs/gcode.md "The listing").
+
+use crate::block::{Block, Motion, Plane, TranslateError};
+use crate::settings::MachineSettings;
+
+/// One canonical action, in machine coordinates (mm): where the spindle's gauge line goes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Canon {
+    /// G00 to a point.
+    Rapid([f64; 3]),
+    /// G01 to a point at a feed, mm/min.
+    Feed([f64; 3], f64),
+    /// G02/G03 to `end` about `centre` (absolute, mm; its normal coordinate unused).
+    Arc {
+        /// End point.
+        end: [f64; 3],
+        /// Centre.
+        centre: [f64; 3],
+        /// Plane.
+        plane: Plane,
+        /// G03.
+        ccw: bool,
+        /// Feed, mm/min.
+        feed: f64,
+    },
+    /// G04 for seconds.
+    Dwell(f64),
+    /// S, T and M functions.
+    Aux {
+        /// Spindle speed.
+        s: Option<u32>,
+        /// T code.
+        t: Option<u32>,
+        /// M code.
+        m: Option<u8>,
+    },
+}
+
+/// Turns canonical actions into blocks: positions in whole pulses, `delta` the exact
+/// difference of consecutive ends, sequence numbers counted on.
+pub struct Emitter {
+    /// Machine position, pulses, after the last block.
+    pub pos: [i64; 3],
+    /// The last sequence number.
+    pub seq: u32,
+}
+
+impl Emitter {
+    /// Appends the blocks of `items` (each with its source line and column) to `out`, checking
+    /// travel; on an error nothing is appended and the position is unchanged.
+    pub fn emit(
+        &mut self,
+        items: &[(Canon, u32, u32)],
+        st: &MachineSettings,
+        out: &mut Vec<Block>,
+    ) -> Result<(), TranslateError> {
+        let (pos0, seq0, n0) = (self.pos, self.seq, out.len());
+        let r = self.emit_inner(items, st, out);
+        if r.is_err() {
+            self.pos = pos0;
+            self.seq = seq0;
+            out.truncate(n0);
+        }
+        r
+    }
+
+    fn emit_inner(
+        &mut self,
+        items: &[(Canon, u32, u32)],
+        st: &MachineSettings,
+        out: &mut Vec<Block>,
+    ) -> Result<(), TranslateError> {
+        let inv = 1.0 / st.pulse_mm;
+        let p3 = |v: [f64; 3]| [round(v[0] * inv), round(v[1] * inv), round(v[2] * inv)];
+        let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
+        let check_point = |st: &MachineSettings, p: [i64; 3]| check_in(st, &limits, p);
+        for (c, line, col) in items {
+            let err = |message: String| TranslateError {
+                line: *line,
+                col: *col,
+                message,
+            };
+            let mut b = Block::aux(0, *line, self.pos);
+            match c {
+                Canon::Rapid(e) | Canon::Feed(e, _) => {
+                    let end = p3(*e);
+                    if end == self.pos {
+                        continue;
+                    }
+                    b.end = end;
+                    if let Canon::Feed(_, f) = c {
+                        b.motion = Motion::Linear;
+                        b.feed = *f;
+                    } else {
+                        b.motion = Motion::Rapid;
+                    }
+                    check_point(st, end).map_err(err)?;
+                }
+                Canon::Arc {
+                    end,
+                    centre,
+                    plane,
+                    ccw,
+                    feed,
+                } => {
+                    let e = p3(*end);
+                    let c = p3(*centre);
+                    // Far beyond any travel: refused before any integer arithmetic on it.
+                    if c.iter()
+                        .chain(e.iter())
+                        .any(|v| v.abs() > 1_000_000_000_000)
+                    {
+                        return Err(err("arc centre or end point out of all range".to_string()));
+                    }
+                    let [a0, a1, _] = plane.axes();
+                    let s = self.pos;
+                    let rad = |p: [i64; 3], c: [i64; 3]| {
+                        ((p[a0] - c[a0]) as f64).hypot((p[a1] - c[a1]) as f64)
+                    };
+                    // Rounding to pulses may part the radii; take the nearest pulse centre
+                    // that keeps them within one pulse of each other.
+                    let mut best = c;
+                    let mut diff = (rad(s, c) - rad(e, c)).abs();
+                    // Only an arc programmed on its circle is nudged; a spiral stays as given.
+                    let radius_mm = |p: [f64; 3]| (p[a0] - centre[a0]).hypot(p[a1] - centre[a1]);
+                    let s_mm = [st.to_mm(s[0]), st.to_mm(s[1]), st.to_mm(s[2])];
+                    let on_circle = (radius_mm(s_mm) - radius_mm(*end)).abs() < 0.5 * st.pulse_mm;
+                    if diff > 1.0 && on_circle {
+                        for du in -1..=1 {
+                            for dv in -1..=1 {
+                                let mut cc = c;
+                                cc[a0] += du;
+                                cc[a1] += dv;
+                                let d = (rad(s, cc) - rad(e, cc)).abs();
+                                if d < diff {
+                                    diff = d;
+                                    best = cc;
+                                }
+                            }
+                        }
+                    }
+                    if rad(s, best) > 100_000_000.0 {
+                        return Err(err(format!(
+                            "arc radius {:.3} mm is over the 100 m the pulse core steps",
+                            st.to_mm(rad(s, best) as i64)
+                        )));
+                    }
+                    if rad(s, best) < 2.0 {
+                        return Err(err(format!(
+                            "arc radius {:.4} mm is below 2 pulses",
+                            st.to_mm(rad(s, best) as i64)
+                        )));
+                    }
+                    b.end = e;
+                    b.motion = if *ccw { Motion::ArcCcw } else { Motion::ArcCw };
+                    b.plane = *plane;
+                    b.center = Some([best[a0] - s[a0], best[a1] - s[a1]]);
+                    b.feed = *feed;
+                    check_point(st, e).map_err(err)?;
+                    check_arc(st, s, e, best, *plane, *ccw).map_err(err)?;
+                }
+                Canon::Dwell(secs) => {
+                    b.motion = Motion::Dwell;
+                    b.dwell_ns = (secs * 1e9).round().max(0.0) as u64;
+                }
+                Canon::Aux { s, t, m } => {
+                    b.s = *s;
+                    b.t = *t;
+                    b.m = *m;
+                }
+            }
+            self.seq += 1;
+            b.seq = self.seq;
+            b.delta = [
+                b.end[0] - self.pos[0],
+                b.end[1] - self.pos[1],
+                b.end[2] - self.pos[2],
+            ];
+            self.pos = b.end;
+            out.push(b);
+        }
+        Ok(())
+    }
+}
+
+/// `x.round() as i64` (half away from zero) without the library call: `x − trunc(x)` is exact
+/// below 2^52, beyond any travel in pulses.
+#[inline]
+fn round(x: f64) -> i64 {
+    let i = x as i64;
+    let f = x - i as f64;
+    if f >= 0.5 {
+        i.saturating_add(1)
+    } else if f <= -0.5 {
+        i.saturating_sub(1)
+    } else {
+        i
+    }
+}
+
+/// A point inside every travel limit, or why not.
+fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
+    let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
+    check_in(st, &limits, p)
+}
+
+/// A point inside the travel limits given in pulses, or why not.
+#[inline]
+fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Result<(), String> {
+    for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+        let (lo, hi) = limits[axis];
+        if p[axis] < lo || p[axis] > hi {
+            return Err(format!(
+                "{name}{:.3} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
+                st.to_mm(p[axis]),
+                st.travel_min_mm[axis],
+                st.travel_max_mm[axis],
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The axis points (centre ± R) an arc sweeps over must be inside the travel too.
+fn check_arc(
+    st: &MachineSettings,
+    s: [i64; 3],
+    e: [i64; 3],
+    c: [i64; 3],
+    plane: Plane,
+    ccw: bool,
+) -> Result<(), String> {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let [u, v] = plane.turn_axes();
+    let a = |p: [i64; 3]| ((p[v] - c[v]) as f64).atan2((p[u] - c[u]) as f64);
+    let r = ((s[u] - c[u]) as f64).hypot((s[v] - c[v]) as f64);
+    let (a0, a1) = (a(s), a(e));
+    let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
+    if s[u] == e[u] && s[v] == e[v] {
+        sweep = TAU;
+    }
+    for k in 0..4 {
+        let q = k as f64 * FRAC_PI_2;
+        let d = if ccw { q - a0 } else { a0 - q }.rem_euclid(TAU);
+        if d <= sweep {
+            let mut p = s;
+            p[u] = c[u] + (r * q.cos()).round() as i64;
+            p[v] = c[v] + (r * q.sin()).round() as i64;
+            check_point(st, p)?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn round_is_half_away_from_zero_like_f64_round() {
+        for x in [
+            0.0,
+            0.49999999999999994,
+            0.5,
+            1.5,
+            2.5,
+            -0.5,
+            -1.5,
+            -2.4999,
+            123456.5,
+            -7.0,
+            1e15 + 0.5,
+        ] {
+            assert_eq!(super::round(x), x.round() as i64, "{x}");
+        }
+    }
+}

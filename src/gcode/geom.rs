@@ -1,0 +1,154 @@
+//! Arc geometry as LinuxCNC 2.9 computes it (docs/gcode.md "Arcs"): the centre of an I J K or
+//! R arc in the plane's turning order (X→Y for G17, Z→X for G18, Y→Z for G19), with the same
+//! tolerances, so that novanc refuses what LinuxCNC refuses.
+
+/// R arcs: how far the chord's half may exceed |R| (LinuxCNC's centre-arc radius tolerance),
+/// mm and inches.
+pub const R_TOLERANCE_MM: f64 = 0.00127;
+/// The same in inches.
+pub const R_TOLERANCE_INCH: f64 = 0.00005;
+
+/// I J K arcs: LinuxCNC refuses an arc whose end radius differs from its start radius by more
+/// than 100 × this, or by more than this and 0.1 % (measured on rs274 2.9), mm.
+pub const IJK_ABS_TOLERANCE_MM: f64 = 0.028_284_3;
+/// The same in inches.
+pub const IJK_ABS_TOLERANCE_INCH: f64 = 0.002_828_43;
+/// The relative part of the I J K tolerance.
+pub const IJK_REL_TOLERANCE: f64 = 0.001;
+
+/// novanc's own limit on an arc's radius difference, mm: its pulse core turns a spiral of up
+/// to 30 pulses into the end radius (`pulse_core::arc::MAX_RADIUS_DIFF`); this leaves room for
+/// rounding to pulses.
+pub const NOVANC_RADIUS_DIFF_MM: f64 = 0.028;
+
+/// Why an arc has no centre.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ArcFault {
+    /// R arc: the end point is farther than 2·|R| from the start.
+    RTooSmall { half: f64, r: f64 },
+    /// R arc: start and end are the same point.
+    RFullCircle,
+    /// I J K arc: the radius to the end differs from the radius to the start.
+    NotOnCircle { r0: f64, r1: f64 },
+    /// A radius of (almost) zero.
+    ZeroRadius,
+}
+
+/// The centre of an R arc from `s` to `e` (turning order), `cw` for G02; `r` negative for an
+/// arc over 180°. `tol` is the R tolerance in the program's units (as mm here: callers pass
+/// the converted value).
+pub fn centre_r(
+    s: [f64; 2],
+    e: [f64; 2],
+    r: f64,
+    cw: bool,
+    tol: f64,
+) -> Result<[f64; 2], ArcFault> {
+    if s == e {
+        return Err(ArcFault::RFullCircle);
+    }
+    let abs_r = r.abs();
+    let mid = [(s[0] + e[0]) / 2.0, (s[1] + e[1]) / 2.0];
+    let mut half = (mid[0] - e[0]).hypot(mid[1] - e[1]);
+    if half - abs_r > tol {
+        return Err(ArcFault::RTooSmall { half, r: abs_r });
+    }
+    if abs_r == 0.0 {
+        return Err(ArcFault::ZeroRadius);
+    }
+    if half / abs_r > 1.0 - 1e-12 {
+        half = abs_r;
+    }
+    let base = (e[1] - s[1]).atan2(e[0] - s[0]);
+    let theta = if (cw && r > 0.0) || (!cw && r < 0.0) {
+        base - std::f64::consts::FRAC_PI_2
+    } else {
+        base + std::f64::consts::FRAC_PI_2
+    };
+    let turn2 = (half / abs_r).asin();
+    let offset = abs_r * turn2.cos();
+    Ok([mid[0] + offset * theta.cos(), mid[1] + offset * theta.sin()])
+}
+
+/// Checks an I J K arc's centre `c` against start `s` and end `e` (turning order, mm) with
+/// LinuxCNC's tolerances (`abs_tol` in mm for the program's units) and novanc's own.
+pub fn check_ijk(s: [f64; 2], e: [f64; 2], c: [f64; 2], abs_tol: f64) -> Result<(), ArcFault> {
+    let r0 = (c[0] - s[0]).hypot(c[1] - s[1]);
+    let r1 = (c[0] - e[0]).hypot(c[1] - e[1]);
+    if r0 < 1e-4 || r1 < 1e-4 {
+        return Err(ArcFault::ZeroRadius);
+    }
+    let abs_err = (r0 - r1).abs();
+    let rel_err = abs_err / r0.max(r1);
+    if abs_err > abs_tol * 100.0
+        || (rel_err > IJK_REL_TOLERANCE && abs_err > abs_tol)
+        || abs_err > NOVANC_RADIUS_DIFF_MM
+    {
+        return Err(ArcFault::NotOnCircle { r0, r1 });
+    }
+    Ok(())
+}
+
+/// Intersections of the line through `p` with direction `d` (unit) and the circle (`c`, `r`),
+/// as line parameters.
+pub fn line_circle(p: [f64; 2], d: [f64; 2], c: [f64; 2], r: f64) -> Vec<f64> {
+    let f = [p[0] - c[0], p[1] - c[1]];
+    let b = f[0] * d[0] + f[1] * d[1];
+    let cc = f[0] * f[0] + f[1] * f[1] - r * r;
+    let disc = b * b - cc;
+    if disc < 0.0 {
+        return Vec::new();
+    }
+    let s = disc.sqrt();
+    vec![-b - s, -b + s]
+}
+
+/// Intersections of two circles.
+pub fn circle_circle(c0: [f64; 2], r0: f64, c1: [f64; 2], r1: f64) -> Vec<[f64; 2]> {
+    let d = (c1[0] - c0[0]).hypot(c1[1] - c0[1]);
+    if d < 1e-12 || d > r0 + r1 || d < (r0 - r1).abs() {
+        return Vec::new();
+    }
+    let a = (r0 * r0 - r1 * r1 + d * d) / (2.0 * d);
+    let h = (r0 * r0 - a * a).max(0.0).sqrt();
+    let m = [
+        c0[0] + a * (c1[0] - c0[0]) / d,
+        c0[1] + a * (c1[1] - c0[1]) / d,
+    ];
+    let o = [-(c1[1] - c0[1]) / d * h, (c1[0] - c0[0]) / d * h];
+    vec![[m[0] + o[0], m[1] + o[1]], [m[0] - o[0], m[1] - o[1]]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn r_arcs_choose_the_side_by_sign_and_direction() {
+        let c = centre_r([0.0, 0.0], [10.0, 0.0], 5.0, true, 0.001).unwrap();
+        assert!((c[0] - 5.0).abs() < 1e-9 && c[1].abs() < 1e-9);
+        let c = centre_r([0.0, 0.0], [10.0, 10.0], 10.0, false, 0.001).unwrap();
+        assert!((c[0]).abs() < 1e-9 && (c[1] - 10.0).abs() < 1e-9, "{c:?}");
+        let c = centre_r([0.0, 0.0], [10.0, 10.0], -10.0, false, 0.001).unwrap();
+        assert!((c[0] - 10.0).abs() < 1e-9 && c[1].abs() < 1e-9, "{c:?}");
+        assert!(matches!(
+            centre_r([0.0, 0.0], [10.0, 0.0], 4.99, true, 0.00127),
+            Err(ArcFault::RTooSmall { .. })
+        ));
+    }
+
+    #[test]
+    fn ijk_tolerance_is_linuxcnc_and_the_pulse_core() {
+        assert!(check_ijk([0.0, 0.0], [20.001, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
+        assert!(check_ijk([0.0, 0.0], [20.02, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
+        assert!(check_ijk([0.0, 0.0], [20.03, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_err());
+        // Large radii: LinuxCNC's 0.1 % would allow more; novanc stops at 0.028 mm.
+        assert!(check_ijk(
+            [0.0, 0.0],
+            [2000.05, 0.0],
+            [1000.0, 0.0],
+            IJK_ABS_TOLERANCE_MM
+        )
+        .is_err());
+    }
+}

@@ -1,0 +1,546 @@
+//! ISO 6983 G-code programs (issue 10; docs/gcode.md): the subset shop programs use, read
+//! with LinuxCNC 2.9's RS274NGC semantics where it covers the word and Fanuc 0i's otherwise,
+//! expanded into machine instruction blocks.
+//!
+//! [`GcodeSource`] is, like the source-language `translator::Translator`, an iterator of
+//! statements: one ISO line is one source statement, with the blocks generated from it
+//! (canned cycles expanded, work offsets, tool length and cutter compensation applied), in
+//! absolute machine pulses. After an error it yields nothing more.
+
+pub mod canon;
+pub mod comp;
+pub mod cycles;
+pub mod expr;
+pub mod geom;
+pub mod interp;
+pub mod moves;
+pub mod search;
+pub mod words;
+
+pub use search::translate_all;
+
+use crate::block::{MachineState, Statement, TranslateError};
+use crate::settings::MachineSettings;
+use crate::tooldata::Magazine;
+use canon::{Canon, Emitter};
+use expr::Params;
+use interp::{Exec, Flow, Mode, State};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// The deepest subprogram call (M98 inside subprograms), as Fanuc 0i allows.
+pub const MAX_DEPTH: usize = 4;
+/// The most repeats an L word asks for (M98 L, canned-cycle L).
+pub const MAX_REPEATS: u32 = 9999;
+/// The most lines one program may execute, counting every repeat of a subprogram: the bound
+/// on a program's work (docs/gcode.md "Limits").
+pub const MAX_LINES: u64 = 10_000_000;
+
+/// The work offsets G54 to G59 (index 0 to 5), machine mm of each system's zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WorkOffsets(pub [[f64; 3]; 6]);
+
+/// A work offset a program changed (G10 L2 or L20), for the caller to keep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OffsetChange {
+    /// The system, 0 = G54 … 5 = G59.
+    pub system: usize,
+    /// Its new zero, machine mm.
+    pub offset: [f64; 3],
+}
+
+/// The panel switches a program reads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Switches {
+    /// BLOCK DELETE: lines starting with `/` are skipped.
+    pub block_delete: bool,
+    /// OPTIONAL STOP: M01 stops.
+    pub optional_stop: bool,
+}
+
+/// Whether a program is G-code: by its file name (`.ngc`, `.nc`, `.iso`) or by its first
+/// line (`%`, or `O` and a number).
+pub fn is_gcode(file_name: &str, text: &str) -> bool {
+    let lower = file_name.to_ascii_lowercase();
+    if [".ngc", ".nc", ".iso"].iter().any(|e| lower.ends_with(e)) {
+        return true;
+    }
+    let Some(first) = text.lines().map(str::trim).find(|l| !l.is_empty()) else {
+        return false;
+    };
+    if first == "%" {
+        return true;
+    }
+    let mut c = first.chars();
+    matches!(c.next(), Some('O' | 'o')) && c.next().is_some_and(|d| d.is_ascii_digit())
+}
+
+/// The text of the statement that restores the machine before a SEARCH point.
+pub fn restore_text(line: u32) -> String {
+    format!("(SEARCH: restore for line {line})")
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    o: u32,
+    ret: usize,
+    start: usize,
+    left: u32,
+}
+
+/// A G-code program as an iterator of statements.
+pub struct GcodeSource {
+    source: Arc<str>,
+    lines: Vec<(usize, usize)>,
+    subs: HashMap<u32, usize>,
+    called: std::collections::HashSet<u32>,
+    pc: usize,
+    stack: Vec<Frame>,
+    st: State,
+    params: Params,
+    magazine: Magazine,
+    settings: MachineSettings,
+    switches: Switches,
+    emitter: Emitter,
+    start: MachineState,
+    resume_at: Option<u32>,
+    held: Option<Statement>,
+    changes: Vec<OffsetChange>,
+    executed: u64,
+    max_lines: u64,
+    first_code: Option<usize>,
+    scratch: expr::Scratch,
+    line_buf: expr::Line,
+    out_buf: Vec<(Canon, u32, u32)>,
+    mdi: bool,
+    done: bool,
+}
+
+impl GcodeSource {
+    /// A program `source` for the machine in `state` (position, tool in the spindle,
+    /// spindle), with the work offsets in force (G54 active) and the panel switches.
+    pub fn new(
+        source: Arc<str>,
+        magazine: Magazine,
+        settings: MachineSettings,
+        state: MachineState,
+        offsets: WorkOffsets,
+        switches: Switches,
+    ) -> GcodeSource {
+        let mut lines = Vec::new();
+        let mut at = 0;
+        for l in source.split_inclusive('\n') {
+            lines.push((at, at + l.len()));
+            at += l.len();
+        }
+        let params = Params::default();
+        let mut subs = HashMap::new();
+        let mut first_code = None;
+        for (i, &(a, b)) in lines.iter().enumerate() {
+            // Only the first byte that is not a space matters here.
+            let line = &source.as_bytes()[a..b];
+            let Some(&c) = line.iter().find(|c| !c.is_ascii_whitespace()) else {
+                continue;
+            };
+            if c == b'(' || c == b';' {
+                continue;
+            }
+            let t = source[a..b].trim();
+            if first_code.is_none() && t != "%" {
+                first_code = Some(i);
+            }
+            if c != b'O' && c != b'o' {
+                continue;
+            }
+            if let Ok(l) = expr::read_line(t, i as u32 + 1, &params) {
+                if let Some((o, _)) = l.o_number {
+                    subs.entry(o).or_insert(i);
+                }
+            }
+        }
+        let pulse = |p: i64| settings.to_mm(p);
+        let st = State {
+            cur: [
+                pulse(state.pos[0]),
+                pulse(state.pos[1]),
+                pulse(state.pos[2]),
+            ],
+            inch: false,
+            incremental: false,
+            plane: crate::block::Plane::XY,
+            mode: Mode::None,
+            feed: 0.0,
+            speed: state.spindle.unsigned_abs() as f64,
+            selected: state.tool,
+            tool: state.tool,
+            spindle: state.spindle.signum() as i8,
+            tlo: 0.0,
+            offsets,
+            cs: 0,
+            retract_r: true,
+            cycle_il: None,
+            cycle_kind: None,
+            cycle_r: None,
+            cycle_z: None,
+            cycle_p: 0.0,
+            cycle_q: None,
+            comp: comp::Comp::default(),
+        };
+        GcodeSource {
+            source,
+            lines,
+            subs,
+            called: Default::default(),
+            pc: 0,
+            stack: Vec::new(),
+            st,
+            params,
+            magazine,
+            settings,
+            switches,
+            emitter: Emitter {
+                pos: state.pos,
+                seq: 0,
+            },
+            start: state,
+            resume_at: None,
+            held: None,
+            changes: Vec::new(),
+            executed: 0,
+            max_lines: MAX_LINES,
+            first_code,
+            scratch: expr::Scratch::default(),
+            line_buf: expr::Line::default(),
+            out_buf: Vec::new(),
+            mdi: false,
+            done: false,
+        }
+    }
+
+    /// The most lines this program may execute (default [`MAX_LINES`]).
+    pub fn line_limit(mut self, lines: u64) -> GcodeSource {
+        self.max_lines = lines;
+        self
+    }
+
+    /// MDI: the text need not end with M02, M30 or `%`.
+    pub fn mdi(mut self) -> GcodeSource {
+        self.mdi = true;
+        self
+    }
+
+    /// SEARCH: the lines before source line `line` are executed for the state they leave
+    /// (modes, offsets, tool, spindle, position) but yield no blocks; the first line at or
+    /// after `line` is preceded by a restore statement that brings the machine from its actual
+    /// state there: Z up to machine zero before any X Y move, the tool, the spindle, X Y, then
+    /// Z.
+    pub fn resume_at(mut self, line: u32) -> GcodeSource {
+        self.resume_at = Some(line);
+        self
+    }
+
+    /// The work offsets as the program has left them so far.
+    pub fn offsets(&self) -> WorkOffsets {
+        self.st.offsets
+    }
+
+    /// The G10 changes made since the last call, in order.
+    pub fn take_offset_changes(&mut self) -> Vec<OffsetChange> {
+        std::mem::take(&mut self.changes)
+    }
+
+    fn fail(&mut self, e: TranslateError) -> Option<Result<Statement, TranslateError>> {
+        self.done = true;
+        Some(Err(e))
+    }
+
+    fn end_error(&self, line: u32) -> TranslateError {
+        TranslateError {
+            line,
+            col: 1,
+            message: match self.stack.last() {
+                Some(f) => format!("subprogram O{} ends without M99", f.o),
+                None => "the program ends without M02, M30 or a closing %".to_string(),
+            },
+        }
+    }
+
+    /// Executes the next line; `None` when there is nothing more to do.
+    fn step(&mut self) -> Option<Result<Statement, TranslateError>> {
+        loop {
+            if self.done {
+                return None;
+            }
+            let n = self.pc as u32 + 1;
+            let Some(&(a, b)) = self.lines.get(self.pc) else {
+                if self.mdi && self.stack.is_empty() {
+                    self.done = true;
+                    let mut x = ctx(
+                        n,
+                        &self.settings,
+                        &self.magazine,
+                        self.switches,
+                        std::mem::take(&mut self.out_buf),
+                    );
+                    self.st.comp.flush(&mut x);
+                    let out = x.out;
+                    return self.finish(n, String::new(), out, true);
+                }
+                let e = self.end_error(n);
+                return self.fail(e);
+            };
+            self.pc += 1;
+            let source = Arc::clone(&self.source);
+            let raw = source[a..b].trim_end_matches(['\n', '\r']);
+            if self.switches.block_delete && raw.trim_start().starts_with('/') {
+                continue;
+            }
+            self.executed += 1;
+            if self.executed > self.max_lines {
+                let max = self.max_lines;
+                return self.fail(TranslateError {
+                    line: n,
+                    col: 1,
+                    message: format!(
+                        "the program executes more than {max} lines (subprogram repeats): refused"
+                    ),
+                });
+            }
+            let mut line = std::mem::take(&mut self.line_buf);
+            let r = expr::read_into(&mut self.scratch, &mut line, raw, n, &self.params);
+            let r = r.and_then(|()| self.line_of(n, raw, &line));
+            self.line_buf = line;
+            match r {
+                Ok(Some(s)) => return s,
+                Ok(None) => continue,
+                Err(e) => return self.fail(e),
+            }
+        }
+    }
+
+    /// Executes one read line: `None` to go on to the next, or what to yield.
+    #[allow(clippy::type_complexity)]
+    fn line_of(
+        &mut self,
+        n: u32,
+        raw: &str,
+        line: &expr::Line,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
+        if line.percent {
+            if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
+                return Ok(None);
+            }
+            if !self.stack.is_empty() {
+                let e = self.end_error(n);
+                return Err(e);
+            }
+            // The closing %: the program ends.
+            self.done = true;
+            let mut x = ctx(
+                n,
+                &self.settings,
+                &self.magazine,
+                self.switches,
+                std::mem::take(&mut self.out_buf),
+            );
+            self.st.comp.flush(&mut x);
+            let out = x.out;
+            return Ok(Some(self.finish(n, raw.trim().to_string(), out, true)));
+        }
+        if let Some((o, col)) = line.o_number {
+            if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
+                // The main program's number.
+                return Ok(None);
+            }
+            return Err(TranslateError {
+                    line: n,
+                    col,
+                    message: match self.stack.last() {
+                        Some(f) => format!("subprogram O{} runs into O{o} without M99", f.o),
+                        None => format!("the main program runs into subprogram O{o}: end it with M30 (or M02) first"),
+                    },
+                });
+        }
+        if line.block_delete && self.switches.block_delete {
+            return Ok(None);
+        }
+        for &(p, v) in &line.assigns {
+            self.params.set(p, v);
+        }
+        if line.words.is_empty() {
+            if line.assigns.is_empty() && !line.comment {
+                return Ok(None);
+            }
+            return Ok(Some(self.finish(
+                n,
+                raw.trim().to_string(),
+                Vec::new(),
+                false,
+            )));
+        }
+        let words = interp::sort_words(line, n)?;
+        let mut x = ctx(
+            n,
+            &self.settings,
+            &self.magazine,
+            self.switches,
+            std::mem::take(&mut self.out_buf),
+        );
+        let flow = interp::execute(&mut self.st, &mut x, &words)?;
+        let mut out = std::mem::take(&mut x.out);
+        self.changes.append(&mut x.changes);
+        let mut end = false;
+        match flow {
+            Flow::Next => {}
+            Flow::Call { o, l, col } => {
+                // rs274 finds a subprogram by searching forward from the call, or one it
+                // has called before.
+                let found = self
+                    .subs
+                    .get(&o)
+                    .copied()
+                    .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
+                let Some(at) = found else {
+                    if self.subs.contains_key(&o) {
+                        return Err(TranslateError {
+                                line: n,
+                                col,
+                                message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
+                            });
+                    }
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: format!("M98 P{o}: subprogram O{o} is not in the program"),
+                    });
+                };
+                if self.stack.len() >= MAX_DEPTH {
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: format!(
+                            "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
+                        ),
+                    });
+                }
+                self.called.insert(o);
+                if l > 0 {
+                    self.stack.push(Frame {
+                        o,
+                        ret: self.pc,
+                        start: at + 1,
+                        left: l,
+                    });
+                    self.pc = at + 1;
+                }
+            }
+            Flow::Return { col } => match self.stack.last_mut() {
+                None => {
+                    return Err(TranslateError {
+                        line: n,
+                        col,
+                        message: "M99 outside a subprogram (novanc does not loop the main program)"
+                            .into(),
+                    })
+                }
+                Some(f) => {
+                    f.left -= 1;
+                    if f.left > 0 {
+                        self.pc = f.start;
+                    } else {
+                        self.pc = f.ret;
+                        self.stack.pop();
+                    }
+                }
+            },
+            Flow::End => {
+                let mut x = ctx(
+                    n,
+                    &self.settings,
+                    &self.magazine,
+                    self.switches,
+                    std::mem::take(&mut self.out_buf),
+                );
+                self.st.comp.flush(&mut x);
+                let mut tail = x.out;
+                // The end function after the held compensation move.
+                let endm = out.iter().rposition(|(c, _, _)| {
+                    matches!(
+                        c,
+                        Canon::Aux {
+                            m: Some(2 | 30),
+                            ..
+                        }
+                    )
+                });
+                if endm.is_none() {
+                    let m = if words.has_m(2).is_some() { 2 } else { 30 };
+                    if m == 2 && self.st.spindle != 0 {
+                        tail.push((
+                            Canon::Aux {
+                                s: None,
+                                t: None,
+                                m: Some(5),
+                            },
+                            n,
+                            1,
+                        ));
+                    }
+                    tail.push((
+                        Canon::Aux {
+                            s: None,
+                            t: None,
+                            m: Some(m),
+                        },
+                        n,
+                        1,
+                    ));
+                }
+                out.append(&mut tail);
+                self.done = true;
+                end = true;
+            }
+        }
+        Ok(Some(self.finish(n, raw.trim().to_string(), out, end)))
+    }
+
+    fn finish(
+        &mut self,
+        n: u32,
+        text: String,
+        mut out: Vec<(Canon, u32, u32)>,
+        _end: bool,
+    ) -> Option<Result<Statement, TranslateError>> {
+        let mut blocks = Vec::with_capacity(out.len());
+        let r = self.emitter.emit(&out, &self.settings, &mut blocks);
+        out.clear();
+        if out.capacity() > self.out_buf.capacity() {
+            self.out_buf = out;
+        }
+        if let Err(e) = r {
+            return self.fail(e);
+        }
+        Some(Ok(Statement {
+            line: n,
+            text,
+            blocks,
+        }))
+    }
+}
+
+fn ctx<'a>(
+    n: u32,
+    settings: &'a MachineSettings,
+    magazine: &'a Magazine,
+    sw: Switches,
+    out: Vec<(Canon, u32, u32)>,
+) -> Exec<'a> {
+    Exec {
+        n,
+        out,
+        changes: Vec::new(),
+        settings,
+        magazine,
+        optional_stop: sw.optional_stop,
+    }
+}

@@ -1,0 +1,152 @@
+//! SEARCH and the iterator (docs/gcode.md "SEARCH"): the lines before the SEARCH point run
+//! for their state only, then a restore statement brings the machine there from where it is.
+
+use super::canon::{Canon, Emitter};
+use super::{restore_text, GcodeSource, Switches, WorkOffsets};
+use crate::block::{Block, MachineState, Statement, TranslateError};
+use crate::settings::MachineSettings;
+use crate::tooldata::Magazine;
+
+impl GcodeSource {
+    /// The restore statement before `line`: from the machine's actual state to the state the
+    /// lines before it left.
+    pub(super) fn restore(&mut self, line: u32) -> Result<Statement, TranslateError> {
+        let st = &self.settings;
+        let p = |v: f64| st.to_pulses(v);
+        let target = [p(self.st.cur[0]), p(self.st.cur[1]), p(self.st.cur[2])];
+        let mut items = Vec::new();
+        let here = self.start.pos;
+        let mm = |v: i64| st.to_mm(v);
+        items.push((Canon::Rapid([mm(here[0]), mm(here[1]), 0.0]), line, 1));
+        if self.st.tool != self.start.tool {
+            if let Some(t) = self.st.tool {
+                items.push((
+                    Canon::Aux {
+                        s: None,
+                        t: Some(t),
+                        m: Some(6),
+                    },
+                    line,
+                    1,
+                ));
+            }
+        }
+        let s = Some(self.st.speed.round() as u32);
+        match self.st.spindle {
+            1 => items.push((
+                Canon::Aux {
+                    s,
+                    t: None,
+                    m: Some(3),
+                },
+                line,
+                1,
+            )),
+            -1 => items.push((
+                Canon::Aux {
+                    s,
+                    t: None,
+                    m: Some(4),
+                },
+                line,
+                1,
+            )),
+            _ if self.start.spindle != 0 => items.push((
+                Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(5),
+                },
+                line,
+                1,
+            )),
+            _ => {}
+        }
+        items.push((Canon::Rapid([mm(target[0]), mm(target[1]), 0.0]), line, 1));
+        items.push((
+            Canon::Rapid([mm(target[0]), mm(target[1]), mm(target[2])]),
+            line,
+            1,
+        ));
+        let mut em = Emitter { pos: here, seq: 0 };
+        let mut blocks: Vec<Block> = Vec::new();
+        em.emit(&items, st, &mut blocks)?;
+        for b in &mut blocks {
+            b.seq = 0;
+        }
+        self.emitter.pos = em.pos;
+        Ok(Statement {
+            line,
+            text: restore_text(line),
+            blocks,
+        })
+    }
+}
+
+impl Iterator for GcodeSource {
+    type Item = Result<Statement, TranslateError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if let Some(s) = self.held.take() {
+            return Some(Ok(s));
+        }
+        let Some(at) = self.resume_at else {
+            return self.step();
+        };
+        // SEARCH: run the lines before `at` for their state only.
+        loop {
+            let before = self.stack.is_empty() && (self.pc as u32 + 1) < at;
+            if !before && self.stack.is_empty() {
+                break;
+            }
+            match self.step() {
+                Some(Ok(_)) => {}
+                Some(Err(e)) => return Some(Err(e)),
+                None => {
+                    return Some(Err(TranslateError {
+                        line: at,
+                        col: 1,
+                        message: format!(
+                            "no line to run at or after line {at}: the program ends before it"
+                        ),
+                    }))
+                }
+            }
+        }
+        self.resume_at = None;
+        let restore = match self.restore(at) {
+            Ok(r) => r,
+            Err(e) => return self.fail(e),
+        };
+        match self.step() {
+            Some(Ok(s)) => {
+                if restore.blocks.is_empty() {
+                    return Some(Ok(s));
+                }
+                self.held = Some(s);
+                Some(Ok(restore))
+            }
+            other => other,
+        }
+    }
+}
+
+/// Reads a whole G-code program from machine zero state `start`, G54 offsets `offsets` and
+/// both switches off; the first error fails it.
+pub fn translate_all(
+    source: &str,
+    magazine: &Magazine,
+    settings: &MachineSettings,
+    start: [i64; 3],
+    offsets: WorkOffsets,
+) -> Result<Vec<Statement>, TranslateError> {
+    GcodeSource::new(
+        source.into(),
+        magazine.clone(),
+        settings.clone(),
+        MachineState::at(start),
+        offsets,
+        Switches::default(),
+    )
+    .collect()
+}

@@ -1,0 +1,85 @@
+//! `novanc translate` on G-code (docs/gcode.md "The listing"): the language chosen by the file
+//! name or the first line, the blocks printed with G18/G19 and I J K on arcs outside XY,
+//! the switches, and errors on stderr as `PROG:LINE:COL: message` with nothing on stdout.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn novanc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(args)
+        .output()
+        .expect("run novanc")
+}
+
+fn temp(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("novanc-gcode-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("temp file");
+    p
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+const PROG: &str = "G21 G90\nG10 L2 P1 X100 Y100 Z-300\nG0 X0 Y0 Z0\nG18 G2 X10 Z0 I5 K0 F100\n/G17 G0 X50\nM1\nM30\n";
+
+#[test]
+fn a_file_named_ngc_is_read_as_g_code() {
+    let p = temp("a.ngc", PROG);
+    let out = novanc(&["translate", p.to_str().unwrap_or("")]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stdout),
+        "G21 G90 G17 G94 G40 G49 G80\n\
+         N1 G00 X100.000 Y100.000 Z-300.000\n\
+         N2 G18 G02 X110.000 Z-300.000 I5.000 K0.000 F100\n\
+         N3 G00 X150.000\n\
+         N4 M30\n"
+    );
+}
+
+#[test]
+fn a_first_line_of_percent_makes_g_code_of_any_name_and_switches_apply() {
+    let p = temp("prog.txt", &format!("%\n{PROG}%\n"));
+    let out = novanc(&[
+        "translate",
+        p.to_str().unwrap_or(""),
+        "--block-delete",
+        "--optional-stop",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(
+        !s.contains("X150.000"),
+        "block delete skipped the / line:\n{s}"
+    );
+    assert!(s.contains("N3 M01\n"), "optional stop kept M01:\n{s}");
+}
+
+#[test]
+fn an_error_names_program_line_and_column_and_prints_nothing() {
+    let p = temp("bad.nc", "G0 X0\nG1 X10\nM30\n");
+    let prog = p.to_str().unwrap_or("");
+    let out = novanc(&["translate", prog]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        format!("{prog}:2:1: a feed move without F: give F (mm/min, or in/min under G20)")
+    );
+}
+
+#[test]
+fn table_b_in_g_code_translates() {
+    let out = novanc(&["translate", "programs/tableb.ngc"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(
+        s.starts_with("G21 G90 G17 G94 G40 G49 G80\nN1 T01 M06\n"),
+        "{s}"
+    );
+    assert!(s.ends_with("M30\n"));
+}

@@ -1,0 +1,263 @@
+//! Every error kind of G-code reading (issue 10, docs/gcode.md "Errors") gives
+//! `LINE:COL: reason`, yields no block from the bad line and changes no work offset.
+
+use novanc::block::MachineState;
+use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
+use novanc::settings::MachineSettings;
+use novanc::tooldata::sample_magazine;
+
+const PRE: &str = "G21 G90\nG10 L2 P1 X300 Y300 Z-400\nG0 X0 Y0 Z0\n";
+
+/// Reads `body` after the preamble (lines 1–3) and returns the error, checking that the
+/// statements before it were whole and that the bad line made no block and no offset change.
+fn error(body: &str) -> String {
+    let src = format!("{PRE}{body}\nM30\n");
+    let mut g = GcodeSource::new(
+        src.into(),
+        sample_magazine(),
+        MachineSettings::default(),
+        MachineState::at([0, 0, 0]),
+        WorkOffsets::default(),
+        Switches::default(),
+    );
+    let mut last_line = 0;
+    for r in g.by_ref() {
+        match r {
+            Ok(s) => last_line = s.line,
+            Err(e) => {
+                assert!(
+                    e.line > last_line,
+                    "the bad line {} yielded a statement",
+                    e.line
+                );
+                let changes = g.take_offset_changes();
+                assert!(
+                    changes.iter().all(|c| c.system == 0),
+                    "a bad line changed an offset: {changes:?}"
+                );
+                return e.to_string();
+            }
+        }
+    }
+    panic!("no error in {body}");
+}
+
+#[test]
+fn an_unknown_word_or_code() {
+    assert_eq!(
+        error("G0 A1"),
+        "4:4: unknown word A (novanc has the axes X, Y and Z)"
+    );
+    assert_eq!(
+        error("G38.2 Z-1 F10"),
+        "4:1: unknown or unsupported code G38.2"
+    );
+    assert_eq!(error("M7"), "4:1: unknown or unsupported code M07");
+    assert_eq!(
+        error("G92 X0"),
+        "4:1: unknown or unsupported code G92 (G92 offsets are not supported: use G54–G59 with G10)"
+    );
+}
+
+#[test]
+fn two_words_of_one_modal_group() {
+    assert_eq!(
+        error("G0 G1 X1 F10"),
+        "4:4: G01 and G00 are in the same modal group: give one"
+    );
+    assert_eq!(
+        error("M3 M4"),
+        "4:4: M04 and M03 are in the same modal group: give one"
+    );
+    assert_eq!(error("G1 X1 X2 F1"), "4:7: two X words on one line");
+}
+
+#[test]
+fn a_feed_move_without_f() {
+    assert_eq!(
+        error("G1 X1"),
+        "4:1: a feed move without F: give F (mm/min, or in/min under G20)"
+    );
+    assert_eq!(
+        error("G81 X1 Z-1 R1"),
+        "4:1: a feed move without F: canned cycles feed, give F"
+    );
+}
+
+#[test]
+fn an_arc_end_not_on_the_circle() {
+    assert_eq!(
+        error("G2 X10 Y0 I5.1 J0 F10"),
+        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end (at most 0.028 mm apart)"
+    );
+}
+
+#[test]
+fn multi_turn_arcs_are_refused() {
+    assert_eq!(
+        error("G2 X0 Y0 I5 J0 P2 F10"),
+        "4:16: P (turns) on G02/G03 is not supported: one arc makes at most one full turn"
+    );
+}
+
+#[test]
+fn r_too_small_for_the_chord() {
+    assert_eq!(
+        error("G2 X10 Y0 R4 F10"),
+        "4:11: R4.0000 is too small for the chord: the end point is 10.0000 mm from the start, more than 2·R"
+    );
+}
+
+#[test]
+fn a_gouge_under_compensation() {
+    // T13 is an 8 mm end mill: a 2 mm step is too small for its 4 mm radius.
+    assert_eq!(
+        error("T13 M6\nG0 X-20\nG41 D13 G1 X0 F100\nX20\nY2\nX0\nG40 X-20"),
+        "9:1: gouge: the concave corner after line 8 cannot be reached by the tool without cutting into the part"
+    );
+    assert_eq!(
+        error("T13 M6\nG0 X-20\nG41 D13 G1 X0 F100\nG3 X4 Y0 R2\nG40 G1 X20"),
+        "7:1: gouge: the arc's radius 2.0000 mm is not larger than the tool's radius 4.0000 mm, and the tool is inside it"
+    );
+}
+
+#[test]
+fn h_or_t_without_tool_data() {
+    assert_eq!(
+        error("G43 H24"),
+        "4:5: H24 names T code 24, which has no tool data in the tool file"
+    );
+    assert_eq!(
+        error("T99 M6"),
+        "4:1: T99 names T code 99, which has no tool data in the tool file"
+    );
+    assert_eq!(
+        error("G41 D30 G1 X50 F10"),
+        "4:5: D30 names T code 30, which has no tool data in the tool file"
+    );
+}
+
+#[test]
+fn a_bad_g10_p() {
+    assert_eq!(
+        error("G10 L2 P9 X1"),
+        "4:8: bad G10 P9: P1 (G54) to P6 (G59), or P0 for the one in force"
+    );
+    assert_eq!(
+        error("G10 L20 P1.5 X1"),
+        "4:9: bad G10 P1.5: P1 (G54) to P6 (G59), or P0 for the one in force"
+    );
+}
+
+#[test]
+fn a_missing_subprogram() {
+    assert_eq!(
+        error("M98 P55"),
+        "4:1: M98 P55: subprogram O55 is not in the program"
+    );
+}
+
+#[test]
+fn a_call_depth_over_4() {
+    let src = "M98 P1\nM30\nO1\nM98 P2\nM99\nO2\nM98 P3\nM99\nO3\nM98 P4\nM99\nO4\nM98 P5\nM99\nO5\nG0 X1\nM99";
+    assert_eq!(
+        error(src),
+        "16:1: M98 P5: subprogram calls nested more than 4 deep"
+    );
+}
+
+#[test]
+fn m99_outside_a_subprogram() {
+    assert_eq!(
+        error("M99"),
+        "4:1: M99 outside a subprogram (novanc does not loop the main program)"
+    );
+}
+
+#[test]
+fn division_by_zero_or_a_domain_error() {
+    assert_eq!(error("G0 X[1/0]"), "4:7: division by zero");
+    assert_eq!(
+        error("G0 X[SQRT[-4]]"),
+        "4:6: domain error: SQRT[-4] needs a number not below 0"
+    );
+    assert_eq!(
+        error("#1=LN[-1]"),
+        "4:4: domain error: LN[-1] needs a number greater than 0"
+    );
+    assert_eq!(
+        error("G0 X[ACOS[2]]"),
+        "4:6: domain error: ACOS[2] needs -1 to 1"
+    );
+}
+
+#[test]
+fn control_flow_beyond_m98_is_refused_clearly() {
+    assert_eq!(
+        error("O100 while [1 LT 2]"),
+        "4:1: O-word control flow (WHILE) is not supported: only O-number subprograms with M98/M99 are"
+    );
+    assert_eq!(
+        error("O<loop> sub"),
+        "4:1: O<name> control flow (sub, if, while, call) is not supported: only O-number subprograms with M98/M99 are"
+    );
+    assert_eq!(
+        error("GOTO 10"),
+        "4:1: control flow (GOTO) is not supported: only M98/M99 subprograms are"
+    );
+}
+
+#[test]
+fn bounded_work_repeats_and_lines() {
+    assert_eq!(
+        error("M98 P1 L10000\nM30\nO1\nM99"),
+        "4:8: L10000 must be a whole number from 0 to 9999 (the most repeats is 9999)"
+    );
+    // 9999 × 9999 repeats run into the line budget, reported, not run for ever.
+    let src = format!("{PRE}M98 P1 L9999\nM30\nO1\nM98 P2 L9999\nM99\nO2\nG91 G0 X0\nM99\n");
+    let g = GcodeSource::new(
+        src.into(),
+        sample_magazine(),
+        MachineSettings::default(),
+        MachineState::at([0, 0, 0]),
+        WorkOffsets::default(),
+        Switches::default(),
+    )
+    .line_limit(5_000);
+    let e = g.filter_map(|r| r.err()).next().map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("11:1: the program executes more than 5000 lines (subprogram repeats): refused")
+    );
+}
+
+/// The default budget, 10,000,000 lines (about 25 s in a debug build):
+/// `cargo test --release --test gcode_errors -- --ignored`.
+#[test]
+#[ignore]
+fn the_default_line_budget_is_ten_million() {
+    let e = error("M98 P1 L9999\nM30\nO1\nM98 P2 L9999\nM99\nO2\nG91 G0 X0\nM99");
+    assert!(
+        e.ends_with("the program executes more than 10000000 lines (subprogram repeats): refused"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_program_without_an_end() {
+    let mut g = GcodeSource::new(
+        "G0 X1\n".into(),
+        sample_magazine(),
+        MachineSettings::default(),
+        MachineState::at([0, 0, 0]),
+        WorkOffsets::default(),
+        Switches::default(),
+    );
+    assert!(g.next().is_some_and(|r| r.is_ok()));
+    assert_eq!(
+        g.next().map(|r| r.map_err(|e| e.to_string())),
+        Some(Err(
+            "2:1: the program ends without M02, M30 or a closing %".to_string()
+        ))
+    );
+}
