@@ -2,7 +2,8 @@
 //! stores (docs/stores.md, "History and counters").
 //!
 //! - `messages.log`: one framed record per message (`@ LEN CRC32`, as the journal), the payload
-//!   `MACHINE_NS KIND TEXT`; appended and fdatasynced as each message is shown, so the history
+//!   `MACHINE_NS@WALL_S KIND TEXT` (machine time in ns, the wall clock in seconds since 1970;
+//!   files written before the wall clock was kept have `MACHINE_NS` alone); appended and fdatasynced as each message is shown, so the history
 //!   survives a restart and a kill. When it passes [`MAX_BYTES`] it is rewritten (atomically)
 //!   with its newest [`KEEP`] messages. A damaged tail is read around, as the journal's is.
 //! - `counters`: the part counter, its target, the last cycle time and the run hours, one line of
@@ -39,6 +40,8 @@ pub enum Kind {
 pub struct Entry {
     /// Machine time when it was shown, ns.
     pub machine_ns: u64,
+    /// The wall clock when it was shown, seconds since 1970 (None in old files).
+    pub wall_s: Option<u64>,
     /// Alarm or message.
     pub kind: Kind,
     /// The full text.
@@ -51,15 +54,23 @@ impl Entry {
             Kind::Alarm => "A",
             Kind::Message => "M",
         };
-        format!("{} {k} {}", self.machine_ns, self.text)
+        match self.wall_s {
+            Some(w) => format!("{}@{w} {k} {}", self.machine_ns, self.text),
+            None => format!("{} {k} {}", self.machine_ns, self.text),
+        }
     }
 
     fn decode(payload: &[u8]) -> Option<Entry> {
         let s = std::str::from_utf8(payload).ok()?;
         let (t, rest) = s.split_once(' ')?;
         let (k, text) = rest.split_once(' ').unwrap_or((rest, ""));
+        let (machine, wall) = match t.split_once('@') {
+            Some((m, w)) => (m, Some(w.parse().ok()?)),
+            None => (t, None),
+        };
         Some(Entry {
-            machine_ns: t.parse().ok()?,
+            machine_ns: machine.parse().ok()?,
+            wall_s: wall,
             kind: match k {
                 "A" => Kind::Alarm,
                 "M" => Kind::Message,
@@ -224,6 +235,7 @@ mod tests {
         for i in 0..5 {
             h.push(Entry {
                 machine_ns: i,
+                wall_s: (i > 1).then_some(1_790_000_000 + i),
                 kind: if i % 2 == 0 {
                     Kind::Alarm
                 } else {
@@ -253,6 +265,7 @@ mod tests {
         for i in 0..1300 {
             h.push(Entry {
                 machine_ns: i,
+                wall_s: Some(1_790_000_000),
                 kind: Kind::Message,
                 text: text.clone(),
             })

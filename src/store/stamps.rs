@@ -94,31 +94,50 @@ impl Stamps {
 /// A time in seconds since 1970 as `YYYY-MM-DD HH:MM` in the machine's local time (the
 /// `TZ` of the process), or in UTC if the C library cannot say.
 pub fn format_local(t: u64) -> String {
+    let [y, mo, d, h, mi, _] = local(t);
+    format!("{y:04}-{mo:02}-{d:02} {h:02}:{mi:02}")
+}
+
+/// A time in seconds since 1970 as `YYYY-MM-DD HH:MM:SS` in the machine's local time, or in
+/// UTC if the C library cannot say.
+pub fn format_local_seconds(t: u64) -> String {
+    let [y, mo, d, h, mi, s] = local(t);
+    format!("{y:04}-{mo:02}-{d:02} {h:02}:{mi:02}:{s:02}")
+}
+
+/// A time in seconds since 1970 as `YYYY-MM-DD HH:MM` in UTC.
+pub fn format_utc(t: u64) -> String {
+    let [y, mo, d, h, mi, _] = utc(t);
+    format!("{y:04}-{mo:02}-{d:02} {h:02}:{mi:02}")
+}
+
+/// Year, month, day, hour, minute, second of `t` in local time (UTC if unknown).
+fn local(t: u64) -> [i64; 6] {
     let Ok(tt) = libc::time_t::try_from(t) else {
-        return format_utc(t);
+        return utc(t);
     };
     // SAFETY: localtime_r writes only into `tm`, which lives for the call; `tt` is a valid
     // time_t.
     let mut tm: libc::tm = unsafe { std::mem::zeroed() };
     let ok = unsafe { !libc::localtime_r(&tt, &mut tm).is_null() };
     if !ok {
-        return format_utc(t);
+        return utc(t);
     }
-    format!(
-        "{:04}-{:02}-{:02} {:02}:{:02}",
+    [
         i64::from(tm.tm_year) + 1900,
-        tm.tm_mon + 1,
-        tm.tm_mday,
-        tm.tm_hour,
-        tm.tm_min
-    )
+        i64::from(tm.tm_mon) + 1,
+        i64::from(tm.tm_mday),
+        i64::from(tm.tm_hour),
+        i64::from(tm.tm_min),
+        i64::from(tm.tm_sec),
+    ]
 }
 
-/// A time in seconds since 1970 as `YYYY-MM-DD HH:MM` in UTC (the civil calendar from days,
-/// after Howard Hinnant's `civil_from_days`).
-pub fn format_utc(t: u64) -> String {
+/// Year, month, day, hour, minute, second of `t` in UTC (the civil calendar from days, after
+/// Howard Hinnant's `civil_from_days`).
+fn utc(t: u64) -> [i64; 6] {
     let days = (t / 86_400) as i64;
-    let secs = t % 86_400;
+    let secs = (t % 86_400) as i64;
     let z = days + 719_468;
     let era = z.div_euclid(146_097);
     let doe = z - era * 146_097;
@@ -128,11 +147,7 @@ pub fn format_utc(t: u64) -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}-{m:02}-{d:02} {:02}:{:02}",
-        secs / 3600,
-        secs % 3600 / 60
-    )
+    [y, m, d, secs / 3600, secs % 3600 / 60, secs % 60]
 }
 
 #[cfg(test)]
@@ -145,6 +160,7 @@ mod tests {
         assert_eq!(format_utc(951_782_400), "2000-02-29 00:00");
         assert_eq!(format_utc(1_795_388_400), "2026-11-22 23:00");
         assert_eq!(format_utc(4_107_542_399), "2100-02-28 23:59");
+        assert_eq!(format_local_seconds(12).len(), "1970-01-01 00:00:12".len());
     }
 
     #[test]

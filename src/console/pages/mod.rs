@@ -198,6 +198,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
 /// Puts a new message and a new alarm in the history (not `ok`, not a repeat).
 pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let t = c.status.machine_ns;
+    let wall = Some(crate::store::stamps::now_s());
     let mut warn = None;
     if let Some(a) = alarm {
         if a != c.pages.logged.1 {
@@ -207,6 +208,7 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
                 .history
                 .push(Entry {
                     machine_ns: t,
+                    wall_s: wall,
                     kind: Kind::Alarm,
                     text: a,
                 })
@@ -223,6 +225,7 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
             .history
             .push(Entry {
                 machine_ns: t,
+                wall_s: wall,
                 kind: Kind::Message,
                 text: m,
             })

@@ -1,4 +1,4 @@
-//! MSG: the alarm and message history with machine time, newest first, each in full (wrapped,
+//! MSG: the alarm and message history with the time of day (and the date on a wide display), newest first, each in full (wrapped,
 //! never cut), kept across restarts (`store::history`). Up and Down scroll it.
 
 use super::super::display::{split_line, wrap, Page as Frame};
@@ -37,8 +37,20 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             Kind::Alarm => "ALARM ",
             Kind::Message => "",
         };
-        let t = e.machine_ns as f64 / 1e9;
-        let text = format!("{t:>9.1} s {kind}{}", e.text);
+        // The wall clock, as the operator's watch reads it: the time of day, and the date too
+        // on a wide display; machine time for entries kept before the wall clock was.
+        let when = match e.wall_s {
+            Some(w) => {
+                let full = crate::store::stamps::format_local_seconds(w);
+                if cols >= 56 {
+                    full
+                } else {
+                    full.get(11..).unwrap_or(&full).to_string()
+                }
+            }
+            None => format!("{:.1} s", e.machine_ns as f64 / 1e9),
+        };
+        let text = format!("{when} {kind}{}", e.text);
         // Full text: wrapped on as many lines as it needs, the continuation indented.
         for (i, l) in wrap(&text, cols.saturating_sub(2), usize::MAX)
             .into_iter()
