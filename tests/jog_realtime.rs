@@ -1,0 +1,94 @@
+//! CONTINUOUS jogging in real time, as a terminal delivers the keys (docs/panel.md,
+//! "Jogging"): a tap moves exactly one increment; a held key (the terminal's auto-repeat, a
+//! press every ~30 ms) jogs continuously; when the repeats stop the axis stops within the
+//! release time and its deceleration, and no other axis moves.
+
+mod common;
+
+use common::{keys, temp_dir};
+use novanc::console::keys::{JOG_RELEASE, REPEAT_GAP};
+use novanc::console::{Console, ConsoleConfig};
+use novanc::pulse_core::ClockMode;
+use std::time::{Duration, Instant};
+
+/// A console on the defaults in real time, in CONTINUOUS.
+fn open(name: &str) -> Console {
+    let mut cfg = ConsoleConfig::new(temp_dir(name));
+    cfg.clock = ClockMode::RealTime;
+    let mut c = Console::open(cfg).unwrap().0;
+    keys(&mut c, &["Alt+1"]);
+    c
+}
+
+/// Display ticks (as the terminal loop makes them every ~20 ms) for `ms` milliseconds.
+fn ticks(c: &mut Console, ms: u64) {
+    let end = Instant::now() + Duration::from_millis(ms);
+    while Instant::now() < end {
+        c.tick();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    c.tick();
+}
+
+/// Ticks until the machine has been at rest for 300 ms (at most 10 s).
+fn settle(c: &mut Console) -> [i64; 3] {
+    let t0 = Instant::now();
+    let mut last = c.status().pos;
+    let mut still = Instant::now();
+    while t0.elapsed() < Duration::from_secs(10) {
+        ticks(c, 20);
+        let now = c.status().pos;
+        if now != last || c.status().moving {
+            last = now;
+            still = Instant::now();
+        } else if still.elapsed() > Duration::from_millis(300) {
+            break;
+        }
+    }
+    last
+}
+
+#[test]
+fn a_tap_moves_exactly_one_increment() {
+    let mut c = open("jog-tap");
+    let before = settle(&mut c);
+    keys(&mut c, &["Right"]);
+    let after = settle(&mut c);
+    // The default increment is x100 pulses of 0.001 mm: 0.100 mm.
+    assert_eq!(after[0] - before[0], 100, "{}", c.frame_text());
+    assert_eq!(after[1..], before[1..]);
+    // A second tap, slower than auto-repeat, is another increment, not a jog.
+    std::thread::sleep(REPEAT_GAP * 2);
+    keys(&mut c, &["Left"]);
+    let back = settle(&mut c);
+    assert_eq!(back, before);
+}
+
+#[test]
+fn a_held_key_jogs_and_stops_when_it_is_released() {
+    let mut c = open("jog-hold");
+    let before = settle(&mut c);
+    // Auto-repeat: a press every 20-30 ms for 1.2 s.
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_millis(1200) {
+        keys(&mut c, &["Up"]);
+        ticks(&mut c, 20);
+    }
+    let at_release = c.status().pos;
+    let moved = at_release[1] - before[1];
+    // A held key is a continuous jog, far more than one increment (the jog feed is about
+    // 1000 mm/min: some 15 mm in a second).
+    assert!(moved > 2_000, "a held key moved only {moved} pulses");
+    let after = settle(&mut c);
+    let coast = after[1] - at_release[1];
+    eprintln!("held 1.2 s: {moved} pulses; after the last repeat: {coast} pulses");
+    // It stops within the release time plus its deceleration: at 1000 mm/min the release
+    // time is under 3 mm; the deceleration adds less.
+    let release_mm = JOG_RELEASE.as_secs_f64() * 1000.0 / 60.0;
+    assert!(
+        (0..=((release_mm + 3.0) * 1000.0) as i64).contains(&coast),
+        "after the last repeat the axis went on {coast} pulses"
+    );
+    assert_eq!([after[0], after[2]], [before[0], before[2]], "only Y moves");
+    assert!(!c.status().moving);
+}
