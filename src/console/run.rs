@@ -79,6 +79,12 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
 /// or begins a new one from the program source, or says why it cannot.
 pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     let single = c.op == OpMode::Single;
+    if kind == RunKind::Auto && c.status.job.is_none() {
+        if let Some(why) = super::pages::target_refusal(c) {
+            c.message = why;
+            return;
+        }
+    }
     c.command(Command::SingleBlock(single));
     let make = if c.status.job.is_none() {
         c.core.set_magazine(c.mem.magazine());
@@ -126,6 +132,13 @@ pub(super) fn note_run_end(c: &mut Console) {
     match end.cause {
         EndCause::ProgramEnd => {
             c.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
+            let k = c.pages.counters;
+            if end.kind == RunKind::Auto && k.target > 0 && k.parts >= k.target {
+                c.message = format!(
+                    "{}; part count target reached ({}/{}): the next AUTO START waits for PARTS 0 or a new TARGET",
+                    c.message, k.parts, k.target
+                );
+            }
         }
         EndCause::Error {
             error,

@@ -249,3 +249,15 @@ pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64
         c.message = e;
     }
 }
+
+/// Why a new AUTO run may not begin: the part counter has reached its target, as a Fanuc's
+/// part count signal stops the cycle (docs/panel.md, "Pages").
+pub(super) fn target_refusal(c: &Console) -> Option<String> {
+    let k = &c.pages.counters;
+    (k.target > 0 && k.parts >= k.target).then(|| {
+        format!(
+            "START refused: part count target reached ({}/{}); on the POS page type PARTS 0 or a new TARGET",
+            k.parts, k.target
+        )
+    })
+}
