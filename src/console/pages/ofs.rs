@@ -107,7 +107,12 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.message = "OFS refused: the machine is moving; STOP first".into();
+        c.message = if st.hold {
+            "OFS refused: the feed hold is still braking; INPUT again once it has stopped"
+        } else {
+            "OFS refused: the machine is moving; STOP first"
+        }
+        .into();
         return;
     }
     let m = c.mem.magazine();

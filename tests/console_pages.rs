@@ -1,0 +1,207 @@
+//! The operator pages (docs/panel.md, "Pages"), each rule with the message the operator sees
+//! and what is kept across a restart: POS presets and counters (with the part-count target),
+//! PROG select/copy/rename/delete (journaled, refused with a run loaded), OFS INPUT and
+//! +INPUT (refused values change nothing), MSG history across a restart, MDI recall.
+
+mod common;
+
+use common::{keys, shows, temp_dir, type_line};
+use novanc::console::{Console, ConsoleConfig};
+use novanc::panel_model::{Page, PanelEvent};
+use novanc::pulse_core::ClockMode;
+use std::path::Path;
+
+fn open_in(dir: &Path) -> Console {
+    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
+    cfg.clock = ClockMode::Virtual;
+    Console::open(cfg).unwrap().0
+}
+
+#[test]
+fn pos_zeroes_and_presets_the_relative_position_in_two_keys() {
+    let dir = temp_dir("pages-pos");
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Alt+6", "Right"]);
+    c.handle(PanelEvent::Wait);
+    keys(&mut c, &["Right", "Ctrl+P"]);
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.status().pos[0], 200);
+    assert_eq!(c.view().page, Page::Pos);
+    // X Enter: two keys.
+    type_line(&mut c, "X");
+    assert!(
+        shows(&c, "relative X preset to 0.000"),
+        "{}",
+        c.frame_text()
+    );
+    // On POS the arrows still jog: the relative X follows, the machine X too.
+    keys(&mut c, &["Right"]);
+    c.handle(PanelEvent::Wait);
+    let f = c.frame_text();
+    let x = f.lines().find(|l| l.starts_with("X ")).unwrap().to_string();
+    let cols: Vec<&str> = x.split_whitespace().collect();
+    assert_eq!(cols[2], "0.100", "REL X after one more increment: {x}");
+    assert_eq!(cols[3], "0.300", "MACH X: {x}");
+    type_line(&mut c, "Y12.5");
+    assert!(shows(&c, "relative Y preset to 12.500"));
+    type_line(&mut c, "Q7");
+    assert!(shows(&c, "POS: type X"), "{}", c.frame_text());
+}
+
+#[test]
+fn the_part_counter_counts_auto_runs_keeps_across_a_restart_and_stops_at_its_target() {
+    let dir = temp_dir("pages-parts");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["Ctrl+P"]);
+        type_line(&mut c, "TARGET 2");
+        keys(&mut c, &["Ctrl+P", "Alt+2"]);
+        for _ in 0..2 {
+            keys(&mut c, &["F9"]);
+            c.handle(PanelEvent::Wait);
+        }
+        assert!(
+            shows(&c, "part count target reached (2/2)"),
+            "{}",
+            c.frame_text()
+        );
+        // The next AUTO START is refused and nothing moves.
+        let runs = c.status().runs;
+        keys(&mut c, &["F9"]);
+        assert_eq!(c.status().runs, runs);
+        assert!(shows(&c, "START refused: part count target reached"));
+    }
+    // The counters are kept: still refused after a restart; PARTS 0 lets it run again.
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(shows(&c, "PARTS 2/2"), "{}", c.frame_text());
+    keys(&mut c, &["Ctrl+P", "Alt+2", "F9"]);
+    assert!(shows(&c, "START refused: part count target reached"));
+    keys(&mut c, &["Ctrl+P"]);
+    type_line(&mut c, "PARTS 0");
+    keys(&mut c, &["Ctrl+P", "F9"]);
+    c.handle(PanelEvent::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    // MDI runs are not parts and are never stopped by the target.
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(shows(&c, "PARTS 1/2"), "{}", c.frame_text());
+}
+
+#[test]
+fn prog_copies_renames_and_deletes_after_a_confirmation_and_it_is_journaled() {
+    let dir = temp_dir("pages-prog");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["Ctrl+D"]);
+        type_line(&mut c, "C part2");
+        assert!(shows(&c, "TABLEB copied as PART2"), "{}", c.frame_text());
+        type_line(&mut c, "R P3");
+        assert!(shows(&c, "renamed P3"), "{}", c.frame_text());
+        // The cursor to TABLEB, and a delete asks first; anything else keeps it.
+        keys(&mut c, &["Down"]);
+        type_line(&mut c, "D");
+        assert!(
+            shows(&c, "delete TABLEB? D Enter again"),
+            "{}",
+            c.frame_text()
+        );
+        type_line(&mut c, "x");
+        type_line(&mut c, "D");
+        type_line(&mut c, "D");
+        assert!(shows(&c, "program TABLEB deleted"), "{}", c.frame_text());
+        // The last program is never deleted.
+        type_line(&mut c, "D");
+        type_line(&mut c, "D");
+        assert!(shows(&c, "PROG refused"), "{}", c.frame_text());
+    }
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Ctrl+D"]);
+    let f = c.frame_text();
+    assert!(f.contains("P3") && !f.contains("TABLEB"), "{f}");
+    assert!(c.program_text().contains("DRL, 106"));
+}
+
+#[test]
+fn prog_is_refused_with_a_run_loaded_and_nothing_changes() {
+    let mut c = common::open("pages-prog-run");
+    keys(&mut c, &["Alt+7", "F9"]);
+    c.handle(PanelEvent::Wait);
+    assert!(c.status().job.is_some());
+    keys(&mut c, &["Ctrl+D"]);
+    type_line(&mut c, "C X2");
+    assert!(shows(&c, "PROG refused: a run is loaded; RESET first"));
+    assert!(!c.frame_text().contains("X2 "), "{}", c.frame_text());
+}
+
+#[test]
+fn ofs_input_sets_plus_input_adds_and_a_refused_value_changes_nothing() {
+    let dir = temp_dir("pages-ofs");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["Ctrl+O", "Down"]);
+        type_line(&mut c, "155");
+        assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 155.0);
+        // +INPUT: Tab adds.
+        for ch in "-0.25".chars() {
+            c.handle(PanelEvent::Key(ch));
+        }
+        keys(&mut c, &["Tab"]);
+        assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 154.75);
+        // A value the validator refuses: the reason, and no change.
+        let before = c.magazine();
+        type_line(&mut c, "-3");
+        assert!(shows(&c, "OFS refused"), "{}", c.frame_text());
+        assert_eq!(c.magazine(), before);
+        type_line(&mut c, "abc");
+        assert!(shows(&c, "'abc' is not a number"), "{}", c.frame_text());
+        assert_eq!(c.magazine(), before);
+    }
+    // Journaled like any tool revision.
+    let c = open_in(&dir);
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 154.75);
+}
+
+#[test]
+fn the_message_history_is_kept_across_a_restart_newest_first() {
+    let dir = temp_dir("pages-msg");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["F12", "F11"]);
+    }
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Ctrl+E"]);
+    let f = c.frame_text();
+    let reset = f.find("reset: machine idle").expect(&f);
+    let estop = f.find("ALARM EMERGENCY STOP").expect(&f);
+    assert!(reset < estop, "newest first:\n{f}");
+}
+
+#[test]
+fn mdi_typing_sets_the_buffer_and_up_recalls_a_refused_line() {
+    let mut c = common::open("pages-mdi");
+    keys(&mut c, &["Alt+3"]);
+    type_line(&mut c, "GO, 500, 300, -200");
+    assert!(
+        shows(&c, "MDI buffer set: START runs it"),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["F9"]);
+    c.handle(PanelEvent::Wait);
+    // Held in the middle of a second MDI run: a new line is refused, and Up brings it back.
+    type_line(&mut c, "GO, 400, 300, -100");
+    keys(&mut c, &["F9"]);
+    keys(&mut c, &["F10"]);
+    type_line(&mut c, "GO, 10, 10, -10");
+    assert!(
+        shows(&c, "MDI refused: a run is loaded"),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["Up"]);
+    assert!(
+        c.view().entry.contains("GO, 10, 10, -10"),
+        "{:?}",
+        c.view().entry
+    );
+}
