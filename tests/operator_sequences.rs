@@ -76,6 +76,8 @@ struct Stats {
     tape_reads: u64,
     tape_alarms: u64,
     tape_abandoned: u64,
+    /// Tool data changed on the OFS page with a run loaded (held or between single blocks).
+    ofs_in_run: u64,
 }
 
 impl Stats {
@@ -90,6 +92,7 @@ impl Stats {
         self.tape_reads += o.tape_reads;
         self.tape_alarms += o.tape_alarms;
         self.tape_abandoned += o.tape_abandoned;
+        self.ofs_in_run += o.ofs_in_run;
     }
 }
 
@@ -191,7 +194,10 @@ impl Session {
         let manual = matches!(
             v.op_mode,
             OpMode::Continuous | OpMode::Step | OpMode::Handle
-        ) && v.page == novanc::panel_model::Page::Mode;
+        ) && matches!(
+            v.page,
+            novanc::panel_model::Page::Mode | novanc::panel_model::Page::Pos
+        );
         for (a, d) in moved.iter().enumerate() {
             if a == axis && manual {
                 assert!(
@@ -310,12 +316,89 @@ impl Session {
                     self.ev(E::Type(format!("-99L{down}KI{line}*")));
                 }
             }
+            96..=99 => self.page_action(),
             100..=101 => self.tape_read(),
             _ => {
                 // Junk on the data keys, in whatever mode.
                 let k = self.pick(&["Q", "7", "Enter", "Backspace", "*", "Alt+t"]);
                 self.key(k);
             }
+        }
+    }
+
+    /// A page key and what an operator types on that page: an OFS value with INPUT or
+    /// +INPUT (a length during a hold applies from the next block), a POS preset, a PROG
+    /// copy, rename or delete. Tool data and program memory change only with the machine at
+    /// rest (a hold, between single blocks, or no run), and a PROG change never with a run
+    /// loaded.
+    fn page_action(&mut self) {
+        if self.c.status().job.is_some() && self.c.status().hold {
+            // Let a feed hold come to rest, as an operator waits for it.
+            self.ev(E::Wait);
+        }
+        let st = self.c.status().clone();
+        let mag = self.c.magazine();
+        let text = self.c.program_text();
+        // With a run stopped at rest, mostly a length revision: the case that moves blocks.
+        let stopped = st.idle && !st.moving && (st.hold || st.run == 0);
+        let held = st.job.is_some() && stopped && self.rng.range(0, 2) != 0;
+        let page = if held {
+            "Ctrl+O"
+        } else {
+            self.pick(&["Ctrl+P", "Ctrl+D", "Ctrl+O", "Ctrl+E"])
+        };
+        self.key(page);
+        match page {
+            "Ctrl+O" => {
+                for _ in 0..self.rng.range(0, 3) {
+                    let k = if held {
+                        self.pick(&["Down", "Up"])
+                    } else {
+                        self.pick(&["Down", "Up", "Right", "Left"])
+                    };
+                    self.key(k);
+                }
+                let v = if self.rng.range(0, 1) == 0 {
+                    self.rng.range(100, 230).to_string()
+                } else {
+                    format!("{:.3}", self.rng.range(-500, 500) as f64 / 1000.0)
+                };
+                if self.rng.range(0, 1) == 0 {
+                    self.ev(E::Type(v));
+                } else {
+                    for ch in v.chars() {
+                        self.ev(E::Key(ch));
+                    }
+                    self.key("Tab");
+                }
+            }
+            "Ctrl+P" => {
+                let w = self.pick(&["X", "Y12.5", "Z-3", "XYZ", "PARTS 0", "TARGET 0"]);
+                self.ev(E::Type(w.into()));
+            }
+            "Ctrl+D" => {
+                let w = self.pick(&["", "C P2", "R P3", "D", "D"]);
+                self.ev(E::Type(w.into()));
+            }
+            _ => {}
+        }
+        let at_rest = st.job.is_none() || stopped;
+        if self.c.magazine() != mag {
+            assert!(
+                at_rest,
+                "the tool data changed with a run not stopped at rest"
+            );
+            self.stats.ofs_in_run += u64::from(st.job.is_some());
+        }
+        if st.job.is_some() {
+            assert_eq!(
+                self.c.program_text(),
+                text,
+                "program memory changed with a run loaded"
+            );
+        }
+        if self.rng.range(0, 1) == 0 {
+            self.key(page);
         }
     }
 
@@ -526,6 +609,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
             st.tape_reads > 0 && st.tape_alarms > 0 && st.tape_abandoned > 0,
             "{st:?}"
         );
+        assert!(st.ofs_in_run > 0, "{st:?}");
     }
 }
 
