@@ -530,7 +530,13 @@ impl App {
                     }
                 });
                 ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
-                controls::jog_buttons(ui, &mut self.hand, out);
+                controls::jog_buttons(ui, view, &mut self.hand, out);
+                ui.label(
+                    egui::RichText::new("PAGES  ^P ^D ^O ^E")
+                        .small()
+                        .color(controls::LEGEND),
+                );
+                controls::page_keys(ui, view, out);
             });
             let ov_labels: Vec<String> = (0..=15)
                 .map(|i| {

@@ -4,7 +4,7 @@
 //! Each widget only draws the `PanelView` and turns the operator's clicks, drags, scrolls and
 //! keys into `PanelEvent`s; the console decides what they mean.
 
-use crate::panel_model::{Axis, PanelEvent, PanelView};
+use crate::panel_model::{Axis, OpMode, PanelEvent, PanelView};
 use egui::{
     pos2, vec2, Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Ui,
 };
@@ -39,6 +39,10 @@ pub struct HandState {
     pub jog_held: Option<(Axis, i8)>,
     /// The axis key held down for a CONTINUOUS jog, if any.
     pub key_jog: Option<(Axis, i8)>,
+    /// A JOG button held long enough to jog continuously (`HOLD_TO_JOG`).
+    pub jog_continuous: bool,
+    /// When the JOG button held now was pressed.
+    pub jog_since: std::time::Instant,
     /// The tape reader key was pressed (the typed line names the tape).
     pub tape_requested: bool,
     /// The punch key was pressed (the typed line names the image).
@@ -55,6 +59,8 @@ impl Default for HandState {
             scroll: 0.0,
             jog_held: None,
             key_jog: None,
+            jog_continuous: false,
+            jog_since: std::time::Instant::now(),
             tape_requested: false,
             punch_requested: false,
         }
@@ -277,7 +283,7 @@ pub fn handwheel(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
     }
 }
 
-/// The handwheel's axis and ×1/×10/×100 selectors.
+/// The handwheel's axis and the ×1/×10/×100/×1000 increment selector (also STEP's).
 pub fn wheel_selectors(
     ui: &mut Ui,
     view: &PanelView,
@@ -295,7 +301,7 @@ pub fn wheel_selectors(
         }
     });
     ui.horizontal(|ui| {
-        for s in [1u32, 10, 100] {
+        for s in [1u32, 10, 100, 1000] {
             if ui
                 .selectable_label(view.wheel.1 == s, format!("×{s}"))
                 .clicked()
@@ -308,7 +314,7 @@ pub fn wheel_selectors(
 }
 
 /// The jog buttons (CONTINUOUS: move while held; STEP: one increment per press).
-pub fn jog_buttons(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
+pub fn jog_buttons(ui: &mut Ui, view: &PanelView, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
     let mut held_now = None;
     ui.horizontal(|ui| {
         for a in [Axis::X, Axis::Y, Axis::Z] {
@@ -326,14 +332,48 @@ pub fn jog_buttons(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>)
         }
     });
     if held_now != hand.jog_held {
-        if hand.jog_held.is_some() {
+        if hand.jog_held.is_some() && hand.jog_continuous {
             out.push(PanelEvent::JogRelease);
         }
+        hand.jog_continuous = false;
+        hand.jog_since = std::time::Instant::now();
         if let Some((a, d)) = held_now {
-            out.push(PanelEvent::Jog(a, d));
+            // The press is the terminal's key: one increment (docs/panel.md, "Jogging").
+            out.push(PanelEvent::Press(super::keys::arrow_key(a, d)));
         }
         hand.jog_held = held_now;
+    } else if let Some((a, d)) = held_now {
+        // Held past HOLD_TO_JOG in CONTINUOUS: jog until the button is let go.
+        if !hand.jog_continuous
+            && view.op_mode == OpMode::Continuous
+            && hand.jog_since.elapsed() > HOLD_TO_JOG
+        {
+            out.push(PanelEvent::Jog(a, d));
+            hand.jog_continuous = true;
+        }
     }
+}
+
+/// How long a JOG button must be held in CONTINUOUS before the axis jogs continuously (a
+/// shorter press is one increment), about a keyboard's repeat delay.
+pub const HOLD_TO_JOG: std::time::Duration = std::time::Duration::from_millis(300);
+
+/// The row of page keys beside the selectors (docs/panel.md, "Pages"): POS, PROG, OFS, MSG,
+/// the one shown lit; a click is the page key (Ctrl-P/D/O/E).
+pub fn page_keys(ui: &mut Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
+    ui.horizontal(|ui| {
+        for (page, ch) in crate::panel_model::Page::KEYS
+            .iter()
+            .zip(['p', 'd', 'o', 'e'])
+        {
+            let b = egui::Button::new(egui::RichText::new(page.label()).monospace())
+                .min_size(vec2(48.0, 24.0))
+                .selected(view.page == *page);
+            if ui.add(b).clicked() {
+                out.push(PanelEvent::Press(novanc_panel::Key::Ctrl(ch)));
+            }
+        }
+    });
 }
 
 /// The position readout: axis positions, tool tip, tool, spindle, feed override, RUN, time.

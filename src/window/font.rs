@@ -130,6 +130,10 @@ pub fn glyph(c: char) -> [u8; 7] {
         '±' => [0x04, 0x04, 0x1F, 0x04, 0x04, 0x00, 0x1F],
         '│' => [0x04; 7],
         '─' => [0x00, 0x00, 0x00, 0x1F, 0x00, 0x00, 0x00],
+        // The mark of a line cut short (docs/panel.md, "Nothing is cut without a mark").
+        '…' => [0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x15],
+        // The editor's pointer.
+        '▌' => [0x18; 7],
         _ => UNKNOWN,
     }
 }
@@ -138,7 +142,7 @@ pub fn glyph(c: char) -> [u8; 7] {
 /// screen, as the window test uses: it turns screenshot dots back into text).
 pub fn char_of(rows: [u8; 7]) -> Option<char> {
     let mut found = None;
-    for c in (' '..='~').chain("▶◀→←█■·●•°Σµ×±".chars()) {
+    for c in (' '..='~').chain("▶◀→←█■·●•°Σµ×±…▌".chars()) {
         if glyph(c) == rows {
             if found.is_some() {
                 return None;

@@ -3,8 +3,9 @@
 //! keyboard, with the terminal panel's key map. Each key becomes a `PanelEvent`; the console decides what it means.
 
 use super::controls::HandState;
-use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{Axis, DataMode, OpMode, Page, PanelEvent, PanelView};
 use egui::{vec2, Ui};
+use novanc_panel::Key;
 
 /// The numeric keys (15b) and what each gives with SHIFT (15c).
 pub const NUMERIC_KEYS: [(char, char); 12] = [
@@ -82,11 +83,11 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
 /// - letters (made upper case), digits and signs are data keys; Enter is EOB, Backspace RUBOUT;
 /// - F1–F7 turn the data-processing mode selector, Alt+1–Alt+7 the operation mode selector;
 /// - F9 START, F10 STOP, F11 RESET, F12 E-STOP (also Alt+S, Alt+P, Alt+R, Alt+E);
-/// - Alt+= / Alt+- feed override ±10 %; Alt+W the ×1/×10/×100 selector; Alt+, / Alt+. one
+/// - Alt+= / Alt+- feed override ±10 %; Alt+W the ×1/×10/×100/×1000 increment; Alt+, / Alt+. one
 ///   handwheel detent; Alt+T the tape reader (the typed line names the file); Alt+U the punch
 ///   (in PROGRAM READ the typed line names the image, `PATH` or `PATH EIA`);
-/// - arrows (X, Y) and Page Up/Down (Z): in HANDLE one handwheel detent on that axis, in
-///   CONTINUOUS jog while held, otherwise one jog press (STEP).
+/// - Ctrl+P/D/O/E the page keys POS, PROG, OFS, MSG; Tab +INPUT;
+/// - arrows (X, Y) and Page Up/Down (Z): the terminal's arrow keys (`move_key`).
 pub fn keyboard(
     events: &[egui::Event],
     view: &PanelView,
@@ -95,9 +96,10 @@ pub fn keyboard(
 ) {
     use egui::Key as K;
     // Text typed with Alt held belongs to a shortcut, not to the data keys.
-    let alt_combo = events
-        .iter()
-        .any(|e| matches!(e, egui::Event::Key { pressed: true, modifiers, .. } if modifiers.alt));
+    let alt_combo = events.iter().any(|e| {
+        matches!(e, egui::Event::Key { pressed: true, modifiers, .. }
+            if modifiers.alt || modifiers.ctrl)
+    });
     for e in events {
         match e {
             egui::Event::Text(t) if !alt_combo => {
@@ -146,6 +148,7 @@ pub fn keyboard(
                 } else if *repeat {
                 } else {
                     let alt = modifiers.alt;
+                    let ctrl = modifiers.ctrl || modifiers.command;
                     match key {
                         K::Enter => out.push(PanelEvent::Eob),
                         K::Backspace => out.push(PanelEvent::Rubout),
@@ -168,8 +171,14 @@ pub fn keyboard(
                         K::W if alt => out.push(PanelEvent::WheelScale(match view.wheel.1 {
                             1 => 10,
                             10 => 100,
+                            100 => 1000,
                             _ => 1,
                         })),
+                        K::Tab => out.push(PanelEvent::Press(Key::Tab)),
+                        K::P if ctrl => out.push(PanelEvent::Press(Key::Ctrl('p'))),
+                        K::D if ctrl => out.push(PanelEvent::Press(Key::Ctrl('d'))),
+                        K::O if ctrl => out.push(PanelEvent::Press(Key::Ctrl('o'))),
+                        K::E if ctrl => out.push(PanelEvent::Press(Key::Ctrl('e'))),
                         K::Comma if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, -1)),
                         K::Period if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, 1)),
                         _ => {}
@@ -181,8 +190,23 @@ pub fn keyboard(
     }
 }
 
-/// An axis key: a handwheel detent in HANDLE, jog while held in CONTINUOUS, a jog press
-/// otherwise (STEP; in other modes the console says why it refuses).
+/// The terminal key of an axis direction: X on Left/Right, Y on Up/Down, Z on PgUp/PgDn.
+pub fn arrow_key(axis: Axis, dir: i8) -> Key {
+    match (axis, dir > 0) {
+        (Axis::X, false) => Key::Left,
+        (Axis::X, true) => Key::Right,
+        (Axis::Y, true) => Key::Up,
+        (Axis::Y, false) => Key::Down,
+        (Axis::Z, true) => Key::PageUp,
+        (Axis::Z, false) => Key::PageDown,
+    }
+}
+
+/// An axis key, as the terminal's key map takes it (docs/panel.md, "Jogging"): each press and
+/// each auto-repeat is the terminal's key, so a tap in CONTINUOUS is one increment and a held
+/// key jogs; in HANDLE a detent, in STEP an increment, on a page its cursor, in MDI the recall.
+/// The window also sees the release, so a held CONTINUOUS jog stops at once rather than
+/// 150 ms later.
 fn move_key(
     view: &PanelView,
     hand: &mut HandState,
@@ -192,19 +216,15 @@ fn move_key(
     repeat: bool,
     out: &mut Vec<PanelEvent>,
 ) {
-    match (view.op_mode, pressed) {
-        (OpMode::Handle, true) => out.push(PanelEvent::Wheel(axis, dir as i32)),
-        (OpMode::Continuous, true) if !repeat && hand.key_jog.is_none() => {
+    if pressed {
+        out.push(PanelEvent::Press(arrow_key(axis, dir)));
+        let jogs = matches!(view.page, Page::Mode | Page::Pos);
+        if repeat && jogs && view.op_mode == OpMode::Continuous {
             hand.key_jog = Some((axis, dir));
-            out.push(PanelEvent::Jog(axis, dir));
         }
-        (OpMode::Continuous, false) if hand.key_jog == Some((axis, dir)) => {
-            hand.key_jog = None;
-            out.push(PanelEvent::JogRelease);
-        }
-        (OpMode::Continuous, _) | (OpMode::Handle, false) => {}
-        (_, true) if !repeat => out.push(PanelEvent::Jog(axis, dir)),
-        _ => {}
+    } else if hand.key_jog == Some((axis, dir)) {
+        hand.key_jog = None;
+        out.push(PanelEvent::JogRelease);
     }
 }
 
@@ -302,34 +322,62 @@ mod tests {
     }
 
     #[test]
-    fn axis_keys_turn_the_wheel_in_handle_and_jog_while_held_in_continuous() {
+    fn axis_keys_are_the_terminals_and_a_held_jog_stops_on_release() {
         let mut h = HandState::default();
         let up = key(egui::Key::PageUp, true, false, false);
-        let out = run(
-            &[up.clone(), up.clone()],
-            &view(OpMode::Handle, 100),
-            &mut h,
-        );
+        let out = run(&[up.clone(), up], &view(OpMode::Handle, 100), &mut h);
         assert_eq!(
             out,
-            [PanelEvent::Wheel(Axis::Z, 1), PanelEvent::Wheel(Axis::Z, 1)]
+            [
+                PanelEvent::Press(Key::PageUp),
+                PanelEvent::Press(Key::PageUp)
+            ]
         );
 
+        // A tap: the key alone (one increment); its release says nothing.
         let cont = view(OpMode::Continuous, 100);
+        let tap = [
+            key(egui::Key::ArrowLeft, true, false, false),
+            key(egui::Key::ArrowLeft, false, false, false),
+        ];
+        assert_eq!(run(&tap, &cont, &mut h), [PanelEvent::Press(Key::Left)]);
+        // Held: the repeats are the terminal's, and the release stops the jog at once.
         let evs = [
             key(egui::Key::ArrowLeft, true, false, false),
-            key(egui::Key::ArrowLeft, true, true, false), // key repeat: still the same jog
+            key(egui::Key::ArrowLeft, true, true, false),
             key(egui::Key::ArrowLeft, false, false, false),
         ];
         let out = run(&evs, &cont, &mut h);
-        assert_eq!(out, [PanelEvent::Jog(Axis::X, -1), PanelEvent::JogRelease]);
+        assert_eq!(
+            out,
+            [
+                PanelEvent::Press(Key::Left),
+                PanelEvent::Press(Key::Left),
+                PanelEvent::JogRelease
+            ]
+        );
         assert_eq!(h.key_jog, None);
+    }
 
-        let step = view(OpMode::Step, 100);
+    #[test]
+    fn ctrl_keys_are_the_page_keys_and_tab_is_plus_input() {
+        let mut h = HandState::default();
+        let mut ctrl = key(egui::Key::O, true, false, false);
+        if let egui::Event::Key { modifiers, .. } = &mut ctrl {
+            modifiers.ctrl = true;
+        }
         let evs = [
-            key(egui::Key::ArrowUp, true, false, false),
-            key(egui::Key::ArrowUp, false, false, false),
+            ctrl,
+            egui::Event::Text("o".into()),
+            key(egui::Key::Tab, true, false, false),
         ];
-        assert_eq!(run(&evs, &step, &mut h), [PanelEvent::Jog(Axis::Y, 1)]);
+        let out = run(&evs, &view(OpMode::Auto, 100), &mut h);
+        assert_eq!(
+            out,
+            [
+                PanelEvent::Press(Key::Ctrl('o')),
+                PanelEvent::Press(Key::Tab)
+            ]
+        );
     }
 }
