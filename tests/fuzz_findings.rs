@@ -35,3 +35,33 @@ fn a_tape_value_with_many_decimals_is_kept_and_the_tool_file_stays_revisable() {
     assert_eq!(s.magazine().tools.get(2).cloned().unwrap(), t02);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// gcode-program:0xd14c127aa8230984 and 0xb31776ed46eecc68: the G-code reader printed a NUL or
+/// an ESC raw in its message (`a word letter was expected, not '\0'`), which a terminal shows
+/// as nothing or acts on; it now names the character by its code point, as the source
+/// language does (docs/language.md, *Limits*).
+#[test]
+fn a_control_character_in_gcode_is_named_not_printed() {
+    use novanc::block::MachineState;
+    use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
+    let first_error = |src: &str| {
+        GcodeSource::new(
+            src.into(),
+            novanc::tooldata::sample_magazine(),
+            novanc::settings::MachineSettings::default(),
+            MachineState::at([0, 0, 0]),
+            WorkOffsets::default(),
+            Switches::default(),
+        )
+        .find_map(|r| r.err())
+        .map(|e| e.to_string())
+    };
+    assert_eq!(
+        first_error("G0 X1\n\u{0}\n").as_deref(),
+        Some("2:1: a word letter was expected, not U+0000 (a control character)")
+    );
+    assert_eq!(
+        first_error("G0 X\u{1b}[2J\n").as_deref(),
+        Some("1:5: a number was expected, not U+001B (a control character)")
+    );
+}

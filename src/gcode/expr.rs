@@ -7,6 +7,7 @@
 //! effect after the whole line has been read, so every read on the line sees the old values.
 
 use crate::block::TranslateError;
+use crate::input_text::describe_char;
 
 /// The highest numbered parameter.
 pub const MAX_PARAM: usize = 5400;
@@ -169,7 +170,7 @@ impl Reader<'_> {
             self.i = start;
             let what = self
                 .peek()
-                .map_or("the end of the line".to_string(), |c| format!("'{c}'"));
+                .map_or("the end of the line".to_string(), describe_char);
             return Err(self.err(col, format!("a number was expected, not {what}")));
         }
         if digits <= 15 && decimals <= 22 {
@@ -488,7 +489,10 @@ pub fn read_into(
                 return Err(TranslateError {
                     line,
                     col,
-                    message: format!("'{c}' is not part of the language (outside a comment)"),
+                    message: format!(
+                        "{} is not part of the language (outside a comment)",
+                        describe_char(c)
+                    ),
                 })
             }
         }
@@ -531,7 +535,10 @@ pub fn read_into(
             continue;
         }
         if !ch.is_ascii_alphabetic() {
-            return Err(r.err(col, format!("a word letter was expected, not '{ch}'")));
+            return Err(r.err(
+                col,
+                format!("a word letter was expected, not {}", describe_char(ch)),
+            ));
         }
         let letter = ch.to_ascii_uppercase();
         // Control flow words of other dialects.

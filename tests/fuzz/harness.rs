@@ -25,6 +25,8 @@ pub const MEMORY: usize = 256 << 20;
 pub struct Ctx {
     /// Sample part programs (Table B and the other programs in `programs/`).
     pub programs: Vec<String>,
+    /// Sample G-code programs (`programs/*.ngc`).
+    pub gcode: Vec<String>,
     /// The sample tool tape.
     pub tape: String,
     /// The sample T-code table.

@@ -1,8 +1,9 @@
 //! The fuzz command of issue 15 (README, *Limits*): generated part programs (by grammar and by
-//! mutation of `programs/*.ap`), tool tapes, T-code tables, editor command lines (on a buffer
-//! and on the stores), panel scripts run on a console, and damaged state directories, each case checked for no panic, no case slower than 5 s, no heap
-//! growth over 256 MB, the messages and limits of docs/language.md, and no store changed by a
-//! refused input.
+//! mutation of `programs/*.ap`), G-code programs (the same two ways, from `programs/*.ngc`),
+//! tool tapes, T-code tables, editor command lines (on a buffer and on the stores), panel
+//! scripts run on a console, and damaged state directories, each case checked for no panic, no
+//! case slower than 5 s, no heap growth over 256 MB, the messages and limits of
+//! docs/language.md and docs/gcode.md, and no store changed by a refused input.
 //!
 //! ```text
 //! cargo test --release --test fuzz -- --ignored --nocapture     # 600 s; NOVANC_FUZZ_SECS=N for N s
@@ -19,6 +20,7 @@
 
 mod console;
 mod editor;
+mod gcode;
 mod harness;
 mod programs;
 mod rng;
@@ -64,24 +66,35 @@ const FAMILIES: &[Family] = &[
         name: "state-damage",
         case: console::damage_case,
     },
+    Family {
+        name: "gcode-program",
+        case: gcode::gcode_case,
+    },
 ];
 
 fn ctx() -> Ctx {
     let root = env!("CARGO_MANIFEST_DIR");
-    let mut programs: Vec<String> = std::fs::read_dir(format!("{root}/programs"))
-        .expect("programs/")
-        .filter_map(|e| e.ok())
-        .filter(|e| e.path().extension().is_some_and(|x| x == "ap"))
-        .filter_map(|e| std::fs::read_to_string(e.path()).ok())
-        .collect();
-    programs.sort();
+    let read = |ext: &str| {
+        let mut v: Vec<String> = std::fs::read_dir(format!("{root}/programs"))
+            .expect("programs/")
+            .filter_map(|e| e.ok())
+            .filter(|e| e.path().extension().is_some_and(|x| x == ext))
+            .filter_map(|e| std::fs::read_to_string(e.path()).ok())
+            .collect();
+        v.sort();
+        v
+    };
+    let programs = read("ap");
+    let gcode = read("ngc");
     assert!(programs.len() >= 3, "the sample programs");
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let tmp = std::env::temp_dir().join(format!("novanc-fuzz-{}-{n}", std::process::id()));
     std::fs::create_dir_all(&tmp).expect("a scratch directory");
+    assert!(gcode.len() >= 3, "the sample G-code programs");
     Ctx {
         programs,
+        gcode,
         tape: std::fs::read_to_string(format!("{root}/tooldata/tools.tt")).expect("tools.tt"),
         tcodes: std::fs::read_to_string(format!("{root}/tooldata/magazine.tc"))
             .expect("magazine.tc"),

@@ -1,0 +1,180 @@
+//! The G-code family of the fuzz command (docs/gcode.md "Errors", "Limits"): programs made of
+//! valid and broken fragments, and mutations of `programs/*.ngc`, read and expanded into machine
+//! blocks. Every line either reads or is refused with `LINE:COL: reason` at a real place, with
+//! a short message, and nothing more comes after a refusal.
+
+use super::harness::{note, Ctx};
+use super::programs::mutate;
+use super::rng::Rng;
+use novanc::block::MachineState;
+use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
+use novanc::settings::MachineSettings;
+use novanc::tooldata::sample_magazine;
+
+/// Words, good and bad, a generated line is made of.
+const FRAGMENTS: &[&str] = &[
+    "G0",
+    "G1",
+    "G2",
+    "G3",
+    "G4 P0.1",
+    "G17",
+    "G18",
+    "G19",
+    "G20",
+    "G21",
+    "G90",
+    "G91",
+    "G28",
+    "G53",
+    "G54",
+    "G55",
+    "G59",
+    "G10 L2 P2",
+    "G10 L20 P1",
+    "G40",
+    "G41 D13",
+    "G42 D14",
+    "G43 H2",
+    "G49",
+    "G73",
+    "G81",
+    "G82",
+    "G83",
+    "G84",
+    "G85",
+    "G86",
+    "G89",
+    "G80",
+    "G98",
+    "G99",
+    "X10",
+    "Y-5.5",
+    "Z2",
+    "Z-20",
+    "X[1+2]",
+    "Y[#1*2]",
+    "I5",
+    "J-3",
+    "K2",
+    "R7",
+    "R-7",
+    "Q1.5",
+    "P0.3",
+    "L3",
+    "F300",
+    "S1000",
+    "T13",
+    "M3",
+    "M4",
+    "M5",
+    "M6",
+    "M8",
+    "M9",
+    "M0",
+    "M1",
+    "M2",
+    "M30",
+    "M98 P100",
+    "M99",
+    "#1=5",
+    "#2=[#1/0]",
+    "X[SQRT[-1]]",
+    "(comment)",
+    ";rest",
+    "/",
+    "%",
+    "O100",
+    "N10",
+    "X[ATAN[1]/[0]]",
+    "X[[[[[[1]]]]]]",
+    "X--1",
+    "#[#1]=3",
+    "A1",
+    "G92",
+    "G38.2",
+    "X",
+    "[",
+    "]",
+    "é",
+    "X1.2.3",
+    "O<x> sub",
+    "GOTO 5",
+    "X99999999999999999999",
+    "Q0.0001",
+    "L9999",
+    "P1e9",
+    "\u{0}",
+    "\u{feff}",
+];
+
+/// A program of up to 40 lines of random fragments, sometimes with a subprogram after M30.
+fn by_grammar(rng: &mut Rng) -> String {
+    let mut s = String::new();
+    for _ in 0..rng.range(1, 40) {
+        for _ in 0..rng.range(0, 5) {
+            s.push_str(*rng.pick(FRAGMENTS));
+            s.push(' ');
+        }
+        s.push('\n');
+    }
+    if rng.chance(0.5) {
+        s.push_str("M30\nO100\nG91 G1 X1 F100\nM99\n");
+    }
+    s
+}
+
+/// One case: a generated or mutated G-code program, read to its end or its first error.
+pub fn gcode_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
+    let src = if ctx.gcode.is_empty() || rng.chance(0.4) {
+        by_grammar(rng)
+    } else {
+        let base = rng.pick(&ctx.gcode).clone();
+        let other = if rng.chance(0.5) {
+            by_grammar(rng)
+        } else {
+            rng.pick(&ctx.gcode).clone()
+        };
+        mutate(rng, &base, &other)
+    };
+    note("G-code program", &src);
+    let lines = src.split_inclusive('\n').count() as u32 + 1;
+    let g = GcodeSource::new(
+        src.clone().into(),
+        sample_magazine(),
+        MachineSettings::default(),
+        MachineState::at([500_000, 400_000, -300_000]),
+        WorkOffsets::default(),
+        Switches {
+            block_delete: rng.chance(0.5),
+            optional_stop: rng.chance(0.5),
+        },
+    )
+    .line_limit(1_000_000);
+    let mut refused = None;
+    for r in g {
+        if let Some(e) = &refused {
+            return Err(format!("a statement came after the refusal {e}"));
+        }
+        match r {
+            Ok(st) if st.line > lines => {
+                return Err(format!("statement at line {} of {lines}", st.line));
+            }
+            Ok(_) => {}
+            Err(e) => {
+                let text = e.to_string();
+                if e.line < 1 || e.line > lines || e.col < 1 {
+                    return Err(format!("the refusal names no real place: {text}"));
+                }
+                if e.message.trim().is_empty() || text.chars().count() > 300 {
+                    return Err(format!("the message is empty or long: {text}"));
+                }
+                if text.chars().any(|c| c.is_control()) {
+                    return Err(format!("a control character printed raw: {text:?}"));
+                }
+                refused = Some(text);
+            }
+        }
+    }
+    Ok(())
+}
