@@ -113,7 +113,7 @@ fn by_grammar(rng: &mut Rng) -> String {
     let mut s = String::new();
     for _ in 0..rng.range(1, 40) {
         for _ in 0..rng.range(0, 5) {
-            s.push_str(*rng.pick(FRAGMENTS));
+            s.push_str(rng.pick::<&str>(FRAGMENTS));
             s.push(' ');
         }
         s.push('\n');
