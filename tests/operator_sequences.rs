@@ -420,6 +420,20 @@ impl Session {
             image[i] ^= 1 << self.rng.range(0, 7);
         }
         let path = self.tapes.join("tape.tape");
+        if self.c.tape_reading() {
+            // A START earlier in the sequence is still reading a tape (seed 1592590655): the
+            // reader is not reloaded while it moves, and the read goes on to its end.
+            self.ev(E::Tape(self.tapes.join("other.tape")));
+            let shown = self.c.frame_text();
+            let words = shown.split_whitespace().collect::<Vec<_>>().join(" ");
+            assert!(
+                words.contains("refused: the tape reader is reading tape.tape"),
+                "a tape change is refused while the reader moves:\n{shown}"
+            );
+            assert!(self.c.tape_reading(), "the read goes on");
+            self.ev(E::Wait);
+            assert!(!self.c.tape_reading(), "wait lets the read end");
+        }
         std::fs::write(&path, &image).unwrap();
         let expect = tape::read_image(&image, ReadOptions::default());
         let program = self.c.program_text();
