@@ -14,6 +14,7 @@
 mod config;
 mod display;
 mod entry;
+mod gcode_run;
 pub mod keys;
 mod memory;
 pub mod pages;
@@ -24,6 +25,7 @@ pub mod tape;
 pub mod tcode;
 
 pub use config::ConsoleConfig;
+pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 
@@ -106,6 +108,10 @@ pub struct Console {
     end_seen: u64,
     /// Why the last `wait` ended early, if it did.
     wait_error: Option<String>,
+    /// The BLOCK DELETE and OPTIONAL STOP switches (G-code programs).
+    switches: crate::gcode::Switches,
+    /// The G10 changes the loaded G-code run has read and the stores do not hold yet.
+    offset_feed: Option<gcode_run::OffsetFeed>,
     recorder: run::Recording,
 }
 
@@ -160,6 +166,8 @@ impl Console {
             notice_seen: None,
             end_seen: 0,
             wait_error: None,
+            switches: Default::default(),
+            offset_feed: None,
             recorder,
         };
         if let Some(w) = warnings.first() {
@@ -239,6 +247,16 @@ impl Console {
             .map(|l| l.trim_end())
             .collect::<Vec<_>>()
             .join("\n")
+    }
+
+    /// The name of the current program in program memory.
+    pub fn program_name(&self) -> String {
+        self.mem.program_name()
+    }
+
+    /// The work offsets G54 to G59 in the stores, machine mm.
+    pub fn work_offsets(&self) -> crate::gcode::WorkOffsets {
+        self.mem.work_offsets()
     }
 
     /// The current program in program memory.
@@ -329,6 +347,7 @@ impl Console {
         self.status = self.core.status();
         tape::advance(self);
         run::note_run_end(self);
+        gcode_run::keep_offsets(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {

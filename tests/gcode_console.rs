@@ -1,0 +1,192 @@
+//! ISO G-code programs at the console (docs/gcode.md "At the console"): PROGRAM READ keeps a
+//! G-code file's language, AUTO and SINGLE BLOCK run it from the machine's actual state with
+//! the ISO line as the source statement, SEARCH, and MDI lines in either language.
+
+mod common;
+
+use common::{audit, open, p, shows, type_line};
+use novanc::block::MachineState;
+use novanc::console::Console;
+use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
+use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
+use std::path::{Path, PathBuf};
+
+fn repo(f: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(f)
+}
+
+/// PROGRAM READ of a file at the console.
+fn read_program(c: &mut Console, path: &Path) {
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(path.to_path_buf()));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+}
+
+/// A G-code file written to a fresh directory.
+fn gfile(name: &str, text: &str) -> PathBuf {
+    let p = common::temp_dir("gfile").join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// The blocks a G-code text makes from machine zero with no tool, zero offsets.
+fn expected_ends(text: &str, c: &Console) -> Vec<[i64; 3]> {
+    GcodeSource::new(
+        text.into(),
+        c.magazine(),
+        c.settings().clone(),
+        MachineState::at([0, 0, 0]),
+        WorkOffsets::default(),
+        Switches::default(),
+    )
+    .map(|s| s.unwrap())
+    .flat_map(|s| s.blocks.into_iter().map(|b| b.end))
+    .collect()
+}
+
+#[test]
+fn program_read_keeps_the_language_and_auto_runs_the_gcode_program() {
+    let mut c = open("g-auto");
+    let text = std::fs::read_to_string(repo("programs/pocket.ngc")).unwrap();
+    read_program(&mut c, &repo("programs/pocket.ngc"));
+    assert_eq!(c.program_name(), "POCKET.NGC", "{}", c.frame_text());
+    assert_eq!(c.program_text(), text);
+    let want = expected_ends(&text, &c);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end).collect();
+    assert_eq!(
+        ends, want,
+        "the machine ran the blocks the G-code source makes"
+    );
+}
+
+#[test]
+fn single_block_shows_the_iso_line_as_the_source_statement() {
+    let mut c = open("g-single");
+    let f = gfile(
+        "single.ngc",
+        "G21 G90\nG0 X10 Y20\nG1 Z-5 F300\nG0 Z0\nM30\n",
+    );
+    read_program(&mut c, &f);
+    c.handle(E::Op(OpMode::Single));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    // The first line with blocks is line 2.
+    assert!(shows(&c, "G0 X10 Y20"), "{}", c.frame_text());
+    assert_eq!(c.status().pos, [p(10.0), p(20.0), 0]);
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "G1 Z-5 F300"), "{}", c.frame_text());
+    assert_eq!(c.status().pos, [p(10.0), p(20.0), p(-5.0)]);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    assert_eq!(c.status().pos, [p(10.0), p(20.0), 0]);
+}
+
+#[test]
+fn a_gcode_program_starts_from_the_machines_actual_position() {
+    let mut c = open("g-actual");
+    // Incremental moves: the result depends on where the machine is at START.
+    let f = gfile("inc.ngc", "G91 G0 X5 Y-5\nM30\n");
+    read_program(&mut c, &f);
+    c.handle(E::Op(OpMode::Mdi));
+    type_line(&mut c, "G0 X100 Y50 Z-10");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().pos, [p(100.0), p(50.0), p(-10.0)]);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    assert_eq!(c.status().pos, [p(105.0), p(45.0), p(-10.0)]);
+}
+
+#[test]
+fn search_positions_a_gcode_program() {
+    let mut c = open("g-search");
+    let f = gfile(
+        "search.ngc",
+        "G21 G90\nG0 X10 Y10\nG0 X20 Y30\nG1 Z-2 F100\nG0 Z0\nM30\n",
+    );
+    read_program(&mut c, &f);
+    c.handle(E::Data(DataMode::Search));
+    type_line(&mut c, "G1 Z-2");
+    assert!(shows(&c, "AUTO starts at line 4"), "{}", c.frame_text());
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let a = audit(&c);
+    // The restore goes to X20 Y30 (line 3's point) without visiting X10 Y10 (line 2).
+    assert!(a.iter().all(|e| e.end[..2] != [p(10.0), p(10.0)]), "{a:?}");
+    assert!(
+        a.iter().any(|e| e.end == [p(20.0), p(30.0), p(-2.0)]),
+        "{a:?}"
+    );
+}
+
+#[test]
+fn mdi_takes_gcode_lines_and_source_statements() {
+    let mut c = open("g-mdi");
+    c.handle(E::Op(OpMode::Mdi));
+    type_line(&mut c, "G0 X10 Y20 Z-5");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(
+        c.status().pos,
+        [p(10.0), p(20.0), p(-5.0)],
+        "{}",
+        c.frame_text()
+    );
+    type_line(&mut c, "GO, 100, 50, -20");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(
+        c.status().pos,
+        [p(100.0), p(50.0), p(-20.0)],
+        "{}",
+        c.frame_text()
+    );
+    type_line(&mut c, "G91 G1 X-1 F100");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(
+        c.status().pos,
+        [p(99.0), p(50.0), p(-20.0)],
+        "{}",
+        c.frame_text()
+    );
+}
+
+#[test]
+fn a_bad_gcode_line_in_mdi_says_where_and_moves_nothing() {
+    let mut c = open("g-mdi-bad");
+    c.handle(E::Op(OpMode::Mdi));
+    for (line, why) in [
+        ("G0 X10 G1 Y5", "modal group"),
+        ("G1 X10", "F"),
+        ("G0 X[1/0]", "zero"),
+        ("G10 L2 P9 X1", "P"),
+    ] {
+        let before = (c.status().pos, c.work_offsets());
+        type_line(&mut c, line);
+        c.handle(E::Start);
+        c.handle(E::Wait);
+        assert!(
+            shows(&c, "START refused, nothing moved: line 1:"),
+            "{line}:\n{}",
+            c.frame_text()
+        );
+        assert!(shows(&c, why), "{line}:\n{}", c.frame_text());
+        assert_eq!((c.status().pos, c.work_offsets()), before, "{line}");
+        c.handle(E::Reset);
+    }
+}
