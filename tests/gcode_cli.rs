@@ -113,3 +113,34 @@ fn novanc_run_runs_a_g_code_program_to_its_end() {
         text(&out.stdout)
     );
 }
+
+#[test]
+fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
+    let p = temp("stop.ngc", "G0 X1\nM0\nG0 X2\nM30\n");
+    let out = novanc(&["run", p.to_str().unwrap_or("")]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("final position: X 2.000"),
+        "{}",
+        text(&out.stdout)
+    );
+    let script = temp(
+        "sw.txt",
+        &format!(
+            "op data\ndata read\ntape {}\nstart\nwait\nblockdelete on\noptionalstop on\nshow\nblockdelete maybe\n",
+            p.display()
+        ),
+    );
+    let dir = std::env::temp_dir().join(format!("novanc-gcode-cli-st-{}", std::process::id()));
+    let out = novanc(&[
+        "script",
+        script.to_str().unwrap_or(""),
+        "--state",
+        dir.to_str().unwrap_or(""),
+    ]);
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("'blockdelete' takes on or off, not 'maybe'"),
+        "{err}"
+    );
+}

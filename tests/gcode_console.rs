@@ -190,3 +190,65 @@ fn a_bad_gcode_line_in_mdi_says_where_and_moves_nothing() {
         c.handle(E::Reset);
     }
 }
+
+const STOPS: &str = "G21 G90\nG0 X10\nM0\nG0 X20\n/G0 X30\nM1\nG0 X40\nM30\n";
+
+#[test]
+fn m00_stops_the_run_after_its_block_and_start_continues() {
+    let mut c = open("g-m00");
+    read_program(&mut c, &gfile("stops.ngc", STOPS));
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().pos, [p(10.0), 0, 0], "{}", c.frame_text());
+    assert!(c.status().job.is_some() && c.status().run == 0);
+    assert!(
+        shows(&c, "M00 program stop: START continues"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    // OPTIONAL STOP off: M01 does not stop; BLOCK DELETE off: the / line runs.
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let xs: Vec<i64> = audit(&c).iter().map(|e| e.end[0]).collect();
+    assert!(xs.contains(&p(30.0)), "{xs:?}");
+}
+
+#[test]
+fn the_switches_skip_slash_lines_and_stop_at_m01() {
+    let mut c = open("g-switches");
+    read_program(&mut c, &gfile("stops.ngc", STOPS));
+    common::keys(&mut c, &["Alt+b"]);
+    assert!(shows(&c, "BLOCK DELETE on"), "{}", c.frame_text());
+    c.handle(E::OptionalStop(true));
+    c.handle(E::Op(OpMode::Auto));
+    assert!(
+        shows(&c, "/DEL M01"),
+        "the state line shows both:\n{}",
+        c.frame_text()
+    );
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().pos, [p(20.0), 0, 0], "{}", c.frame_text());
+    assert!(
+        shows(&c, "M01 optional stop: START continues"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let xs: Vec<i64> = audit(&c).iter().map(|e| e.end[0]).collect();
+    assert!(!xs.contains(&p(30.0)), "block delete skipped X30: {xs:?}");
+    assert_eq!(c.status().pos[0], p(40.0));
+    // The keys turn them off again.
+    common::keys(&mut c, &["Alt+b", "Alt+o"]);
+    assert!(
+        !shows(&c, "/DEL") && !shows(&c, " M01"),
+        "{}",
+        c.frame_text()
+    );
+}

@@ -124,6 +124,10 @@ pub fn main(argv: &[String]) -> i32 {
                     break Some(core.status());
                 }
             }
+            Reached::Idle if st.job.is_some() && st.run == 0 && !st.hold && st.alarm.is_none() => {
+                // A program stop (M00): no operator here to press START, so the run goes on.
+                core.start(RunKind::Auto, None);
+            }
             _ => break Some(st),
         }
     };

@@ -46,6 +46,8 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::Override(p) => format!("override {p}"),
         PanelEvent::Wheel(a, n) => format!("wheel {} {n}", a.letter()),
         PanelEvent::WheelScale(s) => format!("wheelscale {s}"),
+        PanelEvent::BlockDelete(on) => format!("blockdelete {}", on_off(*on)),
+        PanelEvent::OptionalStop(on) => format!("optionalstop {}", on_off(*on)),
         PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
         PanelEvent::JogRelease => "jogrelease".into(),
         PanelEvent::Press(k) => format!("key {}", super::keys::key_name(*k)),
@@ -53,6 +55,14 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::WaitBlock(n) => format!("wait block {n}"),
         PanelEvent::WaitMs(t) => format!("wait ms {t}"),
         PanelEvent::Show => "show".into(),
+    }
+}
+
+fn on_off(on: bool) -> &'static str {
+    if on {
+        "on"
+    } else {
+        "off"
     }
 }
 
@@ -219,6 +229,9 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     if let Some(n) = jogged_note(c) {
         parts.push(n);
     }
+    if let Some(n) = super::gcode_run::program_stop_note(c) {
+        parts.push(n);
+    }
     let alarm = c
         .status
         .alarm
@@ -256,6 +269,12 @@ pub(super) fn state_line(c: &Console) -> String {
         "RUN {} {mode} OVR{:>3}% {t} S{}",
         c.status.run, c.feed_override, c.status.spindle
     );
+    if c.switches.block_delete {
+        s.push_str(" /DEL");
+    }
+    if c.switches.optional_stop {
+        s.push_str(" M01");
+    }
     if c.status.estop {
         s.push_str(" ESTOP");
     } else if c.status.hold {

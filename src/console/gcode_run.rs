@@ -114,6 +114,29 @@ fn commit(c: &mut Console, changes: &[OffsetChange]) {
     }
 }
 
+/// The note while a run stands at a program stop: the last block carried M00 or M01, RUN is 0
+/// and the run is loaded.
+pub(super) fn program_stop_note(c: &Console) -> Option<String> {
+    let s = &c.status;
+    let m = s.executed.as_ref()?.m?;
+    let stopped = s.job.is_some() && s.run == 0 && !s.hold && !s.in_block && !s.moving;
+    if !stopped || !matches!(m, 0 | 1) {
+        return None;
+    }
+    let what = if m == 0 {
+        "program stop"
+    } else {
+        "optional stop"
+    };
+    Some(format!("M{m:02} {what}: START continues"))
+}
+
+/// What the display says when a switch is turned: it applies from the next new run.
+pub(super) fn switch_message(name: &str, on: bool) -> String {
+    let state = if on { "on" } else { "off" };
+    format!("{name} {state}: G-code programs, from the next START of a new run")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -467,6 +467,14 @@ impl Console {
                     self.message = format!("increment x{s}: only x1, x10, x100, x1000");
                 }
             }
+            PanelEvent::BlockDelete(on) => {
+                self.switches.block_delete = on;
+                self.message = gcode_run::switch_message("BLOCK DELETE", on);
+            }
+            PanelEvent::OptionalStop(on) => {
+                self.switches.optional_stop = on;
+                self.message = gcode_run::switch_message("OPTIONAL STOP", on);
+            }
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
             PanelEvent::JogRelease => {
