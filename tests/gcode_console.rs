@@ -74,6 +74,17 @@ fn single_block_shows_the_iso_line_as_the_source_statement() {
         "G21 G90\nG0 X10 Y20\nG1 Z-5 F300\nG0 Z0\nM30\n",
     );
     read_program(&mut c, &f);
+    // No % and no O number: the name keeps it G-code, and the PROG page says so.
+    assert_eq!(c.program_name(), "SINGLE.NGC");
+    common::keys(&mut c, &["Ctrl+d"]);
+    assert!(
+        c.frame_text()
+            .lines()
+            .any(|l| l.contains("SINGLE.NGC") && l.contains("ISO")),
+        "{}",
+        c.frame_text()
+    );
+    common::keys(&mut c, &["Ctrl+d"]);
     c.handle(E::Op(OpMode::Single));
     c.handle(E::Start);
     c.handle(E::Wait);
@@ -251,4 +262,43 @@ fn the_switches_skip_slash_lines_and_stop_at_m01() {
         "{}",
         c.frame_text()
     );
+}
+
+/// Found by the operator-sequence test: SEARCH to a line before any Z move, with another
+/// (shorter) tool in the spindle low down, went back down to the machine's Z with the longer
+/// tool, putting the tip below anything programmed. Z now stays at machine zero.
+#[test]
+fn search_before_any_z_move_leaves_z_at_machine_zero() {
+    let mut c = open("g-search-z");
+    let f = gfile(
+        "tool.ngc",
+        "G21 G90\nT1 M6\nG43 H1\nG0 X10 Y10\nG0 Z-300\nM30\n",
+    );
+    read_program(&mut c, &f);
+    // Tool 2 in the spindle, low down.
+    c.handle(E::Op(OpMode::Mdi));
+    type_line(&mut c, "T2 M6");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    type_line(&mut c, "G53 G0 Z-400");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().tool, Some(2));
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Search));
+    type_line(&mut c, "3");
+    audit(&c);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let len = c.magazine().tools.get(1).unwrap().length();
+    let ends = audit(&c);
+    let low = ends.iter().map(|e| e.end[2]).min().unwrap();
+    assert_eq!(
+        low,
+        p(-300.0 + len),
+        "the lowest Z is the one programmed: {ends:?}"
+    );
+    assert_eq!(c.status().tool, Some(1));
 }
