@@ -254,6 +254,20 @@ impl Console {
         self.mem.program_name()
     }
 
+    /// Whether the current program is ISO G-code (by its name or first line).
+    pub fn program_is_gcode(&self) -> bool {
+        self.mem.program_is_gcode()
+    }
+
+    /// Whether [`Console::run_text`] is ISO G-code.
+    pub fn run_text_is_gcode(&self) -> bool {
+        if self.op == OpMode::Mdi {
+            mdi_is_gcode(&self.mem.text(Target::Mdi))
+        } else {
+            self.program_is_gcode()
+        }
+    }
+
     /// The work offsets G54 to G59 in the stores, machine mm.
     pub fn work_offsets(&self) -> crate::gcode::WorkOffsets {
         self.mem.work_offsets()
