@@ -302,3 +302,21 @@ fn search_before_any_z_move_leaves_z_at_machine_zero() {
     );
     assert_eq!(c.status().tool, Some(1));
 }
+
+#[test]
+fn a_gcode_program_starts_with_the_tool_in_the_spindle() {
+    let mut c = open("g-tool");
+    // G43 without H takes the tool in the spindle, which an MDI tool change put there.
+    read_program(&mut c, &gfile("len.ngc", "G43\nG0 Z-300\nM30\n"));
+    c.handle(E::Op(OpMode::Mdi));
+    type_line(&mut c, "T2 M6");
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().tool, Some(2));
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let len = c.magazine().tools.get(2).unwrap().set_length;
+    assert_eq!(c.status().pos[2], p(-300.0 + len));
+}
