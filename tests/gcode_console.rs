@@ -320,3 +320,23 @@ fn a_gcode_program_starts_with_the_tool_in_the_spindle() {
     let len = c.magazine().tools.get(2).unwrap().set_length;
     assert_eq!(c.status().pos[2], p(-300.0 + len));
 }
+
+#[test]
+fn a_gcode_program_is_edited_with_the_editor_commands_and_the_edit_survives_a_restart() {
+    let mut c = open("g-edit");
+    let dir = c.config().state_dir.clone();
+    read_program(&mut c, &gfile("ed.ngc", "G0 X10 Y20\nM30\n"));
+    c.handle(E::Data(DataMode::Revise));
+    type_line(&mut c, "CX10$X12");
+    assert!(shows(&c, "ok"), "{}", c.frame_text());
+    c.finish().unwrap();
+    let mut cfg = novanc::console::ConsoleConfig::new(dir);
+    cfg.clock = novanc::pulse_core::ClockMode::Virtual;
+    let mut c = Console::open(cfg).unwrap().0;
+    assert_eq!(c.program_name(), "ED.NGC");
+    assert_eq!(c.program_text(), "G0 X12 Y20\nM30\n");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.status().pos, [p(12.0), p(20.0), 0], "{}", c.frame_text());
+}

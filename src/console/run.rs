@@ -26,8 +26,7 @@ pub struct RunSource {
     pub text: Arc<str>,
     /// The text is ISO G-code (docs/gcode.md), not the source language.
     pub gcode: bool,
-    /// MDI: the text need not end the program (G-code); program memory, whose definitions
-    /// the MDI text may use (source language).
+    /// MDI: G-code text need not end with M02, M30 or `%`.
     pub mdi: bool,
     /// MDI in the source language: program memory, whose definitions the MDI text may use.
     pub definitions: Option<Arc<str>>,
