@@ -20,6 +20,7 @@ mod memory;
 pub mod pages;
 mod punch;
 mod run;
+mod script_line;
 pub mod search;
 pub mod tape;
 pub mod tcode;
