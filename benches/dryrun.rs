@@ -82,13 +82,7 @@ fn in_process(text: &str) -> (f64, u64, f64) {
     let core = PulseCore::spawn(settings.clone(), ClockMode::Virtual, None);
     let magazine = sample_magazine();
     core.set_magazine(magazine.clone());
-    let src = RunSource {
-        text: text.into(),
-        definitions: None,
-        resume_at: None,
-        magazine,
-        settings,
-    };
+    let src = RunSource::program("", text.into(), magazine, settings);
     let t = Instant::now();
     core.start(RunKind::Auto, Some(src.make_run()));
     let (r, st) = core.run_until_idle(u64::MAX);

@@ -234,9 +234,17 @@ impl Backplot {
         settings: &MachineSettings,
         start: [i64; 3],
     ) -> Backplot {
-        let mut bp = Backplot::default();
         let tr = Translator::new(source, magazine.clone(), settings.clone(), start);
-        'statements: for st in tr {
+        Backplot::from_statements(tr, settings)
+    }
+
+    /// The path of the blocks of a program source (the translator, or the G-code source).
+    pub fn from_statements(
+        statements: impl Iterator<Item = Result<crate::block::Statement, TranslateError>>,
+        settings: &MachineSettings,
+    ) -> Backplot {
+        let mut bp = Backplot::default();
+        'statements: for st in statements {
             match st {
                 Ok(st) => {
                     for b in &st.blocks {

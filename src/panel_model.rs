@@ -270,6 +270,10 @@ pub enum PanelEvent {
     /// The increment selector, in pulses (1, 10, 100 or 1000): per handwheel detent and per
     /// STEP key, and a CONTINUOUS tap.
     WheelScale(u32),
+    /// The BLOCK DELETE switch on or off: a G-code run skips lines starting with `/`.
+    BlockDelete(bool),
+    /// The OPTIONAL STOP switch on or off: a G-code run stops at M01.
+    OptionalStop(bool),
     /// Jog button pressed (CONTINUOUS: move while held; STEP: one increment), +1 or -1.
     Jog(Axis, i8),
     /// Jog button released.
@@ -424,6 +428,18 @@ impl PanelEvent {
                     .parse()
                     .map_err(|_| format!("increment '{a}' is not 1, 10, 100 or 1000"))?;
                 PanelEvent::WheelScale(n)
+            }
+            "blockdelete" | "optionalstop" => {
+                let on = match one("on or off")?.to_ascii_lowercase().as_str() {
+                    "on" => true,
+                    "off" => false,
+                    a => return Err(format!("'{word}' takes on or off, not '{a}'")),
+                };
+                if word == "blockdelete" {
+                    PanelEvent::BlockDelete(on)
+                } else {
+                    PanelEvent::OptionalStop(on)
+                }
             }
             other => return Err(format!("unknown script word '{other}'")),
         };

@@ -83,3 +83,64 @@ fn table_b_in_g_code_translates() {
     );
     assert!(s.ends_with("M30\n"));
 }
+
+#[test]
+fn novanc_run_runs_a_g_code_program_to_its_end() {
+    let p = temp(
+        "run.ngc",
+        "G21 G90\nG10 L2 P1 X100 Y50 Z-200\nG0 X1 Y2 Z3\nG91 G1 X-1 F500\nM30\n",
+    );
+    let out = novanc(&["run", p.to_str().unwrap_or("")]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(
+        s.contains("final position: X 100.000 Y 52.000 Z -197.000 mm"),
+        "{s}"
+    );
+    let bad = temp("bad.ngc", "G21\nG0 X1 G1 Y1\nM30\n");
+    let out = novanc(&["run", bad.to_str().unwrap_or("")]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("bad.ngc:2:"),
+        "{}",
+        text(&out.stderr)
+    );
+    let del = temp("del.ngc", "G0 X1\n/G0 X7\nM30\n");
+    let out = novanc(&["run", del.to_str().unwrap_or(""), "--block-delete"]);
+    assert!(
+        text(&out.stdout).contains("final position: X 1.000"),
+        "{}",
+        text(&out.stdout)
+    );
+}
+
+#[test]
+fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
+    let p = temp("stop.ngc", "G0 X1\nM0\nG0 X2\nM30\n");
+    let out = novanc(&["run", p.to_str().unwrap_or("")]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("final position: X 2.000"),
+        "{}",
+        text(&out.stdout)
+    );
+    let script = temp(
+        "sw.txt",
+        &format!(
+            "op data\ndata read\ntape {}\nstart\nwait\nblockdelete on\noptionalstop on\nshow\nblockdelete maybe\n",
+            p.display()
+        ),
+    );
+    let dir = std::env::temp_dir().join(format!("novanc-gcode-cli-st-{}", std::process::id()));
+    let out = novanc(&[
+        "script",
+        script.to_str().unwrap_or(""),
+        "--state",
+        dir.to_str().unwrap_or(""),
+    ]);
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("'blockdelete' takes on or off, not 'maybe'"),
+        "{err}"
+    );
+}

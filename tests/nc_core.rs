@@ -348,3 +348,32 @@ fn real_time_emergency_stop_stops_the_pulses_within_one_period() {
     );
     assert!(!sink.is_incomplete());
 }
+
+#[test]
+fn m00_and_m01_stop_the_run_after_their_block_and_start_continues() {
+    let (mut stmts, end) = program(9, 3);
+    stmts[0].blocks[2].m = Some(0);
+    stmts[1].blocks[1].m = Some(1);
+    let core = PulseCore::spawn(small_b1(), ClockMode::Virtual, None);
+    core.set_position(MID);
+    core.start(RunKind::Auto, make(stmts));
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(
+        (st.run, st.blocks_done),
+        (0, 3),
+        "M00 on block 3 stops after it"
+    );
+    assert!(st.job.is_some() && !st.program_end && !st.hold);
+    let st = core.start(RunKind::Auto, None);
+    assert_eq!(st.run, 1, "START continues");
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert_eq!(
+        (st.run, st.blocks_done),
+        (0, 5),
+        "M01 on block 5 stops after it"
+    );
+    core.start(RunKind::Auto, None);
+    let st = core.wait_idle(WAIT).expect("idle");
+    assert!(st.program_end && st.job.is_none());
+    assert_eq!((st.blocks_done, st.pos), (9, end));
+}

@@ -7,7 +7,8 @@
 //! Invariants:
 //! - at every block end the machine is on that block's programmed end point (the pulse core's
 //!   audit; manual moves are undone by the return before the next block, so no shift is kept);
-//! - no block takes the tool tip down below the lowest tip Z the programs run command;
+//! - no block takes the tool tip down below the lowest tip Z the programs run command (one
+//!   session in three runs Table B in ISO G-code and MDI G-code lines: `common/seq_gcode.rs`);
 //! - every pulse is recorded exactly once: the recorded pulses add up to the position;
 //! - E-STOP and an alarm refuse START; one RESET clears them; the lamps agree;
 //! - a tape read stores exactly what the codec decodes, or nothing: an error leaves program
@@ -19,6 +20,10 @@
 //! `NOVANC_SEQUENCES=10000 cargo test --release --test operator_sequences -- --ignored`.
 
 mod common;
+#[path = "common/seq_gcode.rs"]
+mod seq_gcode;
+#[path = "common/seq_stats.rs"]
+mod seq_stats;
 
 use common::temp_dir;
 use novanc::console::keys::parse_key;
@@ -29,6 +34,7 @@ use novanc::pulse_core::ClockMode;
 use novanc::record::{Event, EventSink};
 use novanc::tape::{self, ReadOptions};
 use novanc::tooldata::format_record;
+use seq_stats::{count, run_many, Stats};
 use std::path::PathBuf;
 use std::sync::mpsc::Receiver;
 
@@ -61,39 +67,8 @@ struct Session {
     stats: Stats,
     /// Where the session's tape images are written.
     tapes: PathBuf,
-}
-
-/// What the sequences exercised, so a run that tested nothing cannot pass.
-#[derive(Clone, Copy, Debug, Default)]
-struct Stats {
-    block_ends: u64,
-    runs: u64,
-    holds: u64,
-    jogged_stops: u64,
-    returns: u64,
-    searches: u64,
-    estops: u64,
-    tape_reads: u64,
-    tape_alarms: u64,
-    tape_abandoned: u64,
-    /// Tool data changed on the OFS page with a run loaded (held or between single blocks).
-    ofs_in_run: u64,
-}
-
-impl Stats {
-    fn add(&mut self, o: &Stats) {
-        self.block_ends += o.block_ends;
-        self.runs += o.runs;
-        self.holds += o.holds;
-        self.jogged_stops += o.jogged_stops;
-        self.returns += o.returns;
-        self.searches += o.searches;
-        self.estops += o.estops;
-        self.tape_reads += o.tape_reads;
-        self.tape_alarms += o.tape_alarms;
-        self.tape_abandoned += o.tape_abandoned;
-        self.ofs_in_run += o.ofs_in_run;
-    }
+    /// The session runs Table B in G-code (`seq_gcode`).
+    gcode: bool,
 }
 
 impl Session {
@@ -120,7 +95,8 @@ impl Session {
         cfg.sink = Some(sink.clone());
         let c = Console::open(cfg).unwrap().0;
         c.core().set_audit(true);
-        Session {
+        let gcode = seed.is_multiple_of(3);
+        let mut s = Session {
             c,
             sink,
             counts,
@@ -130,7 +106,21 @@ impl Session {
             log: Vec::new(),
             stats: Stats::default(),
             tapes: temp_dir("seq-tapes"),
+            gcode,
+        };
+        if gcode {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(seq_gcode::PROGRAM);
+            s.key("Alt+4");
+            s.key("F2");
+            s.ev(E::Tape(path));
+            s.key("F9");
+            s.ev(E::Wait);
+            assert_eq!(s.c.program_name(), "TABLEB.NGC", "{}", s.c.frame_text());
+            // Back to DATA INPUT REVISE, where every session starts.
+            s.key("F3");
+            s.stats.gcode_sessions += 1;
         }
+        s
     }
 
     /// The net recorded pulses per axis of every event sent so far: a marker goes through the
@@ -283,15 +273,23 @@ impl Session {
                 let what = if self.rng.range(0, 1) == 0 {
                     self.rng.range(0, 10).to_string()
                 } else {
-                    self.pick(&["DRL, 105", "tap, 206", "PAT1", "BOR"])
-                        .to_string()
+                    let words = if self.gcode {
+                        seq_gcode::SEARCH
+                    } else {
+                        ["DRL, 105", "tap, 206", "PAT1", "BOR"]
+                    };
+                    self.pick(&words).to_string()
                 };
                 self.ev(E::Type(what));
                 self.stats.searches += u64::from(self.c.frame_text().contains("AUTO starts at"));
             }
             86..=91 => {
                 // An MDI program.
-                let (text, low) = MDI[self.rng.range(0, MDI.len() as i64 - 1) as usize];
+                let (text, low) = if self.gcode && self.rng.range(0, 1) == 0 {
+                    seq_gcode::MDI[self.rng.range(0, 3) as usize]
+                } else {
+                    MDI[self.rng.range(0, MDI.len() as i64 - 1) as usize]
+                };
                 self.lowest_mm = self.lowest_mm.min(low);
                 self.key("Alt+4");
                 self.key("F7");
@@ -358,7 +356,9 @@ impl Session {
                     };
                     self.key(k);
                 }
-                let v = if self.rng.range(0, 1) == 0 {
+                let v = if self.gcode && !held && self.rng.range(0, 3) == 0 {
+                    self.pick(&seq_gcode::OFFSETS).to_string()
+                } else if self.rng.range(0, 1) == 0 {
                     self.rng.range(100, 230).to_string()
                 } else {
                     format!("{:.3}", self.rng.range(-500, 500) as f64 / 1000.0)
@@ -389,6 +389,15 @@ impl Session {
                 "the tool data changed with a run not stopped at rest"
             );
             self.stats.ofs_in_run += u64::from(st.job.is_some());
+            if self.gcode && st.job.is_some() {
+                let len = |m: &novanc::tooldata::Magazine| {
+                    st.tool
+                        .and_then(|t| m.tools.get(t))
+                        .map_or(0.0, |r| r.length())
+                };
+                let after = self.c.magazine();
+                self.lowest_mm = seq_gcode::revised_in_run(self.lowest_mm, len(&mag), len(&after));
+            }
         }
         if st.job.is_some() {
             assert_eq!(
@@ -436,6 +445,10 @@ impl Session {
         }
         std::fs::write(&path, &image).unwrap();
         let expect = tape::read_image(&image, ReadOptions::default());
+        if self.c.tape_reading() {
+            // A read a START began is still going: it ends first, as an operator waits.
+            self.ev(E::Wait);
+        }
         let program = self.c.program_text();
         let magazine = self.c.magazine();
         let alarm_before = self.c.tape_alarm().is_some();
@@ -543,6 +556,13 @@ impl Session {
             assert!(l.chars().count() <= self.c.config().cols, "{l:?}");
         }
         self.stats.runs = st.runs;
+        if self.gcode {
+            self.stats.gcode_ends += u64::from(
+                st.last_end
+                    .as_ref()
+                    .is_some_and(|e| e.cause == novanc::pulse_core::EndCause::ProgramEnd),
+            );
+        }
         self.stats.holds += u64::from(st.hold);
         self.stats.estops += u64::from(st.estop);
         if let Some(j) = &st.job {
@@ -579,42 +599,10 @@ fn sequence(seed: u64, len: usize) -> Stats {
     stats
 }
 
-fn run_many(n: u64, len: usize) -> Stats {
-    let base = std::env::var("NOVANC_SEQUENCE_SEED")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0x5EED_0001);
-    let mut total = Stats::default();
-    for i in 0..n {
-        let seed = base + i;
-        let r = std::panic::catch_unwind(|| sequence(seed, len));
-        if let Ok(st) = &r {
-            total.add(st);
-        }
-        if let Err(e) = r {
-            let msg = e
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1; NOVANC_SEQUENCE_LOG=1 prints the events)");
-        }
-    }
-    eprintln!("{n} sequences of {len} steps: {total:?}");
-    total
-}
-
-fn count(default: u64) -> u64 {
-    std::env::var("NOVANC_SEQUENCES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
-
 #[test]
 fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
     let n = count(200);
-    let st = run_many(n, 30);
+    let st = run_many(n, 30, sequence);
     if n >= 100 {
         assert!(st.block_ends > 1000, "{st:?}");
         assert!(st.jogged_stops > 0 && st.returns > 0, "{st:?}");
@@ -624,11 +612,12 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
             "{st:?}"
         );
         assert!(st.ofs_in_run > 0, "{st:?}");
+        assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
     }
 }
 
 #[test]
 #[ignore]
 fn ten_thousand_operator_sequences() {
-    run_many(count(10_000), 60);
+    run_many(count(10_000), 60, sequence);
 }

@@ -115,3 +115,8 @@ fn tape_read_error() {
 fn tape_read_stop() {
     check("tape_read_stop");
 }
+
+#[test]
+fn gcode_single_block() {
+    check("gcode_single_block");
+}

@@ -1,6 +1,6 @@
 //! Crash safety by command: a child process makes mixed changes to the stores (program edits,
 //! MDI, tool-file revisions, T-code settings, PROGRAM READ, TOOL DATA READ, SEARCH, new and
-//! deleted programs) and prints `ack K` after each acknowledged one (`nak K` after a refused
+//! deleted programs, work offsets) and prints `ack K` after each acknowledged one (`nak K` after a refused
 //! one); the parent kills it with SIGKILL at a random moment, reopens the stores and compares
 //! them with a reference that made the same changes without being killed. Every acknowledged
 //! change must be there, in order, and nothing beyond the one in flight.
@@ -122,8 +122,19 @@ fn apply(s: &mut Stores, k: u64) -> Result<(), String> {
                 .map(|_| ())
                 .map_err(|e| e.to_string())
         }
+        // Work offsets (OFS page, G10): one refused in ten (beyond 100 m).
+        85..=88 => {
+            let system = r.below(6) as usize;
+            let x = if r.below(10) == 0 {
+                1e9
+            } else {
+                k as f64 * 0.001
+            };
+            s.set_work_offset(system, [x, -(r.below(1000) as f64), 1.5])
+                .map_err(|e| e.to_string())
+        }
         // SEARCH, new and deleted programs.
-        85..=93 => s
+        89..=93 => s
             .select_program(program[r.below(program.len() as u64) as usize])
             .map_err(|e| e.to_string()),
         94..=96 => s
@@ -186,6 +197,7 @@ fn digest(s: &Stores) -> u64 {
         text.push_str(&format!("{t:?} {}\n{}", b.pointer(), b.text()));
     }
     text.push_str(&format!("{:?}", s.magazine()));
+    text.push_str(&format!("{:?}", s.work_offsets()));
     text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
         (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })

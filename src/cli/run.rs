@@ -17,7 +17,8 @@ usage: novanc run PROG [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--realtime] [--feed-override PCT]
        novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT]
 
-Runs the part program PROG headless on the pulse core, from machine zero with no tool in the
+Runs the part program PROG (source language, or ISO G-code by its name .ngc/.nc/.iso or a
+first line of % or O and a number) headless on the pulse core, from machine zero with no tool in the
 spindle, in AUTO to its end, and prints a summary: blocks executed, pulses per axis, final
 position (mm, machine coordinates), machine time, and whether the recording is complete.
 
@@ -30,17 +31,19 @@ core (travel limit, arc geometry) stops the run with a message naming the statem
 options:
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES     T-code table; default: the sample table tooldata/magazine.tc (embedded)
-  --state DIR           use a console's memory (read, never changed): its tool file and T
-                        codes, and PROG names a program in it (else a file); with no PROG,
-                        the program selected there
+  --state DIR           use a console's memory (read, never changed): its tool file, T
+                        codes and work offsets, and PROG names a program in it (else a
+                        file); with no PROG, the program selected there
   --record OUT.mcap     record the run to an MCAP file (docs/recording.md)
   --realtime            pace the machine clock to the wall clock (default: virtual time, as
                         fast as possible, deterministic)
   --feed-override PCT   feed override, 1-150 percent (default 100); rapids are not overridden
+  --block-delete        G-code: skip lines that start with / (the BLOCK DELETE switch)
   -h, --help            this help
 ";
 
-const OPTS: [Opt; 8] = [
+const OPTS: [Opt; 9] = [
+    Opt::flag("--block-delete"),
     Opt::value("--tools"),
     Opt::value("--magazine"),
     Opt::value("--state"),
@@ -73,7 +76,7 @@ pub fn main(argv: &[String]) -> i32 {
         },
     };
     let settings = MachineSettings::default();
-    let (prog, source, magazine) =
+    let (prog, source, magazine, offsets) =
         match super::translate::program_and_tools(&args, &settings, "run") {
             Ok(x) => x,
             Err(code) => return code,
@@ -95,13 +98,9 @@ pub fn main(argv: &[String]) -> i32 {
     core.set_magazine(magazine.clone());
     core.set_panel_modes("AUTO", "SEARCH");
     core.command(Command::Override(feed_override));
-    let src = RunSource {
-        text: source.into(),
-        definitions: None,
-        resume_at: None,
-        magazine,
-        settings: settings.clone(),
-    };
+    let mut src = RunSource::program(&prog, source.into(), magazine, settings.clone());
+    src.offsets = offsets;
+    src.switches.block_delete = args.flag("--block-delete");
     core.start(RunKind::Auto, Some(src.make_run()));
     // The machine runs a slice of machine time at a time, so a stop signal is seen between
     // slices: an hour of machine time in virtual time (milliseconds of work), 50 ms in real
@@ -124,6 +123,10 @@ pub fn main(argv: &[String]) -> i32 {
                 if super::signals::caught().is_some() {
                     break Some(core.status());
                 }
+            }
+            Reached::Idle if st.job.is_some() && st.run == 0 && !st.hold && st.alarm.is_none() => {
+                // A program stop (M00): no operator here to press START, so the run goes on.
+                core.start(RunKind::Auto, None);
             }
             _ => break Some(st),
         }

@@ -4,6 +4,7 @@
 use super::args::{Args, Opt};
 use super::fail;
 use crate::block::{IsoWriter, Statement, TranslateError};
+use crate::gcode::WorkOffsets;
 use crate::settings::MachineSettings;
 use crate::tooldata::{parse_tape, parse_tcodes, Magazine, SAMPLE_TAPE, SAMPLE_TCODES};
 use crate::translator::Translator;
@@ -50,14 +51,18 @@ const OPTS: [Opt; 7] = [
     Opt::flag("-h"),
 ];
 
+/// What a command works on: the program's name (errors are reported under it), its text, the
+/// tool data and the work offsets (zero without `--state`).
+pub type Program = (String, String, Magazine, WorkOffsets);
+
 /// The program to work on and the tool data, from the files given or from a console's memory
-/// (`--state DIR`): the name errors are reported under, the text and the magazine. `Err` is the
-/// exit code after a message.
+/// (`--state DIR`, whose work offsets a G-code program uses). `Err` is the exit code after a
+/// message.
 pub fn program_and_tools(
     args: &Args,
     settings: &MachineSettings,
     what: &str,
-) -> Result<(String, String, Magazine), i32> {
+) -> Result<Program, i32> {
     let prog = match args.positional.as_slice() {
         [p] => Some(p.clone()),
         [] => None,
@@ -76,7 +81,7 @@ pub fn program_and_tools(
         let magazine = load_magazine(args.value("--tools"), args.value("--magazine"), settings)
             .map_err(|e| fail(&e))?;
         let source = read(&prog).map_err(|e| fail(&e))?;
-        return Ok((prog, source, magazine));
+        return Ok((prog, source, magazine, WorkOffsets::default()));
     };
     if args.value("--tools").is_some() || args.value("--magazine").is_some() {
         return Err(super::usage_error(&format!(
@@ -95,11 +100,11 @@ pub fn program_and_tools(
         .iter()
         .find(|(n, _)| n.eq_ignore_ascii_case(&name))
     {
-        return Ok((n.clone(), text.clone(), view.magazine));
+        return Ok((n.clone(), text.clone(), view.magazine, view.offsets));
     }
     if std::path::Path::new(&name).is_file() {
         let source = read(&name).map_err(|e| fail(&e))?;
-        return Ok((name, source, view.magazine));
+        return Ok((name, source, view.magazine, view.offsets));
     }
     let names: Vec<&str> = view.programs.keys().map(|n| n.as_str()).collect();
     Err(fail(&format!(
@@ -148,6 +153,25 @@ pub fn iso_text(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
 ) -> Result<String, TranslateError> {
+    iso_text_at(
+        name,
+        source,
+        magazine,
+        settings,
+        switches,
+        WorkOffsets::default(),
+    )
+}
+
+/// [`iso_text`] with the work offsets G54..G59 a G-code program starts with.
+pub fn iso_text_at(
+    name: &str,
+    source: &str,
+    magazine: Magazine,
+    settings: &MachineSettings,
+    switches: crate::gcode::Switches,
+    offsets: WorkOffsets,
+) -> Result<String, TranslateError> {
     let mut out = String::with_capacity(source.len() * 2);
     let mut w = IsoWriter::new(&mut out);
     let mut print = |r: Result<Statement, TranslateError>| -> Result<(), TranslateError> {
@@ -160,7 +184,7 @@ pub fn iso_text(
             magazine,
             settings.clone(),
             crate::block::MachineState::at([0, 0, 0]),
-            crate::gcode::WorkOffsets::default(),
+            offsets,
             switches,
         )
         .try_for_each(&mut print)?;
@@ -182,7 +206,7 @@ pub fn main(argv: &[String]) -> i32 {
         return 0;
     }
     let settings = MachineSettings::default();
-    let (prog, source, magazine) = match program_and_tools(&args, &settings, "translate") {
+    let (prog, source, magazine, offsets) = match program_and_tools(&args, &settings, "translate") {
         Ok(x) => x,
         Err(code) => return code,
     };
@@ -190,7 +214,7 @@ pub fn main(argv: &[String]) -> i32 {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
     };
-    let out = match iso_text(&prog, &source, magazine, &settings, switches) {
+    let out = match iso_text_at(&prog, &source, magazine, &settings, switches, offsets) {
         Ok(t) => t,
         Err(e) => return fail(&format!("{prog}:{e}")),
     };

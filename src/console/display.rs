@@ -10,7 +10,7 @@
 
 use super::Console;
 use crate::block::iso_line;
-use crate::panel_model::{DataMode, OpMode, PanelEvent};
+use crate::panel_model::{DataMode, OpMode};
 use crate::pulse_core::RunKind;
 use crate::store::Target;
 use crate::tooldata::Magazine;
@@ -29,32 +29,7 @@ pub fn text_rows(rows: usize) -> usize {
     rows.saturating_sub(4).max(1)
 }
 
-/// An event as its panel-script line (for the recording).
-pub fn script_line(ev: &PanelEvent) -> String {
-    match ev {
-        PanelEvent::Op(m) => format!("op {}", m.word()),
-        PanelEvent::Data(m) => format!("data {}", m.word()),
-        PanelEvent::Type(t) => format!("type {t}"),
-        PanelEvent::Key(c) => format!("key {c}"),
-        PanelEvent::Rubout => "rubout".into(),
-        PanelEvent::Eob => "eob".into(),
-        PanelEvent::Tape(p) => format!("tape {}", p.display()),
-        PanelEvent::Start => "start".into(),
-        PanelEvent::Stop => "stop".into(),
-        PanelEvent::Reset => "reset".into(),
-        PanelEvent::EStop => "estop".into(),
-        PanelEvent::Override(p) => format!("override {p}"),
-        PanelEvent::Wheel(a, n) => format!("wheel {} {n}", a.letter()),
-        PanelEvent::WheelScale(s) => format!("wheelscale {s}"),
-        PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
-        PanelEvent::JogRelease => "jogrelease".into(),
-        PanelEvent::Press(k) => format!("key {}", super::keys::key_name(*k)),
-        PanelEvent::Wait => "wait".into(),
-        PanelEvent::WaitBlock(n) => format!("wait block {n}"),
-        PanelEvent::WaitMs(t) => format!("wait ms {t}"),
-        PanelEvent::Show => "show".into(),
-    }
-}
+pub use super::script_line::script_line;
 
 /// The mark at the end of a line that was cut to fit the display.
 pub const CUT: char = '…';
@@ -219,6 +194,9 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     if let Some(n) = jogged_note(c) {
         parts.push(n);
     }
+    if let Some(n) = super::gcode_run::program_stop_note(c) {
+        parts.push(n);
+    }
     let alarm = c
         .status
         .alarm
@@ -256,6 +234,12 @@ pub(super) fn state_line(c: &Console) -> String {
         "RUN {} {mode} OVR{:>3}% {t} S{}",
         c.status.run, c.feed_override, c.status.spindle
     );
+    if c.switches.block_delete {
+        s.push_str(" /DEL");
+    }
+    if c.switches.optional_stop {
+        s.push_str(" M01");
+    }
     if c.status.estop {
         s.push_str(" ESTOP");
     } else if c.status.hold {

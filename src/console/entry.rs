@@ -87,7 +87,7 @@ fn enter(c: &mut Console, to: To, line: String) {
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).
 fn mdi_line(c: &mut Console, line: String) {
     if line.trim().is_empty() {
-        c.message = "MDI: type a statement, Enter, then START".into();
+        c.message = "MDI: type a statement or a G-code line, Enter, then START".into();
         return;
     }
     c.pages.remember(&line);

@@ -55,6 +55,10 @@ pub enum Action {
     Punch,
     /// Show the help screen.
     Help,
+    /// Turn the BLOCK DELETE switch over.
+    BlockDelete,
+    /// Turn the OPTIONAL STOP switch over.
+    OptionalStop,
     /// Nothing.
     None,
 }
@@ -81,6 +85,8 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt('.') => A::Wheel(1),
         Key::Alt('t') => A::Tape,
         Key::Alt('u') => A::Punch,
+        Key::Alt('b') => A::BlockDelete,
+        Key::Alt('o') => A::OptionalStop,
         Key::Left => A::Move(Axis::X, -1),
         Key::Right => A::Move(Axis::X, 1),
         Key::Up => A::Move(Axis::Y, 1),
@@ -251,6 +257,14 @@ impl Console {
             }
             Action::Tape => self.tape_from_entry(),
             Action::Punch => self.punch_from_entry(),
+            Action::BlockDelete => {
+                let on = !self.switches.block_delete;
+                self.handle(PanelEvent::BlockDelete(on));
+            }
+            Action::OptionalStop => {
+                let on = !self.switches.optional_stop;
+                self.handle(PanelEvent::OptionalStop(on));
+            }
             Action::Help => {
                 self.help = 1;
                 self.refresh();

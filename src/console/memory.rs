@@ -287,4 +287,33 @@ impl Memory {
     pub fn magazine(&self) -> Magazine {
         self.stores.magazine()
     }
+
+    /// The work offsets G54 to G59, machine mm.
+    pub fn work_offsets(&self) -> crate::gcode::WorkOffsets {
+        self.stores.work_offsets()
+    }
+
+    /// Sets a work offset (0 = G54 … 5 = G59), journaled.
+    pub fn set_work_offset(&mut self, system: usize, mm: [f64; 3]) -> Result<(), String> {
+        if self.stores.work_offsets().0.get(system) == Some(&mm) {
+            return Ok(());
+        }
+        let r = self
+            .stores
+            .set_work_offset(system, mm)
+            .map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
+    /// Whether the current program is ISO G-code (by its name or first line).
+    pub fn program_is_gcode(&self) -> bool {
+        let name = self.program_name();
+        let b = self.stores.buffer(Target::Program);
+        let head = if b.line_count() > 16 {
+            b.slice(0, b.line_start(16))
+        } else {
+            b.text()
+        };
+        crate::gcode::is_gcode(&name, &head)
+    }
 }

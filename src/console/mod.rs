@@ -14,16 +14,19 @@
 mod config;
 mod display;
 mod entry;
+mod gcode_run;
 pub mod keys;
 mod memory;
 pub mod pages;
 mod punch;
 mod run;
+mod script_line;
 pub mod search;
 pub mod tape;
 pub mod tcode;
 
 pub use config::ConsoleConfig;
+pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 
@@ -106,6 +109,10 @@ pub struct Console {
     end_seen: u64,
     /// Why the last `wait` ended early, if it did.
     wait_error: Option<String>,
+    /// The BLOCK DELETE and OPTIONAL STOP switches (G-code programs).
+    switches: crate::gcode::Switches,
+    /// The G10 changes the loaded G-code run has read and the stores do not hold yet.
+    offset_feed: Option<gcode_run::OffsetFeed>,
     recorder: run::Recording,
 }
 
@@ -160,6 +167,8 @@ impl Console {
             notice_seen: None,
             end_seen: 0,
             wait_error: None,
+            switches: Default::default(),
+            offset_feed: None,
             recorder,
         };
         if let Some(w) = warnings.first() {
@@ -239,6 +248,30 @@ impl Console {
             .map(|l| l.trim_end())
             .collect::<Vec<_>>()
             .join("\n")
+    }
+
+    /// The name of the current program in program memory.
+    pub fn program_name(&self) -> String {
+        self.mem.program_name()
+    }
+
+    /// Whether the current program is ISO G-code (by its name or first line).
+    pub fn program_is_gcode(&self) -> bool {
+        self.mem.program_is_gcode()
+    }
+
+    /// Whether [`Console::run_text`] is ISO G-code.
+    pub fn run_text_is_gcode(&self) -> bool {
+        if self.op == OpMode::Mdi {
+            mdi_is_gcode(&self.mem.text(Target::Mdi))
+        } else {
+            self.program_is_gcode()
+        }
+    }
+
+    /// The work offsets G54 to G59 in the stores, machine mm.
+    pub fn work_offsets(&self) -> crate::gcode::WorkOffsets {
+        self.mem.work_offsets()
     }
 
     /// The current program in program memory.
@@ -329,6 +362,7 @@ impl Console {
         self.status = self.core.status();
         tape::advance(self);
         run::note_run_end(self);
+        gcode_run::keep_offsets(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {
@@ -447,6 +481,14 @@ impl Console {
                 } else {
                     self.message = format!("increment x{s}: only x1, x10, x100, x1000");
                 }
+            }
+            PanelEvent::BlockDelete(on) => {
+                self.switches.block_delete = on;
+                self.message = gcode_run::switch_message("BLOCK DELETE", on);
+            }
+            PanelEvent::OptionalStop(on) => {
+                self.switches.optional_stop = on;
+                self.message = gcode_run::switch_message("OPTIONAL STOP", on);
             }
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),

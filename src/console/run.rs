@@ -5,6 +5,7 @@
 
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
+use crate::gcode::{GcodeSource, Switches, WorkOffsets};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
 use crate::record::{Event, EventSink, Recorder};
@@ -23,7 +24,11 @@ pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
 pub struct RunSource {
     /// The text to run.
     pub text: Arc<str>,
-    /// MDI: program memory, whose definitions the MDI text may use.
+    /// The text is ISO G-code (docs/gcode.md), not the source language.
+    pub gcode: bool,
+    /// MDI: G-code text need not end with M02, M30 or `%`.
+    pub mdi: bool,
+    /// MDI in the source language: program memory, whose definitions the MDI text may use.
     pub definitions: Option<Arc<str>>,
     /// SEARCH: start at this source line, restoring the state before it.
     pub resume_at: Option<u32>,
@@ -31,10 +36,63 @@ pub struct RunSource {
     pub magazine: Magazine,
     /// The machine settings.
     pub settings: MachineSettings,
+    /// G-code: the work offsets G54 to G59 in force.
+    pub offsets: WorkOffsets,
+    /// G-code: the BLOCK DELETE and OPTIONAL STOP switches.
+    pub switches: Switches,
+    /// G-code: where the run's G10 changes go (None: they are dropped).
+    pub offset_feed: Option<super::gcode_run::OffsetFeed>,
 }
 
 impl RunSource {
-    /// The translator for this source, from the machine's actual state.
+    /// A whole program named `name` (its name or first line decides the language), from the
+    /// start, with zero work offsets and both switches off.
+    pub fn program(
+        name: &str,
+        text: Arc<str>,
+        magazine: Magazine,
+        settings: MachineSettings,
+    ) -> RunSource {
+        RunSource {
+            gcode: crate::gcode::is_gcode(name, &text),
+            text,
+            mdi: false,
+            definitions: None,
+            resume_at: None,
+            magazine,
+            settings,
+            offsets: WorkOffsets::default(),
+            switches: Switches::default(),
+            offset_feed: None,
+        }
+    }
+
+    /// The statements of this source, in its language, from the machine's actual state.
+    pub fn statements(self, state: MachineState) -> StatementIter {
+        if !self.gcode {
+            return Box::new(self.translator(state));
+        }
+        let mut g = GcodeSource::new(
+            self.text,
+            self.magazine,
+            self.settings,
+            state,
+            self.offsets,
+            self.switches,
+        );
+        if self.mdi {
+            g = g.mdi();
+        }
+        if let Some(l) = self.resume_at {
+            g = g.resume_at(l);
+        }
+        match self.offset_feed {
+            Some(feed) => Box::new(super::gcode_run::Feeding { src: g, feed }),
+            None => Box::new(g),
+        }
+    }
+
+    /// The source-language translator for this source, from the machine's actual state.
     pub fn translator(self, state: MachineState) -> Translator {
         let mut t = Translator::from_state(self.text, self.magazine, self.settings, state);
         if let Some(p) = &self.definitions {
@@ -48,30 +106,37 @@ impl RunSource {
 
     /// The program source the pulse core starts a new run with.
     pub fn make_run(self) -> MakeRun {
-        Box::new(move |state| -> StatementIter { Box::new(self.translator(state)) })
+        Box::new(move |state| -> StatementIter { self.statements(state) })
     }
 }
 
 /// The program source START would begin a new run of `kind` with.
 pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
-    let (text, definitions, resume_at) = match kind {
+    let (text, gcode, definitions, resume_at) = match kind {
         RunKind::Auto => (
             c.mem.text_shared(Target::Program),
+            c.mem.program_is_gcode(),
             None,
             c.search.as_ref().map(|s| s.line),
         ),
-        RunKind::Mdi => (
-            c.mem.text_shared(Target::Mdi),
-            Some(c.mem.text_shared(Target::Program)),
-            None,
-        ),
+        RunKind::Mdi => {
+            let text = c.mem.text_shared(Target::Mdi);
+            let gcode = super::gcode_run::mdi_is_gcode(&text);
+            let defs = (!gcode).then(|| c.mem.text_shared(Target::Program));
+            (text, gcode, defs, None)
+        }
     };
     RunSource {
         text,
+        gcode,
+        mdi: kind == RunKind::Mdi,
         definitions,
         resume_at,
         magazine: c.mem.magazine(),
         settings: c.cfg.settings.clone(),
+        offsets: c.mem.work_offsets(),
+        switches: c.switches,
+        offset_feed: None,
     }
 }
 
@@ -88,7 +153,15 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     c.command(Command::SingleBlock(single));
     let make = if c.status.job.is_none() {
         c.core.set_magazine(c.mem.magazine());
-        Some(run_source(c, kind).make_run())
+        note_run_end(c);
+        super::gcode_run::end_offsets(c, false);
+        let mut src = run_source(c, kind);
+        if src.gcode {
+            let feed = super::gcode_run::OffsetFeed::default();
+            src.offset_feed = Some(feed.clone());
+            c.offset_feed = Some(feed);
+        }
+        Some(src.make_run())
     } else {
         None
     };
@@ -126,6 +199,14 @@ pub(super) fn note_run_end(c: &mut Console) {
         return;
     }
     c.end_seen = end.id;
+    let nothing_moved = matches!(
+        end.cause,
+        EndCause::Error {
+            nothing_moved: true,
+            ..
+        }
+    );
+    super::gcode_run::end_offsets(c, nothing_moved);
     let done = end.cause == EndCause::ProgramEnd;
     super::pages::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
     let secs = end.machine_ns as f64 / 1e9;
@@ -174,7 +255,7 @@ pub(super) fn recheck_program_alarm(c: &mut Console) {
     let mut src = run_source(c, kind);
     src.resume_at = None;
     let state = c.status.machine_state();
-    let found = src.translator(state).find_map(|r| r.err());
+    let found = src.statements(state).find_map(|r| r.err());
     match found {
         None => {
             c.program_alarm = None;

@@ -1,8 +1,9 @@
 //! SEARCH: a program name makes that program current; a line number or text positions the
 //! program so that the next AUTO run starts at a chosen statement.
 //!
-//! The console builds no block itself: the translator resumes at the statement from the
-//! machine's actual state (`Translator::resume_at`). The statements before it are translated
+//! The console builds no block itself: the program source (the translator, or the G-code
+//! source for a G-code program) resumes at the statement from the machine's actual state
+//! (`Translator::resume_at`, `GcodeSource::resume_at`). The statements before it are translated
 //! for the state they leave, not run; a restore statement then brings the machine there: a tool
 //! change if the spindle holds another tool, the spindle, Z up to machine zero before any X Y
 //! rapid, X Y, then Z. The display lists those moves for the machine as it stands now; START
@@ -47,7 +48,7 @@ fn make_plan(
 ) -> Result<(u32, String, Plan), String> {
     let mut src = run_source(c, RunKind::Auto);
     src.resume_at = Some(line);
-    let mut t = src.translator(state);
+    let mut t = src.statements(state);
     let first = match t.next() {
         Some(Ok(s)) => s,
         Some(Err(e)) if e.line == line && e.col == 1 && e.message.starts_with("no statement") => {
@@ -56,7 +57,9 @@ fn make_plan(
         Some(Err(e)) => return Err(format!("line {}:{}: {}", e.line, e.col, e.message)),
         None => return Err(format!("no statement at or after line {line}")),
     };
-    if first.text == crate::translator::restore_text(first.line) {
+    let restore = first.text == crate::translator::restore_text(first.line)
+        || first.text == crate::gcode::restore_text(first.line);
+    if restore {
         let at = match t.next() {
             Some(Ok(s)) => s,
             Some(Err(e)) => return Err(format!("line {}:{}: {}", e.line, e.col, e.message)),

@@ -464,6 +464,8 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
         | PanelEvent::Data(_)
         | PanelEvent::Override(_)
         | PanelEvent::WheelScale(_)
+        | PanelEvent::BlockDelete(_)
+        | PanelEvent::OptionalStop(_)
         | PanelEvent::Press(_)
         | PanelEvent::Wait
         | PanelEvent::WaitBlock(_)

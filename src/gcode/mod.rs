@@ -104,6 +104,8 @@ pub struct GcodeSource {
     emitter: Emitter,
     start: MachineState,
     resume_at: Option<u32>,
+    /// SEARCH: a line before the SEARCH point moved Z from where the machine stood.
+    z_moved: bool,
     held: Option<Statement>,
     changes: Vec<OffsetChange>,
     executed: u64,
@@ -204,6 +206,7 @@ impl GcodeSource {
             },
             start: state,
             resume_at: None,
+            z_moved: false,
             held: None,
             changes: Vec::new(),
             executed: 0,

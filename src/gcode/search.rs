@@ -11,6 +11,12 @@ impl GcodeSource {
     /// The restore statement before `line`: from the machine's actual state to the state the
     /// lines before it left.
     pub(super) fn restore(&mut self, line: u32) -> Result<Statement, TranslateError> {
+        if !self.z_moved {
+            // No line before moved Z: the program commanded no height yet, and the machine's
+            // (with perhaps another tool) is not one to go back down to. Z stays at machine
+            // zero, and the program goes on from there.
+            self.st.cur[2] = 0.0;
+        }
         let st = &self.settings;
         let p = |v: f64| st.to_pulses(v);
         let target = [p(self.st.cur[0]), p(self.st.cur[1]), p(self.st.cur[2])];
@@ -100,7 +106,10 @@ impl Iterator for GcodeSource {
                 break;
             }
             match self.step() {
-                Some(Ok(_)) => {}
+                Some(Ok(_)) => {
+                    let z = self.settings.to_pulses(self.st.cur[2]);
+                    self.z_moved |= z != self.start.pos[2];
+                }
                 Some(Err(e)) => return Some(Err(e)),
                 None => {
                     return Some(Err(TranslateError {

@@ -7,6 +7,7 @@ pub mod fsutil;
 pub mod history;
 mod journal;
 mod names;
+pub mod offsets;
 mod record;
 mod recover;
 mod snapshot;
@@ -193,6 +194,8 @@ pub struct MemoryView {
     pub programs: std::collections::BTreeMap<String, String>,
     /// The T-code table and the tool file.
     pub magazine: Magazine,
+    /// The work offsets G54 to G59.
+    pub offsets: crate::gcode::WorkOffsets,
     /// What the reading found (a damaged file read around, a journal tail skipped).
     pub warnings: Vec<String>,
 }
@@ -217,6 +220,7 @@ impl MemoryView {
                 .map(|(n, b)| (n.clone(), b.text()))
                 .collect(),
             magazine: l.state.magazine(),
+            offsets: offsets::offsets_mm(&l.state.offsets),
             warnings: l.notes.into_iter().map(|n| n.text).collect(),
         })
     }

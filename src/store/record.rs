@@ -64,6 +64,13 @@ pub enum Record {
         /// The pocket it goes to.
         t: u32,
     },
+    /// A work offset set (OFS page, or G10 L2/L20 from a G-code program or MDI).
+    WorkOffset {
+        /// The system, 0 = G54 … 5 = G59.
+        system: usize,
+        /// Its zero in machine coordinates, nanometres (1e-6 mm) per axis X Y Z.
+        nm: [i64; 3],
+    },
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -94,6 +101,9 @@ impl Record {
             Record::Move { tool, t } => format!("move {tool} {t}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
+            Record::WorkOffset { system, nm } => {
+                format!("offset G{} {} {} {}", 54 + system, nm[0], nm[1], nm[2])
+            }
         }
     }
 
@@ -150,6 +160,18 @@ impl Record {
                     n => Some(n.parse().map_err(|_| format!("bad tool in '{head}'"))?),
                 },
             },
+            ["offset", g, x, y, z] => {
+                let bad = || format!("bad work offset in '{head}'");
+                let system = match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
+                    Some(n @ 54..=59) => n - 54,
+                    _ => return Err(bad()),
+                };
+                let v = |s: &str| s.parse::<i64>().map_err(|_| bad());
+                Record::WorkOffset {
+                    system,
+                    nm: [v(x)?, v(y)?, v(z)?],
+                }
+            }
             _ => return Err(format!("unknown record '{head}'")),
         };
         Ok(rec)
@@ -190,11 +212,17 @@ mod tests {
                 tool: Some(106),
             },
             Record::TCode { t: 7, tool: None },
+            Record::WorkOffset {
+                system: 5,
+                nm: [-1, 100_000_000, 0],
+            },
         ];
         for r in all {
             assert_eq!(Record::decode(&r.encode()), Ok(r));
         }
         assert!(Record::decode("frobnicate").is_err());
         assert!(Record::decode("edit M").is_err());
+        assert!(Record::decode("offset G60 0 0 0").is_err());
+        assert!(Record::decode("offset G54 0 0.5 0").is_err());
     }
 }

@@ -8,6 +8,8 @@
 //! mdi POINTER\n<text>             the MDI buffer
 //! tcodes\n<text>                  the T-code table, one `Tnn TOOLNO` per line
 //! tools POINTER\n<text>           the tool file, one T code per line
+//! offsets\n<text>                 G54..G59, one `X Y Z` line each in nanometres (written
+//!                                 only when one is not zero; none means all zero)
 //! end                             written last: a snapshot without it is incomplete
 //! ```
 //!
@@ -39,6 +41,14 @@ pub fn encode(s: &State, gen: u64) -> Vec<u8> {
         s.tool_buf.pointer(),
         s.tool_buf.text()
     ));
+    if s.offsets != [[0; 3]; 6] {
+        let lines: Vec<String> = s
+            .offsets
+            .iter()
+            .map(|o| format!("{} {} {}", o[0], o[1], o[2]))
+            .collect();
+        put(format!("offsets\n{}", lines.join("\n")));
+    }
     put("end".to_string());
     out
 }
@@ -127,6 +137,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
     let mut programs = BTreeMap::new();
     let (mut current, mut mdi, mut tcodes_text, mut tools, mut end) =
         (None, None, None, None, false);
+    let mut offsets = [[0i64; 3]; 6];
     for r in &records {
         let Ok(r) = std::str::from_utf8(r) else {
             lost.push("a record that is not text".to_string());
@@ -157,6 +168,10 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
             },
             ["tcodes"] => tcodes_text = Some(body.to_string()),
             ["tools", p] => tools = Some((body.to_string(), p.to_string())),
+            ["offsets"] => match read_offsets(body) {
+                Some(o) => offsets = o,
+                None => lost.push("the work offsets (now all zero)".to_string()),
+            },
             ["end"] => end = true,
             _ => lost.push(format!("an unknown record '{head}'")),
         }
@@ -253,6 +268,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
             tcodes,
             tools: tools_file,
             tool_buf,
+            offsets,
         },
         old_format,
         repaired,
@@ -260,6 +276,23 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
         nothing,
         stand_ins,
     }
+}
+
+/// The work offsets record's text: six lines of three whole numbers.
+fn read_offsets(body: &str) -> Option<[[i64; 3]; 6]> {
+    let mut out = [[0i64; 3]; 6];
+    let lines: Vec<&str> = body.lines().collect();
+    if lines.len() != 6 {
+        return None;
+    }
+    for (o, l) in out.iter_mut().zip(lines) {
+        let v: Vec<i64> = l
+            .split(' ')
+            .map(|n| n.parse().ok())
+            .collect::<Option<_>>()?;
+        *o = v.try_into().ok()?;
+    }
+    Some(out)
 }
 
 /// A T-code table with no tool data, and its tool-file text.

@@ -38,7 +38,12 @@ pub struct State {
     pub tool_buf: Buffer,
     /// The tool file parsed from `tool_buf`.
     pub tools: ToolFile,
+    /// The work offsets G54 to G59: each system's zero in machine coordinates, nanometres.
+    pub offsets: [[i64; 3]; 6],
 }
+
+/// The largest work offset, nanometres (100 m): a G10 or INPUT beyond it is refused.
+pub const OFFSET_LIMIT_NM: i64 = 100_000_000_000;
 
 /// Tape text with its record separators (CR, CR LF) made end-of-block characters.
 pub fn tape_text(text: &str) -> String {
@@ -74,6 +79,7 @@ impl State {
             tool_buf: Buffer::from_text(&tool_text(&m)),
             tcodes: m.tcodes,
             tools: m.tools,
+            offsets: [[0; 3]; 6],
         }
     }
 
@@ -282,6 +288,24 @@ impl State {
                 }
                 Ok((Outcome::default(), true))
             }
+            Record::WorkOffset { system, nm } => {
+                let Some(slot) = self.offsets.get_mut(*system) else {
+                    return Err(Refusal::Other(format!(
+                        "work offset system {} is not G54 to G59",
+                        54 + system
+                    )));
+                };
+                if let Some(v) = nm.iter().find(|v| v.abs() > OFFSET_LIMIT_NM) {
+                    return Err(Refusal::Other(format!(
+                        "work offset {:.3} mm is beyond {} mm",
+                        *v as f64 / 1e6,
+                        OFFSET_LIMIT_NM / 1_000_000
+                    )));
+                }
+                let changed = *slot != *nm;
+                *slot = *nm;
+                Ok((Outcome::default(), changed))
+            }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));
@@ -318,6 +342,14 @@ mod tests {
             Record::TCodes("T01 1\nT02 1\n".into()),
             Record::Select("NONE".into()),
             Record::Delete("TABLEB".into()),
+            Record::WorkOffset {
+                system: 6,
+                nm: [0; 3],
+            },
+            Record::WorkOffset {
+                system: 0,
+                nm: [OFFSET_LIMIT_NM + 1, 0, 0],
+            },
             Record::Edit {
                 target: EditTarget::Program("NONE".into()),
                 line: "IX".into(),
@@ -328,6 +360,7 @@ mod tests {
             assert_eq!(s.tool_buf.text(), tool_text, "{r:?}");
             assert_eq!(s.magazine(), crate::tooldata::sample_magazine(), "{r:?}");
             assert_eq!(s.program_names_for_test(), ["TABLEB"]);
+            assert_eq!(s.offsets, [[0; 3]; 6]);
         }
     }
 

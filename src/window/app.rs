@@ -300,8 +300,9 @@ impl App {
         {
             let s = m.settings();
             let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
+            let gcode = m.gcode_offsets();
             self.plot
-                .request_program(m.program_text(), m.magazine(), s, start);
+                .request_program(m.program_text(), m.magazine(), s, start, gcode);
             self.program_dirty = false;
             self.program_checked = self.frames;
         }

@@ -162,6 +162,8 @@ pub fn keyboard(
                         K::E if alt => out.push(PanelEvent::EStop),
                         K::T if alt => hand.tape_requested = true,
                         K::U if alt => hand.punch_requested = true,
+                        K::B if alt => out.push(PanelEvent::Press(Key::Alt('b'))),
+                        K::O if alt => out.push(PanelEvent::Press(Key::Alt('o'))),
                         K::Equals | K::Plus if alt => {
                             out.push(PanelEvent::Override((view.feed_override + 10).min(150)))
                         }

@@ -32,6 +32,9 @@ pub trait Machine {
     /// The text START runs in the current operation mode (program memory, or the MDI buffer in
     /// MDI), for the backplot.
     fn program_text(&self) -> String;
+    /// For a `program_text` in ISO G-code, the work offsets it starts with; None for the
+    /// source language.
+    fn gcode_offsets(&self) -> Option<crate::gcode::WorkOffsets>;
     /// The magazine in force (T codes and tool data, for the backplot's translation).
     fn magazine(&self) -> Magazine;
     /// The machine settings.
@@ -67,6 +70,9 @@ impl Machine for crate::console::Console {
     }
     fn program_text(&self) -> String {
         crate::console::Console::run_text(self)
+    }
+    fn gcode_offsets(&self) -> Option<crate::gcode::WorkOffsets> {
+        crate::console::Console::run_text_is_gcode(self).then(|| self.work_offsets())
     }
     fn magazine(&self) -> Magazine {
         crate::console::Console::magazine(self)

@@ -49,7 +49,15 @@ struct TrailMesh {
 }
 
 /// What a backplot translation needs: program text, magazine, settings, start (pulses).
-type Request = (String, Magazine, MachineSettings, [i64; 3]);
+/// The program, its tool data, the settings, the start (pulses) and, for a G-code program, the
+/// work offsets it starts with.
+type Request = (
+    String,
+    Magazine,
+    MachineSettings,
+    [i64; 3],
+    Option<crate::gcode::WorkOffsets>,
+);
 
 /// The backplot's state: the path of the loaded program, the executed trail, the view.
 pub struct PlotState {
@@ -94,7 +102,7 @@ fn plane_index(p: Plane) -> usize {
 fn request_key(r: &Request) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     r.0.hash(&mut h);
-    format!("{:?}{:?}", r.1, r.2).hash(&mut h);
+    format!("{:?}{:?}{:?}", r.1, r.2, r.4).hash(&mut h);
     h.finish()
 }
 
@@ -128,8 +136,9 @@ impl PlotState {
         magazine: Magazine,
         settings: MachineSettings,
         start: [i64; 3],
+        gcode: Option<crate::gcode::WorkOffsets>,
     ) {
-        self.queued = Some((text, magazine, settings, start));
+        self.queued = Some((text, magazine, settings, start, gcode));
         self.poll();
     }
 
@@ -161,9 +170,19 @@ impl PlotState {
                 .spawn(move || {
                     let key = request_key(&req);
                     let result = (known != Some(key)).then(|| {
-                        let (text, mag, settings, start) = &req;
+                        let (text, mag, settings, start, gcode) = &req;
                         if text.trim().is_empty() {
                             Backplot::default()
+                        } else if let Some(offsets) = gcode {
+                            let src = crate::gcode::GcodeSource::new(
+                                text.as_str().into(),
+                                mag.clone(),
+                                settings.clone(),
+                                crate::block::MachineState::at(*start),
+                                *offsets,
+                                crate::gcode::Switches::default(),
+                            );
+                            Backplot::from_statements(src, settings)
                         } else {
                             Backplot::from_program(text, mag, settings, *start)
                         }
@@ -369,5 +388,31 @@ impl PlotState {
             Color32::from_rgb(170, 180, 200),
         );
         rect
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plotted(gcode: Option<crate::gcode::WorkOffsets>) -> Backplot {
+        let mut p = PlotState::new();
+        let text = "G10 L2 P1 X100\nG54 G0 X10 Y5\nG1 Z-5 F100\nM30\n".to_string();
+        let s = MachineSettings::default();
+        p.request_program(text, crate::tooldata::sample_magazine(), s, [0; 3], gcode);
+        let t = std::time::Instant::now();
+        while p.poll() && t.elapsed().as_secs() < 20 {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        p.backplot.clone()
+    }
+
+    #[test]
+    fn a_gcode_program_is_plotted_through_the_gcode_source() {
+        let bp = plotted(Some(Default::default()));
+        assert!(bp.error.is_none(), "{:?}", bp.error);
+        assert_eq!(bp.segments.len(), 2);
+        // The source language refuses the same text.
+        assert!(plotted(None).error.is_some());
     }
 }

@@ -11,6 +11,7 @@
 //! - PROG (`prog.rs`): the programs in memory; select, copy, rename, delete (confirmed).
 //! - OFS (`ofs.rs`): the tool file as a table; a value INPUT sets a cell, +INPUT adds to it;
 //!   also during a feed hold and between single blocks (a length applies from the next block).
+//!   After the last T code, the work offsets G54 to G59 (`workofs.rs`).
 //! - MSG (`msg.rs`): the alarm and message history, newest first, full text, kept across
 //!   restarts.
 
@@ -18,6 +19,7 @@ mod msg;
 mod ofs;
 mod pos;
 mod prog;
+mod workofs;
 
 use super::Console;
 pub use crate::panel_model::Page;
@@ -38,8 +40,11 @@ pub struct Pages {
     pub prog_row: usize,
     /// A delete waiting for its confirmation: the program's name.
     pub confirm_delete: Option<String>,
-    /// The OFS page's cursor: T code and column.
+    /// The OFS page's cursor: T code and column; past the last T code, the work offset rows
+    /// G54.. G59.
     pub ofs: (u32, usize),
+    /// The OFS page's axis on the work offset rows (0 = X).
+    pub ofs_axis: usize,
     /// The MSG page's first entry shown (0: the newest).
     pub msg_first: usize,
     /// The alarm and message history.
@@ -66,6 +71,7 @@ impl Pages {
                 prog_row: 0,
                 confirm_delete: None,
                 ofs: (1, ofs::LENGTH),
+                ofs_axis: 0,
                 msg_first: 0,
                 history,
                 counters,

@@ -31,12 +31,16 @@ pub const LENGTH: usize = 4;
 /// Moves the cursor by cell.
 pub(super) fn arrow(c: &mut Console, k: Key) {
     let cap = c.mem.magazine().tcodes.capacity().max(1);
+    let last = cap + 6;
+    let axis = &mut c.pages.ofs_axis;
     let (t, col) = &mut c.pages.ofs;
     match k {
         Key::Up => *t = t.saturating_sub(1).max(1),
-        Key::Down => *t = (*t + 1).min(cap),
+        Key::Down => *t = (*t + 1).min(last),
         Key::PageUp => *t = t.saturating_sub(8).max(1),
-        Key::PageDown => *t = (*t + 8).min(cap),
+        Key::PageDown => *t = (*t + 8).min(last),
+        Key::Left if *t > cap => *axis = axis.saturating_sub(1),
+        Key::Right if *t > cap => *axis = (*axis + 1).min(2),
         Key::Left => *col = col.saturating_sub(1).max(FIRST),
         Key::Right => *col = (*col + 1).min(COLUMNS.len() - 1),
         _ => {}
@@ -104,6 +108,14 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         c.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
         return;
     }
+    if let Some((system, rest)) = super::workofs::system_of(line) {
+        return super::workofs::enter_line(c, system, rest, add);
+    }
+    let cap = c.mem.magazine().tcodes.capacity();
+    if t > cap {
+        let axis = c.pages.ofs_axis;
+        return super::workofs::enter_cell(c, (t - cap - 1) as usize, axis, line, add);
+    }
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
@@ -155,6 +167,11 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let m = c.mem.magazine();
     let (focus, col) = c.pages.ofs;
+    let cap = m.tcodes.capacity();
+    if focus > cap {
+        let system = ((focus - cap - 1) as usize).min(5);
+        return super::workofs::compose(c, rows, cols, system, c.pages.ofs_axis);
+    }
     let mut p = Frame::new(
         rows,
         cols,

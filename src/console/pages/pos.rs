@@ -2,8 +2,9 @@
 //! and the tool change, and the counters (docs/panel.md, "Pages").
 //!
 //! - WORK: the tool tip in work coordinates: the axis position with Z less the length of the
-//!   tool in the spindle, less the work offset in force (none for the source language, whose
-//!   origins are designated per statement).
+//!   tool in the spindle, less the G54 work offset (G-code's system at the start of a program;
+//!   zero unless set on the OFS page or by G10; the source language designates its origins per
+//!   statement and leaves it zero).
 //! - REL: the axis position less the relative origin the operator sets: `X` INPUT zeroes X
 //!   (two keys), `X12.5` presets X to 12.5, `XYZ` (or `ORIGIN`) zeroes all three.
 //! - MACH: the axis position in machine coordinates.
@@ -98,8 +99,9 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         " {:>9}{:>9}{:>9}{:>9}",
         "WORK", "REL", "MACH", "TO GO"
     ));
+    let g54 = c.mem.work_offsets().0[0];
     for a in 0..3 {
-        let work = st.pos[a] - if a == 2 { len } else { 0 };
+        let work = st.pos[a] - if a == 2 { len } else { 0 } - s.to_pulses(g54[a]);
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
             ["X", "Y", "Z"][a],

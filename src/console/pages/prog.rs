@@ -126,7 +126,11 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             name.pop();
             name.push('…');
         }
-        let lang = language(&info.first_line);
+        let lang = if crate::gcode::is_gcode(&info.name, "") {
+            "ISO"
+        } else {
+            language(&info.first_line)
+        };
         let when = changed(info.changed_s);
         p.body.push(if wide {
             format!(

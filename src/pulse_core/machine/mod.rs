@@ -169,6 +169,9 @@ pub struct Machine {
     alarm: Option<String>,
     notice: Option<String>,
     single_block: bool,
+    /// The block just completed carried M00, or M01 (a G-code source emits M01 only with
+    /// OPTIONAL STOP on): the run stops after it as after a single block; START continues.
+    program_stop: bool,
     feed_override: u32,
     pending_override: Option<u32>,
     current: Option<Current>,
@@ -221,6 +224,7 @@ impl Machine {
             alarm: None,
             notice: None,
             single_block: false,
+            program_stop: false,
             feed_override: 100,
             pending_override: None,
             current: None,
@@ -431,7 +435,12 @@ impl Machine {
             && !self.estop
             && self.current.is_none()
             && !self.returning()
-            && (!self.just_completed || !self.single_block)
+            && (!self.just_completed || !self.stops_after_block())
+    }
+
+    /// Whether the run stops after the block just completed: SINGLE BLOCK, or a program stop.
+    fn stops_after_block(&self) -> bool {
+        self.single_block || self.program_stop
     }
 
     /// Runs whole NCBR ticks (and the PGEN work inside them) until machine time `until`.
@@ -585,7 +594,11 @@ impl Machine {
             }
         }
         if !self.wants_block() {
-            if self.run != 0 && self.just_completed && self.single_block && self.current.is_none() {
+            if self.run != 0
+                && self.just_completed
+                && self.stops_after_block()
+                && self.current.is_none()
+            {
                 self.run = 0;
                 self.just_completed = false;
             }
@@ -855,6 +868,7 @@ impl Machine {
         }
         self.blocks_done += 1;
         self.just_completed = true;
+        self.program_stop = matches!(m, Some(0) | Some(1));
         self.finished_at = Some(t);
         self.out.flush();
         let pos = self.out.pos;

@@ -1,0 +1,41 @@
+//! A panel event as its panel-script line (docs/cli.md, `novanc script`): what the recording
+//! keeps of each operator action, and what a refusal names.
+
+use crate::panel_model::PanelEvent;
+
+/// An event as its panel-script line (for the recording).
+pub fn script_line(ev: &PanelEvent) -> String {
+    match ev {
+        PanelEvent::Op(m) => format!("op {}", m.word()),
+        PanelEvent::Data(m) => format!("data {}", m.word()),
+        PanelEvent::Type(t) => format!("type {t}"),
+        PanelEvent::Key(c) => format!("key {c}"),
+        PanelEvent::Rubout => "rubout".into(),
+        PanelEvent::Eob => "eob".into(),
+        PanelEvent::Tape(p) => format!("tape {}", p.display()),
+        PanelEvent::Start => "start".into(),
+        PanelEvent::Stop => "stop".into(),
+        PanelEvent::Reset => "reset".into(),
+        PanelEvent::EStop => "estop".into(),
+        PanelEvent::Override(p) => format!("override {p}"),
+        PanelEvent::Wheel(a, n) => format!("wheel {} {n}", a.letter()),
+        PanelEvent::WheelScale(s) => format!("wheelscale {s}"),
+        PanelEvent::BlockDelete(on) => format!("blockdelete {}", on_off(*on)),
+        PanelEvent::OptionalStop(on) => format!("optionalstop {}", on_off(*on)),
+        PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
+        PanelEvent::JogRelease => "jogrelease".into(),
+        PanelEvent::Press(k) => format!("key {}", super::keys::key_name(*k)),
+        PanelEvent::Wait => "wait".into(),
+        PanelEvent::WaitBlock(n) => format!("wait block {n}"),
+        PanelEvent::WaitMs(t) => format!("wait ms {t}"),
+        PanelEvent::Show => "show".into(),
+    }
+}
+
+fn on_off(on: bool) -> &'static str {
+    if on {
+        "on"
+    } else {
+        "off"
+    }
+}

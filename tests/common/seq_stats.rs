@@ -1,0 +1,87 @@
+//! What the operator-sequence test (tests/operator_sequences.rs) counts, and how it runs many
+//! sequences: each by its seed, the failing seed named with the command that replays it.
+
+/// What the sequences exercised, so a run that tested nothing cannot pass.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stats {
+    /// Block ends audited.
+    pub block_ends: u64,
+    /// Runs begun.
+    pub runs: u64,
+    /// Steps that ended in a feed hold.
+    pub holds: u64,
+    /// Steps with a stopped run moved by hand.
+    pub jogged_stops: u64,
+    /// Steps with a return to the stopped run in progress.
+    pub returns: u64,
+    /// SEARCHes that positioned the program.
+    pub searches: u64,
+    /// Steps that ended in an emergency stop.
+    pub estops: u64,
+    /// Tape reads started.
+    pub tape_reads: u64,
+    /// Tape reads that stopped at an error.
+    pub tape_alarms: u64,
+    /// Tape reads abandoned part way.
+    pub tape_abandoned: u64,
+    /// Tool data changed on the OFS page with a run loaded (held or between single blocks).
+    pub ofs_in_run: u64,
+    /// Sessions that ran Table B in G-code.
+    pub gcode_sessions: u64,
+    /// Steps of those sessions after which their last run had reached its end.
+    pub gcode_ends: u64,
+}
+
+impl Stats {
+    /// Adds another sequence's counts.
+    pub fn add(&mut self, o: &Stats) {
+        self.block_ends += o.block_ends;
+        self.runs += o.runs;
+        self.holds += o.holds;
+        self.jogged_stops += o.jogged_stops;
+        self.returns += o.returns;
+        self.searches += o.searches;
+        self.estops += o.estops;
+        self.tape_reads += o.tape_reads;
+        self.tape_alarms += o.tape_alarms;
+        self.tape_abandoned += o.tape_abandoned;
+        self.ofs_in_run += o.ofs_in_run;
+        self.gcode_sessions += o.gcode_sessions;
+        self.gcode_ends += o.gcode_ends;
+    }
+}
+
+/// Runs `n` sequences of `len` steps from the seed `NOVANC_SEQUENCE_SEED` on; a failure panics
+/// with its seed and the command that replays it.
+pub fn run_many(n: u64, len: usize, sequence: fn(u64, usize) -> Stats) -> Stats {
+    let base = std::env::var("NOVANC_SEQUENCE_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0x5EED_0001);
+    let mut total = Stats::default();
+    for i in 0..n {
+        let seed = base + i;
+        let r = std::panic::catch_unwind(|| sequence(seed, len));
+        if let Ok(st) = &r {
+            total.add(st);
+        }
+        if let Err(e) = r {
+            let msg = e
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1; NOVANC_SEQUENCE_LOG=1 prints the events)");
+        }
+    }
+    eprintln!("{n} sequences of {len} steps: {total:?}");
+    total
+}
+
+/// `NOVANC_SEQUENCES`, else `default`.
+pub fn count(default: u64) -> u64 {
+    std::env::var("NOVANC_SEQUENCES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
