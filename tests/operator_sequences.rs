@@ -445,10 +445,6 @@ impl Session {
         }
         std::fs::write(&path, &image).unwrap();
         let expect = tape::read_image(&image, ReadOptions::default());
-        if self.c.tape_reading() {
-            // A read a START began is still going: it ends first, as an operator waits.
-            self.ev(E::Wait);
-        }
         let program = self.c.program_text();
         let magazine = self.c.magazine();
         let alarm_before = self.c.tape_alarm().is_some();
