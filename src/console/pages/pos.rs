@@ -1,10 +1,11 @@
 //! POS: the positions (work, relative, machine, distance to go), the feed, the spindle, the jog
 //! and the tool change, and the counters (docs/panel.md, "Pages").
 //!
-//! - WORK: the tool tip in work coordinates: the axis position with Z less the length of the
+//! - WORK G54: the tool tip in work coordinates: the axis position with Z less the length of the
 //!   tool in the spindle, less the G54 work offset (G-code's system at the start of a program;
 //!   zero unless set on the OFS page or by G10; the source language designates its origins per
-//!   statement and leaves it zero).
+//!   statement and leaves it zero). The heading names G54 because the page cannot see which
+//!   system a G-code run has selected since (the source reads ahead of the machine).
 //! - REL: the axis position less the relative origin the operator sets: `X` INPUT zeroes X
 //!   (two keys), `X12.5` presets X to 12.5, `XYZ` (or `ORIGIN`) zeroes all three.
 //! - MACH: the axis position in machine coordinates.
@@ -97,7 +98,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let len = s.to_pulses(st.tool_set_length);
     p.body.push(format!(
         " {:>9}{:>9}{:>9}{:>9}",
-        "WORK", "REL", "MACH", "TO GO"
+        "WORK G54", "REL", "MACH", "TO GO"
     ));
     let g54 = c.mem.work_offsets().0[0];
     for a in 0..3 {
