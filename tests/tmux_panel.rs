@@ -220,7 +220,7 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
 
     // Every page of the row of page keys, and back to the mode's display.
     t.keys(&["C-p"]);
-    t.wait_for(&["WORK      REL     MACH    TO GO", "JOG "], 10);
+    t.wait_for(&["WORK G54      REL     MACH    TO GO", "JOG "], 10);
     t.keys(&["C-d"]);
     t.wait_for(&["NAME", "LNG", "CHANGED", "*TABLEB"], 10);
     t.keys(&["C-o"]);
