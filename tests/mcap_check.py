@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Check a novanc MCAP recording (SPEC §7) with Python's `mcap` reader.
+"""Check a novanc MCAP recording (docs/recording.md) with Python's `mcap` reader.
 
 usage: mcap_check.py FILE [--expect-topics TOPIC ...] [--expect-complete]
 
@@ -7,7 +7,7 @@ Checks:
   * the whole file streams with CRC validation (data section CRC and every chunk CRC), and the
     indexed reader (summary, chunk indexes) reads every message with chunk CRC validation;
   * every channel's schema encoding is `jsonschema` and its message encoding is `json`, and every
-    channel's topic is one of SPEC §7's;
+    channel's topic is one of docs/recording.md's;
   * every message parses as a JSON object with its topic's required fields, of the right types;
   * log times never decrease within a topic;
   * both readers see the same messages, and the summary statistics agree with them;
