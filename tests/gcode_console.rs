@@ -340,3 +340,32 @@ fn a_gcode_program_is_edited_with_the_editor_commands_and_the_edit_survives_a_re
     c.handle(E::Wait);
     assert_eq!(c.status().pos, [p(12.0), p(20.0), 0], "{}", c.frame_text());
 }
+
+/// A G-code run takes a tool's length when G43 is read (as LinuxCNC): a length revised on OFS
+/// between single blocks does not move that run's blocks, and the message says so instead of
+/// the source language's "from the next block"; the next run uses it.
+#[test]
+fn an_ofs_length_revised_during_a_gcode_run_says_it_applies_from_the_next_run() {
+    let mut c = open("g-ofs");
+    let text =
+        "G21 G90\nG10 L2 P1 Z-450\nG54\nT2 M6\nG43 H2\nG0 X10 Y20 Z20\nG1 Z-5 F300\nG0 Z20\nM30\n";
+    read_program(&mut c, &gfile("ofs.ngc", text));
+    c.handle(E::Op(OpMode::Single));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    let want = expected_ends(text, &c);
+    common::keys(&mut c, &["Ctrl+O", "Down"]);
+    type_line(&mut c, "155");
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 155.0);
+    assert!(
+        shows(&c, "from the next run; this G-code run keeps"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end).collect();
+    assert_eq!(ends, want, "the run kept the length G43 read");
+}

@@ -153,7 +153,16 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {
                 c.core.set_magazine(c.mem.magazine());
-                format!("T{t:02} {name} {}: from the next block", cell(&new, col))
+                if c.offset_feed.is_some() {
+                    // A G-code run took its lengths and radii when its lines were read (G43,
+                    // G41/G42), as LinuxCNC does (docs/gcode.md, "Tool length").
+                    format!(
+                        "T{t:02} {name} {}: from the next run; this G-code run keeps what its G43/G41/G42 read",
+                        cell(&new, col)
+                    )
+                } else {
+                    format!("T{t:02} {name} {}: from the next block", cell(&new, col))
+                }
             } else {
                 format!("T{t:02} {name} {}", cell(&new, col))
             };
