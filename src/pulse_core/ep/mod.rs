@@ -88,10 +88,24 @@ impl EpMotion {
         m
     }
 
+    /// Comparator 93, with one pulse of hysteresis: the ranks change only when an axis's
+    /// error exceeds that of an axis ranked above it by more than one pulse. Without it, axes
+    /// with equal errors swap ranks at every pulse (one pulses a cycle before the other) and
+    /// the counter is charged G's weight twice: a line at 45° in three axes ran 17 % slow.
     fn rerank(&mut self) {
-        let r = rank(self.e);
-        for (i, &a) in r.iter().enumerate() {
-            self.rank_of[a] = i;
+        let m = |a: usize| self.e[a].abs();
+        let mut order = [0usize; 3];
+        for a in 0..3 {
+            order[self.rank_of[a]] = a;
+        }
+        let stale = self.rank_of == [0, 0, 0]
+            || m(order[1]) > m(order[0]) + 1
+            || m(order[2]) > m(order[1]) + 1;
+        if stale {
+            let r = rank(self.e);
+            for (i, &a) in r.iter().enumerate() {
+                self.rank_of[a] = i;
+            }
         }
     }
 
@@ -186,12 +200,12 @@ impl EpMotion {
                 let skip = if self.counter.k >= 128 {
                     // The tail: the gates open every cycle until the next pulse.
                     let m = (0..3)
-                        .filter_map(|a| self.reg[a].cycles_to_pulse(self.e[a], self.c))
+                        .filter_map(|a| self.reg[a].cycles_to_pulse(self.e[a].abs(), self.c))
                         .min()
                         .unwrap_or(u64::MAX);
                     let s = (m - 1).min(avail - 1);
                     for a in 0..3 {
-                        self.reg[a].advance_gated(s, self.e[a], self.c);
+                        self.reg[a].advance_gated(s, self.e[a].abs(), self.c);
                     }
                     s
                 } else if self.counter.k < 32 {
@@ -226,8 +240,10 @@ impl EpMotion {
             let c = self.c;
             let mut any = false;
             for a in 0..3 {
-                let g = if gate { self.e[a] } else { 0 };
-                let p = self.reg[a].cycle(g, c);
+                // The register works on the error's magnitude; the pulse goes the error's way.
+                let ea = self.e[a];
+                let g = if gate { ea.abs() } else { 0 };
+                let p = self.reg[a].cycle(g, c) * if ea < 0 { -1 } else { 1 };
                 if p != 0 {
                     self.e[a] -= p as i64;
                     out.pulse_at(a, p, t as f64);
@@ -243,7 +259,7 @@ impl EpMotion {
                 let c1 = self.l + em;
                 if c1 < c {
                     for r in &mut self.reg {
-                        r.clamp(c1);
+                        r.clamp(c, c1);
                     }
                 }
                 self.c = c1;

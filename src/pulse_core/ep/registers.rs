@@ -55,16 +55,18 @@ impl ResidueRegister {
         }
     }
 
-    /// Keeps the number inside the band of a smaller constant `c` (after E_m fell): without
-    /// this a number at the top of the old band would make a pulse with no error to send it
-    /// (the one place the implementation departs from the hardware; docs/pulse-core.md).
+    /// Keeps a number that was inside the band of the old constant `c0` inside the band of the
+    /// smaller `c` (after E_m fell): without this a number at the top of the old band would
+    /// make a pulse with no error to send it (the one place the implementation departs from
+    /// the hardware; docs/pulse-core.md). A number outside the old band (a pulse the last gate
+    /// decided, still to come out) is left alone.
     #[inline(always)]
-    pub fn clamp(&mut self, c: i64) {
+    pub fn clamp(&mut self, c0: i64, c: i64) {
         if self.positive {
-            if self.rr >= c {
+            if self.rr >= c && self.rr < c0 {
                 self.rr = c - 1;
             }
-        } else if self.rr < -c {
+        } else if self.rr < -c && self.rr >= -c0 {
             self.rr = -c;
         }
     }
