@@ -74,6 +74,17 @@ impl Interpolator {
     }
 }
 
+/// Reads L for the error-proportional interpolator: a whole number of pulses, 1 to 10⁸.
+pub fn parse_ep_l(s: &str) -> Result<i64, String> {
+    match s.trim().parse::<i64>() {
+        Ok(l) if (1..=100_000_000).contains(&l) => Ok(l),
+        _ => Err(format!(
+            "L '{}' is not a whole number of pulses from 1 to 100000000",
+            s.trim()
+        )),
+    }
+}
+
 /// The error-proportional interpolator's recirculation cycle, ns (f_r = 500 kHz): the error
 /// gates open at most once a cycle, so no axis gets more than f_r pulses a second.
 pub const EP_CYCLE_NS: u64 = 2_000;

@@ -143,6 +143,11 @@ impl<W: Write + Seek> RecordWriter<W> {
                 settings.ncbr_period_ns.to_string(),
             ),
             (
+                "interpolator".to_string(),
+                settings.interpolator.name().to_string(),
+            ),
+            ("ep_l_pulses".to_string(), settings.ep_l_pulses.to_string()),
+            (
                 "time".to_string(),
                 "machine time, ns since the run started".to_string(),
             ),
