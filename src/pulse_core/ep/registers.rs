@@ -48,11 +48,9 @@ impl ResidueRegister {
     /// round zero (no pulse possible): [0, c) after a positive end, [−c, 0) after a negative.
     #[inline(always)]
     pub fn in_band(&self, c: i64) -> bool {
-        if self.positive {
-            self.rr < c
-        } else {
-            self.rr >= -c
-        }
+        // [0, c) after a positive end; [−c, 0), i.e. −rr − 1 in [0, c), after a negative.
+        let v = if self.positive { self.rr } else { -self.rr - 1 };
+        v < c
     }
 
     /// Keeps a number that was inside the band of the old constant `c0` inside the band of the
