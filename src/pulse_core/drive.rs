@@ -4,9 +4,11 @@
 //! starts. The machine only calls the methods below (docs/pulse-core.md).
 
 use super::arc::ArcStepper;
+use super::ep::arc::ArcPlan;
 use super::ep::EpMotion;
 use super::motion::{Motion, Progress};
 use super::pulse_out::PulseOut;
+use crate::block::Block;
 use crate::settings::{Interpolator, MachineSettings};
 
 /// One block's motion, by either interpolator.
@@ -29,9 +31,36 @@ impl Drive {
         }
     }
 
-    /// An arc by `st` at path speed `speed`, starting at `t0`.
-    pub fn arc(_s: &MachineSettings, st: ArcStepper, speed: f64, accel: f64, t0: u64) -> Drive {
-        Drive::Dda(Motion::arc(st, speed, accel, t0))
+    /// The arc block `b` (by `st` for the DDA) at path speed `speed`, starting at `t0`. The
+    /// error-proportional interpolator takes arcs in a plane; a helix (a move along the
+    /// plane's normal) goes by the DDA (docs/pulse-core.md).
+    pub fn arc(
+        s: &MachineSettings,
+        b: &Block,
+        st: ArcStepper,
+        speed: f64,
+        accel: f64,
+        t0: u64,
+    ) -> Drive {
+        let [a0, a1, normal] = b.plane.axes();
+        match (s.interpolator, b.center) {
+            (Interpolator::ErrorProportional, Some(c)) if b.delta[normal] == 0 => {
+                let start = b.start();
+                let centre = [start[a0] + c[0], start[a1] + c[1]];
+                // Turning order (u → v counter-clockwise).
+                let axes = b.plane.turn_axes();
+                let uv = |p: [i64; 3]| [p[axes[0]], p[axes[1]]];
+                let centre_uv = if axes[0] == a0 {
+                    centre
+                } else {
+                    [centre[1], centre[0]]
+                };
+                let ccw = b.motion == crate::block::Motion::ArcCcw;
+                let plan = ArcPlan::new(axes, uv(start), uv(b.end), centre_uv, ccw);
+                Drive::Ep(EpMotion::arc(plan, start, speed, s.ep_l_pulses, t0))
+            }
+            _ => Drive::Dda(Motion::arc(st, speed, accel, t0)),
+        }
     }
 
     /// Distributes pulses until done, at rest, or the next pulse falls at or after `horizon`.

@@ -11,8 +11,10 @@
 //! (the tail), and cycles with the gates shut while the feed-rate counter fills.
 //! docs/pulse-core.md, "The error-proportional interpolator".
 
+pub mod arc;
 pub mod registers;
 
+use self::arc::ArcPlan;
 use self::registers::{rank, FeedCounter, ResidueRegister};
 use super::motion::Progress;
 use super::pulse_out::PulseOut;
@@ -52,6 +54,10 @@ pub struct EpMotion {
     hold: bool,
     resting: bool,
     last_t: u64,
+    /// An arc: the chord and perpendicular method (`arc.rs`).
+    arc: Option<Box<ArcPlan>>,
+    /// The registers of an arc count in 1/2¹⁶ pulse (their constant is (L + E_m) · 2¹⁶).
+    shift: u32,
 }
 
 /// Feed-rate pulses per cycle, fixed point, for a path speed in pulses/ns.
@@ -85,9 +91,26 @@ impl EpMotion {
             hold: false,
             resting: false,
             last_t: t0,
+            arc: None,
+            shift: 0,
         };
         m.rerank();
         m.set_target(speed);
+        m
+    }
+
+    /// An arc in its plane by `plan`, from `pos`, at the path speed `speed` (pulses/ns).
+    pub fn arc(plan: ArcPlan, pos: [i64; 3], speed: f64, l: i64, t0: u64) -> EpMotion {
+        let t = plan.target();
+        let mut delta = [0i64; 3];
+        delta[plan.axes[0]] = t[0] - pos[plan.axes[0]];
+        delta[plan.axes[1]] = t[1] - pos[plan.axes[1]];
+        let mut m = EpMotion::linear(delta, speed, l, t0);
+        m.arc = Some(Box::new(plan));
+        m.shift = arc::SHIFT;
+        m.reg = [ResidueRegister::new((m.c << arc::SHIFT) / 2); 3];
+        m.rank_of = [0; 3];
+        m.rerank();
         m
     }
 
@@ -97,10 +120,19 @@ impl EpMotion {
     /// the counter is charged G's weight twice: a line at 45° in three axes ran 17 % slow.
     #[inline(always)]
     fn rerank(&mut self) {
-        let m = |a: usize| self.e[a].abs();
+        let mag = match &self.arc {
+            None => [self.e[0].abs(), self.e[1].abs(), self.e[2].abs()],
+            Some(a) => {
+                let sp = a.speeds([self.e[a.axes[0]], self.e[a.axes[1]]]);
+                let mut m = [0; 3];
+                m[a.axes[0]] = sp[0];
+                m[a.axes[1]] = sp[1];
+                m
+            }
+        };
         let o = self.order;
-        if self.rank_of == [0, 0, 0] || m(o[1]) > m(o[0]) + 1 || m(o[2]) > m(o[1]) + 1 {
-            self.order = rank(self.e);
+        if self.rank_of == [0, 0, 0] || mag[o[1]] > mag[o[0]] + 1 || mag[o[2]] > mag[o[1]] + 1 {
+            self.order = rank(mag);
             for (i, &a) in self.order.iter().enumerate() {
                 self.rank_of[a] = i;
             }
@@ -172,7 +204,7 @@ impl EpMotion {
 
     #[inline(always)]
     fn all_in_band(&self) -> bool {
-        let c = self.c;
+        let c = self.c << self.shift;
         // Without short circuits: three compares, one branch.
         self.reg[0].in_band(c) & self.reg[1].in_band(c) & self.reg[2].in_band(c)
     }
@@ -198,7 +230,7 @@ impl EpMotion {
                 // Cycles before the horizon, this one included.
                 let avail = (horizon - self.next_t).div_ceil(T);
                 let skip = if self.counter.k >= 128 {
-                    if 2 * (self.c - self.l) >= self.c {
+                    if self.arc.is_some() || 2 * (self.c - self.l) >= self.c {
                         // E_m ≥ L: pulses come every cycle or two, nothing to jump.
                         0
                     } else {
@@ -220,7 +252,7 @@ impl EpMotion {
                     let need = (pulses << FRAC).saturating_sub(self.acc);
                     let s = (need.div_ceil(self.inc).max(1) - 1).min(avail - 1);
                     for a in 0..3 {
-                        self.reg[a].swing(s, self.c);
+                        self.reg[a].swing(s, self.c << self.shift);
                     }
                     s
                 } else {
@@ -239,7 +271,7 @@ impl EpMotion {
                     let n = (self.acc + s * self.inc) >> FRAC;
                     if s > 0 && self.counter.k + registers::W_FEED * (n as i32) < next_stage {
                         for a in 0..3 {
-                            self.reg[a].swing(s, self.c);
+                            self.reg[a].swing(s, self.c << self.shift);
                         }
                         s
                     } else {
@@ -264,16 +296,45 @@ impl EpMotion {
             let gate = !self.hold && self.counter.gate(self.cycle);
             let c = self.c;
             let mut any = false;
-            for a in 0..3 {
-                // The register works on the error's magnitude; the pulse goes the error's way.
-                let ea = self.e[a];
-                let g = if gate { ea.abs() } else { 0 };
-                let p = self.reg[a].cycle(g, c) * if ea < 0 { -1 } else { 1 };
-                if p != 0 {
-                    self.e[a] -= p as i64;
-                    out.pulse_at_ns(a, p, t);
-                    self.counter.command(self.rank_of[a]);
-                    any = true;
+            if let Some(arc) = &mut self.arc {
+                // The tangent E + A, A = E turned outward · E_m / 2h_n, into signed registers
+                // counting in 1/2¹⁶ pulse.
+                let [u, v] = arc.axes;
+                let g = if gate {
+                    arc.gated([self.e[u], self.e[v]])
+                } else {
+                    [0, 0]
+                };
+                for (a, ga) in [(u, g[0]), (v, g[1])] {
+                    let p = self.reg[a].cycle(ga, c << arc::SHIFT);
+                    if p != 0 {
+                        self.e[a] -= p as i64;
+                        out.pulse_at_ns(a, p, t);
+                        self.counter.command(self.rank_of[a]);
+                        any = true;
+                    }
+                }
+                if any {
+                    let e2 = [self.e[u], self.e[v]];
+                    if e2 == [0, 0] || e2[0] * e2[0] + e2[1] * e2[1] < arc.switch2() {
+                        if let Some(d) = arc.advance() {
+                            self.e[u] += d[0];
+                            self.e[v] += d[1];
+                        }
+                    }
+                }
+            } else {
+                for a in 0..3 {
+                    // The register works on the error's magnitude; the pulse goes the error's way.
+                    let ea = self.e[a];
+                    let g = if gate { ea.abs() } else { 0 };
+                    let p = self.reg[a].cycle(g, c) * if ea < 0 { -1 } else { 1 };
+                    if p != 0 {
+                        self.e[a] -= p as i64;
+                        out.pulse_at_ns(a, p, t);
+                        self.counter.command(self.rank_of[a]);
+                        any = true;
+                    }
                 }
             }
             self.cycle = self.cycle.wrapping_add(1);
@@ -284,7 +345,7 @@ impl EpMotion {
                 let c1 = self.l + em;
                 if c1 < c {
                     for r in &mut self.reg {
-                        r.clamp(c, c1);
+                        r.clamp(c << self.shift, c1 << self.shift);
                     }
                 }
                 self.c = c1;

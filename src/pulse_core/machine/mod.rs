@@ -763,7 +763,14 @@ impl Machine {
                             t0,
                         )),
                         Kind::ArcCw | Kind::ArcCcw => arc_stepper(&b).ok().map(|st| {
-                            Drive::arc(&self.settings, st, self.feed_speed(b.feed), self.accel, t0)
+                            Drive::arc(
+                                &self.settings,
+                                &b,
+                                st,
+                                self.feed_speed(b.feed),
+                                self.accel,
+                                t0,
+                            )
                         }),
                         Kind::Dwell | Kind::Aux => None,
                     };

@@ -1,0 +1,156 @@
+//! Arcs by the chord and perpendicular method of seed 001 (lines 604–706), with what the
+//! missing page after line 706 must have held reconstructed (docs/pulse-core.md, "Arcs by the
+//! chord and the perpendicular").
+//!
+//! From the patent: the errors E = (E_u, E_v) are the chord from the interpolated position T
+//! to the commanded end C; h the perpendicular from the centre M to the chord; the tangent
+//! velocity is V = E + A with A ⊥ E and |A| = |E|²/2h (Equations VI–IX). Circuit 130 (the
+//! Z residue register 131 with sign memory 141) makes the ratio E/2h: each iteration (gate
+//! opening) with its number ≥ 0 subtracts E_m, and the errors go straight to their own gates
+//! (94x ← E_x, 94y ← E_y); with it negative, 2h_n is added and network 142 crosses the errors
+//! (94x ← ±E_y, 94y ← ∓E_x, signed by the direction of rotation). So one crossed iteration
+//! comes per 2h_n / E_m straight ones, and on average the gates add E + rot(E)·E_m/2h_n, the
+//! tangent (E_m/2h_n = |E|/2h exactly, since h ⊥ E). 2h_n = |2(M_n − T_n) − E_n| is 2h's
+//! coordinate across the larger error coordinate (Equations X, XI).
+//!
+//! Reconstructed: the sign of the crossing (outward from the centre: the chord turned
+//! clockwise for a counter-clockwise arc); arcs are cut into pieces of at most 90° at points
+//! on the circle (the chord method needs the centre on the inner side of the chord, and a
+//! full circle has no chord), and the commanded point moves on to the next piece's end when
+//! the chord has shrunk below half the radius, so the arc does not slow down at the joints;
+//! only the last piece ends with the exponential tail, exactly on the end point. The feed
+//! regulator's lines G and M go to the axis moving faster, the one across the larger radius
+//! coordinate (comparator 124).
+
+/// The arc registers count in 1/2^SHIFT pulse.
+pub const SHIFT: u32 = 16;
+
+/// The plan of one arc in its plane, turning-order axes (u → v counter-clockwise).
+#[derive(Clone, Debug)]
+pub struct ArcPlan {
+    /// Machine axes of u and v.
+    pub axes: [usize; 2],
+    /// The centre M, machine coordinates of u and v.
+    centre: [i64; 2],
+    /// Counter-clockwise in (u, v).
+    ccw: bool,
+    /// The pieces' end points (u, v), the last one the block's end.
+    targets: Vec<[i64; 2]>,
+    /// The piece in force.
+    piece: usize,
+    /// (R / 2)², pulses²: a chord shorter than this moves the commanded point on.
+    switch2: i64,
+}
+
+impl ArcPlan {
+    /// The plan from `start` to `end` (u, v machine coordinates) about `centre`.
+    pub fn new(
+        axes: [usize; 2],
+        start: [i64; 2],
+        end: [i64; 2],
+        centre: [i64; 2],
+        ccw: bool,
+    ) -> ArcPlan {
+        use std::f64::consts::{FRAC_PI_2, TAU};
+        let rel = |p: [i64; 2]| [(p[0] - centre[0]) as f64, (p[1] - centre[1]) as f64];
+        let (s, e) = (rel(start), rel(end));
+        let (r0, r1) = (s[0].hypot(s[1]), e[0].hypot(e[1]));
+        let a0 = s[1].atan2(s[0]);
+        let a1 = e[1].atan2(e[0]);
+        let dir = if ccw { 1.0 } else { -1.0 };
+        let mut sweep = ((a1 - a0) * dir).rem_euclid(TAU);
+        if start == end || sweep < 1e-12 {
+            sweep = TAU;
+        }
+        let n = (sweep / FRAC_PI_2).ceil().max(1.0) as usize;
+        let mut targets = Vec::with_capacity(n);
+        for k in 1..n {
+            let f = k as f64 / n as f64;
+            let a = a0 + dir * sweep * f;
+            let r = r0 + (r1 - r0) * f;
+            targets.push([
+                centre[0] + (r * a.cos()).round() as i64,
+                centre[1] + (r * a.sin()).round() as i64,
+            ]);
+        }
+        targets.push(end);
+        let half = (r0.min(r1) / 2.0) as i64;
+        ArcPlan {
+            axes,
+            centre,
+            ccw,
+            targets,
+            piece: 0,
+            switch2: half * half,
+        }
+    }
+
+    /// The commanded point of the piece in force.
+    pub fn target(&self) -> [i64; 2] {
+        self.targets[self.piece]
+    }
+
+    /// Whether the piece in force is the last.
+    pub fn last(&self) -> bool {
+        self.piece + 1 == self.targets.len()
+    }
+
+    /// (R / 2)², pulses²: a chord shorter than this moves the commanded point on.
+    pub fn switch2(&self) -> i64 {
+        self.switch2
+    }
+
+    /// Moves the commanded point on to the next piece's end (the caller has seen the chord
+    /// fall below `switch2` or to 0): how much the errors grow.
+    pub fn advance(&mut self) -> Option<[i64; 2]> {
+        if self.last() {
+            return None;
+        }
+        let (a, b) = (self.targets[self.piece], self.targets[self.piece + 1]);
+        self.piece += 1;
+        Some([b[0] - a[0], b[1] - a[1]])
+    }
+
+    /// One gate opening: the amounts to add in adders 95 of u and v for the chord `e`, in
+    /// 1/2¹⁶ pulse: E + A, A the chord turned outward (away from the centre) times
+    /// E_m / 2h_n, 2h_n = |2(M_n − T_n) − E_n| across the larger error coordinate n
+    /// (Equations VIII–XI). The patent's circuit 130 makes the ratio by crossing the errors in
+    /// one gate opening out of 1 + 2h_n / E_m; here each gate carries its share (crossing
+    /// whole gates made the registers chatter: pulses back and forth, a third more pulses
+    /// than the arc needs, docs/pulse-core.md).
+    #[inline]
+    pub fn gated(&mut self, e: [i64; 2]) -> [i64; 2] {
+        let (au, av) = (e[0].abs(), e[1].abs());
+        let em = au.max(av);
+        let t = self.target();
+        let pos = [t[0] - e[0], t[1] - e[1]];
+        let r = [self.centre[0] - pos[0], self.centre[1] - pos[1]];
+        let h2 = if au >= av {
+            (2 * r[1] - e[1]).abs()
+        } else {
+            (2 * r[0] - e[0]).abs()
+        };
+        let rho = em as f64 / h2.max(1) as f64;
+        let turned = if self.ccw {
+            [e[1], -e[0]]
+        } else {
+            [-e[1], e[0]]
+        };
+        let one = (1i64 << SHIFT) as f64;
+        [
+            ((e[0] as f64 + turned[0] as f64 * rho) * one).round() as i64,
+            ((e[1] as f64 + turned[1] as f64 * rho) * one).round() as i64,
+        ]
+    }
+
+    /// The speeds' magnitudes (u, v) as the radius gives them, for comparator 124: the axis
+    /// across the larger radius coordinate moves faster.
+    pub fn speeds(&self, e: [i64; 2]) -> [i64; 2] {
+        let t = self.target();
+        let r = [
+            self.centre[0] - (t[0] - e[0]),
+            self.centre[1] - (t[1] - e[1]),
+        ];
+        [r[1].abs(), r[0].abs()]
+    }
+}
