@@ -62,10 +62,10 @@ fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, feed: f64) -> (f64,
     for p in &pulses {
         n[p.axis as usize] += 1;
     }
-    for a in 0..3 {
+    for (a, &na) in n.iter().enumerate() {
         assert_eq!(
             m.status().pulses[a] as i64,
-            n[a],
+            na,
             "counter of axis {a}: {what}"
         );
     }
