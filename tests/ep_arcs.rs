@@ -168,3 +168,65 @@ fn an_arc_runs_at_the_feed() {
     );
     assert!((t / want - 1.0).abs() < 0.02, "{t} vs {want}");
 }
+
+/// Helices in every plane: the end exact, the circle kept, and the normal axis where the
+/// angle turned puts it (reconstruction: its error is gated in proportion to the angle left).
+#[test]
+fn helices_in_every_plane_keep_their_pitch_and_end_exactly() {
+    let mut rng = Rng::new(33);
+    let (mut worst_r, mut worst_z) = (0.0f64, 0.0f64);
+    for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
+        for i in 0..6 {
+            let [u, v] = plane.turn_axes();
+            let [a0x, a1x, n] = plane.axes();
+            let ccw = i % 2 == 0;
+            let r = rng.range(5_000, 60_000) as f64;
+            let th0 = rng.unit() * TAU;
+            let sweep = if i % 3 == 0 {
+                TAU
+            } else {
+                (0.1 + rng.unit() * 0.85) * TAU
+            };
+            let normal = rng.range(-40_000, 40_000);
+            let c = MID;
+            let mut s = c;
+            s[u] += (r * th0.cos()).round() as i64;
+            s[v] += (r * th0.sin()).round() as i64;
+            let th1 = if ccw { th0 + sweep } else { th0 - sweep };
+            let mut e = if i % 3 == 0 { s } else { c };
+            if i % 3 != 0 {
+                e[u] += (r * th1.cos()).round() as i64;
+                e[v] += (r * th1.sin()).round() as i64;
+            }
+            e[n] = s[n] + normal;
+            let mut b = Block::aux(1, 1, e);
+            b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
+            b.plane = plane;
+            b.delta = [e[0] - s[0], e[1] - s[1], e[2] - s[2]];
+            b.center = Some([c[a0x] - s[a0x], c[a1x] - s[a1x]]);
+            b.feed = 1500.0;
+            let (m, pulses) = run(s, b);
+            let what = format!("{plane:?} r {r} ccw {ccw} normal {normal}");
+            assert_eq!(m.status().alarm, None, "{what}");
+            assert_eq!(m.pos(), e, "end exact: {what}");
+            let mut p = s;
+            let mut turned = 0.0f64;
+            let mut prev = [(s[u] - c[u]) as f64, (s[v] - c[v]) as f64];
+            for q in &pulses {
+                p[q.axis as usize] += q.dir as i64;
+                let d = [(p[u] - c[u]) as f64, (p[v] - c[v]) as f64];
+                worst_r = worst_r.max((d[0].hypot(d[1]) - r).abs());
+                turned += (prev[0] * d[1] - prev[1] * d[0]).atan2(prev[0] * d[0] + prev[1] * d[1]);
+                prev = d;
+                let a = if ccw { turned } else { -turned };
+                let z = s[n] as f64 + normal as f64 * (a / sweep).clamp(0.0, 1.0);
+                worst_z = worst_z.max((p[n] as f64 - z).abs());
+            }
+        }
+    }
+    eprintln!(
+        "helices: largest distance from the circle {worst_r:.2} pulses, normal axis off the pitch {worst_z:.2} pulses"
+    );
+    assert!(worst_r <= 3.0, "{worst_r}");
+    assert!(worst_z <= 2.5, "{worst_z}");
+}

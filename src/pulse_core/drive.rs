@@ -31,9 +31,8 @@ impl Drive {
         }
     }
 
-    /// The arc block `b` (by `st` for the DDA) at path speed `speed`, starting at `t0`. The
-    /// error-proportional interpolator takes arcs in a plane; a helix (a move along the
-    /// plane's normal) goes by the DDA (docs/pulse-core.md).
+    /// The arc or helix block `b` (by `st` for the DDA) at path speed `speed`, starting at
+    /// `t0` (docs/pulse-core.md).
     pub fn arc(
         s: &MachineSettings,
         b: &Block,
@@ -44,7 +43,7 @@ impl Drive {
     ) -> Drive {
         let [a0, a1, normal] = b.plane.axes();
         match (s.interpolator, b.center) {
-            (Interpolator::ErrorProportional, Some(c)) if b.delta[normal] == 0 => {
+            (Interpolator::ErrorProportional, Some(c)) => {
                 let start = b.start();
                 let centre = [start[a0] + c[0], start[a1] + c[1]];
                 // Turning order (u → v counter-clockwise).
@@ -56,7 +55,9 @@ impl Drive {
                     [centre[1], centre[0]]
                 };
                 let ccw = b.motion == crate::block::Motion::ArcCcw;
-                let plan = ArcPlan::new(axes, uv(start), uv(b.end), centre_uv, ccw);
+                let helix =
+                    (b.delta[normal] != 0).then_some((normal, start[normal], b.end[normal]));
+                let plan = ArcPlan::new(axes, uv(start), uv(b.end), centre_uv, ccw, helix);
                 Drive::Ep(EpMotion::arc(plan, start, speed, s.ep_l_pulses, t0))
             }
             _ => Drive::Dda(Motion::arc(st, speed, accel, t0)),

@@ -40,16 +40,23 @@ pub struct ArcPlan {
     piece: usize,
     /// (R / 2)², pulses²: a chord shorter than this moves the commanded point on.
     switch2: i64,
+    /// A helix: the normal axis and its commanded coordinate at each piece's end.
+    normal: Option<(usize, Vec<i64>)>,
+    /// The normal axis's speed against the plane's, in the units of `speeds`.
+    normal_speed: i64,
 }
 
 impl ArcPlan {
     /// The plan from `start` to `end` (u, v machine coordinates) about `centre`.
+    /// A helix (reconstruction) adds `normal` = (axis, start, end): the normal axis's commanded
+    /// point moves with the pieces, in proportion to their angle.
     pub fn new(
         axes: [usize; 2],
         start: [i64; 2],
         end: [i64; 2],
         centre: [i64; 2],
         ccw: bool,
+        normal: Option<(usize, i64, i64)>,
     ) -> ArcPlan {
         use std::f64::consts::{FRAC_PI_2, TAU};
         let rel = |p: [i64; 2]| [(p[0] - centre[0]) as f64, (p[1] - centre[1]) as f64];
@@ -74,6 +81,13 @@ impl ArcPlan {
             ]);
         }
         targets.push(end);
+        let normal_speed = normal.map_or(0, |(_, z0, z1)| ((z1 - z0).abs() as f64 / sweep) as i64);
+        let normal = normal.map(|(axis, z0, z1)| {
+            let zs = (1..=n)
+                .map(|k| z0 + ((z1 - z0) as f64 * k as f64 / n as f64).round() as i64)
+                .collect();
+            (axis, zs)
+        });
         let half = (r0.min(r1) / 2.0) as i64;
         ArcPlan {
             axes,
@@ -82,6 +96,8 @@ impl ArcPlan {
             targets,
             piece: 0,
             switch2: half * half,
+            normal,
+            normal_speed,
         }
     }
 
@@ -100,15 +116,29 @@ impl ArcPlan {
         self.switch2
     }
 
+    /// The normal axis of a helix.
+    pub fn normal_axis(&self) -> Option<usize> {
+        self.normal.as_ref().map(|n| n.0)
+    }
+
+    /// The normal axis's commanded point for the first piece (the start's for an arc).
+    pub fn normal_target(&self) -> Option<i64> {
+        self.normal.as_ref().map(|n| n.1[self.piece])
+    }
+
     /// Moves the commanded point on to the next piece's end (the caller has seen the chord
-    /// fall below `switch2` or to 0): how much the errors grow.
-    pub fn advance(&mut self) -> Option<[i64; 2]> {
+    /// fall below `switch2` or to 0): how much the errors of u, v and the normal axis grow.
+    pub fn advance(&mut self) -> Option<[i64; 3]> {
         if self.last() {
             return None;
         }
         let (a, b) = (self.targets[self.piece], self.targets[self.piece + 1]);
+        let dz = self
+            .normal
+            .as_ref()
+            .map_or(0, |n| n.1[self.piece + 1] - n.1[self.piece]);
         self.piece += 1;
-        Some([b[0] - a[0], b[1] - a[1]])
+        Some([b[0] - a[0], b[1] - a[1], dz])
     }
 
     /// One gate opening: the amounts to add in adders 95 of u and v for the chord `e`, in
@@ -118,8 +148,13 @@ impl ArcPlan {
     /// one gate opening out of 1 + 2h_n / E_m; here each gate carries its share (crossing
     /// whole gates made the registers chatter: pulses back and forth, a third more pulses
     /// than the arc needs, docs/pulse-core.md).
+    ///
+    /// On a helix the normal axis's error E_z is gated times ρ / atan ρ (ρ = E_m / 2h_n, the
+    /// tangent of half the angle left), so that it shrinks as the angle left does, not as the
+    /// chord: the helix's pitch is kept along the piece (a reconstruction: the patent has no
+    /// helices).
     #[inline]
-    pub fn gated(&mut self, e: [i64; 2]) -> [i64; 2] {
+    pub fn gated(&mut self, e: [i64; 3]) -> [i64; 3] {
         let (au, av) = (e[0].abs(), e[1].abs());
         let em = au.max(av);
         let t = self.target();
@@ -137,20 +172,22 @@ impl ArcPlan {
             [-e[1], e[0]]
         };
         let one = (1i64 << SHIFT) as f64;
+        let pitch = if rho > 1e-9 { rho / rho.atan() } else { 1.0 };
         [
             ((e[0] as f64 + turned[0] as f64 * rho) * one).round() as i64,
             ((e[1] as f64 + turned[1] as f64 * rho) * one).round() as i64,
+            (e[2] as f64 * pitch * one).round() as i64,
         ]
     }
 
     /// The speeds' magnitudes (u, v) as the radius gives them, for comparator 124: the axis
     /// across the larger radius coordinate moves faster.
-    pub fn speeds(&self, e: [i64; 2]) -> [i64; 2] {
+    pub fn speeds(&self, e: [i64; 2]) -> [i64; 3] {
         let t = self.target();
         let r = [
             self.centre[0] - (t[0] - e[0]),
             self.centre[1] - (t[1] - e[1]),
         ];
-        [r[1].abs(), r[0].abs()]
+        [r[1].abs(), r[0].abs(), self.normal_speed]
     }
 }

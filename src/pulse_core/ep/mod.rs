@@ -105,6 +105,9 @@ impl EpMotion {
         let mut delta = [0i64; 3];
         delta[plan.axes[0]] = t[0] - pos[plan.axes[0]];
         delta[plan.axes[1]] = t[1] - pos[plan.axes[1]];
+        if let (Some(n), Some(z)) = (plan.normal_axis(), plan.normal_target()) {
+            delta[n] = z - pos[n];
+        }
         let mut m = EpMotion::linear(delta, speed, l, t0);
         m.arc = Some(Box::new(plan));
         m.shift = arc::SHIFT;
@@ -127,6 +130,9 @@ impl EpMotion {
                 let mut m = [0; 3];
                 m[a.axes[0]] = sp[0];
                 m[a.axes[1]] = sp[1];
+                if let Some(n) = a.normal_axis() {
+                    m[n] = sp[2];
+                }
                 m
             }
         };
@@ -300,12 +306,13 @@ impl EpMotion {
                 // The tangent E + A, A = E turned outward · E_m / 2h_n, into signed registers
                 // counting in 1/2¹⁶ pulse.
                 let [u, v] = arc.axes;
+                let n = 3 - u - v;
                 let g = if gate {
-                    arc.gated([self.e[u], self.e[v]])
+                    arc.gated([self.e[u], self.e[v], self.e[n]])
                 } else {
-                    [0, 0]
+                    [0, 0, 0]
                 };
-                for (a, ga) in [(u, g[0]), (v, g[1])] {
+                for (a, ga) in [(u, g[0]), (v, g[1]), (n, g[2])] {
                     let p = self.reg[a].cycle(ga, c << arc::SHIFT);
                     if p != 0 {
                         self.e[a] -= p as i64;
@@ -320,6 +327,7 @@ impl EpMotion {
                         if let Some(d) = arc.advance() {
                             self.e[u] += d[0];
                             self.e[v] += d[1];
+                            self.e[n] += d[2];
                         }
                     }
                 }
