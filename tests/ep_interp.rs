@@ -357,3 +357,48 @@ fn single_blocks_rapids_and_ticks_give_the_same_pulses() {
         .zip(&ticks[split..])
         .all(|(w, t)| t.t_ns - w.t_ns == off && t.axis == w.axis && t.dir == w.dir));
 }
+
+/// `/nc/position` carries the commanded path speed: the feed while the regulator governs, then
+/// f_r · |E| / (E_m + L) in the tail, 0 at the block's end (docs/recording.md).
+#[test]
+fn the_recorded_position_carries_the_commanded_speed() {
+    use novanc::record::{Event, EventSink};
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Event>(1 << 20);
+    let mut m = Machine::new(settings());
+    assert!(m.set_position(MID));
+    m.set_recording(Some(EventSink::new(tx)), false);
+    let total = 100_000i64;
+    let mut src = VecSource::from_blocks(vec![linear(1, MID, [total, 0, 0], 1200.0)]);
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, HOUR);
+    drop(m);
+    let pos: Vec<(i64, f64)> = rx
+        .try_iter()
+        .filter_map(|e| match e {
+            Event::Position {
+                pulses,
+                speed_mm_min,
+                ..
+            } => Some((MID[0] + total - pulses[0], speed_mm_min)),
+            _ => None,
+        })
+        .collect();
+    assert!(pos.len() > 100);
+    let (l, f_r) = (30_000.0, 1e9 / EP_CYCLE_NS as f64);
+    let (mut cruise, mut tail) = (0, 0);
+    for &(e, v) in &pos[..pos.len() - 1] {
+        let sat = f_r * e as f64 / (e as f64 + l) * 60.0 * 0.001;
+        let want = sat.min(1200.0);
+        assert!(
+            (v - want).abs() < 1e-6 * want.max(1.0),
+            "E {e}: {v} vs {want}"
+        );
+        if sat > 1200.0 {
+            cruise += 1;
+        } else if e > 0 {
+            tail += 1;
+        }
+    }
+    assert!(cruise > 100 && tail > 10, "{cruise} {tail}");
+    assert_eq!(pos.last().map(|p| p.1), Some(0.0));
+}

@@ -465,7 +465,8 @@ mod tests {
             for i in 0..10u64 {
                 assert!(w.write(&Event::Position {
                     t_ns: i,
-                    pulses: [i as i64, 0, 0]
+                    pulses: [i as i64, 0, 0],
+                    speed_mm_min: 0.0,
                 }));
             }
             w.finish(false, 0)

@@ -888,6 +888,7 @@ impl Machine {
                 Event::Position {
                     t_ns: t,
                     pulses: pos,
+                    speed_mm_min: 0.0,
                 },
             );
         }
