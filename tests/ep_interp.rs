@@ -402,3 +402,73 @@ fn the_recorded_position_carries_the_commanded_speed() {
     assert!(cruise > 100 && tail > 10, "{cruise} {tail}");
     assert_eq!(pos.last().map(|p| p.1), Some(0.0));
 }
+
+/// Path speed against time for one block, from the pulse times, in bins of `bin` ns.
+fn profile(s: MachineSettings, delta: [i64; 3], feed: f64, bin: u64) -> Vec<f64> {
+    let mut m = machine(s);
+    let pulses = run(&mut m, vec![linear(1, MID, delta, feed)]);
+    let end = pulses.last().map_or(0, |p| p.t_ns);
+    let mut out = Vec::new();
+    let (mut p, mut k) = ([0i64; 3], 0);
+    let mut last = [0i64; 3];
+    let mut t = bin;
+    while t <= end + bin {
+        while k < pulses.len() && pulses[k].t_ns < t {
+            p[pulses[k].axis as usize] += pulses[k].dir as i64;
+            k += 1;
+        }
+        let d: f64 = (0..3)
+            .map(|a| ((p[a] - last[a]) as f64).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        out.push(d * 0.001 / (bin as f64 * 1e-9) * 60.0);
+        last = p;
+        t += bin;
+    }
+    out
+}
+
+/// The figure of docs/pulse-core.md: the same block by both interpolators, path speed
+/// against time. `cargo test --test ep_interp -- --ignored --nocapture figure`
+#[test]
+#[ignore]
+fn figure_dda_against_error_proportional() {
+    let (delta, feed, bin) = ([20_000i64, 8_000, 0], 3000.0, 10_000_000u64);
+    let dda = profile(MachineSettings::default(), delta, feed, bin);
+    let ep = profile(settings(), delta, feed, bin);
+    let cols = dda.len().max(ep.len());
+    let rows = 12;
+    let top = 3300.0;
+    println!("N1 G01 X20. Y8. F3000 from rest: path speed (mm/min) against time, 10 ms a column");
+    for (name, v) in [
+        ("DDA (KT ramps, 1000 mm/s²)", &dda),
+        ("error-proportional (L 30000, f_r 500 kHz)", &ep),
+    ] {
+        println!("{name}:");
+        for r in (0..rows).rev() {
+            let lo = top * r as f64 / rows as f64;
+            let label = if r % 3 == 0 {
+                format!("{:>5.0}", lo)
+            } else {
+                "     ".into()
+            };
+            let line: String = (0..cols)
+                .map(|c| match v.get(c) {
+                    Some(&x) if x > lo => '#',
+                    _ => ' ',
+                })
+                .collect();
+            println!("{label} |{}", line.trim_end());
+        }
+        println!("      +{}", "-".repeat(cols));
+        let ticks: String = (0..cols)
+            .map(|c| if c % 20 == 0 { '|' } else { ' ' })
+            .collect();
+        println!("       {}", ticks.trim_end());
+        let labels: String = (0..cols)
+            .step_by(20)
+            .map(|c| format!("{:<20}", format!("{:.1} s", c as f64 * bin as f64 * 1e-9)))
+            .collect();
+        println!("       {}", labels.trim_end());
+    }
+}

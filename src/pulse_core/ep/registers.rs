@@ -239,6 +239,39 @@ mod tests {
         assert_eq!(ex, -2);
     }
 
+    /// Table I rebuilt from this register (docs/pulse-core.md):
+    /// `cargo test --lib table_one_printed -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn table_one_printed() {
+        let mut r = ResidueRegister::new(5);
+        let (mut ex, l) = (-6i64, 4i64);
+        println!("| cycle | RR at the start | gate 94 | R ± E | (R ± E) ∓ (L + E_m) = RR at the end | E_x | L | L + E_m | pulse |");
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for cycle in 1..=26u64 {
+            let gate = cycle % 3 == 0;
+            let c = l + ex.abs();
+            let start = r.rr;
+            let sign = if r.positive { "−" } else { "+" };
+            let with_e = start + if gate { ex } else { 0 };
+            let p = r.cycle(if gate { ex } else { 0 }, c);
+            println!(
+                "| {cycle} | {start} | {} | {} | {with_e} {sign} {c} = {} | {ex} | {l} | {c} | {} |",
+                if gate { "open" } else { "" },
+                if gate { format!("{start} {} {} = {with_e}", if ex < 0 { "−" } else { "+" }, ex.abs()) } else { String::new() },
+                r.rr,
+                match p {
+                    1 => "+X",
+                    -1 => "−X",
+                    _ => "",
+                }
+            );
+            if p != 0 {
+                ex -= p as i64;
+            }
+        }
+    }
+
     #[test]
     fn the_comparator_ranks_by_magnitude_ties_in_axis_order() {
         assert_eq!(rank([5, -9, 7]), [1, 2, 0]);
