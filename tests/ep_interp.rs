@@ -492,3 +492,70 @@ fn figure_dda_against_error_proportional() {
         println!("       {}", labels.trim_end());
     }
 }
+
+/// Real time: the error-proportional interpolator paced to the wall clock ends on the point
+/// (the line's time at the feed plus its tail), and an E-STOP stops the pulses at once with
+/// every recorded pulse counted (the step queue's rollback replays the registers exactly).
+#[test]
+fn real_time_runs_and_stops_the_error_proportional_interpolator() {
+    use novanc::block::Statement;
+    use novanc::pulse_core::{ClockMode, MakeRun, PulseCore};
+    use novanc::record::{Event, EventSink};
+    use std::time::{Duration, Instant};
+    fn once(stmt: Statement) -> Option<MakeRun> {
+        Some(Box::new(move |_| Box::new(std::iter::once(Ok(stmt)))))
+    }
+    let stmt = |d: [i64; 3], f: f64| Statement {
+        line: 1,
+        text: "line".into(),
+        blocks: vec![linear(1, MID, d, f)],
+    };
+    let core = PulseCore::spawn(settings(), ClockMode::RealTime, None);
+    core.set_position(MID);
+    let t0 = Instant::now();
+    // 10 mm at F3000: 0.2 s at the feed, then the tail (about 0.3 s).
+    core.start(RunKind::Auto, once(stmt([10_000, 4_000, 0], 3000.0)));
+    let st = core.wait_idle(Duration::from_secs(20)).expect("idle");
+    let wall = t0.elapsed().as_secs_f64();
+    assert_eq!(st.pos, [MID[0] + 10_000, MID[1] + 4_000, MID[2]]);
+    assert!(wall > 0.4 && wall < 3.0, "{wall}");
+    drop(core);
+
+    let (tx, rx) = std::sync::mpsc::sync_channel(1 << 20);
+    let core = PulseCore::spawn(settings(), ClockMode::RealTime, Some(EventSink::new(tx)));
+    core.set_position(MID);
+    core.start(RunKind::Auto, once(stmt([100_000, 0, 0], 6000.0)));
+    std::thread::sleep(Duration::from_millis(300));
+    core.command(Command::EStop);
+    let st = core.wait_idle(Duration::from_secs(20)).expect("idle");
+    assert!(st.estop && st.pos[0] > MID[0] && st.pos[0] < MID[0] + 100_000);
+    std::thread::sleep(Duration::from_millis(50));
+    assert_eq!(core.status().pos, st.pos, "nothing moves after the e-stop");
+    drop(core);
+    let evs: Vec<Event> = rx.try_iter().collect();
+    let stop_t = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Position { t_ns, .. } => Some(*t_ns),
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0);
+    let pulses: Vec<u64> = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Pulses { t_ns, .. } => Some(t_ns.clone()),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    assert!(
+        pulses.iter().all(|&t| t < stop_t),
+        "no pulse after the e-stop"
+    );
+    assert_eq!(
+        pulses.len() as i64,
+        st.pos[0] - MID[0],
+        "recorded = counted"
+    );
+}
