@@ -16,6 +16,14 @@ use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_novanc");
 
+/// The tests that render a run take turns: each software-rendered window with a real-time run
+/// takes a core, and side by side on a 2-core machine the table B run's recorder fell behind.
+static RENDERING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    RENDERING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// The executing-block marker the console's display program puts before the executing block.
 const MARKER: char = '>';
 
@@ -214,6 +222,7 @@ fn is_executed_path(p: [u8; 3]) -> bool {
 
 #[test]
 fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
+    let _turn = one_at_a_time();
     let Some(x) = xvfb_or_skip("window_xvfb table B") else {
         return;
     };
@@ -321,6 +330,7 @@ fn is_hole(p: [u8; 3]) -> bool {
 
 #[test]
 fn a_tape_read_draws_the_strip_of_frames_with_their_holes_and_the_sprocket() {
+    let _turn = one_at_a_time();
     let Some(x) = xvfb_or_skip("window_xvfb tape strip") else {
         return;
     };
@@ -464,6 +474,7 @@ fn a_display_that_does_not_answer_is_reported_not_a_panic() {
 /// rapid N2's X and Y velocities (docs/window.md, "The velocity strip").
 #[test]
 fn the_velocity_strip_shows_the_axes_of_the_block() {
+    let _turn = one_at_a_time();
     let Some(x) = xvfb_or_skip("window_xvfb velocity strip") else {
         return;
     };
