@@ -58,6 +58,8 @@ pub struct EpMotion {
     arc: Option<Box<ArcPlan>>,
     /// The registers of an arc count in 1/2¹⁶ pulse (their constant is (L + E_m) · 2¹⁶).
     shift: u32,
+    /// Closed-form jumps on (off only to test that they change nothing).
+    jumps: bool,
 }
 
 /// Feed-rate pulses per cycle, fixed point, for a path speed in pulses/ns.
@@ -93,6 +95,7 @@ impl EpMotion {
             last_t: t0,
             arc: None,
             shift: 0,
+            jumps: true,
         };
         m.rerank();
         m.set_target(speed);
@@ -232,7 +235,7 @@ impl EpMotion {
                 self.resting = true;
                 return Progress::AtRest;
             }
-            if !frozen && in_band {
+            if !frozen && in_band && self.jumps {
                 // Cycles before the horizon, this one included.
                 let avail = (horizon - self.next_t).div_ceil(T);
                 let skip = if self.counter.k >= 128 {
@@ -401,6 +404,33 @@ mod tests {
             last(1),
             last(2)
         );
+    }
+
+    /// The closed-form jumps give exactly the pulses, at exactly the times, of taking every
+    /// recirculation cycle one by one: random lines at feeds from F20 to the rapid rate, with
+    /// small and large L.
+    #[test]
+    fn jumps_change_no_pulse() {
+        let mut rng = crate::pulse_core::testkit::Rng::new(5);
+        for case in 0..40 {
+            let delta = [
+                rng.range(-20_000, 20_000),
+                rng.range(-8_000, 8_000),
+                if case % 3 == 0 {
+                    0
+                } else {
+                    rng.range(-3_000, 3_000)
+                },
+            ];
+            let feed = [20.0, 300.0, 2000.0, 10_000.0, 12_000.0][case % 5];
+            let l = [30_000, 2_000, 100][case % 3];
+            let v = speed_pulses_ns(feed, 0.001);
+            let mut a = EpMotion::linear(delta, v, l, 0);
+            let mut b = a.clone();
+            b.jumps = false;
+            let (pa, pb) = (run_all(&mut a), run_all(&mut b));
+            assert_eq!(pa, pb, "{delta:?} F{feed} L {l}");
+        }
     }
 
     #[test]
