@@ -6,9 +6,10 @@
 //! motion decays exponentially (time constant L / f_r) onto the exact end point.
 //!
 //! Machine time is simulated cycle by cycle (`EP_CYCLE_NS`), a pulse carrying the time of its
-//! recirculation cycle. Two kinds of stretch are jumped in closed form, with the very same
-//! result as cycle by cycle (tested): cycles with the gates open every cycle and no pulse
-//! (the tail), and cycles with the gates shut while the feed-rate counter fills.
+//! recirculation cycle. Three kinds of stretch are jumped in closed form, with the very same
+//! result as cycle by cycle (tested, `jumps_change_no_pulse`): cycles with the gates open
+//! every cycle and no pulse (the tail), cycles with the gates shut while the feed-rate counter
+//! fills to stage 6, and the shut cycles between gates opening every second or fourth cycle.
 //! docs/pulse-core.md, "The error-proportional interpolator".
 
 pub mod arc;
