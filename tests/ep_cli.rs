@@ -47,8 +47,8 @@ fn run_with_either_interpolator_ends_on_the_same_point_with_the_same_pulses() {
         assert_eq!(line(&dda, l), line(&ep, l));
         assert!(!line(&dda, l).is_empty());
     }
-    // Lines make exactly the DDA's pulses; an arc may add a pulse and its return where an
-    // axis turns round at a quadrant point (docs/pulse-core.md): a few in millions.
+    // The same pulses as the DDA here; an arc may add a pulse and its return where an axis
+    // turns round at a quadrant point (docs/pulse-core.md): a few in millions.
     let counts = |s: &str| -> Vec<u64> {
         line(s, "pulses:")
             .split_whitespace()

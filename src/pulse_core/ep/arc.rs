@@ -22,6 +22,9 @@
 //! regulator's lines G and M go to the axis moving faster, the one across the larger radius
 //! coordinate (comparator 124).
 
+/// The largest ratio E_m / 2h_n applied (tan 63.4°).
+const RHO_MAX: f64 = 2.0;
+
 /// The arc registers count in 1/2^SHIFT pulse.
 pub const SHIFT: u32 = 16;
 
@@ -167,7 +170,10 @@ impl ArcPlan {
         } else {
             (2 * r[0] - e[0]).abs()
         };
-        let rho = em as f64 / h2.max(1) as f64;
+        // ρ = tan(half the angle left) ≤ tan 60° on pieces of at most 90° moved on at a
+        // quarter of the radius; the cap is a guard for radii of a few pulses, where rounding
+        // can make h tiny.
+        let rho = (em as f64 / h2.max(1) as f64).min(RHO_MAX);
         let turned = if self.ccw {
             [e[1], -e[0]]
         } else {

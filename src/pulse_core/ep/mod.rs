@@ -61,6 +61,8 @@ pub struct EpMotion {
     shift: u32,
     /// Closed-form jumps on (off only to test that they change nothing).
     jumps: bool,
+    /// An arc: each axis's last pulse direction (0 after it turned round).
+    arc_dir: [i8; 3],
 }
 
 /// Feed-rate pulses per cycle, fixed point, for a path speed in pulses/ns.
@@ -97,6 +99,7 @@ impl EpMotion {
             arc: None,
             shift: 0,
             jumps: true,
+            arc_dir: [0; 3],
         };
         m.rerank();
         m.set_target(speed);
@@ -317,8 +320,16 @@ impl EpMotion {
                     [0, 0, 0]
                 };
                 for (a, ga) in [(u, g[0]), (v, g[1]), (n, g[2])] {
+                    // An axis turning round (its share now against its last pulse): the
+                    // register after a pulse one way stands at the edge of the band for the
+                    // other way, and would chatter; it starts again from the middle.
+                    if ga.signum() as i8 == -self.arc_dir[a] && ga != 0 {
+                        self.reg[a] = ResidueRegister::new((c << arc::SHIFT) / 2);
+                        self.arc_dir[a] = 0;
+                    }
                     let p = self.reg[a].cycle(ga, c << arc::SHIFT);
                     if p != 0 {
+                        self.arc_dir[a] = p;
                         self.e[a] -= p as i64;
                         out.pulse_at_ns(a, p, t);
                         self.counter.command(self.rank_of[a]);
