@@ -1,12 +1,14 @@
 //! Pulse core benchmarks that print (issue 4): axis pulses per second in virtual time on a long
-//! 3-axis contour with recording off and on, and real-time pacing at 200,000 pulses/s.
+//! 3-axis contour with recording off and on, and real-time pacing at 200,000 pulses/s; and
+//! (issue 12) the same contour with both interpolators: pulses/s, machine time, the largest
+//! deviation from the programmed path, and the whole `novanc run` process on it.
 //!
-//! Run with `cargo bench --bench pulses`.
+//! Run with `cargo bench --bench pulses` (`-- interp` for the interpolator comparison only).
 
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{ClockMode, Command, Machine, MakeRun, PulseCore, RunKind, VecSource};
 use novanc::record::{Event, EventSink, Recorder};
-use novanc::settings::MachineSettings;
+use novanc::settings::{Interpolator, MachineSettings};
 use novanc::translator::Statement;
 use std::time::{Duration, Instant};
 
@@ -38,7 +40,20 @@ fn total(m: &Machine) -> u64 {
 }
 
 fn virtual_off(blocks: &[novanc::block::Block]) -> (u64, f64, f64) {
-    let mut m = Machine::new(MachineSettings::default());
+    virtual_off_with(blocks, MachineSettings::default())
+}
+
+/// CPU time of this thread, seconds (the machine is shared: wall time counts other builds).
+fn thread_cpu() -> f64 {
+    // SAFETY: a zeroed timespec is valid and clock_gettime fills it.
+    let mut ts: libc::timespec = unsafe { std::mem::zeroed() };
+    // SAFETY: valid pointer to our own timespec.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+fn virtual_off_with(blocks: &[novanc::block::Block], s: MachineSettings) -> (u64, f64, f64) {
+    let mut m = Machine::new(s);
     m.set_position(MID);
     let mut src = VecSource::from_blocks(blocks.to_vec());
     m.command(Command::Start(RunKind::Auto));
@@ -171,8 +186,126 @@ fn realtime(seconds: f64) {
     );
 }
 
+/// Distance of `p` from the segment `a`–`b`, pulses.
+fn off_segment(p: [i64; 3], a: [i64; 3], b: [i64; 3]) -> f64 {
+    let d: Vec<f64> = (0..3).map(|i| (b[i] - a[i]) as f64).collect();
+    let v: Vec<f64> = (0..3).map(|i| (p[i] - a[i]) as f64).collect();
+    let dd: f64 = d.iter().map(|x| x * x).sum();
+    let k = if dd > 0.0 {
+        (v.iter().zip(&d).map(|(x, y)| x * y).sum::<f64>() / dd).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|i| (v[i] - k * d[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The largest distance of the tool (after all the pulses of each instant) from the block it
+/// is executing, over `blocks`, pulses.
+fn deviation(blocks: &[novanc::block::Block], s: MachineSettings) -> f64 {
+    let mut m = Machine::new(s);
+    m.set_position(MID);
+    m.set_recording(None, true);
+    let mut src = VecSource::from_blocks(blocks.to_vec());
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, u64::MAX / 4);
+    let pulses = m.take_pulses();
+    let (mut pos, mut i, mut worst, mut k) = (MID, 0usize, 0.0f64, 0usize);
+    while k < pulses.len() && i < blocks.len() {
+        let t = pulses[k].t_ns;
+        while k < pulses.len() && pulses[k].t_ns == t {
+            pos[pulses[k].axis as usize] += pulses[k].dir as i64;
+            k += 1;
+        }
+        let b = &blocks[i];
+        worst = worst.max(off_segment(pos, b.start(), b.end));
+        if pos == b.end {
+            i += 1;
+        }
+    }
+    worst
+}
+
+/// `novanc run --interpolator I` on the program: wall seconds, and its summary.
+fn whole_run(path: &std::path::Path, interp: &str) -> (f64, String) {
+    let t = Instant::now();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("run")
+        .arg(path)
+        .arg("--interpolator")
+        .arg(interp)
+        .output();
+    let secs = t.elapsed().as_secs_f64();
+    match out {
+        Ok(o) => (secs, String::from_utf8_lossy(&o.stdout).into_owned()),
+        Err(e) => (secs, e.to_string()),
+    }
+}
+
+/// Both interpolators on the same contour (issue 12).
+fn interpolators(blocks: &[novanc::block::Block]) {
+    println!("interpolators on the 3000-block contour at F10000 (virtual time, recording off):");
+    for interp in [Interpolator::Dda, Interpolator::ErrorProportional] {
+        let s = MachineSettings {
+            interpolator: interp,
+            ..MachineSettings::default()
+        };
+        let (mut best, mut n, mut ms, mut best_cpu) = (0.0f64, 0, 0.0, 0.0f64);
+        for _ in 0..3 {
+            let c0 = thread_cpu();
+            let (p, secs, m) = virtual_off_with(blocks, s.clone());
+            best_cpu = best_cpu.max(p as f64 / (thread_cpu() - c0));
+            best = best.max(p as f64 / secs);
+            n = p;
+            ms = m;
+        }
+        let dev = deviation(&blocks[..100], s.clone());
+        println!(
+            "  {:<18} {:>6.1} M axis pulses/s (best of 3; {:.1} M per CPU second), {} pulses, {:.0} s of machine time; largest deviation from the path {:.3} pulses (first 100 blocks)",
+            interp.name(),
+            best / 1e6,
+            best_cpu / 1e6,
+            n,
+            ms,
+            dev
+        );
+    }
+    // `novanc run` reads the console's language (G-code at `novanc run` is another branch's
+    // work), so the whole-process figure is on the sample programs.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs");
+    for prog in ["tableb.ap", "bracket.ap", "geometry.ap"] {
+        for interp in ["dda", "error-proportional"] {
+            let (secs, out) = whole_run(&dir.join(prog), interp);
+            let pulses: u64 = out
+                .lines()
+                .find(|l| l.starts_with("pulses:"))
+                .map(|l| {
+                    l.split_whitespace()
+                        .filter_map(|w| w.parse::<u64>().ok())
+                        .sum()
+                })
+                .unwrap_or(0);
+            let mt = out
+                .lines()
+                .find(|l| l.starts_with("machine time:"))
+                .unwrap_or("machine time: ?");
+            println!(
+                "  whole `novanc run {prog} --interpolator {interp}` process: {secs:.2} s wall, {pulses} axis pulses ({:.1} M/s), {mt}",
+                pulses as f64 / secs / 1e6
+            );
+        }
+    }
+}
+
 fn main() {
     let blocks = contour(3000, 10_000.0);
+    let only_interp = std::env::args().any(|a| a == "interp");
+    interpolators(&blocks);
+    if only_interp {
+        return;
+    }
     println!("pulse core benchmarks (virtual time, 3000-block 3-axis contour at F10000)");
     let mut best = 0.0f64;
     let mut n = 0;

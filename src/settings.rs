@@ -36,7 +36,62 @@ pub struct MachineSettings {
     /// Tape reader 13's speed, frames (characters) per second: 300 by default, a common
     /// photoelectric reader (docs/tape.md, "At the console").
     pub tape_chars_per_s: u32,
+    /// How the pulse core distributes the pulses of lines, rapids and arcs (docs/pulse-core.md).
+    pub interpolator: Interpolator,
+    /// The error-proportional interpolator's constant L (adder 100 of seed 001), pulses: the
+    /// tail's time constant is L / f_r (docs/pulse-core.md, "Choosing L").
+    pub ep_l_pulses: i64,
 }
+
+/// The pulse distribution method of the pulse core.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Interpolator {
+    /// Toyoda's LINE/PCHK major-axis distribution with the KT ramps (seed 000).
+    #[default]
+    Dda,
+    /// Pratt & Whitney's pulse trains at rates proportional to the remaining errors (seed 001).
+    ErrorProportional,
+}
+
+impl Interpolator {
+    /// The setting's word: `dda` or `error-proportional`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Interpolator::Dda => "dda",
+            Interpolator::ErrorProportional => "error-proportional",
+        }
+    }
+
+    /// Reads the setting's word (`dda`, `error-proportional`, or `ep` for short).
+    pub fn parse(s: &str) -> Result<Interpolator, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "dda" => Ok(Interpolator::Dda),
+            "error-proportional" | "ep" => Ok(Interpolator::ErrorProportional),
+            other => Err(format!(
+                "interpolator '{other}' is not dda or error-proportional"
+            )),
+        }
+    }
+}
+
+/// Reads L for the error-proportional interpolator: a whole number of pulses, 1 to 10⁸.
+pub fn parse_ep_l(s: &str) -> Result<i64, String> {
+    match s.trim().parse::<i64>() {
+        Ok(l) if (1..=100_000_000).contains(&l) => Ok(l),
+        _ => Err(format!(
+            "L '{}' is not a whole number of pulses from 1 to 100000000",
+            s.trim()
+        )),
+    }
+}
+
+/// The error-proportional interpolator's recirculation cycle, ns (f_r = 500 kHz): the error
+/// gates open at most once a cycle, so no axis gets more than f_r pulses a second.
+pub const EP_CYCLE_NS: u64 = 2_000;
+
+/// Default L: f_r / Kv with the position loop gain Kv = 1 (m/min)/mm = 16.7 s⁻¹, a common
+/// machine-tool servo (docs/pulse-core.md, "Choosing L"): 500,000 / 16.67 = 30,000 pulses.
+pub const EP_L_DEFAULT: i64 = 30_000;
 
 impl Default for MachineSettings {
     fn default() -> Self {
@@ -55,6 +110,8 @@ impl Default for MachineSettings {
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
             tape_chars_per_s: 300,
+            interpolator: Interpolator::Dda,
+            ep_l_pulses: EP_L_DEFAULT,
         }
     }
 }

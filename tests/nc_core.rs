@@ -310,7 +310,7 @@ fn real_time_emergency_stop_stops_the_pulses_within_one_period() {
     let (mw, stop_pos) = evs
         .iter()
         .filter_map(|e| match e {
-            Event::Position { t_ns, pulses } => Some((*t_ns, *pulses)),
+            Event::Position { t_ns, pulses, .. } => Some((*t_ns, *pulses)),
             _ => None,
         })
         .max_by_key(|p| p.0)

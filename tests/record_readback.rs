@@ -240,6 +240,7 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             Event::Position {
                 t_ns,
                 pulses: [p[0], p[1], p[2]],
+                speed_mm_min: num(field(obj, "speed")),
             }
         }
         "/nc/pulses" => {

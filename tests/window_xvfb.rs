@@ -16,6 +16,14 @@ use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_novanc");
 
+/// The tests that render a run take turns: each software-rendered window with a real-time run
+/// takes a core, and side by side on a 2-core machine the table B run's recorder fell behind.
+static RENDERING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    RENDERING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// The executing-block marker the console's display program puts before the executing block.
 const MARKER: char = '>';
 
@@ -214,6 +222,7 @@ fn is_executed_path(p: [u8; 3]) -> bool {
 
 #[test]
 fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
+    let _turn = one_at_a_time();
     let Some(x) = xvfb_or_skip("window_xvfb table B") else {
         return;
     };
@@ -321,6 +330,7 @@ fn is_hole(p: [u8; 3]) -> bool {
 
 #[test]
 fn a_tape_read_draws_the_strip_of_frames_with_their_holes_and_the_sprocket() {
+    let _turn = one_at_a_time();
     let Some(x) = xvfb_or_skip("window_xvfb tape strip") else {
         return;
     };
@@ -457,4 +467,52 @@ fn a_display_that_does_not_answer_is_reported_not_a_panic() {
     assert!(err.contains("cannot open"), "stderr: {err}");
     assert!(err.contains("terminal panel"), "stderr: {err}");
     assert!(!err.contains("panicked"), "stderr: {err}");
+}
+
+/// The velocity strip (issue 12): after Table B's first two blocks in SINGLE BLOCK with the
+/// error-proportional interpolator, the strip in the lower left of the backplot shows the
+/// rapid N2's X and Y velocities (docs/window.md, "The velocity strip").
+#[test]
+fn the_velocity_strip_shows_the_axes_of_the_block() {
+    let _turn = one_at_a_time();
+    let Some(x) = xvfb_or_skip("window_xvfb velocity strip") else {
+        return;
+    };
+    let dir = scratch("velocity");
+    let script = dir.join("two.txt");
+    std::fs::write(&script, "op SINGLE\nstart\nwait\nstart\nwait\n").unwrap();
+    let shot = dir.join("shot.ppm");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--state"])
+        .arg(dir.join("state"))
+        .args(["--interpolator", "error-proportional"])
+        .arg("--script")
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--size", "1400x860"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    let (_, _, plot) = parse_layout(&out);
+    let img = read_ppm(&std::fs::read(&shot).unwrap()).expect("a P6 screenshot");
+    // The strip's rectangle, as `window::velocity` places it in the plot.
+    let w = (plot.w as f32 * 0.5).clamp(160.0, 440.0) as usize;
+    let h = (plot.h as f32 * 0.3).clamp(80.0, 150.0) as usize;
+    let (x0, y0) = (plot.x + 6, plot.y + plot.h - h - 6);
+    let near = |p: [u8; 3], c: [u8; 3]| (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() < 40);
+    let count = |c: [u8; 3]| {
+        (y0..y0 + h)
+            .flat_map(|y| (x0..x0 + w).map(move |xx| (xx, y)))
+            .filter(|&(xx, y)| near(px(&img, xx, y), c))
+            .count()
+    };
+    let (xs, ys) = (count([255, 170, 60]), count([110, 170, 255]));
+    assert!(
+        xs >= 30 && ys >= 30,
+        "X {xs} and Y {ys} pixels in the strip"
+    );
 }

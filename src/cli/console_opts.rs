@@ -6,7 +6,14 @@ use crate::console::ConsoleConfig;
 use std::path::PathBuf;
 
 /// The options the console understands (other options are left to the caller).
-const OPTS: [&str; 4] = ["--state", "--rows", "--cols", "--record"];
+const OPTS: [&str; 6] = [
+    "--state",
+    "--rows",
+    "--cols",
+    "--record",
+    "--interpolator",
+    "--ep-l",
+];
 
 /// Parses `--state DIR`, `--rows N`, `--cols N` and `--record OUT.mcap` out of `argv`; returns
 /// the configuration (real time, default settings) and every other argument, in order.
@@ -54,6 +61,14 @@ pub fn config_from_args(argv: &[String]) -> Result<(ConsoleConfig, Vec<String>),
             .map_err(|_| format!("--cols '{c}' is not a whole number"))?;
     }
     cfg.record = args.value("--record").map(PathBuf::from);
+    if let Some(i) = args.value("--interpolator") {
+        cfg.settings.interpolator =
+            crate::settings::Interpolator::parse(i).map_err(|e| format!("--interpolator: {e}"))?;
+    }
+    if let Some(l) = args.value("--ep-l") {
+        cfg.settings.ep_l_pulses =
+            crate::settings::parse_ep_l(l).map_err(|e| format!("--ep-l: {e}"))?;
+    }
     cfg.check()?;
     Ok((cfg, rest))
 }

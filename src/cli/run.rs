@@ -15,7 +15,8 @@ use std::path::Path;
 const HELP: &str = "\
 usage: novanc run PROG [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--realtime] [--feed-override PCT]
-       novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT]
+                       [--interpolator dda|error-proportional] [--ep-l PULSES]
+       novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT] [..]
 
 Runs the part program PROG (source language, or ISO G-code by its name .ngc/.nc/.iso or a
 first line of % or O and a number) headless on the pulse core, from machine zero with no tool in the
@@ -39,11 +40,17 @@ options:
                         fast as possible, deterministic)
   --feed-override PCT   feed override, 1-150 percent (default 100); rapids are not overridden
   --block-delete        G-code: skip lines that start with / (the BLOCK DELETE switch)
+  --interpolator I      dda (default: LINE/PCHK with the KT ramps) or error-proportional
+                        (seed 001: rates proportional to the remaining errors, exponential tail)
+  --ep-l PULSES         the error-proportional interpolator's L (default 30000: the tail's
+                        time constant L / 500 kHz = 60 ms, a servo of Kv 16.7/s)
   -h, --help            this help
 ";
 
-const OPTS: [Opt; 9] = [
+const OPTS: [Opt; 11] = [
     Opt::flag("--block-delete"),
+    Opt::value("--interpolator"),
+    Opt::value("--ep-l"),
     Opt::value("--tools"),
     Opt::value("--magazine"),
     Opt::value("--state"),
@@ -75,7 +82,19 @@ pub fn main(argv: &[String]) -> i32 {
             }
         },
     };
-    let settings = MachineSettings::default();
+    let mut settings = MachineSettings::default();
+    if let Some(i) = args.value("--interpolator") {
+        match crate::settings::Interpolator::parse(i) {
+            Ok(i) => settings.interpolator = i,
+            Err(e) => return super::usage_error(&format!("--interpolator: {e}")),
+        }
+    }
+    if let Some(l) = args.value("--ep-l") {
+        match crate::settings::parse_ep_l(l) {
+            Ok(l) => settings.ep_l_pulses = l,
+            Err(e) => return super::usage_error(&format!("--ep-l: {e}")),
+        }
+    }
     let (prog, source, magazine, offsets) =
         match super::translate::program_and_tools(&args, &settings, "run") {
             Ok(x) => x,
@@ -177,9 +196,13 @@ pub fn main(argv: &[String]) -> i32 {
     })
 }
 
-/// The summary printed at the end of a run.
+/// The summary printed at the end of a run (the interpolator named when it is not the DDA).
 pub fn summary(st: &Status, s: &MachineSettings) -> String {
-    format!(
+    let interp = match s.interpolator {
+        crate::settings::Interpolator::Dda => String::new(),
+        i => format!("interpolator: {} (L {} pulses)\n", i.name(), s.ep_l_pulses),
+    };
+    interp + &format!(
         "blocks executed: {}\npulses: X {} Y {} Z {}\nfinal position: X {:.3} Y {:.3} Z {:.3} mm\nmachine time: {:.3} s\n",
         st.blocks_done,
         st.pulses[0],

@@ -223,7 +223,8 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     wrap(&parts.join(" / "), cols, max)
 }
 
-/// The state line: RUN, mode, feed override, T, S (and HOLD / E-STOP).
+/// The state line: RUN, mode, feed override, T, S (EP with the error-proportional
+/// interpolator; HOLD / E-STOP).
 pub(super) fn state_line(c: &Console) -> String {
     let mode = c.op.names().short;
     let t = match c.status.tool {
@@ -239,6 +240,10 @@ pub(super) fn state_line(c: &Console) -> String {
     }
     if c.switches.optional_stop {
         s.push_str(" M01");
+    }
+    if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {
+        // The error-proportional interpolator (seed 001); the DDA is the default, unmarked.
+        s.push_str(" EP");
     }
     if c.status.estop {
         s.push_str(" ESTOP");

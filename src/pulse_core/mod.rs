@@ -16,6 +16,8 @@
 //!   tick by NCBR tick; tests and benchmarks drive it directly, without threads.
 //! - `motion.rs`: PGEN for one motion: LINE/PCHK with ΣLF, the KT ramp.
 //! - `arc.rs`: circular interpolation by integer circle stepping.
+//! - `drive.rs`: the seam: a block's motion by the DDA or the error-proportional interpolator.
+//! - `ep/`: the error-proportional interpolator of seed 001 (Pratt & Whitney).
 //! - `pulse_out.rs`: the axis counters and the pulse log (recording batches, test capture).
 //! - `source.rs`: the reading side of B1 ([`BlockSource`], [`VecSource`]).
 //! - `block_buffer.rs`: the bounded B1 shared with the translator thread.
@@ -24,6 +26,8 @@
 
 mod arc;
 mod block_buffer;
+mod drive;
+pub mod ep;
 mod machine;
 mod motion;
 mod pulse_out;
@@ -34,7 +38,9 @@ pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::block_buffer::{MakeRun, StatementIter};
+pub use self::drive::Drive;
 pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Until};
+pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};

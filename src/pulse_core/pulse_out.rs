@@ -97,6 +97,17 @@ impl PulseOut {
         }
     }
 
+    /// One pulse at machine time `t` ns (the error-proportional interpolator's cycles are
+    /// whole nanoseconds).
+    #[inline(always)]
+    pub fn pulse_at_ns(&mut self, axis: usize, dir: i8, t: u64) {
+        self.pos[axis] += dir as i64;
+        self.count[axis] += 1;
+        if self.log {
+            self.log_pulse(axis, dir, t);
+        }
+    }
+
     #[inline]
     fn log_pulse(&mut self, axis: usize, dir: i8, t: u64) {
         if let Some(c) = &mut self.capture {

@@ -233,7 +233,11 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.push(b'}');
             *t_ns
         }
-        Event::Position { t_ns, pulses } => {
+        Event::Position {
+            t_ns,
+            pulses,
+            speed_mm_min,
+        } => {
             for (i, key) in [b"{\"x\":", b",\"y\":", b",\"z\":"].iter().enumerate() {
                 out.extend_from_slice(*key);
                 push_mm(out, pulses[i] as f64 * pulse_mm);
@@ -244,7 +248,9 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             push_i64(out, pulses[1]);
             out.push(b',');
             push_i64(out, pulses[2]);
-            out.extend_from_slice(b"]}");
+            out.extend_from_slice(b"],\"speed\":");
+            push_mm(out, *speed_mm_min);
+            out.push(b'}');
             *t_ns
         }
         Event::Pulses { axis, dir, t_ns } => {
@@ -421,11 +427,12 @@ mod tests {
         assert_eq!(
             enc(Event::Position {
                 t_ns: 7,
-                pulses: [12_500, -3, 0]
+                pulses: [12_500, -3, 0],
+                speed_mm_min: 1234.5
             }),
             (
                 7,
-                r#"{"x":12.5,"y":-0.003,"z":0,"pulses":[12500,-3,0]}"#.into()
+                r#"{"x":12.5,"y":-0.003,"z":0,"pulses":[12500,-3,0],"speed":1234.5}"#.into()
             )
         );
         assert_eq!(

@@ -39,6 +39,9 @@ pub enum Event {
         t_ns: u64,
         /// Pulse counters X, Y, Z.
         pulses: [i64; 3],
+        /// The commanded path speed, mm/min (what the interpolator is making: the KT ramp's
+        /// speed, or f_r·|E|/(E_m + L) in the error-proportional tail); 0 at rest.
+        speed_mm_min: f64,
     },
     /// `/nc/pulses`: a batch of pulses of one axis in one direction.
     Pulses {

@@ -71,6 +71,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
         evs.push(Event::Position {
             t_ns: t0 + tick,
             pulses: pos,
+            speed_mm_min: 1000.0,
         });
         if s % 10 == 0 {
             evs.push(Event::Display {

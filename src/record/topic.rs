@@ -90,7 +90,8 @@ impl Topic {
                 r#""y":{"type":"number","description":"Y, mm"},"#,
                 r#""z":{"type":"number","description":"Z, mm"},"#,
                 r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
-                r#""description":"pulse counters X, Y, Z"}},"#,
+                r#""description":"pulse counters X, Y, Z"},"#,
+                r#""speed":{"type":"number","description":"commanded path speed, mm/min (not in files written before it was added)"}},"#,
                 r#""required":["x","y","z","pulses"]}"#
             ),
             Topic::Pulses => concat!(

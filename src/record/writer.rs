@@ -143,6 +143,11 @@ impl<W: Write + Seek> RecordWriter<W> {
                 settings.ncbr_period_ns.to_string(),
             ),
             (
+                "interpolator".to_string(),
+                settings.interpolator.name().to_string(),
+            ),
+            ("ep_l_pulses".to_string(), settings.ep_l_pulses.to_string()),
+            (
                 "time".to_string(),
                 "machine time, ns since the run started".to_string(),
             ),
@@ -460,7 +465,8 @@ mod tests {
             for i in 0..10u64 {
                 assert!(w.write(&Event::Position {
                     t_ns: i,
-                    pulses: [i as i64, 0, 0]
+                    pulses: [i as i64, 0, 0],
+                    speed_mm_min: 0.0,
                 }));
             }
             w.finish(false, 0)

@@ -55,6 +55,8 @@ struct Layout {
     plasma: Option<Rect>,
     pitch: usize,
     plot: Option<Rect>,
+    /// The velocity strip, when shown.
+    velocity: Option<Rect>,
     tape: Option<StripLayout>,
 }
 
@@ -66,6 +68,10 @@ pub struct App {
     tape: Option<crate::console::tape::TapeView>,
     plasma: Plasma,
     plot: PlotState,
+    /// Each axis's velocity against time for the running block (docs/window.md).
+    velocity: super::velocity::VelocityTrace,
+    /// The pulse length and the interpolator's name, for the velocity strip.
+    vel_units: Option<(f64, &'static str)>,
     hand: HandState,
     drive: Drive,
     waiting: Option<(Instant, u32, Waiting)>,
@@ -95,6 +101,8 @@ impl App {
             tape: None,
             plasma: Plasma::new(),
             plot: PlotState::new(),
+            velocity: Default::default(),
+            vel_units: None,
             hand: HandState {
                 wheel_axis,
                 ..HandState::default()
@@ -289,6 +297,16 @@ impl App {
         let was = self.view.wheel.0;
         self.view = m.view();
         self.tape = m.tape();
+        let (t_ns, pos) = m.motion_sample();
+        self.velocity.sample(m.block_executing(), t_ns, pos);
+        if self.vel_units.is_none() {
+            let s = m.settings();
+            let what = match s.interpolator {
+                crate::settings::Interpolator::Dda => "DDA",
+                crate::settings::Interpolator::ErrorProportional => "EP",
+            };
+            self.vel_units = Some((s.pulse_mm, what));
+        }
         // The handwheel axis turned by another input (a script) shows on the selector too.
         if self.view.wheel.0 != was {
             self.hand.wheel_axis = self.view.wheel.0;
@@ -405,6 +423,8 @@ impl App {
             let r = self.plot.show(ui, tool, &mut scroll);
             self.hand.scroll = scroll;
             self.layout.plot = Some(r);
+            let (pulse_mm, what) = self.vel_units.unwrap_or((0.001, "DDA"));
+            self.layout.velocity = self.velocity.show(ui.painter(), r, pulse_mm, what);
         });
     }
 

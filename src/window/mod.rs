@@ -13,6 +13,7 @@ mod pathdraw;
 mod plasma;
 mod plot;
 mod tapestrip;
+mod velocity;
 
 use crate::panel_model::{PanelEvent, PanelView};
 use crate::settings::MachineSettings;
@@ -43,6 +44,8 @@ pub trait Machine {
     fn is_idle(&self) -> bool;
     /// The N number of the block executing now, if one is.
     fn block_executing(&self) -> Option<u32>;
+    /// Machine time (ns) and the axis counters (pulses), for the velocity strip.
+    fn motion_sample(&self) -> (u64, [i64; 3]);
     /// Waits until every action so far has been taken up and the machine is idle.
     fn wait_idle(&mut self);
     /// Pulses output in this run, all axes together (the pulse counters).
@@ -90,6 +93,10 @@ impl Machine for crate::console::Console {
             .filter(|_| st.in_block)
             .and_then(|e| e.block())
             .map(|b| b.seq)
+    }
+    fn motion_sample(&self) -> (u64, [i64; 3]) {
+        let st = self.status();
+        (st.machine_ns, st.pos)
     }
     fn wait_idle(&mut self) {
         crate::console::Console::wait_idle(self)

@@ -7,6 +7,7 @@
 //! only then resumes, so every block still ends on its programmed point.
 
 use super::{axis_name, Jog, Machine, Phase};
+use crate::pulse_core::drive::Drive;
 use crate::pulse_core::motion::{speed_pulses_ns, Motion};
 
 impl Machine {
@@ -60,7 +61,7 @@ impl Machine {
         delta[axis] = d;
         let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
         self.jog = Some(Jog {
-            motion: Motion::linear(delta, v, self.accel, t0),
+            motion: Drive::Dda(Motion::linear(delta, v, self.accel, t0)),
             release,
         });
     }
@@ -97,7 +98,7 @@ impl Machine {
             }
             let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
             self.ret = Some(Jog {
-                motion: Motion::linear(delta, v, self.accel, t),
+                motion: Drive::Dda(Motion::linear(delta, v, self.accel, t)),
                 release: false,
             });
             return;

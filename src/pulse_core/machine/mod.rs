@@ -19,7 +19,8 @@
 //! in one PGEN call and sets the clock to the tick where it completes. The pulses and times are
 //! the same as tick by tick (tested); a dry run then costs pulses, not ticks.
 
-use super::motion::{accel_pulses_ns2, speed_pulses_ns, Motion, Progress};
+use super::drive::Drive;
+use super::motion::{accel_pulses_ns2, speed_pulses_ns, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
 use super::{BlockEntry, EndCause, RunEnd, RunKind};
@@ -61,14 +62,15 @@ struct Current {
     block: Block,
     phase: Phase,
     until: u64,
-    motion: Option<Motion>,
+    motion: Option<Drive>,
 }
 
 /// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
 /// stopped.
 #[derive(Clone, Debug)]
 struct Jog {
-    motion: Motion,
+    /// Manual moves and returns always use the DDA with its ramps.
+    motion: Drive,
     /// CONTINUOUS: stop and drop the rest once at rest.
     release: bool,
 }
@@ -759,21 +761,30 @@ impl Machine {
                     let b = c.block.clone();
                     self.pre_effects(&b);
                     let motion = match b.motion {
-                        Kind::Rapid => Some(Motion::linear(
+                        Kind::Rapid => Some(Drive::linear(
+                            &self.settings,
                             b.delta,
                             speed_pulses_ns(self.settings.rapid_mm_min, self.settings.pulse_mm),
                             self.accel,
                             t0,
                         )),
-                        Kind::Linear => Some(Motion::linear(
+                        Kind::Linear => Some(Drive::linear(
+                            &self.settings,
                             b.delta,
                             self.feed_speed(b.feed),
                             self.accel,
                             t0,
                         )),
-                        Kind::ArcCw | Kind::ArcCcw => arc_stepper(&b)
-                            .ok()
-                            .map(|st| Motion::arc(st, self.feed_speed(b.feed), self.accel, t0)),
+                        Kind::ArcCw | Kind::ArcCcw => arc_stepper(&b).ok().map(|st| {
+                            Drive::arc(
+                                &self.settings,
+                                &b,
+                                st,
+                                self.feed_speed(b.feed),
+                                self.accel,
+                                t0,
+                            )
+                        }),
                         Kind::Dwell | Kind::Aux => None,
                     };
                     let Some(c) = &mut self.current else { break };
@@ -891,6 +902,7 @@ impl Machine {
                 Event::Position {
                     t_ns: t,
                     pulses: pos,
+                    speed_mm_min: 0.0,
                 },
             );
         }

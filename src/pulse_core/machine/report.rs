@@ -13,6 +13,7 @@ impl Machine {
                 Event::Position {
                     t_ns: self.now,
                     pulses: self.out.pos,
+                    speed_mm_min: self.speed_mm_min(),
                 },
             );
         }
@@ -51,6 +52,17 @@ impl Machine {
         );
         self.last_state = Some(key);
     }
+    /// The commanded path speed of the motion in force (a block's, a jog's or a return's),
+    /// mm/min; 0 with none.
+    fn speed_mm_min(&self) -> f64 {
+        self.current
+            .as_ref()
+            .and_then(|c| c.motion.as_ref())
+            .or(self.jog.as_ref().map(|j| &j.motion))
+            .or(self.ret.as_ref().map(|j| &j.motion))
+            .map_or(0.0, |m| m.speed_mm_min(self.settings.pulse_mm))
+    }
+
     /// A snapshot for the display.
     pub fn status(&self) -> Status {
         let motion = self
@@ -107,7 +119,7 @@ impl Machine {
             idle: self.is_idle(),
             notice: self.notice.clone(),
             single_block: self.single_block,
-            speed_mm_min: motion.map_or(0.0, |m| m.speed_mm_min(self.settings.pulse_mm)),
+            speed_mm_min: self.speed_mm_min(),
             commands_applied: self.commands,
         }
     }

@@ -1,0 +1,131 @@
+//! The seam between the machine and its interpolators: a block's motion is a [`Drive`], the
+//! DDA (`motion.rs`, LINE/PCHK with KT ramps, and `arc.rs`) or the error-proportional
+//! interpolator (`ep/`), chosen by `MachineSettings::interpolator` when the block's motion
+//! starts. The machine only calls the methods below (docs/pulse-core.md).
+
+use super::arc::ArcStepper;
+use super::ep::arc::ArcPlan;
+use super::ep::EpMotion;
+use super::motion::{Motion, Progress};
+use super::pulse_out::PulseOut;
+use crate::block::Block;
+use crate::settings::{Interpolator, MachineSettings};
+
+/// One block's motion, by either interpolator.
+#[derive(Clone, Debug)]
+pub enum Drive {
+    /// LINE/PCHK or integer circle stepping, with the KT ramp.
+    Dda(Motion),
+    /// Pulse trains proportional to the remaining errors (seed 001).
+    Ep(EpMotion),
+}
+
+impl Drive {
+    /// A line or rapid of `delta` pulses at path speed `speed` (pulses/ns), starting at `t0`.
+    pub fn linear(s: &MachineSettings, delta: [i64; 3], speed: f64, accel: f64, t0: u64) -> Drive {
+        match s.interpolator {
+            Interpolator::Dda => Drive::Dda(Motion::linear(delta, speed, accel, t0)),
+            Interpolator::ErrorProportional => {
+                Drive::Ep(EpMotion::linear(delta, speed, s.ep_l_pulses, t0))
+            }
+        }
+    }
+
+    /// The arc or helix block `b` (by `st` for the DDA) at path speed `speed`, starting at
+    /// `t0` (docs/pulse-core.md).
+    pub fn arc(
+        s: &MachineSettings,
+        b: &Block,
+        st: ArcStepper,
+        speed: f64,
+        accel: f64,
+        t0: u64,
+    ) -> Drive {
+        let [a0, a1, normal] = b.plane.axes();
+        match (s.interpolator, b.center) {
+            (Interpolator::ErrorProportional, Some(c)) => {
+                let start = b.start();
+                let centre = [start[a0] + c[0], start[a1] + c[1]];
+                // Turning order (u → v counter-clockwise).
+                let axes = b.plane.turn_axes();
+                let uv = |p: [i64; 3]| [p[axes[0]], p[axes[1]]];
+                let centre_uv = if axes[0] == a0 {
+                    centre
+                } else {
+                    [centre[1], centre[0]]
+                };
+                let ccw = b.motion == crate::block::Motion::ArcCcw;
+                let helix =
+                    (b.delta[normal] != 0).then_some((normal, start[normal], b.end[normal]));
+                let plan = ArcPlan::new(axes, uv(start), uv(b.end), centre_uv, ccw, helix);
+                Drive::Ep(EpMotion::arc(plan, start, speed, s.ep_l_pulses, t0))
+            }
+            _ => Drive::Dda(Motion::arc(st, speed, accel, t0)),
+        }
+    }
+
+    /// Distributes pulses until done, at rest, or the next pulse falls at or after `horizon`.
+    #[inline]
+    pub fn run(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
+        match self {
+            Drive::Dda(m) => m.run(horizon, out),
+            Drive::Ep(m) => m.run(horizon, out),
+        }
+    }
+
+    /// Sets the programmed speed (feed × override), pulses/ns.
+    pub fn set_target(&mut self, speed: f64) {
+        match self {
+            Drive::Dda(m) => m.set_target(speed),
+            Drive::Ep(m) => m.set_target(speed),
+        }
+    }
+
+    /// Feed hold on or off.
+    pub fn set_hold(&mut self, hold: bool) {
+        match self {
+            Drive::Dda(m) => m.set_hold(hold),
+            Drive::Ep(m) => m.set_hold(hold),
+        }
+    }
+
+    /// After a rest, the motion goes on from time `t`.
+    pub fn resume_at(&mut self, t: u64) {
+        match self {
+            Drive::Dda(m) => m.resume_at(t),
+            Drive::Ep(m) => m.resume_at(t),
+        }
+    }
+
+    /// Whether a feed hold is in force.
+    pub fn is_held(&self) -> bool {
+        match self {
+            Drive::Dda(m) => m.is_held(),
+            Drive::Ep(m) => m.is_held(),
+        }
+    }
+
+    /// Whether the motion stands still.
+    pub fn at_rest(&self) -> bool {
+        match self {
+            Drive::Dda(m) => m.at_rest(),
+            Drive::Ep(m) => m.at_rest(),
+        }
+    }
+
+    /// Commanded path speed, mm/min.
+    pub fn speed_mm_min(&self, pulse_mm: f64) -> f64 {
+        match self {
+            Drive::Dda(m) => m.speed_mm_min(pulse_mm),
+            Drive::Ep(m) => m.speed_mm_min(pulse_mm),
+        }
+    }
+
+    /// Time of the last pulse (or of coming to rest), ns.
+    pub fn last_t(&self) -> u64 {
+        match self {
+            Drive::Dda(m) => m.last_t(),
+            Drive::Ep(m) => m.last_t(),
+        }
+    }
+}

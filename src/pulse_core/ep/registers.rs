@@ -1,0 +1,340 @@
+//! The Pratt & Whitney interpolator's registers as pure logic (seed 001, lines 300–460):
+//! the recirculation circuit 98 of one axis (residue register 96, adders 95 and 97, sign memory
+//! 99 and interpolation pulse detector 101), the error magnitude comparator 93, the error gate
+//! 94 as the iteration memory 87 opens it, and the feed-rate counter 81 with the weights of
+//! Equation II. `docs/pulse-core.md` ("The error-proportional interpolator") gives the
+//! reading of the patent and Table I rebuilt from this code.
+
+/// Recirculation circuit 98 of one axis: the residue register 96 with its sign memory 99 and
+/// interpolation pulse detector 101 (seed 001 lines 308–345).
+///
+/// Each recirculation cycle the gated error (0 when the error gate 94 is shut) is added in
+/// adder 95, and L + E_m is applied in the bidirectional adder 97 with the sign opposite to
+/// the one memory 99 holds (the sign of the number at the end of the previous cycle). The
+/// number then swings round zero; two consecutive cycles ending with the same sign make a
+/// command pulse in that sign's direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ResidueRegister {
+    /// The number RR in the circuit at the end of the last cycle.
+    pub rr: i64,
+    /// Sign memory 99: the number at the end of the last cycle was ≥ 0.
+    pub positive: bool,
+}
+
+impl ResidueRegister {
+    /// A register holding `rr` (memory 99 set by its sign).
+    pub fn new(rr: i64) -> ResidueRegister {
+        ResidueRegister {
+            rr,
+            positive: rr >= 0,
+        }
+    }
+
+    /// One recirculation cycle with `gated` added in adder 95 (the axis error when gate 94
+    /// is open, else 0) and `c` = L + E_m applied in adder 97: the command pulse detector
+    /// 101 gives (−1, 0 or +1).
+    #[inline(always)]
+    pub fn cycle(&mut self, gated: i64, c: i64) -> i8 {
+        let n = self.rr + gated + if self.positive { -c } else { c };
+        let pos = n >= 0;
+        let same = pos == self.positive;
+        self.rr = n;
+        self.positive = pos;
+        // Two ends of the same sign: a pulse in that direction.
+        (same as i8) * (2 * pos as i8 - 1)
+    }
+
+    /// Whether the number lies in the band where cycles without an error added only swing it
+    /// round zero (no pulse possible): [0, c) after a positive end, [−c, 0) after a negative.
+    #[inline(always)]
+    pub fn in_band(&self, c: i64) -> bool {
+        // [0, c) after a positive end; [−c, 0), i.e. −rr − 1 in [0, c), after a negative.
+        let v = if self.positive { self.rr } else { -self.rr - 1 };
+        v < c
+    }
+
+    /// Keeps a number that was inside the band of the old constant `c0` inside the band of the
+    /// smaller `c` (after E_m fell): without this a number at the top of the old band would
+    /// make a pulse with no error to send it (the one place the implementation departs from
+    /// the hardware; docs/pulse-core.md). A number outside the old band (a pulse the last gate
+    /// decided, still to come out) is left alone.
+    #[inline(always)]
+    pub fn clamp(&mut self, c0: i64, c: i64) {
+        if self.positive {
+            if self.rr >= c && self.rr < c0 {
+                self.rr = c - 1;
+            }
+        } else if self.rr < -c && self.rr >= -c0 {
+            self.rr = -c;
+        }
+    }
+
+    /// `m` cycles with the gate shut from inside the band: the number swings, no pulse.
+    #[inline(always)]
+    pub fn swing(&mut self, m: u64, c: i64) {
+        if m & 1 == 1 {
+            self.rr += if self.positive { -c } else { c };
+            self.positive = !self.positive;
+        }
+    }
+
+    /// Cycles from now, with the error `e` gated in every cycle and `c` constant, until the
+    /// cycle that makes the next pulse (1 = the next cycle); `None` for `e` = 0. Only valid
+    /// from inside the band.
+    #[inline(always)]
+    pub fn cycles_to_pulse(&self, e: i64, c: i64) -> Option<u64> {
+        if e == 0 {
+            return None;
+        }
+        // In the phase that can pulse (positive for e > 0), every two cycles add 2e; a
+        // positive pulse comes from a positive end when rr + e ≥ c, a negative one from a
+        // negative end when rr + e + c < 0.
+        let (right_phase, rr, first) = if (e > 0) == self.positive {
+            (true, self.rr, 0u64)
+        } else {
+            // One cycle to reach the phase that can pulse: rr + e ∓ c.
+            let n = self.rr + e + if self.positive { -c } else { c };
+            (false, n, 1u64)
+        };
+        let _ = right_phase;
+        let pairs = if e > 0 {
+            let need = c - rr - e;
+            if need <= 0 {
+                0
+            } else {
+                (need as u64).div_ceil(2 * e as u64)
+            }
+        } else {
+            let room = rr + e + c;
+            if room < 0 {
+                0
+            } else {
+                room as u64 / (2 * e.unsigned_abs()) + 1
+            }
+        };
+        Some(first + 2 * pairs + 1)
+    }
+
+    /// `m` cycles with `e` gated every cycle and no pulse among them (m below
+    /// `cycles_to_pulse`).
+    #[inline(always)]
+    pub fn advance_gated(&mut self, m: u64, e: i64, c: i64) {
+        self.rr += e * (m as i64);
+        if m & 1 == 1 {
+            self.rr += if self.positive { -c } else { c };
+            self.positive = !self.positive;
+        }
+    }
+}
+
+/// Error magnitude comparator 93: the axes ranked by the magnitude of their error, largest
+/// (G), middle (M), smallest (S); ties in X, Y, Z order.
+#[inline]
+pub fn rank(e: [i64; 3]) -> [usize; 3] {
+    let m = [e[0].abs(), e[1].abs(), e[2].abs()];
+    let mut r = [0usize, 1, 2];
+    // Three elements: a stable insertion sort by decreasing magnitude.
+    for i in 1..3 {
+        let mut j = i;
+        while j > 0 && m[r[j - 1]] < m[r[j]] {
+            r.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    r
+}
+
+/// Weight of one feed-rate pulse f_p in the counter 81 (Equation II's 2.5 V_r, × 8).
+pub const W_FEED: i32 = 20;
+/// Weights of a command pulse of the largest, middle and smallest error on lines G, M and S
+/// (Equation II: 2.5 : 1 : 0.75, × 8, which lands on stages 2–5 of the counter as the patent
+/// says: G = 16 + 4, M = 8, S = 4 + 2).
+pub const W_GMS: [i32; 3] = [20, 8, 6];
+
+/// The feed-rate regulator 80: the bidirectional counter 81 and the iteration memory 87 that
+/// opens the error gates (seed 001 lines 264–300).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct FeedCounter {
+    /// The count (stage 1 = 1, stage 8 = 128).
+    pub k: i32,
+}
+
+impl FeedCounter {
+    /// A feed-rate pulse: counted up unless the four highest stages are full (gate 89).
+    #[inline(always)]
+    pub fn feed(&mut self, n: u64) {
+        for _ in 0..n {
+            if self.k >= 240 {
+                break;
+            }
+            self.k += W_FEED;
+        }
+    }
+
+    /// A command pulse of the axis ranked `r` (0 = G, 1 = M, 2 = S) counts down.
+    #[inline(always)]
+    pub fn command(&mut self, r: usize) {
+        self.k -= W_GMS[r];
+    }
+
+    /// Whether the iteration memory 87 opens the error gates in recirculation cycle `cycle`:
+    /// every cycle with stage 8 set (k ≥ 128), every second with stage 7 (k ≥ 64), every
+    /// fourth with stage 6 (k ≥ 32) (bf4, bf5, bf6).
+    #[inline(always)]
+    pub fn gate(&self, cycle: u64) -> bool {
+        self.k >= 128 || (self.k >= 64 && cycle & 1 == 0) || (self.k >= 32 && cycle & 3 == 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Seed 001 lines 320–345: RR = 5, L + E_m applied as 10, E_x = −6, the gate open every
+    /// third cycle. The text's L = 8 and E_m = −6 do not make 10; Table I's column L reads 4
+    /// (4 + 6 = 10), so the trace is reproduced with C = 10 (docs/pulse-core.md).
+    #[test]
+    fn the_patents_worked_trace_cycle_by_cycle() {
+        let mut r = ResidueRegister::new(5);
+        let (mut ex, l) = (-6i64, 4i64);
+        let mut trace = vec![r.rr];
+        let mut pulses = Vec::new();
+        for cycle in 1..=5u64 {
+            let gate = cycle % 3 == 0;
+            let c = l + ex.abs();
+            let p = r.cycle(if gate { ex } else { 0 }, c);
+            trace.push(r.rr);
+            if p != 0 {
+                pulses.push((cycle, p));
+                ex -= p as i64;
+            }
+            if cycle == 1 {
+                assert!(r.rr == -5 && !r.positive, "cycle 1: 5 - 10 = -5");
+            }
+        }
+        // 5 → −5 → +5 → −11 → −1 (a pulse, X negative), then with E_x = −5, L + E_m = 9:
+        // −1 + 9 = 8 (Table I's fifth row).
+        assert_eq!(trace, vec![5, -5, 5, -11, -1, 8]);
+        assert_eq!(pulses, vec![(4, -1)]);
+    }
+
+    /// Table I goes on to cycle 26 with pulses at cycles 4, 9, 16 and 25 (line 373). With the
+    /// error and L + E_m updated from the cycle after each pulse, this register gives the
+    /// pulses of cycles 4, 9 and 16 as the text says, and the fourth at 21; the table's own
+    /// rows 10, 17 and 26 apply the old L + E_m for one more cycle, while its row 5 does not
+    /// (docs/pulse-core.md, Table I).
+    #[test]
+    fn table_one_continued() {
+        let mut r = ResidueRegister::new(5);
+        let (mut ex, l) = (-6i64, 4i64);
+        let mut at = Vec::new();
+        for cycle in 1..=26u64 {
+            let p = r.cycle(if cycle % 3 == 0 { ex } else { 0 }, l + ex.abs());
+            if p != 0 {
+                at.push(cycle);
+                ex -= p as i64;
+            }
+        }
+        assert_eq!(at, vec![4, 9, 16, 21]);
+        assert_eq!(ex, -2);
+    }
+
+    /// Table I rebuilt from this register (docs/pulse-core.md):
+    /// `cargo test --lib table_one_printed -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn table_one_printed() {
+        let mut r = ResidueRegister::new(5);
+        let (mut ex, l) = (-6i64, 4i64);
+        println!("| cycle | RR at the start | gate 94 | R ± E | (R ± E) ∓ (L + E_m) = RR at the end | E_x | L | L + E_m | pulse |");
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for cycle in 1..=26u64 {
+            let gate = cycle % 3 == 0;
+            let c = l + ex.abs();
+            let start = r.rr;
+            let sign = if r.positive { "−" } else { "+" };
+            let with_e = start + if gate { ex } else { 0 };
+            let p = r.cycle(if gate { ex } else { 0 }, c);
+            println!(
+                "| {cycle} | {start} | {} | {} | {with_e} {sign} {c} = {} | {ex} | {l} | {c} | {} |",
+                if gate { "open" } else { "" },
+                if gate { format!("{start} {} {} = {with_e}", if ex < 0 { "−" } else { "+" }, ex.abs()) } else { String::new() },
+                r.rr,
+                match p {
+                    1 => "+X",
+                    -1 => "−X",
+                    _ => "",
+                }
+            );
+            if p != 0 {
+                ex -= p as i64;
+            }
+        }
+    }
+
+    #[test]
+    fn the_comparator_ranks_by_magnitude_ties_in_axis_order() {
+        assert_eq!(rank([5, -9, 7]), [1, 2, 0]);
+        assert_eq!(rank([3, 3, -3]), [0, 1, 2]);
+        assert_eq!(rank([0, 0, 1]), [2, 0, 1]);
+    }
+
+    #[test]
+    fn the_gate_opens_every_cycle_second_or_fourth_by_the_count() {
+        let opens = |k: i32| (0..16).filter(|&c| FeedCounter { k }.gate(c)).count();
+        assert_eq!(opens(200), 16);
+        assert_eq!(opens(100), 8);
+        assert_eq!(opens(40), 4);
+        assert_eq!(opens(31), 0);
+        let mut f = FeedCounter::default();
+        f.feed(100);
+        assert_eq!(f.k, 240, "the counter stops at the full top stages");
+        f.command(0);
+        f.command(2);
+        assert_eq!(f.k, 240 - 26);
+    }
+
+    /// The closed-form jumps agree with cycle-by-cycle stepping, from random states.
+    #[test]
+    fn the_jumps_agree_with_single_cycles() {
+        let mut rng = crate::pulse_core::testkit::Rng::new(7);
+        for _ in 0..20_000 {
+            let c = rng.range(2, 5000);
+            let e = rng.range(-c + 1, c - 1);
+            let positive = rng.range(0, 1) == 1;
+            let rr = if positive {
+                rng.range(0, c - 1)
+            } else {
+                rng.range(-c, -1)
+            };
+            let r0 = ResidueRegister { rr, positive };
+            let mut r = r0;
+            let mut n = 0u64;
+            let got = r0.cycles_to_pulse(e, c);
+            let want = loop {
+                n += 1;
+                if r.cycle(e, c) != 0 || n > 20_000 {
+                    break if e == 0 { None } else { Some(n) };
+                }
+            };
+            assert_eq!(got, want, "rr {rr} {positive} e {e} c {c}");
+            if let Some(k) = got {
+                let mut a = r0;
+                a.advance_gated(k - 1, e, c);
+                let mut b = r0;
+                for _ in 0..k - 1 {
+                    assert_eq!(b.cycle(e, c), 0);
+                }
+                assert_eq!(a, b);
+            }
+            let mut s = r0;
+            let mut t = r0;
+            let m = rng.range(0, 9) as u64;
+            s.swing(m, c);
+            for _ in 0..m {
+                assert_eq!(t.cycle(0, c), 0);
+            }
+            assert_eq!(s, t);
+        }
+    }
+}
