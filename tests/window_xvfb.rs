@@ -254,9 +254,12 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
         Some(0),
         "novanc --window failed.\nstdout:\n{out}\nstderr:\n{err}"
     );
-    // Closing the window finished the console: the recording is closed, with its summary.
+    // Closing the window finished the console: the recording is closed, with its summary. In
+    // real time the recorder never holds the machine up, so on a loaded machine (llvmpipe
+    // drawing beside the other tests on 2 cores) an event may be dropped and the summary says
+    // RECORDING INCOMPLETE (docs/recording.md); the file is still closed with its footer.
     assert!(
-        err.contains("recording"),
+        err.to_ascii_lowercase().contains("recording"),
         "no recording summary on stderr: {err}"
     );
     let mcap = std::fs::read(dir.join("run.mcap")).unwrap();

@@ -353,7 +353,11 @@ impl Console {
     /// summary, if one was made.
     pub fn finish(self) -> Result<Option<String>, String> {
         self.core.command(Command::Reset);
-        self.recorder.finish()
+        let Console { core, recorder, .. } = self;
+        // The pulse core thread ends first: in real time it goes on publishing, and an event
+        // sent after the recording closed would be counted as dropped (RECORDING INCOMPLETE).
+        drop(core);
+        recorder.finish()
     }
 
     /// Polls the status, reports what the core did on its own (a run's end, a refusal),
