@@ -139,7 +139,11 @@ fn first_pulse(text: &str) -> (f64, f64) {
     let Ok((mut c, _)) = Console::open(cfg) else {
         return (f64::NAN, f64::NAN);
     };
-    assert_eq!(c.program_text().len(), text.len(), "the program is in memory");
+    assert_eq!(
+        c.program_text().len(),
+        text.len(),
+        "the program is in memory"
+    );
     c.handle(PanelEvent::Op(OpMode::Auto));
     let t = Instant::now();
     c.handle(PanelEvent::Start);
