@@ -38,18 +38,7 @@ fn run(m: &mut Machine, blocks: Vec<novanc::block::Block>) -> Vec<PulseRec> {
 
 /// The position after all the pulses of each distinct time, with the time.
 fn positions(start: [i64; 3], pulses: &[PulseRec]) -> Vec<(u64, [i64; 3])> {
-    let mut out = Vec::new();
-    let mut p = start;
-    let mut i = 0;
-    while i < pulses.len() {
-        let t = pulses[i].t_ns;
-        while i < pulses.len() && pulses[i].t_ns == t {
-            p[pulses[i].axis as usize] += pulses[i].dir as i64;
-            i += 1;
-        }
-        out.push((t, p));
-    }
-    out
+    novanc::pulse_core::testkit::steps(start, pulses)
 }
 
 /// The position after each window of `w` ns (the pulses grouped by window), with the time.

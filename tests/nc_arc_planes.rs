@@ -23,20 +23,15 @@ fn run(start: [i64; 3], b: Block) -> (Machine, Vec<PulseRec>) {
     (m, p)
 }
 
-/// Positions after each PGEN step (pulses grouped by time).
+/// Positions after each PGEN step (pulses grouped by time), the start first.
 fn positions(start: [i64; 3], pulses: &[PulseRec]) -> Vec<[i64; 3]> {
-    let mut out = vec![start];
-    let mut p = start;
-    let mut i = 0;
-    while i < pulses.len() {
-        let t = pulses[i].t_ns;
-        while i < pulses.len() && pulses[i].t_ns == t {
-            p[pulses[i].axis as usize] += pulses[i].dir as i64;
-            i += 1;
-        }
-        out.push(p);
-    }
-    out
+    std::iter::once(start)
+        .chain(
+            novanc::pulse_core::testkit::steps(start, pulses)
+                .into_iter()
+                .map(|(_, p)| p),
+        )
+        .collect()
 }
 
 /// One random arc or helix in `plane`; `normal` pulses along the plane's normal.

@@ -26,18 +26,10 @@ fn run(m: &mut Machine, blocks: Vec<novanc::block::Block>) -> Vec<PulseRec> {
 
 /// Groups pulses by time (one PGEN step each) and returns the position after each step.
 fn positions(start: [i64; 3], pulses: &[PulseRec]) -> Vec<[i64; 3]> {
-    let mut out = Vec::new();
-    let mut p = start;
-    let mut i = 0;
-    while i < pulses.len() {
-        let t = pulses[i].t_ns;
-        while i < pulses.len() && pulses[i].t_ns == t {
-            p[pulses[i].axis as usize] += pulses[i].dir as i64;
-            i += 1;
-        }
-        out.push(p);
-    }
-    out
+    novanc::pulse_core::testkit::steps(start, pulses)
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect()
 }
 
 #[test]

@@ -83,3 +83,20 @@ pub fn polyline(points: &[[i64; 3]], feed: f64) -> Vec<Block> {
         })
         .collect()
 }
+
+/// The position after all the pulses of each distinct time (one PGEN step, or one
+/// recirculation cycle), with that time, from `start`: the path the pulses trace.
+pub fn steps(start: [i64; 3], pulses: &[super::PulseRec]) -> Vec<(u64, [i64; 3])> {
+    let mut out = Vec::new();
+    let mut p = start;
+    let mut i = 0;
+    while i < pulses.len() {
+        let t = pulses[i].t_ns;
+        while i < pulses.len() && pulses[i].t_ns == t {
+            p[pulses[i].axis as usize] += pulses[i].dir as i64;
+            i += 1;
+        }
+        out.push((t, p));
+    }
+    out
+}
