@@ -148,33 +148,17 @@ fn search_positions_a_gcode_program() {
 fn mdi_takes_gcode_lines_and_source_statements() {
     let mut c = open("g-mdi");
     c.handle(E::Op(OpMode::Mdi));
-    type_line(&mut c, "G0 X10 Y20 Z-5");
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert_eq!(
-        c.status().pos,
-        [p(10.0), p(20.0), p(-5.0)],
-        "{}",
-        c.frame_text()
-    );
-    type_line(&mut c, "GO, 100, 50, -20");
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert_eq!(
-        c.status().pos,
-        [p(100.0), p(50.0), p(-20.0)],
-        "{}",
-        c.frame_text()
-    );
-    type_line(&mut c, "G91 G1 X-1 F100");
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert_eq!(
-        c.status().pos,
-        [p(99.0), p(50.0), p(-20.0)],
-        "{}",
-        c.frame_text()
-    );
+    // Each line typed, START, and where the machine ends.
+    for (line, want) in [
+        ("G0 X10 Y20 Z-5", [10.0, 20.0, -5.0]),
+        ("GO, 100, 50, -20", [100.0, 50.0, -20.0]),
+        ("G91 G1 X-1 F100", [99.0, 50.0, -20.0]),
+    ] {
+        type_line(&mut c, line);
+        c.handle(E::Start);
+        c.handle(E::Wait);
+        assert_eq!(c.status().pos, want.map(p), "{line}:\n{}", c.frame_text());
+    }
 }
 
 #[test]
