@@ -353,3 +353,26 @@ fn an_ofs_length_revised_during_a_gcode_run_says_it_applies_from_the_next_run() 
     let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end).collect();
     assert_eq!(ends, want, "the run kept the length G43 read");
 }
+
+/// The state line cut on the 40-column plasma (all switches on, the error-proportional
+/// interpolator) still says ESTOP and HOLD: what the machine is doing comes before the switches.
+#[test]
+fn the_state_line_keeps_estop_and_hold_ahead_of_the_switches() {
+    let mut cfg = novanc::console::ConsoleConfig::new(common::temp_dir("g-state-line"));
+    cfg.clock = novanc::pulse_core::ClockMode::Virtual;
+    cfg.settings.interpolator = novanc::settings::Interpolator::ErrorProportional;
+    let mut c = Console::open(cfg).unwrap().0;
+    c.handle(E::BlockDelete(true));
+    c.handle(E::OptionalStop(true));
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::WaitMs(3000));
+    c.handle(E::Stop);
+    c.handle(E::Wait);
+    let last = |c: &Console| c.view().display.last().cloned().unwrap_or_default();
+    assert!(last(&c).contains(" HOLD"), "{}", c.frame_text());
+    c.handle(E::EStop);
+    let line = last(&c);
+    assert!(line.contains(" ESTOP /DEL"), "{}", c.frame_text());
+    assert!(line.chars().count() <= 40, "{line}");
+}

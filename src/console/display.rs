@@ -235,6 +235,13 @@ pub(super) fn state_line(c: &Console) -> String {
         "RUN {} {mode} OVR{:>3}% {t} S{}",
         c.status.run, c.feed_override, c.status.spindle
     );
+    // What the machine is doing comes before the switches, so a narrow display that cuts the
+    // line (with its mark) never cuts ESTOP or HOLD.
+    if c.status.estop {
+        s.push_str(" ESTOP");
+    } else if c.status.hold {
+        s.push_str(" HOLD");
+    }
     if c.switches.block_delete {
         s.push_str(" /DEL");
     }
@@ -244,11 +251,6 @@ pub(super) fn state_line(c: &Console) -> String {
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {
         // The error-proportional interpolator (seed 001); the DDA is the default, unmarked.
         s.push_str(" EP");
-    }
-    if c.status.estop {
-        s.push_str(" ESTOP");
-    } else if c.status.hold {
-        s.push_str(" HOLD");
     }
     s
 }
