@@ -205,3 +205,19 @@ fn mdi_typing_sets_the_buffer_and_up_recalls_a_refused_line() {
         c.view().entry
     );
 }
+
+/// Home and End on OFS: the first T code, and the work offsets (G54, after the last T code),
+/// without paging through the magazine.
+#[test]
+fn ofs_home_and_end_reach_the_first_tool_and_the_work_offsets() {
+    let mut c = common::open("pages-ofs-home-end");
+    keys(&mut c, &["Ctrl+O", "End"]);
+    let f = c.frame_text();
+    assert!(
+        f.contains("OFS WORK") && f.contains("G54       >0.000"),
+        "{f}"
+    );
+    keys(&mut c, &["Home"]);
+    let f = c.frame_text();
+    assert!(f.contains("T01 00610        40> 220.000"), "{f}");
+}

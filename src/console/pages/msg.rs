@@ -13,6 +13,8 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
     match k {
         Key::Down | Key::PageDown => *f = (*f + 1).min(n.saturating_sub(1)),
         Key::Up | Key::PageUp => *f = f.saturating_sub(1),
+        Key::Home => *f = 0,
+        Key::End => *f = n.saturating_sub(1),
         _ => {}
     }
 }

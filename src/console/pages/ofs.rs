@@ -39,6 +39,9 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
         Key::Down => *t = (*t + 1).min(last),
         Key::PageUp => *t = t.saturating_sub(8).max(1),
         Key::PageDown => *t = (*t + 8).min(last),
+        // Home: the first T code; End: the work offsets, G54 (the row after the last T code).
+        Key::Home => *t = 1,
+        Key::End => *t = cap + 1,
         Key::Left if *t > cap => *axis = axis.saturating_sub(1),
         Key::Right if *t > cap => *axis = (*axis + 1).min(2),
         Key::Left => *col = col.saturating_sub(1).max(FIRST),

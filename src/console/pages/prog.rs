@@ -32,6 +32,8 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
     match k {
         Key::Down | Key::PageDown => *r = (*r + 1).min(n.saturating_sub(1)),
         Key::Up | Key::PageUp => *r = r.saturating_sub(1),
+        Key::Home => *r = 0,
+        Key::End => *r = n.saturating_sub(1),
         _ => {}
     }
     c.pages.confirm_delete = None;
