@@ -30,7 +30,6 @@ fn run(start: [i64; 3], b: Block) -> (Machine, Vec<PulseRec>) {
 /// The worst distance from the circle, pulses, and the arc's time, s.
 fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, feed: f64) -> (f64, f64, f64, f64) {
     let [u, v] = plane.turn_axes();
-    let [a0x, a1x, _] = plane.axes();
     let r = rng.range(2_000, 120_000) as f64;
     let th0 = rng.unit() * TAU;
     let sweep = if full {
@@ -48,12 +47,7 @@ fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, feed: f64) -> (f64,
         e[u] += (r * th1.cos()).round() as i64;
         e[v] += (r * th1.sin()).round() as i64;
     }
-    let mut b = Block::aux(1, 1, e);
-    b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
-    b.plane = plane;
-    b.delta = [e[0] - s[0], e[1] - s[1], e[2] - s[2]];
-    b.center = Some([c[a0x] - s[a0x], c[a1x] - s[a1x]]);
-    b.feed = feed;
+    let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, feed);
     let (m, pulses) = run(s, b);
     let what = format!("{plane:?} r {r} ccw {ccw} full {full}");
     assert_eq!(m.status().alarm, None, "{what}");
@@ -178,7 +172,7 @@ fn helices_in_every_plane_keep_their_pitch_and_end_exactly() {
     for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
         for i in 0..6 {
             let [u, v] = plane.turn_axes();
-            let [a0x, a1x, n] = plane.axes();
+            let n = plane.axes()[2];
             let ccw = i % 2 == 0;
             let r = rng.range(5_000, 60_000) as f64;
             let th0 = rng.unit() * TAU;
@@ -199,12 +193,7 @@ fn helices_in_every_plane_keep_their_pitch_and_end_exactly() {
                 e[v] += (r * th1.sin()).round() as i64;
             }
             e[n] = s[n] + normal;
-            let mut b = Block::aux(1, 1, e);
-            b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
-            b.plane = plane;
-            b.delta = [e[0] - s[0], e[1] - s[1], e[2] - s[2]];
-            b.center = Some([c[a0x] - s[a0x], c[a1x] - s[a1x]]);
-            b.feed = 1500.0;
+            let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, 1500.0);
             let (m, pulses) = run(s, b);
             let what = format!("{plane:?} r {r} ccw {ccw} normal {normal}");
             assert_eq!(m.status().alarm, None, "{what}");
@@ -239,7 +228,6 @@ fn tiny_arcs_end_exactly() {
     for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
         for i in 0..30 {
             let [u, v] = plane.turn_axes();
-            let [a0x, a1x, _] = plane.axes();
             let r = rng.range(2, 40) as f64;
             let th0 = rng.unit() * TAU;
             let full = i % 4 == 0;
@@ -264,12 +252,7 @@ fn tiny_arcs_end_exactly() {
             if rs < 2.0 || re < 2.0 {
                 continue;
             }
-            let mut b = Block::aux(1, 1, e);
-            b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
-            b.plane = plane;
-            b.delta = [e[0] - s[0], e[1] - s[1], e[2] - s[2]];
-            b.center = Some([c[a0x] - s[a0x], c[a1x] - s[a1x]]);
-            b.feed = 1000.0;
+            let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, 1000.0);
             let (m, p) = run(s, b);
             assert_eq!(m.status().alarm, None, "{plane:?} r {r} case {i}");
             assert_eq!(m.pos(), e, "{plane:?} r {r} case {i}");

@@ -50,7 +50,7 @@ fn check_spiral(
     dr: i64,
 ) {
     let [u, v] = plane.turn_axes();
-    let [a0x, a1x, n] = plane.axes();
+    let n = plane.axes()[2];
     let r = rng.range(300, r_max) as f64;
     let th0 = rng.unit() * TAU;
     let sweep = if full {
@@ -70,12 +70,7 @@ fn check_spiral(
         e[v] += (re * th1.sin()).round() as i64;
     }
     e[n] = s[n] + normal;
-    let mut b = Block::aux(1, 1, e);
-    b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
-    b.plane = plane;
-    b.delta = [e[0] - s[0], e[1] - s[1], e[2] - s[2]];
-    b.center = Some([c[a0x] - s[a0x], c[a1x] - s[a1x]]);
-    b.feed = 2000.0;
+    let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, 2000.0);
     let (m, pulses) = run(s, b);
     let what = format!("{plane:?} r {r} ccw {ccw} full {full} normal {normal}");
     assert_eq!(m.status().alarm, None, "{what}");

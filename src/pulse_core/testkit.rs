@@ -100,3 +100,23 @@ pub fn steps(start: [i64; 3], pulses: &[super::PulseRec]) -> Vec<(u64, [i64; 3])
     }
     out
 }
+
+/// An arc block in `plane` from `start` to `end` (absolute pulses) about the centre `center`
+/// (absolute; its normal coordinate ignored), G03 if `ccw`: a helix if the normal axis moves.
+pub fn plane_arc(
+    plane: crate::block::Plane,
+    start: [i64; 3],
+    end: [i64; 3],
+    center: [i64; 3],
+    ccw: bool,
+    feed: f64,
+) -> Block {
+    let [a0, a1, _] = plane.axes();
+    let mut b = Block::aux(1, 1, end);
+    b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
+    b.plane = plane;
+    b.delta = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+    b.center = Some([center[a0] - start[a0], center[a1] - start[a1]]);
+    b.feed = feed;
+    b
+}
