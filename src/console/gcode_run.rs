@@ -77,6 +77,12 @@ impl Iterator for Feeding {
     }
 }
 
+/// Whether the run loaded is G-code: only a G-code run has a feed for its G10 changes, from
+/// its START to its end.
+pub(super) fn gcode_run_loaded(c: &Console) -> bool {
+    c.status.job.is_some() && c.offset_feed.is_some()
+}
+
 /// Keeps the loaded run's G10 changes in the stores once it has started a block; a failure to
 /// save is said on the display.
 pub(super) fn keep_offsets(c: &mut Console) {

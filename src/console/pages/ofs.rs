@@ -156,7 +156,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {
                 c.core.set_magazine(c.mem.magazine());
-                if c.offset_feed.is_some() {
+                if super::super::gcode_run::gcode_run_loaded(c) {
                     // A G-code run took its lengths and radii when its lines were read (G43,
                     // G41/G42), as LinuxCNC does (docs/gcode.md, "Tool length").
                     format!(
