@@ -9,6 +9,7 @@ pub mod console;
 pub mod crc32;
 pub mod gcode;
 pub mod input_text;
+pub mod lathe;
 pub mod panel_model;
 pub mod pulse_core;
 pub mod record;

@@ -1,0 +1,10 @@
+//! The Citizen multi-spindle lathe (seed 004) and the UNAM thesis lathe (seed 003): lathe
+//! channels, each with its own spindle, tool post, chuck and program, run in lockstep by one
+//! thread (docs/lathe.md).
+//!
+//! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded).
+//! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
+//!   reader ([`gcode`]) and the channel simulator ([`sim`]).
+
+pub mod desc;
+pub mod ops;
