@@ -8,4 +8,5 @@
 
 pub mod desc;
 pub mod ops;
+pub mod record;
 pub mod store;
