@@ -1,0 +1,3 @@
+//! The lathe console (docs/lathe.md "The panel").
+
+pub mod view;
