@@ -4,6 +4,7 @@
 pub mod args;
 pub mod console_opts;
 pub mod edit;
+pub mod lathe;
 pub mod run;
 pub mod script;
 pub mod signals;
@@ -17,11 +18,13 @@ novanc: CNC operator console
 
 usage:
   novanc [--state DIR] [--rows N] [--cols N]   interactive console (terminal)
+  novanc --machine citizen [--state DIR]       the Citizen lathe's console (docs/lathe.md)
   novanc --window                              the console in an egui window (feature \"window\")
   novanc translate PROG [--tools TAPE] [--magazine TCODES]
   novanc run PROG [--tools ..] [--magazine ..] [--record OUT.mcap] [--realtime] [--feed-override PCT]
   novanc edit FILE -c 'CMDLINE' [-c ..] [--write]
-  novanc script FILE [--record OUT.mcap]
+  novanc script FILE [--record OUT.mcap] [--machine citizen]
+  novanc run --machine citizen DIR [--parts N] [--record OUT.mcap]
   novanc tape read IMAGE [--block-parity] [--holes]
   novanc tape punch FILE --code iso|eia [--leader N] [--label TEXT] -o IMAGE
 
@@ -82,10 +85,22 @@ fn console(argv: &[String]) -> i32 {
         print!("{}", crate::terminal::HELP);
         return 0;
     }
-    let (cfg, rest) = match console_opts::config_from_args(argv) {
+    let (mill, argv) = match lathe::take_machine(argv) {
+        Err(e) => return usage_error(&e),
+        Ok(None) => (None, argv.to_vec()),
+        Ok(Some((m, rest))) => match lathe::machine(&m) {
+            Err(e) => return usage_error(&e),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return lathe::console(d, &rest),
+            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
+        },
+    };
+    let (mut cfg, rest) = match console_opts::config_from_args(&argv) {
         Ok(x) => x,
         Err(e) => return usage_error(&e),
     };
+    if let Some(m) = &mill {
+        lathe::apply_mill(&mut cfg.settings, m);
+    }
     if let Some(r) = rest.first() {
         return usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }

@@ -13,7 +13,7 @@ use crate::settings::MachineSettings;
 use std::path::Path;
 
 const HELP: &str = "\
-usage: novanc run PROG [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
+usage: novanc run PROG [--machine centre|FILE] [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--realtime] [--feed-override PCT]
                        [--interpolator dda|error-proportional] [--ep-l PULSES]
        novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT] [..]
@@ -30,6 +30,9 @@ longer than B1) stops the run before that statement, exit code 1. A block refuse
 core (travel limit, arc geometry) stops the run with a message naming the statement, exit 1.
 
 options:
+  --machine M           the machining centre's description: centre (the default) or a
+                        file (docs/lathe.md); a lathe (citizen) runs its channel programs:
+                        see novanc run --machine citizen --help
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES     T-code table; default: the sample table tooldata/magazine.tc (embedded)
   --state DIR           use a console's memory (read, never changed): its tool file, T
@@ -63,6 +66,16 @@ const OPTS: [Opt; 11] = [
 
 /// Runs `novanc run`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
+    let (base, argv) = match super::lathe::take_machine(argv) {
+        Err(e) => return super::usage_error(&format!("run: {e}")),
+        Ok(None) => (MachineSettings::default(), argv.to_vec()),
+        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
+            Err(e) => return super::usage_error(&format!("run: {e}")),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return super::lathe::run(d, &rest),
+            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
+        },
+    };
+    let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
         Ok(a) => a,
         Err(e) => return super::usage_error(&e),
@@ -82,7 +95,7 @@ pub fn main(argv: &[String]) -> i32 {
             }
         },
     };
-    let mut settings = MachineSettings::default();
+    let mut settings = base;
     if let Some(i) = args.value("--interpolator") {
         match crate::settings::Interpolator::parse(i) {
             Ok(i) => settings.interpolator = i,

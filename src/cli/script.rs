@@ -8,7 +8,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const HELP: &str = "\
-usage: novanc script FILE [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
+usage: novanc script FILE [--machine citizen|FILE] [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
 
 Runs a panel event script (one event per line, # comments):
   op CONTINUOUS|AUTO|MDI|DATA|HANDLE|STEP|SINGLE
@@ -36,6 +36,16 @@ and `---`. A bad line stops the script before anything runs (exit 1). Without --
 
 /// Runs `novanc script`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
+    let (mill, argv) = match super::lathe::take_machine(argv) {
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+        Ok(None) => (None, argv.to_vec()),
+        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
+            Err(e) => return super::usage_error(&format!("script: {e}")),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return super::lathe::script(d, &rest),
+            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
+        },
+    };
+    let argv = argv.as_slice();
     if argv.iter().any(|a| a == "-h" || a == "--help") {
         print!("{HELP}");
         return 0;
@@ -47,6 +57,9 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(x) => x,
         Err(e) => return super::usage_error(&format!("script: {e}")),
     };
+    if let Some(m) = &mill {
+        super::lathe::apply_mill(&mut cfg.settings, m);
+    }
     let file = match rest.as_slice() {
         [f] if !f.starts_with('-') => PathBuf::from(f),
         [] => return super::usage_error("script: which script? (novanc script FILE)"),

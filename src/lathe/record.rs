@@ -24,7 +24,7 @@ const EVENT_SCHEMA: &str = concat!(
     r#""properties":{"channel":{"type":"integer","description":"1-based channel"},"#,
     r#""event":{"type":"string","description":"transfer, thread, cut, part, wait, fault, alarm, reset, done, ..."},"#,
     r#""work":{"type":"integer","description":"the work piece, 1-based, if the event concerns one"},"#,
-    r#""value":{"type":"integer","description":"the event's number: the receiving channel of a transfer, the encoder count of a thread pass start, the count of a part"},"#,
+    r#""value":{"type":"integer","description":"the event's number: the receiving channel of a transfer, the encoder index of a thread pass, the count of a part"},"#,
     r#""text":{"type":"string","description":"the event in words"}},"#,
     r#""required":["channel","event","text"]}"#
 );

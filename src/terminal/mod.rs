@@ -3,6 +3,7 @@
 //! events, ticks the console (about 50 Hz) and draws the panel with diff rendering. The
 //! terminal is handed back on exit, on panic and on SIGTERM/SIGINT/SIGHUP.
 
+pub mod lathe;
 pub mod layout;
 
 use crate::console::{Console, ConsoleConfig};

@@ -1,4 +1,647 @@
-//! The lathe console (docs/lathe.md "The panel").
+//! The lathe console (docs/lathe.md "The panel"): the operator's panel of a lathe with one or
+//! more channels. A channel selector chooses the channel the plasma display, the data keys and
+//! the editor act on; a summary line shows every channel's state, current block, whom it waits
+//! for and its part count. START, STOP and E-STOP act on the whole machine, RESET on the
+//! selected channel (after an E-STOP, on the machine).
+//!
+//! The machine runs in the console's thread ([`super::sim`], lockstep, one tick for all
+//! channels); `tick` advances it by the machine time given (the wall clock's in the terminal,
+//! the script's waits in virtual time).
 
 pub mod events;
+mod glue;
 pub mod view;
+
+pub use glue::{home, Cycle};
+
+use super::desc::LatheDesc;
+use super::record::{LatheRecordSummary, LatheRecorder};
+use super::store::{Counter, LatheStore, Program};
+use events::{LatheEv, Mode};
+use novanc_editor::{Buffer, ExecOptions};
+use std::path::Path;
+use view::ChanView;
+
+/// The lathe console.
+pub struct LatheConsole {
+    desc: LatheDesc,
+    store: LatheStore,
+    programs: Vec<Program>,
+    pointers: Vec<usize>,
+    /// The editor pointer's line (1-based), per channel.
+    edit_line: Vec<usize>,
+    mdi: Vec<Vec<String>>,
+    counter: Counter,
+    sel: usize,
+    mode: Mode,
+    entry: String,
+    message: String,
+    cycle: Option<glue::Cycle>,
+    rows: usize,
+    cols: usize,
+    rec: Option<LatheRecorder>,
+    last_display: Vec<String>,
+    help: bool,
+    optional_stop: bool,
+    block_delete: bool,
+    /// Machine time since the console opened, ns (cycles follow one another on it).
+    now_ns: u64,
+    /// Each channel's tool post, pulses [X radius, Z] (where the last cycle left it).
+    pos: Vec<[i64; 2]>,
+    /// A partial batch found at open: START begins a new batch from 0.
+    stale_counts: bool,
+}
+
+/// What the terminal or the window draws.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatheView {
+    /// The title line: machine, mode, switches, parts, machine time.
+    pub title: String,
+    /// One summary line per channel.
+    pub summary: Vec<String>,
+    /// The plasma display of the selected channel.
+    pub display: Vec<String>,
+    /// Every channel as the display sees it (the window's side-by-side view).
+    pub channels: Vec<ChanView>,
+    /// The selected channel, 0-based.
+    pub selected: usize,
+    /// The help screen is up.
+    pub help: bool,
+    /// Machine time, ns.
+    pub machine_ns: u64,
+}
+
+impl LatheConsole {
+    /// Opens the console of `desc` on the state directory (programs and part counter in
+    /// `lathe-NAME/`), with a `rows`×`cols` plasma display, recording to `record` if given.
+    pub fn open(
+        desc: LatheDesc,
+        state: &Path,
+        rows: usize,
+        cols: usize,
+        record: Option<&Path>,
+    ) -> Result<(LatheConsole, Vec<String>), String> {
+        let o = LatheStore::open(state, &desc)?;
+        let n = desc.channels.len();
+        let rec = match record {
+            Some(p) => Some(LatheRecorder::create(
+                p,
+                &desc.name,
+                n,
+                desc.pulse_mm,
+                desc.tick_ns,
+            )?),
+            None => None,
+        };
+        let stale = o
+            .counter
+            .counts
+            .iter()
+            .any(|&c| c > 0 && c < o.counter.target);
+        let mut c = LatheConsole {
+            programs: o.programs,
+            pointers: vec![0; n],
+            edit_line: vec![1; n],
+            mdi: vec![Vec::new(); n],
+            counter: o.counter,
+            store: o.store,
+            desc,
+            sel: 0,
+            mode: Mode::Auto,
+            entry: String::new(),
+            message: String::new(),
+            cycle: None,
+            rows,
+            cols,
+            rec,
+            last_display: Vec::new(),
+            help: false,
+            optional_stop: false,
+            block_delete: false,
+            now_ns: 0,
+            stale_counts: stale,
+            pos: Vec::new(),
+        };
+        c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
+        if stale {
+            c.message = format!(
+                "last batch stopped at {} of {}: START begins anew",
+                c.counter
+                    .counts
+                    .iter()
+                    .map(|x| x.to_string())
+                    .collect::<Vec<_>>()
+                    .join("/"),
+                c.counter.target
+            );
+        }
+        c.record_display();
+        Ok((c, o.warnings))
+    }
+
+    /// The machine description.
+    pub fn desc(&self) -> &LatheDesc {
+        &self.desc
+    }
+
+    /// The selected channel, 0-based.
+    pub fn selected(&self) -> usize {
+        self.sel
+    }
+
+    /// The part counter.
+    pub fn counter(&self) -> &Counter {
+        &self.counter
+    }
+
+    /// The last message.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    /// The switches: OPTIONAL STOP, BLOCK DELETE.
+    pub fn switches(&self) -> (bool, bool) {
+        (self.optional_stop, self.block_delete)
+    }
+
+    /// The cycle in progress, if any (for tests and the window).
+    pub fn cycle(&self) -> Option<&super::sim::Lathe> {
+        self.cycle.as_ref().map(|c| &c.lathe)
+    }
+
+    /// Machine time, ns.
+    pub fn machine_ns(&self) -> u64 {
+        self.now_ns
+    }
+
+    /// A key of the terminal.
+    pub fn press(&mut self, k: novanc_panel::Key) {
+        use novanc_panel::Key;
+        match k {
+            Key::Alt('f') => {
+                let why = std::mem::take(&mut self.entry);
+                let why = if why.trim().is_empty() {
+                    "operator".to_string()
+                } else {
+                    why.trim().to_lowercase()
+                };
+                return self.event(LatheEv::Fault(self.sel, why));
+            }
+            Key::Alt('n') => {
+                let typed = std::mem::take(&mut self.entry);
+                match typed.trim().parse::<u32>() {
+                    Ok(n) if (1..=999_999).contains(&n) => return self.event(LatheEv::Target(n)),
+                    _ => {
+                        self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
+                        self.entry = typed;
+                        return;
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Some(ev) = events::map_key(k, self.optional_stop, self.block_delete) {
+            self.event(ev);
+        }
+    }
+
+    /// One operator action. Recorded on `/panel/event`; a refusal says why on the message
+    /// line and changes nothing.
+    pub fn event(&mut self, ev: LatheEv) {
+        let line = ev.script_line();
+        if let Some(r) = self.rec.as_mut() {
+            r.panel_event(self.now_ns, &line);
+        }
+        match ev {
+            LatheEv::Help => self.help = !self.help,
+            LatheEv::Mode(m) => {
+                self.mode = m;
+                self.entry.clear();
+                self.message = format!("{} mode", m.word());
+            }
+            LatheEv::Channel(c) if c < self.desc.channels.len() => self.select(c),
+            LatheEv::Channel(c) => self.message = format!("there is no channel {}", c + 1),
+            LatheEv::NextChannel => self.select((self.sel + 1) % self.desc.channels.len()),
+            LatheEv::Key(c) => {
+                if self.entry.chars().count() < 120 {
+                    self.entry.push(c);
+                }
+            }
+            LatheEv::Rubout => {
+                self.entry.pop();
+            }
+            LatheEv::Type(t) => {
+                self.entry = t.chars().filter(|c| !c.is_control()).take(120).collect();
+                self.eob();
+            }
+            LatheEv::Eob => self.eob(),
+            LatheEv::Start => self.start(),
+            LatheEv::Stop => match self.cycle.as_mut() {
+                Some(c) => {
+                    c.lathe.hold();
+                    self.message = "STOP: feed hold on every channel; START resumes".into();
+                }
+                None => self.message = "STOP: nothing runs".into(),
+            },
+            LatheEv::Reset => self.reset(),
+            LatheEv::EStop => {
+                if let Some(c) = self.cycle.as_mut() {
+                    c.lathe.estop();
+                }
+                self.message = "E-STOP: every channel stopped; RESET releases".into();
+            }
+            LatheEv::Fault(ch, why) => match self.cycle.as_mut() {
+                Some(c) if ch < self.desc.channels.len() => {
+                    self.message = match c.fault(ch, &why) {
+                        Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
+                        Err(e) => format!("fault CH{}: {e}", ch + 1),
+                    };
+                }
+                _ => self.message = format!("fault CH{}: no cycle runs", ch + 1),
+            },
+            LatheEv::Target(n) => self.set_target(n),
+            LatheEv::OptionalStop(b) => {
+                self.optional_stop = b;
+                self.message = format!(
+                    "OPTIONAL STOP {} (from the next START of a cycle)",
+                    if b { "on" } else { "off" }
+                );
+            }
+            LatheEv::BlockDelete(b) => {
+                self.block_delete = b;
+                self.message = format!(
+                    "BLOCK DELETE {} (from the next START of a cycle)",
+                    if b { "on" } else { "off" }
+                );
+            }
+        }
+        self.after();
+    }
+
+    fn select(&mut self, c: usize) {
+        self.sel = c;
+        self.entry.clear();
+        self.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
+    }
+
+    fn set_target(&mut self, n: u32) {
+        if let Some(c) = self.cycle.as_mut() {
+            let most = self.counter.counts.iter().copied().max().unwrap_or(0);
+            if n < most.max(1) {
+                self.message = format!("target {n}: a channel has already finished {most}");
+                return;
+            }
+            c.lathe.set_target(n);
+        } else {
+            self.counter.counts.iter_mut().for_each(|c| *c = 0);
+            self.stale_counts = false;
+        }
+        self.counter.target = n;
+        self.message = match self.store.save_counter(&self.counter) {
+            Ok(()) => format!("part target {n}"),
+            Err(e) => e,
+        };
+    }
+
+    /// The EOB key: in MDI the line goes into the channel's MDI buffer; in DATA it is an
+    /// editor command line on the channel's program.
+    fn eob(&mut self) {
+        let line = std::mem::take(&mut self.entry);
+        match self.mode {
+            Mode::Auto => {
+                if !line.is_empty() {
+                    self.message = "AUTO takes no data: turn to MDI or DATA".into();
+                }
+            }
+            Mode::Mdi => {
+                if line.is_empty() {
+                    return;
+                }
+                if self.mdi[self.sel].len() >= 64 {
+                    self.message = "the MDI buffer holds 64 lines: START or RESET it".into();
+                    self.entry = line;
+                    return;
+                }
+                self.mdi[self.sel].push(line);
+                self.message = format!(
+                    "MDI CH{}: {} lines; START runs them",
+                    self.sel + 1,
+                    self.mdi[self.sel].len()
+                );
+            }
+            Mode::Data => self.edit(&line),
+        }
+    }
+
+    fn edit(&mut self, line: &str) {
+        if line.is_empty() {
+            return;
+        }
+        if self.cycle.as_ref().is_some_and(|c| !c.is_over()) {
+            self.message = "the programs are in use: RESET the cycle before editing".into();
+            self.entry = line.to_string();
+            return;
+        }
+        let ch = self.sel;
+        let mut buf = Buffer::from_text(&self.programs[ch].text);
+        buf.set_pointer(self.pointers[ch]);
+        let opts = ExecOptions {
+            y_max_lines: Some(self.rows),
+            validator: None,
+        };
+        match buf.execute(line, &opts) {
+            Err(e) => {
+                self.message = format!("{}: {}", e.command, e.reason);
+                self.entry = line.to_string();
+            }
+            Ok(out) => {
+                let text = buf.text();
+                if text.len() > super::store::MAX_PROGRAM {
+                    self.message = "the program would pass 1 MB: refused".into();
+                    self.entry = line.to_string();
+                    return;
+                }
+                let p = Program {
+                    name: self.programs[ch].name.clone(),
+                    text,
+                };
+                if out.changed {
+                    if let Err(e) = self.store.save_program(ch, &p) {
+                        self.message = format!("{e}: the edit is refused");
+                        self.entry = line.to_string();
+                        return;
+                    }
+                    self.programs[ch] = p;
+                }
+                self.pointers[ch] = buf.pointer();
+                self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
+                self.message = if out.changed {
+                    "stored".into()
+                } else {
+                    "ok".into()
+                };
+            }
+        }
+    }
+
+    fn start(&mut self) {
+        if let Some(c) = self.cycle.as_mut() {
+            if !c.is_over() {
+                c.lathe.start();
+                self.message = "START".into();
+                return;
+            }
+        }
+        match self.mode {
+            Mode::Data => self.message = "DATA mode: turn to AUTO or MDI to run".into(),
+            Mode::Auto => {
+                if self
+                    .counter
+                    .counts
+                    .iter()
+                    .all(|&c| c >= self.counter.target)
+                    && !self.stale_counts
+                {
+                    self.message = format!(
+                        "the target of {} parts is reached: set a new target (Alt+n) to run again",
+                        self.counter.target
+                    );
+                    return;
+                }
+                let texts: Vec<(String, String)> = self
+                    .programs
+                    .iter()
+                    .map(|p| (p.name.clone(), p.text.clone()))
+                    .collect();
+                self.begin(texts, false);
+            }
+            Mode::Mdi => {
+                if self.mdi[self.sel].is_empty() {
+                    self.message = "MDI: the buffer is empty; type lines, then START".into();
+                    return;
+                }
+                let mut texts = vec![(String::new(), String::new()); self.desc.channels.len()];
+                texts[self.sel] = (
+                    format!("MDI CH{}", self.sel + 1),
+                    self.mdi[self.sel].join("\n") + "\n",
+                );
+                self.begin(texts, true);
+            }
+        }
+    }
+
+    fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
+        let opts = super::gcode::ReadOptions {
+            block_delete: self.block_delete,
+            optional_stop: self.optional_stop,
+        };
+        let target = if mdi { 1 } else { self.counter.target };
+        match glue::Cycle::new(
+            &self.desc,
+            &texts,
+            &opts,
+            target,
+            mdi,
+            self.sel,
+            &self.pos,
+            self.now_ns,
+        ) {
+            Err(e) => self.message = e,
+            Ok(c) => {
+                if !mdi {
+                    self.counter.counts.iter_mut().for_each(|c| *c = 0);
+                    self.stale_counts = false;
+                    if let Err(e) = self.store.save_counter(&self.counter) {
+                        self.message = e;
+                        return;
+                    }
+                } else {
+                    self.mdi[self.sel].clear();
+                }
+                self.cycle = Some(c);
+                self.message = if mdi {
+                    format!("MDI CH{} runs", self.sel + 1)
+                } else {
+                    "cycle start".into()
+                };
+            }
+        }
+    }
+
+    fn reset(&mut self) {
+        let Some(c) = self.cycle.as_mut() else {
+            self.mdi[self.sel].clear();
+            self.entry.clear();
+            self.message = format!("RESET CH{}", self.sel + 1);
+            return;
+        };
+        if c.is_over() {
+            self.cycle = None;
+            self.message = "RESET: the cycle is cleared".into();
+            return;
+        }
+        self.message = c.reset(self.sel);
+    }
+
+    /// Advances the machine by `ns` of machine time (whole ticks), records what happened and
+    /// stores the part counter as it counts.
+    pub fn tick(&mut self, ns: u64) {
+        let Some(c) = self.cycle.as_mut() else {
+            self.now_ns += ns;
+            return;
+        };
+        let t0 = self.now_ns;
+        c.advance(ns);
+        self.now_ns = t0 + ns;
+        self.after();
+    }
+
+    /// Runs the machine until every channel is at rest (finished, stopped, waiting on a
+    /// stopped channel, faulted or in E-STOP), or `limit_ns` of machine time passed. Returns
+    /// the machine time used.
+    pub fn run_until_rest(&mut self, limit_ns: u64) -> u64 {
+        let mut used = 0;
+        let step = 10_000_000;
+        while used < limit_ns && self.cycle.is_some() {
+            let n = step.min(limit_ns - used);
+            self.tick(n);
+            used += n;
+            if self.cycle.as_mut().is_none_or(|c| c.at_rest()) {
+                break;
+            }
+        }
+        used
+    }
+
+    /// Takes what the machine reported: records it, counts parts into the stores.
+    fn after(&mut self) {
+        if let Some(c) = self.cycle.as_mut() {
+            let counts = c.drain(self.rec.as_mut(), &self.counter.counts);
+            c.positions(&mut self.pos);
+            if !c.mdi && counts != self.counter.counts {
+                self.counter.counts = counts;
+                if let Err(e) = self.store.save_counter(&self.counter) {
+                    self.message = e;
+                }
+            }
+            if let Some(m) = c.take_message() {
+                self.message = m;
+            }
+        }
+        self.record_display();
+    }
+
+    fn record_display(&mut self) {
+        if self.rec.is_none() {
+            return;
+        }
+        let d = self.view().display;
+        if d != self.last_display {
+            if let Some(r) = self.rec.as_mut() {
+                r.display(self.now_ns, &d);
+            }
+            self.last_display = d;
+        }
+    }
+
+    fn chan_views(&self) -> Vec<ChanView> {
+        match &self.cycle {
+            Some(c) => c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts),
+            None => self
+                .desc
+                .channels
+                .iter()
+                .enumerate()
+                .map(|(i, ch)| ChanView {
+                    name: ch.name.clone(),
+                    program: self.programs[i].name.clone(),
+                    state: "IDLE".into(),
+                    parts: self.counter.counts[i],
+                    pos: self.pos[i],
+                    ..Default::default()
+                })
+                .collect(),
+        }
+    }
+
+    /// The view to draw.
+    pub fn view(&self) -> LatheView {
+        let chans = self.chan_views();
+        let w = self.cols;
+        let summary = chans
+            .iter()
+            .enumerate()
+            .map(|(i, c)| view::summary_line(i, c, self.counter.target, i == self.sel, w))
+            .collect();
+        let c = &chans[self.sel];
+        let listing = self.listing(c.line);
+        let mode = format!(
+            "{}{}{}",
+            self.mode.word(),
+            if self.optional_stop { " M01" } else { "" },
+            if self.block_delete { " /DEL" } else { "" }
+        );
+        let display = view::plasma(
+            self.sel,
+            c,
+            &mode,
+            self.desc.pulse_mm,
+            &listing,
+            &self.message,
+            &self.entry,
+            self.rows,
+            w,
+        );
+        let done: u32 = self
+            .counter
+            .counts
+            .get(self.desc.unloader)
+            .copied()
+            .unwrap_or(0);
+        LatheView {
+            title: format!(
+                "{} {} CHANNELS  PARTS {}/{}  {:.3} s",
+                self.desc.name.to_uppercase(),
+                self.desc.channels.len(),
+                done,
+                self.counter.target,
+                self.now_ns as f64 * 1e-9
+            ),
+            summary,
+            display,
+            channels: chans,
+            selected: self.sel,
+            help: self.help,
+            machine_ns: self.now_ns,
+        }
+    }
+
+    /// The program lines around `line` (the current block's), or around the editor's pointer
+    /// in DATA mode, marked `>`.
+    fn listing(&self, line: u32) -> Vec<String> {
+        let text = match self.mode {
+            Mode::Mdi => self.mdi[self.sel].join("\n"),
+            _ => self.programs[self.sel].text.clone(),
+        };
+        let lines: Vec<&str> = text.lines().collect();
+        let cur = match self.mode {
+            Mode::Data => self.edit_line[self.sel],
+            _ => line.max(1) as usize,
+        };
+        let room = self.rows.saturating_sub(5).max(1);
+        let first = cur.saturating_sub(room / 2).max(1);
+        (first..first + room)
+            .filter_map(|n| {
+                lines
+                    .get(n - 1)
+                    .map(|l| format!("{}{:04} {l}", if n == cur { '>' } else { ' ' }, n))
+            })
+            .collect()
+    }
+
+    /// Ends the session: closes the recording. `interrupted` names a stop signal, if one cut
+    /// the session short.
+    pub fn finish(mut self, interrupted: Option<&str>) -> Option<LatheRecordSummary> {
+        self.rec.take().map(|r| r.finish(interrupted))
+    }
+}

@@ -1,0 +1,429 @@
+//! The command line on a lathe (`--machine citizen` or a lathe description; docs/lathe.md
+//! "Headless" and docs/cli.md): `novanc run --machine M DIR|FILES`, `novanc script FILE
+//! --machine M`, and the terminal console `novanc --machine M`.
+
+use super::args::{Args, Opt};
+use super::fail;
+use crate::lathe::console::events::parse_line;
+use crate::lathe::console::LatheConsole;
+use crate::lathe::desc::{load, LatheDesc, MachineDesc};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// `--machine NAME` out of `argv`: the value and the other arguments. `None` when absent.
+pub fn take_machine(argv: &[String]) -> Result<Option<(String, Vec<String>)>, String> {
+    let mut rest = Vec::new();
+    let mut found = None;
+    let mut i = 0;
+    while i < argv.len() {
+        let a = &argv[i];
+        if let Some(v) = a.strip_prefix("--machine=") {
+            found = Some(v.to_string());
+        } else if a == "--machine" {
+            match argv.get(i + 1) {
+                Some(v) => found = Some(v.clone()),
+                None => {
+                    return Err(
+                        "--machine needs a value: citizen, centre or a description file".into(),
+                    )
+                }
+            }
+            i += 1;
+        } else {
+            rest.push(a.clone());
+        }
+        i += 1;
+    }
+    Ok(found.map(|m| (m, rest)))
+}
+
+/// Puts a machining centre description's axes (pulse size, travel, rapid rate, acceleration)
+/// into the console's settings, keeping the rest (interpolator, B1, ...).
+pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings::MachineSettings) {
+    s.pulse_mm = m.pulse_mm;
+    s.travel_min_mm = m.travel_min_mm;
+    s.travel_max_mm = m.travel_max_mm;
+    s.rapid_mm_min = m.rapid_mm_min;
+    s.accel_mm_s2 = m.accel_mm_s2;
+}
+
+/// Loads a machine for a subcommand; a lathe or the centre's settings.
+pub fn machine(name: &str) -> Result<MachineDesc, String> {
+    load(name).map_err(|e| format!("--machine: {e}"))
+}
+
+const RUN_HELP: &str = "\
+usage: novanc run --machine MACHINE DIR [--parts N] [--record OUT.mcap] [--optional-stop]
+                                        [--block-delete]
+       novanc run --machine MACHINE PROG1 PROG2 .. [options]
+
+Runs a lathe's channel programs headless, in lockstep virtual time, to the part target, and
+prints a summary: parts, machine time, blocks and pulses per channel. DIR holds one program per
+channel (.ngc, .nc or .iso, taken in name order); or name them one per channel. Each channel
+starts with its tool post at the top of its travel. A program error goes to stderr as
+PROG:LINE:COL: message, exit 1, and nothing moves; an alarm, a fault or a deadlock stops the run
+with a message naming the channel, exit 1. M00 (and M01 with --optional-stop) stops a channel;
+with no operator here, the run goes on.
+
+options:
+  --parts N             the part target (default 5)
+  --record OUT.mcap     record the run (docs/recording.md, \"Lathe recordings\")
+  --optional-stop       M01 stops (and the run goes on)
+  --block-delete        skip lines that start with /
+";
+
+/// The channel programs of a headless lathe run: a directory's programs in name order, or the
+/// files named.
+fn program_files(pos: &[String], channels: usize) -> Result<Vec<PathBuf>, String> {
+    let files: Vec<PathBuf> = match pos {
+        [d] if Path::new(d).is_dir() => {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(d)
+                .map_err(|e| format!("{d}: {e}"))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.is_file()
+                        && p.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+                            matches!(e.to_ascii_lowercase().as_str(), "ngc" | "nc" | "iso")
+                        })
+                })
+                .collect();
+            v.sort();
+            if v.len() != channels {
+                return Err(format!(
+                    "{d}: {} programs (.ngc, .nc, .iso) for {channels} channels: one per channel",
+                    v.len()
+                ));
+            }
+            v
+        }
+        [] => {
+            return Err("which programs? (a directory with one per channel, or the files)".into())
+        }
+        files => {
+            if files.len() != channels {
+                return Err(format!(
+                    "{} programs for {channels} channels: one per channel",
+                    files.len()
+                ));
+            }
+            files.iter().map(PathBuf::from).collect()
+        }
+    };
+    Ok(files)
+}
+
+/// `novanc run --machine M ...` on a lathe; returns the exit code.
+pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
+    const OPTS: [Opt; 6] = [
+        Opt::value("--parts"),
+        Opt::value("--record"),
+        Opt::flag("--optional-stop"),
+        Opt::flag("--block-delete"),
+        Opt::flag("--help"),
+        Opt::flag("-h"),
+    ];
+    let args = match Args::parse(argv, &OPTS) {
+        Ok(a) => a,
+        Err(e) => return super::usage_error(&format!("run --machine {}: {e}", desc.name)),
+    };
+    if args.flag("--help") || args.flag("-h") {
+        print!("{RUN_HELP}");
+        return 0;
+    }
+    let target = match args.value("--parts").map(|v| v.trim().parse::<u32>()) {
+        None => 5,
+        Some(Ok(n)) if (1..=999_999).contains(&n) => n,
+        Some(_) => return super::usage_error("--parts: a whole number of parts from 1 to 999999"),
+    };
+    let files = match program_files(&args.positional, desc.channels.len()) {
+        Ok(f) => f,
+        Err(e) => return super::usage_error(&e),
+    };
+    let mut texts = Vec::new();
+    for f in &files {
+        match std::fs::read(f) {
+            Ok(b) => match String::from_utf8(b) {
+                Ok(t) => texts.push((f.display().to_string(), t)),
+                Err(_) => return fail(&format!("{}: not a text file", f.display())),
+            },
+            Err(e) => return fail(&format!("{}: {e}", f.display())),
+        }
+    }
+    let opts = crate::lathe::gcode::ReadOptions {
+        block_delete: args.flag("--block-delete"),
+        optional_stop: args.flag("--optional-stop"),
+    };
+    let mut rec = match args.value("--record") {
+        None => None,
+        Some(p) => match crate::lathe::record::LatheRecorder::create(
+            Path::new(p),
+            &desc.name,
+            desc.channels.len(),
+            desc.pulse_mm,
+            desc.tick_ns,
+        ) {
+            Ok(r) => Some(r),
+            Err(e) => return fail(&format!("novanc: {e}")),
+        },
+    };
+    super::signals::install();
+    let home: Vec<[i64; 2]> = (0..desc.channels.len())
+        .map(|c| crate::lathe::console::home(&desc, c))
+        .collect();
+    let mut cycle =
+        match crate::lathe::console::Cycle::new(&desc, &texts, &opts, target, false, 0, &home, 0) {
+            Ok(c) => c,
+            Err(e) => {
+                // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
+                let msg = e.split_once(' ').map_or(e.as_str(), |(_, m)| m);
+                if let Some(r) = rec {
+                    let _ = r.finish(None);
+                }
+                return fail(msg);
+            }
+        };
+    let mut counts = vec![0; desc.channels.len()];
+    let mut interrupted = None;
+    let outcome = loop {
+        // A second of machine time at a time, so a stop signal is seen and the events are
+        // recorded as they come.
+        let o = cycle.lathe.run_until_idle(1_000_000_000);
+        counts = cycle.drain(rec.as_mut(), &counts);
+        if let Some(sig) = super::signals::caught() {
+            interrupted = Some(format!("interrupted by signal {sig}"));
+            break o;
+        }
+        match o {
+            crate::lathe::sim::Outcome::TimeLimit
+                if cycle.lathe.machine_time_ns() < 360_000_000_000_000 => {}
+            crate::lathe::sim::Outcome::Stopped => {
+                // M00/M01: no operator here to press START, so the run goes on.
+                cycle.lathe.start();
+            }
+            o => break o,
+        }
+    };
+    let st = cycle.lathe.stats();
+    let mut out = format!(
+        "machine: {} ({} channels)\nparts: {}\nmachine time: {:.3} s\n",
+        desc.name,
+        desc.channels.len(),
+        st.delivered,
+        st.machine_ns as f64 * 1e-9
+    );
+    for (i, c) in st.channels.iter().enumerate() {
+        out += &format!(
+            "CH{} {}: blocks {}, pulses X {} Z {}, parts {}\n",
+            i + 1,
+            desc.channels[i].name,
+            c.blocks,
+            c.pulses[0],
+            c.pulses[1],
+            c.parts
+        );
+    }
+    let mut code = 0;
+    if let Some(r) = rec {
+        let sum = r.finish(interrupted.as_deref());
+        out += &format!("{}\n", sum.line());
+        if sum.error.is_some() {
+            code = 1;
+        }
+    }
+    print!("{out}");
+    use crate::lathe::sim::Outcome as O;
+    let err = match outcome {
+        O::Finished { .. } => None,
+        O::Fault { ch, reason } => Some(format!("CH{} FAULT: {reason}", ch + 1)),
+        O::Alarm { ch, msg } => Some(format!("CH{} ALARM: {msg}", ch + 1)),
+        O::Estop => Some("E-STOP".into()),
+        O::Deadlock { waits } => Some(format!(
+            "deadlock: {}",
+            waits
+                .iter()
+                .map(|(c, w)| format!("CH{} waits {w}", c + 1))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        O::TimeLimit => Some("stopped after 100 hours of machine time".into()),
+        O::Stopped => None,
+    };
+    if interrupted.is_some() {
+        return super::signals::exit_code(1);
+    }
+    match err {
+        Some(e) => fail(&format!("novanc: {e}")),
+        None => code,
+    }
+}
+
+const SCRIPT_HELP: &str = "\
+usage: novanc script FILE --machine MACHINE [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
+
+Runs a lathe panel script (one event per line, # comments) in virtual time:
+  op AUTO|MDI|DATA   channel N   type TEXT   start | stop | reset | estop
+  fault N REASON     target N    optionalstop on|off   blockdelete on|off   key NAME
+  wait               until every channel is at rest (finished, stopped, waiting on a stopped
+                     channel, faulted, or in E-STOP)
+  wait ms T          let T milliseconds of machine time pass
+  show               print the display (title, summary lines, plasma) between --- lines
+A bad line stops the script before anything runs (exit 1).
+";
+
+/// `novanc script FILE --machine M` on a lathe; returns the exit code.
+pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
+    if argv.iter().any(|a| a == "-h" || a == "--help") {
+        print!("{SCRIPT_HELP}");
+        return 0;
+    }
+    let has_state = argv
+        .iter()
+        .any(|a| a == "--state" || a.starts_with("--state="));
+    let (cfg, rest) = match super::console_opts::config_from_args(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+    };
+    if let Err(e) = cfg.check() {
+        return super::usage_error(&format!("script: {e}"));
+    }
+    let file = match rest.as_slice() {
+        [f] if !f.starts_with('-') => PathBuf::from(f),
+        _ => return super::usage_error("script: which script? (novanc script FILE --machine M)"),
+    };
+    let text = match std::fs::read_to_string(&file) {
+        Ok(t) => t,
+        Err(e) => return fail(&format!("novanc script: {}: {e}", file.display())),
+    };
+    let mut steps = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let t = l.trim();
+        let step = match t {
+            "wait" => Step::Wait,
+            "show" => Step::Show,
+            _ if t.starts_with("wait ms ") => match t[8..].trim().parse::<u64>() {
+                Ok(ms) if ms <= 3_600_000_000 => Step::WaitMs(ms),
+                _ => {
+                    return fail(&format!(
+                        "novanc script: {}:{}: wait ms T: T in milliseconds",
+                        file.display(),
+                        i + 1
+                    ))
+                }
+            },
+            _ => match parse_line(t, desc.channels.len()) {
+                Ok(Some(ev)) => Step::Ev(ev),
+                Ok(None) => continue,
+                Err(e) => {
+                    return fail(&format!("novanc script: {}:{}: {e}", file.display(), i + 1))
+                }
+            },
+        };
+        steps.push(step);
+    }
+    let temp = (!has_state).then(|| {
+        let d = std::env::temp_dir().join(format!("novanc-lathe-script-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        d
+    });
+    let state = temp.clone().unwrap_or(cfg.state_dir.clone());
+    super::signals::install();
+    let code = run_script(desc, &state, &cfg, steps);
+    if let Some(d) = temp {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    super::signals::exit_code(code)
+}
+
+enum Step {
+    Ev(crate::lathe::console::events::LatheEv),
+    Wait,
+    WaitMs(u64),
+    Show,
+}
+
+fn run_script(
+    desc: LatheDesc,
+    state: &Path,
+    cfg: &crate::console::ConsoleConfig,
+    steps: Vec<Step>,
+) -> i32 {
+    let (mut c, warnings) =
+        match LatheConsole::open(desc, state, cfg.rows, cfg.cols, cfg.record.as_deref()) {
+            Ok(x) => x,
+            Err(e) => return fail(&format!("novanc script: {e}")),
+        };
+    for w in warnings {
+        eprintln!("novanc script: warning: {w}");
+    }
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for s in steps {
+        if super::signals::caught().is_some() {
+            break;
+        }
+        match s {
+            Step::Ev(ev) => c.event(ev),
+            Step::Wait => {
+                c.run_until_rest(3_600_000_000_000_000);
+            }
+            Step::WaitMs(ms) => c.tick(ms * 1_000_000),
+            Step::Show => {
+                let _ = writeln!(out, "--- display\n{}\n---", frame_text(&c));
+            }
+        }
+    }
+    let _ = out.flush();
+    let interrupted = super::signals::caught().map(|s| format!("interrupted by signal {s}"));
+    match c.finish(interrupted.as_deref()) {
+        Some(sum) => {
+            eprintln!("novanc script: {}", sum.line());
+            i32::from(sum.error.is_some())
+        }
+        None => 0,
+    }
+}
+
+/// The lathe console's frame as text: the title, the summary lines, then the plasma display.
+pub fn frame_text(c: &LatheConsole) -> String {
+    let v = c.view();
+    let mut lines = vec![v.title];
+    lines.extend(v.summary);
+    lines.extend(v.display);
+    lines
+        .iter()
+        .map(|l| l.trim_end())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `novanc --machine M` on a lathe: the terminal console; returns the exit code.
+pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
+    let (cfg, rest) = match super::console_opts::config_from_args(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&e),
+    };
+    if let Err(e) = cfg.check() {
+        return super::usage_error(&e);
+    }
+    if let Some(r) = rest.first() {
+        return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
+    }
+    let (c, warnings) = match LatheConsole::open(
+        desc,
+        &cfg.state_dir,
+        cfg.rows,
+        cfg.cols,
+        cfg.record.as_deref(),
+    ) {
+        Ok(x) => x,
+        Err(e) => return fail(&format!("novanc: {e}")),
+    };
+    let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols);
+    for w in warnings {
+        eprintln!("novanc: warning at start: {w}");
+    }
+    if let Some(sum) = c.finish(None) {
+        eprintln!("novanc: {}", sum.line());
+    }
+    code
+}
