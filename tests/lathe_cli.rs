@@ -1,0 +1,344 @@
+//! The Citizen lathe from the command line (docs/lathe.md "Headless"): the 5-part run of the
+//! samples, recorded and read back; a fault in channel 1 during part 3 from a panel script;
+//! and the refusals of bad machines, programs and scripts.
+
+mod common;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn novanc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("novanc runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// One message of a lathe recording: topic, log time, JSON text.
+struct Msg {
+    topic: String,
+    t: u64,
+    json: String,
+}
+
+fn read(path: &Path) -> Vec<Msg> {
+    let bytes = std::fs::read(path).expect("the recording exists");
+    let mut out = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let m = m.expect("every message reads");
+        out.push(Msg {
+            topic: m.channel.topic.clone(),
+            t: m.log_time,
+            json: String::from_utf8(m.data.to_vec()).expect("JSON text"),
+        });
+    }
+    out
+}
+
+/// The value of a JSON integer field `"key":N` (the recorder writes flat objects).
+fn int(json: &str, key: &str) -> Option<i64> {
+    let at = json.find(&format!("\"{key}\":"))? + key.len() + 3;
+    let rest = &json[at..];
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    rest[..end].parse().ok()
+}
+
+fn string<'a>(json: &'a str, key: &str) -> Option<&'a str> {
+    let at = json.find(&format!("\"{key}\":\""))? + key.len() + 4;
+    let rest = &json[at..];
+    Some(&rest[..rest.find('"')?])
+}
+
+/// What a recording says of the run: parts per channel, transfers, cuts per (channel, work),
+/// thread pass indexes.
+#[derive(Default, Debug)]
+struct Audit {
+    parts: BTreeMap<i64, i64>,
+    transfers: Vec<String>,
+    cuts: BTreeMap<(i64, i64), u32>,
+    cuts_without_work: u32,
+    thread_indexes: BTreeSet<i64>,
+    faults: Vec<String>,
+    alarms: Vec<String>,
+    last_t: u64,
+}
+
+fn audit(msgs: &[Msg]) -> Audit {
+    let mut a = Audit::default();
+    for m in msgs {
+        a.last_t = a.last_t.max(m.t);
+        if m.topic != "/lathe/event" {
+            continue;
+        }
+        let ch = int(&m.json, "channel").expect("a channel");
+        match string(&m.json, "event") {
+            Some("part") => {
+                a.parts.insert(ch, int(&m.json, "value").unwrap());
+            }
+            Some("transfer") => a
+                .transfers
+                .push(string(&m.json, "text").unwrap().to_string()),
+            Some("cut") => match int(&m.json, "work") {
+                Some(w) => *a.cuts.entry((ch, w)).or_default() += 1,
+                None => a.cuts_without_work += 1,
+            },
+            Some("thread") => {
+                a.thread_indexes
+                    .insert(int(&m.json, "value").unwrap() % 1024);
+            }
+            Some("fault") => a.faults.push(m.json.clone()),
+            Some("alarm") => a.alarms.push(m.json.clone()),
+            _ => {}
+        }
+    }
+    a
+}
+
+/// Every channel machined every work the same number of blocks (none twice, none skipped).
+fn each_work_machined_once(a: &Audit) {
+    for ch in 1..=3 {
+        let per_work: Vec<u32> = (1..=5)
+            .map(|w| a.cuts.get(&(ch, w)).copied().unwrap_or(0))
+            .collect();
+        assert!(per_work[0] > 0, "CH{ch} cut nothing: {:?}", a.cuts);
+        assert!(
+            per_work.iter().all(|&n| n == per_work[0]),
+            "CH{ch} cut blocks per work {per_work:?}"
+        );
+    }
+}
+
+#[test]
+fn the_samples_make_five_parts_with_every_transfer_interlocked() {
+    let out = common::temp_dir("lathe-run").join("run.mcap");
+    let o = novanc(&[
+        "run",
+        "--machine",
+        "citizen",
+        "programs/citizen",
+        "--record",
+        out.to_str().unwrap(),
+    ]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
+    assert!(so.contains("parts: 5\n"), "{so}");
+    let secs: f64 = so
+        .lines()
+        .find_map(|l| l.strip_prefix("machine time: "))
+        .and_then(|s| s.trim_end_matches(" s").parse().ok())
+        .expect("the machine time is printed");
+    for ch in 1..=3 {
+        assert!(so.contains(&format!("CH{ch} SYSTEM-{ch}: blocks ")), "{so}");
+    }
+    let a = audit(&read(&out));
+    assert_eq!(a.parts, BTreeMap::from([(1, 5), (2, 5), (3, 5)]));
+    // 1→2 and 2→3 for each work, and 3 to the unloader: 15 handovers, every one with both
+    // chucks closed on the work (the unloader's catcher counts as closed).
+    assert_eq!(a.transfers.len(), 15, "{:?}", a.transfers);
+    assert!(
+        a.transfers
+            .iter()
+            .all(|t| t.ends_with("(both chucks closed)")),
+        "{:?}",
+        a.transfers
+    );
+    assert_eq!(
+        a.cuts_without_work, 0,
+        "a machining block started on an empty spindle"
+    );
+    assert!(a.alarms.is_empty(), "{:?}", a.alarms);
+    assert_eq!(
+        a.thread_indexes,
+        BTreeSet::from([0]),
+        "every thread pass on the encoder index"
+    );
+    each_work_machined_once(&a);
+    // The recording's last message is at the end of the machine time printed.
+    assert!(
+        (a.last_t as f64 * 1e-9 - secs).abs() < 0.01,
+        "{} vs {secs}",
+        a.last_t
+    );
+}
+
+#[test]
+fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
+    let dir = common::temp_dir("lathe-fault");
+    let script = dir.join("fault.panel");
+    let rec = dir.join("fault.mcap");
+    // Work 3 reaches spindle 1 about 14.6 s into the run and leaves it about 24.5 s in.
+    std::fs::write(
+        &script,
+        "start\nwait ms 20000\nfault 1 tool breakage\nshow\nwait\nshow\nreset\nstart\nwait\nshow\n",
+    )
+    .unwrap();
+    let o = novanc(&[
+        "script",
+        script.to_str().unwrap(),
+        "--machine",
+        "citizen",
+        "--state",
+        dir.join("state").to_str().unwrap(),
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
+    let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
+    assert_eq!(frames.len(), 3, "{so}");
+    // At the fault: channel 1 holds work 3.
+    assert!(
+        frames[0].contains(">CH1 FAULT tool breakage"),
+        "{}",
+        frames[0]
+    );
+    assert!(
+        frames[0].contains(" W3 CHUCK CLOSED FAULT"),
+        "{}",
+        frames[0]
+    );
+    // The others finished the works they held, then wait at their queue points, and say on
+    // whom.
+    assert!(frames[1].contains(" CH2 WAIT  waits CH1"), "{}", frames[1]);
+    assert!(frames[1].contains(" CH3 WAIT  waits CH2"), "{}", frames[1]);
+    assert!(frames[1].contains("parts 2/5"), "{}", frames[1]);
+    // RESET and START: the run ends with 5 parts, none machined twice.
+    assert!(frames[2].contains("PARTS 5/5"), "{}", frames[2]);
+    let a = audit(&read(&rec));
+    assert_eq!(a.parts, BTreeMap::from([(1, 5), (2, 5), (3, 5)]));
+    assert_eq!(a.faults.len(), 1, "{:?}", a.faults);
+    assert_eq!(a.cuts_without_work, 0);
+    each_work_machined_once(&a);
+    // The part counter is in the stores.
+    let parts = std::fs::read_to_string(dir.join("state/lathe-citizen/parts")).unwrap();
+    assert_eq!(parts, "target 5\ncounts 5 5 5\n");
+}
+
+#[test]
+fn bad_machines_programs_and_scripts_are_refused_whole() {
+    let dir = common::temp_dir("lathe-bad");
+    let o = novanc(&["run", "--machine", "nowhere", "programs/citizen"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("a machine is 'citizen', 'centre' or a description file"),
+        "{}",
+        text(&o.stderr)
+    );
+
+    let m = dir.join("bad.machine");
+    std::fs::write(&m, "machine x\nkind lathe\nchannel A\ntool 1 radius -2\n").unwrap();
+    let o = novanc(&["run", "--machine", m.to_str().unwrap(), "programs/citizen"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("bad.machine:4: radius -2"),
+        "{}",
+        text(&o.stderr)
+    );
+
+    // Two programs for three channels.
+    let two = dir.join("two");
+    std::fs::create_dir_all(&two).unwrap();
+    for n in ["a.ngc", "b.ngc"] {
+        std::fs::write(two.join(n), "G0 X10\nM2\n").unwrap();
+    }
+    let o = novanc(&["run", "--machine", "citizen", two.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("2 programs (.ngc, .nc, .iso) for 3 channels"),
+        "{}",
+        text(&o.stderr)
+    );
+
+    // A program error names the file, line and column; nothing runs and nothing is recorded.
+    let progs = dir.join("progs");
+    std::fs::create_dir_all(&progs).unwrap();
+    for (i, p) in ["system1.ngc", "system2.ngc", "system3.ngc"]
+        .iter()
+        .enumerate()
+    {
+        let mut t = std::fs::read_to_string(PathBuf::from("programs/citizen").join(p)).unwrap();
+        if i == 1 {
+            t = t.replace("G1 Z-4 F0.1", "G1 Z-4 F0.1 Q");
+        }
+        std::fs::write(progs.join(p), t).unwrap();
+    }
+    let rec = dir.join("none.mcap");
+    let o = novanc(&[
+        "run",
+        "--machine",
+        "citizen",
+        progs.to_str().unwrap(),
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    let e = text(&o.stderr);
+    assert!(e.contains("system2.ngc:17:"), "{e}");
+    assert!(
+        text(&o.stdout).is_empty(),
+        "nothing ran: {}",
+        text(&o.stdout)
+    );
+    assert!(
+        read(&rec).iter().all(|m| m.topic != "/nc/position"),
+        "nothing moved"
+    );
+
+    // A bad script line stops the script before anything runs.
+    let s = dir.join("bad.panel");
+    std::fs::write(&s, "start\nfault 7 smoke\n").unwrap();
+    let o = novanc(&[
+        "script",
+        s.to_str().unwrap(),
+        "--machine",
+        "citizen",
+        "--state",
+        dir.join("st").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("bad.panel:2: '7' is not a channel (1 to 3)"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!dir.join("st/lathe-citizen").exists(), "nothing was opened");
+
+    let o = novanc(&[
+        "run",
+        "--machine",
+        "citizen",
+        "programs/citizen",
+        "--parts",
+        "0",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn a_centre_description_sets_the_centres_travel() {
+    let dir = common::temp_dir("lathe-centre");
+    // The embedded centre runs Table B as before.
+    let o = novanc(&["run", "--machine", "centre", "programs/tableb.ap"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    // A smaller centre refuses it at its travel limit.
+    let m = dir.join("small.machine");
+    std::fs::write(
+        &m,
+        "machine small\nkind mill\nx travel 0 100 rapid 9000 accel 800\ny travel 0 100 rapid 9000 accel 800\nz travel -100 0 rapid 9000 accel 800\n",
+    )
+    .unwrap();
+    let o = novanc(&[
+        "run",
+        "--machine",
+        m.to_str().unwrap(),
+        "programs/tableb.ap",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("travel"), "{}", text(&o.stderr));
+}
