@@ -1,0 +1,293 @@
+//! A model-based test of the Citizen lathe console (docs/lathe.md): random sequences of operator
+//! actions — START, STOP, RESET of the selected channel, E-STOP, faults injected in random
+//! channels, the channel selector, part targets, MDI lines (good and bad), editor lines that
+//! move the pointer or search, mode changes, the help screen and waits of random length — on the
+//! `LatheConsole` the terminal uses, in virtual time.
+//!
+//! Invariants after every step:
+//! - the display is exactly rows × cols, one summary line per channel of cols characters;
+//! - every channel's tool tip is within its travel;
+//! - a work is in one spindle, or in two only during a handover from a channel to the one it
+//!   delivers to, both chucks closed;
+//! - no machining block ever started on an empty spindle (the sample programs receive first);
+//! - no channel machined any work twice;
+//! - part counts never decrease within a batch and never pass the target;
+//! - a channel in FAULT or E-STOP does not move while the others run;
+//! - the stores hold exactly the console's programs and part counter.
+//!
+//! CI runs `NOVANC_LATHE_SEQUENCES` sequences (default 40) of 40 steps. The long run:
+//! `NOVANC_LATHE_SEQUENCES=2000 cargo test --release --test lathe_sequences -- --ignored --nocapture`.
+
+mod common;
+
+use novanc::lathe::console::events::{LatheEv, Mode};
+use novanc::lathe::console::LatheConsole;
+use novanc::lathe::desc::LatheDesc;
+use novanc::pulse_core::testkit::Rng;
+
+const ROWS: usize = 12;
+const COLS: usize = 40;
+
+const MDI_LINES: [&str; 6] = [
+    "G0 X30 Z20",
+    "G97 S500 M3",
+    "M5",
+    "G1 X20 F0.1",
+    "G0 X99999",
+    "Q7",
+];
+const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
+
+struct Seq {
+    c: LatheConsole,
+    dir: std::path::PathBuf,
+    counts: Vec<u32>,
+    stats: Stats,
+}
+
+#[derive(Default)]
+struct Stats {
+    steps: u64,
+    parts: u64,
+    faults: u64,
+    estops: u64,
+    handovers_seen: u64,
+    batches_done: u64,
+}
+
+fn check(s: &mut Seq, what: &str) {
+    let v = s.c.view();
+    assert_eq!(v.display.len(), ROWS, "{what}");
+    assert!(
+        v.display.iter().all(|l| l.chars().count() == COLS),
+        "{what}: {:?}",
+        v.display
+    );
+    assert_eq!(v.summary.len(), 3, "{what}");
+    assert!(
+        v.summary.iter().all(|l| l.chars().count() == COLS),
+        "{what}: {:?}",
+        v.summary
+    );
+    let desc = s.c.desc().clone();
+    let target = s.c.counter().target;
+    // Stores.
+    let dir = s.dir.join("lathe-citizen");
+    let parts = std::fs::read_to_string(dir.join("parts")).unwrap_or_default();
+    let counts = &s.c.counter().counts;
+    if !parts.is_empty() {
+        let want = format!(
+            "target {target}\ncounts {}\n",
+            counts
+                .iter()
+                .map(|c| c.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+        assert_eq!(parts, want, "{what}: the stored part counter");
+    }
+    for (i, c) in counts.iter().enumerate() {
+        assert!(*c <= target, "{what}: CH{} counted {c} of {target}", i + 1);
+        if *c < s.counts[i] {
+            // Only a new batch (all counts back to 0) may lower a count.
+            assert!(
+                counts.iter().all(|&x| x == 0),
+                "{what}: counts went {:?} -> {counts:?}",
+                s.counts
+            );
+        }
+    }
+    s.counts = counts.clone();
+    let Some(l) = s.c.cycle() else { return };
+    if l.channels() != 3 {
+        return; // an MDI run of one channel
+    }
+    for ch in 0..3 {
+        let st = l.channel(ch).unwrap();
+        for (a, ax) in desc.channels[ch].axes.iter().enumerate() {
+            let lo = desc.pulses(ax.travel[0]);
+            let hi = desc.pulses(ax.travel[1]);
+            assert!(
+                (lo..=hi).contains(&st.pos[a]),
+                "{what}: CH{} axis {a} at {} outside {lo}..{hi}",
+                ch + 1,
+                st.pos[a]
+            );
+        }
+    }
+    let works = l.works();
+    let mut ids: Vec<u32> = works.iter().map(|w| w.0).collect();
+    ids.sort();
+    ids.dedup();
+    for id in ids {
+        let at: Vec<usize> = works.iter().filter(|w| w.0 == id).map(|w| w.1).collect();
+        match at.as_slice() {
+            [_] => {}
+            [a, b] => {
+                let (a, b) = (*a.min(b), *a.max(b));
+                assert_eq!(
+                    desc.receiver_of(a),
+                    Some(b),
+                    "{what}: W{id} in CH{} and CH{}",
+                    a + 1,
+                    b + 1
+                );
+                assert!(
+                    l.channel(a).unwrap().chuck_closed && l.channel(b).unwrap().chuck_closed,
+                    "{what}: W{id} handed over with a chuck open"
+                );
+                s.stats.handovers_seen += 1;
+            }
+            more => panic!("{what}: W{id} in {more:?}"),
+        }
+        let m = l.machined(id);
+        assert!(
+            m.iter().all(|&n| n <= 1),
+            "{what}: W{id} machined {m:?} times per channel"
+        );
+    }
+    assert_eq!(
+        l.stats().empty_cut_alarms,
+        0,
+        "{what}: a cut on an empty spindle"
+    );
+}
+
+/// Advances `ns` and checks that a faulted or E-stopped channel did not move meanwhile.
+fn advance(s: &mut Seq, ns: u64) {
+    let frozen: Vec<(usize, [i64; 2])> = match s.c.cycle() {
+        Some(l) if l.channels() == 3 => (0..3)
+            .filter_map(|ch| {
+                let st = l.channel(ch)?;
+                matches!(st.state.to_string().as_str(), "FAULT" | "ESTOP").then_some((ch, st.pos))
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    s.c.tick(ns);
+    if let Some(l) = s.c.cycle() {
+        for (ch, pos) in frozen {
+            let st = l.channel(ch).unwrap();
+            assert_eq!(st.pos, pos, "CH{} moved while {}", ch + 1, st.state);
+        }
+    }
+}
+
+fn step(s: &mut Seq, rng: &mut Rng) -> String {
+    let ev = match rng.range(0, 99) {
+        0..=14 => LatheEv::Start,
+        15..=19 => LatheEv::Stop,
+        20..=26 => LatheEv::Reset,
+        27..=29 => {
+            s.stats.estops += 1;
+            LatheEv::EStop
+        }
+        30..=37 => {
+            s.stats.faults += 1;
+            LatheEv::Fault(
+                rng.range(0, 2) as usize,
+                ["tool breakage", "failed supply", "operator"][rng.range(0, 2) as usize].into(),
+            )
+        }
+        38..=45 => LatheEv::Channel(rng.range(0, 2) as usize),
+        46..=47 => LatheEv::NextChannel,
+        48..=49 => LatheEv::Target(rng.range(1, 4) as u32),
+        50..=53 => LatheEv::Mode([Mode::Auto, Mode::Mdi, Mode::Data][rng.range(0, 2) as usize]),
+        54..=57 => LatheEv::Type(MDI_LINES[rng.range(0, 5) as usize].into()),
+        58..=60 => LatheEv::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
+        61 => LatheEv::Help,
+        62..=63 => LatheEv::OptionalStop(rng.range(0, 1) == 1),
+        64..=79 => {
+            let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
+            advance(s, ms * 1_000_000);
+            return format!("wait ms {ms}");
+        }
+        _ => {
+            // Run to rest, a slice at a time so the frozen-channel check sees every slice.
+            for _ in 0..200 {
+                advance(s, 500_000_000);
+                if s.c.cycle().is_none() || s.c.view().channels.iter().all(|c| c.state != "RUN") {
+                    break;
+                }
+            }
+            return "wait".into();
+        }
+    };
+    let line = ev.script_line();
+    s.c.event(ev);
+    line
+}
+
+fn run(n: u64, steps: usize) -> Stats {
+    let mut total = Stats::default();
+    for seed in 0..n {
+        let dir = common::temp_dir(&format!("lathe-seq-{seed}"));
+        let (c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, ROWS, COLS, None).unwrap();
+        let mut s = Seq {
+            c,
+            dir: dir.clone(),
+            counts: vec![0; 3],
+            stats: Stats::default(),
+        };
+        let mut rng = Rng::new(0x1a7e ^ seed.wrapping_mul(0x9E37_79B9));
+        let mut log = Vec::new();
+        for i in 0..steps {
+            let what = step(&mut s, &mut rng);
+            log.push(what);
+            let ctx = format!("seed {seed} step {i}: {}", log.join(" | "));
+            check(&mut s, &ctx);
+            s.stats.steps += 1;
+        }
+        s.stats.parts += s.c.counter().counts[2] as u64;
+        if s.c.view().channels.iter().all(|c| c.state == "DONE") {
+            s.stats.batches_done += 1;
+        }
+        total.steps += s.stats.steps;
+        total.parts += s.stats.parts;
+        total.faults += s.stats.faults;
+        total.estops += s.stats.estops;
+        total.handovers_seen += s.stats.handovers_seen;
+        total.batches_done += s.stats.batches_done;
+        drop(s);
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    total
+}
+
+fn count() -> u64 {
+    std::env::var("NOVANC_LATHE_SEQUENCES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(40)
+}
+
+#[test]
+fn random_operator_sequences_keep_the_lathe_invariants() {
+    let st = run(count(), 40);
+    // The sequences must reach what they are meant to test.
+    assert!(
+        st.parts > 0 && st.faults > 0 && st.estops > 0,
+        "parts {} faults {} estops {}",
+        st.parts,
+        st.faults,
+        st.estops
+    );
+}
+
+#[test]
+#[ignore]
+fn many_random_operator_sequences() {
+    let t = std::time::Instant::now();
+    let st = run(count(), 60);
+    println!(
+        "{} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {:.1} s",
+        count(),
+        st.steps,
+        st.parts,
+        st.faults,
+        st.estops,
+        st.handovers_seen,
+        st.batches_done,
+        t.elapsed().as_secs_f64()
+    );
+}
