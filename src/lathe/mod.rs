@@ -8,3 +8,4 @@
 
 pub mod desc;
 pub mod ops;
+pub mod sim;
