@@ -5,9 +5,12 @@
 //! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded).
 //! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
 //!   reader ([`gcode`]) and the channel simulator ([`sim`]).
+//! - [`console`], [`store`], [`record`]: the lathe's panel, its stores and its recording.
 
 pub mod console;
 pub mod desc;
+pub mod gcode;
 pub mod ops;
 pub mod record;
+pub mod sim;
 pub mod store;
