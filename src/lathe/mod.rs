@@ -7,4 +7,5 @@
 //!   reader ([`gcode`]) and the channel simulator ([`sim`]).
 
 pub mod desc;
+pub mod gcode;
 pub mod ops;
