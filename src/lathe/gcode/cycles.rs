@@ -231,6 +231,9 @@ pub fn g71(r: &mut Reader, w: &Words, n: u32, c: u32, idx: usize) -> Result<Flow
         return Ok(Flow::Next);
     }
     refuse(w, "XZIKRJHEL", n, "G71 P Q")?;
+    if r.out.comp_on() {
+        return Err(err(n, c, "G71 with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)"));
+    }
     let Some((depth, retract)) = r.st.g71 else {
         return Err(err(
             n,
@@ -294,8 +297,9 @@ pub fn g71_moves(
     }
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
     let last = prof[prof.len() - 1].end;
-    let sz = (last[0] - first.end[0]).signum();
-    if sz == 0.0 || prof.len() < 2 {
+    let dz = last[0] - first.end[0];
+    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
+    if dz.abs() < 1e-9 || prof.len() < 2 {
         return Err(err(
             first.line,
             first.col,

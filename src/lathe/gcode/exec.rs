@@ -382,7 +382,7 @@ impl Reader<'_> {
                     }
                 }
                 if axes {
-                    for l in ['X', 'Z', 'U', 'W', 'I', 'K', 'R'] {
+                    for l in ['X', 'Z', 'U', 'W'] {
                         use_(l);
                     }
                     let Some(g) = self.st.motion else {
@@ -393,10 +393,12 @@ impl Reader<'_> {
                         ));
                     };
                     let mc = motion_code.map_or(1, |m| m.1);
-                    self.motion(g, w, n, mc)?;
-                    if g == 330 {
-                        use_('K');
+                    match g {
+                        20 | 30 => ['I', 'K', 'R'].into_iter().for_each(&mut use_),
+                        330 => use_('K'),
+                        _ => {}
                     }
+                    self.motion(g, w, n, mc)?;
                 } else if w.get('I').is_some() || w.get('K').is_some() || w.get('R').is_some() {
                     let c = w.col('I').or(w.col('K')).or(w.col('R')).unwrap_or(1);
                     return Err(err(n, c, "I, K or R without an X or Z end point"));

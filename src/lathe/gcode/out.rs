@@ -223,12 +223,8 @@ impl<'a> Out<'a> {
             return Ok(());
         }
         match self.run.as_mut() {
-            Some(run) => {
-                if run.segs.len() >= 1_000_000 {
-                    return Err(Self::err(mv.line, mv.col, "too many moves under G41/G42"));
-                }
-                run.segs.push(mv);
-            }
+            // Bounded: one move per executed line (MAX_LINES); cycles refuse compensation.
+            Some(run) => run.segs.push(mv),
             None => {
                 if r <= 0.0 {
                     return self.emit(&mv, false);
