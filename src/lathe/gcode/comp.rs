@@ -204,10 +204,10 @@ pub fn offset_path(run: &Run, exit: Option<&Mv>) -> Result<Vec<Vec<(Mv, bool)>>,
     for (i, (o, m)) in off.iter().zip(&run.segs).enumerate() {
         let bad = match (o.kind, m.kind) {
             (Kind::Arc { c, ccw, .. }, _) => {
-                let c2 = offset_centre(o);
-                let _ = c;
-                let full_before = sweep(c, m.start, m.end, ccw);
-                dist(o.start, o.end) > 1e-9 && sweep(c2, o.start, o.end, ccw) > full_before + 1e-6
+                // The offset arc keeps the centre; trimmed at an inside corner it may only
+                // sweep less than the programmed arc.
+                dist(o.start, o.end) > 1e-9
+                    && sweep(c, o.start, o.end, ccw) > sweep(c, m.start, m.end, ccw) + 1e-6
             }
             _ => {
                 let d = sub(m.end, m.start);
@@ -239,14 +239,6 @@ pub fn offset_path(run: &Run, exit: Option<&Mv>) -> Result<Vec<Vec<(Mv, bool)>>,
         groups.push(vec![(*e, true)]);
     }
     Ok(groups)
-}
-
-/// The centre of an offset move (arcs keep their centre).
-fn offset_centre(o: &Mv) -> [f64; 2] {
-    match o.kind {
-        Kind::Arc { c, .. } => c,
-        _ => o.start,
-    }
 }
 
 /// The crossing of two offset moves (lines or arcs, extended) nearest `near`.

@@ -6,6 +6,7 @@
 //! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
 //!
 //! - [`exec`]: one line's words executed against the modal state.
+//! - [`moves`]: end points, feeds, arcs and G33.
 //! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses.
 //! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
@@ -13,6 +14,7 @@
 pub mod comp;
 pub mod cycles;
 pub mod exec;
+pub mod moves;
 pub mod out;
 
 #[cfg(test)]
@@ -149,8 +151,7 @@ pub fn read_program(
         ended: false,
     };
     r.run_range(0, lines.len())?;
-    let end_line = lines.len().max(1) as u32;
-    r.out.finish(end_line)?;
+    r.out.finish()?;
     Ok(LatheProgram {
         name: name.to_string(),
         lines: lines.iter().map(|s| s.to_string()).collect(),

@@ -191,7 +191,7 @@ impl<'a> Out<'a> {
             return Ok(());
         }
         let Some(left) = self.comp_side else {
-            return self.emit(&mv, false);
+            return self.emit(&mv);
         };
         if let Kind::Thread(_) = mv.kind {
             return Err(Self::err(
@@ -227,7 +227,7 @@ impl<'a> Out<'a> {
             Some(run) => run.segs.push(mv),
             None => {
                 if r <= 0.0 {
-                    return self.emit(&mv, false);
+                    return self.emit(&mv);
                 }
                 if full {
                     return Err(Self::err(
@@ -259,7 +259,7 @@ impl<'a> Out<'a> {
     fn flush(&mut self, exit: Option<Mv>) -> Result<(), TranslateError> {
         let Some(run) = self.run.take() else {
             if let Some(e) = exit {
-                return self.emit(&e, false);
+                return self.emit(&e);
             }
             return Ok(());
         };
@@ -283,7 +283,7 @@ impl<'a> Out<'a> {
                         };
                     }
                 }
-                self.emit(&m, true)?;
+                self.emit(&m)?;
             }
         }
         for (_, s) in aux {
@@ -293,15 +293,12 @@ impl<'a> Out<'a> {
     }
 
     /// At the end of the text: emits what compensation still holds.
-    pub fn finish(&mut self, line: u32) -> Result<(), TranslateError> {
-        let _ = line;
+    pub fn finish(&mut self) -> Result<(), TranslateError> {
         self.flush(None)
     }
 
-    /// Emits one move of P (already compensated when `compensated`), adding the tool's
-    /// offsets and checking the travel.
-    fn emit(&mut self, mv: &Mv, compensated: bool) -> Result<(), TranslateError> {
-        let _ = compensated;
+    /// Emits one move of P, adding the tool's offsets and checking the travel.
+    fn emit(&mut self, mv: &Mv) -> Result<(), TranslateError> {
         let off = match &self.tool {
             Some((t, true)) => [t.offset[1], t.offset[0]],
             _ => [0.0, 0.0],
