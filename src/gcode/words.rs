@@ -5,8 +5,42 @@
 use super::expr::{Line, Word};
 use crate::block::TranslateError;
 
-/// The letters a line may hold, besides G and M.
+/// The letters a mill line may hold, besides G and M.
 const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
+
+/// What one G-code dialect accepts: its letters and its G and M codes by modal group. The mill
+/// reader uses [`MILL`]; the lathe reader (docs/lathe-gcode.md) has its own.
+#[derive(Clone, Copy, Debug)]
+pub struct Dialect {
+    /// The letters a line may hold, besides G and M.
+    pub letters: &'static str,
+    /// The modal group (0–12) of a G code ×10, or `None` for an unknown code.
+    pub g_group: fn(u32) -> Option<u8>,
+    /// The modal group (0–10) of an M code, or `None` for an unknown code.
+    pub m_group: fn(u32) -> Option<u8>,
+    /// Why a G code (×10) is unknown, appended to the message ("" for no reason).
+    pub g_why: fn(u32) -> &'static str,
+    /// Appended to the message for an unknown letter.
+    pub letter_hint: &'static str,
+}
+
+/// The mill dialect (docs/gcode.md "Words").
+pub const MILL: Dialect = Dialect {
+    letters: LETTERS,
+    g_group,
+    m_group,
+    g_why: mill_g_why,
+    letter_hint: " (novanc has the axes X, Y and Z)",
+};
+
+fn mill_g_why(g: u32) -> &'static str {
+    match g {
+        920..=923 => " (G92 offsets are not supported: use G54–G59 with G10)",
+        930 => " (inverse-time feed is not supported: G94 only)",
+        870 | 880 => " (G87 and G88 are not supported)",
+        _ => "",
+    }
+}
 
 /// A short list of codes with their columns (one per modal group at most).
 #[derive(Clone, Copy, Debug, Default)]
@@ -118,6 +152,11 @@ fn m_group(m: u32) -> Option<u8> {
 /// Sorts a line's words, refusing unknown letters and codes, a letter twice, and two codes of
 /// one modal group.
 pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
+    sort_words_in(line, n, &MILL)
+}
+
+/// Sorts a line's words in a dialect (see [`sort_words`]).
+pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, TranslateError> {
     let err = |col: u32, message: String| TranslateError {
         line: n,
         col,
@@ -139,13 +178,8 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                 } else {
                     format!("G{}.{}", g / 10, g % 10)
                 };
-                let Some(grp) = g_group(g) else {
-                    let why = match g {
-                        920..=923 => " (G92 offsets are not supported: use G54–G59 with G10)",
-                        930 => " (inverse-time feed is not supported: G94 only)",
-                        870 | 880 => " (G87 and G88 are not supported)",
-                        _ => "",
-                    };
+                let Some(grp) = (d.g_group)(g).filter(|&x| x < 13) else {
+                    let why = (d.g_why)(g);
                     return Err(err(col, format!("unknown or unsupported code {name}{why}")));
                 };
                 if let Some((other, _)) = g_seen[grp as usize] {
@@ -170,7 +204,7 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                     return Err(err(col, format!("unknown code M{value}")));
                 }
                 let m = value as u32;
-                let Some(grp) = m_group(m) else {
+                let Some(grp) = (d.m_group)(m).filter(|&x| x < 11) else {
                     return Err(err(col, format!("unknown or unsupported code M{m:02}")));
                 };
                 if let Some((other, _)) = m_seen[grp as usize] {
@@ -185,19 +219,14 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
                     w.m_bits |= 1u128 << m;
                 }
             }
-            c if LETTERS.as_bytes().contains(&(c as u8)) => {
+            c if d.letters.as_bytes().contains(&(c as u8)) => {
                 let slot = &mut w.vals[(c as u8 - b'A') as usize];
                 if slot.is_some() {
                     return Err(err(col, format!("two {c} words on one line")));
                 }
                 *slot = Some((value, col));
             }
-            c => {
-                return Err(err(
-                    col,
-                    format!("unknown word {c} (novanc has the axes X, Y and Z)"),
-                ))
-            }
+            c => return Err(err(col, format!("unknown word {c}{}", d.letter_hint))),
         }
     }
     Ok(w)

@@ -1,0 +1,437 @@
+//! Lathe cycles (docs/lathe-gcode.md "Cycles"): G76 threading in LinuxCNC's form, G71
+//! roughing and G70 finishing in Fanuc 0i-T's two-block form.
+
+use super::comp::sweep;
+use super::exec::{err, Flow, Reader};
+use super::out::{Kind, Mv};
+use super::MAX_PASSES;
+use crate::block::TranslateError;
+use crate::gcode::words::Words;
+use crate::lathe::ops::SpindleDir;
+use std::f64::consts::FRAC_PI_2;
+
+fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
+    Mv {
+        kind,
+        start: end,
+        end,
+        line: n,
+        col: c,
+    }
+}
+
+fn need(w: &Words, l: char, n: u32, c: u32, what: &str) -> Result<f64, TranslateError> {
+    w.get(l)
+        .ok_or_else(|| err(n, c, format!("{what} needs {l}")))
+}
+
+fn refuse(w: &Words, letters: &str, n: u32, what: &str) -> Result<(), TranslateError> {
+    for l in letters.chars() {
+        if let Some(c) = w.col(l) {
+            return Err(err(n, c, format!("{what} takes no {l} word")));
+        }
+    }
+    Ok(())
+}
+
+/// The depths of a G76's passes, mm below the thread's peak: J·k^(1/R) while below K, then
+/// K, then H spring passes at K (LinuxCNC 2.9).
+pub fn g76_depths(j: f64, k: f64, r: f64, h: u32) -> Option<Vec<f64>> {
+    let mut v = Vec::new();
+    let mut i = 1.0f64;
+    loop {
+        let d = j * i.powf(1.0 / r);
+        if d >= k - 1e-9 {
+            break;
+        }
+        if v.len() >= MAX_PASSES {
+            return None;
+        }
+        v.push(d);
+        i += 1.0;
+    }
+    v.push(k);
+    for _ in 0..h {
+        v.push(k);
+    }
+    (v.len() <= MAX_PASSES).then_some(v)
+}
+
+/// G76 P Z I J K [R] [H] [Q0] [E0] [L]: threading passes from the drive line (where the
+/// tool stands) to Z.
+pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+    const WHAT: &str = "G76";
+    refuse(
+        w,
+        "XUWFDS",
+        n,
+        "G76 (the drive line is where the tool stands)",
+    )?;
+    if r.out.comp_on() {
+        return Err(err(
+            n,
+            c,
+            "G76 with nose-radius compensation in force: give G40 first",
+        ));
+    }
+    if r.st.dir == SpindleDir::Stop {
+        return Err(err(n, c, "G76 with the spindle stopped: give M03 or M04"));
+    }
+    let f = r.st.factor();
+    let pitch = need(w, 'P', n, c, WHAT)? * f;
+    let z = need(w, 'Z', n, c, WHAT)? * f;
+    let i = need(w, 'I', n, c, WHAT)? * f;
+    let j = need(w, 'J', n, c, WHAT)? * f;
+    let k = need(w, 'K', n, c, WHAT)? * f;
+    let col = |l: char| w.col(l).unwrap_or(c);
+    if !(pitch > 0.0 && pitch <= 100.0) {
+        return Err(err(
+            n,
+            col('P'),
+            "G76 P, the pitch, must be above 0 and at most 100 mm",
+        ));
+    }
+    if !(j > 0.0 && j.is_finite()) {
+        return Err(err(
+            n,
+            col('J'),
+            "G76 J, the first cut's depth, must be above 0",
+        ));
+    }
+    if !(k >= j && k < 1000.0) {
+        return Err(err(
+            n,
+            col('K'),
+            "G76 K, the thread's depth, must be at least J",
+        ));
+    }
+    if !(i != 0.0 && i.is_finite()) {
+        return Err(err(n, col('I'), "G76 I, the peak's offset from the drive line, must not be 0 (negative outside, positive inside)"));
+    }
+    let deg = w.get('R').unwrap_or(1.0);
+    if !(1.0..=10.0).contains(&deg) {
+        return Err(err(
+            n,
+            col('R'),
+            "G76 R, the depth degression, must be 1 to 10",
+        ));
+    }
+    let h = w.get('H').unwrap_or(0.0);
+    if !(h.fract() == 0.0 && (0.0..=100.0).contains(&h)) {
+        return Err(err(
+            n,
+            col('H'),
+            "G76 H, the spring passes, must be a whole number 0 to 100",
+        ));
+    }
+    if w.get('Q').is_some_and(|q| q != 0.0) {
+        return Err(err(n, col('Q'), "G76 Q (a compound angle) is not supported: every pass plunges straight in and starts at the same Z"));
+    }
+    if w.get('E').is_some_and(|e| e != 0.0) {
+        return Err(err(
+            n,
+            col('E'),
+            "G76 E (tapered thread ends) is not supported",
+        ));
+    }
+    if let Some(l) = w.get('L') {
+        if !(l.fract() == 0.0 && (0.0..=3.0).contains(&l)) {
+            return Err(err(n, col('L'), "G76 L must be 0 to 3"));
+        }
+    }
+    let z_end = if r.st.absolute { z } else { r.out.pos[0] + z };
+    let start = r.out.pos;
+    if (z_end - start[0]).abs() < 1e-9 {
+        return Err(err(
+            n,
+            col('Z'),
+            "G76 Z is where the tool stands: a thread needs a length",
+        ));
+    }
+    let Some(depths) = g76_depths(j, k, deg, h as u32) else {
+        return Err(err(
+            n,
+            c,
+            format!("G76 makes more than {MAX_PASSES} passes: deepen J or raise R"),
+        ));
+    };
+    let sign = i.signum();
+    for d in depths {
+        let x = start[1] + i + sign * d;
+        r.out.motion(mv(Kind::Rapid, [start[0], x], n, c))?;
+        r.out.motion(mv(Kind::Thread(pitch), [z_end, x], n, c))?;
+        r.out.motion(mv(Kind::Rapid, [z_end, start[1]], n, c))?;
+        r.out.motion(mv(Kind::Rapid, start, n, c))?;
+    }
+    Ok(())
+}
+
+fn profile_lines(
+    r: &Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    what: &str,
+) -> Result<(usize, usize), TranslateError> {
+    let mut idx = [0usize; 2];
+    for (k, l) in ['P', 'Q'].into_iter().enumerate() {
+        let v = need(w, l, n, c, what)?;
+        let col = w.col(l).unwrap_or(c);
+        if !(v.fract() == 0.0 && (0.0..1e9).contains(&v)) {
+            return Err(err(n, col, format!("{what} {l}{v}: a sequence number N")));
+        }
+        idx[k] = *r
+            .n_lines
+            .get(&(v as u32))
+            .ok_or_else(|| err(n, col, format!("{what} {l}{v}: no line N{v}")))?;
+    }
+    if idx[1] < idx[0] {
+        return Err(err(n, c, format!("{what}: line Q comes before line P")));
+    }
+    Ok((idx[0], idx[1]))
+}
+
+/// G70 P Q: the finishing pass, the profile's lines run as written, then back to the start.
+pub fn g70(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateError> {
+    refuse(w, "XZUWIKRJHEL", n, "G70")?;
+    let (p, q) = profile_lines(r, w, n, c, "G70")?;
+    let start = r.out.pos;
+    r.in_cycle = true;
+    let res = r.run_range(p, q + 1);
+    r.in_cycle = false;
+    res?;
+    r.out.motion(mv(Kind::Rapid, start, n, c))?;
+    Ok(Flow::Next)
+}
+
+/// G71 U R (depth of cut, retract) or G71 P Q U W F: roughing in passes parallel to Z down to
+/// the profile of lines P..Q, left with the allowances U (on the diameter in G07) and W, then
+/// one pass along the profile; the lines P..Q are then skipped.
+pub fn g71(r: &mut Reader, w: &Words, n: u32, c: u32, idx: usize) -> Result<Flow, TranslateError> {
+    let f = r.st.factor();
+    if w.get('P').is_none() && w.get('Q').is_none() {
+        refuse(w, "XZWIKJHEL", n, "G71 U R")?;
+        let d = need(w, 'U', n, c, "G71 (first block)")? * f;
+        let e = w.get('R').unwrap_or(0.0) * f;
+        if !(d > 0.0 && d < 1000.0) {
+            return Err(err(
+                n,
+                w.col('U').unwrap_or(c),
+                "G71 U, the depth of cut, must be above 0",
+            ));
+        }
+        if !(0.0..1000.0).contains(&e) {
+            return Err(err(
+                n,
+                w.col('R').unwrap_or(c),
+                "G71 R, the retract, must not be negative",
+            ));
+        }
+        r.st.g71 = Some((d, e));
+        return Ok(Flow::Next);
+    }
+    refuse(w, "XZIKRJHEL", n, "G71 P Q")?;
+    if r.out.comp_on() {
+        return Err(err(n, c, "G71 with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)"));
+    }
+    let Some((depth, retract)) = r.st.g71 else {
+        return Err(err(
+            n,
+            c,
+            "G71 P Q needs the first G71 block (G71 U R: depth of cut and retract) before it",
+        ));
+    };
+    let (p, q) = profile_lines(r, w, n, c, "G71")?;
+    if p <= idx {
+        return Err(err(
+            n,
+            c,
+            "the G71 profile (lines P to Q) must follow the G71 line",
+        ));
+    }
+    let dia = if r.st.diameter { 2.0 } else { 1.0 };
+    let du = w.get('U').unwrap_or(0.0) * f / dia;
+    let dw = w.get('W').unwrap_or(0.0) * f;
+    let Some(feed) = r.st.feed_of() else {
+        return Err(err(n, c, "G71 roughs at the feed in force: give F"));
+    };
+    // Collect the profile without emitting it.
+    let (saved, a) = (r.st.clone(), r.out.pos);
+    r.out.capture = Some(Vec::new());
+    r.in_cycle = true;
+    let res = r.run_range(p, q + 1);
+    r.in_cycle = false;
+    let prof = r.out.capture.take().unwrap_or_default();
+    r.st = saved;
+    r.out.pos = a;
+    res?;
+    let rough = g71_moves(&prof, a, depth, retract, [dw, du], feed, n, c)?;
+    for m in rough {
+        r.out.motion(m)?;
+    }
+    Ok(Flow::Jump(q + 1))
+}
+
+/// The roughing moves of G71 from the start `a` `[Z, X]` over the profile `prof` (its first
+/// move X only), shifted by `allow` `[W, U radius]`.
+#[allow(clippy::too_many_arguments)]
+pub fn g71_moves(
+    prof: &[Mv],
+    a: [f64; 2],
+    depth: f64,
+    retract: f64,
+    allow: [f64; 2],
+    feed: crate::lathe::ops::Feed,
+    n: u32,
+    c: u32,
+) -> Result<Vec<Mv>, TranslateError> {
+    let Some(first) = prof.first() else {
+        return Err(err(n, c, "the G71 profile (lines P to Q) has no move"));
+    };
+    if (first.end[0] - a[0]).abs() > 1e-9 || (first.end[1] - a[1]).abs() < 1e-9 {
+        return Err(err(
+            first.line,
+            first.col,
+            "the G71 profile's first move must move X only (Fanuc type I)",
+        ));
+    }
+    let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
+    let last = prof[prof.len() - 1].end;
+    let dz = last[0] - first.end[0];
+    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
+    if dz.abs() < 1e-9 || prof.len() < 2 {
+        return Err(err(
+            first.line,
+            first.col,
+            "the G71 profile must move along Z after its first move",
+        ));
+    }
+    // Shift and check monotony: X away from the axis (OD) or towards it (ID), Z one way.
+    let shift = |p: [f64; 2]| [p[0] + allow[0], p[1] + allow[1]];
+    let mut segs: Vec<Mv> = Vec::with_capacity(prof.len());
+    for m in &prof[1..] {
+        let bad = |what: &str| {
+            err(
+                m.line,
+                m.col,
+                format!("the G71 profile must be monotonic: this move {what}"),
+            )
+        };
+        if sx * (m.end[1] - m.start[1]) < -1e-9 {
+            return Err(bad("turns back in X"));
+        }
+        if sz * (m.end[0] - m.start[0]) < -1e-9 {
+            return Err(bad("turns back in Z"));
+        }
+        let mut s = *m;
+        s.start = shift(m.start);
+        s.end = shift(m.end);
+        match m.kind {
+            Kind::Thread(_) => return Err(err(m.line, m.col, "G33 in a G71 profile")),
+            Kind::Arc { c: ctr, ccw, feed } => {
+                let sw = sweep(ctr, m.start, m.end, ccw);
+                let a0 = (m.start[1] - ctr[1]).atan2(m.start[0] - ctr[0]);
+                for k in 0..4 {
+                    let q = k as f64 * FRAC_PI_2;
+                    let d = if ccw { q - a0 } else { a0 - q }.rem_euclid(std::f64::consts::TAU);
+                    if d > 1e-9 && d < sw - 1e-9 {
+                        return Err(bad("is an arc that turns back"));
+                    }
+                }
+                s.kind = Kind::Arc {
+                    c: shift(ctr),
+                    ccw,
+                    feed,
+                };
+            }
+            _ => s.kind = Kind::Line(feed),
+        }
+        segs.push(s);
+    }
+    let x1 = first.end[1] + allow[1];
+    let span = sx * (a[1] - x1);
+    if span <= 0.0 {
+        return Err(err(n, c, "the G71 start point must be outside the stock: X beyond the profile's first X and its allowance"));
+    }
+    let levels = (span / depth).ceil() as usize;
+    if levels > MAX_PASSES {
+        return Err(err(
+            n,
+            c,
+            format!("G71 would make more than {MAX_PASSES} passes: deepen U"),
+        ));
+    }
+    let mut out = Vec::new();
+    let mut k = 1usize;
+    loop {
+        let x = a[1] - sx * depth * k as f64;
+        if sx * (x - x1) <= 1e-9 {
+            break;
+        }
+        let z = z_at(&segs, x, sx).unwrap_or(segs[segs.len() - 1].end[0]);
+        out.push(mv(Kind::Rapid, [a[0], x], n, c));
+        out.push(mv(Kind::Line(feed), [z, x], n, c));
+        out.push(mv(Kind::Rapid, [z - sz * retract, x + sx * retract], n, c));
+        out.push(mv(Kind::Rapid, [a[0], x + sx * retract], n, c));
+        k += 1;
+    }
+    // The last pass along the profile with its allowances, then out and back to the start.
+    out.push(mv(Kind::Rapid, [a[0], x1], n, c));
+    out.push(mv(Kind::Rapid, segs[0].start, n, c));
+    for s in &segs {
+        out.push(*s);
+    }
+    let e = segs[segs.len() - 1].end;
+    let x_out = if sx * (a[1] - e[1]) > 0.0 { a[1] } else { e[1] };
+    out.push(mv(Kind::Rapid, [e[0], x_out], n, c));
+    out.push(mv(Kind::Rapid, [a[0], x_out], n, c));
+    out.push(mv(Kind::Rapid, a, n, c));
+    // No standing still: drop moves to where the tool already is.
+    let mut at = a;
+    out.retain(|m| {
+        let keep = (m.end[0] - at[0]).abs() > 1e-9 || (m.end[1] - at[1]).abs() > 1e-9;
+        at = m.end;
+        keep
+    });
+    Ok(out)
+}
+
+/// Where the profile reaches the level X = `x`, its Z.
+fn z_at(segs: &[Mv], x: f64, sx: f64) -> Option<f64> {
+    for s in segs {
+        let (x0, x1) = (s.start[1], s.end[1]);
+        if sx * (x - x0) < -1e-12 || sx * (x1 - x) < -1e-12 {
+            continue;
+        }
+        match s.kind {
+            Kind::Arc { c, ccw, .. } => {
+                let rr = (s.start[0] - c[0]).hypot(s.start[1] - c[1]);
+                let h = (rr * rr - (x - c[1]).powi(2)).max(0.0).sqrt();
+                let sw = sweep(c, s.start, s.end, ccw);
+                let a0 = (s.start[1] - c[1]).atan2(s.start[0] - c[0]);
+                let mut best: Option<(f64, f64)> = None;
+                for z in [c[0] + h, c[0] - h] {
+                    let a = (x - c[1]).atan2(z - c[0]);
+                    let d = if ccw { a - a0 } else { a0 - a }.rem_euclid(std::f64::consts::TAU);
+                    let miss = if d <= sw + 1e-9 {
+                        0.0
+                    } else {
+                        (d - sw).min(std::f64::consts::TAU - d)
+                    };
+                    if best.is_none_or(|b| miss < b.1) {
+                        best = Some((z, miss));
+                    }
+                }
+                return best.map(|b| b.0);
+            }
+            _ => {
+                if (x1 - x0).abs() < 1e-12 {
+                    return Some(s.start[0]);
+                }
+                let t = (x - x0) / (x1 - x0);
+                return Some(s.start[0] + t * (s.end[0] - s.start[0]));
+            }
+        }
+    }
+    None
+}

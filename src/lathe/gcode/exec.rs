@@ -1,0 +1,526 @@
+//! Executing lathe lines (docs/lathe-gcode.md "Order of execution"): the modal state and one
+//! line's words, in LinuxCNC's order: feed mode and F, spindle speed, T, M03–M05, chuck, waits,
+//! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
+
+use super::out::Out;
+use super::{cycles, read_line, ReadOptions, LATHE, MAX_LINES};
+use crate::block::TranslateError;
+use crate::gcode::expr::Params;
+use crate::gcode::words::{sort_words_in, Words};
+use crate::lathe::desc::{ChannelDesc, LatheDesc};
+use crate::lathe::ops::{Feed, Op, SpeedMode, SpindleDir};
+use std::collections::HashMap;
+
+/// The modal state of a lathe program.
+#[derive(Clone, Debug)]
+pub struct State {
+    /// The motion mode ×10 (G00 = 0, G01 = 10, G02, G03, G33 = 330), if one was given.
+    pub motion: Option<u32>,
+    /// G90 (true) or G91.
+    pub absolute: bool,
+    /// G07 diameter mode (true, the default) or G08 radius mode.
+    pub diameter: bool,
+    /// G20 inches.
+    pub inch: bool,
+    /// G95 feed per revolution.
+    pub per_rev: bool,
+    /// The F word in force, mm (per minute or per revolution).
+    pub feed: Option<f64>,
+    /// The spindle's direction.
+    pub dir: SpindleDir,
+    /// G96 constant surface speed.
+    pub css: bool,
+    /// The S word in force (rpm, or m/min under G96).
+    pub s: f64,
+    /// The G96 speed limit, rpm.
+    pub limit: f64,
+    /// G71's depth of cut and retract (from its first block), mm radius.
+    pub g71: Option<(f64, f64)>,
+}
+
+impl State {
+    /// The state at the start of a program (G18 G7 G21 G90 G94 G97 G40, spindle stopped).
+    pub fn new(desc: &LatheDesc, ch: usize) -> State {
+        let max = desc.channels.get(ch).map_or(0.0, |c| c.max_rpm);
+        State {
+            motion: None,
+            absolute: true,
+            diameter: true,
+            inch: false,
+            per_rev: false,
+            feed: None,
+            dir: SpindleDir::Stop,
+            css: false,
+            s: 0.0,
+            limit: max,
+            g71: None,
+        }
+    }
+
+    /// mm per program unit.
+    pub fn factor(&self) -> f64 {
+        if self.inch {
+            25.4
+        } else {
+            1.0
+        }
+    }
+
+    /// The feed in force as an operation's feed.
+    pub fn feed_of(&self) -> Option<Feed> {
+        let f = self.feed?;
+        Some(if self.per_rev {
+            Feed::PerRev(f)
+        } else {
+            Feed::PerMin(f)
+        })
+    }
+}
+
+/// What a line asks of the reading loop.
+pub enum Flow {
+    /// Go on with the next line.
+    Next,
+    /// Go on at this line index (after a G71 and its profile).
+    Jump(usize),
+    /// M02/M30: stop reading.
+    End,
+}
+
+/// The reader of one program.
+pub struct Reader<'a> {
+    /// The machine.
+    pub desc: &'a LatheDesc,
+    /// The channel, 0-based.
+    pub ch: usize,
+    /// The channel's description.
+    pub chan: &'a ChannelDesc,
+    /// The panel switches.
+    pub opts: ReadOptions,
+    /// The program's lines.
+    pub lines: &'a [&'a str],
+    /// N number to line index.
+    pub n_lines: HashMap<u32, usize>,
+    /// The numbered parameters.
+    pub params: Params,
+    /// The modal state.
+    pub st: State,
+    /// The emitter.
+    pub out: Out<'a>,
+    /// Lines executed so far.
+    pub executed: u64,
+    /// Inside a G70 or G71 profile.
+    pub in_cycle: bool,
+    /// M02/M30 was read.
+    pub ended: bool,
+}
+
+/// An error at a line and column.
+pub fn err(line: u32, col: u32, message: impl Into<String>) -> TranslateError {
+    TranslateError {
+        line,
+        col,
+        message: message.into(),
+    }
+}
+
+fn is_int(v: f64) -> bool {
+    v.fract() == 0.0 && v.is_finite()
+}
+
+impl Reader<'_> {
+    /// Runs lines `from..to` (indices).
+    pub fn run_range(&mut self, from: usize, to: usize) -> Result<(), TranslateError> {
+        let mut i = from;
+        while i < to.min(self.lines.len()) && !self.ended {
+            let n = (i + 1) as u32;
+            self.executed += 1;
+            if self.executed > MAX_LINES {
+                return Err(err(
+                    n,
+                    1,
+                    format!("the program executes more than {MAX_LINES} lines"),
+                ));
+            }
+            match self.line(i)? {
+                Flow::Next => i += 1,
+                Flow::Jump(j) => i = j,
+                Flow::End => {
+                    self.ended = true;
+                    break;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn line(&mut self, i: usize) -> Result<Flow, TranslateError> {
+        let n = (i + 1) as u32;
+        let raw = self.lines[i];
+        let l = read_line(raw, n, &self.params)?;
+        if l.block_delete && self.opts.block_delete {
+            return Ok(Flow::Next);
+        }
+        if l.percent {
+            return Ok(Flow::Next);
+        }
+        for &(p, v) in &l.assigns {
+            self.params.set(p, v);
+        }
+        let w = sort_words_in(&l, n, &LATHE)?;
+        self.execute(&w, n, i)
+    }
+
+    fn execute(&mut self, w: &Words, n: u32, idx: usize) -> Result<Flow, TranslateError> {
+        let col = |c: char| w.col(c).unwrap_or(1);
+        let mut used: u32 = 1 << (b'N' - b'A');
+        let mut use_ = |c: char| used |= 1 << (c as u8 - b'A');
+        // Plane, units, diameter mode, feed mode: they change how the rest is read.
+        for &(g, c) in w.g.as_slice() {
+            match g {
+                170 | 190 => {
+                    return Err(err(
+                        n,
+                        c,
+                        format!(
+                            "G{} selects a plane the lathe does not have: the lathe works in G18 (Z–X) only",
+                            g / 10
+                        ),
+                    ))
+                }
+                200 => self.st.inch = true,
+                210 => self.st.inch = false,
+                70 => self.st.diameter = true,
+                80 => self.st.diameter = false,
+                940 => self.st.per_rev = false,
+                950 => self.st.per_rev = true,
+                _ => {}
+            }
+        }
+        let f = self.st.factor();
+        if let Some(v) = w.get('F') {
+            use_('F');
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(err(n, col('F'), format!("F{v}: the feed must be above 0")));
+            }
+            self.st.feed = Some(v * f);
+        }
+        // Spindle speed and mode.
+        let mut spindle = false;
+        if w.has_g(960).is_some() {
+            self.st.css = true;
+            spindle = true;
+        }
+        if w.has_g(970).is_some() {
+            self.st.css = false;
+            spindle = true;
+        }
+        if let Some(d) = w.get('D') {
+            use_('D');
+            if !(d > 0.0 && d <= self.chan.max_rpm) {
+                return Err(err(
+                    n,
+                    col('D'),
+                    format!(
+                        "D{d}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                        self.chan.max_rpm
+                    ),
+                ));
+            }
+            self.st.limit = d;
+            spindle = true;
+        }
+        if let Some(s) = w.get('S') {
+            use_('S');
+            if !(s >= 0.0 && s.is_finite()) {
+                return Err(err(
+                    n,
+                    col('S'),
+                    format!("S{s}: the speed must not be negative"),
+                ));
+            }
+            if !self.st.css && s > self.chan.max_rpm {
+                return Err(err(
+                    n,
+                    col('S'),
+                    format!(
+                        "S{s}: above channel {}'s spindle maximum of {} rpm",
+                        self.ch + 1,
+                        self.chan.max_rpm
+                    ),
+                ));
+            }
+            self.st.s = s;
+            spindle = true;
+        }
+        // T: tool change and offsets.
+        if let Some(t) = w.get('T') {
+            use_('T');
+            self.tool(t, n, col('T'))?;
+        }
+        for &(m, _) in w.m.as_slice() {
+            match m {
+                3 => self.st.dir = SpindleDir::Cw,
+                4 => self.st.dir = SpindleDir::Ccw,
+                5 => self.st.dir = SpindleDir::Stop,
+                _ => continue,
+            }
+            spindle = true;
+        }
+        if spindle {
+            let mode = if self.st.css {
+                let k = if self.st.inch { 0.3048 } else { 1.0 };
+                SpeedMode::Css {
+                    m_per_min: self.st.s * k,
+                    limit_rpm: self.st.limit,
+                }
+            } else {
+                if self.st.s > self.chan.max_rpm {
+                    return Err(err(
+                        n,
+                        1,
+                        format!(
+                            "S{}: above channel {}'s spindle maximum of {} rpm (G97)",
+                            self.st.s,
+                            self.ch + 1,
+                            self.chan.max_rpm
+                        ),
+                    ));
+                }
+                SpeedMode::Rpm(self.st.s)
+            };
+            self.out.op(
+                n,
+                1,
+                Op::Spindle {
+                    dir: self.st.dir,
+                    mode,
+                },
+            )?;
+        }
+        // Chuck and waiting codes.
+        for &(m, c) in w.m.as_slice() {
+            match m {
+                10 => self.out.op(n, c, Op::ChuckClose)?,
+                11 => self.out.op(n, c, Op::ChuckOpen)?,
+                100..=199 => {
+                    use_('P');
+                    let with = self.wait_channels(w.get('P'), n, col('P'))?;
+                    self.out.op(n, c, Op::Wait { m, with })?;
+                }
+                _ => {}
+            }
+        }
+        // Dwell.
+        if let Some(c) = w.has_g(40) {
+            use_('P');
+            let Some(p) = w.get('P') else {
+                return Err(err(n, c, "G04 needs P, the dwell in seconds"));
+            };
+            if !(0.0..=86_400.0).contains(&p) {
+                return Err(err(
+                    n,
+                    col('P'),
+                    format!("G04 P{p}: the dwell must be 0 to 86400 seconds"),
+                ));
+            }
+            self.out.op(
+                n,
+                c,
+                Op::Dwell {
+                    ns: (p * 1e9).round() as u64,
+                },
+            )?;
+        }
+        // Compensation and distance mode.
+        for &(g, c) in w.g.as_slice() {
+            match g {
+                400 => self.out.comp_stop(),
+                410 => self.out.comp_start(true, n, c)?,
+                420 => self.out.comp_start(false, n, c)?,
+                900 => self.st.absolute = true,
+                910 => self.st.absolute = false,
+                _ => {}
+            }
+        }
+        // Motion.
+        let motion_code =
+            w.g.as_slice()
+                .iter()
+                .find(|x| matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 760))
+                .copied();
+        let mut flow = Flow::Next;
+        let axes = ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
+        match motion_code {
+            Some((700, c)) | Some((710, c)) | Some((760, c)) => {
+                for l in [
+                    'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L',
+                ] {
+                    use_(l);
+                }
+                let g = motion_code.map_or(0, |m| m.0);
+                if self.in_cycle {
+                    return Err(err(n, c, format!("G{} inside a G70/G71 profile", g / 10)));
+                }
+                flow = match g {
+                    760 => {
+                        cycles::g76(self, w, n, c)?;
+                        Flow::Next
+                    }
+                    710 => cycles::g71(self, w, n, c, idx)?,
+                    _ => cycles::g70(self, w, n, c)?,
+                };
+            }
+            _ => {
+                if let Some((g, c)) = motion_code {
+                    self.st.motion = Some(g);
+                    if !axes {
+                        // A motion code alone sets the mode (LinuxCNC refuses G01 alone
+                        // only when nothing else is on the line; novanc takes it as modal).
+                        let _ = c;
+                    }
+                }
+                if axes {
+                    for l in ['X', 'Z', 'U', 'W'] {
+                        use_(l);
+                    }
+                    let Some(g) = self.st.motion else {
+                        return Err(err(
+                            n,
+                            1,
+                            "X or Z without a motion mode: give G00, G01, G02, G03 or G33",
+                        ));
+                    };
+                    let mc = motion_code.map_or(1, |m| m.1);
+                    match g {
+                        20 | 30 => ['I', 'K', 'R'].into_iter().for_each(&mut use_),
+                        330 => use_('K'),
+                        _ => {}
+                    }
+                    self.motion(g, w, n, mc)?;
+                } else if w.get('I').is_some() || w.get('K').is_some() || w.get('R').is_some() {
+                    let c = w.col('I').or(w.col('K')).or(w.col('R')).unwrap_or(1);
+                    return Err(err(n, c, "I, K or R without an X or Z end point"));
+                }
+            }
+        }
+        // Stops and the end.
+        for &(m, c) in w.m.as_slice() {
+            match m {
+                0 => self.out.op(n, c, Op::Stop { optional: false })?,
+                1 if self.opts.optional_stop => self.out.op(n, c, Op::Stop { optional: true })?,
+                2 | 30 => {
+                    if self.in_cycle {
+                        return Err(err(n, c, format!("M{m:02} inside a G70/G71 profile")));
+                    }
+                    self.out.op(n, c, Op::End { m30: m == 30 })?;
+                    flow = Flow::End;
+                }
+                _ => {}
+            }
+        }
+        // Words nothing used.
+        for c in "DEFHIJKLPQRSTUWXZ".chars() {
+            if w.get(c).is_some() && used & (1 << (c as u8 - b'A')) == 0 {
+                return Err(err(
+                    n,
+                    col(c),
+                    format!("the {c} word is not used by anything on this line"),
+                ));
+            }
+        }
+        Ok(flow)
+    }
+
+    fn tool(&mut self, t: f64, n: u32, c: u32) -> Result<(), TranslateError> {
+        if !(is_int(t) && (0.0..=9999.0).contains(&t)) {
+            return Err(err(
+                n,
+                c,
+                format!("T{t}: a tool is T and 1 to 4 digits (T0101)"),
+            ));
+        }
+        let t = t as u32;
+        let (tool, offset) = if t >= 100 { (t / 100, t % 100) } else { (t, t) };
+        if self.out.comp_on() {
+            return Err(err(
+                n,
+                c,
+                "change tools with nose-radius compensation off: give G40 first",
+            ));
+        }
+        let Some(td) = self.chan.tool(tool) else {
+            let have: Vec<String> = self
+                .chan
+                .tools
+                .iter()
+                .map(|t| t.number.to_string())
+                .collect();
+            return Err(err(
+                n,
+                c,
+                format!(
+                    "tool {tool} is not on channel {}'s tool post (it has {})",
+                    self.ch + 1,
+                    if have.is_empty() {
+                        "none".to_string()
+                    } else {
+                        have.join(", ")
+                    }
+                ),
+            ));
+        };
+        if offset != 0 && offset != tool {
+            return Err(err(
+                n,
+                c,
+                format!(
+                    "T{t:04}: offset {offset} is not tool {tool}'s: each tool has its own offsets (T{tool:02}{tool:02}, or T{tool:02}00 for none)"
+                ),
+            ));
+        }
+        self.out.set_tool(td.clone(), offset != 0);
+        self.out.op(n, c, Op::Tool { tool })
+    }
+
+    fn wait_channels(&self, p: Option<f64>, n: u32, c: u32) -> Result<u8, TranslateError> {
+        let count = self.desc.channels.len().min(8);
+        let all = if count >= 8 { 0xff } else { (1u8 << count) - 1 };
+        let own = 1u8 << self.ch.min(7);
+        let Some(p) = p else {
+            return Ok(all);
+        };
+        if !(is_int(p) && p > 0.0 && p < 1e9) {
+            return Err(err(
+                n,
+                c,
+                format!("P{p}: a waiting code's P lists channels by their digits (P12, P123)"),
+            ));
+        }
+        let mut with = 0u8;
+        for d in (p as u64).to_string().bytes() {
+            let k = (d - b'0') as usize;
+            if k == 0 || k > count {
+                return Err(err(
+                    n,
+                    c,
+                    format!(
+                        "P{p}: channel {k} does not exist (the machine has channels 1 to {count})"
+                    ),
+                ));
+            }
+            with |= 1 << (k - 1);
+        }
+        if with & own == 0 {
+            return Err(err(
+                n,
+                c,
+                format!(
+                    "P{p}: a waiting code must list its own channel {}",
+                    self.ch + 1
+                ),
+            ));
+        }
+        Ok(with)
+    }
+}

@@ -1,0 +1,180 @@
+//! The lathe G-code reader (docs/lathe-gcode.md): one channel's ISO program, read with
+//! LinuxCNC 2.9's lathe-mode semantics (Fanuc 0i-T's for G71/G70 and the U/W words), into a
+//! [`LatheProgram`] of operations on the imaginary tool tip P.
+//!
+//! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::expr`);
+//! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
+//!
+//! - [`exec`]: one line's words executed against the modal state.
+//! - [`moves`]: end points, feeds, arcs and G33.
+//! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses.
+//! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
+//! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
+
+pub mod comp;
+pub mod cycles;
+pub mod exec;
+pub mod moves;
+pub mod out;
+
+#[cfg(test)]
+mod tests;
+
+use crate::block::TranslateError;
+use crate::gcode::expr::{self, Params};
+use crate::gcode::words::Dialect;
+use crate::lathe::desc::LatheDesc;
+use crate::lathe::ops::LatheProgram;
+use std::collections::HashMap;
+
+/// The most operations one program may produce (cycles included): the bound on its work.
+pub const MAX_STEPS: usize = 2_000_000;
+/// The most lines one program may execute, counting G70 repeats of its profile lines.
+pub const MAX_LINES: u64 = 1_000_000;
+/// The most passes one G71 or G76 cycle may make.
+pub const MAX_PASSES: usize = 2_000;
+
+/// The panel switches a lathe program reads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// BLOCK DELETE: lines starting with `/` are skipped.
+    pub block_delete: bool,
+    /// OPTIONAL STOP: M01 stops (else it is dropped).
+    pub optional_stop: bool,
+}
+
+/// The lathe dialect: letters and codes by modal group (docs/lathe-gcode.md "Words").
+pub const LATHE: Dialect = Dialect {
+    letters: "DEFHIJKLNPQRSTUWXZ",
+    g_group: lathe_g_group,
+    m_group: lathe_m_group,
+    g_why: lathe_g_why,
+    letter_hint: " (the lathe has the axes X and Z; U and W are incremental X and Z)",
+};
+
+fn lathe_g_group(g: u32) -> Option<u8> {
+    Some(match g {
+        0 | 10 | 20 | 30 | 330 | 700 | 710 | 760 => 1,
+        170 | 180 | 190 => 2,
+        900 | 910 => 3,
+        70 | 80 => 4,
+        940 | 950 => 5,
+        200 | 210 => 6,
+        400 | 410 | 420 => 7,
+        960 | 970 => 8,
+        40 => 0,
+        _ => return None,
+    })
+}
+
+fn lathe_m_group(m: u32) -> Option<u8> {
+    Some(match m {
+        0 | 1 | 2 | 30 => 4,
+        10 | 11 => 5,
+        3..=5 => 7,
+        100..=199 => 9,
+        _ => return None,
+    })
+}
+
+fn lathe_g_why(g: u32) -> &'static str {
+    match g {
+        920..=923 => " (G92 offsets are not supported on the lathe)",
+        930 => " (inverse-time feed is not supported: G94 or G95)",
+        720 | 730 | 740 | 750 => " (the roughing cycle is G71 with G70; G72–G75 are not supported)",
+        800..=890 => " (drilling cycles are not supported on the lathe)",
+        430 | 490 => " (the lathe applies a tool's offsets with its T word)",
+        540..=590 => " (work offsets are not supported on the lathe: Z 0 is the work face)",
+        _ => "",
+    }
+}
+
+/// The point the reader takes the tool to stand at when a program starts, pulses [X, Z]: the
+/// channel's reference position, the top of both travels (docs/lathe-gcode.md "Start").
+pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
+    match desc.channels.get(ch) {
+        Some(c) => [
+            desc.pulses(c.axes[0].travel[1]),
+            desc.pulses(c.axes[1].travel[1]),
+        ],
+        None => [0, 0],
+    }
+}
+
+/// Reads one channel's lathe program into its operations (docs/lathe-gcode.md). `ch` is the
+/// 0-based channel whose tools, spindle and travel apply.
+pub fn read_program(
+    name: &str,
+    text: &str,
+    desc: &LatheDesc,
+    ch: usize,
+    opts: &ReadOptions,
+) -> Result<LatheProgram, TranslateError> {
+    let lines: Vec<&str> = text.lines().collect();
+    let Some(chan) = desc.channels.get(ch) else {
+        return Err(TranslateError {
+            line: 1,
+            col: 1,
+            message: format!(
+                "channel {} does not exist (the machine has {})",
+                ch + 1,
+                desc.channels.len()
+            ),
+        });
+    };
+    if !(desc.pulse_mm.is_finite() && desc.pulse_mm > 0.0) {
+        return Err(TranslateError {
+            line: 1,
+            col: 1,
+            message: "the machine's pulse size is not a positive number".into(),
+        });
+    }
+    // N numbers to line indices, for G70/G71 P and Q (the first line with each number).
+    let mut n_lines: HashMap<u32, usize> = HashMap::new();
+    for (i, raw) in lines.iter().enumerate() {
+        if let Some(n) = n_number(raw) {
+            n_lines.entry(n).or_insert(i);
+        }
+    }
+    let mut r = exec::Reader {
+        desc,
+        ch,
+        chan,
+        opts: *opts,
+        lines: &lines,
+        n_lines,
+        params: Params::default(),
+        st: exec::State::new(desc, ch),
+        out: out::Out::new(desc, ch),
+        executed: 0,
+        in_cycle: false,
+        ended: false,
+    };
+    r.run_range(0, lines.len())?;
+    r.out.finish()?;
+    Ok(LatheProgram {
+        name: name.to_string(),
+        lines: lines.iter().map(|s| s.to_string()).collect(),
+        steps: r.out.steps,
+    })
+}
+
+/// The N number a line starts with (after an optional `/`), if any: a cheap scan used only to
+/// index lines for G70/G71 (the line itself is read properly when executed).
+fn n_number(raw: &str) -> Option<u32> {
+    let t = raw.trim_start();
+    let t = t.strip_prefix('/').unwrap_or(t).trim_start();
+    let rest = t.strip_prefix(['N', 'n'])?;
+    let digits: String = rest
+        .trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_digit())
+        .take(9)
+        .collect();
+    digits.parse().ok()
+}
+
+/// Reads one line with the mill reader's expression and parameter rules.
+fn read_line(raw: &str, n: u32, params: &Params) -> Result<expr::Line, TranslateError> {
+    expr::read_line(raw, n, params)
+}

@@ -1,0 +1,160 @@
+//! Moves (docs/lathe-gcode.md "Moves"): end points from X/U and Z/W in diameter or radius
+//! mode, feeds, arcs by centre (I always a radius) or R, and G33 thread passes.
+
+use super::exec::{err, Reader};
+use super::out::{Kind, Mv};
+use crate::block::TranslateError;
+use crate::gcode::geom::{self, ArcFault};
+use crate::gcode::words::Words;
+use crate::lathe::ops::{Feed, SpindleDir};
+
+impl Reader<'_> {
+    /// The end point of a move from X/U and Z/W, `[Z, X]` mm (X a radius).
+    pub fn target(&self, w: &Words, n: u32) -> Result<[f64; 2], TranslateError> {
+        let f = self.st.factor();
+        let dia = if self.st.diameter { 2.0 } else { 1.0 };
+        let mut p = self.out.pos;
+        if let (Some(_), Some(c)) = (w.get('X'), w.col('U')) {
+            return Err(err(
+                n,
+                c,
+                "X and U on one line: give one (U is incremental X)",
+            ));
+        }
+        if let (Some(_), Some(c)) = (w.get('Z'), w.col('W')) {
+            return Err(err(
+                n,
+                c,
+                "Z and W on one line: give one (W is incremental Z)",
+            ));
+        }
+        if let Some(x) = w.get('X') {
+            let v = x * f / dia;
+            p[1] = if self.st.absolute { v } else { p[1] + v };
+        }
+        if let Some(u) = w.get('U') {
+            p[1] += u * f / dia;
+        }
+        if let Some(z) = w.get('Z') {
+            let v = z * f;
+            p[0] = if self.st.absolute { v } else { p[0] + v };
+        }
+        if let Some(wv) = w.get('W') {
+            p[0] += wv * f;
+        }
+        if !(p[0].is_finite() && p[1].is_finite() && p[0].abs() < 1e6 && p[1].abs() < 1e6) {
+            return Err(err(n, 1, "the end point is not a reasonable number"));
+        }
+        Ok(p)
+    }
+
+    fn feed(&self, n: u32, c: u32) -> Result<Feed, TranslateError> {
+        let Some(feed) = self.st.feed_of() else {
+            return Err(err(n, c, "a feed move without a feed: give F"));
+        };
+        if self.st.per_rev && self.st.dir == SpindleDir::Stop {
+            return Err(err(
+                n,
+                c,
+                "a feed per revolution (G95) with the spindle stopped: give M03 or M04",
+            ));
+        }
+        Ok(feed)
+    }
+
+    /// Executes one move of mode `g` (×10) to the line's end point.
+    pub fn motion(&mut self, g: u32, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        let end = self.target(w, n)?;
+        let kind = match g {
+            0 => Kind::Rapid,
+            10 => Kind::Line(self.feed(n, c)?),
+            20 | 30 => {
+                let feed = self.feed(n, c)?;
+                let ccw = g == 30;
+                let f = self.st.factor();
+                let s = self.out.pos;
+                let centre = match (w.get('R'), w.get('I').is_some() || w.get('K').is_some()) {
+                    (Some(_), true) => {
+                        return Err(err(n, c, "an arc with both R and I/K: give one"));
+                    }
+                    (Some(r), false) => {
+                        let tol = if self.st.inch {
+                            geom::R_TOLERANCE_INCH * 25.4
+                        } else {
+                            geom::R_TOLERANCE_MM
+                        };
+                        geom::centre_r(s, end, r * f, !ccw, tol).map_err(|e| arc_err(e, n, c))?
+                    }
+                    (None, true) => {
+                        let ctr = [
+                            s[0] + w.get('K').unwrap_or(0.0) * f,
+                            s[1] + w.get('I').unwrap_or(0.0) * f,
+                        ];
+                        let tol = if self.st.inch {
+                            geom::IJK_ABS_TOLERANCE_INCH * 25.4
+                        } else {
+                            geom::IJK_ABS_TOLERANCE_MM
+                        };
+                        geom::check_ijk(s, end, ctr, tol).map_err(|e| arc_err(e, n, c))?;
+                        ctr
+                    }
+                    (None, false) => {
+                        return Err(err(
+                            n,
+                            c,
+                            "an arc needs its centre (I and K, I always a radius) or R",
+                        ))
+                    }
+                };
+                Kind::Arc {
+                    c: centre,
+                    ccw,
+                    feed,
+                }
+            }
+            _ => {
+                // G33.
+                let Some(k) = w.get('K') else {
+                    return Err(err(n, c, "G33 needs K, the lead in mm per revolution"));
+                };
+                let lead = k * self.st.factor();
+                if !(lead > 0.0 && lead <= 100.0) {
+                    return Err(err(
+                        n,
+                        w.col('K').unwrap_or(c),
+                        format!("G33 K{k}: the lead must be above 0 and at most 100 mm"),
+                    ));
+                }
+                if self.st.dir == SpindleDir::Stop {
+                    return Err(err(n, c, "G33 with the spindle stopped: give M03 or M04"));
+                }
+                if (end[0] - self.out.pos[0]).abs() < 1e-9 {
+                    return Err(err(n, c, "G33 needs a Z move (K is the lead along Z)"));
+                }
+                Kind::Thread(lead)
+            }
+        };
+        self.out.motion(Mv {
+            kind,
+            start: self.out.pos,
+            end,
+            line: n,
+            col: c,
+        })
+    }
+}
+
+fn arc_err(e: ArcFault, n: u32, c: u32) -> TranslateError {
+    let m = match e {
+        ArcFault::RTooSmall { half, r } => format!(
+            "R {r:.4} is too small: the end point is {:.4} mm away, more than 2·R",
+            2.0 * half
+        ),
+        ArcFault::RFullCircle => "an R arc cannot end where it starts".to_string(),
+        ArcFault::NotOnCircle { r0, r1 } => format!(
+            "the end point is not on the arc: radius {r0:.4} at the start, {r1:.4} at the end"
+        ),
+        ArcFault::ZeroRadius => "the arc's radius is zero".to_string(),
+    };
+    err(n, c, m)
+}

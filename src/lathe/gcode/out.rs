@@ -1,0 +1,381 @@
+//! The emitter (docs/lathe-gcode.md "Tool offsets", "Nose-radius compensation", "Travel"):
+//! programmed moves in mm become operations in pulses on the imaginary tip P, with the tool's
+//! offsets added, G41/G42 applied, and every point checked against the channel's travel.
+//!
+//! Internally points are in the turning order of G18, `[Z, X]` (X a radius), so that a
+//! counter-clockwise arc turns from +Z towards +X as `Op::Arc::ccw` says.
+
+use super::comp;
+use super::MAX_STEPS;
+use crate::block::TranslateError;
+use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
+use crate::lathe::ops::{Feed, Op, Step};
+
+/// What a programmed move is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// G00.
+    Rapid,
+    /// G01.
+    Line(Feed),
+    /// G02/G03 about the absolute centre `[Z, X]` mm.
+    Arc {
+        /// Centre, `[Z, X]` mm.
+        c: [f64; 2],
+        /// Counter-clockwise (G03).
+        ccw: bool,
+        /// The feed.
+        feed: Feed,
+    },
+    /// G33 or a G76 pass, lead mm per revolution.
+    Thread(f64),
+}
+
+/// One programmed move, `[Z, X]` mm, X a radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mv {
+    /// What it is.
+    pub kind: Kind,
+    /// Start point.
+    pub start: [f64; 2],
+    /// End point.
+    pub end: [f64; 2],
+    /// Source line.
+    pub line: u32,
+    /// Column of the word that made the move.
+    pub col: u32,
+}
+
+/// The emitter's state.
+pub struct Out<'a> {
+    desc: &'a LatheDesc,
+    chan: &'a ChannelDesc,
+    ch: usize,
+    /// The operations so far.
+    pub steps: Vec<Step>,
+    /// The programmed position of P, `[Z, X]` mm (before offsets and compensation).
+    pub pos: [f64; 2],
+    /// The tool in place and whether its offsets apply.
+    tool: Option<(ToolDesc, bool)>,
+    /// G41 (true) or G42 (false) in force.
+    comp_side: Option<bool>,
+    /// The moves held under compensation since its entry move.
+    run: Option<comp::Run>,
+    /// G40 was given while a run is held: the next move is the exit move.
+    exit_pending: bool,
+    /// G71 collects its profile here instead of emitting it.
+    pub capture: Option<Vec<Mv>>,
+}
+
+impl<'a> Out<'a> {
+    /// A new emitter with the tool at the channel's reference position.
+    pub fn new(desc: &'a LatheDesc, ch: usize) -> Out<'a> {
+        let chan = &desc.channels[ch.min(desc.channels.len().saturating_sub(1))];
+        Out {
+            desc,
+            chan,
+            ch,
+            steps: Vec::new(),
+            pos: [chan.axes[1].travel[1], chan.axes[0].travel[1]],
+            tool: None,
+            comp_side: None,
+            run: None,
+            exit_pending: false,
+            capture: None,
+        }
+    }
+
+    fn err(line: u32, col: u32, message: impl Into<String>) -> TranslateError {
+        TranslateError {
+            line,
+            col,
+            message: message.into(),
+        }
+    }
+
+    /// Whether G41 or G42 is in force.
+    pub fn comp_on(&self) -> bool {
+        self.comp_side.is_some()
+    }
+
+    /// The tool in place.
+    pub fn tool(&self) -> Option<&ToolDesc> {
+        self.tool.as_ref().map(|t| &t.0)
+    }
+
+    /// Puts a tool in place (its offsets applying if `offsets`).
+    pub fn set_tool(&mut self, t: ToolDesc, offsets: bool) {
+        if self.capture.is_some() {
+            return;
+        }
+        self.tool = Some((t, offsets));
+    }
+
+    fn push(&mut self, line: u32, col: u32, op: Op) -> Result<(), TranslateError> {
+        if self.steps.len() >= MAX_STEPS {
+            return Err(Self::err(
+                line,
+                col,
+                format!("the program makes more than {MAX_STEPS} operations"),
+            ));
+        }
+        self.steps.push(Step { line, op });
+        Ok(())
+    }
+
+    /// A non-motion operation. Under compensation it waits behind the held moves; in a G71
+    /// profile it is dropped.
+    pub fn op(&mut self, line: u32, col: u32, op: Op) -> Result<(), TranslateError> {
+        if self.capture.is_some() {
+            return Ok(());
+        }
+        if matches!(op, Op::End { .. }) {
+            self.flush(None)?;
+            self.comp_side = None;
+            self.exit_pending = false;
+        }
+        if let Some(run) = self.run.as_mut() {
+            run.aux.push((run.segs.len(), Step { line, op }));
+            return Ok(());
+        }
+        self.push(line, col, op)
+    }
+
+    /// G41 (`left`) or G42.
+    pub fn comp_start(&mut self, left: bool, line: u32, col: u32) -> Result<(), TranslateError> {
+        if self.capture.is_some() {
+            return Ok(());
+        }
+        if let Some(side) = self.comp_side {
+            if side != left || self.exit_pending {
+                return Err(Self::err(
+                    line,
+                    col,
+                    "give G40 before changing the side of nose-radius compensation",
+                ));
+            }
+            return Ok(());
+        }
+        if self.tool.is_none() {
+            return Err(Self::err(
+                line,
+                col,
+                "nose-radius compensation needs a tool: give a T word first",
+            ));
+        }
+        self.comp_side = Some(left);
+        Ok(())
+    }
+
+    /// G40: the next move is the exit move.
+    pub fn comp_stop(&mut self) {
+        if self.capture.is_some() {
+            return;
+        }
+        if self.run.is_some() {
+            self.exit_pending = true;
+        } else {
+            self.comp_side = None;
+        }
+    }
+
+    /// One programmed move from `pos` to `mv.end`.
+    pub fn motion(&mut self, mut mv: Mv) -> Result<(), TranslateError> {
+        mv.start = self.pos;
+        self.pos = mv.end;
+        if let Some(cap) = self.capture.as_mut() {
+            if cap.len() >= super::MAX_PASSES * 4 {
+                return Err(Self::err(mv.line, mv.col, "the G71 profile is too long"));
+            }
+            cap.push(mv);
+            return Ok(());
+        }
+        let Some(left) = self.comp_side else {
+            return self.emit(&mv);
+        };
+        if let Kind::Thread(_) = mv.kind {
+            return Err(Self::err(
+                mv.line,
+                mv.col,
+                "threading with nose-radius compensation in force: give G40 first",
+            ));
+        }
+        if self.exit_pending {
+            if matches!(mv.kind, Kind::Arc { .. }) {
+                return Err(Self::err(
+                    mv.line,
+                    mv.col,
+                    "the move after G40 (the exit move) must be a straight line (G00 or G01)",
+                ));
+            }
+            self.flush(Some(mv))?;
+            self.comp_side = None;
+            self.exit_pending = false;
+            return Ok(());
+        }
+        let (r, tip) = match self.tool() {
+            Some(t) => (t.radius, t.tip),
+            None => (0.0, 0),
+        };
+        let len = (mv.end[0] - mv.start[0]).hypot(mv.end[1] - mv.start[1]);
+        let full = matches!(mv.kind, Kind::Arc { .. });
+        if len < 1e-9 && !full {
+            return Ok(());
+        }
+        match self.run.as_mut() {
+            // Bounded: one move per executed line (MAX_LINES); cycles refuse compensation.
+            Some(run) => run.segs.push(mv),
+            None => {
+                if r <= 0.0 {
+                    return self.emit(&mv);
+                }
+                if full {
+                    return Err(Self::err(
+                        mv.line,
+                        mv.col,
+                        "the first move after G41/G42 (the entry move) must be a straight line (G00 or G01)",
+                    ));
+                }
+                if len <= r {
+                    return Err(Self::err(
+                        mv.line,
+                        mv.col,
+                        format!("the entry move after G41/G42 must be longer than the nose radius ({r} mm)"),
+                    ));
+                }
+                self.run = Some(comp::Run {
+                    left,
+                    radius: r,
+                    tip,
+                    segs: vec![mv],
+                    aux: Vec::new(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Computes and emits the held run (ending with `exit` if given).
+    fn flush(&mut self, exit: Option<Mv>) -> Result<(), TranslateError> {
+        let Some(run) = self.run.take() else {
+            if let Some(e) = exit {
+                return self.emit(&e);
+            }
+            return Ok(());
+        };
+        let pieces = comp::offset_path(&run, exit.as_ref())?;
+        let v = comp::tip_vector(run.tip);
+        let shift = [v[0] * run.radius, v[1] * run.radius];
+        let mut aux = run.aux.into_iter().peekable();
+        for (i, group) in pieces.iter().enumerate() {
+            while let Some((_, s)) = aux.next_if(|a| a.0 <= i) {
+                self.push(s.line, 0, s.op)?;
+            }
+            for (mv, exact) in group {
+                let mut m = *mv;
+                if !*exact {
+                    m.end = [m.end[0] + shift[0], m.end[1] + shift[1]];
+                    if let Kind::Arc { c, ccw, feed } = m.kind {
+                        m.kind = Kind::Arc {
+                            c: [c[0] + shift[0], c[1] + shift[1]],
+                            ccw,
+                            feed,
+                        };
+                    }
+                }
+                self.emit(&m)?;
+            }
+        }
+        for (_, s) in aux {
+            self.push(s.line, 0, s.op)?;
+        }
+        Ok(())
+    }
+
+    /// At the end of the text: emits what compensation still holds.
+    pub fn finish(&mut self) -> Result<(), TranslateError> {
+        self.flush(None)
+    }
+
+    /// Emits one move of P, adding the tool's offsets and checking the travel.
+    fn emit(&mut self, mv: &Mv) -> Result<(), TranslateError> {
+        let off = match &self.tool {
+            Some((t, true)) => [t.offset[1], t.offset[0]],
+            _ => [0.0, 0.0],
+        };
+        let e = [mv.end[0] + off[0], mv.end[1] + off[1]];
+        self.check_travel(e, mv)?;
+        let end = [self.desc.pulses(e[1]), self.desc.pulses(e[0])];
+        let op = match mv.kind {
+            Kind::Rapid => Op::Rapid { end },
+            Kind::Line(feed) => Op::Line { end, feed },
+            Kind::Thread(lead) => Op::Thread { end, lead },
+            Kind::Arc { c, ccw, feed } => {
+                let c = [c[0] + off[0], c[1] + off[1]];
+                self.check_arc_travel(c, e, ccw, mv)?;
+                Op::Arc {
+                    end,
+                    centre: [self.desc.pulses(c[1]), self.desc.pulses(c[0])],
+                    ccw,
+                    feed,
+                }
+            }
+        };
+        self.push(mv.line, mv.col, op)
+    }
+
+    fn check_travel(&self, p: [f64; 2], mv: &Mv) -> Result<(), TranslateError> {
+        for (axis, v, name) in [(0usize, p[1], "X"), (1, p[0], "Z")] {
+            let t = self.chan.axes[axis].travel;
+            if !(v >= t[0] - 1e-9 && v <= t[1] + 1e-9) {
+                let what = if axis == 0 { " (radius)" } else { "" };
+                return Err(Self::err(
+                    mv.line,
+                    mv.col,
+                    format!(
+                        "{name} {v:.3}{what} is outside channel {}'s {name} travel {} to {} mm",
+                        self.ch + 1,
+                        t[0],
+                        t[1]
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The arc's extreme points within its sweep must be inside the travel too.
+    fn check_arc_travel(
+        &self,
+        c: [f64; 2],
+        e: [f64; 2],
+        ccw: bool,
+        mv: &Mv,
+    ) -> Result<(), TranslateError> {
+        let r = (e[0] - c[0]).hypot(e[1] - c[1]);
+        let s = self
+            .steps
+            .iter()
+            .rev()
+            .find_map(|s| s.op.end())
+            .map(|p| {
+                [
+                    p[1] as f64 * self.desc.pulse_mm,
+                    p[0] as f64 * self.desc.pulse_mm,
+                ]
+            })
+            .unwrap_or(mv.start);
+        let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
+        let sweep = comp::sweep(c, s, e, ccw);
+        for k in 0..4 {
+            let q = k as f64 * std::f64::consts::FRAC_PI_2;
+            let d = if ccw { q - a0 } else { a0 - q };
+            let d = d.rem_euclid(std::f64::consts::TAU);
+            if d < sweep {
+                let p = [c[0] + r * q.cos(), c[1] + r * q.sin()];
+                self.check_travel(p, mv)?;
+            }
+        }
+        Ok(())
+    }
+}

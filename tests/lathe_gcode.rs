@@ -1,0 +1,532 @@
+//! The lathe G-code reader's errors and bounds (docs/lathe-gcode.md "Errors", "Bounds"): every
+//! refusal names its line and column in a part programmer's words, and no input panics.
+
+use novanc::lathe::desc::LatheDesc;
+use novanc::lathe::gcode::{read_program, ReadOptions};
+
+fn desc() -> LatheDesc {
+    let mut d = LatheDesc::citizen();
+    for c in &mut d.channels {
+        c.axes[0].travel = [-1.0, 100.0];
+        c.axes[1].travel = [-200.0, 200.0];
+    }
+    d
+}
+
+fn error(text: &str) -> String {
+    match read_program("e.ngc", text, &desc(), 0, &ReadOptions::default()) {
+        Ok(p) => panic!("read without error: {text:?} → {:?}", p.steps),
+        Err(e) => e.to_string(),
+    }
+}
+
+const S: &str = "T0101 M3 S1000\n";
+
+/// (program, "line:col", part of the message).
+fn cases() -> Vec<(String, &'static str, &'static str)> {
+    let s = |t: &str| format!("{S}{t}");
+    let long_profile = {
+        let mut t = String::from("G0 X90 Z2\nG71 U1 R0\nG71 P1 Q2 F100\nN1 G0 X10\n");
+        for k in 0..8001 {
+            t.push_str(&format!("G1 Z{}\n", -0.01 * k as f64));
+        }
+        t.push_str("N2 G1 X20\n");
+        t
+    };
+    let many_lines = {
+        let mut t = String::from("G0 X20 Z2\n");
+        for _ in 0..1100 {
+            t.push_str("G70 P1 Q2\n");
+        }
+        t.push_str("M30\nN1 G4 P0\n");
+        for _ in 0..998 {
+            t.push_str("G4 P0\n");
+        }
+        t.push_str("N2 G4 P0\n");
+        t
+    };
+    let many_steps = {
+        let mut t = s("G0 X20 Z5\n");
+        for _ in 0..260 {
+            t.push_str("G76 P1 Z-1 I-0.5 J0.001 K1.999\n");
+        }
+        t
+    };
+    vec![
+        ("G17\n".into(), "1:1", "the lathe works in G18 (Z–X) only"),
+        ("G19 G0 X1\n".into(), "1:1", "plane the lathe does not have"),
+        (
+            "G54\n".into(),
+            "1:1",
+            "work offsets are not supported on the lathe",
+        ),
+        ("G72\n".into(), "1:1", "G72–G75 are not supported"),
+        ("M6\n".into(), "1:1", "unknown or unsupported code M06"),
+        (
+            "G0 Y5\n".into(),
+            "1:4",
+            "unknown word Y (the lathe has the axes X and Z",
+        ),
+        ("G0 X1 G1 Z1\n".into(), "1:7", "same modal group"),
+        ("G1 X10 F0\n".into(), "1:8", "the feed must be above 0"),
+        (
+            "G96 S100 D0\n".into(),
+            "1:10",
+            "G96 speed limit must be above 0",
+        ),
+        (
+            "G96 S100 D9000\n".into(),
+            "1:10",
+            "at most the spindle's maximum 6000 rpm",
+        ),
+        ("S-5\n".into(), "1:1", "S-5: the speed must not be negative"),
+        (
+            "S9000 M3\n".into(),
+            "1:1",
+            "above channel 1's spindle maximum of 6000 rpm",
+        ),
+        ("G96 S9000\nG97\n".into(), "2:1", "(G97)"),
+        ("T1.5\n".into(), "1:1", "a tool is T and 1 to 4 digits"),
+        (
+            "T9\n".into(),
+            "1:1",
+            "tool 9 is not on channel 1's tool post (it has 1, 2, 3)",
+        ),
+        ("T0102\n".into(), "1:1", "offset 2 is not tool 1's"),
+        (
+            s("G42\nT0202\n"),
+            "3:1",
+            "change tools with nose-radius compensation off",
+        ),
+        (
+            "M100 P1.5\n".into(),
+            "1:6",
+            "lists channels by their digits",
+        ),
+        (
+            "M100 P14\n".into(),
+            "1:6",
+            "channel 4 does not exist (the machine has channels 1 to 3)",
+        ),
+        ("M100 P23\n".into(), "1:6", "must list its own channel 1"),
+        ("G4\n".into(), "1:1", "G04 needs P, the dwell in seconds"),
+        (
+            "G4 P-1\n".into(),
+            "1:4",
+            "the dwell must be 0 to 86400 seconds",
+        ),
+        ("X10\n".into(), "1:1", "X or Z without a motion mode"),
+        (
+            "G0 X10 Z1\nI5\n".into(),
+            "2:1",
+            "I, K or R without an X or Z end point",
+        ),
+        (
+            "G0 X10 Q5\n".into(),
+            "1:8",
+            "the Q word is not used by anything on this line",
+        ),
+        ("G0 X10 K5\n".into(), "1:8", "the K word is not used"),
+        ("G0 X10 U2\n".into(), "1:8", "X and U on one line"),
+        ("G0 Z10 W2\n".into(), "1:8", "Z and W on one line"),
+        (
+            "G8 G0 X9999999\n".into(),
+            "1:1",
+            "the end point is not a reasonable number",
+        ),
+        (
+            "G1 X10\n".into(),
+            "1:1",
+            "a feed move without a feed: give F",
+        ),
+        (
+            "G95 G1 X10 F0.1\n".into(),
+            "1:5",
+            "feed per revolution (G95) with the spindle stopped",
+        ),
+        (
+            "G0 X20 Z0\nG2 X30 Z-5 R5 I1 F1\n".into(),
+            "2:1",
+            "both R and I/K",
+        ),
+        (
+            "G0 X20 Z0\nG2 X40 Z-5 R1 F1\n".into(),
+            "2:1",
+            "R 1.0000 is too small",
+        ),
+        (
+            "G0 X20 Z0\nG2 X20 Z0 R5 F1\n".into(),
+            "2:1",
+            "an R arc cannot end where it starts",
+        ),
+        (
+            "G0 X20 Z0\nG2 X30 Z-5 I0 K-3 F1\n".into(),
+            "2:1",
+            "the end point is not on the arc",
+        ),
+        (
+            "G0 X20 Z0\nG2 X20 Z0 I0 K0 F1\n".into(),
+            "2:1",
+            "the arc's radius is zero",
+        ),
+        (
+            "G0 X20 Z0\nG2 X30 Z-5 F1\n".into(),
+            "2:1",
+            "an arc needs its centre",
+        ),
+        (s("G0 X20 Z0\nG33 Z-5\n"), "3:1", "G33 needs K"),
+        (
+            s("G0 X20 Z0\nG33 Z-5 K0\n"),
+            "3:9",
+            "the lead must be above 0",
+        ),
+        (
+            "G0 X20 Z0\nG33 Z-5 K1\n".into(),
+            "2:1",
+            "G33 with the spindle stopped",
+        ),
+        (s("G0 X20 Z0\nG33 X22 K1\n"), "3:1", "G33 needs a Z move"),
+        (s("G42\nG41\n"), "3:1", "give G40 before changing the side"),
+        (
+            "G42\n".into(),
+            "1:1",
+            "nose-radius compensation needs a tool",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G0 X10 Z2\nG33 Z-5 K1\n"),
+            "4:1",
+            "threading with nose-radius compensation in force",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G0 X10 Z2\nG1 Z0 F1\nG40 G2 X20 Z-5 R5\n"),
+            "5:5",
+            "the exit move) must be a straight line",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G2 X10 Z0 R5 F1\n"),
+            "3:5",
+            "the entry move) must be a straight line",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G1 X20 Z4.5 F1\n"),
+            "3:5",
+            "must be longer than the nose radius (0.8 mm)",
+        ),
+        (
+            "G0 X250 Z0\n".into(),
+            "1:1",
+            "X 125.000 (radius) is outside channel 1's X travel -1 to 100 mm",
+        ),
+        (
+            "G0 X20 Z300\n".into(),
+            "1:1",
+            "Z 300.000 is outside channel 1's Z travel -200 to 200 mm",
+        ),
+        (
+            "G0 X190 Z0\nG1 F1\nG3 X190 Z-20 R10\n".into(),
+            "3:1",
+            "X 105.000 (radius) is outside",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G0 X10 Z2\nG1 Z0 F1\nG2 X11 Z-0.5 R0.5\nG40 G0 X40\n"),
+            "5:1",
+            "not larger than the nose radius (0.8 mm) on the inside of the arc",
+        ),
+        (
+            s("G0 X30 Z5\nG42 G0 X20 Z2\nG1 Z-10 F1\nX18\nZ-10.5\nX20\nZ-20\nG40 G0 X40\n"),
+            "6:1",
+            "would gouge the profile",
+        ),
+        (
+            s("G8 G0 X5 Z5\nG42 G0 X2 Z2\nG1 Z-10 F1\nG2 X3 Z-9 R1\nG40 G0 X10\n"),
+            "5:1",
+            "cannot follow this inside corner",
+        ),
+        (
+            s("G0 X20 Z5\nG76 Z-10 I-1 J0.1 K0.5\n"),
+            "3:1",
+            "G76 needs P",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 X10 Z-10 I-1 J0.1 K0.5\n"),
+            "3:8",
+            "takes no X word",
+        ),
+        (
+            s("G0 X20 Z5\nG42\nG76 P1 Z-10 I-1 J0.1 K0.5\n"),
+            "4:1",
+            "G76 with nose-radius compensation in force",
+        ),
+        (
+            "G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5\n".into(),
+            "2:1",
+            "G76 with the spindle stopped",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P0 Z-10 I-1 J0.1 K0.5\n"),
+            "3:5",
+            "P, the pitch, must be above 0",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0 K0.5\n"),
+            "3:17",
+            "J, the first cut's depth",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.05\n"),
+            "3:22",
+            "K, the thread's depth, must be at least J",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I0 J0.1 K0.5\n"),
+            "3:13",
+            "I, the peak's offset",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 R0.5\n"),
+            "3:27",
+            "R, the depth degression",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 H1.5\n"),
+            "3:27",
+            "H, the spring passes",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 Q29.5\n"),
+            "3:27",
+            "Q (a compound angle) is not supported",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 E1\n"),
+            "3:27",
+            "E (tapered thread ends) is not supported",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 L7\n"),
+            "3:27",
+            "L must be 0 to 3",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z5 I-1 J0.1 K0.5\n"),
+            "3:8",
+            "a thread needs a length",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.0001 K0.5\n"),
+            "3:1",
+            "G76 makes more than 2000 passes",
+        ),
+        (
+            "G70 P1.5 Q2\n".into(),
+            "1:5",
+            "G70 P1.5: a sequence number N",
+        ),
+        ("G70 P1 Q2\n".into(), "1:5", "G70 P1: no line N1"),
+        (
+            "G70 P2 Q1\nN1 G0 X1\nN2 G0 X2\n".into(),
+            "1:1",
+            "line Q comes before line P",
+        ),
+        (
+            "G70 P1 Q2\nN1 G0 X10\nN2 G71 U1\n".into(),
+            "3:4",
+            "G71 inside a G70/G71 profile",
+        ),
+        (
+            "G70 P1 Q2\nN1 G0 X10\nN2 M30\n".into(),
+            "3:4",
+            "M30 inside a G70/G71 profile",
+        ),
+        ("G71 R1\n".into(), "1:1", "G71 (first block) needs U"),
+        (
+            "G71 U0\n".into(),
+            "1:5",
+            "G71 U, the depth of cut, must be above 0",
+        ),
+        (
+            "G71 U1 R-1\n".into(),
+            "1:8",
+            "G71 R, the retract, must not be negative",
+        ),
+        (
+            "G71 P1 Q2\nN1 G0 X1\nN2 G1 Z1\n".into(),
+            "1:1",
+            "needs the first G71 block",
+        ),
+        (
+            s("G42\nG71 U1\nG71 P1 Q2\n"),
+            "4:1",
+            "G71 with nose-radius compensation in force",
+        ),
+        (
+            "N1 G0 X10\nN2 G1 Z-5 F1\nG71 U1\nG71 P1 Q2 F1\n".into(),
+            "4:1",
+            "must follow the G71 line",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q2\nN1 G0 X10\nN2 G1 Z-5\n".into(),
+            "3:1",
+            "roughs at the feed in force: give F",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 (nothing)\nN2 G4 P0\n".into(),
+            "3:1",
+            "has no move",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10 Z0\nN2 G1 Z-5\n".into(),
+            "4:4",
+            "first move must move X only",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10\nN2 G1 X20\n".into(),
+            "4:4",
+            "must move along Z after its first move",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q3 F1\nN1 G0 X10\nG1 X20 Z-5\nN3 G1 X15 Z-10\n".into(),
+            "6:4",
+            "turns back in X",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q3 F1\nN1 G0 X10\nG1 X20 Z-5\nN3 G1 X25 Z-3\n".into(),
+            "6:4",
+            "turns back in Z",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q3 F1\nN1 G0 X10\nG1 Z-5\nN3 G3 X10 Z-15 R5\n".into(),
+            "6:4",
+            "an arc that turns back",
+        ),
+        (
+            s("G0 X40 Z2\nG71 U1\nG71 P1 Q3 F1\nN1 G0 X10\nG1 Z-5\nN3 G33 X20 Z-15 K1\n"),
+            "7:4",
+            "G33 in a G71 profile",
+        ),
+        (
+            "G0 X20 Z2\nG71 U1\nG71 P1 Q2 U4 F1\nN1 G0 X18\nN2 G1 Z-5\n".into(),
+            "3:1",
+            "must be outside the stock",
+        ),
+        (
+            "G0 X40 Z2\nG71 U0.0001\nG71 P1 Q2 F1\nN1 G0 X10\nN2 G1 Z-5\n".into(),
+            "3:1",
+            "G71 would make more than 2000 passes",
+        ),
+        (long_profile, "8004:1", "the G71 profile is too long"),
+        (
+            many_lines,
+            "1",
+            "the program executes more than 1000000 lines",
+        ),
+        (
+            many_steps,
+            "2",
+            "the program makes more than 2000000 operations",
+        ),
+    ]
+}
+
+#[test]
+fn every_refusal_names_its_place_and_says_why() {
+    let mut bad = Vec::new();
+    for (text, at, needle) in cases() {
+        let e = error(&text);
+        let place_ok = if at.contains(':') {
+            e.starts_with(&format!("{at}: "))
+        } else {
+            e.contains(':')
+        };
+        if !place_ok || !e.contains(needle) {
+            let head: String = text.chars().take(60).collect();
+            bad.push(format!("{head:?}\n   want {at}: …{needle}…\n   got  {e}"));
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+#[test]
+fn a_missing_channel_is_refused() {
+    let e = read_program("x", "G0 X1\n", &desc(), 5, &ReadOptions::default());
+    assert_eq!(
+        e.err().map(|e| e.to_string()),
+        Some("1:1: channel 6 does not exist (the machine has 3)".to_string())
+    );
+}
+
+#[test]
+fn a_bad_pulse_size_is_refused() {
+    let mut d = desc();
+    d.pulse_mm = 0.0;
+    let e = read_program("x", "G0 X1\n", &d, 0, &ReadOptions::default());
+    assert_eq!(
+        e.err().map(|e| e.to_string()),
+        Some("1:1: the machine's pulse size is not a positive number".to_string())
+    );
+}
+
+/// A small deterministic generator (xorshift).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn pick<'a>(&mut self, v: &[&'a str]) -> &'a str {
+        v[(self.next() % v.len() as u64) as usize]
+    }
+}
+
+#[test]
+fn random_bytes_and_fragments_never_panic() {
+    let frags = [
+        "G0", "G1", "G2", "G3", "G4", "G7", "G8", "G18", "G20", "G21", "G33", "G40", "G41", "G42",
+        "G70", "G71", "G76", "G90", "G91", "G94", "G95", "G96", "G97", "M0", "M1", "M2", "M3",
+        "M4", "M5", "M10", "M11", "M100", "M130", "M30", "T0101", "T2", "T0303", "X", "Z", "U",
+        "W", "I", "K", "R", "P", "Q", "F", "S", "D", "J", "H", "E", "L", "N1", "N2", "N3", "-",
+        ".", "1", "2.5", "0", "10", "-3", "40", "0.8", "#1=", "[", "]", "(", ")", "/", "%", "\n",
+        " ", "*", "#", "\u{e9}", "1e9",
+    ];
+    let d = desc();
+    let mut rng = Rng(0x5eed_1a7e_u64);
+    let start = std::time::Instant::now();
+    let mut errors = 0;
+    for round in 0..3000 {
+        let mut text = String::new();
+        if round % 5 == 0 {
+            for _ in 0..(rng.next() % 200) {
+                text.push((rng.next() % 128) as u8 as char);
+            }
+        } else {
+            for _ in 0..(rng.next() % 60) {
+                text.push_str(rng.pick(&frags));
+                if rng.next().is_multiple_of(3) {
+                    text.push_str(rng.pick(&["1", "5", "-2", "20", "0.5"]));
+                }
+            }
+        }
+        let opts = ReadOptions {
+            block_delete: round % 2 == 0,
+            optional_stop: round % 3 == 0,
+        };
+        let ch = (rng.next() % 4) as usize;
+        match read_program("fuzz", &text, &d, ch, &opts) {
+            Ok(p) => assert!(p.steps.iter().all(|s| s.line >= 1)),
+            Err(e) => {
+                errors += 1;
+                let lines = text.lines().count().max(1) as u32;
+                assert!(e.line >= 1 && e.line <= lines + 1, "{e} for {text:?}");
+                assert!(!e.message.is_empty());
+            }
+        }
+    }
+    assert!(
+        errors > 100,
+        "the fuzz found too few errors to be reading anything: {errors}"
+    );
+    assert!(start.elapsed().as_secs() < 5, "{:?}", start.elapsed());
+}

@@ -1,0 +1,272 @@
+//! Tool-nose radius compensation on the lathe (docs/lathe-gcode.md "Nose-radius
+//! compensation"): a profile with a taper, a fillet, a convex arc and a shoulder, turned with a
+//! 0.8 mm nose in every tip position. From the operations the path of P is sampled, the nose
+//! centre C = P − R·v(tip) recovered with the chart written out here (not the reader's), and
+//! the nose circle's envelope compared with the programmed profile.
+
+use novanc::lathe::desc::{LatheDesc, ToolDesc};
+use novanc::lathe::gcode::{read_program, ReadOptions};
+use novanc::lathe::ops::Op;
+
+const R: f64 = 0.8;
+const TOL: f64 = 0.002;
+
+/// Fanuc's chart, `[X, Z]` from C to P (docs/lathe-gcode.md).
+fn chart(tip: u8) -> [f64; 2] {
+    match tip {
+        1 => [1.0, 1.0],
+        2 => [1.0, -1.0],
+        3 => [-1.0, -1.0],
+        4 => [-1.0, 1.0],
+        5 => [0.0, 1.0],
+        6 => [1.0, 0.0],
+        7 => [0.0, -1.0],
+        8 => [-1.0, 0.0],
+        _ => [0.0, 0.0],
+    }
+}
+
+fn desc(tip: u8) -> LatheDesc {
+    let mut d = LatheDesc::citizen();
+    for c in &mut d.channels {
+        c.axes[0].travel = [-1.0, 100.0];
+        c.axes[1].travel = [-200.0, 200.0];
+        c.tools = vec![ToolDesc {
+            number: 1,
+            radius: R,
+            tip,
+            offset: [0.0, 0.0],
+        }];
+    }
+    d
+}
+
+/// A geometric piece, `[X, Z]` mm: a segment or an arc (centre, ccw from +Z towards +X).
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Seg([f64; 2], [f64; 2]),
+    Arc([f64; 2], [f64; 2], [f64; 2], bool),
+}
+
+fn angle(p: [f64; 2], c: [f64; 2]) -> f64 {
+    // Z is the first turning axis, X the second.
+    (p[0] - c[0]).atan2(p[1] - c[1])
+}
+
+fn sweep_of(s: [f64; 2], e: [f64; 2], c: [f64; 2], ccw: bool) -> f64 {
+    let d = if ccw {
+        angle(e, c) - angle(s, c)
+    } else {
+        angle(s, c) - angle(e, c)
+    };
+    let d = d.rem_euclid(std::f64::consts::TAU);
+    if d < 1e-12 {
+        std::f64::consts::TAU
+    } else {
+        d
+    }
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+impl Piece {
+    fn distance(&self, p: [f64; 2]) -> f64 {
+        match *self {
+            Piece::Seg(a, b) => {
+                let d = [b[0] - a[0], b[1] - a[1]];
+                let l2 = d[0] * d[0] + d[1] * d[1];
+                let t = if l2 == 0.0 {
+                    0.0
+                } else {
+                    (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
+                };
+                dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
+            }
+            Piece::Arc(s, e, c, ccw) => {
+                let r = dist(s, c);
+                let sw = sweep_of(s, e, c, ccw);
+                let d = if ccw {
+                    angle(p, c) - angle(s, c)
+                } else {
+                    angle(s, c) - angle(p, c)
+                };
+                if d.rem_euclid(std::f64::consts::TAU) <= sw {
+                    (dist(p, c) - r).abs()
+                } else {
+                    dist(p, s).min(dist(p, e))
+                }
+            }
+        }
+    }
+
+    fn samples(&self, step: f64) -> Vec<[f64; 2]> {
+        match *self {
+            Piece::Seg(a, b) => {
+                let n = ((dist(a, b) / step).ceil() as usize).max(1);
+                (0..=n)
+                    .map(|i| {
+                        let t = i as f64 / n as f64;
+                        [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+                    })
+                    .collect()
+            }
+            Piece::Arc(s, e, c, ccw) => {
+                let r = dist(s, c);
+                let sw = sweep_of(s, e, c, ccw);
+                let n = ((r * sw / step).ceil() as usize).max(1);
+                let a0 = angle(s, c);
+                (0..=n)
+                    .map(|i| {
+                        let a = a0 + if ccw { 1.0 } else { -1.0 } * sw * i as f64 / n as f64;
+                        [c[0] + r * a.sin(), c[1] + r * a.cos()]
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    fn shifted(&self, v: [f64; 2]) -> Piece {
+        let m = |p: [f64; 2]| [p[0] - v[0], p[1] - v[1]];
+        match *self {
+            Piece::Seg(a, b) => Piece::Seg(m(a), m(b)),
+            Piece::Arc(s, e, c, ccw) => Piece::Arc(m(s), m(e), m(c), ccw),
+        }
+    }
+}
+
+/// The programmed profile, `[X radius, Z]`.
+fn profile() -> Vec<Piece> {
+    vec![
+        Piece::Seg([5.0, 2.0], [5.0, 0.0]),
+        Piece::Seg([5.0, 0.0], [10.0, -10.0]),
+        Piece::Arc([10.0, -10.0], [15.0, -15.0], [15.0, -10.0], false),
+        Piece::Arc([15.0, -15.0], [20.0, -20.0], [15.0, -20.0], true),
+        Piece::Seg([20.0, -20.0], [20.0, -30.0]),
+        Piece::Seg([20.0, -30.0], [25.0, -30.0]),
+    ]
+}
+
+const PROGRAM: &str = "T0101\nM3 S1000\nG0 X30 Z5\n{SIDE} G0 X10 Z2\nG1 Z0 F100\nG1 X20 Z-10\nG2 X30 Z-15 R5\nG3 X40 Z-20 R5\nG1 Z-30\nG1 X50\nG40 G0 X60 Z-25\nM30\n";
+/// The inside corners `[X, Z]` (the entry move's end against the first cut, the taper's
+/// start, the shoulder): a round nose cannot reach into them, it leaves a fillet of its own
+/// radius, so the profile within R of them is not checked against R (the centres are still
+/// checked for coming too close).
+const INSIDE: [[f64; 2]; 3] = [[5.0, 2.0], [5.0, 0.0], [20.0, -30.0]];
+/// Lines of the profile moves (the cut): 5 to 10.
+const CUT: std::ops::RangeInclusive<u32> = 5..=10;
+
+/// The pieces of P's path from the operations, with each one's source line.
+fn path(tip: u8, side: &str) -> Vec<(u32, Piece)> {
+    let d = desc(tip);
+    let text = PROGRAM.replace("{SIDE}", side);
+    let p = match read_program("comp.ngc", &text, &d, 0, &ReadOptions::default()) {
+        Ok(p) => p,
+        Err(e) => panic!("tip {tip} {side}: {e}"),
+    };
+    let mm = |q: [i64; 2]| [q[0] as f64 * d.pulse_mm, q[1] as f64 * d.pulse_mm];
+    let mut at: Option<[f64; 2]> = None;
+    let mut out = Vec::new();
+    for s in &p.steps {
+        let (end, piece) = match s.op {
+            Op::Rapid { end } | Op::Line { end, .. } => {
+                (mm(end), at.map(|a| Piece::Seg(a, mm(end))))
+            }
+            Op::Arc {
+                end, centre, ccw, ..
+            } => (mm(end), at.map(|a| Piece::Arc(a, mm(end), mm(centre), ccw))),
+            _ => continue,
+        };
+        if let Some(pc) = piece {
+            out.push((s.line, pc));
+        }
+        at = Some(end);
+    }
+    out
+}
+
+/// The envelope's worst errors: how far a profile point's nearest centre is from R, and how
+/// much closer than R a centre on the cut comes to the profile.
+fn envelope(tip: u8, side: &str, v: [f64; 2]) -> (f64, f64) {
+    let shift = [R * v[0], R * v[1]];
+    let centres: Vec<(u32, Piece)> = path(tip, side)
+        .into_iter()
+        .map(|(l, p)| (l, p.shifted(shift)))
+        .collect();
+    let prof = profile();
+    let mut worst_far: f64 = 0.0;
+    for pc in &prof {
+        for q in pc.samples(0.01) {
+            if INSIDE.iter().any(|&k| dist(k, q) < R) {
+                continue;
+            }
+            let near = centres
+                .iter()
+                .map(|(_, c)| c.distance(q))
+                .fold(f64::INFINITY, f64::min);
+            worst_far = worst_far.max((near - R).abs());
+        }
+    }
+    let mut worst_close: f64 = 0.0;
+    for (l, c) in &centres {
+        if !CUT.contains(l) {
+            continue;
+        }
+        for q in c.samples(0.01) {
+            let d = prof
+                .iter()
+                .map(|p| p.distance(q))
+                .fold(f64::INFINITY, f64::min);
+            worst_close = worst_close.max(R - d);
+        }
+    }
+    (worst_far, worst_close)
+}
+
+#[test]
+fn the_nose_envelope_is_the_profile_in_every_tip_position() {
+    for tip in 0..=9u8 {
+        let (far, close) = envelope(tip, "G42", chart(tip));
+        assert!(
+            far <= TOL && close <= TOL,
+            "tip {tip}: profile to nose centre off R by {far:.4} mm, centre inside by {close:.4} mm"
+        );
+    }
+}
+
+#[test]
+fn the_envelope_check_fails_on_the_wrong_side_or_a_wrong_chart() {
+    for tip in [0u8, 3, 8] {
+        let (far, close) = envelope(tip, "G41", chart(tip));
+        assert!(
+            far > 0.1 || close > 0.1,
+            "tip {tip} G41 passed: {far} {close}"
+        );
+    }
+    for tip in [1u8, 2, 3, 4, 5, 6, 7, 8] {
+        let v = chart(tip);
+        let (far, close) = envelope(tip, "G42", [-v[0], -v[1]]);
+        assert!(far > 0.1 || close > 0.1, "tip {tip} negated chart passed");
+    }
+}
+
+#[test]
+fn a_tip_3_tool_turning_parallel_to_z_moves_p_on_the_profile() {
+    // Imaginary tip: on a cut parallel to Z, P runs on the programmed diameter.
+    let p = path(3, "G42");
+    let on_z30 = p
+        .iter()
+        .filter(|(l, _)| *l == 9)
+        .find_map(|(_, pc)| match pc {
+            Piece::Seg(a, b) if (a[1] - b[1]).abs() > 5.0 => Some((a[0], b[0])),
+            _ => None,
+        });
+    let Some((xa, xb)) = on_z30 else {
+        panic!("no Z cut on line 9: {p:?}");
+    };
+    assert!(
+        (xa - 20.0).abs() < 0.001 && (xb - 20.0).abs() < 0.001,
+        "{xa} {xb}"
+    );
+}
