@@ -295,11 +295,11 @@ fn estop_stops_everything_until_reset() {
     for _ in 0..1000 {
         l.tick();
     }
-    for c in 0..3 {
+    for (c, pos) in before.iter().enumerate() {
         let s = st(&l, c);
         assert_eq!(s.state, ChState::Estop);
         assert_eq!(s.rpm, 0.0);
-        assert_eq!(s.pos, before[c]);
+        assert_eq!(s.pos, *pos);
     }
     assert_eq!(l.run_until_idle(MINUTE), Outcome::Estop);
     l.start();
@@ -335,8 +335,8 @@ fn feed_hold_slows_every_channel_to_a_stop_and_start_resumes() {
     for _ in 0..5000 {
         l.tick();
     }
-    for c in 0..3 {
-        assert_eq!(st(&l, c).pos, before[c]);
+    for (c, pos) in before.iter().enumerate() {
+        assert_eq!(st(&l, c).pos, *pos);
         assert!(matches!(st(&l, c).state, ChState::Hold | ChState::Done));
     }
     l.start();
@@ -420,5 +420,30 @@ fn a_thread_pass_resumed_after_a_fault_stays_on_its_helix() {
     assert!(
         (z_by_encoder - z_done).abs() <= 2.0 * lead + 1.0,
         "{z_by_encoder} {z_done}"
+    );
+}
+
+#[test]
+fn the_target_can_change_until_it_would_strand_a_work() {
+    let mut l = sample_lathe(5).expect("the sample lathe");
+    l.start();
+    // Until channel 1 has taken its third work.
+    while l.stats().supplied < 3 {
+        l.tick();
+        assert!(l.machine_time_ns() < MINUTE);
+    }
+    let e = l.set_target(2).err();
+    assert!(e.is_some_and(|e| e.contains("already supplied 3")));
+    assert_eq!(l.target(), 5);
+    assert_eq!(l.set_target(3), Ok(()));
+    assert_eq!(
+        l.run_until_idle(10 * MINUTE),
+        Outcome::Finished { parts: 3 }
+    );
+    assert_eq!(l.stats().supplied, 3);
+    assert!(l.set_target(4).is_err(), "the channels have finished");
+    assert_eq!(
+        l.summary(),
+        "CH1 DONE N10 3/3 | CH2 DONE N11 3/3 | CH3 DONE N18 3/3"
     );
 }
