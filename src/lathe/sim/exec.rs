@@ -361,6 +361,12 @@ impl Lathe {
         if c.sp.dir == SpindleDir::Stop {
             return Some(format!("{}: the spindle is stopped", op_name(op)));
         }
+        if let Op::Line { feed, .. } | Op::Arc { feed, .. } = op {
+            let (Feed::PerMin(f) | Feed::PerRev(f)) = *feed;
+            if !f.is_finite() || f <= 0.0 {
+                return Some(format!("{}: feed {f} is not positive", op_name(op)));
+            }
+        }
         None
     }
 
@@ -444,10 +450,11 @@ impl Lathe {
         let vmax = if held {
             0.0
         } else {
+            let ovr = f64::from(self.feed_override) / 100.0;
             match feed {
                 None => f64::INFINITY,
-                Some(Feed::PerMin(f)) => f * per_s,
-                Some(Feed::PerRev(f)) => f * self.chans[i].sp.rpm * per_s,
+                Some(Feed::PerMin(f)) => f * per_s * ovr,
+                Some(Feed::PerRev(f)) => f * self.chans[i].sp.rpm * per_s * ovr,
             }
         };
         let moving = mv.v > 0.0;
@@ -491,6 +498,12 @@ impl Lathe {
             return self.run_thread(i, th);
         };
         let enc = self.chans[i].sp.enc;
+        if held && !th.synced {
+            // A feed hold before the pass moves: it waits, and synchronises afresh after.
+            th.anchor = None;
+            self.chans[i].exec = Exec::Thread(th);
+            return Flow::Yield;
+        }
         self.busy = true;
         if enc < anchor + th.done {
             self.chans[i].waits = Some(WaitOn::Index);

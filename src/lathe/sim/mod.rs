@@ -6,7 +6,7 @@
 //! - [`Lathe`]: the machine; operator commands, status, outcome and statistics.
 //! - `types`: the public status, event, outcome and statistics types.
 //! - `exec`: one tick: each channel's spindle and program steps, the checks before a block.
-//! - `queue`: the queue points: receive (M10), delivery (M11), waiting M codes.
+//! - `queue`: the queue points receive (M10) and delivery (M11); waiting M codes are in `exec`.
 //! - `motion`: a block's motion (trapezoid along a line or arc; thread passes on the encoder).
 
 mod exec;
@@ -145,6 +145,8 @@ pub struct Lathe {
     pub(crate) record: bool,
     pub(crate) sample_ns: u64,
     pub(crate) optional_stop: bool,
+    /// Feed override, percent of the programmed feed (not rapids, not threads).
+    pub(crate) feed_override: u32,
     /// Set by a tick when anything changed or moved.
     pub(crate) busy: bool,
 }
@@ -244,6 +246,7 @@ impl Lathe {
             record: true,
             sample_ns: 1_000_000,
             optional_stop: false,
+            feed_override: 100,
             busy: false,
         })
     }
@@ -271,6 +274,81 @@ impl Lathe {
     /// OPTIONAL STOP: whether M01 stops (off by default).
     pub fn set_optional_stop(&mut self, on: bool) {
         self.optional_stop = on;
+    }
+
+    /// FEED OVERRIDE, percent (0 to 200, default 100) of the programmed feed of Line and Arc
+    /// blocks; rapids and thread passes (which follow the spindle) are not overridden.
+    pub fn set_feed_override(&mut self, pct: u32) -> Result<(), String> {
+        if pct > 200 {
+            return Err(format!("feed override {pct} %: 0 to 200 %"));
+        }
+        self.feed_override = pct;
+        Ok(())
+    }
+
+    /// Replaces channel `ch`'s program (an MDI buffer, an edited program) and puts it at its
+    /// first step, IDLE, keeping its work, chuck, spindle command, position and count. Only
+    /// between blocks of a channel that is idle, stopped or done.
+    pub fn load(&mut self, ch: usize, prog: LatheProgram) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        if !matches!(c.run, Run::Idle | Run::Stopped(_) | Run::Done) {
+            return Err(format!("CH{} is {}: stop it first", ch + 1, c.state()));
+        }
+        if !matches!(c.exec, Exec::Fresh) {
+            return Err(format!("CH{} is inside a block: finish it first", ch + 1));
+        }
+        for s in &prog.steps {
+            if let Op::Wait { m, with } = s.op {
+                if u32::from(with) >> self.chans.len() != 0 || with & (1 << ch) == 0 {
+                    return Err(format!(
+                        "line {}: M{m} must list channel {} and only channels the machine has",
+                        s.line,
+                        ch + 1
+                    ));
+                }
+            }
+        }
+        let c = &mut self.chans[ch];
+        c.prog = prog;
+        c.pc = 0;
+        c.run = Run::Idle;
+        c.held = false;
+        Ok(())
+    }
+
+    /// START of channel `ch` alone (MDI): begins or resumes it if idle or stopped, ends its
+    /// hold.
+    pub fn start_channel(&mut self, ch: usize) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        c.held = false;
+        if matches!(c.run, Run::Idle | Run::Stopped(_)) {
+            c.run = Run::Active;
+        }
+        Ok(())
+    }
+
+    /// RESET of every channel (the machine's RESET after an E-STOP).
+    pub fn reset_all(&mut self) {
+        for ch in 0..self.chans.len() {
+            let _ = self.reset(ch);
+        }
+    }
+
+    /// True if any channel is in E-STOP.
+    pub fn estopped(&self) -> bool {
+        self.chans.iter().any(|c| c.run == Run::Estop)
+    }
+
+    /// The channels channel `ch` waits for now (see [`ChannelStatus::waits_for`]).
+    fn waits_for(&self, ch: usize) -> Vec<usize> {
+        let c = &self.chans[ch];
+        match (&c.exec, c.waits) {
+            (&Exec::Wait { m, with, n }, Some(WaitOn::Channel(_))) => (0..self.chans.len())
+                .filter(|&o| with & (1 << o) != 0 && self.chans[o].arrived(m) < n)
+                .collect(),
+            (_, Some(WaitOn::Channel(o))) => vec![o],
+            _ => Vec::new(),
+        }
     }
 
     /// START: begins an idle run, resumes every stopped channel (M00, after RESET) and ends
@@ -384,7 +462,9 @@ impl Lathe {
             chuck_closed: c.closed,
             parts: c.parts,
             waits_on: c.waits,
+            waits_for: self.waits_for(ch),
             tool: c.tool,
+            dir: c.sp.dir,
         })
     }
 
@@ -493,10 +573,11 @@ impl Lathe {
                 };
             }
         }
-        if self
-            .chans
-            .iter()
-            .any(|c| c.held || matches!(c.run, Run::Idle | Run::Stopped(_)))
+        if self.feed_override == 0
+            || self
+                .chans
+                .iter()
+                .any(|c| c.held || matches!(c.run, Run::Idle | Run::Stopped(_)))
         {
             return Outcome::Stopped;
         }

@@ -1,6 +1,7 @@
 //! The simulator's public status, event, outcome and statistics types (docs/lathe-sim.md
 //! "The API", "Events").
 
+use crate::lathe::ops::SpindleDir;
 use std::fmt;
 
 /// A channel's state as the display shows it.
@@ -59,7 +60,7 @@ impl fmt::Display for WaitOn {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             WaitOn::Channel(c) => write!(f, "CH{}", c + 1),
-            WaitOn::BarFeeder => f.write_str("BAR"),
+            WaitOn::BarFeeder => f.write_str("BAR FEEDER"),
             WaitOn::Spindle => f.write_str("SPINDLE"),
             WaitOn::Index => f.write_str("INDEX"),
         }
@@ -93,8 +94,13 @@ pub struct ChannelStatus {
     pub parts: u32,
     /// What it waits on, if it waits.
     pub waits_on: Option<WaitOn>,
+    /// Every channel it waits for (at a waiting M code, all those not yet arrived; at a
+    /// transfer, the other channel), 0-based.
+    pub waits_for: Vec<usize>,
     /// The tool on the tool post (0 = none called).
     pub tool: u32,
+    /// The spindle's commanded direction (with `rpm`, a signed speed: M04 negative).
+    pub dir: SpindleDir,
 }
 
 /// One recorded event (drained by [`Lathe::drain_events`]).
@@ -214,7 +220,8 @@ pub enum Outcome {
         /// Parts delivered.
         parts: u32,
     },
-    /// A channel stopped (M00, hold, or not started) and the others wait or are done.
+    /// A channel stopped (M00, hold, not started, or a 0 % feed override) and the others wait
+    /// or are done.
     Stopped,
     /// A channel is faulted (the first one) and the others wait or are done.
     Fault {
