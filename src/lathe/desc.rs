@@ -86,3 +86,501 @@ impl LatheDesc {
         (mm / self.pulse_mm).round() as i64
     }
 }
+
+/// The embedded three-channel Citizen lathe (`--machine citizen`).
+pub const CITIZEN: &str = include_str!("../../machines/citizen.machine");
+/// The embedded machining centre (`--machine centre`, the default).
+pub const CENTRE: &str = include_str!("../../machines/centre.machine");
+
+/// Most channels a description may have (the summary line and `with` masks are sized by it).
+pub const MAX_CHANNELS: usize = 8;
+/// Most tools on one tool post.
+pub const MAX_TOOLS: usize = 99;
+
+/// A parsed machine description.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MachineDesc {
+    /// A machining centre: the pulse core's settings (axes X Y Z).
+    Mill(crate::settings::MachineSettings),
+    /// A lathe with one or more channels.
+    Lathe(LatheDesc),
+}
+
+impl LatheDesc {
+    /// The embedded Citizen lathe.
+    pub fn citizen() -> LatheDesc {
+        match parse(CITIZEN) {
+            Ok(MachineDesc::Lathe(d)) => d,
+            // The embedded file is checked by a unit test; this arm is never taken.
+            _ => unreachable!("machines/citizen.machine is a lathe description"),
+        }
+    }
+}
+
+/// Loads a machine by name (`citizen`, `centre`) or from a description file.
+pub fn load(name: &str) -> Result<MachineDesc, String> {
+    let (text, src) = match name {
+        "citizen" => (CITIZEN.to_string(), "citizen".to_string()),
+        "centre" | "center" => (CENTRE.to_string(), "centre".to_string()),
+        path => match std::fs::read(path) {
+            Ok(b) => match String::from_utf8(b) {
+                Ok(t) => (t, path.to_string()),
+                Err(_) => return Err(format!("{path}: not a text file")),
+            },
+            Err(e) => {
+                return Err(format!(
+                    "{path}: {e} (a machine is 'citizen', 'centre' or a description file)"
+                ))
+            }
+        },
+    };
+    parse(&text).map_err(|e| format!("{src}:{e}"))
+}
+
+fn num(w: Option<&&str>, what: &str) -> Result<f64, String> {
+    let w = w.ok_or_else(|| format!("{what} is missing"))?;
+    match w.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("{what}: '{w}' is not a number")),
+    }
+}
+
+fn channel_no(w: Option<&&str>, n: usize, what: &str) -> Result<usize, String> {
+    let v = num(w, what)?;
+    if v.fract() != 0.0 || v < 1.0 || v as usize > n {
+        return Err(format!(
+            "{what}: channel {v} does not exist (channels 1 to {n})"
+        ));
+    }
+    Ok(v as usize - 1)
+}
+
+/// Reads `travel A B rapid R accel A` after an axis letter.
+fn axis(words: &[&str]) -> Result<AxisDesc, String> {
+    let mut a = AxisDesc {
+        travel: [f64::NAN; 2],
+        rapid: f64::NAN,
+        accel: f64::NAN,
+    };
+    let mut i = 1;
+    while i < words.len() {
+        match words[i] {
+            "travel" => {
+                a.travel = [
+                    num(words.get(i + 1), "travel")?,
+                    num(words.get(i + 2), "travel")?,
+                ];
+                i += 3;
+            }
+            "rapid" => {
+                a.rapid = num(words.get(i + 1), "rapid")?;
+                i += 2;
+            }
+            "accel" => {
+                a.accel = num(words.get(i + 1), "accel")?;
+                i += 2;
+            }
+            w => {
+                return Err(format!(
+                    "'{w}': an axis takes travel MIN MAX, rapid MM/MIN, accel MM/S2"
+                ))
+            }
+        }
+    }
+    if a.travel.iter().any(|v| v.is_nan()) || a.rapid.is_nan() || a.accel.is_nan() {
+        return Err("an axis needs travel MIN MAX, rapid MM/MIN and accel MM/S2".into());
+    }
+    if a.travel[0] >= a.travel[1] || a.travel[0].abs() > 10_000.0 || a.travel[1].abs() > 10_000.0 {
+        return Err(format!(
+            "travel {} {}: the minimum must be below the maximum, both within ±10000 mm",
+            a.travel[0], a.travel[1]
+        ));
+    }
+    if !(1.0..=100_000.0).contains(&a.rapid) {
+        return Err(format!("rapid {}: 1 to 100000 mm/min", a.rapid));
+    }
+    if !(1.0..=100_000.0).contains(&a.accel) {
+        return Err(format!("accel {}: 1 to 100000 mm/s2", a.accel));
+    }
+    Ok(a)
+}
+
+fn spindle(words: &[&str], ch: &mut ChannelDesc) -> Result<(), String> {
+    let mut i = 1;
+    while i < words.len() {
+        let v = num(words.get(i + 1), words[i])?;
+        match words[i] {
+            "max" if (1.0..=100_000.0).contains(&v) => ch.max_rpm = v,
+            "accel" if (1.0..=1_000_000.0).contains(&v) => ch.spindle_accel = v,
+            "encoder" if v.fract() == 0.0 && (1.0..=1_000_000.0).contains(&v) => {
+                ch.encoder = v as u32
+            }
+            "max" => return Err(format!("spindle max {v}: 1 to 100000 rpm")),
+            "accel" => return Err(format!("spindle accel {v}: 1 to 1000000 rpm/s")),
+            "encoder" => return Err(format!("spindle encoder {v}: 1 to 1000000 lines")),
+            w => {
+                return Err(format!(
+                    "'{w}': a spindle takes max RPM, accel RPM/S, encoder LINES"
+                ))
+            }
+        }
+        i += 2;
+    }
+    Ok(())
+}
+
+fn tool(words: &[&str]) -> Result<ToolDesc, String> {
+    let n = num(words.get(1), "tool number")?;
+    if n.fract() != 0.0 || !(1.0..=MAX_TOOLS as f64).contains(&n) {
+        return Err(format!("tool {n}: tool numbers are 1 to {MAX_TOOLS}"));
+    }
+    let mut t = ToolDesc {
+        number: n as u32,
+        radius: 0.0,
+        tip: 0,
+        offset: [0.0; 2],
+    };
+    let mut i = 2;
+    while i < words.len() {
+        match words[i] {
+            "radius" => {
+                t.radius = num(words.get(i + 1), "radius")?;
+                if !(0.0..=10.0).contains(&t.radius) {
+                    return Err(format!("radius {}: a nose radius is 0 to 10 mm", t.radius));
+                }
+                i += 2;
+            }
+            "tip" => {
+                let v = num(words.get(i + 1), "tip")?;
+                if v.fract() != 0.0 || !(0.0..=9.0).contains(&v) {
+                    return Err(format!("tip {v}: tip positions are 0 to 9"));
+                }
+                t.tip = v as u8;
+                i += 2;
+            }
+            "offset" => {
+                t.offset = [
+                    num(words.get(i + 1), "offset X")?,
+                    num(words.get(i + 2), "offset Z")?,
+                ];
+                if t.offset.iter().any(|v| v.abs() > 1000.0) {
+                    return Err("offset: within ±1000 mm".into());
+                }
+                i += 3;
+            }
+            w => {
+                return Err(format!(
+                    "'{w}': a tool takes radius MM, tip 0-9, offset X Z"
+                ))
+            }
+        }
+    }
+    Ok(t)
+}
+
+/// Parses a machine description (docs/lathe.md "Machine description"). Errors are
+/// `LINE: message`.
+pub fn parse(text: &str) -> Result<MachineDesc, String> {
+    let mut name = None;
+    let mut kind = None;
+    let mut pulse_mm = 0.001;
+    let mut tick_us = 100.0;
+    let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
+    let mut channels: Vec<ChannelDesc> = Vec::new();
+    let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let ln = i + 1;
+        let line = raw.split('#').next().unwrap_or("");
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let Some(&head) = words.first() else { continue };
+        let e = |m: String| format!("{ln}: {m}");
+        let in_channel = kind == Some("lathe") && !channels.is_empty();
+        match head {
+            "machine" => match words.get(1) {
+                Some(n) if words.len() == 2 && n.len() <= 32 => name = Some(n.to_string()),
+                _ => return Err(e("machine takes one name of at most 32 characters".into())),
+            },
+            "kind" => match words.get(1) {
+                Some(&k @ ("lathe" | "mill")) if kind.is_none() => kind = Some(k),
+                Some(&("lathe" | "mill")) => return Err(e("the kind is given twice".into())),
+                _ => return Err(e("kind is lathe or mill".into())),
+            },
+            "pulse" => {
+                pulse_mm = num(words.get(1), "pulse").map_err(e)?;
+                if !(0.0001..=0.1).contains(&pulse_mm) {
+                    return Err(e(format!("pulse {pulse_mm}: 0.0001 to 0.1 mm")));
+                }
+            }
+            "tick" => {
+                tick_us = num(words.get(1), "tick").map_err(e)?;
+                if !(10.0..=10_000.0).contains(&tick_us) || tick_us.fract() != 0.0 {
+                    return Err(e(format!("tick {tick_us}: 10 to 10000 whole microseconds")));
+                }
+            }
+            "supplier" | "transfer" | "unloader" => links.push((ln, head, words.clone())),
+            "channel" => {
+                if kind != Some("lathe") {
+                    return Err(e(
+                        "channels belong to a lathe: say 'kind lathe' first".into()
+                    ));
+                }
+                if channels.len() == MAX_CHANNELS {
+                    return Err(e(format!("at most {MAX_CHANNELS} channels")));
+                }
+                let n = channels.len() + 1;
+                let cname = words
+                    .get(1)
+                    .map(|s| s.to_string())
+                    .unwrap_or(format!("CH{n}"));
+                if cname.len() > 12 {
+                    return Err(e("a channel name has at most 12 characters".into()));
+                }
+                channels.push(ChannelDesc {
+                    name: cname,
+                    axes: [
+                        AxisDesc {
+                            travel: [f64::NAN; 2],
+                            rapid: 0.0,
+                            accel: 0.0,
+                        },
+                        AxisDesc {
+                            travel: [f64::NAN; 2],
+                            rapid: 0.0,
+                            accel: 0.0,
+                        },
+                    ],
+                    max_rpm: 0.0,
+                    spindle_accel: 0.0,
+                    encoder: 0,
+                    tools: Vec::new(),
+                });
+            }
+            "x" | "y" | "z" if kind == Some("mill") => {
+                let a = axis(&words).map_err(e)?;
+                mill_axes[match head {
+                    "x" => 0,
+                    "y" => 1,
+                    _ => 2,
+                }] = Some(a);
+            }
+            "x" | "z" if in_channel => {
+                let a = axis(&words).map_err(e)?;
+                if let Some(ch) = channels.last_mut() {
+                    ch.axes[usize::from(head == "z")] = a;
+                }
+            }
+            "spindle" if in_channel => {
+                if let Some(ch) = channels.last_mut() {
+                    spindle(&words, ch).map_err(e)?;
+                }
+            }
+            "tool" if in_channel => {
+                let t = tool(&words).map_err(e)?;
+                if let Some(ch) = channels.last_mut() {
+                    if ch.tool(t.number).is_some() {
+                        return Err(e(format!("tool {} is given twice", t.number)));
+                    }
+                    if ch.tools.len() == MAX_TOOLS {
+                        return Err(e(format!("at most {MAX_TOOLS} tools per channel")));
+                    }
+                    ch.tools.push(t);
+                }
+            }
+            "x" | "y" | "z" | "spindle" | "tool" => {
+                return Err(e(format!(
+                    "'{head}' belongs to {}",
+                    if kind == Some("lathe") {
+                        "a channel (write 'channel NAME' first)"
+                    } else {
+                        "a described machine: say 'kind lathe' or 'kind mill' first"
+                    }
+                )))
+            }
+            w => {
+                return Err(e(format!(
+                    "'{w}' is not a description word (docs/lathe.md)"
+                )))
+            }
+        }
+    }
+    let name = name.ok_or("1: the description has no 'machine NAME' line")?;
+    match kind {
+        Some("mill") => mill(&name, pulse_mm, mill_axes, &links),
+        Some(_) => lathe(name, pulse_mm, tick_us, channels, &links),
+        None => Err("1: the description has no 'kind lathe' or 'kind mill' line".into()),
+    }
+}
+
+fn mill(
+    _name: &str,
+    pulse_mm: f64,
+    axes: [Option<AxisDesc>; 3],
+    links: &[(usize, &str, Vec<&str>)],
+) -> Result<MachineDesc, String> {
+    if let Some((ln, w, _)) = links.first() {
+        return Err(format!("{ln}: '{w}' belongs to a lathe with channels"));
+    }
+    let mut s = crate::settings::MachineSettings {
+        pulse_mm,
+        ..Default::default()
+    };
+    let mut rapid = f64::INFINITY;
+    let mut accel = f64::INFINITY;
+    for (i, a) in axes.iter().enumerate() {
+        let a = a
+            .as_ref()
+            .ok_or(format!("1: axis {} is not described", ['X', 'Y', 'Z'][i]))?;
+        s.travel_min_mm[i] = a.travel[0];
+        s.travel_max_mm[i] = a.travel[1];
+        rapid = rapid.min(a.rapid);
+        accel = accel.min(a.accel);
+    }
+    s.rapid_mm_min = rapid;
+    s.accel_mm_s2 = accel;
+    Ok(MachineDesc::Mill(s))
+}
+
+fn lathe(
+    name: String,
+    pulse_mm: f64,
+    tick_us: f64,
+    channels: Vec<ChannelDesc>,
+    links: &[(usize, &str, Vec<&str>)],
+) -> Result<MachineDesc, String> {
+    if channels.is_empty() {
+        return Err("1: a lathe needs at least one 'channel'".into());
+    }
+    for (i, c) in channels.iter().enumerate() {
+        let n = i + 1;
+        for (a, l) in c.axes.iter().zip(['X', 'Z']) {
+            if a.travel[0].is_nan() {
+                return Err(format!(
+                    "1: channel {n} has no {l} axis ('{} travel ..')",
+                    l.to_ascii_lowercase()
+                ));
+            }
+        }
+        if c.encoder == 0 || c.max_rpm == 0.0 || c.spindle_accel == 0.0 {
+            return Err(format!(
+                "1: channel {n} needs 'spindle max RPM accel RPM/S encoder LINES'"
+            ));
+        }
+    }
+    let n = channels.len();
+    let mut d = LatheDesc {
+        name,
+        pulse_mm,
+        tick_ns: tick_us as u64 * 1000,
+        channels,
+        supplier: 0,
+        transfers: Vec::new(),
+        unloader: n - 1,
+    };
+    for (ln, w, words) in links {
+        let e = |m: String| format!("{ln}: {m}");
+        match *w {
+            "supplier" => d.supplier = channel_no(words.get(1), n, "supplier").map_err(e)?,
+            "unloader" => d.unloader = channel_no(words.get(1), n, "unloader").map_err(e)?,
+            _ => {
+                let a = channel_no(words.get(1), n, "transfer").map_err(e)?;
+                let b = channel_no(words.get(2), n, "transfer").map_err(e)?;
+                if a == b || d.receiver_of(a).is_some() || d.supplier_of(b).is_some() {
+                    return Err(e(format!(
+                        "transfer {} {}: each channel passes to one other and receives from one other",
+                        a + 1,
+                        b + 1
+                    )));
+                }
+                d.transfers.push((a, b));
+            }
+        }
+    }
+    // The work must flow in one line from the supplier to the unloader.
+    let mut ch = d.supplier;
+    let mut seen = 1;
+    while let Some(next) = d.receiver_of(ch) {
+        ch = next;
+        seen += 1;
+        if seen > n {
+            return Err("1: the transfers make a loop".into());
+        }
+    }
+    if ch != d.unloader {
+        return Err(format!(
+            "1: the work from the supplier (channel {}) ends at channel {}, not at the unloader's channel {}",
+            d.supplier + 1,
+            ch + 1,
+            d.unloader + 1
+        ));
+    }
+    Ok(MachineDesc::Lathe(d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_embedded_machines_parse() {
+        let c = LatheDesc::citizen();
+        assert_eq!(c.channels.len(), 3);
+        assert_eq!(c.transfers, vec![(0, 1), (1, 2)]);
+        assert_eq!((c.supplier, c.unloader, c.tick_ns), (0, 2, 100_000));
+        assert_eq!(
+            c.channels[0].tool(1).map(|t| (t.radius, t.tip)),
+            Some((0.8, 3))
+        );
+        assert_eq!(c.channels[2].encoder, 1024);
+        match load("centre") {
+            Ok(MachineDesc::Mill(s)) => assert_eq!(s, crate::settings::MachineSettings::default()),
+            other => panic!("centre: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn bad_descriptions_name_their_line() {
+        let base = "machine m\nkind lathe\nchannel A\nx travel 0 10 rapid 100 accel 100\nz travel 0 10 rapid 100 accel 100\nspindle max 100 accel 100 encoder 10\n";
+        assert!(matches!(parse(base), Ok(MachineDesc::Lathe(_))));
+        for (extra, want) in [
+            ("tool 1 radius -1\n", "7: radius -1"),
+            ("tool 1 tip 10\n", "7: tip 10"),
+            ("tool 1\ntool 1\n", "8: tool 1 is given twice"),
+            ("bogus\n", "7: 'bogus' is not"),
+            ("transfer 1 2\n", "7: transfer: channel 2 does not exist"),
+            ("x travel 5 1 rapid 1 accel 1\n", "7: travel 5 1"),
+            ("spindle encoder 0.5\n", "7: spindle encoder 0.5"),
+            ("unloader 1\nsupplier 1\ntransfer 1 1\n", "9: transfer 1 1"),
+        ] {
+            let text = format!("{base}{extra}");
+            match parse(&text) {
+                Err(m) => assert!(m.starts_with(want), "{extra:?}: {m}"),
+                Ok(d) => panic!("{extra:?} accepted: {d:?}"),
+            }
+        }
+        assert!(parse("kind lathe\n")
+            .unwrap_err()
+            .contains("no 'machine NAME'"));
+        assert!(parse("machine m\nkind lathe\n")
+            .unwrap_err()
+            .contains("at least one"));
+        assert!(parse("machine m\ntool 1\n")
+            .unwrap_err()
+            .starts_with("2: 'tool' belongs"));
+        assert!(load("/nonexistent/m.machine")
+            .unwrap_err()
+            .contains("a machine is"));
+    }
+
+    #[test]
+    fn a_mill_description_sets_the_centres_axes() {
+        let t = "machine small\nkind mill\npulse 0.002\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
+        match parse(t) {
+            Ok(MachineDesc::Mill(s)) => {
+                assert_eq!(s.pulse_mm, 0.002);
+                assert_eq!(s.travel_max_mm, [300.0, 200.0, 0.0]);
+                assert_eq!((s.rapid_mm_min, s.accel_mm_s2), (5000.0, 400.0));
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
