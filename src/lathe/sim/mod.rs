@@ -442,6 +442,16 @@ impl Lathe {
         self.chans.len()
     }
 
+    /// The machine description the lathe runs on.
+    pub fn desc(&self) -> &LatheDesc {
+        &self.desc
+    }
+
+    /// Channel `ch`'s program (its source lines for the display), if there is such a channel.
+    pub fn program(&self, ch: usize) -> Option<&LatheProgram> {
+        self.chans.get(ch).map(|c| &c.prog)
+    }
+
     /// Channel `ch`'s status, or None if there is no such channel.
     pub fn channel(&self, ch: usize) -> Option<ChannelStatus> {
         let c = self.chans.get(ch)?;

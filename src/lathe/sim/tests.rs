@@ -536,3 +536,13 @@ fn feed_override_scales_the_feed_and_zero_feed_is_an_alarm() {
     assert!(!l.estopped());
     assert_eq!(st(&l, 0).state, ChState::Stop);
 }
+
+#[test]
+fn the_display_reads_the_program_and_the_description() {
+    let l = sample_lathe(5).expect("the sample lathe");
+    assert_eq!(l.channels(), 3);
+    assert_eq!(l.desc().channels[1].name, "SYS2");
+    assert_eq!(l.program(2).map(|p| p.name.as_str()), Some("sys3"));
+    assert!(l.program(3).is_none());
+    assert_eq!(st(&l, 0).line, 1);
+}

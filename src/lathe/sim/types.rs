@@ -251,7 +251,7 @@ pub enum Outcome {
 /// Statistics of one channel.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ChannelStats {
-    /// Blocks started.
+    /// Blocks started (a block refused by an alarm counts each try).
     pub blocks: u64,
     /// Pulses output per axis [X, Z].
     pub pulses: [u64; 2],
