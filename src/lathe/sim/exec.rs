@@ -12,8 +12,10 @@ use crate::lathe::ops::{Feed, Op, SpeedMode, SpindleDir};
 const MAX_STEPS_PER_TICK: usize = 64;
 
 /// Whether a step handler lets the channel go on within this tick.
-enum Flow {
+pub(super) enum Flow {
+    /// Go on with the next step within this tick.
     Next,
+    /// The channel is done for this tick.
     Yield,
 }
 
@@ -114,7 +116,7 @@ impl Lathe {
     }
 
     /// Ends the current step and goes to the next.
-    fn finish(&mut self, i: usize) {
+    pub(super) fn finish(&mut self, i: usize) {
         let c = &mut self.chans[i];
         c.pc += 1;
         c.exec = Exec::Fresh;
@@ -122,7 +124,7 @@ impl Lathe {
     }
 
     /// Raises an alarm on channel `i` before its current step: nothing moves.
-    fn alarm(&mut self, i: usize, msg: String) -> Flow {
+    pub(super) fn alarm(&mut self, i: usize, msg: String) -> Flow {
         let c = &mut self.chans[i];
         c.exec = Exec::Fresh;
         c.run = Run::Alarm(msg.clone());
@@ -359,6 +361,12 @@ impl Lathe {
         if c.sp.dir == SpindleDir::Stop {
             return Some(format!("{}: the spindle is stopped", op_name(op)));
         }
+        if let Op::Line { feed, .. } | Op::Arc { feed, .. } = op {
+            let (Feed::PerMin(f) | Feed::PerRev(f)) = *feed;
+            if !f.is_finite() || f <= 0.0 {
+                return Some(format!("{}: feed {f} is not positive", op_name(op)));
+            }
+        }
         None
     }
 
@@ -442,10 +450,11 @@ impl Lathe {
         let vmax = if held {
             0.0
         } else {
+            let ovr = f64::from(self.feed_override) / 100.0;
             match feed {
                 None => f64::INFINITY,
-                Some(Feed::PerMin(f)) => f * per_s,
-                Some(Feed::PerRev(f)) => f * self.chans[i].sp.rpm * per_s,
+                Some(Feed::PerMin(f)) => f * per_s * ovr,
+                Some(Feed::PerRev(f)) => f * self.chans[i].sp.rpm * per_s * ovr,
             }
         };
         let moving = mv.v > 0.0;
@@ -489,6 +498,12 @@ impl Lathe {
             return self.run_thread(i, th);
         };
         let enc = self.chans[i].sp.enc;
+        if held && !th.synced {
+            // A feed hold before the pass moves: it waits, and synchronises afresh after.
+            th.anchor = None;
+            self.chans[i].exec = Exec::Thread(th);
+            return Flow::Yield;
+        }
         self.busy = true;
         if enc < anchor + th.done {
             self.chans[i].waits = Some(WaitOn::Index);
@@ -530,101 +545,6 @@ impl Lathe {
             self.chans[i].exec = Exec::Thread(th);
         }
         Flow::Yield
-    }
-
-    /// The receive queue point (M10 on an empty spindle).
-    fn recv_offer(&mut self, i: usize) -> Flow {
-        match self.desc.supplier_of(i) {
-            None if i == self.desc.supplier => {
-                if self.supplied >= self.target {
-                    self.chans[i].waits = Some(WaitOn::BarFeeder);
-                    self.chans[i].exec = Exec::RecvOffer;
-                    return Flow::Yield;
-                }
-                self.supplied += 1;
-                let w = self.supplied;
-                let c = &mut self.chans[i];
-                c.work = Some(w);
-                c.closed = true;
-                self.transfer(None, Some(i), w, true);
-                self.finish(i);
-                Flow::Next
-            }
-            None => self.alarm(
-                i,
-                format!("M10 on an empty spindle: CH{} has no supplier", i + 1),
-            ),
-            Some(p) => {
-                let s = &self.chans[p];
-                let offered = match (&s.exec, s.work, s.closed) {
-                    (Exec::Deliver, Some(w), true) => Some(w),
-                    _ => None,
-                };
-                if let Some(w) = offered {
-                    let c = &mut self.chans[i];
-                    c.work = Some(w);
-                    c.closed = true;
-                    c.exec = Exec::RecvRelease { from: p, work: w };
-                    self.busy = true;
-                    return Flow::Next;
-                }
-                self.chans[i].waits = Some(WaitOn::Channel(p));
-                self.chans[i].exec = Exec::RecvOffer;
-                Flow::Yield
-            }
-        }
-    }
-
-    /// The delivery queue point (M11 holding a work): opens only once the receiver has closed
-    /// on the work, or to the unloader.
-    fn deliver(&mut self, i: usize) -> Flow {
-        let Some(w) = self.chans[i].work else {
-            self.finish(i);
-            return Flow::Next;
-        };
-        match self.desc.receiver_of(i) {
-            None if i == self.desc.unloader => {
-                self.delivered += 1;
-                let c = &mut self.chans[i];
-                c.work = None;
-                c.closed = false;
-                self.transfer(Some(i), None, w, true);
-                self.finish(i);
-                Flow::Next
-            }
-            None => self.alarm(
-                i,
-                format!("M11 holding work {w}: CH{} has no receiver", i + 1),
-            ),
-            Some(r) => {
-                let rc = &self.chans[r];
-                if rc.work == Some(w) && rc.closed {
-                    let both = rc.closed && self.chans[i].closed;
-                    let c = &mut self.chans[i];
-                    c.work = None;
-                    c.closed = false;
-                    self.transfer(Some(i), Some(r), w, both);
-                    self.finish(i);
-                    return Flow::Next;
-                }
-                self.chans[i].waits = Some(WaitOn::Channel(r));
-                self.chans[i].exec = Exec::Deliver;
-                Flow::Yield
-            }
-        }
-    }
-
-    fn transfer(&mut self, from: Option<usize>, to: Option<usize>, work: u32, both: bool) {
-        self.busy = true;
-        if self.record {
-            self.events.push(Event::Transfer {
-                t: self.t,
-                from,
-                to,
-                work,
-                both_closed: both,
-            });
-        }
     }
 
     /// Records a position sample of channel `i` now.

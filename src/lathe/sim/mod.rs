@@ -3,286 +3,24 @@
 //! virtual and deterministic (seed 004: three systems, receive / machining / delivery blocks,
 //! queueing, part counter, faults, lines 136–142, 288–304, 330–378).
 //!
-//! - [`Lathe`]: the machine; operator commands, status, events and statistics.
-//! - `exec`: one channel's program steps in one tick (the queue points live there).
+//! - [`Lathe`]: the machine; operator commands, status, outcome and statistics.
+//! - `types`: the public status, event, outcome and statistics types.
+//! - `exec`: one tick: each channel's spindle and program steps, the checks before a block.
+//! - `queue`: the queue points receive (M10) and delivery (M11); waiting M codes are in `exec`.
 //! - `motion`: a block's motion (trapezoid along a line or arc; thread passes on the encoder).
 
 mod exec;
 mod motion;
+mod queue;
 pub mod testkit;
 #[cfg(test)]
 mod tests;
+mod types;
 
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::ops::{Feed, LatheProgram, Op, SpeedMode, SpindleDir};
 use motion::{Move, ThreadMove};
-use std::fmt;
-
-/// A channel's state as the display shows it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ChState {
-    /// Not started yet (START begins).
-    Idle,
-    /// Running its program.
-    Run,
-    /// Stopped at a queue point (a waiting M code, a receive or a delivery).
-    Wait,
-    /// Feed hold.
-    Hold,
-    /// Stopped (M00/M01, or cleared by RESET); START continues.
-    Stop,
-    /// Stopped by an injected fault; RESET clears it.
-    Fault,
-    /// Stopped by an alarm (a check before a block); RESET clears it.
-    Alarm,
-    /// Emergency stop; RESET clears it.
-    Estop,
-    /// Finished: its part count reached the target.
-    Done,
-}
-
-impl fmt::Display for ChState {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            ChState::Idle => "IDLE",
-            ChState::Run => "RUN",
-            ChState::Wait => "WAIT",
-            ChState::Hold => "HOLD",
-            ChState::Stop => "STOP",
-            ChState::Fault => "FAULT",
-            ChState::Alarm => "ALARM",
-            ChState::Estop => "ESTOP",
-            ChState::Done => "DONE",
-        })
-    }
-}
-
-/// What a channel is waiting on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WaitOn {
-    /// Another channel (0-based): "CH2 waits CH1".
-    Channel(usize),
-    /// The bar feeder (it has supplied the target's works).
-    BarFeeder,
-    /// Its own spindle reaching the commanded speed before a cut.
-    Spindle,
-    /// The spindle encoder's index before a thread pass.
-    Index,
-}
-
-impl fmt::Display for WaitOn {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            WaitOn::Channel(c) => write!(f, "CH{}", c + 1),
-            WaitOn::BarFeeder => f.write_str("BAR"),
-            WaitOn::Spindle => f.write_str("SPINDLE"),
-            WaitOn::Index => f.write_str("INDEX"),
-        }
-    }
-}
-
-/// A channel's status snapshot.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ChannelStatus {
-    /// The channel's name.
-    pub name: String,
-    /// State.
-    pub state: ChState,
-    /// The fault or alarm text, or the stop's cause.
-    pub reason: Option<String>,
-    /// Index of the current step in the program.
-    pub step: usize,
-    /// Source line of the current step (0 past the end).
-    pub line: u32,
-    /// Tool tip position [X radius, Z], pulses.
-    pub pos: [i64; 2],
-    /// Spindle speed, rpm.
-    pub rpm: f64,
-    /// Spindle encoder count since power-on.
-    pub encoder: u64,
-    /// The work in the spindle.
-    pub work: Option<u32>,
-    /// True if the chuck is closed.
-    pub chuck_closed: bool,
-    /// Parts this channel has counted at its M02/M30.
-    pub parts: u32,
-    /// What it waits on, if it waits.
-    pub waits_on: Option<WaitOn>,
-    /// The tool on the tool post (0 = none called).
-    pub tool: u32,
-}
-
-/// One recorded event (drained by [`Lathe::drain_events`]).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Event {
-    /// A block started.
-    Block {
-        /// Channel, 0-based.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// Source line.
-        line: u32,
-        /// Operation name ("rapid", "line", "arc", "thread", …).
-        op: &'static str,
-    },
-    /// A position sample (every sample period while something changed, and at each block end).
-    Sample {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// [X radius, Z], pulses.
-        pos: [i64; 2],
-        /// Spindle rpm.
-        rpm: f64,
-        /// Path speed, mm/min.
-        speed: f64,
-    },
-    /// A channel's display state changed.
-    State {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// New state.
-        state: ChState,
-        /// What it now waits on.
-        waits_on: Option<WaitOn>,
-    },
-    /// A work passed from a chuck to another (`from` None = the bar feeder, `to` None = the
-    /// unloader).
-    Transfer {
-        /// Machine time, ns.
-        t: u64,
-        /// Giving channel.
-        from: Option<usize>,
-        /// Receiving channel.
-        to: Option<usize>,
-        /// Work id.
-        work: u32,
-        /// Both chucks were closed on the work at the handover.
-        both_closed: bool,
-    },
-    /// A thread pass synchronised to the encoder (its start, or its resumption).
-    ThreadPass {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// Source line.
-        line: u32,
-        /// The index count the pass is anchored to (a multiple of the encoder lines).
-        index: u64,
-        /// The encoder count at the tick the pass moved first.
-        encoder: u64,
-        /// True when resuming after a stop.
-        resumed: bool,
-    },
-    /// A cutting block started, with the work in the spindle.
-    CutStart {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// Source line.
-        line: u32,
-        /// The work (never None: that is an alarm instead).
-        work: Option<u32>,
-    },
-    /// A channel counted a part at its M02/M30.
-    Part {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// The channel's count.
-        count: u32,
-    },
-    /// A fault was injected.
-    Fault {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// Reason.
-        reason: String,
-    },
-    /// An alarm stopped a channel before a block.
-    Alarm {
-        /// Channel.
-        ch: usize,
-        /// Machine time, ns.
-        t: u64,
-        /// Source line.
-        line: u32,
-        /// Message.
-        msg: String,
-    },
-}
-
-/// How a headless run ended.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Outcome {
-    /// Every channel finished; `parts` delivered to the unloader.
-    Finished {
-        /// Parts delivered.
-        parts: u32,
-    },
-    /// A channel stopped (M00, hold, or not started) and the others wait or are done.
-    Stopped,
-    /// A channel is faulted (the first one) and the others wait or are done.
-    Fault {
-        /// Channel.
-        ch: usize,
-        /// Reason.
-        reason: String,
-    },
-    /// A channel is in alarm.
-    Alarm {
-        /// Channel.
-        ch: usize,
-        /// Message.
-        msg: String,
-    },
-    /// Emergency stop.
-    Estop,
-    /// No channel can ever progress: each waits on another or is done.
-    Deadlock {
-        /// (channel, what it waits on) for every waiting channel.
-        waits: Vec<(usize, WaitOn)>,
-    },
-    /// `max_ns` of machine time passed first.
-    TimeLimit,
-}
-
-/// Statistics of one channel.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ChannelStats {
-    /// Blocks started.
-    pub blocks: u64,
-    /// Pulses output per axis [X, Z].
-    pub pulses: [u64; 2],
-    /// Parts counted.
-    pub parts: u32,
-}
-
-/// Statistics of the run.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Stats {
-    /// Parts delivered to the unloader.
-    pub delivered: u32,
-    /// Works the bar feeder supplied.
-    pub supplied: u32,
-    /// Machine time, ns.
-    pub machine_ns: u64,
-    /// Ticks run.
-    pub ticks: u64,
-    /// Cutting blocks refused on an empty spindle (alarms).
-    pub empty_cut_alarms: u32,
-    /// Per channel.
-    pub channels: Vec<ChannelStats>,
-}
+pub use types::{ChState, ChannelStats, ChannelStatus, Event, Outcome, Stats, WaitOn};
 
 /// How a channel runs (the operator's view, before queue points).
 #[derive(Clone, Debug, PartialEq)]
@@ -391,6 +129,7 @@ impl Chan {
 }
 
 /// The lathe: every channel, the bar feeder, the unloader and the work log.
+#[derive(Clone, Debug)]
 pub struct Lathe {
     pub(crate) desc: LatheDesc,
     pub(crate) chans: Vec<Chan>,
@@ -406,6 +145,8 @@ pub struct Lathe {
     pub(crate) record: bool,
     pub(crate) sample_ns: u64,
     pub(crate) optional_stop: bool,
+    /// Feed override, percent of the programmed feed (not rapids, not threads).
+    pub(crate) feed_override: u32,
     /// Set by a tick when anything changed or moved.
     pub(crate) busy: bool,
 }
@@ -505,6 +246,7 @@ impl Lathe {
             record: true,
             sample_ns: 1_000_000,
             optional_stop: false,
+            feed_override: 100,
             busy: false,
         })
     }
@@ -532,6 +274,81 @@ impl Lathe {
     /// OPTIONAL STOP: whether M01 stops (off by default).
     pub fn set_optional_stop(&mut self, on: bool) {
         self.optional_stop = on;
+    }
+
+    /// FEED OVERRIDE, percent (0 to 200, default 100) of the programmed feed of Line and Arc
+    /// blocks; rapids and thread passes (which follow the spindle) are not overridden.
+    pub fn set_feed_override(&mut self, pct: u32) -> Result<(), String> {
+        if pct > 200 {
+            return Err(format!("feed override {pct} %: 0 to 200 %"));
+        }
+        self.feed_override = pct;
+        Ok(())
+    }
+
+    /// Replaces channel `ch`'s program (an MDI buffer, an edited program) and puts it at its
+    /// first step, IDLE, keeping its work, chuck, spindle command, position and count. Only
+    /// between blocks of a channel that is idle, stopped or done.
+    pub fn load(&mut self, ch: usize, prog: LatheProgram) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        if !matches!(c.run, Run::Idle | Run::Stopped(_) | Run::Done) {
+            return Err(format!("CH{} is {}: stop it first", ch + 1, c.state()));
+        }
+        if !matches!(c.exec, Exec::Fresh) {
+            return Err(format!("CH{} is inside a block: finish it first", ch + 1));
+        }
+        for s in &prog.steps {
+            if let Op::Wait { m, with } = s.op {
+                if u32::from(with) >> self.chans.len() != 0 || with & (1 << ch) == 0 {
+                    return Err(format!(
+                        "line {}: M{m} must list channel {} and only channels the machine has",
+                        s.line,
+                        ch + 1
+                    ));
+                }
+            }
+        }
+        let c = &mut self.chans[ch];
+        c.prog = prog;
+        c.pc = 0;
+        c.run = Run::Idle;
+        c.held = false;
+        Ok(())
+    }
+
+    /// START of channel `ch` alone (MDI): begins or resumes it if idle or stopped, ends its
+    /// hold.
+    pub fn start_channel(&mut self, ch: usize) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        c.held = false;
+        if matches!(c.run, Run::Idle | Run::Stopped(_)) {
+            c.run = Run::Active;
+        }
+        Ok(())
+    }
+
+    /// RESET of every channel (the machine's RESET after an E-STOP).
+    pub fn reset_all(&mut self) {
+        for ch in 0..self.chans.len() {
+            let _ = self.reset(ch);
+        }
+    }
+
+    /// True if any channel is in E-STOP.
+    pub fn estopped(&self) -> bool {
+        self.chans.iter().any(|c| c.run == Run::Estop)
+    }
+
+    /// The channels channel `ch` waits for now (see [`ChannelStatus::waits_for`]).
+    fn waits_for(&self, ch: usize) -> Vec<usize> {
+        let c = &self.chans[ch];
+        match (&c.exec, c.waits) {
+            (&Exec::Wait { m, with, n }, Some(WaitOn::Channel(_))) => (0..self.chans.len())
+                .filter(|&o| with & (1 << o) != 0 && self.chans[o].arrived(m) < n)
+                .collect(),
+            (_, Some(WaitOn::Channel(o))) => vec![o],
+            _ => Vec::new(),
+        }
     }
 
     /// START: begins an idle run, resumes every stopped channel (M00, after RESET) and ends
@@ -598,9 +415,21 @@ impl Lathe {
         Ok(())
     }
 
-    /// Sets the part target. Channels that have already finished stay finished.
-    pub fn set_target(&mut self, n: u32) {
+    /// Sets the part target. Refused (nothing changes) below the works the bar feeder has
+    /// already supplied, or once a channel has finished (raising it then would leave the
+    /// others waiting on a finished channel).
+    pub fn set_target(&mut self, n: u32) -> Result<(), String> {
+        if n < self.supplied {
+            return Err(format!(
+                "target {n}: the bar feeder has already supplied {} works",
+                self.supplied
+            ));
+        }
+        if n != self.target && self.chans.iter().any(|c| c.run == Run::Done) {
+            return Err(format!("target {n}: a channel has already finished"));
+        }
         self.target = n;
+        Ok(())
     }
 
     /// The part target.
@@ -611,6 +440,16 @@ impl Lathe {
     /// The number of channels.
     pub fn channels(&self) -> usize {
         self.chans.len()
+    }
+
+    /// The machine description the lathe runs on.
+    pub fn desc(&self) -> &LatheDesc {
+        &self.desc
+    }
+
+    /// Channel `ch`'s program (its source lines for the display), if there is such a channel.
+    pub fn program(&self, ch: usize) -> Option<&LatheProgram> {
+        self.chans.get(ch).map(|c| &c.prog)
     }
 
     /// Channel `ch`'s status, or None if there is no such channel.
@@ -633,7 +472,9 @@ impl Lathe {
             chuck_closed: c.closed,
             parts: c.parts,
             waits_on: c.waits,
+            waits_for: self.waits_for(ch),
             tool: c.tool,
+            dir: c.sp.dir,
         })
     }
 
@@ -742,10 +583,11 @@ impl Lathe {
                 };
             }
         }
-        if self
-            .chans
-            .iter()
-            .any(|c| c.held || matches!(c.run, Run::Idle | Run::Stopped(_)))
+        if self.feed_override == 0
+            || self
+                .chans
+                .iter()
+                .any(|c| c.held || matches!(c.run, Run::Idle | Run::Stopped(_)))
         {
             return Outcome::Stopped;
         }

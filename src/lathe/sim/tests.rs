@@ -295,11 +295,11 @@ fn estop_stops_everything_until_reset() {
     for _ in 0..1000 {
         l.tick();
     }
-    for c in 0..3 {
+    for (c, pos) in before.iter().enumerate() {
         let s = st(&l, c);
         assert_eq!(s.state, ChState::Estop);
         assert_eq!(s.rpm, 0.0);
-        assert_eq!(s.pos, before[c]);
+        assert_eq!(s.pos, *pos);
     }
     assert_eq!(l.run_until_idle(MINUTE), Outcome::Estop);
     l.start();
@@ -335,8 +335,8 @@ fn feed_hold_slows_every_channel_to_a_stop_and_start_resumes() {
     for _ in 0..5000 {
         l.tick();
     }
-    for c in 0..3 {
-        assert_eq!(st(&l, c).pos, before[c]);
+    for (c, pos) in before.iter().enumerate() {
+        assert_eq!(st(&l, c).pos, *pos);
         assert!(matches!(st(&l, c).state, ChState::Hold | ChState::Done));
     }
     l.start();
@@ -421,4 +421,128 @@ fn a_thread_pass_resumed_after_a_fault_stays_on_its_helix() {
         (z_by_encoder - z_done).abs() <= 2.0 * lead + 1.0,
         "{z_by_encoder} {z_done}"
     );
+}
+
+#[test]
+fn the_target_can_change_until_it_would_strand_a_work() {
+    let mut l = sample_lathe(5).expect("the sample lathe");
+    l.start();
+    // Until channel 1 has taken its third work.
+    while l.stats().supplied < 3 {
+        l.tick();
+        assert!(l.machine_time_ns() < MINUTE);
+    }
+    let e = l.set_target(2).err();
+    assert!(e.is_some_and(|e| e.contains("already supplied 3")));
+    assert_eq!(l.target(), 5);
+    assert_eq!(l.set_target(3), Ok(()));
+    assert_eq!(
+        l.run_until_idle(10 * MINUTE),
+        Outcome::Finished { parts: 3 }
+    );
+    assert_eq!(l.stats().supplied, 3);
+    assert!(l.set_target(4).is_err(), "the channels have finished");
+    assert_eq!(
+        l.summary(),
+        "CH1 DONE N10 3/3 | CH2 DONE N11 3/3 | CH3 DONE N18 3/3"
+    );
+}
+
+#[test]
+fn a_waiting_code_names_every_channel_not_yet_arrived() {
+    let w = || Op::Wait {
+        m: 150,
+        with: 0b111,
+    };
+    let progs = vec![
+        program("a", vec![w()]),
+        program("b", vec![Op::Dwell { ns: 20_000_000 }, w()]),
+        program("c", vec![Op::Dwell { ns: 40_000_000 }, w()]),
+    ];
+    let mut l = Lathe::new(citizen_like(3), progs, 1).expect("a valid lathe");
+    l.start();
+    l.tick();
+    let s = st(&l, 0);
+    assert_eq!((s.state, s.waits_for), (ChState::Wait, vec![1, 2]));
+    while st(&l, 1).step == 0 {
+        l.tick();
+    }
+    l.tick();
+    assert_eq!(st(&l, 0).waits_for, vec![2]);
+    assert_eq!(st(&l, 1).waits_for, vec![2]);
+    assert_eq!(l.run_until_idle(MINUTE), Outcome::Finished { parts: 0 });
+    assert!(l.machine_time_ns() >= 40_000_000);
+}
+
+#[test]
+fn mdi_loads_and_starts_one_channel() {
+    let mut l = sample_lathe(5).expect("the sample lathe");
+    let mdi = program("mdi", vec![rapid(10.0, 2.0)]);
+    assert_eq!(l.load(1, mdi), Ok(()));
+    assert_eq!(l.start_channel(1), Ok(()));
+    assert_eq!(
+        l.run_until_idle(MINUTE),
+        Outcome::Stopped,
+        "channels 1 and 3 idle"
+    );
+    assert_eq!(st(&l, 1).pos, pt(10.0, 2.0));
+    assert_eq!(st(&l, 1).state, ChState::Done);
+    assert_eq!(
+        (st(&l, 0).state, st(&l, 0).pos),
+        (ChState::Idle, pt(20.0, 5.0))
+    );
+    // A running channel cannot be loaded; a bad waiting code is refused.
+    l.start();
+    l.tick();
+    assert!(l.load(0, program("x", vec![])).is_err());
+    let bad = program("x", vec![Op::Wait { m: 100, with: 0b1 }]);
+    assert!(l.load(1, bad).is_err_and(|e| e.contains("channel 2")));
+}
+
+#[test]
+fn feed_override_scales_the_feed_and_zero_feed_is_an_alarm() {
+    let time = |pct: u32| {
+        let mut l = one(
+            vec![
+                rpm(1000.0),
+                rapid(10.0, 0.0),
+                Op::Line {
+                    end: pt(10.0, -20.0),
+                    feed: Feed::PerMin(600.0),
+                },
+            ],
+            true,
+        );
+        assert_eq!(l.set_feed_override(pct), Ok(()));
+        l.start();
+        assert_eq!(l.run_until_idle(MINUTE), Outcome::Finished { parts: 0 });
+        l.machine_time_ns()
+    };
+    let (full, half) = (time(100), time(50));
+    // 20 mm at 10 mm/s is 2 s; at 5 mm/s, 4 s (the rapid and ramps are the same).
+    let d = half as f64 - full as f64;
+    assert!((d - 2.0e9).abs() < 0.01e9, "{full} {half}");
+    let mut l = one(vec![rpm(1000.0), line_rev(10.0, 0.0, 0.0)], true);
+    assert!(l.set_feed_override(201).is_err());
+    l.start();
+    match l.run_until_idle(MINUTE) {
+        Outcome::Alarm { msg, .. } => assert!(msg.contains("feed 0"), "{msg}"),
+        o => panic!("{o:?}"),
+    }
+    // The machine's RESET clears every channel.
+    l.estop();
+    assert!(l.estopped());
+    l.reset_all();
+    assert!(!l.estopped());
+    assert_eq!(st(&l, 0).state, ChState::Stop);
+}
+
+#[test]
+fn the_display_reads_the_program_and_the_description() {
+    let l = sample_lathe(5).expect("the sample lathe");
+    assert_eq!(l.channels(), 3);
+    assert_eq!(l.desc().channels[1].name, "SYS2");
+    assert_eq!(l.program(2).map(|p| p.name.as_str()), Some("sys3"));
+    assert!(l.program(3).is_none());
+    assert_eq!(st(&l, 0).line, 1);
 }
