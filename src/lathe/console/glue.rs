@@ -242,7 +242,14 @@ impl Cycle {
                                 state: &st,
                                 feed_override: 100,
                                 tool: s.as_ref().map_or(0, |s| s.tool),
-                                spindle: s.as_ref().map_or(0, |s| s.rpm.round() as i64),
+                                spindle: s.as_ref().map_or(0, |s| {
+                                    let r = s.rpm.round() as i64;
+                                    if s.dir == crate::lathe::ops::SpindleDir::Ccw {
+                                        -r
+                                    } else {
+                                        r
+                                    }
+                                }),
                                 parts: s.as_ref().map_or(0, |s| s.parts),
                             },
                         );
@@ -415,7 +422,11 @@ impl Cycle {
                     };
                     v.note = s.reason.clone().unwrap_or_default();
                     v.pos = s.pos;
-                    v.rpm = s.rpm;
+                    v.rpm = if s.dir == crate::lathe::ops::SpindleDir::Ccw {
+                        -s.rpm
+                    } else {
+                        s.rpm
+                    };
                     v.tool = s.tool;
                     v.work = s.work;
                     v.chuck = s.chuck_closed;

@@ -291,7 +291,10 @@ impl LatheConsole {
                 self.message = format!("target {n}: a channel has already finished {most}");
                 return;
             }
-            c.lathe.set_target(n);
+            if let Err(e) = c.lathe.set_target(n) {
+                self.message = e;
+                return;
+            }
         } else {
             self.counter.counts.iter_mut().for_each(|c| *c = 0);
             self.stale_counts = false;
