@@ -377,3 +377,32 @@ fn operations_under_compensation_wait_behind_the_held_moves() {
     // The exit move ends where it is programmed.
     assert_eq!(o[7].end(), Some([20000, 5000]));
 }
+
+#[test]
+fn g71_bores_and_g70_finishes_with_compensation() {
+    // A bore: the start (X10, radius 5) is below the profile's first X (radius 10); levels
+    // rise by U1 to X radius 6, 7, 8, 9, each cut the whole length to Z-5.
+    let text = "T0303 M3 S1000\nG0 X10 Z2\nG71 U1 R0\nG71 P1 Q2 F50\nN1 G41 G0 X20\nN2 G1 Z-5\nG40 G0 X10\nG70 P1 Q2\nM30\n";
+    let o = ops(text);
+    let cuts: Vec<[i64; 2]> = o
+        .iter()
+        .filter_map(|op| match op {
+            Op::Line { end, .. } => Some(*end),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        cuts[..5],
+        [
+            [6000, -5000],
+            [7000, -5000],
+            [8000, -5000],
+            [9000, -5000],
+            [10000, -5000]
+        ]
+    );
+    // G70 under G41 with tool 3 (radius 0.2, tip 2): the bore wall is cut by P on X radius
+    // 10 (tip 2 touches the wall above the centre).
+    let finish = cuts[5];
+    assert_eq!(finish[0], 10000, "{o:?}");
+}
