@@ -406,3 +406,35 @@ fn g71_bores_and_g70_finishes_with_compensation() {
     let finish = cuts[5];
     assert_eq!(finish[0], 10000, "{o:?}");
 }
+
+#[test]
+fn a_citizen_channel_program_reads_on_the_embedded_machine() {
+    // Channel 2 of the Citizen: Z travel -2..120 (the work lies at +Z), receive, machine
+    // towards +Z with G41 (the nose above the work when travelling +Z), deliver.
+    let text = "O2000\nM10\nM100 P12\nT0101\nG96 S120 D4000 M3\nG95 G0 X14 Z-1\nG41 G1 X10 Z0 F0.1\nG1 Z8\nG3 X14 Z10 R2\nG1 Z20\nG40 G0 X30 Z21\nM5\nM11\nM30\n";
+    let d = LatheDesc::citizen();
+    let p = read_program("c2.ngc", text, &d, 1, &ReadOptions::default());
+    let p = match p {
+        Ok(p) => p,
+        Err(e) => panic!("{e}"),
+    };
+    let ops: Vec<&Op> = p.steps.iter().map(|s| &s.op).collect();
+    assert_eq!(ops[0], &Op::ChuckClose);
+    assert_eq!(
+        ops[1],
+        &Op::Wait {
+            m: 100,
+            with: 0b011
+        }
+    );
+    assert!(ops.iter().any(|o| matches!(o, Op::Arc { ccw: true, .. })));
+    assert_eq!(ops[ops.len() - 2], &Op::ChuckOpen);
+    assert_eq!(p.lines.len(), 14);
+    // Tool 1 of channel 2: radius 0.4, tip 3. On the Z cut (line 8) P runs 0.4 above the
+    // profile's X radius 5 less 0.4 (tip 3 looks down): on X radius 5 exactly.
+    let z_cut = p
+        .steps
+        .iter()
+        .find(|s| s.line == 8 && matches!(s.op, Op::Line { .. }));
+    assert_eq!(z_cut.and_then(|s| s.op.end()).map(|e| e[0]), Some(5000));
+}
