@@ -328,6 +328,13 @@ fn waiting_codes_list_channels_by_digits() {
 #[test]
 fn chuck_stops_block_delete_and_optional_stop() {
     let text = "M10\n/M11\nM0\nM1\nG4 P1.5\nM2\nG0 X1\n";
+    // A deleted line is not even read when BLOCK DELETE is on.
+    let on = ReadOptions {
+        block_delete: true,
+        optional_stop: false,
+    };
+    assert!(read_program("t", "/G0 X1 X2\nM2\n", &wide_desc(), 0, &on).is_ok());
+    assert!(read("/G0 X1 X2\nM2\n").is_err());
     assert_eq!(
         ops(text),
         vec![
