@@ -445,3 +445,15 @@ fn a_citizen_channel_program_reads_on_the_embedded_machine() {
         .find(|s| s.line == 8 && matches!(s.op, Op::Line { .. }));
     assert_eq!(z_cut.and_then(|s| s.op.end()).map(|e| e[0]), Some(5000));
 }
+
+#[test]
+fn a_corner_join_shorter_than_a_pulse_is_dropped_not_made_a_full_circle() {
+    // G42 turning -Z: the profile dips by 0.002 mm on the diameter over 10 mm, an outside
+    // corner of 0.0002 rad whose join arc (0.8 mm radius) is 0.00016 mm long.
+    let o = ops(
+        "T0101 M3 S1000\nG0 X30 Z5\nG42 G0 X10 Z2\nG1 Z-10 F100\nG1 X9.996 Z-20\nG40 G0 X30\nM30\n",
+    );
+    assert!(!o.iter().any(|op| matches!(op, Op::Arc { .. })), "{o:?}");
+    let e = ends(&o);
+    assert!(e.windows(2).all(|w| w[0] != w[1]), "{e:?}");
+}
