@@ -186,7 +186,11 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "G33 with the spindle stopped",
         ),
         (s("G0 X20 Z0\nG33 X22 K1\n"), "3:1", "G33 needs a Z move"),
-        (s("G42\nG41\n"), "3:1", "give G40 before changing the side"),
+        (
+            s("G0 X20 Z5\nG42 G0 X10 Z2\nG1 Z0 F1\nG40\nG41\n"),
+            "6:1",
+            "G41/G42 after G40 before its exit move",
+        ),
         (
             "G42\n".into(),
             "1:1",

@@ -150,12 +150,19 @@ impl<'a> Out<'a> {
             return Ok(());
         }
         if let Some(side) = self.comp_side {
-            if side != left || self.exit_pending {
+            if self.exit_pending {
                 return Err(Self::err(
                     line,
                     col,
-                    "give G40 before changing the side of nose-radius compensation",
+                    "G41/G42 after G40 before its exit move: give the exit move first",
                 ));
+            }
+            if side != left {
+                // The thesis (seed 003, line 2556): the side may change from block to block
+                // without G40. The held moves end one radius off their last point; the next
+                // move is a new entry move on the other side.
+                self.flush(None)?;
+                self.comp_side = Some(left);
             }
             return Ok(());
         }

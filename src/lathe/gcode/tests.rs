@@ -457,3 +457,16 @@ fn a_corner_join_shorter_than_a_pulse_is_dropped_not_made_a_full_circle() {
     let e = ends(&o);
     assert!(e.windows(2).all(|w| w[0] != w[1]), "{e:?}");
 }
+
+#[test]
+fn the_side_changes_without_g40_as_the_thesis_allows() {
+    // Towards -Z under G42, then G41 without G40: the held moves end one radius off their
+    // last point, then a new entry move on the other side.
+    let o = ops("T0303 M3 S1000\nG8 G0 X30 Z5\nG42 G0 X10 Z2\nG1 Z-10 F100\nG41 G1 X20 Z-12\nG1 Z-20\nG40 G0 X30\nM30\n");
+    let e = ends(&o);
+    // Tool 3: radius 0.2, tip 2 (P = C + 0.2·(+X, -Z)). Under G42 travelling -Z, C is 0.2
+    // above X10, so the held run ends with P at (X10.4, Z-10.2).
+    assert!(e.contains(&[10400, -10200]), "{e:?}");
+    // Under G41 travelling -Z, C is 0.2 below X20: P on X 20.0, Z-20.2.
+    assert!(e.contains(&[20000, -20200]), "{e:?}");
+}
