@@ -80,9 +80,11 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
     let f = r.st.factor();
     let pitch = need(w, 'P', n, c, WHAT)? * f;
     let z = need(w, 'Z', n, c, WHAT)? * f;
-    let i = need(w, 'I', n, c, WHAT)? * f;
-    let j = need(w, 'J', n, c, WHAT)? * f;
-    let k = need(w, 'K', n, c, WHAT)? * f;
+    // I, J and K are distances across the axis: diameters in G07, as in LinuxCNC.
+    let dia = if r.st.diameter { 2.0 } else { 1.0 };
+    let i = need(w, 'I', n, c, WHAT)? * f / dia;
+    let j = need(w, 'J', n, c, WHAT)? * f / dia;
+    let k = need(w, 'K', n, c, WHAT)? * f / dia;
     let col = |l: char| w.col(l).unwrap_or(c);
     if !(pitch > 0.0 && pitch <= 100.0) {
         return Err(err(

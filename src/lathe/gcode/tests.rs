@@ -177,7 +177,10 @@ fn g33_is_one_thread_pass() {
 fn g76_passes_by_hand() {
     // Drive line X20 (radius 10) at Z5; peak 0.5 below; J0.2, K0.6, R1, one spring pass:
     // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9.
-    let o = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1\n");
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1\n");
+    // In G07 I, J and K are diameters: the same passes with twice the values.
+    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1\n");
+    assert_eq!(o, g7);
     let mut want = Vec::new();
     for x in [9300, 9100, 8900, 8900] {
         want.push(Op::Rapid { end: [x, 5000] });
@@ -192,7 +195,7 @@ fn g76_passes_by_hand() {
     }
     assert_eq!(o[2..], want[..]);
     // Internal thread, degression 2: J·√k below K, then K.
-    let o = ops("M3 S500\nG0 X20 Z5\nG76 P1 Z-10 I0.5 J0.2 K0.6 R2\n");
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1 Z-10 I0.5 J0.2 K0.6 R2\n");
     let xs: Vec<i64> = o
         .iter()
         .filter_map(|op| match op {
