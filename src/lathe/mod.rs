@@ -6,6 +6,9 @@
 //! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
 //!   reader ([`gcode`]) and the channel simulator ([`sim`]).
 
+pub mod console;
 pub mod desc;
 pub mod gcode;
 pub mod ops;
+pub mod record;
+pub mod store;

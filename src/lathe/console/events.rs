@@ -1,0 +1,209 @@
+//! The lathe console's operator events and their panel-script lines (docs/lathe.md "Panel
+//! script"): what `novanc script --machine citizen` reads and `/panel/event` records.
+
+use novanc_panel::Key;
+
+/// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// AUTO: START runs every channel's program, to the part target.
+    Auto,
+    /// MDI: the data keys fill the selected channel's MDI buffer; START runs it.
+    Mdi,
+    /// DATA: the data keys take editor command lines on the selected channel's program.
+    Data,
+}
+
+impl Mode {
+    /// The script word.
+    pub fn word(self) -> &'static str {
+        match self {
+            Mode::Auto => "AUTO",
+            Mode::Mdi => "MDI",
+            Mode::Data => "DATA",
+        }
+    }
+}
+
+/// One operator action on the lathe console.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LatheEv {
+    /// `op AUTO|MDI|DATA`.
+    Mode(Mode),
+    /// `channel N`: the channel selector (1-based in the script, 0-based here).
+    Channel(usize),
+    /// The channel selector's next position (Tab).
+    NextChannel,
+    /// `type TEXT`: data keys, then EOB.
+    Type(String),
+    /// One data key.
+    Key(char),
+    /// Rub out the last typed character.
+    Rubout,
+    /// The EOB key.
+    Eob,
+    /// `start`: cycle start.
+    Start,
+    /// `stop`: feed hold on every channel.
+    Stop,
+    /// `reset`: RESET of the selected channel (after an E-STOP, of the machine).
+    Reset,
+    /// `estop`: emergency stop of the whole machine.
+    EStop,
+    /// `fault N REASON`: a fault in channel N (0-based here).
+    Fault(usize, String),
+    /// `target N`: the part target.
+    Target(u32),
+    /// `optionalstop on|off`.
+    OptionalStop(bool),
+    /// `blockdelete on|off`.
+    BlockDelete(bool),
+    /// The help screen on or off.
+    Help,
+}
+
+impl LatheEv {
+    /// The event as a panel-script line.
+    pub fn script_line(&self) -> String {
+        let on = |b: bool| if b { "on" } else { "off" };
+        match self {
+            LatheEv::Mode(m) => format!("op {}", m.word()),
+            LatheEv::Channel(c) => format!("channel {}", c + 1),
+            LatheEv::NextChannel => "key Tab".into(),
+            LatheEv::Type(t) => format!("type {t}"),
+            LatheEv::Key(c) => format!("key {c}"),
+            LatheEv::Rubout => "rubout".into(),
+            LatheEv::Eob => "eob".into(),
+            LatheEv::Start => "start".into(),
+            LatheEv::Stop => "stop".into(),
+            LatheEv::Reset => "reset".into(),
+            LatheEv::EStop => "estop".into(),
+            LatheEv::Fault(c, r) => format!("fault {} {r}", c + 1),
+            LatheEv::Target(n) => format!("target {n}"),
+            LatheEv::OptionalStop(b) => format!("optionalstop {}", on(*b)),
+            LatheEv::BlockDelete(b) => format!("blockdelete {}", on(*b)),
+            LatheEv::Help => "key F8".into(),
+        }
+    }
+}
+
+/// What a key of the terminal does on the lathe console (docs/lathe.md "Keys").
+pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> Option<LatheEv> {
+    Some(match k {
+        Key::F(9) | Key::Alt('s') => LatheEv::Start,
+        Key::F(10) | Key::Alt('p') => LatheEv::Stop,
+        Key::F(11) | Key::Alt('r') => LatheEv::Reset,
+        Key::F(12) | Key::Alt('e') => LatheEv::EStop,
+        Key::F(8) | Key::Alt('h') => LatheEv::Help,
+        Key::Alt('2') => LatheEv::Mode(Mode::Auto),
+        Key::Alt('3') => LatheEv::Mode(Mode::Mdi),
+        Key::Alt('4') => LatheEv::Mode(Mode::Data),
+        Key::Tab | Key::Alt('c') => LatheEv::NextChannel,
+        Key::Alt('o') => LatheEv::OptionalStop(!optional_stop),
+        Key::Alt('b') => LatheEv::BlockDelete(!block_delete),
+        Key::Enter => LatheEv::Eob,
+        Key::Backspace => LatheEv::Rubout,
+        Key::Char(c) if !c.is_control() => LatheEv::Key(c.to_ascii_uppercase()),
+        _ => return None,
+    })
+}
+
+/// Parses one panel-script line of the lathe console; `Ok(None)` for a blank or comment line.
+/// Waits (`wait`, `wait ms T`) and `show` are the script runner's, not events: they come back
+/// as `Err` with the word so the runner can take them first.
+pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String> {
+    let l = line.trim();
+    if l.is_empty() || l.starts_with('#') {
+        return Ok(None);
+    }
+    let (w, rest) = l.split_once(char::is_whitespace).unwrap_or((l, ""));
+    let rest = rest.trim();
+    let ch = |s: &str| -> Result<usize, String> {
+        match s.parse::<usize>() {
+            Ok(n) if (1..=channels).contains(&n) => Ok(n - 1),
+            _ => Err(format!("'{s}' is not a channel (1 to {channels})")),
+        }
+    };
+    let onoff = |s: &str| match s {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("'{s}': on or off")),
+    };
+    let ev = match w {
+        "op" => match rest {
+            "AUTO" => LatheEv::Mode(Mode::Auto),
+            "MDI" => LatheEv::Mode(Mode::Mdi),
+            "DATA" => LatheEv::Mode(Mode::Data),
+            m => return Err(format!("op {m}: the lathe's modes are AUTO, MDI and DATA")),
+        },
+        "channel" => LatheEv::Channel(ch(rest)?),
+        "type" => LatheEv::Type(rest.to_string()),
+        "start" if rest.is_empty() => LatheEv::Start,
+        "stop" if rest.is_empty() => LatheEv::Stop,
+        "reset" if rest.is_empty() => LatheEv::Reset,
+        "estop" if rest.is_empty() => LatheEv::EStop,
+        "eob" if rest.is_empty() => LatheEv::Eob,
+        "rubout" if rest.is_empty() => LatheEv::Rubout,
+        "fault" => {
+            let (c, why) = rest.split_once(char::is_whitespace).unwrap_or((rest, ""));
+            let why = why.trim();
+            if why.is_empty() {
+                return Err("fault CH REASON: say why (tool breakage, failed supply, ...)".into());
+            }
+            LatheEv::Fault(ch(c)?, why.chars().take(40).collect())
+        }
+        "target" => match rest.parse::<u32>() {
+            Ok(n) if (1..=999_999).contains(&n) => LatheEv::Target(n),
+            _ => return Err(format!("target '{rest}': a part count from 1 to 999999")),
+        },
+        "optionalstop" => LatheEv::OptionalStop(onoff(rest)?),
+        "blockdelete" => LatheEv::BlockDelete(onoff(rest)?),
+        "key" if rest == "Tab" => LatheEv::NextChannel,
+        "key" => match crate::console::keys::parse_key(rest) {
+            Ok(k) => match map_key(k, false, false) {
+                Some(ev) => ev,
+                None => return Err(format!("key {rest}: the lathe console has no use for it")),
+            },
+            Err(e) => return Err(e),
+        },
+        w => return Err(format!("'{w}' is not a lathe panel event (docs/lathe.md)")),
+    };
+    Ok(Some(ev))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn script_lines_read_back_as_the_same_event() {
+        for ev in [
+            LatheEv::Mode(Mode::Mdi),
+            LatheEv::Channel(2),
+            LatheEv::Type("G0 X10".into()),
+            LatheEv::Start,
+            LatheEv::Stop,
+            LatheEv::Reset,
+            LatheEv::EStop,
+            LatheEv::Fault(0, "tool breakage".into()),
+            LatheEv::Target(5),
+            LatheEv::OptionalStop(true),
+            LatheEv::NextChannel,
+        ] {
+            assert_eq!(
+                parse_line(&ev.script_line(), 3),
+                Ok(Some(ev.clone())),
+                "{ev:?}"
+            );
+        }
+        assert!(parse_line("fault 4 x", 3)
+            .unwrap_err()
+            .contains("not a channel"));
+        assert!(parse_line("fault 1", 3).unwrap_err().contains("say why"));
+        assert!(parse_line("target 0", 3).is_err());
+        assert!(parse_line("op HANDLE", 3)
+            .unwrap_err()
+            .contains("AUTO, MDI and DATA"));
+        assert_eq!(parse_line("  # note", 3), Ok(None));
+    }
+}

@@ -1,0 +1,168 @@
+//! What the lathe console shows (docs/lathe.md "The panel"): the summary line of every channel
+//! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
+
+/// One channel as the display shows it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ChanView {
+    /// The channel's name (`SYSTEM-1`).
+    pub name: String,
+    /// Its program's name.
+    pub program: String,
+    /// The state word: IDLE, RUN, WAIT, HOLD, STOP, FAULT, ALARM, ESTOP, DONE.
+    pub state: String,
+    /// The current block's source line (0: none) and text.
+    pub line: u32,
+    /// The current block's text.
+    pub text: String,
+    /// Whom it waits for (`CH1`, `CH1 CH3`, `BAR FEEDER`), empty if not waiting.
+    pub waits: String,
+    /// The fault's reason or the alarm's message.
+    pub note: String,
+    /// Tool tip, pulses [X radius, Z].
+    pub pos: [i64; 2],
+    /// Spindle rpm, signed.
+    pub rpm: f64,
+    /// Tool number (0 none).
+    pub tool: u32,
+    /// The work in the spindle.
+    pub work: Option<u32>,
+    /// The chuck is closed.
+    pub chuck: bool,
+    /// Works this channel has finished.
+    pub parts: u32,
+}
+
+/// Pads or cuts `s` to exactly `w` characters.
+pub fn fit(s: &str, w: usize) -> String {
+    let mut out: String = s.chars().take(w).collect();
+    let n = out.chars().count();
+    out.extend(std::iter::repeat_n(' ', w - n));
+    out
+}
+
+/// The summary line of channel `i` (0-based), `w` characters: number, state, current block,
+/// whom it waits for, part count. `sel` marks the selected channel.
+pub fn summary_line(i: usize, c: &ChanView, target: u32, sel: bool, w: usize) -> String {
+    let mark = if sel { '>' } else { ' ' };
+    let what = if !c.waits.is_empty() {
+        format!("waits {}", c.waits)
+    } else if !c.note.is_empty() {
+        c.note.clone()
+    } else if c.line > 0 {
+        format!("{:04} {}", c.line, c.text.trim())
+    } else {
+        String::new()
+    };
+    let tail = format!(" parts {}/{}", c.parts, target);
+    let head = format!("{mark}CH{} {:<5} ", i + 1, c.state);
+    let room = w.saturating_sub(head.chars().count() + tail.chars().count());
+    fit(&format!("{head}{}{tail}", fit(&what, room)), w)
+}
+
+/// Millimetres with three decimals, pulses × `pulse_mm`.
+fn mm(p: i64, pulse_mm: f64) -> String {
+    format!("{:9.3}", p as f64 * pulse_mm)
+}
+
+/// The plasma display of the selected channel: `rows` lines of `cols` characters. `listing`
+/// is the program (or the editor's view) around the current line; `message` and `entry` the
+/// last two lines.
+#[allow(clippy::too_many_arguments)]
+pub fn plasma(
+    ch: usize,
+    c: &ChanView,
+    mode: &str,
+    pulse_mm: f64,
+    listing: &[String],
+    message: &str,
+    entry: &str,
+    rows: usize,
+    cols: usize,
+) -> Vec<String> {
+    let mut out = Vec::with_capacity(rows);
+    out.push(fit(
+        &format!("CH{} {} {} {}", ch + 1, c.name, c.program, mode),
+        cols,
+    ));
+    out.push(fit(
+        &format!(
+            "X{} Z{} S{:6.0}",
+            mm(c.pos[0] * 2, pulse_mm),
+            mm(c.pos[1], pulse_mm),
+            c.rpm
+        ),
+        cols,
+    ));
+    let work = match c.work {
+        Some(w) => format!("W{w}"),
+        None => "EMPTY".to_string(),
+    };
+    let chuck = if c.chuck { "CLOSED" } else { "OPEN" };
+    out.push(fit(
+        &format!("T{:02} {work} CHUCK {chuck} {}", c.tool, c.state),
+        cols,
+    ));
+    let body = rows.saturating_sub(out.len() + 2);
+    for l in listing.iter().take(body) {
+        out.push(fit(l, cols));
+    }
+    while out.len() < rows.saturating_sub(2) {
+        out.push(fit("", cols));
+    }
+    out.push(fit(message, cols));
+    out.push(fit(&format!("> {entry}"), cols));
+    out.truncate(rows);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn summary_lines_fit_and_say_whom_a_channel_waits_for() {
+        let mut c = ChanView {
+            state: "WAIT".into(),
+            waits: "CH1".into(),
+            parts: 2,
+            ..Default::default()
+        };
+        let l = summary_line(1, &c, 5, true, 40);
+        assert_eq!(l.chars().count(), 40);
+        assert!(l.starts_with(">CH2 WAIT  waits CH1"), "{l}");
+        assert!(l.ends_with("parts 2/5"), "{l}");
+        c.waits.clear();
+        c.line = 17;
+        c.text = "G1 Z-12 F0.12".into();
+        let l = summary_line(0, &c, 5, false, 30);
+        assert_eq!(l, " CH1 WAIT  0017 G1 Z parts 2/5");
+    }
+
+    #[test]
+    fn the_plasma_has_exactly_its_rows_and_columns() {
+        let c = ChanView {
+            name: "SYSTEM-1".into(),
+            pos: [10_500, -12_000],
+            ..Default::default()
+        };
+        let d = plasma(
+            0,
+            &c,
+            "AUTO",
+            0.001,
+            &["0001 G0 X40".into()],
+            "msg",
+            "ab",
+            12,
+            40,
+        );
+        assert_eq!(d.len(), 12);
+        assert!(d.iter().all(|l| l.chars().count() == 40));
+        assert!(
+            d[1].contains("21.000") && d[1].contains("-12.000"),
+            "X shows the diameter: {}",
+            d[1]
+        );
+        assert_eq!(d[11].trim_end(), "> ab");
+    }
+}
