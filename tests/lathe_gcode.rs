@@ -49,7 +49,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
     let many_steps = {
         let mut t = s("G0 X20 Z5\n");
         for _ in 0..260 {
-            t.push_str("G76 P1 Z-1 I-0.5 J0.001 K1.999\n");
+            t.push_str("G0 Z5\nG76 P1 Z-1 I-0.5 J0.001 K1.999\n");
         }
         t
     };
@@ -280,7 +280,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
         (
             s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.05\n"),
             "3:22",
-            "K, the thread's depth, must be at least J",
+            "K, the thread's depth, must be greater than J",
         ),
         (
             s("G0 X20 Z5\nG76 P1 Z-10 I0 J0.1 K0.5\n"),
@@ -298,9 +298,9 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "H, the spring passes",
         ),
         (
-            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 Q29.5\n"),
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 Q95\n"),
             "3:27",
-            "Q (a compound angle) is not supported",
+            "Q, the compound angle, must be 0 to below 90",
         ),
         (
             s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 E1\n"),
@@ -469,4 +469,26 @@ fn a_bad_pulse_size_is_refused() {
         e.err().map(|e| e.to_string()),
         Some("1:1: the machine's pulse size is not a positive number".to_string())
     );
+}
+
+#[test]
+fn the_citizen_samples_read_on_their_channels() {
+    let d = LatheDesc::citizen();
+    for ch in 0..d.channels.len() {
+        let path = format!(
+            "{}/programs/citizen/system{}.ngc",
+            env!("CARGO_MANIFEST_DIR"),
+            ch + 1
+        );
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            panic!("{path} is missing");
+        };
+        match read_program(&path, &text, &d, ch, &ReadOptions::default()) {
+            Ok(p) => assert!(
+                p.steps.iter().any(|s| s.op.cuts()),
+                "{path}: no cutting operation"
+            ),
+            Err(e) => panic!("{path}: {e}"),
+        }
+    }
 }

@@ -175,23 +175,25 @@ fn g33_is_one_thread_pass() {
 
 #[test]
 fn g76_passes_by_hand() {
-    // Drive line X20 (radius 10) at Z5; peak 0.5 below; J0.2, K0.6, R1, one spring pass:
-    // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9.
-    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1\n");
+    // Drive line X radius 10 at Z5; crest 0.5 below; J0.2, K0.6, R1, one spring pass:
+    // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9, each pass back at the retract
+    // X 10 + (0.6 - depth), as LinuxCNC; the last retract is the drive line, so the final
+    // move to (X10, Z-20) is already made.
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1 Q29.5\n");
     // In G07 I, J and K are diameters: the same passes with twice the values.
-    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1\n");
+    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1 Q29.5\n");
     assert_eq!(o, g7);
     let mut want = Vec::new();
-    for x in [9300, 9100, 8900, 8900] {
+    for (x, back) in [(9300, 10400), (9100, 10200), (8900, 10000), (8900, 10000)] {
+        want.push(Op::Rapid { end: [back, 5000] });
         want.push(Op::Rapid { end: [x, 5000] });
         want.push(Op::Thread {
             end: [x, -20000],
             lead: 1.5,
         });
         want.push(Op::Rapid {
-            end: [10000, -20000],
+            end: [back, -20000],
         });
-        want.push(Op::Rapid { end: [10000, 5000] });
     }
     assert_eq!(o[2..], want[..]);
     // Internal thread, degression 2: J·√k below K, then K.
