@@ -57,8 +57,8 @@ pub fn g76_depths(j: f64, k: f64, r: f64, h: u32) -> Option<Vec<f64>> {
     (v.len() <= MAX_PASSES).then_some(v)
 }
 
-/// G76 P Z I J K [R] [H] [Q0] [E0] [L]: threading passes from the drive line (where the
-/// tool stands) to Z.
+/// G76 P Z I J K [R] [H] [Q] [E0] [L]: threading passes from the drive line (where the
+/// tool stands) to Z, as LinuxCNC 2.9 makes them (Q read, not applied).
 pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
     const WHAT: &str = "G76";
     refuse(
@@ -80,9 +80,11 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
     let f = r.st.factor();
     let pitch = need(w, 'P', n, c, WHAT)? * f;
     let z = need(w, 'Z', n, c, WHAT)? * f;
-    let i = need(w, 'I', n, c, WHAT)? * f;
-    let j = need(w, 'J', n, c, WHAT)? * f;
-    let k = need(w, 'K', n, c, WHAT)? * f;
+    // I, J and K are distances across the axis: diameters in G07, as in LinuxCNC.
+    let dia = if r.st.diameter { 2.0 } else { 1.0 };
+    let i = need(w, 'I', n, c, WHAT)? * f / dia;
+    let j = need(w, 'J', n, c, WHAT)? * f / dia;
+    let k = need(w, 'K', n, c, WHAT)? * f / dia;
     let col = |l: char| w.col(l).unwrap_or(c);
     if !(pitch > 0.0 && pitch <= 100.0) {
         return Err(err(
@@ -98,11 +100,11 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             "G76 J, the first cut's depth, must be above 0",
         ));
     }
-    if !(k >= j && k < 1000.0) {
+    if !(k > j && k < 1000.0) {
         return Err(err(
             n,
             col('K'),
-            "G76 K, the thread's depth, must be at least J",
+            "G76 K, the thread's depth, must be greater than J",
         ));
     }
     if !(i != 0.0 && i.is_finite()) {
@@ -124,8 +126,16 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             "G76 H, the spring passes, must be a whole number 0 to 100",
         ));
     }
-    if w.get('Q').is_some_and(|q| q != 0.0) {
-        return Err(err(n, col('Q'), "G76 Q (a compound angle) is not supported: every pass plunges straight in and starts at the same Z"));
+    // Q, the compound angle, is read but not applied: every pass plunges straight in and
+    // starts at the same Z (the operations interface, docs/lathe-gcode.md "G76").
+    if let Some(q) = w.get('Q') {
+        if !(0.0..90.0).contains(&q) {
+            return Err(err(
+                n,
+                col('Q'),
+                "G76 Q, the compound angle, must be 0 to below 90 degrees",
+            ));
+        }
     }
     if w.get('E').is_some_and(|e| e != 0.0) {
         return Err(err(
@@ -155,15 +165,19 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             format!("G76 makes more than {MAX_PASSES} passes: deepen J or raise R"),
         ));
     };
+    // LinuxCNC 2.9's passes (interp_convert.cc, threading_pass): back to the retract X at the
+    // start Z, in to the depth, the synchronised cut to Z, out to the retract X; the retract
+    // X lies (K - depth) beyond the drive line. Then to the drive line at Z.
     let sign = i.signum();
     for d in depths {
         let x = start[1] + i + sign * d;
+        let back = start[1] - sign * (k - d);
+        r.out.motion(mv(Kind::Rapid, [start[0], back], n, c))?;
         r.out.motion(mv(Kind::Rapid, [start[0], x], n, c))?;
         r.out.motion(mv(Kind::Thread(pitch), [z_end, x], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [z_end, start[1]], n, c))?;
-        r.out.motion(mv(Kind::Rapid, start, n, c))?;
+        r.out.motion(mv(Kind::Rapid, [z_end, back], n, c))?;
     }
-    Ok(())
+    r.out.motion(mv(Kind::Rapid, [z_end, start[1]], n, c))
 }
 
 fn profile_lines(

@@ -157,10 +157,11 @@ impl Reader<'_> {
     fn line(&mut self, i: usize) -> Result<Flow, TranslateError> {
         let n = (i + 1) as u32;
         let raw = self.lines[i];
-        let l = read_line(raw, n, &self.params)?;
-        if l.block_delete && self.opts.block_delete {
+        if self.opts.block_delete && raw.trim_start().starts_with('/') {
+            // Skipped unread, as in LinuxCNC: a deleted line cannot stop the program.
             return Ok(Flow::Next);
         }
+        let l = read_line(raw, n, &self.params)?;
         if l.percent {
             return Ok(Flow::Next);
         }

@@ -65,6 +65,8 @@ pub struct Out<'a> {
     exit_pending: bool,
     /// G71 collects its profile here instead of emitting it.
     pub capture: Option<Vec<Mv>>,
+    /// Where the last emitted move ended, pulses [X, Z].
+    at: [i64; 2],
 }
 
 impl<'a> Out<'a> {
@@ -82,6 +84,7 @@ impl<'a> Out<'a> {
             run: None,
             exit_pending: false,
             capture: None,
+            at: super::home(desc, ch),
         }
     }
 
@@ -147,12 +150,19 @@ impl<'a> Out<'a> {
             return Ok(());
         }
         if let Some(side) = self.comp_side {
-            if side != left || self.exit_pending {
+            if self.exit_pending {
                 return Err(Self::err(
                     line,
                     col,
-                    "give G40 before changing the side of nose-radius compensation",
+                    "G41/G42 after G40 before its exit move: give the exit move first",
                 ));
+            }
+            if side != left {
+                // The thesis (seed 003, line 2556): the side may change from block to block
+                // without G40. The held moves end one radius off their last point; the next
+                // move is a new entry move on the other side.
+                self.flush(None)?;
+                self.comp_side = Some(left);
             }
             return Ok(());
         }
@@ -321,6 +331,17 @@ impl<'a> Out<'a> {
                 }
             }
         };
+        if end == self.at {
+            // A move that does not move in pulses is dropped: above all an arc, which would
+            // read as a full circle (a tiny corner join of the compensation, rounded).
+            let full = matches!(mv.kind, Kind::Arc { .. })
+                && (mv.end[0] - mv.start[0]).abs() < 1e-9
+                && (mv.end[1] - mv.start[1]).abs() < 1e-9;
+            if !full {
+                return Ok(());
+            }
+        }
+        self.at = end;
         self.push(mv.line, mv.col, op)
     }
 
@@ -353,18 +374,10 @@ impl<'a> Out<'a> {
         mv: &Mv,
     ) -> Result<(), TranslateError> {
         let r = (e[0] - c[0]).hypot(e[1] - c[1]);
-        let s = self
-            .steps
-            .iter()
-            .rev()
-            .find_map(|s| s.op.end())
-            .map(|p| {
-                [
-                    p[1] as f64 * self.desc.pulse_mm,
-                    p[0] as f64 * self.desc.pulse_mm,
-                ]
-            })
-            .unwrap_or(mv.start);
+        let s = [
+            self.at[1] as f64 * self.desc.pulse_mm,
+            self.at[0] as f64 * self.desc.pulse_mm,
+        ];
         let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
         let sweep = comp::sweep(c, s, e, ccw);
         for k in 0..4 {

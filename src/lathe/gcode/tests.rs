@@ -175,24 +175,29 @@ fn g33_is_one_thread_pass() {
 
 #[test]
 fn g76_passes_by_hand() {
-    // Drive line X20 (radius 10) at Z5; peak 0.5 below; J0.2, K0.6, R1, one spring pass:
-    // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9.
-    let o = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1\n");
+    // Drive line X radius 10 at Z5; crest 0.5 below; J0.2, K0.6, R1, one spring pass:
+    // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9, each pass back at the retract
+    // X 10 + (0.6 - depth), as LinuxCNC; the last retract is the drive line, so the final
+    // move to (X10, Z-20) is already made.
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1 Q29.5\n");
+    // In G07 I, J and K are diameters: the same passes with twice the values.
+    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1 Q29.5\n");
+    assert_eq!(o, g7);
     let mut want = Vec::new();
-    for x in [9300, 9100, 8900, 8900] {
+    for (x, back) in [(9300, 10400), (9100, 10200), (8900, 10000), (8900, 10000)] {
+        want.push(Op::Rapid { end: [back, 5000] });
         want.push(Op::Rapid { end: [x, 5000] });
         want.push(Op::Thread {
             end: [x, -20000],
             lead: 1.5,
         });
         want.push(Op::Rapid {
-            end: [10000, -20000],
+            end: [back, -20000],
         });
-        want.push(Op::Rapid { end: [10000, 5000] });
     }
     assert_eq!(o[2..], want[..]);
     // Internal thread, degression 2: J·√k below K, then K.
-    let o = ops("M3 S500\nG0 X20 Z5\nG76 P1 Z-10 I0.5 J0.2 K0.6 R2\n");
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1 Z-10 I0.5 J0.2 K0.6 R2\n");
     let xs: Vec<i64> = o
         .iter()
         .filter_map(|op| match op {
@@ -328,6 +333,13 @@ fn waiting_codes_list_channels_by_digits() {
 #[test]
 fn chuck_stops_block_delete_and_optional_stop() {
     let text = "M10\n/M11\nM0\nM1\nG4 P1.5\nM2\nG0 X1\n";
+    // A deleted line is not even read when BLOCK DELETE is on.
+    let on = ReadOptions {
+        block_delete: true,
+        optional_stop: false,
+    };
+    assert!(read_program("t", "/G0 X1 X2\nM2\n", &wide_desc(), 0, &on).is_ok());
+    assert!(read("/G0 X1 X2\nM2\n").is_err());
     assert_eq!(
         ops(text),
         vec![
@@ -376,4 +388,90 @@ fn operations_under_compensation_wait_behind_the_held_moves() {
     );
     // The exit move ends where it is programmed.
     assert_eq!(o[7].end(), Some([20000, 5000]));
+}
+
+#[test]
+fn g71_bores_and_g70_finishes_with_compensation() {
+    // A bore: the start (X10, radius 5) is below the profile's first X (radius 10); levels
+    // rise by U1 to X radius 6, 7, 8, 9, each cut the whole length to Z-5.
+    let text = "T0303 M3 S1000\nG0 X10 Z2\nG71 U1 R0\nG71 P1 Q2 F50\nN1 G41 G0 X20\nN2 G1 Z-5\nG40 G0 X10\nG70 P1 Q2\nM30\n";
+    let o = ops(text);
+    let cuts: Vec<[i64; 2]> = o
+        .iter()
+        .filter_map(|op| match op {
+            Op::Line { end, .. } => Some(*end),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        cuts[..5],
+        [
+            [6000, -5000],
+            [7000, -5000],
+            [8000, -5000],
+            [9000, -5000],
+            [10000, -5000]
+        ]
+    );
+    // G70 under G41 with tool 3 (radius 0.2, tip 2): the bore wall is cut by P on X radius
+    // 10 (tip 2 touches the wall above the centre).
+    let finish = cuts[5];
+    assert_eq!(finish[0], 10000, "{o:?}");
+}
+
+#[test]
+fn a_citizen_channel_program_reads_on_the_embedded_machine() {
+    // Channel 2 of the Citizen: Z travel -2..120 (the work lies at +Z), receive, machine
+    // towards +Z with G41 (the nose above the work when travelling +Z), deliver.
+    let text = "O2000\nM10\nM100 P12\nT0101\nG96 S120 D4000 M3\nG95 G0 X14 Z-1\nG41 G1 X10 Z0 F0.1\nG1 Z8\nG3 X14 Z10 R2\nG1 Z20\nG40 G0 X30 Z21\nM5\nM11\nM30\n";
+    let d = LatheDesc::citizen();
+    let p = read_program("c2.ngc", text, &d, 1, &ReadOptions::default());
+    let p = match p {
+        Ok(p) => p,
+        Err(e) => panic!("{e}"),
+    };
+    let ops: Vec<&Op> = p.steps.iter().map(|s| &s.op).collect();
+    assert_eq!(ops[0], &Op::ChuckClose);
+    assert_eq!(
+        ops[1],
+        &Op::Wait {
+            m: 100,
+            with: 0b011
+        }
+    );
+    assert!(ops.iter().any(|o| matches!(o, Op::Arc { ccw: true, .. })));
+    assert_eq!(ops[ops.len() - 2], &Op::ChuckOpen);
+    assert_eq!(p.lines.len(), 14);
+    // Tool 1 of channel 2: radius 0.4, tip 3. On the Z cut (line 8) P runs 0.4 above the
+    // profile's X radius 5 less 0.4 (tip 3 looks down): on X radius 5 exactly.
+    let z_cut = p
+        .steps
+        .iter()
+        .find(|s| s.line == 8 && matches!(s.op, Op::Line { .. }));
+    assert_eq!(z_cut.and_then(|s| s.op.end()).map(|e| e[0]), Some(5000));
+}
+
+#[test]
+fn a_corner_join_shorter_than_a_pulse_is_dropped_not_made_a_full_circle() {
+    // G42 turning -Z: the profile dips by 0.002 mm on the diameter over 10 mm, an outside
+    // corner of 0.0002 rad whose join arc (0.8 mm radius) is 0.00016 mm long.
+    let o = ops(
+        "T0101 M3 S1000\nG0 X30 Z5\nG42 G0 X10 Z2\nG1 Z-10 F100\nG1 X9.996 Z-20\nG40 G0 X30\nM30\n",
+    );
+    assert!(!o.iter().any(|op| matches!(op, Op::Arc { .. })), "{o:?}");
+    let e = ends(&o);
+    assert!(e.windows(2).all(|w| w[0] != w[1]), "{e:?}");
+}
+
+#[test]
+fn the_side_changes_without_g40_as_the_thesis_allows() {
+    // Towards -Z under G42, then G41 without G40: the held moves end one radius off their
+    // last point, then a new entry move on the other side.
+    let o = ops("T0303 M3 S1000\nG8 G0 X30 Z5\nG42 G0 X10 Z2\nG1 Z-10 F100\nG41 G1 X20 Z-12\nG1 Z-20\nG40 G0 X30\nM30\n");
+    let e = ends(&o);
+    // Tool 3: radius 0.2, tip 2 (P = C + 0.2·(+X, -Z)). Under G42 travelling -Z, C is 0.2
+    // above X10, so the held run ends with P at (X10.4, Z-10.2).
+    assert!(e.contains(&[10400, -10200]), "{e:?}");
+    // Under G41 travelling -Z, C is 0.2 below X20: P on X 20.0, Z-20.2.
+    assert!(e.contains(&[20000, -20200]), "{e:?}");
 }

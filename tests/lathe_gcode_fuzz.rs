@@ -1,0 +1,155 @@
+//! The lathe G-code reader never panics (docs/lathe-gcode.md "Bounds"): seeded random bytes,
+//! runs of fragments and line-by-line lathe words, each refused with a place in the program or
+//! read.
+
+use novanc::lathe::desc::LatheDesc;
+use novanc::lathe::gcode::{read_program, ReadOptions};
+
+fn desc() -> LatheDesc {
+    let mut d = LatheDesc::citizen();
+    for c in &mut d.channels {
+        c.axes[0].travel = [-1.0, 100.0];
+        c.axes[1].travel = [-200.0, 200.0];
+    }
+    d
+}
+
+/// A small deterministic generator (xorshift).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn pick<'a>(&mut self, v: &[&'a str]) -> &'a str {
+        v[(self.next() % v.len() as u64) as usize]
+    }
+}
+
+#[test]
+fn random_bytes_and_fragments_never_panic() {
+    let frags = [
+        "G0", "G1", "G2", "G3", "G4", "G7", "G8", "G18", "G20", "G21", "G33", "G40", "G41", "G42",
+        "G70", "G71", "G76", "G90", "G91", "G94", "G95", "G96", "G97", "M0", "M1", "M2", "M3",
+        "M4", "M5", "M10", "M11", "M100", "M130", "M30", "T0101", "T2", "T0303", "X", "Z", "U",
+        "W", "I", "K", "R", "P", "Q", "F", "S", "D", "J", "H", "E", "L", "N1", "N2", "N3", "-",
+        ".", "1", "2.5", "0", "10", "-3", "40", "0.8", "#1=", "[", "]", "(", ")", "/", "%", "\n",
+        " ", "*", "#", "\u{e9}", "1e9",
+    ];
+    let words = [
+        "G0 X",
+        "G1 X",
+        "G1 Z",
+        "G2 X",
+        "G3 Z",
+        "G33 Z",
+        "G76 P1 J0.1 K0.6 I-0.5 Z",
+        "G71 U",
+        "G71 P1 Q2 F",
+        "G70 P1 Q",
+        "G4 P",
+        "G41 X",
+        "G42 X",
+        "G40 X",
+        "G7 X",
+        "G8 X",
+        "G91 U",
+        "W",
+        "X",
+        "Z",
+        "R",
+        "I",
+        "K",
+        "F",
+        "S",
+        "D",
+        "M100 P",
+        "M1",
+        "M10 M",
+        "G95 F",
+        "G96 S",
+        "G97 S",
+        "G20 X",
+        "G1 X",
+        "G1 Z",
+        "G0 Z",
+        "X",
+        "Z",
+    ];
+    let values = [
+        "1", "5", "-2", "20", "0.5", "-10", "12", "0", "0.8", "101", "3", "-0.4",
+    ];
+    let d = desc();
+    let mut rng = Rng(0x5eed_1a7e_u64);
+    let mut good = 0;
+    let mut deep = 0;
+    let start = std::time::Instant::now();
+    let mut errors = 0;
+    for round in 0..10_000 {
+        let mut text = String::new();
+        if round % 5 == 0 {
+            for _ in 0..(rng.next() % 200) {
+                text.push((rng.next() % 128) as u8 as char);
+            }
+        } else if round % 5 == 1 {
+            for _ in 0..(rng.next() % 60) {
+                text.push_str(rng.pick(&frags));
+                if rng.next().is_multiple_of(3) {
+                    text.push_str(rng.pick(&["1", "5", "-2", "20", "0.5"]));
+                }
+            }
+        } else {
+            // Line by line, word by word: deep enough to reach moves, compensation, cycles.
+            text.push_str(rng.pick(&["T0101 M3 S800 F100\n", "T0202 M4 G96 S100 F0.1 G95\n", ""]));
+            text.push_str(rng.pick(&["G0 X40 Z5\n", "G0 X20 Z2\n", ""]));
+            for _ in 0..(1 + rng.next() % 14) {
+                if rng.next().is_multiple_of(6) {
+                    text.push_str(rng.pick(&["N1 ", "N2 ", "N3 ", "/"]));
+                }
+                for _ in 0..(1 + rng.next() % 3) {
+                    text.push_str(rng.pick(&words));
+                    text.push_str(rng.pick(&values));
+                    text.push(' ');
+                }
+                text.push('\n');
+            }
+        }
+        let opts = ReadOptions {
+            block_delete: round % 2 == 0,
+            optional_stop: round % 3 == 0,
+        };
+        let ch = if round % 50 == 7 {
+            3
+        } else {
+            (rng.next() % 3) as usize
+        };
+        match read_program("fuzz", &text, &d, ch, &opts) {
+            Ok(p) => {
+                good += 1;
+                assert!(p.steps.iter().all(|s| s.line >= 1));
+            }
+            Err(e) => {
+                errors += 1;
+                if e.line > 3 {
+                    deep += 1;
+                }
+                let lines = text.lines().count().max(1) as u32;
+                assert!(e.line >= 1 && e.line <= lines + 1, "{e} for {text:?}");
+                assert!(!e.message.is_empty());
+            }
+        }
+    }
+    eprintln!("fuzz: {errors} refused ({deep} past line 3), {good} read");
+    assert!(
+        good + deep > 800,
+        "too few programs got past their first lines: {good} + {deep}"
+    );
+    assert!(
+        errors > 100,
+        "the fuzz found too few errors to be reading anything: {errors}"
+    );
+    assert!(start.elapsed().as_secs() < 5, "{:?}", start.elapsed());
+}
