@@ -10,10 +10,10 @@ use crate::lathe::sim::{ChState, Event, Lathe};
 use crate::lathe::store::Program;
 
 /// Where each channel's tool post starts the first cycle: the top of its travel (X and Z at
-/// their maxima), clear of any work. Later cycles start where the last one left it.
+/// their maxima), clear of any work, where the reader takes a program to start. Later cycles
+/// start where the last one left it.
 pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
-    let a = &desc.channels[ch].axes;
-    [desc.pulses(a[0].travel[1]), desc.pulses(a[1].travel[1])]
+    crate::lathe::gcode::home(desc, ch)
 }
 
 /// A cycle (AUTO: every channel to the part target) or an MDI run of one channel.
