@@ -270,3 +270,108 @@ fn a_tip_3_tool_turning_parallel_to_z_moves_p_on_the_profile() {
         "{xa} {xb}"
     );
 }
+
+/// The tool path as the simulator moves it: the same program run on one channel (the bar
+/// feeder supplies the work at M10), P sampled at every tick. Returns each sample's source
+/// line and position, mm.
+fn recorded(tip: u8, side: &str) -> Vec<(u32, [f64; 2])> {
+    use novanc::lathe::sim::{Event, Lathe, Outcome};
+    let mut d = desc(tip);
+    d.channels.truncate(1);
+    d.transfers.clear();
+    d.supplier = 0;
+    d.unloader = 0;
+    let text = format!("M10\n{}", PROGRAM.replace("{SIDE}", side));
+    let p = read_program("comp.ngc", &text, &d, 0, &ReadOptions::default()).unwrap();
+    let tick = d.tick_ns;
+    let home = novanc::lathe::gcode::home(&d, 0);
+    let mm = d.pulse_mm;
+    let mut l = Lathe::new(d, vec![p], 1).unwrap();
+    l.set_position(0, home).unwrap();
+    l.set_recording(true, tick);
+    l.start();
+    let o = l.run_until_idle(3_600_000_000_000);
+    assert!(matches!(o, Outcome::Finished { .. }), "tip {tip}: {o:?}");
+    let mut line = 0;
+    let mut out = Vec::new();
+    for e in l.drain_events() {
+        match e {
+            // The program's lines are one further down for the M10 put in front.
+            Event::Block { line: n, .. } => line = n - 1,
+            Event::Sample { pos, .. } => out.push((line, [pos[0] as f64 * mm, pos[1] as f64 * mm])),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The recorded path's envelope: as `envelope`, with the nose centres taken from the samples.
+fn recorded_envelope(tip: u8, side: &str) -> (f64, f64, usize) {
+    let v = chart(tip);
+    let centres: Vec<(u32, [f64; 2])> = recorded(tip, side)
+        .into_iter()
+        .map(|(l, p)| (l, [p[0] - R * v[0], p[1] - R * v[1]]))
+        .collect();
+    let cut: Vec<[f64; 2]> = centres
+        .iter()
+        .filter(|(l, _)| CUT.contains(l))
+        .map(|c| c.1)
+        .collect();
+    let prof = profile();
+    let mut far: f64 = 0.0;
+    for pc in &prof {
+        for q in pc.samples(0.01) {
+            if INSIDE.iter().any(|&k| dist(k, q) < R) {
+                continue;
+            }
+            // Every 8th sample (about a micrometre apart) is dense enough for the nearest.
+            let near = cut
+                .iter()
+                .step_by(8)
+                .map(|c| dist(*c, q))
+                .fold(f64::INFINITY, f64::min);
+            far = far.max((near - R).abs());
+        }
+    }
+    let mut close: f64 = 0.0;
+    for c in &cut {
+        let d = prof
+            .iter()
+            .map(|p| p.distance(*c))
+            .fold(f64::INFINITY, f64::min);
+        close = close.max(R - d);
+    }
+    // The side: the work is below the profile (an outside turn), so between the face and the
+    // shoulder a nose centre below the profile's X at its Z is in the material.
+    let line: Vec<[f64; 2]> = prof.iter().flat_map(|p| p.samples(0.01)).collect();
+    let profile_x = |z: f64| {
+        line.iter()
+            .filter(|q| (q[1] - z).abs() < 0.01)
+            .map(|q| q[0])
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let in_material = cut
+        .iter()
+        .filter(|c| c[1] < -0.1 && c[1] > -29.9 && c[0] < profile_x(c[1]) - TOL)
+        .count();
+    (
+        far.max(if in_material > 0 { 1.0 } else { 0.0 }),
+        close,
+        cut.len(),
+    )
+}
+
+#[test]
+fn the_recorded_tool_path_envelope_is_the_profile_in_every_tip_position() {
+    for tip in 0..=9u8 {
+        let (far, close, n) = recorded_envelope(tip, "G42");
+        assert!(n > 10_000, "tip {tip}: only {n} samples on the cut");
+        assert!(
+            far <= TOL && close <= TOL,
+            "tip {tip}: recorded path: profile to nose centre off R by {far:.4} mm, centre inside by {close:.4} mm"
+        );
+    }
+    // The same check on the wrong side fails: the nose would be in the work.
+    let (far, close, _) = recorded_envelope(3, "G41");
+    assert!(far > 0.1 || close > 0.1, "G41 passed: {far} {close}");
+}
