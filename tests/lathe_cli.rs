@@ -342,3 +342,42 @@ fn a_centre_description_sets_the_centres_travel() {
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o.stderr).contains("travel"), "{}", text(&o.stderr));
 }
+
+#[test]
+fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
+    let dir = common::temp_dir("lathe-ofs");
+    let state = dir.join("state");
+    let script = dir.join("ofs.panel");
+    std::fs::write(
+        &script,
+        "op OFS\nchannel 2\ntype T1 X0.04 Z-0.01\ntype T9 X1\nshow\n",
+    )
+    .unwrap();
+    let run = || {
+        novanc(&[
+            "script",
+            script.to_str().unwrap(),
+            "--machine",
+            "citizen",
+            "--state",
+            state.to_str().unwrap(),
+        ])
+    };
+    let o = run();
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}{}", text(&o.stderr));
+    assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
+    assert!(so.contains("T9 is not on this tool post"), "{so}");
+    assert_eq!(
+        std::fs::read_to_string(state.join("lathe-citizen/ch2.tools")).unwrap(),
+        "tool 1 radius 0.4 tip 3 offset 0.02 -0.01\ntool 2 radius 0.2 tip 2 offset 0 0\n"
+    );
+    assert!(
+        !state.join("lathe-citizen/ch1.tools").exists(),
+        "channel 1 untouched"
+    );
+    // A new session reads them back.
+    std::fs::write(&script, "op OFS\nchannel 2\nshow\n").unwrap();
+    let so = text(&run().stdout);
+    assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
+}

@@ -37,6 +37,7 @@ const MDI_LINES: [&str; 6] = [
     "Q7",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
+const OFS_LINES: [&str; 4] = ["T1 X0.01", "T2 Z-0.005", "T9 X1", "T1 P12"];
 
 struct Seq {
     c: LatheConsole,
@@ -192,12 +193,15 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         38..=45 => LatheEv::Channel(rng.range(0, 2) as usize),
         46..=47 => LatheEv::NextChannel,
         48..=49 => LatheEv::Target(rng.range(1, 4) as u32),
-        50..=53 => LatheEv::Mode([Mode::Auto, Mode::Mdi, Mode::Data][rng.range(0, 2) as usize]),
+        50..=53 => {
+            LatheEv::Mode([Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize])
+        }
         54..=57 => LatheEv::Type(MDI_LINES[rng.range(0, 5) as usize].into()),
         58..=60 => LatheEv::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => LatheEv::Help,
+        65 => LatheEv::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
         62..=63 => LatheEv::OptionalStop(rng.range(0, 1) == 1),
-        64..=79 => {
+        64 | 66..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
             return format!("wait ms {ms}");

@@ -278,6 +278,24 @@ fn tool(words: &[&str]) -> Result<ToolDesc, String> {
     Ok(t)
 }
 
+/// Parses one `tool N radius R tip P offset X Z` line (the description's tool statement, as
+/// the lathe stores keep a channel's revised tools).
+pub fn parse_tool(line: &str) -> Result<ToolDesc, String> {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    match words.first() {
+        Some(&"tool") => tool(&words),
+        _ => Err(format!("'{line}' is not a tool line")),
+    }
+}
+
+/// A tool as its description line (what `parse_tool` reads back).
+pub fn tool_line(t: &ToolDesc) -> String {
+    format!(
+        "tool {} radius {} tip {} offset {} {}",
+        t.number, t.radius, t.tip, t.offset[0], t.offset[1]
+    )
+}
+
 /// Parses a machine description (docs/lathe.md "Machine description"). Errors are
 /// `LINE: message`.
 pub fn parse(text: &str) -> Result<MachineDesc, String> {
@@ -569,6 +587,19 @@ mod tests {
         assert!(load("/nonexistent/m.machine")
             .unwrap_err()
             .contains("a machine is"));
+    }
+
+    #[test]
+    fn tool_lines_read_back() {
+        let t = ToolDesc {
+            number: 7,
+            radius: 0.4,
+            tip: 2,
+            offset: [0.025, -0.01],
+        };
+        assert_eq!(parse_tool(&tool_line(&t)), Ok(t));
+        assert!(parse_tool("tool 7 tip 12").unwrap_err().contains("tip 12"));
+        assert!(parse_tool("axis").is_err());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! counter, kept under the state directory in `lathe-NAME/`. Every change is written at once
 //! and atomically (a kill leaves the old file or the new one, never a mix).
 
-use super::desc::LatheDesc;
+use super::desc::{parse_tool, tool_line, LatheDesc, ToolDesc};
 use crate::store::fsutil::{lock_dir, make_dir, write_atomic, DirLock};
 use std::path::{Path, PathBuf};
 
@@ -88,6 +88,8 @@ pub struct Opened {
     pub programs: Vec<Program>,
     /// The part counter.
     pub counter: Counter,
+    /// Each channel's tools as last revised at the console (`None`: the description's).
+    pub tools: Vec<Option<Vec<ToolDesc>>>,
     /// What the operator should know (a file that could not be read, set aside).
     pub warnings: Vec<String>,
 }
@@ -160,10 +162,30 @@ impl LatheStore {
                 counts: vec![0; n],
             },
         };
+        let mut tools = Vec::new();
+        for ch in 0..n {
+            let name = format!("ch{}.tools", ch + 1);
+            tools.push(match std::fs::read_to_string(store.dir.join(&name)) {
+                Err(_) => None,
+                Ok(t) => match t.lines().map(parse_tool).collect::<Result<Vec<_>, _>>() {
+                    Ok(v) => Some(v),
+                    Err(e) => {
+                        let aside = crate::store::fsutil::keep_aside(&store.dir, &name)
+                            .unwrap_or_default();
+                        warnings.push(format!(
+                            "channel {}: its tool file was damaged ({e}) and is kept as {aside}; the description's tools apply",
+                            ch + 1
+                        ));
+                        None
+                    }
+                },
+            });
+        }
         Ok(Opened {
             store,
             programs,
             counter,
+            tools,
             warnings,
         })
     }
@@ -177,6 +199,16 @@ impl LatheStore {
         let data = format!("{}\n{}", p.name, p.text);
         write_atomic(&self.program_path(ch), data.as_bytes())
             .map_err(|e| format!("channel {}: the program could not be stored: {e}", ch + 1))
+    }
+
+    /// Writes channel `ch`'s tools.
+    pub fn save_tools(&self, ch: usize, tools: &[ToolDesc]) -> Result<(), String> {
+        let text: String = tools.iter().map(|t| tool_line(t) + "\n").collect();
+        write_atomic(
+            &self.dir.join(format!("ch{}.tools", ch + 1)),
+            text.as_bytes(),
+        )
+        .map_err(|e| format!("channel {}: the tools could not be stored: {e}", ch + 1))
     }
 
     /// Writes the part counter.

@@ -12,6 +12,8 @@ pub enum Mode {
     Mdi,
     /// DATA: the data keys take editor command lines on the selected channel's program.
     Data,
+    /// OFS: the data keys revise the selected channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`).
+    Ofs,
 }
 
 impl Mode {
@@ -21,6 +23,7 @@ impl Mode {
             Mode::Auto => "AUTO",
             Mode::Mdi => "MDI",
             Mode::Data => "DATA",
+            Mode::Ofs => "OFS",
         }
     }
 }
@@ -98,6 +101,7 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> Option<LatheE
         Key::Alt('2') => LatheEv::Mode(Mode::Auto),
         Key::Alt('3') => LatheEv::Mode(Mode::Mdi),
         Key::Alt('4') => LatheEv::Mode(Mode::Data),
+        Key::Alt('5') => LatheEv::Mode(Mode::Ofs),
         Key::Tab | Key::Alt('c') => LatheEv::NextChannel,
         Key::Alt('o') => LatheEv::OptionalStop(!optional_stop),
         Key::Alt('b') => LatheEv::BlockDelete(!block_delete),
@@ -134,7 +138,12 @@ pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String
             "AUTO" => LatheEv::Mode(Mode::Auto),
             "MDI" => LatheEv::Mode(Mode::Mdi),
             "DATA" => LatheEv::Mode(Mode::Data),
-            m => return Err(format!("op {m}: the lathe's modes are AUTO, MDI and DATA")),
+            "OFS" => LatheEv::Mode(Mode::Ofs),
+            m => {
+                return Err(format!(
+                    "op {m}: the lathe's modes are AUTO, MDI, DATA and OFS"
+                ))
+            }
         },
         "channel" => LatheEv::Channel(ch(rest)?),
         "type" => LatheEv::Type(rest.to_string()),
@@ -203,7 +212,7 @@ mod tests {
         assert!(parse_line("target 0", 3).is_err());
         assert!(parse_line("op HANDLE", 3)
             .unwrap_err()
-            .contains("AUTO, MDI and DATA"));
+            .contains("AUTO, MDI, DATA and OFS"));
         assert_eq!(parse_line("  # note", 3), Ok(None));
     }
 }

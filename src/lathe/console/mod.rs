@@ -10,6 +10,7 @@
 
 pub mod events;
 mod glue;
+mod ofs;
 pub mod view;
 
 pub use glue::{home, Cycle};
@@ -82,6 +83,12 @@ impl LatheConsole {
         record: Option<&Path>,
     ) -> Result<(LatheConsole, Vec<String>), String> {
         let o = LatheStore::open(state, &desc)?;
+        let mut desc = desc;
+        for (ch, t) in o.tools.iter().enumerate() {
+            if let (Some(t), Some(c)) = (t, desc.channels.get_mut(ch)) {
+                c.tools = t.clone();
+            }
+        }
         let n = desc.channels.len();
         let rec = match record {
             Some(p) => Some(LatheRecorder::create(
@@ -333,6 +340,33 @@ impl LatheConsole {
                 );
             }
             Mode::Data => self.edit(&line),
+            Mode::Ofs => self.revise_tool(&line),
+        }
+    }
+
+    /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
+    /// diameter, Z offset, nose radius, tip position; any of them), stored at once; the
+    /// programs read it from the next START of a cycle.
+    fn revise_tool(&mut self, line: &str) {
+        if line.trim().is_empty() {
+            return;
+        }
+        let ch = self.sel;
+        match ofs::revise(&self.desc.channels[ch].tools, line) {
+            Err(e) => {
+                self.message = e;
+                self.entry = line.to_string();
+            }
+            Ok((tools, t)) => match self.store.save_tools(ch, &tools) {
+                Err(e) => {
+                    self.message = format!("{e}: the revision is refused");
+                    self.entry = line.to_string();
+                }
+                Ok(()) => {
+                    self.desc.channels[ch].tools = tools;
+                    self.message = format!("T{t:02} revised: from the next START");
+                }
+            },
         }
     }
 
@@ -396,7 +430,9 @@ impl LatheConsole {
             }
         }
         match self.mode {
-            Mode::Data => self.message = "DATA mode: turn to AUTO or MDI to run".into(),
+            Mode::Data | Mode::Ofs => {
+                self.message = format!("{} mode: turn to AUTO or MDI to run", self.mode.word())
+            }
             Mode::Auto => {
                 if self
                     .counter
@@ -622,6 +658,9 @@ impl LatheConsole {
     /// The program lines around `line` (the current block's), or around the editor's pointer
     /// in DATA mode, marked `>`.
     fn listing(&self, line: u32) -> Vec<String> {
+        if self.mode == Mode::Ofs {
+            return ofs::table(&self.desc.channels[self.sel].tools);
+        }
         let text = match self.mode {
             Mode::Mdi => self.mdi[self.sel].join("\n"),
             _ => self.programs[self.sel].text.clone(),
