@@ -9,9 +9,11 @@ mod controls;
 pub mod font;
 pub mod image;
 mod keys;
+pub mod lathe;
 mod pathdraw;
 mod plasma;
 mod plot;
+mod shot;
 mod tapestrip;
 mod velocity;
 
@@ -122,9 +124,13 @@ impl Machine for crate::console::Console {
 pub const HELP: &str = "\
 usage: novanc --window [console options] [--script FILE] [--screenshot OUT.ppm|OUT.png]
                        [--bench-frames N] [--size WxH]
+       novanc --window --machine citizen [--state DIR] [--record OUT.mcap] [--script FILE]
+                       [--screenshot OUT] [--size WxH]
 
-The console in an egui window (see docs/window.md).
+The console in an egui window (see docs/window.md); with --machine naming a lathe, the lathe's
+console: every channel side by side with its backplot (\"The lathe window\").
   --script FILE       play a panel script (docs/cli.md) into the console, then keep running
+                      (a lathe script, docs/lathe.md, runs in virtual time)
   --screenshot OUT    after the script (and the benchmark), write a screenshot (PPM, or PNG
                       if OUT ends in .png)
                       and close; prints the plasma and backplot rectangles
@@ -245,11 +251,24 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
             return 1;
         }
     };
-    let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
+    let size = opts.size.unwrap_or((1400.0, 860.0));
+    open_window("novanc — NC panel", size, move |exit| {
+        Box::new(app::App::new(machine, drive, exit))
+    })
+}
+
+/// Opens an eframe window titled `title`, `size` points, with the app `make` builds (given
+/// the cell its exit code goes in); runs it until it closes; returns the exit code. A window
+/// that cannot open says why and suggests the terminal.
+fn open_window(
+    title: &str,
+    size: (f32, f32),
+    make: impl FnOnce(Arc<AtomicI32>) -> Box<dyn eframe::App> + 'static,
+) -> i32 {
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
-            .with_title("novanc — NC panel")
-            .with_inner_size([w, h]),
+            .with_title(title)
+            .with_inner_size([size.0, size.1]),
         ..eframe::NativeOptions::default()
     };
     let exit = Arc::new(AtomicI32::new(0));
@@ -260,7 +279,7 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
             native,
             Box::new(move |cc| {
                 cc.egui_ctx.set_visuals(egui::Visuals::dark());
-                Ok(Box::new(app::App::new(machine, drive, exit2)))
+                Ok(make(exit2))
             }),
         )
     }));
