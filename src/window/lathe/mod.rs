@@ -86,12 +86,15 @@ pub fn run(desc: LatheDesc, cfg: ConsoleConfig, opts: WindowOptions) -> i32 {
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
+    // A stop signal closes the window as closing it does, the recording marked interrupted.
+    crate::cli::signals::install();
     let title = format!("novanc — {} lathe", console.desc().name);
     let size = opts.size.unwrap_or((1400.0, 860.0));
     let shot = opts.screenshot.map(PathBuf::from);
-    super::open_window(&title, size, move |exit| {
+    let code = super::open_window(&title, size, move |exit| {
         Box::new(LatheApp::new(console, script, shot, exit))
-    })
+    });
+    crate::cli::signals::exit_code(code)
 }
 
 /// What a script wait waits for.
@@ -108,7 +111,8 @@ enum Wait {
 struct Layout {
     plasma: Option<Rect>,
     pitch: usize,
-    plots: Vec<Rect>,
+    /// Each channel's travel box and detail box.
+    plots: Vec<(Rect, Rect)>,
 }
 
 /// The lathe window's application.
@@ -126,6 +130,8 @@ pub struct LatheApp {
     last: Instant,
     layout: Layout,
     exit: Arc<AtomicI32>,
+    /// The stop signal that closed the window, as the recording says it.
+    interrupted: Option<String>,
 }
 
 impl LatheApp {
@@ -154,6 +160,7 @@ impl LatheApp {
             last: Instant::now(),
             layout: Layout::default(),
             exit,
+            interrupted: None,
         };
         app.sample(&console);
         app.console = Some(console);
@@ -252,6 +259,14 @@ impl LatheApp {
     /// screenshot.
     fn frame(&mut self, c: &mut LatheConsole, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
+        if let Some(sig) = crate::cli::signals::caught() {
+            if self.interrupted.is_none() {
+                self.interrupted =
+                    Some(format!("interrupted by {}", crate::cli::signals::name(sig)));
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+            return;
+        }
         let now = Instant::now();
         if !self.script_done() {
             self.play(c, &ctx);
@@ -313,7 +328,15 @@ impl LatheApp {
                     .plots
                     .iter()
                     .enumerate()
-                    .map(|(i, r)| format!("plot{} {}", i + 1, rect_px(Some(*r), ppp)))
+                    .map(|(i, (t, d))| {
+                        format!(
+                            "plot{} {} detail{} {}",
+                            i + 1,
+                            rect_px(Some(*t), ppp),
+                            i + 1,
+                            rect_px(Some(*d), ppp)
+                        )
+                    })
                     .collect();
                 println!(
                     "screenshot {} {w}x{h} plasma {} pitch {} {}",
@@ -344,9 +367,7 @@ impl LatheApp {
                         self.layout.pitch = pitch;
                     });
                     ui.add_space(8.0);
-                    ui.vertical(|ui| {
-                        panel::relay(ui, &v, c.mode(), c.switches(), &mut self.hand, out)
-                    });
+                    ui.vertical(|ui| panel::relay(ui, &v, c.mode(), c.switches(), out));
                     ui.add_space(8.0);
                     ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));
                 });
@@ -377,7 +398,7 @@ impl eframe::App for LatheApp {
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
         // Close the recording, as quitting the terminal panel does.
         if let Some(c) = self.console.take() {
-            if let Some(sum) = c.finish(None) {
+            if let Some(sum) = c.finish(self.interrupted.as_deref()) {
                 eprintln!("novanc: {}", sum.line());
             }
         }

@@ -81,15 +81,15 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
     ui.horizontal(|ui| {
         ui.label(mono(format!("CH{} {}", i + 1, c.name), 15.0, TEXT).strong());
         ui.label(mono(&c.state, 15.0, state_colour(&c.state)).strong());
-        ui.label(mono(&c.program, 12.0, Color32::GRAY));
     });
+    // Whom it waits for, or the fault or alarm, else the program's name.
     let (what, colour) = if !c.waits.is_empty() {
         (format!("waits for {}", c.waits), controls::LAMP_HOLD)
     } else if !c.note.is_empty() {
         let red = matches!(c.state.as_str(), "FAULT" | "ALARM" | "ESTOP");
         (c.note.clone(), if red { RED } else { controls::LAMP_HOLD })
     } else {
-        (String::new(), TEXT)
+        (format!("program {}", c.program), Color32::GRAY)
     };
     ui.label(mono(what, 13.0, colour));
     let block = if c.line > 0 {
@@ -132,8 +132,9 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
     });
 }
 
-/// The channels side by side, each its readout over its backplot. Returns each channel's
-/// travel box on screen (the plot's frame).
+/// The channels side by side, each its readout over its backplot: the whole travel box, and
+/// under it the detail of the cuts. Returns each channel's travel box and detail box on
+/// screen.
 pub fn channels(
     ui: &mut Ui,
     v: &LatheView,
@@ -141,9 +142,9 @@ pub fn channels(
     trails: &[Trail],
     target: u32,
     out: &mut Vec<Act>,
-) -> Vec<Rect> {
+) -> Vec<(Rect, Rect)> {
     let n = v.channels.len().max(1);
-    let mut boxes = vec![Rect::NOTHING; n];
+    let mut boxes = vec![(Rect::NOTHING, Rect::NOTHING); n];
     ui.columns(n, |cols| {
         for (i, ui) in cols.iter_mut().enumerate() {
             let (Some(c), Some(ch), Some(trail)) =
@@ -154,16 +155,35 @@ pub fn channels(
             let top = ui.cursor().min;
             readout(ui, i, c, desc.pulse_mm, target);
             ui.add_space(4.0);
-            let size = vec2(ui.available_width(), ui.available_height().max(60.0));
-            let (area, resp) = ui.allocate_exact_size(size, Sense::click());
-            boxes[i] = plot::draw(ui.painter(), area, ch, desc.pulse_mm, trail, c.work, c.pos);
+            let d = plot::PlotData {
+                ch,
+                pulse_mm: desc.pulse_mm,
+                trail,
+                current: c.work,
+                tip: c.pos,
+            };
+            let travel = plot::Box2::travel(ch);
+            let detail = plot::detail_box(trail, c.pos, desc.pulse_mm, travel);
+            // The overview as tall as the travel box at the column's width needs, at most
+            // 40 % of the room; the detail takes the rest.
+            let w = ui.available_width();
+            let room = ui.available_height().max(140.0);
+            let span = ((travel.x[1] - travel.x[0]) / (travel.z[1] - travel.z[0]).max(1e-3)) as f32;
+            let over_h = ((w - 32.0) * span + 32.0).clamp(60.0, room * 0.4);
+            let (over, r1) = ui.allocate_exact_size(vec2(w, over_h), Sense::click());
+            ui.add_space(4.0);
+            let det_h = ui.available_height().max(80.0);
+            let (det, r2) = ui.allocate_exact_size(vec2(w, det_h), Sense::click());
+            let b1 = plot::draw_overview(ui.painter(), over, &d, detail);
+            let b2 = plot::draw_detail(ui.painter(), det, &d, detail.unwrap_or(travel));
+            boxes[i] = (b1, b2);
             // The selected channel's column is framed; a click on a column selects it.
-            let col = Rect::from_min_max(top - vec2(3.0, 3.0), area.max + vec2(3.0, 3.0));
+            let col = Rect::from_min_max(top - vec2(3.0, 3.0), det.max + vec2(3.0, 3.0));
             if i == v.selected {
                 ui.painter()
                     .rect_stroke(col, 4.0, Stroke::new(2.0, LIT), StrokeKind::Outside);
             }
-            if resp.clicked() && i != v.selected {
+            if (r1.clicked() || r2.clicked()) && i != v.selected {
                 out.push(Act::Ev(LatheEv::Channel(i)));
             }
         }
@@ -216,14 +236,7 @@ fn lamps(v: &LatheView) -> [bool; 4] {
 }
 
 /// The relay buttons, the channel and mode selectors, FAULT, TARGET and the switches.
-pub fn relay(
-    ui: &mut Ui,
-    v: &LatheView,
-    mode: Mode,
-    switches: (bool, bool),
-    hand: &mut HandState,
-    out: &mut Vec<Act>,
-) {
+pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out: &mut Vec<Act>) {
     let [run, hold, alarm, estop] = lamps(v);
     ui.horizontal(|ui| {
         let b = |ui: &mut Ui, label: &str, face: Color32, lamp: (bool, Color32)| {
@@ -257,60 +270,78 @@ pub fn relay(
             out.push(Act::Ev(LatheEv::EStop));
         }
     });
+    let key = |ui: &mut Ui, label: &str, lit: bool, w: f32| {
+        let fill = if lit {
+            Color32::from_rgb(150, 120, 30)
+        } else {
+            Color32::from_rgb(78, 84, 92)
+        };
+        ui.add(
+            egui::Button::new(RichText::new(label).size(13.0).color(Color32::WHITE))
+                .min_size(vec2(w, 26.0))
+                .fill(fill)
+                .stroke(Stroke::new(1.0, Color32::BLACK)),
+        )
+    };
+    ui.add_space(4.0);
     ui.horizontal(|ui| {
-        let names: Vec<String> = (1..=v.channels.len()).map(|i| format!("CH{i}")).collect();
-        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        if let Some(i) =
-            controls::rotary(ui, "CHANNEL", &refs, v.selected, vec2(130.0, 120.0), hand)
+        ui.label(mono("CHANNEL", 12.0, controls::LEGEND));
+        for i in 0..v.channels.len() {
+            let r = key(ui, &format!("CH{}", i + 1), i == v.selected, 52.0)
+                .on_hover_text("the channel selector (Tab)");
+            if r.clicked() && i != v.selected {
+                out.push(Act::Ev(LatheEv::Channel(i)));
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label(mono("MODE   ", 12.0, controls::LEGEND));
+        for (m, k) in [(Mode::Auto, "2"), (Mode::Mdi, "3"), (Mode::Data, "4")] {
+            let r = key(ui, m.word(), m == mode, 52.0).on_hover_text(format!("Alt+{k}"));
+            if r.clicked() && m != mode {
+                out.push(Act::Ev(LatheEv::Mode(m)));
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        if key(ui, "FAULT", false, 60.0)
+            .on_hover_text("stop the selected channel with the typed reason (Alt+F)")
+            .clicked()
         {
-            out.push(Act::Ev(LatheEv::Channel(i)));
+            out.push(Act::Press(Key::Alt('f')));
         }
-        let modes = [Mode::Auto, Mode::Mdi, Mode::Data];
-        let sel = modes.iter().position(|m| *m == mode).unwrap_or(0);
-        if let Some(i) = controls::rotary(
-            ui,
-            "MODE",
-            &modes.map(|m| m.word()),
-            sel,
-            vec2(130.0, 120.0),
-            hand,
-        ) {
-            out.push(Act::Ev(LatheEv::Mode(modes[i])));
+        if key(ui, "TARGET", false, 60.0)
+            .on_hover_text("the typed number is the part target (Alt+N)")
+            .clicked()
+        {
+            out.push(Act::Press(Key::Alt('n')));
         }
-        ui.vertical(|ui| {
-            let key = |ui: &mut Ui, label: &str, lit: bool, tip: &str| {
-                ui.add(
-                    egui::Button::new(RichText::new(label).size(13.0))
-                        .min_size(vec2(118.0, 24.0))
-                        .selected(lit),
-                )
-                .on_hover_text(tip)
-                .clicked()
-            };
-            if key(
-                ui,
-                "FAULT CH (typed)",
-                false,
-                "stop the selected channel with the typed reason (Alt+F)",
-            ) {
-                out.push(Act::Press(Key::Alt('f')));
-            }
-            if key(ui, "TARGET (typed)", false, "the typed part target (Alt+N)") {
-                out.push(Act::Press(Key::Alt('n')));
-            }
-            if key(ui, "OPT STOP M01", switches.0, "OPTIONAL STOP (Alt+O)") {
-                out.push(Act::Ev(LatheEv::OptionalStop(!switches.0)));
-            }
-            if key(ui, "BLOCK DEL /", switches.1, "BLOCK DELETE (Alt+B)") {
-                out.push(Act::Ev(LatheEv::BlockDelete(!switches.1)));
-            }
-            if key(ui, "HELP", v.help, "the key list (F8)") {
-                out.push(Act::Ev(LatheEv::Help));
-            }
-            if key(ui, "CLEAR PATHS", false, "clear the backplots") {
-                out.push(Act::ClearPaths);
-            }
-        });
+        if key(ui, "M01", switches.0, 44.0)
+            .on_hover_text("OPTIONAL STOP (Alt+O)")
+            .clicked()
+        {
+            out.push(Act::Ev(LatheEv::OptionalStop(!switches.0)));
+        }
+        if key(ui, "/DEL", switches.1, 44.0)
+            .on_hover_text("BLOCK DELETE (Alt+B)")
+            .clicked()
+        {
+            out.push(Act::Ev(LatheEv::BlockDelete(!switches.1)));
+        }
+    });
+    ui.horizontal(|ui| {
+        if key(ui, "HELP", v.help, 60.0)
+            .on_hover_text("the key list (F8)")
+            .clicked()
+        {
+            out.push(Act::Ev(LatheEv::Help));
+        }
+        if key(ui, "CLEAR PATHS", false, 96.0)
+            .on_hover_text("clear every backplot")
+            .clicked()
+        {
+            out.push(Act::ClearPaths);
+        }
     });
 }
 

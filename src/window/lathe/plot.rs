@@ -110,10 +110,29 @@ impl Trail {
     }
 }
 
-/// Maps the channel's travel (mm) into a plot rectangle at equal scale, Z right, X up.
+/// A box in the Z–X plane, mm: X (radius) from `x[0]` to `x[1]`, Z from `z[0]` to `z[1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Box2 {
+    /// X (radius) range, mm.
+    pub x: [f64; 2],
+    /// Z range, mm.
+    pub z: [f64; 2],
+}
+
+impl Box2 {
+    /// The channel's travel box.
+    pub fn travel(ch: &ChannelDesc) -> Box2 {
+        Box2 {
+            x: ch.axes[0].travel,
+            z: ch.axes[1].travel,
+        }
+    }
+}
+
+/// Maps a box of the Z–X plane (mm) into a plot rectangle at equal scale, Z right, X up.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame {
-    /// The travel box on screen.
+    /// The box on screen.
     pub rect: Rect,
     /// Points per mm.
     pub scale: f32,
@@ -122,11 +141,10 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The largest travel box of `ch` that fits `area` less `margin` on every side, centred.
-    pub fn fit(area: Rect, margin: f32, ch: &ChannelDesc) -> Frame {
-        let [xt, zt] = [ch.axes[0].travel, ch.axes[1].travel];
-        let zspan = (zt[1] - zt[0]).max(1e-3) as f32;
-        let xspan = (xt[1] - xt[0]).max(1e-3) as f32;
+    /// The largest picture of `b` that fits `area` less `margin` on every side, centred.
+    pub fn fit(area: Rect, margin: f32, b: Box2) -> Frame {
+        let zspan = (b.z[1] - b.z[0]).max(1e-3) as f32;
+        let xspan = (b.x[1] - b.x[0]).max(1e-3) as f32;
         let inner = area.shrink(margin);
         let scale = (inner.width() / zspan)
             .min(inner.height() / xspan)
@@ -135,8 +153,8 @@ impl Frame {
         Frame {
             rect: Rect::from_center_size(inner.center(), size),
             scale,
-            z0: zt[0],
-            x0: xt[0],
+            z0: b.z[0],
+            x0: b.x[0],
         }
     }
 
@@ -147,27 +165,195 @@ impl Frame {
             self.rect.max.y - ((x_mm - self.x0) as f32) * self.scale,
         )
     }
+
+    /// The box this frame shows (its rectangle's edges, mm).
+    pub fn shown(&self) -> Box2 {
+        let s = f64::from(self.scale);
+        Box2 {
+            x: [self.x0, self.x0 + f64::from(self.rect.height()) / s],
+            z: [self.z0, self.z0 + f64::from(self.rect.width()) / s],
+        }
+    }
 }
 
-/// Draws channel `ch`'s plot into `area`: background, travel box, centreline and work face,
-/// the trail (`current` is the work in the spindle now), the tip at `tip` (pulses), and the
-/// frame's legends. Returns the travel box on screen.
-pub fn draw(
-    p: &Painter,
-    area: Rect,
-    ch: &ChannelDesc,
-    pulse_mm: f64,
-    trail: &Trail,
-    current: Option<u32>,
-    tip: [i64; 2],
-) -> Rect {
+/// The detail view's box: what the trail covered with a work in the spindle (the cuts) and
+/// the tip, 12 % and 1 mm more on every side, at least 4 mm across, kept inside the travel.
+/// `None` before anything was cut.
+pub fn detail_box(trail: &Trail, tip: [i64; 2], pulse_mm: f64, travel: Box2) -> Option<Box2> {
+    let mut b: Option<Box2> = None;
+    let mut take = |p: [i64; 2]| {
+        let (x, z) = (p[0] as f64 * pulse_mm, p[1] as f64 * pulse_mm);
+        let n = b.get_or_insert(Box2 {
+            x: [x, x],
+            z: [z, z],
+        });
+        n.x = [n.x[0].min(x), n.x[1].max(x)];
+        n.z = [n.z[0].min(z), n.z[1].max(z)];
+    };
+    let mut cut = false;
+    for p in trail.points().filter(|p| p.work.is_some()) {
+        take(p.pos);
+        cut = true;
+    }
+    if !cut {
+        return None;
+    }
+    take(tip);
+    b.map(|b| {
+        let grow = |r: [f64; 2], lim: [f64; 2]| {
+            let m = (r[1] - r[0]) * 0.12 + 1.0;
+            let (mut lo, mut hi) = (r[0] - m, r[1] + m);
+            if hi - lo < 4.0 {
+                let c = (lo + hi) / 2.0;
+                (lo, hi) = (c - 2.0, c + 2.0);
+            }
+            [lo.max(lim[0]), hi.min(lim[1])]
+        };
+        Box2 {
+            x: grow(b.x, travel.x),
+            z: grow(b.z, travel.z),
+        }
+    })
+}
+
+/// The grid's background lines.
+const GRID: Color32 = Color32::from_rgb(26, 32, 44);
+
+/// A round grid step (1, 2 or 5 × 10ⁿ mm) giving about `n` lines over `span` mm.
+pub fn grid_step(span: f64, n: f64) -> f64 {
+    let raw = (span / n).max(1e-6);
+    let p = 10f64.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * p)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * p)
+}
+
+/// What one plot shows.
+pub struct PlotData<'a> {
+    /// The channel (its travel).
+    pub ch: &'a ChannelDesc,
+    /// mm per pulse.
+    pub pulse_mm: f64,
+    /// The trail.
+    pub trail: &'a Trail,
+    /// The work in the spindle now.
+    pub current: Option<u32>,
+    /// The tip now, pulses [X radius, Z].
+    pub tip: [i64; 2],
+}
+
+/// Draws the overview: the whole travel box with the trail and the tip, and the detail view's
+/// box dashed. Returns the travel box on screen.
+pub fn draw_overview(p: &Painter, area: Rect, d: &PlotData, detail: Option<Box2>) -> Rect {
     p.rect_filled(area, 4.0, PLOT_BG);
-    let f = Frame::fit(area, 18.0, ch);
+    let travel = Box2::travel(d.ch);
+    let f = Frame::fit(area, 16.0, travel);
     let r = f.rect;
+    centre_lines(p, &f, travel);
+    p.rect_stroke(r, 0.0, Stroke::new(1.0, FRAME), StrokeKind::Outside);
     let small = FontId::monospace(10.0);
-    // The centreline (X = 0) dashed, and the work face (Z = 0) dotted, where the travel has them.
-    let [xt, zt] = [ch.axes[0].travel, ch.axes[1].travel];
-    if xt[0] <= 0.0 && 0.0 <= xt[1] {
+    let legend = |pos: Pos2, a: Align2, t: String| {
+        p.text(pos, a, t, small.clone(), FRAME);
+    };
+    legend(
+        pos2(r.min.x, r.max.y + 2.0),
+        Align2::LEFT_TOP,
+        format!("Z{}", travel.z[0]),
+    );
+    legend(
+        pos2(r.max.x, r.max.y + 2.0),
+        Align2::RIGHT_TOP,
+        format!("Z{} →", travel.z[1]),
+    );
+    legend(
+        pos2(r.min.x, r.min.y - 2.0),
+        Align2::LEFT_BOTTOM,
+        format!("↑ X radius {}..{} mm   travel", travel.x[0], travel.x[1]),
+    );
+    if let Some(b) = detail {
+        let q = Rect::from_two_pos(f.at(b.x[0], b.z[0]), f.at(b.x[1], b.z[1]));
+        p.extend(Shape::dashed_line(
+            &[
+                q.left_top(),
+                q.right_top(),
+                q.right_bottom(),
+                q.left_bottom(),
+                q.left_top(),
+            ],
+            Stroke::new(1.0, FRAME.gamma_multiply(0.6)),
+            4.0,
+            3.0,
+        ));
+    }
+    let clip = p.with_clip_rect(r.expand(1.0));
+    draw_trail(&clip, &f, d.pulse_mm, d.trail, d.current);
+    tip_mark(&clip, &f, d.pulse_mm, d.tip);
+    r
+}
+
+/// Draws the detail view of box `b` (a grid of round millimetres, labelled), with the trail
+/// and the tip. Returns the box on screen.
+pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
+    p.rect_filled(area, 4.0, PLOT_BG);
+    let f = Frame::fit(area, 18.0, b);
+    let r = f.rect;
+    let shown = f.shown();
+    let step = grid_step((shown.z[1] - shown.z[0]).max(shown.x[1] - shown.x[0]), 8.0);
+    let small = FontId::monospace(10.0);
+    let clip = p.with_clip_rect(r);
+    let mut z = (shown.z[0] / step).ceil() * step;
+    while z <= shown.z[1] {
+        let x = f.at(0.0, z).x;
+        clip.line_segment([pos2(x, r.min.y), pos2(x, r.max.y)], Stroke::new(1.0, GRID));
+        p.text(
+            pos2(x, r.max.y + 2.0),
+            Align2::CENTER_TOP,
+            fmt_mm(z),
+            small.clone(),
+            FRAME,
+        );
+        z += step;
+    }
+    let mut x = (shown.x[0] / step).ceil() * step;
+    while x <= shown.x[1] {
+        let y = f.at(x, 0.0).y;
+        clip.line_segment([pos2(r.min.x, y), pos2(r.max.x, y)], Stroke::new(1.0, GRID));
+        p.text(
+            pos2(r.min.x - 2.0, y),
+            Align2::RIGHT_CENTER,
+            fmt_mm(x),
+            small.clone(),
+            FRAME,
+        );
+        x += step;
+    }
+    centre_lines(&clip, &f, shown);
+    p.rect_stroke(r, 0.0, Stroke::new(1.0, FRAME), StrokeKind::Outside);
+    p.text(
+        pos2(r.min.x, r.min.y - 2.0),
+        Align2::LEFT_BOTTOM,
+        format!("detail: the cuts, grid {} mm, X radius", fmt_mm(step)),
+        small,
+        FRAME,
+    );
+    draw_trail(&clip, &f, d.pulse_mm, d.trail, d.current);
+    tip_mark(&clip, &f, d.pulse_mm, d.tip);
+    r
+}
+
+/// `v` mm without needless decimals.
+fn fmt_mm(v: f64) -> String {
+    let v = if v.abs() < 1e-9 { 0.0 } else { v };
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// The spindle centreline (X = 0) dashed and the work face (Z = 0) dotted, where `b` has them.
+fn centre_lines(p: &Painter, f: &Frame, b: Box2) {
+    let r = f.rect;
+    if b.x[0] <= 0.0 && 0.0 <= b.x[1] {
         let y = f.at(0.0, 0.0).y;
         p.extend(Shape::dashed_line(
             &[pos2(r.min.x, y), pos2(r.max.x, y)],
@@ -176,7 +362,7 @@ pub fn draw(
             4.0,
         ));
     }
-    if zt[0] <= 0.0 && 0.0 <= zt[1] {
+    if b.z[0] <= 0.0 && 0.0 <= b.z[1] {
         let x = f.at(0.0, 0.0).x;
         p.extend(Shape::dashed_line(
             &[pos2(x, r.min.y), pos2(x, r.max.y)],
@@ -185,33 +371,14 @@ pub fn draw(
             3.0,
         ));
     }
-    p.rect_stroke(r, 0.0, Stroke::new(1.0, FRAME), StrokeKind::Outside);
-    let legend = |pos: Pos2, a: Align2, t: String| {
-        p.text(pos, a, t, small.clone(), FRAME);
-    };
-    legend(
-        pos2(r.min.x, r.max.y + 2.0),
-        Align2::LEFT_TOP,
-        format!("Z{}", zt[0]),
-    );
-    legend(
-        pos2(r.max.x, r.max.y + 2.0),
-        Align2::RIGHT_TOP,
-        format!("Z{} →", zt[1]),
-    );
-    legend(
-        pos2(r.min.x, r.min.y - 2.0),
-        Align2::LEFT_BOTTOM,
-        format!("↑ X radius {}..{} mm", xt[0], xt[1]),
-    );
+}
 
-    let clip = p.with_clip_rect(r.expand(1.0));
-    draw_trail(&clip, &f, pulse_mm, trail, current);
+/// The tip's cross-hair.
+fn tip_mark(p: &Painter, f: &Frame, pulse_mm: f64, tip: [i64; 2]) {
     let t = f.at(tip[0] as f64 * pulse_mm, tip[1] as f64 * pulse_mm);
     let s = Stroke::new(1.5, TIP);
-    clip.line_segment([t - vec2(7.0, 0.0), t + vec2(7.0, 0.0)], s);
-    clip.line_segment([t - vec2(0.0, 7.0), t + vec2(0.0, 7.0)], s);
-    r
+    p.line_segment([t - vec2(7.0, 0.0), t + vec2(7.0, 0.0)], s);
+    p.line_segment([t - vec2(0.0, 7.0), t + vec2(0.0, 7.0)], s);
 }
 
 /// The trail as polylines of one work each: earlier works and empty-spindle moves first,
@@ -298,19 +465,53 @@ mod tests {
     #[test]
     fn the_frame_is_at_equal_scale_z_right_x_up() {
         let d = crate::lathe::desc::LatheDesc::citizen();
-        let ch = &d.channels[0];
+        let t = Box2::travel(&d.channels[0]);
         let area = Rect::from_min_size(pos2(0.0, 0.0), vec2(500.0, 300.0));
-        let f = Frame::fit(area, 10.0, ch);
-        let [xt, zt] = [ch.axes[0].travel, ch.axes[1].travel];
+        let f = Frame::fit(area, 10.0, t);
         // Equal scale: the box has the travel's proportions, and fits.
         let ratio = f.rect.width() / f.rect.height();
-        let want = ((zt[1] - zt[0]) / (xt[1] - xt[0])) as f32;
+        let want = ((t.z[1] - t.z[0]) / (t.x[1] - t.x[0])) as f32;
         assert!((ratio - want).abs() < 1e-3, "{ratio} vs {want}");
         assert!(area.shrink(10.0).contains_rect(f.rect.shrink(0.01)));
         // Z grows to the right, X up; the travel's corners are the box's.
-        assert_eq!(f.at(xt[0], zt[0]), f.rect.left_bottom());
-        let tr = f.at(xt[1], zt[1]);
+        assert_eq!(f.at(t.x[0], t.z[0]), f.rect.left_bottom());
+        let tr = f.at(t.x[1], t.z[1]);
         assert!((tr - f.rect.right_top()).length() < 1e-3);
+        let s = f.shown();
+        assert!((s.z[1] - t.z[1]).abs() < 1e-3 && (s.x[1] - t.x[1]).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_detail_box_holds_the_cuts_and_the_tip_inside_the_travel() {
+        let travel = Box2 {
+            x: [-2.0, 35.0],
+            z: [-60.0, 60.0],
+        };
+        let mut t = Trail::new(1, 100);
+        assert_eq!(detail_box(&t, [0, 0], 0.001, travel), None);
+        t.push([35_000, 60_000], None); // home: not a cut
+        t.push([11_000, 1_000], Some(1));
+        t.push([-500, -20_000], Some(1));
+        let b = detail_box(&t, [20_000, 10_000], 0.001, travel).unwrap();
+        // The cuts and the tip inside, with a margin; the rapid from home outside.
+        assert!(b.x[0] < -0.5 && b.x[1] > 20.0 && b.z[0] < -20.0 && b.z[1] > 10.0);
+        assert!(b.x[1] < 35.0 && b.z[1] < 60.0, "{b:?}");
+        // Never past the travel.
+        assert!(b.x[0] >= -2.0, "{b:?}");
+        // A single point still gives a 4 mm box.
+        let mut one = Trail::new(1, 10);
+        one.push([5_000, -5_000], Some(2));
+        let b = detail_box(&one, [5_000, -5_000], 0.001, travel).unwrap();
+        assert!((b.z[1] - b.z[0] - 4.0).abs() < 1e-9, "{b:?}");
+    }
+
+    #[test]
+    fn grid_steps_are_round() {
+        assert_eq!(grid_step(37.0, 8.0), 5.0);
+        assert_eq!(grid_step(10.0, 8.0), 2.0);
+        assert!((grid_step(0.8, 8.0) - 0.1).abs() < 1e-12);
+        assert_eq!(fmt_mm(-2.5), "-2.5");
+        assert_eq!(fmt_mm(10.0), "10");
     }
 
     #[test]
