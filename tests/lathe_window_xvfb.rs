@@ -175,3 +175,40 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
         assert!(l.contains(&format!("CH{} RUN", i + 1)), "{l}");
     }
 }
+
+#[test]
+fn without_a_display_the_lathe_window_says_so_and_suggests_the_terminal() {
+    let dir = scratch("lathe_nodisplay");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, _out, err) = run_with_limit(cmd, Duration::from_secs(30));
+    assert!(matches!(code, Some(c) if c != 0), "exit {code:?}; {err}");
+    assert!(err.contains("no display"), "stderr: {err}");
+    assert!(err.contains("terminal panel"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+}
+
+#[test]
+fn a_bad_lathe_script_is_refused_before_anything_opens() {
+    let dir = scratch("lathe_badscript");
+    let script = dir.join("bad.txt");
+    std::fs::write(&script, "start\nfault 4 tool breakage\n").unwrap();
+    let mut cmd = Command::new(BIN);
+    // A display nobody serves: the script is read, and refused, before the window is tried.
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .env("DISPLAY", ":4093")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, _out, err) = run_with_limit(cmd, Duration::from_secs(30));
+    assert_eq!(code, Some(1), "stderr: {err}");
+    assert!(err.contains("bad.txt:2:"), "stderr: {err}");
+    assert!(err.contains("not a channel"), "stderr: {err}");
+    assert!(!err.contains("cannot open"), "stderr: {err}");
+    // Nothing was made: not even the state directory.
+    assert!(!dir.join("state").exists());
+}

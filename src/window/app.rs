@@ -170,11 +170,10 @@ impl App {
                     return;
                 }
                 PanelEvent::Show => {
-                    println!("--- display");
-                    for l in &m.view().display {
-                        println!("{l}");
-                    }
-                    println!("---");
+                    super::say(&format!(
+                        "--- display\n{}\n---",
+                        m.view().display.join("\n")
+                    ));
                 }
                 other => {
                     self.program_dirty = true;
@@ -211,13 +210,13 @@ impl App {
                         t.count
                     )
                 });
-                println!(
+                super::say(&format!(
                     "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape}",
                     path.display(),
                     r(self.layout.plasma),
                     self.layout.pitch,
                     r(self.layout.plot)
-                );
+                ));
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }
@@ -232,7 +231,7 @@ impl App {
         }
         let cpu = frame.info().cpu_usage;
         if let Some(report) = b.frame(n, self.view.machine_ns, cpu, m.pulses()) {
-            println!("{report}");
+            super::say(&report);
             self.drive.bench_frames = None;
             // With a screenshot asked for too, it is taken now, and that closes the window.
             if self.drive.screenshot.is_none() {

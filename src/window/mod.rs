@@ -202,6 +202,15 @@ pub fn parse_options(argv: &[String]) -> Result<WindowOptions, String> {
     Ok(o)
 }
 
+/// Prints a line on stdout (the script's `show`, the screenshot's layout, the benchmark's
+/// figures). A stdout nobody reads any more (a closed pipe) is no reason to panic.
+fn say(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{text}");
+    let _ = out.flush();
+}
+
 /// Whether a display server is named in the environment (X11 `DISPLAY` or `WAYLAND_DISPLAY`).
 pub fn display_named() -> bool {
     ["DISPLAY", "WAYLAND_DISPLAY"]

@@ -249,7 +249,8 @@ impl LatheApp {
                     self.waiting = Some((Instant::now(), Wait::Until(at)));
                 }
                 ScriptStep::Show => {
-                    println!("--- display\n{}\n---", crate::cli::lathe::frame_text(c));
+                    let frame = crate::cli::lathe::frame_text(c);
+                    super::say(&format!("--- display\n{frame}\n---"));
                 }
             }
         }
@@ -338,13 +339,13 @@ impl LatheApp {
                         )
                     })
                     .collect();
-                println!(
+                super::say(&format!(
                     "screenshot {} {w}x{h} plasma {} pitch {} {}",
                     path.display(),
                     rect_px(self.layout.plasma, ppp),
                     self.layout.pitch,
                     plots.join(" ")
-                );
+                ));
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }

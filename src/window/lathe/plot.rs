@@ -39,6 +39,11 @@ pub fn work_colour(w: u32) -> Color32 {
     WORK_COLOURS[(w.saturating_sub(1) % WORK_COLOURS.len() as u32) as usize]
 }
 
+/// An earlier work's colour: half as bright, opaque (the latest work drawn over the others).
+pub fn dim(c: Color32) -> Color32 {
+    Color32::from_rgb(c.r() / 2, c.g() / 2, c.b() / 2)
+}
+
 /// One sampled tool-tip position: pulses [X radius, Z], and the work in the spindle then.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrailPt {
@@ -382,7 +387,7 @@ fn tip_mark(p: &Painter, f: &Frame, pulse_mm: f64, tip: [i64; 2]) {
 }
 
 /// The trail as polylines of one work each: earlier works and empty-spindle moves first,
-/// dimmed and thin; the work in the spindle now last, bright and thick. Points closer than
+/// oldest first, dimmed and thin; the work in the spindle now last, bright and thick. Points closer than
 /// half a pixel to the last one drawn are skipped.
 fn draw_trail(p: &Painter, f: &Frame, pulse_mm: f64, trail: &Trail, current: Option<u32>) {
     let mut runs: Vec<(Option<u32>, Vec<Pos2>)> = Vec::new();
@@ -416,7 +421,7 @@ fn draw_trail(p: &Painter, f: &Frame, pulse_mm: f64, trail: &Trail, current: Opt
     }
     let stroke = |w: Option<u32>| match w {
         Some(w) if Some(w) == current => Stroke::new(2.0, work_colour(w)),
-        Some(w) => Stroke::new(1.0, work_colour(w).gamma_multiply(0.45)),
+        Some(w) => Stroke::new(1.0, dim(work_colour(w))),
         None => Stroke::new(1.0, EMPTY),
     };
     let (now, before): (Vec<_>, Vec<_>) = runs
