@@ -1,7 +1,8 @@
 //! The egui window (`novanc --window`, cargo feature `window`): the same console drawn as a
 //! desktop front panel — plasma display, selectors, relay panel, data keys, handwheel,
 //! position readout — with a backplot. It is only a renderer and input source for the same
-//! `Console` as the terminal; see docs/window.md.
+//! `Console` as the terminal; see docs/window.md. With `--machine` naming a lathe, the
+//! lathe's console instead (`lathe`, docs/window.md "The lathe window").
 
 mod app;
 mod bench;
