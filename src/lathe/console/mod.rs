@@ -191,7 +191,7 @@ impl LatheConsole {
 
     /// Nothing moves or can move without the operator: no cycle, or every channel finished,
     /// stopped, waiting on a stopped channel, faulted or in E-STOP (what `run_until_rest`
-    /// waits for).
+    /// waits for), as the last tick found it: after START, tick before asking.
     pub fn at_rest(&self) -> bool {
         self.cycle.as_ref().is_none_or(|c| !c.lathe.busy)
     }

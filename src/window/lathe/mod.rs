@@ -243,7 +243,14 @@ impl LatheApp {
                     c.event(ev);
                     self.sample(c);
                 }
-                ScriptStep::Wait => self.waiting = Some((Instant::now(), Wait::Rest)),
+                ScriptStep::Wait => {
+                    // The machine knows it is busy only once it has ticked (after a START, say),
+                    // so a wait takes one step first, as `novanc script`'s does.
+                    if c.cycle().is_some() {
+                        self.advance(c, STEP_NS);
+                    }
+                    self.waiting = Some((Instant::now(), Wait::Rest));
+                }
                 ScriptStep::WaitMs(ms) => {
                     let at = c.machine_ns().saturating_add(ms.saturating_mul(1_000_000));
                     self.waiting = Some((Instant::now(), Wait::Until(at)));
@@ -407,5 +414,68 @@ impl eframe::App for LatheApp {
 
     fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
         controls::ENAMEL.to_normalized_gamma_f32()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lathe::console::events::LatheEv;
+
+    fn app(name: &str, steps: Vec<ScriptStep>) -> (LatheApp, PathBuf) {
+        let d =
+            std::env::temp_dir().join(format!("novanc-lathe-window-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        let (c, _) = LatheConsole::open(LatheDesc::citizen(), &d, 12, 40, None).unwrap();
+        let a = LatheApp::new(c, Some(steps), None, Arc::new(AtomicI32::new(0)));
+        (a, d)
+    }
+
+    /// Plays the whole script as frames would, each within its budget.
+    fn play_all(a: &mut LatheApp) -> LatheConsole {
+        let ctx = egui::Context::default();
+        let mut c = a.console.take().unwrap();
+        let mut frames = 0;
+        while !a.script_done() {
+            a.play(&mut c, &ctx);
+            frames += 1;
+            assert!(frames < 100_000, "the script does not end");
+        }
+        c
+    }
+
+    #[test]
+    fn a_script_wait_after_start_runs_the_cycle_to_rest_in_virtual_time() {
+        let (mut a, d) = app(
+            "wait",
+            vec![ScriptStep::Ev(LatheEv::Start), ScriptStep::Wait],
+        );
+        let c = play_all(&mut a);
+        assert!(c.at_rest());
+        assert_eq!(
+            c.counter().counts,
+            vec![5, 5, 5],
+            "the 5-part run, all of it"
+        );
+        assert!(c.machine_ns() > 60_000_000_000, "{} ns", c.machine_ns());
+        // Every channel's trail holds its cuts, tagged with the works 1 to 5.
+        for t in &a.trails {
+            let works: std::collections::BTreeSet<u32> =
+                t.points().filter_map(|p| p.work).collect();
+            assert_eq!(works.into_iter().collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
+        }
+        let _ = std::fs::remove_dir_all(d);
+    }
+
+    #[test]
+    fn a_script_wait_ms_lets_exactly_that_machine_time_pass() {
+        let (mut a, d) = app(
+            "waitms",
+            vec![ScriptStep::Ev(LatheEv::Start), ScriptStep::WaitMs(1_234)],
+        );
+        let c = play_all(&mut a);
+        assert_eq!(c.machine_ns(), 1_234_000_000);
+        assert!(!c.at_rest(), "the cycle runs on");
+        let _ = std::fs::remove_dir_all(d);
     }
 }
