@@ -288,7 +288,11 @@ impl LatheApp {
         let mut acts = Vec::new();
         let events = ctx.input(|i| i.events.clone());
         for k in super::keys::terminal_keys(&events) {
-            if k == novanc_panel::Key::Alt('q') {
+            // Ctrl+C and Alt+Q quit the terminal panel: here they close the window.
+            if matches!(
+                k,
+                novanc_panel::Key::Alt('q') | novanc_panel::Key::Ctrl('c')
+            ) {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             } else {
                 acts.push(Act::Press(k));
