@@ -341,7 +341,7 @@ impl eframe::App for App {
 }
 
 /// Mouse-wheel movement in notches (one line = one notch, 40 points = one notch), positive up.
-pub(super) fn scroll_notches(events: &[egui::Event]) -> f32 {
+fn scroll_notches(events: &[egui::Event]) -> f32 {
     events
         .iter()
         .map(|e| match e {

@@ -298,10 +298,7 @@ impl LatheApp {
                 acts.push(Act::Press(k));
             }
         }
-        self.hand.scroll += super::app::scroll_notches(&events);
         self.draw(ui, c, &mut acts);
-        // Whole notches nobody under the pointer took are dropped.
-        self.hand.scroll = self.hand.scroll.fract();
         for a in acts {
             match a {
                 Act::Ev(ev) => c.event(ev),
