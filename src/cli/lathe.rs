@@ -4,7 +4,7 @@
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::lathe::console::events::parse_line;
+use crate::lathe::console::events::ScriptStep;
 use crate::lathe::console::LatheConsole;
 use crate::lathe::desc::{load, LatheDesc, MachineDesc};
 use std::io::Write;
@@ -294,32 +294,10 @@ pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
         Ok(t) => t,
         Err(e) => return fail(&format!("novanc script: {}: {e}", file.display())),
     };
-    let mut steps = Vec::new();
-    for (i, l) in text.lines().enumerate() {
-        let t = l.trim();
-        let step = match t {
-            "wait" => Step::Wait,
-            "show" => Step::Show,
-            _ if t.starts_with("wait ms ") => match t[8..].trim().parse::<u64>() {
-                Ok(ms) if ms <= 3_600_000_000 => Step::WaitMs(ms),
-                _ => {
-                    return fail(&format!(
-                        "novanc script: {}:{}: wait ms T: T in milliseconds",
-                        file.display(),
-                        i + 1
-                    ))
-                }
-            },
-            _ => match parse_line(t, desc.channels.len()) {
-                Ok(Some(ev)) => Step::Ev(ev),
-                Ok(None) => continue,
-                Err(e) => {
-                    return fail(&format!("novanc script: {}:{}: {e}", file.display(), i + 1))
-                }
-            },
-        };
-        steps.push(step);
-    }
+    let steps = match crate::lathe::console::events::parse_script(&text, desc.channels.len()) {
+        Ok(s) => s,
+        Err((line, e)) => return fail(&format!("novanc script: {}:{line}: {e}", file.display())),
+    };
     let temp = (!has_state).then(|| {
         let d = std::env::temp_dir().join(format!("novanc-lathe-script-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
@@ -334,18 +312,11 @@ pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
     super::signals::exit_code(code)
 }
 
-enum Step {
-    Ev(crate::lathe::console::events::LatheEv),
-    Wait,
-    WaitMs(u64),
-    Show,
-}
-
 fn run_script(
     desc: LatheDesc,
     state: &Path,
     cfg: &crate::console::ConsoleConfig,
-    steps: Vec<Step>,
+    steps: Vec<ScriptStep>,
 ) -> i32 {
     let (mut c, warnings) =
         match LatheConsole::open(desc, state, cfg.rows, cfg.cols, cfg.record.as_deref()) {
@@ -362,12 +333,12 @@ fn run_script(
             break;
         }
         match s {
-            Step::Ev(ev) => c.event(ev),
-            Step::Wait => {
+            ScriptStep::Ev(ev) => c.event(ev),
+            ScriptStep::Wait => {
                 c.run_until_rest(3_600_000_000_000_000);
             }
-            Step::WaitMs(ms) => c.tick(ms * 1_000_000),
-            Step::Show => {
+            ScriptStep::WaitMs(ms) => c.tick(ms * 1_000_000),
+            ScriptStep::Show => {
                 let _ = writeln!(out, "--- display\n{}\n---", frame_text(&c));
             }
         }

@@ -118,7 +118,16 @@ fn window(argv: &[String]) -> i32 {
         print!("{}", crate::window::HELP);
         return 0;
     }
-    let (cfg, rest) = match console_opts::config_from_args(&opts.console_args) {
+    // `--machine` first: a lathe opens the lathe's window; the centre's axes go to the mill's.
+    let (machine, args) = match lathe::take_machine(&opts.console_args) {
+        Err(e) => return usage_error(&e),
+        Ok(None) => (None, opts.console_args.clone()),
+        Ok(Some((m, rest))) => match lathe::machine(&m) {
+            Err(e) => return usage_error(&e),
+            Ok(d) => (Some(d), rest),
+        },
+    };
+    let (mut cfg, rest) = match console_opts::config_from_args(&args) {
         Ok(x) => x,
         Err(e) => return usage_error(&e),
     };
@@ -127,7 +136,14 @@ fn window(argv: &[String]) -> i32 {
             "unknown option '{a}' (see novanc --window --help)"
         ));
     }
-    crate::window::run(cfg, opts)
+    match machine {
+        Some(crate::lathe::desc::MachineDesc::Lathe(d)) => crate::window::lathe::run(d, cfg, opts),
+        Some(crate::lathe::desc::MachineDesc::Mill(m)) => {
+            lathe::apply_mill(&mut cfg.settings, &m);
+            crate::window::run(cfg, opts)
+        }
+        None => crate::window::run(cfg, opts),
+    }
 }
 
 /// Prints a failure (already in its final form, e.g. `PROG:LINE:COL: message`) on stderr and

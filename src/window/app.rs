@@ -7,6 +7,7 @@ use super::bench::Bench;
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::plot::PlotState;
+use super::shot::{rect_px, Shot};
 use super::tapestrip::{self, StripLayout};
 use super::Machine;
 use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
@@ -14,7 +15,7 @@ use egui::{vec2, Color32, Rect};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// What a headless run asks of the window (all optional).
@@ -39,14 +40,6 @@ enum Waiting {
     Block(u32),
     /// `wait ms T`: machine time at or past this, ns.
     Until(u64),
-}
-
-/// Where the screenshot stands.
-enum Shot {
-    Idle,
-    Settling(u32),
-    Requested(Arc<Mutex<Option<Arc<egui::ColorImage>>>>),
-    Done,
 }
 
 /// The screen rectangles a test needs to read a screenshot (physical pixels).
@@ -177,11 +170,10 @@ impl App {
                     return;
                 }
                 PanelEvent::Show => {
-                    println!("--- display");
-                    for l in &m.view().display {
-                        println!("{l}");
-                    }
-                    println!("---");
+                    super::say(&format!(
+                        "--- display\n{}\n---",
+                        m.view().display.join("\n")
+                    ));
                 }
                 other => {
                     self.program_dirty = true;
@@ -199,74 +191,34 @@ impl App {
         let Some(path) = self.drive.screenshot.clone() else {
             return;
         };
-        match &self.shot {
-            Shot::Idle
-                if self.script_done()
-                    && !self.translating
-                    && !self.program_dirty
-                    && (self.bench.is_none() || self.drive.bench_frames.is_none()) =>
-            {
-                self.shot = Shot::Settling(3)
-            }
-            Shot::Settling(0) => {
-                let slot = Arc::new(Mutex::new(None));
-                let s2 = slot.clone();
-                let c2 = ctx.clone();
-                ctx.request_screenshot(move |img| {
-                    if let Ok(mut g) = s2.lock() {
-                        *g = Some(img);
-                    }
-                    c2.request_repaint();
+        let ready = self.script_done()
+            && !self.translating
+            && !self.program_dirty
+            && (self.bench.is_none() || self.drive.bench_frames.is_none());
+        match self.shot.step(ctx, &path, ready) {
+            None => {}
+            Some(Err(e)) => self.fail(ctx, e),
+            Some(Ok([w, h])) => {
+                let r = |o: Option<Rect>| rect_px(o, ctx.pixels_per_point());
+                let ppp = ctx.pixels_per_point();
+                let tape = self.layout.tape.map_or("none".to_string(), |t| {
+                    format!(
+                        "{} strip {} first {} count {}",
+                        r(Some(t.rect)),
+                        (t.pitch * ppp).round(),
+                        t.first,
+                        t.count
+                    )
                 });
-                self.shot = Shot::Requested(slot);
+                super::say(&format!(
+                    "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape}",
+                    path.display(),
+                    r(self.layout.plasma),
+                    self.layout.pitch,
+                    r(self.layout.plot)
+                ));
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
-            Shot::Settling(n) => self.shot = Shot::Settling(n - 1),
-            Shot::Requested(slot) => {
-                let img = slot.lock().ok().and_then(|mut g| g.take());
-                if let Some(img) = img {
-                    let [w, h] = img.size;
-                    let rgb: Vec<u8> = img
-                        .pixels
-                        .iter()
-                        .flat_map(|p| [p.r(), p.g(), p.b()])
-                        .collect();
-                    if let Err(e) = super::image::write(&path, w, h, &rgb) {
-                        self.fail(ctx, format!("cannot write {}: {e}", path.display()));
-                        return;
-                    }
-                    let ppp = ctx.pixels_per_point();
-                    let r = |o: Option<Rect>| {
-                        o.map_or("none".to_string(), |r| {
-                            format!(
-                                "{} {} {} {}",
-                                (r.min.x * ppp).round(),
-                                (r.min.y * ppp).round(),
-                                (r.width() * ppp).round(),
-                                (r.height() * ppp).round()
-                            )
-                        })
-                    };
-                    let tape = self.layout.tape.map_or("none".to_string(), |t| {
-                        format!(
-                            "{} strip {} first {} count {}",
-                            r(Some(t.rect)),
-                            (t.pitch * ppp).round(),
-                            t.first,
-                            t.count
-                        )
-                    });
-                    println!(
-                        "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape}",
-                        path.display(),
-                        r(self.layout.plasma),
-                        self.layout.pitch,
-                        r(self.layout.plot)
-                    );
-                    self.shot = Shot::Done;
-                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-                }
-            }
-            _ => {}
         }
     }
 
@@ -279,7 +231,7 @@ impl App {
         }
         let cpu = frame.info().cpu_usage;
         if let Some(report) = b.frame(n, self.view.machine_ns, cpu, m.pulses()) {
-            println!("{report}");
+            super::say(&report);
             self.drive.bench_frames = None;
             // With a screenshot asked for too, it is taken now, and that closes the window.
             if self.drive.screenshot.is_none() {
@@ -347,10 +299,8 @@ impl App {
         }
         self.screenshot(&ctx);
         self.measure(m, &ctx, frame);
-        let headless_busy = !self.script_done()
-            || self.translating
-            || self.bench.is_some()
-            || matches!(self.shot, Shot::Settling(_) | Shot::Requested(_));
+        let headless_busy =
+            !self.script_done() || self.translating || self.bench.is_some() || self.shot.busy();
         if headless_busy {
             // Scripts, screenshots and the benchmark run frames back to back.
             ctx.request_repaint();
@@ -485,7 +435,7 @@ impl App {
                     out.push(PanelEvent::Data(DataMode::ALL[i]));
                 }
             });
-            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out));
+            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out, true));
             ui.vertical(|ui| controls::readout(ui, view));
         });
         ui.label(

@@ -101,6 +101,59 @@ pub fn read_ppm(bytes: &[u8]) -> Option<(usize, usize, Vec<u8>)> {
     Some((w, h, data.to_vec()))
 }
 
+/// Reads a PNG written by `png` back (8-bit RGB, no filters, stored deflate blocks):
+/// (width, height, rgb). Any other PNG, or a damaged one, gives `None`.
+pub fn read_png(bytes: &[u8]) -> Option<(usize, usize, Vec<u8>)> {
+    if bytes.get(..8)? != [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A] {
+        return None;
+    }
+    let (mut i, mut w, mut h, mut z) = (8, 0, 0, Vec::new());
+    while i + 12 <= bytes.len() {
+        let len = u32::from_be_bytes(bytes[i..i + 4].try_into().ok()?) as usize;
+        let kind = &bytes[i + 4..i + 8];
+        let data = bytes.get(i + 8..i + 8 + len)?;
+        match kind {
+            b"IHDR" => {
+                w = u32::from_be_bytes(data.get(0..4)?.try_into().ok()?) as usize;
+                h = u32::from_be_bytes(data.get(4..8)?.try_into().ok()?) as usize;
+                if data.get(8..13)? != [8, 2, 0, 0, 0] {
+                    return None;
+                }
+            }
+            b"IDAT" => z.extend_from_slice(data),
+            b"IEND" => break,
+            _ => {}
+        }
+        i += 12 + len;
+    }
+    // zlib header, then stored blocks: BFINAL/BTYPE byte, LEN, NLEN, the bytes.
+    let mut raw = Vec::with_capacity((w * 3 + 1) * h);
+    let mut j = 2;
+    loop {
+        let head = *z.get(j)?;
+        if head & 0b110 != 0 {
+            return None;
+        }
+        let len = u16::from_le_bytes(z.get(j + 1..j + 3)?.try_into().ok()?) as usize;
+        raw.extend_from_slice(z.get(j + 5..j + 5 + len)?);
+        j += 5 + len;
+        if head & 1 == 1 {
+            break;
+        }
+    }
+    if raw.len() != (w * 3 + 1) * h || adler32(&raw).to_be_bytes() != *z.get(j..j + 4)? {
+        return None;
+    }
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    for row in raw.chunks(w * 3 + 1) {
+        if row[0] != 0 {
+            return None;
+        }
+        rgb.extend_from_slice(&row[1..]);
+    }
+    Some((w, h, rgb))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,5 +177,19 @@ mod tests {
         // The IDAT payload holds the filtered rows verbatim (stored blocks).
         let filtered_len = (2 * 3 + 1) * 3;
         assert!(g.len() > filtered_len + 8 + 25 + 12);
+        assert_eq!(read_png(&g), Some((2, 3, rgb.clone())));
+        // Damaged: a changed byte in the pixels breaks the checksum.
+        let mut bad = g.clone();
+        let k = bad.len() - 12 - 4 - 4 - 1; // the last pixel byte, before Adler-32 and CRC
+        bad[k] ^= 1;
+        assert_eq!(read_png(&bad), None);
+        assert_eq!(read_png(&p), None);
+    }
+
+    #[test]
+    fn a_large_png_spans_several_stored_blocks_and_reads_back() {
+        let (w, h) = (300, 100); // 90,100 filtered bytes: two blocks
+        let rgb: Vec<u8> = (0..w * h * 3).map(|i| (i * 7 % 251) as u8).collect();
+        assert_eq!(read_png(&png(w, h, &rgb)), Some((w, h, rgb)));
     }
 }

@@ -24,8 +24,9 @@ pub const NUMERIC_KEYS: [(char, char); 12] = [
 ];
 
 /// The data keys: alphabetic (15a), numeric with shifted characters (15b), SHIFT (15c),
-/// SPACE, RUBOUT and EOB.
-pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
+/// SPACE, RUBOUT and EOB; with `tape`, the tape reader and punch keys too (the lathe has
+/// none).
+pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>, tape: bool) {
     let key = |ui: &mut Ui, label: &str, w: f32, lit: bool| -> bool {
         let b = egui::Button::new(egui::RichText::new(label).monospace().size(13.0))
             .min_size(vec2(w, 26.0))
@@ -69,10 +70,10 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
         if key(ui, "EOB *", 70.0, false) {
             out.push(PanelEvent::Eob);
         }
-        if key(ui, "TAPE", 50.0, false) {
+        if tape && key(ui, "TAPE", 50.0, false) {
             hand.tape_requested = true;
         }
-        if key(ui, "PUNCH", 56.0, false) {
+        if tape && key(ui, "PUNCH", 56.0, false) {
             hand.punch_requested = true;
         }
     });
@@ -190,6 +191,80 @@ pub fn keyboard(
             _ => {}
         }
     }
+}
+
+/// The physical keyboard as the terminal's keys (`novanc_panel::Key`), for a console that
+/// takes those (the lathe's `LatheConsole::press`, docs/lathe.md "Keys"): typed text is
+/// `Char` (not with Alt or Ctrl held), Enter, Backspace, Tab, Esc, the arrows and pages, F1–F12,
+/// Alt with a letter or digit, Ctrl with a letter.
+pub fn terminal_keys(events: &[egui::Event]) -> Vec<Key> {
+    use egui::Key as K;
+    let alt_combo = events.iter().any(|e| {
+        matches!(e, egui::Event::Key { pressed: true, modifiers, .. }
+            if modifiers.alt || modifiers.ctrl)
+    });
+    let mut out = Vec::new();
+    for e in events {
+        match e {
+            egui::Event::Text(t) if !alt_combo => {
+                out.extend(t.chars().filter(|c| !c.is_control()).map(Key::Char));
+            }
+            egui::Event::Key {
+                key,
+                pressed: true,
+                modifiers,
+                ..
+            } => {
+                let named = match key {
+                    K::Enter => Some(Key::Enter),
+                    K::Backspace => Some(Key::Backspace),
+                    K::Tab => Some(Key::Tab),
+                    K::Escape => Some(Key::Esc),
+                    K::ArrowUp => Some(Key::Up),
+                    K::ArrowDown => Some(Key::Down),
+                    K::ArrowLeft => Some(Key::Left),
+                    K::ArrowRight => Some(Key::Right),
+                    K::PageUp => Some(Key::PageUp),
+                    K::PageDown => Some(Key::PageDown),
+                    _ => None,
+                };
+                let fkeys = [
+                    K::F1,
+                    K::F2,
+                    K::F3,
+                    K::F4,
+                    K::F5,
+                    K::F6,
+                    K::F7,
+                    K::F8,
+                    K::F9,
+                    K::F10,
+                    K::F11,
+                    K::F12,
+                ];
+                // A letter or digit key's character (lower case), for Alt and Ctrl.
+                let ch = key
+                    .name()
+                    .chars()
+                    .next()
+                    .filter(|c| key.name().len() == 1 && c.is_ascii_alphanumeric())
+                    .map(|c| c.to_ascii_lowercase());
+                if let Some(i) = fkeys.iter().position(|k| k == key) {
+                    out.push(Key::F(i as u8 + 1));
+                } else if let (true, Some(c)) = (modifiers.alt, ch) {
+                    out.push(Key::Alt(c));
+                } else if let (true, Some(c)) = (modifiers.ctrl || modifiers.command, ch) {
+                    if c.is_ascii_alphabetic() {
+                        out.push(Key::Ctrl(c));
+                    }
+                } else if let Some(k) = named {
+                    out.push(k);
+                }
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The terminal key of an axis direction: X on Left/Right, Y on Up/Down, Z on PgUp/PgDn.
@@ -359,6 +434,42 @@ mod tests {
             ]
         );
         assert_eq!(h.key_jog, None);
+    }
+
+    #[test]
+    fn terminal_keys_are_what_the_terminal_decoder_gives() {
+        let mut ctrl = key(egui::Key::C, true, false, false);
+        if let egui::Event::Key { modifiers, .. } = &mut ctrl {
+            modifiers.ctrl = true;
+        }
+        let evs = [
+            egui::Event::Text("g1".into()),
+            key(egui::Key::Enter, true, false, false),
+            key(egui::Key::F9, true, false, false),
+            key(egui::Key::Tab, true, false, false),
+            key(egui::Key::Tab, false, false, false),
+        ];
+        assert_eq!(
+            terminal_keys(&evs),
+            [
+                Key::Char('g'),
+                Key::Char('1'),
+                Key::Enter,
+                Key::F(9),
+                Key::Tab
+            ]
+        );
+        // With Alt or Ctrl held the text is the shortcut's, not a data key.
+        let evs = [
+            key(egui::Key::F, true, false, true),
+            egui::Event::Text("f".into()),
+            key(egui::Key::Num3, true, false, true),
+            ctrl,
+        ];
+        assert_eq!(
+            terminal_keys(&evs),
+            [Key::Alt('f'), Key::Alt('3'), Key::Ctrl('c')]
+        );
     }
 
     #[test]

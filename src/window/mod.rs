@@ -1,7 +1,8 @@
 //! The egui window (`novanc --window`, cargo feature `window`): the same console drawn as a
 //! desktop front panel — plasma display, selectors, relay panel, data keys, handwheel,
 //! position readout — with a backplot. It is only a renderer and input source for the same
-//! `Console` as the terminal; see docs/window.md.
+//! `Console` as the terminal; see docs/window.md. With `--machine` naming a lathe, the
+//! lathe's console instead (`lathe`, docs/window.md "The lathe window").
 
 mod app;
 mod bench;
@@ -9,9 +10,11 @@ mod controls;
 pub mod font;
 pub mod image;
 mod keys;
+pub mod lathe;
 mod pathdraw;
 mod plasma;
 mod plot;
+mod shot;
 mod tapestrip;
 mod velocity;
 
@@ -122,9 +125,13 @@ impl Machine for crate::console::Console {
 pub const HELP: &str = "\
 usage: novanc --window [console options] [--script FILE] [--screenshot OUT.ppm|OUT.png]
                        [--bench-frames N] [--size WxH]
+       novanc --window --machine citizen [--state DIR] [--record OUT.mcap] [--script FILE]
+                       [--screenshot OUT] [--size WxH]
 
-The console in an egui window (see docs/window.md).
+The console in an egui window (see docs/window.md); with --machine naming a lathe, the lathe's
+console: every channel side by side with its backplot (\"The lathe window\").
   --script FILE       play a panel script (docs/cli.md) into the console, then keep running
+                      (a lathe script, docs/lathe.md, runs in virtual time)
   --screenshot OUT    after the script (and the benchmark), write a screenshot (PPM, or PNG
                       if OUT ends in .png)
                       and close; prints the plasma and backplot rectangles
@@ -196,6 +203,15 @@ pub fn parse_options(argv: &[String]) -> Result<WindowOptions, String> {
     Ok(o)
 }
 
+/// Prints a line on stdout (the script's `show`, the screenshot's layout, the benchmark's
+/// figures). A stdout nobody reads any more (a closed pipe) is no reason to panic.
+fn say(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{text}");
+    let _ = out.flush();
+}
+
 /// Whether a display server is named in the environment (X11 `DISPLAY` or `WAYLAND_DISPLAY`).
 pub fn display_named() -> bool {
     ["DISPLAY", "WAYLAND_DISPLAY"]
@@ -245,11 +261,24 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
             return 1;
         }
     };
-    let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
+    let size = opts.size.unwrap_or((1400.0, 860.0));
+    open_window("novanc — NC panel", size, move |exit| {
+        Box::new(app::App::new(machine, drive, exit))
+    })
+}
+
+/// Opens an eframe window titled `title`, `size` points, with the app `make` builds (given
+/// the cell its exit code goes in); runs it until it closes; returns the exit code. A window
+/// that cannot open says why and suggests the terminal.
+fn open_window(
+    title: &str,
+    size: (f32, f32),
+    make: impl FnOnce(Arc<AtomicI32>) -> Box<dyn eframe::App> + 'static,
+) -> i32 {
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
-            .with_title("novanc — NC panel")
-            .with_inner_size([w, h]),
+            .with_title(title)
+            .with_inner_size([size.0, size.1]),
         ..eframe::NativeOptions::default()
     };
     let exit = Arc::new(AtomicI32::new(0));
@@ -260,7 +289,7 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
             native,
             Box::new(move |cc| {
                 cc.egui_ctx.set_visuals(egui::Visuals::dark());
-                Ok(Box::new(app::App::new(machine, drive, exit2)))
+                Ok(make(exit2))
             }),
         )
     }));

@@ -180,6 +180,43 @@ pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String
     Ok(Some(ev))
 }
 
+/// One line of a lathe panel script: an event, or one of the runner's own words.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScriptStep {
+    /// An operator action.
+    Ev(LatheEv),
+    /// `wait`: until every channel is at rest (`LatheConsole::at_rest`).
+    Wait,
+    /// `wait ms T`: T milliseconds of machine time.
+    WaitMs(u64),
+    /// `show`: print the display.
+    Show,
+}
+
+/// Reads a whole lathe panel script (`novanc script --machine M`, the lathe window's
+/// `--script`); a bad line gives its number (1-based) and why, and nothing is returned.
+pub fn parse_script(text: &str, channels: usize) -> Result<Vec<ScriptStep>, (usize, String)> {
+    let mut steps = Vec::new();
+    for (i, l) in text.lines().enumerate() {
+        let t = l.trim();
+        let step = match t {
+            "wait" => ScriptStep::Wait,
+            "show" => ScriptStep::Show,
+            _ if t.starts_with("wait ms ") => match t[8..].trim().parse::<u64>() {
+                Ok(ms) if ms <= 3_600_000_000 => ScriptStep::WaitMs(ms),
+                _ => return Err((i + 1, "wait ms T: T in milliseconds".into())),
+            },
+            _ => match parse_line(t, channels) {
+                Ok(Some(ev)) => ScriptStep::Ev(ev),
+                Ok(None) => continue,
+                Err(e) => return Err((i + 1, e)),
+            },
+        };
+        steps.push(step);
+    }
+    Ok(steps)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -214,5 +251,28 @@ mod tests {
             .unwrap_err()
             .contains("AUTO, MDI, DATA and OFS"));
         assert_eq!(parse_line("  # note", 3), Ok(None));
+    }
+
+    #[test]
+    fn a_script_reads_whole_or_names_its_bad_line() {
+        let s = parse_script("# c\nstart\nwait ms 250\n\nwait\nshow\n", 3).unwrap();
+        assert_eq!(
+            s,
+            [
+                ScriptStep::Ev(LatheEv::Start),
+                ScriptStep::WaitMs(250),
+                ScriptStep::Wait,
+                ScriptStep::Show
+            ]
+        );
+        assert_eq!(
+            parse_script("start\nwait ms x\n", 3).unwrap_err().0,
+            2,
+            "the bad line's number"
+        );
+        assert!(parse_script("fault 9 x\n", 3)
+            .unwrap_err()
+            .1
+            .contains("not a channel"));
     }
 }

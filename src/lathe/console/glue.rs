@@ -193,6 +193,16 @@ impl Cycle {
         }
     }
 
+    /// Each channel's work in the spindle now (`None` for a channel not in this run).
+    pub fn works(&self, out: &mut [Option<u32>]) {
+        out.iter_mut().for_each(|w| *w = None);
+        for i in 0..self.lathe.channels() {
+            if let Some(s) = self.lathe.channel(i) {
+                out[self.console_ch(i)] = s.work;
+            }
+        }
+    }
+
     /// Records what the machine reported (times offset by the cycle's start) and returns each
     /// console channel's part count.
     pub fn drain(&mut self, mut rec: Option<&mut LatheRecorder>, counts: &[u32]) -> Vec<u32> {

@@ -166,6 +166,11 @@ impl LatheConsole {
         &self.message
     }
 
+    /// The mode: AUTO, MDI or DATA.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
     /// The switches: OPTIONAL STOP, BLOCK DELETE.
     pub fn switches(&self) -> (bool, bool) {
         (self.optional_stop, self.block_delete)
@@ -179,6 +184,23 @@ impl LatheConsole {
     /// Machine time, ns.
     pub fn machine_ns(&self) -> u64 {
         self.now_ns
+    }
+
+    /// Each channel's tool tip, pulses [X radius, Z], and the work in its spindle, as the last
+    /// tick left them (the window's backplot samples these after every step).
+    pub fn tips(&self) -> Vec<([i64; 2], Option<u32>)> {
+        let mut works = vec![None; self.desc.channels.len()];
+        if let Some(c) = &self.cycle {
+            c.works(&mut works);
+        }
+        self.pos.iter().copied().zip(works).collect()
+    }
+
+    /// Nothing moves or can move without the operator: no cycle, or every channel finished,
+    /// stopped, waiting on a stopped channel, faulted or in E-STOP (what `run_until_rest`
+    /// waits for), as the last tick found it: after START, tick before asking.
+    pub fn at_rest(&self) -> bool {
+        self.cycle.as_ref().is_none_or(|c| !c.lathe.busy)
     }
 
     /// A key of the terminal.

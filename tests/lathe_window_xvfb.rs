@@ -1,0 +1,214 @@
+//! The lathe window under Xvfb (issue 13, docs/window.md "The lathe window"):
+//! `novanc --window --machine citizen` plays a panel script that starts the cycle and lets 25 s
+//! of machine time pass (virtual time), then takes a PNG screenshot. The pixels must show, in
+//! each of the three channels' backplots, the path cut on the work in its spindle (drawn in
+//! that work's colour), and the plasma display read back dot by dot must be the selected
+//! channel's display as the script's `show` printed it.
+//!
+//! Needs Xvfb, as tests/window_xvfb.rs: without it the test fails when CI=true and is skipped
+//! loudly otherwise.
+#![cfg(feature = "window")]
+
+#[path = "common/xvfb.rs"]
+mod xvfb;
+
+use novanc::window::image::read_png;
+use novanc::window::lathe::plot::WORK_COLOURS;
+use std::process::Command;
+use std::time::Duration;
+use xvfb::{px, read_plasma, run_with_limit, scratch, xvfb_or_skip, R};
+
+const BIN: &str = env!("CARGO_BIN_EXE_novanc");
+
+/// The `screenshot PATH WxH plasma X Y W H pitch P plot1 X Y W H detail1 X Y W H ...` line.
+struct Shot {
+    size: (usize, usize),
+    plasma: R,
+    pitch: usize,
+    plots: Vec<R>,
+    details: Vec<R>,
+}
+
+fn parse_layout(stdout: &str) -> Shot {
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("screenshot "))
+        .unwrap_or_else(|| panic!("no screenshot line in stdout:\n{stdout}"));
+    let w: Vec<&str> = line.split_whitespace().collect();
+    let num = |i: usize| -> usize { w[i].parse::<f64>().unwrap() as usize };
+    let at = |k: &str| {
+        w.iter()
+            .position(|x| *x == k)
+            .unwrap_or_else(|| panic!("no '{k}' in {line}"))
+    };
+    let rect = |k: &str| {
+        let i = at(k);
+        R {
+            x: num(i + 1),
+            y: num(i + 2),
+            w: num(i + 3),
+            h: num(i + 4),
+        }
+    };
+    let (sw, sh) = w[2].split_once('x').unwrap();
+    Shot {
+        size: (sw.parse().unwrap(), sh.parse().unwrap()),
+        plasma: rect("plasma"),
+        pitch: num(at("pitch") + 1),
+        plots: (1..=3).map(|i| rect(&format!("plot{i}"))).collect(),
+        details: (1..=3).map(|i| rect(&format!("detail{i}"))).collect(),
+    }
+}
+
+/// A pixel of the path cut on a work: one of the works' colours (the work in the spindle is
+/// drawn at full colour, two pixels wide).
+fn is_work_path(p: [u8; 3]) -> bool {
+    WORK_COLOURS.iter().any(|c| {
+        let c = [c.r(), c.g(), c.b()];
+        (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() <= 12)
+    })
+}
+
+fn count(img: &(usize, usize, Vec<u8>), r: R, f: impl Fn([u8; 3]) -> bool) -> usize {
+    (r.y..r.y + r.h)
+        .flat_map(|y| (r.x..r.x + r.w).map(move |x| (x, y)))
+        .filter(|&(x, y)| f(px(img, x, y)))
+        .count()
+}
+
+#[test]
+fn the_lathe_window_shows_every_channel_with_its_backplot() {
+    let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
+        return;
+    };
+    let dir = scratch("lathe");
+    let script = dir.join("run25.txt");
+    std::fs::write(
+        &script,
+        "# the cycle, 25 s of machine time: every channel has a work and cuts it\nstart\nwait ms 25000\nshow\n",
+    )
+    .unwrap();
+    let shot = dir.join("shot.png");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--size", "1400x860"])
+        .arg("--record")
+        .arg(dir.join("run.mcap"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    // Closing the window closed the recording.
+    assert!(err.contains("recording"), "no recording summary: {err}");
+    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
+    assert!(mcap.starts_with(b"\x89MCAP0\r\n") && mcap.ends_with(b"\x89MCAP0\r\n"));
+
+    let s = parse_layout(&out);
+    let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
+    assert_eq!((img.0, img.1), s.size, "the PNG's size is the one printed");
+    assert_eq!(s.size, (1400, 860));
+
+    // The three channels side by side: their boxes left to right, apart, inside the image.
+    for w in s.plots.windows(2) {
+        assert!(w[0].x + w[0].w < w[1].x, "plots overlap: {:?}", s.plots);
+    }
+    for r in s.plots.iter().chain(&s.details).chain([&s.plasma]) {
+        assert!(r.x + r.w <= img.0 && r.y + r.h <= img.1, "{r:?} outside");
+        assert!(r.w > 100 && r.h > 50, "{r:?} too small");
+    }
+    // Each backplot holds its work's path; the travel box (Z 120 mm by X 37 mm) at equal scale.
+    for (i, (p, d)) in s.plots.iter().zip(&s.details).enumerate() {
+        let ratio = p.w as f64 / p.h as f64;
+        assert!(
+            (ratio - 120.0 / 37.0).abs() < 0.1,
+            "CH{} travel box {p:?}",
+            i + 1
+        );
+        let (np, nd) = (count(&img, *p, is_work_path), count(&img, *d, is_work_path));
+        assert!(
+            np >= 20 && nd >= 40,
+            "CH{}: {np} path pixels in the travel box, {nd} in the detail",
+            i + 1
+        );
+    }
+    // Nothing else in the window is drawn in the works' colours.
+    let outside: usize = (0..img.1)
+        .flat_map(|y| (0..img.0).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let inside = |r: &R| x >= r.x && x < r.x + r.w && y >= r.y && y < r.y + r.h;
+            !s.plots.iter().chain(&s.details).any(inside)
+        })
+        .filter(|&(x, y)| is_work_path(px(&img, x, y)))
+        .count();
+    // The readouts name each channel's work in its colour (a few hundred pixels of text).
+    assert!(
+        outside < 2_000,
+        "{outside} pixels of path colour outside the plots"
+    );
+
+    // The plasma display: the selected channel's display, as `show` printed it (the frame's
+    // last lines; the title and summary lines come before).
+    let seen = read_plasma(&img, s.plasma, s.pitch);
+    let shown: Vec<&str> = out
+        .lines()
+        .skip_while(|l| *l != "--- display")
+        .skip(1)
+        .take_while(|l| *l != "---")
+        .collect();
+    assert!(shown.len() > seen.len(), "show printed:\n{out}");
+    let display = &shown[shown.len() - seen.len()..];
+    assert_eq!(
+        seen.iter().map(|l| l.trim_end()).collect::<Vec<_>>(),
+        display.iter().map(|l| l.trim_end()).collect::<Vec<_>>(),
+        "the window's plasma display differs from the console's"
+    );
+    assert!(display[0].starts_with("CH1 SYSTEM-1"), "{display:?}");
+    // 25 s in, every channel runs with a work (the summary lines, after the title).
+    for (i, l) in shown[1..4].iter().enumerate() {
+        assert!(l.contains(&format!("CH{} RUN", i + 1)), "{l}");
+    }
+}
+
+#[test]
+fn without_a_display_the_lathe_window_says_so_and_suggests_the_terminal() {
+    let dir = scratch("lathe_nodisplay");
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, _out, err) = run_with_limit(cmd, Duration::from_secs(30));
+    assert!(matches!(code, Some(c) if c != 0), "exit {code:?}; {err}");
+    assert!(err.contains("no display"), "stderr: {err}");
+    assert!(err.contains("terminal panel"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+}
+
+#[test]
+fn a_bad_lathe_script_is_refused_before_anything_opens() {
+    let dir = scratch("lathe_badscript");
+    let script = dir.join("bad.txt");
+    std::fs::write(&script, "start\nfault 4 tool breakage\n").unwrap();
+    let mut cmd = Command::new(BIN);
+    // A display nobody serves: the script is read, and refused, before the window is tried.
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .env("DISPLAY", ":4093")
+        .env_remove("WAYLAND_DISPLAY");
+    let (code, _out, err) = run_with_limit(cmd, Duration::from_secs(30));
+    assert_eq!(code, Some(1), "stderr: {err}");
+    assert!(err.contains("bad.txt:2:"), "stderr: {err}");
+    assert!(err.contains("not a channel"), "stderr: {err}");
+    assert!(!err.contains("cannot open"), "stderr: {err}");
+    // Nothing was made: not even the state directory.
+    assert!(!dir.join("state").exists());
+}
