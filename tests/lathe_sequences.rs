@@ -200,8 +200,9 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         58..=60 => LatheEv::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => LatheEv::Help,
         65 => LatheEv::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
+        66 => LatheEv::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
         62..=63 => LatheEv::OptionalStop(rng.range(0, 1) == 1),
-        64 | 66..=79 => {
+        64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
             return format!("wait ms {ms}");

@@ -262,7 +262,7 @@ usage: novanc script FILE --machine MACHINE [--state DIR] [--record OUT.mcap] [-
 
 Runs a lathe panel script (one event per line, # comments) in virtual time:
   op AUTO|MDI|DATA   channel N   type TEXT   start | stop | reset | estop
-  fault N REASON     target N    optionalstop on|off   blockdelete on|off   key NAME
+  fault N REASON     target N    override PCT   optionalstop on|off   blockdelete on|off   key NAME
   wait               until every channel is at rest (finished, stopped, waiting on a stopped
                      channel, faulted, or in E-STOP)
   wait ms T          let T milliseconds of machine time pass

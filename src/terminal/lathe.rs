@@ -11,7 +11,7 @@ const LIT: Style = Style::fg(Color::Idx(226)).bold();
 const RED: Style = Style::fg(Color::Idx(196)).bold();
 
 /// The key legend beside the plasma display.
-pub const KEYS: [&str; 10] = [
+pub const KEYS: [&str; 11] = [
     "F9  START   F10 STOP",
     "F11 RESET   F12 E-STOP",
     "Tab CHANNEL",
@@ -20,6 +20,7 @@ pub const KEYS: [&str; 10] = [
     "Alt+f FAULT the channel",
     "Alt+n TARGET (typed N)",
     "Alt+o M01   Alt+b /DEL",
+    "Alt+= Alt+- OVERRIDE",
     "Enter EOB   F8 help",
     "Ctrl-C quit",
 ];
@@ -38,7 +39,7 @@ pub const HELP: [&str; 12] = [
     "Alt+f         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         set the part target to the typed number",
     "Alt+2/3/4/5   AUTO / MDI (Enter adds a line) / DATA (an editor line) / OFS (T1 X.. Z.. R.. P..)",
-    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/)",
+    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Ctrl-C or Alt+q quits; programs and the part counter are stored at every change",
 ];

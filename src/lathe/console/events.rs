@@ -59,6 +59,8 @@ pub enum LatheEv {
     Target(u32),
     /// `optionalstop on|off`.
     OptionalStop(bool),
+    /// `override PCT`: the feed override of every channel's feed moves, 0 to 150 %.
+    Override(u32),
     /// `blockdelete on|off`.
     BlockDelete(bool),
     /// The help screen on or off.
@@ -84,6 +86,7 @@ impl LatheEv {
             LatheEv::Fault(c, r) => format!("fault {} {r}", c + 1),
             LatheEv::Target(n) => format!("target {n}"),
             LatheEv::OptionalStop(b) => format!("optionalstop {}", on(*b)),
+            LatheEv::Override(p) => format!("override {p}"),
             LatheEv::BlockDelete(b) => format!("blockdelete {}", on(*b)),
             LatheEv::Help => "key F8".into(),
         }
@@ -166,6 +169,10 @@ pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String
             _ => return Err(format!("target '{rest}': a part count from 1 to 999999")),
         },
         "optionalstop" => LatheEv::OptionalStop(onoff(rest)?),
+        "override" => match rest.parse::<u32>() {
+            Ok(p) if p <= 150 => LatheEv::Override(p),
+            _ => return Err(format!("override '{rest}': a percentage from 0 to 150")),
+        },
         "blockdelete" => LatheEv::BlockDelete(onoff(rest)?),
         "key" if rest == "Tab" => LatheEv::NextChannel,
         "key" => match crate::console::keys::parse_key(rest) {
@@ -234,6 +241,7 @@ mod tests {
             LatheEv::Fault(0, "tool breakage".into()),
             LatheEv::Target(5),
             LatheEv::OptionalStop(true),
+            LatheEv::Override(70),
             LatheEv::NextChannel,
         ] {
             assert_eq!(

@@ -8,6 +8,7 @@
 //! channels); `tick` advances it by the machine time given (the wall clock's in the terminal,
 //! the script's waits in virtual time).
 
+mod entry;
 pub mod events;
 mod glue;
 mod ofs;
@@ -19,7 +20,6 @@ use super::desc::LatheDesc;
 use super::record::{LatheRecordSummary, LatheRecorder};
 use super::store::{Counter, LatheStore, Program};
 use events::{LatheEv, Mode};
-use novanc_editor::{Buffer, ExecOptions};
 use std::path::Path;
 use view::ChanView;
 
@@ -49,6 +49,8 @@ pub struct LatheConsole {
     now_ns: u64,
     /// Each channel's tool post, pulses [X radius, Z] (where the last cycle left it).
     pos: Vec<[i64; 2]>,
+    /// Feed override, percent, of every channel's feed moves (rapids and threads keep 100).
+    feed_override: u32,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
 }
@@ -127,6 +129,7 @@ impl LatheConsole {
             block_delete: false,
             now_ns: 0,
             stale_counts: stale,
+            feed_override: 100,
             pos: Vec::new(),
         };
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
@@ -166,9 +169,14 @@ impl LatheConsole {
         &self.message
     }
 
-    /// The mode: AUTO, MDI or DATA.
+    /// The mode: AUTO, MDI, DATA or OFS.
     pub fn mode(&self) -> Mode {
         self.mode
+    }
+
+    /// The feed override, percent.
+    pub fn feed_override(&self) -> u32 {
+        self.feed_override
     }
 
     /// The switches: OPTIONAL STOP, BLOCK DELETE.
@@ -215,6 +223,14 @@ impl LatheConsole {
                     why.trim().to_lowercase()
                 };
                 return self.event(LatheEv::Fault(self.sel, why));
+            }
+            Key::Alt('=' | '+' | '-') => {
+                let p = if k == Key::Alt('-') {
+                    self.feed_override.saturating_sub(10)
+                } else {
+                    (self.feed_override + 10).min(150)
+                };
+                return self.event(LatheEv::Override(p));
             }
             Key::Alt('n') => {
                 let typed = std::mem::take(&mut self.entry);
@@ -289,6 +305,13 @@ impl LatheConsole {
                 _ => self.message = format!("fault CH{}: no cycle runs", ch + 1),
             },
             LatheEv::Target(n) => self.set_target(n),
+            LatheEv::Override(p) => {
+                self.feed_override = p.min(150);
+                if let Some(c) = self.cycle.as_mut() {
+                    let _ = c.lathe.set_feed_override(self.feed_override);
+                }
+                self.message = format!("feed override {} %", self.feed_override);
+            }
             LatheEv::OptionalStop(b) => {
                 self.optional_stop = b;
                 self.message = format!(
@@ -333,114 +356,6 @@ impl LatheConsole {
             Ok(()) => format!("part target {n}"),
             Err(e) => e,
         };
-    }
-
-    /// The EOB key: in MDI the line goes into the channel's MDI buffer; in DATA it is an
-    /// editor command line on the channel's program.
-    fn eob(&mut self) {
-        let line = std::mem::take(&mut self.entry);
-        match self.mode {
-            Mode::Auto => {
-                if !line.is_empty() {
-                    self.message = "AUTO takes no data: turn to MDI or DATA".into();
-                }
-            }
-            Mode::Mdi => {
-                if line.is_empty() {
-                    return;
-                }
-                if self.mdi[self.sel].len() >= 64 {
-                    self.message = "the MDI buffer holds 64 lines: START or RESET it".into();
-                    self.entry = line;
-                    return;
-                }
-                self.mdi[self.sel].push(line);
-                self.message = format!(
-                    "MDI CH{}: {} lines; START runs them",
-                    self.sel + 1,
-                    self.mdi[self.sel].len()
-                );
-            }
-            Mode::Data => self.edit(&line),
-            Mode::Ofs => self.revise_tool(&line),
-        }
-    }
-
-    /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
-    /// diameter, Z offset, nose radius, tip position; any of them), stored at once; the
-    /// programs read it from the next START of a cycle.
-    fn revise_tool(&mut self, line: &str) {
-        if line.trim().is_empty() {
-            return;
-        }
-        let ch = self.sel;
-        match ofs::revise(&self.desc.channels[ch].tools, line) {
-            Err(e) => {
-                self.message = e;
-                self.entry = line.to_string();
-            }
-            Ok((tools, t)) => match self.store.save_tools(ch, &tools) {
-                Err(e) => {
-                    self.message = format!("{e}: the revision is refused");
-                    self.entry = line.to_string();
-                }
-                Ok(()) => {
-                    self.desc.channels[ch].tools = tools;
-                    self.message = format!("T{t:02} revised: from the next START");
-                }
-            },
-        }
-    }
-
-    fn edit(&mut self, line: &str) {
-        if line.is_empty() {
-            return;
-        }
-        if self.cycle.as_ref().is_some_and(|c| !c.is_over()) {
-            self.message = "the programs are in use: RESET the cycle before editing".into();
-            self.entry = line.to_string();
-            return;
-        }
-        let ch = self.sel;
-        let mut buf = Buffer::from_text(&self.programs[ch].text);
-        buf.set_pointer(self.pointers[ch]);
-        let opts = ExecOptions {
-            y_max_lines: Some(self.rows),
-            validator: None,
-        };
-        match buf.execute(line, &opts) {
-            Err(e) => {
-                self.message = format!("{}: {}", e.command, e.reason);
-                self.entry = line.to_string();
-            }
-            Ok(out) => {
-                let text = buf.text();
-                if text.len() > super::store::MAX_PROGRAM {
-                    self.message = "the program would pass 1 MB: refused".into();
-                    self.entry = line.to_string();
-                    return;
-                }
-                let p = Program {
-                    name: self.programs[ch].name.clone(),
-                    text,
-                };
-                if out.changed {
-                    if let Err(e) = self.store.save_program(ch, &p) {
-                        self.message = format!("{e}: the edit is refused");
-                        self.entry = line.to_string();
-                        return;
-                    }
-                    self.programs[ch] = p;
-                }
-                self.pointers[ch] = buf.pointer();
-                self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
-                self.message = if out.changed {
-                    "stored".into()
-                } else {
-                    "ok".into()
-                };
-            }
-        }
     }
 
     fn start(&mut self) {
@@ -508,7 +423,8 @@ impl LatheConsole {
             self.now_ns,
         ) {
             Err(e) => self.message = e,
-            Ok(c) => {
+            Ok(mut c) => {
+                let _ = c.lathe.set_feed_override(self.feed_override);
                 if !mdi {
                     self.counter.counts.iter_mut().for_each(|c| *c = 0);
                     self.stale_counts = false;
@@ -637,8 +553,13 @@ impl LatheConsole {
         let c = &chans[self.sel];
         let listing = self.listing(c.line);
         let mode = format!(
-            "{}{}{}",
+            "{}{}{}{}",
             self.mode.word(),
+            if self.feed_override != 100 {
+                format!(" F{}%", self.feed_override)
+            } else {
+                String::new()
+            },
             if self.optional_stop { " M01" } else { "" },
             if self.block_delete { " /DEL" } else { "" }
         );
@@ -675,32 +596,6 @@ impl LatheConsole {
             help: self.help,
             machine_ns: self.now_ns,
         }
-    }
-
-    /// The program lines around `line` (the current block's), or around the editor's pointer
-    /// in DATA mode, marked `>`.
-    fn listing(&self, line: u32) -> Vec<String> {
-        if self.mode == Mode::Ofs {
-            return ofs::table(&self.desc.channels[self.sel].tools);
-        }
-        let text = match self.mode {
-            Mode::Mdi => self.mdi[self.sel].join("\n"),
-            _ => self.programs[self.sel].text.clone(),
-        };
-        let lines: Vec<&str> = text.lines().collect();
-        let cur = match self.mode {
-            Mode::Data => self.edit_line[self.sel],
-            _ => line.max(1) as usize,
-        };
-        let room = self.rows.saturating_sub(5).max(1);
-        let first = cur.saturating_sub(room / 2).max(1);
-        (first..first + room)
-            .filter_map(|n| {
-                lines
-                    .get(n - 1)
-                    .map(|l| format!("{}{:04} {l}", if n == cur { '>' } else { ' ' }, n))
-            })
-            .collect()
     }
 
     /// Ends the session: closes the recording. `interrupted` names a stop signal, if one cut

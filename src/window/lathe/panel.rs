@@ -296,7 +296,12 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
     });
     ui.horizontal(|ui| {
         ui.label(mono("MODE   ", 12.0, controls::LEGEND));
-        for (m, k) in [(Mode::Auto, "2"), (Mode::Mdi, "3"), (Mode::Data, "4")] {
+        for (m, k) in [
+            (Mode::Auto, "2"),
+            (Mode::Mdi, "3"),
+            (Mode::Data, "4"),
+            (Mode::Ofs, "5"),
+        ] {
             let r = key(ui, m.word(), m == mode, 52.0).on_hover_text(format!("Alt+{k}"));
             if r.clicked() && m != mode {
                 out.push(Act::Ev(LatheEv::Mode(m)));

@@ -1,0 +1,144 @@
+//! The lathe console's data keys (docs/lathe.md "The panel", "Tool offsets"): what EOB does in
+//! each mode (MDI lines, editor command lines, tool revisions), and the listing the plasma
+//! display shows around the current line.
+
+use super::events::Mode;
+use super::{ofs, LatheConsole};
+use crate::lathe::store::{Program, MAX_PROGRAM};
+use novanc_editor::{Buffer, ExecOptions};
+
+impl LatheConsole {
+    /// The EOB key: in MDI the line goes into the channel's MDI buffer; in DATA it is an
+    /// editor command line on the channel's program.
+    pub(super) fn eob(&mut self) {
+        let line = std::mem::take(&mut self.entry);
+        match self.mode {
+            Mode::Auto => {
+                if !line.is_empty() {
+                    self.message = "AUTO takes no data: turn to MDI or DATA".into();
+                }
+            }
+            Mode::Mdi => {
+                if line.is_empty() {
+                    return;
+                }
+                if self.mdi[self.sel].len() >= 64 {
+                    self.message = "the MDI buffer holds 64 lines: START or RESET it".into();
+                    self.entry = line;
+                    return;
+                }
+                self.mdi[self.sel].push(line);
+                self.message = format!(
+                    "MDI CH{}: {} lines; START runs them",
+                    self.sel + 1,
+                    self.mdi[self.sel].len()
+                );
+            }
+            Mode::Data => self.edit(&line),
+            Mode::Ofs => self.revise_tool(&line),
+        }
+    }
+
+    /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
+    /// diameter, Z offset, nose radius, tip position; any of them), stored at once; the
+    /// programs read it from the next START of a cycle.
+    fn revise_tool(&mut self, line: &str) {
+        if line.trim().is_empty() {
+            return;
+        }
+        let ch = self.sel;
+        match ofs::revise(&self.desc.channels[ch].tools, line) {
+            Err(e) => {
+                self.message = e;
+                self.entry = line.to_string();
+            }
+            Ok((tools, t)) => match self.store.save_tools(ch, &tools) {
+                Err(e) => {
+                    self.message = format!("{e}: the revision is refused");
+                    self.entry = line.to_string();
+                }
+                Ok(()) => {
+                    self.desc.channels[ch].tools = tools;
+                    self.message = format!("T{t:02} revised: from the next START");
+                }
+            },
+        }
+    }
+
+    fn edit(&mut self, line: &str) {
+        if line.is_empty() {
+            return;
+        }
+        if self.cycle.as_ref().is_some_and(|c| !c.is_over()) {
+            self.message = "the programs are in use: RESET the cycle before editing".into();
+            self.entry = line.to_string();
+            return;
+        }
+        let ch = self.sel;
+        let mut buf = Buffer::from_text(&self.programs[ch].text);
+        buf.set_pointer(self.pointers[ch]);
+        let opts = ExecOptions {
+            y_max_lines: Some(self.rows),
+            validator: None,
+        };
+        match buf.execute(line, &opts) {
+            Err(e) => {
+                self.message = format!("{}: {}", e.command, e.reason);
+                self.entry = line.to_string();
+            }
+            Ok(out) => {
+                let text = buf.text();
+                if text.len() > MAX_PROGRAM {
+                    self.message = "the program would pass 1 MB: refused".into();
+                    self.entry = line.to_string();
+                    return;
+                }
+                let p = Program {
+                    name: self.programs[ch].name.clone(),
+                    text,
+                };
+                if out.changed {
+                    if let Err(e) = self.store.save_program(ch, &p) {
+                        self.message = format!("{e}: the edit is refused");
+                        self.entry = line.to_string();
+                        return;
+                    }
+                    self.programs[ch] = p;
+                }
+                self.pointers[ch] = buf.pointer();
+                self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
+                self.message = if out.changed {
+                    "stored".into()
+                } else {
+                    "ok".into()
+                };
+            }
+        }
+    }
+
+    /// The program lines around `line` (the current block's), or around the editor's pointer
+    /// in DATA mode, marked `>`.
+    pub(super) fn listing(&self, line: u32) -> Vec<String> {
+        if self.mode == Mode::Ofs {
+            return ofs::table(&self.desc.channels[self.sel].tools);
+        }
+        let text = match self.mode {
+            Mode::Mdi => self.mdi[self.sel].join("\n"),
+            _ => self.programs[self.sel].text.clone(),
+        };
+        let lines: Vec<&str> = text.lines().collect();
+        let cur = match self.mode {
+            Mode::Data => self.edit_line[self.sel],
+            _ => line.max(1) as usize,
+        };
+        let room = self.rows.saturating_sub(5).max(1);
+        let first = cur.saturating_sub(room / 2).max(1);
+        (first..first + room)
+            .filter_map(|n| {
+                lines
+                    .get(n - 1)
+                    .map(|l| format!("{}{:04} {l}", if n == cur { '>' } else { ' ' }, n))
+            })
+            .collect()
+    }
+}
