@@ -16,7 +16,7 @@ use novanc::window::image::read_png;
 use novanc::window::lathe::plot::WORK_COLOURS;
 use std::process::Command;
 use std::time::Duration;
-use xvfb::{px, read_plasma, run_with_limit, scratch, xvfb_or_skip, R};
+use xvfb::{px, read_plasma, run_with_limit, scratch, window_command, xvfb_or_skip, R};
 
 const BIN: &str = env!("CARGO_BIN_EXE_novanc");
 
@@ -89,20 +89,8 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
     )
     .unwrap();
     let shot = dir.join("shot.png");
-    let mut cmd = Command::new(BIN);
-    cmd.args(["--window", "--machine", "citizen", "--state"])
-        .arg(dir.join("state"))
-        .arg("--script")
-        .arg(&script)
-        .arg("--screenshot")
-        .arg(&shot)
-        .args(["--size", "1400x860"])
-        .arg("--record")
-        .arg(dir.join("run.mcap"))
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let mut cmd = window_command(&x, &["--machine", "citizen"], &dir, &script, &shot);
+    cmd.arg("--record").arg(dir.join("run.mcap"));
     let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
     assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
     // Closing the window closed the recording.

@@ -14,7 +14,7 @@ use novanc::window::image::read_ppm;
 use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
-use xvfb::{px, read_plasma, run_with_limit, scratch, xvfb_or_skip, R};
+use xvfb::{px, read_plasma, run_with_limit, scratch, window_command, xvfb_or_skip, R};
 
 const BIN: &str = env!("CARGO_BIN_EXE_novanc");
 
@@ -75,20 +75,8 @@ fn table_b_single_block_three_starts_shows_marker_and_executed_path() {
     )
     .unwrap();
     let shot = dir.join("shot.ppm");
-    let mut cmd = Command::new(BIN);
-    cmd.args(["--window", "--state"])
-        .arg(dir.join("state"))
-        .arg("--script")
-        .arg(&script)
-        .arg("--screenshot")
-        .arg(&shot)
-        .args(["--size", "1400x860"])
-        .arg("--record")
-        .arg(dir.join("run.mcap"))
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let mut cmd = window_command(&x, &[], &dir, &script, &shot);
+    cmd.arg("--record").arg(dir.join("run.mcap"));
     let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
     assert_eq!(
         code,
@@ -192,18 +180,7 @@ fn a_tape_read_draws_the_strip_of_frames_with_their_holes_and_the_sprocket() {
     )
     .unwrap();
     let shot = dir.join("shot.ppm");
-    let mut cmd = Command::new(BIN);
-    cmd.args(["--window", "--state"])
-        .arg(dir.join("state"))
-        .arg("--script")
-        .arg(&script)
-        .arg("--screenshot")
-        .arg(&shot)
-        .args(["--size", "1400x860"])
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let cmd = window_command(&x, &[], &dir, &script, &shot);
     let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
     assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
     let (plasma, pitch, _) = parse_layout(&out);
@@ -326,19 +303,13 @@ fn the_velocity_strip_shows_the_axes_of_the_block() {
     let script = dir.join("two.txt");
     std::fs::write(&script, "op SINGLE\nstart\nwait\nstart\nwait\n").unwrap();
     let shot = dir.join("shot.ppm");
-    let mut cmd = Command::new(BIN);
-    cmd.args(["--window", "--state"])
-        .arg(dir.join("state"))
-        .args(["--interpolator", "error-proportional"])
-        .arg("--script")
-        .arg(&script)
-        .arg("--screenshot")
-        .arg(&shot)
-        .args(["--size", "1400x860"])
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("LIBGL_ALWAYS_SOFTWARE", "1")
-        .env("WINIT_X11_SCALE_FACTOR", "1");
+    let cmd = window_command(
+        &x,
+        &["--interpolator", "error-proportional"],
+        &dir,
+        &script,
+        &shot,
+    );
     let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
     assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
     let (_, _, plot) = parse_layout(&out);

@@ -19,6 +19,26 @@ pub fn scratch(name: &str) -> PathBuf {
     d
 }
 
+/// `novanc --window ARGS --script SCRIPT --screenshot SHOT --size 1400x860` on Xvfb `x`, with
+/// software GL and a scale factor of 1 (so pixels are the layout's), the state in `dir/state`.
+pub fn window_command(x: &Xvfb, args: &[&str], dir: &Path, script: &Path, shot: &Path) -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_novanc"));
+    cmd.arg("--window")
+        .args(args)
+        .arg("--state")
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(script)
+        .arg("--screenshot")
+        .arg(shot)
+        .args(["--size", "1400x860"])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("LIBGL_ALWAYS_SOFTWARE", "1")
+        .env("WINIT_X11_SCALE_FACTOR", "1");
+    cmd
+}
+
 /// An Xvfb server on a display number it picked itself (`-displayfd`); killed on drop.
 pub struct Xvfb {
     child: Child,
