@@ -379,13 +379,7 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
     if let Some(r) = rest.first() {
         return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
-    let (c, warnings) = match LatheConsole::open(
-        desc,
-        &cfg.state_dir,
-        cfg.rows,
-        cfg.cols,
-        cfg.record.as_deref(),
-    ) {
+    let (c, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
         Err(e) => return fail(&format!("novanc: {e}")),
     };

@@ -149,6 +149,21 @@ impl LatheConsole {
         Ok((c, o.warnings))
     }
 
+    /// Opens the console with a launcher's configuration: its state directory, display size
+    /// and recording.
+    pub fn open_config(
+        desc: LatheDesc,
+        cfg: &crate::console::ConsoleConfig,
+    ) -> Result<(LatheConsole, Vec<String>), String> {
+        LatheConsole::open(
+            desc,
+            &cfg.state_dir,
+            cfg.rows,
+            cfg.cols,
+            cfg.record.as_deref(),
+        )
+    }
+
     /// The machine description.
     pub fn desc(&self) -> &LatheDesc {
         &self.desc

@@ -70,13 +70,7 @@ pub fn run(desc: LatheDesc, cfg: ConsoleConfig, opts: WindowOptions) -> i32 {
             }
         }
     };
-    let (console, warnings) = match LatheConsole::open(
-        desc,
-        &cfg.state_dir,
-        cfg.rows,
-        cfg.cols,
-        cfg.record.as_deref(),
-    ) {
+    let (console, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("novanc: {e}");
