@@ -126,17 +126,17 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             "G76 H, the spring passes, must be a whole number 0 to 100",
         ));
     }
-    // Q, the compound angle, is read but not applied: every pass plunges straight in and
-    // starts at the same Z (the operations interface, docs/lathe-gcode.md "G76").
-    if let Some(q) = w.get('Q') {
-        if !(0.0..90.0).contains(&q) {
-            return Err(err(
-                n,
-                col('Q'),
-                "G76 Q, the compound angle, must be 0 to below 90 degrees",
-            ));
-        }
+    // Q, the compound angle: each pass starts and ends depth·tan(Q) further along -Z than
+    // the first, so the tool goes down one flank (LinuxCNC: zoff = (depth - J)·tan(Q)).
+    let q = w.get('Q').unwrap_or(0.0);
+    if !(0.0..90.0).contains(&q) {
+        return Err(err(
+            n,
+            col('Q'),
+            "G76 Q, the compound angle, must be 0 to below 90 degrees",
+        ));
     }
+    let tan_q = q.to_radians().tan();
     if w.get('E').is_some_and(|e| e != 0.0) {
         return Err(err(
             n,
@@ -169,13 +169,16 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
     // start Z, in to the depth, the synchronised cut to Z, out to the retract X; the retract
     // X lies (K - depth) beyond the drive line. Then to the drive line at Z.
     let sign = i.signum();
+    let first = depths.first().copied().unwrap_or(0.0);
     for d in depths {
         let x = start[1] + i + sign * d;
         let back = start[1] - sign * (k - d);
-        r.out.motion(mv(Kind::Rapid, [start[0], back], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [start[0], x], n, c))?;
-        r.out.motion(mv(Kind::Thread(pitch), [z_end, x], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [z_end, back], n, c))?;
+        let zoff = (d - first) * tan_q;
+        let (z0, z1) = (start[0] - zoff, z_end - zoff);
+        r.out.motion(mv(Kind::Rapid, [z0, back], n, c))?;
+        r.out.motion(mv(Kind::Rapid, [z0, x], n, c))?;
+        r.out.motion(mv(Kind::Thread(pitch), [z1, x], n, c))?;
+        r.out.motion(mv(Kind::Rapid, [z1, back], n, c))?;
     }
     r.out.motion(mv(Kind::Rapid, [z_end, start[1]], n, c))
 }

@@ -174,14 +174,37 @@ fn g33_is_one_thread_pass() {
 }
 
 #[test]
+fn g76_q_moves_each_pass_down_the_flank() {
+    // The passes of g76_passes_by_hand with Q29.5: each starts and ends (depth - 0.2)·tan 29.5°
+    // further along -Z: 0, 0.11315, 0.22631, 0.22631 mm.
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1 Q29.5\n");
+    let passes: Vec<(i64, i64)> = o
+        .windows(2)
+        .filter_map(|w| match (&w[0], &w[1]) {
+            (Op::Rapid { end: a }, Op::Thread { end: b, .. }) => Some((a[1], b[1])),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        passes,
+        vec![
+            (5000, -20000),
+            (4887, -20113),
+            (4774, -20226),
+            (4774, -20226)
+        ]
+    );
+}
+
+#[test]
 fn g76_passes_by_hand() {
     // Drive line X radius 10 at Z5; crest 0.5 below; J0.2, K0.6, R1, one spring pass:
     // depths 0.2, 0.4, 0.6, 0.6 → X radius 9.3, 9.1, 8.9, 8.9, each pass back at the retract
     // X 10 + (0.6 - depth), as LinuxCNC; the last retract is the drive line, so the final
     // move to (X10, Z-20) is already made.
-    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1 Q29.5\n");
+    let o = ops("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1\n");
     // In G07 I, J and K are diameters: the same passes with twice the values.
-    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1 Q29.5\n");
+    let g7 = ops("M3 S500\nG0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.2 H1\n");
     assert_eq!(o, g7);
     let mut want = Vec::new();
     for (x, back) in [(9300, 10400), (9100, 10200), (8900, 10000), (8900, 10000)] {
