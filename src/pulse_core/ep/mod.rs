@@ -240,8 +240,9 @@ impl EpMotion {
                 return Progress::AtRest;
             }
             if !frozen && in_band && self.jumps {
-                // Cycles before the horizon, this one included.
-                let avail = (horizon - self.next_t).div_ceil(T);
+                // Cycles before the horizon after this one, computed only where a jump
+                // needs it (the every-second-cycle regime checks with one multiply).
+                let room = |next_t: u64| (horizon - next_t - 1) / T;
                 let skip = if self.counter.k >= 128 {
                     if self.arc.is_some() || 2 * (self.c - self.l) >= self.c {
                         // E_m ≥ L: pulses come every cycle or two, nothing to jump.
@@ -252,7 +253,7 @@ impl EpMotion {
                             .filter_map(|a| self.reg[a].cycles_to_pulse(self.e[a].abs(), self.c))
                             .min()
                             .unwrap_or(u64::MAX);
-                        let s = (m - 1).min(avail - 1);
+                        let s = (m - 1).min(room(self.next_t));
                         for a in 0..3 {
                             self.reg[a].advance_gated(s, self.e[a].abs(), self.c);
                         }
@@ -263,7 +264,7 @@ impl EpMotion {
                     let n = (32 - self.counter.k) as u64;
                     let pulses = n.div_ceil(registers::W_FEED as u64);
                     let need = (pulses << FRAC).saturating_sub(self.acc);
-                    let s = (need.div_ceil(self.inc).max(1) - 1).min(avail - 1);
+                    let s = (need.div_ceil(self.inc).max(1) - 1).min(room(self.next_t));
                     for a in 0..3 {
                         self.reg[a].swing(s, self.c << self.shift);
                     }
@@ -279,7 +280,11 @@ impl EpMotion {
                     // Feed-rate pulses arriving among them are counted in one go, as long as
                     // they leave the gate's rate as it is (the count stays below the next
                     // stage that opens the gate more often).
-                    let s = d.min(avail - 1);
+                    let s = if self.next_t + d * T < horizon {
+                        d
+                    } else {
+                        room(self.next_t)
+                    };
                     let next_stage = if self.counter.k >= 64 { 128 } else { 64 };
                     let n = (self.acc + s * self.inc) >> FRAC;
                     if s > 0 && self.counter.k + registers::W_FEED * (n as i32) < next_stage {
@@ -364,7 +369,7 @@ impl EpMotion {
             self.next_t += T;
             if any {
                 self.last_t = t;
-                let em = self.e.iter().map(|v| v.abs()).max().unwrap_or(0);
+                let em = self.e[0].abs().max(self.e[1].abs()).max(self.e[2].abs());
                 let c1 = self.l + em;
                 if c1 < c {
                     for r in &mut self.reg {

@@ -163,11 +163,11 @@ impl FeedCounter {
     /// A feed-rate pulse: counted up unless the four highest stages are full (gate 89).
     #[inline(always)]
     pub fn feed(&mut self, n: u64) {
-        for _ in 0..n {
-            if self.k >= 240 {
-                break;
-            }
-            self.k += W_FEED;
+        // In closed form: W_FEED at a time while the count is below 240.
+        if n > 0 && self.k < 240 {
+            let room = (240 - self.k) as u64;
+            let steps = n.min(room.div_ceil(W_FEED as u64));
+            self.k += W_FEED * steps as i32;
         }
     }
 
@@ -292,6 +292,20 @@ mod tests {
         f.command(0);
         f.command(2);
         assert_eq!(f.k, 240 - 26);
+        // `feed` in closed form counts as one feed-rate pulse at a time would.
+        for k in -60..260 {
+            for n in 0..20u64 {
+                let mut one = FeedCounter { k };
+                for _ in 0..n {
+                    if one.k < 240 {
+                        one.k += W_FEED;
+                    }
+                }
+                let mut f = FeedCounter { k };
+                f.feed(n);
+                assert_eq!(f, one, "k {k} n {n}");
+            }
+        }
     }
 
     /// The closed-form jumps agree with cycle-by-cycle stepping, from random states.
