@@ -4,7 +4,7 @@
 //! path speed along the arc the feed away from the end.
 
 use novanc::block::{Block, Motion, Plane};
-use novanc::pulse_core::testkit::Rng;
+use novanc::pulse_core::testkit::{arc_angles, arc_ends, Rng};
 use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
 use novanc::settings::{Interpolator, MachineSettings};
 use std::f64::consts::TAU;
@@ -31,22 +31,9 @@ fn run(start: [i64; 3], b: Block) -> (Machine, Vec<PulseRec>) {
 fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, feed: f64) -> (f64, f64, f64, f64) {
     let [u, v] = plane.turn_axes();
     let r = rng.range(2_000, 120_000) as f64;
-    let th0 = rng.unit() * TAU;
-    let sweep = if full {
-        TAU
-    } else {
-        (0.05 + rng.unit() * 0.9) * TAU
-    };
-    let th1 = if ccw { th0 + sweep } else { th0 - sweep };
+    let (th0, th1, sweep) = arc_angles(rng, full, ccw);
     let c = MID;
-    let mut s = c;
-    s[u] += (r * th0.cos()).round() as i64;
-    s[v] += (r * th0.sin()).round() as i64;
-    let mut e = if full { s } else { c };
-    if !full {
-        e[u] += (r * th1.cos()).round() as i64;
-        e[v] += (r * th1.sin()).round() as i64;
-    }
+    let (s, e) = arc_ends(plane, c, (r, th0), (r, th1), full);
     let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, feed);
     let (m, pulses) = run(s, b);
     let what = format!("{plane:?} r {r} ccw {ccw} full {full}");
@@ -229,24 +216,11 @@ fn tiny_arcs_end_exactly() {
         for i in 0..30 {
             let [u, v] = plane.turn_axes();
             let r = rng.range(2, 40) as f64;
-            let th0 = rng.unit() * TAU;
             let full = i % 4 == 0;
-            let sweep = if full {
-                TAU
-            } else {
-                (0.05 + rng.unit() * 0.9) * TAU
-            };
             let ccw = i % 2 == 0;
-            let th1 = if ccw { th0 + sweep } else { th0 - sweep };
+            let (th0, th1, _) = arc_angles(&mut rng, full, ccw);
             let c = MID;
-            let mut s = c;
-            s[u] += (r * th0.cos()).round() as i64;
-            s[v] += (r * th0.sin()).round() as i64;
-            let mut e = if full { s } else { c };
-            if !full {
-                e[u] += (r * th1.cos()).round() as i64;
-                e[v] += (r * th1.sin()).round() as i64;
-            }
+            let (s, e) = arc_ends(plane, c, (r, th0), (r, th1), full);
             let rs = (((s[u] - c[u]).pow(2) + (s[v] - c[v]).pow(2)) as f64).sqrt();
             let re = (((e[u] - c[u]).pow(2) + (e[v] - c[v]).pow(2)) as f64).sqrt();
             if rs < 2.0 || re < 2.0 {

@@ -3,7 +3,7 @@
 //! (the same properties `nc_motion.rs` checks for XY arcs; docs/pulse-core.md).
 
 use novanc::block::{Block, Motion, Plane};
-use novanc::pulse_core::testkit::Rng;
+use novanc::pulse_core::testkit::{arc_angles, arc_ends, Rng};
 use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
 use novanc::settings::MachineSettings;
 use std::f64::consts::TAU;
@@ -52,23 +52,9 @@ fn check_spiral(
     let [u, v] = plane.turn_axes();
     let n = plane.axes()[2];
     let r = rng.range(300, r_max) as f64;
-    let th0 = rng.unit() * TAU;
-    let sweep = if full {
-        TAU
-    } else {
-        (0.05 + rng.unit() * 0.9) * TAU
-    };
-    let th1 = if ccw { th0 + sweep } else { th0 - sweep };
+    let (th0, th1, sweep) = arc_angles(rng, full, ccw);
     let c = MID;
-    let mut s = c;
-    s[u] += (r * th0.cos()).round() as i64;
-    s[v] += (r * th0.sin()).round() as i64;
-    let mut e = if full { s } else { c };
-    if !full {
-        let re = r + dr as f64;
-        e[u] += (re * th1.cos()).round() as i64;
-        e[v] += (re * th1.sin()).round() as i64;
-    }
+    let (s, mut e) = arc_ends(plane, c, (r, th0), (r + dr as f64, th1), full);
     e[n] = s[n] + normal;
     let b = novanc::pulse_core::testkit::plane_arc(plane, s, e, c, ccw, 2000.0);
     let (m, pulses) = run(s, b);

@@ -120,3 +120,39 @@ pub fn plane_arc(
     b.feed = feed;
     b
 }
+
+/// Random arc angles, radians: a start angle, the end angle a sweep of 5 % to 95 % of a turn
+/// away (a whole turn if `full`), counter-clockwise if `ccw`, and the sweep. Draws the start
+/// angle, then the sweep.
+pub fn arc_angles(rng: &mut Rng, full: bool, ccw: bool) -> (f64, f64, f64) {
+    use std::f64::consts::TAU;
+    let th0 = rng.unit() * TAU;
+    let sweep = if full {
+        TAU
+    } else {
+        (0.05 + rng.unit() * 0.9) * TAU
+    };
+    (th0, if ccw { th0 + sweep } else { th0 - sweep }, sweep)
+}
+
+/// The start and end points of an arc about `centre` in `plane`: the start `r` pulses out at
+/// angle `th0`, the end `r_end` out at `th1` (angles from the plane's first turn axis towards
+/// its second), rounded to pulses; a full circle ends where it starts.
+pub fn arc_ends(
+    plane: crate::block::Plane,
+    centre: [i64; 3],
+    (r, th0): (f64, f64),
+    (r_end, th1): (f64, f64),
+    full: bool,
+) -> ([i64; 3], [i64; 3]) {
+    let [u, v] = plane.turn_axes();
+    let mut s = centre;
+    s[u] += (r * th0.cos()).round() as i64;
+    s[v] += (r * th0.sin()).round() as i64;
+    let mut e = if full { s } else { centre };
+    if !full {
+        e[u] += (r_end * th1.cos()).round() as i64;
+        e[v] += (r_end * th1.sin()).round() as i64;
+    }
+    (s, e)
+}
