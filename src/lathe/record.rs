@@ -178,32 +178,36 @@ impl LatheRecorder {
         }
     }
 
-    /// `/nc/block`: a block of channel `ch` (0-based) starts.
-    pub fn block(&mut self, t_ns: u64, ch: usize, seq: u32, line: u32, text: &str) {
+    /// Starts a channel's message in the buffer: `{"channel":N` (1-based).
+    fn begin(&mut self, ch: usize) -> &mut Vec<u8> {
         self.buf.clear();
         self.buf.extend_from_slice(b"{\"channel\":");
         push_u64(&mut self.buf, ch as u64 + 1);
-        self.buf.extend_from_slice(b",\"seq\":");
-        push_u64(&mut self.buf, u64::from(seq));
-        self.buf.extend_from_slice(b",\"stmt\":");
-        push_u64(&mut self.buf, u64::from(line));
-        self.buf.extend_from_slice(b",\"text\":");
-        push_str(&mut self.buf, text);
-        self.buf.push(b'}');
+        &mut self.buf
+    }
+
+    /// `/nc/block`: a block of channel `ch` (0-based) starts.
+    pub fn block(&mut self, t_ns: u64, ch: usize, seq: u32, line: u32, text: &str) {
+        let b = self.begin(ch);
+        b.extend_from_slice(b",\"seq\":");
+        push_u64(b, u64::from(seq));
+        b.extend_from_slice(b",\"stmt\":");
+        push_u64(b, u64::from(line));
+        b.extend_from_slice(b",\"text\":");
+        push_str(b, text);
+        b.push(b'}');
         self.put(BLOCK, t_ns);
     }
 
     /// `/nc/position`: channel `ch`'s tool tip, pulses [X radius, Z]; `speed` mm/min; the
     /// spindle's rpm (signed).
     pub fn position(&mut self, t_ns: u64, ch: usize, pulses: [i64; 2], speed: f64, rpm: f64) {
-        let b = &mut self.buf;
-        b.clear();
-        b.extend_from_slice(b"{\"channel\":");
-        push_u64(b, ch as u64 + 1);
+        let mm = self.pulse_mm;
+        let b = self.begin(ch);
         b.extend_from_slice(b",\"x\":");
-        push_mm(b, pulses[0] as f64 * self.pulse_mm);
+        push_mm(b, pulses[0] as f64 * mm);
         b.extend_from_slice(b",\"y\":0,\"z\":");
-        push_mm(b, pulses[1] as f64 * self.pulse_mm);
+        push_mm(b, pulses[1] as f64 * mm);
         b.extend_from_slice(b",\"pulses\":[");
         push_i64(b, pulses[0]);
         b.extend_from_slice(b",0,");
@@ -218,10 +222,7 @@ impl LatheRecorder {
 
     /// `/nc/state`: channel `ch`'s state changed.
     pub fn state(&mut self, t_ns: u64, ch: usize, s: &StateMsg) {
-        let b = &mut self.buf;
-        b.clear();
-        b.extend_from_slice(b"{\"channel\":");
-        push_u64(b, ch as u64 + 1);
+        let b = self.begin(ch);
         b.extend_from_slice(b",\"run\":");
         push_u64(b, u64::from(s.run));
         b.extend_from_slice(b",\"op_mode\":");
@@ -250,10 +251,7 @@ impl LatheRecorder {
         value: Option<i64>,
         text: &str,
     ) {
-        let b = &mut self.buf;
-        b.clear();
-        b.extend_from_slice(b"{\"channel\":");
-        push_u64(b, ch as u64 + 1);
+        let b = self.begin(ch);
         b.extend_from_slice(b",\"event\":");
         push_str(b, kind);
         if let Some(w) = work {
