@@ -393,19 +393,7 @@ impl App {
         let pitch = ((760.0 * ppp) / (cols * super::font::CELL_W + 1) as f32)
             .floor()
             .clamp(1.0, 6.0) as usize;
-        let tex = self.plasma.texture(ui.ctx(), &view.display, pitch);
-        let size = tex.size_vec2() / ppp;
-        let id = tex.id();
-        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-        // Snap to whole physical pixels so each dot is drawn pixel for pixel.
-        let min = (rect.min.to_vec2() * ppp).round() / ppp;
-        let rect = Rect::from_min_size(min.to_pos2(), size);
-        ui.painter().image(
-            id,
-            rect,
-            Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-            Color32::WHITE,
-        );
+        let rect = self.plasma.show(ui, &view.display, pitch);
         self.layout.plasma = Some(rect);
         self.layout.pitch = pitch;
         let _ = rows;
@@ -413,7 +401,7 @@ impl App {
         self.layout.tape = match &self.tape {
             Some(t) => {
                 ui.add_space(4.0);
-                Some(tapestrip::show(ui, t, size.x))
+                Some(tapestrip::show(ui, t, rect.width()))
             }
             None => None,
         };

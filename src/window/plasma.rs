@@ -65,6 +65,27 @@ impl Plasma {
     }
 }
 
+impl Plasma {
+    /// Shows the frame at `pitch` in the next space of `ui`, snapped to whole physical pixels
+    /// so each dot is drawn pixel for pixel; returns where it went (points).
+    pub fn show(&mut self, ui: &mut egui::Ui, lines: &[String], pitch: usize) -> egui::Rect {
+        let ppp = ui.ctx().pixels_per_point();
+        let tex = self.texture(ui.ctx(), lines, pitch);
+        let size = tex.size_vec2() / ppp;
+        let id = tex.id();
+        let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+        let min = (rect.min.to_vec2() * ppp).round() / ppp;
+        let rect = egui::Rect::from_min_size(min.to_pos2(), size);
+        ui.painter().image(
+            id,
+            rect,
+            egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+            Color32::WHITE,
+        );
+        rect
+    }
+}
+
 /// Draws the frame: each lit dot a `pitch`-sized square (the last row and column of the pitch
 /// dark, so the dots stand apart), unlit dots faint, and a soft glow around the lit ones.
 pub fn rasterize(lines: &[String], pitch: usize) -> ColorImage {

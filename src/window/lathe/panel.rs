@@ -208,19 +208,7 @@ pub fn plasma(ui: &mut Ui, p: &mut Plasma, lines: &[String], max: egui::Vec2) ->
     let fit_w = (max.x * ppp) / (cols * crate::window::font::CELL_W + 1) as f32;
     let fit_h = (max.y * ppp) / (rows * crate::window::font::CELL_H + 1) as f32;
     let pitch = fit_w.min(fit_h).floor().clamp(1.0, 4.0) as usize;
-    let tex = p.texture(ui.ctx(), lines, pitch);
-    let size = tex.size_vec2() / ppp;
-    let id = tex.id();
-    let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
-    let min = (rect.min.to_vec2() * ppp).round() / ppp;
-    let rect = Rect::from_min_size(min.to_pos2(), size);
-    ui.painter().image(
-        id,
-        rect,
-        Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-        Color32::WHITE,
-    );
-    (rect, pitch)
+    (p.show(ui, lines, pitch), pitch)
 }
 
 /// What the relay buttons' lamps show: some channel runs, holds, is faulted or alarmed, or
