@@ -6,11 +6,12 @@
 //! motion decays exponentially (time constant L / f_r) onto the exact end point.
 //!
 //! Machine time is simulated cycle by cycle (`EP_CYCLE_NS`), a pulse carrying the time of its
-//! recirculation cycle. Three kinds of stretch are jumped in closed form, with the very same
-//! result as cycle by cycle (tested, `jumps_change_no_pulse`): cycles with the gates open
-//! every cycle and no pulse (the tail), cycles with the gates shut while the feed-rate counter
-//! fills to stage 6, and the shut cycles between gates opening every second or fourth cycle.
-//! docs/pulse-core.md, "The error-proportional interpolator".
+//! recirculation cycle. Arcs run the registers as the patent draws them (`run_cycles`). Lines
+//! run them in a fast form that does work only where a gate opens and jumps the tail to the
+//! next pulse (`run_line`), with the very same pulses at the very same times (tested against
+//! `run_cycles`, `the_fast_line_form_changes_no_pulse`). Both jump in closed form over shut
+//! cycles while the feed-rate counter fills to stage 6. docs/pulse-core.md, "The
+//! error-proportional interpolator".
 
 pub mod arc;
 pub mod registers;
@@ -63,6 +64,16 @@ pub struct EpMotion {
     jumps: bool,
     /// An arc: each axis's last pulse direction (0 after it turned round).
     arc_dir: [i8; 3],
+    /// A line: the axes whose register left the band upward in the last cycle, so that the
+    /// pulse detector 101 sent their pulse at once; the pulse the next cycle's two equal signs
+    /// make is that one, not another (`ResidueRegister` is the hardware; docs/pulse-core.md,
+    /// "Path accuracy").
+    owed: u8,
+    /// A line, the fast form of the registers (`run_line`): each axis's residue as the fraction
+    /// u in [0, L + E_m) that a shut cycle's swing leaves unchanged, and the sign memories as
+    /// bits relative to the cycle's parity (sign 99 = bit XOR the parity of `cycle`).
+    u: [i64; 3],
+    sign_bits: u8,
 }
 
 /// Feed-rate pulses per cycle, fixed point, for a path speed in pulses/ns.
@@ -100,6 +111,10 @@ impl EpMotion {
             shift: 0,
             jumps: true,
             arc_dir: [0; 3],
+            owed: 0,
+            u: [c / 2; 3],
+            // Every memory 99 set (RR = C/2 ≥ 0) before cycle 0, whose parity is 0.
+            sign_bits: 0b111,
         };
         m.rerank();
         m.set_target(speed);
@@ -225,6 +240,17 @@ impl EpMotion {
     /// Distributes pulses until the motion completes, stands still, or the next cycle falls
     /// at or after `horizon`.
     pub fn run(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
+        if self.arc.is_none() && self.jumps {
+            self.run_line(horizon, out)
+        } else {
+            self.run_cycles(horizon, out)
+        }
+    }
+
+    /// The registers as the patent draws them (`ResidueRegister`), one recirculation cycle at
+    /// a time: every arc, and a line with the jumps off (the reference `run_line` is tested
+    /// against). Arcs jump only over shut cycles.
+    fn run_cycles(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
         const T: u64 = EP_CYCLE_NS;
         if self.e == [0; 3] {
             return Progress::Done;
@@ -244,21 +270,8 @@ impl EpMotion {
                 // needs it (the every-second-cycle regime checks with one multiply).
                 let room = |next_t: u64| (horizon - next_t - 1) / T;
                 let skip = if self.counter.k >= 128 {
-                    if self.arc.is_some() || 2 * (self.c - self.l) >= self.c {
-                        // E_m ≥ L: pulses come every cycle or two, nothing to jump.
-                        0
-                    } else {
-                        // The tail: the gates open every cycle until the next pulse.
-                        let m = (0..3)
-                            .filter_map(|a| self.reg[a].cycles_to_pulse(self.e[a].abs(), self.c))
-                            .min()
-                            .unwrap_or(u64::MAX);
-                        let s = (m - 1).min(room(self.next_t));
-                        for a in 0..3 {
-                            self.reg[a].advance_gated(s, self.e[a].abs(), self.c);
-                        }
-                        s
-                    }
+                    // Gates every cycle: an arc's tangent turns at each pulse, nothing to jump.
+                    0
                 } else if self.counter.k < 32 {
                     // The gates stay shut until the counter reaches stage 6.
                     let n = (32 - self.counter.k) as u64;
@@ -356,7 +369,22 @@ impl EpMotion {
                     // The register works on the error's magnitude; the pulse goes the error's way.
                     let ea = self.e[a];
                     let g = if gate { ea.abs() } else { 0 };
-                    let p = self.reg[a].cycle(g, c) * if ea < 0 { -1 } else { 1 };
+                    let dir = if ea < 0 { -1 } else { 1 };
+                    let bit = 1u8 << a;
+                    let mut p = self.reg[a].cycle(g, c) * dir;
+                    if self.owed & bit != 0 {
+                        // Two equal signs after a number that left the band: the pulse that
+                        // already went out.
+                        self.owed &= !bit;
+                        p = 0;
+                    }
+                    if p == 0 && self.reg[a].positive && self.reg[a].rr >= c {
+                        // The number left the band upward: the next cycle is certain to end
+                        // with the same sign (it subtracts at most L + E_m and adds a gated
+                        // error ≥ 0), so the detector sends the pulse now.
+                        self.owed |= bit;
+                        p = dir;
+                    }
                     if p != 0 {
                         self.e[a] -= p as i64;
                         out.pulse_at_ns(a, p, t);
@@ -384,6 +412,144 @@ impl EpMotion {
             } else if self.hold {
                 self.last_t = self.last_t.max(t);
             }
+        }
+    }
+}
+
+impl EpMotion {
+    /// A line, with the registers in their fast form: the same pulses at the same times as
+    /// `run_cycles` (tested, `the_fast_line_form_changes_no_pulse`), with the work done only
+    /// in the cycles where a gate opens.
+    ///
+    /// In a cycle with the gate shut a register in the band only swings round zero: RR ≥ 0
+    /// becomes RR − C and RR < 0 becomes RR + C. So u = RR after a positive end and RR + C
+    /// after a negative one does not change, and the sign memory flips; kept relative to the
+    /// cycle's parity, the flip is no work either. A gate adds the error to u; the number
+    /// leaves the band (a pulse, at once or owed) exactly when u reaches C, and u then drops
+    /// by C. What the signs still decide is the clamp when E_m falls (`ResidueRegister::clamp`):
+    /// after a positive end u is capped at the new C − 1, after a negative end it drops by the
+    /// fall (RR stays, the next swing adds the smaller C), and an owed number gains the fall
+    /// (the next cycle subtracts the smaller C).
+    fn run_line(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
+        const T: u64 = EP_CYCLE_NS;
+        if self.e == [0; 3] {
+            return Progress::Done;
+        }
+        loop {
+            if self.next_t >= horizon {
+                return Progress::Pending;
+            }
+            let frozen = self.hold || (self.inc == 0 && self.counter.k < 32);
+            if self.owed == 0 {
+                if frozen {
+                    self.resting = true;
+                    return Progress::AtRest;
+                }
+                let room = |next_t: u64| (horizon - next_t - 1) / T;
+                let c = self.c;
+                let skip = if self.counter.k >= 128 {
+                    // Gates every cycle (the counter only rises without a pulse): the cycles
+                    // before the first register reaches C, if no register does next cycle.
+                    let mag = [self.e[0].abs(), self.e[1].abs(), self.e[2].abs()];
+                    let soon = (0..3).any(|a| self.u[a] + mag[a] >= c);
+                    if soon {
+                        0
+                    } else {
+                        let m = (0..3)
+                            .filter(|&a| mag[a] > 0)
+                            .map(|a| ((c - self.u[a]) as u64).div_ceil(mag[a] as u64))
+                            .min()
+                            .unwrap_or(u64::MAX);
+                        let s = (m - 1).min(room(self.next_t));
+                        for (u, m) in self.u.iter_mut().zip(mag) {
+                            *u += m * s as i64;
+                        }
+                        s
+                    }
+                } else if self.counter.k < 32 {
+                    // The gates stay shut until the counter reaches stage 6.
+                    let n = (32 - self.counter.k) as u64;
+                    let pulses = n.div_ceil(registers::W_FEED as u64);
+                    let need = (pulses << FRAC).saturating_sub(self.acc);
+                    (need.div_ceil(self.inc).max(1) - 1).min(room(self.next_t))
+                } else {
+                    0
+                };
+                if skip > 0 {
+                    let total = self.acc as u128 + self.inc as u128 * skip as u128;
+                    self.counter.feed((total >> FRAC).min(64) as u64);
+                    self.acc = (total as u64) & MASK;
+                    self.cycle = self.cycle.wrapping_add(skip);
+                    self.next_t += skip * T;
+                }
+            }
+            // One recirculation cycle.
+            let t = self.next_t;
+            self.acc += self.inc;
+            if self.acc >> FRAC != 0 {
+                self.counter.feed(self.acc >> FRAC);
+                self.acc &= MASK;
+            }
+            let gate = !self.hold && self.counter.gate(self.cycle);
+            if gate || self.owed != 0 {
+                let c = self.c;
+                // Sign memories at the end of the last cycle; "positive and in the band".
+                let parity = if self.cycle & 1 == 1 { 0b111 } else { 0 };
+                let strict = (self.sign_bits ^ parity) & !self.owed & 0b111;
+                let mut pulses = 0u8;
+                for a in 0..3 {
+                    let g = if gate { self.e[a].abs() } else { 0 };
+                    let u = self.u[a] + g;
+                    let p = u >= c;
+                    self.u[a] = if p { u - c } else { u };
+                    pulses |= (p as u8) << a;
+                }
+                // A positive end stays positive (no flip) after an owed number, or after a
+                // pulse at once; a number that left the band from a negative end, or again
+                // from an owed one, is owed.
+                self.sign_bits ^= self.owed | (strict & pulses);
+                self.owed = pulses & !strict;
+                if pulses != 0 {
+                    for a in 0..3 {
+                        if pulses & (1 << a) != 0 {
+                            let dir: i8 = if self.e[a] < 0 { -1 } else { 1 };
+                            self.e[a] -= dir as i64;
+                            out.pulse_at_ns(a, dir, t);
+                            self.counter.command(self.rank_of[a]);
+                        }
+                    }
+                    self.last_t = t;
+                    let em = self.e[0].abs().max(self.e[1].abs()).max(self.e[2].abs());
+                    let c1 = self.l + em;
+                    if c1 < c {
+                        let fall = c - c1;
+                        let strict = (self.sign_bits ^ !parity) & !self.owed & 0b111;
+                        for a in 0..3 {
+                            let bit = 1u8 << a;
+                            self.u[a] = if self.owed & bit != 0 {
+                                self.u[a] + fall
+                            } else if strict & bit != 0 {
+                                self.u[a].min(c1 - 1)
+                            } else {
+                                (self.u[a] - fall).max(0)
+                            };
+                        }
+                    }
+                    self.c = c1;
+                    self.cycle = self.cycle.wrapping_add(1);
+                    self.next_t += T;
+                    if em == 0 {
+                        return Progress::Done;
+                    }
+                    self.rerank();
+                    continue;
+                }
+            }
+            if self.hold {
+                self.last_t = self.last_t.max(t);
+            }
+            self.cycle = self.cycle.wrapping_add(1);
+            self.next_t += T;
         }
     }
 }
@@ -423,30 +589,88 @@ mod tests {
         );
     }
 
-    /// The closed-form jumps give exactly the pulses, at exactly the times, of taking every
-    /// recirculation cycle one by one: random lines at feeds from F20 to the rapid rate, with
-    /// small and large L.
+    /// The fast form of a line's registers (`run_line`) gives exactly the pulses, at exactly
+    /// the times, of the registers as the patent draws them cycle by cycle (`run_cycles`),
+    /// through random horizons, holds, resumes and feed changes (override, down to 0), with L
+    /// from 1 pulse up.
     #[test]
-    fn jumps_change_no_pulse() {
-        let mut rng = crate::pulse_core::testkit::Rng::new(5);
-        for case in 0..40 {
-            let delta = [
-                rng.range(-20_000, 20_000),
-                rng.range(-8_000, 8_000),
-                if case % 3 == 0 {
-                    0
-                } else {
-                    rng.range(-3_000, 3_000)
-                },
-            ];
+    fn the_fast_line_form_changes_no_pulse() {
+        let mut rng = crate::pulse_core::testkit::Rng::new(11);
+        for case in 0..300 {
             let feed = [20.0, 300.0, 2000.0, 10_000.0, 12_000.0][case % 5];
-            let l = [30_000, 2_000, 100][case % 3];
+            // Long lines at the fast feeds (the literal registers take every cycle).
+            let big = [50, 3_000, 40_000][case % 3].min(if feed < 1000.0 { 3_000 } else { 40_000 });
+            let mut delta = [0i64; 3];
+            while delta == [0; 3] {
+                for d in &mut delta {
+                    *d = if rng.range(0, 3) == 0 {
+                        0
+                    } else {
+                        rng.range(-big, big)
+                    };
+                }
+            }
+            let l = [1, 2, 3, 100, 2_000, 30_000][case % 6];
             let v = speed_pulses_ns(feed, 0.001);
-            let mut a = EpMotion::linear(delta, v, l, 0);
-            let mut b = a.clone();
-            b.jumps = false;
-            let (pa, pb) = (run_all(&mut a), run_all(&mut b));
-            assert_eq!(pa, pb, "{delta:?} F{feed} L {l}");
+            let mut fast = EpMotion::linear(delta, v, l, 0);
+            let mut slow = fast.clone();
+            slow.jumps = false;
+            let (mut of, mut os) = (PulseOut::default(), PulseOut::default());
+            of.set_log(None, true);
+            os.set_log(None, true);
+            let mut horizon = 0u64;
+            for step in 0..400 {
+                horizon += rng.range(1, 2_000_000) as u64;
+                let (pf, ps) = (fast.run(horizon, &mut of), slow.run(horizon, &mut os));
+                assert_eq!(pf, ps, "case {case} step {step}: {delta:?} F{feed} L {l}");
+                assert_eq!(
+                    of.take_capture(),
+                    os.take_capture(),
+                    "case {case} step {step}"
+                );
+                assert_eq!(fast.errors(), slow.errors());
+                if pf == Progress::Done {
+                    break;
+                }
+                match rng.range(0, 9) {
+                    0 => {
+                        let h = !fast.is_held();
+                        fast.set_hold(h);
+                        slow.set_hold(h);
+                    }
+                    1 => {
+                        let k = [0.0, 0.3, 1.0, 1.2][rng.range(0, 3) as usize];
+                        fast.set_target(v * k);
+                        slow.set_target(v * k);
+                    }
+                    _ => {}
+                }
+                if pf == Progress::AtRest {
+                    fast.set_hold(false);
+                    slow.set_hold(false);
+                    fast.set_target(v);
+                    slow.set_target(v);
+                    fast.resume_at(horizon);
+                    slow.resume_at(horizon);
+                }
+            }
+            for m in [&mut fast, &mut slow] {
+                m.set_hold(false);
+                m.set_target(v);
+                m.resume_at(horizon);
+            }
+            assert_eq!(
+                fast.run(u64::MAX, &mut of),
+                slow.run(u64::MAX, &mut os),
+                "case {case}"
+            );
+            assert_eq!(
+                of.take_capture(),
+                os.take_capture(),
+                "case {case} to the end"
+            );
+            assert_eq!(of.pos, delta, "case {case}: the end exact");
+            assert_eq!(os.pos, delta);
         }
     }
 
