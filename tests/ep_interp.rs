@@ -7,7 +7,7 @@
 
 use novanc::pulse_core::testkit::{linear, Rng};
 use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
-use novanc::settings::{Interpolator, MachineSettings, EP_CYCLE_NS};
+use novanc::settings::{Interpolator, MachineSettings, EP_CYCLE_NS, EP_L_DEFAULT};
 
 const MID: [i64; 3] = [500_000, 400_000, -300_000];
 const HOUR: u64 = 3_600_000_000_000;
@@ -71,6 +71,15 @@ fn off_line(p: [i64; 3], a: [i64; 3], d: [i64; 3]) -> f64 {
     (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt()
 }
 
+/// How many random lines: `NOVANC_EP_LINES` (default 48). The long run:
+/// `NOVANC_EP_LINES=5000 cargo test --release --test ep_interp random_lines -- --nocapture`.
+fn line_count() -> usize {
+    std::env::var("NOVANC_EP_LINES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(48)
+}
+
 /// Random lines on 1, 2 or 3 axes in every direction: every point within 1 pulse of the
 /// line, every axis within 1 pulse of the point on the line where the largest error stands
 /// (the axis errors stay in the programmed ratio: each axis's rate is f_a · E_axis / (E_m + L)),
@@ -83,7 +92,7 @@ fn random_lines_in_every_direction_stay_on_the_path_and_end_exactly() {
     let mut worst_ratio: f64 = 0.0;
     let mut worst_slow: f64 = 0.0;
     let mut worst2: f64 = 0.0;
-    for case in 0..48 {
+    for case in 0..line_count() {
         let n_axes = case % 3 + 1;
         let mut delta = [0i64; 3];
         let mut axes = [0usize, 1, 2];
@@ -98,11 +107,19 @@ fn random_lines_in_every_direction_stay_on_the_path_and_end_exactly() {
             }
         }
         let feed = [300.0, 3000.0, 12_000.0][case % 3];
-        // docs/pulse-core.md, "Path accuracy": each axis is within a pulse of where the
-        // quantised rate puts it, but a pulse a gate decides in the sign memory's other phase
-        // comes out a cycle later, so two axes can be apart by up to 1.5 pulses.
-        let bound = 1.5;
-        let mut m = machine(settings());
+        // docs/pulse-core.md, "Path accuracy": the issue's bound, every point within 1 pulse
+        // of the line. Each axis against the largest error's point: its own quantisation and
+        // that of the largest error, half a pulse each, and the drift of the clamp (1.11 at
+        // most over 10,000 lines), so 1.5.
+        let bound = 1.0;
+        let ratio_bound = 1.5;
+        // The default L, and servos ten and thirty times stiffer (docs/pulse-core.md, "Path
+        // accuracy", gives stiffer ones).
+        let l = [EP_L_DEFAULT, 3_000, 1_000][(case / 3) % 3];
+        let mut m = machine(MachineSettings {
+            ep_l_pulses: l,
+            ..settings()
+        });
         let pulses = run(&mut m, vec![linear(1, MID, delta, feed)]);
         let end = [MID[0] + delta[0], MID[1] + delta[1], MID[2] + delta[2]];
         assert_eq!(m.pos(), end, "end exact for {delta:?}");
@@ -134,14 +151,17 @@ fn random_lines_in_every_direction_stay_on_the_path_and_end_exactly() {
             if feed <= 3000.0 {
                 worst_slow = worst_slow.max(d);
             }
-            assert!(d <= bound, "{delta:?}: {p:?} is {d} pulses off the line");
+            assert!(
+                d <= bound,
+                "{delta:?} F{feed} L {l}: {p:?} is {d} pulses off the line"
+            );
             let em = (end[major] - p[major]).abs() as f64;
             for a in 0..3 {
                 let ideal = em * delta[a].abs() as f64 / delta[major].abs() as f64;
                 let e = (end[a] - p[a]).abs() as f64;
                 worst_ratio = worst_ratio.max((e - ideal).abs());
                 assert!(
-                    (e - ideal).abs() < 2.0 * bound,
+                    (e - ideal).abs() < ratio_bound,
                     "{delta:?}: axis {a} error {e} for {ideal}"
                 );
             }
