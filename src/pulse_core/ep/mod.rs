@@ -486,10 +486,15 @@ impl EpMotion {
             // One recirculation cycle.
             let t = self.next_t;
             self.acc += self.inc;
-            if self.acc >> FRAC != 0 {
-                self.counter.feed(self.acc >> FRAC);
-                self.acc &= MASK;
+            let n = self.acc >> FRAC;
+            if n <= 1 {
+                // The usual feed (below f_r): at most one feed-rate pulse, counted without a
+                // branch (they come as good as at random against the gate's phase).
+                self.counter.k += registers::W_FEED * (n as i32) * (self.counter.k < 240) as i32;
+            } else {
+                self.counter.feed(n);
             }
+            self.acc &= MASK;
             let gate = !self.hold && self.counter.gate(self.cycle);
             if gate || self.owed != 0 {
                 let c = self.c;

@@ -134,7 +134,8 @@ impl FeedCounter {
     /// fourth with stage 6 (k ≥ 32) (bf4, bf5, bf6).
     #[inline(always)]
     pub fn gate(&self, cycle: u64) -> bool {
-        self.k >= 128 || (self.k >= 64 && cycle & 1 == 0) || (self.k >= 32 && cycle & 3 == 0)
+        // Without short circuits: the count hovers about a stage, so branches would mispredict.
+        (self.k >= 128) | ((self.k >= 64) & (cycle & 1 == 0)) | ((self.k >= 32) & (cycle & 3 == 0))
     }
 }
 
