@@ -17,6 +17,10 @@ const MID: [i64; 3] = [500_000, 400_000, -300_000];
 /// A long 3-axis contour: `n` blocks zigzagging about the middle of the travel, 10–30 mm out
 /// in X and Y and 3–10 mm in Z from it (so about 20–60 mm and 6–20 mm per block).
 fn contour(n: usize, feed: f64) -> Vec<novanc::block::Block> {
+    polyline(&contour_points(n), feed)
+}
+
+fn contour_points(n: usize) -> Vec<[i64; 3]> {
     let mut rng = Rng::new(42);
     let mut pts = vec![MID];
     for i in 0..n {
@@ -27,7 +31,32 @@ fn contour(n: usize, feed: f64) -> Vec<novanc::block::Block> {
             MID[2] + s * rng.range(3_000, 10_000),
         ]);
     }
-    polyline(&pts, feed)
+    pts
+}
+
+/// The same contour as an ISO program for `novanc run` (1 µm pulses, machine coordinates):
+/// a rapid to its start, then the `n` feed blocks.
+fn contour_program(n: usize, feed: f64) -> std::path::PathBuf {
+    let mm = |p: i64| format!("{:.3}", p as f64 / 1000.0);
+    let pts = contour_points(n);
+    let mut text = String::from("%\nG21 G90 G17\n");
+    text += &format!(
+        "G00 X{} Y{} Z{}\n",
+        mm(pts[0][0]),
+        mm(pts[0][1]),
+        mm(pts[0][2])
+    );
+    for (i, p) in pts[1..].iter().enumerate() {
+        text += &format!("G01 X{} Y{} Z{}", mm(p[0]), mm(p[1]), mm(p[2]));
+        if i == 0 {
+            text += &format!(" F{feed}");
+        }
+        text += "\n";
+    }
+    text += "M30\n%\n";
+    let path = std::env::temp_dir().join(format!("novanc-contour-{}.ngc", std::process::id()));
+    std::fs::write(&path, text).expect("write the contour program");
+    path
 }
 
 /// A program source of one statement.
@@ -272,8 +301,36 @@ fn interpolators(blocks: &[novanc::block::Block]) {
             dev
         );
     }
-    // `novanc run` reads the console's language (G-code at `novanc run` is another branch's
-    // work), so the whole-process figure is on the sample programs.
+    // The whole process on the same contour (an ISO program; the rapid to its start adds
+    // pulses and machine time), then on the sample programs.
+    let prog = contour_program(3000, 10_000.0);
+    for interp in ["dda", "error-proportional"] {
+        let (mut best, mut out) = (f64::MAX, String::new());
+        for _ in 0..3 {
+            let (secs, o) = whole_run(&prog, interp);
+            if secs < best {
+                (best, out) = (secs, o);
+            }
+        }
+        let pulses: u64 = out
+            .lines()
+            .find(|l| l.starts_with("pulses:"))
+            .map(|l| {
+                l.split_whitespace()
+                    .filter_map(|w| w.parse::<u64>().ok())
+                    .sum()
+            })
+            .unwrap_or(0);
+        let mt = out
+            .lines()
+            .find(|l| l.starts_with("machine time:"))
+            .unwrap_or("machine time: ?");
+        println!(
+            "  whole `novanc run contour.ngc --interpolator {interp}` process (the same contour, best of 3): {best:.2} s wall, {pulses} axis pulses ({:.1} M/s), {mt}",
+            pulses as f64 / best / 1e6
+        );
+    }
+    let _ = std::fs::remove_file(&prog);
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs");
     for prog in ["tableb.ap", "bracket.ap", "geometry.ap"] {
         for interp in ["dda", "error-proportional"] {

@@ -230,6 +230,21 @@ impl EpMotion {
         self.speed() * 1e9 * 60.0 * pulse_mm
     }
 
+    /// One cycle's feed-rate pulses into the counter.
+    #[inline(always)]
+    fn feed_cycle(&mut self) {
+        self.acc += self.inc;
+        let n = self.acc >> FRAC;
+        if n <= 1 {
+            // The usual feed (below f_r): at most one feed-rate pulse, counted without a
+            // branch (they come as good as at random against the gate's phase).
+            self.counter.k += registers::W_FEED * (n as i32) * (self.counter.k < 240) as i32;
+        } else {
+            self.counter.feed(n);
+        }
+        self.acc &= MASK;
+    }
+
     #[inline(always)]
     fn all_in_band(&self) -> bool {
         let c = self.c << self.shift;
@@ -319,11 +334,7 @@ impl EpMotion {
             }
             // One recirculation cycle.
             let t = self.next_t;
-            self.acc += self.inc;
-            if self.acc >> FRAC != 0 {
-                self.counter.feed(self.acc >> FRAC);
-                self.acc &= MASK;
-            }
+            self.feed_cycle();
             let gate = !self.hold && self.counter.gate(self.cycle);
             let c = self.c;
             let mut any = false;
@@ -485,16 +496,7 @@ impl EpMotion {
             }
             // One recirculation cycle.
             let t = self.next_t;
-            self.acc += self.inc;
-            let n = self.acc >> FRAC;
-            if n <= 1 {
-                // The usual feed (below f_r): at most one feed-rate pulse, counted without a
-                // branch (they come as good as at random against the gate's phase).
-                self.counter.k += registers::W_FEED * (n as i32) * (self.counter.k < 240) as i32;
-            } else {
-                self.counter.feed(n);
-            }
-            self.acc &= MASK;
+            self.feed_cycle();
             let gate = !self.hold && self.counter.gate(self.cycle);
             if gate || self.owed != 0 {
                 let c = self.c;
