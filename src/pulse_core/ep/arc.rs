@@ -147,19 +147,26 @@ impl ArcPlan {
     }
 
     /// One gate opening: the amounts to add in adders 95 of u and v for the chord `e`, in
-    /// 1/2¹⁶ pulse: E + A, A the chord turned outward (away from the centre) times
-    /// E_m / 2h_n, 2h_n = |2(M_n − T_n) − E_n| across the larger error coordinate n
-    /// (Equations VIII–XI). The patent's circuit 130 makes the ratio by crossing the errors in
-    /// one gate opening out of 1 + 2h_n / E_m; here each gate carries its share (crossing
-    /// whole gates made the registers chatter: pulses back and forth, a third more pulses
-    /// than the arc needs, docs/pulse-core.md).
+    /// 1/2¹⁶ pulse, with `c` = L + E_m: (E + A) / (1 + ρ), A the chord turned outward (away
+    /// from the centre) times ρ = E_m / 2h_n, 2h_n = |2(M_n − T_n) − E_n| across the larger
+    /// error coordinate n (Equations VIII–XI). The patent's circuit 130 makes the ratio by
+    /// crossing the errors in one gate opening out of 1 + 1/ρ, so a gate adds on average
+    /// (E + ρ·rot E) / (1 + ρ), never more than E_m to an axis; here each gate carries that
+    /// average (crossing whole gates made the registers chatter: pulses back and forth, a
+    /// third more pulses than the arc needs, docs/pulse-core.md).
+    ///
+    /// The tangent is turned in by half the angle the gate's step turns on the circle, so the
+    /// step runs along the secant to the circle rather than the tangent off it (a
+    /// reconstruction: a step of s pulses along the tangent leaves the circle by s² / 2R, which
+    /// the chord's pull back corrects only as the chord shortens; the tool stood up to 0.4
+    /// pulses outside the circle on average in the middle of a piece).
     ///
     /// On a helix the normal axis's error E_z is gated times ρ / atan ρ (ρ = E_m / 2h_n, the
     /// tangent of half the angle left), so that it shrinks as the angle left does, not as the
     /// chord: the helix's pitch is kept along the piece (a reconstruction: the patent has no
     /// helices).
     #[inline]
-    pub fn gated(&mut self, e: [i64; 3]) -> [i64; 3] {
+    pub fn gated(&mut self, e: [i64; 3], c: i64) -> [i64; 3] {
         let (au, av) = (e[0].abs(), e[1].abs());
         let em = au.max(av);
         let t = self.target();
@@ -180,11 +187,19 @@ impl ArcPlan {
             [-e[1], e[0]]
         };
         let one = (1i64 << SHIFT) as f64;
-        let pitch = if rho > 1e-9 { rho / rho.atan() } else { 1.0 };
+        let half = rho.atan();
+        let pitch = if rho > 1e-9 { rho / half } else { 1.0 };
+        let share = 1.0 / (1.0 + rho);
+        // The step of this gate, pulses, and the angle it turns on a circle of the tool's
+        // radius: the secant's turn is half of it.
+        let chord = (e[0] as f64).hypot(e[1] as f64);
+        let step = chord * (1.0 + rho * rho).sqrt() * share / c.max(1) as f64;
+        let radius = (r[0] as f64).hypot(r[1] as f64).max(1.0);
+        let rho = (half - step / radius / 2.0).tan().max(0.0);
         [
-            ((e[0] as f64 + turned[0] as f64 * rho) * one).round() as i64,
-            ((e[1] as f64 + turned[1] as f64 * rho) * one).round() as i64,
-            (e[2] as f64 * pitch * one).round() as i64,
+            ((e[0] as f64 + turned[0] as f64 * rho) * share * one).round() as i64,
+            ((e[1] as f64 + turned[1] as f64 * rho) * share * one).round() as i64,
+            (e[2] as f64 * pitch * share * one).round() as i64,
         ]
     }
 

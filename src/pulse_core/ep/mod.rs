@@ -344,7 +344,7 @@ impl EpMotion {
                 let [u, v] = arc.axes;
                 let n = 3 - u - v;
                 let g = if gate {
-                    arc.gated([self.e[u], self.e[v], self.e[n]])
+                    arc.gated([self.e[u], self.e[v], self.e[n]], c)
                 } else {
                     [0, 0, 0]
                 };
@@ -413,6 +413,11 @@ impl EpMotion {
                 if c1 < c {
                     for r in &mut self.reg {
                         r.clamp(c << self.shift, c1 << self.shift);
+                    }
+                } else if c1 > c {
+                    // An arc's commanded point moved on: E_m grew.
+                    for r in &mut self.reg {
+                        r.rescale(c << self.shift, c1 << self.shift);
                     }
                 }
                 self.c = c1;

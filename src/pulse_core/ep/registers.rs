@@ -69,6 +69,33 @@ impl ResidueRegister {
         }
     }
 
+    /// Refers the number to a larger constant `c` (from `c0`, when the commanded point of an
+    /// arc moves on and E_m grows): a number in the band keeps its place in it, the fraction
+    /// u / C of a pulse (u = RR after a positive end, RR + C after a negative one); a number
+    /// outside it (a pulse decided, still to come out) keeps what lies beyond the band, so the
+    /// pulse still comes. Without it the next swing would add the larger C to a number the
+    /// smaller one had put below zero, moving the axis's residue by up to a pulse at once
+    /// (a reconstruction; docs/pulse-core.md, "Arcs by the chord and the perpendicular").
+    pub fn rescale(&mut self, c0: i64, c: i64) {
+        if c <= c0 || c0 <= 0 {
+            return;
+        }
+        // u · c / c0 in 128 bits: arc registers count in 1/2¹⁶ pulse.
+        let grow = c - c0;
+        let scale = |u: i64| ((u as i128 * c as i128 + c0 as i128 / 2) / c0 as i128) as i64;
+        if self.positive {
+            if self.rr >= c0 {
+                self.rr += grow;
+            } else {
+                self.rr = scale(self.rr).min(c - 1);
+            }
+        } else if self.rr < -c0 {
+            self.rr -= grow;
+        } else {
+            self.rr = (scale(self.rr + c0) - c).clamp(-c, -1);
+        }
+    }
+
     /// `m` cycles with the gate shut from inside the band: the number swings, no pulse.
     #[inline(always)]
     pub fn swing(&mut self, m: u64, c: i64) {
