@@ -288,6 +288,33 @@ mod tests {
         }
     }
 
+    /// `rescale` keeps a number in the band at its place (u / C) and one outside it the same
+    /// distance beyond, so the pulse it decided still comes; a smaller C changes nothing.
+    #[test]
+    fn rescale_keeps_the_place_in_the_band() {
+        // Positive end, u = 300 of 1000 -> 600 of 2000; the swings keep it there.
+        let mut r = ResidueRegister::new(300);
+        r.rescale(1000, 2000);
+        assert_eq!(r, ResidueRegister::new(600));
+        // Negative end: RR = -700 is u = 300 of 1000 -> u = 600 of 2000, RR = -1400.
+        let mut r = ResidueRegister::new(-700);
+        r.rescale(1000, 2000);
+        assert_eq!(r, ResidueRegister::new(-1400));
+        assert_eq!(r.cycle(0, 2000), 0, "a negative end swings up to u");
+        assert_eq!(r.rr, 600);
+        // Outside the band: 1100 after a positive end still makes its pulse next cycle.
+        let mut r = ResidueRegister::new(1100);
+        r.rescale(1000, 2000);
+        assert_eq!(r.rr, 2100);
+        assert_eq!(r.cycle(0, 2000), 1);
+        let mut r = ResidueRegister::new(-1200);
+        r.rescale(1000, 2000);
+        assert_eq!(r.cycle(0, 2000), -1);
+        let mut r = ResidueRegister::new(300);
+        r.rescale(1000, 900);
+        assert_eq!(r, ResidueRegister::new(300));
+    }
+
     /// A run of shut cycles in closed form (`swing`) agrees with cycle-by-cycle stepping,
     /// from random states in the band.
     #[test]
