@@ -91,7 +91,40 @@ fn check(rng: &mut Rng, plane: Plane, ccw: bool, full: bool, feed: f64) -> (f64,
         q0 = q;
     }
     let made = (n[u] + n[v]) as f64;
+    // No pulse back and forth: an axis reverses only where the arc crosses the other axis's
+    // line through the centre (u at 0° and 180°, v at 90° and 270°).
+    let mut last = [0i8; 3];
+    let mut reversals = 0;
+    for p in &pulses {
+        let a = p.axis as usize;
+        if last[a] == -p.dir {
+            reversals += 1;
+        }
+        last[a] = p.dir;
+    }
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let (lo, hi) = if ccw {
+        (th0, th0 + sweep)
+    } else {
+        (th0 - sweep, th0)
+    };
+    let crossings = ((lo / quarter).floor() as i64 + 1..=(hi / quarter).ceil() as i64 - 1)
+        .filter(|&k| (k as f64 * quarter - lo) > 1e-9 && (hi - k as f64 * quarter) > 1e-9)
+        .count();
+    assert!(
+        reversals <= crossings,
+        "{reversals} reversals where the arc crosses {crossings} axes: {what}"
+    );
     (worst, worst_own, made / ideal, r)
+}
+
+/// How many arcs per plane: `NOVANC_EP_ARCS` (default 12). The long run:
+/// `NOVANC_EP_ARCS=400 cargo test --release --test ep_arcs arcs_in -- --nocapture`.
+fn arc_count() -> usize {
+    std::env::var("NOVANC_EP_ARCS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(12)
 }
 
 #[test]
@@ -101,13 +134,17 @@ fn arcs_in_every_plane_end_exactly_and_stay_near_the_circle() {
     let mut worst_own = 0.0f64;
     let mut extra = 0.0f64;
     for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
-        for i in 0..12 {
+        for i in 0..arc_count() {
             let feed = [500.0, 2000.0, 6000.0][i % 3];
             let (w, own, x, r) = check(&mut rng, plane, i % 2 == 0, i % 4 == 0, feed);
             worst = worst.max(w);
             worst_own = worst_own.max(own);
             extra = extra.max(x);
-            assert!(w <= 2.5, "{w} pulses off the circle ({plane:?}, case {i})");
+            // docs/pulse-core.md, "Arcs by the chord and the perpendicular": the issue's
+            // 1 pulse from the block's own arc (whose whole-pulse ends lie off the programmed
+            // circle by up to 0.7 pulses), 1.5 from the programmed circle.
+            assert!(own <= 1.0, "{own} pulses off the arc ({plane:?}, case {i})");
+            assert!(w <= 1.5, "{w} pulses off the circle ({plane:?}, case {i})");
             assert!(x <= 1.001 + 4.0 / r, "{x} times the pulses the arc needs");
         }
     }
@@ -211,8 +248,8 @@ fn helices_in_every_plane_keep_their_pitch_and_end_exactly() {
     eprintln!(
         "helices: largest distance from the circle {worst_r:.2} pulses, normal axis off the pitch {worst_z:.2} pulses"
     );
-    assert!(worst_r <= 2.5, "{worst_r}");
-    assert!(worst_z <= 2.5, "{worst_z}");
+    assert!(worst_r <= 2.0, "{worst_r}");
+    assert!(worst_z <= 2.0, "{worst_z}");
 }
 
 /// Tiny arcs and full circles (radius 2 to 40 pulses) in every plane end exactly and in a

@@ -39,6 +39,10 @@ pub struct ArcPlan {
     ccw: bool,
     /// The pieces' end points (u, v), the last one the block's end.
     targets: Vec<[i64; 2]>,
+    /// How far each end point lies from the whole pulse it is rounded to (0 for the block's
+    /// end): the tangent is aimed at the point on the circle, the pulses counted to the whole
+    /// pulse.
+    rounding: Vec<[f64; 2]>,
     /// The piece in force.
     piece: usize,
     /// (R / 4)², pulses²: a chord shorter than this moves the commanded point on.
@@ -74,16 +78,18 @@ impl ArcPlan {
         }
         let n = (sweep / FRAC_PI_2).ceil().max(1.0) as usize;
         let mut targets = Vec::with_capacity(n);
+        let mut rounding = Vec::with_capacity(n);
         for k in 1..n {
             let f = k as f64 / n as f64;
             let a = a0 + dir * sweep * f;
             let r = r0 + (r1 - r0) * f;
-            targets.push([
-                centre[0] + (r * a.cos()).round() as i64,
-                centre[1] + (r * a.sin()).round() as i64,
-            ]);
+            let exact = [r * a.cos(), r * a.sin()];
+            let whole = [exact[0].round(), exact[1].round()];
+            targets.push([centre[0] + whole[0] as i64, centre[1] + whole[1] as i64]);
+            rounding.push([exact[0] - whole[0], exact[1] - whole[1]]);
         }
         targets.push(end);
+        rounding.push([0.0, 0.0]);
         let normal_speed = normal.map_or(0, |(_, z0, z1)| ((z1 - z0).abs() as f64 / sweep) as i64);
         let normal = normal.map(|(axis, z0, z1)| {
             let zs = (1..=n)
@@ -99,6 +105,7 @@ impl ArcPlan {
             centre,
             ccw,
             targets,
+            rounding,
             piece: 0,
             switch2: quarter * quarter,
             normal,
@@ -167,20 +174,26 @@ impl ArcPlan {
     /// helices).
     #[inline]
     pub fn gated(&mut self, e: [i64; 3], c: i64) -> [i64; 3] {
-        let (au, av) = (e[0].abs(), e[1].abs());
-        let em = au.max(av);
         let t = self.target();
         let pos = [t[0] - e[0], t[1] - e[1]];
-        let r = [self.centre[0] - pos[0], self.centre[1] - pos[1]];
+        let r = [
+            (self.centre[0] - pos[0]) as f64,
+            (self.centre[1] - pos[1]) as f64,
+        ];
+        // The chord to the point on the circle, not to the whole pulse the count ends on.
+        let k = self.rounding[self.piece];
+        let e = [e[0] as f64 + k[0], e[1] as f64 + k[1], e[2] as f64];
+        let (au, av) = (e[0].abs(), e[1].abs());
+        let em = au.max(av);
         let h2 = if au >= av {
-            (2 * r[1] - e[1]).abs()
+            (2.0 * r[1] - e[1]).abs()
         } else {
-            (2 * r[0] - e[0]).abs()
+            (2.0 * r[0] - e[0]).abs()
         };
         // ρ = tan(half the angle left) ≤ tan 60° on pieces of at most 90° moved on at a
         // quarter of the radius; the cap is a guard for radii of a few pulses, where rounding
         // can make h tiny.
-        let rho = (em as f64 / h2.max(1) as f64).min(RHO_MAX);
+        let rho = (em / h2.max(1.0)).min(RHO_MAX);
         let turned = if self.ccw {
             [e[1], -e[0]]
         } else {
@@ -192,14 +205,14 @@ impl ArcPlan {
         let share = 1.0 / (1.0 + rho);
         // The step of this gate, pulses, and the angle it turns on a circle of the tool's
         // radius: the secant's turn is half of it.
-        let chord = (e[0] as f64).hypot(e[1] as f64);
+        let chord = e[0].hypot(e[1]);
         let step = chord * (1.0 + rho * rho).sqrt() * share / c.max(1) as f64;
-        let radius = (r[0] as f64).hypot(r[1] as f64).max(1.0);
+        let radius = r[0].hypot(r[1]).max(1.0);
         let rho = (half - step / radius / 2.0).tan().max(0.0);
         [
-            ((e[0] as f64 + turned[0] as f64 * rho) * share * one).round() as i64,
-            ((e[1] as f64 + turned[1] as f64 * rho) * share * one).round() as i64,
-            (e[2] as f64 * pitch * share * one).round() as i64,
+            ((e[0] + turned[0] * rho) * share * one).round() as i64,
+            ((e[1] + turned[1] * rho) * share * one).round() as i64,
+            (e[2] * pitch * share * one).round() as i64,
         ]
     }
 

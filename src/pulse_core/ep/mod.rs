@@ -351,12 +351,39 @@ impl EpMotion {
                 for (a, ga) in [(u, g[0]), (v, g[1]), (n, g[2])] {
                     // An axis turning round (its share now against its last pulse): the
                     // register after a pulse one way stands at the edge of the band for the
-                    // other way, and would chatter; it starts again from the middle.
+                    // other way, and would chatter; it keeps its place in the band, but no
+                    // nearer than a quarter pulse to the edge the new way
+                    // (`ResidueRegister::turned`).
+                    let bit = 1u8 << a;
+                    let cc = c << arc::SHIFT;
                     if ga.signum() as i8 == -self.arc_dir[a] && ga != 0 {
-                        self.reg[a] = ResidueRegister::new((c << arc::SHIFT) / 2);
+                        self.reg[a] = self.reg[a].turned(cc, ga.signum());
                         self.arc_dir[a] = 0;
+                        // A pulse sent early stands: the register goes on after it.
+                        self.owed &= !bit;
                     }
-                    let p = self.reg[a].cycle(ga, c << arc::SHIFT);
+                    let mut p = self.reg[a].cycle(ga, cc);
+                    if self.owed & bit != 0 {
+                        // The two equal signs of a number that left the band: the pulse that
+                        // already went out.
+                        self.owed &= !bit;
+                        if p == 0 {
+                            // Not confirmed (cannot happen without a turn, which resets).
+                            self.reg[a] = ResidueRegister::new(cc / 2);
+                        }
+                        p = 0;
+                    }
+                    if p == 0 {
+                        // The number left the band: the pulse goes out now, as on a line.
+                        let r = self.reg[a];
+                        if r.positive && r.rr >= cc {
+                            p = 1;
+                            self.owed |= bit;
+                        } else if !r.positive && r.rr < -cc {
+                            p = -1;
+                            self.owed |= bit;
+                        }
+                    }
                     if p != 0 {
                         self.arc_dir[a] = p;
                         self.e[a] -= p as i64;

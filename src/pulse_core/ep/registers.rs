@@ -96,6 +96,23 @@ impl ResidueRegister {
         }
     }
 
+    /// The register of an arc's axis turning round to direction `dir` (±1), with constant `c`:
+    /// the number keeps its place in the band, u / C (a number beyond the band is taken at its
+    /// edge), but no nearer than a quarter of the band to the edge the new direction pulses
+    /// across. After a pulse one way the number stands at the very edge for the other way;
+    /// kept there, the axis would pulse back at once and forth again (chatter). Started again
+    /// from the middle, as until 24 November, the tool lost up to half a pulse at every
+    /// quadrant point (a reconstruction; docs/pulse-core.md).
+    pub fn turned(self, c: i64, dir: i64) -> ResidueRegister {
+        let u = if self.positive { self.rr } else { self.rr + c }.clamp(0, c - 1);
+        let u = if dir > 0 {
+            u.min(c - c / 4)
+        } else {
+            u.max(c / 4)
+        };
+        ResidueRegister::new(u)
+    }
+
     /// `m` cycles with the gate shut from inside the band: the number swings, no pulse.
     #[inline(always)]
     pub fn swing(&mut self, m: u64, c: i64) {
@@ -313,6 +330,39 @@ mod tests {
         let mut r = ResidueRegister::new(300);
         r.rescale(1000, 900);
         assert_eq!(r, ResidueRegister::new(300));
+    }
+
+    /// `turned` keeps the place in the band, a quarter of the band away from the edge the new
+    /// direction pulses across.
+    #[test]
+    fn a_turn_keeps_the_place_but_not_the_edge() {
+        // Just after a pulse upward (u = 10 of 1000), turning downward: u stays at the edge
+        // below, so held at 250.
+        let r = ResidueRegister {
+            rr: -990,
+            positive: false,
+        };
+        assert_eq!(r.turned(1000, -1), ResidueRegister::new(250));
+        // The same number turning upward is far from that edge: kept.
+        assert_eq!(r.turned(1000, 1), ResidueRegister::new(10));
+        // In the middle, kept either way; near the top, held a quarter below it going up.
+        assert_eq!(
+            ResidueRegister::new(600).turned(1000, -1),
+            ResidueRegister::new(600)
+        );
+        assert_eq!(
+            ResidueRegister::new(990).turned(1000, 1),
+            ResidueRegister::new(750)
+        );
+        // Beyond the band: taken at its edge.
+        assert_eq!(
+            ResidueRegister::new(1500).turned(1000, 1),
+            ResidueRegister::new(750)
+        );
+        assert_eq!(
+            ResidueRegister::new(-1500).turned(1000, -1),
+            ResidueRegister::new(250)
+        );
     }
 
     /// A run of shut cycles in closed form (`swing`) agrees with cycle-by-cycle stepping,
