@@ -200,15 +200,20 @@ impl ArcPlan {
             [-e[1], e[0]]
         };
         let one = (1i64 << SHIFT) as f64;
-        let half = rho.atan();
-        let pitch = if rho > 1e-9 { rho / half } else { 1.0 };
+        // atan only for a helix's normal axis.
+        let pitch = if e[2] != 0.0 && rho > 1e-9 {
+            rho / rho.atan()
+        } else {
+            1.0
+        };
         let share = 1.0 / (1.0 + rho);
         // The step of this gate, pulses, and the angle it turns on a circle of the tool's
-        // radius: the secant's turn is half of it.
+        // radius: the secant's turn is half of it. tan(atan ρ − δ) = (ρ − tan δ)/(1 + ρ tan δ).
         let chord = e[0].hypot(e[1]);
         let step = chord * (1.0 + rho * rho).sqrt() * share / c.max(1) as f64;
         let radius = r[0].hypot(r[1]).max(1.0);
-        let rho = (half - step / radius / 2.0).tan().max(0.0);
+        let t = (step / radius / 2.0).tan();
+        let rho = ((rho - t) / (1.0 + rho * t)).max(0.0);
         [
             ((e[0] + turned[0] * rho) * share * one).round() as i64,
             ((e[1] + turned[1] * rho) * share * one).round() as i64,
