@@ -273,6 +273,24 @@ fn whole_run(path: &std::path::Path, interp: &str) -> (f64, String) {
     }
 }
 
+/// `novanc run`'s summary: the axis pulses in all, and its machine time line.
+fn run_summary(out: &str) -> (u64, &str) {
+    let pulses = out
+        .lines()
+        .find(|l| l.starts_with("pulses:"))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|w| w.parse::<u64>().ok())
+                .sum()
+        })
+        .unwrap_or(0);
+    let mt = out
+        .lines()
+        .find(|l| l.starts_with("machine time:"))
+        .unwrap_or("machine time: ?");
+    (pulses, mt)
+}
+
 /// Both interpolators on the same contour (issue 12).
 fn interpolators(blocks: &[novanc::block::Block]) {
     println!("interpolators on the 3000-block contour at F10000 (virtual time, recording off):");
@@ -312,19 +330,7 @@ fn interpolators(blocks: &[novanc::block::Block]) {
                 (best, out) = (secs, o);
             }
         }
-        let pulses: u64 = out
-            .lines()
-            .find(|l| l.starts_with("pulses:"))
-            .map(|l| {
-                l.split_whitespace()
-                    .filter_map(|w| w.parse::<u64>().ok())
-                    .sum()
-            })
-            .unwrap_or(0);
-        let mt = out
-            .lines()
-            .find(|l| l.starts_with("machine time:"))
-            .unwrap_or("machine time: ?");
+        let (pulses, mt) = run_summary(&out);
         println!(
             "  whole `novanc run contour.ngc --interpolator {interp}` process (the same contour, best of 3): {best:.2} s wall, {pulses} axis pulses ({:.1} M/s), {mt}",
             pulses as f64 / best / 1e6
@@ -335,19 +341,7 @@ fn interpolators(blocks: &[novanc::block::Block]) {
     for prog in ["tableb.ap", "bracket.ap", "geometry.ap"] {
         for interp in ["dda", "error-proportional"] {
             let (secs, out) = whole_run(&dir.join(prog), interp);
-            let pulses: u64 = out
-                .lines()
-                .find(|l| l.starts_with("pulses:"))
-                .map(|l| {
-                    l.split_whitespace()
-                        .filter_map(|w| w.parse::<u64>().ok())
-                        .sum()
-                })
-                .unwrap_or(0);
-            let mt = out
-                .lines()
-                .find(|l| l.starts_with("machine time:"))
-                .unwrap_or("machine time: ?");
+            let (pulses, mt) = run_summary(&out);
             println!(
                 "  whole `novanc run {prog} --interpolator {interp}` process: {secs:.2} s wall, {pulses} axis pulses ({:.1} M/s), {mt}",
                 pulses as f64 / secs / 1e6

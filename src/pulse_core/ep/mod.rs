@@ -230,6 +230,33 @@ impl EpMotion {
         self.speed() * 1e9 * 60.0 * pulse_mm
     }
 
+    /// With the counter below stage 6 and a feed (`inc` > 0): the cycles before the one whose
+    /// feed-rate pulse brings it to stage 6, all with the gates shut.
+    fn shut_cycles_before_stage_6(&self) -> u64 {
+        let n = (32 - self.counter.k) as u64;
+        let pulses = n.div_ceil(registers::W_FEED as u64);
+        let need = (pulses << FRAC).saturating_sub(self.acc);
+        need.div_ceil(self.inc).max(1) - 1
+    }
+
+    /// Jumps `skip` cycles in which no gate opened and no register pulsed: their feed-rate
+    /// pulses counted at once, the clock and the gate's phase moved on.
+    fn skip(&mut self, skip: u64) {
+        if skip > 0 {
+            let total = self.acc as u128 + self.inc as u128 * skip as u128;
+            self.counter.feed((total >> FRAC).min(64) as u64);
+            self.acc = (total as u64) & MASK;
+            self.cycle = self.cycle.wrapping_add(skip);
+            self.next_t += skip * EP_CYCLE_NS;
+        }
+    }
+
+    /// No gate can open: a feed hold, or override 0 with the counter run down below stage 6.
+    #[inline(always)]
+    fn frozen(&self) -> bool {
+        self.hold || (self.inc == 0 && self.counter.k < 32)
+    }
+
     /// One cycle's feed-rate pulses into the counter.
     #[inline(always)]
     fn feed_cycle(&mut self) {
@@ -274,7 +301,7 @@ impl EpMotion {
             if self.next_t >= horizon {
                 return Progress::Pending;
             }
-            let frozen = self.hold || (self.inc == 0 && self.counter.k < 32);
+            let frozen = self.frozen();
             let in_band = self.all_in_band();
             if frozen && in_band {
                 self.resting = true;
@@ -288,11 +315,7 @@ impl EpMotion {
                     // Gates every cycle: an arc's tangent turns at each pulse, nothing to jump.
                     0
                 } else if self.counter.k < 32 {
-                    // The gates stay shut until the counter reaches stage 6.
-                    let n = (32 - self.counter.k) as u64;
-                    let pulses = n.div_ceil(registers::W_FEED as u64);
-                    let need = (pulses << FRAC).saturating_sub(self.acc);
-                    let s = (need.div_ceil(self.inc).max(1) - 1).min(room(self.next_t));
+                    let s = self.shut_cycles_before_stage_6().min(room(self.next_t));
                     for a in 0..3 {
                         self.reg[a].swing(s, self.c << self.shift);
                     }
@@ -324,13 +347,7 @@ impl EpMotion {
                         0
                     }
                 };
-                if skip > 0 {
-                    let total = self.acc as u128 + self.inc as u128 * skip as u128;
-                    self.counter.feed((total >> FRAC).min(64) as u64);
-                    self.acc = (total as u64) & MASK;
-                    self.cycle = self.cycle.wrapping_add(skip);
-                    self.next_t += skip * T;
-                }
+                self.skip(skip);
             }
             // One recirculation cycle.
             let t = self.next_t;
@@ -482,7 +499,7 @@ impl EpMotion {
             if self.next_t >= horizon {
                 return Progress::Pending;
             }
-            let frozen = self.hold || (self.inc == 0 && self.counter.k < 32);
+            let frozen = self.frozen();
             if self.owed == 0 {
                 if frozen {
                     self.resting = true;
@@ -510,21 +527,11 @@ impl EpMotion {
                         s
                     }
                 } else if self.counter.k < 32 {
-                    // The gates stay shut until the counter reaches stage 6.
-                    let n = (32 - self.counter.k) as u64;
-                    let pulses = n.div_ceil(registers::W_FEED as u64);
-                    let need = (pulses << FRAC).saturating_sub(self.acc);
-                    (need.div_ceil(self.inc).max(1) - 1).min(room(self.next_t))
+                    self.shut_cycles_before_stage_6().min(room(self.next_t))
                 } else {
                     0
                 };
-                if skip > 0 {
-                    let total = self.acc as u128 + self.inc as u128 * skip as u128;
-                    self.counter.feed((total >> FRAC).min(64) as u64);
-                    self.acc = (total as u64) & MASK;
-                    self.cycle = self.cycle.wrapping_add(skip);
-                    self.next_t += skip * T;
-                }
+                self.skip(skip);
             }
             // One recirculation cycle.
             let t = self.next_t;
