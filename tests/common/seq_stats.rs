@@ -30,6 +30,8 @@ pub struct Stats {
     pub gcode_sessions: u64,
     /// Steps of those sessions after which their last run had reached its end.
     pub gcode_ends: u64,
+    /// Block ends checked in sessions on the error-proportional interpolator.
+    pub ep_block_ends: u64,
 }
 
 impl Stats {
@@ -48,6 +50,7 @@ impl Stats {
         self.ofs_in_run += o.ofs_in_run;
         self.gcode_sessions += o.gcode_sessions;
         self.gcode_ends += o.gcode_ends;
+        self.ep_block_ends += o.ep_block_ends;
     }
 }
 
