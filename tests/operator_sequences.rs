@@ -539,14 +539,15 @@ impl Session {
                 e.run, e.seq, e.stmt
             );
             // A block that takes Z down must not take the tip below what the programs
-            // command. (A block that does not descend may end lower: the tool was already
-            // there, or a tool revision changed what its tip is.)
+            // command, by the tool length it was planned with. (A block that does not descend
+            // may end lower: the tool was already there, or a tool revision changed what its
+            // tip is. A length revised while a block runs applies from the next block.)
             assert!(
-                e.pos[2] >= e.start[2] || e.tip >= settings.to_pulses(self.lowest_mm),
-                "run {} N{}: tip Z {:.3} is below {:.3}",
+                e.pos[2] >= e.start[2] || e.tip_planned >= settings.to_pulses(self.lowest_mm),
+                "run {} N{}: tip Z {:.3} is below {:.3} ({e:?})",
                 e.run,
                 e.seq,
-                settings.to_mm(e.tip),
+                settings.to_mm(e.tip_planned),
                 self.lowest_mm
             );
         }

@@ -63,6 +63,9 @@ struct Current {
     phase: Phase,
     until: u64,
     motion: Option<Drive>,
+    /// The set length of the tool in the spindle before the tool data was revised while this
+    /// block ran (the block goes on with the length it was planned with).
+    len_planned: Option<f64>,
 }
 
 /// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
@@ -139,6 +142,9 @@ pub struct BlockEnd {
     pub pos: [i64; 3],
     /// The tool-tip Z then, pulses: axis Z less the set length of the tool in the spindle.
     pub tip: i64,
+    /// The same by the length the block was planned with: a length revised while the block
+    /// ran applies from the next block, so this one finishes the Z it was given.
+    pub tip_planned: i64,
 }
 
 /// A block as the machine runs it when the tool in the spindle is `shift` pulses longer than
@@ -308,6 +314,9 @@ impl Machine {
     pub fn set_magazine(&mut self, m: Magazine) {
         if self.job.is_none() {
             self.run_magazine = Some(m.clone());
+        }
+        if let Some(c) = &mut self.current {
+            c.len_planned.get_or_insert(self.tool_len);
         }
         self.magazine = Some(m);
         self.tool_len = self.set_length_of(self.tool);
@@ -746,6 +755,7 @@ impl Machine {
             phase: Phase::PreAux,
             until: self.now + pre,
             motion: None,
+            len_planned: None,
         });
     }
 
@@ -893,6 +903,10 @@ impl Machine {
                 end: c.block.end,
                 pos,
                 tip: pos[2] - self.settings.to_pulses(self.tool_len),
+                tip_planned: pos[2]
+                    - self
+                        .settings
+                        .to_pulses(c.len_planned.unwrap_or(self.tool_len)),
             });
         }
         if let Some(s) = &self.events {
