@@ -10,42 +10,13 @@
 use novanc::cli::console_opts::config_from_args;
 use novanc::console::Console;
 use novanc::panel_model::PanelEvent;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-struct Xvfb(Child, String);
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start_xvfb() -> Option<Xvfb> {
-    let mut child = Command::new("Xvfb")
-        .args([
-            "-displayfd",
-            "1",
-            "-screen",
-            "0",
-            "1600x1000x24",
-            "-nolisten",
-            "tcp",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .ok()?;
-    let mut line = String::new();
-    BufReader::new(child.stdout.take()?)
-        .read_line(&mut line)
-        .ok()?;
-    let n: u32 = line.trim().parse().ok()?;
-    Some(Xvfb(child, format!(":{n}")))
-}
+// The window tests' Xvfb helper (the bench uses only `start_xvfb`).
+#[path = "../tests/common/xvfb.rs"]
+mod xvfb;
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("novanc_bench_window_{name}_{}", std::process::id()));
@@ -178,13 +149,16 @@ fn main() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(600);
-    let Some(x) = start_xvfb() else {
-        println!("window bench: SKIPPED, Xvfb is not installed (apt-get install xvfb)");
-        return;
+    let x = match xvfb::start_xvfb() {
+        Ok(x) => x,
+        Err(why) => {
+            println!("window bench: SKIPPED, {why}");
+            return;
+        }
     };
     scenario(
         "Table B in AUTO, real time",
-        &x.1,
+        &x.display,
         "op AUTO\nstart\n",
         frames,
     );
@@ -200,7 +174,7 @@ fn main() {
     );
     scenario(
         "A 60,000-block milling program (300 passes of a 200-point contour) in AUTO, real time",
-        &x.1,
+        &x.display,
         &script,
         frames,
     );
