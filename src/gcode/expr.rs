@@ -7,7 +7,7 @@
 //! effect after the whole line has been read, so every read on the line sees the old values.
 
 use crate::block::TranslateError;
-use crate::input_text::describe_char;
+use crate::input_text::{describe_char, quote_plain};
 
 /// The highest numbered parameter.
 pub const MAX_PARAM: usize = 5400;
@@ -177,8 +177,16 @@ impl Reader<'_> {
             return Ok(mant as f64 / 10f64.powi(decimals));
         }
         let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
-        text.parse::<f64>()
-            .map_err(|_| self.err(col, format!("bad number {text}")))
+        // Digits and one point always parse; too many of them read as infinity, which no
+        // word may carry (docs/limits.md).
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(self.err(
+                col,
+                format!("{} is too large for a number", quote_plain(text)),
+            )),
+            Err(_) => Err(self.err(col, format!("bad number {}", quote_plain(text)))),
+        }
     }
 
     /// A real value: number, parameter, bracket expression or unary function, with sign.
