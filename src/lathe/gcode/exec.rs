@@ -318,11 +318,18 @@ impl Reader<'_> {
             let Some(p) = w.get('P') else {
                 return Err(err(n, c, "G04 needs P, the dwell in seconds"));
             };
-            if !(0.0..=86_400.0).contains(&p) {
+            if p < 0.0 {
                 return Err(err(
                     n,
                     col('P'),
-                    format!("G04 P{p}: the dwell must be 0 to 86400 seconds"),
+                    format!("G04 P{p}: the dwell must not be negative"),
+                ));
+            }
+            if p > crate::limits::MAX_DWELL_S {
+                return Err(err(
+                    n,
+                    col('P'),
+                    crate::limits::dwell_too_long(&format!("P{p}")),
                 ));
             }
             self.out.op(
