@@ -146,18 +146,28 @@ impl GcodeSource {
         let params = Params::default();
         let mut subs = HashMap::new();
         let mut first_code = None;
-        let mut a = 0;
-        for (i, l) in source.split_inclusive('\n').enumerate() {
-            let b = a + l.len();
-            let next = At {
-                line: i + 1,
-                byte: b,
+        let bytes = source.as_bytes();
+        let (mut a, mut i) = (0, 0);
+        while a < bytes.len() {
+            // Only the first byte that is not a space matters here; a blank line costs a
+            // byte or two.
+            let mut k = a;
+            while k < bytes.len() && bytes[k] != b'\n' && bytes[k].is_ascii_whitespace() {
+                k += 1;
+            }
+            let b = match bytes.get(k) {
+                Some(b'\n') => k + 1,
+                None => k,
+                Some(_) => source[k..].find('\n').map_or(bytes.len(), |e| k + e + 1),
             };
-            // Only the first byte that is not a space matters here.
-            let first = l.bytes().find(|c| !c.is_ascii_whitespace());
+            let (l, first) = (&source[a..b], bytes.get(k).copied());
             a = b;
-            let Some(c) = first else {
-                continue;
+            i += 1;
+            let next = At { line: i, byte: b };
+            let i = i - 1;
+            let c = match first {
+                None | Some(b'\n') => continue,
+                Some(c) => c,
             };
             if c == b'(' || c == b';' {
                 continue;
@@ -317,9 +327,12 @@ impl GcodeSource {
                 let e = self.end_error(n);
                 return self.fail(e);
             }
-            let b = self.source[a..]
-                .find('\n')
-                .map_or(self.source.len(), |i| a + i + 1);
+            let b = match self.source.as_bytes()[a] {
+                b'\n' => a + 1,
+                _ => self.source[a..]
+                    .find('\n')
+                    .map_or(self.source.len(), |i| a + i + 1),
+            };
             self.pc += 1;
             self.pc_byte = b;
             let source = Arc::clone(&self.source);
@@ -344,6 +357,10 @@ impl GcodeSource {
             }
             if let Some(e) = crate::limits::line_too_long(raw, n, "") {
                 return self.fail(e);
+            }
+            // A blank line (the spaces the line reader skips): nothing to read.
+            if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
+                continue;
             }
             let mut line = std::mem::take(&mut self.line_buf);
             let r = expr::read_into(&mut self.scratch, &mut line, raw, n, &self.params);

@@ -66,6 +66,9 @@ pub struct Translator {
     done: bool,
     toks: Vec<lex::Token>,
     items: Vec<Item>,
+    /// Blocks made so far, and the most the program may make.
+    made: u64,
+    max_blocks: u64,
 }
 
 impl Translator {
@@ -128,7 +131,15 @@ impl Translator {
             done: false,
             toks: Vec::new(),
             items: Vec::new(),
+            made: 0,
+            max_blocks: crate::limits::MAX_PROGRAM_BLOCKS,
         }
+    }
+
+    /// The most blocks this program may make (default `limits::MAX_PROGRAM_BLOCKS`).
+    pub fn block_limit(mut self, blocks: u64) -> Translator {
+        self.max_blocks = blocks;
+        self
     }
 
     /// SEARCH: the statements before source line `line` are translated for the state they
@@ -682,7 +693,21 @@ impl Translator {
     fn translate_line(&mut self, line: u32, raw: &str) -> Result<Statement, TranslateError> {
         let text = raw.trim().to_string();
         match self.statement(line, raw) {
-            Ok(blocks) => Ok(Statement { line, text, blocks }),
+            Ok(blocks) => {
+                self.made += blocks.len() as u64;
+                if self.made > self.max_blocks {
+                    self.done = true;
+                    return Err(TranslateError {
+                        line,
+                        col: 1,
+                        message: format!(
+                            "the program makes more than {} blocks (the most a program may make)",
+                            self.max_blocks
+                        ),
+                    });
+                }
+                Ok(Statement { line, text, blocks })
+            }
             Err(e) => {
                 self.done = true;
                 Err(e)
