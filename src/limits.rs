@@ -80,12 +80,3 @@ pub fn dwell_too_long(text: &str) -> String {
 pub fn feed_too_slow(text: &str) -> String {
     format!("{text} is below the slowest feed, {MIN_FEED} mm/min")
 }
-
-/// A number for a message: three decimals, or an exponent once it is too long for that.
-pub fn mm_text(v: f64) -> String {
-    if v.abs() < 1e9 {
-        format!("{v:.3}")
-    } else {
-        format!("{v:.3e}")
-    }
-}

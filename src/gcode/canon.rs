@@ -238,7 +238,7 @@ fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
     let name = ["X", "Y", "Z"][axis];
     format!(
         "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
-        crate::limits::mm_text(mm),
+        crate::input_text::fixed(mm, 3),
         st.travel_min_mm[axis],
         st.travel_max_mm[axis],
     )

@@ -215,7 +215,8 @@ impl Comp {
                 return Err(x.err(
                     col,
                     format!(
-                        "the entry move of cutter compensation ({len:.4} mm) is not longer than the tool radius ({:.4} mm)",
+                        "the entry move of cutter compensation ({} mm) is not longer than the tool radius ({:.4} mm)",
+                        crate::input_text::fixed(len, 4),
                         self.r
                     ),
                 ));

@@ -9,7 +9,8 @@
 use super::canon::Canon;
 use super::interp::{Exec, State, Words};
 use crate::block::{Plane, TranslateError};
-use crate::limits::{mm_text, MAX_BLOCKS, MAX_DWELL_S, MAX_REPEATS};
+use crate::input_text::fixed;
+use crate::limits::{MAX_BLOCKS, MAX_DWELL_S, MAX_REPEATS};
 
 /// The most pecks one G73 or G83 hole may take (bounded work, docs/limits.md).
 pub use crate::limits::MAX_PECKS;
@@ -94,7 +95,10 @@ pub fn cycle(
             return Err(x.err(pc, "a negative dwell P"));
         }
         if p > MAX_DWELL_S {
-            return Err(x.err(pc, crate::limits::dwell_too_long(&format!("P{p}"))));
+            return Err(x.err(
+                pc,
+                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
+            ));
         }
         st.cycle_p = p;
     }
@@ -102,7 +106,10 @@ pub fn cycle(
         if q <= 0.0 {
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
-                format!("the peck Q must be greater than 0, not {q}"),
+                format!(
+                    "the peck Q must be greater than 0, not {}",
+                    crate::input_text::short_number(q)
+                ),
             ));
         }
         st.cycle_q = Some(q * k);
@@ -137,7 +144,10 @@ pub fn cycle(
             if l.fract() != 0.0 || l < 0.0 || l > f64::from(MAX_REPEATS) {
                 return Err(x.err(
                     lc,
-                    format!("L{l} must be a whole number of repeats from 0 to {MAX_REPEATS}"),
+                    format!(
+                        "L{} must be a whole number of repeats from 0 to {MAX_REPEATS}",
+                        crate::input_text::short_number(l)
+                    ),
                 ));
             }
             l as u32
@@ -156,9 +166,9 @@ pub fn cycle(
         return Err(x.err(
             col,
             format!(
-                "{name}: the bottom Z{:.4} is above R{:.4}",
-                bottom / k,
-                r / k
+                "{name}: the bottom Z{} is above R{}",
+                fixed(bottom / k, 4),
+                fixed(r / k, 4)
             ),
         ));
     }
@@ -167,7 +177,7 @@ pub fn cycle(
         None => Vec::new(),
         Some(Ok(d)) => d,
         Some(Err(fault)) => {
-            let q = q.unwrap_or(1.0) / k;
+            let q = crate::input_text::short_number(q.unwrap_or(1.0) / k);
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
                 match fault {
@@ -176,7 +186,7 @@ pub fn cycle(
                     }
                     PeckFault::NoDeeper => format!(
                         "{name}: Q{q} is below the resolution of the numbers near R{}: a peck would not go deeper",
-                        mm_text(r / k)
+                        fixed(r / k, 3)
                     ),
                 },
             ));

@@ -231,7 +231,13 @@ impl Reader<'_> {
         let v = self.value()?;
         let n = v.round();
         if (v - n).abs() > 1e-4 || !(1.0..=MAX_PARAM as f64).contains(&n) {
-            return Err(self.err(col, format!("parameter number {v} is not 1 to {MAX_PARAM}")));
+            return Err(self.err(
+                col,
+                format!(
+                    "parameter number {} is not 1 to {MAX_PARAM}",
+                    crate::input_text::short_number(v)
+                ),
+            ));
         }
         Ok((n as usize, col))
     }
@@ -289,7 +295,10 @@ impl Reader<'_> {
                 Err(TranslateError {
                     line: self.line,
                     col,
-                    message: format!("domain error: {name}[{a}] {what}"),
+                    message: format!(
+                        "domain error: {name}[{}] {what}",
+                        crate::input_text::short_number(a)
+                    ),
                 })
             }
         };
@@ -331,7 +340,13 @@ impl Reader<'_> {
             }
         };
         if !r.is_finite() {
-            return Err(self.err(col, format!("{name}[{a}] is not a finite number")));
+            return Err(self.err(
+                col,
+                format!(
+                    "{name}[{}] is not a finite number",
+                    crate::input_text::short_number(a)
+                ),
+            ));
         }
         Ok(r)
     }
@@ -392,7 +407,14 @@ impl Reader<'_> {
                 "**" => {
                     let r = a.powf(b);
                     if !r.is_finite() {
-                        return Err(self.err(col, format!("domain error: {a} ** {b}")));
+                        return Err(self.err(
+                            col,
+                            format!(
+                                "domain error: {} ** {}",
+                                crate::input_text::short_number(a),
+                                crate::input_text::short_number(b)
+                            ),
+                        ));
                     }
                     r
                 }
@@ -599,7 +621,13 @@ pub fn read_into(
                 return Err(r.err(col, "an O program number must start its line"));
             }
             if value < 0.0 || value.fract() != 0.0 || value > 99_999.0 {
-                return Err(r.err(col, format!("bad program number O{value}")));
+                return Err(r.err(
+                    col,
+                    format!(
+                        "bad program number O{}",
+                        crate::input_text::short_number(value)
+                    ),
+                ));
             }
             out.o_number = Some((value as u32, col));
             continue;

@@ -170,7 +170,10 @@ fn int_word(x: &Exec, w: &Words, c: char, lo: f64, hi: f64) -> Result<Option<u32
             if v.fract() != 0.0 || v < lo || v > hi {
                 return Err(x.err(
                     col,
-                    format!("{c}{v} must be a whole number from {lo} to {hi}"),
+                    format!(
+                        "{c}{} must be a whole number from {lo} to {hi}",
+                        crate::input_text::short_number(v)
+                    ),
                 ));
             }
             Ok(Some(v as u32))
@@ -204,9 +207,13 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         // slowest (docs/limits.md).
         if f > 0.0 && f * k < crate::limits::MIN_FEED {
             let text = if st.inch {
-                format!("F{f} ({:.3} mm/min)", f * k)
+                format!(
+                    "F{} ({:.3} mm/min)",
+                    crate::input_text::short_number(f),
+                    f * k
+                )
             } else {
-                format!("F{f}")
+                format!("F{}", crate::input_text::short_number(f))
             };
             return Err(x.err(fc, crate::limits::feed_too_slow(&text)));
         }
@@ -218,7 +225,10 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
             return Err(x.err(
                 w.col('S').unwrap_or(1),
-                format!("spindle speed S{s} is not usable"),
+                format!(
+                    "spindle speed S{} is not usable",
+                    crate::input_text::short_number(s)
+                ),
             ));
         }
         st.speed = s;
@@ -309,7 +319,10 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
             return Err(x.err(pc, "a negative dwell P"));
         }
         if p > crate::limits::MAX_DWELL_S {
-            return Err(x.err(pc, crate::limits::dwell_too_long(&format!("P{p}"))));
+            return Err(x.err(
+                pc,
+                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
+            ));
         }
         st.comp.aux(x, Canon::Dwell(p), col);
     }

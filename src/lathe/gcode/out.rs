@@ -385,7 +385,10 @@ impl<'a> Out<'a> {
                         mv.col,
                         format!(
                             "{} (G94 reads F per minute: G95 reads it per revolution)",
-                            crate::limits::feed_too_slow(&format!("F{f}"))
+                            crate::limits::feed_too_slow(&format!(
+                                "F{}",
+                                crate::input_text::short_number(f)
+                            ))
                         ),
                     ));
                 }
@@ -414,7 +417,11 @@ impl<'a> Out<'a> {
             return Ok(());
         }
         let why = if mm_min > 0.0 {
-            format!("this move takes {secs:.0} s at the feed in force ({mm_min:.6} mm/min)")
+            format!(
+                "this move takes {} s at the feed in force ({} mm/min)",
+                crate::input_text::fixed(secs, 0),
+                crate::input_text::short_number(mm_min)
+            )
         } else {
             "this move never ends at the feed in force: the spindle stands at 0 rpm".to_string()
         };
@@ -434,7 +441,8 @@ impl<'a> Out<'a> {
                     mv.line,
                     mv.col,
                     format!(
-                        "{name} {v:.3}{what} is outside channel {}'s {name} travel {} to {} mm",
+                        "{name} {}{what} is outside channel {}'s {name} travel {} to {} mm",
+                        crate::input_text::fixed(v, 3),
                         self.ch + 1,
                         t[0],
                         t[1]
