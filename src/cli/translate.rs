@@ -153,34 +153,21 @@ pub fn iso_text(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
 ) -> Result<String, TranslateError> {
-    iso_text_at(
+    let mut out = Vec::new();
+    match print_iso(
         name,
         source,
         magazine,
         settings,
         switches,
         WorkOffsets::default(),
-    )
-}
-
-/// [`iso_text`] with the work offsets G54..G59 a G-code program starts with.
-pub fn iso_text_at(
-    name: &str,
-    source: &str,
-    magazine: Magazine,
-    settings: &MachineSettings,
-    switches: crate::gcode::Switches,
-    offsets: WorkOffsets,
-) -> Result<String, TranslateError> {
-    let run = Listing {
-        name,
-        source,
-        magazine,
-        settings,
-        switches,
-        offsets,
-    };
-    Ok(run.held(usize::MAX)?.unwrap_or_default())
+        usize::MAX,
+        &mut out,
+    ) {
+        Err(PrintError::Program(e)) => Err(e),
+        // Writing to a Vec does not fail, and the listing is ASCII.
+        _ => Ok(String::from_utf8_lossy(&out).into_owned()),
+    }
 }
 
 /// The most bytes of a listing `novanc translate` holds before printing it. A longer listing is
