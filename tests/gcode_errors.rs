@@ -268,7 +268,7 @@ fn a_program_without_an_end() {
 
 /// Reads a whole program (no preamble) to its first error, with a line budget.
 fn error_in(src: &str, lines: u64) -> String {
-    let g = source(&src).line_limit(lines);
+    let g = source(src).line_limit(lines);
     let mut last_line = 0;
     for r in g {
         match r {
