@@ -429,6 +429,20 @@ fn a_program_makes_at_most_its_block_budget() {
     );
 }
 
+/// The default budget, 20,000,000 blocks: 65 calls of a line of 309,969 blocks (about 10 s in
+/// a release build): `cargo test --release --test gcode_errors -- --ignored`.
+#[test]
+#[ignore]
+fn the_default_block_budget_is_twenty_million() {
+    let src = format!(
+        "{PRE}G0 Z-50\nM98 P1 L9999\nM30\nO1\nG91 G83 X0 Y0 Z-1 R0 Q0.1 L9999 F100\nG90\nM99\n"
+    );
+    assert_eq!(
+        first_error(source(&src)).as_deref(),
+        Some("8:1: the program makes more than 20000000 blocks (the most a program may make)")
+    );
+}
+
 #[test]
 fn a_tiny_arc_left_by_cutter_compensation_says_so() {
     // T2 is a 6.2 mm drill: an R3.1005 arc with the tool inside is left 0.0005 mm.
