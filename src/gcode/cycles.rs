@@ -9,9 +9,41 @@
 use super::canon::Canon;
 use super::interp::{Exec, State, Words};
 use crate::block::{Plane, TranslateError};
+use crate::input_text::fixed;
+use crate::limits::{MAX_BLOCKS, MAX_DWELL_S, MAX_REPEATS};
 
-/// The most pecks one G73 or G83 hole may take (bounded work, docs/gcode.md "Limits").
-pub const MAX_PECKS: u32 = 1000;
+/// The most pecks one G73 or G83 hole may take (bounded work, docs/limits.md).
+pub use crate::limits::MAX_PECKS;
+
+/// Why a G73/G83 hole cannot be pecked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PeckFault {
+    /// More than [`MAX_PECKS`] pecks.
+    TooMany,
+    /// A peck of Q does not go deeper: Q is below the resolution of the numbers at that depth.
+    NoDeeper,
+}
+
+/// The depth after each peck of a G73/G83 hole from `r` down by `q` to `bottom`, as rs274 2.9
+/// steps them (`depth − q` until the bottom); at most [`MAX_PECKS`] of them.
+pub fn peck_depths(r: f64, bottom: f64, q: f64) -> Result<Vec<f64>, PeckFault> {
+    let mut depths = Vec::new();
+    let mut depth = r;
+    loop {
+        let next = (depth - q).max(bottom);
+        depths.push(next);
+        if next <= bottom {
+            return Ok(depths);
+        }
+        if depths.len() >= MAX_PECKS as usize {
+            return Err(PeckFault::TooMany);
+        }
+        if next >= depth {
+            return Err(PeckFault::NoDeeper);
+        }
+        depth = next;
+    }
+}
 
 /// G73 and G83 retract this far above the last depth before the next peck, inches.
 const PECK_CLEARANCE_INCH: f64 = 0.010;
@@ -58,8 +90,15 @@ pub fn cycle(
         st.cycle_z = Some(z * k);
     }
     if let Some(p) = w.get('P') {
+        let pc = w.col('P').unwrap_or(col);
         if p < 0.0 {
-            return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
+            return Err(x.err(pc, "a negative dwell P"));
+        }
+        if p > MAX_DWELL_S {
+            return Err(x.err(
+                pc,
+                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
+            ));
         }
         st.cycle_p = p;
     }
@@ -67,7 +106,10 @@ pub fn cycle(
         if q <= 0.0 {
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
-                format!("the peck Q must be greater than 0, not {q}"),
+                format!(
+                    "the peck Q must be greater than 0, not {}",
+                    crate::input_text::short_number(q)
+                ),
             ));
         }
         st.cycle_q = Some(q * k);
@@ -99,12 +141,12 @@ pub fn cycle(
     }
     let l = match (w.get('L'), w.col('L')) {
         (Some(l), Some(lc)) => {
-            if l.fract() != 0.0 || l < 0.0 || l > super::MAX_REPEATS as f64 {
+            if l.fract() != 0.0 || l < 0.0 || l > f64::from(MAX_REPEATS) {
                 return Err(x.err(
                     lc,
                     format!(
-                        "L{l} must be a whole number of repeats from 0 to {}",
-                        super::MAX_REPEATS
+                        "L{} must be a whole number of repeats from 0 to {MAX_REPEATS}",
+                        crate::input_text::short_number(l)
                     ),
                 ));
             }
@@ -124,20 +166,58 @@ pub fn cycle(
         return Err(x.err(
             col,
             format!(
-                "{name}: the bottom Z{:.4} is above R{:.4}",
-                bottom / k,
-                r / k
+                "{name}: the bottom Z{} is above R{}",
+                fixed(bottom / k, 4),
+                fixed(r / k, 4)
             ),
         ));
     }
-    if let Some(q) = q {
-        if (r - bottom) / q > MAX_PECKS as f64 {
+    // The pecks of a hole, the same for every hole of the line.
+    let pecks = match q.map(|q| peck_depths(r, bottom, q)) {
+        None => Vec::new(),
+        Some(Ok(d)) => d,
+        Some(Err(fault)) => {
+            let q = crate::input_text::short_number(q.unwrap_or(1.0) / k);
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
-                format!("{name}: Q{} would make more than {MAX_PECKS} pecks", q / k),
+                match fault {
+                    PeckFault::TooMany => {
+                        format!("{name}: Q{q} would make more than {MAX_PECKS} pecks")
+                    }
+                    PeckFault::NoDeeper => format!(
+                        "{name}: Q{q} is below the resolution of the numbers near R{}: a peck would not go deeper",
+                        fixed(r / k, 3)
+                    ),
+                },
             ));
         }
+    };
+    // What the line will make, counted from its words before anything is made: a rapid to R
+    // first for a series that starts below it, then per hole a rapid to X Y, one to R, the
+    // cycle's own moves and the rapid to the clear level.
+    let n = pecks.len() as u64;
+    let own: u64 = match kind {
+        81 | 85 => 1 + u64::from(kind == 85),
+        82 => 2,
+        73 => 2 * n - 1,
+        83 => 3 * n - 2,
+        84 => 4 + u64::from(st.cycle_p > 0.0),
+        86 => 4 + u64::from(st.cycle_p > 0.0),
+        _ => 3,
+    };
+    let per_hole = own + 3;
+    let first = u64::from(series_starts && prog[2] < r);
+    let total = first + u64::from(l) * per_hole;
+    if total > MAX_BLOCKS as u64 {
+        return Err(x.err(
+            w.col('L').unwrap_or(col),
+            format!(
+                "{name} L{l} makes {total} blocks ({l} holes of {per_hole}), more than the {MAX_BLOCKS} one line may make: split the holes over several lines"
+            ),
+        ));
     }
+    x.out.reserve(total as usize);
+    let made_before = x.out.len();
     let clear = if st.retract_r { r } else { il.max(r) };
     let clearance = PECK_CLEARANCE_INCH * 25.4;
     let feed = st.feed;
@@ -196,19 +276,15 @@ pub fn cycle(
                 x.push(Canon::Dwell(st.cycle_p), col);
             }
             73 | 83 => {
-                let q = q.unwrap_or(1.0);
-                let mut depth = r;
-                loop {
-                    let next = (depth - q).max(bottom);
+                for (i, &next) in pecks.iter().enumerate() {
                     feed_to(x, &mut pos, at(next));
-                    if next <= bottom {
+                    if i + 1 == pecks.len() {
                         break;
                     }
                     if kind == 83 {
                         rapid(x, &mut pos, at(r));
                     }
                     rapid(x, &mut pos, at(next + clearance));
-                    depth = next;
                 }
             }
             84 => {
@@ -272,6 +348,11 @@ pub fn cycle(
         }
         rapid(x, &mut pos, at(clear));
     }
+    debug_assert_eq!(
+        (x.out.len() - made_before) as u64,
+        total,
+        "the count of {name}"
+    );
     st.cur = m(pos);
     Ok(())
 }

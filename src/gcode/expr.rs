@@ -7,7 +7,7 @@
 //! effect after the whole line has been read, so every read on the line sees the old values.
 
 use crate::block::TranslateError;
-use crate::input_text::describe_char;
+use crate::input_text::{describe_char, quote_plain};
 
 /// The highest numbered parameter.
 pub const MAX_PARAM: usize = 5400;
@@ -177,8 +177,16 @@ impl Reader<'_> {
             return Ok(mant as f64 / 10f64.powi(decimals));
         }
         let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
-        text.parse::<f64>()
-            .map_err(|_| self.err(col, format!("bad number {text}")))
+        // Digits and one point always parse; too many of them read as infinity, which no
+        // word may carry (docs/limits.md).
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(self.err(
+                col,
+                format!("{} is too large for a number", quote_plain(text)),
+            )),
+            Err(_) => Err(self.err(col, format!("bad number {}", quote_plain(text)))),
+        }
     }
 
     /// A real value: number, parameter, bracket expression or unary function, with sign.
@@ -223,7 +231,13 @@ impl Reader<'_> {
         let v = self.value()?;
         let n = v.round();
         if (v - n).abs() > 1e-4 || !(1.0..=MAX_PARAM as f64).contains(&n) {
-            return Err(self.err(col, format!("parameter number {v} is not 1 to {MAX_PARAM}")));
+            return Err(self.err(
+                col,
+                format!(
+                    "parameter number {} is not 1 to {MAX_PARAM}",
+                    crate::input_text::short_number(v)
+                ),
+            ));
         }
         Ok((n as usize, col))
     }
@@ -281,7 +295,10 @@ impl Reader<'_> {
                 Err(TranslateError {
                     line: self.line,
                     col,
-                    message: format!("domain error: {name}[{a}] {what}"),
+                    message: format!(
+                        "domain error: {name}[{}] {what}",
+                        crate::input_text::short_number(a)
+                    ),
                 })
             }
         };
@@ -323,7 +340,13 @@ impl Reader<'_> {
             }
         };
         if !r.is_finite() {
-            return Err(self.err(col, format!("{name}[{a}] is not a finite number")));
+            return Err(self.err(
+                col,
+                format!(
+                    "{name}[{}] is not a finite number",
+                    crate::input_text::short_number(a)
+                ),
+            ));
         }
         Ok(r)
     }
@@ -384,7 +407,14 @@ impl Reader<'_> {
                 "**" => {
                     let r = a.powf(b);
                     if !r.is_finite() {
-                        return Err(self.err(col, format!("domain error: {a} ** {b}")));
+                        return Err(self.err(
+                            col,
+                            format!(
+                                "domain error: {} ** {}",
+                                crate::input_text::short_number(a),
+                                crate::input_text::short_number(b)
+                            ),
+                        ));
                     }
                     r
                 }
@@ -591,7 +621,13 @@ pub fn read_into(
                 return Err(r.err(col, "an O program number must start its line"));
             }
             if value < 0.0 || value.fract() != 0.0 || value > 99_999.0 {
-                return Err(r.err(col, format!("bad program number O{value}")));
+                return Err(r.err(
+                    col,
+                    format!(
+                        "bad program number O{}",
+                        crate::input_text::short_number(value)
+                    ),
+                ));
             }
             out.o_number = Some((value as u32, col));
             continue;

@@ -170,7 +170,10 @@ fn int_word(x: &Exec, w: &Words, c: char, lo: f64, hi: f64) -> Result<Option<u32
             if v.fract() != 0.0 || v < lo || v > hi {
                 return Err(x.err(
                     col,
-                    format!("{c}{v} must be a whole number from {lo} to {hi}"),
+                    format!(
+                        "{c}{} must be a whole number from {lo} to {hi}",
+                        crate::input_text::short_number(v)
+                    ),
                 ));
             }
             Ok(Some(v as u32))
@@ -196,8 +199,23 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
     }
     let k = st.factor();
     if let Some(f) = w.get('F') {
+        let fc = w.col('F').unwrap_or(1);
         if f < 0.0 {
-            return Err(x.err(w.col('F').unwrap_or(1), "a negative F"));
+            return Err(x.err(fc, "a negative F"));
+        }
+        // F0 is no feed (a feed move then asks for one); a feed that is not 0 is at least the
+        // slowest (docs/limits.md).
+        if f > 0.0 && f * k < crate::limits::MIN_FEED {
+            let text = if st.inch {
+                format!(
+                    "F{} ({:.3} mm/min)",
+                    crate::input_text::short_number(f),
+                    f * k
+                )
+            } else {
+                format!("F{}", crate::input_text::short_number(f))
+            };
+            return Err(x.err(fc, crate::limits::feed_too_slow(&text)));
         }
         st.feed = f * k;
     }
@@ -207,7 +225,10 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
             return Err(x.err(
                 w.col('S').unwrap_or(1),
-                format!("spindle speed S{s} is not usable"),
+                format!(
+                    "spindle speed S{} is not usable",
+                    crate::input_text::short_number(s)
+                ),
             ));
         }
         st.speed = s;
@@ -293,8 +314,15 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
         let p = w
             .get('P')
             .ok_or_else(|| x.err(col, "G04 needs P, the dwell in seconds"))?;
+        let pc = w.col('P').unwrap_or(col);
         if p < 0.0 {
-            return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
+            return Err(x.err(pc, "a negative dwell P"));
+        }
+        if p > crate::limits::MAX_DWELL_S {
+            return Err(x.err(
+                pc,
+                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
+            ));
         }
         st.comp.aux(x, Canon::Dwell(p), col);
     }
@@ -333,6 +361,15 @@ pub fn execute(st: &mut State, x: &mut Exec, w: &Words) -> Result<Flow, Translat
                 Some(0) | None => 0.0,
                 Some(t) => x.tool_data(t, d_col, "D")?.diameter / 2.0,
             };
+            let min = super::comp::MIN_RADIUS_PULSES * x.settings.pulse_mm;
+            if radius > 0.0 && radius < min {
+                return Err(x.err(
+                    d_col,
+                    format!(
+                        "cutter compensation with a tool radius of {radius:.4} mm would round corners on arcs too small to cut (at least {min:.4} mm): D0 compensates nothing"
+                    ),
+                ));
+            }
             st.comp.on(left, radius, col);
         }
     }

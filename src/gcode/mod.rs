@@ -30,11 +30,10 @@ use std::sync::Arc;
 
 /// The deepest subprogram call (M98 inside subprograms), as Fanuc 0i allows.
 pub const MAX_DEPTH: usize = 4;
-/// The most repeats an L word asks for (M98 L, canned-cycle L).
-pub const MAX_REPEATS: u32 = 9999;
-/// The most lines one program may execute, counting every repeat of a subprogram: the bound
-/// on a program's work (docs/gcode.md "Limits").
-pub const MAX_LINES: u64 = 10_000_000;
+/// The bounds of a program's work (docs/limits.md): the most repeats an L word asks for, the
+/// most lines a program may execute (every line read, every repeat counted), the most blocks
+/// one line and one program may make.
+pub use crate::limits::{MAX_BLOCKS, MAX_LINES, MAX_PROGRAM_BLOCKS, MAX_REPEATS};
 
 /// The work offsets G54 to G59 (index 0 to 5), machine mm of each system's zero.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -80,21 +79,33 @@ pub fn restore_text(line: u32) -> String {
     format!("(SEARCH: restore for line {line})")
 }
 
+/// A place in the program: the 0-based index of a line and the byte where it starts. The
+/// reader walks the text with it instead of keeping an index of every line, so that memory
+/// follows the program's content, not its count of lines (docs/limits.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct At {
+    line: usize,
+    byte: usize,
+}
+
 #[derive(Clone, Copy, Debug)]
 struct Frame {
     o: u32,
-    ret: usize,
-    start: usize,
+    ret: At,
+    start: At,
     left: u32,
 }
 
 /// A G-code program as an iterator of statements.
 pub struct GcodeSource {
     source: Arc<str>,
-    lines: Vec<(usize, usize)>,
-    subs: HashMap<u32, usize>,
+    /// Each subprogram's O line: where its first line starts.
+    subs: HashMap<u32, At>,
     called: std::collections::HashSet<u32>,
+    /// The 0-based index of the next line to read.
     pc: usize,
+    /// Where that line starts in `source`.
+    pc_byte: usize,
     stack: Vec<Frame>,
     st: State,
     params: Params,
@@ -110,6 +121,9 @@ pub struct GcodeSource {
     changes: Vec<OffsetChange>,
     executed: u64,
     max_lines: u64,
+    /// Blocks made so far, and the most the program may make.
+    made: u64,
+    max_blocks: u64,
     first_code: Option<usize>,
     scratch: expr::Scratch,
     line_buf: expr::Line,
@@ -129,25 +143,36 @@ impl GcodeSource {
         offsets: WorkOffsets,
         switches: Switches,
     ) -> GcodeSource {
-        let mut lines = Vec::new();
-        let mut at = 0;
-        for l in source.split_inclusive('\n') {
-            lines.push((at, at + l.len()));
-            at += l.len();
-        }
         let params = Params::default();
         let mut subs = HashMap::new();
         let mut first_code = None;
-        for (i, &(a, b)) in lines.iter().enumerate() {
-            // Only the first byte that is not a space matters here.
-            let line = &source.as_bytes()[a..b];
-            let Some(&c) = line.iter().find(|c| !c.is_ascii_whitespace()) else {
-                continue;
+        let bytes = source.as_bytes();
+        let (mut a, mut i) = (0, 0);
+        while a < bytes.len() {
+            // Only the first byte that is not a space matters here; a blank line costs a
+            // byte or two.
+            let mut k = a;
+            while k < bytes.len() && bytes[k] != b'\n' && bytes[k].is_ascii_whitespace() {
+                k += 1;
+            }
+            let b = match bytes.get(k) {
+                Some(b'\n') => k + 1,
+                None => k,
+                Some(_) => source[k..].find('\n').map_or(bytes.len(), |e| k + e + 1),
+            };
+            let (l, first) = (&source[a..b], bytes.get(k).copied());
+            a = b;
+            i += 1;
+            let next = At { line: i, byte: b };
+            let i = i - 1;
+            let c = match first {
+                None | Some(b'\n') => continue,
+                Some(c) => c,
             };
             if c == b'(' || c == b';' {
                 continue;
             }
-            let t = source[a..b].trim();
+            let t = l.trim();
             if first_code.is_none() && t != "%" {
                 first_code = Some(i);
             }
@@ -156,7 +181,7 @@ impl GcodeSource {
             }
             if let Ok(l) = expr::read_line(t, i as u32 + 1, &params) {
                 if let Some((o, _)) = l.o_number {
-                    subs.entry(o).or_insert(i);
+                    subs.entry(o).or_insert(next);
                 }
             }
         }
@@ -190,10 +215,10 @@ impl GcodeSource {
         };
         GcodeSource {
             source,
-            lines,
             subs,
             called: Default::default(),
             pc: 0,
+            pc_byte: 0,
             stack: Vec::new(),
             st,
             params,
@@ -211,6 +236,8 @@ impl GcodeSource {
             changes: Vec::new(),
             executed: 0,
             max_lines: MAX_LINES,
+            made: 0,
+            max_blocks: MAX_PROGRAM_BLOCKS,
             first_code,
             scratch: expr::Scratch::default(),
             line_buf: expr::Line::default(),
@@ -223,6 +250,13 @@ impl GcodeSource {
     /// The most lines this program may execute (default [`MAX_LINES`]).
     pub fn line_limit(mut self, lines: u64) -> GcodeSource {
         self.max_lines = lines;
+        self
+    }
+
+    /// The most blocks this program may make, every repeat counted (default
+    /// [`MAX_PROGRAM_BLOCKS`]).
+    pub fn block_limit(mut self, blocks: u64) -> GcodeSource {
+        self.max_blocks = blocks;
         self
     }
 
@@ -275,7 +309,8 @@ impl GcodeSource {
                 return None;
             }
             let n = self.pc as u32 + 1;
-            let Some(&(a, b)) = self.lines.get(self.pc) else {
+            let a = self.pc_byte;
+            if a >= self.source.len() {
                 if self.mdi && self.stack.is_empty() {
                     self.done = true;
                     let mut x = ctx(
@@ -291,8 +326,15 @@ impl GcodeSource {
                 }
                 let e = self.end_error(n);
                 return self.fail(e);
+            }
+            let b = match self.source.as_bytes()[a] {
+                b'\n' => a + 1,
+                _ => self.source[a..]
+                    .find('\n')
+                    .map_or(self.source.len(), |i| a + i + 1),
             };
             self.pc += 1;
+            self.pc_byte = b;
             let source = Arc::clone(&self.source);
             let raw = source[a..b].trim_end_matches(['\n', '\r']);
             if self.switches.block_delete && raw.trim_start().starts_with('/') {
@@ -301,13 +343,24 @@ impl GcodeSource {
             self.executed += 1;
             if self.executed > self.max_lines {
                 let max = self.max_lines;
+                // Without a call, every line read was a line of the file.
+                let message = if self.called.is_empty() {
+                    format!("the program has more than {max} lines (the most a program may have)")
+                } else {
+                    format!("the program executes more than {max} lines, counting each line of a subprogram each time it runs: refused")
+                };
                 return self.fail(TranslateError {
                     line: n,
                     col: 1,
-                    message: format!(
-                        "the program executes more than {max} lines (subprogram repeats): refused"
-                    ),
+                    message,
                 });
+            }
+            if let Some(e) = crate::limits::line_too_long(raw, n, "") {
+                return self.fail(e);
+            }
+            // A blank line (the spaces the line reader skips): nothing to read.
+            if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
+                continue;
             }
             let mut line = std::mem::take(&mut self.line_buf);
             let r = expr::read_into(&mut self.scratch, &mut line, raw, n, &self.params);
@@ -402,7 +455,7 @@ impl GcodeSource {
                     .subs
                     .get(&o)
                     .copied()
-                    .filter(|&at| at + 1 > self.pc || self.called.contains(&o));
+                    .filter(|at| at.line > self.pc || self.called.contains(&o));
                 let Some(at) = found else {
                     if self.subs.contains_key(&o) {
                         return Err(TranslateError {
@@ -430,11 +483,14 @@ impl GcodeSource {
                 if l > 0 {
                     self.stack.push(Frame {
                         o,
-                        ret: self.pc,
-                        start: at + 1,
+                        ret: At {
+                            line: self.pc,
+                            byte: self.pc_byte,
+                        },
+                        start: at,
                         left: l,
                     });
-                    self.pc = at + 1;
+                    self.goto(at);
                 }
             }
             Flow::Return { col } => match self.stack.last_mut() {
@@ -448,12 +504,14 @@ impl GcodeSource {
                 }
                 Some(f) => {
                     f.left -= 1;
-                    if f.left > 0 {
-                        self.pc = f.start;
+                    let to = if f.left > 0 {
+                        f.start
                     } else {
-                        self.pc = f.ret;
+                        let ret = f.ret;
                         self.stack.pop();
-                    }
+                        ret
+                    };
+                    self.goto(to);
                 }
             },
             Flow::End => {
@@ -507,6 +565,12 @@ impl GcodeSource {
         Ok(Some(self.finish(n, raw.trim().to_string(), out, end)))
     }
 
+    /// Goes on reading at `at`.
+    fn goto(&mut self, at: At) {
+        self.pc = at.line;
+        self.pc_byte = at.byte;
+    }
+
     fn finish(
         &mut self,
         n: u32,
@@ -522,6 +586,17 @@ impl GcodeSource {
         }
         if let Err(e) = r {
             return self.fail(e);
+        }
+        self.made += blocks.len() as u64;
+        if self.made > self.max_blocks {
+            let max = self.max_blocks;
+            return self.fail(TranslateError {
+                line: n,
+                col: 1,
+                message: format!(
+                    "the program makes more than {max} blocks (the most a program may make)"
+                ),
+            });
         }
         Some(Ok(Statement {
             line: n,

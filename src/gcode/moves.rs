@@ -6,6 +6,7 @@ use super::geom::{self, ArcFault};
 use super::interp::{Exec, Mode, State, Words};
 use super::OffsetChange;
 use crate::block::TranslateError;
+use crate::input_text::fixed;
 
 /// The end point of a straight move in machine mm from the axis words (program frame).
 pub fn target(st: &State, w: &Words) -> [f64; 3] {
@@ -121,15 +122,15 @@ fn fault(x: &Exec, f: ArcFault, col: u32, k: f64) -> TranslateError {
     match f {
         ArcFault::RTooSmall { half, r } => x.err(
             col,
-            format!("R{:.4} is too small for the chord: the end point is {:.4} {unit} from the start, more than 2·R", m(r), m(2.0 * half)),
+            format!("R{} is too small for the chord: the end point is {} {unit} from the start, more than 2·R", fixed(m(r), 4), fixed(m(2.0 * half), 4)),
         ),
         ArcFault::RFullCircle => x.err(col, "an R arc cannot be a full circle (the end is the start): use I J K"),
         ArcFault::NotOnCircle { r0, r1 } => x.err(
             col,
             format!(
-                "the arc's end point is not on its circle: radius {:.4} {unit} at the start, {:.4} {unit} at the end (at most {:.3} mm apart)",
-                m(r0),
-                m(r1),
+                "the arc's end point is not on its circle: radius {} {unit} at the start, {} {unit} at the end (at most {:.3} mm apart)",
+                fixed(m(r0), 4),
+                fixed(m(r1), 4),
                 geom::NOVANC_RADIUS_DIFF_MM
             ),
         ),
@@ -146,7 +147,10 @@ pub(super) fn g10(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(
         Some(l) => {
             return Err(x.err(
                 lcol,
-                format!("G10 L{l} is not supported: G10 L2 or L20 set work offsets"),
+                format!(
+                    "G10 L{} is not supported: G10 L2 or L20 set work offsets",
+                    crate::input_text::short_number(l)
+                ),
             ))
         }
         None => return Err(x.err(col, "G10 needs L2 or L20 (work offsets)")),
@@ -161,7 +165,10 @@ pub(super) fn g10(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(
     if p.fract() != 0.0 || !(0.0..=6.0).contains(&p) {
         return Err(x.err(
             pcol,
-            format!("bad G10 P{p}: P1 (G54) to P6 (G59), or P0 for the one in force"),
+            format!(
+                "bad G10 P{}: P1 (G54) to P6 (G59), or P0 for the one in force",
+                crate::input_text::short_number(p)
+            ),
         ));
     }
     if st.comp.active() {
@@ -184,7 +191,11 @@ pub(super) fn g10(st: &mut State, x: &mut Exec, w: &Words, col: u32) -> Result<(
         if !v.is_finite() || v.abs() > 1e6 {
             return Err(x.err(
                 col,
-                format!("work offset {} of {v} mm is not usable", ["X", "Y", "Z"][a]),
+                format!(
+                    "work offset {} of {} mm is not usable",
+                    ["X", "Y", "Z"][a],
+                    crate::input_text::short_number(v)
+                ),
             ));
         }
     }
