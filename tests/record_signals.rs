@@ -161,7 +161,8 @@ fn closing_metadata(path: &Path) -> std::collections::BTreeMap<String, String> {
 }
 
 /// Checks an interrupted recording: finished (summary and footer), CRCs good, `complete:
-/// false` and the signal named; the machine reset (RUN 0 last); Python's reader accepts it.
+/// false` and the signal named; the machine stopped (the centre's RESET: RUN 0 last; a
+/// lathe's E-STOP: ESTOP last); Python's reader accepts it.
 fn check_interrupted(path: &Path, sig: libc::c_int) {
     let name = signal_name(sig);
     let meta = closing_metadata(path);
@@ -169,8 +170,9 @@ fn check_interrupted(path: &Path, sig: libc::c_int) {
     assert_eq!(meta["interrupted"], format!("interrupted by {name}"));
     let back = read_back(path);
     assert!(
-        back.last_state.contains("\"run\":0"),
-        "the machine was reset: last state {}",
+        back.last_state.contains("\"run\":0")
+            || back.last_state.contains("\"data_mode\":\"ESTOP\""),
+        "the machine was stopped: last state {}",
         back.last_state
     );
     if let Some((ok, text)) = python_check(path, &[]) {
