@@ -418,7 +418,11 @@ fn recording_metadata(path: &Path) -> std::collections::BTreeMap<String, String>
 }
 
 /// The time from `since` until the child ends (at most `secs`); its exit status.
-fn ended_within(child: &mut Child, since: Instant, secs: u64) -> (std::process::ExitStatus, Duration) {
+fn ended_within(
+    child: &mut Child,
+    since: Instant,
+    secs: u64,
+) -> (std::process::ExitStatus, Duration) {
     loop {
         if let Some(st) = child.try_wait().expect("wait for novanc") {
             return (st, since.elapsed());
@@ -451,12 +455,9 @@ fn lathe_script_ends_on_a_signal_during_wait() {
         let _ = std::fs::remove_file(&path);
         let p = path.to_str().unwrap();
         let s = script.to_str().unwrap();
-        let mut child = novanc(
-            &["script", s, "--machine", "citizen", "--record", p],
-            None,
-        )
-        .spawn()
-        .expect("start novanc script --machine citizen");
+        let mut child = novanc(&["script", s, "--machine", "citizen", "--record", p], None)
+            .spawn()
+            .expect("start novanc script --machine citizen");
         wait_for_file(&mut child, &path);
         std::thread::sleep(Duration::from_millis(300));
         let sent = Instant::now();
@@ -494,7 +495,10 @@ fn a_recording_stays_readable_when_the_process_is_killed() {
             "run",
             vec!["run", "programs/tableb.ap", "--realtime", "--record"],
         ),
-        ("lathe", vec!["script", &s, "--machine", "citizen", "--record"]),
+        (
+            "lathe",
+            vec!["script", &s, "--machine", "citizen", "--record"],
+        ),
     ];
     for (what, args) in runs {
         let path = temp_path(&format!("killed-{what}.mcap"));
@@ -586,7 +590,10 @@ fn console_killed_mid_cycle(name: &str, args: &str, keys: &[&str], running: &[&s
     let exit = tmux::wait_file(&d.join("exit"), 20);
     let took = sent.elapsed();
     assert_eq!(exit.trim(), "exit=143");
-    assert!(took < Duration::from_secs(1), "ended {took:?} after SIGTERM");
+    assert!(
+        took < Duration::from_secs(1),
+        "ended {took:?} after SIGTERM"
+    );
     tmux::assert_stty_unchanged(&d);
     check_interrupted(&rec, libc::SIGTERM);
     let _ = std::fs::remove_dir_all(&d);

@@ -9,7 +9,7 @@ mod tmux;
 
 use common::temp_dir;
 use std::process::Command;
-use tmux::{assert_stty_unchanged, session, tmux_or_skip, wait_file};
+use tmux::{assert_stty_unchanged, session, shell, tmux_or_skip, wait_file, with_pid};
 
 #[test]
 fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
@@ -160,5 +160,69 @@ fn a_panic_hands_the_terminal_back() {
     assert_stty_unchanged(&d);
     let s = t.screen();
     assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `stty -a` typed in the shell of the pane shows a cooked terminal (canonical input, echo).
+fn assert_cooked(t: &tmux::Tmux, when: &str) {
+    t.type_line("clear; stty -a");
+    let s = t.wait_for(&["icanon"], 10);
+    assert!(
+        s.contains(" icanon")
+            && !s.contains("-icanon")
+            && s.contains(" echo ")
+            && !s.contains("-echo "),
+        "{when}: the terminal is not cooked:\n{s}"
+    );
+    t.type_line("clear");
+}
+
+fn kill(pid: &str, sig: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{sig}"), pid.trim()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+}
+
+#[test]
+fn sigtstp_hands_the_terminal_back_fg_redraws_and_sigquit_restores() {
+    // Issue 20, item 13: after SIGTSTP and `fg` the panel stayed in cooked mode, undrawn;
+    // SIGQUIT left the terminal raw on the alternate screen. An interactive shell with job
+    // control runs novanc, as an operator's terminal does.
+    if !tmux_or_skip("SIGTSTP") {
+        return;
+    }
+    let d = temp_dir("tmux-tstp");
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let t = shell("tstp");
+    t.type_line(&with_pid(
+        &d,
+        &format!("{exe} --state {}/state", d.display()),
+    ));
+    t.wait_for(&["PLASMA DISPLAY 14", "◉━3 PROG REVISE"], 20);
+    let pid = wait_file(&d.join("pid"), 10);
+
+    // SIGTSTP: the shell's prompt on the main screen, the terminal cooked.
+    kill(&pid, "TSTP");
+    let s = t.wait_for(&["Stopped"], 10);
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    assert_cooked(&t, "after SIGTSTP");
+
+    // fg: the whole panel drawn again, in raw mode (Alt+1 acts at once).
+    t.type_line("fg");
+    t.wait_for(
+        &["PLASMA DISPLAY 14", "◉━3 PROG REVISE", "RELAY PANEL 12"],
+        10,
+    );
+    t.keys(&["M-1"]);
+    t.wait_for(&["◉━1 CONTINUOUS"], 10);
+
+    // SIGQUIT: the process ends at once, the terminal handed back first.
+    kill(&pid, "QUIT");
+    t.type_line("echo status=$?");
+    let s = t.wait_for(&["status=131"], 10);
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    assert_cooked(&t, "after SIGQUIT");
     let _ = std::fs::remove_dir_all(&d);
 }

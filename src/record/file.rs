@@ -269,7 +269,9 @@ mod tests {
         let mut w = mcap_options()
             .create(RecordFile::create(&path).unwrap())
             .unwrap();
-        let s = w.add_schema("novanc.PanelEvent", "jsonschema", b"{}").unwrap();
+        let s = w
+            .add_schema("novanc.PanelEvent", "jsonschema", b"{}")
+            .unwrap();
         let ch = w
             .add_channel(s, "/panel/event", "json", &BTreeMap::new())
             .unwrap();

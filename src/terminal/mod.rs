@@ -9,9 +9,9 @@
 pub mod lathe;
 pub mod layout;
 
+use crate::cli::signals;
 use crate::console::{Console, ConsoleConfig};
 use layout::{draw_help, draw_panel, draw_too_small, panel_size};
-use crate::cli::signals;
 use novanc_panel::{Decoder, Key, Renderer, Screen, Terminal};
 use std::time::Duration;
 

@@ -136,7 +136,7 @@ pub fn session(name: &str, d: &Path, run: &str) -> Tmux {
 /// `$ `. Type command lines into it with `type_line`.
 pub fn shell(name: &str) -> Tmux {
     let t = start(name, &["env", "PS1=$ ", "ENV=", "sh", "-i"]);
-    t.wait_for(&["$ "], 10);
+    t.wait_for(&["$"], 10);
     t.type_line("ulimit -c 0");
     t
 }
@@ -144,10 +144,7 @@ pub fn shell(name: &str) -> Tmux {
 /// A shell command line that writes its process id to `pid` in `d`, then becomes `run` (so
 /// that id is novanc's); for `kill` from the test.
 pub fn with_pid(d: &Path, run: &str) -> String {
-    format!(
-        "sh -c 'echo $$ > {d}/pid; exec {run}'",
-        d = d.display()
-    )
+    format!("sh -c 'echo $$ > {d}/pid; exec {run}'", d = d.display())
 }
 
 /// The terminal settings after novanc exited are the ones before it started.
