@@ -89,16 +89,25 @@ extern "C" fn on_quit(sig: libc::c_int) {
     }
 }
 
-/// Installs `handler` for `sig` without SA_RESTART, so that a blocked poll wakes up.
-fn set_handler(sig: libc::c_int, handler: extern "C" fn(libc::c_int)) {
-    // SAFETY: a zeroed sigaction is a valid "no flags, empty mask" value; the handlers only
-    // touch atomics or call async-signal-safe functions.
+/// Installs `handler` for `sig` without SA_RESTART, so that a blocked poll wakes up; a
+/// signal ignored when the process started (`nohup`) stays ignored. Returns the disposition
+/// it replaced, if it installed the handler.
+fn set_handler(sig: libc::c_int, handler: extern "C" fn(libc::c_int)) -> Option<libc::sigaction> {
+    // SAFETY: sigaction with a zeroed struct reads the current disposition; a zeroed sigaction
+    // is a valid "no flags, empty mask" value; the handlers only touch atomics or call
+    // async-signal-safe functions.
     unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        if libc::sigaction(sig, std::ptr::null(), &mut old) != 0
+            || old.sa_sigaction == libc::SIG_IGN
+        {
+            return None;
+        }
         let mut sa: libc::sigaction = std::mem::zeroed();
         sa.sa_sigaction = handler as usize;
         libc::sigemptyset(&mut sa.sa_mask);
         sa.sa_flags = 0;
-        libc::sigaction(sig, &sa, std::ptr::null_mut());
+        (libc::sigaction(sig, &sa, std::ptr::null_mut()) == 0).then_some(old)
     }
 }
 
@@ -157,6 +166,8 @@ fn reenter() {
 /// The panel's terminal, in raw mode on the alternate screen until dropped.
 pub struct Terminal {
     active: bool,
+    /// The dispositions the panel's handlers replaced, put back by `restore`.
+    replaced: Vec<(libc::c_int, libc::sigaction)>,
 }
 
 impl Terminal {
@@ -207,11 +218,20 @@ impl Terminal {
         });
         SUSPEND.store(false, Ordering::SeqCst);
         CONTINUED.store(false, Ordering::SeqCst);
-        set_handler(libc::SIGWINCH, on_winch);
-        set_handler(libc::SIGTSTP, on_tstp);
-        set_handler(libc::SIGCONT, on_cont);
-        set_handler(libc::SIGQUIT, on_quit);
-        let mut t = Terminal { active: true };
+        let handlers: [(libc::c_int, extern "C" fn(libc::c_int)); 4] = [
+            (libc::SIGWINCH, on_winch),
+            (libc::SIGTSTP, on_tstp),
+            (libc::SIGCONT, on_cont),
+            (libc::SIGQUIT, on_quit),
+        ];
+        let replaced = handlers
+            .into_iter()
+            .filter_map(|(sig, h)| set_handler(sig, h).map(|old| (sig, old)))
+            .collect();
+        let mut t = Terminal {
+            active: true,
+            replaced,
+        };
         t.write_all(ENTER)?;
         Ok(t)
     }
@@ -300,7 +320,7 @@ impl Terminal {
                 libc::signal(libc::SIGTSTP, libc::SIG_DFL);
                 libc::raise(libc::SIGTSTP);
             }
-            set_handler(libc::SIGTSTP, on_tstp);
+            let _ = set_handler(libc::SIGTSTP, on_tstp);
             CONTINUED.store(true, Ordering::SeqCst);
         }
         if CONTINUED.swap(false, Ordering::SeqCst) {
@@ -316,16 +336,17 @@ impl Terminal {
         PANICKED.load(Ordering::SeqCst)
     }
 
-    /// Hands the terminal back: main screen, cursor, cooked mode; SIGTSTP and SIGQUIT get their
-    /// default actions again. Idempotent.
+    /// Hands the terminal back: main screen, cursor, cooked mode; the signals the panel
+    /// handled get their former dispositions again. Idempotent.
     pub fn restore(&mut self) {
         if self.active {
             self.active = false;
             restore_now();
-            // SAFETY: setting default dispositions.
-            unsafe {
-                libc::signal(libc::SIGTSTP, libc::SIG_DFL);
-                libc::signal(libc::SIGQUIT, libc::SIG_DFL);
+            for (sig, old) in self.replaced.drain(..) {
+                // SAFETY: putting back a disposition sigaction gave us.
+                unsafe {
+                    libc::sigaction(sig, &old, std::ptr::null_mut());
+                }
             }
             ALIVE.store(false, Ordering::Release);
         }
