@@ -471,6 +471,10 @@ fn lathe_script_ends_on_a_signal_during_wait() {
             took < Duration::from_secs(1),
             "{name}: ended {took:?} after the signal"
         );
+        eprintln!(
+            "lathe script in wait: exit {} {took:?} after {name}",
+            128 + sig
+        );
         assert!(
             err.contains(&format!(
                 "novanc: interrupted by {name}: stopping the machine and closing the recording"
@@ -594,6 +598,7 @@ fn console_killed_mid_cycle(name: &str, args: &str, keys: &[&str], running: &[&s
         took < Duration::from_secs(1),
         "ended {took:?} after SIGTERM"
     );
+    eprintln!("{name}: exit 143 {took:?} after SIGTERM");
     tmux::assert_stty_unchanged(&d);
     check_interrupted(&rec, libc::SIGTERM);
     let _ = std::fs::remove_dir_all(&d);
