@@ -14,6 +14,9 @@
 mod common;
 #[path = "common/tmux.rs"]
 mod tmux;
+#[cfg(feature = "window")]
+#[path = "common/xvfb.rs"]
+mod xvfb;
 
 use common::python_check;
 use std::io::Read;
@@ -625,4 +628,62 @@ fn the_lathe_console_closes_its_recording_when_sigterm_ends_it_mid_cycle() {
         &["F9"],
         &["PLASMA DISPLAY 14", "CH1 RUN"],
     );
+}
+
+#[cfg(feature = "window")]
+#[test]
+fn the_window_closes_its_recording_when_sigterm_ends_it_mid_cycle() {
+    // The console in the window ignored stop signals: SIGTERM ended it at once, the recording
+    // not closed. Table B in AUTO, started by the script, then in real time.
+    let Some(x) = xvfb::xvfb_or_skip("window SIGTERM") else {
+        return;
+    };
+    let d = common::temp_dir("window-term");
+    let (rec, script, state) = (d.join("rec.mcap"), d.join("s.panel"), d.join("state"));
+    std::fs::write(&script, "op AUTO\nstart\n").unwrap();
+    let mut cmd = novanc(
+        &[
+            "--window",
+            "--state",
+            state.to_str().unwrap(),
+            "--record",
+            rec.to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+            "--size",
+            "1400x860",
+        ],
+        None,
+    );
+    xvfb::on_xvfb(&mut cmd, &x);
+    let mut child = cmd.spawn().expect("start novanc --window");
+    wait_for_file(&mut child, &rec);
+    // Running: the recording has blocks (committed within a second of being written).
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while read_back(&rec)
+        .counts
+        .get("/nc/block")
+        .copied()
+        .unwrap_or(0)
+        == 0
+    {
+        if let Ok(Some(st)) = child.try_wait() {
+            panic!("novanc --window ended ({st}) before the cycle ran");
+        }
+        assert!(Instant::now() < deadline, "no block recorded after 60 s");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let sent = Instant::now();
+    send(&child, libc::SIGTERM);
+    let (st, took) = ended_within(&mut child, sent, 20);
+    let (_, out, err) = finish(child, 1);
+    assert_eq!(st.code(), Some(143), "{out}\n{err}");
+    assert!(
+        took < Duration::from_secs(1),
+        "ended {took:?} after SIGTERM"
+    );
+    eprintln!("window: exit 143 {took:?} after SIGTERM");
+    assert!(err.contains("RECORDING INCOMPLETE"), "{err}");
+    check_interrupted(&rec, libc::SIGTERM);
+    let _ = std::fs::remove_dir_all(&d);
 }
