@@ -491,6 +491,44 @@ fn lathe_script_ends_on_a_signal_during_wait() {
 }
 
 #[test]
+fn lathe_run_stops_the_machine_and_names_the_signal() {
+    // The lathe's headless run wrote `interrupted by signal 15` and left the channels running
+    // in the recording; now E-STOP, `interrupted by SIGTERM`, as the centre's run.
+    let path = temp_path("lathe-run.mcap");
+    let _ = std::fs::remove_file(&path);
+    let p = path.to_str().unwrap();
+    let mut child = novanc(
+        &[
+            "run",
+            "--machine",
+            "citizen",
+            "programs/citizen",
+            "--parts",
+            "999999",
+            "--record",
+            p,
+        ],
+        None,
+    )
+    .spawn()
+    .expect("start novanc run --machine citizen");
+    wait_for_file(&mut child, &path);
+    std::thread::sleep(Duration::from_millis(300));
+    let sent = Instant::now();
+    send(&child, libc::SIGTERM);
+    let (st, took) = ended_within(&mut child, sent, 20);
+    let (_, out, err) = finish(child, 1);
+    assert_eq!(st.code(), Some(143), "{out}\n{err}");
+    assert!(
+        took < Duration::from_secs(1),
+        "ended {took:?} after SIGTERM"
+    );
+    assert!(out.contains("INCOMPLETE: interrupted by SIGTERM"), "{out}");
+    check_interrupted(&path, libc::SIGTERM);
+    let _ = std::fs::remove_file(&path);
+}
+
+#[test]
 fn a_recording_stays_readable_when_the_process_is_killed() {
     // A second stop signal (or SIGKILL) ends the process at once. The recording keeps what
     // was committed (every chunk, closed at 4 MB or after a second), ends with a footer, and
