@@ -1,10 +1,10 @@
 //! The recording's file, readable at every moment (docs/recording.md, "Interrupted runs").
 //!
-//! The MCAP writer's output goes to memory and reaches the file only at a commit: the chunk
-//! just closed with its message indexes, in one `pwrite`, followed by a **provisional end**: a
-//! `novanc.recording` metadata record saying `complete: false` and why, a data-end record and a
-//! footer with no summary section. The next commit writes over that end; `close` writes the
-//! real one (closing metadata, summary, footer) and cuts the file to its length. So a process
+//! The MCAP writer builds each chunk in memory and writes it whole when it closes it, with its
+//! message indexes; at once after that comes a commit: a **provisional end** written after them,
+//! a `novanc.recording` metadata record saying `complete: false` and why, a data-end record and a
+//! footer with no summary section. The next chunk is written over that end, and followed by a
+//! new one; `close` ends the file after the real end (closing metadata, summary, footer). So a process
 //! that dies at any moment (a second stop signal, SIGKILL, a crash) leaves a finished MCAP file
 //! holding every committed chunk, which Python's `make_reader`, `mcap info` and the `mcap` crate
 //! open as they are (a reader without a summary section reads the file from the start).
@@ -76,14 +76,16 @@ pub trait RecordOutput: Write + Seek {
     }
 }
 
-/// An MCAP file that ends with a footer at every moment (see the module's documentation).
+/// An MCAP file that ends with a footer at every moment (see the module's documentation),
+/// but for the moments between the MCAP writer's first write after a commit and the commit
+/// itself: a chunk's write, its message indexes, then at once the commit (`flush`).
 #[derive(Debug)]
 pub struct RecordFile {
     file: File,
-    /// Bytes of the MCAP stream in the file; the provisional end starts here.
+    /// Bytes of the MCAP stream in the file as of the last commit.
     committed: u64,
-    /// The stream's bytes since, not yet in the file.
-    pending: Vec<u8>,
+    /// Bytes of the MCAP stream in the file now (the stream's position).
+    written: u64,
 }
 
 impl RecordFile {
@@ -92,44 +94,50 @@ impl RecordFile {
         Ok(RecordFile {
             file: File::create(path)?,
             committed: 0,
-            pending: Vec::with_capacity(64 * 1024),
+            written: 0,
         })
     }
 
-    /// Writes what is pending and a provisional end after it, in one write. On an error the
-    /// file is put back as the last commit left it (its chunks and its provisional end, now
-    /// naming the error), as far as the disk allows.
-    fn commit(&mut self) -> io::Result<()> {
-        let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
-        let len = self.pending.len();
-        self.pending.extend_from_slice(&end);
-        let written = self.file.write_all_at(&self.pending, self.committed);
-        self.pending.truncate(len);
-        match written {
-            Ok(()) => {
-                self.committed += len as u64;
-                self.pending.clear();
-                Ok(())
-            }
-            Err(e) => {
-                let end = provisional_end(&format!("not closed: writing the file failed: {e}"));
-                let _ = self.file.set_len(self.committed);
-                let _ = self.file.write_all_at(&end, self.committed);
-                Err(e)
-            }
-        }
+    /// After a write error: the file put back as the last commit left it (its chunks and a
+    /// provisional end, now naming the error), as far as the disk allows.
+    fn put_back(&mut self, e: &io::Error) {
+        let end = provisional_end(&format!("not closed: writing the file failed: {e}"));
+        let _ = self.file.set_len(self.committed);
+        let _ = self.file.write_all_at(&end, self.committed);
+        self.written = self.committed;
     }
 }
 
 impl Write for RecordFile {
+    /// Writes at the stream's position: over the provisional end, which the next commit
+    /// writes again after what was written.
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.pending.extend_from_slice(buf);
-        Ok(buf.len())
+        match self.file.write_all_at(buf, self.written) {
+            Ok(()) => {
+                self.written += buf.len() as u64;
+                Ok(buf.len())
+            }
+            Err(e) => {
+                self.put_back(&e);
+                Err(e)
+            }
+        }
     }
 
-    /// A commit: the MCAP writer flushes its output after it closed a chunk.
+    /// A commit (the MCAP writer flushes its output after it closed a chunk): the provisional
+    /// end after what was written.
     fn flush(&mut self) -> io::Result<()> {
-        self.commit()
+        let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
+        match self.file.write_all_at(&end, self.written) {
+            Ok(()) => {
+                self.committed = self.written;
+                Ok(())
+            }
+            Err(e) => {
+                self.put_back(&e);
+                Err(e)
+            }
+        }
     }
 }
 
@@ -137,7 +145,7 @@ impl Seek for RecordFile {
     /// Only tells the position (the MCAP writer asks it for its indexes); it never seeks back.
     fn seek(&mut self, pos: SeekFrom) -> io::Result<u64> {
         match pos {
-            SeekFrom::Current(0) => Ok(self.committed + self.pending.len() as u64),
+            SeekFrom::Current(0) => Ok(self.written),
             _ => Err(io::Error::new(
                 io::ErrorKind::Unsupported,
                 "a recording is written front to back",
@@ -147,14 +155,12 @@ impl Seek for RecordFile {
 }
 
 impl RecordOutput for RecordFile {
-    /// Writes the real end (what is pending after the MCAP writer's `finish`) over the
-    /// provisional one and cuts the file there.
+    /// Ends the file after the real end (the MCAP writer's `finish` wrote it over the
+    /// provisional one): cuts what a provisional end left beyond.
     fn close(&mut self) -> io::Result<u64> {
-        self.file.write_all_at(&self.pending, self.committed)?;
-        self.committed += self.pending.len() as u64;
-        self.pending.clear();
-        self.file.set_len(self.committed)?;
-        Ok(self.committed)
+        self.file.set_len(self.written)?;
+        self.committed = self.written;
+        Ok(self.written)
     }
 }
 
