@@ -101,7 +101,7 @@ impl LatheStore {
     pub fn open(state: &Path, desc: &LatheDesc) -> Result<Opened, String> {
         let dir = state.join(format!("lathe-{}", desc.name));
         make_dir(&dir)?;
-        let lock = lock_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let lock = lock_dir(&dir)?;
         let store = LatheStore { dir, _lock: lock };
         let mut warnings = Vec::new();
         let mut programs = Vec::new();
