@@ -132,14 +132,10 @@ impl History {
             self.entries.drain(..from);
             return self.rewrite();
         }
-        let r = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&self.path)
-            .and_then(|mut f| {
-                f.write_all(&rec)?;
-                f.sync_data()
-            });
+        let r = fsutil::open_append(&self.path, true).and_then(|mut f| {
+            f.write_all(&rec)?;
+            f.sync_data()
+        });
         match r {
             Ok(()) => {
                 self.bytes += rec.len() as u64;

@@ -108,3 +108,32 @@ pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
     );
     Some((out.status.success(), text))
 }
+
+/// Makes `cmd` run as the user `nobody` (65534) when the tests run as root: root ignores file
+/// modes, so a read-only directory or an unreadable file is one only to another user. As any
+/// other user the command runs as it is.
+pub fn unprivileged(cmd: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        return cmd;
+    }
+    // SAFETY: only async-signal-safe calls (setgroups, setgid, setuid) between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::setgroups(0, std::ptr::null()) != 0
+                || libc::setgid(65534) != 0
+                || libc::setuid(65534) != 0
+            {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        })
+    }
+}
+
+/// Sets the mode bits of `path`.
+pub fn chmod(path: &Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).unwrap();
+}

@@ -1,0 +1,197 @@
+//! The state directory's files and paths (issue 20): a symlink planted in the state directory
+//! is never written through (`journal.log`, `lock`), a read-only state directory opens for
+//! reading with every change refused, and a lock file that cannot be opened is named.
+//!
+//! The read-only cases run in a child process of this test binary (`NOVANC_PATHS_CHILD`),
+//! as the user `nobody` when the tests run as root (root ignores file modes).
+
+mod common;
+
+use novanc::store::{Stores, Target};
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const CHILD: &str = "NOVANC_PATHS_CHILD";
+const CHILD_DIR: &str = "NOVANC_PATHS_DIR";
+
+fn fresh(tag: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("store-paths-{tag}"));
+    if d.exists() {
+        let _ = Command::new("chmod").args(["-R", "u+rwx"]).arg(&d).status();
+    }
+    let _ = fs::remove_dir_all(&d);
+    fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every file of `d` and its bytes, to show nothing changed.
+fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<_> = fs::read_dir(d)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let bytes = fs::read(e.path()).unwrap_or_default();
+            (e.file_name().to_string_lossy().into_owned(), bytes)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_journal_symlink_is_not_appended_through() {
+    let d = fresh("journal-link");
+    let state = d.join("state");
+    let outside = d.join("outside.log");
+    drop(Stores::open(&state, 24).unwrap());
+    // The (empty) journal moved out and linked back: a valid journal with nothing to replay,
+    // so open appends to it as it is.
+    fs::rename(state.join("journal.log"), &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, state.join("journal.log")).unwrap();
+    let before = fs::read(&outside).unwrap();
+    {
+        let (mut s, w) = Stores::open(&state, 24).unwrap();
+        assert!(w.is_empty(), "{w:?}");
+        for l in ["IA*", "IB*", "IC*"] {
+            s.edit(Target::Mdi, l, None).unwrap();
+        }
+    }
+    assert!(
+        fs::read(&outside).unwrap() == before,
+        "written through the link"
+    );
+    let (s, w) = Stores::open(&state, 24).unwrap();
+    assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\nC\n", "{w:?}");
+    assert!(!fs::symlink_metadata(state.join("journal.log"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+}
+
+#[test]
+fn a_lock_symlink_is_refused_and_creates_nothing() {
+    let d = fresh("lock-link");
+    let state = d.join("state");
+    fs::create_dir_all(&state).unwrap();
+    let target = d.join("created-by-lock");
+    std::os::unix::fs::symlink(&target, state.join("lock")).unwrap();
+    let e = Stores::open(&state, 24).err().unwrap().message;
+    assert!(
+        e.starts_with(&format!(
+            "cannot open the lock file {}: ",
+            state.join("lock").display()
+        )) && e.contains("is a symbolic link"),
+        "{e}"
+    );
+    assert!(
+        fs::symlink_metadata(&target).is_err(),
+        "the link's target was created"
+    );
+    assert_eq!(
+        fs::read_dir(&state).unwrap().count(),
+        1,
+        "nothing was written"
+    );
+}
+
+/// The child: opens the stores of a directory it cannot write and tries to change them.
+#[test]
+fn child_on_a_read_only_directory() {
+    let (Some(what), Some(dir)) = (std::env::var_os(CHILD), std::env::var_os(CHILD_DIR)) else {
+        return;
+    };
+    let d = PathBuf::from(dir);
+    match what.to_str() {
+        Some("read-only") => {
+            let (mut s, w) = Stores::open(&d, 24).unwrap();
+            assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\n", "{w:?}");
+            assert!(
+                w.iter()
+                    .any(|w| w.contains("read-only") && w.contains("every change is refused")),
+                "{w:?}"
+            );
+            let e = s.edit(Target::Mdi, "IC*", None).unwrap_err().to_string();
+            assert!(
+                e.starts_with("not saved (")
+                    && e.contains("read-only")
+                    && e.ends_with("; nothing was changed"),
+                "{e}"
+            );
+            assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\n");
+            let e = s.new_program("NEW").unwrap_err().to_string();
+            assert!(e.starts_with("not saved ("), "{e}");
+            assert_eq!(s.program_names(), ["TABLEB"]);
+        }
+        Some("lock") => {
+            let e = Stores::open(&d, 24).err().unwrap().message;
+            assert!(
+                e.starts_with(&format!(
+                    "cannot open the lock file {}: ",
+                    d.join("lock").display()
+                )),
+                "{e}"
+            );
+        }
+        _ => panic!("unknown child {what:?}"),
+    }
+    println!("\nchild done");
+}
+
+fn run_child(what: &str, d: &Path) {
+    let mut cmd = Command::new(std::env::current_exe().unwrap());
+    cmd.args([
+        "--exact",
+        "child_on_a_read_only_directory",
+        "--nocapture",
+        "--test-threads=1",
+    ])
+    .env(CHILD, what)
+    .env(CHILD_DIR, d);
+    let out = common::unprivileged(&mut cmd).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("\nchild done"),
+        "child {what} failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A state directory nobody may write (no lock file in it either, and a journal to replay)
+/// opens on what it holds; every change is refused; not a byte changes.
+#[test]
+fn a_read_only_state_directory_opens_for_reading() {
+    for keep_lock in [false, true] {
+        let d = fresh(if keep_lock { "ro-lock" } else { "ro" });
+        let state = d.join("state");
+        {
+            let (mut s, _) = Stores::open(&state, 24).unwrap();
+            s.edit(Target::Mdi, "IA*", None).unwrap();
+            s.edit(Target::Mdi, "IB*", None).unwrap();
+        }
+        if !keep_lock {
+            fs::remove_file(state.join("lock")).unwrap();
+        }
+        for e in fs::read_dir(&state).unwrap() {
+            common::chmod(&e.unwrap().path(), 0o444);
+        }
+        common::chmod(&state, 0o555);
+        common::chmod(&d, 0o755);
+        let before = contents(&state);
+        run_child("read-only", &state);
+        assert_eq!(contents(&state), before, "the directory changed");
+        common::chmod(&state, 0o755);
+    }
+}
+
+/// A lock file this user cannot open (another user's, mode 600) is named in the refusal.
+#[test]
+fn an_unopenable_lock_file_is_named() {
+    let d = fresh("lock-owner");
+    let state = d.join("state");
+    drop(Stores::open(&state, 24).unwrap());
+    common::chmod(&state.join("lock"), 0o000);
+    common::chmod(&state, 0o777);
+    run_child("lock", &state);
+    common::chmod(&state, 0o755);
+}
