@@ -381,3 +381,32 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     let so = text(&run().stdout);
     assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
 }
+
+/// Issue 20, item 17: a recording on a full disk says why in the operator's words ("No space
+/// left on device"), not the MCAP writer's wrapping of it.
+#[test]
+fn a_recording_on_a_full_disk_says_no_space() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("\n!!!!! SKIPPED: no /dev/full on this system !!!!!\n");
+        return;
+    }
+    let dir = common::temp_dir("lathe-full");
+    let script = dir.join("one.panel");
+    std::fs::write(&script, "start\nwait ms 100\n").unwrap();
+    let o = novanc(&[
+        "script",
+        script.to_str().unwrap(),
+        "--machine",
+        "citizen",
+        "--state",
+        dir.join("state").to_str().unwrap(),
+        "--record",
+        "/dev/full",
+    ]);
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("/dev/full: No space left on device") && !e.contains("compression"),
+        "{e}"
+    );
+}

@@ -10,6 +10,7 @@
 
 use crate::record::json::{push_i64, push_mm, push_str, push_u64};
 use crate::record::topic::Topic;
+use crate::record::writer::cause;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
@@ -110,7 +111,7 @@ impl LatheRecorder {
             .profile("")
             .library(concat!("novanc ", env!("CARGO_PKG_VERSION")))
             .create(BufWriter::with_capacity(1 << 20, file))
-            .map_err(|e| format!("recording {}: {e}", path.display()))?;
+            .map_err(|e| format!("recording {}: {}", path.display(), cause(&e)))?;
         let mut ids = [0u16; TOPICS];
         let declare = |w: &mut mcap::Writer<BufWriter<File>>, ids: &mut [u16; TOPICS]| {
             let meta = BTreeMap::from([
@@ -142,7 +143,8 @@ impl LatheRecorder {
             ids[EVENT] = w.add_channel(s, EVENT_TOPIC, "json", &none)?;
             Ok::<(), mcap::McapError>(())
         };
-        declare(&mut w, &mut ids).map_err(|e| format!("recording {}: {e}", path.display()))?;
+        declare(&mut w, &mut ids)
+            .map_err(|e| format!("recording {}: {}", path.display(), cause(&e)))?;
         Ok(LatheRecorder {
             mcap: Some(w),
             ids,
@@ -170,7 +172,11 @@ impl LatheRecorder {
                 self.sum.messages[slot] += 1;
             }
             Err(e) => {
-                self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
+                self.sum.error = Some(format!(
+                    "writing {}: {}",
+                    self.sum.path.display(),
+                    cause(&e)
+                ));
                 if let Some(w) = self.mcap.take() {
                     drop(w.into_inner());
                 }
@@ -314,7 +320,11 @@ impl LatheRecorder {
                 })
                 .and_then(|_| w.finish());
             if let Err(e) = r {
-                self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
+                self.sum.error = Some(format!(
+                    "writing {}: {}",
+                    self.sum.path.display(),
+                    cause(&e)
+                ));
             }
         }
         if let Some(why) = interrupted {
