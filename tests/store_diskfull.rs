@@ -4,12 +4,15 @@
 //! a damaged tail) still open on a full disk, read as they are, refusing changes until there
 //! is room. Runs in child processes, because the file size limit applies to the whole process.
 
+mod common;
+
 use novanc::store::{EditFailure, Stores, Target};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const CHILD_DIR: &str = "NOVANC_DISKFULL_TEST_DIR";
 const CHILD_OPEN_DIR: &str = "NOVANC_DISKFULL_OPEN_DIR";
+const CHILD_CONSOLE: &str = "NOVANC_DISKFULL_CONSOLE";
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("store-diskfull")
@@ -174,4 +177,51 @@ fn stores_open_on_a_full_disk_and_refuse_changes_until_there_is_room() {
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\nE\n");
     assert_eq!(s.magazine().tcodes.tool_in(21), None);
+}
+
+/// The child: a console whose disk fills up; an edit is refused, and so is the message log.
+#[test]
+fn child_console_on_a_full_disk() {
+    if std::env::var_os(CHILD_CONSOLE).is_none() {
+        return;
+    }
+    let mut c = common::open("diskfull-console");
+    let before = c.frame_text();
+    limit_file_size(1);
+    common::type_line(&mut c, "IG00 X1*");
+    let shown = c.frame_text();
+    let joined: String = shown.lines().map(str::trim).collect::<Vec<_>>().join(" ");
+    let refused = joined
+        .find("not saved (")
+        .unwrap_or_else(|| panic!("the refusal is not shown:\n{shown}"));
+    let history = joined
+        .find("the message history was not saved")
+        .unwrap_or_else(|| panic!("the history failure is not shown:\n{shown}"));
+    assert!(refused < history, "the refusal comes first:\n{shown}");
+    // The program is as it was: its first line is still the first line shown.
+    assert!(shown.contains(" 1 >▌DA1 = (200, 0, -450)*"), "{shown}");
+    assert!(before.contains(" 1 >▌DA1 = (200, 0, -450)*"), "{before}");
+    println!("\nchild done");
+}
+
+/// Issue 20, item 15: on a full disk the operator sees that the edit was refused, first, and
+/// then that the message history could not be saved either.
+#[test]
+fn a_refused_edit_is_shown_before_the_history_failure() {
+    let out = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "child_console_on_a_full_disk",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(CHILD_CONSOLE, "1")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("\nchild done"),
+        "child failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

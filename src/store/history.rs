@@ -87,6 +87,8 @@ pub struct History {
     path: PathBuf,
     entries: Vec<Entry>,
     bytes: u64,
+    /// The last write failed: the next failures are not said again until one succeeds.
+    failing: bool,
 }
 
 impl History {
@@ -110,6 +112,7 @@ impl History {
             path,
             entries,
             bytes,
+            failing: false,
         };
         if warning.is_some() {
             // Keep what was read; the damaged tail is written over.
@@ -123,8 +126,20 @@ impl History {
         &self.entries
     }
 
-    /// Appends an entry and makes it durable; the error says why it could not be kept.
+    /// Appends an entry and makes it durable; the error says why it could not be kept. Of
+    /// failures in a row only the first is an error (it is shown to the operator once, not
+    /// after every message, on a read-only or full disk).
     pub fn push(&mut self, e: Entry) -> Result<(), String> {
+        let r = self.append(e);
+        let first = !self.failing;
+        self.failing = r.is_err();
+        match r {
+            Err(e) if first => Err(e),
+            _ => Ok(()),
+        }
+    }
+
+    fn append(&mut self, e: Entry) -> Result<(), String> {
         let rec = frame::encode(e.encode().as_bytes());
         self.entries.push(e);
         if self.bytes + rec.len() as u64 > MAX_BYTES {
@@ -133,8 +148,12 @@ impl History {
             return self.rewrite();
         }
         let r = fsutil::open_append(&self.path, true).and_then(|mut f| {
-            f.write_all(&rec)?;
-            f.sync_data()
+            let r = f.write_all(&rec).and_then(|_| f.sync_data());
+            if r.is_err() {
+                // A record cut short would hide the ones appended after it.
+                let _ = f.set_len(self.bytes);
+            }
+            r
         });
         match r {
             Ok(()) => {
