@@ -208,3 +208,30 @@ fn an_unopenable_lock_file_is_named() {
     run_child("lock", &state);
     common::chmod(&state, 0o755);
 }
+
+/// Item 5 through the stores: a symlink planted at a writer's temporary name (the program
+/// times' `.program-times.tmp-PID`) is removed, never written through.
+#[test]
+fn a_symlink_planted_at_a_temporary_name_is_not_written_through() {
+    let _serial = serial();
+    let d = fresh("temp-link");
+    let state = d.join("state");
+    let victim = d.join("victim");
+    fs::write(&victim, "precious").unwrap();
+    let (mut s, _) = Stores::open(&state, 24).unwrap();
+    for name in ["program-times", "state.snap", "journal.log"] {
+        let tmp = state.join(format!(".{name}.tmp-{}", std::process::id()));
+        std::os::unix::fs::symlink(&victim, tmp).unwrap();
+    }
+    s.set_journal_limit(1);
+    s.new_program("P1").unwrap();
+    s.new_program("P2").unwrap();
+    assert_eq!(fs::read_to_string(&victim).unwrap(), "precious");
+    drop(s);
+    let (s, _) = Stores::open(&state, 24).unwrap();
+    assert_eq!(s.program_names(), ["P1", "P2", "TABLEB"]);
+    assert!(s
+        .program_list()
+        .iter()
+        .any(|p| p.name == "P2" && p.changed_s.is_some()));
+}
