@@ -22,15 +22,6 @@ use std::process::Command;
 const CHILD: &str = "NOVANC_LATHE_CHILD";
 const CHILD_DIR: &str = "NOVANC_LATHE_DIR";
 
-/// The tests of this file run one at a time: a child process forked by one test holds a copy
-/// of every descriptor of this process until it execs, among them another test's directory
-/// lock, which would then refuse that test's reopen as "another novanc".
-static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 fn fresh(tag: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("lathe-store-{tag}"));
     if d.exists() {
@@ -72,7 +63,7 @@ fn run_child(what: &str, d: &Path, unprivileged: bool) {
 /// permission) are never replaced by the embedded sample.
 #[test]
 fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
-    let _serial = serial();
+    let _serial = common::serial();
     let state = fresh("unreadable");
     let desc = LatheDesc::citizen();
     drop(LatheStore::open(&state, &desc).unwrap());
@@ -154,7 +145,7 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
 /// Item 4: one byte that is not UTF-8 in a tool file: kept aside and said, with its place.
 #[test]
 fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
-    let _serial = serial();
+    let _serial = common::serial();
     let state = fresh("tools");
     let desc = LatheDesc::citizen();
     let mut o = LatheStore::open(&state, &desc).unwrap();
@@ -203,7 +194,7 @@ fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
 /// Item 17: a `parts` file with target 0 (or no target line) is damaged, not taken.
 #[test]
 fn a_parts_file_with_target_0_is_damaged() {
-    let _serial = serial();
+    let _serial = common::serial();
     let state = fresh("parts");
     let desc = LatheDesc::citizen();
     drop(LatheStore::open(&state, &desc).unwrap());
@@ -244,7 +235,7 @@ fn a_parts_file_with_target_0_is_damaged() {
 /// directory.
 #[test]
 fn a_machine_name_cannot_leave_the_state_directory() {
-    let _serial = serial();
+    let _serial = common::serial();
     let d = fresh("name");
     let state = d.join("a/b/c/state");
     fs::create_dir_all(&state).unwrap();
@@ -272,7 +263,7 @@ fn a_machine_name_cannot_leave_the_state_directory() {
 /// Item 17: a read-only lathe directory opens for reading; every change is refused.
 #[test]
 fn a_read_only_lathe_directory_opens_for_reading() {
-    let _serial = serial();
+    let _serial = common::serial();
     let state = fresh("ro");
     let desc = LatheDesc::citizen();
     let mut o = LatheStore::open(&state, &desc).unwrap();
@@ -306,7 +297,7 @@ fn a_read_only_lathe_directory_opens_for_reading() {
 /// the old target, and so does the next start.
 #[test]
 fn a_part_target_that_cannot_be_stored_is_not_taken() {
-    let _serial = serial();
+    let _serial = common::serial();
     let state = fresh("target");
     drop(LatheStore::open(&state, &LatheDesc::citizen()).unwrap());
     run_child("full", &state, false);

@@ -15,15 +15,6 @@ use std::process::Command;
 const CHILD: &str = "NOVANC_PATHS_CHILD";
 const CHILD_DIR: &str = "NOVANC_PATHS_DIR";
 
-/// The tests of this file run one at a time: a child process forked by one test holds a copy
-/// of every descriptor of this process until it execs, among them another test's directory
-/// lock, which would then refuse that test's reopen as "another novanc".
-static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-fn serial() -> std::sync::MutexGuard<'static, ()> {
-    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 fn fresh(tag: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("store-paths-{tag}"));
     if d.exists() {
@@ -50,7 +41,7 @@ fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
 
 #[test]
 fn a_journal_symlink_is_not_appended_through() {
-    let _serial = serial();
+    let _serial = common::serial();
     let d = fresh("journal-link");
     let state = d.join("state");
     let outside = d.join("outside.log");
@@ -81,7 +72,7 @@ fn a_journal_symlink_is_not_appended_through() {
 
 #[test]
 fn a_lock_symlink_is_refused_and_creates_nothing() {
-    let _serial = serial();
+    let _serial = common::serial();
     let d = fresh("lock-link");
     let state = d.join("state");
     fs::create_dir_all(&state).unwrap();
@@ -172,7 +163,7 @@ fn run_child(what: &str, d: &Path) {
 /// opens on what it holds; every change is refused; not a byte changes.
 #[test]
 fn a_read_only_state_directory_opens_for_reading() {
-    let _serial = serial();
+    let _serial = common::serial();
     for keep_lock in [false, true] {
         let d = fresh(if keep_lock { "ro-lock" } else { "ro" });
         let state = d.join("state");
@@ -199,7 +190,7 @@ fn a_read_only_state_directory_opens_for_reading() {
 /// A lock file this user cannot open (another user's, mode 600) is named in the refusal.
 #[test]
 fn an_unopenable_lock_file_is_named() {
-    let _serial = serial();
+    let _serial = common::serial();
     let d = fresh("lock-owner");
     let state = d.join("state");
     drop(Stores::open(&state, 24).unwrap());
@@ -213,7 +204,7 @@ fn an_unopenable_lock_file_is_named() {
 /// times' `.program-times.tmp-PID`) is removed, never written through.
 #[test]
 fn a_symlink_planted_at_a_temporary_name_is_not_written_through() {
-    let _serial = serial();
+    let _serial = common::serial();
     let d = fresh("temp-link");
     let state = d.join("state");
     let victim = d.join("victim");

@@ -137,3 +137,12 @@ pub fn chmod(path: &Path, mode: u32) {
     use std::os::unix::fs::PermissionsExt;
     std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).unwrap();
 }
+
+/// Holds the tests of one test binary that take a directory lock one at a time: a child
+/// process forked by one test holds a copy of every descriptor of the test process until it
+/// execs, among them another test's lock (`flock` is per open file), which would then refuse
+/// that test's reopen as "another novanc is using this state directory".
+pub fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
