@@ -1,5 +1,7 @@
 //! `novanc edit FILE -c 'CMDLINE' [-c ..] [--write]` (docs/cli.md), driven as a process.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -150,16 +152,6 @@ fn own_dir(tag: &str) -> PathBuf {
     d
 }
 
-/// The names in a directory, sorted.
-fn names(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
 /// The pid of a process that has ended.
 fn dead_pid() -> u32 {
     let mut c = Command::new("true").spawn().unwrap();
@@ -196,7 +188,7 @@ fn write_goes_through_a_symlink_and_keeps_hard_links() {
     assert_eq!(fs::read_to_string(&hard).unwrap(), want);
     assert_eq!(fs::metadata(&hard).unwrap().ino(), ino);
     assert_eq!(fs::metadata(&hard).unwrap().nlink(), 2);
-    assert_eq!(names(&d), ["hard.ap", "link.ap", "real.ap"]);
+    assert_eq!(common::names(&d), ["hard.ap", "link.ap", "real.ap"]);
 }
 
 #[test]
@@ -210,7 +202,7 @@ fn temporary_files_of_killed_writes_are_cleaned_up() {
     }
     let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN1*", "--write"]);
     assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
-    assert_eq!(names(&d), ["f.ap"]);
+    assert_eq!(common::names(&d), ["f.ap"]);
 
     // Kill real writes of a 4 MB file at random moments: the file is the old text or the new,
     // and no write leaves more than its own temporary file, which the next write removes.
@@ -234,11 +226,15 @@ fn temporary_files_of_killed_writes_are_cleaned_up() {
             "round {round}: torn file"
         );
         fs::write(&p, &big).unwrap();
-        assert!(names(&d).len() <= 2, "round {round}: {:?}", names(&d));
+        assert!(
+            common::names(&d).len() <= 2,
+            "round {round}: {:?}",
+            common::names(&d)
+        );
     }
     let o = novanc(&["edit", p.to_str().unwrap(), "-c", "L", "--write"]);
     assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
-    assert_eq!(names(&d), ["f.ap"]);
+    assert_eq!(common::names(&d), ["f.ap"]);
 }
 
 #[test]
@@ -270,7 +266,7 @@ fn an_interrupted_rewrite_in_place_is_finished_by_the_next_edit() {
         fs::read_to_string(&p).unwrap(),
         "N0\nN1 G00\nN2 X10\nN3 Y20\n"
     );
-    let n = names(&d);
+    let n = common::names(&d);
     assert_eq!(n.len(), 3, "{n:?}");
     assert!(n[1].starts_with("f.ap.bad-"), "{n:?}");
     assert_eq!(fs::read_to_string(d.join(&n[1])).unwrap(), "N1 G00\nN2 X1");
@@ -320,9 +316,9 @@ fn concurrent_writes_of_one_file_take_turns_and_lose_no_edit() {
         assert!(text.ends_with(&body) && text.len() == body.len() + 20 * 4);
         if hard {
             assert_eq!(fs::read_to_string(d.join("g.ap")).unwrap(), text);
-            assert_eq!(names(&d), ["f.ap", "g.ap"]);
+            assert_eq!(common::names(&d), ["f.ap", "g.ap"]);
         } else {
-            assert_eq!(names(&d), ["f.ap"]);
+            assert_eq!(common::names(&d), ["f.ap"]);
         }
     }
 }

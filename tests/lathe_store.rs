@@ -16,47 +16,10 @@ use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
 use novanc::lathe::store::{Counter, LatheStore, Program};
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-const CHILD: &str = "NOVANC_LATHE_CHILD";
-const CHILD_DIR: &str = "NOVANC_LATHE_DIR";
-
-fn fresh(tag: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("lathe-store-{tag}"));
-    if d.exists() {
-        let _ = Command::new("chmod").args(["-R", "u+rwx"]).arg(&d).status();
-    }
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The names in a directory, sorted.
-fn names(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+use std::path::Path;
 
 fn run_child(what: &str, d: &Path, unprivileged: bool) {
-    let mut cmd = Command::new(std::env::current_exe().unwrap());
-    cmd.args(["--exact", "child", "--nocapture", "--test-threads=1"])
-        .env(CHILD, what)
-        .env(CHILD_DIR, d);
-    if unprivileged {
-        common::unprivileged(&mut cmd);
-    }
-    let out = cmd.output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && stdout.contains("\nchild done"),
-        "child {what} failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::run_child_on("child", what, d, unprivileged);
 }
 
 /// Item 3: program files that cannot be read (a directory in its place, a symlink loop, no
@@ -64,7 +27,7 @@ fn run_child(what: &str, d: &Path, unprivileged: bool) {
 #[test]
 fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
     let _serial = common::serial();
-    let state = fresh("unreadable");
+    let state = common::temp_dir("lathe-store-unreadable");
     let desc = LatheDesc::citizen();
     drop(LatheStore::open(&state, &desc).unwrap());
     let d = state.join("lathe-citizen");
@@ -129,7 +92,7 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
     fs::write(d.join("ch3.prog"), "MINE.NGC\nG0 X5\n").unwrap();
     common::chmod(&d.join("ch3.prog"), 0o000);
     common::chmod(&d, 0o777);
-    for n in names(&d) {
+    for n in common::names(&d) {
         if n != "ch3.prog" {
             common::chmod(&d.join(n), 0o666);
         }
@@ -146,7 +109,7 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
 #[test]
 fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
     let _serial = common::serial();
-    let state = fresh("tools");
+    let state = common::temp_dir("lathe-store-tools");
     let desc = LatheDesc::citizen();
     let mut o = LatheStore::open(&state, &desc).unwrap();
     let mut tools = desc.channels[0].tools.clone();
@@ -170,7 +133,7 @@ fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
             && w.contains("check the offsets on the OFS page before START"),
         "{w}"
     );
-    let kept: Vec<String> = names(&state.join("lathe-citizen"))
+    let kept: Vec<String> = common::names(&state.join("lathe-citizen"))
         .into_iter()
         .filter(|n| n.starts_with("ch1.tools.bad-"))
         .collect();
@@ -195,7 +158,7 @@ fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
 #[test]
 fn a_parts_file_with_target_0_is_damaged() {
     let _serial = common::serial();
-    let state = fresh("parts");
+    let state = common::temp_dir("lathe-store-parts");
     let desc = LatheDesc::citizen();
     drop(LatheStore::open(&state, &desc).unwrap());
     for (text, why) in [
@@ -236,7 +199,7 @@ fn a_parts_file_with_target_0_is_damaged() {
 #[test]
 fn a_machine_name_cannot_leave_the_state_directory() {
     let _serial = common::serial();
-    let d = fresh("name");
+    let d = common::temp_dir("lathe-store-name");
     let state = d.join("a/b/c/state");
     fs::create_dir_all(&state).unwrap();
     let text = fs::read_to_string("machines/citizen.machine")
@@ -256,15 +219,15 @@ fn a_machine_name_cannot_leave_the_state_directory() {
         let e = LatheStore::open(&state, &desc).unwrap_err();
         assert!(e.starts_with("machine name '"), "{e}");
     }
-    assert_eq!(names(&d), ["a"]);
-    assert_eq!(names(&state), Vec::<String>::new());
+    assert_eq!(common::names(&d), ["a"]);
+    assert_eq!(common::names(&state), Vec::<String>::new());
 }
 
 /// Item 17: a read-only lathe directory opens for reading; every change is refused.
 #[test]
 fn a_read_only_lathe_directory_opens_for_reading() {
     let _serial = common::serial();
-    let state = fresh("ro");
+    let state = common::temp_dir("lathe-store-ro");
     let desc = LatheDesc::citizen();
     let mut o = LatheStore::open(&state, &desc).unwrap();
     o.store
@@ -276,20 +239,13 @@ fn a_read_only_lathe_directory_opens_for_reading() {
     drop(o);
     let d = state.join("lathe-citizen");
     fs::remove_file(d.join("lock")).unwrap();
-    for n in names(&d) {
+    for n in common::names(&d) {
         common::chmod(&d.join(n), 0o444);
     }
     common::chmod(&d, 0o555);
-    let before: Vec<_> = names(&d)
-        .into_iter()
-        .map(|n| (fs::read(d.join(&n)).unwrap(), n))
-        .collect();
+    let before = common::contents(&d);
     run_child("read-only", &state, true);
-    let after: Vec<_> = names(&d)
-        .into_iter()
-        .map(|n| (fs::read(d.join(&n)).unwrap(), n))
-        .collect();
-    assert!(before == after, "the directory changed");
+    assert!(common::contents(&d) == before, "the directory changed");
     common::chmod(&d, 0o755);
 }
 
@@ -298,7 +254,7 @@ fn a_read_only_lathe_directory_opens_for_reading() {
 #[test]
 fn a_part_target_that_cannot_be_stored_is_not_taken() {
     let _serial = common::serial();
-    let state = fresh("target");
+    let state = common::temp_dir("lathe-store-target");
     drop(LatheStore::open(&state, &LatheDesc::citizen()).unwrap());
     run_child("full", &state, false);
     let o = LatheStore::open(&state, &LatheDesc::citizen()).unwrap();
@@ -308,13 +264,12 @@ fn a_part_target_that_cannot_be_stored_is_not_taken() {
 /// The children.
 #[test]
 fn child() {
-    let (Some(what), Some(dir)) = (std::env::var_os(CHILD), std::env::var_os(CHILD_DIR)) else {
+    let Some((what, state)) = common::child_on() else {
         return;
     };
-    let state = PathBuf::from(dir);
     let desc = LatheDesc::citizen();
-    match what.to_str() {
-        Some("unreadable") => {
+    match what.as_str() {
+        "unreadable" => {
             let o = LatheStore::open(&state, &desc).unwrap();
             assert_eq!(
                 o.programs[2].text, "",
@@ -327,7 +282,7 @@ fn child() {
                 o.warnings
             );
         }
-        Some("read-only") => {
+        "read-only" => {
             let mut o = LatheStore::open(&state, &desc).unwrap();
             assert_eq!(o.counter.target, 7);
             assert_eq!(o.programs[0].name, "SYSTEM1.NGC");
@@ -348,10 +303,10 @@ fn child() {
             let e = o.store.save_program(0, &o.programs[1]).unwrap_err();
             assert!(e.contains("read-only"), "{e}");
         }
-        Some("full") => {
+        "full" => {
             let (mut c, w) = LatheConsole::open(desc, &state, 20, 160, None).unwrap();
             assert!(w.is_empty(), "{w:?}");
-            limit_file_size(1);
+            common::limit_file_size(1);
             c.event(LatheEv::Target(9));
             let v = c.view();
             assert!(v.title.contains("PARTS 0/5"), "{}", v.title);
@@ -365,17 +320,4 @@ fn child() {
         _ => panic!("unknown child {what:?}"),
     }
     println!("\nchild done");
-}
-
-/// Sets the file size limit of this process (SIGXFSZ ignored, so writes fail with EFBIG).
-fn limit_file_size(bytes: u64) {
-    // SAFETY: plain libc calls with valid arguments.
-    unsafe {
-        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
-        let lim = libc::rlimit {
-            rlim_cur: bytes,
-            rlim_max: libc::RLIM_INFINITY,
-        };
-        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
-    }
 }

@@ -9,40 +9,12 @@ mod common;
 
 use novanc::store::{Stores, Target};
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-const CHILD: &str = "NOVANC_PATHS_CHILD";
-const CHILD_DIR: &str = "NOVANC_PATHS_DIR";
-
-fn fresh(tag: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("store-paths-{tag}"));
-    if d.exists() {
-        let _ = Command::new("chmod").args(["-R", "u+rwx"]).arg(&d).status();
-    }
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Every file of `d` and its bytes, to show nothing changed.
-fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut v: Vec<_> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| {
-            let e = e.unwrap();
-            let bytes = fs::read(e.path()).unwrap_or_default();
-            (e.file_name().to_string_lossy().into_owned(), bytes)
-        })
-        .collect();
-    v.sort();
-    v
-}
+use std::path::Path;
 
 #[test]
 fn a_journal_symlink_is_not_appended_through() {
     let _serial = common::serial();
-    let d = fresh("journal-link");
+    let d = common::temp_dir("store-paths-journal-link");
     let state = d.join("state");
     let outside = d.join("outside.log");
     drop(Stores::open(&state, 24).unwrap());
@@ -73,7 +45,7 @@ fn a_journal_symlink_is_not_appended_through() {
 #[test]
 fn a_lock_symlink_is_refused_and_creates_nothing() {
     let _serial = common::serial();
-    let d = fresh("lock-link");
+    let d = common::temp_dir("store-paths-lock-link");
     let state = d.join("state");
     fs::create_dir_all(&state).unwrap();
     let target = d.join("created-by-lock");
@@ -100,12 +72,11 @@ fn a_lock_symlink_is_refused_and_creates_nothing() {
 /// The child: opens the stores of a directory it cannot write and tries to change them.
 #[test]
 fn child_on_a_read_only_directory() {
-    let (Some(what), Some(dir)) = (std::env::var_os(CHILD), std::env::var_os(CHILD_DIR)) else {
+    let Some((what, d)) = common::child_on() else {
         return;
     };
-    let d = PathBuf::from(dir);
-    match what.to_str() {
-        Some("read-only") => {
+    match what.as_str() {
+        "read-only" => {
             let (mut s, w) = Stores::open(&d, 24).unwrap();
             assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\n", "{w:?}");
             assert!(
@@ -125,7 +96,7 @@ fn child_on_a_read_only_directory() {
             assert!(e.starts_with("not saved ("), "{e}");
             assert_eq!(s.program_names(), ["TABLEB"]);
         }
-        Some("lock") => {
+        "lock" => {
             let e = Stores::open(&d, 24).err().unwrap().message;
             assert!(
                 e.starts_with(&format!(
@@ -141,22 +112,7 @@ fn child_on_a_read_only_directory() {
 }
 
 fn run_child(what: &str, d: &Path) {
-    let mut cmd = Command::new(std::env::current_exe().unwrap());
-    cmd.args([
-        "--exact",
-        "child_on_a_read_only_directory",
-        "--nocapture",
-        "--test-threads=1",
-    ])
-    .env(CHILD, what)
-    .env(CHILD_DIR, d);
-    let out = common::unprivileged(&mut cmd).output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && stdout.contains("\nchild done"),
-        "child {what} failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::run_child_on("child_on_a_read_only_directory", what, d, true);
 }
 
 /// A state directory nobody may write (no lock file in it either, and a journal to replay)
@@ -165,7 +121,11 @@ fn run_child(what: &str, d: &Path) {
 fn a_read_only_state_directory_opens_for_reading() {
     let _serial = common::serial();
     for keep_lock in [false, true] {
-        let d = fresh(if keep_lock { "ro-lock" } else { "ro" });
+        let d = common::temp_dir(if keep_lock {
+            "store-paths-ro-lock"
+        } else {
+            "store-paths-ro"
+        });
         let state = d.join("state");
         {
             let (mut s, _) = Stores::open(&state, 24).unwrap();
@@ -180,9 +140,9 @@ fn a_read_only_state_directory_opens_for_reading() {
         }
         common::chmod(&state, 0o555);
         common::chmod(&d, 0o755);
-        let before = contents(&state);
+        let before = common::contents(&state);
         run_child("read-only", &state);
-        assert_eq!(contents(&state), before, "the directory changed");
+        assert_eq!(common::contents(&state), before, "the directory changed");
         common::chmod(&state, 0o755);
     }
 }
@@ -191,7 +151,7 @@ fn a_read_only_state_directory_opens_for_reading() {
 #[test]
 fn an_unopenable_lock_file_is_named() {
     let _serial = common::serial();
-    let d = fresh("lock-owner");
+    let d = common::temp_dir("store-paths-lock-owner");
     let state = d.join("state");
     drop(Stores::open(&state, 24).unwrap());
     common::chmod(&state.join("lock"), 0o000);
@@ -205,7 +165,7 @@ fn an_unopenable_lock_file_is_named() {
 #[test]
 fn a_symlink_planted_at_a_temporary_name_is_not_written_through() {
     let _serial = common::serial();
-    let d = fresh("temp-link");
+    let d = common::temp_dir("store-paths-temp-link");
     let state = d.join("state");
     let victim = d.join("victim");
     fs::write(&victim, "precious").unwrap();
