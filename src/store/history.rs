@@ -147,14 +147,15 @@ impl History {
             self.entries.drain(..from);
             return self.rewrite();
         }
-        let r = fsutil::open_append(&self.path, true).and_then(|mut f| {
-            let r = f.write_all(&rec).and_then(|_| f.sync_data());
-            if r.is_err() {
-                // A record cut short would hide the ones appended after it.
-                let _ = f.set_len(self.bytes);
-            }
-            r
-        });
+        let Ok(mut f) = fsutil::open_append(&self.path, true) else {
+            // Not a file that can be appended to (a symlink, a special file): replaced whole.
+            return self.rewrite();
+        };
+        let r = f.write_all(&rec).and_then(|_| f.sync_data());
+        if r.is_err() {
+            // A record cut short would hide the ones appended after it.
+            let _ = f.set_len(self.bytes);
+        }
         match r {
             Ok(()) => {
                 self.bytes += rec.len() as u64;
@@ -269,6 +270,28 @@ mod tests {
         let (h3, w) = History::open(&d);
         assert_eq!(h3.entries().len(), 4);
         assert!(w.unwrap().contains("damaged"));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn a_history_that_is_a_symlink_is_replaced_not_written_through() {
+        let d = dir("link");
+        let outside = d.join("outside");
+        std::fs::write(&outside, b"").unwrap(); // a valid, empty history
+        std::os::unix::fs::symlink(&outside, d.join(MESSAGES)).unwrap();
+        let (mut h, _) = History::open(&d);
+        for i in 0..3 {
+            h.push(Entry {
+                machine_ns: i,
+                wall_s: None,
+                kind: Kind::Message,
+                text: format!("m{i}"),
+            })
+            .unwrap();
+        }
+        assert_eq!(std::fs::read(&outside).unwrap(), b"");
+        let (h2, _) = History::open(&d);
+        assert_eq!(h2.entries().len(), 3);
         let _ = std::fs::remove_dir_all(&d);
     }
 
