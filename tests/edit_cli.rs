@@ -322,3 +322,30 @@ fn concurrent_writes_of_one_file_take_turns_and_lose_no_edit() {
         }
     }
 }
+
+/// A pipe or a directory given as FILE is refused at once, never waited on.
+#[test]
+fn a_pipe_or_a_directory_is_refused_not_waited_on() {
+    let d = own_dir("special");
+    let fifo = d.join("pipe.ap");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for p in [&fifo, &d] {
+        // `timeout` ends a novanc that waits (exit 124) instead of hanging the test.
+        let o = Command::new("timeout")
+            .arg("10")
+            .arg(env!("CARGO_BIN_EXE_novanc"))
+            .args(["edit", p.to_str().unwrap(), "-c", "IX*", "--write"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{}", s(&o.stderr));
+        assert!(
+            s(&o.stderr).trim_end().ends_with(": not a regular file"),
+            "{}",
+            s(&o.stderr)
+        );
+    }
+}
