@@ -573,6 +573,8 @@ struct EditTally {
     torn_as_left: usize,
     /// Files torn after the next `novanc edit` of the file.
     torn: usize,
+    /// Rewrites in place cut short by a kill and finished by a later editor (it says so).
+    finished: usize,
     /// Killed editors whose edit was found in the file.
     in_flight: usize,
 }
@@ -658,8 +660,14 @@ fn edit_kill_run(kills: usize, hard: bool) -> EditTally {
             }
         }
         let mut killed = Vec::new();
+        let finished = |stderr: &[u8]| {
+            String::from_utf8_lossy(stderr)
+                .matches("was killed while rewriting")
+                .count()
+        };
         for (c, line) in kids {
             let o = c.wait_with_output().unwrap();
+            t.finished += finished(&o.stderr);
             match (o.status.code(), o.status.signal()) {
                 (Some(0), _) => {
                     t.acknowledged += 1;
@@ -689,6 +697,7 @@ fn edit_kill_run(kills: usize, hard: bool) -> EditTally {
             .arg(&file)
             .output()
             .unwrap();
+        t.finished += finished(&o.stderr);
         if o.status.code() != Some(0) {
             eprintln!(
                 "round {round}: the next edit fails: {}",
@@ -733,12 +742,13 @@ fn edit_kill_run(kills: usize, hard: bool) -> EditTally {
 /// Runs `kills` kills (or `NOVANC_KILLS`) of racing `novanc edit --write`, with one name and
 /// with two hard links, prints the figures and checks no edit was lost and no file torn.
 fn run_and_check_edit(kills: usize) {
+    let _serial = common::serial();
     let kills = kills_wanted(kills);
     for hard in [false, true] {
         let start = Instant::now();
         let t = edit_kill_run(kills, hard);
         eprintln!(
-            "kill test (novanc edit --write, {}): {} kills in {} rounds of 2 to 6 editors at once in {:.1} s: {} edits acknowledged, {} lost, {} failed; {} torn files ({} torn by a kill in a rewrite in place and finished by the next edit), {} killed edits found saved",
+            "kill test (novanc edit --write, {}): {} kills in {} rounds of 2 to 6 editors at once in {:.1} s: {} edits acknowledged, {} lost, {} failed; {} torn files; {} rewrites in place cut short by a kill and finished by the next editor ({} of them torn as the kill left them), {} killed edits found saved",
             if hard { "two hard links" } else { "one name" },
             t.kills,
             t.rounds,
@@ -747,6 +757,7 @@ fn run_and_check_edit(kills: usize) {
             t.lost,
             t.failed,
             t.torn,
+            t.finished,
             t.torn_as_left,
             t.in_flight
         );
