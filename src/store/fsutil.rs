@@ -349,7 +349,11 @@ impl LockedFile {
     fn rewrites_left(&self, dir: &Path) -> io::Result<Vec<(PathBuf, String, u32)>> {
         let me = self.file.metadata()?;
         let mut v = Vec::new();
-        for e in fs::read_dir(dir)? {
+        // In a directory that cannot be listed, what a writer left there cannot be found.
+        let Ok(entries) = fs::read_dir(dir) else {
+            return Ok(v);
+        };
+        for e in entries {
             let n = e?.file_name();
             let Some(rest) = n.as_bytes().strip_prefix(b".") else {
                 continue;
