@@ -457,3 +457,31 @@ fn in_real_time_the_tape_moves_at_its_speed_between_display_ticks() {
     assert_eq!(c.program_text(), want.text);
     let _ = c.finish();
 }
+
+/// Issue 20: the punch writes through the one write path: a symlink named as the image is
+/// followed (the link stays, its file gets the image), as `novanc edit --write` does.
+#[test]
+fn the_punch_writes_through_a_symlink_and_keeps_it() {
+    let out = temp_dir("tape-punch-link");
+    let real = out.join("real.tape");
+    std::fs::write(&real, b"old").unwrap();
+    let link = out.join("link.tape");
+    std::os::unix::fs::symlink("real.tape", &link).unwrap();
+    let mut c = open("tape-punch-link");
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    type_keys(&mut c, &link.display().to_string());
+    keys(&mut c, &["Alt+u"]);
+    assert!(shows(&c, "in the ISO code"), "{}", c.frame_text());
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(std::fs::read(&real).unwrap(), std::fs::read(&link).unwrap());
+    assert_ne!(std::fs::read(&real).unwrap(), b"old");
+    assert_eq!(
+        std::fs::read_dir(&out).unwrap().count(),
+        2,
+        "a temporary file is left"
+    );
+}

@@ -1,5 +1,7 @@
 //! `novanc edit FILE -c 'CMDLINE' [-c ..] [--write]` (docs/cli.md), driven as a process.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -150,16 +152,6 @@ fn own_dir(tag: &str) -> PathBuf {
     d
 }
 
-/// The names in a directory, sorted.
-fn names(d: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(d)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
 /// The pid of a process that has ended.
 fn dead_pid() -> u32 {
     let mut c = Command::new("true").spawn().unwrap();
@@ -196,7 +188,7 @@ fn write_goes_through_a_symlink_and_keeps_hard_links() {
     assert_eq!(fs::read_to_string(&hard).unwrap(), want);
     assert_eq!(fs::metadata(&hard).unwrap().ino(), ino);
     assert_eq!(fs::metadata(&hard).unwrap().nlink(), 2);
-    assert_eq!(names(&d), ["hard.ap", "link.ap", "real.ap"]);
+    assert_eq!(common::names(&d), ["hard.ap", "link.ap", "real.ap"]);
 }
 
 #[test]
@@ -210,7 +202,7 @@ fn temporary_files_of_killed_writes_are_cleaned_up() {
     }
     let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN1*", "--write"]);
     assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
-    assert_eq!(names(&d), ["f.ap"]);
+    assert_eq!(common::names(&d), ["f.ap"]);
 
     // Kill real writes of a 4 MB file at random moments: the file is the old text or the new,
     // and no write leaves more than its own temporary file, which the next write removes.
@@ -234,46 +226,126 @@ fn temporary_files_of_killed_writes_are_cleaned_up() {
             "round {round}: torn file"
         );
         fs::write(&p, &big).unwrap();
-        assert!(names(&d).len() <= 2, "round {round}: {:?}", names(&d));
+        assert!(
+            common::names(&d).len() <= 2,
+            "round {round}: {:?}",
+            common::names(&d)
+        );
     }
     let o = novanc(&["edit", p.to_str().unwrap(), "-c", "L", "--write"]);
     assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
-    assert_eq!(names(&d), ["f.ap"]);
+    assert_eq!(common::names(&d), ["f.ap"]);
 }
 
 #[test]
-fn an_interrupted_rewrite_in_place_is_reported_not_overwritten() {
+fn an_interrupted_rewrite_in_place_is_finished_by_the_next_edit() {
     let d = own_dir("torn");
     let p = d.join("f.ap");
     fs::write(&p, "N1 G00\nN2 X1").unwrap(); // cut short by the kill
     fs::hard_link(&p, d.join("g.ap")).unwrap();
     let left = d.join(format!(".f.ap.rewrite-{}", dead_pid()));
     fs::write(&left, "N1 G00\nN2 X10\nN3 Y20\n").unwrap();
-    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN0*", "--write"]);
-    assert_eq!(o.status.code(), Some(1));
+    // The next edit (through the other name) copies the whole text in first, keeping what the
+    // file held, says so, then makes its own edit.
+    let o = novanc(&[
+        "edit",
+        d.join("g.ap").to_str().unwrap(),
+        "-c",
+        "IN0*",
+        "--write",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
     let e = s(&o.stderr);
     assert!(
-        e.starts_with("novanc edit: an earlier 'novanc edit --write' was killed while rewriting")
-            && e.contains("may be cut short; the whole text it was writing is in")
-            && e.trim_end().ends_with("(nothing was written)"),
+        e.starts_with("novanc edit: warning: an earlier 'novanc edit --write' (process ")
+            && e.contains("was killed while rewriting")
+            && e.contains("is now in the file, and what the file held is kept as f.ap.bad-"),
         "{e}"
     );
-    assert_eq!(fs::read_to_string(&p).unwrap(), "N1 G00\nN2 X1");
-    assert!(left.exists());
-    // Without --write it is a warning; once the file is settled it is removed quietly.
-    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "Y"]);
-    assert_eq!(o.status.code(), Some(0));
-    assert!(
-        s(&o.stderr).starts_with("novanc edit: warning: an earlier"),
-        "{}",
-        s(&o.stderr)
-    );
-    fs::copy(&left, &p).unwrap();
-    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "IN0*", "--write"]);
-    assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
-    assert_eq!(names(&d), ["f.ap", "g.ap"]);
     assert_eq!(
-        fs::read_to_string(d.join("g.ap")).unwrap(),
+        fs::read_to_string(&p).unwrap(),
         "N0\nN1 G00\nN2 X10\nN3 Y20\n"
     );
+    let n = common::names(&d);
+    assert_eq!(n.len(), 3, "{n:?}");
+    assert!(n[1].starts_with("f.ap.bad-"), "{n:?}");
+    assert_eq!(fs::read_to_string(d.join(&n[1])).unwrap(), "N1 G00\nN2 X1");
+    // One whose copy had finished is removed quietly, also without --write.
+    fs::write(&left, "N0\nN1 G00\nN2 X10\nN3 Y20\n").unwrap();
+    let o = novanc(&["edit", p.to_str().unwrap(), "-c", "Y"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(s(&o.stderr), "");
+    assert!(!left.exists());
+}
+
+/// Issue 20, items 1 and 2: twenty `novanc edit --write` of one file at once, on a file with
+/// one name and on one with two hard links. They take turns on the file's lock: every one
+/// exits 0, every edit is in the file, and the file is whole (no NUL, no line cut short).
+#[test]
+fn concurrent_writes_of_one_file_take_turns_and_lose_no_edit() {
+    let body: String = (0..1000).map(|i| format!("N{i:04} G01 X{i}\n")).collect();
+    for hard in [false, true] {
+        let d = own_dir(if hard { "race-hard" } else { "race" });
+        let p = d.join("f.ap");
+        fs::write(&p, &body).unwrap();
+        if hard {
+            fs::hard_link(&p, d.join("g.ap")).unwrap();
+        }
+        let kids: Vec<_> = (0..20)
+            .map(|i| {
+                Command::new(env!("CARGO_BIN_EXE_novanc"))
+                    .args(["edit", p.to_str().unwrap(), "-c"])
+                    .arg(format!("IE{i:02}*"))
+                    .arg("--write")
+                    .stdout(std::process::Stdio::null())
+                    .stderr(std::process::Stdio::piped())
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        for k in kids {
+            let o = k.wait_with_output().unwrap();
+            assert_eq!(o.status.code(), Some(0), "{}", s(&o.stderr));
+        }
+        let text = fs::read_to_string(&p).unwrap();
+        assert!(!text.contains('\0'), "hard {hard}: NUL bytes in the file");
+        let mut edits: Vec<&str> = text.lines().take(20).collect();
+        edits.sort_unstable();
+        let want: Vec<String> = (0..20).map(|i| format!("E{i:02}")).collect();
+        assert_eq!(edits, want, "hard {hard}: an edit is missing");
+        assert!(text.ends_with(&body) && text.len() == body.len() + 20 * 4);
+        if hard {
+            assert_eq!(fs::read_to_string(d.join("g.ap")).unwrap(), text);
+            assert_eq!(common::names(&d), ["f.ap", "g.ap"]);
+        } else {
+            assert_eq!(common::names(&d), ["f.ap"]);
+        }
+    }
+}
+
+/// A pipe or a directory given as FILE is refused at once, never waited on.
+#[test]
+fn a_pipe_or_a_directory_is_refused_not_waited_on() {
+    let d = own_dir("special");
+    let fifo = d.join("pipe.ap");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for p in [&fifo, &d] {
+        // `timeout` ends a novanc that waits (exit 124) instead of hanging the test.
+        let o = Command::new("timeout")
+            .arg("10")
+            .arg(env!("CARGO_BIN_EXE_novanc"))
+            .args(["edit", p.to_str().unwrap(), "-c", "IX*", "--write"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{}", s(&o.stderr));
+        assert!(
+            s(&o.stderr).trim_end().ends_with(": not a regular file"),
+            "{}",
+            s(&o.stderr)
+        );
+    }
 }

@@ -16,6 +16,20 @@ fn novanc(args: &[&str]) -> Output {
         .expect("novanc runs")
 }
 
+/// `novanc script SCRIPT --machine citizen --state STATE` and `more` arguments.
+fn citizen_script(script: &Path, state: &Path, more: &[&str]) -> Output {
+    let mut args = vec![
+        "script",
+        script.to_str().unwrap(),
+        "--machine",
+        "citizen",
+        "--state",
+        state.to_str().unwrap(),
+    ];
+    args.extend_from_slice(more);
+    novanc(&args)
+}
+
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
@@ -178,16 +192,11 @@ fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
         "start\nwait ms 20000\nfault 1 tool breakage\nshow\nwait\nshow\nreset\nstart\nwait\nshow\n",
     )
     .unwrap();
-    let o = novanc(&[
-        "script",
-        script.to_str().unwrap(),
-        "--machine",
-        "citizen",
-        "--state",
-        dir.join("state").to_str().unwrap(),
-        "--record",
-        rec.to_str().unwrap(),
-    ]);
+    let o = citizen_script(
+        &script,
+        &dir.join("state"),
+        &["--record", rec.to_str().unwrap()],
+    );
     let so = text(&o.stdout);
     assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
     let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
@@ -293,14 +302,7 @@ fn bad_machines_programs_and_scripts_are_refused_whole() {
     // A bad script line stops the script before anything runs.
     let s = dir.join("bad.panel");
     std::fs::write(&s, "start\nfault 7 smoke\n").unwrap();
-    let o = novanc(&[
-        "script",
-        s.to_str().unwrap(),
-        "--machine",
-        "citizen",
-        "--state",
-        dir.join("st").to_str().unwrap(),
-    ]);
+    let o = citizen_script(&s, &dir.join("st"), &[]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
         text(&o.stderr).contains("bad.panel:2: '7' is not a channel (1 to 3)"),
@@ -353,16 +355,7 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
         "op OFS\nchannel 2\ntype T1 X0.04 Z-0.01\ntype T9 X1\nshow\n",
     )
     .unwrap();
-    let run = || {
-        novanc(&[
-            "script",
-            script.to_str().unwrap(),
-            "--machine",
-            "citizen",
-            "--state",
-            state.to_str().unwrap(),
-        ])
-    };
+    let run = || citizen_script(&script, &state, &[]);
     let o = run();
     let so = text(&o.stdout);
     assert!(o.status.success(), "{so}{}", text(&o.stderr));
@@ -380,4 +373,24 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     std::fs::write(&script, "op OFS\nchannel 2\nshow\n").unwrap();
     let so = text(&run().stdout);
     assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
+}
+
+/// Issue 20, item 17: a recording on a full disk says why in the operator's words ("No space
+/// left on device"), not the MCAP writer's wrapping of it.
+#[test]
+fn a_recording_on_a_full_disk_says_no_space() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("\n!!!!! SKIPPED: no /dev/full on this system !!!!!\n");
+        return;
+    }
+    let dir = common::temp_dir("lathe-full");
+    let script = dir.join("one.panel");
+    std::fs::write(&script, "start\nwait ms 100\n").unwrap();
+    let o = citizen_script(&script, &dir.join("state"), &["--record", "/dev/full"]);
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("/dev/full: No space left on device") && !e.contains("compression"),
+        "{e}"
+    );
 }

@@ -4,12 +4,14 @@
 //! a damaged tail) still open on a full disk, read as they are, refusing changes until there
 //! is room. Runs in child processes, because the file size limit applies to the whole process.
 
+mod common;
+
 use novanc::store::{EditFailure, Stores, Target};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const CHILD_DIR: &str = "NOVANC_DISKFULL_TEST_DIR";
 const CHILD_OPEN_DIR: &str = "NOVANC_DISKFULL_OPEN_DIR";
+const CHILD_CONSOLE: &str = "NOVANC_DISKFULL_CONSOLE";
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("store-diskfull")
@@ -25,7 +27,7 @@ fn child_under_a_size_limit() {
     let (mut s, _) = Stores::open(&d, 24).unwrap();
     s.edit(Target::Mdi, "IGO, 1, 2, 3*", None).unwrap();
     let len = std::fs::metadata(d.join("journal.log")).unwrap().len();
-    limit_file_size(len + 120);
+    common::limit_file_size(len + 120);
     let big = format!("I{}*", "X".repeat(200));
     let before = (
         s.buffer(Target::Mdi).text(),
@@ -62,39 +64,15 @@ fn child_under_a_size_limit() {
 fn a_failed_journal_write_is_reported_and_changes_nothing() {
     let d = dir();
     let _ = std::fs::remove_dir_all(&d);
-    let out = Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            "child_under_a_size_limit",
-            "--nocapture",
-            "--test-threads=1",
-        ])
-        .env(CHILD_DIR, &d)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && stdout.contains("\nchild done"),
-        "child failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    common::run_child(
+        "child_under_a_size_limit",
+        &[(CHILD_DIR, d.as_os_str())],
+        false,
     );
     let (s, w) = Stores::open(&d, 24).unwrap();
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(s.buffer(Target::Mdi).text(), "GO, 1, 2, 3\nCL\n");
     assert_eq!(s.magazine().find(106).unwrap().1.diameter, 6.2);
-}
-
-/// Sets the file size limit of this process (SIGXFSZ ignored, so writes fail with EFBIG).
-fn limit_file_size(bytes: u64) {
-    // SAFETY: plain libc calls with valid arguments.
-    unsafe {
-        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
-        let lim = libc::rlimit {
-            rlim_cur: bytes,
-            rlim_max: libc::RLIM_INFINITY,
-        };
-        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
-    }
 }
 
 /// The child: opens stores that need compacting while nothing can be written.
@@ -105,7 +83,7 @@ fn child_opens_on_a_full_disk() {
     };
     let d = PathBuf::from(d);
     let journal = std::fs::read(d.join("journal.log")).unwrap();
-    limit_file_size(1);
+    common::limit_file_size(1);
     let (mut s, w) = Stores::open(&d, 24).unwrap();
     assert_eq!(w.len(), 2, "{w:?}");
     assert!(
@@ -136,7 +114,7 @@ fn child_opens_on_a_full_disk() {
         .starts_with("not saved ("));
     assert_eq!(s.magazine().tcodes.tool_in(21), None);
     // Room again: the next change saves everything.
-    limit_file_size(libc::RLIM_INFINITY);
+    common::limit_file_size(libc::RLIM_INFINITY);
     s.edit(Target::Mdi, "IE*", None).unwrap();
     println!("\nchild done");
 }
@@ -154,24 +132,49 @@ fn stores_open_on_a_full_disk_and_refuse_changes_until_there_is_room() {
     // A torn last record (cut in its first copy), as a crash leaves it.
     let j = std::fs::read(d.join("journal.log")).unwrap();
     std::fs::write(d.join("journal.log"), &j[..j.len() - 30]).unwrap();
-    let out = Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            "child_opens_on_a_full_disk",
-            "--nocapture",
-            "--test-threads=1",
-        ])
-        .env(CHILD_OPEN_DIR, &d)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success() && stdout.contains("\nchild done"),
-        "child failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    common::run_child(
+        "child_opens_on_a_full_disk",
+        &[(CHILD_OPEN_DIR, d.as_os_str())],
+        false,
     );
     let (s, w) = Stores::open(&d, 24).unwrap();
     assert!(w.is_empty(), "{w:?}");
     assert_eq!(s.buffer(Target::Mdi).text(), "A\nB\nE\n");
     assert_eq!(s.magazine().tcodes.tool_in(21), None);
+}
+
+/// The child: a console whose disk fills up; an edit is refused, and so is the message log.
+#[test]
+fn child_console_on_a_full_disk() {
+    if std::env::var_os(CHILD_CONSOLE).is_none() {
+        return;
+    }
+    let mut c = common::open("diskfull-console");
+    let before = c.frame_text();
+    common::limit_file_size(1);
+    common::type_line(&mut c, "IG00 X1*");
+    let shown = c.frame_text();
+    let joined: String = shown.lines().map(str::trim).collect::<Vec<_>>().join(" ");
+    let refused = joined
+        .find("not saved (")
+        .unwrap_or_else(|| panic!("the refusal is not shown:\n{shown}"));
+    let history = joined
+        .find("the message history was not saved")
+        .unwrap_or_else(|| panic!("the history failure is not shown:\n{shown}"));
+    assert!(refused < history, "the refusal comes first:\n{shown}");
+    // The program is as it was: its first line is still the first line shown.
+    assert!(shown.contains(" 1 >▌DA1 = (200, 0, -450)*"), "{shown}");
+    assert!(before.contains(" 1 >▌DA1 = (200, 0, -450)*"), "{before}");
+    println!("\nchild done");
+}
+
+/// Issue 20, item 15: on a full disk the operator sees that the edit was refused, first, and
+/// then that the message history could not be saved either.
+#[test]
+fn a_refused_edit_is_shown_before_the_history_failure() {
+    common::run_child(
+        "child_console_on_a_full_disk",
+        &[(CHILD_CONSOLE, std::ffi::OsStr::new("1"))],
+        false,
+    );
 }

@@ -1,10 +1,11 @@
 //! `novanc edit` (docs/stores.md "novanc edit"): batch editing of a file with the editor's
 //! command lines. The pointer starts at 0; the command lines run in order; `Y` output goes to
 //! stdout. With `--write` the file is written (through a symlink, keeping hard links), and only
-//! if every command line succeeded.
+//! if every command line succeeded. The file is locked from before it is read until after it
+//! is written, so that several `novanc edit --write` of one file take turns.
 
 use super::args::{Args, Opt};
-use crate::store::fsutil::{interrupted_rewrite, rewrite_file};
+use crate::store::fsutil::lock_file;
 use novanc_editor::{Buffer, ExecOptions};
 use std::io::Write;
 use std::path::Path;
@@ -20,7 +21,8 @@ Itext (insert), Stext (search), Cold$new (substitute), nY (display). In text arg
   -c CMDLINE   a command line; repeat for several, run in order
   --write      write the result to FILE: atomically (temporary file, fsync, rename), or,
                if FILE has other hard links, in place after the whole result is saved
-               beside it; a symlink is followed
+               beside it; a symlink is followed. FILE is locked from before it is read
+               until after it is written: several editors of one file take turns
   -h, --help   this help
 
 Y output goes to stdout. If a command line fails, its message goes to stderr as
@@ -53,7 +55,28 @@ pub fn main(argv: &[String]) -> i32 {
         let _ = writeln!(std::io::stderr(), "novanc edit: {msg}");
         1
     };
-    let bytes = match std::fs::read(file) {
+    // The lock is held from before the file is read until after it is written (dropped at
+    // the end of this function), so two editors of one file never both read the old text.
+    let locked = match lock_file(Path::new(file)) {
+        Ok(l) => l,
+        Err(e) => return fail(format!("cannot read {file}: {e}")),
+    };
+    match locked.settle() {
+        Ok(None) => {}
+        Ok(Some(note)) => {
+            let _ = writeln!(std::io::stderr(), "novanc edit: warning: {note}");
+        }
+        Err(e) => {
+            let msg = format!(
+                "cannot finish the rewrite in place of {file} that an earlier 'novanc edit --write' was killed in: {e}"
+            );
+            if args.flag("--write") {
+                return fail(format!("{msg} (nothing was written)"));
+            }
+            let _ = writeln!(std::io::stderr(), "novanc edit: warning: {msg}");
+        }
+    }
+    let bytes = match locked.read() {
         Ok(b) => b,
         Err(e) => return fail(format!("cannot read {file}: {e}")),
     };
@@ -78,18 +101,8 @@ pub fn main(argv: &[String]) -> i32 {
         }
     }
     let _ = out.flush();
-    if let Some(left) = interrupted_rewrite(Path::new(file)) {
-        let msg = format!(
-            "an earlier 'novanc edit --write' was killed while rewriting {file} in place, so {file} may be cut short; the whole text it was writing is in {}. Keep the right one and remove the other",
-            left.display()
-        );
-        if args.flag("--write") {
-            return fail(format!("{msg} (nothing was written)"));
-        }
-        let _ = writeln!(std::io::stderr(), "novanc edit: warning: {msg}");
-    }
     if args.flag("--write") {
-        if let Err(e) = rewrite_file(Path::new(file), buf.text().as_bytes()) {
+        if let Err(e) = locked.write(buf.text().as_bytes()) {
             let note = match e.torn {
                 None => " (the file is unchanged)",
                 Some(_) => "",

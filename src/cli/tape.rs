@@ -184,7 +184,7 @@ fn punch(argv: &[String]) -> i32 {
         Ok(i) => i,
         Err(e) => return fail(&format!("{file}:{e}")),
     };
-    if let Err(e) = std::fs::write(out_path, &image) {
+    if let Err(e) = crate::store::fsutil::write_output(std::path::Path::new(out_path), &image) {
         return fail(&format!("novanc: cannot write {out_path}: {e}"));
     }
     let _ = writeln!(

@@ -1,14 +1,13 @@
 //! The punch key at the console (docs/tape.md, "The punch at the console"): in DATA INPUT with
 //! the data selector on PROGRAM READ, the typed line names the image the current program is
 //! punched to, in the ISO code or, with ` EIA` after the path, the EIA code. The image is
-//! written whole or not at all.
+//! written whole or not at all, by the one write path (`store::fsutil::write_output`).
 
 use super::tape::refuse_key;
 use super::Console;
 use crate::panel_model::{DataMode, OpMode};
 use crate::tape::{self, Code, PunchOptions};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The punch key (docs/panel.md): in DATA INPUT with the data selector on PROGRAM READ, the
 /// typed line names the image to punch the current program to, `PATH` (ISO) or `PATH EIA`
@@ -55,7 +54,7 @@ pub(super) fn punch_from_entry(c: &mut Console) {
             return;
         }
     };
-    match write_whole(&path, &image) {
+    match crate::store::fsutil::write_output(&path, &image) {
         Ok(()) => {
             c.message = format!(
                 "punched {name} to {} in the {} code: {} frames ({:.1} m of tape)",
@@ -90,37 +89,6 @@ pub fn parse_punch_line(line: &str) -> Result<(PathBuf, Code), String> {
         );
     }
     Ok((PathBuf::from(path), code))
-}
-
-/// Writes `data` to `path` whole or not at all: a temporary file beside it, synced, then
-/// renamed over it.
-fn write_whole(path: &Path, data: &[u8]) -> Result<(), String> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let base = path
-        .file_name()
-        .ok_or_else(|| "the path names no file".to_string())?;
-    if path.is_dir() {
-        return Err("it is a directory".into());
-    }
-    let tmp = dir.join(format!(
-        ".{}.punch-{}",
-        base.to_string_lossy(),
-        std::process::id()
-    ));
-    let r = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(data)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = r {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e.to_string());
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -315,7 +315,12 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
         let in_channel = kind == Some("lathe") && !channels.is_empty();
         match head {
             "machine" => match words.get(1) {
-                Some(n) if words.len() == 2 && n.len() <= 32 => name = Some(n.to_string()),
+                Some(n) if words.len() == 2 && n.len() <= 32 => {
+                    // The name names the machine's store directory (`lathe-NAME/`).
+                    crate::store::fsutil::check_file_name(n)
+                        .map_err(|m| e(format!("machine name {m}")))?;
+                    name = Some(n.to_string())
+                }
                 _ => return Err(e("machine takes one name of at most 32 characters".into())),
             },
             "kind" => match words.get(1) {

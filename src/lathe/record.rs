@@ -15,6 +15,7 @@ use crate::record::file::{
 };
 use crate::record::json::{push_i64, push_mm, push_str, push_u64};
 use crate::record::topic::Topic;
+use crate::record::writer::cause;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -113,7 +114,7 @@ impl LatheRecorder {
             .map_err(|e| format!("cannot create recording {}: {e}", path.display()))?;
         let mut w = mcap_options()
             .create(file)
-            .map_err(|e| format!("recording {}: {e}", path.display()))?;
+            .map_err(|e| format!("recording {}: {}", path.display(), cause(&e)))?;
         let mut ids = [0u16; TOPICS];
         let declare = |w: &mut mcap::Writer<RecordFile>, ids: &mut [u16; TOPICS]| {
             let meta = BTreeMap::from([
@@ -146,7 +147,8 @@ impl LatheRecorder {
             // Committed at once: the file is a (still empty) recording from the start.
             w.flush()
         };
-        declare(&mut w, &mut ids).map_err(|e| format!("recording {}: {e}", path.display()))?;
+        declare(&mut w, &mut ids)
+            .map_err(|e| format!("recording {}: {}", path.display(), cause(&e)))?;
         Ok(LatheRecorder {
             mcap: Some(w),
             open_bytes: 0,
@@ -185,7 +187,11 @@ impl LatheRecorder {
     /// Keeps the first error and lets go of the file, which ends where its last commit left
     /// it (a finished MCAP file: `crate::record::file`).
     fn fail(&mut self, e: mcap::McapError) {
-        self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
+        self.sum.error = Some(format!(
+            "writing {}: {}",
+            self.sum.path.display(),
+            cause(&e)
+        ));
         if let Some(w) = self.mcap.take() {
             drop(w.into_inner());
         }
@@ -338,7 +344,11 @@ impl LatheRecorder {
                 }
             };
             if let Err(e) = r {
-                self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
+                self.sum.error = Some(format!(
+                    "writing {}: {}",
+                    self.sum.path.display(),
+                    cause(&e)
+                ));
             }
         }
         if let Some(why) = interrupted {

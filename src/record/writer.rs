@@ -66,6 +66,19 @@ struct Pending {
     bytes: u64,
 }
 
+/// The innermost cause of an error: what the operator needs ("No space left on device"), not
+/// the MCAP writer's wrapping of it ("I/O error from writing, or reading a compression
+/// stream"). Both machines' recorders word their errors with it.
+pub fn cause<'a>(
+    e: &'a (dyn std::error::Error + 'static),
+) -> &'a (dyn std::error::Error + 'static) {
+    let mut cause = e;
+    while let Some(s) = cause.source() {
+        cause = s;
+    }
+    cause
+}
+
 impl RecordWriter {
     /// Creates the file and writes the MCAP header, the schemas, the channels and the machine
     /// settings as metadata. Fails only if the file cannot be created; a write error here is
@@ -159,12 +172,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         let lost = std::mem::take(&mut self.pending);
         self.out.lost_to_disk_error += lost.messages.iter().sum::<u64>();
         if self.out.disk_error.is_none() {
-            // The innermost cause says what the operator needs ("No space left on device").
-            let mut cause: &dyn std::error::Error = &e;
-            while let Some(s) = cause.source() {
-                cause = s;
-            }
-            self.out.disk_error = Some(format!("writing {}: {cause}", self.path.display()));
+            self.out.disk_error = Some(format!("writing {}: {}", self.path.display(), cause(&e)));
         }
         // `into_inner` hands the file back without another write attempt (dropping the MCAP
         // writer would try to finish a file in an unknown state); what it held uncommitted is

@@ -87,6 +87,8 @@ pub struct History {
     path: PathBuf,
     entries: Vec<Entry>,
     bytes: u64,
+    /// The last write failed: the next failures are not said again until one succeeds.
+    failing: bool,
 }
 
 impl History {
@@ -110,6 +112,7 @@ impl History {
             path,
             entries,
             bytes,
+            failing: false,
         };
         if warning.is_some() {
             // Keep what was read; the damaged tail is written over.
@@ -123,8 +126,20 @@ impl History {
         &self.entries
     }
 
-    /// Appends an entry and makes it durable; the error says why it could not be kept.
+    /// Appends an entry and makes it durable; the error says why it could not be kept. Of
+    /// failures in a row only the first is an error (it is shown to the operator once, not
+    /// after every message, on a read-only or full disk).
     pub fn push(&mut self, e: Entry) -> Result<(), String> {
+        let r = self.append(e);
+        let first = !self.failing;
+        self.failing = r.is_err();
+        match r {
+            Err(e) if first => Err(e),
+            _ => Ok(()),
+        }
+    }
+
+    fn append(&mut self, e: Entry) -> Result<(), String> {
         let rec = frame::encode(e.encode().as_bytes());
         self.entries.push(e);
         if self.bytes + rec.len() as u64 > MAX_BYTES {
@@ -132,14 +147,15 @@ impl History {
             self.entries.drain(..from);
             return self.rewrite();
         }
-        let r = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&self.path)
-            .and_then(|mut f| {
-                f.write_all(&rec)?;
-                f.sync_data()
-            });
+        let Ok(mut f) = fsutil::open_append(&self.path, true) else {
+            // Not a file that can be appended to (a symlink, a special file): replaced whole.
+            return self.rewrite();
+        };
+        let r = f.write_all(&rec).and_then(|_| f.sync_data());
+        if r.is_err() {
+            // A record cut short would hide the ones appended after it.
+            let _ = f.set_len(self.bytes);
+        }
         match r {
             Ok(()) => {
                 self.bytes += rec.len() as u64;
@@ -254,6 +270,28 @@ mod tests {
         let (h3, w) = History::open(&d);
         assert_eq!(h3.entries().len(), 4);
         assert!(w.unwrap().contains("damaged"));
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn a_history_that_is_a_symlink_is_replaced_not_written_through() {
+        let d = dir("link");
+        let outside = d.join("outside");
+        std::fs::write(&outside, b"").unwrap(); // a valid, empty history
+        std::os::unix::fs::symlink(&outside, d.join(MESSAGES)).unwrap();
+        let (mut h, _) = History::open(&d);
+        for i in 0..3 {
+            h.push(Entry {
+                machine_ns: i,
+                wall_s: None,
+                kind: Kind::Message,
+                text: format!("m{i}"),
+            })
+            .unwrap();
+        }
+        assert_eq!(std::fs::read(&outside).unwrap(), b"");
+        let (h2, _) = History::open(&d);
+        assert_eq!(h2.entries().len(), 3);
         let _ = std::fs::remove_dir_all(&d);
     }
 

@@ -5,9 +5,9 @@
 //! loses nothing; format 1 journals (one copy) are still read (docs/stores.md).
 
 use super::frame;
-use super::fsutil::write_atomic;
+use super::fsutil::{open_append, write_atomic};
 use super::record::Record;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{self, Write};
 use std::path::Path;
 
@@ -41,7 +41,7 @@ impl Journal {
 
     /// Opens an existing journal for appending after its last byte.
     pub fn open_append(path: &Path) -> io::Result<Journal> {
-        let file = OpenOptions::new().append(true).open(path)?;
+        let file = open_append(path, false)?;
         let len = file.metadata()?.len();
         Ok(Journal {
             file,

@@ -144,7 +144,9 @@ pub struct Stores {
     /// whole snapshot instead of a journal record.
     unsaved: bool,
     /// Damaged files not yet kept aside; no compaction overwrites them before they are.
-    aside: Vec<&'static str>,
+    aside: fsutil::Aside,
+    /// Why nothing may be written at all: the directory is read-only and could not be locked.
+    read_only: Option<String>,
     journal_limit: usize,
     /// When each program last changed (`program-times`, not operator data).
     stamps: stamps::Stamps,
@@ -255,7 +257,7 @@ impl Stores {
             )));
         }
         fsutil::make_dir(dir).map_err(serr)?;
-        let lock = fsutil::lock_dir(dir).map_err(|e| serr(format!("{}: {e}", dir.display())))?;
+        let lock = fsutil::lock_dir(dir).map_err(serr)?;
         let l = load(dir, capacity)?;
         let mut s = Stores {
             dir: dir.to_path_buf(),
@@ -264,16 +266,27 @@ impl Stores {
             gen: l.gen,
             journal: None,
             unsaved: false,
-            aside: Vec::new(),
+            aside: fsutil::Aside::default(),
+            read_only: lock.read_only().map(str::to_string),
             journal_limit: JOURNAL_RECORDS,
             stamps: stamps::Stamps::open(dir),
             _lock: lock,
         };
+        if let Some(why) = &s.read_only {
+            // Not even locked: nothing is kept aside, compacted or written (docs/stores.md).
+            s.unsaved = true;
+            let mut warnings: Vec<String> = l.notes.into_iter().map(|n| n.text).collect();
+            warnings.push(format!(
+                "the state directory {} is read-only ({why}): the stores are shown as they were read, and every change is refused; make it writable and start novanc again",
+                dir.display()
+            ));
+            return Ok((s, warnings));
+        }
         // Keep the damaged files aside first, then word the notes with their new names.
         let mut kept: Vec<(&str, Result<String, String>)> = Vec::new();
         for f in l.notes.iter().filter_map(|n| n.file) {
             if kept.iter().all(|(k, _)| *k != f) {
-                kept.push((f, fsutil::keep_aside(dir, f).map_err(|e| e.to_string())));
+                kept.push((f, s.aside.keep(dir, f)));
             }
         }
         let mut warnings: Vec<String> = l
@@ -288,24 +301,34 @@ impl Stores {
                 None => n.text,
             })
             .collect();
-        s.aside = kept
-            .iter()
-            .filter(|(_, r)| r.is_err())
-            .map(|(f, _)| *f)
-            .collect();
+        // A journal that cannot be appended to (a symlink, a file made read-only) is replaced
+        // by the compaction, as one with records to replay is.
         let opened = if l.compact {
             s.compact()
         } else {
-            Journal::open_append(&dir.join(journal::JOURNAL)).map(|j| s.journal = Some(j))
+            match Journal::open_append(&dir.join(journal::JOURNAL)) {
+                Ok(j) => {
+                    s.journal = Some(j);
+                    Ok(())
+                }
+                Err(_) => s.compact(),
+            }
         };
         if let Err(e) = opened {
             // A full disk (or a read-only one): the state read is all there, and stays
             // readable; changes are refused until it can be saved (docs/stores.md).
             s.unsaved = true;
-            warnings.push(format!(
-                "cannot save to {} ({e}): the stores are open as they were read, nothing is lost, and changes are refused until there is room to save them",
-                dir.display()
-            ));
+            warnings.push(if fsutil::is_read_only(&e) {
+                format!(
+                    "cannot save to {} ({e}): it is read-only; the stores are open as they were read, nothing is lost, and every change is refused until it can be written",
+                    dir.display()
+                )
+            } else {
+                format!(
+                    "cannot save to {} ({e}): the stores are open as they were read, nothing is lost, and changes are refused until there is room to save them",
+                    dir.display()
+                )
+            });
         }
         Ok((s, warnings))
     }
@@ -315,12 +338,13 @@ impl Stores {
     /// snapshot is written the state is saved, even if the new journal cannot be created
     /// (the next change creates it).
     fn compact(&mut self) -> std::io::Result<()> {
-        while let Some(f) = self.aside.first() {
-            fsutil::keep_aside(&self.dir, f).map_err(|e| {
-                std::io::Error::other(format!("cannot keep the damaged {f} aside: {e}"))
-            })?;
-            self.aside.remove(0);
+        if let Some(why) = &self.read_only {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::PermissionDenied,
+                format!("the state directory is read-only: {why}"),
+            ));
         }
+        self.aside.before_overwrite(&self.dir, None)?;
         let gen = self.gen + 1;
         write_atomic(
             &self.dir.join(SNAPSHOT),
@@ -386,6 +410,10 @@ impl Stores {
                 "nothing was changed"
             } else {
                 "restart novanc"
+            };
+            let e = match fsutil::is_read_only(&e) && self.read_only.is_none() {
+                true => format!("{} is read-only: {e}", self.dir.display()),
+                false => e.to_string(),
             };
             return Err(EditFailure::Store(serr(format!("not saved ({e}); {note}"))));
         }

@@ -75,19 +75,14 @@ impl Stamps {
         }
     }
 
-    /// Writes the file; a failure is ignored (the stamps are not operator data).
+    /// Writes the file (`fsutil::write_atomic`); a failure is ignored (the stamps are not
+    /// operator data).
     fn save(&self) {
         let mut text = String::new();
         for (n, t) in &self.times {
             text.push_str(&format!("{n} {t}\n"));
         }
-        let Some(dir) = self.path.parent() else {
-            return;
-        };
-        let tmp = dir.join(format!(".{STAMPS}.tmp-{}", std::process::id()));
-        if std::fs::write(&tmp, text).is_ok() && std::fs::rename(&tmp, &self.path).is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
+        let _ = super::fsutil::write_atomic(&self.path, text.as_bytes());
     }
 }
 

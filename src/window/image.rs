@@ -3,7 +3,6 @@
 
 use crate::crc32::crc32;
 
-use std::io::Write;
 use std::path::Path;
 
 /// Encodes `rgb` (width × height × 3 bytes) as a binary PPM.
@@ -73,9 +72,7 @@ pub fn write(path: &Path, width: usize, height: usize, rgb: &[u8]) -> std::io::R
     } else {
         ppm(width, height, rgb)
     };
-    let mut f = std::fs::File::create(path)?;
-    f.write_all(&bytes)?;
-    f.sync_all()
+    crate::store::fsutil::write_output(path, &bytes).map_err(std::io::Error::other)
 }
 
 /// Reads a binary PPM written by `ppm` back: (width, height, rgb).

@@ -108,3 +108,117 @@ pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
     );
     Some((out.status.success(), text))
 }
+
+/// Makes `cmd` run as the user `nobody` (65534) when the tests run as root: root ignores file
+/// modes, so a read-only directory or an unreadable file is one only to another user. As any
+/// other user the command runs as it is.
+pub fn unprivileged(cmd: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        return cmd;
+    }
+    // SAFETY: only async-signal-safe calls (setgroups, setgid, setuid) between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::setgroups(0, std::ptr::null()) != 0
+                || libc::setgid(65534) != 0
+                || libc::setuid(65534) != 0
+            {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        })
+    }
+}
+
+/// Sets the mode bits of `path`.
+pub fn chmod(path: &Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).unwrap();
+}
+
+/// Holds the tests of one test binary that take a directory lock one at a time: a child
+/// process forked by one test holds a copy of every descriptor of the test process until it
+/// execs, among them another test's lock (`flock` is per open file), which would then refuse
+/// that test's reopen as "another novanc is using this state directory".
+pub fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Runs the test `test` of this test binary as a child process, with `env` set (the child
+/// does its work only when it finds its variables) and as the user `nobody` when
+/// `unprivileged` (see [`unprivileged`]); checks that it succeeded and printed `child done`.
+pub fn run_child(test: &str, env: &[(&str, &std::ffi::OsStr)], unprivileged: bool) {
+    let mut cmd = Command::new(std::env::current_exe().unwrap());
+    cmd.args(["--exact", test, "--nocapture", "--test-threads=1"]);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    if unprivileged {
+        self::unprivileged(&mut cmd);
+    }
+    let out = cmd.output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("\nchild done"),
+        "child {test} {env:?} failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Sets the file size limit of this process (SIGXFSZ ignored, so writes fail with EFBIG), as
+/// on a full disk.
+pub fn limit_file_size(bytes: u64) {
+    // SAFETY: plain libc calls with valid arguments.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+        let lim = libc::rlimit {
+            rlim_cur: bytes,
+            rlim_max: libc::RLIM_INFINITY,
+        };
+        assert_eq!(libc::setrlimit(libc::RLIMIT_FSIZE, &lim), 0);
+    }
+}
+
+/// The names in a directory, sorted.
+pub fn names(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The environment of a child started by [`run_child_on`]: what it is to do, and where.
+const CHILD_WHAT: &str = "NOVANC_TEST_CHILD";
+const CHILD_DIR: &str = "NOVANC_TEST_CHILD_DIR";
+
+/// Runs the test `test` of this test binary as a child that does `what` in `dir` (it reads
+/// them with [`child_on`]); see [`run_child`].
+pub fn run_child_on(test: &str, what: &str, dir: &Path, unprivileged: bool) {
+    let env = [
+        (CHILD_WHAT, std::ffi::OsStr::new(what)),
+        (CHILD_DIR, dir.as_os_str()),
+    ];
+    run_child(test, &env, unprivileged);
+}
+
+/// In a child started by [`run_child_on`]: what it is to do, and where; None in a normal run.
+pub fn child_on() -> Option<(String, PathBuf)> {
+    let what = std::env::var(CHILD_WHAT).ok()?;
+    Some((what, PathBuf::from(std::env::var_os(CHILD_DIR)?)))
+}
+
+/// Every file of `d` with its bytes, sorted: equal before and after, nothing changed.
+pub fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
+    names(d)
+        .into_iter()
+        .map(|n| {
+            let bytes = std::fs::read(d.join(&n)).unwrap_or_default();
+            (n, bytes)
+        })
+        .collect()
+}

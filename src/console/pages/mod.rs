@@ -245,8 +245,20 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
             .err());
     }
     if let Some(w) = warn {
-        c.message = w;
+        also_say(c, &w);
+        // The message with the failure added is not logged again.
+        c.pages.logged.0 = c.message.clone();
     }
+}
+
+/// Adds a secondary failure (the history or the counters could not be saved) after the
+/// message shown, never in its place: a refusal the operator must see stays first.
+fn also_say(c: &mut Console, failure: &str) {
+    c.message = if c.message.is_empty() || c.message == "ok" {
+        failure.to_string()
+    } else {
+        format!("{}; {failure}", c.message)
+    };
 }
 
 /// A run of program memory reached its end: one more part, its cycle time; every run's time
@@ -259,7 +271,7 @@ pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64
         k.last_cycle_ns = machine_ns;
     }
     if let Err(e) = k.save(&c.cfg.state_dir) {
-        c.message = e;
+        also_say(c, &e);
     }
 }
 

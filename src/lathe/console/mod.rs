@@ -133,7 +133,13 @@ impl LatheConsole {
             pos: Vec::new(),
         };
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
-        if stale {
+        if let Some(w) = o.warnings.first() {
+            // Damage found at open is the first thing the operator sees (docs/lathe.md).
+            c.message = match o.warnings.len() {
+                1 => w.clone(),
+                n => format!("{w} (and {} more warnings)", n - 1),
+            };
+        } else if stale {
             c.message = format!(
                 "last batch stopped at {} of {}: START begins anew",
                 c.counter
@@ -351,26 +357,38 @@ impl LatheConsole {
         self.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
     }
 
+    /// Sets the part target. It is taken only once stored: a target that cannot be stored
+    /// (a full disk) leaves the old one, on the display and in the machine.
     fn set_target(&mut self, n: u32) {
+        let mut next = self.counter.clone();
+        next.target = n;
         if let Some(c) = self.cycle.as_mut() {
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
                 self.message = format!("target {n}: a channel has already finished {most}");
                 return;
             }
+            let old = c.lathe.target();
             if let Err(e) = c.lathe.set_target(n) {
                 self.message = e;
                 return;
             }
+            if let Err(e) = self.store.save_counter(&next) {
+                // The machine took `n` just now, so it takes its old target back.
+                let _ = c.lathe.set_target(old);
+                self.message = format!("{e}: the target is not changed");
+                return;
+            }
         } else {
-            self.counter.counts.iter_mut().for_each(|c| *c = 0);
+            next.counts.iter_mut().for_each(|c| *c = 0);
+            if let Err(e) = self.store.save_counter(&next) {
+                self.message = format!("{e}: the target is not changed");
+                return;
+            }
             self.stale_counts = false;
         }
-        self.counter.target = n;
-        self.message = match self.store.save_counter(&self.counter) {
-            Ok(()) => format!("part target {n}"),
-            Err(e) => e,
-        };
+        self.counter = next;
+        self.message = format!("part target {n}");
     }
 
     fn start(&mut self) {
@@ -441,12 +459,14 @@ impl LatheConsole {
             Ok(mut c) => {
                 let _ = c.lathe.set_feed_override(self.feed_override);
                 if !mdi {
-                    self.counter.counts.iter_mut().for_each(|c| *c = 0);
-                    self.stale_counts = false;
-                    if let Err(e) = self.store.save_counter(&self.counter) {
-                        self.message = e;
+                    let mut next = self.counter.clone();
+                    next.counts.iter_mut().for_each(|c| *c = 0);
+                    if let Err(e) = self.store.save_counter(&next) {
+                        self.message = format!("{e}: the cycle does not start");
                         return;
                     }
+                    self.counter = next;
+                    self.stale_counts = false;
                 } else {
                     self.mdi[self.sel].clear();
                 }
