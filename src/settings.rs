@@ -25,6 +25,9 @@ pub struct MachineSettings {
     pub step_mm: f64,
     /// Time a tool change (M06) takes, ns.
     pub tool_change_ns: u64,
+    /// Where Z goes for a tool change (M06), machine mm: the top of the Z travel, machine Z 0,
+    /// on the centre (docs/gcode.md "M06").
+    pub tool_change_z_mm: f64,
     /// Time the spindle takes to start, stop or reverse (M03/M04/M05), ns.
     pub spindle_ns: u64,
     /// Number of pockets in the magazine (T codes 1..=capacity).
@@ -105,6 +108,7 @@ impl Default for MachineSettings {
             jog_mm_min: 1_000.0,
             step_mm: 0.1,
             tool_change_ns: 4_000_000_000,
+            tool_change_z_mm: 0.0,
             spindle_ns: 1_000_000_000,
             magazine_capacity: 24,
             b1_capacity: 4096,
@@ -117,6 +121,11 @@ impl Default for MachineSettings {
 }
 
 impl MachineSettings {
+    /// Where Z goes for a tool change, machine mm.
+    pub fn tool_change_z(&self) -> f64 {
+        self.tool_change_z_mm
+    }
+
     /// Millimetres to the nearest whole pulse.
     pub fn to_pulses(&self, mm: f64) -> i64 {
         (mm / self.pulse_mm).round() as i64

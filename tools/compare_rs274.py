@@ -14,6 +14,7 @@ usage: compare_rs274.py [--novanc BIN] [--golden DIR] PROG.ngc...
                  or 'ERROR message') for tests/gcode_golden.rs
 Exit 0 if every program agrees.
 """
+import math
 import os
 import re
 import subprocess
@@ -44,14 +45,41 @@ def tool_table():
 NUM = r"(-?\d+(?:\.\d+)?)"
 
 
+def rs274_ini(prog, tmp):
+    """An INI for rs274: M6 retracts Z to machine 0 first (TOOL_CHANGE_QUILL_UP, novanc's
+    tool change), and subroutines are found beside the program and in programs/."""
+    path = os.path.join(tmp, "novanc.ini")
+    dirs = [os.path.dirname(os.path.abspath(prog)), os.path.join(ROOT, "programs")]
+    with open(path, "w") as f:
+        f.write("[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\n[RS274NGC]\nSUBROUTINE_PATH = %s\n" % ":".join(dirs))
+    return path
+
+
+def rot(x, y, deg):
+    a = math.radians(deg)
+    return x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
+
+
 def rs274_moves(prog, tbl):
-    """(moves, error): moves as tuples ('R'|'F', x, y, z) or ('A', ccw, plane, x, y, z, cx, cy, cz)."""
-    p = subprocess.run(["rs274", "-t", tbl, "-g", prog], capture_output=True, text=True, timeout=600)
+    """(moves, error): moves as tuples ('R'|'F'|'P', x, y, z) or ('A', ccw, plane, x, y, z, cx, cy, cz)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, HOME=tmp)
+        ini = rs274_ini(prog, tmp)
+        p = subprocess.run(["rs274", "-i", ini, "-t", tbl, "-g", os.path.abspath(prog)], capture_output=True, text=True,
+                           timeout=600, env=env, cwd=tmp)
     factor = 1.0
     g5x = [0.0, 0.0, 0.0]
+    g92 = [0.0, 0.0, 0.0]
+    rotation = 0.0
     tlo = 0.0
     moves = []
     last = [0.0, 0.0, 0.0]
+
+    def machine(x, y, z):
+        x, y, z = x * factor + g92[0], y * factor + g92[1], z * factor + g92[2]
+        x, y = rot(x, y, rotation)
+        return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
+
     for line in (p.stdout + p.stderr).splitlines():
         m = re.match(r"\s*\d+ N\S* +(\w+)\((.*)\)\s*$", line)
         if not m:
@@ -65,42 +93,73 @@ def rs274_moves(prog, tbl):
         elif name == "SET_G5X_OFFSET":
             g5x = [v * factor for v in vals[1:4]]
         elif name == "SET_G92_OFFSET":
-            if any(abs(v) > 0 for v in vals[:3]):
-                return moves, "G92 offsets in use"
+            g92 = [v * factor for v in vals[:3]]
+        elif name == "SET_XY_ROTATION":
+            rotation = vals[0]
         elif name == "USE_TOOL_LENGTH_OFFSET":
             # Printed in the program's units.
             tlo = vals[2] * factor
-        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
-            e = [vals[0] * factor + g5x[0], vals[1] * factor + g5x[1], vals[2] * factor + g5x[2] + tlo]
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
+            e = machine(vals[0], vals[1], vals[2])
             # Shorter than half a pulse (rs274's inch rounding): novanc cannot move it.
-            if max(abs(e[i] - last[i]) for i in range(3)) >= 0.0005:
-                moves.append(("R" if name == "STRAIGHT_TRAVERSE" else "F", *e))
+            if max(abs(e[i] - last[i]) for i in range(3)) >= 0.0005 or name == "STRAIGHT_PROBE":
+                kind = {"STRAIGHT_TRAVERSE": "R", "STRAIGHT_FEED": "F", "STRAIGHT_PROBE": "P"}[name]
+                moves.append((kind, *e))
                 inch.append(factor != 1.0)
             last = e
         elif name == "ARC_FEED":
-            fe, se, fa, sa, rot, ae = vals[:6]
+            fe, se, fa, sa, turns, ae = vals[:6]
             plane = current_plane[0]
             if plane == "XY":
-                e, c = [fe, se, ae], [fa, sa, None]
+                e, c = [fe, se, ae], [fa, sa, 0.0]
             elif plane == "XZ":
-                e, c = [se, ae, fe], [sa, None, fa]
+                e, c = [se, ae, fe], [sa, 0.0, fa]
             else:
-                e, c = [ae, fe, se], [None, fa, sa]
-            off = [g5x[0], g5x[1], g5x[2] + tlo]
-            e = [e[i] * factor + off[i] for i in range(3)]
-            c = [None if c[i] is None else c[i] * factor + off[i] for i in range(3)]
+                e, c = [ae, fe, se], [0.0, fa, sa]
             normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
-            c[normal] = last[normal]
-            if abs(rot) != 1:
-                return moves, "multi-turn arc (P) is not in the subset"
-            moves.append(("A", int(rot > 0), plane, *e, *c))
+            ccw = int(turns > 0)
+            n = int(abs(turns))
+            if n > 1:
+                # Whole turns first, the normal axis shared out by angle (as novanc splits them).
+                u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
+                sp = last_prog[0]
+                a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
+                a1 = math.atan2(e[v] - c[v], e[u] - c[u])
+                d = (a1 - a0) if ccw else (a0 - a1)
+                while d <= 1e-12:
+                    d += 2 * math.pi
+                while d > 2 * math.pi + 1e-12:
+                    d -= 2 * math.pi
+                total = d + 2 * math.pi * (n - 1)
+                step = (e[normal] - sp[normal]) * 2 * math.pi / total
+                at = list(sp)
+                for _ in range(n - 1):
+                    at[normal] += step
+                    cc = list(c)
+                    cc[normal] = at[normal]
+                    me = machine(*at)
+                    mc = machine(*cc)
+                    mc[normal] = last[normal]
+                    moves.append(("A", ccw, plane, *me, *mc))
+                    inch.append(factor != 1.0)
+                    last = me
+            c[normal] = e[normal]
+            me = machine(*e)
+            mc = machine(*c)
+            mc[normal] = last[normal]
+            moves.append(("A", ccw, plane, *me, *mc))
             inch.append(factor != 1.0)
-            last = e
+            last = me
         elif name == "SELECT_PLANE":
             current_plane[0] = {"CANON_PLANE_XY": "XY", "CANON_PLANE_XZ": "XZ", "CANON_PLANE_YZ": "YZ"}[args.strip()]
+        if name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
+            last_prog[0] = vals[:3]
+        elif name == "ARC_FEED":
+            last_prog[0] = e
     return moves, None
 
 
+last_prog = [[0.0, 0.0, 0.0]]
 current_plane = ["XY"]
 # Per rs274 move: whether it was printed in inches (4 decimals = 0.00127 mm).
 inch = []
@@ -119,13 +178,15 @@ def novanc_moves(prog, novanc):
         gs = []
         for w in line.split():
             if w[0] == "G":
-                gs.append(int(w[1:]))
+                gs.append(38 if w.startswith("G38") else int(w[1:]))
+            elif w[0] == "M":
+                continue
             else:
                 words[w[0]] = float(w[1:]) if w[1:] else 0.0
         for x in gs:
             if x in (17, 18, 19):
                 plane = {17: "XY", 18: "XZ", 19: "YZ"}[x]
-            elif x in (0, 1, 2, 3):
+            elif x in (0, 1, 2, 3, 38):
                 g = x
             elif x == 4:
                 pass
@@ -135,8 +196,8 @@ def novanc_moves(prog, novanc):
         for i, a in enumerate("XYZ"):
             if a in words:
                 pos[i] = words[a]
-        if g in (0, 1):
-            moves.append(("R" if g == 0 else "F", *pos))
+        if g in (0, 1, 38):
+            moves.append(({0: "R", 1: "F", 38: "P"}[g], *pos))
         else:
             c = [start[0] + words.get("I", 0.0), start[1] + words.get("J", 0.0), start[2] + words.get("K", 0.0)]
             normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
@@ -151,8 +212,31 @@ def fmt(m):
     return "%s %.4f %.4f %.4f" % m
 
 
+def rise_first(a, b):
+    """novanc's one departure in canned cycles (docs/gcode.md "Canned cycles"): where rs274
+    rises diagonally to the clear level while crossing to the next hole, novanc rises straight
+    first, then crosses. Rewrites such an rs274 rapid into novanc's two when novanc has them."""
+    out, j = [], 0
+    for x in a:
+        if x[0] == "R" and j + 1 < len(b) and b[j][0] == "R" and b[j + 1][0] == "R" and out and out[-1][0] != "A":
+            p = out[-1][1:4]
+            q, up = x[1:4], b[j][1:4]
+            moved = [k for k in range(3) if abs(up[k] - p[k]) > TOL]
+            if (len(moved) == 1 and abs(up[moved[0]] - q[moved[0]]) <= TOL and q[moved[0]] > p[moved[0]]
+                    and all(abs(b[j + 1][1 + k] - q[k]) <= TOL for k in range(3))):
+                out.append(("R", *up))
+                inch.insert(len(out) - 1, inch[len(out) - 1] if len(out) - 1 < len(inch) else False)
+                out.append(x)
+                j += 2
+                continue
+        out.append(x)
+        j += 1
+    return out
+
+
 def compare(a, b):
     """None if the move lists agree, else a description of the first difference."""
+    a = rise_first(a, b)
     for i, (x, y) in enumerate(zip(a, b)):
         if x[0] != y[0] or (x[0] == "A" and (x[1] != y[1] or x[2] != y[2])):
             return f"move {i + 1}: rs274 {fmt(x)}, novanc {fmt(y)}"
@@ -190,6 +274,7 @@ def main(argv):
     refused = 0
     for prog in progs:
         current_plane[0] = "XY"
+        last_prog[0] = [0.0, 0.0, 0.0]
         inch.clear()
         ref, ref_err = rs274_moves(prog, tbl)
         got, got_err = novanc_moves(prog, novanc)

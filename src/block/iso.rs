@@ -5,7 +5,7 @@
 //! plane says its plane on its own line (`G18 G02 X Z I K`, `G19 G03 Y Z J K`), with the third
 //! axis when it is a helix; in a whole program an XY arc after one of those says `G17`.
 
-use super::{Block, Motion, Plane, Statement};
+use super::{Block, Io, Motion, Plane, Statement};
 use crate::settings::MachineSettings;
 use std::fmt::Write;
 
@@ -79,6 +79,12 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
     }
     let g = match b.motion {
         Motion::Rapid => Some("G00"),
+        Motion::Linear if b.probe.is_some() => Some(match b.probe {
+            Some(383) => "G38.3",
+            Some(384) => "G38.4",
+            Some(385) => "G38.5",
+            _ => "G38.2",
+        }),
         Motion::Linear => Some("G01"),
         Motion::ArcCw => Some("G02"),
         Motion::ArcCcw => Some("G03"),
@@ -133,8 +139,58 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
     if let Some(m) = b.m {
         let _ = write!(out, " M{m:02}");
     }
+    if let Some(io) = b.io {
+        write_io(out, io);
+    }
     if b.seq == 0 && out[start..].starts_with(' ') {
         out.remove(start);
+    }
+}
+
+/// The words of an I/O action (`M62 P3`, `M67 E1 Q2.5`, `M66 P0 L3 Q5`, `M19 R90 P0`,
+/// `M50 P0 M51 P1`).
+fn write_io(out: &mut String, io: Io) {
+    match io {
+        Io::Digital { index, on, synced } => {
+            let m = match (synced, on) {
+                (true, true) => 62,
+                (true, false) => 63,
+                (false, true) => 64,
+                (false, false) => 65,
+            };
+            let _ = write!(out, " M{m} P{index}");
+        }
+        Io::Analog {
+            index,
+            value,
+            synced,
+        } => {
+            let _ = write!(out, " M{} E{index}", if synced { 67 } else { 68 });
+            number(out, 'Q', value);
+        }
+        Io::Wait {
+            digital,
+            index,
+            mode,
+            timeout,
+        } => {
+            let _ = write!(
+                out,
+                " M66 {}{index} L{mode}",
+                if digital { 'P' } else { 'E' }
+            );
+            if timeout > 0.0 {
+                number(out, 'Q', timeout);
+            }
+        }
+        Io::Orient { angle, dir } => {
+            out.push_str(" M19");
+            number(out, 'R', angle);
+            let _ = write!(out, " P{dir}");
+        }
+        Io::Overrides { feed, speed } => {
+            let _ = write!(out, " M50 P{} M51 P{}", u8::from(feed), u8::from(speed));
+        }
     }
 }
 

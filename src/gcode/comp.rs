@@ -16,7 +16,7 @@
 //! the Z-only moves follow its end when a concave corner moves it, as in LinuxCNC.
 
 use super::canon::Canon;
-use super::interp::Exec;
+use super::exec::Exec;
 use crate::block::{Plane, TranslateError};
 
 /// Corners turning by less than this (radians) are taken as tangent.

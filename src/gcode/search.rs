@@ -15,11 +15,11 @@ impl GcodeSource {
             // No line before moved Z: the program commanded no height yet, and the machine's
             // (with perhaps another tool) is not one to go back down to. Z stays at machine
             // zero, and the program goes on from there.
-            self.st.cur[2] = 0.0;
+            self.st.pos[2] = 0.0;
         }
         let st = &self.settings;
         let p = |v: f64| st.to_pulses(v);
-        let target = [p(self.st.cur[0]), p(self.st.cur[1]), p(self.st.cur[2])];
+        let target = [p(self.st.pos[0]), p(self.st.pos[1]), p(self.st.pos[2])];
         let mut items = Vec::new();
         let here = self.start.pos;
         let mm = |v: i64| st.to_mm(v);
@@ -37,8 +37,8 @@ impl GcodeSource {
                 ));
             }
         }
-        let s = Some(self.st.speed.round() as u32);
-        match self.st.spindle {
+        let s = Some(self.st.modal.speed.round() as u32);
+        match self.st.modal.spindle {
             1 => items.push((
                 Canon::Aux {
                     s,
@@ -101,13 +101,14 @@ impl Iterator for GcodeSource {
         };
         // SEARCH: run the lines before `at` for their state only.
         loop {
-            let before = self.stack.is_empty() && (self.pc as u32 + 1) < at;
-            if !before && self.stack.is_empty() {
+            let main = self.flow.level() == 0 && self.flow.pc.unit == 0;
+            let before = main && (self.flow.pc.line as u32 + 1) < at;
+            if !before && main {
                 break;
             }
             match self.step() {
                 Some(Ok(_)) => {
-                    let z = self.settings.to_pulses(self.st.cur[2]);
+                    let z = self.settings.to_pulses(self.st.pos[2]);
                     self.z_moved |= z != self.start.pos[2];
                 }
                 Some(Err(e)) => return Some(Err(e)),

@@ -2,11 +2,12 @@
 //! value per other letter; unknown letters and codes, a letter twice and two codes of one modal
 //! group are refused.
 
-use super::expr::{Line, Word};
+use super::read::{Line, Word};
 use crate::block::TranslateError;
 
-/// The letters a mill line may hold, besides G and M.
-const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
+/// The letters a mill line may hold, besides G and M (`@` and `^` are the polar words, E the
+/// analog output of M67/M68).
+const LETTERS: &str = "DEFHIJKLPQRSTXYZ@^";
 
 /// What one G-code dialect accepts: its letters and its G and M codes by modal group. The mill
 /// reader uses [`MILL`]; the lathe reader (docs/lathe-gcode.md) has its own.
@@ -35,9 +36,14 @@ pub const MILL: Dialect = Dialect {
 
 fn mill_g_why(g: u32) -> &'static str {
     match g {
-        920..=923 => " (G92 offsets are not supported: use G54–G59 with G10)",
-        930 => " (inverse-time feed is not supported: G94 only)",
-        870 | 880 => " (G87 and G88 are not supported)",
+        70 | 80 => " (G07/G08 diameter and radius mode are the lathe's)",
+        330 => {
+            " (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
+        }
+        520 => " (G52 local offsets are not in LinuxCNC 2.9's mill language)",
+        700..=729 | 760 => " (G70–G72 and G76 are lathe cycles)",
+        960 => " (G96 constant surface speed is the lathe's)",
+        171 | 181 | 191 => " (the UV, UW and VW planes need U, V and W axes)",
         _ => "",
     }
 }
@@ -45,7 +51,7 @@ fn mill_g_why(g: u32) -> &'static str {
 /// A short list of codes with their columns (one per modal group at most).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Codes {
-    v: [(u32, u32); 13],
+    v: [(u32, u32); 17],
     n: usize,
 }
 
@@ -54,6 +60,13 @@ impl Codes {
         if self.n < self.v.len() {
             self.v[self.n] = c;
             self.n += 1;
+        }
+    }
+
+    fn remove(&mut self, code: u32) {
+        if let Some(i) = self.v[..self.n].iter().position(|c| c.0 == code) {
+            self.v.copy_within(i + 1..self.n, i);
+            self.n -= 1;
         }
     }
 
@@ -79,7 +92,7 @@ pub struct Words {
     pub g: Codes,
     /// M codes with columns.
     pub m: Codes,
-    vals: [Option<(f64, u32)>; 26],
+    vals: [Option<(f64, u32)>; 28],
     /// Bit g/10 for each whole G code, bit m for each M code below 128.
     g_bits: u128,
     m_bits: u128,
@@ -88,12 +101,12 @@ pub struct Words {
 impl Words {
     /// The value of a letter's word, if given.
     pub fn get(&self, c: char) -> Option<f64> {
-        self.vals[(c as u8 - b'A') as usize].map(|v| v.0)
+        self.vals[slot(c)].map(|v| v.0)
     }
 
     /// The column of a letter's word, if given.
     pub fn col(&self, c: char) -> Option<u32> {
-        self.vals[(c as u8 - b'A') as usize].map(|v| v.1)
+        self.vals[slot(c)].map(|v| v.1)
     }
 
     /// Whether a G code (×10) is on the line, and its column.
@@ -120,30 +133,45 @@ impl Words {
     }
 }
 
-/// The modal group of a G code (×10), or `None` for one novanc does not know.
+/// The slot of a letter in `Words::vals`: A–Z, then `@` and `^`.
+fn slot(c: char) -> usize {
+    match c {
+        '@' => 26,
+        '^' => 27,
+        c => (c as u8).wrapping_sub(b'A').min(25) as usize,
+    }
+}
+
+/// The modal group of a G code (×10), or `None` for one novanc does not know: LinuxCNC 2.9's
+/// groups (group 16, G92.2/G92.3, is folded into group 0, as in 2.9).
 fn g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 890 => 1,
+        0 | 10 | 20 | 30 | 50 | 51 | 52 | 331 | 382..=385 | 730 | 740 | 800..=890 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
-        940 => 5,
+        901 | 911 => 4,
+        930 | 940 | 950 => 5,
         200 | 210 => 6,
         400 | 410 | 420 => 7,
-        430 | 490 => 8,
+        430 | 431 | 432 | 490 => 8,
         980 | 990 => 10,
-        540 | 550 | 560 | 570 | 580 | 590 => 12,
-        40 | 100 | 280 | 530 => 0,
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => 12,
+        610 | 611 | 640 => 13,
+        970 => 14,
+        40 | 100 | 280 | 281 | 300 | 301 | 530 | 920..=923 => 0,
         _ => return None,
     })
 }
 
-/// The modal group of an M code, or `None` for one novanc does not know.
+/// The modal group of an M code, or `None` for one novanc does not know: LinuxCNC 2.9's.
 fn m_group(m: u32) -> Option<u8> {
     Some(match m {
-        0 | 1 | 2 | 30 => 4,
-        6 => 6,
-        3..=5 => 7,
-        8 | 9 => 8,
+        0 | 1 | 2 | 30 | 60 => 4,
+        62..=68 => 5,
+        6 | 61 => 6,
+        3..=5 | 19 | 70..=73 => 7,
+        7..=9 => 8,
+        48..=53 => 9,
         98 | 99 => 10,
         _ => return None,
     })
@@ -163,7 +191,7 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
         message,
     };
     let mut w = Words::default();
-    let mut g_seen: [Option<(u32, u32)>; 13] = [None; 13];
+    let mut g_seen: [Option<(u32, u32)>; 17] = [None; 17];
     let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
     for &Word { letter, value, col } in &line.words {
         match letter {
@@ -178,10 +206,19 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                 } else {
                     format!("G{}.{}", g / 10, g % 10)
                 };
-                let Some(grp) = (d.g_group)(g).filter(|&x| x < 13) else {
+                let Some(grp) = (d.g_group)(g).filter(|&x| x < 17) else {
                     let why = (d.g_why)(g);
                     return Err(err(col, format!("unknown or unsupported code {name}{why}")));
                 };
+                if grp == 1 && g == 800 && g_seen[1].is_some() {
+                    // G80 beside another motion code gives way to it (LinuxCNC reads a
+                    // safe-start line `G0 G80 ...` so).
+                    continue;
+                }
+                if grp == 1 && g_seen[1].is_some_and(|(o, _)| o == 800) {
+                    w.g.remove(800);
+                    g_seen[1] = None;
+                }
                 if let Some((other, _)) = g_seen[grp as usize] {
                     let on = if other.is_multiple_of(10) {
                         format!("G{:02}", other / 10)
@@ -220,7 +257,7 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                 }
             }
             c if d.letters.as_bytes().contains(&(c as u8)) => {
-                let slot = &mut w.vals[(c as u8 - b'A') as usize];
+                let slot = &mut w.vals[slot(c)];
                 if slot.is_some() {
                     return Err(err(col, format!("two {c} words on one line")));
                 }
