@@ -49,13 +49,22 @@ fn an_unknown_word_or_code() {
         "4:4: unknown word A (novanc has the axes X, Y and Z)"
     );
     assert_eq!(
-        error("G38.2 Z-1 F10"),
-        "4:1: unknown or unsupported code G38.2"
+        error("G33 Z-1 K1"),
+        "4:1: unknown or unsupported code G33 (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
     );
-    assert_eq!(error("M7"), "4:1: unknown or unsupported code M07");
+    assert_eq!(error("M200"), "4:1: unknown or unsupported code M200");
     assert_eq!(
-        error("G92 X0"),
-        "4:1: unknown or unsupported code G92 (G92 offsets are not supported: use G54–G59 with G10)"
+        error("G96 S100"),
+        "4:1: unknown or unsupported code G96 (G96 constant surface speed is the lathe's)"
+    );
+}
+
+#[test]
+fn a_probe_that_does_not_trip() {
+    // No workpiece: the probe reaches its end point without contact.
+    assert_eq!(
+        error("G38.2 Z-1 F10"),
+        "4:1: G38.2: the probe move ended without contact"
     );
 }
 
@@ -93,10 +102,14 @@ fn an_arc_end_not_on_the_circle() {
 }
 
 #[test]
-fn multi_turn_arcs_are_refused() {
+fn multi_turn_arcs_need_a_whole_p_and_no_compensation() {
     assert_eq!(
-        error("G2 X0 Y0 I5 J0 P2 F10"),
-        "4:16: P (turns) on G02/G03 is not supported: one arc makes at most one full turn"
+        error("G2 X0 Y0 I5 J0 P0 F10"),
+        "4:16: P (turns) must be 1 or more with G2 or G3"
+    );
+    assert_eq!(
+        error("G41 D13 G1 X10 F100\nG2 X10 Y0 I5 J0 P2"),
+        "5:1: an arc of several turns (P) cannot be used with cutter radius compensation on"
     );
 }
 
@@ -140,12 +153,12 @@ fn h_or_t_without_tool_data() {
 #[test]
 fn a_bad_g10_p() {
     assert_eq!(
-        error("G10 L2 P9 X1"),
-        "4:8: bad G10 P9: P1 (G54) to P6 (G59), or P0 for the one in force"
+        error("G10 L2 P10 X1"),
+        "4:8: G10 L2 P10: P1 (G54) to P9 (G59.3), or P0 for the one in force"
     );
     assert_eq!(
         error("G10 L20 P1.5 X1"),
-        "4:9: bad G10 P1.5: P1 (G54) to P6 (G59), or P0 for the one in force"
+        "4:9: G10 P1.5 must be a whole number"
     );
 }
 
@@ -153,16 +166,24 @@ fn a_bad_g10_p() {
 fn a_missing_subprogram() {
     assert_eq!(
         error("M98 P55"),
-        "4:1: M98 P55: subprogram O55 is not in the program"
+        "4:1: M98 P55: subprogram O55 is not in the program (searched forward from the call, as LinuxCNC does)"
+    );
+    assert_eq!(
+        error("o<foo> call"),
+        "4:1: subroutine o<foo> not found (not in this program, and no file foo.ngc in the subroutine path)"
     );
 }
 
 #[test]
-fn a_call_depth_over_4() {
-    let src = "M98 P1\nM30\nO1\nM98 P2\nM99\nO2\nM98 P3\nM99\nO3\nM98 P4\nM99\nO4\nM98 P5\nM99\nO5\nG0 X1\nM99";
+fn a_call_depth_over_9() {
+    let mut src = String::from("M98 P1\nM30\n");
+    for i in 1..=10 {
+        src.push_str(&format!("O{i}\nM98 P{}\nM99\n", i + 1));
+    }
+    src.push_str("O11\nG0 X1\nM99");
     assert_eq!(
-        error(src),
-        "16:1: M98 P5: subprogram calls nested more than 4 deep"
+        error(&src),
+        "31:1: M98 P10: subprogram calls nested more than 9 deep"
     );
 }
 
@@ -192,26 +213,24 @@ fn division_by_zero_or_a_domain_error() {
 }
 
 #[test]
-fn control_flow_beyond_m98_is_refused_clearly() {
+fn fanuc_macro_words_and_broken_o_words_are_refused_clearly() {
     assert_eq!(
-        error("O100 while [1 LT 2]"),
-        "4:1: O-word control flow (WHILE) is not supported: only O-number subprograms with M98/M99 are"
+        error("GOTO 10"),
+        "4:1: GOTO is Fanuc Custom Macro B, not LinuxCNC's language: write loops and tests as O-words (o100 while [...], o100 if [...])"
     );
     assert_eq!(
         error("O<loop> sub"),
-        "4:1: O<name> control flow (sub, if, while, call) is not supported: only O-number subprograms with M98/M99 are"
+        "4:1: subroutine o<loop> has no 'o<loop> endsub'"
     );
-    assert_eq!(
-        error("GOTO 10"),
-        "4:1: control flow (GOTO) is not supported: only M98/M99 subprograms are"
-    );
+    assert_eq!(error("o1 endif"), "4:1: o1 endif: no 'o1 if' before it");
+    assert_eq!(error("o1 while 3"), "4:10: '[' expected after 'while'");
 }
 
 #[test]
 fn bounded_work_repeats_and_lines() {
     assert_eq!(
         error("M98 P1 L10000\nM30\nO1\nM99"),
-        "4:8: L10000 must be a whole number from 0 to 9999 (the most repeats is 9999)"
+        "4:8: L10000 must be a whole number from 0 to 9999"
     );
     // 9999 × 9999 repeats run into the line budget, reported, not run for ever.
     let src = format!("{PRE}M98 P1 L9999\nM30\nO1\nM98 P2 L9999\nM99\nO2\nG91 G0 X0\nM99\n");
@@ -227,7 +246,7 @@ fn bounded_work_repeats_and_lines() {
     let e = g.filter_map(|r| r.err()).next().map(|e| e.to_string());
     assert_eq!(
         e.as_deref(),
-        Some("11:1: the program executes more than 5000 lines (subprogram repeats): refused")
+        Some("9:1: the program executes more than 5000 lines (counting every repeat of its loops and subroutines): refused")
     );
 }
 

@@ -95,7 +95,7 @@ fn a_refused_run_changes_no_offset() {
         c.frame_text()
     );
     assert_eq!(c.work_offsets().0[0], [0.0; 3]);
-    for bad in ["G10 L2 P7 X1", "G10 L2 P1 X[1/0]"] {
+    for bad in ["G10 L2 P10 X1", "G10 L2 P1 X[1/0]"] {
         mdi(&mut c, bad);
         assert!(shows(&c, "START refused"), "{bad}: {}", c.frame_text());
         c.handle(E::Reset);

@@ -131,6 +131,9 @@ pub struct Flow {
     doing_continue: bool,
     /// The frame the pending M98 loop counter belongs to (see `call`).
     m98_main_left: i64,
+    /// Where the line that started the current skip is (a call searching forward, a
+    /// definition skipped over), for the error at the end of the program.
+    skip_from: Option<Pos>,
 }
 
 impl Flow {
@@ -148,7 +151,14 @@ impl Flow {
             doing_break: false,
             doing_continue: false,
             m98_main_left: -1,
+            skip_from: None,
         }
+    }
+
+    /// The line that started the skip that reached the end of a unit (a call that searched
+    /// forward, a definition with no end), if any.
+    pub fn skip_from(&self) -> Option<Pos> {
+        self.skip_from
     }
 
     /// The call level (0 in the main program).
@@ -235,13 +245,13 @@ impl Flow {
         if let Some(l) = self.labels.get(name) {
             if l.pos == at {
                 return Err(format!(
-                    "o{} {}: found in an illegal place",
+                    "{} {}: found in an illegal place",
                     short(name),
                     kind.name()
                 ));
             }
             return Err(format!(
-                "o{} is defined twice (first at line {})",
+                "{} is defined twice (first at line {})",
                 short(name),
                 l.pos.line + 1
             ));
@@ -311,8 +321,8 @@ impl Flow {
                 if let Some(f) = self.frames.last() {
                     if f.name != name {
                         return Err(format!(
-                            "a subroutine definition 'o{} sub' inside the running subroutine o{}",
-                            o.label,
+                            "a subroutine definition '{} sub' inside the running subroutine {}",
+                            label(o),
                             short(&f.name)
                         ));
                     }
@@ -324,6 +334,7 @@ impl Flow {
                 }
                 // A definition met in the main program: note it and skip over it.
                 self.define(&name, OKind::Sub, at)?;
+                self.skip_from = Some(at);
                 self.skipping = Some(name.clone());
                 self.defining_sub = Some(name);
                 Ok(Outcome::Next)
@@ -348,13 +359,13 @@ impl Flow {
                 }
                 if self.frames.is_empty() {
                     if o.kind == OKind::Return && self.defining_sub.is_none() {
-                        return Err(format!("o{} return: not in a subroutine", o.label));
+                        return Err(format!("{} return: not in a subroutine", label(o)));
                     }
                     if o.kind == OKind::Endsub {
                         if self.defining_sub.is_none() {
                             return Err(format!(
-                                "o{} endsub: not in a subroutine definition",
-                                o.label
+                                "{} endsub: not in a subroutine definition",
+                                label(o)
                             ));
                         }
                         self.skipping = None;
@@ -382,8 +393,8 @@ impl Flow {
                 match self.labels.get(&name) {
                     Some(l) if l.pos != at => {
                         return Err(format!(
-                            "o{} is defined twice (first at line {})",
-                            o.label,
+                            "{} is defined twice (first at line {})",
+                            label(o),
                             l.pos.line + 1
                         ))
                     }
@@ -409,8 +420,8 @@ impl Flow {
                 if let Some(l) = &known {
                     if l.kind != OKind::Do && l.pos != at {
                         return Err(format!(
-                            "o{} is defined twice (first at line {})",
-                            o.label,
+                            "{} is defined twice (first at line {})",
+                            label(o),
                             l.pos.line + 1
                         ));
                     }
@@ -441,8 +452,8 @@ impl Flow {
                 match self.labels.get(&name) {
                     Some(l) if l.pos != at => {
                         return Err(format!(
-                            "o{} is defined twice (first at line {})",
-                            o.label,
+                            "{} is defined twice (first at line {})",
+                            label(o),
                             l.pos.line + 1
                         ))
                     }
@@ -517,19 +528,19 @@ impl Flow {
     fn expect(&self, name: &str, o: &OLine, kinds: &[OKind]) -> Result<Label, String> {
         let Some(l) = self.labels.get(name) else {
             return Err(format!(
-                "o{} {}: no o{} {} before it",
-                o.label,
+                "{} {}: no '{} {}' before it",
+                label(o),
                 o.kind.name(),
-                o.label,
+                label(o),
                 kinds[0].name()
             ));
         };
         if !kinds.contains(&l.kind) {
             return Err(format!(
-                "o{} {}: the label o{} is a '{}' (line {}), not a '{}'",
-                o.label,
+                "{} {}: the label {} is a '{}' (line {}), not a '{}'",
+                label(o),
                 o.kind.name(),
-                o.label,
+                label(o),
                 l.kind.name(),
                 l.pos.line + 1,
                 kinds[0].name()
@@ -549,11 +560,17 @@ impl Flow {
         finder: &dyn SubFinder,
     ) -> Result<(), String> {
         if self.frames.len() >= MAX_CALL_DEPTH {
-            return Err(format!(
-                "o{} call: calls nested more than {MAX_CALL_DEPTH} deep",
-                short(name)
-            ));
+            return Err(match call_type {
+                CallType::M98 => {
+                    format!("M98 P{name}: subprogram calls nested more than {MAX_CALL_DEPTH} deep")
+                }
+                CallType::Oword => format!(
+                    "{} call: calls nested more than {MAX_CALL_DEPTH} deep",
+                    short(name)
+                ),
+            });
         }
+        let (to, search) = self.locate(name, call_type, at, finder)?;
         let mut saved = [0.0; MAX_ARGS];
         if call_type == CallType::Oword {
             for (i, s) in saved.iter_mut().enumerate() {
@@ -562,6 +579,7 @@ impl Flow {
             }
         }
         self.skipping = None;
+        self.skip_from = Some(at);
         self.frames.push(Frame {
             name: name.to_string(),
             call_type,
@@ -574,7 +592,12 @@ impl Flow {
             m98_left: -1,
         });
         st.call_level = self.frames.len();
-        self.back_to(name, finder)
+        self.pc = to;
+        if search {
+            self.skipping = Some(name.to_string());
+            self.skipping_to_sub = Some(name.to_string());
+        }
+        Ok(())
     }
 
     /// M98 P L: a Fanuc-style call, repeated L times (L0: not called).
@@ -620,7 +643,7 @@ impl Flow {
         match self.frames.last() {
             None => Err("M99 outside a subprogram (novanc does not loop the main program)".into()),
             Some(f) if f.call_type != CallType::M98 => Err(format!(
-                "o{} sub ends with 'o{} endsub', not M99",
+                "{} sub ends with '{} endsub', not M99",
                 short(&f.name),
                 short(&f.name)
             )),
@@ -655,40 +678,103 @@ impl Flow {
         }
     }
 
-    /// Goes to subroutine `name`: where it was met, else the file of its name, else search
-    /// forward in this file.
-    fn back_to(&mut self, name: &str, finder: &dyn SubFinder) -> Result<(), String> {
+    /// Where subroutine `name` is: where it was met (go there), else the start of the file of
+    /// its name, or the line after the call in this file (skip forward from there). Refused
+    /// at once when no such label lies ahead, so that a call to a missing subroutine is an
+    /// error of its own line.
+    fn locate(
+        &mut self,
+        name: &str,
+        call_type: CallType,
+        at: Pos,
+        finder: &dyn SubFinder,
+    ) -> Result<(Pos, bool), String> {
         if let Some(l) = self.labels.get(name) {
-            self.pc = l.pos;
-            return Ok(());
+            return Ok((l.pos, false));
         }
-        if let Some(i) = self
-            .units
-            .iter()
-            .position(|u| u.name == format!("{name}.ngc"))
-        {
-            // A file read before whose sub was not found there: search it again.
-            self.pc = Pos { unit: i, line: 0 };
-        } else if let Some((file, text)) = finder.find(name)? {
-            self.units.push(Unit::new(file, text));
-            self.pc = Pos {
-                unit: self.units.len() - 1,
-                line: 0,
+        let file = format!("{name}.ngc");
+        let unit = match self.units.iter().position(|u| u.name == file) {
+            Some(i) => Some(i),
+            None => match finder.find(name)? {
+                Some((f, text)) => {
+                    self.units.push(Unit::new(f, text));
+                    Some(self.units.len() - 1)
+                }
+                None => None,
+            },
+        };
+        let from = match unit {
+            Some(u) => Pos { unit: u, line: 0 },
+            None => Pos {
+                unit: at.unit,
+                line: at.line + 1,
+            },
+        };
+        if !self.label_ahead(name, from) {
+            return Err(match call_type {
+                CallType::M98 => format!(
+                    "M98 P{name}: subprogram O{name} is not in the program (searched forward from the call, as LinuxCNC does)"
+                ),
+                CallType::Oword => format!(
+                    "subroutine {} not found (not in this program, and no file {file} in the subroutine path)",
+                    short(name)
+                ),
+            });
+        }
+        Ok((from, true))
+    }
+
+    /// Whether an O-line labelled `name` (global) lies at or after `from` in its unit.
+    fn label_ahead(&self, name: &str, from: Pos) -> bool {
+        let Some(unit) = self.units.get(from.unit) else {
+            return false;
+        };
+        let numeric = name.bytes().all(|b| b.is_ascii_digit());
+        (from.line..unit.lines.len()).any(|i| {
+            let Some(raw) = unit.line(i) else {
+                return false;
             };
-        }
-        self.skipping = Some(name.to_string());
-        self.skipping_to_sub = Some(name.to_string());
-        Ok(())
+            let t: String = raw
+                .chars()
+                .take_while(|&c| c != '(' && c != ';')
+                .filter(|c| !c.is_whitespace())
+                .collect::<String>()
+                .to_ascii_lowercase();
+            let t = t.trim_start_matches('/');
+            let t = match t.strip_prefix('n') {
+                Some(r) => r.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
+                None => t,
+            };
+            let Some(rest) = t.strip_prefix('o') else {
+                return false;
+            };
+            if numeric {
+                let digits: String = rest.chars().take_while(|c| c.is_ascii_digit()).collect();
+                digits.parse::<u64>().ok() == name.parse::<u64>().ok()
+            } else {
+                rest.strip_prefix('<')
+                    .and_then(|r| r.strip_prefix(name))
+                    .is_some_and(|r| r.starts_with('>'))
+            }
+        })
     }
 
     /// The error for reaching the end of a unit: while skipping to a label, or in a
     /// subroutine without its end.
     pub fn end_error(&self) -> String {
         if let Some(s) = &self.skipping_to_sub {
-            return format!("subroutine o{} not found (not in this program, and no file {}.ngc in the subroutine path)", short(s), short(s));
+            if self
+                .frames
+                .last()
+                .is_some_and(|f| f.call_type == CallType::M98)
+            {
+                return format!("M98 P{s}: subprogram O{s} is not in the program (searched forward from the call, as LinuxCNC does)");
+            }
+            let file = s.rsplit('#').next().unwrap_or(s);
+            return format!("subroutine {} not found (not in this program, and no file {file}.ngc in the subroutine path)", short(s));
         }
         if let Some(d) = &self.defining_sub {
-            return format!("subroutine o{} has no 'o{} endsub'", short(d), short(d));
+            return format!("subroutine {} has no '{} endsub'", short(d), short(d));
         }
         if let Some(s) = &self.skipping {
             return format!(
@@ -709,7 +795,17 @@ impl Flow {
     }
 }
 
-/// A label's name without its subroutine prefix, as the programmer wrote it.
-fn short(name: &str) -> &str {
-    name.rsplit('#').next().unwrap_or(name)
+/// A label as the programmer wrote it, without its subroutine prefix: `o100`, `o<name>`.
+fn short(name: &str) -> String {
+    let l = name.rsplit('#').next().unwrap_or(name);
+    if l.bytes().all(|b| b.is_ascii_digit()) {
+        format!("o{l}")
+    } else {
+        format!("o<{l}>")
+    }
+}
+
+/// An O-line's label as written: `o100`, `o<name>`.
+fn label(o: &OLine) -> String {
+    short(&o.label)
 }

@@ -378,7 +378,12 @@ impl GcodeSource {
                     return self.finish(n, String::new(), out, false);
                 }
                 let msg = self.flow.end_error();
-                let e = self.error_at(at.unit, n, 1, msg);
+                // Charged to the line that started the skip (the call, the definition).
+                let (unit, line) = match self.flow.skip_from() {
+                    Some(p) if self.flow.skipping() => (p.unit, p.line as u32 + 1),
+                    _ => (at.unit, n),
+                };
+                let e = self.error_at(unit, line, 1, msg);
                 return self.fail(e);
             };
             self.flow.pc.line += 1;
@@ -448,8 +453,19 @@ impl GcodeSource {
             if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
-            if self.first_code.is_none_or(|f| at.line < f) {
+            if at.line == 0 {
+                // The tape's leading %.
                 return Ok(None);
+            }
+            if !self.flow.units[0]
+                .line(0)
+                .is_some_and(|l| l.trim_start().starts_with('%'))
+            {
+                return Err(TranslateError {
+                    line: n,
+                    col: 1,
+                    message: "'%' ends a program only when the program's first line is '%' (as in LinuxCNC)".into(),
+                });
             }
             if self.flow.level() > 0 {
                 return Err(TranslateError {
@@ -459,7 +475,7 @@ impl GcodeSource {
                 });
             }
             // The closing %: the program ends.
-            return Ok(Some(self.end(n, raw.trim().to_string(), Vec::new())));
+            return Ok(Some(self.end(n, raw.trim().to_string(), Vec::new(), None)));
         }
         if let Some(o) = &line.o {
             if o.kind == read::OKind::Bare && !self.flow.skipping() {
@@ -600,48 +616,27 @@ impl GcodeSource {
                     })?;
                 Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
             }
-            LineFlow::End => Ok(Some(self.end(n, raw.trim().to_string(), out))),
+            LineFlow::End => {
+                let m = if words.has_m(2).is_some() { 2 } else { 30 };
+                Ok(Some(self.end(n, raw.trim().to_string(), out, Some(m))))
+            }
         }
     }
 
-    /// M2, M30 or the closing %: flushes compensation, stops the spindle for M2 as LinuxCNC
-    /// does, resets what M2/M30 reset.
+    /// M2, M30 (`endm`) or the closing % (`None`): flushes compensation, stops the spindle
+    /// for M2 as LinuxCNC does, resets what M2/M30 reset.
     fn end(
         &mut self,
         n: u32,
         text: String,
         mut out: Vec<(Canon, u32, u32)>,
+        endm: Option<u8>,
     ) -> Option<Result<Statement, TranslateError>> {
-        let m30 = out
-            .iter()
-            .any(|(c, _, _)| matches!(c, Canon::Aux { m: Some(30), .. }));
         let mut x = ctx!(self, n);
         self.comp.flush(&mut x);
         let mut tail = std::mem::take(&mut x.out);
-        let endm = out.iter().rposition(|(c, _, _)| {
-            matches!(
-                c,
-                Canon::Aux {
-                    m: Some(2 | 30),
-                    ..
-                }
-            )
-        });
-        let spindle = self.st.modal.spindle;
-        if endm.is_none() {
-            let m = if m30 || text == "%" { 30 } else { 2 };
-            if spindle != 0 {
-                tail.push((
-                    Canon::Aux {
-                        s: None,
-                        t: None,
-                        m: Some(5),
-                    },
-                    n,
-                    1,
-                ));
-            }
-            tail.push((
+        let aux = |m: u8| {
+            (
                 Canon::Aux {
                     s: None,
                     t: None,
@@ -649,23 +644,13 @@ impl GcodeSource {
                 },
                 n,
                 1,
-            ));
-        } else if let Some(i) = endm {
-            // M2/M30 on the line: the spindle stops with it.
-            if spindle != 0 {
-                out.insert(
-                    i,
-                    (
-                        Canon::Aux {
-                            s: None,
-                            t: None,
-                            m: Some(5),
-                        },
-                        n,
-                        1,
-                    ),
-                );
+            )
+        };
+        if let Some(m) = endm {
+            if m == 2 && self.st.modal.spindle != 0 {
+                tail.push(aux(5));
             }
+            tail.push(aux(m));
         }
         out.append(&mut tail);
         self.st.program_end_reset();

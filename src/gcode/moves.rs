@@ -268,12 +268,14 @@ pub fn g10(
     let l = int_word(x, w, 'L', 0.0, 20.0)?;
     let l = match l {
         Some(l @ (1 | 2 | 10 | 11 | 20)) => l,
-        Some(l) => return Err(x.err(
-            w.col('L').unwrap_or(col),
-            format!(
+        Some(l) => {
+            return Err(x.err(
+                w.col('L').unwrap_or(col),
+                format!(
                 "G10 L{l}: novanc has L1, L10, L11 (tool table), L2 and L20 (coordinate systems)"
             ),
-        )),
+            ))
+        }
         None => {
             return Err(x.err(
                 col,

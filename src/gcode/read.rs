@@ -805,6 +805,21 @@ pub fn read_into(
             ));
         }
         let letter = ch.to_ascii_uppercase();
+        for kw in ["goto", "if", "while", "then", "do", "end"] {
+            let after = r.at(kw.len());
+            if r.b[r.i..].starts_with(kw.as_bytes())
+                && !after.is_some_and(|c| c.is_ascii_alphabetic())
+                && !(kw == "do" && after.is_none())
+            {
+                return Err(r.err(
+                    col,
+                    format!(
+                        "{} is Fanuc Custom Macro B, not LinuxCNC's language: write loops and tests as O-words (o100 while [...], o100 if [...])",
+                        kw.to_ascii_uppercase()
+                    ),
+                ));
+            }
+        }
         if letter == 'O' {
             return Err(r.err(col, "an O-word must start its line (after N)"));
         }

@@ -8,10 +8,29 @@ use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 
 impl GcodeSource {
+    /// Whether main-program line `line` (1-based) holds an M06 (read without evaluating
+    /// anything that could fail: a line that does not read simply does not count).
+    fn line_changes_tool(&self, line: u32) -> bool {
+        let Some(raw) = self.flow.units[0].line(line as usize - 1) else {
+            return false;
+        };
+        let p = super::read::Params::default();
+        let Ok(l) = super::read::read_line(raw, line, &p) else {
+            return raw.to_ascii_uppercase().contains("M6")
+                || raw.to_ascii_uppercase().contains("M06");
+        };
+        l.words
+            .iter()
+            .any(|w| w.letter == 'M' && (w.value - 6.0).abs() < 1e-9)
+    }
+
     /// The restore statement before `line`: from the machine's actual state to the state the
     /// lines before it left.
     pub(super) fn restore(&mut self, line: u32) -> Result<Statement, TranslateError> {
-        if !self.z_moved {
+        // The line searched to changes the tool itself: no tool is restored first, and Z
+        // stays up (M06 goes to the tool-change height anyway), as docs/gcode.md "SEARCH" says.
+        let changes_tool = self.line_changes_tool(line);
+        if !self.z_moved || changes_tool {
             // No line before moved Z: the program commanded no height yet, and the machine's
             // (with perhaps another tool) is not one to go back down to. Z stays at machine
             // zero, and the program goes on from there.
@@ -24,8 +43,20 @@ impl GcodeSource {
         let here = self.start.pos;
         let mm = |v: i64| st.to_mm(v);
         items.push((Canon::Rapid([mm(here[0]), mm(here[1]), 0.0]), line, 1));
-        if self.st.tool != self.start.tool {
+        if self.st.tool != self.start.tool && !changes_tool {
             if let Some(t) = self.st.tool {
+                if self.start.spindle != 0 {
+                    // The machine's tool change: the spindle stops first.
+                    items.push((
+                        Canon::Aux {
+                            s: None,
+                            t: None,
+                            m: Some(5),
+                        },
+                        line,
+                        1,
+                    ));
+                }
                 items.push((
                     Canon::Aux {
                         s: None,
