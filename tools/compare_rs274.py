@@ -74,6 +74,7 @@ def rs274_moves(prog, tbl):
     tlo = 0.0
     moves = []
     last = [0.0, 0.0, 0.0]
+    kept = [[0.0, 0.0, 0.0]]
 
     def machine(x, y, z):
         x, y, z = x * factor + g92[0], y * factor + g92[1], z * factor + g92[2]
@@ -81,7 +82,7 @@ def rs274_moves(prog, tbl):
         return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
 
     for line in (p.stdout + p.stderr).splitlines():
-        m = re.match(r"\s*\d+ N\S* +(\w+)\((.*)\)\s*$", line)
+        m = re.match(r"\s*\d+ N[.\d]*\s*([A-Z][A-Z0-9_]*)\((.*)\)\s*$", line)
         if not m:
             if line.strip() in ("executing", ""):
                 continue
@@ -101,11 +102,13 @@ def rs274_moves(prog, tbl):
             tlo = vals[2] * factor
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             e = machine(vals[0], vals[1], vals[2])
-            # Shorter than half a pulse (rs274's inch rounding): novanc cannot move it.
-            if max(abs(e[i] - last[i]) for i in range(3)) >= 0.0005 or name == "STRAIGHT_PROBE":
+            # Shorter than half a pulse from the last move kept (rs274's inch rounding, or CAM
+            # output in steps below a pulse): novanc cannot move it.
+            if max(abs(e[i] - kept[0][i]) for i in range(3)) >= 0.0005 or name == "STRAIGHT_PROBE":
                 kind = {"STRAIGHT_TRAVERSE": "R", "STRAIGHT_FEED": "F", "STRAIGHT_PROBE": "P"}[name]
                 moves.append((kind, *e))
                 inch.append(factor != 1.0)
+                kept[0] = e
             last = e
         elif name == "ARC_FEED":
             fe, se, fa, sa, turns, ae = vals[:6]
@@ -141,7 +144,8 @@ def rs274_moves(prog, tbl):
                     mc = machine(*cc)
                     mc[normal] = last[normal]
                     moves.append(("A", ccw, plane, *me, *mc))
-                    inch.append(factor != 1.0)
+                    # Rebuilt from rs274's printed centre: wider allowance (see "turns").
+                    inch.append("turn")
                     last = me
             c[normal] = e[normal]
             me = machine(*e)
@@ -150,6 +154,7 @@ def rs274_moves(prog, tbl):
             moves.append(("A", ccw, plane, *me, *mc))
             inch.append(factor != 1.0)
             last = me
+            kept[0] = me
         elif name == "SELECT_PLANE":
             current_plane[0] = {"CANON_PLANE_XY": "XY", "CANON_PLANE_XZ": "XZ", "CANON_PLANE_YZ": "YZ"}[args.strip()]
         if name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
@@ -234,19 +239,82 @@ def rise_first(a, b):
     return out
 
 
+def one_pulse(prev, y):
+    """Whether novanc move `y` is a straight move of at most one pulse from `prev`: where
+    rs274 drops a move shorter than half a pulse, novanc may still round its ends a pulse
+    apart and make it."""
+    return y[0] in "RF" and prev is not None and all(abs(y[1 + k] - prev[k]) <= 0.0015 for k in range(3))
+
+
+def resync(a, b, i, j, span=60, step=0.01):
+    """Where rs274 printed inches (a 0.0001 in grid) over a run of tiny straight moves, the two
+    lists keep different subsets of them. Finds the next pair of equal end points within
+    `span` moves of each, every move skipped being a straight move of the same kind shorter
+    than `step` mm, and returns their indices after it (or None)."""
+    if not (i < len(inch) and inch[i]):
+        return None
+    kind = a[i][0]
+    if kind not in "RF" or b[j][0] != kind:
+        return None
+
+    def short(lst, n):
+        if n == 0 or lst[n][0] != kind or lst[n - 1][0] not in "RF":
+            return False
+        return all(abs(lst[n][1 + q] - lst[n - 1][1 + q]) <= step for q in range(3))
+
+    for di in range(span):
+        ii = i + di
+        if ii >= len(a) or (di and not short(a, ii)):
+            break
+        for dj in range(span):
+            jj = j + dj
+            if jj >= len(b) or (dj and not short(b, jj)):
+                break
+            if a[ii][0] == b[jj][0] and all(abs(a[ii][1 + q] - b[jj][1 + q]) <= TOL + 0.00127 for q in range(3)):
+                return ii + 1, jj + 1
+    return None
+
+
 def compare(a, b):
     """None if the move lists agree, else a description of the first difference."""
-    for i, (x, y) in enumerate(zip(a, b)):
-        if x[0] != y[0] or (x[0] == "A" and (x[1] != y[1] or x[2] != y[2])):
+    i = j = 0
+    prev = prev_a = None
+    while i < len(a) and j < len(b):
+        x, y = a[i], b[j]
+        bad = x[0] != y[0] or (x[0] == "A" and (x[1] != y[1] or x[2] != y[2]))
+        if not bad:
+            nums_x = [v for v in x if isinstance(v, float)]
+            nums_y = [v for v in y if isinstance(v, float)]
+            if x[0] == "A":
+                # The centre's coordinate along the plane's normal means nothing.
+                skip = 3 + {"XY": 2, "XZ": 1, "YZ": 0}[x[2]]
+                del nums_x[skip], nums_y[skip]
+            tol = TOL + 0.0006 if x[0] == "A" else TOL
+            if i < len(inch) and inch[i]:
+                tol += 0.01 if inch[i] == "turn" else 0.00127
+            bad = any(abs(p - q) > tol for p, q in zip(nums_x, nums_y))
+        if bad:
+            if one_pulse(prev, y):
+                prev = y[1:4]
+                j += 1
+                continue
+            if one_pulse(prev_a, x):
+                prev_a = x[1:4]
+                i += 1
+                continue
+            k = resync(a, b, i, j)
+            if k:
+                i, j = k
+                prev = prev_a = None
+                continue
             return f"move {i + 1}: rs274 {fmt(x)}, novanc {fmt(y)}"
-        nums_x = [v for v in x if isinstance(v, float)]
-        nums_y = [v for v in y if isinstance(v, float)]
-        tol = TOL + 0.0006 if x[0] == "A" else TOL
-        if i < len(inch) and inch[i]:
-            tol += 0.00127
-        if any(abs(p - q) > tol for p, q in zip(nums_x, nums_y)):
-            return f"move {i + 1}: rs274 {fmt(x)}, novanc {fmt(y)}"
-    if len(a) != len(b):
+        prev = y[3:6] if y[0] == "A" else y[1:4]
+        prev_a = x[3:6] if x[0] == "A" else x[1:4]
+        i += 1
+        j += 1
+    while j < len(b) and one_pulse(prev, b[j]):
+        j += 1
+    if i != len(a) or j != len(b):
         return f"rs274 has {len(a)} moves, novanc {len(b)}"
     return None
 

@@ -180,6 +180,15 @@ pub fn cycle(
         }
     }
     let holes_mm = [prog[ia], prog[ib]];
+    // Polar words (G17 only): about the program zero; under G91 each repeat turns the hole
+    // by ^ and moves it out by @ (LinuxCNC's bolt circle: `G91 G81 ... ^60 L6`).
+    let polar = w.get('@').is_some() || w.get('^').is_some();
+    if polar && plane != Plane::XY {
+        return Err(x.err(
+            col,
+            "polar coordinates (@ ^) work in the XY plane (G17) only",
+        ));
+    }
     let (mut aa, mut bb, da, db) = if st.modal.incremental {
         (
             holes_mm[0],
@@ -187,6 +196,12 @@ pub fn cycle(
             w.get(la).map_or(0.0, |v| v * k),
             w.get(lb).map_or(0.0, |v| v * k),
         )
+    } else if polar {
+        let r = w.get('@').map_or(holes_mm[0].hypot(holes_mm[1]), |v| v * k);
+        let a = w
+            .get('^')
+            .map_or(holes_mm[1].atan2(holes_mm[0]), f64::to_radians);
+        (r * a.cos(), r * a.sin(), 0.0, 0.0)
     } else {
         (
             w.get(la).map_or(holes_mm[0], |v| v * k),
@@ -194,6 +209,14 @@ pub fn cycle(
             0.0,
             0.0,
         )
+    };
+    let (dr, dt) = if st.modal.incremental {
+        (
+            w.get('@').map_or(0.0, |v| v * k),
+            w.get('^').map_or(0.0, f64::to_radians),
+        )
+    } else {
+        (0.0, 0.0)
     };
     let mut pos = prog;
     let mk = |a: f64, b: f64, c: f64| {
@@ -231,6 +254,17 @@ pub fn cycle(
     for rep in 0..l {
         aa += da;
         bb += db;
+        if dr != 0.0 || dt != 0.0 {
+            if aa == 0.0 && bb == 0.0 {
+                return Err(x.err(
+                    col,
+                    "incremental polar words (@ ^) at the program zero have no direction",
+                ));
+            }
+            let (r, t) = (aa.hypot(bb) + dr, bb.atan2(aa) + dt);
+            aa = r * t.cos();
+            bb = r * t.sin();
+        }
         if rep == 0 && current_cc > r {
             rapid(&mut out, &mut pos, mk(aa, bb, current_cc));
             rapid(&mut out, &mut pos, mk(aa, bb, r));

@@ -69,12 +69,18 @@ pub struct Switches {
     pub optional_stop: bool,
 }
 
-/// Whether a program is G-code: by its file name (`.ngc`, `.nc`, `.iso`) or by its first
-/// line (`%`, or `O` and a number).
+/// The file extensions of G-code programs (LinuxCNC's `.ngc`, `.nc`, ISO `.iso`, and what
+/// CAM posts write: `.tap`, `.gcode`, `.cnc`).
+pub const GCODE_EXTENSIONS: [&str; 6] = ["ngc", "nc", "iso", "tap", "gcode", "cnc"];
+
+/// Whether a program is G-code: by its file name (`GCODE_EXTENSIONS`) or by its first line
+/// (`%`, or `O` and a number).
 pub fn is_gcode(file_name: &str, text: &str) -> bool {
     let lower = file_name.to_ascii_lowercase();
-    if [".ngc", ".nc", ".iso"].iter().any(|e| lower.ends_with(e)) {
-        return true;
+    if let Some((_, ext)) = lower.rsplit_once('.') {
+        if GCODE_EXTENSIONS.contains(&ext) {
+            return true;
+        }
     }
     let Some(first) = text.lines().map(str::trim).find(|l| !l.is_empty()) else {
         return false;
