@@ -299,8 +299,8 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             format!("{c} word with no {msg} to use it"),
         ))
     };
-    if w.get('D').is_some() && !(g(410) || g(420) || is(&[730, 830])) {
-        refuse('D', "G41, G42, G73 or G83")?;
+    if w.get('D').is_some() && !(g(410) || g(420) || g(411) || g(421) || is(&[730, 830])) {
+        refuse('D', "G41, G41.1, G42, G42.1, G73 or G83")?;
     }
     if w.get('E').is_some() && !(m(66) || m(67) || m(68)) {
         refuse('E', "M66, M67 or M68")?;
@@ -317,7 +317,8 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     if w.get('K').is_some() && !(is(&[20, 30, 331, 870])) {
         refuse('K', "G2, G3, G33.1 or G87")?;
     }
-    if w.get('L').is_some() && !(cycle || is(&[52]) || g(100) || g(410) || g(420) || m(66) || m(98))
+    if w.get('L').is_some()
+        && !(cycle || is(&[52]) || g(100) || g(410) || g(420) || g(411) || g(421) || m(66) || m(98))
     {
         refuse('L', "G10, cutter compensation, canned cycle, M66 or M98")?;
     }
@@ -1090,10 +1091,11 @@ fn cutter_comp(
         st.comp_radius = 0.0;
         st.comp_tool = None;
     }
-    for (g, left) in [(410, true), (420, false)] {
+    for (g, left) in [(410, true), (420, false), (411, true), (421, false)] {
         let Some(col) = w.has_g(g) else {
             continue;
         };
+        let dynamic = g % 10 == 1;
         if comp.active() {
             return Err(x.err(col, "cutter radius compensation is already on: G40 first"));
         }
@@ -1103,14 +1105,33 @@ fn cutter_comp(
                 "cutter radius compensation works in the XY plane (G17)",
             ));
         }
-        let t = match int_word(x, w, 'D', 0.0, 999.0)? {
-            Some(d) => Some(d),
-            None => st.tool,
-        };
         let d_col = w.col('D').unwrap_or(col);
-        let radius = match t {
-            Some(0) | None => 0.0,
-            Some(t) => x.tool_data(t, d_col, "D")?.1 / 2.0,
+        let (radius, t) = if dynamic {
+            // G41.1/G42.1: D is the tool's diameter itself (L, the lathe orientation, is not
+            // for a mill).
+            if let Some(lc) = w.col('L') {
+                return Err(x.err(lc, "L (the tool orientation) of G41.1/G42.1 is the lathe's"));
+            }
+            let d = w
+                .get('D')
+                .ok_or_else(|| x.err(col, "G41.1 and G42.1 need D, the tool's diameter"))?;
+            (d * st.factor() / 2.0, None)
+        } else {
+            let t = match int_word(x, w, 'D', 0.0, 999.0)? {
+                Some(d) => Some(d),
+                None => st.tool,
+            };
+            let radius = match t {
+                Some(0) | None => 0.0,
+                Some(t) => x.tool_data(t, d_col, "D")?.1 / 2.0,
+            };
+            (radius, t)
+        };
+        // A negative radius (G41.1 D-4) puts the tool on the other side, as in LinuxCNC.
+        let (left, radius) = if radius < 0.0 {
+            (!left, -radius)
+        } else {
+            (left, radius)
         };
         comp.on(left, radius, col);
         st.modal.comp = if left {
