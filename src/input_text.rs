@@ -63,6 +63,27 @@ pub fn number(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A number for a message as it would be written, or with an exponent when that is long (a
+/// value of 300 digits, or a denormal of 320 decimals): `2.5`, `1e300`, `1e-320`.
+pub fn short_number(v: f64) -> String {
+    let s = v.to_string();
+    if s.len() <= 24 {
+        s
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A length, time or speed for a message with `decimals` decimals, or with an exponent once it
+/// is too large for that to be short: `12.500`, `1.000e17`.
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.abs() < 1e9 {
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.decimals$e}")
+    }
+}
+
 /// Decodes UTF-8, or says where the first bad byte is (line, column and byte offset).
 pub fn decode(bytes: &[u8]) -> Result<&str, NotUtf8> {
     match std::str::from_utf8(bytes) {

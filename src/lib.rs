@@ -10,6 +10,7 @@ pub mod crc32;
 pub mod gcode;
 pub mod input_text;
 pub mod lathe;
+pub mod limits;
 pub mod panel_model;
 pub mod pulse_core;
 pub mod record;

@@ -294,6 +294,43 @@ pub enum PanelEvent {
 /// The longest `wait ms` a script may ask for, ms (100 hours of machine time).
 pub const MAX_WAIT_MS: u64 = 360_000_000;
 
+/// Why a script word is not a whole number of its type.
+#[derive(Debug)]
+enum Whole {
+    /// Not a whole number at all.
+    Not(String),
+    /// A whole number beyond the type's range.
+    Range(String),
+}
+
+impl From<Whole> for String {
+    fn from(w: Whole) -> String {
+        match w {
+            Whole::Not(m) | Whole::Range(m) => m,
+        }
+    }
+}
+
+/// A script word as a whole number of type `T`, whose range is `lo` to `hi`: a number beyond
+/// it is said to be out of range, not "not a whole number".
+fn whole<T>(s: &str, what: &str, lo: T, hi: T) -> Result<T, Whole>
+where
+    T: std::str::FromStr<Err = std::num::ParseIntError> + std::fmt::Display,
+{
+    use std::num::IntErrorKind::{NegOverflow, PosOverflow};
+    s.parse()
+        .map_err(|e: std::num::ParseIntError| match e.kind() {
+            PosOverflow | NegOverflow => Whole::Range(format!(
+                "{what} {} is out of range ({lo} to {hi})",
+                crate::input_text::quote_plain(s)
+            )),
+            _ => Whole::Not(format!(
+                "{what} {} is not a whole number",
+                crate::input_text::quote(s)
+            )),
+        })
+}
+
 /// A bad panel-script line.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScriptError {
@@ -369,17 +406,21 @@ impl PanelEvent {
                     n.parse()
                         .map_err(|_| format!("wait block: '{n}' is not a block number"))?,
                 ),
-                ["ms", t] => {
-                    let t: u64 = t.parse().map_err(|_| {
-                        format!("wait ms: '{t}' is not a whole number of milliseconds")
-                    })?;
-                    if t > MAX_WAIT_MS {
+                ["ms", t] => match whole(t, "wait ms:", 0, u64::MAX) {
+                    Ok(ms) if ms <= MAX_WAIT_MS => PanelEvent::WaitMs(ms),
+                    // Too many digits for a u64 is more than the longest wait too.
+                    Ok(_) | Err(Whole::Range(_)) => {
                         return Err(format!(
-                            "wait ms: {t} is more than {MAX_WAIT_MS} ms (100 hours)"
-                        ));
+                            "wait ms: {} is more than {MAX_WAIT_MS} ms (100 hours)",
+                            crate::input_text::quote_plain(t)
+                        ))
                     }
-                    PanelEvent::WaitMs(t)
-                }
+                    Err(Whole::Not(_)) => {
+                        return Err(format!(
+                            "wait ms: '{t}' is not a whole number of milliseconds"
+                        ))
+                    }
+                },
                 _ => return Err("'wait' takes nothing, 'block N' or 'ms T'".into()),
             },
             "key" => {
@@ -414,9 +455,7 @@ impl PanelEvent {
                 [a, n] => {
                     let axis = Axis::from_word(a)
                         .ok_or_else(|| format!("unknown axis '{a}' (X, Y or Z)"))?;
-                    let n: i32 = n
-                        .parse()
-                        .map_err(|_| format!("detents '{n}' is not a whole number"))?;
+                    let n: i32 = whole(n, "detents", i32::MIN, i32::MAX).map_err(String::from)?;
                     PanelEvent::Wheel(axis, n)
                 }
                 _ => return Err("'wheel' takes an axis and a number of detents".into()),

@@ -8,18 +8,36 @@ use novanc::tooldata::sample_magazine;
 
 const PRE: &str = "G21 G90\nG10 L2 P1 X300 Y300 Z-400\nG0 X0 Y0 Z0\n";
 
-/// Reads `body` after the preamble (lines 1–3) and returns the error, checking that the
-/// statements before it were whole and that the bad line made no block and no offset change.
-fn error(body: &str) -> String {
-    let src = format!("{PRE}{body}\nM30\n");
-    let mut g = GcodeSource::new(
+/// The program `src` read from machine zero, with no offsets and both switches off.
+fn source(src: &str) -> GcodeSource {
+    GcodeSource::new(
         src.into(),
         sample_magazine(),
         MachineSettings::default(),
         MachineState::at([0, 0, 0]),
         WorkOffsets::default(),
         Switches::default(),
-    );
+    )
+}
+
+/// The first error reading gives.
+fn first_error(g: GcodeSource) -> Option<String> {
+    g.filter_map(|r| r.err()).next().map(|e| e.to_string())
+}
+
+/// `body` after the preamble, read whole: it must read without error. The blocks it made.
+fn reads(body: &str) -> usize {
+    let src = format!("{PRE}{body}\nM30\n");
+    source(&src)
+        .map(|r| r.unwrap_or_else(|e| panic!("{e} in {body}")).blocks.len())
+        .sum()
+}
+
+/// Reads `body` after the preamble (lines 1–3) and returns the error, checking that the
+/// statements before it were whole and that the bad line made no block and no offset change.
+fn error(body: &str) -> String {
+    let src = format!("{PRE}{body}\nM30\n");
+    let mut g = source(&src);
     let mut last_line = 0;
     for r in g.by_ref() {
         match r {
@@ -58,7 +76,6 @@ fn an_unknown_word_or_code() {
         "4:1: unknown or unsupported code G96 (G96 constant surface speed is the lathe's)"
     );
 }
-
 #[test]
 fn a_probe_that_does_not_trip() {
     // No workpiece: the probe reaches its end point without contact.
@@ -130,7 +147,7 @@ fn a_gouge_under_compensation() {
     );
     assert_eq!(
         error("T13 M6\nG0 X-20\nG41 D13 G1 X0 F100\nG3 X4 Y0 R2\nG40 G1 X20"),
-        "7:1: gouge: the arc's radius 2.0000 mm is not larger than the tool's radius 4.0000 mm, and the tool is inside it"
+        "7:1: gouge: cutter compensation puts the tool (radius 4.0000 mm) inside this arc of radius 2.0000 mm, which is not larger than the tool"
     );
 }
 
@@ -234,19 +251,9 @@ fn bounded_work_repeats_and_lines() {
     );
     // 9999 × 9999 repeats run into the line budget, reported, not run for ever.
     let src = format!("{PRE}M98 P1 L9999\nM30\nO1\nM98 P2 L9999\nM99\nO2\nG91 G0 X0\nM99\n");
-    let g = GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
-    .line_limit(5_000);
-    let e = g.filter_map(|r| r.err()).next().map(|e| e.to_string());
     assert_eq!(
-        e.as_deref(),
-        Some("9:1: the program executes more than 5000 lines (counting every repeat of its loops and subroutines): refused")
+        first_error(source(&src).line_limit(5_000)).as_deref(),
+        Some("9:1: the program executes more than 5000 lines, counting each line of a loop or subroutine each time it runs: refused")
     );
 }
 
@@ -257,26 +264,213 @@ fn bounded_work_repeats_and_lines() {
 fn the_default_line_budget_is_ten_million() {
     let e = error("M98 P1 L9999\nM30\nO1\nM98 P2 L9999\nM99\nO2\nG91 G0 X0\nM99");
     assert!(
-        e.ends_with("the program executes more than 10000000 lines (subprogram repeats): refused"),
+        e.ends_with("the program executes more than 10000000 lines, counting each line of a loop or subroutine each time it runs: refused"),
         "{e}"
     );
 }
 
 #[test]
 fn a_program_without_an_end() {
-    let mut g = GcodeSource::new(
-        "G0 X1\n".into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    );
+    let mut g = source("G0 X1\n");
     assert!(g.next().is_some_and(|r| r.is_ok()));
     assert_eq!(
         g.next().map(|r| r.map_err(|e| e.to_string())),
         Some(Err(
             "2:1: the program ends without M02, M30 or a closing %".to_string()
         ))
+    );
+}
+
+// Issue 20: every number finite, and one line's cost bounded before it is generated
+// (docs/limits.md).
+
+/// Reads a whole program (no preamble) to its first error, with a line budget.
+fn error_in(src: &str, lines: u64) -> String {
+    let g = source(src).line_limit(lines);
+    let mut last_line = 0;
+    for r in g {
+        match r {
+            Ok(s) => last_line = s.line,
+            Err(e) => {
+                assert!(e.line > last_line, "the bad line {} yielded blocks", e.line);
+                return e.to_string();
+            }
+        }
+    }
+    panic!("no error in {}", &src[..src.len().min(300)]);
+}
+
+#[test]
+fn a_literal_too_large_for_a_number_is_refused_at_its_column() {
+    let big = "9".repeat(309);
+    // The reproducer: under G41 the infinity became NaN, then 0, and the tool went to X0 Y0.
+    let e = error(&format!(
+        "T1 M6\nG0 X10 Y10 Z-5\nG1 F100\nG41 D1\nG1 X100 Y10\nG1 X{big} Y20 Z-10\nG1 X200\nG40 G0 Z0"
+    ));
+    assert_eq!(
+        e,
+        "9:5: 9999999999999999999999999999999999999999…(309 characters) is too large for a number"
+    );
+    assert_eq!(
+        error(&format!("G1 X10 F{big}")),
+        "4:9: 9999999999999999999999999999999999999999…(309 characters) is too large for a number"
+    );
+    // Finite but huge: the point is refused with its real size, not a saturated one.
+    let e = error(&format!("G0 X1{}", "0".repeat(300)));
+    assert!(
+        e.starts_with("4:1: X1.000e300 (machine) is beyond the X travel"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_cutter_compensation_that_overflows_is_refused_not_sent_to_zero() {
+    // Finite words whose offset path overflows (X 1.7e308 and back): the NaN it made became
+    // 0, a move to machine X0 Y0. Now the line is refused, and no block goes there.
+    let big = format!("17{}", "0".repeat(307));
+    let src = format!(
+        "{PRE}T13 M6\nG0 X10 Y10\nG41 D13 G1 X100 Y10 F100\nG1 X{big}\nG1 X-{big}\nG1 Y100\nG40 G0 X0\nM30\n"
+    );
+    let g = source(&src);
+    let mut error = None;
+    for r in g {
+        match r {
+            Ok(s) => assert!(
+                s.blocks.iter().all(|b| b.end[..2] != [0, 0]),
+                "line {} went to X0 Y0",
+                s.line
+            ),
+            Err(e) => error = Some(e.to_string()),
+        }
+    }
+    assert_eq!(
+        error.as_deref(),
+        Some("7:1: X of this move is not a finite number: the arithmetic on its words overflowed")
+    );
+}
+
+#[test]
+fn a_peck_below_the_resolution_of_its_depth_is_refused_at_once() {
+    // R near 1e17: Q0.1 is below a float's step there, so the peck depth never changed and
+    // the expansion grew without end.
+    let t = std::time::Instant::now();
+    let e = error("G83 X10 Y10 R100000000000000000 Z99999999999999984 Q0.1 F100");
+    assert!(
+        t.elapsed() < std::time::Duration::from_secs(2),
+        "{:?}",
+        t.elapsed()
+    );
+    assert!(e.starts_with("4:"), "{e}");
+    assert!(e.contains("Q0.1"), "{e}");
+}
+
+#[test]
+fn a_cycle_line_is_counted_before_it_is_expanded() {
+    // 700 holes of 500 pecks: 1,050,000 blocks from one line, refused before any is made.
+    let t = std::time::Instant::now();
+    assert_eq!(
+        error("G91 G83 X0.5 Y0.5 Z-100 R0 Q0.2 L700 F100"),
+        "4:33: G83 L700 makes 1050000 blocks (700 holes of 1500), more than the 1000000 one line may make: split the holes over several lines"
+    );
+    // The reproducer of the issue: 9999 holes.
+    assert!(error("G91 G83 X0.01 Y0.01 Z-100 R0 Q0.2 L9999 F100").contains("makes 14998500 blocks"));
+    assert!(
+        t.elapsed() < std::time::Duration::from_secs(2),
+        "{:?}",
+        t.elapsed()
+    );
+    // At most 1,000,000 is fine: 666 holes of 1500 blocks.
+    let n = reads("G91 G83 X0.5 Y0.5 Z-100 R0 Q0.2 L666 F100");
+    assert!(n > 999_000, "{n}");
+}
+
+#[test]
+fn a_dwell_is_at_most_1000_seconds() {
+    assert_eq!(
+        error("G4 P1001"),
+        "4:4: the dwell P1001 is longer than the longest dwell, 1000 s"
+    );
+    assert_eq!(
+        error(&format!("G4 P1{}", "0".repeat(30))),
+        "4:4: the dwell P1e30 is longer than the longest dwell, 1000 s"
+    );
+    assert_eq!(
+        error("G82 X10 Y10 Z-1 R1 P1000.5 F100"),
+        "4:20: the dwell P1000.5 is longer than the longest dwell, 1000 s"
+    );
+    assert_eq!(
+        reads("G4 P1000"),
+        3,
+        "the preamble's move, the dwell and M30"
+    );
+}
+
+#[test]
+fn a_feed_below_1_mm_per_minute_is_refused() {
+    assert_eq!(
+        error("G1 X1 F0.5"),
+        "4:7: F0.5 is below the slowest feed, 1 mm/min"
+    );
+    // F is read before G20 on its line takes effect (LinuxCNC's order): F0.03 mm/min.
+    assert_eq!(
+        error("G20 G1 X1 F0.03"),
+        "4:11: F0.03 is below the slowest feed, 1 mm/min"
+    );
+    assert_eq!(
+        error("G20\nG1 X1 F0.03"),
+        "5:7: F0.03 (0.762 mm/min) is below the slowest feed, 1 mm/min"
+    );
+}
+
+#[test]
+fn blank_lines_count_as_lines_and_the_message_says_so() {
+    let src = format!("{}M30\n", "\n".repeat(6000));
+    assert_eq!(
+        error_in(&src, 5000),
+        "5001:1: the program has more than 5000 lines (the most a program may have)"
+    );
+}
+
+#[test]
+fn a_line_holds_at_most_10000_characters() {
+    let long = format!("G0 X1 ({})", "c".repeat(9_993));
+    assert_eq!(long.chars().count(), 10_001);
+    assert_eq!(
+        error(&long),
+        "4:10001: the line is 10001 characters long; a line holds at most 10000"
+    );
+    // At the limit it reads.
+    reads(&long[..10_000].replace('(', ";"));
+}
+
+#[test]
+fn a_program_makes_at_most_its_block_budget() {
+    let src = "M98 P1 L9999\nM30\nO1\nG91 G0 X1\nG0 X-1\nM99\n";
+    assert_eq!(
+        first_error(source(src).block_limit(1000)).as_deref(),
+        Some("4:1: the program makes more than 1000 blocks (the most a program may make)")
+    );
+}
+
+/// The default budget, 20,000,000 blocks: 65 calls of a line of 309,969 blocks (about 10 s in
+/// a release build): `cargo test --release --test gcode_errors -- --ignored`.
+#[test]
+#[ignore]
+fn the_default_block_budget_is_twenty_million() {
+    let src = format!(
+        "{PRE}G0 Z-50\nM98 P1 L9999\nM30\nO1\nG91 G83 X0 Y0 Z-1 R0 Q0.1 L9999 F100\nG90\nM99\n"
+    );
+    assert_eq!(
+        first_error(source(&src)).as_deref(),
+        Some("8:1: the program makes more than 20000000 blocks (the most a program may make)")
+    );
+}
+
+#[test]
+fn a_tiny_arc_left_by_cutter_compensation_says_so() {
+    // T2 is a 6.2 mm drill: an R3.1005 arc with the tool inside is left 0.0005 mm.
+    assert_eq!(
+        error("T2 M6\nG0 X-20\nG41 D2 G1 X0 F100\nG3 X6.201 Y0 R3.1005\nG40 G1 X20"),
+        "7:1: cutter compensation (tool radius 3.1000 mm) leaves this arc of radius 3.1005 mm a radius of 0.0005 mm, too small to cut (at least 0.0040 mm)"
     );
 }

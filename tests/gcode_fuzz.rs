@@ -10,7 +10,7 @@ use novanc::tooldata::sample_magazine;
 
 #[path = "common/gcode_fragments.rs"]
 mod gcode_fragments;
-use gcode_fragments::FRAGMENTS;
+use gcode_fragments::{extreme_program, FRAGMENTS};
 
 fn program(rng: &mut Rng) -> String {
     let mut s = String::new();
@@ -73,11 +73,7 @@ fn random_text_never_panics_and_errors_name_a_real_place() {
 
 #[test]
 fn deep_brackets_and_tiny_pecks_are_refused_not_run() {
-    let src = format!(
-        "G0 X[{}1{}]\nM30\n",
-        "[".repeat(100_000),
-        "]".repeat(100_000)
-    );
+    let src = format!("G0 X[{}1{}]\nM30\n", "[".repeat(4_000), "]".repeat(4_000));
     let e = GcodeSource::new(
         src.into(),
         sample_magazine(),
@@ -107,4 +103,67 @@ fn deep_brackets_and_tiny_pecks_are_refused_not_run() {
         e.as_deref(),
         Some("2:21: G83: Q0.0001 would make more than 1000 pecks")
     );
+}
+
+/// Issue 20 (docs/limits.md): values at every edge (309 digits, 1e308, denormals, negative
+/// zero, R 1e17, Q 1e-12, L 9999 and past it, dwells and feeds) in moves, arcs, compensation
+/// and every canned cycle. No panic, no case slower than a few seconds (none runs unbounded),
+/// every error at a real place, and what is made keeps the limits: no statement over
+/// `MAX_BLOCKS` blocks, every feed finite and at least `MIN_FEED`, every dwell at most
+/// `MAX_DWELL_S`, every point inside the travel.
+#[test]
+fn extreme_values_never_panic_hang_or_pass_a_limit() {
+    use novanc::block::Motion;
+    use novanc::limits::{MAX_BLOCKS, MAX_DWELL_S, MIN_FEED};
+    let settings = MachineSettings::default();
+    let mut rng = Rng::new(20);
+    let (mut ok, mut refused, mut blocks) = (0, 0, 0usize);
+    let start = std::time::Instant::now();
+    for _ in 0..2000 {
+        let src = extreme_program(|n| rng.range(0, n as i64 - 1) as usize);
+        let n_lines = src.lines().count() as u32 + 1;
+        let t = std::time::Instant::now();
+        let mut failed = false;
+        for r in GcodeSource::new(
+            src.clone().into(),
+            sample_magazine(),
+            settings.clone(),
+            MachineState::at([0, 0, 0]),
+            WorkOffsets::default(),
+            Switches::default(),
+        ) {
+            match r {
+                Ok(st) => {
+                    assert!(st.blocks.len() <= MAX_BLOCKS, "line {} in\n{src}", st.line);
+                    blocks += st.blocks.len();
+                    for b in &st.blocks {
+                        assert!(settings.within_travel(b.end), "{b:?} in\n{src}");
+                        if matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) {
+                            assert!(b.feed.is_finite() && b.feed >= MIN_FEED, "{b:?}\n{src}");
+                        }
+                        assert!(b.dwell_ns as f64 <= MAX_DWELL_S * 1e9, "{b:?}\n{src}");
+                    }
+                }
+                Err(e) => {
+                    assert!(
+                        e.line >= 1 && e.line <= n_lines && e.col >= 1,
+                        "{e} in\n{src}"
+                    );
+                    assert!(e.to_string().len() < 300, "{e}");
+                    failed = true;
+                }
+            }
+        }
+        assert!(t.elapsed().as_secs() < 5, "{:?} for\n{src}", t.elapsed());
+        if failed {
+            refused += 1;
+        } else {
+            ok += 1;
+        }
+    }
+    eprintln!(
+        "extremes: {ok} read, {refused} refused, {blocks} blocks in {:?}",
+        start.elapsed()
+    );
+    assert!(ok > 20 && refused > 100, "{ok} read, {refused} refused");
 }

@@ -114,7 +114,38 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
         (
             "G4 P-1\n".into(),
             "1:4",
-            "the dwell must be 0 to 86400 seconds",
+            "G04 P-1: the dwell must not be negative",
+        ),
+        // Issue 20: the limits the three readers share (docs/limits.md).
+        (
+            "G4 P1001\n".into(),
+            "1:4",
+            "the dwell P1001 is longer than the longest dwell, 1000 s",
+        ),
+        (
+            format!("G0 X{}\n", "9".repeat(309)),
+            "1:5",
+            "…(309 characters) is too large for a number",
+        ),
+        (
+            s("G1 X10 Z1 F0.5\n"),
+            "2:1",
+            "F0.5 is below the slowest feed, 1 mm/min (G94 reads F per minute: G95 reads it per revolution)",
+        ),
+        (
+            s("G95 G1 X10 Z1 F0.000001\n"),
+            "2:5",
+            "more than the 1000 s one move may take",
+        ),
+        (
+            s("G33 X40 Z-60 K0.0000001\n"),
+            "2:1",
+            "more than the 1000 s one move may take",
+        ),
+        (
+            format!("{}G0 X1\n", "\n".repeat(1_000_000)),
+            "1000001:1",
+            "the program has 1000001 lines, more than the 1000000 a lathe program may have",
         ),
         ("X10\n".into(), "1:1", "X or Z without a motion mode"),
         (
@@ -228,7 +259,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "Z 300.000 is outside channel 1's Z travel -200 to 200 mm",
         ),
         (
-            "G0 X190 Z0\nG1 F1\nG3 X190 Z-20 R10\n".into(),
+            "G0 X190 Z0\nG1 F100\nG3 X190 Z-20 R10\n".into(),
             "3:1",
             "X 105.000 (radius) is outside",
         ),
@@ -365,7 +396,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "G71 with nose-radius compensation in force",
         ),
         (
-            "N1 G0 X10\nN2 G1 Z-5 F1\nG71 U1\nG71 P1 Q2 F1\n".into(),
+            "N1 G0 X10\nN2 G1 Z-5 F100\nG71 U1\nG71 P1 Q2 F100\n".into(),
             "4:1",
             "must follow the G71 line",
         ),
@@ -449,6 +480,33 @@ fn every_refusal_names_its_place_and_says_why() {
         }
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+#[test]
+fn a_program_missing_g95_is_refused_at_its_first_feed() {
+    // The sample program with its G95 left out reads F0.08 per minute: ten hours of machine
+    // time a part (23.5 s of CPU). It is refused at the feed, saying why.
+    let path = format!(
+        "{}/programs/citizen/system1.ngc",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let Ok(text) = std::fs::read_to_string(&path) else {
+        panic!("{path} is missing");
+    };
+    let text = text.replace(" G95", "");
+    let e = read_program(
+        &path,
+        &text,
+        &LatheDesc::citizen(),
+        0,
+        &ReadOptions::default(),
+    )
+    .err()
+    .map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("12:1: F0.08 is below the slowest feed, 1 mm/min (G94 reads F per minute: G95 reads it per revolution)")
+    );
 }
 
 #[test]

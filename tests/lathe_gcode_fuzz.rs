@@ -5,6 +5,10 @@
 use novanc::lathe::desc::LatheDesc;
 use novanc::lathe::gcode::{read_program, ReadOptions};
 
+#[path = "common/gcode_fragments.rs"]
+#[allow(dead_code)]
+mod gcode_fragments;
+
 fn desc() -> LatheDesc {
     let mut d = LatheDesc::citizen();
     for c in &mut d.channels {
@@ -152,4 +156,88 @@ fn random_bytes_and_fragments_never_panic() {
         "the fuzz found too few errors to be reading anything: {errors}"
     );
     assert!(start.elapsed().as_secs() < 5, "{:?}", start.elapsed());
+}
+
+/// Issue 20 (docs/limits.md): lathe lines with values at every edge (309 digits, 1e308,
+/// denormals, negative zero, 1e17, 1e-12, dwells and feeds past the limits, leads and pitches
+/// of nothing). No panic, no program slow to read, every error at a real line, and what is read
+/// keeps the limits: dwells at most `MAX_DWELL_S`, feeds per minute at least `MIN_FEED`.
+#[test]
+fn extreme_values_never_panic_or_pass_a_limit() {
+    use novanc::lathe::ops::{Feed, Op};
+    use novanc::limits::{MAX_DWELL_S, MIN_FEED};
+    let nums = gcode_fragments::extreme_numbers();
+    let d = desc();
+    let mut rng = Rng(0x2020_1ea7_u64);
+    let (mut read, mut refused) = (0, 0);
+    let start = std::time::Instant::now();
+    for _ in 0..2000 {
+        let mut text = String::from("T0101 M3 S1000 F100\nG0 X40 Z5\n");
+        let lines = 1 + rng.next() % 8;
+        for _ in 0..lines {
+            let kind = rng.next() % 11;
+            let mut n = || nums[(rng.next() % nums.len() as u64) as usize].clone();
+            let line = match kind {
+                0 => format!("G0 X{} Z{}", n(), n()),
+                1 => format!("G1 X{} Z{} F{}", n(), n(), n()),
+                2 => format!("G95 G1 Z{} F{}", n(), n()),
+                3 => format!("G4 P{}", n()),
+                4 => format!("G33 Z{} K{}", n(), n()),
+                5 => format!(
+                    "G76 P{} Z{} I{} J{} K{} R{} H{}",
+                    n(),
+                    n(),
+                    n(),
+                    n(),
+                    n(),
+                    n(),
+                    n()
+                ),
+                6 => format!("G96 S{} D{} M3", n(), n()),
+                7 => format!("G97 S{} M3", n()),
+                8 => format!("G2 X{} Z{} R{} F{}", n(), n(), n(), n()),
+                9 => format!("#1={} G1 Z[#1] F[#1]", n()),
+                _ => "G94".to_string(),
+            };
+            text.push_str(&line);
+            text.push('\n');
+        }
+        let t = std::time::Instant::now();
+        match read_program("x", &text, &d, 0, &ReadOptions::default()) {
+            Ok(p) => {
+                read += 1;
+                for s in &p.steps {
+                    match s.op {
+                        Op::Dwell { ns } => assert!(ns as f64 <= MAX_DWELL_S * 1e9, "{text}"),
+                        Op::Line {
+                            feed: Feed::PerMin(f),
+                            ..
+                        }
+                        | Op::Arc {
+                            feed: Feed::PerMin(f),
+                            ..
+                        } => {
+                            assert!(f.is_finite() && f >= MIN_FEED, "{text}")
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            Err(e) => {
+                refused += 1;
+                let lines = text.lines().count() as u32;
+                assert!(
+                    e.line >= 1 && e.line <= lines && e.col >= 1,
+                    "{e} for {text:?}"
+                );
+                assert!(e.to_string().len() < 300, "{e}");
+            }
+        }
+        assert!(t.elapsed().as_secs() < 2, "{:?} for {text:?}", t.elapsed());
+    }
+    eprintln!(
+        "lathe extremes: {read} read, {refused} refused in {:?}",
+        start.elapsed()
+    );
+    assert!(read > 20 && refused > 200, "{read} read, {refused} refused");
 }

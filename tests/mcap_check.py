@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check a novanc MCAP recording (docs/recording.md) with Python's `mcap` reader.
 
-usage: mcap_check.py FILE [--expect-topics TOPIC ...] [--expect-complete]
+usage: mcap_check.py FILE [--expect-topics TOPIC ...] [--expect-complete] [--unfinished]
 
 Checks:
   * the whole file streams with CRC validation (data section CRC and every chunk CRC), and the
@@ -12,7 +12,11 @@ Checks:
   * log times never decrease within a topic;
   * both readers see the same messages, and the summary statistics agree with them;
   * with --expect-topics, each named topic has at least one message;
-  * with --expect-complete, the closing `novanc.recording` metadata says complete.
+  * with --expect-complete, the closing `novanc.recording` metadata says complete;
+  * with --unfinished, the file may lack its summary section (a process that ended while it was
+    recording: docs/recording.md "Interrupted runs"): it must still end with a footer, both
+    readers must read it (`make_reader` then streams it), and its `novanc.recording` metadata
+    must say complete false.
 
 Prints the message count of each topic and the pulse count per axis. Exit status 0 if every
 check passes, 1 with a message on stderr otherwise, 2 if the `mcap` module is missing.
@@ -24,7 +28,7 @@ import sys
 try:
     from mcap.reader import make_reader
     from mcap.stream_reader import StreamReader
-    from mcap.records import Message, Metadata
+    from mcap.records import Footer, Message, Metadata
 except ImportError as e:  # pragma: no cover - environment problem, not a file problem
     print(f"mcap_check: the Python `mcap` module is missing ({e}); pip install mcap", file=sys.stderr)
     sys.exit(2)
@@ -48,6 +52,7 @@ REQUIRED = {
     },
     "/panel/display": {"lines": "strings"},
     "/panel/event": {"event": STR},
+    "/lathe/event": {"channel": INT, "event": STR, "text": STR},
 }
 
 
@@ -110,16 +115,21 @@ def stream_pass(path):
     """Every record in file order, with data-section and chunk CRCs validated."""
     messages = []  # (channel id, log_time, data)
     metadata = {}
+    footer = False
     with open(path, "rb") as f:
         for record in StreamReader(f, validate_crcs=True).records:
             if isinstance(record, Message):
                 messages.append((record.channel_id, record.log_time, record.data))
             elif isinstance(record, Metadata):
                 metadata[record.name] = dict(record.metadata)
+            elif isinstance(record, Footer):
+                footer = True
+    if not footer:
+        raise CheckError("no footer: the file ends in the middle of a record")
     return messages, metadata
 
 
-def check(path, expect_topics, expect_complete):
+def check(path, expect_topics, expect_complete, unfinished=False):
     streamed, metadata = stream_pass(path)
 
     counts = {}
@@ -129,10 +139,11 @@ def check(path, expect_topics, expect_complete):
     with open(path, "rb") as f:
         reader = make_reader(f, validate_crcs=True)
         summary = reader.get_summary()
-        if summary is None:
+        if summary is None and not unfinished:
             raise CheckError("no summary section (the recording was not finished)")
-        for channel in summary.channels.values():
-            check_channel(channel, summary.schemas.get(channel.schema_id))
+        if summary is not None:
+            for channel in summary.channels.values():
+                check_channel(channel, summary.schemas.get(channel.schema_id))
         for n, (schema, channel, msg) in enumerate(reader.iter_messages(log_time_order=False)):
             where = f"message {n} (seq {msg.sequence}, log time {msg.log_time})"
             check_channel(channel, schema)
@@ -156,7 +167,7 @@ def check(path, expect_topics, expect_complete):
         raise CheckError(
             f"the indexed reader saw {len(indexed)} messages, the streaming reader {len(streamed)}"
         )
-    stats = summary.statistics
+    stats = summary.statistics if summary is not None else None
     if stats is not None:
         if stats.message_count != len(indexed):
             raise CheckError(f"statistics say {stats.message_count} messages, found {len(indexed)}")
@@ -170,13 +181,16 @@ def check(path, expect_topics, expect_complete):
     recording = metadata.get("novanc.recording")
     if expect_complete and (recording is None or recording.get("complete") != "true"):
         raise CheckError(f"the recording is not marked complete: {recording}")
+    if summary is None and (recording is None or recording.get("complete") != "false"):
+        raise CheckError(f"an unfinished recording not marked incomplete: {recording}")
 
     for topic in REQUIRED:
         print(f"{topic:16} {counts.get(topic, 0):10} messages")
     print(f"pulses           X {pulses['X']}  Y {pulses['Y']}  Z {pulses['Z']}")
     if recording is not None:
         print(f"novanc.recording {recording}")
-    print(f"OK {path}: {len(indexed)} messages, CRCs valid")
+    finished = "" if summary is not None else " (unfinished: no summary section)"
+    print(f"OK {path}: {len(indexed)} messages, CRCs valid{finished}")
 
 
 def main(argv):
@@ -187,6 +201,7 @@ def main(argv):
     path = args[0]
     expect_topics = []
     expect_complete = False
+    unfinished = False
     mode = None
     for a in args[1:]:
         if a == "--expect-topics":
@@ -194,13 +209,16 @@ def main(argv):
         elif a == "--expect-complete":
             expect_complete = True
             mode = None
+        elif a == "--unfinished":
+            unfinished = True
+            mode = None
         elif mode == "topics" and not a.startswith("--"):
             expect_topics.append(a)
         else:
             print(f"mcap_check: unknown argument {a!r}", file=sys.stderr)
             return 1
     try:
-        check(path, expect_topics, expect_complete)
+        check(path, expect_topics, expect_complete, unfinished)
     except CheckError as e:
         print(f"mcap_check: {path}: {e}", file=sys.stderr)
         return 1

@@ -138,3 +138,32 @@ fn a_wait_at_override_zero_ends_with_an_error() {
     );
     assert!(t.elapsed().as_secs() < 30);
 }
+
+/// Issue 20: a number too large for its word is said to be too large, not "not a whole
+/// number" (docs/cli.md, "The panel script").
+#[test]
+fn a_script_number_out_of_range_is_said_to_be_so() {
+    use novanc::panel_model::PanelEvent;
+    for (line, message) in [
+        (
+            "wheel X 2147483648",
+            "detents 2147483648 is out of range (-2147483648 to 2147483647)",
+        ),
+        (
+            "wheel X -99999999999999999999",
+            "detents -99999999999999999999 is out of range (-2147483648 to 2147483647)",
+        ),
+        ("wheel X 1.5", "detents '1.5' is not a whole number"),
+        (
+            "wait ms 99999999999999999999",
+            "wait ms: 99999999999999999999 is more than 360000000 ms (100 hours)",
+        ),
+    ] {
+        assert_eq!(
+            PanelEvent::parse_script_line(line).err().as_deref(),
+            Some(message),
+            "{line}"
+        );
+    }
+    assert!(PanelEvent::parse_script_line("wheel X -2147483648").is_ok());
+}

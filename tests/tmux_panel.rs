@@ -3,150 +3,20 @@
 //! `capture-pane` checks the screen. Afterwards `stty -a` is what it was before.
 //! Without tmux the test fails when CI=true and is skipped (loudly) otherwise.
 
-use std::path::{Path, PathBuf};
+mod common;
+#[path = "common/tmux.rs"]
+mod tmux;
+
+use common::temp_dir;
 use std::process::Command;
-use std::time::{Duration, Instant};
-
-struct Tmux {
-    socket: String,
-}
-
-impl Tmux {
-    fn run(&self, args: &[&str]) -> String {
-        let out = Command::new("tmux")
-            .arg("-L")
-            .arg(&self.socket)
-            .args(args)
-            .output()
-            .expect("tmux runs");
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-
-    fn keys(&self, keys: &[&str]) {
-        let mut a = vec!["send-keys", "-t", "0"];
-        a.extend_from_slice(keys);
-        self.run(&a);
-    }
-
-    /// Types literal text (no key-name lookup), then Enter.
-    fn type_line(&self, text: &str) {
-        self.run(&["send-keys", "-t", "0", "-l", text]);
-        self.keys(&["Enter"]);
-    }
-
-    fn screen(&self) -> String {
-        self.run(&["capture-pane", "-p", "-t", "0"])
-    }
-
-    /// Waits until every `want` is on the screen; panics with the screen after `secs`.
-    fn wait_for(&self, want: &[&str], secs: u64) -> String {
-        let end = Instant::now() + Duration::from_secs(secs);
-        loop {
-            let s = self.screen();
-            if want.iter().all(|w| s.contains(w)) {
-                return s;
-            }
-            if Instant::now() > end {
-                panic!("waited {secs} s for {want:?}; the screen is:\n{s}");
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        self.run(&["kill-server"]);
-    }
-}
-
-fn have_tmux() -> bool {
-    Command::new("tmux")
-        .arg("-V")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
-fn temp_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "novanc-tmux-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn wait_file(p: &Path, secs: u64) -> String {
-    let end = Instant::now() + Duration::from_secs(secs);
-    loop {
-        if let Ok(s) = std::fs::read_to_string(p) {
-            if !s.is_empty() {
-                return s;
-            }
-        }
-        assert!(Instant::now() < end, "{} never appeared", p.display());
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
-
-/// Whether tmux can run this test: in CI it must (a missing tmux fails the test); elsewhere a
-/// missing tmux skips it, loudly.
-fn tmux_or_skip(what: &str) -> bool {
-    if have_tmux() {
-        return true;
-    }
-    if std::env::var("CI").as_deref() == Ok("true") {
-        panic!("tmux is required in CI (install it in .ci/run)");
-    }
-    eprintln!("SKIPPED: tmux is not installed; the {what} test did not run");
-    false
-}
-
-/// Starts an 80x24 tmux session on its own socket running `run` (a shell command line that
-/// starts novanc), with `stty -a` written to `before` and `after` it, and its exit status to
-/// `exit`.
-fn session(name: &str, d: &Path, run: &str) -> Tmux {
-    let cmd = format!(
-        "stty -a > '{d}/before'; {run}; echo \"exit=$?\" > '{d}/exit'; stty -a > '{d}/after'; sleep 60",
-        d = d.display()
-    );
-    let t = Tmux {
-        socket: format!("novanc-{name}-{}", std::process::id()),
-    };
-    t.run(&[
-        "-f",
-        "/dev/null",
-        "new-session",
-        "-d",
-        "-x",
-        "80",
-        "-y",
-        "24",
-        "sh",
-        "-c",
-        &cmd,
-    ]);
-    t
-}
-
-/// The terminal settings after novanc exited are the ones before it started.
-fn assert_stty_unchanged(d: &Path) {
-    let after = wait_file(&d.join("after"), 10);
-    let before = std::fs::read_to_string(d.join("before")).unwrap();
-    assert_eq!(before, after, "stty -a changed");
-}
+use tmux::{assert_stty_unchanged, session, shell, tmux_or_skip, wait_file, with_pid};
 
 #[test]
 fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     if !tmux_or_skip("terminal panel") {
         return;
     }
-    let d = temp_dir();
+    let d = temp_dir("tmux");
     let exe = env!("CARGO_BIN_EXE_novanc");
     let t = session(
         "test",
@@ -245,7 +115,7 @@ fn sigterm_hands_the_terminal_back() {
     if !tmux_or_skip("SIGTERM") {
         return;
     }
-    let d = temp_dir();
+    let d = temp_dir("tmux");
     let exe = env!("CARGO_BIN_EXE_novanc");
     let t = session(
         "term",
@@ -273,7 +143,7 @@ fn a_panic_hands_the_terminal_back() {
     if !tmux_or_skip("panic") {
         return;
     }
-    let d = temp_dir();
+    let d = temp_dir("tmux");
     let exe = env!("CARGO_BIN_EXE_novanc");
     let t = session(
         "panic",
@@ -290,5 +160,69 @@ fn a_panic_hands_the_terminal_back() {
     assert_stty_unchanged(&d);
     let s = t.screen();
     assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `stty -a` typed in the shell of the pane shows a cooked terminal (canonical input, echo).
+fn assert_cooked(t: &tmux::Tmux, when: &str) {
+    t.type_line("clear; stty -a");
+    let s = t.wait_for(&["icanon"], 10);
+    assert!(
+        s.contains(" icanon")
+            && !s.contains("-icanon")
+            && s.contains(" echo ")
+            && !s.contains("-echo "),
+        "{when}: the terminal is not cooked:\n{s}"
+    );
+    t.type_line("clear");
+}
+
+fn kill(pid: &str, sig: &str) {
+    let ok = Command::new("kill")
+        .args([&format!("-{sig}"), pid.trim()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+}
+
+#[test]
+fn sigtstp_hands_the_terminal_back_fg_redraws_and_sigquit_restores() {
+    // Issue 20, item 13: after SIGTSTP and `fg` the panel stayed in cooked mode, undrawn;
+    // SIGQUIT left the terminal raw on the alternate screen. An interactive shell with job
+    // control runs novanc, as an operator's terminal does.
+    if !tmux_or_skip("SIGTSTP") {
+        return;
+    }
+    let d = temp_dir("tmux-tstp");
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let t = shell("tstp");
+    t.type_line(&with_pid(
+        &d,
+        &format!("{exe} --state {}/state", d.display()),
+    ));
+    t.wait_for(&["PLASMA DISPLAY 14", "◉━3 PROG REVISE"], 20);
+    let pid = wait_file(&d.join("pid"), 10);
+
+    // SIGTSTP: the shell's prompt on the main screen, the terminal cooked.
+    kill(&pid, "TSTP");
+    let s = t.wait_for(&["Stopped"], 10);
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    assert_cooked(&t, "after SIGTSTP");
+
+    // fg: the whole panel drawn again, in raw mode (Alt+1 acts at once).
+    t.type_line("fg");
+    t.wait_for(
+        &["PLASMA DISPLAY 14", "◉━3 PROG REVISE", "RELAY PANEL 12"],
+        10,
+    );
+    t.keys(&["M-1"]);
+    t.wait_for(&["◉━1 CONTINUOUS"], 10);
+
+    // SIGQUIT: the process ends at once, the terminal handed back first.
+    kill(&pid, "QUIT");
+    t.type_line("echo status=$?");
+    let s = t.wait_for(&["status=131"], 10);
+    assert!(!s.contains("PLASMA DISPLAY"), "alternate screen left:\n{s}");
+    assert_cooked(&t, "after SIGQUIT");
     let _ = std::fs::remove_dir_all(&d);
 }

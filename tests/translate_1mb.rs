@@ -5,7 +5,7 @@
 //! generous (the test profile is barely optimised); the figures are printed, e.g.
 //! `cargo test --release --test translate_1mb -- --nocapture`.
 
-use novanc::cli::translate::iso_text;
+use novanc::cli::translate::{iso_text, print_iso, PrintError, HOLD_BYTES};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -171,43 +171,168 @@ fn inputs() -> Vec<(&'static str, String)> {
     v
 }
 
-#[test]
-fn no_input_of_1_mib_takes_long_or_much_memory() {
-    let settings = MachineSettings::default();
-    let magazine = sample_magazine();
+/// The heap counters are the process's: the tests that read them take turns.
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    TURN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Counts the lines written, keeping none.
+#[derive(Default)]
+struct Lines(usize);
+
+impl std::io::Write for Lines {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0 += b.iter().filter(|&&c| c == b'\n').count();
+        Ok(b.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Runs what `novanc translate` does on `src` (named `prog`, which says its language), holding
+/// at most `hold` bytes of listing: the time, the peak heap above what was in use before, and
+/// the lines printed or the error.
+fn measure(prog: &str, src: &str, hold: usize) -> (Duration, usize, Result<usize, String>) {
+    let base = NOW.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let t = Instant::now();
+    let mut out = Lines::default();
+    let r = print_iso(
+        prog,
+        src,
+        sample_magazine(),
+        &MachineSettings::default(),
+        Default::default(),
+        Default::default(),
+        hold,
+        &mut out,
+    );
+    let took = t.elapsed();
+    let peak = PEAK.load(Ordering::Relaxed) - base;
+    let r = match r {
+        Ok(()) => Ok(out.0),
+        Err(PrintError::Program(e)) => Err(e.to_string()),
+        Err(PrintError::Write(e)) => Err(e.to_string()),
+    };
+    (took, peak, r)
+}
+
+/// Prints each input's figures and checks them: under 10 s and 256 MB.
+fn check_all(prog: &str, inputs: Vec<(&'static str, String)>) {
     println!(
         "{:<55} {:>9} {:>10} {:>10} {:>11}",
         "input (≤ 1 MiB)", "bytes", "time", "peak heap", "ISO lines"
     );
-    for (name, src) in inputs() {
+    for (name, src) in inputs {
         assert!(src.len() <= MIB, "{name}: {} bytes", src.len());
-        let base = NOW.load(Ordering::Relaxed);
-        PEAK.store(base, Ordering::Relaxed);
-        let t = Instant::now();
-        let r = iso_text(
-            "p.ap",
-            &src,
-            magazine.clone(),
-            &settings,
-            Default::default(),
-        );
-        let took = t.elapsed();
-        let peak = PEAK.load(Ordering::Relaxed) - base;
+        let (took, peak, r) = measure(prog, &src, HOLD_BYTES);
         let lines = match &r {
-            Ok(t) => t.lines().count().to_string(),
-            Err(e) => format!("error {}:{}", e.line, e.col),
+            Ok(n) => n.to_string(),
+            Err(e) => {
+                assert!(e.len() < 400, "{name}: a long message: {e}");
+                format!("error {}", e.split(' ').next().unwrap_or(""))
+            }
         };
-        if let Err(e) = &r {
-            assert!(e.to_string().len() < 400, "{name}: a long message: {e}");
-        }
         println!(
             "{name:<55} {:>9} {:>8.3} s {:>7.1} MB {lines:>11}",
             src.len(),
             took.as_secs_f64(),
             peak as f64 / 1e6
         );
-        drop(r);
         assert!(took < Duration::from_secs(10), "{name}: {took:?}");
         assert!(peak < 256 << 20, "{name}: peak heap {peak} bytes");
     }
+}
+
+#[test]
+fn no_input_of_1_mib_takes_long_or_much_memory() {
+    let _turn = one_at_a_time();
+    check_all("p.ap", inputs());
+}
+
+/// G-code inputs of issue 20 (docs/limits.md): literals too large for a number, cycles whose
+/// pecks or holes pass the limits, lines at the length limit, and blank lines.
+fn gcode_inputs() -> Vec<(&'static str, String)> {
+    let nines = "9".repeat(309);
+    vec![
+        ("1 MiB of blank lines", fill("", |_| "\n".into(), "M30\n")),
+        (
+            "309-digit literals",
+            fill("", |_| format!("G0 X{nines}\n"), "M30\n"),
+        ),
+        (
+            "pecks below the resolution of R1e17",
+            fill(
+                "",
+                |_| "G83 X10 Y10 R100000000000000000 Z99999999999999984 Q0.1 F100\n".into(),
+                "M30\n",
+            ),
+        ),
+        (
+            "9999 holes of 990 pecks a line",
+            fill(
+                "G0 X10 Y10\n",
+                |_| "G91 G83 X0 Y0 Z-99 R0 Q0.1 L9999 F100\n".into(),
+                "M30\n",
+            ),
+        ),
+        (
+            "dwells of 1e30 s",
+            fill("", |_| format!("G4 P1{}\n", "0".repeat(30)), "M30\n"),
+        ),
+        (
+            "lines at the length limit",
+            fill("", |_| format!("G0 X1 ({})\n", "c".repeat(9_992)), "M30\n"),
+        ),
+    ]
+}
+
+#[test]
+fn no_gcode_input_of_1_mib_takes_long_or_much_memory() {
+    let _turn = one_at_a_time();
+    check_all("p.ngc", gcode_inputs());
+}
+
+/// 1 MiB of blank lines took 16 bytes of index a line: the heap now follows the text.
+#[test]
+fn blank_lines_cost_no_more_than_their_text() {
+    let _turn = one_at_a_time();
+    let src = fill("", |_| "\n".into(), "M30\n");
+    let (_, peak, r) = measure("p.ngc", &src, HOLD_BYTES);
+    assert_eq!(r, Ok(2), "the preamble and N1 M30");
+    assert!(
+        peak < 6 * src.len(),
+        "peak heap {peak} bytes for {} bytes",
+        src.len()
+    );
+}
+
+/// A listing longer than `novanc translate` holds is translated twice and printed as it is
+/// made: the heap stays near the hold, and the lines are those of the held listing.
+#[test]
+fn a_listing_longer_than_it_holds_is_printed_in_bounded_memory() {
+    let _turn = one_at_a_time();
+    let src =
+        "G0 X10 Y10 Z-50\nM98 P1 L30\nM30\nO1\nG91 G83 X0 Y0 Z-10 R0 Q0.1 L99 F100\nG90\nM99\n";
+    let (_, held_peak, held) = measure("p.ngc", src, usize::MAX);
+    let (_, peak, r) = measure("p.ngc", src, 1 << 20);
+    assert_eq!(r, held);
+    let lines = held.unwrap_or(0);
+    assert!(lines > 800_000, "{lines} lines");
+    assert!(
+        held_peak > 16 << 20,
+        "the held listing took {held_peak} bytes"
+    );
+    assert!(peak < 8 << 20, "peak heap {peak} bytes");
+    let text = iso_text(
+        "p.ngc",
+        src,
+        sample_magazine(),
+        &MachineSettings::default(),
+        Default::default(),
+    );
+    assert_eq!(text.map(|t| t.lines().count()).ok(), Some(lines));
 }

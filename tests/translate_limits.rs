@@ -156,6 +156,37 @@ fn one_statement_makes_at_most_a_million_blocks() {
     );
 }
 
+/// Issue 20: a program's blocks are bounded as a G-code program's are (docs/limits.md); a
+/// small budget here, the default being 20,000,000.
+#[test]
+fn a_program_makes_at_most_its_block_budget() {
+    let mut src = format!("{HEAD}PAT1 = DA1, NH100, P1, R50\n");
+    for _ in 0..10 {
+        src.push_str("DRL, 106/DP1/PAT1\n");
+    }
+    let mut t = Translator::new(
+        &src,
+        sample_magazine(),
+        MachineSettings::default(),
+        [0, 0, 0],
+    )
+    .block_limit(1_000);
+    let mut last = 0;
+    let e = loop {
+        match t.next() {
+            Some(Ok(s)) => last = s.line,
+            Some(Err(e)) => break e,
+            None => panic!("no error"),
+        }
+    };
+    assert!(e.line > last);
+    assert!(t.next().is_none());
+    assert_eq!(
+        e.to_string(),
+        "7:1: the program makes more than 1000 blocks (the most a program may make)"
+    );
+}
+
 /// The reproducer `DRL, 106/DP20, DW1000000000/DA1, P1` never ended in `novanc run`.
 #[test]
 fn a_dwell_is_at_most_1000_seconds() {

@@ -1,12 +1,24 @@
 //! The terminal: raw mode and the alternate screen through libc (termios, ioctl TIOCGWINSZ,
-//! poll), handed back clean on exit, on panic (a panic hook) and on SIGTERM/SIGINT/SIGHUP
-//! (the handlers only raise a flag; the input loop sees it, returns, and `Drop` restores).
-//! SIGWINCH raises a resize flag.
+//! poll), handed back clean on exit, on panic (a panic hook), on SIGQUIT (its handler hands the
+//! terminal back, then the signal takes its default action), and before a stop signal ends the
+//! process: the stop signals (SIGTERM, SIGINT, SIGHUP) are the application's (novanc:
+//! `src/cli/signals.rs`), whose loop ends and drops the `Terminal`, and whose handler calls
+//! [`restore_now`] before a second signal ends the process at once.
+//!
+//! Job control (docs/panel.md, "Terminal"): SIGTSTP hands the terminal back (main screen,
+//! cursor, the modes it had) and stops the process with SIGTSTP's default action; when it
+//! continues (SIGCONT: `fg`), raw mode and the alternate screen are taken again and the loop
+//! draws the whole frame (`take_redraw`). SIGWINCH raises a resize flag.
+//!
+//! Handlers only touch atomics or call async-signal-safe functions (`write`, `tcsetattr`,
+//! `signal`, `raise`); the terminal's modes they restore are saved before any handler is
+//! installed and never change while a `Terminal` is alive.
 
 use crate::input::{Decoder, Key};
+use std::cell::UnsafeCell;
 use std::io;
-use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
-use std::sync::{Mutex, Once};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Once;
 use std::time::Duration;
 
 /// The bytes that enter the panel's screen: alternate screen, cursor hidden, no autowrap.
@@ -15,44 +27,138 @@ const ENTER: &[u8] = b"\x1b[?1049h\x1b[?25l\x1b[?7l\x1b[H\x1b[2J";
 const LEAVE: &[u8] = b"\x1b[0m\x1b[?7h\x1b[?25h\x1b[?1049l";
 
 static RESIZED: AtomicBool = AtomicBool::new(false);
-static TERMINATE: AtomicI32 = AtomicI32::new(0);
-/// The terminal state to restore (also used by the panic hook).
-static ORIGINAL: Mutex<Option<libc::termios>> = Mutex::new(None);
+/// SIGTSTP arrived: the loop is to hand the terminal back and stop.
+static SUSPEND: AtomicBool = AtomicBool::new(false);
+/// SIGCONT arrived: the loop is to take the terminal again and draw the whole frame.
+static CONTINUED: AtomicBool = AtomicBool::new(false);
+/// A thread panicked (the panic hook has handed the terminal back).
+static PANICKED: AtomicBool = AtomicBool::new(false);
+/// A `Terminal` is alive: `MODES` holds its modes.
+static ALIVE: AtomicBool = AtomicBool::new(false);
+/// The terminal is in raw mode on the alternate screen now: a restore is owed.
+static RAW: AtomicBool = AtomicBool::new(false);
 static HOOK: Once = Once::new();
+
+/// The terminal's modes before the panel (to restore) and the panel's raw modes.
+#[derive(Clone, Copy)]
+struct Modes {
+    original: libc::termios,
+    raw: libc::termios,
+}
+
+/// `Modes` where a signal handler can read them without a lock: written by `Terminal::enter`
+/// only while `ALIVE` is false, read only while it is true.
+struct SavedModes(UnsafeCell<Option<Modes>>);
+
+// SAFETY: see `SavedModes`: the one writer (`enter`) and the readers (handlers, `restore_now`,
+// `reenter`) are kept apart by `ALIVE` (release on the write side, acquire on the read side).
+unsafe impl Sync for SavedModes {}
+
+static MODES: SavedModes = SavedModes(UnsafeCell::new(None));
+
+/// The saved modes, while a `Terminal` is alive.
+fn modes() -> Option<Modes> {
+    if !ALIVE.load(Ordering::Acquire) {
+        return None;
+    }
+    // SAFETY: `ALIVE` is true, so `enter` is not writing (see `SavedModes`).
+    unsafe { *MODES.0.get() }
+}
 
 extern "C" fn on_winch(_sig: libc::c_int) {
     RESIZED.store(true, Ordering::SeqCst);
 }
 
-extern "C" fn on_terminate(sig: libc::c_int) {
-    TERMINATE.store(sig, Ordering::SeqCst);
+extern "C" fn on_tstp(_sig: libc::c_int) {
+    SUSPEND.store(true, Ordering::SeqCst);
 }
 
-/// Installs `handler` for `sig` without SA_RESTART, so that a blocked poll wakes up.
-fn set_handler(sig: libc::c_int, handler: extern "C" fn(libc::c_int)) {
-    // SAFETY: a zeroed sigaction is a valid "no flags, empty mask" value; the handler only
-    // stores to an atomic, which is async-signal-safe.
+extern "C" fn on_cont(_sig: libc::c_int) {
+    CONTINUED.store(true, Ordering::SeqCst);
+}
+
+/// SIGQUIT: the terminal back now, then the default action (the process ends, with a core
+/// file where they are enabled).
+extern "C" fn on_quit(sig: libc::c_int) {
+    restore_now();
+    // SAFETY: async-signal-safe calls; the raised signal stays blocked until this handler
+    // returns, then takes its default action.
     unsafe {
+        libc::signal(sig, libc::SIG_DFL);
+        libc::raise(sig);
+    }
+}
+
+/// Installs `handler` for `sig` without SA_RESTART, so that a blocked poll wakes up; a
+/// signal ignored when the process started (`nohup`) stays ignored. Returns the disposition
+/// it replaced, if it installed the handler.
+fn set_handler(sig: libc::c_int, handler: extern "C" fn(libc::c_int)) -> Option<libc::sigaction> {
+    // SAFETY: sigaction with a zeroed struct reads the current disposition; a zeroed sigaction
+    // is a valid "no flags, empty mask" value; the handlers only touch atomics or call
+    // async-signal-safe functions.
+    unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        if libc::sigaction(sig, std::ptr::null(), &mut old) != 0
+            || old.sa_sigaction == libc::SIG_IGN
+        {
+            return None;
+        }
         let mut sa: libc::sigaction = std::mem::zeroed();
         sa.sa_sigaction = handler as usize;
         libc::sigemptyset(&mut sa.sa_mask);
         sa.sa_flags = 0;
-        libc::sigaction(sig, &sa, std::ptr::null_mut());
+        (libc::sigaction(sig, &sa, std::ptr::null_mut()) == 0).then_some(old)
     }
 }
 
-/// Restores the saved terminal state, if any; safe to call more than once.
-pub fn restore_terminal() {
-    let saved = match ORIGINAL.try_lock() {
-        Ok(mut g) => g.take(),
-        Err(std::sync::TryLockError::Poisoned(p)) => p.into_inner().take(),
-        Err(_) => None,
-    };
-    if let Some(t) = saved {
-        // SAFETY: writing a constant buffer and restoring a termios we read earlier.
-        unsafe {
-            libc::write(1, LEAVE.as_ptr() as *const libc::c_void, LEAVE.len());
-            libc::tcsetattr(0, libc::TCSANOW, &t);
+/// Writes all of `bytes` to stdout with `write` (async-signal-safe); gives up on an error.
+fn write_raw(bytes: &[u8]) {
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        // SAFETY: writing from a live slice.
+        let n = unsafe { libc::write(1, rest.as_ptr() as *const libc::c_void, rest.len()) };
+        if n > 0 {
+            rest = &rest[n as usize..];
+        } else if n < 0 && io::Error::last_os_error().kind() == io::ErrorKind::Interrupted {
+            continue;
+        } else {
+            return;
+        }
+    }
+}
+
+/// Applies terminal modes to stdin, again after a signal; false on an error.
+fn set_modes(t: &libc::termios) -> bool {
+    loop {
+        // SAFETY: applying a termios we own to stdin.
+        if unsafe { libc::tcsetattr(0, libc::TCSANOW, t) } == 0 {
+            return true;
+        }
+        if io::Error::last_os_error().kind() != io::ErrorKind::Interrupted {
+            return false;
+        }
+    }
+}
+
+/// Hands the terminal back now, if the panel has it: default colours, autowrap and cursor,
+/// main screen, and the modes it had before the panel. Async-signal-safe (atomics, `write`,
+/// `tcsetattr`), so a signal handler may call it; only the first call after the panel took
+/// the terminal does anything.
+pub fn restore_now() {
+    if let Some(m) = modes() {
+        if RAW.swap(false, Ordering::SeqCst) {
+            write_raw(LEAVE);
+            set_modes(&m.original);
+        }
+    }
+}
+
+/// Takes the terminal again after it was handed back while the panel is alive (after SIGCONT).
+fn reenter() {
+    if let Some(m) = modes() {
+        if !RAW.swap(true, Ordering::SeqCst) {
+            set_modes(&m.raw);
+            write_raw(ENTER);
         }
     }
 }
@@ -60,12 +166,18 @@ pub fn restore_terminal() {
 /// The panel's terminal, in raw mode on the alternate screen until dropped.
 pub struct Terminal {
     active: bool,
+    /// The dispositions the panel's handlers replaced, put back by `restore`.
+    replaced: Vec<(libc::c_int, libc::sigaction)>,
 }
 
 impl Terminal {
-    /// Switches stdin/stdout to raw mode and the alternate screen, and installs the signal
-    /// handlers and the panic hook that hand the terminal back.
+    /// Switches stdin/stdout to raw mode and the alternate screen, and installs the panic hook
+    /// and the handlers of SIGWINCH, SIGTSTP, SIGCONT and SIGQUIT. The stop signals are the
+    /// application's (see the module's documentation).
     pub fn enter() -> io::Result<Terminal> {
+        if ALIVE.load(Ordering::Acquire) {
+            return Err(io::Error::other("the terminal panel is already open"));
+        }
         // SAFETY: isatty and tcgetattr only read; `t` is fully written by tcgetattr on success.
         let original = unsafe {
             if libc::isatty(0) != 1 || libc::isatty(1) != 1 {
@@ -80,32 +192,46 @@ impl Terminal {
             t
         };
         let mut raw = original;
-        // SAFETY: cfmakeraw edits the struct we own; tcsetattr applies it to stdin.
+        // SAFETY: cfmakeraw edits the struct we own.
         unsafe {
             libc::cfmakeraw(&mut raw);
-            raw.c_cc[libc::VMIN] = 1;
-            raw.c_cc[libc::VTIME] = 0;
-            if libc::tcsetattr(0, libc::TCSANOW, &raw) != 0 {
-                return Err(io::Error::last_os_error());
-            }
         }
-        if let Ok(mut g) = ORIGINAL.lock() {
-            *g = Some(original);
+        raw.c_cc[libc::VMIN] = 1;
+        raw.c_cc[libc::VTIME] = 0;
+        if !set_modes(&raw) {
+            return Err(io::Error::last_os_error());
         }
+        // SAFETY: no `Terminal` is alive, so no handler or `restore_now` reads `MODES` now.
+        unsafe {
+            *MODES.0.get() = Some(Modes { original, raw });
+        }
+        RAW.store(true, Ordering::SeqCst);
+        ALIVE.store(true, Ordering::Release);
         HOOK.call_once(|| {
             let prev = std::panic::take_hook();
             std::panic::set_hook(Box::new(move |info| {
-                restore_terminal();
-                // A panic in any thread ends the panel loop too (exit 128 + SIGABRT).
-                TERMINATE.store(libc::SIGABRT, Ordering::SeqCst);
+                restore_now();
+                // A panic in any thread ends the panel loop too (`panicked`).
+                PANICKED.store(true, Ordering::SeqCst);
                 prev(info);
             }));
         });
-        set_handler(libc::SIGWINCH, on_winch);
-        set_handler(libc::SIGTERM, on_terminate);
-        set_handler(libc::SIGINT, on_terminate);
-        set_handler(libc::SIGHUP, on_terminate);
-        let mut t = Terminal { active: true };
+        SUSPEND.store(false, Ordering::SeqCst);
+        CONTINUED.store(false, Ordering::SeqCst);
+        let handlers: [(libc::c_int, extern "C" fn(libc::c_int)); 4] = [
+            (libc::SIGWINCH, on_winch),
+            (libc::SIGTSTP, on_tstp),
+            (libc::SIGCONT, on_cont),
+            (libc::SIGQUIT, on_quit),
+        ];
+        let replaced = handlers
+            .into_iter()
+            .filter_map(|(sig, h)| set_handler(sig, h).map(|old| (sig, old)))
+            .collect();
+        let mut t = Terminal {
+            active: true,
+            replaced,
+        };
         t.write_all(ENTER)?;
         Ok(t)
     }
@@ -180,24 +306,49 @@ impl Terminal {
         Ok(dec.feed(&buf[..n as usize]))
     }
 
-    /// Whether the terminal was resized since the last call.
-    pub fn take_resized(&self) -> bool {
-        RESIZED.swap(false, Ordering::SeqCst)
-    }
-
-    /// The signal that asked the panel to end (SIGTERM, SIGINT, SIGHUP), if any.
-    pub fn terminate_requested(&self) -> Option<i32> {
-        match TERMINATE.load(Ordering::SeqCst) {
-            0 => None,
-            s => Some(s),
+    /// Between frames: job control and resizes. After SIGTSTP the terminal is handed back
+    /// and the process stops here (SIGTSTP's default action) until it is continued; after
+    /// SIGCONT (`fg`, or after a SIGSTOP) raw mode and the alternate screen are taken again.
+    /// True when the whole frame must be drawn again (continued, or resized).
+    pub fn take_redraw(&mut self) -> bool {
+        let mut redraw = RESIZED.swap(false, Ordering::SeqCst);
+        if SUSPEND.swap(false, Ordering::SeqCst) {
+            restore_now();
+            // SAFETY: async-signal-safe calls; SIGTSTP with its default action stops every
+            // thread of the process until SIGCONT, then `raise` returns.
+            unsafe {
+                libc::signal(libc::SIGTSTP, libc::SIG_DFL);
+                libc::raise(libc::SIGTSTP);
+            }
+            let _ = set_handler(libc::SIGTSTP, on_tstp);
+            CONTINUED.store(true, Ordering::SeqCst);
         }
+        if CONTINUED.swap(false, Ordering::SeqCst) {
+            reenter();
+            redraw = true;
+        }
+        redraw
     }
 
-    /// Hands the terminal back: main screen, cursor, cooked mode. Idempotent.
+    /// Whether a thread panicked (the panic hook has handed the terminal back): the loop is to
+    /// end.
+    pub fn panicked(&self) -> bool {
+        PANICKED.load(Ordering::SeqCst)
+    }
+
+    /// Hands the terminal back: main screen, cursor, cooked mode; the signals the panel
+    /// handled get their former dispositions again. Idempotent.
     pub fn restore(&mut self) {
         if self.active {
             self.active = false;
-            restore_terminal();
+            restore_now();
+            for (sig, old) in self.replaced.drain(..) {
+                // SAFETY: putting back a disposition sigaction gave us.
+                unsafe {
+                    libc::sigaction(sig, &old, std::ptr::null_mut());
+                }
+            }
+            ALIVE.store(false, Ordering::Release);
         }
     }
 }

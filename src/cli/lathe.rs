@@ -189,8 +189,12 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         // recorded as they come.
         let o = cycle.lathe.run_until_idle(1_000_000_000);
         counts = cycle.drain(rec.as_mut(), &counts);
-        if let Some(sig) = super::signals::caught() {
-            interrupted = Some(format!("interrupted by signal {sig}"));
+        if let Some(why) = super::signals::caught_reason() {
+            // Every channel stops at once; one tick records it.
+            cycle.lathe.estop();
+            let _ = cycle.lathe.run_until_idle(desc.tick_ns.max(1));
+            cycle.drain(rec.as_mut(), &counts);
+            interrupted = Some(why);
             break o;
         }
         match o {
@@ -328,23 +332,28 @@ fn run_script(
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
+    // A stop signal ends the script before its next line, and a wait between two steps of
+    // 10 ms of machine time.
+    let stop = super::signals::pending;
     for s in steps {
-        if super::signals::caught().is_some() {
+        if stop() {
             break;
         }
         match s {
             ScriptStep::Ev(ev) => c.event(ev),
             ScriptStep::Wait => {
-                c.run_until_rest(3_600_000_000_000_000);
+                c.run_for(3_600_000_000_000_000, true, stop);
             }
-            ScriptStep::WaitMs(ms) => c.tick(ms * 1_000_000),
+            ScriptStep::WaitMs(ms) => {
+                c.run_for(ms * 1_000_000, false, stop);
+            }
             ScriptStep::Show => {
                 let _ = writeln!(out, "--- display\n{}\n---", frame_text(&c));
             }
         }
     }
     let _ = out.flush();
-    let interrupted = super::signals::caught().map(|s| format!("interrupted by signal {s}"));
+    let interrupted = super::signals::caught_reason();
     match c.finish(interrupted.as_deref()) {
         Some(sum) => {
             eprintln!("novanc script: {}", sum.line());
@@ -379,16 +388,20 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
     if let Some(r) = rest.first() {
         return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
+    super::signals::install();
     let (c, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
         Err(e) => return fail(&format!("novanc: {e}")),
     };
     let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols);
+    // A stop signal (said now that the terminal is back): E-STOP, the recording closed
+    // `complete: false` with the signal named, exit 128 + N.
+    let interrupted = super::signals::caught_reason();
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
-    if let Some(sum) = c.finish(None) {
+    if let Some(sum) = c.finish(interrupted.as_deref()) {
         eprintln!("novanc: {}", sum.line());
     }
-    code
+    super::signals::exit_code(code)
 }

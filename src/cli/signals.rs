@@ -4,11 +4,15 @@
 //! (RESET), closes the recording with `complete: false`, and exits with 128 + the signal number
 //! (`exit_code`), as a shell expects of a process a signal ended.
 //!
+//! The same holds for the consoles, in the terminal (`crate::terminal`: the panel's loop looks
+//! at `pending` between frames) and in the window.
+//!
 //! A signal that was ignored when the process started (`nohup`, a background job of a shell
 //! without job control) stays ignored. A second stop signal ends the process at once, as if no
-//! handler were installed (the operator insists: a step that does not come back, such as a
-//! script's `wait` on a machine that never comes to rest, must not trap them); the recording is
-//! then left unfinished.
+//! handler were installed (the operator insists: a step that does not come back must not trap
+//! them), after handing the terminal back if the panel holds it. The recording is then not
+//! closed, but it stays readable: its file ends with a provisional end after every commit
+//! (`crate::record::file`), which names the first signal once it was caught.
 
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 
@@ -23,12 +27,14 @@ static CAUGHT: AtomicI32 = AtomicI32::new(0);
 static REPORTED: AtomicBool = AtomicBool::new(false);
 
 /// The handler: keeps the first signal; a second one gets its default action (the process
-/// ends). Only async-signal-safe calls: an atomic, `signal` and `raise`.
+/// ends), after the terminal is handed back if the panel has it. Only async-signal-safe
+/// calls: atomics, `write` and `tcsetattr` (`restore_now`), `signal` and `raise`.
 extern "C" fn note(sig: libc::c_int) {
     if CAUGHT
         .compare_exchange(0, sig, Ordering::SeqCst, Ordering::SeqCst)
         .is_err()
     {
+        novanc_panel::term::restore_now();
         // SAFETY: both are async-signal-safe; the raised signal stays blocked until this
         // handler returns, then takes its default action.
         unsafe {
@@ -75,20 +81,31 @@ pub fn name(sig: libc::c_int) -> String {
     }
 }
 
+/// What a recording says of a stop signal: `interrupted by SIGINT`.
+pub fn reason(sig: libc::c_int) -> String {
+    format!("interrupted by {}", name(sig))
+}
+
 /// The first stop signal caught since `install`, if any. The first call that sees it says on
 /// stderr that the run is being stopped and marks every recording of the process interrupted
-/// (`complete: false`, `interrupted: interrupted by SIGINT`).
+/// (`complete: false`, `interrupted: interrupted by SIGINT`; a running recorder commits that
+/// to its file at once: docs/recording.md).
 pub fn caught() -> Option<libc::c_int> {
     let sig = CAUGHT.load(Ordering::SeqCst);
     if sig == 0 {
         return None;
     }
     if !REPORTED.swap(true, Ordering::SeqCst) {
-        let why = format!("interrupted by {}", name(sig));
+        let why = reason(sig);
         crate::record::interrupt_all(&why);
         eprintln!("novanc: {why}: stopping the machine and closing the recording");
     }
     Some(sig)
+}
+
+/// `caught`, as the reason a recording gives (`interrupted by SIGTERM`).
+pub fn caught_reason() -> Option<String> {
+    caught().map(reason)
 }
 
 /// Whether a stop signal has been caught (no side effects: for a pulse core to poll).

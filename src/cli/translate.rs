@@ -153,46 +153,135 @@ pub fn iso_text(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
 ) -> Result<String, TranslateError> {
-    iso_text_at(
+    let mut out = Vec::new();
+    match print_iso(
         name,
         source,
         magazine,
         settings,
         switches,
         WorkOffsets::default(),
-    )
+        usize::MAX,
+        &mut out,
+    ) {
+        Err(PrintError::Program(e)) => Err(e),
+        // Writing to a Vec does not fail, and the listing is ASCII.
+        _ => Ok(String::from_utf8_lossy(&out).into_owned()),
+    }
 }
 
-/// [`iso_text`] with the work offsets G54..G59 a G-code program starts with.
-pub fn iso_text_at(
+/// The most bytes of a listing `novanc translate` holds before printing it. A longer listing is
+/// translated twice: once to the end to find any error (nothing is printed then), once to
+/// print it as it is made. So the memory a program takes stays bounded however many blocks
+/// its repeats make (docs/limits.md).
+pub const HOLD_BYTES: usize = 32 << 20;
+
+/// What [`HOLD_BYTES`] counts a block's line as, before it is printed: more than any line
+/// takes but one with a number of hundreds of digits.
+const BYTES_PER_LINE: usize = 128;
+
+/// Why [`print_iso`] printed nothing, or stopped.
+#[derive(Debug)]
+pub enum PrintError {
+    /// The program is refused: nothing was printed.
+    Program(TranslateError),
+    /// Writing the listing failed.
+    Write(std::io::Error),
+}
+
+/// Prints the listing of `source` to `out`, as `novanc translate` does, or refuses it with its
+/// first error having printed nothing. A listing of up to `hold` bytes is held and written at
+/// once; a longer one is translated again and written as it is made ([`HOLD_BYTES`]).
+#[allow(clippy::too_many_arguments)]
+pub fn print_iso(
     name: &str,
     source: &str,
     magazine: Magazine,
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
-) -> Result<String, TranslateError> {
-    let mut out = String::with_capacity(source.len() * 2);
-    let mut w = IsoWriter::new(&mut out);
-    let mut print = |r: Result<Statement, TranslateError>| -> Result<(), TranslateError> {
-        w.statement(&mut out, &r?, settings);
-        Ok(())
+    hold: usize,
+    out: &mut dyn Write,
+) -> Result<(), PrintError> {
+    let run = Listing {
+        name,
+        source,
+        magazine,
+        settings,
+        switches,
+        offsets,
     };
-    if crate::gcode::is_gcode(name, source) {
-        crate::gcode::GcodeSource::new(
-            source.into(),
-            magazine,
-            settings.clone(),
-            crate::block::MachineState::at([0, 0, 0]),
-            offsets,
-            switches,
-        )
-        .try_for_each(&mut print)?;
-    } else {
-        Translator::new(source, magazine, settings.clone(), [0, 0, 0]).try_for_each(&mut print)?;
+    if let Some(text) = run.held(hold).map_err(PrintError::Program)? {
+        return out.write_all(text.as_bytes()).map_err(PrintError::Write);
     }
-    w.finish(&mut out);
-    Ok(out)
+    // Too long to hold, and without an error: made again, and written a piece at a time.
+    let mut buf = String::new();
+    let mut w = IsoWriter::new(&mut buf);
+    for r in run.statements() {
+        w.statement(&mut buf, &r.map_err(PrintError::Program)?, settings);
+        if buf.len() > 1 << 20 {
+            out.write_all(buf.as_bytes()).map_err(PrintError::Write)?;
+            buf.clear();
+        }
+    }
+    w.finish(&mut buf);
+    out.write_all(buf.as_bytes()).map_err(PrintError::Write)
+}
+
+/// One program to list, with what it is translated with.
+struct Listing<'a> {
+    name: &'a str,
+    source: &'a str,
+    magazine: Magazine,
+    settings: &'a MachineSettings,
+    switches: crate::gcode::Switches,
+    offsets: WorkOffsets,
+}
+
+impl Listing<'_> {
+    /// The program's statements, in its language.
+    fn statements(&self) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>>> {
+        if crate::gcode::is_gcode(self.name, self.source) {
+            Box::new(crate::gcode::GcodeSource::new(
+                self.source.into(),
+                self.magazine.clone(),
+                self.settings.clone(),
+                crate::block::MachineState::at([0, 0, 0]),
+                self.offsets,
+                self.switches,
+            ))
+        } else {
+            Box::new(Translator::new(
+                self.source,
+                self.magazine.clone(),
+                self.settings.clone(),
+                [0, 0, 0],
+            ))
+        }
+    }
+
+    /// The whole listing, translated to the end; `None` (the program without an error) once
+    /// it is longer than `hold` bytes, the text then dropped.
+    fn held(&self, hold: usize) -> Result<Option<String>, TranslateError> {
+        let mut out = String::with_capacity(self.source.len().saturating_mul(2).min(hold));
+        let mut w = IsoWriter::new(&mut out);
+        let mut held = true;
+        for r in self.statements() {
+            let st = r?;
+            if held && out.len() + st.blocks.len() * BYTES_PER_LINE > hold {
+                held = false;
+                out = String::new();
+            }
+            if held {
+                w.statement(&mut out, &st, self.settings);
+            }
+        }
+        if !held {
+            return Ok(None);
+        }
+        w.finish(&mut out);
+        Ok(Some(out))
+    }
 }
 
 /// Runs `novanc translate`; returns the exit code.
@@ -214,13 +303,20 @@ pub fn main(argv: &[String]) -> i32 {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
     };
-    let out = match iso_text_at(&prog, &source, magazine, &settings, switches, offsets) {
-        Ok(t) => t,
-        Err(e) => return fail(&format!("{prog}:{e}")),
-    };
     let mut stdout = std::io::stdout().lock();
-    if stdout.write_all(out.as_bytes()).is_err() {
-        return 1;
+    let r = print_iso(
+        &prog,
+        &source,
+        magazine,
+        &settings,
+        switches,
+        offsets,
+        HOLD_BYTES,
+        &mut stdout,
+    );
+    match r {
+        Ok(()) => 0,
+        Err(PrintError::Program(e)) => fail(&format!("{prog}:{e}")),
+        Err(PrintError::Write(_)) => 1,
     }
-    0
 }

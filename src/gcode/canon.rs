@@ -79,7 +79,22 @@ impl Emitter {
         out: &mut Vec<Block>,
     ) -> Result<(), TranslateError> {
         let inv = 1.0 / st.pulse_mm;
-        let p3 = |v: [f64; 3]| [round(v[0] * inv), round(v[1] * inv), round(v[2] * inv)];
+        // A point in pulses, if each of its `axes` is a finite number within reach of a pulse
+        // count (far beyond any travel is refused as beyond it, with its real size).
+        let p3 = |v: [f64; 3], axes: &[usize]| -> Result<[i64; 3], String> {
+            for &a in axes {
+                let name = ["X", "Y", "Z"][a];
+                if !v[a].is_finite() {
+                    return Err(format!(
+                        "{name} of this move is not a finite number: the arithmetic on its words overflowed"
+                    ));
+                }
+                if (v[a] * inv).abs() > 1e15 {
+                    return Err(beyond(st, a, v[a]));
+                }
+            }
+            Ok([round(v[0] * inv), round(v[1] * inv), round(v[2] * inv)])
+        };
         let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
         let check_point = |st: &MachineSettings, p: [i64; 3]| check_in(st, &limits, p);
         for (c, line, col) in items {
@@ -91,7 +106,7 @@ impl Emitter {
             let mut b = Block::aux(0, *line, self.pos);
             match c {
                 Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
-                    let end = p3(*e);
+                    let end = p3(*e, &[0, 1, 2]).map_err(err)?;
                     if end == self.pos && !matches!(c, Canon::Probe(..)) {
                         continue;
                     }
@@ -118,8 +133,9 @@ impl Emitter {
                     ccw,
                     feed,
                 } => {
-                    let e = p3(*end);
-                    let c = p3(*centre);
+                    let [a0, a1, _] = plane.axes();
+                    let e = p3(*end, &[0, 1, 2]).map_err(err)?;
+                    let c = p3(*centre, &[a0, a1]).map_err(err)?;
                     // Far beyond any travel: refused before any integer arithmetic on it.
                     if c.iter()
                         .chain(e.iter())
@@ -127,7 +143,6 @@ impl Emitter {
                     {
                         return Err(err("arc centre or end point out of all range".to_string()));
                     }
-                    let [a0, a1, _] = plane.axes();
                     let s = self.pos;
                     let rad = |p: [i64; 3], c: [i64; 3]| {
                         ((p[a0] - c[a0]) as f64).hypot((p[a1] - c[a1]) as f64)
@@ -222,18 +237,24 @@ fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
 /// A point inside the travel limits given in pulses, or why not.
 #[inline]
 fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Result<(), String> {
-    for (axis, name) in ["X", "Y", "Z"].iter().enumerate() {
+    for axis in 0..3 {
         let (lo, hi) = limits[axis];
         if p[axis] < lo || p[axis] > hi {
-            return Err(format!(
-                "{name}{:.3} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
-                st.to_mm(p[axis]),
-                st.travel_min_mm[axis],
-                st.travel_max_mm[axis],
-            ));
+            return Err(beyond(st, axis, st.to_mm(p[axis])));
         }
     }
     Ok(())
+}
+
+/// The message for machine coordinate `mm` of `axis` beyond its travel.
+fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
+    let name = ["X", "Y", "Z"][axis];
+    format!(
+        "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
+        crate::input_text::fixed(mm, 3),
+        st.travel_min_mm[axis],
+        st.travel_max_mm[axis],
+    )
 }
 
 /// The axis points (centre ± R) an arc sweeps over must be inside the travel too.

@@ -22,6 +22,11 @@ use crate::block::{Plane, TranslateError};
 /// Corners turning by less than this (radians) are taken as tangent.
 const TANGENT: f64 = 0.05;
 
+/// The smallest radius compensation may leave an arc, or give a corner arc, in pulses: the
+/// pulse core steps arcs of 2 pulses or more (`canon`), and rounding the start and the centre
+/// to pulses may take up to 1.5 more.
+pub const MIN_RADIUS_PULSES: f64 = 4.0;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Phase {
     Off,
@@ -210,7 +215,8 @@ impl Comp {
                 return Err(x.err(
                     col,
                     format!(
-                        "the entry move of cutter compensation ({len:.4} mm) is not longer than the tool radius ({:.4} mm)",
+                        "the entry move of cutter compensation ({} mm) is not longer than the tool radius ({:.4} mm)",
+                        crate::input_text::fixed(len, 4),
                         self.r
                     ),
                 ));
@@ -289,11 +295,21 @@ impl Comp {
         let rr = dist(s2d, c);
         let inside = (self.side > 0.0) == ccw;
         let rc = if inside { rr - self.r } else { rr + self.r };
+        let min = MIN_RADIUS_PULSES * x.settings.pulse_mm;
         if inside && rc <= 0.0 {
             return Err(x.err(
                 col,
                 format!(
-                    "gouge: the arc's radius {rr:.4} mm is not larger than the tool's radius {:.4} mm, and the tool is inside it",
+                    "gouge: cutter compensation puts the tool (radius {:.4} mm) inside this arc of radius {rr:.4} mm, which is not larger than the tool",
+                    self.r
+                ),
+            ));
+        }
+        if inside && rc < min {
+            return Err(x.err(
+                col,
+                format!(
+                    "cutter compensation (tool radius {:.4} mm) leaves this arc of radius {rr:.4} mm a radius of {rc:.4} mm, too small to cut (at least {min:.4} mm)",
                     self.r
                 ),
             ));

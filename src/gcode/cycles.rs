@@ -19,8 +19,40 @@ use super::state::{FeedMode, InterpState};
 use super::words::Words;
 use crate::block::{Plane, TranslateError};
 
-/// The most pecks one G73 or G83 hole may take (bounded work, docs/gcode.md "Limits").
-pub const MAX_PECKS: u32 = 1000;
+use crate::input_text::{fixed, short_number};
+/// The most pecks one G73 or G83 hole may take (bounded work, docs/limits.md).
+pub use crate::limits::MAX_PECKS;
+use crate::limits::{MAX_BLOCKS, MAX_DWELL_S};
+
+/// Why a G73/G83 hole cannot be pecked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PeckFault {
+    /// More than [`MAX_PECKS`] pecks.
+    TooMany,
+    /// A peck of Q does not go deeper: Q is below the resolution of the numbers at that depth.
+    NoDeeper,
+}
+
+/// The depths a G73/G83 hole pecks to from `r` down by `q` before its last feed to `bottom`,
+/// as rs274 2.9 steps them (`r − q`, `r − 2q`, … while above the bottom); at most
+/// [`MAX_PECKS`] of them, each deeper than the one before.
+pub fn peck_depths(r: f64, bottom: f64, q: f64) -> Result<Vec<f64>, PeckFault> {
+    let mut depths = Vec::new();
+    let mut depth = r - q;
+    let mut last = r;
+    while depth > bottom {
+        if depth >= last {
+            return Err(PeckFault::NoDeeper);
+        }
+        if depths.len() + 1 >= MAX_PECKS as usize {
+            return Err(PeckFault::TooMany);
+        }
+        depths.push(depth);
+        last = depth;
+        depth -= q;
+    }
+    Ok(depths)
+}
 
 /// G73 and G83 retract this far above the last depth before the next peck, inches (rs274
 /// 2.9's clearance).
@@ -72,6 +104,12 @@ pub fn cycle(
     };
     let p = match w.get('P') {
         Some(p) if p < 0.0 => return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P")),
+        Some(p) if p > MAX_DWELL_S => {
+            return Err(x.err(
+                w.col('P').unwrap_or(col),
+                crate::limits::dwell_too_long(&format!("P{}", short_number(p))),
+            ))
+        }
         Some(p) => p,
         None if matches!(kind, 82 | 86 | 89) && !same => {
             return Err(x.err(
@@ -165,19 +203,60 @@ pub fn cycle(
         return Err(x.err(
             col,
             format!(
-                "{name}: the bottom {lc}{:.4} is above R{:.4}",
-                bottom / k,
-                r / k
+                "{name}: the bottom {lc}{} is above R{}",
+                fixed(bottom / k, 4),
+                fixed(r / k, 4)
             ),
         ));
     }
-    if let Some(q) = q {
-        if (r - bottom) / q > MAX_PECKS as f64 || (r - bottom - q) == (r - bottom) {
+    // The pecks of a hole, the same for every hole of the line.
+    let pecks = match q.map(|q| peck_depths(r, bottom, q)) {
+        None => Vec::new(),
+        Some(Ok(d)) => d,
+        Some(Err(fault)) => {
+            let qs = short_number(q.unwrap_or(1.0) / k);
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
-                format!("{name}: Q{} would make more than {MAX_PECKS} pecks", q / k),
+                match fault {
+                    PeckFault::TooMany => format!("{name}: Q{qs} would make more than {MAX_PECKS} pecks"),
+                    PeckFault::NoDeeper => format!(
+                        "{name}: Q{qs} is below the resolution of the numbers near R{}: a peck would not go deeper",
+                        fixed(r / k, 3)
+                    ),
+                },
             ));
         }
+    };
+    // What the line makes, counted from its words before anything is made (docs/limits.md):
+    // a rise to R first for a series below it, then per hole the approach (a rise to the
+    // clear level, the crossing, the descent to R) and the cycle's own moves.
+    let n = pecks.len() as u64;
+    let own: u64 = match kind {
+        81 => 2,
+        82 | 85 | 89 => 3,
+        73 => 2 * n + 2,
+        83 => 3 * n + 2,
+        74 | 84 => 6 + u64::from(p > 0.0),
+        _ => 5,
+    };
+    let below = il < r;
+    let (old_est, cur_est) = if below { (r, r) } else { (il, prog[ic]) };
+    let clear_est = if st.modal.retract_r { r } else { old_est };
+    let down = u64::from(clear_est > r);
+    let first = if cur_est > r {
+        2
+    } else {
+        u64::from(cur_est < clear_est) + 1 + down
+    };
+    let per_hole = own + 1 + down;
+    let total = u64::from(below) + first + own + u64::from(l - 1) * per_hole;
+    if total > MAX_BLOCKS as u64 {
+        return Err(x.err(
+            w.col('L').unwrap_or(col),
+            format!(
+                "{name} L{l} makes {total} blocks ({l} holes of {per_hole}), more than the {MAX_BLOCKS} one line may make: split the holes over several lines"
+            ),
+        ));
     }
     let holes_mm = [prog[ia], prog[ib]];
     // Polar words (G17 only): about the program zero; under G91 each repeat turns the hole
@@ -227,7 +306,7 @@ pub fn cycle(
         p
     };
     let to_m = |p: [f64; 3]| st.to_machine(p);
-    let mut out: Vec<Canon> = Vec::new();
+    let mut out: Vec<Canon> = Vec::with_capacity(total as usize);
     let rapid = |out: &mut Vec<Canon>, pos: &mut [f64; 3], p: [f64; 3]| {
         out.push(Canon::Rapid(to_m(p)));
         *pos = p;
@@ -291,15 +370,12 @@ pub fn cycle(
                 rapid(&mut out, &mut pos, at(clear));
             }
             73 | 83 => {
-                let q = q.unwrap_or(1.0);
-                let mut depth = r - q;
-                while depth > bottom {
+                for &depth in &pecks {
                     feed_to(&mut out, &mut pos, at(depth));
                     if kind == 83 {
                         rapid(&mut out, &mut pos, at(r));
                     }
                     rapid(&mut out, &mut pos, at(depth + clearance));
-                    depth -= q;
                 }
                 feed_to(&mut out, &mut pos, at(bottom));
                 rapid(&mut out, &mut pos, at(clear));
@@ -336,6 +412,7 @@ pub fn cycle(
             }
         }
     }
+    debug_assert_eq!(out.len() as u64, total, "the count of {name}");
     for c in out {
         x.push(c, col);
     }

@@ -187,7 +187,10 @@ pub fn int_word(
             if (v - r).abs() > 1e-4 || r < lo || r > hi {
                 return Err(x.err(
                     col,
-                    format!("{c}{v} must be a whole number from {lo} to {hi}"),
+                    format!(
+                        "{c}{} must be a whole number from {lo} to {hi}",
+                        crate::input_text::short_number(v)
+                    ),
                 ));
             }
             Ok(Some(r as u32))
@@ -496,6 +499,23 @@ pub fn execute(
         if f < 0.0 {
             return Err(x.err(col, "a negative F"));
         }
+        // F0 is no feed (a feed move then asks for one); a feed per minute that is not 0 is
+        // at least the slowest (docs/limits.md).
+        if st.modal.feed_mode == FeedMode::PerMinute
+            && f > 0.0
+            && f * st.factor() < crate::limits::MIN_FEED
+        {
+            let text = if st.modal.inch {
+                format!(
+                    "F{} ({:.3} mm/min)",
+                    crate::input_text::short_number(f),
+                    f * st.factor()
+                )
+            } else {
+                format!("F{}", crate::input_text::short_number(f))
+            };
+            return Err(x.err(col, crate::limits::feed_too_slow(&text)));
+        }
         if st.modal.feed_mode == FeedMode::InverseTime {
             inverse_feed = Some(f);
         } else {
@@ -648,6 +668,12 @@ pub fn execute(
             .ok_or_else(|| x.err(col, "G04 needs P, the dwell in seconds"))?;
         if p < 0.0 {
             return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
+        }
+        if p > crate::limits::MAX_DWELL_S {
+            return Err(x.err(
+                w.col('P').unwrap_or(col),
+                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
+            ));
         }
         if matches!(motion, Some((Motion::Cw | Motion::Ccw, _))) {
             return Err(x.err(col, "G4 and G2/G3 on one line both use P"));

@@ -17,35 +17,50 @@ use std::sync::Arc;
 /// The deepest call nesting (LinuxCNC's INTERP_SUB_ROUTINE_LEVELS − 1).
 pub const MAX_CALL_DEPTH: usize = 9;
 
-/// One file of the program: the main program, or a subroutine file found by name.
+/// One file of the program: the main program, or a subroutine file found by name. It is read
+/// with a cursor (a byte position), as LinuxCNC reads a file: no index of its lines is kept,
+/// so memory follows the program's content, not its count of lines (docs/limits.md).
 #[derive(Clone, Debug)]
 pub struct Unit {
     /// The name the messages use (`drill.ngc`); empty for the main program.
     pub name: String,
     /// The text.
     pub text: Arc<str>,
-    /// Each line's byte range, without its line end.
-    pub lines: Vec<(u32, u32)>,
 }
 
 impl Unit {
     /// A unit of `text`.
     pub fn new(name: String, text: Arc<str>) -> Unit {
-        let mut lines = Vec::new();
-        let mut at = 0usize;
-        for l in text.split_inclusive('\n') {
-            let body = l.trim_end_matches(['\n', '\r']).len();
-            lines.push((at as u32, (at + body) as u32));
-            at += l.len();
-        }
-        Unit { name, text, lines }
+        Unit { name, text }
     }
 
-    /// Line `i` (0-based), without its end.
-    pub fn line(&self, i: usize) -> Option<&str> {
-        let &(a, b) = self.lines.get(i)?;
-        self.text.get(a as usize..b as usize)
+    /// The line that starts at byte `at` (without its line end) and where the next one
+    /// starts; `None` at the end.
+    pub fn line_at(&self, at: usize) -> Option<(&str, usize)> {
+        line_at(&self.text, at)
     }
+
+    /// Line `i` (0-based), found by reading from the start.
+    pub fn nth_line(&self, i: usize) -> Option<&str> {
+        self.text
+            .split('\n')
+            .nth(i)
+            .map(|l| l.strip_suffix('\r').unwrap_or(l))
+    }
+}
+
+/// The line of `text` that starts at byte `at` (without its line end) and where the next one
+/// starts; `None` at the end.
+pub fn line_at(text: &str, at: usize) -> Option<(&str, usize)> {
+    let rest = text.get(at..)?;
+    if rest.is_empty() {
+        return None;
+    }
+    let (body, next) = match rest.find('\n') {
+        Some(e) => (&rest[..e], at + e + 1),
+        None => (rest, text.len()),
+    };
+    Some((body.strip_suffix('\r').unwrap_or(body), next))
 }
 
 /// Finds a subroutine's file by the subroutine's name (`o<name> call` looks for `name.ngc`
@@ -64,13 +79,26 @@ impl SubFinder for NoFiles {
     }
 }
 
-/// A place in the program: a line of a unit.
+/// A place in the program: a line of a unit, by its number and the byte where it starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pos {
     /// The unit (0 = the main program).
     pub unit: usize,
     /// The line, 0-based.
     pub line: usize,
+    /// The byte where the line starts.
+    pub byte: usize,
+}
+
+impl Pos {
+    /// The start of unit `unit`.
+    pub fn start(unit: usize) -> Pos {
+        Pos {
+            unit,
+            line: 0,
+            byte: 0,
+        }
+    }
 }
 
 /// How a subroutine was called.
@@ -131,6 +159,9 @@ pub struct Flow {
     doing_continue: bool,
     /// The frame the pending M98 loop counter belongs to (see `call`).
     m98_main_left: i64,
+    /// A loop or a call went back to a line already read (so the lines executed are more
+    /// than the file's).
+    jumped: bool,
     /// Where the line that started the current skip is (a call searching forward, a
     /// definition skipped over), for the error at the end of the program.
     skip_from: Option<Pos>,
@@ -141,7 +172,7 @@ impl Flow {
     pub fn new(text: Arc<str>) -> Flow {
         Flow {
             units: vec![Unit::new(String::new(), text)],
-            pc: Pos { unit: 0, line: 0 },
+            pc: Pos::start(0),
             labels: HashMap::new(),
             frames: Vec::new(),
             skipping: None,
@@ -152,7 +183,13 @@ impl Flow {
             doing_continue: false,
             m98_main_left: -1,
             skip_from: None,
+            jumped: false,
         }
+    }
+
+    /// Whether a loop or a call has gone back to a line already read.
+    pub fn jumped(&self) -> bool {
+        self.jumped || !self.frames.is_empty()
     }
 
     /// The line that started the skip that reached the end of a unit (a call that searched
@@ -433,6 +470,7 @@ impl Flow {
                         // The end of a do … while.
                         if test && !self.doing_break {
                             self.pc = l.pos;
+                            self.jumped = true;
                         } else {
                             self.doing_break = false;
                         }
@@ -514,11 +552,13 @@ impl Flow {
                     if self.doing_continue {
                         self.doing_continue = false;
                         self.pc = l.pos;
+                        self.jumped = true;
                     } else {
                         self.doing_break = false;
                     }
                 } else {
                     self.pc = l.pos;
+                    self.jumped = true;
                 }
                 Ok(Outcome::Next)
             }
@@ -570,7 +610,7 @@ impl Flow {
                 ),
             });
         }
-        let (to, search) = self.locate(name, call_type, at, finder)?;
+        let (to, search) = self.locate(name, call_type, finder)?;
         let mut saved = [0.0; MAX_ARGS];
         if call_type == CallType::Oword {
             for (i, s) in saved.iter_mut().enumerate() {
@@ -583,10 +623,7 @@ impl Flow {
         self.frames.push(Frame {
             name: name.to_string(),
             call_type,
-            ret: Pos {
-                unit: at.unit,
-                line: at.line + 1,
-            },
+            ret: self.pc,
             saved_args: saved,
             locals: HashMap::new(),
             m98_left: -1,
@@ -664,6 +701,7 @@ impl Flow {
             }
         }
         self.pc = f.ret;
+        self.jumped = true;
         st.call_level = self.frames.len();
         // M73: the state saved in this subroutine comes back on its return.
         let level = self.frames.len() + 1;
@@ -686,7 +724,6 @@ impl Flow {
         &mut self,
         name: &str,
         call_type: CallType,
-        at: Pos,
         finder: &dyn SubFinder,
     ) -> Result<(Pos, bool), String> {
         if let Some(l) = self.labels.get(name) {
@@ -704,11 +741,8 @@ impl Flow {
             },
         };
         let from = match unit {
-            Some(u) => Pos { unit: u, line: 0 },
-            None => Pos {
-                unit: at.unit,
-                line: at.line + 1,
-            },
+            Some(u) => Pos::start(u),
+            None => self.pc,
         };
         if !self.label_ahead(name, from) {
             return Err(match call_type {
@@ -730,10 +764,13 @@ impl Flow {
             return false;
         };
         let numeric = name.bytes().all(|b| b.is_ascii_digit());
-        (from.line..unit.lines.len()).any(|i| {
-            let Some(raw) = unit.line(i) else {
-                return false;
-            };
+        let mut at = from.byte;
+        std::iter::from_fn(|| {
+            let (raw, next) = unit.line_at(at)?;
+            at = next;
+            Some(raw)
+        })
+        .any(|raw| {
             let t: String = raw
                 .chars()
                 .take_while(|&c| c != '(' && c != ';')

@@ -41,11 +41,10 @@ use read::{Env, Target};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// The most repeats an L word asks for (M98 L, canned-cycle L).
-pub const MAX_REPEATS: u32 = 9999;
-/// The most lines one program may execute, counting every repeat of a loop or subroutine:
-/// the bound on a program's work (docs/gcode.md "Limits").
-pub const MAX_LINES: u64 = 10_000_000;
+/// The bounds of a program's work (docs/limits.md): the most repeats an L word asks for, the
+/// most lines a program may execute (every line read, every repeat counted), the most blocks
+/// one line and one program may make.
+pub use crate::limits::{MAX_BLOCKS, MAX_LINES, MAX_PROGRAM_BLOCKS, MAX_REPEATS};
 
 /// The work offsets G54 to G59 (index 0 to 5), machine mm of each system's zero.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -180,6 +179,9 @@ pub struct GcodeSource {
     events: Vec<Event>,
     executed: u64,
     max_lines: u64,
+    /// Blocks made so far, and the most the program may make.
+    made: u64,
+    max_blocks: u64,
     first_code: Option<usize>,
     scratch: read::Scratch,
     line_buf: read::Line,
@@ -257,6 +259,8 @@ impl GcodeSource {
             events: Vec::new(),
             executed: 0,
             max_lines: MAX_LINES,
+            made: 0,
+            max_blocks: MAX_PROGRAM_BLOCKS,
             first_code,
             scratch: read::Scratch::default(),
             line_buf: read::Line::default(),
@@ -271,6 +275,13 @@ impl GcodeSource {
     /// The most lines this program may execute (default [`MAX_LINES`]).
     pub fn line_limit(mut self, lines: u64) -> GcodeSource {
         self.max_lines = lines;
+        self
+    }
+
+    /// The most blocks this program may make, every repeat counted (default
+    /// [`MAX_PROGRAM_BLOCKS`]).
+    pub fn block_limit(mut self, blocks: u64) -> GcodeSource {
+        self.max_blocks = blocks;
         self
     }
 
@@ -374,8 +385,8 @@ impl GcodeSource {
             }
             let at = self.flow.pc;
             let n = at.line as u32 + 1;
-            let unit = &self.flow.units[at.unit];
-            let Some(raw) = unit.line(at.line).map(str::to_string) else {
+            let text = Arc::clone(&self.flow.units[at.unit].text);
+            let Some((raw, next)) = flow::line_at(&text, at.byte) else {
                 if at.unit == 0 && self.mdi && self.flow.level() == 0 && !self.flow.skipping() {
                     self.done = true;
                     let mut x = ctx!(self, n);
@@ -392,25 +403,38 @@ impl GcodeSource {
                 let e = self.error_at(unit, line, 1, msg);
                 return self.fail(e);
             };
-            self.flow.pc.line += 1;
+            self.flow.pc = Pos {
+                unit: at.unit,
+                line: at.line + 1,
+                byte: next,
+            };
+            self.executed += 1;
+            if self.executed > self.max_lines {
+                let max = self.max_lines;
+                // Without a call or a loop, every line read was a line of the file.
+                let message = if self.flow.jumped() {
+                    format!("the program executes more than {max} lines, counting each line of a loop or subroutine each time it runs: refused")
+                } else {
+                    format!("the program has more than {max} lines (the most a program may have)")
+                };
+                let e = self.error_at(at.unit, n, 1, message);
+                return self.fail(e);
+            }
+            // A blank line: nothing to read (it counts as a line all the same).
+            if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
+                continue;
+            }
+            if let Some(e) = crate::limits::line_too_long(raw, n, "") {
+                let e = self.error_at(at.unit, e.line, e.col, e.message);
+                return self.fail(e);
+            }
             if self.switches.block_delete
                 && !self.flow.skipping()
                 && raw.trim_start().starts_with('/')
             {
                 continue;
             }
-            self.executed += 1;
-            if self.executed > self.max_lines {
-                let max = self.max_lines;
-                let e = self.error_at(
-                    at.unit,
-                    n,
-                    1,
-                    format!("the program executes more than {max} lines (counting every repeat of its loops and subroutines): refused"),
-                );
-                return self.fail(e);
-            }
-            match self.line(at, n, &raw) {
+            match self.line(at, n, raw) {
                 Ok(Some(s)) => return s,
                 Ok(None) => continue,
                 Err(e) => {
@@ -464,7 +488,7 @@ impl GcodeSource {
                 return Ok(None);
             }
             if !self.flow.units[0]
-                .line(0)
+                .nth_line(0)
                 .is_some_and(|l| l.trim_start().starts_with('%'))
             {
                 return Err(TranslateError {
@@ -679,6 +703,17 @@ impl GcodeSource {
         }
         if let Err(e) = r {
             return self.fail(e);
+        }
+        self.made += blocks.len() as u64;
+        if self.made > self.max_blocks {
+            let max = self.max_blocks;
+            return self.fail(TranslateError {
+                line: n,
+                col: 1,
+                message: format!(
+                    "the program makes more than {max} blocks (the most a program may make)"
+                ),
+            });
         }
         Some(Ok(Statement {
             line: n,

@@ -50,12 +50,6 @@ pub fn target(st: &InterpState, x: &Exec, w: &Words) -> Result<[f64; 3], Transla
         e[0] = r * a.cos();
         e[1] = r * a.sin();
     }
-    for (i, v) in e.iter().enumerate() {
-        if !v.is_finite() || v.abs() > 1e9 {
-            let c = ['X', 'Y', 'Z'][i];
-            return Err(x.err(w.col(c).unwrap_or(1), format!("{c} is out of all range")));
-        }
-    }
     Ok(st.to_machine(e))
 }
 
@@ -222,7 +216,7 @@ fn fault(x: &Exec, f: ArcFault, col: u32, k: f64) -> TranslateError {
     match f {
         ArcFault::RTooSmall { half, r } => x.err(
             col,
-            format!("R{:.4} is too small for the chord: the end point is {:.4} {unit} from the start, more than 2·R", m(r), m(2.0 * half)),
+            format!("R{} is too small for the chord: the end point is {} {unit} from the start, more than 2·R", crate::input_text::fixed(m(r), 4), crate::input_text::fixed(m(2.0 * half), 4)),
         ),
         ArcFault::RFullCircle => x.err(col, "an R arc cannot be a full circle (the end is the start): use I J K"),
         ArcFault::NotOnCircle { r0, r1 } => x.err(

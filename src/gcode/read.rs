@@ -329,9 +329,8 @@ impl Reader<'_> {
             _ => Err(self.err(
                 col,
                 format!(
-                    "the number {}... ({} digits) is too large to be a value",
-                    &text[..text.len().min(12)],
-                    digits
+                    "{} is too large for a number",
+                    crate::input_text::quote_plain(text)
                 ),
             )),
         }

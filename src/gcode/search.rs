@@ -11,7 +11,7 @@ impl GcodeSource {
     /// Whether main-program line `line` (1-based) holds an M06 (read without evaluating
     /// anything that could fail: a line that does not read simply does not count).
     fn line_changes_tool(&self, line: u32) -> bool {
-        let Some(raw) = self.flow.units[0].line(line as usize - 1) else {
+        let Some(raw) = self.flow.units[0].nth_line(line as usize - 1) else {
             return false;
         };
         let p = super::read::Params::default();

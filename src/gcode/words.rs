@@ -198,7 +198,10 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
             'G' => {
                 let g10 = (value * 10.0).round();
                 if (value * 10.0 - g10).abs() > 1e-6 || g10 < 0.0 {
-                    return Err(err(col, format!("unknown code G{value}")));
+                    return Err(err(
+                        col,
+                        format!("unknown code G{}", crate::input_text::short_number(value)),
+                    ));
                 }
                 let g = g10 as u32;
                 let name = if g.is_multiple_of(10) {
@@ -238,7 +241,10 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
             }
             'M' => {
                 if value.fract() != 0.0 || value < 0.0 {
-                    return Err(err(col, format!("unknown code M{value}")));
+                    return Err(err(
+                        col,
+                        format!("unknown code M{}", crate::input_text::short_number(value)),
+                    ));
                 }
                 let m = value as u32;
                 let Some(grp) = (d.m_group)(m).filter(|&x| x < 11) else {

@@ -5,14 +5,17 @@
 //! read it as they read a centre's recording.
 //!
 //! The lathe simulator runs in the thread that records, so the writer is synchronous: nothing
-//! is ever dropped. A lathe recording has no `/nc/pulses`: the simulator counts pulses per
+//! is ever dropped. The file is kept readable as the centre's is (`crate::record::file`): chunks
+//! are closed and committed at 4 MB, after a second, or when a stop signal was noted. A lathe recording has no `/nc/pulses`: the simulator counts pulses per
 //! tick, not their times; the counters on `/nc/position` are exact.
 
+use crate::record::file::{
+    mcap_options, recording_metadata, CommitClock, RecordFile, RecordOutput, CHUNK_BYTES,
+    MESSAGE_RECORD_OVERHEAD,
+};
 use crate::record::json::{push_i64, push_mm, push_str, push_u64};
 use crate::record::topic::Topic;
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// The lathe's extra topic.
@@ -85,7 +88,10 @@ pub struct StateMsg<'a> {
 
 /// The writer of a lathe recording.
 pub struct LatheRecorder {
-    mcap: Option<mcap::Writer<BufWriter<File>>>,
+    mcap: Option<mcap::Writer<RecordFile>>,
+    /// Bytes of the open chunk's messages.
+    open_bytes: u64,
+    clock: CommitClock,
     ids: [u16; TOPICS],
     seq: [u32; TOPICS],
     pulse_mm: f64,
@@ -103,16 +109,13 @@ impl LatheRecorder {
         pulse_mm: f64,
         tick_ns: u64,
     ) -> Result<LatheRecorder, String> {
-        let file = File::create(path)
+        let file = RecordFile::create(path)
             .map_err(|e| format!("cannot create recording {}: {e}", path.display()))?;
-        let mut w = mcap::WriteOptions::new()
-            .compression(None)
-            .profile("")
-            .library(concat!("novanc ", env!("CARGO_PKG_VERSION")))
-            .create(BufWriter::with_capacity(1 << 20, file))
+        let mut w = mcap_options()
+            .create(file)
             .map_err(|e| format!("recording {}: {e}", path.display()))?;
         let mut ids = [0u16; TOPICS];
-        let declare = |w: &mut mcap::Writer<BufWriter<File>>, ids: &mut [u16; TOPICS]| {
+        let declare = |w: &mut mcap::Writer<RecordFile>, ids: &mut [u16; TOPICS]| {
             let meta = BTreeMap::from([
                 ("pulse_mm".to_string(), pulse_mm.to_string()),
                 ("ncbr_period_ns".to_string(), tick_ns.to_string()),
@@ -140,11 +143,14 @@ impl LatheRecorder {
             }
             let s = w.add_schema("novanc.LatheEvent", "jsonschema", EVENT_SCHEMA.as_bytes())?;
             ids[EVENT] = w.add_channel(s, EVENT_TOPIC, "json", &none)?;
-            Ok::<(), mcap::McapError>(())
+            // Committed at once: the file is a (still empty) recording from the start.
+            w.flush()
         };
         declare(&mut w, &mut ids).map_err(|e| format!("recording {}: {e}", path.display()))?;
         Ok(LatheRecorder {
             mcap: Some(w),
+            open_bytes: 0,
+            clock: CommitClock::default(),
             ids,
             seq: [0; TOPICS],
             pulse_mm,
@@ -157,6 +163,7 @@ impl LatheRecorder {
     }
 
     fn put(&mut self, slot: usize, t_ns: u64) {
+        self.keep_readable();
         let Some(w) = self.mcap.as_mut() else { return };
         let h = mcap::records::MessageHeader {
             channel_id: self.ids[slot],
@@ -168,12 +175,34 @@ impl LatheRecorder {
             Ok(()) => {
                 self.seq[slot] = self.seq[slot].wrapping_add(1);
                 self.sum.messages[slot] += 1;
+                self.open_bytes += self.buf.len() as u64 + MESSAGE_RECORD_OVERHEAD;
+                self.clock.wrote();
             }
-            Err(e) => {
-                self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
-                if let Some(w) = self.mcap.take() {
-                    drop(w.into_inner());
+            Err(e) => self.fail(e),
+        }
+    }
+
+    /// Keeps the first error and lets go of the file, which ends where its last commit left
+    /// it (a finished MCAP file: `crate::record::file`).
+    fn fail(&mut self, e: mcap::McapError) {
+        self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
+        if let Some(w) = self.mcap.take() {
+            drop(w.into_inner());
+        }
+    }
+
+    /// Closes and commits the open chunk if it is due (4 MB, a second old, or a stop signal
+    /// noted since the last commit). The console calls it as time passes, so the file keeps up
+    /// with the machine even when no message comes.
+    pub fn keep_readable(&mut self) {
+        let Some(w) = self.mcap.as_mut() else { return };
+        if self.clock.due(self.open_bytes, CHUNK_BYTES) {
+            match w.flush() {
+                Ok(()) => {
+                    self.open_bytes = 0;
+                    self.clock.committed();
                 }
+                Err(e) => self.fail(e),
             }
         }
     }
@@ -297,22 +326,17 @@ impl LatheRecorder {
     /// the summary, and closes the file.
     pub fn finish(mut self, interrupted: Option<&str>) -> LatheRecordSummary {
         if let Some(mut w) = self.mcap.take() {
-            let mut meta = BTreeMap::from([
-                (
-                    "complete".to_string(),
-                    (interrupted.is_none() && self.sum.error.is_none()).to_string(),
-                ),
-                ("dropped_events".to_string(), "0".to_string()),
-            ]);
-            if let Some(why) = interrupted {
-                meta.insert("interrupted".to_string(), why.to_string());
-            }
+            let complete = interrupted.is_none() && self.sum.error.is_none();
             let r = w
-                .write_metadata(&mcap::records::Metadata {
-                    name: "novanc.recording".into(),
-                    metadata: meta,
-                })
+                .write_metadata(&recording_metadata(complete, Some(0), interrupted))
                 .and_then(|_| w.finish());
+            let r = match r {
+                Ok(_) => w.into_inner().close().map_err(mcap::McapError::from),
+                Err(e) => {
+                    drop(w.into_inner());
+                    Err(e)
+                }
+            };
             if let Err(e) = r {
                 self.sum.error = Some(format!("writing {}: {e}", self.sum.path.display()));
             }

@@ -3,15 +3,17 @@
 //! dropped, the recording is marked incomplete, and the operator is told.
 //!
 //! `topic` names the topics and their schemas, `json` encodes the messages, `writer` lays them
-//! out as MCAP, `recorder` runs the thread.
+//! out as MCAP, `file` keeps the file a readable MCAP at every moment, `recorder` runs the
+//! thread.
 
+pub mod file;
 pub mod json;
 pub mod recorder;
 pub mod testkit;
 pub mod topic;
 pub mod writer;
 
-pub use recorder::{interrupt_all, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
+pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
 pub use topic::Topic;
 pub use writer::{RecordWriter, WriterOutcome};
 

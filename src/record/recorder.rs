@@ -2,7 +2,8 @@
 //! never stalls the pulse core (its PGEN loop only ever does a `try_send`).
 //!
 //! Timing: the thread blocks on the queue and wakes at least every `POLL` to see whether
-//! `finish` was called while some producer still holds a sink. A full queue drops the event
+//! `finish` was called while some producer still holds a sink, and to commit the open chunk
+//! once it is due (a second old, or a stop signal noted: `super::file`). A full queue drops the event
 //! (counted, recording marked incomplete); a disk error marks the recording incomplete at once
 //! and the thread keeps draining, so producers never notice.
 
@@ -31,6 +32,11 @@ static INTERRUPTED: OnceLock<String> = OnceLock::new();
 /// Process-wide because a signal is; the first reason given stays.
 pub fn interrupt_all(why: &str) {
     let _ = INTERRUPTED.set(why.to_string());
+}
+
+/// Why this process is stopping early, if `interrupt_all` was called.
+pub fn interrupted() -> Option<&'static str> {
+    INTERRUPTED.get().map(String::as_str)
 }
 
 /// A running recording: the file, the queue and the thread that writes it.
@@ -192,6 +198,11 @@ fn drain(
             Err(RecvTimeoutError::Timeout) => {
                 if closing.load(Ordering::Acquire) {
                     break;
+                }
+                // Nothing comes: commit what the open chunk holds once it is due, so that the
+                // file keeps up with the run even when the process is killed outright.
+                if !writer.keep_readable() {
+                    flags.mark_incomplete();
                 }
             }
             Err(RecvTimeoutError::Disconnected) => break,

@@ -11,20 +11,16 @@
 //! adds the chunk's messages and pulses to the outcome. The messages of a chunk that a disk error
 //! cut short are counted as lost, not written.
 
+use super::file::{
+    mcap_options, recording_metadata, CommitClock, RecordFile, RecordOutput, CHUNK_BYTES,
+    MESSAGE_RECORD_OVERHEAD,
+};
 use super::json::encode_event;
 use super::topic::Topic;
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
-
-/// Target uncompressed size of one MCAP chunk.
-const CHUNK_BYTES: u64 = 4 * 1024 * 1024;
-
-/// Size of the file buffer in front of the MCAP writer.
-const FILE_BUFFER_BYTES: usize = 1024 * 1024;
 
 /// What a finished `RecordWriter` reports.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -45,7 +41,7 @@ pub struct WriterOutcome {
 }
 
 /// Writes events as docs/recording.md MCAP messages to one file (or any seekable output, for tests).
-pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
+pub struct RecordWriter<W: RecordOutput = RecordFile> {
     /// `None` once a write failed (or after finish).
     mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
@@ -57,6 +53,8 @@ pub struct RecordWriter<W: Write + Seek = BufWriter<File>> {
     pending: Pending,
     /// Size at which the open chunk is closed and flushed, bytes.
     chunk_bytes: u64,
+    /// When the open chunk is to be closed for its age or a stop signal.
+    clock: CommitClock,
     buf: Vec<u8>,
 }
 
@@ -68,26 +66,18 @@ struct Pending {
     bytes: u64,
 }
 
-/// Bytes of an MCAP Message record besides its data: opcode, length, channel id, sequence,
-/// log time, publish time.
-const MESSAGE_RECORD_OVERHEAD: u64 = 1 + 8 + 2 + 4 + 8 + 8;
-
 impl RecordWriter {
     /// Creates the file and writes the MCAP header, the schemas, the channels and the machine
     /// settings as metadata. Fails only if the file cannot be created; a write error here is
     /// kept and reported by `finish` like any later disk error.
     pub fn create(path: &Path, settings: &MachineSettings) -> Result<RecordWriter, String> {
-        let file = File::create(path)
+        let file = RecordFile::create(path)
             .map_err(|e| format!("cannot create recording {}: {e}", path.display()))?;
-        Ok(RecordWriter::with_output(
-            BufWriter::with_capacity(FILE_BUFFER_BYTES, file),
-            path,
-            settings,
-        ))
+        Ok(RecordWriter::with_output(file, path, settings))
     }
 }
 
-impl<W: Write + Seek> RecordWriter<W> {
+impl<W: RecordOutput> RecordWriter<W> {
     /// As `create`, on an output already open; `path` only names it in error messages.
     pub fn with_output(output: W, path: &Path, settings: &MachineSettings) -> RecordWriter<W> {
         let mut w = RecordWriter {
@@ -99,6 +89,7 @@ impl<W: Write + Seek> RecordWriter<W> {
             out: WriterOutcome::default(),
             pending: Pending::default(),
             chunk_bytes: CHUNK_BYTES,
+            clock: CommitClock::default(),
             buf: Vec::with_capacity(64 * 1024),
         };
         if let Err(e) = w.open(output, settings) {
@@ -107,17 +98,13 @@ impl<W: Write + Seek> RecordWriter<W> {
         w
     }
 
-    /// Header, settings metadata (before any chunk), schemas, channels.
+    /// Header, settings metadata (before any chunk), schemas, channels; committed at once, so
+    /// that the file is a (still empty) recording from the start.
     fn open(&mut self, file: W, settings: &MachineSettings) -> Result<(), mcap::McapError> {
         // No automatic chunk size: `write` closes chunks itself, so that it knows which
         // messages reached the file.
-        let options = mcap::WriteOptions::new()
-            .compression(None)
-            .chunk_size(None)
-            .profile("")
-            .library(concat!("novanc ", env!("CARGO_PKG_VERSION")));
-        let mut mcap = options.create(file)?;
-        match Self::declare(&mut mcap, settings, &mut self.channels) {
+        let mut mcap = mcap_options().create(file)?;
+        match Self::declare(&mut mcap, settings, &mut self.channels).and_then(|()| mcap.flush()) {
             Ok(()) => {
                 self.mcap = Some(mcap);
                 Ok(())
@@ -180,8 +167,8 @@ impl<W: Write + Seek> RecordWriter<W> {
             self.out.disk_error = Some(format!("writing {}: {cause}", self.path.display()));
         }
         // `into_inner` hands the file back without another write attempt (dropping the MCAP
-        // writer would try to finish a file in an unknown state); the buffer's own drop makes
-        // one last, silent attempt to write what it holds.
+        // writer would try to finish a file in an unknown state); what it held uncommitted is
+        // dropped with it, and the file ends where its last commit left it.
         if let Some(mcap) = self.mcap.take() {
             drop(mcap.into_inner());
         }
@@ -207,7 +194,7 @@ impl<W: Write + Seek> RecordWriter<W> {
                 return true;
             }
         }
-        if self.pending.bytes >= self.chunk_bytes && !self.flush_chunk() {
+        if self.clock.due(self.pending.bytes, self.chunk_bytes) && !self.flush_chunk() {
             self.out.lost_to_disk_error += 1;
             return false;
         }
@@ -228,6 +215,7 @@ impl<W: Write + Seek> RecordWriter<W> {
         match mcap.write_to_known_channel(&header, &self.buf) {
             Ok(()) => {
                 self.sequence[i] = self.sequence[i].wrapping_add(1);
+                self.clock.wrote();
                 self.pending.messages[i] += 1;
                 self.pending.bytes += self.buf.len() as u64 + MESSAGE_RECORD_OVERHEAD;
                 if let Event::Pulses { t_ns, .. } = ev {
@@ -261,8 +249,19 @@ impl<W: Write + Seek> RecordWriter<W> {
         }
     }
 
+    /// Closes and commits the open chunk if it is due (`CHUNK_AGE` old, or a stop signal was
+    /// noted since the last commit): for the recorder thread while no event comes. False
+    /// after a disk error.
+    pub fn keep_readable(&mut self) -> bool {
+        if self.mcap.is_none() {
+            return false;
+        }
+        !self.clock.due(self.pending.bytes, self.chunk_bytes) || self.flush_chunk()
+    }
+
     /// Adds what the chunk just flushed holds to the outcome.
     fn commit(&mut self) {
+        self.clock.committed();
         let p = std::mem::take(&mut self.pending);
         for (n, m) in self.out.messages.iter_mut().zip(p.messages) {
             *n += m;
@@ -286,27 +285,18 @@ impl<W: Write + Seek> RecordWriter<W> {
         }
         if let Some(mut mcap) = self.mcap.take() {
             let incomplete = incomplete || self.out.interrupted.is_some();
-            let mut metadata = BTreeMap::from([
-                ("complete".to_string(), (!incomplete).to_string()),
-                ("dropped_events".to_string(), dropped.to_string()),
-            ]);
-            if let Some(why) = &self.out.interrupted {
-                metadata.insert("interrupted".to_string(), why.clone());
-            }
             let closed = mcap
-                .write_metadata(&mcap::records::Metadata {
-                    name: "novanc.recording".to_string(),
-                    metadata,
-                })
+                .write_metadata(&recording_metadata(
+                    !incomplete,
+                    Some(dropped),
+                    self.out.interrupted.as_deref(),
+                ))
                 .and_then(|()| mcap.finish().map(|_| ()));
             match closed {
-                Ok(()) => {
-                    let mut file = mcap.into_inner();
-                    match file.flush().and_then(|()| file.stream_position()) {
-                        Ok(len) => self.out.bytes = len,
-                        Err(e) => self.fail(e),
-                    }
-                }
+                Ok(()) => match mcap.into_inner().close() {
+                    Ok(len) => self.out.bytes = len,
+                    Err(e) => self.fail(e),
+                },
                 Err(e) => {
                     drop(mcap.into_inner());
                     self.fail(e);
@@ -320,6 +310,7 @@ impl<W: Write + Seek> RecordWriter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::io::{Seek, Write};
 
     /// An output whose disk fills up after `limit` bytes; the bytes stay readable through
     /// `disk` after the writer is gone.
@@ -355,6 +346,8 @@ mod tests {
             self.disk.borrow_mut().seek(pos)
         }
     }
+
+    impl RecordOutput for FillsUp {}
 
     /// Messages and pulses a reader gets out of what reached the disk (the finished chunks of
     /// a file that may have no footer), stopping at the first unreadable record.

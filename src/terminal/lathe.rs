@@ -85,7 +85,8 @@ pub fn draw(s: &mut Screen, v: &LatheView) {
     }
 }
 
-/// Runs the lathe console in the terminal until Ctrl-C; returns the exit code.
+/// Runs the lathe console in the terminal until Ctrl-C or a stop signal (the caller closes
+/// the session with `LatheConsole::finish`); returns the exit code.
 pub fn run(mut c: LatheConsole, rows: usize, cols: usize) -> (i32, LatheConsole) {
     let mut term = match Terminal::enter() {
         Ok(t) => t,
@@ -101,11 +102,8 @@ pub fn run(mut c: LatheConsole, rows: usize, cols: usize) -> (i32, LatheConsole)
     let mut out = Vec::with_capacity(16 * 1024);
     let mut last = Instant::now();
     let code = loop {
-        if let Some(sig) = term.terminate_requested() {
-            break 128 + sig;
-        }
-        if term.take_resized() {
-            renderer.invalidate();
+        if let Some(code) = super::between_frames(&mut term, &mut renderer) {
+            break code;
         }
         let (w, h) = term.size();
         let fits = w >= need.0 && h >= need.1;

@@ -1,11 +1,15 @@
 //! The terminal front end: the thin loop between the terminal's devices (`novanc-panel`: raw
 //! mode, keys, cells) and the `Console`. It reads stdin without blocking (poll, 20 ms), maps keys to panel
 //! events, ticks the console (about 50 Hz) and draws the panel with diff rendering. The
-//! terminal is handed back on exit, on panic and on SIGTERM/SIGINT/SIGHUP.
+//! terminal is handed back on exit, on panic, on SIGQUIT and on SIGTERM/SIGINT/SIGHUP; SIGTSTP
+//! hands it back and stops, SIGCONT takes it again and draws the whole frame (docs/panel.md,
+//! "Terminal"). A stop signal ends the session as it ends `novanc run` (`crate::cli::signals`):
+//! the machine stopped, the recording closed `complete: false`, exit 128 + the signal.
 
 pub mod lathe;
 pub mod layout;
 
+use crate::cli::signals;
 use crate::console::{Console, ConsoleConfig};
 use layout::{draw_help, draw_panel, draw_too_small, panel_size};
 use novanc_panel::{Decoder, Key, Renderer, Screen, Terminal};
@@ -19,6 +23,7 @@ The terminal front panel; F8 in the panel shows the keys.
 
 /// Runs the terminal panel on a console opened with `cfg`; returns the exit code.
 pub fn run(cfg: ConsoleConfig) -> i32 {
+    signals::install();
     let (console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {
@@ -35,6 +40,9 @@ pub fn run(cfg: ConsoleConfig) -> i32 {
     };
     let (code, console) = run_loop(&mut term, console);
     term.restore();
+    // A stop signal is said now that the terminal is back, and marks the recording
+    // interrupted before `finish` (RESET, then the recording closed) closes it.
+    let _ = signals::caught();
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
@@ -43,7 +51,24 @@ pub fn run(cfg: ConsoleConfig) -> i32 {
         Ok(None) => {}
         Err(e) => eprintln!("novanc: recording: {e}"),
     }
-    code
+    signals::exit_code(code)
+}
+
+/// What the loops of both panels do first in each frame: end on a stop signal or on a panic in
+/// another thread (`Some` exit code; a stop signal's, 128 + N, is the caller's
+/// `signals::exit_code`), and take job control and resizes (`Terminal::take_redraw`: the
+/// whole frame drawn again).
+pub(crate) fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Option<i32> {
+    if term.panicked() {
+        return Some(128 + libc::SIGABRT);
+    }
+    if signals::pending() {
+        return Some(1);
+    }
+    if term.take_redraw() {
+        renderer.invalidate();
+    }
+    None
 }
 
 /// The input/draw loop; returns the exit code and the console.
@@ -56,11 +81,8 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
     // Test hook: proves that a panic hands the terminal back (tests/tmux_panel.rs).
     let panic_requested = std::env::var_os("NOVANC_TEST_PANIC").is_some();
     loop {
-        if let Some(sig) = term.terminate_requested() {
-            return (128 + sig, console);
-        }
-        if term.take_resized() {
-            renderer.invalidate();
+        if let Some(code) = between_frames(term, &mut renderer) {
+            return (code, console);
         }
         let (w, h) = term.size();
         console.set_screen_fits(w >= need.0 && h >= need.1);

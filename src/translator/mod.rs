@@ -40,21 +40,10 @@ pub fn restore_text(line: u32) -> String {
 pub use defs::{MAX_COORD_MM, MAX_DESIGNATIONS, MAX_HOLES};
 pub use lex::MAX_NUMBER;
 
-/// The most characters a source line may hold, comment included (docs/language.md, *Limits*).
-pub const MAX_LINE_CHARS: usize = 10_000;
-
-/// The most blocks one statement may generate (B1 holds a whole statement's blocks).
-pub const MAX_BLOCKS: usize = 1_000_000;
-
-/// The longest dwell `DW`, seconds.
-pub const MAX_DWELL_S: f64 = 1_000.0;
-
-/// The slowest cutting feed, mm/min, from `FR` or from the tool file: slower would print as
-/// `F0` and take a pulse core an unbounded time.
-pub const MIN_FEED: f64 = 1.0;
-
-/// The most pecks of a `DH` cycle per hole.
-pub const MAX_PECKS: f64 = 1_000.0;
+/// The bounds the translator keeps, shared with the G-code readers (docs/limits.md): the
+/// longest line, the blocks of one statement, the longest dwell `DW`, the slowest feed (`FR` or
+/// the tool file's), the pecks of a `DH` cycle per hole and the highest spindle speed.
+pub use crate::limits::{MAX_BLOCKS, MAX_DWELL_S, MAX_LINE_CHARS, MAX_PECKS, MAX_SPEED, MIN_FEED};
 
 /// The translator as an iterator: one statement's blocks at a time, so that it can keep B1
 /// full concurrently with execution. After an error it yields nothing more.
@@ -77,6 +66,9 @@ pub struct Translator {
     done: bool,
     toks: Vec<lex::Token>,
     items: Vec<Item>,
+    /// Blocks made so far, and the most the program may make.
+    made: u64,
+    max_blocks: u64,
 }
 
 impl Translator {
@@ -139,7 +131,15 @@ impl Translator {
             done: false,
             toks: Vec::new(),
             items: Vec::new(),
+            made: 0,
+            max_blocks: crate::limits::MAX_PROGRAM_BLOCKS,
         }
+    }
+
+    /// The most blocks this program may make (default `limits::MAX_PROGRAM_BLOCKS`).
+    pub fn block_limit(mut self, blocks: u64) -> Translator {
+        self.max_blocks = blocks;
+        self
     }
 
     /// SEARCH: the statements before source line `line` are translated for the state they
@@ -360,9 +360,6 @@ fn position(o: &mut Out, end: [i64; 3]) {
     o.m.clear = None;
 }
 
-/// The highest spindle speed S a block may carry, rpm.
-pub const MAX_SPEED: f64 = 100_000.0;
-
 /// A modifier that the cycle does not use is an error.
 fn refuse(o: &Out, c: &Cut, col: Option<u32>, what: &str) -> Result<(), TranslateError> {
     match col {
@@ -457,7 +454,7 @@ fn cutting(
         if f < MIN_FEED {
             return Err(o.err(
                 col,
-                format!("the feed rate FR{f} is below the slowest feed, {MIN_FEED} mm/min"),
+                crate::limits::feed_too_slow(&format!("the feed rate FR{f}")),
             ));
         }
     }
@@ -511,16 +508,13 @@ fn cutting(
             return Err(o.err(col, format!("the dwell DW must not be negative, not {x}")))
         }
         Some((x, col)) if x > MAX_DWELL_S => {
-            return Err(o.err(
-                col,
-                format!("the dwell DW{x} is longer than the longest dwell, {MAX_DWELL_S} s"),
-            ))
+            return Err(o.err(col, crate::limits::dwell_too_long(&format!("DW{x}"))))
         }
         v => v.map(|(x, _)| x),
     };
     let peck = positive(&m.dh, "the peck step DH")?;
     if let (Some(step), Some((_, col))) = (peck, m.dh) {
-        if (depth + scl) / step > MAX_PECKS {
+        if (depth + scl) / step > f64::from(MAX_PECKS) {
             return Err(o.err(
                 col,
                 format!("DH{step} would make more than {MAX_PECKS} pecks"),
@@ -644,18 +638,13 @@ impl Iterator for Translator {
             self.next_byte += used;
             self.line += 1;
             let raw = raw.strip_suffix('\r').unwrap_or(raw);
-            if raw.len() > MAX_LINE_CHARS {
-                let n = raw.chars().count();
-                if n > MAX_LINE_CHARS {
-                    self.done = true;
-                    return Some(Err(TranslateError {
-                        line: self.line,
-                        col: MAX_LINE_CHARS as u32 + 1,
-                        message: format!(
-                            "the line is {n} characters long; a line holds at most {MAX_LINE_CHARS} (split the statement: a MAC can hold part of a list)"
-                        ),
-                    }));
-                }
+            if let Some(e) = crate::limits::line_too_long(
+                raw,
+                self.line,
+                " (split the statement: a MAC can hold part of a list)",
+            ) {
+                self.done = true;
+                return Some(Err(e));
             }
             let code = raw.split(';').next().unwrap_or("");
             if code.trim().is_empty() {
@@ -704,7 +693,21 @@ impl Translator {
     fn translate_line(&mut self, line: u32, raw: &str) -> Result<Statement, TranslateError> {
         let text = raw.trim().to_string();
         match self.statement(line, raw) {
-            Ok(blocks) => Ok(Statement { line, text, blocks }),
+            Ok(blocks) => {
+                self.made += blocks.len() as u64;
+                if self.made > self.max_blocks {
+                    self.done = true;
+                    return Err(TranslateError {
+                        line,
+                        col: 1,
+                        message: format!(
+                            "the program makes more than {} blocks (the most a program may make)",
+                            self.max_blocks
+                        ),
+                    });
+                }
+                Ok(Statement { line, text, blocks })
+            }
             Err(e) => {
                 self.done = true;
                 Err(e)

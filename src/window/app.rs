@@ -243,6 +243,12 @@ impl App {
     /// One frame: tick the console, play the script, draw, hand the operator's actions over.
     fn frame(&mut self, m: &mut dyn Machine, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        // A stop signal closes the window as closing it does (`on_exit`: the machine stopped,
+        // the recording closed); `caught` marks the recording interrupted first.
+        if crate::cli::signals::caught().is_some() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            return;
+        }
         self.frames += 1;
         m.tick();
         self.play_script(m, &ctx);

@@ -254,6 +254,8 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
     }
     drive.screenshot = opts.screenshot.as_ref().map(Into::into);
     drive.bench_frames = opts.bench_frames;
+    // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
+    crate::cli::signals::install();
     let machine = match open_console(cfg) {
         Ok(m) => m,
         Err(e) => {
@@ -262,9 +264,10 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
         }
     };
     let size = opts.size.unwrap_or((1400.0, 860.0));
-    open_window("novanc — NC panel", size, move |exit| {
+    let code = open_window("novanc — NC panel", size, move |exit| {
         Box::new(app::App::new(machine, drive, exit))
-    })
+    });
+    crate::cli::signals::exit_code(code)
 }
 
 /// Opens an eframe window titled `title`, `size` points, with the app `make` builds (given

@@ -97,3 +97,93 @@ pub const FRAGMENTS: &[&str] = &[
     "\u{1b}",
     "\u{feff}",
 ];
+
+/// Numbers at the edges of what a value can be (issue 20, docs/limits.md): 309 digits (past
+/// the largest float), 1e308 and 1.7e308, denormals (4.9e-324, 1e-320), negative zero, 1e17
+/// (where 0.1 is below a float's step), 1e-12, the repeat bound and past it, 1e30, and
+/// ordinary values.
+pub fn extreme_numbers() -> Vec<String> {
+    let mut v: Vec<String> = [
+        "-0",
+        "-0.0",
+        "0",
+        "0.000000000001",
+        "0.000001",
+        "0.5",
+        "1",
+        "2.5",
+        "-5",
+        "10",
+        "-50",
+        "100",
+        "999",
+        "1000",
+        "1000.0001",
+        "9999",
+        "10000",
+        "100000000000000000",
+        "99999999999999984",
+        "1000000000000000000000000000000",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    v.push("9".repeat(309));
+    v.push(format!("1{}", "0".repeat(308)));
+    v.push(format!("-17{}", "0".repeat(307)));
+    v.push(format!("0.{}49", "0".repeat(323)));
+    v.push(format!("0.{}1", "0".repeat(319)));
+    v
+}
+
+/// A program of up to 12 lines whose values are drawn from [`extreme_numbers`]: moves, arcs,
+/// cutter compensation, every canned cycle with extreme R, Q, P and L, dwells, feeds, spindle
+/// speeds and parameters. `below(n)` draws a number in `0..n`.
+pub fn extreme_program(mut below: impl FnMut(usize) -> usize) -> String {
+    let nums = extreme_numbers();
+    let n = |below: &mut dyn FnMut(usize) -> usize| nums[below(nums.len())].clone();
+    let mut s = String::from("G0 X500 Y400 Z-300\nT13 M6\nM3 S1000\n");
+    for _ in 0..1 + below(12) {
+        let line = match below(12) {
+            0 => format!(
+                "G0 X{} Y{} Z{}",
+                n(&mut below),
+                n(&mut below),
+                n(&mut below)
+            ),
+            1 => format!("G1 X{} F{}", n(&mut below), n(&mut below)),
+            2 => format!("G4 P{}", n(&mut below)),
+            3 | 4 => {
+                let g = [73, 81, 82, 83, 84, 85, 86, 89][below(8)];
+                format!(
+                    "G{g} X{} Y{} Z{} R{} Q{} P{} L{} F{}",
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below),
+                    n(&mut below)
+                )
+            }
+            5 => format!(
+                "G2 X{} Y{} R{} F{}",
+                n(&mut below),
+                n(&mut below),
+                n(&mut below),
+                n(&mut below)
+            ),
+            6 => format!("G41 D13 G1 X{} Y{} F100", n(&mut below), n(&mut below)),
+            7 => "G40 G0 X500 Y400".to_string(),
+            8 => format!("#1={}", n(&mut below)),
+            9 => format!("G0 X[#1*{}]", n(&mut below)),
+            10 => ["G91", "G90", "G20", "G21", "G80", "G98", "G99"][below(7)].to_string(),
+            _ => format!("S{} M3", n(&mut below)),
+        };
+        s.push_str(&line);
+        s.push('\n');
+    }
+    s.push_str("M30\n");
+    s
+}

@@ -31,12 +31,17 @@ pub fn window_command(x: &Xvfb, args: &[&str], dir: &Path, script: &Path, shot: 
         .arg(script)
         .arg("--screenshot")
         .arg(shot)
-        .args(["--size", "1400x860"])
-        .env("DISPLAY", &x.display)
+        .args(["--size", "1400x860"]);
+    on_xvfb(&mut cmd, x);
+    cmd
+}
+
+/// Points a `novanc --window` command at Xvfb `x`, with software GL and a scale factor of 1.
+pub fn on_xvfb(cmd: &mut Command, x: &Xvfb) {
+    cmd.env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
         .env("LIBGL_ALWAYS_SOFTWARE", "1")
         .env("WINIT_X11_SCALE_FACTOR", "1");
-    cmd
 }
 
 /// An Xvfb server on a display number it picked itself (`-displayfd`); killed on drop.

@@ -13,7 +13,7 @@ use novanc::tooldata::sample_magazine;
 
 #[path = "../common/gcode_fragments.rs"]
 mod gcode_fragments;
-use gcode_fragments::FRAGMENTS;
+use gcode_fragments::{extreme_program, FRAGMENTS};
 
 /// A program of up to 40 lines of random fragments, sometimes with a subprogram after M30.
 fn by_grammar(rng: &mut Rng) -> String {
@@ -44,10 +44,24 @@ pub fn gcode_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
         };
         mutate(rng, &base, &other)
     };
-    note("G-code program", &src);
+    read_checked(rng, &src)
+}
+
+/// One case of issue 20 (docs/limits.md): a program whose values sit at every edge (309
+/// digits, 1e308, denormals, negative zero, R 1e17, Q 1e-12, L 9999 and past it, dwells and
+/// feeds), read as the G-code family reads its programs.
+pub fn extremes_case(rng: &mut Rng, _ctx: &Ctx) -> Result<(), String> {
+    let src = extreme_program(|n| rng.below(n));
+    read_checked(rng, &src)
+}
+
+/// Reads `src` to its end or its first error: statements at real lines, a refusal at a real
+/// place with a short message, nothing after it.
+fn read_checked(rng: &mut Rng, src: &str) -> Result<(), String> {
+    note("G-code program", src);
     let lines = src.split_inclusive('\n').count() as u32 + 1;
     let g = GcodeSource::new(
-        src.clone().into(),
+        src.into(),
         sample_magazine(),
         MachineSettings::default(),
         MachineState::at([500_000, 400_000, -300_000]),

@@ -70,6 +70,10 @@ const FAMILIES: &[Family] = &[
         name: "gcode-program",
         case: gcode::gcode_case,
     },
+    Family {
+        name: "gcode-extremes",
+        case: gcode::extremes_case,
+    },
 ];
 
 fn ctx() -> Ctx {

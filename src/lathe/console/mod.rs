@@ -488,17 +488,25 @@ impl LatheConsole {
         self.after();
     }
 
-    /// Runs the machine until every channel is at rest (finished, stopped, waiting on a
-    /// stopped channel, faulted or in E-STOP), or `limit_ns` of machine time passed. Returns
-    /// the machine time used.
-    pub fn run_until_rest(&mut self, limit_ns: u64) -> u64 {
+    /// Runs the machine for `limit_ns` of machine time, 10 ms at a time, recording as it goes
+    /// (a script's `wait ms T`); with `until_rest`, only until every channel is at rest
+    /// (finished, stopped, waiting on a stopped channel, faulted or in E-STOP: a script's
+    /// `wait`). `stop` is asked before each step and ends the run early when true (a stop
+    /// signal). Returns the machine time used.
+    pub fn run_for(&mut self, limit_ns: u64, until_rest: bool, stop: impl Fn() -> bool) -> u64 {
+        if self.cycle.is_none() {
+            // Nothing moves: time only passes (or, waiting for rest, nothing to wait for).
+            let used = if until_rest { 0 } else { limit_ns };
+            self.tick(used);
+            return used;
+        }
         let mut used = 0;
         let step = 10_000_000;
-        while used < limit_ns && self.cycle.is_some() {
+        while used < limit_ns && !stop() {
             let n = step.min(limit_ns - used);
             self.tick(n);
             used += n;
-            if self.cycle.as_mut().is_none_or(|c| c.at_rest()) {
+            if until_rest && self.cycle.as_mut().is_none_or(|c| c.at_rest()) {
                 break;
             }
         }
@@ -521,6 +529,9 @@ impl LatheConsole {
             }
         }
         self.record_display();
+        if let Some(r) = self.rec.as_mut() {
+            r.keep_readable();
+        }
     }
 
     fn record_display(&mut self) {
@@ -614,8 +625,23 @@ impl LatheConsole {
     }
 
     /// Ends the session: closes the recording. `interrupted` names a stop signal, if one cut
-    /// the session short.
+    /// the session short: the machine is then stopped first (E-STOP), and the recording says
+    /// `complete: false` and why.
     pub fn finish(mut self, interrupted: Option<&str>) -> Option<LatheRecordSummary> {
+        if interrupted.is_some() {
+            self.stop_machine();
+        }
         self.rec.take().map(|r| r.finish(interrupted))
+    }
+
+    /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one
+    /// tick of machine time records it (`/nc/state` ESTOP). Not an operator action: no
+    /// `/panel/event`.
+    fn stop_machine(&mut self) {
+        if let Some(c) = self.cycle.as_mut().filter(|c| !c.is_over()) {
+            c.lathe.estop();
+            let tick = self.desc.tick_ns.max(1);
+            self.tick(tick);
+        }
     }
 }

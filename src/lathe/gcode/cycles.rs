@@ -195,7 +195,14 @@ fn profile_lines(
         let v = need(w, l, n, c, what)?;
         let col = w.col(l).unwrap_or(c);
         if !(v.fract() == 0.0 && (0.0..1e9).contains(&v)) {
-            return Err(err(n, col, format!("{what} {l}{v}: a sequence number N")));
+            return Err(err(
+                n,
+                col,
+                format!(
+                    "{what} {l}{}: a sequence number N",
+                    crate::input_text::short_number(v)
+                ),
+            ));
         }
         idx[k] = *r
             .n_lines

@@ -222,7 +222,14 @@ impl Reader<'_> {
         if let Some(v) = w.get('F') {
             use_('F');
             if !(v > 0.0 && v.is_finite()) {
-                return Err(err(n, col('F'), format!("F{v}: the feed must be above 0")));
+                return Err(err(
+                    n,
+                    col('F'),
+                    format!(
+                        "F{}: the feed must be above 0",
+                        crate::input_text::short_number(v)
+                    ),
+                ));
             }
             self.st.feed = Some(v * f);
         }
@@ -243,7 +250,8 @@ impl Reader<'_> {
                     n,
                     col('D'),
                     format!(
-                        "D{d}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                        "D{}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                        crate::input_text::short_number(d),
                         self.chan.max_rpm
                     ),
                 ));
@@ -257,7 +265,10 @@ impl Reader<'_> {
                 return Err(err(
                     n,
                     col('S'),
-                    format!("S{s}: the speed must not be negative"),
+                    format!(
+                        "S{}: the speed must not be negative",
+                        crate::input_text::short_number(s)
+                    ),
                 ));
             }
             if !self.st.css && s > self.chan.max_rpm {
@@ -265,7 +276,8 @@ impl Reader<'_> {
                     n,
                     col('S'),
                     format!(
-                        "S{s}: above channel {}'s spindle maximum of {} rpm",
+                        "S{}: above channel {}'s spindle maximum of {} rpm",
+                        crate::input_text::short_number(s),
                         self.ch + 1,
                         self.chan.max_rpm
                     ),
@@ -302,7 +314,7 @@ impl Reader<'_> {
                         1,
                         format!(
                             "S{}: above channel {}'s spindle maximum of {} rpm (G97)",
-                            self.st.s,
+                            crate::input_text::short_number(self.st.s),
                             self.ch + 1,
                             self.chan.max_rpm
                         ),
@@ -338,11 +350,24 @@ impl Reader<'_> {
             let Some(p) = w.get('P') else {
                 return Err(err(n, c, "G04 needs P, the dwell in seconds"));
             };
-            if !(0.0..=86_400.0).contains(&p) {
+            if p < 0.0 {
                 return Err(err(
                     n,
                     col('P'),
-                    format!("G04 P{p}: the dwell must be 0 to 86400 seconds"),
+                    format!(
+                        "G04 P{}: the dwell must not be negative",
+                        crate::input_text::short_number(p)
+                    ),
+                ));
+            }
+            if p > crate::limits::MAX_DWELL_S {
+                return Err(err(
+                    n,
+                    col('P'),
+                    crate::limits::dwell_too_long(&format!(
+                        "P{}",
+                        crate::input_text::short_number(p)
+                    )),
                 ));
             }
             self.out.op(
@@ -515,7 +540,10 @@ impl Reader<'_> {
             return Err(err(
                 n,
                 c,
-                format!("P{p}: a waiting code's P lists channels by their digits (P12, P123)"),
+                format!(
+                    "P{}: a waiting code's P lists channels by their digits (P12, P123)",
+                    crate::input_text::short_number(p)
+                ),
             ));
         }
         let mut with = 0u8;

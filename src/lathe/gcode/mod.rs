@@ -27,12 +27,10 @@ use crate::lathe::desc::LatheDesc;
 use crate::lathe::ops::LatheProgram;
 use std::collections::HashMap;
 
-/// The most operations one program may produce (cycles included): the bound on its work.
-pub const MAX_STEPS: usize = 2_000_000;
-/// The most lines one program may execute, counting G70 repeats of its profile lines.
-pub const MAX_LINES: u64 = 1_000_000;
-/// The most passes one G71 or G76 cycle may make.
-pub const MAX_PASSES: usize = 2_000;
+/// The bounds on a lathe program's work (docs/limits.md): the most operations one program may
+/// produce (cycles included), the most lines it may have and execute (G70 repeats of its
+/// profile lines counted), the most passes of one G71 or G76 cycle.
+pub use crate::limits::{LATHE_MAX_LINES as MAX_LINES, LATHE_MAX_STEPS as MAX_STEPS, MAX_PASSES};
 
 /// The panel switches a lathe program reads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -110,6 +108,17 @@ pub fn read_program(
     ch: usize,
     opts: &ReadOptions,
 ) -> Result<LatheProgram, TranslateError> {
+    // Counted before anything is kept for them: the program is held whole, a line at a time.
+    let count = text.lines().count();
+    if count as u64 > MAX_LINES {
+        return Err(TranslateError {
+            line: MAX_LINES as u32 + 1,
+            col: 1,
+            message: format!(
+                "the program has {count} lines, more than the {MAX_LINES} a lathe program may have"
+            ),
+        });
+    }
     let lines: Vec<&str> = text.lines().collect();
     let Some(chan) = desc.channels.get(ch) else {
         return Err(TranslateError {

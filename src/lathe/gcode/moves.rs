@@ -6,6 +6,7 @@ use super::out::{Kind, Mv};
 use crate::block::TranslateError;
 use crate::gcode::geom::{self, ArcFault};
 use crate::gcode::words::Words;
+use crate::input_text::fixed;
 use crate::lathe::ops::{Feed, SpindleDir};
 
 impl Reader<'_> {
@@ -122,7 +123,10 @@ impl Reader<'_> {
                     return Err(err(
                         n,
                         w.col('K').unwrap_or(c),
-                        format!("G33 K{k}: the lead must be above 0 and at most 100 mm"),
+                        format!(
+                            "G33 K{}: the lead must be above 0 and at most 100 mm",
+                            crate::input_text::short_number(k)
+                        ),
                     ));
                 }
                 if self.st.dir == SpindleDir::Stop {
@@ -147,12 +151,15 @@ impl Reader<'_> {
 fn arc_err(e: ArcFault, n: u32, c: u32) -> TranslateError {
     let m = match e {
         ArcFault::RTooSmall { half, r } => format!(
-            "R {r:.4} is too small: the end point is {:.4} mm away, more than 2·R",
-            2.0 * half
+            "R {} is too small: the end point is {} mm away, more than 2·R",
+            fixed(r, 4),
+            fixed(2.0 * half, 4)
         ),
         ArcFault::RFullCircle => "an R arc cannot end where it starts".to_string(),
         ArcFault::NotOnCircle { r0, r1 } => format!(
-            "the end point is not on the arc: radius {r0:.4} at the start, {r1:.4} at the end"
+            "the end point is not on the arc: radius {} at the start, {} at the end",
+            fixed(r0, 4),
+            fixed(r1, 4)
         ),
         ArcFault::ZeroRadius => "the arc's radius is zero".to_string(),
     };

@@ -9,7 +9,8 @@ use super::comp;
 use super::MAX_STEPS;
 use crate::block::TranslateError;
 use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
-use crate::lathe::ops::{Feed, Op, Step};
+use crate::lathe::ops::{Feed, Op, SpeedMode, Step};
+use crate::limits::{MAX_MOVE_S, MIN_FEED};
 
 /// What a programmed move is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,6 +68,8 @@ pub struct Out<'a> {
     pub capture: Option<Vec<Mv>>,
     /// Where the last emitted move ended, pulses [X, Z].
     at: [i64; 2],
+    /// The spindle speed programmed last, for the time a feed per revolution takes.
+    speed: SpeedMode,
 }
 
 impl<'a> Out<'a> {
@@ -85,6 +88,7 @@ impl<'a> Out<'a> {
             exit_pending: false,
             capture: None,
             at: super::home(desc, ch),
+            speed: SpeedMode::Rpm(0.0),
         }
     }
 
@@ -131,6 +135,9 @@ impl<'a> Out<'a> {
     pub fn op(&mut self, line: u32, col: u32, op: Op) -> Result<(), TranslateError> {
         if self.capture.is_some() {
             return Ok(());
+        }
+        if let Op::Spindle { mode, .. } = op {
+            self.speed = mode;
         }
         if matches!(op, Op::End { .. }) {
             self.flush(None)?;
@@ -192,6 +199,9 @@ impl<'a> Out<'a> {
     /// One programmed move from `pos` to `mv.end`.
     pub fn motion(&mut self, mut mv: Mv) -> Result<(), TranslateError> {
         mv.start = self.pos;
+        if self.capture.is_none() {
+            self.check_time(&mv)?;
+        }
         self.pos = mv.end;
         if let Some(cap) = self.capture.as_mut() {
             if cap.len() >= super::MAX_PASSES * 4 {
@@ -345,6 +355,83 @@ impl<'a> Out<'a> {
         self.push(mv.line, mv.col, op)
     }
 
+    /// A feed move at its feed: per minute at least the slowest feed, and at most
+    /// [`MAX_MOVE_S`] long at the spindle speed programmed (the slowest it turns along the move
+    /// under G96), since the simulator steps every tick of it (docs/limits.md).
+    fn check_time(&self, mv: &Mv) -> Result<(), TranslateError> {
+        let (s, e) = (mv.start, mv.end);
+        let (per_rev, len, far) = match mv.kind {
+            Kind::Rapid => return Ok(()),
+            Kind::Line(f) => (
+                f,
+                (e[0] - s[0]).hypot(e[1] - s[1]),
+                s[1].abs().max(e[1].abs()),
+            ),
+            Kind::Thread(lead) => (
+                Feed::PerRev(lead),
+                (e[0] - s[0]).hypot(e[1] - s[1]),
+                s[1].abs().max(e[1].abs()),
+            ),
+            Kind::Arc { c, ccw, feed } => {
+                let r = (s[0] - c[0]).hypot(s[1] - c[1]);
+                (feed, r * comp::sweep(c, s, e, ccw), c[1].abs() + r)
+            }
+        };
+        let mm_min = match per_rev {
+            Feed::PerMin(f) => {
+                if f < MIN_FEED {
+                    return Err(Self::err(
+                        mv.line,
+                        mv.col,
+                        format!(
+                            "{} (G94 reads F per minute: G95 reads it per revolution)",
+                            crate::limits::feed_too_slow(&format!(
+                                "F{}",
+                                crate::input_text::short_number(f)
+                            ))
+                        ),
+                    ));
+                }
+                f
+            }
+            Feed::PerRev(f) => {
+                let rpm = match self.speed {
+                    SpeedMode::Rpm(r) => r,
+                    SpeedMode::Css {
+                        m_per_min,
+                        limit_rpm,
+                    } => {
+                        let at = m_per_min * 1000.0 / (std::f64::consts::TAU * far);
+                        if at.is_finite() {
+                            at.min(limit_rpm)
+                        } else {
+                            limit_rpm
+                        }
+                    }
+                };
+                f * rpm
+            }
+        };
+        let secs = len / mm_min * 60.0;
+        if secs.is_nan() || secs <= MAX_MOVE_S {
+            return Ok(());
+        }
+        let why = if mm_min > 0.0 {
+            format!(
+                "this move takes {} s at the feed in force ({} mm/min)",
+                crate::input_text::fixed(secs, 0),
+                crate::input_text::short_number(mm_min)
+            )
+        } else {
+            "this move never ends at the feed in force: the spindle stands at 0 rpm".to_string()
+        };
+        Err(Self::err(
+            mv.line,
+            mv.col,
+            format!("{why}, more than the {MAX_MOVE_S} s one move may take"),
+        ))
+    }
+
     fn check_travel(&self, p: [f64; 2], mv: &Mv) -> Result<(), TranslateError> {
         for (axis, v, name) in [(0usize, p[1], "X"), (1, p[0], "Z")] {
             let t = self.chan.axes[axis].travel;
@@ -354,7 +441,8 @@ impl<'a> Out<'a> {
                     mv.line,
                     mv.col,
                     format!(
-                        "{name} {v:.3}{what} is outside channel {}'s {name} travel {} to {} mm",
+                        "{name} {}{what} is outside channel {}'s {name} travel {} to {} mm",
+                        crate::input_text::fixed(v, 3),
                         self.ch + 1,
                         t[0],
                         t[1]

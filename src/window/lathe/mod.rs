@@ -261,10 +261,9 @@ impl LatheApp {
     /// screenshot.
     fn frame(&mut self, c: &mut LatheConsole, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
-        if let Some(sig) = crate::cli::signals::caught() {
+        if let Some(why) = crate::cli::signals::caught_reason() {
             if self.interrupted.is_none() {
-                self.interrupted =
-                    Some(format!("interrupted by {}", crate::cli::signals::name(sig)));
+                self.interrupted = Some(why);
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
             return;
