@@ -816,17 +816,27 @@ fn feed_for(
     if m == Motion::Rapid {
         return Ok(0.0);
     }
+    let d = ((e[0] - st.pos[0]).powi(2) + (e[1] - st.pos[1]).powi(2) + (e[2] - st.pos[2]).powi(2))
+        .sqrt();
+    feed_rate(st, x, inverse, d, col)
+}
+
+/// The feed (mm/min) of a feed move `length` mm long: F in force (G94), F × S (G95), or under
+/// G93 the length over the time the line's F (`inverse`, 1/min) gives.
+pub fn feed_rate(
+    st: &InterpState,
+    x: &Exec,
+    inverse: Option<f64>,
+    length: f64,
+    col: u32,
+) -> Result<f64, TranslateError> {
     match st.modal.feed_mode {
         FeedMode::InverseTime => {
             let f = inverse.unwrap_or(0.0);
             if f <= 0.0 {
                 return Err(x.err(col, "inverse time feed (G93) needs F greater than 0"));
             }
-            let d = ((e[0] - st.pos[0]).powi(2)
-                + (e[1] - st.pos[1]).powi(2)
-                + (e[2] - st.pos[2]).powi(2))
-            .sqrt();
-            Ok(d * f)
+            Ok(length * f)
         }
         FeedMode::PerRevolution => {
             if st.modal.speed <= 0.0 || st.modal.spindle == 0 {
