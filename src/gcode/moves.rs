@@ -364,7 +364,7 @@ fn g10_tool(
 ) -> Result<(), TranslateError> {
     let k = st.factor();
     let pcol = w.col('P').unwrap_or(col);
-    if p < 1.0 || p > 999.0 {
+    if !(1.0..=999.0).contains(&p) {
         return Err(x.err(pcol, format!("G10 L{l} P{p}: P is the T code, 1 or more")));
     }
     let t = p as u32;
