@@ -69,8 +69,7 @@ pub fn spline(
         ));
     }
     match g {
-        50 => cubic(st, comp, x, w, col, inverse),
-        51 => quadratic(st, comp, x, w, col, inverse),
+        50 | 51 => bezier_line(st, comp, x, w, g == 50, col, inverse),
         _ => nurbs_point(st, x, w, col),
     }
 }
@@ -202,60 +201,46 @@ fn add(a: [f64; 2], d: [f64; 2]) -> [f64; 2] {
     [a[0] + d[0], a[1] + d[1]]
 }
 
-/// G5: the cubic from the start through I J and P Q to X Y.
-fn cubic(
+/// G5 (`cubic`) or G5.1: the Bézier curve from the start through I J (from the start) and,
+/// for G5, P Q (from the end) to X Y.
+fn bezier_line(
     st: &mut InterpState,
     comp: &mut Comp,
     x: &mut Exec,
     w: &Words,
+    cubic: bool,
     col: u32,
     inverse: Option<f64>,
 ) -> Result<(), TranslateError> {
-    let ij = pair(
-        st,
-        x,
-        w,
-        ['I', 'J'],
-        col,
-        "G5 takes both I and J, or neither (then it continues the previous G5's tangent)",
-    )?
-    .unwrap_or(st.g5_tangent);
-    let end = moves::target(st, x, w)?;
-    let message = "G5 needs both P and Q, the second control point from the end";
-    let pq = pair(st, x, w, ['P', 'Q'], col, message)?.ok_or_else(|| x.err(col, message))?;
-    let s = st.prog();
-    let e = st.to_program(end);
-    let (s, e) = ([s[0], s[1]], [e[0], e[1]]);
-    let points = [
-        [st.pos[0], st.pos[1]],
-        machine_xy(st, add(s, ij)),
-        machine_xy(st, add(e, pq)),
-        [end[0], end[1]],
-    ];
-    follow(st, comp, x, &[curve::bezier(&points)], end, inverse, col)?;
-    st.g5_tangent = [-pq[0], -pq[1]];
-    Ok(())
-}
-
-/// G5.1: the quadratic from the start through I J to X Y.
-fn quadratic(
-    st: &mut InterpState,
-    comp: &mut Comp,
-    x: &mut Exec,
-    w: &Words,
-    col: u32,
-    inverse: Option<f64>,
-) -> Result<(), TranslateError> {
-    let message = "G5.1 needs both I and J, the control point from the start";
-    let ij = pair(st, x, w, ['I', 'J'], col, message)?.ok_or_else(|| x.err(col, message))?;
+    let ij = if cubic {
+        let message =
+            "G5 takes both I and J, or neither (then it continues the previous G5's tangent)";
+        pair(st, x, w, ['I', 'J'], col, message)?.unwrap_or(st.g5_tangent)
+    } else {
+        let message = "G5.1 needs both I and J, the control point from the start";
+        pair(st, x, w, ['I', 'J'], col, message)?.ok_or_else(|| x.err(col, message))?
+    };
     let end = moves::target(st, x, w)?;
     let s = st.prog();
-    let points = [
+    let mut points = vec![
         [st.pos[0], st.pos[1]],
         machine_xy(st, add([s[0], s[1]], ij)),
-        [end[0], end[1]],
     ];
-    follow(st, comp, x, &[curve::bezier(&points)], end, inverse, col)
+    let pq = if cubic {
+        let message = "G5 needs both P and Q, the second control point from the end";
+        let pq = pair(st, x, w, ['P', 'Q'], col, message)?.ok_or_else(|| x.err(col, message))?;
+        let e = st.to_program(end);
+        points.push(machine_xy(st, add([e[0], e[1]], pq)));
+        Some(pq)
+    } else {
+        None
+    };
+    points.push([end[0], end[1]]);
+    follow(st, comp, x, &[curve::bezier(&points)], end, inverse, col)?;
+    if let Some(pq) = pq {
+        st.g5_tangent = [-pq[0], -pq[1]];
+    }
+    Ok(())
 }
 
 /// A G5.2 line: the first begins a NURBS at the machine's position (P alone weighs that

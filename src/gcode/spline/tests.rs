@@ -125,6 +125,15 @@ fn random_points(r: &mut Rng, n: usize, size: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// A random NURBS of order `k`: k to k + `extra` control points within `size` mm, weights
+/// 0.2 to 5.
+fn random_nurbs(r: &mut Rng, k: usize, extra: i64, size: f64) -> (usize, Vec<[f64; 2]>, Vec<f64>) {
+    let count = k + r.range(0, extra) as usize;
+    let p = random_points(r, count, size);
+    let w = (0..count).map(|_| 0.2 + 4.8 * r.unit()).collect();
+    (k, p, w)
+}
+
 #[test]
 fn bezier_chords_lie_on_the_curve_and_within_the_tolerance() {
     let mut r = Rng::new(5);
@@ -173,10 +182,8 @@ fn the_knots_are_linuxcncs() {
 fn nurbs_pieces_are_the_curve_of_cox_de_boor() {
     let mut r = Rng::new(11);
     for case in 0..40 {
-        let k = 3 + case % 4;
-        let count = k + (r.range(0, 9) as usize);
-        let p = random_points(&mut r, count, 100.0);
-        let w: Vec<f64> = (0..count).map(|_| 0.2 + 4.8 * r.unit()).collect();
+        let (k, p, w) = random_nurbs(&mut r, 3 + case % 4, 9, 100.0);
+        let count = p.len();
         let pieces = curve::nurbs(&p, &w, k);
         assert_eq!(pieces.len(), count + 1 - k, "one piece per knot span");
         for piece in &pieces {
@@ -201,10 +208,8 @@ fn nurbs_pieces_are_the_curve_of_cox_de_boor() {
 fn nurbs_chords_lie_on_the_curve_and_within_the_tolerance() {
     let mut r = Rng::new(23);
     for case in 0..24 {
-        let k = 3 + case % 3;
-        let count = k + (r.range(0, 6) as usize);
-        let p = random_points(&mut r, count, 60.0);
-        let w: Vec<f64> = (0..count).map(|_| 0.3 + 3.0 * r.unit()).collect();
+        let (k, p, w) = random_nurbs(&mut r, 3 + case % 3, 6, 60.0);
+        let count = p.len();
         let tol = [0.001, 0.005, 0.05][case % 3];
         let chords = curve::flatten(&curve::nurbs(&p, &w, k), tol, MAX_CHORDS).unwrap();
         let end = (count + 1 - k) as f64;
