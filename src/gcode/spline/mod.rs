@@ -364,6 +364,10 @@ fn follow(
         from = *e;
     }
     let feed = feed_rate(st, x, inverse, length, col)?;
+    if comp.pending_exit() {
+        // After G40: the exit move goes to where the curve starts, then the chords follow it.
+        comp.line(x, st.pos, st.pos, false, feed, col)?;
+    }
     for e in ends {
         if e != st.pos {
             comp.line(x, st.pos, e, false, feed, col)?;

@@ -444,3 +444,18 @@ fn a_nurbs_ended_then_begun_on_one_line_and_its_limits() {
     let order = format!("G0 X0 Y0\nF100\nG5.2 X1 Y1 P1 L{}", MAX_ORDER + 1);
     assert!(error(&order).contains("a NURBS's order is 3 (quadratic) to 16"));
 }
+
+#[test]
+fn after_g40_the_exit_move_goes_to_the_curves_start() {
+    let bs =
+        blocks("T1 M6\nG0 X-50 Y-50\nF100\nG41\nG1 X10 Y0\nG1 X80 Y10\nG40\nG5.1 I10 J10 X100 Y0")
+            .unwrap();
+    let mine = of_line(&bs, 11);
+    assert_eq!(
+        mm(&mine[0]),
+        [580.0, 410.0],
+        "the exit move ends at the start"
+    );
+    let q = [[80.0, 10.0], [90.0, 20.0], [100.0, 0.0]];
+    on_curve(&bs, 11, &|t| de_casteljau(&q, t), 1.0, [100.0, 0.0]);
+}
