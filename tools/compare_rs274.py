@@ -5,9 +5,15 @@ and a built novanc; the test suite never runs this.
 
 For each program: rs274 -g prints canonical calls in program coordinates; this script adds the
 work offset, the tool length offset and the units to get machine millimetres, drops moves shorter
-than half a pulse (0.0005 mm), and compares every move's kind and end point and every arc's centre and direction with
+than half a pulse (0.0005 mm; 0.0013 mm where rs274 printed inches, its 4 decimals' step), and compares every move's kind and end point and every arc's centre and direction with
 the blocks `novanc translate` prints, in the same order, to 0.001 mm. Where rs274 refuses a
 program, novanc must refuse it.
+
+Splines: rs274 prints a G5, G5.1 or G5.2 … G5.3 curve only as `NURBS_FEED(n, ...)` (n its
+control points), without its points. Such a line (or a run of them) matches the run of novanc
+feed moves (its chords, one at least per spline) that ends where the next rs274 move starts:
+the run stops at the first novanc move that agrees with rs274's next move. An arc after it must
+start on its own circle there. The curves themselves are checked by novanc's unit tests.
 
 usage: compare_rs274.py [--novanc BIN] [--golden DIR] PROG.ngc...
   --golden DIR   also write DIR/NAME.ngc and DIR/NAME.expect (the rs274 moves in machine mm,
@@ -20,6 +26,9 @@ import re
 import subprocess
 import sys
 import tempfile
+
+# One level of recursion for each run of splines in a program (compare).
+sys.setrecursionlimit(100000)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOL = 0.001 + 1e-6
@@ -75,6 +84,8 @@ def rs274_moves(prog, tbl):
     moves = []
     last = [0.0, 0.0, 0.0]
     kept = [[0.0, 0.0, 0.0]]
+    # After a spline, where it ended in X and Y is not printed (its Z is the Z before it).
+    after_spline = False
 
     def machine(x, y, z):
         x, y, z = x * factor + g92[0], y * factor + g92[1], z * factor + g92[2]
@@ -103,13 +114,16 @@ def rs274_moves(prog, tbl):
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             e = machine(vals[0], vals[1], vals[2])
             # Shorter than half a pulse from the last move kept (rs274's inch rounding, or CAM
-            # output in steps below a pulse): novanc cannot move it.
-            if max(abs(e[i] - kept[0][i]) for i in range(3)) >= 0.0005 or name == "STRAIGHT_PROBE":
+            # output in steps below a pulse): novanc cannot move it. In inches rs274 prints 4
+            # decimals: a move below 0.00127 mm is its rounding.
+            least = 0.0005 if factor == 1.0 else 0.0013
+            if after_spline or max(abs(e[i] - kept[0][i]) for i in range(3)) >= least or name == "STRAIGHT_PROBE":
                 kind = {"STRAIGHT_TRAVERSE": "R", "STRAIGHT_FEED": "F", "STRAIGHT_PROBE": "P"}[name]
                 moves.append((kind, *e))
                 inch.append(factor != 1.0)
                 kept[0] = e
             last = e
+            after_spline = False
         elif name == "ARC_FEED":
             fe, se, fa, sa, turns, ae = vals[:6]
             plane = current_plane[0]
@@ -155,6 +169,12 @@ def rs274_moves(prog, tbl):
             inch.append(factor != 1.0)
             last = me
             kept[0] = me
+            after_spline = False
+        elif name == "NURBS_FEED":
+            # The curve's points are not printed: where it ends is unknown here.
+            moves.append(("S", int(vals[0])))
+            inch.append(False)
+            after_spline = True
         elif name == "SELECT_PLANE":
             current_plane[0] = {"CANON_PLANE_XY": "XY", "CANON_PLANE_XZ": "XZ", "CANON_PLANE_YZ": "YZ"}[args.strip()]
         if name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
@@ -212,31 +232,72 @@ def novanc_moves(prog, novanc):
 
 
 def fmt(m):
+    if m[0] == "S":
+        return "S %d" % m[1]
     if m[0] == "A":
         return "A%d %s %.4f %.4f %.4f %.4f %.4f %.4f" % m[1:]
     return "%s %.4f %.4f %.4f" % m
 
 
-def rise_first(a, b):
-    """novanc's one departure in canned cycles (docs/gcode.md "Canned cycles"): where rs274
-    rises diagonally to the clear level while crossing to the next hole, novanc rises straight
-    first, then crosses. Rewrites such an rs274 rapid into novanc's two when novanc has them."""
-    out, j = [], 0
-    for x in a:
-        if x[0] == "R" and j + 1 < len(b) and b[j][0] == "R" and b[j + 1][0] == "R" and out and out[-1][0] != "A":
-            p = out[-1][1:4]
-            q, up = x[1:4], b[j][1:4]
-            moved = [k for k in range(3) if abs(up[k] - p[k]) > TOL]
-            if (len(moved) == 1 and abs(up[moved[0]] - q[moved[0]]) <= TOL and q[moved[0]] > p[moved[0]]
-                    and all(abs(b[j + 1][1 + k] - q[k]) <= TOL for k in range(3))):
-                out.append(("R", *up))
-                inch.insert(len(out) - 1, inch[len(out) - 1] if len(out) - 1 < len(inch) else False)
-                out.append(x)
-                j += 2
-                continue
-        out.append(x)
-        j += 1
-    return out
+def agrees(x, y, tol=TOL):
+    """Whether rs274 move x and novanc move y are the same move (kind, direction, numbers; an
+    arc centre's coordinate along the plane's normal means nothing and is not compared)."""
+    if x[0] != y[0] or (x[0] == "A" and (x[1] != y[1] or x[2] != y[2])):
+        return False
+    nums_x = [v for v in x if isinstance(v, float)]
+    nums_y = [v for v in y if isinstance(v, float)]
+    if x[0] == "A":
+        skip = 3 + {"XY": 2, "XZ": 1, "YZ": 0}[x[2]]
+        del nums_x[skip], nums_y[skip]
+    return all(abs(p - q) <= tol + (0.0006 if x[0] == "A" else 0.0) for p, q in zip(nums_x, nums_y))
+
+
+def tol_of(i):
+    """The allowance for rs274 move i: wider where rs274 printed inches, wider still for the
+    whole turns of a multi-turn arc rebuilt from rs274's printed centre."""
+    if i < len(inch) and inch[i] == "turn":
+        return TOL + 0.01
+    return TOL + (0.00127 if i < len(inch) and inch[i] else 0.0)
+
+
+def end_of(m):
+    """Where a novanc move ends."""
+    return list(m[3:6] if m[0] == "A" else m[1:4])
+
+
+def spline_runs(a, i, b, j):
+    """The ways the splines a[i:i+c] (c consecutive NURBS_FEED) can match novanc's moves from
+    b[j]: (c, [(n, skip)...], error). A run is novanc's feed moves b[j:j+n], at least one per
+    spline, ending where the next novanc move agrees with rs274's next move a[i+c]; skip is 1
+    when that next move is one novanc did not make (no length: it ends where the run ends)."""
+    c = 0
+    while i + c < len(a) and a[i + c][0] == "S":
+        c += 1
+    m = 0
+    while j + m < len(b) and b[j + m][0] in ("F", "A"):
+        m += 1
+    if m < c:
+        return c, [], f"move {j + 1}: rs274 has {c} spline(s) here, novanc {m} feed moves"
+    if i + c == len(a):
+        return c, [(m, 0)], None
+    nxt = a[i + c]
+    tol = TOL + (0.00127 if inch[i + c] else 0.0)
+    runs = [(n, 0) for n in range(c, m + 1) if j + n < len(b) and agrees(nxt, b[j + n], tol)]
+    if nxt[0] != "A" and all(abs(nxt[1 + k] - end_of(b[j + m - 1])[k]) <= tol for k in range(3)):
+        runs.append((m, 1))
+    if not runs:
+        return c, [], f"move {j + 1}: no run of novanc's feed moves after rs274's {c} spline(s) is followed by rs274's next move {fmt(nxt)}"
+    return c, runs, None
+
+
+def on_circle(start, arc):
+    """Whether an rs274 arc starts on its own circle at `start` (the end of a spline run)."""
+    normal = {"XY": 2, "XZ": 1, "YZ": 0}[arc[2]]
+    u, v = [k for k in range(3) if k != normal]
+    end, centre = arc[3:6], arc[6:9]
+    r0 = math.hypot(start[u] - centre[u], start[v] - centre[v])
+    r1 = math.hypot(end[u] - centre[u], end[v] - centre[v])
+    return abs(r0 - r1) <= 0.03
 
 
 def one_pulse(prev, y):
@@ -276,47 +337,63 @@ def resync(a, b, i, j, span=60, step=0.01):
 
 
 def compare(a, b):
-    """None if the move lists agree, else a description of the first difference."""
-    i = j = 0
-    prev = prev_a = None
-    while i < len(a) and j < len(b):
-        x, y = a[i], b[j]
-        bad = x[0] != y[0] or (x[0] == "A" and (x[1] != y[1] or x[2] != y[2]))
-        if not bad:
-            nums_x = [v for v in x if isinstance(v, float)]
-            nums_y = [v for v in y if isinstance(v, float)]
-            if x[0] == "A":
-                # The centre's coordinate along the plane's normal means nothing.
-                skip = 3 + {"XY": 2, "XZ": 1, "YZ": 0}[x[2]]
-                del nums_x[skip], nums_y[skip]
-            tol = TOL + 0.0006 if x[0] == "A" else TOL
-            if i < len(inch) and inch[i]:
-                tol += 0.01 if inch[i] == "turn" else 0.00127
-            bad = any(abs(p - q) > tol for p, q in zip(nums_x, nums_y))
-        if bad:
-            if one_pulse(prev, y):
-                prev = y[1:4]
-                j += 1
-                continue
-            if one_pulse(prev_a, x):
-                prev_a = x[1:4]
-                i += 1
-                continue
-            k = resync(a, b, i, j)
-            if k:
-                i, j = k
-                prev = prev_a = None
-                continue
-            return f"move {i + 1}: rs274 {fmt(x)}, novanc {fmt(y)}"
-        prev = y[3:6] if y[0] == "A" else y[1:4]
-        prev_a = x[3:6] if x[0] == "A" else x[1:4]
-        i += 1
-        j += 1
-    while j < len(b) and one_pulse(prev, b[j]):
-        j += 1
-    if i != len(a) or j != len(b):
-        return f"rs274 has {len(a)} moves, novanc {len(b)}"
-    return None
+    """None if rs274's moves a agree with novanc's moves b, else a description of the first
+    difference. A run of splines in a matches a run of novanc's feed moves (spline_runs; where
+    several runs could, the one with which the rest agrees). novanc's one departure in canned
+    cycles (docs/gcode.md "Canned cycles"): where rs274 rises diagonally to the clear level while
+    crossing to the next hole, novanc rises straight first, then crosses."""
+    failed = {}
+
+    def walk(i, j):
+        while i < len(a):
+            x = a[i]
+            if x[0] == "S":
+                if (i, j) in failed:
+                    return failed[(i, j)]
+                c, runs, err = spline_runs(a, i, b, j)
+                for n, skip in runs:
+                    nxt = a[i + c + skip] if i + c + skip < len(a) else None
+                    if nxt is not None and nxt[0] == "A" and not on_circle(end_of(b[j + n - 1]), nxt):
+                        err = err or f"move {j + n + 1}: the spline ends at {end_of(b[j + n - 1])}, off the circle of rs274's next arc {fmt(nxt)}"
+                        continue
+                    e = walk(i + c + skip, j + n)
+                    if e is None:
+                        return None
+                    err = err or e
+                failed[(i, j)] = err
+                return err
+            if j >= len(b):
+                break
+            if (x[0] == "R" and j + 1 < len(b) and b[j][0] == "R" and b[j + 1][0] == "R" and j > 0
+                    and b[j - 1][0] != "A"):
+                p, q, up = b[j - 1][1:4], x[1:4], b[j][1:4]
+                moved = [k for k in range(3) if abs(up[k] - p[k]) > TOL]
+                if (len(moved) == 1 and abs(up[moved[0]] - q[moved[0]]) <= TOL and q[moved[0]] > p[moved[0]]
+                        and all(abs(b[j + 1][1 + k] - q[k]) <= TOL for k in range(3))):
+                    i, j = i + 1, j + 2
+                    continue
+            if not agrees(x, b[j], tol_of(i)):
+                prev_b = end_of(b[j - 1]) if j > 0 else None
+                prev_a = (end_of(a[i - 1]) if a[i - 1][0] != "S" else None) if i > 0 else None
+                if one_pulse(prev_b, b[j]):
+                    j += 1
+                    continue
+                if one_pulse(prev_a, x):
+                    i += 1
+                    continue
+                k = resync(a, b, i, j)
+                if k:
+                    i, j = k
+                    continue
+                return f"move {j + 1}: rs274 {fmt(x)}, novanc {fmt(b[j])}"
+            i, j = i + 1, j + 1
+        while j < len(b) and j > 0 and one_pulse(end_of(b[j - 1]), b[j]):
+            j += 1
+        if i < len(a) or j < len(b):
+            return f"rs274 has {len(a)} moves, novanc {len(b)} (they part after novanc's move {j})"
+        return None
+
+    return walk(0, 0)
 
 
 def main(argv):
@@ -356,14 +433,15 @@ def main(argv):
         elif got_err:
             print(f"note {name}: novanc refuses ({got_err}), rs274 accepts {len(ref)} moves")
         else:
-            ref = rise_first(ref, got)
             d = compare(ref, got)
             if d:
                 bad += 1
                 print(f"FAIL {name}: {d}")
             else:
                 total_moves += len(ref)
-                print(f"ok   {name}: {len(ref)} moves agree")
+                splines = sum(1 for m in ref if m[0] == "S")
+                also = f" ({splines} of them splines)" if splines else ""
+                print(f"ok   {name}: {len(ref)} moves agree{also}")
         if golden and not (got_err and not ref_err) and not (ref_err is None and compare(ref, got)):
             base = os.path.join(golden, os.path.splitext(name)[0])
             with open(prog) as src, open(base + ".ngc", "w") as dst:
@@ -374,6 +452,7 @@ def main(argv):
                 else:
                     out.write("# rs274 moves in machine mm: kind, end X Y Z (arcs: A0 cw / A1 ccw, plane,\n")
                     out.write("# end, centre), then the tolerance in mm (wider where rs274 printed inches)\n")
+                    out.write("# (S n: a spline of n control points, a run of novanc feed moves)\n")
                     for i, m in enumerate(ref):
                         tol = TOL + (0.0006 if m[0] == "A" else 0.0) + (0.00127 if inch[i] else 0.0)
                         out.write(f"{fmt(m)} {tol:.5f}\n")

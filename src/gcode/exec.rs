@@ -220,7 +220,7 @@ fn motion_to_be(
             10 => Motion::Feed,
             20 => Motion::Cw,
             30 => Motion::Ccw,
-            50 | 51 | 52 => Motion::Spline(g as u16),
+            50..=52 => Motion::Spline(g as u16),
             331 => Motion::RigidTap,
             382..=385 => Motion::Probe(g as u16),
             730 | 740 | 810..=890 => Motion::Cycle(g as u16),
@@ -351,11 +351,11 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
         }
     }
     if w.get('Q').is_some()
-        && !(is(&[830, 730, 50, 52]) || (66..=68).any(m) || g(100) || m(61) || g(640) || m(19))
+        && !(is(&[830, 730, 50]) || (66..=68).any(m) || g(100) || m(61) || g(640) || m(19))
     {
         refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66, M67 or M68")?;
     }
-    if w.get('R').is_some() && !(is(&[20, 30, 52, 730, 740]) || cycle || g(100) || m(19)) {
+    if w.get('R').is_some() && !(is(&[20, 30, 730, 740]) || cycle || g(100) || m(19)) {
         refuse('R', "G2, G3, a canned cycle, G10 or M19")?;
     }
     if w.get('S').is_none() && g(960) {
@@ -526,7 +526,11 @@ pub fn execute(
         if let Some((m, col)) = motion {
             if matches!(
                 m,
-                Motion::Feed | Motion::Cw | Motion::Ccw | Motion::Cycle(_) | Motion::Spline(_)
+                Motion::Feed
+                    | Motion::Cw
+                    | Motion::Ccw
+                    | Motion::Cycle(_)
+                    | Motion::Spline(50 | 51)
             ) && inverse_feed.is_none()
             {
                 return Err(x.err(
@@ -769,6 +773,9 @@ pub fn execute(
         .or(w.has_g(923))
     {
         moves::g92(st, comp, x, w, col)?;
+    } else if let Some(col) = w.has_g(53) {
+        let m = motion.map(|m| m.0);
+        super::spline::end_nurbs(st, comp, x, w, m, col, inverse_feed)?;
     }
     if let Some(col) = w.has_g(530) {
         match motion {
@@ -784,6 +791,9 @@ pub fn execute(
     }
     // The motion.
     if let Some((m, col)) = motion {
+        if m != Motion::Spline(52) {
+            super::spline::unfinished(st, x.n, col, "this motion")?;
+        }
         if !matches!(m, Motion::Cycle(_)) {
             st.cycle.il = None;
         }
@@ -824,7 +834,8 @@ pub fn execute(
     if let Some(col) = w.has_m(99) {
         return Ok(Flow::Return { col });
     }
-    if w.has_m(2).is_some() || w.has_m(30).is_some() {
+    if let Some(col) = w.has_m(2).or(w.has_m(30)) {
+        super::spline::unfinished(st, x.n, col, "the program's end")?;
         return Ok(Flow::End);
     }
     Ok(Flow::Next)
@@ -843,17 +854,27 @@ fn feed_for(
     if m == Motion::Rapid {
         return Ok(0.0);
     }
+    let d = ((e[0] - st.pos[0]).powi(2) + (e[1] - st.pos[1]).powi(2) + (e[2] - st.pos[2]).powi(2))
+        .sqrt();
+    feed_rate(st, x, inverse, d, col)
+}
+
+/// The feed (mm/min) of a feed move `length` mm long: F in force (G94), F × S (G95), or under
+/// G93 the length over the time the line's F (`inverse`, 1/min) gives.
+pub fn feed_rate(
+    st: &InterpState,
+    x: &Exec,
+    inverse: Option<f64>,
+    length: f64,
+    col: u32,
+) -> Result<f64, TranslateError> {
     match st.modal.feed_mode {
         FeedMode::InverseTime => {
             let f = inverse.unwrap_or(0.0);
             if f <= 0.0 {
                 return Err(x.err(col, "inverse time feed (G93) needs F greater than 0"));
             }
-            let d = ((e[0] - st.pos[0]).powi(2)
-                + (e[1] - st.pos[1]).powi(2)
-                + (e[2] - st.pos[2]).powi(2))
-            .sqrt();
-            Ok(d * f)
+            Ok(length * f)
         }
         FeedMode::PerRevolution => {
             if st.modal.speed <= 0.0 || st.modal.spindle == 0 {
@@ -929,7 +950,11 @@ fn motion_line(
             super::probe::probe(st, comp, x, w, g, col)
         }
         Motion::Spline(g) => {
-            st.modal.motion = m;
+            // G5 and G5.1 leave the motion mode as it was, as LinuxCNC 2.9's do: the next line
+            // of X Y alone is a move of that mode. G5.2 stays in force until G5.3.
+            if g == 52 {
+                st.modal.motion = m;
+            }
             super::spline::spline(st, comp, x, w, g, col, inverse)
         }
         Motion::RigidTap => Err(x.err(

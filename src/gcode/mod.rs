@@ -237,6 +237,8 @@ impl GcodeSource {
         ];
         st.tool = machine.tool;
         st.call_level = 0;
+        // A NURBS is begun and ended within one program (or one MDI text).
+        st.nurbs = None;
         let first_code = source.split('\n').position(|l| {
             let t = l.trim();
             !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
@@ -505,6 +507,7 @@ impl GcodeSource {
                 });
             }
             // The closing %: the program ends.
+            spline::unfinished(&self.st, n, 1, "the program's end")?;
             return Ok(Some(self.end(n, raw.trim().to_string(), Vec::new(), None)));
         }
         if let Some(o) = &line.o {

@@ -6,7 +6,7 @@ use super::canon::Canon;
 use super::comp::Comp;
 use super::exec::{int_word, Event, Exec};
 use super::geom::{self, ArcFault};
-use super::state::{rotate, system_base, FeedMode, InterpState, Motion, MM_PER_INCH};
+use super::state::{rotate, system_base, InterpState, Motion, MM_PER_INCH};
 use super::words::Words;
 use crate::block::TranslateError;
 
@@ -139,36 +139,13 @@ pub fn arc(
     centre_p[u] = cuv[0];
     centre_p[v] = cuv[1];
     let centre = st.to_machine(centre_p);
-    let feed = match st.modal.feed_mode {
-        FeedMode::InverseTime => {
-            let f = inverse.unwrap_or(0.0);
-            if f <= 0.0 {
-                return Err(x.err(col, "inverse time feed (G93) needs F greater than 0"));
-            }
-            let rad = (su[0] - cuv[0]).hypot(su[1] - cuv[1]);
-            let sweep = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
-            let axial = (ep[plane.axes()[2]] - sp[plane.axes()[2]]).abs();
-            (rad * sweep).hypot(axial) * f
-        }
-        FeedMode::PerRevolution => {
-            if st.modal.speed <= 0.0 || st.modal.spindle == 0 {
-                return Err(x.err(
-                    col,
-                    "feed per revolution (G95) needs the spindle turning (S and M03/M04)",
-                ));
-            }
-            st.modal.feed * st.modal.speed
-        }
-        FeedMode::PerMinute => {
-            if st.modal.feed <= 0.0 {
-                return Err(x.err(
-                    col,
-                    "a feed move without F: give F (mm/min, or in/min under G20)",
-                ));
-            }
-            st.modal.feed
-        }
+    let length = {
+        let rad = (su[0] - cuv[0]).hypot(su[1] - cuv[1]);
+        let sweep = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
+        let axial = (ep[plane.axes()[2]] - sp[plane.axes()[2]]).abs();
+        (rad * sweep).hypot(axial)
     };
+    let feed = super::exec::feed_rate(st, x, inverse, length, col)?;
     if turns > 1 {
         if comp.active() {
             return Err(x.err(
@@ -381,7 +358,7 @@ fn g10_tool(
 ) -> Result<(), TranslateError> {
     let k = st.factor();
     let pcol = w.col('P').unwrap_or(col);
-    if p < 1.0 || p > 999.0 {
+    if !(1.0..=999.0).contains(&p) {
         return Err(x.err(pcol, format!("G10 L{l} P{p}: P is the T code, 1 or more")));
     }
     let t = p as u32;

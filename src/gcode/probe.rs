@@ -64,8 +64,8 @@ pub fn probe(
     st.pos = stop;
     let k = st.factor();
     let p = st.to_program(stop);
-    for a in 0..3 {
-        st.params[5061 + a] = p[a] / k;
+    for (a, v) in p.iter().enumerate() {
+        st.params[5061 + a] = v / k;
     }
     for n in 5064..=5069 {
         st.params[n] = 0.0;

@@ -734,6 +734,9 @@ fn classify(text: String, col: u32) -> Comment {
     }
 }
 
+/// While O-word flow skips lines: whether an O-line of a label and kind is read.
+pub type Skipping<'a> = &'a dyn Fn(&str, OKind) -> bool;
+
 /// Reads one line (without its newline) into `out` (cleared first), against `env`. While
 /// `skipping`, only an O-word line's label and keyword are read; `skipping(label, kind)` says
 /// whether that O-line's expressions are read too (its label is the one being skipped to).
@@ -743,7 +746,7 @@ pub fn read_into(
     raw: &str,
     line: u32,
     env: &dyn Env,
-    skipping: Option<&dyn Fn(&str, OKind) -> bool>,
+    skipping: Option<Skipping>,
 ) -> Result<(), TranslateError> {
     out.clear();
     let end_col = normalise(scratch, out, raw, line)?;
@@ -835,7 +838,7 @@ pub fn read_into(
 fn read_o(
     r: &mut Reader,
     out: &mut Line,
-    skipping: Option<&dyn Fn(&str, OKind) -> bool>,
+    skipping: Option<Skipping>,
 ) -> Result<(), TranslateError> {
     let col = r.col();
     r.i += 1; // 'o'

@@ -216,6 +216,20 @@ pub struct Saved {
     pub auto_restore: bool,
 }
 
+/// A NURBS being given by G5.2 lines, until G5.3 moves along it (docs/gcode.md "Splines").
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingNurbs {
+    /// The control points, machine mm (XY); the first is where the machine stood at the first
+    /// G5.2 line.
+    pub points: Vec<[f64; 2]>,
+    /// Their weights (P), each greater than 0.
+    pub weights: Vec<f64>,
+    /// The order L (the degree + 1), 3 or more.
+    pub order: usize,
+    /// The line of the first G5.2, for messages.
+    pub line: u32,
+}
+
 /// The interpreter's state: everything that outlives one line.
 #[derive(Clone, Debug)]
 pub struct InterpState {
@@ -263,6 +277,12 @@ pub struct InterpState {
     pub digital_out: [bool; 64],
     /// Analog outputs E0–E63 (M67/M68).
     pub analog_out: [f64; 64],
+    /// The NURBS the G5.2 lines are giving, until G5.3.
+    pub nurbs: Option<PendingNurbs>,
+    /// The first control point of a G5 without I J, from its start (program frame, mm): the
+    /// last G5's P Q negated (LinuxCNC's `cycle_i`, `cycle_j`), so that it continues that
+    /// curve's tangent.
+    pub g5_tangent: [f64; 2],
 }
 
 impl Default for InterpState {
@@ -292,6 +312,8 @@ impl Default for InterpState {
             saved: Vec::new(),
             digital_out: [false; 64],
             analog_out: [0.0; 64],
+            nurbs: None,
+            g5_tangent: [0.0; 2],
         }
     }
 }
