@@ -326,7 +326,7 @@ fn a_listing_longer_than_it_holds_is_printed_in_bounded_memory() {
         held_peak > 16 << 20,
         "the held listing took {held_peak} bytes"
     );
-    assert!(peak < 8 << 20, "peak heap {peak} bytes");
+    assert!(peak < 8 << 20, "peak heap {peak} bytes (held: {held_peak})");
     let text = iso_text(
         "p.ngc",
         src,

@@ -413,9 +413,7 @@ pub fn cycle(
         }
     }
     debug_assert_eq!(out.len() as u64, total, "the count of {name}");
-    for c in out {
-        x.push(c, col);
-    }
+    x.push_all(out, col);
     st.pos = st.to_machine(pos);
     st.cycle.r = Some(r_in);
     st.cycle.z = Some(cc_in);

@@ -158,6 +158,14 @@ impl Exec<'_> {
         self.out.push((c, self.n, col));
     }
 
+    /// Adds canonical actions all charged to `col`, growing the line's list once (a cycle line
+    /// may make up to `MAX_BLOCKS`: doubling would hold three times their size at its peak).
+    pub fn push_all(&mut self, cs: Vec<Canon>, col: u32) {
+        self.out.reserve_exact(cs.len());
+        let n = self.n;
+        self.out.extend(cs.into_iter().map(|c| (c, n, col)));
+    }
+
     /// The tool data of T code `t`: (length, diameter), mm.
     pub fn tool_data(&self, t: u32, col: u32, what: &str) -> Result<(f64, f64), TranslateError> {
         self.magazine
@@ -548,7 +556,11 @@ pub fn execute(
             if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
                 return Err(x.err(
                     w.col('S').unwrap_or(1),
-                    format!("spindle speed S{s} is not usable"),
+                    format!(
+                        "spindle speed S{} is not usable (0 to {} rpm)",
+                        crate::input_text::short_number(s),
+                        crate::translator::MAX_SPEED
+                    ),
                 ));
             }
             st.modal.speed = s;

@@ -380,7 +380,13 @@ impl Reader<'_> {
         let v = self.value()?;
         let n = v.round();
         if (v - n).abs() > 1e-4 || n.abs() > 1e15 {
-            return Err(self.err(col, format!("{what} {v} is not a whole number")));
+            return Err(self.err(
+                col,
+                format!(
+                    "{what} {} is not a whole number",
+                    crate::input_text::short_number(v)
+                ),
+            ));
         }
         Ok((n as i64, col))
     }
