@@ -12,6 +12,12 @@ use crate::block::TranslateError;
 use crate::input_text::describe_char;
 
 /// The highest numbered parameter (LinuxCNC's `RS274NGC_MAX_PARAMETERS` − 1).
+/// 10^0 … 10^22, each exact in an f64.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
 pub const MAX_PARAM: usize = 5602;
 
 /// The deepest nesting of brackets, signs and parameter references in one value.
@@ -321,13 +327,13 @@ impl Reader<'_> {
             return Err(self.err(col, format!("a number was expected, not {what}")));
         }
         if digits <= 15 && decimals <= 22 {
-            return Ok(mant as f64 / 10f64.powi(decimals));
+            return Ok(mant as f64 / POW10[decimals as usize]);
         }
         if digits <= 19 && decimals <= 22 {
             // CAM output's 17 digits: the mantissa is exact in u64; one rounding to f64 and one
             // division leave at most an ulp (1e-16 of the value), far below any machine's
             // resolution, and skip the general parser.
-            return Ok(mant as f64 / 10f64.powi(decimals));
+            return Ok(mant as f64 / POW10[decimals as usize]);
         }
         // Only ASCII digits and one point were read: the standard parser rounds them exactly.
         let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");

@@ -15,6 +15,8 @@ const LETTERS: &str = "DEFHIJKLPQRSTXYZ@^";
 pub struct Dialect {
     /// The letters a line may hold, besides G and M.
     pub letters: &'static str,
+    /// The same letters as bits (`letter_bits(letters)`), tested once per word.
+    pub letter_bits: u32,
     /// The modal group (0–12) of a G code ×10, or `None` for an unknown code.
     pub g_group: fn(u32) -> Option<u8>,
     /// The modal group (0–10) of an M code, or `None` for an unknown code.
@@ -28,6 +30,7 @@ pub struct Dialect {
 /// The mill dialect (docs/gcode.md "Words").
 pub const MILL: Dialect = Dialect {
     letters: LETTERS,
+    letter_bits: letter_bits(LETTERS),
     g_group,
     m_group,
     g_why: mill_g_why,
@@ -166,6 +169,28 @@ impl Words {
 }
 
 /// The slot of a letter in `Words::vals`: A–Z, then `@` and `^`.
+/// Bit `slot(c)` for each letter of `letters` (A–Z, `@`, `^`).
+pub const fn letter_bits(letters: &str) -> u32 {
+    let b = letters.as_bytes();
+    let mut bits = 0u32;
+    let mut i = 0;
+    while i < b.len() {
+        bits |= match b[i] {
+            b'@' => 1 << 26,
+            b'^' => 1 << 27,
+            c @ b'A'..=b'Z' => 1 << (c - b'A'),
+            _ => 0,
+        };
+        i += 1;
+    }
+    bits
+}
+
+/// Whether `c` is one of the letters of `bits` (`letter_bits`).
+fn letter_in(bits: u32, c: char) -> bool {
+    (c.is_ascii_uppercase() || c == '@' || c == '^') && bits & (1 << slot(c)) != 0
+}
+
 fn slot(c: char) -> usize {
     match c {
         '@' => 26,
@@ -303,7 +328,7 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     w.m_bits |= 1u128 << m;
                 }
             }
-            c if d.letters.as_bytes().contains(&(c as u8)) => {
+            c if letter_in(d.letter_bits, c) => {
                 w.letters |= 1 << slot(c);
                 let slot = &mut w.vals[slot(c)];
                 if slot.is_some() {

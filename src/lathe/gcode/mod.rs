@@ -41,9 +41,12 @@ pub struct ReadOptions {
     pub optional_stop: bool,
 }
 
+const LATHE_LETTERS: &str = "DEFHIJKLNPQRSTUWXZ";
+
 /// The lathe dialect: letters and codes by modal group (docs/lathe-gcode.md "Words").
 pub const LATHE: Dialect = Dialect {
-    letters: "DEFHIJKLNPQRSTUWXZ",
+    letters: LATHE_LETTERS,
+    letter_bits: crate::gcode::words::letter_bits(LATHE_LETTERS),
     g_group: lathe_g_group,
     m_group: lathe_m_group,
     g_why: lathe_g_why,
