@@ -474,3 +474,34 @@ fn a_tiny_arc_left_by_cutter_compensation_says_so() {
         "7:1: cutter compensation (tool radius 3.1000 mm) leaves this arc of radius 3.1005 mm a radius of 0.0005 mm, too small to cut (at least 0.0040 mm)"
     );
 }
+
+/// A program writes no file on the machine: LOGOPEN and PROBEOPEN are not dropped in silence,
+/// the operator is told where the lines go instead; LOG, PRINT and MSG reach the messages.
+#[test]
+fn log_and_probe_files_are_answered_with_a_message() {
+    use novanc::gcode::Event;
+    let src = format!(
+        "{PRE}(LOGOPEN,run.txt)\n#1=2.5\n(LOG,x=#1)\n(PROBEOPEN probe.txt)\n(PRINT,p=#1)\nM30\n"
+    );
+    let mut g = source(&src);
+    for r in g.by_ref() {
+        r.unwrap();
+    }
+    let msgs: Vec<String> = g
+        .take_events()
+        .into_iter()
+        .filter_map(|e| match e {
+            Event::Message { kind, text } => Some(format!("{kind}: {text}")),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        msgs,
+        [
+            "LOG: (LOGOPEN,run.txt): novanc writes no log file; LOG lines go to the MSG page and the recording",
+            "LOG: x=2.500000",
+            "LOG: (PROBEOPEN): novanc writes no probe file; probe results go to the recording",
+            "PRINT: p=2.500000",
+        ]
+    );
+}

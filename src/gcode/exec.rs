@@ -459,15 +459,27 @@ pub fn comments(
                 kind: "PRINT",
                 text: substitute(&c.text, lookup),
             }),
-            CommentKind::Log => {
-                if c.keyword == "LOG" {
-                    x.events.push(Event::Message {
-                        kind: "LOG",
-                        text: substitute(&c.text, lookup),
-                    });
-                }
-            }
-            CommentKind::ProbeLog => {}
+            CommentKind::Log if c.keyword == "LOG" => x.events.push(Event::Message {
+                kind: "LOG",
+                text: substitute(&c.text, lookup),
+            }),
+            // A program writes no file on the machine: the operator is told where the lines
+            // go instead (docs/gcode.md "Messages").
+            CommentKind::Log => x.events.push(Event::Message {
+                kind: "LOG",
+                text: format!(
+                    "({}{}): novanc writes no log file; LOG lines go to the MSG page and the recording",
+                    c.keyword,
+                    if c.text.trim().is_empty() { String::new() } else { format!(",{}", c.text.trim()) }
+                ),
+            }),
+            CommentKind::ProbeLog => x.events.push(Event::Message {
+                kind: "LOG",
+                text: format!(
+                    "({}): novanc writes no probe file; probe results go to the recording",
+                    c.keyword
+                ),
+            }),
             CommentKind::Abort => {
                 return Err(x.err(
                     c.col,
