@@ -207,6 +207,7 @@ fn measure(prog: &str, src: &str, hold: usize) -> (Duration, usize, Result<usize
         &MachineSettings::default(),
         Default::default(),
         Default::default(),
+        &[],
         hold,
         &mut out,
     );

@@ -12,13 +12,13 @@ use std::io::Write;
 
 const HELP: &str = "\
 usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
-                                [--optional-stop]
+                                [--optional-stop] [--subroutines DIR]...
        novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
 
 Translates the part program PROG into machine instruction blocks and prints them, one ISO
 6983 line per block, in absolute millimetres. PROG is in the source language
-(docs/language.md), or in ISO G-code (docs/gcode.md) when its name ends in .ngc, .nc or .iso
-or its first line is % or O and a number. The output is a preamble line
+(docs/language.md), or in ISO G-code (docs/gcode.md) when its name ends in .ngc, .nc, .iso,
+.tap, .gcode or .cnc or its first line is % or O and a number. The output is a preamble line
 'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J K F S T M', and 'M30'. The
 printed program is G-code for a standard interpreter (Z is the machine axis: tool-tip Z plus
 the tool's set length; for G-code, the gauge line: program Z plus the work offset plus the
@@ -35,14 +35,17 @@ options:
                       it (else a file); with no PROG, the program selected there
   --block-delete      G-code: skip lines that start with / (the BLOCK DELETE switch)
   --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
+  --subroutines DIR   G-code: a folder where 'o<name> call' finds name.ngc, after the
+                      program's own folder (repeatable: searched in order)
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
-const OPTS: [Opt; 7] = [
+const OPTS: [Opt; 8] = [
     Opt::value("--tools"),
+    Opt::value("--subroutines"),
     Opt::value("--magazine"),
     Opt::value("--state"),
     Opt::flag("--block-delete"),
@@ -161,6 +164,7 @@ pub fn iso_text(
         settings,
         switches,
         WorkOffsets::default(),
+        &[],
         usize::MAX,
         &mut out,
     ) {
@@ -200,6 +204,7 @@ pub fn print_iso(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    subroutines: &[std::path::PathBuf],
     hold: usize,
     out: &mut dyn Write,
 ) -> Result<(), PrintError> {
@@ -210,6 +215,7 @@ pub fn print_iso(
         settings,
         switches,
         offsets,
+        subroutines: subroutine_path(name, subroutines),
     };
     if let Some(text) = run.held(hold).map_err(PrintError::Program)? {
         return out.write_all(text.as_bytes()).map_err(PrintError::Write);
@@ -236,20 +242,35 @@ struct Listing<'a> {
     settings: &'a MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    subroutines: Vec<std::path::PathBuf>,
+}
+
+/// Where `o<name> call` finds `name.ngc` for the program file `name` (docs/gcode.md
+/// "Subroutine files"): the program's own folder, then `extra` (`--subroutines`), in order.
+pub fn subroutine_path(name: &str, extra: &[std::path::PathBuf]) -> Vec<std::path::PathBuf> {
+    let file = std::path::Path::new(name);
+    let own = file.is_file().then(|| match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    });
+    own.into_iter().chain(extra.iter().cloned()).collect()
 }
 
 impl Listing<'_> {
     /// The program's statements, in its language.
     fn statements(&self) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>>> {
         if crate::gcode::is_gcode(self.name, self.source) {
-            Box::new(crate::gcode::GcodeSource::new(
-                self.source.into(),
-                self.magazine.clone(),
-                self.settings.clone(),
-                crate::block::MachineState::at([0, 0, 0]),
-                self.offsets,
-                self.switches,
-            ))
+            Box::new(
+                crate::gcode::GcodeSource::new(
+                    self.source.into(),
+                    self.magazine.clone(),
+                    self.settings.clone(),
+                    crate::block::MachineState::at([0, 0, 0]),
+                    self.offsets,
+                    self.switches,
+                )
+                .subroutines(Box::new(crate::gcode::SubPath(self.subroutines.clone()))),
+            )
         } else {
             Box::new(Translator::new(
                 self.source,
@@ -303,6 +324,11 @@ pub fn main(argv: &[String]) -> i32 {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
     };
+    let subs: Vec<std::path::PathBuf> = args
+        .values("--subroutines")
+        .iter()
+        .map(std::path::PathBuf::from)
+        .collect();
     let mut stdout = std::io::stdout().lock();
     let r = print_iso(
         &prog,
@@ -311,6 +337,7 @@ pub fn main(argv: &[String]) -> i32 {
         &settings,
         switches,
         offsets,
+        &subs,
         HOLD_BYTES,
         &mut stdout,
     );
