@@ -12,8 +12,6 @@
 
 use super::super::display::{message_lines, split_line, Page as Frame, CUT};
 use super::Console;
-use crate::store::toolfile::format_line;
-use crate::store::Target;
 use crate::tooldata::{ToolKind, ToolRecord};
 use novanc_panel::Key;
 
@@ -142,16 +140,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             return;
         }
     };
-    let text = format_line(t, Some(tool), Some(&new));
-    let cmd = format!(
-        "-99999L{}KI{text}*",
-        if t > 1 {
-            format!("{}L", t - 1)
-        } else {
-            String::new()
-        }
-    );
-    match c.mem.edit(Target::ToolFile, &cmd, None) {
+    match c.mem.revise_tool(t, tool, &new) {
         Ok(_) => {
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {

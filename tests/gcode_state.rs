@@ -1,0 +1,171 @@
+//! The interpreter's state at the console (docs/gcode.md "The interpreter's state"): MDI and
+//! AUTO read from one state that outlives each run, the persistent parameters survive a
+//! restart, a refused run changes nothing, G10 L1 keeps tool data, and a program's messages
+//! reach the MSG page.
+
+mod common;
+
+use common::{keys, open, p, shows, type_line};
+use novanc::console::{Console, ConsoleConfig};
+use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
+use novanc::pulse_core::ClockMode;
+use std::path::Path;
+
+fn reopen(dir: &Path) -> Console {
+    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
+    cfg.clock = ClockMode::Virtual;
+    Console::open(cfg).unwrap().0
+}
+
+fn mdi(c: &mut Console, line: &str) {
+    c.handle(E::Op(OpMode::Mdi));
+    type_line(c, line);
+    c.handle(E::Start);
+    c.handle(E::Wait);
+}
+
+/// Reads `text` as program `name` into program memory (PROGRAM READ from a file) and runs it
+/// in AUTO to its end.
+fn run_program(c: &mut Console, name: &str, text: &str) {
+    let f = common::temp_dir("state-prog").join(name);
+    std::fs::write(&f, text).unwrap();
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(f));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+}
+
+#[test]
+fn g91_in_one_mdi_line_makes_the_next_move_incremental() {
+    let mut c = open("state-g91");
+    mdi(&mut c, "G0 X10 Y5");
+    assert_eq!(c.status().pos[0], p(10.0));
+    mdi(&mut c, "G91");
+    mdi(&mut c, "G0 X5");
+    assert_eq!(c.status().pos[..2], [p(15.0), p(5.0)], "{}", c.frame_text());
+    mdi(&mut c, "G90");
+    mdi(&mut c, "G0 X5");
+    assert_eq!(c.status().pos[0], p(5.0));
+}
+
+#[test]
+fn a_programs_tool_length_offset_holds_for_the_next_mdi_move() {
+    let mut c = open("state-g43");
+    let len = c.magazine().tools.get(2).expect("T02 has data").length();
+    assert!(len > 1.0);
+    let prog = "%\nG10 L2 P1 Z-450\nG54 G43 H2\nG0 Z20\nM30\n%\n";
+    run_program(&mut c, "G43.NGC", prog);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    assert!((c.status().pos[2] - p(-430.0 + len)).abs() <= 1);
+    mdi(&mut c, "G0 Z10");
+    // The tip, not the gauge line, at Z10 of the work system.
+    assert!(
+        (c.status().pos[2] - p(-440.0 + len)).abs() <= 1,
+        "{} vs {}",
+        c.status().pos[2],
+        p(-440.0 + len)
+    );
+    // M30 reset what LinuxCNC resets: a program's G91 does not reach the next MDI line.
+    run_program(&mut c, "G91.NGC", "%\nG91 G0 X1\nM30\n%\n");
+    mdi(&mut c, "G0 X5");
+    assert_eq!(c.status().pos[0], p(5.0));
+}
+
+#[test]
+fn g92_survives_a_restart_of_the_console() {
+    let mut c = open("state-g92");
+    let dir = c.config().state_dir.clone();
+    mdi(&mut c, "G0 X20 Y30");
+    mdi(&mut c, "G92 X0 Y0");
+    c.finish().unwrap();
+    let mut c = reopen(&dir);
+    // The machine starts at its zero again; X10 of the G92 frame is machine X30.
+    mdi(&mut c, "G0 X10");
+    assert_eq!(c.status().pos[0], p(30.0), "{}", c.frame_text());
+    // G92.1 cancels it, and that persists too.
+    mdi(&mut c, "G92.1");
+    c.finish().unwrap();
+    let mut c = reopen(&dir);
+    mdi(&mut c, "G0 X10");
+    assert_eq!(c.status().pos[0], p(10.0));
+}
+
+#[test]
+fn a_named_global_set_in_one_run_is_read_in_the_next_and_printed_on_msg() {
+    let mut c = open("state-global");
+    let prog = "%\n\
+        o100 if [EXISTS[#<_count>]]\n\
+        #<_count> = [#<_count> + 1]\n\
+        o100 else\n\
+        #<_count> = 1\n\
+        o100 endif\n\
+        (print,count=#<_count>)\n\
+        G0 X1\n\
+        M30\n%\n";
+    run_program(&mut c, "COUNT.NGC", prog);
+    assert!(shows(&c, "count=1"), "{}", c.frame_text());
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "PRINT: count=2"), "{}", c.frame_text());
+    // The MSG page keeps both, newest first.
+    keys(&mut c, &["Ctrl+e"]);
+    let f = c.frame_text();
+    let two = f.find("count=2").expect(&f);
+    let one = f.find("count=1").expect(&f);
+    assert!(two < one, "{f}");
+}
+
+#[test]
+fn a_run_refused_before_moving_leaves_the_state_unchanged() {
+    let mut c = open("state-refused");
+    // G20, G91 and a G92 on the first lines, then a feed move without F.
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Mdi));
+    type_line(&mut c, "IG20 G91*G92 X7*#<_kept>=1*G1 X1*");
+    c.handle(E::Op(OpMode::Mdi));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(
+        shows(&c, "START refused, nothing moved"),
+        "{}",
+        c.frame_text()
+    );
+    let st = c.interp_state();
+    assert!(!st.modal.inch && !st.modal.incremental);
+    assert_eq!(st.g92, [0.0; 3]);
+    assert!(!st.named.contains_key("_kept"));
+    c.handle(E::Reset);
+    mdi(&mut c, "G0 X1");
+    assert_eq!(c.status().pos[0], p(1.0), "{}", c.frame_text());
+}
+
+#[test]
+fn g10_l1_keeps_the_tool_length_in_the_tool_file() {
+    let mut c = open("state-g10l1");
+    let dir = c.config().state_dir.clone();
+    let wear = c.magazine().tools.get(3).expect("T03 has data").wear_length;
+    mdi(&mut c, "G10 L1 P3 Z123.5");
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    let r = c.magazine().tools.get(3).cloned().unwrap();
+    assert!((r.length() - 123.5).abs() < 1e-9, "{r:?}");
+    assert!((r.set_length - (123.5 - wear)).abs() < 1e-9);
+    c.finish().unwrap();
+    let c = reopen(&dir);
+    assert!((c.magazine().tools.get(3).unwrap().length() - 123.5).abs() < 1e-9);
+}
+
+#[test]
+fn reset_turns_compensation_off_and_keeps_the_modal_groups() {
+    let mut c = open("state-reset");
+    mdi(&mut c, "G91 G20");
+    c.handle(E::Reset);
+    let st = c.interp_state();
+    assert!(st.modal.incremental && st.modal.inch);
+    mdi(&mut c, "G0 X1");
+    assert_eq!(c.status().pos[0], p(25.4));
+}
