@@ -149,12 +149,14 @@ pub(super) fn end_run(c: &mut Console, nothing_moved: bool) {
 pub(super) fn before_run(c: &mut Console) {
     take(c);
     c.run_feed = None;
+    c.feed_back = false;
     c.reset_seen = false;
 }
 
 /// Takes the feed's events and state into the console: the messages shown and kept in the
 /// history; when the run is to be kept, the persistent parameters and tool data journaled
-/// and the state made the console's. The feed is let go once its state has come back.
+/// and the state made the console's. The feed is let go once its state has come back and
+/// the run has ended.
 fn take(c: &mut Console) {
     let Some(feed) = c.run_feed.clone() else {
         return;
@@ -193,6 +195,13 @@ fn take(c: &mut Console) {
             }
             c.interp = st;
         }
+        if c.status.job.is_none() {
+            c.run_feed = None;
+        } else {
+            // Still loaded (the source reads ahead of the machine): the feed says it is G-code.
+            c.feed_back = true;
+        }
+    } else if c.feed_back && c.status.job.is_none() {
         c.run_feed = None;
     }
 }

@@ -119,6 +119,8 @@ pub struct Console {
     run_feed: Option<gcode_run::RunFeed>,
     /// The last G-code run's reading is kept (it moved, or ended without a refusal).
     feed_keep: bool,
+    /// The last G-code run's state has come back (its feed is let go at its end).
+    feed_back: bool,
     /// RESET since the last G-code run began: its state, when it comes back, is reset.
     reset_seen: bool,
     recorder: run::Recording,
@@ -180,6 +182,7 @@ impl Console {
             interp: crate::gcode::InterpState::with_persistent(&mem_params, [0.0; 3], None),
             run_feed: None,
             feed_keep: false,
+            feed_back: false,
             reset_seen: false,
             recorder,
         };
