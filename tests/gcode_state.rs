@@ -169,3 +169,41 @@ fn reset_turns_compensation_off_and_keeps_the_modal_groups() {
     mdi(&mut c, "G0 X1");
     assert_eq!(c.status().pos[0], p(25.4));
 }
+
+/// SEARCH shows the state it rebuilt by reading from the top (G codes, offsets, G92, tool,
+/// spindle, coolant), and its restore does not first put back a tool the line searched to
+/// changes anyway.
+#[test]
+fn search_shows_the_rebuilt_state_and_restores_no_tool_the_line_changes() {
+    let mut c = open("state-search");
+    let text = "%\nG10 L2 P2 X5 Z-450\nG55\nT2 M6\nG43 H2\nM3 S1200\nM8\nG0 X10 Y10 Z20\nG91\nT3 M6\nG90 G43 H3\nG0 Z20\nM30\n%\n";
+    let f = common::temp_dir("state-search-prog").join("SRCH.NGC");
+    std::fs::write(&f, text).unwrap();
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(f));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Data(DataMode::Search));
+    // Line 8 (G0 X10 Y10 Z20): the restore puts T02 in the spindle first.
+    type_line(&mut c, "8");
+    let before = c.frame_text();
+    assert!(
+        before.contains("G0 G17 G90 G94 G21 G40 G43 G99 G55 G64"),
+        "{before}"
+    );
+    assert!(before.contains("G55 X5.000 Y0.000 Z-450.000"), "{before}");
+    assert!(before.contains("T02 H"), "{before}");
+    assert!(before.contains("S1200 M3 M8"), "{before}");
+    assert!(before.contains("T02"), "{before}");
+    // Line 10 (T3 M6) changes the tool itself: no T02 first.
+    type_line(&mut c, "10");
+    let at = c.frame_text();
+    assert!(at.contains("G91"), "{at}");
+    assert!(!at.contains("T02") && !at.contains("T2 "), "{at}");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end"), "{}", c.frame_text());
+    assert_eq!(c.status().tool, Some(3));
+}

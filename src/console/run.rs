@@ -76,6 +76,26 @@ impl RunSource {
         if !self.gcode {
             return Box::new(self.translator(state));
         }
+        let feed = self.feed.clone();
+        let Some(g) = self.gcode_source(state) else {
+            return Box::new(std::iter::empty());
+        };
+        match feed {
+            Some(feed) => Box::new(super::gcode_run::Feeding {
+                src: g,
+                feed,
+                handed: false,
+            }),
+            None => Box::new(g),
+        }
+    }
+
+    /// The G-code source of this source (None when it is in the source language), from the
+    /// machine's actual state: the interpreter's state given, or the work offsets.
+    pub fn gcode_source(self, state: MachineState) -> Option<GcodeSource> {
+        if !self.gcode {
+            return None;
+        }
         let mut g = match self.interp {
             Some(mut st) => {
                 // The spindle is the machine's, as the position and the tool are.
@@ -107,14 +127,7 @@ impl RunSource {
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
         }
-        match self.feed {
-            Some(feed) => Box::new(super::gcode_run::Feeding {
-                src: g,
-                feed,
-                handed: false,
-            }),
-            None => Box::new(g),
-        }
+        Some(g)
     }
 
     /// The source-language translator for this source, from the machine's actual state.
