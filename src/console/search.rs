@@ -39,7 +39,7 @@ pub struct Plan {
 
 /// A G number as written (`G1`, `G59.1`) from its value ×10.
 fn g(code: u16) -> String {
-    if code % 10 == 0 {
+    if code.is_multiple_of(10) {
         format!("G{}", code / 10)
     } else {
         format!("G{}.{}", code / 10, code % 10)
