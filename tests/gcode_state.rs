@@ -17,6 +17,13 @@ fn reopen(dir: &Path) -> Console {
     Console::open(cfg).unwrap().0
 }
 
+/// Whether a line of the display reads `words` (spaces between columns collapsed).
+fn table_shows(c: &Console, words: &str) -> bool {
+    c.frame_text()
+        .lines()
+        .any(|l| l.split_whitespace().collect::<Vec<_>>().join(" ") == words)
+}
+
 fn mdi(c: &mut Console, line: &str) {
     c.handle(E::Op(OpMode::Mdi));
     type_line(c, line);
@@ -206,4 +213,51 @@ fn search_shows_the_rebuilt_state_and_restores_no_tool_the_line_changes() {
     c.handle(E::Wait);
     assert!(shows(&c, "program end"), "{}", c.frame_text());
     assert_eq!(c.status().tool, Some(3));
+}
+
+/// The OFS page sets G59.1 to G59.3 as it sets G54 to G59, keeps them across a restart, and
+/// shows G92 when it is in force; MDI uses them.
+#[test]
+fn the_ofs_page_sets_g59_3_and_shows_g92() {
+    let mut c = open("state-ofs93");
+    let dir = c.config().state_dir.clone();
+    keys(&mut c, &["Ctrl+o"]);
+    type_line(&mut c, "G59.3 X12.5 Y3 Z-100");
+    assert!(
+        shows(&c, "G59.3 X12.500 Y3.000 Z-100.000"),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["Ctrl+o"]);
+    mdi(&mut c, "G59.3 G0 X0 Y0 Z0");
+    assert_eq!(
+        c.status().pos,
+        [p(12.5), p(3.0), p(-100.0)],
+        "{}",
+        c.frame_text()
+    );
+    mdi(&mut c, "G92 X1");
+    // X1 at machine X12.5: G92 X offset -1.
+    keys(&mut c, &["Ctrl+o"]);
+    assert!(
+        table_shows(&c, "G92 -1.000 0.000 0.000"),
+        "{}",
+        c.frame_text()
+    );
+    c.finish().unwrap();
+    let mut c = reopen(&dir);
+    // G59.3 is still the system in force, and G92 still on.
+    mdi(&mut c, "G0 X0 Y0");
+    assert_eq!(c.status().pos[..2], [p(11.5), p(3.0)], "{}", c.frame_text());
+    keys(
+        &mut c,
+        &[
+            "Ctrl+o", "End", "Down", "Down", "Down", "Down", "Down", "Down", "Down", "Down",
+        ],
+    );
+    assert!(
+        table_shows(&c, "G59.3 >12.500 3.000 -100.000"),
+        "{}",
+        c.frame_text()
+    );
 }

@@ -193,6 +193,8 @@ fn take(c: &mut Console) {
             if c.reset_seen {
                 reset_state(&mut st);
             }
+            // What no event said (the system selected, #5220) is kept with the rest.
+            keep_persistent(c, &st);
             c.interp = st;
         }
         if c.status.job.is_none() {
@@ -203,6 +205,27 @@ fn take(c: &mut Console) {
         }
     } else if c.feed_back && c.status.job.is_none() {
         c.run_feed = None;
+    }
+}
+
+/// The persistent parameters of `st` that the stores do not hold yet, journaled as one record.
+fn keep_persistent(c: &mut Console, st: &InterpState) {
+    let stored: std::collections::HashMap<usize, f64> = c.mem.params().into_iter().collect();
+    let changed: Vec<(usize, f64)> = (5161..=5390)
+        .filter(|&n| is_persistent(n))
+        .filter_map(|n| {
+            let was = stored
+                .get(&n)
+                .copied()
+                .unwrap_or(if n == 5220 { 1.0 } else { 0.0 });
+            ((st.params[n] - was).abs() > 0.5e-6).then_some((n, st.params[n]))
+        })
+        .collect();
+    if changed.is_empty() {
+        return;
+    }
+    if let Err(e) = c.mem.set_params(&changed) {
+        c.message = format!("the interpreter's parameters not saved: {e}");
     }
 }
 

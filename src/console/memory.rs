@@ -335,9 +335,14 @@ impl Memory {
         self.revise_tool(t, tool, &new)
     }
 
-    /// Sets a work offset (0 = G54 … 5 = G59), journaled.
+    /// The zero of coordinate system `cs` (0 = G54 … 8 = G59.3), machine mm.
+    pub fn system_offset(&self, cs: usize) -> [f64; 3] {
+        self.stores.system_offset(cs)
+    }
+
+    /// Sets a work offset (0 = G54 … 8 = G59.3), journaled.
     pub fn set_work_offset(&mut self, system: usize, mm: [f64; 3]) -> Result<(), String> {
-        if self.stores.work_offsets().0.get(system) == Some(&mm) {
+        if system < crate::gcode::state::SYSTEMS && self.stores.system_offset(system) == mm {
             return Ok(());
         }
         let r = self

@@ -29,7 +29,7 @@ pub const LENGTH: usize = 4;
 /// Moves the cursor by cell.
 pub(super) fn arrow(c: &mut Console, k: Key) {
     let cap = c.mem.magazine().tcodes.capacity().max(1);
-    let last = cap + 6;
+    let last = cap + crate::gcode::state::SYSTEMS as u32;
     let axis = &mut c.pages.ofs_axis;
     let (t, col) = &mut c.pages.ofs;
     match k {
@@ -170,7 +170,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let (focus, col) = c.pages.ofs;
     let cap = m.tcodes.capacity();
     if focus > cap {
-        let system = ((focus - cap - 1) as usize).min(5);
+        let system = ((focus - cap - 1) as usize).min(crate::gcode::state::SYSTEMS - 1);
         return super::workofs::compose(c, rows, cols, system, c.pages.ofs_axis);
     }
     let mut p = Frame::new(
