@@ -286,7 +286,9 @@ pub(super) fn note_run_end(c: &mut Console) {
         EndCause::Abandoned | EndCause::Alarm => {}
     }
     if let Some(m) = c.pages.program_msg.take() {
-        if !c.message.contains(&m) {
+        if c.message.is_empty() {
+            c.message = m;
+        } else if !c.message.contains(&m) {
             c.message = format!("{m}; {}", c.message);
         }
     }
