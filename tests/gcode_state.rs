@@ -5,17 +5,9 @@
 
 mod common;
 
-use common::{keys, open, p, shows, type_line};
-use novanc::console::{Console, ConsoleConfig};
+use common::{keys, mdi, open, p, reopen, shows, type_line};
+use novanc::console::Console;
 use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
-use novanc::pulse_core::ClockMode;
-use std::path::Path;
-
-fn reopen(dir: &Path) -> Console {
-    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
-    cfg.clock = ClockMode::Virtual;
-    Console::open(cfg).unwrap().0
-}
 
 /// Whether a line of the display reads `words` (spaces between columns collapsed).
 fn table_shows(c: &Console, words: &str) -> bool {
@@ -24,16 +16,8 @@ fn table_shows(c: &Console, words: &str) -> bool {
         .any(|l| l.split_whitespace().collect::<Vec<_>>().join(" ") == words)
 }
 
-fn mdi(c: &mut Console, line: &str) {
-    c.handle(E::Op(OpMode::Mdi));
-    type_line(c, line);
-    c.handle(E::Start);
-    c.handle(E::Wait);
-}
-
-/// Reads `text` as program `name` into program memory (PROGRAM READ from a file) and runs it
-/// in AUTO to its end.
-fn run_program(c: &mut Console, name: &str, text: &str) {
+/// Reads `text` as program `name` into program memory (PROGRAM READ from a file).
+fn read_program(c: &mut Console, name: &str, text: &str) {
     let f = common::temp_dir("state-prog").join(name);
     std::fs::write(&f, text).unwrap();
     c.handle(E::Op(OpMode::Data));
@@ -41,6 +25,11 @@ fn run_program(c: &mut Console, name: &str, text: &str) {
     c.handle(E::Tape(f));
     c.handle(E::Start);
     c.handle(E::Wait);
+}
+
+/// Reads `text` as program `name` and runs it in AUTO to its end.
+fn run_program(c: &mut Console, name: &str, text: &str) {
+    read_program(c, name, text);
     c.handle(E::Op(OpMode::Auto));
     c.handle(E::Start);
     c.handle(E::Wait);
@@ -184,13 +173,7 @@ fn reset_turns_compensation_off_and_keeps_the_modal_groups() {
 fn search_shows_the_rebuilt_state_and_restores_no_tool_the_line_changes() {
     let mut c = open("state-search");
     let text = "%\nG10 L2 P2 X5 Z-450\nG55\nT2 M6\nG43 H2\nM3 S1200\nM8\nG0 X10 Y10 Z20\nG91\nT3 M6\nG90 G43 H3\nG0 Z20\nM30\n%\n";
-    let f = common::temp_dir("state-search-prog").join("SRCH.NGC");
-    std::fs::write(&f, text).unwrap();
-    c.handle(E::Op(OpMode::Data));
-    c.handle(E::Data(DataMode::Read));
-    c.handle(E::Tape(f));
-    c.handle(E::Start);
-    c.handle(E::Wait);
+    read_program(&mut c, "SRCH.NGC", text);
     c.handle(E::Data(DataMode::Search));
     // Line 8 (G0 X10 Y10 Z20): the restore puts T02 in the spindle first.
     type_line(&mut c, "8");
