@@ -244,3 +244,16 @@ fn the_ofs_page_sets_g59_3_and_shows_g92() {
         c.frame_text()
     );
 }
+
+/// A persistent parameter the stores cannot keep (beyond their limit) is said, and left out:
+/// the next run reads the value the stores hold.
+#[test]
+fn a_parameter_the_stores_refuse_is_said_and_not_kept() {
+    let mut c = open("state-refused-param");
+    mdi(&mut c, "#5222 = 7");
+    mdi(&mut c, "#5221 = 2000000");
+    assert!(shows(&c, "NOT KEPT: #5221"), "{}", c.frame_text());
+    assert_eq!(c.work_offsets().0[0], [0.0, 7.0, 0.0]);
+    mdi(&mut c, "G54 G0 X1 Y0");
+    assert_eq!(c.status().pos[..2], [p(1.0), p(7.0)], "{}", c.frame_text());
+}

@@ -176,18 +176,14 @@ fn take(c: &mut Console) {
                 diameter,
             } if keep => {
                 if let Err(e) = c.mem.set_tool_size(t, length, diameter) {
-                    c.message = format!("G10: T{t:02} not saved: {e}");
+                    super::pages::program_message(c, "NOT KEPT", &format!("G10 T{t:02}: {e}"));
                 }
             }
             Event::Message { kind, text } => super::pages::program_message(c, kind, &text),
             _ => {}
         }
     }
-    if !params.is_empty() {
-        if let Err(e) = c.mem.set_params(&params) {
-            c.message = format!("the interpreter's parameters not saved: {e}");
-        }
-    }
+    journal_params(c, &params);
     if let Some(mut st) = state {
         if keep {
             if c.reset_seen {
@@ -208,44 +204,54 @@ fn take(c: &mut Console) {
     }
 }
 
-/// The persistent parameters of `st` that the stores do not hold yet, journaled as one record.
-fn keep_persistent(c: &mut Console, st: &InterpState) {
-    let stored: std::collections::HashMap<usize, f64> = c.mem.params().into_iter().collect();
-    let changed: Vec<(usize, f64)> = (5161..=5390)
-        .filter(|&n| is_persistent(n))
-        .filter_map(|n| {
-            let was = stored
-                .get(&n)
-                .copied()
-                .unwrap_or(if n == 5220 { 1.0 } else { 0.0 });
-            ((st.params[n] - was).abs() > 0.5e-6).then_some((n, st.params[n]))
-        })
-        .collect();
-    if changed.is_empty() {
-        return;
-    }
-    if let Err(e) = c.mem.set_params(&changed) {
-        c.message = format!("the interpreter's parameters not saved: {e}");
+/// The persistent parameters as the stores hold them (a parameter not kept is 0, #5220 1).
+fn stored(c: &Console) -> impl Fn(usize) -> f64 {
+    let kept: std::collections::HashMap<usize, f64> = c.mem.params().into_iter().collect();
+    move |n| {
+        kept.get(&n)
+            .copied()
+            .unwrap_or(if n == 5220 { 1.0 } else { 0.0 })
     }
 }
 
+/// Journals persistent parameters, together if the stores take them all; else one by one, a
+/// value the stores refuse (beyond their limit) said on the display and left out.
+fn journal_params(c: &mut Console, ps: &[(usize, f64)]) {
+    if ps.is_empty() || c.mem.set_params(ps).is_ok() {
+        return;
+    }
+    for &p in ps {
+        if let Err(e) = c.mem.set_params(&[p]) {
+            super::pages::program_message(c, "NOT KEPT", &format!("#{}: {e}", p.0));
+        }
+    }
+}
+
+/// The persistent parameters of `st` that the stores do not hold yet, journaled as one record.
+fn keep_persistent(c: &mut Console, st: &InterpState) {
+    let was = stored(c);
+    let changed: Vec<(usize, f64)> = (5161..=5390)
+        .filter(|&n| is_persistent(n) && (st.params[n] - was(n)).abs() > 0.5e-6)
+        .map(|n| (n, st.params[n]))
+        .collect();
+    journal_params(c, &changed);
+}
+
 /// Before a G-code source is made from the console's state: what an ended run still hands
-/// back is taken, and the persistent parameters as the stores hold them come into the
-/// state: a work offset
-/// set on the OFS page since (while a run was loaded, or with none) takes effect, at once for
-/// the system in force (as G10 L2 does). A value the state already holds (to the stores'
-/// millionth) is left as it is, so a program's `#5221=` still waits for the system to be
-/// selected again, as in LinuxCNC.
+/// back is taken, and the persistent parameters as the stores hold them come into the state.
+/// So a work offset set on the OFS page since takes effect, at once for the system in force
+/// (as G10 L2 does). A value the state already holds (to the stores' millionth) is left as it
+/// is, so a program's `#5221=` still waits for G54 to be selected again, as in LinuxCNC.
 pub(super) fn before_read(c: &mut Console) {
     if c.run_feed.is_some() && c.status.job.is_none() {
         take(c);
     }
-    let stored: std::collections::HashMap<usize, f64> = c.mem.params().into_iter().collect();
+    let kept = stored(c);
     let st = &mut c.interp;
     let base = crate::gcode::state::system_base(st.modal.cs);
     let mut active = false;
     for n in (5161..=5390).filter(|&n| is_persistent(n) && n != 5220) {
-        let v = stored.get(&n).copied().unwrap_or(0.0);
+        let v = kept(n);
         if (st.params[n] - v).abs() > 0.5e-6 {
             st.params[n] = v;
             active |= (base + 1..=base + 10).contains(&n);
