@@ -1,6 +1,7 @@
 //! Crash safety by command: a child process makes mixed changes to the stores (program edits,
 //! MDI, tool-file revisions, T-code settings, PROGRAM READ, TOOL DATA READ, SEARCH, new and
-//! deleted programs, work offsets) and prints `ack K` after each acknowledged one (`nak K` after a refused
+//! deleted programs, work offsets, the interpreter's parameters: G92, the system in force, G28
+//! homes, rotations) and prints `ack K` after each acknowledged one (`nak K` after a refused
 //! one); the parent kills it with SIGKILL at a random moment, reopens the stores and compares
 //! them with a reference that made the same changes without being killed. Every acknowledged
 //! change must be there, in order, and nothing beyond the one in flight.
@@ -122,9 +123,32 @@ fn apply(s: &mut Stores, k: u64) -> Result<(), String> {
                 .map(|_| ())
                 .map_err(|e| e.to_string())
         }
-        // Work offsets (OFS page, G10): one refused in ten (beyond 100 m).
-        85..=88 => {
-            let system = r.below(6) as usize;
+        // The interpreter's parameters as a G-code run sets them together (G92, the system
+        // selected, a G28 home, a rotation): one refused in ten (not a kept parameter, or
+        // beyond the limit).
+        85..=86 => {
+            let v = k as f64 * 0.001;
+            let mut ps = vec![
+                (5210, 1.0),
+                (5211, v),
+                (5212, -(r.below(1000) as f64)),
+                (5220, (1 + r.below(9)) as f64),
+                (5161 + r.below(3) as usize, v * 2.0),
+                (
+                    5230 + 20 * r.below(9) as usize,
+                    (r.below(360) as f64) - 180.0,
+                ),
+            ];
+            match r.below(20) {
+                0 => ps.push((5400, 1.0)),
+                1 => ps.push((5213, 1e13)),
+                _ => {}
+            }
+            s.set_params(&ps).map_err(|e| e.to_string())
+        }
+        // Work offsets (OFS page, G10 L2): one refused in ten (beyond 100 m).
+        87..=88 => {
+            let system = r.below(9) as usize;
             let x = if r.below(10) == 0 {
                 1e9
             } else {
@@ -197,7 +221,7 @@ fn digest(s: &Stores) -> u64 {
         text.push_str(&format!("{t:?} {}\n{}", b.pointer(), b.text()));
     }
     text.push_str(&format!("{:?}", s.magazine()));
-    text.push_str(&format!("{:?}", s.work_offsets()));
+    text.push_str(&format!("{:?}", s.params()));
     text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
         (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })

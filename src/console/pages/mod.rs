@@ -56,6 +56,9 @@ pub struct Pages {
     recall_at: Option<usize>,
     /// The last message and alarm put in the history.
     logged: (String, String),
+    /// The program's message taken since the last frame (a run's end says it too, so that the
+    /// frame, and with it the recording, shows it).
+    pub program_msg: Option<String>,
 }
 
 impl Pages {
@@ -78,6 +81,7 @@ impl Pages {
                 recall: Vec::new(),
                 recall_at: None,
                 logged: (String::new(), String::new()),
+                program_msg: None,
             },
             w1.into_iter().chain(w2).collect(),
         )
@@ -247,6 +251,25 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     if let Some(w) = warn {
         c.message = w;
     }
+}
+
+/// A program's message (`(MSG,...)`, `(PRINT,...)`, `(DEBUG,...)`, `(LOG,...)`): in the
+/// history at once (each one, however many a line gives) and on the message line, so the
+/// display frame, and with it the recording, shows it.
+pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
+    let line = format!("{kind}: {text}");
+    if let Err(w) = c.pages.history.push(Entry {
+        machine_ns: c.status.machine_ns,
+        wall_s: Some(crate::store::stamps::now_s()),
+        kind: Kind::Message,
+        text: line.clone(),
+    }) {
+        c.message = w;
+        return;
+    }
+    c.pages.logged.0 = line.clone();
+    c.pages.program_msg = Some(line.clone());
+    c.message = line;
 }
 
 /// A run of program memory reached its end: one more part, its cycle time; every run's time
