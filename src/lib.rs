@@ -20,5 +20,6 @@ pub mod tape;
 pub mod terminal;
 pub mod tooldata;
 pub mod translator;
+pub mod workpiece;
 #[cfg(feature = "window")]
 pub mod window;
