@@ -20,6 +20,6 @@ pub mod tape;
 pub mod terminal;
 pub mod tooldata;
 pub mod translator;
-pub mod workpiece;
 #[cfg(feature = "window")]
 pub mod window;
+pub mod workpiece;

@@ -256,27 +256,66 @@ mod tests {
     fn a_point_stylus_touches_every_face_where_its_line_crosses_it() {
         let w = block();
         // Down onto the top, up onto the bottom.
-        near(stop(&w, [50.0, 30.0, 20.0], [50.0, 30.0, -20.0], 0.0, true), [50.0, 30.0, 0.0]);
-        near(stop(&w, [50.0, 30.0, -90.0], [50.0, 30.0, -20.0], 0.0, true), [50.0, 30.0, -40.0]);
+        near(
+            stop(&w, [50.0, 30.0, 20.0], [50.0, 30.0, -20.0], 0.0, true),
+            [50.0, 30.0, 0.0],
+        );
+        near(
+            stop(&w, [50.0, 30.0, -90.0], [50.0, 30.0, -20.0], 0.0, true),
+            [50.0, 30.0, -40.0],
+        );
         // From each side.
-        near(stop(&w, [-30.0, 30.0, -10.0], [50.0, 30.0, -10.0], 0.0, true), [0.0, 30.0, -10.0]);
-        near(stop(&w, [130.0, 30.0, -10.0], [50.0, 30.0, -10.0], 0.0, true), [100.0, 30.0, -10.0]);
-        near(stop(&w, [50.0, -5.0, -10.0], [50.0, 10.0, -10.0], 0.0, true), [50.0, 0.0, -10.0]);
-        near(stop(&w, [50.0, 75.0, -10.0], [50.0, 10.0, -10.0], 0.0, true), [50.0, 60.0, -10.0]);
+        near(
+            stop(&w, [-30.0, 30.0, -10.0], [50.0, 30.0, -10.0], 0.0, true),
+            [0.0, 30.0, -10.0],
+        );
+        near(
+            stop(&w, [130.0, 30.0, -10.0], [50.0, 30.0, -10.0], 0.0, true),
+            [100.0, 30.0, -10.0],
+        );
+        near(
+            stop(&w, [50.0, -5.0, -10.0], [50.0, 10.0, -10.0], 0.0, true),
+            [50.0, 0.0, -10.0],
+        );
+        near(
+            stop(&w, [50.0, 75.0, -10.0], [50.0, 10.0, -10.0], 0.0, true),
+            [50.0, 60.0, -10.0],
+        );
         // Slanting onto the top: z reaches 0 half way.
-        near(stop(&w, [10.0, 10.0, 10.0], [30.0, 20.0, -10.0], 0.0, true), [20.0, 15.0, 0.0]);
+        near(
+            stop(&w, [10.0, 10.0, 10.0], [30.0, 20.0, -10.0], 0.0, true),
+            [20.0, 15.0, 0.0],
+        );
     }
 
     #[test]
     fn a_ball_touches_a_radius_before_each_face() {
         let w = block();
         let r = 2.5;
-        near(stop(&w, [50.0, 30.0, 20.0], [50.0, 30.0, -20.0], r, true), [50.0, 30.0, 2.5]);
-        near(stop(&w, [-30.0, 30.0, -10.0], [50.0, 30.0, -10.0], r, true), [-2.5, 30.0, -10.0]);
-        near(stop(&w, [130.0, 30.0, -10.0], [50.0, 30.0, -10.0], r, true), [102.5, 30.0, -10.0]);
-        near(stop(&w, [50.0, -20.0, -10.0], [50.0, 10.0, -10.0], r, true), [50.0, -2.5, -10.0]);
-        near(stop(&w, [50.0, 99.0, -10.0], [50.0, 10.0, -10.0], r, true), [50.0, 62.5, -10.0]);
-        near(stop(&w, [50.0, 30.0, -90.0], [50.0, 30.0, 0.0], r, true), [50.0, 30.0, -42.5]);
+        near(
+            stop(&w, [50.0, 30.0, 20.0], [50.0, 30.0, -20.0], r, true),
+            [50.0, 30.0, 2.5],
+        );
+        near(
+            stop(&w, [-30.0, 30.0, -10.0], [50.0, 30.0, -10.0], r, true),
+            [-2.5, 30.0, -10.0],
+        );
+        near(
+            stop(&w, [130.0, 30.0, -10.0], [50.0, 30.0, -10.0], r, true),
+            [102.5, 30.0, -10.0],
+        );
+        near(
+            stop(&w, [50.0, -20.0, -10.0], [50.0, 10.0, -10.0], r, true),
+            [50.0, -2.5, -10.0],
+        );
+        near(
+            stop(&w, [50.0, 99.0, -10.0], [50.0, 10.0, -10.0], r, true),
+            [50.0, 62.5, -10.0],
+        );
+        near(
+            stop(&w, [50.0, 30.0, -90.0], [50.0, 30.0, 0.0], r, true),
+            [50.0, 30.0, -42.5],
+        );
     }
 
     #[test]
@@ -284,7 +323,10 @@ mod tests {
         let w = block();
         // Down past the edge X = 100 (the top's), 3 mm beside it: the ball (r 5) meets the edge
         // where its centre is 5 from it, 4 above the top (3² + 4² = 5²).
-        near(stop(&w, [103.0, 30.0, 20.0], [103.0, 30.0, -20.0], 5.0, true), [103.0, 30.0, 4.0]);
+        near(
+            stop(&w, [103.0, 30.0, 20.0], [103.0, 30.0, -20.0], 5.0, true),
+            [103.0, 30.0, 4.0],
+        );
         // Down past the corner X 100 Y 60 Z 0, 3 and 4 mm beside it in X and Y (5 away in
         // the plane), with r 13: it meets the corner 12 above (5² + 12² = 13²).
         near(
@@ -304,62 +346,123 @@ mod tests {
     fn grazing_touches_and_missing_by_a_hair_does_not() {
         let w = block();
         // Along the top face exactly (a point stylus): touches where it reaches the block.
-        near(stop(&w, [-10.0, 30.0, 0.0], [50.0, 30.0, 0.0], 0.0, true), [0.0, 30.0, 0.0]);
+        near(
+            stop(&w, [-10.0, 30.0, 0.0], [50.0, 30.0, 0.0], 0.0, true),
+            [0.0, 30.0, 0.0],
+        );
         // A ball of radius 2 passing 2 above the top: it grazes the top edge X = 0.
-        near(stop(&w, [-10.0, 30.0, 2.0], [50.0, 30.0, 2.0], 2.0, true), [0.0, 30.0, 2.0]);
+        near(
+            stop(&w, [-10.0, 30.0, 2.0], [50.0, 30.0, 2.0], 2.0, true),
+            [0.0, 30.0, 2.0],
+        );
         // A hair higher: it never touches.
-        assert_eq!(w.probe([-10.0, 30.0, 2.001], [50.0, 30.0, 2.001], 2.0, true), Touch::Never);
+        assert_eq!(
+            w.probe([-10.0, 30.0, 2.001], [50.0, 30.0, 2.001], 2.0, true),
+            Touch::Never
+        );
         // Down beside the face X = 100, 10 away: a ball of radius 10 grazes the top edge
         // as it comes level with the top; one a hair smaller never touches.
-        near(stop(&w, [110.0, 30.0, 20.0], [110.0, 30.0, -60.0], 10.0, true), [110.0, 30.0, 0.0]);
-        assert_eq!(w.probe([110.0, 30.0, 20.0], [110.0, 30.0, -60.0], 9.999, true), Touch::Never);
+        near(
+            stop(&w, [110.0, 30.0, 20.0], [110.0, 30.0, -60.0], 10.0, true),
+            [110.0, 30.0, 0.0],
+        );
+        assert_eq!(
+            w.probe([110.0, 30.0, 20.0], [110.0, 30.0, -60.0], 9.999, true),
+            Touch::Never
+        );
     }
 
     #[test]
     fn missing_starting_inside_and_short_moves() {
         let w = block();
         // Stops short of the top.
-        assert_eq!(w.probe([50.0, 30.0, 20.0], [50.0, 30.0, 1.0], 0.0, true), Touch::Never);
+        assert_eq!(
+            w.probe([50.0, 30.0, 20.0], [50.0, 30.0, 1.0], 0.0, true),
+            Touch::Never
+        );
         // Beside the block.
-        assert_eq!(w.probe([150.0, 30.0, 20.0], [150.0, 30.0, -60.0], 1.0, true), Touch::Never);
+        assert_eq!(
+            w.probe([150.0, 30.0, 20.0], [150.0, 30.0, -60.0], 1.0, true),
+            Touch::Never
+        );
         // Already touching (on the top) or inside: nothing to seek.
-        assert_eq!(w.probe([50.0, 30.0, 0.0], [50.0, 30.0, -5.0], 0.0, true), Touch::AtStart);
-        assert_eq!(w.probe([50.0, 30.0, -5.0], [50.0, 30.0, -15.0], 0.0, true), Touch::AtStart);
+        assert_eq!(
+            w.probe([50.0, 30.0, 0.0], [50.0, 30.0, -5.0], 0.0, true),
+            Touch::AtStart
+        );
+        assert_eq!(
+            w.probe([50.0, 30.0, -5.0], [50.0, 30.0, -15.0], 0.0, true),
+            Touch::AtStart
+        );
         // Ending exactly on the face touches at the end.
-        assert_eq!(w.probe([50.0, 30.0, 10.0], [50.0, 30.0, 0.0], 0.0, true), Touch::At(1.0));
+        assert_eq!(
+            w.probe([50.0, 30.0, 10.0], [50.0, 30.0, 0.0], 0.0, true),
+            Touch::At(1.0)
+        );
         // A move of zero length.
-        assert_eq!(w.probe([50.0, 30.0, 10.0], [50.0, 30.0, 10.0], 0.0, true), Touch::Never);
+        assert_eq!(
+            w.probe([50.0, 30.0, 10.0], [50.0, 30.0, 10.0], 0.0, true),
+            Touch::Never
+        );
     }
 
     #[test]
     fn leaving_contact_finds_where_the_stylus_comes_free() {
         let w = block();
         // Up off the top from inside it: free at the top face.
-        near(stop(&w, [50.0, 30.0, -5.0], [50.0, 30.0, 10.0], 0.0, false), [50.0, 30.0, 0.0]);
+        near(
+            stop(&w, [50.0, 30.0, -5.0], [50.0, 30.0, 10.0], 0.0, false),
+            [50.0, 30.0, 0.0],
+        );
         // A ball resting on the top, moved sideways off the edge X = 100: free as soon as its
         // centre passes over the edge (beyond it the edge is farther than r).
-        near(stop(&w, [90.0, 30.0, 3.0], [120.0, 30.0, 3.0], 3.0, false), [100.0, 30.0, 3.0]);
+        near(
+            stop(&w, [90.0, 30.0, 3.0], [120.0, 30.0, 3.0], 3.0, false),
+            [100.0, 30.0, 3.0],
+        );
         // Against the side X = 100 and moved up along it: free as its centre rises past the
         // top (above it, the edge is farther than r).
-        near(stop(&w, [103.0, 30.0, -10.0], [103.0, 30.0, 10.0], 3.0, false), [103.0, 30.0, 0.0]);
+        near(
+            stop(&w, [103.0, 30.0, -10.0], [103.0, 30.0, 10.0], 3.0, false),
+            [103.0, 30.0, 0.0],
+        );
         // Not touching at the start: already clear.
-        assert_eq!(w.probe([50.0, 30.0, 5.0], [50.0, 30.0, 20.0], 0.0, false), Touch::AtStart);
+        assert_eq!(
+            w.probe([50.0, 30.0, 5.0], [50.0, 30.0, 20.0], 0.0, false),
+            Touch::AtStart
+        );
         // Still touching at the end.
-        assert_eq!(w.probe([50.0, 30.0, -5.0], [60.0, 30.0, -5.0], 0.0, false), Touch::Never);
+        assert_eq!(
+            w.probe([50.0, 30.0, -5.0], [60.0, 30.0, -5.0], 0.0, false),
+            Touch::Never
+        );
     }
 
     #[test]
     fn several_boxes_the_nearest_first_and_contact_kept_across_a_join() {
         let mut w = block();
         // A second block on top of the first, X 40..60, 10 high.
-        w.boxes.push(Cuboid::new([40.0, 20.0, 0.0], [60.0, 40.0, 10.0]));
-        near(stop(&w, [50.0, 30.0, 30.0], [50.0, 30.0, -30.0], 0.0, true), [50.0, 30.0, 10.0]);
-        near(stop(&w, [20.0, 30.0, 30.0], [20.0, 30.0, -30.0], 0.0, true), [20.0, 30.0, 0.0]);
+        w.boxes
+            .push(Cuboid::new([40.0, 20.0, 0.0], [60.0, 40.0, 10.0]));
+        near(
+            stop(&w, [50.0, 30.0, 30.0], [50.0, 30.0, -30.0], 0.0, true),
+            [50.0, 30.0, 10.0],
+        );
+        near(
+            stop(&w, [20.0, 30.0, 30.0], [20.0, 30.0, -30.0], 0.0, true),
+            [20.0, 30.0, 0.0],
+        );
         // Sliding along the top of the first into the side of the second (point stylus on
         // the top face): contact never breaks, then it ends inside the second.
-        assert_eq!(w.probe([10.0, 30.0, 0.0], [45.0, 30.0, 0.0], 0.0, false), Touch::Never);
+        assert_eq!(
+            w.probe([10.0, 30.0, 0.0], [45.0, 30.0, 0.0], 0.0, false),
+            Touch::Never
+        );
         // Up through the second: free at its top.
-        near(stop(&w, [50.0, 30.0, -5.0], [50.0, 30.0, 30.0], 0.0, false), [50.0, 30.0, 10.0]);
+        near(
+            stop(&w, [50.0, 30.0, -5.0], [50.0, 30.0, 30.0], 0.0, false),
+            [50.0, 30.0, 10.0],
+        );
         assert!(w.contact([50.0, 30.0, 10.0], 0.0));
         assert!(!w.contact([50.0, 30.0, 10.000001], 0.0));
     }
