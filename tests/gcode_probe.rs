@@ -226,3 +226,19 @@ fn linuxcnc_probing_examples_read_through() {
         assert!(r.is_ok(), "{name}: {r:?}");
     }
 }
+
+/// M66 where no pulse core runs: every input is low, so L0 and L4 read 0 at once and a wait
+/// for a rise, a fall or high times out: #5399 is −1 (LinuxCNC's timeout value). The value
+/// is there for the next line, not the M66 line's own assignments.
+#[test]
+fn m66_reads_the_simulated_inputs_low() {
+    let (r, g) = read(
+        "G21 G90\n#5399=9\nM66 P3 L0\n#1=#5399\nM66 E1 L0\n#2=#5399\n\
+         M66 P3 L4 Q1\n#3=#5399\nM66 P3 L3 Q0.5\n#4=#5399\nM30\n",
+    );
+    assert!(r.is_ok(), "{r:?}");
+    near(param(&g, 1), 0.0);
+    near(param(&g, 2), 0.0);
+    near(param(&g, 3), 0.0);
+    near(param(&g, 4), -1.0);
+}
