@@ -242,3 +242,134 @@ fn m66_reads_the_simulated_inputs_low() {
     near(param(&g, 3), 0.0);
     near(param(&g, 4), -1.0);
 }
+
+/// `novanc run` of a touch-off: the pulse core stops each probe move where the point stylus
+/// meets the default workpiece (the top at machine Z −450, the X− face at X 300), reading
+/// waits for its answer, and the program goes on from there using #5063: G54 Z0 on the top,
+/// X0 on the face; `G0 X-5 Z#5063` goes to machine X 295, Z −460 (where the second probe
+/// was, −10 in G54), then X20 is machine 320. The pulses count the moves as the core made
+/// them: X 500 + 220 + 20 + 5 + 25, Z 400 + 50 + 10 + 20.
+#[test]
+fn a_run_stops_the_probe_on_the_workpiece_and_reads_on_from_the_answer() {
+    let dir = common::temp_dir("probe-run");
+    let p = dir.join("run.ngc");
+    std::fs::write(
+        &p,
+        "G21 G90 G17 G40 G49 G80\n\
+         G54 G0 X500 Y400 Z-400\n\
+         G38.2 Z-480 F100\n\
+         G10 L20 P1 Z0\n\
+         G0 Z10\n\
+         G0 X280\n\
+         G0 Z-10\n\
+         G38.2 X320 F500\n\
+         G10 L20 P1 X0\n\
+         G0 X-5 Z#5063\n\
+         G1 X20 F200\n\
+         M30\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("run")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("pulses: X 770000 Y 400000 Z 480000"),
+        "{text}"
+    );
+    assert!(
+        text.contains("final position: X 320.000 Y 400.000 Z -460.000 mm"),
+        "{text}"
+    );
+}
+
+/// A probe that misses in a run: the probe move is made to its end, then the run stops with
+/// the error and nothing after it moves.
+#[test]
+fn a_run_whose_probe_misses_stops_after_the_probe_move() {
+    let dir = common::temp_dir("probe-miss");
+    let p = dir.join("miss.ngc");
+    std::fs::write(
+        &p,
+        "G21 G90\nG0 X100 Y100 Z-400\nG38.2 Z-480 F500\nG0 Z-300\nM30\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("run")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr)
+            .contains("miss.ngc:3:1: G38.2: the probe move ended without contact"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("blocks executed: 2"), "{text}");
+    assert!(
+        text.contains("final position: X 100.000 Y 100.000 Z -480.000 mm"),
+        "{text}"
+    );
+}
+
+/// RESET while reading waits for a probe's answer: SINGLE BLOCK stops the run after the
+/// rapid before the probe (the translator has handed on the probe block and waits for the
+/// machine); RESET abandons the run, the wait ends, and the next run of the program goes
+/// through to its end (no hang).
+#[test]
+fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
+    use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
+    let mut c = common::open("probe-reset");
+    let f = common::temp_dir("probe-reset-prog").join("touch.ngc");
+    std::fs::write(
+        &f,
+        "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG0 Z#5063\nM30\n",
+    )
+    .unwrap();
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(f));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Single));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(common::audit(&c).len(), 1, "{}", c.frame_text());
+    c.handle(E::Reset);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(common::shows(&c, "program end"), "{}", c.frame_text());
+    let ends: Vec<[i64; 3]> = common::audit(&c).iter().map(|e| e.end).collect();
+    // The second run starts where the first stopped (its rapid makes no block): the probe
+    // stops on the top (machine Z −450), `G0 Z#5063` stays there, then M30.
+    let top = [500_000, 400_000, -450_000];
+    assert_eq!(&ends[ends.len() - 2..], &[top, top][..], "{ends:?}");
+    // The first run's translator thread, abandoned while it waited, has ended too (the only
+    // console of this test binary; the other tests make no translator thread in process).
+    let translators = || {
+        std::fs::read_dir("/proc/self/task")
+            .map(|d| {
+                d.filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("comm")).ok())
+                    .filter(|n| n.trim() == "translator")
+                    .count()
+            })
+            .unwrap_or(0)
+    };
+    let t0 = std::time::Instant::now();
+    while translators() > 0 && t0.elapsed() < std::time::Duration::from_secs(3) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert_eq!(translators(), 0, "a translator thread is still waiting");
+}

@@ -68,6 +68,11 @@ impl BlockSource for Logging<'_> {
         }
         f
     }
+
+    fn answer(&mut self, a: super::block_buffer::Answer) {
+        let mut src = self.b1;
+        src.answer(a);
+    }
 }
 
 /// Gives back what a slice read.
