@@ -72,6 +72,7 @@ impl RunSource {
         if !self.gcode {
             return Box::new(self.translator(state));
         }
+        let pulse_mm = self.settings.pulse_mm;
         let mut g = GcodeSource::new(
             self.text,
             self.magazine,
@@ -85,6 +86,10 @@ impl RunSource {
         }
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
+        }
+        // Probes are answered by the pulse core running this source (issue 21).
+        if let Some(m) = super::answers::RunMachine::here(pulse_mm) {
+            g = g.machine(Box::new(m));
         }
         match self.offset_feed {
             Some(feed) => Box::new(super::gcode_run::Feeding { src: g, feed }),
