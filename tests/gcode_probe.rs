@@ -373,3 +373,53 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
     }
     assert_eq!(translators(), 0, "a translator thread is still waiting");
 }
+
+/// The probe result on the recording: `/nc/probe` after the probe block's `/nc/block`, with
+/// where the machine stopped (the top, machine Z −450) and `tripped`; the file passes the
+/// Python reader's check with the new topic.
+#[test]
+fn a_run_records_the_probe_result() {
+    let dir = common::temp_dir("probe-record");
+    let p = dir.join("rec.ngc");
+    std::fs::write(
+        &p,
+        "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG0 Z-300\nM30\n",
+    )
+    .unwrap();
+    let rec = dir.join("rec.mcap");
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("run")
+        .arg(&p)
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&rec).unwrap();
+    let mut seen = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let topic = m.channel.topic.clone();
+        if topic == "/nc/block" || topic == "/nc/probe" {
+            seen.push((topic, String::from_utf8(m.data.to_vec()).unwrap()));
+        }
+    }
+    let i = seen
+        .iter()
+        .position(|(t, _)| t == "/nc/probe")
+        .unwrap_or_else(|| panic!("no /nc/probe message: {seen:?}"));
+    assert_eq!(
+        seen[i].1,
+        r#"{"seq":2,"stmt":3,"x":500,"y":400,"z":-450,"pulses":[500000,400000,-450000],"tripped":true,"at_start":false}"#
+    );
+    assert!(seen[i - 1].1.contains("G38.2"), "{seen:?}");
+    assert!(seen[i + 1].1.contains("G00 Z-300"), "{seen:?}");
+    if let Some((ok, text)) = common::python_check(&rec, &["--expect-topics", "/nc/probe"]) {
+        assert!(ok, "{text}");
+    }
+}

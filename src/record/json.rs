@@ -307,6 +307,35 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.push(b'}');
             *t_ns
         }
+        Event::Probe {
+            t_ns,
+            seq,
+            stmt,
+            pulses,
+            tripped,
+            at_start,
+        } => {
+            out.extend_from_slice(b"{\"seq\":");
+            push_u64(out, u64::from(*seq));
+            out.extend_from_slice(b",\"stmt\":");
+            push_u64(out, u64::from(*stmt));
+            for (i, key) in [b",\"x\":", b",\"y\":", b",\"z\":"].iter().enumerate() {
+                out.extend_from_slice(*key);
+                push_mm(out, pulses[i] as f64 * pulse_mm);
+            }
+            out.extend_from_slice(b",\"pulses\":[");
+            push_i64(out, pulses[0]);
+            out.push(b',');
+            push_i64(out, pulses[1]);
+            out.push(b',');
+            push_i64(out, pulses[2]);
+            out.extend_from_slice(b"],\"tripped\":");
+            out.extend_from_slice(if *tripped { b"true" } else { b"false" });
+            out.extend_from_slice(b",\"at_start\":");
+            out.extend_from_slice(if *at_start { b"true" } else { b"false" });
+            out.push(b'}');
+            *t_ns
+        }
     }
 }
 

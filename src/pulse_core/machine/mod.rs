@@ -976,6 +976,20 @@ impl Machine {
                 tripped,
                 at_start,
             });
+            if let Some(s) = &self.events {
+                send_ev(
+                    s,
+                    &self.out.lossless,
+                    Event::Probe {
+                        t_ns: t,
+                        seq: c.block.seq,
+                        stmt: c.block.stmt,
+                        pulses: pos,
+                        tripped,
+                        at_start,
+                    },
+                );
+            }
         }
         if pos != c.block.end {
             // The in-position check: a block must end on its programmed point.
