@@ -11,17 +11,22 @@ use std::process::Command;
 
 mod common;
 
-/// `src` read from machine zero with no offsets: its statements (or first error) and the
-/// state after it.
-fn read(src: &str) -> (Result<usize, String>, GcodeSource) {
-    let mut g = GcodeSource::new(
+/// `src` from machine zero with no offsets, the sample magazine and the default settings.
+fn source(src: &str) -> GcodeSource {
+    GcodeSource::new(
         src.into(),
         sample_magazine(),
         MachineSettings::default(),
         MachineState::at([0, 0, 0]),
         WorkOffsets::default(),
         Switches::default(),
-    );
+    )
+}
+
+/// `src` read from machine zero with no offsets: its statements (or first error) and the
+/// state after it.
+fn read(src: &str) -> (Result<usize, String>, GcodeSource) {
+    let mut g = source(src);
     let mut n = 0;
     for r in g.by_ref() {
         match r {
@@ -30,6 +35,35 @@ fn read(src: &str) -> (Result<usize, String>, GcodeSource) {
         }
     }
     (Ok(n), g)
+}
+
+/// `novanc ARGS PROG EXTRA..` on `text` written as `name` in a fresh directory (an EXTRA
+/// word not starting with `--` is a file in that directory): the exit code, stdout and
+/// stderr, and the directory.
+fn novanc(
+    args: &[&str],
+    name: &str,
+    text: &str,
+    extra: &[&str],
+) -> (Option<i32>, String, String, std::path::PathBuf) {
+    let dir = common::temp_dir("probe-cli");
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(args)
+        .arg(&p)
+        .args(extra.iter().map(|e| match e.starts_with("--") {
+            true => std::path::PathBuf::from(e),
+            false => dir.join(e),
+        }))
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir,
+    )
 }
 
 fn param(g: &GcodeSource, n: usize) -> f64 {
@@ -41,43 +75,31 @@ fn near(got: f64, want: f64) {
 }
 
 /// A touch-off on the default workpiece (X 300..700, Y 200..600, Z −550..−450, machine mm)
-/// with no tool (a point stylus at the gauge line): down onto the top, set Z0 there, then
-/// find the X− edge from the side and set X0 there; the moves after it use the new zero.
+/// with no tool (a point stylus at the gauge line), G54 at machine zero: down onto the top,
+/// set Z0 there, then find the X− face from the side and set X0 there; the moves after it use
+/// the new zero and #5063 (the second probe's Z in G54).
+const TOUCH_OFF: &str = "G21 G90 G17 G40 G49 G80\n\
+     G10 L2 P1 X0 Y0 Z0\n\
+     G54 G0 X500 Y400 Z-400\n\
+     G38.2 Z-480 F100\n\
+     G10 L20 P1 Z0\n\
+     G0 Z10\n\
+     G0 X280\n\
+     G0 Z-10\n\
+     G38.2 X320 F500\n\
+     G10 L20 P1 X0\n\
+     G0 X-5 Z#5063\n\
+     G1 X20 F200\n\
+     M30\n";
+
+/// `novanc translate` of [`TOUCH_OFF`], answered from the workpiece.
 #[test]
 fn translate_touches_off_on_the_default_workpiece() {
-    let dir = common::temp_dir("probe-translate");
-    let p = dir.join("touch.ngc");
-    std::fs::write(
-        &p,
-        "G21 G90 G17 G40 G49 G80\n\
-         G10 L2 P1 X0 Y0 Z0\n\
-         G54 G0 X500 Y400 Z-400\n\
-         G38.2 Z-480 F100\n\
-         G10 L20 P1 Z0\n\
-         G0 Z10\n\
-         G0 X280\n\
-         G0 Z-10\n\
-         G38.2 X320 F50\n\
-         G10 L20 P1 X0\n\
-         G0 X-5 Z5\n\
-         G1 X20 F200\n\
-         M30\n",
-    )
-    .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("translate")
-        .arg(&p)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (code, text, stderr, _) = novanc(&["translate"], "touch.ngc", TOUCH_OFF, &[]);
+    assert_eq!(code, Some(0), "{stderr}");
     // The top is at machine Z −450: G54 Z0 there, so Z10 is −440 and Z−10 is −460 (beside
-    // the block, X 280 < 300). The X− face is at machine X 300: X0 there, X−5 is 295.
+    // the block, X 280 < 300). The X− face is at machine X 300: X0 there, X−5 is 295; the
+    // second probe stopped at Z −10 in G54, so Z#5063 is machine −460 again.
     assert_eq!(
         text,
         "G21 G90 G17 G94 G40 G49 G80\n\
@@ -86,8 +108,8 @@ fn translate_touches_off_on_the_default_workpiece() {
          N3 G00 Z-440.000\n\
          N4 G00 X280.000\n\
          N5 G00 Z-460.000\n\
-         N6 G38.2 X320.000 F50\n\
-         N7 G00 X295.000 Z-445.000\n\
+         N6 G38.2 X320.000 F500\n\
+         N7 G00 X295.000\n\
          N8 G01 X320.000 F200\n\
          N9 M30\n"
     );
@@ -188,15 +210,7 @@ fn a_probe_that_cannot_do_its_work_is_an_error() {
 #[test]
 fn search_past_a_probe_keeps_its_result() {
     let src = "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG10 L20 P1 Z0\nG0 Z10\nM30\n";
-    let mut g = GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
-    .resume_at(5);
+    let mut g = source(src).resume_at(5);
     for r in g.by_ref() {
         r.unwrap();
     }
@@ -243,44 +257,15 @@ fn m66_reads_the_simulated_inputs_low() {
     near(param(&g, 4), -1.0);
 }
 
-/// `novanc run` of a touch-off: the pulse core stops each probe move where the point stylus
-/// meets the default workpiece (the top at machine Z −450, the X− face at X 300), reading
-/// waits for its answer, and the program goes on from there using #5063: G54 Z0 on the top,
-/// X0 on the face; `G0 X-5 Z#5063` goes to machine X 295, Z −460 (where the second probe
-/// was, −10 in G54), then X20 is machine 320. The pulses count the moves as the core made
-/// them: X 500 + 220 + 20 + 5 + 25, Z 400 + 50 + 10 + 20.
+/// `novanc run` of [`TOUCH_OFF`]: the pulse core stops each probe move where the point stylus
+/// meets the workpiece (the top at machine Z −450, the X− face at X 300), reading waits for
+/// its answer, and the program goes on from there: `G0 X-5 Z#5063` goes to machine X 295,
+/// Z −460, then X20 is machine 320. The pulses count the moves as the core made them:
+/// X 500 + 220 + 20 + 5 + 25, Z 400 + 50 + 10 + 20.
 #[test]
 fn a_run_stops_the_probe_on_the_workpiece_and_reads_on_from_the_answer() {
-    let dir = common::temp_dir("probe-run");
-    let p = dir.join("run.ngc");
-    std::fs::write(
-        &p,
-        "G21 G90 G17 G40 G49 G80\n\
-         G54 G0 X500 Y400 Z-400\n\
-         G38.2 Z-480 F100\n\
-         G10 L20 P1 Z0\n\
-         G0 Z10\n\
-         G0 X280\n\
-         G0 Z-10\n\
-         G38.2 X320 F500\n\
-         G10 L20 P1 X0\n\
-         G0 X-5 Z#5063\n\
-         G1 X20 F200\n\
-         M30\n",
-    )
-    .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("run")
-        .arg(&p)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (code, text, stderr, _) = novanc(&["run"], "run.ngc", TOUCH_OFF, &[]);
+    assert_eq!(code, Some(0), "{stderr}");
     assert!(
         text.contains("pulses: X 770000 Y 400000 Z 480000"),
         "{text}"
@@ -295,25 +280,17 @@ fn a_run_stops_the_probe_on_the_workpiece_and_reads_on_from_the_answer() {
 /// the error and nothing after it moves.
 #[test]
 fn a_run_whose_probe_misses_stops_after_the_probe_move() {
-    let dir = common::temp_dir("probe-miss");
-    let p = dir.join("miss.ngc");
-    std::fs::write(
-        &p,
+    let (code, stdout, stderr, _) = novanc(
+        &["run"],
+        "miss.ngc",
         "G21 G90\nG0 X100 Y100 Z-400\nG38.2 Z-480 F500\nG0 Z-300\nM30\n",
-    )
-    .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("run")
-        .arg(&p)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(out.status.code(), Some(1));
+        &[],
+    );
+    let text = stdout;
+    assert_eq!(code, Some(1));
     assert!(
-        String::from_utf8_lossy(&out.stderr)
-            .contains("miss.ngc:3:1: G38.2: the probe move ended without contact"),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+        stderr.contains("miss.ngc:3:1: G38.2: the probe move ended without contact"),
+        "{stderr}"
     );
     assert!(text.contains("blocks executed: 2"), "{text}");
     assert!(
@@ -379,27 +356,14 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
 /// Python reader's check with the new topic.
 #[test]
 fn a_run_records_the_probe_result() {
-    let dir = common::temp_dir("probe-record");
-    let p = dir.join("rec.ngc");
-    std::fs::write(
-        &p,
+    let (code, stdout, stderr, dir) = novanc(
+        &["run"],
+        "rec.ngc",
         "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG0 Z-300\nM30\n",
-    )
-    .unwrap();
-    let rec = dir.join("rec.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("run")
-        .arg(&p)
-        .arg("--record")
-        .arg(&rec)
-        .output()
-        .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+        &["--record", "rec.mcap"],
     );
+    assert_eq!(code, Some(0), "{stderr} {stdout}");
+    let rec = dir.join("rec.mcap");
     let bytes = std::fs::read(&rec).unwrap();
     let mut seen = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {

@@ -214,6 +214,24 @@ fn arr(v: &Json) -> &[Json] {
 }
 
 /// Turns a recorded message back into the event it came from (`t_ns` from the publish time).
+/// The `pulses` counters of a message, checking that its `x`, `y`, `z` are them in mm.
+fn place(obj: &Json) -> [i64; 3] {
+    let p: Vec<i64> = arr(field(obj, "pulses"))
+        .iter()
+        .map(|v| int(v) as i64)
+        .collect();
+    assert_eq!(p.len(), 3);
+    for (i, key) in ["x", "y", "z"].iter().enumerate() {
+        let mm = num(field(obj, key));
+        assert!(
+            (mm - p[i] as f64 * 0.001).abs() < 1e-9,
+            "{key} {mm} vs {}",
+            p[i]
+        );
+    }
+    [p[0], p[1], p[2]]
+}
+
 fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
     let t_ns = publish_ns;
     match topic {
@@ -223,26 +241,11 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             stmt: int(field(obj, "stmt")) as u32,
             text: text(field(obj, "text")),
         },
-        "/nc/position" => {
-            let p: Vec<i64> = arr(field(obj, "pulses"))
-                .iter()
-                .map(|v| int(v) as i64)
-                .collect();
-            assert_eq!(p.len(), 3);
-            for (i, key) in ["x", "y", "z"].iter().enumerate() {
-                let mm = num(field(obj, key));
-                assert!(
-                    (mm - p[i] as f64 * 0.001).abs() < 1e-9,
-                    "{key} {mm} vs {}",
-                    p[i]
-                );
-            }
-            Event::Position {
-                t_ns,
-                pulses: [p[0], p[1], p[2]],
-                speed_mm_min: num(field(obj, "speed")),
-            }
-        }
+        "/nc/position" => Event::Position {
+            t_ns,
+            pulses: place(obj),
+            speed_mm_min: num(field(obj, "speed")),
+        },
         "/nc/pulses" => {
             let axis = match text(field(obj, "axis")).as_str() {
                 "X" => 0,
@@ -283,15 +286,6 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             event: text(field(obj, "event")),
         },
         "/nc/probe" => {
-            let p: Vec<i64> = arr(field(obj, "pulses"))
-                .iter()
-                .map(|v| int(v) as i64)
-                .collect();
-            assert_eq!(p.len(), 3);
-            for (i, key) in ["x", "y", "z"].iter().enumerate() {
-                let mm = num(field(obj, key));
-                assert!((mm - p[i] as f64 * 0.001).abs() < 1e-9, "{key} {mm}");
-            }
             let flag = |k: &str| match field(obj, k) {
                 Json::Bool(b) => *b,
                 v => panic!("{k} is not a boolean: {v:?}"),
@@ -300,7 +294,7 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
                 t_ns,
                 seq: int(field(obj, "seq")) as u32,
                 stmt: int(field(obj, "stmt")) as u32,
-                pulses: [p[0], p[1], p[2]],
+                pulses: place(obj),
                 tripped: flag("tripped"),
                 at_start: flag("at_start"),
             }

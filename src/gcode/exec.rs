@@ -56,36 +56,6 @@ pub struct Probed {
     pub at_start: bool,
 }
 
-/// A machine without a workpiece and with every input low: probes never trip, M66 reads 0.
-pub struct NoMachine;
-
-impl Machine for NoMachine {
-    fn probe(
-        &mut self,
-        _from: [f64; 3],
-        to: [f64; 3],
-        _length: f64,
-        _radius: f64,
-        _toward: bool,
-    ) -> Result<Probed, String> {
-        Ok(Probed {
-            at: to,
-            tripped: false,
-            at_start: false,
-        })
-    }
-
-    fn input(
-        &mut self,
-        _digital: bool,
-        _index: u32,
-        mode: u32,
-        _timeout: f64,
-    ) -> Result<Option<f64>, String> {
-        Ok(low_input(mode))
-    }
-}
-
 /// M66 on an input that stays low (0): L0 and L4 read 0 at once, the others time out.
 pub fn low_input(mode: u32) -> Option<f64> {
     (mode == 0 || mode == 4).then_some(0.0)

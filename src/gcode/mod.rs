@@ -25,7 +25,7 @@ pub mod spline;
 pub mod state;
 pub mod words;
 
-pub use exec::{Ask, Event, Machine, NoMachine, Probed};
+pub use exec::{Ask, Event, Machine, Probed};
 pub use flow::{NoFiles, SubFinder};
 pub use probe::SimMachine;
 pub use search::translate_all;
