@@ -44,6 +44,9 @@ pub struct MachineSettings {
     /// The error-proportional interpolator's constant L (adder 100 of seed 001), pulses: the
     /// tail's time constant is L / f_r (docs/pulse-core.md, "Choosing L").
     pub ep_l_pulses: i64,
+    /// The stock on the table, in machine coordinates of the tool tip: what a probe touches
+    /// (docs/gcode.md "Probing").
+    pub workpiece: crate::workpiece::Workpiece,
 }
 
 /// The pulse distribution method of the pulse core.
@@ -116,6 +119,7 @@ impl Default for MachineSettings {
             tape_chars_per_s: 300,
             interpolator: Interpolator::Dda,
             ep_l_pulses: EP_L_DEFAULT,
+            workpiece: crate::workpiece::Workpiece::centre_default(),
         }
     }
 }

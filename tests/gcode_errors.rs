@@ -78,10 +78,20 @@ fn an_unknown_word_or_code() {
 }
 #[test]
 fn a_probe_that_does_not_trip() {
-    // No workpiece: the probe reaches its end point without contact.
+    // Beside the workpiece: the probe reaches its end point without contact. The probe line
+    // yields its move (the machine makes it before it can answer), then reading stops with the
+    // error and yields nothing more.
+    let src = format!("{PRE}G38.2 Z-1 F10\nG0 X5\nM30\n");
+    let got: Vec<_> = source(&src).collect();
+    let last = got.len() - 1;
+    assert_eq!(got[last - 1].as_ref().map(|s| s.line), Ok(4));
     assert_eq!(
-        error("G38.2 Z-1 F10"),
-        "4:1: G38.2: the probe move ended without contact"
+        got[last]
+            .as_ref()
+            .map_err(|e| e.to_string())
+            .err()
+            .as_deref(),
+        Some("4:1: G38.2: the probe move ended without contact")
     );
 }
 

@@ -11,6 +11,7 @@
 //! Every command to the core waits until the core has applied it, so what the display shows
 //! after a key is the core's answer to that key.
 
+mod answers;
 mod config;
 mod display;
 mod entry;

@@ -96,6 +96,7 @@ impl RunSource {
         if !self.gcode {
             return None;
         }
+        let pulse_mm = self.settings.pulse_mm;
         let mut g = match self.interp {
             Some(mut st) => {
                 // The spindle is the machine's, as the position and the tool are.
@@ -126,6 +127,10 @@ impl RunSource {
         }
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
+        }
+        // Probes are answered by the pulse core running this source (issue 21).
+        if let Some(m) = super::answers::RunMachine::here(pulse_mm) {
+            g = g.machine(Box::new(m));
         }
         Some(g)
     }

@@ -17,11 +17,14 @@ use crate::block::{Plane, TranslateError};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 
-/// What the machine must answer before reading can go on (LinuxCNC's queue busters).
+/// What the machine must answer before reading can go on (LinuxCNC's queue busters,
+/// docs/gcode.md "Probing" and "Inputs and outputs"). A source asks once the line's blocks
+/// have been handed on: in a run the machine answers when it has executed them.
 pub trait Machine {
     /// A probe move from `from` to `to` (machine mm, the gauge line) with a stylus of
-    /// `radius` mm at `length` below the gauge line: where it stopped if it tripped (or, for
-    /// G38.4/G38.5, lost contact), else `None`.
+    /// `radius` mm at `length` below the gauge line, seeking contact (`toward`: G38.2, G38.3)
+    /// or its loss (G38.4, G38.5): where the machine stopped, and whether it found what it
+    /// sought.
     fn probe(
         &mut self,
         from: [f64; 3],
@@ -29,7 +32,7 @@ pub trait Machine {
         length: f64,
         radius: f64,
         toward: bool,
-    ) -> Result<Option<[f64; 3]>, String>;
+    ) -> Result<Probed, String>;
     /// M66: the value of input `index` (digital: 0 or 1), after waiting as `mode` says
     /// (0 immediate, 1 rise, 2 fall, 3 high, 4 low) at most `timeout` s; `None` on a timeout.
     fn input(
@@ -41,35 +44,55 @@ pub trait Machine {
     ) -> Result<Option<f64>, String>;
 }
 
-/// A machine without a workpiece and with every input low: probes never trip, M66 reads 0
-/// (what `novanc translate` uses when no machine description says otherwise).
-pub struct NoMachine;
+/// A probe move's outcome.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Probed {
+    /// Where the machine stopped, machine mm (the gauge line): where the probe tripped (or
+    /// came free), else the move's end.
+    pub at: [f64; 3],
+    /// The probe found what it sought (contact, or for G38.4/G38.5 its loss).
+    pub tripped: bool,
+    /// It was so already at the start: nothing moved.
+    pub at_start: bool,
+}
 
-impl Machine for NoMachine {
-    fn probe(
-        &mut self,
-        _from: [f64; 3],
-        _to: [f64; 3],
-        _length: f64,
-        _radius: f64,
-        _toward: bool,
-    ) -> Result<Option<[f64; 3]>, String> {
-        Ok(None)
-    }
+/// M66 on an input that stays low (0): L0 and L4 read 0 at once, the others time out.
+pub fn low_input(mode: u32) -> Option<f64> {
+    (mode == 0 || mode == 4).then_some(0.0)
+}
 
-    fn input(
-        &mut self,
-        _digital: bool,
-        _index: u32,
+/// A question a line asks of the machine (G38.x, M66), answered before the next line is read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Ask {
+    /// A probe move (G38.2 … G38.5 ×10 in `g`) from `from` to `to` (machine mm, the gauge
+    /// line) with the tool in the spindle's `length` and `radius`.
+    Probe {
+        /// 382 … 385.
+        g: u16,
+        /// The column of the G code.
+        col: u32,
+        /// Where the move starts.
+        from: [f64; 3],
+        /// Where it ends if nothing trips.
+        to: [f64; 3],
+        /// The tool's length, mm.
+        length: f64,
+        /// The tool's radius, mm.
+        radius: f64,
+    },
+    /// M66: wait on input `index` as `mode` says, at most `timeout` s; the value goes to #5399.
+    Input {
+        /// The column of M66.
+        col: u32,
+        /// Digital (P) or analog (E).
+        digital: bool,
+        /// The input, 0 to 63.
+        index: u32,
+        /// L: 0 immediate, 1 rise, 2 fall, 3 high, 4 low.
         mode: u32,
-        _timeout: f64,
-    ) -> Result<Option<f64>, String> {
-        Ok(if mode == 0 || mode == 4 {
-            Some(0.0)
-        } else {
-            None
-        })
-    }
+        /// Q, seconds.
+        timeout: f64,
+    },
 }
 
 /// Something a line did that its caller keeps or shows, besides the moves.
@@ -139,8 +162,8 @@ pub struct Exec<'a> {
     pub magazine: &'a mut Magazine,
     /// OPTIONAL STOP is on.
     pub optional_stop: bool,
-    /// The machine, for probes and inputs.
-    pub machine: &'a mut dyn Machine,
+    /// What the line asks of the machine, in order (its answers come before the next line).
+    pub asks: Vec<Ask>,
 }
 
 impl Exec<'_> {
@@ -1070,11 +1093,13 @@ fn io_codes(
                     }),
                     col,
                 );
-                let v = x
-                    .machine
-                    .input(digital, index, l, q)
-                    .map_err(|e| x.err(col, e))?;
-                st.params[5399] = v.unwrap_or(-1.0);
+                x.asks.push(Ask::Input {
+                    col,
+                    digital,
+                    index,
+                    mode: l,
+                    timeout: q,
+                });
             }
             _ => {
                 let e = int_word(x, w, 'E', 0.0, 63.0)?.ok_or_else(|| {

@@ -25,8 +25,9 @@ pub mod spline;
 pub mod state;
 pub mod words;
 
-pub use exec::{Event, Machine, NoMachine};
+pub use exec::{Ask, Event, Machine, Probed};
 pub use flow::{NoFiles, SubFinder};
+pub use probe::SimMachine;
 pub use search::translate_all;
 pub use state::InterpState;
 
@@ -157,7 +158,7 @@ macro_rules! ctx {
             settings: &$s.settings,
             magazine: &mut $s.magazine,
             optional_stop: $s.switches.optional_stop,
-            machine: $s.machine.as_mut(),
+            asks: Vec::new(),
         }
     };
 }
@@ -189,6 +190,11 @@ pub struct GcodeSource {
     mdi: bool,
     done: bool,
     machine: Box<dyn Machine>,
+    /// What the last line asked of the machine, and the line: answered before the next line
+    /// is read (docs/gcode.md "Probing").
+    pending: (Vec<exec::Ask>, u32),
+    /// SEARCH is running the lines before its point: the settings' machine answers.
+    pub(crate) searching: bool,
     finder: Box<dyn SubFinder>,
 }
 
@@ -243,6 +249,7 @@ impl GcodeSource {
             let t = l.trim();
             !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
         });
+        let sim = Box::new(probe::SimMachine::new(&settings));
         GcodeSource {
             flow: Flow::new(source),
             st,
@@ -269,7 +276,9 @@ impl GcodeSource {
             out_buf: Vec::new(),
             mdi: false,
             done: false,
-            machine: Box::new(NoMachine),
+            machine: sim,
+            pending: (Vec::new(), 0),
+            searching: false,
             finder: Box::new(NoFiles),
         }
     }
@@ -379,8 +388,28 @@ impl GcodeSource {
         }
     }
 
+    /// The machine's answers to what the last line asked (its blocks have been handed on):
+    /// the parameters and position they set, or the error of a probe that did not trip.
+    pub(crate) fn answer_pending(&mut self) -> Result<(), TranslateError> {
+        let (asks, n) = std::mem::take(&mut self.pending);
+        for ask in &asks {
+            let m: &mut dyn Machine = if self.searching {
+                &mut probe::SimMachine::new(&self.settings)
+            } else {
+                self.machine.as_mut()
+            };
+            if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
+                self.emitter.pos = at.map(|v| self.settings.to_pulses(v));
+            }
+        }
+        Ok(())
+    }
+
     /// Executes the next line; `None` when there is nothing more to do.
     fn step(&mut self) -> Option<Result<Statement, TranslateError>> {
+        if let Err(e) = self.answer_pending() {
+            return self.fail(e);
+        }
         loop {
             if self.done {
                 return None;
@@ -621,8 +650,11 @@ impl GcodeSource {
         let words = words::sort_words(line_words(line), n)?;
         let mut x = ctx!(self, n);
         let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
-        let Exec { out, events, .. } = x;
+        let Exec {
+            out, events, asks, ..
+        } = x;
         self.events.extend(events);
+        self.pending = (asks, n);
         let flow = match r {
             Ok(f) => f,
             Err(e) => {

@@ -130,7 +130,9 @@ impl Iterator for GcodeSource {
         let Some(at) = self.resume_at else {
             return self.step();
         };
-        // SEARCH: run the lines before `at` for their state only.
+        // SEARCH: run the lines before `at` for their state only (the settings' machine
+        // answers their probes and inputs).
+        self.searching = true;
         loop {
             let main = self.flow.level() == 0 && self.flow.pc.unit == 0;
             let before = main && (self.flow.pc.line as u32 + 1) < at;
@@ -142,17 +144,26 @@ impl Iterator for GcodeSource {
                     let z = self.settings.to_pulses(self.st.pos[2]);
                     self.z_moved |= z != self.start.pos[2];
                 }
-                Some(Err(e)) => return Some(Err(e)),
+                Some(Err(e)) => {
+                    self.searching = false;
+                    return Some(Err(e));
+                }
                 None => {
+                    self.searching = false;
                     return Some(Err(TranslateError {
                         line: at,
                         col: 1,
                         message: format!(
                             "no line to run at or after line {at}: the program ends before it"
                         ),
-                    }))
+                    }));
                 }
             }
+        }
+        let answered = self.answer_pending();
+        self.searching = false;
+        if let Err(e) = answered {
+            return self.fail(e);
         }
         self.resume_at = None;
         let restore = match self.restore(at) {

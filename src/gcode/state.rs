@@ -507,7 +507,6 @@ impl InterpState {
     /// Whether `#n` may be set by a program; if not, why.
     pub fn writable(&self, n: usize) -> Result<(), String> {
         match n {
-            5061..=5070 => Err(format!("#{n} is a probe result: it is set by G38 only")),
             5400..=5413 => Err(format!(
                 "#{n} describes the tool in the spindle: it is set by M06 and G43 only"
             )),

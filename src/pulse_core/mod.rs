@@ -37,7 +37,7 @@ mod source;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
-pub use self::block_buffer::{MakeRun, StatementIter};
+pub use self::block_buffer::{Answer, MachineLink, MakeRun, StatementIter};
 pub use self::drive::Drive;
 pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Until};
 pub use self::motion::Progress;

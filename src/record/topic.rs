@@ -3,7 +3,10 @@
 
 use super::Event;
 
-/// The six docs/recording.md topics, in channel order.
+/// How many topics there are.
+pub const TOPICS: usize = 7;
+
+/// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Topic {
     /// `/nc/block`: a block starts executing.
@@ -18,17 +21,20 @@ pub enum Topic {
     Display,
     /// `/panel/event`: an operator action.
     PanelEvent,
+    /// `/nc/probe`: a probe block ended (issue 21).
+    Probe,
 }
 
 impl Topic {
     /// Every topic, in channel order.
-    pub const ALL: [Topic; 6] = [
+    pub const ALL: [Topic; TOPICS] = [
         Topic::Block,
         Topic::Position,
         Topic::Pulses,
         Topic::State,
         Topic::Display,
         Topic::PanelEvent,
+        Topic::Probe,
     ];
 
     /// The MCAP topic name.
@@ -40,10 +46,11 @@ impl Topic {
             Topic::State => "/nc/state",
             Topic::Display => "/panel/display",
             Topic::PanelEvent => "/panel/event",
+            Topic::Probe => "/nc/probe",
         }
     }
 
-    /// Index 0..6 (channel order).
+    /// Index 0..[`TOPICS`] (channel order).
     pub fn index(self) -> usize {
         self as usize
     }
@@ -57,6 +64,7 @@ impl Topic {
             Event::State { .. } => Topic::State,
             Event::Display { .. } => Topic::Display,
             Event::PanelEvent { .. } => Topic::PanelEvent,
+            Event::Probe { .. } => Topic::Probe,
         }
     }
 
@@ -69,6 +77,7 @@ impl Topic {
             Topic::State => "novanc.State",
             Topic::Display => "novanc.PanelDisplay",
             Topic::PanelEvent => "novanc.PanelEvent",
+            Topic::Probe => "novanc.Probe",
         }
     }
 
@@ -125,6 +134,20 @@ impl Topic {
                 r#""properties":{"event":{"type":"string"}},"#,
                 r#""required":["event"]}"#
             ),
+            Topic::Probe => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Probe","#,
+                r#""description":"A probe block (G38.x) ended: where the machine stopped","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""x":{"type":"number","description":"X, mm"},"#,
+                r#""y":{"type":"number","description":"Y, mm"},"#,
+                r#""z":{"type":"number","description":"Z, mm (the gauge line)"},"#,
+                r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
+                r#""description":"pulse counters X, Y, Z"},"#,
+                r#""tripped":{"type":"boolean","description":"the probe found what it sought (contact, or for G38.4/G38.5 its loss)"},"#,
+                r#""at_start":{"type":"boolean","description":"it was so at the start: nothing moved"}},"#,
+                r#""required":["seq","stmt","x","y","z","pulses","tripped","at_start"]}"#
+            ),
         }
     }
 }
@@ -135,7 +158,7 @@ mod tests {
 
     #[test]
     fn schemas_name_every_required_field() {
-        let required: [&[&str]; 6] = [
+        let required: [&[&str]; TOPICS] = [
             &["seq", "stmt", "text"],
             &["x", "y", "z", "pulses"],
             &["axis", "dir", "t_ns"],
@@ -149,6 +172,9 @@ mod tests {
             ],
             &["lines"],
             &["event"],
+            &[
+                "seq", "stmt", "x", "y", "z", "pulses", "tripped", "at_start",
+            ],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();

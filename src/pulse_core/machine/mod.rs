@@ -19,6 +19,7 @@
 //! in one PGEN call and sets the clock to the tick where it completes. The pulses and times are
 //! the same as tick by tick (tested); a dry run then costs pulses, not ticks.
 
+use super::block_buffer::Answer;
 use super::drive::Drive;
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
@@ -28,6 +29,7 @@ use crate::block::{Block, MachineState, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
+use crate::workpiece::{along, Touch};
 use check::{arc_stepper, check_block};
 use std::collections::VecDeque;
 
@@ -66,6 +68,9 @@ struct Current {
     /// The set length of the tool in the spindle before the tool data was revised while this
     /// block ran (the block goes on with the length it was planned with).
     len_planned: Option<f64>,
+    /// A probe block: whether the probe finds what it seeks on the way, and already at the
+    /// start (answered with the position when the block ends).
+    probe: Option<(bool, bool)>,
 }
 
 /// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
@@ -215,6 +220,8 @@ pub struct Machine {
     op_mode: String,
     data_mode: String,
     commands: u64,
+    /// The answer of the probe block just ended, for the source at the next NCBR.
+    probe_answer: Option<Answer>,
 }
 
 impl Machine {
@@ -264,6 +271,7 @@ impl Machine {
             op_mode: "AUTO".into(),
             data_mode: "SEARCH".into(),
             commands: 0,
+            probe_answer: None,
         }
     }
 
@@ -589,6 +597,9 @@ impl Machine {
 
     /// NCBR: override, RUN, DEN and the next block.
     fn ncbr(&mut self, src: &mut dyn BlockSource) {
+        if let Some(a) = self.probe_answer.take() {
+            src.answer(a);
+        }
         if let Some(p) = self.pending_override.take() {
             self.feed_override = p;
             let feed = self
@@ -653,6 +664,7 @@ impl Machine {
     /// Ends the loaded run: RUN = 0, nothing held, the end recorded for the display.
     fn end_run(&mut self, cause: EndCause) {
         self.run = 0;
+        self.probe_answer = None;
         self.hold = false;
         self.just_completed = false;
         self.ret = None;
@@ -716,6 +728,10 @@ impl Machine {
             self.refuse(&e, Some(&b), why);
             return;
         }
+        let probe = match b.probe {
+            Some(g) if b.motion == Kind::Linear => Some(self.probe_stop(&mut b, pos, g)),
+            _ => None,
+        };
         b.delta = [b.end[0] - pos[0], b.end[1] - pos[1], b.end[2] - pos[2]];
         if let Err(why) = check_block(&self.settings, pos, &b) {
             self.refuse(&e, Some(&b), why);
@@ -756,7 +772,41 @@ impl Machine {
             until: self.now + pre,
             motion: None,
             len_planned: None,
+            probe,
         });
+    }
+
+    /// A probe block (G38.x ×10 in `g`) from `pos`: where its stylus (a ball of the spindle
+    /// tool's radius on its tip, the gauge line less its length) first meets the workpiece of
+    /// the settings (G38.2/3) or leaves it (G38.4/5) along the straight move becomes the
+    /// block's end, to the nearest pulse; already so at the start, nothing moves. Whether it
+    /// trips, and whether at the start (docs/pulse-core.md, "Probing").
+    fn probe_stop(&self, b: &mut Block, pos: [i64; 3], g: u16) -> (bool, bool) {
+        let st = &self.settings;
+        let len = self.tool_len;
+        let radius = self
+            .tool
+            .and_then(|t| self.magazine.as_ref()?.tools.get(t))
+            .map_or(0.0, |r| r.cutting_diameter() / 2.0);
+        let tip = |p: [i64; 3]| [st.to_mm(p[0]), st.to_mm(p[1]), st.to_mm(p[2]) - len];
+        let (a, e) = (tip(pos), tip(b.end));
+        match st.workpiece.probe(a, e, radius, g <= 383) {
+            Touch::AtStart => {
+                b.end = pos;
+                b.motion = Kind::Aux;
+                (true, true)
+            }
+            Touch::At(t) => {
+                let p = along(a, e, t);
+                b.end = [
+                    st.to_pulses(p[0]),
+                    st.to_pulses(p[1]),
+                    st.to_pulses(p[2] + len),
+                ];
+                (true, false)
+            }
+            Touch::Never => (false, false),
+        }
     }
 
     /// PGEN up to `end`: the block's phases, then any manual move or return.
@@ -919,6 +969,27 @@ impl Machine {
                     speed_mm_min: 0.0,
                 },
             );
+        }
+        if let Some((tripped, at_start)) = c.probe {
+            self.probe_answer = Some(Answer::Probe {
+                at: pos,
+                tripped,
+                at_start,
+            });
+            if let Some(s) = &self.events {
+                send_ev(
+                    s,
+                    &self.out.lossless,
+                    Event::Probe {
+                        t_ns: t,
+                        seq: c.block.seq,
+                        stmt: c.block.stmt,
+                        pulses: pos,
+                        tripped,
+                        at_start,
+                    },
+                );
+            }
         }
         if pos != c.block.end {
             // The in-position check: a block must end on its programmed point.
