@@ -133,6 +133,11 @@ pub fn main(argv: &[String]) -> i32 {
     let mut src = RunSource::program(&prog, source.into(), magazine, settings.clone());
     src.offsets = offsets;
     src.switches.block_delete = args.flag("--block-delete");
+    // o<name> call finds name.ngc beside the program file, as novanc translate does.
+    src.subroutines = Some(std::sync::Arc::new(crate::gcode::SubPrograms {
+        programs: Vec::new(),
+        path: crate::gcode::SubPath(super::translate::subroutine_path(&prog, &[])),
+    }));
     core.start(RunKind::Auto, Some(src.make_run()));
     // The machine runs a slice of machine time at a time, so a stop signal is seen between
     // slices: an hour of machine time in virtual time (milliseconds of work), 50 ms in real

@@ -352,6 +352,26 @@ impl Memory {
         self.bump(r)
     }
 
+    /// Where a G-code run's `o<name> call` finds `name.ngc`: the G-code programs in program
+    /// memory named `NAME.NGC` (docs/gcode.md "O-words and subprograms"), then the folder
+    /// `subroutines` of the state directory.
+    pub fn subroutines(&self) -> crate::gcode::SubPrograms {
+        let programs = self
+            .stores
+            .program_names()
+            .into_iter()
+            .filter(|n| n.ends_with(".NGC"))
+            .filter_map(|n| {
+                let t = self.stores.program_text(&n)?;
+                Some((n, Arc::from(t)))
+            })
+            .collect();
+        crate::gcode::SubPrograms {
+            programs,
+            path: crate::gcode::SubPath(vec![self.stores.dir().join("subroutines")]),
+        }
+    }
+
     /// Whether the current program is ISO G-code (by its name or first line).
     pub fn program_is_gcode(&self) -> bool {
         let name = self.program_name();

@@ -19,6 +19,15 @@ use std::sync::Arc;
 /// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
 pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
 
+/// A shared finder of subroutines, for the run's source.
+struct SharedSubs(Arc<crate::gcode::SubPrograms>);
+
+impl crate::gcode::SubFinder for SharedSubs {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        self.0.find(name)
+    }
+}
+
 /// What a program source is made from at START.
 #[derive(Clone)]
 pub struct RunSource {
@@ -45,6 +54,8 @@ pub struct RunSource {
     pub switches: Switches,
     /// G-code: where the run hands back what it reads (None: it is dropped).
     pub feed: Option<super::gcode_run::RunFeed>,
+    /// G-code: the programs and folders where `o<name> call` finds `name.ngc`.
+    pub subroutines: Option<Arc<crate::gcode::SubPrograms>>,
 }
 
 impl RunSource {
@@ -68,6 +79,7 @@ impl RunSource {
             interp: None,
             switches: Switches::default(),
             feed: None,
+            subroutines: None,
         }
     }
 
@@ -128,6 +140,9 @@ impl RunSource {
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
         }
+        if let Some(f) = self.subroutines {
+            g = g.subroutines(Box::new(SharedSubs(f)));
+        }
         // Probes are answered by the pulse core running this source (issue 21).
         if let Some(m) = super::answers::RunMachine::here(pulse_mm) {
             g = g.machine(Box::new(m));
@@ -184,6 +199,7 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         interp: gcode.then(|| c.interp.clone()),
         switches: c.switches,
         feed: None,
+        subroutines: gcode.then(|| Arc::new(c.mem.subroutines())),
     }
 }
 

@@ -122,6 +122,25 @@ impl SubFinder for SubPath {
     }
 }
 
+/// Subroutines kept as programs (the console's program memory, `NAME.NGC`), then files of a
+/// subroutine path: what `o<name> call` finds at the console.
+pub struct SubPrograms {
+    /// Program name (upper case, with its extension) and text.
+    pub programs: Vec<(String, Arc<str>)>,
+    /// Then these folders.
+    pub path: SubPath,
+}
+
+impl SubFinder for SubPrograms {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        let want = format!("{}.NGC", name.to_ascii_uppercase());
+        if let Some((n, t)) = self.programs.iter().find(|(n, _)| *n == want) {
+            return Ok(Some((n.clone(), t.clone())));
+        }
+        self.path.find(name)
+    }
+}
+
 /// Parameters as a line sees them: the interpreter's state and the running subroutine's
 /// locals.
 struct ParamEnv<'a> {
