@@ -392,8 +392,12 @@ impl GcodeSource {
                 if at.unit == 0 && self.mdi && self.flow.level() == 0 && !self.flow.skipping() {
                     self.done = true;
                     let mut x = ctx!(self, n);
-                    self.comp.flush(&mut x);
+                    let r = self.comp.flush(&mut x, 1);
                     let out = x.out;
+                    if let Err(e) = r {
+                        self.out_buf = out;
+                        return self.fail(e);
+                    }
                     return self.finish(n, String::new(), out, false);
                 }
                 let msg = self.flow.end_error();
@@ -666,8 +670,11 @@ impl GcodeSource {
         endm: Option<u8>,
     ) -> Option<Result<Statement, TranslateError>> {
         let mut x = ctx!(self, n);
-        self.comp.flush(&mut x);
+        let r = self.comp.flush(&mut x, 1);
         let mut tail = std::mem::take(&mut x.out);
+        if let Err(e) = r {
+            return self.fail(e);
+        }
         let aux = |m: u8| {
             (
                 Canon::Aux {
