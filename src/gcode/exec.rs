@@ -540,253 +540,259 @@ pub fn execute(
             }
         }
     }
-    // S and T.
-    let mut aux_s = None;
-    if let Some(s) = w.get('S') {
-        if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
-            return Err(x.err(
-                w.col('S').unwrap_or(1),
-                format!("spindle speed S{s} is not usable"),
-            ));
-        }
-        st.modal.speed = s;
-        aux_s = Some(s.round() as u32);
-    }
-    let mut aux_t = None;
-    if let Some(t) = int_word(x, w, 'T', 0.0, 999.0)? {
-        let col = w.col('T').unwrap_or(1);
-        if t != 0 {
-            x.tool_data(t, col, "T")?;
-        }
-        st.selected = Some(t);
-        aux_t = Some(t);
-    }
-    // I/O.
-    io_codes(st, comp, x, w)?;
-    // The tool change.
-    if let Some(col) = w.has_m(6) {
-        let t = st
-            .selected
-            .ok_or_else(|| x.err(col, "M06 without a T word before it: which tool?"))?;
-        if st.modal.comp != CompSide::Off {
-            return Err(x.err(
-                col,
-                "cannot change tools with cutter radius compensation on",
-            ));
-        }
-        tool_change(st, comp, x, t, col);
-        aux_t = None;
-    }
-    if let Some(col) = w.has_m(61) {
-        let q = int_word(x, w, 'Q', 0.0, 999.0)?
-            .ok_or_else(|| x.err(col, "M61 needs Q, the tool now in the spindle"))?;
-        if q != 0 {
-            x.tool_data(q, w.col('Q').unwrap_or(col), "Q")?;
-        }
-        st.tool = (q != 0).then_some(q);
-        st.params[5400] = f64::from(q);
-    }
-    let spindle_m = [3u32, 4, 5]
-        .into_iter()
-        .find_map(|m| w.has_m(m).map(|c| (m, c)));
-    if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
-        comp.aux(
-            x,
-            Canon::Aux {
-                s: aux_s.take(),
-                t: aux_t,
-                m: None,
-            },
-            w.col('T').or(w.col('S')).unwrap_or(1),
-        );
-    }
-    if let Some((m, col)) = spindle_m {
-        st.modal.spindle = match m {
-            3 => 1,
-            4 => -1,
-            _ => 0,
-        };
-        let s = if m == 5 {
-            aux_s
-        } else {
-            Some(aux_s.unwrap_or(st.modal.speed.round() as u32))
-        };
-        comp.aux(
-            x,
-            Canon::Aux {
-                s,
-                t: None,
-                m: Some(m as u8),
-            },
-            col,
-        );
-    }
-    if let Some(col) = w.has_m(19) {
-        st.modal.spindle = 0;
-        let angle = w.get('R').unwrap_or(0.0);
-        if !(0.0..=360.0).contains(&angle) {
-            return Err(x.err(
-                w.col('R').unwrap_or(col),
-                "M19 R (the angle) must be 0 to 360",
-            ));
-        }
-        if let Some(q) = w.get('Q') {
-            if q <= 0.0 {
+    // Everything but the motion (a plain move has none of it: `Words::plain`).
+    if !w.plain() {
+        // S and T.
+        let mut aux_s = None;
+        if let Some(s) = w.get('S') {
+            if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
                 return Err(x.err(
-                    w.col('Q').unwrap_or(col),
-                    "M19 Q (the time allowed) must be greater than 0",
+                    w.col('S').unwrap_or(1),
+                    format!("spindle speed S{s} is not usable"),
                 ));
             }
+            st.modal.speed = s;
+            aux_s = Some(s.round() as u32);
         }
-        let dir = int_word(x, w, 'P', 0.0, 2.0)?.unwrap_or(0);
-        comp.aux(
-            x,
-            Canon::Io(Io::Orient {
-                angle,
-                dir: dir as u8,
-            }),
-            col,
-        );
-    }
-    modal_state_codes(st, x, w)?;
-    for (m, mist, flood) in [
-        (7u32, Some(true), None),
-        (8, None, Some(true)),
-        (9, Some(false), Some(false)),
-    ] {
-        if let Some(col) = w.has_m(m) {
-            if let Some(v) = mist {
-                st.modal.mist = v;
+        let mut aux_t = None;
+        if let Some(t) = int_word(x, w, 'T', 0.0, 999.0)? {
+            let col = w.col('T').unwrap_or(1);
+            if t != 0 {
+                x.tool_data(t, col, "T")?;
             }
-            if let Some(v) = flood {
-                st.modal.flood = v;
-            }
-            comp.aux(x, aux(m as u8), col);
+            st.selected = Some(t);
+            aux_t = Some(t);
         }
-    }
-    override_codes(st, comp, x, w)?;
-    // G04.
-    if let Some(col) = w.has_g(40) {
-        let p = w
-            .get('P')
-            .ok_or_else(|| x.err(col, "G04 needs P, the dwell in seconds"))?;
-        if p < 0.0 {
-            return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
-        }
-        if p > crate::limits::MAX_DWELL_S {
-            return Err(x.err(
-                w.col('P').unwrap_or(col),
-                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
-            ));
-        }
-        if matches!(motion, Some((Motion::Cw | Motion::Ccw, _))) {
-            return Err(x.err(col, "G4 and G2/G3 on one line both use P"));
-        }
-        comp.aux(x, Canon::Dwell(p), col);
-    }
-    // The plane.
-    for (g, p) in [(170, Plane::XY), (180, Plane::XZ), (190, Plane::YZ)] {
-        if let Some(col) = w.has_g(g) {
-            if comp.active() && p != st.modal.plane {
+        // I/O.
+        io_codes(st, comp, x, w)?;
+        // The tool change.
+        if let Some(col) = w.has_m(6) {
+            let t = st
+                .selected
+                .ok_or_else(|| x.err(col, "M06 without a T word before it: which tool?"))?;
+            if st.modal.comp != CompSide::Off {
                 return Err(x.err(
                     col,
-                    "cannot change the plane with cutter radius compensation on",
+                    "cannot change tools with cutter radius compensation on",
                 ));
             }
-            st.modal.plane = p;
+            tool_change(st, comp, x, t, col);
+            aux_t = None;
         }
-    }
-    // Units.
-    for (g, inch) in [(200, true), (210, false)] {
-        if w.has_g(g).is_some() {
-            st.modal.inch = inch;
+        if let Some(col) = w.has_m(61) {
+            let q = int_word(x, w, 'Q', 0.0, 999.0)?
+                .ok_or_else(|| x.err(col, "M61 needs Q, the tool now in the spindle"))?;
+            if q != 0 {
+                x.tool_data(q, w.col('Q').unwrap_or(col), "Q")?;
+            }
+            st.tool = (q != 0).then_some(q);
+            st.params[5400] = f64::from(q);
         }
-    }
-    // Compensation's tolerances are in the program's units, as LinuxCNC's (which lets the
-    // units change under compensation).
-    comp.set_inch(st.modal.inch);
-    cutter_comp(st, comp, x, w)?;
-    tool_length(st, comp, x, w)?;
-    for (i, g) in [540u32, 550, 560, 570, 580, 590, 591, 592, 593]
-        .into_iter()
-        .enumerate()
-    {
-        if let Some(col) = w.has_g(g) {
+        let spindle_m = [3u32, 4, 5]
+            .into_iter()
+            .find_map(|m| w.has_m(m).map(|c| (m, c)));
+        if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
+            comp.aux(
+                x,
+                Canon::Aux {
+                    s: aux_s.take(),
+                    t: aux_t,
+                    m: None,
+                },
+                w.col('T').or(w.col('S')).unwrap_or(1),
+            );
+        }
+        if let Some((m, col)) = spindle_m {
+            st.modal.spindle = match m {
+                3 => 1,
+                4 => -1,
+                _ => 0,
+            };
+            let s = if m == 5 {
+                aux_s
+            } else {
+                Some(aux_s.unwrap_or(st.modal.speed.round() as u32))
+            };
+            comp.aux(
+                x,
+                Canon::Aux {
+                    s,
+                    t: None,
+                    m: Some(m as u8),
+                },
+                col,
+            );
+        }
+        if let Some(col) = w.has_m(19) {
+            st.modal.spindle = 0;
+            let angle = w.get('R').unwrap_or(0.0);
+            if !(0.0..=360.0).contains(&angle) {
+                return Err(x.err(
+                    w.col('R').unwrap_or(col),
+                    "M19 R (the angle) must be 0 to 360",
+                ));
+            }
+            if let Some(q) = w.get('Q') {
+                if q <= 0.0 {
+                    return Err(x.err(
+                        w.col('Q').unwrap_or(col),
+                        "M19 Q (the time allowed) must be greater than 0",
+                    ));
+                }
+            }
+            let dir = int_word(x, w, 'P', 0.0, 2.0)?.unwrap_or(0);
+            comp.aux(
+                x,
+                Canon::Io(Io::Orient {
+                    angle,
+                    dir: dir as u8,
+                }),
+                col,
+            );
+        }
+        modal_state_codes(st, x, w)?;
+        for (m, mist, flood) in [
+            (7u32, Some(true), None),
+            (8, None, Some(true)),
+            (9, Some(false), Some(false)),
+        ] {
+            if let Some(col) = w.has_m(m) {
+                if let Some(v) = mist {
+                    st.modal.mist = v;
+                }
+                if let Some(v) = flood {
+                    st.modal.flood = v;
+                }
+                comp.aux(x, aux(m as u8), col);
+            }
+        }
+        override_codes(st, comp, x, w)?;
+        // G04.
+        if let Some(col) = w.has_g(40) {
+            let p = w
+                .get('P')
+                .ok_or_else(|| x.err(col, "G04 needs P, the dwell in seconds"))?;
+            if p < 0.0 {
+                return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P"));
+            }
+            if p > crate::limits::MAX_DWELL_S {
+                return Err(x.err(
+                    w.col('P').unwrap_or(col),
+                    crate::limits::dwell_too_long(&format!(
+                        "P{}",
+                        crate::input_text::short_number(p)
+                    )),
+                ));
+            }
+            if matches!(motion, Some((Motion::Cw | Motion::Ccw, _))) {
+                return Err(x.err(col, "G4 and G2/G3 on one line both use P"));
+            }
+            comp.aux(x, Canon::Dwell(p), col);
+        }
+        // The plane.
+        for (g, p) in [(170, Plane::XY), (180, Plane::XZ), (190, Plane::YZ)] {
+            if let Some(col) = w.has_g(g) {
+                if comp.active() && p != st.modal.plane {
+                    return Err(x.err(
+                        col,
+                        "cannot change the plane with cutter radius compensation on",
+                    ));
+                }
+                st.modal.plane = p;
+            }
+        }
+        // Units.
+        for (g, inch) in [(200, true), (210, false)] {
+            if w.has_g(g).is_some() {
+                st.modal.inch = inch;
+            }
+        }
+        // Compensation's tolerances are in the program's units, as LinuxCNC's (which lets
+        // the units change under compensation).
+        comp.set_inch(st.modal.inch);
+        cutter_comp(st, comp, x, w)?;
+        tool_length(st, comp, x, w)?;
+        for (i, g) in [540u32, 550, 560, 570, 580, 590, 591, 592, 593]
+            .into_iter()
+            .enumerate()
+        {
+            if let Some(col) = w.has_g(g) {
+                if comp.active() {
+                    return Err(x.err(
+                        col,
+                        "cannot change the coordinate system with cutter radius compensation on",
+                    ));
+                }
+                st.select_system(i);
+            }
+        }
+        path_control(st, comp, x, w)?;
+        if w.has_g(900).is_some() {
+            st.modal.incremental = false;
+        }
+        if w.has_g(910).is_some() {
+            st.modal.incremental = true;
+        }
+        if w.has_g(901).is_some() {
+            st.modal.ijk_absolute = true;
+        }
+        if w.has_g(911).is_some() {
+            st.modal.ijk_absolute = false;
+        }
+        if let Some(col) = w.has_g(980).or(w.has_g(990)) {
             if comp.active() {
                 return Err(x.err(
                     col,
-                    "cannot change the coordinate system with cutter radius compensation on",
+                    "cannot change the retract mode (G98, G99) with cutter radius compensation on",
                 ));
             }
-            st.select_system(i);
+            st.modal.retract_r = w.has_g(990).is_some();
         }
-    }
-    path_control(st, comp, x, w)?;
-    if w.has_g(900).is_some() {
-        st.modal.incremental = false;
-    }
-    if w.has_g(910).is_some() {
-        st.modal.incremental = true;
-    }
-    if w.has_g(901).is_some() {
-        st.modal.ijk_absolute = true;
-    }
-    if w.has_g(911).is_some() {
-        st.modal.ijk_absolute = false;
-    }
-    if let Some(col) = w.has_g(980).or(w.has_g(990)) {
-        if comp.active() {
-            return Err(x.err(
-                col,
-                "cannot change the retract mode (G98, G99) with cutter radius compensation on",
-            ));
+        // The non-modal codes.
+        if let Some(col) = w.has_g(100) {
+            moves::g10(st, comp, x, w, col)?;
+        } else if let Some(col) = w.has_g(280).or(w.has_g(300)) {
+            if comp.active() {
+                return Err(x.err(
+                    col,
+                    "G28 and G30 cannot be used with cutter radius compensation on",
+                ));
+            }
+            moves::home(st, x, w, w.has_g(300).is_some(), col);
+        } else if let Some(col) = w.has_g(281).or(w.has_g(301)) {
+            if comp.active() {
+                return Err(x.err(
+                    col,
+                    "cannot set a reference point with cutter radius compensation on",
+                ));
+            }
+            let base = if w.has_g(281).is_some() { 5161 } else { 5181 };
+            for a in 0..3 {
+                st.params[base + a] = st.pos[a];
+                x.events.push(Event::Param(base + a, st.pos[a]));
+            }
+        } else if let Some(col) = w
+            .has_g(920)
+            .or(w.has_g(921))
+            .or(w.has_g(922))
+            .or(w.has_g(923))
+        {
+            moves::g92(st, comp, x, w, col)?;
+        } else if let Some(col) = w.has_g(53) {
+            let m = motion.map(|m| m.0);
+            super::spline::end_nurbs(st, comp, x, w, m, col, inverse_feed)?;
         }
-        st.modal.retract_r = w.has_g(990).is_some();
-    }
-    // The non-modal codes.
-    if let Some(col) = w.has_g(100) {
-        moves::g10(st, comp, x, w, col)?;
-    } else if let Some(col) = w.has_g(280).or(w.has_g(300)) {
-        if comp.active() {
-            return Err(x.err(
-                col,
-                "G28 and G30 cannot be used with cutter radius compensation on",
-            ));
-        }
-        moves::home(st, x, w, w.has_g(300).is_some(), col);
-    } else if let Some(col) = w.has_g(281).or(w.has_g(301)) {
-        if comp.active() {
-            return Err(x.err(
-                col,
-                "cannot set a reference point with cutter radius compensation on",
-            ));
-        }
-        let base = if w.has_g(281).is_some() { 5161 } else { 5181 };
-        for a in 0..3 {
-            st.params[base + a] = st.pos[a];
-            x.events.push(Event::Param(base + a, st.pos[a]));
-        }
-    } else if let Some(col) = w
-        .has_g(920)
-        .or(w.has_g(921))
-        .or(w.has_g(922))
-        .or(w.has_g(923))
-    {
-        moves::g92(st, comp, x, w, col)?;
-    } else if let Some(col) = w.has_g(53) {
-        let m = motion.map(|m| m.0);
-        super::spline::end_nurbs(st, comp, x, w, m, col, inverse_feed)?;
-    }
-    if let Some(col) = w.has_g(530) {
-        match motion {
-            Some((Motion::Rapid | Motion::Feed, _)) => {}
-            _ => return Err(x.err(col, "G53 moves with G00 or G01 (on its line or in force)")),
-        }
-        if st.modal.incremental {
-            return Err(x.err(col, "G53 cannot be used in incremental mode (G91)"));
-        }
-        if comp.offsetting() {
-            return Err(x.err(col, "G53 cannot be used with cutter radius compensation on"));
+        if let Some(col) = w.has_g(530) {
+            match motion {
+                Some((Motion::Rapid | Motion::Feed, _)) => {}
+                _ => return Err(x.err(col, "G53 moves with G00 or G01 (on its line or in force)")),
+            }
+            if st.modal.incremental {
+                return Err(x.err(col, "G53 cannot be used in incremental mode (G91)"));
+            }
+            if comp.offsetting() {
+                return Err(x.err(col, "G53 cannot be used with cutter radius compensation on"));
+            }
         }
     }
     // The motion.
@@ -812,6 +818,9 @@ pub fn execute(
         } else {
             motion_line(st, comp, x, w, m, col, inverse_feed)?;
         }
+    }
+    if w.m.as_slice().is_empty() {
+        return Ok(Flow::Next);
     }
     // Stops and program flow, last. A stop first emits what compensation holds (LinuxCNC's
     // convert_stop), whether or not M01 stops.

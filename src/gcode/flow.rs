@@ -63,6 +63,72 @@ pub fn line_at(text: &str, at: usize) -> Option<(&str, usize)> {
     Some((body.strip_suffix('\r').unwrap_or(body), next))
 }
 
+/// The characters of `raw` that the reader reads: outside comments, spaces and tabs dropped.
+fn significant(raw: &str) -> impl Iterator<Item = u8> + '_ {
+    raw.bytes()
+        .take_while(|&c| c != b'(' && c != b';')
+        .filter(|c| !c.is_ascii_whitespace())
+}
+
+/// If `raw` is an O-word line (after an optional `/` and N number), the bytes after its `o`
+/// (spaces and comments left in); cheap, for skipping without reading.
+pub fn o_label(raw: &str) -> Option<&str> {
+    let b = raw.as_bytes();
+    let mut i = 0;
+    let skip_ws = |i: &mut usize| {
+        while *i < b.len() && b[*i].is_ascii_whitespace() {
+            *i += 1;
+        }
+    };
+    skip_ws(&mut i);
+    if b.get(i) == Some(&b'/') {
+        i += 1;
+        skip_ws(&mut i);
+    }
+    if matches!(b.get(i), Some(b'n' | b'N')) {
+        i += 1;
+        while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.' || b[i].is_ascii_whitespace()) {
+            i += 1;
+        }
+    }
+    match b.get(i) {
+        Some(b'o' | b'O') => raw.get(i + 1..),
+        _ => None,
+    }
+}
+
+/// Whether the label after an `o` (from [`o_label`]) is `name` (lower case, no spaces): the
+/// digits of `o100` compared as a number, the name of `o<name>` ignoring case and spaces.
+fn label_is(rest: &str, name: &str) -> bool {
+    let mut it = significant(rest).peekable();
+    if it.peek() == Some(&b'<') {
+        it.next();
+        let mut want = name.bytes();
+        for c in it {
+            if c == b'>' {
+                return want.next().is_none();
+            }
+            if Some(c.to_ascii_lowercase()) != want.next() {
+                return false;
+            }
+        }
+        return false;
+    }
+    let Ok(want) = name.parse::<u64>() else {
+        return false;
+    };
+    let mut v: u64 = 0;
+    let mut digits = 0;
+    for c in it {
+        if !c.is_ascii_digit() {
+            break;
+        }
+        v = v.saturating_mul(10).saturating_add(u64::from(c - b'0'));
+        digits += 1;
+    }
+    digits > 0 && v == want
+}
+
 /// Finds a subroutine's file by the subroutine's name (`o<name> call` looks for `name.ngc`
 /// in the subroutine path).
 pub trait SubFinder {
@@ -763,37 +829,14 @@ impl Flow {
         let Some(unit) = self.units.get(from.unit) else {
             return false;
         };
-        let numeric = name.bytes().all(|b| b.is_ascii_digit());
         let mut at = from.byte;
-        std::iter::from_fn(|| {
-            let (raw, next) = unit.line_at(at)?;
-            at = next;
-            Some(raw)
-        })
-        .any(|raw| {
-            let t: String = raw
-                .chars()
-                .take_while(|&c| c != '(' && c != ';')
-                .filter(|c| !c.is_whitespace())
-                .collect::<String>()
-                .to_ascii_lowercase();
-            let t = t.trim_start_matches('/');
-            let t = match t.strip_prefix('n') {
-                Some(r) => r.trim_start_matches(|c: char| c.is_ascii_digit() || c == '.'),
-                None => t,
-            };
-            let Some(rest) = t.strip_prefix('o') else {
-                return false;
-            };
-            if numeric {
-                let digits: String = rest.chars().take_while(|c| c.is_ascii_digit()).collect();
-                digits.parse::<u64>().ok() == name.parse::<u64>().ok()
-            } else {
-                rest.strip_prefix('<')
-                    .and_then(|r| r.strip_prefix(name))
-                    .is_some_and(|r| r.starts_with('>'))
+        while let Some((raw, next)) = unit.line_at(at) {
+            if o_label(raw).is_some_and(|l| label_is(l, name)) {
+                return true;
             }
-        })
+            at = next;
+        }
+        false
     }
 
     /// The error for reaching the end of a unit: while skipping to a label, or in a

@@ -135,7 +135,7 @@ impl Env for ParamEnv<'_> {
                 "#{n} (the current position) cannot be read with cutter radius compensation on"
             ));
         }
-        Ok(self.st.params.get(n).copied().unwrap_or(0.0))
+        Ok(self.st.param(n))
     }
 
     fn named(&self, name: &str) -> Result<Option<f64>, String> {
@@ -430,6 +430,11 @@ impl GcodeSource {
             if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
                 continue;
             }
+            // Skipping (a false `if`, a subroutine's definition): only an O-word line can stop
+            // it, and nothing else is read (LinuxCNC evaluates nothing it skips).
+            if self.flow.skipping() && flow::o_label(raw).is_none() && !raw.contains('%') {
+                continue;
+            }
             if let Some(e) = crate::limits::line_too_long(raw, n, "") {
                 let e = self.error_at(at.unit, e.line, e.col, e.message);
                 return self.fail(e);
@@ -459,7 +464,6 @@ impl GcodeSource {
         n: u32,
         raw: &str,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
-        self.st.refresh_params();
         let mut line = std::mem::take(&mut self.line_buf);
         let r = {
             let env = ParamEnv {
@@ -741,7 +745,7 @@ fn line_words(l: &read::Line) -> &read::Line {
 /// A parameter for PRINT and DEBUG texts: `5` for #5, `name` for #<name>.
 fn lookup(st: &InterpState, flow: &Flow, name: &str) -> Option<f64> {
     if let Ok(n) = name.parse::<usize>() {
-        return st.params.get(n).copied();
+        return (n <= read::MAX_PARAM).then(|| st.param(n));
     }
     st.named_value(name, flow.locals())
 }

@@ -323,6 +323,13 @@ impl Reader<'_> {
         if digits <= 15 && decimals <= 22 {
             return Ok(mant as f64 / 10f64.powi(decimals));
         }
+        if digits <= 19 && decimals <= 22 {
+            // CAM output's 17 digits: the mantissa is exact in u64; one rounding to f64 and one
+            // division leave at most an ulp (1e-16 of the value), far below any machine's
+            // resolution, and skip the general parser.
+            return Ok(mant as f64 / 10f64.powi(decimals));
+        }
+        // Only ASCII digits and one point were read: the standard parser rounds them exactly.
         let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
         match text.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
@@ -639,6 +646,22 @@ fn normalise(
     let (bytes, cols) = (&mut scratch.bytes, &mut scratch.cols);
     bytes.clear();
     cols.clear();
+    // The usual line: ASCII words, no comment. One pass over its bytes, each column its
+    // byte's place.
+    let plain = raw.bytes().all(|c| {
+        c.is_ascii_graphic() && c != b'(' && c != b';' || c == b' ' || c == b'\t' || c == b'\r'
+    });
+    if plain {
+        bytes.reserve(raw.len());
+        cols.reserve(raw.len());
+        for (i, &c) in raw.as_bytes().iter().enumerate() {
+            if !matches!(c, b' ' | b'\t' | b'\r') {
+                bytes.push(c.to_ascii_lowercase());
+                cols.push(i as u32 + 1);
+            }
+        }
+        return Ok(raw.len() as u32 + 1);
+    }
     let mut col = 0u32;
     let mut comment: Option<(u32, String)> = None;
     for ch in raw.chars() {
@@ -807,11 +830,17 @@ pub fn read_into(
             ));
         }
         let letter = ch.to_ascii_uppercase();
-        for kw in ["goto", "if", "while", "then", "do", "end"] {
+        // A keyword is letters on letters; a word's letter is followed by its value.
+        let keywords: &[&str] = if r.at(1).is_some_and(|c| c.is_ascii_alphabetic()) {
+            &["goto", "if", "while", "then", "do", "end"]
+        } else {
+            &[]
+        };
+        for kw in keywords {
             let after = r.at(kw.len());
             if r.b[r.i..].starts_with(kw.as_bytes())
                 && !after.is_some_and(|c| c.is_ascii_alphabetic())
-                && !(kw == "do" && after.is_none())
+                && !(*kw == "do" && after.is_none())
             {
                 return Err(r.err(
                     col,

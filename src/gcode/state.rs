@@ -420,17 +420,16 @@ impl InterpState {
         [p[0] / k, p[1] / k, p[2] / k]
     }
 
-    /// Updates the parameters that report the state (#5400, #5420–#5428) before a line is
-    /// read, as LinuxCNC does at each read.
-    pub fn refresh_params(&mut self) {
-        let p = self.prog_units();
-        self.params[5420] = p[0];
-        self.params[5421] = p[1];
-        self.params[5422] = p[2];
-        for n in 5423..=5428 {
-            self.params[n] = 0.0;
+    /// The value of `#n` as a line reads it: the parameters that report the state (#5400 the
+    /// tool, #5420–#5428 the position in program units) are worked out when read, which is what
+    /// LinuxCNC's update of them at each read amounts to.
+    pub fn param(&self, n: usize) -> f64 {
+        match n {
+            5400 => self.tool.map_or(0.0, f64::from),
+            5420..=5422 => self.prog_units()[n - 5420],
+            5423..=5428 => 0.0,
+            _ => self.params.get(n).copied().unwrap_or(0.0),
         }
-        self.params[5400] = self.tool.map_or(0.0, f64::from);
     }
 
     /// The value of a predefined named parameter (`_x`, `_metric`, ...), if `name` is one.

@@ -96,6 +96,10 @@ pub struct Words {
     /// Bit g/10 for each whole G code, bit m for each M code below 128.
     g_bits: u128,
     m_bits: u128,
+    /// Bit g/10 for each G code, whole or not (G43.1 sets bit 43).
+    g_any: u128,
+    /// Bit n for each letter given (A = 0 … Z = 25, `@` 26, `^` 27).
+    letters: u32,
 }
 
 impl Words {
@@ -112,8 +116,15 @@ impl Words {
     /// Whether a G code (×10) is on the line, and its column.
     #[inline]
     pub fn has_g(&self, g: u32) -> Option<u32> {
-        if g.is_multiple_of(10) && g < 1280 && self.g_bits & (1u128 << (g / 10)) == 0 {
-            return None;
+        if g < 1280 {
+            let bits = if g.is_multiple_of(10) {
+                self.g_bits
+            } else {
+                self.g_any
+            };
+            if bits & (1u128 << (g / 10)) == 0 {
+                return None;
+            }
         }
         self.g.iter().find(|x| x.0 == g).map(|x| x.1)
     }
@@ -125,6 +136,27 @@ impl Words {
             return None;
         }
         self.m.iter().find(|x| x.0 == m).map(|x| x.1)
+    }
+
+    /// Whether the line is a plain move: no M code, no G code but G00–G03, and no letter but
+    /// the axes, I J K R F and the polar words. Such a line sets nothing but the motion and F,
+    /// so the executor can go straight to its motion.
+    pub fn plain(&self) -> bool {
+        const MOTION_ONLY: u128 = (1 << 0) | (1 << 1) | (1 << 2) | (1 << 3);
+        const LETTERS: u32 = (1 << (b'X' - b'A'))
+            | (1 << (b'Y' - b'A'))
+            | (1 << (b'Z' - b'A'))
+            | (1 << (b'I' - b'A'))
+            | (1 << (b'J' - b'A'))
+            | (1 << (b'K' - b'A'))
+            | (1 << (b'R' - b'A'))
+            | (1 << (b'F' - b'A'))
+            | (1 << 26)
+            | (1 << 27);
+        self.m.n == 0
+            && self.g_any & !MOTION_ONLY == 0
+            && self.g.as_slice().iter().all(|c| c.0 % 10 == 0)
+            && self.letters & !LETTERS == 0
     }
 
     /// Whether any of X, Y, Z is given.
@@ -204,14 +236,20 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     ));
                 }
                 let g = g10 as u32;
-                let name = if g.is_multiple_of(10) {
-                    format!("G{:02}", g / 10)
-                } else {
-                    format!("G{}.{}", g / 10, g % 10)
+                // Only an error needs the code's name.
+                let name = || {
+                    if g.is_multiple_of(10) {
+                        format!("G{:02}", g / 10)
+                    } else {
+                        format!("G{}.{}", g / 10, g % 10)
+                    }
                 };
                 let Some(grp) = (d.g_group)(g).filter(|&x| x < 17) else {
                     let why = (d.g_why)(g);
-                    return Err(err(col, format!("unknown or unsupported code {name}{why}")));
+                    return Err(err(
+                        col,
+                        format!("unknown or unsupported code {}{why}", name()),
+                    ));
                 };
                 if grp == 1 && g == 800 && g_seen[1].is_some() {
                     // G80 beside another motion code gives way to it (LinuxCNC reads a
@@ -230,13 +268,16 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     };
                     return Err(err(
                         col,
-                        format!("{name} and {on} are in the same modal group: give one"),
+                        format!("{} and {on} are in the same modal group: give one", name()),
                     ));
                 }
                 g_seen[grp as usize] = Some((g, col));
                 w.g.push((g, col));
                 if g.is_multiple_of(10) && g < 1280 {
                     w.g_bits |= 1u128 << (g / 10);
+                }
+                if g < 1280 {
+                    w.g_any |= 1u128 << (g / 10);
                 }
             }
             'M' => {
@@ -263,6 +304,7 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                 }
             }
             c if d.letters.as_bytes().contains(&(c as u8)) => {
+                w.letters |= 1 << slot(c);
                 let slot = &mut w.vals[slot(c)];
                 if slot.is_some() {
                     return Err(err(col, format!("two {c} words on one line")));

@@ -160,7 +160,8 @@ mod tests {
         assert_eq!(named("/tapes/part7.ngc"), ("PART7.NGC".into(), vec![]));
         assert_eq!(named("p.NC"), ("P.NC".into(), vec![]));
         assert_eq!(named("p.Iso"), ("P.ISO".into(), vec![]));
-        assert_eq!(named("p.tap"), ("P".into(), vec![]));
+        assert_eq!(named("p.tap"), ("P.TAP".into(), vec![]));
+        assert_eq!(named("p.tape"), ("P".into(), vec![]));
         assert_eq!(named("a.b-c_d.ap"), ("A.B-C_D".into(), vec![]));
         assert_eq!(named("prüf.ap"), ("PRUF".into(), vec!["ü → U".into()]));
         assert_eq!(
