@@ -326,7 +326,9 @@ fn a_literal_too_large_for_a_number_is_refused_at_its_column() {
 #[test]
 fn a_cutter_compensation_that_overflows_is_refused_not_sent_to_zero() {
     // Finite words whose offset path overflows (X 1.7e308 and back): the NaN it made became
-    // 0, a move to machine X0 Y0. Now the line is refused, and no block goes there.
+    // 0, a move to machine X0 Y0. Now the line is refused, and no block goes there: its move,
+    // held by compensation until the turn back is known, is a finite point far beyond the
+    // travel.
     let big = format!("17{}", "0".repeat(307));
     let src = format!(
         "{PRE}T13 M6\nG0 X10 Y10\nG41 D13 G1 X100 Y10 F100\nG1 X{big}\nG1 X-{big}\nG1 Y100\nG40 G0 X0\nM30\n"
@@ -345,7 +347,7 @@ fn a_cutter_compensation_that_overflows_is_refused_not_sent_to_zero() {
     }
     assert_eq!(
         error.as_deref(),
-        Some("7:1: X of this move is not a finite number: the arithmetic on its words overflowed")
+        Some("7:1: X1.700e308 (machine) is beyond the X travel (0.000 to 1000.000 mm)")
     );
 }
 

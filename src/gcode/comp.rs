@@ -73,9 +73,10 @@ struct Queued {
 }
 
 impl Queued {
-    fn end(&self) -> [f64; 2] {
+    /// The end point in the plane's coordinates (`ax`: the plane's axes, then its normal).
+    fn end(&self, ax: [usize; 3]) -> [f64; 2] {
         match &self.canon {
-            Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => [e[0], e[1]],
+            Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => [e[ax[0]], e[ax[1]]],
             _ => [0.0, 0.0],
         }
     }
@@ -87,6 +88,11 @@ impl Queued {
 pub struct Comp {
     side: Side,
     r: f64,
+    /// The plane compensation works in (G17 or G18, as LinuxCNC's).
+    plane: Plane,
+    /// Its axes in the order a counter-clockwise turn goes from the first to the second (XY:
+    /// X, Y; XZ: Z, X), then its normal: the geometry below is worked in these coordinates.
+    ax: [usize; 3],
     /// No compensated move made yet since G41/G42 (the next is the entry).
     first: bool,
     /// G40 ended compensation after a compensated move: the next move must be straight.
@@ -112,6 +118,8 @@ impl Default for Comp {
         Comp {
             side: Side::Off,
             r: 0.0,
+            plane: Plane::XY,
+            ax: [0, 1, 2],
             first: true,
             arc_not_allowed: false,
             exit_pending: false,
@@ -155,10 +163,11 @@ fn find_turn(a: [f64; 2], c: [f64; 2], ccw: bool, b: [f64; 2]) -> f64 {
     }
 }
 
-fn with_xy(mut c: Canon, p: [f64; 2]) -> Canon {
+/// `c` with its end moved to `p` in the plane of axes `ax`.
+fn with_end(mut c: Canon, p: [f64; 2], ax: [usize; 3]) -> Canon {
     if let Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } = &mut c {
-        e[0] = p[0];
-        e[1] = p[1];
+        e[ax[0]] = p[0];
+        e[ax[1]] = p[1];
     }
     c
 }
@@ -171,16 +180,6 @@ fn straight(rapid: bool, e: [f64; 3], feed: f64) -> Canon {
     }
 }
 
-fn xy_arc(end: [f64; 3], c: [f64; 2], ccw: bool, feed: f64) -> Canon {
-    Canon::Arc {
-        end,
-        centre: [c[0], c[1], end[2]],
-        plane: Plane::XY,
-        ccw,
-        feed,
-    }
-}
-
 /// A gouge, charged to the line that reveals it.
 fn gouge(x: &Exec, col: u32, what: &str) -> TranslateError {
     x.err(
@@ -190,6 +189,36 @@ fn gouge(x: &Exec, col: u32, what: &str) -> TranslateError {
 }
 
 impl Comp {
+    /// A machine point's coordinates in the compensation plane.
+    fn uv(&self, p: [f64; 3]) -> [f64; 2] {
+        [p[self.ax[0]], p[self.ax[1]]]
+    }
+
+    /// The machine point at `p` in the plane and `n` along its normal.
+    fn at(&self, p: [f64; 2], n: f64) -> [f64; 3] {
+        let mut o = [0.0; 3];
+        o[self.ax[0]] = p[0];
+        o[self.ax[1]] = p[1];
+        o[self.ax[2]] = n;
+        o
+    }
+
+    /// The coordinate along the plane's normal (Z in G17, Y in G18).
+    fn normal(&self, p: [f64; 3]) -> f64 {
+        p[self.ax[2]]
+    }
+
+    /// An arc in the compensation plane ending at `end`, about `c`.
+    fn plane_arc(&self, end: [f64; 3], c: [f64; 2], ccw: bool, feed: f64) -> Canon {
+        Canon::Arc {
+            end,
+            centre: self.at(c, self.normal(end)),
+            plane: self.plane,
+            ccw,
+            feed,
+        }
+    }
+
     /// G41 or G42 is in force (LinuxCNC's cutter_comp_side is not OFF), whatever the radius.
     pub fn active(&self) -> bool {
         self.side != Side::Off
@@ -211,8 +240,14 @@ impl Comp {
         self.inch = inch;
     }
 
-    /// G41 (`left`) or G42 with the tool's radius (mm, not negative).
-    pub fn on(&mut self, left: bool, radius: f64) {
+    /// G41 (`left`) or G42 with the tool's radius (mm, not negative), in `plane` (G17 or G18;
+    /// the caller refuses G19).
+    pub fn on(&mut self, left: bool, radius: f64, plane: Plane) {
+        self.plane = plane;
+        self.ax = match plane {
+            Plane::XZ => [2, 0, 1],
+            _ => [0, 1, 2],
+        };
         self.side = if left { Side::Left } else { Side::Right };
         self.r = radius;
         self.first = true;
@@ -222,7 +257,7 @@ impl Comp {
     /// be straight (none of this if no compensated move was made).
     pub fn off(&mut self, x: &mut Exec, col: u32) -> Result<(), TranslateError> {
         if self.offsetting() && !self.first {
-            let cur = [self.cur[0], self.cur[1]];
+            let cur = self.uv(self.cur);
             self.move_ends_and_emit(x, cur, col)?;
             self.arc_not_allowed = true;
             self.exit_pending = true;
@@ -238,7 +273,7 @@ impl Comp {
         if self.queue.is_empty() {
             return Ok(());
         }
-        let cur = [self.cur[0], self.cur[1]];
+        let cur = self.uv(self.cur);
         self.move_ends_and_emit(x, cur, col)
     }
 
@@ -287,10 +322,11 @@ impl Comp {
         col: u32,
     ) -> Result<(), TranslateError> {
         let unit = if self.inch { 25.4 } else { 1.0 };
+        let ax = self.ax;
         for q in &mut self.queue {
             match q.geo {
                 Geo::Arc { c, ccw, sweep } => {
-                    let r1 = dist(q.end(), c);
+                    let r1 = dist(q.end(ax), c);
                     let r2 = dist(p, c);
                     if (r1 - r2).abs() > RADIUS_SLACK * unit {
                         return Err(x.err(col, format!(
@@ -330,7 +366,7 @@ impl Comp {
                 }
                 Geo::Other => continue,
             }
-            q.canon = with_xy(q.canon.clone(), p);
+            q.canon = with_end(q.canon.clone(), p, ax);
         }
         self.emit(x);
         self.endpoint = Some(p);
@@ -359,7 +395,7 @@ impl Comp {
             x.push(straight(rapid, to, feed), col);
             return Ok(());
         }
-        let (c, p) = ([from[0], from[1]], [to[0], to[1]]);
+        let (c, p) = (self.uv(from), self.uv(to));
         let left = self.side == Side::Left;
         let r = self.r;
         if self.first {
@@ -377,7 +413,7 @@ impl Comp {
             let a = angle(c, p) + if left { FRAC_PI_2 } else { -FRAC_PI_2 };
             let e = polar(p, r, a);
             self.endpoint = Some(c);
-            let canon = straight(rapid, [e[0], e[1], to[2]], feed);
+            let canon = straight(rapid, self.at(e, self.normal(to)), feed);
             self.enqueue(
                 x,
                 canon,
@@ -387,17 +423,17 @@ impl Comp {
                 },
             );
             self.first = false;
-            self.cur = [e[0], e[1], to[2]];
+            self.cur = self.at(e, self.normal(to));
             self.prog = p;
             return Ok(());
         }
         let op = self.prog;
-        let cur = [self.cur[0], self.cur[1]];
+        let cur = self.uv(self.cur);
         if p == op {
             // No XY motion: it waits behind the held move and follows its end.
-            let canon = straight(rapid, [cur[0], cur[1], to[2]], feed);
+            let canon = straight(rapid, self.at(cur, self.normal(to)), feed);
             self.enqueue(x, canon, col, Geo::Line { dir: [0.0, 0.0] });
-            self.cur[2] = to[2];
+            self.cur = self.at(cur, self.normal(to));
             return Ok(());
         }
         let mut theta = angle(op, cur);
@@ -425,14 +461,14 @@ impl Comp {
             && front_arc.is_some_and(|(_, ccw)| ccw != left)
             && !self.queue.is_empty();
         let concave = beta < -SMALL || beta > PI + SMALL || h_shape;
-        let cz = self.cur[2];
+        let cz = self.normal(self.cur);
         if !concave && beta > SMALL {
             // Convex: round the programmed corner (a rapid goes straight to the arc's end).
             self.move_ends_and_emit(x, cur, col)?;
             let c = if rapid {
-                Canon::Rapid([mid[0], mid[1], cz])
+                Canon::Rapid(self.at(mid, cz))
             } else {
-                xy_arc([mid[0], mid[1], cz], op, !left, feed)
+                self.plane_arc(self.at(mid, cz), op, !left, feed)
             };
             x.push(c, col);
             self.endpoint = Some(mid);
@@ -451,7 +487,7 @@ impl Comp {
                     c: pc, ccw: pccw, ..
                 } => {
                     // Arc to line: where the held arc's offset circle meets the new offset line.
-                    let oldrad = dist(pc, q.end());
+                    let oldrad = dist(pc, q.end(self.ax));
                     let base = angle(op, p);
                     let th = if pccw {
                         base + FRAC_PI_2
@@ -501,7 +537,7 @@ impl Comp {
             self.emit(x);
             self.endpoint = Some(cur);
         }
-        let canon = straight(rapid, [end[0], end[1], to[2]], feed);
+        let canon = straight(rapid, self.at(end, self.normal(to)), feed);
         self.enqueue(
             x,
             canon,
@@ -510,7 +546,7 @@ impl Comp {
                 dir: [p[0] - op[0], p[1] - op[1]],
             },
         );
-        self.cur = [end[0], end[1], to[2]];
+        self.cur = self.at(end, self.normal(to));
         self.prog = p;
         Ok(())
     }
@@ -550,12 +586,12 @@ impl Comp {
         }
         let left = self.side == Side::Left;
         let r = self.r;
-        let c = [centre[0], centre[1]];
-        let ep = [e[0], e[1]];
+        let c = self.uv(centre);
+        let ep = self.uv(e);
         let inside = ccw == left;
         // The arc's radius as programmed: from the start for the entry, to the end otherwise.
         let rr = if self.first {
-            dist(c, [s[0], s[1]])
+            dist(c, self.uv(s))
         } else {
             dist(c, ep)
         };
@@ -584,7 +620,7 @@ impl Comp {
             return self.entry_arc(x, s, e, c, ccw, feed, col, new_end);
         }
         let op = self.prog;
-        let cur = [self.cur[0], self.cur[1]];
+        let cur = self.uv(self.cur);
         let theta = angle(op, cur) + if left { -FRAC_PI_2 } else { FRAC_PI_2 };
         let mut delta = angle(op, c);
         let alpha = if ccw {
@@ -610,12 +646,12 @@ impl Comp {
             ccw,
             sweep: find_turn(op, c, ccw, ep),
         };
-        let canon = xy_arc([new_end[0], new_end[1], e[2]], c, ccw, feed);
-        let cz = self.cur[2];
+        let canon = self.plane_arc(self.at(new_end, self.normal(e)), c, ccw, feed);
+        let cz = self.normal(self.cur);
         if concave {
             let arc_radius = dist(c, ep);
             let front = self.front().cloned();
-            let meet = match front.as_ref().map(|q| (q.geo, q.end())) {
+            let meet = match front.as_ref().map(|q| (q.geo, q.end(self.ax))) {
                 Some((
                     Geo::Arc {
                         c: pc, ccw: pccw, ..
@@ -690,14 +726,14 @@ impl Comp {
             // Convex: an arc round the programmed corner, then this arc.
             let mid = polar(op, r, delta);
             self.emit(x);
-            x.push(xy_arc([mid[0], mid[1], cz], op, !left, feed), col);
+            x.push(self.plane_arc(self.at(mid, cz), op, !left, feed), col);
             self.endpoint = Some(mid);
         } else {
             self.emit(x);
             self.endpoint = Some(cur);
         }
         self.enqueue(x, canon, col, geo);
-        self.cur = [new_end[0], new_end[1], e[2]];
+        self.cur = self.at(new_end, self.normal(e));
         self.prog = ep;
         Ok(())
     }
@@ -717,8 +753,8 @@ impl Comp {
         col: u32,
         new_end: [f64; 2],
     ) -> Result<(), TranslateError> {
-        let start = [s[0], s[1]];
-        let len = dist(start, [e[0], e[1]]);
+        let start = self.uv(s);
+        let len = dist(start, self.uv(e));
         if len <= self.r {
             return Err(x.err(
                 col,
@@ -748,7 +784,7 @@ impl Comp {
                 "cutter compensation's offset path is not a finite number here",
             ));
         }
-        let canon = xy_arc([new_end[0], new_end[1], e[2]], centre, ccw, feed);
+        let canon = self.plane_arc(self.at(new_end, self.normal(e)), centre, ccw, feed);
         let geo = Geo::Arc {
             c: centre,
             ccw,
@@ -756,8 +792,8 @@ impl Comp {
         };
         self.enqueue(x, canon, col, geo);
         self.first = false;
-        self.prog = [e[0], e[1]];
-        self.cur = [new_end[0], new_end[1], e[2]];
+        self.prog = self.uv(e);
+        self.cur = self.at(new_end, self.normal(e));
         Ok(())
     }
 }

@@ -1162,10 +1162,10 @@ fn cutter_comp(
         if comp.active() {
             return Err(x.err(col, "cutter radius compensation is already on: G40 first"));
         }
-        if st.modal.plane != Plane::XY {
+        if st.modal.plane == Plane::YZ {
             return Err(x.err(
                 col,
-                "cutter radius compensation works in the XY plane (G17)",
+                "cutter radius compensation works in the XY (G17) and XZ (G18) planes, not in YZ (G19)",
             ));
         }
         let d_col = w.col('D').unwrap_or(col);
@@ -1196,7 +1196,7 @@ fn cutter_comp(
         } else {
             (left, radius)
         };
-        comp.on(left, radius);
+        comp.on(left, radius, st.modal.plane);
         st.modal.comp = if left {
             CompSide::Left
         } else {
