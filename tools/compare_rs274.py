@@ -9,6 +9,9 @@ than half a pulse (0.0005 mm; 0.0013 mm where rs274 printed inches, its 4 decima
 the blocks `novanc translate` prints, in the same order, to 0.001 mm. Where rs274 refuses a
 program, novanc must refuse it.
 
+Spirals: an I J K arc whose end radius differs from its start radius by more than 0.0265 mm is
+split into the arcs novanc cuts it as (docs/gcode.md "Arcs"), each ending on LinuxCNC's spiral.
+
 Splines: rs274 prints a G5, G5.1 or G5.2 … G5.3 curve only as `NURBS_FEED(n, ...)` (n its
 control points), without its points. Such a line (or a run of them) matches the run of novanc
 feed moves (its chords, one at least per spline) that ends where the next rs274 move starts:
@@ -136,6 +139,40 @@ def rs274_moves(prog, tbl):
             normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
             ccw = int(turns > 0)
             n = int(abs(turns))
+            u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
+            sp = last_prog[0]
+            r0 = math.hypot(sp[u] - c[u], sp[v] - c[v])
+            r1 = math.hypot(e[u] - c[u], e[v] - c[v])
+            if abs(r1 - r0) * factor > SPIRAL_WHOLE_MM:
+                # A spiral wider than novanc's pulse core turns: novanc cuts it as arcs about
+                # the same centre whose ends are on LinuxCNC's spiral (radius and normal axis
+                # in proportion to the angle): split rs274's arc at the same points.
+                a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
+                a1 = math.atan2(e[v] - c[v], e[u] - c[u])
+                d = (a1 - a0) if ccw else (a0 - a1)
+                while d <= 1e-12:
+                    d += 2 * math.pi
+                while d > 2 * math.pi + 1e-12:
+                    d -= 2 * math.pi
+                total = d + 2 * math.pi * (n - 1)
+                pieces = int(max(math.ceil(abs(r1 - r0) * factor / SPIRAL_STEP_MM), math.ceil(total / math.pi)))
+                for k in range(1, pieces):
+                    f = k / pieces
+                    a = a0 + (1 if ccw else -1) * f * total
+                    r = r0 + f * (r1 - r0)
+                    at = list(sp)
+                    at[u] = c[u] + r * math.cos(a)
+                    at[v] = c[v] + r * math.sin(a)
+                    at[normal] = sp[normal] + f * (e[normal] - sp[normal])
+                    cc = list(c)
+                    cc[normal] = at[normal]
+                    me = machine(*at)
+                    mc = machine(*cc)
+                    mc[normal] = last[normal]
+                    moves.append(("A", ccw, plane, *me, *mc))
+                    inch.append(factor != 1.0)
+                    last = me
+                n = 1
             if n > 1:
                 # Whole turns first, the normal axis shared out by angle (as novanc splits them).
                 u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
@@ -185,6 +222,10 @@ def rs274_moves(prog, tbl):
 
 
 last_prog = [[0.0, 0.0, 0.0]]
+# Spirals (src/gcode/geom.rs): novanc cuts one whole up to this radius difference (mm), beyond
+# it in pieces changing the radius by at most SPIRAL_STEP_MM and turning at most half a turn.
+SPIRAL_WHOLE_MM = 0.0265
+SPIRAL_STEP_MM = 0.02
 current_plane = ["XY"]
 # Per rs274 move: whether it was printed in inches (4 decimals = 0.00127 mm).
 inch = []
@@ -375,10 +416,17 @@ def compare(a, b):
             if not agrees(x, b[j], tol_of(i)):
                 prev_b = end_of(b[j - 1]) if j > 0 else None
                 prev_a = (end_of(a[i - 1]) if a[i - 1][0] != "S" else None) if i > 0 else None
-                if one_pulse(prev_b, b[j]):
+                # Both may have a sub-pulse move here: skip the one after which the lists
+                # agree again (novanc's first), else novanc's, else rs274's.
+                skip_b = one_pulse(prev_b, b[j])
+                skip_a = one_pulse(prev_a, x)
+                if skip_b and skip_a and j + 1 < len(b) and not agrees(x, b[j + 1], tol_of(i)):
+                    if i + 1 < len(a) and agrees(a[i + 1], b[j], tol_of(i + 1)):
+                        skip_b = False
+                if skip_b:
                     j += 1
                     continue
-                if one_pulse(prev_a, x):
+                if skip_a:
                     i += 1
                     continue
                 k = resync(a, b, i, j)

@@ -460,7 +460,7 @@ impl Comp {
         let h_shape = beta > PI - SMALL
             && front_arc.is_some_and(|(_, ccw)| ccw != left)
             && !self.queue.is_empty();
-        let concave = beta < -SMALL || beta > PI + SMALL || h_shape;
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta) || h_shape;
         let cz = self.normal(self.cur);
         if !concave && beta > SMALL {
             // Convex: round the programmed corner (a rapid goes straight to the arc's end).
@@ -637,8 +637,7 @@ impl Comp {
         if !inside {
             delta += PI;
         }
-        let concave = beta < -SMALL
-            || beta > PI + SMALL
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta)
             // A convex corner on a tangent join, as atop the middle of an "m".
             || ((beta - PI).abs() < SMALL && !inside);
         let geo = Geo::Arc {
