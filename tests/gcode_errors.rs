@@ -114,8 +114,10 @@ fn a_feed_move_without_f() {
 fn an_arc_end_not_on_the_circle() {
     assert_eq!(
         error("G2 X10 Y0 I5.1 J0 F10"),
-        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end (at most 0.028 mm apart)"
+        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end, farther apart than LinuxCNC allows (2.8284 mm or 0.0283 mm and 0.1 %)"
     );
+    // Within LinuxCNC's tolerance, wider than the pulse core turns: a spiral, in pieces.
+    assert!(reads("G0 X100 Y0\nG3 X-100.09 Y0 I-100 J0 F10") > 2);
 }
 
 #[test]
@@ -474,5 +476,29 @@ fn a_tiny_arc_left_by_cutter_compensation_says_so() {
     assert_eq!(
         error("T2 M6\nG0 X-20\nG41 D2 G1 X0 F100\nG3 X6.201 Y0 R3.1005\nG40 G1 X20"),
         "7:1: cutter compensation (tool radius 3.1000 mm) leaves this arc of radius 3.1005 mm a radius of 0.0005 mm, too small to cut (at least 0.0040 mm)"
+    );
+}
+
+#[test]
+fn a_spiral_under_cutter_compensation_is_refused() {
+    // rs274 offsets a spiral; novanc's compensation joins circles only (docs/gcode.md
+    // "Cutter radius compensation"). A spiral the core turns whole is compensated.
+    let e = error(
+        "T13 M6\nG0 X-30 Y-10\nG41 D13 G1 X0 Y0 F100\nG1 X100\nG3 X-100.09 Y0 I-100 J0\nG40 G1 X-80 Y-30",
+    );
+    assert_eq!(
+        e,
+        "8:1: a spiral (radius 100.0000 mm at the start, 100.0900 mm at the end) cannot be used with cutter radius compensation on"
+    );
+    reads("T13 M6\nG0 X-30 Y-10\nG41 D13 G1 X0 Y0 F100\nG1 X100\nG3 X-100.02 Y0 I-100 J0\nG40 G1 X-80 Y-30");
+}
+
+#[test]
+fn g64_q_without_p_is_read_as_linuxcnc_reads_it() {
+    // Q alone is LinuxCNC's naive-CAM tolerance with the default P: rs274 accepts it.
+    assert!(reads("G64 Q0.01\nG1 X1 F100") > 0);
+    assert_eq!(
+        error("G64 Q-1"),
+        "4:5: G64 Q (a tolerance) must not be negative"
     );
 }

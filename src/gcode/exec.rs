@@ -1307,9 +1307,8 @@ fn path_control(
                 }
             }
         }
-        if q.is_some() && p.is_none() {
-            return Err(x.err(w.col('Q').unwrap_or(col), "G64 Q needs P"));
-        }
+        // Q alone is LinuxCNC's too: its naive-CAM tolerance with the default P (rs274's
+        // SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0)).
         st.modal.path = PathMode::Blend {
             p: p.map(|v| v * k),
             q: q.map(|v| v * k),
