@@ -524,13 +524,9 @@ impl GcodeSource {
                     // The main program's number.
                     return Ok(None);
                 }
-                if at.unit == 0 && self.flow.level() == 0 && !self.flow.defining() {
-                    return Err(TranslateError {
-                        line: n,
-                        col: o.col,
-                        message: format!("the main program runs into subprogram O{}: end it with M30 (or M02) first", o.label),
-                    });
-                }
+                // Further on in the main program (after subroutine definitions, say) it is a
+                // program number too: LinuxCNC reads on into what follows. An M99 there ends
+                // nothing in novanc ("M99 outside a subprogram").
                 if self.flow.level() > 0 && self.flow.sub_name() != Some(o.label.as_str()) {
                     return Err(TranslateError {
                         line: n,
