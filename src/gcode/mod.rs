@@ -183,6 +183,9 @@ pub struct GcodeSource {
     made: u64,
     max_blocks: u64,
     first_code: Option<usize>,
+    /// The main program's first line that is not blank: where its opening `%` may be
+    /// (LinuxCNC skips blank lines before it).
+    first_line: usize,
     scratch: read::Scratch,
     line_buf: read::Line,
     out_buf: Vec<(Canon, u32, u32)>,
@@ -243,6 +246,10 @@ impl GcodeSource {
             let t = l.trim();
             !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
         });
+        let first_line = source
+            .split('\n')
+            .position(|l| !l.trim().is_empty())
+            .unwrap_or(0);
         GcodeSource {
             flow: Flow::new(source),
             st,
@@ -264,6 +271,7 @@ impl GcodeSource {
             made: 0,
             max_blocks: MAX_PROGRAM_BLOCKS,
             first_code,
+            first_line,
             scratch: read::Scratch::default(),
             line_buf: read::Line::default(),
             out_buf: Vec::new(),
@@ -493,18 +501,18 @@ impl GcodeSource {
             if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
-            if at.line == 0 {
-                // The tape's leading %.
+            if at.line == self.first_line {
+                // The tape's leading % (after blank lines, if any).
                 return Ok(None);
             }
             if !self.flow.units[0]
-                .nth_line(0)
+                .nth_line(self.first_line)
                 .is_some_and(|l| l.trim_start().starts_with('%'))
             {
                 return Err(TranslateError {
                     line: n,
                     col: 1,
-                    message: "'%' ends a program only when the program's first line is '%' (as in LinuxCNC)".into(),
+                    message: "'%' ends a program only when the program's first line that is not blank is '%' (as in LinuxCNC)".into(),
                 });
             }
             if self.flow.level() > 0 {
