@@ -502,3 +502,13 @@ fn g64_q_without_p_is_read_as_linuxcnc_reads_it() {
         "4:5: G64 Q (a tolerance) must not be negative"
     );
 }
+
+#[test]
+fn a_computed_o_label_is_for_a_call_only() {
+    // o[expr] call and o#n call are LinuxCNC's; on other O-words novanc asks for the number.
+    assert_eq!(
+        error("#2 = 1\no[#2] if [1]\no1 endif"),
+        "5:2: an O-word's label is computed ([...] or #) on a call only: give the number here"
+    );
+    assert_eq!(error("o[1/0] call"), "4:4: division by zero");
+}
