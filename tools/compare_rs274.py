@@ -95,10 +95,14 @@ def rs274_moves(prog, tbl):
         x, y = rot(x, y, rotation)
         return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
 
+    printed = set(p.stdout.splitlines())
     for line in (p.stdout + p.stderr).splitlines():
         m = re.match(r"\s*\d+ N[.\d]*\s*([A-Z][A-Z0-9_]*)\((.*)\)\s*$", line)
         if not m:
             if line.strip() in ("executing", ""):
+                continue
+            if line in printed:
+                # (PRINT, ...) and (DEBUG, ...) output: rs274 prints errors on stderr.
                 continue
             return moves, line.strip()
         name, args = m.group(1), m.group(2)
