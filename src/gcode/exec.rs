@@ -230,7 +230,7 @@ fn motion_to_be(
         given = Some((m, col));
     }
     let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some();
-    let covets = [100, 280, 300, 920].iter().find_map(|&g| w.has_g(g));
+    let covets = [100, 280, 300, 520, 920].iter().find_map(|&g| w.has_g(g));
     if let Some((m, col)) = given {
         if m == Motion::None {
             if axis && covets.is_none() {
@@ -240,7 +240,7 @@ fn motion_to_be(
             if let Some(c) = covets {
                 return Err(x.err(
                     c,
-                    "two G codes that both use the axis words on one line (G10, G28, G30 or G92 with a motion)",
+                    "two G codes that both use the axis words on one line (G10, G28, G30, G52 or G92 with a motion)",
                 ));
             }
             if !axis
@@ -773,6 +773,7 @@ pub fn execute(
             }
         } else if let Some(col) = w
             .has_g(920)
+            .or(w.has_g(520))
             .or(w.has_g(921))
             .or(w.has_g(922))
             .or(w.has_g(923))

@@ -470,8 +470,9 @@ fn g10_tool(
     Ok(())
 }
 
-/// G92 (offsets so the current point reads the words), G92.1 (cancel and clear), G92.2
-/// (cancel, keep the parameters), G92.3 (apply the parameters again).
+/// G52 (the local offset X Y Z as given, kept in the G92 offset, as LinuxCNC keeps it), G92
+/// (offsets so the current point reads the words), G92.1 (cancel and clear), G92.2 (cancel,
+/// keep the parameters), G92.3 (apply the parameters again).
 pub fn g92(
     st: &mut InterpState,
     comp: &Comp,
@@ -480,7 +481,10 @@ pub fn g92(
     col: u32,
 ) -> Result<(), TranslateError> {
     if comp.active() {
-        return Err(x.err(col, "G92 cannot be used with cutter radius compensation on"));
+        return Err(x.err(
+            col,
+            "G52 and G92 cannot be used with cutter radius compensation on",
+        ));
     }
     let k = st.factor();
     let set = |st: &mut InterpState, x: &mut Exec, on: bool| {
@@ -491,7 +495,18 @@ pub fn g92(
             x.events.push(Event::Param(5211 + a, st.g92[a]));
         }
     };
-    if w.has_g(920).is_some() {
+    if w.has_g(520).is_some() {
+        // G52: the local offset, given as it is, in the G92 offset (LinuxCNC's).
+        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if let Some(v) = w.get(c) {
+                st.g92[i] = v * k;
+            }
+        }
+        if st.g92.iter().any(|v| !v.is_finite() || v.abs() > 1e5) {
+            return Err(x.err(col, "G52: the offset would be out of range"));
+        }
+        set(st, x, true);
+    } else if w.has_g(920).is_some() {
         if !w.has_axis() {
             return Err(x.err(col, "G92 needs at least one of X, Y and Z"));
         }
