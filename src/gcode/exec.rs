@@ -451,15 +451,30 @@ pub fn comments(
                 kind: "PRINT",
                 text: substitute(&c.text, lookup),
             }),
+            CommentKind::Log if c.keyword == "LOG" => x.events.push(Event::Message {
+                kind: "LOG",
+                text: substitute(&c.text, lookup),
+            }),
+            // LinuxCNC writes these files on its own machine; novanc writes none, and a
+            // program that expects one is told so rather than running without it.
             CommentKind::Log => {
-                if c.keyword == "LOG" {
-                    x.events.push(Event::Message {
-                        kind: "LOG",
-                        text: substitute(&c.text, lookup),
-                    });
-                }
+                return Err(x.err(
+                    c.col,
+                    format!(
+                        "({}) opens or closes a log file on LinuxCNC's machine: novanc writes no log file ((LOG, ...) goes to the operator's messages)",
+                        c.keyword
+                    ),
+                ));
             }
-            CommentKind::ProbeLog => {}
+            CommentKind::ProbeLog => {
+                return Err(x.err(
+                    c.col,
+                    format!(
+                        "({}) opens or closes a file of probe results on LinuxCNC's machine: novanc writes none (the results are in #5061-#5070)",
+                        c.keyword
+                    ),
+                ));
+            }
             CommentKind::Abort => {
                 return Err(x.err(
                     c.col,

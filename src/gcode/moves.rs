@@ -293,6 +293,12 @@ pub fn g10(
     let l = int_word(x, w, 'L', 0.0, 20.0)?;
     let l = match l {
         Some(l @ (1 | 2 | 10 | 11 | 20)) => l,
+        Some(0) => {
+            return Err(x.err(
+                w.col('L').unwrap_or(col),
+                "G10 L0 reloads LinuxCNC's tool table file: novanc's tool data is its own store (change it with G10 L1, L10, L11)",
+            ))
+        }
         Some(l) => {
             return Err(x.err(
                 w.col('L').unwrap_or(col),
