@@ -69,6 +69,17 @@ fn io(r: &Run, f: fn(&Io) -> bool) -> bool {
     r.blocks.iter().any(|b| b.io.as_ref().is_some_and(f))
 }
 
+/// Output 1 set `on`, with the next move (`synced`, M62/M63) or at once (M64/M65).
+fn digital_out(r: &Run, on: bool, synced: bool) -> bool {
+    r.blocks.iter().any(|b| {
+        b.io == Some(Io::Digital {
+            index: 1,
+            on,
+            synced,
+        })
+    })
+}
+
 fn motion(r: &Run) -> u16 {
     r.state.modal.motion.code()
 }
@@ -291,66 +302,10 @@ fn cases() -> Vec<(&'static str, Want)> {
         // M60: the pallet shuttle is not there; the program stop is (docs/gcode.md "M codes").
         ("M60", Acts(|r| m(r, 0))),
         ("M61 Q14", Acts(|r| r.state.tool == Some(14))),
-        (
-            "M62 P1",
-            Acts(|r| {
-                io(r, |i| {
-                    matches!(
-                        i,
-                        Io::Digital {
-                            index: 1,
-                            on: true,
-                            synced: true
-                        }
-                    )
-                })
-            }),
-        ),
-        (
-            "M63 P1",
-            Acts(|r| {
-                io(r, |i| {
-                    matches!(
-                        i,
-                        Io::Digital {
-                            index: 1,
-                            on: false,
-                            synced: true
-                        }
-                    )
-                })
-            }),
-        ),
-        (
-            "M64 P1",
-            Acts(|r| {
-                io(r, |i| {
-                    matches!(
-                        i,
-                        Io::Digital {
-                            index: 1,
-                            on: true,
-                            synced: false
-                        }
-                    )
-                })
-            }),
-        ),
-        (
-            "M65 P1",
-            Acts(|r| {
-                io(r, |i| {
-                    matches!(
-                        i,
-                        Io::Digital {
-                            index: 1,
-                            on: false,
-                            synced: false
-                        }
-                    )
-                })
-            }),
-        ),
+        ("M62 P1", Acts(|r| digital_out(r, true, true))),
+        ("M63 P1", Acts(|r| digital_out(r, false, true))),
+        ("M64 P1", Acts(|r| digital_out(r, true, false))),
+        ("M65 P1", Acts(|r| digital_out(r, false, false))),
         (
             "M66 P1 L0",
             Acts(|r| {

@@ -72,6 +72,19 @@ def rot(x, y, deg):
     return x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
 
 
+def turned(sp, e, c, u, v, ccw, n):
+    """The angle an arc of n turns from sp to e about c turns (radians; a full turn when the
+    ends meet), in the plane of axes u, v."""
+    a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
+    a1 = math.atan2(e[v] - c[v], e[u] - c[u])
+    d = (a1 - a0) if ccw else (a0 - a1)
+    while d <= 1e-12:
+        d += 2 * math.pi
+    while d > 2 * math.pi + 1e-12:
+        d -= 2 * math.pi
+    return d + 2 * math.pi * (n - 1)
+
+
 def rs274_moves(prog, tbl):
     """(moves, error): moves as tuples ('R'|'F'|'P', x, y, z) or ('A', ccw, plane, x, y, z, cx, cy, cz)."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -152,13 +165,7 @@ def rs274_moves(prog, tbl):
                 # the same centre whose ends are on LinuxCNC's spiral (radius and normal axis
                 # in proportion to the angle): split rs274's arc at the same points.
                 a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
-                a1 = math.atan2(e[v] - c[v], e[u] - c[u])
-                d = (a1 - a0) if ccw else (a0 - a1)
-                while d <= 1e-12:
-                    d += 2 * math.pi
-                while d > 2 * math.pi + 1e-12:
-                    d -= 2 * math.pi
-                total = d + 2 * math.pi * (n - 1)
+                total = turned(sp, e, c, u, v, ccw, n)
                 pieces = int(max(math.ceil(abs(r1 - r0) * factor / SPIRAL_STEP_MM), math.ceil(total / math.pi)))
                 for k in range(1, pieces):
                     f = k / pieces
@@ -179,16 +186,7 @@ def rs274_moves(prog, tbl):
                 n = 1
             if n > 1:
                 # Whole turns first, the normal axis shared out by angle (as novanc splits them).
-                u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
-                sp = last_prog[0]
-                a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
-                a1 = math.atan2(e[v] - c[v], e[u] - c[u])
-                d = (a1 - a0) if ccw else (a0 - a1)
-                while d <= 1e-12:
-                    d += 2 * math.pi
-                while d > 2 * math.pi + 1e-12:
-                    d -= 2 * math.pi
-                total = d + 2 * math.pi * (n - 1)
+                total = turned(sp, e, c, u, v, ccw, n)
                 step = (e[normal] - sp[normal]) * 2 * math.pi / total
                 at = list(sp)
                 for _ in range(n - 1):
