@@ -109,6 +109,19 @@ def rs274_moves(prog, tbl):
         return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
 
     printed = set(p.stdout.splitlines())
+    def arc_to(at, c, ccw, plane, allowance):
+        """An arc from the last move's end to program point `at` about program centre `c`."""
+        nonlocal last
+        normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
+        cc = list(c)
+        cc[normal] = at[normal]
+        me = machine(*at)
+        mc = machine(*cc)
+        mc[normal] = last[normal]
+        moves.append(("A", ccw, plane, *me, *mc))
+        inch.append(allowance)
+        last = me
+
     for line in (p.stdout + p.stderr).splitlines():
         m = re.match(r"\s*\d+ N[.\d]*\s*([A-Z][A-Z0-9_]*)\((.*)\)\s*$", line)
         if not m:
@@ -121,7 +134,10 @@ def rs274_moves(prog, tbl):
         name, args = m.group(1), m.group(2)
         vals = [float(v) for v in re.findall(r"-?\d+\.\d+|-?\d+", args)] if name not in ("COMMENT", "MESSAGE") else []
         if name == "USE_LENGTH_UNITS":
-            factor = 25.4 if "INCHES" in args else 1.0
+            new = 25.4 if "INCHES" in args else 1.0
+            # The last programmed point, in the units rs274 prints from now on.
+            last_prog[0] = [v * factor / new for v in last_prog[0]]
+            factor = new
         elif name == "SET_G5X_OFFSET":
             g5x = [v * factor for v in vals[1:4]]
         elif name == "SET_G92_OFFSET":
@@ -160,7 +176,8 @@ def rs274_moves(prog, tbl):
             sp = last_prog[0]
             r0 = math.hypot(sp[u] - c[u], sp[v] - c[v])
             r1 = math.hypot(e[u] - c[u], e[v] - c[v])
-            if abs(r1 - r0) * factor > SPIRAL_WHOLE_MM:
+            # (After a spline the arc's start is not printed: it is not split.)
+            if not after_spline and abs(r1 - r0) * factor > SPIRAL_WHOLE_MM:
                 # A spiral wider than novanc's pulse core turns: novanc cuts it as arcs about
                 # the same centre whose ends are on LinuxCNC's spiral (radius and normal axis
                 # in proportion to the angle): split rs274's arc at the same points.
@@ -175,14 +192,7 @@ def rs274_moves(prog, tbl):
                     at[u] = c[u] + r * math.cos(a)
                     at[v] = c[v] + r * math.sin(a)
                     at[normal] = sp[normal] + f * (e[normal] - sp[normal])
-                    cc = list(c)
-                    cc[normal] = at[normal]
-                    me = machine(*at)
-                    mc = machine(*cc)
-                    mc[normal] = last[normal]
-                    moves.append(("A", ccw, plane, *me, *mc))
-                    inch.append(factor != 1.0)
-                    last = me
+                    arc_to(at, c, ccw, plane, factor != 1.0)
                 n = 1
             if n > 1:
                 # Whole turns first, the normal axis shared out by angle (as novanc splits them).
@@ -191,23 +201,10 @@ def rs274_moves(prog, tbl):
                 at = list(sp)
                 for _ in range(n - 1):
                     at[normal] += step
-                    cc = list(c)
-                    cc[normal] = at[normal]
-                    me = machine(*at)
-                    mc = machine(*cc)
-                    mc[normal] = last[normal]
-                    moves.append(("A", ccw, plane, *me, *mc))
                     # Rebuilt from rs274's printed centre: wider allowance (see "turns").
-                    inch.append("turn")
-                    last = me
-            c[normal] = e[normal]
-            me = machine(*e)
-            mc = machine(*c)
-            mc[normal] = last[normal]
-            moves.append(("A", ccw, plane, *me, *mc))
-            inch.append(factor != 1.0)
-            last = me
-            kept[0] = me
+                    arc_to(at, c, ccw, plane, "turn")
+            arc_to(e, c, ccw, plane, factor != 1.0)
+            kept[0] = last
             after_spline = False
         elif name == "NURBS_FEED":
             # The curve's points are not printed: where it ends is unknown here.
