@@ -563,7 +563,10 @@ pub fn execute(
             if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
                 return Err(x.err(
                     w.col('S').unwrap_or(1),
-                    format!("spindle speed S{s} is not usable"),
+                    format!(
+                        "spindle speed S{} is not usable",
+                        crate::input_text::short_number(s)
+                    ),
                 ));
             }
             st.modal.speed = s;

@@ -382,8 +382,9 @@ pub fn g10(
             return Err(x.err(
                 col,
                 format!(
-                    "work offset {} of {v} mm is not usable (at most 100,000 mm)",
-                    ["X", "Y", "Z"][a]
+                    "work offset {} of {} mm is not usable (at most 100,000 mm)",
+                    ["X", "Y", "Z"][a],
+                    crate::input_text::short_number(v)
                 ),
             ));
         }
@@ -391,7 +392,10 @@ pub fn g10(
     if !r.is_finite() || r.abs() > 1e6 {
         return Err(x.err(
             w.col('R').unwrap_or(col),
-            format!("rotation R{r} is not usable"),
+            format!(
+                "rotation R{} is not usable",
+                crate::input_text::short_number(r)
+            ),
         ));
     }
     for (i, v) in o.iter().enumerate() {
