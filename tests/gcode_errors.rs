@@ -124,8 +124,10 @@ fn a_feed_move_without_f() {
 fn an_arc_end_not_on_the_circle() {
     assert_eq!(
         error("G2 X10 Y0 I5.1 J0 F10"),
-        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end (at most 0.028 mm apart)"
+        "4:1: the arc's end point is not on its circle: radius 5.1000 mm at the start, 4.9000 mm at the end, farther apart than LinuxCNC allows (2.8284 mm or 0.0283 mm and 0.1 %)"
     );
+    // Within LinuxCNC's tolerance, wider than the pulse core turns: a spiral, in pieces.
+    assert!(reads("G0 X100 Y0\nG3 X-100.09 Y0 I-100 J0 F10") > 2);
 }
 
 #[test]
@@ -336,7 +338,9 @@ fn a_literal_too_large_for_a_number_is_refused_at_its_column() {
 #[test]
 fn a_cutter_compensation_that_overflows_is_refused_not_sent_to_zero() {
     // Finite words whose offset path overflows (X 1.7e308 and back): the NaN it made became
-    // 0, a move to machine X0 Y0. Now the line is refused, and no block goes there.
+    // 0, a move to machine X0 Y0. Now the line is refused, and no block goes there: its move,
+    // held by compensation until the turn back is known, is a finite point far beyond the
+    // travel.
     let big = format!("17{}", "0".repeat(307));
     let src = format!(
         "{PRE}T13 M6\nG0 X10 Y10\nG41 D13 G1 X100 Y10 F100\nG1 X{big}\nG1 X-{big}\nG1 Y100\nG40 G0 X0\nM30\n"
@@ -355,7 +359,7 @@ fn a_cutter_compensation_that_overflows_is_refused_not_sent_to_zero() {
     }
     assert_eq!(
         error.as_deref(),
-        Some("7:1: X of this move is not a finite number: the arithmetic on its words overflowed")
+        Some("7:1: X1.700e308 (machine) is beyond the X travel (0.000 to 1000.000 mm)")
     );
 }
 
@@ -514,4 +518,38 @@ fn log_and_probe_files_are_answered_with_a_message() {
             "PRINT: p=2.500000",
         ]
     );
+}
+
+#[test]
+fn a_spiral_under_cutter_compensation_is_refused() {
+    // rs274 offsets a spiral; novanc's compensation joins circles only (docs/gcode.md
+    // "Cutter radius compensation"). A spiral the core turns whole is compensated.
+    let e = error(
+        "T13 M6\nG0 X-30 Y-10\nG41 D13 G1 X0 Y0 F100\nG1 X100\nG3 X-100.09 Y0 I-100 J0\nG40 G1 X-80 Y-30",
+    );
+    assert_eq!(
+        e,
+        "8:1: a spiral (radius 100.0000 mm at the start, 100.0900 mm at the end) cannot be used with cutter radius compensation on"
+    );
+    reads("T13 M6\nG0 X-30 Y-10\nG41 D13 G1 X0 Y0 F100\nG1 X100\nG3 X-100.02 Y0 I-100 J0\nG40 G1 X-80 Y-30");
+}
+
+#[test]
+fn g64_q_without_p_is_read_as_linuxcnc_reads_it() {
+    // Q alone is LinuxCNC's naive-CAM tolerance with the default P: rs274 accepts it.
+    assert!(reads("G64 Q0.01\nG1 X1 F100") > 0);
+    assert_eq!(
+        error("G64 Q-1"),
+        "4:5: G64 Q (a tolerance) must not be negative"
+    );
+}
+
+#[test]
+fn a_computed_o_label_is_for_a_call_only() {
+    // o[expr] call and o#n call are LinuxCNC's; on other O-words novanc asks for the number.
+    assert_eq!(
+        error("#2 = 1\no[#2] if [1]\no1 endif"),
+        "5:2: an O-word's label is computed ([...] or #) on a call only: give the number here"
+    );
+    assert_eq!(error("o[1/0] call"), "4:4: division by zero");
 }

@@ -9,6 +9,9 @@ than half a pulse (0.0005 mm; 0.0013 mm where rs274 printed inches, its 4 decima
 the blocks `novanc translate` prints, in the same order, to 0.001 mm. Where rs274 refuses a
 program, novanc must refuse it.
 
+Spirals: an I J K arc whose end radius differs from its start radius by more than 0.0265 mm is
+split into the arcs novanc cuts it as (docs/gcode.md "Arcs"), each ending on LinuxCNC's spiral.
+
 Splines: rs274 prints a G5, G5.1 or G5.2 … G5.3 curve only as `NURBS_FEED(n, ...)` (n its
 control points), without its points. Such a line (or a run of them) matches the run of novanc
 feed moves (its chords, one at least per spline) that ends where the next rs274 move starts:
@@ -69,6 +72,19 @@ def rot(x, y, deg):
     return x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)
 
 
+def turned(sp, e, c, u, v, ccw, n):
+    """The angle an arc of n turns from sp to e about c turns (radians; a full turn when the
+    ends meet), in the plane of axes u, v."""
+    a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
+    a1 = math.atan2(e[v] - c[v], e[u] - c[u])
+    d = (a1 - a0) if ccw else (a0 - a1)
+    while d <= 1e-12:
+        d += 2 * math.pi
+    while d > 2 * math.pi + 1e-12:
+        d -= 2 * math.pi
+    return d + 2 * math.pi * (n - 1)
+
+
 def rs274_moves(prog, tbl):
     """(moves, error): moves as tuples ('R'|'F'|'P', x, y, z) or ('A', ccw, plane, x, y, z, cx, cy, cz)."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -92,16 +108,36 @@ def rs274_moves(prog, tbl):
         x, y = rot(x, y, rotation)
         return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
 
+    printed = set(p.stdout.splitlines())
+    def arc_to(at, c, ccw, plane, allowance):
+        """An arc from the last move's end to program point `at` about program centre `c`."""
+        nonlocal last
+        normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
+        cc = list(c)
+        cc[normal] = at[normal]
+        me = machine(*at)
+        mc = machine(*cc)
+        mc[normal] = last[normal]
+        moves.append(("A", ccw, plane, *me, *mc))
+        inch.append(allowance)
+        last = me
+
     for line in (p.stdout + p.stderr).splitlines():
         m = re.match(r"\s*\d+ N[.\d]*\s*([A-Z][A-Z0-9_]*)\((.*)\)\s*$", line)
         if not m:
             if line.strip() in ("executing", ""):
                 continue
+            if line in printed:
+                # (PRINT, ...) and (DEBUG, ...) output: rs274 prints errors on stderr.
+                continue
             return moves, line.strip()
         name, args = m.group(1), m.group(2)
         vals = [float(v) for v in re.findall(r"-?\d+\.\d+|-?\d+", args)] if name not in ("COMMENT", "MESSAGE") else []
         if name == "USE_LENGTH_UNITS":
-            factor = 25.4 if "INCHES" in args else 1.0
+            new = 25.4 if "INCHES" in args else 1.0
+            # The last programmed point, in the units rs274 prints from now on.
+            last_prog[0] = [v * factor / new for v in last_prog[0]]
+            factor = new
         elif name == "SET_G5X_OFFSET":
             g5x = [v * factor for v in vals[1:4]]
         elif name == "SET_G92_OFFSET":
@@ -136,39 +172,39 @@ def rs274_moves(prog, tbl):
             normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
             ccw = int(turns > 0)
             n = int(abs(turns))
+            u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
+            sp = last_prog[0]
+            r0 = math.hypot(sp[u] - c[u], sp[v] - c[v])
+            r1 = math.hypot(e[u] - c[u], e[v] - c[v])
+            # (After a spline the arc's start is not printed: it is not split.)
+            if not after_spline and abs(r1 - r0) * factor > SPIRAL_WHOLE_MM:
+                # A spiral wider than novanc's pulse core turns: novanc cuts it as arcs about
+                # the same centre whose ends are on LinuxCNC's spiral (radius and normal axis
+                # in proportion to the angle): split rs274's arc at the same points.
+                a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
+                total = turned(sp, e, c, u, v, ccw, n)
+                pieces = int(max(math.ceil(abs(r1 - r0) * factor / SPIRAL_STEP_MM), math.ceil(total / math.pi)))
+                for k in range(1, pieces):
+                    f = k / pieces
+                    a = a0 + (1 if ccw else -1) * f * total
+                    r = r0 + f * (r1 - r0)
+                    at = list(sp)
+                    at[u] = c[u] + r * math.cos(a)
+                    at[v] = c[v] + r * math.sin(a)
+                    at[normal] = sp[normal] + f * (e[normal] - sp[normal])
+                    arc_to(at, c, ccw, plane, factor != 1.0)
+                n = 1
             if n > 1:
                 # Whole turns first, the normal axis shared out by angle (as novanc splits them).
-                u, v = {"XY": (0, 1), "XZ": (2, 0), "YZ": (1, 2)}[plane]
-                sp = last_prog[0]
-                a0 = math.atan2(sp[v] - c[v], sp[u] - c[u])
-                a1 = math.atan2(e[v] - c[v], e[u] - c[u])
-                d = (a1 - a0) if ccw else (a0 - a1)
-                while d <= 1e-12:
-                    d += 2 * math.pi
-                while d > 2 * math.pi + 1e-12:
-                    d -= 2 * math.pi
-                total = d + 2 * math.pi * (n - 1)
+                total = turned(sp, e, c, u, v, ccw, n)
                 step = (e[normal] - sp[normal]) * 2 * math.pi / total
                 at = list(sp)
                 for _ in range(n - 1):
                     at[normal] += step
-                    cc = list(c)
-                    cc[normal] = at[normal]
-                    me = machine(*at)
-                    mc = machine(*cc)
-                    mc[normal] = last[normal]
-                    moves.append(("A", ccw, plane, *me, *mc))
                     # Rebuilt from rs274's printed centre: wider allowance (see "turns").
-                    inch.append("turn")
-                    last = me
-            c[normal] = e[normal]
-            me = machine(*e)
-            mc = machine(*c)
-            mc[normal] = last[normal]
-            moves.append(("A", ccw, plane, *me, *mc))
-            inch.append(factor != 1.0)
-            last = me
-            kept[0] = me
+                    arc_to(at, c, ccw, plane, "turn")
+            arc_to(e, c, ccw, plane, factor != 1.0)
+            kept[0] = last
             after_spline = False
         elif name == "NURBS_FEED":
             # The curve's points are not printed: where it ends is unknown here.
@@ -185,6 +221,10 @@ def rs274_moves(prog, tbl):
 
 
 last_prog = [[0.0, 0.0, 0.0]]
+# Spirals (src/gcode/geom.rs): novanc cuts one whole up to this radius difference (mm), beyond
+# it in pieces changing the radius by at most SPIRAL_STEP_MM and turning at most half a turn.
+SPIRAL_WHOLE_MM = 0.0265
+SPIRAL_STEP_MM = 0.02
 current_plane = ["XY"]
 # Per rs274 move: whether it was printed in inches (4 decimals = 0.00127 mm).
 inch = []
@@ -375,10 +415,17 @@ def compare(a, b):
             if not agrees(x, b[j], tol_of(i)):
                 prev_b = end_of(b[j - 1]) if j > 0 else None
                 prev_a = (end_of(a[i - 1]) if a[i - 1][0] != "S" else None) if i > 0 else None
-                if one_pulse(prev_b, b[j]):
+                # Both may have a sub-pulse move here: skip the one after which the lists
+                # agree again (novanc's first), else novanc's, else rs274's.
+                skip_b = one_pulse(prev_b, b[j])
+                skip_a = one_pulse(prev_a, x)
+                if skip_b and skip_a and j + 1 < len(b) and not agrees(x, b[j + 1], tol_of(i)):
+                    if i + 1 < len(a) and agrees(a[i + 1], b[j], tol_of(i + 1)):
+                        skip_b = False
+                if skip_b:
                     j += 1
                     continue
-                if one_pulse(prev_a, x):
+                if skip_a:
                     i += 1
                     continue
                 k = resync(a, b, i, j)

@@ -261,7 +261,7 @@ fn motion_to_be(
         given = Some((m, col));
     }
     let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some();
-    let covets = [100, 280, 300, 920].iter().find_map(|&g| w.has_g(g));
+    let covets = [100, 280, 300, 520, 920].iter().find_map(|&g| w.has_g(g));
     if let Some((m, col)) = given {
         if m == Motion::None {
             if axis && covets.is_none() {
@@ -271,7 +271,7 @@ fn motion_to_be(
             if let Some(c) = covets {
                 return Err(x.err(
                     c,
-                    "two G codes that both use the axis words on one line (G10, G28, G30 or G92 with a motion)",
+                    "two G codes that both use the axis words on one line (G10, G28, G30, G52 or G92 with a motion)",
                 ));
             }
             if !axis
@@ -750,16 +750,13 @@ pub fn execute(
         }
         // Units.
         for (g, inch) in [(200, true), (210, false)] {
-            if let Some(col) = w.has_g(g) {
-                if comp.active() && inch != st.modal.inch {
-                    return Err(x.err(
-                        col,
-                        "cannot change units with cutter radius compensation on",
-                    ));
-                }
+            if w.has_g(g).is_some() {
                 st.modal.inch = inch;
             }
         }
+        // Compensation's tolerances are in the program's units, as LinuxCNC's (which lets
+        // the units change under compensation).
+        comp.set_inch(st.modal.inch);
         cutter_comp(st, comp, x, w)?;
         tool_length(st, comp, x, w)?;
         for (i, g) in [540u32, 550, 560, 570, 580, 590, 591, 592, 593]
@@ -776,7 +773,7 @@ pub fn execute(
                 st.select_system(i);
             }
         }
-        path_control(st, x, w)?;
+        path_control(st, comp, x, w)?;
         if w.has_g(900).is_some() {
             st.modal.incremental = false;
         }
@@ -789,11 +786,14 @@ pub fn execute(
         if w.has_g(911).is_some() {
             st.modal.ijk_absolute = false;
         }
-        if w.has_g(980).is_some() {
-            st.modal.retract_r = false;
-        }
-        if w.has_g(990).is_some() {
-            st.modal.retract_r = true;
+        if let Some(col) = w.has_g(980).or(w.has_g(990)) {
+            if comp.active() {
+                return Err(x.err(
+                    col,
+                    "cannot change the retract mode (G98, G99) with cutter radius compensation on",
+                ));
+            }
+            st.modal.retract_r = w.has_g(990).is_some();
         }
         // The non-modal codes.
         if let Some(col) = w.has_g(100) {
@@ -820,6 +820,7 @@ pub fn execute(
             }
         } else if let Some(col) = w
             .has_g(920)
+            .or(w.has_g(520))
             .or(w.has_g(921))
             .or(w.has_g(922))
             .or(w.has_g(923))
@@ -837,7 +838,7 @@ pub fn execute(
             if st.modal.incremental {
                 return Err(x.err(col, "G53 cannot be used in incremental mode (G91)"));
             }
-            if comp.active() {
+            if comp.offsetting() {
                 return Err(x.err(col, "G53 cannot be used with cutter radius compensation on"));
             }
         }
@@ -869,7 +870,11 @@ pub fn execute(
     if w.m.as_slice().is_empty() {
         return Ok(Flow::Next);
     }
-    // Stops and program flow, last.
+    // Stops and program flow, last. A stop first emits what compensation holds (LinuxCNC's
+    // convert_stop), whether or not M01 stops.
+    if let Some(col) = w.has_m(0).or(w.has_m(1)).or(w.has_m(60)) {
+        comp.flush(x, col)?;
+    }
     if let Some(col) = w.has_m(0) {
         comp.aux(x, aux(0), col);
     }
@@ -969,15 +974,14 @@ fn motion_line(
         }
         Motion::Rapid | Motion::Feed => {
             st.modal.motion = m;
-            if !(w.has_axis() || w.get('@').is_some() || w.get('^').is_some()) {
-                if comp.pending_exit() && w.g.as_slice().iter().any(|g| g.0 == 0 || g.0 == 10) {
-                    let e = st.pos;
-                    let feed = if m == Motion::Feed { st.modal.feed } else { 0.0 };
-                    comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
-                }
-                return Ok(());
-            }
-            let e = moves::target(st, x, w)?;
+            // G00 or G01 without axis words (given on the line, or there is no motion) moves
+            // to the programmed point, as LinuxCNC's: nowhere, or after G40 off the last
+            // offset point; right after G41/G42 it is an entry move too short.
+            let e = if w.has_axis() || w.get('@').is_some() || w.get('^').is_some() {
+                moves::target(st, x, w)?
+            } else {
+                st.pos
+            };
             let feed = feed_for(st, x, inverse, m, e, col)?;
             comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
             st.pos = e;
@@ -1083,7 +1087,7 @@ fn io_codes(
                         return Err(x.err(col, "M66 needs P (a digital input) or E (an analog one)"))
                     }
                 };
-                comp.flush(x);
+                comp.flush(x, col)?;
                 x.push(
                     Canon::Io(Io::Wait {
                         digital,
@@ -1195,7 +1199,7 @@ fn cutter_comp(
     w: &Words,
 ) -> Result<(), TranslateError> {
     if let Some(col) = w.has_g(400) {
-        comp.off(col);
+        comp.off(x, col)?;
         st.modal.comp = CompSide::Off;
         st.comp_radius = 0.0;
         st.comp_tool = None;
@@ -1208,10 +1212,10 @@ fn cutter_comp(
         if comp.active() {
             return Err(x.err(col, "cutter radius compensation is already on: G40 first"));
         }
-        if st.modal.plane != Plane::XY {
+        if st.modal.plane == Plane::YZ {
             return Err(x.err(
                 col,
-                "cutter radius compensation works in the XY plane (G17)",
+                "cutter radius compensation works in the XY (G17) and XZ (G18) planes, not in YZ (G19)",
             ));
         }
         let d_col = w.col('D').unwrap_or(col);
@@ -1242,7 +1246,7 @@ fn cutter_comp(
         } else {
             (left, radius)
         };
-        comp.on(left, radius, col);
+        comp.on(left, radius, st.modal.plane);
         st.modal.comp = if left {
             CompSide::Left
         } else {
@@ -1319,7 +1323,20 @@ fn tool_length(
     Ok(())
 }
 
-fn path_control(st: &mut InterpState, x: &mut Exec, w: &Words) -> Result<(), TranslateError> {
+fn path_control(
+    st: &mut InterpState,
+    comp: &Comp,
+    x: &mut Exec,
+    w: &Words,
+) -> Result<(), TranslateError> {
+    if let Some(col) = w.has_g(610).or(w.has_g(611)).or(w.has_g(640)) {
+        if comp.active() {
+            return Err(x.err(
+                col,
+                "cannot change the path control mode (G61, G61.1, G64) with cutter radius compensation on",
+            ));
+        }
+    }
     if w.has_g(610).is_some() {
         st.modal.path = PathMode::ExactPath;
     }
@@ -1340,9 +1357,8 @@ fn path_control(st: &mut InterpState, x: &mut Exec, w: &Words) -> Result<(), Tra
                 }
             }
         }
-        if q.is_some() && p.is_none() {
-            return Err(x.err(w.col('Q').unwrap_or(col), "G64 Q needs P"));
-        }
+        // Q alone is LinuxCNC's too: its naive-CAM tolerance with the default P (rs274's
+        // SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, 0)).
         st.modal.path = PathMode::Blend {
             p: p.map(|v| v * k),
             q: q.map(|v| v * k),

@@ -381,7 +381,9 @@ impl Flow {
     ) -> Result<Outcome, String> {
         let name = self.full_name(o);
         if let Some(s) = &self.skipping {
-            if *s != name {
+            // A call never ends a skip (LinuxCNC's too): a subroutine calling itself by the
+            // name being skipped over (its definition) is not run there.
+            if *s != name || o.kind == OKind::Call {
                 return Ok(Outcome::Next);
             }
         }

@@ -203,6 +203,9 @@ pub struct GcodeSource {
     made: u64,
     max_blocks: u64,
     first_code: Option<usize>,
+    /// The main program's first line that is not blank: where its opening `%` may be
+    /// (LinuxCNC skips blank lines before it).
+    first_line: usize,
     scratch: read::Scratch,
     line_buf: read::Line,
     out_buf: Vec<(Canon, u32, u32)>,
@@ -269,6 +272,10 @@ impl GcodeSource {
             !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
         });
         let sim = Box::new(probe::SimMachine::new(&settings));
+        let first_line = source
+            .split('\n')
+            .position(|l| !l.trim().is_empty())
+            .unwrap_or(0);
         GcodeSource {
             flow: Flow::new(source),
             st,
@@ -290,6 +297,7 @@ impl GcodeSource {
             made: 0,
             max_blocks: MAX_PROGRAM_BLOCKS,
             first_code,
+            first_line,
             scratch: read::Scratch::default(),
             line_buf: read::Line::default(),
             out_buf: Vec::new(),
@@ -440,8 +448,12 @@ impl GcodeSource {
                 if at.unit == 0 && self.mdi && self.flow.level() == 0 && !self.flow.skipping() {
                     self.done = true;
                     let mut x = ctx!(self, n);
-                    self.comp.flush(&mut x);
+                    let r = self.comp.flush(&mut x, 1);
                     let out = x.out;
+                    if let Err(e) = r {
+                        self.out_buf = out;
+                        return self.fail(e);
+                    }
                     return self.finish(n, String::new(), out, false);
                 }
                 let msg = self.flow.end_error();
@@ -537,18 +549,18 @@ impl GcodeSource {
             if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
-            if at.line == 0 {
-                // The tape's leading %.
+            if at.line == self.first_line {
+                // The tape's leading % (after blank lines, if any).
                 return Ok(None);
             }
             if !self.flow.units[0]
-                .nth_line(0)
+                .nth_line(self.first_line)
                 .is_some_and(|l| l.trim_start().starts_with('%'))
             {
                 return Err(TranslateError {
                     line: n,
                     col: 1,
-                    message: "'%' ends a program only when the program's first line is '%' (as in LinuxCNC)".into(),
+                    message: "'%' ends a program only when the program's first line that is not blank is '%' (as in LinuxCNC)".into(),
                 });
             }
             if self.flow.level() > 0 {
@@ -568,13 +580,9 @@ impl GcodeSource {
                     // The main program's number.
                     return Ok(None);
                 }
-                if at.unit == 0 && self.flow.level() == 0 && !self.flow.defining() {
-                    return Err(TranslateError {
-                        line: n,
-                        col: o.col,
-                        message: format!("the main program runs into subprogram O{}: end it with M30 (or M02) first", o.label),
-                    });
-                }
+                // Further on in the main program (after subroutine definitions, say) it is a
+                // program number too: LinuxCNC reads on into what follows. An M99 there ends
+                // nothing in novanc ("M99 outside a subprogram").
                 if self.flow.level() > 0 && self.flow.sub_name() != Some(o.label.as_str()) {
                     return Err(TranslateError {
                         line: n,
@@ -721,8 +729,11 @@ impl GcodeSource {
         endm: Option<u8>,
     ) -> Option<Result<Statement, TranslateError>> {
         let mut x = ctx!(self, n);
-        self.comp.flush(&mut x);
+        let r = self.comp.flush(&mut x, 1);
         let mut tail = std::mem::take(&mut x.out);
+        if let Err(e) = r {
+            return self.fail(e);
+        }
         let aux = |m: u8| {
             (
                 Canon::Aux {

@@ -131,7 +131,19 @@ pub fn arc(
             } else {
                 geom::IJK_ABS_TOLERANCE_MM
             };
-            geom::check_ijk(su, eu, cuv, tol).map_err(|f| fault(x, f, col, k))?;
+            geom::check_ijk_linuxcnc(su, eu, cuv, tol).map_err(|f| match f {
+                ArcFault::NotOnCircle { r0, r1 } => x.err(
+                    col,
+                    format!(
+                        "the arc's end point is not on its circle: radius {} at the start, {} at the end, farther apart than LinuxCNC allows ({} or {} and 0.1 %)",
+                        in_units(r0, k),
+                        in_units(r1, k),
+                        in_units(tol * 100.0, k),
+                        in_units(tol, k)
+                    ),
+                ),
+                f => fault(x, f, col, k),
+            })?;
             cuv
         }
     };
@@ -146,6 +158,42 @@ pub fn arc(
         (rad * sweep).hypot(axial)
     };
     let feed = super::exec::feed_rate(st, x, inverse, length, col)?;
+    let r0 = (su[0] - cuv[0]).hypot(su[1] - cuv[1]);
+    let r1 = (eu[0] - cuv[0]).hypot(eu[1] - cuv[1]);
+    let total = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
+    let pieces = geom::spiral_pieces(r0, r1, total);
+    if pieces > 1 {
+        if comp.active() {
+            return Err(x.err(
+                col,
+                format!(
+                    "a spiral (radius {} at the start, {} at the end) cannot be used with cutter radius compensation on",
+                    in_units(r0, k),
+                    in_units(r1, k)
+                ),
+            ));
+        }
+        // LinuxCNC's spiral: the radius, and the normal axis, change in proportion to the
+        // angle turned. Each piece is an arc about the same centre whose ends are on it.
+        let n = plane.axes()[2];
+        let a0 = (su[1] - cuv[1]).atan2(su[0] - cuv[0]);
+        let dir = if cw { -1.0 } else { 1.0 };
+        for i in 1..pieces {
+            let f = f64::from(i) / f64::from(pieces);
+            let a = a0 + dir * f * total;
+            let r = r0 + f * (r1 - r0);
+            let mut at = sp;
+            at[u] = cuv[0] + r * a.cos();
+            at[v] = cuv[1] + r * a.sin();
+            at[n] = sp[n] + f * (ep[n] - sp[n]);
+            let m = st.to_machine(at);
+            comp.arc(x, st.pos, m, centre, plane, !cw, feed, col)?;
+            st.pos = m;
+        }
+        comp.arc(x, st.pos, e, centre, plane, !cw, feed, col)?;
+        st.pos = e;
+        return Ok(());
+    }
     if turns > 1 {
         if comp.active() {
             return Err(x.err(
@@ -185,6 +233,12 @@ fn sweep(s: [f64; 2], e: [f64; 2], c: [f64; 2], cw: bool) -> f64 {
         d -= tau;
     }
     d
+}
+
+/// A length (mm) in the program's units (`k` mm each), with them named.
+fn in_units(v: f64, k: f64) -> String {
+    let unit = if k == 1.0 { "mm" } else { "in" };
+    format!("{} {unit}", crate::input_text::fixed(v / k, 4))
 }
 
 fn fault(x: &Exec, f: ArcFault, col: u32, k: f64) -> TranslateError {
@@ -239,6 +293,12 @@ pub fn g10(
     let l = int_word(x, w, 'L', 0.0, 20.0)?;
     let l = match l {
         Some(l @ (1 | 2 | 10 | 11 | 20)) => l,
+        Some(0) => {
+            return Err(x.err(
+                w.col('L').unwrap_or(col),
+                "G10 L0 reloads LinuxCNC's tool table file: novanc's tool data is its own store (change it with G10 L1, L10, L11)",
+            ))
+        }
         Some(l) => {
             return Err(x.err(
                 w.col('L').unwrap_or(col),
@@ -420,8 +480,9 @@ fn g10_tool(
     Ok(())
 }
 
-/// G92 (offsets so the current point reads the words), G92.1 (cancel and clear), G92.2
-/// (cancel, keep the parameters), G92.3 (apply the parameters again).
+/// G52 (the local offset X Y Z as given, kept in the G92 offset, as LinuxCNC keeps it), G92
+/// (offsets so the current point reads the words), G92.1 (cancel and clear), G92.2 (cancel,
+/// keep the parameters), G92.3 (apply the parameters again).
 pub fn g92(
     st: &mut InterpState,
     comp: &Comp,
@@ -430,7 +491,10 @@ pub fn g92(
     col: u32,
 ) -> Result<(), TranslateError> {
     if comp.active() {
-        return Err(x.err(col, "G92 cannot be used with cutter radius compensation on"));
+        return Err(x.err(
+            col,
+            "G52 and G92 cannot be used with cutter radius compensation on",
+        ));
     }
     let k = st.factor();
     let set = |st: &mut InterpState, x: &mut Exec, on: bool| {
@@ -441,7 +505,18 @@ pub fn g92(
             x.events.push(Event::Param(5211 + a, st.g92[a]));
         }
     };
-    if w.has_g(920).is_some() {
+    if w.has_g(520).is_some() {
+        // G52: the local offset, given as it is, in the G92 offset (LinuxCNC's).
+        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if let Some(v) = w.get(c) {
+                st.g92[i] = v * k;
+            }
+        }
+        if st.g92.iter().any(|v| !v.is_finite() || v.abs() > 1e5) {
+            return Err(x.err(col, "G52: the offset would be out of range"));
+        }
+        set(st, x, true);
+    } else if w.has_g(920).is_some() {
         if !w.has_axis() {
             return Err(x.err(col, "G92 needs at least one of X, Y and Z"));
         }

@@ -883,15 +883,15 @@ fn read_o(
 ) -> Result<(), TranslateError> {
     let col = r.col();
     r.i += 1; // 'o'
+    let computed = matches!(r.peek(), Some('[' | '#'));
+    if computed && skipping.is_some() {
+        // A computed label is evaluated on a call only, and a call never ends a skip.
+        return Ok(());
+    }
     let label = if r.peek() == Some('<') {
         r.name()?
     } else {
-        if r.peek() == Some('[') || r.peek() == Some('#') {
-            return Err(r.err(
-                r.col(),
-                "an O-word's label is a number or <name>, not an expression",
-            ));
-        }
+        // A number, or (on a call, as in LinuxCNC) an expression or parameter giving one.
         let (n, ncol) = r.integer("O number")?;
         if !(0..=99_999_999).contains(&n) {
             return Err(r.err(ncol, format!("bad O number {n}")));
@@ -914,6 +914,12 @@ fn read_o(
         return Err(r.err(
             r.col(),
             format!("unknown O-word keyword '{word}' (sub, endsub, call, return, do, while, endwhile, repeat, endrepeat, if, elseif, else, endif, break, continue)"),
+        ));
+    }
+    if computed && kind != OKind::Call {
+        return Err(r.err(
+            col + 1,
+            "an O-word's label is computed ([...] or #) on a call only: give the number here",
         ));
     }
     let evaluate = match skipping {

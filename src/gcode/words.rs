@@ -43,7 +43,6 @@ fn mill_g_why(g: u32) -> &'static str {
         330 => {
             " (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
         }
-        520 => " (G52 local offsets are not in LinuxCNC 2.9's mill language)",
         700..=729 | 760 => " (G70–G72 and G76 are lathe cycles)",
         960 => " (G96 constant surface speed is the lathe's)",
         171 | 181 | 191 => " (the UV, UW and VW planes need U, V and W axes)",
@@ -215,7 +214,7 @@ fn g_group(g: u32) -> Option<u8> {
         540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => 12,
         610 | 611 | 640 => 13,
         970 => 14,
-        40 | 53 | 100 | 280 | 281 | 300 | 301 | 530 | 920..=923 => 0,
+        40 | 53 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920..=923 => 0,
         _ => return None,
     })
 }
@@ -237,6 +236,23 @@ fn m_group(m: u32) -> Option<u8> {
 /// Sorts a line's words, refusing unknown letters and codes, a letter twice, and two codes of
 /// one modal group.
 pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
+    // Words of LinuxCNC's language that name what a LinuxCNC configuration has and this
+    // machine has not: refused with that reason.
+    for w in &line.words {
+        let message = match w.letter {
+            'M' if (100.0..200.0).contains(&w.value) && w.value.fract() == 0.0 => format!(
+                "M{}: M100–M199 run the user programs of a LinuxCNC configuration (its USER_M_PATH): novanc has none",
+                w.value
+            ),
+            '$' => "$ selects one of several spindles (LinuxCNC's multi-spindle machines): novanc has one".into(),
+            _ => continue,
+        };
+        return Err(TranslateError {
+            line: n,
+            col: w.col,
+            message,
+        });
+    }
     sort_words_in(line, n, &MILL)
 }
 
