@@ -82,6 +82,24 @@ fn g92_survives_a_restart_of_the_console() {
     // The machine starts at its zero again; X10 of the G92 frame is machine X30.
     mdi(&mut c, "G0 X10");
     assert_eq!(c.status().pos[0], p(30.0), "{}", c.frame_text());
+    // novanc translate --state reads the console's memory with its G92 as well.
+    let prog = common::temp_dir("state-g92-cli").join("x10.ngc");
+    std::fs::write(&prog, "G0 X10\nM30\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args([
+            "translate",
+            prog.to_str().unwrap(),
+            "--state",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("N1 G00 X30.000"),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // G92.1 cancels it, and that persists too.
     mdi(&mut c, "G92.1");
     c.finish().unwrap();

@@ -208,6 +208,7 @@ fn measure(prog: &str, src: &str, hold: usize) -> (Duration, usize, Result<usize
         Default::default(),
         Default::default(),
         &[],
+        &[],
         hold,
         &mut out,
     );

@@ -55,8 +55,9 @@ const OPTS: [Opt; 8] = [
 ];
 
 /// What a command works on: the program's name (errors are reported under it), its text, the
-/// tool data and the work offsets (zero without `--state`).
-pub type Program = (String, String, Magazine, WorkOffsets);
+/// tool data, the work offsets (zero without `--state`) and the console's persistent G-code
+/// parameters (G92, the system in force, G28/G30 homes, rotations: none without `--state`).
+pub type Program = (String, String, Magazine, WorkOffsets, Vec<(usize, f64)>);
 
 /// The program to work on and the tool data, from the files given or from a console's memory
 /// (`--state DIR`, whose work offsets a G-code program uses). `Err` is the exit code after a
@@ -84,7 +85,7 @@ pub fn program_and_tools(
         let magazine = load_magazine(args.value("--tools"), args.value("--magazine"), settings)
             .map_err(|e| fail(&e))?;
         let source = read(&prog).map_err(|e| fail(&e))?;
-        return Ok((prog, source, magazine, WorkOffsets::default()));
+        return Ok((prog, source, magazine, WorkOffsets::default(), Vec::new()));
     };
     if args.value("--tools").is_some() || args.value("--magazine").is_some() {
         return Err(super::usage_error(&format!(
@@ -103,11 +104,17 @@ pub fn program_and_tools(
         .iter()
         .find(|(n, _)| n.eq_ignore_ascii_case(&name))
     {
-        return Ok((n.clone(), text.clone(), view.magazine, view.offsets));
+        return Ok((
+            n.clone(),
+            text.clone(),
+            view.magazine,
+            view.offsets,
+            view.params,
+        ));
     }
     if std::path::Path::new(&name).is_file() {
         let source = read(&name).map_err(|e| fail(&e))?;
-        return Ok((name, source, view.magazine, view.offsets));
+        return Ok((name, source, view.magazine, view.offsets, view.params));
     }
     let names: Vec<&str> = view.programs.keys().map(|n| n.as_str()).collect();
     Err(fail(&format!(
@@ -165,6 +172,7 @@ pub fn iso_text(
         switches,
         WorkOffsets::default(),
         &[],
+        &[],
         usize::MAX,
         &mut out,
     ) {
@@ -204,6 +212,7 @@ pub fn print_iso(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    params: &[(usize, f64)],
     subroutines: &[std::path::PathBuf],
     hold: usize,
     out: &mut dyn Write,
@@ -215,6 +224,7 @@ pub fn print_iso(
         settings,
         switches,
         offsets,
+        params,
         subroutines: subroutine_path(name, subroutines),
     };
     if let Some(text) = run.held(hold).map_err(PrintError::Program)? {
@@ -242,6 +252,7 @@ struct Listing<'a> {
     settings: &'a MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    params: &'a [(usize, f64)],
     subroutines: Vec<std::path::PathBuf>,
 }
 
@@ -261,14 +272,26 @@ impl Listing<'_> {
     fn statements(&self) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>>> {
         if crate::gcode::is_gcode(self.name, self.source) {
             Box::new(
-                crate::gcode::GcodeSource::new(
-                    self.source.into(),
-                    self.magazine.clone(),
-                    self.settings.clone(),
-                    crate::block::MachineState::at([0, 0, 0]),
-                    self.offsets,
-                    self.switches,
-                )
+                if self.params.is_empty() {
+                    crate::gcode::GcodeSource::new(
+                        self.source.into(),
+                        self.magazine.clone(),
+                        self.settings.clone(),
+                        crate::block::MachineState::at([0, 0, 0]),
+                        self.offsets,
+                        self.switches,
+                    )
+                } else {
+                    // A console's memory: its G92, system in force and homes too.
+                    crate::gcode::GcodeSource::with_state(
+                        self.source.into(),
+                        self.magazine.clone(),
+                        self.settings.clone(),
+                        crate::block::MachineState::at([0, 0, 0]),
+                        crate::gcode::InterpState::with_persistent(self.params, [0.0; 3], None),
+                        self.switches,
+                    )
+                }
                 .subroutines(Box::new(crate::gcode::SubPath(self.subroutines.clone()))),
             )
         } else {
@@ -316,10 +339,11 @@ pub fn main(argv: &[String]) -> i32 {
         return 0;
     }
     let settings = MachineSettings::default();
-    let (prog, source, magazine, offsets) = match program_and_tools(&args, &settings, "translate") {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
+    let (prog, source, magazine, offsets, params) =
+        match program_and_tools(&args, &settings, "translate") {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     let switches = crate::gcode::Switches {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
@@ -337,6 +361,7 @@ pub fn main(argv: &[String]) -> i32 {
         &settings,
         switches,
         offsets,
+        &params,
         &subs,
         HOLD_BYTES,
         &mut stdout,
