@@ -16,7 +16,8 @@
 //! - a stopped run the operator moved by hand says so on its run page;
 //! - after an MDI G-code move (G-code sessions also type G91/G90, G92/G92.1, G43/G49 and G0
 //!   lines in MDI, each run at once), the machine stands where the interpreter's state before
-//!   the line says it goes; a refused one moves nothing and changes no mode;
+//!   the line says it goes; a refused one moves nothing and changes no mode; after an MDI
+//!   G38.3 probe the interpreter reads on from where the machine stopped;
 //! - the display is always rows × at most cols; nothing panics.
 //!
 //! One session in four runs on the error-proportional interpolator.
@@ -354,7 +355,10 @@ impl Session {
         if st.job.is_some() || st.estop || st.alarm.is_some() || st.moving || st.run != 0 {
             return;
         }
-        let line = match self.rng.range(0, 9) {
+        let line = match self.rng.range(0, 10) {
+            // 20 mm down, incremental: a probe that stays above the lowest tip the
+            // programs command (the invariant below), tripping where the stock is.
+            9 => "G91 G38.3 Z-20 F3000".to_string(),
             0 => "G91".to_string(),
             1 => "G90".to_string(),
             2 => "G92 X0 Y0".to_string(),
@@ -378,6 +382,31 @@ impl Session {
         self.stats.mdi_gcode += 1;
         let now = self.c.status().clone();
         let ended = self.c.frame_text().contains("program end");
+        if line.contains("G38.3") {
+            // A probe toward the workpiece: where it stopped (on the stock, or at the move's
+            // end) is where the interpreter reads on from, and #5070 says which.
+            let after = self.c.interp_state();
+            if ended {
+                let settings = self.c.settings();
+                for a in 0..3 {
+                    assert!(
+                        (settings.to_pulses(after.pos[a]) - now.pos[a]).abs() <= 1,
+                        "after MDI {line} the machine is at {:?}, the interpreter at {:?}",
+                        now.pos,
+                        after.pos
+                    );
+                }
+                assert!(after.params[5070] == 0.0 || after.params[5070] == 1.0);
+                self.stats.mdi_probes += 1;
+            } else {
+                assert_eq!(
+                    now.pos[0..2],
+                    pos[0..2],
+                    "a refused MDI {line} moved X or Y"
+                );
+            }
+            return;
+        }
         let Some(xy) = line.strip_prefix("G0 ") else {
             assert_eq!(now.pos, pos, "MDI {line} moved the machine");
             return;
@@ -705,6 +734,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.ofs_in_run > 0, "{st:?}");
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
         assert!(st.mdi_moves > 0, "{st:?}");
+        assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.ep_block_ends > 100, "{st:?}");
     }
 }

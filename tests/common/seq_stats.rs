@@ -36,6 +36,8 @@ pub struct Stats {
     pub mdi_gcode: u64,
     /// Of those, G0 moves that ended where the interpreter's state said.
     pub mdi_moves: u64,
+    /// MDI G38.3 probes after which the interpreter read on from where the machine stopped.
+    pub mdi_probes: u64,
 }
 
 impl Stats {
@@ -57,6 +59,7 @@ impl Stats {
         self.ep_block_ends += o.ep_block_ends;
         self.mdi_gcode += o.mdi_gcode;
         self.mdi_moves += o.mdi_moves;
+        self.mdi_probes += o.mdi_probes;
     }
 }
 
