@@ -209,6 +209,8 @@ pub struct GcodeSource {
     scratch: read::Scratch,
     line_buf: read::Line,
     out_buf: Vec<(Canon, u32, u32)>,
+    /// The sorted words of the line being executed (kept, not returned: a kilobyte).
+    words_buf: Option<Box<words::Words>>,
     mdi: bool,
     done: bool,
     machine: Box<dyn Machine>,
@@ -301,6 +303,7 @@ impl GcodeSource {
             scratch: read::Scratch::default(),
             line_buf: read::Line::default(),
             out_buf: Vec::new(),
+            words_buf: None,
             mdi: false,
             done: false,
             machine: sim,
@@ -674,9 +677,16 @@ impl GcodeSource {
                 false,
             )));
         }
-        let words = words::sort_words(line_words(line), n)?;
-        let mut x = ctx!(self, n);
-        let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
+        let mut words = self.words_buf.take().unwrap_or_default();
+        let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
+        let end_m = if words.has_m(2).is_some() { 2 } else { 30 };
+        let r = sorted.and_then(|()| {
+            let mut x = ctx!(self, n);
+            let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
+            Ok((r, x))
+        });
+        self.words_buf = Some(words);
+        let (r, x) = r?;
         let Exec {
             out, events, asks, ..
         } = x;
@@ -712,10 +722,7 @@ impl GcodeSource {
                     })?;
                 Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
             }
-            LineFlow::End => {
-                let m = if words.has_m(2).is_some() { 2 } else { 30 };
-                Ok(Some(self.end(n, raw.trim().to_string(), out, Some(m))))
-            }
+            LineFlow::End => Ok(Some(self.end(n, raw.trim().to_string(), out, Some(end_m)))),
         }
     }
 

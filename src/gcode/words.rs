@@ -258,12 +258,25 @@ pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
 
 /// Sorts a line's words in a dialect (see [`sort_words`]).
 pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, TranslateError> {
+    let mut w = Words::default();
+    sort_words_into(line, n, d, &mut w)?;
+    Ok(w)
+}
+
+/// [`sort_words_in`] into `w`, which is cleared first (a reader keeps one: the sorted words
+/// are a kilobyte, copied twice a line when returned).
+pub fn sort_words_into(
+    line: &Line,
+    n: u32,
+    d: &Dialect,
+    w: &mut Words,
+) -> Result<(), TranslateError> {
     let err = |col: u32, message: String| TranslateError {
         line: n,
         col,
         message,
     };
-    let mut w = Words::default();
+    *w = Words::default();
     let mut g_seen: [Option<(u32, u32)>; 17] = [None; 17];
     let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
     for &Word { letter, value, col } in &line.words {
@@ -355,5 +368,5 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
             c => return Err(err(col, format!("unknown word {c}{}", d.letter_hint))),
         }
     }
-    Ok(w)
+    Ok(())
 }
