@@ -680,10 +680,10 @@ impl GcodeSource {
         let mut words = self.words_buf.take().unwrap_or_default();
         let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
         let end_m = if words.has_m(2).is_some() { 2 } else { 30 };
-        let r = sorted.and_then(|()| {
+        let r = sorted.map(|()| {
             let mut x = ctx!(self, n);
             let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
-            Ok((r, x))
+            (r, x)
         });
         self.words_buf = Some(words);
         let (r, x) = r?;
