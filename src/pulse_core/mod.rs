@@ -137,6 +137,16 @@ pub enum Command {
         /// Signed number of pulses.
         pulses: i64,
     },
+    /// Sets a simulated input (a panel script's `input`): digital P`index` (`value` 0 or 1)
+    /// or analog E`index`, 0–63, which M66 reads.
+    Input {
+        /// Digital (P) or analog (E).
+        digital: bool,
+        /// Input 0–63 (others are ignored).
+        index: u8,
+        /// For a digital input, on when not 0.
+        value: f64,
+    },
 }
 
 /// The run loaded in the core, as the status tells it.
