@@ -101,9 +101,9 @@ fn number(out: &mut String, word: char, v: f64) {
         let f = t % 1000;
         if f != 0 {
             out.push('.');
-            let keep = if f % 10 != 0 {
+            let keep = if !f.is_multiple_of(10) {
                 3
-            } else if f % 100 != 0 {
+            } else if !f.is_multiple_of(100) {
                 2
             } else {
                 1
@@ -329,7 +329,7 @@ mod tests {
             0.7,
             1e14 + 0.5,
             -3.25,
-            99_999.9995,
+            99_999.999_5,
             1e16 + 0.5,
         ]);
         for _ in 0..200_000 {
