@@ -93,3 +93,89 @@ fn the_input_word_refuses_what_is_not_an_input() {
         assert!(e.contains(want), "{line}: {e}");
     }
 }
+
+/// Outputs in a recorded run: each on `/nc/io` after its block's `/nc/block` and before the
+/// next block's, M64/M68 at once and M62 with the motion; the file passes the Python reader's
+/// check with the new topic.
+#[test]
+fn a_run_records_the_outputs() {
+    let dir = common::temp_dir("io-rec");
+    let prog = dir.join("out.ngc");
+    std::fs::write(
+        &prog,
+        "G21 G90\nM64 P1\nG1 X10 F1000 M62 P2\nM68 E3 Q2.5\nM65 P1\nG0 X0\nM30\n",
+    )
+    .unwrap();
+    let rec = dir.join("out.mcap");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("run")
+        .arg(&prog)
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let bytes = std::fs::read(&rec).unwrap();
+    let mut seen = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let topic = m.channel.topic.clone();
+        if topic == "/nc/block" || topic == "/nc/io" {
+            seen.push(String::from_utf8(m.data.to_vec()).unwrap());
+        }
+    }
+    let io = |seq: u32, stmt: u32, kind: &str, index: u32, value: &str, synced: bool| {
+        format!(
+            r#"{{"seq":{seq},"stmt":{stmt},"kind":"{kind}","index":{index},"value":{value},"synced":{synced}}}"#
+        )
+    };
+    let blocks: Vec<&String> = seen.iter().filter(|m| m.contains("\"text\"")).collect();
+    let at = |s: &str| seen.iter().position(|m| *m == s).unwrap_or(usize::MAX);
+    let after = |text: &str| {
+        seen.iter()
+            .position(|m| m.contains("\"text\"") && m.contains(text))
+            .unwrap_or_else(|| panic!("no block {text}: {blocks:?}"))
+    };
+    assert_eq!(
+        at(&io(1, 2, "digital", 1, "1", false)),
+        after("M64 P1") + 1,
+        "{seen:?}"
+    );
+    assert_eq!(
+        at(&io(2, 3, "digital", 2, "1", true)),
+        after("M62 P2") + 1,
+        "{seen:?}"
+    );
+    assert_eq!(
+        at(&io(4, 4, "analog", 3, "2.5", false)),
+        after("M68 E3") + 1,
+        "{seen:?}"
+    );
+    assert_eq!(
+        at(&io(5, 5, "digital", 1, "0", false)),
+        after("M65 P1") + 1,
+        "{seen:?}"
+    );
+    assert_eq!(seen.len(), blocks.len() + 4, "{seen:?}");
+    if let Some((ok, text)) = common::python_check(&rec, &["--expect-topics", "/nc/io"]) {
+        assert!(ok, "{text}");
+    }
+}
+
+/// The outputs are in the status snapshot after a run at the console.
+#[test]
+fn the_status_holds_the_outputs() {
+    let mut c = common::open("io-status");
+    let f = common::temp_dir("io-status-prog").join("o.ngc");
+    std::fs::write(&f, "G21 G90\nM64 P1\nM62 P2\nM67 E3 Q-1.25\nM65 P1\nM30\n").unwrap();
+    let text = format!(
+        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\n",
+        f.display()
+    );
+    for ev in PanelEvent::parse_script(&text).unwrap() {
+        c.handle(ev);
+    }
+    let o = c.status().outputs;
+    assert_eq!(o.digital, 1 << 2, "{}", c.frame_text());
+    assert_eq!(o.analog[3], -1.25);
+}

@@ -76,26 +76,27 @@ struct Current {
     wait: Option<InputWait>,
 }
 
-/// The machine's simulated inputs: digital P0–P63 and analog E0–E63, set by
-/// [`Command::Input`](crate::pulse_core::Command::Input), read by M66.
+/// 64 digital and 64 analog signals: the machine's simulated inputs (P0–P63 and E0–E63, set
+/// by [`Command::Input`](crate::pulse_core::Command::Input), read by M66) or its outputs
+/// (M62–M65 digital, M67/M68 analog).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Inputs {
-    /// Bit `n`: digital input P`n` is on.
+pub struct Signals {
+    /// Bit `n`: digital signal `n` is on.
     pub digital: u64,
-    /// Analog inputs E0–E63.
+    /// Analog signals 0–63.
     pub analog: [f64; 64],
 }
 
-impl Default for Inputs {
-    fn default() -> Inputs {
-        Inputs {
+impl Default for Signals {
+    fn default() -> Signals {
+        Signals {
             digital: 0,
             analog: [0.0; 64],
         }
     }
 }
 
-impl Inputs {
+impl Signals {
     /// Sets input `index` (ignored past 63); a digital one is on when `value` is not 0.
     pub fn set(&mut self, digital: bool, index: u8, value: f64) {
         let i = usize::from(index);
@@ -124,7 +125,7 @@ impl Inputs {
     }
 }
 
-/// M66 in progress (docs/gcode.md, "Inputs and outputs").
+/// M66 in progress (docs/gcode.md, "Signals and outputs").
 #[derive(Clone, Copy, Debug)]
 struct InputWait {
     digital: bool,
@@ -140,7 +141,7 @@ struct InputWait {
 
 impl InputWait {
     /// Looks at the input now: whether the wait is over (its value kept).
-    fn look(&mut self, inputs: &Inputs) -> bool {
+    fn look(&mut self, inputs: &Signals) -> bool {
         let v = inputs.get(self.digital, self.index);
         let high = v != 0.0;
         let met = match self.mode {
@@ -315,7 +316,9 @@ pub struct Machine {
     /// The answer of the probe or M66 block just ended, for the source at the next NCBR.
     probe_answer: Option<Answer>,
     /// The simulated inputs M66 reads.
-    inputs: Inputs,
+    inputs: Signals,
+    /// The outputs M62–M65, M67 and M68 set.
+    outputs: Signals,
 }
 
 impl Machine {
@@ -366,13 +369,49 @@ impl Machine {
             data_mode: "SEARCH".into(),
             commands: 0,
             probe_answer: None,
-            inputs: Inputs::default(),
+            inputs: Signals::default(),
+            outputs: Signals::default(),
         }
     }
 
     /// The simulated inputs.
-    pub fn inputs(&self) -> &Inputs {
+    pub fn inputs(&self) -> &Signals {
         &self.inputs
+    }
+
+    /// An output of block `b` (M62–M65, M67, M68) at time `t`: those with the motion
+    /// (`synced`) when the block's motion starts, the others when the block is read into the
+    /// NC table. Each is recorded on `/nc/io`.
+    fn apply_output(&mut self, b: &Block, t: u64, synced: bool) {
+        let (digital, index, value) = match b.io {
+            Some(crate::block::Io::Digital {
+                index,
+                on,
+                synced: s,
+            }) if s == synced => (true, index, f64::from(u8::from(on))),
+            Some(crate::block::Io::Analog {
+                index,
+                value,
+                synced: s,
+            }) if s == synced => (false, index, value),
+            _ => return,
+        };
+        self.outputs.set(digital, index, value);
+        if let Some(s) = &self.events {
+            send_ev(
+                s,
+                &self.out.lossless,
+                Event::Io {
+                    t_ns: t,
+                    seq: b.seq,
+                    stmt: b.stmt,
+                    digital,
+                    index,
+                    value,
+                    synced,
+                },
+            );
+        }
     }
 
     /// The settings in force.
@@ -874,6 +913,7 @@ impl Machine {
                 },
             );
         }
+        self.apply_output(&b, self.now, false);
         let mut pre = 0;
         if b.m == Some(6) {
             pre += self.settings.tool_change_ns;
@@ -946,6 +986,7 @@ impl Machine {
                     let t0 = c.until;
                     let b = c.block.clone();
                     self.pre_effects(&b);
+                    self.apply_output(&b, t0, true);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
