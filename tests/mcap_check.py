@@ -63,6 +63,14 @@ REQUIRED = {
         "tripped": BOOL,
         "at_start": BOOL,
     },
+    "/nc/io": {
+        "seq": INT,
+        "stmt": INT,
+        "kind": STR,
+        "index": INT,
+        "value": NUM,
+        "synced": BOOL,
+    },
     "/lathe/event": {"channel": INT, "event": STR, "text": STR},
 }
 

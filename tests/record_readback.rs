@@ -285,6 +285,18 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             t_ns,
             event: text(field(obj, "event")),
         },
+        "/nc/io" => Event::Io {
+            t_ns,
+            seq: int(field(obj, "seq")) as u32,
+            stmt: int(field(obj, "stmt")) as u32,
+            digital: text(field(obj, "kind")) == "digital",
+            index: int(field(obj, "index")) as u8,
+            value: num(field(obj, "value")),
+            synced: match field(obj, "synced") {
+                Json::Bool(b) => *b,
+                v => panic!("synced is not a boolean: {v:?}"),
+            },
+        },
         "/nc/probe" => {
             let flag = |k: &str| match field(obj, k) {
                 Json::Bool(b) => *b,

@@ -2,7 +2,6 @@
 //! machine's answers"): on the translator thread, a probe waits until the pulse core has run
 //! the probe block and says where it stopped. Reading does not run ahead of that answer.
 
-use crate::gcode::exec::low_input;
 use crate::gcode::{Machine, Probed};
 use crate::pulse_core::{Answer, MachineLink};
 
@@ -39,18 +38,24 @@ impl Machine for RunMachine {
                 tripped,
                 at_start,
             }),
+            Answer::Input(_) => Err("the machine answered an M66 where a probe was asked".into()),
         }
     }
 
-    /// M66: the core has no inputs yet: every input reads low at once (as where no pulse core
-    /// runs).
+    /// M66: the core reads its simulated input when the block is reached, waiting (L1–L4) up
+    /// to the timeout in machine time; `None` on a timeout.
     fn input(
         &mut self,
         _digital: bool,
         _index: u32,
-        mode: u32,
+        _mode: u32,
         _timeout: f64,
     ) -> Result<Option<f64>, String> {
-        Ok(low_input(mode))
+        match self.link.wait_answer()? {
+            Answer::Input(v) => Ok(v),
+            Answer::Probe { .. } => {
+                Err("the machine answered a probe where an M66 was asked".into())
+            }
+        }
     }
 }

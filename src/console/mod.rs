@@ -515,6 +515,17 @@ impl Console {
                 self.switches.block_delete = on;
                 self.message = gcode_run::switch_message("BLOCK DELETE", on);
             }
+            PanelEvent::Input {
+                digital,
+                index,
+                value,
+            } => {
+                self.command(Command::Input {
+                    digital,
+                    index,
+                    value,
+                });
+            }
             PanelEvent::OptionalStop(on) => {
                 self.switches.optional_stop = on;
                 self.message = gcode_run::switch_message("OPTIONAL STOP", on);

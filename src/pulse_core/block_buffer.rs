@@ -63,6 +63,9 @@ pub enum Answer {
         /// It was so at the start of the move.
         at_start: bool,
     },
+    /// An M66 block ended: the input's value (digital 0 or 1), `None` when its wait timed
+    /// out.
+    Input(Option<f64>),
 }
 
 thread_local! {

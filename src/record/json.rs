@@ -320,6 +320,32 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.push(b'}');
             *t_ns
         }
+        Event::Io {
+            t_ns,
+            seq,
+            stmt,
+            digital,
+            index,
+            value,
+            synced,
+        } => {
+            out.extend_from_slice(b"{\"seq\":");
+            push_u64(out, u64::from(*seq));
+            out.extend_from_slice(b",\"stmt\":");
+            push_u64(out, u64::from(*stmt));
+            out.extend_from_slice(if *digital {
+                &b",\"kind\":\"digital\",\"index\":"[..]
+            } else {
+                b",\"kind\":\"analog\",\"index\":"
+            });
+            push_u64(out, u64::from(*index));
+            out.extend_from_slice(b",\"value\":");
+            push_mm(out, *value);
+            out.extend_from_slice(b",\"synced\":");
+            out.extend_from_slice(if *synced { b"true" } else { b"false" });
+            out.push(b'}');
+            *t_ns
+        }
     }
 }
 

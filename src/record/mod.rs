@@ -100,6 +100,23 @@ pub enum Event {
         /// It was so at the start: nothing moved.
         at_start: bool,
     },
+    /// `/nc/io`: an output set by a block (M62–M65, M67, M68).
+    Io {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// Block sequence number.
+        seq: u32,
+        /// Source statement line, 1-based.
+        stmt: u32,
+        /// Digital (M62–M65) or analog (M67, M68).
+        digital: bool,
+        /// Output 0–63.
+        index: u8,
+        /// The value: a digital output 1 on, 0 off.
+        value: f64,
+        /// With the motion (M62, M63, M67) or at once.
+        synced: bool,
+    },
 }
 
 /// The non-blocking sending side of a recording. Cloneable; shared by every producer.

@@ -321,7 +321,7 @@ mod tests {
     fn summary() -> RecordSummary {
         RecordSummary {
             path: PathBuf::from("run.mcap"),
-            messages: [12, 40, 620, 5, 3, 2, 0],
+            messages: [12, 40, 620, 5, 3, 2, 0, 0],
             pulses: 1_234_567,
             bytes: 17_200_000,
             incomplete: false,

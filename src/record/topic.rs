@@ -4,7 +4,7 @@
 use super::Event;
 
 /// How many topics there are.
-pub const TOPICS: usize = 7;
+pub const TOPICS: usize = 8;
 
 /// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -23,6 +23,8 @@ pub enum Topic {
     PanelEvent,
     /// `/nc/probe`: a probe block ended (issue 21).
     Probe,
+    /// `/nc/io`: an output set (issue 21).
+    Io,
 }
 
 impl Topic {
@@ -35,6 +37,7 @@ impl Topic {
         Topic::Display,
         Topic::PanelEvent,
         Topic::Probe,
+        Topic::Io,
     ];
 
     /// The MCAP topic name.
@@ -47,6 +50,7 @@ impl Topic {
             Topic::Display => "/panel/display",
             Topic::PanelEvent => "/panel/event",
             Topic::Probe => "/nc/probe",
+            Topic::Io => "/nc/io",
         }
     }
 
@@ -65,6 +69,7 @@ impl Topic {
             Event::Display { .. } => Topic::Display,
             Event::PanelEvent { .. } => Topic::PanelEvent,
             Event::Probe { .. } => Topic::Probe,
+            Event::Io { .. } => Topic::Io,
         }
     }
 
@@ -78,6 +83,7 @@ impl Topic {
             Topic::Display => "novanc.PanelDisplay",
             Topic::PanelEvent => "novanc.PanelEvent",
             Topic::Probe => "novanc.Probe",
+            Topic::Io => "novanc.Io",
         }
     }
 
@@ -148,6 +154,17 @@ impl Topic {
                 r#""at_start":{"type":"boolean","description":"it was so at the start: nothing moved"}},"#,
                 r#""required":["seq","stmt","x","y","z","pulses","tripped","at_start"]}"#
             ),
+            Topic::Io => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Io","#,
+                r#""description":"A block set an output (M62-M65, M67, M68)","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""kind":{"type":"string","enum":["digital","analog"]},"#,
+                r#""index":{"type":"integer","minimum":0,"maximum":63,"description":"output number"},"#,
+                r#""value":{"type":"number","description":"a digital output 1 on, 0 off; an analog one its value (6 decimals)"},"#,
+                r#""synced":{"type":"boolean","description":"with the motion (M62, M63, M67: when the block's motion starts) or at once (M64, M65, M68: when the block is read)"}},"#,
+                r#""required":["seq","stmt","kind","index","value","synced"]}"#
+            ),
         }
     }
 }
@@ -175,6 +192,7 @@ mod tests {
             &[
                 "seq", "stmt", "x", "y", "z", "pulses", "tripped", "at_start",
             ],
+            &["seq", "stmt", "kind", "index", "value", "synced"],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();

@@ -538,7 +538,7 @@ mod tests {
         }));
         let out = w.finish(false, 0);
         let _ = std::fs::remove_file(&path);
-        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1, 0]);
+        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1, 0, 0]);
         assert_eq!(out.pulses, 3);
         assert_eq!(out.disk_error, None);
         assert!(out.bytes > 0);

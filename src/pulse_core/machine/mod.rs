@@ -71,6 +71,99 @@ struct Current {
     /// A probe block: whether the probe finds what it seeks on the way, and already at the
     /// start (answered with the position when the block ends).
     probe: Option<(bool, bool)>,
+    /// An M66 block: the wait on an input, and its value once read (`None` until then, or
+    /// on a timeout).
+    wait: Option<InputWait>,
+}
+
+/// 64 digital and 64 analog signals: the machine's simulated inputs (P0–P63 and E0–E63, set
+/// by [`Command::Input`](crate::pulse_core::Command::Input), read by M66) or its outputs
+/// (M62–M65 digital, M67/M68 analog).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Signals {
+    /// Bit `n`: digital signal `n` is on.
+    pub digital: u64,
+    /// Analog signals 0–63.
+    pub analog: [f64; 64],
+}
+
+impl Default for Signals {
+    fn default() -> Signals {
+        Signals {
+            digital: 0,
+            analog: [0.0; 64],
+        }
+    }
+}
+
+impl Signals {
+    /// Sets input `index` (ignored past 63); a digital one is on when `value` is not 0.
+    pub fn set(&mut self, digital: bool, index: u8, value: f64) {
+        let i = usize::from(index);
+        if i >= 64 {
+            return;
+        }
+        if digital {
+            if value != 0.0 {
+                self.digital |= 1 << i;
+            } else {
+                self.digital &= !(1 << i);
+            }
+        } else if value.is_finite() {
+            self.analog[i] = value;
+        }
+    }
+
+    /// The value of input `index`: a digital one 0 or 1.
+    pub fn get(&self, digital: bool, index: u8) -> f64 {
+        let i = usize::from(index) & 63;
+        if digital {
+            f64::from(u8::from(self.digital >> i & 1 == 1))
+        } else {
+            self.analog[i]
+        }
+    }
+}
+
+/// M66 in progress (docs/gcode.md, "Signals and outputs").
+#[derive(Clone, Copy, Debug)]
+struct InputWait {
+    digital: bool,
+    index: u8,
+    /// L: 0 immediate, 1 rise, 2 fall, 3 high, 4 low.
+    mode: u8,
+    timeout_ns: u64,
+    /// For a rise (fall): the input has been seen low (high) since the block started.
+    armed: bool,
+    /// The value read when the wait ended; `None` while waiting, or after a timeout.
+    value: Option<f64>,
+}
+
+impl InputWait {
+    /// Looks at the input now: whether the wait is over (its value kept).
+    fn look(&mut self, inputs: &Signals) -> bool {
+        let v = inputs.get(self.digital, self.index);
+        let high = v != 0.0;
+        let met = match self.mode {
+            0 => true,
+            1 => {
+                let m = self.armed && high;
+                self.armed |= !high;
+                m
+            }
+            2 => {
+                let m = self.armed && !high;
+                self.armed |= high;
+                m
+            }
+            3 => high,
+            _ => !high,
+        };
+        if met {
+            self.value = Some(v);
+        }
+        met
+    }
 }
 
 /// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
@@ -220,8 +313,12 @@ pub struct Machine {
     op_mode: String,
     data_mode: String,
     commands: u64,
-    /// The answer of the probe block just ended, for the source at the next NCBR.
+    /// The answer of the probe or M66 block just ended, for the source at the next NCBR.
     probe_answer: Option<Answer>,
+    /// The simulated inputs M66 reads.
+    inputs: Signals,
+    /// The outputs M62–M65, M67 and M68 set.
+    outputs: Signals,
 }
 
 impl Machine {
@@ -272,6 +369,48 @@ impl Machine {
             data_mode: "SEARCH".into(),
             commands: 0,
             probe_answer: None,
+            inputs: Signals::default(),
+            outputs: Signals::default(),
+        }
+    }
+
+    /// The simulated inputs.
+    pub fn inputs(&self) -> &Signals {
+        &self.inputs
+    }
+
+    /// An output of block `b` (M62–M65, M67, M68) at time `t`: those with the motion
+    /// (`synced`) when the block's motion starts, the others when the block is read into the
+    /// NC table. Each is recorded on `/nc/io`.
+    fn apply_output(&mut self, b: &Block, t: u64, synced: bool) {
+        let (digital, index, value) = match b.io {
+            Some(crate::block::Io::Digital {
+                index,
+                on,
+                synced: s,
+            }) if s == synced => (true, index, f64::from(u8::from(on))),
+            Some(crate::block::Io::Analog {
+                index,
+                value,
+                synced: s,
+            }) if s == synced => (false, index, value),
+            _ => return,
+        };
+        self.outputs.set(digital, index, value);
+        if let Some(s) = &self.events {
+            send_ev(
+                s,
+                &self.out.lossless,
+                Event::Io {
+                    t_ns: t,
+                    seq: b.seq,
+                    stmt: b.stmt,
+                    digital,
+                    index,
+                    value,
+                    synced,
+                },
+            );
         }
     }
 
@@ -732,6 +871,31 @@ impl Machine {
             Some(g) if b.motion == Kind::Linear => Some(self.probe_stop(&mut b, pos, g)),
             _ => None,
         };
+        let wait = match b.io {
+            Some(crate::block::Io::Wait {
+                digital,
+                index,
+                mode,
+                timeout,
+            }) => Some(InputWait {
+                digital,
+                index,
+                mode,
+                timeout_ns: if mode == 0 {
+                    0
+                } else {
+                    (timeout.max(0.0) * 1e9).min(u64::MAX as f64 / 4.0) as u64
+                },
+                // A rise (fall) is armed by the input low (high) at the start.
+                armed: match mode {
+                    1 => self.inputs.get(digital, index) == 0.0,
+                    2 => self.inputs.get(digital, index) != 0.0,
+                    _ => false,
+                },
+                value: None,
+            }),
+            _ => None,
+        };
         b.delta = [b.end[0] - pos[0], b.end[1] - pos[1], b.end[2] - pos[2]];
         if let Err(why) = check_block(&self.settings, pos, &b) {
             self.refuse(&e, Some(&b), why);
@@ -749,6 +913,7 @@ impl Machine {
                 },
             );
         }
+        self.apply_output(&b, self.now, false);
         let mut pre = 0;
         if b.m == Some(6) {
             pre += self.settings.tool_change_ns;
@@ -773,6 +938,7 @@ impl Machine {
             motion: None,
             len_planned: None,
             probe,
+            wait,
         });
     }
 
@@ -820,6 +986,7 @@ impl Machine {
                     let t0 = c.until;
                     let b = c.block.clone();
                     self.pre_effects(&b);
+                    self.apply_output(&b, t0, true);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
@@ -853,7 +1020,7 @@ impl Machine {
                         + if b.motion == Kind::Dwell {
                             b.dwell_ns
                         } else {
-                            0
+                            c.wait.map_or(0, |w| w.timeout_ns)
                         };
                     c.motion = motion.map(|mut m| {
                         m.set_hold(self.hold);
@@ -868,8 +1035,19 @@ impl Machine {
                             }
                             Progress::Pending | Progress::AtRest => break,
                         }
-                    } else if c.until >= end {
-                        break;
+                    } else {
+                        let inputs = self.inputs;
+                        let now = self.now;
+                        if let Some(w) = c.wait.as_mut().filter(|w| w.value.is_none()) {
+                            if w.look(&inputs) {
+                                // The wait is over now (not before the block's start).
+                                let t0 = c.until.saturating_sub(w.timeout_ns);
+                                c.until = c.until.min(now.max(t0));
+                            }
+                        }
+                        if c.until >= end {
+                            break;
+                        }
                     }
                     let b = &c.block;
                     let post = match b.m {
@@ -969,6 +1147,9 @@ impl Machine {
                     speed_mm_min: 0.0,
                 },
             );
+        }
+        if let Some(w) = c.wait {
+            self.probe_answer = Some(Answer::Input(w.value));
         }
         if let Some((tripped, at_start)) = c.probe {
             self.probe_answer = Some(Answer::Probe {
