@@ -22,3 +22,4 @@ pub mod tooldata;
 pub mod translator;
 #[cfg(feature = "window")]
 pub mod window;
+pub mod workpiece;

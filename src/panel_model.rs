@@ -272,6 +272,16 @@ pub enum PanelEvent {
     WheelScale(u32),
     /// The BLOCK DELETE switch on or off: a G-code run skips lines starting with `/`.
     BlockDelete(bool),
+    /// Sets a simulated machine input (script only): digital P0–P63 (value 0 or 1) or analog
+    /// E0–E63, which M66 reads.
+    Input {
+        /// Digital (P) or analog (E).
+        digital: bool,
+        /// Input 0–63.
+        index: u8,
+        /// The value (a digital input: 1 on, 0 off).
+        value: f64,
+    },
     /// The OPTIONAL STOP switch on or off: a G-code run stops at M01.
     OptionalStop(bool),
     /// Jog button pressed (CONTINUOUS: move while held; STEP: one increment), +1 or -1.
@@ -480,6 +490,37 @@ impl PanelEvent {
                     PanelEvent::OptionalStop(on)
                 }
             }
+            "input" => match args.as_slice() {
+                [which, v] => {
+                    let (digital, n) = match which.chars().next() {
+                        Some('P' | 'p') => (true, &which[1..]),
+                        Some('E' | 'e') => (false, &which[1..]),
+                        _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
+                    };
+                    let index: u8 = match n.parse() {
+                        Ok(i) if i <= 63 => i,
+                        _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
+                    };
+                    let value = if digital {
+                        match v.to_ascii_lowercase().as_str() {
+                            "on" => 1.0,
+                            "off" => 0.0,
+                            a => return Err(format!("input {which}: takes on or off, not '{a}'")),
+                        }
+                    } else {
+                        match v.parse::<f64>() {
+                            Ok(x) if x.is_finite() => x,
+                            _ => return Err(format!("input {which}: '{v}' is not a number")),
+                        }
+                    };
+                    PanelEvent::Input {
+                        digital,
+                        index,
+                        value,
+                    }
+                }
+                _ => return Err("'input' takes P0-P63 on|off or E0-E63 and a value".into()),
+            },
             other => return Err(format!("unknown script word '{other}'")),
         };
         Ok(Some(ev))

@@ -25,6 +25,9 @@ pub struct MachineSettings {
     pub step_mm: f64,
     /// Time a tool change (M06) takes, ns.
     pub tool_change_ns: u64,
+    /// Where Z goes for a tool change (M06), machine mm: the top of the Z travel, machine Z 0,
+    /// on the centre (docs/gcode.md "M06").
+    pub tool_change_z_mm: f64,
     /// Time the spindle takes to start, stop or reverse (M03/M04/M05), ns.
     pub spindle_ns: u64,
     /// Number of pockets in the magazine (T codes 1..=capacity).
@@ -41,6 +44,9 @@ pub struct MachineSettings {
     /// The error-proportional interpolator's constant L (adder 100 of seed 001), pulses: the
     /// tail's time constant is L / f_r (docs/pulse-core.md, "Choosing L").
     pub ep_l_pulses: i64,
+    /// The stock on the table, in machine coordinates of the tool tip: what a probe touches
+    /// (docs/gcode.md "Probing").
+    pub workpiece: crate::workpiece::Workpiece,
 }
 
 /// The pulse distribution method of the pulse core.
@@ -105,6 +111,7 @@ impl Default for MachineSettings {
             jog_mm_min: 1_000.0,
             step_mm: 0.1,
             tool_change_ns: 4_000_000_000,
+            tool_change_z_mm: 0.0,
             spindle_ns: 1_000_000_000,
             magazine_capacity: 24,
             b1_capacity: 4096,
@@ -112,11 +119,17 @@ impl Default for MachineSettings {
             tape_chars_per_s: 300,
             interpolator: Interpolator::Dda,
             ep_l_pulses: EP_L_DEFAULT,
+            workpiece: crate::workpiece::Workpiece::centre_default(),
         }
     }
 }
 
 impl MachineSettings {
+    /// Where Z goes for a tool change, machine mm.
+    pub fn tool_change_z(&self) -> f64 {
+        self.tool_change_z_mm
+    }
+
     /// Millimetres to the nearest whole pulse.
     pub fn to_pulses(&self, mm: f64) -> i64 {
         (mm / self.pulse_mm).round() as i64

@@ -214,7 +214,7 @@ fn ofs_home_and_end_reach_the_first_tool_and_the_work_offsets() {
     keys(&mut c, &["Ctrl+O", "End"]);
     let f = c.frame_text();
     assert!(
-        f.contains("OFS WORK") && f.contains("G54       >0.000"),
+        f.contains("OFS WORK") && f.contains("G54        >0.000"),
         "{f}"
     );
     keys(&mut c, &["Home"]);

@@ -58,10 +58,10 @@ fn a_control_character_in_gcode_is_named_not_printed() {
     };
     assert_eq!(
         first_error("G0 X1\n\u{0}\n").as_deref(),
-        Some("2:1: a word letter was expected, not U+0000 (a control character)")
+        Some("2:1: U+0000 (a control character) is not part of the language (outside a comment)")
     );
     assert_eq!(
         first_error("G0 X\u{1b}[2J\n").as_deref(),
-        Some("1:5: a number was expected, not U+001B (a control character)")
+        Some("1:5: U+001B (a control character) is not part of the language (outside a comment)")
     );
 }

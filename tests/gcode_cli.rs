@@ -2,6 +2,8 @@
 //! name or the first line, the blocks printed with G18/G19 and I J K on arcs outside XY,
 //! the switches, and errors on stderr as `PROG:LINE:COL: message` with nothing on stdout.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -142,5 +144,49 @@ fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
     assert!(
         err.contains("'blockdelete' takes on or off, not 'maybe'"),
         "{err}"
+    );
+}
+
+/// `o<name> call` finds `name.ngc` in the program's own folder, then in each `--subroutines`
+/// folder in order; without it, the call is refused at its place, naming the file it looked for.
+#[test]
+fn named_subroutines_are_found_in_the_programs_folder_then_the_subroutine_path() {
+    let dir = common::temp_dir("gcode-subs");
+    let lib = dir.join("lib");
+    std::fs::create_dir_all(&lib).unwrap();
+    std::fs::write(
+        lib.join("square.ngc"),
+        "o<square> sub\nG1 X#1 F300\nG1 Y#1\no<square> endsub\nM2\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("hole.ngc"),
+        "o<hole> sub\nG0 X#1 Y#2\no<hole> endsub\nM2\n",
+    )
+    .unwrap();
+    let main = dir.join("main.ngc");
+    std::fs::write(
+        &main,
+        "G10 L2 P1 X300 Y300 Z-300\nG0 Z5\no<square> call [10]\no<hole> call [3] [4]\nM30\n",
+    )
+    .unwrap();
+    let m = main.to_str().unwrap();
+    let out = novanc(&["translate", m]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr),
+        format!("{m}:3:1: subroutine o<square> not found (not in this program, and no file square.ngc in the subroutine path)\n")
+    );
+    assert_eq!(text(&out.stdout), "");
+    let out = novanc(&["translate", m, "--subroutines", lib.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stdout),
+        "G21 G90 G17 G94 G40 G49 G80\n\
+         N1 G00 Z-295.000\n\
+         N2 G01 X310.000 F300\n\
+         N3 G01 Y310.000 F300\n\
+         N4 G00 X303.000 Y304.000\n\
+         N5 M30\n"
     );
 }

@@ -169,7 +169,7 @@ fn a_bad_gcode_line_in_mdi_says_where_and_moves_nothing() {
         ("G0 X10 G1 Y5", "modal group"),
         ("G1 X10", "F"),
         ("G0 X[1/0]", "zero"),
-        ("G10 L2 P9 X1", "P"),
+        ("G10 L2 P10 X1", "P"),
     ] {
         let before = (c.status().pos, c.work_offsets());
         type_line(&mut c, line);

@@ -4,24 +4,9 @@
 
 mod common;
 
-use common::{keys, open, p, shows, type_line};
-use novanc::console::{Console, ConsoleConfig};
+use common::{keys, mdi, open, p, reopen, shows, type_line};
 use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
-use novanc::pulse_core::ClockMode;
 use std::path::{Path, PathBuf};
-
-fn reopen(dir: &Path) -> Console {
-    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
-    cfg.clock = ClockMode::Virtual;
-    Console::open(cfg).unwrap().0
-}
-
-fn mdi(c: &mut Console, line: &str) {
-    c.handle(E::Op(OpMode::Mdi));
-    type_line(c, line);
-    c.handle(E::Start);
-    c.handle(E::Wait);
-}
 
 fn repo(f: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(f)
@@ -95,7 +80,7 @@ fn a_refused_run_changes_no_offset() {
         c.frame_text()
     );
     assert_eq!(c.work_offsets().0[0], [0.0; 3]);
-    for bad in ["G10 L2 P7 X1", "G10 L2 P1 X[1/0]"] {
+    for bad in ["G10 L2 P10 X1", "G10 L2 P1 X[1/0]"] {
         mdi(&mut c, bad);
         assert!(shows(&c, "START refused"), "{bad}: {}", c.frame_text());
         c.handle(E::Reset);

@@ -36,6 +36,7 @@ except ImportError as e:  # pragma: no cover - environment problem, not a file p
 INT = "int"
 NUM = "num"
 STR = "str"
+BOOL = "bool"
 
 # topic -> {field: type}
 REQUIRED = {
@@ -52,6 +53,24 @@ REQUIRED = {
     },
     "/panel/display": {"lines": "strings"},
     "/panel/event": {"event": STR},
+    "/nc/probe": {
+        "seq": INT,
+        "stmt": INT,
+        "x": NUM,
+        "y": NUM,
+        "z": NUM,
+        "pulses": "pulses3",
+        "tripped": BOOL,
+        "at_start": BOOL,
+    },
+    "/nc/io": {
+        "seq": INT,
+        "stmt": INT,
+        "kind": STR,
+        "index": INT,
+        "value": NUM,
+        "synced": BOOL,
+    },
     "/lathe/event": {"channel": INT, "event": STR, "text": STR},
 }
 
@@ -69,6 +88,7 @@ def check_field(topic, name, kind, v, where):
         INT: lambda: is_int(v),
         NUM: lambda: (is_int(v) or isinstance(v, float)),
         STR: lambda: isinstance(v, str),
+        BOOL: lambda: isinstance(v, bool),
         "pulses3": lambda: isinstance(v, list) and len(v) == 3 and all(is_int(p) for p in v),
         "axis": lambda: v in ("X", "Y", "Z"),
         "dir": lambda: is_int(v) and v in (1, -1),

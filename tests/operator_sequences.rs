@@ -14,6 +14,10 @@
 //! - a tape read stores exactly what the codec decodes, or nothing: an error leaves program
 //!   memory and the tool data unchanged with the ALARM lamp lit, and so does abandoning it;
 //! - a stopped run the operator moved by hand says so on its run page;
+//! - after an MDI G-code move (G-code sessions also type G91/G90, G92/G92.1, G43/G49 and G0
+//!   lines in MDI, each run at once), the machine stands where the interpreter's state before
+//!   the line says it goes; a refused one moves nothing and changes no mode; after an MDI
+//!   G38.3 probe the interpreter reads on from where the machine stopped;
 //! - the display is always rows × at most cols; nothing panics.
 //!
 //! One session in four runs on the error-proportional interpolator.
@@ -295,6 +299,11 @@ impl Session {
                 self.ev(E::Type(what));
                 self.stats.searches += u64::from(self.c.frame_text().contains("AUTO starts at"));
             }
+            86..=89 if self.gcode => {
+                for _ in 0..self.rng.range(1, 4) {
+                    self.mdi_gcode();
+                }
+            }
             86..=91 => {
                 // An MDI program.
                 let (text, low) = if self.gcode && self.rng.range(0, 1) == 0 {
@@ -334,6 +343,107 @@ impl Session {
                 self.key(k);
             }
         }
+    }
+
+    /// An MDI G-code line run at once with the machine at rest and no run loaded: a modal
+    /// change (G91/G90, G92/G92.1, G43/G49) or a G0 move in X and Y. The interpreter's state
+    /// carries from line to line: after a move, the machine stands where the state before it
+    /// says the line goes (G90 or G91, G92, the work offset, the tool length; Z does not
+    /// move); a move refused before it started leaves the machine and the state as they were.
+    fn mdi_gcode(&mut self) {
+        let st = self.c.status().clone();
+        if st.job.is_some() || st.estop || st.alarm.is_some() || st.moving || st.run != 0 {
+            return;
+        }
+        let line = match self.rng.range(0, 10) {
+            // 20 mm down, incremental: a probe that stays above the lowest tip the
+            // programs command (the invariant below), tripping where the stock is.
+            9 => "G91 G38.3 Z-20 F3000".to_string(),
+            0 => "G91".to_string(),
+            1 => "G90".to_string(),
+            2 => "G92 X0 Y0".to_string(),
+            3 => "G92.1".to_string(),
+            4 => "G43 H2".to_string(),
+            5 => "G49".to_string(),
+            _ => format!(
+                "G0 X{} Y{}",
+                self.rng.range(-100, 400),
+                self.rng.range(-100, 300)
+            ),
+        };
+        let before = self.c.interp_state().clone();
+        let pos = st.pos;
+        self.key("Alt+4");
+        self.key("F7");
+        self.ev(E::Type(format!("-999L999KI{line}")));
+        self.key("Alt+3");
+        self.key("F9");
+        self.ev(E::Wait);
+        self.stats.mdi_gcode += 1;
+        let now = self.c.status().clone();
+        let ended = self.c.frame_text().contains("program end");
+        if line.contains("G38.3") {
+            // A probe toward the workpiece: where it stopped (on the stock, or at the move's
+            // end) is where the interpreter reads on from, and #5070 says which.
+            let after = self.c.interp_state();
+            if ended {
+                let settings = self.c.settings();
+                for a in 0..3 {
+                    assert!(
+                        (settings.to_pulses(after.pos[a]) - now.pos[a]).abs() <= 1,
+                        "after MDI {line} the machine is at {:?}, the interpreter at {:?}",
+                        now.pos,
+                        after.pos
+                    );
+                }
+                assert!(after.params[5070] == 0.0 || after.params[5070] == 1.0);
+                self.stats.mdi_probes += 1;
+            } else {
+                assert_eq!(
+                    now.pos[0..2],
+                    pos[0..2],
+                    "a refused MDI {line} moved X or Y"
+                );
+            }
+            return;
+        }
+        let Some(xy) = line.strip_prefix("G0 ") else {
+            assert_eq!(now.pos, pos, "MDI {line} moved the machine");
+            return;
+        };
+        if !ended {
+            // Refused (beyond the travel): nothing moved, the state is as it was.
+            assert_eq!(now.pos, pos, "MDI {line} was refused but moved");
+            let after = self.c.interp_state();
+            assert_eq!(
+                after.modal, before.modal,
+                "a refused MDI {line} changed the modes"
+            );
+            assert_eq!(after.g92, before.g92);
+            return;
+        }
+        let words: Vec<f64> = xy.split(' ').map(|w| w[1..].parse().unwrap()).collect();
+        let settings = self.c.settings().clone();
+        let mut b = before;
+        b.pos = pos.map(|v| settings.to_mm(v));
+        let here = b.prog();
+        let target = if b.modal.incremental {
+            [here[0] + words[0], here[1] + words[1], here[2]]
+        } else {
+            [words[0], words[1], here[2]]
+        };
+        let want = b.to_machine(target).map(|v| settings.to_pulses(v));
+        for a in 0..3 {
+            assert!(
+                (now.pos[a] - want[a]).abs() <= 1,
+                "MDI {line} with the state {:?} G92 {:?} TLO {:?}: machine at {:?}, the state says {want:?}",
+                b.modal,
+                b.g92,
+                b.tlo,
+                now.pos
+            );
+        }
+        self.stats.mdi_moves += 1;
     }
 
     /// A page key and what an operator types on that page: an OFS value with INPUT or
@@ -623,6 +733,8 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         );
         assert!(st.ofs_in_run > 0, "{st:?}");
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
+        assert!(st.mdi_moves > 0, "{st:?}");
+        assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.ep_block_ends > 100, "{st:?}");
     }
 }

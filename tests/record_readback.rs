@@ -2,7 +2,7 @@
 //! order, with non-decreasing log times, and every pulse appears exactly once.
 
 use novanc::record::testkit::synthetic_run;
-use novanc::record::{Event, Recorder, Topic};
+use novanc::record::{Event, Recorder, Topic, TOPICS};
 use novanc::settings::MachineSettings;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -214,6 +214,24 @@ fn arr(v: &Json) -> &[Json] {
 }
 
 /// Turns a recorded message back into the event it came from (`t_ns` from the publish time).
+/// The `pulses` counters of a message, checking that its `x`, `y`, `z` are them in mm.
+fn place(obj: &Json) -> [i64; 3] {
+    let p: Vec<i64> = arr(field(obj, "pulses"))
+        .iter()
+        .map(|v| int(v) as i64)
+        .collect();
+    assert_eq!(p.len(), 3);
+    for (i, key) in ["x", "y", "z"].iter().enumerate() {
+        let mm = num(field(obj, key));
+        assert!(
+            (mm - p[i] as f64 * 0.001).abs() < 1e-9,
+            "{key} {mm} vs {}",
+            p[i]
+        );
+    }
+    [p[0], p[1], p[2]]
+}
+
 fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
     let t_ns = publish_ns;
     match topic {
@@ -223,26 +241,11 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             stmt: int(field(obj, "stmt")) as u32,
             text: text(field(obj, "text")),
         },
-        "/nc/position" => {
-            let p: Vec<i64> = arr(field(obj, "pulses"))
-                .iter()
-                .map(|v| int(v) as i64)
-                .collect();
-            assert_eq!(p.len(), 3);
-            for (i, key) in ["x", "y", "z"].iter().enumerate() {
-                let mm = num(field(obj, key));
-                assert!(
-                    (mm - p[i] as f64 * 0.001).abs() < 1e-9,
-                    "{key} {mm} vs {}",
-                    p[i]
-                );
-            }
-            Event::Position {
-                t_ns,
-                pulses: [p[0], p[1], p[2]],
-                speed_mm_min: num(field(obj, "speed")),
-            }
-        }
+        "/nc/position" => Event::Position {
+            t_ns,
+            pulses: place(obj),
+            speed_mm_min: num(field(obj, "speed")),
+        },
         "/nc/pulses" => {
             let axis = match text(field(obj, "axis")).as_str() {
                 "X" => 0,
@@ -282,6 +285,32 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             t_ns,
             event: text(field(obj, "event")),
         },
+        "/nc/io" => Event::Io {
+            t_ns,
+            seq: int(field(obj, "seq")) as u32,
+            stmt: int(field(obj, "stmt")) as u32,
+            digital: text(field(obj, "kind")) == "digital",
+            index: int(field(obj, "index")) as u8,
+            value: num(field(obj, "value")),
+            synced: match field(obj, "synced") {
+                Json::Bool(b) => *b,
+                v => panic!("synced is not a boolean: {v:?}"),
+            },
+        },
+        "/nc/probe" => {
+            let flag = |k: &str| match field(obj, k) {
+                Json::Bool(b) => *b,
+                v => panic!("{k} is not a boolean: {v:?}"),
+            };
+            Event::Probe {
+                t_ns,
+                seq: int(field(obj, "seq")) as u32,
+                stmt: int(field(obj, "stmt")) as u32,
+                pulses: place(obj),
+                tripped: flag("tripped"),
+                at_start: flag("at_start"),
+            }
+        }
         other => panic!("unexpected topic {other}"),
     }
 }
@@ -311,7 +340,7 @@ fn read_back(path: &Path) -> Vec<(String, u64, u64, Json)> {
         assert_eq!(schema.encoding, "jsonschema", "{}", ch.topic);
         Parser::parse(std::str::from_utf8(&schema.data).unwrap()).expect("schema is JSON");
     }
-    assert_eq!(summary.channels.len(), 6, "one channel per topic");
+    assert_eq!(summary.channels.len(), TOPICS, "one channel per topic");
     let stream = mcap::MessageStream::new_with_options(
         &bytes,
         mcap::read::Options::ValidateChunkCrcs.into(),
@@ -371,7 +400,7 @@ fn every_event_reads_back_on_its_topic_and_every_pulse_exactly_once() {
             .or_default()
             .push(decode(topic, *publish, json));
     }
-    assert_eq!(sent.len(), 6, "the synthetic run covers every topic");
+    assert_eq!(sent.len(), TOPICS, "the synthetic run covers every topic");
     for (topic, evs) in &sent {
         assert_eq!(Some(evs), got.get(topic), "{topic}");
         assert_eq!(summary.count(topic), evs.len() as u64, "{topic}");

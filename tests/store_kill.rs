@@ -5,7 +5,8 @@
 //! and nothing beyond the one in flight. The same harness drives both machines' stores:
 //!
 //! - the centre's (`Stores`): program edits, MDI, tool-file revisions, T-code settings,
-//!   PROGRAM READ, TOOL DATA READ, SEARCH, new and deleted programs, work offsets;
+//!   PROGRAM READ, TOOL DATA READ, SEARCH, new and deleted programs, work offsets, the
+//!   G-code interpreter's parameters (G92, the system in force, G28 homes, rotations);
 //! - the lathe's (`LatheStore`, as the lathe console uses it): program edits on each
 //!   channel, tool revisions, the part counter's counts and target;
 //!
@@ -136,9 +137,32 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
                 .map(|_| ())
                 .map_err(|e| e.to_string())
         }
-        // Work offsets (OFS page, G10): one refused in ten (beyond 100 m).
-        85..=88 => {
-            let system = r.below(6) as usize;
+        // The interpreter's parameters as a G-code run sets them together (G92, the system
+        // selected, a G28 home, a rotation): one refused in ten (not a kept parameter, or
+        // beyond the limit).
+        85..=86 => {
+            let v = k as f64 * 0.001;
+            let mut ps = vec![
+                (5210, 1.0),
+                (5211, v),
+                (5212, -(r.below(1000) as f64)),
+                (5220, (1 + r.below(9)) as f64),
+                (5161 + r.below(3) as usize, v * 2.0),
+                (
+                    5230 + 20 * r.below(9) as usize,
+                    (r.below(360) as f64) - 180.0,
+                ),
+            ];
+            match r.below(20) {
+                0 => ps.push((5400, 1.0)),
+                1 => ps.push((5213, 1e13)),
+                _ => {}
+            }
+            s.set_params(&ps).map_err(|e| e.to_string())
+        }
+        // Work offsets (OFS page, G10 L2): one refused in ten (beyond 100 m).
+        87..=88 => {
+            let system = r.below(9) as usize;
             let x = if r.below(10) == 0 {
                 1e9
             } else {
@@ -225,6 +249,7 @@ impl Subject for Stores {
         }
         text.push_str(&format!("{:?}", s.magazine()));
         text.push_str(&format!("{:?}", s.work_offsets()));
+        text.push_str(&format!("{:?}", s.params()));
         fnv(&text)
     }
 

@@ -5,7 +5,7 @@
 //! plane says its plane on its own line (`G18 G02 X Z I K`, `G19 G03 Y Z J K`), with the third
 //! axis when it is a helix; in a whole program an XY arc after one of those says `G17`.
 
-use super::{Block, Motion, Plane, Statement};
+use super::{Block, Io, Motion, Plane, Statement};
 use crate::settings::MachineSettings;
 use std::fmt::Write;
 
@@ -17,18 +17,46 @@ pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
 pub const END: &str = "M30";
 
 /// Appends a whole number in decimal (what `{}` prints, without the formatting machinery).
-fn push_u64(out: &mut String, mut v: u64) {
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
+/// "000" to "999", three digits each: numbers are printed a thousand at a time.
+const THOUSANDS: &str = {
+    const fn table() -> [u8; 3000] {
+        let mut t = [0u8; 3000];
+        let mut i = 0;
+        while i < 1000 {
+            t[3 * i] = b'0' + (i / 100) as u8;
+            t[3 * i + 1] = b'0' + (i / 10 % 10) as u8;
+            t[3 * i + 2] = b'0' + (i % 10) as u8;
+            i += 1;
         }
+        t
     }
-    out.push_str(std::str::from_utf8(&buf[i..]).unwrap_or("0"));
+    const T: [u8; 3000] = table();
+    match std::str::from_utf8(&T) {
+        Ok(s) => s,
+        Err(_) => panic!("ASCII digits"),
+    }
+};
+
+/// The three digits of `v` (below 1000), or fewer without leading zeros when `trim`.
+fn digits3(v: u64, trim: bool) -> &'static str {
+    let i = 3 * v as usize;
+    let skip = if !trim || v >= 100 {
+        0
+    } else if v >= 10 {
+        1
+    } else {
+        2
+    };
+    &THOUSANDS[i + skip..i + 3]
+}
+
+fn push_u64(out: &mut String, v: u64) {
+    if v < 1000 {
+        out.push_str(digits3(v, true));
+        return;
+    }
+    push_u64(out, v / 1000);
+    out.push_str(digits3(v % 1000, false));
 }
 
 fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
@@ -43,10 +71,7 @@ fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
         let p = pulses.unsigned_abs();
         push_u64(out, p / 1000);
         out.push('.');
-        let f = (p % 1000) as u32;
-        out.push(char::from(b'0' + (f / 100) as u8));
-        out.push(char::from(b'0' + (f / 10 % 10) as u8));
-        out.push(char::from(b'0' + (f % 10) as u8));
+        out.push_str(digits3(p % 1000, false));
         return;
     }
     let _ = write!(out, " {word}{:.3}", st.to_mm(pulses));
@@ -54,12 +79,47 @@ fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
 
 fn number(out: &mut String, word: char, v: f64) {
     if v.fract() == 0.0 && v.abs() < 1e15 {
-        let _ = write!(out, " {word}{}", v as i64);
-    } else {
-        let s = format!("{v:.3}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        let _ = write!(out, " {word}{s}");
+        out.push(' ');
+        out.push(word);
+        if v < 0.0 {
+            out.push('-');
+        }
+        push_u64(out, v.abs() as u64);
+        return;
     }
+    // Thousandths far from a half-way case round as `{:.3}` does: print the integer.
+    let k = v.abs() * 1000.0;
+    let r = k.round();
+    if k < 1e15 && (k - k.floor() - 0.5).abs() > 1e-6 {
+        let t = r as u64;
+        out.push(' ');
+        out.push(word);
+        if v < 0.0 {
+            out.push('-');
+        }
+        push_u64(out, t / 1000);
+        let f = t % 1000;
+        if f != 0 {
+            out.push('.');
+            let keep = if !f.is_multiple_of(10) {
+                3
+            } else if !f.is_multiple_of(100) {
+                2
+            } else {
+                1
+            };
+            out.push_str(&digits3(f, false)[..keep]);
+        }
+        return;
+    }
+    number_fmt(out, word, v);
+}
+
+/// `number` by the formatter: three decimals, trailing zeros dropped.
+fn number_fmt(out: &mut String, word: char, v: f64) {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    let _ = write!(out, " {word}{s}");
 }
 
 /// Appends one block's ISO line (no newline) to `out`.
@@ -79,6 +139,12 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
     }
     let g = match b.motion {
         Motion::Rapid => Some("G00"),
+        Motion::Linear if b.probe.is_some() => Some(match b.probe {
+            Some(383) => "G38.3",
+            Some(384) => "G38.4",
+            Some(385) => "G38.5",
+            _ => "G38.2",
+        }),
         Motion::Linear => Some("G01"),
         Motion::ArcCw => Some("G02"),
         Motion::ArcCcw => Some("G03"),
@@ -133,8 +199,58 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
     if let Some(m) = b.m {
         let _ = write!(out, " M{m:02}");
     }
+    if let Some(io) = b.io {
+        write_io(out, io);
+    }
     if b.seq == 0 && out[start..].starts_with(' ') {
         out.remove(start);
+    }
+}
+
+/// The words of an I/O action (`M62 P3`, `M67 E1 Q2.5`, `M66 P0 L3 Q5`, `M19 R90 P0`,
+/// `M50 P0 M51 P1`).
+fn write_io(out: &mut String, io: Io) {
+    match io {
+        Io::Digital { index, on, synced } => {
+            let m = match (synced, on) {
+                (true, true) => 62,
+                (true, false) => 63,
+                (false, true) => 64,
+                (false, false) => 65,
+            };
+            let _ = write!(out, " M{m} P{index}");
+        }
+        Io::Analog {
+            index,
+            value,
+            synced,
+        } => {
+            let _ = write!(out, " M{} E{index}", if synced { 67 } else { 68 });
+            number(out, 'Q', value);
+        }
+        Io::Wait {
+            digital,
+            index,
+            mode,
+            timeout,
+        } => {
+            let _ = write!(
+                out,
+                " M66 {}{index} L{mode}",
+                if digital { 'P' } else { 'E' }
+            );
+            if timeout > 0.0 {
+                number(out, 'Q', timeout);
+            }
+        }
+        Io::Orient { angle, dir } => {
+            out.push_str(" M19");
+            number(out, 'R', angle);
+            let _ = write!(out, " P{dir}");
+        }
+        Io::Overrides { feed, speed } => {
+            let _ = write!(out, " M50 P{} M51 P{}", u8::from(feed), u8::from(speed));
+        }
     }
 }
 
@@ -197,6 +313,43 @@ impl IsoWriter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The integer path of `number` prints what the formatter prints, for every kind of value
+    /// a word holds: whole, thousandths, half-way cases, tiny, negative, large.
+    #[test]
+    fn numbers_print_as_the_formatter_prints_them() {
+        let mut rng = crate::pulse_core::testkit::Rng::new(7);
+        let mut values = vec![
+            0.0, -0.0, 0.0004, -0.0004, 0.0005, -0.0005, 1.0005, 2.5e-4, 9.9996,
+        ];
+        values.extend([
+            12.3455,
+            120.0,
+            0.1,
+            0.7,
+            1e14 + 0.5,
+            -3.25,
+            99_999.999_5,
+            1e16 + 0.5,
+        ]);
+        for _ in 0..200_000 {
+            let scale = [1e-3, 1.0, 1e3, 1e6, 1e12][rng.range(0, 4) as usize];
+            let v = (rng.unit() - 0.5) * scale;
+            values.extend([
+                v,
+                (v * 1000.0).round() / 1000.0,
+                (v * 2000.0).round() / 2000.0,
+            ]);
+        }
+        for v in values {
+            let (mut fast, mut slow) = (String::new(), String::new());
+            number(&mut fast, 'F', v);
+            number_fmt(&mut slow, 'F', v);
+            if v.fract() != 0.0 || v.abs() >= 1e15 {
+                assert_eq!(fast, slow, "{v:e}");
+            }
+        }
+    }
 
     #[test]
     fn prints_words_in_order_with_three_decimals() {

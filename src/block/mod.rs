@@ -114,6 +114,59 @@ pub struct Block {
     /// during a run"). False for moves to machine zero and for sources that apply a revised
     /// length only when asked (G-code's G43).
     pub tool_z: bool,
+    /// An input or output the block sets or waits on (M62–M68, M19, M48–M53), done when the
+    /// block is reached.
+    pub io: Option<Io>,
+    /// A probe move (G38.2 … G38.5 ×10: 382 … 385): the move stops where the probe trips.
+    pub probe: Option<u16>,
+}
+
+/// An input or output action of a block (docs/gcode.md "Inputs and outputs").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Io {
+    /// M62/M63 (with the motion) or M64/M65 (at once): digital output `index` on or off.
+    Digital {
+        /// Output 0–63.
+        index: u8,
+        /// On (M62, M64) or off.
+        on: bool,
+        /// Synchronised with motion (M62/M63).
+        synced: bool,
+    },
+    /// M67 (with the motion) or M68 (at once): analog output `index` to `value`.
+    Analog {
+        /// Output 0–63.
+        index: u8,
+        /// The value.
+        value: f64,
+        /// Synchronised with motion (M67).
+        synced: bool,
+    },
+    /// M66: wait on input `index` (digital P or analog E) in `mode` (L0–L4) at most `timeout` s.
+    Wait {
+        /// Digital (P) or analog (E).
+        digital: bool,
+        /// Input 0–63.
+        index: u8,
+        /// L: 0 immediate, 1 rise, 2 fall, 3 high, 4 low.
+        mode: u8,
+        /// Q, seconds.
+        timeout: f64,
+    },
+    /// M19: orient the spindle to `angle` degrees (P: 0 nearest, 1 forward, 2 backward).
+    Orient {
+        /// R, degrees.
+        angle: f64,
+        /// P.
+        dir: u8,
+    },
+    /// M48–M51: whether the feed and the speed overrides act.
+    Overrides {
+        /// The feed override acts.
+        feed: bool,
+        /// The speed override acts.
+        speed: bool,
+    },
 }
 
 impl Block {
@@ -133,6 +186,8 @@ impl Block {
             t: None,
             m: None,
             tool_z: false,
+            io: None,
+            probe: None,
         }
     }
 

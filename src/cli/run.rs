@@ -108,7 +108,7 @@ pub fn main(argv: &[String]) -> i32 {
             Err(e) => return super::usage_error(&format!("--ep-l: {e}")),
         }
     }
-    let (prog, source, magazine, offsets) =
+    let (prog, source, magazine, offsets, params) =
         match super::translate::program_and_tools(&args, &settings, "run") {
             Ok(x) => x,
             Err(code) => return code,
@@ -132,7 +132,18 @@ pub fn main(argv: &[String]) -> i32 {
     core.command(Command::Override(feed_override));
     let mut src = RunSource::program(&prog, source.into(), magazine, settings.clone());
     src.offsets = offsets;
+    if !params.is_empty() {
+        // A console's memory: its G92, system in force and homes too.
+        src.interp = Some(crate::gcode::InterpState::with_persistent(
+            &params, [0.0; 3], None,
+        ));
+    }
     src.switches.block_delete = args.flag("--block-delete");
+    // o<name> call finds name.ngc beside the program file, as novanc translate does.
+    src.subroutines = Some(std::sync::Arc::new(crate::gcode::SubPrograms {
+        programs: Vec::new(),
+        path: crate::gcode::SubPath(super::translate::subroutine_path(&prog, &[])),
+    }));
     core.start(RunKind::Auto, Some(src.make_run()));
     // The machine runs a slice of machine time at a time, so a stop signal is seen between
     // slices: an hour of machine time in virtual time (milliseconds of work), 50 ms in real

@@ -12,13 +12,13 @@ use std::io::Write;
 
 const HELP: &str = "\
 usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
-                                [--optional-stop]
+                                [--optional-stop] [--subroutines DIR]...
        novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
 
 Translates the part program PROG into machine instruction blocks and prints them, one ISO
 6983 line per block, in absolute millimetres. PROG is in the source language
-(docs/language.md), or in ISO G-code (docs/gcode.md) when its name ends in .ngc, .nc or .iso
-or its first line is % or O and a number. The output is a preamble line
+(docs/language.md), or in ISO G-code (docs/gcode.md) when its name ends in .ngc, .nc, .iso,
+.tap, .gcode or .cnc or its first line is % or O and a number. The output is a preamble line
 'G21 G90 G17 G94 G40 G49 G80', the blocks 'N.. G.. X Y Z I J K F S T M', and 'M30'. The
 printed program is G-code for a standard interpreter (Z is the machine axis: tool-tip Z plus
 the tool's set length; for G-code, the gauge line: program Z plus the work offset plus the
@@ -35,14 +35,17 @@ options:
                       it (else a file); with no PROG, the program selected there
   --block-delete      G-code: skip lines that start with / (the BLOCK DELETE switch)
   --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
+  --subroutines DIR   G-code: a folder where 'o<name> call' finds name.ngc, after the
+                      program's own folder (repeatable: searched in order)
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
 ";
 
-const OPTS: [Opt; 7] = [
+const OPTS: [Opt; 8] = [
     Opt::value("--tools"),
+    Opt::value("--subroutines"),
     Opt::value("--magazine"),
     Opt::value("--state"),
     Opt::flag("--block-delete"),
@@ -52,8 +55,9 @@ const OPTS: [Opt; 7] = [
 ];
 
 /// What a command works on: the program's name (errors are reported under it), its text, the
-/// tool data and the work offsets (zero without `--state`).
-pub type Program = (String, String, Magazine, WorkOffsets);
+/// tool data, the work offsets (zero without `--state`) and the console's persistent G-code
+/// parameters (G92, the system in force, G28/G30 homes, rotations: none without `--state`).
+pub type Program = (String, String, Magazine, WorkOffsets, Vec<(usize, f64)>);
 
 /// The program to work on and the tool data, from the files given or from a console's memory
 /// (`--state DIR`, whose work offsets a G-code program uses). `Err` is the exit code after a
@@ -81,7 +85,7 @@ pub fn program_and_tools(
         let magazine = load_magazine(args.value("--tools"), args.value("--magazine"), settings)
             .map_err(|e| fail(&e))?;
         let source = read(&prog).map_err(|e| fail(&e))?;
-        return Ok((prog, source, magazine, WorkOffsets::default()));
+        return Ok((prog, source, magazine, WorkOffsets::default(), Vec::new()));
     };
     if args.value("--tools").is_some() || args.value("--magazine").is_some() {
         return Err(super::usage_error(&format!(
@@ -100,11 +104,17 @@ pub fn program_and_tools(
         .iter()
         .find(|(n, _)| n.eq_ignore_ascii_case(&name))
     {
-        return Ok((n.clone(), text.clone(), view.magazine, view.offsets));
+        return Ok((
+            n.clone(),
+            text.clone(),
+            view.magazine,
+            view.offsets,
+            view.params,
+        ));
     }
     if std::path::Path::new(&name).is_file() {
         let source = read(&name).map_err(|e| fail(&e))?;
-        return Ok((name, source, view.magazine, view.offsets));
+        return Ok((name, source, view.magazine, view.offsets, view.params));
     }
     let names: Vec<&str> = view.programs.keys().map(|n| n.as_str()).collect();
     Err(fail(&format!(
@@ -161,6 +171,8 @@ pub fn iso_text(
         settings,
         switches,
         WorkOffsets::default(),
+        &[],
+        &[],
         usize::MAX,
         &mut out,
     ) {
@@ -200,6 +212,8 @@ pub fn print_iso(
     settings: &MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    params: &[(usize, f64)],
+    subroutines: &[std::path::PathBuf],
     hold: usize,
     out: &mut dyn Write,
 ) -> Result<(), PrintError> {
@@ -210,6 +224,8 @@ pub fn print_iso(
         settings,
         switches,
         offsets,
+        params,
+        subroutines: subroutine_path(name, subroutines),
     };
     if let Some(text) = run.held(hold).map_err(PrintError::Program)? {
         return out.write_all(text.as_bytes()).map_err(PrintError::Write);
@@ -236,20 +252,48 @@ struct Listing<'a> {
     settings: &'a MachineSettings,
     switches: crate::gcode::Switches,
     offsets: WorkOffsets,
+    params: &'a [(usize, f64)],
+    subroutines: Vec<std::path::PathBuf>,
+}
+
+/// Where `o<name> call` finds `name.ngc` for the program file `name` (docs/gcode.md
+/// "Subroutine files"): the program's own folder, then `extra` (`--subroutines`), in order.
+pub fn subroutine_path(name: &str, extra: &[std::path::PathBuf]) -> Vec<std::path::PathBuf> {
+    let file = std::path::Path::new(name);
+    let own = file.is_file().then(|| match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    });
+    own.into_iter().chain(extra.iter().cloned()).collect()
 }
 
 impl Listing<'_> {
     /// The program's statements, in its language.
     fn statements(&self) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>>> {
         if crate::gcode::is_gcode(self.name, self.source) {
-            Box::new(crate::gcode::GcodeSource::new(
-                self.source.into(),
-                self.magazine.clone(),
-                self.settings.clone(),
-                crate::block::MachineState::at([0, 0, 0]),
-                self.offsets,
-                self.switches,
-            ))
+            Box::new(
+                if self.params.is_empty() {
+                    crate::gcode::GcodeSource::new(
+                        self.source.into(),
+                        self.magazine.clone(),
+                        self.settings.clone(),
+                        crate::block::MachineState::at([0, 0, 0]),
+                        self.offsets,
+                        self.switches,
+                    )
+                } else {
+                    // A console's memory: its G92, system in force and homes too.
+                    crate::gcode::GcodeSource::with_state(
+                        self.source.into(),
+                        self.magazine.clone(),
+                        self.settings.clone(),
+                        crate::block::MachineState::at([0, 0, 0]),
+                        crate::gcode::InterpState::with_persistent(self.params, [0.0; 3], None),
+                        self.switches,
+                    )
+                }
+                .subroutines(Box::new(crate::gcode::SubPath(self.subroutines.clone()))),
+            )
         } else {
             Box::new(Translator::new(
                 self.source,
@@ -295,14 +339,20 @@ pub fn main(argv: &[String]) -> i32 {
         return 0;
     }
     let settings = MachineSettings::default();
-    let (prog, source, magazine, offsets) = match program_and_tools(&args, &settings, "translate") {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
+    let (prog, source, magazine, offsets, params) =
+        match program_and_tools(&args, &settings, "translate") {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     let switches = crate::gcode::Switches {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
     };
+    let subs: Vec<std::path::PathBuf> = args
+        .values("--subroutines")
+        .iter()
+        .map(std::path::PathBuf::from)
+        .collect();
     let mut stdout = std::io::stdout().lock();
     let r = print_iso(
         &prog,
@@ -311,6 +361,8 @@ pub fn main(argv: &[String]) -> i32 {
         &settings,
         switches,
         offsets,
+        &params,
+        &subs,
         HOLD_BYTES,
         &mut stdout,
     );

@@ -337,6 +337,9 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                         p.header = format!("{name} from line {}: press START", sp.line);
                     }
                     skip = sp.line.saturating_sub(1) as usize;
+                    if let Some(Ok(plan)) = &c.plan_shown {
+                        p.body.extend(plan.rebuilt.iter().map(|l| format!("  {l}")));
+                    }
                     match &c.plan_shown {
                         Some(Ok(plan)) if !plan.restore.is_empty() => {
                             p.body.push("restore first:".into());
@@ -496,6 +499,12 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             match &c.search {
                 Some(sp) => {
                     p.body.push(format!(">L{} {}", sp.line, sp.text.trim()));
+                    if let Some(Ok(plan)) = &c.plan_shown {
+                        if !plan.rebuilt.is_empty() {
+                            p.body.push(format!("state as read through L{}:", sp.line));
+                            p.body.extend(plan.rebuilt.iter().map(|l| format!("  {l}")));
+                        }
+                    }
                     match &c.plan_shown {
                         Some(Ok(plan)) if plan.restore.is_empty() => p
                             .body

@@ -3,7 +3,7 @@
 //! console speaks one vocabulary: texts, windows around the pointer, command lines.
 
 use crate::store::{Stores, Target};
-use crate::tooldata::Magazine;
+use crate::tooldata::{Magazine, ToolRecord};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -293,9 +293,56 @@ impl Memory {
         self.stores.work_offsets()
     }
 
-    /// Sets a work offset (0 = G54 … 5 = G59), journaled.
+    /// The G-code interpreter's persistent parameters that are not zero (number, value).
+    pub fn params(&self) -> Vec<(usize, f64)> {
+        self.stores.params()
+    }
+
+    /// Sets persistent parameters of the G-code interpreter together, journaled.
+    pub fn set_params(&mut self, ps: &[(usize, f64)]) -> Result<(), String> {
+        let r = self.stores.set_params(ps).map_err(|e| e.to_string());
+        self.bump(r)
+    }
+
+    /// Replaces T code `t`'s line of the tool file (holding `tool`) with `rec`: one journaled
+    /// revision of the tool file, through TOOL DATA REVISION's validator.
+    pub fn revise_tool(&mut self, t: u32, tool: u32, rec: &ToolRecord) -> Result<(), String> {
+        let text = crate::store::toolfile::format_line(t, Some(tool), Some(rec));
+        let up = if t > 1 {
+            format!("{}L", t - 1)
+        } else {
+            String::new()
+        };
+        self.edit(Target::ToolFile, &format!("-99999L{up}KI{text}*"), None)
+            .map(|_| ())
+    }
+
+    /// G10 L1/L10/L11: T code `t`'s tool gets `length` and `diameter` (mm, wear included: the
+    /// set values become these less the wear), one journaled revision of the tool file.
+    pub fn set_tool_size(&mut self, t: u32, length: f64, diameter: f64) -> Result<(), String> {
+        let m = self.magazine();
+        let (Some(tool), Some(rec)) = (m.tcodes.tool_in(t), m.tools.get(t)) else {
+            return Err(format!("T{t:02} holds no tool with data"));
+        };
+        let mut new = rec.clone();
+        // Three decimals at most, as the tool file writes numbers.
+        let r3 = |v: f64| (v * 1000.0).round() / 1000.0;
+        new.set_length = r3(length - rec.wear_length);
+        new.diameter = r3(diameter - rec.wear_diameter);
+        if new == *rec {
+            return Ok(());
+        }
+        self.revise_tool(t, tool, &new)
+    }
+
+    /// The zero of coordinate system `cs` (0 = G54 … 8 = G59.3), machine mm.
+    pub fn system_offset(&self, cs: usize) -> [f64; 3] {
+        self.stores.system_offset(cs)
+    }
+
+    /// Sets a work offset (0 = G54 … 8 = G59.3), journaled.
     pub fn set_work_offset(&mut self, system: usize, mm: [f64; 3]) -> Result<(), String> {
-        if self.stores.work_offsets().0.get(system) == Some(&mm) {
+        if system < crate::gcode::state::SYSTEMS && self.stores.system_offset(system) == mm {
             return Ok(());
         }
         let r = self
@@ -303,6 +350,26 @@ impl Memory {
             .set_work_offset(system, mm)
             .map_err(|e| e.to_string());
         self.bump(r)
+    }
+
+    /// Where a G-code run's `o<name> call` finds `name.ngc`: the G-code programs in program
+    /// memory named `NAME.NGC` (docs/gcode.md "O-words and subprograms"), then the folder
+    /// `subroutines` of the state directory.
+    pub fn subroutines(&self) -> crate::gcode::SubPrograms {
+        let programs = self
+            .stores
+            .program_names()
+            .into_iter()
+            .filter(|n| n.ends_with(".NGC"))
+            .filter_map(|n| {
+                let t = self.stores.program_text(&n)?;
+                Some((n, Arc::from(t)))
+            })
+            .collect();
+        crate::gcode::SubPrograms {
+            programs,
+            path: crate::gcode::SubPath(vec![self.stores.dir().join("subroutines")]),
+        }
     }
 
     /// Whether the current program is ISO G-code (by its name or first line).

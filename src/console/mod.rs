@@ -11,6 +11,7 @@
 //! Every command to the core waits until the core has applied it, so what the display shows
 //! after a key is the core's answer to that key.
 
+mod answers;
 mod config;
 mod display;
 mod entry;
@@ -111,8 +112,18 @@ pub struct Console {
     wait_error: Option<String>,
     /// The BLOCK DELETE and OPTIONAL STOP switches (G-code programs).
     switches: crate::gcode::Switches,
-    /// The G10 changes the loaded G-code run has read and the stores do not hold yet.
-    offset_feed: Option<gcode_run::OffsetFeed>,
+    /// The G-code interpreter's state (docs/gcode.md "The interpreter's state"): every G-code
+    /// run (AUTO, MDI, SINGLE BLOCK, SEARCH) starts from it and hands it back as read.
+    interp: crate::gcode::InterpState,
+    /// What the last G-code run has read and the console has not yet taken (until its state
+    /// has come back).
+    run_feed: Option<gcode_run::RunFeed>,
+    /// The last G-code run's reading is kept (it moved, or ended without a refusal).
+    feed_keep: bool,
+    /// The last G-code run's state has come back (its feed is let go at its end).
+    feed_back: bool,
+    /// RESET since the last G-code run began: its state, when it comes back, is reset.
+    reset_seen: bool,
     recorder: run::Recording,
 }
 
@@ -133,6 +144,7 @@ impl Console {
             core.set_interrupt(f);
         }
         let status = core.status();
+        let mem_params = mem.params();
         let mut c = Console {
             cfg,
             mem,
@@ -168,7 +180,11 @@ impl Console {
             end_seen: 0,
             wait_error: None,
             switches: Default::default(),
-            offset_feed: None,
+            interp: crate::gcode::InterpState::with_persistent(&mem_params, [0.0; 3], None),
+            run_feed: None,
+            feed_keep: false,
+            feed_back: false,
+            reset_seen: false,
             recorder,
         };
         if let Some(w) = warnings.first() {
@@ -339,6 +355,12 @@ impl Console {
         &self.status
     }
 
+    /// The G-code interpreter's state as the console keeps it (docs/gcode.md "The
+    /// interpreter's state").
+    pub fn interp_state(&self) -> &crate::gcode::InterpState {
+        &self.interp
+    }
+
     /// The pulse core (tests read its audit of block ends).
     pub fn core(&self) -> &PulseCore {
         &self.core
@@ -366,7 +388,7 @@ impl Console {
         self.status = self.core.status();
         tape::advance(self);
         run::note_run_end(self);
-        gcode_run::keep_offsets(self);
+        gcode_run::keep_read(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {
@@ -386,6 +408,7 @@ impl Console {
             self.display = lines;
             self.recorder.display(&self.display, self.status.machine_ns);
         }
+        self.pages.program_msg = None;
         let modes = (self.op, self.data);
         if self.modes_told != Some(modes) {
             self.core.set_panel_modes(self.op.word(), self.data.word());
@@ -455,6 +478,8 @@ impl Console {
             }
             PanelEvent::Reset => {
                 self.command(Command::Reset);
+                self.reset_seen = true;
+                gcode_run::reset_state(&mut self.interp);
                 self.program_alarm = None;
                 self.tape_alarm = None;
                 self.jogging = false;
@@ -489,6 +514,17 @@ impl Console {
             PanelEvent::BlockDelete(on) => {
                 self.switches.block_delete = on;
                 self.message = gcode_run::switch_message("BLOCK DELETE", on);
+            }
+            PanelEvent::Input {
+                digital,
+                index,
+                value,
+            } => {
+                self.command(Command::Input {
+                    digital,
+                    index,
+                    value,
+                });
             }
             PanelEvent::OptionalStop(on) => {
                 self.switches.optional_stop = on;

@@ -5,7 +5,7 @@
 
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
-use crate::gcode::{GcodeSource, Switches, WorkOffsets};
+use crate::gcode::{GcodeSource, InterpState, Switches, WorkOffsets};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
 use crate::record::{Event, EventSink, Recorder};
@@ -18,6 +18,15 @@ use std::sync::Arc;
 
 /// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
 pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
+
+/// A shared finder of subroutines, for the run's source.
+struct SharedSubs(Arc<crate::gcode::SubPrograms>);
+
+impl crate::gcode::SubFinder for SharedSubs {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        self.0.find(name)
+    }
+}
 
 /// What a program source is made from at START.
 #[derive(Clone)]
@@ -36,12 +45,17 @@ pub struct RunSource {
     pub magazine: Magazine,
     /// The machine settings.
     pub settings: MachineSettings,
-    /// G-code: the work offsets G54 to G59 in force.
+    /// G-code: the work offsets G54 to G59 in force (when no interpreter state is given).
     pub offsets: WorkOffsets,
+    /// G-code: the interpreter's state to read from (the console's); the position, the tool
+    /// and the spindle are then the machine's.
+    pub interp: Option<InterpState>,
     /// G-code: the BLOCK DELETE and OPTIONAL STOP switches.
     pub switches: Switches,
-    /// G-code: where the run's G10 changes go (None: they are dropped).
-    pub offset_feed: Option<super::gcode_run::OffsetFeed>,
+    /// G-code: where the run hands back what it reads (None: it is dropped).
+    pub feed: Option<super::gcode_run::RunFeed>,
+    /// G-code: the programs and folders where `o<name> call` finds `name.ngc`.
+    pub subroutines: Option<Arc<crate::gcode::SubPrograms>>,
 }
 
 impl RunSource {
@@ -62,8 +76,10 @@ impl RunSource {
             magazine,
             settings,
             offsets: WorkOffsets::default(),
+            interp: None,
             switches: Switches::default(),
-            offset_feed: None,
+            feed: None,
+            subroutines: None,
         }
     }
 
@@ -72,24 +88,66 @@ impl RunSource {
         if !self.gcode {
             return Box::new(self.translator(state));
         }
-        let mut g = GcodeSource::new(
-            self.text,
-            self.magazine,
-            self.settings,
-            state,
-            self.offsets,
-            self.switches,
-        );
+        let feed = self.feed.clone();
+        let Some(g) = self.gcode_source(state) else {
+            return Box::new(std::iter::empty());
+        };
+        match feed {
+            Some(feed) => Box::new(super::gcode_run::Feeding {
+                src: g,
+                feed,
+                handed: false,
+            }),
+            None => Box::new(g),
+        }
+    }
+
+    /// The G-code source of this source (None when it is in the source language), from the
+    /// machine's actual state: the interpreter's state given, or the work offsets.
+    pub fn gcode_source(self, state: MachineState) -> Option<GcodeSource> {
+        if !self.gcode {
+            return None;
+        }
+        let pulse_mm = self.settings.pulse_mm;
+        let mut g = match self.interp {
+            Some(mut st) => {
+                // The spindle is the machine's, as the position and the tool are.
+                st.modal.spindle = state.spindle.signum() as i8;
+                if state.spindle != 0 {
+                    st.modal.speed = state.spindle.unsigned_abs() as f64;
+                }
+                GcodeSource::with_state(
+                    self.text,
+                    self.magazine,
+                    self.settings,
+                    state,
+                    st,
+                    self.switches,
+                )
+            }
+            None => GcodeSource::new(
+                self.text,
+                self.magazine,
+                self.settings,
+                state,
+                self.offsets,
+                self.switches,
+            ),
+        };
         if self.mdi {
             g = g.mdi();
         }
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
         }
-        match self.offset_feed {
-            Some(feed) => Box::new(super::gcode_run::Feeding { src: g, feed }),
-            None => Box::new(g),
+        if let Some(f) = self.subroutines {
+            g = g.subroutines(Box::new(SharedSubs(f)));
         }
+        // Probes are answered by the pulse core running this source (issue 21).
+        if let Some(m) = super::answers::RunMachine::here(pulse_mm) {
+            g = g.machine(Box::new(m));
+        }
+        Some(g)
     }
 
     /// The source-language translator for this source, from the machine's actual state.
@@ -126,6 +184,9 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
             (text, gcode, defs, None)
         }
     };
+    if gcode {
+        super::gcode_run::before_read(c);
+    }
     RunSource {
         text,
         gcode,
@@ -135,8 +196,10 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         magazine: c.mem.magazine(),
         settings: c.cfg.settings.clone(),
         offsets: c.mem.work_offsets(),
+        interp: gcode.then(|| c.interp.clone()),
         switches: c.switches,
-        offset_feed: None,
+        feed: None,
+        subroutines: gcode.then(|| Arc::new(c.mem.subroutines())),
     }
 }
 
@@ -154,12 +217,13 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     let make = if c.status.job.is_none() {
         c.core.set_magazine(c.mem.magazine());
         note_run_end(c);
-        super::gcode_run::end_offsets(c, false);
+        super::gcode_run::before_run(c);
         let mut src = run_source(c, kind);
         if src.gcode {
-            let feed = super::gcode_run::OffsetFeed::default();
-            src.offset_feed = Some(feed.clone());
-            c.offset_feed = Some(feed);
+            let feed = super::gcode_run::RunFeed::default();
+            src.feed = Some(feed.clone());
+            c.run_feed = Some(feed);
+            c.feed_keep = false;
         }
         Some(src.make_run())
     } else {
@@ -206,7 +270,7 @@ pub(super) fn note_run_end(c: &mut Console) {
             ..
         }
     );
-    super::gcode_run::end_offsets(c, nothing_moved);
+    super::gcode_run::end_run(c, nothing_moved);
     let done = end.cause == EndCause::ProgramEnd;
     super::pages::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
     let secs = end.machine_ns as f64 / 1e9;
@@ -241,6 +305,13 @@ pub(super) fn note_run_end(c: &mut Console) {
             });
         }
         EndCause::Abandoned | EndCause::Alarm => {}
+    }
+    if let Some(m) = c.pages.program_msg.take() {
+        if c.message.is_empty() {
+            c.message = m;
+        } else if !c.message.contains(&m) {
+            c.message = format!("{m}; {}", c.message);
+        }
     }
 }
 

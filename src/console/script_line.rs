@@ -29,6 +29,16 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::WaitBlock(n) => format!("wait block {n}"),
         PanelEvent::WaitMs(t) => format!("wait ms {t}"),
         PanelEvent::Show => "show".into(),
+        PanelEvent::Input {
+            digital: true,
+            index,
+            value,
+        } => format!("input P{index} {}", on_off(*value != 0.0)),
+        PanelEvent::Input {
+            digital: false,
+            index,
+            value,
+        } => format!("input E{index} {value}"),
     }
 }
 

@@ -12,7 +12,8 @@
 use super::run::run_source;
 use super::Console;
 use crate::block::{Block, MachineState};
-use crate::pulse_core::RunKind;
+use crate::gcode::{GcodeSource, InterpState};
+use crate::pulse_core::{RunKind, StatementIter};
 use crate::store::Target;
 
 /// Where SEARCH positioned the program.
@@ -30,6 +31,109 @@ pub struct Plan {
     /// The restore blocks (empty when the machine is already in the state the statement
     /// needs).
     pub restore: Vec<Block>,
+    /// G-code: the interpreter's state rebuilt by reading from the top to the SEARCH line
+    /// (the modal groups, the work offset system, G92, the tool, the spindle, coolant), as
+    /// display lines.
+    pub rebuilt: Vec<String>,
+}
+
+/// A G number as written (`G1`, `G59.1`) from its value ×10.
+fn g(code: u16) -> String {
+    if code.is_multiple_of(10) {
+        format!("G{}", code / 10)
+    } else {
+        format!("G{}.{}", code / 10, code % 10)
+    }
+}
+
+/// The interpreter's state as the operator reads it: the active G codes of the modal groups,
+/// the work offset system's zero and G92, the tool, the spindle and coolant.
+pub fn state_lines(st: &InterpState) -> Vec<String> {
+    use crate::block::Plane;
+    use crate::gcode::state::{CompSide, FeedMode, PathMode, SYSTEM_NAMES};
+    let m = &st.modal;
+    let codes = [
+        g(m.motion.code()),
+        match m.plane {
+            Plane::XY => "G17",
+            Plane::XZ => "G18",
+            Plane::YZ => "G19",
+        }
+        .into(),
+        if m.incremental { "G91" } else { "G90" }.into(),
+        match m.feed_mode {
+            FeedMode::InverseTime => "G93",
+            FeedMode::PerMinute => "G94",
+            FeedMode::PerRevolution => "G95",
+        }
+        .into(),
+        if m.inch { "G20" } else { "G21" }.into(),
+        match m.comp {
+            CompSide::Off => "G40",
+            CompSide::Left => "G41",
+            CompSide::Right => "G42",
+        }
+        .into(),
+        if st.tlo.iter().any(|&v| v != 0.0) {
+            "G43"
+        } else {
+            "G49"
+        }
+        .into(),
+        if m.retract_r { "G99" } else { "G98" }.into(),
+        SYSTEM_NAMES.get(m.cs).copied().unwrap_or("G54").to_string(),
+        match m.path {
+            PathMode::ExactPath => "G61",
+            PathMode::ExactStop => "G61.1",
+            PathMode::Blend { .. } => "G64",
+        }
+        .into(),
+    ];
+    let mut out = vec![codes.join(" ")];
+    let o = st.origin;
+    let mut ofs = format!(
+        "{} X{:.3} Y{:.3} Z{:.3}",
+        SYSTEM_NAMES.get(m.cs).copied().unwrap_or("G54"),
+        o[0],
+        o[1],
+        o[2]
+    );
+    if st.rotation != 0.0 {
+        ofs.push_str(&format!(" R{:.3}", st.rotation));
+    }
+    if st.g92 != [0.0; 3] {
+        ofs.push_str(&format!(
+            "  G92 X{:.3} Y{:.3} Z{:.3}",
+            st.g92[0], st.g92[1], st.g92[2]
+        ));
+    }
+    out.push(ofs);
+    let tool = match st.tool {
+        Some(t) if t > 0 => format!("T{t:02}"),
+        _ => "T--".into(),
+    };
+    let tlo = if st.tlo[2] != 0.0 {
+        format!(" H{:.3}", st.tlo[2])
+    } else {
+        String::new()
+    };
+    let spindle = match m.spindle {
+        1 => "M3",
+        -1 => "M4",
+        _ => "M5",
+    };
+    let coolant = match (m.mist, m.flood) {
+        (false, false) => "M9",
+        (true, false) => "M7",
+        (false, true) => "M8",
+        (true, true) => "M7 M8",
+    };
+    out.push(format!(
+        "{tool}{tlo} S{} {spindle} {coolant} F{}",
+        m.speed,
+        m.feed / m.factor()
+    ));
+    out
 }
 
 /// The plan shown, and the state it was made for.
@@ -48,8 +152,15 @@ fn make_plan(
 ) -> Result<(u32, String, Plan), String> {
     let mut src = run_source(c, RunKind::Auto);
     src.resume_at = Some(line);
-    let mut t = src.statements(state);
-    let first = match t.next() {
+    let (mut t, mut g): (StatementIter, _) = match src.clone().gcode_source(state) {
+        Some(g) => (Box::new(std::iter::empty()), Some(g)),
+        None => (src.statements(state), None),
+    };
+    let next = |t: &mut StatementIter, g: &mut Option<GcodeSource>| match g {
+        Some(g) => g.next(),
+        None => t.next(),
+    };
+    let first = match next(&mut t, &mut g) {
         Some(Ok(s)) => s,
         Some(Err(e)) if e.line == line && e.col == 1 && e.message.starts_with("no statement") => {
             return Err(e.message)
@@ -59,8 +170,12 @@ fn make_plan(
     };
     let restore = first.text == crate::translator::restore_text(first.line)
         || first.text == crate::gcode::restore_text(first.line);
+    let rebuilt = g
+        .as_ref()
+        .map(|g| state_lines(g.state()))
+        .unwrap_or_default();
     if restore {
-        let at = match t.next() {
+        let at = match next(&mut t, &mut g) {
             Some(Ok(s)) => s,
             Some(Err(e)) => return Err(format!("line {}:{}: {}", e.line, e.col, e.message)),
             None => return Err(format!("no statement at or after line {line}")),
@@ -70,6 +185,7 @@ fn make_plan(
             at.text,
             Plan {
                 restore: first.blocks,
+                rebuilt,
             },
         ));
     }
@@ -78,7 +194,14 @@ fn make_plan(
             "no statement at or after line {line} (the end of the program cannot be searched)"
         ));
     }
-    Ok((first.line, first.text, Plan { restore: vec![] }))
+    Ok((
+        first.line,
+        first.text,
+        Plan {
+            restore: vec![],
+            rebuilt,
+        },
+    ))
 }
 
 /// The restore plan for the SEARCH point and the machine as it stands; made again when the

@@ -466,6 +466,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
         | PanelEvent::WheelScale(_)
         | PanelEvent::BlockDelete(_)
         | PanelEvent::OptionalStop(_)
+        | PanelEvent::Input { .. }
         | PanelEvent::Press(_)
         | PanelEvent::Wait
         | PanelEvent::WaitBlock(_)

@@ -2,6 +2,7 @@
 //! conversion into machine instruction blocks in pulses with the travel check
 //! (docs/gcode.md "The listing").
 
+pub use crate::block::Io;
 use crate::block::{Block, Motion, Plane, TranslateError};
 use crate::settings::MachineSettings;
 
@@ -27,6 +28,11 @@ pub enum Canon {
     },
     /// G04 for seconds.
     Dwell(f64),
+    /// A probe move (G38.2 … G38.5 ×10) to a point at a feed; it ends where the probe
+    /// tripped (the interpreter has asked the machine where).
+    Probe([f64; 3], f64, u16),
+    /// An input or output action.
+    Io(Io),
     /// S, T and M functions.
     Aux {
         /// Spindle speed.
@@ -99,20 +105,27 @@ impl Emitter {
             };
             let mut b = Block::aux(0, *line, self.pos);
             match c {
-                Canon::Rapid(e) | Canon::Feed(e, _) => {
+                Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
-                    if end == self.pos {
+                    if end == self.pos && !matches!(c, Canon::Probe(..)) {
                         continue;
                     }
                     b.end = end;
-                    if let Canon::Feed(_, f) = c {
-                        b.motion = Motion::Linear;
-                        b.feed = *f;
-                    } else {
-                        b.motion = Motion::Rapid;
+                    match c {
+                        Canon::Feed(_, f) => {
+                            b.motion = Motion::Linear;
+                            b.feed = *f;
+                        }
+                        Canon::Probe(_, f, g) => {
+                            b.motion = Motion::Linear;
+                            b.feed = *f;
+                            b.probe = Some(*g);
+                        }
+                        _ => b.motion = Motion::Rapid,
                     }
                     check_point(st, end).map_err(err)?;
                 }
+                Canon::Io(io) => b.io = Some(*io),
                 Canon::Arc {
                     end,
                     centre,

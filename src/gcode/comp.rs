@@ -1,167 +1,385 @@
-//! Cutter radius compensation G41/G42 as LinuxCNC 2.9 joins it (docs/gcode.md "Cutter radius
-//! compensation"): the tool centre runs one radius to the left (G41) or right (G42) of the
-//! programmed XY path.
+//! Cutter radius compensation G41/G42 as LinuxCNC 2.9's rs274 joins it (docs/gcode.md "Cutter
+//! radius compensation"): the tool centre runs one radius to the left (G41) or right (G42) of
+//! the programmed XY path.
 //!
-//! - The entry move (the first XY move after G41/G42, a straight line longer than the radius)
-//!   ends one radius off its own end point, square to its direction.
-//! - Each move is held until the next one is known. At a convex corner the tool goes round the
-//!   programmed corner point on an arc of the tool radius; at a concave corner the held move's
-//!   end is moved back to where the two offset paths cross. A held straight move that would
-//!   have to run backwards, or a held arc that would have to sweep further, gouges: an error.
-//! - An arc the tool is inside of must be larger than the tool's radius.
-//! - The exit move (the first move after G40) runs from the last offset point to its
-//!   programmed end point.
+//! - **Entry** (the first move after G41/G42): a straight move ends one radius off its own end
+//!   point, square to its direction; an arc ends one radius off its programmed end, on an arc
+//!   from where the tool stands whose centre lies on the line from that end to the programmed
+//!   centre. Either must end farther than the tool's radius from where it starts.
+//! - **Held moves.** Each move waits in a queue until the next one is known, with what comes
+//!   after it (moves without X or Y, S, M functions, dwells). At a **convex** corner the held
+//!   move is emitted as it is and an arc of the tool's radius goes round the programmed corner
+//!   (a rapid goes straight to where that arc would end). At a **concave** corner every move
+//!   in the queue has its XY end moved back to where the two offset paths meet, by LinuxCNC's
+//!   formulas for line–line, arc–line, line–arc and arc–arc; a straight move that would then
+//!   run backwards, or an arc that would have to sweep further, gouges: an error.
+//! - **Exit.** G40 emits what is held; the next move starts from there, uncompensated, and
+//!   must be straight.
 //!
-//! Moves without X or Y (Z only), S, T and M functions and dwells wait behind the held move;
-//! the Z-only moves follow its end when a concave corner moves it, as in LinuxCNC.
+//! The geometry is in machine millimetres in the XY plane; the tolerances that LinuxCNC states
+//! in the program's units take them from `set_inch`.
 
 use super::canon::Canon;
-use super::interp::Exec;
+use super::exec::Exec;
 use crate::block::{Plane, TranslateError};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// Corners turning by less than this (radians) are taken as tangent.
-const TANGENT: f64 = 0.05;
+/// Corners turning by less than this (radians) are taken as tangent (LinuxCNC's
+/// TOLERANCE_CONCAVE_CORNER).
+const SMALL: f64 = 0.05;
 
-/// The smallest radius compensation may leave an arc, or give a corner arc, in pulses: the
-/// pulse core steps arcs of 2 pulses or more (`canon`), and rounding the start and the centre
-/// to pulses may take up to 1.5 more.
+/// How much further (radians) a held arc may sweep to reach a concave corner before it gouges,
+/// under G21 and under G20 (LinuxCNC states it in the program's units).
+const SWEEP_SLACK_MM: f64 = 0.0254;
+const SWEEP_SLACK_INCH: f64 = 0.001;
+
+/// The most a held arc's radius may change when its end moves (0.01 of the program's unit):
+/// more is LinuxCNC's "invalid arc with mismatched radii".
+const RADIUS_SLACK: f64 = 0.01;
+
+/// The smallest radius compensation may leave an arc, in pulses: the pulse core steps arcs of
+/// 2 pulses or more (`canon`), and rounding the start and the centre to pulses may take up to
+/// 1.5 more.
 pub const MIN_RADIUS_PULSES: f64 = 4.0;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Phase {
+/// The side the tool is on (LinuxCNC's cutter_comp_side).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Side {
     Off,
-    Entry,
-    On,
-    Exit,
+    Left,
+    Right,
 }
 
+/// What a queued item is, for moving its end.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Geo {
-    Line,
-    Arc { c: [f64; 2], rc: f64, ccw: bool },
+    /// A straight move, with the direction LinuxCNC keeps for its gouge check (the motion's
+    /// XY direction; for the entry move, the offset's).
+    Line { dir: [f64; 2] },
+    /// An arc about `c` (the programmed centre), counter-clockwise if `ccw`; `sweep` is the
+    /// programmed arc's signed sweep (LinuxCNC's original_turns; 0 for a corner arc, whose
+    /// end never moves).
+    Arc { c: [f64; 2], ccw: bool, sweep: f64 },
+    /// Not a move: S, M functions, dwells, I/O.
+    Other,
 }
 
 #[derive(Clone, Debug, PartialEq)]
-struct Held {
+struct Queued {
     canon: Canon,
     line: u32,
     col: u32,
-    /// Offset start of the move.
-    start: [f64; 2],
-    /// Offset end as first computed.
-    end: [f64; 2],
-    /// Programmed end point (the corner) and the tangent there.
-    corner: [f64; 2],
-    tangent: [f64; 2],
     geo: Geo,
 }
 
-/// The compensation state.
+impl Queued {
+    /// The end point in the plane's coordinates (`ax`: the plane's axes, then its normal).
+    fn end(&self, ax: [usize; 3]) -> [f64; 2] {
+        match &self.canon {
+            Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => [e[ax[0]], e[ax[1]]],
+            _ => [0.0, 0.0],
+        }
+    }
+}
+
+/// The compensation state: LinuxCNC's side, radius and first-move flag, its queue of held
+/// moves and the start of the move at the queue's front (its "endpoint").
 #[derive(Clone, Debug, PartialEq)]
 pub struct Comp {
-    phase: Phase,
-    /// +1 left (G41), −1 right (G42).
-    side: f64,
+    side: Side,
     r: f64,
-    held: Option<Held>,
-    /// What came after the held move: Z-only moves (which follow its end when it moves, as in
-    /// LinuxCNC) and S, T, M functions and dwells, in order.
-    queue: Vec<(Canon, u32, u32)>,
+    /// The plane compensation works in (G17 or G18, as LinuxCNC's).
+    plane: Plane,
+    /// Its axes in the order a counter-clockwise turn goes from the first to the second (XY:
+    /// X, Y; XZ: Z, X), then its normal: the geometry below is worked in these coordinates.
+    ax: [usize; 3],
+    /// No compensated move made yet since G41/G42 (the next is the entry).
+    first: bool,
+    /// G40 ended compensation after a compensated move: the next move must be straight.
+    arc_not_allowed: bool,
+    /// G40 ended compensation after a compensated move, and no move has been made since.
+    exit_pending: bool,
+    /// G20 in force (the tolerances LinuxCNC states in the program's units).
+    inch: bool,
+    /// Where the tool centre is (after the queued moves), machine mm.
+    cur: [f64; 3],
+    /// The programmed XY point of the last compensated move.
+    prog: [f64; 2],
+    queue: Vec<Queued>,
+    /// The item at the queue's front when it was last emitted: LinuxCNC reads it when it
+    /// meets a concave corner with an empty queue (after M00, M01 or M60 emitted it).
+    last_front: Option<Queued>,
+    /// Where the move at the queue's front starts, when known (LinuxCNC's endpoint).
+    endpoint: Option<[f64; 2]>,
 }
 
 impl Default for Comp {
     fn default() -> Self {
         Comp {
-            phase: Phase::Off,
-            side: 1.0,
+            side: Side::Off,
             r: 0.0,
-            held: None,
+            plane: Plane::XY,
+            ax: [0, 1, 2],
+            first: true,
+            arc_not_allowed: false,
+            exit_pending: false,
+            inch: false,
+            cur: [0.0; 3],
+            prog: [0.0; 2],
             queue: Vec::new(),
+            last_front: None,
+            endpoint: None,
         }
     }
-}
-
-fn unit(v: [f64; 2]) -> [f64; 2] {
-    let n = v[0].hypot(v[1]);
-    if n == 0.0 {
-        [0.0, 0.0]
-    } else {
-        [v[0] / n, v[1] / n]
-    }
-}
-
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn add_k(a: [f64; 2], k: f64, d: [f64; 2]) -> [f64; 2] {
-    [a[0] + k * d[0], a[1] + k * d[1]]
-}
-
-fn left(d: [f64; 2]) -> [f64; 2] {
-    [-d[1], d[0]]
 }
 
 fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+fn polar(p: [f64; 2], r: f64, a: f64) -> [f64; 2] {
+    [p[0] + r * a.cos(), p[1] + r * a.sin()]
+}
+
+fn angle(from: [f64; 2], to: [f64; 2]) -> f64 {
+    (to[1] - from[1]).atan2(to[0] - from[0])
+}
+
+/// The signed sweep (radians, counter-clockwise positive) of an arc from `a` to `b` about `c`
+/// that turns counter-clockwise if `ccw` (LinuxCNC's find_turn for one turn).
+fn find_turn(a: [f64; 2], c: [f64; 2], ccw: bool, b: [f64; 2]) -> f64 {
+    let mut alpha = angle(c, a);
+    let mut beta = angle(c, b);
+    if ccw {
+        if beta <= alpha {
+            beta += TAU;
+        }
+        beta - alpha
+    } else {
+        if alpha <= beta {
+            alpha += TAU;
+        }
+        beta - alpha
+    }
+}
+
+/// `c` with its end moved to `p` in the plane of axes `ax`.
+fn with_end(mut c: Canon, p: [f64; 2], ax: [usize; 3]) -> Canon {
+    if let Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } = &mut c {
+        e[ax[0]] = p[0];
+        e[ax[1]] = p[1];
+    }
+    c
+}
+
+fn straight(rapid: bool, e: [f64; 3], feed: f64) -> Canon {
+    if rapid {
+        Canon::Rapid(e)
+    } else {
+        Canon::Feed(e, feed)
+    }
+}
+
+/// A gouge, charged to the line that reveals it.
+fn gouge(x: &Exec, col: u32, what: &str) -> TranslateError {
+    x.err(
+        col,
+        format!("gouge: {what} cannot be reached by the tool without cutting into the part"),
+    )
+}
+
 impl Comp {
-    /// G41 or G42 is in force (or its exit move is still to come).
+    /// A machine point's coordinates in the compensation plane.
+    fn uv(&self, p: [f64; 3]) -> [f64; 2] {
+        [p[self.ax[0]], p[self.ax[1]]]
+    }
+
+    /// The machine point at `p` in the plane and `n` along its normal.
+    fn at(&self, p: [f64; 2], n: f64) -> [f64; 3] {
+        let mut o = [0.0; 3];
+        o[self.ax[0]] = p[0];
+        o[self.ax[1]] = p[1];
+        o[self.ax[2]] = n;
+        o
+    }
+
+    /// The coordinate along the plane's normal (Z in G17, Y in G18).
+    fn normal(&self, p: [f64; 3]) -> f64 {
+        p[self.ax[2]]
+    }
+
+    /// An arc in the compensation plane ending at `end`, about `c`.
+    fn plane_arc(&self, end: [f64; 3], c: [f64; 2], ccw: bool, feed: f64) -> Canon {
+        Canon::Arc {
+            end,
+            centre: self.at(c, self.normal(end)),
+            plane: self.plane,
+            ccw,
+            feed,
+        }
+    }
+
+    /// G41 or G42 is in force (LinuxCNC's cutter_comp_side is not OFF), whatever the radius.
     pub fn active(&self) -> bool {
-        self.phase != Phase::Off
+        self.side != Side::Off
     }
 
-    /// G40 was given and its exit move has not been made.
+    /// G40 ended compensation after a compensated move and no move has been made since: the
+    /// machine stands at the last offset point, off the programmed one.
     pub fn pending_exit(&self) -> bool {
-        self.phase == Phase::Exit
+        self.exit_pending
     }
 
-    /// G41 (`left`) or G42 with the tool's radius.
-    pub fn on(&mut self, left: bool, radius: f64, _col: u32) {
-        self.side = if left { 1.0 } else { -1.0 };
-        self.r = radius;
-        self.phase = Phase::Entry;
+    /// Compensation moves the tool (on, with a radius above 0).
+    pub fn offsetting(&self) -> bool {
+        self.side != Side::Off && self.r > 0.0
     }
 
-    /// G40: the next XY move is the exit move (none is needed if no move was made yet).
-    pub fn off(&mut self, _col: u32) {
-        self.phase = match self.phase {
-            Phase::On => Phase::Exit,
-            _ => Phase::Off,
+    /// The program's units, for the tolerances LinuxCNC states in them.
+    pub fn set_inch(&mut self, inch: bool) {
+        self.inch = inch;
+    }
+
+    /// G41 (`left`) or G42 with the tool's radius (mm, not negative), in `plane` (G17 or G18;
+    /// the caller refuses G19).
+    pub fn on(&mut self, left: bool, radius: f64, plane: Plane) {
+        self.plane = plane;
+        self.ax = match plane {
+            Plane::XZ => [2, 0, 1],
+            _ => [0, 1, 2],
         };
+        self.side = if left { Side::Left } else { Side::Right };
+        self.r = radius;
+        self.first = true;
     }
 
-    /// Emits the held move as it stands, and what is queued behind it.
-    pub fn flush(&mut self, x: &mut Exec) {
-        if let Some(h) = self.held.take() {
-            let end = h.end;
-            self.emit_held(x, h, end);
+    /// G40: what is held is emitted; the next move starts from the last offset point and must
+    /// be straight (none of this if no compensated move was made).
+    pub fn off(&mut self, x: &mut Exec, col: u32) -> Result<(), TranslateError> {
+        if self.offsetting() && !self.first {
+            let cur = self.uv(self.cur);
+            self.move_ends_and_emit(x, cur, col)?;
+            self.arc_not_allowed = true;
+            self.exit_pending = true;
         }
+        self.side = Side::Off;
+        self.first = true;
+        Ok(())
     }
 
-    /// Emits the held move ending at `end`, then the queue, its Z-only moves at `end` too.
-    fn emit_held(&mut self, x: &mut Exec, mut h: Held, end: [f64; 2]) {
-        set_end(&mut h.canon, end);
-        x.out.push((h.canon, h.line, h.col));
-        for (mut c, line, col) in self.queue.drain(..) {
-            if matches!(c, Canon::Rapid(_) | Canon::Feed(..)) {
-                set_end(&mut c, end);
-            }
-            x.out.push((c, line, col));
+    /// Emits what is held as it stands (LinuxCNC's flush at M00, M01, M02, M30 and M60, and
+    /// before an input is read).
+    pub fn flush(&mut self, x: &mut Exec, col: u32) -> Result<(), TranslateError> {
+        if self.queue.is_empty() {
+            return Ok(());
         }
+        let cur = self.uv(self.cur);
+        self.move_ends_and_emit(x, cur, col)
     }
 
-    /// An S, T or M function or a dwell: after the held move if there is one.
+    /// An S, T or M function, a dwell or an I/O action: after the held move if there is one.
     pub fn aux(&mut self, x: &mut Exec, c: Canon, col: u32) {
-        if self.held.is_some() {
-            self.queue.push((c, x.n, col));
-        } else {
+        if self.queue.is_empty() {
             x.push(c, col);
+        } else {
+            self.queue.push(Queued {
+                canon: c,
+                line: x.n,
+                col,
+                geo: Geo::Other,
+            });
         }
+    }
+
+    fn enqueue(&mut self, x: &Exec, canon: Canon, col: u32, geo: Geo) {
+        self.queue.push(Queued {
+            canon,
+            line: x.n,
+            col,
+            geo,
+        });
+    }
+
+    /// Emits the queue as it stands (LinuxCNC's dequeue_canons): the start of what comes next
+    /// is unknown to the gouge checks until it is set.
+    fn emit(&mut self, x: &mut Exec) {
+        self.endpoint = None;
+        if let Some(f) = self.queue.first() {
+            self.last_front = Some(f.clone());
+        }
+        for q in self.queue.drain(..) {
+            x.out.push((q.canon, q.line, q.col));
+        }
+    }
+
+    /// Moves the XY end of every queued move to `p`, refusing a move that would then run
+    /// backwards or sweep further than programmed, then emits them
+    /// (LinuxCNC's move_endpoint_and_flush). The next move starts at `p`.
+    fn move_ends_and_emit(
+        &mut self,
+        x: &mut Exec,
+        p: [f64; 2],
+        col: u32,
+    ) -> Result<(), TranslateError> {
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let ax = self.ax;
+        for q in &mut self.queue {
+            match q.geo {
+                Geo::Arc { c, ccw, sweep } => {
+                    let r1 = dist(q.end(ax), c);
+                    let r2 = dist(p, c);
+                    if (r1 - r2).abs() > RADIUS_SLACK * unit {
+                        return Err(x.err(col, format!(
+                            "cutter compensation cannot join the arc of line {} here: its end would move off its circle (radius {r1:.4} mm, then {r2:.4} mm)",
+                            q.line
+                        )));
+                    }
+                    if let Some(start) = self.endpoint {
+                        let slack = if self.inch {
+                            SWEEP_SLACK_INCH
+                        } else {
+                            SWEEP_SLACK_MM
+                        };
+                        if sweep != 0.0 && find_turn(start, c, ccw, p).abs() > sweep.abs() + slack {
+                            return Err(gouge(
+                                x,
+                                col,
+                                &format!(
+                                    "the arc of line {} would have to go past its end: the concave corner after it",
+                                    q.line
+                                ),
+                            ));
+                        }
+                    }
+                }
+                Geo::Line { dir } => {
+                    if let Some(start) = self.endpoint {
+                        let d = [p[0] - start[0], p[1] - start[1]];
+                        if dir[0] * d[0] + dir[1] * d[1] < 0.0 {
+                            return Err(gouge(
+                                x,
+                                col,
+                                &format!("the concave corner after line {}", q.line),
+                            ));
+                        }
+                    }
+                }
+                Geo::Other => continue,
+            }
+            q.canon = with_end(q.canon.clone(), p, ax);
+        }
+        self.emit(x);
+        self.endpoint = Some(p);
+        Ok(())
+    }
+
+    /// The held move LinuxCNC looks at to choose a concave corner's formula.
+    fn front(&self) -> Option<&Queued> {
+        self.queue.first().or(self.last_front.as_ref())
     }
 
     /// A straight move from `from` to `to` (programmed, machine mm).
+    #[allow(clippy::too_many_arguments)]
     pub fn line(
         &mut self,
         x: &mut Exec,
@@ -171,83 +389,165 @@ impl Comp {
         feed: f64,
         col: u32,
     ) -> Result<(), TranslateError> {
-        let mk = |e: [f64; 3]| {
-            if rapid {
-                Canon::Rapid(e)
-            } else {
-                Canon::Feed(e, feed)
-            }
-        };
-        let (c, p) = ([from[0], from[1]], [to[0], to[1]]);
-        let xy_move = dist(c, p) > 1e-9;
-        match self.phase {
-            Phase::Off => {
-                x.push(mk(to), col);
-                return Ok(());
-            }
-            Phase::Exit => {
-                // The exit move: from the last offset point to the programmed point.
-                self.flush(x);
-                x.push(mk(to), col);
-                if xy_move {
-                    self.phase = Phase::Off;
-                }
-                return Ok(());
-            }
-            _ => {}
-        }
-        if !xy_move {
-            // A Z-only move: queued behind the held move, it will follow that move's end.
-            match &self.held {
-                Some(h) => {
-                    let e = [h.end[0], h.end[1], to[2]];
-                    self.queue.push((mk(e), x.n, col));
-                }
-                None => x.push(mk(to), col),
-            }
+        self.arc_not_allowed = false;
+        self.exit_pending = false;
+        if !self.offsetting() {
+            x.push(straight(rapid, to, feed), col);
             return Ok(());
         }
-        let d = unit(sub(p, c));
-        let n = left(d);
-        if self.phase == Phase::Entry {
+        let (c, p) = (self.uv(from), self.uv(to));
+        let left = self.side == Side::Left;
+        let r = self.r;
+        if self.first {
             let len = dist(c, p);
-            if len <= self.r {
+            if len <= r {
                 return Err(x.err(
                     col,
                     format!(
                         "the entry move of cutter compensation ({} mm) is not longer than the tool radius ({:.4} mm)",
                         crate::input_text::fixed(len, 4),
-                        self.r
+                        r
                     ),
                 ));
             }
-            let e = add_k(p, self.side * self.r, n);
-            self.held = Some(Held {
-                canon: mk([e[0], e[1], to[2]]),
-                line: x.n,
+            let a = angle(c, p) + if left { FRAC_PI_2 } else { -FRAC_PI_2 };
+            let e = polar(p, r, a);
+            self.endpoint = Some(c);
+            let canon = straight(rapid, self.at(e, self.normal(to)), feed);
+            self.enqueue(
+                x,
+                canon,
                 col,
-                start: c,
-                end: e,
-                corner: p,
-                tangent: d,
-                geo: Geo::Line,
-            });
-            self.phase = Phase::On;
+                Geo::Line {
+                    dir: [a.cos(), a.sin()],
+                },
+            );
+            self.first = false;
+            self.cur = self.at(e, self.normal(to));
+            self.prog = p;
             return Ok(());
         }
-        let s2 = add_k(c, self.side * self.r, n);
-        let e2 = add_k(p, self.side * self.r, n);
-        let start = self.join(x, s2, d, Geo::Line, feed, col)?;
-        self.held = Some(Held {
-            canon: mk([e2[0], e2[1], to[2]]),
-            line: x.n,
+        let op = self.prog;
+        let cur = self.uv(self.cur);
+        if p == op {
+            // No XY motion: it waits behind the held move and follows its end.
+            let canon = straight(rapid, self.at(cur, self.normal(to)), feed);
+            self.enqueue(x, canon, col, Geo::Line { dir: [0.0, 0.0] });
+            self.cur = self.at(cur, self.normal(to));
+            return Ok(());
+        }
+        let mut theta = angle(op, cur);
+        let mut alpha = angle(op, p);
+        let (beta, gamma) = if left {
+            if theta < alpha {
+                theta += TAU;
+            }
+            (theta - alpha - FRAC_PI_2, FRAC_PI_2)
+        } else {
+            if alpha < theta {
+                alpha += TAU;
+            }
+            (alpha - theta - FRAC_PI_2, -FRAC_PI_2)
+        };
+        let end = polar(p, r, alpha + gamma);
+        let mid = polar(op, r, alpha + gamma);
+        let front_arc = match self.front().map(|q| q.geo) {
+            Some(Geo::Arc { c, ccw, .. }) => Some((c, ccw)),
+            _ => None,
+        };
+        // An "h": going over a round top onto a line that turns back beside it. LinuxCNC keeps
+        // the tool above and beside it (a concave corner) rather than looping round.
+        let h_shape = beta > PI - SMALL
+            && front_arc.is_some_and(|(_, ccw)| ccw != left)
+            && !self.queue.is_empty();
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta) || h_shape;
+        let cz = self.normal(self.cur);
+        if !concave && beta > SMALL {
+            // Convex: round the programmed corner (a rapid goes straight to the arc's end).
+            self.move_ends_and_emit(x, cur, col)?;
+            let c = if rapid {
+                Canon::Rapid(self.at(mid, cz))
+            } else {
+                self.plane_arc(self.at(mid, cz), op, !left, feed)
+            };
+            x.push(c, col);
+            self.endpoint = Some(mid);
+        } else if concave {
+            let q = match self.front() {
+                Some(q) => q.clone(),
+                None => Queued {
+                    canon: Canon::Dwell(0.0),
+                    line: x.n,
+                    col,
+                    geo: Geo::Other,
+                },
+            };
+            let meet = match q.geo {
+                Geo::Arc {
+                    c: pc, ccw: pccw, ..
+                } => {
+                    // Arc to line: where the held arc's offset circle meets the new offset line.
+                    let oldrad = dist(pc, q.end(self.ax));
+                    let base = angle(op, p);
+                    let th = if pccw {
+                        base + FRAC_PI_2
+                    } else {
+                        base - FRAC_PI_2
+                    };
+                    let phi = angle(op, pc);
+                    let inside = pccw == left;
+                    let uncomp = if inside { oldrad + r } else { oldrad - r };
+                    let d = uncomp * (th - phi).cos();
+                    let l = if inside { d - r } else { d + r } / oldrad;
+                    if !(-1.0..=1.0).contains(&l) {
+                        return Err(gouge(
+                            x,
+                            col,
+                            "the corner between the arc before and this straight move",
+                        ));
+                    }
+                    let a = if inside == pccw {
+                        -l.acos() + th + PI
+                    } else {
+                        l.acos() + th + PI
+                    };
+                    polar(pc, oldrad, a)
+                }
+                _ => {
+                    // Line to line: back along the held move by the corner's retreat.
+                    let half = (beta + PI) / 2.0;
+                    if half == 0.0 {
+                        return Err(x.err(
+                            col,
+                            "a corner of zero degrees cannot be cut with cutter radius compensation",
+                        ));
+                    }
+                    polar(cur, r / half.tan(), theta + gamma)
+                }
+            };
+            if meet.iter().any(|v| !v.is_finite()) {
+                return Err(x.err(
+                    col,
+                    "cutter compensation's offset path is not a finite number here",
+                ));
+            }
+            self.move_ends_and_emit(x, meet, col)?;
+        } else {
+            // Tangent: on from where the held move ends.
+            self.emit(x);
+            self.endpoint = Some(cur);
+        }
+        let canon = straight(rapid, self.at(end, self.normal(to)), feed);
+        self.enqueue(
+            x,
+            canon,
             col,
-            start,
-            end: e2,
-            corner: p,
-            tangent: d,
-            geo: Geo::Line,
-        });
+            Geo::Line {
+                dir: [p[0] - op[0], p[1] - op[1]],
+            },
+        );
+        self.cur = self.at(end, self.normal(to));
+        self.prog = p;
         Ok(())
     }
 
@@ -264,200 +564,235 @@ impl Comp {
         feed: f64,
         col: u32,
     ) -> Result<(), TranslateError> {
-        let canon = |end: [f64; 3]| Canon::Arc {
-            end,
-            centre,
-            plane,
-            ccw,
-            feed,
+        if self.arc_not_allowed {
+            return Err(x.err(
+                col,
+                "the move after G40 must be a straight line (G00 or G01), not an arc",
+            ));
+        }
+        self.exit_pending = false;
+        if !self.offsetting() {
+            x.push(
+                Canon::Arc {
+                    end: e,
+                    centre,
+                    plane,
+                    ccw,
+                    feed,
+                },
+                col,
+            );
+            return Ok(());
+        }
+        let left = self.side == Side::Left;
+        let r = self.r;
+        let c = self.uv(centre);
+        let ep = self.uv(e);
+        let inside = ccw == left;
+        // The arc's radius as programmed: from the start for the entry, to the end otherwise.
+        let rr = if self.first {
+            dist(c, self.uv(s))
+        } else {
+            dist(c, ep)
         };
-        match self.phase {
-            Phase::Off => {
-                x.push(canon(e), col);
-                return Ok(());
-            }
-            Phase::Entry => {
-                return Err(x.err(
-                    col,
-                    "the first move after G41/G42 must be a straight line (G00 or G01), not an arc",
-                ));
-            }
-            Phase::Exit => {
-                return Err(x.err(
-                    col,
-                    "the move after G40 must be a straight line (G00 or G01), not an arc",
-                ));
-            }
-            Phase::On => {}
+        if inside && rr <= r {
+            return Err(x.err(
+                col,
+                format!(
+                    "gouge: cutter compensation puts the tool (radius {r:.4} mm) inside this arc of radius {rr:.4} mm, which is not larger than the tool"
+                ),
+            ));
         }
-        let c = [centre[0], centre[1]];
-        let (s2d, e2d) = ([s[0], s[1]], [e[0], e[1]]);
-        let rr = dist(s2d, c);
-        let inside = (self.side > 0.0) == ccw;
-        let rc = if inside { rr - self.r } else { rr + self.r };
         let min = MIN_RADIUS_PULSES * x.settings.pulse_mm;
-        if inside && rc <= 0.0 {
+        if inside && rr - r < min {
             return Err(x.err(
                 col,
                 format!(
-                    "gouge: cutter compensation puts the tool (radius {:.4} mm) inside this arc of radius {rr:.4} mm, which is not larger than the tool",
-                    self.r
+                    "cutter compensation (tool radius {r:.4} mm) leaves this arc of radius {rr:.4} mm a radius of {:.4} mm, too small to cut (at least {min:.4} mm)",
+                    rr - r
                 ),
             ));
         }
-        if inside && rc < min {
-            return Err(x.err(
-                col,
-                format!(
-                    "cutter compensation (tool radius {:.4} mm) leaves this arc of radius {rr:.4} mm a radius of {rc:.4} mm, too small to cut (at least {min:.4} mm)",
-                    self.r
-                ),
-            ));
+        // Where the tool ends: one radius from the programmed end, toward the centre if inside.
+        let gamma = if inside { angle(ep, c) } else { angle(c, ep) };
+        let new_end = polar(ep, r, gamma);
+        if self.first {
+            return self.entry_arc(x, s, e, c, ccw, feed, col, new_end);
         }
-        let rs = unit(sub(s2d, c));
-        let re = unit(sub(e2d, c));
-        let tan = |r: [f64; 2]| if ccw { left(r) } else { [r[1], -r[0]] };
-        let s2 = add_k(c, rc, rs);
-        let e2 = add_k(c, rc, re);
-        let geo = Geo::Arc { c, rc, ccw };
-        let start = self.join(x, s2, tan(rs), geo, feed, col)?;
-        self.held = Some(Held {
-            canon: Canon::Arc {
-                end: [e2[0], e2[1], e[2]],
-                centre,
-                plane,
-                ccw,
-                feed,
-            },
-            line: x.n,
-            col,
-            start,
-            end: e2,
-            corner: e2d,
-            tangent: tan(re),
-            geo,
-        });
+        let op = self.prog;
+        let cur = self.uv(self.cur);
+        let theta = angle(op, cur) + if left { -FRAC_PI_2 } else { FRAC_PI_2 };
+        let mut delta = angle(op, c);
+        let alpha = if ccw {
+            delta - FRAC_PI_2
+        } else {
+            delta + FRAC_PI_2
+        };
+        let mut beta = if left { theta - alpha } else { alpha - theta };
+        if beta > 1.5 * PI {
+            beta -= TAU;
+        } else if beta < -FRAC_PI_2 {
+            beta += TAU;
+        }
+        if !inside {
+            delta += PI;
+        }
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta)
+            // A convex corner on a tangent join, as atop the middle of an "m".
+            || ((beta - PI).abs() < SMALL && !inside);
+        let geo = Geo::Arc {
+            c,
+            ccw,
+            sweep: find_turn(op, c, ccw, ep),
+        };
+        let canon = self.plane_arc(self.at(new_end, self.normal(e)), c, ccw, feed);
+        let cz = self.normal(self.cur);
+        if concave {
+            let arc_radius = dist(c, ep);
+            let front = self.front().cloned();
+            let meet = match front.as_ref().map(|q| (q.geo, q.end(self.ax))) {
+                Some((
+                    Geo::Arc {
+                        c: pc, ccw: pccw, ..
+                    },
+                    pend,
+                )) => {
+                    // Arc to arc: where the two offset circles meet.
+                    let oldrad = dist(pc, pend);
+                    let newrad = if inside {
+                        arc_radius - r
+                    } else {
+                        arc_radius + r
+                    };
+                    let cc = dist(pc, c);
+                    if oldrad == 0.0 || cc == 0.0 {
+                        return Err(x.err(
+                            col,
+                            "cutter compensation cannot join two arcs about the same centre at a corner",
+                        ));
+                    }
+                    let a = (oldrad * oldrad + cc * cc - newrad * newrad) / (2.0 * oldrad * cc);
+                    if !(-1.0..=1.0).contains(&a) {
+                        return Err(gouge(
+                            x,
+                            col,
+                            "the corner between the arc before and this arc",
+                        ));
+                    }
+                    let pull = a.acos();
+                    let dir = angle(pc, c);
+                    let prev_inside = pccw == left;
+                    let d = if prev_inside == ccw {
+                        dir + pull
+                    } else {
+                        dir - pull
+                    };
+                    polar(pc, oldrad, d)
+                }
+                _ => {
+                    // Line to arc: where the held line's offset meets this arc's offset circle.
+                    let cy = arc_radius * (beta - FRAC_PI_2).sin();
+                    let (from_centre, toward) = if inside {
+                        (arc_radius - r, cy + r)
+                    } else {
+                        (arc_radius + r, cy - r)
+                    };
+                    let l = toward / from_centre;
+                    if !(-1.0..=1.0).contains(&l) {
+                        return Err(gouge(
+                            x,
+                            col,
+                            "the corner between the straight move before and this arc",
+                        ));
+                    }
+                    let a = match (inside, ccw) {
+                        (true, true) => theta + l.asin(),
+                        (true, false) => theta - l.asin(),
+                        (false, true) => theta + PI - l.asin(),
+                        (false, false) => theta + PI + l.asin(),
+                    };
+                    polar(c, from_centre, a)
+                }
+            };
+            if meet.iter().any(|v| !v.is_finite()) {
+                return Err(x.err(
+                    col,
+                    "cutter compensation's offset path is not a finite number here",
+                ));
+            }
+            self.move_ends_and_emit(x, meet, col)?;
+        } else if beta > SMALL {
+            // Convex: an arc round the programmed corner, then this arc.
+            let mid = polar(op, r, delta);
+            self.emit(x);
+            x.push(self.plane_arc(self.at(mid, cz), op, !left, feed), col);
+            self.endpoint = Some(mid);
+        } else {
+            self.emit(x);
+            self.endpoint = Some(cur);
+        }
+        self.enqueue(x, canon, col, geo);
+        self.cur = self.at(new_end, self.normal(e));
+        self.prog = ep;
         Ok(())
     }
 
-    /// Joins the held move to a new one starting (offset) at `s2` with tangent `t2`: emits the
-    /// held move (moved back at a concave corner) and, at a convex corner, the arc round it.
-    /// Returns where the new move starts.
-    fn join(
+    /// The entry arc (LinuxCNC's convert_arc_comp1): from where the tool stands to `new_end`,
+    /// its centre where the line from `new_end` toward the programmed centre `c` is as far
+    /// from both ends.
+    #[allow(clippy::too_many_arguments)]
+    fn entry_arc(
         &mut self,
         x: &mut Exec,
-        s2: [f64; 2],
-        t2: [f64; 2],
-        geo2: Geo,
+        s: [f64; 3],
+        e: [f64; 3],
+        c: [f64; 2],
+        ccw: bool,
         feed: f64,
         col: u32,
-    ) -> Result<[f64; 2], TranslateError> {
-        let Some(h) = self.held.take() else {
-            return Ok(s2);
-        };
-        let t1 = h.tangent;
-        let cross = t1[0] * t2[1] - t1[1] * t2[0];
-        let dot = t1[0] * t2[0] + t1[1] * t2[1];
-        let turn = cross.atan2(dot) * self.side;
-        if turn.abs() <= TANGENT && dist(h.end, s2) < 1e-6 + self.r * TANGENT {
-            let start = h.end;
-            self.emit_held(x, h, start);
-            return Ok(start);
+        new_end: [f64; 2],
+    ) -> Result<(), TranslateError> {
+        let start = self.uv(s);
+        let len = dist(start, self.uv(e));
+        if len <= self.r {
+            return Err(x.err(
+                col,
+                format!(
+                    "the entry arc of cutter compensation ends {} mm from its start, not farther than the tool radius ({:.4} mm)",
+                    crate::input_text::fixed(len, 4),
+                    self.r
+                ),
+            ));
         }
-        if turn < 0.0 {
-            // Convex: round the programmed corner.
-            let (e1, corner) = (h.end, h.corner);
-            self.emit_held(x, h, e1);
-            let z = x
-                .out
-                .iter()
-                .rev()
-                .find_map(|(c, _, _)| match c {
-                    Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => Some(e[2]),
-                    _ => None,
-                })
-                .unwrap_or(0.0);
-            if dist(e1, s2) > 1e-9 {
-                x.push(
-                    Canon::Arc {
-                        end: [s2[0], s2[1], z],
-                        centre: [corner[0], corner[1], z],
-                        plane: Plane::XY,
-                        ccw: self.side < 0.0,
-                        feed,
-                    },
-                    col,
-                );
-            }
-            return Ok(s2);
+        let half = dist(start, new_end) / 2.0;
+        let ab = angle(new_end, c);
+        let a = angle(new_end, start) - ab;
+        if a.cos().abs() < 1e-6 {
+            return Err(x.err(
+                col,
+                format!(
+                    "the entry arc of cutter compensation has no circle from where the tool stands to one tool radius ({:.4} mm) off its end",
+                    self.r
+                ),
+            ));
         }
-        // Concave: where the two offset paths cross, nearest the corner.
-        let near = [(h.end[0] + s2[0]) / 2.0, (h.end[1] + s2[1]) / 2.0];
-        let pts: Vec<[f64; 2]> = match (h.geo, geo2) {
-            (Geo::Line, Geo::Line) => {
-                let den = t1[0] * t2[1] - t1[1] * t2[0];
-                if den.abs() < 1e-12 {
-                    vec![]
-                } else {
-                    let w = sub(s2, h.end);
-                    let k = (w[0] * t2[1] - w[1] * t2[0]) / den;
-                    vec![add_k(h.end, k, t1)]
-                }
-            }
-            (Geo::Line, Geo::Arc { c, rc, .. }) => super::geom::line_circle(h.end, t1, c, rc)
-                .into_iter()
-                .map(|k| add_k(h.end, k, t1))
-                .collect(),
-            (Geo::Arc { c, rc, .. }, Geo::Line) => super::geom::line_circle(s2, t2, c, rc)
-                .into_iter()
-                .map(|k| add_k(s2, k, t2))
-                .collect(),
-            (Geo::Arc { c: c1, rc: r1, .. }, Geo::Arc { c: c2, rc: r2, .. }) => {
-                super::geom::circle_circle(c1, r1, c2, r2)
-            }
-        };
-        let Some(p) = pts
-            .into_iter()
-            .min_by(|a, b| dist(*a, near).total_cmp(&dist(*b, near)))
-        else {
-            return Err(x.err(col, "gouge: the offset paths of this concave corner do not meet; the tool cannot reach it"));
-        };
-        match h.geo {
-            Geo::Line => {
-                // Against the programmed direction, as LinuxCNC: a held move that would run
-                // against it gouges.
-                let d0 = h.tangent;
-                let d1 = sub(p, h.start);
-                if d0[0] * d1[0] + d0[1] * d1[1] < 0.0 {
-                    return Err(x.err(col, format!(
-                        "gouge: the concave corner after line {} cannot be reached by the tool without cutting into the part",
-                        h.line
-                    )));
-                }
-            }
-            Geo::Arc { c, ccw, .. } => {
-                let sweep = |e: [f64; 2]| {
-                    let a0 = (h.start[1] - c[1]).atan2(h.start[0] - c[0]);
-                    let a1 = (e[1] - c[1]).atan2(e[0] - c[0]);
-                    let d = if ccw { a1 - a0 } else { a0 - a1 };
-                    d.rem_euclid(std::f64::consts::TAU)
-                };
-                if sweep(p) > sweep(h.end) + 0.0254 {
-                    return Err(x.err(col, format!(
-                        "gouge: the arc of line {} would have to go past its end to reach this concave corner",
-                        h.line
-                    )));
-                }
-            }
+        let centre = polar(new_end, half / a.cos(), ab);
+        if centre.iter().any(|v| !v.is_finite()) {
+            return Err(x.err(
+                col,
+                "cutter compensation's offset path is not a finite number here",
+            ));
         }
-        self.emit_held(x, h, p);
-        Ok(p)
-    }
-}
-
-fn set_end(c: &mut Canon, p: [f64; 2]) {
-    if let Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } = c {
-        e[0] = p[0];
-        e[1] = p[1];
+        let canon = self.plane_arc(self.at(new_end, self.normal(e)), centre, ccw, feed);
+        let geo = Geo::Arc {
+            c: centre,
+            ccw,
+            sweep: find_turn(start, centre, ccw, new_end),
+        };
+        self.enqueue(x, canon, col, geo);
+        self.first = false;
+        self.prog = self.uv(e);
+        self.cur = self.at(new_end, self.normal(e));
+        Ok(())
     }
 }

@@ -1,19 +1,28 @@
-//! Canned cycles G73, G81, G82, G83, G84, G85, G86 and G89 in the XY plane, expanded into
-//! moves as LinuxCNC 2.9 expands them (docs/gcode.md "Canned cycles").
+//! Canned cycles G73, G74, G81–G86 and G89 in the three planes (docs/gcode.md "Canned
+//! cycles"), expanded into moves as LinuxCNC 2.9 expands them.
 //!
-//! R, Z, P and Q are sticky until G80. The initial level is Z where the series of cycles
-//! began; G98 retracts to it (or to R if that is higher), G99 to R. Under G91, R is measured
-//! from the initial level, Z from R, and X Y from the hole before; L repeats the hole (G91:
-//! steps on by X Y each time).
+//! The cycles work in the plane's coordinates: `aa` and `bb` the plane's axes, `cc` the axis
+//! along which the hole is drilled (Z in G17, Y in G18, X in G19). R, the bottom (the `cc`
+//! word), P and Q are sticky while the same cycle goes on. The initial level is `cc` where the
+//! series began; G98 retracts to it (or to R if that is higher), G99 to R. Under G91, R is
+//! measured from the initial level, the bottom from R, and the plane's words step on from
+//! the hole before at each L repeat.
+//!
+//! One departure from rs274 2.9, on purpose: a hole that starts below its clear level (after
+//! G99 holes, a G98 one) first rises straight to the clear level, then crosses; rs274 rises
+//! diagonally while crossing, which its own documentation does not describe
+//! (docs/gcode.md "Canned cycles").
 
 use super::canon::Canon;
-use super::interp::{Exec, State, Words};
+use super::exec::{int_word, Exec};
+use super::state::{FeedMode, InterpState};
+use super::words::Words;
 use crate::block::{Plane, TranslateError};
-use crate::input_text::fixed;
-use crate::limits::{MAX_BLOCKS, MAX_DWELL_S, MAX_REPEATS};
 
+use crate::input_text::{fixed, short_number};
 /// The most pecks one G73 or G83 hole may take (bounded work, docs/limits.md).
 pub use crate::limits::MAX_PECKS;
+use crate::limits::{MAX_BLOCKS, MAX_DWELL_S};
 
 /// Why a G73/G83 hole cannot be pecked.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,149 +33,177 @@ pub enum PeckFault {
     NoDeeper,
 }
 
-/// The depth after each peck of a G73/G83 hole from `r` down by `q` to `bottom`, as rs274 2.9
-/// steps them (`depth − q` until the bottom); at most [`MAX_PECKS`] of them.
+/// The depths a G73/G83 hole pecks to from `r` down by `q` before its last feed to `bottom`,
+/// as rs274 2.9 steps them (`r − q`, `r − 2q`, … while above the bottom); at most
+/// [`MAX_PECKS`] of them, each deeper than the one before.
 pub fn peck_depths(r: f64, bottom: f64, q: f64) -> Result<Vec<f64>, PeckFault> {
     let mut depths = Vec::new();
-    let mut depth = r;
-    loop {
-        let next = (depth - q).max(bottom);
-        depths.push(next);
-        if next <= bottom {
-            return Ok(depths);
-        }
-        if depths.len() >= MAX_PECKS as usize {
-            return Err(PeckFault::TooMany);
-        }
-        if next >= depth {
+    let mut depth = r - q;
+    let mut last = r;
+    while depth > bottom {
+        if depth >= last {
             return Err(PeckFault::NoDeeper);
         }
-        depth = next;
+        if depths.len() + 1 >= MAX_PECKS as usize {
+            return Err(PeckFault::TooMany);
+        }
+        depths.push(depth);
+        last = depth;
+        depth -= q;
+    }
+    Ok(depths)
+}
+
+/// G73 and G83 retract this far above the last depth before the next peck, inches (rs274
+/// 2.9's clearance).
+const PECK_CLEARANCE_INCH: f64 = 0.010;
+
+/// The plane's axes as (aa, bb, cc) indices into X Y Z, and their letters.
+fn axes(plane: Plane) -> ([usize; 3], [char; 3]) {
+    match plane {
+        Plane::XY => ([0, 1, 2], ['X', 'Y', 'Z']),
+        Plane::XZ => ([2, 0, 1], ['Z', 'X', 'Y']),
+        Plane::YZ => ([1, 2, 0], ['Y', 'Z', 'X']),
     }
 }
 
-/// G73 and G83 retract this far above the last depth before the next peck, inches.
-const PECK_CLEARANCE_INCH: f64 = 0.010;
-
-/// One canned-cycle line.
+/// One canned-cycle line: motion `g` (×10).
 pub fn cycle(
-    st: &mut State,
+    st: &mut InterpState,
     x: &mut Exec,
     w: &Words,
-    kind: u8,
+    g: u16,
     col: u32,
 ) -> Result<(), TranslateError> {
-    if st.plane != Plane::XY {
-        return Err(x.err(col, "canned cycles work in the XY plane (G17)"));
-    }
-    if st.comp.active() {
-        return Err(x.err(
-            col,
-            "canned cycles cannot be used with cutter radius compensation on",
-        ));
+    let kind = g / 10;
+    let name = format!("G{kind}");
+    if matches!(kind, 87 | 88) {
+        return Err(x.err(col, format!("{name} (back boring, manual retract) is not supported: it needs an operator at the spindle; use G86 or G89")));
     }
     let k = st.factor();
-    let name = format!("G{kind}");
-    // A new cycle (or the first) must say its R and Z; they are sticky within one cycle.
-    if st.cycle_kind != Some(kind) {
-        if w.get('R').is_none() {
-            return Err(x.err(col, format!("{name} needs R, the level where the feed starts (R is kept only while the same cycle repeats)")));
+    let plane = st.modal.plane;
+    let ([ia, ib, ic], [la, lb, lc]) = axes(plane);
+    let same = st.modal.motion == super::state::Motion::Cycle(g);
+    if st.modal.feed_mode == FeedMode::PerMinute && st.modal.feed <= 0.0 {
+        return Err(x.err(col, "a feed move without F: canned cycles feed, give F"));
+    }
+    // R, the bottom, P and Q: given, or kept from the same cycle.
+    let r_in = match w.get('R') {
+        Some(r) => r * k,
+        None if same => st.cycle.r.ok_or_else(|| x.err(col, format!("{name} needs R")))?,
+        None => {
+            return Err(x.err(col, format!("{name} needs R, the level where the feed starts (R is kept only while the same cycle repeats)")))
         }
-        if w.get('Z').is_none() {
-            return Err(x.err(col, format!("{name} needs Z, the bottom of the hole (Z is kept only while the same cycle repeats)")));
+    };
+    let cc_in = match w.get(lc) {
+        Some(v) => v * k,
+        None if same => st.cycle.z.ok_or_else(|| x.err(col, format!("{name} needs {lc}, the bottom of the hole")))?,
+        None => {
+            return Err(x.err(col, format!("{name} needs {lc}, the bottom of the hole ({lc} is kept only while the same cycle repeats)")))
         }
-        if matches!(kind, 82 | 86 | 89) && w.get('P').is_none() {
+    };
+    let p = match w.get('P') {
+        Some(p) if p < 0.0 => return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P")),
+        Some(p) if p > MAX_DWELL_S => {
+            return Err(x.err(
+                w.col('P').unwrap_or(col),
+                crate::limits::dwell_too_long(&format!("P{}", short_number(p))),
+            ))
+        }
+        Some(p) => p,
+        None if matches!(kind, 82 | 86 | 89) && !same => {
             return Err(x.err(
                 col,
                 format!("{name} needs P, the dwell at the bottom in seconds"),
-            ));
+            ))
         }
-        st.cycle_kind = Some(kind);
-    }
-    if let Some(r) = w.get('R') {
-        st.cycle_r = Some(r * k);
-    }
-    if let Some(z) = w.get('Z') {
-        st.cycle_z = Some(z * k);
-    }
-    if let Some(p) = w.get('P') {
-        let pc = w.col('P').unwrap_or(col);
-        if p < 0.0 {
-            return Err(x.err(pc, "a negative dwell P"));
-        }
-        if p > MAX_DWELL_S {
-            return Err(x.err(
-                pc,
-                crate::limits::dwell_too_long(&format!("P{}", crate::input_text::short_number(p))),
-            ));
-        }
-        st.cycle_p = p;
-    }
-    if let Some(q) = w.get('Q') {
-        if q <= 0.0 {
-            return Err(x.err(
-                w.col('Q').unwrap_or(col),
-                format!(
-                    "the peck Q must be greater than 0, not {}",
-                    crate::input_text::short_number(q)
-                ),
-            ));
-        }
-        st.cycle_q = Some(q * k);
-    }
-    let r_in = st.cycle_r.ok_or_else(|| {
-        x.err(
-            col,
-            format!("{name} needs R, the level where the feed starts"),
-        )
-    })?;
-    let z_in = st
-        .cycle_z
-        .ok_or_else(|| x.err(col, format!("{name} needs Z, the bottom of the hole")))?;
+        None => st.cycle.p,
+    };
     let q = match kind {
-        73 | 83 => Some(
-            st.cycle_q
-                .ok_or_else(|| x.err(col, format!("{name} needs Q, the peck (greater than 0)")))?,
-        ),
+        73 | 83 => Some(match w.get('Q') {
+            Some(q) if q <= 0.0 => {
+                return Err(x.err(
+                    w.col('Q').unwrap_or(col),
+                    format!("the peck Q must be greater than 0, not {q}"),
+                ))
+            }
+            Some(q) => q * k,
+            None if same => st
+                .cycle
+                .q
+                .ok_or_else(|| x.err(col, format!("{name} needs Q, the peck")))?,
+            None => return Err(x.err(col, format!("{name} needs Q, the peck (greater than 0)"))),
+        }),
         _ => None,
     };
-    if st.feed <= 0.0 {
-        return Err(x.err(col, "a feed move without F: canned cycles feed, give F"));
-    }
-    if matches!(kind, 84 | 86) && st.spindle == 0 {
-        return Err(x.err(
-            col,
-            format!("{name} needs the spindle turning: give M03 (or M04) first"),
-        ));
-    }
-    let l = match (w.get('L'), w.col('L')) {
-        (Some(l), Some(lc)) => {
-            if l.fract() != 0.0 || l < 0.0 || l > f64::from(MAX_REPEATS) {
-                return Err(x.err(
-                    lc,
+    let l = match w.get('L') {
+        Some(_) => int_word(x, w, 'L', 1.0, super::MAX_REPEATS as f64)
+            .map_err(|e| {
+                x.err(
+                    e.col,
                     format!(
-                        "L{} must be a whole number of repeats from 0 to {MAX_REPEATS}",
-                        crate::input_text::short_number(l)
+                        "{} (L0 makes no hole; the most is {})",
+                        e.message,
+                        super::MAX_REPEATS
                     ),
-                ));
-            }
-            l as u32
-        }
-        _ => 1,
+                )
+            })?
+            .unwrap_or(1),
+        None => 1,
     };
+    let spindle = st.modal.spindle;
+    match kind {
+        84 if spindle != 1 => {
+            return Err(x.err(
+                col,
+                if spindle == 0 {
+                    "G84 needs the spindle turning forward: give M03 first"
+                } else {
+                    "G84 with the spindle turning backward (M04): right-hand tapping needs M03"
+                },
+            ))
+        }
+        74 if spindle != -1 => {
+            return Err(x.err(
+                col,
+                if spindle == 0 {
+                    "G74 needs the spindle turning backward: give M04 first"
+                } else {
+                    "G74 with the spindle turning forward (M03): left-hand tapping needs M04"
+                },
+            ))
+        }
+        86 if spindle == 0 => {
+            return Err(x.err(
+                col,
+                "G86 needs the spindle turning: give M03 (or M04) first",
+            ))
+        }
+        _ => {}
+    }
+    let feed = match st.modal.feed_mode {
+        FeedMode::PerRevolution => {
+            if st.modal.speed <= 0.0 {
+                return Err(x.err(col, "feed per revolution (G95) needs S"));
+            }
+            st.modal.feed * st.modal.speed
+        }
+        _ => st.modal.feed,
+    };
+    // In the program frame.
     let prog = st.prog();
-    let series_starts = st.cycle_il.is_none();
-    let il = *st.cycle_il.get_or_insert(prog[2]);
-    let (r, bottom) = if st.incremental {
-        (il + r_in, il + r_in + z_in)
+    let il = *st.cycle.il.get_or_insert(prog[ic]);
+    let mut old = il;
+    let (r, bottom) = if st.modal.incremental {
+        (il + r_in, il + r_in + cc_in)
     } else {
-        (r_in, z_in)
+        (r_in, cc_in)
     };
     if bottom > r {
         return Err(x.err(
             col,
             format!(
-                "{name}: the bottom Z{} is above R{}",
+                "{name}: the bottom {lc}{} is above R{}",
                 fixed(bottom / k, 4),
                 fixed(r / k, 4)
             ),
@@ -177,37 +214,42 @@ pub fn cycle(
         None => Vec::new(),
         Some(Ok(d)) => d,
         Some(Err(fault)) => {
-            let q = crate::input_text::short_number(q.unwrap_or(1.0) / k);
+            let qs = short_number(q.unwrap_or(1.0) / k);
             return Err(x.err(
                 w.col('Q').unwrap_or(col),
                 match fault {
-                    PeckFault::TooMany => {
-                        format!("{name}: Q{q} would make more than {MAX_PECKS} pecks")
-                    }
+                    PeckFault::TooMany => format!("{name}: Q{qs} would make more than {MAX_PECKS} pecks"),
                     PeckFault::NoDeeper => format!(
-                        "{name}: Q{q} is below the resolution of the numbers near R{}: a peck would not go deeper",
+                        "{name}: Q{qs} is below the resolution of the numbers near R{}: a peck would not go deeper",
                         fixed(r / k, 3)
                     ),
                 },
             ));
         }
     };
-    // What the line will make, counted from its words before anything is made: a rapid to R
-    // first for a series that starts below it, then per hole a rapid to X Y, one to R, the
-    // cycle's own moves and the rapid to the clear level.
+    // What the line makes, counted from its words before anything is made (docs/limits.md):
+    // a rise to R first for a series below it, then per hole the approach (a rise to the
+    // clear level, the crossing, the descent to R) and the cycle's own moves.
     let n = pecks.len() as u64;
     let own: u64 = match kind {
-        81 | 85 => 1 + u64::from(kind == 85),
-        82 => 2,
-        73 => 2 * n - 1,
-        83 => 3 * n - 2,
-        84 => 4 + u64::from(st.cycle_p > 0.0),
-        86 => 4 + u64::from(st.cycle_p > 0.0),
-        _ => 3,
+        81 => 2,
+        82 | 85 | 89 => 3,
+        73 => 2 * n + 2,
+        83 => 3 * n + 2,
+        74 | 84 => 6 + u64::from(p > 0.0),
+        _ => 5,
     };
-    let per_hole = own + 3;
-    let first = u64::from(series_starts && prog[2] < r);
-    let total = first + u64::from(l) * per_hole;
+    let below = il < r;
+    let (old_est, cur_est) = if below { (r, r) } else { (il, prog[ic]) };
+    let clear_est = if st.modal.retract_r { r } else { old_est };
+    let down = u64::from(clear_est > r);
+    let first = if cur_est > r {
+        2
+    } else {
+        u64::from(cur_est < clear_est) + 1 + down
+    };
+    let per_hole = own + 1 + down;
+    let total = u64::from(below) + first + own + u64::from(l - 1) * per_hole;
     if total > MAX_BLOCKS as u64 {
         return Err(x.err(
             w.col('L').unwrap_or(col),
@@ -216,143 +258,168 @@ pub fn cycle(
             ),
         ));
     }
-    x.out.reserve(total as usize);
-    let made_before = x.out.len();
-    let clear = if st.retract_r { r } else { il.max(r) };
-    let clearance = PECK_CLEARANCE_INCH * 25.4;
-    let feed = st.feed;
-    // Work in program coordinates; `go` converts.
-    let mut pos = prog;
-    let frame = st.frame();
-    let m = |p: [f64; 3]| [p[0] + frame[0], p[1] + frame[1], p[2] + frame[2]];
-    let rapid = |x: &mut Exec, pos: &mut [f64; 3], p: [f64; 3]| {
-        x.push(Canon::Rapid(m(p)), col);
-        *pos = p;
-    };
-    let feed_to = |x: &mut Exec, pos: &mut [f64; 3], p: [f64; 3]| {
-        x.push(Canon::Feed(m(p), feed), col);
-        *pos = p;
-    };
-    // Below R: the first cycle of a series rises to R first; a later one rises on the way to
-    // its first hole (as rs274 2.9 does).
-    if pos[2] < r {
-        if series_starts {
-            let to = [pos[0], pos[1], r];
-            rapid(x, &mut pos, to);
-        } else {
-            pos[2] = r;
-        }
+    let holes_mm = [prog[ia], prog[ib]];
+    // Polar words (G17 only): about the program zero; under G91 each repeat turns the hole
+    // by ^ and moves it out by @ (LinuxCNC's bolt circle: `G91 G81 ... ^60 L6`).
+    let polar = w.get('@').is_some() || w.get('^').is_some();
+    if polar && plane != Plane::XY {
+        return Err(x.err(
+            col,
+            "polar coordinates (@ ^) work in the XY plane (G17) only",
+        ));
     }
-    let spindle_m = |dir: i8| -> Option<u8> {
-        match dir {
-            1 => Some(3),
-            -1 => Some(4),
-            _ => None,
-        }
+    let (mut aa, mut bb, da, db) = if st.modal.incremental {
+        (
+            holes_mm[0],
+            holes_mm[1],
+            w.get(la).map_or(0.0, |v| v * k),
+            w.get(lb).map_or(0.0, |v| v * k),
+        )
+    } else if polar {
+        let r = w.get('@').map_or(holes_mm[0].hypot(holes_mm[1]), |v| v * k);
+        let a = w
+            .get('^')
+            .map_or(holes_mm[1].atan2(holes_mm[0]), f64::to_radians);
+        (r * a.cos(), r * a.sin(), 0.0, 0.0)
+    } else {
+        (
+            w.get(la).map_or(holes_mm[0], |v| v * k),
+            w.get(lb).map_or(holes_mm[1], |v| v * k),
+            0.0,
+            0.0,
+        )
     };
-    for i in 0..l {
-        let (hx, hy) = if st.incremental {
-            (
-                pos[0] + w.get('X').unwrap_or(0.0) * k,
-                pos[1] + w.get('Y').unwrap_or(0.0) * k,
-            )
+    let (dr, dt) = if st.modal.incremental {
+        (
+            w.get('@').map_or(0.0, |v| v * k),
+            w.get('^').map_or(0.0, f64::to_radians),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let mut pos = prog;
+    let mk = |a: f64, b: f64, c: f64| {
+        let mut p = [0.0; 3];
+        p[ia] = a;
+        p[ib] = b;
+        p[ic] = c;
+        p
+    };
+    let to_m = |p: [f64; 3]| st.to_machine(p);
+    let mut out: Vec<Canon> = Vec::with_capacity(total as usize);
+    let rapid = |out: &mut Vec<Canon>, pos: &mut [f64; 3], p: [f64; 3]| {
+        out.push(Canon::Rapid(to_m(p)));
+        *pos = p;
+    };
+    let feed_to = |out: &mut Vec<Canon>, pos: &mut [f64; 3], p: [f64; 3]| {
+        out.push(Canon::Feed(to_m(p), feed));
+        *pos = p;
+    };
+    // Below R: rise straight to R first (once).
+    let mut current_cc = prog[ic];
+    if old < r {
+        let up = mk(pos[ia], pos[ib], r);
+        rapid(&mut out, &mut pos, up);
+        old = r;
+        current_cc = r;
+    }
+    let clear = if st.modal.retract_r { r } else { old };
+    let clearance = PECK_CLEARANCE_INCH * 25.4;
+    let aux = |m: u8| Canon::Aux {
+        s: None,
+        t: None,
+        m: Some(m),
+    };
+    for rep in 0..l {
+        aa += da;
+        bb += db;
+        if dr != 0.0 || dt != 0.0 {
+            if aa == 0.0 && bb == 0.0 {
+                return Err(x.err(
+                    col,
+                    "incremental polar words (@ ^) at the program zero have no direction",
+                ));
+            }
+            let (r, t) = (aa.hypot(bb) + dr, bb.atan2(aa) + dt);
+            aa = r * t.cos();
+            bb = r * t.sin();
+        }
+        if rep == 0 && current_cc > r {
+            rapid(&mut out, &mut pos, mk(aa, bb, current_cc));
+            rapid(&mut out, &mut pos, mk(aa, bb, r));
         } else {
-            let _ = i;
-            (
-                w.get('X').map_or(pos[0], |v| v * k),
-                w.get('Y').map_or(pos[1], |v| v * k),
-            )
-        };
-        let to = [hx, hy, pos[2]];
-        rapid(x, &mut pos, to);
-        rapid(x, &mut pos, [hx, hy, r]);
-        let at = |z: f64| [hx, hy, z];
+            if pos[ic] < clear {
+                // novanc: rise straight to the clear level before crossing.
+                let up = mk(pos[ia], pos[ib], clear);
+                rapid(&mut out, &mut pos, up);
+            }
+            rapid(&mut out, &mut pos, mk(aa, bb, clear));
+            if clear > r {
+                rapid(&mut out, &mut pos, mk(aa, bb, r));
+            }
+        }
+        let at = |c: f64| mk(aa, bb, c);
         match kind {
             81 => {
-                feed_to(x, &mut pos, at(bottom));
+                feed_to(&mut out, &mut pos, at(bottom));
+                rapid(&mut out, &mut pos, at(clear));
             }
             82 => {
-                feed_to(x, &mut pos, at(bottom));
-                x.push(Canon::Dwell(st.cycle_p), col);
+                feed_to(&mut out, &mut pos, at(bottom));
+                out.push(Canon::Dwell(p));
+                rapid(&mut out, &mut pos, at(clear));
             }
             73 | 83 => {
-                for (i, &next) in pecks.iter().enumerate() {
-                    feed_to(x, &mut pos, at(next));
-                    if i + 1 == pecks.len() {
-                        break;
-                    }
+                for &depth in &pecks {
+                    feed_to(&mut out, &mut pos, at(depth));
                     if kind == 83 {
-                        rapid(x, &mut pos, at(r));
+                        rapid(&mut out, &mut pos, at(r));
                     }
-                    rapid(x, &mut pos, at(next + clearance));
+                    rapid(&mut out, &mut pos, at(depth + clearance));
                 }
+                feed_to(&mut out, &mut pos, at(bottom));
+                rapid(&mut out, &mut pos, at(clear));
             }
-            84 => {
-                feed_to(x, &mut pos, at(bottom));
-                x.push(
-                    Canon::Aux {
-                        s: None,
-                        t: None,
-                        m: Some(4),
-                    },
-                    col,
-                );
-                if st.cycle_p > 0.0 {
-                    x.push(Canon::Dwell(st.cycle_p), col);
+            74 | 84 => {
+                let (back, fwd) = if kind == 84 { (4, 3) } else { (3, 4) };
+                feed_to(&mut out, &mut pos, at(bottom));
+                out.push(aux(5));
+                out.push(aux(back));
+                if p > 0.0 {
+                    out.push(Canon::Dwell(p));
                 }
-                feed_to(x, &mut pos, at(clear));
-                x.push(
-                    Canon::Aux {
-                        s: None,
-                        t: None,
-                        m: spindle_m(st.spindle).or(Some(3)),
-                    },
-                    col,
-                );
+                feed_to(&mut out, &mut pos, at(clear));
+                out.push(aux(5));
+                out.push(aux(fwd));
             }
             85 => {
-                feed_to(x, &mut pos, at(bottom));
-                feed_to(x, &mut pos, at(r));
+                feed_to(&mut out, &mut pos, at(bottom));
+                feed_to(&mut out, &mut pos, at(r));
+                rapid(&mut out, &mut pos, at(clear));
             }
             86 => {
-                feed_to(x, &mut pos, at(bottom));
-                if st.cycle_p > 0.0 {
-                    x.push(Canon::Dwell(st.cycle_p), col);
-                }
-                x.push(
-                    Canon::Aux {
-                        s: None,
-                        t: None,
-                        m: Some(5),
-                    },
-                    col,
-                );
-                rapid(x, &mut pos, at(clear));
-                if let Some(mm) = spindle_m(st.spindle) {
-                    x.push(
-                        Canon::Aux {
-                            s: None,
-                            t: None,
-                            m: Some(mm),
-                        },
-                        col,
-                    );
-                }
+                feed_to(&mut out, &mut pos, at(bottom));
+                out.push(Canon::Dwell(p));
+                out.push(aux(5));
+                rapid(&mut out, &mut pos, at(clear));
+                out.push(aux(if spindle == 1 { 3 } else { 4 }));
             }
             _ => {
                 // G89: bore, dwell, feed out to the clear level.
-                feed_to(x, &mut pos, at(bottom));
-                x.push(Canon::Dwell(st.cycle_p), col);
-                feed_to(x, &mut pos, at(clear));
+                feed_to(&mut out, &mut pos, at(bottom));
+                out.push(Canon::Dwell(p));
+                feed_to(&mut out, &mut pos, at(clear));
             }
         }
-        rapid(x, &mut pos, at(clear));
     }
-    debug_assert_eq!(
-        (x.out.len() - made_before) as u64,
-        total,
-        "the count of {name}"
-    );
-    st.cur = m(pos);
+    debug_assert_eq!(out.len() as u64, total, "the count of {name}");
+    x.push_all(out, col);
+    st.pos = st.to_machine(pos);
+    st.cycle.r = Some(r_in);
+    st.cycle.z = Some(cc_in);
+    st.cycle.p = p;
+    if let Some(q) = q {
+        st.cycle.q = Some(q);
+    }
     Ok(())
 }

@@ -73,6 +73,21 @@ pub fn centre_r(
 /// Checks an I J K arc's centre `c` against start `s` and end `e` (turning order, mm) with
 /// LinuxCNC's tolerances (`abs_tol` in mm for the program's units) and novanc's own.
 pub fn check_ijk(s: [f64; 2], e: [f64; 2], c: [f64; 2], abs_tol: f64) -> Result<(), ArcFault> {
+    let [r0, r1] = check_ijk_linuxcnc(s, e, c, abs_tol)?;
+    if (r0 - r1).abs() > NOVANC_RADIUS_DIFF_MM {
+        return Err(ArcFault::NotOnCircle { r0, r1 });
+    }
+    Ok(())
+}
+
+/// LinuxCNC's tolerances only: the start and end radii of an arc LinuxCNC cuts, as a spiral
+/// where they differ (the milling interpreter cuts a wider one in pieces, `spiral_pieces`).
+pub fn check_ijk_linuxcnc(
+    s: [f64; 2],
+    e: [f64; 2],
+    c: [f64; 2],
+    abs_tol: f64,
+) -> Result<[f64; 2], ArcFault> {
     let r0 = (c[0] - s[0]).hypot(c[1] - s[1]);
     let r1 = (c[0] - e[0]).hypot(c[1] - e[1]);
     if r0 < 1e-4 || r1 < 1e-4 {
@@ -80,13 +95,34 @@ pub fn check_ijk(s: [f64; 2], e: [f64; 2], c: [f64; 2], abs_tol: f64) -> Result<
     }
     let abs_err = (r0 - r1).abs();
     let rel_err = abs_err / r0.max(r1);
-    if abs_err > abs_tol * 100.0
-        || (rel_err > IJK_REL_TOLERANCE && abs_err > abs_tol)
-        || abs_err > NOVANC_RADIUS_DIFF_MM
-    {
+    if abs_err > abs_tol * 100.0 || (rel_err > IJK_REL_TOLERANCE && abs_err > abs_tol) {
         return Err(ArcFault::NotOnCircle { r0, r1 });
     }
-    Ok(())
+    Ok([r0, r1])
+}
+
+/// A spiral whose radius changes by more than this (mm) is cut in pieces: below
+/// `NOVANC_RADIUS_DIFF_MM`, and off the round values that programs and LinuxCNC's tolerance
+/// use, so that rs274's listing (4 decimals) tells on which side of it an arc is.
+pub const SPIRAL_WHOLE_MM: f64 = 0.0265;
+
+/// The most a piece of a spiral changes its radius, mm: below `NOVANC_RADIUS_DIFF_MM`, with
+/// room for rounding the piece's ends and centre to pulses.
+pub const SPIRAL_STEP_MM: f64 = 0.02;
+
+/// How many arcs about the same centre cut a spiral from radius `r0` to `r1` sweeping `sweep`
+/// radians: each changes the radius by at most `SPIRAL_STEP_MM` and turns by at most half a
+/// turn (so that none is taken for a full circle). 1 when the pulse core turns it whole.
+pub fn spiral_pieces(r0: f64, r1: f64, sweep: f64) -> u32 {
+    let diff = (r1 - r0).abs();
+    if diff <= SPIRAL_WHOLE_MM {
+        return 1;
+    }
+    let by_radius = (diff / SPIRAL_STEP_MM).ceil();
+    let by_angle = (sweep / std::f64::consts::PI).ceil();
+    // The difference is bounded by LinuxCNC's tolerance (100 × 0.0718 mm at most), the
+    // sweep by the turn count's limit.
+    by_radius.max(by_angle).min(1e6) as u32
 }
 
 /// Intersections of the line through `p` with direction `d` (unit) and the circle (`c`, `r`),
@@ -150,5 +186,28 @@ mod tests {
             IJK_ABS_TOLERANCE_MM
         )
         .is_err());
+        // LinuxCNC's tolerance alone lets them through, for the milling interpreter to cut as
+        // a spiral in pieces.
+        assert_eq!(
+            check_ijk_linuxcnc(
+                [0.0, 0.0],
+                [2000.05, 0.0],
+                [1000.0, 0.0],
+                IJK_ABS_TOLERANCE_MM
+            ),
+            Ok([1000.0, 1000.05])
+        );
+    }
+
+    #[test]
+    fn a_spiral_is_cut_in_pieces_the_pulse_core_turns() {
+        let half = std::f64::consts::PI;
+        // Within what the core turns: whole.
+        assert_eq!(spiral_pieces(100.0, 100.026, half), 1);
+        // Each piece changes the radius by 0.02 mm at most...
+        assert_eq!(spiral_pieces(100.0, 100.15, half), 8);
+        assert_eq!(spiral_pieces(100.15, 100.0, half), 8);
+        // ...and turns half a turn at most.
+        assert_eq!(spiral_pieces(100.0, 100.03, 4.0 * half), 4);
     }
 }

@@ -1,35 +1,47 @@
-//! ISO 6983 G-code programs (issue 10; docs/gcode.md): the subset shop programs use, read
-//! with LinuxCNC 2.9's RS274NGC semantics where it covers the word and Fanuc 0i's otherwise,
-//! expanded into machine instruction blocks.
+//! ISO 6983 G-code programs (docs/gcode.md): LinuxCNC 2.9's language for a three-axis mill,
+//! read by an interpreter whose state lives as long as the machine.
 //!
 //! [`GcodeSource`] is, like the source-language `translator::Translator`, an iterator of
-//! statements: one ISO line is one source statement, with the blocks generated from it
-//! (canned cycles expanded, work offsets, tool length and cutter compensation applied), in
-//! absolute machine pulses. After an error it yields nothing more.
+//! statements: one executed line is one statement, with the blocks generated from it (canned
+//! cycles expanded, offsets, tool length and cutter compensation applied), in absolute
+//! machine pulses. After an error it yields nothing more.
+//!
+//! The house: `state` (the interpreter's state) depends on nothing of the rest; `read` reads a
+//! line against it, `flow` moves between lines (O-words, calls), `exec` executes a line in
+//! LinuxCNC's order with `moves`, `cycles`, `comp`, `probe` and `spline`, and `canon` turns
+//! the result into blocks.
 
 pub mod canon;
 pub mod comp;
 pub mod cycles;
-pub mod expr;
+pub mod exec;
+pub mod flow;
 pub mod geom;
-pub mod interp;
 pub mod moves;
+pub mod probe;
+pub mod read;
 pub mod search;
+pub mod spline;
+pub mod state;
 pub mod words;
 
+pub use exec::{Ask, Event, Machine, Probed};
+pub use flow::{NoFiles, SubFinder};
+pub use probe::SimMachine;
 pub use search::translate_all;
+pub use state::InterpState;
 
 use crate::block::{MachineState, Statement, TranslateError};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
 use canon::{Canon, Emitter};
-use expr::Params;
-use interp::{Exec, Flow, Mode, State};
-use std::collections::HashMap;
+use comp::Comp;
+use exec::{Exec, Flow as LineFlow};
+use flow::{Flow, Pos};
+use read::{Env, Target};
+use std::path::PathBuf;
 use std::sync::Arc;
 
-/// The deepest subprogram call (M98 inside subprograms), as Fanuc 0i allows.
-pub const MAX_DEPTH: usize = 4;
 /// The bounds of a program's work (docs/limits.md): the most repeats an L word asks for, the
 /// most lines a program may execute (every line read, every repeat counted), the most blocks
 /// one line and one program may make.
@@ -57,12 +69,18 @@ pub struct Switches {
     pub optional_stop: bool,
 }
 
-/// Whether a program is G-code: by its file name (`.ngc`, `.nc`, `.iso`) or by its first
-/// line (`%`, or `O` and a number).
+/// The file extensions of G-code programs (LinuxCNC's `.ngc`, `.nc`, ISO `.iso`, and what
+/// CAM posts write: `.tap`, `.gcode`, `.cnc`).
+pub const GCODE_EXTENSIONS: [&str; 6] = ["ngc", "nc", "iso", "tap", "gcode", "cnc"];
+
+/// Whether a program is G-code: by its file name (`GCODE_EXTENSIONS`) or by its first line
+/// (`%`, or `O` and a number).
 pub fn is_gcode(file_name: &str, text: &str) -> bool {
     let lower = file_name.to_ascii_lowercase();
-    if [".ngc", ".nc", ".iso"].iter().any(|e| lower.ends_with(e)) {
-        return true;
+    if let Some((_, ext)) = lower.rsplit_once('.') {
+        if GCODE_EXTENSIONS.contains(&ext) {
+            return true;
+        }
     }
     let Some(first) = text.lines().map(str::trim).find(|l| !l.is_empty()) else {
         return false;
@@ -79,36 +97,96 @@ pub fn restore_text(line: u32) -> String {
     format!("(SEARCH: restore for line {line})")
 }
 
-/// A place in the program: the 0-based index of a line and the byte where it starts. The
-/// reader walks the text with it instead of keeping an index of every line, so that memory
-/// follows the program's content, not its count of lines (docs/limits.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct At {
-    line: usize,
-    byte: usize,
+/// Finds subroutine files `name.ngc` in a list of folders (the subroutine path).
+pub struct SubPath(pub Vec<PathBuf>);
+
+impl SubFinder for SubPath {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        if name.contains(['/', '\\']) || name.starts_with('.') {
+            return Err(format!("o<{name}>: a subroutine name cannot be a path"));
+        }
+        for dir in &self.0 {
+            let file = format!("{name}.ngc");
+            let p = dir.join(&file);
+            match std::fs::read(&p) {
+                Ok(b) => {
+                    let text = crate::input_text::decode(&b)
+                        .map_err(|e| format!("{}:{e}", p.display()))?;
+                    return Ok(Some((file, text.into())));
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                Err(e) => return Err(format!("cannot read {}: {e}", p.display())),
+            }
+        }
+        Ok(None)
+    }
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Frame {
-    o: u32,
-    ret: At,
-    start: At,
-    left: u32,
+/// Subroutines kept as programs (the console's program memory, `NAME.NGC`), then files of a
+/// subroutine path: what `o<name> call` finds at the console.
+pub struct SubPrograms {
+    /// Program name (upper case, with its extension) and text.
+    pub programs: Vec<(String, Arc<str>)>,
+    /// Then these folders.
+    pub path: SubPath,
+}
+
+impl SubFinder for SubPrograms {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        let want = format!("{}.NGC", name.to_ascii_uppercase());
+        if let Some((n, t)) = self.programs.iter().find(|(n, _)| *n == want) {
+            return Ok(Some((n.clone(), t.clone())));
+        }
+        self.path.find(name)
+    }
+}
+
+/// Parameters as a line sees them: the interpreter's state and the running subroutine's
+/// locals.
+struct ParamEnv<'a> {
+    st: &'a InterpState,
+    flow: &'a Flow,
+}
+
+impl Env for ParamEnv<'_> {
+    fn numbered(&self, n: usize) -> Result<f64, String> {
+        if (5420..=5428).contains(&n) && self.st.modal.comp != state::CompSide::Off {
+            return Err(format!(
+                "#{n} (the current position) cannot be read with cutter radius compensation on"
+            ));
+        }
+        Ok(self.st.param(n))
+    }
+
+    fn named(&self, name: &str) -> Result<Option<f64>, String> {
+        if matches!(name, "_x" | "_y" | "_z") && self.st.modal.comp != state::CompSide::Off {
+            return Err(format!("#<{name}> (the current position) cannot be read with cutter radius compensation on"));
+        }
+        Ok(self.st.named_value(name, self.flow.locals()))
+    }
+}
+
+/// One line's execution context over the source's fields (a macro, so that the other
+/// fields stay free to borrow).
+macro_rules! ctx {
+    ($s:ident, $n:expr) => {
+        Exec {
+            n: $n,
+            out: std::mem::take(&mut $s.out_buf),
+            events: Vec::new(),
+            settings: &$s.settings,
+            magazine: &mut $s.magazine,
+            optional_stop: $s.switches.optional_stop,
+            asks: Vec::new(),
+        }
+    };
 }
 
 /// A G-code program as an iterator of statements.
 pub struct GcodeSource {
-    source: Arc<str>,
-    /// Each subprogram's O line: where its first line starts.
-    subs: HashMap<u32, At>,
-    called: std::collections::HashSet<u32>,
-    /// The 0-based index of the next line to read.
-    pc: usize,
-    /// Where that line starts in `source`.
-    pc_byte: usize,
-    stack: Vec<Frame>,
-    st: State,
-    params: Params,
+    flow: Flow,
+    st: InterpState,
+    comp: Comp,
     magazine: Magazine,
     settings: MachineSettings,
     switches: Switches,
@@ -118,18 +196,30 @@ pub struct GcodeSource {
     /// SEARCH: a line before the SEARCH point moved Z from where the machine stood.
     z_moved: bool,
     held: Option<Statement>,
-    changes: Vec<OffsetChange>,
+    events: Vec<Event>,
     executed: u64,
     max_lines: u64,
     /// Blocks made so far, and the most the program may make.
     made: u64,
     max_blocks: u64,
     first_code: Option<usize>,
-    scratch: expr::Scratch,
-    line_buf: expr::Line,
+    /// The main program's first line that is not blank: where its opening `%` may be
+    /// (LinuxCNC skips blank lines before it).
+    first_line: usize,
+    scratch: read::Scratch,
+    line_buf: read::Line,
     out_buf: Vec<(Canon, u32, u32)>,
+    /// The sorted words of the line being executed (kept, not returned: a kilobyte).
+    words_buf: Option<Box<words::Words>>,
     mdi: bool,
     done: bool,
+    machine: Box<dyn Machine>,
+    /// What the last line asked of the machine, and the line: answered before the next line
+    /// is read (docs/gcode.md "Probing").
+    pending: (Vec<exec::Ask>, u32),
+    /// SEARCH is running the lines before its point: the settings' machine answers.
+    pub(crate) searching: bool,
+    finder: Box<dyn SubFinder>,
 }
 
 impl GcodeSource {
@@ -143,107 +233,83 @@ impl GcodeSource {
         offsets: WorkOffsets,
         switches: Switches,
     ) -> GcodeSource {
-        let params = Params::default();
-        let mut subs = HashMap::new();
-        let mut first_code = None;
-        let bytes = source.as_bytes();
-        let (mut a, mut i) = (0, 0);
-        while a < bytes.len() {
-            // Only the first byte that is not a space matters here; a blank line costs a
-            // byte or two.
-            let mut k = a;
-            while k < bytes.len() && bytes[k] != b'\n' && bytes[k].is_ascii_whitespace() {
-                k += 1;
-            }
-            let b = match bytes.get(k) {
-                Some(b'\n') => k + 1,
-                None => k,
-                Some(_) => source[k..].find('\n').map_or(bytes.len(), |e| k + e + 1),
-            };
-            let (l, first) = (&source[a..b], bytes.get(k).copied());
-            a = b;
-            i += 1;
-            let next = At { line: i, byte: b };
-            let i = i - 1;
-            let c = match first {
-                None | Some(b'\n') => continue,
-                Some(c) => c,
-            };
-            if c == b'(' || c == b';' {
-                continue;
-            }
-            let t = l.trim();
-            if first_code.is_none() && t != "%" {
-                first_code = Some(i);
-            }
-            if c != b'O' && c != b'o' {
-                continue;
-            }
-            if let Ok(l) = expr::read_line(t, i as u32 + 1, &params) {
-                if let Some((o, _)) = l.o_number {
-                    subs.entry(o).or_insert(next);
-                }
+        let mut persistent = Vec::new();
+        for (cs, o) in offsets.0.iter().enumerate() {
+            for (a, &v) in o.iter().enumerate() {
+                persistent.push((state::system_base(cs) + 1 + a, v));
             }
         }
-        let pulse = |p: i64| settings.to_mm(p);
-        let st = State {
-            cur: [
-                pulse(state.pos[0]),
-                pulse(state.pos[1]),
-                pulse(state.pos[2]),
-            ],
-            inch: false,
-            incremental: false,
-            plane: crate::block::Plane::XY,
-            mode: Mode::None,
-            feed: 0.0,
-            speed: state.spindle.unsigned_abs() as f64,
-            selected: state.tool,
-            tool: state.tool,
-            spindle: state.spindle.signum() as i8,
-            tlo: 0.0,
-            offsets,
-            cs: 0,
-            retract_r: true,
-            cycle_il: None,
-            cycle_kind: None,
-            cycle_r: None,
-            cycle_z: None,
-            cycle_p: 0.0,
-            cycle_q: None,
-            comp: comp::Comp::default(),
-        };
+        let pos = [
+            settings.to_mm(state.pos[0]),
+            settings.to_mm(state.pos[1]),
+            settings.to_mm(state.pos[2]),
+        ];
+        let mut st = InterpState::with_persistent(&persistent, pos, state.tool);
+        st.modal.speed = state.spindle.unsigned_abs() as f64;
+        st.modal.spindle = state.spindle.signum() as i8;
+        GcodeSource::with_state(source, magazine, settings, state, st, switches)
+    }
+
+    /// A program `source` read from the interpreter state `st` (the machine's, kept between
+    /// runs), the machine standing as `machine` says.
+    pub fn with_state(
+        source: Arc<str>,
+        magazine: Magazine,
+        settings: MachineSettings,
+        machine: MachineState,
+        mut st: InterpState,
+        switches: Switches,
+    ) -> GcodeSource {
+        st.pos = [
+            settings.to_mm(machine.pos[0]),
+            settings.to_mm(machine.pos[1]),
+            settings.to_mm(machine.pos[2]),
+        ];
+        st.tool = machine.tool;
+        st.call_level = 0;
+        // A NURBS is begun and ended within one program (or one MDI text).
+        st.nurbs = None;
+        let first_code = source.split('\n').position(|l| {
+            let t = l.trim();
+            !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
+        });
+        let sim = Box::new(probe::SimMachine::new(&settings));
+        let first_line = source
+            .split('\n')
+            .position(|l| !l.trim().is_empty())
+            .unwrap_or(0);
         GcodeSource {
-            source,
-            subs,
-            called: Default::default(),
-            pc: 0,
-            pc_byte: 0,
-            stack: Vec::new(),
+            flow: Flow::new(source),
             st,
-            params,
+            comp: Comp::default(),
             magazine,
             settings,
             switches,
             emitter: Emitter {
-                pos: state.pos,
+                pos: machine.pos,
                 seq: 0,
             },
-            start: state,
+            start: machine,
             resume_at: None,
             z_moved: false,
             held: None,
-            changes: Vec::new(),
+            events: Vec::new(),
             executed: 0,
             max_lines: MAX_LINES,
             made: 0,
             max_blocks: MAX_PROGRAM_BLOCKS,
             first_code,
-            scratch: expr::Scratch::default(),
-            line_buf: expr::Line::default(),
+            first_line,
+            scratch: read::Scratch::default(),
+            line_buf: read::Line::default(),
             out_buf: Vec::new(),
+            words_buf: None,
             mdi: false,
             done: false,
+            machine: sim,
+            pending: (Vec::new(), 0),
+            searching: false,
+            finder: Box::new(NoFiles),
         }
     }
 
@@ -266,24 +332,71 @@ impl GcodeSource {
         self
     }
 
+    /// The machine that answers probes and inputs.
+    pub fn machine(mut self, m: Box<dyn Machine>) -> GcodeSource {
+        self.machine = m;
+        self
+    }
+
+    /// Where `o<name> call` finds subroutine files.
+    pub fn subroutines(mut self, f: Box<dyn SubFinder>) -> GcodeSource {
+        self.finder = f;
+        self
+    }
+
     /// SEARCH: the lines before source line `line` are executed for the state they leave
     /// (modes, offsets, tool, spindle, position) but yield no blocks; the first line at or
     /// after `line` is preceded by a restore statement that brings the machine from its actual
-    /// state there: Z up to machine zero before any X Y move, the tool, the spindle, X Y, then
-    /// Z.
+    /// state there.
     pub fn resume_at(mut self, line: u32) -> GcodeSource {
         self.resume_at = Some(line);
         self
     }
 
-    /// The work offsets as the program has left them so far.
-    pub fn offsets(&self) -> WorkOffsets {
-        self.st.offsets
+    /// The interpreter's state as the program has left it so far.
+    pub fn state(&self) -> &InterpState {
+        &self.st
     }
 
-    /// The G10 changes made since the last call, in order.
+    /// The interpreter's state, taken (the source is spent).
+    pub fn into_state(self) -> InterpState {
+        self.st
+    }
+
+    /// The work offsets G54–G59 as the program has left them so far.
+    pub fn offsets(&self) -> WorkOffsets {
+        let mut o = WorkOffsets::default();
+        for (cs, v) in o.0.iter_mut().enumerate() {
+            *v = self.st.system_offset(cs);
+        }
+        o
+    }
+
+    /// What the lines did besides the moves since the last call (parameters kept, tool data,
+    /// messages, probe results), in order.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// The G10 changes of G54–G59 made since the last call, in order (the other events are
+    /// kept for `take_events`).
     pub fn take_offset_changes(&mut self) -> Vec<OffsetChange> {
-        std::mem::take(&mut self.changes)
+        let mut out: Vec<OffsetChange> = Vec::new();
+        for e in &self.events {
+            if let Event::Param(n, _) = e {
+                if (5221..=5330).contains(n) && (n - 5221) % 20 < 3 {
+                    let system = (n - 5221) / 20;
+                    let offset = self.st.system_offset(system);
+                    match out.last_mut() {
+                        Some(l) if l.system == system => l.offset = offset,
+                        _ => out.push(OffsetChange { system, offset }),
+                    }
+                }
+            }
+        }
+        self.events
+            .retain(|e| !matches!(e, Event::Param(n, _) if (5221..=5330).contains(n) && (n - 5221) % 20 < 3));
+        out
     }
 
     fn fail(&mut self, e: TranslateError) -> Option<Result<Statement, TranslateError>> {
@@ -291,140 +404,270 @@ impl GcodeSource {
         Some(Err(e))
     }
 
-    fn end_error(&self, line: u32) -> TranslateError {
-        TranslateError {
-            line,
-            col: 1,
-            message: match self.stack.last() {
-                Some(f) => format!("subprogram O{} ends without M99", f.o),
-                None => "the program ends without M02, M30 or a closing %".to_string(),
-            },
+    /// An error at `line`:`col` of unit `unit`: in a subroutine file, charged to the main
+    /// program's line that called it, naming the file.
+    fn error_at(&self, unit: usize, line: u32, col: u32, message: String) -> TranslateError {
+        if unit == 0 {
+            return TranslateError { line, col, message };
         }
+        let name = &self.flow.units[unit].name;
+        TranslateError {
+            line: self.flow.main_line() as u32,
+            col: 1,
+            message: format!("in {name} line {line}:{col}: {message}"),
+        }
+    }
+
+    /// The machine's answers to what the last line asked (its blocks have been handed on):
+    /// the parameters and position they set, or the error of a probe that did not trip.
+    pub(crate) fn answer_pending(&mut self) -> Result<(), TranslateError> {
+        let (asks, n) = std::mem::take(&mut self.pending);
+        for ask in &asks {
+            let m: &mut dyn Machine = if self.searching {
+                &mut probe::SimMachine::new(&self.settings)
+            } else {
+                self.machine.as_mut()
+            };
+            if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
+                self.emitter.pos = at.map(|v| self.settings.to_pulses(v));
+            }
+        }
+        Ok(())
     }
 
     /// Executes the next line; `None` when there is nothing more to do.
     fn step(&mut self) -> Option<Result<Statement, TranslateError>> {
+        if let Err(e) = self.answer_pending() {
+            return self.fail(e);
+        }
         loop {
             if self.done {
                 return None;
             }
-            let n = self.pc as u32 + 1;
-            let a = self.pc_byte;
-            if a >= self.source.len() {
-                if self.mdi && self.stack.is_empty() {
+            let at = self.flow.pc;
+            let n = at.line as u32 + 1;
+            let text = Arc::clone(&self.flow.units[at.unit].text);
+            let Some((raw, next)) = flow::line_at(&text, at.byte) else {
+                if at.unit == 0 && self.mdi && self.flow.level() == 0 && !self.flow.skipping() {
                     self.done = true;
-                    let mut x = ctx(
-                        n,
-                        &self.settings,
-                        &self.magazine,
-                        self.switches,
-                        std::mem::take(&mut self.out_buf),
-                    );
-                    self.st.comp.flush(&mut x);
+                    let mut x = ctx!(self, n);
+                    let r = self.comp.flush(&mut x, 1);
                     let out = x.out;
-                    return self.finish(n, String::new(), out, true);
+                    if let Err(e) = r {
+                        self.out_buf = out;
+                        return self.fail(e);
+                    }
+                    return self.finish(n, String::new(), out, false);
                 }
-                let e = self.end_error(n);
+                let msg = self.flow.end_error();
+                // Charged to the line that started the skip (the call, the definition).
+                let (unit, line) = match self.flow.skip_from() {
+                    Some(p) if self.flow.skipping() => (p.unit, p.line as u32 + 1),
+                    _ => (at.unit, n),
+                };
+                let e = self.error_at(unit, line, 1, msg);
                 return self.fail(e);
-            }
-            let b = match self.source.as_bytes()[a] {
-                b'\n' => a + 1,
-                _ => self.source[a..]
-                    .find('\n')
-                    .map_or(self.source.len(), |i| a + i + 1),
             };
-            self.pc += 1;
-            self.pc_byte = b;
-            let source = Arc::clone(&self.source);
-            let raw = source[a..b].trim_end_matches(['\n', '\r']);
-            if self.switches.block_delete && raw.trim_start().starts_with('/') {
-                continue;
-            }
+            self.flow.pc = Pos {
+                unit: at.unit,
+                line: at.line + 1,
+                byte: next,
+            };
             self.executed += 1;
             if self.executed > self.max_lines {
                 let max = self.max_lines;
-                // Without a call, every line read was a line of the file.
-                let message = if self.called.is_empty() {
-                    format!("the program has more than {max} lines (the most a program may have)")
+                // Without a call or a loop, every line read was a line of the file.
+                let message = if self.flow.jumped() {
+                    format!("the program executes more than {max} lines, counting each line of a loop or subroutine each time it runs: refused")
                 } else {
-                    format!("the program executes more than {max} lines, counting each line of a subprogram each time it runs: refused")
+                    format!("the program has more than {max} lines (the most a program may have)")
                 };
-                return self.fail(TranslateError {
-                    line: n,
-                    col: 1,
-                    message,
-                });
-            }
-            if let Some(e) = crate::limits::line_too_long(raw, n, "") {
+                let e = self.error_at(at.unit, n, 1, message);
                 return self.fail(e);
             }
-            // A blank line (the spaces the line reader skips): nothing to read.
+            // A blank line: nothing to read (it counts as a line all the same).
             if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
                 continue;
             }
-            let mut line = std::mem::take(&mut self.line_buf);
-            let r = expr::read_into(&mut self.scratch, &mut line, raw, n, &self.params);
-            let r = r.and_then(|()| self.line_of(n, raw, &line));
-            self.line_buf = line;
-            match r {
+            // Skipping (a false `if`, a subroutine's definition): only an O-word line can stop
+            // it, and nothing else is read (LinuxCNC evaluates nothing it skips).
+            if self.flow.skipping() && flow::o_label(raw).is_none() && !raw.contains('%') {
+                continue;
+            }
+            if let Some(e) = crate::limits::line_too_long(raw, n, "") {
+                let e = self.error_at(at.unit, e.line, e.col, e.message);
+                return self.fail(e);
+            }
+            if self.switches.block_delete
+                && !self.flow.skipping()
+                && raw.trim_start().starts_with('/')
+            {
+                continue;
+            }
+            match self.line(at, n, raw) {
                 Ok(Some(s)) => return s,
                 Ok(None) => continue,
-                Err(e) => return self.fail(e),
+                Err(e) => {
+                    let e = self.error_at(at.unit, e.line, e.col, e.message);
+                    return self.fail(e);
+                }
             }
         }
     }
 
-    /// Executes one read line: `None` to go on to the next, or what to yield.
+    /// Reads and executes one line: `None` to go on to the next, or what to yield.
     #[allow(clippy::type_complexity)]
-    fn line_of(
+    fn line(
         &mut self,
+        at: Pos,
         n: u32,
         raw: &str,
-        line: &expr::Line,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
+        let mut line = std::mem::take(&mut self.line_buf);
+        let r = {
+            let env = ParamEnv {
+                st: &self.st,
+                flow: &self.flow,
+            };
+            let flow = &self.flow;
+            let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
+            let skipping: Option<&dyn Fn(&str, read::OKind) -> bool> =
+                if flow.skipping() { Some(&skip) } else { None };
+            read::read_into(&mut self.scratch, &mut line, raw, n, &env, skipping)
+        };
+        let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
+        self.line_buf = line;
+        out
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn execute_line(
+        &mut self,
+        at: Pos,
+        n: u32,
+        raw: &str,
+        line: &read::Line,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         if line.percent {
-            if Some(self.pc - 1) < self.first_code || self.first_code.is_none() {
+            if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
-            if !self.stack.is_empty() {
-                let e = self.end_error(n);
-                return Err(e);
+            if at.line == self.first_line {
+                // The tape's leading % (after blank lines, if any).
+                return Ok(None);
+            }
+            if !self.flow.units[0]
+                .nth_line(self.first_line)
+                .is_some_and(|l| l.trim_start().starts_with('%'))
+            {
+                return Err(TranslateError {
+                    line: n,
+                    col: 1,
+                    message: "'%' ends a program only when the program's first line that is not blank is '%' (as in LinuxCNC)".into(),
+                });
+            }
+            if self.flow.level() > 0 {
+                return Err(TranslateError {
+                    line: n,
+                    col: 1,
+                    message: self.flow.end_error(),
+                });
             }
             // The closing %: the program ends.
-            self.done = true;
-            let mut x = ctx(
-                n,
-                &self.settings,
-                &self.magazine,
-                self.switches,
-                std::mem::take(&mut self.out_buf),
-            );
-            self.st.comp.flush(&mut x);
-            let out = x.out;
-            return Ok(Some(self.finish(n, raw.trim().to_string(), out, true)));
+            spline::unfinished(&self.st, n, 1, "the program's end")?;
+            return Ok(Some(self.end(n, raw.trim().to_string(), Vec::new(), None)));
         }
-        if let Some((o, col)) = line.o_number {
-            if Some(self.pc - 1) == self.first_code && self.stack.is_empty() {
-                // The main program's number.
-                return Ok(None);
+        if let Some(o) = &line.o {
+            if o.kind == read::OKind::Bare && !self.flow.skipping() {
+                if at.unit == 0 && Some(at.line) == self.first_code && self.flow.level() == 0 {
+                    // The main program's number.
+                    return Ok(None);
+                }
+                // Further on in the main program (after subroutine definitions, say) it is a
+                // program number too: LinuxCNC reads on into what follows. An M99 there ends
+                // nothing in novanc ("M99 outside a subprogram").
+                if self.flow.level() > 0 && self.flow.sub_name() != Some(o.label.as_str()) {
+                    return Err(TranslateError {
+                        line: n,
+                        col: o.col,
+                        message: format!(
+                            "subprogram O{} runs into O{} without M99",
+                            self.flow.sub_name().unwrap_or(""),
+                            o.label
+                        ),
+                    });
+                }
             }
-            return Err(TranslateError {
+            let r = self
+                .flow
+                .control(o, at, &mut self.st, self.finder.as_ref())
+                .map_err(|m| TranslateError {
                     line: n,
-                    col,
-                    message: match self.stack.last() {
-                        Some(f) => format!("subprogram O{} runs into O{o} without M99", f.o),
-                        None => format!("the main program runs into subprogram O{o}: end it with M30 (or M02) first"),
-                    },
-                });
+                    col: o.col,
+                    message: m,
+                })?;
+            let _ = r;
+            if !self.flow.skipping() && !line.comments.is_empty() {
+                let mut x = ctx!(self, n);
+                let (st, flow) = (&self.st, &self.flow);
+                let lk = |name: &str| lookup(st, flow, name);
+                let c = exec::comments(&mut x, &line.comments, &lk, st.params[5599] > 0.0);
+                self.events.append(&mut x.events);
+                self.out_buf = x.out;
+                c?;
+            }
+            return Ok(None);
+        }
+        if self.flow.skipping() {
+            return Ok(None);
         }
         if line.block_delete && self.switches.block_delete {
             return Ok(None);
         }
-        for &(p, v) in &line.assigns {
-            self.params.set(p, v);
+        if let Some(v) = line.n {
+            self.st.line_number = v;
         }
+        // Parameters take their new values before the words execute.
+        for (t, v, col) in &line.assigns {
+            match t {
+                Target::Numbered(p) => {
+                    self.st.writable(*p).map_err(|m| TranslateError {
+                        line: n,
+                        col: *col,
+                        message: m,
+                    })?;
+                    self.st.params[*p] = *v;
+                    if state::is_persistent(*p) {
+                        self.events.push(Event::Param(*p, *v));
+                    }
+                }
+                Target::Named(name) => {
+                    if name.starts_with('_') {
+                        if self.st.predefined(name).is_some() {
+                            return Err(TranslateError {
+                                line: n,
+                                col: *col,
+                                message: format!(
+                                    "#<{name}> is read-only (it reports the interpreter's state)"
+                                ),
+                            });
+                        }
+                        self.st.named.insert(name.clone(), *v);
+                    } else {
+                        self.flow.set_local(&mut self.st, name, *v);
+                    }
+                }
+            }
+        }
+        let mut x = ctx!(self, n);
+        let (st, flow) = (&self.st, &self.flow);
+        let lk = |name: &str| lookup(st, flow, name);
+        let c = exec::comments(&mut x, &line.comments, &lk, st.params[5599] > 0.0);
+        self.events.append(&mut x.events);
+        self.out_buf = x.out;
+        c?;
         if line.words.is_empty() {
-            if line.assigns.is_empty() && !line.comment {
+            if line.assigns.is_empty() && line.comments.is_empty() {
                 return Ok(None);
             }
             return Ok(Some(self.finish(
@@ -434,141 +677,91 @@ impl GcodeSource {
                 false,
             )));
         }
-        let words = interp::sort_words(line, n)?;
-        let mut x = ctx(
-            n,
-            &self.settings,
-            &self.magazine,
-            self.switches,
-            std::mem::take(&mut self.out_buf),
-        );
-        let flow = interp::execute(&mut self.st, &mut x, &words)?;
-        let mut out = std::mem::take(&mut x.out);
-        self.changes.append(&mut x.changes);
-        let mut end = false;
+        let mut words = self.words_buf.take().unwrap_or_default();
+        let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
+        let end_m = if words.has_m(2).is_some() { 2 } else { 30 };
+        let r = sorted.map(|()| {
+            let mut x = ctx!(self, n);
+            let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
+            (r, x)
+        });
+        self.words_buf = Some(words);
+        let (r, x) = r?;
+        let Exec {
+            out, events, asks, ..
+        } = x;
+        self.events.extend(events);
+        self.pending = (asks, n);
+        let flow = match r {
+            Ok(f) => f,
+            Err(e) => {
+                self.out_buf = out;
+                return Err(e);
+            }
+        };
         match flow {
-            Flow::Next => {}
-            Flow::Call { o, l, col } => {
-                // rs274 finds a subprogram by searching forward from the call, or one it
-                // has called before.
-                let found = self
-                    .subs
-                    .get(&o)
-                    .copied()
-                    .filter(|at| at.line > self.pc || self.called.contains(&o));
-                let Some(at) = found else {
-                    if self.subs.contains_key(&o) {
-                        return Err(TranslateError {
-                                line: n,
-                                col,
-                                message: format!("M98 P{o}: subprogram O{o} is above this call and was not called before (subprograms are found by searching forward from the call, as in LinuxCNC)"),
-                            });
-                    }
-                    return Err(TranslateError {
-                        line: n,
-                        col,
-                        message: format!("M98 P{o}: subprogram O{o} is not in the program"),
-                    });
-                };
-                if self.stack.len() >= MAX_DEPTH {
-                    return Err(TranslateError {
-                        line: n,
-                        col,
-                        message: format!(
-                            "M98 P{o}: subprogram calls nested more than {MAX_DEPTH} deep"
-                        ),
-                    });
-                }
-                self.called.insert(o);
-                if l > 0 {
-                    self.stack.push(Frame {
-                        o,
-                        ret: At {
-                            line: self.pc,
-                            byte: self.pc_byte,
-                        },
-                        start: at,
-                        left: l,
-                    });
-                    self.goto(at);
-                }
+            LineFlow::Next => Ok(Some(self.finish(n, raw.trim().to_string(), out, false))),
+            LineFlow::Call { o, l, col } => {
+                let r = self
+                    .flow
+                    .call_m98(o, l, at, &mut self.st, self.finder.as_ref());
+                r.map_err(|m| TranslateError {
+                    line: n,
+                    col,
+                    message: m,
+                })?;
+                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
             }
-            Flow::Return { col } => match self.stack.last_mut() {
-                None => {
-                    return Err(TranslateError {
+            LineFlow::Return { col } => {
+                self.flow
+                    .return_m99(&mut self.st)
+                    .map_err(|m| TranslateError {
                         line: n,
                         col,
-                        message: "M99 outside a subprogram (novanc does not loop the main program)"
-                            .into(),
-                    })
-                }
-                Some(f) => {
-                    f.left -= 1;
-                    let to = if f.left > 0 {
-                        f.start
-                    } else {
-                        let ret = f.ret;
-                        self.stack.pop();
-                        ret
-                    };
-                    self.goto(to);
-                }
-            },
-            Flow::End => {
-                let mut x = ctx(
-                    n,
-                    &self.settings,
-                    &self.magazine,
-                    self.switches,
-                    std::mem::take(&mut self.out_buf),
-                );
-                self.st.comp.flush(&mut x);
-                let mut tail = x.out;
-                // The end function after the held compensation move.
-                let endm = out.iter().rposition(|(c, _, _)| {
-                    matches!(
-                        c,
-                        Canon::Aux {
-                            m: Some(2 | 30),
-                            ..
-                        }
-                    )
-                });
-                if endm.is_none() {
-                    let m = if words.has_m(2).is_some() { 2 } else { 30 };
-                    if m == 2 && self.st.spindle != 0 {
-                        tail.push((
-                            Canon::Aux {
-                                s: None,
-                                t: None,
-                                m: Some(5),
-                            },
-                            n,
-                            1,
-                        ));
-                    }
-                    tail.push((
-                        Canon::Aux {
-                            s: None,
-                            t: None,
-                            m: Some(m),
-                        },
-                        n,
-                        1,
-                    ));
-                }
-                out.append(&mut tail);
-                self.done = true;
-                end = true;
+                        message: m,
+                    })?;
+                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
             }
+            LineFlow::End => Ok(Some(self.end(n, raw.trim().to_string(), out, Some(end_m)))),
         }
-        Ok(Some(self.finish(n, raw.trim().to_string(), out, end)))
     }
 
-    /// Goes on reading at `at`.
-    fn goto(&mut self, at: At) {
-        self.pc = at.line;
-        self.pc_byte = at.byte;
+    /// M2, M30 (`endm`) or the closing % (`None`): flushes compensation, stops the spindle
+    /// for M2 as LinuxCNC does, resets what M2/M30 reset.
+    fn end(
+        &mut self,
+        n: u32,
+        text: String,
+        mut out: Vec<(Canon, u32, u32)>,
+        endm: Option<u8>,
+    ) -> Option<Result<Statement, TranslateError>> {
+        let mut x = ctx!(self, n);
+        let r = self.comp.flush(&mut x, 1);
+        let mut tail = std::mem::take(&mut x.out);
+        if let Err(e) = r {
+            return self.fail(e);
+        }
+        let aux = |m: u8| {
+            (
+                Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(m),
+                },
+                n,
+                1,
+            )
+        };
+        if let Some(m) = endm {
+            if m == 2 && self.st.modal.spindle != 0 {
+                tail.push(aux(5));
+            }
+            tail.push(aux(m));
+        }
+        out.append(&mut tail);
+        self.st.program_end_reset();
+        self.done = true;
+        self.finish(n, text, out, true)
     }
 
     fn finish(
@@ -606,19 +799,15 @@ impl GcodeSource {
     }
 }
 
-fn ctx<'a>(
-    n: u32,
-    settings: &'a MachineSettings,
-    magazine: &'a Magazine,
-    sw: Switches,
-    out: Vec<(Canon, u32, u32)>,
-) -> Exec<'a> {
-    Exec {
-        n,
-        out,
-        changes: Vec::new(),
-        settings,
-        magazine,
-        optional_stop: sw.optional_stop,
+/// The words of a line, as `words::sort_words` takes them.
+fn line_words(l: &read::Line) -> &read::Line {
+    l
+}
+
+/// A parameter for PRINT and DEBUG texts: `5` for #5, `name` for #<name>.
+fn lookup(st: &InterpState, flow: &Flow, name: &str) -> Option<f64> {
+    if let Ok(n) = name.parse::<usize>() {
+        return (n <= read::MAX_PARAM).then(|| st.param(n));
     }
+    st.named_value(name, flow.locals())
 }

@@ -2,11 +2,12 @@
 //! value per other letter; unknown letters and codes, a letter twice and two codes of one modal
 //! group are refused.
 
-use super::expr::{Line, Word};
+use super::read::{Line, Word};
 use crate::block::TranslateError;
 
-/// The letters a mill line may hold, besides G and M.
-const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
+/// The letters a mill line may hold, besides G and M (`@` and `^` are the polar words, E the
+/// analog output of M67/M68).
+const LETTERS: &str = "DEFHIJKLPQRSTXYZ@^";
 
 /// What one G-code dialect accepts: its letters and its G and M codes by modal group. The mill
 /// reader uses [`MILL`]; the lathe reader (docs/lathe-gcode.md) has its own.
@@ -14,6 +15,8 @@ const LETTERS: &str = "DFHIJKLNPQRSTXYZ";
 pub struct Dialect {
     /// The letters a line may hold, besides G and M.
     pub letters: &'static str,
+    /// The same letters as bits (`letter_bits(letters)`), tested once per word.
+    pub letter_bits: u32,
     /// The modal group (0–12) of a G code ×10, or `None` for an unknown code.
     pub g_group: fn(u32) -> Option<u8>,
     /// The modal group (0–10) of an M code, or `None` for an unknown code.
@@ -27,6 +30,7 @@ pub struct Dialect {
 /// The mill dialect (docs/gcode.md "Words").
 pub const MILL: Dialect = Dialect {
     letters: LETTERS,
+    letter_bits: letter_bits(LETTERS),
     g_group,
     m_group,
     g_why: mill_g_why,
@@ -35,9 +39,13 @@ pub const MILL: Dialect = Dialect {
 
 fn mill_g_why(g: u32) -> &'static str {
     match g {
-        920..=923 => " (G92 offsets are not supported: use G54–G59 with G10)",
-        930 => " (inverse-time feed is not supported: G94 only)",
-        870 | 880 => " (G87 and G88 are not supported)",
+        70 | 80 => " (G07/G08 diameter and radius mode are the lathe's)",
+        330 => {
+            " (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
+        }
+        700..=729 | 760 => " (G70–G72 and G76 are lathe cycles)",
+        960 => " (G96 constant surface speed is the lathe's)",
+        171 | 181 | 191 => " (the UV, UW and VW planes need U, V and W axes)",
         _ => "",
     }
 }
@@ -45,7 +53,7 @@ fn mill_g_why(g: u32) -> &'static str {
 /// A short list of codes with their columns (one per modal group at most).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Codes {
-    v: [(u32, u32); 13],
+    v: [(u32, u32); 17],
     n: usize,
 }
 
@@ -54,6 +62,13 @@ impl Codes {
         if self.n < self.v.len() {
             self.v[self.n] = c;
             self.n += 1;
+        }
+    }
+
+    fn remove(&mut self, code: u32) {
+        if let Some(i) = self.v[..self.n].iter().position(|c| c.0 == code) {
+            self.v.copy_within(i + 1..self.n, i);
+            self.n -= 1;
         }
     }
 
@@ -79,28 +94,39 @@ pub struct Words {
     pub g: Codes,
     /// M codes with columns.
     pub m: Codes,
-    vals: [Option<(f64, u32)>; 26],
+    vals: [Option<(f64, u32)>; 28],
     /// Bit g/10 for each whole G code, bit m for each M code below 128.
     g_bits: u128,
     m_bits: u128,
+    /// Bit g/10 for each G code, whole or not (G43.1 sets bit 43).
+    g_any: u128,
+    /// Bit n for each letter given (A = 0 … Z = 25, `@` 26, `^` 27).
+    letters: u32,
 }
 
 impl Words {
     /// The value of a letter's word, if given.
     pub fn get(&self, c: char) -> Option<f64> {
-        self.vals[(c as u8 - b'A') as usize].map(|v| v.0)
+        self.vals[slot(c)].map(|v| v.0)
     }
 
     /// The column of a letter's word, if given.
     pub fn col(&self, c: char) -> Option<u32> {
-        self.vals[(c as u8 - b'A') as usize].map(|v| v.1)
+        self.vals[slot(c)].map(|v| v.1)
     }
 
     /// Whether a G code (×10) is on the line, and its column.
     #[inline]
     pub fn has_g(&self, g: u32) -> Option<u32> {
-        if g.is_multiple_of(10) && g < 1280 && self.g_bits & (1u128 << (g / 10)) == 0 {
-            return None;
+        if g < 1280 {
+            let bits = if g.is_multiple_of(10) {
+                self.g_bits
+            } else {
+                self.g_any
+            };
+            if bits & (1u128 << (g / 10)) == 0 {
+                return None;
+            }
         }
         self.g.iter().find(|x| x.0 == g).map(|x| x.1)
     }
@@ -114,36 +140,94 @@ impl Words {
         self.m.iter().find(|x| x.0 == m).map(|x| x.1)
     }
 
+    /// Whether the line is a plain move: no M code, no G code but G00–G03, and no letter but
+    /// the axes, I J K R F and the polar words. Such a line sets nothing but the motion and F,
+    /// so the executor can go straight to its motion.
+    pub fn plain(&self) -> bool {
+        const MOTION_ONLY: u128 = (1 << 0) | (1 << 1) | (1 << 2) | (1 << 3);
+        const LETTERS: u32 = (1 << (b'X' - b'A'))
+            | (1 << (b'Y' - b'A'))
+            | (1 << (b'Z' - b'A'))
+            | (1 << (b'I' - b'A'))
+            | (1 << (b'J' - b'A'))
+            | (1 << (b'K' - b'A'))
+            | (1 << (b'R' - b'A'))
+            | (1 << (b'F' - b'A'))
+            | (1 << 26)
+            | (1 << 27);
+        self.m.n == 0
+            && self.g_any & !MOTION_ONLY == 0
+            && self.g.as_slice().iter().all(|c| c.0 % 10 == 0)
+            && self.letters & !LETTERS == 0
+    }
+
     /// Whether any of X, Y, Z is given.
     pub fn has_axis(&self) -> bool {
         ['X', 'Y', 'Z'].iter().any(|&c| self.get(c).is_some())
     }
 }
 
-/// The modal group of a G code (×10), or `None` for one novanc does not know.
+/// The slot of a letter in `Words::vals`: A–Z, then `@` and `^`.
+/// Bit `slot(c)` for each letter of `letters` (A–Z, `@`, `^`).
+pub const fn letter_bits(letters: &str) -> u32 {
+    let b = letters.as_bytes();
+    let mut bits = 0u32;
+    let mut i = 0;
+    while i < b.len() {
+        bits |= match b[i] {
+            b'@' => 1 << 26,
+            b'^' => 1 << 27,
+            c @ b'A'..=b'Z' => 1 << (c - b'A'),
+            _ => 0,
+        };
+        i += 1;
+    }
+    bits
+}
+
+/// Whether `c` is one of the letters of `bits` (`letter_bits`).
+fn letter_in(bits: u32, c: char) -> bool {
+    (c.is_ascii_uppercase() || c == '@' || c == '^') && bits & (1 << slot(c)) != 0
+}
+
+fn slot(c: char) -> usize {
+    match c {
+        '@' => 26,
+        '^' => 27,
+        c => (c as u8).wrapping_sub(b'A').min(25) as usize,
+    }
+}
+
+/// The modal group of a G code (×10), or `None` for one novanc does not know: LinuxCNC 2.9's
+/// groups (group 16, G92.2/G92.3, is folded into group 0, as in 2.9).
 fn g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 890 => 1,
+        0 | 10 | 20 | 30 | 50 | 51 | 52 | 331 | 382..=385 | 730 | 740 | 800..=890 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
-        940 => 5,
+        901 | 911 => 4,
+        930 | 940 | 950 => 5,
         200 | 210 => 6,
-        400 | 410 | 420 => 7,
-        430 | 490 => 8,
+        400 | 410 | 411 | 420 | 421 => 7,
+        430 | 431 | 432 | 490 => 8,
         980 | 990 => 10,
-        540 | 550 | 560 | 570 | 580 | 590 => 12,
-        40 | 100 | 280 | 530 => 0,
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => 12,
+        610 | 611 | 640 => 13,
+        970 => 14,
+        40 | 53 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920..=923 => 0,
         _ => return None,
     })
 }
 
-/// The modal group of an M code, or `None` for one novanc does not know.
+/// The modal group of an M code, or `None` for one novanc does not know: LinuxCNC 2.9's.
 fn m_group(m: u32) -> Option<u8> {
     Some(match m {
-        0 | 1 | 2 | 30 => 4,
-        6 => 6,
-        3..=5 => 7,
-        8 | 9 => 8,
+        0 | 1 | 2 | 30 | 60 => 4,
+        62..=68 => 5,
+        6 | 61 => 6,
+        3..=5 | 19 | 70..=73 => 7,
+        7..=9 => 8,
+        48..=53 => 9,
         98 | 99 => 10,
         _ => return None,
     })
@@ -152,18 +236,48 @@ fn m_group(m: u32) -> Option<u8> {
 /// Sorts a line's words, refusing unknown letters and codes, a letter twice, and two codes of
 /// one modal group.
 pub fn sort_words(line: &Line, n: u32) -> Result<Words, TranslateError> {
+    // Words of LinuxCNC's language that name what a LinuxCNC configuration has and this
+    // machine has not: refused with that reason.
+    for w in &line.words {
+        let message = match w.letter {
+            'M' if (100.0..200.0).contains(&w.value) && w.value.fract() == 0.0 => format!(
+                "M{}: M100–M199 run the user programs of a LinuxCNC configuration (its USER_M_PATH): novanc has none",
+                w.value
+            ),
+            '$' => "$ selects one of several spindles (LinuxCNC's multi-spindle machines): novanc has one".into(),
+            _ => continue,
+        };
+        return Err(TranslateError {
+            line: n,
+            col: w.col,
+            message,
+        });
+    }
     sort_words_in(line, n, &MILL)
 }
 
 /// Sorts a line's words in a dialect (see [`sort_words`]).
 pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, TranslateError> {
+    let mut w = Words::default();
+    sort_words_into(line, n, d, &mut w)?;
+    Ok(w)
+}
+
+/// [`sort_words_in`] into `w`, which is cleared first (a reader keeps one: the sorted words
+/// are a kilobyte, copied twice a line when returned).
+pub fn sort_words_into(
+    line: &Line,
+    n: u32,
+    d: &Dialect,
+    w: &mut Words,
+) -> Result<(), TranslateError> {
     let err = |col: u32, message: String| TranslateError {
         line: n,
         col,
         message,
     };
-    let mut w = Words::default();
-    let mut g_seen: [Option<(u32, u32)>; 13] = [None; 13];
+    *w = Words::default();
+    let mut g_seen: [Option<(u32, u32)>; 17] = [None; 17];
     let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
     for &Word { letter, value, col } in &line.words {
         match letter {
@@ -176,15 +290,30 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     ));
                 }
                 let g = g10 as u32;
-                let name = if g.is_multiple_of(10) {
-                    format!("G{:02}", g / 10)
-                } else {
-                    format!("G{}.{}", g / 10, g % 10)
+                // Only an error needs the code's name.
+                let name = || {
+                    if g.is_multiple_of(10) {
+                        format!("G{:02}", g / 10)
+                    } else {
+                        format!("G{}.{}", g / 10, g % 10)
+                    }
                 };
-                let Some(grp) = (d.g_group)(g).filter(|&x| x < 13) else {
+                let Some(grp) = (d.g_group)(g).filter(|&x| x < 17) else {
                     let why = (d.g_why)(g);
-                    return Err(err(col, format!("unknown or unsupported code {name}{why}")));
+                    return Err(err(
+                        col,
+                        format!("unknown or unsupported code {}{why}", name()),
+                    ));
                 };
+                if grp == 1 && g == 800 && g_seen[1].is_some() {
+                    // G80 beside another motion code gives way to it (LinuxCNC reads a
+                    // safe-start line `G0 G80 ...` so).
+                    continue;
+                }
+                if grp == 1 && g_seen[1].is_some_and(|(o, _)| o == 800) {
+                    w.g.remove(800);
+                    g_seen[1] = None;
+                }
                 if let Some((other, _)) = g_seen[grp as usize] {
                     let on = if other.is_multiple_of(10) {
                         format!("G{:02}", other / 10)
@@ -193,13 +322,16 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     };
                     return Err(err(
                         col,
-                        format!("{name} and {on} are in the same modal group: give one"),
+                        format!("{} and {on} are in the same modal group: give one", name()),
                     ));
                 }
                 g_seen[grp as usize] = Some((g, col));
                 w.g.push((g, col));
                 if g.is_multiple_of(10) && g < 1280 {
                     w.g_bits |= 1u128 << (g / 10);
+                }
+                if g < 1280 {
+                    w.g_any |= 1u128 << (g / 10);
                 }
             }
             'M' => {
@@ -225,8 +357,9 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
                     w.m_bits |= 1u128 << m;
                 }
             }
-            c if d.letters.as_bytes().contains(&(c as u8)) => {
-                let slot = &mut w.vals[(c as u8 - b'A') as usize];
+            c if letter_in(d.letter_bits, c) => {
+                w.letters |= 1 << slot(c);
+                let slot = &mut w.vals[slot(c)];
                 if slot.is_some() {
                     return Err(err(col, format!("two {c} words on one line")));
                 }
@@ -235,5 +368,5 @@ pub fn sort_words_in(line: &Line, n: u32, d: &Dialect) -> Result<Words, Translat
             c => return Err(err(col, format!("unknown word {c}{}", d.letter_hint))),
         }
     }
-    Ok(w)
+    Ok(())
 }

@@ -11,6 +11,12 @@
 //! finished. If the translator finished with an error by then, the run is refused before its
 //! first block, so nothing moves; a program longer than the buffer is checked as it runs,
 //! at most one buffer ahead of the machine (`docs/pulse-core.md`).
+//!
+//! **The machine's answers.** A source that must know what the machine did before it reads on
+//! (a probe's trip point: LinuxCNC's queue busters) waits on [`MachineLink::wait_answer`]
+//! from the translator thread; the core gives the answer with [`BlockSource::answer`] when the
+//! block is done. A translator waiting so counts as primed (else a short buffer would never
+//! fill), and RESET or a new run ends the wait.
 
 use super::source::{BlockSource, Fetch};
 use super::BlockEntry;
@@ -39,6 +45,74 @@ struct State {
     taken: u64,
     translator_waits: bool,
     core_waits: bool,
+    /// The machine's answers not yet read by the translator, in order.
+    answers: VecDeque<Answer>,
+}
+
+/// What the machine answers a source that waits on it (docs/pulse-core.md, "The machine's
+/// answers").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Answer {
+    /// A probe block ended: where the machine stopped (pulses), whether the probe found what
+    /// it sought, whether it had already at the start (nothing moved).
+    Probe {
+        /// The machine's position, pulses.
+        at: [i64; 3],
+        /// The probe tripped (or for G38.4/G38.5 came free).
+        tripped: bool,
+        /// It was so at the start of the move.
+        at_start: bool,
+    },
+    /// An M66 block ended: the input's value (digital 0 or 1), `None` when its wait timed
+    /// out.
+    Input(Option<f64>),
+}
+
+thread_local! {
+    /// The run a translator thread makes statements for: its buffer and generation.
+    static LINK: std::cell::RefCell<Option<MachineLink>> = const { std::cell::RefCell::new(None) };
+}
+
+/// The translator thread's line to the machine of its run.
+#[derive(Clone, Debug)]
+pub struct MachineLink {
+    buf: Arc<BlockBuffer>,
+    gen: u64,
+}
+
+impl MachineLink {
+    /// The link of the run this (translator) thread makes statements for; `None` on any other
+    /// thread.
+    pub fn here() -> Option<MachineLink> {
+        LINK.with(|l| l.borrow().clone())
+    }
+
+    /// Waits for the machine's next answer (every block pushed before it is released to the
+    /// core meanwhile); an error if the run is abandoned (RESET, a new run) first.
+    pub fn wait_answer(&self) -> Result<Answer, String> {
+        let b = &self.buf;
+        let mut s = b.lock();
+        loop {
+            if s.gen != self.gen {
+                return Err("the run was abandoned while reading waited for the machine".into());
+            }
+            if let Some(a) = s.answers.pop_front() {
+                return Ok(a);
+            }
+            // Waiting on the machine: the blocks so far must run for it to answer.
+            s.primed = true;
+            if s.core_waits {
+                b.not_empty.notify_all();
+            }
+            s.translator_waits = true;
+            s = b
+                .not_full
+                .wait_timeout(s, Duration::from_millis(50))
+                .map(|r| r.0)
+                .unwrap_or_else(|p| p.into_inner().0);
+            s.translator_waits = false;
+        }
+    }
 }
 
 /// The shared buffer.
@@ -62,6 +136,7 @@ impl BlockBuffer {
                 taken: 0,
                 translator_waits: false,
                 core_waits: false,
+                answers: VecDeque::new(),
             }),
             not_full: Condvar::new(),
             not_empty: Condvar::new(),
@@ -77,6 +152,7 @@ impl BlockBuffer {
     pub fn clear(&self) {
         let mut s = self.lock();
         s.q.clear();
+        s.answers.clear();
         s.done = Some(None);
         s.primed = true;
         s.gen += 1;
@@ -91,6 +167,7 @@ impl BlockBuffer {
         let gen = {
             let mut s = self.lock();
             s.q.clear();
+            s.answers.clear();
             s.done = None;
             s.primed = false;
             s.taken = 0;
@@ -99,9 +176,14 @@ impl BlockBuffer {
         };
         self.not_full.notify_all();
         let buf = self.clone();
+        let link = MachineLink {
+            buf: self.clone(),
+            gen,
+        };
         let spawned = std::thread::Builder::new()
             .name("translator".into())
             .spawn(move || {
+                LINK.with(|l| *l.borrow_mut() = Some(link));
                 let run = std::panic::AssertUnwindSafe(|| buf.translate(gen, make(state)));
                 if std::panic::catch_unwind(run).is_err() {
                     buf.finish(
@@ -261,6 +343,16 @@ impl BlockBuffer {
 
 /// The pulse core reads the buffer through this.
 impl BlockSource for &BlockBuffer {
+    fn answer(&mut self, a: Answer) {
+        let mut s = self.lock();
+        s.answers.push_back(a);
+        let wake = s.translator_waits;
+        drop(s);
+        if wake {
+            self.not_full.notify_all();
+        }
+    }
+
     fn fetch(&mut self) -> Fetch {
         let mut s = self.lock();
         if !s.primed {

@@ -37,9 +37,9 @@ mod source;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
-pub use self::block_buffer::{MakeRun, StatementIter};
+pub use self::block_buffer::{Answer, MachineLink, MakeRun, StatementIter};
 pub use self::drive::Drive;
-pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Until};
+pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Signals, Until};
 pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
@@ -136,6 +136,16 @@ pub enum Command {
         axis: usize,
         /// Signed number of pulses.
         pulses: i64,
+    },
+    /// Sets a simulated input (a panel script's `input`): digital P`index` (`value` 0 or 1)
+    /// or analog E`index`, 0–63, which M66 reads.
+    Input {
+        /// Digital (P) or analog (E).
+        digital: bool,
+        /// Input 0–63 (others are ignored).
+        index: u8,
+        /// For a digital input, on when not 0.
+        value: f64,
     },
 }
 
@@ -247,6 +257,10 @@ pub struct Status {
     pub single_block: bool,
     /// Path speed, mm/min.
     pub speed_mm_min: f64,
+    /// The simulated inputs (M66 reads them).
+    pub inputs: Signals,
+    /// The outputs (M62–M65, M67, M68 set them).
+    pub outputs: Signals,
     /// Messages (commands, loads, settings) the core has applied so far.
     pub commands_applied: u64,
 }

@@ -68,6 +68,11 @@ impl BlockSource for Logging<'_> {
         }
         f
     }
+
+    fn answer(&mut self, a: super::block_buffer::Answer) {
+        let mut src = self.b1;
+        src.answer(a);
+    }
 }
 
 /// Gives back what a slice read.
@@ -86,7 +91,9 @@ fn times(ev: &Event) -> (u64, u64) {
         | Event::Position { t_ns, .. }
         | Event::State { t_ns, .. }
         | Event::Display { t_ns, .. }
-        | Event::PanelEvent { t_ns, .. } => (*t_ns, *t_ns),
+        | Event::PanelEvent { t_ns, .. }
+        | Event::Probe { t_ns, .. }
+        | Event::Io { t_ns, .. } => (*t_ns, *t_ns),
         Event::Pulses { t_ns, .. } => (
             t_ns.first().copied().unwrap_or(0),
             t_ns.last().copied().unwrap_or(0),

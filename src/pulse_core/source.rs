@@ -22,6 +22,10 @@ pub enum Fetch {
 pub trait BlockSource {
     /// Takes the next block (or says why there is none).
     fn fetch(&mut self) -> Fetch;
+
+    /// The machine's answer to a source waiting on it (a probe block done); sources that
+    /// never wait drop it.
+    fn answer(&mut self, _a: super::block_buffer::Answer) {}
 }
 
 /// An in-memory B1 filled up front (tests, benchmarks, `translate_all` results).

@@ -238,17 +238,9 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             pulses,
             speed_mm_min,
         } => {
-            for (i, key) in [b"{\"x\":", b",\"y\":", b",\"z\":"].iter().enumerate() {
-                out.extend_from_slice(*key);
-                push_mm(out, pulses[i] as f64 * pulse_mm);
-            }
-            out.extend_from_slice(b",\"pulses\":[");
-            push_i64(out, pulses[0]);
-            out.push(b',');
-            push_i64(out, pulses[1]);
-            out.push(b',');
-            push_i64(out, pulses[2]);
-            out.extend_from_slice(b"],\"speed\":");
+            out.push(b'{');
+            push_place(out, pulses, pulse_mm);
+            out.extend_from_slice(b",\"speed\":");
             push_mm(out, *speed_mm_min);
             out.push(b'}');
             *t_ns
@@ -307,7 +299,69 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.push(b'}');
             *t_ns
         }
+        Event::Probe {
+            t_ns,
+            seq,
+            stmt,
+            pulses,
+            tripped,
+            at_start,
+        } => {
+            out.extend_from_slice(b"{\"seq\":");
+            push_u64(out, u64::from(*seq));
+            out.extend_from_slice(b",\"stmt\":");
+            push_u64(out, u64::from(*stmt));
+            out.push(b',');
+            push_place(out, pulses, pulse_mm);
+            out.extend_from_slice(b",\"tripped\":");
+            out.extend_from_slice(if *tripped { b"true" } else { b"false" });
+            out.extend_from_slice(b",\"at_start\":");
+            out.extend_from_slice(if *at_start { b"true" } else { b"false" });
+            out.push(b'}');
+            *t_ns
+        }
+        Event::Io {
+            t_ns,
+            seq,
+            stmt,
+            digital,
+            index,
+            value,
+            synced,
+        } => {
+            out.extend_from_slice(b"{\"seq\":");
+            push_u64(out, u64::from(*seq));
+            out.extend_from_slice(b",\"stmt\":");
+            push_u64(out, u64::from(*stmt));
+            out.extend_from_slice(if *digital {
+                &b",\"kind\":\"digital\",\"index\":"[..]
+            } else {
+                b",\"kind\":\"analog\",\"index\":"
+            });
+            push_u64(out, u64::from(*index));
+            out.extend_from_slice(b",\"value\":");
+            push_mm(out, *value);
+            out.extend_from_slice(b",\"synced\":");
+            out.extend_from_slice(if *synced { b"true" } else { b"false" });
+            out.push(b'}');
+            *t_ns
+        }
     }
+}
+
+/// `"x":..,"y":..,"z":..,"pulses":[..]`: a position in mm from the counters, and the counters.
+fn push_place(out: &mut Vec<u8>, pulses: &[i64; 3], pulse_mm: f64) {
+    for (i, key) in [&b"\"x\":"[..], b",\"y\":", b",\"z\":"].iter().enumerate() {
+        out.extend_from_slice(key);
+        push_mm(out, pulses[i] as f64 * pulse_mm);
+    }
+    out.extend_from_slice(b",\"pulses\":[");
+    push_i64(out, pulses[0]);
+    out.push(b',');
+    push_i64(out, pulses[1]);
+    out.push(b',');
+    push_i64(out, pulses[2]);
+    out.push(b']');
 }
 
 #[cfg(test)]

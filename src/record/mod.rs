@@ -14,7 +14,7 @@ pub mod topic;
 pub mod writer;
 
 pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
-pub use topic::Topic;
+pub use topic::{Topic, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -84,6 +84,38 @@ pub enum Event {
         t_ns: u64,
         /// The action as a panel-script line.
         event: String,
+    },
+    /// `/nc/probe`: a probe block ended.
+    Probe {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// Block sequence number.
+        seq: u32,
+        /// Source statement line, 1-based.
+        stmt: u32,
+        /// Where the machine stopped, pulse counters X, Y, Z.
+        pulses: [i64; 3],
+        /// The probe found what it sought.
+        tripped: bool,
+        /// It was so at the start: nothing moved.
+        at_start: bool,
+    },
+    /// `/nc/io`: an output set by a block (M62–M65, M67, M68).
+    Io {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// Block sequence number.
+        seq: u32,
+        /// Source statement line, 1-based.
+        stmt: u32,
+        /// Digital (M62–M65) or analog (M67, M68).
+        digital: bool,
+        /// Output 0–63.
+        index: u8,
+        /// The value: a digital output 1 on, 0 off.
+        value: f64,
+        /// With the motion (M62, M63, M67) or at once.
+        synced: bool,
     },
 }
 

@@ -8,7 +8,7 @@
 //! and the thread keeps draining, so producers never notice.
 
 use super::writer::{RecordWriter, WriterOutcome};
-use super::{Event, EventSink, SinkFlags, Topic};
+use super::{Event, EventSink, SinkFlags, Topic, TOPICS};
 use crate::settings::MachineSettings;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -231,7 +231,7 @@ pub struct RecordSummary {
     /// The MCAP file.
     pub path: PathBuf,
     /// Messages written per topic, in `Topic::ALL` order.
-    pub messages: [u64; 6],
+    pub messages: [u64; TOPICS],
     /// Pulses written in `/nc/pulses`.
     pub pulses: u64,
     /// File size, bytes (0 after a disk error).
@@ -266,7 +266,8 @@ impl RecordSummary {
 impl fmt::Display for RecordSummary {
     /// One line for the operator, e.g. `recording run.mcap: 12 blocks, 40 positions,
     /// 1234567 pulses in 620 batches, 5 states, 3 displays, 2 panel events, 17.2 MB`, led by
-    /// `RECORDING INCOMPLETE` and the reason when anything is missing.
+    /// `RECORDING INCOMPLETE` and the reason when anything is missing; `, 2 probes` after the
+    /// panel events when there were any.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.incomplete {
             write!(f, "RECORDING INCOMPLETE {}:", self.path.display())?;
@@ -303,6 +304,9 @@ impl fmt::Display for RecordSummary {
             " {} blocks, {} positions, {} pulses in {} batches, {} states, {} displays, {} panel events",
             m[0], m[1], self.pulses, m[2], m[3], m[4], m[5]
         )?;
+        if m[6] > 0 {
+            write!(f, ", {} probes", m[6])?;
+        }
         if self.disk_error.is_none() {
             write!(f, ", {:.1} MB", self.bytes as f64 / 1e6)?;
         }
@@ -317,7 +321,7 @@ mod tests {
     fn summary() -> RecordSummary {
         RecordSummary {
             path: PathBuf::from("run.mcap"),
-            messages: [12, 40, 620, 5, 3, 2],
+            messages: [12, 40, 620, 5, 3, 2, 0, 0],
             pulses: 1_234_567,
             bytes: 17_200_000,
             incomplete: false,

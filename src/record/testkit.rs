@@ -97,6 +97,27 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
                 spindle: if s % 20 == 0 { -1200 } else { 800 },
             });
         }
+        if s % 17 == 0 {
+            evs.push(Event::Probe {
+                t_ns: t0 + tick,
+                seq: s as u32,
+                stmt: (s / 2) as u32,
+                pulses: pos,
+                tripped: s % 34 == 0,
+                at_start: s % 51 == 0,
+            });
+        }
+        if s % 19 == 0 {
+            evs.push(Event::Io {
+                t_ns: t0 + tick,
+                seq: s as u32,
+                stmt: (s / 2) as u32,
+                digital: s % 38 == 0,
+                index: (s % 64) as u8,
+                value: (s % 7) as f64 * 0.5,
+                synced: s % 57 == 0,
+            });
+        }
         if s % 13 == 0 {
             evs.push(Event::PanelEvent {
                 t_ns: t0 + 1,

@@ -3,7 +3,10 @@
 
 use super::Event;
 
-/// The six docs/recording.md topics, in channel order.
+/// How many topics there are.
+pub const TOPICS: usize = 8;
+
+/// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Topic {
     /// `/nc/block`: a block starts executing.
@@ -18,17 +21,23 @@ pub enum Topic {
     Display,
     /// `/panel/event`: an operator action.
     PanelEvent,
+    /// `/nc/probe`: a probe block ended (issue 21).
+    Probe,
+    /// `/nc/io`: an output set (issue 21).
+    Io,
 }
 
 impl Topic {
     /// Every topic, in channel order.
-    pub const ALL: [Topic; 6] = [
+    pub const ALL: [Topic; TOPICS] = [
         Topic::Block,
         Topic::Position,
         Topic::Pulses,
         Topic::State,
         Topic::Display,
         Topic::PanelEvent,
+        Topic::Probe,
+        Topic::Io,
     ];
 
     /// The MCAP topic name.
@@ -40,10 +49,12 @@ impl Topic {
             Topic::State => "/nc/state",
             Topic::Display => "/panel/display",
             Topic::PanelEvent => "/panel/event",
+            Topic::Probe => "/nc/probe",
+            Topic::Io => "/nc/io",
         }
     }
 
-    /// Index 0..6 (channel order).
+    /// Index 0..[`TOPICS`] (channel order).
     pub fn index(self) -> usize {
         self as usize
     }
@@ -57,6 +68,8 @@ impl Topic {
             Event::State { .. } => Topic::State,
             Event::Display { .. } => Topic::Display,
             Event::PanelEvent { .. } => Topic::PanelEvent,
+            Event::Probe { .. } => Topic::Probe,
+            Event::Io { .. } => Topic::Io,
         }
     }
 
@@ -69,6 +82,8 @@ impl Topic {
             Topic::State => "novanc.State",
             Topic::Display => "novanc.PanelDisplay",
             Topic::PanelEvent => "novanc.PanelEvent",
+            Topic::Probe => "novanc.Probe",
+            Topic::Io => "novanc.Io",
         }
     }
 
@@ -125,6 +140,31 @@ impl Topic {
                 r#""properties":{"event":{"type":"string"}},"#,
                 r#""required":["event"]}"#
             ),
+            Topic::Probe => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Probe","#,
+                r#""description":"A probe block (G38.x) ended: where the machine stopped","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""x":{"type":"number","description":"X, mm"},"#,
+                r#""y":{"type":"number","description":"Y, mm"},"#,
+                r#""z":{"type":"number","description":"Z, mm (the gauge line)"},"#,
+                r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
+                r#""description":"pulse counters X, Y, Z"},"#,
+                r#""tripped":{"type":"boolean","description":"the probe found what it sought (contact, or for G38.4/G38.5 its loss)"},"#,
+                r#""at_start":{"type":"boolean","description":"it was so at the start: nothing moved"}},"#,
+                r#""required":["seq","stmt","x","y","z","pulses","tripped","at_start"]}"#
+            ),
+            Topic::Io => concat!(
+                r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Io","#,
+                r#""description":"A block set an output (M62-M65, M67, M68)","type":"object","#,
+                r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
+                r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
+                r#""kind":{"type":"string","enum":["digital","analog"]},"#,
+                r#""index":{"type":"integer","minimum":0,"maximum":63,"description":"output number"},"#,
+                r#""value":{"type":"number","description":"a digital output 1 on, 0 off; an analog one its value (6 decimals)"},"#,
+                r#""synced":{"type":"boolean","description":"with the motion (M62, M63, M67: when the block's motion starts) or at once (M64, M65, M68: when the block is read)"}},"#,
+                r#""required":["seq","stmt","kind","index","value","synced"]}"#
+            ),
         }
     }
 }
@@ -135,7 +175,7 @@ mod tests {
 
     #[test]
     fn schemas_name_every_required_field() {
-        let required: [&[&str]; 6] = [
+        let required: [&[&str]; TOPICS] = [
             &["seq", "stmt", "text"],
             &["x", "y", "z", "pulses"],
             &["axis", "dir", "t_ns"],
@@ -149,6 +189,10 @@ mod tests {
             ],
             &["lines"],
             &["event"],
+            &[
+                "seq", "stmt", "x", "y", "z", "pulses", "tripped", "at_start",
+            ],
+            &["seq", "stmt", "kind", "index", "value", "synced"],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();

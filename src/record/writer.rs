@@ -16,7 +16,7 @@ use super::file::{
     MESSAGE_RECORD_OVERHEAD,
 };
 use super::json::encode_event;
-use super::topic::Topic;
+use super::topic::{Topic, TOPICS};
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WriterOutcome {
     /// Messages on disk per topic (in chunks flushed to the file), in `Topic::ALL` order.
-    pub messages: [u64; 6],
+    pub messages: [u64; TOPICS],
     /// Pulses on disk in `/nc/pulses` batches.
     pub pulses: u64,
     /// Events not in the file because of a disk error: those of the chunk it cut short, and
@@ -46,8 +46,8 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
     pulse_mm: f64,
-    channels: [u16; 6],
-    sequence: [u32; 6],
+    channels: [u16; TOPICS],
+    sequence: [u32; TOPICS],
     out: WriterOutcome,
     /// Messages and pulses of the chunk still open (not yet flushed to the file).
     pending: Pending,
@@ -61,7 +61,7 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
 /// What the open chunk holds: counted in the outcome only once the chunk is on disk.
 #[derive(Clone, Copy, Debug, Default)]
 struct Pending {
-    messages: [u64; 6],
+    messages: [u64; TOPICS],
     pulses: u64,
     bytes: u64,
 }
@@ -97,8 +97,8 @@ impl<W: RecordOutput> RecordWriter<W> {
             mcap: None,
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
-            channels: [0; 6],
-            sequence: [0; 6],
+            channels: [0; TOPICS],
+            sequence: [0; TOPICS],
             out: WriterOutcome::default(),
             pending: Pending::default(),
             chunk_bytes: CHUNK_BYTES,
@@ -134,7 +134,7 @@ impl<W: RecordOutput> RecordWriter<W> {
     fn declare(
         mcap: &mut mcap::Writer<W>,
         settings: &MachineSettings,
-        channels: &mut [u16; 6],
+        channels: &mut [u16; TOPICS],
     ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
@@ -434,7 +434,7 @@ mod tests {
             sent += 1;
         }
         let out = w.finish(true, 0);
-        assert_eq!(out.messages, [0; 6]);
+        assert_eq!(out.messages, [0; TOPICS]);
         assert_eq!(out.pulses, 0);
         assert_eq!(out.lost_to_disk_error, sent + 1);
         assert_eq!(readable(&disk.borrow().get_ref()[..]), (0, 0));
@@ -546,7 +546,7 @@ mod tests {
         }));
         let out = w.finish(false, 0);
         let _ = std::fs::remove_file(&path);
-        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1]);
+        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1, 0, 0]);
         assert_eq!(out.pulses, 3);
         assert_eq!(out.disk_error, None);
         assert!(out.bytes > 0);

@@ -7,7 +7,7 @@ pub mod fsutil;
 pub mod history;
 mod journal;
 mod names;
-pub mod offsets;
+pub mod params;
 mod record;
 mod recover;
 mod snapshot;
@@ -198,6 +198,8 @@ pub struct MemoryView {
     pub magazine: Magazine,
     /// The work offsets G54 to G59.
     pub offsets: crate::gcode::WorkOffsets,
+    /// The G-code interpreter's persistent parameters that are not zero (number, value).
+    pub params: Vec<(usize, f64)>,
     /// What the reading found (a damaged file read around, a journal tail skipped).
     pub warnings: Vec<String>,
 }
@@ -222,7 +224,8 @@ impl MemoryView {
                 .map(|(n, b)| (n.clone(), b.text()))
                 .collect(),
             magazine: l.state.magazine(),
-            offsets: offsets::offsets_mm(&l.state.offsets),
+            offsets: params::offsets_of(&l.state.params),
+            params: params::params_of(&l.state.params),
             warnings: l.notes.into_iter().map(|n| n.text).collect(),
         })
     }

@@ -65,7 +65,8 @@ const FOLD: [(&str, &str); 27] = [
 ];
 
 /// The program name PROGRAM READ gives the tape file `file`: its name without the directory
-/// and the last extension, in upper case; a G-code file (`.ngc`, `.nc`, `.iso`) keeps its
+/// and the last extension, in upper case; a G-code file (`gcode::GCODE_EXTENSIONS`: `.ngc`,
+/// `.nc`, `.iso`, `.tap`, `.gcode`, `.cnc`) keeps its
 /// extension, so that the program stays G-code in memory (`gcode::is_gcode`). A Latin letter with an accent becomes the plain
 /// letter (`ü` → `U`, `ß` → `SS`, `æ` → `AE`) and a space `_`, and `changes` says so. Refused
 /// (with the reason, asking to rename the file) when a character has no such equivalent, or
@@ -75,7 +76,7 @@ pub fn program_name_from_file(file: &str) -> Result<FileProgramName, String> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .filter(|e| ["ngc", "nc", "iso"].contains(&e.as_str()));
+        .filter(|e| crate::gcode::GCODE_EXTENSIONS.contains(&e.as_str()));
     let mut stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -159,7 +160,8 @@ mod tests {
         assert_eq!(named("/tapes/part7.ngc"), ("PART7.NGC".into(), vec![]));
         assert_eq!(named("p.NC"), ("P.NC".into(), vec![]));
         assert_eq!(named("p.Iso"), ("P.ISO".into(), vec![]));
-        assert_eq!(named("p.tap"), ("P".into(), vec![]));
+        assert_eq!(named("p.tap"), ("P.TAP".into(), vec![]));
+        assert_eq!(named("p.tape"), ("P".into(), vec![]));
         assert_eq!(named("a.b-c_d.ap"), ("A.B-C_D".into(), vec![]));
         assert_eq!(named("prüf.ap"), ("PRUF".into(), vec!["ü → U".into()]));
         assert_eq!(

@@ -64,13 +64,11 @@ pub enum Record {
         /// The pocket it goes to.
         t: u32,
     },
-    /// A work offset set (OFS page, or G10 L2/L20 from a G-code program or MDI).
-    WorkOffset {
-        /// The system, 0 = G54 … 5 = G59.
-        system: usize,
-        /// Its zero in machine coordinates, nanometres (1e-6 mm) per axis X Y Z.
-        nm: [i64; 3],
-    },
+    /// Persistent parameters of the G-code interpreter set together (#5161–#5390: the work
+    /// offsets from the OFS page or a G10, G92, the selected system, the G28/G30 homes), each
+    /// in millionths of its unit (nanometres, or micro-degrees for a rotation). The old
+    /// record `offset G5n X Y Z` reads as the three parameters of that system's zero.
+    Params(Vec<(u16, i64)>),
     /// T-CODE SETTING: a T code given a tool, or emptied.
     TCode {
         /// The T code.
@@ -101,8 +99,12 @@ impl Record {
             Record::Move { tool, t } => format!("move {tool} {t}"),
             Record::TCode { t, tool: Some(n) } => format!("tcode {t} {n}"),
             Record::TCode { t, tool: None } => format!("tcode {t} -"),
-            Record::WorkOffset { system, nm } => {
-                format!("offset G{} {} {} {}", 54 + system, nm[0], nm[1], nm[2])
+            Record::Params(ps) => {
+                let mut t = String::from("param");
+                for (n, v) in ps {
+                    t.push_str(&format!(" {n} {v}"));
+                }
+                t
             }
         }
     }
@@ -161,16 +163,25 @@ impl Record {
                 },
             },
             ["offset", g, x, y, z] => {
+                // Written before the parameters were kept: a work offset G54..G59.
                 let bad = || format!("bad work offset in '{head}'");
                 let system = match g.strip_prefix('G').and_then(|n| n.parse::<usize>().ok()) {
                     Some(n @ 54..=59) => n - 54,
                     _ => return Err(bad()),
                 };
                 let v = |s: &str| s.parse::<i64>().map_err(|_| bad());
-                Record::WorkOffset {
-                    system,
-                    nm: [v(x)?, v(y)?, v(z)?],
+                let b = crate::gcode::state::system_base(system) as u16;
+                Record::Params(vec![(b + 1, v(x)?), (b + 2, v(y)?), (b + 3, v(z)?)])
+            }
+            ["param", rest @ ..] if !rest.is_empty() && rest.len() % 2 == 0 => {
+                let bad = || format!("bad parameter record '{head}'");
+                let mut ps = Vec::with_capacity(rest.len() / 2);
+                for pair in rest.chunks(2) {
+                    let n = pair[0].parse::<u16>().map_err(|_| bad())?;
+                    let v = pair[1].parse::<i64>().map_err(|_| bad())?;
+                    ps.push((n, v));
                 }
+                Record::Params(ps)
             }
             _ => return Err(format!("unknown record '{head}'")),
         };
@@ -212,10 +223,7 @@ mod tests {
                 tool: Some(106),
             },
             Record::TCode { t: 7, tool: None },
-            Record::WorkOffset {
-                system: 5,
-                nm: [-1, 100_000_000, 0],
-            },
+            Record::Params(vec![(5321, -1), (5322, 100_000_000), (5220, 2_000_000)]),
         ];
         for r in all {
             assert_eq!(Record::decode(&r.encode()), Ok(r));
@@ -224,5 +232,16 @@ mod tests {
         assert!(Record::decode("edit M").is_err());
         assert!(Record::decode("offset G60 0 0 0").is_err());
         assert!(Record::decode("offset G54 0 0.5 0").is_err());
+        assert!(Record::decode("param").is_err());
+        assert!(Record::decode("param 5221").is_err());
+        assert!(Record::decode("param 5221 1.5").is_err());
+    }
+
+    #[test]
+    fn an_old_work_offset_record_reads_as_its_systems_parameters() {
+        assert_eq!(
+            Record::decode("offset G55 1 -2 3"),
+            Ok(Record::Params(vec![(5241, 1), (5242, -2), (5243, 3)]))
+        );
     }
 }

@@ -8,8 +8,11 @@
 //! mdi POINTER\n<text>             the MDI buffer
 //! tcodes\n<text>                  the T-code table, one `Tnn TOOLNO` per line
 //! tools POINTER\n<text>           the tool file, one T code per line
-//! offsets\n<text>                 G54..G59, one `X Y Z` line each in nanometres (written
-//!                                 only when one is not zero; none means all zero)
+//! params\n<text>                  the G-code interpreter's persistent parameters, one `N V`
+//!                                 line each (V in millionths), those not zero; written only
+//!                                 when there is one
+//! offsets\n<text>                 (read only, from before `params`) G54..G59, one `X Y Z`
+//!                                 line each in nanometres
 //! end                             written last: a snapshot without it is incomplete
 //! ```
 //!
@@ -41,13 +44,9 @@ pub fn encode(s: &State, gen: u64) -> Vec<u8> {
         s.tool_buf.pointer(),
         s.tool_buf.text()
     ));
-    if s.offsets != [[0; 3]; 6] {
-        let lines: Vec<String> = s
-            .offsets
-            .iter()
-            .map(|o| format!("{} {} {}", o[0], o[1], o[2]))
-            .collect();
-        put(format!("offsets\n{}", lines.join("\n")));
+    if !s.params.is_empty() {
+        let lines: Vec<String> = s.params.iter().map(|(n, v)| format!("{n} {v}")).collect();
+        put(format!("params\n{}", lines.join("\n")));
     }
     put("end".to_string());
     out
@@ -137,7 +136,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
     let mut programs = BTreeMap::new();
     let (mut current, mut mdi, mut tcodes_text, mut tools, mut end) =
         (None, None, None, None, false);
-    let mut offsets = [[0i64; 3]; 6];
+    let mut params = BTreeMap::new();
     for r in &records {
         let Ok(r) = std::str::from_utf8(r) else {
             lost.push("a record that is not text".to_string());
@@ -168,8 +167,15 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
             },
             ["tcodes"] => tcodes_text = Some(body.to_string()),
             ["tools", p] => tools = Some((body.to_string(), p.to_string())),
+            ["params"] => match read_params(body) {
+                Some(p) => params.extend(p),
+                None => lost.push(
+                    "the interpreter's parameters (work offsets, G92, G28/G30 homes: now all zero)"
+                        .to_string(),
+                ),
+            },
             ["offsets"] => match read_offsets(body) {
-                Some(o) => offsets = o,
+                Some(p) => params.extend(p),
                 None => lost.push("the work offsets (now all zero)".to_string()),
             },
             ["end"] => end = true,
@@ -268,7 +274,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
             tcodes,
             tools: tools_file,
             tool_buf,
-            offsets,
+            params,
         },
         old_format,
         repaired,
@@ -278,19 +284,38 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
     }
 }
 
-/// The work offsets record's text: six lines of three whole numbers.
-fn read_offsets(body: &str) -> Option<[[i64; 3]; 6]> {
-    let mut out = [[0i64; 3]; 6];
+/// The parameters record's text: one `N V` line per parameter kept (whole numbers).
+fn read_params(body: &str) -> Option<BTreeMap<u16, i64>> {
+    body.lines()
+        .map(|l| {
+            let (n, v) = l.split_once(' ')?;
+            let n: u16 = n.parse().ok()?;
+            crate::gcode::state::is_persistent(usize::from(n)).then_some(())?;
+            Some((n, v.parse().ok()?))
+        })
+        .collect()
+}
+
+/// The old work offsets record's text (before `params`): six lines of three whole numbers,
+/// G54 to G59, as the parameters of those systems' zeros.
+fn read_offsets(body: &str) -> Option<BTreeMap<u16, i64>> {
     let lines: Vec<&str> = body.lines().collect();
     if lines.len() != 6 {
         return None;
     }
-    for (o, l) in out.iter_mut().zip(lines) {
+    let mut out = BTreeMap::new();
+    for (cs, l) in lines.into_iter().enumerate() {
         let v: Vec<i64> = l
             .split(' ')
             .map(|n| n.parse().ok())
             .collect::<Option<_>>()?;
-        *o = v.try_into().ok()?;
+        let v: [i64; 3] = v.try_into().ok()?;
+        let b = crate::gcode::state::system_base(cs) as u16;
+        for (a, nm) in v.into_iter().enumerate() {
+            if nm != 0 {
+                out.insert(b + 1 + a as u16, nm);
+            }
+        }
     }
     Some(out)
 }
@@ -303,4 +328,37 @@ fn no_data(tc: TCodeTable) -> (TCodeTable, ToolFile, Buffer) {
     };
     let b = Buffer::from_text(&tool_text(&m));
     (m.tcodes, m.tools, b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_parameters_round_trip_and_an_old_offsets_record_reads_as_parameters() {
+        let mut s = State::defaults(24);
+        s.params.insert(5211, -2_500_000);
+        s.params.insert(5220, 8_000_000);
+        s.params.insert(5230, 45_000_000);
+        let back = read(&encode(&s, 7), 24);
+        assert!(back.lost.is_empty(), "{:?}", back.lost);
+        assert_eq!(back.state.params, s.params);
+        // A snapshot written before the parameters: `offsets`, six lines of G54..G59.
+        let mut old = Vec::new();
+        let mut put = |p: &str| old.extend(frame::encode_pair(p.as_bytes()));
+        put("novanc-state 2 3 24");
+        put("current TABLEB");
+        put("program TABLEB 0\nCL\n");
+        put("mdi 0\n");
+        put(&format!("tcodes\n{}", s.tcodes.to_text()));
+        put(&format!("tools 0\n{}", s.tool_buf.text()));
+        put("offsets\n1 2 3\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 -450000000");
+        put("end");
+        let r = read(&old, 24);
+        assert!(r.lost.is_empty(), "{:?}", r.lost);
+        let want: BTreeMap<u16, i64> = [(5221, 1), (5222, 2), (5223, 3), (5323, -450_000_000)]
+            .into_iter()
+            .collect();
+        assert_eq!(r.state.params, want);
+    }
 }

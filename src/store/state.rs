@@ -38,12 +38,19 @@ pub struct State {
     pub tool_buf: Buffer,
     /// The tool file parsed from `tool_buf`.
     pub tools: ToolFile,
-    /// The work offsets G54 to G59: each system's zero in machine coordinates, nanometres.
-    pub offsets: [[i64; 3]; 6],
+    /// The G-code interpreter's persistent parameters (#5161–#5390, LinuxCNC's parameter
+    /// file: the G28/G30 homes, G92, the selected system, the nine systems' zeros and
+    /// rotations), in millionths of their unit (nanometres, micro-degrees). A parameter not
+    /// here is 0 (#5220, the system in force, is then 1: G54).
+    pub params: BTreeMap<u16, i64>,
 }
 
-/// The largest work offset, nanometres (100 m): a G10 or INPUT beyond it is refused.
+/// The largest work offset, nanometres (100 m): an INPUT beyond it is refused.
 pub const OFFSET_LIMIT_NM: i64 = 100_000_000_000;
+
+/// The largest persistent parameter, millionths (1,000,000 mm or degrees: a G10 rotation may
+/// be that large): a record beyond it is refused.
+pub const PARAM_LIMIT: i64 = 1_000_000_000_000;
 
 /// Tape text with its record separators (CR, CR LF) made end-of-block characters.
 pub fn tape_text(text: &str) -> String {
@@ -79,7 +86,7 @@ impl State {
             tool_buf: Buffer::from_text(&tool_text(&m)),
             tcodes: m.tcodes,
             tools: m.tools,
-            offsets: [[0; 3]; 6],
+            params: BTreeMap::new(),
         }
     }
 
@@ -288,22 +295,31 @@ impl State {
                 }
                 Ok((Outcome::default(), true))
             }
-            Record::WorkOffset { system, nm } => {
-                let Some(slot) = self.offsets.get_mut(*system) else {
-                    return Err(Refusal::Other(format!(
-                        "work offset system {} is not G54 to G59",
-                        54 + system
-                    )));
-                };
-                if let Some(v) = nm.iter().find(|v| v.abs() > OFFSET_LIMIT_NM) {
-                    return Err(Refusal::Other(format!(
-                        "work offset {:.3} mm is beyond {} mm",
-                        *v as f64 / 1e6,
-                        OFFSET_LIMIT_NM / 1_000_000
-                    )));
+            Record::Params(ps) => {
+                for &(n, v) in ps {
+                    if !crate::gcode::state::is_persistent(usize::from(n)) {
+                        return Err(Refusal::Other(format!(
+                            "#{n} is not a parameter the controller keeps (#5161-#5169, #5181-#5189, #5210-#5390)"
+                        )));
+                    }
+                    if v.abs() > PARAM_LIMIT {
+                        return Err(Refusal::Other(format!(
+                            "#{n} = {} is beyond {}",
+                            v as f64 / 1e6,
+                            PARAM_LIMIT / 1_000_000
+                        )));
+                    }
                 }
-                let changed = *slot != *nm;
-                *slot = *nm;
+                let mut changed = false;
+                for &(n, v) in ps {
+                    let old = self.params.get(&n).copied().unwrap_or(0);
+                    changed |= old != v;
+                    if v == 0 {
+                        self.params.remove(&n);
+                    } else {
+                        self.params.insert(n, v);
+                    }
+                }
                 Ok((Outcome::default(), changed))
             }
             Record::TCode { t, tool } => {
@@ -342,14 +358,8 @@ mod tests {
             Record::TCodes("T01 1\nT02 1\n".into()),
             Record::Select("NONE".into()),
             Record::Delete("TABLEB".into()),
-            Record::WorkOffset {
-                system: 6,
-                nm: [0; 3],
-            },
-            Record::WorkOffset {
-                system: 0,
-                nm: [OFFSET_LIMIT_NM + 1, 0, 0],
-            },
+            Record::Params(vec![(5221, 1), (5400, 1)]),
+            Record::Params(vec![(5221, 1), (5222, PARAM_LIMIT + 1)]),
             Record::Edit {
                 target: EditTarget::Program("NONE".into()),
                 line: "IX".into(),
@@ -360,7 +370,7 @@ mod tests {
             assert_eq!(s.tool_buf.text(), tool_text, "{r:?}");
             assert_eq!(s.magazine(), crate::tooldata::sample_magazine(), "{r:?}");
             assert_eq!(s.program_names_for_test(), ["TABLEB"]);
-            assert_eq!(s.offsets, [[0; 3]; 6]);
+            assert!(s.params.is_empty());
         }
     }
 

@@ -33,6 +33,21 @@ pub fn open(name: &str) -> Console {
     c
 }
 
+/// The console on an existing state directory (a restart), virtual time.
+pub fn reopen(dir: &Path) -> Console {
+    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
+    cfg.clock = ClockMode::Virtual;
+    Console::open(cfg).unwrap().0
+}
+
+/// One MDI line: typed in MDI, START, and waited for.
+pub fn mdi(c: &mut Console, line: &str) {
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
+    type_line(c, line);
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+}
+
 /// Presses keys by their script names (`F9`, `Alt+2`, `Right`, `x`, ...).
 pub fn keys(c: &mut Console, names: &[&str]) {
     for n in names {

@@ -32,6 +32,12 @@ pub struct Stats {
     pub gcode_ends: u64,
     /// Block ends checked in sessions on the error-proportional interpolator.
     pub ep_block_ends: u64,
+    /// MDI G-code lines run (G-code sessions).
+    pub mdi_gcode: u64,
+    /// Of those, G0 moves that ended where the interpreter's state said.
+    pub mdi_moves: u64,
+    /// MDI G38.3 probes after which the interpreter read on from where the machine stopped.
+    pub mdi_probes: u64,
 }
 
 impl Stats {
@@ -51,6 +57,9 @@ impl Stats {
         self.gcode_sessions += o.gcode_sessions;
         self.gcode_ends += o.gcode_ends;
         self.ep_block_ends += o.ep_block_ends;
+        self.mdi_gcode += o.mdi_gcode;
+        self.mdi_moves += o.mdi_moves;
+        self.mdi_probes += o.mdi_probes;
     }
 }
 

@@ -56,6 +56,9 @@ pub struct Pages {
     recall_at: Option<usize>,
     /// The last message and alarm put in the history.
     logged: (String, String),
+    /// The program's message taken since the last frame (a run's end says it too, so that the
+    /// frame, and with it the recording, shows it).
+    pub program_msg: Option<String>,
 }
 
 impl Pages {
@@ -78,6 +81,7 @@ impl Pages {
                 recall: Vec::new(),
                 recall_at: None,
                 logged: (String::new(), String::new()),
+                program_msg: None,
             },
             w1.into_iter().chain(w2).collect(),
         )
@@ -259,6 +263,27 @@ fn also_say(c: &mut Console, failure: &str) {
     } else {
         format!("{}; {failure}", c.message)
     };
+}
+
+/// A program's message (`(MSG,...)`, `(PRINT,...)`, `(DEBUG,...)`, `(LOG,...)`): in the
+/// history at once (each one, however many a line gives) and on the message line, so the
+/// display frame, and with it the recording, shows it. A history that cannot be saved is said
+/// after the message, never in its place.
+pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
+    let line = format!("{kind}: {text}");
+    let pushed = c.pages.history.push(Entry {
+        machine_ns: c.status.machine_ns,
+        wall_s: Some(crate::store::stamps::now_s()),
+        kind: Kind::Message,
+        text: line.clone(),
+    });
+    c.pages.logged.0 = line.clone();
+    c.pages.program_msg = Some(line.clone());
+    c.message = line;
+    if let Err(w) = pushed {
+        also_say(c, &w);
+        c.pages.logged.0 = c.message.clone();
+    }
 }
 
 /// A run of program memory reached its end: one more part, its cycle time; every run's time

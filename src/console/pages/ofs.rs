@@ -12,8 +12,6 @@
 
 use super::super::display::{message_lines, split_line, Page as Frame, CUT};
 use super::Console;
-use crate::store::toolfile::format_line;
-use crate::store::Target;
 use crate::tooldata::{ToolKind, ToolRecord};
 use novanc_panel::Key;
 
@@ -31,7 +29,7 @@ pub const LENGTH: usize = 4;
 /// Moves the cursor by cell.
 pub(super) fn arrow(c: &mut Console, k: Key) {
     let cap = c.mem.magazine().tcodes.capacity().max(1);
-    let last = cap + 6;
+    let last = cap + crate::gcode::state::SYSTEMS as u32;
     let axis = &mut c.pages.ofs_axis;
     let (t, col) = &mut c.pages.ofs;
     match k {
@@ -142,16 +140,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             return;
         }
     };
-    let text = format_line(t, Some(tool), Some(&new));
-    let cmd = format!(
-        "-99999L{}KI{text}*",
-        if t > 1 {
-            format!("{}L", t - 1)
-        } else {
-            String::new()
-        }
-    );
-    match c.mem.edit(Target::ToolFile, &cmd, None) {
+    match c.mem.revise_tool(t, tool, &new) {
         Ok(_) => {
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {
@@ -181,7 +170,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let (focus, col) = c.pages.ofs;
     let cap = m.tcodes.capacity();
     if focus > cap {
-        let system = ((focus - cap - 1) as usize).min(5);
+        let system = ((focus - cap - 1) as usize).min(crate::gcode::state::SYSTEMS - 1);
         return super::workofs::compose(c, rows, cols, system, c.pages.ofs_axis);
     }
     let mut p = Frame::new(

@@ -1,7 +1,8 @@
-//! OFS, the work offsets G54 to G59 (docs/panel.md "Pages", docs/gcode.md "At the console"):
+//! OFS, the work offsets G54 to G59.3 (docs/panel.md "Pages", docs/gcode.md "At the console"):
 //! the rows after the last T code. Down from the last T code goes on to G54; the cursor
 //! stands on X, Y or Z. A value typed then INPUT sets the cell, +INPUT adds to it. From any
-//! row, `G55 X100 Y-20.5` INPUT sets the axes it names (+INPUT adds to them).
+//! row, `G55 X100 Y-20.5` INPUT sets the axes it names (+INPUT adds to them). G92, when in
+//! force, is shown under them (set by MDI `G92`, cancelled by `G92.1`).
 //!
 //! A change is one journaled record of the stores (as G10 in a program makes). It is taken
 //! with no run loaded, or with the run at rest; a G-code run reads the offsets at its START,
@@ -9,13 +10,22 @@
 
 use super::super::display::{message_lines, split_line, Page as Frame};
 use super::Console;
+use crate::gcode::state::SYSTEM_NAMES;
 
 /// The axes' headings.
 const AXES: [&str; 3] = ["X", "Y", "Z"];
 
-/// The work offset system a line names (`G54` to `G59`, any case), and the rest of the line.
+/// The work offset system a line names (`G54` to `G59`, `G59.1` to `G59.3`, any case), and
+/// the rest of the line.
 pub(super) fn system_of(line: &str) -> Option<(usize, &str)> {
     let l = line.trim_start();
+    let upper = l.get(..5).map(|h| h.to_ascii_uppercase());
+    if let Some(cs) = upper
+        .as_deref()
+        .and_then(|h| SYSTEM_NAMES[6..].iter().position(|n| *n == h))
+    {
+        return Some((6 + cs, &l[5..]));
+    }
     let head = l.get(..3)?;
     let n = head
         .strip_prefix(['G', 'g'])
@@ -73,7 +83,7 @@ fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
     if !allowed(c) {
         return;
     }
-    let mut o = c.mem.work_offsets().0[system];
+    let mut o = c.mem.system_offset(system);
     for a in 0..3 {
         if let Some(v) = vals[a] {
             o[a] = if add { o[a] + v } else { v };
@@ -88,11 +98,8 @@ fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
                 ""
             };
             c.message = format!(
-                "G{} X{:.3} Y{:.3} Z{:.3}{when}",
-                54 + system,
-                o[0],
-                o[1],
-                o[2]
+                "{} X{:.3} Y{:.3} Z{:.3}{when}",
+                SYSTEM_NAMES[system], o[0], o[1], o[2]
             );
             c.pages.ofs.0 = c.mem.magazine().tcodes.capacity() + 1 + system as u32;
         }
@@ -135,21 +142,41 @@ pub(super) fn compose(
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
     p.bottom.push(format!("> {}_", c.entry));
-    p.body
-        .push(format!("{:<4}{:>12}{:>12}{:>12}", "", "X", "Y", "Z"));
-    let w = c.mem.work_offsets();
-    for (i, o) in w.0.iter().enumerate() {
-        let mut line = format!("G{:<3}", 54 + i);
+    let mut table = Vec::new();
+    for (i, name) in SYSTEM_NAMES.iter().enumerate() {
+        let o = c.mem.system_offset(i);
+        let mut line = format!("{name:<6}");
         for (a, v) in o.iter().enumerate() {
             let v = format!("{v:.3}");
             line.push_str(&if i == system && a == axis {
-                format!("{:>12}", format!(">{v}"))
+                format!("{:>11}", format!(">{v}"))
             } else {
-                format!("{v:>12}")
+                format!("{v:>11}")
             });
         }
-        p.body.push(line);
+        table.push(line);
     }
+    // G92 in force (shown, not set here: MDI G92 / G92.1 set it).
+    let g92 = c.interp.g92;
+    if g92 != [0.0; 3] {
+        let mut line = format!("{:<6}", "G92");
+        for v in g92 {
+            line.push_str(&format!("{:>11}", format!("{v:.3}")));
+        }
+        table.push(line);
+    }
+    // The rows that fit under the axes' heading, the cursor's among them (and G92 under
+    // the last system's).
+    let fit = p.body_rows().saturating_sub(1).max(1);
+    let last = if system + 1 == SYSTEM_NAMES.len() {
+        table.len()
+    } else {
+        system + 1
+    };
+    let first = last.saturating_sub(fit);
+    p.body
+        .push(format!("{:<6}{:>11}{:>11}{:>11}", "", "X", "Y", "Z"));
+    p.body.extend(table.into_iter().skip(first));
     p.lines()
 }
 
@@ -161,6 +188,8 @@ mod tests {
     fn offset_lines_read_or_say_why() {
         assert_eq!(system_of("g55 X1"), Some((1, " X1")));
         assert_eq!(system_of("G60 X1"), None);
+        assert_eq!(system_of("g59.2 Z1"), Some((7, " Z1")));
+        assert_eq!(system_of("G59 Z1"), Some((5, " Z1")));
         assert_eq!(system_of("X1"), None);
         assert_eq!(
             axis_words(" X100 Y-20.5").unwrap(),

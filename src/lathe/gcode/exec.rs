@@ -5,7 +5,7 @@
 use super::out::Out;
 use super::{cycles, read_line, ReadOptions, LATHE, MAX_LINES};
 use crate::block::TranslateError;
-use crate::gcode::expr::Params;
+use crate::gcode::read::{OKind, Params, Target};
 use crate::gcode::words::{sort_words_in, Words};
 use crate::lathe::desc::{ChannelDesc, LatheDesc};
 use crate::lathe::ops::{Feed, Op, SpeedMode, SpindleDir};
@@ -165,8 +165,28 @@ impl Reader<'_> {
         if l.percent {
             return Ok(Flow::Next);
         }
-        for &(p, v) in &l.assigns {
-            self.params.set(p, v);
+        if let Some(o) = l.o.as_ref().filter(|o| o.kind != OKind::Bare) {
+            return Err(err(
+                n,
+                o.col,
+                format!("O-word control flow (o{} {}) is not read by the lathe reader yet: only M98/M99 subprograms", o.label, o.kind.name()),
+            ));
+        }
+        for (t, v, col) in &l.assigns {
+            match t {
+                Target::Numbered(p) => {
+                    self.params.set(*p, *v);
+                }
+                Target::Named(name) => {
+                    return Err(err(
+                        n,
+                        *col,
+                        format!(
+                            "named parameters (#<{name}>) are not read by the lathe reader yet"
+                        ),
+                    ))
+                }
+            }
         }
         let w = sort_words_in(&l, n, &LATHE)?;
         self.execute(&w, n, i)

@@ -2,7 +2,7 @@
 //! LinuxCNC 2.9's lathe-mode semantics (Fanuc 0i-T's for G71/G70 and the U/W words), into a
 //! [`LatheProgram`] of operations on the imaginary tool tip P.
 //!
-//! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::expr`);
+//! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::read`);
 //! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
 //!
 //! - [`exec`]: one line's words executed against the modal state.
@@ -21,7 +21,7 @@ pub mod out;
 mod tests;
 
 use crate::block::TranslateError;
-use crate::gcode::expr::{self, Params};
+use crate::gcode::read::{self, Params};
 use crate::gcode::words::Dialect;
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::ops::LatheProgram;
@@ -41,9 +41,12 @@ pub struct ReadOptions {
     pub optional_stop: bool,
 }
 
+const LATHE_LETTERS: &str = "DEFHIJKLNPQRSTUWXZ";
+
 /// The lathe dialect: letters and codes by modal group (docs/lathe-gcode.md "Words").
 pub const LATHE: Dialect = Dialect {
-    letters: "DEFHIJKLNPQRSTUWXZ",
+    letters: LATHE_LETTERS,
+    letter_bits: crate::gcode::words::letter_bits(LATHE_LETTERS),
     g_group: lathe_g_group,
     m_group: lathe_m_group,
     g_why: lathe_g_why,
@@ -184,6 +187,6 @@ fn n_number(raw: &str) -> Option<u32> {
 }
 
 /// Reads one line with the mill reader's expression and parameter rules.
-fn read_line(raw: &str, n: u32, params: &Params) -> Result<expr::Line, TranslateError> {
-    expr::read_line(raw, n, params)
+fn read_line(raw: &str, n: u32, params: &Params) -> Result<read::Line, TranslateError> {
+    read::read_line(raw, n, params)
 }

@@ -9,7 +9,10 @@ impl Machine {
     pub fn command(&mut self, c: Command) {
         self.commands += 1;
         // The notice answers the latest operator action: a new action starts without one.
-        if !matches!(c, Command::Override(_) | Command::SingleBlock(_)) {
+        if !matches!(
+            c,
+            Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
+        ) {
             self.notice = None;
         }
         match c {
@@ -78,6 +81,11 @@ impl Machine {
                     }
                 }
             }
+            Command::Input {
+                digital,
+                index,
+                value,
+            } => self.inputs.set(digital, index, value),
             Command::Increment { axis, pulses } => {
                 if self.jog_check(axis).is_some() && pulses != 0 {
                     self.increments.push_back((axis, pulses));

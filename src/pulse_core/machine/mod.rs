@@ -19,6 +19,7 @@
 //! in one PGEN call and sets the clock to the tick where it completes. The pulses and times are
 //! the same as tick by tick (tested); a dry run then costs pulses, not ticks.
 
+use super::block_buffer::Answer;
 use super::drive::Drive;
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
@@ -28,6 +29,7 @@ use crate::block::{Block, MachineState, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
+use crate::workpiece::{along, Touch};
 use check::{arc_stepper, check_block};
 use std::collections::VecDeque;
 
@@ -66,6 +68,102 @@ struct Current {
     /// The set length of the tool in the spindle before the tool data was revised while this
     /// block ran (the block goes on with the length it was planned with).
     len_planned: Option<f64>,
+    /// A probe block: whether the probe finds what it seeks on the way, and already at the
+    /// start (answered with the position when the block ends).
+    probe: Option<(bool, bool)>,
+    /// An M66 block: the wait on an input, and its value once read (`None` until then, or
+    /// on a timeout).
+    wait: Option<InputWait>,
+}
+
+/// 64 digital and 64 analog signals: the machine's simulated inputs (P0–P63 and E0–E63, set
+/// by [`Command::Input`](crate::pulse_core::Command::Input), read by M66) or its outputs
+/// (M62–M65 digital, M67/M68 analog).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Signals {
+    /// Bit `n`: digital signal `n` is on.
+    pub digital: u64,
+    /// Analog signals 0–63.
+    pub analog: [f64; 64],
+}
+
+impl Default for Signals {
+    fn default() -> Signals {
+        Signals {
+            digital: 0,
+            analog: [0.0; 64],
+        }
+    }
+}
+
+impl Signals {
+    /// Sets input `index` (ignored past 63); a digital one is on when `value` is not 0.
+    pub fn set(&mut self, digital: bool, index: u8, value: f64) {
+        let i = usize::from(index);
+        if i >= 64 {
+            return;
+        }
+        if digital {
+            if value != 0.0 {
+                self.digital |= 1 << i;
+            } else {
+                self.digital &= !(1 << i);
+            }
+        } else if value.is_finite() {
+            self.analog[i] = value;
+        }
+    }
+
+    /// The value of input `index`: a digital one 0 or 1.
+    pub fn get(&self, digital: bool, index: u8) -> f64 {
+        let i = usize::from(index) & 63;
+        if digital {
+            f64::from(u8::from(self.digital >> i & 1 == 1))
+        } else {
+            self.analog[i]
+        }
+    }
+}
+
+/// M66 in progress (docs/gcode.md, "Signals and outputs").
+#[derive(Clone, Copy, Debug)]
+struct InputWait {
+    digital: bool,
+    index: u8,
+    /// L: 0 immediate, 1 rise, 2 fall, 3 high, 4 low.
+    mode: u8,
+    timeout_ns: u64,
+    /// For a rise (fall): the input has been seen low (high) since the block started.
+    armed: bool,
+    /// The value read when the wait ended; `None` while waiting, or after a timeout.
+    value: Option<f64>,
+}
+
+impl InputWait {
+    /// Looks at the input now: whether the wait is over (its value kept).
+    fn look(&mut self, inputs: &Signals) -> bool {
+        let v = inputs.get(self.digital, self.index);
+        let high = v != 0.0;
+        let met = match self.mode {
+            0 => true,
+            1 => {
+                let m = self.armed && high;
+                self.armed |= !high;
+                m
+            }
+            2 => {
+                let m = self.armed && !high;
+                self.armed |= high;
+                m
+            }
+            3 => high,
+            _ => !high,
+        };
+        if met {
+            self.value = Some(v);
+        }
+        met
+    }
 }
 
 /// A manual move in progress (CONTINUOUS, STEP or HANDLE), or the return to where the run
@@ -215,6 +313,12 @@ pub struct Machine {
     op_mode: String,
     data_mode: String,
     commands: u64,
+    /// The answer of the probe or M66 block just ended, for the source at the next NCBR.
+    probe_answer: Option<Answer>,
+    /// The simulated inputs M66 reads.
+    inputs: Signals,
+    /// The outputs M62–M65, M67 and M68 set.
+    outputs: Signals,
 }
 
 impl Machine {
@@ -264,6 +368,49 @@ impl Machine {
             op_mode: "AUTO".into(),
             data_mode: "SEARCH".into(),
             commands: 0,
+            probe_answer: None,
+            inputs: Signals::default(),
+            outputs: Signals::default(),
+        }
+    }
+
+    /// The simulated inputs.
+    pub fn inputs(&self) -> &Signals {
+        &self.inputs
+    }
+
+    /// An output of block `b` (M62–M65, M67, M68) at time `t`: those with the motion
+    /// (`synced`) when the block's motion starts, the others when the block is read into the
+    /// NC table. Each is recorded on `/nc/io`.
+    fn apply_output(&mut self, b: &Block, t: u64, synced: bool) {
+        let (digital, index, value) = match b.io {
+            Some(crate::block::Io::Digital {
+                index,
+                on,
+                synced: s,
+            }) if s == synced => (true, index, f64::from(u8::from(on))),
+            Some(crate::block::Io::Analog {
+                index,
+                value,
+                synced: s,
+            }) if s == synced => (false, index, value),
+            _ => return,
+        };
+        self.outputs.set(digital, index, value);
+        if let Some(s) = &self.events {
+            send_ev(
+                s,
+                &self.out.lossless,
+                Event::Io {
+                    t_ns: t,
+                    seq: b.seq,
+                    stmt: b.stmt,
+                    digital,
+                    index,
+                    value,
+                    synced,
+                },
+            );
         }
     }
 
@@ -589,6 +736,9 @@ impl Machine {
 
     /// NCBR: override, RUN, DEN and the next block.
     fn ncbr(&mut self, src: &mut dyn BlockSource) {
+        if let Some(a) = self.probe_answer.take() {
+            src.answer(a);
+        }
         if let Some(p) = self.pending_override.take() {
             self.feed_override = p;
             let feed = self
@@ -653,6 +803,7 @@ impl Machine {
     /// Ends the loaded run: RUN = 0, nothing held, the end recorded for the display.
     fn end_run(&mut self, cause: EndCause) {
         self.run = 0;
+        self.probe_answer = None;
         self.hold = false;
         self.just_completed = false;
         self.ret = None;
@@ -716,6 +867,35 @@ impl Machine {
             self.refuse(&e, Some(&b), why);
             return;
         }
+        let probe = match b.probe {
+            Some(g) if b.motion == Kind::Linear => Some(self.probe_stop(&mut b, pos, g)),
+            _ => None,
+        };
+        let wait = match b.io {
+            Some(crate::block::Io::Wait {
+                digital,
+                index,
+                mode,
+                timeout,
+            }) => Some(InputWait {
+                digital,
+                index,
+                mode,
+                timeout_ns: if mode == 0 {
+                    0
+                } else {
+                    (timeout.max(0.0) * 1e9).min(u64::MAX as f64 / 4.0) as u64
+                },
+                // A rise (fall) is armed by the input low (high) at the start.
+                armed: match mode {
+                    1 => self.inputs.get(digital, index) == 0.0,
+                    2 => self.inputs.get(digital, index) != 0.0,
+                    _ => false,
+                },
+                value: None,
+            }),
+            _ => None,
+        };
         b.delta = [b.end[0] - pos[0], b.end[1] - pos[1], b.end[2] - pos[2]];
         if let Err(why) = check_block(&self.settings, pos, &b) {
             self.refuse(&e, Some(&b), why);
@@ -733,6 +913,7 @@ impl Machine {
                 },
             );
         }
+        self.apply_output(&b, self.now, false);
         let mut pre = 0;
         if b.m == Some(6) {
             pre += self.settings.tool_change_ns;
@@ -756,7 +937,42 @@ impl Machine {
             until: self.now + pre,
             motion: None,
             len_planned: None,
+            probe,
+            wait,
         });
+    }
+
+    /// A probe block (G38.x ×10 in `g`) from `pos`: where its stylus (a ball of the spindle
+    /// tool's radius on its tip, the gauge line less its length) first meets the workpiece of
+    /// the settings (G38.2/3) or leaves it (G38.4/5) along the straight move becomes the
+    /// block's end, to the nearest pulse; already so at the start, nothing moves. Whether it
+    /// trips, and whether at the start (docs/pulse-core.md, "Probing").
+    fn probe_stop(&self, b: &mut Block, pos: [i64; 3], g: u16) -> (bool, bool) {
+        let st = &self.settings;
+        let len = self.tool_len;
+        let radius = self
+            .tool
+            .and_then(|t| self.magazine.as_ref()?.tools.get(t))
+            .map_or(0.0, |r| r.cutting_diameter() / 2.0);
+        let tip = |p: [i64; 3]| [st.to_mm(p[0]), st.to_mm(p[1]), st.to_mm(p[2]) - len];
+        let (a, e) = (tip(pos), tip(b.end));
+        match st.workpiece.probe(a, e, radius, g <= 383) {
+            Touch::AtStart => {
+                b.end = pos;
+                b.motion = Kind::Aux;
+                (true, true)
+            }
+            Touch::At(t) => {
+                let p = along(a, e, t);
+                b.end = [
+                    st.to_pulses(p[0]),
+                    st.to_pulses(p[1]),
+                    st.to_pulses(p[2] + len),
+                ];
+                (true, false)
+            }
+            Touch::Never => (false, false),
+        }
     }
 
     /// PGEN up to `end`: the block's phases, then any manual move or return.
@@ -770,6 +986,7 @@ impl Machine {
                     let t0 = c.until;
                     let b = c.block.clone();
                     self.pre_effects(&b);
+                    self.apply_output(&b, t0, true);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
@@ -803,7 +1020,7 @@ impl Machine {
                         + if b.motion == Kind::Dwell {
                             b.dwell_ns
                         } else {
-                            0
+                            c.wait.map_or(0, |w| w.timeout_ns)
                         };
                     c.motion = motion.map(|mut m| {
                         m.set_hold(self.hold);
@@ -818,8 +1035,19 @@ impl Machine {
                             }
                             Progress::Pending | Progress::AtRest => break,
                         }
-                    } else if c.until >= end {
-                        break;
+                    } else {
+                        let inputs = self.inputs;
+                        let now = self.now;
+                        if let Some(w) = c.wait.as_mut().filter(|w| w.value.is_none()) {
+                            if w.look(&inputs) {
+                                // The wait is over now (not before the block's start).
+                                let t0 = c.until.saturating_sub(w.timeout_ns);
+                                c.until = c.until.min(now.max(t0));
+                            }
+                        }
+                        if c.until >= end {
+                            break;
+                        }
                     }
                     let b = &c.block;
                     let post = match b.m {
@@ -919,6 +1147,30 @@ impl Machine {
                     speed_mm_min: 0.0,
                 },
             );
+        }
+        if let Some(w) = c.wait {
+            self.probe_answer = Some(Answer::Input(w.value));
+        }
+        if let Some((tripped, at_start)) = c.probe {
+            self.probe_answer = Some(Answer::Probe {
+                at: pos,
+                tripped,
+                at_start,
+            });
+            if let Some(s) = &self.events {
+                send_ev(
+                    s,
+                    &self.out.lossless,
+                    Event::Probe {
+                        t_ns: t,
+                        seq: c.block.seq,
+                        stmt: c.block.stmt,
+                        pulses: pos,
+                        tripped,
+                        at_start,
+                    },
+                );
+            }
         }
         if pos != c.block.end {
             // The in-position check: a block must end on its programmed point.

@@ -120,6 +120,8 @@ impl Machine {
             notice: self.notice.clone(),
             single_block: self.single_block,
             speed_mm_min: self.speed_mm_min(),
+            inputs: self.inputs,
+            outputs: self.outputs,
             commands_applied: self.commands,
         }
     }

@@ -1,0 +1,1242 @@
+//! Reading one line of G-code (docs/gcode.md "Words", "Parameters and expressions",
+//! "O-words"), as LinuxCNC 2.9's reader does: spaces and case are insignificant outside
+//! comments, a value is a number, a parameter (`#5`, `#<name>`, `##2`), a bracket expression
+//! or a unary function, and parameter settings on a line take effect after the whole line has
+//! been read (every read on the line sees the old values).
+//!
+//! The reader evaluates as it reads, against an [`Env`] that resolves parameters: the
+//! interpreter's state for the mill, a plain parameter table for the lathe. It knows nothing of
+//! what the words mean; `words` sorts them and `exec` executes them.
+
+use crate::block::TranslateError;
+use crate::input_text::describe_char;
+
+/// The highest numbered parameter (LinuxCNC's `RS274NGC_MAX_PARAMETERS` − 1).
+/// 10^0 … 10^22, each exact in an f64.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+pub const MAX_PARAM: usize = 5602;
+
+/// The deepest nesting of brackets, signs and parameter references in one value.
+pub const MAX_NESTING: u32 = 64;
+
+/// The most arguments an `O... call` passes (#1 to #30).
+pub const MAX_ARGS: usize = 30;
+
+/// Two values compare EQ when they differ by less than this (LinuxCNC's TOLERANCE_EQUAL).
+pub const TOLERANCE_EQUAL: f64 = 1e-6;
+
+/// Where a line's parameter references are resolved.
+pub trait Env {
+    /// The value of `#n` (`n` already checked to be 1 to [`MAX_PARAM`]), or why it cannot be
+    /// read here.
+    fn numbered(&self, n: usize) -> Result<f64, String>;
+    /// The value of the named parameter `#<name>` (`name` in lower case, without spaces), or
+    /// `None` if it is not defined.
+    fn named(&self, name: &str) -> Result<Option<f64>, String>;
+}
+
+/// One word: its letter (upper case), value and 1-based column.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// The letter, upper case (`@` and `^` are the polar words).
+    pub letter: char,
+    /// The value.
+    pub value: f64,
+    /// Column of the letter.
+    pub col: u32,
+}
+
+/// A parameter a line sets.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Target {
+    /// `#n`.
+    Numbered(usize),
+    /// `#<name>` (lower case, without spaces).
+    Named(String),
+}
+
+/// What kind of comment a comment is (LinuxCNC's active comments).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CommentKind {
+    /// An ordinary comment.
+    Plain,
+    /// `(MSG, text)`: a message to the operator.
+    Msg,
+    /// `(PRINT, text)`: printed, parameters substituted.
+    Print,
+    /// `(DEBUG, text)`: a message, parameters substituted.
+    Debug,
+    /// `(ABORT, text)`: stops the program with the text as its error.
+    Abort,
+    /// `(LOGOPEN, file)`, `(LOGAPPEND, file)`, `(LOGCLOSE)`, `(LOG, text)`.
+    Log,
+    /// `(PROBEOPEN file)`, `(PROBECLOSE)`.
+    ProbeLog,
+}
+
+/// One comment of a line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comment {
+    /// Its kind.
+    pub kind: CommentKind,
+    /// The keyword as written, upper case (`LOGOPEN`), for the kinds that have one.
+    pub keyword: String,
+    /// The text after the keyword and its comma (the whole text for a plain comment), as
+    /// written (case kept).
+    pub text: String,
+    /// Column of its `(` or `;`.
+    pub col: u32,
+}
+
+/// The keyword of an O-word line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OKind {
+    /// `O... sub`.
+    Sub,
+    /// `O... endsub [value]`.
+    Endsub,
+    /// `O... call [args]`.
+    Call,
+    /// `O... return [value]`.
+    Return,
+    /// `O... do`.
+    Do,
+    /// `O... while [cond]`.
+    While,
+    /// `O... endwhile`.
+    Endwhile,
+    /// `O... repeat [count]`.
+    Repeat,
+    /// `O... endrepeat`.
+    Endrepeat,
+    /// `O... if [cond]`.
+    If,
+    /// `O... elseif [cond]`.
+    Elseif,
+    /// `O... else`.
+    Else,
+    /// `O... endif`.
+    Endif,
+    /// `O... break`.
+    Break,
+    /// `O... continue`.
+    Continue,
+    /// A bare `O123`: a program number, or a subprogram's start (M98/M99).
+    Bare,
+}
+
+impl OKind {
+    /// The keyword as written.
+    pub fn name(self) -> &'static str {
+        match self {
+            OKind::Sub => "sub",
+            OKind::Endsub => "endsub",
+            OKind::Call => "call",
+            OKind::Return => "return",
+            OKind::Do => "do",
+            OKind::While => "while",
+            OKind::Endwhile => "endwhile",
+            OKind::Repeat => "repeat",
+            OKind::Endrepeat => "endrepeat",
+            OKind::If => "if",
+            OKind::Elseif => "elseif",
+            OKind::Else => "else",
+            OKind::Endif => "endif",
+            OKind::Break => "break",
+            OKind::Continue => "continue",
+            OKind::Bare => "",
+        }
+    }
+
+    /// Whether the line carries an expression that is evaluated only when the line is not
+    /// skipped (LinuxCNC evaluates no condition of a line it skips).
+    fn has_condition(self) -> bool {
+        matches!(
+            self,
+            OKind::While | OKind::Repeat | OKind::If | OKind::Elseif
+        )
+    }
+}
+
+/// The keywords in the order they are tried (a longer one before its prefix).
+const O_KEYWORDS: [OKind; 15] = [
+    OKind::Sub,
+    OKind::Endsub,
+    OKind::Call,
+    OKind::Do,
+    OKind::While,
+    OKind::Repeat,
+    OKind::If,
+    OKind::Elseif,
+    OKind::Else,
+    OKind::Endif,
+    OKind::Break,
+    OKind::Continue,
+    OKind::Endwhile,
+    OKind::Endrepeat,
+    OKind::Return,
+];
+
+/// An O-word line: `O<label> keyword ...`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OLine {
+    /// The label as written, lower case: the digits of `O100` (`"100"`), or the name of
+    /// `O<name>`.
+    pub label: String,
+    /// The keyword.
+    pub kind: OKind,
+    /// The condition or count (while, if, elseif, repeat) or the return value (endsub,
+    /// return), if read.
+    pub value: Option<f64>,
+    /// The arguments of a call.
+    pub args: Vec<f64>,
+    /// Column of the `O`.
+    pub col: u32,
+}
+
+/// A line read into its parts.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Line {
+    /// The line starts with `/`.
+    pub block_delete: bool,
+    /// The N word's value, if any.
+    pub n: Option<f64>,
+    /// Words in the order written (N and O excluded).
+    pub words: Vec<Word>,
+    /// Parameter settings, applied after the line is read, in order.
+    pub assigns: Vec<(Target, f64, u32)>,
+    /// The line is a lone `%`.
+    pub percent: bool,
+    /// The O-word, if the line is an O-word line.
+    pub o: Option<OLine>,
+    /// The comments, in order.
+    pub comments: Vec<Comment>,
+}
+
+impl Line {
+    /// Whether the line has any comment.
+    pub fn has_comment(&self) -> bool {
+        !self.comments.is_empty()
+    }
+
+    fn clear(&mut self) {
+        self.block_delete = false;
+        self.n = None;
+        self.words.clear();
+        self.assigns.clear();
+        self.percent = false;
+        self.o = None;
+        self.comments.clear();
+    }
+}
+
+/// Reusable buffers for reading lines without allocating per line.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    bytes: Vec<u8>,
+    cols: Vec<u32>,
+}
+
+/// The reader over one normalised line.
+struct Reader<'a> {
+    /// The line's characters (ASCII, lower case outside comments) and their columns, spaces
+    /// outside comments removed.
+    b: &'a [u8],
+    cols: &'a [u32],
+    i: usize,
+    line: u32,
+    env: &'a dyn Env,
+    end_col: u32,
+    /// Nesting of values being read (brackets, signs, parameters), bounded.
+    depth: u32,
+}
+
+impl Reader<'_> {
+    fn err(&self, col: u32, message: impl Into<String>) -> TranslateError {
+        TranslateError {
+            line: self.line,
+            col,
+            message: message.into(),
+        }
+    }
+
+    fn col(&self) -> u32 {
+        self.cols.get(self.i).copied().unwrap_or(self.end_col)
+    }
+
+    fn peek(&self) -> Option<char> {
+        self.b.get(self.i).map(|&x| x as char)
+    }
+
+    fn at(&self, k: usize) -> Option<u8> {
+        self.b.get(self.i + k).copied()
+    }
+
+    fn eat(&mut self, ch: char) -> bool {
+        if self.peek() == Some(ch) {
+            self.i += 1;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Whether the next characters spell `name` (lower case ASCII); consumes them if so.
+    fn eat_name(&mut self, name: &str) -> bool {
+        let n = name.len();
+        match self.b.get(self.i..self.i + n) {
+            Some(next) if next == name.as_bytes() => {
+                self.i += n;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn number(&mut self) -> Result<f64, TranslateError> {
+        let col = self.col();
+        let start = self.i;
+        // Digits into an integer mantissa: exact, and correctly rounded by one division
+        // while it stays below 2^53 with at most 22 decimals (else the standard parser).
+        let (mut mant, mut digits, mut decimals, mut dot) = (0u64, 0u32, 0i32, false);
+        while let Some(c) = self.at(0) {
+            if c.is_ascii_digit() {
+                if digits < 19 {
+                    mant = mant * 10 + u64::from(c - b'0');
+                }
+                digits += 1;
+                if dot {
+                    decimals += 1;
+                }
+            } else if c == b'.' && !dot {
+                dot = true;
+            } else {
+                break;
+            }
+            self.i += 1;
+        }
+        if digits == 0 {
+            self.i = start;
+            let what = self
+                .peek()
+                .map_or("the end of the line".to_string(), describe_char);
+            return Err(self.err(col, format!("a number was expected, not {what}")));
+        }
+        if digits <= 15 && decimals <= 22 {
+            return Ok(mant as f64 / POW10[decimals as usize]);
+        }
+        if digits <= 19 && decimals <= 22 {
+            // CAM output's 17 digits: the mantissa is exact in u64; one rounding to f64 and one
+            // division leave at most an ulp (1e-16 of the value), far below any machine's
+            // resolution, and skip the general parser.
+            return Ok(mant as f64 / POW10[decimals as usize]);
+        }
+        // Only ASCII digits and one point were read: the standard parser rounds them exactly.
+        let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(self.err(
+                col,
+                format!(
+                    "{} is too large for a number",
+                    crate::input_text::quote_plain(text)
+                ),
+            )),
+        }
+    }
+
+    /// A real value: number, parameter, bracket expression or unary function, with sign.
+    fn value(&mut self) -> Result<f64, TranslateError> {
+        self.depth += 1;
+        let r = if self.depth > MAX_NESTING {
+            Err(self.err(
+                self.col(),
+                format!("brackets, signs or # nested more than {MAX_NESTING} deep"),
+            ))
+        } else {
+            self.value_inner()
+        };
+        self.depth -= 1;
+        r
+    }
+
+    fn value_inner(&mut self) -> Result<f64, TranslateError> {
+        if self.eat('-') {
+            return Ok(-self.value()?);
+        }
+        if self.eat('+') {
+            return self.value();
+        }
+        match self.peek() {
+            Some('[') => self.bracket(),
+            Some('#') => self.param(),
+            Some(c) if c.is_ascii_alphabetic() => self.function(),
+            _ => self.number(),
+        }
+    }
+
+    /// An integer value (a parameter number, an O number): within 0.0001 of a whole number,
+    /// as LinuxCNC's `read_integer_value` takes it.
+    fn integer(&mut self, what: &str) -> Result<(i64, u32), TranslateError> {
+        let col = self.col();
+        let v = self.value()?;
+        let n = v.round();
+        if (v - n).abs() > 1e-4 || n.abs() > 1e15 {
+            return Err(self.err(
+                col,
+                format!(
+                    "{what} {} is not a whole number",
+                    crate::input_text::short_number(v)
+                ),
+            ));
+        }
+        Ok((n as i64, col))
+    }
+
+    /// `<name>` after `#` or `O`: the name, lower case, spaces already gone.
+    fn name(&mut self) -> Result<String, TranslateError> {
+        let col = self.col();
+        self.i += 1; // '<'
+        let start = self.i;
+        while let Some(c) = self.at(0) {
+            if c == b'>' {
+                let name = String::from_utf8_lossy(&self.b[start..self.i]).into_owned();
+                self.i += 1;
+                if name.is_empty() {
+                    return Err(self.err(col, "an empty name <>"));
+                }
+                return Ok(name);
+            }
+            self.i += 1;
+        }
+        Err(self.err(col, "a name '<' is not closed by '>'"))
+    }
+
+    /// After `#`: a numbered parameter's number, or a named parameter's name.
+    fn param_ref(&mut self) -> Result<(Target, u32), TranslateError> {
+        let col = self.col();
+        self.i += 1; // '#'
+        if self.peek() == Some('<') {
+            return Ok((Target::Named(self.name()?), col));
+        }
+        let (n, _) = self.integer("parameter number")?;
+        if n < 1 || n > MAX_PARAM as i64 {
+            return Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}")));
+        }
+        Ok((Target::Numbered(n as usize), col))
+    }
+
+    fn param(&mut self) -> Result<f64, TranslateError> {
+        let (t, col) = self.param_ref()?;
+        self.lookup(&t, col)
+    }
+
+    fn lookup(&self, t: &Target, col: u32) -> Result<f64, TranslateError> {
+        match t {
+            Target::Numbered(n) => self.env.numbered(*n).map_err(|m| self.err(col, m)),
+            Target::Named(name) => match self.env.named(name) {
+                Ok(Some(v)) => Ok(v),
+                Ok(None) => Err(self.err(col, format!("named parameter #<{name}> is not defined"))),
+                Err(m) => Err(self.err(col, m)),
+            },
+        }
+    }
+
+    fn bracket(&mut self) -> Result<f64, TranslateError> {
+        let col = self.col();
+        self.i += 1; // '['
+        let v = self.expr(0)?;
+        if !self.eat(']') {
+            return Err(self.err(
+                self.col(),
+                format!("']' expected to close the '[' at column {col}"),
+            ));
+        }
+        Ok(v)
+    }
+
+    fn function(&mut self) -> Result<f64, TranslateError> {
+        let col = self.col();
+        const NAMES: [&str; 14] = [
+            "abs", "acos", "asin", "atan", "cos", "exists", "exp", "fix", "fup", "ln", "round",
+            "sin", "sqrt", "tan",
+        ];
+        let Some(name) = NAMES.iter().find(|n| self.eat_name(n)) else {
+            let mut word = String::new();
+            let mut k = 0;
+            while let Some(c) = self.at(k).filter(|c| c.is_ascii_alphabetic()) {
+                word.push(c.to_ascii_uppercase() as char);
+                k += 1;
+            }
+            return Err(self.err(
+                col,
+                format!("unknown function or word '{word}' in an expression"),
+            ));
+        };
+        let upper = name.to_ascii_uppercase();
+        if self.peek() != Some('[') {
+            return Err(self.err(
+                self.col(),
+                format!("{upper} needs its argument in brackets: {upper}[...]"),
+            ));
+        }
+        if *name == "exists" {
+            // EXISTS[#<name>]: 1 if the named parameter is defined.
+            self.i += 1;
+            if self.peek() != Some('#') {
+                return Err(self.err(self.col(), "EXISTS takes a parameter: EXISTS[#<name>]"));
+            }
+            let (t, _) = self.param_ref()?;
+            if !self.eat(']') {
+                return Err(self.err(self.col(), "']' expected after EXISTS[#<name>"));
+            }
+            return Ok(match t {
+                Target::Numbered(_) => 1.0,
+                Target::Named(n) => match self.env.named(&n) {
+                    Ok(Some(_)) => 1.0,
+                    _ => 0.0,
+                },
+            });
+        }
+        let a = self.bracket()?;
+        let dom = |ok: bool, what: &str| -> Result<(), TranslateError> {
+            if ok {
+                Ok(())
+            } else {
+                Err(TranslateError {
+                    line: self.line,
+                    col,
+                    message: format!("domain error: {upper}[{a}] {what}"),
+                })
+            }
+        };
+        let r = match *name {
+            "abs" => a.abs(),
+            "acos" => {
+                dom((-1.0..=1.0).contains(&a), "needs -1 to 1")?;
+                a.acos().to_degrees()
+            }
+            "asin" => {
+                dom((-1.0..=1.0).contains(&a), "needs -1 to 1")?;
+                a.asin().to_degrees()
+            }
+            "atan" => {
+                if !self.eat('/') || self.peek() != Some('[') {
+                    return Err(self.err(self.col(), "ATAN is written ATAN[y]/[x]"));
+                }
+                let b = self.bracket()?;
+                a.atan2(b).to_degrees()
+            }
+            "cos" => a.to_radians().cos(),
+            "sin" => a.to_radians().sin(),
+            "tan" => {
+                let t = a.to_radians().tan();
+                dom(t.is_finite() && t.abs() < 1e15, "is infinite")?;
+                t
+            }
+            "exp" => a.exp(),
+            "fix" => a.floor(),
+            "fup" => a.ceil(),
+            "ln" => {
+                dom(a > 0.0, "needs a number greater than 0")?;
+                a.ln()
+            }
+            "round" => a.round(),
+            _ => {
+                dom(a >= 0.0, "needs a number not below 0")?;
+                a.sqrt()
+            }
+        };
+        if !r.is_finite() {
+            return Err(self.err(col, format!("{upper}[{a}] is not a finite number")));
+        }
+        Ok(r)
+    }
+
+    /// Binary operators by precedence level: 0 logical, 1 relational, 2 additive,
+    /// 3 multiplicative, 4 power.
+    fn op(&mut self, level: u8) -> Option<&'static str> {
+        // Most values are followed by ']' or the next word: no operator starts with those.
+        let first = self.at(0)?;
+        if !matches!(
+            first,
+            b'+' | b'-' | b'*' | b'/' | b'a' | b'o' | b'x' | b'e' | b'n' | b'g' | b'l' | b'm'
+        ) {
+            return None;
+        }
+        let table: &[&'static str] = match level {
+            0 => &["and", "or", "xor"],
+            1 => &["eq", "ne", "gt", "ge", "lt", "le"],
+            2 => &["+", "-"],
+            3 => &["*", "/", "mod"],
+            _ => &["**"],
+        };
+        table.iter().copied().find(|o| self.eat_name(o))
+    }
+
+    fn expr(&mut self, level: u8) -> Result<f64, TranslateError> {
+        if level > 4 {
+            return self.value();
+        }
+        let mut a = self.expr(level + 1)?;
+        loop {
+            // '*' must not take the first star of '**'.
+            if level == 3 && self.at(0) == Some(b'*') && self.at(1) == Some(b'*') {
+                return Ok(a);
+            }
+            let col = self.col();
+            let Some(op) = self.op(level) else {
+                return Ok(a);
+            };
+            let b = self.expr(level + 1)?;
+            let t = |x: bool| if x { 1.0 } else { 0.0 };
+            a = match op {
+                "+" => a + b,
+                "-" => a - b,
+                "*" => a * b,
+                "/" => {
+                    if b == 0.0 {
+                        return Err(self.err(col, "division by zero"));
+                    }
+                    a / b
+                }
+                "mod" => {
+                    if b == 0.0 {
+                        return Err(self.err(col, "division by zero (MOD 0)"));
+                    }
+                    a.rem_euclid(b)
+                }
+                "**" => {
+                    if a < 0.0 && b.floor() != b {
+                        return Err(self.err(
+                            col,
+                            format!("{a} ** {b}: a negative number to a power that is not whole"),
+                        ));
+                    }
+                    a.powf(b)
+                }
+                "eq" => t((a - b).abs() < TOLERANCE_EQUAL),
+                "ne" => t((a - b).abs() >= TOLERANCE_EQUAL),
+                "gt" => t(a > b),
+                "ge" => t((a - b).abs() < TOLERANCE_EQUAL || a >= b),
+                "lt" => t(a < b),
+                "le" => t((a - b).abs() < TOLERANCE_EQUAL || a <= b),
+                "and" => t(a != 0.0 && b != 0.0),
+                "or" => t(a != 0.0 || b != 0.0),
+                _ => t((a != 0.0) != (b != 0.0)),
+            };
+            if !a.is_finite() {
+                return Err(self.err(
+                    col,
+                    format!("the result of {} is not a finite number", op.to_uppercase()),
+                ));
+            }
+        }
+    }
+
+    /// A bracketed expression where one is required (`while [..]`).
+    fn required_bracket(&mut self, what: &str) -> Result<f64, TranslateError> {
+        if self.peek() != Some('[') {
+            return Err(self.err(self.col(), format!("'[' expected after '{what}'")));
+        }
+        self.bracket()
+    }
+}
+
+/// Splits `raw` into the reader's buffer (lower case, spaces gone, outside comments) and the
+/// line's comments.
+fn normalise(
+    scratch: &mut Scratch,
+    out: &mut Line,
+    raw: &str,
+    line: u32,
+) -> Result<u32, TranslateError> {
+    let (bytes, cols) = (&mut scratch.bytes, &mut scratch.cols);
+    bytes.clear();
+    cols.clear();
+    // The usual line: ASCII words, no comment. One pass over its bytes, each column its
+    // byte's place.
+    let plain = raw.bytes().all(|c| {
+        c.is_ascii_graphic() && c != b'(' && c != b';' || c == b' ' || c == b'\t' || c == b'\r'
+    });
+    if plain {
+        bytes.reserve(raw.len());
+        cols.reserve(raw.len());
+        for (i, &c) in raw.as_bytes().iter().enumerate() {
+            if !matches!(c, b' ' | b'\t' | b'\r') {
+                bytes.push(c.to_ascii_lowercase());
+                cols.push(i as u32 + 1);
+            }
+        }
+        return Ok(raw.len() as u32 + 1);
+    }
+    let mut col = 0u32;
+    let mut comment: Option<(u32, String)> = None;
+    for ch in raw.chars() {
+        col += 1;
+        if let Some((_, text)) = comment.as_mut() {
+            if ch == ')' {
+                if let Some((at, text)) = comment.take() {
+                    out.comments.push(classify(text, at));
+                }
+            } else if ch == '(' {
+                return Err(TranslateError {
+                    line,
+                    col,
+                    message: "a comment may not hold '(' (comments do not nest)".into(),
+                });
+            } else {
+                text.push(ch);
+            }
+            continue;
+        }
+        match ch {
+            '(' => comment = Some((col, String::new())),
+            ';' => {
+                let rest: String = raw.chars().skip(col as usize).collect();
+                out.comments.push(Comment {
+                    kind: CommentKind::Plain,
+                    keyword: String::new(),
+                    text: rest,
+                    col,
+                });
+                return Ok(col + 1);
+            }
+            ' ' | '\t' | '\r' | '\n' => {}
+            c if c.is_ascii() && !c.is_ascii_control() => {
+                bytes.push(c.to_ascii_lowercase() as u8);
+                cols.push(col);
+            }
+            c => {
+                return Err(TranslateError {
+                    line,
+                    col,
+                    message: format!(
+                        "{} is not part of the language (outside a comment)",
+                        describe_char(c)
+                    ),
+                })
+            }
+        }
+    }
+    if let Some((at, _)) = comment {
+        return Err(TranslateError {
+            line,
+            col: at,
+            message: "comment '(' not closed on its line".into(),
+        });
+    }
+    Ok(col + 1)
+}
+
+/// A comment's kind by its keyword: `(MSG, ...)`, `(print, ...)`, ... (case-insensitive,
+/// spaces before the keyword allowed).
+fn classify(text: String, col: u32) -> Comment {
+    let t = text.trim_start();
+    let word: String = t
+        .chars()
+        .take_while(|c| c.is_ascii_alphabetic())
+        .collect::<String>()
+        .to_ascii_uppercase();
+    let after = t[word.len()..].trim_start();
+    let with_comma = after.strip_prefix(',');
+    let kind = match (word.as_str(), with_comma.is_some()) {
+        ("MSG", true) => CommentKind::Msg,
+        ("PRINT", true) => CommentKind::Print,
+        ("DEBUG", true) => CommentKind::Debug,
+        ("ABORT", true) => CommentKind::Abort,
+        ("LOGOPEN" | "LOGAPPEND" | "LOG", true) | ("LOGCLOSE", _) => CommentKind::Log,
+        ("PROBEOPEN", _) | ("PROBECLOSE", _) => CommentKind::ProbeLog,
+        _ => CommentKind::Plain,
+    };
+    match kind {
+        CommentKind::Plain => Comment {
+            kind,
+            keyword: String::new(),
+            text,
+            col,
+        },
+        _ => Comment {
+            kind,
+            text: with_comma.unwrap_or(after).to_string(),
+            keyword: word,
+            col,
+        },
+    }
+}
+
+/// While O-word flow skips lines: whether an O-line of a label and kind is read.
+pub type Skipping<'a> = &'a dyn Fn(&str, OKind) -> bool;
+
+/// Reads one line (without its newline) into `out` (cleared first), against `env`. While
+/// `skipping`, only an O-word line's label and keyword are read; `skipping(label, kind)` says
+/// whether that O-line's expressions are read too (its label is the one being skipped to).
+pub fn read_into(
+    scratch: &mut Scratch,
+    out: &mut Line,
+    raw: &str,
+    line: u32,
+    env: &dyn Env,
+    skipping: Option<Skipping>,
+) -> Result<(), TranslateError> {
+    out.clear();
+    let end_col = normalise(scratch, out, raw, line)?;
+    let (bytes, cols) = (&scratch.bytes, &scratch.cols);
+    if bytes.as_slice() == b"%" {
+        out.percent = true;
+        return Ok(());
+    }
+    let mut r = Reader {
+        b: bytes,
+        cols,
+        i: 0,
+        line,
+        env,
+        end_col,
+        depth: 0,
+    };
+    if r.eat('/') {
+        out.block_delete = true;
+    }
+    if r.peek() == Some('n') {
+        let col = r.col();
+        r.i += 1;
+        let v = r
+            .number()
+            .map_err(|_| r.err(col, "N needs a line number"))?;
+        out.n = Some(v);
+    }
+    if r.peek() == Some('o') {
+        return read_o(&mut r, out, skipping);
+    }
+    if skipping.is_some() {
+        // Nothing but O-words is read while skipping (LinuxCNC does not evaluate them).
+        return Ok(());
+    }
+    while let Some(ch) = r.peek() {
+        let col = r.col();
+        if ch == '#' {
+            let (t, _) = r.param_ref()?;
+            if !r.eat('=') {
+                let what = match &t {
+                    Target::Numbered(n) => format!("#{n}"),
+                    Target::Named(n) => format!("#<{n}>"),
+                };
+                return Err(r.err(
+                    r.col(),
+                    format!("'=' expected after {what} (a parameter alone is not a word)"),
+                ));
+            }
+            let v = r.value()?;
+            out.assigns.push((t, v, col));
+            continue;
+        }
+        if !(ch.is_ascii_alphabetic() || ch == '@' || ch == '^' || ch == '$') {
+            return Err(r.err(
+                col,
+                format!("a word letter was expected, not {}", describe_char(ch)),
+            ));
+        }
+        let letter = ch.to_ascii_uppercase();
+        // A keyword is letters on letters; a word's letter is followed by its value.
+        let keywords: &[&str] = if r.at(1).is_some_and(|c| c.is_ascii_alphabetic()) {
+            &["goto", "if", "while", "then", "do", "end"]
+        } else {
+            &[]
+        };
+        for kw in keywords {
+            let after = r.at(kw.len());
+            if r.b[r.i..].starts_with(kw.as_bytes())
+                && !after.is_some_and(|c| c.is_ascii_alphabetic())
+                && !(*kw == "do" && after.is_none())
+            {
+                return Err(r.err(
+                    col,
+                    format!(
+                        "{} is Fanuc Custom Macro B, not LinuxCNC's language: write loops and tests as O-words (o100 while [...], o100 if [...])",
+                        kw.to_ascii_uppercase()
+                    ),
+                ));
+            }
+        }
+        if letter == 'O' {
+            return Err(r.err(col, "an O-word must start its line (after N)"));
+        }
+        if letter == 'N' {
+            return Err(r.err(col, "N (the line number) must start its line"));
+        }
+        r.i += 1;
+        let value = r.value()?;
+        out.words.push(Word { letter, value, col });
+    }
+    Ok(())
+}
+
+fn read_o(
+    r: &mut Reader,
+    out: &mut Line,
+    skipping: Option<Skipping>,
+) -> Result<(), TranslateError> {
+    let col = r.col();
+    r.i += 1; // 'o'
+    let computed = matches!(r.peek(), Some('[' | '#'));
+    if computed && skipping.is_some() {
+        // A computed label is evaluated on a call only, and a call never ends a skip.
+        return Ok(());
+    }
+    let label = if r.peek() == Some('<') {
+        r.name()?
+    } else {
+        // A number, or (on a call, as in LinuxCNC) an expression or parameter giving one.
+        let (n, ncol) = r.integer("O number")?;
+        if !(0..=99_999_999).contains(&n) {
+            return Err(r.err(ncol, format!("bad O number {n}")));
+        }
+        n.to_string()
+    };
+    let kind = O_KEYWORDS
+        .iter()
+        .copied()
+        .find(|k| r.eat_name(k.name()))
+        .unwrap_or(OKind::Bare);
+    if kind == OKind::Bare && r.peek().is_some() {
+        if skipping.is_some() {
+            return Ok(());
+        }
+        let mut word = String::new();
+        while let Some(c) = r.at(word.len()).filter(|c| c.is_ascii_alphabetic()) {
+            word.push(c as char);
+        }
+        return Err(r.err(
+            r.col(),
+            format!("unknown O-word keyword '{word}' (sub, endsub, call, return, do, while, endwhile, repeat, endrepeat, if, elseif, else, endif, break, continue)"),
+        ));
+    }
+    if computed && kind != OKind::Call {
+        return Err(r.err(
+            col + 1,
+            "an O-word's label is computed ([...] or #) on a call only: give the number here",
+        ));
+    }
+    let evaluate = match skipping {
+        None => true,
+        Some(f) => f(&label, kind),
+    };
+    let mut o = OLine {
+        label,
+        kind,
+        value: None,
+        args: Vec::new(),
+        col,
+    };
+    if evaluate {
+        match kind {
+            k if k.has_condition() => o.value = Some(r.required_bracket(k.name())?),
+            OKind::Endsub | OKind::Return if r.peek() == Some('[') => o.value = Some(r.bracket()?),
+            OKind::Call => {
+                while r.peek() == Some('[') {
+                    if o.args.len() >= MAX_ARGS {
+                        return Err(
+                            r.err(r.col(), format!("more than {MAX_ARGS} arguments to a call"))
+                        );
+                    }
+                    o.args.push(r.bracket()?);
+                }
+            }
+            _ => {}
+        }
+        if r.peek().is_some() {
+            return Err(r.err(
+                r.col(),
+                format!(
+                    "unexpected {} after 'o{} {}': an O-word line holds nothing else",
+                    describe_char(r.peek().unwrap_or(' ')),
+                    o.label,
+                    kind.name()
+                ),
+            ));
+        }
+    }
+    out.o = Some(o);
+    Ok(())
+}
+
+/// A plain numbered-parameter table, `#1` to `#5602`, all 0 at the start; named parameters
+/// are not defined. The lathe reader uses it.
+#[derive(Clone, Debug)]
+pub struct Params {
+    v: Vec<f64>,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            v: vec![0.0; MAX_PARAM + 1],
+        }
+    }
+}
+
+impl Params {
+    /// The value of `#n` (0 for a parameter never set).
+    pub fn get(&self, n: usize) -> f64 {
+        self.v.get(n).copied().unwrap_or(0.0)
+    }
+
+    /// Sets `#n`; false if `n` is out of range.
+    pub fn set(&mut self, n: usize, x: f64) -> bool {
+        match self.v.get_mut(n) {
+            Some(p) if n > 0 => {
+                *p = x;
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Env for Params {
+    fn numbered(&self, n: usize) -> Result<f64, String> {
+        Ok(self.get(n))
+    }
+
+    fn named(&self, _name: &str) -> Result<Option<f64>, String> {
+        Err("named parameters #<...> are not supported here; use numbered parameters".into())
+    }
+}
+
+/// Reads one line against a plain parameter table (the lathe's reader).
+pub fn read_line(raw: &str, line: u32, params: &Params) -> Result<Line, TranslateError> {
+    let mut out = Line::default();
+    read_into(&mut Scratch::default(), &mut out, raw, line, params, None)?;
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    struct TestEnv {
+        p: Params,
+        named: HashMap<String, f64>,
+    }
+
+    impl Env for TestEnv {
+        fn numbered(&self, n: usize) -> Result<f64, String> {
+            Ok(self.p.get(n))
+        }
+        fn named(&self, name: &str) -> Result<Option<f64>, String> {
+            Ok(self.named.get(name).copied())
+        }
+    }
+
+    fn env() -> TestEnv {
+        let mut named = HashMap::new();
+        named.insert("depth".to_string(), 2.5);
+        named.insert("_global".to_string(), 7.0);
+        TestEnv {
+            p: Params::default(),
+            named,
+        }
+    }
+
+    fn read(s: &str) -> Result<Line, String> {
+        let mut out = Line::default();
+        read_into(&mut Scratch::default(), &mut out, s, 1, &env(), None)
+            .map(|()| out)
+            .map_err(|e| e.to_string())
+    }
+
+    fn eval(s: &str) -> Result<f64, String> {
+        read(&format!("X{s}")).map(|l| l.words[0].value)
+    }
+
+    #[test]
+    fn expressions_follow_precedence_and_functions_work_in_degrees() {
+        assert_eq!(eval("[1+2*3]").unwrap(), 7.0);
+        assert_eq!(eval("[2**3*2]").unwrap(), 16.0);
+        assert_eq!(eval("[[1+2]*3]").unwrap(), 9.0);
+        assert!((eval("SIN[30]").unwrap() - 0.5).abs() < 1e-12);
+        assert!((eval("ATAN[1]/[1]").unwrap() - 45.0).abs() < 1e-12);
+        assert_eq!(eval("FIX[-1.5]").unwrap(), -2.0);
+        assert_eq!(eval("FUP[1.2]").unwrap(), 2.0);
+        assert_eq!(eval("ROUND[2.5]").unwrap(), 3.0);
+        assert_eq!(eval("-[2]").unwrap(), -2.0);
+        assert_eq!(eval("[7 MOD 3]").unwrap(), 1.0);
+        assert_eq!(eval("[-7 MOD 3]").unwrap(), 2.0);
+        assert_eq!(eval("[2 GT 1]").unwrap(), 1.0);
+        assert_eq!(eval("[1 EQ 1.0000001]").unwrap(), 1.0);
+        assert_eq!(eval("[1 NE 1.0000001]").unwrap(), 0.0);
+        assert_eq!(eval("[1 LE 1.0000001]").unwrap(), 1.0);
+    }
+
+    #[test]
+    fn named_parameters_and_exists() {
+        assert_eq!(eval("#<depth>").unwrap(), 2.5);
+        assert_eq!(
+            eval("#<De Pth>").unwrap(),
+            2.5,
+            "case and spaces do not count"
+        );
+        assert_eq!(eval("[#<_global>*2]").unwrap(), 14.0);
+        assert_eq!(eval("EXISTS[#<depth>]").unwrap(), 1.0);
+        assert_eq!(eval("EXISTS[#<nope>]").unwrap(), 0.0);
+        assert_eq!(
+            eval("#<nope>").unwrap_err(),
+            "1:2: named parameter #<nope> is not defined"
+        );
+        let l = read("#<a>=1 #<_b>=#<depth> #3=4").unwrap();
+        assert_eq!(
+            l.assigns,
+            vec![
+                (Target::Named("a".into()), 1.0, 1),
+                (Target::Named("_b".into()), 2.5, 8),
+                (Target::Numbered(3), 4.0, 23)
+            ]
+        );
+    }
+
+    #[test]
+    fn errors_name_the_column() {
+        assert_eq!(eval("[1/0]").unwrap_err(), "1:4: division by zero");
+        assert_eq!(
+            eval("SQRT[-1]").unwrap_err(),
+            "1:2: domain error: SQRT[-1] needs a number not below 0"
+        );
+        assert_eq!(
+            eval("[-2**0.5]").unwrap_err(),
+            "1:5: -2 ** 0.5: a negative number to a power that is not whole"
+        );
+        let big = format!("X{}", "9".repeat(309));
+        assert!(
+            read(&big).unwrap_err().contains("too large"),
+            "literals stay finite"
+        );
+        assert!(read("X[1e]").is_err());
+    }
+
+    #[test]
+    fn o_words_are_read_with_their_keyword_and_values() {
+        let l = read("o100 sub").unwrap();
+        assert_eq!(
+            l.o.as_ref().map(|o| (o.label.as_str(), o.kind)),
+            Some(("100", OKind::Sub))
+        );
+        let l = read("O<Drill Hole> call [1] [2+3] (comment)").unwrap();
+        let o = l.o.unwrap();
+        assert_eq!(o.label, "drillhole");
+        assert_eq!(o.kind, OKind::Call);
+        assert_eq!(o.args, vec![1.0, 5.0]);
+        assert_eq!(l.comments.len(), 1);
+        let l = read("o101 while [#<depth> LT 3]").unwrap();
+        assert_eq!(l.o.unwrap().value, Some(1.0));
+        let l = read("o101 endwhile").unwrap();
+        assert_eq!(l.o.unwrap().kind, OKind::Endwhile);
+        let l = read("o1 endsub [7]").unwrap();
+        assert_eq!(l.o.unwrap().value, Some(7.0));
+        let l = read("O1000").unwrap();
+        assert_eq!(l.o.unwrap().kind, OKind::Bare);
+        assert!(read("o1 while 3").unwrap_err().contains("'[' expected"));
+        assert!(read("o1 if [1] G0")
+            .unwrap_err()
+            .contains("holds nothing else"));
+        assert!(read("o1 frobnicate")
+            .unwrap_err()
+            .contains("unknown O-word keyword"));
+        assert!(read("G0 o1 sub")
+            .unwrap_err()
+            .contains("must start its line"));
+    }
+
+    #[test]
+    fn skipping_reads_only_o_lines_and_evaluates_only_the_one_skipped_to() {
+        let e = env();
+        let mut out = Line::default();
+        let only_7 = |l: &str, _k: OKind| l == "7";
+        // An undefined parameter on a skipped line is not an error.
+        read_into(
+            &mut Scratch::default(),
+            &mut out,
+            "G1 X#<undefined>",
+            1,
+            &e,
+            Some(&only_7),
+        )
+        .unwrap();
+        assert!(out.words.is_empty());
+        read_into(
+            &mut Scratch::default(),
+            &mut out,
+            "o5 if [#<undefined>]",
+            1,
+            &e,
+            Some(&only_7),
+        )
+        .unwrap();
+        assert_eq!(
+            out.o.as_ref().map(|o| (o.kind, o.value)),
+            Some((OKind::If, None))
+        );
+        read_into(
+            &mut Scratch::default(),
+            &mut out,
+            "o7 elseif [#<depth>]",
+            1,
+            &e,
+            Some(&only_7),
+        )
+        .unwrap();
+        assert_eq!(out.o.as_ref().map(|o| o.value), Some(Some(2.5)));
+    }
+
+    #[test]
+    fn active_comments_are_classified() {
+        let l = read("(MSG, Change the tool) (print,x=#<_x>) (debug, d) (abort,stop) (logopen,f.txt) (plain)").unwrap();
+        let kinds: Vec<_> = l.comments.iter().map(|c| c.kind).collect();
+        assert_eq!(
+            kinds,
+            vec![
+                CommentKind::Msg,
+                CommentKind::Print,
+                CommentKind::Debug,
+                CommentKind::Abort,
+                CommentKind::Log,
+                CommentKind::Plain
+            ]
+        );
+        assert_eq!(l.comments[0].text, " Change the tool");
+        assert_eq!(l.comments[1].text, "x=#<_x>");
+    }
+
+    #[test]
+    fn assignments_see_old_values_and_block_delete_and_n_are_read() {
+        let mut e = env();
+        e.p.set(1, 5.0);
+        let mut l = Line::default();
+        read_into(
+            &mut Scratch::default(),
+            &mut l,
+            "#1=2 #2=#1 G1 (cut) X#1 ; rest",
+            3,
+            &e,
+            None,
+        )
+        .unwrap();
+        assert_eq!(l.assigns.len(), 2);
+        assert_eq!(l.assigns[1].1, 5.0);
+        assert_eq!(l.words.len(), 2);
+        assert_eq!(l.words[1].value, 5.0);
+        assert_eq!(l.comments.len(), 2);
+        let l = read("/ n 10.5 g 0 x 1 0").unwrap();
+        assert!(l.block_delete);
+        assert_eq!(l.n, Some(10.5));
+        assert_eq!(l.words[1].value, 10.0);
+        let l = read("G1 @5 ^30").unwrap();
+        assert_eq!(l.words[1].letter, '@');
+        assert_eq!(l.words[2].letter, '^');
+    }
+}
