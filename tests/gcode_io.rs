@@ -178,4 +178,10 @@ fn the_status_holds_the_outputs() {
     let o = c.status().outputs;
     assert_eq!(o.digital, 1 << 2, "{}", c.frame_text());
     assert_eq!(o.analog[3], -1.25);
+    // The POS page shows them, and an input a script set, under the axes.
+    for ev in PanelEvent::parse_script("input P3 on\nkey Ctrl+P\n").unwrap() {
+        c.handle(ev);
+    }
+    let frame = c.frame_text();
+    assert!(frame.contains("I/O OUT P2 E3=-1.25 IN P3"), "{frame}");
 }

@@ -211,7 +211,7 @@ pub fn main(argv: &[String]) -> i32 {
     }
     if let Some((e, _)) = source_error {
         return super::signals::exit_code(fail(&format!(
-            "{prog}:{e} (the run stopped before this statement)"
+            "{prog}:{e} (the run stopped at this statement: nothing after it ran)"
         )));
     }
     super::signals::exit_code(match &status.alarm {

@@ -11,6 +11,9 @@
 //! - MACH: the axis position in machine coordinates.
 //! - TO GO: what is left of the block executing.
 //!
+//! - I/O (only once something is set): `I/O OUT P2 E3=2.5 IN P3`, the outputs M62–M68 set and
+//!   the inputs M66 reads (digital ones on, analog ones not 0).
+//!
 //! Counters: `PARTS n` sets the part count, `TARGET n` its target (0: none).
 
 use super::super::display::{message_lines, split_line, state_line, Page as Frame};
@@ -112,6 +115,14 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             s.to_mm(togo[a])
         ));
     }
+    // The I/O, when a program or a script has set any: the outputs M62-M68 set, the inputs M66
+    // reads (digital ones on, analog ones not 0).
+    let (outs, ins) = (signal_list(&st.outputs), signal_list(&st.inputs));
+    if !(outs.is_empty() && ins.is_empty()) {
+        let none = |l: String| if l.is_empty() { "-".to_string() } else { l };
+        p.body
+            .push(format!("I/O OUT {} IN {}", none(outs), none(ins)));
+    }
     let feed = st
         .executing
         .as_ref()
@@ -152,4 +163,18 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         k.run_ns as f64 / 3.6e12
     ));
     p.lines()
+}
+
+/// The signals that are set: `P1 P2 E3=2.5` (digital ones on, analog ones not 0).
+fn signal_list(s: &crate::pulse_core::Signals) -> String {
+    let digital = (0..64u32)
+        .filter(|&i| s.digital & (1 << i) != 0)
+        .map(|i| format!("P{i}"));
+    let analog = s
+        .analog
+        .iter()
+        .enumerate()
+        .filter(|(_, &v)| v != 0.0)
+        .map(|(i, v)| format!("E{i}={}", crate::input_text::short_number(*v)));
+    digital.chain(analog).collect::<Vec<_>>().join(" ")
 }
