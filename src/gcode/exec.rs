@@ -1024,22 +1024,31 @@ fn motion_line(
     }
 }
 
+/// The M codes of `range` on the line with their columns, in order; refused under cutter
+/// compensation (LinuxCNC refuses I/O and override codes there: they would flush its queue).
+fn m_codes_without_comp(
+    range: std::ops::RangeInclusive<u32>,
+    comp: &Comp,
+    x: &Exec,
+    w: &Words,
+) -> Result<Vec<(u32, u32)>, TranslateError> {
+    let on: Vec<(u32, u32)> = range.filter_map(|m| w.has_m(m).map(|c| (m, c))).collect();
+    match on.first() {
+        Some(&(m, col)) if comp.active() => Err(x.err(
+            col,
+            format!("M{m} cannot be used with cutter radius compensation on"),
+        )),
+        _ => Ok(on),
+    }
+}
+
 fn io_codes(
     st: &mut InterpState,
     comp: &mut Comp,
     x: &mut Exec,
     w: &Words,
 ) -> Result<(), TranslateError> {
-    for m in 62..=68u32 {
-        let Some(col) = w.has_m(m) else {
-            continue;
-        };
-        if comp.active() {
-            return Err(x.err(
-                col,
-                format!("M{m} cannot be used with cutter radius compensation on"),
-            ));
-        }
+    for (m, col) in m_codes_without_comp(62..=68, comp, x, w)? {
         match m {
             62..=65 => {
                 let p = int_word(x, w, 'P', 0.0, 63.0)?
@@ -1156,16 +1165,7 @@ fn override_codes(
     x: &mut Exec,
     w: &Words,
 ) -> Result<(), TranslateError> {
-    for m in 48..=53u32 {
-        let Some(col) = w.has_m(m) else {
-            continue;
-        };
-        if comp.active() {
-            return Err(x.err(
-                col,
-                format!("M{m} cannot be used with cutter radius compensation on"),
-            ));
-        }
+    for (m, col) in m_codes_without_comp(48..=53, comp, x, w)? {
         let on = w.get('P').is_none_or(|p| p != 0.0);
         match m {
             48 => {

@@ -598,23 +598,15 @@ impl GcodeSource {
                     });
                 }
             }
-            let r = self
-                .flow
+            self.flow
                 .control(o, at, &mut self.st, self.finder.as_ref())
                 .map_err(|m| TranslateError {
                     line: n,
                     col: o.col,
                     message: m,
                 })?;
-            let _ = r;
             if !self.flow.skipping() && !line.comments.is_empty() {
-                let mut x = ctx!(self, n);
-                let (st, flow) = (&self.st, &self.flow);
-                let lk = |name: &str| lookup(st, flow, name);
-                let c = exec::comments(&mut x, &line.comments, &lk, st.params[5599] > 0.0);
-                self.events.append(&mut x.events);
-                self.out_buf = x.out;
-                c?;
+                self.comments(n, &line.comments)?;
             }
             return Ok(None);
         }
@@ -659,13 +651,7 @@ impl GcodeSource {
                 }
             }
         }
-        let mut x = ctx!(self, n);
-        let (st, flow) = (&self.st, &self.flow);
-        let lk = |name: &str| lookup(st, flow, name);
-        let c = exec::comments(&mut x, &line.comments, &lk, st.params[5599] > 0.0);
-        self.events.append(&mut x.events);
-        self.out_buf = x.out;
-        c?;
+        self.comments(n, &line.comments)?;
         if line.words.is_empty() {
             if line.assigns.is_empty() && line.comments.is_empty() {
                 return Ok(None);
@@ -762,6 +748,17 @@ impl GcodeSource {
         self.st.program_end_reset();
         self.done = true;
         self.finish(n, text, out, true)
+    }
+
+    /// Runs a line's comments (MSG, PRINT, DEBUG, LOG, ABORT), their messages kept as events.
+    fn comments(&mut self, n: u32, comments: &[read::Comment]) -> Result<(), TranslateError> {
+        let mut x = ctx!(self, n);
+        let (st, flow) = (&self.st, &self.flow);
+        let lk = |name: &str| lookup(st, flow, name);
+        let c = exec::comments(&mut x, comments, &lk, st.params[5599] > 0.0);
+        self.events.append(&mut x.events);
+        self.out_buf = x.out;
+        c
     }
 
     fn finish(
