@@ -2,6 +2,8 @@
 //! that found it. Findings about the language's limits and messages are in
 //! `tests/translate_limits.rs` and `tests/bad_input.rs`.
 
+mod common;
+
 use novanc::store::{Stores, Target};
 
 fn fresh(tag: &str) -> std::path::PathBuf {
@@ -42,19 +44,10 @@ fn a_tape_value_with_many_decimals_is_kept_and_the_tool_file_stays_revisable() {
 /// language does (docs/language.md, *Limits*).
 #[test]
 fn a_control_character_in_gcode_is_named_not_printed() {
-    use novanc::block::MachineState;
-    use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
     let first_error = |src: &str| {
-        GcodeSource::new(
-            src.into(),
-            novanc::tooldata::sample_magazine(),
-            novanc::settings::MachineSettings::default(),
-            MachineState::at([0, 0, 0]),
-            WorkOffsets::default(),
-            Switches::default(),
-        )
-        .find_map(|r| r.err())
-        .map(|e| e.to_string())
+        common::gcode_source(src)
+            .find_map(|r| r.err())
+            .map(|e| e.to_string())
     };
     assert_eq!(
         first_error("G0 X1\n\u{0}\n").as_deref(),

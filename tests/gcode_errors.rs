@@ -1,23 +1,15 @@
 //! Every error kind of G-code reading (issue 10, docs/gcode.md "Errors") gives
 //! `LINE:COL: reason`, yields no block from the bad line and changes no work offset.
 
-use novanc::block::MachineState;
-use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
-use novanc::settings::MachineSettings;
-use novanc::tooldata::sample_magazine;
+mod common;
+
+use novanc::gcode::GcodeSource;
 
 const PRE: &str = "G21 G90\nG10 L2 P1 X300 Y300 Z-400\nG0 X0 Y0 Z0\n";
 
 /// The program `src` read from machine zero, with no offsets and both switches off.
 fn source(src: &str) -> GcodeSource {
-    GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
+    common::gcode_source(src)
 }
 
 /// The first error reading gives.

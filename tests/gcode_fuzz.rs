@@ -2,6 +2,8 @@
 //! every line either reads or gives `LINE:COL: reason` with a real line and column
 //! (docs/gcode.md "Errors", "Limits"). Seeded random programs from valid fragments, mutated.
 
+mod common;
+
 use novanc::block::MachineState;
 use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
 use novanc::pulse_core::testkit::Rng;
@@ -74,31 +76,17 @@ fn random_text_never_panics_and_errors_name_a_real_place() {
 #[test]
 fn deep_brackets_and_tiny_pecks_are_refused_not_run() {
     let src = format!("G0 X[{}1{}]\nM30\n", "[".repeat(4_000), "]".repeat(4_000));
-    let e = GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
-    .find_map(|r| r.err())
-    .map(|e| e.to_string());
+    let e = common::gcode_source(&src)
+        .find_map(|r| r.err())
+        .map(|e| e.to_string());
     assert_eq!(
         e.as_deref(),
         Some("1:69: brackets, signs or # nested more than 64 deep")
     );
     let src = "G0 X10 Y10 Z0\nG83 X10 Y10 Z-50 R1 Q0.0001 F10\nM30\n";
-    let e = GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
-    .find_map(|r| r.err())
-    .map(|e| e.to_string());
+    let e = common::gcode_source(src)
+        .find_map(|r| r.err())
+        .map(|e| e.to_string());
     assert_eq!(
         e.as_deref(),
         Some("2:21: G83: Q0.0001 would make more than 1000 pecks")

@@ -3,24 +3,14 @@
 //! the stylus of the tool in the spindle, the errors, and LinuxCNC's probing examples read
 //! through.
 
-use novanc::block::MachineState;
-use novanc::gcode::{Event, GcodeSource, Switches, WorkOffsets};
-use novanc::settings::MachineSettings;
-use novanc::tooldata::sample_magazine;
+use novanc::gcode::{Event, GcodeSource};
 use std::process::Command;
 
 mod common;
 
 /// `src` from machine zero with no offsets, the sample magazine and the default settings.
 fn source(src: &str) -> GcodeSource {
-    GcodeSource::new(
-        src.into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
+    common::gcode_source(src)
 }
 
 /// `src` read from machine zero with no offsets: its statements (or first error) and the

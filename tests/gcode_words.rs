@@ -3,11 +3,11 @@
 //! the effect is checked, or refuses it at its own line and column with a reason that names
 //! it. And no line is accepted with a word that none of its codes uses.
 
+mod common;
+
 use novanc::block::{Block, Io, Motion as B, Plane, TranslateError};
 use novanc::gcode::state::{CompSide, FeedMode, Motion, PathMode};
-use novanc::gcode::{Event, GcodeSource, InterpState, Switches, WorkOffsets};
-use novanc::settings::MachineSettings;
-use novanc::tooldata::sample_magazine;
+use novanc::gcode::{Event, InterpState};
 
 /// Six lines: units, G54 in the middle of the travel, tool 13 (an 8 mm end mill) with its
 /// length, a point above the part, a feed and the spindle on. The word's line is line 7.
@@ -24,15 +24,7 @@ struct Run {
 }
 
 fn run(lines: &str) -> Run {
-    let mut g = GcodeSource::new(
-        format!("{PRE}{lines}\n").into(),
-        sample_magazine(),
-        MachineSettings::default(),
-        novanc::block::MachineState::at([0, 0, 0]),
-        WorkOffsets::default(),
-        Switches::default(),
-    )
-    .mdi();
+    let mut g = common::gcode_source(&format!("{PRE}{lines}\n")).mdi();
     let mut blocks = Vec::new();
     let mut err = None;
     for r in g.by_ref() {

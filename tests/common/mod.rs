@@ -9,6 +9,19 @@ use novanc::pulse_core::{BlockEnd, ClockMode};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// The G-code program `src` as `novanc translate` reads it without `--state`: from machine
+/// zero, the sample magazine, the default settings, no work offsets, both switches off.
+pub fn gcode_source(src: &str) -> novanc::gcode::GcodeSource {
+    novanc::gcode::GcodeSource::new(
+        src.into(),
+        novanc::tooldata::sample_magazine(),
+        novanc::settings::MachineSettings::default(),
+        novanc::block::MachineState::at([0, 0, 0]),
+        novanc::gcode::WorkOffsets::default(),
+        novanc::gcode::Switches::default(),
+    )
+}
+
 /// A fresh state directory.
 pub fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!(
