@@ -295,6 +295,11 @@ impl Console {
         self.mem.text(Target::Program)
     }
 
+    /// Whether START runs the MDI buffer (the operation mode is MDI).
+    pub fn run_text_is_mdi(&self) -> bool {
+        self.op == OpMode::Mdi
+    }
+
     /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
     /// otherwise (what a backplot should draw).
     pub fn run_text(&self) -> String {

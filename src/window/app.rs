@@ -276,7 +276,7 @@ impl App {
         {
             let s = m.settings();
             let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
-            let gcode = m.gcode_offsets();
+            let gcode = m.gcode_start();
             self.plot
                 .request_program(m.program_text(), m.magazine(), s, start, gcode);
             self.program_dirty = false;

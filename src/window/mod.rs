@@ -13,7 +13,7 @@ mod keys;
 pub mod lathe;
 mod pathdraw;
 mod plasma;
-mod plot;
+pub mod plot;
 mod shot;
 mod tapestrip;
 mod velocity;
@@ -36,9 +36,10 @@ pub trait Machine {
     /// The text START runs in the current operation mode (program memory, or the MDI buffer in
     /// MDI), for the backplot.
     fn program_text(&self) -> String;
-    /// For a `program_text` in ISO G-code, the work offsets it starts with; None for the
+    /// For a `program_text` in ISO G-code, where reading starts (the console's interpreter
+    /// state, so that the plot reads G91, G92 and the tool length as START will); None for the
     /// source language.
-    fn gcode_offsets(&self) -> Option<crate::gcode::WorkOffsets>;
+    fn gcode_start(&self) -> Option<plot::GcodeStart>;
     /// The magazine in force (T codes and tool data, for the backplot's translation).
     fn magazine(&self) -> Magazine;
     /// The machine settings.
@@ -77,8 +78,11 @@ impl Machine for crate::console::Console {
     fn program_text(&self) -> String {
         crate::console::Console::run_text(self)
     }
-    fn gcode_offsets(&self) -> Option<crate::gcode::WorkOffsets> {
-        crate::console::Console::run_text_is_gcode(self).then(|| self.work_offsets())
+    fn gcode_start(&self) -> Option<plot::GcodeStart> {
+        crate::console::Console::run_text_is_gcode(self).then(|| plot::GcodeStart::State {
+            state: Box::new(self.interp_state().clone()),
+            mdi: self.run_text_is_mdi(),
+        })
     }
     fn magazine(&self) -> Magazine {
         crate::console::Console::magazine(self)

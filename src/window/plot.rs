@@ -48,15 +48,51 @@ struct TrailMesh {
     frozen_to: usize,
 }
 
-/// What a backplot translation needs: program text, magazine, settings, start (pulses).
-/// The program, its tool data, the settings, the start (pulses) and, for a G-code program, the
-/// work offsets it starts with.
+/// Where a G-code backplot starts reading.
+#[derive(Clone, Debug)]
+pub enum GcodeStart {
+    /// From the defaults with these work offsets.
+    Offsets(crate::gcode::WorkOffsets),
+    /// From the console's interpreter state (G91, G92, the tool length... as the lines before
+    /// left them), as START would read it; `mdi`: the MDI buffer (no M30 needed).
+    State {
+        /// The console's state.
+        state: Box<crate::gcode::InterpState>,
+        /// The text is the MDI buffer.
+        mdi: bool,
+    },
+}
+
+impl GcodeStart {
+    /// What the path depends on, for the request's key (not the whole state: the modes, the
+    /// offsets, the tool and the persistent parameters).
+    fn key(&self) -> String {
+        match self {
+            GcodeStart::Offsets(o) => format!("{o:?}"),
+            GcodeStart::State { state, mdi } => format!(
+                "{:?}{:?}{:?}{:?}{:?}{mdi}{:?}",
+                state.modal,
+                state.g92,
+                state.tlo,
+                state.tool,
+                state.comp_radius,
+                state.params[5161..=5390]
+                    .iter()
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            ),
+        }
+    }
+}
+
+/// What a backplot translation needs: the program, its tool data, the settings, the start
+/// (pulses) and, for G-code, where reading starts.
 type Request = (
     String,
     Magazine,
     MachineSettings,
     [i64; 3],
-    Option<crate::gcode::WorkOffsets>,
+    Option<GcodeStart>,
 );
 
 /// The backplot's state: the path of the loaded program, the executed trail, the view.
@@ -102,7 +138,7 @@ fn plane_index(p: Plane) -> usize {
 fn request_key(r: &Request) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     r.0.hash(&mut h);
-    format!("{:?}{:?}{:?}", r.1, r.2, r.4).hash(&mut h);
+    format!("{:?}{:?}{:?}", r.1, r.2, r.4.as_ref().map(GcodeStart::key)).hash(&mut h);
     h.finish()
 }
 
@@ -136,7 +172,7 @@ impl PlotState {
         magazine: Magazine,
         settings: MachineSettings,
         start: [i64; 3],
-        gcode: Option<crate::gcode::WorkOffsets>,
+        gcode: Option<GcodeStart>,
     ) {
         self.queued = Some((text, magazine, settings, start, gcode));
         self.poll();
@@ -173,15 +209,34 @@ impl PlotState {
                         let (text, mag, settings, start, gcode) = &req;
                         if text.trim().is_empty() {
                             Backplot::default()
-                        } else if let Some(offsets) = gcode {
-                            let src = crate::gcode::GcodeSource::new(
-                                text.as_str().into(),
-                                mag.clone(),
-                                settings.clone(),
-                                crate::block::MachineState::at(*start),
-                                *offsets,
-                                crate::gcode::Switches::default(),
-                            );
+                        } else if let Some(g) = gcode {
+                            let machine = crate::block::MachineState::at(*start);
+                            let sw = crate::gcode::Switches::default();
+                            let src = match g {
+                                GcodeStart::Offsets(o) => crate::gcode::GcodeSource::new(
+                                    text.as_str().into(),
+                                    mag.clone(),
+                                    settings.clone(),
+                                    machine,
+                                    *o,
+                                    sw,
+                                ),
+                                GcodeStart::State { state, mdi } => {
+                                    let g = crate::gcode::GcodeSource::with_state(
+                                        text.as_str().into(),
+                                        mag.clone(),
+                                        settings.clone(),
+                                        machine,
+                                        (**state).clone(),
+                                        sw,
+                                    );
+                                    if *mdi {
+                                        g.mdi()
+                                    } else {
+                                        g
+                                    }
+                                }
+                            };
                             Backplot::from_statements(src, settings)
                         } else {
                             Backplot::from_program(text, mag, settings, *start)
@@ -395,11 +450,19 @@ impl PlotState {
 mod tests {
     use super::*;
 
-    fn plotted(gcode: Option<crate::gcode::WorkOffsets>) -> Backplot {
+    fn plotted(gcode: Option<GcodeStart>) -> Backplot {
+        plotted_from(
+            "G10 L2 P1 X100\nG54 G0 X10 Y5\nG1 Z-5 F100\nM30\n",
+            [0; 3],
+            gcode,
+        )
+    }
+
+    fn plotted_from(text: &str, start: [i64; 3], gcode: Option<GcodeStart>) -> Backplot {
         let mut p = PlotState::new();
-        let text = "G10 L2 P1 X100\nG54 G0 X10 Y5\nG1 Z-5 F100\nM30\n".to_string();
         let s = MachineSettings::default();
-        p.request_program(text, crate::tooldata::sample_magazine(), s, [0; 3], gcode);
+        let text = text.to_string();
+        p.request_program(text, crate::tooldata::sample_magazine(), s, start, gcode);
         let t = std::time::Instant::now();
         while p.poll() && t.elapsed().as_secs() < 20 {
             std::thread::sleep(std::time::Duration::from_millis(2));
@@ -409,10 +472,30 @@ mod tests {
 
     #[test]
     fn a_gcode_program_is_plotted_through_the_gcode_source() {
-        let bp = plotted(Some(Default::default()));
+        let bp = plotted(Some(GcodeStart::Offsets(Default::default())));
         assert!(bp.error.is_none(), "{:?}", bp.error);
         assert_eq!(bp.segments.len(), 2);
         // The source language refuses the same text.
         assert!(plotted(None).error.is_some());
+    }
+
+    /// MDI G-code is plotted as START will read it: from the console's state (here G91), and
+    /// without the M30 a program needs.
+    #[test]
+    fn mdi_gcode_is_plotted_from_the_consoles_state() {
+        let mut state = crate::gcode::InterpState::default();
+        state.modal.incremental = true;
+        let g = GcodeStart::State {
+            state: Box::new(state),
+            mdi: true,
+        };
+        let bp = plotted_from("G0 X5\n", [10_000, 0, 0], Some(g));
+        assert!(bp.error.is_none(), "{:?}", bp.error);
+        assert_eq!(bp.segments.len(), 1);
+        assert!(
+            (bp.segments[0].to[0] - 15.0).abs() < 1e-9,
+            "{:?}",
+            bp.segments[0]
+        );
     }
 }
