@@ -515,7 +515,11 @@ mod tests {
             egui::Event::Copy,
         ] {
             let mut h = HandState::default();
-            let out = run(&[quit.clone()], &view(OpMode::Auto, 100), &mut h);
+            let out = run(
+                std::slice::from_ref(&quit),
+                &view(OpMode::Auto, 100),
+                &mut h,
+            );
             assert!(h.quit_requested, "{quit:?} closes the window");
             assert!(out.is_empty(), "{quit:?} is nothing else: {out:?}");
         }
