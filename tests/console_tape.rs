@@ -67,11 +67,10 @@ fn tableb() -> String {
 }
 
 #[test]
-fn iso_and_eia_images_and_a_text_file_read_at_the_console_as_the_codec_reads_them() {
+fn iso_and_eia_images_read_at_the_console_as_the_codec_reads_them() {
     for f in [
         "tests/golden/tableb.iso.tape",
         "tests/golden/tableb.eia.tape",
-        "tests/golden/frames/drill2.ap",
     ] {
         let mut c = open("tape-read");
         let image = std::fs::read(repo(f)).unwrap();
@@ -106,6 +105,78 @@ fn iso_and_eia_images_and_a_text_file_read_at_the_console_as_the_codec_reads_the
         assert!(shows(&c, &how), "{f}:\n{}", c.frame_text());
         assert!(!c.view().lamps.alarm);
     }
+}
+
+/// A plain text file is no tape: START reads it at file speed (until issue 23 it passed at the
+/// reader's 300 characters/s, so a 3 MB CAM file took about three hours).
+#[test]
+fn a_text_file_is_read_at_file_speed_not_at_the_readers() {
+    let f = "tests/golden/frames/drill2.ap";
+    let mut c = open("tape-text");
+    let image = std::fs::read(repo(f)).unwrap();
+    let want = tape::read_image(&image, ReadOptions::default()).unwrap();
+    assert!(want.code.is_none());
+    load(&mut c, DataMode::Read, &repo(f));
+    let t0 = c.status().machine_ns;
+    c.handle(E::Start);
+    assert!(!c.tape_reading(), "a text file does not move like a tape");
+    assert_eq!(c.program_text(), want.text);
+    assert_eq!(c.status().machine_ns, t0, "no machine time passes");
+    assert!(shows(&c, "(text file)"), "{}", c.frame_text());
+
+    // A large CAM-sized file (3 MB) is stored whole at once.
+    let mut big = String::from("%\nG21 G90 G17\n");
+    let mut i = 0u64;
+    while big.len() < 3 << 20 {
+        big.push_str(&format!(
+            "G1 X{}.{:03} Y{}.{:03} F600\n",
+            i % 400,
+            i % 997,
+            (i / 7) % 300,
+            i % 89
+        ));
+        i += 1;
+    }
+    big.push_str("M30\n%\n");
+    let p = file("CAM3MB.NGC", big.as_bytes());
+    load(&mut c, DataMode::Read, &p);
+    c.handle(E::Start);
+    assert!(!c.tape_reading());
+    assert!(shows(&c, "CAM3MB"), "{}", c.frame_text());
+    assert_eq!(c.program_text().lines().count(), big.lines().count());
+    assert!(c.program_text().starts_with("%\nG21 G90 G17"));
+    assert!(c.program_text().contains("M30"));
+}
+
+/// PROGRAM READ of a memory card folder: each file a program named after it, the first one
+/// current; a folder with one file that is not text stores nothing.
+#[test]
+fn a_memory_card_folder_gives_a_program_per_file_or_nothing() {
+    let dir = temp_dir("card");
+    std::fs::write(dir.join("B2.NGC"), "G0 X1\nM30\n").unwrap();
+    std::fs::write(dir.join("A1.NGC"), "G0 X2\nM30\n").unwrap();
+    std::fs::write(dir.join(".hidden"), [0u8, 1, 2]).unwrap();
+    std::fs::create_dir(dir.join("sub")).unwrap();
+    let mut c = open("tape-card");
+    load(&mut c, DataMode::Read, &dir);
+    c.handle(E::Start);
+    assert!(!c.tape_reading());
+    assert!(shows(&c, "2 programs"), "{}", c.frame_text());
+    assert_eq!(c.program_text(), "G0 X2\nM30\n");
+
+    // One punched image among the files: the folder is refused and memory is unchanged.
+    let bad = temp_dir("card-bad");
+    std::fs::write(bad.join("C3.NGC"), "G0 X3\nM30\n").unwrap();
+    std::fs::write(bad.join("D4.TAPE"), punched("G0 X4\n", Code::Iso)).unwrap();
+    load(&mut c, DataMode::Read, &bad);
+    c.handle(E::Start);
+    assert!(shows(&c, "program memory unchanged"), "{}", c.frame_text());
+    assert_eq!(c.program_text(), "G0 X2\nM30\n");
+
+    // TOOL DATA READ takes one tool tape, not a folder.
+    load(&mut c, DataMode::ToolRead, &dir);
+    c.handle(E::Start);
+    assert!(shows(&c, "tool file unchanged"), "{}", c.frame_text());
 }
 
 #[test]

@@ -415,3 +415,31 @@ fn program_read_of_a_file_names_the_program_and_never_replaces_a_lookalike() {
     let (s, _) = open(&d);
     assert_eq!(s.program_names(), ["PRF", "PRUF", "TABLEB"]);
 }
+
+/// A program as large as a journal may grow (a CAM file read at file speed) is written once,
+/// as a snapshot, not journaled and then compacted: it survives a reopen, and so do the
+/// changes journaled after it.
+#[test]
+fn a_program_larger_than_the_journal_is_kept_by_a_snapshot() {
+    let d = fresh("large");
+    let mut big = String::new();
+    let mut i = 0u32;
+    while big.len() < 5 << 20 {
+        big.push_str(&format!("G1 X{} Y{} F500\n", i % 500, i % 300));
+        i += 1;
+    }
+    {
+        let (mut s, _) = open(&d);
+        s.program_read("cam5mb", &big).unwrap();
+        let journal = fs::metadata(d.join("journal.log")).map_or(0, |m| m.len());
+        assert!(
+            journal < 1 << 20,
+            "the program went to the snapshot, not the journal ({journal} bytes)"
+        );
+        s.edit(Target::Program, "IN1*", None).unwrap();
+    }
+    let (s, w) = open(&d);
+    assert!(w.is_empty(), "{w:?}");
+    assert_eq!(s.current_program(), "CAM5MB");
+    assert_eq!(text(&s, Target::Program), format!("N1\n{big}"));
+}

@@ -314,10 +314,23 @@ fn the_velocity_strip_shows_the_axes_of_the_block() {
     assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
     let (_, _, plot) = parse_layout(&out);
     let img = read_ppm(&std::fs::read(&shot).unwrap()).expect("a P6 screenshot");
-    // The strip's rectangle, as `window::velocity` places it in the plot.
-    let w = (plot.w as f32 * 0.5).clamp(160.0, 440.0) as usize;
-    let h = (plot.h as f32 * 0.3).clamp(80.0, 150.0) as usize;
-    let (x0, y0) = (plot.x + 6, plot.y + plot.h - h - 6);
+    // The strip's rectangle, as the window reports it: its own place, under the plot.
+    let line = out.lines().find(|l| l.starts_with("screenshot ")).unwrap();
+    let f: Vec<usize> = line
+        .split(" velocity ")
+        .nth(1)
+        .expect("the velocity strip's rectangle")
+        .split_whitespace()
+        .take(4)
+        .map(|v| v.parse::<f64>().unwrap() as usize)
+        .collect();
+    let (x0, y0, w, h) = (f[0], f[1], f[2], f[3]);
+    assert!(
+        y0 >= plot.y + plot.h,
+        "the strip ({y0}) lies under the backplot ({}..{}), not over it",
+        plot.y,
+        plot.y + plot.h
+    );
     let near = |p: [u8; 3], c: [u8; 3]| (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() < 40);
     let count = |c: [u8; 3]| {
         (y0..y0 + h)

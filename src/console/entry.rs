@@ -53,6 +53,76 @@ pub(super) fn key(c: &mut Console, ch: char) {
     }
 }
 
+/// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT, on the
+/// buffer the data-processing mode edits (PROGRAM REVISION, MDI, TOOL DATA REVISION), beside
+/// the letter commands, as Fanuc's EDIT screen has them (docs/editor.md, "Cursor keys"). Each
+/// is the editor command it stands for (`nM` to move, `1D` for Delete), journaled like a typed
+/// one; the line being typed stays on the entry line. Returns false for a key that is not one
+/// of these here (the key then does what it does elsewhere).
+pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
+    use super::memory::Cursor as C;
+    use novanc_panel::Key as K;
+    let t = match (c.op, c.data) {
+        (OpMode::Data, DataMode::Revise) => Target::Program,
+        (OpMode::Data, DataMode::Mdi) => Target::Mdi,
+        (OpMode::Data, DataMode::ToolRevise) => Target::ToolFile,
+        _ => return false,
+    };
+    let (cursor, name) = match k {
+        K::Left => (Some(C::Left), "Left"),
+        K::Right => (Some(C::Right), "Right"),
+        K::Up => (Some(C::Up), "Up"),
+        K::Down => (Some(C::Down), "Down"),
+        K::PageUp => (Some(C::PageUp), "PgUp"),
+        K::PageDown => (Some(C::PageDown), "PgDn"),
+        K::Home => (Some(C::Home), "Home"),
+        K::End => (Some(C::End), "End"),
+        K::Delete => (None, "Delete"),
+        _ => return false,
+    };
+    if c.running() {
+        c.message = format!("{name} refused: the machine is running");
+        return true;
+    }
+    let command = match cursor {
+        None => "1D".to_string(),
+        Some(cur) => {
+            let rows = display::text_rows(c.cfg.rows);
+            match c.mem.cursor_target(t, cur, rows) {
+                Ok(to) => {
+                    let p = c.mem.pointer(t) as i64;
+                    let d = to as i64 - p;
+                    if d == 0 {
+                        c.message = format!("{name}: the pointer is there already");
+                        return true;
+                    }
+                    format!("{d}M")
+                }
+                Err(e) => {
+                    c.message = format!("{name}: {e}");
+                    return true;
+                }
+            }
+        }
+    };
+    let rev = c.mem.rev();
+    match c.mem.edit(t, &command, None) {
+        Ok(_) => {
+            c.message = String::new();
+            if t == Target::Program && c.mem.rev() != rev && c.search.is_some() {
+                c.search = None;
+                c.message = "SEARCH point cleared (program changed)".into();
+            }
+            run::recheck_program_alarm(c);
+        }
+        Err(e) if cursor.is_none() => {
+            c.message = format!("Delete: nothing after the pointer ({e})");
+        }
+        Err(e) => c.message = format!("{name}: {e}"),
+    }
+    true
+}
+
 /// RUBOUT.
 pub(super) fn rubout(c: &mut Console) {
     if target(c, "RUBOUT").is_some() {

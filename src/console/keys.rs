@@ -226,6 +226,12 @@ impl Console {
         if self.pages.page != Page::Mode && pages::press(self, k) {
             return;
         }
+        if super::entry::cursor_key(self, k) {
+            self.recorder
+                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+            self.refresh();
+            return;
+        }
         if self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down) {
             super::entry::recall(self, k == Key::Up);
             self.refresh();

@@ -220,7 +220,8 @@ pub(super) fn current_plan(c: &mut Console) -> Option<Result<Plan, String>> {
 }
 
 /// Finds the statement the operator asked for: a line number, or text to look for (without
-/// regard to case, as the language has none).
+/// regard to case, as the language has none), as whole words: `T1` finds `T1` and `T1 M6`
+/// but not `T16` or `T1.5`, `X1` not `MAX1` (Fanuc's address search).
 fn find_line(source: &str, what: &str) -> Result<Option<u32>, String> {
     let w = what.trim();
     if w.is_empty() || w == "0" {
@@ -232,9 +233,37 @@ fn find_line(source: &str, what: &str) -> Result<Option<u32>, String> {
     let up = w.to_ascii_uppercase();
     source
         .lines()
-        .position(|l| l.to_ascii_uppercase().contains(&up))
+        .position(|l| has_word(&l.to_ascii_uppercase(), &up))
         .map(|i| Some(i as u32 + 1))
         .ok_or_else(|| format!("'{w}' is not in the program"))
+}
+
+/// Whether `what` stands in `line` as a whole word: where `what` begins with a letter or a
+/// digit, the character before it is not one; where it ends with one, the character after it
+/// is neither one nor a decimal point.
+fn has_word(line: &str, what: &str) -> bool {
+    let word = |b: u8| b.is_ascii_alphanumeric() || b == b'_';
+    let (lb, wb) = (line.as_bytes(), what.as_bytes());
+    let (Some(&first), Some(&last)) = (wb.first(), wb.last()) else {
+        return false;
+    };
+    let mut from = 0;
+    while let Some(i) = line[from..].find(what) {
+        let at = from + i;
+        let end = at + wb.len();
+        let before_ok = !word(first) || at == 0 || !word(lb[at - 1]);
+        let after_ok = !word(last)
+            || end == lb.len()
+            || !(word(lb[end]) || (last.is_ascii_digit() && lb[end] == b'.'));
+        if before_ok && after_ok {
+            return true;
+        }
+        from = at + 1;
+        while !line.is_char_boundary(from) {
+            from += 1;
+        }
+    }
+    false
 }
 
 /// SEARCH: a command line (a program name, a line number, or text to find) entered with EOB.
@@ -286,5 +315,17 @@ mod tests {
         assert!(find_line("A\n", "XYZ").is_err());
         assert_eq!(find_line("A\n", "").unwrap(), None);
         assert_eq!(find_line("A\n", "7").unwrap(), Some(7));
+    }
+
+    #[test]
+    fn an_address_word_finds_itself_and_not_a_longer_one() {
+        let src = "N1 T16 M6\nN2 T1.5\nN3 MAX1\nN4 T1 M6\nN5 T1\n";
+        assert_eq!(find_line(src, "T1").unwrap(), Some(4));
+        assert_eq!(find_line(src, "t16").unwrap(), Some(1));
+        assert!(find_line("N3 MAX1\n", "X1").is_err());
+        assert_eq!(find_line(src, "T1.5").unwrap(), Some(2));
+        assert_eq!(find_line("N1 G0 X1\n", "X1").unwrap(), Some(1));
+        assert_eq!(find_line("DRL, 106\n", "DRL,").unwrap(), Some(1));
+        assert!(find_line("N1 T16\n", "T1").is_err());
     }
 }

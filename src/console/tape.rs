@@ -17,9 +17,13 @@ use crate::panel_model::PanelEvent;
 use crate::tape::{self, Code, Frame, Meaning, ReadOptions, Reader, Tape, TapeError};
 use std::path::Path;
 
-/// The largest file the tape reader takes: 4 MiB, about 10 km of tape and almost 4 hours at
+/// The largest tape image the reader takes: 4 MiB, about 10 km of tape and almost 4 hours at
 /// 300 characters/s (a 1,000-foot roll holds 120,000 frames).
 pub const MAX_TAPE_BYTES: u64 = 4 << 20;
+
+/// The largest plain text file PROGRAM READ takes (a file or each file of a memory card
+/// folder): 64 MiB. A text file is not a tape: it is read at file speed.
+pub const MAX_TEXT_BYTES: u64 = 64 << 20;
 
 /// How many of the last frames a front end is given to draw (the window's strip).
 pub const STRIP_FRAMES: usize = 48;
@@ -191,7 +195,9 @@ impl Console {
     }
 }
 
-/// START in PROGRAM READ or TOOL DATA READ: the tape in the reader starts moving.
+/// START in PROGRAM READ or TOOL DATA READ: the tape in the reader starts moving. A plain
+/// text file, or a memory card folder of them, is no tape: it is read at file speed and stored
+/// at once.
 pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
     let what = target.name();
     let Some(path) = c.tape.clone() else {
@@ -202,6 +208,10 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    if path.is_dir() {
+        read_folder(c, target, &path, &file);
+        return;
+    }
     let image = match load(&path) {
         Ok(i) => i,
         Err(e) => {
@@ -210,27 +220,146 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
         }
     };
     let plain = tape::is_plain_text(&image);
+    if !plain && image.len() as u64 > MAX_TAPE_BYTES {
+        c.message = format!(
+            "{what}: tape {file} cannot be read: it is longer than the {} MiB the reader takes",
+            MAX_TAPE_BYTES >> 20
+        );
+        return;
+    }
     let outcome = tape::read_image(&image, ReadOptions::default());
     let stop = stop_frame(&image, &outcome);
     let chars_per_s = u64::from(c.cfg.settings.tape_chars_per_s.max(1));
     c.tape_stopped = None;
-    c.tape_read = Some(TapeRead {
+    let r = TapeRead {
         target,
         file: file.clone(),
         reader: (!plain).then(|| Reader::new(ReadOptions::default())),
         image,
         outcome,
         stop,
-        fed: 0,
+        fed: if plain { stop } else { 0 },
         start_ns: c.status.machine_ns,
         chars_per_s,
         failed: None,
-    });
+    };
+    if plain {
+        complete(c, r);
+        return;
+    }
+    c.tape_read = Some(r);
     c.message = format!("reading at {chars_per_s} characters/s: STOP or RESET abandons the read");
     advance(c);
 }
 
-/// Reads a tape file, at most [`MAX_TAPE_BYTES`].
+/// PROGRAM READ of a memory card folder: every file in it, in name order, becomes a program
+/// named after the file, the first one current. Every file must be plain text (a tape image
+/// goes through the reader, one at a time) and every name must make a program name; if one
+/// does not, nothing is stored.
+fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
+    let what = target.name();
+    if target == ReadTarget::Tools {
+        c.message = format!(
+            "{what}: {name} is a folder; TOOL DATA READ takes one tool tape, tool file unchanged"
+        );
+        return;
+    }
+    let files = match folder_files(dir) {
+        Ok(f) => f,
+        Err(e) => {
+            c.message = format!("{what} refused, program memory unchanged: folder {name}: {e}");
+            return;
+        }
+    };
+    let mut names = Vec::with_capacity(files.len());
+    for (file, _) in &files {
+        match crate::store::program_name_from_file(file) {
+            Ok(n) if names.contains(&n.name) => {
+                c.message = format!(
+                    "{what} refused, program memory unchanged: {file} would be program {} as well as another file of {name}",
+                    n.name
+                );
+                return;
+            }
+            Ok(n) => names.push(n.name),
+            Err(e) => {
+                c.message = format!("{what} refused, program memory unchanged: {file}: {e}");
+                return;
+            }
+        }
+    }
+    let mut lines = 0;
+    let mut stored = Vec::new();
+    for (file, text) in &files {
+        match c.mem.program_read_file(file, text) {
+            Ok(r) => {
+                lines += text.lines().count();
+                stored.push(r.name);
+            }
+            Err(e) => {
+                c.message = format!(
+                    "{what} stopped at {file}: {e}; stored before it: {}",
+                    if stored.is_empty() {
+                        "none".to_string()
+                    } else {
+                        stored.join(" ")
+                    }
+                );
+                return;
+            }
+        }
+    }
+    c.search = None;
+    if let Some(first) = stored.first() {
+        if let Err(e) = c.mem.select_program(first) {
+            c.message =
+                format!("read folder {name}, but program {first} cannot be made current: {e}");
+            return;
+        }
+    }
+    c.message = format!(
+        "read folder {name}: {} programs ({}), {lines} lines; {} is current",
+        stored.len(),
+        stored.join(" "),
+        stored.first().map_or("none", |s| s.as_str())
+    );
+}
+
+/// The files of a memory card folder, in name order, each read as text. Sub-folders and
+/// hidden files (a leading dot) are passed over; a file that is not plain text, or too large,
+/// refuses the folder.
+fn folder_files(dir: &Path) -> Result<Vec<(String, String)>, String> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .map_err(|e| e.to_string())?
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_type().map(|t| t.is_file()).unwrap_or(false))
+        .filter(|e| !e.file_name().to_string_lossy().starts_with('.'))
+        .map(|e| e.path())
+        .collect();
+    paths.sort();
+    if paths.is_empty() {
+        return Err("it holds no file".into());
+    }
+    let mut out = Vec::with_capacity(paths.len());
+    for p in paths {
+        let file = p
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let image = load(&p).map_err(|e| format!("{file}: {e}"))?;
+        if !tape::is_plain_text(&image) {
+            return Err(format!(
+                "{file} is not a plain text file (a tape image is read on its own: tape PATH)"
+            ));
+        }
+        let text = String::from_utf8(image).map_err(|e| format!("{file}: {e}"))?;
+        out.push((file, text));
+    }
+    Ok(out)
+}
+
+/// Reads a tape file or a text file, at most [`MAX_TEXT_BYTES`] (a tape image is held to
+/// [`MAX_TAPE_BYTES`] once it is known to be one).
 fn load(path: &Path) -> Result<Vec<u8>, String> {
     let f = std::fs::File::open(path).map_err(|e| e.to_string())?;
     let meta = f.metadata().map_err(|e| e.to_string())?;
@@ -238,12 +367,12 @@ fn load(path: &Path) -> Result<Vec<u8>, String> {
         return Err("it is a directory".into());
     }
     let mut image = Vec::new();
-    std::io::Read::read_to_end(&mut std::io::Read::take(f, MAX_TAPE_BYTES + 1), &mut image)
+    std::io::Read::read_to_end(&mut std::io::Read::take(f, MAX_TEXT_BYTES + 1), &mut image)
         .map_err(|e| e.to_string())?;
-    if image.len() as u64 > MAX_TAPE_BYTES {
+    if image.len() as u64 > MAX_TEXT_BYTES {
         return Err(format!(
-            "it is longer than the {} MiB the reader takes",
-            MAX_TAPE_BYTES >> 20
+            "it is longer than the {} MiB a program file may be",
+            MAX_TEXT_BYTES >> 20
         ));
     }
     Ok(image)

@@ -382,7 +382,8 @@ impl Stores {
         }
     }
 
-    /// Applies a change, journals it (fsynced) if it changed anything, and only then returns.
+    /// Applies a change, journals it (fsynced) if it changed anything (or, for a change as
+    /// large as a journal may grow, writes the whole state), and only then returns.
     fn commit(&mut self, rec: Record, y_max_lines: Option<usize>) -> Result<Outcome, EditFailure> {
         let (out, changed) = self.state.apply(&rec, y_max_lines).map_err(|e| match e {
             Refusal::Edit(e) => EditFailure::Command(e),
@@ -391,8 +392,10 @@ impl Stores {
         if !changed {
             return Ok(out);
         }
-        let saved = if self.unsaved {
-            // The files hold less than memory did before this change: write it all.
+        let saved = if self.unsaved || rec_is_large(&rec) {
+            // The files hold less than memory did before this change, or the change is as
+            // large as a journal may grow (a CAM program read from a file): write it all,
+            // once, rather than journal it and then compact at once.
             self.compact()
         } else {
             match self.journal.as_mut() {
@@ -709,4 +712,10 @@ fn to_store(e: EditFailure) -> StoreError {
 /// The magazine (T-code table and tool file) the translator uses.
 pub fn magazine_of(s: &Stores) -> Magazine {
     s.magazine()
+}
+
+/// A change that alone fills the journal: a program read whole ([`JOURNAL_BYTES`] of text or
+/// more). Writing it to the journal would be followed at once by a compaction.
+fn rec_is_large(rec: &Record) -> bool {
+    matches!(rec, Record::ProgramRead { text, .. } if text.len() as u64 >= JOURNAL_BYTES)
 }

@@ -211,11 +211,12 @@ impl App {
                     )
                 });
                 super::say(&format!(
-                    "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape}",
+                    "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape} velocity {}",
                     path.display(),
                     r(self.layout.plasma),
                     self.layout.pitch,
-                    r(self.layout.plot)
+                    r(self.layout.plot),
+                    r(self.layout.velocity)
                 ));
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
@@ -255,8 +256,9 @@ impl App {
         let was = self.view.wheel.0;
         self.view = m.view();
         self.tape = m.tape();
-        let (t_ns, pos) = m.motion_sample();
-        self.velocity.sample(m.block_executing(), t_ns, pos);
+        let (t_ns, pos, moving) = m.motion_sample();
+        // The strip's clock stops with the machine (a hold, a dwell, an E-STOP).
+        self.velocity.sample(m.block_executing(), t_ns, pos, moving);
         if self.vel_units.is_none() {
             let s = m.settings();
             let what = match s.interpolator {
@@ -297,6 +299,10 @@ impl App {
         }
         if std::mem::take(&mut self.hand.punch_requested) {
             m.punch_from_entry();
+        }
+        if std::mem::take(&mut self.hand.quit_requested) {
+            // The terminal's quit keys (Ctrl-C, Alt+q) close the window as closing it does.
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
         for ev in out {
             self.program_dirty = true;
@@ -374,13 +380,23 @@ impl App {
             .frame(frame)
             .show(ui, |ui| self.nc_panel(ui, &view, out));
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {
+            // The velocity strip has its own place under the backplot, which it once covered.
+            let full = ui.available_rect_before_wrap();
+            let strip_h = (full.height() * 0.22).clamp(60.0, 140.0);
+            let plot_area =
+                Rect::from_min_max(full.min, egui::pos2(full.max.x, full.max.y - strip_h - 6.0));
+            let strip = Rect::from_min_max(egui::pos2(full.min.x, full.max.y - strip_h), full.max);
             let tool = view.axis_mm;
             let mut scroll = self.hand.scroll;
-            let r = self.plot.show(ui, tool, &mut scroll);
+            let r = ui
+                .scope_builder(egui::UiBuilder::new().max_rect(plot_area), |ui| {
+                    self.plot.show(ui, tool, &mut scroll)
+                })
+                .inner;
             self.hand.scroll = scroll;
             self.layout.plot = Some(r);
             let (pulse_mm, what) = self.vel_units.unwrap_or((0.001, "DDA"));
-            self.layout.velocity = self.velocity.show(ui.painter(), r, pulse_mm, what);
+            self.layout.velocity = Some(self.velocity.show(ui.painter(), strip, pulse_mm, what));
         });
     }
 

@@ -47,6 +47,8 @@ pub struct HandState {
     pub tape_requested: bool,
     /// The punch key was pressed (the typed line names the image).
     pub punch_requested: bool,
+    /// A quit key of the terminal's map was pressed (Ctrl-C, Alt+q): the window closes.
+    pub quit_requested: bool,
 }
 
 impl Default for HandState {
@@ -63,6 +65,7 @@ impl Default for HandState {
             jog_since: std::time::Instant::now(),
             tape_requested: false,
             punch_requested: false,
+            quit_requested: false,
         }
     }
 }

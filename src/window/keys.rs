@@ -103,6 +103,8 @@ pub fn keyboard(
     });
     for e in events {
         match e {
+            // egui turns Ctrl-C into a copy: it is the terminal's quit key here.
+            egui::Event::Copy => hand.quit_requested = true,
             egui::Event::Text(t) if !alt_combo => {
                 for ch in t.chars().filter(|c| !c.is_control()) {
                     out.push(PanelEvent::Key(ch.to_ascii_uppercase()));
@@ -177,7 +179,12 @@ pub fn keyboard(
                             100 => 1000,
                             _ => 1,
                         })),
+                        K::Q if alt => hand.quit_requested = true,
+                        K::C if ctrl => hand.quit_requested = true,
                         K::Tab => out.push(PanelEvent::Press(Key::Tab)),
+                        K::Home => out.push(PanelEvent::Press(Key::Home)),
+                        K::End => out.push(PanelEvent::Press(Key::End)),
+                        K::Delete => out.push(PanelEvent::Press(Key::Delete)),
                         K::P if ctrl => out.push(PanelEvent::Press(Key::Ctrl('p'))),
                         K::D if ctrl => out.push(PanelEvent::Press(Key::Ctrl('d'))),
                         K::O if ctrl => out.push(PanelEvent::Press(Key::Ctrl('o'))),
@@ -492,5 +499,45 @@ mod tests {
                 PanelEvent::Press(Key::Tab)
             ]
         );
+    }
+
+    #[test]
+    fn the_terminals_quit_keys_close_the_window_and_editing_keys_pass() {
+        for quit in [
+            key(egui::Key::Q, true, false, true),
+            {
+                let mut c = key(egui::Key::C, true, false, false);
+                if let egui::Event::Key { modifiers, .. } = &mut c {
+                    modifiers.ctrl = true;
+                }
+                c
+            },
+            egui::Event::Copy,
+        ] {
+            let mut h = HandState::default();
+            let out = run(
+                std::slice::from_ref(&quit),
+                &view(OpMode::Auto, 100),
+                &mut h,
+            );
+            assert!(h.quit_requested, "{quit:?} closes the window");
+            assert!(out.is_empty(), "{quit:?} is nothing else: {out:?}");
+        }
+        let mut h = HandState::default();
+        let evs = [
+            key(egui::Key::Home, true, false, false),
+            key(egui::Key::End, true, false, false),
+            key(egui::Key::Delete, true, false, false),
+        ];
+        let out = run(&evs, &view(OpMode::Data, 100), &mut h);
+        assert_eq!(
+            out,
+            [
+                PanelEvent::Press(Key::Home),
+                PanelEvent::Press(Key::End),
+                PanelEvent::Press(Key::Delete)
+            ]
+        );
+        assert!(!h.quit_requested);
     }
 }

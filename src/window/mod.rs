@@ -48,8 +48,9 @@ pub trait Machine {
     fn is_idle(&self) -> bool;
     /// The N number of the block executing now, if one is.
     fn block_executing(&self) -> Option<u32>;
-    /// Machine time (ns) and the axis counters (pulses), for the velocity strip.
-    fn motion_sample(&self) -> (u64, [i64; 3]);
+    /// Machine time (ns), the axis counters (pulses) and whether the axes are moving (not in
+    /// a hold, a dwell or an E-STOP), for the velocity strip.
+    fn motion_sample(&self) -> (u64, [i64; 3], bool);
     /// Waits until every action so far has been taken up and the machine is idle.
     fn wait_idle(&mut self);
     /// Pulses output in this run, all axes together (the pulse counters).
@@ -101,9 +102,9 @@ impl Machine for crate::console::Console {
             .and_then(|e| e.block())
             .map(|b| b.seq)
     }
-    fn motion_sample(&self) -> (u64, [i64; 3]) {
+    fn motion_sample(&self) -> (u64, [i64; 3], bool) {
         let st = self.status();
-        (st.machine_ns, st.pos)
+        (st.machine_ns, st.pos, st.moving && !st.estop)
     }
     fn wait_idle(&mut self) {
         crate::console::Console::wait_idle(self)

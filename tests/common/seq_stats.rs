@@ -63,30 +63,55 @@ impl Stats {
     }
 }
 
-/// Runs `n` sequences of `len` steps from the seed `NOVANC_SEQUENCE_SEED` on; a failure panics
-/// with its seed and the command that replays it.
+/// Runs `n` sequences of `len` steps from the seed `NOVANC_SEQUENCE_SEED` on, spread over the
+/// machine's cores (each sequence has its own console and state directory, and its outcome
+/// depends on its seed alone); a failure panics with its seed and the command that replays it
+/// (the lowest failing seed of those run, whatever order the threads met them in).
 pub fn run_many(n: u64, len: usize, sequence: fn(u64, usize) -> Stats) -> Stats {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    use std::sync::Mutex;
     let base = std::env::var("NOVANC_SEQUENCE_SEED")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(0x5EED_0001);
-    let mut total = Stats::default();
-    for i in 0..n {
-        let seed = base + i;
-        let r = std::panic::catch_unwind(|| sequence(seed, len));
-        if let Ok(st) = &r {
-            total.add(st);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |t| t.get())
+        .min(n.max(1) as usize);
+    let next = AtomicU64::new(0);
+    let failed = AtomicBool::new(false);
+    let total = Mutex::new(Stats::default());
+    let failure: Mutex<Option<(u64, String)>> = Mutex::new(None);
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= n || failed.load(Ordering::Relaxed) {
+                    break;
+                }
+                let seed = base + i;
+                match std::panic::catch_unwind(|| sequence(seed, len)) {
+                    Ok(st) => total.lock().unwrap_or_else(|e| e.into_inner()).add(&st),
+                    Err(e) => {
+                        let msg = e
+                            .downcast_ref::<String>()
+                            .cloned()
+                            .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
+                            .unwrap_or_default();
+                        let mut f = failure.lock().unwrap_or_else(|e| e.into_inner());
+                        if f.as_ref().is_none_or(|(s, _)| seed < *s) {
+                            *f = Some((seed, msg));
+                        }
+                        failed.store(true, Ordering::Relaxed);
+                    }
+                }
+            });
         }
-        if let Err(e) = r {
-            let msg = e
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1; NOVANC_SEQUENCE_LOG=1 prints the events)");
-        }
+    });
+    if let Some((seed, msg)) = failure.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        panic!("sequence with seed {seed} failed: {msg}\n(replay: NOVANC_SEQUENCE_SEED={seed} NOVANC_SEQUENCES=1; NOVANC_SEQUENCE_LOG=1 prints the events)");
     }
-    eprintln!("{n} sequences of {len} steps: {total:?}");
+    let total = total.into_inner().unwrap_or_else(|e| e.into_inner());
+    eprintln!("{n} sequences of {len} steps on {threads} threads: {total:?}");
     total
 }
 
