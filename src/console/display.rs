@@ -10,7 +10,7 @@
 
 use super::Console;
 use crate::block::iso_line;
-use crate::panel_model::{DataMode, OpMode};
+use crate::panel_model::{DataMode, Lamps, OpMode};
 use crate::pulse_core::RunKind;
 use crate::store::Target;
 use crate::tooldata::Magazine;
@@ -188,7 +188,68 @@ fn jogged_note(c: &Console) -> Option<String> {
     ))
 }
 
-/// The message line(s): a note on a jogged run, then the alarm, then the message.
+/// The lamps, from the status snapshot: HOLD is a feed hold at rest or braking, not the
+/// return after a manual intervention (the machine moves; RUN is lit).
+pub(super) fn lamps(c: &Console) -> Lamps {
+    let s = &c.status;
+    let returning = s.job.as_ref().is_some_and(|j| j.returning);
+    Lamps {
+        run: s.run != 0,
+        hold: s.hold && !returning,
+        estop: s.estop,
+        alarm: c.alarm_lit(),
+    }
+}
+
+/// What the machine is doing, for the message line, derived from the status snapshot when the
+/// frame is drawn (never kept), so that it cannot outlive what it describes: an emergency stop,
+/// a feed hold, the end of a block START was given for in SINGLE BLOCK, a run waiting for
+/// START. The return after a manual intervention and a program stop have their own notes
+/// ([`jogged_note`], `gcode_run::program_stop_note`).
+pub(super) fn machine_note(c: &Console) -> Option<String> {
+    let s = &c.status;
+    if s.estop {
+        return Some("EMERGENCY STOP: pulses stopped; press RESET".into());
+    }
+    let job = s.job.as_ref()?;
+    if job.returning {
+        return None;
+    }
+    let runs_it = match job.kind {
+        RunKind::Auto => matches!(c.op, OpMode::Auto | OpMode::Single),
+        RunKind::Mdi => c.op == OpMode::Mdi,
+    };
+    if s.hold {
+        return Some(if runs_it {
+            "feed hold: press START to resume, RESET to abandon".into()
+        } else {
+            format!(
+                "feed hold: the {} run is held (RESET abandons it)",
+                job.kind.name()
+            )
+        });
+    }
+    if s.run != 0 && s.in_block && s.single_block {
+        return match c.op {
+            OpMode::Auto => Some(
+                "AUTO: this block was started in SINGLE BLOCK; the run stops after it, START then runs on"
+                    .into(),
+            ),
+            OpMode::Single if !c.start_single => {
+                Some("SINGLE BLOCK: the machine stops after this block".into())
+            }
+            _ => None,
+        };
+    }
+    let waiting = s.run == 0 && !s.in_block && !s.moving;
+    if waiting && runs_it && super::gcode_run::program_stop_note(c).is_none() {
+        return Some(format!("{}: press START to continue", c.op.name()));
+    }
+    None
+}
+
+/// The message line(s): a note on a jogged run, what the machine is doing, then the alarm,
+/// then the operator message.
 pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
     let mut parts: Vec<String> = Vec::new();
     if let Some(n) = jogged_note(c) {
@@ -196,6 +257,11 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     }
     if let Some(n) = super::gcode_run::program_stop_note(c) {
         parts.push(n);
+    }
+    if let Some(n) = machine_note(c) {
+        if n != c.message {
+            parts.push(n);
+        }
     }
     let alarm = c
         .status
@@ -237,9 +303,10 @@ pub(super) fn state_line(c: &Console) -> String {
     );
     // What the machine is doing comes before the switches, so a narrow display that cuts the
     // line (with its mark) never cuts ESTOP or HOLD.
-    if c.status.estop {
+    let lamps = lamps(c);
+    if lamps.estop {
         s.push_str(" ESTOP");
-    } else if c.status.hold {
+    } else if lamps.hold {
         s.push_str(" HOLD");
     }
     if c.switches.block_delete {

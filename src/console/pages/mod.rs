@@ -161,14 +161,15 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             }
             true
         }
-        Key::Enter => {
+        Key::Enter | Key::Tab => {
             let line = std::mem::take(&mut c.entry);
-            enter(c, &line, false);
-            true
-        }
-        Key::Tab => {
-            let line = std::mem::take(&mut c.entry);
-            enter(c, &line, true);
+            enter(c, &line, k == Key::Tab);
+            // A value that cannot be applied now stays on the entry line, beside the reason
+            // (the operator INPUTs it again, or corrects it), as a Fanuc keeps its key-in
+            // buffer on a refused INPUT.
+            if c.entry.is_empty() && c.message.contains("refused") {
+                c.entry = line;
+            }
             true
         }
         Key::Char(ch) => {
