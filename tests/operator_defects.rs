@@ -488,3 +488,16 @@ fn an_ofs_value_refused_while_moving_stays_on_the_entry_line() {
     assert_eq!(c.view().entry, "");
     assert!(shows(&c, "T02 LEN 155.000"), "{}", c.frame_text());
 }
+
+/// Found by the operator-sequence test's screen check (issue 23): after a START ignored, a
+/// feed override key showed the core's old notice again, and it stayed after the run ended.
+#[test]
+fn an_override_does_not_bring_back_an_old_notice() {
+    let mut c = open("noticeback");
+    keys(&mut c, &["Alt+2", "F9", "F9"]);
+    assert!(shows(&c, "START ignored"), "{}", c.frame_text());
+    keys(&mut c, &["Alt+="]);
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+    c.handle(E::WaitBlock(3));
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+}

@@ -461,8 +461,16 @@ impl Console {
 
     /// Sends a command to the core and takes its answer as the status.
     fn command(&mut self, c: Command) {
+        // The core keeps its notice across these (they answer no operator action of their
+        // own): forgetting it was shown would show it again, after what it spoke of.
+        let keeps_notice = matches!(
+            c,
+            Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
+        );
         self.status = self.core.command(c);
-        self.notice_seen = None;
+        if !keeps_notice {
+            self.notice_seen = None;
+        }
     }
 
     /// Dispatches one event (the rules of `docs/panel.md`).
