@@ -487,7 +487,6 @@ impl Console {
                     self.data = d;
                     self.entry.clear();
                     self.y_output = None;
-                    self.message.clear();
                     self.last_line.clear();
                 }
             }
@@ -513,15 +512,16 @@ impl Console {
                 let had_run = self.status.job.is_some();
                 self.command(Command::Stop);
                 // A feed hold is said by the display while it lasts (display::machine_note).
-                self.message = if self.status.hold {
-                    String::new()
-                } else if self.status.moving {
-                    "STOP: the manual move decelerates to rest".into()
-                } else if had_run {
-                    "STOP: the run is already stopped (START continues, RESET abandons)".into()
-                } else {
-                    "STOP: the machine is not running".into()
-                };
+                if !self.status.hold {
+                    self.message = if self.status.moving {
+                        "STOP: the manual move decelerates to rest"
+                    } else if had_run {
+                        "STOP: the run is already stopped (START continues, RESET abandons)"
+                    } else {
+                        "STOP: the machine is not running"
+                    }
+                    .into();
+                }
             }
             PanelEvent::Reset => {
                 self.command(Command::Reset);
@@ -538,7 +538,6 @@ impl Console {
                 self.jogging = false;
                 self.jog_key = None;
                 // Said by the display while it is in force (display::machine_note).
-                self.message.clear();
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
@@ -611,11 +610,9 @@ impl Console {
             // stays in force).
             let had_run = self.status.job.is_some() || self.running();
             self.command(Command::Abandon);
-            self.message = if had_run {
-                "DATA INPUT: RUN cleared, the run was abandoned".into()
-            } else {
-                String::new()
-            };
+            if had_run {
+                self.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+            }
             return;
         }
         let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
@@ -628,14 +625,11 @@ impl Console {
             if !keep_single {
                 self.command(Command::SingleBlock(m == OpMode::Single));
             }
-            self.message.clear();
             return;
         }
         if self.status.run != 0 && !self.status.hold {
             self.command(Command::Stop);
             self.message = format!("feed hold: mode changed to {} while running", m.name());
-        } else {
-            self.message.clear();
         }
     }
 

@@ -249,17 +249,14 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     if c.status.runs > runs_before {
         // A new run took the program as it is now: what it finds decides the alarm.
         c.program_alarm = None;
-        c.message.clear();
         if kind == RunKind::Auto {
             if let Some(sp) = c.search.take() {
                 c.message = format!("running from line {} (SEARCH)", sp.line);
             }
         }
         note_run_end(c);
-    } else {
-        // Resumed: a return to where the run stopped is said by the display while it lasts.
-        c.message.clear();
     }
+    // Resumed: a return to where the run stopped is said by the display while it lasts.
 }
 
 /// Reports a run's end once: the message, and the program alarm for a source error.
@@ -446,10 +443,9 @@ fn manual_allowed(c: &mut Console, what: &str) -> bool {
 /// The message after a manual move command: the core's refusal, or what START will do.
 fn after_manual(c: &mut Console) {
     c.notice_seen = c.status.notice.clone();
-    c.message = match &c.status.notice {
-        Some(n) => n.clone(),
-        None => String::new(),
-    };
+    if let Some(n) = &c.status.notice {
+        c.message = n.clone();
+    }
 }
 
 /// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only.

@@ -138,7 +138,6 @@ pub(super) fn page_key(c: &mut Console, p: Page) {
     c.pages.confirm_delete = None;
     c.pages.msg_first = 0;
     c.entry.clear();
-    c.message.clear();
 }
 
 /// A key while a page is shown; whether the page took it.
