@@ -37,10 +37,11 @@ impl Loop {
         cfg.clock = ClockMode::RealTime;
         cfg.settings.tool_change_ns = 200_000_000;
         cfg.settings.spindle_ns = 100_000_000;
-        let console = match Console::open(cfg) {
+        let mut console = match Console::open(cfg) {
             Ok((c, _)) => c,
             Err(e) => panic!("cannot open the console: {e}"),
         };
+        console.set_saves_after_frame(true);
         let (w, h) = panel_size(12, 40);
         let (keys_in, keys_typed) = std::io::pipe().expect("a pipe");
         let tty = std::fs::OpenOptions::new()
@@ -61,8 +62,16 @@ impl Loop {
         l
     }
 
-    /// Draws and writes one frame (what changed since the last).
+    /// Draws and writes one frame, then lets the console save what it held back, as the
+    /// terminal loop does.
     fn frame(&mut self) -> usize {
+        let n = self.draw_and_write();
+        self.console.frame_written();
+        n
+    }
+
+    /// Ticks, draws and writes one frame (what changed since the last).
+    fn draw_and_write(&mut self) -> usize {
         self.console.tick();
         self.screen.clear();
         draw_panel(&mut self.screen, &self.console.view());
@@ -88,8 +97,11 @@ impl Loop {
         for k in keys {
             self.console.press(k);
         }
-        let written = self.frame();
-        (t0.elapsed(), written)
+        let written = self.draw_and_write();
+        let t = t0.elapsed();
+        // After the frame's last byte: the saves the console held back.
+        self.console.frame_written();
+        (t, written)
     }
 }
 
@@ -128,6 +140,20 @@ fn main() {
         }
     }
     report("data key / rubout (DATA INPUT, idle)", &mut t, bytes);
+
+    // A key that does nothing in this mode and says so (Delete, then a data key that clears
+    // the message): the message goes to the MSG history too.
+    let mut t = Vec::new();
+    let mut bytes = 0;
+    for _ in 0..n / 2 {
+        for k in [&b"\x1b[3~"[..], &b"L"[..]] {
+            let (d, b) = l.key(k);
+            t.push(d);
+            bytes += b;
+        }
+        l.key(b"\x7f");
+    }
+    report("Delete (a message) / data key (DATA INPUT)", &mut t, bytes);
 
     // The page keys POS and back while Table B runs.
     let mut l = Loop::open("keys-run");

@@ -501,3 +501,28 @@ fn an_override_does_not_bring_back_an_old_notice() {
     c.handle(E::WaitBlock(3));
     assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
 }
+
+/// Issue 23, key-to-screen time: the terminal saves the counters a run's end changes after it
+/// has written the frame (RESET's answer is not held up by the disk), and they are saved then,
+/// or at the session's end at the latest.
+#[test]
+fn the_terminal_saves_the_counters_after_the_frame() {
+    let mut c = open("aftersave");
+    let dir = c.config().state_dir.clone();
+    let file = dir.join(novanc::store::history::COUNTERS);
+    let read = || std::fs::read_to_string(&file).unwrap_or_default();
+    c.set_saves_after_frame(true);
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(5000));
+    let before = read();
+    keys(&mut c, &["F11"]);
+    assert_eq!(read(), before, "not yet: the frame comes first");
+    c.frame_written();
+    let after = read();
+    assert_ne!(after, before, "the run's time is counted and saved");
+    keys(&mut c, &["F9"]);
+    c.handle(E::WaitMs(5000));
+    keys(&mut c, &["F11"]);
+    let _ = c.finish();
+    assert_ne!(read(), after, "saved at the end of the session");
+}

@@ -82,6 +82,10 @@ pub struct Console {
     message: String,
     /// How long [`Console::message`] lives.
     msg_life: MsgLife,
+    /// The front end saves the counters after it has written the frame ([`Console::frame_written`]).
+    saves_after_frame: bool,
+    /// The counters changed since they were last saved (with `saves_after_frame`).
+    counters_unsaved: bool,
     /// Whether the last START that set the run going was given in SINGLE BLOCK (a turn to
     /// AUTO during that block then lets the block end and waits for START).
     start_single: bool,
@@ -176,6 +180,8 @@ impl Console {
             message: String::new(),
             msg_life: MsgLife::NextKey,
             start_single: false,
+            saves_after_frame: false,
+            counters_unsaved: false,
             program_alarm: None,
             y_output: None,
             feed_override: 100,
@@ -396,10 +402,28 @@ impl Console {
         &self.cfg
     }
 
+    /// Makes the counters (written to the stores at each run's end) wait until the front end
+    /// has written the frame and calls [`Console::frame_written`]: the terminal does, so that
+    /// a key's answer (RESET ending a run) is on the screen before the disk is waited for.
+    pub fn set_saves_after_frame(&mut self, on: bool) {
+        self.saves_after_frame = on;
+    }
+
+    /// The front end has written a frame: the saves [`Console::set_saves_after_frame`] held
+    /// back are made now (a failure is said on the next frame).
+    pub fn frame_written(&mut self) {
+        if self.counters_unsaved {
+            pages::save_counters(self);
+        }
+    }
+
     /// Ends the session: stops the machine and closes the recording. Returns the recording's
     /// summary, if one was made.
-    pub fn finish(self) -> Result<Option<String>, String> {
+    pub fn finish(mut self) -> Result<Option<String>, String> {
         self.core.command(Command::Reset);
+        self.status = self.core.status();
+        run::note_run_end(&mut self);
+        self.frame_written();
         let Console { core, recorder, .. } = self;
         // The pulse core thread ends first: in real time it goes on publishing, and an event
         // sent after the recording closed would be counted as dropped (RECORDING INCOMPLETE).

@@ -295,7 +295,18 @@ pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64
         k.parts += 1;
         k.last_cycle_ns = machine_ns;
     }
-    if let Err(e) = k.save(&c.cfg.state_dir) {
+    if c.saves_after_frame {
+        // The terminal writes the frame first (the key's answer), then saves them.
+        c.counters_unsaved = true;
+        return;
+    }
+    save_counters(c);
+}
+
+/// Saves the counters; a failure is said after the message shown.
+pub(super) fn save_counters(c: &mut Console) {
+    c.counters_unsaved = false;
+    if let Err(e) = c.pages.counters.save(&c.cfg.state_dir) {
         also_say(c, &e);
     }
 }
