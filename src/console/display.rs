@@ -8,9 +8,10 @@
 //! - Tool data modes: one T code per line.
 //! - Manual modes (CONTINUOUS, HANDLE, STEP): positions, handwheel, tool and spindle.
 
+use super::state::{lamps, machine_note};
 use super::Console;
 use crate::block::iso_line;
-use crate::panel_model::{DataMode, Lamps, OpMode};
+use crate::panel_model::{DataMode, OpMode};
 use crate::pulse_core::RunKind;
 use crate::store::Target;
 use crate::tooldata::Magazine;
@@ -186,66 +187,6 @@ fn jogged_note(c: &Console) -> Option<String> {
         s.to_mm(to[1]),
         s.to_mm(to[2])
     ))
-}
-
-/// The lamps, from the status snapshot: HOLD is a feed hold at rest or braking, not the
-/// return after a manual intervention (the machine moves; RUN is lit).
-pub(super) fn lamps(c: &Console) -> Lamps {
-    let s = &c.status;
-    let returning = s.job.as_ref().is_some_and(|j| j.returning);
-    Lamps {
-        run: s.run != 0,
-        hold: s.hold && !returning,
-        estop: s.estop,
-        alarm: c.alarm_lit(),
-    }
-}
-
-/// What the machine is doing, for the message line, derived from the status snapshot when the
-/// frame is drawn (never kept), so that it cannot outlive what it describes: an emergency stop,
-/// a feed hold, the end of a block START was given for in SINGLE BLOCK, a run waiting for
-/// START. The return after a manual intervention and a program stop have their own notes
-/// ([`jogged_note`], `gcode_run::program_stop_note`).
-pub(super) fn machine_note(c: &Console) -> Option<String> {
-    let s = &c.status;
-    if s.estop {
-        return Some("EMERGENCY STOP: pulses stopped; press RESET".into());
-    }
-    let job = s.job.as_ref()?;
-    if job.returning {
-        return None;
-    }
-    let runs_it = match job.kind {
-        RunKind::Auto => matches!(c.op, OpMode::Auto | OpMode::Single),
-        RunKind::Mdi => c.op == OpMode::Mdi,
-    };
-    if s.hold {
-        return Some(if runs_it {
-            "feed hold: press START to resume, RESET to abandon".into()
-        } else {
-            format!(
-                "feed hold: the {} run is held (RESET abandons it)",
-                job.kind.name()
-            )
-        });
-    }
-    if s.run != 0 && s.in_block && s.single_block {
-        return match c.op {
-            OpMode::Auto => Some(
-                "AUTO: this block was started in SINGLE BLOCK; the run stops after it, START then runs on"
-                    .into(),
-            ),
-            OpMode::Single if !c.start_single => {
-                Some("SINGLE BLOCK: the machine stops after this block".into())
-            }
-            _ => None,
-        };
-    }
-    let waiting = s.run == 0 && !s.in_block && !s.moving;
-    if waiting && runs_it && super::gcode_run::program_stop_note(c).is_none() {
-        return Some(format!("{}: press START to continue", c.op.name()));
-    }
-    None
 }
 
 /// The message line(s): a note on a jogged run, what the machine is doing, then the alarm,

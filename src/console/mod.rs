@@ -23,6 +23,7 @@ mod punch;
 mod run;
 mod script_line;
 pub mod search;
+mod state;
 pub mod tape;
 pub mod tcode;
 
@@ -256,7 +257,7 @@ impl Console {
             op_mode: self.op,
             data_mode: self.data,
             run: self.status.run,
-            lamps: display::lamps(self),
+            lamps: state::lamps(self),
             feed_override: self.feed_override,
             axis_mm,
             tip_mm,
