@@ -155,10 +155,11 @@ fn the_relay_panel_acts_on_the_help_screen() {
     assert!(c.status().hold, "STOP acted");
     keys(&mut c, &["F8", "F11"]);
     assert!(c.status().job.is_none(), "RESET acted");
+    // Issue 23: a key that closes the help also acts.
     keys(&mut c, &["F8", "F9"]);
     assert!(
-        c.view().help == 0 && c.status().job.is_none(),
-        "START only closes the help"
+        c.view().help == 0 && c.status().job.is_some(),
+        "START closes the help and starts"
     );
 }
 
@@ -364,4 +365,164 @@ fn a_continuous_tap_after_a_refused_action_stops() {
     c.handle(E::Wait);
     let moved = z - c.status().pos[2];
     assert_eq!(moved, p(0.1), "the tap moved {moved} pulses");
+}
+
+/// Issue 23: SINGLE BLOCK, START three times, then AUTO while N3 (`S400 M03`) executes: the
+/// block START was pressed for completes and the run stops; START then continues in AUTO. The
+/// screen says "press START" only while the machine stands waiting for it.
+#[test]
+fn auto_during_a_single_block_stops_after_it_until_start() {
+    let mut c = open("sbauto");
+    keys(&mut c, &["Alt+7", "F9"]);
+    c.handle(E::Wait);
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    keys(&mut c, &["F9"]);
+    c.handle(E::WaitBlock(3));
+    assert!(shows(&c, ">N3 S400 M03"), "{}", c.frame_text());
+    assert!(c.status().in_block, "N3 is executing");
+    keys(&mut c, &["Alt+2"]);
+    assert!(
+        !shows(&c, "press START"),
+        "N3 still executes: {}",
+        c.frame_text()
+    );
+    c.handle(E::Wait);
+    let run = audit(&c);
+    assert_eq!(
+        run.iter().map(|e| e.seq).collect::<Vec<_>>(),
+        vec![1, 2, 3],
+        "nothing after N3 without START"
+    );
+    assert_eq!(c.status().pos[2], 0, "Z has not come down (N4)");
+    assert!(shows(&c, "press START"), "{}", c.frame_text());
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    assert!(shows(&c, "program end: 101 blocks"), "{}", c.frame_text());
+    assert!(!shows(&c, "press START to continue"), "{}", c.frame_text());
+}
+
+/// Issue 23: during the return after a manual intervention the HOLD lamp is out (the machine
+/// moves), and neither "returning" nor "START ignored" outlives what it describes.
+#[test]
+fn the_return_and_start_ignored_do_not_outlive_what_they_describe() {
+    let mut c = open("retlamp");
+    keys(&mut c, &["Alt+7"]);
+    for _ in 0..4 {
+        keys(&mut c, &["F9"]);
+        c.handle(E::Wait);
+    }
+    assert_eq!(c.status().pos[2], p(-255.0), "N4 down");
+    keys(&mut c, &["Alt+6"]);
+    for _ in 0..30 {
+        keys(&mut c, &["PgUp"]);
+        c.handle(E::Wait);
+    }
+    assert_eq!(c.status().pos[2], p(-252.0));
+    keys(&mut c, &["Alt+7", "F9"]);
+    c.handle(E::WaitMs(50));
+    assert!(c.status().moving, "the return is under way");
+    assert!(
+        c.status().job.as_ref().is_some_and(|j| j.returning),
+        "returning"
+    );
+    let v = c.view();
+    assert!(!v.lamps.hold, "HOLD lamp lit while Z feeds back down");
+    assert!(v.lamps.run);
+    assert!(!c.frame_text().contains(" HOLD"), "{}", c.frame_text());
+    assert!(shows(&c, "returning"), "{}", c.frame_text());
+    c.handle(E::WaitBlock(5));
+    assert!(c.status().job.as_ref().is_some_and(|j| !j.returning));
+    assert!(!shows(&c, "returning"), "{}", c.frame_text());
+    // START while N5 executes is ignored; the note goes with N5.
+    keys(&mut c, &["F9"]);
+    assert!(shows(&c, "START ignored"), "{}", c.frame_text());
+    c.handle(E::Wait);
+    assert!(!c.status().in_block);
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+}
+
+/// Issue 23: a key that closes the help screen also acts.
+#[test]
+fn a_key_that_closes_help_also_acts() {
+    let mut c = open("helpkey");
+    keys(&mut c, &["Alt+4", "F3", "F8", "L"]);
+    assert!(!c.help_shown());
+    assert_eq!(c.view().entry, "L", "the letter is typed");
+    keys(&mut c, &["F8", "F8", "K"]);
+    assert!(!c.help_shown());
+    assert_eq!(c.view().entry, "LK");
+    keys(&mut c, &["F8", "Alt+2"]);
+    assert_eq!(c.view().op_mode, novanc::panel_model::OpMode::Auto);
+}
+
+/// Issue 23: a key that does nothing in this mode says so.
+#[test]
+fn a_key_that_does_nothing_says_so() {
+    let mut c = open("deadkeys");
+    for (mode, k) in [("Alt+2", "Delete"), ("Alt+2", "Tab"), ("Alt+4", "Delete")] {
+        keys(&mut c, &[mode, k]);
+        assert!(
+            shows(&c, &format!("key {k} does nothing")),
+            "{k}: {}",
+            c.frame_text()
+        );
+    }
+}
+
+/// Issue 23: a value typed on OFS while the machine moves is kept on the entry line with the
+/// reason; INPUT once at rest applies it.
+#[test]
+fn an_ofs_value_refused_while_moving_stays_on_the_entry_line() {
+    let mut c = open("ofsmove");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(6000));
+    assert!(c.status().moving);
+    keys(&mut c, &["Ctrl+o", "Down", "1", "5", "5", "Enter"]);
+    assert!(shows(&c, "OFS refused"), "{}", c.frame_text());
+    assert_eq!(c.view().entry, "155", "the value is kept");
+    assert!(shows(&c, "> 155_"), "{}", c.frame_text());
+    keys(&mut c, &["F10"]);
+    c.handle(E::Wait);
+    keys(&mut c, &["Enter"]);
+    assert_eq!(c.view().entry, "");
+    assert!(shows(&c, "T02 LEN 155.000"), "{}", c.frame_text());
+}
+
+/// Found by the operator-sequence test's screen check (issue 23): after a START ignored, a
+/// feed override key showed the core's old notice again, and it stayed after the run ended.
+#[test]
+fn an_override_does_not_bring_back_an_old_notice() {
+    let mut c = open("noticeback");
+    keys(&mut c, &["Alt+2", "F9", "F9"]);
+    assert!(shows(&c, "START ignored"), "{}", c.frame_text());
+    keys(&mut c, &["Alt+="]);
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+    c.handle(E::WaitBlock(3));
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+}
+
+/// Issue 23, key-to-screen time: the terminal saves the counters a run's end changes after it
+/// has written the frame (RESET's answer is not held up by the disk), and they are saved then,
+/// or at the session's end at the latest.
+#[test]
+fn the_terminal_saves_the_counters_after_the_frame() {
+    let mut c = open("aftersave");
+    let dir = c.config().state_dir.clone();
+    let file = dir.join(novanc::store::history::COUNTERS);
+    let read = || std::fs::read_to_string(&file).unwrap_or_default();
+    c.set_saves_after_frame(true);
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(E::WaitMs(5000));
+    let before = read();
+    keys(&mut c, &["F11"]);
+    assert_eq!(read(), before, "not yet: the frame comes first");
+    c.frame_written();
+    let after = read();
+    assert_ne!(after, before, "the run's time is counted and saved");
+    keys(&mut c, &["F9"]);
+    c.handle(E::WaitMs(5000));
+    keys(&mut c, &["F11"]);
+    let _ = c.finish();
+    assert_ne!(read(), after, "saved at the end of the session");
 }

@@ -14,6 +14,9 @@
 //! - a tape read stores exactly what the codec decodes, or nothing: an error leaves program
 //!   memory and the tool data unchanged with the ALARM lamp lit, and so does abandoning it;
 //! - a stopped run the operator moved by hand says so on its run page;
+//! - the screen is a function of the state (issue 23): after every step every lamp and the
+//!   state line agree with the status snapshot, and no message describes a state the machine
+//!   has left (running, held, returning, waiting for START, a START ignored, an e-stop);
 //! - after an MDI G-code move (G-code sessions also type G91/G90, G92/G92.1, G43/G49 and G0
 //!   lines in MDI, each run at once), the machine stands where the interpreter's state before
 //!   the line says it goes; a refused one moves nothing and changes no mode; after an MDI
@@ -671,6 +674,7 @@ impl Session {
         let v = self.c.view();
         assert_eq!(v.lamps.estop, st.estop);
         assert_eq!(v.lamps.run, st.run != 0);
+        self.screen_agrees(&st);
         assert_eq!(v.display.len(), self.c.config().rows);
         for l in &v.display {
             assert!(l.chars().count() <= self.c.config().cols, "{l:?}");
@@ -696,6 +700,73 @@ impl Session {
                     self.c.frame_text()
                 );
             }
+        }
+    }
+}
+
+impl Session {
+    /// The lamps, the state line and every message that describes the machine agree with the
+    /// status snapshot (issue 23, "The screen is a function of the state").
+    fn screen_agrees(&self, st: &novanc::pulse_core::Status) {
+        let v = self.c.view();
+        let frame = self.c.frame_text();
+        let returning = st.job.as_ref().is_some_and(|j| j.returning);
+        assert_eq!(v.lamps.hold, st.hold && !returning, "HOLD lamp\n{frame}");
+        assert_eq!(
+            v.lamps.alarm,
+            st.alarm.is_some() || self.c.program_alarm().is_some() || self.c.tape_alarm().is_some(),
+            "ALARM lamp\n{frame}"
+        );
+        if v.page != novanc::panel_model::Page::Mode {
+            // The pages show history and program text, not the machine's state.
+            return;
+        }
+        if let Some(line) = v
+            .display
+            .iter()
+            .map(|l| l.trim_end())
+            .find(|l| l.starts_with("RUN "))
+        {
+            assert!(
+                line.starts_with(&format!("RUN {} ", st.run)),
+                "{line}\n{frame}"
+            );
+            // ESTOP and HOLD come before the switches, so only a cut line may lose them.
+            let cut = line.ends_with('…');
+            let estop_shown = line.contains(" ESTOP");
+            let hold_shown = line.contains(" HOLD");
+            assert!(!estop_shown || st.estop, "ESTOP on the state line\n{frame}");
+            assert!(estop_shown || !st.estop || cut, "no ESTOP\n{frame}");
+            assert!(
+                !hold_shown || v.lamps.hold,
+                "HOLD on the state line\n{frame}"
+            );
+            assert!(
+                hold_shown || !v.lamps.hold || st.estop || cut,
+                "no HOLD on the state line\n{frame}"
+            );
+        }
+        let text = frame
+            .lines()
+            .map(|l| l.trim())
+            .collect::<Vec<_>>()
+            .join(" ");
+        let says = |what: &str| text.contains(what);
+        let stands_for_start = st.job.is_some() && st.run == 0 && !st.in_block && !st.moving;
+        let checks: [(&str, bool); 7] = [
+            ("START: returning", false),
+            ("returning to X", returning),
+            ("press START to continue", stands_for_start),
+            ("feed hold: press START to resume", st.hold && !returning),
+            ("START ignored", st.run != 0 && !st.hold),
+            ("the machine stops after this block", st.in_block),
+            ("EMERGENCY STOP", st.estop || st.alarm.is_some()),
+        ];
+        for (what, true_now) in checks {
+            assert!(
+                !says(what) || true_now,
+                "the screen says '{what}' but the machine has left that state ({st:?})\n{frame}"
+            );
         }
     }
 }

@@ -8,6 +8,7 @@
 //! - Tool data modes: one T code per line.
 //! - Manual modes (CONTINUOUS, HANDLE, STEP): positions, handwheel, tool and spindle.
 
+use super::state::{lamps, machine_note};
 use super::Console;
 use crate::block::iso_line;
 use crate::panel_model::{DataMode, OpMode};
@@ -188,7 +189,8 @@ fn jogged_note(c: &Console) -> Option<String> {
     ))
 }
 
-/// The message line(s): a note on a jogged run, then the alarm, then the message.
+/// The message line(s): a note on a jogged run, what the machine is doing, then the alarm,
+/// then the operator message.
 pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
     let mut parts: Vec<String> = Vec::new();
     if let Some(n) = jogged_note(c) {
@@ -196,6 +198,11 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     }
     if let Some(n) = super::gcode_run::program_stop_note(c) {
         parts.push(n);
+    }
+    if let Some(n) = machine_note(c) {
+        if n != c.message {
+            parts.push(n);
+        }
     }
     let alarm = c
         .status
@@ -237,9 +244,10 @@ pub(super) fn state_line(c: &Console) -> String {
     );
     // What the machine is doing comes before the switches, so a narrow display that cuts the
     // line (with its mark) never cuts ESTOP or HOLD.
-    if c.status.estop {
+    let lamps = lamps(c);
+    if lamps.estop {
         s.push_str(" ESTOP");
-    } else if c.status.hold {
+    } else if lamps.hold {
         s.push_str(" HOLD");
     }
     if c.switches.block_delete {

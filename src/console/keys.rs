@@ -3,8 +3,9 @@
 //! (`key NAME`) press the same keys with the same effect.
 //!
 //! The relay panel always acts: STOP, RESET and E-STOP work on every screen (help, too small,
-//! any mode). While the help screen is up any other key only closes it; while the terminal is
-//! too small every other key is ignored and the notice says so.
+//! any mode). While the help screen is up any other key closes it and acts (F8 turns its page);
+//! while the terminal is too small every other key is ignored and the notice says so. A key
+//! that does nothing where it is pressed says so: no key is lost in silence.
 
 use super::pages::{self, Page};
 use super::Console;
@@ -182,10 +183,14 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
 
 impl Console {
     /// Presses a key of the terminal's key map. The relay panel (STOP, RESET, E-STOP) acts on
-    /// every screen; with the help screen up any other key closes it; with the terminal too
-    /// small any other key is ignored, and the notice says so.
+    /// every screen; with the help screen up any other key closes it and acts (F8 turns to the
+    /// second page, and closes it from there); with the terminal too small any other key is
+    /// ignored, and the notice says so.
     pub fn press(&mut self, k: Key) {
         let action = map_key(k);
+        if self.screen_fits && !is_relay_stop(k) {
+            self.new_action();
+        }
         if is_relay_stop(k) {
             self.help = 0;
             if let Action::Event(e) = action {
@@ -194,14 +199,15 @@ impl Console {
             return;
         }
         if self.help > 0 {
-            // F8 again turns to the second help page; any other key closes the help.
-            self.help = if action == Action::Help && self.help == 1 {
-                2
-            } else {
-                0
-            };
-            self.refresh();
-            return;
+            // F8 turns to the second help page and closes it from there; any other key closes
+            // the help and acts (it is not eaten).
+            let was = self.help;
+            self.help = 0;
+            if action == Action::Help {
+                self.help = if was == 1 { 2 } else { 0 };
+                self.refresh();
+                return;
+            }
         }
         if !self.screen_fits {
             self.ignored = Some(format!(
@@ -275,7 +281,18 @@ impl Console {
                 self.help = 1;
                 self.refresh();
             }
-            Action::None => {}
+            Action::None => {
+                self.message = format!(
+                    "key {} does nothing in {}{} (F8 shows the keys)",
+                    key_name(k),
+                    self.op.name(),
+                    match self.pages.page {
+                        Page::Mode => String::new(),
+                        p => format!(" on the {} page", p.label()),
+                    }
+                );
+                self.refresh();
+            }
         }
     }
 

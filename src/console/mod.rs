@@ -23,6 +23,7 @@ mod punch;
 mod run;
 mod script_line;
 pub mod search;
+mod state;
 pub mod tape;
 pub mod tcode;
 
@@ -32,13 +33,25 @@ pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 
 use crate::block::TranslateError;
-use crate::panel_model::{Axis, DataMode, Lamps, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
 use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use crate::tooldata::Magazine;
 use memory::Memory;
 use std::path::PathBuf;
+
+/// How long an operator message lives (docs/panel.md, "Messages").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum MsgLife {
+    /// Until the next operator action (a key, a script word other than `wait` and `show`).
+    #[default]
+    NextKey,
+    /// While the block executing when it was said (the run's completed-block count then)
+    /// still executes and the run goes on (a START ignored during a block), and at most until
+    /// the next operator action.
+    WhileBlock(u64),
+}
 
 /// A program that would not translate: shown with the ALARM lamp until the program (or the
 /// tool data) changes and translates, or RESET.
@@ -63,8 +76,20 @@ pub struct Console {
     entry: String,
     /// The last command line entered (EOB).
     last_line: String,
-    /// The result or error of the last action.
+    /// The operator message: the result, refusal or error of an action (or what the machine
+    /// reported on its own, such as a run's end). It lives as [`Console::msg_life`] says; what
+    /// the machine is doing (running, held, returning, waiting for START) is never kept here
+    /// but derived from the status snapshot when the frame is drawn (`display::machine_note`).
     message: String,
+    /// How long [`Console::message`] lives.
+    msg_life: MsgLife,
+    /// The front end saves the counters after it has written the frame ([`Console::frame_written`]).
+    saves_after_frame: bool,
+    /// The counters changed since they were last saved (with `saves_after_frame`).
+    counters_unsaved: bool,
+    /// Whether the last START that set the run going was given in SINGLE BLOCK (a turn to
+    /// AUTO during that block then lets the block end and waits for START).
+    start_single: bool,
     /// A program that does not translate (see [`ProgramAlarm`]).
     program_alarm: Option<ProgramAlarm>,
     /// `Y` output of the last editor command line, shown instead of the text window.
@@ -154,6 +179,10 @@ impl Console {
             entry: String::new(),
             last_line: String::new(),
             message: String::new(),
+            msg_life: MsgLife::NextKey,
+            start_single: false,
+            saves_after_frame: false,
+            counters_unsaved: false,
             program_alarm: None,
             y_output: None,
             feed_override: 100,
@@ -198,6 +227,9 @@ impl Console {
     /// Applies one operator action. Never fails: a key that is not valid in the current mode
     /// gets a message on the display and changes nothing.
     pub fn handle(&mut self, ev: PanelEvent) {
+        if is_action(&ev) {
+            self.new_action();
+        }
         self.status = self.core.status();
         self.recorder.panel_event(&ev, self.status.machine_ns);
         self.apply(ev);
@@ -225,12 +257,7 @@ impl Console {
             op_mode: self.op,
             data_mode: self.data,
             run: self.status.run,
-            lamps: Lamps {
-                run: self.status.run != 0,
-                hold: self.status.hold,
-                estop: self.status.estop,
-                alarm: self.alarm_lit(),
-            },
+            lamps: state::lamps(self),
             feed_override: self.feed_override,
             axis_mm,
             tip_mm,
@@ -376,10 +403,28 @@ impl Console {
         &self.cfg
     }
 
+    /// Makes the counters (written to the stores at each run's end) wait until the front end
+    /// has written the frame and calls [`Console::frame_written`]: the terminal does, so that
+    /// a key's answer (RESET ending a run) is on the screen before the disk is waited for.
+    pub fn set_saves_after_frame(&mut self, on: bool) {
+        self.saves_after_frame = on;
+    }
+
+    /// The front end has written a frame: the saves [`Console::set_saves_after_frame`] held
+    /// back are made now (a failure is said on the next frame).
+    pub fn frame_written(&mut self) {
+        if self.counters_unsaved {
+            pages::save_counters(self);
+        }
+    }
+
     /// Ends the session: stops the machine and closes the recording. Returns the recording's
     /// summary, if one was made.
-    pub fn finish(self) -> Result<Option<String>, String> {
+    pub fn finish(mut self) -> Result<Option<String>, String> {
         self.core.command(Command::Reset);
+        self.status = self.core.status();
+        run::note_run_end(&mut self);
+        self.frame_written();
         let Console { core, recorder, .. } = self;
         // The pulse core thread ends first: in real time it goes on publishing, and an event
         // sent after the recording closed would be counted as dropped (RECORDING INCOMPLETE).
@@ -392,6 +437,13 @@ impl Console {
     fn refresh(&mut self) {
         self.status = self.core.status();
         tape::advance(self);
+        if let MsgLife::WhileBlock(done) = self.msg_life {
+            let s = &self.status;
+            if s.run == 0 || s.hold || s.blocks_done != done {
+                self.message.clear();
+                self.msg_life = MsgLife::NextKey;
+            }
+        }
         run::note_run_end(self);
         gcode_run::keep_read(self);
         self.plan_shown = search::current_plan(self);
@@ -421,6 +473,12 @@ impl Console {
         }
     }
 
+    /// An operator action begins: the operator message of the last one has lived its life.
+    fn new_action(&mut self) {
+        self.message.clear();
+        self.msg_life = MsgLife::NextKey;
+    }
+
     /// Whether the machine is running or moving (by the latest status).
     fn running(&self) -> bool {
         self.status.run != 0 || self.status.moving
@@ -428,8 +486,16 @@ impl Console {
 
     /// Sends a command to the core and takes its answer as the status.
     fn command(&mut self, c: Command) {
+        // The core keeps its notice across these (they answer no operator action of their
+        // own): forgetting it was shown would show it again, after what it spoke of.
+        let keeps_notice = matches!(
+            c,
+            Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
+        );
         self.status = self.core.command(c);
-        self.notice_seen = None;
+        if !keeps_notice {
+            self.notice_seen = None;
+        }
     }
 
     /// Dispatches one event (the rules of `docs/panel.md`).
@@ -446,7 +512,6 @@ impl Console {
                     self.data = d;
                     self.entry.clear();
                     self.y_output = None;
-                    self.message.clear();
                     self.last_line.clear();
                 }
             }
@@ -471,15 +536,17 @@ impl Console {
             PanelEvent::Stop => {
                 let had_run = self.status.job.is_some();
                 self.command(Command::Stop);
-                self.message = if self.status.hold {
-                    "feed hold: press START to resume, RESET to abandon".into()
-                } else if self.status.moving {
-                    "STOP: the manual move decelerates to rest".into()
-                } else if had_run {
-                    "STOP: the run is already stopped (START continues, RESET abandons)".into()
-                } else {
-                    "STOP: the machine is not running".into()
-                };
+                // A feed hold is said by the display while it lasts (display::machine_note).
+                if !self.status.hold {
+                    self.message = if self.status.moving {
+                        "STOP: the manual move decelerates to rest"
+                    } else if had_run {
+                        "STOP: the run is already stopped (START continues, RESET abandons)"
+                    } else {
+                        "STOP: the machine is not running"
+                    }
+                    .into();
+                }
             }
             PanelEvent::Reset => {
                 self.command(Command::Reset);
@@ -495,7 +562,7 @@ impl Console {
                 self.command(Command::EStop);
                 self.jogging = false;
                 self.jog_key = None;
-                self.message = "EMERGENCY STOP: pulses stopped; press RESET".into();
+                // Said by the display while it is in force (display::machine_note).
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
@@ -568,30 +635,26 @@ impl Console {
             // stays in force).
             let had_run = self.status.job.is_some() || self.running();
             self.command(Command::Abandon);
-            self.message = if had_run {
-                "DATA INPUT: RUN cleared, the run was abandoned".into()
-            } else {
-                String::new()
-            };
+            if had_run {
+                self.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+            }
             return;
         }
         let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
         if runs(was) && runs(m) {
-            self.command(Command::SingleBlock(m == OpMode::Single));
-            self.message = if m == OpMode::Single {
-                "SINGLE BLOCK: the machine stops after this block".into()
-            } else if self.status.job.is_some() {
-                "AUTO: press START to continue".into()
-            } else {
-                String::new()
-            };
+            // SINGLE BLOCK on: the block in progress is the last. Off: a run set going by a
+            // START in SINGLE BLOCK still ends the block START was given for and waits for
+            // START (docs/panel.md, "Rules and choices"); what the machine does is said by the
+            // display (display::machine_note).
+            let keep_single = m == OpMode::Auto && self.start_single && self.status.job.is_some();
+            if !keep_single {
+                self.command(Command::SingleBlock(m == OpMode::Single));
+            }
             return;
         }
         if self.status.run != 0 && !self.status.hold {
             self.command(Command::Stop);
             self.message = format!("feed hold: mode changed to {} while running", m.name());
-        } else {
-            self.message.clear();
         }
     }
 
@@ -619,6 +682,19 @@ impl Console {
             }
         }
     }
+}
+
+/// Whether an event is an operator action (which ends the last operator message's life): not
+/// a script's waits, `show`, or a simulated machine input.
+fn is_action(ev: &PanelEvent) -> bool {
+    !matches!(
+        ev,
+        PanelEvent::Wait
+            | PanelEvent::WaitBlock(_)
+            | PanelEvent::WaitMs(_)
+            | PanelEvent::Show
+            | PanelEvent::Input { .. }
+    )
 }
 
 /// A clock choice for scripts and tests: virtual time.

@@ -213,7 +213,12 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
             return;
         }
     }
-    c.command(Command::SingleBlock(single));
+    // The single-block switch is told only when START can act: a START ignored while a block
+    // executes changes nothing, not even whether the run stops after that block.
+    let st = &c.status;
+    if st.job.is_none() || st.hold || (st.run == 0 && !st.in_block) {
+        c.command(Command::SingleBlock(single));
+    }
     let make = if c.status.job.is_none() {
         c.core.set_magazine(c.mem.magazine());
         note_run_end(c);
@@ -234,24 +239,24 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {
         c.message = n.clone();
+        if n.starts_with("START ignored") {
+            // It speaks of the block executing: it goes when that block ends.
+            c.msg_life = super::MsgLife::WhileBlock(c.status.blocks_done);
+        }
         return;
     }
+    c.start_single = single;
     if c.status.runs > runs_before {
         // A new run took the program as it is now: what it finds decides the alarm.
         c.program_alarm = None;
-        c.message.clear();
         if kind == RunKind::Auto {
             if let Some(sp) = c.search.take() {
                 c.message = format!("running from line {} (SEARCH)", sp.line);
             }
         }
         note_run_end(c);
-    } else {
-        c.message = match &c.status.job {
-            Some(j) if j.returning => "START: returning to where the run stopped".into(),
-            _ => String::new(),
-        };
     }
+    // Resumed: a return to where the run stopped is said by the display while it lasts.
 }
 
 /// Reports a run's end once: the message, and the program alarm for a source error.
@@ -438,10 +443,9 @@ fn manual_allowed(c: &mut Console, what: &str) -> bool {
 /// The message after a manual move command: the core's refusal, or what START will do.
 fn after_manual(c: &mut Console) {
     c.notice_seen = c.status.notice.clone();
-    c.message = match &c.status.notice {
-        Some(n) => n.clone(),
-        None => String::new(),
-    };
+    if let Some(n) = &c.status.notice {
+        c.message = n.clone();
+    }
 }
 
 /// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only.

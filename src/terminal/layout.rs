@@ -192,8 +192,8 @@ pub const HELP: &[&str] = &[
     "G-code switches              Alt+b BLOCK DELETE  Alt+o OPTIONAL STOP (M01)",
     "Pages                        Ctrl-P POS  Ctrl-D PROG  Ctrl-O OFS  Ctrl-E MSG",
     "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
-    "F8 again: the editor commands and the page keys. Any key returns to the panel;",
-    "STOP, RESET and E-STOP also act at once.",
+    "F8 again: the editor commands and the page keys. Any other key closes the help",
+    "and acts as on the panel (STOP, RESET and E-STOP too): no key is lost.",
 ];
 
 /// The second help page: the editor commands with an example each, and the page keys.
@@ -217,7 +217,7 @@ pub const HELP_EDITOR: &[&str] = &[
     "  Ctrl-E MSG   alarm and message history, newest first",
     "MDI mode: a statement or a G-code line, Enter, F9; Up/Down recall 20",
     "",
-    "Any key returns to the panel; STOP, RESET and E-STOP also act at once.",
+    "F8 closes the help; any other key closes it and acts as on the panel.",
 ];
 
 /// Draws help page `page` (1: the panel keys, 2: the editor commands and pages).

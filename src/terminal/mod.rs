@@ -78,6 +78,7 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
     let mut screen = Screen::new(0, 0);
     let mut out = Vec::with_capacity(16 * 1024);
     let need = panel_size(console.config().rows, console.config().cols);
+    console.set_saves_after_frame(true);
     // Test hook: proves that a panic hands the terminal back (tests/tmux_panel.rs).
     let panic_requested = std::env::var_os("NOVANC_TEST_PANIC").is_some();
     loop {
@@ -115,6 +116,7 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
         if !out.is_empty() && term.write_all(&out).is_err() {
             return (1, console);
         }
+        console.frame_written();
         if panic_requested && !out.is_empty() {
             panic!("NOVANC_TEST_PANIC: a panic after the first frame, as requested");
         }

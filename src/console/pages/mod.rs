@@ -138,7 +138,6 @@ pub(super) fn page_key(c: &mut Console, p: Page) {
     c.pages.confirm_delete = None;
     c.pages.msg_first = 0;
     c.entry.clear();
-    c.message.clear();
 }
 
 /// A key while a page is shown; whether the page took it.
@@ -161,14 +160,15 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             }
             true
         }
-        Key::Enter => {
+        Key::Enter | Key::Tab => {
             let line = std::mem::take(&mut c.entry);
-            enter(c, &line, false);
-            true
-        }
-        Key::Tab => {
-            let line = std::mem::take(&mut c.entry);
-            enter(c, &line, true);
+            enter(c, &line, k == Key::Tab);
+            // A value that cannot be applied now stays on the entry line, beside the reason
+            // (the operator INPUTs it again, or corrects it), as a Fanuc keeps its key-in
+            // buffer on a refused INPUT.
+            if c.entry.is_empty() && c.message.contains("refused") {
+                c.entry = line;
+            }
             true
         }
         Key::Char(ch) => {
@@ -295,7 +295,18 @@ pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64
         k.parts += 1;
         k.last_cycle_ns = machine_ns;
     }
-    if let Err(e) = k.save(&c.cfg.state_dir) {
+    if c.saves_after_frame {
+        // The terminal writes the frame first (the key's answer), then saves them.
+        c.counters_unsaved = true;
+        return;
+    }
+    save_counters(c);
+}
+
+/// Saves the counters; a failure is said after the message shown.
+pub(super) fn save_counters(c: &mut Console) {
+    c.counters_unsaved = false;
+    if let Err(e) = c.pages.counters.save(&c.cfg.state_dir) {
         also_say(c, &e);
     }
 }

@@ -1,0 +1,68 @@
+//! What the pulse core's status snapshot says, derived each time it is asked for: the lamps
+//! and what the machine is doing (docs/panel.md, "Messages"). Nothing here is kept, so nothing
+//! here can outlive what it describes. The display program formats it; the console's view
+//! reads the lamps from here, not from the display.
+
+use super::Console;
+use crate::panel_model::{Lamps, OpMode};
+use crate::pulse_core::RunKind;
+
+/// The lamps, from the status snapshot: HOLD is a feed hold at rest or braking, not the
+/// return after a manual intervention (the machine moves; RUN is lit).
+pub(super) fn lamps(c: &Console) -> Lamps {
+    let s = &c.status;
+    let returning = s.job.as_ref().is_some_and(|j| j.returning);
+    Lamps {
+        run: s.run != 0,
+        hold: s.hold && !returning,
+        estop: s.estop,
+        alarm: c.alarm_lit(),
+    }
+}
+
+/// What the machine is doing, for the message line, derived from the status snapshot when the
+/// frame is drawn (never kept), so that it cannot outlive what it describes: an emergency stop,
+/// a feed hold, the end of a block START was given for in SINGLE BLOCK, a run waiting for
+/// START. The return after a manual intervention and a program stop have their own notes
+/// (`display::jogged_note`, `gcode_run::program_stop_note`).
+pub(super) fn machine_note(c: &Console) -> Option<String> {
+    let s = &c.status;
+    if s.estop {
+        return Some("EMERGENCY STOP: pulses stopped; press RESET".into());
+    }
+    let job = s.job.as_ref()?;
+    if job.returning {
+        return None;
+    }
+    let runs_it = match job.kind {
+        RunKind::Auto => matches!(c.op, OpMode::Auto | OpMode::Single),
+        RunKind::Mdi => c.op == OpMode::Mdi,
+    };
+    if s.hold {
+        return Some(if runs_it {
+            "feed hold: press START to resume, RESET to abandon".into()
+        } else {
+            format!(
+                "feed hold: the {} run is held (RESET abandons it)",
+                job.kind.name()
+            )
+        });
+    }
+    if s.run != 0 && s.in_block && s.single_block {
+        return match c.op {
+            OpMode::Auto => Some(
+                "AUTO: this block was started in SINGLE BLOCK; the run stops after it, START then runs on"
+                    .into(),
+            ),
+            OpMode::Single if !c.start_single => {
+                Some("SINGLE BLOCK: the machine stops after this block".into())
+            }
+            _ => None,
+        };
+    }
+    let waiting = s.run == 0 && !s.in_block && !s.moving;
+    if waiting && runs_it && super::gcode_run::program_stop_note(c).is_none() {
+        return Some(format!("{}: press START to continue", c.op.name()));
+    }
+    None
+}
