@@ -209,6 +209,7 @@ pub const HELP_EDITOR: &[&str] = &[
     "Cold$new  change: CDP20$DP22                           C",
     "nY   show n lines: 5Y                                  Y",
     "Several on a line: 2LCNH6$NH5  (a failed line changes nothing)",
+    "Keys: arrows PgUp/PgDn Home/End move the pointer, Delete deletes after it",
     "",
     "Pages (any mode; the same key again goes back):",
     "  Ctrl-P POS   positions, feed, spindle, counters; X Enter zeroes rel X",
