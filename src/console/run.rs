@@ -491,6 +491,35 @@ pub(super) fn increment_text(s: &MachineSettings, scale: u32) -> String {
     format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
 }
 
+/// A rapid override as the operator reads it: "F0" or "25 %".
+pub(super) fn rapid_override_text(p: u32) -> String {
+    if p == 0 {
+        "F0".into()
+    } else {
+        format!("{p} %")
+    }
+}
+
+/// What DRY RUN, MACHINE LOCK or Z NEGLECT does, as the message of turning it over.
+pub(super) fn machine_switch_message(name: &str, on: bool) -> String {
+    if !on {
+        return match name {
+            "DRY RUN" => "DRY RUN off: feed moves at their programmed F".into(),
+            _ => format!(
+                "{name} off: the axes move; RESET or the next run brings the position back to them"
+            ),
+        };
+    }
+    match name {
+        "DRY RUN" => "DRY RUN on: feed moves at the jog feed times the feed override".into(),
+        "MACHINE LOCK" => {
+            "MACHINE LOCK on: the program runs, the axes stay; RESET brings the position back"
+                .into()
+        }
+        _ => "Z NEGLECT on: Z stays, its program position moves; RESET brings it back".into(),
+    }
+}
+
 /// One increment (the selected scale) on `axis` at jog feed: the STEP key, and a CONTINUOUS
 /// key tapped once.
 pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
