@@ -436,8 +436,9 @@ impl Machine {
     pub fn set_recording(&mut self, sink: Option<EventSink>, capture_pulses: bool) {
         self.out.set_log(sink.clone(), capture_pulses);
         self.events = sink;
+        // The first `/nc/state` goes with the first command or tick, so that the front end's
+        // modes (`set_panel_modes`) are in it, not the defaults.
         self.last_state = None;
-        self.send_state();
     }
 
     /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
