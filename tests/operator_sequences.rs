@@ -65,6 +65,58 @@ const MDI: [(&str, f64); 6] = [
     ),
 ];
 
+/// The rapid override in the recording: every `/nc/position` speed during a rapid block (and
+/// any jog or return after it, slower still) is at most the rapid rate's share, or the F0
+/// rate, once the ramp after an override change has had its time.
+#[derive(Default)]
+struct RapidSpeeds {
+    /// The last block read is a rapid.
+    in_rapid: bool,
+    /// The rapid override in force and when it last changed, ns.
+    pct: Option<u32>,
+    changed_ns: u64,
+    /// The first speed over its cap.
+    broken: Option<String>,
+    /// Speeds checked.
+    checked: u64,
+}
+
+impl RapidSpeeds {
+    fn see(&mut self, ev: &Event) {
+        let s = novanc::settings::MachineSettings::default();
+        match ev {
+            Event::Block { text, .. } => self.in_rapid = text.contains(" G00"),
+            Event::State { t_ns, switches, .. } => {
+                if self.pct != Some(switches.rapid_override) {
+                    self.pct = Some(switches.rapid_override);
+                    self.changed_ns = *t_ns;
+                }
+            }
+            Event::Position {
+                t_ns, speed_mm_min, ..
+            } if self.in_rapid && self.broken.is_none() => {
+                let ramp_ns =
+                    (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;
+                let pct = self.pct.unwrap_or(100);
+                if *t_ns < self.changed_ns + ramp_ns {
+                    return;
+                }
+                let cap = match pct {
+                    0 => s.rapid_f0_mm_min,
+                    p => s.rapid_mm_min * f64::from(p) / 100.0,
+                };
+                self.checked += 1;
+                if *speed_mm_min > cap * 1.0001 {
+                    self.broken = Some(format!(
+                        "recorded speed {speed_mm_min} mm/min at {t_ns} ns in a rapid with the rapid override at {pct} %: more than {cap}"
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
 /// The lowest tip Z Table B commands (the BOR: -450 - 35), mm.
 const TABLE_B_LOW: f64 = -485.0;
 
@@ -72,8 +124,9 @@ struct Session {
     c: Console,
     /// Where the session's events go; the test sends its markers here too.
     sink: EventSink,
-    /// The net recorded pulses per axis at each marker, from the thread reading the events.
-    counts: Receiver<[i64; 3]>,
+    /// The net recorded pulses per axis at each marker, from the thread reading the events,
+    /// with the first recorded speed that broke the rapid override and the speeds checked.
+    counts: Receiver<([i64; 3], Option<String>, u64)>,
     markers: u64,
     rng: Rng,
     lowest_mm: f64,
@@ -96,15 +149,16 @@ impl Session {
         let (ctx, counts) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let mut n = [0i64; 3];
+            let mut speeds = RapidSpeeds::default();
             for ev in rx {
                 match ev {
                     Event::Pulses { axis, dir, t_ns } => {
                         n[axis as usize] += dir as i64 * t_ns.len() as i64;
                     }
                     Event::PanelEvent { event, .. } if event.starts_with("#marker") => {
-                        let _ = ctx.send(n);
+                        let _ = ctx.send((n, speeds.broken.take(), speeds.checked));
                     }
-                    _ => {}
+                    ev => speeds.see(&ev),
                 }
             }
         });
@@ -167,7 +221,12 @@ impl Session {
                 }
             }
         }
-        self.counts.recv().unwrap_or([i64::MIN; 3])
+        let (n, broken, checked) = self.counts.recv().unwrap_or(([i64::MIN; 3], None, 0));
+        if let Some(b) = broken {
+            panic!("{b}");
+        }
+        self.stats.rapid_checks = checked;
+        n
     }
 
     fn ev(&mut self, e: E) {
@@ -724,7 +783,6 @@ impl Session {
                 st.speed_mm_min,
                 st.rapid_override
             );
-            self.stats.rapid_checks += 1;
         }
         let v = self.c.view();
         assert_eq!(
