@@ -86,11 +86,9 @@ impl RapidSpeeds {
         let s = novanc::settings::MachineSettings::default();
         match ev {
             Event::Block { text, .. } => self.in_rapid = text.contains(" G00"),
-            Event::State { t_ns, switches, .. } => {
-                if self.pct != Some(switches.rapid_override) {
-                    self.pct = Some(switches.rapid_override);
-                    self.changed_ns = *t_ns;
-                }
+            Event::State { t_ns, switches, .. } if self.pct != Some(switches.rapid_override) => {
+                self.pct = Some(switches.rapid_override);
+                self.changed_ns = *t_ns;
             }
             Event::Position {
                 t_ns, speed_mm_min, ..
@@ -751,7 +749,9 @@ impl Session {
             st.spindle_programmed * i64::from(st.spindle_override) / 100,
             "the spindle turns at programmed x override"
         );
-        assert!((50..=120).contains(&st.spindle_override) && st.spindle_override % 10 == 0);
+        assert!(
+            (50..=120).contains(&st.spindle_override) && st.spindle_override.is_multiple_of(10)
+        );
         assert!(matches!(st.rapid_override, 0 | 25 | 50 | 100));
         // The time to come down from the rapid rate to any lower speed, and a tick.
         let ramp_ns = (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;

@@ -80,7 +80,7 @@ impl Machine {
                 }
             }
             Command::SpindleOverride(p) => {
-                if (50..=120).contains(&p) && p % 10 == 0 {
+                if (50..=120).contains(&p) && p.is_multiple_of(10) {
                     self.spindle_override = p;
                 } else {
                     self.notice = Some(format!(
