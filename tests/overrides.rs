@@ -387,3 +387,20 @@ fn script_pulses_off() {
     assert_eq!(r.pulse_messages, 0);
     assert_eq!(num(r.positions.last().unwrap(), "x"), 100.0);
 }
+
+/// After a locked run left the program position away from the axes, a jog starts from where
+/// the axes are: the travel limit is theirs. Table: the program went to X100 while the axes
+/// stayed at X0; a 1 mm STEP in X- is beyond the limit (X0) and refused, not run from X100.
+#[test]
+fn a_jog_after_a_locked_run_starts_from_the_axes() {
+    let (r, out) = script(
+        "lock-jog",
+        "G21 G90\nG0 X100\nM30\n",
+        &format!(
+            "{}machinelock off\nop STEP\nwheelscale 1000\nkey Left\nwait\nshow\n",
+            run_with("machinelock on")
+        ),
+    );
+    assert!(r.pulses.is_empty(), "{out}");
+    assert!(out.contains("would go to -1.000 mm"), "{out}");
+}

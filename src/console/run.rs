@@ -458,7 +458,7 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
         return;
     }
     let pulses = n as i64 * c.wheel.1 as i64;
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
+    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
         c.message = e;
         return;
     }
@@ -527,7 +527,7 @@ pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
         return;
     }
     let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
+    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
         c.message = e;
         return;
     }
@@ -548,7 +548,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
             }
             let edge = if dir < 0 { 0 } else { 1 };
             let (lo, hi) = c.cfg.settings.travel_pulses(axis.index());
-            let at = c.status.pos[axis.index()];
+            let at = c.status.machine_state().pos[axis.index()];
             if (edge == 0 && at <= lo) || (edge == 1 && at >= hi) {
                 c.message = format!("jog refused: {} is at its travel limit", axis.letter());
                 return;

@@ -40,6 +40,11 @@ impl Machine {
             self.notice = Some("jog refused: the program is running (STOP first)".into());
             return None;
         }
+        if self.job.is_none() {
+            // After a run under MACHINE LOCK: a manual move starts from where the axes are,
+            // and the travel limits are theirs (docs/pulse-core.md, "Machine lock").
+            self.out.unshift();
+        }
         Some(self.settings.travel_pulses(axis))
     }
 
