@@ -190,6 +190,7 @@ pub const HELP: &[&str] = &[
     "Tape reader                  type the file path, then Alt+t; START reads it",
     "Tape punch (PROGRAM READ)    type PATH (ISO code) or PATH EIA, then Alt+u",
     "G-code switches              Alt+b BLOCK DELETE  Alt+o OPTIONAL STOP (M01)",
+    "Overrides, switches          Alt+f RPD Alt+[ ] SOV Alt+d DRY Alt+l MLK Alt+z ZNG",
     "Pages                        Ctrl-P POS  Ctrl-D PROG  Ctrl-O OFS  Ctrl-E MSG",
     "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
     "F8 again: the editor commands and the page keys. Any key returns to the panel;",
