@@ -265,6 +265,16 @@ pub enum PanelEvent {
     EStop,
     /// Feed override, percent (0–150, 10 % steps).
     Override(u32),
+    /// Rapid override, percent: 0 (F0), 25, 50 or 100 (`rapidoverride PCT`).
+    RapidOverride(u32),
+    /// Spindle override, percent: 50–120 in 10 % steps (`spindleoverride PCT`).
+    SpindleOverride(u32),
+    /// The DRY RUN switch on or off (`dryrun on|off`).
+    DryRun(bool),
+    /// The MACHINE LOCK switch on or off (`machinelock on|off`).
+    MachineLock(bool),
+    /// The Z NEGLECT switch on or off (`zneglect on|off`).
+    ZNeglect(bool),
     /// Handwheel: N detents on an axis, at the selected increment (×1/×10/×100/×1000).
     Wheel(Axis, i32),
     /// The increment selector, in pulses (1, 10, 100 or 1000): per handwheel detent and per
@@ -478,16 +488,38 @@ impl PanelEvent {
                     .map_err(|_| format!("increment '{a}' is not 1, 10, 100 or 1000"))?;
                 PanelEvent::WheelScale(n)
             }
-            "blockdelete" | "optionalstop" => {
+            "rapidoverride" => {
+                let a = one("percentage")?;
+                match a.trim_end_matches('%').parse::<u32>() {
+                    Ok(p @ (0 | 25 | 50 | 100)) => PanelEvent::RapidOverride(p),
+                    _ => return Err(format!("rapidoverride '{a}' is not 0 (F0), 25, 50 or 100")),
+                }
+            }
+            "spindleoverride" => {
+                let a = one("percentage")?;
+                match a.trim_end_matches('%').parse::<u32>() {
+                    Ok(p) if (50..=120).contains(&p) && p.is_multiple_of(10) => {
+                        PanelEvent::SpindleOverride(p)
+                    }
+                    _ => {
+                        return Err(format!(
+                            "spindleoverride '{a}' is not 50 to 120 in 10 % steps"
+                        ))
+                    }
+                }
+            }
+            "blockdelete" | "optionalstop" | "dryrun" | "machinelock" | "zneglect" => {
                 let on = match one("on or off")?.to_ascii_lowercase().as_str() {
                     "on" => true,
                     "off" => false,
                     a => return Err(format!("'{word}' takes on or off, not '{a}'")),
                 };
-                if word == "blockdelete" {
-                    PanelEvent::BlockDelete(on)
-                } else {
-                    PanelEvent::OptionalStop(on)
+                match word {
+                    "blockdelete" => PanelEvent::BlockDelete(on),
+                    "optionalstop" => PanelEvent::OptionalStop(on),
+                    "dryrun" => PanelEvent::DryRun(on),
+                    "machinelock" => PanelEvent::MachineLock(on),
+                    _ => PanelEvent::ZNeglect(on),
                 }
             }
             "input" => match args.as_slice() {
@@ -573,6 +605,16 @@ pub struct PanelView {
     pub lamps: Lamps,
     /// Feed override, percent.
     pub feed_override: u32,
+    /// Rapid override, percent (0 = F0).
+    pub rapid_override: u32,
+    /// Spindle override, percent.
+    pub spindle_override: u32,
+    /// DRY RUN switch.
+    pub dry_run: bool,
+    /// MACHINE LOCK switch.
+    pub machine_lock: bool,
+    /// Z NEGLECT switch.
+    pub z_neglect: bool,
     /// Axis positions, mm (machine coordinates).
     pub axis_mm: [f64; 3],
     /// Tool-tip position, mm (Z less the set length of the tool in the spindle).

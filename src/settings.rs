@@ -21,6 +21,10 @@ pub struct MachineSettings {
     pub travel_max_mm: [f64; 3],
     /// Jog feed in CONTINUOUS mode, mm/min.
     pub jog_mm_min: f64,
+    /// The F0 rate of the rapid override (Fanuc parameter 1421): rapids, jogs and returns
+    /// move at no more than this with the rapid override at F0, mm/min (docs/pulse-core.md,
+    /// "Overrides and switches").
+    pub rapid_f0_mm_min: f64,
     /// Increment of one STEP jog, mm.
     pub step_mm: f64,
     /// Time a tool change (M06) takes, ns.
@@ -109,6 +113,7 @@ impl Default for MachineSettings {
             travel_min_mm: [0.0, 0.0, -600.0],
             travel_max_mm: [1_000.0, 800.0, 0.0],
             jog_mm_min: 1_000.0,
+            rapid_f0_mm_min: 400.0,
             step_mm: 0.1,
             tool_change_ns: 4_000_000_000,
             tool_change_z_mm: 0.0,

@@ -21,7 +21,14 @@
 //!   lines in MDI, each run at once), the machine stands where the interpreter's state before
 //!   the line says it goes; a refused one moves nothing and changes no mode; after an MDI
 //!   G38.3 probe the interpreter reads on from where the machine stopped;
-//! - the display is always rows × at most cols; nothing panics.
+//! - the display is always rows × at most cols; nothing panics;
+//! - the overrides and switches (issue 23: rapid override, spindle override, DRY RUN, MACHINE
+//!   LOCK, Z NEGLECT, by their keys and script words) are random steps too: with MACHINE LOCK
+//!   on all through a step the axes (`machine_pos`) do not move, with Z NEGLECT Z does not; the
+//!   recorded pulses add up to where the axes are, never to the program position; a rapid, a
+//!   jog or a return is never faster than its percentage of its full speed (F0: the F0 rate)
+//!   once the ramp after a change has had its time; the spindle turns at programmed ×
+//!   override; the state line shows each switch exactly when the status has it on.
 //!
 //! One session in four runs on the error-proportional interpolator.
 //!
@@ -61,6 +68,56 @@ const MDI: [(&str, f64); 6] = [
     ),
 ];
 
+/// The rapid override in the recording: every `/nc/position` speed during a rapid block (and
+/// any jog or return after it, slower still) is at most the rapid rate's share, or the F0
+/// rate, once the ramp after an override change has had its time.
+#[derive(Default)]
+struct RapidSpeeds {
+    /// The last block read is a rapid.
+    in_rapid: bool,
+    /// The rapid override in force and when it last changed, ns.
+    pct: Option<u32>,
+    changed_ns: u64,
+    /// The first speed over its cap.
+    broken: Option<String>,
+    /// Speeds checked.
+    checked: u64,
+}
+
+impl RapidSpeeds {
+    fn see(&mut self, ev: &Event) {
+        let s = novanc::settings::MachineSettings::default();
+        match ev {
+            Event::Block { text, .. } => self.in_rapid = text.contains(" G00"),
+            Event::State { t_ns, switches, .. } if self.pct != Some(switches.rapid_override) => {
+                self.pct = Some(switches.rapid_override);
+                self.changed_ns = *t_ns;
+            }
+            Event::Position {
+                t_ns, speed_mm_min, ..
+            } if self.in_rapid && self.broken.is_none() => {
+                let ramp_ns =
+                    (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;
+                let pct = self.pct.unwrap_or(100);
+                if *t_ns < self.changed_ns + ramp_ns {
+                    return;
+                }
+                let cap = match pct {
+                    0 => s.rapid_f0_mm_min,
+                    p => s.rapid_mm_min * f64::from(p) / 100.0,
+                };
+                self.checked += 1;
+                if *speed_mm_min > cap * 1.0001 {
+                    self.broken = Some(format!(
+                        "recorded speed {speed_mm_min} mm/min at {t_ns} ns in a rapid with the rapid override at {pct} %: more than {cap}"
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
 /// The lowest tip Z Table B commands (the BOR: -450 - 35), mm.
 const TABLE_B_LOW: f64 = -485.0;
 
@@ -68,8 +125,9 @@ struct Session {
     c: Console,
     /// Where the session's events go; the test sends its markers here too.
     sink: EventSink,
-    /// The net recorded pulses per axis at each marker, from the thread reading the events.
-    counts: Receiver<[i64; 3]>,
+    /// The net recorded pulses per axis at each marker, from the thread reading the events,
+    /// with the first recorded speed that broke the rapid override and the speeds checked.
+    counts: Receiver<([i64; 3], Option<String>, u64)>,
     markers: u64,
     rng: Rng,
     lowest_mm: f64,
@@ -81,6 +139,9 @@ struct Session {
     gcode: bool,
     /// On the error-proportional interpolator.
     ep: bool,
+    /// Machine time of the last rapid override change, ns (the ramp to the new speed takes
+    /// its time).
+    rapid_changed_ns: u64,
 }
 
 impl Session {
@@ -89,15 +150,16 @@ impl Session {
         let (ctx, counts) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let mut n = [0i64; 3];
+            let mut speeds = RapidSpeeds::default();
             for ev in rx {
                 match ev {
                     Event::Pulses { axis, dir, t_ns } => {
                         n[axis as usize] += dir as i64 * t_ns.len() as i64;
                     }
                     Event::PanelEvent { event, .. } if event.starts_with("#marker") => {
-                        let _ = ctx.send(n);
+                        let _ = ctx.send((n, speeds.broken.take(), speeds.checked));
                     }
-                    _ => {}
+                    ev => speeds.see(&ev),
                 }
             }
         });
@@ -126,6 +188,7 @@ impl Session {
             tapes: temp_dir("seq-tapes"),
             gcode,
             ep,
+            rapid_changed_ns: 0,
         };
         if gcode {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(seq_gcode::PROGRAM);
@@ -159,7 +222,12 @@ impl Session {
                 }
             }
         }
-        self.counts.recv().unwrap_or([i64::MIN; 3])
+        let (n, broken, checked) = self.counts.recv().unwrap_or(([i64::MIN; 3], None, 0));
+        if let Some(b) = broken {
+            panic!("{b}");
+        }
+        self.stats.rapid_checks = checked;
+        n
     }
 
     fn ev(&mut self, e: E) {
@@ -338,7 +406,8 @@ impl Session {
                     self.ev(E::Type(format!("-99L{down}KI{line}*")));
                 }
             }
-            96..=99 => self.page_action(),
+            96..=98 => self.page_action(),
+            99 => self.switch_step(),
             100..=101 => self.tape_read(),
             _ => {
                 // Junk on the data keys, in whatever mode.
@@ -348,15 +417,46 @@ impl Session {
         }
     }
 
+    /// An override or switch, by its key or its script word; sometimes a value the word
+    /// refuses (the console refuses it the same way when it comes as an event).
+    fn switch_step(&mut self) {
+        self.stats.switch_changes += 1;
+        let before = self.c.status().rapid_override;
+        if self.rng.range(0, 1) == 0 {
+            let k = self.pick(&["Alt+f", "Alt+[", "Alt+]", "Alt+d", "Alt+l", "Alt+z"]);
+            self.key(k);
+        } else {
+            let on = self.rng.range(0, 1) == 0;
+            let e = match self.rng.range(0, 5) {
+                // F0 is slow: a Table B run at 400 mm/min rapids takes long in machine time.
+                0 => E::RapidOverride([25, 50, 100, 100, 0][self.rng.range(0, 4) as usize]),
+                1 => E::SpindleOverride(self.rng.range(4, 13) as u32 * 10),
+                2 => E::DryRun(on),
+                3 => E::MachineLock(on),
+                _ => E::ZNeglect(on),
+            };
+            self.ev(e);
+        }
+        if self.c.status().rapid_override != before {
+            self.rapid_changed_ns = self.c.status().machine_ns;
+        }
+    }
+
     /// An MDI G-code line run at once with the machine at rest and no run loaded: a modal
     /// change (G91/G90, G92/G92.1, G43/G49) or a G0 move in X and Y. The interpreter's state
     /// carries from line to line: after a move, the machine stands where the state before it
     /// says the line goes (G90 or G91, G92, the work offset, the tool length; Z does not
     /// move); a move refused before it started leaves the machine and the state as they were.
     fn mdi_gcode(&mut self) {
-        let st = self.c.status().clone();
+        let mut st = self.c.status().clone();
         if st.job.is_some() || st.estop || st.alarm.is_some() || st.moving || st.run != 0 {
             return;
+        }
+        if st.pos != st.machine_pos {
+            // After a run under MACHINE LOCK the program position is where the program left
+            // it; RESET brings it back to the axes, where the next line starts anyway.
+            self.key("F11");
+            st = self.c.status().clone();
         }
         let line = match self.rng.range(0, 10) {
             // 20 mm down, incremental: a probe that stays above the lowest tip the
@@ -640,6 +740,93 @@ impl Session {
         self.key("F9");
     }
 
+    /// The overrides and switches: the spindle speed, the speed of a rapid, jog or return, and
+    /// the state line.
+    fn check_switches(
+        &mut self,
+        st: &novanc::pulse_core::Status,
+        s: &novanc::settings::MachineSettings,
+    ) {
+        assert_eq!(
+            st.spindle,
+            st.spindle_programmed * i64::from(st.spindle_override) / 100,
+            "the spindle turns at programmed x override"
+        );
+        assert!(
+            (50..=120).contains(&st.spindle_override) && st.spindle_override.is_multiple_of(10)
+        );
+        assert!(matches!(st.rapid_override, 0 | 25 | 50 | 100));
+        // The time to come down from the rapid rate to any lower speed, and a tick.
+        let ramp_ns = (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;
+        let settled = st.machine_ns >= self.rapid_changed_ns + ramp_ns;
+        let rapid_block = st.in_block
+            && st
+                .executed
+                .as_ref()
+                .is_some_and(|b| b.motion == novanc::block::Motion::Rapid);
+        let manual = !st.in_block && st.moving;
+        if settled && st.moving && (rapid_block || manual) {
+            let full = if rapid_block {
+                s.rapid_mm_min
+            } else {
+                s.jog_mm_min
+            };
+            let cap = match st.rapid_override {
+                0 => s.rapid_f0_mm_min.min(full),
+                p => full * f64::from(p) / 100.0,
+            };
+            assert!(
+                st.speed_mm_min <= cap * 1.0001,
+                "{} at {} mm/min with the rapid override at {} %: more than {cap}",
+                if rapid_block {
+                    "a rapid"
+                } else {
+                    "a jog or return"
+                },
+                st.speed_mm_min,
+                st.rapid_override
+            );
+        }
+        let v = self.c.view();
+        assert_eq!(
+            (
+                v.rapid_override,
+                v.spindle_override,
+                v.dry_run,
+                v.machine_lock,
+                v.z_neglect
+            ),
+            (
+                st.rapid_override,
+                st.spindle_override,
+                st.dry_run,
+                st.machine_lock,
+                st.z_neglect
+            ),
+            "the view shows the status's switches"
+        );
+        if let Some(line) = v.display.iter().find(|l| l.starts_with("RUN ")) {
+            // The marks (in order, so a narrow display cuts them from the end).
+            let marks = [
+                (st.dry_run, " DRY"),
+                (st.machine_lock, " MLK"),
+                (st.z_neglect && !st.machine_lock, " ZNG"),
+            ];
+            let full = line.trim_end().len() < self.c.config().cols;
+            for (on, m) in marks {
+                if on && full {
+                    assert!(line.contains(m), "{m} missing from the state line: {line}");
+                }
+                if !on {
+                    assert!(
+                        !line.contains(m),
+                        "{m} on the state line with it off: {line}"
+                    );
+                }
+            }
+        }
+    }
+
     /// The invariants after each step.
     fn check(&mut self) {
         let settings = self.c.settings().clone();
@@ -668,9 +855,13 @@ impl Session {
         assert!(!self.sink.is_incomplete(), "no event was dropped");
         assert_eq!(
             self.recorded(),
-            st.pos,
-            "the recorded pulses add up to the position"
+            st.machine_pos,
+            "the recorded pulses add up to where the axes are"
         );
+        if !st.machine_lock && !st.z_neglect && st.job.is_some() {
+            assert_eq!(st.pos, st.machine_pos, "unlocked, a run moves the axes");
+        }
+        self.check_switches(&st, &settings);
         let v = self.c.view();
         assert_eq!(v.lamps.estop, st.estop);
         assert_eq!(v.lamps.run, st.run != 0);
@@ -776,7 +967,26 @@ impl Session {
 fn sequence(seed: u64, len: usize) -> Stats {
     let mut s = Session::open(seed);
     for _ in 0..len {
+        let before = s.c.status().clone();
         s.step();
+        let after = s.c.status().clone();
+        if before.machine_lock && after.machine_lock {
+            assert_eq!(
+                after.machine_pos,
+                before.machine_pos,
+                "the axes moved under MACHINE LOCK ({:?})",
+                s.log.last()
+            );
+            s.stats.locked_steps += 1;
+        } else if before.z_neglect && after.z_neglect {
+            assert_eq!(
+                after.machine_pos[2],
+                before.machine_pos[2],
+                "Z moved under Z NEGLECT ({:?})",
+                s.log.last()
+            );
+            s.stats.locked_steps += 1;
+        }
         s.check();
     }
     // Whatever was left running ends: the invariants hold to the end.
@@ -807,6 +1017,8 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.mdi_moves > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.ep_block_ends > 100, "{st:?}");
+        assert!(st.switch_changes > 0 && st.locked_steps > 0, "{st:?}");
+        assert!(st.rapid_checks > 0, "{st:?}");
     }
 }
 

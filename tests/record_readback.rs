@@ -232,6 +232,13 @@ fn place(obj: &Json) -> [i64; 3] {
     [p[0], p[1], p[2]]
 }
 
+fn flag(v: &Json) -> bool {
+    match v {
+        Json::Bool(b) => *b,
+        v => panic!("not a boolean: {v:?}"),
+    }
+}
+
 fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
     let t_ns = publish_ns;
     match topic {
@@ -244,6 +251,8 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
         "/nc/position" => Event::Position {
             t_ns,
             pulses: place(obj),
+            // The counters and x, y, z agree (`place` checks it): nothing held back.
+            held: [0; 3],
             speed_mm_min: num(field(obj, "speed")),
         },
         "/nc/pulses" => {
@@ -276,6 +285,13 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
             feed_override: int(field(obj, "feed_override")) as u32,
             tool: int(field(obj, "tool")) as u32,
             spindle: int(field(obj, "spindle")) as i64,
+            switches: novanc::record::Switches {
+                rapid_override: int(field(obj, "rapid_override")) as u32,
+                spindle_override: int(field(obj, "spindle_override")) as u32,
+                dry_run: flag(field(obj, "dry_run")),
+                machine_lock: flag(field(obj, "machine_lock")),
+                z_neglect: flag(field(obj, "z_neglect")),
+            },
         },
         "/panel/display" => Event::Display {
             t_ns,

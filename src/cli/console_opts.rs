@@ -6,11 +6,12 @@ use crate::console::ConsoleConfig;
 use std::path::PathBuf;
 
 /// The options the console understands (other options are left to the caller).
-const OPTS: [&str; 6] = [
+const OPTS: [&str; 7] = [
     "--state",
     "--rows",
     "--cols",
     "--record",
+    "--pulses",
     "--interpolator",
     "--ep-l",
 ];
@@ -61,6 +62,9 @@ pub fn config_from_args(argv: &[String]) -> Result<(ConsoleConfig, Vec<String>),
             .map_err(|_| format!("--cols '{c}' is not a whole number"))?;
     }
     cfg.record = args.value("--record").map(PathBuf::from);
+    if let Some(p) = args.value("--pulses") {
+        cfg.record_pulses = super::pulses_option(p)?;
+    }
     if let Some(i) = args.value("--interpolator") {
         cfg.settings.interpolator =
             crate::settings::Interpolator::parse(i).map_err(|e| format!("--interpolator: {e}"))?;

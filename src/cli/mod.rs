@@ -158,3 +158,12 @@ pub fn usage_error(msg: &str) -> i32 {
     let _ = writeln!(std::io::stderr(), "novanc: {msg}");
     2
 }
+
+/// `--pulses on|off` (docs/cli.md): whether a recording keeps `/nc/pulses`.
+pub(crate) fn pulses_option(v: &str) -> Result<bool, String> {
+    match v.to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("--pulses takes on or off, not '{v}'")),
+    }
+}

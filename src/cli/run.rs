@@ -14,7 +14,7 @@ use std::path::Path;
 
 const HELP: &str = "\
 usage: novanc run PROG [--machine centre|FILE] [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
-                       [--realtime] [--feed-override PCT]
+                       [--pulses on|off] [--realtime] [--feed-override PCT]
                        [--interpolator dda|error-proportional] [--ep-l PULSES]
        novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT] [..]
 
@@ -39,6 +39,8 @@ options:
                         codes and work offsets, and PROG names a program in it (else a
                         file); with no PROG, the program selected there
   --record OUT.mcap     record the run to an MCAP file (docs/recording.md)
+  --pulses on|off       off: the recording leaves out /nc/pulses (a long run's file is then
+                        small); positions, blocks and states are kept (default on)
   --realtime            pace the machine clock to the wall clock (default: virtual time, as
                         fast as possible, deterministic)
   --feed-override PCT   feed override, 1-150 percent (default 100); rapids are not overridden
@@ -50,7 +52,7 @@ options:
   -h, --help            this help
 ";
 
-const OPTS: [Opt; 11] = [
+const OPTS: [Opt; 12] = [
     Opt::flag("--block-delete"),
     Opt::value("--interpolator"),
     Opt::value("--ep-l"),
@@ -60,6 +62,7 @@ const OPTS: [Opt; 11] = [
     Opt::value("--record"),
     Opt::flag("--realtime"),
     Opt::value("--feed-override"),
+    Opt::value("--pulses"),
     Opt::flag("--help"),
     Opt::flag("-h"),
 ];
@@ -95,6 +98,11 @@ pub fn main(argv: &[String]) -> i32 {
             }
         },
     };
+    let record_pulses = match args.value("--pulses").map(super::pulses_option) {
+        None => true,
+        Some(Ok(on)) => on,
+        Some(Err(e)) => return super::usage_error(&e),
+    };
     let mut settings = base;
     if let Some(i) = args.value("--interpolator") {
         match crate::settings::Interpolator::parse(i) {
@@ -126,9 +134,17 @@ pub fn main(argv: &[String]) -> i32 {
     } else {
         ClockMode::Virtual
     };
-    let core = PulseCore::spawn(settings.clone(), clock, recorder.as_ref().map(|r| r.sink()));
+    let core = PulseCore::spawn(
+        settings.clone(),
+        clock,
+        recorder
+            .as_ref()
+            .map(|r| r.sink().with_pulses(record_pulses)),
+    );
     core.set_magazine(magazine.clone());
-    core.set_panel_modes("AUTO", "SEARCH");
+    // A headless run is a memory operation in AUTO (Fanuc's MEM mode): no data-processing
+    // selector is turned, so the data mode recorded is MEMORY (docs/recording.md).
+    core.set_panel_modes("AUTO", "MEMORY");
     core.command(Command::Override(feed_override));
     let mut src = RunSource::program(&prog, source.into(), magazine, settings.clone());
     src.offsets = offsets;

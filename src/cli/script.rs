@@ -8,7 +8,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 const HELP: &str = "\
-usage: novanc script FILE [--machine citizen|FILE] [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
+usage: novanc script FILE [--machine citizen|FILE] [--state DIR] [--record OUT.mcap] [--pulses on|off]
+                          [--rows N] [--cols N]
 
 Runs a panel event script (one event per line, # comments):
   op CONTINUOUS|AUTO|MDI|DATA|HANDLE|STEP|SINGLE
@@ -17,6 +18,9 @@ Runs a panel event script (one event per line, # comments):
   tape PATH      put a file in the tape reader (relative to the current directory,
                  else to the script's directory)
   start | stop | reset | estop | override PCT | wheel AXIS N | show
+  rapidoverride 0|25|50|100   the rapid override (0 is F0)
+  spindleoverride PCT         the spindle override, 50-120 in 10 % steps
+  dryrun on|off | machinelock on|off | zneglect on|off
   key NAME       press a key of the terminal's key map by name: F1-F12, Alt+1-Alt+7 (and
                  the other Alt keys of the panel), Up, Down, Left, Right, PgUp, PgDn, Enter,
                  Backspace, or one character; recorded on /panel/event as `key NAME`

@@ -29,6 +29,8 @@ pub struct ConsoleConfig {
     pub cols: usize,
     /// Record the session to this MCAP file.
     pub record: Option<PathBuf>,
+    /// Record `/nc/pulses` (`--pulses on|off`, on by default).
+    pub record_pulses: bool,
     /// Send the session's events here instead (tests read them back); ignored with `record`.
     pub sink: Option<crate::record::EventSink>,
     /// Asked during long virtual-time waits: true ends the wait early (a stop signal).
@@ -45,6 +47,7 @@ impl ConsoleConfig {
             rows: 12,
             cols: 40,
             record: None,
+            record_pulses: true,
             sink: None,
             interrupt: None,
         }

@@ -231,7 +231,8 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
 }
 
 /// The state line: RUN, mode, feed override, T, S (EP with the error-proportional
-/// interpolator; HOLD / E-STOP).
+/// interpolator; HOLD / E-STOP; the overrides away from 100 % and the switches that are on:
+/// RPD (rapid), SOV (spindle), DRY, MLK, ZNG).
 pub(super) fn state_line(c: &Console) -> String {
     let mode = c.op.names().short;
     let t = match c.status.tool {
@@ -255,6 +256,23 @@ pub(super) fn state_line(c: &Console) -> String {
     }
     if c.switches.optional_stop {
         s.push_str(" M01");
+    }
+    if c.status.rapid_override != 100 {
+        s.push_str(&format!(
+            " RPD{}",
+            super::run::rapid_override_text(c.status.rapid_override).replace(' ', "")
+        ));
+    }
+    if c.status.spindle_override != 100 {
+        s.push_str(&format!(" SOV{}%", c.status.spindle_override));
+    }
+    if c.status.dry_run {
+        s.push_str(" DRY");
+    }
+    if c.status.machine_lock {
+        s.push_str(" MLK");
+    } else if c.status.z_neglect {
+        s.push_str(" ZNG");
     }
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {
         // The error-proportional interpolator (seed 001); the DDA is the default, unmarked.

@@ -60,6 +60,16 @@ pub enum Action {
     BlockDelete,
     /// Turn the OPTIONAL STOP switch over.
     OptionalStop,
+    /// Rapid override one step down: 100, 50, 25, F0, then back to 100.
+    RapidOverride,
+    /// Spindle override up or down 10 % (50–120).
+    SpindleOverride(i32),
+    /// Turn the DRY RUN switch over.
+    DryRun,
+    /// Turn the MACHINE LOCK switch over.
+    MachineLock,
+    /// Turn the Z NEGLECT switch over.
+    ZNeglect,
     /// Nothing.
     None,
 }
@@ -88,6 +98,12 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt('u') => A::Punch,
         Key::Alt('b') => A::BlockDelete,
         Key::Alt('o') => A::OptionalStop,
+        Key::Alt('f') => A::RapidOverride,
+        Key::Alt(']') => A::SpindleOverride(10),
+        Key::Alt('[') => A::SpindleOverride(-10),
+        Key::Alt('d') => A::DryRun,
+        Key::Alt('l') => A::MachineLock,
+        Key::Alt('z') => A::ZNeglect,
         Key::Left => A::Move(Axis::X, -1),
         Key::Right => A::Move(Axis::X, 1),
         Key::Up => A::Move(Axis::Y, 1),
@@ -276,6 +292,31 @@ impl Console {
             Action::OptionalStop => {
                 let on = !self.switches.optional_stop;
                 self.handle(PanelEvent::OptionalStop(on));
+            }
+            Action::RapidOverride => {
+                let p = match self.status.rapid_override {
+                    100 => 50,
+                    50 => 25,
+                    25 => 0,
+                    _ => 100,
+                };
+                self.handle(PanelEvent::RapidOverride(p));
+            }
+            Action::SpindleOverride(d) => {
+                let p = self.status.spindle_override as i32 + d;
+                self.handle(PanelEvent::SpindleOverride(p.clamp(50, 120) as u32));
+            }
+            Action::DryRun => {
+                let on = !self.status.dry_run;
+                self.handle(PanelEvent::DryRun(on));
+            }
+            Action::MachineLock => {
+                let on = !self.status.machine_lock;
+                self.handle(PanelEvent::MachineLock(on));
+            }
+            Action::ZNeglect => {
+                let on = !self.status.z_neglect;
+                self.handle(PanelEvent::ZNeglect(on));
             }
             Action::Help => {
                 self.help = 1;

@@ -162,7 +162,11 @@ impl Console {
         warnings.extend(more);
         let recorder =
             run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
-        let core = PulseCore::spawn(cfg.settings.clone(), cfg.clock, recorder.sink());
+        let core = PulseCore::spawn(
+            cfg.settings.clone(),
+            cfg.clock,
+            recorder.sink().map(|s| s.with_pulses(cfg.record_pulses)),
+        );
         let scale = run::default_scale(&cfg.settings);
         core.set_magazine(mem.magazine());
         if let Some(f) = cfg.interrupt {
@@ -259,6 +263,11 @@ impl Console {
             run: self.status.run,
             lamps: state::lamps(self),
             feed_override: self.feed_override,
+            rapid_override: self.status.rapid_override,
+            spindle_override: self.status.spindle_override,
+            dry_run: self.status.dry_run,
+            machine_lock: self.status.machine_lock,
+            z_neglect: self.status.z_neglect,
             axis_mm,
             tip_mm,
             tool: self.status.tool,
@@ -498,6 +507,14 @@ impl Console {
         }
     }
 
+    /// The core's reason for refusing an override or switch.
+    fn refused_switch(&self) -> String {
+        self.status
+            .notice
+            .clone()
+            .unwrap_or_else(|| "refused by the machine".into())
+    }
+
     /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
         tape::apply(self, ev);
@@ -582,6 +599,45 @@ impl Console {
                 } else {
                     self.message = format!("increment x{s}: only x1, x10, x100, x1000");
                 }
+            }
+            PanelEvent::RapidOverride(p) => {
+                self.command(Command::RapidOverride(p));
+                self.message = if self.status.rapid_override == p {
+                    format!(
+                        "rapid override {}: rapids, jogs and returns",
+                        run::rapid_override_text(p)
+                    )
+                } else {
+                    self.refused_switch()
+                };
+            }
+            PanelEvent::SpindleOverride(p) => {
+                self.command(Command::SpindleOverride(p));
+                self.message = if self.status.spindle_override == p {
+                    format!("spindle override {p} %: the spindle turns at S x {p} %")
+                } else {
+                    self.refused_switch()
+                };
+            }
+            PanelEvent::DryRun(on) => {
+                self.command(Command::DryRun(on));
+                self.message = run::machine_switch_message("DRY RUN", on);
+            }
+            PanelEvent::MachineLock(on) => {
+                self.command(Command::MachineLock(on));
+                self.message = if self.status.machine_lock == on {
+                    run::machine_switch_message("MACHINE LOCK", on)
+                } else {
+                    self.refused_switch()
+                };
+            }
+            PanelEvent::ZNeglect(on) => {
+                self.command(Command::ZNeglect(on));
+                self.message = if self.status.z_neglect == on {
+                    run::machine_switch_message("Z NEGLECT", on)
+                } else {
+                    self.refused_switch()
+                };
             }
             PanelEvent::BlockDelete(on) => {
                 self.switches.block_delete = on;

@@ -462,7 +462,7 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
         return;
     }
     let pulses = n as i64 * c.wheel.1 as i64;
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
+    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
         c.message = e;
         return;
     }
@@ -495,6 +495,35 @@ pub(super) fn increment_text(s: &MachineSettings, scale: u32) -> String {
     format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
 }
 
+/// A rapid override as the operator reads it: "F0" or "25 %".
+pub(super) fn rapid_override_text(p: u32) -> String {
+    if p == 0 {
+        "F0".into()
+    } else {
+        format!("{p} %")
+    }
+}
+
+/// What DRY RUN, MACHINE LOCK or Z NEGLECT does, as the message of turning it over.
+pub(super) fn machine_switch_message(name: &str, on: bool) -> String {
+    if !on {
+        return match name {
+            "DRY RUN" => "DRY RUN off: feed moves at their programmed F".into(),
+            _ => format!(
+                "{name} off: the axes move; RESET or the next run brings the position back to them"
+            ),
+        };
+    }
+    match name {
+        "DRY RUN" => "DRY RUN on: feed moves at the jog feed times the feed override".into(),
+        "MACHINE LOCK" => {
+            "MACHINE LOCK on: the program runs, the axes stay; RESET brings the position back"
+                .into()
+        }
+        _ => "Z NEGLECT on: Z stays, its program position moves; RESET brings it back".into(),
+    }
+}
+
 /// One increment (the selected scale) on `axis` at jog feed: the STEP key, and a CONTINUOUS
 /// key tapped once.
 pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
@@ -502,7 +531,7 @@ pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
         return;
     }
     let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.pos, axis, pulses) {
+    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
         c.message = e;
         return;
     }
@@ -523,7 +552,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
             }
             let edge = if dir < 0 { 0 } else { 1 };
             let (lo, hi) = c.cfg.settings.travel_pulses(axis.index());
-            let at = c.status.pos[axis.index()];
+            let at = c.status.machine_state().pos[axis.index()];
             if (edge == 0 && at <= lo) || (edge == 1 && at >= hi) {
                 c.message = format!("jog refused: {} is at its travel limit", axis.letter());
                 return;

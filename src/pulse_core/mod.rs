@@ -121,6 +121,20 @@ pub enum Command {
     Override(u32),
     /// SINGLE BLOCK on or off: RUN is cleared after each block.
     SingleBlock(bool),
+    /// Rapid override: 0 (F0, the settings' `rapid_f0_mm_min`), 25, 50 or 100 %, on every
+    /// rapid, jog and return, at once; another value is refused with a notice.
+    RapidOverride(u32),
+    /// Spindle override: 50–120 % in steps of 10, at once; another value is refused with a
+    /// notice.
+    SpindleOverride(u32),
+    /// DRY RUN on or off: feed moves at the jog feed (times the feed override), rapids
+    /// unchanged; at once.
+    DryRun(bool),
+    /// MACHINE LOCK on or off: the program position moves, the axes do not
+    /// (docs/pulse-core.md, "Machine lock").
+    MachineLock(bool),
+    /// Z NEGLECT on or off: machine lock for Z alone.
+    ZNeglect(bool),
     /// CONTINUOUS jog: move axis (0..3) in direction ±1 at the jog feed until `JogRelease`.
     Jog {
         /// Axis 0 = X, 1 = Y, 2 = Z.
@@ -210,8 +224,12 @@ pub struct Status {
     pub estop: bool,
     /// A fault that needs RESET (e-stop, travel limit, arc geometry).
     pub alarm: Option<String>,
-    /// Axis positions, pulses, machine coordinates.
+    /// Program positions, pulses, machine coordinates: where the program (and the screen)
+    /// stands. The axes stand at `machine_pos`; the two differ only on axes moved under
+    /// MACHINE LOCK or Z NEGLECT, until RESET or the next run.
     pub pos: [i64; 3],
+    /// Axis positions, pulses, machine coordinates: where the axes really are.
+    pub machine_pos: [i64; 3],
     /// The run loaded (running, held or stopped between single blocks), if any.
     pub job: Option<RunInfo>,
     /// The block executing, or the last one executed, in the loaded run.
@@ -238,10 +256,23 @@ pub struct Status {
     pub changing_tool: Option<u32>,
     /// Set length of the tool in the spindle, mm (0 for none).
     pub tool_set_length: f64,
-    /// Spindle rpm, signed (negative = reverse), 0 stopped.
+    /// Spindle rpm, signed (negative = reverse), 0 stopped: the programmed speed times the
+    /// spindle override.
     pub spindle: i64,
+    /// The programmed spindle rpm, signed, 0 stopped (what a program source goes on from).
+    pub spindle_programmed: i64,
     /// Feed override in force, percent.
     pub feed_override: u32,
+    /// Rapid override in force, percent (0 = F0).
+    pub rapid_override: u32,
+    /// Spindle override in force, percent.
+    pub spindle_override: u32,
+    /// DRY RUN in force.
+    pub dry_run: bool,
+    /// MACHINE LOCK in force.
+    pub machine_lock: bool,
+    /// Z NEGLECT in force.
+    pub z_neglect: bool,
     /// Machine time, ns.
     pub machine_ns: u64,
     /// Whether any axis is moving.
@@ -266,12 +297,18 @@ pub struct Status {
 }
 
 impl Status {
-    /// The machine's state for a program source to translate from.
+    /// The machine's state for a program source to translate from: a new run starts from
+    /// where the axes are (after a run under MACHINE LOCK, not where the program left off);
+    /// with a run loaded, from the program position.
     pub fn machine_state(&self) -> crate::block::MachineState {
         crate::block::MachineState {
-            pos: self.pos,
+            pos: if self.job.is_some() {
+                self.pos
+            } else {
+                self.machine_pos
+            },
             tool: self.tool,
-            spindle: self.spindle,
+            spindle: self.spindle_programmed,
         }
     }
 }

@@ -56,12 +56,23 @@ pub struct PulseRec {
 }
 
 /// The axis counters and the pulse log.
+///
+/// MACHINE LOCK and Z NEGLECT (docs/pulse-core.md, "Machine lock"): a pulse of a locked axis
+/// moves the program position `pos` but is not output: no count, no log, and `shift` keeps
+/// how far `pos` has left the axis, so the axis itself stands at `pos - shift`.
 #[derive(Clone, Debug, Default)]
 pub struct PulseOut {
-    /// Axis positions, pulses.
+    /// Program positions, pulses: where the interpolation stands (the axis positions, less
+    /// `shift` on locked axes).
     pub pos: [i64; 3],
     /// Pulses output per axis in this run.
     pub count: [u64; 3],
+    /// Axes whose pulses are held back (machine lock, Z neglect).
+    lock: [bool; 3],
+    /// How far the program position has moved on locked axes since the last `unshift`.
+    pub shift: [i64; 3],
+    /// Logging or a lock: every pulse goes through `slow_pulse`.
+    slow: bool,
     log: bool,
     batches: [[Vec<u64>; 2]; 3],
     capture: Option<Vec<PulseRec>>,
@@ -73,9 +84,31 @@ pub struct PulseOut {
 impl PulseOut {
     /// Sets where logged pulses go.
     pub fn set_log(&mut self, sink: Option<EventSink>, capture: bool) {
-        self.sink = sink;
+        self.sink = sink.filter(|s| s.records_pulses());
         self.capture = if capture { Some(Vec::new()) } else { None };
         self.log = self.sink.is_some() || self.capture.is_some();
+        self.slow = self.log || self.lock.iter().any(|&l| l);
+    }
+
+    /// Sets which axes are locked (their pulses are not output), from the next pulse.
+    pub fn set_lock(&mut self, lock: [bool; 3]) {
+        self.lock = lock;
+        self.slow = self.log || lock.iter().any(|&l| l);
+    }
+
+    /// The axis positions, pulses: the program position less what locked axes did not move.
+    pub fn machine_pos(&self) -> [i64; 3] {
+        [
+            self.pos[0] - self.shift[0],
+            self.pos[1] - self.shift[1],
+            self.pos[2] - self.shift[2],
+        ]
+    }
+
+    /// Brings the program position back to the axes' (RESET, a new run).
+    pub fn unshift(&mut self) {
+        self.pos = self.machine_pos();
+        self.shift = [0; 3];
     }
 
     /// Takes the captured pulses so far.
@@ -92,8 +125,8 @@ impl PulseOut {
     pub fn pulse_at(&mut self, axis: usize, dir: i8, t: f64) {
         self.pos[axis] += dir as i64;
         self.count[axis] += 1;
-        if self.log {
-            self.log_pulse(axis, dir, t as u64);
+        if self.slow {
+            self.slow_pulse(axis, dir, t as u64);
         }
     }
 
@@ -103,7 +136,19 @@ impl PulseOut {
     pub fn pulse_at_ns(&mut self, axis: usize, dir: i8, t: u64) {
         self.pos[axis] += dir as i64;
         self.count[axis] += 1;
-        if self.log {
+        if self.slow {
+            self.slow_pulse(axis, dir, t);
+        }
+    }
+
+    /// A pulse with logging on or a lock: a locked axis's pulse is taken back from the
+    /// counter and kept in `shift`; any other is logged.
+    #[inline]
+    fn slow_pulse(&mut self, axis: usize, dir: i8, t: u64) {
+        if self.lock[axis] {
+            self.count[axis] -= 1;
+            self.shift[axis] += dir as i64;
+        } else if self.log {
             self.log_pulse(axis, dir, t);
         }
     }

@@ -5,6 +5,8 @@
 //! every message. The output is always valid UTF-8 JSON.
 
 use super::Event;
+#[cfg(test)]
+use super::Switches;
 
 /// Two ASCII digits for every value 0..100, for the integer formatter.
 const DIGIT_PAIRS: &[u8; 200] = b"\
@@ -236,10 +238,11 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
         Event::Position {
             t_ns,
             pulses,
+            held,
             speed_mm_min,
         } => {
             out.push(b'{');
-            push_place(out, pulses, pulse_mm);
+            push_place(out, pulses, held, pulse_mm);
             out.extend_from_slice(b",\"speed\":");
             push_mm(out, *speed_mm_min);
             out.push(b'}');
@@ -266,6 +269,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             feed_override,
             tool,
             spindle,
+            switches,
         } => {
             out.extend_from_slice(b"{\"run\":");
             push_u64(out, u64::from(*run));
@@ -279,6 +283,18 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             push_u64(out, u64::from(*tool));
             out.extend_from_slice(b",\"spindle\":");
             push_i64(out, *spindle);
+            out.extend_from_slice(b",\"rapid_override\":");
+            push_u64(out, u64::from(switches.rapid_override));
+            out.extend_from_slice(b",\"spindle_override\":");
+            push_u64(out, u64::from(switches.spindle_override));
+            for (key, on) in [
+                (&b",\"dry_run\":"[..], switches.dry_run),
+                (b",\"machine_lock\":", switches.machine_lock),
+                (b",\"z_neglect\":", switches.z_neglect),
+            ] {
+                out.extend_from_slice(key);
+                out.extend_from_slice(if on { b"true" } else { b"false" });
+            }
             out.push(b'}');
             *t_ns
         }
@@ -312,7 +328,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.extend_from_slice(b",\"stmt\":");
             push_u64(out, u64::from(*stmt));
             out.push(b',');
-            push_place(out, pulses, pulse_mm);
+            push_place(out, pulses, &[0; 3], pulse_mm);
             out.extend_from_slice(b",\"tripped\":");
             out.extend_from_slice(if *tripped { b"true" } else { b"false" });
             out.extend_from_slice(b",\"at_start\":");
@@ -350,17 +366,19 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
 }
 
 /// `"x":..,"y":..,"z":..,"pulses":[..]`: a position in mm from the counters, and the counters.
-fn push_place(out: &mut Vec<u8>, pulses: &[i64; 3], pulse_mm: f64) {
+/// `x`, `y`, `z` (mm) of the program position `pulses`, and `pulses`, the axis counters: the
+/// same less what MACHINE LOCK `held` back.
+fn push_place(out: &mut Vec<u8>, pulses: &[i64; 3], held: &[i64; 3], pulse_mm: f64) {
     for (i, key) in [&b"\"x\":"[..], b",\"y\":", b",\"z\":"].iter().enumerate() {
         out.extend_from_slice(key);
         push_mm(out, pulses[i] as f64 * pulse_mm);
     }
     out.extend_from_slice(b",\"pulses\":[");
-    push_i64(out, pulses[0]);
+    push_i64(out, pulses[0] - held[0]);
     out.push(b',');
-    push_i64(out, pulses[1]);
+    push_i64(out, pulses[1] - held[1]);
     out.push(b',');
-    push_i64(out, pulses[2]);
+    push_i64(out, pulses[2] - held[2]);
     out.push(b']');
 }
 
@@ -482,6 +500,7 @@ mod tests {
             enc(Event::Position {
                 t_ns: 7,
                 pulses: [12_500, -3, 0],
+                held: [0; 3],
                 speed_mm_min: 1234.5
             }),
             (
@@ -516,11 +535,16 @@ mod tests {
                 data_mode: "RUN".into(),
                 feed_override: 100,
                 tool: 4,
-                spindle: -1200
+                spindle: -1200,
+                switches: Switches {
+                    rapid_override: 0,
+                    machine_lock: true,
+                    ..Switches::default()
+                }
             }),
             (
                 9,
-                r#"{"run":1,"op_mode":"AUTO","data_mode":"RUN","feed_override":100,"tool":4,"spindle":-1200}"#
+                r#"{"run":1,"op_mode":"AUTO","data_mode":"RUN","feed_override":100,"tool":4,"spindle":-1200,"rapid_override":0,"spindle_override":100,"dry_run":false,"machine_lock":true,"z_neglect":false}"#
                     .into()
             )
         );

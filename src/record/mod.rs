@@ -21,6 +21,33 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{SyncSender, TrySendError};
 use std::sync::Arc;
 
+/// The positions of the override and switch selectors recorded in `/nc/state`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Switches {
+    /// Rapid override, percent (0 = F0).
+    pub rapid_override: u32,
+    /// Spindle override, percent.
+    pub spindle_override: u32,
+    /// DRY RUN.
+    pub dry_run: bool,
+    /// MACHINE LOCK.
+    pub machine_lock: bool,
+    /// Z NEGLECT.
+    pub z_neglect: bool,
+}
+
+impl Default for Switches {
+    fn default() -> Switches {
+        Switches {
+            rapid_override: 100,
+            spindle_override: 100,
+            dry_run: false,
+            machine_lock: false,
+            z_neglect: false,
+        }
+    }
+}
+
 /// One thing to record. Every time is machine time in ns since the run started.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Event {
@@ -39,8 +66,11 @@ pub enum Event {
     Position {
         /// Machine time, ns.
         t_ns: u64,
-        /// Pulse counters X, Y, Z.
+        /// Program positions X, Y, Z, pulses (`x`, `y`, `z` in the file).
         pulses: [i64; 3],
+        /// What MACHINE LOCK or Z NEGLECT held back of each: the axis counters (`pulses` in
+        /// the file) stand at `pulses - held` (docs/pulse-core.md, "Machine lock").
+        held: [i64; 3],
         /// The commanded path speed, mm/min (what the interpolator is making: the KT ramp's
         /// speed, or f_r·|E|/(E_m + L) in the error-proportional tail); 0 at rest.
         speed_mm_min: f64,
@@ -68,8 +98,11 @@ pub enum Event {
         feed_override: u32,
         /// T code in the spindle, 0 for none.
         tool: u32,
-        /// Spindle speed, rpm, signed (negative = reverse), 0 stopped.
+        /// Spindle speed, rpm, signed (negative = reverse), 0 stopped: programmed times the
+        /// spindle override.
         spindle: i64,
+        /// Rapid and spindle overrides, DRY RUN, MACHINE LOCK and Z NEGLECT.
+        switches: Switches,
     },
     /// `/panel/display`: the display frame changed.
     Display {
@@ -125,6 +158,8 @@ pub struct EventSink {
     tx: SyncSender<Event>,
     incomplete: Arc<AtomicBool>,
     dropped: Arc<AtomicU64>,
+    /// The pulse core sends `/nc/pulses` (off: `--pulses off`).
+    pulses: bool,
 }
 
 impl EventSink {
@@ -134,7 +169,20 @@ impl EventSink {
             tx,
             incomplete: Arc::new(AtomicBool::new(false)),
             dropped: Arc::new(AtomicU64::new(0)),
+            pulses: true,
         }
+    }
+
+    /// The same sink with `/nc/pulses` left out (`--pulses off`): the pulse core sends no
+    /// pulse batch to it; everything else is recorded.
+    pub fn with_pulses(mut self, on: bool) -> EventSink {
+        self.pulses = on;
+        self
+    }
+
+    /// Whether the pulse core sends its pulses to this sink.
+    pub fn records_pulses(&self) -> bool {
+        self.pulses
     }
 
     /// Sends an event without ever blocking; on a full queue or a gone recorder the event is

@@ -41,6 +41,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
         feed_override: 100,
         tool: 0,
         spindle: 0,
+        switches: Default::default(),
     });
     for s in 0..slices {
         let t0 = s * tick;
@@ -71,6 +72,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
         evs.push(Event::Position {
             t_ns: t0 + tick,
             pulses: pos,
+            held: [0; 3],
             speed_mm_min: 1000.0,
         });
         if s % 10 == 0 {
@@ -95,6 +97,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
                 feed_override: (s % 150) as u32,
                 tool: (s % 24) as u32,
                 spindle: if s % 20 == 0 { -1200 } else { 800 },
+                switches: Default::default(),
             });
         }
         if s % 17 == 0 {

@@ -101,11 +101,11 @@ impl Topic {
             Topic::Position => concat!(
                 r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Position","#,
                 r#""description":"Axis positions, machine coordinates","type":"object","#,
-                r#""properties":{"x":{"type":"number","description":"X, mm"},"#,
-                r#""y":{"type":"number","description":"Y, mm"},"#,
-                r#""z":{"type":"number","description":"Z, mm"},"#,
+                r#""properties":{"x":{"type":"number","description":"X, mm (program position: moves under machine lock)"},"#,
+                r#""y":{"type":"number","description":"Y, mm (program position)"},"#,
+                r#""z":{"type":"number","description":"Z, mm (program position)"},"#,
                 r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
-                r#""description":"pulse counters X, Y, Z"},"#,
+                r#""description":"pulse counters X, Y, Z (the axes: they do not move under machine lock)"},"#,
                 r#""speed":{"type":"number","description":"commanded path speed, mm/min (not in files written before it was added)"}},"#,
                 r#""required":["x","y","z","pulses"]}"#
             ),
@@ -125,7 +125,10 @@ impl Topic {
                 r#""op_mode":{"type":"string"},"data_mode":{"type":"string"},"#,
                 r#""feed_override":{"type":"integer","description":"percent"},"#,
                 r#""tool":{"type":"integer","description":"T code in the spindle, 0 none"},"#,
-                r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped"}},"#,
+                r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped (programmed x spindle override)"},"#,
+                r#""rapid_override":{"type":"integer","description":"percent, 0 = F0 (not in files written before it was added)"},"#,
+                r#""spindle_override":{"type":"integer","description":"percent"},"#,
+                r#""dry_run":{"type":"boolean"},"machine_lock":{"type":"boolean"},"z_neglect":{"type":"boolean"}},"#,
                 r#""required":["run","op_mode","data_mode","feed_override","tool","spindle"]}"#
             ),
             Topic::Display => concat!(

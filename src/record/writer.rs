@@ -467,6 +467,7 @@ mod tests {
                 assert!(w.write(&Event::Position {
                     t_ns: i,
                     pulses: [i as i64, 0, 0],
+                    held: [0; 3],
                     speed_mm_min: 0.0,
                 }));
             }

@@ -540,6 +540,7 @@ impl App {
             ) {
                 out.push(PanelEvent::Override(i as u32 * 10));
             }
+            controls::switches(ui, view, out);
             ui.vertical(|ui| {
                 ui.label(
                     egui::RichText::new("MANUAL PULSE GENERATOR")

@@ -410,6 +410,51 @@ pub fn readout(ui: &mut Ui, view: &PanelView) {
     );
 }
 
+/// The rapid and spindle overrides and the DRY RUN, MACHINE LOCK and Z NEGLECT switches: each
+/// button sends what the terminal key does (docs/window.md).
+pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
+    ui.vertical(|ui| {
+        ui.label(
+            egui::RichText::new("OVERRIDES / SWITCHES")
+                .small()
+                .color(LEGEND),
+        );
+        let rapid = match view.rapid_override {
+            0 => "RAPID F0".to_string(),
+            p => format!("RAPID {p} %"),
+        };
+        if ui.button(rapid).clicked() {
+            out.push(PanelEvent::Press(novanc_panel::Key::Alt('f')));
+        }
+        ui.horizontal(|ui| {
+            if ui.small_button("-").clicked() {
+                out.push(PanelEvent::Press(novanc_panel::Key::Alt('[')));
+            }
+            ui.label(format!("SPINDLE {} %", view.spindle_override));
+            if ui.small_button("+").clicked() {
+                out.push(PanelEvent::Press(novanc_panel::Key::Alt(']')));
+            }
+        });
+        for (on, name, ev) in [
+            (view.dry_run, "DRY RUN", PanelEvent::DryRun(!view.dry_run)),
+            (
+                view.machine_lock,
+                "MACHINE LOCK",
+                PanelEvent::MachineLock(!view.machine_lock),
+            ),
+            (
+                view.z_neglect,
+                "Z NEGLECT",
+                PanelEvent::ZNeglect(!view.z_neglect),
+            ),
+        ] {
+            if ui.selectable_label(on, name).clicked() {
+                out.push(ev);
+            }
+        }
+    });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -167,6 +167,12 @@ pub fn keyboard(
                         K::U if alt => hand.punch_requested = true,
                         K::B if alt => out.push(PanelEvent::Press(Key::Alt('b'))),
                         K::O if alt => out.push(PanelEvent::Press(Key::Alt('o'))),
+                        K::F if alt => out.push(PanelEvent::Press(Key::Alt('f'))),
+                        K::D if alt => out.push(PanelEvent::Press(Key::Alt('d'))),
+                        K::L if alt => out.push(PanelEvent::Press(Key::Alt('l'))),
+                        K::Z if alt => out.push(PanelEvent::Press(Key::Alt('z'))),
+                        K::OpenBracket if alt => out.push(PanelEvent::Press(Key::Alt('['))),
+                        K::CloseBracket if alt => out.push(PanelEvent::Press(Key::Alt(']'))),
                         K::Equals | K::Plus if alt => {
                             out.push(PanelEvent::Override((view.feed_override + 10).min(150)))
                         }
@@ -325,6 +331,11 @@ mod tests {
             run: 0,
             lamps: Lamps::default(),
             feed_override: ovr,
+            rapid_override: 100,
+            spindle_override: 100,
+            dry_run: false,
+            machine_lock: false,
+            z_neglect: false,
             axis_mm: [0.0; 3],
             tip_mm: [0.0; 3],
             tool: None,

@@ -11,7 +11,14 @@ impl Machine {
         // The notice answers the latest operator action: a new action starts without one.
         if !matches!(
             c,
-            Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
+            Command::Override(_)
+                | Command::SingleBlock(_)
+                | Command::Input { .. }
+                | Command::RapidOverride(_)
+                | Command::SpindleOverride(_)
+                | Command::DryRun(_)
+                | Command::MachineLock(_)
+                | Command::ZNeglect(_)
         ) {
             self.notice = None;
         }
@@ -37,6 +44,9 @@ impl Machine {
             }
             Command::Reset => {
                 self.abandon();
+                // The program position comes back to the axes (docs/pulse-core.md, "Machine
+                // lock").
+                self.out.unshift();
                 self.estop = false;
                 self.alarm = None;
                 self.notice = None;
@@ -59,6 +69,41 @@ impl Machine {
             }
             Command::Override(p) => self.pending_override = Some(p.min(150)),
             Command::SingleBlock(b) => self.single_block = b,
+            Command::RapidOverride(p) => {
+                if matches!(p, 0 | 25 | 50 | 100) {
+                    self.rapid_override = p;
+                    self.retarget();
+                } else {
+                    self.notice = Some(format!(
+                        "rapid override {p} % refused: F0 (0), 25, 50 or 100"
+                    ));
+                }
+            }
+            Command::SpindleOverride(p) => {
+                if (50..=120).contains(&p) && p.is_multiple_of(10) {
+                    self.spindle_override = p;
+                } else {
+                    self.notice = Some(format!(
+                        "spindle override {p} % refused: 50 to 120 in steps of 10"
+                    ));
+                }
+            }
+            Command::DryRun(on) => {
+                self.dry_run = on;
+                self.retarget();
+            }
+            Command::MachineLock(on) => {
+                if self.lock_change_allowed("MACHINE LOCK") {
+                    self.machine_lock = on;
+                    self.set_lock();
+                }
+            }
+            Command::ZNeglect(on) => {
+                if self.lock_change_allowed("Z NEGLECT") {
+                    self.z_neglect = on;
+                    self.set_lock();
+                }
+            }
             Command::Jog { axis, dir } => {
                 if self.jog.is_some() || !self.increments.is_empty() {
                     self.notice = Some("jog in progress".into());
@@ -94,6 +139,28 @@ impl Machine {
             }
         }
         self.send_state();
+    }
+
+    /// MACHINE LOCK and Z NEGLECT change only with no run loaded and nothing moving (a run is
+    /// either locked all through or not at all); if not, the notice says why.
+    fn lock_change_allowed(&mut self, name: &str) -> bool {
+        if self.job.is_some()
+            || self.current.is_some()
+            || self.jog.is_some()
+            || !self.increments.is_empty()
+        {
+            self.notice = Some(format!(
+                "{name} refused: a run is loaded or an axis is moving; RESET or finish it first"
+            ));
+            return false;
+        }
+        true
+    }
+
+    /// The axes MACHINE LOCK and Z NEGLECT hold back, from the next pulse.
+    fn set_lock(&mut self) {
+        let l = self.machine_lock;
+        self.out.set_lock([l, l, l || self.z_neglect]);
     }
 
     /// RESET without clearing an e-stop or alarm: the run is abandoned, the axes stop where

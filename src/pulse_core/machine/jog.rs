@@ -8,7 +8,7 @@
 
 use super::{axis_name, Jog, Machine, Phase};
 use crate::pulse_core::drive::Drive;
-use crate::pulse_core::motion::{speed_pulses_ns, Motion};
+use crate::pulse_core::motion::Motion;
 
 impl Machine {
     /// The travel limits of `axis` if a manual move may start now; if not, says why.
@@ -40,6 +40,11 @@ impl Machine {
             self.notice = Some("jog refused: the program is running (STOP first)".into());
             return None;
         }
+        if self.job.is_none() {
+            // After a run under MACHINE LOCK: a manual move starts from where the axes are,
+            // and the travel limits are theirs (docs/pulse-core.md, "Machine lock").
+            self.out.unshift();
+        }
         Some(self.settings.travel_pulses(axis))
     }
 
@@ -59,7 +64,7 @@ impl Machine {
     pub(super) fn start_jog(&mut self, axis: usize, d: i64, release: bool, t0: u64) {
         let mut delta = [0; 3];
         delta[axis] = d;
-        let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
+        let v = self.rapid_speed(self.settings.jog_mm_min);
         self.jog = Some(Jog {
             motion: Drive::Dda(Motion::linear(delta, v, self.accel, t0)),
             release,
@@ -96,7 +101,7 @@ impl Machine {
             if delta == [0; 3] {
                 continue;
             }
-            let v = speed_pulses_ns(self.settings.jog_mm_min, self.settings.pulse_mm);
+            let v = self.rapid_speed(self.settings.jog_mm_min);
             self.ret = Some(Jog {
                 motion: Drive::Dda(Motion::linear(delta, v, self.accel, t)),
                 release: false,

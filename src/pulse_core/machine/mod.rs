@@ -280,6 +280,13 @@ pub struct Machine {
     program_stop: bool,
     feed_override: u32,
     pending_override: Option<u32>,
+    /// Rapid override, percent: 0 (F0), 25, 50, 100.
+    rapid_override: u32,
+    /// Spindle override, percent: 50–120.
+    spindle_override: u32,
+    dry_run: bool,
+    machine_lock: bool,
+    z_neglect: bool,
     current: Option<Current>,
     job: Option<Job>,
     runs: u64,
@@ -309,7 +316,7 @@ pub struct Machine {
     finished_at: Option<u64>,
     audit: Option<Vec<BlockEnd>>,
     events: Option<EventSink>,
-    last_state: Option<(u8, u32, u32, i64, String, String)>,
+    last_state: Option<report::StateKey>,
     op_mode: String,
     data_mode: String,
     commands: u64,
@@ -339,6 +346,11 @@ impl Machine {
             program_stop: false,
             feed_override: 100,
             pending_override: None,
+            rapid_override: 100,
+            spindle_override: 100,
+            dry_run: false,
+            machine_lock: false,
+            z_neglect: false,
             current: None,
             job: None,
             runs: 0,
@@ -424,8 +436,9 @@ impl Machine {
     pub fn set_recording(&mut self, sink: Option<EventSink>, capture_pulses: bool) {
         self.out.set_log(sink.clone(), capture_pulses);
         self.events = sink;
+        // The first `/nc/state` goes with the first command or tick, so that the front end's
+        // modes (`set_panel_modes`) are in it, not the defaults.
         self.last_state = None;
-        self.send_state();
     }
 
     /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
@@ -504,6 +517,7 @@ impl Machine {
             return false;
         }
         self.out.pos = pos;
+        self.out.shift = [0; 3];
         true
     }
 
@@ -512,15 +526,25 @@ impl Machine {
         self.now
     }
 
-    /// Axis positions, pulses.
+    /// Program positions, pulses (the axes' own, but for what MACHINE LOCK held back).
     pub fn pos(&self) -> [i64; 3] {
         self.out.pos
     }
 
-    /// The machine's state for a program source to start from.
+    /// Axis positions, pulses: where the axes really are.
+    pub fn machine_pos(&self) -> [i64; 3] {
+        self.out.machine_pos()
+    }
+
+    /// The machine's state for a program source to start from: with no run loaded, where the
+    /// axes are (a new run brings the program position back to them, `begin_run`).
     pub fn machine_state(&self) -> MachineState {
         MachineState {
-            pos: self.out.pos,
+            pos: if self.job.is_some() {
+                self.out.pos
+            } else {
+                self.out.machine_pos()
+            },
             tool: self.tool,
             spindle: self.spindle,
         }
@@ -783,10 +807,51 @@ impl Machine {
         }
     }
 
-    /// Path speed for a programmed feed, after override, capped at the rapid rate.
+    /// Path speed for a programmed feed, after override, capped at the rapid rate. DRY RUN
+    /// replaces the programmed feed by the jog feed; the feed override scales either
+    /// (docs/pulse-core.md, "Overrides and switches").
     fn feed_speed(&self, feed: f64) -> f64 {
+        let feed = if self.dry_run {
+            self.settings.jog_mm_min
+        } else {
+            feed
+        };
         let f = (feed * self.feed_override as f64 / 100.0).min(self.settings.rapid_mm_min);
         speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
+    }
+
+    /// Path speed of a rapid, jog or return whose full speed is `full` mm/min, after the rapid
+    /// override: its percentage of `full`, or at F0 the F0 rate (never faster than `full`).
+    pub(super) fn rapid_speed(&self, full: f64) -> f64 {
+        let f = match self.rapid_override {
+            0 => self.settings.rapid_f0_mm_min.min(full),
+            p => full * f64::from(p.min(100)) / 100.0,
+        };
+        speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
+    }
+
+    /// The spindle rpm the spindle turns at: programmed times the spindle override.
+    fn spindle_actual(&self) -> i64 {
+        self.spindle * i64::from(self.spindle_override) / 100
+    }
+
+    /// Sets the target speed of the motions in force after an override or DRY RUN change:
+    /// the block's (its feed, or a rapid), a jog's and a return's.
+    pub(super) fn retarget(&mut self) {
+        let v = self.current.as_ref().map(|c| &c.block).map(|b| {
+            if b.motion == Kind::Rapid {
+                self.rapid_speed(self.settings.rapid_mm_min)
+            } else {
+                self.feed_speed(b.feed)
+            }
+        });
+        if let (Some(v), Some(m)) = (v, self.current.as_mut().and_then(|c| c.motion.as_mut())) {
+            m.set_target(v);
+        }
+        let j = self.rapid_speed(self.settings.jog_mm_min);
+        for m in [self.jog.as_mut(), self.ret.as_mut()].into_iter().flatten() {
+            m.motion.set_target(j);
+        }
     }
 
     /// A block the core will not run: alarm (RESET needed), the run ends before it.
@@ -834,6 +899,7 @@ impl Machine {
         });
         self.blocks_done = 0;
         self.out.count = [0; 3];
+        self.out.unshift();
         self.program_end = false;
         self.just_completed = false;
         self.run_magazine = self.magazine.clone();
@@ -991,7 +1057,7 @@ impl Machine {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
                             b.delta,
-                            speed_pulses_ns(self.settings.rapid_mm_min, self.settings.pulse_mm),
+                            self.rapid_speed(self.settings.rapid_mm_min),
                             self.accel,
                             t0,
                         )),
@@ -1144,6 +1210,7 @@ impl Machine {
                 Event::Position {
                     t_ns: t,
                     pulses: pos,
+                    held: self.out.shift,
                     speed_mm_min: 0.0,
                 },
             );

@@ -2,7 +2,19 @@
 
 use super::{send_ev, Machine, Phase};
 use crate::pulse_core::{RunInfo, Status};
-use crate::record::Event;
+use crate::record::{Event, Switches};
+
+/// What `/nc/state` last said: a new message only when it changes.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct StateKey {
+    run: u8,
+    feed_override: u32,
+    tool: u32,
+    spindle: i64,
+    op_mode: String,
+    data_mode: String,
+    switches: Switches,
+}
 
 impl Machine {
     pub(super) fn send_position(&self) {
@@ -13,41 +25,49 @@ impl Machine {
                 Event::Position {
                     t_ns: self.now,
                     pulses: self.out.pos,
+                    held: self.out.shift,
                     speed_mm_min: self.speed_mm_min(),
                 },
             );
         }
     }
+    /// The switch positions recorded in `/nc/state`.
+    fn switches(&self) -> Switches {
+        Switches {
+            rapid_override: self.rapid_override,
+            spindle_override: self.spindle_override,
+            dry_run: self.dry_run,
+            machine_lock: self.machine_lock,
+            z_neglect: self.z_neglect,
+        }
+    }
+
     pub(super) fn send_state(&mut self) {
         let Some(s) = &self.events else { return };
-        let tool = self.tool.unwrap_or(0);
-        let same = self.last_state.as_ref().is_some_and(|k| {
-            (k.0, k.1, k.2, k.3) == (self.run, self.feed_override, tool, self.spindle)
-                && k.4 == self.op_mode
-                && k.5 == self.data_mode
-        });
-        if same {
+        let key = StateKey {
+            run: self.run,
+            feed_override: self.feed_override,
+            tool: self.tool.unwrap_or(0),
+            spindle: self.spindle_actual(),
+            op_mode: self.op_mode.clone(),
+            data_mode: self.data_mode.clone(),
+            switches: self.switches(),
+        };
+        if self.last_state.as_ref() == Some(&key) {
             return;
         }
-        let key = (
-            self.run,
-            self.feed_override,
-            tool,
-            self.spindle,
-            self.op_mode.clone(),
-            self.data_mode.clone(),
-        );
         send_ev(
             s,
             &self.out.lossless,
             Event::State {
                 t_ns: self.now,
-                run: key.0,
-                op_mode: key.4.clone(),
-                data_mode: key.5.clone(),
-                feed_override: key.1,
-                tool: key.2,
-                spindle: key.3,
+                run: key.run,
+                op_mode: key.op_mode.clone(),
+                data_mode: key.data_mode.clone(),
+                feed_override: key.feed_override,
+                tool: key.tool,
+                spindle: key.spindle,
+                switches: key.switches,
             },
         );
         self.last_state = Some(key);
@@ -77,6 +97,7 @@ impl Machine {
             estop: self.estop,
             alarm: self.alarm.clone(),
             pos: self.out.pos,
+            machine_pos: self.out.machine_pos(),
             job: self.job.as_ref().map(|j| RunInfo {
                 kind: j.kind,
                 id: j.id,
@@ -111,8 +132,14 @@ impl Machine {
                 .filter(|c| c.phase == Phase::PreAux && c.block.m == Some(6))
                 .and_then(|c| c.block.t.or(self.selected_t)),
             tool_set_length: self.tool_len,
-            spindle: self.spindle,
+            spindle: self.spindle_actual(),
+            spindle_programmed: self.spindle,
             feed_override: self.pending_override.unwrap_or(self.feed_override),
+            rapid_override: self.rapid_override,
+            spindle_override: self.spindle_override,
+            dry_run: self.dry_run,
+            machine_lock: self.machine_lock,
+            z_neglect: self.z_neglect,
             machine_ns: self.now,
             moving: motion.is_some_and(|m| !m.at_rest()),
             program_end: self.program_end,
