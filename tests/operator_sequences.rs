@@ -912,9 +912,12 @@ impl Session {
             // The pages show history and program text, not the machine's state.
             return;
         }
+        // The state line is the display's last line that starts "RUN " (a wrapped message
+        // such as "DRY / RUN on: ..." may start a line with it too).
         if let Some(line) = v
             .display
             .iter()
+            .rev()
             .map(|l| l.trim_end())
             .find(|l| l.starts_with("RUN "))
         {
