@@ -221,3 +221,101 @@ fn ofs_home_and_end_reach_the_first_tool_and_the_work_offsets() {
     let f = c.frame_text();
     assert!(f.contains("T01 00610        40> 220.000"), "{f}");
 }
+
+/// The POS line a row starts with (`X `, `TOOL`), and the heading.
+fn pos_line(c: &Console, start: &str) -> String {
+    let f = c.frame_text();
+    f.lines()
+        .find(|l| l.trim_start().starts_with(start))
+        .unwrap_or_else(|| panic!("no {start} line:\n{f}"))
+        .to_string()
+}
+
+/// POS shows the work position in the system the console's interpreter has in force (G55
+/// here, selected by MDI) with its name, G92 included, not always G54.
+#[test]
+fn pos_shows_the_work_position_in_the_active_system_with_its_name() {
+    let mut c = common::open("pages-pos-g55");
+    common::mdi(&mut c, "G10 L2 P2 X100 Y20 Z-50");
+    common::mdi(&mut c, "G55 G0 X5 Y6 Z7");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "WORK").contains("WORK G55"),
+        "{}",
+        c.frame_text()
+    );
+    let x = pos_line(&c, "X ");
+    let cols: Vec<&str> = x.split_whitespace().collect();
+    assert_eq!(cols[1], "5.000", "WORK X in G55: {x}");
+    assert_eq!(cols[3], "105.000", "MACH X: {x}");
+    let z = pos_line(&c, "Z ");
+    assert_eq!(z.split_whitespace().nth(1), Some("7.000"), "{z}");
+    // G92 shifts the work position further and is named beside the system.
+    keys(&mut c, &["Ctrl+P"]);
+    common::mdi(&mut c, "G92 X0");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "G55+G92").contains("REL"),
+        "{}",
+        c.frame_text()
+    );
+    let x = pos_line(&c, "X ");
+    assert_eq!(x.split_whitespace().nth(1), Some("0.000"), "{x}");
+}
+
+/// A tool length revised on OFS while a run is loaded is not in force until the next block
+/// (the next run for a G-code run): POS shows the length in force and marks the revised one
+/// as pending.
+#[test]
+fn pos_marks_a_revised_length_not_yet_in_force() {
+    let mut c = common::open("pages-pos-pending");
+    let path = temp_dir("pages-pos-pending-src").join("len.ngc");
+    std::fs::write(
+        &path,
+        "G21 G90\nG10 L2 P1 Z-450\nG54\nT2 M6\nG43 H2\nG0 X10 Y20 Z20\nG1 Z-5 F300\nG0 Z20\nM30\n",
+    )
+    .unwrap();
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    c.handle(PanelEvent::Data(novanc::panel_model::DataMode::Read));
+    c.handle(PanelEvent::Tape(path));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Single));
+    // Single blocks until T02 is in the spindle and the run stands between blocks.
+    for _ in 0..4 {
+        c.handle(PanelEvent::Start);
+        c.handle(PanelEvent::Wait);
+        if c.status().tool == Some(2) {
+            break;
+        }
+    }
+    assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+    let old = c.magazine().tools.get(2).unwrap().set_length;
+    keys(&mut c, &["Ctrl+O", "Down"]);
+    type_line(&mut c, "155");
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 155.0);
+    keys(&mut c, &["Ctrl+P"]);
+    let tool = pos_line(&c, "TOOL");
+    assert!(
+        tool.contains(&format!("T02 length {old:.3}")),
+        "{}",
+        c.frame_text()
+    );
+    assert!(
+        pos_line(&c, "T02 155.000").contains("pending: next run"),
+        "{}",
+        c.frame_text()
+    );
+    // The run's end puts it in force; the mark goes.
+    keys(&mut c, &["Ctrl+P"]);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "TOOL").contains("T02 length 155.000"),
+        "{}",
+        c.frame_text()
+    );
+    assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
+}

@@ -59,6 +59,24 @@ pub struct Pages {
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub program_msg: Option<String>,
+    /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
+    pub pending_len: Option<PendingLength>,
+}
+
+/// A length revised during a run that the machine does not use yet: a source-language run
+/// takes it from the next block, a G-code run from the next run (its G43 read the old one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingLength {
+    /// The tool revised (in the spindle).
+    pub tool: u32,
+    /// The length in force (set length plus wear), mm.
+    pub in_force: f64,
+    /// The revised length, mm.
+    pub revised: f64,
+    /// The run's blocks completed when it was revised.
+    pub blocks_done: u64,
+    /// The run is a G-code run (the length applies from the next run).
+    pub gcode: bool,
 }
 
 impl Pages {
@@ -82,6 +100,7 @@ impl Pages {
                 recall_at: None,
                 logged: (String::new(), String::new()),
                 program_msg: None,
+                pending_len: None,
             },
             w1.into_iter().chain(w2).collect(),
         )

@@ -140,8 +140,10 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             return;
         }
     };
+    let before = c.status.tool_set_length;
     match c.mem.revise_tool(t, tool, &new) {
         Ok(_) => {
+            note_pending(c, t, before);
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {
                 c.core.set_magazine(c.mem.magazine());
@@ -238,4 +240,25 @@ mod tests {
         assert!(revised(r, 4, "x", false).is_err());
         assert!(revised(r, 1, "5", false).is_err());
     }
+}
+
+/// Notes a length of the tool in the spindle revised while a run is loaded: it is not in force
+/// until the next block (the next run for a G-code run), and POS marks it until then.
+fn note_pending(c: &mut Console, t: u32, before: f64) {
+    let st = &c.status;
+    if st.job.is_none() || st.tool != Some(t) {
+        return;
+    }
+    let revised = c.mem.magazine().tools.get(t).map_or(0.0, |r| r.length());
+    let in_force = match &c.pages.pending_len {
+        Some(p) if p.tool == t && p.blocks_done == st.blocks_done => p.in_force,
+        _ => before,
+    };
+    c.pages.pending_len = (revised != in_force).then(|| super::PendingLength {
+        tool: t,
+        in_force,
+        revised,
+        blocks_done: st.blocks_done,
+        gcode: super::super::gcode_run::gcode_run_loaded(c),
+    });
 }
