@@ -319,3 +319,57 @@ fn pos_marks_a_revised_length_not_yet_in_force() {
     );
     assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
 }
+
+/// OFS MEASURE: a work offset set so that the position here reads the value typed (touch-off),
+/// and a tool's length set by touching its tip to a known height; both journaled.
+#[test]
+fn ofs_measure_sets_a_work_offset_and_a_tool_length_from_the_position() {
+    let dir = temp_dir("pages-measure");
+    {
+        let mut c = open_in(&dir);
+        common::mdi(&mut c, "G10 L2 P1 Z-450");
+        common::mdi(&mut c, "T2 M6");
+        common::mdi(&mut c, "G53 G0 X120 Y80 Z-300");
+        assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+        keys(&mut c, &["Ctrl+O", "Down"]);
+        // The tip touches a surface 50 mm above G54's zero: the gauge line is 100 above it.
+        type_line(&mut c, "MEASURE Z50");
+        assert_eq!(
+            c.magazine().tools.get(2).unwrap().set_length,
+            100.0,
+            "{}",
+            c.frame_text()
+        );
+        // Refusals change nothing and say why.
+        let before = c.magazine();
+        type_line(&mut c, "MEASURE X3");
+        assert!(shows(&c, "OFS MEASURE refused"), "{}", c.frame_text());
+        type_line(&mut c, "MEASURE Zq");
+        assert!(shows(&c, "OFS MEASURE refused"), "{}", c.frame_text());
+        keys(&mut c, &["Down"]);
+        type_line(&mut c, "MEASURE Z1");
+        assert!(
+            shows(&c, "T03 is not in the spindle (T02 is)"),
+            "{}",
+            c.frame_text()
+        );
+        assert_eq!(c.magazine(), before);
+        // X Y touch-off in G55 from a tool row, by name; then on its row, X alone.
+        type_line(&mut c, "measure G55 X10 Y-5");
+        assert!(shows(&c, "G55 X110.000 Y85.000"), "{}", c.frame_text());
+        type_line(&mut c, "MEASURE X3");
+        assert!(shows(&c, "G55 X117.000 Y85.000"), "{}", c.frame_text());
+        keys(&mut c, &["Ctrl+O", "Ctrl+P"]);
+        let z = pos_line(&c, "Z ");
+        assert_eq!(z.split_whitespace().nth(1), Some("50.000"), "{z}");
+    }
+    let mut c = open_in(&dir);
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 100.0);
+    common::mdi(&mut c, "G55");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "WORK").contains("WORK G55"),
+        "{}",
+        c.frame_text()
+    );
+}

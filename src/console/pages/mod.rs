@@ -15,6 +15,7 @@
 //! - MSG (`msg.rs`): the alarm and message history, newest first, full text, kept across
 //!   restarts.
 
+mod measure;
 mod msg;
 mod ofs;
 mod pos;

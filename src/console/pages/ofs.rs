@@ -109,6 +109,14 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         c.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
         return;
     }
+    if let Some(rest) = line
+        .trim_start()
+        .get(..7)
+        .filter(|w| w.eq_ignore_ascii_case("MEASURE"))
+        .map(|_| &line.trim_start()[7..])
+    {
+        return super::measure::enter(c, rest);
+    }
     if let Some((system, rest)) = super::workofs::system_of(line) {
         return super::workofs::enter_line(c, system, rest, add);
     }

@@ -220,7 +220,7 @@ fn work_system(c: &Console) -> (String, [f64; 3]) {
 
 /// The length in force of the tool in the spindle (mm), and a revised one not yet in force
 /// with when it applies.
-fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
+pub(super) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
     let st = &c.status;
     match &c.pages.pending_len {
         Some(p)
@@ -230,6 +230,13 @@ fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
         {
             let when = if p.gcode { "next run" } else { "next block" };
             (p.in_force, Some((p.revised, when)))
+        }
+        // With no run loaded, the tool file's length is what the next run takes (an OFS
+        // edit reaches the pulse core at START).
+        _ if st.job.is_none() => {
+            let m = c.mem.magazine();
+            let len = st.tool.and_then(|t| m.tools.get(t)).map(|r| r.length());
+            (len.unwrap_or(st.tool_set_length), None)
         }
         _ => (st.tool_set_length, None),
     }
