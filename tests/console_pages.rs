@@ -373,3 +373,37 @@ fn ofs_measure_sets_a_work_offset_and_a_tool_length_from_the_position() {
         c.frame_text()
     );
 }
+
+/// MODAL (Ctrl-G) shows the G codes of every group in force, F, the work system, the tool in
+/// the spindle and the switches; it follows MDI and the SINGLE BLOCK selector, and is read only.
+#[test]
+fn the_modal_page_shows_the_state_in_force_and_the_switches() {
+    let mut c = common::open("pages-modal");
+    common::mdi(&mut c, "G55 G91 G18 F250");
+    keys(&mut c, &["Ctrl+G"]);
+    assert_eq!(c.view().page, Page::Modal);
+    let f = c.frame_text();
+    for want in [
+        "G18",
+        "G91",
+        "G55",
+        "F250",
+        "FEED OVR 100%",
+        "SINGLE BLOCK off",
+    ] {
+        assert!(f.contains(want), "{want}:\n{f}");
+    }
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Single));
+    keys(&mut c, &["Alt+-"]);
+    let f = c.frame_text();
+    assert!(f.contains("SINGLE BLOCK ON"), "{f}");
+    assert!(f.contains("FEED OVR 90%"), "{f}");
+    type_line(&mut c, "G54");
+    assert!(
+        shows(&c, "MODAL: the state is read only"),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["Ctrl+G"]);
+    assert_eq!(c.view().page, Page::Mode);
+}

@@ -12,10 +12,13 @@
 //! - OFS (`ofs.rs`): the tool file as a table; a value INPUT sets a cell, +INPUT adds to it;
 //!   also during a feed hold and between single blocks (a length applies from the next block).
 //!   After the last T code, the work offsets G54 to G59 (`workofs.rs`).
+//! - MODAL (`modal.rs`, Ctrl-G): the active G codes of every modal group, F S T H D, the
+//!   offsets in force, the overrides and the switches; read only.
 //! - MSG (`msg.rs`): the alarm and message history, newest first, full text, kept across
 //!   restarts.
 
 mod measure;
+mod modal;
 mod msg;
 mod ofs;
 mod pos;
@@ -148,6 +151,7 @@ pub fn page_of_key(k: Key) -> Option<Page> {
         Key::Ctrl('d') => Some(Page::Prog),
         Key::Ctrl('o') => Some(Page::Ofs),
         Key::Ctrl('e') => Some(Page::Msg),
+        Key::Ctrl('g') => Some(Page::Modal),
         _ => None,
     }
 }
@@ -177,7 +181,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),
                 Page::Msg => msg::arrow(c, k),
-                Page::Pos | Page::Mode => return false,
+                Page::Pos | Page::Modal | Page::Mode => return false,
             }
             true
         }
@@ -218,6 +222,9 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         Page::Msg => {
             c.message = "MSG: the history is read only; Up/Down scroll it".into();
         }
+        Page::Modal => {
+            c.message = "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
+        }
         Page::Mode => {}
     }
 }
@@ -228,6 +235,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         Page::Pos => pos::compose(c, rows, cols),
         Page::Prog => prog::compose(c, rows, cols),
         Page::Ofs => ofs::compose(c, rows, cols),
+        Page::Modal => modal::compose(c, rows, cols),
         Page::Msg | Page::Mode => msg::compose(c, rows, cols),
     }
 }
