@@ -407,3 +407,52 @@ fn the_modal_page_shows_the_state_in_force_and_the_switches() {
     keys(&mut c, &["Ctrl+G"]);
     assert_eq!(c.view().page, Page::Mode);
 }
+
+/// The machine time one STEP increment of X takes (from the keys to the end of the move).
+fn step_time(c: &mut Console) -> u64 {
+    let t0 = c.status().machine_ns;
+    keys(c, &["Right"]);
+    c.handle(PanelEvent::Wait);
+    c.status().machine_ns - t0
+}
+
+/// POS `JOG 100` selects the jog feed and `JOG RAPID` rapid jog: a STEP increment takes the
+/// time of that feed; a value out of range is refused and changes nothing.
+#[test]
+fn pos_selects_the_jog_feed_and_rapid_jog() {
+    let mut c = common::open("pages-jog");
+    keys(&mut c, &["Alt+6"]);
+    let normal = step_time(&mut c);
+    keys(&mut c, &["Ctrl+P"]);
+    type_line(&mut c, "JOG 100");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG 100 mm/min"),
+        "{}",
+        c.frame_text()
+    );
+    let slow = step_time(&mut c);
+    assert!(
+        slow >= 60_000_000 && slow > 2 * normal,
+        "0.1 mm at 100 mm/min: {slow} ns, at 1000: {normal} ns"
+    );
+    type_line(&mut c, "JOG RAPID");
+    assert!(shows(&c, "rapid jog: 12000 mm/min"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID 12000"),
+        "{}",
+        c.frame_text()
+    );
+    let fast = step_time(&mut c);
+    assert!(fast <= normal, "rapid {fast} ns, jog {normal} ns");
+    type_line(&mut c, "JOG 0");
+    assert!(shows(&c, "JOG refused"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID"),
+        "{}",
+        c.frame_text()
+    );
+    type_line(&mut c, "JOG");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+    assert_eq!(c.status().pos[0], 300);
+}

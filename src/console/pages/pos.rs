@@ -34,6 +34,9 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         c.message = "relative X Y Z zeroed".into();
         return;
     }
+    if let Some(rest) = l.strip_prefix("JOG") {
+        return jog(c, rest.trim());
+    }
     for (word, set) in [("PARTS", true), ("TARGET", false)] {
         if let Some(rest) = l.strip_prefix(word) {
             match rest.trim().parse::<u64>() {
@@ -59,7 +62,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Some('Y') => 1,
         Some('Z') => 2,
         _ => {
-            c.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n or TARGET n, then Enter".into();
+            c.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into();
             return;
         }
     };
@@ -77,6 +80,48 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     };
     c.pages.rel_origin[axis] = pos[axis] - s.to_pulses(value);
     c.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
+}
+
+/// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
+/// settings' by default).
+pub(crate) fn jog_feed(c: &Console) -> f64 {
+    let s = &c.cfg.settings;
+    if c.pages.rapid_jog {
+        s.rapid_mm_min
+    } else {
+        c.pages.jog_feed.unwrap_or(s.jog_mm_min)
+    }
+}
+
+/// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
+/// (back to the jog feed from rapid jog).
+fn jog(c: &mut Console, rest: &str) {
+    let rapid = c.cfg.settings.rapid_mm_min;
+    if rest == "RAPID" {
+        c.pages.rapid_jog = true;
+    } else if rest.is_empty() {
+        c.pages.rapid_jog = false;
+    } else {
+        match rest.parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
+                c.pages.jog_feed = Some(v);
+                c.pages.rapid_jog = false;
+            }
+            _ => {
+                c.message = format!(
+                    "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
+                );
+                return;
+            }
+        }
+    }
+    let f = jog_feed(c);
+    c.core.set_jog_feed(f);
+    c.message = if c.pages.rapid_jog {
+        format!("rapid jog: {f:.0} mm/min")
+    } else {
+        format!("jog feed {f:.0} mm/min")
+    };
 }
 
 /// The POS page.
@@ -145,9 +190,10 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         st.speed_mm_min,
         st.spindle.abs()
     ));
+    let rapid = if c.pages.rapid_jog { " RAPID" } else { "" };
     p.body.push(format!(
-        "JOG {:.0} mm/min STEP {:.3} mm",
-        s.jog_mm_min,
+        "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
+        jog_feed(c),
         s.to_mm(c.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
