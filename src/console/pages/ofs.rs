@@ -233,23 +233,6 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     p.lines()
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_cell_is_set_or_added_to() {
-        let m = crate::tooldata::sample_magazine();
-        let r = m.tools.get(2).unwrap();
-        assert_eq!(revised(r, 4, "155", false).unwrap().set_length, 155.0);
-        assert_eq!(revised(r, 4, "5", true).unwrap().set_length, 155.0);
-        assert_eq!(revised(r, 9, "-0.05", true).unwrap().wear_length, -0.05);
-        assert_eq!(revised(r, 2, "em", false).unwrap().kind, ToolKind::EndMill);
-        assert!(revised(r, 4, "x", false).is_err());
-        assert!(revised(r, 1, "5", false).is_err());
-    }
-}
-
 /// Notes a length of the tool in the spindle revised while a run is loaded: it is not in force
 /// until the next block (the next run for a G-code run), and POS marks it until then.
 fn note_pending(c: &mut Console, t: u32, before: f64) {
@@ -269,4 +252,21 @@ fn note_pending(c: &mut Console, t: u32, before: f64) {
         blocks_done: st.blocks_done,
         gcode: super::super::gcode_run::gcode_run_loaded(c),
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cell_is_set_or_added_to() {
+        let m = crate::tooldata::sample_magazine();
+        let r = m.tools.get(2).unwrap();
+        assert_eq!(revised(r, 4, "155", false).unwrap().set_length, 155.0);
+        assert_eq!(revised(r, 4, "5", true).unwrap().set_length, 155.0);
+        assert_eq!(revised(r, 9, "-0.05", true).unwrap().wear_length, -0.05);
+        assert_eq!(revised(r, 2, "em", false).unwrap().kind, ToolKind::EndMill);
+        assert!(revised(r, 4, "x", false).is_err());
+        assert!(revised(r, 1, "5", false).is_err());
+    }
 }
