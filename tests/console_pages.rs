@@ -456,3 +456,54 @@ fn pos_selects_the_jog_feed_and_rapid_jog() {
     assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
     assert_eq!(c.status().pos[0], 300);
 }
+
+/// In a source-language run held in a feed, a length revised on OFS applies from the next
+/// block: POS marks it `pending: next block` until that block starts, then shows it in force.
+#[test]
+fn pos_marks_a_length_revised_in_a_hold_until_the_next_block() {
+    let mut c = common::open("pages-pos-next-block");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(PanelEvent::WaitBlock(5));
+    c.handle(PanelEvent::WaitMs(400));
+    keys(&mut c, &["F10"]);
+    c.handle(PanelEvent::Wait);
+    let t = c.status().tool.expect("a tool in the spindle");
+    let old = c.magazine().tools.get(t).unwrap().length();
+    keys(&mut c, &["Ctrl+O"]);
+    let set = c.magazine().tools.get(t).unwrap().set_length;
+    type_line(&mut c, &format!("{:.3}", set + 0.5));
+    assert!(shows(&c, "from the next block"), "{}", c.frame_text());
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "TOOL").contains(&format!("length {old:.3}")),
+        "{}",
+        c.frame_text()
+    );
+    assert!(
+        pos_line(&c, &format!("T{t:02} {:.3}", old + 0.5)).contains("pending: next block"),
+        "{}",
+        c.frame_text()
+    );
+    let done = c.status().blocks_done;
+    keys(&mut c, &["F9"]);
+    // Until the next block has started, the run still going.
+    for _ in 0..240 {
+        if c.status().blocks_done > done {
+            break;
+        }
+        c.handle(PanelEvent::WaitMs(250));
+    }
+    assert!(
+        c.status().job.is_some() && c.status().blocks_done > done,
+        "{done} {} {:?}\n{}",
+        c.status().blocks_done,
+        c.status().job.is_some(),
+        c.frame_text()
+    );
+    assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "TOOL").contains(&format!("length {:.3}", old + 0.5)),
+        "{}",
+        c.frame_text()
+    );
+}

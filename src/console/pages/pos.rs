@@ -198,12 +198,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     ));
     let tool = match (st.tool, st.changing_tool) {
         (_, Some(t)) => format!("TOOL CHANGE to T{t:02} in progress"),
-        (Some(t), None) => match pending {
-            Some((v, when)) => {
-                format!("TOOL T{t:02} length {in_force:.3} ({v:.3} pending, {when})")
-            }
-            None => format!("TOOL T{t:02} length {in_force:.3}"),
-        },
+        (Some(t), None) => format!("TOOL T{t:02} length {in_force:.3}"),
         (None, None) => "TOOL none".to_string(),
     };
     p.body.push(tool);
