@@ -182,11 +182,13 @@ pub enum Page {
     Ofs,
     /// MSG: the alarm and message history.
     Msg,
+    /// MODAL: the modal state in force, the overrides and the switches.
+    Modal,
 }
 
 impl Page {
     /// The pages of the row of page keys, in order.
-    pub const KEYS: [Page; 4] = [Page::Pos, Page::Prog, Page::Ofs, Page::Msg];
+    pub const KEYS: [Page; 5] = [Page::Pos, Page::Prog, Page::Ofs, Page::Msg, Page::Modal];
 
     /// The key's label.
     pub fn label(self) -> &'static str {
@@ -196,6 +198,7 @@ impl Page {
             Page::Prog => "PROG",
             Page::Ofs => "OFS",
             Page::Msg => "MSG",
+            Page::Modal => "MODAL",
         }
     }
 }

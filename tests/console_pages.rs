@@ -221,3 +221,289 @@ fn ofs_home_and_end_reach_the_first_tool_and_the_work_offsets() {
     let f = c.frame_text();
     assert!(f.contains("T01 00610        40> 220.000"), "{f}");
 }
+
+/// The POS line a row starts with (`X `, `TOOL`), and the heading.
+fn pos_line(c: &Console, start: &str) -> String {
+    let f = c.frame_text();
+    f.lines()
+        .find(|l| l.trim_start().starts_with(start))
+        .unwrap_or_else(|| panic!("no {start} line:\n{f}"))
+        .to_string()
+}
+
+/// POS shows the work position in the system the console's interpreter has in force (G55
+/// here, selected by MDI) with its name, G92 included, not always G54.
+#[test]
+fn pos_shows_the_work_position_in_the_active_system_with_its_name() {
+    let mut c = common::open("pages-pos-g55");
+    common::mdi(&mut c, "G10 L2 P2 X100 Y20 Z-50");
+    common::mdi(&mut c, "G55 G0 X5 Y6 Z7");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "WORK").contains("WORK G55"),
+        "{}",
+        c.frame_text()
+    );
+    let x = pos_line(&c, "X ");
+    let cols: Vec<&str> = x.split_whitespace().collect();
+    assert_eq!(cols[1], "5.000", "WORK X in G55: {x}");
+    assert_eq!(cols[3], "105.000", "MACH X: {x}");
+    let z = pos_line(&c, "Z ");
+    assert_eq!(z.split_whitespace().nth(1), Some("7.000"), "{z}");
+    // G92 shifts the work position further and is named beside the system.
+    keys(&mut c, &["Ctrl+P"]);
+    common::mdi(&mut c, "G92 X0");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "G55+G92").contains("REL"),
+        "{}",
+        c.frame_text()
+    );
+    let x = pos_line(&c, "X ");
+    assert_eq!(x.split_whitespace().nth(1), Some("0.000"), "{x}");
+}
+
+/// A tool length revised on OFS while a run is loaded is not in force until the next block
+/// (the next run for a G-code run): POS shows the length in force and marks the revised one
+/// as pending.
+#[test]
+fn pos_marks_a_revised_length_not_yet_in_force() {
+    let mut c = common::open("pages-pos-pending");
+    let path = temp_dir("pages-pos-pending-src").join("len.ngc");
+    std::fs::write(
+        &path,
+        "G21 G90\nG10 L2 P1 Z-450\nG54\nT2 M6\nG43 H2\nG0 X10 Y20 Z20\nG1 Z-5 F300\nG0 Z20\nM30\n",
+    )
+    .unwrap();
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    c.handle(PanelEvent::Data(novanc::panel_model::DataMode::Read));
+    c.handle(PanelEvent::Tape(path));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Single));
+    // Single blocks until T02 is in the spindle and the run stands between blocks.
+    for _ in 0..4 {
+        c.handle(PanelEvent::Start);
+        c.handle(PanelEvent::Wait);
+        if c.status().tool == Some(2) {
+            break;
+        }
+    }
+    assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+    let old = c.magazine().tools.get(2).unwrap().set_length;
+    keys(&mut c, &["Ctrl+O", "Down"]);
+    type_line(&mut c, "155");
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 155.0);
+    keys(&mut c, &["Ctrl+P"]);
+    let tool = pos_line(&c, "TOOL");
+    assert!(
+        tool.contains(&format!("T02 length {old:.3}")),
+        "{}",
+        c.frame_text()
+    );
+    assert!(
+        pos_line(&c, "T02 155.000").contains("pending: next run"),
+        "{}",
+        c.frame_text()
+    );
+    // The run's end puts it in force; the mark goes.
+    keys(&mut c, &["Ctrl+P"]);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "TOOL").contains("T02 length 155.000"),
+        "{}",
+        c.frame_text()
+    );
+    assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
+}
+
+/// OFS MEASURE: a work offset set so that the position here reads the value typed (touch-off),
+/// and a tool's length set by touching its tip to a known height; both journaled.
+#[test]
+fn ofs_measure_sets_a_work_offset_and_a_tool_length_from_the_position() {
+    let dir = temp_dir("pages-measure");
+    {
+        let mut c = open_in(&dir);
+        common::mdi(&mut c, "G10 L2 P1 Z-450");
+        common::mdi(&mut c, "T2 M6");
+        common::mdi(&mut c, "G53 G0 X120 Y80 Z-300");
+        assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+        keys(&mut c, &["Ctrl+O", "Down"]);
+        // The tip touches a surface 50 mm above G54's zero: the gauge line is 100 above it.
+        type_line(&mut c, "MEASURE Z50");
+        assert_eq!(
+            c.magazine().tools.get(2).unwrap().set_length,
+            100.0,
+            "{}",
+            c.frame_text()
+        );
+        // Refusals change nothing and say why.
+        let before = c.magazine();
+        type_line(&mut c, "MEASURE X3");
+        assert!(shows(&c, "OFS MEASURE refused"), "{}", c.frame_text());
+        type_line(&mut c, "MEASURE Zq");
+        assert!(shows(&c, "OFS MEASURE refused"), "{}", c.frame_text());
+        keys(&mut c, &["Down"]);
+        type_line(&mut c, "MEASURE Z1");
+        assert!(
+            shows(&c, "T03 is not in the spindle (T02 is)"),
+            "{}",
+            c.frame_text()
+        );
+        assert_eq!(c.magazine(), before);
+        // X Y touch-off in G55 from a tool row, by name; then on its row, X alone.
+        type_line(&mut c, "measure G55 X10 Y-5");
+        assert!(shows(&c, "G55 X110.000 Y85.000"), "{}", c.frame_text());
+        type_line(&mut c, "MEASURE X3");
+        assert!(shows(&c, "G55 X117.000 Y85.000"), "{}", c.frame_text());
+        keys(&mut c, &["Ctrl+O", "Ctrl+P"]);
+        let z = pos_line(&c, "Z ");
+        assert_eq!(z.split_whitespace().nth(1), Some("50.000"), "{z}");
+    }
+    let mut c = open_in(&dir);
+    assert_eq!(c.magazine().tools.get(2).unwrap().set_length, 100.0);
+    common::mdi(&mut c, "G55");
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "WORK").contains("WORK G55"),
+        "{}",
+        c.frame_text()
+    );
+}
+
+/// MODAL (Ctrl-G) shows the G codes of every group in force, F, the work system, the tool in
+/// the spindle and the switches; it follows MDI and the SINGLE BLOCK selector, and is read only.
+#[test]
+fn the_modal_page_shows_the_state_in_force_and_the_switches() {
+    let mut c = common::open("pages-modal");
+    common::mdi(&mut c, "G55 G91 G18 F250");
+    keys(&mut c, &["Ctrl+G"]);
+    assert_eq!(c.view().page, Page::Modal);
+    let f = c.frame_text();
+    for want in [
+        "G18",
+        "G91",
+        "G55",
+        "F250",
+        "FEED OVR 100%",
+        "SINGLE BLOCK off",
+    ] {
+        assert!(f.contains(want), "{want}:\n{f}");
+    }
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Single));
+    keys(&mut c, &["Alt+-"]);
+    let f = c.frame_text();
+    assert!(f.contains("SINGLE BLOCK ON"), "{f}");
+    assert!(f.contains("FEED OVR 90%"), "{f}");
+    type_line(&mut c, "G54");
+    assert!(
+        shows(&c, "MODAL: the state is read only"),
+        "{}",
+        c.frame_text()
+    );
+    keys(&mut c, &["Ctrl+G"]);
+    assert_eq!(c.view().page, Page::Mode);
+}
+
+/// The machine time one STEP increment of X takes (from the keys to the end of the move).
+fn step_time(c: &mut Console) -> u64 {
+    let t0 = c.status().machine_ns;
+    keys(c, &["Right"]);
+    c.handle(PanelEvent::Wait);
+    c.status().machine_ns - t0
+}
+
+/// POS `JOG 100` selects the jog feed and `JOG RAPID` rapid jog: a STEP increment takes the
+/// time of that feed; a value out of range is refused and changes nothing.
+#[test]
+fn pos_selects_the_jog_feed_and_rapid_jog() {
+    let mut c = common::open("pages-jog");
+    keys(&mut c, &["Alt+6"]);
+    let normal = step_time(&mut c);
+    keys(&mut c, &["Ctrl+P"]);
+    type_line(&mut c, "JOG 100");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG 100 mm/min"),
+        "{}",
+        c.frame_text()
+    );
+    let slow = step_time(&mut c);
+    assert!(
+        slow >= 60_000_000 && slow > 2 * normal,
+        "0.1 mm at 100 mm/min: {slow} ns, at 1000: {normal} ns"
+    );
+    type_line(&mut c, "JOG RAPID");
+    assert!(shows(&c, "rapid jog: 12000 mm/min"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID 12000"),
+        "{}",
+        c.frame_text()
+    );
+    let fast = step_time(&mut c);
+    assert!(fast <= normal, "rapid {fast} ns, jog {normal} ns");
+    type_line(&mut c, "JOG 0");
+    assert!(shows(&c, "JOG refused"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID"),
+        "{}",
+        c.frame_text()
+    );
+    type_line(&mut c, "JOG");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+    assert_eq!(c.status().pos[0], 300);
+}
+
+/// In a source-language run held in a feed, a length revised on OFS applies from the next
+/// block: POS marks it `pending: next block` until that block starts, then shows it in force.
+#[test]
+fn pos_marks_a_length_revised_in_a_hold_until_the_next_block() {
+    let mut c = common::open("pages-pos-next-block");
+    keys(&mut c, &["Alt+2", "F9"]);
+    c.handle(PanelEvent::WaitBlock(5));
+    c.handle(PanelEvent::WaitMs(400));
+    keys(&mut c, &["F10"]);
+    c.handle(PanelEvent::Wait);
+    let t = c.status().tool.expect("a tool in the spindle");
+    let old = c.magazine().tools.get(t).unwrap().length();
+    keys(&mut c, &["Ctrl+O"]);
+    let set = c.magazine().tools.get(t).unwrap().set_length;
+    type_line(&mut c, &format!("{:.3}", set + 0.5));
+    assert!(shows(&c, "from the next block"), "{}", c.frame_text());
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "TOOL").contains(&format!("length {old:.3}")),
+        "{}",
+        c.frame_text()
+    );
+    assert!(
+        pos_line(&c, &format!("T{t:02} {:.3}", old + 0.5)).contains("pending: next block"),
+        "{}",
+        c.frame_text()
+    );
+    let done = c.status().blocks_done;
+    keys(&mut c, &["F9"]);
+    // Until the next block has started, the run still going.
+    for _ in 0..240 {
+        if c.status().blocks_done > done {
+            break;
+        }
+        c.handle(PanelEvent::WaitMs(250));
+    }
+    assert!(
+        c.status().job.is_some() && c.status().blocks_done > done,
+        "{done} {} {:?}\n{}",
+        c.status().blocks_done,
+        c.status().job.is_some(),
+        c.frame_text()
+    );
+    assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
+    assert!(
+        pos_line(&c, "TOOL").contains(&format!("length {:.3}", old + 0.5)),
+        "{}",
+        c.frame_text()
+    );
+}

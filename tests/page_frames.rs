@@ -116,6 +116,7 @@ fn pages_at(rows: usize, cols: usize) {
         ("Ctrl+P", "pos"),
         ("Ctrl+D", "prog"),
         ("Ctrl+O", "ofs"),
+        ("Ctrl+G", "modal"),
         ("Ctrl+E", "msg"),
     ] {
         keys(&mut c, &[key]);

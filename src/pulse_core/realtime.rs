@@ -31,6 +31,8 @@ pub enum Op {
     Modes(String, String),
     /// Axis positions set.
     Position([i64; 3]),
+    /// The jog feed, mm/min.
+    JogFeed(f64),
 }
 
 /// Applies an operation to the machine.
@@ -42,6 +44,7 @@ pub fn apply(m: &mut Machine, op: &Op) {
         Op::Position(p) => {
             m.set_position(*p);
         }
+        Op::JogFeed(f) => m.set_jog_feed(*f),
     }
 }
 

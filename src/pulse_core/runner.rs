@@ -51,6 +51,7 @@ enum Msg {
     Magazine(Box<Magazine>),
     Modes(String, String),
     Position([i64; 3]),
+    JogFeed(f64),
     Advance(Wait),
     Audit(bool),
     Interrupt(fn() -> bool),
@@ -234,6 +235,12 @@ impl PulseCore {
         self.send_sync(Msg::Position(pos));
     }
 
+    /// The jog feed, mm/min: of the jogs, the increments and the return after a manual
+    /// intervention from now on (the panel's jog feed and rapid jog selection).
+    pub fn set_jog_feed(&self, mm_min: f64) {
+        self.send_sync(Msg::JogFeed(mm_min));
+    }
+
     /// Keeps a log of every block end (programmed end and actual position), for tests.
     pub fn set_audit(&self, on: bool) {
         self.send_sync(Msg::Audit(on));
@@ -396,6 +403,7 @@ impl Runner {
             Msg::Magazine(mg) => Op::Magazine(mg),
             Msg::Modes(o, d) => Op::Modes(o, d),
             Msg::Position(p) => Op::Position(p),
+            Msg::JogFeed(f) => Op::JogFeed(f),
             Msg::Audit(on) => {
                 self.m.set_audit(on);
                 self.applied += 1;

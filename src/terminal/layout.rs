@@ -166,6 +166,18 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         s.text(x + 1, top + 5, key, PANEL);
         x += button(s, x, top + 6, p.label(), v.page == *p, PANEL, LIT) + 1;
     }
+    // MODAL, under them at the end of the digits' row, its letter beside it.
+    let mx = kw.saturating_sub(12);
+    s.text(mx, top + 7, "^G", PANEL);
+    button(
+        s,
+        mx + 3,
+        top + 7,
+        Page::Modal.label(),
+        v.page == Page::Modal,
+        PANEL,
+        LIT,
+    );
     s.text(0, top + 9, LEGEND, PANEL);
 }
 
@@ -217,6 +229,7 @@ pub const HELP_EDITOR: &[&str] = &[
     "  Ctrl-D PROG  programs: Enter selects, C NAME copies, R NAME renames, D deletes",
     "  Ctrl-O OFS   tool offsets, then G54-G59: value Enter sets, Tab adds",
     "  Ctrl-E MSG   alarm and message history, newest first",
+    "  Ctrl-G MODAL the G codes, F S T H D and offsets in force, overrides, switches",
     "MDI mode: a statement or a G-code line, Enter, F9; Up/Down recall 20",
     "",
     "F8 closes the help; any other key closes it and acts as on the panel.",

@@ -195,6 +195,7 @@ pub fn keyboard(
                         K::D if ctrl => out.push(PanelEvent::Press(Key::Ctrl('d'))),
                         K::O if ctrl => out.push(PanelEvent::Press(Key::Ctrl('o'))),
                         K::E if ctrl => out.push(PanelEvent::Press(Key::Ctrl('e'))),
+                        K::G if ctrl => out.push(PanelEvent::Press(Key::Ctrl('g'))),
                         K::Comma if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, -1)),
                         K::Period if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, 1)),
                         _ => {}

@@ -12,9 +12,13 @@
 //! - OFS (`ofs.rs`): the tool file as a table; a value INPUT sets a cell, +INPUT adds to it;
 //!   also during a feed hold and between single blocks (a length applies from the next block).
 //!   After the last T code, the work offsets G54 to G59 (`workofs.rs`).
+//! - MODAL (`modal.rs`, Ctrl-G): the active G codes of every modal group, F S T H D, the
+//!   offsets in force, the overrides and the switches; read only.
 //! - MSG (`msg.rs`): the alarm and message history, newest first, full text, kept across
 //!   restarts.
 
+mod measure;
+mod modal;
 mod msg;
 mod ofs;
 mod pos;
@@ -59,6 +63,28 @@ pub struct Pages {
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub program_msg: Option<String>,
+    /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
+    pub pending_len: Option<PendingLength>,
+    /// The jog feed chosen on POS (`JOG 500`), mm/min; None: the settings' jog feed.
+    pub jog_feed: Option<f64>,
+    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` with a feed.
+    pub rapid_jog: bool,
+}
+
+/// A length revised during a run that the machine does not use yet: a source-language run
+/// takes it from the next block, a G-code run from the next run (its G43 read the old one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PendingLength {
+    /// The tool revised (in the spindle).
+    pub tool: u32,
+    /// The length in force (set length plus wear), mm.
+    pub in_force: f64,
+    /// The revised length, mm.
+    pub revised: f64,
+    /// The run's blocks completed when it was revised.
+    pub blocks_done: u64,
+    /// The run is a G-code run (the length applies from the next run).
+    pub gcode: bool,
 }
 
 impl Pages {
@@ -82,6 +108,9 @@ impl Pages {
                 recall_at: None,
                 logged: (String::new(), String::new()),
                 program_msg: None,
+                pending_len: None,
+                jog_feed: None,
+                rapid_jog: false,
             },
             w1.into_iter().chain(w2).collect(),
         )
@@ -128,6 +157,7 @@ pub fn page_of_key(k: Key) -> Option<Page> {
         Key::Ctrl('d') => Some(Page::Prog),
         Key::Ctrl('o') => Some(Page::Ofs),
         Key::Ctrl('e') => Some(Page::Msg),
+        Key::Ctrl('g') => Some(Page::Modal),
         _ => None,
     }
 }
@@ -156,7 +186,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),
                 Page::Msg => msg::arrow(c, k),
-                Page::Pos | Page::Mode => return false,
+                Page::Pos | Page::Modal | Page::Mode => return false,
             }
             true
         }
@@ -198,6 +228,9 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         Page::Msg => {
             c.message = "MSG: the history is read only; Up/Down scroll it".into();
         }
+        Page::Modal => {
+            c.message = "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
+        }
         Page::Mode => {}
     }
 }
@@ -208,6 +241,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         Page::Pos => pos::compose(c, rows, cols),
         Page::Prog => prog::compose(c, rows, cols),
         Page::Ofs => ofs::compose(c, rows, cols),
+        Page::Modal => modal::compose(c, rows, cols),
         Page::Msg | Page::Mode => msg::compose(c, rows, cols),
     }
 }

@@ -109,6 +109,14 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         c.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
         return;
     }
+    if let Some(rest) = line
+        .trim_start()
+        .get(..7)
+        .filter(|w| w.eq_ignore_ascii_case("MEASURE"))
+        .map(|_| &line.trim_start()[7..])
+    {
+        return super::measure::enter(c, rest);
+    }
     if let Some((system, rest)) = super::workofs::system_of(line) {
         return super::workofs::enter_line(c, system, rest, add);
     }
@@ -140,8 +148,10 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             return;
         }
     };
+    let before = c.status.tool_set_length;
     match c.mem.revise_tool(t, tool, &new) {
         Ok(_) => {
+            note_pending(c, t, before);
             let name = COLUMNS[col];
             c.message = if c.status.job.is_some() {
                 c.core.set_magazine(c.mem.magazine());
@@ -221,6 +231,27 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         p.body.push(line);
     }
     p.lines()
+}
+
+/// Notes a length of the tool in the spindle revised while a run is loaded: it is not in force
+/// until the next block (the next run for a G-code run), and POS marks it until then.
+fn note_pending(c: &mut Console, t: u32, before: f64) {
+    let st = &c.status;
+    if st.job.is_none() || st.tool != Some(t) {
+        return;
+    }
+    let revised = c.mem.magazine().tools.get(t).map_or(0.0, |r| r.length());
+    let in_force = match &c.pages.pending_len {
+        Some(p) if p.tool == t && p.blocks_done == st.blocks_done => p.in_force,
+        _ => before,
+    };
+    c.pages.pending_len = (revised != in_force).then(|| super::PendingLength {
+        tool: t,
+        in_force,
+        revised,
+        blocks_done: st.blocks_done,
+        gcode: super::super::gcode_run::gcode_run_loaded(c),
+    });
 }
 
 #[cfg(test)]

@@ -1,11 +1,16 @@
 //! POS: the positions (work, relative, machine, distance to go), the feed, the spindle, the jog
 //! and the tool change, and the counters (docs/panel.md, "Pages").
 //!
-//! - WORK G54: the tool tip in work coordinates: the axis position with Z less the length of the
-//!   tool in the spindle, less the G54 work offset (G-code's system at the start of a program;
-//!   zero unless set on the OFS page or by G10; the source language designates its origins per
-//!   statement and leaves it zero). The heading names G54 because the page cannot see which
-//!   system a G-code run has selected since (the source reads ahead of the machine).
+//! - WORK G54 (or G55 … G59.3, `G55+G92` with a G92 offset): the tool tip in work coordinates
+//!   of the system the console's G-code state has in force: the axis position with Z less the
+//!   length in force of the tool in the spindle, less that system's offset and the G92 offset.
+//!   With no run loaded the system's offset is the one stored (what the next run selects, so an
+//!   OFS edit shows at once, as on a Fanuc); during a G-code run, the one the run selected (an
+//!   edit applies from the next run). The source language designates its origins per statement
+//!   and leaves G54 zero. The XY rotation of G10 L2 R is not applied.
+//! - TOOL: the tool in the spindle and its length in force; a length revised on OFS during a
+//!   run that is not in force yet is shown under it, `T02 155.000 pending: next block` (`next
+//!   run` for a G-code run, whose G43 read the old one).
 //! - REL: the axis position less the relative origin the operator sets: `X` INPUT zeroes X
 //!   (two keys), `X12.5` presets X to 12.5, `XYZ` (or `ORIGIN`) zeroes all three.
 //! - MACH: the axis position in machine coordinates.
@@ -28,6 +33,9 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         c.pages.rel_origin = pos;
         c.message = "relative X Y Z zeroed".into();
         return;
+    }
+    if let Some(rest) = l.strip_prefix("JOG") {
+        return jog(c, rest.trim());
     }
     for (word, set) in [("PARTS", true), ("TARGET", false)] {
         if let Some(rest) = l.strip_prefix(word) {
@@ -54,7 +62,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Some('Y') => 1,
         Some('Z') => 2,
         _ => {
-            c.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n or TARGET n, then Enter".into();
+            c.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into();
             return;
         }
     };
@@ -72,6 +80,48 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     };
     c.pages.rel_origin[axis] = pos[axis] - s.to_pulses(value);
     c.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
+}
+
+/// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
+/// settings' by default).
+pub(crate) fn jog_feed(c: &Console) -> f64 {
+    let s = &c.cfg.settings;
+    if c.pages.rapid_jog {
+        s.rapid_mm_min
+    } else {
+        c.pages.jog_feed.unwrap_or(s.jog_mm_min)
+    }
+}
+
+/// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
+/// (back to the jog feed from rapid jog).
+fn jog(c: &mut Console, rest: &str) {
+    let rapid = c.cfg.settings.rapid_mm_min;
+    if rest == "RAPID" {
+        c.pages.rapid_jog = true;
+    } else if rest.is_empty() {
+        c.pages.rapid_jog = false;
+    } else {
+        match rest.parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
+                c.pages.jog_feed = Some(v);
+                c.pages.rapid_jog = false;
+            }
+            _ => {
+                c.message = format!(
+                    "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
+                );
+                return;
+            }
+        }
+    }
+    let f = jog_feed(c);
+    c.core.set_jog_feed(f);
+    c.message = if c.pages.rapid_jog {
+        format!("rapid jog: {f:.0} mm/min")
+    } else {
+        format!("jog feed {f:.0} mm/min")
+    };
 }
 
 /// The POS page.
@@ -98,14 +148,15 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             ]
         })
         .unwrap_or([0; 3]);
-    let len = s.to_pulses(st.tool_set_length);
+    let (in_force, pending) = length_in_force(c);
+    let len = s.to_pulses(in_force);
+    let (name, zero) = work_system(c);
     p.body.push(format!(
         " {:>9}{:>9}{:>9}{:>9}",
-        "WORK G54", "REL", "MACH", "TO GO"
+        name, "REL", "MACH", "TO GO"
     ));
-    let g54 = c.mem.work_offsets().0[0];
     for a in 0..3 {
-        let work = st.pos[a] - if a == 2 { len } else { 0 } - s.to_pulses(g54[a]);
+        let work = st.pos[a] - if a == 2 { len } else { 0 } - s.to_pulses(zero[a]);
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
             ["X", "Y", "Z"][a],
@@ -139,17 +190,21 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         st.speed_mm_min,
         st.spindle.abs()
     ));
+    let rapid = if c.pages.rapid_jog { " RAPID" } else { "" };
     p.body.push(format!(
-        "JOG {:.0} mm/min STEP {:.3} mm",
-        s.jog_mm_min,
+        "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
+        jog_feed(c),
         s.to_mm(c.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
         (_, Some(t)) => format!("TOOL CHANGE to T{t:02} in progress"),
-        (Some(t), None) => format!("TOOL T{t:02} length {:.3}", st.tool_set_length),
+        (Some(t), None) => format!("TOOL T{t:02} length {in_force:.3}"),
         (None, None) => "TOOL none".to_string(),
     };
     p.body.push(tool);
+    if let (Some(t), None, Some((v, when))) = (st.tool, st.changing_tool, pending) {
+        p.body.push(format!("  T{t:02} {v:.3} pending: {when}"));
+    }
     let k = &c.pages.counters;
     let target = if k.target > 0 {
         format!("/{}", k.target)
@@ -177,4 +232,53 @@ fn signal_list(s: &crate::pulse_core::Signals) -> String {
         .filter(|(_, &v)| v != 0.0)
         .map(|(i, v)| format!("E{i}={}", crate::input_text::short_number(*v)));
     digital.chain(analog).collect::<Vec<_>>().join(" ")
+}
+
+/// The work system's heading (`WORK G55`, `G55+G92`) and its zero with the G92 offset,
+/// machine mm: the system the console's G-code state has in force; its stored offset with no
+/// run loaded, the one the G-code run selected during a run.
+fn work_system(c: &Console) -> (String, [f64; 3]) {
+    let st = &c.interp;
+    let cs = st.modal.cs;
+    let sys = crate::gcode::state::SYSTEM_NAMES
+        .get(cs)
+        .copied()
+        .unwrap_or("G54");
+    let origin = if c.status.job.is_some() {
+        st.origin
+    } else {
+        c.mem.system_offset(cs)
+    };
+    let g92 = st.g92 != [0.0; 3];
+    let name = match (g92, sys.len()) {
+        (true, _) => format!("{sys}+G92"),
+        (false, n) if n <= 4 => format!("WORK {sys}"),
+        (false, _) => sys.to_string(),
+    };
+    let zero = [0, 1, 2].map(|a| origin[a] + st.g92[a]);
+    (name, zero)
+}
+
+/// The length in force of the tool in the spindle (mm), and a revised one not yet in force
+/// with when it applies.
+pub(super) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
+    let st = &c.status;
+    match &c.pages.pending_len {
+        Some(p)
+            if st.job.is_some()
+                && st.tool == Some(p.tool)
+                && (p.gcode || st.blocks_done == p.blocks_done) =>
+        {
+            let when = if p.gcode { "next run" } else { "next block" };
+            (p.in_force, Some((p.revised, when)))
+        }
+        // With no run loaded, the tool file's length is what the next run takes (an OFS
+        // edit reaches the pulse core at START).
+        _ if st.job.is_none() => {
+            let m = c.mem.magazine();
+            let len = st.tool.and_then(|t| m.tools.get(t)).map(|r| r.length());
+            (len.unwrap_or(st.tool_set_length), None)
+        }
+        _ => (st.tool_set_length, None),
+    }
 }

@@ -43,7 +43,7 @@ fn number(text: &str) -> Result<f64, String> {
 }
 
 /// The axis values of `X.. Y.. Z..` (each at most once), by axis.
-fn axis_words(text: &str) -> Result<[Option<f64>; 3], String> {
+pub(super) fn axis_words(text: &str) -> Result<[Option<f64>; 3], String> {
     let mut out = [None; 3];
     let t = text.trim().to_ascii_uppercase();
     if t.is_empty() {
@@ -79,7 +79,7 @@ fn allowed(c: &mut Console) -> bool {
 }
 
 /// Sets (or adds to, with `add`) the axes given of work offset `system`.
-fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
+pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
     if !allowed(c) {
         return;
     }

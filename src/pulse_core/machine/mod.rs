@@ -510,6 +510,14 @@ impl Machine {
         self.send_state();
     }
 
+    /// The jog feed, mm/min (at most the rapid rate): of the jogs, increments and returns
+    /// started from now on. Not a finite positive number: ignored (the console refuses it).
+    pub fn set_jog_feed(&mut self, mm_min: f64) {
+        if mm_min.is_finite() && mm_min > 0.0 {
+            self.settings.jog_mm_min = mm_min.min(self.settings.rapid_mm_min);
+        }
+    }
+
     /// Sets the axis positions (pulses) with the machine at rest and no run loaded; refused
     /// otherwise.
     pub fn set_position(&mut self, pos: [i64; 3]) -> bool {

@@ -1,0 +1,82 @@
+//! OFS MEASURE: a work offset set so that the current position reads a typed value (Fanuc's
+//! MEASURE soft key on the work offset screen, LinuxCNC's touch-off, G10 L20), and a tool's
+//! length set by touching its tip to a known height (Fanuc's tool length measurement, LinuxCNC's
+//! tool touch-off, G10 L10) (docs/panel.md, "Pages").
+//!
+//! - On a work offset row, `MEASURE X0 Y0` INPUT sets that system's zero so that the work
+//!   position of X and Y reads 0 here: zero = machine position − G92 − value, and for Z also
+//!   less the length in force of the tool in the spindle (the tip is what reads the value).
+//!   `MEASURE G55 X0` names the system from any row.
+//! - On a tool row, `MEASURE Z50` INPUT with that tool in the spindle, its tip touching a
+//!   surface 50 mm high in the work system in force: the set length becomes what makes the tip
+//!   read Z50 there (length = machine Z − zero − G92 − 50 − length wear; the wear stays).
+//!
+//! Both go through the same checks as a typed value (the machine at rest, the tool file's
+//! validator), so each is one journaled revision and a refusal changes nothing.
+
+use super::Console;
+
+/// `MEASURE …` INPUT on the OFS page; `rest` follows the word.
+pub(super) fn enter(c: &mut Console, rest: &str) {
+    let s = c.cfg.settings.clone();
+    let mach = c.status.pos.map(|p| s.to_mm(p));
+    let cap = c.mem.magazine().tcodes.capacity();
+    let (t, _) = c.pages.ofs;
+    let (system, words) = match super::workofs::system_of(rest) {
+        Some((cs, w)) => (Some(cs), w),
+        None if t > cap => (Some((t - cap - 1) as usize), rest),
+        None => (None, rest),
+    };
+    let vals = match super::workofs::axis_words(words) {
+        Ok(v) => v,
+        Err(e) => {
+            c.message = format!("OFS MEASURE refused: {e}");
+            return;
+        }
+    };
+    if c.status.moving {
+        c.message = "OFS MEASURE refused: the machine is moving; STOP first".into();
+        return;
+    }
+    let (len, _) = super::pos::length_in_force(c);
+    let g92 = c.interp.g92;
+    match system {
+        Some(cs) => {
+            let mut zero = [None; 3];
+            for a in 0..3 {
+                if let Some(v) = vals[a] {
+                    let tip = mach[a] - if a == 2 { len } else { 0.0 };
+                    zero[a] = Some(tip - g92[a] - v);
+                }
+            }
+            super::workofs::set(c, cs, zero, false);
+        }
+        None => {
+            let (Some(z), None, None) = (vals[2], vals[0], vals[1]) else {
+                c.message =
+                    "OFS MEASURE refused: a tool row measures its length in Z (MEASURE Z50); a work offset is measured on its row or by name (MEASURE G54 X0)".into();
+                return;
+            };
+            if c.status.tool != Some(t) {
+                let inside = c
+                    .status
+                    .tool
+                    .map_or("no tool".to_string(), |s| format!("T{s:02}"));
+                c.message = format!(
+                    "OFS MEASURE refused: T{t:02} is not in the spindle ({inside} is); change to it and touch its tip"
+                );
+                return;
+            }
+            let cs = c.interp.modal.cs;
+            let zero = if c.status.job.is_some() {
+                c.interp.origin[2]
+            } else {
+                c.mem.system_offset(cs)[2]
+            };
+            let wear = c.mem.magazine().tools.get(t).map_or(0.0, |r| r.wear_length);
+            let set = mach[2] - zero - g92[2] - z - wear;
+            c.pages.ofs.1 = super::ofs::LENGTH;
+            super::ofs::enter(c, &format!("{set:.3}"), false);
+        }
+    }
+}
