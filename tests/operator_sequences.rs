@@ -747,11 +747,20 @@ impl Session {
         st: &novanc::pulse_core::Status,
         s: &novanc::settings::MachineSettings,
     ) {
+        // During a tap the override is held at 100 % (docs/pulse-core.md, "Tapping").
+        let pct = if st.override_locked {
+            100
+        } else {
+            i64::from(st.spindle_override)
+        };
         assert_eq!(
             st.spindle,
-            st.spindle_programmed * i64::from(st.spindle_override) / 100,
-            "the spindle turns at programmed x override"
+            st.spindle_programmed * pct / 100,
+            "the spindle turns at programmed x override (held at 100 % in a tap)"
         );
+        if st.hold_after_tap {
+            self.stats.tap_holds += 1;
+        }
         assert!(
             (50..=120).contains(&st.spindle_override) && st.spindle_override.is_multiple_of(10)
         );

@@ -291,6 +291,7 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
                 dry_run: flag(field(obj, "dry_run")),
                 machine_lock: flag(field(obj, "machine_lock")),
                 z_neglect: flag(field(obj, "z_neglect")),
+                override_locked: flag(field(obj, "override_locked")),
             },
         },
         "/panel/display" => Event::Display {

@@ -119,6 +119,22 @@ pub struct Block {
     pub io: Option<Io>,
     /// A probe move (G38.2 … G38.5 ×10: 382 … 385): the move stops where the probe trips.
     pub probe: Option<u16>,
+    /// The block is part of a tap (TAP, G84, G74): the feed is geared to the spindle, so the
+    /// feed and spindle overrides are held at 100 % and a feed hold waits for the tap to be
+    /// back out with the spindle forward (docs/pulse-core.md, "Tapping").
+    pub tap: Tap,
+}
+
+/// Whether a block belongs to a tap, and which (docs/pulse-core.md, "Tapping").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Tap {
+    /// Not a tap's.
+    #[default]
+    No,
+    /// A tap's feed in, spindle reversal, dwell or feed out.
+    Part,
+    /// The tap's last block: the spindle forward again, the tap out of the hole.
+    End,
 }
 
 /// An input or output action of a block (docs/gcode.md "Inputs and outputs").
@@ -188,6 +204,7 @@ impl Block {
             tool_z: false,
             io: None,
             probe: None,
+            tap: Tap::No,
         }
     }
 

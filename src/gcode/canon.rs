@@ -3,7 +3,7 @@
 //! (docs/gcode.md "The listing").
 
 pub use crate::block::Io;
-use crate::block::{Block, Motion, Plane, TranslateError};
+use crate::block::{Block, Motion, Plane, Tap, TranslateError};
 use crate::settings::MachineSettings;
 
 /// One canonical action, in machine coordinates (mm): where the spindle's gauge line goes.
@@ -33,6 +33,9 @@ pub enum Canon {
     Probe([f64; 3], f64, u16),
     /// An input or output action.
     Io(Io),
+    /// Marks the blocks that follow as a tap's (`Tap::Part`), the next one as its last
+    /// (`Tap::End`), or none (`Tap::No`); makes no block.
+    Tap(Tap),
     /// S, T and M functions.
     Aux {
         /// Spindle speed.
@@ -51,6 +54,8 @@ pub struct Emitter {
     pub pos: [i64; 3],
     /// The last sequence number.
     pub seq: u32,
+    /// What the blocks made now belong to (a tap's, [`Canon::Tap`]).
+    pub tap: Tap,
 }
 
 impl Emitter {
@@ -62,11 +67,12 @@ impl Emitter {
         st: &MachineSettings,
         out: &mut Vec<Block>,
     ) -> Result<(), TranslateError> {
-        let (pos0, seq0, n0) = (self.pos, self.seq, out.len());
+        let (pos0, seq0, tap0, n0) = (self.pos, self.seq, self.tap, out.len());
         let r = self.emit_inner(items, st, out);
         if r.is_err() {
             self.pos = pos0;
             self.seq = seq0;
+            self.tap = tap0;
             out.truncate(n0);
         }
         r
@@ -103,7 +109,12 @@ impl Emitter {
                 col: *col,
                 message,
             };
+            if let Canon::Tap(t) = c {
+                self.tap = *t;
+                continue;
+            }
             let mut b = Block::aux(0, *line, self.pos);
+            b.tap = self.tap;
             match c {
                 Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
@@ -198,6 +209,10 @@ impl Emitter {
                     b.t = *t;
                     b.m = *m;
                 }
+                Canon::Tap(_) => continue,
+            }
+            if self.tap == Tap::End {
+                self.tap = Tap::No;
             }
             self.seq += 1;
             b.seq = self.seq;

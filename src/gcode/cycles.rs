@@ -17,7 +17,7 @@ use super::canon::Canon;
 use super::exec::{int_word, Exec};
 use super::state::{FeedMode, InterpState};
 use super::words::Words;
-use crate::block::{Plane, TranslateError};
+use crate::block::{Plane, Tap, TranslateError};
 
 use crate::input_text::{fixed, short_number};
 /// The most pecks one G73 or G83 hole may take (bounded work, docs/limits.md).
@@ -382,6 +382,9 @@ pub fn cycle(
             }
             74 | 84 => {
                 let (back, fwd) = if kind == 84 { (4, 3) } else { (3, 4) };
+                // The tap's blocks, up to the spindle forward again out of the hole: the
+                // overrides held, a feed hold kept for the end (docs/pulse-core.md "Tapping").
+                out.push(Canon::Tap(Tap::Part));
                 feed_to(&mut out, &mut pos, at(bottom));
                 out.push(aux(5));
                 out.push(aux(back));
@@ -390,6 +393,7 @@ pub fn cycle(
                 }
                 feed_to(&mut out, &mut pos, at(clear));
                 out.push(aux(5));
+                out.push(Canon::Tap(Tap::End));
                 out.push(aux(fwd));
             }
             85 => {
@@ -412,7 +416,11 @@ pub fn cycle(
             }
         }
     }
-    debug_assert_eq!(out.len() as u64, total, "the count of {name}");
+    debug_assert_eq!(
+        out.iter().filter(|c| !matches!(c, Canon::Tap(_))).count() as u64,
+        total,
+        "the count of {name}"
+    );
     x.push_all(out, col);
     st.pos = st.to_machine(pos);
     st.cycle.r = Some(r_in);

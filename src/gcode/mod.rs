@@ -288,6 +288,7 @@ impl GcodeSource {
             emitter: Emitter {
                 pos: machine.pos,
                 seq: 0,
+                tap: crate::block::Tap::No,
             },
             start: machine,
             resume_at: None,

@@ -273,6 +273,12 @@ pub struct Status {
     pub machine_lock: bool,
     /// Z NEGLECT in force.
     pub z_neglect: bool,
+    /// A tap is in progress: the feed and spindle overrides are held at 100 % (the switches
+    /// keep their positions in `feed_override` and `spindle_override`).
+    pub override_locked: bool,
+    /// STOP was pressed during a tap: the feed hold takes effect once the tap is back out of
+    /// the hole with the spindle forward (docs/pulse-core.md, "Tapping").
+    pub hold_after_tap: bool,
     /// Machine time, ns.
     pub machine_ns: u64,
     /// Whether any axis is moving.

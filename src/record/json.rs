@@ -291,6 +291,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
                 (&b",\"dry_run\":"[..], switches.dry_run),
                 (b",\"machine_lock\":", switches.machine_lock),
                 (b",\"z_neglect\":", switches.z_neglect),
+                (b",\"override_locked\":", switches.override_locked),
             ] {
                 out.extend_from_slice(key);
                 out.extend_from_slice(if on { b"true" } else { b"false" });

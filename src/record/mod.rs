@@ -34,6 +34,9 @@ pub struct Switches {
     pub machine_lock: bool,
     /// Z NEGLECT.
     pub z_neglect: bool,
+    /// A tap is in progress: the feed and spindle overrides are held at 100 % whatever their
+    /// switches say (issue 23; docs/pulse-core.md, "Tapping").
+    pub override_locked: bool,
 }
 
 impl Default for Switches {
@@ -44,6 +47,7 @@ impl Default for Switches {
             dry_run: false,
             machine_lock: false,
             z_neglect: false,
+            override_locked: false,
         }
     }
 }

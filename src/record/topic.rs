@@ -128,7 +128,7 @@ impl Topic {
                 r#""spindle":{"type":"integer","description":"rpm, negative reverse, 0 stopped (programmed x spindle override)"},"#,
                 r#""rapid_override":{"type":"integer","description":"percent, 0 = F0 (not in files written before it was added)"},"#,
                 r#""spindle_override":{"type":"integer","description":"percent"},"#,
-                r#""dry_run":{"type":"boolean"},"machine_lock":{"type":"boolean"},"z_neglect":{"type":"boolean"}},"#,
+                r#""dry_run":{"type":"boolean"},"machine_lock":{"type":"boolean"},"z_neglect":{"type":"boolean"},"override_locked":{"type":"boolean","description":"a tap is in progress: feed and spindle overrides held at 100 %"}},"#,
                 r#""required":["run","op_mode","data_mode","feed_override","tool","spindle"]}"#
             ),
             Topic::Display => concat!(

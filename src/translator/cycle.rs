@@ -4,6 +4,7 @@
 
 use super::emit::{Loaded, Out, Spindle};
 use super::parse::CycleKind;
+use crate::block::Tap;
 
 /// Distance above the bottom of the previous peck where a DH peck re-enters at rapid, mm.
 pub const PECK_REENTRY_MM: f64 = 0.5;
@@ -111,11 +112,22 @@ pub fn hole(o: &mut Out, c: &Cycle, x: i64, y: i64, zs: f64) {
             o.rapid_tip(h.zc);
         }
         CycleKind::Tap => {
+            let first = o.blocks.len();
             o.feed_tip(h.zb, c.feed);
             o.aux(None, None, Some(4));
             o.m.spindle = Spindle::Reverse;
             o.feed_tip(h.zc, c.feed);
             o.spindle_forward(c.speed);
+            // The tap's blocks, up to the spindle forward again out of the hole: the
+            // overrides held, a feed hold kept for the end (docs/pulse-core.md "Tapping").
+            let n = o.blocks.len();
+            for (i, b) in o.blocks[first..].iter_mut().enumerate() {
+                b.tap = if first + i + 1 == n {
+                    Tap::End
+                } else {
+                    Tap::Part
+                };
+            }
         }
         CycleKind::Rem => {
             o.feed_tip(h.zb, c.feed);

@@ -24,6 +24,14 @@ impl Machine {
         }
         match c {
             Command::Start(kind) => self.start(kind),
+            Command::Stop if self.in_tap && self.run != 0 && !self.hold => {
+                // A tap stopped in the hole breaks: the hold waits until the tap is back out
+                // at R with the spindle forward (Fanuc's G84; docs/pulse-core.md "Tapping").
+                self.hold_after_tap = true;
+                self.notice = Some(
+                    "STOP during tapping: the tap feeds out to R and the spindle turns forward, then the feed hold".into(),
+                );
+            }
             Command::Stop => {
                 if self.run != 0 && !self.hold {
                     self.hold = true;
@@ -62,6 +70,8 @@ impl Machine {
                 }
                 self.run = 0;
                 self.hold = false;
+                self.in_tap = false;
+                self.hold_after_tap = false;
                 self.estop = true;
                 self.spindle = 0;
                 self.alarm = Some("EMERGENCY STOP: pulses stopped; press RESET".into());
@@ -175,6 +185,8 @@ impl Machine {
         }
         self.run = 0;
         self.hold = false;
+        self.in_tap = false;
+        self.hold_after_tap = false;
         self.just_completed = false;
         self.ret = None;
         self.ret_queue.clear();

@@ -287,6 +287,11 @@ pub struct Machine {
     dry_run: bool,
     machine_lock: bool,
     z_neglect: bool,
+    /// A tap's blocks are running (from its first block's start to its last one's end): the
+    /// feed and spindle overrides are held at 100 % (docs/pulse-core.md, "Tapping").
+    in_tap: bool,
+    /// STOP during a tap: the hold takes effect when the tap's last block ends.
+    hold_after_tap: bool,
     current: Option<Current>,
     job: Option<Job>,
     runs: u64,
@@ -351,6 +356,8 @@ impl Machine {
             dry_run: false,
             machine_lock: false,
             z_neglect: false,
+            in_tap: false,
+            hold_after_tap: false,
             current: None,
             job: None,
             runs: 0,
@@ -818,13 +825,16 @@ impl Machine {
     /// Path speed for a programmed feed, after override, capped at the rapid rate. DRY RUN
     /// replaces the programmed feed by the jog feed; the feed override scales either
     /// (docs/pulse-core.md, "Overrides and switches").
+    /// During a tap the feed is geared to the spindle: neither DRY RUN nor the override acts.
     fn feed_speed(&self, feed: f64) -> f64 {
-        let feed = if self.dry_run {
-            self.settings.jog_mm_min
+        let (feed, pct) = if self.in_tap {
+            (feed, 100)
+        } else if self.dry_run {
+            (self.settings.jog_mm_min, self.feed_override)
         } else {
-            feed
+            (feed, self.feed_override)
         };
-        let f = (feed * self.feed_override as f64 / 100.0).min(self.settings.rapid_mm_min);
+        let f = (feed * pct as f64 / 100.0).min(self.settings.rapid_mm_min);
         speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
     }
 
@@ -839,7 +849,11 @@ impl Machine {
     }
 
     /// The spindle rpm the spindle turns at: programmed times the spindle override.
+    /// During a tap the override is held at 100 %: the feed is geared to the programmed speed.
     fn spindle_actual(&self) -> i64 {
+        if self.in_tap {
+            return self.spindle;
+        }
         self.spindle * i64::from(self.spindle_override) / 100
     }
 
@@ -876,6 +890,8 @@ impl Machine {
     /// Ends the loaded run: RUN = 0, nothing held, the end recorded for the display.
     fn end_run(&mut self, cause: EndCause) {
         self.run = 0;
+        self.in_tap = false;
+        self.hold_after_tap = false;
         self.probe_answer = None;
         self.hold = false;
         self.just_completed = false;
@@ -998,6 +1014,7 @@ impl Machine {
             pre += self.settings.spindle_ns;
         }
         self.just_completed = false;
+        self.in_tap = b.tap != crate::block::Tap::No;
         self.started_seq = Some(b.seq);
         if let Some(j) = &mut self.job {
             j.last = Some(e.clone());
@@ -1186,6 +1203,15 @@ impl Machine {
 
     fn finish_block(&mut self, t: u64, c: Current) {
         let m = c.block.m;
+        if c.block.tap == crate::block::Tap::End {
+            // The tap is out of the hole with the spindle forward: a STOP given during it
+            // holds now.
+            self.in_tap = false;
+            if std::mem::take(&mut self.hold_after_tap) && self.run != 0 {
+                self.hold = true;
+                self.notice = None;
+            }
+        }
         if matches!(m, Some(5) | Some(30)) {
             self.spindle = 0;
         }

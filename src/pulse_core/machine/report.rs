@@ -39,6 +39,7 @@ impl Machine {
             dry_run: self.dry_run,
             machine_lock: self.machine_lock,
             z_neglect: self.z_neglect,
+            override_locked: self.in_tap,
         }
     }
 
@@ -140,6 +141,8 @@ impl Machine {
             dry_run: self.dry_run,
             machine_lock: self.machine_lock,
             z_neglect: self.z_neglect,
+            override_locked: self.in_tap,
+            hold_after_tap: self.hold_after_tap,
             machine_ns: self.now,
             moving: motion.is_some_and(|m| !m.at_rest()),
             program_end: self.program_end,

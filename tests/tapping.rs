@@ -1,0 +1,217 @@
+//! Tapping keeps the tap whole (issue 23; docs/pulse-core.md, "Tapping"): during a tap (the
+//! source language's TAP, G-code's G84) the feed stays pitch × rpm whatever the feed override,
+//! DRY RUN or the spindle override say (`/nc/state` keeps the switches' positions and says
+//! `override_locked`), and a STOP during the tap holds only once the tap is back out at R with
+//! the spindle forward. Checked in the recording, pulse by pulse, of Table B's TAP holes
+//! (M8×1.25 at S300: 375 mm/min) and of a G84 program.
+
+mod common;
+
+use common::{keys, open, p};
+use novanc::panel_model::{OpMode, PanelEvent as E};
+use std::path::Path;
+use std::process::Command;
+
+/// The recording's blocks (start time, ISO text), Z pulse times, and states (time, JSON).
+struct Rec {
+    blocks: Vec<(u64, String)>,
+    z_pulses: Vec<u64>,
+    states: Vec<(u64, String)>,
+}
+
+fn t_ns(json: &str) -> u64 {
+    json.split("\"t_ns\":")
+        .nth(1)
+        .and_then(|v| v.split([',', '}']).next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0)
+}
+
+fn read(path: &Path) -> Rec {
+    let bytes = std::fs::read(path).unwrap();
+    let mut r = Rec {
+        blocks: Vec::new(),
+        z_pulses: Vec::new(),
+        states: Vec::new(),
+    };
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let text = String::from_utf8(m.data.to_vec()).unwrap();
+        match m.channel.topic.as_str() {
+            "/nc/block" => {
+                let iso = text
+                    .split("\"text\":\"")
+                    .nth(1)
+                    .and_then(|v| v.split('"').next())
+                    .unwrap_or_default()
+                    .to_string();
+                r.blocks.push((m.log_time, iso));
+            }
+            "/nc/state" => r.states.push((m.log_time, text)),
+            "/nc/pulses" if text.contains("\"axis\":\"Z\"") => {
+                let list = text.split("\"t_ns\":[").nth(1).unwrap();
+                let list = list.split(']').next().unwrap();
+                r.z_pulses.extend(
+                    list.split(',')
+                        .filter(|s| !s.is_empty())
+                        .map(|t| t.parse::<u64>().unwrap()),
+                );
+            }
+            _ => {}
+        }
+    }
+    let _ = t_ns;
+    r.z_pulses.sort_unstable();
+    r
+}
+
+/// Runs a panel script on the embedded defaults (Table B) with a recording.
+fn script(name: &str, text: &str) -> (Rec, String) {
+    let dir = common::temp_dir(name);
+    let s = dir.join("s.panel");
+    std::fs::write(&s, text).unwrap();
+    let rec = dir.join("r.mcap");
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("script")
+        .arg(&s)
+        .arg("--state")
+        .arg(dir.join("state"))
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    (read(&rec), text)
+}
+
+/// Every tap feed block (an ISO `G01 Z… F375` of Table B's TAP, 208): the speed of each Z
+/// pulse after the first few (the KT ramp up), as mm/min from the gap to the one before.
+/// Returns the number of tap blocks checked; panics if a pulse is off pitch × rpm by more than
+/// 0.1 % at full speed, or faster than it anywhere.
+fn check_tap_feeds(r: &Rec, feed: f64) -> usize {
+    let mut checked = 0;
+    for (i, (t0, text)) in r.blocks.iter().enumerate() {
+        if !(text.contains("G01 Z") && text.ends_with(&format!("F{}", feed as u32))) {
+            continue;
+        }
+        let t1 = r.blocks.get(i + 1).map_or(u64::MAX, |b| b.0);
+        let ts: Vec<u64> = r
+            .z_pulses
+            .iter()
+            .copied()
+            .filter(|&t| t >= *t0 && t < t1)
+            .collect();
+        assert!(ts.len() > 100, "{text}: {} Z pulses", ts.len());
+        let speeds: Vec<f64> = ts
+            .windows(2)
+            .map(|w| 0.001 / ((w[1] - w[0]) as f64 * 1e-9) * 60.0)
+            .collect();
+        let top = speeds.iter().cloned().fold(0.0, f64::max);
+        assert!(
+            (top - feed).abs() / feed < 0.001,
+            "{text}: the tap fed at {top:.2} mm/min, not {feed}"
+        );
+        // At full speed (all but the ramps) every pulse is at pitch × rpm.
+        let full = speeds
+            .iter()
+            .filter(|&&v| (v - feed).abs() / feed < 0.001)
+            .count();
+        assert!(
+            full * 10 >= speeds.len() * 8,
+            "{text}: {full} of {} pulses at {feed} mm/min",
+            speeds.len()
+        );
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn the_tap_feeds_at_pitch_times_rpm_at_every_override() {
+    for (ovr, sovr, dry) in [(50, 80, false), (100, 100, false), (150, 120, true)] {
+        let (r, out) = script(
+            &format!("tap-ovr{ovr}"),
+            &format!(
+                "override {ovr}\nspindleoverride {sovr}\ndryrun {}\nop AUTO\nstart\nwait\n",
+                if dry { "on" } else { "off" }
+            ),
+        );
+        let n = check_tap_feeds(&r, 375.0);
+        assert_eq!(n, 12, "Table B's six TAP, 208 holes, in and out\n{out}");
+        // During the tap the state says the overrides are locked, keeps the switches'
+        // positions, and the spindle turns at the programmed S300.
+        let locked: Vec<&String> = r
+            .states
+            .iter()
+            .map(|s| &s.1)
+            .filter(|s| s.contains("\"override_locked\":true"))
+            .collect();
+        assert!(!locked.is_empty(), "no locked state recorded");
+        for s in &locked {
+            assert!(s.contains(&format!("\"feed_override\":{ovr}")), "{s}");
+            assert!(s.contains(&format!("\"spindle_override\":{sovr}")), "{s}");
+            // TAP, 208 at S300 and TAP, 206 at S400, as programmed, not × the override.
+            assert!(
+                ["300", "-300", "400", "-400"]
+                    .iter()
+                    .any(|v| s.contains(&format!("\"spindle\":{v},"))),
+                "{s}"
+            );
+        }
+    }
+}
+
+/// STOP pressed 0.5 s into the first TAP hole's feed in (N41 of Table B, Z−298 to Z−316):
+/// the tap goes on to the bottom, reverses, feeds out to R (Z−298), the spindle turns forward
+/// again (N44), and only then the feed hold; START goes on to the next hole.
+#[test]
+fn a_stop_during_the_tap_holds_once_the_tap_is_out_with_the_spindle_forward() {
+    let mut c = open("tap-hold");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::WaitBlock(41));
+    c.handle(E::WaitMs(500));
+    let st = c.status();
+    assert!(st.override_locked, "N41 is a tap block");
+    assert!(st.pos[2] < p(-298.5), "in the hole: Z {}", st.pos[2]);
+    c.handle(E::Stop);
+    assert!(!c.status().hold, "no hold in the hole");
+    c.handle(E::Wait);
+    let st = c.status();
+    assert!(st.hold, "held once the tap is out");
+    assert_eq!(st.pos[2], p(-298.0), "at R");
+    assert_eq!(st.spindle, 300, "the spindle forward again");
+    assert!(!st.override_locked);
+    let seq = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq);
+    assert_eq!(seq, Some(44), "the hold came after N44 S300 M03");
+    keys(&mut c, &["F9"]);
+    c.handle(E::Wait);
+    assert!(c.status().program_end, "START went on to the end");
+    common::audit(&c);
+}
+
+/// G84 in G-code: the same, from the G-code reader's cycle.
+#[test]
+fn g84_feeds_at_pitch_times_rpm_at_half_override() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z50\nG99 G84 X150 Y130 Z-16 R2 F375\nX180\nG80\nG0 Z150\nM5\nM30\n";
+    let dir = common::temp_dir("tap-g84");
+    let file = dir.join("TAP.NGC");
+    std::fs::write(&file, prog).unwrap();
+    let (r, out) = script(
+        "tap-g84-run",
+        &format!(
+            "override 50\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+            file.display()
+        ),
+    );
+    assert_eq!(
+        check_tap_feeds(&r, 375.0),
+        4,
+        "two holes, in and out\n{out}"
+    );
+}
