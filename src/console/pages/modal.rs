@@ -13,8 +13,21 @@ use crate::panel_model::OpMode;
 /// one more entry.
 fn switches(c: &Console) -> Vec<(&'static str, String)> {
     let on = |b: bool| if b { "ON" } else { "off" }.to_string();
+    let s = &c.status;
+    let locked = if s.override_locked { " (held 100%: tap)" } else { "" };
     vec![
-        ("FEED OVR", format!("{}%", c.feed_override)),
+        ("FEED OVR", format!("{}%{locked}", c.feed_override)),
+        (
+            "RAPID OVR",
+            match s.rapid_override {
+                0 => "F0".to_string(),
+                p => format!("{p}%"),
+            },
+        ),
+        ("SPINDLE OVR", format!("{}%{locked}", s.spindle_override)),
+        ("DRY RUN", on(s.dry_run)),
+        ("MACHINE LOCK", on(s.machine_lock)),
+        ("Z NEGLECT", on(s.z_neglect)),
         ("SINGLE BLOCK", on(c.op == OpMode::Single)),
         ("BLOCK DELETE", on(c.switches.block_delete)),
         ("OPT STOP M01", on(c.switches.optional_stop)),
