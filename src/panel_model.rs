@@ -262,6 +262,8 @@ pub enum PanelEvent {
     Start,
     /// Feed hold.
     Stop,
+    /// Reference return (HOME): Z up to machine zero, then X and Y (`home`, Alt+0).
+    Home,
     /// Reset.
     Reset,
     /// Emergency stop.
@@ -420,6 +422,7 @@ impl PanelEvent {
                 PanelEvent::Tape(PathBuf::from(rest))
             }
             "start" => none().map(|_| PanelEvent::Start)?,
+            "home" => none().map(|_| PanelEvent::Home)?,
             "stop" => none().map(|_| PanelEvent::Stop)?,
             "reset" => none().map(|_| PanelEvent::Reset)?,
             "estop" => none().map(|_| PanelEvent::EStop)?,

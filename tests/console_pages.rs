@@ -507,3 +507,28 @@ fn pos_marks_a_length_revised_in_a_hold_until_the_next_block() {
         c.frame_text()
     );
 }
+
+/// Issue 23, position memory: after a restart the machine position and the tool in the spindle
+/// are where they were (they said X0 Y0 Z0 and no tool), and no reference return is asked for.
+#[test]
+fn a_restart_keeps_the_position_and_the_tool_in_the_spindle() {
+    let dir = temp_dir("posmem-restart");
+    let (pos, tool) = {
+        let mut c = open_in(&dir);
+        common::mdi(&mut c, "T2 M6");
+        common::mdi(&mut c, "G0 X123.456 Y78.9");
+        let st = c.status();
+        assert_eq!(st.tool, Some(2));
+        let keep = (st.pos, st.tool);
+        c.finish().unwrap();
+        keep
+    };
+    assert_eq!(pos[0], 123_456);
+    let mut c = open_in(&dir);
+    assert_eq!(c.status().pos, pos);
+    assert_eq!(c.status().tool, tool);
+    assert!(!shows(&c, "reference return"), "{}", c.frame_text());
+    // AUTO runs at once (no reference return owed).
+    keys(&mut c, &["Alt+2", "F9"]);
+    assert!(!shows(&c, "START refused"), "{}", c.frame_text());
+}

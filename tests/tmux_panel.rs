@@ -226,3 +226,54 @@ fn sigtstp_hands_the_terminal_back_fg_redraws_and_sigquit_restores() {
     assert_cooked(&t, "after SIGQUIT");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Issue 23, position memory: a console killed (SIGKILL) while an axis moves leaves the
+/// position marked as moving; the next one says the position is not known, refuses AUTO and
+/// MDI, and HOME (Alt+0) makes the reference return, after which START runs again. A clean
+/// end keeps the position and the tool at rest.
+#[test]
+fn a_console_killed_while_moving_asks_for_the_reference_return() {
+    if !tmux_or_skip("position memory") {
+        return;
+    }
+    let d = temp_dir("tmux-posmem");
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let state = d.join("state");
+    let t = session(
+        "posmem",
+        &d,
+        &with_pid(&d, &format!("{exe} --state {}", state.display())),
+    );
+    t.wait_for(&["PLASMA DISPLAY 14"], 20);
+    // MDI: a long rapid (600 mm, about 3 s), killed half a second in.
+    t.keys(&["M-3"]);
+    t.type_line("G0 X600");
+    t.keys(&["F9"]);
+    t.wait_for(&["RUN 2"], 10);
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let pid = wait_file(&d.join("pid"), 10);
+    kill(&pid, "KILL");
+    wait_file(&d.join("exit"), 20);
+    let kept = std::fs::read_to_string(state.join("position")).unwrap();
+    assert!(kept.contains("moving"), "{kept}");
+
+    let d2 = temp_dir("tmux-posmem2");
+    let t2 = session(
+        "posmem2",
+        &d2,
+        &format!("'{exe}' --state '{}'", state.display()),
+    );
+    t2.wait_for(&["the console stopped while the axes"], 20);
+    t2.keys(&["M-2", "F9"]);
+    t2.wait_for(&["START refused: the position is"], 10);
+    t2.keys(&["M-0"]);
+    t2.wait_for(&["reference return is made"], 30);
+    t2.keys(&["M-2", "F9"]);
+    t2.wait_for(&["RUN 1"], 10);
+    t2.keys(&["F11", "C-c"]);
+    wait_file(&d2.join("exit"), 20);
+    let kept = std::fs::read_to_string(state.join("position")).unwrap();
+    assert!(kept.contains("at rest"), "{kept}");
+    let _ = std::fs::remove_dir_all(&d);
+    let _ = std::fs::remove_dir_all(&d2);
+}

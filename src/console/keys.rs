@@ -98,6 +98,7 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt('u') => A::Punch,
         Key::Alt('b') => A::BlockDelete,
         Key::Alt('o') => A::OptionalStop,
+        Key::Alt('0') => A::Event(PanelEvent::Home),
         Key::Alt('f') => A::RapidOverride,
         Key::Alt(']') => A::SpindleOverride(10),
         Key::Alt('[') => A::SpindleOverride(-10),

@@ -19,6 +19,7 @@ mod gcode_run;
 pub mod keys;
 mod memory;
 pub mod pages;
+mod posmem;
 mod punch;
 mod run;
 mod script_line;
@@ -87,6 +88,9 @@ pub struct Console {
     saves_after_frame: bool,
     /// The counters changed since they were last saved (with `saves_after_frame`).
     counters_unsaved: bool,
+    /// Position memory: the machine position and tool kept across a restart, and whether
+    /// the reference return is owed (`posmem.rs`).
+    posmem: posmem::PosMem,
     /// Whether the last START that set the run going was given in SINGLE BLOCK (a turn to
     /// AUTO during that block then lets the block end and waits for START).
     start_single: bool,
@@ -187,6 +191,7 @@ impl Console {
             start_single: false,
             saves_after_frame: false,
             counters_unsaved: false,
+            posmem: Default::default(),
             program_alarm: None,
             y_output: None,
             feed_override: 100,
@@ -224,6 +229,7 @@ impl Console {
             c.message = w.clone();
         }
         warnings.retain(|w| !w.is_empty());
+        posmem::restore(&mut c);
         c.refresh();
         Ok((c, warnings))
     }
@@ -432,6 +438,7 @@ impl Console {
     pub fn finish(mut self) -> Result<Option<String>, String> {
         self.core.command(Command::Reset);
         self.status = self.core.status();
+        posmem::track(&mut self);
         run::note_run_end(&mut self);
         self.frame_written();
         let Console { core, recorder, .. } = self;
@@ -445,6 +452,7 @@ impl Console {
     /// recomposes the display and records it.
     fn refresh(&mut self) {
         self.status = self.core.status();
+        posmem::track(self);
         tape::advance(self);
         if let MsgLife::WhileBlock(done) = self.msg_life {
             let s = &self.status;
@@ -654,6 +662,7 @@ impl Console {
                     value,
                 });
             }
+            PanelEvent::Home => posmem::home(self),
             PanelEvent::OptionalStop(on) => {
                 self.switches.optional_stop = on;
                 self.message = gcode_run::switch_message("OPTIONAL STOP", on);

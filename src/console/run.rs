@@ -207,6 +207,12 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
 /// or begins a new one from the program source, or says why it cannot.
 pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     let single = c.op == OpMode::Single;
+    if c.status.job.is_none() {
+        if let Some(why) = super::posmem::refusal(c) {
+            c.message = why;
+            return;
+        }
+    }
     if kind == RunKind::Auto && c.status.job.is_none() {
         if let Some(why) = super::pages::target_refusal(c) {
             c.message = why;

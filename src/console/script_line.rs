@@ -15,6 +15,7 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::Tape(p) => format!("tape {}", p.display()),
         PanelEvent::Start => "start".into(),
         PanelEvent::Stop => "stop".into(),
+        PanelEvent::Home => "home".into(),
         PanelEvent::Reset => "reset".into(),
         PanelEvent::EStop => "estop".into(),
         PanelEvent::Override(p) => format!("override {p}"),

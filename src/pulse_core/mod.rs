@@ -151,6 +151,12 @@ pub enum Command {
         /// Signed number of pulses.
         pulses: i64,
     },
+    /// Reference return (HOME): Z up to machine zero, then X and Y to machine zero, at the jog
+    /// feed (the rapid override acting), with the machine at rest and no run loaded.
+    Home,
+    /// The tool in the spindle as the position memory kept it across a restart (with the
+    /// machine at rest and no run loaded): no tool change, only what the core knows.
+    SetTool(Option<u32>),
     /// Sets a simulated input (a panel script's `input`): digital P`index` (`value` 0 or 1)
     /// or analog E`index`, 0–63, which M66 reads.
     Input {

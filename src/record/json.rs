@@ -545,7 +545,7 @@ mod tests {
             }),
             (
                 9,
-                r#"{"run":1,"op_mode":"AUTO","data_mode":"RUN","feed_override":100,"tool":4,"spindle":-1200,"rapid_override":0,"spindle_override":100,"dry_run":false,"machine_lock":true,"z_neglect":false}"#
+                r#"{"run":1,"op_mode":"AUTO","data_mode":"RUN","feed_override":100,"tool":4,"spindle":-1200,"rapid_override":0,"spindle_override":100,"dry_run":false,"machine_lock":true,"z_neglect":false,"override_locked":false}"#
                     .into()
             )
         );

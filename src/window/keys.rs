@@ -186,6 +186,7 @@ pub fn keyboard(
                             _ => 1,
                         })),
                         K::Q if alt => hand.quit_requested = true,
+                        K::Num0 if alt => out.push(PanelEvent::Home),
                         K::C if ctrl => hand.quit_requested = true,
                         K::Tab => out.push(PanelEvent::Press(Key::Tab)),
                         K::Home => out.push(PanelEvent::Press(Key::Home)),

@@ -14,7 +14,11 @@ use crate::panel_model::OpMode;
 fn switches(c: &Console) -> Vec<(&'static str, String)> {
     let on = |b: bool| if b { "ON" } else { "off" }.to_string();
     let s = &c.status;
-    let locked = if s.override_locked { " (held 100%: tap)" } else { "" };
+    let locked = if s.override_locked {
+        " (held 100%: tap)"
+    } else {
+        ""
+    };
     vec![
         ("FEED OVR", format!("{}%{locked}", c.feed_override)),
         (

@@ -141,6 +141,14 @@ impl Machine {
                 index,
                 value,
             } => self.inputs.set(digital, index, value),
+            Command::Home => self.home(),
+            Command::SetTool(t) => {
+                if self.current.is_none() && self.job.is_none() {
+                    self.tool = t;
+                    self.selected_t = t;
+                    self.tool_len = self.set_length_of(t);
+                }
+            }
             Command::Increment { axis, pulses } => {
                 if self.jog_check(axis).is_some() && pulses != 0 {
                     self.increments.push_back((axis, pulses));
@@ -253,6 +261,29 @@ impl Machine {
             }
         }
         self.resume_held(self.now);
+    }
+
+    /// HOME: the reference return to machine zero, Z first (docs/pulse-core.md, "Position
+    /// memory and the reference return").
+    fn home(&mut self) {
+        let why = if self.estop {
+            Some("HOME refused: EMERGENCY STOP in force, press RESET")
+        } else if self.job.is_some() {
+            Some("HOME refused: a run is loaded; RESET first")
+        } else if self.machine_lock || self.z_neglect {
+            Some("HOME refused: MACHINE LOCK or Z NEGLECT is on")
+        } else if self.current.is_some() || self.jog.is_some() || self.ret.is_some() {
+            Some("HOME refused: an axis is moving")
+        } else {
+            None
+        };
+        if let Some(w) = why {
+            self.notice = Some(w.into());
+            return;
+        }
+        self.out.unshift();
+        self.ret_queue = return_path(self.out.pos, [0; 3]).into();
+        self.next_return(self.now);
     }
 
     /// A new run whose source failed before its first block: the run ends at once, nothing
