@@ -230,6 +230,58 @@ fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
 }
 
 #[test]
+fn estop_abandons_every_channels_run_and_reset_returns_them_to_their_program_start() {
+    let dir = common::temp_dir("lathe-estop");
+    let script = dir.join("estop.panel");
+    let rec = dir.join("estop.mcap");
+    // At 20 s CH1 cuts work 3 (line 0018), CH2 work 2 (0018), CH3 threads work 1 (0012).
+    std::fs::write(
+        &script,
+        "start\nwait ms 20000\nestop\nreset\nshow\nstart\nwait ms 500\nshow\nwait\nshow\n",
+    )
+    .unwrap();
+    let o = citizen_script(
+        &script,
+        &dir.join("state"),
+        &["--record", rec.to_str().unwrap()],
+    );
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
+    let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
+    assert_eq!(frames.len(), 3, "{so}");
+    // After RESET: every channel stopped at the start of its program, spindle stopped, the
+    // work still in the chuck.
+    assert!(frames[0].contains(">0006 G0 X40 Z10"), "{}", frames[0]);
+    assert!(frames[0].contains(" S     0"), "{}", frames[0]);
+    assert!(frames[0].contains("W3 CHUCK CLOSED STOP"), "{}", frames[0]);
+    for ch in 1..=3 {
+        assert!(
+            frames[0].contains(&format!("CH{ch} STOP  reset")),
+            "{}",
+            frames[0]
+        );
+    }
+    // START begins a new cycle: no interrupted block is resumed.
+    assert!(!frames[1].contains("0018 X18 Z-16"), "{}", frames[1]);
+    assert!(!frames[1].contains("0018 G2 X16"), "{}", frames[1]);
+    assert!(
+        frames[1].contains(">CH1 RUN   0012 G1 X-1"),
+        "{}",
+        frames[1]
+    );
+    // The run still ends with 5 parts, every work cut by every channel.
+    assert!(frames[2].contains("PARTS 5/5"), "{}", frames[2]);
+    let a = audit(&read(&rec));
+    assert_eq!(a.parts, BTreeMap::from([(1, 5), (2, 5), (3, 5)]));
+    assert_eq!(a.cuts_without_work, 0);
+    for ch in 1..=3 {
+        for w in 1..=5 {
+            assert!(a.cuts.contains_key(&(ch, w)), "CH{ch} W{w}: {:?}", a.cuts);
+        }
+    }
+}
+
+#[test]
 fn bad_machines_programs_and_scripts_are_refused_whole() {
     let dir = common::temp_dir("lathe-bad");
     let o = novanc(&["run", "--machine", "nowhere", "programs/citizen"]);

@@ -139,8 +139,9 @@ impl Cycle {
         self.rest_ns = total % tick;
     }
 
-    /// RESET of the console's channel `ch`: clears its fault, alarm or E-STOP (after an E-STOP,
-    /// every channel's). Returns the message.
+    /// RESET of the console's channel `ch`: clears its fault or alarm; after an E-STOP, every
+    /// channel's, each back at the start of its program (the run is abandoned). Returns the
+    /// message.
     pub fn reset(&mut self, ch: usize) -> String {
         let estop = (0..self.lathe.channels()).any(|i| {
             self.lathe
@@ -151,7 +152,7 @@ impl Cycle {
             for i in 0..self.lathe.channels() {
                 let _ = self.lathe.reset(i);
             }
-            return "RESET: E-STOP released; every channel keeps its place, START resumes".into();
+            return "RESET: E-STOP released; every channel back at its program start, START begins a new cycle".into();
         }
         let Some(i) = self.machine_ch(ch) else {
             return format!("RESET CH{}: it is not in this MDI run", ch + 1);

@@ -334,6 +334,7 @@ impl Lathe {
                     c.pc = 0;
                     c.exec = Exec::Fresh;
                     c.cycle_cut = None;
+                    c.cycle_arrivals = c.arrivals.clone();
                 }
                 if self.record {
                     self.events.push(Event::Part {

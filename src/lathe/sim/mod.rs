@@ -82,6 +82,8 @@ pub(crate) struct Chan {
     pub waits: Option<WaitOn>,
     /// Arrivals per waiting M code (m, count).
     pub arrivals: Vec<(u32, u64)>,
+    /// The arrivals when the current cycle began (RESET after an E-STOP returns to them).
+    pub cycle_arrivals: Vec<(u32, u64)>,
     /// The work this channel cut in its current cycle (for the machined-twice check).
     pub cycle_cut: Option<u32>,
     pub stats: ChannelStats,
@@ -225,6 +227,7 @@ impl Lathe {
                 parts: 0,
                 waits: None,
                 arrivals: Vec::new(),
+                cycle_arrivals: Vec::new(),
                 cycle_cut: None,
                 stats: ChannelStats::default(),
                 last_state: (ChState::Idle, None),
@@ -372,11 +375,25 @@ impl Lathe {
         }
     }
 
-    /// RESET of channel `ch`: clears a fault, an alarm or the E-STOP, keeping the place in the
-    /// program (the channel then stands stopped until START). No effect on other states.
+    /// RESET of channel `ch`: clears a fault or an alarm, keeping the place in the program (the
+    /// channel then stands stopped until START). After an E-STOP the run is abandoned: the
+    /// channel returns to the start of its program with its spindle stopped, keeping the work
+    /// its chuck holds, its position and its part count; START begins a new cycle there, no
+    /// interrupted block is resumed (docs/lathe.md "E-STOP"). No effect on other states.
     pub fn reset(&mut self, ch: usize) -> Result<(), String> {
         let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
-        if matches!(c.run, Run::Fault(_) | Run::Alarm(_) | Run::Estop) {
+        if c.run == Run::Estop {
+            c.pc = 0;
+            c.exec = Exec::Fresh;
+            c.waits = None;
+            c.arrivals = c.cycle_arrivals.clone();
+            c.sp.dir = SpindleDir::Stop;
+            c.stop_now();
+            c.run = Run::Stopped("reset".to_string());
+            c.held = false;
+            return Ok(());
+        }
+        if matches!(c.run, Run::Fault(_) | Run::Alarm(_)) {
             c.run = Run::Stopped("reset".to_string());
             c.held = false;
         }
