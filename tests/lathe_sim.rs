@@ -371,7 +371,21 @@ fn sequence(seed: u64, clean: &[[u64; 2]]) {
     for id in 1..=5 {
         assert_eq!(l.machined(id), vec![1, 1, 1], "seed {seed}: work {id}");
     }
-    assert_eq!(pulses(&l), clean, "seed {seed}: {}", log.join(", "));
+    if log.iter().any(|w| w == "estop") {
+        // E-STOP abandons the runs (issue 22/23): RESET sends every channel back to its
+        // program start, so the cycle the E-STOP cut short is run again from its top and the
+        // totals can only be larger than a clean run's, never smaller.
+        let got = pulses(&l);
+        for (ch, (g, c)) in got.iter().zip(clean.iter()).enumerate() {
+            assert!(
+                g[0] >= c[0] && g[1] >= c[1],
+                "seed {seed}: channel {ch} {g:?} < clean {c:?}: {}",
+                log.join(", ")
+            );
+        }
+    } else {
+        assert_eq!(pulses(&l), clean, "seed {seed}: {}", log.join(", "));
+    }
 }
 
 fn clean_pulses() -> Vec<[u64; 2]> {
