@@ -5,6 +5,7 @@ pub mod args;
 pub mod console_opts;
 pub mod edit;
 pub mod lathe;
+pub mod mtconnect;
 pub mod run;
 pub mod script;
 pub mod signals;
