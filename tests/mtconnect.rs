@@ -261,3 +261,42 @@ fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
     drop(ad);
     assert!(t.join().unwrap() > 0);
 }
+
+#[test]
+fn novanc_run_streams_its_program_to_an_agent() {
+    let d = common::temp_dir("mtc-run");
+    let prog = d.join("p.ngc");
+    std::fs::write(&prog, "G21 G90\nG0 X10 Y5\nG1 Z-1 F300\nM30\n").unwrap();
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", prog.to_str().unwrap()])
+        .args(["--mtconnect", &port.to_string(), "--mtconnect-wait", "30"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let a = connect(port);
+    let t = std::thread::spawn(move || read_all(a));
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let lines = t.join().unwrap();
+    assert_eq!(values(&lines, "mode"), ["AUTOMATIC"], "{lines:?}");
+    assert_eq!(
+        values(&lines, "exec").last().map(|s| s.as_str()),
+        Some("PROGRAM_COMPLETED"),
+        "{lines:?}"
+    );
+    assert_eq!(
+        values(&lines, "Xact").last().map(|s| s.as_str()),
+        Some("10.000")
+    );
+    assert_eq!(
+        values(&lines, "Zact").last().map(|s| s.as_str()),
+        Some("-1.000")
+    );
+    assert_eq!(
+        values(&lines, "partcount").last().map(|s| s.as_str()),
+        Some("1")
+    );
+}

@@ -3,7 +3,7 @@
 
 use crate::console::Console;
 use crate::mtconnect::{Adapter, Modes};
-use crate::pulse_core::EndCause;
+use crate::pulse_core::{EndCause, Status};
 use std::net::SocketAddr;
 use std::time::Duration;
 
@@ -79,6 +79,39 @@ impl Feed {
     /// (the agent's first lines are then the state before the first event).
     pub fn start_and_wait(&mut self, c: &Console, o: &MtcOpts) -> Result<(), String> {
         self.publish(c);
+        self.wait(o)
+    }
+
+    /// Publishes the console's state now.
+    pub fn publish(&mut self, c: &Console) {
+        let modes = Modes {
+            op: c.view().op_mode,
+            program: c.program_name(),
+            partcount: 0,
+            work_offsets: c.work_offsets().0,
+            program_alarm: c.program_alarm().map(|a| a.error.to_string()),
+            pulse_mm: c.settings().pulse_mm,
+        };
+        self.publish_status(c.status(), modes);
+    }
+
+    /// Publishes a status snapshot with the modes given (their partcount is the feed's own).
+    pub fn publish_status(&mut self, s: &Status, mut modes: Modes) {
+        if let Some(e) = &s.last_end {
+            if self.last_run_end != Some(e.id) {
+                self.last_run_end = Some(e.id);
+                if e.cause == EndCause::ProgramEnd && s.program_end {
+                    self.partcount += 1;
+                }
+            }
+        }
+        modes.partcount = self.partcount;
+        self.adapter.publish(crate::mtconnect::items(s, &modes));
+    }
+
+    /// Waits for an agent if `--mtconnect-wait` asks (publish the state first: an agent's
+    /// first lines are the state before the first event).
+    pub fn wait(&self, o: &MtcOpts) -> Result<(), String> {
         if let Some(w) = o.wait {
             if !self.adapter.wait_for_agent(w) {
                 return Err(format!(
@@ -88,27 +121,5 @@ impl Feed {
             }
         }
         Ok(())
-    }
-
-    /// Publishes the console's state now.
-    pub fn publish(&mut self, c: &Console) {
-        let s = c.status();
-        if let Some(e) = &s.last_end {
-            if self.last_run_end != Some(e.id) {
-                self.last_run_end = Some(e.id);
-                if e.cause == EndCause::ProgramEnd && s.program_end {
-                    self.partcount += 1;
-                }
-            }
-        }
-        let modes = Modes {
-            op: c.view().op_mode,
-            program: c.program_name(),
-            partcount: self.partcount,
-            work_offsets: c.work_offsets().0,
-            program_alarm: c.program_alarm().map(|a| a.error.to_string()),
-            pulse_mm: c.settings().pulse_mm,
-        };
-        self.adapter.publish(crate::mtconnect::items(s, &modes));
     }
 }
