@@ -122,6 +122,17 @@ fn a_script_streams_its_run_to_two_agents_and_answers_the_heartbeat() {
         }
     }
     assert!(la.iter().any(|l| l.starts_with("* PONG ")), "{la:?}");
+    // Every key is a DataItem id of the device file shipped for the agent.
+    let devices = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/mtconnect/Devices.xml"),
+    )
+    .unwrap();
+    for k in KEYS {
+        assert!(
+            devices.contains(&format!("id=\"{k}\"")),
+            "{k} not in Devices.xml"
+        );
+    }
     let exec = values(&la, "exec");
     let active = exec.iter().position(|v| v == "ACTIVE").expect("ACTIVE");
     assert!(

@@ -101,7 +101,8 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         ("Xact", mm(s.pos[0])),
         ("Yact", mm(s.pos[1])),
         ("Zact", mm(s.pos[2])),
-        ("path_feedrate", format!("{:.1}", s.speed_mm_min)),
+        // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
+        ("path_feedrate", format!("{:.3}", s.speed_mm_min / 60.0)),
         ("Fovr", s.feed_override.to_string()),
         ("Rovr", "100".into()),
         ("Sovr", "100".into()),
