@@ -3,6 +3,8 @@
 //! adapter-level test, not agent conformance.
 
 mod common;
+#[path = "common/tmux.rs"]
+mod tmux;
 
 use novanc::mtconnect::Adapter;
 use std::io::{BufRead, BufReader, Read, Write};
@@ -310,4 +312,45 @@ fn novanc_run_streams_its_program_to_an_agent() {
         values(&lines, "partcount").last().map(|s| s.as_str()),
         Some("1")
     );
+}
+
+#[test]
+fn the_terminal_console_streams_its_mode_to_an_agent() {
+    if !tmux::tmux_or_skip("mtconnect console") {
+        return;
+    }
+    let d = common::temp_dir("mtc-console");
+    let port = free_port();
+    let run = format!(
+        "{} --state {} --mtconnect {port}",
+        env!("CARGO_BIN_EXE_novanc"),
+        d.join("state").display()
+    );
+    let t = tmux::session("mtc-console", &d, &run);
+    let mut a = connect(port);
+    a.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let mut r = BufReader::new(a.try_clone().unwrap());
+    let mut seen = Vec::new();
+    let mut line = String::new();
+    // The dump: DATA INPUT is EDIT.
+    while !seen.iter().any(|l: &String| l.contains("|mode|EDIT")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    // Alt+2 turns the selector to AUTO.
+    t.keys(&["M-2"]);
+    while !seen.iter().any(|l: &String| l.contains("|mode|AUTOMATIC")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    a.write_all(b"* PING\n").unwrap();
+    while !seen.iter().any(|l: &String| l.starts_with("* PONG 10000")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    t.keys(&["C-c"]);
+    assert!(tmux::wait_file(&d.join("exit"), 20).contains("exit=0"));
 }
