@@ -86,7 +86,7 @@ fn a_script_streams_its_run_to_two_agents_and_answers_the_heartbeat() {
     let script = d.join("run.script");
     std::fs::write(
         &script,
-        "op AUTO\nstart\nwait ms 300\nwait ms 300\nwait ms 300\nwait\nestop\nreset\n",
+        "op AUTO\nstart\nwait block 5\nwait ms 2000\nstop\nwait\nstart\nwait ms 300\nwait\nestop\nreset\n",
     )
     .unwrap();
     let port = free_port();
@@ -141,6 +141,17 @@ fn a_script_streams_its_run_to_two_agents_and_answers_the_heartbeat() {
         exec[active..].iter().any(|v| v == "PROGRAM_COMPLETED"),
         "{exec:?}"
     );
+    // The feed hold in the bore, then the resume.
+    let held = exec
+        .iter()
+        .position(|v| v == "FEED_HOLD")
+        .expect("FEED_HOLD");
+    assert_eq!(exec[held + 1], "ACTIVE", "{exec:?}");
+    let lines: Vec<u32> = values(&la, "line")
+        .iter()
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
     assert_eq!(
         values(&la, "partcount").last().map(|s| s.as_str()),
         Some("1")
