@@ -11,6 +11,7 @@ pub mod gcode;
 pub mod input_text;
 pub mod lathe;
 pub mod limits;
+pub mod mtconnect;
 pub mod panel_model;
 pub mod pulse_core;
 pub mod record;

@@ -5,6 +5,7 @@ pub mod args;
 pub mod console_opts;
 pub mod edit;
 pub mod lathe;
+pub mod mtconnect;
 pub mod run;
 pub mod script;
 pub mod signals;
@@ -94,6 +95,13 @@ fn console(argv: &[String]) -> i32 {
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
         },
     };
+    let (mtc, argv) = match mtconnect::take(&argv) {
+        Ok(x) => x,
+        Err(e) => return usage_error(&e),
+    };
+    if mtc.wait.is_some() {
+        return usage_error("--mtconnect-wait is for novanc run and novanc script");
+    }
     let (mut cfg, rest) = match console_opts::config_from_args(&argv) {
         Ok(x) => x,
         Err(e) => return usage_error(&e),
@@ -104,7 +112,7 @@ fn console(argv: &[String]) -> i32 {
     if let Some(r) = rest.first() {
         return usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
-    crate::terminal::run(cfg)
+    crate::terminal::run_with(cfg, &mtc)
 }
 
 /// `novanc --window`: the window's options, then the console's.

@@ -16,6 +16,7 @@ const HELP: &str = "\
 usage: novanc run PROG [--machine centre|FILE] [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--pulses on|off] [--realtime] [--feed-override PCT]
                        [--interpolator dda|error-proportional] [--ep-l PULSES]
+                       [--mtconnect ADDR:PORT|PORT] [--mtconnect-wait SECONDS]
        novanc run [PROG] --state DIR [--record ..] [--realtime] [--feed-override PCT] [..]
 
 Runs the part program PROG (source language, or ISO G-code by its name .ngc/.nc/.iso or a
@@ -77,6 +78,10 @@ pub fn main(argv: &[String]) -> i32 {
             Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return super::lathe::run(d, &rest),
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
         },
+    };
+    let (mtc, argv) = match super::mtconnect::take(&argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("run: {e}")),
     };
     let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
@@ -160,6 +165,24 @@ pub fn main(argv: &[String]) -> i32 {
         programs: Vec::new(),
         path: crate::gcode::SubPath(super::translate::subroutine_path(&prog, &[])),
     }));
+    let mut feed = match super::mtconnect::Feed::start(&mtc, "novanc run") {
+        Ok(f) => f,
+        Err(e) => return fail(&format!("novanc run: {e}")),
+    };
+    let modes = crate::mtconnect::Modes {
+        op: crate::panel_model::OpMode::Auto,
+        program: prog.clone(),
+        partcount: 0,
+        work_offsets: src.offsets.0,
+        program_alarm: None,
+        pulse_mm: settings.pulse_mm,
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_status(&core.status(), modes.clone());
+        if let Err(e) = f.wait(&mtc) {
+            return fail(&format!("novanc run: {e}"));
+        }
+    }
     core.start(RunKind::Auto, Some(src.make_run()));
     // The machine runs a slice of machine time at a time, so a stop signal is seen between
     // slices: an hour of machine time in virtual time (milliseconds of work), 50 ms in real
@@ -171,6 +194,9 @@ pub fn main(argv: &[String]) -> i32 {
     };
     let status = loop {
         let (reached, st) = core.run_until_idle(slice);
+        if let Some(f) = feed.as_mut() {
+            f.publish_status(&st, modes.clone());
+        }
         if !core.is_running() {
             break None;
         }

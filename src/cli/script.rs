@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 const HELP: &str = "\
 usage: novanc script FILE [--machine citizen|FILE] [--state DIR] [--record OUT.mcap] [--pulses on|off]
-                          [--rows N] [--cols N]
+                          [--rows N] [--cols N] [--mtconnect ADDR:PORT|PORT] [--mtconnect-wait SECONDS]
 
 Runs a panel event script (one event per line, # comments):
   op CONTINUOUS|AUTO|MDI|DATA|HANDLE|STEP|SINGLE
@@ -30,6 +30,10 @@ Runs a panel event script (one event per line, # comments):
                  run ends
   wait ms T      let T milliseconds of machine time pass
 
+--mtconnect streams the machine's state to MTConnect agents (SHDR over TCP, docs/mtconnect.md;
+port 7878 and loopback unless given); the state is sent after every event. --mtconnect-wait S
+waits up to S seconds for an agent before the first event (exit 1 if none came).
+
 The session runs in virtual time: machine time passes only inside the waits, as fast as the
 machine can compute, so every run of a script gives the same frames. A wait that cannot end
 (feed override 0 with a block in progress) or that is not done within 1000 hours of machine
@@ -49,11 +53,15 @@ pub fn main(argv: &[String]) -> i32 {
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
         },
     };
-    let argv = argv.as_slice();
     if argv.iter().any(|a| a == "-h" || a == "--help") {
         print!("{HELP}");
         return 0;
     }
+    let (mtc, argv) = match super::mtconnect::take(&argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+    };
+    let argv = argv.as_slice();
     let has_state = argv
         .iter()
         .any(|a| a == "--state" || a.starts_with("--state="));
@@ -100,7 +108,7 @@ pub fn main(argv: &[String]) -> i32 {
         Some(d)
     };
     cfg.interrupt = Some(super::signals::pending);
-    let code = super::signals::exit_code(run(virtual_clock(cfg), &file, events));
+    let code = super::signals::exit_code(run(virtual_clock(cfg), &file, events, &mtc));
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -128,7 +136,12 @@ fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
 }
 
 /// Runs the events on a console; returns the exit code.
-fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>) -> i32 {
+fn run(
+    cfg: crate::console::ConsoleConfig,
+    file: &Path,
+    events: Vec<PanelEvent>,
+    mtc: &super::mtconnect::MtcOpts,
+) -> i32 {
     super::signals::install();
     let (mut console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
@@ -139,6 +152,19 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
     };
     for w in warnings {
         eprintln!("novanc script: warning: {w}");
+    }
+    let mut feed = match super::mtconnect::Feed::start(mtc, "novanc script") {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("novanc script: {e}");
+            let _ = console.finish();
+            return 1;
+        }
+    };
+    if let Some(Err(e)) = feed.as_mut().map(|f| f.start_and_wait(&console, mtc)) {
+        eprintln!("novanc script: {e}");
+        let _ = console.finish();
+        return 1;
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
@@ -157,6 +183,9 @@ fn run(cfg: crate::console::ConsoleConfig, file: &Path, events: Vec<PanelEvent>)
             }
             PanelEvent::Tape(p) => console.handle(PanelEvent::Tape(resolve_tape(p, file))),
             ev => console.handle(ev),
+        }
+        if let Some(f) = feed.as_mut() {
+            f.publish(&console);
         }
         if super::signals::caught().is_some() {
             break;

@@ -17,17 +17,31 @@ use std::time::Duration;
 
 /// The terminal front end's `--help`.
 pub const HELP: &str = "\
-usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap]
+usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap] [--mtconnect ADDR:PORT|PORT]
 The terminal front panel; F8 in the panel shows the keys.
 ";
 
 /// Runs the terminal panel on a console opened with `cfg`; returns the exit code.
 pub fn run(cfg: ConsoleConfig) -> i32 {
+    run_with(cfg, &crate::cli::mtconnect::MtcOpts::default())
+}
+
+/// The terminal panel, streaming to MTConnect agents with `--mtconnect` (docs/mtconnect.md):
+/// the state is published once a frame, after the console's tick.
+pub fn run_with(cfg: ConsoleConfig, mtc: &crate::cli::mtconnect::MtcOpts) -> i32 {
     signals::install();
     let (console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("novanc: {e}");
+            return 1;
+        }
+    };
+    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc") {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            let _ = console.finish();
             return 1;
         }
     };
@@ -38,7 +52,7 @@ pub fn run(cfg: ConsoleConfig) -> i32 {
             return 1;
         }
     };
-    let (code, console) = run_loop(&mut term, console);
+    let (code, console) = run_loop(&mut term, console, &mut feed);
     term.restore();
     // A stop signal is said now that the terminal is back, and marks the recording
     // interrupted before `finish` (RESET, then the recording closed) closes it.
@@ -72,7 +86,11 @@ pub(crate) fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Op
 }
 
 /// The input/draw loop; returns the exit code and the console.
-fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
+fn run_loop(
+    term: &mut Terminal,
+    mut console: Console,
+    feed: &mut Option<crate::cli::mtconnect::Feed>,
+) -> (i32, Console) {
     let mut dec = Decoder::new();
     let mut renderer = Renderer::new();
     let mut screen = Screen::new(0, 0);
@@ -99,6 +117,9 @@ fn run_loop(term: &mut Terminal, mut console: Console) -> (i32, Console) {
             }
         }
         console.tick();
+        if let Some(f) = feed.as_mut() {
+            f.publish(&console);
+        }
         if screen.width() != w || screen.height() != h {
             screen = Screen::new(w, h);
         }

@@ -1,0 +1,125 @@
+//! `--mtconnect ADDR:PORT` and `--mtconnect-wait SECONDS` (docs/mtconnect.md): taken out of a
+//! subcommand's arguments, and the adapter fed from a console.
+
+use crate::console::Console;
+use crate::mtconnect::{Adapter, Modes};
+use crate::pulse_core::{EndCause, Status};
+use std::net::SocketAddr;
+use std::time::Duration;
+
+/// The adapter options of a command line.
+#[derive(Clone, Debug, Default)]
+pub struct MtcOpts {
+    /// Where to listen.
+    pub addr: Option<SocketAddr>,
+    /// How long to wait for an agent before the first event.
+    pub wait: Option<Duration>,
+}
+
+/// Takes `--mtconnect V` / `--mtconnect=V` and `--mtconnect-wait S` out of `argv`.
+pub fn take(argv: &[String]) -> Result<(MtcOpts, Vec<String>), String> {
+    let mut o = MtcOpts::default();
+    let mut rest = Vec::new();
+    let mut i = 0;
+    while i < argv.len() {
+        let a = &argv[i];
+        i += 1;
+        let (name, inline) = match a.split_once('=') {
+            Some((n, v)) if n == "--mtconnect" || n == "--mtconnect-wait" => (n, Some(v)),
+            _ => (a.as_str(), None),
+        };
+        if name != "--mtconnect" && name != "--mtconnect-wait" {
+            rest.push(a.clone());
+            continue;
+        }
+        let v = match inline {
+            Some(v) => v.to_string(),
+            None => {
+                let v = argv
+                    .get(i)
+                    .ok_or_else(|| format!("option '{name}' needs a value"))?;
+                i += 1;
+                v.clone()
+            }
+        };
+        if name == "--mtconnect" {
+            o.addr = Some(crate::mtconnect::parse_addr(&v)?);
+        } else {
+            o.wait = Some(crate::mtconnect::parse_wait(&v)?);
+        }
+    }
+    if o.wait.is_some() && o.addr.is_none() {
+        return Err("--mtconnect-wait needs --mtconnect".into());
+    }
+    Ok((o, rest))
+}
+
+/// An adapter fed from a console: counts parts, builds the modes, publishes.
+pub struct Feed {
+    adapter: Adapter,
+    partcount: u64,
+    last_run_end: Option<u64>,
+}
+
+impl Feed {
+    /// Starts the adapter (announcing its address on stderr as `who: mtconnect: listening on
+    /// ADDR`); None with no `--mtconnect`.
+    pub fn start(o: &MtcOpts, who: &str) -> Result<Option<Feed>, String> {
+        let Some(addr) = o.addr else { return Ok(None) };
+        let adapter = Adapter::start(addr)?;
+        eprintln!("{who}: mtconnect: listening on {}", adapter.local_addr());
+        Ok(Some(Feed {
+            adapter,
+            partcount: 0,
+            last_run_end: None,
+        }))
+    }
+
+    /// Publishes the console's state, then waits for an agent if `--mtconnect-wait` asks
+    /// (the agent's first lines are then the state before the first event).
+    pub fn start_and_wait(&mut self, c: &Console, o: &MtcOpts) -> Result<(), String> {
+        self.publish(c);
+        self.wait(o)
+    }
+
+    /// Publishes the console's state now.
+    pub fn publish(&mut self, c: &Console) {
+        let modes = Modes {
+            op: c.view().op_mode,
+            program: c.program_name(),
+            partcount: 0,
+            work_offsets: c.work_offsets().0,
+            program_alarm: c.program_alarm().map(|a| a.error.to_string()),
+            pulse_mm: c.settings().pulse_mm,
+        };
+        self.publish_status(c.status(), modes);
+    }
+
+    /// Publishes a status snapshot with the modes given (their partcount is the feed's own).
+    pub fn publish_status(&mut self, s: &Status, mut modes: Modes) {
+        if let Some(e) = &s.last_end {
+            if self.last_run_end != Some(e.id) {
+                self.last_run_end = Some(e.id);
+                if e.cause == EndCause::ProgramEnd && s.program_end {
+                    self.partcount += 1;
+                }
+            }
+        }
+        modes.partcount = self.partcount;
+        self.adapter.publish(crate::mtconnect::items(s, &modes));
+    }
+
+    /// Waits for an agent if `--mtconnect-wait` asks (publish the state first: an agent's
+    /// first lines are the state before the first event).
+    pub fn wait(&self, o: &MtcOpts) -> Result<(), String> {
+        if let Some(w) = o.wait {
+            if !self.adapter.wait_for_agent(w) {
+                return Err(format!(
+                    "mtconnect: no agent connected within {} s",
+                    w.as_secs_f64()
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,12 @@
+//! The MTConnect SHDR adapter (docs/mtconnect.md): the data items derived from the pulse
+//! core's status and the console's modes (`items`), the SHDR line format (`shdr`), and the TCP
+//! server that streams them to agents (`server`). Plain TCP from std.
+
+pub mod items;
+pub mod options;
+pub mod server;
+pub mod shdr;
+
+pub use items::{items, Modes};
+pub use options::{parse_addr, parse_wait, DEFAULT_PORT};
+pub use server::Adapter;

@@ -1,0 +1,224 @@
+//! The TCP server: a listener thread accepts agents; each gets the current value of every
+//! item at once, then only changes. Every socket is non-blocking: a client whose kernel buffer
+//! is full (it stopped reading) is dropped at once, so no client can slow the caller. The
+//! caller publishes from its own thread; the lock it takes is held only while bytes are
+//! copied into kernel buffers.
+
+use std::io::{ErrorKind, Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant, SystemTime};
+
+/// The heartbeat the adapter announces, ms (`* PONG <ms>`).
+pub const HEARTBEAT_MS: u64 = 10_000;
+
+struct Client {
+    id: u64,
+    stream: TcpStream,
+}
+
+#[derive(Default)]
+struct Inner {
+    clients: Vec<Client>,
+    current: Vec<(&'static str, String)>,
+    next_id: u64,
+    connected_ever: u64,
+    dropped: u64,
+}
+
+/// Writes all of `bytes` without blocking; false if the client cannot take them now.
+fn send(stream: &mut TcpStream, bytes: &[u8]) -> bool {
+    let mut done = 0;
+    while done < bytes.len() {
+        match stream.write(&bytes[done..]) {
+            Ok(0) => return false,
+            Ok(n) => done += n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(_) => return false,
+        }
+    }
+    true
+}
+
+/// The SHDR adapter: a listening socket and its agents.
+pub struct Adapter {
+    inner: Arc<Mutex<Inner>>,
+    addr: SocketAddr,
+    stop: Arc<AtomicBool>,
+}
+
+impl Adapter {
+    /// Listens on `addr` and starts accepting agents.
+    pub fn start(addr: SocketAddr) -> Result<Adapter, String> {
+        let listener = TcpListener::bind(addr)
+            .map_err(|e| format!("mtconnect: cannot listen on {addr}: {e}"))?;
+        let addr = listener
+            .local_addr()
+            .map_err(|e| format!("mtconnect: {e}"))?;
+        listener
+            .set_nonblocking(true)
+            .map_err(|e| format!("mtconnect: {e}"))?;
+        let inner = Arc::new(Mutex::new(Inner::default()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (i2, s2) = (inner.clone(), stop.clone());
+        std::thread::Builder::new()
+            .name("mtconnect-accept".into())
+            .spawn(move || accept_loop(listener, i2, s2))
+            .map_err(|e| format!("mtconnect: {e}"))?;
+        Ok(Adapter { inner, addr, stop })
+    }
+
+    /// The address it listens on (the port chosen, for port 0).
+    pub fn local_addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Agents connected now.
+    pub fn clients(&self) -> usize {
+        self.inner.lock().map(|i| i.clients.len()).unwrap_or(0)
+    }
+
+    /// Agents dropped because they stopped reading.
+    pub fn dropped(&self) -> u64 {
+        self.inner.lock().map(|i| i.dropped).unwrap_or(0)
+    }
+
+    /// Waits until an agent has connected (at any time so far), at most `limit`.
+    pub fn wait_for_agent(&self, limit: Duration) -> bool {
+        let end = Instant::now() + limit;
+        loop {
+            if self
+                .inner
+                .lock()
+                .map(|i| i.connected_ever > 0)
+                .unwrap_or(false)
+            {
+                return true;
+            }
+            if Instant::now() >= end {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    /// Takes a snapshot's items: sends the ones that changed since the last call to every agent
+    /// (nothing if none changed). Never blocks on a client.
+    pub fn publish(&self, items: Vec<(&'static str, String)>) {
+        let Ok(mut g) = self.inner.lock() else {
+            return;
+        };
+        let inner = &mut *g;
+        let changed: Vec<(&'static str, String)> = items
+            .iter()
+            .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
+            .cloned()
+            .collect();
+        inner.current = items;
+        if changed.is_empty() || inner.clients.is_empty() {
+            return;
+        }
+        let text = super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &changed);
+        let before = inner.clients.len();
+        inner
+            .clients
+            .retain_mut(|c| send(&mut c.stream, text.as_bytes()));
+        inner.dropped += (before - inner.clients.len()) as u64;
+    }
+}
+
+impl Drop for Adapter {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+        if let Ok(mut g) = self.inner.lock() {
+            for c in g.clients.drain(..) {
+                let _ = c.stream.shutdown(std::net::Shutdown::Both);
+            }
+        }
+    }
+}
+
+fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
+    while !stop.load(Ordering::SeqCst) {
+        match listener.accept() {
+            Ok((stream, _)) => {
+                let _ = stream.set_nodelay(true);
+                if stream.set_nonblocking(true).is_err() {
+                    continue;
+                }
+                let Ok(reader) = stream.try_clone() else {
+                    continue;
+                };
+                let Ok(mut g) = inner.lock() else {
+                    return;
+                };
+                let id = g.next_id;
+                g.next_id += 1;
+                g.connected_ever += 1;
+                let mut c = Client { id, stream };
+                let dump =
+                    super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &g.current);
+                if send(&mut c.stream, dump.as_bytes()) {
+                    g.clients.push(c);
+                    let (i2, s2) = (inner.clone(), stop.clone());
+                    let _ = std::thread::Builder::new()
+                        .name("mtconnect-client".into())
+                        .spawn(move || read_loop(id, reader, i2, s2));
+                } else {
+                    g.dropped += 1;
+                }
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(5))
+            }
+            Err(_) => std::thread::sleep(Duration::from_millis(50)),
+        }
+    }
+}
+
+/// Reads an agent's lines: `* PING` is answered with `* PONG <ms>`; anything else is ignored.
+/// The client is removed when it closes.
+fn read_loop(id: u64, mut reader: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
+    let mut buf = Vec::new();
+    let mut chunk = [0u8; 512];
+    while !stop.load(Ordering::SeqCst) {
+        match reader.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => {
+                buf.extend_from_slice(&chunk[..n]);
+                while let Some(p) = buf.iter().position(|&b| b == b'\n') {
+                    let line: Vec<u8> = buf.drain(..=p).collect();
+                    let line = String::from_utf8_lossy(&line);
+                    if line.trim_end().starts_with("* PING") {
+                        let Ok(mut g) = inner.lock() else { return };
+                        let pong = format!("* PONG {HEARTBEAT_MS}\n");
+                        let g = &mut *g;
+                        if let Some(i) = g.clients.iter().position(|c| c.id == id) {
+                            if !send(&mut g.clients[i].stream, pong.as_bytes()) {
+                                g.clients.remove(i);
+                                g.dropped += 1;
+                            }
+                        }
+                    }
+                }
+                if buf.len() > 4096 {
+                    buf.clear();
+                }
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock || e.kind() == ErrorKind::Interrupted => {
+                std::thread::sleep(Duration::from_millis(10))
+            }
+            Err(_) => break,
+        }
+        // A client dropped by the publisher ends its reader too.
+        if let Ok(g) = inner.lock() {
+            if !g.clients.iter().any(|c| c.id == id) {
+                return;
+            }
+        }
+    }
+    if let Ok(mut g) = inner.lock() {
+        g.clients.retain(|c| c.id != id);
+    }
+}

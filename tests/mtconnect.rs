@@ -1,0 +1,367 @@
+//! The MTConnect SHDR adapter (docs/mtconnect.md): `novanc script --mtconnect` streams to
+//! agents; a stand-in agent here reads the dump, the changes and the heartbeat. An
+//! adapter-level test, not agent conformance.
+
+mod common;
+#[path = "common/tmux.rs"]
+mod tmux;
+
+use novanc::mtconnect::Adapter;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+fn connect(port: u16) -> TcpStream {
+    let end = Instant::now() + Duration::from_secs(30);
+    loop {
+        match TcpStream::connect(("127.0.0.1", port)) {
+            Ok(s) => {
+                s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+                return s;
+            }
+            Err(e) if Instant::now() > end => panic!("no adapter on {port}: {e}"),
+            Err(_) => std::thread::sleep(Duration::from_millis(20)),
+        }
+    }
+}
+
+/// Every line until the adapter closes.
+fn read_all(s: TcpStream) -> Vec<String> {
+    BufReader::new(s).lines().map_while(Result::ok).collect()
+}
+
+/// The values `key` took, in order, in SHDR data lines (not conditions or PONG).
+fn values(lines: &[String], key: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for l in lines.iter().filter(|l| !l.starts_with('*')) {
+        let f: Vec<&str> = l.split('|').collect();
+        let mut i = 1;
+        while i + 1 < f.len() {
+            if f[i] == key {
+                out.push(f[i + 1].to_string());
+            }
+            i += 2;
+        }
+    }
+    out
+}
+
+const KEYS: [&str; 22] = [
+    "avail",
+    "estop",
+    "mode",
+    "exec",
+    "program",
+    "block",
+    "line",
+    "Xact",
+    "Yact",
+    "Zact",
+    "path_feedrate",
+    "Fovr",
+    "Rovr",
+    "Sovr",
+    "Srpm",
+    "tool",
+    "partcount",
+    "wpo",
+    "system",
+    "motion_program",
+    "logic_program",
+    "message",
+];
+
+#[test]
+fn a_script_streams_its_run_to_two_agents_and_answers_the_heartbeat() {
+    let d = common::temp_dir("mtc-script");
+    let script = d.join("run.script");
+    std::fs::write(
+        &script,
+        "op AUTO\nstart\nwait block 5\nwait ms 2000\nstop\nwait\nstart\nwait ms 300\nwait\nestop\nreset\n",
+    )
+    .unwrap();
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "script",
+            script.to_str().unwrap(),
+            "--mtconnect",
+            &format!("127.0.0.1:{port}"),
+            "--mtconnect-wait",
+            "30",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut a = connect(port);
+    let b = connect(port);
+    a.write_all(b"* PING\n").unwrap();
+    let ta = std::thread::spawn(move || read_all(a));
+    let tb = std::thread::spawn(move || read_all(b));
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("mtconnect: listening on 127.0.0.1:"), "{err}");
+    let (la, lb) = (ta.join().unwrap(), tb.join().unwrap());
+    for lines in [&la, &lb] {
+        // The first lines carry every item, timestamped UTC with milliseconds.
+        let first = &lines[0];
+        assert!(first.len() > 24 && first.as_bytes()[23] == b'Z', "{first}");
+        let dump: String = lines.iter().take(8).cloned().collect::<Vec<_>>().join("\n");
+        for k in KEYS {
+            assert!(dump.contains(&format!("|{k}|")), "{k} missing from {dump}");
+        }
+    }
+    assert!(la.iter().any(|l| l.starts_with("* PONG ")), "{la:?}");
+    // Every key is a DataItem id of the device file shipped for the agent.
+    let devices = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/mtconnect/Devices.xml"),
+    )
+    .unwrap();
+    for k in KEYS {
+        assert!(
+            devices.contains(&format!("id=\"{k}\"")),
+            "{k} not in Devices.xml"
+        );
+    }
+    let exec = values(&la, "exec");
+    let active = exec.iter().position(|v| v == "ACTIVE").expect("ACTIVE");
+    assert!(
+        exec[active..].iter().any(|v| v == "PROGRAM_COMPLETED"),
+        "{exec:?}"
+    );
+    // The feed hold in the bore, then the resume.
+    let held = exec
+        .iter()
+        .position(|v| v == "FEED_HOLD")
+        .expect("FEED_HOLD");
+    assert_eq!(exec[held + 1], "ACTIVE", "{exec:?}");
+    let lines: Vec<u32> = values(&la, "line")
+        .iter()
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
+    assert_eq!(
+        values(&la, "partcount").last().map(|s| s.as_str()),
+        Some("1")
+    );
+    assert!(exec.contains(&"STOPPED".to_string()), "{exec:?}");
+    assert_eq!(
+        values(&la, "estop"),
+        ["ARMED", "TRIGGERED", "ARMED"],
+        "{la:?}"
+    );
+    let x = values(&la, "Xact");
+    assert!(x.len() >= 2 && x.first() != x.last(), "{la:?}");
+    assert!(
+        la.iter().any(|l| l.contains("|system|FAULT|ESTOP|||")),
+        "{la:?}"
+    );
+    assert!(
+        la.last().unwrap().contains("|system|NORMAL||||")
+            || la
+                .iter()
+                .rev()
+                .take(4)
+                .any(|l| l.contains("|system|NORMAL")),
+        "{la:?}"
+    );
+    // Both agents end with the same values.
+    for k in ["exec", "Xact", "Yact", "Zact", "partcount"] {
+        assert_eq!(values(&la, k).last(), values(&lb, k).last(), "{k}");
+    }
+}
+
+#[test]
+fn bad_adapter_options_are_refused() {
+    for args in [
+        vec!["--mtconnect", "70000"],
+        vec!["--mtconnect", "host:x"],
+        vec!["--mtconnect-wait", "5"],
+        vec!["--mtconnect", "7000", "--mtconnect-wait", "-1"],
+        vec!["--mtconnect"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .arg("script")
+            .arg("nothing.script")
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(0), "{args:?}");
+        assert!(err.contains("mtconnect"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn no_agent_within_the_wait_stops_the_script() {
+    let d = common::temp_dir("mtc-nowait");
+    let script = d.join("s.script");
+    std::fs::write(&script, "op AUTO\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["script", script.to_str().unwrap()])
+        .args([
+            "--mtconnect",
+            &free_port().to_string(),
+            "--mtconnect-wait",
+            "0.2",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("no agent connected within 0.2 s"), "{err}");
+}
+
+fn typical_items(i: u64) -> Vec<(&'static str, String)> {
+    let mut v: Vec<(&'static str, String)> = vec![
+        ("avail", "AVAILABLE".into()),
+        ("exec", "ACTIVE".into()),
+        ("Xact", format!("{:.3}", i as f64 * 0.001)),
+        ("Yact", format!("{:.3}", i as f64 * 0.002)),
+        ("Zact", "-1.000".into()),
+        (
+            "block",
+            format!("N{i} G01 X{i} F300 {}", "(padding) ".repeat(100)),
+        ),
+    ];
+    v.push(("system", "NORMAL||||".into()));
+    v
+}
+
+#[test]
+fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
+    let ad = Adapter::start("127.0.0.1:0".parse().unwrap()).unwrap();
+    ad.publish(typical_items(0));
+    let port = ad.local_addr().port();
+    let silent = connect(port);
+    let mut reader = connect(port);
+    let end = Instant::now() + Duration::from_secs(10);
+    while ad.clients() < 2 {
+        assert!(Instant::now() < end, "clients never accepted");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let t = std::thread::spawn(move || {
+        let mut buf = vec![0u8; 1 << 16];
+        let mut n = 0usize;
+        while let Ok(k) = reader.read(&mut buf) {
+            if k == 0 {
+                break;
+            }
+            n += k;
+        }
+        n
+    });
+    // ~1 KB a snapshot: the silent client's buffers fill within some thousands.
+    let t0 = Instant::now();
+    let mut worst = Duration::ZERO;
+    let mut i = 1;
+    while ad.dropped() == 0 {
+        assert!(i < 200_000, "the silent client was never dropped");
+        let s = Instant::now();
+        ad.publish(typical_items(i));
+        worst = worst.max(s.elapsed());
+        i += 1;
+    }
+    let per = t0.elapsed() / i as u32;
+    eprintln!("mtconnect: {i} snapshots until the silent client was dropped, {per:?} each, worst {worst:?}");
+    assert_eq!(ad.clients(), 1, "the reading client stays");
+    assert!(
+        worst < Duration::from_millis(200),
+        "a publish took {worst:?}"
+    );
+    drop(silent);
+    drop(ad);
+    assert!(t.join().unwrap() > 0);
+}
+
+#[test]
+fn novanc_run_streams_its_program_to_an_agent() {
+    let d = common::temp_dir("mtc-run");
+    let prog = d.join("p.ngc");
+    std::fs::write(&prog, "G21 G90\nG0 X10 Y5\nG1 Z-1 F300\nM30\n").unwrap();
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", prog.to_str().unwrap()])
+        .args(["--mtconnect", &port.to_string(), "--mtconnect-wait", "30"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let a = connect(port);
+    let t = std::thread::spawn(move || read_all(a));
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let lines = t.join().unwrap();
+    assert_eq!(values(&lines, "mode"), ["AUTOMATIC"], "{lines:?}");
+    assert_eq!(
+        values(&lines, "exec").last().map(|s| s.as_str()),
+        Some("PROGRAM_COMPLETED"),
+        "{lines:?}"
+    );
+    assert_eq!(
+        values(&lines, "Xact").last().map(|s| s.as_str()),
+        Some("10.000")
+    );
+    assert_eq!(
+        values(&lines, "Zact").last().map(|s| s.as_str()),
+        Some("-1.000")
+    );
+    assert_eq!(
+        values(&lines, "partcount").last().map(|s| s.as_str()),
+        Some("1")
+    );
+}
+
+#[test]
+fn the_terminal_console_streams_its_mode_to_an_agent() {
+    if !tmux::tmux_or_skip("mtconnect console") {
+        return;
+    }
+    let d = common::temp_dir("mtc-console");
+    let port = free_port();
+    let run = format!(
+        "{} --state {} --mtconnect {port}",
+        env!("CARGO_BIN_EXE_novanc"),
+        d.join("state").display()
+    );
+    let t = tmux::session("mtc-console", &d, &run);
+    let mut a = connect(port);
+    a.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let mut r = BufReader::new(a.try_clone().unwrap());
+    let mut seen = Vec::new();
+    let mut line = String::new();
+    // The dump: DATA INPUT is EDIT.
+    while !seen.iter().any(|l: &String| l.contains("|mode|EDIT")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    // Alt+2 turns the selector to AUTO.
+    t.keys(&["M-2"]);
+    while !seen.iter().any(|l: &String| l.contains("|mode|AUTOMATIC")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    a.write_all(b"* PING\n").unwrap();
+    while !seen.iter().any(|l: &String| l.starts_with("* PONG 10000")) {
+        line.clear();
+        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line.clone());
+    }
+    t.keys(&["C-c"]);
+    assert!(tmux::wait_file(&d.join("exit"), 20).contains("exit=0"));
+}
