@@ -126,6 +126,18 @@ fn check_tap_feeds(r: &Rec, feed: f64) -> usize {
             "{text}: {full} of {} pulses at {feed} mm/min",
             speeds.len()
         );
+        // One plateau: up to pitch × rpm, there until the end, down; a feed hold inside the
+        // block would slow it down and bring it up again (a second plateau).
+        let full_at: Vec<bool> = speeds
+            .iter()
+            .map(|&v| (v - feed).abs() / feed < 0.001)
+            .collect();
+        let plateaus = full_at.windows(2).filter(|w| !w[0] && w[1]).count()
+            + usize::from(full_at.first() == Some(&true));
+        assert_eq!(
+            plateaus, 1,
+            "{text}: the feed left pitch x rpm inside the tap"
+        );
         checked += 1;
     }
     checked
@@ -214,4 +226,18 @@ fn g84_feeds_at_pitch_times_rpm_at_half_override() {
         4,
         "two holes, in and out\n{out}"
     );
+}
+
+/// The same through a hold, read from the recording: STOP 0.5 s into the first hole's feed in,
+/// START once the run holds; every tap feed still runs at 375 mm/min pulse by pulse, on one
+/// plateau (a hold in the hole shows as a ramp down and up inside the block: this test failed
+/// so when the deferral was taken out), and the display said HOLD.
+#[test]
+fn the_tap_feeds_at_pitch_times_rpm_through_a_hold() {
+    let (r, out) = script(
+        "tap-hold-rec",
+        "op AUTO\nstart\nwait block 41\nwait ms 500\nstop\nwait\nshow\nstart\nwait\n",
+    );
+    assert_eq!(check_tap_feeds(&r, 375.0), 12, "{out}");
+    assert!(out.contains("HOLD"), "the run held after the tap:\n{out}");
 }
