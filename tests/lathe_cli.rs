@@ -181,17 +181,13 @@ fn the_samples_make_five_parts_with_every_transfer_interlocked() {
     );
 }
 
-#[test]
-fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
-    let dir = common::temp_dir("lathe-fault");
-    let script = dir.join("fault.panel");
-    let rec = dir.join("fault.mcap");
-    // Work 3 reaches spindle 1 about 14.6 s into the run and leaves it about 24.5 s in.
-    std::fs::write(
-        &script,
-        "start\nwait ms 20000\nfault 1 tool breakage\nshow\nwait\nshow\nreset\nstart\nwait\nshow\n",
-    )
-    .unwrap();
+/// Runs a Citizen panel script with a recording in a fresh directory `tag`: the directory,
+/// the recording's path and the script's stdout (the run must succeed).
+fn recorded_script(tag: &str, script_text: &str) -> (PathBuf, PathBuf, String) {
+    let dir = common::temp_dir(tag);
+    let script = dir.join("s.panel");
+    let rec = dir.join("r.mcap");
+    std::fs::write(&script, script_text).unwrap();
     let o = citizen_script(
         &script,
         &dir.join("state"),
@@ -199,6 +195,16 @@ fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
     );
     let so = text(&o.stdout);
     assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
+    (dir, rec, so)
+}
+
+#[test]
+fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
+    // Work 3 reaches spindle 1 about 14.6 s into the run and leaves it about 24.5 s in.
+    let (dir, rec, so) = recorded_script(
+        "lathe-fault",
+        "start\nwait ms 20000\nfault 1 tool breakage\nshow\nwait\nshow\nreset\nstart\nwait\nshow\n",
+    );
     let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
     assert_eq!(frames.len(), 3, "{so}");
     // At the fault: channel 1 holds work 3.
@@ -231,22 +237,11 @@ fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
 
 #[test]
 fn estop_abandons_every_channels_run_and_reset_returns_them_to_their_program_start() {
-    let dir = common::temp_dir("lathe-estop");
-    let script = dir.join("estop.panel");
-    let rec = dir.join("estop.mcap");
     // At 20 s CH1 cuts work 3 (line 0018), CH2 work 2 (0018), CH3 threads work 1 (0012).
-    std::fs::write(
-        &script,
+    let (_, rec, so) = recorded_script(
+        "lathe-estop",
         "start\nwait ms 20000\nestop\nreset\nshow\nstart\nwait ms 500\nshow\nwait\nshow\n",
-    )
-    .unwrap();
-    let o = citizen_script(
-        &script,
-        &dir.join("state"),
-        &["--record", rec.to_str().unwrap()],
     );
-    let so = text(&o.stdout);
-    assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
     let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
     assert_eq!(frames.len(), 3, "{so}");
     // After RESET: every channel stopped at the start of its program, spindle stopped, the

@@ -83,22 +83,8 @@ fn script(name: &str, prog: &str, script: &str) -> (Rec, String) {
     let dir = common::temp_dir(name);
     let p = dir.join("p.ngc");
     std::fs::write(&p, prog).unwrap();
-    let s = dir.join("s.panel");
-    std::fs::write(&s, script.replace("PROG", &p.display().to_string())).unwrap();
-    let rec = dir.join("r.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("script")
-        .arg(&s)
-        .arg("--record")
-        .arg(&rec)
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(out.status.code(), Some(0), "{text}");
+    let (rec, text) =
+        common::recorded_script(&dir, &script.replace("PROG", &p.display().to_string()));
     (read(&rec), text)
 }
 

@@ -10,21 +10,12 @@ mod common;
 use common::{keys, open, p};
 use novanc::panel_model::{OpMode, PanelEvent as E};
 use std::path::Path;
-use std::process::Command;
 
 /// The recording's blocks (start time, ISO text), Z pulse times, and states (time, JSON).
 struct Rec {
     blocks: Vec<(u64, String)>,
     z_pulses: Vec<u64>,
     states: Vec<(u64, String)>,
-}
-
-fn t_ns(json: &str) -> u64 {
-    json.split("\"t_ns\":")
-        .nth(1)
-        .and_then(|v| v.split([',', '}']).next())
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0)
 }
 
 fn read(path: &Path) -> Rec {
@@ -60,32 +51,13 @@ fn read(path: &Path) -> Rec {
             _ => {}
         }
     }
-    let _ = t_ns;
     r.z_pulses.sort_unstable();
     r
 }
 
 /// Runs a panel script on the embedded defaults (Table B) with a recording.
 fn script(name: &str, text: &str) -> (Rec, String) {
-    let dir = common::temp_dir(name);
-    let s = dir.join("s.panel");
-    std::fs::write(&s, text).unwrap();
-    let rec = dir.join("r.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("script")
-        .arg(&s)
-        .arg("--state")
-        .arg(dir.join("state"))
-        .arg("--record")
-        .arg(&rec)
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(out.status.code(), Some(0), "{text}");
+    let (rec, text) = common::recorded_script(&common::temp_dir(name), text);
     (read(&rec), text)
 }
 

@@ -250,3 +250,28 @@ pub fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
         })
         .collect()
 }
+
+/// Runs `novanc script` on `script_text` in `dir` (its own state directory `dir/state`) with a
+/// recording `dir/r.mcap`: the recording's path and the script's stdout and stderr, after
+/// checking that it exited 0.
+pub fn recorded_script(dir: &Path, script_text: &str) -> (PathBuf, String) {
+    let s = dir.join("s.panel");
+    std::fs::write(&s, script_text).unwrap();
+    let rec = dir.join("r.mcap");
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("script")
+        .arg(&s)
+        .arg("--state")
+        .arg(dir.join("state"))
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    (rec, text)
+}
