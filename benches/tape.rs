@@ -101,24 +101,11 @@ fn main() {
             eprintln!("cannot write {}: {e}", path.display());
             std::process::exit(1);
         }
-        let mut best_proc = f64::MAX;
-        for _ in 0..3 {
-            let t = Instant::now();
-            let st = Command::new(env!("CARGO_BIN_EXE_novanc"))
-                .args(["tape", "read"])
-                .arg(&path)
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status();
-            let dt = t.elapsed().as_secs_f64();
-            match st {
-                Ok(s) if s.success() => best_proc = best_proc.min(dt),
-                other => {
-                    eprintln!("novanc tape read failed: {other:?}");
-                    std::process::exit(1);
-                }
-            }
-        }
+        let best_proc = best_process("novanc tape read", |_| {
+            let mut c = Command::new(env!("CARGO_BIN_EXE_novanc"));
+            c.args(["tape", "read"]).arg(&path);
+            c
+        });
         let _ = std::fs::remove_file(&path);
         println!(
             "{}: image {:.1} MB ({} frames, {blocks} blocks), text {:.1} MB; punch {:.0} MB/s; read in-process {:.0} MB/s ({:.3} s); `novanc tape read` process {:.0} MB/s ({:.3} s)",
@@ -174,26 +161,14 @@ fn program_read(text: &str) {
         format!("op DATA\ndata READ\ntape {}\nstart\nwait\n", path.display()),
     )
     .expect("write the script");
-    let mut best_proc = f64::MAX;
-    for i in 0..3 {
-        let t = Instant::now();
-        let st = Command::new(env!("CARGO_BIN_EXE_novanc"))
-            .arg("script")
+    let best_proc = best_process("novanc script", |i| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_novanc"));
+        c.arg("script")
             .arg(&script)
             .arg("--state")
-            .arg(base.join(format!("proc{i}")))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status();
-        let dt = t.elapsed().as_secs_f64();
-        match st {
-            Ok(s) if s.success() => best_proc = best_proc.min(dt),
-            other => {
-                eprintln!("novanc script failed: {other:?}");
-                std::process::exit(1);
-            }
-        }
-    }
+            .arg(base.join(format!("proc{i}")));
+        c
+    });
     let _ = std::fs::remove_dir_all(&base);
     println!(
         "PROGRAM READ of a {:.1} MB text file ({} lines) at the console: in-process {:.3} s (START to stored); whole `novanc script` process {:.3} s (target under 1 s)",
@@ -202,4 +177,23 @@ fn program_read(text: &str) {
         best,
         best_proc
     );
+}
+
+/// The best of three whole processes, seconds: `make(i)` builds the i-th command (output to
+/// /dev/null); a failure ends the benchmark.
+fn best_process(what: &str, make: impl Fn(usize) -> Command) -> f64 {
+    let mut best = f64::MAX;
+    for i in 0..3 {
+        let t = Instant::now();
+        let st = make(i).stdout(Stdio::null()).stderr(Stdio::null()).status();
+        let dt = t.elapsed().as_secs_f64();
+        match st {
+            Ok(s) if s.success() => best = best.min(dt),
+            other => {
+                eprintln!("{what} failed: {other:?}");
+                std::process::exit(1);
+            }
+        }
+    }
+    best
 }
