@@ -24,14 +24,6 @@ pub fn op_name(m: OpMode) -> &'static str {
     m.name()
 }
 
-/// Rows of text a data page shows around the pointer (header, command, message and entry
-/// lines take the rest).
-pub fn text_rows(rows: usize) -> usize {
-    rows.saturating_sub(4).max(1)
-}
-
-pub use super::script_line::script_line;
-
 /// The mark at the end of a line that was cut to fit the display.
 pub const CUT: char = '…';
 

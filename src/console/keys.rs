@@ -123,30 +123,7 @@ pub fn is_relay_stop(k: Key) -> bool {
     )
 }
 
-/// A key's name in the panel script (`key NAME`) and the recording.
-pub fn key_name(k: Key) -> String {
-    match k {
-        Key::Char(c) => c.to_string(),
-        Key::Enter => "Enter".into(),
-        Key::Backspace => "Backspace".into(),
-        Key::Tab => "Tab".into(),
-        Key::Esc => "Esc".into(),
-        Key::Up => "Up".into(),
-        Key::Down => "Down".into(),
-        Key::Left => "Left".into(),
-        Key::Right => "Right".into(),
-        Key::PageUp => "PgUp".into(),
-        Key::PageDown => "PgDn".into(),
-        Key::Home => "Home".into(),
-        Key::End => "End".into(),
-        Key::Insert => "Insert".into(),
-        Key::Delete => "Delete".into(),
-        Key::F(n) => format!("F{n}"),
-        Key::Alt(c) => format!("Alt+{c}"),
-        Key::Ctrl(c) => format!("Ctrl+{c}"),
-        Key::Unknown => "Unknown".into(),
-    }
-}
+pub use super::script_line::key_name;
 
 /// A key from its name (see [`key_name`]); names other than one character are matched without
 /// regard to case.

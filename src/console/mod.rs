@@ -12,6 +12,7 @@
 //! after a key is the core's answer to that key.
 
 mod answers;
+mod book;
 mod config;
 mod display;
 mod entry;
@@ -80,7 +81,7 @@ pub struct Console {
     /// The operator message: the result, refusal or error of an action (or what the machine
     /// reported on its own, such as a run's end). It lives as [`Console::msg_life`] says; what
     /// the machine is doing (running, held, returning, waiting for START) is never kept here
-    /// but derived from the status snapshot when the frame is drawn (`display::machine_note`).
+    /// but derived from the status snapshot when the frame is drawn (`state::machine_note`).
     message: String,
     /// How long [`Console::message`] lives.
     msg_life: MsgLife,
@@ -127,6 +128,8 @@ pub struct Console {
     help: u8,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
     pages: pages::Pages,
+    /// The alarm and message history and the counters.
+    book: book::Book,
     /// The terminal is large enough for the panel.
     screen_fits: bool,
     /// The last key ignored while the terminal was too small.
@@ -162,7 +165,7 @@ impl Console {
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {
         cfg.check()?;
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
-        let (pages, more) = pages::Pages::open(&cfg.state_dir);
+        let (book, more) = book::Book::open(&cfg.state_dir);
         warnings.extend(more);
         let recorder =
             run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
@@ -210,7 +213,8 @@ impl Console {
             jogging: false,
             jog_key: None,
             help: 0,
-            pages,
+            pages: pages::Pages::new(),
+            book,
             screen_fits: true,
             ignored: None,
             modes_told: None,
@@ -429,7 +433,7 @@ impl Console {
     /// back are made now (a failure is said on the next frame).
     pub fn frame_written(&mut self) {
         if self.counters_unsaved {
-            pages::save_counters(self);
+            book::save_counters(self);
         }
     }
 
@@ -476,13 +480,13 @@ impl Console {
             .clone()
             .or_else(|| self.program_alarm.as_ref().map(|a| a.error.to_string()))
             .or_else(|| self.tape_alarm.clone());
-        pages::log(self, alarm);
+        book::log(self, alarm);
         let lines = display::compose(self);
         if lines != self.display {
             self.display = lines;
             self.recorder.display(&self.display, self.status.machine_ns);
         }
-        self.pages.program_msg = None;
+        self.book.program_msg = None;
         let modes = (self.op, self.data);
         if self.modes_told != Some(modes) {
             self.core.set_panel_modes(self.op.word(), self.data.word());
@@ -542,8 +546,16 @@ impl Console {
             }
             PanelEvent::Key(ch) => entry::key(self, ch),
             PanelEvent::Rubout => entry::rubout(self),
-            PanelEvent::Eob => entry::eob(self),
-            PanelEvent::Type(text) => entry::typed(self, text),
+            PanelEvent::Eob => {
+                if let Some(line) = entry::eob(self) {
+                    pages::enter(self, &line, false);
+                }
+            }
+            PanelEvent::Type(text) => {
+                if let Some(line) = entry::typed(self, text) {
+                    pages::enter(self, &line, false);
+                }
+            }
             PanelEvent::Tape(path) => {
                 let name = path
                     .file_name()
@@ -561,7 +573,7 @@ impl Console {
             PanelEvent::Stop => {
                 let had_run = self.status.job.is_some();
                 self.command(Command::Stop);
-                // A feed hold is said by the display while it lasts (display::machine_note).
+                // A feed hold is said by the display while it lasts (state::machine_note).
                 if !self.status.hold {
                     self.message = if self.status.moving {
                         "STOP: the manual move decelerates to rest"
@@ -587,7 +599,7 @@ impl Console {
                 self.command(Command::EStop);
                 self.jogging = false;
                 self.jog_key = None;
-                // Said by the display while it is in force (display::machine_note).
+                // Said by the display while it is in force (state::machine_note).
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
@@ -710,7 +722,7 @@ impl Console {
             // SINGLE BLOCK on: the block in progress is the last. Off: a run set going by a
             // START in SINGLE BLOCK still ends the block START was given for and waits for
             // START (docs/panel.md, "Rules and choices"); what the machine does is said by the
-            // display (display::machine_note).
+            // display (state::machine_note).
             let keep_single = m == OpMode::Auto && self.start_single && self.status.job.is_some();
             if !keep_single {
                 self.command(Command::SingleBlock(m == OpMode::Single));

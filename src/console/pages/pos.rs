@@ -42,11 +42,11 @@ pub(super) fn enter(c: &mut Console, line: &str) {
             match rest.trim().parse::<u64>() {
                 Ok(n) => {
                     if set {
-                        c.pages.counters.parts = n;
+                        c.book.counters.parts = n;
                     } else {
-                        c.pages.counters.target = n;
+                        c.book.counters.target = n;
                     }
-                    c.message = match c.pages.counters.save(&c.cfg.state_dir) {
+                    c.message = match c.book.counters.save(&c.cfg.state_dir) {
                         Ok(()) => format!("{} {n}", word.to_ascii_lowercase()),
                         Err(e) => e,
                     };
@@ -205,7 +205,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     if let (Some(t), None, Some((v, when))) = (st.tool, st.changing_tool, pending) {
         p.body.push(format!("  T{t:02} {v:.3} pending: {when}"));
     }
-    let k = &c.pages.counters;
+    let k = &c.book.counters;
     let target = if k.target > 0 {
         format!("/{}", k.target)
     } else {
