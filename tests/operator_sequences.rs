@@ -421,7 +421,7 @@ impl Session {
     /// refuses (the console refuses it the same way when it comes as an event).
     fn switch_step(&mut self) {
         self.stats.switch_changes += 1;
-        let before = self.c.status().rapid_override;
+        let before = self.c.status().switches.rapid_override;
         if self.rng.range(0, 1) == 0 {
             let k = self.pick(&["Alt+f", "Alt+[", "Alt+]", "Alt+d", "Alt+l", "Alt+z"]);
             self.key(k);
@@ -437,7 +437,7 @@ impl Session {
             };
             self.ev(e);
         }
-        if self.c.status().rapid_override != before {
+        if self.c.status().switches.rapid_override != before {
             self.rapid_changed_ns = self.c.status().machine_ns;
         }
     }
@@ -748,10 +748,10 @@ impl Session {
         s: &novanc::settings::MachineSettings,
     ) {
         // During a tap the override is held at 100 % (docs/pulse-core.md, "Tapping").
-        let pct = if st.override_locked {
+        let pct = if st.switches.override_locked {
             100
         } else {
-            i64::from(st.spindle_override)
+            i64::from(st.switches.spindle_override)
         };
         assert_eq!(
             st.spindle,
@@ -762,9 +762,10 @@ impl Session {
             self.stats.tap_holds += 1;
         }
         assert!(
-            (50..=120).contains(&st.spindle_override) && st.spindle_override.is_multiple_of(10)
+            (50..=120).contains(&st.switches.spindle_override)
+                && st.switches.spindle_override.is_multiple_of(10)
         );
-        assert!(matches!(st.rapid_override, 0 | 25 | 50 | 100));
+        assert!(matches!(st.switches.rapid_override, 0 | 25 | 50 | 100));
         // The time to come down from the rapid rate to any lower speed, and a tick.
         let ramp_ns = (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;
         let settled = st.machine_ns >= self.rapid_changed_ns + ramp_ns;
@@ -780,7 +781,7 @@ impl Session {
             } else {
                 s.jog_mm_min
             };
-            let cap = match st.rapid_override {
+            let cap = match st.switches.rapid_override {
                 0 => s.rapid_f0_mm_min.min(full),
                 p => full * f64::from(p) / 100.0,
             };
@@ -793,33 +794,33 @@ impl Session {
                     "a jog or return"
                 },
                 st.speed_mm_min,
-                st.rapid_override
+                st.switches.rapid_override
             );
         }
         let v = self.c.view();
         assert_eq!(
             (
-                v.rapid_override,
-                v.spindle_override,
-                v.dry_run,
-                v.machine_lock,
-                v.z_neglect
+                v.switches.rapid_override,
+                v.switches.spindle_override,
+                v.switches.dry_run,
+                v.switches.machine_lock,
+                v.switches.z_neglect
             ),
             (
-                st.rapid_override,
-                st.spindle_override,
-                st.dry_run,
-                st.machine_lock,
-                st.z_neglect
+                st.switches.rapid_override,
+                st.switches.spindle_override,
+                st.switches.dry_run,
+                st.switches.machine_lock,
+                st.switches.z_neglect
             ),
             "the view shows the status's switches"
         );
         if let Some(line) = v.display.iter().find(|l| l.starts_with("RUN ")) {
             // The marks (in order, so a narrow display cuts them from the end).
             let marks = [
-                (st.dry_run, " DRY"),
-                (st.machine_lock, " MLK"),
-                (st.z_neglect && !st.machine_lock, " ZNG"),
+                (st.switches.dry_run, " DRY"),
+                (st.switches.machine_lock, " MLK"),
+                (st.switches.z_neglect && !st.switches.machine_lock, " ZNG"),
             ];
             let full = line.trim_end().len() < self.c.config().cols;
             for (on, m) in marks {
@@ -867,7 +868,7 @@ impl Session {
             st.machine_pos,
             "the recorded pulses add up to where the axes are"
         );
-        if !st.machine_lock && !st.z_neglect && st.job.is_some() {
+        if !st.switches.machine_lock && !st.switches.z_neglect && st.job.is_some() {
             assert_eq!(st.pos, st.machine_pos, "unlocked, a run moves the axes");
         }
         self.check_switches(&st, &settings);
@@ -982,7 +983,7 @@ fn sequence(seed: u64, len: usize) -> Stats {
         let before = s.c.status().clone();
         s.step();
         let after = s.c.status().clone();
-        if before.machine_lock && after.machine_lock {
+        if before.switches.machine_lock && after.switches.machine_lock {
             assert_eq!(
                 after.machine_pos,
                 before.machine_pos,
@@ -990,7 +991,7 @@ fn sequence(seed: u64, len: usize) -> Stats {
                 s.log.last()
             );
             s.stats.locked_steps += 1;
-        } else if before.z_neglect && after.z_neglect {
+        } else if before.switches.z_neglect && after.switches.z_neglect {
             assert_eq!(
                 after.machine_pos[2],
                 before.machine_pos[2],

@@ -249,21 +249,21 @@ pub(super) fn state_line(c: &Console) -> String {
     if c.switches.optional_stop {
         s.push_str(" M01");
     }
-    if c.status.rapid_override != 100 {
+    if c.status.switches.rapid_override != 100 {
         s.push_str(&format!(
             " RPD{}",
-            super::run::rapid_override_text(c.status.rapid_override).replace(' ', "")
+            super::run::rapid_override_text(c.status.switches.rapid_override).replace(' ', "")
         ));
     }
-    if c.status.spindle_override != 100 {
-        s.push_str(&format!(" SOV{}%", c.status.spindle_override));
+    if c.status.switches.spindle_override != 100 {
+        s.push_str(&format!(" SOV{}%", c.status.switches.spindle_override));
     }
-    if c.status.dry_run {
+    if c.status.switches.dry_run {
         s.push_str(" DRY");
     }
-    if c.status.machine_lock {
+    if c.status.switches.machine_lock {
         s.push_str(" MLK");
-    } else if c.status.z_neglect {
+    } else if c.status.switches.z_neglect {
         s.push_str(" ZNG");
     }
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {

@@ -272,7 +272,7 @@ impl Console {
                 self.handle(PanelEvent::OptionalStop(on));
             }
             Action::RapidOverride => {
-                let p = match self.status.rapid_override {
+                let p = match self.status.switches.rapid_override {
                     100 => 50,
                     50 => 25,
                     25 => 0,
@@ -281,19 +281,19 @@ impl Console {
                 self.handle(PanelEvent::RapidOverride(p));
             }
             Action::SpindleOverride(d) => {
-                let p = self.status.spindle_override as i32 + d;
+                let p = self.status.switches.spindle_override as i32 + d;
                 self.handle(PanelEvent::SpindleOverride(p.clamp(50, 120) as u32));
             }
             Action::DryRun => {
-                let on = !self.status.dry_run;
+                let on = !self.status.switches.dry_run;
                 self.handle(PanelEvent::DryRun(on));
             }
             Action::MachineLock => {
-                let on = !self.status.machine_lock;
+                let on = !self.status.switches.machine_lock;
                 self.handle(PanelEvent::MachineLock(on));
             }
             Action::ZNeglect => {
-                let on = !self.status.z_neglect;
+                let on = !self.status.switches.z_neglect;
                 self.handle(PanelEvent::ZNeglect(on));
             }
             Action::Help => {

@@ -273,11 +273,7 @@ impl Console {
             run: self.status.run,
             lamps: state::lamps(self),
             feed_override: self.feed_override,
-            rapid_override: self.status.rapid_override,
-            spindle_override: self.status.spindle_override,
-            dry_run: self.status.dry_run,
-            machine_lock: self.status.machine_lock,
-            z_neglect: self.status.z_neglect,
+            switches: self.status.switches,
             axis_mm,
             tip_mm,
             tool: self.status.tool,
@@ -622,7 +618,7 @@ impl Console {
             }
             PanelEvent::RapidOverride(p) => {
                 self.command(Command::RapidOverride(p));
-                self.message = if self.status.rapid_override == p {
+                self.message = if self.status.switches.rapid_override == p {
                     format!(
                         "rapid override {}: rapids, jogs and returns",
                         run::rapid_override_text(p)
@@ -633,7 +629,7 @@ impl Console {
             }
             PanelEvent::SpindleOverride(p) => {
                 self.command(Command::SpindleOverride(p));
-                self.message = if self.status.spindle_override == p {
+                self.message = if self.status.switches.spindle_override == p {
                     format!("spindle override {p} %: the spindle turns at S x {p} %")
                 } else {
                     self.refused_switch()
@@ -645,7 +641,7 @@ impl Console {
             }
             PanelEvent::MachineLock(on) => {
                 self.command(Command::MachineLock(on));
-                self.message = if self.status.machine_lock == on {
+                self.message = if self.status.switches.machine_lock == on {
                     run::machine_switch_message("MACHINE LOCK", on)
                 } else {
                     self.refused_switch()
@@ -653,7 +649,7 @@ impl Console {
             }
             PanelEvent::ZNeglect(on) => {
                 self.command(Command::ZNeglect(on));
-                self.message = if self.status.z_neglect == on {
+                self.message = if self.status.switches.z_neglect == on {
                     run::machine_switch_message("Z NEGLECT", on)
                 } else {
                     self.refused_switch()
