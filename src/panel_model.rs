@@ -616,7 +616,8 @@ pub struct PanelView {
     pub switches: crate::record::Switches,
     /// Axis positions, mm (machine coordinates).
     pub axis_mm: [f64; 3],
-    /// Tool-tip position, mm (Z less the set length of the tool in the spindle).
+    /// Tool-tip position, mm (Z less the length of the tool in the spindle that POS's WORK Z
+    /// takes: the tool file's with no run loaded, the one in force during a run).
     pub tip_mm: [f64; 3],
     /// T code in the spindle, if any.
     pub tool: Option<u32>,

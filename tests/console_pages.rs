@@ -320,6 +320,38 @@ fn pos_marks_a_revised_length_not_yet_in_force() {
     assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
 }
 
+/// The tip readout (the panel's and the window's `tip Z`, `PanelView::tip_mm`) takes the tool
+/// length POS's WORK Z takes: the tool file's with no run loaded (what the next run uses), the
+/// one in force while a revised one is pending.
+#[test]
+fn the_tip_readout_uses_the_length_work_z_uses() {
+    let mut c = common::open("pages-tip-length");
+    common::mdi(&mut c, "T2 M6");
+    assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+    let tip_and_work = |c: &mut Console| {
+        keys(c, &["Ctrl+P"]);
+        let z = pos_line(c, "Z ");
+        let work: f64 = z.split_whitespace().nth(1).unwrap().parse().unwrap();
+        keys(c, &["Ctrl+P"]);
+        let v = c.view();
+        (v.tip_mm[2], v.axis_mm[2], work)
+    };
+    // G54 is at machine zero: the work Z is the tip's machine Z.
+    let (tip, axis, work) = tip_and_work(&mut c);
+    let len = c.magazine().tools.get(2).unwrap().length();
+    assert!((tip - (axis - len)).abs() < 1e-6 && (work - tip).abs() < 1e-3);
+    keys(&mut c, &["Ctrl+O", "Down"]);
+    type_line(&mut c, "155");
+    keys(&mut c, &["Ctrl+O"]);
+    let len = c.magazine().tools.get(2).unwrap().length();
+    let (tip, axis, work) = tip_and_work(&mut c);
+    assert!(
+        (tip - (axis - len)).abs() < 1e-6,
+        "tip Z {tip} with the revised length {len} at Z {axis}"
+    );
+    assert!((work - tip).abs() < 1e-3, "WORK Z {work}, tip Z {tip}");
+}
+
 /// OFS MEASURE: a work offset set so that the position here reads the value typed (touch-off),
 /// and a tool's length set by touching its tip to a known height; both journaled.
 #[test]
@@ -483,6 +515,11 @@ fn pos_marks_a_length_revised_in_a_hold_until_the_next_block() {
         pos_line(&c, &format!("T{t:02} {:.3}", old + 0.5)).contains("pending: next block"),
         "{}",
         c.frame_text()
+    );
+    let v = c.view();
+    assert!(
+        (v.tip_mm[2] - (v.axis_mm[2] - old)).abs() < 1e-6,
+        "the tip readout takes the length in force, as WORK Z does"
     );
     let done = c.status().blocks_done;
     keys(&mut c, &["F9"]);

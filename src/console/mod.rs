@@ -264,8 +264,10 @@ impl Console {
             s.to_mm(self.status.pos[1]),
             s.to_mm(self.status.pos[2]),
         ];
+        // The tip takes the length POS's WORK Z takes (the tool file's with no run loaded,
+        // the one in force while a revised one is pending).
         let mut tip_mm = axis_mm;
-        tip_mm[2] -= self.status.tool_set_length;
+        tip_mm[2] -= pages::length_in_force(self).0;
         PanelView {
             display: self.display.clone(),
             op_mode: self.op,

@@ -28,6 +28,7 @@ mod workofs;
 use super::Console;
 pub use crate::panel_model::Page;
 use novanc_panel::Key;
+pub(super) use pos::length_in_force;
 
 /// The MDI lines kept for recall.
 pub const RECALL: usize = 20;

@@ -261,7 +261,7 @@ fn work_system(c: &Console) -> (String, [f64; 3]) {
 
 /// The length in force of the tool in the spindle (mm), and a revised one not yet in force
 /// with when it applies.
-pub(super) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
+pub(in crate::console) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
     let st = &c.status;
     match &c.pages.pending_len {
         Some(p)
