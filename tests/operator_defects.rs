@@ -527,3 +527,22 @@ fn the_terminal_saves_the_counters_after_the_frame() {
     let _ = c.finish();
     assert_ne!(read(), after, "saved at the end of the session");
 }
+
+/// E-STOP during the reference return (HOME) stops the axes there: the return has no run to
+/// abandon, and it went on moving to machine zero after E-STOP (found by the operator-sequence
+/// test's E-STOP in every state).
+#[test]
+fn estop_during_home_stops_the_reference_return() {
+    let mut c = open("estop-home");
+    common::mdi(&mut c, "G53 G0 X300 Y200 Z-100");
+    assert_eq!(c.status().machine_pos, [p(300.0), p(200.0), p(-100.0)]);
+    keys(&mut c, &["Alt+0"]);
+    assert!(shows(&c, "HOME: reference return"), "{}", c.frame_text());
+    c.handle(E::WaitMs(100));
+    assert!(c.status().moving, "HOME moves");
+    keys(&mut c, &["F12"]);
+    let at = c.status().machine_pos;
+    c.handle(E::WaitMs(2000));
+    assert_eq!(c.status().machine_pos, at, "an axis moved after E-STOP");
+    assert!(!c.status().moving && c.status().estop);
+}
