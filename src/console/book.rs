@@ -17,6 +17,9 @@ pub(super) struct Book {
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub(super) program_msg: Option<String>,
+    /// Program messages that live until acknowledged (`state::until_acknowledged`), oldest
+    /// first: the message line shows the newest until Esc or RESET.
+    pub(super) unacknowledged: Vec<String>,
 }
 
 impl Book {
@@ -31,6 +34,7 @@ impl Book {
                 counters,
                 logged: (String::new(), String::new()),
                 program_msg: None,
+                unacknowledged: Vec::new(),
             },
             w1.into_iter().chain(w2).collect(),
         )
@@ -92,8 +96,9 @@ fn also_say(c: &mut Console, failure: &str) {
 
 /// A program's message (`(MSG,...)`, `(PRINT,...)`, `(DEBUG,...)`, `(LOG,...)`): in the
 /// history at once (each one, however many a line gives) and on the message line, so the
-/// display frame, and with it the recording, shows it. A history that cannot be saved is said
-/// after the message, never in its place.
+/// display frame, and with it the recording, shows it: until acknowledged for the kinds
+/// `state::until_acknowledged` names, else until the next key. A history that cannot be saved
+/// is said after the message, never in its place.
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
     let pushed = c.book.history.push(Entry {
@@ -103,8 +108,12 @@ pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
         text: line.clone(),
     });
     c.book.logged.0 = line.clone();
-    c.book.program_msg = Some(line.clone());
-    c.message = line;
+    if super::state::until_acknowledged(kind) {
+        c.book.unacknowledged.push(line);
+    } else {
+        c.book.program_msg = Some(line.clone());
+        c.message = line;
+    }
     if let Err(w) = pushed {
         also_say(c, &w);
         c.book.logged.0 = c.message.clone();
@@ -146,4 +155,12 @@ pub(super) fn target_refusal(c: &Console) -> Option<String> {
             k.parts, k.target
         )
     })
+}
+
+/// Acknowledges the program messages that live until acknowledged (Esc, RESET); whether there
+/// was one.
+pub(super) fn acknowledge(c: &mut Console) -> bool {
+    let had = !c.book.unacknowledged.is_empty();
+    c.book.unacknowledged.clear();
+    had
 }

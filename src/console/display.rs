@@ -206,6 +206,14 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
                 .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
         })
         .or_else(|| c.tape_alarm.clone());
+    // The newest program message that lives until acknowledged, before the last action's.
+    if let Some(m) = c.book.unacknowledged.last() {
+        let more = c.book.unacknowledged.len() - 1;
+        parts.push(match more {
+            0 => format!("{m} (Esc acknowledges)"),
+            n => format!("{m} (and {n} before it; Esc acknowledges)"),
+        });
+    }
     match alarm {
         Some(a) if !c.message.contains(a.as_str()) => {
             if !c.message.is_empty() {

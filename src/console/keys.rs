@@ -70,6 +70,8 @@ pub enum Action {
     MachineLock,
     /// Turn the Z NEGLECT switch over.
     ZNeglect,
+    /// Acknowledge the messages that live until acknowledged.
+    Acknowledge,
     /// Nothing.
     None,
 }
@@ -111,6 +113,7 @@ pub fn map_key(k: Key) -> Action {
         Key::Down => A::Move(Axis::Y, -1),
         Key::PageUp => A::Move(Axis::Z, 1),
         Key::PageDown => A::Move(Axis::Z, -1),
+        k if k == super::state::ACKNOWLEDGE => A::Acknowledge,
         _ => A::None,
     }
 }
@@ -298,6 +301,14 @@ impl Console {
             }
             Action::Help => {
                 self.help = 1;
+                self.refresh();
+            }
+            Action::Acknowledge => {
+                if !super::book::acknowledge(self) {
+                    self.message = format!("{}: no message to acknowledge", key_name(k));
+                }
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 self.refresh();
             }
             Action::None => {

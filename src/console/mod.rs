@@ -585,6 +585,7 @@ impl Console {
             }
             PanelEvent::Reset => {
                 self.command(Command::Reset);
+                book::acknowledge(self);
                 self.reset_seen = true;
                 gcode_run::reset_state(&mut self.interp);
                 self.program_alarm = None;
