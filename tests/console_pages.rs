@@ -569,3 +569,38 @@ fn a_restart_keeps_the_position_and_the_tool_in_the_spindle() {
     keys(&mut c, &["Alt+2", "F9"]);
     assert!(!shows(&c, "START refused"), "{}", c.frame_text());
 }
+
+/// The jog feed chosen on POS is kept across a restart (in the position memory's file): the
+/// console comes back with `JOG 100`, and a STEP takes that feed's time; then with rapid jog.
+#[test]
+fn the_jog_feed_is_kept_across_a_restart() {
+    let dir = temp_dir("pages-jog-kept");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["Ctrl+P"]);
+        type_line(&mut c, "JOG 100");
+        assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+        c.finish().unwrap();
+    }
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Alt+6", "Ctrl+P"]);
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG 100 mm/min"),
+        "{}",
+        c.frame_text()
+    );
+    let slow = step_time(&mut c);
+    assert!(slow >= 60_000_000, "0.1 mm at 100 mm/min: {slow} ns");
+    type_line(&mut c, "JOG RAPID");
+    drop(c);
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID 12000"),
+        "{}",
+        c.frame_text()
+    );
+    // `JOG` goes back from rapid jog to the feed kept with it.
+    type_line(&mut c, "JOG");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+}

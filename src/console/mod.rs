@@ -511,6 +511,9 @@ impl Console {
             c,
             Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
         );
+        if posmem::can_move(&c) {
+            posmem::before_motion(self);
+        }
         self.status = self.core.command(c);
         if !keeps_notice {
             self.notice_seen = None;

@@ -241,6 +241,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         None
     };
     let runs_before = c.status.runs;
+    super::posmem::before_motion(c);
     c.status = c.core.start(kind, make);
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {

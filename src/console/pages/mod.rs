@@ -56,10 +56,6 @@ pub struct Pages {
     recall_at: Option<usize>,
     /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
     pub pending_len: Option<PendingLength>,
-    /// The jog feed chosen on POS (`JOG 500`), mm/min; None: the settings' jog feed.
-    pub jog_feed: Option<f64>,
-    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` with a feed.
-    pub rapid_jog: bool,
 }
 
 /// A length revised during a run that the machine does not use yet: a source-language run
@@ -92,8 +88,6 @@ impl Pages {
             recall: Vec::new(),
             recall_at: None,
             pending_len: None,
-            jog_feed: None,
-            rapid_jog: false,
         }
     }
 

@@ -82,30 +82,19 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     c.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
 }
 
-/// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
-/// settings' by default).
-pub(crate) fn jog_feed(c: &Console) -> f64 {
-    let s = &c.cfg.settings;
-    if c.pages.rapid_jog {
-        s.rapid_mm_min
-    } else {
-        c.pages.jog_feed.unwrap_or(s.jog_mm_min)
-    }
-}
-
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
 /// (back to the jog feed from rapid jog).
 fn jog(c: &mut Console, rest: &str) {
     let rapid = c.cfg.settings.rapid_mm_min;
     if rest == "RAPID" {
-        c.pages.rapid_jog = true;
+        c.posmem.rapid_jog = true;
     } else if rest.is_empty() {
-        c.pages.rapid_jog = false;
+        c.posmem.rapid_jog = false;
     } else {
         match rest.parse::<f64>() {
             Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
-                c.pages.jog_feed = Some(v);
-                c.pages.rapid_jog = false;
+                c.posmem.jog_feed = Some(v);
+                c.posmem.rapid_jog = false;
             }
             _ => {
                 c.message = format!(
@@ -115,9 +104,9 @@ fn jog(c: &mut Console, rest: &str) {
             }
         }
     }
-    let f = jog_feed(c);
+    let f = super::super::posmem::jog_feed(c);
     c.core.set_jog_feed(f);
-    c.message = if c.pages.rapid_jog {
+    c.message = if c.posmem.rapid_jog {
         format!("rapid jog: {f:.0} mm/min")
     } else {
         format!("jog feed {f:.0} mm/min")
@@ -190,10 +179,10 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         st.speed_mm_min,
         st.spindle.abs()
     ));
-    let rapid = if c.pages.rapid_jog { " RAPID" } else { "" };
+    let rapid = if c.posmem.rapid_jog { " RAPID" } else { "" };
     p.body.push(format!(
         "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
-        jog_feed(c),
+        super::super::posmem::jog_feed(c),
         s.to_mm(c.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
