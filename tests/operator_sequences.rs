@@ -408,9 +408,7 @@ impl Session {
         self.home_owed |= owed;
         // The restored position came without pulses.
         let rec = self.recorded();
-        for a in 0..3 {
-            self.pos_offset[a] = now.machine_pos[a] - rec[a];
-        }
+        self.pos_offset = [0, 1, 2].map(|a| now.machine_pos[a] - rec[a]);
         if self.home_owed {
             for (op, what) in [("Alt+2", "AUTO"), ("Alt+3", "MDI")] {
                 self.key(op);
