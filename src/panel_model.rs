@@ -611,19 +611,13 @@ pub struct PanelView {
     pub lamps: Lamps,
     /// Feed override, percent.
     pub feed_override: u32,
-    /// Rapid override, percent (0 = F0).
-    pub rapid_override: u32,
-    /// Spindle override, percent.
-    pub spindle_override: u32,
-    /// DRY RUN switch.
-    pub dry_run: bool,
-    /// MACHINE LOCK switch.
-    pub machine_lock: bool,
-    /// Z NEGLECT switch.
-    pub z_neglect: bool,
+    /// The rapid and spindle overrides, DRY RUN, MACHINE LOCK and Z NEGLECT (the pulse core's
+    /// status snapshot's).
+    pub switches: crate::record::Switches,
     /// Axis positions, mm (machine coordinates).
     pub axis_mm: [f64; 3],
-    /// Tool-tip position, mm (Z less the set length of the tool in the spindle).
+    /// Tool-tip position, mm (Z less the length of the tool in the spindle that POS's WORK Z
+    /// takes: the tool file's with no run loaded, the one in force during a run).
     pub tip_mm: [f64; 3],
     /// T code in the spindle, if any.
     pub tool: Option<u32>,

@@ -320,6 +320,38 @@ fn pos_marks_a_revised_length_not_yet_in_force() {
     assert!(!c.frame_text().contains("pending"), "{}", c.frame_text());
 }
 
+/// The tip readout (the panel's and the window's `tip Z`, `PanelView::tip_mm`) takes the tool
+/// length POS's WORK Z takes: the tool file's with no run loaded (what the next run uses), the
+/// one in force while a revised one is pending.
+#[test]
+fn the_tip_readout_uses_the_length_work_z_uses() {
+    let mut c = common::open("pages-tip-length");
+    common::mdi(&mut c, "T2 M6");
+    assert_eq!(c.status().tool, Some(2), "{}", c.frame_text());
+    let tip_and_work = |c: &mut Console| {
+        keys(c, &["Ctrl+P"]);
+        let z = pos_line(c, "Z ");
+        let work: f64 = z.split_whitespace().nth(1).unwrap().parse().unwrap();
+        keys(c, &["Ctrl+P"]);
+        let v = c.view();
+        (v.tip_mm[2], v.axis_mm[2], work)
+    };
+    // G54 is at machine zero: the work Z is the tip's machine Z.
+    let (tip, axis, work) = tip_and_work(&mut c);
+    let len = c.magazine().tools.get(2).unwrap().length();
+    assert!((tip - (axis - len)).abs() < 1e-6 && (work - tip).abs() < 1e-3);
+    keys(&mut c, &["Ctrl+O", "Down"]);
+    type_line(&mut c, "155");
+    keys(&mut c, &["Ctrl+O"]);
+    let len = c.magazine().tools.get(2).unwrap().length();
+    let (tip, axis, work) = tip_and_work(&mut c);
+    assert!(
+        (tip - (axis - len)).abs() < 1e-6,
+        "tip Z {tip} with the revised length {len} at Z {axis}"
+    );
+    assert!((work - tip).abs() < 1e-3, "WORK Z {work}, tip Z {tip}");
+}
+
 /// OFS MEASURE: a work offset set so that the position here reads the value typed (touch-off),
 /// and a tool's length set by touching its tip to a known height; both journaled.
 #[test]
@@ -484,6 +516,11 @@ fn pos_marks_a_length_revised_in_a_hold_until_the_next_block() {
         "{}",
         c.frame_text()
     );
+    let v = c.view();
+    assert!(
+        (v.tip_mm[2] - (v.axis_mm[2] - old)).abs() < 1e-6,
+        "the tip readout takes the length in force, as WORK Z does"
+    );
     let done = c.status().blocks_done;
     keys(&mut c, &["F9"]);
     // Until the next block has started, the run still going.
@@ -531,4 +568,39 @@ fn a_restart_keeps_the_position_and_the_tool_in_the_spindle() {
     // AUTO runs at once (no reference return owed).
     keys(&mut c, &["Alt+2", "F9"]);
     assert!(!shows(&c, "START refused"), "{}", c.frame_text());
+}
+
+/// The jog feed chosen on POS is kept across a restart (in the position memory's file): the
+/// console comes back with `JOG 100`, and a STEP takes that feed's time; then with rapid jog.
+#[test]
+fn the_jog_feed_is_kept_across_a_restart() {
+    let dir = temp_dir("pages-jog-kept");
+    {
+        let mut c = open_in(&dir);
+        keys(&mut c, &["Ctrl+P"]);
+        type_line(&mut c, "JOG 100");
+        assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+        c.finish().unwrap();
+    }
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Alt+6", "Ctrl+P"]);
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG 100 mm/min"),
+        "{}",
+        c.frame_text()
+    );
+    let slow = step_time(&mut c);
+    assert!(slow >= 60_000_000, "0.1 mm at 100 mm/min: {slow} ns");
+    type_line(&mut c, "JOG RAPID");
+    drop(c);
+    let mut c = open_in(&dir);
+    keys(&mut c, &["Ctrl+P"]);
+    assert!(
+        pos_line(&c, "JOG").starts_with("JOG RAPID 12000"),
+        "{}",
+        c.frame_text()
+    );
+    // `JOG` goes back from rapid jog to the feed kept with it.
+    type_line(&mut c, "JOG");
+    assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
 }

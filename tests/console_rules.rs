@@ -318,3 +318,161 @@ fn run_text_is_the_mdi_buffer_in_mdi_and_program_memory_otherwise() {
     c.handle(E::Op(OpMode::Auto));
     assert_eq!(c.run_text(), c.program_text());
 }
+
+/// The front of the console: the display program and the operator pages (which draw the
+/// screens) and the key map. They read the model and act on it; the model names none of them
+/// (issue 23: "the display depends on the model, the model on nothing of the display").
+const FRONT: [&str; 3] = ["display", "pages", "keys"];
+
+/// The console's own modules as `src/console/` holds them (`pages/` is one module).
+fn console_modules() -> Vec<(String, String)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/console");
+    let mut out = Vec::new();
+    for (sub, module) in [("", None), ("pages", Some("pages"))] {
+        let d = dir.join(sub);
+        let mut names: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "rs"))
+            .collect();
+        names.sort();
+        for p in names {
+            let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+            let name = module.map(str::to_string).unwrap_or(stem);
+            out.push((name, std::fs::read_to_string(&p).unwrap()));
+        }
+    }
+    out
+}
+
+/// The first path segment of every item a `use` group or path names after `at` (`{a, b::c}`
+/// gives a and b; `x::y` gives x).
+fn named_after(text: &str, at: usize) -> Vec<String> {
+    let rest = &text[at..];
+    if let Some(group) = rest.strip_prefix('{') {
+        let (mut depth, mut end) = (0, group.len());
+        for (i, ch) in group.char_indices() {
+            match ch {
+                '{' => depth += 1,
+                '}' if depth == 0 => {
+                    end = i;
+                    break;
+                }
+                '}' => depth -= 1,
+                _ => {}
+            }
+        }
+        return group[..end]
+            .split(',')
+            .filter_map(|item| {
+                let head = item.trim().split("::").next()?.trim();
+                (!head.is_empty() && !head.starts_with('{')).then(|| head.to_string())
+            })
+            .collect();
+    }
+    let ident: String = rest
+        .chars()
+        .take_while(|c| c.is_alphanumeric() || *c == '_')
+        .collect();
+    vec![ident]
+}
+
+/// The edges of the console's module graph: (module, module it names), each pair once, read
+/// from the sources with their comments left out. `mod` is `src/console/mod.rs` (the
+/// `Console` type and the items it declares).
+fn console_edges() -> Vec<(String, String)> {
+    let modules = console_modules();
+    let known: std::collections::BTreeSet<String> =
+        modules.iter().map(|(m, _)| m.clone()).collect();
+    let mut edges = std::collections::BTreeSet::new();
+    for (from, text) in &modules {
+        let code: String = text
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join("\n");
+        // In pages/, `super::` is pages itself and `super::super::` the console; elsewhere
+        // `super::` is the console. `crate::console::` is the console everywhere; mod.rs names
+        // its modules bare.
+        let prefixes: &[&str] = if from == "pages" {
+            &["super::super::", "crate::console::"]
+        } else if from == "mod" {
+            &["crate::console::", ""]
+        } else {
+            &["super::", "crate::console::"]
+        };
+        for prefix in prefixes {
+            let mut at = 0;
+            while at < code.len() {
+                let found = if prefix.is_empty() {
+                    known
+                        .iter()
+                        .filter_map(|m| {
+                            code[at..]
+                                .find(&format!("{m}::"))
+                                .map(|i| (at + i, m.len() + 2))
+                        })
+                        .min()
+                } else {
+                    code[at..].find(prefix).map(|i| (at + i, prefix.len()))
+                };
+                let Some((i, len)) = found else { break };
+                let boundary = i == 0
+                    || !code[..i]
+                        .chars()
+                        .next_back()
+                        .is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':');
+                if boundary {
+                    let targets = if prefix.is_empty() {
+                        vec![code[i..i + len - 2].to_string()]
+                    } else {
+                        named_after(&code, i + len)
+                    };
+                    for t in targets.into_iter().filter(|t| t != "self") {
+                        let to = if known.contains(&t) && t != "mod" {
+                            t
+                        } else {
+                            "mod".to_string()
+                        };
+                        if &to != from {
+                            edges.insert((from.clone(), to));
+                        }
+                    }
+                }
+                at = i + len;
+            }
+        }
+    }
+    edges.into_iter().collect()
+}
+
+#[test]
+fn the_console_model_names_nothing_of_the_display() {
+    let edges = console_edges();
+    let front = |m: &str| FRONT.contains(&m);
+    let between = |a: bool, b: bool| {
+        edges
+            .iter()
+            .filter(|(f, t)| f != "mod" && t != "mod" && front(f) == a && front(t) == b)
+            .count()
+    };
+    println!(
+        "console module graph: {} edges; model->model {}, front->model {}, front->front {}, model->front {}",
+        edges.len(),
+        between(false, false),
+        between(true, false),
+        between(true, true),
+        between(false, true)
+    );
+    for (f, t) in &edges {
+        println!("  {f} -> {t}");
+    }
+    let wrong: Vec<_> = edges
+        .iter()
+        .filter(|(f, t)| f != "mod" && !front(f) && front(t))
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "model modules that name the display, the pages or the key map: {wrong:?}"
+    );
+}

@@ -527,3 +527,54 @@ fn the_terminal_saves_the_counters_after_the_frame() {
     let _ = c.finish();
     assert_ne!(read(), after, "saved at the end of the session");
 }
+
+/// E-STOP during the reference return (HOME) stops the axes there: the return has no run to
+/// abandon, and it went on moving to machine zero after E-STOP (found by the operator-sequence
+/// test's E-STOP in every state).
+#[test]
+fn estop_during_home_stops_the_reference_return() {
+    let mut c = open("estop-home");
+    common::mdi(&mut c, "G53 G0 X300 Y200 Z-100");
+    assert_eq!(c.status().machine_pos, [p(300.0), p(200.0), p(-100.0)]);
+    keys(&mut c, &["Alt+0"]);
+    assert!(shows(&c, "HOME: reference return"), "{}", c.frame_text());
+    c.handle(E::WaitMs(100));
+    assert!(c.status().moving, "HOME moves");
+    keys(&mut c, &["F12"]);
+    let at = c.status().machine_pos;
+    c.handle(E::WaitMs(2000));
+    assert_eq!(c.status().machine_pos, at, "an axis moved after E-STOP");
+    assert!(!c.status().moving && c.status().estop);
+}
+
+/// A program's `(MSG,...)` (the operator message of Fanuc's #3006 kind) lives until it is
+/// acknowledged: other keys (an override, a page, a mode, a stray letter) leave it on the
+/// message line; Esc acknowledges it, and so does RESET.
+#[test]
+fn a_program_message_stays_until_acknowledged() {
+    let mut c = open("msg-ack");
+    common::mdi(&mut c, "G0 X10 (MSG, check the vise)");
+    assert!(shows(&c, "MSG: check the vise"), "{}", c.frame_text());
+    for k in ["Alt+=", "Ctrl+P", "Ctrl+P", "Alt+2", "x", "F8", "F9"] {
+        keys(&mut c, &[k]);
+        c.handle(E::Wait);
+        assert!(
+            shows(&c, "MSG: check the vise"),
+            "gone after {k}:\n{}",
+            c.frame_text()
+        );
+    }
+    keys(&mut c, &["Esc"]);
+    assert!(!shows(&c, "MSG: check the vise"), "{}", c.frame_text());
+    keys(&mut c, &["Esc"]);
+    assert!(shows(&c, "no message to acknowledge"), "{}", c.frame_text());
+    common::mdi(&mut c, "G0 X20 (MSG, turn the part)");
+    keys(&mut c, &["Alt+-"]);
+    assert!(shows(&c, "MSG: turn the part"), "{}", c.frame_text());
+    keys(&mut c, &["F11"]);
+    assert!(
+        !shows(&c, "MSG: turn the part"),
+        "RESET acknowledges it\n{}",
+        c.frame_text()
+    );
+}

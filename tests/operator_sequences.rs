@@ -29,6 +29,19 @@
 //!   jog or a return is never faster than its percentage of its full speed (F0: the F0 rate)
 //!   once the ramp after a change has had its time; the spindle turns at programmed ×
 //!   override; the state line shows each switch exactly when the status has it on.
+//! - restart with position memory: the console is dropped (as if it died) and reopened on the
+//!   same state directory; at rest it comes back with its position and tool; one that died
+//!   while the axes moved says the position is not known, and AUTO and MDI START run nothing
+//!   until HOME has brought the axes to machine zero (HOME is a random step too);
+//! - OFS MEASURE (a named work offset, or the length of the tool in the spindle on its row):
+//!   the work position then reads the value typed (POS's WORK Z for a length); a refused one
+//!   changes nothing;
+//! - E-STOP in every state (idle, in a block, feed hold, between blocks, jog or HOME, the
+//!   return after an intervention, a tap, a tape read, E-STOP itself; the test fails if one is
+//!   never met): the run is abandoned at once, RUN 0, spindle stopped, the reader stopped, and
+//!   no axis moves after it;
+//! - STOP inside a tap (the steps take a run into a G84/TAP): no hold in the hole; the hold
+//!   comes with the tap back out at R and the spindle forward.
 //!
 //! One session in four runs on the error-proportional interpolator.
 //!
@@ -142,6 +155,44 @@ struct Session {
     /// Machine time of the last rapid override change, ns (the ramp to the new speed takes
     /// its time).
     rapid_changed_ns: u64,
+    /// The state directory (a restart reopens it).
+    dir: PathBuf,
+    /// The console was restarted after it died while the axes moved: AUTO and MDI are
+    /// refused until a reference return has brought the axes to machine zero.
+    home_owed: bool,
+    /// A HOME was accepted since then.
+    home_pressed: bool,
+    /// What the positions restored at restarts add to the recorded pulses (a restart sets the
+    /// position without pulses).
+    pos_offset: [i64; 3],
+}
+
+/// The machine states E-STOP is pressed in (`Stats::estop_states`, one bit each): every one
+/// must be met, and in every one E-STOP stops everything and abandons the run.
+const ESTOP_STATES: [&str; 9] = [
+    "idle",
+    "in a block",
+    "feed hold",
+    "between blocks, waiting for START",
+    "manual motion (jog or HOME)",
+    "return after a manual intervention",
+    "in a tap",
+    "reading a tape",
+    "E-STOP in force",
+];
+
+/// The console of a session on `dir`: virtual time, the session's event sink, the pulse
+/// core's audit on (the same at a restart).
+fn console_on(dir: &std::path::Path, ep: bool, sink: &EventSink) -> Console {
+    let mut cfg = ConsoleConfig::new(dir.to_path_buf());
+    cfg.clock = ClockMode::Virtual;
+    if ep {
+        cfg.settings.interpolator = Interpolator::ErrorProportional;
+    }
+    cfg.sink = Some(sink.clone());
+    let c = Console::open(cfg).unwrap().0;
+    c.core().set_audit(true);
+    c
 }
 
 impl Session {
@@ -164,17 +215,11 @@ impl Session {
             }
         });
         let sink = EventSink::new(tx);
-        let mut cfg = ConsoleConfig::new(temp_dir("seq"));
-        cfg.clock = ClockMode::Virtual;
+        let dir = temp_dir("seq");
         // One session in four on the error-proportional interpolator (issue 12): the same
         // invariants hold whichever distributes the pulses.
         let ep = seed % 4 == 1;
-        if ep {
-            cfg.settings.interpolator = Interpolator::ErrorProportional;
-        }
-        cfg.sink = Some(sink.clone());
-        let c = Console::open(cfg).unwrap().0;
-        c.core().set_audit(true);
+        let c = console_on(&dir, ep, &sink);
         let gcode = seed.is_multiple_of(3);
         let mut s = Session {
             c,
@@ -189,6 +234,10 @@ impl Session {
             gcode,
             ep,
             rapid_changed_ns: 0,
+            dir,
+            home_owed: false,
+            home_pressed: false,
+            pos_offset: [0; 3],
         };
         if gcode {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(seq_gcode::PROGRAM);
@@ -245,8 +294,301 @@ impl Session {
         self.c.handle(e);
     }
 
+    /// A key by name. E-STOP goes through [`Session::estop`]; START with a reference return
+    /// owed runs nothing in AUTO, SINGLE BLOCK or MDI; an accepted HOME is noted.
     fn key(&mut self, name: &str) {
+        if name == "F12" {
+            return self.estop();
+        }
+        let runs = self.c.status().runs;
+        let op = self.c.view().op_mode;
+        self.press(name);
+        if name == "F9"
+            && self.home_owed
+            && matches!(op, OpMode::Auto | OpMode::Single | OpMode::Mdi)
+        {
+            assert_eq!(
+                self.c.status().runs,
+                runs,
+                "START ran a program with the reference return owed\n{}",
+                self.c.frame_text()
+            );
+        }
+        if name == "Alt+0"
+            && (common::shows(&self.c, "HOME: reference return")
+                || common::shows(&self.c, "reference return is made"))
+        {
+            self.home_pressed = true;
+        }
+    }
+
+    fn press(&mut self, name: &str) {
         self.ev(E::Press(parse_key(name).unwrap()));
+    }
+
+    /// E-STOP, in whatever state the machine is: the state is noted; at once the run is
+    /// abandoned, RUN is 0, the spindle stops, the tape reader stops, and nothing moves after.
+    fn estop(&mut self) {
+        let st = self.c.status().clone();
+        let class = if st.estop {
+            8
+        } else if self.c.tape_reading() {
+            7
+        } else if st.switches.override_locked && st.run != 0 {
+            6
+        } else if st.job.as_ref().is_some_and(|j| j.returning) {
+            5
+        } else if st.hold {
+            2
+        } else if st.job.is_some() && st.run != 0 {
+            1
+        } else if st.job.is_some() {
+            3
+        } else if st.moving {
+            4
+        } else {
+            0
+        };
+        self.stats.estop_states |= 1 << class;
+        self.press("F12");
+        let after = self.c.status().clone();
+        let what = ESTOP_STATES[class];
+        assert!(after.estop && self.c.view().lamps.estop, "E-STOP {what}");
+        assert!(
+            after.job.is_none() && after.run == 0 && !after.hold,
+            "E-STOP {what} abandons the run: {after:?}"
+        );
+        assert_eq!(after.spindle, 0, "E-STOP {what} stops the spindle");
+        assert!(
+            !self.c.tape_reading(),
+            "E-STOP {what} stops the tape reader"
+        );
+        self.ev(E::WaitMs(200));
+        let later = self.c.status();
+        assert_eq!(
+            later.machine_pos, after.machine_pos,
+            "E-STOP {what}: an axis moved after it"
+        );
+        assert!(!later.moving, "E-STOP {what}: still moving");
+    }
+
+    /// The console is dropped (as if it died) and reopened on the same state directory. A
+    /// console at rest comes back with the position and tool it had and no reference return
+    /// owed; one that died while the axes moved says the position is not known and refuses
+    /// AUTO and MDI until HOME has brought the axes to machine zero.
+    fn restart(&mut self) {
+        let st = self.c.status().clone();
+        let at_rest = st.idle && !st.moving && !self.c.tape_reading();
+        let moving = st.moving || (st.job.is_some() && !st.idle);
+        // The dying console lets go of the state directory before the new one opens it; a
+        // stand-in on a directory of its own holds the place meanwhile.
+        let mut spare = ConsoleConfig::new(temp_dir("seq-spare"));
+        spare.clock = ClockMode::Virtual;
+        let dead = std::mem::replace(&mut self.c, Console::open(spare).unwrap().0);
+        drop(dead);
+        self.c = console_on(&self.dir, self.ep, &self.sink);
+        self.log.push("restart".into());
+        self.stats.restarts += 1;
+        let now = self.c.status().clone();
+        let frame = self.c.frame_text();
+        let owed = common::shows(&self.c, "the position is not known");
+        if moving {
+            assert!(owed, "a console that died moving asks for HOME\n{frame}");
+            self.stats.restarts_moving += 1;
+            self.home_owed = true;
+            self.home_pressed = false;
+        } else if at_rest {
+            assert_eq!(
+                now.machine_pos, st.machine_pos,
+                "the position is kept\n{frame}"
+            );
+            assert_eq!(now.tool, st.tool, "the tool in the spindle is kept");
+            assert_eq!(owed, self.home_owed, "HOME is owed only as before\n{frame}");
+        }
+        self.home_owed |= owed;
+        // The restored position came without pulses.
+        let rec = self.recorded();
+        self.pos_offset = [0, 1, 2].map(|a| now.machine_pos[a] - rec[a]);
+        if self.home_owed {
+            for (op, what) in [("Alt+2", "AUTO"), ("Alt+3", "MDI")] {
+                self.key(op);
+                self.key("F9");
+                assert!(
+                    common::shows(&self.c, "START refused"),
+                    "{what} START with HOME owed\n{}",
+                    self.c.frame_text()
+                );
+            }
+            if self.rng.range(0, 1) == 0 {
+                self.home();
+            }
+        }
+    }
+
+    /// HOME: the reference return, Z first; sometimes E-STOP during it.
+    fn home(&mut self) {
+        let st = self.c.status().clone();
+        if st.job.is_some() || st.estop {
+            // RESET first, as the refusal says.
+            self.key("F11");
+        }
+        let from = self.c.status().machine_pos;
+        self.key("Alt+0");
+        if !common::shows(&self.c, "HOME: reference return, Z first") {
+            // Refused (MACHINE LOCK, an axis moving), or made at once at machine zero.
+            return;
+        }
+        if from != [0; 3] && self.rng.range(0, 3) == 0 {
+            let t = self.rng.range(1, 200) as u64;
+            self.ev(E::WaitMs(t));
+            self.estop();
+            return;
+        }
+        self.ev(E::Wait);
+        let st = self.c.status();
+        if st.machine_pos == [0; 3] && st.job.is_none() && !st.moving {
+            assert!(
+                common::shows(&self.c, "reference return is made") || !self.home_owed,
+                "{}",
+                self.c.frame_text()
+            );
+            self.stats.homes += 1;
+        }
+    }
+
+    /// STOP (or E-STOP) inside a tap: the run is taken to a tap in AUTO (waits until the
+    /// overrides are held), then STOP: no hold in the hole; the hold comes once the tap is
+    /// back out at R with the spindle forward.
+    fn tap_stop(&mut self) {
+        let st = self.c.status().clone();
+        if st.estop || st.alarm.is_some() || self.home_owed {
+            return;
+        }
+        if st.job.is_none() {
+            self.key("Alt+2");
+            self.key("F9");
+        } else if st.run == 0 || st.hold || st.single_block {
+            return;
+        }
+        for _ in 0..800 {
+            let s = self.c.status();
+            if s.switches.override_locked || s.run == 0 || s.hold || s.job.is_none() {
+                break;
+            }
+            self.ev(E::WaitMs(250));
+        }
+        let st = self.c.status().clone();
+        if !st.switches.override_locked || st.run == 0 || st.hold || st.single_block {
+            return;
+        }
+        if self.rng.range(0, 3) == 0 {
+            return self.estop();
+        }
+        // R: where the tap's feed in began or its feed out ends (the higher end of a feed
+        // block of the tap); unknown at the spindle reversal.
+        let r = st
+            .executed
+            .as_ref()
+            .filter(|b| b.delta[2] != 0 && b.delta[0] == 0 && b.delta[1] == 0)
+            .map(|b| b.end[2].max(b.end[2] - b.delta[2]));
+        let z = st.pos[2];
+        self.key("F10");
+        let s = self.c.status().clone();
+        assert!(
+            s.hold_after_tap && !s.hold,
+            "STOP in a tap holds only after it: {s:?}"
+        );
+        // The invariants hold in the deferral too (and `tap_holds` counts it).
+        self.check();
+        self.ev(E::Wait);
+        let s = self.c.status().clone();
+        assert!(
+            s.hold,
+            "the hold came once the tap was out\n{}",
+            self.c.frame_text()
+        );
+        assert!(!s.switches.override_locked, "held out of the tap");
+        assert!(
+            s.spindle > 0
+                && s.spindle == s.spindle_programmed * i64::from(s.switches.spindle_override) / 100,
+            "held with the spindle forward: {} rpm",
+            s.spindle
+        );
+        assert!(
+            s.pos[2] >= z,
+            "the tap came up, not down: Z {} from {z}",
+            s.pos[2]
+        );
+        if let Some(r) = r {
+            assert_eq!(s.pos[2], r, "held at R");
+        }
+        self.stats.tap_stops += 1;
+    }
+
+    /// OFS MEASURE, with the machine at rest and no run loaded: a work offset (G59, by name)
+    /// set so that X and Y read the typed values here, or the length of the tool in the
+    /// spindle set by its tip at a typed Z (its row must be the cursor's, else refused and
+    /// nothing changes). Afterwards the work position reads what was typed.
+    fn measure(&mut self) {
+        let st = self.c.status().clone();
+        if st.job.is_some() || st.moving || !st.idle || self.c.tape_reading() {
+            return;
+        }
+        let mag = self.c.magazine();
+        let offsets = self.c.work_offsets();
+        self.key("Ctrl+O");
+        if self.c.view().page != novanc::panel_model::Page::Ofs {
+            self.key("Ctrl+O");
+        }
+        let s = self.c.settings().clone();
+        let (vx, vy) = (self.rng.range(-200, 200), self.rng.range(-200, 200));
+        // On a work offset row `MEASURE Z..` measures that row's system; a tool's length is
+        // measured on a tool row.
+        let work_rows = self.c.frame_text().starts_with("OFS WORK");
+        let tool_row = self.rng.range(0, 1) == 0 && !work_rows;
+        let line = if tool_row {
+            format!("MEASURE Z{}", self.rng.range(-20, 80))
+        } else {
+            format!("MEASURE G59 X{vx} Y{vy}")
+        };
+        self.ev(E::Type(line.clone()));
+        let said = self.c.frame_text();
+        let refused = common::shows(&self.c, "refused");
+        if refused {
+            assert_eq!(self.c.magazine(), mag, "{line} refused changes no tool");
+            assert_eq!(
+                self.c.work_offsets(),
+                offsets,
+                "{line} refused changes no offset"
+            );
+        } else if tool_row {
+            // POS's WORK Z: the tip in the work system in force reads the value.
+            let want: f64 = line["MEASURE Z".len()..].parse().unwrap();
+            self.key("Ctrl+P");
+            let f = self.c.frame_text();
+            let z = f
+                .lines()
+                .find(|l| l.starts_with("Z "))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(f64::NAN);
+            assert!(
+                (z - want).abs() < 1e-3,
+                "{line}: WORK Z reads {z}\n{f}\nafter the INPUT:\n{said}"
+            );
+            self.stats.measures += 1;
+        } else {
+            let zero = self.c.work_offsets().0[5];
+            let g92 = self.c.interp_state().g92;
+            for (a, v) in [(0, vx), (1, vy)] {
+                let work = s.to_mm(st.pos[a]) - zero[a] - g92[a];
+                assert!(
+                    (work - v as f64).abs() < 1e-3,
+                    "{line}: axis {a} reads {work}"
+                );
+            }
+            self.stats.measures += 1;
+        }
     }
 
     /// A jog key. With the machine at rest (no run, or a held one), a jog key in CONTINUOUS
@@ -259,6 +601,10 @@ impl Session {
         self.key(name);
         if !at_rest {
             return;
+        }
+        if self.c.status().moving && self.rng.range(0, 7) == 0 {
+            // E-STOP during the jog.
+            return self.estop();
         }
         self.ev(E::Wait);
         let axis = match name {
@@ -295,7 +641,7 @@ impl Session {
 
     /// One random operator action.
     fn step(&mut self) {
-        let r = self.rng.range(0, 101);
+        let r = self.rng.range(0, 106);
         match r {
             0..=11 => {
                 let k = self.pick(&["Alt+2", "Alt+7", "Alt+3", "Alt+6", "Alt+5", "Alt+1"]);
@@ -409,6 +755,10 @@ impl Session {
             96..=98 => self.page_action(),
             99 => self.switch_step(),
             100..=101 => self.tape_read(),
+            102 => self.restart(),
+            103 => self.home(),
+            104 => self.tap_stop(),
+            105 => self.measure(),
             _ => {
                 // Junk on the data keys, in whatever mode.
                 let k = self.pick(&["Q", "7", "Enter", "Backspace", "*", "Alt+t"]);
@@ -421,7 +771,7 @@ impl Session {
     /// refuses (the console refuses it the same way when it comes as an event).
     fn switch_step(&mut self) {
         self.stats.switch_changes += 1;
-        let before = self.c.status().rapid_override;
+        let before = self.c.status().switches.rapid_override;
         if self.rng.range(0, 1) == 0 {
             let k = self.pick(&["Alt+f", "Alt+[", "Alt+]", "Alt+d", "Alt+l", "Alt+z"]);
             self.key(k);
@@ -437,7 +787,7 @@ impl Session {
             };
             self.ev(e);
         }
-        if self.c.status().rapid_override != before {
+        if self.c.status().switches.rapid_override != before {
             self.rapid_changed_ns = self.c.status().machine_ns;
         }
     }
@@ -738,6 +1088,12 @@ impl Session {
         self.key(k);
         self.check();
         self.key("F9");
+        if self.rng.range(0, 3) == 0 && self.c.status().job.as_ref().is_some_and(|j| j.returning) {
+            // E-STOP during the return.
+            let t = self.rng.range(1, 300) as u64;
+            self.ev(E::WaitMs(t));
+            self.estop();
+        }
     }
 
     /// The overrides and switches: the spindle speed, the speed of a rapid, jog or return, and
@@ -748,10 +1104,10 @@ impl Session {
         s: &novanc::settings::MachineSettings,
     ) {
         // During a tap the override is held at 100 % (docs/pulse-core.md, "Tapping").
-        let pct = if st.override_locked {
+        let pct = if st.switches.override_locked {
             100
         } else {
-            i64::from(st.spindle_override)
+            i64::from(st.switches.spindle_override)
         };
         assert_eq!(
             st.spindle,
@@ -762,9 +1118,10 @@ impl Session {
             self.stats.tap_holds += 1;
         }
         assert!(
-            (50..=120).contains(&st.spindle_override) && st.spindle_override.is_multiple_of(10)
+            (50..=120).contains(&st.switches.spindle_override)
+                && st.switches.spindle_override.is_multiple_of(10)
         );
-        assert!(matches!(st.rapid_override, 0 | 25 | 50 | 100));
+        assert!(matches!(st.switches.rapid_override, 0 | 25 | 50 | 100));
         // The time to come down from the rapid rate to any lower speed, and a tick.
         let ramp_ns = (s.rapid_mm_min / 60.0 / s.accel_mm_s2 * 1e9) as u64 + s.ncbr_period_ns;
         let settled = st.machine_ns >= self.rapid_changed_ns + ramp_ns;
@@ -780,7 +1137,7 @@ impl Session {
             } else {
                 s.jog_mm_min
             };
-            let cap = match st.rapid_override {
+            let cap = match st.switches.rapid_override {
                 0 => s.rapid_f0_mm_min.min(full),
                 p => full * f64::from(p) / 100.0,
             };
@@ -793,33 +1150,33 @@ impl Session {
                     "a jog or return"
                 },
                 st.speed_mm_min,
-                st.rapid_override
+                st.switches.rapid_override
             );
         }
         let v = self.c.view();
         assert_eq!(
             (
-                v.rapid_override,
-                v.spindle_override,
-                v.dry_run,
-                v.machine_lock,
-                v.z_neglect
+                v.switches.rapid_override,
+                v.switches.spindle_override,
+                v.switches.dry_run,
+                v.switches.machine_lock,
+                v.switches.z_neglect
             ),
             (
-                st.rapid_override,
-                st.spindle_override,
-                st.dry_run,
-                st.machine_lock,
-                st.z_neglect
+                st.switches.rapid_override,
+                st.switches.spindle_override,
+                st.switches.dry_run,
+                st.switches.machine_lock,
+                st.switches.z_neglect
             ),
             "the view shows the status's switches"
         );
         if let Some(line) = v.display.iter().find(|l| l.starts_with("RUN ")) {
             // The marks (in order, so a narrow display cuts them from the end).
             let marks = [
-                (st.dry_run, " DRY"),
-                (st.machine_lock, " MLK"),
-                (st.z_neglect && !st.machine_lock, " ZNG"),
+                (st.switches.dry_run, " DRY"),
+                (st.switches.machine_lock, " MLK"),
+                (st.switches.z_neglect && !st.switches.machine_lock, " ZNG"),
             ];
             let full = line.trim_end().len() < self.c.config().cols;
             for (on, m) in marks {
@@ -862,12 +1219,23 @@ impl Session {
         }
         let st = self.c.status().clone();
         assert!(!self.sink.is_incomplete(), "no event was dropped");
+        let rec = self.recorded();
         assert_eq!(
-            self.recorded(),
+            [0, 1, 2].map(|a| rec[a] + self.pos_offset[a]),
             st.machine_pos,
-            "the recorded pulses add up to where the axes are"
+            "the recorded pulses (and the positions restored at restarts) add up to where the axes are"
         );
-        if !st.machine_lock && !st.z_neglect && st.job.is_some() {
+        if self.home_pressed
+            && st.machine_pos == [0; 3]
+            && st.job.is_none()
+            && !st.moving
+            && st.idle
+        {
+            // The reference return is made (the console's rule: HOME accepted since, and the
+            // axes at rest at machine zero).
+            self.home_owed = false;
+        }
+        if !st.switches.machine_lock && !st.switches.z_neglect && st.job.is_some() {
             assert_eq!(st.pos, st.machine_pos, "unlocked, a run moves the axes");
         }
         self.check_switches(&st, &settings);
@@ -982,7 +1350,7 @@ fn sequence(seed: u64, len: usize) -> Stats {
         let before = s.c.status().clone();
         s.step();
         let after = s.c.status().clone();
-        if before.machine_lock && after.machine_lock {
+        if before.switches.machine_lock && after.switches.machine_lock {
             assert_eq!(
                 after.machine_pos,
                 before.machine_pos,
@@ -990,7 +1358,7 @@ fn sequence(seed: u64, len: usize) -> Stats {
                 s.log.last()
             );
             s.stats.locked_steps += 1;
-        } else if before.z_neglect && after.z_neglect {
+        } else if before.switches.z_neglect && after.switches.z_neglect {
             assert_eq!(
                 after.machine_pos[2],
                 before.machine_pos[2],
@@ -1031,6 +1399,20 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.ep_block_ends > 100, "{st:?}");
         assert!(st.switch_changes > 0 && st.locked_steps > 0, "{st:?}");
         assert!(st.rapid_checks > 0, "{st:?}");
+        assert!(st.tap_stops > 0 && st.tap_holds > 0, "{st:?}");
+        assert!(
+            st.restarts > 0 && st.restarts_moving > 0 && st.homes > 0,
+            "{st:?}"
+        );
+        assert!(st.measures > 0, "{st:?}");
+        let missed: Vec<&str> = (0..ESTOP_STATES.len())
+            .filter(|b| st.estop_states & (1 << b) == 0)
+            .map(|b| ESTOP_STATES[b])
+            .collect();
+        assert!(
+            missed.is_empty(),
+            "E-STOP never pressed: {missed:?} ({st:?})"
+        );
     }
 }
 

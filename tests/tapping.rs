@@ -161,7 +161,7 @@ fn a_stop_during_the_tap_holds_once_the_tap_is_out_with_the_spindle_forward() {
     c.handle(E::WaitBlock(41));
     c.handle(E::WaitMs(500));
     let st = c.status();
-    assert!(st.override_locked, "N41 is a tap block");
+    assert!(st.switches.override_locked, "N41 is a tap block");
     assert!(st.pos[2] < p(-298.5), "in the hole: Z {}", st.pos[2]);
     c.handle(E::Stop);
     assert!(!c.status().hold, "no hold in the hole");
@@ -170,7 +170,7 @@ fn a_stop_during_the_tap_holds_once_the_tap_is_out_with_the_spindle_forward() {
     assert!(st.hold, "held once the tap is out");
     assert_eq!(st.pos[2], p(-298.0), "at R");
     assert_eq!(st.spindle, 300, "the spindle forward again");
-    assert!(!st.override_locked);
+    assert!(!st.switches.override_locked);
     let seq = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq);
     assert_eq!(seq, Some(44), "the hold came after N44 S300 M03");
     keys(&mut c, &["F9"]);

@@ -53,6 +53,12 @@ impl ConsoleConfig {
         }
     }
 
+    /// Rows of text a data page shows around the pointer (header, command, message and entry
+    /// lines take the rest): what the editor's page moves step by.
+    pub fn text_rows(&self) -> usize {
+        self.rows.saturating_sub(4).max(1)
+    }
+
     /// Checks the display size; the message names the bad value.
     pub fn check(&self) -> Result<(), String> {
         if !(MIN_ROWS..=MAX_ROWS).contains(&self.rows) {

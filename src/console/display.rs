@@ -24,14 +24,6 @@ pub fn op_name(m: OpMode) -> &'static str {
     m.name()
 }
 
-/// Rows of text a data page shows around the pointer (header, command, message and entry
-/// lines take the rest).
-pub fn text_rows(rows: usize) -> usize {
-    rows.saturating_sub(4).max(1)
-}
-
-pub use super::script_line::script_line;
-
 /// The mark at the end of a line that was cut to fit the display.
 pub const CUT: char = '…';
 
@@ -214,6 +206,14 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
                 .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
         })
         .or_else(|| c.tape_alarm.clone());
+    // The newest program message that lives until acknowledged, before the last action's.
+    if let Some(m) = c.book.unacknowledged.last() {
+        let more = c.book.unacknowledged.len() - 1;
+        parts.push(match more {
+            0 => format!("{m} (Esc acknowledges)"),
+            n => format!("{m} (and {n} before it; Esc acknowledges)"),
+        });
+    }
     match alarm {
         Some(a) if !c.message.contains(a.as_str()) => {
             if !c.message.is_empty() {
@@ -257,21 +257,21 @@ pub(super) fn state_line(c: &Console) -> String {
     if c.switches.optional_stop {
         s.push_str(" M01");
     }
-    if c.status.rapid_override != 100 {
+    if c.status.switches.rapid_override != 100 {
         s.push_str(&format!(
             " RPD{}",
-            super::run::rapid_override_text(c.status.rapid_override).replace(' ', "")
+            super::run::rapid_override_text(c.status.switches.rapid_override).replace(' ', "")
         ));
     }
-    if c.status.spindle_override != 100 {
-        s.push_str(&format!(" SOV{}%", c.status.spindle_override));
+    if c.status.switches.spindle_override != 100 {
+        s.push_str(&format!(" SOV{}%", c.status.switches.spindle_override));
     }
-    if c.status.dry_run {
+    if c.status.switches.dry_run {
         s.push_str(" DRY");
     }
-    if c.status.machine_lock {
+    if c.status.switches.machine_lock {
         s.push_str(" MLK");
-    } else if c.status.z_neglect {
+    } else if c.status.switches.z_neglect {
         s.push_str(" ZNG");
     }
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {

@@ -1,15 +1,15 @@
 //! The data keys and the entry line: where a typed line goes (docs/panel.md, "Rules").
 //!
-//! - On an operator page (POS, PROG, OFS): to the page, in any mode (`pages`).
+//! - On an operator page (POS, PROG, OFS): to the page, in any mode (the line is handed back
+//!   to the console, which gives it to the page shown: the model names nothing of the pages).
 //! - In MDI (the operation selector), as on a Fanuc MDI page: the line becomes the MDI buffer,
 //!   and START runs it; the last lines are kept for recall (Up and Down).
 //! - In DATA INPUT with the machine stopped: to the editor on the buffer of the data mode, or
 //!   to SEARCH, T-CODE SETTING.
 //! - Anywhere else the data keys are refused with a message, and the line is not kept.
 
-use super::pages::{self, Page};
-use super::{display, run, search, tcode, Console};
-use crate::panel_model::{DataMode, OpMode};
+use super::{run, search, tcode, Console};
+use crate::panel_model::{DataMode, OpMode, Page};
 use crate::store::Target;
 
 /// Where the data keys type now.
@@ -87,7 +87,7 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
     let command = match cursor {
         None => "1D".to_string(),
         Some(cur) => {
-            let rows = display::text_rows(c.cfg.rows);
+            let rows = c.cfg.text_rows();
             match c.mem.cursor_target(t, cur, rows) {
                 Ok(to) => {
                     let p = c.mem.pointer(t) as i64;
@@ -130,28 +130,30 @@ pub(super) fn rubout(c: &mut Console) {
     }
 }
 
-/// EOB: the line typed is entered.
-pub(super) fn eob(c: &mut Console) {
-    if let Some(to) = target(c, "EOB") {
-        let line = std::mem::take(&mut c.entry);
-        enter(c, to, line);
-    }
+/// EOB: the line typed is entered. Returns the line when it is for the page shown.
+#[must_use]
+pub(super) fn eob(c: &mut Console) -> Option<String> {
+    let to = target(c, "EOB")?;
+    let line = std::mem::take(&mut c.entry);
+    enter(c, to, line)
 }
 
-/// A whole line typed, then EOB (`type TEXT`).
-pub(super) fn typed(c: &mut Console, text: String) {
-    if let Some(to) = target(c, &format!("'{text}'")) {
-        c.entry.clear();
-        enter(c, to, text);
-    }
+/// A whole line typed, then EOB (`type TEXT`). Returns the line when it is for the page shown.
+#[must_use]
+pub(super) fn typed(c: &mut Console, text: String) -> Option<String> {
+    let to = target(c, &format!("'{text}'"))?;
+    c.entry.clear();
+    enter(c, to, text)
 }
 
-fn enter(c: &mut Console, to: To, line: String) {
+/// Enters a line where it goes; a line for the page shown is returned.
+fn enter(c: &mut Console, to: To, line: String) -> Option<String> {
     match to {
-        To::Page => pages::enter(c, &line, false),
+        To::Page => return Some(line),
         To::Mdi => mdi_line(c, line),
         To::Data => enter_line(c, line),
     }
+    None
 }
 
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).
@@ -195,7 +197,7 @@ fn enter_line(c: &mut Console, line: String) {
             return;
         }
     };
-    let rows = display::text_rows(c.cfg.rows);
+    let rows = c.cfg.text_rows();
     let rev = c.mem.rev();
     match c.mem.edit(target, &line, Some(rows)) {
         Ok(y) => {

@@ -176,10 +176,10 @@ fn take(c: &mut Console) {
                 diameter,
             } if keep => {
                 if let Err(e) = c.mem.set_tool_size(t, length, diameter) {
-                    super::pages::program_message(c, "NOT KEPT", &format!("G10 T{t:02}: {e}"));
+                    super::book::program_message(c, "NOT KEPT", &format!("G10 T{t:02}: {e}"));
                 }
             }
-            Event::Message { kind, text } => super::pages::program_message(c, kind, &text),
+            Event::Message { kind, text } => super::book::program_message(c, kind, &text),
             _ => {}
         }
     }
@@ -222,7 +222,7 @@ fn journal_params(c: &mut Console, ps: &[(usize, f64)]) {
     }
     for &p in ps {
         if let Err(e) = c.mem.set_params(&[p]) {
-            super::pages::program_message(c, "NOT KEPT", &format!("#{}: {e}", p.0));
+            super::book::program_message(c, "NOT KEPT", &format!("#{}: {e}", p.0));
         }
     }
 }

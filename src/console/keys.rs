@@ -70,6 +70,8 @@ pub enum Action {
     MachineLock,
     /// Turn the Z NEGLECT switch over.
     ZNeglect,
+    /// Acknowledge the messages that live until acknowledged.
+    Acknowledge,
     /// Nothing.
     None,
 }
@@ -111,6 +113,7 @@ pub fn map_key(k: Key) -> Action {
         Key::Down => A::Move(Axis::Y, -1),
         Key::PageUp => A::Move(Axis::Z, 1),
         Key::PageDown => A::Move(Axis::Z, -1),
+        k if k == super::state::ACKNOWLEDGE => A::Acknowledge,
         _ => A::None,
     }
 }
@@ -123,30 +126,7 @@ pub fn is_relay_stop(k: Key) -> bool {
     )
 }
 
-/// A key's name in the panel script (`key NAME`) and the recording.
-pub fn key_name(k: Key) -> String {
-    match k {
-        Key::Char(c) => c.to_string(),
-        Key::Enter => "Enter".into(),
-        Key::Backspace => "Backspace".into(),
-        Key::Tab => "Tab".into(),
-        Key::Esc => "Esc".into(),
-        Key::Up => "Up".into(),
-        Key::Down => "Down".into(),
-        Key::Left => "Left".into(),
-        Key::Right => "Right".into(),
-        Key::PageUp => "PgUp".into(),
-        Key::PageDown => "PgDn".into(),
-        Key::Home => "Home".into(),
-        Key::End => "End".into(),
-        Key::Insert => "Insert".into(),
-        Key::Delete => "Delete".into(),
-        Key::F(n) => format!("F{n}"),
-        Key::Alt(c) => format!("Alt+{c}"),
-        Key::Ctrl(c) => format!("Ctrl+{c}"),
-        Key::Unknown => "Unknown".into(),
-    }
-}
+pub use super::script_line::key_name;
 
 /// A key from its name (see [`key_name`]); names other than one character are matched without
 /// regard to case.
@@ -295,7 +275,7 @@ impl Console {
                 self.handle(PanelEvent::OptionalStop(on));
             }
             Action::RapidOverride => {
-                let p = match self.status.rapid_override {
+                let p = match self.status.switches.rapid_override {
                     100 => 50,
                     50 => 25,
                     25 => 0,
@@ -304,23 +284,31 @@ impl Console {
                 self.handle(PanelEvent::RapidOverride(p));
             }
             Action::SpindleOverride(d) => {
-                let p = self.status.spindle_override as i32 + d;
+                let p = self.status.switches.spindle_override as i32 + d;
                 self.handle(PanelEvent::SpindleOverride(p.clamp(50, 120) as u32));
             }
             Action::DryRun => {
-                let on = !self.status.dry_run;
+                let on = !self.status.switches.dry_run;
                 self.handle(PanelEvent::DryRun(on));
             }
             Action::MachineLock => {
-                let on = !self.status.machine_lock;
+                let on = !self.status.switches.machine_lock;
                 self.handle(PanelEvent::MachineLock(on));
             }
             Action::ZNeglect => {
-                let on = !self.status.z_neglect;
+                let on = !self.status.switches.z_neglect;
                 self.handle(PanelEvent::ZNeglect(on));
             }
             Action::Help => {
                 self.help = 1;
+                self.refresh();
+            }
+            Action::Acknowledge => {
+                if !super::book::acknowledge(self) {
+                    self.message = format!("{}: no message to acknowledge", key_name(k));
+                }
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 self.refresh();
             }
             Action::None => {

@@ -12,6 +12,7 @@
 //! after a key is the core's answer to that key.
 
 mod answers;
+mod book;
 mod config;
 mod display;
 mod entry;
@@ -80,7 +81,7 @@ pub struct Console {
     /// The operator message: the result, refusal or error of an action (or what the machine
     /// reported on its own, such as a run's end). It lives as [`Console::msg_life`] says; what
     /// the machine is doing (running, held, returning, waiting for START) is never kept here
-    /// but derived from the status snapshot when the frame is drawn (`display::machine_note`).
+    /// but derived from the status snapshot when the frame is drawn (`state::machine_note`).
     message: String,
     /// How long [`Console::message`] lives.
     msg_life: MsgLife,
@@ -127,6 +128,8 @@ pub struct Console {
     help: u8,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
     pages: pages::Pages,
+    /// The alarm and message history and the counters.
+    book: book::Book,
     /// The terminal is large enough for the panel.
     screen_fits: bool,
     /// The last key ignored while the terminal was too small.
@@ -162,7 +165,7 @@ impl Console {
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {
         cfg.check()?;
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
-        let (pages, more) = pages::Pages::open(&cfg.state_dir);
+        let (book, more) = book::Book::open(&cfg.state_dir);
         warnings.extend(more);
         let recorder =
             run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
@@ -210,7 +213,8 @@ impl Console {
             jogging: false,
             jog_key: None,
             help: 0,
-            pages,
+            pages: pages::Pages::new(),
+            book,
             screen_fits: true,
             ignored: None,
             modes_told: None,
@@ -260,8 +264,10 @@ impl Console {
             s.to_mm(self.status.pos[1]),
             s.to_mm(self.status.pos[2]),
         ];
+        // The tip takes the length POS's WORK Z takes (the tool file's with no run loaded,
+        // the one in force while a revised one is pending).
         let mut tip_mm = axis_mm;
-        tip_mm[2] -= self.status.tool_set_length;
+        tip_mm[2] -= pages::length_in_force(self).0;
         PanelView {
             display: self.display.clone(),
             op_mode: self.op,
@@ -269,11 +275,7 @@ impl Console {
             run: self.status.run,
             lamps: state::lamps(self),
             feed_override: self.feed_override,
-            rapid_override: self.status.rapid_override,
-            spindle_override: self.status.spindle_override,
-            dry_run: self.status.dry_run,
-            machine_lock: self.status.machine_lock,
-            z_neglect: self.status.z_neglect,
+            switches: self.status.switches,
             axis_mm,
             tip_mm,
             tool: self.status.tool,
@@ -429,7 +431,7 @@ impl Console {
     /// back are made now (a failure is said on the next frame).
     pub fn frame_written(&mut self) {
         if self.counters_unsaved {
-            pages::save_counters(self);
+            book::save_counters(self);
         }
     }
 
@@ -476,13 +478,13 @@ impl Console {
             .clone()
             .or_else(|| self.program_alarm.as_ref().map(|a| a.error.to_string()))
             .or_else(|| self.tape_alarm.clone());
-        pages::log(self, alarm);
+        book::log(self, alarm);
         let lines = display::compose(self);
         if lines != self.display {
             self.display = lines;
             self.recorder.display(&self.display, self.status.machine_ns);
         }
-        self.pages.program_msg = None;
+        self.book.program_msg = None;
         let modes = (self.op, self.data);
         if self.modes_told != Some(modes) {
             self.core.set_panel_modes(self.op.word(), self.data.word());
@@ -509,6 +511,9 @@ impl Console {
             c,
             Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
         );
+        if posmem::can_move(&c) {
+            posmem::before_motion(self);
+        }
         self.status = self.core.command(c);
         if !keeps_notice {
             self.notice_seen = None;
@@ -542,8 +547,16 @@ impl Console {
             }
             PanelEvent::Key(ch) => entry::key(self, ch),
             PanelEvent::Rubout => entry::rubout(self),
-            PanelEvent::Eob => entry::eob(self),
-            PanelEvent::Type(text) => entry::typed(self, text),
+            PanelEvent::Eob => {
+                if let Some(line) = entry::eob(self) {
+                    pages::enter(self, &line, false);
+                }
+            }
+            PanelEvent::Type(text) => {
+                if let Some(line) = entry::typed(self, text) {
+                    pages::enter(self, &line, false);
+                }
+            }
             PanelEvent::Tape(path) => {
                 let name = path
                     .file_name()
@@ -561,7 +574,7 @@ impl Console {
             PanelEvent::Stop => {
                 let had_run = self.status.job.is_some();
                 self.command(Command::Stop);
-                // A feed hold is said by the display while it lasts (display::machine_note).
+                // A feed hold is said by the display while it lasts (state::machine_note).
                 if !self.status.hold {
                     self.message = if self.status.moving {
                         "STOP: the manual move decelerates to rest"
@@ -575,6 +588,7 @@ impl Console {
             }
             PanelEvent::Reset => {
                 self.command(Command::Reset);
+                book::acknowledge(self);
                 self.reset_seen = true;
                 gcode_run::reset_state(&mut self.interp);
                 self.program_alarm = None;
@@ -587,7 +601,7 @@ impl Console {
                 self.command(Command::EStop);
                 self.jogging = false;
                 self.jog_key = None;
-                // Said by the display while it is in force (display::machine_note).
+                // Said by the display while it is in force (state::machine_note).
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
@@ -610,7 +624,7 @@ impl Console {
             }
             PanelEvent::RapidOverride(p) => {
                 self.command(Command::RapidOverride(p));
-                self.message = if self.status.rapid_override == p {
+                self.message = if self.status.switches.rapid_override == p {
                     format!(
                         "rapid override {}: rapids, jogs and returns",
                         run::rapid_override_text(p)
@@ -621,7 +635,7 @@ impl Console {
             }
             PanelEvent::SpindleOverride(p) => {
                 self.command(Command::SpindleOverride(p));
-                self.message = if self.status.spindle_override == p {
+                self.message = if self.status.switches.spindle_override == p {
                     format!("spindle override {p} %: the spindle turns at S x {p} %")
                 } else {
                     self.refused_switch()
@@ -633,7 +647,7 @@ impl Console {
             }
             PanelEvent::MachineLock(on) => {
                 self.command(Command::MachineLock(on));
-                self.message = if self.status.machine_lock == on {
+                self.message = if self.status.switches.machine_lock == on {
                     run::machine_switch_message("MACHINE LOCK", on)
                 } else {
                     self.refused_switch()
@@ -641,7 +655,7 @@ impl Console {
             }
             PanelEvent::ZNeglect(on) => {
                 self.command(Command::ZNeglect(on));
-                self.message = if self.status.z_neglect == on {
+                self.message = if self.status.switches.z_neglect == on {
                     run::machine_switch_message("Z NEGLECT", on)
                 } else {
                     self.refused_switch()
@@ -710,7 +724,7 @@ impl Console {
             // SINGLE BLOCK on: the block in progress is the last. Off: a run set going by a
             // START in SINGLE BLOCK still ends the block START was given for and waits for
             // START (docs/panel.md, "Rules and choices"); what the machine does is said by the
-            // display (display::machine_note).
+            // display (state::machine_note).
             let keep_single = m == OpMode::Auto && self.start_single && self.status.job.is_some();
             if !keep_single {
                 self.command(Command::SingleBlock(m == OpMode::Single));

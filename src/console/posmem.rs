@@ -1,9 +1,11 @@
 //! Position memory (issue 23; docs/stores.md, "Position memory"): the machine position and the
 //! tool in the spindle, kept in the state directory's `position` file so that a restart knows
-//! where the axes are. The file says `moving` as soon as the console sees an axis move and the
-//! position with `at rest` once they stand still; a console that died while the axes moved
-//! leaves `moving`, and the next one cannot trust the position: it says so and refuses AUTO
-//! and MDI until the reference return (HOME, Alt+0, script word `home`) has been made.
+//! where the axes are. The file says `moving` (written durably) before any command that can
+//! move an axis is given to the pulse core, and the position with `at rest` once the axes
+//! stand still; a console that died while the axes moved leaves `moving`, and the next one
+//! cannot trust the position: it says so and refuses AUTO and MDI until the reference return
+//! (HOME, Alt+0, script word `home`) has been made. The jog feed chosen on POS (`JOG 500`,
+//! `JOG RAPID`) is kept in the same file.
 
 use super::Console;
 use crate::pulse_core::Command;
@@ -13,7 +15,7 @@ use std::path::Path;
 pub const FILE: &str = "position";
 
 /// What the file says.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Kept {
     /// The axes were moving when it was written: the position is not to be trusted.
     pub moving: bool,
@@ -21,17 +23,24 @@ pub struct Kept {
     pub pos: [i64; 3],
     /// The tool in the spindle.
     pub tool: Option<u32>,
+    /// The jog feed chosen on POS, mm/min (None: the settings').
+    pub jog_feed: Option<f64>,
+    /// Rapid jog (`JOG RAPID`).
+    pub rapid_jog: bool,
 }
 
 impl Kept {
     fn text(&self) -> String {
         format!(
-            "novanc-position 1\n{}\n{} {} {}\ntool {}\n",
+            "novanc-position 1\n{}\n{} {} {}\ntool {}\njog {}{}\n",
             if self.moving { "moving" } else { "at rest" },
             self.pos[0],
             self.pos[1],
             self.pos[2],
-            self.tool.map_or("none".to_string(), |t| t.to_string())
+            self.tool.map_or("none".to_string(), |t| t.to_string()),
+            self.jog_feed
+                .map_or("default".to_string(), |f| f.to_string()),
+            if self.rapid_jog { " rapid" } else { "" }
         )
     }
 
@@ -56,7 +65,33 @@ impl Kept {
             "none" => None,
             t => Some(t.parse().ok()?),
         };
-        Some(Kept { moving, pos, tool })
+        // The jog line came later: a file without it keeps the settings' jog feed.
+        let (jog_feed, rapid_jog) = match l.next() {
+            None => (None, false),
+            Some(j) => {
+                let j = j.strip_prefix("jog ")?;
+                let (feed, rapid) = match j.strip_suffix(" rapid") {
+                    Some(f) => (f, true),
+                    None => (j, false),
+                };
+                let feed = match feed {
+                    "default" => None,
+                    f => Some(
+                        f.parse::<f64>()
+                            .ok()
+                            .filter(|v| v.is_finite() && *v > 0.0)?,
+                    ),
+                };
+                (feed, rapid)
+            }
+        };
+        Some(Kept {
+            moving,
+            pos,
+            tool,
+            jog_feed,
+            rapid_jog,
+        })
     }
 }
 
@@ -69,6 +104,51 @@ pub(super) struct PosMem {
     pub home_needed: bool,
     /// HOME was accepted and the return is under way.
     homing: bool,
+    /// The jog feed chosen on POS (`JOG 500`), mm/min; None: the settings' jog feed.
+    pub jog_feed: Option<f64>,
+    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` with a feed.
+    pub rapid_jog: bool,
+}
+
+/// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
+/// settings' by default).
+pub(super) fn jog_feed(c: &Console) -> f64 {
+    let s = &c.cfg.settings;
+    if c.posmem.rapid_jog {
+        s.rapid_mm_min
+    } else {
+        c.posmem.jog_feed.unwrap_or(s.jog_mm_min)
+    }
+}
+
+/// Whether a command can set an axis moving: before it is given, the file says `moving`.
+pub(super) fn can_move(c: &Command) -> bool {
+    matches!(
+        c,
+        Command::Start(_) | Command::Jog { .. } | Command::Increment { .. } | Command::Home
+    )
+}
+
+/// Before a command that can move an axis (`can_move`, or a run's START): the file says
+/// `moving`, on disk, so that a console killed before its next frame leaves a position that is
+/// not trusted (a refused command is followed by `at rest` again at the next status poll).
+pub(super) fn before_motion(c: &mut Console) {
+    if c.posmem.written.as_ref().is_some_and(|w| w.moving) {
+        return;
+    }
+    let s = &c.status;
+    let k = Kept {
+        moving: true,
+        pos: s.machine_pos,
+        tool: s.tool,
+        jog_feed: c.posmem.jog_feed,
+        rapid_jog: c.posmem.rapid_jog,
+    };
+    if let Err(e) = save(&c.cfg.state_dir, &k) {
+        c.message = format!("{} (the position could not be kept: {e})", c.message);
+        return;
+    }
+    c.posmem.written = Some(k);
 }
 
 /// At start: the kept position and tool are given to the core; a position kept while moving
@@ -96,6 +176,11 @@ pub(super) fn restore(c: &mut Console) {
     };
     c.core.set_position(k.pos);
     c.core.command(Command::SetTool(k.tool));
+    c.posmem.jog_feed = k.jog_feed;
+    c.posmem.rapid_jog = k.rapid_jog;
+    if k.jog_feed.is_some() || k.rapid_jog {
+        c.core.set_jog_feed(jog_feed(c));
+    }
     if k.moving {
         c.posmem.home_needed = true;
         c.message = "the console stopped while the axes moved: the position is not known; make the reference return (HOME, Alt+0) before AUTO or MDI".into();
@@ -136,6 +221,8 @@ pub(super) fn track(c: &mut Console) {
         moving: s.moving || (s.job.is_some() && !s.idle),
         pos: s.machine_pos,
         tool: s.tool,
+        jog_feed: c.posmem.jog_feed,
+        rapid_jog: c.posmem.rapid_jog,
     };
     let changed = match &c.posmem.written {
         None => true,
@@ -159,6 +246,52 @@ fn save(dir: &Path, k: &Kept) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::panel_model::{OpMode, PanelEvent};
+    use crate::pulse_core::{ClockMode, RunKind};
+
+    /// `moving` is on disk before the pulse core is given a command that can move an axis (a
+    /// console killed between the command and its next frame leaves a position not trusted),
+    /// and `at rest` after.
+    #[test]
+    fn moving_is_on_disk_before_a_motion_is_commanded() {
+        let dir = std::env::temp_dir().join(format!(
+            "novanc-posmem-order-{}-{:?}",
+            std::process::id(),
+            std::time::SystemTime::now()
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut cfg = crate::console::ConsoleConfig::new(dir.clone());
+        cfg.clock = ClockMode::Virtual;
+        let (mut c, _) = Console::open(cfg).unwrap();
+        let said = || Kept::parse(&std::fs::read_to_string(dir.join(FILE)).unwrap()).unwrap();
+        assert!(!said().moving);
+        for cmd in [
+            Command::Increment {
+                axis: 0,
+                pulses: 5000,
+            },
+            Command::Jog { axis: 1, dir: 1 },
+            Command::Home,
+        ] {
+            // As the console gives it, before any status poll.
+            c.command(cmd.clone());
+            assert!(said().moving, "{cmd:?}");
+            c.command(Command::JogRelease);
+            c.wait_idle();
+            assert!(!said().moving, "{cmd:?}");
+        }
+        c.handle(PanelEvent::Op(OpMode::Mdi));
+        c.handle(PanelEvent::Type("G0 X5".into()));
+        super::super::run::start_program(&mut c, RunKind::Mdi);
+        assert!(said().moving, "START");
+        c.wait_idle();
+        let k = said();
+        assert!(
+            !k.moving && k.pos[0] == c.settings().to_pulses(5.0),
+            "{k:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn the_file_reads_back_what_it_wrote_and_nothing_else() {
@@ -167,19 +300,31 @@ mod tests {
                 moving: false,
                 pos: [1, -2, -300_000],
                 tool: Some(106),
+                jog_feed: Some(512.5),
+                rapid_jog: false,
             },
             Kept {
                 moving: true,
                 pos: [0; 3],
                 tool: None,
+                jog_feed: None,
+                rapid_jog: true,
             },
         ] {
             assert_eq!(Kept::parse(&k.text()), Some(k));
         }
+        // A file written before the jog line: the settings' jog feed.
+        let old = Kept::parse("novanc-position 1\nat rest\n1 2 3\ntool 2\n").unwrap();
+        assert_eq!(
+            (old.pos, old.jog_feed, old.rapid_jog),
+            ([1, 2, 3], None, false)
+        );
         for bad in [
             "",
             "novanc-position 1\nmoving\n1 2\ntool none\n",
             "x\nat rest\n0 0 0\ntool 1\n",
+            "novanc-position 1\nat rest\n0 0 0\ntool 1\njog -5\n",
+            "novanc-position 1\nat rest\n0 0 0\ntool 1\nfeed 5\n",
         ] {
             assert_eq!(Kept::parse(bad), None, "{bad:?}");
         }

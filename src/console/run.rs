@@ -214,7 +214,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         }
     }
     if kind == RunKind::Auto && c.status.job.is_none() {
-        if let Some(why) = super::pages::target_refusal(c) {
+        if let Some(why) = super::book::target_refusal(c) {
             c.message = why;
             return;
         }
@@ -241,6 +241,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         None
     };
     let runs_before = c.status.runs;
+    super::posmem::before_motion(c);
     c.status = c.core.start(kind, make);
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {
@@ -283,12 +284,12 @@ pub(super) fn note_run_end(c: &mut Console) {
     );
     super::gcode_run::end_run(c, nothing_moved);
     let done = end.cause == EndCause::ProgramEnd;
-    super::pages::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
+    super::book::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
     let secs = end.machine_ns as f64 / 1e9;
     match end.cause {
         EndCause::ProgramEnd => {
             c.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
-            let k = c.pages.counters;
+            let k = c.book.counters;
             if end.kind == RunKind::Auto && k.target > 0 && k.parts >= k.target {
                 c.message = format!(
                     "{}; part count target reached ({}/{}): the next AUTO START waits for PARTS 0 or a new TARGET",
@@ -317,7 +318,7 @@ pub(super) fn note_run_end(c: &mut Console) {
         }
         EndCause::Abandoned | EndCause::Alarm => {}
     }
-    if let Some(m) = c.pages.program_msg.take() {
+    if let Some(m) = c.book.program_msg.take() {
         if c.message.is_empty() {
             c.message = m;
         } else if !c.message.contains(&m) {
@@ -613,7 +614,7 @@ impl Recording {
         if let Some(s) = &self.sink {
             s.send(Event::PanelEvent {
                 t_ns,
-                event: super::display::script_line(ev),
+                event: super::script_line::script_line(ev),
             });
         }
     }

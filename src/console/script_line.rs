@@ -2,6 +2,7 @@
 //! keeps of each operator action, and what a refusal names.
 
 use crate::panel_model::PanelEvent;
+use novanc_panel::Key;
 
 /// An event as its panel-script line (for the recording).
 pub fn script_line(ev: &PanelEvent) -> String {
@@ -30,7 +31,7 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::OptionalStop(on) => format!("optionalstop {}", on_off(*on)),
         PanelEvent::Jog(a, d) => format!("jog {}{}", a.letter(), if *d < 0 { '-' } else { '+' }),
         PanelEvent::JogRelease => "jogrelease".into(),
-        PanelEvent::Press(k) => format!("key {}", super::keys::key_name(*k)),
+        PanelEvent::Press(k) => format!("key {}", key_name(*k)),
         PanelEvent::Wait => "wait".into(),
         PanelEvent::WaitBlock(n) => format!("wait block {n}"),
         PanelEvent::WaitMs(t) => format!("wait ms {t}"),
@@ -45,6 +46,32 @@ pub fn script_line(ev: &PanelEvent) -> String {
             index,
             value,
         } => format!("input E{index} {value}"),
+    }
+}
+
+/// A key's name in the panel script (`key NAME`) and the recording (`keys::parse_key` reads
+/// it back).
+pub fn key_name(k: Key) -> String {
+    match k {
+        Key::Char(c) => c.to_string(),
+        Key::Enter => "Enter".into(),
+        Key::Backspace => "Backspace".into(),
+        Key::Tab => "Tab".into(),
+        Key::Esc => "Esc".into(),
+        Key::Up => "Up".into(),
+        Key::Down => "Down".into(),
+        Key::Left => "Left".into(),
+        Key::Right => "Right".into(),
+        Key::PageUp => "PgUp".into(),
+        Key::PageDown => "PgDn".into(),
+        Key::Home => "Home".into(),
+        Key::End => "End".into(),
+        Key::Insert => "Insert".into(),
+        Key::Delete => "Delete".into(),
+        Key::F(n) => format!("F{n}"),
+        Key::Alt(c) => format!("Alt+{c}"),
+        Key::Ctrl(c) => format!("Ctrl+{c}"),
+        Key::Unknown => "Unknown".into(),
     }
 }
 

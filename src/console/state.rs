@@ -6,6 +6,21 @@
 use super::Console;
 use crate::panel_model::{Lamps, OpMode};
 use crate::pulse_core::RunKind;
+use novanc_panel::Key;
+
+/// The key that acknowledges a message that lives until acknowledged (RESET acknowledges it
+/// too, as a Fanuc's RESET clears its operator message).
+pub(super) const ACKNOWLEDGE: Key = Key::Esc;
+
+/// Whether a program's message of `kind` lives until acknowledged rather than until the next
+/// key (docs/panel.md, "Messages"): `MSG`, the program's message to the operator (Fanuc's
+/// #3006 kind, LinuxCNC's `(MSG,...)` notification, which stays until dismissed), and `NOT
+/// KEPT` (a value the program set that the stores could not keep). A program speaks while
+/// the operator's hands are on other keys; those would otherwise clear it unread. `PRINT`,
+/// `DEBUG` and `LOG` are diagnostics and live until the next key.
+pub(super) fn until_acknowledged(kind: &str) -> bool {
+    matches!(kind, "MSG" | "NOT KEPT")
+}
 
 /// The lamps, from the status snapshot: HOLD is a feed hold at rest or braking, not the
 /// return after a manual intervention (the machine moves; RUN is lit).

@@ -11,7 +11,7 @@
 //!
 //! The punch key is in `punch.rs`.
 
-use super::display::script_line;
+use super::script_line::script_line;
 use super::Console;
 use crate::panel_model::PanelEvent;
 use crate::tape::{self, Code, Frame, Meaning, ReadOptions, Reader, Tape, TapeError};

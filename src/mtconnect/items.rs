@@ -105,10 +105,10 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         ("path_feedrate", format!("{:.3}", s.speed_mm_min / 60.0)),
         ("Fovr", s.feed_override.to_string()),
         // The rapid override's F0 is sent as 0 (MTConnect's RapidOverride is a percentage).
-        ("Rovr", s.rapid_override.to_string()),
+        ("Rovr", s.switches.rapid_override.to_string()),
         // The switch's position, as /nc/state records it (held at 100 % during a tap, when
         // Srpm shows the programmed speed: docs/pulse-core.md "Tapping").
-        ("Sovr", s.spindle_override.to_string()),
+        ("Sovr", s.switches.spindle_override.to_string()),
         ("Srpm", s.spindle.unsigned_abs().to_string()),
         (
             "tool",

@@ -269,19 +269,10 @@ pub struct Status {
     pub spindle_programmed: i64,
     /// Feed override in force, percent.
     pub feed_override: u32,
-    /// Rapid override in force, percent (0 = F0).
-    pub rapid_override: u32,
-    /// Spindle override in force, percent.
-    pub spindle_override: u32,
-    /// DRY RUN in force.
-    pub dry_run: bool,
-    /// MACHINE LOCK in force.
-    pub machine_lock: bool,
-    /// Z NEGLECT in force.
-    pub z_neglect: bool,
-    /// A tap is in progress: the feed and spindle overrides are held at 100 % (the switches
-    /// keep their positions in `feed_override` and `spindle_override`).
-    pub override_locked: bool,
+    /// The rapid and spindle overrides, DRY RUN, MACHINE LOCK, Z NEGLECT in force, and
+    /// whether a tap holds the overrides at 100 % (the switches keep their positions in
+    /// `feed_override` and `switches.spindle_override`): what `/nc/state` records.
+    pub switches: crate::record::Switches,
     /// STOP was pressed during a tap: the feed hold takes effect once the tap is back out of
     /// the hole with the spindle forward (docs/pulse-core.md, "Tapping").
     pub hold_after_tap: bool,

@@ -419,7 +419,7 @@ pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) 
                 .small()
                 .color(LEGEND),
         );
-        let rapid = match view.rapid_override {
+        let rapid = match view.switches.rapid_override {
             0 => "RAPID F0".to_string(),
             p => format!("RAPID {p} %"),
         };
@@ -430,22 +430,26 @@ pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) 
             if ui.small_button("-").clicked() {
                 out.push(PanelEvent::Press(novanc_panel::Key::Alt('[')));
             }
-            ui.label(format!("SPINDLE {} %", view.spindle_override));
+            ui.label(format!("SPINDLE {} %", view.switches.spindle_override));
             if ui.small_button("+").clicked() {
                 out.push(PanelEvent::Press(novanc_panel::Key::Alt(']')));
             }
         });
         for (on, name, ev) in [
-            (view.dry_run, "DRY RUN", PanelEvent::DryRun(!view.dry_run)),
             (
-                view.machine_lock,
-                "MACHINE LOCK",
-                PanelEvent::MachineLock(!view.machine_lock),
+                view.switches.dry_run,
+                "DRY RUN",
+                PanelEvent::DryRun(!view.switches.dry_run),
             ),
             (
-                view.z_neglect,
+                view.switches.machine_lock,
+                "MACHINE LOCK",
+                PanelEvent::MachineLock(!view.switches.machine_lock),
+            ),
+            (
+                view.switches.z_neglect,
                 "Z NEGLECT",
-                PanelEvent::ZNeglect(!view.z_neglect),
+                PanelEvent::ZNeglect(!view.switches.z_neglect),
             ),
         ] {
             if ui.selectable_label(on, name).clicked() {

@@ -47,6 +47,18 @@ pub struct Stats {
     pub rapid_checks: u64,
     /// Override and switch changes (keys and script words).
     pub switch_changes: u64,
+    /// STOPs given inside a tap, whose hold came at R with the spindle forward.
+    pub tap_stops: u64,
+    /// Console restarts on the same state directory (position memory).
+    pub restarts: u64,
+    /// Of those, restarts of a console that died while the axes moved (HOME owed).
+    pub restarts_moving: u64,
+    /// Reference returns (HOME) made to machine zero.
+    pub homes: u64,
+    /// OFS MEASURE inputs the console accepted (work offset or tool length).
+    pub measures: u64,
+    /// The machine states E-STOP was pressed in, one bit each (`ESTOP_STATES` in the test).
+    pub estop_states: u32,
 }
 
 impl Stats {
@@ -73,6 +85,12 @@ impl Stats {
         self.locked_steps += o.locked_steps;
         self.rapid_checks += o.rapid_checks;
         self.switch_changes += o.switch_changes;
+        self.tap_stops += o.tap_stops;
+        self.restarts += o.restarts;
+        self.restarts_moving += o.restarts_moving;
+        self.homes += o.homes;
+        self.measures += o.measures;
+        self.estop_states |= o.estop_states;
     }
 }
 

@@ -27,8 +27,8 @@ mod workofs;
 
 use super::Console;
 pub use crate::panel_model::Page;
-use crate::store::history::{Counters, Entry, History, Kind};
 use novanc_panel::Key;
+pub(super) use pos::length_in_force;
 
 /// The MDI lines kept for recall.
 pub const RECALL: usize = 20;
@@ -51,24 +51,11 @@ pub struct Pages {
     pub ofs_axis: usize,
     /// The MSG page's first entry shown (0: the newest).
     pub msg_first: usize,
-    /// The alarm and message history.
-    pub history: History,
-    /// The counters.
-    pub counters: Counters,
     /// The last MDI lines typed, oldest first, and where the recall stands.
     pub recall: Vec<String>,
     recall_at: Option<usize>,
-    /// The last message and alarm put in the history.
-    logged: (String, String),
-    /// The program's message taken since the last frame (a run's end says it too, so that the
-    /// frame, and with it the recording, shows it).
-    pub program_msg: Option<String>,
     /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
     pub pending_len: Option<PendingLength>,
-    /// The jog feed chosen on POS (`JOG 500`), mm/min; None: the settings' jog feed.
-    pub jog_feed: Option<f64>,
-    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` with a feed.
-    pub rapid_jog: bool,
 }
 
 /// A length revised during a run that the machine does not use yet: a source-language run
@@ -88,32 +75,20 @@ pub struct PendingLength {
 }
 
 impl Pages {
-    /// The pages of a console whose state directory is `dir`, with the warnings of reading
-    /// its history and counters.
-    pub fn open(dir: &std::path::Path) -> (Pages, Vec<String>) {
-        let (history, w1) = History::open(dir);
-        let (counters, w2) = Counters::open(dir);
-        (
-            Pages {
-                page: Page::Mode,
-                rel_origin: [0; 3],
-                prog_row: 0,
-                confirm_delete: None,
-                ofs: (1, ofs::LENGTH),
-                ofs_axis: 0,
-                msg_first: 0,
-                history,
-                counters,
-                recall: Vec::new(),
-                recall_at: None,
-                logged: (String::new(), String::new()),
-                program_msg: None,
-                pending_len: None,
-                jog_feed: None,
-                rapid_jog: false,
-            },
-            w1.into_iter().chain(w2).collect(),
-        )
+    /// The pages as a console opens: the mode's display shown.
+    pub(in crate::console) fn new() -> Pages {
+        Pages {
+            page: Page::Mode,
+            rel_origin: [0; 3],
+            prog_row: 0,
+            confirm_delete: None,
+            ofs: (1, ofs::LENGTH),
+            ofs_axis: 0,
+            msg_first: 0,
+            recall: Vec::new(),
+            recall_at: None,
+            pending_len: None,
+        }
     }
 
     /// Keeps an MDI line for recall (the last [`RECALL`]).
@@ -244,115 +219,4 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         Page::Modal => modal::compose(c, rows, cols),
         Page::Msg | Page::Mode => msg::compose(c, rows, cols),
     }
-}
-
-/// Puts a new message and a new alarm in the history (not `ok`, not a repeat).
-pub(super) fn log(c: &mut Console, alarm: Option<String>) {
-    let t = c.status.machine_ns;
-    let wall = Some(crate::store::stamps::now_s());
-    let mut warn = None;
-    if let Some(a) = alarm {
-        if a != c.pages.logged.1 {
-            c.pages.logged.1 = a.clone();
-            warn = c
-                .pages
-                .history
-                .push(Entry {
-                    machine_ns: t,
-                    wall_s: wall,
-                    kind: Kind::Alarm,
-                    text: a,
-                })
-                .err();
-        }
-    } else {
-        c.pages.logged.1.clear();
-    }
-    let m = c.message.clone();
-    if !m.is_empty() && m != "ok" && m != c.pages.logged.0 {
-        c.pages.logged.0 = m.clone();
-        warn = warn.or(c
-            .pages
-            .history
-            .push(Entry {
-                machine_ns: t,
-                wall_s: wall,
-                kind: Kind::Message,
-                text: m,
-            })
-            .err());
-    }
-    if let Some(w) = warn {
-        also_say(c, &w);
-        // The message with the failure added is not logged again.
-        c.pages.logged.0 = c.message.clone();
-    }
-}
-
-/// Adds a secondary failure (the history or the counters could not be saved) after the
-/// message shown, never in its place: a refusal the operator must see stays first.
-fn also_say(c: &mut Console, failure: &str) {
-    c.message = if c.message.is_empty() || c.message == "ok" {
-        failure.to_string()
-    } else {
-        format!("{}; {failure}", c.message)
-    };
-}
-
-/// A program's message (`(MSG,...)`, `(PRINT,...)`, `(DEBUG,...)`, `(LOG,...)`): in the
-/// history at once (each one, however many a line gives) and on the message line, so the
-/// display frame, and with it the recording, shows it. A history that cannot be saved is said
-/// after the message, never in its place.
-pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
-    let line = format!("{kind}: {text}");
-    let pushed = c.pages.history.push(Entry {
-        machine_ns: c.status.machine_ns,
-        wall_s: Some(crate::store::stamps::now_s()),
-        kind: Kind::Message,
-        text: line.clone(),
-    });
-    c.pages.logged.0 = line.clone();
-    c.pages.program_msg = Some(line.clone());
-    c.message = line;
-    if let Err(w) = pushed {
-        also_say(c, &w);
-        c.pages.logged.0 = c.message.clone();
-    }
-}
-
-/// A run of program memory reached its end: one more part, its cycle time; every run's time
-/// counts in the run hours.
-pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64) {
-    let k = &mut c.pages.counters;
-    k.run_ns = k.run_ns.saturating_add(machine_ns);
-    if auto && done {
-        k.parts += 1;
-        k.last_cycle_ns = machine_ns;
-    }
-    if c.saves_after_frame {
-        // The terminal writes the frame first (the key's answer), then saves them.
-        c.counters_unsaved = true;
-        return;
-    }
-    save_counters(c);
-}
-
-/// Saves the counters; a failure is said after the message shown.
-pub(super) fn save_counters(c: &mut Console) {
-    c.counters_unsaved = false;
-    if let Err(e) = c.pages.counters.save(&c.cfg.state_dir) {
-        also_say(c, &e);
-    }
-}
-
-/// Why a new AUTO run may not begin: the part counter has reached its target, as a Fanuc's
-/// part count signal stops the cycle (docs/panel.md, "Pages").
-pub(super) fn target_refusal(c: &Console) -> Option<String> {
-    let k = &c.pages.counters;
-    (k.target > 0 && k.parts >= k.target).then(|| {
-        format!(
-            "START refused: part count target reached ({}/{}); on the POS page type PARTS 0 or a new TARGET",
-            k.parts, k.target
-        )
-    })
 }

@@ -14,7 +14,7 @@ use crate::panel_model::OpMode;
 fn switches(c: &Console) -> Vec<(&'static str, String)> {
     let on = |b: bool| if b { "ON" } else { "off" }.to_string();
     let s = &c.status;
-    let locked = if s.override_locked {
+    let locked = if s.switches.override_locked {
         " (held 100%: tap)"
     } else {
         ""
@@ -23,15 +23,18 @@ fn switches(c: &Console) -> Vec<(&'static str, String)> {
         ("FEED OVR", format!("{}%{locked}", c.feed_override)),
         (
             "RAPID OVR",
-            match s.rapid_override {
+            match s.switches.rapid_override {
                 0 => "F0".to_string(),
                 p => format!("{p}%"),
             },
         ),
-        ("SPINDLE OVR", format!("{}%{locked}", s.spindle_override)),
-        ("DRY RUN", on(s.dry_run)),
-        ("MACHINE LOCK", on(s.machine_lock)),
-        ("Z NEGLECT", on(s.z_neglect)),
+        (
+            "SPINDLE OVR",
+            format!("{}%{locked}", s.switches.spindle_override),
+        ),
+        ("DRY RUN", on(s.switches.dry_run)),
+        ("MACHINE LOCK", on(s.switches.machine_lock)),
+        ("Z NEGLECT", on(s.switches.z_neglect)),
         ("SINGLE BLOCK", on(c.op == OpMode::Single)),
         ("BLOCK DELETE", on(c.switches.block_delete)),
         ("OPT STOP M01", on(c.switches.optional_stop)),

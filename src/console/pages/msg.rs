@@ -8,7 +8,7 @@ use novanc_panel::Key;
 
 /// Scrolls the history.
 pub(super) fn arrow(c: &mut Console, k: Key) {
-    let n = c.pages.history.entries().len();
+    let n = c.book.history.entries().len();
     let f = &mut c.pages.msg_first;
     match k {
         Key::Down | Key::PageDown => *f = (*f + 1).min(n.saturating_sub(1)),
@@ -21,7 +21,7 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
 
 /// The MSG page.
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let all = c.pages.history.entries();
+    let all = c.book.history.entries();
     let mut p = Frame::new(
         rows,
         cols,

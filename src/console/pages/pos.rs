@@ -42,11 +42,11 @@ pub(super) fn enter(c: &mut Console, line: &str) {
             match rest.trim().parse::<u64>() {
                 Ok(n) => {
                     if set {
-                        c.pages.counters.parts = n;
+                        c.book.counters.parts = n;
                     } else {
-                        c.pages.counters.target = n;
+                        c.book.counters.target = n;
                     }
-                    c.message = match c.pages.counters.save(&c.cfg.state_dir) {
+                    c.message = match c.book.counters.save(&c.cfg.state_dir) {
                         Ok(()) => format!("{} {n}", word.to_ascii_lowercase()),
                         Err(e) => e,
                     };
@@ -82,30 +82,19 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     c.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
 }
 
-/// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
-/// settings' by default).
-pub(crate) fn jog_feed(c: &Console) -> f64 {
-    let s = &c.cfg.settings;
-    if c.pages.rapid_jog {
-        s.rapid_mm_min
-    } else {
-        c.pages.jog_feed.unwrap_or(s.jog_mm_min)
-    }
-}
-
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
 /// (back to the jog feed from rapid jog).
 fn jog(c: &mut Console, rest: &str) {
     let rapid = c.cfg.settings.rapid_mm_min;
     if rest == "RAPID" {
-        c.pages.rapid_jog = true;
+        c.posmem.rapid_jog = true;
     } else if rest.is_empty() {
-        c.pages.rapid_jog = false;
+        c.posmem.rapid_jog = false;
     } else {
         match rest.parse::<f64>() {
             Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
-                c.pages.jog_feed = Some(v);
-                c.pages.rapid_jog = false;
+                c.posmem.jog_feed = Some(v);
+                c.posmem.rapid_jog = false;
             }
             _ => {
                 c.message = format!(
@@ -115,9 +104,9 @@ fn jog(c: &mut Console, rest: &str) {
             }
         }
     }
-    let f = jog_feed(c);
+    let f = super::super::posmem::jog_feed(c);
     c.core.set_jog_feed(f);
-    c.message = if c.pages.rapid_jog {
+    c.message = if c.posmem.rapid_jog {
         format!("rapid jog: {f:.0} mm/min")
     } else {
         format!("jog feed {f:.0} mm/min")
@@ -190,10 +179,10 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         st.speed_mm_min,
         st.spindle.abs()
     ));
-    let rapid = if c.pages.rapid_jog { " RAPID" } else { "" };
+    let rapid = if c.posmem.rapid_jog { " RAPID" } else { "" };
     p.body.push(format!(
         "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
-        jog_feed(c),
+        super::super::posmem::jog_feed(c),
         s.to_mm(c.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
@@ -205,7 +194,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     if let (Some(t), None, Some((v, when))) = (st.tool, st.changing_tool, pending) {
         p.body.push(format!("  T{t:02} {v:.3} pending: {when}"));
     }
-    let k = &c.pages.counters;
+    let k = &c.book.counters;
     let target = if k.target > 0 {
         format!("/{}", k.target)
     } else {
@@ -261,7 +250,7 @@ fn work_system(c: &Console) -> (String, [f64; 3]) {
 
 /// The length in force of the tool in the spindle (mm), and a revised one not yet in force
 /// with when it applies.
-pub(super) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
+pub(in crate::console) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'static str)>) {
     let st = &c.status;
     match &c.pages.pending_len {
         Some(p)

@@ -64,6 +64,9 @@ impl Machine {
                 self.out.flush();
                 self.current = None;
                 self.jog = None;
+                // A reference return (HOME) has no run to abandon: it stops here too.
+                self.ret = None;
+                self.ret_queue.clear();
                 self.increments.clear();
                 if self.job.is_some() {
                     self.end_run(EndCause::Abandoned);
