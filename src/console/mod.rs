@@ -164,8 +164,18 @@ impl Console {
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
         let (pages, more) = pages::Pages::open(&cfg.state_dir);
         warnings.extend(more);
-        let recorder =
-            run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
+        let info = crate::record::RecordingInfo {
+            program_name: mem.program_name(),
+            program_text: mem.text(crate::store::Target::Program),
+            magazine: Some(mem.magazine()),
+            work_offsets: mem.work_offsets().0,
+        };
+        let recorder = run::Recording::start(
+            cfg.record.as_deref(),
+            cfg.sink.clone(),
+            &cfg.settings,
+            &info,
+        )?;
         let core = PulseCore::spawn(
             cfg.settings.clone(),
             cfg.clock,

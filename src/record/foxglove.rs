@@ -34,6 +34,16 @@ pub mod level {
     pub const ERROR: u8 = 4;
 }
 
+/// The source line an alarm of the pulse core names (`line 12: N5 X TRAVEL LIMIT`), 0 for
+/// none.
+pub fn alarm_line(alarm: &str) -> u32 {
+    alarm
+        .strip_prefix("line ")
+        .and_then(|r| r.split(':').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or(0)
+}
+
 /// How many derived channels there are.
 pub const DERIVED: usize = 2;
 
@@ -355,6 +365,13 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn alarm_lines() {
+        assert_eq!(alarm_line("line 12: N5 X TRAVEL LIMIT"), 12);
+        assert_eq!(alarm_line("EMERGENCY STOP: pulses stopped; press RESET"), 0);
+        assert_eq!(alarm_line("line x: what"), 0);
+    }
 
     #[test]
     fn strokes_by_the_blocks_motion_word() {

@@ -27,6 +27,7 @@ mod workofs;
 
 use super::Console;
 pub use crate::panel_model::Page;
+use crate::record::foxglove::{alarm_line, level};
 use crate::store::history::{Counters, Entry, History, Kind};
 use novanc_panel::Key;
 
@@ -254,6 +255,12 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     if let Some(a) = alarm {
         if a != c.pages.logged.1 {
             c.pages.logged.1 = a.clone();
+            let line = c
+                .program_alarm
+                .as_ref()
+                .filter(|p| p.error.to_string() == a)
+                .map_or_else(|| alarm_line(&a), |p| p.error.line);
+            record_log(c, t, level::ERROR, &a, line);
             warn = c
                 .pages
                 .history
@@ -271,6 +278,13 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let m = c.message.clone();
     if !m.is_empty() && m != "ok" && m != c.pages.logged.0 {
         c.pages.logged.0 = m.clone();
+        // The pulse core's refusal of an operator action is a warning; the rest, information.
+        let lvl = if c.status.notice.as_deref() == Some(m.as_str()) {
+            level::WARNING
+        } else {
+            level::INFO
+        };
+        record_log(c, t, lvl, &m, 0);
         warn = warn.or(c
             .pages
             .history
@@ -289,6 +303,13 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     }
 }
 
+/// A message or an alarm as it goes into the history, on the recording's `/foxglove/log`:
+/// the program in memory named as its file.
+fn record_log(c: &mut Console, t_ns: u64, lvl: u8, text: &str, line: u32) {
+    let file = c.mem.program_name();
+    c.recorder.log(t_ns, lvl, text, &file, line);
+}
+
 /// Adds a secondary failure (the history or the counters could not be saved) after the
 /// message shown, never in its place: a refusal the operator must see stays first.
 fn also_say(c: &mut Console, failure: &str) {
@@ -305,6 +326,9 @@ fn also_say(c: &mut Console, failure: &str) {
 /// after the message, never in its place.
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
+    let t = c.status.machine_ns;
+    let src_line = c.status.executing.as_ref().map_or(0, |e| e.stmt.line);
+    record_log(c, t, level::INFO, &line, src_line);
     let pushed = c.pages.history.push(Entry {
         machine_ns: c.status.machine_ns,
         wall_s: Some(crate::store::stamps::now_s()),
