@@ -10,9 +10,12 @@ it); its JSON Schemas (`@foxglove/schemas/jsonschema`) are read with node. Check
   * every message on those channels validates against the package's schema (Python's
     `jsonschema`), and its timestamps (the message's, each entity's and deletion's) are its
     log time in Foxglove's {sec, nsec};
-  * the scene's line points, strip after strip, are the /nc/position path (metres = mm / 1000),
-    and the last strip of each block ends where /nc/position says the block ended;
-  * /foxglove/tool's translation is /nc/position, message for message.
+  * the scene's line points, strip after strip, are /nc/position points (metres = mm / 1000) in
+    their order, from the first move to the last position, every position left out lies within
+    a pulse of the segment drawn past it, and the last strip of each block ends where
+    /nc/position says the block ended;
+  * every /foxglove/tool transform is the /nc/position of its log time, and every position at
+    rest (speed 0) has one.
 
 Prints one line `foxglove SCHEMA N` per schema (messages validated) and `path points N`, then
 `OK`. Exit status 0 if every check passes, 1 with a message on stderr otherwise, 2 if a module
@@ -79,7 +82,11 @@ def main():
             cls.check_schema(published[schema.name])
             validators[ch.topic] = (schema.name, cls(published[schema.name], format_checker=cls.FORMAT_CHECKER))
         counts = {}
-        positions = []  # (log time, (x, y, z) mm)
+        # The pulse (the tolerance of the path check): novanc.settings, 0.001 mm in a file
+        # without it.
+        settings = [m.metadata for m in reader.iter_metadata() if m.name == "novanc.settings"]
+        pulse_mm = float(settings[0].get("pulse_mm", "0.001")) if settings else 0.001
+        positions = []  # (log time, (x, y, z) mm, speed)
         block_starts = []  # (log time, seq)
         strips = []  # (log time, entity id, [(x, y, z) m])
         tools = []  # (log time, (x, y, z) m)
@@ -100,7 +107,7 @@ def main():
                     if stamp(t) != m.log_time:
                         fail(f"{ch.topic}: timestamp {t} is not the log time {m.log_time}")
             if ch.topic == "/nc/position":
-                positions.append((m.log_time, (obj["x"], obj["y"], obj["z"])))
+                positions.append((m.log_time, (obj["x"], obj["y"], obj["z"]), obj.get("speed", 0)))
             elif ch.topic == "/nc/block":
                 block_starts.append((m.log_time, obj["seq"]))
             elif ch.topic == "/foxglove/scene":
@@ -114,10 +121,10 @@ def main():
     def mm(p):
         return tuple(round(c * 1000, 6) for c in p)
 
-    # The path: consecutive distinct positions, and the strips joined (each starts where the
-    # one before ended).
+    # The path: consecutive distinct positions; the strips joined (each starts where the one
+    # before ended) pick points of it in order, and pass within a pulse of every other.
     path_mm = []
-    for _, p in positions:
+    for _, p, _ in positions:
         if not path_mm or path_mm[-1] != p:
             path_mm.append(p)
     drawn = []
@@ -128,12 +135,31 @@ def main():
         if drawn and pts[0] != drawn[-1]:
             fail(f"strip {ident} starts at {pts[0]}, not where the one before ended ({drawn[-1]})")
         drawn.extend(pts[1:] if drawn else pts)
-    # Positions before the first move (a single point) draw no strip.
-    if path_mm[1:] and drawn != path_mm[len(path_mm) - len(drawn):]:
-        for k, (a, b) in enumerate(zip(drawn, path_mm[len(path_mm) - len(drawn):])):
-            if a != b:
-                fail(f"scene point {k} is {a}, /nc/position says {b}")
-        fail(f"the scene has {len(drawn)} points, /nc/position {len(path_mm)}")
+    tol = pulse_mm * 1.0 + 1e-9
+
+    def off(a, b, q):
+        ab = [b[i] - a[i] for i in range(3)]
+        aq = [q[i] - a[i] for i in range(3)]
+        l2 = sum(c * c for c in ab)
+        t = 0.0 if l2 == 0 else max(0.0, min(1.0, sum(aq[i] * ab[i] for i in range(3)) / l2))
+        return sum((aq[i] - t * ab[i]) ** 2 for i in range(3)) ** 0.5
+
+    if drawn:
+        try:
+            k = path_mm.index(drawn[0])
+        except ValueError:
+            fail(f"the scene starts at {drawn[0]}, not a /nc/position point")
+        for a, b in zip(drawn, drawn[1:]):
+            j = k + 1
+            while j < len(path_mm) and path_mm[j] != b:
+                if off(a, b, path_mm[j]) > tol:
+                    fail(f"/nc/position {path_mm[j]} is {off(a, b, path_mm[j]):.6f} mm from the scene's segment {a} -> {b}")
+                j += 1
+            if j == len(path_mm):
+                fail(f"scene point {b} is not the next /nc/position point after {a}")
+            k = j
+        if k != len(path_mm) - 1:
+            fail(f"the scene ends at {drawn[-1]}, /nc/position at {path_mm[-1]}")
     # Block ends: the last position before each block starts is the end of the last strip
     # written for the block before (strip ids N<seq> and N<seq>.<k>).
     last_of = {}
@@ -141,20 +167,26 @@ def main():
         last_of[ident.split(".")[0]] = mm(pts[-1])
     ends = 0
     for (t, seq), (_, prev_seq) in zip(block_starts[1:], block_starts[:-1]):
-        before = [p for (tp, p) in positions if tp <= t]
+        before = [p for (tp, p, _) in positions if tp <= t]
         key = f"N{prev_seq}"
         if before and key in last_of:
             if last_of[key] != before[-1]:
                 fail(f"block N{prev_seq} ends at {before[-1]} on /nc/position, its strip at {last_of[key]}")
             ends += 1
-    if len(tools) != len(positions):
-        fail(f"{len(tools)} tool transforms for {len(positions)} positions")
-    for (tt, tp), (pt, pp) in zip(tools, positions):
-        if tt != pt or mm(tp) != pp:
-            fail(f"tool transform at {tt} {mm(tp)} is not /nc/position at {pt} {pp}")
+    at = {}
+    for tp, p, _ in positions:
+        at.setdefault(tp, []).append(p)
+    moved = {tt for tt, _ in tools}
+    for tt, tp in tools:
+        if mm(tp) not in at.get(tt, []):
+            fail(f"tool transform at {tt} {mm(tp)} is not a /nc/position of that time {at.get(tt)}")
+    for tp, p, speed in positions:
+        if speed == 0 and tp not in moved:
+            fail(f"/nc/position at rest at {tp} {p} has no tool transform")
     for name in sorted(counts):
         print(f"foxglove {name} {counts[name]}")
-    print(f"path points {len(drawn)}")
+    print(f"path points {len(drawn)} of {len(path_mm)}")
+    print(f"tool transforms {len(tools)} for {len(positions)} positions")
     print(f"block ends {ends}")
     print("OK")
 

@@ -101,7 +101,12 @@ fn table_b_recording_draws_in_foxglove_with_the_published_schemas() {
     assert_eq!(topic("/foxglove/tool").0, "foxglove.FrameTransform");
     assert_eq!(topic("/foxglove/log").0, "foxglove.Log");
     assert_eq!(topic("/nc/position").0, "novanc.Position");
-    assert_eq!(topic("/foxglove/tool").1, topic("/nc/position").1);
+    // A transform every 40 ms of motion and at every rest, not one per position.
+    let (tools, positions) = (topic("/foxglove/tool").1, topic("/nc/position").1);
+    assert!(
+        tools > positions / 8 && tools < positions / 3,
+        "{tools} {positions}"
+    );
     assert!(topic("/foxglove/scene").1 > topic("/nc/block").1 / 2);
 
     // The attachments: the program as it was run, the tool data, the offsets, the machine.
@@ -154,17 +159,18 @@ fn table_b_recording_draws_in_foxglove_with_the_published_schemas() {
     }
 }
 
+/// A program with an arc, a message, and an E-STOP in its last feed.
 #[test]
 fn messages_and_alarms_go_to_the_foxglove_log() {
     let dir = common::temp_dir("foxglove-log");
     let p = dir.join("p.ngc");
     std::fs::write(
         &p,
-        "G0 X10 Y10\n(MSG, check the clamps)\nG1 X400 F300\nG0 X20\nM30\n",
+        "G0 X10 Y10\n(MSG, check the clamps)\nG1 X100 F3000\nG2 X150 Y60 R50\nG1 X400 F300\nG0 X20\nM30\n",
     )
     .unwrap();
     let script = format!(
-        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait ms 3000\nestop\nreset\n",
+        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait ms 5000\nestop\nreset\n",
         p.display()
     );
     let (rec, _) = common::recorded_script(&dir, &script);
@@ -184,4 +190,60 @@ fn messages_and_alarms_go_to_the_foxglove_log() {
         assert!(text.contains("foxglove foxglove.Log "), "{text}");
         assert!(text.contains("\nOK"), "{text}");
     }
+}
+
+/// A file with one `/foxglove/log` message `msg` under the schema text `schema`.
+fn one_log(dir: &Path, name: &str, schema: &str, msg: &str) -> PathBuf {
+    let path = dir.join(name);
+    let mut w = mcap::Writer::new(std::io::BufWriter::new(
+        std::fs::File::create(&path).unwrap(),
+    ))
+    .unwrap();
+    let s = w
+        .add_schema("foxglove.Log", "jsonschema", schema.as_bytes())
+        .unwrap();
+    let c = w
+        .add_channel(s, "/foxglove/log", "json", &BTreeMap::new())
+        .unwrap();
+    let header = mcap::records::MessageHeader {
+        channel_id: c,
+        sequence: 0,
+        log_time: 5,
+        publish_time: 5,
+    };
+    w.write_to_known_channel(&header, msg.as_bytes()).unwrap();
+    w.finish().unwrap();
+    path
+}
+
+#[test]
+fn the_foxglove_check_fails_on_a_bad_message_a_wrong_time_and_a_hand_copied_schema() {
+    let dir = common::temp_dir("foxglove-bad");
+    let schema = novanc::record::foxglove::LOG_SCHEMA;
+    let msg = |level: u8, nsec: u64| {
+        format!(
+            r#"{{"timestamp":{{"sec":0,"nsec":{nsec}}},"level":{level},"message":"m","name":"n","file":"","line":0}}"#
+        )
+    };
+    let run = |name: &str, schema: &str, msg: &str| {
+        let path = one_log(&dir, name, schema, msg);
+        let pkg = package();
+        common::python_script(
+            "foxglove_check.py",
+            &["mcap", "jsonschema"],
+            &path,
+            &["--package", pkg.to_str().unwrap()],
+        )
+    };
+    let Some((ok, text)) = run("good.mcap", schema, &msg(2, 5)) else {
+        return;
+    };
+    assert!(ok, "{text}");
+    let (ok, text) = run("level.mcap", schema, &msg(7, 5)).unwrap();
+    assert!(!ok && text.contains("['level']"), "{text}");
+    let (ok, text) = run("time.mcap", schema, &msg(2, 6)).unwrap();
+    assert!(!ok && text.contains("is not the log time 5"), "{text}");
+    let copy = schema.replace("\"Log message\"", "\"Log msg\"");
+    let (ok, text) = run("copy.mcap", &copy, &msg(2, 5)).unwrap();
+    assert!(!ok && text.contains("is not the package's"), "{text}");
 }

@@ -144,9 +144,20 @@ impl Stroke {
     }
 }
 
-/// Points of one strip before it is written as its own entity (10 ms apart while moving:
+/// Positions of one strip before it is written as its own entity (10 ms apart while moving:
 /// a long block shows up a second at a time).
 pub const STRIP_POINTS: usize = 100;
+
+/// The most positions a strip's point stands for: a point is dropped when the segment past it
+/// passes within `THIN_PULSES` of it and of every position dropped before it, up to this many.
+pub const THIN_RUN: usize = 16;
+
+/// How far from the drawn segment a dropped position may lie, pulses.
+pub const THIN_PULSES: f64 = 1.0;
+
+/// The least machine time between two tool transforms while moving, ns (Foxglove
+/// interpolates between them); a position at rest always gets one.
+pub const TOOL_PERIOD_NS: u64 = 40_000_000;
 
 /// The tool drawn when the recording has no data for the T code in the spindle: diameter
 /// and length, mm.
@@ -166,10 +177,17 @@ pub struct Scene {
     text: String,
     /// How many strips this block has written.
     part: u32,
-    /// Program positions, pulses; the first is where the strip starts.
+    /// Program positions, pulses; the first is where the strip starts, the last the latest
+    /// position.
     points: Vec<[i64; 3]>,
+    /// The positions dropped between the last two points.
+    dropped: Vec<[i64; 3]>,
+    /// Positions since the strip started.
+    count: usize,
     /// The time of the last position.
     last_t: u64,
+    /// The time of the last tool transform.
+    tool_t: Option<u64>,
     /// The T code drawn (None: not drawn yet).
     tool: Option<u32>,
     buf: Vec<u8>,
@@ -186,7 +204,10 @@ impl Scene {
             text: String::new(),
             part: 0,
             points: Vec::new(),
+            dropped: Vec::new(),
+            count: 0,
             last_t: 0,
+            tool_t: None,
             tool: None,
             buf: Vec::with_capacity(16 * 1024),
         }
@@ -205,15 +226,24 @@ impl Scene {
                 self.text.push_str(text);
                 self.part = 0;
             }
-            Event::Position { t_ns, pulses, .. } => {
-                self.buf.clear();
-                self.transform(*t_ns, pulses);
-                emit(Derived::Tool, *t_ns, &self.buf);
-                if self.points.last() != Some(pulses) {
-                    self.points.push(*pulses);
+            Event::Position {
+                t_ns,
+                pulses,
+                speed_mm_min,
+                ..
+            } => {
+                let due = self
+                    .tool_t
+                    .is_none_or(|t| t_ns.saturating_sub(t) >= TOOL_PERIOD_NS);
+                if due || *speed_mm_min == 0.0 {
+                    self.buf.clear();
+                    self.transform(*t_ns, pulses);
+                    emit(Derived::Tool, *t_ns, &self.buf);
+                    self.tool_t = Some(*t_ns);
                 }
+                self.add_point(*pulses);
                 self.last_t = *t_ns;
-                if self.points.len() >= STRIP_POINTS {
+                if self.count >= STRIP_POINTS {
                     self.flush(*t_ns, emit);
                 }
             }
@@ -225,6 +255,28 @@ impl Scene {
             }
             _ => {}
         }
+    }
+
+    /// Adds a position to the strip: the last point is replaced when the segment to `p`
+    /// passes within `THIN_PULSES` of it and of the positions it already stood for (a straight
+    /// move needs no point between its ends; an arc keeps one wherever the chord would leave the
+    /// path by more than a pulse).
+    fn add_point(&mut self, p: [i64; 3]) {
+        if self.points.last() == Some(&p) {
+            return;
+        }
+        self.count += 1;
+        let n = self.points.len();
+        if n >= 2 && self.dropped.len() < THIN_RUN {
+            let (a, b) = (self.points[n - 2], self.points[n - 1]);
+            if near(a, p, b) && self.dropped.iter().all(|&q| near(a, p, q)) {
+                self.dropped.push(b);
+                self.points[n - 1] = p;
+                return;
+            }
+        }
+        self.dropped.clear();
+        self.points.push(p);
     }
 
     /// Writes the strip so far (if it has a segment) at `t_ns`; the next one starts where it
@@ -240,6 +292,8 @@ impl Scene {
             self.points.clear();
             self.points.push(last);
         }
+        self.dropped.clear();
+        self.count = 0;
     }
 
     /// Appends a length of `pulses` in metres (9 decimals: a nanometre).
@@ -362,6 +416,25 @@ impl Scene {
     }
 }
 
+/// Whether `q` lies within `THIN_PULSES` of the segment from `a` to `b` (pulses).
+fn near(a: [i64; 3], b: [i64; 3], q: [i64; 3]) -> bool {
+    let d = |u: [i64; 3], v: [i64; 3]| {
+        [
+            (v[0] - u[0]) as f64,
+            (v[1] - u[1]) as f64,
+            (v[2] - u[2]) as f64,
+        ]
+    };
+    let (ab, aq) = (d(a, b), d(a, q));
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+    if len2 == 0.0 {
+        return false;
+    }
+    let t = ((aq[0] * ab[0] + aq[1] * ab[1] + aq[2] * ab[2]) / len2).clamp(0.0, 1.0);
+    let e = [aq[0] - t * ab[0], aq[1] - t * ab[1], aq[2] - t * ab[2]];
+    e[0] * e[0] + e[1] * e[1] + e[2] * e[2] <= THIN_PULSES * THIN_PULSES
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -417,9 +490,59 @@ mod tests {
             .contains("\"points\":[{\"x\":0.00099,\"y\":0,\"z\":-0.000001}"));
         assert_eq!(scenes[1].1, 5_000_000_000);
         let tools = out.iter().filter(|m| m.0 == Derived::Tool).count();
-        assert_eq!(tools, STRIP_POINTS + 1);
+        assert_eq!(
+            tools,
+            STRIP_POINTS + 1,
+            "at rest (speed 0) every position has one"
+        );
         assert!(out[1]
             .2
             .starts_with("{\"timestamp\":{\"sec\":0,\"nsec\":10},"));
+        // A straight move: a point for every THIN_RUN + 1 positions, the ends kept.
+        let points = scenes[0].2.split("\"points\":").nth(1).unwrap();
+        assert_eq!(points.matches("{\"x\":").count(), 7, "{points}");
+    }
+
+    #[test]
+    fn an_arc_keeps_every_position_within_a_pulse_and_moving_tools_are_thinned() {
+        let mut s = Scene::new(0.001, Vec::new());
+        let r = 10_000.0;
+        let circle: Vec<[i64; 3]> = (0..=90)
+            .map(|k| {
+                let a = (k as f64).to_radians() * 0.5;
+                [
+                    (r * a.cos()).round() as i64,
+                    (r * a.sin()).round() as i64,
+                    0,
+                ]
+            })
+            .collect();
+        let mut tools = 0;
+        for (k, p) in circle.iter().enumerate() {
+            s.derive(
+                &Event::Position {
+                    t_ns: k as u64 * 10_000_000,
+                    pulses: *p,
+                    held: [0; 3],
+                    speed_mm_min: 600.0,
+                },
+                &mut |d, _, _| tools += usize::from(d == Derived::Tool),
+            );
+        }
+        // One transform per 40 ms of motion: 91 positions 10 ms apart.
+        assert_eq!(tools, 23);
+        let kept = s.points.clone();
+        assert!(
+            kept.len() > 2 && kept.len() < circle.len(),
+            "{}",
+            kept.len()
+        );
+        assert_eq!((kept[0], kept[kept.len() - 1]), (circle[0], circle[90]));
+        for q in &circle {
+            assert!(
+                kept.windows(2).any(|w| near(w[0], w[1], *q)),
+                "{q:?} is more than a pulse from the strip"
+            );
+        }
     }
 }

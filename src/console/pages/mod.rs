@@ -326,9 +326,9 @@ fn also_say(c: &mut Console, failure: &str) {
 /// after the message, never in its place.
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
+    // When the console shows it; the message does not say which line gave it.
     let t = c.status.machine_ns;
-    let src_line = c.status.executing.as_ref().map_or(0, |e| e.stmt.line);
-    record_log(c, t, level::INFO, &line, src_line);
+    record_log(c, t, level::INFO, &line, 0);
     let pushed = c.pages.history.push(Entry {
         machine_ns: c.status.machine_ns,
         wall_s: Some(crate::store::stamps::now_s()),
