@@ -184,8 +184,16 @@ fn messages_and_alarms_go_to_the_foxglove_log() {
     };
     assert!(has(2, "MSG: check the clamps"), "{:#?}", r.logs);
     assert!(has(4, "EMERGENCY STOP"), "{:#?}", r.logs);
-    // The program in memory when the recording started (the console's sample, none read yet).
-    assert!(r.metadata.contains_key("novanc.program"));
+    // The program in memory when the recording started (the console's sample, none read yet),
+    // and its tool file.
+    let p = &r.metadata["novanc.program"];
+    let (media, text) = &r.attachments[&format!("program/{}", p["name"])];
+    assert_eq!(
+        (media.as_str(), text.len().to_string()),
+        ("text/plain", p["bytes"].clone())
+    );
+    assert!(!p["name"].is_empty() && p["tools"] != "0", "{p:?}");
+    assert!(r.attachments.contains_key("tooldata.csv"));
     if let Some(text) = foxglove_check(&rec) {
         assert!(text.contains("foxglove foxglove.Log "), "{text}");
         assert!(text.contains("\nOK"), "{text}");
