@@ -5,6 +5,10 @@
 //! 3. The recorder thread behind its queue, paced at rising pulse rates for a few seconds each
 //!    with a small queue (so a backlog cannot hide in it): the highest rate with no drop and a
 //!    prompt finish is the maximum sustained rate. Then the default queue at 10 M pulses/s.
+//! 4. What the Foxglove topics cost (issue 25): `novanc run programs/tableb.ap --record X`,
+//!    runs alternated with and without them (`NOVANC_FOXGLOVE_SCENE=off`), with and without
+//!    the pulses: the process's wall clock and CPU time (user + system), best and median.
+//!    `cargo bench --bench record -- foxglove` runs this stage alone.
 //!
 //! Pulse times look like a real run: 11-digit ns values (a minute into the run), ~100 ns apart.
 
@@ -162,6 +166,83 @@ fn paced(rate: f64, secs: f64, n: u64, queue: usize) -> Option<(u64, f64, u64, f
     ))
 }
 
+/// (wall, CPU) seconds of one `novanc run` of Table B recorded to a file; the CPU time is
+/// the child's user + system.
+fn tableb_run(scene: bool, pulses: bool) -> Option<(f64, f64)> {
+    let path = temp("tableb");
+    let prog = concat!(env!("CARGO_MANIFEST_DIR"), "/programs/tableb.ap");
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"));
+    cmd.args(["run", prog, "--record"]).arg(&path);
+    if !pulses {
+        cmd.args(["--pulses", "off"]);
+    }
+    if scene {
+        cmd.env_remove(novanc::record::writer::SCENE_ENV);
+    } else {
+        cmd.env(novanc::record::writer::SCENE_ENV, "off");
+    }
+    let children_cpu = || {
+        // SAFETY: getrusage only writes the struct we pass, which lives on our stack.
+        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+        unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut u) };
+        let tv = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        tv(u.ru_utime) + tv(u.ru_stime)
+    };
+    let cpu0 = children_cpu();
+    let start = Instant::now();
+    let out = cmd.output().ok()?;
+    let wall = start.elapsed().as_secs_f64();
+    let _ = std::fs::remove_file(&path);
+    out.status.success().then(|| (wall, children_cpu() - cpu0))
+}
+
+/// Stage 4: the Foxglove topics' cost on Table B's recorded run.
+fn foxglove_cost(runs: usize) {
+    let ms = |v: &mut Vec<f64>, best: bool| {
+        v.sort_by(f64::total_cmp);
+        1e3 * if best { v[0] } else { v[v.len() / 2] }
+    };
+    for pulses in [true, false] {
+        let (mut with, mut without) = (Vec::new(), Vec::new());
+        for i in 0..runs {
+            for scene in [i % 2 == 0, i % 2 != 0] {
+                let Some(r) = tableb_run(scene, pulses) else {
+                    println!("foxglove: novanc run failed");
+                    return;
+                };
+                if scene {
+                    with.push(r)
+                } else {
+                    without.push(r)
+                }
+            }
+        }
+        for (k, what) in [(0, "wall"), (1, "CPU")] {
+            let mut a: Vec<f64> = without
+                .iter()
+                .map(|r| if k == 0 { r.0 } else { r.1 })
+                .collect();
+            let mut b: Vec<f64> = with
+                .iter()
+                .map(|r| if k == 0 { r.0 } else { r.1 })
+                .collect();
+            let (ab, am, bb, bm) = (
+                ms(&mut a, true),
+                ms(&mut a, false),
+                ms(&mut b, true),
+                ms(&mut b, false),
+            );
+            println!(
+                "foxglove  Table B, pulses {}: {what:>4} without best {ab:>6.0} median {am:>6.0} ms, \
+                 with best {bb:>6.0} median {bm:>6.0} ms: best {:+.1} %, median {:+.1} % ({runs} runs each)",
+                if pulses { "on " } else { "off" },
+                (bb / ab - 1.0) * 100.0,
+                (bm / am - 1.0) * 100.0
+            );
+        }
+    }
+}
+
 fn main() {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!(
@@ -172,6 +253,11 @@ fn main() {
             .collect::<Vec<_>>()
             .join(" ")
     );
+    // `cargo bench --bench record -- foxglove`: stage 4 alone.
+    if std::env::args().any(|a| a == "foxglove") {
+        foxglove_cost(15);
+        return;
+    }
     for n in [1_000, 2_000, 4_000] {
         encoder(n);
     }
@@ -226,4 +312,5 @@ fn main() {
             );
         }
     }
+    foxglove_cost(15);
 }

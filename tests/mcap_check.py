@@ -72,6 +72,23 @@ REQUIRED = {
         "synced": BOOL,
     },
     "/lathe/event": {"channel": INT, "event": STR, "text": STR},
+    # Foxglove's schemas (issue 25); tests/foxglove_check.py validates them in full.
+    "/foxglove/log": {
+        "timestamp": "time",
+        "level": INT,
+        "message": STR,
+        "name": STR,
+        "file": STR,
+        "line": INT,
+    },
+    "/foxglove/scene": {"deletions": "list", "entities": "list"},
+    "/foxglove/tool": {
+        "timestamp": "time",
+        "parent_frame_id": STR,
+        "child_frame_id": STR,
+        "translation": "object",
+        "rotation": "object",
+    },
 }
 
 
@@ -94,6 +111,9 @@ def check_field(topic, name, kind, v, where):
         "dir": lambda: is_int(v) and v in (1, -1),
         "times": lambda: isinstance(v, list) and all(is_int(t) and t >= 0 for t in v),
         "strings": lambda: isinstance(v, list) and all(isinstance(s, str) for s in v),
+        "time": lambda: isinstance(v, dict) and is_int(v.get("sec")) and is_int(v.get("nsec")),
+        "list": lambda: isinstance(v, list),
+        "object": lambda: isinstance(v, dict),
     }[kind]()
     if not ok:
         raise CheckError(f"{where}: {topic} field {name!r} has a bad value {v!r:.80}")

@@ -8,7 +8,8 @@ use crate::console::RunSource;
 use crate::pulse_core::{
     ClockMode, Command, EndCause, PulseCore, Reached, RunEnd, RunKind, Status,
 };
-use crate::record::Recorder;
+use crate::record::foxglove::{alarm_line, level};
+use crate::record::{Event, Recorder, RecordingInfo};
 use crate::settings::MachineSettings;
 use std::path::Path;
 
@@ -129,7 +130,16 @@ pub fn main(argv: &[String]) -> i32 {
     super::signals::install();
     let recorder = match args.value("--record") {
         None => None,
-        Some(p) => match Recorder::start(Path::new(p), &settings) {
+        Some(p) => match Recorder::start_with_info(
+            Path::new(p),
+            &settings,
+            &RecordingInfo {
+                program_name: prog.clone(),
+                program_text: source.clone(),
+                magazine: Some(magazine.clone()),
+                work_offsets: offsets.0,
+            },
+        ) {
             Ok(r) => Some(r),
             Err(e) => return fail(&format!("novanc: cannot record to {p}: {e}")),
         },
@@ -231,6 +241,23 @@ pub fn main(argv: &[String]) -> i32 {
         }) => Some((error.clone(), *nothing_moved)),
         _ => None,
     };
+    // The run's alarm or program error on /foxglove/log, where the run ended.
+    if let Some(r) = &recorder {
+        let log = |message: String, line: u32| Event::Log {
+            t_ns: status.machine_ns,
+            level: level::ERROR,
+            name: "novanc run".into(),
+            message,
+            file: prog.clone(),
+            line,
+        };
+        if let Some((e, _)) = &source_error {
+            r.sink().send(log(e.to_string(), e.line));
+        }
+        if let Some(a) = &status.alarm {
+            r.sink().send(log(a.clone(), alarm_line(a)));
+        }
+    }
     if let Some((e, true)) = &source_error {
         // Nothing moved: the program is refused, as a translation error.
         if let Some(r) = recorder {

@@ -3,6 +3,7 @@
 //! the pages draw it, it names nothing of them.
 
 use super::Console;
+use crate::record::foxglove::{alarm_line, level};
 use crate::store::history::{Counters, Entry, History, Kind};
 
 /// The history and the counters, kept in the stores across restarts.
@@ -49,6 +50,12 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     if let Some(a) = alarm {
         if a != c.book.logged.1 {
             c.book.logged.1 = a.clone();
+            let line = c
+                .program_alarm
+                .as_ref()
+                .filter(|p| p.error.to_string() == a)
+                .map_or_else(|| alarm_line(&a), |p| p.error.line);
+            record_log(c, t, level::ERROR, &a, line);
             warn = c
                 .book
                 .history
@@ -66,6 +73,13 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let m = c.message.clone();
     if !m.is_empty() && m != "ok" && m != c.book.logged.0 {
         c.book.logged.0 = m.clone();
+        // The pulse core's refusal of an operator action is a warning; the rest, information.
+        let lvl = if c.status.notice.as_deref() == Some(m.as_str()) {
+            level::WARNING
+        } else {
+            level::INFO
+        };
+        record_log(c, t, lvl, &m, 0);
         warn = warn.or(c
             .book
             .history
@@ -82,6 +96,13 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
         // The message with the failure added is not logged again.
         c.book.logged.0 = c.message.clone();
     }
+}
+
+/// A message or an alarm as it goes into the history, on the recording's `/foxglove/log`:
+/// the program in memory named as its file.
+fn record_log(c: &mut Console, t_ns: u64, lvl: u8, text: &str, line: u32) {
+    let file = c.mem.program_name();
+    c.recorder.log(t_ns, lvl, text, &file, line);
 }
 
 /// Adds a secondary failure (the history or the counters could not be saved) after the
@@ -101,6 +122,9 @@ fn also_say(c: &mut Console, failure: &str) {
 /// is said after the message, never in its place.
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
+    // When the console shows it; the message does not say which line gave it.
+    let t = c.status.machine_ns;
+    record_log(c, t, level::INFO, &line, 0);
     let pushed = c.book.history.push(Entry {
         machine_ns: c.status.machine_ns,
         wall_s: Some(crate::store::stamps::now_s()),

@@ -167,8 +167,23 @@ impl Console {
         let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
         let (book, more) = book::Book::open(&cfg.state_dir);
         warnings.extend(more);
-        let recorder =
-            run::Recording::start(cfg.record.as_deref(), cfg.sink.clone(), &cfg.settings)?;
+        // What the recording starts from (docs/recording.md, "Attachments"): copied only when
+        // there is a file to write it to.
+        let info = match cfg.record {
+            Some(_) => crate::record::RecordingInfo {
+                program_name: mem.program_name(),
+                program_text: mem.text(crate::store::Target::Program),
+                magazine: Some(mem.magazine()),
+                work_offsets: mem.work_offsets().0,
+            },
+            None => Default::default(),
+        };
+        let recorder = run::Recording::start(
+            cfg.record.as_deref(),
+            cfg.sink.clone(),
+            &cfg.settings,
+            &info,
+        )?;
         let core = PulseCore::spawn(
             cfg.settings.clone(),
             cfg.clock,

@@ -8,7 +8,7 @@ use crate::block::MachineState;
 use crate::gcode::{GcodeSource, InterpState, Switches, WorkOffsets};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
-use crate::record::{Event, EventSink, Recorder};
+use crate::record::{Event, EventSink, Recorder, RecordingInfo};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use crate::tooldata::Magazine;
@@ -588,14 +588,16 @@ pub(super) struct Recording {
 }
 
 impl Recording {
-    /// Starts recording to `path`, if given; else to `sink`, if given.
+    /// Starts recording to `path`, if given, the file beginning with `info` (the program in
+    /// memory, the tool data, the work offsets); else to `sink`, if given.
     pub fn start(
         path: Option<&Path>,
         sink: Option<EventSink>,
         settings: &MachineSettings,
+        info: &RecordingInfo,
     ) -> Result<Recording, String> {
         let recorder = match path {
-            Some(p) => Some(Recorder::start(p, settings)?),
+            Some(p) => Some(Recorder::start_with_info(p, settings, info)?),
             None => None,
         };
         Ok(Recording {
@@ -615,6 +617,20 @@ impl Recording {
             s.send(Event::PanelEvent {
                 t_ns,
                 event: super::script_line::script_line(ev),
+            });
+        }
+    }
+
+    /// Records a message or an alarm of the MSG history on `/foxglove/log`.
+    pub fn log(&mut self, t_ns: u64, level: u8, message: &str, file: &str, line: u32) {
+        if let Some(s) = &self.sink {
+            s.send(Event::Log {
+                t_ns,
+                level,
+                name: "console".into(),
+                message: message.to_string(),
+                file: file.to_string(),
+                line,
             });
         }
     }

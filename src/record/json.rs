@@ -138,15 +138,23 @@ pub fn push_i64(out: &mut Vec<u8>, v: i64) {
 /// Appends a length in millimetres rounded to 6 decimals, without trailing zeros
 /// (`12.5`, `-0.003`, `0`). A non-finite value (never expected) is written as `null`.
 pub fn push_mm(out: &mut Vec<u8>, mm: f64) {
-    if !mm.is_finite() {
+    push_decimal(out, mm, 6);
+}
+
+/// Appends `v` rounded to `decimals` (at most 9) decimals, without trailing zeros; a
+/// non-finite value (never expected) as `null`.
+pub fn push_decimal(out: &mut Vec<u8>, v: f64, decimals: u32) {
+    if !v.is_finite() {
         out.extend_from_slice(b"null");
         return;
     }
-    // Whole micro-millimetres (nanometres) as an integer: exact digits, no float noise.
-    let scaled = (mm * 1_000_000.0).round();
+    let decimals = decimals.min(9);
+    let unit = 10u64.pow(decimals);
+    // Whole units of the last decimal as an integer: exact digits, no float noise.
+    let scaled = (v * unit as f64).round();
     if scaled.abs() >= 9.0e18 {
         // Beyond any machine's travel; fall back to Rust's shortest round-trip form.
-        out.extend_from_slice(format!("{mm:e}").as_bytes());
+        out.extend_from_slice(format!("{v:e}").as_bytes());
         return;
     }
     let n = scaled as i64;
@@ -154,11 +162,11 @@ pub fn push_mm(out: &mut Vec<u8>, mm: f64) {
         out.push(b'-');
     }
     let a = n.unsigned_abs();
-    push_u64(out, a / 1_000_000);
-    let mut frac = a % 1_000_000;
+    push_u64(out, a / unit);
+    let mut frac = a % unit;
     if frac != 0 {
         out.push(b'.');
-        let mut digits = 6;
+        let mut digits = decimals as usize;
         while frac.is_multiple_of(10) {
             frac /= 10;
             digits -= 1;
@@ -360,6 +368,29 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             push_mm(out, *value);
             out.extend_from_slice(b",\"synced\":");
             out.extend_from_slice(if *synced { b"true" } else { b"false" });
+            out.push(b'}');
+            *t_ns
+        }
+        Event::Log {
+            t_ns,
+            level,
+            name,
+            message,
+            file,
+            line,
+        } => {
+            out.extend_from_slice(b"{\"timestamp\":");
+            super::foxglove::push_time(out, *t_ns);
+            out.extend_from_slice(b",\"level\":");
+            push_u64(out, u64::from(*level));
+            out.extend_from_slice(b",\"message\":");
+            push_str(out, message);
+            out.extend_from_slice(b",\"name\":");
+            push_str(out, name);
+            out.extend_from_slice(b",\"file\":");
+            push_str(out, file);
+            out.extend_from_slice(b",\"line\":");
+            push_u64(out, u64::from(*line));
             out.push(b'}');
             *t_ns
         }

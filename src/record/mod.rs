@@ -7,12 +7,15 @@
 //! thread.
 
 pub mod file;
+pub mod foxglove;
+pub mod info;
 pub mod json;
 pub mod recorder;
 pub mod testkit;
 pub mod topic;
 pub mod writer;
 
+pub use info::RecordingInfo;
 pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
 pub use topic::{Topic, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};
@@ -153,6 +156,21 @@ pub enum Event {
         value: f64,
         /// With the motion (M62, M63, M67) or at once.
         synced: bool,
+    },
+    /// `/foxglove/log`: an operator or program message, or an alarm (`foxglove.Log`).
+    Log {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// `foxglove.Log` level: `foxglove::level::INFO`, `WARNING` or `ERROR`.
+        level: u8,
+        /// Who says it: `console`, `program`, `pulse core`, `novanc run`.
+        name: String,
+        /// The text, as the operator sees it.
+        message: String,
+        /// The program it is about (empty when none).
+        file: String,
+        /// Its source line, 1-based (0 when none).
+        line: u32,
     },
 }
 

@@ -7,8 +7,9 @@
 //! (counted, recording marked incomplete); a disk error marks the recording incomplete at once
 //! and the thread keeps draining, so producers never notice.
 
+use super::foxglove::DERIVED;
 use super::writer::{RecordWriter, WriterOutcome};
-use super::{Event, EventSink, SinkFlags, Topic, TOPICS};
+use super::{Event, EventSink, RecordingInfo, SinkFlags, Topic, TOPICS};
 use crate::settings::MachineSettings;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -62,8 +63,28 @@ impl Recorder {
         settings: &MachineSettings,
         capacity: usize,
     ) -> Result<Recorder, String> {
+        Recorder::start_with(path, settings, &RecordingInfo::default(), capacity)
+    }
+
+    /// As `start`, the file beginning with the run's program and data (attachments and the
+    /// `novanc.program` metadata), and the tools' sizes drawn in the scene.
+    pub fn start_with_info(
+        path: &Path,
+        settings: &MachineSettings,
+        info: &RecordingInfo,
+    ) -> Result<Recorder, String> {
+        Recorder::start_with(path, settings, info, DEFAULT_QUEUE_EVENTS)
+    }
+
+    /// The body of the `start` functions.
+    fn start_with(
+        path: &Path,
+        settings: &MachineSettings,
+        info: &RecordingInfo,
+        capacity: usize,
+    ) -> Result<Recorder, String> {
         let capacity = capacity.max(1);
-        let writer = RecordWriter::create(path, settings)?;
+        let writer = RecordWriter::create_with(path, settings, info)?;
         let (tx, rx) = sync_channel(capacity);
         let sink = EventSink::new(tx);
         let flags = sink.flags();
@@ -152,6 +173,7 @@ impl Recorder {
         Ok(RecordSummary {
             path: self.path.clone(),
             messages: out.messages,
+            foxglove: out.foxglove,
             pulses: out.pulses,
             bytes: out.bytes,
             incomplete: self.flags.is_incomplete(),
@@ -232,6 +254,8 @@ pub struct RecordSummary {
     pub path: PathBuf,
     /// Messages written per topic, in `Topic::ALL` order.
     pub messages: [u64; TOPICS],
+    /// Derived Foxglove messages written (`/foxglove/scene`, `/foxglove/tool`).
+    pub foxglove: [u64; DERIVED],
     /// Pulses written in `/nc/pulses`.
     pub pulses: u64,
     /// File size, bytes (0 after a disk error).
@@ -249,8 +273,15 @@ pub struct RecordSummary {
 }
 
 impl RecordSummary {
-    /// Messages written on a topic, by its name (`"/nc/pulses"`); 0 for an unknown topic.
+    /// Messages written on a topic, by its name (`"/nc/pulses"`, `"/foxglove/scene"`); 0 for
+    /// an unknown topic.
     pub fn count(&self, topic: &str) -> u64 {
+        if let Some(d) = super::foxglove::Derived::ALL
+            .iter()
+            .find(|d| d.name() == topic)
+        {
+            return self.foxglove[d.index()];
+        }
         Topic::ALL
             .iter()
             .find(|t| t.name() == topic)
@@ -307,6 +338,9 @@ impl fmt::Display for RecordSummary {
         if m[6] > 0 {
             write!(f, ", {} probes", m[6])?;
         }
+        if m[Topic::Log.index()] > 0 {
+            write!(f, ", {} log messages", m[Topic::Log.index()])?;
+        }
         if self.disk_error.is_none() {
             write!(f, ", {:.1} MB", self.bytes as f64 / 1e6)?;
         }
@@ -321,7 +355,8 @@ mod tests {
     fn summary() -> RecordSummary {
         RecordSummary {
             path: PathBuf::from("run.mcap"),
-            messages: [12, 40, 620, 5, 3, 2, 0, 0],
+            messages: [12, 40, 620, 5, 3, 2, 0, 0, 0],
+            foxglove: [0, 0],
             pulses: 1_234_567,
             bytes: 17_200_000,
             incomplete: false,

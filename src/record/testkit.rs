@@ -121,6 +121,16 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
                 synced: s % 57 == 0,
             });
         }
+        if s % 23 == 0 {
+            evs.push(Event::Log {
+                t_ns: t0 + 2,
+                level: 2 + (s % 3) as u8,
+                name: "console".into(),
+                message: format!("MSG: \"{s}\" ±0.01 → ok\ttab"),
+                file: "O0001".into(),
+                line: (s / 3) as u32,
+            });
+        }
         if s % 13 == 0 {
             evs.push(Event::PanelEvent {
                 t_ns: t0 + 1,

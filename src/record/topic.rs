@@ -4,7 +4,7 @@
 use super::Event;
 
 /// How many topics there are.
-pub const TOPICS: usize = 8;
+pub const TOPICS: usize = 9;
 
 /// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -25,6 +25,8 @@ pub enum Topic {
     Probe,
     /// `/nc/io`: an output set (issue 21).
     Io,
+    /// `/foxglove/log`: operator and program messages and alarms (issue 25).
+    Log,
 }
 
 impl Topic {
@@ -38,6 +40,7 @@ impl Topic {
         Topic::PanelEvent,
         Topic::Probe,
         Topic::Io,
+        Topic::Log,
     ];
 
     /// The MCAP topic name.
@@ -51,6 +54,7 @@ impl Topic {
             Topic::PanelEvent => "/panel/event",
             Topic::Probe => "/nc/probe",
             Topic::Io => "/nc/io",
+            Topic::Log => "/foxglove/log",
         }
     }
 
@@ -70,6 +74,7 @@ impl Topic {
             Event::PanelEvent { .. } => Topic::PanelEvent,
             Event::Probe { .. } => Topic::Probe,
             Event::Io { .. } => Topic::Io,
+            Event::Log { .. } => Topic::Log,
         }
     }
 
@@ -84,10 +89,12 @@ impl Topic {
             Topic::PanelEvent => "novanc.PanelEvent",
             Topic::Probe => "novanc.Probe",
             Topic::Io => "novanc.Io",
+            Topic::Log => "foxglove.Log",
         }
     }
 
-    /// The JSON schema (draft 2020-12) of the topic's messages.
+    /// The JSON schema of the topic's messages: draft 2020-12 for novanc's own, Foxglove's
+    /// published schema for `foxglove.Log`.
     pub fn schema(self) -> &'static str {
         match self {
             Topic::Block => concat!(
@@ -168,6 +175,7 @@ impl Topic {
                 r#""synced":{"type":"boolean","description":"with the motion (M62, M63, M67: when the block's motion starts) or at once (M64, M65, M68: when the block is read)"}},"#,
                 r#""required":["seq","stmt","kind","index","value","synced"]}"#
             ),
+            Topic::Log => super::foxglove::LOG_SCHEMA,
         }
     }
 }
@@ -196,6 +204,7 @@ mod tests {
                 "seq", "stmt", "x", "y", "z", "pulses", "tripped", "at_start",
             ],
             &["seq", "stmt", "kind", "index", "value", "synced"],
+            &["timestamp", "level", "message", "name", "file", "line"],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();

@@ -15,12 +15,22 @@ use super::file::{
     mcap_options, recording_metadata, CommitClock, RecordFile, RecordOutput, CHUNK_BYTES,
     MESSAGE_RECORD_OVERHEAD,
 };
+use super::foxglove::{Derived, Scene, DERIVED};
+use super::info::RecordingInfo;
 use super::json::encode_event;
 use super::topic::{Topic, TOPICS};
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+/// Channels in the file: one per topic, then the derived Foxglove ones.
+const CHANNELS: usize = TOPICS + DERIVED;
+
+/// The environment variable that leaves the derived Foxglove topics (`/foxglove/scene`,
+/// `/foxglove/tool`) out when set to `off`: for measuring what they cost
+/// (docs/recording.md, "Foxglove topics").
+pub const SCENE_ENV: &str = "NOVANC_FOXGLOVE_SCENE";
 
 /// What a finished `RecordWriter` reports.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -29,6 +39,8 @@ pub struct WriterOutcome {
     pub messages: [u64; TOPICS],
     /// Pulses on disk in `/nc/pulses` batches.
     pub pulses: u64,
+    /// Derived messages on disk per Foxglove channel, in `Derived::ALL` order.
+    pub foxglove: [u64; DERIVED],
     /// Events not in the file because of a disk error: those of the chunk it cut short, and
     /// every later one.
     pub lost_to_disk_error: u64,
@@ -46,8 +58,10 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
     pulse_mm: f64,
-    channels: [u16; TOPICS],
-    sequence: [u32; TOPICS],
+    channels: [u16; CHANNELS],
+    sequence: [u32; CHANNELS],
+    /// Derives the Foxglove scene and tool transform (None: left out, `SCENE_ENV`).
+    scene: Option<Scene>,
     out: WriterOutcome,
     /// Messages and pulses of the chunk still open (not yet flushed to the file).
     pending: Pending,
@@ -61,7 +75,7 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
 /// What the open chunk holds: counted in the outcome only once the chunk is on disk.
 #[derive(Clone, Copy, Debug, Default)]
 struct Pending {
-    messages: [u64; TOPICS],
+    messages: [u64; CHANNELS],
     pulses: u64,
     bytes: u64,
 }
@@ -84,28 +98,49 @@ impl RecordWriter {
     /// settings as metadata. Fails only if the file cannot be created; a write error here is
     /// kept and reported by `finish` like any later disk error.
     pub fn create(path: &Path, settings: &MachineSettings) -> Result<RecordWriter, String> {
+        RecordWriter::create_with(path, settings, &RecordingInfo::default())
+    }
+
+    /// As `create`, with the run's program and data as attachments and metadata.
+    pub fn create_with(
+        path: &Path,
+        settings: &MachineSettings,
+        info: &RecordingInfo,
+    ) -> Result<RecordWriter, String> {
         let file = RecordFile::create(path)
             .map_err(|e| format!("cannot create recording {}: {e}", path.display()))?;
-        Ok(RecordWriter::with_output(file, path, settings))
+        Ok(RecordWriter::with_output_info(file, path, settings, info))
     }
 }
 
 impl<W: RecordOutput> RecordWriter<W> {
     /// As `create`, on an output already open; `path` only names it in error messages.
     pub fn with_output(output: W, path: &Path, settings: &MachineSettings) -> RecordWriter<W> {
+        RecordWriter::with_output_info(output, path, settings, &RecordingInfo::default())
+    }
+
+    /// As `create_with`, on an output already open.
+    pub fn with_output_info(
+        output: W,
+        path: &Path,
+        settings: &MachineSettings,
+        info: &RecordingInfo,
+    ) -> RecordWriter<W> {
+        let scene_on = std::env::var(SCENE_ENV).map_or(true, |v| v != "off");
         let mut w = RecordWriter {
             mcap: None,
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
-            channels: [0; TOPICS],
-            sequence: [0; TOPICS],
+            channels: [0; CHANNELS],
+            sequence: [0; CHANNELS],
+            scene: scene_on.then(|| Scene::new(settings.pulse_mm, info.tool_sizes())),
             out: WriterOutcome::default(),
             pending: Pending::default(),
             chunk_bytes: CHUNK_BYTES,
             clock: CommitClock::default(),
             buf: Vec::with_capacity(64 * 1024),
         };
-        if let Err(e) = w.open(output, settings) {
+        if let Err(e) = w.open(output, settings, info) {
             w.fail(e);
         }
         w
@@ -113,11 +148,18 @@ impl<W: RecordOutput> RecordWriter<W> {
 
     /// Header, settings metadata (before any chunk), schemas, channels; committed at once, so
     /// that the file is a (still empty) recording from the start.
-    fn open(&mut self, file: W, settings: &MachineSettings) -> Result<(), mcap::McapError> {
+    fn open(
+        &mut self,
+        file: W,
+        settings: &MachineSettings,
+        info: &RecordingInfo,
+    ) -> Result<(), mcap::McapError> {
         // No automatic chunk size: `write` closes chunks itself, so that it knows which
         // messages reached the file.
         let mut mcap = mcap_options().create(file)?;
-        match Self::declare(&mut mcap, settings, &mut self.channels).and_then(|()| mcap.flush()) {
+        match Self::declare(&mut mcap, settings, info, &mut self.channels)
+            .and_then(|()| mcap.flush())
+        {
             Ok(()) => {
                 self.mcap = Some(mcap);
                 Ok(())
@@ -130,11 +172,13 @@ impl<W: RecordOutput> RecordWriter<W> {
         }
     }
 
-    /// Writes the settings metadata, the schemas and the channels; fills in the channel ids.
+    /// Writes the settings metadata, the program metadata and the attachments, the schemas and
+    /// the channels; fills in the channel ids.
     fn declare(
         mcap: &mut mcap::Writer<W>,
         settings: &MachineSettings,
-        channels: &mut [u16; TOPICS],
+        info: &RecordingInfo,
+        channels: &mut [u16; CHANNELS],
     ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
@@ -156,12 +200,28 @@ impl<W: RecordOutput> RecordWriter<W> {
             name: "novanc.settings".to_string(),
             metadata,
         })?;
+        mcap.write_metadata(&info.metadata())?;
+        for (name, media_type, data) in info.attachments(settings) {
+            mcap.attach(&mcap::Attachment {
+                log_time: 0,
+                create_time: 0,
+                name,
+                media_type: media_type.to_string(),
+                data: data.into(),
+            })?;
+        }
         let no_metadata = BTreeMap::new();
-        for topic in Topic::ALL {
-            let schema =
-                mcap.add_schema(topic.schema_name(), "jsonschema", topic.schema().as_bytes())?;
-            channels[topic.index()] =
-                mcap.add_channel(schema, topic.name(), "json", &no_metadata)?;
+        let declared = Topic::ALL
+            .iter()
+            .map(|t| (t.schema_name(), t.schema(), t.name()))
+            .chain(
+                Derived::ALL
+                    .iter()
+                    .map(|d| (d.schema_name(), d.schema(), d.name())),
+            );
+        for (i, (schema_name, schema, topic)) in declared.enumerate() {
+            let schema = mcap.add_schema(schema_name, "jsonschema", schema.as_bytes())?;
+            channels[i] = mcap.add_channel(schema, topic, "json", &no_metadata)?;
         }
         Ok(())
     }
@@ -170,7 +230,7 @@ impl<W: RecordOutput> RecordWriter<W> {
     fn fail(&mut self, e: impl std::error::Error + 'static) {
         // The open chunk never got its length and CRC: its messages are not readable.
         let lost = std::mem::take(&mut self.pending);
-        self.out.lost_to_disk_error += lost.messages.iter().sum::<u64>();
+        self.out.lost_to_disk_error += lost.messages[..TOPICS].iter().sum::<u64>();
         if self.out.disk_error.is_none() {
             self.out.disk_error = Some(format!("writing {}: {}", self.path.display(), cause(&e)));
         }
@@ -202,37 +262,58 @@ impl<W: RecordOutput> RecordWriter<W> {
                 return true;
             }
         }
+        let i = Topic::of(ev).index();
+        self.buf.clear();
+        let t = encode_event(&mut self.buf, ev, self.pulse_mm);
+        let pulses = match ev {
+            Event::Pulses { t_ns, .. } => t_ns.len() as u64,
+            _ => 0,
+        };
+        let buf = std::mem::take(&mut self.buf);
+        let written = self.emit(i, t, &buf, pulses);
+        self.buf = buf;
+        if !written {
+            return false;
+        }
+        if let Some(mut scene) = self.scene.take() {
+            scene.derive(ev, &mut |d, t, data| {
+                self.emit(TOPICS + d.index(), t, data, 0);
+            });
+            self.scene = Some(scene);
+        }
+        true
+    }
+
+    /// Writes one message on channel slot `i` (a topic's, or after them a derived one's),
+    /// closing the chunk first if it is due. A lost event (not a derived message) counts in
+    /// `lost_to_disk_error`.
+    fn emit(&mut self, i: usize, t: u64, data: &[u8], pulses: u64) -> bool {
+        let lost = u64::from(i < TOPICS);
         if self.clock.due(self.pending.bytes, self.chunk_bytes) && !self.flush_chunk() {
-            self.out.lost_to_disk_error += 1;
+            self.out.lost_to_disk_error += lost;
             return false;
         }
         let Some(mcap) = self.mcap.as_mut() else {
-            self.out.lost_to_disk_error += 1;
+            self.out.lost_to_disk_error += lost;
             return false;
         };
-        let topic = Topic::of(ev);
-        let i = topic.index();
-        self.buf.clear();
-        let t = encode_event(&mut self.buf, ev, self.pulse_mm);
         let header = mcap::records::MessageHeader {
             channel_id: self.channels[i],
             sequence: self.sequence[i],
             log_time: t,
             publish_time: t,
         };
-        match mcap.write_to_known_channel(&header, &self.buf) {
+        match mcap.write_to_known_channel(&header, data) {
             Ok(()) => {
                 self.sequence[i] = self.sequence[i].wrapping_add(1);
                 self.clock.wrote();
                 self.pending.messages[i] += 1;
-                self.pending.bytes += self.buf.len() as u64 + MESSAGE_RECORD_OVERHEAD;
-                if let Event::Pulses { t_ns, .. } = ev {
-                    self.pending.pulses += t_ns.len() as u64;
-                }
+                self.pending.bytes += data.len() as u64 + MESSAGE_RECORD_OVERHEAD;
+                self.pending.pulses += pulses;
                 true
             }
             Err(e) => {
-                self.out.lost_to_disk_error += 1;
+                self.out.lost_to_disk_error += lost;
                 self.fail(e);
                 false
             }
@@ -274,6 +355,9 @@ impl<W: RecordOutput> RecordWriter<W> {
         for (n, m) in self.out.messages.iter_mut().zip(p.messages) {
             *n += m;
         }
+        for (n, m) in self.out.foxglove.iter_mut().zip(&p.messages[TOPICS..]) {
+            *n += m;
+        }
         self.out.pulses += p.pulses;
     }
 
@@ -288,6 +372,12 @@ impl<W: RecordOutput> RecordWriter<W> {
     /// The last chunk is flushed first, so its messages count as written even if the summary
     /// section then fails to fit on the disk.
     pub fn finish(mut self, incomplete: bool, dropped: u64) -> WriterOutcome {
+        if let Some(mut scene) = self.scene.take() {
+            // The path since the last block's start.
+            scene.flush(0, &mut |d, t, data| {
+                self.emit(TOPICS + d.index(), t, data, 0);
+            });
+        }
         if !self.flush_chunk() {
             return self.out;
         }
@@ -547,7 +637,7 @@ mod tests {
         }));
         let out = w.finish(false, 0);
         let _ = std::fs::remove_file(&path);
-        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1, 0, 0]);
+        assert_eq!(out.messages, [0, 0, 1, 0, 0, 1, 0, 0, 0]);
         assert_eq!(out.pulses, 3);
         assert_eq!(out.disk_error, None);
         assert!(out.bytes > 0);

@@ -107,33 +107,55 @@ pub fn shows(c: &Console, text: &str) -> bool {
 /// Runs `tests/mcap_check.py` on a recording; `None` if python3 or its `mcap` module is
 /// missing and `CI` is unset (a skip, said loudly). With `CI` set the module is required.
 pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
-    let has_mcap = Command::new("python3")
-        .args(["-c", "import mcap"])
+    python_script("mcap_check.py", &["mcap"], path, extra)
+}
+
+/// Runs the Python check `tests/SCRIPT` on a recording with `extra` arguments: whether it
+/// passed, and what it printed. `None` if python3 or one of its `modules` is missing, or the
+/// script says so itself (exit status 2: something it needs is not installed), and `CI` is
+/// unset (a skip, said loudly); with `CI` set all of it is required (`.ci/run` installs it).
+pub fn python_script(
+    script: &str,
+    modules: &[&str],
+    path: &Path,
+    extra: &[&str],
+) -> Option<(bool, String)> {
+    let skip = |why: &str| {
+        if std::env::var_os("CI").is_some() {
+            panic!("{script}: {why}: required in CI (.ci/run installs it)");
+        }
+        eprintln!("\n!!!!! SKIPPED {script}: {why}; .ci/run shows how to install it !!!!!\n");
+    };
+    let import = format!("import {}", modules.join(", "));
+    let has_modules = Command::new("python3")
+        .args(["-c", &import])
         .output()
         .map(|o| o.status.success())
         .unwrap_or(false);
-    if !has_mcap {
-        if std::env::var_os("CI").is_some() {
-            panic!("python3 with the `mcap` module is required in CI (pip install mcap)");
-        }
-        eprintln!(
-            "\n!!!!! SKIPPED: python3 or its `mcap` module is missing; \
-             `python3 -m pip install mcap` to run the Python reader check !!!!!\n"
-        );
+    if !has_modules {
+        skip(&format!(
+            "python3 or one of its modules {modules:?} is missing"
+        ));
         return None;
     }
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mcap_check.py");
+    let script_path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join(script);
     let out = Command::new("python3")
-        .arg(script)
+        .arg(script_path)
         .arg(path)
         .args(extra)
         .output()
-        .expect("run mcap_check.py");
+        .expect("run a Python check");
     let text = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+    if out.status.code() == Some(2) {
+        skip(text.trim());
+        return None;
+    }
     Some((out.status.success(), text))
 }
 

@@ -1,0 +1,146 @@
+//! What a recording says about its run before the first message (docs/recording.md,
+//! "Attachments"): the program (name and text), the tool data, the work offsets and the
+//! machine's description, as MCAP attachments, and a `novanc.program` metadata record.
+
+use crate::settings::MachineSettings;
+use crate::tooldata::Magazine;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// The names of the work offsets in `RecordingInfo::work_offsets`.
+pub const WORK_SYSTEMS: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
+
+/// The run's program and data, as the front end has them when the recording starts.
+#[derive(Clone, Debug, Default)]
+pub struct RecordingInfo {
+    /// The program's name (a file path, or a name in program memory); empty: none.
+    pub program_name: String,
+    /// The program's text.
+    pub program_text: String,
+    /// The magazine: T codes and the tool file.
+    pub magazine: Option<Magazine>,
+    /// Work offsets G54 to G59, machine mm.
+    pub work_offsets: [[f64; 3]; 6],
+}
+
+/// One attachment: name, media type, bytes.
+pub type Attachment = (String, &'static str, Vec<u8>);
+
+impl RecordingInfo {
+    /// (T code, cutting diameter, length) of every tool in the tool file, mm: the sizes the
+    /// scene draws.
+    pub fn tool_sizes(&self) -> Vec<(u32, f64, f64)> {
+        self.magazine
+            .iter()
+            .flat_map(|m| m.tools.iter())
+            .map(|(t, r)| (t, r.cutting_diameter(), r.length()))
+            .collect()
+    }
+
+    /// The attachments, in file order: `program/NAME` (when there is a program),
+    /// `tooldata.csv`, `work_offsets.csv`, `machine.json`.
+    pub fn attachments(&self, settings: &MachineSettings) -> Vec<Attachment> {
+        let mut out = Vec::new();
+        if !self.program_name.is_empty() {
+            out.push((
+                format!("program/{}", self.program_name),
+                "text/plain",
+                self.program_text.as_bytes().to_vec(),
+            ));
+        }
+        out.push((
+            "tooldata.csv".to_string(),
+            "text/csv",
+            self.tool_csv().into_bytes(),
+        ));
+        let mut wpo = String::from("system,x_mm,y_mm,z_mm\n");
+        for (n, o) in WORK_SYSTEMS.iter().zip(self.work_offsets.iter()) {
+            let _ = writeln!(wpo, "{n},{},{},{}", o[0], o[1], o[2]);
+        }
+        out.push(("work_offsets.csv".to_string(), "text/csv", wpo.into_bytes()));
+        out.push((
+            "machine.json".to_string(),
+            "application/json",
+            machine_json(settings).into_bytes(),
+        ));
+        out
+    }
+
+    /// The tool file as CSV: one line per T code with data.
+    fn tool_csv(&self) -> String {
+        let mut s = String::from(
+            "tcode,tool,kind,diameter_mm,set_length_mm,wear_diameter_mm,wear_length_mm,effective_length_mm,speed_rpm,feed_mm_min,depth_mm\n",
+        );
+        if let Some(m) = &self.magazine {
+            for (t, r) in m.tools.iter() {
+                let _ = writeln!(
+                    s,
+                    "{t},{},{:?},{},{},{},{},{},{},{},{}",
+                    r.number,
+                    r.kind,
+                    r.diameter,
+                    r.set_length,
+                    r.wear_diameter,
+                    r.wear_length,
+                    r.effective_length,
+                    r.speed,
+                    r.feed,
+                    r.depth
+                );
+            }
+        }
+        s
+    }
+
+    /// The `novanc.program` metadata record: `name`, `bytes`, `lines` (of the program text),
+    /// `tools` (T codes with data).
+    pub fn metadata(&self) -> mcap::records::Metadata {
+        let tools = self.magazine.as_ref().map_or(0, |m| m.tools.iter().count());
+        mcap::records::Metadata {
+            name: "novanc.program".to_string(),
+            metadata: BTreeMap::from([
+                ("name".to_string(), self.program_name.clone()),
+                ("bytes".to_string(), self.program_text.len().to_string()),
+                (
+                    "lines".to_string(),
+                    self.program_text.lines().count().to_string(),
+                ),
+                ("tools".to_string(), tools.to_string()),
+            ]),
+        }
+    }
+}
+
+/// The machine's description as a JSON object: travel, rates, pulse, magazine, clock.
+fn machine_json(s: &MachineSettings) -> String {
+    let mut o = Vec::new();
+    let num = |o: &mut Vec<u8>, k: &str, v: f64| {
+        if o.len() > 1 {
+            o.push(b',');
+        }
+        super::json::push_str(o, k);
+        o.push(b':');
+        super::json::push_decimal(o, v, 9);
+    };
+    o.push(b'{');
+    num(&mut o, "pulse_mm", s.pulse_mm);
+    num(&mut o, "rapid_mm_min", s.rapid_mm_min);
+    num(&mut o, "accel_mm_s2", s.accel_mm_s2);
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        num(&mut o, &format!("{axis}_min_mm"), s.travel_min_mm[i]);
+        num(&mut o, &format!("{axis}_max_mm"), s.travel_max_mm[i]);
+    }
+    num(&mut o, "jog_mm_min", s.jog_mm_min);
+    num(&mut o, "rapid_f0_mm_min", s.rapid_f0_mm_min);
+    num(&mut o, "tool_change_z_mm", s.tool_change_z_mm);
+    num(&mut o, "tool_change_s", s.tool_change_ns as f64 / 1e9);
+    num(&mut o, "spindle_s", s.spindle_ns as f64 / 1e9);
+    num(&mut o, "magazine_capacity", f64::from(s.magazine_capacity));
+    num(&mut o, "b1_capacity", s.b1_capacity as f64);
+    num(&mut o, "ncbr_period_ns", s.ncbr_period_ns as f64);
+    num(&mut o, "ep_l_pulses", s.ep_l_pulses as f64);
+    o.extend_from_slice(b",\"interpolator\":");
+    super::json::push_str(&mut o, s.interpolator.name());
+    o.push(b'}');
+    String::from_utf8(o).unwrap_or_default()
+}
