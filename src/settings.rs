@@ -51,6 +51,10 @@ pub struct MachineSettings {
     /// The stock on the table, in machine coordinates of the tool tip: what a probe touches
     /// (docs/gcode.md "Probing").
     pub workpiece: crate::workpiece::Workpiece,
+    /// M6 remapped to this O-word subroutine (lower case), as LinuxCNC's
+    /// `REMAP=M6 modalgroup=6 ngc=NAME`: the machine description's `remap` line
+    /// (docs/gcode.md "Remapping M6"). None: M6 is the built-in change.
+    pub remap_m6: Option<String>,
 }
 
 /// The pulse distribution method of the pulse core.
@@ -125,6 +129,7 @@ impl Default for MachineSettings {
             interpolator: Interpolator::Dda,
             ep_l_pulses: EP_L_DEFAULT,
             workpiece: crate::workpiece::Workpiece::centre_default(),
+            remap_m6: None,
         }
     }
 }

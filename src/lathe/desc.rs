@@ -306,6 +306,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
     let mut channels: Vec<ChannelDesc> = Vec::new();
     let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
+    let mut remap_m6 = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -378,6 +379,17 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     tools: Vec::new(),
                 });
             }
+            "remap" if kind == Some("mill") => {
+                if remap_m6.is_some() {
+                    return Err(e("M6 is remapped twice".into()));
+                }
+                remap_m6 = Some(remap(&words).map_err(e)?);
+            }
+            "remap" => {
+                return Err(e(
+                    "remap belongs to a mill's G-code: say 'kind mill' first".into()
+                ))
+            }
             "x" | "y" | "z" if kind == Some("mill") => {
                 let a = axis(&words).map_err(e)?;
                 mill_axes[match head {
@@ -428,10 +440,52 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     }
     let name = name.ok_or("1: the description has no 'machine NAME' line")?;
     match kind {
-        Some("mill") => mill(&name, pulse_mm, mill_axes, &links),
+        Some("mill") => {
+            let mut m = mill(&name, pulse_mm, mill_axes, &links)?;
+            if let MachineDesc::Mill(s) = &mut m {
+                s.remap_m6 = remap_m6;
+            }
+            Ok(m)
+        }
         Some(_) => lathe(name, pulse_mm, tick_us, channels, &links),
         None => Err("1: the description has no 'kind lathe' or 'kind mill' line".into()),
     }
+}
+
+/// `remap M6 modalgroup=6 ngc=NAME`: LinuxCNC's `REMAP=M6 ...` line (docs/gcode.md
+/// "Remapping M6"); the subroutine's name, in lower case.
+fn remap(words: &[&str]) -> Result<String, String> {
+    if !words.get(1).is_some_and(|c| c.eq_ignore_ascii_case("M6")) {
+        return Err("remap: novanc remaps M6 only (remap M6 modalgroup=6 ngc=NAME)".into());
+    }
+    let mut ngc = None;
+    for w in &words[2..] {
+        match w.split_once('=') {
+            Some(("modalgroup", "6")) => {}
+            Some(("modalgroup", g)) => {
+                return Err(format!("remap M6: modalgroup={g}: M6 is in modal group 6"))
+            }
+            Some(("ngc", n)) => {
+                let n = n.to_ascii_lowercase();
+                let ok = !n.is_empty()
+                    && n.len() <= 64
+                    && n.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+                if !ok {
+                    return Err(format!(
+                        "remap M6: ngc={n}: a subroutine name of letters, digits, _ and -"
+                    ));
+                }
+                ngc = Some(n);
+            }
+            Some((k @ ("prolog" | "epilog" | "python"), _)) => {
+                return Err(format!(
+                    "remap M6: {k}= names a Python function: novanc runs none (the subroutine gets #<selected_tool> and #<tool_in_spindle> as LinuxCNC's change_prolog gives them)"
+                ))
+            }
+            _ => return Err(format!("remap M6: '{w}' is not modalgroup=6 or ngc=NAME")),
+        }
+    }
+    ngc.ok_or_else(|| "remap M6 needs ngc=NAME, the O-word subroutine M6 calls".to_string())
 }
 
 fn mill(
@@ -618,5 +672,31 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn a_mill_description_remaps_m6_as_linuxcnc_writes_it() {
+        let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
+        match parse(&format!("{base}remap M6 modalgroup=6 ngc=ToolChange\n")) {
+            Ok(MachineDesc::Mill(s)) => assert_eq!(s.remap_m6.as_deref(), Some("toolchange")),
+            other => panic!("{other:?}"),
+        }
+        for (line, want) in [
+            ("remap M3 ngc=x", "6: remap: novanc remaps M6 only"),
+            ("remap M6 modalgroup=5 ngc=x", "6: remap M6: modalgroup=5"),
+            ("remap M6 modalgroup=6", "6: remap M6 needs ngc=NAME"),
+            ("remap M6 ngc=../x", "6: remap M6: ngc=../x"),
+            (
+                "remap M6 prolog=change_prolog ngc=x",
+                "6: remap M6: prolog= names a Python",
+            ),
+            ("remap M6 ngc=a\nremap M6 ngc=b", "7: M6 is remapped twice"),
+        ] {
+            let e = parse(&format!("{base}{line}\n")).unwrap_err();
+            assert!(e.starts_with(want), "{line}: {e}");
+        }
+        assert!(parse("machine m\nkind lathe\nremap M6 ngc=x\n")
+            .unwrap_err()
+            .starts_with("3: remap belongs to a mill"));
     }
 }
