@@ -39,7 +39,7 @@ fn switches(c: &Console) -> Vec<(&'static str, String)> {
 }
 
 /// Words joined with blanks into lines of at most `cols` characters.
-fn fill(words: &[&str], cols: usize) -> Vec<String> {
+pub(super) fn fill(words: &[&str], cols: usize) -> Vec<String> {
     let mut out = Vec::new();
     let mut line = String::new();
     for w in words {

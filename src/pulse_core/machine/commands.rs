@@ -140,7 +140,7 @@ impl Machine {
                 digital,
                 index,
                 value,
-            } => self.inputs.set(digital, index, value),
+            } => self.set_input(digital, index, value),
             Command::Home => self.home(),
             Command::SetTool(t) => {
                 if self.current.is_none() && self.job.is_none() {

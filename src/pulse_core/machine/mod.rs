@@ -428,6 +428,40 @@ impl Machine {
                     index,
                     value,
                     synced,
+                    input: false,
+                },
+            );
+        }
+    }
+
+    /// A simulated input set by the operator or a script: recorded on `/nc/io` (`"dir":"in"`)
+    /// when it changes, charged to the block executing (0 if none).
+    pub(super) fn set_input(&mut self, digital: bool, index: u8, value: f64) {
+        let before = self.inputs;
+        self.inputs.set(digital, index, value);
+        let changed = if digital {
+            before.digital != self.inputs.digital
+        } else {
+            before.analog[usize::from(index)].to_bits()
+                != self.inputs.analog[usize::from(index)].to_bits()
+        };
+        if let (true, Some(s)) = (changed, &self.events) {
+            let (seq, stmt) = self
+                .current
+                .as_ref()
+                .map_or((0, 0), |c| (c.block.seq, c.block.stmt));
+            send_ev(
+                s,
+                &self.out.lossless,
+                Event::Io {
+                    t_ns: self.now,
+                    seq,
+                    stmt,
+                    digital,
+                    index,
+                    value: self.inputs.get(digital, index),
+                    synced: false,
+                    input: true,
                 },
             );
         }
