@@ -272,3 +272,43 @@ fn input_changes_are_recorded() {
         assert!(ok, "{text}");
     }
 }
+
+/// M19 in a run: the turning spindle stops (the M5 time), then stands oriented at R; POS and
+/// MODAL show it; M5 ends it.
+#[test]
+fn m19_stops_the_spindle_and_orients_it() {
+    let mut c = common::open("io-m19");
+    let f = common::temp_dir("io-m19-prog").join("o.ngc");
+    std::fs::write(&f, "G21 G90\nS1000 M3\nM19 R90 Q5\nM0\nM5\nM30\n").unwrap();
+    let text = format!(
+        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nkey Ctrl+P\n",
+        f.display()
+    );
+    for ev in PanelEvent::parse_script(&text).unwrap() {
+        c.handle(ev);
+    }
+    let s = c.status();
+    assert_eq!((s.spindle, s.orient), (0, Some(90.0)), "{}", c.frame_text());
+    // M3's start and M19's stop, one second each (and the blocks' NCBR ticks).
+    assert!(
+        (2_000_000_000..2_100_000_000).contains(&s.machine_ns),
+        "{}",
+        s.machine_ns
+    );
+    assert!(
+        common::shows(&c, "S 0 oriented M19 R90"),
+        "{}",
+        c.frame_text()
+    );
+    common::keys(&mut c, &["Ctrl+G"]);
+    assert!(
+        common::shows(&c, "S0 ORIENTED M19 R90"),
+        "{}",
+        c.frame_text()
+    );
+    for ev in PanelEvent::parse_script("start\nwait\n").unwrap() {
+        c.handle(ev);
+    }
+    assert_eq!(c.status().orient, None);
+    assert!(!common::shows(&c, "ORIENTED"), "{}", c.frame_text());
+}

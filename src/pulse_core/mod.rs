@@ -304,6 +304,8 @@ pub struct Status {
     pub inputs: Signals,
     /// The outputs (M62–M65, M67, M68 set them).
     pub outputs: Signals,
+    /// M19: the spindle stands oriented at this angle, degrees (M3, M4, M5 end it).
+    pub orient: Option<f64>,
     /// Messages (commands, loads, settings) the core has applied so far.
     pub commands_applied: u64,
 }

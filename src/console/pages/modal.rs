@@ -80,7 +80,11 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     // does not change the G-code state above).
     let m = &c.status;
     let tool = m.tool.map_or("T--".to_string(), |t| format!("T{t:02}"));
-    p.body.push(format!("SPINDLE {tool} S{}", m.spindle));
+    let oriented = m.orient.map_or(String::new(), |a| {
+        format!(" ORIENTED M19 R{}", crate::input_text::short_number(a))
+    });
+    p.body
+        .push(format!("SPINDLE {tool} S{}{oriented}", m.spindle));
     let sw: Vec<String> = switches(c)
         .into_iter()
         .map(|(n, v)| format!("{n} {v}"))

@@ -303,6 +303,8 @@ pub struct Machine {
     tool: Option<u32>,
     tool_len: f64,
     spindle: i64,
+    /// M19: the spindle stands oriented at this angle, degrees (until M3, M4 or M5).
+    orient: Option<f64>,
     s_rpm: u32,
     program_end: bool,
     magazine: Option<Magazine>,
@@ -369,6 +371,7 @@ impl Machine {
             tool: None,
             tool_len: 0.0,
             spindle: 0,
+            orient: None,
             s_rpm: 0,
             program_end: false,
             magazine: None,
@@ -1175,9 +1178,13 @@ impl Machine {
                         }
                     }
                     let b = &c.block;
-                    let post = match b.m {
-                        Some(5) | Some(30) if self.spindle != 0 => self.settings.spindle_ns,
-                        _ => 0,
+                    // M5, M30 and M19 stop a turning spindle (M19 then orients it).
+                    let stops = matches!(b.m, Some(5) | Some(30))
+                        || matches!(b.io, Some(crate::block::Io::Orient { .. }));
+                    let post = if stops && self.spindle != 0 {
+                        self.settings.spindle_ns
+                    } else {
+                        0
                     };
                     c.until += post;
                     c.phase = Phase::PostAux;
@@ -1225,8 +1232,14 @@ impl Machine {
                 self.tool = self.selected_t;
                 self.tool_len = self.set_length_of(self.tool);
             }
-            Some(3) => self.spindle = i64::from(self.s_rpm),
-            Some(4) => self.spindle = -i64::from(self.s_rpm),
+            Some(3) => {
+                self.spindle = i64::from(self.s_rpm);
+                self.orient = None;
+            }
+            Some(4) => {
+                self.spindle = -i64::from(self.s_rpm);
+                self.orient = None;
+            }
             _ => {
                 if b.s.is_some() && self.spindle != 0 {
                     self.spindle = self.spindle.signum() * i64::from(self.s_rpm);
@@ -1248,6 +1261,12 @@ impl Machine {
         }
         if matches!(m, Some(5) | Some(30)) {
             self.spindle = 0;
+            self.orient = None;
+        }
+        if let Some(crate::block::Io::Orient { angle, .. }) = c.block.io {
+            // M19: stopped, then oriented at once (no spindle encoder: docs/pulse-core.md).
+            self.spindle = 0;
+            self.orient = Some(angle);
         }
         self.blocks_done += 1;
         self.just_completed = true;

@@ -152,6 +152,7 @@ impl Machine {
             speed_mm_min: self.speed_mm_min(),
             inputs: self.inputs,
             outputs: self.outputs,
+            orient: self.orient,
             commands_applied: self.commands,
         }
     }
