@@ -282,6 +282,10 @@ impl GcodeSource {
             settings.to_mm(machine.pos[2]),
         ];
         st.tool = machine.tool;
+        // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
+        // (its synch): after RESET it is off (docs/gcode.md "SEARCH").
+        st.modal.mist = machine.mist;
+        st.modal.flood = machine.flood;
         st.call_level = 0;
         st.remap_level = 0;
         // A NURBS is begun and ended within one program (or one MDI text).

@@ -306,6 +306,8 @@ pub struct Status {
     pub outputs: Signals,
     /// M19: the spindle stands oriented at this angle, degrees (M3, M4, M5 end it).
     pub orient: Option<f64>,
+    /// Coolant mist (M7) and flood (M8) on; M9, M2, M30, RESET and E-STOP turn both off.
+    pub coolant: (bool, bool),
     /// Messages (commands, loads, settings) the core has applied so far.
     pub commands_applied: u64,
 }
@@ -323,6 +325,8 @@ impl Status {
             },
             tool: self.tool,
             spindle: self.spindle_programmed,
+            mist: self.coolant.0,
+            flood: self.coolant.1,
         }
     }
 }

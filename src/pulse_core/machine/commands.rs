@@ -74,6 +74,7 @@ impl Machine {
                 self.hold_after_tap = false;
                 self.estop = true;
                 self.spindle = 0;
+                self.coolant = (false, false);
                 self.alarm = Some("EMERGENCY STOP: pulses stopped; press RESET".into());
                 self.send_position();
             }
@@ -199,6 +200,7 @@ impl Machine {
         self.ret = None;
         self.ret_queue.clear();
         self.spindle = 0;
+        self.coolant = (false, false);
         self.send_position();
     }
 

@@ -305,6 +305,8 @@ pub struct Machine {
     spindle: i64,
     /// M19: the spindle stands oriented at this angle, degrees (until M3, M4 or M5).
     orient: Option<f64>,
+    /// Coolant: mist (M7) and flood (M8) on; M9, M2, M30, RESET and E-STOP turn both off.
+    coolant: (bool, bool),
     s_rpm: u32,
     program_end: bool,
     magazine: Option<Magazine>,
@@ -372,6 +374,7 @@ impl Machine {
             tool_len: 0.0,
             spindle: 0,
             orient: None,
+            coolant: (false, false),
             s_rpm: 0,
             program_end: false,
             magazine: None,
@@ -599,6 +602,8 @@ impl Machine {
             },
             tool: self.tool,
             spindle: self.spindle,
+            mist: self.coolant.0,
+            flood: self.coolant.1,
         }
     }
 
@@ -1226,6 +1231,12 @@ impl Machine {
         }
         if let Some(s) = b.s {
             self.s_rpm = s;
+        }
+        match b.m {
+            Some(7) => self.coolant.0 = true,
+            Some(8) => self.coolant.1 = true,
+            Some(9) | Some(2) | Some(30) => self.coolant = (false, false),
+            _ => {}
         }
         match b.m {
             Some(6) => {

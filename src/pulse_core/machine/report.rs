@@ -153,6 +153,7 @@ impl Machine {
             inputs: self.inputs,
             outputs: self.outputs,
             orient: self.orient,
+            coolant: self.coolant,
             commands_applied: self.commands,
         }
     }
