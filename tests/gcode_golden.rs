@@ -245,7 +245,7 @@ fn remapped_m6_agrees_with_rs274() {
         other => panic!("remap.machine: {other:?}"),
     };
     assert_eq!(st.remap_m6.as_deref(), Some("toolchange"));
-    assert_eq!(agree_with_rs274(&dir, &st, &[dir.clone()]), 4);
+    assert_eq!(agree_with_rs274(&dir, &st, std::slice::from_ref(&dir)), 4);
 }
 
 /// Checks every program `NAME.ngc` of `dir` (but the machine's remap subroutine) against its
@@ -346,7 +346,7 @@ fn a_remapped_m6_gives_its_subroutine_the_tools_and_names_both_lines() {
             remap_m6: Some("toolchange".into()),
             ..MachineSettings::default()
         };
-        let e = novanc_moves(&src, &st, &[dir.clone()]).unwrap_err();
+        let e = novanc_moves(&src, &st, std::slice::from_ref(&dir)).unwrap_err();
         assert!(e.starts_with(want), "{program}: {e}");
         // Without the remap, M6 is the built-in change and the program runs.
         assert!(novanc_moves(&src, &MachineSettings::default(), &[]).is_ok());
