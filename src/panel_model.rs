@@ -184,11 +184,20 @@ pub enum Page {
     Msg,
     /// MODAL: the modal state in force, the overrides and the switches.
     Modal,
+    /// I/O: the outputs M62–M68 set and the inputs M66 reads (Fanuc's PMC signal page).
+    Io,
 }
 
 impl Page {
     /// The pages of the row of page keys, in order.
-    pub const KEYS: [Page; 5] = [Page::Pos, Page::Prog, Page::Ofs, Page::Msg, Page::Modal];
+    pub const KEYS: [Page; 6] = [
+        Page::Pos,
+        Page::Prog,
+        Page::Ofs,
+        Page::Msg,
+        Page::Modal,
+        Page::Io,
+    ];
 
     /// The key's label.
     pub fn label(self) -> &'static str {
@@ -199,6 +208,7 @@ impl Page {
             Page::Ofs => "OFS",
             Page::Msg => "MSG",
             Page::Modal => "MODAL",
+            Page::Io => "I/O",
         }
     }
 }
@@ -372,6 +382,40 @@ impl fmt::Display for ScriptError {
 }
 
 impl PanelEvent {
+    /// A simulated machine input, as the script word `input` and the I/O page's INPUT take it
+    /// (`P3 on`, `P3 off`, `E2 4.5`; docs/cli.md "Panel scripts", docs/panel.md "Pages").
+    pub fn parse_input(args: &[&str]) -> Result<PanelEvent, String> {
+        let [which, v] = args else {
+            return Err("'input' takes P0-P63 on|off or E0-E63 and a value".into());
+        };
+        let (digital, n) = match which.chars().next() {
+            Some('P' | 'p') => (true, &which[1..]),
+            Some('E' | 'e') => (false, &which[1..]),
+            _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
+        };
+        let index: u8 = match n.parse() {
+            Ok(i) if i <= 63 => i,
+            _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
+        };
+        let value = if digital {
+            match v.to_ascii_lowercase().as_str() {
+                "on" => 1.0,
+                "off" => 0.0,
+                a => return Err(format!("input {which}: takes on or off, not '{a}'")),
+            }
+        } else {
+            match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => x,
+                _ => return Err(format!("input {which}: '{v}' is not a number")),
+            }
+        };
+        Ok(PanelEvent::Input {
+            digital,
+            index,
+            value,
+        })
+    }
+
     /// Parses one script line (docs/cli.md). `Ok(None)` for a blank or comment line.
     pub fn parse_script_line(raw: &str) -> Result<Option<PanelEvent>, String> {
         let line = raw.trim_end_matches(['\r', '\n']);
@@ -528,37 +572,7 @@ impl PanelEvent {
                     _ => PanelEvent::ZNeglect(on),
                 }
             }
-            "input" => match args.as_slice() {
-                [which, v] => {
-                    let (digital, n) = match which.chars().next() {
-                        Some('P' | 'p') => (true, &which[1..]),
-                        Some('E' | 'e') => (false, &which[1..]),
-                        _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
-                    };
-                    let index: u8 = match n.parse() {
-                        Ok(i) if i <= 63 => i,
-                        _ => return Err(format!("input: '{which}' is not P0-P63 or E0-E63")),
-                    };
-                    let value = if digital {
-                        match v.to_ascii_lowercase().as_str() {
-                            "on" => 1.0,
-                            "off" => 0.0,
-                            a => return Err(format!("input {which}: takes on or off, not '{a}'")),
-                        }
-                    } else {
-                        match v.parse::<f64>() {
-                            Ok(x) if x.is_finite() => x,
-                            _ => return Err(format!("input {which}: '{v}' is not a number")),
-                        }
-                    };
-                    PanelEvent::Input {
-                        digital,
-                        index,
-                        value,
-                    }
-                }
-                _ => return Err("'input' takes P0-P63 on|off or E0-E63 and a value".into()),
-            },
+            "input" => PanelEvent::parse_input(&args)?,
             other => return Err(format!("unknown script word '{other}'")),
         };
         Ok(Some(ev))

@@ -51,6 +51,10 @@ pub struct MachineSettings {
     /// The stock on the table, in machine coordinates of the tool tip: what a probe touches
     /// (docs/gcode.md "Probing").
     pub workpiece: crate::workpiece::Workpiece,
+    /// M6 remapped to this O-word subroutine (lower case), as LinuxCNC's
+    /// `REMAP=M6 modalgroup=6 ngc=NAME`: the machine description's `remap` line
+    /// (docs/gcode.md "Remapping M6"). None: M6 is the built-in change.
+    pub remap_m6: Option<String>,
 }
 
 /// The pulse distribution method of the pulse core.
@@ -104,7 +108,27 @@ pub const EP_CYCLE_NS: u64 = 2_000;
 pub const EP_L_DEFAULT: i64 = 30_000;
 
 impl Default for MachineSettings {
+    /// The centre's settings: `machines/centre.machine` (the embedded description, read once)
+    /// over [`MachineSettings::builtin`], so that `--machine FILE` and the defaults are one
+    /// path (docs/lathe.md "Machine description").
     fn default() -> Self {
+        static CENTRE: std::sync::OnceLock<MachineSettings> = std::sync::OnceLock::new();
+        CENTRE
+            .get_or_init(
+                || match crate::lathe::desc::parse(crate::lathe::desc::CENTRE) {
+                    Ok(crate::lathe::desc::MachineDesc::Mill(s)) => s,
+                    // A unit test parses the embedded file; this arm is never taken.
+                    _ => MachineSettings::builtin(),
+                },
+            )
+            .clone()
+    }
+}
+
+impl MachineSettings {
+    /// What a machine description starts from: the numbers it does not give (timings, jog,
+    /// buffers, the interpolator), the centre's axes, no workpiece and no M6 remap.
+    pub fn builtin() -> Self {
         MachineSettings {
             pulse_mm: 0.001,
             rapid_mm_min: 12_000.0,
@@ -124,7 +148,8 @@ impl Default for MachineSettings {
             tape_chars_per_s: 300,
             interpolator: Interpolator::Dda,
             ep_l_pulses: EP_L_DEFAULT,
-            workpiece: crate::workpiece::Workpiece::centre_default(),
+            workpiece: crate::workpiece::Workpiece::default(),
+            remap_m6: None,
         }
     }
 }

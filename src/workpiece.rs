@@ -149,15 +149,6 @@ pub struct Workpiece {
 }
 
 impl Workpiece {
-    /// The centre's default: one block 400 × 400 × 100 mm under the middle of the travel, X
-    /// 300 to 700, Y 200 to 600, Z −550 to −450: its top at machine Z −450, where the sample
-    /// programs put their work Z0 (docs/gcode.md "Probing").
-    pub fn centre_default() -> Workpiece {
-        Workpiece {
-            boxes: vec![Cuboid::new([300.0, 200.0, -550.0], [700.0, 600.0, -450.0])],
-        }
-    }
-
     /// Whether a stylus of radius `r` centred on `c` touches the stock.
     pub fn contact(&self, c: [f64; 3], r: f64) -> bool {
         let r2 = r * r;

@@ -376,3 +376,27 @@ fn the_state_line_keeps_estop_and_hold_ahead_of_the_switches() {
     assert!(line.contains(" ESTOP /DEL"), "{}", c.frame_text());
     assert!(line.chars().count() <= 40, "{line}");
 }
+
+/// Coolant is the machine's: MDI M8 turns it on in the pulse core and MODAL shows it; RESET
+/// turns it off there (LinuxCNC's M9 state after a reset) and the interpreter's state follows
+/// (MODAL shows M9); M7, M8 then M9 in MDI go through the core as well.
+#[test]
+fn reset_leaves_the_coolant_off_as_the_machine_has_it() {
+    let mut c = common::open("gcode-coolant");
+    common::mdi(&mut c, "S500 M3 M8");
+    assert_eq!(c.status().coolant, (false, true));
+    common::keys(&mut c, &["Ctrl+G"]);
+    assert!(common::shows(&c, "M3 M8"), "{}", c.frame_text());
+    common::keys(&mut c, &["F11"]);
+    c.handle(novanc::panel_model::PanelEvent::Wait);
+    assert_eq!(c.status().coolant, (false, false));
+    assert!(common::shows(&c, "M9"), "{}", c.frame_text());
+    assert!(!common::shows(&c, "M8"), "{}", c.frame_text());
+    common::keys(&mut c, &["Ctrl+G"]);
+    common::mdi(&mut c, "M7");
+    assert_eq!(c.status().coolant, (true, false), "{}", c.frame_text());
+    common::mdi(&mut c, "M8");
+    assert_eq!(c.status().coolant, (true, true));
+    common::mdi(&mut c, "M9");
+    assert_eq!(c.status().coolant, (false, false));
+}

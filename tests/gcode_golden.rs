@@ -11,12 +11,13 @@
 //! them; an arc after it must start on its own circle there. The curves themselves are checked
 //! by the unit tests of `src/gcode/spline`.
 
-use novanc::block::{Motion, Plane};
-use novanc::gcode::{translate_all, WorkOffsets};
+use novanc::block::{MachineState, Motion, Plane};
+use novanc::gcode::{GcodeSource, SubPath, Switches, WorkOffsets};
+use novanc::lathe::desc::{load, MachineDesc};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// One move: kind ('R', 'F', 'A'), arc direction and plane, numbers (end, then centre).
 #[derive(Debug, PartialEq)]
@@ -27,15 +28,18 @@ struct Move {
     nums: Vec<f64>,
 }
 
-fn novanc_moves(src: &str) -> Result<Vec<Move>, String> {
-    let st = MachineSettings::default();
-    let stmts = translate_all(
-        src,
-        &sample_magazine(),
-        &st,
-        [0, 0, 0],
+/// novanc's moves of program `src` on the machine `st`, finding subroutine files in `subs`.
+fn novanc_moves(src: &str, st: &MachineSettings, subs: &[PathBuf]) -> Result<Vec<Move>, String> {
+    let stmts: Vec<_> = GcodeSource::new(
+        src.into(),
+        sample_magazine(),
+        st.clone(),
+        MachineState::at([0, 0, 0]),
         WorkOffsets::default(),
+        Switches::default(),
     )
+    .subroutines(Box::new(SubPath(subs.to_vec())))
+    .collect::<Result<_, _>>()
     .map_err(|e| e.to_string())?;
     let mut out = Vec::new();
     for b in stmts.iter().flat_map(|s| &s.blocks) {
@@ -224,21 +228,45 @@ fn walk(
 #[test]
 fn every_golden_program_agrees_with_rs274() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/gcode");
-    let mut names: Vec<_> = std::fs::read_dir(&dir)
-        .expect("tests/golden/gcode")
+    let programs = agree_with_rs274(&dir, &MachineSettings::default(), &[]);
+    assert!(programs >= 50, "only {programs} golden programs");
+}
+
+/// M6 remapped to `o<toolchange>` by the machine description `remap.machine` (docs/gcode.md
+/// "Remapping M6"), its subroutine file beside the programs: the moves rs274 made with
+/// `REMAP=M6 modalgroup=6 ngc=toolchange` (the changer's moves, the built-in M6 inside it,
+/// the rest of the M6 line after it), and the same refusals (an abort in the subroutine, a
+/// subroutine that calls itself without end).
+#[test]
+fn remapped_m6_agrees_with_rs274() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/remap");
+    let st = match load(&dir.join("remap.machine").to_string_lossy()) {
+        Ok(MachineDesc::Mill(s)) => s,
+        other => panic!("remap.machine: {other:?}"),
+    };
+    assert_eq!(st.remap_m6.as_deref(), Some("toolchange"));
+    assert_eq!(agree_with_rs274(&dir, &st, std::slice::from_ref(&dir)), 4);
+}
+
+/// Checks every program `NAME.ngc` of `dir` (but the machine's remap subroutine) against its
+/// `NAME.expect`; returns how many there were.
+fn agree_with_rs274(dir: &Path, st: &MachineSettings, subs: &[PathBuf]) -> usize {
+    let sub_file = st.remap_m6.as_ref().map(|n| format!("{n}.ngc"));
+    let mut names: Vec<_> = std::fs::read_dir(dir)
+        .expect("the golden folder")
         .filter_map(|e| e.ok())
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|x| x == "ngc"))
+        .filter(|p| p.file_name().and_then(|n| n.to_str()) != sub_file.as_deref())
         .collect();
     names.sort();
-    assert!(names.len() >= 50, "only {} golden programs", names.len());
     let (mut programs, mut moves, mut refused) = (0, 0, 0);
     let mut failures = Vec::new();
     for prog in &names {
         let src = std::fs::read_to_string(prog).expect("program");
         let exp = std::fs::read_to_string(prog.with_extension("expect")).expect("its .expect");
         let name = prog.file_name().and_then(|n| n.to_str()).unwrap_or("?");
-        let got = novanc_moves(&src);
+        let got = novanc_moves(&src, st, subs);
         match expected(&exp) {
             Err(why) => {
                 if got.is_ok() {
@@ -263,4 +291,65 @@ fn every_golden_program_agrees_with_rs274() {
         failures.len(),
         failures.join("\n")
     );
+    programs
+}
+
+/// The remapped M6's subroutine reads the tool selected and the tool in the spindle
+/// (`#<selected_tool>`, `#<tool_in_spindle>`, as LinuxCNC's change_prolog gives them); an
+/// error inside it names the calling line and its own; one that calls itself is refused.
+#[test]
+fn a_remapped_m6_gives_its_subroutine_the_tools_and_names_both_lines() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/remap");
+    let st = MachineSettings {
+        remap_m6: Some("change".into()),
+        ..MachineSettings::default()
+    };
+    let sub = "o<change> sub\n(debug, sel=#<selected_tool> in=#<tool_in_spindle> level=#<_remap_level>)\nM6\no<change> endsub\n";
+    let src = format!("{sub}G21 G90\nT4 M6\nT2 M6\nM2\n");
+    let mut g = GcodeSource::new(
+        src.as_str().into(),
+        sample_magazine(),
+        st.clone(),
+        MachineState::at([0, 0, 0]),
+        WorkOffsets::default(),
+        Switches::default(),
+    );
+    assert!(g.by_ref().all(|s| s.is_ok()));
+    let said: Vec<String> = g
+        .take_events()
+        .into_iter()
+        .filter_map(|e| match e {
+            novanc::gcode::Event::Message { text, .. } => Some(text),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        said,
+        [
+            " sel=4.000000 in=0.000000 level=1.000000",
+            " sel=2.000000 in=4.000000 level=1.000000"
+        ]
+    );
+    let toolchange = std::fs::read_to_string(dir.join("toolchange.ngc")).unwrap();
+    for (program, want) in [
+        (
+            "remap_m6_sub_error.ngc",
+            "5:1: in toolchange.ngc line 4:3: (ABORT) the changer refuses tool 4",
+        ),
+        (
+            "remap_m6_recursion.ngc",
+            "5:1: in toolchange.ngc line 7:3: o<toolchange> call: calls nested more than",
+        ),
+    ] {
+        let src = std::fs::read_to_string(dir.join(program)).unwrap();
+        let st = MachineSettings {
+            remap_m6: Some("toolchange".into()),
+            ..MachineSettings::default()
+        };
+        let e = novanc_moves(&src, &st, std::slice::from_ref(&dir)).unwrap_err();
+        assert!(e.starts_with(want), "{program}: {e}");
+        // Without the remap, M6 is the built-in change and the program runs.
+        assert!(novanc_moves(&src, &MachineSettings::default(), &[]).is_ok());
+        assert!(toolchange.contains("o<toolchange> sub"));
+    }
 }

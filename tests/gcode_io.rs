@@ -185,3 +185,130 @@ fn the_status_holds_the_outputs() {
     let frame = c.frame_text();
     assert!(frame.contains("I/O OUT P2 E3=-1.25 IN P3"), "{frame}");
 }
+
+/// The I/O page (Ctrl-T) by its keys: `P3 ON` INPUT two seconds into the M66 wait ends the
+/// wait as the script word `input P3 on` does; `E2 4.5` sets an analog input; the page shows
+/// both, with the outputs the program set; a word that is not an input is refused with the
+/// reason and stays on the entry line.
+#[test]
+fn the_io_page_sets_inputs_by_its_keys() {
+    let (x, t, _) = run_script(
+        "io-page-keys",
+        "G21 G90\nM64 P17\nG0 X10 Y10 Z-10\nM66 P3 L3 Q10\nG0 X[100 + 40 * #5399]\nM30\n",
+        "op DATA\ndata READ\ntape PROG\nstart\nwait\nop AUTO\nstart\nwait ms 2000\n\
+         key Ctrl+T\ntype P3 ON\nwait\n",
+    );
+    assert_eq!(x, 140.0);
+    assert!(t < 5.0, "{t}");
+    let mut c = common::open("io-page");
+    common::keys(&mut c, &["Ctrl+T"]);
+    assert!(common::shows(&c, "I/O"), "{}", c.frame_text());
+    // Each character on its key, then INPUT (Enter) or +INPUT (Tab).
+    let key_in = |c: &mut novanc::console::Console, line: &str, end: &str| {
+        for ch in line.chars() {
+            common::keys(c, &[ch.to_string().as_str()]);
+        }
+        common::keys(c, &[end]);
+    };
+    for (line, end) in [("p5 on", "Enter"), ("E2 4.5", "Enter"), ("P63 ON", "Tab")] {
+        key_in(&mut c, line, end);
+    }
+    let i = c.status().inputs;
+    assert_eq!(i.digital, 1 << 5 | 1 << 63, "{}", c.frame_text());
+    assert_eq!(i.analog[2], 4.5);
+    assert!(
+        common::shows(&c, " 0 ........ ........  .....1.. ........"),
+        "{}",
+        c.frame_text()
+    );
+    assert!(
+        common::shows(&c, "48 ........ ........  ........ .......1"),
+        "{}",
+        c.frame_text()
+    );
+    assert!(common::shows(&c, "IN E2=4.5"), "{}", c.frame_text());
+    assert!(common::shows(&c, "I/O: input P63 on"), "{}", c.frame_text());
+    key_in(&mut c, "P3 2", "Enter");
+    assert!(
+        common::shows(&c, "I/O: refused: input P3: takes on or off, not '2'"),
+        "{}",
+        c.frame_text()
+    );
+    assert_eq!(c.view().entry, "P3 2");
+    assert_eq!(c.status().inputs.digital, 1 << 5 | 1 << 63);
+}
+
+/// Input changes are recorded on `/nc/io` with `"dir":"in"`, from the I/O page and from the
+/// script word alike, the same value again not written; the file passes the Python reader.
+#[test]
+fn input_changes_are_recorded() {
+    let dir = common::temp_dir("io-rec-in");
+    let (rec, _) = common::recorded_script(
+        &dir,
+        "key Ctrl+T\ntype P3 ON\ntype E2 4.5\ninput P3 on\ninput P3 off\n",
+    );
+    let bytes = std::fs::read(&rec).unwrap();
+    let mut io = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == "/nc/io" {
+            io.push(String::from_utf8(m.data.to_vec()).unwrap());
+        }
+    }
+    let input = |kind: &str, index: u32, value: &str| {
+        format!(
+            r#"{{"seq":0,"stmt":0,"kind":"{kind}","index":{index},"value":{value},"synced":false,"dir":"in"}}"#
+        )
+    };
+    assert_eq!(
+        io,
+        [
+            input("digital", 3, "1"),
+            input("analog", 2, "4.5"),
+            input("digital", 3, "0")
+        ]
+    );
+    if let Some((ok, text)) = common::python_check(&rec, &["--expect-topics", "/nc/io"]) {
+        assert!(ok, "{text}");
+    }
+}
+
+/// M19 in a run: the turning spindle stops (the M5 time), then stands oriented at R; POS and
+/// MODAL show it; M5 ends it.
+#[test]
+fn m19_stops_the_spindle_and_orients_it() {
+    let mut c = common::open("io-m19");
+    let f = common::temp_dir("io-m19-prog").join("o.ngc");
+    std::fs::write(&f, "G21 G90\nS1000 M3\nM19 R90 Q5\nM0\nM5\nM30\n").unwrap();
+    let text = format!(
+        "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nkey Ctrl+P\n",
+        f.display()
+    );
+    for ev in PanelEvent::parse_script(&text).unwrap() {
+        c.handle(ev);
+    }
+    let s = c.status();
+    assert_eq!((s.spindle, s.orient), (0, Some(90.0)), "{}", c.frame_text());
+    // M3's start and M19's stop, one second each (and the blocks' NCBR ticks).
+    assert!(
+        (2_000_000_000..2_100_000_000).contains(&s.machine_ns),
+        "{}",
+        s.machine_ns
+    );
+    assert!(
+        common::shows(&c, "S 0 oriented M19 R90"),
+        "{}",
+        c.frame_text()
+    );
+    common::keys(&mut c, &["Ctrl+G"]);
+    assert!(
+        common::shows(&c, "S0 ORIENTED M19 R90"),
+        "{}",
+        c.frame_text()
+    );
+    for ev in PanelEvent::parse_script("start\nwait\n").unwrap() {
+        c.handle(ev);
+    }
+    assert_eq!(c.status().orient, None);
+    assert!(!common::shows(&c, "ORIENTED"), "{}", c.frame_text());
+}

@@ -377,3 +377,42 @@ fn a_run_records_the_probe_result() {
         assert!(ok, "{text}");
     }
 }
+
+/// The stock comes from the machine description: `machines/centre.machine` gives the
+/// defaults, a `--machine` file with its stock 50 mm higher stops the same probe 50 mm higher,
+/// and one without `workpiece` lines has no stock (the probe ends without contact).
+#[test]
+fn the_machine_description_gives_the_workpiece() {
+    let prog = "G21 G90 G49\nG0 X500 Y400 Z-300\nG38.2 Z-500 F100\nG0 Z[#5063 + 10]\nM2\n";
+    let centre = include_str!("../machines/centre.machine");
+    let stock = "workpiece box 300 200 -550 700 600 -450";
+    assert!(centre.contains(stock));
+    let d = common::temp_dir("probe-machine");
+    let higher = d.join("higher.machine");
+    std::fs::write(
+        &higher,
+        centre.replace(stock, "workpiece box 300 200 -550 700 600 -400"),
+    )
+    .unwrap();
+    let bare = d.join("bare.machine");
+    std::fs::write(&bare, centre.replace(stock, "")).unwrap();
+    for (machine, want) in [
+        (None, "N3 G00 Z-440.000"),
+        (Some(&higher), "N3 G00 Z-390.000"),
+        (
+            Some(&bare),
+            "3:1: G38.2: the probe move ended without contact",
+        ),
+    ] {
+        let m = machine.map(|p| p.to_string_lossy().into_owned());
+        let extra: Vec<&str> = match &m {
+            Some(p) => vec!["--machine", p.as_str()],
+            None => vec![],
+        };
+        let (_, out, err, _) = novanc(&["translate"], "probe.ngc", prog, &extra);
+        assert!(
+            out.contains(want) || err.contains(want),
+            "{machine:?}: {out}{err}"
+        );
+    }
+}

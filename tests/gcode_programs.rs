@@ -180,9 +180,8 @@ fn search_restores_z_first_then_tool_spindle_x_y_and_z() {
     let src = "G10 L2 P1 X100 Y100 Z-300\nT2 M6\nG43 H2\nS800 M3\nG0 X10 Y10 Z5\nG1 X20 F100\nG1 X30\nM30\n";
     // The machine stands somewhere else, low, with another tool and the spindle stopped.
     let state = MachineState {
-        pos: [500_000, 400_000, -400_000],
         tool: Some(4),
-        spindle: 0,
+        ..MachineState::at([500_000, 400_000, -400_000])
     };
     let stmts: Vec<Statement> = gcode(src, state, Switches::default())
         .resume_at(7)
@@ -221,4 +220,30 @@ fn mdi_needs_no_end_and_starts_from_the_machine() {
     let b: Vec<&Block> = stmts.iter().flat_map(|s| &s.blocks).collect();
     assert_eq!(b.len(), 1);
     assert_eq!(b[0].end, [15_000, 0, 0]);
+}
+
+/// SEARCH restores the coolant the lines before left, from the machine's: M7 and M8 to turn
+/// on, M9 first when one is on that should not be (after the spindle, before X and Y).
+#[test]
+fn search_restores_the_coolant_from_the_machines() {
+    let src = "G10 L2 P1 X100 Y100 Z-300\nS800 M3 M8\nG0 X10 Y10 Z5\nM7\nG1 X20 F100\nM9\nG1 X30\nM8\nG1 X40\nM30\n";
+    for (line, mist, flood, want) in [
+        (5, false, false, vec![3, 7, 8]),
+        (7, false, true, vec![3, 9]),
+        (9, true, true, vec![3, 9, 8]),
+        (9, false, true, vec![3]),
+    ] {
+        let state = MachineState {
+            mist,
+            flood,
+            ..MachineState::at([0, 0, 0])
+        };
+        let stmts: Vec<Statement> = gcode(src, state, Switches::default())
+            .resume_at(line)
+            .collect::<Result<_, _>>()
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(stmts[0].text, format!("(SEARCH: restore for line {line})"));
+        let m: Vec<u8> = stmts[0].blocks.iter().filter_map(|b| b.m).collect();
+        assert_eq!(m, want, "line {line}, machine mist {mist} flood {flood}");
+    }
 }

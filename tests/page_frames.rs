@@ -112,6 +112,18 @@ fn pages_at(rows: usize, cols: usize) {
     let mut c = console(rows, cols);
     scene(&mut c);
     let (w, h) = panel_size(rows, cols);
+    // Each page's frame: its size, its mark (the lit key, or the I/O page's title, whose key
+    // has no button on the terminal panel), and the golden.
+    let check = |c: &Console, page: &str, mark: &str| {
+        let text = normalize(&frame(c));
+        assert_eq!(text.lines().count(), h, "{page}: the frame is {h} lines");
+        assert!(
+            text.lines().all(|l| l.chars().count() <= w),
+            "{page}: a line is wider than {w}:\n{text}"
+        );
+        assert!(text.contains(mark), "{page}: {mark} is not shown:\n{text}");
+        golden(&format!("{page}_{w}x{h}"), &text);
+    };
     for (key, page) in [
         ("Ctrl+P", "pos"),
         ("Ctrl+D", "prog"),
@@ -120,21 +132,16 @@ fn pages_at(rows: usize, cols: usize) {
         ("Ctrl+E", "msg"),
     ] {
         keys(&mut c, &[key]);
-        let text = normalize(&frame(&c));
-        assert_eq!(text.lines().count(), h, "{page}: the frame is {h} lines");
-        assert!(
-            text.lines().all(|l| l.chars().count() <= w),
-            "{page}: a line is wider than {w}:\n{text}"
-        );
-        assert!(
-            text.contains(&format!("[{}]", page.to_uppercase())),
-            "{page}: its key is not shown:\n{text}"
-        );
-        golden(&format!("{page}_{w}x{h}"), &text);
+        check(&c, page, &format!("[{}]", page.to_uppercase()));
     }
     // The same page key again returns to the selectors' display program.
     keys(&mut c, &["Ctrl+E"]);
     golden(&format!("mode_{w}x{h}"), &normalize(&frame(&c)));
+    // I/O, with two inputs set on it (after the others: POS shows the inputs too).
+    keys(&mut c, &["Ctrl+T"]);
+    type_line(&mut c, "P5 ON");
+    type_line(&mut c, "E2 4.5");
+    check(&c, "io", "IN E2=4.5");
 }
 
 #[test]

@@ -313,6 +313,17 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
                 Json::Bool(b) => *b,
                 v => panic!("synced is not a boolean: {v:?}"),
             },
+            // `dir` is on inputs only ("in"); an output has none.
+            input: match obj {
+                Json::Obj(m) => match m.get("dir") {
+                    None => false,
+                    Some(d) => match text(d).as_str() {
+                        "in" => true,
+                        v => panic!("dir is not \"in\": {v}"),
+                    },
+                },
+                _ => false,
+            },
         },
         "/nc/probe" => {
             let flag = |k: &str| match field(obj, k) {

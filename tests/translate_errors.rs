@@ -459,3 +459,36 @@ fn no_input_makes_the_translator_panic() {
     }
     assert!(ok > 0 && failed > 0, "ok {ok}, failed {failed}");
 }
+
+/// A SEARCH past the last statement is a value the console asks for (`Translator::past_end`),
+/// not a message it reads; any other error leaves it `None`.
+#[test]
+fn a_search_past_the_end_is_a_typed_value() {
+    use novanc::translator::PastEnd;
+    let src = format!("{HEAD}\n; a comment\n");
+    let mut t = Translator::new(
+        &src,
+        sample_magazine(),
+        MachineSettings::default(),
+        [0, 0, 0],
+    )
+    .resume_at(9);
+    let e = t.by_ref().find_map(Result::err).expect("an error");
+    let past = PastEnd { line: 9, lines: 4 };
+    // Nothing after line 3 either: the blank line and the comment are no statements.
+    assert_eq!(t.past_end(), Some(past), "{e}");
+    assert_eq!(e.message, past.to_string());
+    assert_eq!(
+        past.to_string(),
+        "no statement at or after line 9 (the program has 4 lines)"
+    );
+    let mut t = Translator::new(
+        &format!("{HEAD}BOGUS\n"),
+        sample_magazine(),
+        MachineSettings::default(),
+        [0, 0, 0],
+    )
+    .resume_at(3);
+    assert!(t.by_ref().any(|r| r.is_err()));
+    assert_eq!(t.past_end(), None);
+}

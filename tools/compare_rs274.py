@@ -18,7 +18,9 @@ feed moves (its chords, one at least per spline) that ends where the next rs274 
 the run stops at the first novanc move that agrees with rs274's next move. An arc after it must
 start on its own circle there. The curves themselves are checked by novanc's unit tests.
 
-usage: compare_rs274.py [--novanc BIN] [--golden DIR] PROG.ngc...
+usage: compare_rs274.py [--novanc BIN] [--golden DIR] [--machine FILE] PROG.ngc...
+  --machine FILE a mill description for novanc translate; its `remap M6 ...` line goes to
+                 rs274's INI as REMAP=M6 ...
   --golden DIR   also write DIR/NAME.ngc and DIR/NAME.expect (the rs274 moves in machine mm,
                  or 'ERROR message') for tests/gcode_golden.rs
 Exit 0 if every program agrees.
@@ -57,13 +59,31 @@ def tool_table():
 NUM = r"(-?\d+(?:\.\d+)?)"
 
 
+MACHINE = [None]
+
+
+def remap_lines():
+    """The REMAP lines of the --machine description (its `remap M6 ...` line, LinuxCNC's
+    `REMAP=M6 ...`)."""
+    if not MACHINE[0]:
+        return ""
+    out = ""
+    for line in open(MACHINE[0]):
+        f = line.split("#")[0].split()
+        if f and f[0] == "remap":
+            out += "REMAP=" + " ".join(f[1:]) + "\n"
+    return out
+
+
 def rs274_ini(prog, tmp):
     """An INI for rs274: M6 retracts Z to machine 0 first (TOOL_CHANGE_QUILL_UP, novanc's
-    tool change), and subroutines are found beside the program and in programs/."""
+    tool change), subroutines are found beside the program and in programs/, and M6 is
+    remapped as the --machine description says."""
     path = os.path.join(tmp, "novanc.ini")
     dirs = [os.path.dirname(os.path.abspath(prog)), os.path.join(ROOT, "programs")]
     with open(path, "w") as f:
         f.write("[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\n[RS274NGC]\nSUBROUTINE_PATH = %s\n" % ":".join(dirs))
+        f.write(remap_lines())
     return path
 
 
@@ -231,7 +251,8 @@ inch = []
 
 
 def novanc_moves(prog, novanc):
-    p = subprocess.run([novanc, "translate", prog], capture_output=True, text=True, timeout=600)
+    machine = ["--machine", MACHINE[0]] if MACHINE[0] else []
+    p = subprocess.run([novanc, "translate", prog] + machine, capture_output=True, text=True, timeout=600)
     if p.returncode != 0:
         return [], p.stderr.strip() or "refused"
     moves = []
@@ -455,6 +476,8 @@ def main(argv):
             novanc = next(it)
         elif a == "--golden":
             golden = next(it)
+        elif a == "--machine":
+            MACHINE[0] = next(it)
         else:
             progs.append(a)
     with tempfile.NamedTemporaryFile("w", suffix=".tbl", delete=False) as f:

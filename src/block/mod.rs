@@ -273,15 +273,21 @@ pub struct MachineState {
     pub tool: Option<u32>,
     /// Spindle speed, rpm, signed (negative = reverse), 0 stopped.
     pub spindle: i64,
+    /// Mist coolant on (M7; M9 and RESET turn it off).
+    pub mist: bool,
+    /// Flood coolant on (M8; M9 and RESET turn it off).
+    pub flood: bool,
 }
 
 impl MachineState {
-    /// A machine at `pos` with no tool in the spindle and the spindle stopped.
+    /// A machine at `pos` with no tool in the spindle, the spindle stopped, coolant off.
     pub fn at(pos: [i64; 3]) -> MachineState {
         MachineState {
             pos,
             tool: None,
             spindle: 0,
+            mist: false,
+            flood: false,
         }
     }
 }

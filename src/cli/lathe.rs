@@ -37,14 +37,18 @@ pub fn take_machine(argv: &[String]) -> Result<Option<(String, Vec<String>)>, St
     Ok(found.map(|m| (m, rest)))
 }
 
-/// Puts a machining centre description's axes (pulse size, travel, rapid rate, acceleration)
-/// into the console's settings, keeping the rest (interpolator, B1, ...).
+/// Puts what a machining centre description gives (pulse size, travel, rapid rate,
+/// acceleration, tool-change height, workpiece, M6 remap) into the console's settings,
+/// keeping the rest (interpolator, B1, ...).
 pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings::MachineSettings) {
     s.pulse_mm = m.pulse_mm;
     s.travel_min_mm = m.travel_min_mm;
     s.travel_max_mm = m.travel_max_mm;
     s.rapid_mm_min = m.rapid_mm_min;
     s.accel_mm_s2 = m.accel_mm_s2;
+    s.remap_m6 = m.remap_m6.clone();
+    s.tool_change_z_mm = m.tool_change_z_mm;
+    s.workpiece = m.workpiece.clone();
 }
 
 /// Loads a machine for a subcommand; a lathe or the centre's settings.

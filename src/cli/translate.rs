@@ -13,6 +13,7 @@ use std::io::Write;
 const HELP: &str = "\
 usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
                                 [--optional-stop] [--subroutines DIR]...
+                                [--machine FILE]
        novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
 
 Translates the part program PROG into machine instruction blocks and prints them, one ISO
@@ -37,6 +38,8 @@ options:
   --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
   --subroutines DIR   G-code: a folder where 'o<name> call' finds name.ngc, after the
                       program's own folder (repeatable: searched in order)
+  --machine FILE      a machining centre's description (docs/lathe.md \"Machine
+                      description\"): its travel, and its M6 remap (docs/gcode.md)
   -h, --help          this help
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
@@ -330,6 +333,21 @@ impl Listing<'_> {
 
 /// Runs `novanc translate`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
+    // --machine: a mill's description (its M6 remap, travel, tool change); not a lathe.
+    let (settings, argv) = match super::lathe::take_machine(argv) {
+        Err(e) => return super::usage_error(&format!("translate: {e}")),
+        Ok(None) => (MachineSettings::default(), argv.to_vec()),
+        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
+            Err(e) => return super::usage_error(&format!("translate: {e}")),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(_)) => {
+                return super::usage_error(&format!(
+                    "translate: --machine {m} is a lathe: novanc translate lists a machining centre's programs"
+                ))
+            }
+            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
+        },
+    };
+    let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
         Ok(a) => a,
         Err(e) => return super::usage_error(&e),
@@ -338,7 +356,6 @@ pub fn main(argv: &[String]) -> i32 {
         print!("{HELP}");
         return 0;
     }
-    let settings = MachineSettings::default();
     let (prog, source, magazine, offsets, params) =
         match program_and_tools(&args, &settings, "translate") {
             Ok(x) => x,

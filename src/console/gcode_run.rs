@@ -263,9 +263,12 @@ pub(super) fn before_read(c: &mut Console) {
 }
 
 /// RESET of the interpreter's state (docs/gcode.md "The interpreter's state"): cutter
-/// compensation off, the call stack and the M70 saved states dropped, the modal groups as
+/// compensation off, the call stack and the M70 saved states dropped, coolant off (RESET
+/// turns the machine's off: LinuxCNC's M9 state after a reset), the other modal groups as
 /// read; the position and the tool are the machine's at the next START.
 pub(super) fn reset_state(st: &mut InterpState) {
+    st.modal.mist = false;
+    st.modal.flood = false;
     st.modal.comp = CompSide::Off;
     st.comp_radius = 0.0;
     st.comp_tool = None;

@@ -13,8 +13,9 @@ use super::run::run_source;
 use super::Console;
 use crate::block::{Block, MachineState};
 use crate::gcode::{GcodeSource, InterpState};
-use crate::pulse_core::{RunKind, StatementIter};
+use crate::pulse_core::RunKind;
 use crate::store::Target;
+use crate::translator::Translator;
 
 /// Where SEARCH positioned the program.
 #[derive(Clone, Debug, PartialEq)]
@@ -152,20 +153,25 @@ fn make_plan(
 ) -> Result<(u32, String, Plan), String> {
     let mut src = run_source(c, RunKind::Auto);
     src.resume_at = Some(line);
-    let (mut t, mut g): (StatementIter, _) = match src.clone().gcode_source(state) {
-        Some(g) => (Box::new(std::iter::empty()), Some(g)),
-        None => (src.statements(state), None),
+    // The source language's translator is kept as itself, to ask it why it stopped.
+    let (mut t, mut g): (Option<Translator>, Option<GcodeSource>) = if src.gcode {
+        (None, src.gcode_source(state))
+    } else {
+        (Some(src.translator(state)), None)
     };
-    let next = |t: &mut StatementIter, g: &mut Option<GcodeSource>| match g {
-        Some(g) => g.next(),
-        None => t.next(),
+    let next = |t: &mut Option<Translator>, g: &mut Option<GcodeSource>| match (t, g) {
+        (_, Some(g)) => g.next(),
+        (Some(t), None) => t.next(),
+        (None, None) => None,
     };
     let first = match next(&mut t, &mut g) {
         Some(Ok(s)) => s,
-        Some(Err(e)) if e.line == line && e.col == 1 && e.message.starts_with("no statement") => {
-            return Err(e.message)
+        Some(Err(e)) => {
+            return Err(match t.as_ref().and_then(Translator::past_end) {
+                Some(past) => past.to_string(),
+                None => format!("line {}:{}: {}", e.line, e.col, e.message),
+            })
         }
-        Some(Err(e)) => return Err(format!("line {}:{}: {}", e.line, e.col, e.message)),
         None => return Err(format!("no statement at or after line {line}")),
     };
     let restore = first.text == crate::translator::restore_text(first.line)

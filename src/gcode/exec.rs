@@ -139,6 +139,12 @@ pub enum Flow {
         /// The column of M98.
         col: u32,
     },
+    /// M6 remapped (docs/gcode.md "Remapping M6"): call the machine's subroutine; the line's
+    /// steps after M6 run when it returns.
+    Remap {
+        /// The column of M6.
+        col: u32,
+    },
     /// M99: return from the subprogram.
     Return {
         /// The column of M99.
@@ -164,6 +170,11 @@ pub struct Exec<'a> {
     pub optional_stop: bool,
     /// What the line asks of the machine, in order (its answers come before the next line).
     pub asks: Vec<Ask>,
+    /// M6 calls the machine's remap subroutine (it is remapped, and no remap runs now:
+    /// inside the remap, at any depth, M6 is the built-in change, as in LinuxCNC).
+    pub remap_m6: bool,
+    /// The line's remapped M6 has run: execute only its steps after M6.
+    pub after_m6: bool,
 }
 
 impl Exec<'_> {
@@ -587,7 +598,9 @@ pub fn execute(
     if !w.plain() {
         // S and T.
         let mut aux_s = None;
-        if let Some(s) = w.get('S') {
+        // S, T and the I/O codes ran before a remapped M6 called its subroutine.
+        let before_m6 = !x.after_m6;
+        if let Some(s) = w.get('S').filter(|_| before_m6) {
             if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
                 return Err(x.err(
                     w.col('S').unwrap_or(1),
@@ -602,7 +615,7 @@ pub fn execute(
             aux_s = Some(s.round() as u32);
         }
         let mut aux_t = None;
-        if let Some(t) = int_word(x, w, 'T', 0.0, 999.0)? {
+        if let Some(t) = int_word(x, w, 'T', 0.0, 999.0)?.filter(|_| before_m6) {
             let col = w.col('T').unwrap_or(1);
             if t != 0 {
                 x.tool_data(t, col, "T")?;
@@ -611,9 +624,11 @@ pub fn execute(
             aux_t = Some(t);
         }
         // I/O.
-        io_codes(st, comp, x, w)?;
+        if before_m6 {
+            io_codes(st, comp, x, w)?;
+        }
         // The tool change.
-        if let Some(col) = w.has_m(6) {
+        if let Some(col) = w.has_m(6).filter(|_| before_m6) {
             let t = st
                 .selected
                 .ok_or_else(|| x.err(col, "M06 without a T word before it: which tool?"))?;
@@ -622,6 +637,21 @@ pub fn execute(
                     col,
                     "cannot change tools with cutter radius compensation on",
                 ));
+            }
+            if x.remap_m6 {
+                // The machine's subroutine changes the tool; T (and S) are selected first.
+                if aux_t.is_some() || aux_s.is_some() {
+                    comp.aux(
+                        x,
+                        Canon::Aux {
+                            s: aux_s,
+                            t: aux_t,
+                            m: None,
+                        },
+                        w.col('T').or(w.col('S')).unwrap_or(col),
+                    );
+                }
+                return Ok(Flow::Remap { col });
             }
             tool_change(st, comp, x, t, col);
             aux_t = None;

@@ -178,6 +178,8 @@ macro_rules! ctx {
             magazine: &mut $s.magazine,
             optional_stop: $s.switches.optional_stop,
             asks: Vec::new(),
+            remap_m6: $s.settings.remap_m6.is_some() && $s.remap.is_none(),
+            after_m6: false,
         }
     };
 }
@@ -220,6 +222,20 @@ pub struct GcodeSource {
     /// SEARCH is running the lines before its point: the settings' machine answers.
     pub(crate) searching: bool,
     finder: Box<dyn SubFinder>,
+    /// A remapped M6's line, while its subroutine runs: the rest of the line executes when
+    /// the call level falls below `level` (docs/gcode.md "Remapping M6").
+    remap: Option<RemapLine>,
+}
+
+/// The line of a remapped M6 whose subroutine is running.
+struct RemapLine {
+    /// The call level of the remap subroutine.
+    level: usize,
+    at: Pos,
+    n: u32,
+    raw: String,
+    /// The line's words (None until the line has executed up to M6).
+    words: Option<Box<words::Words>>,
 }
 
 impl GcodeSource {
@@ -266,7 +282,12 @@ impl GcodeSource {
             settings.to_mm(machine.pos[2]),
         ];
         st.tool = machine.tool;
+        // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
+        // (its synch): after RESET it is off (docs/gcode.md "SEARCH").
+        st.modal.mist = machine.mist;
+        st.modal.flood = machine.flood;
         st.call_level = 0;
+        st.remap_level = 0;
         // A NURBS is begun and ended within one program (or one MDI text).
         st.nurbs = None;
         let first_code = source.split('\n').position(|l| {
@@ -311,6 +332,7 @@ impl GcodeSource {
             pending: (Vec::new(), 0),
             searching: false,
             finder: Box::new(NoFiles),
+            remap: None,
         }
     }
 
@@ -444,6 +466,30 @@ impl GcodeSource {
         loop {
             if self.done {
                 return None;
+            }
+            if self
+                .remap
+                .as_ref()
+                .is_some_and(|r| self.flow.level() < r.level)
+            {
+                if let Some(RemapLine {
+                    at,
+                    n,
+                    raw,
+                    words: Some(words),
+                    ..
+                }) = self.remap.take()
+                {
+                    self.st.remap_level = 0;
+                    match self.run_words(at, n, &raw, &words, true) {
+                        Ok(Some(s)) => return s,
+                        Ok(None) => continue,
+                        Err(e) => {
+                            let e = self.error_at(at.unit, e.line, e.col, e.message);
+                            return self.fail(e);
+                        }
+                    }
+                }
             }
             let at = self.flow.pc;
             let n = at.line as u32 + 1;
@@ -666,14 +712,29 @@ impl GcodeSource {
         }
         let mut words = self.words_buf.take().unwrap_or_default();
         let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
+        let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
+        match self.remap.as_mut() {
+            // The line of a remapped M6 just called: kept to finish when the call returns.
+            Some(r) if r.words.is_none() => r.words = Some(words),
+            _ => self.words_buf = Some(words),
+        }
+        r
+    }
+
+    /// Executes a line's sorted words (`after_m6`: only its steps after a remapped M6).
+    #[allow(clippy::type_complexity)]
+    fn run_words(
+        &mut self,
+        at: Pos,
+        n: u32,
+        raw: &str,
+        words: &words::Words,
+        after_m6: bool,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         let end_m = if words.has_m(2).is_some() { 2 } else { 30 };
-        let r = sorted.map(|()| {
-            let mut x = ctx!(self, n);
-            let r = exec::execute(&mut self.st, &mut self.comp, &mut x, &words);
-            (r, x)
-        });
-        self.words_buf = Some(words);
-        let (r, x) = r?;
+        let mut x = ctx!(self, n);
+        x.after_m6 = after_m6;
+        let r = exec::execute(&mut self.st, &mut self.comp, &mut x, words);
         let Exec {
             out, events, asks, ..
         } = x;
@@ -709,8 +770,48 @@ impl GcodeSource {
                     })?;
                 Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
             }
+            LineFlow::Remap { col } => {
+                self.remap_m6(at, n, raw, col)?;
+                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
+            }
             LineFlow::End => Ok(Some(self.end(n, raw.trim().to_string(), out, Some(end_m)))),
         }
+    }
+
+    /// A remapped M6 at `n`:`col`: calls the machine's subroutine with the tool selected and
+    /// the tool in the spindle as its `#<selected_tool>` and `#<tool_in_spindle>` (what
+    /// LinuxCNC's change_prolog gives); the rest of the line waits for its return.
+    fn remap_m6(&mut self, at: Pos, n: u32, raw: &str, col: u32) -> Result<(), TranslateError> {
+        let name = self.settings.remap_m6.clone().unwrap_or_default();
+        let err = |m: String| TranslateError {
+            line: n,
+            col,
+            message: format!("M6 (remapped to o<{name}> by the machine description): {m}"),
+        };
+        self.flow
+            .call(
+                &name,
+                flow::CallType::Oword,
+                &[],
+                at,
+                &mut self.st,
+                self.finder.as_ref(),
+            )
+            .map_err(err)?;
+        let selected = self.st.selected.map_or(-1.0, f64::from);
+        let in_spindle = self.st.tool.map_or(0.0, f64::from);
+        self.flow.set_local(&mut self.st, "selected_tool", selected);
+        self.flow
+            .set_local(&mut self.st, "tool_in_spindle", in_spindle);
+        self.st.remap_level = 1;
+        self.remap = Some(RemapLine {
+            level: self.flow.level(),
+            at,
+            n,
+            raw: raw.to_string(),
+            words: None,
+        });
+        Ok(())
     }
 
     /// M2, M30 (`endm`) or the closing % (`None`): flushes compensation, stops the spindle

@@ -99,6 +99,31 @@ impl GcodeSource {
             )),
             _ => {}
         }
+        // The coolant the lines before left, from the machine's: M9 first if one is on that
+        // should not be, then M7 and M8.
+        let (mist, flood) = (self.st.modal.mist, self.st.modal.flood);
+        let (mut had_mist, mut had_flood) = (self.start.mist, self.start.flood);
+        let aux = |m: u8| {
+            (
+                Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(m),
+                },
+                line,
+                1,
+            )
+        };
+        if (had_mist && !mist) || (had_flood && !flood) {
+            items.push(aux(9));
+            (had_mist, had_flood) = (false, false);
+        }
+        if mist && !had_mist {
+            items.push(aux(7));
+        }
+        if flood && !had_flood {
+            items.push(aux(8));
+        }
         items.push((Canon::Rapid([mm(target[0]), mm(target[1]), 0.0]), line, 1));
         items.push((
             Canon::Rapid([mm(target[0]), mm(target[1]), mm(target[2])]),

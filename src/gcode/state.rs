@@ -271,6 +271,8 @@ pub struct InterpState {
     pub line_number: f64,
     /// The call level (`#<_call_level>`), set by the flow.
     pub call_level: usize,
+    /// `#<_remap_level>`: 1 while a remapped M6's subroutine runs, else 0.
+    pub remap_level: usize,
     /// M70/M73 saved states by call level.
     pub saved: Vec<Option<Saved>>,
     /// Digital outputs P0–P63 (M62–M65).
@@ -309,6 +311,7 @@ impl Default for InterpState {
             value_returned: false,
             line_number: 0.0,
             call_level: 0,
+            remap_level: 0,
             saved: Vec::new(),
             digital_out: [false; 64],
             analog_out: [0.0; 64],
@@ -494,7 +497,7 @@ impl InterpState {
             "_value" => self.return_value,
             "_value_returned" => b(self.value_returned),
             "_call_level" => self.call_level as f64,
-            "_remap_level" => 0.0,
+            "_remap_level" => self.remap_level as f64,
             "_task" => 1.0,
             "_vmajor" => 2.9,
             "_vminor" => 0.0,

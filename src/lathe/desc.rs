@@ -306,6 +306,9 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
     let mut channels: Vec<ChannelDesc> = Vec::new();
     let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
+    let mut remap_m6 = None;
+    let mut workpiece = crate::workpiece::Workpiece::default();
+    let mut tool_change_z = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -378,6 +381,26 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     tools: Vec::new(),
                 });
             }
+            "remap" if kind == Some("mill") => {
+                if remap_m6.is_some() {
+                    return Err(e("M6 is remapped twice".into()));
+                }
+                remap_m6 = Some(remap(&words).map_err(e)?);
+            }
+            "workpiece" if kind == Some("mill") => {
+                workpiece.boxes.push(work_box(&words).map_err(e)?);
+            }
+            "toolchange" if kind == Some("mill") => {
+                tool_change_z = Some(match words.as_slice() {
+                    [_, "z", v] => (ln, num(Some(v), "toolchange z").map_err(e)?),
+                    _ => return Err(e("toolchange takes z and a machine Z, mm".into())),
+                });
+            }
+            "remap" | "workpiece" | "toolchange" => {
+                return Err(e(format!(
+                    "{head} belongs to a mill: say 'kind mill' first"
+                )))
+            }
             "x" | "y" | "z" if kind == Some("mill") => {
                 let a = axis(&words).map_err(e)?;
                 mill_axes[match head {
@@ -428,10 +451,83 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     }
     let name = name.ok_or("1: the description has no 'machine NAME' line")?;
     match kind {
-        Some("mill") => mill(&name, pulse_mm, mill_axes, &links),
+        Some("mill") => {
+            let mut m = mill(&name, pulse_mm, mill_axes, &links)?;
+            if let MachineDesc::Mill(s) = &mut m {
+                s.remap_m6 = remap_m6;
+                s.workpiece = workpiece;
+                if let Some((ln, z)) = tool_change_z {
+                    if !(s.travel_min_mm[2]..=s.travel_max_mm[2]).contains(&z) {
+                        return Err(format!(
+                            "{ln}: toolchange z {z}: outside the Z travel {} to {}",
+                            s.travel_min_mm[2], s.travel_max_mm[2]
+                        ));
+                    }
+                    s.tool_change_z_mm = z;
+                } else {
+                    s.tool_change_z_mm = s.travel_max_mm[2];
+                }
+            }
+            Ok(m)
+        }
         Some(_) => lathe(name, pulse_mm, tick_us, channels, &links),
         None => Err("1: the description has no 'kind lathe' or 'kind mill' line".into()),
     }
+}
+
+/// `workpiece box X1 Y1 Z1 X2 Y2 Z2`: a box of stock between two corners, machine mm of the
+/// tool tip (docs/gcode.md "Probing").
+fn work_box(words: &[&str]) -> Result<crate::workpiece::Cuboid, String> {
+    if words.len() != 8 || words[1] != "box" {
+        return Err("workpiece takes box and two corners: X1 Y1 Z1 X2 Y2 Z2 (machine mm)".into());
+    }
+    let mut v = [0.0; 6];
+    for (i, w) in words[2..].iter().enumerate() {
+        v[i] = num(Some(w), "workpiece box")?;
+    }
+    if (0..3).any(|a| v[a] == v[a + 3]) {
+        return Err("workpiece box: the corners must differ on every axis".into());
+    }
+    Ok(crate::workpiece::Cuboid::new(
+        [v[0], v[1], v[2]],
+        [v[3], v[4], v[5]],
+    ))
+}
+
+/// `remap M6 modalgroup=6 ngc=NAME`: LinuxCNC's `REMAP=M6 ...` line (docs/gcode.md
+/// "Remapping M6"); the subroutine's name, in lower case.
+fn remap(words: &[&str]) -> Result<String, String> {
+    if !words.get(1).is_some_and(|c| c.eq_ignore_ascii_case("M6")) {
+        return Err("remap: novanc remaps M6 only (remap M6 modalgroup=6 ngc=NAME)".into());
+    }
+    let mut ngc = None;
+    for w in &words[2..] {
+        match w.split_once('=') {
+            Some(("modalgroup", "6")) => {}
+            Some(("modalgroup", g)) => {
+                return Err(format!("remap M6: modalgroup={g}: M6 is in modal group 6"))
+            }
+            Some(("ngc", n)) => {
+                let n = n.to_ascii_lowercase();
+                let ok = !n.is_empty()
+                    && n.len() <= 64
+                    && n.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+                if !ok {
+                    return Err(format!(
+                        "remap M6: ngc={n}: a subroutine name of letters, digits, _ and -"
+                    ));
+                }
+                ngc = Some(n);
+            }
+            Some((k @ ("prolog" | "epilog" | "python"), _)) => {
+                return Err(format!(
+                    "remap M6: {k}= names a Python function: novanc runs none (the subroutine gets #<selected_tool> and #<tool_in_spindle> as LinuxCNC's change_prolog gives them)"
+                ))
+            }
+            _ => return Err(format!("remap M6: '{w}' is not modalgroup=6 or ngc=NAME")),
+        }
+    }
+    ngc.ok_or_else(|| "remap M6 needs ngc=NAME, the O-word subroutine M6 calls".to_string())
 }
 
 fn mill(
@@ -445,7 +541,7 @@ fn mill(
     }
     let mut s = crate::settings::MachineSettings {
         pulse_mm,
-        ..Default::default()
+        ..crate::settings::MachineSettings::builtin()
     };
     let mut rapid = f64::INFINITY;
     let mut accel = f64::INFINITY;
@@ -618,5 +714,67 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    #[test]
+    fn a_mill_description_remaps_m6_as_linuxcnc_writes_it() {
+        let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
+        match parse(&format!("{base}remap M6 modalgroup=6 ngc=ToolChange\n")) {
+            Ok(MachineDesc::Mill(s)) => assert_eq!(s.remap_m6.as_deref(), Some("toolchange")),
+            other => panic!("{other:?}"),
+        }
+        for (line, want) in [
+            ("remap M3 ngc=x", "6: remap: novanc remaps M6 only"),
+            ("remap M6 modalgroup=5 ngc=x", "6: remap M6: modalgroup=5"),
+            ("remap M6 modalgroup=6", "6: remap M6 needs ngc=NAME"),
+            ("remap M6 ngc=../x", "6: remap M6: ngc=../x"),
+            (
+                "remap M6 prolog=change_prolog ngc=x",
+                "6: remap M6: prolog= names a Python",
+            ),
+            ("remap M6 ngc=a\nremap M6 ngc=b", "7: M6 is remapped twice"),
+        ] {
+            let e = parse(&format!("{base}{line}\n")).unwrap_err();
+            assert!(e.starts_with(want), "{line}: {e}");
+        }
+        assert!(parse("machine m\nkind lathe\nremap M6 ngc=x\n")
+            .unwrap_err()
+            .starts_with("3: remap belongs to a mill"));
+    }
+
+    #[test]
+    fn the_centre_description_is_the_default_settings() {
+        let s = crate::settings::MachineSettings::default();
+        assert_eq!(s.workpiece.boxes.len(), 1);
+        assert_eq!(s.workpiece.boxes[0].max, [700.0, 600.0, -450.0]);
+        assert_eq!(s.tool_change_z_mm, 0.0);
+        // What the description does not give is the builtin's.
+        let b = crate::settings::MachineSettings::builtin();
+        assert!(b.workpiece.boxes.is_empty());
+        assert_eq!((s.jog_mm_min, s.spindle_ns), (b.jog_mm_min, b.spindle_ns));
+        let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 -10 rapid 5000 accel 800\n";
+        match parse(&format!(
+            "{base}workpiece box 0 0 -100 10 10 -90\nworkpiece box 20 0 -100 30 10 -80\n"
+        )) {
+            Ok(MachineDesc::Mill(s)) => {
+                assert_eq!(s.workpiece.boxes.len(), 2);
+                // No toolchange line: the top of the Z travel.
+                assert_eq!(s.tool_change_z_mm, -10.0);
+            }
+            other => panic!("{other:?}"),
+        }
+        for (line, want) in [
+            ("workpiece box 0 0 0 1 1", "6: workpiece takes box"),
+            ("workpiece box 0 0 0 1 1 0", "6: workpiece box: the corners"),
+            ("workpiece box 0 0 0 1 1 x", "6: workpiece box: 'x' is not"),
+            ("toolchange z", "6: toolchange takes z"),
+            ("toolchange z 5", "6: toolchange z 5: outside the Z travel"),
+        ] {
+            let e = parse(&format!("{base}{line}\n")).unwrap_err();
+            assert!(e.starts_with(want), "{line}: {e}");
+        }
+        assert!(parse("machine m\nkind lathe\nworkpiece box 0 0 0 1 1 1\n")
+            .unwrap_err()
+            .starts_with("3: workpiece belongs to a mill"));
     }
 }

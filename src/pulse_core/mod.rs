@@ -295,6 +295,10 @@ pub struct Status {
     pub inputs: Signals,
     /// The outputs (M62–M65, M67, M68 set them).
     pub outputs: Signals,
+    /// M19: the spindle stands oriented at this angle, degrees (M3, M4, M5 end it).
+    pub orient: Option<f64>,
+    /// Coolant mist (M7) and flood (M8) on; M9, M2, M30, RESET and E-STOP turn both off.
+    pub coolant: (bool, bool),
     /// Messages (commands, loads, settings) the core has applied so far.
     pub commands_applied: u64,
 }
@@ -312,6 +316,8 @@ impl Status {
             },
             tool: self.tool,
             spindle: self.spindle_programmed,
+            mist: self.coolant.0,
+            flood: self.coolant.1,
         }
     }
 }

@@ -353,6 +353,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             index,
             value,
             synced,
+            input,
         } => {
             out.extend_from_slice(b"{\"seq\":");
             push_u64(out, u64::from(*seq));
@@ -368,7 +369,8 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             push_mm(out, *value);
             out.extend_from_slice(b",\"synced\":");
             out.extend_from_slice(if *synced { b"true" } else { b"false" });
-            out.push(b'}');
+            // An input says so; an output is as it was before inputs were recorded.
+            out.extend_from_slice(if *input { b",\"dir\":\"in\"}" } else { b"}" });
             *t_ns
         }
         Event::Log {

@@ -140,7 +140,8 @@ pub enum Event {
         /// It was so at the start: nothing moved.
         at_start: bool,
     },
-    /// `/nc/io`: an output set by a block (M62–M65, M67, M68).
+    /// `/nc/io`: an output set by a block (M62–M65, M67, M68), or a simulated input the
+    /// operator or a script set (`input`).
     Io {
         /// Machine time, ns.
         t_ns: u64,
@@ -156,6 +157,8 @@ pub enum Event {
         value: f64,
         /// With the motion (M62, M63, M67) or at once.
         synced: bool,
+        /// An input (`"dir":"in"`), not an output (no `dir`).
+        input: bool,
     },
     /// `/foxglove/log`: an operator or program message, or an alarm (`foxglove.Log`).
     Log {

@@ -119,6 +119,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
                 index: (s % 64) as u8,
                 value: (s % 7) as f64 * 0.5,
                 synced: s % 57 == 0,
+                input: s % 95 == 0,
             });
         }
         if s % 23 == 0 {

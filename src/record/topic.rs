@@ -166,13 +166,14 @@ impl Topic {
             ),
             Topic::Io => concat!(
                 r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.Io","#,
-                r#""description":"A block set an output (M62-M65, M67, M68)","type":"object","#,
+                r#""description":"A block set an output (M62-M65, M67, M68), or the operator or a script set a simulated input (dir in)","type":"object","#,
                 r#""properties":{"seq":{"type":"integer","description":"block sequence number"},"#,
                 r#""stmt":{"type":"integer","description":"source statement line, 1-based"},"#,
                 r#""kind":{"type":"string","enum":["digital","analog"]},"#,
-                r#""index":{"type":"integer","minimum":0,"maximum":63,"description":"output number"},"#,
+                r#""index":{"type":"integer","minimum":0,"maximum":63,"description":"output (or input) number"},"#,
                 r#""value":{"type":"number","description":"a digital output 1 on, 0 off; an analog one its value (6 decimals)"},"#,
-                r#""synced":{"type":"boolean","description":"with the motion (M62, M63, M67: when the block's motion starts) or at once (M64, M65, M68: when the block is read)"}},"#,
+                r#""synced":{"type":"boolean","description":"with the motion (M62, M63, M67: when the block's motion starts) or at once (M64, M65, M68: when the block is read); false for an input"},"#,
+                r#""dir":{"type":"string","enum":["out","in"],"description":"in: an input the operator or a script set (seq and stmt: the block then executing, 0 if none; synced false); absent on an output a block set"}},"#,
                 r#""required":["seq","stmt","kind","index","value","synced"]}"#
             ),
             Topic::Log => super::foxglove::LOG_SCHEMA,

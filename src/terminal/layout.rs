@@ -162,6 +162,8 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
     // The row of page keys (docs/panel.md, "Pages"), right of the letters, each key's control
     // letter on the frame above its button; the page shown is lit.
     let mut x = kw.saturating_sub(25);
+    // (MODAL and I/O have no button in this row: MODAL's is below; I/O's key, Ctrl-T, is in
+    // the help.)
     for (p, key) in Page::KEYS.iter().zip(["^P", "^D", "^O", "^E"]) {
         s.text(x + 1, top + 5, key, PANEL);
         x += button(s, x, top + 6, p.label(), v.page == *p, PANEL, LIT) + 1;
@@ -230,6 +232,7 @@ pub const HELP_EDITOR: &[&str] = &[
     "  Ctrl-O OFS   tool offsets, then G54-G59: value Enter sets, Tab adds",
     "  Ctrl-E MSG   alarm and message history, newest first",
     "  Ctrl-G MODAL the G codes, F S T H D and offsets in force, overrides, switches",
+    "  Ctrl-T I/O   outputs and inputs: P3 ON, P3 OFF or E2 4.5 Enter sets an input",
     "MDI mode: a statement or a G-code line, Enter, F9; Up/Down recall 20",
     "",
     "F8 closes the help; any other key closes it and acts as on the panel.",

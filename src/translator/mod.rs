@@ -59,6 +59,8 @@ pub struct Translator {
     start: Machine,
     /// SEARCH: statements before this line are translated for their state, not run.
     resume_at: Option<u32>,
+    /// SEARCH went past the program's last statement (the error said so).
+    past_end: Option<PastEnd>,
     /// The statement a SEARCH restore was emitted before, translated next.
     held: Option<(u32, String)>,
     /// A cutting statement has been translated.
@@ -126,6 +128,7 @@ impl Translator {
             machine,
             start: machine,
             resume_at: None,
+            past_end: None,
             held: None,
             cut: false,
             done: false,
@@ -608,6 +611,33 @@ fn too_many_blocks(o: &Out) -> Result<(), TranslateError> {
     ))
 }
 
+/// A SEARCH to a line after the program's last statement: nothing to resume at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PastEnd {
+    /// The line searched to.
+    pub line: u32,
+    /// The program's lines.
+    pub lines: u32,
+}
+
+impl std::fmt::Display for PastEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "no statement at or after line {} (the program has {} lines)",
+            self.line, self.lines
+        )
+    }
+}
+
+impl Translator {
+    /// Whether the translation ended because its SEARCH point lies past the program's last
+    /// statement (the error it gave then), as a value.
+    pub fn past_end(&self) -> Option<PastEnd> {
+        self.past_end
+    }
+}
+
 impl Iterator for Translator {
     type Item = Result<Statement, TranslateError>;
 
@@ -620,13 +650,15 @@ impl Iterator for Translator {
             if rest.is_empty() {
                 self.done = true;
                 if let Some(at) = self.resume_at {
+                    let past = PastEnd {
+                        line: at,
+                        lines: self.line,
+                    };
+                    self.past_end = Some(past);
                     return Some(Err(TranslateError {
                         line: at,
                         col: 1,
-                        message: format!(
-                            "no statement at or after line {at} (the program has {} lines)",
-                            self.line
-                        ),
+                        message: past.to_string(),
                     }));
                 }
                 return Some(Ok(self.end_of_program()));

@@ -197,6 +197,7 @@ pub fn keyboard(
                         K::O if ctrl => out.push(PanelEvent::Press(Key::Ctrl('o'))),
                         K::E if ctrl => out.push(PanelEvent::Press(Key::Ctrl('e'))),
                         K::G if ctrl => out.push(PanelEvent::Press(Key::Ctrl('g'))),
+                        K::T if ctrl => out.push(PanelEvent::Press(Key::Ctrl('t'))),
                         K::Comma if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, -1)),
                         K::Period if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, 1)),
                         _ => {}

@@ -16,7 +16,10 @@
 //!   offsets in force, the overrides and the switches; read only.
 //! - MSG (`msg.rs`): the alarm and message history, newest first, full text, kept across
 //!   restarts.
+//! - I/O (`io.rs`, Ctrl-T): the outputs and the simulated inputs; `P3 ON`, `E2 4.5` INPUT
+//!   sets an input.
 
+mod io;
 mod measure;
 mod modal;
 mod msg;
@@ -133,6 +136,7 @@ pub fn page_of_key(k: Key) -> Option<Page> {
         Key::Ctrl('o') => Some(Page::Ofs),
         Key::Ctrl('e') => Some(Page::Msg),
         Key::Ctrl('g') => Some(Page::Modal),
+        Key::Ctrl('t') => Some(Page::Io),
         _ => None,
     }
 }
@@ -161,7 +165,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),
                 Page::Msg => msg::arrow(c, k),
-                Page::Pos | Page::Modal | Page::Mode => return false,
+                Page::Pos | Page::Modal | Page::Io | Page::Mode => return false,
             }
             true
         }
@@ -206,6 +210,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         Page::Modal => {
             c.message = "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
         }
+        Page::Io => io::enter(c, line),
         Page::Mode => {}
     }
 }
@@ -217,6 +222,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         Page::Prog => prog::compose(c, rows, cols),
         Page::Ofs => ofs::compose(c, rows, cols),
         Page::Modal => modal::compose(c, rows, cols),
+        Page::Io => io::compose(c, rows, cols),
         Page::Msg | Page::Mode => msg::compose(c, rows, cols),
     }
 }

@@ -42,7 +42,7 @@ fn switches(c: &Console) -> Vec<(&'static str, String)> {
 }
 
 /// Words joined with blanks into lines of at most `cols` characters.
-fn fill(words: &[&str], cols: usize) -> Vec<String> {
+pub(super) fn fill(words: &[&str], cols: usize) -> Vec<String> {
     let mut out = Vec::new();
     let mut line = String::new();
     for w in words {
@@ -83,7 +83,11 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     // does not change the G-code state above).
     let m = &c.status;
     let tool = m.tool.map_or("T--".to_string(), |t| format!("T{t:02}"));
-    p.body.push(format!("SPINDLE {tool} S{}", m.spindle));
+    let oriented = m.orient.map_or(String::new(), |a| {
+        format!(" ORIENTED M19 R{}", crate::input_text::short_number(a))
+    });
+    p.body
+        .push(format!("SPINDLE {tool} S{}{oriented}", m.spindle));
     let sw: Vec<String> = switches(c)
         .into_iter()
         .map(|(n, v)| format!("{n} {v}"))

@@ -169,9 +169,14 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         .filter(|_| st.in_block)
         .and_then(|e| e.block())
         .map_or(0.0, |b| b.feed);
-    let dir = match st.spindle {
-        0 => "stopped",
-        s if s > 0 => "CW M03",
+    let oriented;
+    let dir = match (st.spindle, st.orient) {
+        (0, Some(a)) => {
+            oriented = format!("oriented M19 R{}", crate::input_text::short_number(a));
+            oriented.as_str()
+        }
+        (0, None) => "stopped",
+        (s, _) if s > 0 => "CW M03",
         _ => "CCW M04",
     };
     p.body.push(format!(

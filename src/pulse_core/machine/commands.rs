@@ -77,6 +77,7 @@ impl Machine {
                 self.hold_after_tap = false;
                 self.estop = true;
                 self.spindle = 0;
+                self.coolant = (false, false);
                 self.alarm = Some("EMERGENCY STOP: pulses stopped; press RESET".into());
                 self.send_position();
             }
@@ -143,7 +144,7 @@ impl Machine {
                 digital,
                 index,
                 value,
-            } => self.inputs.set(digital, index, value),
+            } => self.set_input(digital, index, value),
             Command::Home => self.home(),
             Command::SetTool(t) => {
                 if self.current.is_none() && self.job.is_none() {
@@ -202,6 +203,7 @@ impl Machine {
         self.ret = None;
         self.ret_queue.clear();
         self.spindle = 0;
+        self.coolant = (false, false);
         self.send_position();
     }
 

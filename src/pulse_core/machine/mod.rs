@@ -303,6 +303,10 @@ pub struct Machine {
     tool: Option<u32>,
     tool_len: f64,
     spindle: i64,
+    /// M19: the spindle stands oriented at this angle, degrees (until M3, M4 or M5).
+    orient: Option<f64>,
+    /// Coolant: mist (M7) and flood (M8) on; M9, M2, M30, RESET and E-STOP turn both off.
+    coolant: (bool, bool),
     s_rpm: u32,
     program_end: bool,
     magazine: Option<Magazine>,
@@ -369,6 +373,8 @@ impl Machine {
             tool: None,
             tool_len: 0.0,
             spindle: 0,
+            orient: None,
+            coolant: (false, false),
             s_rpm: 0,
             program_end: false,
             magazine: None,
@@ -428,6 +434,40 @@ impl Machine {
                     index,
                     value,
                     synced,
+                    input: false,
+                },
+            );
+        }
+    }
+
+    /// A simulated input set by the operator or a script: recorded on `/nc/io` (`"dir":"in"`)
+    /// when it changes, charged to the block executing (0 if none).
+    pub(super) fn set_input(&mut self, digital: bool, index: u8, value: f64) {
+        let before = self.inputs;
+        self.inputs.set(digital, index, value);
+        let changed = if digital {
+            before.digital != self.inputs.digital
+        } else {
+            before.analog[usize::from(index)].to_bits()
+                != self.inputs.analog[usize::from(index)].to_bits()
+        };
+        if let (true, Some(s)) = (changed, &self.events) {
+            let (seq, stmt) = self
+                .current
+                .as_ref()
+                .map_or((0, 0), |c| (c.block.seq, c.block.stmt));
+            send_ev(
+                s,
+                &self.out.lossless,
+                Event::Io {
+                    t_ns: self.now,
+                    seq,
+                    stmt,
+                    digital,
+                    index,
+                    value: self.inputs.get(digital, index),
+                    synced: false,
+                    input: true,
                 },
             );
         }
@@ -562,6 +602,8 @@ impl Machine {
             },
             tool: self.tool,
             spindle: self.spindle,
+            mist: self.coolant.0,
+            flood: self.coolant.1,
         }
     }
 
@@ -1141,9 +1183,13 @@ impl Machine {
                         }
                     }
                     let b = &c.block;
-                    let post = match b.m {
-                        Some(5) | Some(30) if self.spindle != 0 => self.settings.spindle_ns,
-                        _ => 0,
+                    // M5, M30 and M19 stop a turning spindle (M19 then orients it).
+                    let stops = matches!(b.m, Some(5) | Some(30))
+                        || matches!(b.io, Some(crate::block::Io::Orient { .. }));
+                    let post = if stops && self.spindle != 0 {
+                        self.settings.spindle_ns
+                    } else {
+                        0
                     };
                     c.until += post;
                     c.phase = Phase::PostAux;
@@ -1187,12 +1233,24 @@ impl Machine {
             self.s_rpm = s;
         }
         match b.m {
+            Some(7) => self.coolant.0 = true,
+            Some(8) => self.coolant.1 = true,
+            Some(9) | Some(2) | Some(30) => self.coolant = (false, false),
+            _ => {}
+        }
+        match b.m {
             Some(6) => {
                 self.tool = self.selected_t;
                 self.tool_len = self.set_length_of(self.tool);
             }
-            Some(3) => self.spindle = i64::from(self.s_rpm),
-            Some(4) => self.spindle = -i64::from(self.s_rpm),
+            Some(3) => {
+                self.spindle = i64::from(self.s_rpm);
+                self.orient = None;
+            }
+            Some(4) => {
+                self.spindle = -i64::from(self.s_rpm);
+                self.orient = None;
+            }
             _ => {
                 if b.s.is_some() && self.spindle != 0 {
                     self.spindle = self.spindle.signum() * i64::from(self.s_rpm);
@@ -1214,6 +1272,12 @@ impl Machine {
         }
         if matches!(m, Some(5) | Some(30)) {
             self.spindle = 0;
+            self.orient = None;
+        }
+        if let Some(crate::block::Io::Orient { angle, .. }) = c.block.io {
+            // M19: stopped, then oriented at once (no spindle encoder: docs/pulse-core.md).
+            self.spindle = 0;
+            self.orient = Some(angle);
         }
         self.blocks_done += 1;
         self.just_completed = true;

@@ -147,6 +147,8 @@ impl Machine {
             speed_mm_min: self.speed_mm_min(),
             inputs: self.inputs,
             outputs: self.outputs,
+            orient: self.orient,
+            coolant: self.coolant,
             commands_applied: self.commands,
         }
     }
