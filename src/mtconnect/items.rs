@@ -19,6 +19,13 @@ pub struct Modes {
     pub program_alarm: Option<String>,
     /// mm per pulse.
     pub pulse_mm: f64,
+    /// What is subtracted from the axis position (machine mm) to give the work position POS
+    /// shows: the active system's zero with G92, and on Z the tool length in force
+    /// (`console::pages::pos::work_origin`).
+    pub work_origin: [f64; 3],
+    /// The tool file by T code: set length, radius, length wear and radius wear, mm (the
+    /// `tooloffsets` table).
+    pub tool_offsets: Vec<(u32, [f64; 4])>,
 }
 
 const WPO: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
@@ -77,10 +84,21 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         None => ("UNAVAILABLE".into(), "UNAVAILABLE".into()),
     };
     let core_alarm = s.alarm.as_deref();
+    let work = |a: usize| format!("{:.3}", s.pos[a] as f64 * m.pulse_mm - m.work_origin[a]);
     let wpo = WPO
         .iter()
         .zip(m.work_offsets.iter())
         .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let tooloffsets = m
+        .tool_offsets
+        .iter()
+        .map(|(t, [len, rad, wl, wr])| {
+            format!(
+                "T{t}={{LENGTH={len:.3} RADIUS={rad:.3} LENGTH_WEAR={wl:.3} RADIUS_WEAR={wr:.3}}}"
+            )
+        })
         .collect::<Vec<_>>()
         .join(" ");
     vec![
@@ -98,9 +116,14 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         ),
         ("block", block),
         ("line", line),
-        ("Xact", mm(s.pos[0])),
-        ("Yact", mm(s.pos[1])),
-        ("Zact", mm(s.pos[2])),
+        // The tool tip in the active work system (as POS shows it), and the axes in machine
+        // coordinates.
+        ("Xact", work(0)),
+        ("Yact", work(1)),
+        ("Zact", work(2)),
+        ("Xmach", mm(s.pos[0])),
+        ("Ymach", mm(s.pos[1])),
+        ("Zmach", mm(s.pos[2])),
         // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
         ("path_feedrate", format!("{:.3}", s.speed_mm_min / 60.0)),
         ("Fovr", s.feed_override.to_string()),
@@ -118,6 +141,7 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         ),
         ("partcount", m.partcount.to_string()),
         ("wpo", wpo),
+        ("tooloffsets", tooloffsets),
         (
             "system",
             condition(core_alarm.filter(|_| s.estop).map(|a| ("ESTOP", a))),
@@ -153,11 +177,36 @@ mod tests {
             work_offsets: [[0.0; 3]; 6],
             program_alarm: None,
             pulse_mm: 0.001,
+            work_origin: [0.0; 3],
+            tool_offsets: Vec::new(),
         }
     }
 
     fn value(items: &[(&str, String)], k: &str) -> String {
         items.iter().find(|(n, _)| *n == k).unwrap().1.clone()
+    }
+
+    #[test]
+    fn positions_in_work_and_machine_coordinates_and_the_tool_table() {
+        let s = Status {
+            pos: [1000, -2500, -100_000],
+            ..Status::default()
+        };
+        let mut m = modes();
+        m.work_origin = [10.0, -5.0, 150.0];
+        m.tool_offsets = vec![(1, [150.0, 5.0, -0.02, 0.01]), (3, [90.5, 3.0, 0.0, 0.0])];
+        let it = items(&s, &m);
+        assert_eq!(value(&it, "Xact"), "-9.000");
+        assert_eq!(value(&it, "Yact"), "2.500");
+        assert_eq!(value(&it, "Zact"), "-250.000");
+        assert_eq!(value(&it, "Xmach"), "1.000");
+        assert_eq!(value(&it, "Ymach"), "-2.500");
+        assert_eq!(value(&it, "Zmach"), "-100.000");
+        assert_eq!(
+            value(&it, "tooloffsets"),
+            "T1={LENGTH=150.000 RADIUS=5.000 LENGTH_WEAR=-0.020 RADIUS_WEAR=0.010} \
+             T3={LENGTH=90.500 RADIUS=3.000 LENGTH_WEAR=0.000 RADIUS_WEAR=0.000}"
+        );
     }
 
     #[test]

@@ -22,6 +22,8 @@ struct Client {
 struct Inner {
     clients: Vec<Client>,
     current: Vec<(&'static str, String)>,
+    /// The timestamp of the last publish: a connecting agent's dump carries it.
+    current_ts: Option<SystemTime>,
     next_id: u64,
     connected_ever: u64,
     dropped: u64,
@@ -103,9 +105,9 @@ impl Adapter {
         }
     }
 
-    /// Takes a snapshot's items: sends the ones that changed since the last call to every agent
-    /// (nothing if none changed). Never blocks on a client.
-    pub fn publish(&self, items: Vec<(&'static str, String)>) {
+    /// Takes a snapshot's items at time `ts`: sends the ones that changed since the last call
+    /// to every agent (nothing if none changed), stamped `ts`. Never blocks on a client.
+    pub fn publish(&self, items: Vec<(&'static str, String)>, ts: SystemTime) {
         let Ok(mut g) = self.inner.lock() else {
             return;
         };
@@ -116,10 +118,14 @@ impl Adapter {
             .cloned()
             .collect();
         inner.current = items;
-        if changed.is_empty() || inner.clients.is_empty() {
+        if changed.is_empty() {
             return;
         }
-        let text = super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &changed);
+        inner.current_ts = Some(ts);
+        if inner.clients.is_empty() {
+            return;
+        }
+        let text = super::shdr::lines(&super::shdr::timestamp(ts), &changed);
         let before = inner.clients.len();
         inner
             .clients
@@ -157,8 +163,8 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                 g.next_id += 1;
                 g.connected_ever += 1;
                 let mut c = Client { id, stream };
-                let dump =
-                    super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &g.current);
+                let ts = g.current_ts.unwrap_or_else(SystemTime::now);
+                let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current);
                 if send(&mut c.stream, dump.as_bytes()) {
                     g.clients.push(c);
                     let (i2, s2) = (inner.clone(), stop.clone());

@@ -107,6 +107,16 @@ pub fn shows(c: &Console, text: &str) -> bool {
 /// Runs `tests/mcap_check.py` on a recording; `None` if python3 or its `mcap` module is
 /// missing and `CI` is unset (a skip, said loudly). With `CI` set the module is required.
 pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
+    let mut args = vec![path.as_os_str()];
+    args.extend(extra.iter().map(std::ffi::OsStr::new));
+    python_script("mcap_check.py", &args)
+}
+
+/// Runs the Python script `tests/NAME` with `args` (it may read recordings with the `mcap`
+/// module): whether it exited 0, and its stdout and stderr; `None` if python3 or its `mcap`
+/// module is missing and `CI` is unset (a skip, said loudly). With `CI` set the module is
+/// required.
+pub fn python_script(name: &str, args: &[&std::ffi::OsStr]) -> Option<(bool, String)> {
     let has_mcap = Command::new("python3")
         .args(["-c", "import mcap"])
         .output()
@@ -118,17 +128,18 @@ pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
         }
         eprintln!(
             "\n!!!!! SKIPPED: python3 or its `mcap` module is missing; \
-             `python3 -m pip install mcap` to run the Python reader check !!!!!\n"
+             `python3 -m pip install mcap` to run the Python check {name} !!!!!\n"
         );
         return None;
     }
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/mcap_check.py");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join(name);
     let out = Command::new("python3")
         .arg(script)
-        .arg(path)
-        .args(extra)
+        .args(args)
         .output()
-        .expect("run mcap_check.py");
+        .unwrap_or_else(|e| panic!("run {name}: {e}"));
     let text = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),

@@ -29,6 +29,7 @@ use super::Console;
 pub use crate::panel_model::Page;
 use crate::store::history::{Counters, Entry, History, Kind};
 use novanc_panel::Key;
+pub(crate) use pos::work_origin;
 
 /// The MDI lines kept for recall.
 pub const RECALL: usize = 20;
