@@ -56,17 +56,17 @@ fn values(lines: &[String], key: &str) -> Vec<String> {
 }
 
 /// Table B in single block for three blocks, then AUTO with a feed hold, to M30, then E-STOP
-/// and RESET, streamed to two stand-in agents (tests/mtconnect_agent.py: the heartbeat, every
+/// and RESET, then T02's length revised on OFS, streamed to two stand-in agents (tests/mtconnect_agent.py: the heartbeat, every
 /// key and value against the shipped Devices.xml and the MTConnect enumerations, Execution,
-/// every block's line in order, partcount, the E-STOP's FAULT, the last position against the
-/// same run's recording). An adapter-level test, not agent conformance.
+/// every block's line in order, partcount, the E-STOP's FAULT, the revised tool table, the
+/// last position against the same run's recording, in work and machine coordinates). An adapter-level test, not agent conformance.
 #[test]
 fn table_b_streams_to_the_stand_in_agent() {
     let d = common::temp_dir("mtc-agent");
     let script = d.join("run.script");
     std::fs::write(
         &script,
-        "op SINGLE\nstart\nwait\nstart\nwait\nstart\nwait\nop AUTO\nstart\nwait ms 2000\nstop\nwait\nstart\nwait\nestop\nreset\n",
+        "op SINGLE\nstart\nwait\nstart\nwait\nstart\nwait\nop AUTO\nstart\nwait ms 2000\nstop\nwait\nstart\nwait\nestop\nreset\nkey Ctrl+O\nkey Down\ntype 155\n",
     )
     .unwrap();
     let (port, rec) = (free_port(), d.join("r.mcap"));

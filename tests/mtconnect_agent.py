@@ -7,7 +7,7 @@ An adapter-level test, not agent conformance: it reads the adapter as the refere
 (cppagent) would, with that agent's SHDR tokenizer rules, and checks what novanc sent against
 the shipped device file, the MTConnect 2.0 enumerations and the same run's recording. It is run
 by tests/mtconnect.rs on a `novanc script` run of Table B (single block, then AUTO with a feed
-hold, to M30, then E-STOP and RESET). Loopback only; every wait is bounded.
+hold, to M30, then E-STOP and RESET, then T02's length revised on OFS). Loopback only; every wait is bounded.
 
 Checks:
   * two agents connect (they may be slow to be accepted: retried for 30 s); the first sends
@@ -27,7 +27,10 @@ Checks:
     so `line` goes backwards only where the program loops;
   * `partcount` rises by one, when Execution becomes PROGRAM_COMPLETED;
   * E-STOP raises a FAULT on `system`, RESET makes it NORMAL;
-  * the last Xmach/Ymach/Zmach equal the last `/nc/position` of the recording.
+  * the last Xmach/Ymach/Zmach equal the last `/nc/position` of the recording, and
+    Xact/Yact/Zact are that position in G54 (zero on a fresh state) less the length of the tool
+    in the spindle;
+  * T02's length revised on OFS after the run is sent in a new `tooloffsets` table.
 
 Exit status 0 if every check passes, 1 with the failures on stderr, 2 if `mcap` is missing.
 """
@@ -287,8 +290,28 @@ def main():
     if last_pos is None or any(abs(g - p) > 0.0005 for g, p in zip(got, last_pos)):
         fail(f"last Xmach/Ymach/Zmach {got}, the recording ends at {last_pos}")
 
+    # OFS revised T02's set length to 155 after the run: the table is sent again with it.
+    tables = [v for _, v in series(va, "tooloffsets")]
+    t2 = lambda t: re.search(r"T2=\{LENGTH=(\S+) RADIUS=\S+ LENGTH_WEAR=(\S+)", t)
+    if len(tables) < 2 or not t2(tables[-1]) or t2(tables[-1]).group(1) != "155.000" \
+            or t2(tables[0]).group(1) == "155.000":
+        fail(f"tooloffsets {tables}: T2's length revised to 155 expected")
+    # The work position: G54 is zero on a fresh state, so X and Y are the machine's, and Z is
+    # the machine's less the length of the tool in the spindle (the tool file's, with no run
+    # loaded, as POS shows it).
+    tool = series(va, "tool")[-1][1]
+    m = re.search(r"\bT%s=\{LENGTH=(\S+) RADIUS=\S+ LENGTH_WEAR=(\S+)" % tool, tables[-1]) if tables else None
+    work = tuple(float(series(va, k)[-1][1]) for k in ("Xact", "Yact", "Zact"))
+    if not m:
+        fail(f"the tool in the spindle T{tool} is not in the table {tables[-1:]}")
+    else:
+        length = float(m.group(1)) + float(m.group(2))
+        want = (got[0], got[1], round(got[2] - length, 3))
+        if any(abs(w - g) > 0.0005 for w, g in zip(work, want)):
+            fail(f"last Xact/Yact/Zact {work}, expected {want} (tool T{tool} length {length})")
+
     print(f"mtconnect_agent: {len(la)} lines, {len(va)} values, {len(lines)} lines of blocks, "
-          f"Execution {len(ex)} changes")
+          f"Execution {len(ex)} changes; ends at machine {got}, work {work}, tool T{tool}")
     for f in failures:
         print(f"mtconnect_agent: {f}", file=sys.stderr)
     return 1 if failures else 0
