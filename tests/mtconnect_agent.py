@@ -50,12 +50,13 @@ except ImportError as e:  # pragma: no cover - environment problem
 
 import json
 
-# The MTConnect 2.0 controlled vocabularies of the enumerated events novanc sends
-# (MTConnectStreams_2.0.xsd: ExecutionEnumType, ControllerModeEnumType, EmergencyStopEnumType,
-# AvailabilityEnumType) and the condition levels (ConditionEnumType elements).
+# The MTConnect 2.0 controlled vocabularies of the enumerated events novanc sends, as
+# MTConnectStreams_2.0.xsd (the reference agent's schemas/) lists them: ExecutionValueType,
+# ControllerModeValueType, EmergencyStopValueType, AvailabilityValueType; and the condition
+# levels, its Condition elements Normal, Warning, Fault, Unavailable.
 ENUMS = {
     "EXECUTION": {"READY", "ACTIVE", "INTERRUPTED", "FEED_HOLD", "STOPPED", "OPTIONAL_STOP",
-                  "PROGRAM_STOPPED", "PROGRAM_COMPLETED", "WAIT", "PROGRAM_OPTIONAL_STOP"},
+                  "PROGRAM_STOPPED", "PROGRAM_COMPLETED", "WAIT"},
     "CONTROLLER_MODE": {"AUTOMATIC", "MANUAL", "MANUAL_DATA_INPUT", "SEMI_AUTOMATIC", "EDIT",
                         "FEED_HOLD"},
     "EMERGENCY_STOP": {"ARMED", "TRIGGERED"},

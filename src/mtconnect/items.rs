@@ -252,7 +252,7 @@ mod tests {
         let it = items(&s, &modes());
         assert_eq!(
             value(&it, "motion_program"),
-            "FAULT|CORE|||\"X TRAVEL LIMIT|+\""
+            "FAULT|CORE|||\"X TRAVEL LIMIT\\|+\""
         );
         assert_eq!(value(&it, "system"), "NORMAL||||");
         let mut m = modes();
