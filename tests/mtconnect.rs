@@ -203,6 +203,41 @@ fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
     assert!(t.join().unwrap() > 0);
 }
 
+/// A burst larger than the kernel's socket buffers (a script's virtual time makes one) reaches
+/// an agent that reads only after it, every change in order: what the socket cannot take waits
+/// in the client's queue (up to `QUEUE_LIMIT`), and publishing never blocks.
+#[test]
+fn a_burst_waits_in_the_queue_for_an_agent_that_reads_late() {
+    let ad = Adapter::start("127.0.0.1:0".parse().unwrap()).unwrap();
+    ad.publish(typical_items(0), std::time::SystemTime::now());
+    let late = connect(ad.local_addr().port());
+    let end = Instant::now() + Duration::from_secs(10);
+    while ad.clients() < 1 {
+        assert!(Instant::now() < end, "client never accepted");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // About 5 MB: more than loopback buffers hold for a client that reads nothing (about
+    // 3.6 MB here), less than that plus the queue.
+    let n = 5_000;
+    let t0 = Instant::now();
+    for i in 1..=n {
+        ad.publish(typical_items(i), std::time::SystemTime::now());
+    }
+    let took = t0.elapsed();
+    assert_eq!(ad.dropped(), 0, "the late reader was dropped");
+    let t = std::thread::spawn(move || read_all(late));
+    std::thread::sleep(Duration::from_millis(200));
+    drop(ad);
+    let lines = t.join().unwrap();
+    let x = values(&lines, "Xact");
+    let want: Vec<String> = (0..=n)
+        .map(|i| format!("{:.3}", i as f64 * 0.001))
+        .collect();
+    assert_eq!(x.len(), want.len(), "{} of {} changes", x.len(), want.len());
+    assert!(x == want, "changes out of order");
+    eprintln!("mtconnect: a {n}-snapshot burst published in {took:?}");
+}
+
 #[test]
 fn novanc_run_streams_its_program_to_an_agent() {
     let d = common::temp_dir("mtc-run");

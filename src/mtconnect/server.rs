@@ -1,8 +1,10 @@
 //! The TCP server: a listener thread accepts agents; each gets the current value of every
-//! item at once, then only changes. Every socket is non-blocking: a client whose kernel buffer
-//! is full (it stopped reading) is dropped at once, so no client can slow the caller. The
-//! caller publishes from its own thread; the lock it takes is held only while bytes are
-//! copied into kernel buffers.
+//! item at once, then only changes. Every socket is non-blocking, and no client can slow the
+//! caller: what a client's kernel buffer cannot take now waits in its own queue (a burst of
+//! changes, as virtual time makes them), flushed at the next publish and by the client's reader
+//! thread every 10 ms; a client whose queue would pass [`QUEUE_LIMIT`] (it stopped reading) is
+//! dropped. The caller publishes from its own thread; the lock it takes is held only while
+//! bytes are copied into kernel buffers or the queue.
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -13,9 +15,65 @@ use std::time::{Duration, Instant, SystemTime};
 /// The heartbeat the adapter announces, ms (`* PONG <ms>`).
 pub const HEARTBEAT_MS: u64 = 10_000;
 
+/// The longest the adapter, when it closes, waits for its clients to take what is queued.
+const DRAIN_LIMIT: Duration = Duration::from_secs(2);
+
+/// The most a client may have waiting to be sent, bytes; more, and it is dropped.
+pub const QUEUE_LIMIT: usize = 4 << 20;
+
 struct Client {
     id: u64,
     stream: TcpStream,
+    /// Bytes its kernel buffer could not take yet, in order, from `head` on.
+    queue: Vec<u8>,
+    head: usize,
+}
+
+impl Client {
+    /// Sends `bytes` after what is queued, without blocking: what the socket cannot take now is
+    /// queued. False if the client is gone or its queue would pass the limit.
+    fn send(&mut self, bytes: &[u8]) -> bool {
+        if !self.flush() {
+            return false;
+        }
+        let done = if self.queue.is_empty() {
+            match write_some(&mut self.stream, bytes) {
+                Some(n) => n,
+                None => return false,
+            }
+        } else {
+            0
+        };
+        let rest = &bytes[done..];
+        if self.queue.len() - self.head + rest.len() > QUEUE_LIMIT {
+            return false;
+        }
+        self.queue.extend_from_slice(rest);
+        true
+    }
+
+    /// Writes what is queued as far as the socket takes it; false if the client is gone.
+    fn flush(&mut self) -> bool {
+        if self.queue.is_empty() {
+            return true;
+        }
+        match write_some(&mut self.stream, &self.queue[self.head..]) {
+            Some(n) => {
+                self.head += n;
+                // Compact only when the sent part is the larger: no copying of the whole queue
+                // at every publish.
+                if self.head == self.queue.len() {
+                    self.queue.clear();
+                    self.head = 0;
+                } else if self.head > self.queue.len() / 2 {
+                    self.queue.drain(..self.head);
+                    self.head = 0;
+                }
+                true
+            }
+            None => false,
+        }
+    }
 }
 
 #[derive(Default)]
@@ -29,18 +87,19 @@ struct Inner {
     dropped: u64,
 }
 
-/// Writes all of `bytes` without blocking; false if the client cannot take them now.
-fn send(stream: &mut TcpStream, bytes: &[u8]) -> bool {
+/// Writes as much of `bytes` as the socket takes now: how much; None if the client is gone.
+fn write_some(stream: &mut TcpStream, bytes: &[u8]) -> Option<usize> {
     let mut done = 0;
     while done < bytes.len() {
         match stream.write(&bytes[done..]) {
-            Ok(0) => return false,
+            Ok(0) => return None,
             Ok(n) => done += n,
             Err(e) if e.kind() == ErrorKind::Interrupted => {}
-            Err(_) => return false,
+            Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+            Err(_) => return None,
         }
     }
-    true
+    Some(done)
 }
 
 /// The SHDR adapter: a listening socket and its agents.
@@ -127,9 +186,7 @@ impl Adapter {
         }
         let text = super::shdr::lines(&super::shdr::timestamp(ts), &changed);
         let before = inner.clients.len();
-        inner
-            .clients
-            .retain_mut(|c| send(&mut c.stream, text.as_bytes()));
+        inner.clients.retain_mut(|c| c.send(text.as_bytes()));
         inner.dropped += (before - inner.clients.len()) as u64;
     }
 }
@@ -137,8 +194,17 @@ impl Adapter {
 impl Drop for Adapter {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::SeqCst);
+        // What is still queued goes out before the sockets close (the end of a script's burst),
+        // waiting at most DRAIN_LIMIT in all.
+        let end = Instant::now() + DRAIN_LIMIT;
         if let Ok(mut g) = self.inner.lock() {
-            for c in g.clients.drain(..) {
+            for mut c in g.clients.drain(..) {
+                let left = end.saturating_duration_since(Instant::now());
+                if !c.queue.is_empty() && !left.is_zero() {
+                    let _ = c.stream.set_nonblocking(false);
+                    let _ = c.stream.set_write_timeout(Some(left));
+                    let _ = c.stream.write_all(&c.queue[c.head..]);
+                }
                 let _ = c.stream.shutdown(std::net::Shutdown::Both);
             }
         }
@@ -162,10 +228,15 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                 let id = g.next_id;
                 g.next_id += 1;
                 g.connected_ever += 1;
-                let mut c = Client { id, stream };
+                let mut c = Client {
+                    id,
+                    stream,
+                    queue: Vec::new(),
+                    head: 0,
+                };
                 let ts = g.current_ts.unwrap_or_else(SystemTime::now);
                 let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current);
-                if send(&mut c.stream, dump.as_bytes()) {
+                if c.send(dump.as_bytes()) {
                     g.clients.push(c);
                     let (i2, s2) = (inner.clone(), stop.clone());
                     let _ = std::thread::Builder::new()
@@ -201,7 +272,7 @@ fn read_loop(id: u64, mut reader: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc
                         let pong = format!("* PONG {HEARTBEAT_MS}\n");
                         let g = &mut *g;
                         if let Some(i) = g.clients.iter().position(|c| c.id == id) {
-                            if !send(&mut g.clients[i].stream, pong.as_bytes()) {
+                            if !g.clients[i].send(pong.as_bytes()) {
                                 g.clients.remove(i);
                                 g.dropped += 1;
                             }
@@ -217,9 +288,14 @@ fn read_loop(id: u64, mut reader: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc
             }
             Err(_) => break,
         }
-        // A client dropped by the publisher ends its reader too.
-        if let Ok(g) = inner.lock() {
-            if !g.clients.iter().any(|c| c.id == id) {
+        // A client dropped by the publisher ends its reader too; a client with bytes queued
+        // gets them as its socket takes them.
+        if let Ok(mut g) = inner.lock() {
+            let Some(i) = g.clients.iter().position(|c| c.id == id) else {
+                return;
+            };
+            if !g.clients[i].flush() {
+                g.clients.remove(i);
                 return;
             }
         }
