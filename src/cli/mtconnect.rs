@@ -75,7 +75,11 @@ struct FeedState {
 }
 
 impl FeedState {
-    fn publish(&mut self, s: &Status, mut modes: Modes) {
+    /// Publishes `s` with `modes` (None: the modes last published; nothing before any).
+    fn publish(&mut self, s: &Status, modes: Option<Modes>) {
+        if let Some(m) = modes {
+            self.modes = Some(m);
+        }
         if let Some(e) = &s.last_end {
             if self.last_run_end != Some(e.id) {
                 self.last_run_end = Some(e.id);
@@ -84,15 +88,18 @@ impl FeedState {
                 }
             }
         }
-        modes.partcount = self.partcount;
+        let partcount = self.partcount;
+        let Some(modes) = self.modes.as_mut() else {
+            return;
+        };
+        modes.partcount = partcount;
         let ts = match self.epoch {
             Some(t0) => t0 + Duration::from_nanos(s.machine_ns),
             None => SystemTime::now(),
         }
         .max(self.last_ts);
         self.last_ts = ts;
-        self.adapter.publish(crate::mtconnect::items(s, &modes), ts);
-        self.modes = Some(modes);
+        self.adapter.publish(crate::mtconnect::items(s, modes), ts);
     }
 }
 
@@ -122,10 +129,7 @@ impl Feed {
         if virt {
             let st = state.clone();
             core.set_watch(Some(Arc::new(move |s: &Status| {
-                let mut g = lock(&st);
-                if let Some(m) = g.modes.clone() {
-                    g.publish(s, m);
-                }
+                lock(&st).publish(s, None);
             })));
         }
         Ok(Some(Feed { state }))
@@ -144,18 +148,18 @@ impl Feed {
             op: c.view().op_mode,
             program: c.program_name(),
             partcount: 0,
-            work_offsets: c.work_offsets().0,
+            wpo: crate::mtconnect::items::wpo_table(&c.work_offsets().0),
             program_alarm: c.program_alarm().map(|a| a.error.to_string()),
             pulse_mm: c.settings().pulse_mm,
             work_origin: c.work_origin(),
-            tool_offsets: tool_offsets(&c.magazine()),
+            tooloffsets: crate::mtconnect::items::tool_table(&tool_offsets(&c.magazine())),
         };
         self.publish_status(c.status(), modes);
     }
 
     /// Publishes a status snapshot with the modes given (their partcount is the feed's own).
     pub fn publish_status(&mut self, s: &Status, modes: Modes) {
-        lock(&self.state).publish(s, modes);
+        lock(&self.state).publish(s, Some(modes));
     }
 
     /// Waits for an agent if `--mtconnect-wait` asks (publish the state first: an agent's

@@ -13,8 +13,9 @@ pub struct Modes {
     pub program: String,
     /// Runs that reached the end of their program (M02/M30) since the console opened.
     pub partcount: u64,
-    /// Work offsets G54–G59, machine mm.
-    pub work_offsets: [[f64; 3]; 6],
+    /// The `wpo` table ([`wpo_table`]): formatted once per change of the offsets, not at
+    /// every change of state.
+    pub wpo: String,
     /// A program that does not translate: its message (the `logic_program` condition).
     pub program_alarm: Option<String>,
     /// mm per pulse.
@@ -23,9 +24,8 @@ pub struct Modes {
     /// shows: the active system's zero with G92, and on Z the tool length in force
     /// (`console::pages::pos::work_origin`).
     pub work_origin: [f64; 3],
-    /// The tool file by T code: set length, radius, length wear and radius wear, mm (the
-    /// `tooloffsets` table).
-    pub tool_offsets: Vec<(u32, [f64; 4])>,
+    /// The `tooloffsets` table ([`tool_table`]).
+    pub tooloffsets: String,
 }
 
 const WPO: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
@@ -76,6 +76,29 @@ pub fn controller_mode(op: OpMode) -> &'static str {
     }
 }
 
+/// The `wpo` table of the work offsets G54–G59 (machine mm): `G54={X=… Y=… Z=…} G55=…`.
+pub fn wpo_table(offsets: &[[f64; 3]; 6]) -> String {
+    WPO.iter()
+        .zip(offsets.iter())
+        .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The `tooloffsets` table of the tool file by T code (set length, radius, length wear, radius
+/// wear, mm): `T1={LENGTH=… RADIUS=… LENGTH_WEAR=… RADIUS_WEAR=…} T2=…`.
+pub fn tool_table(tools: &[(u32, [f64; 4])]) -> String {
+    tools
+        .iter()
+        .map(|(t, [len, rad, wl, wr])| {
+            format!(
+                "T{t}={{LENGTH={len:.3} RADIUS={rad:.3} LENGTH_WEAR={wl:.3} RADIUS_WEAR={wr:.3}}}"
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// Every data item of the mill's one path and its value, in a fixed order.
 pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
     let mm = |p: i64| format!("{:.3}", p as f64 * m.pulse_mm);
@@ -85,22 +108,6 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
     };
     let core_alarm = s.alarm.as_deref();
     let work = |a: usize| format!("{:.3}", s.pos[a] as f64 * m.pulse_mm - m.work_origin[a]);
-    let wpo = WPO
-        .iter()
-        .zip(m.work_offsets.iter())
-        .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
-        .collect::<Vec<_>>()
-        .join(" ");
-    let tooloffsets = m
-        .tool_offsets
-        .iter()
-        .map(|(t, [len, rad, wl, wr])| {
-            format!(
-                "T{t}={{LENGTH={len:.3} RADIUS={rad:.3} LENGTH_WEAR={wl:.3} RADIUS_WEAR={wr:.3}}}"
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(" ");
     vec![
         ("avail", "AVAILABLE".into()),
         ("estop", if s.estop { "TRIGGERED" } else { "ARMED" }.into()),
@@ -140,8 +147,8 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
                 .unwrap_or_else(|| "UNAVAILABLE".into()),
         ),
         ("partcount", m.partcount.to_string()),
-        ("wpo", wpo),
-        ("tooloffsets", tooloffsets),
+        ("wpo", m.wpo.clone()),
+        ("tooloffsets", m.tooloffsets.clone()),
         (
             "system",
             condition(core_alarm.filter(|_| s.estop).map(|a| ("ESTOP", a))),
@@ -174,11 +181,11 @@ mod tests {
             op: OpMode::Auto,
             program: "O0001".into(),
             partcount: 0,
-            work_offsets: [[0.0; 3]; 6],
+            wpo: wpo_table(&[[0.0; 3]; 6]),
             program_alarm: None,
             pulse_mm: 0.001,
             work_origin: [0.0; 3],
-            tool_offsets: Vec::new(),
+            tooloffsets: String::new(),
         }
     }
 
@@ -194,7 +201,7 @@ mod tests {
         };
         let mut m = modes();
         m.work_origin = [10.0, -5.0, 150.0];
-        m.tool_offsets = vec![(1, [150.0, 5.0, -0.02, 0.01]), (3, [90.5, 3.0, 0.0, 0.0])];
+        m.tooloffsets = tool_table(&[(1, [150.0, 5.0, -0.02, 0.01]), (3, [90.5, 3.0, 0.0, 0.0])]);
         let it = items(&s, &m);
         assert_eq!(value(&it, "Xact"), "-9.000");
         assert_eq!(value(&it, "Yact"), "2.500");

@@ -171,11 +171,23 @@ impl Adapter {
             return;
         };
         let inner = &mut *g;
-        let changed: Vec<(&'static str, String)> = items
-            .iter()
-            .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
-            .cloned()
-            .collect();
+        // The items come in a fixed order: compared pairwise (by key when the order differs).
+        let same_keys = items.len() == inner.current.len()
+            && items.iter().zip(&inner.current).all(|(a, b)| a.0 == b.0);
+        let changed: Vec<(&'static str, String)> = if same_keys {
+            items
+                .iter()
+                .zip(&inner.current)
+                .filter(|(a, b)| a.1 != b.1)
+                .map(|(a, _)| a.clone())
+                .collect()
+        } else {
+            items
+                .iter()
+                .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
+                .cloned()
+                .collect()
+        };
         inner.current = items;
         if changed.is_empty() {
             return;
