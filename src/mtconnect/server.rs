@@ -1,10 +1,11 @@
 //! The TCP server: a listener thread accepts agents; each gets the current value of every
-//! item at once, then only changes. Every socket is non-blocking, and no client can slow the
-//! caller: what a client's kernel buffer cannot take now waits in its own queue (a burst of
-//! changes, as virtual time makes them), flushed at the next publish and by the client's reader
-//! thread every 10 ms; a client whose queue would pass [`QUEUE_LIMIT`] (it stopped reading) is
-//! dropped. The caller publishes from its own thread; the lock it takes is held only while
-//! bytes are copied into kernel buffers or the queue.
+//! item at once, then only changes. No client can slow the caller: publishing only appends a
+//! change's bytes to each client's queue (under a lock held for that copy); each client's own
+//! thread writes its queue to the socket, non-blocking, in chunks as large as the socket takes
+//! (so a burst of changes, as virtual time makes them, costs few system calls, none on the
+//! caller's thread), and reads its `* PING`s. A client whose queue would pass [`QUEUE_LIMIT`]
+//! (it stopped reading) is dropped. When the adapter closes, each client's thread writes what
+//! is still queued, for at most [`DRAIN_LIMIT`].
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -16,63 +17,26 @@ use std::time::{Duration, Instant, SystemTime};
 pub const HEARTBEAT_MS: u64 = 10_000;
 
 /// The longest the adapter, when it closes, waits for its clients to take what is queued.
-const DRAIN_LIMIT: Duration = Duration::from_secs(2);
+pub const DRAIN_LIMIT: Duration = Duration::from_secs(2);
 
 /// The most a client may have waiting to be sent, bytes; more, and it is dropped.
-pub const QUEUE_LIMIT: usize = 4 << 20;
+pub const QUEUE_LIMIT: usize = 8 << 20;
 
 struct Client {
     id: u64,
     stream: TcpStream,
-    /// Bytes its kernel buffer could not take yet, in order, from `head` on.
+    /// Bytes not yet handed to its socket, in order (its thread takes them out to write).
     queue: Vec<u8>,
-    head: usize,
 }
 
 impl Client {
-    /// Sends `bytes` after what is queued, without blocking: what the socket cannot take now is
-    /// queued. False if the client is gone or its queue would pass the limit.
+    /// Queues `bytes`; false if the queue would pass the limit.
     fn send(&mut self, bytes: &[u8]) -> bool {
-        if !self.flush() {
+        if self.queue.len() + bytes.len() > QUEUE_LIMIT {
             return false;
         }
-        let done = if self.queue.is_empty() {
-            match write_some(&mut self.stream, bytes) {
-                Some(n) => n,
-                None => return false,
-            }
-        } else {
-            0
-        };
-        let rest = &bytes[done..];
-        if self.queue.len() - self.head + rest.len() > QUEUE_LIMIT {
-            return false;
-        }
-        self.queue.extend_from_slice(rest);
+        self.queue.extend_from_slice(bytes);
         true
-    }
-
-    /// Writes what is queued as far as the socket takes it; false if the client is gone.
-    fn flush(&mut self) -> bool {
-        if self.queue.is_empty() {
-            return true;
-        }
-        match write_some(&mut self.stream, &self.queue[self.head..]) {
-            Some(n) => {
-                self.head += n;
-                // Compact only when the sent part is the larger: no copying of the whole queue
-                // at every publish.
-                if self.head == self.queue.len() {
-                    self.queue.clear();
-                    self.head = 0;
-                } else if self.head > self.queue.len() / 2 {
-                    self.queue.drain(..self.head);
-                    self.head = 0;
-                }
-                true
-            }
-            None => false,
-        }
     }
 }
 
@@ -85,21 +49,6 @@ struct Inner {
     next_id: u64,
     connected_ever: u64,
     dropped: u64,
-}
-
-/// Writes as much of `bytes` as the socket takes now: how much; None if the client is gone.
-fn write_some(stream: &mut TcpStream, bytes: &[u8]) -> Option<usize> {
-    let mut done = 0;
-    while done < bytes.len() {
-        match stream.write(&bytes[done..]) {
-            Ok(0) => return None,
-            Ok(n) => done += n,
-            Err(e) if e.kind() == ErrorKind::Interrupted => {}
-            Err(e) if e.kind() == ErrorKind::WouldBlock => break,
-            Err(_) => return None,
-        }
-    }
-    Some(done)
 }
 
 /// The SHDR adapter: a listening socket and its agents.
@@ -138,6 +87,14 @@ impl Adapter {
     /// Agents connected now.
     pub fn clients(&self) -> usize {
         self.inner.lock().map(|i| i.clients.len()).unwrap_or(0)
+    }
+
+    /// Bytes waiting in the agents' queues now.
+    pub fn queued(&self) -> usize {
+        self.inner
+            .lock()
+            .map(|i| i.clients.iter().map(|c| c.queue.len()).sum())
+            .unwrap_or(0)
     }
 
     /// Agents dropped because they stopped reading.
@@ -205,18 +162,14 @@ impl Adapter {
 
 impl Drop for Adapter {
     fn drop(&mut self) {
+        // Each client's thread writes what is queued (at most DRAIN_LIMIT), closes and leaves.
         self.stop.store(true, Ordering::SeqCst);
-        // What is still queued goes out before the sockets close (the end of a script's burst),
-        // waiting at most DRAIN_LIMIT in all.
-        let end = Instant::now() + DRAIN_LIMIT;
+        let end = Instant::now() + DRAIN_LIMIT + Duration::from_millis(500);
+        while Instant::now() < end && self.clients() > 0 {
+            std::thread::sleep(Duration::from_millis(5));
+        }
         if let Ok(mut g) = self.inner.lock() {
-            for mut c in g.clients.drain(..) {
-                let left = end.saturating_duration_since(Instant::now());
-                if !c.queue.is_empty() && !left.is_zero() {
-                    let _ = c.stream.set_nonblocking(false);
-                    let _ = c.stream.set_write_timeout(Some(left));
-                    let _ = c.stream.write_all(&c.queue[c.head..]);
-                }
+            for c in g.clients.drain(..) {
                 let _ = c.stream.shutdown(std::net::Shutdown::Both);
             }
         }
@@ -244,7 +197,6 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                     id,
                     stream,
                     queue: Vec::new(),
-                    head: 0,
                 };
                 let ts = g.current_ts.unwrap_or_else(SystemTime::now);
                 let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current);
@@ -253,7 +205,7 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                     let (i2, s2) = (inner.clone(), stop.clone());
                     let _ = std::thread::Builder::new()
                         .name("mtconnect-client".into())
-                        .spawn(move || read_loop(id, reader, i2, s2));
+                        .spawn(move || client_loop(id, reader, i2, s2));
                 } else {
                     g.dropped += 1;
                 }
@@ -266,53 +218,114 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
     }
 }
 
-/// Reads an agent's lines: `* PING` is answered with `* PONG <ms>`; anything else is ignored.
-/// The client is removed when it closes.
-fn read_loop(id: u64, mut reader: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
+/// Writes as much of `bytes` as the socket takes now: how much; None if the client is gone.
+fn write_some(stream: &mut TcpStream, bytes: &[u8]) -> Option<usize> {
+    let mut done = 0;
+    while done < bytes.len() {
+        match stream.write(&bytes[done..]) {
+            Ok(0) => return None,
+            Ok(n) => done += n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+            Err(_) => return None,
+        }
+    }
+    Some(done)
+}
+
+/// A client's thread: writes its queue to the socket as far as the socket takes it, and reads
+/// its lines: `* PING` is answered with `* PONG <ms>` (after what is queued); anything else is
+/// ignored. It sleeps 10 ms when there was nothing to do. The client is removed when it closes
+/// or fails; when the adapter stops, what is queued is written (at most [`DRAIN_LIMIT`]) and
+/// the socket closed.
+fn client_loop(id: u64, mut sock: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
     let mut buf = Vec::new();
     let mut chunk = [0u8; 512];
-    while !stop.load(Ordering::SeqCst) {
-        match reader.read(&mut chunk) {
-            Ok(0) => break,
-            Ok(n) => {
-                buf.extend_from_slice(&chunk[..n]);
-                while let Some(p) = buf.iter().position(|&b| b == b'\n') {
-                    let line: Vec<u8> = buf.drain(..=p).collect();
-                    let line = String::from_utf8_lossy(&line);
-                    if line.trim_end().starts_with("* PING") {
-                        let Ok(mut g) = inner.lock() else { return };
-                        let pong = format!("* PONG {HEARTBEAT_MS}\n");
-                        let g = &mut *g;
-                        if let Some(i) = g.clients.iter().position(|c| c.id == id) {
-                            if !g.clients[i].send(pong.as_bytes()) {
-                                g.clients.remove(i);
-                                g.dropped += 1;
+    let mut drain_end = None;
+    loop {
+        let stopping = stop.load(Ordering::SeqCst);
+        if stopping && drain_end.is_none() {
+            drain_end = Some(Instant::now() + DRAIN_LIMIT);
+        }
+        // Take the queue out, write it outside the lock, put back what the socket did not take
+        // in front of what came meanwhile.
+        let Some(mut out) = (match inner.lock() {
+            Ok(mut g) => g
+                .clients
+                .iter_mut()
+                .find(|c| c.id == id)
+                .map(|c| std::mem::take(&mut c.queue)),
+            Err(_) => None,
+        }) else {
+            return; // dropped by the publisher
+        };
+        let mut busy = false;
+        let mut gone = false;
+        if !out.is_empty() {
+            match write_some(&mut sock, &out) {
+                None => gone = true,
+                Some(n) => {
+                    busy = n > 0;
+                    out.drain(..n);
+                }
+            }
+        }
+        let done_draining = out.is_empty() || drain_end.is_some_and(|e| Instant::now() >= e);
+        if let Ok(mut g) = inner.lock() {
+            if let Some(i) = g.clients.iter().position(|c| c.id == id) {
+                if gone || (stopping && done_draining) {
+                    let c = g.clients.remove(i);
+                    let _ = c.stream.shutdown(std::net::Shutdown::Both);
+                    return;
+                }
+                if !out.is_empty() {
+                    out.extend_from_slice(&g.clients[i].queue);
+                    g.clients[i].queue = out;
+                }
+            } else {
+                return;
+            }
+        }
+        if !stopping {
+            match sock.read(&mut chunk) {
+                Ok(0) => gone = true,
+                Ok(n) => {
+                    busy = true;
+                    buf.extend_from_slice(&chunk[..n]);
+                    while let Some(p) = buf.iter().position(|&b| b == b'\n') {
+                        let line: Vec<u8> = buf.drain(..=p).collect();
+                        if String::from_utf8_lossy(&line)
+                            .trim_end()
+                            .starts_with("* PING")
+                        {
+                            let pong = format!("* PONG {HEARTBEAT_MS}\n");
+                            let Ok(mut g) = inner.lock() else { return };
+                            let g = &mut *g;
+                            if let Some(i) = g.clients.iter().position(|c| c.id == id) {
+                                if !g.clients[i].send(pong.as_bytes()) {
+                                    g.clients.remove(i);
+                                    g.dropped += 1;
+                                }
                             }
                         }
                     }
+                    if buf.len() > 4096 {
+                        buf.clear();
+                    }
                 }
-                if buf.len() > 4096 {
-                    buf.clear();
+                Err(e)
+                    if e.kind() == ErrorKind::WouldBlock || e.kind() == ErrorKind::Interrupted => {}
+                Err(_) => gone = true,
+            }
+            if gone {
+                if let Ok(mut g) = inner.lock() {
+                    g.clients.retain(|c| c.id != id);
                 }
-            }
-            Err(e) if e.kind() == ErrorKind::WouldBlock || e.kind() == ErrorKind::Interrupted => {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(_) => break,
-        }
-        // A client dropped by the publisher ends its reader too; a client with bytes queued
-        // gets them as its socket takes them.
-        if let Ok(mut g) = inner.lock() {
-            let Some(i) = g.clients.iter().position(|c| c.id == id) else {
-                return;
-            };
-            if !g.clients[i].flush() {
-                g.clients.remove(i);
                 return;
             }
         }
-    }
-    if let Ok(mut g) = inner.lock() {
-        g.clients.retain(|c| c.id != id);
+        if !busy {
+            std::thread::sleep(Duration::from_millis(if stopping { 1 } else { 10 }));
+        }
     }
 }
