@@ -90,14 +90,19 @@ fn table_b_streams_to_the_stand_in_agent() {
         "mtconnect_agent.py",
         &[port.as_ref(), devices.as_os_str(), rec.as_os_str()],
     );
+    let Some((ok, text)) = agent else {
+        // No Python (outside CI, said loudly by the helper): no agent will come.
+        let mut child = child;
+        let _ = child.kill();
+        let _ = child.wait();
+        return;
+    };
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("mtconnect: listening on 127.0.0.1:"), "{err}");
-    if let Some((ok, text)) = agent {
-        assert!(ok, "{text}");
-        eprintln!("{text}");
-    }
+    assert!(ok, "{text}");
+    eprintln!("{text}");
 }
 
 #[test]
