@@ -55,132 +55,55 @@ fn values(lines: &[String], key: &str) -> Vec<String> {
     out
 }
 
-const KEYS: [&str; 22] = [
-    "avail",
-    "estop",
-    "mode",
-    "exec",
-    "program",
-    "block",
-    "line",
-    "Xact",
-    "Yact",
-    "Zact",
-    "path_feedrate",
-    "Fovr",
-    "Rovr",
-    "Sovr",
-    "Srpm",
-    "tool",
-    "partcount",
-    "wpo",
-    "system",
-    "motion_program",
-    "logic_program",
-    "message",
-];
-
+/// Table B in single block for three blocks, then AUTO with a feed hold, to M30, then E-STOP
+/// and RESET, then T02's length revised on OFS, streamed to two stand-in agents (tests/mtconnect_agent.py: the heartbeat, every
+/// key and value against the shipped Devices.xml and the MTConnect enumerations, Execution,
+/// every block's line in order, partcount, the E-STOP's FAULT, the revised tool table, the
+/// last position against the same run's recording, in work and machine coordinates). An adapter-level test, not agent conformance.
 #[test]
-fn a_script_streams_its_run_to_two_agents_and_answers_the_heartbeat() {
-    let d = common::temp_dir("mtc-script");
+fn table_b_streams_to_the_stand_in_agent() {
+    let d = common::temp_dir("mtc-agent");
     let script = d.join("run.script");
     std::fs::write(
         &script,
-        "op AUTO\nstart\nwait block 5\nwait ms 2000\nstop\nwait\nstart\nwait ms 300\nwait\nestop\nreset\n",
+        "op SINGLE\nstart\nwait\nstart\nwait\nstart\nwait\nop AUTO\nstart\nwait ms 2000\nstop\nwait\nstart\nwait\nestop\nreset\nkey Ctrl+O\nkey Down\ntype 155\n",
     )
     .unwrap();
-    let port = free_port();
+    let (port, rec) = (free_port(), d.join("r.mcap"));
     let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args([
-            "script",
-            script.to_str().unwrap(),
-            "--mtconnect",
-            &format!("127.0.0.1:{port}"),
-            "--mtconnect-wait",
-            "30",
-        ])
+        .arg("script")
+        .arg(&script)
+        .arg("--state")
+        .arg(d.join("state"))
+        .arg("--record")
+        .arg(&rec)
+        .args(["--mtconnect", &format!("127.0.0.1:{port}")])
+        .args(["--mtconnect-wait", "30"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let mut a = connect(port);
-    let b = connect(port);
-    a.write_all(b"* PING\n").unwrap();
-    let ta = std::thread::spawn(move || read_all(a));
-    let tb = std::thread::spawn(move || read_all(b));
+    let devices =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/mtconnect/Devices.xml");
+    let port = port.to_string();
+    let agent = common::python_script(
+        "mtconnect_agent.py",
+        &["mcap"],
+        &[port.as_ref(), devices.as_os_str(), rec.as_os_str()],
+    );
+    let Some((ok, text)) = agent else {
+        // No Python (outside CI, said loudly by the helper): no agent will come.
+        let mut child = child;
+        let _ = child.kill();
+        let _ = child.wait();
+        return;
+    };
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("mtconnect: listening on 127.0.0.1:"), "{err}");
-    let (la, lb) = (ta.join().unwrap(), tb.join().unwrap());
-    for lines in [&la, &lb] {
-        // The first lines carry every item, timestamped UTC with milliseconds.
-        let first = &lines[0];
-        assert!(first.len() > 24 && first.as_bytes()[23] == b'Z', "{first}");
-        let dump: String = lines.iter().take(8).cloned().collect::<Vec<_>>().join("\n");
-        for k in KEYS {
-            assert!(dump.contains(&format!("|{k}|")), "{k} missing from {dump}");
-        }
-    }
-    assert!(la.iter().any(|l| l.starts_with("* PONG ")), "{la:?}");
-    // Every key is a DataItem id of the device file shipped for the agent.
-    let devices = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/mtconnect/Devices.xml"),
-    )
-    .unwrap();
-    for k in KEYS {
-        assert!(
-            devices.contains(&format!("id=\"{k}\"")),
-            "{k} not in Devices.xml"
-        );
-    }
-    let exec = values(&la, "exec");
-    let active = exec.iter().position(|v| v == "ACTIVE").expect("ACTIVE");
-    assert!(
-        exec[active..].iter().any(|v| v == "PROGRAM_COMPLETED"),
-        "{exec:?}"
-    );
-    // The feed hold in the bore, then the resume.
-    let held = exec
-        .iter()
-        .position(|v| v == "FEED_HOLD")
-        .expect("FEED_HOLD");
-    assert_eq!(exec[held + 1], "ACTIVE", "{exec:?}");
-    let lines: Vec<u32> = values(&la, "line")
-        .iter()
-        .filter_map(|v| v.parse().ok())
-        .collect();
-    assert!(lines.windows(2).all(|w| w[0] <= w[1]), "{lines:?}");
-    assert_eq!(
-        values(&la, "partcount").last().map(|s| s.as_str()),
-        Some("1")
-    );
-    assert!(exec.contains(&"STOPPED".to_string()), "{exec:?}");
-    assert_eq!(
-        values(&la, "estop"),
-        ["ARMED", "TRIGGERED", "ARMED"],
-        "{la:?}"
-    );
-    let x = values(&la, "Xact");
-    assert!(x.len() >= 2 && x.first() != x.last(), "{la:?}");
-    assert!(
-        la.iter().any(|l| l.contains("|system|FAULT|ESTOP|||")),
-        "{la:?}"
-    );
-    assert!(
-        la.last().unwrap().contains("|system|NORMAL||||")
-            || la
-                .iter()
-                .rev()
-                .take(4)
-                .any(|l| l.contains("|system|NORMAL")),
-        "{la:?}"
-    );
-    // Both agents end with the same values.
-    for k in ["exec", "Xact", "Yact", "Zact", "partcount"] {
-        assert_eq!(values(&la, k).last(), values(&lb, k).last(), "{k}");
-    }
+    assert!(ok, "{text}");
+    eprintln!("{text}");
 }
 
 #[test]
@@ -243,7 +166,7 @@ fn typical_items(i: u64) -> Vec<(&'static str, String)> {
 #[test]
 fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
     let ad = Adapter::start("127.0.0.1:0".parse().unwrap()).unwrap();
-    ad.publish(typical_items(0));
+    ad.publish(typical_items(0), std::time::SystemTime::now());
     let port = ad.local_addr().port();
     let silent = connect(port);
     let mut reader = connect(port);
@@ -270,7 +193,7 @@ fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
     while ad.dropped() == 0 {
         assert!(i < 200_000, "the silent client was never dropped");
         let s = Instant::now();
-        ad.publish(typical_items(i));
+        ad.publish(typical_items(i), std::time::SystemTime::now());
         worst = worst.max(s.elapsed());
         i += 1;
     }
@@ -284,6 +207,41 @@ fn a_client_that_stops_reading_is_dropped_and_never_slows_publishing() {
     drop(silent);
     drop(ad);
     assert!(t.join().unwrap() > 0);
+}
+
+/// A burst larger than the kernel's socket buffers (a script's virtual time makes one) reaches
+/// an agent that reads only after it, every change in order: what the socket cannot take waits
+/// in the client's queue (up to `QUEUE_LIMIT`), and publishing never blocks.
+#[test]
+fn a_burst_waits_in_the_queue_for_an_agent_that_reads_late() {
+    let ad = Adapter::start("127.0.0.1:0".parse().unwrap()).unwrap();
+    ad.publish(typical_items(0), std::time::SystemTime::now());
+    let late = connect(ad.local_addr().port());
+    let end = Instant::now() + Duration::from_secs(10);
+    while ad.clients() < 1 {
+        assert!(Instant::now() < end, "client never accepted");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // About 5 MB: more than loopback buffers hold for a client that reads nothing (about
+    // 3.6 MB here), less than that plus the queue.
+    let n = 5_000;
+    let t0 = Instant::now();
+    for i in 1..=n {
+        ad.publish(typical_items(i), std::time::SystemTime::now());
+    }
+    let took = t0.elapsed();
+    assert_eq!(ad.dropped(), 0, "the late reader was dropped");
+    let t = std::thread::spawn(move || read_all(late));
+    std::thread::sleep(Duration::from_millis(200));
+    drop(ad);
+    let lines = t.join().unwrap();
+    let x = values(&lines, "Xact");
+    let want: Vec<String> = (0..=n)
+        .map(|i| format!("{:.3}", i as f64 * 0.001))
+        .collect();
+    assert_eq!(x.len(), want.len(), "{} of {} changes", x.len(), want.len());
+    assert!(x == want, "changes out of order");
+    eprintln!("mtconnect: a {n}-snapshot burst published in {took:?}");
 }
 
 #[test]

@@ -21,8 +21,7 @@ fn foxglove_check(rec: &Path) -> Option<String> {
     let (ok, text) = common::python_script(
         "foxglove_check.py",
         &["mcap", "jsonschema"],
-        rec,
-        &["--package", pkg.to_str().unwrap()],
+        &[rec.as_os_str(), "--package".as_ref(), pkg.as_os_str()],
     )?;
     assert!(ok, "{text}");
     Some(text)
@@ -239,8 +238,7 @@ fn the_foxglove_check_fails_on_a_bad_message_a_wrong_time_and_a_hand_copied_sche
         common::python_script(
             "foxglove_check.py",
             &["mcap", "jsonschema"],
-            &path,
-            &["--package", pkg.to_str().unwrap()],
+            &[path.as_os_str(), "--package".as_ref(), pkg.as_os_str()],
         )
     };
     let Some((ok, text)) = run("good.mcap", schema, &msg(2, 5)) else {

@@ -157,6 +157,8 @@ pub fn main(argv: &[String]) -> i32 {
             .map(|r| r.sink().with_pulses(record_pulses)),
     );
     core.set_magazine(magazine.clone());
+    let tool_table =
+        crate::mtconnect::items::tool_table(&super::mtconnect::tool_offsets(&magazine));
     // A headless run is a memory operation in AUTO (Fanuc's MEM mode): no data-processing
     // selector is turned, so the data mode recorded is MEMORY (docs/recording.md).
     core.set_panel_modes("AUTO", "MEMORY");
@@ -175,7 +177,7 @@ pub fn main(argv: &[String]) -> i32 {
         programs: Vec::new(),
         path: crate::gcode::SubPath(super::translate::subroutine_path(&prog, &[])),
     }));
-    let mut feed = match super::mtconnect::Feed::start(&mtc, "novanc run") {
+    let mut feed = match super::mtconnect::Feed::start(&mtc, "novanc run", &core) {
         Ok(f) => f,
         Err(e) => return fail(&format!("novanc run: {e}")),
     };
@@ -183,9 +185,12 @@ pub fn main(argv: &[String]) -> i32 {
         op: crate::panel_model::OpMode::Auto,
         program: prog.clone(),
         partcount: 0,
-        work_offsets: src.offsets.0,
+        wpo: crate::mtconnect::items::wpo_table(&src.offsets.0),
         program_alarm: None,
         pulse_mm: settings.pulse_mm,
+        // No console, no POS: positions in G54 (where a run starts), without the tool length.
+        work_origin: src.offsets.0[0],
+        tooloffsets: tool_table,
     };
     if let Some(f) = feed.as_mut() {
         f.publish_status(&core.status(), modes.clone());

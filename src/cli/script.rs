@@ -153,7 +153,7 @@ fn run(
     for w in warnings {
         eprintln!("novanc script: warning: {w}");
     }
-    let mut feed = match super::mtconnect::Feed::start(mtc, "novanc script") {
+    let mut feed = match super::mtconnect::Feed::start(mtc, "novanc script", console.core()) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc script: {e}");

@@ -425,6 +425,12 @@ impl Console {
         &self.interp
     }
 
+    /// What is subtracted from the axis position (machine mm) to give the work position POS
+    /// shows: the active system's zero with G92, and the tool length in force on Z.
+    pub fn work_origin(&self) -> [f64; 3] {
+        pages::work_origin(self).1
+    }
+
     /// The pulse core (tests read its audit of block ends).
     pub fn core(&self) -> &PulseCore {
         &self.core

@@ -13,12 +13,19 @@ pub struct Modes {
     pub program: String,
     /// Runs that reached the end of their program (M02/M30) since the console opened.
     pub partcount: u64,
-    /// Work offsets G54–G59, machine mm.
-    pub work_offsets: [[f64; 3]; 6],
+    /// The `wpo` table ([`wpo_table`]): formatted once per change of the offsets, not at
+    /// every change of state.
+    pub wpo: String,
     /// A program that does not translate: its message (the `logic_program` condition).
     pub program_alarm: Option<String>,
     /// mm per pulse.
     pub pulse_mm: f64,
+    /// What is subtracted from the axis position (machine mm) to give the work position POS
+    /// shows: the active system's zero with G92, and on Z the tool length in force
+    /// (`console::pages::pos::work_origin`).
+    pub work_origin: [f64; 3],
+    /// The `tooloffsets` table ([`tool_table`]).
+    pub tooloffsets: String,
 }
 
 const WPO: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
@@ -69,6 +76,29 @@ pub fn controller_mode(op: OpMode) -> &'static str {
     }
 }
 
+/// The `wpo` table of the work offsets G54–G59 (machine mm): `G54={X=… Y=… Z=…} G55=…`.
+pub fn wpo_table(offsets: &[[f64; 3]; 6]) -> String {
+    WPO.iter()
+        .zip(offsets.iter())
+        .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The `tooloffsets` table of the tool file by T code (set length, radius, length wear, radius
+/// wear, mm): `T1={LENGTH=… RADIUS=… LENGTH_WEAR=… RADIUS_WEAR=…} T2=…`.
+pub fn tool_table(tools: &[(u32, [f64; 4])]) -> String {
+    tools
+        .iter()
+        .map(|(t, [len, rad, wl, wr])| {
+            format!(
+                "T{t}={{LENGTH={len:.3} RADIUS={rad:.3} LENGTH_WEAR={wl:.3} RADIUS_WEAR={wr:.3}}}"
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// Every data item of the mill's one path and its value, in a fixed order.
 pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
     let mm = |p: i64| format!("{:.3}", p as f64 * m.pulse_mm);
@@ -77,12 +107,7 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         None => ("UNAVAILABLE".into(), "UNAVAILABLE".into()),
     };
     let core_alarm = s.alarm.as_deref();
-    let wpo = WPO
-        .iter()
-        .zip(m.work_offsets.iter())
-        .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
-        .collect::<Vec<_>>()
-        .join(" ");
+    let work = |a: usize| format!("{:.3}", s.pos[a] as f64 * m.pulse_mm - m.work_origin[a]);
     vec![
         ("avail", "AVAILABLE".into()),
         ("estop", if s.estop { "TRIGGERED" } else { "ARMED" }.into()),
@@ -98,9 +123,14 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
         ),
         ("block", block),
         ("line", line),
-        ("Xact", mm(s.pos[0])),
-        ("Yact", mm(s.pos[1])),
-        ("Zact", mm(s.pos[2])),
+        // The tool tip in the active work system (as POS shows it), and the axes in machine
+        // coordinates.
+        ("Xact", work(0)),
+        ("Yact", work(1)),
+        ("Zact", work(2)),
+        ("Xmach", mm(s.pos[0])),
+        ("Ymach", mm(s.pos[1])),
+        ("Zmach", mm(s.pos[2])),
         // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
         ("path_feedrate", format!("{:.3}", s.speed_mm_min / 60.0)),
         ("Fovr", s.feed_override.to_string()),
@@ -117,7 +147,8 @@ pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
                 .unwrap_or_else(|| "UNAVAILABLE".into()),
         ),
         ("partcount", m.partcount.to_string()),
-        ("wpo", wpo),
+        ("wpo", m.wpo.clone()),
+        ("tooloffsets", m.tooloffsets.clone()),
         (
             "system",
             condition(core_alarm.filter(|_| s.estop).map(|a| ("ESTOP", a))),
@@ -150,14 +181,39 @@ mod tests {
             op: OpMode::Auto,
             program: "O0001".into(),
             partcount: 0,
-            work_offsets: [[0.0; 3]; 6],
+            wpo: wpo_table(&[[0.0; 3]; 6]),
             program_alarm: None,
             pulse_mm: 0.001,
+            work_origin: [0.0; 3],
+            tooloffsets: String::new(),
         }
     }
 
     fn value(items: &[(&str, String)], k: &str) -> String {
         items.iter().find(|(n, _)| *n == k).unwrap().1.clone()
+    }
+
+    #[test]
+    fn positions_in_work_and_machine_coordinates_and_the_tool_table() {
+        let s = Status {
+            pos: [1000, -2500, -100_000],
+            ..Status::default()
+        };
+        let mut m = modes();
+        m.work_origin = [10.0, -5.0, 150.0];
+        m.tooloffsets = tool_table(&[(1, [150.0, 5.0, -0.02, 0.01]), (3, [90.5, 3.0, 0.0, 0.0])]);
+        let it = items(&s, &m);
+        assert_eq!(value(&it, "Xact"), "-9.000");
+        assert_eq!(value(&it, "Yact"), "2.500");
+        assert_eq!(value(&it, "Zact"), "-250.000");
+        assert_eq!(value(&it, "Xmach"), "1.000");
+        assert_eq!(value(&it, "Ymach"), "-2.500");
+        assert_eq!(value(&it, "Zmach"), "-100.000");
+        assert_eq!(
+            value(&it, "tooloffsets"),
+            "T1={LENGTH=150.000 RADIUS=5.000 LENGTH_WEAR=-0.020 RADIUS_WEAR=0.010} \
+             T3={LENGTH=90.500 RADIUS=3.000 LENGTH_WEAR=0.000 RADIUS_WEAR=0.000}"
+        );
     }
 
     #[test]
@@ -203,7 +259,7 @@ mod tests {
         let it = items(&s, &modes());
         assert_eq!(
             value(&it, "motion_program"),
-            "FAULT|CORE|||\"X TRAVEL LIMIT|+\""
+            "FAULT|CORE|||\"X TRAVEL LIMIT\\|+\""
         );
         assert_eq!(value(&it, "system"), "NORMAL||||");
         let mut m = modes();

@@ -1,8 +1,11 @@
 //! The TCP server: a listener thread accepts agents; each gets the current value of every
-//! item at once, then only changes. Every socket is non-blocking: a client whose kernel buffer
-//! is full (it stopped reading) is dropped at once, so no client can slow the caller. The
-//! caller publishes from its own thread; the lock it takes is held only while bytes are
-//! copied into kernel buffers.
+//! item at once, then only changes. No client can slow the caller: publishing only appends a
+//! change's bytes to each client's queue (under a lock held for that copy); each client's own
+//! thread writes its queue to the socket, non-blocking, in chunks as large as the socket takes
+//! (so a burst of changes, as virtual time makes them, costs few system calls, none on the
+//! caller's thread), and reads its `* PING`s. A client whose queue would pass [`QUEUE_LIMIT`]
+//! (it stopped reading) is dropped. When the adapter closes, each client's thread writes what
+//! is still queued, for at most [`DRAIN_LIMIT`].
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -13,32 +16,39 @@ use std::time::{Duration, Instant, SystemTime};
 /// The heartbeat the adapter announces, ms (`* PONG <ms>`).
 pub const HEARTBEAT_MS: u64 = 10_000;
 
+/// The longest the adapter, when it closes, waits for its clients to take what is queued.
+pub const DRAIN_LIMIT: Duration = Duration::from_secs(2);
+
+/// The most a client may have waiting to be sent, bytes; more, and it is dropped.
+pub const QUEUE_LIMIT: usize = 8 << 20;
+
 struct Client {
     id: u64,
     stream: TcpStream,
+    /// Bytes not yet handed to its socket, in order (its thread takes them out to write).
+    queue: Vec<u8>,
+}
+
+impl Client {
+    /// Queues `bytes`; false if the queue would pass the limit.
+    fn send(&mut self, bytes: &[u8]) -> bool {
+        if self.queue.len() + bytes.len() > QUEUE_LIMIT {
+            return false;
+        }
+        self.queue.extend_from_slice(bytes);
+        true
+    }
 }
 
 #[derive(Default)]
 struct Inner {
     clients: Vec<Client>,
     current: Vec<(&'static str, String)>,
+    /// The timestamp of the last publish: a connecting agent's dump carries it.
+    current_ts: Option<SystemTime>,
     next_id: u64,
     connected_ever: u64,
     dropped: u64,
-}
-
-/// Writes all of `bytes` without blocking; false if the client cannot take them now.
-fn send(stream: &mut TcpStream, bytes: &[u8]) -> bool {
-    let mut done = 0;
-    while done < bytes.len() {
-        match stream.write(&bytes[done..]) {
-            Ok(0) => return false,
-            Ok(n) => done += n,
-            Err(e) if e.kind() == ErrorKind::Interrupted => {}
-            Err(_) => return false,
-        }
-    }
-    true
 }
 
 /// The SHDR adapter: a listening socket and its agents.
@@ -79,6 +89,14 @@ impl Adapter {
         self.inner.lock().map(|i| i.clients.len()).unwrap_or(0)
     }
 
+    /// Bytes waiting in the agents' queues now.
+    pub fn queued(&self) -> usize {
+        self.inner
+            .lock()
+            .map(|i| i.clients.iter().map(|c| c.queue.len()).sum())
+            .unwrap_or(0)
+    }
+
     /// Agents dropped because they stopped reading.
     pub fn dropped(&self) -> u64 {
         self.inner.lock().map(|i| i.dropped).unwrap_or(0)
@@ -103,34 +121,53 @@ impl Adapter {
         }
     }
 
-    /// Takes a snapshot's items: sends the ones that changed since the last call to every agent
-    /// (nothing if none changed). Never blocks on a client.
-    pub fn publish(&self, items: Vec<(&'static str, String)>) {
+    /// Takes a snapshot's items at time `ts`: sends the ones that changed since the last call
+    /// to every agent (nothing if none changed), stamped `ts`. Never blocks on a client.
+    pub fn publish(&self, items: Vec<(&'static str, String)>, ts: SystemTime) {
         let Ok(mut g) = self.inner.lock() else {
             return;
         };
         let inner = &mut *g;
-        let changed: Vec<(&'static str, String)> = items
-            .iter()
-            .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
-            .cloned()
-            .collect();
+        // The items come in a fixed order: compared pairwise (by key when the order differs).
+        let same_keys = items.len() == inner.current.len()
+            && items.iter().zip(&inner.current).all(|(a, b)| a.0 == b.0);
+        let changed: Vec<(&'static str, String)> = if same_keys {
+            items
+                .iter()
+                .zip(&inner.current)
+                .filter(|(a, b)| a.1 != b.1)
+                .map(|(a, _)| a.clone())
+                .collect()
+        } else {
+            items
+                .iter()
+                .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
+                .cloned()
+                .collect()
+        };
         inner.current = items;
-        if changed.is_empty() || inner.clients.is_empty() {
+        if changed.is_empty() {
             return;
         }
-        let text = super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &changed);
+        inner.current_ts = Some(ts);
+        if inner.clients.is_empty() {
+            return;
+        }
+        let text = super::shdr::lines(&super::shdr::timestamp(ts), &changed);
         let before = inner.clients.len();
-        inner
-            .clients
-            .retain_mut(|c| send(&mut c.stream, text.as_bytes()));
+        inner.clients.retain_mut(|c| c.send(text.as_bytes()));
         inner.dropped += (before - inner.clients.len()) as u64;
     }
 }
 
 impl Drop for Adapter {
     fn drop(&mut self) {
+        // Each client's thread writes what is queued (at most DRAIN_LIMIT), closes and leaves.
         self.stop.store(true, Ordering::SeqCst);
+        let end = Instant::now() + DRAIN_LIMIT + Duration::from_millis(500);
+        while Instant::now() < end && self.clients() > 0 {
+            std::thread::sleep(Duration::from_millis(5));
+        }
         if let Ok(mut g) = self.inner.lock() {
             for c in g.clients.drain(..) {
                 let _ = c.stream.shutdown(std::net::Shutdown::Both);
@@ -156,15 +193,19 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                 let id = g.next_id;
                 g.next_id += 1;
                 g.connected_ever += 1;
-                let mut c = Client { id, stream };
-                let dump =
-                    super::shdr::lines(&super::shdr::timestamp(SystemTime::now()), &g.current);
-                if send(&mut c.stream, dump.as_bytes()) {
+                let mut c = Client {
+                    id,
+                    stream,
+                    queue: Vec::new(),
+                };
+                let ts = g.current_ts.unwrap_or_else(SystemTime::now);
+                let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current);
+                if c.send(dump.as_bytes()) {
                     g.clients.push(c);
                     let (i2, s2) = (inner.clone(), stop.clone());
                     let _ = std::thread::Builder::new()
                         .name("mtconnect-client".into())
-                        .spawn(move || read_loop(id, reader, i2, s2));
+                        .spawn(move || client_loop(id, reader, i2, s2));
                 } else {
                     g.dropped += 1;
                 }
@@ -177,48 +218,114 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
     }
 }
 
-/// Reads an agent's lines: `* PING` is answered with `* PONG <ms>`; anything else is ignored.
-/// The client is removed when it closes.
-fn read_loop(id: u64, mut reader: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
+/// Writes as much of `bytes` as the socket takes now: how much; None if the client is gone.
+fn write_some(stream: &mut TcpStream, bytes: &[u8]) -> Option<usize> {
+    let mut done = 0;
+    while done < bytes.len() {
+        match stream.write(&bytes[done..]) {
+            Ok(0) => return None,
+            Ok(n) => done += n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+            Err(_) => return None,
+        }
+    }
+    Some(done)
+}
+
+/// A client's thread: writes its queue to the socket as far as the socket takes it, and reads
+/// its lines: `* PING` is answered with `* PONG <ms>` (after what is queued); anything else is
+/// ignored. It sleeps 10 ms when there was nothing to do. The client is removed when it closes
+/// or fails; when the adapter stops, what is queued is written (at most [`DRAIN_LIMIT`]) and
+/// the socket closed.
+fn client_loop(id: u64, mut sock: TcpStream, inner: Arc<Mutex<Inner>>, stop: Arc<AtomicBool>) {
     let mut buf = Vec::new();
     let mut chunk = [0u8; 512];
-    while !stop.load(Ordering::SeqCst) {
-        match reader.read(&mut chunk) {
-            Ok(0) => break,
-            Ok(n) => {
-                buf.extend_from_slice(&chunk[..n]);
-                while let Some(p) = buf.iter().position(|&b| b == b'\n') {
-                    let line: Vec<u8> = buf.drain(..=p).collect();
-                    let line = String::from_utf8_lossy(&line);
-                    if line.trim_end().starts_with("* PING") {
-                        let Ok(mut g) = inner.lock() else { return };
-                        let pong = format!("* PONG {HEARTBEAT_MS}\n");
-                        let g = &mut *g;
-                        if let Some(i) = g.clients.iter().position(|c| c.id == id) {
-                            if !send(&mut g.clients[i].stream, pong.as_bytes()) {
-                                g.clients.remove(i);
-                                g.dropped += 1;
-                            }
-                        }
-                    }
-                }
-                if buf.len() > 4096 {
-                    buf.clear();
-                }
-            }
-            Err(e) if e.kind() == ErrorKind::WouldBlock || e.kind() == ErrorKind::Interrupted => {
-                std::thread::sleep(Duration::from_millis(10))
-            }
-            Err(_) => break,
+    let mut drain_end = None;
+    loop {
+        let stopping = stop.load(Ordering::SeqCst);
+        if stopping && drain_end.is_none() {
+            drain_end = Some(Instant::now() + DRAIN_LIMIT);
         }
-        // A client dropped by the publisher ends its reader too.
-        if let Ok(g) = inner.lock() {
-            if !g.clients.iter().any(|c| c.id == id) {
+        // Take the queue out, write it outside the lock, put back what the socket did not take
+        // in front of what came meanwhile.
+        let Some(mut out) = (match inner.lock() {
+            Ok(mut g) => g
+                .clients
+                .iter_mut()
+                .find(|c| c.id == id)
+                .map(|c| std::mem::take(&mut c.queue)),
+            Err(_) => None,
+        }) else {
+            return; // dropped by the publisher
+        };
+        let mut busy = false;
+        let mut gone = false;
+        if !out.is_empty() {
+            match write_some(&mut sock, &out) {
+                None => gone = true,
+                Some(n) => {
+                    busy = n > 0;
+                    out.drain(..n);
+                }
+            }
+        }
+        let done_draining = out.is_empty() || drain_end.is_some_and(|e| Instant::now() >= e);
+        if let Ok(mut g) = inner.lock() {
+            if let Some(i) = g.clients.iter().position(|c| c.id == id) {
+                if gone || (stopping && done_draining) {
+                    let c = g.clients.remove(i);
+                    let _ = c.stream.shutdown(std::net::Shutdown::Both);
+                    return;
+                }
+                if !out.is_empty() {
+                    out.extend_from_slice(&g.clients[i].queue);
+                    g.clients[i].queue = out;
+                }
+            } else {
                 return;
             }
         }
-    }
-    if let Ok(mut g) = inner.lock() {
-        g.clients.retain(|c| c.id != id);
+        if !stopping {
+            match sock.read(&mut chunk) {
+                Ok(0) => gone = true,
+                Ok(n) => {
+                    busy = true;
+                    buf.extend_from_slice(&chunk[..n]);
+                    while let Some(p) = buf.iter().position(|&b| b == b'\n') {
+                        let line: Vec<u8> = buf.drain(..=p).collect();
+                        if String::from_utf8_lossy(&line)
+                            .trim_end()
+                            .starts_with("* PING")
+                        {
+                            let pong = format!("* PONG {HEARTBEAT_MS}\n");
+                            let Ok(mut g) = inner.lock() else { return };
+                            let g = &mut *g;
+                            if let Some(i) = g.clients.iter().position(|c| c.id == id) {
+                                if !g.clients[i].send(pong.as_bytes()) {
+                                    g.clients.remove(i);
+                                    g.dropped += 1;
+                                }
+                            }
+                        }
+                    }
+                    if buf.len() > 4096 {
+                        buf.clear();
+                    }
+                }
+                Err(e)
+                    if e.kind() == ErrorKind::WouldBlock || e.kind() == ErrorKind::Interrupted => {}
+                Err(_) => gone = true,
+            }
+            if gone {
+                if let Ok(mut g) = inner.lock() {
+                    g.clients.retain(|c| c.id != id);
+                }
+                return;
+            }
+        }
+        if !busy {
+            std::thread::sleep(Duration::from_millis(if stopping { 1 } else { 10 }));
+        }
     }
 }

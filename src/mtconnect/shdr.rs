@@ -5,20 +5,22 @@
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// A value as SHDR carries it: line breaks become spaces; a value with a `|` or beginning
-/// with a `"` is quoted, `"` and `\` inside escaped with `\` (the reference agent's tokenizer
-/// reads quoted fields so).
+/// with a `"` is quoted, and inside the quotes every `|`, `"` and `\` is preceded by `\`.
+/// Checked against the reference agent's tokenizer (cppagent `ShdrTokenizer::tokenize`): in a
+/// quoted field a bare `|` still ends the field, and a backslash takes the next character as
+/// it is; its tests read `"a\|b"` as `a|b`.
 pub fn escape(v: &str) -> String {
     let v: String = v
         .chars()
         .map(|c| if c == '\n' || c == '\r' { ' ' } else { c })
         .collect();
-    if !v.contains('|') && !v.starts_with('"') {
+    if !v.contains('|') && !v.trim_start().starts_with('"') {
         return v;
     }
     let mut out = String::with_capacity(v.len() + 2);
     out.push('"');
     for c in v.chars() {
-        if c == '"' || c == '\\' {
+        if c == '"' || c == '\\' || c == '|' {
             out.push('\\');
         }
         out.push(c);
@@ -102,7 +104,8 @@ mod tests {
     #[test]
     fn values_are_escaped() {
         assert_eq!(escape("G01 X1"), "G01 X1");
-        assert_eq!(escape("a|b"), "\"a|b\"");
+        assert_eq!(escape("a|b"), "\"a\\|b\"");
+        assert_eq!(escape("|b|"), "\"\\|b\\|\"");
         assert_eq!(escape("\"q\\"), "\"\\\"q\\\\\"");
         assert_eq!(escape("a\nb"), "a b");
     }

@@ -219,6 +219,10 @@ pub enum EndCause {
     Alarm,
 }
 
+/// Told the status at every change of state while the machine runs in virtual time
+/// ([`PulseCore::set_watch`]); called on the pulse core thread, so it must be quick.
+pub type Watcher = std::sync::Arc<dyn Fn(&Status) + Send + Sync>;
+
 /// A snapshot of the machine, published at display rate and after every message.
 #[derive(Clone, Debug, Default)]
 pub struct Status {

@@ -54,6 +54,7 @@ enum Msg {
     JogFeed(f64),
     Advance(Wait),
     Audit(bool),
+    Watch(Option<super::Watcher>),
     Interrupt(fn() -> bool),
     Shutdown,
 }
@@ -246,6 +247,14 @@ impl PulseCore {
         self.send_sync(Msg::Audit(on));
     }
 
+    /// Virtual time: `w` is told the status at every change of state while the machine runs
+    /// (every block, hold, stop and alarm inside one `wait`), in order, on the pulse core
+    /// thread; None stops it. Ignored in real time, where the caller's own snapshots (at
+    /// display rate) are the record.
+    pub fn set_watch(&self, w: Option<super::Watcher>) {
+        self.send_sync(Msg::Watch(w));
+    }
+
     /// A virtual-time advance asks `f` between slices of machine time and ends early
     /// ([`Reached::Interrupted`]) when it returns true (a stop signal).
     pub fn set_interrupt(&self, f: fn() -> bool) {
@@ -406,6 +415,14 @@ impl Runner {
             Msg::JogFeed(f) => Op::JogFeed(f),
             Msg::Audit(on) => {
                 self.m.set_audit(on);
+                self.applied += 1;
+                return;
+            }
+            Msg::Watch(w) => {
+                // Real time publishes at display rate; the watcher is for virtual time.
+                if self.rt.is_none() {
+                    self.m.set_watch(w);
+                }
                 self.applied += 1;
                 return;
             }

@@ -37,7 +37,7 @@ pub fn run_with(cfg: ConsoleConfig, mtc: &crate::cli::mtconnect::MtcOpts) -> i32
             return 1;
         }
     };
-    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc") {
+    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc", console.core()) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc: {e}");

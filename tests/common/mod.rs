@@ -107,18 +107,19 @@ pub fn shows(c: &Console, text: &str) -> bool {
 /// Runs `tests/mcap_check.py` on a recording; `None` if python3 or its `mcap` module is
 /// missing and `CI` is unset (a skip, said loudly). With `CI` set the module is required.
 pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {
-    python_script("mcap_check.py", &["mcap"], path, extra)
+    let mut args = vec![path.as_os_str()];
+    args.extend(extra.iter().map(std::ffi::OsStr::new));
+    python_script("mcap_check.py", &["mcap"], &args)
 }
 
-/// Runs the Python check `tests/SCRIPT` on a recording with `extra` arguments: whether it
-/// passed, and what it printed. `None` if python3 or one of its `modules` is missing, or the
+/// Runs the Python check `tests/SCRIPT` with `args` (a recording, an agent's port…): whether
+/// it passed, and what it printed. `None` if python3 or one of its `modules` is missing, or the
 /// script says so itself (exit status 2: something it needs is not installed), and `CI` is
 /// unset (a skip, said loudly); with `CI` set all of it is required (`.ci/run` installs it).
 pub fn python_script(
     script: &str,
     modules: &[&str],
-    path: &Path,
-    extra: &[&str],
+    args: &[&std::ffi::OsStr],
 ) -> Option<(bool, String)> {
     let skip = |why: &str| {
         if std::env::var_os("CI").is_some() {
@@ -143,8 +144,7 @@ pub fn python_script(
         .join(script);
     let out = Command::new("python3")
         .arg(script_path)
-        .arg(path)
-        .args(extra)
+        .args(args)
         .output()
         .expect("run a Python check");
     let text = format!(

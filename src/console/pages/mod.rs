@@ -32,6 +32,7 @@ use super::Console;
 pub use crate::panel_model::Page;
 use novanc_panel::Key;
 pub(super) use pos::length_in_force;
+pub(crate) use pos::work_origin;
 
 /// The MDI lines kept for recall.
 pub const RECALL: usize = 20;

@@ -138,14 +138,13 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         })
         .unwrap_or([0; 3]);
     let (in_force, pending) = length_in_force(c);
-    let len = s.to_pulses(in_force);
-    let (name, zero) = work_system(c);
+    let (name, origin) = work_origin(c);
     p.body.push(format!(
         " {:>9}{:>9}{:>9}{:>9}",
         name, "REL", "MACH", "TO GO"
     ));
     for a in 0..3 {
-        let work = st.pos[a] - if a == 2 { len } else { 0 } - s.to_pulses(zero[a]);
+        let work = st.pos[a] - s.to_pulses(origin[a]);
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
             ["X", "Y", "Z"][a],
@@ -251,6 +250,16 @@ fn work_system(c: &Console) -> (String, [f64; 3]) {
     };
     let zero = [0, 1, 2].map(|a| origin[a] + st.g92[a]);
     (name, zero)
+}
+
+/// The work system's heading and what is subtracted from the axis position (machine mm) to
+/// give the tool tip in that system, as the WORK column shows it: the system's zero with the
+/// G92 offset, and on Z the length in force of the tool in the spindle (the MTConnect adapter's
+/// `Xact`/`Yact`/`Zact` use it too).
+pub(crate) fn work_origin(c: &Console) -> (String, [f64; 3]) {
+    let (name, zero) = work_system(c);
+    let (len, _) = length_in_force(c);
+    (name, [zero[0], zero[1], zero[2] + len])
 }
 
 /// The length in force of the tool in the spindle (mm), and a revised one not yet in force

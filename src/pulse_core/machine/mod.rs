@@ -324,6 +324,8 @@ pub struct Machine {
     /// Time the block in progress completed inside the last PGEN call.
     finished_at: Option<u64>,
     audit: Option<Vec<BlockEnd>>,
+    /// Told the status at every change of state inside [`Machine::run`] (virtual time).
+    watch: Option<report::Watch>,
     events: Option<EventSink>,
     last_state: Option<report::StateKey>,
     op_mode: String,
@@ -388,6 +390,7 @@ impl Machine {
             started_seq: None,
             finished_at: None,
             audit: None,
+            watch: None,
             events: None,
             last_state: None,
             op_mode: "AUTO".into(),
@@ -503,6 +506,14 @@ impl Machine {
     /// Keeps a log of every block end (programmed end and actual position) for `take_audit`.
     pub fn set_audit(&mut self, on: bool) {
         self.audit = if on { Some(Vec::new()) } else { None };
+    }
+
+    /// Calls `w` with the status at every change of state (RUN, hold, e-stop, alarm, notice,
+    /// the block executing, tool, spindle, overrides, the end of a run) found while the machine
+    /// runs, between its ticks, so that nothing that happens inside one advance is merged into
+    /// the state after it (the MTConnect adapter, docs/mtconnect.md). None stops it.
+    pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
+        self.watch = w.map(report::Watch::new);
     }
 
     /// The block ends logged since the last call (with the audit on).
@@ -794,6 +805,7 @@ impl Machine {
             if self.now >= self.next_tick {
                 self.tick_end();
             }
+            self.watch_check();
         }
     }
 

@@ -16,7 +16,95 @@ pub(super) struct StateKey {
     switches: Switches,
 }
 
+/// What the watcher was last told: it is told again only when this changes.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct WatchKey {
+    run: u8,
+    hold: bool,
+    estop: bool,
+    alarm: Option<String>,
+    notice: Option<String>,
+    block: Option<u32>,
+    in_block: bool,
+    moving: bool,
+    job: Option<u64>,
+    last_end: Option<u64>,
+    program_end: bool,
+    tool: Option<u32>,
+    spindle: i64,
+    overrides: [u32; 3],
+    single_block: bool,
+}
+
+/// The watcher and what it was last told.
+#[derive(Clone)]
+pub(super) struct Watch {
+    f: crate::pulse_core::Watcher,
+    last: Option<WatchKey>,
+}
+
+impl Watch {
+    pub(super) fn new(f: crate::pulse_core::Watcher) -> Watch {
+        Watch { f, last: None }
+    }
+}
+
+impl std::fmt::Debug for Watch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Watch").field("last", &self.last).finish()
+    }
+}
+
 impl Machine {
+    fn watch_key(&self) -> WatchKey {
+        WatchKey {
+            run: self.run,
+            hold: self.hold,
+            estop: self.estop,
+            alarm: self.alarm.clone(),
+            notice: self.notice.clone(),
+            block: self.current.as_ref().map(|c| c.block.seq).or_else(|| {
+                self.job
+                    .as_ref()
+                    .and_then(|j| j.last_block.as_ref())
+                    .map(|b| b.seq)
+            }),
+            in_block: self.current.is_some(),
+            moving: self
+                .current
+                .as_ref()
+                .and_then(|c| c.motion.as_ref())
+                .is_some_and(|m| !m.at_rest()),
+            job: self.job.as_ref().map(|j| j.id),
+            last_end: self.last_end.as_ref().map(|e| e.id),
+            program_end: self.program_end,
+            tool: self.tool,
+            spindle: self.spindle_actual(),
+            overrides: [
+                self.pending_override.unwrap_or(self.feed_override),
+                self.rapid_override,
+                self.spindle_override,
+            ],
+            single_block: self.single_block,
+        }
+    }
+
+    /// Tells the watcher the status if the state changed since it was last told.
+    pub(super) fn watch_check(&mut self) {
+        if self.watch.is_none() {
+            return;
+        }
+        let key = self.watch_key();
+        if self.watch.as_ref().and_then(|w| w.last.as_ref()) == Some(&key) {
+            return;
+        }
+        let st = self.status();
+        if let Some(w) = &mut self.watch {
+            w.last = Some(key);
+            (w.f)(&st);
+        }
+    }
+
     pub(super) fn send_position(&self) {
         if let Some(s) = &self.events {
             send_ev(
