@@ -17,8 +17,11 @@ struct Counting;
 
 static NOW: AtomicUsize = AtomicUsize::new(0);
 static PEAK: AtomicUsize = AtomicUsize::new(0);
+/// Calls that took memory (allocations and reallocations).
+static CALLS: AtomicUsize = AtomicUsize::new(0);
 
 fn grew(n: usize) {
+    CALLS.fetch_add(1, Ordering::Relaxed);
     let now = NOW.fetch_add(n, Ordering::Relaxed) + n;
     PEAK.fetch_max(now, Ordering::Relaxed);
 }
@@ -192,12 +195,16 @@ impl std::io::Write for Lines {
     }
 }
 
+/// What [`measure`] finds: the time, the peak heap above what was in use before, the calls
+/// that took memory, and the lines printed or the error.
+type Measured = (Duration, usize, usize, Result<usize, String>);
+
 /// Runs what `novanc translate` does on `src` (named `prog`, which says its language), holding
-/// at most `hold` bytes of listing: the time, the peak heap above what was in use before, and
-/// the lines printed or the error.
-fn measure(prog: &str, src: &str, hold: usize) -> (Duration, usize, Result<usize, String>) {
+/// at most `hold` bytes of listing.
+fn measure(prog: &str, src: &str, hold: usize) -> Measured {
     let base = NOW.load(Ordering::Relaxed);
     PEAK.store(base, Ordering::Relaxed);
+    let calls = CALLS.load(Ordering::Relaxed);
     let t = Instant::now();
     let mut out = Lines::default();
     let r = print_iso(
@@ -214,12 +221,13 @@ fn measure(prog: &str, src: &str, hold: usize) -> (Duration, usize, Result<usize
     );
     let took = t.elapsed();
     let peak = PEAK.load(Ordering::Relaxed) - base;
+    let calls = CALLS.load(Ordering::Relaxed) - calls;
     let r = match r {
         Ok(()) => Ok(out.0),
         Err(PrintError::Program(e)) => Err(e.to_string()),
         Err(PrintError::Write(e)) => Err(e.to_string()),
     };
-    (took, peak, r)
+    (took, peak, calls, r)
 }
 
 /// Prints each input's figures and checks them: under 10 s and 256 MB.
@@ -230,7 +238,7 @@ fn check_all(prog: &str, inputs: Vec<(&'static str, String)>) {
     );
     for (name, src) in inputs {
         assert!(src.len() <= MIB, "{name}: {} bytes", src.len());
-        let (took, peak, r) = measure(prog, &src, HOLD_BYTES);
+        let (took, peak, _, r) = measure(prog, &src, HOLD_BYTES);
         let lines = match &r {
             Ok(n) => n.to_string(),
             Err(e) => {
@@ -303,7 +311,7 @@ fn no_gcode_input_of_1_mib_takes_long_or_much_memory() {
 fn blank_lines_cost_no_more_than_their_text() {
     let _turn = one_at_a_time();
     let src = fill("", |_| "\n".into(), "M30\n");
-    let (_, peak, r) = measure("p.ngc", &src, HOLD_BYTES);
+    let (_, peak, _, r) = measure("p.ngc", &src, HOLD_BYTES);
     assert_eq!(r, Ok(2), "the preamble and N1 M30");
     assert!(
         peak < 6 * src.len(),
@@ -319,8 +327,8 @@ fn a_listing_longer_than_it_holds_is_printed_in_bounded_memory() {
     let _turn = one_at_a_time();
     let src =
         "G0 X10 Y10 Z-50\nM98 P1 L30\nM30\nO1\nG91 G83 X0 Y0 Z-10 R0 Q0.1 L99 F100\nG90\nM99\n";
-    let (_, held_peak, held) = measure("p.ngc", src, usize::MAX);
-    let (_, peak, r) = measure("p.ngc", src, 1 << 20);
+    let (_, held_peak, _, held) = measure("p.ngc", src, usize::MAX);
+    let (_, peak, _, r) = measure("p.ngc", src, 1 << 20);
     assert_eq!(r, held);
     let lines = held.unwrap_or(0);
     assert!(lines > 800_000, "{lines} lines");
@@ -337,4 +345,29 @@ fn a_listing_longer_than_it_holds_is_printed_in_bounded_memory() {
         Default::default(),
     );
     assert_eq!(text.map(|t| t.lines().count()).ok(), Some(lines));
+}
+
+/// `novanc translate` takes no memory per line of an ordinary program (docs/gcode.md "Speed"):
+/// each statement is made in the memory of the one printed before it, held or streamed.
+#[test]
+fn a_gcode_listing_takes_no_memory_per_line() {
+    let _turn = one_at_a_time();
+    let mut src = String::from("G21 G90 G0 X10 Y10\nG1 F500\n");
+    for i in 0..20_000 {
+        src.push_str(&format!(
+            "X{}.{:03} Y{}\n",
+            10 + i % 50,
+            i % 1000,
+            20 + i % 7
+        ));
+    }
+    src.push_str("M30\n");
+    for hold in [HOLD_BYTES, 64 << 10] {
+        let (_, _, calls, r) = measure("p.ngc", &src, hold);
+        assert_eq!(r, Ok(20_003), "the preamble, 20,001 moves and M30");
+        assert!(
+            calls < 1_000,
+            "{calls} allocations for 20,000 lines (holding {hold} bytes)"
+        );
+    }
 }

@@ -236,8 +236,11 @@ pub fn print_iso(
     // Too long to hold, and without an error: made again, and written a piece at a time.
     let mut buf = String::new();
     let mut w = IsoWriter::new(&mut buf);
-    for r in run.statements() {
-        w.statement(&mut buf, &r.map_err(PrintError::Program)?, settings);
+    let mut statements = run.statements();
+    while let Some(r) = statements.next() {
+        let st = r.map_err(PrintError::Program)?;
+        w.statement(&mut buf, &st, settings);
+        statements.recycle(st);
         if buf.len() > 1 << 20 {
             out.write_all(buf.as_bytes()).map_err(PrintError::Write)?;
             buf.clear();
@@ -246,6 +249,20 @@ pub fn print_iso(
     w.finish(&mut buf);
     out.write_all(buf.as_bytes()).map_err(PrintError::Write)
 }
+
+/// A program's statements, each handed back once printed so that the next is made in its
+/// memory (no allocation per line).
+trait Statements: Iterator<Item = Result<Statement, TranslateError>> {
+    fn recycle(&mut self, _st: Statement) {}
+}
+
+impl Statements for crate::gcode::GcodeSource {
+    fn recycle(&mut self, st: Statement) {
+        crate::gcode::GcodeSource::recycle(self, st);
+    }
+}
+
+impl Statements for Translator {}
 
 /// One program to list, with what it is translated with.
 struct Listing<'a> {
@@ -272,7 +289,7 @@ pub fn subroutine_path(name: &str, extra: &[std::path::PathBuf]) -> Vec<std::pat
 
 impl Listing<'_> {
     /// The program's statements, in its language.
-    fn statements(&self) -> Box<dyn Iterator<Item = Result<Statement, TranslateError>>> {
+    fn statements(&self) -> Box<dyn Statements> {
         if crate::gcode::is_gcode(self.name, self.source) {
             Box::new(
                 if self.params.is_empty() {
@@ -313,7 +330,8 @@ impl Listing<'_> {
         let mut out = String::with_capacity(self.source.len().saturating_mul(2).min(hold));
         let mut w = IsoWriter::new(&mut out);
         let mut held = true;
-        for r in self.statements() {
+        let mut statements = self.statements();
+        while let Some(r) = statements.next() {
             let st = r?;
             if held && out.len() + st.blocks.len() * BYTES_PER_LINE > hold {
                 held = false;
@@ -322,6 +340,7 @@ impl Listing<'_> {
             if held {
                 w.statement(&mut out, &st, self.settings);
             }
+            statements.recycle(st);
         }
         if !held {
             return Ok(None);

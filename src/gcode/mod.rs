@@ -184,6 +184,10 @@ macro_rules! ctx {
     };
 }
 
+/// The most blocks a statement handed back to [`GcodeSource::recycle`] may have room for to be
+/// kept for the next line.
+const SPARE_BLOCKS: usize = 64;
+
 /// A G-code program as an iterator of statements.
 pub struct GcodeSource {
     flow: Flow,
@@ -198,6 +202,8 @@ pub struct GcodeSource {
     /// SEARCH: a line before the SEARCH point moved Z from where the machine stood.
     z_moved: bool,
     held: Option<Statement>,
+    /// A statement handed back by [`GcodeSource::recycle`], its memory reused.
+    spare: Option<Statement>,
     events: Vec<Event>,
     executed: u64,
     max_lines: u64,
@@ -209,7 +215,9 @@ pub struct GcodeSource {
     /// (LinuxCNC skips blank lines before it).
     first_line: usize,
     scratch: read::Scratch,
-    line_buf: read::Line,
+    /// The line being read, boxed: taken out and put back each line (a pointer moved, not
+    /// the line).
+    line_buf: Option<Box<read::Line>>,
     out_buf: Vec<(Canon, u32, u32)>,
     /// The sorted words of the line being executed (kept, not returned: a kilobyte).
     words_buf: Option<Box<words::Words>>,
@@ -306,15 +314,12 @@ impl GcodeSource {
             magazine,
             settings,
             switches,
-            emitter: Emitter {
-                pos: machine.pos,
-                seq: 0,
-                tap: crate::block::Tap::No,
-            },
+            emitter: Emitter::new(machine.pos, 0, crate::block::Tap::No),
             start: machine,
             resume_at: None,
             z_moved: false,
             held: None,
+            spare: None,
             events: Vec::new(),
             executed: 0,
             max_lines: MAX_LINES,
@@ -323,7 +328,7 @@ impl GcodeSource {
             first_code,
             first_line,
             scratch: read::Scratch::default(),
-            line_buf: read::Line::default(),
+            line_buf: None,
             out_buf: Vec::new(),
             words_buf: None,
             mdi: false,
@@ -444,6 +449,9 @@ impl GcodeSource {
     /// The machine's answers to what the last line asked (its blocks have been handed on):
     /// the parameters and position they set, or the error of a probe that did not trip.
     pub(crate) fn answer_pending(&mut self) -> Result<(), TranslateError> {
+        if self.pending.0.is_empty() {
+            return Ok(());
+        }
         let (asks, n) = std::mem::take(&mut self.pending);
         for ask in &asks {
             let m: &mut dyn Machine = if self.searching {
@@ -504,7 +512,7 @@ impl GcodeSource {
                         self.out_buf = out;
                         return self.fail(e);
                     }
-                    return self.finish(n, String::new(), out, false);
+                    return self.finish(n, "", out, false);
                 }
                 let msg = self.flow.end_error();
                 // Charged to the line that started the skip (the call, the definition).
@@ -570,7 +578,7 @@ impl GcodeSource {
         n: u32,
         raw: &str,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
-        let mut line = std::mem::take(&mut self.line_buf);
+        let mut line = self.line_buf.take().unwrap_or_default();
         let r = {
             let env = ParamEnv {
                 st: &self.st,
@@ -583,7 +591,7 @@ impl GcodeSource {
             read::read_into(&mut self.scratch, &mut line, raw, n, &env, skipping)
         };
         let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
-        self.line_buf = line;
+        self.line_buf = Some(line);
         out
     }
 
@@ -622,7 +630,7 @@ impl GcodeSource {
             }
             // The closing %: the program ends.
             spline::unfinished(&self.st, n, 1, "the program's end")?;
-            return Ok(Some(self.end(n, raw.trim().to_string(), Vec::new(), None)));
+            return Ok(Some(self.end(n, trimmed(raw), Vec::new(), None)));
         }
         if let Some(o) = &line.o {
             if o.kind == read::OKind::Bare && !self.flow.skipping() {
@@ -703,12 +711,7 @@ impl GcodeSource {
             if line.assigns.is_empty() && line.comments.is_empty() {
                 return Ok(None);
             }
-            return Ok(Some(self.finish(
-                n,
-                raw.trim().to_string(),
-                Vec::new(),
-                false,
-            )));
+            return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
         }
         let mut words = self.words_buf.take().unwrap_or_default();
         let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
@@ -748,7 +751,7 @@ impl GcodeSource {
             }
         };
         match flow {
-            LineFlow::Next => Ok(Some(self.finish(n, raw.trim().to_string(), out, false))),
+            LineFlow::Next => Ok(Some(self.finish(n, trimmed(raw), out, false))),
             LineFlow::Call { o, l, col } => {
                 let r = self
                     .flow
@@ -758,7 +761,7 @@ impl GcodeSource {
                     col,
                     message: m,
                 })?;
-                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
+                Ok(Some(self.finish(n, trimmed(raw), out, false)))
             }
             LineFlow::Return { col } => {
                 self.flow
@@ -768,13 +771,13 @@ impl GcodeSource {
                         col,
                         message: m,
                     })?;
-                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
+                Ok(Some(self.finish(n, trimmed(raw), out, false)))
             }
             LineFlow::Remap { col } => {
                 self.remap_m6(at, n, raw, col)?;
-                Ok(Some(self.finish(n, raw.trim().to_string(), out, false)))
+                Ok(Some(self.finish(n, trimmed(raw), out, false)))
             }
-            LineFlow::End => Ok(Some(self.end(n, raw.trim().to_string(), out, Some(end_m)))),
+            LineFlow::End => Ok(Some(self.end(n, trimmed(raw), out, Some(end_m)))),
         }
     }
 
@@ -819,7 +822,7 @@ impl GcodeSource {
     fn end(
         &mut self,
         n: u32,
-        text: String,
+        text: &str,
         mut out: Vec<(Canon, u32, u32)>,
         endm: Option<u8>,
     ) -> Option<Result<Statement, TranslateError>> {
@@ -854,6 +857,9 @@ impl GcodeSource {
 
     /// Runs a line's comments (MSG, PRINT, DEBUG, LOG, ABORT), their messages kept as events.
     fn comments(&mut self, n: u32, comments: &[read::Comment]) -> Result<(), TranslateError> {
+        if comments.is_empty() {
+            return Ok(());
+        }
         let mut x = ctx!(self, n);
         let (st, flow) = (&self.st, &self.flow);
         let lk = |name: &str| lookup(st, flow, name);
@@ -866,11 +872,18 @@ impl GcodeSource {
     fn finish(
         &mut self,
         n: u32,
-        text: String,
+        text: &str,
         mut out: Vec<(Canon, u32, u32)>,
         _end: bool,
     ) -> Option<Result<Statement, TranslateError>> {
-        let mut blocks = Vec::with_capacity(out.len());
+        // A statement handed back (`recycle`) lends its text and blocks' memory.
+        let (mut blocks, mut buf) = match self.spare.take() {
+            Some(s) => (s.blocks, s.text),
+            None => (Vec::new(), String::new()),
+        };
+        blocks.clear();
+        // At most one block an action: room for exactly that many (no doubling).
+        blocks.reserve_exact(out.len());
         let r = self.emitter.emit(&out, &self.settings, &mut blocks);
         out.clear();
         if out.capacity() > self.out_buf.capacity() {
@@ -890,11 +903,34 @@ impl GcodeSource {
                 ),
             });
         }
+        buf.clear();
+        buf.push_str(text);
         Some(Ok(Statement {
             line: n,
-            text,
+            text: buf,
             blocks,
         }))
+    }
+
+    /// Hands back a statement its reader is done with: the next statement is made in its
+    /// memory (its text and blocks), so a caller that drops each statement once used (`novanc
+    /// translate`) allocates nothing per line.
+    pub fn recycle(&mut self, st: Statement) {
+        // A statement of many blocks (a canned cycle's) is let go: what is kept for the next
+        // line stays small.
+        if st.blocks.capacity() <= SPARE_BLOCKS {
+            self.spare = Some(st);
+        }
+    }
+}
+
+/// `raw.trim()`, the usual line (ASCII letters and digits at both ends) without the search.
+fn trimmed(raw: &str) -> &str {
+    let b = raw.as_bytes();
+    if b.first().is_some_and(u8::is_ascii_graphic) && b.last().is_some_and(u8::is_ascii_graphic) {
+        raw
+    } else {
+        raw.trim()
     }
 }
 

@@ -298,27 +298,33 @@ impl Reader<'_> {
     }
 
     fn number(&mut self) -> Result<f64, TranslateError> {
-        let col = self.col();
         let start = self.i;
         // Digits into an integer mantissa: exact, and correctly rounded by one division
         // while it stays below 2^53 with at most 22 decimals (else the standard parser).
-        let (mut mant, mut digits, mut decimals, mut dot) = (0u64, 0u32, 0i32, false);
-        while let Some(c) = self.at(0) {
-            if c.is_ascii_digit() {
+        let (mut mant, mut digits, mut decimals) = (0u64, 0u32, 0i32);
+        let rest = self.b.get(start..).unwrap_or(&[]);
+        let mut k = 0;
+        // The digits before the point, then those after it.
+        for part in 0..2 {
+            while let Some(&c) = rest.get(k) {
+                let d = c.wrapping_sub(b'0');
+                if d > 9 {
+                    break;
+                }
                 if digits < 19 {
-                    mant = mant * 10 + u64::from(c - b'0');
+                    mant = mant * 10 + u64::from(d);
                 }
                 digits += 1;
-                if dot {
-                    decimals += 1;
-                }
-            } else if c == b'.' && !dot {
-                dot = true;
-            } else {
+                decimals += part;
+                k += 1;
+            }
+            if part == 1 || rest.get(k) != Some(&b'.') {
                 break;
             }
-            self.i += 1;
+            k += 1;
         }
+        self.i = start + k;
+        let col = self.cols.get(start).copied().unwrap_or(self.end_col);
         if digits == 0 {
             self.i = start;
             let what = self
@@ -647,6 +653,26 @@ impl Reader<'_> {
     }
 }
 
+/// What the plain-line pass of [`normalise`] makes of each byte: [`BLANK`] (a space, a tab, a
+/// CR: dropped), [`OTHER`] (a comment's `(` or `;`, a control character, a byte outside
+/// ASCII: the line is read character by character), or the byte in lower case.
+const PLAIN: [u8; 256] = {
+    let mut t = [OTHER; 256];
+    let mut c = 0;
+    while c < 256 {
+        let b = c as u8;
+        if b == b' ' || b == b'\t' || b == b'\r' {
+            t[c] = BLANK;
+        } else if b.is_ascii_graphic() && b != b'(' && b != b';' {
+            t[c] = b.to_ascii_lowercase();
+        }
+        c += 1;
+    }
+    t
+};
+const BLANK: u8 = 0;
+const OTHER: u8 = 0xff;
+
 /// Splits `raw` into the reader's buffer (lower case, spaces gone, outside comments) and the
 /// line's comments.
 fn normalise(
@@ -659,21 +685,34 @@ fn normalise(
     bytes.clear();
     cols.clear();
     // The usual line: ASCII words, no comment. One pass over its bytes, each column its
-    // byte's place.
-    let plain = raw.bytes().all(|c| {
-        c.is_ascii_graphic() && c != b'(' && c != b';' || c == b' ' || c == b'\t' || c == b'\r'
-    });
-    if plain {
-        bytes.reserve(raw.len());
-        cols.reserve(raw.len());
-        for (i, &c) in raw.as_bytes().iter().enumerate() {
-            if !matches!(c, b' ' | b'\t' | b'\r') {
-                bytes.push(c.to_ascii_lowercase());
-                cols.push(i as u32 + 1);
+    // byte's place, written by index (the buffers sized once); anything else (a comment, a
+    // character outside ASCII) starts again below, character by character.
+    let rb = raw.as_bytes();
+    bytes.resize(rb.len(), 0);
+    cols.resize(rb.len(), 0);
+    let mut k = 0;
+    let mut plain = true;
+    for (i, &c) in rb.iter().enumerate() {
+        match PLAIN[c as usize] {
+            BLANK => continue,
+            OTHER => {
+                plain = false;
+                break;
+            }
+            lower => {
+                bytes[k] = lower;
+                cols[k] = i as u32 + 1;
+                k += 1;
             }
         }
+    }
+    if plain {
+        bytes.truncate(k);
+        cols.truncate(k);
         return Ok(raw.len() as u32 + 1);
     }
+    bytes.clear();
+    cols.clear();
     let mut col = 0u32;
     let mut comment: Option<(u32, String)> = None;
     for ch in raw.chars() {
@@ -870,7 +909,15 @@ pub fn read_into(
             return Err(r.err(col, "N (the line number) must start its line"));
         }
         r.i += 1;
-        let value = r.value()?;
+        // A number, or a minus and a number: read straight (what `value` does with them).
+        let value = match (r.at(0), r.at(1)) {
+            (Some(b'0'..=b'9' | b'.'), _) => r.number()?,
+            (Some(b'-'), Some(b'0'..=b'9' | b'.')) => {
+                r.i += 1;
+                -r.number()?
+            }
+            _ => r.value()?,
+        };
         out.words.push(Word { letter, value, col });
     }
     Ok(())

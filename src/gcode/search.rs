@@ -130,11 +130,7 @@ impl GcodeSource {
             line,
             1,
         ));
-        let mut em = Emitter {
-            pos: here,
-            seq: 0,
-            tap: crate::block::Tap::No,
-        };
+        let mut em = Emitter::new(here, 0, crate::block::Tap::No);
         let mut blocks: Vec<Block> = Vec::new();
         em.emit(&items, st, &mut blocks)?;
         for b in &mut blocks {

@@ -161,6 +161,22 @@ impl Words {
             && self.letters & !LETTERS == 0
     }
 
+    /// Empties the words: only the slots of the letters given are touched (the whole is a
+    /// kilobyte, and a reader sorts every line into the same one).
+    fn clear(&mut self) {
+        let mut given = self.letters;
+        while given != 0 {
+            self.vals[given.trailing_zeros() as usize] = None;
+            given &= given - 1;
+        }
+        self.g.n = 0;
+        self.m.n = 0;
+        self.g_bits = 0;
+        self.m_bits = 0;
+        self.g_any = 0;
+        self.letters = 0;
+    }
+
     /// Whether any of X, Y, Z is given.
     pub fn has_axis(&self) -> bool {
         ['X', 'Y', 'Z'].iter().any(|&c| self.get(c).is_some())
@@ -276,13 +292,26 @@ pub fn sort_words_into(
         col,
         message,
     };
-    *w = Words::default();
+    w.clear();
     let mut g_seen: [Option<(u32, u32)>; 17] = [None; 17];
     let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
     for &Word { letter, value, col } in &line.words {
         match letter {
             'G' => {
-                let g10 = (value * 10.0).round();
+                // Rounded without the library call where the integer holds it exactly.
+                let g10 = if (value * 10.0).abs() < 1e15 {
+                    let t = value * 10.0;
+                    let i = t as i64 as f64;
+                    if t - i >= 0.5 {
+                        i + 1.0
+                    } else if t - i <= -0.5 {
+                        i - 1.0
+                    } else {
+                        i
+                    }
+                } else {
+                    (value * 10.0).round()
+                };
                 if (value * 10.0 - g10).abs() > 1e-6 || g10 < 0.0 {
                     return Err(err(
                         col,
