@@ -3,6 +3,8 @@
 //! the language refuses. Each reproducer runs the binary and checks the message, the exit code,
 //! and that nothing was written.
 
+mod common;
+
 use std::ffi::OsStr;
 use std::fs;
 use std::os::unix::ffi::OsStrExt;
@@ -11,10 +13,7 @@ use std::process::{Command, Output};
 
 /// A fresh directory of this test process.
 fn dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("novanc-bad-input-{}-{tag}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
+    common::temp_dir(&format!("bad-input-{tag}"))
 }
 
 fn novanc_in(cwd: &PathBuf, args: &[&OsStr]) -> Output {

@@ -2,24 +2,12 @@
 //! nothing, DATA INPUT clears RUN, a translation error moves nothing, manual moves respect
 //! the travel limits, edits survive a restart.
 
+mod common;
+
 use novanc::console::{Console, ConsoleConfig};
 use novanc::panel_model::{Axis, DataMode, OpMode, PanelEvent as E};
 use novanc::pulse_core::ClockMode;
 use std::path::PathBuf;
-
-/// A fresh state directory.
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "novanc-console-{name}-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn open_in(dir: PathBuf) -> Console {
     let mut cfg = ConsoleConfig::new(dir);
@@ -28,7 +16,7 @@ fn open_in(dir: PathBuf) -> Console {
 }
 
 fn open(name: &str) -> Console {
-    open_in(temp_dir(name))
+    open_in(common::temp_dir(name))
 }
 
 /// The operator-visible state that bad keys must not touch.
@@ -199,7 +187,7 @@ fn single_block_runs_one_block_per_start() {
 
 #[test]
 fn accepted_edits_survive_a_restart() {
-    let dir = temp_dir("persist");
+    let dir = common::temp_dir("persist");
     {
         let mut c = open_in(dir.clone());
         c.handle(E::Op(OpMode::Data));

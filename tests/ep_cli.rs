@@ -2,6 +2,8 @@
 //! bad values refused with nothing run, and the console (`novanc script`) showing EP on its
 //! state line. docs/cli.md, docs/pulse-core.md.
 
+mod common;
+
 use std::process::Command;
 
 fn novanc(args: &[&str]) -> (i32, String, String) {
@@ -87,9 +89,7 @@ fn bad_interpolator_settings_are_usage_errors_and_nothing_runs() {
 
 #[test]
 fn the_console_shows_ep_on_its_state_line() {
-    let dir = std::env::temp_dir().join(format!("novanc-ep-cli-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = common::temp_dir("ep-cli");
     let script = dir.join("s.txt");
     // The POS page (Ctrl+P) carries the state line.
     std::fs::write(&script, "key Ctrl+P\nshow\n").expect("script");

@@ -7,9 +7,7 @@ mod common;
 use novanc::store::{Stores, Target};
 
 fn fresh(tag: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("novanc-findings-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::temp_dir(&format!("findings-{tag}"))
 }
 
 /// tape:0xd4262d85334ed688: a tape value with more than three decimals (diameter 0.0004) was

@@ -15,9 +15,7 @@ fn novanc(args: &[&str]) -> Output {
 }
 
 fn temp(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("novanc-gcode-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let p = dir.join(name);
+    let p = common::temp_path(name);
     std::fs::write(&p, text).expect("temp file");
     p
 }
@@ -133,7 +131,7 @@ fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
             p.display()
         ),
     );
-    let dir = std::env::temp_dir().join(format!("novanc-gcode-cli-st-{}", std::process::id()));
+    let dir = common::temp_dir("gcode-cli-st");
     let out = novanc(&[
         "script",
         script.to_str().unwrap_or(""),

@@ -2,6 +2,8 @@
 //! behind (a tiny queue) marks the recording incomplete, the producer carries on, and the
 //! summary tells the operator what was lost.
 
+mod common;
+
 use novanc::record::{Event, Recorder};
 use novanc::settings::MachineSettings;
 use std::path::Path;
@@ -106,7 +108,7 @@ fn finish_fails_after_a_disk_error_with_the_operators_line() {
 
 #[test]
 fn a_recorder_that_falls_behind_drops_events_counts_them_and_keeps_a_valid_file() {
-    let path = std::env::temp_dir().join(format!("novanc-overflow-{}.mcap", std::process::id()));
+    let path = common::temp_path("overflow.mcap");
     let rec = Recorder::start_with_capacity(&path, &MachineSettings::default(), 1)
         .expect("start the recorder");
     assert_eq!(rec.capacity(), 1);

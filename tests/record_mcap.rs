@@ -11,7 +11,7 @@ mod common;
 use common::python_check;
 
 fn temp_path(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("novanc-{name}-{}.mcap", std::process::id()))
+    common::temp_path(&format!("{name}.mcap"))
 }
 
 fn record(path: &Path, evs: &[Event]) -> novanc::record::RecordSummary {

@@ -1,6 +1,8 @@
 //! Read-back with the `mcap` crate: every event comes back on its topic with every field, in
 //! order, with non-decreasing log times, and every pulse appears exactly once.
 
+mod common;
+
 use novanc::record::testkit::synthetic_run;
 use novanc::record::{Event, Recorder, Topic, TOPICS};
 use novanc::settings::MachineSettings;
@@ -360,7 +362,7 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
 }
 
 fn temp_path(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("novanc-{name}-{}.mcap", std::process::id()))
+    common::temp_path(&format!("{name}.mcap"))
 }
 
 fn record(path: &Path, evs: &[Event]) -> novanc::record::RecordSummary {

@@ -25,10 +25,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn temp_path(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("novanc-sig-{name}-{}", std::process::id()))
-}
-
 /// `novanc ARGS` with SIGINT, SIGTERM and SIGHUP at their default action whatever this test
 /// process inherited (a shell's background job ignores SIGINT), and `ignore` ignored.
 fn novanc(args: &[&str], ignore: Option<libc::c_int>) -> Command {
@@ -195,7 +191,7 @@ fn check_interrupted(path: &Path, sig: libc::c_int) {
 fn run_closes_the_recording_on_sigint_sigterm_and_sighup() {
     for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
         let name = signal_name(sig);
-        let path = temp_path(&format!("run-{name}.mcap"));
+        let path = common::temp_path(&format!("run-{name}.mcap"));
         let _ = std::fs::remove_file(&path);
         let p = path.to_str().unwrap();
         // Table B in real time takes 227 s: the signal comes in the middle.
@@ -232,7 +228,7 @@ fn run_closes_the_recording_on_sigint_sigterm_and_sighup() {
 #[test]
 fn a_signal_ignored_at_start_stays_ignored() {
     // `nohup novanc run … &` must survive the hangup.
-    let path = temp_path("nohup.mcap");
+    let path = common::temp_path("nohup.mcap");
     let _ = std::fs::remove_file(&path);
     let p = path.to_str().unwrap();
     let mut child = novanc(
@@ -259,8 +255,8 @@ fn a_signal_ignored_at_start_stays_ignored() {
 fn script_closes_the_recording_on_a_signal() {
     for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
         let name = signal_name(sig);
-        let path = temp_path(&format!("script-{name}.mcap"));
-        let script = temp_path(&format!("script-{name}.panel"));
+        let path = common::temp_path(&format!("script-{name}.mcap"));
+        let script = common::temp_path(&format!("script-{name}.panel"));
         let _ = std::fs::remove_file(&path);
         // Table B one block at a time, six times over: several seconds in virtual time.
         let mut text = String::from("op SINGLE\n");
@@ -371,7 +367,7 @@ fn a_disk_that_fills_up_fails_the_run_and_the_summary_counts_only_what_is_on_dis
     // 64 KiB (the tmpfs: the header and the settings fit, no chunk does) and 10 MB
     // (two 4 MB chunks fit, the third is cut short).
     for limit in [64 * 1024, 10_000_000] {
-        let path = temp_path(&format!("limit-{limit}.mcap"));
+        let path = common::temp_path(&format!("limit-{limit}.mcap"));
         let _ = std::fs::remove_file(&path);
         let (code, out, err) = run_with_file_limit(&path, limit);
         assert_eq!(code, Some(1), "{limit}: {out}\n{err}");
@@ -442,7 +438,7 @@ fn ended_within(
 /// A lathe panel script that runs a long batch: START, then `wait` until every channel is at
 /// rest (999999 parts: hours of machine time).
 fn long_lathe_script(name: &str) -> PathBuf {
-    let script = temp_path(&format!("{name}.panel"));
+    let script = common::temp_path(&format!("{name}.panel"));
     std::fs::write(&script, "target 999999\nstart\nwait\nshow\n").unwrap();
     script
 }
@@ -453,7 +449,7 @@ fn lathe_script_ends_on_a_signal_during_wait() {
     // SIGTERM then killed it with the recording unreadable.
     for sig in [libc::SIGTERM, libc::SIGINT, libc::SIGHUP] {
         let name = signal_name(sig);
-        let path = temp_path(&format!("lathe-wait-{name}.mcap"));
+        let path = common::temp_path(&format!("lathe-wait-{name}.mcap"));
         let script = long_lathe_script(&format!("lathe-wait-{name}"));
         let _ = std::fs::remove_file(&path);
         let p = path.to_str().unwrap();
@@ -494,7 +490,7 @@ fn lathe_script_ends_on_a_signal_during_wait() {
 fn lathe_run_stops_the_machine_and_names_the_signal() {
     // The lathe's headless run wrote `interrupted by signal 15` and left the channels running
     // in the recording; now E-STOP, `interrupted by SIGTERM`, as the centre's run.
-    let path = temp_path("lathe-run.mcap");
+    let path = common::temp_path("lathe-run.mcap");
     let _ = std::fs::remove_file(&path);
     let p = path.to_str().unwrap();
     let mut child = novanc(
@@ -546,7 +542,7 @@ fn a_recording_stays_readable_when_the_process_is_killed() {
         ),
     ];
     for (what, args) in runs {
-        let path = temp_path(&format!("killed-{what}.mcap"));
+        let path = common::temp_path(&format!("killed-{what}.mcap"));
         let _ = std::fs::remove_file(&path);
         let mut args = args.clone();
         args.push(path.to_str().unwrap());
@@ -580,7 +576,7 @@ fn a_recording_stays_readable_when_the_process_is_killed() {
 fn a_second_signal_leaves_a_readable_recording() {
     // The first signal is noted, the second (30 ms later, before the run has closed its
     // recording, or just after) ends the process at once: either way the file reads.
-    let path = temp_path("second.mcap");
+    let path = common::temp_path("second.mcap");
     let _ = std::fs::remove_file(&path);
     let p = path.to_str().unwrap();
     let mut child = novanc(

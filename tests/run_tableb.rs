@@ -1,6 +1,8 @@
 //! `novanc run` end to end on Table B with a recording: the summary, the drill positions in the
 //! recording (docs/language.md hole positions), every pulse once, and Python's `mcap` reader.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -13,7 +15,7 @@ fn root() -> &'static Path {
 }
 
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("novanc-core-{name}-{}", std::process::id()))
+    common::temp_path(name)
 }
 
 /// The integer after `"key":` in a JSON object text.

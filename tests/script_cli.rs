@@ -1,21 +1,9 @@
 //! `novanc script` on the command line: a bad script line is reported with its line number
 //! before anything runs; `--record` writes an MCAP file; `show` frames are deterministic.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "novanc-scriptcli-{name}-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::process::Command;
 
 fn novanc(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_novanc"))
@@ -27,7 +15,7 @@ fn novanc(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn a_bad_line_fails_the_script_before_anything_runs() {
-    let d = temp_dir("bad");
+    let d = common::temp_dir("bad");
     let script = d.join("s.script");
     std::fs::write(
         &script,
@@ -61,7 +49,7 @@ fn a_bad_line_fails_the_script_before_anything_runs() {
 
 #[test]
 fn frames_are_deterministic_and_recorded() {
-    let d = temp_dir("rec");
+    let d = common::temp_dir("rec");
     let script = d.join("run.script");
     std::fs::write(&script, "op AUTO\nstart\nwait\nshow\n").unwrap();
     let mut frames = Vec::new();
@@ -99,7 +87,7 @@ fn usage_errors_exit_2() {
 
 /// Runs a script given as text on a fresh state; its output and exit code.
 fn script_text(name: &str, text: &str) -> (Option<i32>, String, String) {
-    let d = temp_dir(name);
+    let d = common::temp_dir(name);
     let script = d.join("s.script");
     std::fs::write(&script, text).unwrap();
     let out = novanc(&["script", script.to_str().unwrap()]);

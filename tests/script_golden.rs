@@ -2,30 +2,17 @@
 //! `novanc script` on a fresh state directory; its output must equal `NAME.frames`.
 //! Set `UPDATE_GOLDEN=1` to rewrite the golden files after a deliberate change.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-/// A fresh, empty state directory for one test.
-fn temp_state(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "novanc-golden-{name}-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::path::Path;
+use std::process::Command;
 
 /// Runs one script and compares (or updates) its frames.
 fn check(name: &str) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/frames");
     let script = dir.join(format!("{name}.script"));
     let golden = dir.join(format!("{name}.frames"));
-    let state = temp_state(name);
+    let state = common::temp_dir(name);
     let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .arg("script")

@@ -1,6 +1,8 @@
 //! `novanc tape read` and `novanc tape punch` (docs/tape.md): the command line makes the golden
 //! images, reads them back, prints nothing but the alarm on a bad tape, and refuses bad usage.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -17,7 +19,7 @@ fn text(b: &[u8]) -> String {
 }
 
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("novanc-tape-{name}-{}", std::process::id()))
+    common::temp_path(name)
 }
 
 fn file(p: &str) -> Vec<u8> {

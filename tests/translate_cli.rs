@@ -1,6 +1,8 @@
 //! `novanc translate PROG [--tools TAPE] [--magazine TCODES]` (docs/cli.md): the printed program on
 //! stdout, errors on stderr as `PROG:LINE:COL: message` or `FILE:LINE: message`, exit 1.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -12,9 +14,7 @@ fn novanc(args: &[&str]) -> Output {
 }
 
 fn temp(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("novanc-translate-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+    let p = common::temp_path(name);
     std::fs::write(&p, text).unwrap();
     p
 }
@@ -116,8 +116,7 @@ fn help_and_usage() {
 #[test]
 fn state_uses_the_consoles_memory_and_leaves_it_alone() {
     use novanc::store::{Stores, Target};
-    let dir = std::env::temp_dir().join(format!("novanc-trstate-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::temp_dir("trstate");
     {
         let (mut s, _) = Stores::open(&dir, 24).unwrap();
         // T02's set length 150 -> 155 (TOOL DATA REVISION).
