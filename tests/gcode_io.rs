@@ -226,7 +226,7 @@ fn the_io_page_sets_inputs_by_its_keys() {
         "{}",
         c.frame_text()
     );
-    assert!(common::shows(&c, "IN E2=4.5"), "{}", c.frame_text());
+    assert!(common::shows(&c, "IN E M66 E2=4.5"), "{}", c.frame_text());
     assert!(common::shows(&c, "I/O: input P63 on"), "{}", c.frame_text());
     key_in(&mut c, "P3 2", "Enter");
     assert!(

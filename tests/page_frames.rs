@@ -141,7 +141,7 @@ fn pages_at(rows: usize, cols: usize) {
     keys(&mut c, &["Ctrl+T"]);
     type_line(&mut c, "P5 ON");
     type_line(&mut c, "E2 4.5");
-    check(&c, "io", "IN E2=4.5");
+    check(&c, "io", "IN E M66 E2=4.5");
 }
 
 #[test]

@@ -48,7 +48,9 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         p.body
             .push(format!("{from:2} {}  {}", bits(o, from), bits(i, from)));
     }
-    for (name, s) in [("OUT", o), ("IN ", i)] {
+    // The analog signals, named as the digital ones are: outputs set by M67/M68, inputs that
+    // M66 E waits on.
+    for (name, s) in [("OUT E M67-M68", o), ("IN E M66", i)] {
         let line = format!("{name} {}", analog(s));
         p.body.extend(super::modal::fill(
             &line.split_whitespace().collect::<Vec<_>>(),
