@@ -77,15 +77,21 @@ pub trait RecordOutput: Write + Seek {
 }
 
 /// An MCAP file that ends with a footer at every moment (see the module's documentation),
-/// but for the moments between the MCAP writer's first write after a commit and the commit
-/// itself: a chunk's write, its message indexes, then at once the commit (`flush`).
+/// but for the moment of one write system call: what the MCAP writer writes between two
+/// commits (a chunk, its message indexes) is kept in memory, and the commit (`flush`) writes
+/// it with the new provisional end in one positioned write over the old end. (It was written
+/// as it came, and a process killed between the chunk's write and the commit, a window that
+/// a loaded machine's scheduler stretches, left a file cut inside a chunk.)
 #[derive(Debug)]
 pub struct RecordFile {
     file: File,
     /// Bytes of the MCAP stream in the file as of the last commit.
     committed: u64,
-    /// Bytes of the MCAP stream in the file now (the stream's position).
+    /// Bytes of the MCAP stream written so far (the stream's position): the file's, and
+    /// `pending` after them.
     written: u64,
+    /// What was written since the last commit, not yet in the file.
+    pending: Vec<u8>,
 }
 
 impl RecordFile {
@@ -95,6 +101,7 @@ impl RecordFile {
             file: File::create(path)?,
             committed: 0,
             written: 0,
+            pending: Vec::new(),
         })
     }
 
@@ -105,32 +112,30 @@ impl RecordFile {
         let _ = self.file.set_len(self.committed);
         let _ = self.file.write_all_at(&end, self.committed);
         self.written = self.committed;
+        self.pending.clear();
     }
 }
 
 impl Write for RecordFile {
-    /// Writes at the stream's position: over the provisional end, which the next commit
-    /// writes again after what was written.
+    /// Keeps `buf` for the next commit, which writes it over the provisional end.
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        match self.file.write_all_at(buf, self.written) {
-            Ok(()) => {
-                self.written += buf.len() as u64;
-                Ok(buf.len())
-            }
-            Err(e) => {
-                self.put_back(&e);
-                Err(e)
-            }
-        }
+        self.pending.extend_from_slice(buf);
+        self.written += buf.len() as u64;
+        Ok(buf.len())
     }
 
     /// A commit (the MCAP writer flushes its output after it closed a chunk): the provisional
     /// end after what was written.
     fn flush(&mut self) -> io::Result<()> {
         let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
-        match self.file.write_all_at(&end, self.written) {
+        let n = self.pending.len();
+        self.pending.extend_from_slice(&end);
+        let r = self.file.write_all_at(&self.pending, self.committed);
+        self.pending.truncate(n);
+        match r {
             Ok(()) => {
                 self.committed = self.written;
+                self.pending.clear();
                 Ok(())
             }
             Err(e) => {
@@ -158,6 +163,11 @@ impl RecordOutput for RecordFile {
     /// Ends the file after the real end (the MCAP writer's `finish` wrote it over the
     /// provisional one): cuts what a provisional end left beyond.
     fn close(&mut self) -> io::Result<u64> {
+        if let Err(e) = self.file.write_all_at(&self.pending, self.committed) {
+            self.put_back(&e);
+            return Err(e);
+        }
+        self.pending.clear();
         self.file.set_len(self.written)?;
         self.committed = self.written;
         Ok(self.written)
