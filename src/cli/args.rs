@@ -30,6 +30,49 @@ impl Opt {
     }
 }
 
+/// The value of option `name`: given inline (`--opt=V`) or the next argument (`--opt V`, which
+/// moves `i` past it).
+fn value_of(
+    argv: &[String],
+    i: &mut usize,
+    name: &str,
+    inline: Option<String>,
+) -> Result<String, String> {
+    if let Some(v) = inline {
+        return Ok(v);
+    }
+    let v = argv
+        .get(*i)
+        .ok_or_else(|| format!("option '{name}' needs a value"))?;
+    *i += 1;
+    Ok(v.clone())
+}
+
+/// Takes the options `names` (each with a value, `--opt V` or `--opt=V`) out of `argv`, before
+/// a subcommand's own parse sees the rest: the options every subcommand shares
+/// (`--mtconnect`). Returns them in order, and the other arguments.
+pub fn take_values(
+    argv: &[String],
+    names: &[&'static str],
+) -> Result<(Vec<(&'static str, String)>, Vec<String>), String> {
+    let mut taken = Vec::new();
+    let mut rest = Vec::new();
+    let mut i = 0;
+    while i < argv.len() {
+        let a = &argv[i];
+        i += 1;
+        let (spelled, inline) = match a.split_once('=') {
+            Some((n, v)) => (n, Some(v.to_string())),
+            None => (a.as_str(), None),
+        };
+        match names.iter().find(|n| **n == spelled) {
+            Some(name) => taken.push((*name, value_of(argv, &mut i, name, inline)?)),
+            None => rest.push(a.clone()),
+        }
+    }
+    Ok((taken, rest))
+}
+
 /// Parsed arguments.
 #[derive(Clone, Debug, Default)]
 pub struct Args {
@@ -65,16 +108,7 @@ impl Args {
                 .find(|o| o.name == name)
                 .ok_or_else(|| format!("unknown option '{name}' (see --help)"))?;
             if opt.takes_value {
-                let v = match inline {
-                    Some(v) => v,
-                    None => {
-                        let v = argv
-                            .get(i)
-                            .ok_or_else(|| format!("option '{name}' needs a value"))?;
-                        i += 1;
-                        v.clone()
-                    }
-                };
+                let v = value_of(argv, &mut i, name, inline)?;
                 a.values.entry(opt.name).or_default().push(v);
             } else {
                 if inline.is_some() {
@@ -108,6 +142,28 @@ mod tests {
 
     fn v(s: &[&str]) -> Vec<String> {
         s.iter().map(|x| x.to_string()).collect()
+    }
+
+    #[test]
+    fn shared_options_are_taken_out_before_the_subcommands_parse() {
+        let (taken, rest) = take_values(
+            &v(&["prog.ap", "--m", "7878", "--record=x", "--w=2", "--m=9"]),
+            &["--m", "--w"],
+        )
+        .unwrap();
+        assert_eq!(
+            taken,
+            vec![
+                ("--m", "7878".into()),
+                ("--w", "2".into()),
+                ("--m", "9".into())
+            ]
+        );
+        assert_eq!(rest, v(&["prog.ap", "--record=x"]));
+        assert_eq!(
+            take_values(&v(&["a", "--m"]), &["--m"]).unwrap_err(),
+            "option '--m' needs a value"
+        );
     }
 
     #[test]

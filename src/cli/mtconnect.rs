@@ -21,29 +21,8 @@ pub struct MtcOpts {
 /// Takes `--mtconnect V` / `--mtconnect=V` and `--mtconnect-wait S` out of `argv`.
 pub fn take(argv: &[String]) -> Result<(MtcOpts, Vec<String>), String> {
     let mut o = MtcOpts::default();
-    let mut rest = Vec::new();
-    let mut i = 0;
-    while i < argv.len() {
-        let a = &argv[i];
-        i += 1;
-        let (name, inline) = match a.split_once('=') {
-            Some((n, v)) if n == "--mtconnect" || n == "--mtconnect-wait" => (n, Some(v)),
-            _ => (a.as_str(), None),
-        };
-        if name != "--mtconnect" && name != "--mtconnect-wait" {
-            rest.push(a.clone());
-            continue;
-        }
-        let v = match inline {
-            Some(v) => v.to_string(),
-            None => {
-                let v = argv
-                    .get(i)
-                    .ok_or_else(|| format!("option '{name}' needs a value"))?;
-                i += 1;
-                v.clone()
-            }
-        };
+    let (taken, rest) = super::args::take_values(argv, &["--mtconnect", "--mtconnect-wait"])?;
+    for (name, v) in taken {
         if name == "--mtconnect" {
             o.addr = Some(crate::mtconnect::parse_addr(&v)?);
         } else {
