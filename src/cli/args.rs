@@ -48,13 +48,16 @@ fn value_of(
     Ok(v.clone())
 }
 
+/// Options taken out of a command line: each spelling with its value, in order.
+pub type Taken = Vec<(&'static str, String)>;
+
 /// Takes the options `names` (each with a value, `--opt V` or `--opt=V`) out of `argv`, before
 /// a subcommand's own parse sees the rest: the options every subcommand shares
 /// (`--mtconnect`). Returns them in order, and the other arguments.
 pub fn take_values(
     argv: &[String],
     names: &[&'static str],
-) -> Result<(Vec<(&'static str, String)>, Vec<String>), String> {
+) -> Result<(Taken, Vec<String>), String> {
     let mut taken = Vec::new();
     let mut rest = Vec::new();
     let mut i = 0;
