@@ -123,6 +123,59 @@ pub struct Block {
     /// feed and spindle overrides are held at 100 % and a feed hold waits for the tap to be
     /// back out with the spindle forward (docs/pulse-core.md, "Tapping").
     pub tap: Tap,
+    /// How `feed` is given: per minute (G94, the default) or per spindle revolution (G95, mm
+    /// per revolution, the rate following the spindle's actual speed).
+    pub feed_mode: FeedMode,
+    /// G96 constant surface speed: the spindle speed follows the tool tip's distance from the
+    /// spindle centreline (axis X) so that the surface moves at `m_per_min`, never above
+    /// `limit_rpm`; `s` is then unset. None: G97, `s` is rpm.
+    pub css: Option<Css>,
+    /// A thread pass (G33, each pass of G76): the move waits for the spindle encoder's index,
+    /// then the axis along the spindle (Z) follows the encoder at `lead` mm per revolution and
+    /// X follows in proportion (a taper thread). Only with `Motion::Linear`.
+    pub thread: Option<f64>,
+    /// A meeting point with the machine's other channels (the kernel's sync table): a waiting
+    /// M code, a chuck close that receives a work, a chuck open that delivers one.
+    pub sync: Option<Sync>,
+}
+
+/// How a block's feed is given.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FeedMode {
+    /// G94: mm per minute along the path.
+    #[default]
+    PerMin,
+    /// G95: mm per spindle revolution along the path.
+    PerRev,
+}
+
+/// G96 constant surface speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Css {
+    /// Surface speed, m/min.
+    pub m_per_min: f64,
+    /// Spindle speed limit, rpm (the D word, or the machine's maximum).
+    pub limit_rpm: f64,
+}
+
+/// A block's meeting point with other channels (seed 004: receive, delivery and the waiting M
+/// codes; lines 136–142, 288–304, 330–378).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sync {
+    /// A waiting M code (M100–M199): the channel waits here until every channel in `with`
+    /// (bit i = channel i+1, its own included) has reached the same code.
+    Wait {
+        /// The M code.
+        m: u32,
+        /// The channels that meet, bit i = channel i+1.
+        with: u8,
+    },
+    /// M10, close the chuck: on an empty spindle, the receive point (wait for the supplier's
+    /// offer, close on the work, wait until the supplier has let go).
+    ChuckClose,
+    /// M11, open the chuck: holding a work, the delivery point (wait until the receiver has
+    /// closed on it, then open).
+    ChuckOpen,
 }
 
 /// Whether a block belongs to a tap, and which (docs/pulse-core.md, "Tapping").
@@ -205,6 +258,10 @@ impl Block {
             io: None,
             probe: None,
             tap: Tap::No,
+            feed_mode: FeedMode::PerMin,
+            css: None,
+            thread: None,
+            sync: None,
         }
     }
 

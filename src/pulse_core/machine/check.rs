@@ -1,12 +1,25 @@
 //! The checks NCBR makes on a block before any of its pulses: travel limits (including the
 //! bulge of an arc), arc geometry and feed.
 
-use crate::block::{Block, Motion as Kind};
+use crate::block::{Block, FeedMode, Motion as Kind};
 use crate::pulse_core::arc::{ArcError, ArcStepper};
 use crate::settings::MachineSettings;
 
 /// Travel limits, arc geometry and feed of a block, before any of its pulses.
 pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Result<(), String> {
+    // Never drop a word: what this kernel does not yet run is refused before any pulse.
+    if b.feed_mode != FeedMode::PerMin {
+        return Err("feed per revolution (G95) is not run by this kernel yet".into());
+    }
+    if b.css.is_some() {
+        return Err("constant surface speed (G96) is not run by this kernel yet".into());
+    }
+    if b.thread.is_some() {
+        return Err("thread passes (G33) are not run by this kernel yet".into());
+    }
+    if b.sync.is_some() {
+        return Err("channel sync points are not run by this kernel yet".into());
+    }
     let to = [
         pos[0] + b.delta[0],
         pos[1] + b.delta[1],
