@@ -278,13 +278,19 @@ impl BlockBuffer {
     }
 
     /// Waits up to `timeout` for a block or the translator's last word.
+    /// A wake-up for something else (or a spurious one) waits on until the deadline.
     pub fn wait_ready(&self, timeout: Duration) {
+        let deadline = std::time::Instant::now() + timeout;
         let mut s = self.lock();
-        if !(s.primed && (!s.q.is_empty() || s.done.is_some())) {
+        while !(s.primed && (!s.q.is_empty() || s.done.is_some())) {
+            let now = std::time::Instant::now();
+            if now >= deadline {
+                break;
+            }
             s.core_waits = true;
             s = self
                 .not_empty
-                .wait_timeout(s, timeout)
+                .wait_timeout(s, deadline - now)
                 .map(|r| r.0)
                 .unwrap_or_else(|p| p.into_inner().0);
             s.core_waits = false;
