@@ -6,7 +6,7 @@
 mod common;
 
 use common::{keys, temp_dir};
-use novanc::console::keys::{JOG_RELEASE, REPEAT_GAP};
+use novanc::console::keys::{JOG_DEADMAN, JOG_RELEASE, REPEAT_GAP};
 use novanc::console::{Console, ConsoleConfig};
 use novanc::pulse_core::ClockMode;
 use std::time::{Duration, Instant};
@@ -91,4 +91,36 @@ fn a_held_key_jogs_and_stops_when_it_is_released() {
     );
     assert_eq!([after[0], after[2]], [before[0], before[2]], "only Y moves");
     assert!(!c.status().moving);
+}
+
+/// A frozen front end (docs/panel.md, "The jog deadman"): the console stops running in the
+/// middle of a held key's jog — no more keys, no display ticks, so its own release never comes —
+/// and the pulse core stops the axis on its own within the deadman time and its deceleration.
+#[test]
+fn a_frozen_console_does_not_leave_an_axis_jogging() {
+    let mut c = open("jog-frozen");
+    let before = settle(&mut c);
+    let t0 = Instant::now();
+    while t0.elapsed() < Duration::from_millis(800) {
+        keys(&mut c, &["Up"]);
+        ticks(&mut c, 20);
+    }
+    let frozen_at = c.core().status().pos;
+    assert!(
+        frozen_at[1] - before[1] > 2_000,
+        "the held key did not jog: {before:?} -> {frozen_at:?}\n{}",
+        c.frame_text()
+    );
+    // Frozen: nothing from the console for 1.5 s.
+    std::thread::sleep(Duration::from_millis(1500));
+    let s = c.core().status();
+    assert!(!s.moving, "the axis still jogs with the console frozen");
+    let coast = s.pos[1] - frozen_at[1];
+    // The deadman at 1000 mm/min is about 4.2 mm; the deceleration adds less than 3 mm.
+    let deadman_mm = JOG_DEADMAN.as_secs_f64() * 1000.0 / 60.0;
+    eprintln!("frozen console: the axis went on {coast} pulses");
+    assert!(
+        (0..=((deadman_mm + 3.0) * 1000.0) as i64).contains(&coast),
+        "with the console frozen the axis went on {coast} pulses"
+    );
 }

@@ -335,3 +335,41 @@ fn reset_abandons_the_run() {
     assert_eq!(m.pos(), p);
     assert_eq!(m.status().run, 0);
 }
+
+/// The jog deadman (docs/pulse-core.md): a held-key jog kept alive by `JogAlive` decelerates on
+/// its own when the keep-alives stop, as a frozen front end's would; a jog without one goes on.
+#[test]
+fn a_jog_whose_keepalives_stop_decelerates_on_its_own() {
+    let mut src = VecSource::default();
+    let mut m = machine();
+    m.command(Command::Jog { axis: 1, dir: -1 });
+    m.command(Command::JogAlive(250));
+    // Kept alive every 30 ms for 0.6 s: it jogs all along.
+    for _ in 0..20 {
+        m.advance_to(m.now() + 30_000_000, &mut src);
+        m.command(Command::JogAlive(250));
+    }
+    assert!(m.status().moving);
+    let kept = m.pos()[1];
+    // The front end stops: no more keep-alives. The jog stops within the deadline and its
+    // deceleration, without any JogRelease.
+    m.advance_to(m.now() + 2_000_000_000, &mut src);
+    assert!(!m.status().moving, "the jog went on without keep-alives");
+    assert!(m.is_idle());
+    let coast = kept - m.pos()[1];
+    // 250 ms at the jog feed (at most the rapid rate of the defaults) plus braking: well under
+    // the 2 s it would otherwise have run.
+    let s = MachineSettings::default();
+    let feed_pulses_per_ms = s.to_pulses(s.jog_mm_min) as f64 / 60_000.0;
+    assert!(
+        (coast as f64) < feed_pulses_per_ms * 1000.0,
+        "coasted {coast} pulses"
+    );
+    // A jog never kept alive (a script's, the window's) has no deadline.
+    m.command(Command::Jog { axis: 1, dir: 1 });
+    m.advance_to(m.now() + 1_000_000_000, &mut src);
+    assert!(m.status().moving);
+    m.command(Command::JogRelease);
+    m.run_until_idle(&mut src, HOUR);
+    assert!(m.is_idle());
+}

@@ -22,6 +22,17 @@ pub const JOG_RELEASE: Duration = Duration::from_millis(150);
 /// second), so the key is held; a person tapping twice is slower (docs/panel.md, "Jogging").
 pub const REPEAT_GAP: Duration = Duration::from_millis(90);
 
+/// The jog deadman: a held key's jog decelerates on its own in the pulse core when the console
+/// has not passed on a repeat for this long (the console's own release, [`JOG_RELEASE`], comes
+/// first; this is for a console that has stopped running: docs/pulse-core.md, "The jog
+/// deadman").
+pub const JOG_DEADMAN: Duration = Duration::from_millis(250);
+
+/// [`JOG_DEADMAN`] in milliseconds.
+fn deadman_ms() -> u32 {
+    JOG_DEADMAN.as_millis() as u32
+}
+
 /// Machine time a tap's increment gets to come to rest in virtual time (1 mm at the slowest
 /// jog feed takes far less).
 const TAP_LIMIT_NS: u64 = 60_000_000_000;
@@ -335,14 +346,19 @@ impl Console {
         let virtual_time = self.cfg.clock == ClockMode::Virtual;
         let repeat = match self.jog_key {
             Some(k) if k.axis == axis && k.dir == dir && !virtual_time => {
-                k.held || now.duration_since(k.at) <= REPEAT_GAP
+                // A held key that has not repeated for the release time (the console was
+                // not running: the core's deadman may have stopped the jog) is pressed anew.
+                let gap = now.duration_since(k.at);
+                gap <= REPEAT_GAP || (k.held && gap <= JOG_RELEASE)
             }
             _ => false,
         };
         if repeat {
             let mut k = self.jog_key.expect("a repeat has a key");
             k.at = now;
-            if !k.held {
+            if k.held {
+                self.status = self.core.command(Command::JogAlive(deadman_ms()));
+            } else {
                 // The tap's increment may still be moving: the jog starts on a later repeat.
                 self.status = self.core.status();
                 if self.status.moving {
@@ -354,6 +370,7 @@ impl Console {
                     self.jog_key = None;
                     return;
                 }
+                self.status = self.core.command(Command::JogAlive(deadman_ms()));
                 k.held = true;
             }
             self.jog_key = Some(k);

@@ -144,6 +144,12 @@ pub enum Command {
     },
     /// End a CONTINUOUS jog (decelerate).
     JogRelease,
+    /// A held jog key repeated: the CONTINUOUS jog in progress goes on for at most this many
+    /// milliseconds of machine time unless another `JogAlive` comes, then decelerates as on
+    /// `JogRelease`. A front end that stops sending (frozen, killed, its terminal gone) so
+    /// lets the axis stop on its own (docs/pulse-core.md, "The jog deadman"). Ignored with no
+    /// jog in progress.
+    JogAlive(u32),
     /// Move an axis by a signed number of pulses at the jog feed (STEP and HANDLE).
     Increment {
         /// Axis 0 = X, 1 = Y, 2 = Z.

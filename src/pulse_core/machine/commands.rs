@@ -133,6 +133,12 @@ impl Machine {
                     }
                 }
             }
+            Command::JogAlive(ms) => {
+                let until = self.now + u64::from(ms) * 1_000_000;
+                if let Some(j) = self.jog.as_mut().filter(|j| j.release) {
+                    j.deadline = Some(until);
+                }
+            }
             Command::JogRelease => {
                 if let Some(j) = &mut self.jog {
                     if j.release {

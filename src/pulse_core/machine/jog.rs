@@ -68,6 +68,7 @@ impl Machine {
         self.jog = Some(Jog {
             motion: Drive::Dda(Motion::linear(delta, v, self.accel, t0)),
             release,
+            deadline: None,
         });
     }
 
@@ -105,6 +106,7 @@ impl Machine {
             self.ret = Some(Jog {
                 motion: Drive::Dda(Motion::linear(delta, v, self.accel, t)),
                 release: false,
+                deadline: None,
             });
             return;
         }

@@ -174,6 +174,9 @@ struct Jog {
     motion: Drive,
     /// CONTINUOUS: stop and drop the rest once at rest.
     release: bool,
+    /// Machine time at which a CONTINUOUS jog kept alive by `JogAlive` decelerates unless
+    /// another comes.
+    deadline: Option<u64>,
 }
 
 /// The run loaded: running, held, or stopped between single blocks.
@@ -1219,6 +1222,11 @@ impl Machine {
             }
         }
         if let Some(j) = &mut self.jog {
+            if j.deadline.is_some_and(|d| d < end) {
+                // The jog deadman: no keep-alive from the front end in time.
+                j.deadline = None;
+                j.motion.set_hold(true);
+            }
             let p = j.motion.run(end, &mut self.out);
             if p == Progress::Done || (p == Progress::AtRest && j.release) {
                 let t = j.motion.last_t().max(self.now);
