@@ -124,3 +124,28 @@ fn a_frozen_console_does_not_leave_an_axis_jogging() {
         "with the console frozen the axis went on {coast} pulses"
     );
 }
+
+/// The window's held JOG button (a `PanelEvent::Jog` until its release): each display tick
+/// keeps the jog alive, so it jogs as long as the front end runs, and stops on its own when
+/// the front end freezes before the release.
+#[test]
+fn a_held_button_jogs_while_the_front_end_runs_and_stops_when_it_freezes() {
+    use novanc::panel_model::{Axis, PanelEvent};
+    let mut c = open("jog-button");
+    let before = settle(&mut c);
+    c.handle(PanelEvent::Jog(Axis::Y, 1));
+    ticks(&mut c, 800);
+    let s = c.core().status();
+    assert!(s.moving, "the held button's jog stopped while the front end ran");
+    let frozen_at = s.pos;
+    assert!(frozen_at[1] - before[1] > 8_000, "moved {:?}", frozen_at);
+    std::thread::sleep(Duration::from_millis(1500));
+    let s = c.core().status();
+    assert!(!s.moving, "the axis still jogs with the window frozen");
+    let deadman_mm = JOG_DEADMAN.as_secs_f64() * 1000.0 / 60.0;
+    let coast = s.pos[1] - frozen_at[1];
+    assert!(
+        (0..=((deadman_mm + 3.0) * 1000.0) as i64).contains(&coast),
+        "with the window frozen the axis went on {coast} pulses"
+    );
+}

@@ -29,7 +29,7 @@ pub const REPEAT_GAP: Duration = Duration::from_millis(90);
 pub const JOG_DEADMAN: Duration = Duration::from_millis(250);
 
 /// [`JOG_DEADMAN`] in milliseconds.
-fn deadman_ms() -> u32 {
+pub(super) fn deadman_ms() -> u32 {
     JOG_DEADMAN.as_millis() as u32
 }
 
@@ -370,7 +370,6 @@ impl Console {
                     self.jog_key = None;
                     return;
                 }
-                self.status = self.core.command(Command::JogAlive(deadman_ms()));
                 k.held = true;
             }
             self.jog_key = Some(k);

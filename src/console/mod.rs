@@ -268,6 +268,11 @@ impl Console {
     /// Polls the pulse core and refreshes the display; call at display rate.
     pub fn tick(&mut self) {
         self.expire_jog_key();
+        if self.jogging && self.jog_key.is_none() && self.cfg.clock == ClockMode::RealTime {
+            // A jog held by a front end's button (the window's): each frame keeps it alive, so
+            // a front end that stops drawing lets the core stop it (docs/panel.md).
+            self.command(Command::JogAlive(keys::deadman_ms()));
+        }
         self.refresh();
     }
 

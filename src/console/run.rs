@@ -569,6 +569,11 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
                 dir,
             });
             c.jogging = c.status.notice.is_none();
+            if c.jogging && c.cfg.clock == crate::pulse_core::ClockMode::RealTime {
+                // Hold-to-run: the front end keeps the jog alive (key repeats, the window's
+                // frames while the button is held), or the core stops it (docs/panel.md).
+                c.command(Command::JogAlive(super::keys::deadman_ms()));
+            }
             after_manual(c);
         }
         OpMode::Step => step(c, axis, dir, "step"),
