@@ -2,6 +2,7 @@
 //! the tool file, and how one journal record changes them. The same `apply` serves a live
 //! operator action and the replay of the journal at start, so both give the same result.
 
+use super::lathe::LatheState;
 use super::names::program_name;
 use super::record::{EditTarget, Record};
 use super::toolfile::{parse_tool_text, tool_text, tool_text_keeping};
@@ -23,7 +24,46 @@ pub enum Refusal {
     Other(String),
 }
 
-/// Program memory, MDI buffer, T-code table and tool file.
+impl Refusal {
+    /// The operator's message.
+    pub fn text(self) -> String {
+        match self {
+            Refusal::Edit(e) => e.to_string(),
+            Refusal::Other(m) => m,
+        }
+    }
+}
+
+/// What a store holds when nothing is saved, and so which machine's store it is: the centre's
+/// embedded defaults for a magazine of so many pockets, or a lathe's (`store::lathe`).
+#[derive(Clone, Debug)]
+pub enum Base {
+    /// The machining centre's stores, with a magazine of this many pockets.
+    Centre(u32),
+    /// A lathe's stores, starting as this state.
+    Lathe(LatheState),
+}
+
+impl Base {
+    /// The state of a store with nothing saved.
+    pub fn defaults(&self) -> State {
+        match self {
+            Base::Centre(capacity) => State::defaults(*capacity),
+            Base::Lathe(l) => State::lathe(l.clone()),
+        }
+    }
+
+    /// The magazine capacity (a lathe's store has no magazine: 1).
+    pub fn capacity(&self) -> u32 {
+        match self {
+            Base::Centre(capacity) => *capacity,
+            Base::Lathe(_) => 1,
+        }
+    }
+}
+
+/// Program memory, MDI buffer, T-code table and tool file; on a lathe, instead, each channel's
+/// program and tools and the part counter (`lathe`).
 #[derive(Clone, Debug)]
 pub struct State {
     /// Part programs by name.
@@ -43,6 +83,9 @@ pub struct State {
     /// rotations), in millionths of their unit (nanometres, micro-degrees). A parameter not
     /// here is 0 (#5220, the system in force, is then 1: G54).
     pub params: BTreeMap<u16, i64>,
+    /// A lathe's stores. When set, this is a lathe's store: the centre's fields above stay
+    /// empty, are not written, and their records are refused (and the other way round).
+    pub lathe: Option<LatheState>,
 }
 
 /// The largest work offset, nanometres (100 m): an INPUT beyond it is refused.
@@ -87,6 +130,21 @@ impl State {
             tcodes: m.tcodes,
             tools: m.tools,
             params: BTreeMap::new(),
+            lathe: None,
+        }
+    }
+
+    /// A lathe's store holding `l`.
+    pub fn lathe(l: LatheState) -> State {
+        State {
+            programs: BTreeMap::new(),
+            current: String::new(),
+            mdi: Buffer::new(),
+            tcodes: TCodeTable::new(1),
+            tool_buf: Buffer::new(),
+            tools: ToolFile::new(1),
+            params: BTreeMap::new(),
+            lathe: Some(l),
         }
     }
 
@@ -154,6 +212,19 @@ impl State {
         rec: &Record,
         y_max_lines: Option<usize>,
     ) -> Result<(Outcome, bool), Refusal> {
+        let lathe_rec = matches!(
+            rec,
+            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. }
+        );
+        match (self.lathe.as_mut(), lathe_rec) {
+            (Some(l), _) => return l.apply(rec),
+            (None, true) => {
+                return Err(Refusal::Other(
+                    "a lathe's record (a channel's program or tools, the part counter) is not kept in the centre's stores".to_string(),
+                ))
+            }
+            (None, false) => {}
+        }
         match rec {
             Record::Edit { target, line } => {
                 if *target == EditTarget::ToolFile {
@@ -321,6 +392,11 @@ impl State {
                     }
                 }
                 Ok((Outcome::default(), changed))
+            }
+            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. } => {
+                Err(Refusal::Other(
+                    "not a record of the centre's stores".to_string(),
+                ))
             }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
