@@ -450,6 +450,68 @@ mod tests {
         }
     }
 
+    #[test]
+    fn a_lathes_store_and_the_centres_refuse_each_others_records_and_bad_lathe_records() {
+        let lathe_recs = [
+            Record::ChannelProgram {
+                ch: 0,
+                name: "A".into(),
+                text: "G0 X1\n".into(),
+            },
+            Record::Parts {
+                target: 5,
+                counts: vec![1, 1, 1],
+            },
+        ];
+        let mut centre = State::defaults(24);
+        for r in &lathe_recs {
+            assert!(centre.apply(r, None).is_err(), "{r:?}");
+        }
+        assert!(centre.lathe.is_none());
+        let desc = crate::lathe::desc::LatheDesc::citizen();
+        let l = LatheState::defaults(&desc);
+        let mut s = State::lathe(l.clone());
+        let bad = [
+            Record::Select("TABLEB".into()),
+            Record::ClearMdi,
+            Record::ChannelProgram {
+                ch: 3,
+                name: "A".into(),
+                text: "".into(),
+            },
+            Record::ChannelProgram {
+                ch: 0,
+                name: "".into(),
+                text: "".into(),
+            },
+            Record::ChannelProgram {
+                ch: 0,
+                name: "A".into(),
+                text: "x".repeat(super::super::lathe::MAX_PROGRAM + 1),
+            },
+            Record::ChannelTools {
+                ch: 1,
+                text: Some("tool 1 radius x\n".into()),
+            },
+            Record::Parts {
+                target: 0,
+                counts: vec![0, 0, 0],
+            },
+            Record::Parts {
+                target: 5,
+                counts: vec![0, 0],
+            },
+        ];
+        for r in &bad {
+            assert!(s.apply(r, None).is_err(), "{r:?}");
+            assert_eq!(s.lathe.as_ref(), Some(&l), "{r:?}");
+        }
+        for r in &lathe_recs {
+            assert_eq!(s.apply(r, None).map(|o| o.1), Ok(true), "{r:?}");
+        }
+        assert_eq!(s.lathe.as_ref().unwrap().counter.counts, [1, 1, 1]);
+    }
+
     impl State {
         fn program_names_for_test(&self) -> Vec<&str> {
             self.programs.keys().map(|k| k.as_str()).collect()
