@@ -13,7 +13,7 @@ use super::state::{Base, Refusal};
 use super::{fsutil, StoreError, Stores};
 use crate::lathe::desc::{parse_tool, tool_line, LatheDesc, ToolDesc};
 use novanc_editor::Outcome;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The embedded sample programs of the Citizen lathe, one per channel.
 pub const CITIZEN_PROGRAMS: [(&str, &str); 3] = [
@@ -466,7 +466,7 @@ impl LatheStore {
     }
 
     /// The directory.
-    pub fn dir(&self) -> PathBuf {
-        self.stores.dir().to_path_buf()
+    pub fn dir(&self) -> &Path {
+        self.stores.dir()
     }
 }
