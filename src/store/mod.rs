@@ -1,6 +1,7 @@
 //! The stores the controller remembers across restarts: program memory, the MDI buffer, the
-//! tool file and the T-code table (patent Table A; docs/stores.md). Every accepted change is journaled
-//! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
+//! tool file and the T-code table (patent Table A; docs/stores.md), and, in a lathe's directory,
+//! each channel's program and tools and the part counter (`lathe`). Every accepted change is
+//! journaled and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
 mod frame;
 pub mod fsutil;
