@@ -392,3 +392,39 @@ fn child() {
     }
     println!("\nchild done");
 }
+
+/// Issue 22: a description whose channel count changed (the machine file edited from three
+/// channels to two) opens the journaled store without a panic: what does not fit the machine
+/// (channel 3's program, a counter of three counts) is said and set aside, what fits is kept,
+/// and the snapshot is kept aside (read as damaged: the operator sees what was dropped).
+#[test]
+fn a_store_of_three_channels_opened_with_two_says_what_does_not_fit() {
+    let _serial = common::serial();
+    let state = common::temp_dir("lathe-store-channels");
+    let desc = LatheDesc::citizen();
+    let mut o = LatheStore::open(&state, &desc).unwrap();
+    let p = Program {
+        name: "TWO.NGC".into(),
+        text: "G0 X2\n".into(),
+    };
+    o.store.save_program(1, &p).unwrap();
+    drop(o);
+    drop(LatheStore::open(&state, &desc).unwrap()); // into the snapshot
+    let mut two = desc.clone();
+    two.channels.truncate(2);
+    let o = LatheStore::open(&state, &two).unwrap();
+    assert_eq!(o.programs.len(), 2);
+    assert_eq!(o.programs[1], p);
+    assert_eq!(o.counter.counts, [0, 0]);
+    assert_eq!(o.warnings.len(), 2, "{:?}", o.warnings);
+    assert!(o.warnings[1].contains("the journal was replayed onto what could be read"));
+    let w = &o.warnings[0];
+    assert!(
+        !w.contains("generation is unknown")
+            && w.contains("the header says 3 channels; this lathe has 2")
+            && w.contains("channel 3 is not one of this lathe's 2")
+            && w.contains("the part counter (it starts at 0 of 5)")
+            && w.contains("It is kept as state.snap.bad-"),
+        "{w}"
+    );
+}

@@ -278,15 +278,15 @@ pub fn read_snapshot(data: &[u8], base: &LatheState) -> LatheSnapRead {
         };
         if i == 0 {
             let f: Vec<&str> = r.split(' ').collect();
-            match f.as_slice() {
-                ["novanc-lathe", "2", g, c] if c.parse() == Ok(n) => match g.parse::<u64>() {
+            if let ["novanc-lathe", "2", g, c] = f.as_slice() {
+                match g.parse::<u64>() {
                     Ok(g) => gen = Some(g),
                     Err(_) => lost.push(format!("the header '{r}' does not read")),
-                },
-                ["novanc-lathe", "2", _, c] => {
-                    lost.push(format!("the header says {c} channels; this lathe has {n}"))
                 }
-                _ => {}
+                if c.parse() != Ok(n) {
+                    // The description changed: what does not fit is refused below.
+                    lost.push(format!("the header says {c} channels; this lathe has {n}"));
+                }
             }
             if gen.is_some() || r.starts_with("novanc-lathe ") {
                 continue;
