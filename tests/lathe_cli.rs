@@ -4,6 +4,8 @@
 
 mod common;
 
+use novanc::lathe::desc::LatheDesc;
+use novanc::store::lathe::{tools_text, LatheStore};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -231,8 +233,11 @@ fn a_fault_in_channel_1_during_part_3_stops_only_what_needs_it() {
     assert_eq!(a.cuts_without_work, 0);
     each_work_machined_once(&a);
     // The part counter is in the stores.
-    let parts = std::fs::read_to_string(dir.join("state/lathe-citizen/parts")).unwrap();
-    assert_eq!(parts, "target 5\ncounts 5 5 5\n");
+    let o = LatheStore::open(&dir.join("state"), &LatheDesc::citizen()).unwrap();
+    assert_eq!(
+        (o.counter.target, &o.counter.counts[..]),
+        (5, &[5, 5, 5][..])
+    );
 }
 
 #[test]
@@ -408,14 +413,13 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     assert!(o.status.success(), "{so}{}", text(&o.stderr));
     assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
     assert!(so.contains("T9 is not on this tool post"), "{so}");
+    let o = LatheStore::open(&state, &LatheDesc::citizen()).unwrap();
     assert_eq!(
-        std::fs::read_to_string(state.join("lathe-citizen/ch2.tools")).unwrap(),
-        "tool 1 radius 0.4 tip 3 offset 0.02 -0.01\ntool 2 radius 0.2 tip 2 offset 0 0\n"
+        o.tools[1].as_deref().map(tools_text).as_deref(),
+        Some("tool 1 radius 0.4 tip 3 offset 0.02 -0.01\ntool 2 radius 0.2 tip 2 offset 0 0\n")
     );
-    assert!(
-        !state.join("lathe-citizen/ch1.tools").exists(),
-        "channel 1 untouched"
-    );
+    assert_eq!(o.tools[0], None, "channel 1 untouched");
+    drop(o);
     // A new session reads them back.
     std::fs::write(&script, "op OFS\nchannel 2\nshow\n").unwrap();
     let so = text(&run().stdout);

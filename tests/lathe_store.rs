@@ -13,24 +13,97 @@ mod common;
 
 use novanc::lathe::console::events::LatheEv;
 use novanc::lathe::console::LatheConsole;
-use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
-use novanc::lathe::store::{Counter, LatheStore, Program};
+use novanc::lathe::desc::{parse, tool_line, LatheDesc, MachineDesc};
+use novanc::store::lathe::{Counter, LatheStore, Program, CITIZEN_PROGRAMS};
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 fn run_child(what: &str, d: &Path, unprivileged: bool) {
     common::run_child_on("child", what, d, unprivileged);
 }
 
-/// Item 3: program files that cannot be read (a directory in its place, a symlink loop, no
-/// permission) are never replaced by the embedded sample.
+/// Makes `STATE/lathe-citizen/` hold the lathe's old store, as it was before the journal (the
+/// program files its first open wrote), and nothing of the journaled store: the next open
+/// migrates it.
+fn old_store(state: &Path) -> PathBuf {
+    let d = state.join("lathe-citizen");
+    fs::create_dir_all(&d).unwrap();
+    for f in ["state.snap", "journal.log"] {
+        let _ = fs::remove_file(d.join(f));
+    }
+    for (i, (name, text)) in CITIZEN_PROGRAMS.iter().enumerate() {
+        fs::write(
+            d.join(format!("ch{}.prog", i + 1)),
+            format!("{name}\n{text}"),
+        )
+        .unwrap();
+    }
+    d
+}
+
+/// Issue 22: an old lathe directory (whole files, no journal) is migrated into the journaled
+/// store once: its programs, tools and counter are what the store opens with, they are
+/// snapshotted, and the old files are not read again (a later change to them is ignored).
+#[test]
+fn an_old_lathe_directory_is_migrated_into_the_journal_once() {
+    let _serial = common::serial();
+    let state = common::temp_dir("lathe-store-migrate");
+    let desc = LatheDesc::citizen();
+    let d = old_store(&state);
+    fs::write(d.join("ch2.prog"), "OLD2.NGC\nG0 X2\nM30\n").unwrap();
+    let mut tools = desc.channels[2].tools.clone();
+    tools[0].offset = [0.125, -0.5];
+    tools[0].radius = 0.8;
+    let text: String = tools.iter().map(|t| tool_line(t) + "\n").collect();
+    fs::write(d.join("ch3.tools"), &text).unwrap();
+    fs::write(d.join("parts"), "target 12\ncounts 4 4 3\n").unwrap();
+    let want = |o: &novanc::store::lathe::Opened| {
+        assert_eq!(o.programs[0].name, "SYSTEM1.NGC");
+        assert_eq!(o.programs[1].name, "OLD2.NGC");
+        assert_eq!(o.programs[1].text, "G0 X2\nM30\n");
+        assert_eq!(o.tools[0], None);
+        assert_eq!(o.tools[2].as_deref(), Some(&tools[..]));
+        assert_eq!(
+            o.counter,
+            Counter {
+                target: 12,
+                counts: vec![4, 4, 3]
+            }
+        );
+    };
+    let o = LatheStore::open(&state, &desc).unwrap();
+    assert!(o.warnings.is_empty(), "{:?}", o.warnings);
+    want(&o);
+    drop(o);
+    assert!(d.join("state.snap").is_file() && d.join("journal.log").is_file());
+    // Read once: the old files no longer count.
+    fs::write(d.join("ch2.prog"), "LATER.NGC\n").unwrap();
+    fs::write(d.join("parts"), "target 1\ncounts 0 0 0\n").unwrap();
+    let mut o = LatheStore::open(&state, &desc).unwrap();
+    assert!(o.warnings.is_empty(), "{:?}", o.warnings);
+    want(&o);
+    // Changes after the migration are journaled and replayed.
+    o.store
+        .save_counter(&Counter {
+            target: 12,
+            counts: vec![5, 4, 3],
+        })
+        .unwrap();
+    drop(o);
+    let o = LatheStore::open(&state, &desc).unwrap();
+    assert_eq!(o.counter.counts, [5, 4, 3]);
+}
+
+/// Item 3: program files of the old store that cannot be read (a directory in its place, a
+/// symlink loop, no permission) are never replaced by the embedded sample when migrated, and
+/// nothing is written over them (issue 22: the journaled store never writes their names, so
+/// the operator's program is stored even where a damaged file could not be kept aside).
 #[test]
 fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
     let _serial = common::serial();
     let state = common::temp_dir("lathe-store-unreadable");
     let desc = LatheDesc::citizen();
-    drop(LatheStore::open(&state, &desc).unwrap());
-    let d = state.join("lathe-citizen");
+    let d = old_store(&state);
     fs::remove_file(d.join("ch1.prog")).unwrap();
     fs::create_dir(d.join("ch1.prog")).unwrap();
     fs::write(d.join("ch1.prog/inside"), "kept").unwrap();
@@ -60,6 +133,18 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
         "{}",
         o.warnings[1]
     );
+    let p = Program {
+        name: "NEW.NGC".into(),
+        text: "G0 X1\n".into(),
+    };
+    o.store.save_program(0, &p).unwrap();
+    o.store.save_program(1, &p).unwrap();
+    drop(o);
+    let o = LatheStore::open(&state, &desc).unwrap();
+    assert_eq!(o.programs[0], p);
+    assert_eq!(o.programs[1], p);
+    assert!(o.warnings.is_empty(), "{:?}", o.warnings);
+    drop(o);
     // Nothing was written over either.
     assert_eq!(
         fs::read_to_string(d.join("ch1.prog/inside")).unwrap(),
@@ -69,26 +154,9 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
         .unwrap()
         .file_type()
         .is_symlink());
-    // Channel 1's file could not be kept aside: a program is not stored over it.
-    let p = Program {
-        name: "NEW.NGC".into(),
-        text: "G0 X1\n".into(),
-    };
-    let e = o.store.save_program(0, &p).unwrap_err();
-    assert!(
-        e.starts_with(
-            "channel 1: the program could not be stored: cannot keep the damaged ch1.prog aside"
-        ),
-        "{e}"
-    );
-    // Channel 2's was kept aside: the operator's program replaces it.
-    o.store.save_program(1, &p).unwrap();
-    drop(o);
-    let o = LatheStore::open(&state, &desc).unwrap();
-    assert_eq!(o.programs[1], p);
-    drop(o);
     // No permission to read (as another user when the tests run as root).
-    fs::remove_dir_all(d.join("ch1.prog")).unwrap();
+    let state = common::temp_dir("lathe-store-unreadable-perm");
+    let d = old_store(&state);
     fs::write(d.join("ch3.prog"), "MINE.NGC\nG0 X5\n").unwrap();
     common::chmod(&d.join("ch3.prog"), 0o000);
     common::chmod(&d, 0o777);
@@ -105,19 +173,21 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
     );
 }
 
-/// Item 4: one byte that is not UTF-8 in a tool file: kept aside and said, with its place.
+/// Item 4: one byte that is not UTF-8 in a tool file of the old store: kept aside and said,
+/// with its place, when it is migrated.
 #[test]
 fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
     let _serial = common::serial();
     let state = common::temp_dir("lathe-store-tools");
     let desc = LatheDesc::citizen();
-    let mut o = LatheStore::open(&state, &desc).unwrap();
+    let d = old_store(&state);
     let mut tools = desc.channels[0].tools.clone();
     tools[0].offset[1] = -0.5;
-    o.store.save_tools(0, &tools).unwrap();
-    drop(o);
-    let path = state.join("lathe-citizen/ch1.tools");
-    let mut b = fs::read(&path).unwrap();
+    let path = d.join("ch1.tools");
+    let mut b: Vec<u8> = tools
+        .iter()
+        .flat_map(|t| (tool_line(t) + "\n").into_bytes())
+        .collect();
     let at = b.iter().position(|&c| c == b'r').unwrap();
     b[at] = 0xFF;
     fs::write(&path, &b).unwrap();
@@ -133,18 +203,16 @@ fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
             && w.contains("check the offsets on the OFS page before START"),
         "{w}"
     );
-    let kept: Vec<String> = common::names(&state.join("lathe-citizen"))
+    let kept: Vec<String> = common::names(&d)
         .into_iter()
         .filter(|n| n.starts_with("ch1.tools.bad-"))
         .collect();
     assert_eq!(kept.len(), 1);
-    assert_eq!(
-        fs::read(state.join("lathe-citizen").join(&kept[0])).unwrap(),
-        b
-    );
+    assert_eq!(fs::read(d.join(&kept[0])).unwrap(), b);
     // The console shows it on screen at open.
     drop(o);
-    fs::write(&path, &b).unwrap();
+    let d = old_store(&state);
+    fs::write(d.join("ch1.tools"), &b).unwrap();
     let (c, w) = LatheConsole::open(desc, &state, 20, 400, None).unwrap();
     assert_eq!(w.len(), 1);
     assert!(
@@ -154,13 +222,13 @@ fn a_tool_file_with_a_byte_that_is_not_utf8_is_kept_aside_and_said() {
     );
 }
 
-/// Item 17: a `parts` file with target 0 (or no target line) is damaged, not taken.
+/// Item 17: a `parts` file of the old store with target 0 (or no target line) is damaged, not
+/// taken, when it is migrated.
 #[test]
 fn a_parts_file_with_target_0_is_damaged() {
     let _serial = common::serial();
     let state = common::temp_dir("lathe-store-parts");
     let desc = LatheDesc::citizen();
-    drop(LatheStore::open(&state, &desc).unwrap());
     for (text, why) in [
         (
             "target 0\ncounts 0 0 0\n",
@@ -175,7 +243,8 @@ fn a_parts_file_with_target_0_is_damaged() {
             "line 3 is not one 'target N' and one 'counts ...' line",
         ),
     ] {
-        fs::write(state.join("lathe-citizen/parts"), text).unwrap();
+        let d = old_store(&state);
+        fs::write(d.join("parts"), text).unwrap();
         let o = LatheStore::open(&state, &desc).unwrap();
         assert_eq!(
             o.counter,
@@ -289,14 +358,16 @@ fn child() {
             assert!(
                 o.warnings.len() == 1
                     && o.warnings[0].contains("is read-only")
-                    && o.warnings[0].ends_with("every change is refused"),
+                    && o.warnings[0].contains("every change is refused"),
                 "{:?}",
                 o.warnings
             );
-            let e = o.store.save_counter(&o.counter).unwrap_err();
+            let mut next = o.counter.clone();
+            next.counts[0] += 1;
+            let e = o.store.save_counter(&next).unwrap_err();
             assert!(
                 e.starts_with(
-                    "the part counter could not be stored: the state directory is read-only ("
+                    "the part counter could not be stored: not saved (the state directory is read-only: "
                 ),
                 "{e}"
             );
@@ -320,4 +391,40 @@ fn child() {
         _ => panic!("unknown child {what:?}"),
     }
     println!("\nchild done");
+}
+
+/// Issue 22: a description whose channel count changed (the machine file edited from three
+/// channels to two) opens the journaled store without a panic: what does not fit the machine
+/// (channel 3's program, a counter of three counts) is said and set aside, what fits is kept,
+/// and the snapshot is kept aside (read as damaged: the operator sees what was dropped).
+#[test]
+fn a_store_of_three_channels_opened_with_two_says_what_does_not_fit() {
+    let _serial = common::serial();
+    let state = common::temp_dir("lathe-store-channels");
+    let desc = LatheDesc::citizen();
+    let mut o = LatheStore::open(&state, &desc).unwrap();
+    let p = Program {
+        name: "TWO.NGC".into(),
+        text: "G0 X2\n".into(),
+    };
+    o.store.save_program(1, &p).unwrap();
+    drop(o);
+    drop(LatheStore::open(&state, &desc).unwrap()); // into the snapshot
+    let mut two = desc.clone();
+    two.channels.truncate(2);
+    let o = LatheStore::open(&state, &two).unwrap();
+    assert_eq!(o.programs.len(), 2);
+    assert_eq!(o.programs[1], p);
+    assert_eq!(o.counter.counts, [0, 0]);
+    assert_eq!(o.warnings.len(), 2, "{:?}", o.warnings);
+    assert!(o.warnings[1].contains("the journal was replayed onto what could be read"));
+    let w = &o.warnings[0];
+    assert!(
+        !w.contains("generation is unknown")
+            && w.contains("the header says 3 channels; this lathe has 2")
+            && w.contains("channel 3 is not one of this lathe's 2")
+            && w.contains("the part counter (it starts at 0 of 5)")
+            && w.contains("It is kept as state.snap.bad-"),
+        "{w}"
+    );
 }

@@ -1,7 +1,10 @@
 //! A damaged snapshot or journal never loses an acknowledged edit when one copy of the damaged
 //! record survives (both files hold every record twice), and damage beyond that is salvaged,
-//! reported and both files kept aside (docs/stores.md "Damage").
+//! reported and both files kept aside (docs/stores.md "Damage"); the same for a lathe's
+//! programs, tools and part counter, which are in the same journal.
 
+use novanc::lathe::desc::LatheDesc;
+use novanc::store::lathe::LatheStore;
 use novanc::store::{Stores, Target, TABLEB};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -145,10 +148,15 @@ fn mixed(d: &Path) -> String {
     dump(&s)
 }
 
-#[test]
-fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
-    let d = fresh("flips");
-    let want = mixed(&d);
+/// Flips one byte of `d`'s snapshot or journal at a time (the first 24 bytes of each and 60
+/// random places), opens the stores with `open_dump` (what they hold, as one string, and the
+/// warnings) and checks each time that they hold `want`, with one warning saying nothing is
+/// lost and the damaged file kept aside. Returns the number of opens.
+fn flips_lose_nothing(
+    d: &Path,
+    want: &str,
+    open_dump: impl Fn(&Path) -> (String, Vec<String>),
+) -> usize {
     let snap = fs::read(d.join("state.snap")).unwrap();
     let jour = fs::read(d.join("journal.log")).unwrap();
     let mut seed = 0x5EED_0015u64;
@@ -171,18 +179,149 @@ fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
             fs::write(d.join("state.snap"), &snap).unwrap();
             fs::write(d.join("journal.log"), &jour).unwrap();
             fs::write(d.join(name), &bad).unwrap();
-            for b in bad_copies(&d) {
+            for b in bad_copies(d) {
                 fs::remove_file(d.join(b)).unwrap();
             }
-            let (s, w) = open(&d);
+            let (got, w) = open_dump(d);
             opens += 1;
-            assert_eq!(dump(&s), want, "{name} byte {i}: {w:?}");
+            assert_eq!(got, want, "{name} byte {i}: {w:?}");
             assert_eq!(w.len(), 1, "{name} byte {i}: {w:?}");
             assert!(w[0].contains("nothing is lost"), "{name} byte {i}: {w:?}");
-            assert_eq!(bad_copies(&d).len(), 1, "{name} byte {i}");
+            assert_eq!(bad_copies(d).len(), 1, "{name} byte {i}");
         }
     }
+    opens
+}
+
+#[test]
+fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
+    let d = fresh("flips");
+    let want = mixed(&d);
+    let opens = flips_lose_nothing(&d, &want, |d| {
+        let (s, w) = open(d);
+        (dump(&s), w)
+    });
     eprintln!("{opens} opens with a flipped byte: no acknowledged edit lost");
+}
+
+/// Opens the Citizen's lathe stores in `state`: what they hold, as one string, and the
+/// warnings.
+fn lathe_open(state: &Path) -> (String, Vec<String>) {
+    match LatheStore::open(state, &LatheDesc::citizen()) {
+        Ok(o) => (
+            format!("{:?}\n{:?}\n{:?}", o.programs, o.tools, o.counter),
+            o.warnings,
+        ),
+        Err(e) => panic!("open {}: {e}", state.display()),
+    }
+}
+
+/// A lathe's state directory with revised programs, tools and counter in the snapshot, and a
+/// journal with every kind of lathe change after it. Returns the directory `lathe-citizen/`.
+fn lathe_mixed(state: &Path) -> PathBuf {
+    let desc = LatheDesc::citizen();
+    let mut tools = desc.channels[1].tools.clone();
+    for round in 0..2 {
+        let mut o = LatheStore::open(state, &desc).unwrap();
+        let ch = round * 2;
+        let mut p = o.programs[ch].clone();
+        p.text.push_str(&format!("(ROUND {round})\n"));
+        o.store.save_program(ch, &p).unwrap();
+        tools[0].offset = [0.01 * (round + 1) as f64, -0.25];
+        o.store.save_tools(1, &tools).unwrap();
+        let mut c = o.counter.clone();
+        c.counts[ch] += 2;
+        o.store.save_counter(&c).unwrap();
+    }
+    state.join("lathe-citizen")
+}
+
+/// Issue 22: the lathe's programs, tools and part counter are in the one journal, so a byte
+/// flipped anywhere in the lathe's snapshot or journal loses nothing either.
+#[test]
+fn a_flipped_byte_in_a_lathes_files_loses_no_acknowledged_change() {
+    let state = fresh("lathe-flips");
+    let d = lathe_mixed(&state);
+    let (want, w) = lathe_open(&state);
+    assert!(w.is_empty(), "{w:?}");
+    assert!(want.contains("(ROUND 1)") && want.contains("counts: [2, 0, 2]"));
+    // Put back the files as they were before that open compacted them.
+    let d2 = lathe_mixed(&fresh("lathe-flips"));
+    assert_eq!(d, d2);
+    let opens = flips_lose_nothing(&d, &want, |_| lathe_open(&state));
+    eprintln!("{opens} opens of a lathe's stores with a flipped byte: no acknowledged change lost");
+}
+
+/// Issue 22: a lathe's snapshot record damaged in both copies (channel 2's program) is said,
+/// that program starts empty (never the sample in its place), everything else is kept, the
+/// journal is replayed onto it, and the snapshot is kept aside.
+#[test]
+fn a_lathe_program_lost_from_both_copies_is_said_and_starts_empty() {
+    let state = fresh("lathe-both");
+    let d = lathe_mixed(&state);
+    let mut snap = fs::read(d.join("state.snap")).unwrap();
+    let line = b"chprog 2\n";
+    let i = find(&snap, line);
+    let j = i + 1 + find(&snap[i + 1..], line);
+    snap[i + 20] ^= 0x01;
+    snap[j + 20] ^= 0x01;
+    fs::write(d.join("state.snap"), &snap).unwrap();
+    let o = LatheStore::open(&state, &LatheDesc::citizen()).unwrap();
+    assert_eq!(o.programs[1].text, "", "channel 2 got a program it lost");
+    assert_eq!(o.programs[1].name, "CH2.NGC");
+    assert!(o.programs[0].text.ends_with("(ROUND 0)\n"));
+    assert!(o.programs[2].text.ends_with("(ROUND 1)\n"));
+    assert_eq!(o.counter.counts, [2, 0, 2]);
+    assert_eq!(o.tools[1].as_ref().unwrap()[0].offset, [0.02, -0.25]);
+    assert_eq!(o.warnings.len(), 2, "{:?}", o.warnings);
+    assert!(
+        o.warnings[0].contains("state.snap is damaged beyond repair")
+            && o.warnings[0].contains("channel 2's program (it starts empty)")
+            && o.warnings[0].contains("It is kept as state.snap.bad-"),
+        "{}",
+        o.warnings[0]
+    );
+    assert!(
+        o.warnings[1].contains("the journal was replayed onto what could be read"),
+        "{}",
+        o.warnings[1]
+    );
+    assert_eq!(bad_copies(&d).len(), 2);
+}
+
+/// Issue 22: a lathe's journal record damaged in both copies: the changes before it are
+/// replayed, the loss is reported with the number of records after it, and the journal is
+/// kept aside; nothing is half-applied.
+#[test]
+fn a_lathe_journal_record_lost_from_both_copies_is_reported() {
+    let state = fresh("lathe-journal");
+    let d = lathe_mixed(&state);
+    let jour = fs::read(d.join("journal.log")).unwrap();
+    // The second round's journal: its program, its tools, its counter. Damage the tools.
+    let line = b"chtools 2\n";
+    let i = find(&jour, line);
+    let j = i + 1 + find(&jour[i + 1..], line);
+    let mut bad = jour.clone();
+    bad[i + 12] ^= 0x01;
+    bad[j + 12] ^= 0x01;
+    fs::write(d.join("journal.log"), &bad).unwrap();
+    let o = LatheStore::open(&state, &LatheDesc::citizen()).unwrap();
+    assert!(
+        o.programs[2].text.ends_with("(ROUND 1)\n"),
+        "before it: kept"
+    );
+    assert_eq!(o.tools[1].as_ref().unwrap()[0].offset, [0.01, -0.25]);
+    assert_eq!(o.counter.counts, [2, 0, 0], "after it: not replayed");
+    assert_eq!(o.warnings.len(), 1, "{:?}", o.warnings);
+    assert!(
+        o.warnings[0].contains("journal record 2")
+            && o.warnings[0]
+                .contains("in both copies; it and the 1 records after it cannot be replayed")
+            && o.warnings[0].contains("It is kept as journal.log.bad-"),
+        "{}",
+        o.warnings[0]
+    );
+    assert_eq!(fs::read(d.join(&bad_copies(&d)[0])).unwrap(), bad);
 }
 
 #[test]

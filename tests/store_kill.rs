@@ -7,8 +7,9 @@
 //! - the centre's (`Stores`): program edits, MDI, tool-file revisions, T-code settings,
 //!   PROGRAM READ, TOOL DATA READ, SEARCH, new and deleted programs, work offsets, the
 //!   G-code interpreter's parameters (G92, the system in force, G28 homes, rotations);
-//! - the lathe's (`LatheStore`, as the lathe console uses it): program edits on each
-//!   channel, tool revisions, the part counter's counts and target;
+//! - the lathe's (`store::lathe::LatheStore`, as the lathe console uses it, on the same
+//!   journal): program edits on each channel, tool revisions, the part counter's counts and
+//!   target, with the journal compacted every 4096, 5 or 1 records in turn as the centre's;
 //!
 //! and `novanc edit FILE -c ... --write` racing itself: several editors of one file at once
 //! (with and without a second hard link), killed at random; every edit whose process exited 0
@@ -26,7 +27,7 @@
 mod common;
 
 use novanc::lathe::desc::{LatheDesc, ToolDesc};
-use novanc::lathe::store::{Counter, LatheStore, Program};
+use novanc::store::lathe::{Counter, LatheStore, Program};
 use novanc::store::{Stores, Target};
 use novanc_editor::{Buffer, ExecOptions};
 use std::collections::HashMap;
@@ -188,8 +189,8 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
 trait Subject: Sized {
     /// The name in the child's environment and in the test's directories.
     const KIND: &'static str;
-    /// Most changes a child makes before it is killed (its changes take about the same time
-    /// in every round: a journal record is one fdatasync, a lathe file two fsyncs).
+    /// Most changes a child makes before it is killed (one fdatasync each, a journal record;
+    /// a lathe's change carries a whole program or tool table, so it makes fewer).
     const MOST: u64;
     /// Opens (creating) the stores in `dir`, with the warnings of opening.
     fn open(dir: &Path) -> Result<(Self, Vec<String>), String>;
@@ -342,8 +343,13 @@ impl Subject for Lathe {
         ))
     }
 
-    fn torn(_: &str) -> bool {
-        false // every file is replaced by rename: a kill never leaves a damaged one
+    fn set_limit(&mut self, records: usize) {
+        self.store.set_journal_limit(records);
+    }
+
+    fn torn(w: &str) -> bool {
+        // The one journal, as the centre's: a torn last record is the change in flight.
+        w.contains("journal record")
     }
 }
 

@@ -5,7 +5,9 @@
 //! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded).
 //! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
 //!   reader ([`gcode`]) and the channel simulator ([`sim`]).
-//! - [`console`], [`store`], [`record`]: the lathe's panel, its stores and its recording.
+//! - [`console`], [`record`]: the lathe's panel and its recording; its stores are
+//!   `crate::store::lathe` (the one journal), and [`store`] only reads the old whole-file
+//!   store once, to migrate it.
 
 pub mod console;
 pub mod desc;

@@ -1,11 +1,13 @@
 //! The stores the controller remembers across restarts: program memory, the MDI buffer, the
-//! tool file and the T-code table (patent Table A; docs/stores.md). Every accepted change is journaled
-//! and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
+//! tool file and the T-code table (patent Table A; docs/stores.md), and, in a lathe's directory,
+//! each channel's program and tools and the part counter (`lathe`). Every accepted change is
+//! journaled and fsynced before it is acknowledged, and replayed at start (see `docs/stores.md`).
 
 mod frame;
 pub mod fsutil;
 pub mod history;
 mod journal;
+pub mod lathe;
 mod names;
 pub mod params;
 mod record;
@@ -25,7 +27,7 @@ use journal::Journal;
 use novanc_editor::{Buffer, EditError, Outcome};
 use record::{EditTarget, Record};
 use recover::Loaded;
-use state::{Refusal, State};
+use state::{Base, Refusal, State};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -134,7 +136,8 @@ pub struct ProgramReadReport {
 /// Program memory, MDI buffer, tool file and T-code table, persisted in a state directory.
 pub struct Stores {
     dir: PathBuf,
-    capacity: u32,
+    /// Whose stores these are (the centre's, with its magazine capacity, or a lathe's).
+    base: Base,
     state: State,
     gen: u64,
     /// None after a failed compaction: a new journal is created before the next append.
@@ -154,7 +157,7 @@ pub struct Stores {
 }
 
 /// Reads the snapshot and the journal of `dir` and builds the state (docs/stores.md).
-fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
+fn load(dir: &Path, base: &Base) -> Result<Loaded, StoreError> {
     let io = |what: &Path, e: std::io::Error| serr(format!("cannot read {}: {e}", what.display()));
     let snap_path = dir.join(SNAPSHOT);
     let snap = match std::fs::read(&snap_path) {
@@ -166,7 +169,7 @@ fn load(dir: &Path, capacity: u32) -> Result<Loaded, StoreError> {
     Ok(recover::recover(
         snap.as_deref(),
         jour,
-        capacity,
+        base,
         (SNAPSHOT, journal::JOURNAL),
     ))
 }
@@ -214,7 +217,7 @@ impl MemoryView {
                 dir.display()
             )));
         }
-        let l = load(dir, capacity)?;
+        let l = load(dir, &Base::Centre(capacity))?;
         Ok(MemoryView {
             current: l.state.current.clone(),
             programs: l
@@ -259,12 +262,26 @@ impl Stores {
                 "magazine capacity {capacity} must be 1 to 999 pockets"
             )));
         }
+        Stores::open_base(dir, Base::Centre(capacity))
+    }
+
+    /// Whether `dir` holds no store yet (neither a snapshot nor a journal, nor anything at
+    /// those names).
+    pub fn is_new(dir: &Path) -> bool {
+        [SNAPSHOT, journal::JOURNAL].iter().all(|f| {
+            std::fs::symlink_metadata(dir.join(f))
+                .is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound)
+        })
+    }
+
+    /// Opens the stores of `base` (the centre's or a lathe's) in `dir`, as `open`.
+    fn open_base(dir: &Path, base: Base) -> Result<(Stores, Vec<String>), StoreError> {
         fsutil::make_dir(dir).map_err(serr)?;
         let lock = fsutil::lock_dir(dir).map_err(serr)?;
-        let l = load(dir, capacity)?;
+        let l = load(dir, &base)?;
         let mut s = Stores {
             dir: dir.to_path_buf(),
-            capacity,
+            base,
             state: l.state,
             gen: l.gen,
             journal: None,
@@ -411,7 +428,7 @@ impl Stores {
                 self.unsaved = true;
             }
             // Memory is ahead of the disk: go back to what the disk holds.
-            let back = load(&self.dir, self.capacity).map(|l| self.state = l.state);
+            let back = load(&self.dir, &self.base).map(|l| self.state = l.state);
             let note = if back.is_ok() {
                 "nothing was changed"
             } else {
@@ -440,7 +457,17 @@ impl Stores {
 
     /// The magazine capacity (number of T codes).
     pub fn capacity(&self) -> u32 {
-        self.capacity
+        self.base.capacity()
+    }
+
+    /// A lathe's stores (None: these are the centre's).
+    pub fn lathe(&self) -> Option<&lathe::LatheState> {
+        self.state.lathe.as_ref()
+    }
+
+    /// Applies one record and journals it, as every change (`commit`); for a lathe's stores.
+    fn commit_record(&mut self, rec: Record) -> Result<(), StoreError> {
+        self.commit(rec, None).map(|_| ()).map_err(to_store)
     }
 
     /// The names of the programs in program memory, in order.
@@ -614,7 +641,7 @@ impl Stores {
     /// T-CODE SETTING from a T-code table file (`Tnn TOOLNO` lines): replaces the whole table.
     /// Pockets whose tool changes lose their tool data. A bad file changes nothing.
     pub fn tcode_read(&mut self, text: &str, file_name: &str) -> Result<(), TapeError> {
-        parse_tcodes(text, file_name, self.capacity)?;
+        parse_tcodes(text, file_name, self.capacity())?;
         self.commit(Record::TCodes(text.to_string()), None)
             .map(|_| ())
             .map_err(|e| TapeError {

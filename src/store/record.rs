@@ -76,6 +76,30 @@ pub enum Record {
         /// The tool number, or None for an empty pocket.
         tool: Option<u32>,
     },
+    /// A lathe channel's program, whole (an edit at the DATA page; `store::lathe`).
+    ChannelProgram {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// The name the display shows.
+        name: String,
+        /// The text.
+        text: String,
+    },
+    /// A lathe channel's tools as revised at the OFS page, one description `tool` line each;
+    /// None: the machine description's tools.
+    ChannelTools {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// The tool lines.
+        text: Option<String>,
+    },
+    /// A lathe's part counter: the target and each channel's count.
+    Parts {
+        /// The number of parts to make.
+        target: u32,
+        /// Works each channel has finished in this batch.
+        counts: Vec<u32>,
+    },
 }
 
 impl Record {
@@ -103,6 +127,18 @@ impl Record {
                 let mut t = String::from("param");
                 for (n, v) in ps {
                     t.push_str(&format!(" {n} {v}"));
+                }
+                t
+            }
+            Record::ChannelProgram { ch, name, text } => {
+                format!("chprog {}\n{name}\n{text}", ch + 1)
+            }
+            Record::ChannelTools { ch, text: Some(t) } => format!("chtools {}\n{t}", ch + 1),
+            Record::ChannelTools { ch, text: None } => format!("chtools {} -", ch + 1),
+            Record::Parts { target, counts } => {
+                let mut t = format!("parts {target}");
+                for c in counts {
+                    t.push_str(&format!(" {c}"));
                 }
                 t
             }
@@ -183,9 +219,46 @@ impl Record {
                 }
                 Record::Params(ps)
             }
+            ["chprog", c] => {
+                let (name, text) = body_of(body)?
+                    .split_once('\n')
+                    .map(|(n, t)| (n.to_string(), t.to_string()))
+                    .ok_or_else(|| format!("record '{head}' has no name line"))?;
+                Record::ChannelProgram {
+                    ch: channel(c, head)?,
+                    name,
+                    text,
+                }
+            }
+            ["chtools", c] => Record::ChannelTools {
+                ch: channel(c, head)?,
+                text: Some(body_of(body)?),
+            },
+            ["chtools", c, "-"] if body.is_none() => Record::ChannelTools {
+                ch: channel(c, head)?,
+                text: None,
+            },
+            ["parts", t, counts @ ..] if !counts.is_empty() => {
+                let bad = || format!("bad part counter record '{head}'");
+                Record::Parts {
+                    target: t.parse().map_err(|_| bad())?,
+                    counts: counts
+                        .iter()
+                        .map(|c| c.parse().map_err(|_| bad()))
+                        .collect::<Result<_, _>>()?,
+                }
+            }
             _ => return Err(format!("unknown record '{head}'")),
         };
         Ok(rec)
+    }
+}
+
+/// A channel number as a record writes it (1 to 99), 0-based.
+fn channel(c: &str, head: &str) -> Result<usize, String> {
+    match c.parse::<usize>() {
+        Ok(n @ 1..=99) => Ok(n - 1),
+        _ => Err(format!("bad channel in '{head}'")),
     }
 }
 
@@ -224,6 +297,25 @@ mod tests {
             },
             Record::TCode { t: 7, tool: None },
             Record::Params(vec![(5321, -1), (5322, 100_000_000), (5220, 2_000_000)]),
+            Record::ChannelProgram {
+                ch: 2,
+                name: "SYSTEM 3.NGC".into(),
+                text: "G0 X1\n\nM30\n".into(),
+            },
+            Record::ChannelProgram {
+                ch: 0,
+                name: "E".into(),
+                text: "".into(),
+            },
+            Record::ChannelTools {
+                ch: 1,
+                text: Some("tool 1 radius 0.4 tip 3 offset 0 0\n".into()),
+            },
+            Record::ChannelTools { ch: 0, text: None },
+            Record::Parts {
+                target: 5,
+                counts: vec![1, 0, 2],
+            },
         ];
         for r in all {
             assert_eq!(Record::decode(&r.encode()), Ok(r));
@@ -235,6 +327,11 @@ mod tests {
         assert!(Record::decode("param").is_err());
         assert!(Record::decode("param 5221").is_err());
         assert!(Record::decode("param 5221 1.5").is_err());
+        assert!(Record::decode("chprog 0\nA\n").is_err());
+        assert!(Record::decode("chprog 1\nno name line").is_err());
+        assert!(Record::decode("chtools x\n").is_err());
+        assert!(Record::decode("parts 5").is_err());
+        assert!(Record::decode("parts 5 1 -1").is_err());
     }
 
     #[test]

@@ -5,7 +5,7 @@
 use super::journal::JournalRead;
 use super::record::{EditTarget, Record};
 use super::snapshot;
-use super::state::{Refusal, State};
+use super::state::{Base, Refusal, State};
 
 /// A warning for the operator, and the file it is about when that file is to be kept aside.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,13 +30,16 @@ pub struct Loaded {
 }
 
 /// Builds the state from the snapshot's bytes (None if there is no snapshot) and the journal
-/// read (None if there is none). `snap` and `jour` name the two files for the notes.
+/// read (None if there is none). `base` says whose store it is (the centre's, with its
+/// magazine capacity, or a lathe's) and what it holds with nothing saved. `snap` and `jour`
+/// name the two files for the notes.
 pub fn recover(
     snap: Option<&[u8]>,
     journal: Option<JournalRead>,
-    capacity: u32,
+    base: &Base,
     files: (&'static str, &'static str),
 ) -> Loaded {
+    let capacity = base.capacity();
     let (snap_file, jour_file) = files;
     let mut notes = Vec::new();
     let mut note = |file: Option<&'static str>, text: String| notes.push(Note { file, text });
@@ -45,10 +48,10 @@ pub fn recover(
     let (mut state, snap_gen, salvaged, unreadable, stand_ins) = match snap {
         None => {
             compact = true;
-            (State::defaults(capacity), Some(0), false, false, Vec::new())
+            (base.defaults(), Some(0), false, false, Vec::new())
         }
         Some(bytes) => {
-            let r = snapshot::read(bytes, capacity);
+            let r = snapshot::read_base(bytes, base);
             compact |= r.old_format || !r.repaired.is_empty() || !r.lost.is_empty();
             if !r.repaired.is_empty() {
                 note(
@@ -285,7 +288,7 @@ mod tests {
         recover(
             Some(snap),
             Some(parse(jour)),
-            24,
+            &Base::Centre(24),
             ("state.snap", "journal.log"),
         )
     }

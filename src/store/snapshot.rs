@@ -22,7 +22,7 @@
 
 use super::frame;
 use super::record::EditTarget;
-use super::state::{set_pointer, tape_text, State, TABLEB};
+use super::state::{set_pointer, tape_text, Base, State, TABLEB};
 use super::toolfile::{parse_tool_text, tool_text};
 use crate::tooldata::{parse_tcodes, Magazine, TCodeTable, ToolFile};
 use novanc_editor::Buffer;
@@ -30,6 +30,9 @@ use std::collections::BTreeMap;
 
 /// The snapshot of `s` at generation `gen`, as file bytes (format 2: every record twice).
 pub fn encode(s: &State, gen: u64) -> Vec<u8> {
+    if let Some(l) = &s.lathe {
+        return super::lathe::encode_snapshot(l, gen);
+    }
     let mut out = Vec::new();
     let mut put = |p: String| out.extend(frame::encode_pair(p.as_bytes()));
     put(format!("novanc-state 2 {gen} {}", s.tcodes.capacity()));
@@ -95,6 +98,26 @@ fn tcodes_from_tool_text(text: &str, capacity: u32) -> TCodeTable {
         }
     }
     tc
+}
+
+/// Reads the snapshot of the store `base` says: the centre's (`read`) or a lathe's
+/// (`lathe::read_snapshot`, its state put in a `SnapRead` with nothing of the centre's).
+pub fn read_base(data: &[u8], base: &Base) -> SnapRead {
+    match base {
+        Base::Centre(capacity) => read(data, *capacity),
+        Base::Lathe(l) => {
+            let r = super::lathe::read_snapshot(data, l);
+            SnapRead {
+                gen: r.gen,
+                state: State::lathe(r.state),
+                old_format: false,
+                repaired: r.repaired,
+                lost: r.lost,
+                nothing: r.nothing,
+                stand_ins: Vec::new(),
+            }
+        }
+    }
 }
 
 /// Reads a snapshot. Never fails: damage in one copy of a record is made good by the other;
@@ -275,6 +298,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
             tools: tools_file,
             tool_buf,
             params,
+            lathe: None,
         },
         old_format,
         repaired,

@@ -2,6 +2,7 @@
 //! the tool file, and how one journal record changes them. The same `apply` serves a live
 //! operator action and the replay of the journal at start, so both give the same result.
 
+use super::lathe::LatheState;
 use super::names::program_name;
 use super::record::{EditTarget, Record};
 use super::toolfile::{parse_tool_text, tool_text, tool_text_keeping};
@@ -23,7 +24,46 @@ pub enum Refusal {
     Other(String),
 }
 
-/// Program memory, MDI buffer, T-code table and tool file.
+impl Refusal {
+    /// The operator's message.
+    pub fn text(self) -> String {
+        match self {
+            Refusal::Edit(e) => e.to_string(),
+            Refusal::Other(m) => m,
+        }
+    }
+}
+
+/// What a store holds when nothing is saved, and so which machine's store it is: the centre's
+/// embedded defaults for a magazine of so many pockets, or a lathe's (`store::lathe`).
+#[derive(Clone, Debug)]
+pub enum Base {
+    /// The machining centre's stores, with a magazine of this many pockets.
+    Centre(u32),
+    /// A lathe's stores, starting as this state.
+    Lathe(LatheState),
+}
+
+impl Base {
+    /// The state of a store with nothing saved.
+    pub fn defaults(&self) -> State {
+        match self {
+            Base::Centre(capacity) => State::defaults(*capacity),
+            Base::Lathe(l) => State::lathe(l.clone()),
+        }
+    }
+
+    /// The magazine capacity (a lathe's store has no magazine: 1).
+    pub fn capacity(&self) -> u32 {
+        match self {
+            Base::Centre(capacity) => *capacity,
+            Base::Lathe(_) => 1,
+        }
+    }
+}
+
+/// Program memory, MDI buffer, T-code table and tool file; on a lathe, instead, each channel's
+/// program and tools and the part counter (`lathe`).
 #[derive(Clone, Debug)]
 pub struct State {
     /// Part programs by name.
@@ -43,6 +83,9 @@ pub struct State {
     /// rotations), in millionths of their unit (nanometres, micro-degrees). A parameter not
     /// here is 0 (#5220, the system in force, is then 1: G54).
     pub params: BTreeMap<u16, i64>,
+    /// A lathe's stores. When set, this is a lathe's store: the centre's fields above stay
+    /// empty, are not written, and their records are refused (and the other way round).
+    pub lathe: Option<LatheState>,
 }
 
 /// The largest work offset, nanometres (100 m): an INPUT beyond it is refused.
@@ -87,6 +130,21 @@ impl State {
             tcodes: m.tcodes,
             tools: m.tools,
             params: BTreeMap::new(),
+            lathe: None,
+        }
+    }
+
+    /// A lathe's store holding `l`.
+    pub fn lathe(l: LatheState) -> State {
+        State {
+            programs: BTreeMap::new(),
+            current: String::new(),
+            mdi: Buffer::new(),
+            tcodes: TCodeTable::new(1),
+            tool_buf: Buffer::new(),
+            tools: ToolFile::new(1),
+            params: BTreeMap::new(),
+            lathe: Some(l),
         }
     }
 
@@ -154,6 +212,19 @@ impl State {
         rec: &Record,
         y_max_lines: Option<usize>,
     ) -> Result<(Outcome, bool), Refusal> {
+        let lathe_rec = matches!(
+            rec,
+            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. }
+        );
+        match (self.lathe.as_mut(), lathe_rec) {
+            (Some(l), _) => return l.apply(rec),
+            (None, true) => {
+                return Err(Refusal::Other(
+                    "a lathe's record (a channel's program or tools, the part counter) is not kept in the centre's stores".to_string(),
+                ))
+            }
+            (None, false) => {}
+        }
         match rec {
             Record::Edit { target, line } => {
                 if *target == EditTarget::ToolFile {
@@ -322,6 +393,11 @@ impl State {
                 }
                 Ok((Outcome::default(), changed))
             }
+            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. } => {
+                Err(Refusal::Other(
+                    "not a record of the centre's stores".to_string(),
+                ))
+            }
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));
@@ -372,6 +448,68 @@ mod tests {
             assert_eq!(s.program_names_for_test(), ["TABLEB"]);
             assert!(s.params.is_empty());
         }
+    }
+
+    #[test]
+    fn a_lathes_store_and_the_centres_refuse_each_others_records_and_bad_lathe_records() {
+        let lathe_recs = [
+            Record::ChannelProgram {
+                ch: 0,
+                name: "A".into(),
+                text: "G0 X1\n".into(),
+            },
+            Record::Parts {
+                target: 5,
+                counts: vec![1, 1, 1],
+            },
+        ];
+        let mut centre = State::defaults(24);
+        for r in &lathe_recs {
+            assert!(centre.apply(r, None).is_err(), "{r:?}");
+        }
+        assert!(centre.lathe.is_none());
+        let desc = crate::lathe::desc::LatheDesc::citizen();
+        let l = LatheState::defaults(&desc);
+        let mut s = State::lathe(l.clone());
+        let bad = [
+            Record::Select("TABLEB".into()),
+            Record::ClearMdi,
+            Record::ChannelProgram {
+                ch: 3,
+                name: "A".into(),
+                text: "".into(),
+            },
+            Record::ChannelProgram {
+                ch: 0,
+                name: "".into(),
+                text: "".into(),
+            },
+            Record::ChannelProgram {
+                ch: 0,
+                name: "A".into(),
+                text: "x".repeat(super::super::lathe::MAX_PROGRAM + 1),
+            },
+            Record::ChannelTools {
+                ch: 1,
+                text: Some("tool 1 radius x\n".into()),
+            },
+            Record::Parts {
+                target: 0,
+                counts: vec![0, 0, 0],
+            },
+            Record::Parts {
+                target: 5,
+                counts: vec![0, 0],
+            },
+        ];
+        for r in &bad {
+            assert!(s.apply(r, None).is_err(), "{r:?}");
+            assert_eq!(s.lathe.as_ref(), Some(&l), "{r:?}");
+        }
+        for r in &lathe_recs {
+            assert_eq!(s.apply(r, None).map(|o| o.1), Ok(true), "{r:?}");
+        }
+        assert_eq!(s.lathe.as_ref().unwrap().counter.counts, [1, 1, 1]);
     }
 
     impl State {

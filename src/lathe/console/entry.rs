@@ -4,7 +4,7 @@
 
 use super::events::Mode;
 use super::{ofs, LatheConsole};
-use crate::lathe::store::{Program, MAX_PROGRAM};
+use crate::store::lathe::{Program, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
 
 impl LatheConsole {

@@ -7,7 +7,7 @@ use crate::lathe::gcode::{read_program, ReadOptions};
 use crate::lathe::ops::LatheProgram;
 use crate::lathe::record::{LatheRecorder, StateMsg};
 use crate::lathe::sim::{ChState, Event, Lathe};
-use crate::lathe::store::Program;
+use crate::store::lathe::Program;
 
 /// Where each channel's tool post starts the first cycle: the top of its travel (X and Z at
 /// their maxima), clear of any work, where the reader takes a program to start. Later cycles

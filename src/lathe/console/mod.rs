@@ -18,7 +18,7 @@ pub use glue::{home, Cycle};
 
 use super::desc::LatheDesc;
 use super::record::{LatheRecordSummary, LatheRecorder};
-use super::store::{Counter, LatheStore, Program};
+use crate::store::lathe::{Counter, LatheStore, Program};
 use events::{LatheEv, Mode};
 use std::path::Path;
 use view::ChanView;
