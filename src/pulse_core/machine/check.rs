@@ -17,9 +17,6 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
     if b.thread.is_some() {
         return Err("thread passes (G33) are not run by this kernel yet".into());
     }
-    if b.sync.is_some() {
-        return Err("channel sync points are not run by this kernel yet".into());
-    }
     let to = [
         pos[0] + b.delta[0],
         pos[1] + b.delta[1],

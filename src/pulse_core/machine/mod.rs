@@ -54,6 +54,9 @@ enum Phase {
     Move,
     /// Auxiliary functions after the motion (M05, M30), until `until`.
     PostAux,
+    /// A channel's sync point (`Block::sync`): waiting for the kernel's sync table to release
+    /// it (docs/pulse-core.md, "Channels"); `until` holds the PreAux duration meanwhile.
+    Sync,
 }
 
 /// The block being executed.
@@ -201,6 +204,10 @@ pub enum Until {
     Time(u64),
     /// A block with this sequence number starts executing, or the machine is idle.
     BlockStart(u32),
+    /// Machine time reaches this, ns, or the machine waits at a channel sync point
+    /// ([`Reached::Sync`]), or it is idle ([`Reached::Idle`], e.g. its run ended): the
+    /// multi-channel kernel's step (docs/pulse-core.md, "Channels").
+    SyncPoint(u64),
 }
 
 /// Why [`Machine::run`] returned.
@@ -221,6 +228,8 @@ pub enum Reached {
     Limit,
     /// The caller's interrupt (a stop signal) ended the wait early.
     Interrupted,
+    /// The machine waits at a channel sync point ([`Machine::sync_point`]).
+    Sync,
 }
 
 /// One completed block, for tests that check where every block ended.
@@ -337,6 +346,14 @@ pub struct Machine {
     inputs: Signals,
     /// The outputs M62–M65, M67 and M68 set.
     outputs: Signals,
+    /// One channel of a multi-channel kernel: a block with a sync point waits for the kernel
+    /// to release it; a machine alone refuses such a block (it has no other channel).
+    channel: bool,
+    /// The kernel's chuck interlock: while set, a cutting block (a feed move) is refused
+    /// with this reason (the chuck is open or the spindle empty).
+    cut_interlock: Option<String>,
+    /// Cutting blocks started (for the kernel's log of which work each channel machined).
+    cuts: u64,
 }
 
 impl Machine {
@@ -399,7 +416,77 @@ impl Machine {
             probe_answer: None,
             inputs: Signals::default(),
             outputs: Signals::default(),
+            channel: false,
+            cut_interlock: None,
+            cuts: 0,
         }
+    }
+
+    /// Makes this machine one channel of a multi-channel kernel (see the field `channel`).
+    pub fn set_channel(&mut self, on: bool) {
+        self.channel = on;
+    }
+
+    /// The kernel's chuck interlock: `Some(reason)` refuses every cutting block from now on.
+    pub fn set_cut_interlock(&mut self, why: Option<String>) {
+        self.cut_interlock = why;
+    }
+
+    /// Cutting blocks (feed moves) started since the machine was made.
+    pub fn cuts_started(&self) -> u64 {
+        self.cuts
+    }
+
+    /// The sync point the machine waits at, if it waits at one.
+    pub fn sync_point(&self) -> Option<crate::block::Sync> {
+        self.current
+            .as_ref()
+            .filter(|c| c.phase == Phase::Sync)
+            .and_then(|c| c.block.sync)
+    }
+
+    /// Releases the sync point the machine waits at: the block goes on at the current time
+    /// (its auxiliary functions, then its end). False if it waits at none.
+    pub fn release_sync(&mut self) -> bool {
+        let now = self.now;
+        match &mut self.current {
+            Some(c) if c.phase == Phase::Sync => {
+                c.phase = Phase::PreAux;
+                c.until = now.saturating_add(c.until);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The kernel's sync table refuses the sync point the machine waits at (an M10 with no
+    /// supplier, an M11 with no receiver): alarm, the run ends before the block.
+    pub fn refuse_sync(&mut self, why: String) {
+        if self.sync_point().is_some() {
+            if let Some(c) = self.current.take() {
+                self.refuse(&c.entry, Some(&c.block), why);
+            }
+        }
+    }
+
+    /// Whether a feed hold is in force.
+    pub fn is_held(&self) -> bool {
+        self.hold
+    }
+
+    /// Whether an emergency stop is in force.
+    pub fn is_estop(&self) -> bool {
+        self.estop
+    }
+
+    /// The alarm in force.
+    pub fn alarm(&self) -> Option<&str> {
+        self.alarm.as_deref()
+    }
+
+    /// The latest run's end.
+    pub fn last_end(&self) -> Option<&RunEnd> {
+        self.last_end.as_ref()
     }
 
     /// The simulated inputs.
@@ -733,11 +820,20 @@ impl Machine {
     fn run_inner(&mut self, src: &mut dyn BlockSource, until: Until, limit_ns: u64) -> Reached {
         let p = self.period();
         let t_end = match until {
-            Until::Time(t) => t,
+            Until::Time(t) | Until::SyncPoint(t) => t,
             _ => self.now.saturating_add(limit_ns),
         };
-        let waits_for_rest = !matches!(until, Until::Time(_));
+        let sync_stops = matches!(until, Until::SyncPoint(_));
+        let waits_for_rest = !matches!(until, Until::Time(_) | Until::SyncPoint(_));
         loop {
+            if sync_stops {
+                if self.sync_point().is_some() {
+                    return Reached::Sync;
+                }
+                if self.is_idle() {
+                    return Reached::Idle;
+                }
+            }
             if waits_for_rest {
                 if self.is_idle() {
                     return Reached::Idle;
@@ -764,6 +860,9 @@ impl Machine {
                     if self.started_seq == Some(seq) {
                         return Reached::BlockStart;
                     }
+                }
+                if sync_stops && self.sync_point().is_some() {
+                    return Reached::Sync;
                 }
             }
             let whole_block = self.events.is_none()
@@ -996,6 +1095,11 @@ impl Machine {
         let pos = self.out.pos;
         let shift = self.length_shift();
         as_executed(&mut b, shift, pos[2]);
+        if self.channel && matches!(b.motion, Kind::Aux | Kind::Dwell) {
+            // A channel runs its program once per work from where the last cycle ended: a
+            // block without motion stands where the machine is.
+            b.end = pos;
+        }
         let start = b.start();
         if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) && start != pos {
             let s = start;
@@ -1045,6 +1149,18 @@ impl Machine {
             self.refuse(&e, Some(&b), why);
             return;
         }
+        if b.sync.is_some() && !self.channel {
+            let why = "a channel sync point (M10, M11 or a waiting M code) needs another channel: this machine has one".into();
+            self.refuse(&e, Some(&b), why);
+            return;
+        }
+        let cut = matches!(b.motion, Kind::Linear | Kind::ArcCw | Kind::ArcCcw);
+        if let (true, Some(why)) = (cut, &self.cut_interlock) {
+            let why = format!("chuck interlock: {why}");
+            self.refuse(&e, Some(&b), why);
+            return;
+        }
+        self.cuts += u64::from(cut);
         if let Some(s) = &self.events {
             send_ev(
                 s,
@@ -1075,11 +1191,12 @@ impl Machine {
             j.last_block = Some(b.clone());
             j.started_blocks += 1;
         }
+        let sync = b.sync.is_some();
         self.current = Some(Current {
             entry: e,
             block: b,
-            phase: Phase::PreAux,
-            until: self.now + pre,
+            phase: if sync { Phase::Sync } else { Phase::PreAux },
+            until: if sync { pre } else { self.now + pre },
             motion: None,
             len_planned: None,
             probe,
@@ -1124,6 +1241,7 @@ impl Machine {
     fn pgen(&mut self, end: u64) {
         while let Some(c) = &mut self.current {
             match c.phase {
+                Phase::Sync => break,
                 Phase::PreAux => {
                     if c.until >= end {
                         break;
