@@ -6,7 +6,9 @@
 //! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
 //!   reader ([`gcode`]) and the channel simulator ([`sim`]).
 //! - [`console`], [`store`], [`record`]: the lathe's panel, its stores and its recording.
+//! - [`blocks`]: the adapter from operations to the kernel's blocks (issue 22).
 
+pub mod blocks;
 pub mod console;
 pub mod desc;
 pub mod gcode;
