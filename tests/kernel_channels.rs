@@ -609,18 +609,13 @@ fn sequence(seed: u64) -> bool {
                 let pos: Vec<[i64; 3]> = (0..3).map(|c| k.machine(c).expect("c").pos()).collect();
                 let t = k.now() + 500_000_000;
                 k.advance_to(t);
-                for c in 0..3 {
+                for (c, p) in pos.iter().enumerate() {
                     let m = k.machine(c).expect("c");
                     assert!(
                         m.is_estop() && m.run_flag() == 0,
                         "seed {seed}: E-STOP stops all"
                     );
-                    assert_eq!(
-                        m.pos(),
-                        pos[c],
-                        "seed {seed}: CH{} moved after E-STOP",
-                        c + 1
-                    );
+                    assert_eq!(m.pos(), *p, "seed {seed}: CH{} moved after E-STOP", c + 1);
                 }
                 "estop".to_string()
             }
