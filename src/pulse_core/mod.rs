@@ -34,6 +34,7 @@ mod pulse_out;
 mod realtime;
 mod runner;
 mod source;
+pub mod spindle;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
