@@ -34,6 +34,13 @@ pub struct MachineSettings {
     pub tool_change_z_mm: f64,
     /// Time the spindle takes to start, stop or reverse (M03/M04/M05), ns.
     pub spindle_ns: u64,
+    /// The spindle's highest speed, rpm: caps its target (G96 included) (docs/pulse-core.md,
+    /// "The spindle").
+    pub spindle_max_rpm: f64,
+    /// The spindle's acceleration, rpm/s; 0: it reaches a new speed at once (the centre).
+    pub spindle_accel_rpm_s: f64,
+    /// The spindle encoder's counts per revolution (one index per revolution).
+    pub spindle_encoder_lines: u32,
     /// Number of pockets in the magazine (T codes 1..=capacity).
     pub magazine_capacity: u32,
     /// Capacity of the block buffer B1, in blocks.
@@ -142,6 +149,9 @@ impl MachineSettings {
             tool_change_ns: 4_000_000_000,
             tool_change_z_mm: 0.0,
             spindle_ns: 1_000_000_000,
+            spindle_max_rpm: 100_000.0,
+            spindle_accel_rpm_s: 0.0,
+            spindle_encoder_lines: 1024,
             magazine_capacity: 24,
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,

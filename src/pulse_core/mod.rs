@@ -38,6 +38,7 @@ mod pulse_out;
 mod realtime;
 mod runner;
 mod source;
+pub mod spindle;
 mod sync;
 pub mod testkit;
 
