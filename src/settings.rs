@@ -170,16 +170,12 @@ impl MachineSettings {
     /// pulse size and the NCBR period are the description's (`tick`, 100 µs on the Citizen:
     /// the lockstep tick the channels ran on, so a block starts, a sync point is released and
     /// E-STOP acts within 100 µs). One rapid rate and one acceleration serve the path, so they
-    /// are the lower of X's and Z's (no axis exceeds its own). A spindle start or change
-    /// takes the time to ramp to the maximum speed. None: no such channel.
+    /// are the lower of X's and Z's (no axis exceeds its own). The spindle is the channel's
+    /// (maximum, acceleration, encoder lines); it has no fixed start time, its ramp is its
+    /// time (a cut waits for it at speed). None: no such channel.
     pub fn lathe_channel(desc: &crate::lathe::desc::LatheDesc, ch: usize) -> Option<Self> {
         let c = desc.channels.get(ch)?;
         let [x, z] = &c.axes;
-        let ramp_s = if c.spindle_accel > 0.0 {
-            (c.max_rpm / c.spindle_accel).max(0.0)
-        } else {
-            0.0
-        };
         Some(MachineSettings {
             pulse_mm: desc.pulse_mm,
             rapid_mm_min: x.rapid.min(z.rapid),
@@ -187,7 +183,10 @@ impl MachineSettings {
             travel_min_mm: [x.travel[0], 0.0, z.travel[0]],
             travel_max_mm: [x.travel[1], 0.0, z.travel[1]],
             tool_change_ns: 0,
-            spindle_ns: (ramp_s * 1e9).min(u64::MAX as f64 / 4.0) as u64,
+            spindle_ns: 0,
+            spindle_max_rpm: c.max_rpm.max(0.0),
+            spindle_accel_rpm_s: c.spindle_accel.max(0.0),
+            spindle_encoder_lines: c.encoder.max(1),
             ncbr_period_ns: desc.tick_ns.max(1),
             ..MachineSettings::builtin()
         })

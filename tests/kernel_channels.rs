@@ -16,47 +16,6 @@ use novanc::settings::MachineSettings;
 
 const MINUTE: u64 = 60_000_000_000;
 
-/// The sample programs with every per-revolution feed turned into the per-minute feed at the
-/// programmed speed (G96 taken at its limit), and thread passes into feed moves at lead ×
-/// rpm: the parts of a lathe program the kernel runs before the spindle is a kernel object.
-/// Only for these tests.
-fn per_minute(p: &LatheProgram, max_rpm: f64) -> LatheProgram {
-    let mut rpm = 0.0;
-    let mut out = p.clone();
-    for s in &mut out.steps {
-        match &mut s.op {
-            Op::Spindle { mode, .. } => {
-                rpm = match *mode {
-                    SpeedMode::Rpm(r) => r,
-                    SpeedMode::Css { limit_rpm, .. } => limit_rpm.min(max_rpm),
-                };
-                *mode = SpeedMode::Rpm(rpm);
-            }
-            Op::Line { feed, .. } | Op::Arc { feed, .. } => {
-                if let Feed::PerRev(f) = *feed {
-                    *feed = Feed::PerMin(f * rpm);
-                }
-            }
-            Op::Thread { end, lead } => {
-                s.op = Op::Line {
-                    end: *end,
-                    feed: Feed::PerMin(*lead * rpm),
-                }
-            }
-            _ => {}
-        }
-    }
-    out
-}
-
-fn sample(desc: &LatheDesc) -> Vec<LatheProgram> {
-    sample_programs()
-        .iter()
-        .enumerate()
-        .map(|(i, p)| per_minute(p, desc.channels[i].max_rpm))
-        .collect()
-}
-
 /// The kernel running `programs` on `desc` to `target` parts, every tool at its home.
 fn kernel(desc: &LatheDesc, programs: &[LatheProgram], target: u32) -> Kernel {
     let (chans, flow) = kernel_channels(desc, programs).expect("the programs fit the machine");
@@ -204,7 +163,7 @@ fn a_machine_alone_refuses_a_sync_point_and_a_kernel_runs_it() {
 #[test]
 fn the_sample_on_the_kernel_matches_the_simulator() {
     let desc = citizen_like(3);
-    let progs = sample(&desc);
+    let progs = sample_programs();
     let mut sim = simulator(&desc, &progs, 5);
     sim.start();
     assert_eq!(
@@ -221,10 +180,8 @@ fn the_sample_on_the_kernel_matches_the_simulator() {
         .collect();
     let mut k = kernel(&desc, &progs, 5);
     k.start(None).expect("START");
-    assert_eq!(
-        k.run_until_idle(10 * MINUTE),
-        Outcome::Finished { parts: 5 }
-    );
+    let o = k.run_until_idle(10 * MINUTE);
+    assert_eq!(o, Outcome::Finished { parts: 5 });
     let transfers: Vec<(Option<usize>, Option<usize>, u32)> = k
         .transfers()
         .iter()
@@ -413,7 +370,7 @@ fn ends(k: &mut Kernel) -> Vec<Vec<(u32, [i64; 3])>> {
 #[test]
 fn a_fault_in_channel_1_during_part_3_loses_nothing() {
     let desc = citizen_like(3);
-    let progs = sample(&desc);
+    let progs = sample_programs();
     let mut clean = kernel(&desc, &progs, 5);
     let mut k = kernel(&desc, &progs, 5);
     for kk in [&mut clean, &mut k] {
@@ -465,7 +422,7 @@ fn a_fault_in_channel_1_during_part_3_loses_nothing() {
 #[test]
 fn estop_abandons_every_channel_in_one_tick_and_reset_starts_a_new_cycle() {
     let desc = citizen_like(3);
-    let progs = sample(&desc);
+    let progs = sample_programs();
     let mut k = kernel(&desc, &progs, 5);
     k.start(None).expect("START");
     // Every channel holds a work and channel 1 cuts.
@@ -568,7 +525,7 @@ impl Watch {
 
 fn sequence(seed: u64) -> bool {
     let desc = citizen_like(3);
-    let progs = sample(&desc);
+    let progs = sample_programs();
     let mut rng = Rng::new(seed);
     let mut k = kernel(&desc, &progs, 5);
     let mut w = Watch {
@@ -688,21 +645,65 @@ fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
 }
 
 #[test]
-fn the_citizen_delivers_5_parts_on_the_kernel() {
+fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let desc = LatheDesc::citizen();
-    let progs: Vec<LatheProgram> = citizen_programs(&desc)
+    let progs = citizen_programs(&desc);
+    let threads: Vec<u32> = blocks(&progs[2], &desc, 2)
         .iter()
-        .enumerate()
-        .map(|(i, p)| per_minute(p, desc.channels[i].max_rpm))
+        .flat_map(|s| s.blocks.iter())
+        .filter(|b| b.thread.is_some())
+        .map(|b| b.seq)
         .collect();
+    assert!(!threads.is_empty(), "system 3 cuts a thread");
     let mut k = kernel(&desc, &progs, 5);
+    let m3 = k.machine_mut(2).expect("CH3");
+    m3.set_recording(None, true);
+    m3.set_audit(true);
     k.start(None).expect("START");
-    assert_eq!(
-        k.run_until_idle(10 * MINUTE),
-        Outcome::Finished { parts: 5 }
-    );
+    // In 10 ms slices: each thread pass that ended is checked against the encoder while the
+    // spindle still holds its speed (M5 comes a rapid later).
+    let lines = f64::from(desc.channels[2].encoder);
+    let per_pulse = lines * desc.pulse_mm / 1.5;
+    let (mut passes, mut pulses, mut ends) = (0, Vec::new(), Vec::new());
+    let mut at = 0;
+    while k.finished_at().is_none() {
+        let t = k.now() + 10_000_000;
+        k.advance_to(t);
+        assert!(
+            t < 10 * MINUTE,
+            "the Citizen did not finish: {:?}",
+            k.channel(2)
+        );
+        let m = k.machine_mut(2).expect("CH3");
+        pulses.extend(m.take_pulses());
+        ends.extend(m.take_audit());
+        for e in ends.drain(..) {
+            let n: i64 = (0..3).map(|a| (e.pos[a] - e.start[a]).abs()).sum();
+            let first = pulses.get(at).map(|p| p.t_ns);
+            at += n as usize;
+            if let (true, Some(t1)) = (threads.contains(&e.seq), first) {
+                let m = k.machine(2).expect("CH3");
+                let phase = m.spindle().phase_at(t1);
+                let index = (phase / lines).floor() * lines;
+                assert!(
+                    phase - index <= per_pulse + 1e-6,
+                    "pass N{} starts {:.3} counts after the index",
+                    e.seq,
+                    phase - index
+                );
+                passes += 1;
+            }
+        }
+    }
+    assert_eq!(passes, 5 * threads.len(), "every pass of every part");
+    assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 5 });
     let t = k.transfers();
     assert_eq!(t.len(), 20, "5 works × 4 handovers");
+    assert_eq!(
+        t.iter().filter(|t| t.to.is_some()).count(),
+        15,
+        "15 handovers into a chuck"
+    );
     assert_eq!(
         t.iter()
             .filter(|t| t.from.is_some() && t.to.is_some())
@@ -731,7 +732,7 @@ fn the_citizen_delivers_5_parts_on_the_kernel() {
     assert_eq!(transfers, sim_transfers);
     let (ts, tk) = (sim.machine_time_ns(), k.finished_at().expect("finished"));
     eprintln!(
-        "the Citizen, 5 parts: simulator {:.4} s, kernel {:.4} s, difference {:+.4} s",
+        "the Citizen, 5 parts: simulator {:.4} s, kernel {:.4} s, difference {:+.4} s; {passes} thread passes",
         ts as f64 * 1e-9,
         tk as f64 * 1e-9,
         (tk as f64 - ts as f64) * 1e-9

@@ -7,7 +7,8 @@
 //! - arcs are in `Plane::XZ`, their centre relative to the start as (I, K); an op's `ccw`
 //!   turns from +Z towards +X, which is G18's counter-clockwise (`Plane::XZ.turn_axes()` is
 //!   Z → X), so `ccw` is `ArcCcw`;
-//! - a per-revolution feed is `feed_mode: PerRev`, G96 is `css`, a thread pass is a `Linear`
+//! - a per-revolution feed is `feed_mode: PerRev`, G96 is `css` on every block while it is in
+//!   force (it is modal, as the kernel reads it), a thread pass is a `Linear`
 //!   block with `thread` (its lead, also its per-revolution feed);
 //! - the spindle's state is M3/M4/M5 with `s` (G97) or `css` (G96); a tool is `t` alone (a
 //!   turret indexes, no M6);
@@ -26,6 +27,8 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
     let mut pos = [home[0], 0, home[1]];
     let mut out: Vec<Statement> = Vec::new();
     let mut seq = 0u32;
+    // G96 is modal: every block carries it while it is in force (the kernel follows X then).
+    let mut css: Option<Css> = None;
     for step in &prog.steps {
         seq += 1;
         let mut b = Block::aux(seq, step.line, pos);
@@ -79,12 +82,15 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
                     SpindleDir::Stop => 5,
                 });
                 match *mode {
-                    SpeedMode::Rpm(r) => b.s = Some(r.clamp(0.0, f64::from(u32::MAX)) as u32),
+                    SpeedMode::Rpm(r) => {
+                        b.s = Some(r.clamp(0.0, f64::from(u32::MAX)) as u32);
+                        css = None;
+                    }
                     SpeedMode::Css {
                         m_per_min,
                         limit_rpm,
                     } => {
-                        b.css = Some(Css {
+                        css = Some(Css {
                             m_per_min,
                             limit_rpm,
                         })
@@ -101,6 +107,7 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
                 end = true;
             }
         }
+        b.css = css;
         b.delta = [b.end[0] - pos[0], 0, b.end[2] - pos[2]];
         pos = b.end;
         match out.last_mut() {
