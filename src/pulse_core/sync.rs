@@ -241,7 +241,8 @@ impl SyncTable {
             Sync::Wait { m, with } => {
                 let n = self.seats[i].wait_n.unwrap_or(1);
                 for (c, s) in self.seats.iter().enumerate() {
-                    if with & (1 << c) != 0 && s.arrived(m) < n {
+                    let listed = c < 8 && (with >> c) & 1 == 1;
+                    if listed && s.arrived(m) < n {
                         return Step::Wait(WaitOn::Channel(c));
                     }
                 }
@@ -492,4 +493,22 @@ enum Step {
     /// A handover: this channel and the other go on.
     Both(usize),
     Refuse(String),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_table_of_more_channels_than_the_mask_holds_waits_only_on_those_listed() {
+        let mut t = SyncTable::new(9, None, 1);
+        let w = Sync::Wait { m: 100, with: 0b1 };
+        t.arrive(0, w);
+        let mut at = vec![None; 9];
+        at[0] = Some(AtPoint {
+            point: w,
+            can_go: true,
+        });
+        assert_eq!(t.resolve(0, &at), vec![(0, Decision::Release)]);
+    }
 }
