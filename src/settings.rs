@@ -34,6 +34,13 @@ pub struct MachineSettings {
     pub tool_change_z_mm: f64,
     /// Time the spindle takes to start, stop or reverse (M03/M04/M05), ns.
     pub spindle_ns: u64,
+    /// The spindle's highest speed, rpm: caps its target (G96 included) (docs/pulse-core.md,
+    /// "The spindle").
+    pub spindle_max_rpm: f64,
+    /// The spindle's acceleration, rpm/s; 0: it reaches a new speed at once (the centre).
+    pub spindle_accel_rpm_s: f64,
+    /// The spindle encoder's counts per revolution (one index per revolution).
+    pub spindle_encoder_lines: u32,
     /// Number of pockets in the magazine (T codes 1..=capacity).
     pub magazine_capacity: u32,
     /// Capacity of the block buffer B1, in blocks.
@@ -142,6 +149,9 @@ impl MachineSettings {
             tool_change_ns: 4_000_000_000,
             tool_change_z_mm: 0.0,
             spindle_ns: 1_000_000_000,
+            spindle_max_rpm: 100_000.0,
+            spindle_accel_rpm_s: 0.0,
+            spindle_encoder_lines: 1024,
             magazine_capacity: 24,
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
@@ -155,6 +165,33 @@ impl MachineSettings {
 }
 
 impl MachineSettings {
+    /// The settings of lathe channel `ch` of `desc` as one channel of the multi-channel kernel
+    /// (docs/pulse-core.md, "Channels"): X (a radius) is axis 0, Z axis 2, Y travels 0..0; the
+    /// pulse size and the NCBR period are the description's (`tick`, 100 µs on the Citizen:
+    /// the lockstep tick the channels ran on, so a block starts, a sync point is released and
+    /// E-STOP acts within 100 µs). One rapid rate and one acceleration serve the path, so they
+    /// are the lower of X's and Z's (no axis exceeds its own). The spindle is the channel's
+    /// (maximum, acceleration, encoder lines); it has no fixed start time, its ramp is its
+    /// time (a cut waits for it at speed). None: no such channel.
+    pub fn lathe_channel(desc: &crate::lathe::desc::LatheDesc, ch: usize) -> Option<Self> {
+        let c = desc.channels.get(ch)?;
+        let [x, z] = &c.axes;
+        Some(MachineSettings {
+            pulse_mm: desc.pulse_mm,
+            rapid_mm_min: x.rapid.min(z.rapid),
+            accel_mm_s2: x.accel.min(z.accel),
+            travel_min_mm: [x.travel[0], 0.0, z.travel[0]],
+            travel_max_mm: [x.travel[1], 0.0, z.travel[1]],
+            tool_change_ns: 0,
+            spindle_ns: 0,
+            spindle_max_rpm: c.max_rpm.max(0.0),
+            spindle_accel_rpm_s: c.spindle_accel.max(0.0),
+            spindle_encoder_lines: c.encoder.max(1),
+            ncbr_period_ns: desc.tick_ns.max(1),
+            ..MachineSettings::builtin()
+        })
+    }
+
     /// Where Z goes for a tool change, machine mm.
     pub fn tool_change_z(&self) -> f64 {
         self.tool_change_z_mm

@@ -5,7 +5,7 @@
 //! plane says its plane on its own line (`G18 G02 X Z I K`, `G19 G03 Y Z J K`), with the third
 //! axis when it is a helix; in a whole program an XY arc after one of those says `G17`.
 
-use super::{Block, Io, Motion, Plane, Statement};
+use super::{Block, Css, FeedMode, Io, Motion, Plane, Statement};
 use crate::settings::MachineSettings;
 use std::fmt::Write;
 
@@ -122,15 +122,27 @@ fn number_fmt(out: &mut String, word: char, v: f64) {
     let _ = write!(out, " {word}{s}");
 }
 
-/// Appends one block's ISO line (no newline) to `out`.
-pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
-    let mut plane = Plane::XY;
-    write_line_in(out, b, st, &mut plane);
+/// The modal words a reader has in force before a line: those of the preamble (G17, G94,
+/// G97) at the start of a program or of a single line.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Modes {
+    plane: Plane,
+    feed_mode: FeedMode,
+    css: Option<Css>,
 }
 
-/// Appends one block's ISO line to `out`, with `plane` the plane a reader has in force before
-/// it (updated): an arc in another plane prints its G17, G18 or G19.
-fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut Plane) {
+/// Appends one block's ISO line (no newline) to `out`.
+pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
+    let mut modes = Modes::default();
+    write_line_in(out, b, st, &mut modes);
+}
+
+/// Appends one block's ISO line to `out`, with `modes` what a reader has in force before it
+/// (updated): an arc in another plane prints its G17, G18 or G19; a change of feed mode its
+/// G94 or G95; a change of constant surface speed `G96 … S.. D..` or G97. A block the mill's
+/// sources make has none of these, so its line is as it always was.
+fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut Modes) {
+    let plane = &mut modes.plane;
     let start = out.len();
     // A block the console or the core made (a SEARCH restore) has no N number.
     if b.seq != 0 {
@@ -145,6 +157,7 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
             Some(385) => "G38.5",
             _ => "G38.2",
         }),
+        Motion::Linear if b.thread.is_some() => Some("G33"),
         Motion::Linear => Some("G01"),
         Motion::ArcCw => Some("G02"),
         Motion::ArcCcw => Some("G03"),
@@ -156,6 +169,20 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
         out.push(' ');
         out.push_str(b.plane.g_code());
         *plane = b.plane;
+    }
+    let feed_mode = (modes.feed_mode != b.feed_mode).then_some(b.feed_mode);
+    modes.feed_mode = b.feed_mode;
+    match feed_mode {
+        Some(FeedMode::PerRev) => out.push_str(" G95"),
+        Some(FeedMode::PerMin) => out.push_str(" G94"),
+        None => {}
+    }
+    let css = (modes.css != b.css).then_some(b.css);
+    modes.css = b.css;
+    match css {
+        Some(Some(_)) => out.push_str(" G96"),
+        Some(None) => out.push_str(" G97"),
+        None => {}
     }
     if let Some(g) = g {
         out.push(' ');
@@ -187,8 +214,14 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
         }
         Motion::Aux => {}
     }
-    if matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) {
+    if let (Motion::Linear, Some(lead)) = (b.motion, b.thread) {
+        number(out, 'K', lead);
+    } else if matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) {
         number(out, 'F', b.feed);
+    }
+    if let Some(Some(c)) = css {
+        number(out, 'S', c.m_per_min);
+        number(out, 'D', c.limit_rpm);
     }
     if let Some(s) = b.s {
         let _ = write!(out, " S{s}");
@@ -277,7 +310,7 @@ pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> Stri
 /// long program need not be held whole.
 #[derive(Clone, Copy, Debug)]
 pub struct IsoWriter {
-    plane: Plane,
+    modes: Modes,
     last_m: Option<u8>,
 }
 
@@ -287,7 +320,7 @@ impl IsoWriter {
         out.push_str(PREAMBLE);
         out.push('\n');
         IsoWriter {
-            plane: Plane::XY,
+            modes: Modes::default(),
             last_m: None,
         }
     }
@@ -295,7 +328,7 @@ impl IsoWriter {
     /// Appends the lines of one statement's blocks.
     pub fn statement(&mut self, out: &mut String, st: &Statement, settings: &MachineSettings) {
         for b in &st.blocks {
-            write_line_in(out, b, settings, &mut self.plane);
+            write_line_in(out, b, settings, &mut self.modes);
             out.push('\n');
             self.last_m = b.m;
         }
@@ -439,5 +472,46 @@ mod tests {
         let lines: Vec<&str> = prog.lines().collect();
         assert!(lines[2].starts_with("N6 G17 G03 X10.000 Y20.000 Z-5.000 I-2.000 J1.500"));
         assert!(lines[3].starts_with("N7 G03 "));
+    }
+
+    #[test]
+    fn lathe_words_print_only_when_they_change() {
+        let st = MachineSettings::default();
+        let mk = |seq: u32, z: i64| {
+            let mut b = Block::aux(seq, 1, [8_000, 0, z]);
+            b.motion = Motion::Linear;
+            b.delta = [0, 0, -1_000];
+            b
+        };
+        let css = Some(Css {
+            m_per_min: 150.0,
+            limit_rpm: 4000.0,
+        });
+        let mut a = mk(1, -1_000);
+        (a.feed_mode, a.feed, a.css) = (FeedMode::PerRev, 0.1, css);
+        let mut b = mk(2, -2_000);
+        (b.feed_mode, b.feed, b.css) = (FeedMode::PerRev, 0.1, css);
+        let mut c = mk(3, -30_000);
+        c.thread = Some(2.0);
+        let mut d = mk(4, -31_000);
+        d.feed = 100.0;
+        assert_eq!(iso_line(&a, &st), "N1 G95 G96 G01 Z-1.000 F0.1 S150 D4000");
+        assert_eq!(iso_line(&c, &st), "N3 G33 Z-30.000 K2");
+        let stmt = Statement {
+            line: 1,
+            text: String::new(),
+            blocks: vec![a, b, c, d],
+        };
+        let prog = iso_program(&[stmt], &st);
+        let lines: Vec<&str> = prog.lines().collect();
+        assert_eq!(
+            &lines[1..5],
+            [
+                "N1 G95 G96 G01 Z-1.000 F0.1 S150 D4000",
+                "N2 G01 Z-2.000 F0.1",
+                "N3 G94 G97 G33 Z-30.000 K2",
+                "N4 G01 Z-31.000 F100",
+            ]
+        );
     }
 }

@@ -8,7 +8,9 @@
 //! - [`console`], [`record`]: the lathe's panel and its recording; its stores are
 //!   `crate::store::lathe` (the one journal), and [`store`] only reads the old whole-file
 //!   store once, to migrate it.
+//! - [`blocks`]: the adapter from operations to the kernel's blocks (issue 22).
 
+pub mod blocks;
 pub mod console;
 pub mod desc;
 pub mod gcode;

@@ -6,8 +6,9 @@
 use super::arc::ArcStepper;
 use super::ep::arc::ArcPlan;
 use super::ep::EpMotion;
-use super::motion::{Motion, Progress};
+use super::motion::{Motion, Progress, ThreadMotion};
 use super::pulse_out::PulseOut;
+use super::spindle::Spindle;
 use crate::block::Block;
 use crate::settings::{Interpolator, MachineSettings};
 
@@ -18,6 +19,8 @@ pub enum Drive {
     Dda(Motion),
     /// Pulse trains proportional to the remaining errors (seed 001).
     Ep(EpMotion),
+    /// A thread pass: LINE/PCHK timed by the spindle encoder (either interpolator).
+    Thread(ThreadMotion),
 }
 
 impl Drive {
@@ -29,6 +32,19 @@ impl Drive {
                 Drive::Ep(EpMotion::linear(delta, speed, s.ep_l_pulses, t0))
             }
         }
+    }
+
+    /// A thread pass of `delta` pulses, `lead_mm` per revolution along its major axis, geared
+    /// to `spindle` from the first index at or after `t0`.
+    pub fn thread(
+        s: &MachineSettings,
+        delta: [i64; 3],
+        lead_mm: f64,
+        spindle: &Spindle,
+        t0: u64,
+    ) -> Drive {
+        let lead = lead_mm / s.pulse_mm;
+        Drive::Thread(ThreadMotion::new(delta, lead, spindle.clone(), t0))
     }
 
     /// The arc or helix block `b` (by `st` for the DDA) at path speed `speed`, starting at
@@ -70,6 +86,7 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.run(horizon, out),
             Drive::Ep(m) => m.run(horizon, out),
+            Drive::Thread(m) => m.run(horizon, out),
         }
     }
 
@@ -78,6 +95,8 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.set_target(speed),
             Drive::Ep(m) => m.set_target(speed),
+            // Geared to the spindle: the feed override does not act.
+            Drive::Thread(_) => {}
         }
     }
 
@@ -86,6 +105,8 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.set_hold(hold),
             Drive::Ep(m) => m.set_hold(hold),
+            // The machine defers a hold to the end of the pass.
+            Drive::Thread(_) => {}
         }
     }
 
@@ -94,6 +115,7 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.resume_at(t),
             Drive::Ep(m) => m.resume_at(t),
+            Drive::Thread(_) => {}
         }
     }
 
@@ -102,6 +124,7 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.is_held(),
             Drive::Ep(m) => m.is_held(),
+            Drive::Thread(_) => false,
         }
     }
 
@@ -110,6 +133,7 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.at_rest(),
             Drive::Ep(m) => m.at_rest(),
+            Drive::Thread(_) => false,
         }
     }
 
@@ -118,6 +142,7 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.speed_mm_min(pulse_mm),
             Drive::Ep(m) => m.speed_mm_min(pulse_mm),
+            Drive::Thread(m) => m.speed_mm_min(pulse_mm),
         }
     }
 
@@ -126,6 +151,15 @@ impl Drive {
         match self {
             Drive::Dda(m) => m.last_t(),
             Drive::Ep(m) => m.last_t(),
+            Drive::Thread(m) => m.last_t(),
+        }
+    }
+
+    /// A thread pass's motion (to follow a change of the spindle's target).
+    pub fn as_thread(&mut self) -> Option<&mut ThreadMotion> {
+        match self {
+            Drive::Thread(m) => Some(m),
+            _ => None,
         }
     }
 }

@@ -23,28 +23,36 @@
 //! - `block_buffer.rs`: the bounded B1 shared with the translator thread.
 //! - `runner.rs`: [`PulseCore`], the thread around the machine (virtual or real time).
 //! - `realtime.rs`: the real-time step queue (events released at their time; e-stop rollback).
+//! - `kernel.rs`: [`Kernel`], N channels (one [`Machine`] each) on one NCBR clock.
+//! - `sync.rs`: the [`SyncTable`] between channels: waiting M codes, handovers, chuck
+//!   interlock, part counter.
 
 mod arc;
 mod block_buffer;
 mod drive;
 pub mod ep;
+mod kernel;
 mod machine;
 mod motion;
 mod pulse_out;
 mod realtime;
 mod runner;
 mod source;
+pub mod spindle;
+mod sync;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::block_buffer::{Answer, MachineLink, MakeRun, StatementIter};
 pub use self::drive::Drive;
+pub use self::kernel::{ChannelView, Kernel, Outcome, MAX_CHANNELS};
 pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Signals, Until};
 pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{PulseCore, RtStats};
 pub use self::source::{BlockSource, Fetch, VecSource};
+pub use self::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 
 use crate::block::{Block, Statement, TranslateError};
 use std::sync::Arc;

@@ -26,6 +26,7 @@
 
 use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
+use super::spindle::Spindle;
 
 /// What a call to `Motion::run` left the motion in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -272,6 +273,61 @@ struct Linear {
     ds: f64,
 }
 
+impl Linear {
+    /// LINE/PCHK of `delta` pulses: the major axis (the largest amount, the first on a tie)
+    /// and the minor axes with their ΣLF at LB.
+    fn new(delta: [i64; 3]) -> Linear {
+        let l = [delta[0].abs(), delta[1].abs(), delta[2].abs()];
+        let mut major = 0;
+        for a in 1..3 {
+            if l[a] > l[major] {
+                major = a;
+            }
+        }
+        let mut minors = [0; 2];
+        let mut n_minor = 0;
+        for (a, &la) in l.iter().enumerate() {
+            if a != major && la > 0 {
+                minors[n_minor] = a;
+                n_minor += 1;
+            }
+        }
+        let len = ((l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) as f64).sqrt();
+        let lb = l[major];
+        let ds = if lb > 0 { len / lb as f64 } else { 1.0 };
+        let dir = [
+            delta[0].signum() as i8,
+            delta[1].signum() as i8,
+            delta[2].signum() as i8,
+        ];
+        Linear {
+            major,
+            dir,
+            lb,
+            l,
+            sigma: [lb; 3],
+            minors,
+            n_minor,
+            steps_left: lb,
+            ds,
+        }
+    }
+
+    /// One step's pulses at time `tn`: the major axis, and each minor axis whose ΣLF falls to
+    /// 0 or below (LB added back). `steps_left` is the caller's.
+    #[inline(always)]
+    fn pulse(&mut self, out: &mut PulseOut, tn: f64) {
+        out.pulse_at(self.major, self.dir[self.major], tn);
+        for &a in &self.minors[..self.n_minor] {
+            self.sigma[a] -= self.l[a];
+            if self.sigma[a] <= 0 {
+                self.sigma[a] += self.lb;
+                out.pulse_at(a, self.dir[a], tn);
+            }
+        }
+    }
+}
+
 /// The stepping of one motion.
 #[derive(Clone, Debug)]
 enum Path {
@@ -307,42 +363,11 @@ pub fn speed_pulses_ns(mm_min: f64, pulse_mm: f64) -> f64 {
 impl Motion {
     /// A linear move of `delta` pulses starting at rest at time `t0`.
     pub fn linear(delta: [i64; 3], speed: f64, accel: f64, t0: u64) -> Motion {
-        let l = [delta[0].abs(), delta[1].abs(), delta[2].abs()];
-        let mut major = 0;
-        for a in 1..3 {
-            if l[a] > l[major] {
-                major = a;
-            }
-        }
-        let mut minors = [0; 2];
-        let mut n_minor = 0;
-        for (a, &la) in l.iter().enumerate() {
-            if a != major && la > 0 {
-                minors[n_minor] = a;
-                n_minor += 1;
-            }
-        }
-        let len = ((l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) as f64).sqrt();
-        let lb = l[major];
-        let ds = if lb > 0 { len / lb as f64 } else { 1.0 };
-        let dir = [
-            delta[0].signum() as i8,
-            delta[1].signum() as i8,
-            delta[2].signum() as i8,
-        ];
+        let ln = Linear::new(delta);
+        let total = ln.lb as f64 * ln.ds;
         Motion {
-            path: Path::Linear(Linear {
-                major,
-                dir,
-                lb,
-                l,
-                sigma: [lb; 3],
-                minors,
-                n_minor,
-                steps_left: lb,
-                ds,
-            }),
-            prof: Profile::new(speed, accel, lb as f64 * ds, t0),
+            path: Path::Linear(ln),
+            prof: Profile::new(speed, accel, total, t0),
             target: speed,
             hold: false,
         }
@@ -462,6 +487,92 @@ impl Motion {
     }
 }
 
+/// A thread pass (G33; docs/pulse-core.md, "Thread passes"): LINE/PCHK stepping whose steps
+/// are timed by the spindle encoder instead of a speed ramp. It waits for the next index
+/// after its start; major-axis pulse k then falls when the encoder has turned k / lead
+/// revolutions past that index (`lead` in major-axis pulses per revolution), the minor axis
+/// following by PCHK (a taper). Neither the feed override nor a feed hold acts on it (the
+/// machine defers the hold to the end of the pass). Replaces the lathe simulator's
+/// `ThreadMove`, which follows the whole encoder counts tick by tick.
+#[derive(Clone, Debug)]
+pub struct ThreadMotion {
+    ln: Linear,
+    spindle: Spindle,
+    /// The encoder count of the index the pass is anchored to.
+    index: i64,
+    /// Encoder counts per major-axis pulse, signed as the spindle turns.
+    counts_per_step: f64,
+    /// Time of the last step (or of the start), ns.
+    t: f64,
+}
+
+impl ThreadMotion {
+    /// A pass of `delta` pulses at `lead` major-axis pulses per revolution, started at `t0`
+    /// with `spindle` turning: anchored to the first index at or after `t0`.
+    pub fn new(delta: [i64; 3], lead: f64, spindle: Spindle, t0: u64) -> ThreadMotion {
+        let ln = Linear::new(delta);
+        let sign = if spindle.target() < 0.0 { -1.0 } else { 1.0 };
+        let counts_per_step = if lead > 0.0 {
+            sign * f64::from(spindle.lines()) / lead
+        } else {
+            0.0
+        };
+        ThreadMotion {
+            ln,
+            index: spindle.next_index(t0),
+            spindle,
+            counts_per_step,
+            t: t0 as f64,
+        }
+    }
+
+    /// The encoder count of the index the pass started at.
+    pub fn index(&self) -> i64 {
+        self.index
+    }
+
+    /// The spindle changed its target (at an NCBR tick): the steps not yet taken follow it.
+    pub fn set_spindle(&mut self, spindle: &Spindle) {
+        self.spindle = spindle.clone();
+    }
+
+    /// Distributes the steps whose encoder time falls before `horizon`.
+    pub fn run(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
+        let h = horizon as f64;
+        while self.ln.steps_left > 0 {
+            let k = self.ln.lb - self.ln.steps_left + 1;
+            let phase = self.index as f64 + k as f64 * self.counts_per_step;
+            let Some(t) = self.spindle.time_at_phase(phase) else {
+                return Progress::Pending;
+            };
+            let t = t.max(self.t);
+            if t >= h {
+                return Progress::Pending;
+            }
+            self.t = t;
+            self.ln.steps_left -= 1;
+            self.ln.pulse(out, t);
+        }
+        Progress::Done
+    }
+
+    /// Time of the last step, ns.
+    pub fn last_t(&self) -> u64 {
+        self.t as u64
+    }
+
+    /// Path speed now, mm/min: the lead's share of the spindle speed.
+    pub fn speed_mm_min(&self, pulse_mm: f64) -> f64 {
+        if self.ln.steps_left == 0 || self.counts_per_step == 0.0 {
+            return 0.0;
+        }
+        let rev_per_min = self.spindle.rpm_at(self.t as u64).abs();
+        let steps_per_min =
+            rev_per_min * f64::from(self.spindle.lines()) / self.counts_per_step.abs();
+        steps_per_min * self.ln.ds * pulse_mm
+    }
+}
+
 /// Takes the steps of `ln` that lie in the phase in force (all but the last step of the
 /// motion), timed by `f` (which must be that phase's `Profile::formula`). Whether it stopped at
 /// the horizon.
@@ -473,8 +584,7 @@ fn phase_run(
     out: &mut PulseOut,
     f: impl Fn(&Profile, f64, f64) -> (f64, f64),
 ) -> bool {
-    let (ds, lb, major) = (ln.ds, ln.lb, ln.major);
-    let dmaj = ln.dir[major];
+    let (ds, lb) = (ln.ds, ln.lb);
     let (mut left, mut t, mut v) = (ln.steps_left, prof.t, prof.v);
     let (end, total) = (prof.s_end, prof.total);
     let mut pending = false;
@@ -493,14 +603,7 @@ fn phase_run(
         left = nl;
         t = tn;
         v = vn;
-        out.pulse_at(major, dmaj, tn);
-        for &a in &ln.minors[..ln.n_minor] {
-            ln.sigma[a] -= ln.l[a];
-            if ln.sigma[a] <= 0 {
-                ln.sigma[a] += ln.lb;
-                out.pulse_at(a, ln.dir[a], tn);
-            }
-        }
+        ln.pulse(out, tn);
     }
     if left != ln.steps_left {
         prof.s = (lb - left) as f64 * ds;
@@ -516,8 +619,6 @@ fn phase_run(
 #[inline(always)]
 fn run_linear(ln: &mut Linear, prof: &mut Profile, h: f64, out: &mut PulseOut) -> Progress {
     let ds = ln.ds;
-    let major = ln.major;
-    let dmaj = ln.dir[major];
     let lb = ln.lb;
     loop {
         if ln.steps_left == 0 {
@@ -541,14 +642,7 @@ fn run_linear(ln: &mut Linear, prof: &mut Profile, h: f64, out: &mut PulseOut) -
             Err(p) => return p,
         };
         ln.steps_left = left;
-        out.pulse_at(major, dmaj, tn);
-        for &a in &ln.minors[..ln.n_minor] {
-            ln.sigma[a] -= ln.l[a];
-            if ln.sigma[a] <= 0 {
-                ln.sigma[a] += ln.lb;
-                out.pulse_at(a, ln.dir[a], tn);
-            }
-        }
+        ln.pulse(out, tn);
     }
 }
 

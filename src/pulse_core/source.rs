@@ -2,7 +2,6 @@
 
 use super::BlockEntry;
 use crate::block::{Block, Statement, TranslateError};
-use std::collections::VecDeque;
 use std::sync::Arc;
 
 /// What NCBR finds when it reads the next block.
@@ -28,10 +27,15 @@ pub trait BlockSource {
     fn answer(&mut self, _a: super::block_buffer::Answer) {}
 }
 
-/// An in-memory B1 filled up front (tests, benchmarks, `translate_all` results).
+/// An in-memory B1 filled up front (tests, benchmarks, `translate_all` results). It keeps
+/// what it has handed out, so that [`VecSource::rewind`] can read the program again from its
+/// first block: a channel of the multi-channel kernel runs its program once per work
+/// (docs/pulse-core.md, "Channels").
 #[derive(Clone, Debug, Default)]
 pub struct VecSource {
-    q: VecDeque<Fetch>,
+    q: Vec<Fetch>,
+    /// The next entry to hand out.
+    at: usize,
 }
 
 impl VecSource {
@@ -40,26 +44,26 @@ impl VecSource {
     where
         I: IntoIterator<Item = Result<Statement, TranslateError>>,
     {
-        let mut q = VecDeque::new();
+        let mut q = Vec::new();
         for r in stmts {
             match r {
                 Ok(s) => {
                     let s = Arc::new(s);
                     for index in 0..s.blocks.len() {
-                        q.push_back(Fetch::Block(BlockEntry {
+                        q.push(Fetch::Block(BlockEntry {
                             stmt: s.clone(),
                             index,
                         }));
                     }
                 }
                 Err(e) => {
-                    q.push_back(Fetch::Error(e));
-                    return VecSource { q };
+                    q.push(Fetch::Error(e));
+                    return VecSource { q, at: 0 };
                 }
             }
         }
-        q.push_back(Fetch::End);
-        VecSource { q }
+        q.push(Fetch::End);
+        VecSource { q, at: 0 }
     }
 
     /// B1 holding these blocks, each as its own statement (line = `block.stmt`).
@@ -75,7 +79,7 @@ impl VecSource {
 
     /// Blocks still in the buffer.
     pub fn len(&self) -> usize {
-        self.q
+        self.q[self.at.min(self.q.len())..]
             .iter()
             .filter(|f| matches!(f, Fetch::Block(_)))
             .count()
@@ -85,14 +89,21 @@ impl VecSource {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+
+    /// Back to the first block: the program is read again from its start.
+    pub fn rewind(&mut self) {
+        self.at = 0;
+    }
 }
 
 impl BlockSource for VecSource {
     fn fetch(&mut self) -> Fetch {
-        match self.q.front() {
-            None => Fetch::End,
-            Some(Fetch::End) => Fetch::End,
-            Some(_) => self.q.pop_front().unwrap_or(Fetch::End),
+        match self.q.get(self.at) {
+            None | Some(Fetch::End) => Fetch::End,
+            Some(f) => {
+                self.at += 1;
+                f.clone()
+            }
         }
     }
 }

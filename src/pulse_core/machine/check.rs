@@ -8,17 +8,26 @@ use crate::settings::MachineSettings;
 /// Travel limits, arc geometry and feed of a block, before any of its pulses.
 pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Result<(), String> {
     // Never drop a word: what this kernel does not yet run is refused before any pulse.
-    if b.feed_mode != FeedMode::PerMin {
-        return Err("feed per revolution (G95) is not run by this kernel yet".into());
+    if let Some(c) = b.css {
+        // The limit may be infinite (none); NaN fails every comparison.
+        let ok = c.m_per_min.is_finite() && c.m_per_min > 0.0 && c.limit_rpm > 0.0;
+        if !ok {
+            return Err(format!(
+                "constant surface speed G96 S{} D{}: both must be positive",
+                c.m_per_min, c.limit_rpm
+            ));
+        }
     }
-    if b.css.is_some() {
-        return Err("constant surface speed (G96) is not run by this kernel yet".into());
+    if let Some(lead) = b.thread {
+        if b.motion != Kind::Linear {
+            return Err("a thread pass (G33) must be a straight move".into());
+        }
+        if !(lead.is_finite() && lead > 0.0) {
+            return Err(format!("thread lead {lead} mm/rev is not positive"));
+        }
     }
-    if b.thread.is_some() {
-        return Err("thread passes (G33) are not run by this kernel yet".into());
-    }
-    if b.sync.is_some() {
-        return Err("channel sync points are not run by this kernel yet".into());
+    if b.feed_mode == FeedMode::PerRev && !b.feed.is_finite() {
+        return Err(format!("feed {} mm/rev is not a number", b.feed));
     }
     let to = [
         pos[0] + b.delta[0],
@@ -43,7 +52,8 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
     match b.motion {
         Kind::Rapid | Kind::Linear => {
             limit(to)?;
-            if b.motion == Kind::Linear && b.delta != [0; 3] && b.feed <= 0.0 {
+            if b.motion == Kind::Linear && b.delta != [0; 3] && b.thread.is_none() && b.feed <= 0.0
+            {
                 return Err("no feed rate".into());
             }
         }

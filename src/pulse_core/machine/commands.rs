@@ -24,6 +24,22 @@ impl Machine {
         }
         match c {
             Command::Start(kind) => self.start(kind),
+            Command::Stop
+                if self.in_tap
+                    && self.run != 0
+                    && !self.hold
+                    && self
+                        .current
+                        .as_ref()
+                        .is_some_and(|c| c.block.thread.is_some()) =>
+            {
+                // A thread pass geared to the spindle cannot stop in the groove: the hold
+                // comes at the end of the pass (Fanuc: feed hold in threading).
+                self.hold_after_tap = true;
+                self.notice = Some(
+                    "STOP during a thread pass: the feed hold comes at the end of the pass".into(),
+                );
+            }
             Command::Stop if self.in_tap && self.run != 0 && !self.hold => {
                 // A tap stopped in the hole breaks: the hold waits until the tap is back out
                 // at R with the spindle forward (Fanuc's G84; docs/pulse-core.md "Tapping").
@@ -77,6 +93,9 @@ impl Machine {
                 self.hold_after_tap = false;
                 self.estop = true;
                 self.spindle = 0;
+                self.spindle_dir = 0;
+                // The drive is cut: the spindle stops at once (the encoder keeps its count).
+                self.sp.halt(self.now);
                 self.coolant = (false, false);
                 self.alarm = Some("EMERGENCY STOP: pulses stopped; press RESET".into());
                 self.send_position();
@@ -96,6 +115,7 @@ impl Machine {
             Command::SpindleOverride(p) => {
                 if (50..=120).contains(&p) && p.is_multiple_of(10) {
                     self.spindle_override = p;
+                    self.spindle_sync(self.now);
                 } else {
                     self.notice = Some(format!(
                         "spindle override {p} % refused: 50 to 120 in steps of 10"
@@ -209,6 +229,8 @@ impl Machine {
         self.ret = None;
         self.ret_queue.clear();
         self.spindle = 0;
+        self.spindle_dir = 0;
+        self.spindle_sync(self.now);
         self.coolant = (false, false);
         self.send_position();
     }

@@ -27,6 +27,7 @@ impl Machine {
                 && c.motion.as_ref().is_some_and(|m| m.at_rest());
             if !at_rest {
                 let why = match c.phase {
+                    Phase::Sync => "the channel waits at a sync point (STOP first)",
                     Phase::PreAux | Phase::PostAux => {
                         "an auxiliary function (tool change or spindle) is in progress"
                     }

@@ -24,8 +24,9 @@ use super::drive::Drive;
 use super::motion::{accel_pulses_ns2, speed_pulses_ns, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
+use super::spindle::{css_rpm, Spindle};
 use super::{BlockEntry, EndCause, RunEnd, RunKind};
-use crate::block::{Block, MachineState, Motion as Kind};
+use crate::block::{Block, Css, FeedMode, MachineState, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
@@ -54,6 +55,9 @@ enum Phase {
     Move,
     /// Auxiliary functions after the motion (M05, M30), until `until`.
     PostAux,
+    /// A channel's sync point (`Block::sync`): waiting for the kernel's sync table to release
+    /// it (docs/pulse-core.md, "Channels"); `until` holds the PreAux duration meanwhile.
+    Sync,
 }
 
 /// The block being executed.
@@ -74,6 +78,11 @@ struct Current {
     /// An M66 block: the wait on an input, and its value once read (`None` until then, or
     /// on a timeout).
     wait: Option<InputWait>,
+    /// The block's auxiliary functions are done; the pre-auxiliary phase goes on only while
+    /// a cut waits for the spindle to be at speed.
+    pre_done: bool,
+    /// A feed per revolution: the path speed last set from the spindle's speed, pulses/ns.
+    per_rev_v: Option<f64>,
 }
 
 /// 64 digital and 64 analog signals: the machine's simulated inputs (P0–P63 and E0–E63, set
@@ -204,6 +213,10 @@ pub enum Until {
     Time(u64),
     /// A block with this sequence number starts executing, or the machine is idle.
     BlockStart(u32),
+    /// Machine time reaches this, ns, or the machine waits at a channel sync point
+    /// ([`Reached::Sync`]), or it is idle ([`Reached::Idle`], e.g. its run ended): the
+    /// multi-channel kernel's step (docs/pulse-core.md, "Channels").
+    SyncPoint(u64),
 }
 
 /// Why [`Machine::run`] returned.
@@ -224,6 +237,8 @@ pub enum Reached {
     Limit,
     /// The caller's interrupt (a stop signal) ended the wait early.
     Interrupted,
+    /// The machine waits at a channel sync point ([`Machine::sync_point`]).
+    Sync,
 }
 
 /// One completed block, for tests that check where every block ended.
@@ -306,6 +321,12 @@ pub struct Machine {
     tool: Option<u32>,
     tool_len: f64,
     spindle: i64,
+    /// The spindle: its actual speed and encoder (docs/pulse-core.md, "The spindle").
+    sp: Spindle,
+    /// The way the spindle is commanded to turn: 1 forward (M3), -1 reverse (M4), 0 stopped.
+    spindle_dir: i8,
+    /// G96 in force: the spindle's target follows X.
+    css: Option<Css>,
     /// M19: the spindle stands oriented at this angle, degrees (until M3, M4 or M5).
     orient: Option<f64>,
     /// Coolant: mist (M7) and flood (M8) on; M9, M2, M30, RESET and E-STOP turn both off.
@@ -340,13 +361,25 @@ pub struct Machine {
     inputs: Signals,
     /// The outputs M62–M65, M67 and M68 set.
     outputs: Signals,
+    /// One channel of a multi-channel kernel: a block with a sync point waits for the kernel
+    /// to release it; a machine alone refuses such a block (it has no other channel).
+    channel: bool,
+    /// The kernel's chuck interlock: while set, a cutting block (a feed move) is refused
+    /// with this reason (the chuck is open or the spindle empty).
+    cut_interlock: Option<String>,
+    /// Cutting blocks started (for the kernel's log of which work each channel machined).
+    cuts: u64,
 }
 
 impl Machine {
     /// A machine at rest at machine zero, time 0, no tool in the spindle.
     pub fn new(settings: MachineSettings) -> Machine {
         let accel = accel_pulses_ns2(settings.accel_mm_s2, settings.pulse_mm);
+        let sp = Spindle::new(&settings);
         Machine {
+            sp,
+            spindle_dir: 0,
+            css: None,
             settings,
             accel,
             now: 0,
@@ -402,7 +435,77 @@ impl Machine {
             probe_answer: None,
             inputs: Signals::default(),
             outputs: Signals::default(),
+            channel: false,
+            cut_interlock: None,
+            cuts: 0,
         }
+    }
+
+    /// Makes this machine one channel of a multi-channel kernel (see the field `channel`).
+    pub fn set_channel(&mut self, on: bool) {
+        self.channel = on;
+    }
+
+    /// The kernel's chuck interlock: `Some(reason)` refuses every cutting block from now on.
+    pub fn set_cut_interlock(&mut self, why: Option<String>) {
+        self.cut_interlock = why;
+    }
+
+    /// Cutting blocks (feed moves) started since the machine was made.
+    pub fn cuts_started(&self) -> u64 {
+        self.cuts
+    }
+
+    /// The sync point the machine waits at, if it waits at one.
+    pub fn sync_point(&self) -> Option<crate::block::Sync> {
+        self.current
+            .as_ref()
+            .filter(|c| c.phase == Phase::Sync)
+            .and_then(|c| c.block.sync)
+    }
+
+    /// Releases the sync point the machine waits at: the block goes on at the current time
+    /// (its auxiliary functions, then its end). False if it waits at none.
+    pub fn release_sync(&mut self) -> bool {
+        let now = self.now;
+        match &mut self.current {
+            Some(c) if c.phase == Phase::Sync => {
+                c.phase = Phase::PreAux;
+                c.until = now.saturating_add(c.until);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The kernel's sync table refuses the sync point the machine waits at (an M10 with no
+    /// supplier, an M11 with no receiver): alarm, the run ends before the block.
+    pub fn refuse_sync(&mut self, why: String) {
+        if self.sync_point().is_some() {
+            if let Some(c) = self.current.take() {
+                self.refuse(&c.entry, Some(&c.block), why);
+            }
+        }
+    }
+
+    /// Whether a feed hold is in force.
+    pub fn is_held(&self) -> bool {
+        self.hold
+    }
+
+    /// Whether an emergency stop is in force.
+    pub fn is_estop(&self) -> bool {
+        self.estop
+    }
+
+    /// The alarm in force.
+    pub fn alarm(&self) -> Option<&str> {
+        self.alarm.as_deref()
+    }
+
+    /// The latest run's end.
+    pub fn last_end(&self) -> Option<&RunEnd> {
+        self.last_end.as_ref()
     }
 
     /// The simulated inputs.
@@ -736,11 +839,20 @@ impl Machine {
     fn run_inner(&mut self, src: &mut dyn BlockSource, until: Until, limit_ns: u64) -> Reached {
         let p = self.period();
         let t_end = match until {
-            Until::Time(t) => t,
+            Until::Time(t) | Until::SyncPoint(t) => t,
             _ => self.now.saturating_add(limit_ns),
         };
-        let waits_for_rest = !matches!(until, Until::Time(_));
+        let sync_stops = matches!(until, Until::SyncPoint(_));
+        let waits_for_rest = !matches!(until, Until::Time(_) | Until::SyncPoint(_));
         loop {
+            if sync_stops {
+                if self.sync_point().is_some() {
+                    return Reached::Sync;
+                }
+                if self.is_idle() {
+                    return Reached::Idle;
+                }
+            }
             if waits_for_rest {
                 if self.is_idle() {
                     return Reached::Idle;
@@ -768,13 +880,17 @@ impl Machine {
                         return Reached::BlockStart;
                     }
                 }
+                if sync_stops && self.sync_point().is_some() {
+                    return Reached::Sync;
+                }
             }
             let whole_block = self.events.is_none()
                 && self.pending_override.is_none()
                 && self.current.is_some()
                 && self.jog.is_none()
                 && self.increments.is_empty()
-                && !self.returning();
+                && !self.returning()
+                && !self.spindle_live();
             if whole_block {
                 self.finished_at = None;
                 self.pgen(t_end);
@@ -842,10 +958,30 @@ impl Machine {
                 .as_ref()
                 .map(|c| &c.block)
                 .filter(|b| b.motion != Kind::Rapid)
-                .map(|b| b.feed);
-            if let Some(feed) = feed {
-                let v = self.feed_speed(feed);
-                if let Some(m) = self.current.as_mut().and_then(|c| c.motion.as_mut()) {
+                .cloned();
+            if let Some(b) = feed {
+                let v = self.feed_speed(&b, self.now);
+                if let Some(c) = self.current.as_mut() {
+                    if c.per_rev_v.is_some() {
+                        c.per_rev_v = Some(v);
+                    }
+                    if let Some(m) = c.motion.as_mut() {
+                        m.set_target(v);
+                    }
+                }
+            }
+        }
+        // The spindle's target follows X under G96; a feed per revolution follows its speed.
+        self.spindle_sync(self.now);
+        let per_rev = self
+            .current
+            .as_ref()
+            .filter(|c| c.per_rev_v.is_some() && c.motion.is_some())
+            .map(|c| self.feed_speed(&c.block, self.now));
+        if let (Some(v), Some(c)) = (per_rev, self.current.as_mut()) {
+            if c.per_rev_v != Some(v) {
+                c.per_rev_v = Some(v);
+                if let Some(m) = c.motion.as_mut() {
                     m.set_target(v);
                 }
             }
@@ -883,7 +1019,12 @@ impl Machine {
     /// replaces the programmed feed by the jog feed; the feed override scales either
     /// (docs/pulse-core.md, "Overrides and switches").
     /// During a tap the feed is geared to the spindle: neither DRY RUN nor the override acts.
-    fn feed_speed(&self, feed: f64) -> f64 {
+    /// A feed per revolution (G95) is mm/rev × the spindle's actual speed at `t`.
+    fn feed_speed(&self, b: &Block, t: u64) -> f64 {
+        let feed = match b.feed_mode {
+            FeedMode::PerMin => b.feed,
+            FeedMode::PerRev => b.feed * self.sp.rpm_at(t).abs(),
+        };
         let (feed, pct) = if self.in_tap {
             (feed, 100)
         } else if self.dry_run {
@@ -921,7 +1062,7 @@ impl Machine {
             if b.motion == Kind::Rapid {
                 self.rapid_speed(self.settings.rapid_mm_min)
             } else {
-                self.feed_speed(b.feed)
+                self.feed_speed(b, self.now)
             }
         });
         if let (Some(v), Some(m)) = (v, self.current.as_mut().and_then(|c| c.motion.as_mut())) {
@@ -948,6 +1089,7 @@ impl Machine {
     fn end_run(&mut self, cause: EndCause) {
         self.run = 0;
         self.in_tap = false;
+        self.spindle_sync(self.now);
         self.hold_after_tap = false;
         self.probe_answer = None;
         self.hold = false;
@@ -999,6 +1141,11 @@ impl Machine {
         let pos = self.out.pos;
         let shift = self.length_shift();
         as_executed(&mut b, shift, pos[2]);
+        if self.channel && matches!(b.motion, Kind::Aux | Kind::Dwell) {
+            // A channel runs its program once per work from where the last cycle ended: a
+            // block without motion stands where the machine is.
+            b.end = pos;
+        }
         let start = b.start();
         if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) && start != pos {
             let s = start;
@@ -1048,6 +1195,30 @@ impl Machine {
             self.refuse(&e, Some(&b), why);
             return;
         }
+        if b.sync.is_some() && !self.channel {
+            let why = "a channel sync point (M10, M11 or a waiting M code) needs another channel: this machine has one".into();
+            self.refuse(&e, Some(&b), why);
+            return;
+        }
+        let cut =
+            matches!(b.motion, Kind::Linear | Kind::ArcCw | Kind::ArcCcw) && b.delta != [0; 3];
+        if let (true, Some(why)) = (cut, &self.cut_interlock) {
+            let why = format!("chuck interlock: {why}");
+            self.refuse(&e, Some(&b), why);
+            return;
+        }
+        let geared = b.thread.is_some() || (cut && b.feed_mode == FeedMode::PerRev);
+        if geared && self.spindle_dir == 0 && !matches!(b.m, Some(3) | Some(4)) {
+            // As Fanuc's G95: no feed without the spindle turning; refused before any pulse.
+            let why = if b.thread.is_some() {
+                "a thread pass with the spindle stopped (M3 or M4 first)"
+            } else {
+                "feed per revolution (G95) with the spindle stopped (M3 or M4 first)"
+            };
+            self.refuse(&e, Some(&b), why.into());
+            return;
+        }
+        self.cuts += u64::from(cut);
         if let Some(s) = &self.events {
             send_ev(
                 s,
@@ -1071,22 +1242,28 @@ impl Machine {
             pre += self.settings.spindle_ns;
         }
         self.just_completed = false;
-        self.in_tap = b.tap != crate::block::Tap::No;
+        // A thread pass is geared to the spindle as a tap is (overrides at 100 %, the hold
+        // deferred to its end).
+        self.in_tap = b.tap != crate::block::Tap::No || b.thread.is_some();
+        self.spindle_sync(self.now);
         self.started_seq = Some(b.seq);
         if let Some(j) = &mut self.job {
             j.last = Some(e.clone());
             j.last_block = Some(b.clone());
             j.started_blocks += 1;
         }
+        let sync = b.sync.is_some();
         self.current = Some(Current {
             entry: e,
             block: b,
-            phase: Phase::PreAux,
-            until: self.now + pre,
+            phase: if sync { Phase::Sync } else { Phase::PreAux },
+            until: if sync { pre } else { self.now + pre },
             motion: None,
             len_planned: None,
             probe,
             wait,
+            pre_done: false,
+            per_rev_v: None,
         });
     }
 
@@ -1127,13 +1304,26 @@ impl Machine {
     fn pgen(&mut self, end: u64) {
         while let Some(c) = &mut self.current {
             match c.phase {
+                Phase::Sync => break,
                 Phase::PreAux => {
                     if c.until >= end {
                         break;
                     }
                     let t0 = c.until;
                     let b = c.block.clone();
-                    self.pre_effects(&b);
+                    if !std::mem::replace(&mut c.pre_done, true) {
+                        self.pre_effects(&b, t0);
+                    }
+                    // A cut starts only with the spindle at speed (a spindle without a ramp
+                    // always is; a stopped one is not waited for).
+                    let cut = matches!(b.motion, Kind::Linear | Kind::ArcCw | Kind::ArcCcw)
+                        && b.delta != [0; 3];
+                    if let Some(r) = self.sp.ready_at(t0).filter(|&r| cut && r > t0) {
+                        if let Some(c) = &mut self.current {
+                            c.until = r;
+                        }
+                        continue;
+                    }
                     self.apply_output(&b, t0, true);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Drive::linear(
@@ -1143,26 +1333,36 @@ impl Machine {
                             self.accel,
                             t0,
                         )),
-                        Kind::Linear => Some(Drive::linear(
-                            &self.settings,
-                            b.delta,
-                            self.feed_speed(b.feed),
-                            self.accel,
-                            t0,
-                        )),
+                        Kind::Linear => Some(match b.thread {
+                            Some(lead) => {
+                                Drive::thread(&self.settings, b.delta, lead, &self.sp, t0)
+                            }
+                            None => Drive::linear(
+                                &self.settings,
+                                b.delta,
+                                self.feed_speed(&b, t0),
+                                self.accel,
+                                t0,
+                            ),
+                        }),
                         Kind::ArcCw | Kind::ArcCcw => arc_stepper(&b).ok().map(|st| {
                             Drive::arc(
                                 &self.settings,
                                 &b,
                                 st,
-                                self.feed_speed(b.feed),
+                                self.feed_speed(&b, t0),
                                 self.accel,
                                 t0,
                             )
                         }),
                         Kind::Dwell | Kind::Aux => None,
                     };
+                    let per_rev_v = (b.feed_mode == FeedMode::PerRev
+                        && matches!(b.motion, Kind::Linear | Kind::ArcCw | Kind::ArcCcw)
+                        && b.thread.is_none())
+                    .then(|| self.feed_speed(&b, t0));
                     let Some(c) = &mut self.current else { break };
+                    c.per_rev_v = per_rev_v;
                     c.phase = Phase::Move;
                     c.until = t0
                         + if b.motion == Kind::Dwell {
@@ -1245,7 +1445,8 @@ impl Machine {
         }
     }
 
-    fn pre_effects(&mut self, b: &Block) {
+    fn pre_effects(&mut self, b: &Block, t0: u64) {
+        self.css = b.css;
         if let Some(t) = b.t {
             self.selected_t = Some(t);
         }
@@ -1265,10 +1466,12 @@ impl Machine {
             }
             Some(3) => {
                 self.spindle = i64::from(self.s_rpm);
+                self.spindle_dir = 1;
                 self.orient = None;
             }
             Some(4) => {
                 self.spindle = -i64::from(self.s_rpm);
+                self.spindle_dir = -1;
                 self.orient = None;
             }
             _ => {
@@ -1277,11 +1480,74 @@ impl Machine {
                 }
             }
         }
+        self.spindle_sync(t0);
+    }
+
+    /// The spindle's target now, signed rpm: stopped 0; G97 the programmed speed after the
+    /// spindle override (held at 100 % in a tap or thread pass); G96 the rpm that gives the
+    /// surface speed at the radius X (the distance of axis X from 0, docs/pulse-core.md "The
+    /// spindle"), under its limit, after the override; never above the machine's maximum.
+    fn spindle_target(&self) -> f64 {
+        let max = self.settings.spindle_max_rpm;
+        let rpm = match (self.spindle_dir, self.css) {
+            (0, _) => return 0.0,
+            (d, Some(c)) => {
+                let r_mm = self.settings.to_mm(self.out.pos[0]).abs();
+                let pct = if self.in_tap {
+                    100
+                } else {
+                    self.spindle_override
+                };
+                f64::from(d) * css_rpm(c.m_per_min, c.limit_rpm.min(max), r_mm) * f64::from(pct)
+                    / 100.0
+            }
+            (_, None) => self.spindle_actual() as f64,
+        };
+        rpm.clamp(-max, max)
+    }
+
+    /// Gives the spindle its target at time `t` (a thread pass in progress follows it).
+    fn spindle_sync(&mut self, t: u64) {
+        let tg = self.spindle_target();
+        if tg != self.sp.target() {
+            self.sp.set_target(t, tg);
+            let sp = &self.sp;
+            if let Some(th) = self
+                .current
+                .as_mut()
+                .and_then(|c| c.motion.as_mut())
+                .and_then(|m| m.as_thread())
+            {
+                th.set_spindle(sp);
+            }
+        }
+    }
+
+    /// The spindle: its actual speed, encoder and index (docs/pulse-core.md, "The spindle").
+    pub fn spindle(&self) -> &Spindle {
+        &self.sp
+    }
+
+    /// Whether the spindle needs the NCBR ticks: G96 (its target follows X) or a ramp (a feed
+    /// per revolution follows its speed), with it turning. Else blocks may run whole.
+    fn spindle_live(&self) -> bool {
+        self.spindle_dir != 0 && (self.css.is_some() || self.sp.ramps())
+    }
+
+    /// The spindle speed the status shows, signed rpm: the actual one; a spindle without a
+    /// ramp under G97 is at the programmed speed after the override at once.
+    pub(super) fn spindle_status(&self) -> i64 {
+        if self.sp.ramps() || self.css.is_some() {
+            self.sp.rpm_at(self.now).round() as i64
+        } else {
+            self.spindle_actual()
+        }
     }
 
     fn finish_block(&mut self, t: u64, c: Current) {
         let m = c.block.m;
-        if c.block.tap == crate::block::Tap::End {
+        let pass_end = c.block.thread.is_some() && c.block.tap == crate::block::Tap::No;
+        if c.block.tap == crate::block::Tap::End || pass_end {
             // The tap is out of the hole with the spindle forward: a STOP given during it
             // holds now.
             self.in_tap = false;
@@ -1292,13 +1558,16 @@ impl Machine {
         }
         if matches!(m, Some(5) | Some(30)) {
             self.spindle = 0;
+            self.spindle_dir = 0;
             self.orient = None;
         }
         if let Some(crate::block::Io::Orient { angle, .. }) = c.block.io {
             // M19: stopped, then oriented at once (no spindle encoder: docs/pulse-core.md).
             self.spindle = 0;
+            self.spindle_dir = 0;
             self.orient = Some(angle);
         }
+        self.spindle_sync(t);
         self.blocks_done += 1;
         self.just_completed = true;
         self.program_stop = matches!(m, Some(0) | Some(1));

@@ -79,7 +79,7 @@ impl Machine {
             last_end: self.last_end.as_ref().map(|e| e.id),
             program_end: self.program_end,
             tool: self.tool,
-            spindle: self.spindle_actual(),
+            spindle: self.spindle_status(),
             overrides: [
                 self.pending_override.unwrap_or(self.feed_override),
                 self.rapid_override,
@@ -137,7 +137,7 @@ impl Machine {
             run: self.run,
             feed_override: self.feed_override,
             tool: self.tool.unwrap_or(0),
-            spindle: self.spindle_actual(),
+            spindle: self.spindle_status(),
             op_mode: self.op_mode.clone(),
             data_mode: self.data_mode.clone(),
             switches: self.switches(),
@@ -221,7 +221,7 @@ impl Machine {
                 .filter(|c| c.phase == Phase::PreAux && c.block.m == Some(6))
                 .and_then(|c| c.block.t.or(self.selected_t)),
             tool_set_length: self.tool_len,
-            spindle: self.spindle_actual(),
+            spindle: self.spindle_status(),
             spindle_programmed: self.spindle,
             feed_override: self.pending_override.unwrap_or(self.feed_override),
             switches: self.switches(),

@@ -1,0 +1,576 @@
+//! The multi-channel kernel (docs/pulse-core.md, "Channels"): N channels, each a [`Machine`]
+//! with its own settings, B1, run, hold, override, alarm and modal state, advanced on one NCBR
+//! clock, and the [`SyncTable`] between them. E-STOP is machine-wide; START, STOP (feed hold),
+//! RESET and a fault are per channel (or all channels).
+//!
+//! **Stepping.** Channels meet only at their sync points, so between two sync points a channel
+//! runs alone, with the machine's whole-block fast-forward. [`Kernel::advance_to`] runs every
+//! free channel to the time asked for or to its next sync point (the NCBR tick it reads the
+//! block at), then takes the arrivals in time order: at each arrival time it counts the new
+//! arrivals and lets the sync table release whom it can, at that time; a released channel runs
+//! free again from there. When it returns every channel stands at the same machine time, so an
+//! operator command (E-STOP) acts on all channels in the same tick. A kernel of one channel
+//! without sync points is its machine alone: the same calls, the same pulses (tested).
+
+use super::machine::{Machine, Reached, Until};
+use super::source::VecSource;
+use super::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
+use super::{Command, EndCause, RunKind};
+use crate::block::{Statement, Sync};
+use crate::settings::MachineSettings;
+
+/// Channels a kernel may have (the waiting M codes' channel mask is 8 bits).
+pub const MAX_CHANNELS: usize = 8;
+
+/// One channel: its machine, its program and where it stands with the sync table.
+#[derive(Clone, Debug)]
+struct Channel {
+    m: Machine,
+    src: VecSource,
+    /// The NCBR tick it reached the sync point it waits at (None: at none).
+    at_point: Option<u64>,
+    /// Its arrival there is counted in the table.
+    counted: bool,
+    /// An injected fault (tool breakage): held until RESET.
+    fault: Option<String>,
+    /// The latest run end already taken into account (its id).
+    seen_end: u64,
+    /// Its part count reached the target.
+    done: bool,
+    /// When it finished.
+    done_at: Option<u64>,
+    cuts_seen: u64,
+}
+
+/// A channel's state as the operator sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChannelView {
+    /// RUN flag of its machine (0: not running).
+    pub run: u8,
+    /// Feed hold in force.
+    pub held: bool,
+    /// The sync point it stands at, if any.
+    pub at_sync: Option<Sync>,
+    /// What it waits on there.
+    pub waits_on: Option<WaitOn>,
+    /// Its machine's alarm (E-STOP, a refused block).
+    pub alarm: Option<String>,
+    /// An injected fault.
+    pub fault: Option<String>,
+    /// Its part count reached the target.
+    pub done: bool,
+    /// The work its chuck holds, and whether the chuck is closed.
+    pub work: Option<u32>,
+    /// The chuck is closed.
+    pub closed: bool,
+    /// Parts counted.
+    pub parts: u32,
+    /// Axis positions, pulses.
+    pub pos: [i64; 3],
+    /// Pulses output per axis since its run began.
+    pub pulses: [u64; 3],
+    /// The source line of the block executing or last executed (0: none).
+    pub line: u32,
+}
+
+/// How [`Kernel::run_until_idle`] ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// Every channel finished; `parts` delivered to the unloader.
+    Finished {
+        /// Parts delivered.
+        parts: u32,
+    },
+    /// A channel stands stopped (held, not started, between single blocks).
+    Stopped,
+    /// A channel is faulted (the first one).
+    Fault {
+        /// Channel.
+        ch: usize,
+        /// Reason.
+        reason: String,
+    },
+    /// A channel is in alarm (the first one).
+    Alarm {
+        /// Channel.
+        ch: usize,
+        /// Message.
+        msg: String,
+    },
+    /// Emergency stop.
+    Estop,
+    /// Every channel waits at a sync point or has finished.
+    Deadlock {
+        /// (channel, what it waits on) for every waiting channel.
+        waits: Vec<(usize, Option<WaitOn>)>,
+    },
+    /// The machine time given passed first.
+    TimeLimit,
+}
+
+/// N channels on one NCBR clock with a sync table.
+#[derive(Clone, Debug)]
+pub struct Kernel {
+    chans: Vec<Channel>,
+    table: SyncTable,
+    now: u64,
+}
+
+impl Kernel {
+    /// A kernel running `channels[i] = (settings, program)` on channel i, with the work flow
+    /// (None: no chucks) and the part target. Refused: no channel or more than
+    /// [`MAX_CHANNELS`], channels with different NCBR periods (one clock), a flow naming a
+    /// channel the machine has not, a waiting M code that does not list its own channel or
+    /// lists one the machine has not.
+    pub fn new(
+        channels: Vec<(MachineSettings, Vec<Statement>)>,
+        flow: Option<WorkFlow>,
+        target: u32,
+    ) -> Result<Kernel, String> {
+        let n = channels.len();
+        if n == 0 || n > MAX_CHANNELS {
+            return Err(format!(
+                "the machine has {n} channels; 1 to {MAX_CHANNELS} are allowed"
+            ));
+        }
+        let period = channels[0].0.ncbr_period_ns;
+        if channels.iter().any(|c| c.0.ncbr_period_ns != period) {
+            return Err("the channels have different NCBR periods: one clock runs them all".into());
+        }
+        if let Some(f) = &flow {
+            f.check(n)?;
+        }
+        for (i, (_, prog)) in channels.iter().enumerate() {
+            for b in prog.iter().flat_map(|s| s.blocks.iter()) {
+                if let Some(Sync::Wait { m, with }) = b.sync {
+                    if u32::from(with) >> n != 0 || with & (1 << i) == 0 {
+                        return Err(format!(
+                            "CH{} line {}: M{m} must list channel {} and only channels the machine has",
+                            i + 1,
+                            b.stmt,
+                            i + 1
+                        ));
+                    }
+                }
+            }
+        }
+        let table = SyncTable::new(n, flow, target);
+        let chans = channels
+            .into_iter()
+            .enumerate()
+            .map(|(i, (settings, prog))| {
+                let mut m = Machine::new(settings);
+                m.set_channel(true);
+                m.set_cut_interlock(table.interlock(i));
+                Channel {
+                    m,
+                    src: VecSource::from_statements(prog.into_iter().map(Ok)),
+                    at_point: None,
+                    counted: false,
+                    fault: None,
+                    seen_end: 0,
+                    done: false,
+                    done_at: None,
+                    cuts_seen: 0,
+                }
+            })
+            .collect();
+        Ok(Kernel {
+            chans,
+            table,
+            now: 0,
+        })
+    }
+
+    /// Machine time, ns (every channel stands at it between calls).
+    pub fn now(&self) -> u64 {
+        self.now
+    }
+
+    /// The number of channels.
+    pub fn channels(&self) -> usize {
+        self.chans.len()
+    }
+
+    /// Channel `ch`'s machine.
+    pub fn machine(&self, ch: usize) -> Option<&Machine> {
+        self.chans.get(ch).map(|c| &c.m)
+    }
+
+    /// Channel `ch`'s machine, for what the kernel does not wrap (overrides, switches,
+    /// recording, the audit).
+    pub fn machine_mut(&mut self, ch: usize) -> Option<&mut Machine> {
+        self.chans.get_mut(ch).map(|c| &mut c.m)
+    }
+
+    /// The sync table.
+    pub fn table(&self) -> &SyncTable {
+        &self.table
+    }
+
+    /// Every handover so far.
+    pub fn transfers(&self) -> &[Transfer] {
+        self.table.transfers()
+    }
+
+    /// The time the last channel finished (None until every channel has).
+    pub fn finished_at(&self) -> Option<u64> {
+        self.chans
+            .iter()
+            .map(|c| c.done_at)
+            .try_fold(0, |a, d| d.map(|d| a.max(d)))
+    }
+
+    /// Sets channel `ch`'s axis positions before it runs (refused with a run loaded).
+    pub fn set_position(&mut self, ch: usize, pos: [i64; 3]) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        if c.m.set_position(pos) {
+            Ok(())
+        } else {
+            Err(format!("CH{}: a run is loaded", ch + 1))
+        }
+    }
+
+    /// Sets the part target (refused below the works already supplied).
+    pub fn set_target(&mut self, n: u32) -> Result<(), String> {
+        if n != self.table.target() && self.chans.iter().any(|c| c.done) {
+            return Err(format!("target {n}: a channel has already finished"));
+        }
+        self.table.set_target(n)
+    }
+
+    /// The channels a command addresses: one, or all (None).
+    fn select(&self, ch: Option<usize>) -> Result<std::ops::Range<usize>, String> {
+        match ch {
+            None => Ok(0..self.chans.len()),
+            Some(c) if c < self.chans.len() => Ok(c..c + 1),
+            Some(c) => Err(no_channel(c)),
+        }
+    }
+
+    /// START of channel `ch` (None: every channel): begins its run from the start of its
+    /// program, or resumes it (a feed hold, a stop). A faulted channel needs RESET first; a
+    /// finished one stays finished. The refusals, if any, are returned.
+    pub fn start(&mut self, ch: Option<usize>) -> Result<(), String> {
+        let mut refused = Vec::new();
+        for i in self.select(ch)? {
+            let c = &mut self.chans[i];
+            if c.done {
+                continue;
+            }
+            if let Some(f) = &c.fault {
+                refused.push(format!(
+                    "CH{} START refused: fault ({f}), press RESET",
+                    i + 1
+                ));
+                continue;
+            }
+            if c.m.run_flag() != 0 && !c.m.is_held() {
+                // Running (or waiting at a sync point): START has nothing to do.
+                continue;
+            }
+            c.m.command(Command::Start(RunKind::Auto));
+            if let Some(n) = c.m.status().notice {
+                refused.push(format!("CH{} {n}", i + 1));
+            }
+        }
+        if refused.is_empty() {
+            Ok(())
+        } else {
+            Err(refused.join("; "))
+        }
+    }
+
+    /// STOP (feed hold) of channel `ch` (None: every channel).
+    pub fn stop(&mut self, ch: Option<usize>) -> Result<(), String> {
+        for i in self.select(ch)? {
+            self.chans[i].m.command(Command::Stop);
+        }
+        Ok(())
+    }
+
+    /// RESET of channel `ch` (None: every channel). A fault alone is cleared keeping the
+    /// channel's place (it stands held; START goes on with the interrupted block, as the
+    /// simulator did). Otherwise (an E-STOP, an alarm, or a channel running) the run is
+    /// abandoned: the channel returns to the start of its program, its sync points counted
+    /// as when its cycle began, keeping the work its chuck holds and its count; START then
+    /// begins a new cycle there, and no interrupted block is resumed.
+    pub fn reset(&mut self, ch: Option<usize>) -> Result<(), String> {
+        for i in self.select(ch)? {
+            let c = &mut self.chans[i];
+            let fault_only = c.fault.is_some() && !c.m.is_estop() && c.m.alarm().is_none();
+            c.fault = None;
+            if fault_only {
+                continue;
+            }
+            c.m.command(Command::Reset);
+            c.src.rewind();
+            c.at_point = None;
+            c.counted = false;
+            self.table.reset(i);
+        }
+        Ok(())
+    }
+
+    /// E-STOP: every channel's run is abandoned now, in the same tick; RESET needed.
+    pub fn estop(&mut self) {
+        for (i, c) in self.chans.iter_mut().enumerate() {
+            c.m.command(Command::EStop);
+            c.at_point = None;
+            c.counted = false;
+            self.table.leave(i);
+        }
+    }
+
+    /// Injects a fault into channel `ch` (tool breakage): a feed hold that only RESET then
+    /// START end. A finished channel cannot fault.
+    pub fn fault(&mut self, ch: usize, reason: &str) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        if c.done {
+            return Err(format!("CH{} has finished", ch + 1));
+        }
+        c.fault = Some(reason.to_string());
+        c.m.command(Command::Stop);
+        Ok(())
+    }
+
+    /// Another operator command to channel `ch`'s machine (override, SINGLE BLOCK, ...).
+    pub fn command(&mut self, ch: usize, cmd: Command) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        c.m.command(cmd);
+        Ok(())
+    }
+
+    /// Channel `ch`'s state.
+    pub fn channel(&self, ch: usize) -> Option<ChannelView> {
+        let c = self.chans.get(ch)?;
+        let st = c.m.status();
+        let (work, closed) = self.table.work(ch);
+        Some(ChannelView {
+            run: st.run,
+            held: st.hold,
+            at_sync: c.m.sync_point(),
+            waits_on: self.table.waits_on(ch).filter(|_| c.at_point.is_some()),
+            alarm: st.alarm,
+            fault: c.fault.clone(),
+            done: c.done,
+            work,
+            closed,
+            parts: self.table.parts(ch),
+            pos: st.pos,
+            pulses: st.pulses,
+            line: st.executing.map_or(0, |e| e.stmt.line),
+        })
+    }
+
+    /// Runs every channel to machine time `t` (see the module comment).
+    pub fn advance_to(&mut self, t: u64) {
+        // Commands since the last call (START of a held channel) may free a waiting one.
+        self.resolve_at(self.now);
+        loop {
+            for i in 0..self.chans.len() {
+                self.free_run(i, t);
+            }
+            let next = self
+                .chans
+                .iter()
+                .filter(|c| !c.counted)
+                .filter_map(|c| c.at_point)
+                .min();
+            match next {
+                Some(te) => self.resolve_at(te),
+                None => break,
+            }
+        }
+        for c in &mut self.chans {
+            if c.m.now() < t {
+                c.m.advance_to(t, &mut c.src);
+            }
+        }
+        self.now = self.now.max(t);
+    }
+
+    /// Runs channel `i` alone until `t`, its next sync point, or its end (the part counter
+    /// then begins its next cycle at once).
+    fn free_run(&mut self, i: usize, t: u64) {
+        loop {
+            let c = &mut self.chans[i];
+            if c.at_point.is_some() || c.m.now() >= t {
+                return;
+            }
+            let r = c.m.run(&mut c.src, Until::SyncPoint(t), u64::MAX);
+            self.note_cuts(i);
+            let c = &mut self.chans[i];
+            match r {
+                Reached::Sync => {
+                    c.at_point = Some(c.m.now());
+                    c.counted = false;
+                    return;
+                }
+                Reached::Idle => {
+                    if !self.program_end(i) {
+                        let c = &mut self.chans[i];
+                        c.m.advance_to(t, &mut c.src);
+                        return;
+                    }
+                }
+                _ => return,
+            }
+        }
+    }
+
+    /// A cutting block started on channel `i` since the last look: the table notes the work.
+    fn note_cuts(&mut self, i: usize) {
+        let c = &mut self.chans[i];
+        let k = c.m.cuts_started();
+        if k != c.cuts_seen {
+            c.cuts_seen = k;
+            self.table.cut(i);
+        }
+    }
+
+    /// Channel `i`'s run ended: at its program's end the part counter counts the work and,
+    /// short of the target, rewinds the program and begins the next cycle (true).
+    fn program_end(&mut self, i: usize) -> bool {
+        let c = &mut self.chans[i];
+        let Some(e) = c.m.last_end() else {
+            return false;
+        };
+        if e.id == c.seen_end {
+            return false;
+        }
+        c.seen_end = e.id;
+        if e.cause != EndCause::ProgramEnd || !self.table.has_flow() {
+            return false;
+        }
+        let now = c.m.now();
+        if self.table.program_end(i) {
+            c.done = true;
+            c.done_at = Some(now);
+            return false;
+        }
+        c.src.rewind();
+        c.m.command(Command::Start(RunKind::Auto));
+        true
+    }
+
+    /// The arrivals at time `te` are counted, then the table releases whom it can, at `te`.
+    fn resolve_at(&mut self, te: u64) {
+        for i in 0..self.chans.len() {
+            let c = &mut self.chans[i];
+            if c.at_point == Some(te) && !c.counted {
+                c.counted = true;
+                if let Some(p) = c.m.sync_point() {
+                    self.table.arrive(i, p);
+                }
+            }
+        }
+        let at: Vec<Option<AtPoint>> = self
+            .chans
+            .iter()
+            .map(|c| {
+                let p = c.m.sync_point()?;
+                (c.counted && c.at_point.is_some_and(|a| a <= te)).then_some(AtPoint {
+                    point: p,
+                    can_go: !c.m.is_held() && c.fault.is_none(),
+                })
+            })
+            .collect();
+        if at.iter().all(Option::is_none) {
+            return;
+        }
+        for (i, d) in self.table.resolve(te, &at) {
+            let c = &mut self.chans[i];
+            if c.m.now() < te {
+                c.m.advance_to(te, &mut c.src);
+            }
+            c.at_point = None;
+            c.counted = false;
+            match d {
+                Decision::Release => {
+                    c.m.release_sync();
+                }
+                Decision::Refuse(why) => c.m.refuse_sync(why),
+            }
+        }
+        for (i, c) in self.chans.iter_mut().enumerate() {
+            c.m.set_cut_interlock(self.table.interlock(i));
+        }
+    }
+
+    /// Whether some channel can still move without the operator.
+    fn progressing(&self) -> bool {
+        self.chans
+            .iter()
+            .any(|c| !c.done && c.at_point.is_none() && !c.m.is_idle())
+    }
+
+    /// Runs until every channel has finished or none can go on without the operator, or
+    /// `max_ns` of machine time has passed.
+    pub fn run_until_idle(&mut self, max_ns: u64) -> Outcome {
+        let t0 = self.now;
+        let step = self
+            .chans
+            .first()
+            .map_or(1, |c| c.m.settings().ncbr_period_ns.max(1))
+            .saturating_mul(1000);
+        loop {
+            let t = self.now.saturating_add(step).min(t0.saturating_add(max_ns));
+            self.advance_to(t);
+            if !self.progressing() {
+                return self.outcome();
+            }
+            if self.now - t0 >= max_ns {
+                return Outcome::TimeLimit;
+            }
+        }
+    }
+
+    /// What the state means once no channel progresses.
+    fn outcome(&self) -> Outcome {
+        if self.chans.iter().all(|c| c.done) {
+            return Outcome::Finished {
+                parts: self.table.delivered(),
+            };
+        }
+        if self.chans.iter().any(|c| c.m.is_estop()) {
+            return Outcome::Estop;
+        }
+        for (ch, c) in self.chans.iter().enumerate() {
+            if let Some(reason) = &c.fault {
+                return Outcome::Fault {
+                    ch,
+                    reason: reason.clone(),
+                };
+            }
+        }
+        for (ch, c) in self.chans.iter().enumerate() {
+            if let Some(msg) = c.m.alarm() {
+                return Outcome::Alarm {
+                    ch,
+                    msg: msg.to_string(),
+                };
+            }
+        }
+        if self
+            .chans
+            .iter()
+            .any(|c| !c.done && (c.m.is_held() || (c.at_point.is_none() && c.m.is_idle())))
+        {
+            return Outcome::Stopped;
+        }
+        Outcome::Deadlock {
+            waits: self
+                .chans
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.at_point.is_some())
+                .map(|(i, _)| (i, self.table.waits_on(i)))
+                .collect(),
+        }
+    }
+}
+
+fn no_channel(ch: usize) -> String {
+    format!("no channel {}", ch + 1)
+}

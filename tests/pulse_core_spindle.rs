@@ -1,0 +1,465 @@
+//! The spindle as a kernel object (issue 22; docs/pulse-core.md, "The spindle"): the speed
+//! ramp, the encoder and its index, the wait for the spindle at speed, feed per revolution
+//! (G95), constant surface speed (G96) and thread passes (G33), on `Machine` directly, with
+//! the lathe simulator as the oracle where it has the same thing.
+
+use novanc::block::{Block, Css, FeedMode, Motion};
+use novanc::lathe::sim::testkit::{citizen_like, css, line_rev, pt, rapid, rpm, thread};
+use novanc::lathe::sim::{Event, Lathe, Outcome};
+use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
+use novanc::settings::MachineSettings;
+
+const MINUTE: u64 = 60_000_000_000;
+const X: usize = 0;
+const Z: usize = 2;
+
+/// A lathe channel's numbers as the simulator's test machine has them (`citizen_like`):
+/// 6000 rpm, 8000 rpm/s, 1000 lines, 3000 mm/s², 24 m/min; the spindle starts with no
+/// fixed delay (its ramp is its time).
+fn lathe_settings() -> MachineSettings {
+    MachineSettings {
+        spindle_max_rpm: 6_000.0,
+        spindle_accel_rpm_s: 8_000.0,
+        spindle_encoder_lines: 1_000,
+        spindle_ns: 0,
+        accel_mm_s2: 3_000.0,
+        rapid_mm_min: 24_000.0,
+        travel_min_mm: [-1.0, -1.0, -80.0],
+        travel_max_mm: [60.0, 1.0, 60.0],
+        ..MachineSettings::builtin()
+    }
+}
+
+/// A machine with `s` at X20 Z5 (the simulator tests' start), capturing pulses.
+fn machine(s: MachineSettings) -> Machine {
+    let mut m = Machine::new(s);
+    assert!(m.set_position([20_000, 0, 5_000]));
+    m.set_recording(None, true);
+    m
+}
+
+/// X, Z in mm to machine pulses.
+fn at(x: f64, z: f64) -> [i64; 3] {
+    let p = pt(x, z);
+    [p[0], 0, p[1]]
+}
+
+/// A block of `motion` to `end` (its amounts are taken from where the machine is).
+fn mv(seq: u32, motion: Motion, end: [i64; 3]) -> Block {
+    let mut b = Block::aux(seq, seq, end);
+    b.motion = motion;
+    b
+}
+
+/// M3 S`s` where the machine will be.
+fn m3(seq: u32, end: [i64; 3], s: u32) -> Block {
+    let mut b = Block::aux(seq, seq, end);
+    b.m = Some(3);
+    b.s = Some(s);
+    b
+}
+
+/// A thread pass to `end`, `lead` mm/rev.
+fn pass(seq: u32, end: [i64; 3], lead: f64) -> Block {
+    let mut b = mv(seq, Motion::Linear, end);
+    b.thread = Some(lead);
+    b
+}
+
+/// A feed per revolution to `end`.
+fn per_rev(seq: u32, end: [i64; 3], f: f64) -> Block {
+    let mut b = mv(seq, Motion::Linear, end);
+    b.feed = f;
+    b.feed_mode = FeedMode::PerRev;
+    b
+}
+
+fn run(m: &mut Machine, blocks: Vec<Block>) -> Vec<PulseRec> {
+    let mut src = VecSource::from_blocks(blocks);
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, 10 * MINUTE);
+    let st = m.status();
+    assert!(st.alarm.is_none(), "{:?}", st.alarm);
+    assert!(m.is_idle());
+    m.take_pulses()
+}
+
+/// Runs `blocks` one NCBR tick at a time, calling `each` after every tick.
+fn tick_run(m: &mut Machine, blocks: Vec<Block>, mut each: impl FnMut(&Machine)) {
+    let mut src = VecSource::from_blocks(blocks);
+    m.command(Command::Start(RunKind::Auto));
+    while !m.is_idle() {
+        m.tick(&mut src);
+        each(m);
+        assert!(m.now() < 10 * MINUTE, "never idle");
+    }
+    assert!(m.status().alarm.is_none(), "{:?}", m.status().alarm);
+}
+
+#[test]
+fn the_ramp_takes_delta_rpm_over_accel_and_the_cut_waits_for_the_speed() {
+    let mut m = machine(lathe_settings());
+    let mut first_full = None;
+    let mut seen = Vec::new();
+    tick_run(
+        &mut m,
+        vec![m3(1, at(20.0, 5.0), 3000), {
+            let mut b = mv(2, Motion::Linear, at(20.0, 4.0));
+            b.feed = 300.0;
+            b
+        }],
+        |m| {
+            let s = m.status().spindle;
+            seen.push((m.now(), s));
+            if s == 3000 && first_full.is_none() {
+                first_full = Some(m.now());
+            }
+        },
+    );
+    // M3 at t = 0: 3000 rpm at 8000 rpm/s is 375 ms, the tick (5 ms) it ends in.
+    assert_eq!(first_full, Some(375_000_000), "{:?}", &seen[..5]);
+    for &(t, s) in &seen {
+        if t <= 375_000_000 {
+            assert_eq!(s, (t as f64 * 8e-6).round() as i64, "at {t} ns");
+        }
+    }
+    // The cut starts at speed (within 1 %: 30 rpm, 3.75 ms before the ramp's end).
+    let p = m.take_pulses();
+    let t_first = p.first().map_or(0, |p| p.t_ns);
+    assert!(
+        t_first > 371_250_000 && t_first < 371_250_000 + 10_000_000,
+        "{t_first}"
+    );
+    // The encoder is ∫rpm: 3000/2 rpm over 0.375 s, then 3000 rpm.
+    let sp = m.spindle();
+    let t = m.now();
+    let revs = 1500.0 / 60.0 * 0.375 + 3000.0 / 60.0 * (t as f64 * 1e-9 - 0.375);
+    assert_eq!(sp.count_at(t), (revs * 1000.0).floor() as i64);
+    assert_eq!(sp.rpm_at(t), 3000.0);
+}
+
+#[test]
+fn a_spindle_without_a_ramp_is_at_speed_at_once_as_on_the_centre() {
+    // The centre's settings: the spindle's acceleration 0, so a cut never waits.
+    let s = MachineSettings::default();
+    assert_eq!(s.spindle_accel_rpm_s, 0.0);
+    let mut m = Machine::new(s);
+    assert!(m.set_position([500_000, 400_000, -300_000]));
+    m.set_recording(None, true);
+    let mut cut = mv(2, Motion::Linear, [501_000, 400_000, -300_000]);
+    cut.feed = 600.0;
+    let p = run(&mut m, vec![m3(1, [500_000, 400_000, -300_000], 1200), cut]);
+    // M3 takes spindle_ns (1 s); the cut is read at the next NCBR tick (1.005 s) and its
+    // first step comes after √(2/a) = 1.41 ms, with no wait for the speed.
+    assert_eq!(p[0].t_ns, 1_005_000_000 + 1_414_213, "{}", p[0].t_ns);
+    assert_eq!(m.status().spindle, 1200);
+}
+
+/// The phase of the machine's encoder at `t` (valid while the spindle holds its target).
+fn phase(m: &Machine, t: u64) -> f64 {
+    m.spindle().phase_at(t)
+}
+
+/// The Z pulses of a capture as (time, Z travelled in pulses).
+fn z_steps(p: &[PulseRec]) -> Vec<(u64, i64)> {
+    p.iter()
+        .filter(|r| r.axis as usize == Z)
+        .scan(0i64, |z, r| {
+            *z += 1;
+            Some((r.t_ns, *z))
+        })
+        .collect()
+}
+
+#[test]
+fn a_thread_pass_starts_at_the_index_and_follows_the_encoder() {
+    let mut m = machine(lathe_settings());
+    let lead = 2.0;
+    run(
+        &mut m,
+        vec![
+            m3(1, at(20.0, 5.0), 600),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+        ],
+    );
+    let p = run(&mut m, vec![pass(3, at(8.0, -30.0), lead)]);
+    assert_eq!(m.pos(), at(8.0, -30.0));
+    let z = z_steps(&p);
+    assert_eq!(z.len(), 32_000);
+    let lines = 1000.0;
+    // The index the pass started at: the encoder count at its first Z pulse is a whole number
+    // of revolutions, plus what one Z pulse takes (half a count at 2 mm/rev).
+    let p1 = phase(&m, z[0].0);
+    let index = (p1 / lines).floor() * lines;
+    assert!(p1 - index <= 0.5 + 1e-6 && p1 - index >= 0.5 - 1e-3, "{p1}");
+    // Every Z pulse k is where lead × revolutions since the index says, within one pulse.
+    for &(t, k) in &z {
+        let by_encoder = (phase(&m, t) - index) / lines * lead * 1000.0;
+        assert!((by_encoder - k as f64).abs() <= 1.0, "{k}: {by_encoder}");
+    }
+    // 16 revolutions at 600 rpm: 1.6 s from the index to the end (the oracle below).
+    let t_index = m.spindle().time_at_phase(index).unwrap_or(0.0);
+    let took = z[z.len() - 1].0 as f64 - t_index;
+    assert!((took - 1.6e9).abs() < 10.0, "{took}");
+}
+
+#[test]
+fn two_passes_of_one_thread_start_at_the_same_angle() {
+    let mut m = machine(lathe_settings());
+    let lead = 1.5;
+    run(&mut m, vec![m3(1, at(20.0, 5.0), 900)]);
+    let mut starts = Vec::new();
+    for (k, x) in [9.6, 9.4].into_iter().enumerate() {
+        let seq = 10 * k as u32;
+        // Different approaches, so the passes start at different encoder phases.
+        let _ = run(
+            &mut m,
+            vec![
+                mv(seq + 1, Motion::Rapid, at(12.0 + k as f64 * 3.7, 3.0)),
+                mv(seq + 2, Motion::Rapid, at(x, 3.0)),
+            ],
+        );
+        let p = run(&mut m, vec![pass(seq + 3, at(x, -20.0), lead)]);
+        let z = z_steps(&p);
+        let t0 = z[0].0;
+        // The angle of the spindle at the first Z pulse, and the offsets of the first 50.
+        let a = phase(&m, t0).rem_euclid(1000.0);
+        let rel: Vec<u64> = z[..50].iter().map(|s| s.0 - t0).collect();
+        starts.push((a, rel, phase(&m, t0)));
+    }
+    assert!((starts[0].0 - starts[1].0).abs() < 1e-3, "{starts:?}");
+    // The same times from the first pulse, to the ns (truncation).
+    for (a, b) in starts[0].1.iter().zip(&starts[1].1) {
+        assert!(a.abs_diff(*b) <= 1, "{a} {b}");
+    }
+    // They did start at different encoder counts (not a trivially equal case).
+    assert!((starts[0].2 - starts[1].2).abs() > 1000.0);
+}
+
+#[test]
+fn constant_surface_speed_follows_the_radius_then_the_limit() {
+    let (v, limit) = (150.0, 4000.0);
+    let mut m = machine(lathe_settings());
+    let g96 = Some(Css {
+        m_per_min: v,
+        limit_rpm: limit,
+    });
+    let mut start = m3(1, at(20.0, 5.0), 0);
+    start.s = None;
+    start.css = g96;
+    let mut approach = mv(2, Motion::Rapid, at(12.0, 0.0));
+    approach.css = g96;
+    let mut face = per_rev(3, at(0.0, 0.0), 0.1);
+    face.css = g96;
+    let (mut in_css, mut at_limit) = (0, 0);
+    tick_run(&mut m, vec![start, approach, face], |m| {
+        let st = m.status();
+        let x = st.pos[X];
+        if st.executed.as_ref().is_some_and(|b| b.seq == 3) && x > 0 && x < 12_000 {
+            let r = x as f64 / 1000.0;
+            let want = 1000.0 * v / (std::f64::consts::TAU * r);
+            let rpm = st.spindle as f64;
+            if want < limit * 0.99 {
+                let surface = std::f64::consts::TAU * r * rpm / 1000.0;
+                assert!((surface - v).abs() <= 0.01 * v, "r {r}: {surface} m/min");
+                in_css += 1;
+            } else if want > limit * 1.01 {
+                assert!((rpm - limit).abs() <= 0.01 * limit, "r {r}: {rpm} rpm");
+                at_limit += 1;
+            }
+        }
+    });
+    assert!(in_css > 50 && at_limit > 50, "{in_css} {at_limit}");
+    assert_eq!(m.pos(), at(0.0, 0.0));
+}
+
+#[test]
+fn feed_per_revolution_takes_length_over_feed_times_rpm() {
+    // An instant spindle, so the speed is the programmed one from the start.
+    let s = MachineSettings {
+        spindle_accel_rpm_s: 0.0,
+        ..lathe_settings()
+    };
+    let mut m = machine(s);
+    run(&mut m, vec![m3(1, at(20.0, 5.0), 1000)]);
+    let t0 = m.now();
+    // 10 mm at 0.1 mm/rev × 1000 rpm = 100 mm/min: 6 s, plus the ramp at 3000 mm/s²
+    // (v/a = 0.56 ms).
+    let p = run(&mut m, vec![per_rev(2, at(20.0, -5.0), 0.1)]);
+    let took = (p[p.len() - 1].t_ns - t0) as f64 * 1e-9;
+    let want = 10.0 / (0.1 * 1000.0) * 60.0;
+    assert!((took - want).abs() < 0.002, "{took} s, want {want} s");
+    // The spindle override scales the speed, so the feed: 120 % → 5 s.
+    m.command(Command::SpindleOverride(120));
+    let t1 = m.now();
+    let p = run(&mut m, vec![per_rev(3, at(20.0, 5.0), 0.1)]);
+    let took = (p[p.len() - 1].t_ns - t1) as f64 * 1e-9;
+    assert!((took - want / 1.2).abs() < 0.007, "{took} s");
+}
+
+#[test]
+fn per_revolution_and_threads_are_refused_with_the_spindle_stopped() {
+    for (b, what) in [
+        (per_rev(1, at(20.0, 0.0), 0.1), "feed per revolution"),
+        (pass(1, at(20.0, 0.0), 1.0), "a thread pass"),
+    ] {
+        let mut m = machine(lathe_settings());
+        let mut src = VecSource::from_blocks(vec![b]);
+        m.command(Command::Start(RunKind::Auto));
+        m.run_until_idle(&mut src, MINUTE);
+        let alarm = m.status().alarm.unwrap_or_default();
+        assert!(
+            alarm.starts_with("line 1: N1 ") && alarm.contains(what) && alarm.contains("stopped"),
+            "{alarm}"
+        );
+        assert_eq!(m.pos(), at(20.0, 5.0), "nothing moved");
+    }
+}
+
+#[test]
+fn a_feed_hold_during_a_thread_pass_comes_at_its_end() {
+    let mut m = machine(lathe_settings());
+    run(
+        &mut m,
+        vec![
+            m3(1, at(20.0, 5.0), 600),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+        ],
+    );
+    let mut src = VecSource::from_blocks(vec![
+        pass(3, at(8.0, -30.0), 2.0),
+        mv(4, Motion::Rapid, at(12.0, -30.0)),
+    ]);
+    m.command(Command::Start(RunKind::Auto));
+    while m.pos()[Z] > -10_000 {
+        m.tick(&mut src);
+        assert!(m.now() < MINUTE);
+    }
+    m.command(Command::Stop);
+    assert!(m
+        .status()
+        .notice
+        .unwrap_or_default()
+        .contains("thread pass"));
+    m.run_until_idle(&mut src, MINUTE);
+    // Held at the end of the pass, not in the groove, and the retract not begun.
+    let st = m.status();
+    assert!(st.hold, "held");
+    assert_eq!(m.pos(), at(8.0, -30.0));
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, MINUTE);
+    assert_eq!(m.pos(), at(12.0, -30.0));
+}
+
+/// The simulator's events of channel 0 running `ops` from X20 Z5 with a work in the chuck.
+fn sim(ops: Vec<novanc::lathe::ops::Op>) -> Vec<Event> {
+    let mut all = vec![novanc::lathe::ops::Op::ChuckClose];
+    all.extend(ops);
+    let prog = novanc::lathe::sim::testkit::program("t", all);
+    let mut l = match Lathe::new(citizen_like(1), vec![prog], 1) {
+        Ok(l) => l,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(l.set_position(0, pt(20.0, 5.0)), Ok(()));
+    l.set_recording(true, 1_000_000);
+    l.start();
+    assert_eq!(l.run_until_idle(MINUTE), Outcome::Finished { parts: 0 });
+    l.drain_events()
+}
+
+/// The time the simulator's block of source line `line` started, and the next one's.
+fn sim_block_span(evs: &[Event], line: u32) -> (u64, u64) {
+    let starts: Vec<(u32, u64)> = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Block { line, t, .. } => Some((*line, *t)),
+            _ => None,
+        })
+        .collect();
+    let i = starts.iter().position(|s| s.0 == line).unwrap_or(0);
+    let end = starts.get(i + 1).map_or(u64::MAX, |s| s.1);
+    (starts[i].1, end)
+}
+
+#[test]
+fn the_simulator_agrees_on_the_thread_pass_and_the_facing_time() {
+    // Thread: the simulator's pass from its index to its end, and the kernel's.
+    let evs = sim(vec![rpm(600.0), rapid(8.0, 2.0), thread(8.0, -30.0, 2.0)]);
+    let t_index = evs
+        .iter()
+        .find_map(|e| match e {
+            Event::ThreadPass { t, .. } => Some(*t),
+            _ => None,
+        })
+        .unwrap_or(0);
+    let sim_end = evs
+        .iter()
+        .filter_map(|e| match e {
+            Event::Sample { t, pos, .. } if *pos == pt(8.0, -30.0) => Some(*t),
+            _ => None,
+        })
+        .min()
+        .unwrap_or(0);
+    let sim_pass = (sim_end - t_index) as f64;
+    let mut m = machine(lathe_settings());
+    run(
+        &mut m,
+        vec![
+            m3(1, at(20.0, 5.0), 600),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+        ],
+    );
+    let p = run(&mut m, vec![pass(3, at(8.0, -30.0), 2.0)]);
+    let z = z_steps(&p);
+    let index = (phase(&m, z[0].0) / 1000.0).floor() * 1000.0;
+    let kernel_pass = z[z.len() - 1].0 as f64 - m.spindle().time_at_phase(index).unwrap_or(0.0);
+    // Both 1.6 s; the simulator's to its 100 µs tick (it counts whole encoder lines).
+    assert!(
+        (sim_pass - kernel_pass).abs() <= 200_000.0,
+        "{sim_pass} {kernel_pass}"
+    );
+
+    // Facing at G96: the simulator (trapezoid per 100 µs tick, rpm per tick) and the kernel
+    // (DDA, feed per revolution retargeted each 5 ms NCBR tick) take the same time within 1 %.
+    let evs = sim(vec![
+        css(150.0, 4000.0),
+        rapid(12.0, 0.0),
+        line_rev(0.0, 0.0, 0.1),
+    ]);
+    let (s0, s1) = sim_block_span(&evs, 4);
+    let sim_face = (s1.min(
+        evs.iter()
+            .filter_map(|e| match e {
+                Event::Sample { t, pos, .. } if *pos == pt(0.0, 0.0) => Some(*t),
+                _ => None,
+            })
+            .min()
+            .unwrap_or(u64::MAX),
+    ) - s0) as f64;
+    let g96 = Some(Css {
+        m_per_min: 150.0,
+        limit_rpm: 4000.0,
+    });
+    let mut m = machine(lathe_settings());
+    let mut start = m3(1, at(20.0, 5.0), 0);
+    (start.s, start.css) = (None, g96);
+    let mut approach = mv(2, Motion::Rapid, at(12.0, 0.0));
+    approach.css = g96;
+    run(&mut m, vec![start, approach]);
+    let t0 = m.now();
+    let mut face = per_rev(3, at(0.0, 0.0), 0.1);
+    face.css = g96;
+    let p = run(&mut m, vec![face]);
+    let kernel_face = (p[p.len() - 1].t_ns - t0) as f64;
+    eprintln!(
+        "thread pass: simulator {:.4} s, kernel {:.4} s; facing: simulator {:.4} s, kernel {:.4} s",
+        sim_pass * 1e-9,
+        kernel_pass * 1e-9,
+        sim_face * 1e-9,
+        kernel_face * 1e-9
+    );
+    assert!(
+        (sim_face - kernel_face).abs() <= 0.01 * sim_face,
+        "{sim_face} {kernel_face}"
+    );
+}
