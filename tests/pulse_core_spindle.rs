@@ -516,3 +516,53 @@ fn a_tap_on_a_spindle_with_a_ramp_follows_its_encoder() {
     assert!((297.0..300.0).contains(&first), "{first}");
     assert_eq!(m.spindle().rpm_at(z[z.len() - 1].0), 300.0);
 }
+
+#[test]
+fn a_thread_pass_is_the_same_run_whole_or_tick_by_tick() {
+    // A spindle without a ramp lets the machine run a pass whole; it must give the pulses,
+    // to the ns, that tick-by-tick running gives (PGEN's rule, docs/pulse-core.md "Timing").
+    let s = MachineSettings {
+        spindle_accel_rpm_s: 0.0,
+        ..lathe_settings()
+    };
+    let blocks = || {
+        vec![
+            m3(1, at(20.0, 5.0), 750),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+            pass(3, at(7.5, -25.0), 1.75),
+            mv(4, Motion::Rapid, at(12.0, -25.0)),
+        ]
+    };
+    let mut whole = machine(s.clone());
+    let a = run(&mut whole, blocks());
+    let mut ticked = machine(s);
+    tick_run(&mut ticked, blocks(), |_| {});
+    let b = ticked.take_pulses();
+    assert_eq!(a.len(), b.len());
+    assert!(a.iter().zip(&b).all(|(p, q)| p == q));
+    assert_eq!(whole.pos(), ticked.pos());
+}
+
+#[test]
+fn estop_stops_the_spindle_at_once_and_reset_lets_it_run_down() {
+    let mut m = machine(lathe_settings());
+    run(&mut m, vec![m3(1, at(20.0, 5.0), 2000)]);
+    let mut src = VecSource::from_blocks(vec![]);
+    m.advance_to(m.now() + 1_000_000_000, &mut src);
+    assert_eq!(m.status().spindle, 2000);
+    // RESET: the spindle is told to stop and runs down at its acceleration (2000 rpm at
+    // 8000 rpm/s: 250 ms).
+    m.command(Command::Reset);
+    let t = m.now();
+    assert_eq!(m.spindle().target(), 0.0);
+    assert!((m.spindle().rpm_at(t + 125_000_000) - 1000.0).abs() < 1e-6);
+    assert_eq!(m.spindle().rpm_at(t + 250_000_000), 0.0);
+    // E-STOP cuts the drive: 0 at once, the encoder keeps its count.
+    run(&mut m, vec![m3(2, at(20.0, 5.0), 2000)]);
+    m.advance_to(m.now() + 1_000_000_000, &mut src);
+    let before = m.spindle().count_at(m.now());
+    m.command(Command::EStop);
+    assert_eq!(m.spindle().rpm_at(m.now()), 0.0);
+    assert_eq!(m.status().spindle, 0);
+    assert_eq!(m.spindle().count_at(m.now() + 1_000_000_000), before);
+}
