@@ -314,6 +314,24 @@ fn per_revolution_and_threads_are_refused_with_the_spindle_stopped() {
         );
         assert_eq!(m.pos(), at(20.0, 5.0), "nothing moved");
     }
+    // A lead below one pulse a revolution (it would never end), and a pass that is not a line.
+    let mut arc = pass(2, at(20.0, 5.0), 1.0);
+    arc.motion = Motion::ArcCw;
+    arc.center = Some([-1_000, 0]);
+    for (b, what) in [
+        (pass(2, at(20.0, 0.0), 1e-9), "at least one pulse"),
+        (arc, "must be a straight move"),
+    ] {
+        let mut m = machine(lathe_settings());
+        let mut src = VecSource::from_blocks(vec![m3(1, at(20.0, 5.0), 600), b]);
+        m.command(Command::Start(RunKind::Auto));
+        m.run_until_idle(&mut src, MINUTE);
+        let alarm = m.status().alarm.unwrap_or_default();
+        assert!(
+            alarm.starts_with("line 2: N2 ") && alarm.contains(what),
+            "{alarm}"
+        );
+    }
 }
 
 #[test]
@@ -462,4 +480,89 @@ fn the_simulator_agrees_on_the_thread_pass_and_the_facing_time() {
         (sim_face - kernel_face).abs() <= 0.01 * sim_face,
         "{sim_face} {kernel_face}"
     );
+}
+
+#[test]
+fn a_tap_on_a_spindle_with_a_ramp_follows_its_encoder() {
+    // The centre with a spindle that ramps (2000 rpm/s): a tap's feed (G84, TAP) is geared
+    // to the encoder, at the pitch = feed / programmed speed (375 / 300 = 1.25 mm/rev).
+    let s = MachineSettings {
+        spindle_accel_rpm_s: 2_000.0,
+        ..MachineSettings::default()
+    };
+    let mid = [500_000, 400_000, -300_000];
+    let mut m = Machine::new(s);
+    assert!(m.set_position(mid));
+    m.set_recording(None, true);
+    let bottom = [mid[0], mid[1], mid[2] - 10_000];
+    let mut feed_in = mv(2, Motion::Linear, bottom);
+    feed_in.feed = 375.0;
+    feed_in.tap = novanc::block::Tap::Part;
+    let p = run(&mut m, vec![m3(1, mid, 300), feed_in]);
+    assert_eq!(m.pos(), bottom);
+    let z = z_steps(&p);
+    assert_eq!(z.len(), 10_000);
+    // Pulse k falls when the encoder has turned k / 1250 revolutions since the start: the
+    // anchor is one step's counts before the first pulse.
+    let lines = f64::from(m.spindle().lines());
+    let per_step = lines / 1250.0;
+    let anchor = phase(&m, z[0].0) - per_step;
+    for &(t, k) in &z {
+        let by_encoder = (phase(&m, t) - anchor) / lines * 1250.0;
+        assert!((by_encoder - k as f64).abs() <= 1.0, "{k}: {by_encoder}");
+    }
+    // It started at speed (within 1 %, still ramping: the feed followed the actual speed).
+    let first = m.spindle().rpm_at(z[0].0);
+    assert!((297.0..300.0).contains(&first), "{first}");
+    assert_eq!(m.spindle().rpm_at(z[z.len() - 1].0), 300.0);
+}
+
+#[test]
+fn a_thread_pass_is_the_same_run_whole_or_tick_by_tick() {
+    // A spindle without a ramp lets the machine run a pass whole; it must give the pulses,
+    // to the ns, that tick-by-tick running gives (PGEN's rule, docs/pulse-core.md "Timing").
+    let s = MachineSettings {
+        spindle_accel_rpm_s: 0.0,
+        ..lathe_settings()
+    };
+    let blocks = || {
+        vec![
+            m3(1, at(20.0, 5.0), 750),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+            pass(3, at(7.5, -25.0), 1.75),
+            mv(4, Motion::Rapid, at(12.0, -25.0)),
+        ]
+    };
+    let mut whole = machine(s.clone());
+    let a = run(&mut whole, blocks());
+    let mut ticked = machine(s);
+    tick_run(&mut ticked, blocks(), |_| {});
+    let b = ticked.take_pulses();
+    assert_eq!(a.len(), b.len());
+    assert!(a.iter().zip(&b).all(|(p, q)| p == q));
+    assert_eq!(whole.pos(), ticked.pos());
+}
+
+#[test]
+fn estop_stops_the_spindle_at_once_and_reset_lets_it_run_down() {
+    let mut m = machine(lathe_settings());
+    run(&mut m, vec![m3(1, at(20.0, 5.0), 2000)]);
+    let mut src = VecSource::from_blocks(vec![]);
+    m.advance_to(m.now() + 1_000_000_000, &mut src);
+    assert_eq!(m.status().spindle, 2000);
+    // RESET: the spindle is told to stop and runs down at its acceleration (2000 rpm at
+    // 8000 rpm/s: 250 ms).
+    m.command(Command::Reset);
+    let t = m.now();
+    assert_eq!(m.spindle().target(), 0.0);
+    assert!((m.spindle().rpm_at(t + 125_000_000) - 1000.0).abs() < 1e-6);
+    assert_eq!(m.spindle().rpm_at(t + 250_000_000), 0.0);
+    // E-STOP cuts the drive: 0 at once, the encoder keeps its count.
+    run(&mut m, vec![m3(2, at(20.0, 5.0), 2000)]);
+    m.advance_to(m.now() + 1_000_000_000, &mut src);
+    let before = m.spindle().count_at(m.now());
+    m.command(Command::EStop);
+    assert_eq!(m.spindle().rpm_at(m.now()), 0.0);
+    assert_eq!(m.status().spindle, 0);
+    assert_eq!(m.spindle().count_at(m.now() + 1_000_000_000), before);
 }

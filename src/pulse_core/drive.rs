@@ -35,16 +35,18 @@ impl Drive {
     }
 
     /// A thread pass of `delta` pulses, `lead_mm` per revolution along its major axis, geared
-    /// to `spindle` from the first index at or after `t0`.
+    /// to `spindle` from the first index at or after `t0` (`index`), or from where the encoder
+    /// stands at `t0` (a rigid tap).
     pub fn thread(
         s: &MachineSettings,
         delta: [i64; 3],
         lead_mm: f64,
         spindle: &Spindle,
         t0: u64,
+        index: bool,
     ) -> Drive {
         let lead = lead_mm / s.pulse_mm;
-        Drive::Thread(ThreadMotion::new(delta, lead, spindle.clone(), t0))
+        Drive::Thread(ThreadMotion::new(delta, lead, spindle.clone(), t0, index))
     }
 
     /// The arc or helix block `b` (by `st` for the DDA) at path speed `speed`, starting at

@@ -498,8 +498,9 @@ impl Motion {
 pub struct ThreadMotion {
     ln: Linear,
     spindle: Spindle,
-    /// The encoder count of the index the pass is anchored to.
-    index: i64,
+    /// The encoder phase the pass is anchored to: an index (a thread), or where the encoder
+    /// stood at the start (a rigid tap).
+    anchor: f64,
     /// Encoder counts per major-axis pulse, signed as the spindle turns.
     counts_per_step: f64,
     /// Time of the last step (or of the start), ns.
@@ -508,8 +509,9 @@ pub struct ThreadMotion {
 
 impl ThreadMotion {
     /// A pass of `delta` pulses at `lead` major-axis pulses per revolution, started at `t0`
-    /// with `spindle` turning: anchored to the first index at or after `t0`.
-    pub fn new(delta: [i64; 3], lead: f64, spindle: Spindle, t0: u64) -> ThreadMotion {
+    /// with `spindle` turning: anchored to the first index at or after `t0` if `index`, else
+    /// to the encoder where it stands at `t0` (a rigid tap, which needs no index).
+    pub fn new(delta: [i64; 3], lead: f64, spindle: Spindle, t0: u64, index: bool) -> ThreadMotion {
         let ln = Linear::new(delta);
         let sign = if spindle.target() < 0.0 { -1.0 } else { 1.0 };
         let counts_per_step = if lead > 0.0 {
@@ -519,16 +521,20 @@ impl ThreadMotion {
         };
         ThreadMotion {
             ln,
-            index: spindle.next_index(t0),
+            anchor: if index {
+                spindle.next_index(t0) as f64
+            } else {
+                spindle.phase_at(t0)
+            },
             spindle,
             counts_per_step,
             t: t0 as f64,
         }
     }
 
-    /// The encoder count of the index the pass started at.
-    pub fn index(&self) -> i64 {
-        self.index
+    /// The encoder phase the pass is anchored to (an index: a whole number of revolutions).
+    pub fn anchor(&self) -> f64 {
+        self.anchor
     }
 
     /// The spindle changed its target (at an NCBR tick): the steps not yet taken follow it.
@@ -541,7 +547,7 @@ impl ThreadMotion {
         let h = horizon as f64;
         while self.ln.steps_left > 0 {
             let k = self.ln.lb - self.ln.steps_left + 1;
-            let phase = self.index as f64 + k as f64 * self.counts_per_step;
+            let phase = self.anchor + k as f64 * self.counts_per_step;
             let Some(t) = self.spindle.time_at_phase(phase) else {
                 return Progress::Pending;
             };

@@ -22,8 +22,11 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
         if b.motion != Kind::Linear {
             return Err("a thread pass (G33) must be a straight move".into());
         }
-        if !(lead.is_finite() && lead > 0.0) {
-            return Err(format!("thread lead {lead} mm/rev is not positive"));
+        if !(lead.is_finite() && lead >= settings.pulse_mm) {
+            return Err(format!(
+                "thread lead {lead} mm/rev: at least one pulse ({} mm) a revolution",
+                settings.pulse_mm
+            ));
         }
     }
     if b.feed_mode == FeedMode::PerRev && !b.feed.is_finite() {

@@ -1333,11 +1333,14 @@ impl Machine {
                             self.accel,
                             t0,
                         )),
-                        Kind::Linear => Some(match b.thread {
-                            Some(lead) => {
-                                Drive::thread(&self.settings, b.delta, lead, &self.sp, t0)
+                        Kind::Linear => Some(match (b.thread, self.rigid_tap_pitch(&b)) {
+                            (Some(lead), _) => {
+                                Drive::thread(&self.settings, b.delta, lead, &self.sp, t0, true)
                             }
-                            None => Drive::linear(
+                            (None, Some(pitch)) => {
+                                Drive::thread(&self.settings, b.delta, pitch, &self.sp, t0, false)
+                            }
+                            (None, None) => Drive::linear(
                                 &self.settings,
                                 b.delta,
                                 self.feed_speed(&b, t0),
@@ -1503,7 +1506,8 @@ impl Machine {
             }
             (_, None) => self.spindle_actual() as f64,
         };
-        rpm.clamp(-max, max)
+        // Not `clamp`: a maximum that is not a number or negative must not panic.
+        rpm.min(max).max(-max)
     }
 
     /// Gives the spindle its target at time `t` (a thread pass in progress follows it).
@@ -1521,6 +1525,20 @@ impl Machine {
                 th.set_spindle(sp);
             }
         }
+    }
+
+    /// A tap's feed on a spindle with a ramp is geared to its encoder (rigid tapping): the
+    /// pitch, mm/rev, is the block's feed over the programmed speed. None for any other block,
+    /// and on a spindle without a ramp, which is always at the programmed speed (the centre's
+    /// taps run as they always did).
+    fn rigid_tap_pitch(&self, b: &Block) -> Option<f64> {
+        let geared = b.tap != crate::block::Tap::No
+            && b.motion == Kind::Linear
+            && b.feed_mode == FeedMode::PerMin
+            && self.sp.ramps()
+            && self.spindle != 0
+            && b.feed > 0.0;
+        geared.then(|| b.feed / self.spindle.unsigned_abs() as f64)
     }
 
     /// The spindle: its actual speed, encoder and index (docs/pulse-core.md, "The spindle").
