@@ -136,7 +136,10 @@ fn a_held_button_jogs_while_the_front_end_runs_and_stops_when_it_freezes() {
     c.handle(PanelEvent::Jog(Axis::Y, 1));
     ticks(&mut c, 800);
     let s = c.core().status();
-    assert!(s.moving, "the held button's jog stopped while the front end ran");
+    assert!(
+        s.moving,
+        "the held button's jog stopped while the front end ran"
+    );
     let frozen_at = s.pos;
     assert!(frozen_at[1] - before[1] > 8_000, "moved {:?}", frozen_at);
     std::thread::sleep(Duration::from_millis(1500));

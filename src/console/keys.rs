@@ -22,16 +22,7 @@ pub const JOG_RELEASE: Duration = Duration::from_millis(150);
 /// second), so the key is held; a person tapping twice is slower (docs/panel.md, "Jogging").
 pub const REPEAT_GAP: Duration = Duration::from_millis(90);
 
-/// The jog deadman: a held key's jog decelerates on its own in the pulse core when the console
-/// has not passed on a repeat for this long (the console's own release, [`JOG_RELEASE`], comes
-/// first; this is for a console that has stopped running: docs/pulse-core.md, "The jog
-/// deadman").
-pub const JOG_DEADMAN: Duration = Duration::from_millis(250);
-
-/// [`JOG_DEADMAN`] in milliseconds.
-pub(super) fn deadman_ms() -> u32 {
-    JOG_DEADMAN.as_millis() as u32
-}
+pub use super::run::JOG_DEADMAN;
 
 /// Machine time a tap's increment gets to come to rest in virtual time (1 mm at the slowest
 /// jog feed takes far less).
@@ -357,7 +348,9 @@ impl Console {
             let mut k = self.jog_key.expect("a repeat has a key");
             k.at = now;
             if k.held {
-                self.status = self.core.command(Command::JogAlive(deadman_ms()));
+                self.status = self
+                    .core
+                    .command(Command::JogAlive(super::run::deadman_ms()));
             } else {
                 // The tap's increment may still be moving: the jog starts on a later repeat.
                 self.status = self.core.status();

@@ -271,7 +271,7 @@ impl Console {
         if self.jogging && self.jog_key.is_none() && self.cfg.clock == ClockMode::RealTime {
             // A jog held by a front end's button (the window's): each frame keeps it alive, so
             // a front end that stops drawing lets the core stop it (docs/panel.md).
-            self.command(Command::JogAlive(keys::deadman_ms()));
+            self.command(Command::JogAlive(run::deadman_ms()));
         }
         self.refresh();
     }

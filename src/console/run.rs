@@ -549,6 +549,17 @@ pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
     after_manual(c);
 }
 
+/// The jog deadman: a held jog decelerates on its own in the pulse core when the front end
+/// has not kept it alive for this long (a key's repeat, a window frame while its button is
+/// held; the console's own release of a key, `keys::JOG_RELEASE`, comes first): for a front
+/// end that has stopped running (docs/pulse-core.md, "The jog deadman").
+pub const JOG_DEADMAN: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// [`JOG_DEADMAN`] in milliseconds.
+pub(super) fn deadman_ms() -> u32 {
+    JOG_DEADMAN.as_millis() as u32
+}
+
 /// A jog button: CONTINUOUS jogs while held, STEP moves one increment.
 pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
     let dir: i8 = if dir < 0 { -1 } else { 1 };
@@ -572,7 +583,7 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
             if c.jogging && c.cfg.clock == crate::pulse_core::ClockMode::RealTime {
                 // Hold-to-run: the front end keeps the jog alive (key repeats, the window's
                 // frames while the button is held), or the core stops it (docs/panel.md).
-                c.command(Command::JogAlive(super::keys::deadman_ms()));
+                c.command(Command::JogAlive(deadman_ms()));
             }
             after_manual(c);
         }
