@@ -14,7 +14,7 @@
 
 use super::Console;
 use crate::block::{Statement, TranslateError};
-use crate::gcode::state::{is_fanuc_kept, is_persistent, CompSide, InterpState};
+use crate::gcode::state::{is_persistent, CompSide, InterpState};
 use crate::gcode::{Event, GcodeSource};
 use std::sync::{Arc, Mutex};
 
@@ -230,22 +230,9 @@ fn journal_params(c: &mut Console, ps: &[(usize, f64)]) {
 /// The persistent parameters of `st` that the stores do not hold yet, journaled as one record.
 fn keep_persistent(c: &mut Console, st: &InterpState) {
     let was = stored(c);
-    // Fanuc's #500–#999 too, in that dialect: a vacant (null) one is kept as 0, that is not
-    // at all (docs/gcode.md "Fanuc dialect").
-    let value = |n: usize| {
-        let v = st.params[n];
-        if v.is_nan() {
-            0.0
-        } else {
-            v
-        }
-    };
-    let fanuc = st.fanuc_vacant;
-    let changed: Vec<(usize, f64)> = (500..=999)
-        .chain(5161..=5390)
-        .filter(|&n| is_persistent(n) || (fanuc && is_fanuc_kept(n)))
-        .filter(|&n| (value(n) - was(n)).abs() > 0.5e-6)
-        .map(|n| (n, value(n)))
+    let changed: Vec<(usize, f64)> = (5161..=5390)
+        .filter(|&n| is_persistent(n) && (st.params[n] - was(n)).abs() > 0.5e-6)
+        .map(|n| (n, st.params[n]))
         .collect();
     journal_params(c, &changed);
 }

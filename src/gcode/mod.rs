@@ -719,7 +719,9 @@ impl GcodeSource {
                 }
                 Target::Numbered(p) if fanuc && state::is_fanuc_kept(*p) => {
                     self.st.params[*p] = *v;
-                    self.events.push(Event::Param(*p, *v));
+                    // Kept by the stores; a vacant one is kept as nothing (0).
+                    let kept = if read::is_null(*v) { 0.0 } else { *v };
+                    self.events.push(Event::Param(*p, kept));
                 }
                 Target::Numbered(p) => {
                     self.st.writable(*p).map_err(|m| TranslateError {
