@@ -993,7 +993,7 @@ impl GcodeSource {
         let text = comments
             .first()
             .map_or(String::new(), |c| c.text.trim().to_string());
-        let k = read::is_null(v).then_some(0.0).unwrap_or(v).round();
+        let k = if read::is_null(v) { 0.0 } else { v.round() };
         if !(0.0..=999.0).contains(&k) {
             return Err(TranslateError {
                 line: n,
