@@ -324,6 +324,8 @@ struct Reader<'a> {
     depth: u32,
     /// Fanuc's Custom Macro B.
     fanuc: bool,
+    /// The last number read had a decimal point.
+    point: bool,
 }
 
 impl Reader<'_> {
@@ -390,6 +392,7 @@ impl Reader<'_> {
                 k += 1;
             }
             if part == 1 || rest.get(k) != Some(&b'.') {
+                self.point = part == 1;
                 break;
             }
             k += 1;
@@ -988,6 +991,7 @@ pub fn read_into_opts(
         end_col,
         depth: 0,
         fanuc: opts.fanuc,
+        point: false,
     };
     if r.eat('/') {
         out.block_delete = true;
@@ -1103,11 +1107,9 @@ fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64,
     if sign != 0.0 {
         r.i += 1;
     }
-    let start = r.i;
     let v = r.number()?;
     let sign = if sign == 0.0 { 1.0 } else { sign };
-    let point = r.b[start..r.i].contains(&b'.');
-    if !point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
+    if !r.point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
         return Ok(sign * v * increment);
     }
     Ok(sign * v)
