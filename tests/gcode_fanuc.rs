@@ -167,6 +167,29 @@ fn a_missing_argument_raises_the_3000_alarm_and_nothing_moves() {
 }
 
 #[test]
+fn stop_3006_stops_with_its_message_and_start_goes_on() {
+    let mut g = gcode_source_in("O1\n#3006=1 (LOAD THE PART)\nG0 X1.\nM30\n", Fanuc);
+    let stmts: Vec<_> = g.by_ref().collect::<Result<_, _>>().unwrap();
+    let stop = stmts.iter().find(|s| s.line == 2).expect("the #3006 line");
+    let ms: Vec<_> = stop.blocks.iter().map(|b| b.m).collect();
+    assert_eq!(ms, vec![Some(0)], "a stop, as M00");
+    let after = stmts.iter().find(|s| s.line == 3).expect("the line after");
+    assert_eq!(
+        after.blocks[0].end[0], 1000,
+        "the run goes on after the stop"
+    );
+    let events = g.take_events();
+    assert!(
+        events.iter().any(|e| matches!(e, novanc::gcode::Event::Message { kind: "MSG", text } if text == "#3006 STOP 1: LOAD THE PART")),
+        "{events:?}"
+    );
+    assert_eq!(
+        moves("O1\n#3006=1 (STOP) G0 X1.\nM30\n", Fanuc).unwrap_err(),
+        "2:1: #3006 stands on a block of its own (no words with it)"
+    );
+}
+
+#[test]
 fn a_runaway_loop_is_refused_at_the_line_that_passes_the_limit() {
     // Lines executed: 1, 2, then 3 and 4 in turn: the 1001st is line 3 (in the DO2 loop,
     // lines 2 to 5 in turn from the second: the 1001st is line 2 + 999 mod 4 = 5).
