@@ -375,3 +375,40 @@ fn common_variable_500_counts_across_a_restart() {
         assert_eq!(c.interp_state().params[500], f64::from(run));
     }
 }
+
+#[test]
+fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
+    let d = common::temp_dir("fanuc-subs");
+    std::fs::write(
+        d.join("9030.ngc"),
+        "O9030 (FROM A FILE)\nG00 X#24 Y#25\nIF [#26 NE #0] GOTO 10\nG00 Z-1.\nM99\nN10 G00 Z#26\nM99\n",
+    )
+    .unwrap();
+    let src = "O1\nG65 P9030 X5. Y6.\nG65 P9030 X7. Y8. Z-3.\nM30\n";
+    let mut got = Vec::new();
+    for s in gcode_source_in(src, Fanuc).subroutines(Box::new(novanc::gcode::SubPath(vec![d]))) {
+        for b in s
+            .unwrap()
+            .blocks
+            .iter()
+            .filter(|b| b.motion == Motion::Rapid)
+        {
+            got.push(('R', b.end.map(|p| p as f64 / 1000.0)));
+        }
+    }
+    // GOTO 10 searches the macro's own lines: forward from the IF, in its file.
+    assert_moves(
+        &got,
+        &[
+            ('R', [5.0, 6.0, 0.0]),
+            ('R', [5.0, 6.0, -1.0]),
+            ('R', [7.0, 8.0, -1.0]),
+            ('R', [7.0, 8.0, -3.0]),
+        ],
+    );
+    // Not there: refused at the call.
+    assert_eq!(
+        moves("O1\nG65 P9031 X1.\nM30\n", Fanuc).unwrap_err(),
+        "2:1: G65 P9031: macro O9031 is not in the program (searched forward from the call) nor a file 9031.ngc in the subroutine path"
+    );
+}
