@@ -406,6 +406,12 @@ fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
             ('R', [7.0, 8.0, -3.0]),
         ],
     );
+    // L is bounded as M98's is.
+    let max = novanc::gcode::MAX_REPEATS;
+    assert_eq!(
+        moves(&format!("O1\nG65 P9030 L{} X1.\nM30\n", max + 1), Fanuc).unwrap_err(),
+        format!("2:11: G65 L: a whole number 0 to {max}")
+    );
     // Not there: refused at the call.
     assert_eq!(
         moves("O1\nG65 P9031 X1.\nM30\n", Fanuc).unwrap_err(),

@@ -938,10 +938,16 @@ impl GcodeSource {
                 }
                 'P' | 'L' => {
                     let v = w.value.round();
-                    if (w.value - v).abs() > 1e-4 || !(0.0..=99_999_999.0).contains(&v) {
+                    // L is bounded as M98's is (docs/limits.md).
+                    let max = if w.letter == 'P' {
+                        99_999_999.0
+                    } else {
+                        MAX_REPEATS as f64
+                    };
+                    if (w.value - v).abs() > 1e-4 || !(0.0..=max).contains(&v) {
                         return Err(err(
                             w.col,
-                            format!("G65 {}: a whole number 0 to 99999999", w.letter),
+                            format!("G65 {}: a whole number 0 to {max}", w.letter),
                         ));
                     }
                     let slot = if w.letter == 'P' { &mut p } else { &mut l };
