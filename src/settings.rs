@@ -62,6 +62,31 @@ pub struct MachineSettings {
     /// `REMAP=M6 modalgroup=6 ngc=NAME`: the machine description's `remap` line
     /// (docs/gcode.md "Remapping M6"). None: M6 is the built-in change.
     pub remap_m6: Option<String>,
+    /// The G-code dialect programs are read in: LinuxCNC's (the default) or Fanuc's Custom
+    /// Macro B (docs/gcode.md "Fanuc dialect"): the machine description's `dialect` line, or
+    /// `--dialect`.
+    pub dialect: Dialect,
+}
+
+/// The G-code dialect (docs/gcode.md "Fanuc dialect").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// LinuxCNC 2.9's RS274NGC.
+    #[default]
+    LinuxCnc,
+    /// Fanuc 0i/30i with Custom Macro B.
+    Fanuc,
+}
+
+impl Dialect {
+    /// The dialect named `s` (`fanuc` or `linuxcnc`, any case).
+    pub fn parse(s: &str) -> Result<Dialect, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "fanuc" => Ok(Dialect::Fanuc),
+            "linuxcnc" => Ok(Dialect::LinuxCnc),
+            _ => Err(format!("dialect '{s}': fanuc or linuxcnc")),
+        }
+    }
 }
 
 /// The pulse distribution method of the pulse core.
@@ -160,6 +185,7 @@ impl MachineSettings {
             ep_l_pulses: EP_L_DEFAULT,
             workpiece: crate::workpiece::Workpiece::default(),
             remap_m6: None,
+            dialect: Dialect::LinuxCnc,
         }
     }
 }

@@ -12,15 +12,19 @@ use novanc::tooldata::sample_magazine;
 
 #[path = "common/gcode_fragments.rs"]
 mod gcode_fragments;
-use gcode_fragments::{extreme_program, FRAGMENTS};
+use gcode_fragments::{extreme_program, FANUC_FRAGMENTS, FRAGMENTS};
+use novanc::settings::Dialect;
 
-fn program(rng: &mut Rng) -> String {
+fn program(rng: &mut Rng, extra: &[&str]) -> String {
     let mut s = String::new();
     let lines = rng.range(1, 40);
     for _ in 0..lines {
         let words = rng.range(0, 5);
         for _ in 0..words {
-            let f = FRAGMENTS[rng.range(0, FRAGMENTS.len() as i64 - 1) as usize];
+            let k = rng.range(0, (FRAGMENTS.len() + extra.len()) as i64 - 1) as usize;
+            let f = FRAGMENTS
+                .get(k)
+                .unwrap_or_else(|| &extra[k - FRAGMENTS.len()]);
             s.push_str(f);
             s.push(' ');
         }
@@ -38,15 +42,28 @@ fn program(rng: &mut Rng) -> String {
 
 #[test]
 fn random_text_never_panics_and_errors_name_a_real_place() {
-    let mut rng = Rng::new(31);
+    fuzz(31, Dialect::LinuxCnc, &[]);
+}
+
+#[test]
+fn the_fanuc_dialect_s_family_never_panics_and_errors_name_a_real_place() {
+    fuzz(32, Dialect::Fanuc, FANUC_FRAGMENTS);
+}
+
+/// 3000 random programs of `FRAGMENTS` and `extra`, read in `dialect`.
+fn fuzz(seed: u64, dialect: Dialect, extra: &[&str]) {
+    let mut rng = Rng::new(seed);
     let (mut ok, mut refused) = (0, 0);
     for _ in 0..3000 {
-        let src = program(&mut rng);
+        let src = program(&mut rng, extra);
         let n_lines = src.lines().count() as u32 + 1;
         let g = GcodeSource::new(
             src.clone().into(),
             sample_magazine(),
-            MachineSettings::default(),
+            MachineSettings {
+                dialect,
+                ..MachineSettings::default()
+            },
             MachineState::at([500_000, 400_000, -300_000]),
             WorkOffsets::default(),
             Switches::default(),

@@ -10,6 +10,30 @@ use crate::lathe::desc::{load, LatheDesc, MachineDesc};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// `--dialect fanuc|linuxcnc` out of `argv` (docs/gcode.md "Fanuc dialect"): the dialect,
+/// if given, and the other arguments.
+pub fn take_dialect(
+    argv: &[String],
+) -> Result<(Option<crate::settings::Dialect>, Vec<String>), String> {
+    let (taken, rest) = super::args::take_values(argv, &["--dialect"])?;
+    let d = match taken.last() {
+        Some((_, v)) => Some(crate::settings::Dialect::parse(v).map_err(|e| format!("--{e}"))?),
+        None => None,
+    };
+    Ok((d, rest))
+}
+
+/// A lathe's programs are read in LinuxCNC's dialect: `--dialect fanuc` is refused there.
+pub fn lathe_dialect(d: Option<crate::settings::Dialect>) -> Result<(), String> {
+    match d {
+        Some(crate::settings::Dialect::Fanuc) => Err(
+            "--dialect fanuc: the lathe's channels read LinuxCNC's dialect only (docs/gcode.md \"Fanuc dialect\")"
+                .into(),
+        ),
+        _ => Ok(()),
+    }
+}
+
 /// `--machine NAME` out of `argv`: the value and the other arguments. `None` when absent.
 pub fn take_machine(argv: &[String]) -> Result<Option<(String, Vec<String>)>, String> {
     let mut rest = Vec::new();
@@ -47,6 +71,7 @@ pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings:
     s.rapid_mm_min = m.rapid_mm_min;
     s.accel_mm_s2 = m.accel_mm_s2;
     s.remap_m6 = m.remap_m6.clone();
+    s.dialect = m.dialect;
     s.tool_change_z_mm = m.tool_change_z_mm;
     s.workpiece = m.workpiece.clone();
 }

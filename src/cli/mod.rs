@@ -86,12 +86,21 @@ fn console(argv: &[String]) -> i32 {
         print!("{}", crate::terminal::HELP);
         return 0;
     }
-    let (mill, argv) = match lathe::take_machine(argv) {
+    let (dialect, argv) = match lathe::take_dialect(argv) {
+        Ok(x) => x,
+        Err(e) => return usage_error(&e),
+    };
+    let (mill, argv) = match lathe::take_machine(&argv) {
         Err(e) => return usage_error(&e),
         Ok(None) => (None, argv.to_vec()),
         Ok(Some((m, rest))) => match lathe::machine(&m) {
             Err(e) => return usage_error(&e),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return lathe::console(d, &rest),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => {
+                if let Err(e) = lathe::lathe_dialect(dialect) {
+                    return usage_error(&e);
+                }
+                return lathe::console(d, &rest);
+            }
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
         },
     };
@@ -108,6 +117,9 @@ fn console(argv: &[String]) -> i32 {
     };
     if let Some(m) = &mill {
         lathe::apply_mill(&mut cfg.settings, m);
+    }
+    if let Some(d) = dialect {
+        cfg.settings.dialect = d;
     }
     if let Some(r) = rest.first() {
         return usage_error(&format!("unexpected argument '{r}' (see --help)"));
@@ -127,9 +139,13 @@ fn window(argv: &[String]) -> i32 {
         return 0;
     }
     // `--machine` first: a lathe opens the lathe's window; the centre's axes go to the mill's.
-    let (machine, args) = match lathe::take_machine(&opts.console_args) {
+    let (dialect, console_args) = match lathe::take_dialect(&opts.console_args) {
+        Ok(x) => x,
         Err(e) => return usage_error(&e),
-        Ok(None) => (None, opts.console_args.clone()),
+    };
+    let (machine, args) = match lathe::take_machine(&console_args) {
+        Err(e) => return usage_error(&e),
+        Ok(None) => (None, console_args.clone()),
         Ok(Some((m, rest))) => match lathe::machine(&m) {
             Err(e) => return usage_error(&e),
             Ok(d) => (Some(d), rest),
@@ -145,12 +161,23 @@ fn window(argv: &[String]) -> i32 {
         ));
     }
     match machine {
-        Some(crate::lathe::desc::MachineDesc::Lathe(d)) => crate::window::lathe::run(d, cfg, opts),
+        Some(crate::lathe::desc::MachineDesc::Lathe(d)) => match lathe::lathe_dialect(dialect) {
+            Ok(()) => crate::window::lathe::run(d, cfg, opts),
+            Err(e) => usage_error(&e),
+        },
         Some(crate::lathe::desc::MachineDesc::Mill(m)) => {
             lathe::apply_mill(&mut cfg.settings, &m);
+            if let Some(d) = dialect {
+                cfg.settings.dialect = d;
+            }
             crate::window::run(cfg, opts)
         }
-        None => crate::window::run(cfg, opts),
+        None => {
+            if let Some(d) = dialect {
+                cfg.settings.dialect = d;
+            }
+            crate::window::run(cfg, opts)
+        }
     }
 }
 

@@ -44,12 +44,21 @@ and `---`. A bad line stops the script before anything runs (exit 1). Without --
 
 /// Runs `novanc script`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
-    let (mill, argv) = match super::lathe::take_machine(argv) {
+    let (dialect, argv) = match super::lathe::take_dialect(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+    };
+    let (mill, argv) = match super::lathe::take_machine(&argv) {
         Err(e) => return super::usage_error(&format!("script: {e}")),
         Ok(None) => (None, argv.to_vec()),
         Ok(Some((m, rest))) => match super::lathe::machine(&m) {
             Err(e) => return super::usage_error(&format!("script: {e}")),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => return super::lathe::script(d, &rest),
+            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => {
+                if let Err(e) = super::lathe::lathe_dialect(dialect) {
+                    return super::usage_error(&format!("script: {e}"));
+                }
+                return super::lathe::script(d, &rest);
+            }
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
         },
     };
@@ -71,6 +80,9 @@ pub fn main(argv: &[String]) -> i32 {
     };
     if let Some(m) = &mill {
         super::lathe::apply_mill(&mut cfg.settings, m);
+    }
+    if let Some(d) = dialect {
+        cfg.settings.dialect = d;
     }
     let file = match rest.as_slice() {
         [f] if !f.starts_with('-') => PathBuf::from(f),

@@ -13,7 +13,7 @@ use std::io::Write;
 const HELP: &str = "\
 usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
                                 [--optional-stop] [--subroutines DIR]...
-                                [--machine FILE]
+                                [--machine FILE] [--dialect fanuc|linuxcnc]
        novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
 
 Translates the part program PROG into machine instruction blocks and prints them, one ISO
@@ -38,6 +38,8 @@ options:
   --optional-stop     G-code: M01 stops (the OPTIONAL STOP switch)
   --subroutines DIR   G-code: a folder where 'o<name> call' finds name.ngc, after the
                       program's own folder (repeatable: searched in order)
+  --dialect D         G-code dialect: linuxcnc (the default, or the machine's) or fanuc
+                      (Custom Macro B; docs/gcode.md \"Fanuc dialect\")
   --machine FILE      a machining centre's description (docs/lathe.md \"Machine
                       description\"): its travel, and its M6 remap (docs/gcode.md)
   -h, --help          this help
@@ -352,8 +354,12 @@ impl Listing<'_> {
 
 /// Runs `novanc translate`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
+    let (dialect, argv) = match super::lathe::take_dialect(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("translate: {e}")),
+    };
     // --machine: a mill's description (its M6 remap, travel, tool change); not a lathe.
-    let (settings, argv) = match super::lathe::take_machine(argv) {
+    let (mut settings, argv) = match super::lathe::take_machine(&argv) {
         Err(e) => return super::usage_error(&format!("translate: {e}")),
         Ok(None) => (MachineSettings::default(), argv.to_vec()),
         Ok(Some((m, rest))) => match super::lathe::machine(&m) {
@@ -366,6 +372,9 @@ pub fn main(argv: &[String]) -> i32 {
             Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
         },
     };
+    if let Some(d) = dialect {
+        settings.dialect = d;
+    }
     let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
         Ok(a) => a,

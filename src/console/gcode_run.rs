@@ -267,6 +267,8 @@ pub(super) fn before_read(c: &mut Console) {
 /// turns the machine's off: LinuxCNC's M9 state after a reset), the other modal groups as
 /// read; the position and the tool are the machine's at the next START.
 pub(super) fn reset_state(st: &mut InterpState) {
+    // Fanuc's common variables #100–#199 are cleared (vacant) by RESET.
+    st.fanuc_reset();
     st.modal.mist = false;
     st.modal.flood = false;
     st.modal.comp = CompSide::Off;

@@ -176,7 +176,15 @@ pub enum CallType {
     Oword,
     /// `M98 P...` (Fanuc style).
     M98,
+    /// `G65 P... L...` with arguments (Fanuc's Custom Macro B): local #1–#33 of its own.
+    G65,
 }
+
+/// Fanuc's local variables, #1 to #33: each G65 call level has its own.
+pub const LOCALS: usize = 33;
+
+/// Fanuc's deepest WHILE/DO nesting (DO1 to DO3).
+pub const MAX_LOOPS: usize = 3;
 
 #[derive(Clone, Debug)]
 struct Label {
@@ -192,12 +200,14 @@ struct Frame {
     call_type: CallType,
     /// Where to go back to.
     ret: Pos,
-    /// The caller's #1 … #30.
-    saved_args: [f64; MAX_ARGS],
+    /// The caller's #1 … #30 (o-word call) or #1 … #33 (G65).
+    saved_args: [f64; LOCALS],
     /// The subroutine's local named parameters.
     locals: HashMap<String, f64>,
     /// M98 L: repeats of this frame's M98 line still to run (−1: none under way).
     m98_left: i64,
+    /// Fanuc's open WHILE/DO loops of this program: number and the WHILE (DO) line.
+    loops: Vec<(u8, Pos)>,
 }
 
 /// What a control line asks of the caller.
@@ -233,6 +243,13 @@ pub struct Flow {
     /// Where the line that started the current skip is (a call searching forward, a
     /// definition skipped over), for the error at the end of the program.
     skip_from: Option<Pos>,
+    /// Fanuc's open WHILE/DO loops of the main program.
+    main_loops: Vec<(u8, Pos)>,
+    /// Where a sequence number was found by GOTO: (unit, the byte of the GOTO line, n) → the
+    /// line.
+    seq_cache: HashMap<(usize, usize, i64), Pos>,
+    /// The line after the ENDm that closes the WHILE at (unit, byte).
+    end_cache: HashMap<(usize, usize), Pos>,
 }
 
 impl Flow {
@@ -252,6 +269,9 @@ impl Flow {
             m98_main_left: -1,
             skip_from: None,
             jumped: false,
+            main_loops: Vec::new(),
+            seq_cache: HashMap::new(),
+            end_cache: HashMap::new(),
         }
     }
 
@@ -409,7 +429,7 @@ impl Flow {
             }
             OKind::Sub => {
                 if let Some(f) = self.frames.last() {
-                    if f.call_type == CallType::M98 {
+                    if f.call_type != CallType::Oword {
                         return Err(format!(
                             "'o{} sub' must be called with 'o{} call', not M98",
                             o.label, o.label
@@ -448,7 +468,7 @@ impl Flow {
             }
             OKind::Endsub | OKind::Return => {
                 if let Some(f) = self.frames.last() {
-                    if f.call_type == CallType::M98 {
+                    if f.call_type != CallType::Oword {
                         return Err(
                             "a subprogram called by M98 ends with M99, not endsub or return".into(),
                         );
@@ -674,6 +694,9 @@ impl Flow {
                 CallType::M98 => {
                     format!("M98 P{name}: subprogram calls nested more than {MAX_CALL_DEPTH} deep")
                 }
+                CallType::G65 => {
+                    format!("G65 P{name}: macro calls nested more than {MAX_CALL_DEPTH} deep")
+                }
                 CallType::Oword => format!(
                     "{} call: calls nested more than {MAX_CALL_DEPTH} deep",
                     short(name)
@@ -681,12 +704,17 @@ impl Flow {
             });
         }
         let (to, search) = self.locate(name, call_type, finder)?;
-        let mut saved = [0.0; MAX_ARGS];
-        if call_type == CallType::Oword {
-            for (i, s) in saved.iter_mut().enumerate() {
-                *s = st.params[i + 1];
-                st.params[i + 1] = args.get(i).copied().unwrap_or(0.0);
-            }
+        let mut saved = [0.0; LOCALS];
+        // An o-word call's #1–#30 are its arguments, 0 when not given; a G65 call's #1–#33,
+        // null (vacant) when not given.
+        let (locals, absent) = match call_type {
+            CallType::Oword => (MAX_ARGS, 0.0),
+            CallType::G65 => (LOCALS, f64::NAN),
+            CallType::M98 => (0, 0.0),
+        };
+        for (i, s) in saved.iter_mut().enumerate().take(locals) {
+            *s = st.params[i + 1];
+            st.params[i + 1] = args.get(i).copied().unwrap_or(absent);
         }
         self.skipping = None;
         self.skip_from = Some(at);
@@ -697,6 +725,7 @@ impl Flow {
             saved_args: saved,
             locals: HashMap::new(),
             m98_left: -1,
+            loops: Vec::new(),
         });
         st.call_level = self.frames.len();
         self.pc = to;
@@ -712,6 +741,22 @@ impl Flow {
         &mut self,
         p: u32,
         l: Option<u32>,
+        at: Pos,
+        st: &mut InterpState,
+        finder: &dyn SubFinder,
+    ) -> Result<(), String> {
+        self.call_numbered(p, l, CallType::M98, &[], at, st, finder)
+    }
+
+    /// M98 or G65 P L: a call of program number `p`, repeated L times (L0: not called); the
+    /// line at `at` runs again for each repeat. `args` are G65's #1–#33 (NaN: not given).
+    #[allow(clippy::too_many_arguments)]
+    pub fn call_numbered(
+        &mut self,
+        p: u32,
+        l: Option<u32>,
+        call_type: CallType,
+        args: &[f64],
         at: Pos,
         st: &mut InterpState,
         finder: &dyn SubFinder,
@@ -736,7 +781,7 @@ impl Flow {
                 return Ok(());
             }
         }
-        self.call(&name, CallType::M98, &[], at, st, finder)?;
+        self.call(&name, call_type, args, at, st, finder)?;
         if again {
             if let Some(f) = self.frames.last_mut() {
                 f.ret = at;
@@ -749,7 +794,7 @@ impl Flow {
     pub fn return_m99(&mut self, st: &mut InterpState) -> Result<(), String> {
         match self.frames.last() {
             None => Err("M99 outside a subprogram (novanc does not loop the main program)".into()),
-            Some(f) if f.call_type != CallType::M98 => Err(format!(
+            Some(f) if f.call_type == CallType::Oword => Err(format!(
                 "{} sub ends with '{} endsub', not M99",
                 short(&f.name),
                 short(&f.name)
@@ -765,10 +810,13 @@ impl Flow {
         let Some(f) = self.frames.pop() else {
             return;
         };
-        if f.call_type == CallType::Oword {
-            for (i, v) in f.saved_args.iter().enumerate() {
-                st.params[i + 1] = *v;
-            }
+        let locals = match f.call_type {
+            CallType::Oword => MAX_ARGS,
+            CallType::G65 => LOCALS,
+            CallType::M98 => 0,
+        };
+        for (i, v) in f.saved_args.iter().enumerate().take(locals) {
+            st.params[i + 1] = *v;
         }
         self.pc = f.ret;
         self.jumped = true;
@@ -819,6 +867,9 @@ impl Flow {
                 CallType::M98 => format!(
                     "M98 P{name}: subprogram O{name} is not in the program (searched forward from the call, as LinuxCNC does)"
                 ),
+                CallType::G65 => format!(
+                    "G65 P{name}: macro O{name} is not in the program (searched forward from the call) nor a file {file} in the subroutine path"
+                ),
                 CallType::Oword => format!(
                     "subroutine {} not found (not in this program, and no file {file} in the subroutine path)",
                     short(name)
@@ -843,16 +894,158 @@ impl Flow {
         false
     }
 
+    /// The open Fanuc loops of the program running now.
+    fn loops(&mut self) -> &mut Vec<(u8, Pos)> {
+        match self.frames.last_mut() {
+            Some(f) => &mut f.loops,
+            None => &mut self.main_loops,
+        }
+    }
+
+    /// Where the program running now starts: its O line (a called one's), or its unit's
+    /// first line.
+    fn program_start(&self) -> Pos {
+        self.frames
+            .last()
+            .and_then(|f| self.labels.get(&f.name))
+            .map(|l| l.pos)
+            .filter(|p| p.unit == self.pc.unit)
+            .unwrap_or(Pos::start(self.pc.unit))
+    }
+
+    /// The first line at or after `from` in its unit that `want` picks, before `stop` (a
+    /// byte; with `usize::MAX`, before another program's O line too); the line's place.
+    fn scan(&self, from: Pos, stop: usize, want: impl Fn(&str) -> bool) -> Option<Pos> {
+        let unit = self.units.get(from.unit)?;
+        let mut at = from;
+        while at.byte < stop {
+            let (raw, next) = unit.line_at(at.byte)?;
+            if want(raw) {
+                return Some(at);
+            }
+            if stop == usize::MAX && at != from && starts_program(raw) {
+                return None;
+            }
+            at = Pos {
+                unit: at.unit,
+                line: at.line + 1,
+                byte: next,
+            };
+        }
+        None
+    }
+
+    /// Fanuc's `GOTO n` read at `at`: on to the line whose sequence number is `n` in the
+    /// program running now, searched forward from the next line, then from the program's
+    /// start. Loops the jump leaves are closed.
+    pub fn goto(&mut self, n: i64, at: Pos) -> Result<(), String> {
+        let start = self.program_start();
+        let key = (at.unit, at.byte, n);
+        let to = match self.seq_cache.get(&key) {
+            Some(&p) => p,
+            None => {
+                let is_n = |raw: &str| seq_number(raw) == Some(n);
+                let found = self
+                    .scan(self.pc, usize::MAX, is_n)
+                    .or_else(|| self.scan(start, self.pc.byte, is_n))
+                    .ok_or_else(|| {
+                        format!("GOTO {n}: no block N{n} in this program (searched forward, then from its start)")
+                    })?;
+                self.seq_cache.insert(key, found);
+                found
+            }
+        };
+        // The loops whose lines the jump leaves are over.
+        while let Some(&(_, w)) = self.loops().last() {
+            let end = self.loop_end(w).map_or(usize::MAX, |e| e.byte);
+            if w.byte < to.byte && to.byte < end {
+                break;
+            }
+            self.loops().pop();
+        }
+        if to.byte <= at.byte {
+            self.jumped = true;
+        }
+        self.pc = to;
+        Ok(())
+    }
+
+    /// The line after the ENDm that closes the loop opened at `w` (None: there is none).
+    fn loop_end(&mut self, w: Pos) -> Option<Pos> {
+        if let Some(&p) = self.end_cache.get(&(w.unit, w.byte)) {
+            return Some(p);
+        }
+        let unit = self.units.get(w.unit)?;
+        let (raw, next) = unit.line_at(w.byte)?;
+        let m = loop_start_number(raw)?;
+        let after = Pos {
+            unit: w.unit,
+            line: w.line + 1,
+            byte: next,
+        };
+        let end = self.scan(after, usize::MAX, |raw| loop_end_number(raw) == Some(m))?;
+        let (_, past) = unit.line_at(end.byte)?;
+        let p = Pos {
+            unit: w.unit,
+            line: end.line + 1,
+            byte: past,
+        };
+        self.end_cache.insert((w.unit, w.byte), p);
+        Some(p)
+    }
+
+    /// Fanuc's `WHILE [test] DOm` (`while_test` None: a `DOm` alone) read at `at`: a true
+    /// test opens the loop; a false one goes on after its ENDm.
+    pub fn fanuc_do(&mut self, while_test: Option<bool>, m: u8, at: Pos) -> Result<(), String> {
+        if while_test == Some(false) {
+            let after = self
+                .loop_end(at)
+                .ok_or_else(|| format!("WHILE [...] DO{m}: no END{m} after it in this program"))?;
+            self.pc = after;
+            return Ok(());
+        }
+        let loops = self.loops();
+        if let Some(&(_, p)) = loops.iter().find(|(k, _)| *k == m) {
+            return Err(format!(
+                "DO{m} inside the loop DO{m} of line {}: nested loops need different numbers",
+                p.line + 1
+            ));
+        }
+        if loops.len() >= MAX_LOOPS {
+            return Err(format!(
+                "DO{m}: loops nested more than {MAX_LOOPS} deep (DO1 to DO3)"
+            ));
+        }
+        loops.push((m, at));
+        Ok(())
+    }
+
+    /// Fanuc's `ENDm`: back to the WHILE (or DO) of loop `m`, which must be the innermost
+    /// one open.
+    pub fn fanuc_end(&mut self, m: u8) -> Result<(), String> {
+        match self.loops().last().copied() {
+            None => Err(format!("END{m} without a DO{m} before it")),
+            Some((k, p)) if k != m => Err(format!(
+                "END{m} where the loop DO{k} of line {} is still open: loops may nest, not cross",
+                p.line + 1
+            )),
+            Some((_, p)) => {
+                self.loops().pop();
+                self.pc = p;
+                self.jumped = true;
+                Ok(())
+            }
+        }
+    }
+
     /// The error for reaching the end of a unit: while skipping to a label, or in a
     /// subroutine without its end.
     pub fn end_error(&self) -> String {
         if let Some(s) = &self.skipping_to_sub {
-            if self
-                .frames
-                .last()
-                .is_some_and(|f| f.call_type == CallType::M98)
-            {
-                return format!("M98 P{s}: subprogram O{s} is not in the program (searched forward from the call, as LinuxCNC does)");
+            match self.frames.last().map(|f| f.call_type) {
+                Some(CallType::M98) => return format!("M98 P{s}: subprogram O{s} is not in the program (searched forward from the call, as LinuxCNC does)"),
+                Some(CallType::G65) => return format!("G65 P{s}: macro O{s} is not in the program"),
+                _ => {}
             }
             let file = s.rsplit('#').next().unwrap_or(s);
             return format!("subroutine {} not found (not in this program, and no file {file}.ngc in the subroutine path)", short(s));
@@ -869,6 +1062,9 @@ impl Flow {
         match self.frames.last() {
             Some(f) if f.call_type == CallType::M98 => {
                 format!("subprogram O{} ends without M99", f.name)
+            }
+            Some(f) if f.call_type == CallType::G65 => {
+                format!("macro O{} ends without M99", f.name)
             }
             Some(f) => format!(
                 "subroutine o{} ends without endsub or return",
@@ -892,4 +1088,69 @@ fn short(name: &str) -> String {
 /// An O-line's label as written: `o100`, `o<name>`.
 fn label(o: &OLine) -> String {
     short(&o.label)
+}
+
+/// The letters and digits of a line after an optional `/` and its N word (spaces and
+/// comments gone, lower case), and the N word's digits.
+fn block_body(raw: &str) -> (Vec<u8>, Option<Vec<u8>>) {
+    let b: Vec<u8> = significant(raw).map(|c| c.to_ascii_lowercase()).collect();
+    let mut i = usize::from(b.first() == Some(&b'/'));
+    let mut n = None;
+    if b.get(i) == Some(&b'n') {
+        let start = i + 1;
+        i = start;
+        while b.get(i).is_some_and(u8::is_ascii_digit) {
+            i += 1;
+        }
+        n = Some(b[start..i].to_vec());
+    }
+    (b[i..].to_vec(), n)
+}
+
+/// The sequence number of a line (`N120 ...`: 120), if it has one that is whole.
+pub fn seq_number(raw: &str) -> Option<i64> {
+    let b = raw.trim_start().as_bytes();
+    if !matches!(b.first(), Some(b'n' | b'N' | b'/')) {
+        return None;
+    }
+    let (body, n) = block_body(raw);
+    let digits = n?;
+    if digits.is_empty() || digits.len() > 9 || body.first() == Some(&b'.') {
+        return None;
+    }
+    std::str::from_utf8(&digits).ok()?.parse().ok()
+}
+
+/// Whether a line starts a program: `O` and a number, and nothing else.
+fn starts_program(raw: &str) -> bool {
+    let Some(rest) = o_label(raw) else {
+        return false;
+    };
+    let mut it = significant(rest).peekable();
+    it.peek().is_some_and(u8::is_ascii_digit) && it.all(|c| c.is_ascii_digit())
+}
+
+/// The loop number of a `WHILE [...] DOm` or `DOm` line.
+fn loop_start_number(raw: &str) -> Option<u8> {
+    let (body, _) = block_body(raw);
+    let tail = if body.starts_with(b"while") {
+        let k = body.windows(2).rposition(|w| w == b"do")?;
+        &body[k..]
+    } else {
+        &body[..]
+    };
+    let d = tail.strip_prefix(b"do")?;
+    match d {
+        [c @ b'1'..=b'3'] => Some(c - b'0'),
+        _ => None,
+    }
+}
+
+/// The loop number of an `ENDm` line.
+fn loop_end_number(raw: &str) -> Option<u8> {
+    let (body, _) = block_body(raw);
+    match body.strip_prefix(b"end")? {
+        [c @ b'1'..=b'3'] => Some(c - b'0'),
+        _ => None,
+    }
 }

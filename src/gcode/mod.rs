@@ -32,7 +32,7 @@ pub use search::translate_all;
 pub use state::InterpState;
 
 use crate::block::{MachineState, Statement, TranslateError};
-use crate::settings::MachineSettings;
+use crate::settings::{Dialect, MachineSettings};
 use crate::tooldata::Magazine;
 use canon::{Canon, Emitter};
 use comp::Comp;
@@ -147,6 +147,33 @@ struct ParamEnv<'a> {
     st: &'a InterpState,
     flow: &'a Flow,
 }
+
+/// Fanuc's argument specification I: the letters G65 takes and the local variable each
+/// sets (A→#1, B→#2, C→#3, I→#4, J→#5, K→#6, D→#7, E→#8, F→#9, H→#11, M→#13, Q→#17,
+/// R→#18, S→#19, T→#20, U→#21, V→#22, W→#23, X→#24, Y→#25, Z→#26).
+pub const G65_ARGUMENTS: [(char, usize); 21] = [
+    ('A', 1),
+    ('B', 2),
+    ('C', 3),
+    ('I', 4),
+    ('J', 5),
+    ('K', 6),
+    ('D', 7),
+    ('E', 8),
+    ('F', 9),
+    ('H', 11),
+    ('M', 13),
+    ('Q', 17),
+    ('R', 18),
+    ('S', 19),
+    ('T', 20),
+    ('U', 21),
+    ('V', 22),
+    ('W', 23),
+    ('X', 24),
+    ('Y', 25),
+    ('Z', 26),
+];
 
 impl Env for ParamEnv<'_> {
     fn numbered(&self, n: usize) -> Result<f64, String> {
@@ -298,6 +325,9 @@ impl GcodeSource {
         st.remap_level = 0;
         // A NURBS is begun and ended within one program (or one MDI text).
         st.nurbs = None;
+        if settings.dialect == Dialect::Fanuc {
+            st.fanuc_power_on();
+        }
         let first_code = source.split('\n').position(|l| {
             let t = l.trim();
             !(t.is_empty() || t == "%" || t.starts_with('(') || t.starts_with(';'))
@@ -588,7 +618,11 @@ impl GcodeSource {
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
             let skipping: Option<&dyn Fn(&str, read::OKind) -> bool> =
                 if flow.skipping() { Some(&skip) } else { None };
-            read::read_into(&mut self.scratch, &mut line, raw, n, &env, skipping)
+            let opts = read::ReadOpts {
+                fanuc: self.settings.dialect == Dialect::Fanuc,
+                increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
+            };
+            read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
         };
         let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
         self.line_buf = Some(line);
@@ -674,9 +708,21 @@ impl GcodeSource {
         if let Some(v) = line.n {
             self.st.line_number = v;
         }
+        let fanuc = self.settings.dialect == Dialect::Fanuc;
+        let mut stop = None;
         // Parameters take their new values before the words execute.
         for (t, v, col) in &line.assigns {
             match t {
+                Target::Numbered(p @ (3000 | 3006)) if fanuc => {
+                    self.fanuc_message(n, *p, *v, *col, &line.comments)?;
+                    stop = Some(*col);
+                }
+                Target::Numbered(p) if fanuc && state::is_fanuc_kept(*p) => {
+                    self.st.params[*p] = *v;
+                    // Kept by the stores; a vacant one is kept as nothing (0).
+                    let kept = if read::is_null(*v) { 0.0 } else { *v };
+                    self.events.push(Event::Param(*p, kept));
+                }
                 Target::Numbered(p) => {
                     self.st.writable(*p).map_err(|m| TranslateError {
                         line: n,
@@ -706,7 +752,56 @@ impl GcodeSource {
                 }
             }
         }
+        if let Some(col) = stop {
+            // #3006: a stop with its message, as M00.
+            if !line.words.is_empty() {
+                return Err(TranslateError {
+                    line: n,
+                    col,
+                    message: "#3006 stands on a block of its own (no words with it)".into(),
+                });
+            }
+            let mut x = ctx!(self, n);
+            let r = self.comp.flush(&mut x, col);
+            if r.is_ok() {
+                let m0 = Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(0),
+                };
+                self.comp.aux(&mut x, m0, col);
+            }
+            let out = x.out;
+            if let Err(e) = r {
+                self.out_buf = out;
+                return Err(e);
+            }
+            return Ok(Some(self.finish(n, trimmed(raw), out, false)));
+        }
         self.comments(n, &line.comments)?;
+        if let Some(m) = line.fanuc {
+            let (r, col) = match m {
+                read::Macro::Goto { n: seq, col } => (self.flow.goto(seq, at), col),
+                read::Macro::While { test, m, col } => (self.flow.fanuc_do(Some(test), m, at), col),
+                read::Macro::Do { m, col } => (self.flow.fanuc_do(None, m, at), col),
+                read::Macro::End { m, col } => (self.flow.fanuc_end(m), col),
+            };
+            r.map_err(|message| TranslateError {
+                line: n,
+                col,
+                message,
+            })?;
+            return Ok(None);
+        }
+        if fanuc
+            && line
+                .words
+                .iter()
+                .any(|w| w.letter == 'G' && w.value == 65.0)
+        {
+            self.g65(at, n, line)?;
+            return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+        }
         if line.words.is_empty() {
             if line.assigns.is_empty() && line.comments.is_empty() {
                 return Ok(None);
@@ -813,6 +908,115 @@ impl GcodeSource {
             n,
             raw: raw.to_string(),
             words: None,
+        });
+        Ok(())
+    }
+
+    /// Fanuc's `G65 P L` and its arguments (specification I, [`G65_ARGUMENTS`]): calls macro
+    /// program O`P` with local variables #1–#33 of its own.
+    fn g65(&mut self, at: Pos, n: u32, line: &read::Line) -> Result<(), TranslateError> {
+        let err = |col: u32, message: String| TranslateError {
+            line: n,
+            col,
+            message,
+        };
+        let g_col = line
+            .words
+            .iter()
+            .find(|w| w.letter == 'G')
+            .map_or(1, |w| w.col);
+        let mut args = [f64::NAN; flow::LOCALS];
+        let (mut p, mut l) = (None, None);
+        for w in &line.words {
+            match w.letter {
+                'G' if w.value == 65.0 && w.col == g_col => {}
+                'G' => {
+                    return Err(err(
+                        w.col,
+                        "G65 stands alone on its block: no other G code with it".into(),
+                    ))
+                }
+                'P' | 'L' => {
+                    let v = w.value.round();
+                    // L is bounded as M98's is (docs/limits.md).
+                    let max = if w.letter == 'P' {
+                        99_999_999.0
+                    } else {
+                        MAX_REPEATS as f64
+                    };
+                    if (w.value - v).abs() > 1e-4 || !(0.0..=max).contains(&v) {
+                        return Err(err(
+                            w.col,
+                            format!("G65 {}: a whole number 0 to {max}", w.letter),
+                        ));
+                    }
+                    let slot = if w.letter == 'P' { &mut p } else { &mut l };
+                    if slot.is_some() {
+                        return Err(err(w.col, format!("G65: {} is given twice", w.letter)));
+                    }
+                    *slot = Some(v as u32);
+                }
+                c => {
+                    let Some(&(_, k)) = G65_ARGUMENTS.iter().find(|(a, _)| *a == c) else {
+                        return Err(err(
+                            w.col,
+                            format!("G65: {c} is not an argument (A B C D E F H I J K M Q R S T U V W X Y Z)"),
+                        ));
+                    };
+                    if !args[k - 1].is_nan() {
+                        return Err(err(w.col, format!("G65: argument {c} is given twice")));
+                    }
+                    args[k - 1] = w.value;
+                }
+            }
+        }
+        let Some(p) = p else {
+            return Err(err(g_col, "G65 needs P, the macro's program number".into()));
+        };
+        self.flow
+            .call_numbered(
+                p,
+                l,
+                flow::CallType::G65,
+                &args,
+                at,
+                &mut self.st,
+                self.finder.as_ref(),
+            )
+            .map_err(|m| err(g_col, m))
+    }
+
+    /// Fanuc's `#3000 = n (MESSAGE)`: macro alarm 3000 + n, the run stops there; `#3006 = n
+    /// (MESSAGE)`: a stop with the message (as M00), the run goes on at CYCLE START.
+    fn fanuc_message(
+        &mut self,
+        n: u32,
+        p: usize,
+        v: f64,
+        col: u32,
+        comments: &[read::Comment],
+    ) -> Result<(), TranslateError> {
+        let text = comments
+            .first()
+            .map_or(String::new(), |c| c.text.trim().to_string());
+        let k = if read::is_null(v) { 0.0 } else { v.round() };
+        if !(0.0..=999.0).contains(&k) {
+            return Err(TranslateError {
+                line: n,
+                col,
+                message: format!("#{p} = {v}: the number is 0 to 999"),
+            });
+        }
+        if p == 3000 {
+            return Err(TranslateError {
+                line: n,
+                col,
+                message: format!("MACRO ALARM {}: {text} (#3000 = {k})", 3000 + k as u32),
+            });
+        }
+        self.events.push(Event::Message {
+            kind: "MSG",
+            text: format!("#3006 STOP {k}: {text}"),
         });
         Ok(())
     }

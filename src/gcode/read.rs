@@ -215,6 +215,74 @@ pub struct Line {
     pub o: Option<OLine>,
     /// The comments, in order.
     pub comments: Vec<Comment>,
+    /// A Fanuc Custom Macro B flow statement (GOTO, a true IF's GOTO, WHILE, DO, END).
+    pub fanuc: Option<Macro>,
+}
+
+/// A Fanuc Custom Macro B flow statement (docs/gcode.md "Fanuc dialect"). An `IF [..] GOTO n`
+/// whose condition is false is no statement; an `IF [..] THEN` whose condition is true leaves
+/// its assignment in the line's assignments.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Macro {
+    /// `GOTO n` (or a true `IF [..] GOTO n`): to the line with sequence number `n`.
+    Goto {
+        /// The sequence number.
+        n: i64,
+        /// Column of GOTO (or IF).
+        col: u32,
+    },
+    /// `WHILE [cond] DOm`.
+    While {
+        /// The condition's value.
+        test: bool,
+        /// The loop number, 1 to 3.
+        m: u8,
+        /// Column of WHILE.
+        col: u32,
+    },
+    /// `DOm` without WHILE: a loop without end.
+    Do {
+        /// The loop number, 1 to 3.
+        m: u8,
+        /// Column of DO.
+        col: u32,
+    },
+    /// `ENDm`.
+    End {
+        /// The loop number, 1 to 3.
+        m: u8,
+        /// Column of END.
+        col: u32,
+    },
+}
+
+/// How a line is read: LinuxCNC's language (the default), or Fanuc's Custom Macro B
+/// (docs/gcode.md "Fanuc dialect").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReadOpts {
+    /// Fanuc: GOTO, IF, WHILE, DO, END, `#0` null, BIN and BCD, and numbers without a decimal
+    /// point on the length addresses in least increments.
+    pub fanuc: bool,
+    /// The least increment in program units (0.001 mm under G21, 0.0001 inch under G20).
+    pub increment: f64,
+}
+
+/// The addresses whose value, written without a decimal point, is in least increments in the
+/// Fanuc dialect: the axes, the arc centre, R and Q (docs/gcode.md "Fanuc dialect").
+pub const FANUC_INCREMENT_LETTERS: &[u8] = b"XYZABCUVWIJKRQ";
+
+/// A value that is Fanuc's null (`#0`, a vacant variable): NaN inside the reader.
+pub fn is_null(v: f64) -> bool {
+    v.is_nan()
+}
+
+/// Null in arithmetic is 0 (Fanuc).
+fn nz(v: f64) -> f64 {
+    if v.is_nan() {
+        0.0
+    } else {
+        v
+    }
 }
 
 impl Line {
@@ -231,6 +299,7 @@ impl Line {
         self.percent = false;
         self.o = None;
         self.comments.clear();
+        self.fanuc = None;
     }
 }
 
@@ -253,6 +322,10 @@ struct Reader<'a> {
     end_col: u32,
     /// Nesting of values being read (brackets, signs, parameters), bounded.
     depth: u32,
+    /// Fanuc's Custom Macro B.
+    fanuc: bool,
+    /// The last number read had a decimal point.
+    point: bool,
 }
 
 impl Reader<'_> {
@@ -319,6 +392,7 @@ impl Reader<'_> {
                 k += 1;
             }
             if part == 1 || rest.get(k) != Some(&b'.') {
+                self.point = part == 1;
                 break;
             }
             k += 1;
@@ -372,7 +446,7 @@ impl Reader<'_> {
 
     fn value_inner(&mut self) -> Result<f64, TranslateError> {
         if self.eat('-') {
-            return Ok(-self.value()?);
+            return Ok(-nz(self.value()?));
         }
         if self.eat('+') {
             return self.value();
@@ -430,6 +504,9 @@ impl Reader<'_> {
             return Ok((Target::Named(self.name()?), col));
         }
         let (n, _) = self.integer("parameter number")?;
+        if self.fanuc && n == 0 {
+            return Ok((Target::Numbered(0), col));
+        }
         if n < 1 || n > MAX_PARAM as i64 {
             return Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}")));
         }
@@ -443,6 +520,7 @@ impl Reader<'_> {
 
     fn lookup(&self, t: &Target, col: u32) -> Result<f64, TranslateError> {
         match t {
+            Target::Numbered(0) => Ok(f64::NAN),
             Target::Numbered(n) => self.env.numbered(*n).map_err(|m| self.err(col, m)),
             Target::Named(name) => match self.env.named(name) {
                 Ok(Some(v)) => Ok(v),
@@ -471,7 +549,9 @@ impl Reader<'_> {
             "abs", "acos", "asin", "atan", "cos", "exists", "exp", "fix", "fup", "ln", "round",
             "sin", "sqrt", "tan",
         ];
-        let Some(name) = NAMES.iter().find(|n| self.eat_name(n)) else {
+        const FANUC_NAMES: [&str; 2] = ["bcd", "bin"];
+        let fanuc_names: &[&str] = if self.fanuc { &FANUC_NAMES } else { &[] };
+        let Some(name) = NAMES.iter().chain(fanuc_names).find(|n| self.eat_name(n)) else {
             let mut word = String::new();
             let mut k = 0;
             while let Some(c) = self.at(k).filter(|c| c.is_ascii_alphabetic()) {
@@ -508,7 +588,8 @@ impl Reader<'_> {
                 },
             });
         }
-        let a = self.bracket()?;
+        // Null in arithmetic is 0 (Fanuc; nothing is null in LinuxCNC's language).
+        let a = nz(self.bracket()?);
         let dom = |ok: bool, what: &str| -> Result<(), TranslateError> {
             if ok {
                 Ok(())
@@ -534,8 +615,21 @@ impl Reader<'_> {
                 if !self.eat('/') || self.peek() != Some('[') {
                     return Err(self.err(self.col(), "ATAN is written ATAN[y]/[x]"));
                 }
-                let b = self.bracket()?;
-                a.atan2(b).to_degrees()
+                let b = nz(self.bracket()?);
+                let t = a.atan2(b).to_degrees();
+                // Fanuc's ATAN answers 0 to 360 degrees (parameter 6004#0 = 0).
+                if self.fanuc && t < 0.0 {
+                    t + 360.0
+                } else {
+                    t
+                }
+            }
+            "bin" | "bcd" => {
+                dom(
+                    a >= 0.0 && a.fract() == 0.0 && a < 1e15,
+                    "needs a whole number not below 0",
+                )?;
+                bin_bcd(*name == "bin", a as u64).map_err(|m| self.err(col, m))? as f64
             }
             "cos" => a.to_radians().cos(),
             "sin" => a.to_radians().sin(),
@@ -545,6 +639,10 @@ impl Reader<'_> {
                 t
             }
             "exp" => a.exp(),
+            // Fanuc's FIX drops the fraction and FUP raises it away from zero (FIX[-1.2] is
+            // -1, FUP[-1.2] is -2); LinuxCNC's are floor and ceiling.
+            "fix" if self.fanuc => a.trunc(),
+            "fup" if self.fanuc => a.signum() * a.abs().ceil(),
             "fix" => a.floor(),
             "fup" => a.ceil(),
             "ln" => {
@@ -600,6 +698,23 @@ impl Reader<'_> {
             };
             let b = self.expr(level + 1)?;
             let t = |x: bool| if x { 1.0 } else { 0.0 };
+            if a.is_nan() || b.is_nan() {
+                // Fanuc's null: EQ and NE tell it from every number (`#0 EQ #0` is true,
+                // `#0 EQ 0` false); everywhere else it is 0.
+                match op {
+                    "eq" => {
+                        a = t(a.is_nan() && b.is_nan());
+                        continue;
+                    }
+                    "ne" => {
+                        a = t(a.is_nan() != b.is_nan());
+                        continue;
+                    }
+                    _ => {}
+                }
+            }
+            let (a0, b) = (nz(a), nz(b));
+            a = a0;
             a = match op {
                 "+" => a + b,
                 "-" => a - b,
@@ -651,6 +766,31 @@ impl Reader<'_> {
         }
         self.bracket()
     }
+}
+
+/// Fanuc's BIN (BCD to binary) and BCD (binary to BCD) of a whole number.
+fn bin_bcd(bin: bool, a: u64) -> Result<u64, String> {
+    let (mut v, mut out, mut shift) = (a, 0u64, 0u32);
+    while v > 0 {
+        let d = if bin { v & 0xf } else { v % 10 };
+        if bin && d > 9 {
+            return Err(format!(
+                "BIN[{a}]: {a} is not a BCD number (a nibble above 9)"
+            ));
+        }
+        let place = if bin {
+            10u64.checked_pow(shift)
+        } else {
+            1u64.checked_shl(4 * shift)
+        };
+        out = place
+            .and_then(|p| p.checked_mul(d))
+            .and_then(|x| out.checked_add(x))
+            .ok_or_else(|| format!("BCD[{a}]: too large"))?;
+        v = if bin { v >> 4 } else { v / 10 };
+        shift += 1;
+    }
+    Ok(out)
 }
 
 /// What the plain-line pass of [`normalise`] makes of each byte: [`BLANK`] (a space, a tab, a
@@ -822,6 +962,19 @@ pub fn read_into(
     env: &dyn Env,
     skipping: Option<Skipping>,
 ) -> Result<(), TranslateError> {
+    read_into_opts(scratch, out, raw, line, env, skipping, ReadOpts::default())
+}
+
+/// [`read_into`] in a dialect (`opts`).
+pub fn read_into_opts(
+    scratch: &mut Scratch,
+    out: &mut Line,
+    raw: &str,
+    line: u32,
+    env: &dyn Env,
+    skipping: Option<Skipping>,
+    opts: ReadOpts,
+) -> Result<(), TranslateError> {
     out.clear();
     let end_col = normalise(scratch, out, raw, line)?;
     let (bytes, cols) = (&scratch.bytes, &scratch.cols);
@@ -837,6 +990,8 @@ pub fn read_into(
         env,
         end_col,
         depth: 0,
+        fanuc: opts.fanuc,
+        point: false,
     };
     if r.eat('/') {
         out.block_delete = true;
@@ -870,7 +1025,11 @@ pub fn read_into(
                     format!("'=' expected after {what} (a parameter alone is not a word)"),
                 ));
             }
-            let v = r.value()?;
+            if t == Target::Numbered(0) {
+                return Err(r.err(col, "#0 is null: it cannot be set"));
+            }
+            // Fanuc's right-hand side is an expression (`#1=#2+1`); LinuxCNC's a value.
+            let v = if r.fanuc { r.expr(0)? } else { r.value()? };
             out.assigns.push((t, v, col));
             continue;
         }
@@ -881,6 +1040,10 @@ pub fn read_into(
             ));
         }
         let letter = ch.to_ascii_uppercase();
+        if r.fanuc && r.at(1).is_some_and(|c| c.is_ascii_alphabetic()) && fanuc_keyword(&r) {
+            fanuc_statement(&mut r, out)?;
+            return Ok(());
+        }
         // A keyword is letters on letters; a word's letter is followed by its value.
         let keywords: &[&str] = if r.at(1).is_some_and(|c| c.is_ascii_alphabetic()) {
             &["goto", "if", "while", "then", "do", "end"]
@@ -910,17 +1073,166 @@ pub fn read_into(
         }
         r.i += 1;
         // A number, or a minus and a number: read straight (what `value` does with them).
-        let value = match (r.at(0), r.at(1)) {
-            (Some(b'0'..=b'9' | b'.'), _) => r.number()?,
-            (Some(b'-'), Some(b'0'..=b'9' | b'.')) => {
-                r.i += 1;
-                -r.number()?
+        let value = if r.fanuc {
+            let v = fanuc_word_value(&mut r, letter, opts.increment)?;
+            if is_null(v) {
+                // A word whose value is null is as if it were not written (Fanuc).
+                continue;
             }
-            _ => r.value()?,
+            v
+        } else {
+            match (r.at(0), r.at(1)) {
+                (Some(b'0'..=b'9' | b'.'), _) => r.number()?,
+                (Some(b'-'), Some(b'0'..=b'9' | b'.')) => {
+                    r.i += 1;
+                    -r.number()?
+                }
+                _ => r.value()?,
+            }
         };
         out.words.push(Word { letter, value, col });
     }
     Ok(())
+}
+
+/// A word's value in the Fanuc dialect: a number written without a decimal point on a
+/// length address ([`FANUC_INCREMENT_LETTERS`]) is in least increments (`X10` is 0.010 mm).
+fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64, TranslateError> {
+    let sign = match (r.at(0), r.at(1)) {
+        (Some(b'-'), Some(b'0'..=b'9' | b'.')) => -1.0,
+        (Some(b'+'), Some(b'0'..=b'9' | b'.')) => 1.0,
+        (Some(b'0'..=b'9' | b'.'), _) => 0.0,
+        _ => return r.value(),
+    };
+    if sign != 0.0 {
+        r.i += 1;
+    }
+    let v = r.number()?;
+    let sign = if sign == 0.0 { 1.0 } else { sign };
+    if !r.point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
+        return Ok(sign * v * increment);
+    }
+    Ok(sign * v)
+}
+
+/// Whether a Fanuc statement's keyword starts at the reader's place: GOTO, IF [, WHILE [,
+/// DO and END with their number (`X SIN[30]`, `I FIX[..]` are words).
+fn fanuc_keyword(r: &Reader) -> bool {
+    let rest = &r.b[r.i..];
+    let next = |k: usize| rest.get(k).copied();
+    let number = |c: Option<u8>| matches!(c, Some(b'0'..=b'9' | b'#' | b'['));
+    (rest.starts_with(b"goto") && !next(4).is_some_and(|c| c.is_ascii_alphabetic()))
+        || (rest.starts_with(b"if") && next(2) == Some(b'['))
+        || (rest.starts_with(b"while") && next(5) == Some(b'['))
+        || (rest.starts_with(b"do") && number(next(2)))
+        || (rest.starts_with(b"end") && number(next(3)))
+}
+
+/// A Fanuc flow statement at the reader's place (letters on letters): GOTO, IF, WHILE, DO,
+/// END; nothing more is read on the line. An `IF [..] THEN` whose condition holds leaves its
+/// assignment in the line's assignments.
+fn fanuc_statement(r: &mut Reader, out: &mut Line) -> Result<bool, TranslateError> {
+    let col = r.col();
+    let alone = |r: &Reader, out: &Line, what: &str| -> Result<(), TranslateError> {
+        if out.words.is_empty() && out.assigns.is_empty() {
+            Ok(())
+        } else {
+            Err(r.err(col, format!("{what} must begin its block (after N)")))
+        }
+    };
+    let loop_number = |r: &mut Reader, what: &str| -> Result<u8, TranslateError> {
+        let (m, mcol) = r.integer(&format!("{what}'s loop number"))?;
+        if !(1..=3).contains(&m) {
+            return Err(r.err(mcol, format!("{what}{m}: the loop number is 1 to 3")));
+        }
+        Ok(m as u8)
+    };
+    let goto = |r: &mut Reader| -> Result<i64, TranslateError> {
+        let (n, ncol) = r.integer("GOTO's sequence number")?;
+        if !(1..=99_999).contains(&n) {
+            return Err(r.err(ncol, format!("GOTO {n}: a sequence number is 1 to 99999")));
+        }
+        Ok(n)
+    };
+    let ended = |r: &Reader, what: &str| -> Result<bool, TranslateError> {
+        match r.peek() {
+            None => Ok(true),
+            Some(c) => Err(r.err(
+                r.col(),
+                format!("unexpected {} after {what}", describe_char(c)),
+            )),
+        }
+    };
+    if r.eat_name("goto") {
+        alone(r, out, "GOTO")?;
+        let n = goto(r)?;
+        out.fanuc = Some(Macro::Goto { n, col });
+        return ended(r, "GOTO n");
+    }
+    if r.eat_name("if") {
+        alone(r, out, "IF")?;
+        let test = nz(r.required_bracket("IF")?) != 0.0;
+        if r.eat_name("goto") {
+            let n = goto(r)?;
+            if test {
+                out.fanuc = Some(Macro::Goto { n, col });
+            }
+            return ended(r, "IF [...] GOTO n");
+        }
+        if r.eat_name("then") {
+            if r.peek() != Some('#') {
+                return Err(r.err(r.col(), "IF [...] THEN takes an assignment: #i=expression"));
+            }
+            if !test {
+                // The assignment is not made, nor read.
+                return Ok(true);
+            }
+            let (t, acol) = r.param_ref()?;
+            if t == Target::Numbered(0) {
+                return Err(r.err(acol, "#0 is null: it cannot be set"));
+            }
+            if !r.eat('=') {
+                return Err(r.err(r.col(), "'=' expected after THEN's parameter"));
+            }
+            let v = r.expr(0)?;
+            out.assigns.push((t, v, acol));
+            return ended(r, "IF [...] THEN #i=expression");
+        }
+        return Err(r.err(
+            r.col(),
+            "IF [...] is followed by GOTO n or THEN #i=expression",
+        ));
+    }
+    if r.eat_name("while") {
+        alone(r, out, "WHILE")?;
+        let test = nz(r.required_bracket("WHILE")?) != 0.0;
+        if !r.eat_name("do") {
+            return Err(r.err(r.col(), "WHILE [...] is followed by DOm (m = 1 to 3)"));
+        }
+        let m = loop_number(r, "DO")?;
+        out.fanuc = Some(Macro::While { test, m, col });
+        return ended(r, "WHILE [...] DOm");
+    }
+    if r.eat_name("do") {
+        alone(r, out, "DO")?;
+        let m = loop_number(r, "DO")?;
+        out.fanuc = Some(Macro::Do { m, col });
+        return ended(r, "DOm");
+    }
+    if r.eat_name("end") {
+        alone(r, out, "END")?;
+        let m = loop_number(r, "END")?;
+        out.fanuc = Some(Macro::End { m, col });
+        return ended(r, "ENDm");
+    }
+    let mut word = String::new();
+    while let Some(c) = r.at(word.len()).filter(|c| c.is_ascii_alphabetic()) {
+        word.push(c.to_ascii_uppercase() as char);
+    }
+    Err(r.err(
+        col,
+        format!("'{word}' is not a word: a word is a letter and its value (Fanuc's statements are GOTO, IF, WHILE, DO, END)"),
+    ))
 }
 
 fn read_o(

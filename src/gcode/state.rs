@@ -285,7 +285,24 @@ pub struct InterpState {
     /// last G5's P Q negated (LinuxCNC's `cycle_i`, `cycle_j`), so that it continues that
     /// curve's tangent.
     pub g5_tangent: [f64; 2],
+    /// The Fanuc dialect's variables have been made vacant (null) once: #1–#33, #100–#199
+    /// and the #500–#999 not kept (docs/gcode.md "Fanuc dialect").
+    pub fanuc_vacant: bool,
 }
+
+/// Fanuc's common variables kept across a restart (#500–#999), journaled with the
+/// parameters in the Fanuc dialect.
+pub fn is_fanuc_kept(n: usize) -> bool {
+    (500..=999).contains(&n)
+}
+
+/// The parameters the stores keep: LinuxCNC's persistent ones and Fanuc's #500–#999.
+pub fn is_kept(n: usize) -> bool {
+    is_persistent(n) || is_fanuc_kept(n)
+}
+
+/// Fanuc's common variables cleared by RESET (#100–#199).
+pub const FANUC_COMMON: std::ops::RangeInclusive<usize> = 100..=199;
 
 impl Default for InterpState {
     fn default() -> Self {
@@ -317,6 +334,7 @@ impl Default for InterpState {
             analog_out: [0.0; 64],
             nurbs: None,
             g5_tangent: [0.0; 2],
+            fanuc_vacant: false,
         }
     }
 }
@@ -337,7 +355,7 @@ impl InterpState {
     pub fn with_persistent(persistent: &[(usize, f64)], pos: [f64; 3], tool: Option<u32>) -> Self {
         let mut s = InterpState::default();
         for &(n, v) in persistent {
-            if is_persistent(n) && v.is_finite() {
+            if (is_persistent(n) || is_fanuc_kept(n)) && v.is_finite() {
                 s.params[n] = v;
             }
         }
@@ -357,6 +375,34 @@ impl InterpState {
         s.selected = tool;
         s.params[5400] = tool.map_or(0.0, f64::from);
         s
+    }
+
+    /// The Fanuc dialect's power-on: the local variables #1–#33 and the common variables
+    /// #100–#199 vacant (null), and #500–#999 vacant where nothing is kept (a kept variable
+    /// is never 0: the stores keep no zero). Done once for a state.
+    pub fn fanuc_power_on(&mut self) {
+        if self.fanuc_vacant {
+            return;
+        }
+        self.fanuc_vacant = true;
+        for n in (1..=33).chain(FANUC_COMMON) {
+            self.params[n] = f64::NAN;
+        }
+        for n in 500..=999 {
+            if self.params[n] == 0.0 {
+                self.params[n] = f64::NAN;
+            }
+        }
+    }
+
+    /// RESET in the Fanuc dialect: the common variables #100–#199 vacant again (Fanuc's
+    /// parameter 6001#6 CCV = 0).
+    pub fn fanuc_reset(&mut self) {
+        if self.fanuc_vacant {
+            for n in FANUC_COMMON {
+                self.params[n] = f64::NAN;
+            }
+        }
     }
 
     /// The persistent parameters that differ from zero (and #5220), for the stores.

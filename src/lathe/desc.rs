@@ -309,6 +309,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut remap_m6 = None;
     let mut workpiece = crate::workpiece::Workpiece::default();
     let mut tool_change_z = None;
+    let mut dialect = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -380,6 +381,22 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     encoder: 0,
                     tools: Vec::new(),
                 });
+            }
+            "dialect" => {
+                if dialect.is_some() {
+                    return Err(e("the dialect is given twice".into()));
+                }
+                let d = match words.as_slice() {
+                    [_, d] => crate::settings::Dialect::parse(d).map_err(e)?,
+                    _ => return Err(e("dialect takes fanuc or linuxcnc".into())),
+                };
+                if d == crate::settings::Dialect::Fanuc && kind != Some("mill") {
+                    return Err(e(
+                        "dialect fanuc: a lathe's channels read LinuxCNC's dialect only (say 'kind mill' first for a machining centre)"
+                            .into(),
+                    ));
+                }
+                dialect = Some(d);
             }
             "remap" if kind == Some("mill") => {
                 if remap_m6.is_some() {
@@ -455,6 +472,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             let mut m = mill(&name, pulse_mm, mill_axes, &links)?;
             if let MachineDesc::Mill(s) = &mut m {
                 s.remap_m6 = remap_m6;
+                s.dialect = dialect.unwrap_or_default();
                 s.workpiece = workpiece;
                 if let Some((ln, z)) = tool_change_z {
                     if !(s.travel_min_mm[2]..=s.travel_max_mm[2]).contains(&z) {

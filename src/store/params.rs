@@ -6,7 +6,7 @@
 
 use super::record::Record;
 use super::{serr, to_store, StoreError, Stores};
-use crate::gcode::state::{is_persistent, system_base, SYSTEMS};
+use crate::gcode::state::{is_kept, system_base, SYSTEMS};
 use crate::gcode::WorkOffsets;
 use std::collections::BTreeMap;
 
@@ -69,9 +69,9 @@ impl Stores {
     pub fn set_params(&mut self, ps: &[(usize, f64)]) -> Result<(), StoreError> {
         let mut rec = Vec::with_capacity(ps.len());
         for &(n, v) in ps {
-            if !is_persistent(n) {
+            if !is_kept(n) {
                 return Err(serr(format!(
-                    "#{n} is not a parameter the controller keeps (#5161-#5169, #5181-#5189, #5210-#5390)"
+                    "#{n} is not a parameter the controller keeps (#500-#999 in the Fanuc dialect, #5161-#5169, #5181-#5189, #5210-#5390)"
                 )));
             }
             let m = to_millionths(n, v).map_err(serr)?;

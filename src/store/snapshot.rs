@@ -314,7 +314,7 @@ fn read_params(body: &str) -> Option<BTreeMap<u16, i64>> {
         .map(|l| {
             let (n, v) = l.split_once(' ')?;
             let n: u16 = n.parse().ok()?;
-            crate::gcode::state::is_persistent(usize::from(n)).then_some(())?;
+            crate::gcode::state::is_kept(usize::from(n)).then_some(())?;
             Some((n, v.parse().ok()?))
         })
         .collect()

@@ -2,6 +2,35 @@
 //! the fuzz command's G-code family).
 
 /// Each a word or a piece of a line: valid codes, broken numbers, odd characters.
+/// Fanuc Custom Macro B fragments (docs/gcode.md "Fanuc dialect"), added to [`FRAGMENTS`]
+/// for the Fanuc dialect's fuzz family.
+pub const FANUC_FRAGMENTS: &[&str] = &[
+    "GOTO 10",
+    "GOTO 20",
+    "N10",
+    "N20",
+    "IF [#1 EQ #0] GOTO 10",
+    "IF [#2 LT 3] THEN #2=#2+1",
+    "IF [#0 NE 0] THEN #3000=1 (ALARM)",
+    "WHILE [#2 LT 5] DO1",
+    "WHILE [#3 GT 0] DO2",
+    "END1",
+    "END2",
+    "DO3",
+    "END3",
+    "#1=#0",
+    "#2=#2+1",
+    "#3=BCD[#2]",
+    "#500=#500+1",
+    "#100=FIX[-#2]",
+    "#3006=1 (STOP)",
+    "G65 P100 X1. Y2 A#1",
+    "G65 P100 L2 R5.",
+    "X10",
+    "X#0",
+    "Y[ATAN[1]/[-1]]",
+];
+
 pub const FRAGMENTS: &[&str] = &[
     "G0",
     "G1",

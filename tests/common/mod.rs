@@ -12,10 +12,21 @@ use std::process::Command;
 /// The G-code program `src` as `novanc translate` reads it without `--state`: from machine
 /// zero, the sample magazine, the default settings, no work offsets, both switches off.
 pub fn gcode_source(src: &str) -> novanc::gcode::GcodeSource {
+    gcode_source_in(src, novanc::settings::Dialect::LinuxCnc)
+}
+
+/// [`gcode_source`] in a dialect (docs/gcode.md "Fanuc dialect").
+pub fn gcode_source_in(
+    src: &str,
+    dialect: novanc::settings::Dialect,
+) -> novanc::gcode::GcodeSource {
     novanc::gcode::GcodeSource::new(
         src.into(),
         novanc::tooldata::sample_magazine(),
-        novanc::settings::MachineSettings::default(),
+        novanc::settings::MachineSettings {
+            dialect,
+            ..Default::default()
+        },
         novanc::block::MachineState::at([0, 0, 0]),
         novanc::gcode::WorkOffsets::default(),
         novanc::gcode::Switches::default(),
@@ -83,8 +94,14 @@ pub fn open(name: &str) -> Console {
 
 /// The console on an existing state directory (a restart), virtual time.
 pub fn reopen(dir: &Path) -> Console {
+    reopen_in(dir, novanc::settings::Dialect::LinuxCnc)
+}
+
+/// [`reopen`] with programs read in a dialect (docs/gcode.md "Fanuc dialect").
+pub fn reopen_in(dir: &Path, dialect: novanc::settings::Dialect) -> Console {
     let mut cfg = ConsoleConfig::new(dir.to_path_buf());
     cfg.clock = ClockMode::Virtual;
+    cfg.settings.dialect = dialect;
     Console::open(cfg).unwrap().0
 }
 

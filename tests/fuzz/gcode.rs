@@ -8,19 +8,24 @@ use super::programs::mutate;
 use super::rng::Rng;
 use novanc::block::MachineState;
 use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
-use novanc::settings::MachineSettings;
+use novanc::settings::{Dialect, MachineSettings};
 use novanc::tooldata::sample_magazine;
 
 #[path = "../common/gcode_fragments.rs"]
 mod gcode_fragments;
-use gcode_fragments::{extreme_program, FRAGMENTS};
+use gcode_fragments::{extreme_program, FANUC_FRAGMENTS, FRAGMENTS};
 
-/// A program of up to 40 lines of random fragments, sometimes with a subprogram after M30.
-fn by_grammar(rng: &mut Rng) -> String {
+/// A program of up to 40 lines of random fragments, sometimes with a subprogram after M30;
+/// with `fanuc`, Custom Macro B fragments among them too.
+fn by_grammar(rng: &mut Rng, fanuc: bool) -> String {
     let mut s = String::new();
     for _ in 0..rng.range(1, 40) {
         for _ in 0..rng.range(0, 5) {
-            s.push_str(rng.pick::<&str>(FRAGMENTS));
+            if fanuc && rng.chance(0.3) {
+                s.push_str(rng.pick::<&str>(FANUC_FRAGMENTS));
+            } else {
+                s.push_str(rng.pick::<&str>(FRAGMENTS));
+            }
             s.push(' ');
         }
         s.push('\n');
@@ -33,18 +38,25 @@ fn by_grammar(rng: &mut Rng) -> String {
 
 /// One case: a generated or mutated G-code program, read to its end or its first error.
 pub fn gcode_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
+    // One case in four reads in the Fanuc dialect (docs/gcode.md "Fanuc dialect").
+    let dialect = if rng.chance(0.25) {
+        Dialect::Fanuc
+    } else {
+        Dialect::LinuxCnc
+    };
+    let fanuc = dialect == Dialect::Fanuc;
     let src = if ctx.gcode.is_empty() || rng.chance(0.4) {
-        by_grammar(rng)
+        by_grammar(rng, fanuc)
     } else {
         let base = rng.pick(&ctx.gcode).clone();
         let other = if rng.chance(0.5) {
-            by_grammar(rng)
+            by_grammar(rng, fanuc)
         } else {
             rng.pick(&ctx.gcode).clone()
         };
         mutate(rng, &base, &other)
     };
-    read_checked(rng, &src)
+    read_checked(rng, &src, dialect)
 }
 
 /// One case of issue 20 (docs/limits.md): a program whose values sit at every edge (309
@@ -52,18 +64,21 @@ pub fn gcode_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
 /// feeds), read as the G-code family reads its programs.
 pub fn extremes_case(rng: &mut Rng, _ctx: &Ctx) -> Result<(), String> {
     let src = extreme_program(|n| rng.below(n));
-    read_checked(rng, &src)
+    read_checked(rng, &src, Dialect::LinuxCnc)
 }
 
 /// Reads `src` to its end or its first error: statements at real lines, a refusal at a real
 /// place with a short message, nothing after it.
-fn read_checked(rng: &mut Rng, src: &str) -> Result<(), String> {
-    note("G-code program", src);
+fn read_checked(rng: &mut Rng, src: &str, dialect: Dialect) -> Result<(), String> {
+    note(&format!("G-code program ({dialect:?})"), src);
     let lines = src.split_inclusive('\n').count() as u32 + 1;
     let g = GcodeSource::new(
         src.into(),
         sample_magazine(),
-        MachineSettings::default(),
+        MachineSettings {
+            dialect,
+            ..MachineSettings::default()
+        },
         MachineState::at([500_000, 400_000, -300_000]),
         WorkOffsets::default(),
         Switches {

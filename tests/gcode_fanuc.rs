@@ -1,0 +1,420 @@
+//! The Fanuc dialect (docs/gcode.md "Fanuc dialect"): Custom Macro B programs of our own, each
+//! with its moves worked out here by hand (trigonometry on the macro's arguments, not the
+//! reader), and their listings kept as golden files in `tests/golden/fanuc/` (`novanc
+//! translate --dialect fanuc`; `UPDATE_GOLDEN=1` rewrites them). The LinuxCNC dialect still
+//! refuses the Fanuc words.
+
+mod common;
+
+use common::{gcode_source, gcode_source_in};
+use novanc::block::Motion;
+use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
+use novanc::settings::Dialect::{self, Fanuc, LinuxCnc};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn golden(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden/fanuc")
+        .join(name)
+}
+
+fn program(name: &str) -> String {
+    std::fs::read_to_string(golden(name)).unwrap()
+}
+
+/// The moves of `src` read in `dialect`: kind ('R' rapid, 'F' feed) and machine end, mm; or
+/// the error.
+fn moves(src: &str, dialect: Dialect) -> Result<Vec<(char, [f64; 3])>, String> {
+    let mut out = Vec::new();
+    for s in gcode_source_in(src, dialect) {
+        let s = s.map_err(|e| e.to_string())?;
+        for b in &s.blocks {
+            let kind = match b.motion {
+                Motion::Rapid => 'R',
+                Motion::Linear => 'F',
+                _ => continue,
+            };
+            out.push((kind, b.end.map(|p| p as f64 / 1000.0)));
+        }
+    }
+    Ok(out)
+}
+
+/// Whether two move lists agree to the pulse.
+fn assert_moves(got: &[(char, [f64; 3])], want: &[(char, [f64; 3])]) {
+    assert_eq!(got.len(), want.len(), "{got:?}\nwant {want:?}");
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        let close = g.1.iter().zip(&w.1).all(|(a, b)| (a - b).abs() <= 0.0011);
+        assert!(g.0 == w.0 && close, "move {i}: {g:?}, want {w:?}");
+    }
+}
+
+/// `novanc translate --dialect fanuc` of a golden program, compared with (or, with
+/// `UPDATE_GOLDEN=1`, written to) its listing `NAME.iso`; the exit code.
+fn check_listing(name: &str) -> i32 {
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "--dialect", "fanuc"])
+        .arg(golden(&format!("{name}.nc")))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let p = golden(&format!("{name}.iso"));
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        std::fs::write(&p, &text).unwrap();
+    }
+    let want = std::fs::read_to_string(&p)
+        .unwrap_or_else(|e| panic!("{}: {e} (UPDATE_GOLDEN=1 writes it)", p.display()));
+    assert_eq!(text, want, "the listing of {name}.nc changed");
+    out.status.code().unwrap_or(-1)
+}
+
+/// Work Z0 of the programs here: `G10 L2 P1 Z-300.`.
+const WZ: f64 = -300.0;
+
+/// The moves of the bolt circle macro O9010 from the height `z`: for each hole, a rapid over
+/// it, the feed down to `depth`, a rapid up to Z2.
+#[allow(clippy::too_many_arguments)]
+fn bolt_circle(
+    out: &mut Vec<(char, [f64; 3])>,
+    z: &mut f64,
+    centre: [f64; 2],
+    r: f64,
+    start: f64,
+    step: f64,
+    holes: u32,
+    depth: f64,
+) {
+    for k in 0..holes {
+        let a = (start + f64::from(k) * step).to_radians();
+        let (x, y) = (centre[0] + r * a.cos(), centre[1] + r * a.sin());
+        out.push(('R', [x, y, *z]));
+        out.push(('F', [x, y, WZ + depth]));
+        *z = WZ + 2.0;
+        out.push(('R', [x, y, *z]));
+    }
+}
+
+#[test]
+fn a_bolt_circle_by_g65_with_arguments_and_a_while_loop() {
+    let src = program("bolt.nc");
+    let mut want = vec![('R', [0.0, 0.0, WZ + 10.0])];
+    let mut z = WZ + 10.0;
+    bolt_circle(&mut want, &mut z, [100.0, 50.0], 40.0, 15.0, 60.0, 6, -5.0);
+    // X200000 Y100000 without a point: least increments, 200 and 100 mm; A not given: null,
+    // so the circle starts at 0 degrees.
+    bolt_circle(&mut want, &mut z, [200.0, 100.0], 20.0, 0.0, 120.0, 3, -2.0);
+    let last = want.last().map(|m| m.1).unwrap();
+    want.push(('R', [last[0], last[1], WZ + 10.0]));
+    assert_moves(&moves(&src, Fanuc).unwrap(), &want);
+    assert_eq!(check_listing("bolt"), 0);
+}
+
+#[test]
+fn a_part_family_is_chosen_by_if_and_goto() {
+    let src = program("family.nc");
+    for (part, side) in [(1, 30.0), (2, 50.0)] {
+        let text = src.replace("#100=2", &format!("#100={part}"));
+        let z = WZ + 5.0;
+        let c = WZ - 1.0;
+        let want = [
+            ('R', [0.0, 0.0, z]),
+            ('F', [0.0, 0.0, c]),
+            ('F', [side, 0.0, c]),
+            ('F', [side, side, c]),
+            ('F', [0.0, side, c]),
+            ('F', [0.0, 0.0, c]),
+            ('R', [0.0, 0.0, z]),
+        ];
+        assert_moves(&moves(&text, Fanuc).unwrap(), &want);
+    }
+    // No such part: the alarm of line 6, and nothing moves.
+    let text = src.replace("#100=2", "#100=3");
+    assert_eq!(
+        moves(&text, Fanuc).unwrap_err(),
+        "6:1: MACRO ALARM 3002: NO SUCH PART (#3000 = 2)"
+    );
+    assert_eq!(check_listing("family"), 0);
+}
+
+#[test]
+fn a_missing_argument_raises_the_3000_alarm_and_nothing_moves() {
+    let src = program("missing.nc");
+    let mut blocks = 0;
+    let mut err = None;
+    for s in gcode_source_in(&src, Fanuc) {
+        match s {
+            Ok(s) => blocks += s.blocks.len(),
+            Err(e) => err = Some(e),
+        }
+    }
+    let e = err.expect("the alarm");
+    assert_eq!((e.line, e.col), (6, 21), "{e}");
+    assert_eq!(e.message, "MACRO ALARM 3001: X MISSING (#3000 = 1)");
+    assert_eq!(blocks, 0, "nothing moves before or after the alarm");
+    // With X the macro runs, and its locals are the caller's again after M99.
+    let given = src.replace("G65 P9020 Y5.", "#24=7. G65 P9020 X3. Y5.\nG00 X#24");
+    assert_moves(
+        &moves(&given, Fanuc).unwrap(),
+        &[('R', [3.0, 5.0, 0.0]), ('R', [7.0, 5.0, 0.0])],
+    );
+    assert_eq!(check_listing("missing"), 1);
+}
+
+#[test]
+fn stop_3006_stops_with_its_message_and_start_goes_on() {
+    let mut g = gcode_source_in("O1\n#3006=1 (LOAD THE PART)\nG0 X1.\nM30\n", Fanuc);
+    let stmts: Vec<_> = g.by_ref().collect::<Result<_, _>>().unwrap();
+    let stop = stmts.iter().find(|s| s.line == 2).expect("the #3006 line");
+    let ms: Vec<_> = stop.blocks.iter().map(|b| b.m).collect();
+    assert_eq!(ms, vec![Some(0)], "a stop, as M00");
+    let after = stmts.iter().find(|s| s.line == 3).expect("the line after");
+    assert_eq!(
+        after.blocks[0].end[0], 1000,
+        "the run goes on after the stop"
+    );
+    let events = g.take_events();
+    assert!(
+        events.iter().any(|e| matches!(e, novanc::gcode::Event::Message { kind: "MSG", text } if text == "#3006 STOP 1: LOAD THE PART")),
+        "{events:?}"
+    );
+    assert_eq!(
+        moves("O1\n#3006=1 (STOP) G0 X1.\nM30\n", Fanuc).unwrap_err(),
+        "2:1: #3006 stands on a block of its own (no words with it)"
+    );
+}
+
+#[test]
+fn a_runaway_loop_is_refused_at_the_line_that_passes_the_limit() {
+    // Lines executed: 1, 2, then 3 and 4 in turn: the 1001st is line 3 (in the DO2 loop,
+    // lines 2 to 5 in turn from the second: the 1001st is line 2 + 999 mod 4 = 5).
+    for (src, line) in [
+        ("O1\n#1=0\nN10 #1=#1+1\nGOTO 10\nM30\n", 3),
+        ("O1\n#1=0\nWHILE [1] DO1\nEND1\nM30\n", 3),
+        ("O1\nDO2\nG0 X1.\nG0 X2.\nEND2\nM30\n", 5),
+    ] {
+        let e = gcode_source_in(src, Fanuc)
+            .line_limit(1000)
+            .find_map(|s| s.err())
+            .expect("refused");
+        assert_eq!(e.line, line, "{src}: {e}");
+        assert!(e.message.contains("more than 1000 lines"), "{e}");
+    }
+}
+
+#[test]
+fn loops_nest_as_fanuc_s_and_a_mismatch_is_refused_with_its_place() {
+    let cases = [
+        (
+            "O1\nWHILE [1] DO1\nWHILE [1] DO2\nEND1\nEND2\nM30\n",
+            "4:1: END1 where the loop DO2 of line 3 is still open: loops may nest, not cross",
+        ),
+        (
+            "O1\nWHILE [1] DO1\nWHILE [1] DO1\nEND1\nEND1\nM30\n",
+            "3:1: DO1 inside the loop DO1 of line 2: nested loops need different numbers",
+        ),
+        (
+            "O1\nWHILE [0] DO1\nG0 X1.\nM30\n",
+            "2:1: WHILE [...] DO1: no END1 after it in this program",
+        ),
+        ("O1\nEND2\nM30\n", "2:1: END2 without a DO2 before it"),
+        (
+            "O1\nDO4\nEND4\nM30\n",
+            "2:3: DO4: the loop number is 1 to 3",
+        ),
+        (
+            "O1\nGOTO 55\nM30\n",
+            "2:1: GOTO 55: no block N55 in this program (searched forward, then from its start)",
+        ),
+    ];
+    for (src, want) in cases {
+        assert_eq!(moves(src, Fanuc).unwrap_err(), want, "{src}");
+    }
+    // Three deep, with a GOTO out of the inner two, then counted passes.
+    let src = "O1\n#1=0\n#4=0\nWHILE [#1 LT 2] DO1\n#2=0\nWHILE [1] DO2\nDO3\n#4=#4+1\n\
+               IF [#4 GE 100] GOTO 20\nGOTO 10\nEND3\nEND2\nN10 #2=#2+1\nN20 #1=#1+1\nEND1\n\
+               G0 X#1 Y#4\nM30\n";
+    assert_moves(&moves(src, Fanuc).unwrap(), &[('R', [2.0, 2.0, 0.0])]);
+}
+
+#[test]
+fn null_and_the_decimal_point_follow_fanuc() {
+    let src = "O1\nG10 L2 P1 X100. Y100. Z-100.\n#1=#0\n#2=#1+1.\n#3=[#0 EQ #0]\n#4=[#0 EQ 0]\n#5=[#0 NE 0]\n#6=[#0 GE 0]\n\
+               G0 X#2 Y#3 Z#1\nG0 X#4 Y#5 Z-#6\nG0 X10 Y10. Z[-10]\nG20\nG0 X10\nG21\nG0 X-5 Y#0\n\
+               G0 X[FIX[-1.5]] Y[FUP[-1.2]]\nG0 X[ATAN[-1]/[-1]] Y[BIN[BCD[25]]]\nM30\n";
+    let inch = 10.0 * 0.0001 * 25.4;
+    // In work coordinates (G54 at 100, 100, -100); the first move's Z stays at machine 0.
+    let want = [
+        // Null + 1 is 1; #0 EQ #0 is true; a word with a null value is absent.
+        ('R', [1.0, 1.0, 100.0]),
+        ('R', [0.0, 1.0, -1.0]),
+        // X10 is 10 least increments (0.001 mm, or 0.0001 inch under the G20 of a line
+        // before); Y10. and Z[-10] are millimetres.
+        ('R', [0.01, 10.0, -10.0]),
+        ('R', [inch, 10.0, -10.0]),
+        ('R', [-0.005, 10.0, -10.0]),
+        // FIX[-1.5] is -1, FUP[-1.2] is -2; ATAN answers 0 to 360; BIN undoes BCD.
+        ('R', [-1.0, -2.0, -10.0]),
+        ('R', [225.0, 25.0, -10.0]),
+    ]
+    .map(|(k, p)| (k, [p[0] + 100.0, p[1] + 100.0, p[2] - 100.0]));
+    assert_moves(&moves(src, Fanuc).unwrap(), &want);
+    assert_eq!(
+        moves("O1\n#0=1\nM30\n", Fanuc).unwrap_err(),
+        "2:1: #0 is null: it cannot be set"
+    );
+}
+
+#[test]
+fn the_linuxcnc_dialect_refuses_the_fanuc_words_as_before() {
+    assert_eq!(
+        moves(&program("family.nc"), LinuxCnc).unwrap_err(),
+        "4:1: IF is Fanuc Custom Macro B, not LinuxCNC's language: write loops and tests as O-words (o100 while [...], o100 if [...])"
+    );
+    let e = gcode_source("G65 P9010 X1\nM30\n")
+        .find_map(|s| s.err())
+        .unwrap();
+    assert!(e.to_string().contains("G65"), "{e}");
+    assert!(
+        moves("#1=#0\nM30\n", LinuxCnc)
+            .unwrap_err()
+            .contains("parameter number 0"),
+        "#0 is not a parameter in LinuxCNC"
+    );
+    // A number without a decimal point is millimetres in LinuxCNC's dialect.
+    assert_moves(
+        &moves("G0 X10\nM30\n", LinuxCnc).unwrap(),
+        &[('R', [10.0, 0.0, 0.0])],
+    );
+}
+
+#[test]
+fn the_dialect_is_chosen_by_the_command_line_and_the_machine_description() {
+    let bad = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "--dialect", "heidenhain"])
+        .arg(golden("family.nc"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains("dialect 'heidenhain': fanuc or linuxcnc")
+    );
+    let d = common::temp_dir("fanuc-desc");
+    let centre = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/centre.machine"),
+    )
+    .unwrap();
+    let desc = d.join("fanuc.machine");
+    std::fs::write(&desc, format!("{centre}dialect fanuc\n")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "--machine"])
+        .arg(&desc)
+        .arg(golden("family.nc"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let want = std::fs::read_to_string(golden("family.iso")).unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), want);
+    // The command line says last.
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["translate", "--dialect=linuxcnc", "--machine"])
+        .arg(&desc)
+        .arg(golden("family.nc"))
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("IF is Fanuc Custom Macro B"));
+    use novanc::lathe::desc::{parse, MachineDesc};
+    assert!(
+        matches!(parse(&format!("{centre}dialect fanuc\n")), Ok(MachineDesc::Mill(s)) if s.dialect == Fanuc)
+    );
+    assert!(matches!(parse(&centre), Ok(MachineDesc::Mill(s)) if s.dialect == LinuxCnc));
+    assert!(parse(&format!("{centre}dialect fanuc\ndialect fanuc\n"))
+        .unwrap_err()
+        .contains("the dialect is given twice"));
+}
+
+/// PROGRAM READ of `path` and an AUTO run to its end.
+fn read_and_run(c: &mut novanc::console::Console, path: &Path) {
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(path.to_path_buf()));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+}
+
+#[test]
+fn common_variable_500_counts_across_a_restart() {
+    let d = common::temp_dir("fanuc-500");
+    let prog = d.join("COUNT.NC");
+    std::fs::write(
+        &prog,
+        "O4000 (PARTS DONE IN #500)\nIF [#500 EQ #0] THEN #500=0\n#500=#500+1\n\
+         #100=#100+1\nG00 X#500 Y#100\nM30\n",
+    )
+    .unwrap();
+    let state = d.join("state");
+    for run in 1..=2 {
+        let mut c = common::reopen_in(&state, Fanuc);
+        read_and_run(&mut c, &prog);
+        assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+        // #500 counts the runs; #100 is vacant again after each power-on.
+        assert_eq!(
+            c.status().pos,
+            [common::p(f64::from(run)), common::p(1.0), 0],
+            "run {run}:\n{}",
+            c.frame_text()
+        );
+        assert_eq!(c.interp_state().params[500], f64::from(run));
+    }
+}
+
+#[test]
+fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
+    let d = common::temp_dir("fanuc-subs");
+    std::fs::write(
+        d.join("9030.ngc"),
+        "O9030 (FROM A FILE)\nG00 X#24 Y#25\nIF [#26 NE #0] GOTO 10\nG00 Z-1.\nM99\nN10 G00 Z#26\nM99\n",
+    )
+    .unwrap();
+    let src = "O1\nG65 P9030 X5. Y6.\nG65 P9030 X7. Y8. Z-3.\nM30\n";
+    let mut got = Vec::new();
+    for s in gcode_source_in(src, Fanuc).subroutines(Box::new(novanc::gcode::SubPath(vec![d]))) {
+        for b in s
+            .unwrap()
+            .blocks
+            .iter()
+            .filter(|b| b.motion == Motion::Rapid)
+        {
+            got.push(('R', b.end.map(|p| p as f64 / 1000.0)));
+        }
+    }
+    // GOTO 10 searches the macro's own lines: forward from the IF, in its file.
+    assert_moves(
+        &got,
+        &[
+            ('R', [5.0, 6.0, 0.0]),
+            ('R', [5.0, 6.0, -1.0]),
+            ('R', [7.0, 8.0, -1.0]),
+            ('R', [7.0, 8.0, -3.0]),
+        ],
+    );
+    // L is bounded as M98's is.
+    let max = novanc::gcode::MAX_REPEATS;
+    assert_eq!(
+        moves(&format!("O1\nG65 P9030 L{} X1.\nM30\n", max + 1), Fanuc).unwrap_err(),
+        format!("2:11: G65 L: a whole number 0 to {max}")
+    );
+    // Not there: refused at the call.
+    assert_eq!(
+        moves("O1\nG65 P9031 X1.\nM30\n", Fanuc).unwrap_err(),
+        "2:1: G65 P9031: macro O9031 is not in the program (searched forward from the call) nor a file 9031.ngc in the subroutine path"
+    );
+}
