@@ -460,7 +460,9 @@ impl GcodeSource {
                 self.machine.as_mut()
             };
             if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
-                self.emitter.pos = at.map(|v| self.settings.to_pulses(v));
+                let a = self.emitter.pos[3];
+                self.emitter.pos =
+                    crate::block::Axes::with_a(at.map(|v| self.settings.to_pulses(v)), a);
             }
         }
         Ok(())

@@ -556,8 +556,8 @@ mod tests {
             for i in 0..10u64 {
                 assert!(w.write(&Event::Position {
                     t_ns: i,
-                    pulses: [i as i64, 0, 0],
-                    held: [0; 3],
+                    pulses: [i as i64, 0, 0].into(),
+                    held: [0; 3].into(),
                     speed_mm_min: 0.0,
                 }));
             }
