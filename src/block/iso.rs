@@ -169,6 +169,10 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, plane: &mut 
                     mm(out, w, b.end[i], st);
                 }
             }
+            // A rotary A, in degrees, when it moves (docs/gcode.md "Rotary axis A").
+            if b.delta[3] != 0 {
+                mm(out, 'A', b.end[3], st);
+            }
         }
         Motion::ArcCw | Motion::ArcCcw => {
             let [a0, a1, normal] = b.plane.axes();

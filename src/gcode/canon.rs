@@ -26,6 +26,16 @@ pub enum Canon {
         /// Feed, mm/min.
         feed: f64,
     },
+    /// G00 (`feed` None) or G01 at `feed` mm/min (deg/min for A alone) to `end` with the
+    /// rotary A axis to `a` degrees (docs/gcode.md "Rotary axis A").
+    Turn {
+        /// End point X Y Z.
+        end: [f64; 3],
+        /// A, degrees (machine).
+        a: f64,
+        /// Feed of a G01.
+        feed: Option<f64>,
+    },
     /// G04 for seconds.
     Dwell(f64),
     /// A probe move (G38.2 … G38.5 ×10) to a point at a feed; it ends where the probe
@@ -174,6 +184,29 @@ impl Emitter {
                     }
                     check_point(st, end).map_err(err)?;
                 }
+                Canon::Turn { end, a, feed } => {
+                    let e = p3(*end, &[0, 1, 2]).map_err(err)?;
+                    let a = round(a * inv);
+                    let to = Axes::with_a(e, a);
+                    if to == self.pos {
+                        continue;
+                    }
+                    b.end = to;
+                    match feed {
+                        Some(f) => {
+                            b.motion = Motion::Linear;
+                            b.feed = *f;
+                        }
+                        None => b.motion = Motion::Rapid,
+                    }
+                    check_point(st, e).map_err(err)?;
+                    if st.axes > 3 && !st.wrapped(3) {
+                        let (lo, hi) = st.travel_pulses(3);
+                        if a < lo || a > hi {
+                            return Err(err(beyond(st, 3, st.to_mm(a))));
+                        }
+                    }
+                }
                 Canon::Io(io) => b.io = Some(*io),
                 Canon::Arc {
                     end,
@@ -296,12 +329,13 @@ fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Resu
 
 /// The message for machine coordinate `mm` of `axis` beyond its travel.
 fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
-    let name = ["X", "Y", "Z"][axis];
+    let name = ["X", "Y", "Z", "A"][axis];
     format!(
-        "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
+        "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} {})",
         crate::input_text::fixed(mm, 3),
         st.travel_min_mm[axis],
         st.travel_max_mm[axis],
+        if st.rotary(axis) { "degrees" } else { "mm" },
     )
 }
 

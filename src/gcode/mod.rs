@@ -289,6 +289,8 @@ impl GcodeSource {
             settings.to_mm(machine.pos[1]),
             settings.to_mm(machine.pos[2]),
         ];
+        st.a = settings.to_mm(machine.pos[3]);
+        st.a_axis = (settings.axes > 3).then(|| settings.wrapped(3));
         st.tool = machine.tool;
         // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
         // (its synch): after RESET it is off (docs/gcode.md "SEARCH").
@@ -716,7 +718,12 @@ impl GcodeSource {
             return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
         }
         let mut words = self.words_buf.take().unwrap_or_default();
-        let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
+        let dialect = if self.st.a_axis.is_some() {
+            &words::MILL4
+        } else {
+            &words::MILL
+        };
+        let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
         let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
         match self.remap.as_mut() {
             // The line of a remapped M6 just called: kept to finish when the call returns.

@@ -20,6 +20,18 @@ pub fn check_block(settings: &MachineSettings, pos: Axes, b: &Block) -> Result<(
     if b.sync.is_some() {
         return Err("channel sync points are not run by this kernel yet".into());
     }
+    // A rotary axis moves in straight blocks, by the DDA (docs/pulse-core.md, "Axes").
+    if b.delta[3] != 0 {
+        if settings.axes < 4 {
+            return Err("axis A: this machine has no A axis".into());
+        }
+        if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) {
+            return Err("axis A does not move in an arc: give it in a G00 or G01".into());
+        }
+        if settings.interpolator != crate::settings::Interpolator::Dda {
+            return Err("axis A is run by the DDA interpolator only".into());
+        }
+    }
     let to = Axes::from_fn(|a| pos[a] + b.delta[a]);
     let limit = |p: Axes| -> Result<(), String> {
         for (a, &v) in p.iter().enumerate().take(settings.axes) {

@@ -1363,7 +1363,15 @@ impl Machine {
                 self.settings.to_mm(c.block.end[0]),
                 self.settings.to_mm(c.block.end[1]),
                 self.settings.to_mm(c.block.end[2]),
-            );
+            ) + &if pos[3] != c.block.end[3] {
+                format!(
+                    "; A at {:.3}, programmed {:.3}",
+                    self.settings.to_mm(pos[3]),
+                    self.settings.to_mm(c.block.end[3])
+                )
+            } else {
+                String::new()
+            };
             self.refuse(&e, Some(&c.block), why);
             return;
         }
