@@ -132,7 +132,7 @@ pub fn load(name: &str) -> Result<MachineDesc, String> {
             },
             Err(e) => {
                 return Err(format!(
-                "{path}: {e} (a machine is 'citizen', 'centre', 'centre4' or a description file)"
+                "{path}: {e} (a machine is 'citizen', 'centre' or a description file; 'centre4' is the centre with a rotary A)"
             ))
             }
         },
