@@ -249,7 +249,7 @@ fn deviation(blocks: &[novanc::block::Block], s: MachineSettings) -> f64 {
             k += 1;
         }
         let b = &blocks[i];
-        worst = worst.max(off_segment(pos, b.start(), b.end));
+        worst = worst.max(off_segment(pos, b.start().xyz(), b.end.xyz()));
         if pos == b.end {
             i += 1;
         }

@@ -61,7 +61,7 @@ impl Segment {
     /// The segment of one block, or `None` for a block that does not move (dwell, M/S/T only,
     /// zero amounts).
     pub fn of_block(b: &Block, settings: &MachineSettings) -> Option<Segment> {
-        let mm = |p: [i64; 3]| {
+        let mm = |p: crate::block::Axes| {
             [
                 settings.to_mm(p[0]),
                 settings.to_mm(p[1]),
@@ -473,7 +473,7 @@ mod tests {
     fn block(seq: u32, motion: Motion, start: [i64; 3], end: [i64; 3]) -> Block {
         let mut b = Block::aux(seq, 1, end);
         b.motion = motion;
-        b.delta = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+        b.delta = [end[0] - start[0], end[1] - start[1], end[2] - start[2]].into();
         b
     }
 

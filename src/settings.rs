@@ -4,6 +4,8 @@
 //! time. One pulse is `pulse_mm` (0.001 mm by default). Positions inside the controller are whole
 //! pulses in machine coordinates; machine zero (the `CL` position) is (0, 0, 0).
 
+use crate::block::Axes;
+
 /// The machine settings in force for the translator, the pulse core and the console.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MachineSettings {
@@ -15,10 +17,15 @@ pub struct MachineSettings {
     pub accel_mm_s2: f64,
     /// Default clearance SCL above the surface where rapid advance ends, mm.
     pub clearance_mm: f64,
-    /// Lower travel limit of X, Y, Z in machine coordinates, mm.
-    pub travel_min_mm: [f64; 3],
-    /// Upper travel limit of X, Y, Z in machine coordinates, mm.
-    pub travel_max_mm: [f64; 3],
+    /// The axes in use, 3 (X Y Z) or 4 (X Y Z A): the first `axes` entries of every axis array
+    /// (docs/pulse-core.md, "Axes").
+    pub axes: usize,
+    /// What each axis is: linear (mm) or rotary (degrees, perhaps wrapped).
+    pub axis_kinds: Axes<AxisKind>,
+    /// Lower travel limit of each axis in machine coordinates, mm (degrees for a rotary axis).
+    pub travel_min_mm: Axes<f64>,
+    /// Upper travel limit of each axis in machine coordinates, mm (degrees for a rotary axis).
+    pub travel_max_mm: Axes<f64>,
     /// Jog feed in CONTINUOUS mode, mm/min.
     pub jog_mm_min: f64,
     /// The F0 rate of the rapid override (Fanuc parameter 1421): rapids, jogs and returns
@@ -87,6 +94,24 @@ impl Dialect {
             _ => Err(format!("dialect '{s}': fanuc or linuxcnc")),
         }
     }
+}
+
+/// The letters of the axes, by index.
+pub const AXIS_NAMES: [char; crate::block::MAX_AXES] = ['X', 'Y', 'Z', 'A'];
+
+/// What an axis is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AxisKind {
+    /// A linear axis, mm; one pulse is `pulse_mm`.
+    #[default]
+    Linear,
+    /// A rotary axis, degrees; one pulse is `pulse_mm` degrees. `wrap`: LinuxCNC's
+    /// WRAPPED_ROTARY, no travel limits, an absolute position is taken modulo 360
+    /// (docs/pulse-core.md, "Axes").
+    Rotary {
+        /// Wrapped at 360°.
+        wrap: bool,
+    },
 }
 
 /// The pulse distribution method of the pulse core.
@@ -166,8 +191,10 @@ impl MachineSettings {
             rapid_mm_min: 12_000.0,
             accel_mm_s2: 1_000.0,
             clearance_mm: 2.0,
-            travel_min_mm: [0.0, 0.0, -600.0],
-            travel_max_mm: [1_000.0, 800.0, 0.0],
+            axes: 3,
+            axis_kinds: Axes([AxisKind::Linear; crate::block::MAX_AXES]),
+            travel_min_mm: Axes([0.0, 0.0, -600.0, 0.0]),
+            travel_max_mm: Axes([1_000.0, 800.0, 0.0, 0.0]),
             jog_mm_min: 1_000.0,
             rapid_f0_mm_min: 400.0,
             step_mm: 0.1,
@@ -206,8 +233,8 @@ impl MachineSettings {
             pulse_mm: desc.pulse_mm,
             rapid_mm_min: x.rapid.min(z.rapid),
             accel_mm_s2: x.accel.min(z.accel),
-            travel_min_mm: [x.travel[0], 0.0, z.travel[0]],
-            travel_max_mm: [x.travel[1], 0.0, z.travel[1]],
+            travel_min_mm: [x.travel[0], 0.0, z.travel[0]].into(),
+            travel_max_mm: [x.travel[1], 0.0, z.travel[1]].into(),
             tool_change_ns: 0,
             spindle_ns: 0,
             spindle_max_rpm: c.max_rpm.max(0.0),
@@ -233,7 +260,7 @@ impl MachineSettings {
         pulses as f64 * self.pulse_mm
     }
 
-    /// Travel limits of one axis (0 = X, 1 = Y, 2 = Z) in pulses, (min, max).
+    /// Travel limits of one axis (0 = X, 1 = Y, 2 = Z, 3 = A) in pulses, (min, max).
     pub fn travel_pulses(&self, axis: usize) -> (i64, i64) {
         (
             self.to_pulses(self.travel_min_mm[axis]),
@@ -242,10 +269,20 @@ impl MachineSettings {
     }
 
     /// Whether a machine position in pulses lies inside every travel limit.
-    pub fn within_travel(&self, pos: [i64; 3]) -> bool {
-        (0..3).all(|a| {
+    pub fn within_travel(&self, pos: Axes) -> bool {
+        (0..self.axes).all(|a| {
             let (lo, hi) = self.travel_pulses(a);
-            pos[a] >= lo && pos[a] <= hi
+            self.wrapped(a) || (pos[a] >= lo && pos[a] <= hi)
         })
+    }
+
+    /// Whether axis `a` is a wrapped rotary axis (no travel limits).
+    pub fn wrapped(&self, a: usize) -> bool {
+        matches!(self.axis_kinds[a], AxisKind::Rotary { wrap: true })
+    }
+
+    /// Whether axis `a` is rotary (degrees).
+    pub fn rotary(&self, a: usize) -> bool {
+        matches!(self.axis_kinds[a], AxisKind::Rotary { .. })
     }
 }

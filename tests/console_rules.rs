@@ -24,7 +24,7 @@ fn snapshot(c: &Console) -> (String, String, [i64; 3], u8) {
     (
         c.program_text(),
         format!("{:?}", c.magazine()),
-        c.status().pos,
+        c.status().pos.xyz(),
         c.status().run,
     )
 }

@@ -165,7 +165,7 @@ fn an_arc_runs_at_the_feed() {
     let e = [MID[0], MID[1] + r, MID[2]];
     let mut b = Block::aux(1, 1, e);
     b.motion = Motion::ArcCcw;
-    b.delta = [e[0] - s[0], e[1] - s[1], 0];
+    b.delta = [e[0] - s[0], e[1] - s[1], 0].into();
     b.center = Some([-r, 0]);
     b.feed = 1000.0;
     let (m, p) = run(s, b);

@@ -42,7 +42,7 @@ fn expected_ends(text: &str, c: &Console) -> Vec<[i64; 3]> {
         Switches::default(),
     )
     .map(|s| s.unwrap())
-    .flat_map(|s| s.blocks.into_iter().map(|b| b.end))
+    .flat_map(|s| s.blocks.into_iter().map(|b| b.end.xyz()))
     .collect()
 }
 
@@ -59,7 +59,7 @@ fn program_read_keeps_the_language_and_auto_runs_the_gcode_program() {
     c.handle(E::Wait);
     assert!(shows(&c, "program end"), "{}", c.frame_text());
     assert!(!c.view().lamps.alarm, "{}", c.frame_text());
-    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end).collect();
+    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end.xyz()).collect();
     assert_eq!(
         ends, want,
         "the machine ran the blocks the G-code source makes"
@@ -350,7 +350,7 @@ fn an_ofs_length_revised_during_a_gcode_run_says_it_applies_from_the_next_run() 
     c.handle(E::Start);
     c.handle(E::Wait);
     assert!(shows(&c, "program end"), "{}", c.frame_text());
-    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end).collect();
+    let ends: Vec<[i64; 3]> = audit(&c).iter().map(|e| e.end.xyz()).collect();
     assert_eq!(ends, want, "the run kept the length G43 read");
 }
 

@@ -35,7 +35,7 @@ fn moves(src: &str, dialect: Dialect) -> Result<Vec<(char, [f64; 3])>, String> {
                 Motion::Linear => 'F',
                 _ => continue,
             };
-            out.push((kind, b.end.map(|p| p as f64 / 1000.0)));
+            out.push((kind, b.end.xyz().map(|p| p as f64 / 1000.0)));
         }
     }
     Ok(out)
@@ -55,7 +55,8 @@ fn assert_moves(got: &[(char, [f64; 3])], want: &[(char, [f64; 3])]) {
 fn check_listing(name: &str) -> i32 {
     let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .args(["translate", "--dialect", "fanuc"])
-        .arg(golden(&format!("{name}.nc")))
+        // Relative to the manifest directory, so the listing names no checkout's path.
+        .arg(format!("tests/golden/fanuc/{name}.nc"))
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
@@ -393,7 +394,7 @@ fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
             .iter()
             .filter(|b| b.motion == Motion::Rapid)
         {
-            got.push(('R', b.end.map(|p| p as f64 / 1000.0)));
+            got.push(('R', b.end.xyz().map(|p| p as f64 / 1000.0)));
         }
     }
     // GOTO 10 searches the macro's own lines: forward from the IF, in its file.

@@ -44,7 +44,7 @@ fn novanc_moves(src: &str, st: &MachineSettings, subs: &[PathBuf]) -> Result<Vec
     let mut out = Vec::new();
     for b in stmts.iter().flat_map(|s| &s.blocks) {
         let mm = |p: i64| st.to_mm(p);
-        let end: Vec<f64> = b.end.iter().map(|&p| mm(p)).collect();
+        let end: Vec<f64> = b.end.xyz().iter().map(|&p| mm(p)).collect();
         match b.motion {
             Motion::Rapid | Motion::Linear => out.push(Move {
                 kind: if b.motion == Motion::Rapid { 'R' } else { 'F' },

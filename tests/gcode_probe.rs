@@ -318,7 +318,7 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
     c.handle(E::Start);
     c.handle(E::Wait);
     assert!(common::shows(&c, "program end"), "{}", c.frame_text());
-    let ends: Vec<[i64; 3]> = common::audit(&c).iter().map(|e| e.end).collect();
+    let ends: Vec<[i64; 3]> = common::audit(&c).iter().map(|e| e.end.xyz()).collect();
     // The second run starts where the first stopped (its rapid makes no block): the probe
     // stops on the top (machine Z −450), `G0 Z#5063` stays there, then M30.
     let top = [500_000, 400_000, -450_000];

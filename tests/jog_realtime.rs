@@ -45,7 +45,7 @@ fn settle(c: &mut Console) -> [i64; 3] {
             break;
         }
     }
-    last
+    last.xyz()
 }
 
 #[test]

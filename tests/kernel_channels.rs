@@ -361,7 +361,7 @@ fn ends(k: &mut Kernel) -> Vec<Vec<(u32, [i64; 3])>> {
                 .expect("a channel")
                 .take_audit()
                 .iter()
-                .map(|e| (e.seq, e.end))
+                .map(|e| (e.seq, e.end.xyz()))
                 .collect()
         })
         .collect()
@@ -448,9 +448,13 @@ fn estop_abandons_every_channel_in_one_tick_and_reset_starts_a_new_cycle() {
             ch + 1
         );
     }
-    let pos: Vec<[i64; 3]> = (0..3).map(|ch| k.machine(ch).expect("ch").pos()).collect();
+    let pos: Vec<[i64; 3]> = (0..3)
+        .map(|ch| k.machine(ch).expect("ch").pos().xyz())
+        .collect();
     k.advance_to(t + 1_000_000_000);
-    let after: Vec<[i64; 3]> = (0..3).map(|ch| k.machine(ch).expect("ch").pos()).collect();
+    let after: Vec<[i64; 3]> = (0..3)
+        .map(|ch| k.machine(ch).expect("ch").pos().xyz())
+        .collect();
     assert_eq!(pos, after, "no pulse after the E-STOP");
     assert!(k.start(None).is_err(), "START refused until RESET");
     k.reset(None).expect("RESET");
@@ -563,7 +567,9 @@ fn sequence(seed: u64) -> bool {
             }
             6 => {
                 k.estop();
-                let pos: Vec<[i64; 3]> = (0..3).map(|c| k.machine(c).expect("c").pos()).collect();
+                let pos: Vec<[i64; 3]> = (0..3)
+                    .map(|c| k.machine(c).expect("c").pos().xyz())
+                    .collect();
                 let t = k.now() + 500_000_000;
                 k.advance_to(t);
                 for (c, p) in pos.iter().enumerate() {

@@ -106,8 +106,9 @@ def check_field(topic, name, kind, v, where):
         NUM: lambda: (is_int(v) or isinstance(v, float)),
         STR: lambda: isinstance(v, str),
         BOOL: lambda: isinstance(v, bool),
-        "pulses3": lambda: isinstance(v, list) and len(v) == 3 and all(is_int(p) for p in v),
-        "axis": lambda: v in ("X", "Y", "Z"),
+        # 4 counters on a machine with a rotary A (docs/recording.md).
+        "pulses3": lambda: isinstance(v, list) and len(v) in (3, 4) and all(is_int(p) for p in v),
+        "axis": lambda: v in ("X", "Y", "Z", "A"),
         "dir": lambda: is_int(v) and v in (1, -1),
         "times": lambda: isinstance(v, list) and all(is_int(t) and t >= 0 for t in v),
         "strings": lambda: isinstance(v, list) and all(isinstance(s, str) for s in v),
@@ -174,7 +175,7 @@ def check(path, expect_topics, expect_complete, unfinished=False):
 
     counts = {}
     last_log = {}
-    pulses = {"X": 0, "Y": 0, "Z": 0}
+    pulses = {"X": 0, "Y": 0, "Z": 0, "A": 0}
     indexed = []
     with open(path, "rb") as f:
         reader = make_reader(f, validate_crcs=True)
@@ -226,7 +227,8 @@ def check(path, expect_topics, expect_complete, unfinished=False):
 
     for topic in REQUIRED:
         print(f"{topic:16} {counts.get(topic, 0):10} messages")
-    print(f"pulses           X {pulses['X']}  Y {pulses['Y']}  Z {pulses['Z']}")
+    a = f"  A {pulses['A']}" if pulses["A"] else ""
+    print(f"pulses           X {pulses['X']}  Y {pulses['Y']}  Z {pulses['Z']}{a}")
     if recording is not None:
         print(f"novanc.recording {recording}")
     finished = "" if summary is not None else " (unfinished: no summary section)"

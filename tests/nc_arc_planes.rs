@@ -168,7 +168,7 @@ fn a_helix_is_timed_along_its_length() {
     let s = [MID[0] + 10_000, MID[1], MID[2]];
     let mut b = Block::aux(1, 1, [s[0], s[1], s[2] + 20_000]);
     b.motion = Motion::ArcCcw;
-    b.delta = [0, 0, 20_000];
+    b.delta = [0, 0, 20_000].into();
     b.center = Some([-10_000, 0]);
     b.feed = 600.0;
     let (m, pulses) = run(s, b);

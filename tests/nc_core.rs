@@ -375,5 +375,5 @@ fn m00_and_m01_stop_the_run_after_their_block_and_start_continues() {
     core.start(RunKind::Auto, None);
     let st = core.wait_idle(WAIT).expect("idle");
     assert!(st.program_end && st.job.is_none());
-    assert_eq!((st.blocks_done, st.pos), (9, end));
+    assert_eq!((st.blocks_done, st.pos.xyz()), (9, end));
 }

@@ -878,7 +878,7 @@ impl Session {
         let words: Vec<f64> = xy.split(' ').map(|w| w[1..].parse().unwrap()).collect();
         let settings = self.c.settings().clone();
         let mut b = before;
-        b.pos = pos.map(|v| settings.to_mm(v));
+        b.pos = pos.xyz().map(|v| settings.to_mm(v));
         let here = b.prog();
         let target = if b.modal.incremental {
             [here[0] + words[0], here[1] + words[1], here[2]]

@@ -192,7 +192,7 @@ fn task3_tool_length_run_and_restart_from_drl_105_in_14_keys() {
         ends.iter()
             .filter(|e| e.stmt >= 8)
             .skip_while(|e| e.end[..2] != first_xy)
-            .map(|e| e.end)
+            .map(|e| e.end.xyz())
             .collect()
     };
     assert_eq!(from_first_point(restart), from_first_point(full));

@@ -24,8 +24,8 @@ fn lathe_settings() -> MachineSettings {
         spindle_ns: 0,
         accel_mm_s2: 3_000.0,
         rapid_mm_min: 24_000.0,
-        travel_min_mm: [-1.0, -1.0, -80.0],
-        travel_max_mm: [60.0, 1.0, 60.0],
+        travel_min_mm: [-1.0, -1.0, -80.0].into(),
+        travel_max_mm: [60.0, 1.0, 60.0].into(),
         ..MachineSettings::builtin()
     }
 }

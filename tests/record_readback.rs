@@ -252,9 +252,9 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
         },
         "/nc/position" => Event::Position {
             t_ns,
-            pulses: place(obj),
+            pulses: place(obj).into(),
             // The counters and x, y, z agree (`place` checks it): nothing held back.
-            held: [0; 3],
+            held: Default::default(),
             speed_mm_min: num(field(obj, "speed")),
         },
         "/nc/pulses" => {
@@ -336,7 +336,7 @@ fn decode(topic: &str, publish_ns: u64, obj: &Json) -> Event {
                 t_ns,
                 seq: int(field(obj, "seq")) as u32,
                 stmt: int(field(obj, "stmt")) as u32,
-                pulses: place(obj),
+                pulses: place(obj).into(),
                 tripped: flag("tripped"),
                 at_start: flag("at_start"),
             }

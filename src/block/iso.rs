@@ -196,6 +196,10 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut 
                     mm(out, w, b.end[i], st);
                 }
             }
+            // A rotary A, in degrees, when it moves (docs/gcode.md "Rotary axis A").
+            if b.delta[3] != 0 {
+                mm(out, 'A', b.end[3], st);
+            }
         }
         Motion::ArcCw | Motion::ArcCcw => {
             let [a0, a1, normal] = b.plane.axes();
@@ -389,13 +393,13 @@ mod tests {
         let st = MachineSettings::default();
         let mut b = Block::aux(12, 1, [406_292, 162_500, -485_000]);
         b.motion = Motion::Linear;
-        b.delta = [0, 0, -10_000];
+        b.delta = [0, 0, -10_000].into();
         b.feed = 120.0;
         assert_eq!(iso_line(&b, &st), "N12 G01 Z-485.000 F120");
         b.motion = Motion::ArcCcw;
         b.center = Some([-5_000, 0]);
         b.feed = 62.5;
-        b.delta = [0; 3];
+        b.delta = [0; 3].into();
         assert_eq!(
             iso_line(&b, &st),
             "N12 G03 X406.292 Y162.500 I-5.000 J0.000 F62.5"
@@ -444,7 +448,7 @@ mod tests {
         b.motion = Motion::ArcCw;
         b.plane = Plane::XZ;
         b.center = Some([-2_000, 1_500]);
-        b.delta = [4_000, 0, -3_000];
+        b.delta = [4_000, 0, -3_000].into();
         b.feed = 100.0;
         assert_eq!(
             iso_line(&b, &st),
@@ -452,7 +456,7 @@ mod tests {
         );
         b.plane = Plane::YZ;
         b.motion = Motion::ArcCcw;
-        b.delta = [1_000, 4_000, -3_000];
+        b.delta = [1_000, 4_000, -3_000].into();
         assert_eq!(
             iso_line(&b, &st),
             "N5 G19 G03 X10.000 Y20.000 Z-5.000 J-2.000 K1.500 F100"
@@ -480,7 +484,7 @@ mod tests {
         let mk = |seq: u32, z: i64| {
             let mut b = Block::aux(seq, 1, [8_000, 0, z]);
             b.motion = Motion::Linear;
-            b.delta = [0, 0, -1_000];
+            b.delta = [0, 0, -1_000].into();
             b
         };
         let css = Some(Css {

@@ -16,6 +16,100 @@ pub use iso::{iso_line, iso_program, IsoWriter};
 
 use std::fmt;
 
+/// The most axes a channel has: X, Y, Z and one rotary axis (A). Axis arrays are this long;
+/// a machine uses the first [`crate::settings::MachineSettings::axes`] of them, and the
+/// rest stay 0 (docs/pulse-core.md, "Axes").
+pub const MAX_AXES: usize = 4;
+
+/// One value per axis, X Y Z A, indexed 0 = X … 3 = A: positions, amounts and counters of the
+/// kernel. An array of [`MAX_AXES`] (it derefs to it, so indexing and the array's methods work
+/// and the pulse loops stay as fast as with three); axes a machine does not have stay 0. It
+/// equals an X Y Z array `[x, y, z]` when its A is 0, and prints as one then, so that what a
+/// 3-axis machine shows and records is unchanged.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Axes<T = i64>(pub [T; MAX_AXES]);
+
+impl<T> std::ops::Deref for Axes<T> {
+    type Target = [T; MAX_AXES];
+    #[inline(always)]
+    fn deref(&self) -> &[T; MAX_AXES] {
+        &self.0
+    }
+}
+
+impl<T> std::ops::DerefMut for Axes<T> {
+    #[inline(always)]
+    fn deref_mut(&mut self) -> &mut [T; MAX_AXES] {
+        &mut self.0
+    }
+}
+
+impl<T: Copy + Default> Axes<T> {
+    /// X, Y and Z (what the linear geometry works in).
+    pub fn xyz(self) -> [T; 3] {
+        [self.0[0], self.0[1], self.0[2]]
+    }
+
+    /// X, Y and Z with A `a`.
+    pub fn with_a(xyz: [T; 3], a: T) -> Axes<T> {
+        Axes([xyz[0], xyz[1], xyz[2], a])
+    }
+
+    /// Each axis by `f` of its index.
+    #[inline(always)]
+    pub fn from_fn(f: impl FnMut(usize) -> T) -> Axes<T> {
+        Axes(std::array::from_fn(f))
+    }
+
+    /// Every axis `v`.
+    pub fn splat(v: T) -> Axes<T> {
+        Axes([v; MAX_AXES])
+    }
+}
+
+impl<T: Copy + Default> From<[T; 3]> for Axes<T> {
+    /// X Y Z, with A 0.
+    fn from(v: [T; 3]) -> Axes<T> {
+        Axes::with_a(v, T::default())
+    }
+}
+
+impl<T> From<[T; MAX_AXES]> for Axes<T> {
+    fn from(v: [T; MAX_AXES]) -> Axes<T> {
+        Axes(v)
+    }
+}
+
+impl<T: PartialEq + Default> PartialEq<[T; 3]> for Axes<T> {
+    /// Equal to X Y Z when A is 0.
+    fn eq(&self, o: &[T; 3]) -> bool {
+        self.0[..3] == o[..] && self.0[3] == T::default()
+    }
+}
+
+impl PartialEq<Axes<i64>> for [i64; 3] {
+    fn eq(&self, o: &Axes<i64>) -> bool {
+        o == self
+    }
+}
+
+impl<T: PartialEq> PartialEq<[T; MAX_AXES]> for Axes<T> {
+    fn eq(&self, o: &[T; MAX_AXES]) -> bool {
+        self.0 == *o
+    }
+}
+
+impl<T: std::fmt::Debug + PartialEq + Default> std::fmt::Debug for Axes<T> {
+    /// `[x, y, z]` when A is 0 (as a 3-axis array printed), else `[x, y, z, a]`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0[3] == T::default() {
+            f.debug_list().entries(&self.0[..3]).finish()
+        } else {
+            f.debug_list().entries(&self.0[..]).finish()
+        }
+    }
+}
+
 /// The motion a block commands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Motion {
@@ -85,10 +179,10 @@ pub struct Block {
     pub stmt: u32,
     /// The motion kind.
     pub motion: Motion,
-    /// Signed axis amounts in pulses, X, Y, Z: direction and feed amount.
-    pub delta: [i64; 3],
+    /// Signed axis amounts in pulses, X, Y, Z, A: direction and feed amount.
+    pub delta: Axes,
     /// Absolute machine position in pulses at the end of the block, as translated.
-    pub end: [i64; 3],
+    pub end: Axes,
     /// Arc centre relative to the start point, pulses, in the two axes of `plane` in X Y Z
     /// order: (I, J) in XY, (I, K) in XZ, (J, K) in YZ; only for arcs. An arc whose `delta` is
     /// zero in both axes of its plane is a full circle; a `delta` along the plane's normal
@@ -240,13 +334,13 @@ pub enum Io {
 
 impl Block {
     /// A block with no motion and no functions, to fill in field by field.
-    pub fn aux(seq: u32, stmt: u32, end: [i64; 3]) -> Block {
+    pub fn aux(seq: u32, stmt: u32, end: impl Into<Axes>) -> Block {
         Block {
             seq,
             stmt,
             motion: Motion::Aux,
-            delta: [0; 3],
-            end,
+            delta: Axes::default(),
+            end: end.into(),
             center: None,
             plane: Plane::XY,
             feed: 0.0,
@@ -277,12 +371,8 @@ impl Block {
     }
 
     /// The absolute machine position in pulses where the block starts.
-    pub fn start(&self) -> [i64; 3] {
-        [
-            self.end[0] - self.delta[0],
-            self.end[1] - self.delta[1],
-            self.end[2] - self.delta[2],
-        ]
+    pub fn start(&self) -> Axes {
+        Axes::from_fn(|i| self.end[i] - self.delta[i])
     }
 }
 
@@ -325,7 +415,7 @@ pub struct Statement {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MachineState {
     /// Axis positions, pulses, machine coordinates.
-    pub pos: [i64; 3],
+    pub pos: Axes,
     /// T code of the tool in the spindle, if any.
     pub tool: Option<u32>,
     /// Spindle speed, rpm, signed (negative = reverse), 0 stopped.
@@ -338,9 +428,9 @@ pub struct MachineState {
 
 impl MachineState {
     /// A machine at `pos` with no tool in the spindle, the spindle stopped, coolant off.
-    pub fn at(pos: [i64; 3]) -> MachineState {
+    pub fn at(pos: impl Into<Axes>) -> MachineState {
         MachineState {
-            pos,
+            pos: pos.into(),
             tool: None,
             spindle: 0,
             mist: false,

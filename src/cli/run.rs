@@ -14,7 +14,7 @@ use crate::settings::MachineSettings;
 use std::path::Path;
 
 const HELP: &str = "\
-usage: novanc run PROG [--machine centre|FILE] [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
+usage: novanc run PROG [--machine centre|centre4|FILE] [--tools TAPE] [--magazine TCODES] [--record OUT.mcap]
                        [--pulses on|off] [--realtime] [--feed-override PCT]
                        [--interpolator dda|error-proportional] [--ep-l PULSES]
                        [--mtconnect ADDR:PORT|PORT] [--mtconnect-wait SECONDS]
@@ -32,8 +32,8 @@ longer than B1) stops the run before that statement, exit code 1. A block refuse
 core (travel limit, arc geometry) stops the run with a message naming the statement, exit 1.
 
 options:
-  --machine M           the machining centre's description: centre (the default) or a
-                        file (docs/lathe.md); a lathe (citizen) runs its channel programs:
+  --machine M           the machining centre's description: centre (the default), centre4
+                        (with a rotary A) or a file (docs/lathe.md); a lathe (citizen) runs its channel programs:
                         see novanc run --machine citizen --help
   --tools TAPE          tool tape; default: the sample tape tooldata/tools.tt (embedded)
   --magazine TCODES     T-code table; default: the sample table tooldata/magazine.tc (embedded)
@@ -312,8 +312,17 @@ pub fn summary(st: &Status, s: &MachineSettings) -> String {
         crate::settings::Interpolator::Dda => String::new(),
         i => format!("interpolator: {} (L {} pulses)\n", i.name(), s.ep_l_pulses),
     };
+    // A rotary A: its pulses and its position in degrees, after Z (a 3-axis summary is as it was).
+    let (a_pulses, a_pos) = if s.axes > 3 {
+        (
+            format!(" A {}", st.pulses[3]),
+            format!(" A {:.3} deg", s.to_mm(st.pos[3])),
+        )
+    } else {
+        (String::new(), String::new())
+    };
     interp + &format!(
-        "blocks executed: {}\npulses: X {} Y {} Z {}\nfinal position: X {:.3} Y {:.3} Z {:.3} mm\nmachine time: {:.3} s\n",
+        "blocks executed: {}\npulses: X {} Y {} Z {}{a_pulses}\nfinal position: X {:.3} Y {:.3} Z {:.3} mm{a_pos}\nmachine time: {:.3} s\n",
         st.blocks_done,
         st.pulses[0],
         st.pulses[1],

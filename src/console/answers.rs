@@ -34,7 +34,7 @@ impl Machine for RunMachine {
                 tripped,
                 at_start,
             } => Ok(Probed {
-                at: at.map(|v| v as f64 * self.pulse_mm),
+                at: at.xyz().map(|v| v as f64 * self.pulse_mm),
                 tripped,
                 at_start,
             }),

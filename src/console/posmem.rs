@@ -20,7 +20,7 @@ pub struct Kept {
     /// The axes were moving when it was written: the position is not to be trusted.
     pub moving: bool,
     /// Machine position, pulses.
-    pub pos: [i64; 3],
+    pub pos: crate::block::Axes,
     /// The tool in the spindle.
     pub tool: Option<u32>,
     /// The jog feed chosen on POS, mm/min (None: the settings').
@@ -32,11 +32,17 @@ pub struct Kept {
 impl Kept {
     fn text(&self) -> String {
         format!(
-            "novanc-position 1\n{}\n{} {} {}\ntool {}\njog {}{}\n",
+            "novanc-position 1\n{}\n{} {} {}{}\ntool {}\njog {}{}\n",
             if self.moving { "moving" } else { "at rest" },
             self.pos[0],
             self.pos[1],
             self.pos[2],
+            // A, only when it is off 0 (a 3-axis file is unchanged).
+            if self.pos[3] != 0 {
+                format!(" {}", self.pos[3])
+            } else {
+                String::new()
+            },
             self.tool.map_or("none".to_string(), |t| t.to_string()),
             self.jog_feed
                 .map_or("default".to_string(), |f| f.to_string()),
@@ -60,7 +66,11 @@ impl Kept {
             .split(' ')
             .map(|v| v.parse().ok())
             .collect::<Option<_>>()?;
-        let pos: [i64; 3] = p.try_into().ok()?;
+        let pos = match p[..] {
+            [x, y, z] => crate::block::Axes([x, y, z, 0]),
+            [x, y, z, a] => crate::block::Axes([x, y, z, a]),
+            _ => return None,
+        };
         let tool = match l.next()?.strip_prefix("tool ")? {
             "none" => None,
             t => Some(t.parse().ok()?),
@@ -298,14 +308,14 @@ mod tests {
         for k in [
             Kept {
                 moving: false,
-                pos: [1, -2, -300_000],
+                pos: [1, -2, -300_000].into(),
                 tool: Some(106),
                 jog_feed: Some(512.5),
                 rapid_jog: false,
             },
             Kept {
                 moving: true,
-                pos: [0; 3],
+                pos: [0; 3].into(),
                 tool: None,
                 jog_feed: None,
                 rapid_jog: true,
@@ -317,7 +327,7 @@ mod tests {
         let old = Kept::parse("novanc-position 1\nat rest\n1 2 3\ntool 2\n").unwrap();
         assert_eq!(
             (old.pos, old.jog_feed, old.rapid_jog),
-            ([1, 2, 3], None, false)
+            ([1, 2, 3].into(), None, false)
         );
         for bad in [
             "",

@@ -418,7 +418,12 @@ fn wait_tape(c: &mut Console) {
 
 /// Whether `pos` moved by `pulses` on `axis` stays inside the travel limits; if not, the
 /// operator's message.
-fn travel_check(s: &MachineSettings, pos: [i64; 3], axis: Axis, pulses: i64) -> Result<(), String> {
+fn travel_check(
+    s: &MachineSettings,
+    pos: crate::block::Axes,
+    axis: Axis,
+    pulses: i64,
+) -> Result<(), String> {
     let a = axis.index();
     let (lo, hi) = s.travel_pulses(a);
     let to = pos[a].saturating_add(pulses);

@@ -3,7 +3,7 @@
 //! (docs/gcode.md "The listing").
 
 pub use crate::block::Io;
-use crate::block::{Block, Motion, Plane, Tap, TranslateError};
+use crate::block::{Axes, Block, Motion, Plane, Tap, TranslateError};
 use crate::settings::MachineSettings;
 
 /// One canonical action, in machine coordinates (mm): where the spindle's gauge line goes.
@@ -25,6 +25,16 @@ pub enum Canon {
         ccw: bool,
         /// Feed, mm/min.
         feed: f64,
+    },
+    /// G00 (`feed` None) or G01 at `feed` mm/min (deg/min for A alone) to `end` with the
+    /// rotary A axis to `a` degrees (docs/gcode.md "Rotary axis A").
+    Turn {
+        /// End point X Y Z.
+        end: [f64; 3],
+        /// A, degrees (machine).
+        a: f64,
+        /// Feed of a G01.
+        feed: Option<f64>,
     },
     /// G04 for seconds.
     Dwell(f64),
@@ -51,7 +61,7 @@ pub enum Canon {
 /// difference of consecutive ends, sequence numbers counted on.
 pub struct Emitter {
     /// Machine position, pulses, after the last block.
-    pub pos: [i64; 3],
+    pub pos: Axes,
     /// The last sequence number.
     pub seq: u32,
     /// What the blocks made now belong to (a tap's, [`Canon::Tap`]).
@@ -71,13 +81,13 @@ fn travel_pulses(st: &MachineSettings) -> [(i64, i64); 3] {
 }
 
 /// What the travel limits in pulses are worked out from: the pulse and the limits in mm.
-type Travel = (f64, [f64; 3], [f64; 3]);
+type Travel = (f64, Axes<f64>, Axes<f64>);
 
 impl Emitter {
     /// An emitter with the machine at `pos` (pulses), the last sequence number `seq`.
-    pub fn new(pos: [i64; 3], seq: u32, tap: Tap) -> Emitter {
+    pub fn new(pos: impl Into<Axes>, seq: u32, tap: Tap) -> Emitter {
         Emitter {
-            pos,
+            pos: pos.into(),
             seq,
             tap,
             limits: None,
@@ -156,10 +166,10 @@ impl Emitter {
             match c {
                 Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
-                    if end == self.pos && !matches!(c, Canon::Probe(..)) {
+                    if end == self.pos.xyz() && !matches!(c, Canon::Probe(..)) {
                         continue;
                     }
-                    b.end = end;
+                    b.end = Axes::with_a(end, self.pos[3]);
                     match c {
                         Canon::Feed(_, f) => {
                             b.motion = Motion::Linear;
@@ -173,6 +183,29 @@ impl Emitter {
                         _ => b.motion = Motion::Rapid,
                     }
                     check_point(st, end).map_err(err)?;
+                }
+                Canon::Turn { end, a, feed } => {
+                    let e = p3(*end, &[0, 1, 2]).map_err(err)?;
+                    let a = round(a * inv);
+                    let to = Axes::with_a(e, a);
+                    if to == self.pos {
+                        continue;
+                    }
+                    b.end = to;
+                    match feed {
+                        Some(f) => {
+                            b.motion = Motion::Linear;
+                            b.feed = *f;
+                        }
+                        None => b.motion = Motion::Rapid,
+                    }
+                    check_point(st, e).map_err(err)?;
+                    if st.axes > 3 && !st.wrapped(3) {
+                        let (lo, hi) = st.travel_pulses(3);
+                        if a < lo || a > hi {
+                            return Err(err(beyond(st, 3, st.to_mm(a))));
+                        }
+                    }
                 }
                 Canon::Io(io) => b.io = Some(*io),
                 Canon::Arc {
@@ -192,7 +225,7 @@ impl Emitter {
                     {
                         return Err(err("arc centre or end point out of all range".to_string()));
                     }
-                    let s = self.pos;
+                    let s = self.pos.xyz();
                     let rad = |p: [i64; 3], c: [i64; 3]| {
                         ((p[a0] - c[a0]) as f64).hypot((p[a1] - c[a1]) as f64)
                     };
@@ -230,7 +263,7 @@ impl Emitter {
                             st.to_mm(rad(s, best) as i64)
                         )));
                     }
-                    b.end = e;
+                    b.end = Axes::with_a(e, self.pos[3]);
                     b.motion = if *ccw { Motion::ArcCcw } else { Motion::ArcCw };
                     b.plane = *plane;
                     b.center = Some([best[a0] - s[a0], best[a1] - s[a1]]);
@@ -254,11 +287,7 @@ impl Emitter {
             }
             self.seq += 1;
             b.seq = self.seq;
-            b.delta = [
-                b.end[0] - self.pos[0],
-                b.end[1] - self.pos[1],
-                b.end[2] - self.pos[2],
-            ];
+            b.delta = Axes::from_fn(|a| b.end[a] - self.pos[a]);
             self.pos = b.end;
             out.push(b);
         }
@@ -300,12 +329,13 @@ fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Resu
 
 /// The message for machine coordinate `mm` of `axis` beyond its travel.
 fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
-    let name = ["X", "Y", "Z"][axis];
+    let name = ["X", "Y", "Z", "A"][axis];
     format!(
-        "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} mm)",
+        "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} {})",
         crate::input_text::fixed(mm, 3),
         st.travel_min_mm[axis],
         st.travel_max_mm[axis],
+        if st.rotary(axis) { "degrees" } else { "mm" },
     )
 }
 

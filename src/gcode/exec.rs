@@ -271,7 +271,7 @@ fn motion_to_be(
         };
         given = Some((m, col));
     }
-    let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some();
+    let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some() || w.get('A').is_some();
     let covets = [100, 280, 300, 520, 920].iter().find_map(|&g| w.has_g(g));
     if let Some((m, col)) = given {
         if m == Motion::None {
@@ -873,6 +873,10 @@ pub fn execute(
             }
         }
     }
+    // A rotary A word moves with G00 or G01 only (docs/gcode.md "Rotary axis A").
+    if let Some(acol) = w.col('A') {
+        rotary_allowed(comp, x, w, motion.map(|m| m.0), acol)?;
+    }
     // The motion.
     if let Some((m, col)) = motion {
         if m != Motion::Spline(52) {
@@ -930,6 +934,102 @@ pub fn execute(
         return Ok(Flow::End);
     }
     Ok(Flow::Next)
+}
+
+/// Refuses an A word anywhere but on a G00 or G01 move without cutter compensation, G53 or a
+/// non-modal code (A has no offsets, references or compensation in novanc).
+fn rotary_allowed(
+    comp: &Comp,
+    x: &Exec,
+    w: &Words,
+    motion: Option<Motion>,
+    col: u32,
+) -> Result<(), TranslateError> {
+    if !matches!(motion, Some(Motion::Rapid | Motion::Feed)) {
+        return Err(x.err(
+            col,
+            "A moves with G00 or G01 only (arcs, cycles, probes and splines are X Y Z)",
+        ));
+    }
+    for g in [40, 100, 280, 281, 300, 301, 520, 530, 920, 921, 922, 923] {
+        if w.has_g(g).is_some() {
+            return Err(x.err(
+                col,
+                format!("A cannot be given with G{}{}: the A axis has no offsets or reference points in novanc", g / 10, if g % 10 != 0 { format!(".{}", g % 10) } else { String::new() }),
+            ));
+        }
+    }
+    if comp.active() {
+        return Err(x.err(col, "A cannot move with cutter radius compensation on"));
+    }
+    Ok(())
+}
+
+/// A G00 or G01 to `e` (machine mm) with the A word `v` (degrees): G90 to `v` (on a wrapped
+/// axis LinuxCNC's WRAPPED_ROTARY rule: |v| below 360 is the position modulo 360 and its sign
+/// the direction of the turn), G91 by `v`. The feed is along X Y Z; a move of A alone is fed
+/// in degrees per minute (LinuxCNC's rule).
+fn rotary_move(
+    st: &mut InterpState,
+    x: &mut Exec,
+    inverse: Option<f64>,
+    m: Motion,
+    e: [f64; 3],
+    v: f64,
+    col: u32,
+) -> Result<(), TranslateError> {
+    let Some(wrapped) = st.a_axis else {
+        return Err(x.err(col, "unknown word A (novanc has the axes X, Y and Z)"));
+    };
+    let to = if st.modal.incremental {
+        st.a + v
+    } else if wrapped {
+        if v.abs() >= 360.0 {
+            return Err(x.err(
+                col,
+                format!("A{v}: a wrapped rotary axis takes an absolute position within ±360 (its sign the direction)"),
+            ));
+        }
+        // LinuxCNC's unwrap_rotary: the nearest position ≡ |v| (mod 360) in the direction
+        // of v's sign (A-0 turns backwards).
+        let base = (st.a / 360.0).floor() * 360.0 + v.abs();
+        if v.is_sign_negative() {
+            if base > st.a {
+                base - 360.0
+            } else {
+                base
+            }
+        } else if base < st.a {
+            base + 360.0
+        } else {
+            base
+        }
+    } else {
+        v
+    };
+    if !to.is_finite() || to.abs() > 1e9 {
+        return Err(x.err(col, format!("A{v}: out of all range")));
+    }
+    let feed = if m == Motion::Rapid {
+        0.0
+    } else {
+        let d =
+            ((e[0] - st.pos[0]).powi(2) + (e[1] - st.pos[1]).powi(2) + (e[2] - st.pos[2]).powi(2))
+                .sqrt();
+        let d = if d > 0.0 { d } else { (to - st.a).abs() };
+        feed_rate(st, x, inverse, d, col)?
+    };
+    x.push(
+        Canon::Turn {
+            end: e,
+            a: to,
+            feed: (m == Motion::Feed).then_some(feed),
+        },
+        col,
+    );
+    st.pos = e;
+    st.a = to;
+    Ok(())
 }
 
 /// The feed of a feed move to `e`: F in force, or under G93 the length over the time, or
@@ -1012,6 +1112,9 @@ fn motion_line(
             } else {
                 st.pos
             };
+            if let Some(v) = w.get('A') {
+                return rotary_move(st, x, inverse, m, e, v, w.col('A').unwrap_or(col));
+            }
             let feed = feed_for(st, x, inverse, m, e, col)?;
             comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
             st.pos = e;

@@ -316,6 +316,8 @@ impl GcodeSource {
             settings.to_mm(machine.pos[1]),
             settings.to_mm(machine.pos[2]),
         ];
+        st.a = settings.to_mm(machine.pos[3]);
+        st.a_axis = (settings.axes > 3).then(|| settings.wrapped(3));
         st.tool = machine.tool;
         // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
         // (its synch): after RESET it is off (docs/gcode.md "SEARCH").
@@ -490,7 +492,9 @@ impl GcodeSource {
                 self.machine.as_mut()
             };
             if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
-                self.emitter.pos = at.map(|v| self.settings.to_pulses(v));
+                let a = self.emitter.pos[3];
+                self.emitter.pos =
+                    crate::block::Axes::with_a(at.map(|v| self.settings.to_pulses(v)), a);
             }
         }
         Ok(())
@@ -809,7 +813,12 @@ impl GcodeSource {
             return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
         }
         let mut words = self.words_buf.take().unwrap_or_default();
-        let sorted = words::sort_words_into(line_words(line), n, &words::MILL, &mut words);
+        let dialect = if self.st.a_axis.is_some() {
+            &words::MILL4
+        } else {
+            &words::MILL
+        };
+        let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
         let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
         match self.remap.as_mut() {
             // The line of a remapped M6 just called: kept to finish when the call returns.

@@ -242,6 +242,10 @@ pub struct InterpState {
     pub named: HashMap<String, f64>,
     /// Where the spindle's gauge line is, machine mm.
     pub pos: [f64; 3],
+    /// Where a rotary A axis stands, degrees (machine: A has no work offsets in novanc).
+    pub a: f64,
+    /// The machine has a rotary A axis: `Some(wrapped)` (docs/gcode.md "Rotary axis A").
+    pub a_axis: Option<bool>,
     /// The offset of the coordinate system in force (machine mm of its zero), as selected;
     /// a change to its parameters takes effect when it is selected again (as in LinuxCNC).
     pub origin: [f64; 3],
@@ -314,6 +318,8 @@ impl Default for InterpState {
             params,
             named: HashMap::new(),
             pos: [0.0; 3],
+            a: 0.0,
+            a_axis: None,
             origin: [0.0; 3],
             rotation: 0.0,
             g92: [0.0; 3],

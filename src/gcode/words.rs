@@ -37,6 +37,17 @@ pub const MILL: Dialect = Dialect {
     letter_hint: " (novanc has the axes X, Y and Z)",
 };
 
+/// The letters of a mill with a rotary A axis.
+const LETTERS4: &str = "ADEFHIJKLPQRSTXYZ@^";
+
+/// The mill dialect on a machine with a rotary A axis (docs/gcode.md "Rotary axis A").
+pub const MILL4: Dialect = Dialect {
+    letters: LETTERS4,
+    letter_bits: letter_bits(LETTERS4),
+    letter_hint: " (novanc has the axes X, Y, Z and A)",
+    ..MILL
+};
+
 fn mill_g_why(g: u32) -> &'static str {
     match g {
         70 | 80 => " (G07/G08 diameter and radius mode are the lathe's)",

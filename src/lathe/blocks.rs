@@ -44,11 +44,11 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
         match &step.op {
             Op::Rapid { end } => {
                 b.motion = Motion::Rapid;
-                b.end = at(*end);
+                b.end = at(*end).into();
             }
             Op::Line { end, feed: f } => {
                 b.motion = Motion::Linear;
-                b.end = at(*end);
+                b.end = at(*end).into();
                 feed(&mut b, *f);
             }
             Op::Arc {
@@ -59,14 +59,14 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
             } => {
                 b.motion = if *ccw { Motion::ArcCcw } else { Motion::ArcCw };
                 b.plane = Plane::XZ;
-                b.end = at(*end);
+                b.end = at(*end).into();
                 // (I, K): the plane's axes in X Y Z order.
                 b.center = Some([centre[0] - pos[0], centre[1] - pos[2]]);
                 feed(&mut b, *f);
             }
             Op::Thread { end, lead } => {
                 b.motion = Motion::Linear;
-                b.end = at(*end);
+                b.end = at(*end).into();
                 b.feed = *lead;
                 b.feed_mode = FeedMode::PerRev;
                 b.thread = Some(*lead);
@@ -108,8 +108,8 @@ pub fn blocks(prog: &LatheProgram, desc: &LatheDesc, ch: usize) -> Vec<Statement
             }
         }
         b.css = css;
-        b.delta = [b.end[0] - pos[0], 0, b.end[2] - pos[2]];
-        pos = b.end;
+        b.delta = [b.end[0] - pos[0], 0, b.end[2] - pos[2]].into();
+        pos = b.end.xyz();
         match out.last_mut() {
             Some(s) if s.line == step.line => s.blocks.push(b),
             _ => out.push(Statement {

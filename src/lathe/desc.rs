@@ -91,6 +91,8 @@ impl LatheDesc {
 pub const CITIZEN: &str = include_str!("../../machines/citizen.machine");
 /// The embedded machining centre (`--machine centre`, the default).
 pub const CENTRE: &str = include_str!("../../machines/centre.machine");
+/// The centre with a rotary table A, wrapped (`--machine centre4`).
+pub const CENTRE4: &str = include_str!("../../machines/centre4.machine");
 
 /// Most channels a description may have (the summary line and `with` masks are sized by it).
 pub const MAX_CHANNELS: usize = 8;
@@ -100,7 +102,7 @@ pub const MAX_TOOLS: usize = 99;
 /// A parsed machine description.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MachineDesc {
-    /// A machining centre: the pulse core's settings (axes X Y Z).
+    /// A machining centre: the pulse core's settings (axes X Y Z, and A if described).
     Mill(crate::settings::MachineSettings),
     /// A lathe with one or more channels.
     Lathe(LatheDesc),
@@ -122,6 +124,7 @@ pub fn load(name: &str) -> Result<MachineDesc, String> {
     let (text, src) = match name {
         "citizen" => (CITIZEN.to_string(), "citizen".to_string()),
         "centre" | "center" => (CENTRE.to_string(), "centre".to_string()),
+        "centre4" | "center4" => (CENTRE4.to_string(), "centre4".to_string()),
         path => match std::fs::read(path) {
             Ok(b) => match String::from_utf8(b) {
                 Ok(t) => (t, path.to_string()),
@@ -129,8 +132,8 @@ pub fn load(name: &str) -> Result<MachineDesc, String> {
             },
             Err(e) => {
                 return Err(format!(
-                    "{path}: {e} (a machine is 'citizen', 'centre' or a description file)"
-                ))
+                "{path}: {e} (a machine is 'citizen', 'centre' or a description file; 'centre4' is the centre with a rotary A)"
+            ))
             }
         },
     };
@@ -153,6 +156,26 @@ fn channel_no(w: Option<&&str>, n: usize, what: &str) -> Result<usize, String> {
         ));
     }
     Ok(v as usize - 1)
+}
+
+/// Reads a mill's rotary A axis: `a rotary [wrap] [travel MIN MAX] rapid DEG/MIN accel
+/// DEG/S2` (degrees); a wrapped axis has no travel limits, any other needs them. Whether it is
+/// wrapped.
+fn rotary(words: &[&str]) -> Result<(AxisDesc, bool), String> {
+    if words.get(1) != Some(&"rotary") {
+        return Err(
+            "axis A is rotary: a rotary [wrap] travel MIN MAX rapid DEG/MIN accel DEG/S2".into(),
+        );
+    }
+    let wrap = words.get(2) == Some(&"wrap");
+    let rest = &words[if wrap { 3 } else { 2 }..];
+    let mut line = vec!["a"];
+    line.extend_from_slice(rest);
+    if wrap && !rest.contains(&"travel") {
+        line.extend_from_slice(&["travel", "0", "360"]);
+    }
+    let a = axis(&line)?;
+    Ok((a, wrap))
 }
 
 /// Reads `travel A B rapid R accel A` after an axis letter.
@@ -304,6 +327,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut pulse_mm = 0.001;
     let mut tick_us = 100.0;
     let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
+    let mut rotary_a: Option<(AxisDesc, bool)> = None;
     let mut channels: Vec<ChannelDesc> = Vec::new();
     let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
     let mut remap_m6 = None;
@@ -426,6 +450,12 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     _ => 2,
                 }] = Some(a);
             }
+            "a" if kind == Some("mill") => {
+                if rotary_a.is_some() {
+                    return Err(e("axis A is described twice".into()));
+                }
+                rotary_a = Some(rotary(&words).map_err(e)?);
+            }
             "x" | "z" if in_channel => {
                 let a = axis(&words).map_err(e)?;
                 if let Some(ch) = channels.last_mut() {
@@ -449,7 +479,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     ch.tools.push(t);
                 }
             }
-            "x" | "y" | "z" | "spindle" | "tool" => {
+            "x" | "y" | "z" | "a" | "spindle" | "tool" => {
                 return Err(e(format!(
                     "'{head}' belongs to {}",
                     if kind == Some("lathe") {
@@ -471,6 +501,16 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
         Some("mill") => {
             let mut m = mill(&name, pulse_mm, mill_axes, &links)?;
             if let MachineDesc::Mill(s) = &mut m {
+                if let Some((a, wrap)) = rotary_a {
+                    // A rotary A: degrees, one pulse `pulse` degrees; its rate and acceleration
+                    // join the machine's as the linear axes' do (docs/pulse-core.md, "Axes").
+                    s.axes = 4;
+                    s.axis_kinds[3] = crate::settings::AxisKind::Rotary { wrap };
+                    s.travel_min_mm[3] = a.travel[0];
+                    s.travel_max_mm[3] = a.travel[1];
+                    s.rapid_mm_min = s.rapid_mm_min.min(a.rapid);
+                    s.accel_mm_s2 = s.accel_mm_s2.min(a.accel);
+                }
                 s.remap_m6 = remap_m6;
                 s.dialect = dialect.unwrap_or_default();
                 s.workpiece = workpiece;

@@ -196,7 +196,7 @@ mod tests {
     #[test]
     fn positions_in_work_and_machine_coordinates_and_the_tool_table() {
         let s = Status {
-            pos: [1000, -2500, -100_000],
+            pos: [1000, -2500, -100_000].into(),
             ..Status::default()
         };
         let mut m = modes();
@@ -243,7 +243,7 @@ mod tests {
     #[test]
     fn items_carry_positions_modes_and_conditions() {
         let mut s = Status {
-            pos: [1000, -2500, 0],
+            pos: [1000, -2500, 0].into(),
             feed_override: 80,
             ..Status::default()
         };

@@ -20,6 +20,7 @@
 
 use super::source::{BlockSource, Fetch};
 use super::BlockEntry;
+use crate::block::Axes;
 use crate::block::{MachineState, Statement, TranslateError};
 use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
@@ -57,7 +58,7 @@ pub enum Answer {
     /// it sought, whether it had already at the start (nothing moved).
     Probe {
         /// The machine's position, pulses.
-        at: [i64; 3],
+        at: Axes,
         /// The probe tripped (or for G38.4/G38.5 came free).
         tripped: bool,
         /// It was so at the start of the move.

@@ -9,7 +9,7 @@ use super::ep::EpMotion;
 use super::motion::{Motion, Progress, ThreadMotion};
 use super::pulse_out::PulseOut;
 use super::spindle::Spindle;
-use crate::block::Block;
+use crate::block::{Axes, Block};
 use crate::settings::{Interpolator, MachineSettings};
 
 /// One block's motion, by either interpolator.
@@ -25,11 +25,11 @@ pub enum Drive {
 
 impl Drive {
     /// A line or rapid of `delta` pulses at path speed `speed` (pulses/ns), starting at `t0`.
-    pub fn linear(s: &MachineSettings, delta: [i64; 3], speed: f64, accel: f64, t0: u64) -> Drive {
+    pub fn linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
         match s.interpolator {
             Interpolator::Dda => Drive::Dda(Motion::linear(delta, speed, accel, t0)),
             Interpolator::ErrorProportional => {
-                Drive::Ep(EpMotion::linear(delta, speed, s.ep_l_pulses, t0))
+                Drive::Ep(EpMotion::linear(delta.xyz(), speed, s.ep_l_pulses, t0))
             }
         }
     }
@@ -39,7 +39,7 @@ impl Drive {
     /// stands at `t0` (a rigid tap).
     pub fn thread(
         s: &MachineSettings,
-        delta: [i64; 3],
+        delta: Axes,
         lead_mm: f64,
         spindle: &Spindle,
         t0: u64,
@@ -62,7 +62,7 @@ impl Drive {
         let [a0, a1, normal] = b.plane.axes();
         match (s.interpolator, b.center) {
             (Interpolator::ErrorProportional, Some(c)) => {
-                let start = b.start();
+                let start = b.start().xyz();
                 let centre = [start[a0] + c[0], start[a1] + c[1]];
                 // Turning order (u → v counter-clockwise).
                 let axes = b.plane.turn_axes();
@@ -75,7 +75,7 @@ impl Drive {
                 let ccw = b.motion == crate::block::Motion::ArcCcw;
                 let helix =
                     (b.delta[normal] != 0).then_some((normal, start[normal], b.end[normal]));
-                let plan = ArcPlan::new(axes, uv(start), uv(b.end), centre_uv, ccw, helix);
+                let plan = ArcPlan::new(axes, uv(start), uv(b.end.xyz()), centre_uv, ccw, helix);
                 Drive::Ep(EpMotion::arc(plan, start, speed, s.ep_l_pulses, t0))
             }
             _ => Drive::Dda(Motion::arc(st, speed, accel, t0)),

@@ -357,8 +357,8 @@ impl Kernel {
             work,
             closed,
             parts: self.table.parts(ch),
-            pos: st.pos,
-            pulses: st.pulses,
+            pos: st.pos.xyz(),
+            pulses: st.pulses.xyz(),
             line: st.executing.map_or(0, |e| e.stmt.line),
         })
     }

@@ -54,6 +54,7 @@ pub use self::runner::{PulseCore, RtStats};
 pub use self::source::{BlockSource, Fetch, VecSource};
 pub use self::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 
+use crate::block::Axes;
 use crate::block::{Block, Statement, TranslateError};
 use std::sync::Arc;
 
@@ -194,7 +195,7 @@ pub struct RunInfo {
     pub started_ns: u64,
     /// Where the run came to rest before the operator moved the axes by hand; START returns
     /// there first (manual intervention, `docs/pulse-core.md`).
-    pub return_to: Option<[i64; 3]>,
+    pub return_to: Option<Axes>,
     /// The return to `return_to` is in progress.
     pub returning: bool,
 }
@@ -251,9 +252,9 @@ pub struct Status {
     /// Program positions, pulses, machine coordinates: where the program (and the screen)
     /// stands. The axes stand at `machine_pos`; the two differ only on axes moved under
     /// MACHINE LOCK or Z NEGLECT, until RESET or the next run.
-    pub pos: [i64; 3],
+    pub pos: Axes,
     /// Axis positions, pulses, machine coordinates: where the axes really are.
-    pub machine_pos: [i64; 3],
+    pub machine_pos: Axes,
     /// The run loaded (running, held or stopped between single blocks), if any.
     pub job: Option<RunInfo>,
     /// The block executing, or the last one executed, in the loaded run.
@@ -273,7 +274,7 @@ pub struct Status {
     /// Blocks completed in the current (or last) run.
     pub blocks_done: u64,
     /// Pulses output per axis in the current (or last) run.
-    pub pulses: [u64; 3],
+    pub pulses: Axes<u64>,
     /// T code in the spindle.
     pub tool: Option<u32>,
     /// The T code a tool change (M06) in progress is putting in the spindle.

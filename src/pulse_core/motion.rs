@@ -27,6 +27,7 @@
 use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
 use super::spindle::Spindle;
+use crate::block::{Axes, MAX_AXES};
 
 /// What a call to `Motion::run` left the motion in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -260,14 +261,14 @@ impl Profile {
 #[derive(Clone, Debug)]
 struct Linear {
     major: usize,
-    dir: [i8; 3],
+    dir: Axes<i8>,
     /// LB: the major-axis amount.
     lb: i64,
     /// L: each axis amount.
-    l: [i64; 3],
+    l: Axes,
     /// ΣLF of each minor axis.
-    sigma: [i64; 3],
-    minors: [usize; 2],
+    sigma: Axes,
+    minors: [usize; MAX_AXES - 1],
     n_minor: usize,
     steps_left: i64,
     ds: f64,
@@ -276,15 +277,15 @@ struct Linear {
 impl Linear {
     /// LINE/PCHK of `delta` pulses: the major axis (the largest amount, the first on a tie)
     /// and the minor axes with their ΣLF at LB.
-    fn new(delta: [i64; 3]) -> Linear {
-        let l = [delta[0].abs(), delta[1].abs(), delta[2].abs()];
+    fn new(delta: Axes) -> Linear {
+        let l = Axes::from_fn(|a| delta[a].abs());
         let mut major = 0;
-        for a in 1..3 {
+        for a in 1..MAX_AXES {
             if l[a] > l[major] {
                 major = a;
             }
         }
-        let mut minors = [0; 2];
+        let mut minors = [0; MAX_AXES - 1];
         let mut n_minor = 0;
         for (a, &la) in l.iter().enumerate() {
             if a != major && la > 0 {
@@ -292,20 +293,19 @@ impl Linear {
                 n_minor += 1;
             }
         }
-        let len = ((l[0] * l[0] + l[1] * l[1] + l[2] * l[2]) as f64).sqrt();
+        // The path is along X Y Z; a rotary axis moving alone is its own path (degrees), as
+        // LinuxCNC's feed rule (docs/pulse-core.md, "Axes").
+        let xyz = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+        let len = (if xyz > 0 { xyz } else { l[3] * l[3] } as f64).sqrt();
         let lb = l[major];
         let ds = if lb > 0 { len / lb as f64 } else { 1.0 };
-        let dir = [
-            delta[0].signum() as i8,
-            delta[1].signum() as i8,
-            delta[2].signum() as i8,
-        ];
+        let dir = Axes::from_fn(|a| delta[a].signum() as i8);
         Linear {
             major,
             dir,
             lb,
             l,
-            sigma: [lb; 3],
+            sigma: Axes::splat(lb),
             minors,
             n_minor,
             steps_left: lb,
@@ -362,7 +362,7 @@ pub fn speed_pulses_ns(mm_min: f64, pulse_mm: f64) -> f64 {
 
 impl Motion {
     /// A linear move of `delta` pulses starting at rest at time `t0`.
-    pub fn linear(delta: [i64; 3], speed: f64, accel: f64, t0: u64) -> Motion {
+    pub fn linear(delta: Axes, speed: f64, accel: f64, t0: u64) -> Motion {
         let ln = Linear::new(delta);
         let total = ln.lb as f64 * ln.ds;
         Motion {
@@ -511,7 +511,7 @@ impl ThreadMotion {
     /// A pass of `delta` pulses at `lead` major-axis pulses per revolution, started at `t0`
     /// with `spindle` turning: anchored to the first index at or after `t0` if `index`, else
     /// to the encoder where it stands at `t0` (a rigid tap, which needs no index).
-    pub fn new(delta: [i64; 3], lead: f64, spindle: Spindle, t0: u64, index: bool) -> ThreadMotion {
+    pub fn new(delta: Axes, lead: f64, spindle: Spindle, t0: u64, index: bool) -> ThreadMotion {
         let ln = Linear::new(delta);
         let sign = if spindle.target() < 0.0 { -1.0 } else { 1.0 };
         let counts_per_step = if lead > 0.0 {
@@ -660,7 +660,7 @@ mod tests {
     fn the_kt_ramp_is_constant_acceleration_and_ends_at_rest() {
         let a = accel_pulses_ns2(1000.0, 0.001);
         let fast = speed_pulses_ns(1e9, 0.001); // never reached in 20,000 pulses
-        let mut m = Motion::linear([20_000, 0, 0], fast, a, 0);
+        let mut m = Motion::linear([20_000, 0, 0].into(), fast, a, 0);
         let mut out = PulseOut::default();
         out.set_log(None, true);
         assert_eq!(m.run(u64::MAX, &mut out), Progress::Done);
@@ -686,7 +686,7 @@ mod tests {
     fn a_hold_brakes_to_rest_and_a_resume_finishes_the_move() {
         let a = accel_pulses_ns2(1000.0, 0.001);
         let v = speed_pulses_ns(6000.0, 0.001);
-        let mut m = Motion::linear([0, 50_000, -20_000], v, a, 0);
+        let mut m = Motion::linear([0, 50_000, -20_000].into(), v, a, 0);
         let mut out = PulseOut::default();
         assert_eq!(m.run(200_000_000, &mut out), Progress::Pending);
         m.set_hold(true);

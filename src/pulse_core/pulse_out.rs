@@ -3,6 +3,7 @@
 //!
 //! With logging off the cost of a pulse is a counter update and one flag check.
 
+use crate::block::Axes;
 use crate::record::{Event, EventSink};
 use std::cell::Cell;
 
@@ -47,7 +48,7 @@ pub fn emit(sink: &EventSink, ev: Event, lossless: &Cell<bool>) {
 /// One captured pulse: axis (0 = X), direction (±1), machine time in ns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PulseRec {
-    /// Axis 0 = X, 1 = Y, 2 = Z.
+    /// Axis 0 = X, 1 = Y, 2 = Z, 3 = A.
     pub axis: u8,
     /// +1 or −1.
     pub dir: i8,
@@ -64,17 +65,17 @@ pub struct PulseRec {
 pub struct PulseOut {
     /// Program positions, pulses: where the interpolation stands (the axis positions, less
     /// `shift` on locked axes).
-    pub pos: [i64; 3],
+    pub pos: Axes,
     /// Pulses output per axis in this run.
-    pub count: [u64; 3],
+    pub count: Axes<u64>,
     /// Axes whose pulses are held back (machine lock, Z neglect).
-    lock: [bool; 3],
+    lock: Axes<bool>,
     /// How far the program position has moved on locked axes since the last `unshift`.
-    pub shift: [i64; 3],
+    pub shift: Axes,
     /// Logging or a lock: every pulse goes through `slow_pulse`.
     slow: bool,
     log: bool,
-    batches: [[Vec<u64>; 2]; 3],
+    batches: [[Vec<u64>; 2]; crate::block::MAX_AXES],
     capture: Option<Vec<PulseRec>>,
     sink: Option<EventSink>,
     /// Wait for room in the recorder's queue rather than drop (virtual time).
@@ -91,24 +92,21 @@ impl PulseOut {
     }
 
     /// Sets which axes are locked (their pulses are not output), from the next pulse.
-    pub fn set_lock(&mut self, lock: [bool; 3]) {
+    pub fn set_lock(&mut self, lock: impl Into<Axes<bool>>) {
+        let lock = lock.into();
         self.lock = lock;
         self.slow = self.log || lock.iter().any(|&l| l);
     }
 
     /// The axis positions, pulses: the program position less what locked axes did not move.
-    pub fn machine_pos(&self) -> [i64; 3] {
-        [
-            self.pos[0] - self.shift[0],
-            self.pos[1] - self.shift[1],
-            self.pos[2] - self.shift[2],
-        ]
+    pub fn machine_pos(&self) -> Axes {
+        Axes::from_fn(|a| self.pos[a] - self.shift[a])
     }
 
     /// Brings the program position back to the axes' (RESET, a new run).
     pub fn unshift(&mut self) {
         self.pos = self.machine_pos();
-        self.shift = [0; 3];
+        self.shift = Axes::default();
     }
 
     /// Takes the captured pulses so far.
@@ -193,7 +191,7 @@ impl PulseOut {
         if self.sink.is_none() {
             return;
         }
-        for a in 0..3 {
+        for a in 0..crate::block::MAX_AXES {
             for d in 0..2 {
                 self.flush_one(a, d);
             }

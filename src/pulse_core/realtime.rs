@@ -14,6 +14,7 @@ use super::block_buffer::BlockBuffer;
 use super::machine::Machine;
 use super::source::{BlockSource, Fetch};
 use super::Command;
+use crate::block::Axes;
 use crate::record::{Event, EventSink};
 use crate::tooldata::Magazine;
 use std::collections::VecDeque;
@@ -30,7 +31,7 @@ pub enum Op {
     /// Panel mode names.
     Modes(String, String),
     /// Axis positions set.
-    Position([i64; 3]),
+    Position(Axes),
     /// The jog feed, mm/min.
     JogFeed(f64),
 }

@@ -18,6 +18,7 @@ use super::block_buffer::{BlockBuffer, MakeRun};
 use super::machine::{BlockEnd, Machine, Reached, Until};
 use super::realtime::{apply, Op, StepQueue};
 use super::{ClockMode, Command, RunKind, Status};
+use crate::block::Axes;
 use crate::record::EventSink;
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
@@ -50,7 +51,7 @@ enum Msg {
     Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),
     Modes(String, String),
-    Position([i64; 3]),
+    Position(Axes),
     JogFeed(f64),
     Advance(Wait),
     Audit(bool),
@@ -232,7 +233,8 @@ impl PulseCore {
     }
 
     /// Sets the axis positions (pulses); ignored unless the machine is at rest with no run.
-    pub fn set_position(&self, pos: [i64; 3]) {
+    pub fn set_position(&self, pos: impl Into<Axes>) {
+        let pos = pos.into();
         self.send_sync(Msg::Position(pos));
     }
 

@@ -46,7 +46,7 @@ pub fn block(seq: u32, motion: Motion, start: [i64; 3], delta: [i64; 3], feed: f
         ],
     );
     b.motion = motion;
-    b.delta = delta;
+    b.delta = delta.into();
     b.feed = feed;
     b
 }
@@ -115,7 +115,7 @@ pub fn plane_arc(
     let mut b = Block::aux(1, 1, end);
     b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
     b.plane = plane;
-    b.delta = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+    b.delta = [end[0] - start[0], end[1] - start[1], end[2] - start[2]].into();
     b.center = Some([center[a0] - start[a0], center[a1] - start[a1]]);
     b.feed = feed;
     b

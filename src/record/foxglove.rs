@@ -237,11 +237,12 @@ impl Scene {
                     .is_none_or(|t| t_ns.saturating_sub(t) >= TOOL_PERIOD_NS);
                 if due || *speed_mm_min == 0.0 {
                     self.buf.clear();
-                    self.transform(*t_ns, pulses);
+                    // The scene is X Y Z; a rotary axis is not drawn.
+                    self.transform(*t_ns, &pulses.xyz());
                     emit(Derived::Tool, *t_ns, &self.buf);
                     self.tool_t = Some(*t_ns);
                 }
-                self.add_point(*pulses);
+                self.add_point(pulses.xyz());
                 self.last_t = *t_ns;
                 if self.count >= STRIP_POINTS {
                     self.flush(*t_ns, emit);
@@ -463,8 +464,8 @@ mod tests {
             |d: Derived, t: u64, b: &[u8]| out.push((d, t, String::from_utf8(b.to_vec()).unwrap()));
         let pos = |t_ns, x| Event::Position {
             t_ns,
-            pulses: [x, 0, -1],
-            held: [0; 3],
+            pulses: [x, 0, -1].into(),
+            held: [0; 3].into(),
             speed_mm_min: 0.0,
         };
         s.derive(
@@ -522,8 +523,8 @@ mod tests {
             s.derive(
                 &Event::Position {
                     t_ns: k as u64 * 10_000_000,
-                    pulses: *p,
-                    held: [0; 3],
+                    pulses: (*p).into(),
+                    held: [0; 3].into(),
                     speed_mm_min: 600.0,
                 },
                 &mut |d, _, _| tools += usize::from(d == Derived::Tool),

@@ -7,6 +7,7 @@
 use super::Event;
 #[cfg(test)]
 use super::Switches;
+use crate::block::Axes;
 
 /// Two ASCII digits for every value 0..100, for the integer formatter.
 const DIGIT_PAIRS: &[u8; 200] = b"\
@@ -220,13 +221,20 @@ fn axis_letter(axis: u8) -> &'static [u8] {
         0 => b"\"X\"",
         1 => b"\"Y\"",
         2 => b"\"Z\"",
+        3 => b"\"A\"",
         _ => b"\"?\"",
     }
 }
 
 /// Appends the JSON message of `ev` to `out` and returns its machine time in ns (for a pulse
-/// batch, the first pulse's time; 0 for an empty batch).
+/// batch, the first pulse's time; 0 for an empty batch): [`encode_event_axes`] for X Y Z.
 pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
+    encode_event_axes(out, ev, pulse_mm, 3)
+}
+
+/// [`encode_event`] on a machine of `axes` axes: positions carry `a` (degrees) and a fourth
+/// counter when the machine has an A axis, and only then.
+pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usize) -> u64 {
     match ev {
         Event::Block {
             t_ns,
@@ -250,7 +258,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             speed_mm_min,
         } => {
             out.push(b'{');
-            push_place(out, pulses, held, pulse_mm);
+            push_place(out, pulses, held, pulse_mm, axes);
             out.extend_from_slice(b",\"speed\":");
             push_mm(out, *speed_mm_min);
             out.push(b'}');
@@ -337,7 +345,7 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
             out.extend_from_slice(b",\"stmt\":");
             push_u64(out, u64::from(*stmt));
             out.push(b',');
-            push_place(out, pulses, &[0; 3], pulse_mm);
+            push_place(out, pulses, &Axes::default(), pulse_mm, axes);
             out.extend_from_slice(b",\"tripped\":");
             out.extend_from_slice(if *tripped { b"true" } else { b"false" });
             out.extend_from_slice(b",\"at_start\":");
@@ -402,17 +410,20 @@ pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
 /// `"x":..,"y":..,"z":..,"pulses":[..]`: a position in mm from the counters, and the counters.
 /// `x`, `y`, `z` (mm) of the program position `pulses`, and `pulses`, the axis counters: the
 /// same less what MACHINE LOCK `held` back.
-fn push_place(out: &mut Vec<u8>, pulses: &[i64; 3], held: &[i64; 3], pulse_mm: f64) {
-    for (i, key) in [&b"\"x\":"[..], b",\"y\":", b",\"z\":"].iter().enumerate() {
+fn push_place(out: &mut Vec<u8>, pulses: &Axes, held: &Axes, pulse_mm: f64, axes: usize) {
+    let keys = [&b"\"x\":"[..], b",\"y\":", b",\"z\":", b",\"a\":"];
+    let n = axes.clamp(3, crate::block::MAX_AXES);
+    for (i, key) in keys.iter().enumerate().take(n) {
         out.extend_from_slice(key);
         push_mm(out, pulses[i] as f64 * pulse_mm);
     }
     out.extend_from_slice(b",\"pulses\":[");
-    push_i64(out, pulses[0] - held[0]);
-    out.push(b',');
-    push_i64(out, pulses[1] - held[1]);
-    out.push(b',');
-    push_i64(out, pulses[2] - held[2]);
+    for i in 0..n {
+        if i > 0 {
+            out.push(b',');
+        }
+        push_i64(out, pulses[i] - held[i]);
+    }
     out.push(b']');
 }
 
@@ -533,8 +544,8 @@ mod tests {
         assert_eq!(
             enc(Event::Position {
                 t_ns: 7,
-                pulses: [12_500, -3, 0],
-                held: [0; 3],
+                pulses: [12_500, -3, 0].into(),
+                held: [0; 3].into(),
                 speed_mm_min: 1234.5
             }),
             (

@@ -20,6 +20,7 @@ pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_
 pub use topic::{Topic, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};
 
+use crate::block::Axes;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{SyncSender, TrySendError};
 use std::sync::Arc;
@@ -73,11 +74,11 @@ pub enum Event {
     Position {
         /// Machine time, ns.
         t_ns: u64,
-        /// Program positions X, Y, Z, pulses (`x`, `y`, `z` in the file).
-        pulses: [i64; 3],
+        /// Program positions X, Y, Z (A), pulses (`x`, `y`, `z`, `a` in the file).
+        pulses: Axes,
         /// What MACHINE LOCK or Z NEGLECT held back of each: the axis counters (`pulses` in
         /// the file) stand at `pulses - held` (docs/pulse-core.md, "Machine lock").
-        held: [i64; 3],
+        held: Axes,
         /// The commanded path speed, mm/min (what the interpolator is making: the KT ramp's
         /// speed, or f_r·|E|/(E_m + L) in the error-proportional tail); 0 at rest.
         speed_mm_min: f64,
@@ -134,7 +135,7 @@ pub enum Event {
         /// Source statement line, 1-based.
         stmt: u32,
         /// Where the machine stopped, pulse counters X, Y, Z.
-        pulses: [i64; 3],
+        pulses: Axes,
         /// The probe found what it sought.
         tripped: bool,
         /// It was so at the start: nothing moved.

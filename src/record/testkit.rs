@@ -71,8 +71,8 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
         }
         evs.push(Event::Position {
             t_ns: t0 + tick,
-            pulses: pos,
-            held: [0; 3],
+            pulses: pos.into(),
+            held: Default::default(),
             speed_mm_min: 1000.0,
         });
         if s % 10 == 0 {
@@ -105,7 +105,7 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
                 t_ns: t0 + tick,
                 seq: s as u32,
                 stmt: (s / 2) as u32,
-                pulses: pos,
+                pulses: pos.into(),
                 tripped: s % 34 == 0,
                 at_start: s % 51 == 0,
             });

@@ -93,6 +93,26 @@ impl Topic {
         }
     }
 
+    /// [`Topic::schema`] on a machine of `axes` axes: with a rotary A, `/nc/position` and
+    /// `/nc/probe` also give `a` (degrees) and a fourth counter, and `/nc/pulses` names the axis
+    /// A (added, never changed: a 3-axis machine's schema is `schema()`).
+    pub fn schema_for(self, axes: usize) -> std::borrow::Cow<'static, str> {
+        let s = self.schema();
+        if axes < 4 || !matches!(self, Topic::Position | Topic::Probe | Topic::Pulses) {
+            return s.into();
+        }
+        s.replace(
+            r#""axis":{"type":"string","enum":["X","Y","Z"]}"#,
+            r#""axis":{"type":"string","enum":["X","Y","Z","A"]}"#,
+        )
+        .replace(
+            r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
+            r#""a":{"type":"number","description":"A, degrees (a rotary axis; only on a machine that has it)"},"pulses":{"type":"array","items":{"type":"integer"},"minItems":4,"maxItems":4,"#,
+        )
+        .replace("pulse counters X, Y, Z", "pulse counters X, Y, Z, A")
+        .into()
+    }
+
     /// The JSON schema of the topic's messages: draft 2020-12 for novanc's own, Foxglove's
     /// published schema for `foxglove.Log`.
     pub fn schema(self) -> &'static str {

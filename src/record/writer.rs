@@ -17,7 +17,7 @@ use super::file::{
 };
 use super::foxglove::{Derived, Scene, DERIVED};
 use super::info::RecordingInfo;
-use super::json::encode_event;
+use super::json::encode_event_axes;
 use super::topic::{Topic, TOPICS};
 use super::Event;
 use crate::settings::MachineSettings;
@@ -58,6 +58,8 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
     pulse_mm: f64,
+    /// The machine's axes (3, or 4 with A): positions carry `a` then.
+    axes: usize,
     channels: [u16; CHANNELS],
     sequence: [u32; CHANNELS],
     /// Derives the Foxglove scene and tool transform (None: left out, `SCENE_ENV`).
@@ -131,6 +133,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             mcap: None,
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
+            axes: settings.axes,
             channels: [0; CHANNELS],
             sequence: [0; CHANNELS],
             scene: scene_on.then(|| Scene::new(settings.pulse_mm, info.tool_sizes())),
@@ -213,11 +216,11 @@ impl<W: RecordOutput> RecordWriter<W> {
         let no_metadata = BTreeMap::new();
         let declared = Topic::ALL
             .iter()
-            .map(|t| (t.schema_name(), t.schema(), t.name()))
+            .map(|t| (t.schema_name(), t.schema_for(settings.axes), t.name()))
             .chain(
                 Derived::ALL
                     .iter()
-                    .map(|d| (d.schema_name(), d.schema(), d.name())),
+                    .map(|d| (d.schema_name(), d.schema().into(), d.name())),
             );
         for (i, (schema_name, schema, topic)) in declared.enumerate() {
             let schema = mcap.add_schema(schema_name, "jsonschema", schema.as_bytes())?;
@@ -264,7 +267,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         }
         let i = Topic::of(ev).index();
         self.buf.clear();
-        let t = encode_event(&mut self.buf, ev, self.pulse_mm);
+        let t = encode_event_axes(&mut self.buf, ev, self.pulse_mm, self.axes);
         let pulses = match ev {
             Event::Pulses { t_ns, .. } => t_ns.len() as u64,
             _ => 0,
@@ -556,8 +559,8 @@ mod tests {
             for i in 0..10u64 {
                 assert!(w.write(&Event::Position {
                     t_ns: i,
-                    pulses: [i as i64, 0, 0],
-                    held: [0; 3],
+                    pulses: [i as i64, 0, 0].into(),
+                    held: [0; 3].into(),
                     speed_mm_min: 0.0,
                 }));
             }

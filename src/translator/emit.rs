@@ -35,6 +35,9 @@ pub struct Loaded {
 pub struct Machine {
     /// Axis position, pulses.
     pub pos: [i64; 3],
+    /// Where a rotary A axis stands, pulses: the source language does not move it, so every
+    /// block keeps it (docs/language.md).
+    pub a: i64,
     /// The tool in the spindle.
     pub tool: Option<Loaded>,
     /// The spindle.
@@ -106,12 +109,15 @@ impl<'s> Out<'s> {
         b.tool_z = self.m.tool.is_some();
         b.seq = self.m.seq;
         b.stmt = self.line;
+        // The source language is X Y Z (docs/language.md): A stays where it is.
+        b.end[3] = self.m.a;
         b.delta = [
             b.end[0] - self.m.pos[0],
             b.end[1] - self.m.pos[1],
             b.end[2] - self.m.pos[2],
-        ];
-        self.m.pos = b.end;
+        ]
+        .into();
+        self.m.pos = b.end.xyz();
         self.blocks.push(b);
         self.cols.push(self.col);
     }
@@ -206,14 +212,14 @@ impl<'s> Out<'s> {
         let limits = [0, 1, 2].map(|a| st.travel_pulses(a));
         let mut from = start;
         for (b, &col) in self.blocks.iter().zip(&self.cols) {
-            self.check_point(b.end, &limits, col)?;
+            self.check_point(b.end.xyz(), &limits, col)?;
             if let Some(c) = b.center {
                 let centre = [from[0] + c[0], from[1] + c[1]];
-                for p in arc_extremes(from, b.end, centre, b.motion == Motion::ArcCcw) {
+                for p in arc_extremes(from, b.end.xyz(), centre, b.motion == Motion::ArcCcw) {
                     self.check_point(p, &limits, col)?;
                 }
             }
-            from = b.end;
+            from = b.end.xyz();
         }
         Ok(())
     }
@@ -299,6 +305,7 @@ mod tests {
         let st = MachineSettings::default();
         let m = Machine {
             pos: [5, 5, 5],
+            a: 0,
             tool: None,
             spindle: Spindle::Stopped,
             clear: None,

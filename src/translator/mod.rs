@@ -106,7 +106,8 @@ impl Translator {
             _ => Spindle::Reverse,
         };
         let machine = Machine {
-            pos: state.pos,
+            pos: state.pos.xyz(),
+            a: state.pos[3],
             tool,
             spindle,
             clear: None,

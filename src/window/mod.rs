@@ -104,7 +104,7 @@ impl Machine for crate::console::Console {
     }
     fn motion_sample(&self) -> (u64, [i64; 3], bool) {
         let st = self.status();
-        (st.machine_ns, st.pos, st.moving && !st.estop)
+        (st.machine_ns, st.pos.xyz(), st.moving && !st.estop)
     }
     fn wait_idle(&mut self) {
         crate::console::Console::wait_idle(self)

@@ -177,7 +177,7 @@ mod tests {
     fn line(seq: u32, motion: Motion, from: [i64; 3], to: [i64; 3]) -> Block {
         let mut b = Block::aux(seq, 1, to);
         b.motion = motion;
-        b.delta = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+        b.delta = [to[0] - from[0], to[1] - from[1], to[2] - from[2]].into();
         b
     }
 

@@ -43,7 +43,7 @@ pub struct Pages {
     /// The page shown (`Page::Mode`: the mode's display program).
     pub page: Page,
     /// The relative position's origin, pulses (the POS page).
-    pub rel_origin: [i64; 3],
+    pub rel_origin: crate::block::Axes,
     /// The PROG page's cursor row.
     pub prog_row: usize,
     /// A delete waiting for its confirmation: the program's name.
@@ -83,7 +83,7 @@ impl Pages {
     pub(in crate::console) fn new() -> Pages {
         Pages {
             page: Page::Mode,
-            rel_origin: [0; 3],
+            rel_origin: Default::default(),
             prog_row: 0,
             confirm_delete: None,
             ofs: (1, ofs::LENGTH),

@@ -129,25 +129,20 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         .as_ref()
         .filter(|_| st.in_block)
         .and_then(|e| e.block())
-        .map(|b| {
-            [
-                b.end[0] - st.pos[0],
-                b.end[1] - st.pos[1],
-                b.end[2] - st.pos[2],
-            ]
-        })
-        .unwrap_or([0; 3]);
+        .map(|b| crate::block::Axes::from_fn(|a| b.end[a] - st.pos[a]))
+        .unwrap_or_default();
     let (in_force, pending) = length_in_force(c);
     let (name, origin) = work_origin(c);
     p.body.push(format!(
         " {:>9}{:>9}{:>9}{:>9}",
         name, "REL", "MACH", "TO GO"
     ));
-    for a in 0..3 {
-        let work = st.pos[a] - s.to_pulses(origin[a]);
+    for a in 0..s.axes {
+        // A has no work offset: its WORK is its machine position (docs/gcode.md "Rotary axis A").
+        let work = st.pos[a] - origin.get(a).map_or(0, |&o| s.to_pulses(o));
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
-            ["X", "Y", "Z"][a],
+            ["X", "Y", "Z", "A"][a],
             s.to_mm(work),
             s.to_mm(st.pos[a] - c.pages.rel_origin[a]),
             s.to_mm(st.pos[a]),

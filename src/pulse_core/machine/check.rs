@@ -1,12 +1,12 @@
 //! The checks NCBR makes on a block before any of its pulses: travel limits (including the
 //! bulge of an arc), arc geometry and feed.
 
-use crate::block::{Block, FeedMode, Motion as Kind};
+use crate::block::{Axes, Block, FeedMode, Motion as Kind};
 use crate::pulse_core::arc::{ArcError, ArcStepper};
 use crate::settings::MachineSettings;
 
 /// Travel limits, arc geometry and feed of a block, before any of its pulses.
-pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Result<(), String> {
+pub fn check_block(settings: &MachineSettings, pos: Axes, b: &Block) -> Result<(), String> {
     // Never drop a word: what this kernel does not yet run is refused before any pulse.
     if let Some(c) = b.css {
         // The limit may be infinite (none); NaN fails every comparison.
@@ -32,13 +32,24 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
     if b.feed_mode == FeedMode::PerRev && !b.feed.is_finite() {
         return Err(format!("feed {} mm/rev is not a number", b.feed));
     }
-    let to = [
-        pos[0] + b.delta[0],
-        pos[1] + b.delta[1],
-        pos[2] + b.delta[2],
-    ];
-    let limit = |p: [i64; 3]| -> Result<(), String> {
-        for (a, &v) in p.iter().enumerate() {
+    // A rotary axis moves in straight blocks, by the DDA (docs/pulse-core.md, "Axes").
+    if b.delta[3] != 0 {
+        if settings.axes < 4 {
+            return Err("axis A: this machine has no A axis".into());
+        }
+        if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) {
+            return Err("axis A does not move in an arc: give it in a G00 or G01".into());
+        }
+        if settings.interpolator != crate::settings::Interpolator::Dda {
+            return Err("axis A is run by the DDA interpolator only".into());
+        }
+    }
+    let to = Axes::from_fn(|a| pos[a] + b.delta[a]);
+    let limit = |p: Axes| -> Result<(), String> {
+        for (a, &v) in p.iter().enumerate().take(settings.axes) {
+            if settings.wrapped(a) {
+                continue;
+            }
             let (lo, hi) = settings.travel_pulses(a);
             if v < lo || v > hi {
                 let lim = if v < lo { lo } else { hi };
@@ -70,7 +81,7 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
             let c = arc_centre(b, pos);
             let r = arc_radius(b) + 1;
             for p in st.extremes(r) {
-                limit([c[0] + p[0], c[1] + p[1], c[2] + p[2]])?;
+                limit(Axes::from_fn(|a| c[a] + p.get(a).copied().unwrap_or(0)))?;
             }
         }
         Kind::Dwell | Kind::Aux => {}
@@ -78,15 +89,15 @@ pub fn check_block(settings: &MachineSettings, pos: [i64; 3], b: &Block) -> Resu
     Ok(())
 }
 
-/// "X", "Y" or "Z".
+/// "X", "Y", "Z" or "A".
 pub fn axis_name(a: usize) -> &'static str {
-    ["X", "Y", "Z"].get(a).copied().unwrap_or("?")
+    ["X", "Y", "Z", "A"].get(a).copied().unwrap_or("?")
 }
 
 /// The arc's centre in machine axes, pulses (the start's coordinate along the normal).
-pub fn arc_centre(b: &Block, pos: [i64; 3]) -> [i64; 3] {
+pub fn arc_centre(b: &Block, pos: Axes) -> Axes {
     let c = b.centre3().unwrap_or([0; 3]);
-    [pos[0] + c[0], pos[1] + c[1], pos[2] + c[2]]
+    Axes::from_fn(|a| pos[a] + c.get(a).copied().unwrap_or(0))
 }
 
 /// The arc's start radius, pulses, rounded up.

@@ -2,6 +2,7 @@
 //! the run's lifecycle they drive (`docs/pulse-core.md`, "Operator commands").
 
 use super::{axis_name, EndCause, Machine};
+use crate::block::Axes;
 use crate::pulse_core::{Command, RunKind};
 
 impl Machine {
@@ -315,7 +316,7 @@ impl Machine {
             return;
         }
         self.out.unshift();
-        self.ret_queue = return_path(self.out.pos, [0; 3]).into();
+        self.ret_queue = return_path(self.out.pos, Axes::default()).into();
         self.next_return(self.now);
     }
 
@@ -344,11 +345,12 @@ impl Machine {
 
 /// The return from `from` to `to` in a safe order: up first if the target is higher, else
 /// across first and down last, so the tool never moves sideways below either point.
-pub fn return_path(from: [i64; 3], to: [i64; 3]) -> Vec<[i64; 3]> {
+pub fn return_path(from: Axes, to: Axes) -> Vec<Axes> {
+    // A rotary axis turns with X and Y.
     let mid = if to[2] > from[2] {
-        [from[0], from[1], to[2]]
+        Axes([from[0], from[1], to[2], from[3]])
     } else {
-        [to[0], to[1], from[2]]
+        Axes([to[0], to[1], from[2], to[3]])
     };
     let mut out = Vec::new();
     for p in [mid, to] {

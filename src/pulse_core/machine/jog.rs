@@ -7,6 +7,7 @@
 //! only then resumes, so every block still ends on its programmed point.
 
 use super::{axis_name, Jog, Machine, Phase};
+use crate::block::Axes;
 use crate::pulse_core::drive::Drive;
 use crate::pulse_core::motion::Motion;
 
@@ -63,7 +64,7 @@ impl Machine {
     }
 
     pub(super) fn start_jog(&mut self, axis: usize, d: i64, release: bool, t0: u64) {
-        let mut delta = [0; 3];
+        let mut delta = Axes::default();
         delta[axis] = d;
         let v = self.rapid_speed(self.settings.jog_mm_min);
         self.jog = Some(Jog {
@@ -99,7 +100,7 @@ impl Machine {
     pub(super) fn next_return(&mut self, t: u64) {
         while let Some(to) = self.ret_queue.pop_front() {
             let pos = self.out.pos;
-            let delta = [to[0] - pos[0], to[1] - pos[1], to[2] - pos[2]];
+            let delta = Axes::from_fn(|a| to[a] - pos[a]);
             if delta == [0; 3] {
                 continue;
             }

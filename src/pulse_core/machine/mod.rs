@@ -26,7 +26,7 @@ use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
 use super::spindle::{css_rpm, Spindle};
 use super::{BlockEntry, EndCause, RunEnd, RunKind};
-use crate::block::{Block, Css, FeedMode, MachineState, Motion as Kind};
+use crate::block::{Axes, Block, Css, FeedMode, MachineState, Motion as Kind};
 use crate::record::{Event, EventSink};
 use crate::settings::MachineSettings;
 use crate::tooldata::Magazine;
@@ -201,7 +201,7 @@ struct Job {
     /// Blocks started.
     started_blocks: u64,
     /// Where the run stood when the operator first moved an axis by hand while it was stopped.
-    return_to: Option<[i64; 3]>,
+    return_to: Option<Axes>,
 }
 
 /// What [`Machine::run`] runs until.
@@ -251,11 +251,11 @@ pub struct BlockEnd {
     /// Its source line.
     pub stmt: u32,
     /// Where the machine was when it started, pulses.
-    pub start: [i64; 3],
+    pub start: Axes,
     /// The programmed end point, pulses.
-    pub end: [i64; 3],
+    pub end: Axes,
     /// Where the machine was when it completed, pulses.
-    pub pos: [i64; 3],
+    pub pos: Axes,
     /// The tool-tip Z then, pulses: axis Z less the set length of the tool in the spindle.
     pub tip: i64,
     /// The same by the length the block was planned with: a length revised while the block
@@ -340,7 +340,7 @@ pub struct Machine {
     increments: VecDeque<(usize, i64)>,
     /// The return to where the run stopped: the move in progress and the targets after it.
     ret: Option<Jog>,
-    ret_queue: VecDeque<[i64; 3]>,
+    ret_queue: VecDeque<Axes>,
     /// Virtual time: an empty B1 stops [`Machine::run`] instead of letting the tick pass.
     starve_stops: bool,
     starved: bool,
@@ -684,12 +684,13 @@ impl Machine {
 
     /// Sets the axis positions (pulses) with the machine at rest and no run loaded; refused
     /// otherwise.
-    pub fn set_position(&mut self, pos: [i64; 3]) -> bool {
+    pub fn set_position(&mut self, pos: impl Into<Axes>) -> bool {
+        let pos = pos.into();
         if self.current.is_some() || self.jog.is_some() || self.job.is_some() {
             return false;
         }
         self.out.pos = pos;
-        self.out.shift = [0; 3];
+        self.out.shift = Axes::default();
         true
     }
 
@@ -699,12 +700,12 @@ impl Machine {
     }
 
     /// Program positions, pulses (the axes' own, but for what MACHINE LOCK held back).
-    pub fn pos(&self) -> [i64; 3] {
+    pub fn pos(&self) -> Axes {
         self.out.pos
     }
 
     /// Axis positions, pulses: where the axes really are.
-    pub fn machine_pos(&self) -> [i64; 3] {
+    pub fn machine_pos(&self) -> Axes {
         self.out.machine_pos()
     }
 
@@ -1121,7 +1122,7 @@ impl Machine {
             return_to: None,
         });
         self.blocks_done = 0;
-        self.out.count = [0; 3];
+        self.out.count = Axes::default();
         self.out.unshift();
         self.program_end = false;
         self.just_completed = false;
@@ -1190,7 +1191,7 @@ impl Machine {
             }),
             _ => None,
         };
-        b.delta = [b.end[0] - pos[0], b.end[1] - pos[1], b.end[2] - pos[2]];
+        b.delta = Axes::from_fn(|a| b.end[a] - pos[a]);
         if let Err(why) = check_block(&self.settings, pos, &b) {
             self.refuse(&e, Some(&b), why);
             return;
@@ -1272,14 +1273,14 @@ impl Machine {
     /// the settings (G38.2/3) or leaves it (G38.4/5) along the straight move becomes the
     /// block's end, to the nearest pulse; already so at the start, nothing moves. Whether it
     /// trips, and whether at the start (docs/pulse-core.md, "Probing").
-    fn probe_stop(&self, b: &mut Block, pos: [i64; 3], g: u16) -> (bool, bool) {
+    fn probe_stop(&self, b: &mut Block, pos: Axes, g: u16) -> (bool, bool) {
         let st = &self.settings;
         let len = self.tool_len;
         let radius = self
             .tool
             .and_then(|t| self.magazine.as_ref()?.tools.get(t))
             .map_or(0.0, |r| r.cutting_diameter() / 2.0);
-        let tip = |p: [i64; 3]| [st.to_mm(p[0]), st.to_mm(p[1]), st.to_mm(p[2]) - len];
+        let tip = |p: Axes| [st.to_mm(p[0]), st.to_mm(p[1]), st.to_mm(p[2]) - len];
         let (a, e) = (tip(pos), tip(b.end));
         match st.workpiece.probe(a, e, radius, g <= 383) {
             Touch::AtStart => {
@@ -1289,11 +1290,12 @@ impl Machine {
             }
             Touch::At(t) => {
                 let p = along(a, e, t);
-                b.end = [
+                b.end = Axes([
                     st.to_pulses(p[0]),
                     st.to_pulses(p[1]),
                     st.to_pulses(p[2] + len),
-                ];
+                    b.end[3],
+                ]);
                 (true, false)
             }
             Touch::Never => (false, false),
@@ -1655,7 +1657,15 @@ impl Machine {
                 self.settings.to_mm(c.block.end[0]),
                 self.settings.to_mm(c.block.end[1]),
                 self.settings.to_mm(c.block.end[2]),
-            );
+            ) + &if pos[3] != c.block.end[3] {
+                format!(
+                    "; A at {:.3}, programmed {:.3}",
+                    self.settings.to_mm(pos[3]),
+                    self.settings.to_mm(c.block.end[3])
+                )
+            } else {
+                String::new()
+            };
             self.refuse(&e, Some(&c.block), why);
             return;
         }

@@ -1,0 +1,286 @@
+//! The rotary A axis (issue 22, "N axes"): a 4-axis program runs on `--machine centre4`, its A
+//! pulses in the recording equal its A counter, its A moves are LinuxCNC's (rs274 for an
+//! unwrapped A; the WRAPPED_ROTARY rule worked out independently here, since the standalone
+//! rs274 reads no axis configuration), and A is refused with its place where it cannot act.
+
+mod common;
+
+use common::{python_check, temp_dir};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn novanc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(args)
+        .output()
+        .expect("run novanc")
+}
+
+fn repo(p: &str) -> String {
+    format!("{}/{p}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The A words of a program as G90/G91 and values (degrees), in order: the test's own reading,
+/// independent of novanc's reader (the program has one A word a line, no expressions).
+fn a_words(text: &str) -> Vec<(bool, f64)> {
+    let mut incremental = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let code = line.split('(').next().unwrap_or("");
+        for w in code.split_whitespace() {
+            match w {
+                "G90" => incremental = false,
+                "G91" => incremental = true,
+                _ => {}
+            }
+            if let Some(v) = w.strip_prefix('A') {
+                out.push((incremental, v.parse::<f64>().expect("an A number")));
+            }
+        }
+    }
+    out
+}
+
+/// LinuxCNC 2.9's A positions for `words` from 0: G91 adds; G90 on a wrapped axis goes to the
+/// nearest position ≡ |v| (mod 360) in the direction of v's sign (interp_find.cc
+/// `unwrap_rotary`); on an unwrapped axis to v.
+fn linuxcnc_a(words: &[(bool, f64)], wrapped: bool) -> Vec<f64> {
+    let mut a: f64 = 0.0;
+    let mut out = Vec::new();
+    for &(inc, v) in words {
+        a = if inc {
+            a + v
+        } else if wrapped {
+            let mut r = (a / 360.0).floor() * 360.0 + v.abs();
+            if v.is_sign_negative() && r > a {
+                r -= 360.0;
+            }
+            if !v.is_sign_negative() && r < a {
+                r += 360.0;
+            }
+            r
+        } else {
+            v
+        };
+        out.push(a);
+    }
+    out
+}
+
+/// The number after `key` on the line of `text` that starts with `line`.
+fn field(text: &str, line: &str, key: &str) -> Option<f64> {
+    let l = text.lines().find(|l| l.starts_with(line))?;
+    let mut it = l.split_whitespace();
+    it.find(|w| *w == key)?;
+    it.next()?.parse().ok()
+}
+
+#[test]
+fn the_wrapped_4_axis_program_runs_records_and_its_a_pulses_equal_its_counter() {
+    let prog = repo("programs/wrap4.ngc");
+    let text = std::fs::read_to_string(&prog).unwrap();
+    let ends = linuxcnc_a(&a_words(&text), true);
+    let mut travel = 0.0;
+    let mut from = 0.0;
+    for &e in &ends {
+        travel += (e - from).abs();
+        from = e;
+    }
+    let want_pulses = (travel / 0.001).round() as u64;
+    let dir = temp_dir("axes-wrap4");
+    let rec = dir.join("wrap4.mcap");
+    let out = novanc(&[
+        "run",
+        &prog,
+        "--machine",
+        "centre4",
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The A counter: every degree the LinuxCNC rule turns, in 0.001° pulses.
+    assert_eq!(field(&so, "pulses:", "A"), Some(want_pulses as f64), "{so}");
+    assert_eq!(
+        want_pulses, 1_170_000,
+        "two turns of groove and five quarter turns"
+    );
+    let last = *ends.last().unwrap();
+    assert_eq!(field(&so, "final position:", "A"), Some(last), "{so}");
+    assert!(so.contains("recording complete: yes"), "{so}");
+    // The recording: /nc/pulses of A add up to the counter (Python's mcap reader).
+    if let Some((ok, check)) = python_check(&rec, &["--expect-complete"]) {
+        assert!(ok, "{check}");
+        let pulses = field(&check, "pulses", "A");
+        assert_eq!(pulses, Some(want_pulses as f64), "{check}");
+    }
+    // A 3-axis machine refuses the program at its first A word, with its place.
+    let out = novanc(&["run", &prog]);
+    let se = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        se.contains("wrap4.ngc:9:14: unknown word A (novanc has the axes X, Y and Z)"),
+        "{se}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `novanc translate` of `text` on the machine `desc`: the A of every block that turns it.
+fn listed_a(dir: &Path, text: &str, desc: &str) -> Result<Vec<f64>, String> {
+    let prog = dir.join("a.ngc");
+    std::fs::write(&prog, text).unwrap();
+    let out = novanc(&["translate", prog.to_str().unwrap(), "--machine", desc]);
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr).to_string());
+    }
+    Ok(String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .flat_map(|l| {
+            l.split_whitespace()
+                .filter_map(|w| w.strip_prefix('A')?.parse().ok())
+        })
+        .collect())
+}
+
+const UNWRAPPED: &str = "machine table\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\ny travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\na rotary travel -720 720 rapid 12000 accel 1000\n";
+
+const MOVES: &str = "G21 G90 G94\nG0 X10 Y10 Z-10\nG0 A90\nG1 X20 A180 F600\nG91 G1 A-45 F3600\nG1 X5 A400\nG90 G0 A-10\nA20\nG1 X30 Y20 A0\nG91 A-30\nG90\nM2\n";
+
+#[test]
+fn a_moves_agree_with_rs274_on_an_unwrapped_axis_and_with_linuxcnc_s_rule_on_a_wrapped_one() {
+    let dir = temp_dir("axes-rs274");
+    let desc = dir.join("table.machine");
+    std::fs::write(&desc, UNWRAPPED).unwrap();
+    let got = listed_a(&dir, MOVES, desc.to_str().unwrap()).unwrap();
+    let words = a_words(MOVES);
+    // Unwrapped: what rs274 makes (its default configuration has an unwrapped A), if it is
+    // installed; the rule otherwise.
+    let rs274 = Command::new("rs274")
+        .arg("-g")
+        .arg(dir.join("a.ngc"))
+        .env("HOME", &dir)
+        .output();
+    let want: Vec<f64> = match rs274 {
+        Ok(o) if o.status.success() => {
+            let mut last = 0.0;
+            let mut v = Vec::new();
+            for l in String::from_utf8_lossy(&o.stdout).lines() {
+                let Some(args) = l.split("STRAIGHT_").nth(1) else {
+                    continue;
+                };
+                let nums: Vec<f64> = args
+                    .split(['(', ')', ','])
+                    .filter_map(|w| w.trim().parse().ok())
+                    .collect();
+                if nums.len() >= 4 && nums[3] != last {
+                    last = nums[3];
+                    v.push(nums[3]);
+                }
+            }
+            v
+        }
+        _ => {
+            eprintln!("rs274 not installed: the unwrapped A checked against the rule");
+            let mut v = linuxcnc_a(&words, false);
+            v.dedup();
+            v
+        }
+    };
+    assert_eq!(got, want, "unwrapped A: novanc against rs274");
+    let mut rule = linuxcnc_a(&words, false);
+    rule.dedup();
+    assert_eq!(want, rule, "rs274 against the rule");
+    // Wrapped (centre4): G90 A-10 turns back to 10, A20 forward, A0 forward to 360.
+    let got = listed_a(&dir, MOVES.replace("A400", "A40").as_str(), "centre4").unwrap();
+    let mut want = linuxcnc_a(&a_words(&MOVES.replace("A400", "A40")), true);
+    want.dedup();
+    assert_eq!(got, want);
+    assert_eq!(want, [90.0, 180.0, 135.0, 175.0, 10.0, 20.0, 360.0, 330.0]);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_is_refused_with_its_place_where_it_cannot_act() {
+    let dir = temp_dir("axes-refused");
+    let e = listed_a(&dir, "G0 X10 A10\n", "centre").unwrap_err();
+    assert!(
+        e.contains("1:8: unknown word A (novanc has the axes X, Y and Z)"),
+        "{e}"
+    );
+    for (text, want) in [
+        (
+            "G90 G0 A360\n",
+            "1:8: A360: a wrapped rotary axis takes an absolute position within ±360",
+        ),
+        (
+            "G17 G2 X10 Y0 I5 J0 A10 F100\n",
+            "1:21: A moves with G00 or G01 only",
+        ),
+        ("G92 X1 A10\n", "1:8: A moves with G00 or G01 only"),
+        ("G0 G53 A10\n", "1:8: A cannot be given with G53"),
+        (
+            "G81 X10 Y10 Z-5 R1 A10 F100\n",
+            "1:20: A moves with G00 or G01 only",
+        ),
+        (
+            "G91 G0 A1000000000000\n",
+            "1:8: A1000000000000: out of all range",
+        ),
+        ("G80 A10\n", "1:1: G80 cancels the motion mode"),
+    ] {
+        let e = listed_a(&dir, text, "centre4").unwrap_err();
+        assert!(e.contains(want), "{text}: {e}");
+    }
+    // The kernel: A is run by the DDA only, and refused before any pulse otherwise.
+    let prog = dir.join("ep.ngc");
+    std::fs::write(&prog, "G0 X10 A10\nM2\n").unwrap();
+    let out = novanc(&[
+        "run",
+        prog.to_str().unwrap(),
+        "--machine",
+        "centre4",
+        "--interpolator",
+        "error-proportional",
+    ]);
+    let se = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        se.contains("axis A is run by the DDA interpolator only"),
+        "{se}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn pos_shows_a_on_a_machine_with_a_and_mdi_turns_it() {
+    use novanc::console::{Console, ConsoleConfig};
+    use novanc::panel_model::{OpMode, PanelEvent};
+    let mut cfg = ConsoleConfig::new(temp_dir("axes-pos"));
+    cfg.clock = novanc::pulse_core::ClockMode::Virtual;
+    cfg.settings = match novanc::lathe::desc::load("centre4") {
+        Ok(novanc::lathe::desc::MachineDesc::Mill(s)) => s,
+        other => panic!("centre4 is a mill: {other:?}"),
+    };
+    let mut c = Console::open(cfg).unwrap().0;
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    common::type_line(&mut c, "G0 X10 A90");
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.status().pos, [10_000, 0, 0, 90_000], "{}", c.frame_text());
+    assert_eq!(c.status().pulses[3], 90_000);
+    common::keys(&mut c, &["Ctrl+P"]);
+    let f = c.frame_text();
+    let a = f
+        .lines()
+        .find(|l| l.starts_with('A'))
+        .unwrap_or_else(|| panic!("no A row:\n{f}"));
+    assert_eq!(
+        a.split_whitespace().collect::<Vec<_>>(),
+        ["A", "90.000", "90.000", "90.000", "0.000"],
+        "{f}"
+    );
+}
