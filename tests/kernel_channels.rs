@@ -794,7 +794,15 @@ fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
     let period = k.machine(0).expect("CH1").settings().ncbr_period_ns;
     let core = PulseCore::spawn_kernel(k, ClockMode::RealTime);
     core.set_pulse_capture(true);
-    std::thread::sleep(std::time::Duration::from_millis(30));
+    // Until every channel has output pulses in real time (patient: the machine is shared).
+    let mut early: Vec<Vec<_>> = vec![Vec::new(); 3];
+    let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while early.iter().any(Vec::is_empty) && std::time::Instant::now() < patience {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        for (ch, e) in early.iter_mut().enumerate() {
+            e.extend(core.take_pulses(ch));
+        }
+    }
     let before = core.status().machine_ns;
     let chans = core.channels();
     for (ch, c) in chans.iter().enumerate() {
@@ -803,12 +811,21 @@ fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
     // The front end freezes right after sending E-STOP.
     core.post(None, Command::EStop);
     std::thread::sleep(std::time::Duration::from_millis(300));
+    // Looking now changes nothing the thread does; it may only have been slow to get a core.
+    let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while std::time::Instant::now() < patience
+        && core
+            .estop_at()
+            .is_none_or(|at| core.status().machine_ns <= at + 10 * period)
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
     let at = core.estop_at().expect("the thread applied the E-STOP");
     assert!(at >= before, "applied after it was sent");
     let mut moved = 0;
-    for ch in 0..3 {
+    for (ch, early) in early.iter().enumerate() {
         let pulses = core.take_pulses(ch);
-        moved += usize::from(pulses.iter().any(|p| p.t_ns < at));
+        moved += usize::from(!early.is_empty() || pulses.iter().any(|p| p.t_ns < at));
         let late: Vec<_> = pulses.iter().filter(|p| p.t_ns > at + period).collect();
         assert!(
             late.is_empty(),
