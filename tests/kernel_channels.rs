@@ -836,6 +836,14 @@ fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
         );
     }
     assert_eq!(moved, 3, "every channel was cutting before the E-STOP");
+    let rt = core.realtime_stats();
+    let worst = rt.lateness_ns.iter().max().copied().unwrap_or(0);
+    eprintln!(
+        "real time: {} slices while moving, {} late (dry), worst lateness {:.3} ms",
+        rt.lateness_ns.len(),
+        rt.dry,
+        worst as f64 * 1e-6
+    );
     let st = core.status();
     assert!(
         st.machine_ns > at + 10 * period,
