@@ -1,7 +1,8 @@
 //! The multi-channel kernel (docs/pulse-core.md, "Channels"): a kernel of one channel is its
 //! machine alone; the sync table's waiting M codes, handovers, chuck interlock and part
 //! counter; the three-channel sample run on the kernel against the lathe simulator (the
-//! oracle); E-STOP, RESET and a fault; random operator sequences with invariants.
+//! oracle); E-STOP, RESET and a fault; random operator sequences with invariants; the kernel
+//! in the pulse core's thread (commands to a channel, E-STOP with a frozen front end).
 
 use novanc::block::{Block, Motion, Statement, Sync};
 use novanc::lathe::blocks::{blocks, kernel_channels};
@@ -11,7 +12,9 @@ use novanc::lathe::ops::{Feed, LatheProgram, Op, SpeedMode};
 use novanc::lathe::sim::testkit::{citizen_like, sample_programs};
 use novanc::lathe::sim::{Event, Lathe, Outcome as SimOutcome};
 use novanc::pulse_core::testkit::{polyline, Rng};
-use novanc::pulse_core::{Kernel, Machine, Outcome, VecSource};
+use novanc::pulse_core::{
+    ClockMode, Command, Kernel, Machine, Outcome, PulseCore, RunKind, VecSource,
+};
 use novanc::settings::MachineSettings;
 
 const MINUTE: u64 = 60_000_000_000;
@@ -743,4 +746,139 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
         tk as f64 * 1e-9,
         (tk as f64 - ts as f64) * 1e-9
     );
+}
+
+#[test]
+fn the_pulse_core_runs_a_kernel_with_commands_addressed_to_a_channel() {
+    let desc = citizen_like(3);
+    let progs = sample_programs();
+    let core = PulseCore::spawn_kernel(kernel(&desc, &progs, 5), ClockMode::Virtual);
+    assert_eq!(core.channels().len(), 3, "one published state per channel");
+    core.channel_command(Some(0), Command::Start(RunKind::Auto))
+        .expect("START CH1");
+    core.run_for(2_000_000_000);
+    let chans = core.channels();
+    assert_ne!(chans[0].status.run, 0, "CH1 runs");
+    for c in &chans[1..] {
+        assert_eq!(c.status.run, 0, "CH2 and CH3 not started: {:?}", c.sync);
+    }
+    let work = chans[0].sync.as_ref().and_then(|v| v.work);
+    assert_eq!(work, Some(1), "CH1 received the bar's first work");
+    assert!(
+        core.channel_command(Some(3), Command::Stop).is_err(),
+        "no CH4"
+    );
+    core.channel_command(None, Command::Start(RunKind::Auto))
+        .expect("START all");
+    let st = core.wait_idle(std::time::Duration::from_secs(600));
+    assert!(st.is_some(), "the batch ends");
+    let chans = core.channels();
+    let parts: Vec<u32> = chans
+        .iter()
+        .map(|c| c.sync.as_ref().map_or(0, |v| v.parts))
+        .collect();
+    assert_eq!(parts, vec![5, 5, 5], "every channel machined the 5 works");
+    assert!(chans
+        .iter()
+        .all(|c| c.sync.as_ref().is_some_and(|v| v.done)));
+}
+
+/// Issue 22: "E-STOP on the lathe abandons every channel's run, from the kernel thread, within
+/// one NCBR tick, whatever the screen is doing". The Citizen's three channels run in real time
+/// from a moment when all three cut; the caller posts E-STOP and then does nothing (no status
+/// read, no tick) for 300 ms; afterwards no channel has a pulse later than one NCBR tick after
+/// the machine time the thread applied the E-STOP at, and the kernel's clock went on.
+#[test]
+fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.start(None).expect("START");
+    until(&mut k, |k| {
+        (0..3).all(|ch| k.machine(ch).is_some_and(|m| m.status().moving))
+    });
+    let period = k.machine(0).expect("CH1").settings().ncbr_period_ns;
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime);
+    core.set_pulse_capture(true);
+    // Until every channel has output pulses in real time (patient: the machine is shared).
+    let mut early: Vec<Vec<_>> = vec![Vec::new(); 3];
+    let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while early.iter().any(Vec::is_empty) && std::time::Instant::now() < patience {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        for (ch, e) in early.iter_mut().enumerate() {
+            e.extend(core.take_pulses(ch));
+        }
+    }
+    let before = core.status().machine_ns;
+    let chans = core.channels();
+    for (ch, c) in chans.iter().enumerate() {
+        assert!(c.status.run != 0 && !c.status.estop, "CH{} runs", ch + 1);
+    }
+    // The front end freezes right after sending E-STOP.
+    core.post(None, Command::EStop);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Looking now changes nothing the thread does; it may only have been slow to get a core.
+    let patience = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while std::time::Instant::now() < patience
+        && core
+            .estop_at()
+            .is_none_or(|at| core.status().machine_ns <= at + 10 * period)
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let at = core.estop_at().expect("the thread applied the E-STOP");
+    assert!(at >= before, "applied after it was sent");
+    let mut moved = 0;
+    for (ch, early) in early.iter().enumerate() {
+        let pulses = core.take_pulses(ch);
+        moved += usize::from(!early.is_empty() || pulses.iter().any(|p| p.t_ns < at));
+        let late: Vec<_> = pulses.iter().filter(|p| p.t_ns > at + period).collect();
+        assert!(
+            late.is_empty(),
+            "CH{}: {} pulses after the E-STOP at {at} ns (+{period} ns), the first {:?}",
+            ch + 1,
+            late.len(),
+            late.first()
+        );
+    }
+    assert_eq!(moved, 3, "every channel was cutting before the E-STOP");
+    let rt = core.realtime_stats();
+    let worst = rt.lateness_ns.iter().max().copied().unwrap_or(0);
+    eprintln!(
+        "real time: {} slices while moving, {} late (dry), worst lateness {:.3} ms",
+        rt.lateness_ns.len(),
+        rt.dry,
+        worst as f64 * 1e-6
+    );
+    let st = core.status();
+    assert!(
+        st.machine_ns > at + 10 * period,
+        "the kernel's clock went on: {} ns after the E-STOP",
+        st.machine_ns - at
+    );
+    for (ch, c) in core.channels().iter().enumerate() {
+        assert!(
+            c.status.estop && c.status.run == 0,
+            "CH{}: {:?}",
+            ch + 1,
+            c.status
+        );
+    }
+}
+
+#[test]
+fn the_mills_pulse_core_is_the_one_channel_case() {
+    let core = PulseCore::spawn(MachineSettings::default(), ClockMode::Virtual, None);
+    assert_eq!(core.channels().len(), 1, "the mill has one channel");
+    assert!(core.channels()[0].sync.is_none(), "and no sync table");
+    assert!(
+        core.channel_command(Some(1), Command::Stop).is_err(),
+        "no CH2 on the mill"
+    );
+    assert!(!core.status().estop);
+    core.channel_command(Some(0), Command::EStop)
+        .expect("E-STOP CH1");
+    assert!(core.status().estop, "channel 0 is the machine");
+    assert!(core.channels()[0].status.estop);
+    assert_eq!(core.estop_at(), Some(core.status().machine_ns));
 }

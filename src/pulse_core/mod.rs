@@ -50,7 +50,7 @@ pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Sign
 pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
-pub use self::runner::{PulseCore, RtStats};
+pub use self::runner::{ChannelStatus, PulseCore, RtStats};
 pub use self::source::{BlockSource, Fetch, VecSource};
 pub use self::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 

@@ -9,13 +9,23 @@
 //!   clock, like a step queue. A slice finished after its own start time t_k means the queue
 //!   ran dry; each slice's lateness (finish − t_k, negative = ahead) is kept in [`RtStats`].
 //!
+//! - N channels: [`PulseCore::spawn_kernel`] runs a [`Kernel`] (one [`Machine`] per channel and
+//!   the sync table) in the same thread on the same loop: one thread, one clock. Commands are
+//!   addressed to a channel or to all ([`PulseCore::channel_command`]); E-STOP is machine-wide
+//!   and acts from this thread at the kernel's machine time, whatever the caller does next.
+//!   Each channel's [`Status`] and its place in the sync table are published
+//!   ([`PulseCore::channels`]). The core made by [`PulseCore::spawn`] (the mill, B1 fed by
+//!   the translator) is the 1-channel case of the same API: channel 0 is its machine.
+//!
 //! Every call that sends a message waits until the thread has applied it, so the snapshot a
 //! caller reads afterwards already shows its effect. The snapshot is republished after every
 //! message, after every real-time slice, and at most every 20 ms of wall time during a long
 //! virtual advance; a waiting caller is woken only when one waits.
 
 use super::block_buffer::{BlockBuffer, MakeRun};
+use super::kernel::{ChannelView, Kernel, Outcome};
 use super::machine::{BlockEnd, Machine, Reached, Until};
+use super::pulse_out::PulseRec;
 use super::realtime::{apply, Op, StepQueue};
 use super::{ClockMode, Command, RunKind, Status};
 use crate::block::Axes;
@@ -48,6 +58,11 @@ enum Wait {
 
 enum Msg {
     Cmd(Command),
+    /// A command to channel `.0` of a kernel (None: every channel).
+    Chan(Option<usize>, Command),
+    /// A fault injected into a kernel's channel.
+    Fault(usize, String),
+    Capture(bool),
     Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),
     Modes(String, String),
@@ -67,6 +82,24 @@ struct Shared {
     reached: Mutex<Option<Reached>>,
     audit: Mutex<Vec<BlockEnd>>,
     rt: Mutex<RtStats>,
+    /// Every channel's published state (one for the core around a single machine).
+    channels: Mutex<Vec<ChannelStatus>>,
+    /// The refusal of the latest channel command (None: it acted).
+    refusal: Mutex<Option<String>>,
+    /// The machine time the latest E-STOP was applied at, by the thread.
+    estop_at: Mutex<Option<u64>>,
+    /// Captured pulses per channel (with the capture on).
+    pulses: Mutex<Vec<Vec<PulseRec>>>,
+}
+
+/// One channel's published state.
+#[derive(Clone, Debug)]
+pub struct ChannelStatus {
+    /// Its machine's status (RUN, hold, alarm, block, position, ...).
+    pub status: Status,
+    /// Its place in the kernel's sync table: the sync point it waits at and on what, its work
+    /// and chuck, its parts (None for the core around a single machine, which has no table).
+    pub sync: Option<ChannelView>,
 }
 
 /// The handle to the pulse core thread.
@@ -115,6 +148,10 @@ impl PulseCore {
             reached: Mutex::new(None),
             audit: Mutex::new(Vec::new()),
             rt: Mutex::new(RtStats::default()),
+            channels: Mutex::new(states(None, &machine).1),
+            refusal: Mutex::new(None),
+            estop_at: Mutex::new(None),
+            pulses: Mutex::new(vec![Vec::new()]),
         });
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
@@ -130,10 +167,71 @@ impl PulseCore {
                     quit: false,
                     rt: None,
                     interrupt: None,
+                    k: None,
+                    epoch: Instant::now(),
+                    capture: false,
                 };
                 if clock == ClockMode::RealTime {
                     r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
                 }
+                r.run(clock)
+            })
+            .ok();
+        PulseCore {
+            tx,
+            shared,
+            buffer,
+            sent: AtomicU64::new(0),
+            settings,
+            clock,
+            thread,
+        }
+    }
+
+    /// Starts the pulse core thread running `kernel`'s N channels on its clock (each channel's
+    /// program is the kernel's; B1 stays empty). In real time, machine time 0 of the kernel's
+    /// clock is now on the wall clock, and each NCBR tick of every channel is generated at
+    /// most one tick ahead of it; nothing is recorded (the step queue and its recording are
+    /// the single machine's, not yet the kernel's).
+    pub fn spawn_kernel(kernel: Kernel, clock: ClockMode) -> PulseCore {
+        let (tx, rx) = mpsc::channel();
+        let settings = kernel
+            .machine(0)
+            .map(|m| m.settings().clone())
+            .unwrap_or_default();
+        // The core's single machine stands idle: the kernel's channels run instead.
+        let machine = Machine::new(settings.clone());
+        let (st, chans) = states(Some(&kernel), &machine);
+        let shared = Arc::new(Shared {
+            status: Mutex::new(st),
+            changed: Condvar::new(),
+            waiters: AtomicUsize::new(0),
+            reached: Mutex::new(None),
+            audit: Mutex::new(Vec::new()),
+            rt: Mutex::new(RtStats::default()),
+            channels: Mutex::new(chans),
+            refusal: Mutex::new(None),
+            estop_at: Mutex::new(None),
+            pulses: Mutex::new(vec![Vec::new(); kernel.channels()]),
+        });
+        let buffer = BlockBuffer::new(settings.b1_capacity);
+        let (sh, b) = (shared.clone(), buffer.clone());
+        let thread = std::thread::Builder::new()
+            .name("pulse-core".into())
+            .spawn(move || {
+                let r = Runner {
+                    m: machine,
+                    shared: sh,
+                    buffer: b,
+                    rx,
+                    applied: 0,
+                    quit: false,
+                    rt: None,
+                    interrupt: None,
+                    epoch: Instant::now() - Duration::from_nanos(kernel.now()),
+                    k: Some(Box::new(kernel)),
+                    capture: false,
+                };
                 r.run(clock)
             })
             .ok();
@@ -205,6 +303,52 @@ impl PulseCore {
     /// Sends an operator command; returns the status once it is applied.
     pub fn command(&self, c: Command) -> Status {
         self.send_sync(Msg::Cmd(c))
+    }
+
+    /// Sends an operator command to channel `ch` (None: every channel) and waits until it is
+    /// applied; its refusal, if any. START, STOP (feed hold), RESET and the rest act on the
+    /// channels named; E-STOP acts on every channel, whatever `ch`. The core around a single
+    /// machine has one channel, 0.
+    pub fn channel_command(&self, ch: Option<usize>, c: Command) -> Result<(), String> {
+        self.send_sync(Msg::Chan(ch, c));
+        lock(&self.shared.refusal).clone().map_or(Ok(()), Err)
+    }
+
+    /// Sends the command as [`PulseCore::channel_command`] and returns at once, without
+    /// waiting for the thread or reading anything (what a frozen front end does).
+    pub fn post(&self, ch: Option<usize>, c: Command) {
+        self.send(Msg::Chan(ch, c));
+    }
+
+    /// Injects a fault (tool breakage) into channel `ch` of a kernel: a feed hold that only
+    /// RESET then START end. Refused by the core around a single machine.
+    pub fn fault(&self, ch: usize, reason: &str) -> Result<(), String> {
+        self.send_sync(Msg::Fault(ch, reason.into()));
+        lock(&self.shared.refusal).clone().map_or(Ok(()), Err)
+    }
+
+    /// Every channel's latest published state.
+    pub fn channels(&self) -> Vec<ChannelStatus> {
+        lock(&self.shared.channels).clone()
+    }
+
+    /// The machine time the latest E-STOP was applied at by the thread (None: none yet).
+    pub fn estop_at(&self) -> Option<u64> {
+        *lock(&self.shared.estop_at)
+    }
+
+    /// Captures every channel's pulses from now on (off: stops and forgets them). Only a
+    /// kernel's channels: the single machine's pulses go to its recording.
+    pub fn set_pulse_capture(&self, on: bool) {
+        self.send_sync(Msg::Capture(on));
+    }
+
+    /// The pulses channel `ch` output since the last call (with the capture on).
+    pub fn take_pulses(&self, ch: usize) -> Vec<PulseRec> {
+        lock(&self.shared.pulses)
+            .get_mut(ch)
+            .map(std::mem::take)
+            .unwrap_or_default()
     }
 
     /// The latest status snapshot.
@@ -361,6 +505,37 @@ impl Drop for PulseCore {
     }
 }
 
+/// The core's status and every channel's: with a kernel, the core's status is channel 0's at
+/// the kernel's time (idle only when every channel is: the caller checks); without, the single
+/// machine's, which is channel 0.
+fn states(k: Option<&Kernel>, m: &Machine) -> (Status, Vec<ChannelStatus>) {
+    match k {
+        Some(k) => {
+            let chans: Vec<ChannelStatus> = (0..k.channels())
+                .filter_map(|i| {
+                    Some(ChannelStatus {
+                        status: k.machine(i)?.status(),
+                        sync: k.channel(i),
+                    })
+                })
+                .collect();
+            let mut st = chans
+                .first()
+                .map_or_else(|| m.status(), |c| c.status.clone());
+            st.machine_ns = k.now();
+            (st, chans)
+        }
+        None => {
+            let st = m.status();
+            let chans = vec![ChannelStatus {
+                status: st.clone(),
+                sync: None,
+            }];
+            (st, chans)
+        }
+    }
+}
+
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
@@ -377,11 +552,57 @@ struct Runner {
     rt: Option<StepQueue>,
     /// Asked between slices of a virtual-time advance: true ends it (a stop signal).
     interrupt: Option<fn() -> bool>,
+    /// N channels: the kernel runs them and `m` stands idle.
+    k: Option<Box<Kernel>>,
+    /// With a kernel in real time: the wall-clock instant of machine time 0.
+    epoch: Instant,
+    /// Pulses are captured for `take_pulses`.
+    capture: bool,
 }
 
 impl Runner {
     fn handle(&mut self, msg: Msg) {
         let op = match msg {
+            Msg::Chan(ch, c) => {
+                let r = self.channel_command(ch, c);
+                *lock(&self.shared.refusal) = r.err();
+                self.applied += 1;
+                return;
+            }
+            Msg::Fault(ch, why) => {
+                let r = match &mut self.k {
+                    Some(k) => k.fault(ch, &why),
+                    None => Err("a fault is injected into a channel of a kernel".into()),
+                };
+                *lock(&self.shared.refusal) = r.err();
+                self.applied += 1;
+                return;
+            }
+            Msg::Capture(on) => {
+                self.capture = on;
+                if let Some(k) = &mut self.k {
+                    for i in 0..k.channels() {
+                        if let Some(m) = k.machine_mut(i) {
+                            m.set_recording(None, on);
+                        }
+                    }
+                }
+                if !on {
+                    lock(&self.shared.pulses).iter_mut().for_each(Vec::clear);
+                }
+                self.applied += 1;
+                return;
+            }
+            Msg::Cmd(c) if self.k.is_some() => {
+                let _ = self.channel_command(None, c);
+                self.applied += 1;
+                return;
+            }
+            Msg::Start(kind, _) if self.k.is_some() => {
+                let _ = self.channel_command(None, Command::Start(kind));
+                self.applied += 1;
+                return;
+            }
             Msg::Cmd(c) => {
                 if matches!(c, Command::Reset | Command::Abandon | Command::EStop) {
                     self.buffer.clear();
@@ -449,6 +670,96 @@ impl Runner {
         self.applied += 1;
     }
 
+    /// A command addressed to channel `ch` (None: all). The single machine is channel 0.
+    fn channel_command(&mut self, ch: Option<usize>, c: Command) -> Result<(), String> {
+        let estop = c == Command::EStop;
+        let r = match &mut self.k {
+            Some(k) => match c {
+                Command::EStop => {
+                    k.estop();
+                    Ok(())
+                }
+                Command::Start(_) => k.start(ch),
+                Command::Stop => k.stop(ch),
+                Command::Reset => k.reset(ch),
+                c => match ch {
+                    Some(i) => k.command(i, c),
+                    None => (0..k.channels()).try_for_each(|i| k.command(i, c.clone())),
+                },
+            },
+            None => match ch {
+                // E-STOP is machine-wide, whatever the channel named.
+                _ if estop => {
+                    self.handle(Msg::Cmd(c));
+                    self.applied -= 1;
+                    Ok(())
+                }
+                Some(0) | None => {
+                    // The single machine's own path (a START resumes; a new run needs its
+                    // source, `start`); `handle` counts a message, this one is counted by
+                    // its caller.
+                    let msg = match c {
+                        Command::Start(kind) => Msg::Start(kind, None),
+                        c => Msg::Cmd(c),
+                    };
+                    self.handle(msg);
+                    self.applied -= 1;
+                    Ok(())
+                }
+                Some(i) => Err(format!("CH{}: the machine has 1 channel", i + 1)),
+            },
+        };
+        if estop {
+            *lock(&self.shared.estop_at) = Some(self.now());
+        }
+        r
+    }
+
+    /// Machine time: the kernel's, or the single machine's.
+    fn now(&self) -> u64 {
+        self.k.as_ref().map_or(self.m.now(), |k| k.now())
+    }
+
+    /// No channel moves or has anything pending.
+    fn idle(&self) -> bool {
+        match &self.k {
+            Some(k) => (0..k.channels()).all(|i| k.machine(i).is_none_or(|m| m.is_idle())),
+            None => self.m.is_idle(),
+        }
+    }
+
+    /// With a kernel: moves the captured pulses to the shared log.
+    fn drain_pulses(&mut self) {
+        let (Some(k), true) = (&mut self.k, self.capture) else {
+            return;
+        };
+        let mut log = lock(&self.shared.pulses);
+        for i in 0..k.channels() {
+            if let (Some(m), Some(l)) = (k.machine_mut(i), log.get_mut(i)) {
+                l.extend(m.take_pulses());
+            }
+        }
+    }
+
+    /// Virtual time with a kernel: every channel runs until the wait is over.
+    fn advance_kernel(&mut self, w: Wait) -> Reached {
+        let Some(k) = &mut self.k else {
+            return Reached::Limit;
+        };
+        let r = match w {
+            Wait::For(ns) => {
+                k.advance_to(k.now().saturating_add(ns));
+                Reached::Time
+            }
+            Wait::Idle(limit) | Wait::Block(_, limit) => match k.run_until_idle(limit) {
+                Outcome::TimeLimit => Reached::Limit,
+                _ => Reached::Idle,
+            },
+        };
+        self.drain_pulses();
+        r
+    }
+
     fn apply_op(&mut self, op: Op) {
         match &mut self.rt {
             Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(&mut self.m),
@@ -463,6 +774,9 @@ impl Runner {
     /// Virtual time: runs the machine until the wait is over, a slice of machine time at a
     /// time so that an interrupt is seen between slices.
     fn advance(&mut self, w: Wait) -> Reached {
+        if self.k.is_some() {
+            return self.advance_kernel(w);
+        }
         let now = self.m.now();
         let (until, deadline) = match w {
             Wait::Idle(limit) => (Until::Idle, now.saturating_add(limit)),
@@ -523,8 +837,15 @@ impl Runner {
 
     fn publish(&mut self) {
         self.drain_audit();
-        let mut st = self.m.status();
+        let (mut st, mut chans) = states(self.k.as_deref(), &self.m);
+        if self.k.is_some() {
+            st.idle = self.idle();
+        }
         st.commands_applied = self.applied;
+        for c in &mut chans {
+            c.status.commands_applied = self.applied;
+        }
+        *lock(&self.shared.channels) = chans;
         *lock(&self.shared.status) = st;
         if self.shared.waiters.load(Ordering::SeqCst) > 0 {
             self.shared.changed.notify_all();
@@ -565,14 +886,26 @@ impl Runner {
     }
 
     fn run_realtime(&mut self) {
-        let period = self.m.settings().ncbr_period_ns.max(1);
+        let period = self
+            .k
+            .as_ref()
+            .and_then(|k| k.machine(0))
+            .unwrap_or(&self.m)
+            .settings()
+            .ncbr_period_ns
+            .max(1);
         loop {
             if !self.drain() {
                 return;
             }
-            let Some(rt) = &mut self.rt else { return };
-            rt.release();
-            let slice_start = rt.wall_of(self.m.now());
+            let slice_start = match (&mut self.rt, &self.k) {
+                (Some(rt), _) => {
+                    rt.release();
+                    rt.wall_of(self.m.now())
+                }
+                (None, Some(k)) => self.epoch + Duration::from_nanos(k.now()),
+                (None, None) => return,
+            };
             let gen_at = slice_start
                 .checked_sub(Duration::from_nanos(period))
                 .unwrap_or(slice_start);
@@ -585,8 +918,17 @@ impl Runner {
                 }
                 continue;
             }
-            let moving = !self.m.is_idle();
-            rt.slice(&mut self.m, &self.buffer);
+            let moving = !self.idle();
+            match (&mut self.rt, &mut self.k) {
+                (Some(rt), _) => rt.slice(&mut self.m, &self.buffer),
+                (None, Some(k)) => {
+                    // One NCBR tick of every channel; an E-STOP read by `drain` before the
+                    // next one acts at the kernel's time, in the same tick on every channel.
+                    k.advance_to(k.now().saturating_add(period));
+                    self.drain_pulses();
+                }
+                (None, None) => return,
+            }
             let done = Instant::now();
             if moving {
                 let late = if done >= slice_start {
