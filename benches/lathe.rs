@@ -7,10 +7,18 @@
 //! (reading the three programs, the run, the summary), to 5 parts and to 100 parts with a
 //! recording, wall time and axis pulses per second, best of 3.
 //!
+//! Then the one kernel (issue 22): the Citizen's own programs (`programs/citizen`) to 100 parts
+//! in process on `pulse_core::Kernel` beside the simulator on the same programs, best of 3.
+//!
 //! Run with `cargo bench --bench lathe`.
 
+use novanc::lathe::blocks::kernel_channels;
+use novanc::lathe::desc::LatheDesc;
+use novanc::lathe::gcode::{home, read_program};
+use novanc::lathe::ops::LatheProgram;
 use novanc::lathe::sim::testkit::sample_lathe;
-use novanc::lathe::sim::Outcome;
+use novanc::lathe::sim::{Lathe, Outcome};
+use novanc::pulse_core::{Kernel, Outcome as KernelOutcome};
 use std::time::Instant;
 
 /// One 5-part run: (wall seconds, ticks, axis pulses, machine ns, events).
@@ -109,7 +117,94 @@ fn best_of<T: Copy>(
     }
 }
 
+/// The Citizen's programs read by the lathe reader.
+fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
+    (1..=3)
+        .map(|i| {
+            let name = format!("system{i}.ngc");
+            let path = format!("{}/programs/citizen/{name}", env!("CARGO_MANIFEST_DIR"));
+            let text = std::fs::read_to_string(&path).unwrap_or_default();
+            read_program(&name, &text, desc, i - 1, &Default::default()).unwrap_or_else(|e| {
+                eprintln!("lathe bench: {name}: {e}");
+                std::process::exit(1)
+            })
+        })
+        .collect()
+}
+
+/// The Citizen to `parts` in process on the kernel: (wall s, axis pulses, machine ns).
+fn on_kernel(
+    desc: &LatheDesc,
+    progs: &[LatheProgram],
+    parts: u32,
+) -> Result<(f64, u64, u64), String> {
+    let t0 = Instant::now();
+    let (chans, flow) = kernel_channels(desc, progs)?;
+    let mut k = Kernel::new(chans, Some(flow), parts)?;
+    for ch in 0..desc.channels.len() {
+        let h = home(desc, ch);
+        k.set_position(ch, [h[0], 0, h[1]])?;
+    }
+    k.start(None)?;
+    let o = k.run_until_idle(u64::MAX / 4);
+    let wall = t0.elapsed().as_secs_f64();
+    if o != (KernelOutcome::Finished { parts }) {
+        return Err(format!("the kernel's run ended {o:?}"));
+    }
+    // A channel's pulse counters are its run's, and each work is a run of its own: the last
+    // part's pulses, times the parts, stand for the whole (the simulator counts them all).
+    let last: u64 = (0..desc.channels.len())
+        .filter_map(|ch| k.machine(ch))
+        .map(|m| m.status().pulses.iter().sum::<u64>())
+        .sum();
+    Ok((wall, last * u64::from(parts), k.now()))
+}
+
+/// The same on the simulator.
+fn on_simulator(
+    desc: &LatheDesc,
+    progs: &[LatheProgram],
+    parts: u32,
+) -> Result<(f64, u64, u64), String> {
+    let t0 = Instant::now();
+    let mut l = Lathe::new(desc.clone(), progs.to_vec(), parts)?;
+    for ch in 0..desc.channels.len() {
+        l.set_position(ch, home(desc, ch))?;
+    }
+    l.start();
+    let o = l.run_until_idle(u64::MAX / 4);
+    let wall = t0.elapsed().as_secs_f64();
+    if o != (Outcome::Finished { parts }) {
+        return Err(format!("the simulator's run ended {o:?}"));
+    }
+    let s = l.stats();
+    let pulses = s.channels.iter().flat_map(|c| c.pulses).sum();
+    Ok((wall, pulses, s.machine_ns))
+}
+
 fn main() {
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    for (name, kernel) in [("kernel   ", true), ("simulator", false)] {
+        let (wall, pulses, machine) = best_of(
+            3,
+            || {
+                if kernel {
+                    on_kernel(&desc, &progs, 100)
+                } else {
+                    on_simulator(&desc, &progs, 100)
+                }
+            },
+            |r| r.0,
+        );
+        println!(
+            "Citizen 100 parts in process on the {name}: {:.1} ms wall, {}{pulses} axis pulses ({:.1} M pulses/s), machine time {:.3} s",
+            wall * 1e3,
+            if kernel { "about " } else { "" },
+            pulses as f64 / wall / 1e6,
+            machine as f64 * 1e-9
+        );
+    }
     for (parts, record) in [(5, false), (100, false), (100, true)] {
         {
             let (wall, pulses, machine) = best_of(3, || whole(parts, record), |r| r.0);
