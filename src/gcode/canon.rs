@@ -290,6 +290,12 @@ impl Emitter {
             b.delta = Axes::from_fn(|a| b.end[a] - self.pos[a]);
             self.pos = b.end;
             out.push(b);
+            if out.len() == 1 {
+                // The first block is made: room for exactly the rest (at most one block an
+                // action; no doubling), reserved only now so that a line refused at its first
+                // block never holds room for a million.
+                out.reserve_exact(items.len().saturating_sub(1));
+            }
         }
         Ok(())
     }

@@ -1095,8 +1095,10 @@ impl GcodeSource {
             None => (Vec::new(), String::new()),
         };
         blocks.clear();
-        // At most one block an action: room for exactly that many (no doubling).
-        blocks.reserve_exact(out.len());
+        // At most one block an action: room for exactly that many (no doubling) once the
+        // first action has made its block; a line refused at its first block (a point beyond
+        // the travel, say) never reserves room for the rest.
+        blocks.reserve_exact(out.len().min(1));
         let r = self.emitter.emit(&out, &self.settings, &mut blocks);
         out.clear();
         if out.capacity() > self.out_buf.capacity() {
