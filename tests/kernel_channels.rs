@@ -752,7 +752,7 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
 fn the_pulse_core_runs_a_kernel_with_commands_addressed_to_a_channel() {
     let desc = citizen_like(3);
     let progs = sample_programs();
-    let core = PulseCore::spawn_kernel(kernel(&desc, &progs, 5), ClockMode::Virtual);
+    let core = PulseCore::spawn_kernel(kernel(&desc, &progs, 5), ClockMode::Virtual, None);
     assert_eq!(core.channels().len(), 3, "one published state per channel");
     core.channel_command(Some(0), Command::Start(RunKind::Auto))
         .expect("START CH1");
@@ -798,7 +798,7 @@ fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
         (0..3).all(|ch| k.machine(ch).is_some_and(|m| m.status().moving))
     });
     let period = k.machine(0).expect("CH1").settings().ncbr_period_ns;
-    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime);
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, None);
     core.set_pulse_capture(true);
     // Until every channel has output pulses in real time (patient: the machine is shared).
     let mut early: Vec<Vec<_>> = vec![Vec::new(); 3];

@@ -73,6 +73,98 @@ pub struct ChannelView {
     pub line: u32,
 }
 
+/// What a lathe channel does besides moving, as the kernel saw it happen: the console's
+/// messages and the recording's `/lathe/event` (docs/recording.md "Lathe recordings").
+/// Channels are 0-based; times are the kernel's machine time, ns.
+#[derive(Clone, Debug, PartialEq)]
+pub enum KernelEvent {
+    /// A work passed from a chuck to another (`from` None = the bar feeder, `to` None = the
+    /// unloader); `both_closed`: both chucks held it at the handover.
+    Transfer {
+        /// Machine time, ns.
+        t: u64,
+        /// Giving channel.
+        from: Option<usize>,
+        /// Receiving channel.
+        to: Option<usize>,
+        /// Work number.
+        work: u32,
+        /// Both chucks were closed on the work at the handover.
+        both_closed: bool,
+    },
+    /// A thread pass started (or resumed) at an encoder index.
+    ThreadPass {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// Source line.
+        line: u32,
+        /// The index count the pass is anchored to.
+        index: u64,
+        /// The encoder count at its first pulse.
+        encoder: u64,
+        /// Resuming after a stop.
+        resumed: bool,
+    },
+    /// A cutting block started with the work in the chuck.
+    CutStart {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// Source line.
+        line: u32,
+        /// The work.
+        work: Option<u32>,
+    },
+    /// A channel reached a sync point and waits there.
+    Wait {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// What it waits on.
+        on: WaitOn,
+    },
+    /// A channel counted a part at its program end.
+    Part {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// The channel's count.
+        count: u32,
+    },
+    /// A channel reached the part target.
+    Done {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+    },
+    /// A fault was injected.
+    Fault {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// Reason.
+        reason: String,
+    },
+    /// An alarm stopped a channel.
+    Alarm {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// Source line (0: none).
+        line: u32,
+        /// Message.
+        msg: String,
+    },
+}
+
 /// How [`Kernel::run_until_idle`] ended.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Outcome {
@@ -114,6 +206,8 @@ pub struct Kernel {
     chans: Vec<Channel>,
     table: SyncTable,
     now: u64,
+    /// Events not yet taken ([`Kernel::take_events`]).
+    events: Vec<KernelEvent>,
 }
 
 impl Kernel {
@@ -179,12 +273,18 @@ impl Kernel {
             chans,
             table,
             now: 0,
+            events: Vec::new(),
         })
     }
 
     /// Machine time, ns (every channel stands at it between calls).
     pub fn now(&self) -> u64 {
         self.now
+    }
+
+    /// The events since the last call, in time order.
+    pub fn take_events(&mut self) -> Vec<KernelEvent> {
+        std::mem::take(&mut self.events)
     }
 
     /// The number of channels.

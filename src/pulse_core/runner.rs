@@ -23,7 +23,7 @@
 //! virtual advance; a waiting caller is woken only when one waits.
 
 use super::block_buffer::{BlockBuffer, MakeRun};
-use super::kernel::{ChannelView, Kernel, Outcome};
+use super::kernel::{ChannelView, Kernel, KernelEvent, Outcome};
 use super::machine::{BlockEnd, Machine, Reached, Until};
 use super::pulse_out::PulseRec;
 use super::realtime::{apply, Op, StepQueue};
@@ -90,6 +90,8 @@ struct Shared {
     estop_at: Mutex<Option<u64>>,
     /// Captured pulses per channel (with the capture on).
     pulses: Mutex<Vec<Vec<PulseRec>>>,
+    /// The kernel's events not yet taken by the front end.
+    events: Mutex<Vec<KernelEvent>>,
 }
 
 /// One channel's published state.
@@ -152,6 +154,7 @@ impl PulseCore {
             refusal: Mutex::new(None),
             estop_at: Mutex::new(None),
             pulses: Mutex::new(vec![Vec::new()]),
+            events: Mutex::new(Vec::new()),
         });
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
@@ -192,8 +195,10 @@ impl PulseCore {
     /// program is the kernel's; B1 stays empty). In real time, machine time 0 of the kernel's
     /// clock is now on the wall clock, and each NCBR tick of every channel is generated at
     /// most one tick ahead of it; nothing is recorded (the step queue and its recording are
-    /// the single machine's, not yet the kernel's).
-    pub fn spawn_kernel(kernel: Kernel, clock: ClockMode) -> PulseCore {
+    /// the single machine's, not yet the kernel's). `sink`: the recording every channel's
+    /// machine writes to, each message carrying its channel (not yet wired: issue 22).
+    pub fn spawn_kernel(kernel: Kernel, clock: ClockMode, sink: Option<EventSink>) -> PulseCore {
+        let _ = sink;
         let (tx, rx) = mpsc::channel();
         let settings = kernel
             .machine(0)
@@ -213,6 +218,7 @@ impl PulseCore {
             refusal: Mutex::new(None),
             estop_at: Mutex::new(None),
             pulses: Mutex::new(vec![Vec::new(); kernel.channels()]),
+            events: Mutex::new(Vec::new()),
         });
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
@@ -330,6 +336,12 @@ impl PulseCore {
     /// Every channel's latest published state.
     pub fn channels(&self) -> Vec<ChannelStatus> {
         lock(&self.shared.channels).clone()
+    }
+
+    /// The kernel's events (transfers, thread passes, parts, waits, faults, alarms) since the
+    /// last call, in time order; none for the core around a single machine.
+    pub fn take_events(&self) -> Vec<KernelEvent> {
+        std::mem::take(&mut *lock(&self.shared.events))
     }
 
     /// The machine time the latest E-STOP was applied at by the thread (None: none yet).
@@ -728,8 +740,14 @@ impl Runner {
         }
     }
 
-    /// With a kernel: moves the captured pulses to the shared log.
+    /// With a kernel: moves its events, and the captured pulses, to the shared logs.
     fn drain_pulses(&mut self) {
+        if let Some(k) = &mut self.k {
+            let ev = k.take_events();
+            if !ev.is_empty() {
+                lock(&self.shared.events).extend(ev);
+            }
+        }
         let (Some(k), true) = (&mut self.k, self.capture) else {
             return;
         };
