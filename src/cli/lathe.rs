@@ -182,7 +182,7 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
     };
-    let mut rec = match args.value("--record") {
+    let rec = match args.value("--record") {
         None => None,
         Some(p) => match crate::lathe::record::LatheRecorder::create(
             Path::new(p),
@@ -199,60 +199,74 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     let home: Vec<[i64; 2]> = (0..desc.channels.len())
         .map(|c| crate::lathe::console::home(&desc, c))
         .collect();
-    let mut cycle =
-        match crate::lathe::console::Cycle::new(&desc, &texts, &opts, target, false, 0, &home, 0) {
-            Ok(c) => c,
-            Err(e) => {
-                // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
-                let msg = e.split_once(' ').map_or(e.as_str(), |(_, m)| m);
-                if let Some(r) = rec {
-                    let _ = r.finish(None);
-                }
-                return fail(msg);
+    let mut cycle = match crate::lathe::console::Cycle::new(
+        &desc,
+        &texts,
+        &opts,
+        target,
+        false,
+        0,
+        &home,
+        0,
+        100,
+        crate::pulse_core::ClockMode::Virtual,
+        None,
+    ) {
+        Ok(c) => c,
+        Err(e) => {
+            // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
+            let msg = e.split_once(' ').map_or(e.as_str(), |(_, m)| m);
+            if let Some(r) = rec {
+                let _ = r.finish(None);
             }
-        };
-    let mut counts = vec![0; desc.channels.len()];
+            return fail(msg);
+        }
+    };
     let mut interrupted = None;
     let outcome = loop {
-        // A second of machine time at a time, so a stop signal is seen and the events are
-        // recorded as they come.
-        let o = cycle.lathe.run_until_idle(1_000_000_000);
-        counts = cycle.drain(rec.as_mut(), &counts);
+        // A second of machine time at a time, so that a stop signal is seen.
+        let rest = cycle.run_until_rest(1_000_000_000);
         if let Some(why) = super::signals::caught_reason() {
             // Every channel stops at once; one tick records it.
-            cycle.lathe.estop();
-            let _ = cycle.lathe.run_until_idle(desc.tick_ns.max(1));
-            cycle.drain(rec.as_mut(), &counts);
+            cycle.estop();
+            cycle.advance(desc.tick_ns.max(1));
             interrupted = Some(why);
-            break o;
+            break cycle.outcome();
         }
-        match o {
-            crate::lathe::sim::Outcome::TimeLimit
-                if cycle.lathe.machine_time_ns() < 360_000_000_000_000 => {}
-            crate::lathe::sim::Outcome::Stopped => {
-                // M00/M01: no operator here to press START, so the run goes on.
-                cycle.lathe.start();
+        if !rest {
+            if cycle.now_ns() < 360_000_000_000_000 {
+                continue;
+            }
+            break Err("stopped after 100 hours of machine time".into());
+        }
+        match cycle.outcome() {
+            // M00/M01: no operator here to press START, so the run goes on.
+            Ok(false) => {
+                if let Err(e) = cycle.start() {
+                    break Err(e);
+                }
             }
             o => break o,
         }
     };
-    let st = cycle.lathe.stats();
+    let delivered = cycle.totals(desc.unloader).2;
     let mut out = format!(
         "machine: {} ({} channels)\nparts: {}\nmachine time: {:.3} s\n",
         desc.name,
         desc.channels.len(),
-        st.delivered,
-        st.machine_ns as f64 * 1e-9
+        delivered,
+        cycle.finished_ns().unwrap_or(cycle.now_ns()) as f64 * 1e-9
     );
-    for (i, c) in st.channels.iter().enumerate() {
+    for (i, c) in desc.channels.iter().enumerate() {
+        let (blocks, pulses, parts) = cycle.totals(i);
         out += &format!(
             "CH{} {}: blocks {}, pulses X {} Z {}, parts {}\n",
             i + 1,
-            desc.channels[i].name,
-            c.blocks,
-            c.pulses[0],
-            c.pulses[1],
-            c.parts
+            c.name,
+            blocks,
+            pulses[0],
+            pulses[1],
+            parts
         );
     }
     let mut code = 0;
@@ -264,23 +278,7 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         }
     }
     print!("{out}");
-    use crate::lathe::sim::Outcome as O;
-    let err = match outcome {
-        O::Finished { .. } => None,
-        O::Fault { ch, reason } => Some(format!("CH{} FAULT: {reason}", ch + 1)),
-        O::Alarm { ch, msg } => Some(format!("CH{} ALARM: {msg}", ch + 1)),
-        O::Estop => Some("E-STOP".into()),
-        O::Deadlock { waits } => Some(format!(
-            "deadlock: {}",
-            waits
-                .iter()
-                .map(|(c, w)| format!("CH{} waits {w}", c + 1))
-                .collect::<Vec<_>>()
-                .join(", ")
-        )),
-        O::TimeLimit => Some("stopped after 100 hours of machine time".into()),
-        O::Stopped => None,
-    };
+    let err = outcome.err();
     if interrupted.is_some() {
         return super::signals::exit_code(1);
     }
@@ -418,10 +416,12 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
         return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
     super::signals::install();
-    let (c, warnings) = match LatheConsole::open_config(desc, &cfg) {
+    let (mut c, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
         Err(e) => return fail(&format!("novanc: {e}")),
     };
+    // At a terminal the kernel keeps the wall clock in its own thread.
+    c.set_clock(crate::pulse_core::ClockMode::RealTime);
     let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols);
     // A stop signal (said now that the terminal is back): E-STOP, the recording closed
     // `complete: false` with the signal named, exit 128 + N.

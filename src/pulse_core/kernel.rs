@@ -40,6 +40,27 @@ struct Channel {
     /// When it finished.
     done_at: Option<u64>,
     cuts_seen: u64,
+    /// Blocks and pulses of its runs before the current one (each part is a run).
+    blocks_before: u64,
+    pulses_before: [u64; 3],
+    /// The run whose counts are in the totals.
+    totalled_run: u64,
+}
+
+impl Channel {
+    /// Its machine begins a new run (a new part, a START after RESET): the counts of the run
+    /// that ends are added to the totals first.
+    fn begin_run(&mut self) {
+        let st = self.m.status();
+        if (st.run == 0 || st.program_end) && st.runs != self.totalled_run {
+            self.totalled_run = st.runs;
+            self.blocks_before += st.blocks_done;
+            for (a, p) in self.pulses_before.iter_mut().zip(st.pulses.xyz()) {
+                *a += p;
+            }
+        }
+        self.m.command(Command::Start(RunKind::Auto));
+    }
 }
 
 /// A channel's state as the operator sees it.
@@ -71,6 +92,12 @@ pub struct ChannelView {
     pub pulses: [u64; 3],
     /// The source line of the block executing or last executed (0: none).
     pub line: u32,
+    /// Blocks executed since the kernel began, over every run (part) of the channel.
+    pub total_blocks: u64,
+    /// Pulses output per axis since the kernel began, over every run.
+    pub total_pulses: [u64; 3],
+    /// When it reached the part target (machine time, ns).
+    pub done_at: Option<u64>,
 }
 
 /// What a lathe channel does besides moving, as the kernel saw it happen: the console's
@@ -266,6 +293,9 @@ impl Kernel {
                     done: false,
                     done_at: None,
                     cuts_seen: 0,
+                    blocks_before: 0,
+                    pulses_before: [0; 3],
+                    totalled_run: 0,
                 }
             })
             .collect();
@@ -369,7 +399,7 @@ impl Kernel {
                 // Running (or waiting at a sync point): START has nothing to do.
                 continue;
             }
-            c.m.command(Command::Start(RunKind::Auto));
+            c.begin_run();
             if let Some(n) = c.m.status().notice {
                 refused.push(format!("CH{} {n}", i + 1));
             }
@@ -460,6 +490,15 @@ impl Kernel {
             pos: st.pos.xyz(),
             pulses: st.pulses.xyz(),
             line: st.executing.map_or(0, |e| e.stmt.line),
+            total_blocks: c.blocks_before + st.blocks_done,
+            total_pulses: {
+                let mut t = c.pulses_before;
+                for (a, p) in t.iter_mut().zip(st.pulses.xyz()) {
+                    *a += p;
+                }
+                t
+            },
+            done_at: c.done_at,
         })
     }
 
@@ -550,7 +589,7 @@ impl Kernel {
             return false;
         }
         c.src.rewind();
-        c.m.command(Command::Start(RunKind::Auto));
+        c.begin_run();
         true
     }
 
@@ -598,8 +637,9 @@ impl Kernel {
         }
     }
 
-    /// Whether some channel can still move without the operator.
-    fn progressing(&self) -> bool {
+    /// Whether some channel can still move without the operator (not finished, not waiting
+    /// at a sync point, not idle: held at rest, stopped, faulted, in E-STOP or alarm).
+    pub fn progressing(&self) -> bool {
         self.chans
             .iter()
             .any(|c| !c.done && c.at_point.is_none() && !c.m.is_idle())

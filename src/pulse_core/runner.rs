@@ -62,6 +62,10 @@ enum Msg {
     Chan(Option<usize>, Command),
     /// A fault injected into a kernel's channel.
     Fault(usize, String),
+    /// A kernel's part target.
+    Target(u32),
+    /// A look at the kernel from its thread, between two ticks.
+    Inspect(Box<dyn FnOnce(Option<&Kernel>) + Send>),
     Capture(bool),
     Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),
@@ -338,6 +342,27 @@ impl PulseCore {
         lock(&self.shared.channels).clone()
     }
 
+    /// Runs `f` on the kernel in its thread, between two ticks (None: the core around a
+    /// single machine), and returns what it gives: for what the published state does not
+    /// carry (the sync table's history, for tests and audits).
+    pub fn inspect_kernel<R: Send + 'static>(
+        &self,
+        f: impl FnOnce(Option<&Kernel>) -> R + Send + 'static,
+    ) -> Option<R> {
+        let (tx, rx) = mpsc::channel();
+        self.send_sync(Msg::Inspect(Box::new(move |k| {
+            let _ = tx.send(f(k));
+        })));
+        rx.recv_timeout(APPLY_PATIENCE).ok()
+    }
+
+    /// Sets a kernel's part target (refused below the works already supplied, or once a
+    /// channel has finished).
+    pub fn set_target(&self, n: u32) -> Result<(), String> {
+        self.send_sync(Msg::Target(n));
+        lock(&self.shared.refusal).take().map_or(Ok(()), Err)
+    }
+
     /// The kernel's events (transfers, thread passes, parts, waits, faults, alarms) since the
     /// last call, in time order; none for the core around a single machine.
     pub fn take_events(&self) -> Vec<KernelEvent> {
@@ -590,6 +615,20 @@ impl Runner {
                 self.applied += 1;
                 return;
             }
+            Msg::Inspect(f) => {
+                f(self.k.as_deref());
+                self.applied += 1;
+                return;
+            }
+            Msg::Target(n) => {
+                let r = match &mut self.k {
+                    Some(k) => k.set_target(n),
+                    None => Err("a part target is a kernel's, with channels".into()),
+                };
+                *lock(&self.shared.refusal) = r.err();
+                self.applied += 1;
+                return;
+            }
             Msg::Capture(on) => {
                 self.capture = on;
                 if let Some(k) = &mut self.k {
@@ -735,7 +774,7 @@ impl Runner {
     /// No channel moves or has anything pending.
     fn idle(&self) -> bool {
         match &self.k {
-            Some(k) => (0..k.channels()).all(|i| k.machine(i).is_none_or(|m| m.is_idle())),
+            Some(k) => !k.progressing(),
             None => self.m.is_idle(),
         }
     }

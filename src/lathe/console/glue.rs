@@ -1,12 +1,19 @@
-//! The lathe console's cycle: the channel programs read, the simulator running them, and what
-//! it reports turned into the display's views and the recording's messages.
+//! The lathe console's cycle: the channel programs read, the one kernel running them in the
+//! pulse core thread (`PulseCore::spawn_kernel`, docs/pulse-core.md "Channels"), and what it
+//! publishes turned into the display's views and the operator's messages.
+//!
+//! The kernel runs in its own thread: in real time (the terminal, the window) it keeps its
+//! NCBR clock whatever the screen does, and E-STOP acts from that thread; in virtual time
+//! (scripts, `novanc run`, tests) machine time passes only in [`Cycle::advance`]. Every view is
+//! derived from the kernel's published state (its snapshot), never from the console's memory
+//! of what it asked for.
 
 use super::view::ChanView;
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::gcode::{read_program, ReadOptions};
 use crate::lathe::ops::LatheProgram;
-use crate::lathe::record::{LatheRecorder, StateMsg};
-use crate::lathe::sim::{ChState, Event, Lathe};
+use crate::pulse_core::{ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore};
+use crate::record::EventSink;
 use crate::store::lathe::Program;
 
 /// Where each channel's tool post starts the first cycle: the top of its travel (X and Z at
@@ -18,24 +25,63 @@ pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
 
 /// A cycle (AUTO: every channel to the part target) or an MDI run of one channel.
 pub struct Cycle {
-    /// The machine.
-    pub lathe: Lathe,
+    core: PulseCore,
     /// True for an MDI run of channel `only`.
     pub mdi: bool,
     only: usize,
     started_ns: u64,
-    /// Ticks owed: machine time given but less than a tick.
-    rest_ns: u64,
-    seq: Vec<u32>,
     message: Option<String>,
-    /// The source lines of each channel's program, for the block messages.
+    /// The source lines of each channel's program, for the block texts.
     lines: Vec<Vec<String>>,
+    /// The kernel's last published state, per channel, and its machine time.
+    snap: Vec<ChannelStatus>,
+    t: u64,
+    clock: ClockMode,
+}
+
+/// What the kernel would do with a cycle of `desc` running `texts`: the kernel, ready to start,
+/// and the program lines. Any error names the channel, the program and the line.
+#[allow(clippy::too_many_arguments)]
+fn make_kernel(
+    desc: &LatheDesc,
+    texts: &[(String, String)],
+    opts: &ReadOptions,
+    target: u32,
+    mdi: bool,
+    only: usize,
+    pos: &[[i64; 2]],
+    feed_override: u32,
+) -> Result<(Kernel, Vec<Vec<String>>), String> {
+    let mut progs = Vec::new();
+    for (ch, (name, text)) in texts.iter().enumerate() {
+        if mdi && ch != only {
+            // The other channels stand still with no program during an MDI run.
+            progs.push(LatheProgram::default());
+            continue;
+        }
+        let p = read_program(name, text, desc, ch, opts)
+            .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        if !mdi && p.steps.is_empty() {
+            return Err(format!("CH{} {name}: the program is empty", ch + 1));
+        }
+        progs.push(p);
+    }
+    let lines = progs.iter().map(|p| p.lines.clone()).collect();
+    let (chans, flow) = crate::lathe::blocks::kernel_channels(desc, &progs)?;
+    // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
+    let flow = (!mdi).then_some(flow);
+    let mut k = Kernel::new(chans, flow, target)?;
+    for (ch, p) in pos.iter().enumerate().take(k.channels()) {
+        k.set_position(ch, [p[0], 0, p[1]])?;
+        k.command(ch, Command::Override(feed_override))?;
+    }
+    Ok((k, lines))
 }
 
 impl Cycle {
-    /// Reads every channel's program (`texts`: name and text per channel) and makes the
-    /// machine, each tool post where `pos` says. Any error names the channel, the program and
-    /// the line, and nothing is made.
+    /// Reads every channel's program (`texts`: name and text per channel) and starts the
+    /// kernel on `clock`, each tool post where `pos` says, recording into `sink`. Any error
+    /// names the channel, the program and the line, and nothing is started.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         desc: &LatheDesc,
@@ -46,68 +92,57 @@ impl Cycle {
         only: usize,
         pos: &[[i64; 2]],
         started_ns: u64,
+        feed_override: u32,
+        clock: ClockMode,
+        sink: Option<EventSink>,
     ) -> Result<Cycle, String> {
-        let mut progs = Vec::new();
-        for (ch, (name, text)) in texts.iter().enumerate() {
-            if mdi && ch != only {
-                continue;
-            }
-            let p = read_program(name, text, desc, ch, opts)
-                .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
-            if !mdi && p.steps.is_empty() {
-                return Err(format!("CH{} {name}: the program is empty", ch + 1));
-            }
-            progs.push(p);
-        }
-        let (d, chans): (LatheDesc, Vec<usize>) = if mdi {
-            let mut d = desc.clone();
-            d.channels = vec![desc.channels[only].clone()];
-            d.supplier = 0;
-            d.unloader = 0;
-            d.transfers.clear();
-            (d, vec![only])
-        } else {
-            (desc.clone(), (0..desc.channels.len()).collect())
-        };
-        let lines: Vec<Vec<String>> = progs
-            .iter()
-            .map(|p: &LatheProgram| p.lines.clone())
-            .collect();
-        let mut lathe = Lathe::new(d, progs, target)?;
-        lathe.set_recording(true, 10_000_000);
-        lathe.set_optional_stop(opts.optional_stop);
-        for (i, &ch) in chans.iter().enumerate() {
-            lathe.set_position(i, pos[ch])?;
-        }
-        lathe.start();
-        Ok(Cycle {
-            lathe,
+        let (mut k, lines) = make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
+        k.start(Some(only).filter(|_| mdi))?;
+        let core = PulseCore::spawn_kernel(k, clock, sink);
+        let mut c = Cycle {
+            core,
             mdi,
             only,
             started_ns,
-            rest_ns: 0,
-            seq: vec![0; chans.len()],
             message: None,
             lines,
-        })
+            snap: Vec::new(),
+            t: 0,
+            clock,
+        };
+        c.refresh();
+        Ok(c)
     }
 
-    /// The channel of the console that the machine's channel `i` is.
-    fn console_ch(&self, i: usize) -> usize {
-        if self.mdi {
-            self.only
-        } else {
-            i
+    /// Takes the kernel's latest published state; an alarm that appeared since is the
+    /// operator's message.
+    fn refresh(&mut self) {
+        let snap = self.core.channels();
+        for (i, s) in snap.iter().enumerate() {
+            let before = self.snap.get(i).and_then(|b| b.status.alarm.clone());
+            if let (Some(a), None) = (&s.status.alarm, before) {
+                let line = s.status.executing.as_ref().map_or(0, |e| e.stmt.line);
+                self.message = Some(if line > 0 {
+                    format!("CH{} ALARM line {line}: {a}", i + 1)
+                } else {
+                    format!("CH{} ALARM: {a}", i + 1)
+                });
+            }
         }
+        self.snap = snap;
+        self.t = self.core.status().machine_ns;
     }
 
-    /// The machine's channel that the console's channel `ch` is, if it runs in this cycle.
-    fn machine_ch(&self, ch: usize) -> Option<usize> {
-        match self.mdi {
-            true if ch == self.only => Some(0),
-            true => None,
-            false => Some(ch),
-        }
+    /// Every channel's state as the kernel last published it.
+    pub fn channels(&self) -> &[ChannelStatus] {
+        &self.snap
+    }
+
+    /// How many times each channel cut work `id` (1-based), from the kernel's sync table.
+    pub fn machined(&self, id: u32) -> Vec<u32> {
+        self.core
+            .inspect_kernel(move |k| k.map(|k| k.table().machined(id)).unwrap_or_default())
+            .unwrap_or_default()
     }
 
     /// When the cycle began, in the console's machine time.
@@ -115,69 +150,142 @@ impl Cycle {
         self.started_ns
     }
 
+    /// The console's machine time now: the cycle's start plus the kernel's time.
+    pub fn now_ns(&self) -> u64 {
+        self.started_ns + self.t
+    }
+
+    /// The channels this cycle runs (every channel in AUTO, the selected one in MDI).
+    fn runs(&self, ch: usize) -> bool {
+        !self.mdi || ch == self.only
+    }
+
     /// Every channel finished (AUTO), or the MDI program ran out.
     pub fn is_over(&self) -> bool {
-        (0..self.lathe.channels()).all(|i| {
-            self.lathe
-                .channel(i)
-                .is_some_and(|s| s.state == ChState::Done)
+        self.snap.iter().enumerate().all(|(i, c)| {
+            if !self.runs(i) {
+                return true;
+            }
+            match (&c.sync, self.mdi) {
+                (Some(v), false) => v.done,
+                _ => c.status.run == 0 && c.status.idle,
+            }
         })
     }
 
-    /// Nothing moves or can move without the operator.
-    pub fn at_rest(&mut self) -> bool {
-        !self.lathe.busy
+    /// Nothing moves or can move without the operator: every channel finished, stopped,
+    /// waiting at a sync point, faulted or in E-STOP.
+    pub fn at_rest(&self) -> bool {
+        self.snap.iter().all(|c| {
+            let v = c.sync.as_ref();
+            v.is_some_and(|v| v.done || v.at_sync.is_some()) || c.status.idle
+        })
     }
 
-    /// Advances the machine by `ns` (whole ticks; the remainder is carried).
+    /// Advances the machine by `ns` of machine time (virtual time); in real time the kernel
+    /// keeps its own clock and this only takes its state.
     pub fn advance(&mut self, ns: u64) {
-        let tick = self.lathe.desc.tick_ns.max(1);
-        let total = self.rest_ns + ns;
-        for _ in 0..total / tick {
-            self.lathe.tick();
+        if self.clock == ClockMode::Virtual && ns > 0 {
+            self.core.run_for(ns);
         }
-        self.rest_ns = total % tick;
+        self.refresh();
     }
 
-    /// RESET of the console's channel `ch`: clears its fault or alarm; after an E-STOP, every
-    /// channel's, each back at the start of its program (the run is abandoned). Returns the
-    /// message.
+    /// Runs until nothing can move without the operator or `limit_ns` has passed (virtual
+    /// time). True if it came to rest.
+    pub fn run_until_rest(&mut self, limit_ns: u64) -> bool {
+        if self.clock == ClockMode::Virtual {
+            self.core.run_until_idle(limit_ns);
+        }
+        self.refresh();
+        self.at_rest()
+    }
+
+    /// START: every channel of the cycle resumes (a held or stopped one) and a waiting
+    /// one goes on when it can. The refusals, if any.
+    pub fn start(&mut self) -> Result<(), String> {
+        let ch = Some(self.only).filter(|_| self.mdi);
+        let r = self
+            .core
+            .channel_command(ch, Command::Start(crate::pulse_core::RunKind::Auto));
+        self.refresh();
+        r
+    }
+
+    /// STOP: feed hold on every channel.
+    pub fn hold(&mut self) {
+        let _ = self.core.channel_command(None, Command::Stop);
+        self.refresh();
+    }
+
+    /// E-STOP: every channel's run is abandoned, from the kernel thread, in one tick.
+    pub fn estop(&mut self) {
+        let _ = self.core.channel_command(None, Command::EStop);
+        self.refresh();
+    }
+
+    /// The feed override of every channel's feed moves, percent.
+    pub fn set_feed_override(&mut self, pct: u32) {
+        let _ = self.core.channel_command(None, Command::Override(pct));
+        self.refresh();
+    }
+
+    /// The part target (refused below what a channel has finished).
+    pub fn set_target(&mut self, n: u32) -> Result<(), String> {
+        let r = self.core.set_target(n);
+        self.refresh();
+        r
+    }
+
+    /// RESET of the console's channel `ch`: clears its fault or alarm; after an E-STOP,
+    /// every channel's, each back at the start of its program (the run is abandoned, START
+    /// begins a new cycle and no interrupted block is resumed). Returns the message.
     pub fn reset(&mut self, ch: usize) -> String {
-        let estop = (0..self.lathe.channels()).any(|i| {
-            self.lathe
-                .channel(i)
-                .is_some_and(|s| s.state == ChState::Estop)
-        });
+        let estop = self.snap.iter().any(|c| c.status.estop);
         if estop {
-            for i in 0..self.lathe.channels() {
-                let _ = self.lathe.reset(i);
-            }
+            let _ = self.core.channel_command(None, Command::Reset);
+            self.refresh();
             return "RESET: E-STOP released; every channel back at its program start, START begins a new cycle".into();
         }
-        let Some(i) = self.machine_ch(ch) else {
+        if !self.runs(ch) {
             return format!("RESET CH{}: it is not in this MDI run", ch + 1);
-        };
-        let before = self.lathe.channel(i).map(|s| s.state);
-        match self.lathe.reset(i) {
-            Ok(()) => match before {
-                Some(ChState::Fault | ChState::Alarm) => {
-                    format!(
-                        "RESET CH{}: cleared; START resumes where it stopped",
-                        ch + 1
-                    )
-                }
-                _ => format!("RESET CH{}: nothing to clear", ch + 1),
-            },
-            Err(e) => e,
+        }
+        let before = self.snap.get(ch).cloned();
+        let r = self.core.channel_command(Some(ch), Command::Reset);
+        self.refresh();
+        if let Err(e) = r {
+            return e;
+        }
+        match before {
+            Some(b)
+                if b.sync.as_ref().is_some_and(|v| v.fault.is_some())
+                    && b.status.alarm.is_none() =>
+            {
+                format!(
+                    "RESET CH{}: cleared; START resumes where it stopped",
+                    ch + 1
+                )
+            }
+            Some(b) if b.status.alarm.is_some() => format!(
+                "RESET CH{}: alarm cleared; the channel is back at its program start",
+                ch + 1
+            ),
+            Some(b) if b.status.run != 0 => format!(
+                "RESET CH{}: the run is abandoned; the channel is back at its program start",
+                ch + 1
+            ),
+            _ => format!("RESET CH{}: nothing to clear", ch + 1),
         }
     }
 
     /// A fault in the console's channel `ch`.
     pub fn fault(&mut self, ch: usize, why: &str) -> Result<(), String> {
-        match self.machine_ch(ch) {
-            Some(i) => self.lathe.fault(i, why),
-            None => Err("it is not in this MDI run".into()),
+        if !self.runs(ch) {
+            return Err("it is not in this MDI run".into());
         }
+        let r = self.core.fault(ch, why);
+        self.refresh();
+        r
     }
 
     /// A message for the operator, once.
@@ -185,213 +293,128 @@ impl Cycle {
         self.message.take()
     }
 
+    /// The kernel's events since the last call (for the recording and the messages).
+    pub fn take_events(&mut self) -> Vec<KernelEvent> {
+        self.core.take_events()
+    }
+
     /// Each channel's position now (for the next cycle to start from).
     pub fn positions(&self, out: &mut [[i64; 2]]) {
-        for i in 0..self.lathe.channels() {
-            if let Some(s) = self.lathe.channel(i) {
-                out[self.console_ch(i)] = s.pos;
-            }
+        for (o, c) in out.iter_mut().zip(&self.snap) {
+            *o = [c.status.pos[0], c.status.pos[2]];
         }
     }
 
-    /// Each channel's work in the spindle now (`None` for a channel not in this run).
+    /// Each channel's work in the spindle now.
     pub fn works(&self, out: &mut [Option<u32>]) {
-        out.iter_mut().for_each(|w| *w = None);
-        for i in 0..self.lathe.channels() {
-            if let Some(s) = self.lathe.channel(i) {
-                out[self.console_ch(i)] = s.work;
-            }
+        for (o, c) in out.iter_mut().zip(&self.snap) {
+            *o = c.sync.as_ref().and_then(|v| v.work);
         }
     }
 
-    /// Records what the machine reported (times offset by the cycle's start) and returns each
-    /// console channel's part count.
-    pub fn drain(&mut self, mut rec: Option<&mut LatheRecorder>, counts: &[u32]) -> Vec<u32> {
-        let t0 = self.started_ns;
-        let mut counts = counts.to_vec();
-        for ev in self.lathe.drain_events() {
-            match ev {
-                Event::Block { ch, t, line, .. } => {
-                    self.seq[ch] += 1;
-                    let c = self.console_ch(ch);
-                    let text = self
-                        .lines
-                        .get(ch)
-                        .and_then(|l| l.get(line as usize - 1))
-                        .map_or("", |s| s.trim());
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.block(t0 + t, c, self.seq[ch], line, text);
-                    }
-                }
-                Event::Sample {
-                    ch,
-                    t,
-                    pos,
-                    rpm,
-                    speed,
-                } => {
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.position(t0 + t, self.console_ch(ch), pos, speed, rpm);
-                    }
-                }
-                Event::State {
-                    ch,
-                    t,
-                    state,
-                    waits_on,
-                } => {
-                    let c = self.console_ch(ch);
-                    let s = self.lathe.channel(ch);
-                    if let Some(r) = rec.as_deref_mut() {
-                        let st = state.to_string();
-                        r.state(
-                            t0 + t,
-                            c,
-                            &StateMsg {
-                                run: u8::from(!matches!(state, ChState::Idle | ChState::Done)),
-                                op_mode: if self.mdi { "MDI" } else { "AUTO" },
-                                state: &st,
-                                feed_override: 100,
-                                tool: s.as_ref().map_or(0, |s| s.tool),
-                                spindle: s.as_ref().map_or(0, |s| {
-                                    let r = s.rpm.round() as i64;
-                                    if s.dir == crate::lathe::ops::SpindleDir::Ccw {
-                                        -r
-                                    } else {
-                                        r
-                                    }
-                                }),
-                                parts: s.as_ref().map_or(0, |s| s.parts),
-                            },
-                        );
-                        if let Some(w) = waits_on {
-                            r.event(
-                                t0 + t,
-                                c,
-                                "wait",
-                                None,
-                                None,
-                                &format!("CH{} waits {w}", c + 1),
-                            );
-                        }
-                        if state == ChState::Done {
-                            r.event(
-                                t0 + t,
-                                c,
-                                "done",
-                                None,
-                                None,
-                                &format!("CH{} reached the part target", c + 1),
-                            );
-                        }
-                    }
-                }
-                Event::Transfer {
-                    t,
-                    from,
-                    to,
-                    work,
-                    both_closed,
-                } => {
-                    if let Some(r) = rec.as_deref_mut() {
-                        let text = format!(
-                            "W{work} {} -> {}{}",
-                            from.map_or("BAR FEEDER".to_string(), |c| format!("CH{}", c + 1)),
-                            to.map_or("UNLOADER".to_string(), |c| format!("CH{}", c + 1)),
-                            match (from, both_closed) {
-                                (None, _) => "",
-                                (Some(_), true) => " (both chucks closed)",
-                                (Some(_), false) => " (NOT INTERLOCKED)",
-                            }
-                        );
-                        match from {
-                            None => r.event(
-                                t0 + t,
-                                to.map_or(0, |c| self.console_ch(c)),
-                                "supply",
-                                Some(work),
-                                None,
-                                &text,
-                            ),
-                            Some(f) => r.event(
-                                t0 + t,
-                                self.console_ch(f),
-                                "transfer",
-                                Some(work),
-                                Some(to.map_or(0, |c| self.console_ch(c) as i64 + 1)),
-                                &text,
-                            ),
-                        }
-                    }
-                }
-                Event::ThreadPass {
-                    ch,
-                    t,
-                    line,
-                    index,
-                    encoder,
-                    resumed,
-                } => {
-                    if let Some(r) = rec.as_deref_mut() {
-                        let s = self.lathe.channel(ch);
-                        let text = format!(
-                            "line {line}: pass {} at index {index} (encoder {encoder} at the first Z pulse)",
-                            if resumed { "resumed" } else { "starts" }
-                        );
-                        r.event(
-                            t0 + t,
-                            self.console_ch(ch),
-                            "thread",
-                            s.and_then(|s| s.work),
-                            Some(index as i64),
-                            &text,
-                        );
-                    }
-                }
-                Event::CutStart { ch, t, line, work } => {
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.event(
-                            t0 + t,
-                            self.console_ch(ch),
-                            "cut",
-                            work,
-                            None,
-                            &format!("line {line}"),
-                        );
-                    }
-                }
-                Event::Part { ch, t, count } => {
-                    let c = self.console_ch(ch);
-                    if !self.mdi {
-                        counts[c] = count;
-                    }
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.event(
-                            t0 + t,
-                            c,
-                            "part",
-                            None,
-                            Some(i64::from(count)),
-                            &format!("CH{} part {count}", c + 1),
-                        );
-                    }
-                }
-                Event::Fault { ch, t, reason } => {
-                    let c = self.console_ch(ch);
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.event(t0 + t, c, "fault", None, None, &reason);
-                    }
-                }
-                Event::Alarm { ch, t, line, msg } => {
-                    let c = self.console_ch(ch);
-                    self.message = Some(format!("CH{} ALARM line {line}: {msg}", c + 1));
-                    if let Some(r) = rec.as_deref_mut() {
-                        r.event(t0 + t, c, "alarm", None, Some(i64::from(line)), &msg);
-                    }
-                }
+    /// Each channel's part count now (AUTO; an MDI run counts none).
+    pub fn counts(&self, counts: &[u32]) -> Vec<u32> {
+        if self.mdi {
+            return counts.to_vec();
+        }
+        self.snap
+            .iter()
+            .zip(counts)
+            .map(|(c, &old)| c.sync.as_ref().map_or(old, |v| v.parts))
+            .collect()
+    }
+
+    /// How a cycle at rest stands, for `novanc run`: `Ok(true)` every channel finished,
+    /// `Ok(false)` a channel stopped (M00, M01: START goes on), or what stops it (E-STOP, a
+    /// fault, an alarm, channels waiting on each other).
+    pub fn outcome(&self) -> Result<bool, String> {
+        if self
+            .snap
+            .iter()
+            .all(|c| c.sync.as_ref().is_some_and(|v| v.done))
+        {
+            return Ok(true);
+        }
+        if self.snap.iter().any(|c| c.status.estop) {
+            return Err("E-STOP".into());
+        }
+        for (i, c) in self.snap.iter().enumerate() {
+            if let Some(f) = c.sync.as_ref().and_then(|v| v.fault.as_ref()) {
+                return Err(format!("CH{} FAULT: {f}", i + 1));
             }
         }
-        counts
+        for (i, c) in self.snap.iter().enumerate() {
+            if let Some(a) = &c.status.alarm {
+                return Err(format!("CH{} ALARM: {a}", i + 1));
+            }
+        }
+        let waits: Vec<String> = self
+            .snap
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| {
+                let w = c.sync.as_ref()?.waits_on?;
+                Some(format!("CH{} waits {w}", i + 1))
+            })
+            .collect();
+        if waits.is_empty() || self.snap.iter().any(|c| c.status.hold) {
+            return Ok(false);
+        }
+        Err(format!("deadlock: {}", waits.join(", ")))
+    }
+
+    /// When the last channel reached the part target, in the console's machine time (None
+    /// until every channel has).
+    pub fn finished_ns(&self) -> Option<u64> {
+        self.snap
+            .iter()
+            .map(|c| c.sync.as_ref().and_then(|v| v.done_at))
+            .try_fold(0, |a, d| d.map(|d| a.max(d)))
+            .map(|t| self.started_ns + t)
+    }
+
+    /// Channel `ch`'s totals since the cycle began: blocks, pulses X and Z, parts.
+    pub fn totals(&self, ch: usize) -> (u64, [u64; 2], u32) {
+        self.snap
+            .get(ch)
+            .and_then(|c| c.sync.as_ref())
+            .map_or((0, [0; 2], 0), |v| {
+                (
+                    v.total_blocks,
+                    [v.total_pulses[0], v.total_pulses[2]],
+                    v.parts,
+                )
+            })
+    }
+
+    /// The state word of channel `ch` (docs/lathe.md "The panel"), derived from the kernel's
+    /// state: ESTOP, FAULT, ALARM, DONE, WAIT, HOLD, STOP (stopped between blocks: M00, M01,
+    /// single block), RUN, IDLE.
+    fn state_word(&self, ch: usize) -> &'static str {
+        let Some(c) = self.snap.get(ch) else {
+            return "IDLE";
+        };
+        let st = &c.status;
+        let v = c.sync.as_ref();
+        if st.estop {
+            "ESTOP"
+        } else if v.is_some_and(|v| v.fault.is_some()) {
+            "FAULT"
+        } else if st.alarm.is_some() {
+            "ALARM"
+        } else if v.is_some_and(|v| v.done) {
+            "DONE"
+        } else if v.is_some_and(|v| v.waits_on.is_some()) {
+            "WAIT"
+        } else if st.run != 0 && st.hold {
+            "HOLD"
+        } else if st.run != 0 && st.idle {
+            "STOP"
+        } else if st.run != 0 {
+            "RUN"
+        } else {
+            "IDLE"
+        }
     }
 
     /// Every console channel as the display shows it.
@@ -416,35 +439,33 @@ impl Cycle {
                     parts: counts[ch],
                     ..Default::default()
                 };
-                if let Some(s) = self.machine_ch(ch).and_then(|i| self.lathe.channel(i)) {
-                    let i = self.machine_ch(ch).unwrap_or(0);
-                    v.state = s.state.to_string();
-                    v.line = s.line;
-                    v.text = self
-                        .lines
-                        .get(i)
-                        .and_then(|l| l.get((s.line as usize).wrapping_sub(1)))
-                        .cloned()
-                        .unwrap_or_default();
-                    v.waits = if s.state == ChState::Wait {
-                        s.waits_on.map(|w| w.to_string()).unwrap_or_default()
-                    } else {
-                        String::new()
-                    };
-                    v.note = s.reason.clone().unwrap_or_default();
-                    v.pos = s.pos;
-                    v.rpm = if s.dir == crate::lathe::ops::SpindleDir::Ccw {
-                        -s.rpm
-                    } else {
-                        s.rpm
-                    };
-                    v.tool = s.tool;
+                let Some(c) = self.snap.get(ch).filter(|_| self.runs(ch)) else {
+                    return v;
+                };
+                let st = &c.status;
+                v.state = self.state_word(ch).into();
+                v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
+                v.text = self
+                    .lines
+                    .get(ch)
+                    .and_then(|l| l.get((v.line as usize).wrapping_sub(1)))
+                    .cloned()
+                    .unwrap_or_default();
+                if let Some(s) = &c.sync {
+                    v.waits = s.waits_on.map(|w| w.to_string()).unwrap_or_default();
                     v.work = s.work;
-                    v.chuck = s.chuck_closed;
+                    v.chuck = s.closed;
                     if !self.mdi {
                         v.parts = s.parts;
                     }
+                    v.note = s.fault.clone().unwrap_or_default();
                 }
+                if v.note.is_empty() {
+                    v.note = st.alarm.clone().unwrap_or_default();
+                }
+                v.pos = [st.pos[0], st.pos[2]];
+                v.rpm = st.spindle as f64;
+                v.tool = st.tool.unwrap_or(0);
                 v
             })
             .collect()

@@ -4,9 +4,10 @@
 //! for and its part count. START, STOP and E-STOP act on the whole machine, RESET on the
 //! selected channel (after an E-STOP, on the machine).
 //!
-//! The machine runs in the console's thread ([`super::sim`], lockstep, one tick for all
-//! channels); `tick` advances it by the machine time given (the wall clock's in the terminal,
-//! the script's waits in virtual time).
+//! The machine is the one kernel in the pulse core thread (`PulseCore::spawn_kernel`, every
+//! channel on one NCBR clock): in real time (the terminal, the window) it runs on its own
+//! clock whatever the screen does, and `tick` only takes its state; in virtual time (scripts)
+//! `tick` advances it by the machine time given.
 
 mod entry;
 pub mod events;
@@ -18,6 +19,7 @@ pub use glue::{home, Cycle};
 
 use super::desc::LatheDesc;
 use super::record::{LatheRecordSummary, LatheRecorder};
+use crate::pulse_core::ClockMode;
 use crate::store::lathe::{Counter, LatheStore, Program};
 use events::{LatheEv, Mode};
 use std::path::Path;
@@ -53,6 +55,8 @@ pub struct LatheConsole {
     feed_override: u32,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
+    /// The kernel's clock: real time at a terminal or window, virtual in scripts.
+    clock: ClockMode,
 }
 
 /// What the terminal or the window draws.
@@ -131,6 +135,7 @@ impl LatheConsole {
             stale_counts: stale,
             feed_override: 100,
             pos: Vec::new(),
+            clock: ClockMode::Virtual,
         };
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = o.warnings.first() {
@@ -205,9 +210,21 @@ impl LatheConsole {
         (self.optional_stop, self.block_delete)
     }
 
-    /// The cycle in progress, if any (for tests and the window).
-    pub fn cycle(&self) -> Option<&super::sim::Lathe> {
-        self.cycle.as_ref().map(|c| &c.lathe)
+    /// A cycle is loaded (running, stopped or finished but not yet cleared by RESET).
+    pub fn has_cycle(&self) -> bool {
+        self.cycle.is_some()
+    }
+
+    /// The cycle loaded, if any (for tests: its state as the kernel published it).
+    pub fn cycle(&self) -> Option<&glue::Cycle> {
+        self.cycle.as_ref()
+    }
+
+    /// Sets the kernel's clock for the cycles started from now on: real time (the terminal,
+    /// the window: the kernel keeps the wall clock on its own) or virtual (scripts: machine
+    /// time passes in `tick` and `run_for`). Virtual unless set.
+    pub fn set_clock(&mut self, clock: ClockMode) {
+        self.clock = clock;
     }
 
     /// Machine time, ns.
@@ -229,7 +246,7 @@ impl LatheConsole {
     /// stopped, waiting on a stopped channel, faulted or in E-STOP (what `run_until_rest`
     /// waits for), as the last tick found it: after START, tick before asking.
     pub fn at_rest(&self) -> bool {
-        self.cycle.as_ref().is_none_or(|c| !c.lathe.busy)
+        self.cycle.as_ref().is_none_or(|c| c.at_rest())
     }
 
     /// A key of the terminal.
@@ -304,7 +321,7 @@ impl LatheConsole {
             LatheEv::Start => self.start(),
             LatheEv::Stop => match self.cycle.as_mut() {
                 Some(c) => {
-                    c.lathe.hold();
+                    c.hold();
                     self.message = "STOP: feed hold on every channel; START resumes".into();
                 }
                 None => self.message = "STOP: nothing runs".into(),
@@ -312,7 +329,7 @@ impl LatheConsole {
             LatheEv::Reset => self.reset(),
             LatheEv::EStop => {
                 if let Some(c) = self.cycle.as_mut() {
-                    c.lathe.estop();
+                    c.estop();
                 }
                 self.message = "E-STOP: every channel stopped; RESET releases".into();
             }
@@ -329,7 +346,7 @@ impl LatheConsole {
             LatheEv::Override(p) => {
                 self.feed_override = p.min(150);
                 if let Some(c) = self.cycle.as_mut() {
-                    let _ = c.lathe.set_feed_override(self.feed_override);
+                    c.set_feed_override(self.feed_override);
                 }
                 self.message = format!("feed override {} %", self.feed_override);
             }
@@ -368,14 +385,14 @@ impl LatheConsole {
                 self.message = format!("target {n}: a channel has already finished {most}");
                 return;
             }
-            let old = c.lathe.target();
-            if let Err(e) = c.lathe.set_target(n) {
+            let old = self.counter.target;
+            if let Err(e) = c.set_target(n) {
                 self.message = e;
                 return;
             }
             if let Err(e) = self.store.save_counter(&next) {
                 // The machine took `n` just now, so it takes its old target back.
-                let _ = c.lathe.set_target(old);
+                let _ = c.set_target(old);
                 self.message = format!("{e}: the target is not changed");
                 return;
             }
@@ -394,8 +411,10 @@ impl LatheConsole {
     fn start(&mut self) {
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
-                c.lathe.start();
-                self.message = "START".into();
+                self.message = match c.start() {
+                    Ok(()) => "START".into(),
+                    Err(e) => e,
+                };
                 return;
             }
         }
@@ -454,10 +473,12 @@ impl LatheConsole {
             self.sel,
             &self.pos,
             self.now_ns,
+            self.feed_override,
+            self.clock,
+            None,
         ) {
             Err(e) => self.message = e,
-            Ok(mut c) => {
-                let _ = c.lathe.set_feed_override(self.feed_override);
+            Ok(c) => {
                 if !mdi {
                     let mut next = self.counter.clone();
                     next.counts.iter_mut().for_each(|c| *c = 0);
@@ -502,9 +523,8 @@ impl LatheConsole {
             self.now_ns += ns;
             return;
         };
-        let t0 = self.now_ns;
         c.advance(ns);
-        self.now_ns = t0 + ns;
+        self.now_ns = c.now_ns();
         self.after();
     }
 
@@ -536,7 +556,7 @@ impl LatheConsole {
     /// Takes what the machine reported: records it, counts parts into the stores.
     fn after(&mut self) {
         if let Some(c) = self.cycle.as_mut() {
-            let counts = c.drain(self.rec.as_mut(), &self.counter.counts);
+            let counts = c.counts(&self.counter.counts);
             c.positions(&mut self.pos);
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
@@ -659,7 +679,7 @@ impl LatheConsole {
     /// `/panel/event`.
     fn stop_machine(&mut self) {
         if let Some(c) = self.cycle.as_mut().filter(|c| !c.is_over()) {
-            c.lathe.estop();
+            c.estop();
             let tick = self.desc.tick_ns.max(1);
             self.tick(tick);
         }

@@ -70,13 +70,18 @@ pub fn run(desc: LatheDesc, cfg: ConsoleConfig, opts: WindowOptions) -> i32 {
             }
         }
     };
-    let (console, warnings) = match LatheConsole::open_config(desc, &cfg) {
+    let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("novanc: {e}");
             return 1;
         }
     };
+    // Without a script the kernel keeps the wall clock in its own thread; a script plays in
+    // virtual time.
+    if script.is_none() {
+        console.set_clock(crate::pulse_core::ClockMode::RealTime);
+    }
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
