@@ -48,6 +48,9 @@ pub struct MachineSettings {
     pub spindle_accel_rpm_s: f64,
     /// The spindle encoder's counts per revolution (one index per revolution).
     pub spindle_encoder_lines: u32,
+    /// The tools are on a turret: a T word indexes it at once and is the tool in use (a
+    /// lathe's channel); otherwise T selects and M6 changes (a magazine).
+    pub tool_turret: bool,
     /// Number of pockets in the magazine (T codes 1..=capacity).
     pub magazine_capacity: u32,
     /// Capacity of the block buffer B1, in blocks.
@@ -204,6 +207,7 @@ impl MachineSettings {
             spindle_max_rpm: 100_000.0,
             spindle_accel_rpm_s: 0.0,
             spindle_encoder_lines: 1024,
+            tool_turret: false,
             magazine_capacity: 24,
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
@@ -240,6 +244,7 @@ impl MachineSettings {
             spindle_max_rpm: c.max_rpm.max(0.0),
             spindle_accel_rpm_s: c.spindle_accel.max(0.0),
             spindle_encoder_lines: c.encoder.max(1),
+            tool_turret: true,
             ncbr_period_ns: desc.tick_ns.max(1),
             ..MachineSettings::builtin()
         })

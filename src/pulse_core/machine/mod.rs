@@ -1454,6 +1454,11 @@ impl Machine {
         self.css = b.css;
         if let Some(t) = b.t {
             self.selected_t = Some(t);
+            if self.settings.tool_turret {
+                // A turret indexes at the T word: no M6, no tool length (the lathe's offsets
+                // are in its reader's path).
+                self.tool = Some(t);
+            }
         }
         if let Some(s) = b.s {
             self.s_rpm = s;
