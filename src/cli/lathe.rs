@@ -375,7 +375,7 @@ fn run_script(
                 c.run_for(ms * 1_000_000, false, stop);
             }
             ScriptStep::Show => {
-                let _ = writeln!(out, "--- display\n{}\n---", frame_text(&c));
+                let _ = writeln!(out, "--- display\n{}\n---", c.frame_text());
             }
         }
     }
@@ -388,19 +388,6 @@ fn run_script(
         }
         None => 0,
     }
-}
-
-/// The lathe console's frame as text: the title, the summary lines, then the plasma display.
-pub fn frame_text(c: &LatheConsole) -> String {
-    let v = c.view();
-    let mut lines = vec![v.title];
-    lines.extend(v.summary);
-    lines.extend(v.display);
-    lines
-        .iter()
-        .map(|l| l.trim_end())
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 /// `novanc --machine M` on a lathe: the terminal console; returns the exit code.

@@ -607,6 +607,20 @@ impl LatheConsole {
         }
     }
 
+    /// The frame as text, as `show` prints it (the mill console's `frame_text`): the title,
+    /// the summary lines, then the plasma display.
+    pub fn frame_text(&self) -> String {
+        let v = self.view();
+        let mut lines = vec![v.title];
+        lines.extend(v.summary);
+        lines.extend(v.display);
+        lines
+            .iter()
+            .map(|l| l.trim_end())
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
     /// The view to draw.
     pub fn view(&self) -> LatheView {
         let chans = self.chan_views();

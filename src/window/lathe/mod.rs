@@ -255,7 +255,7 @@ impl LatheApp {
                     self.waiting = Some((Instant::now(), Wait::Until(at)));
                 }
                 ScriptStep::Show => {
-                    let frame = crate::cli::lathe::frame_text(c);
+                    let frame = c.frame_text();
                     super::say(&format!("--- display\n{frame}\n---"));
                 }
             }
