@@ -324,6 +324,15 @@ pub enum PanelEvent {
     WaitMs(u64),
     /// Print the display frame (script only).
     Show,
+    /// The channel selector of a machine with several channels (`channel N`; 0-based here).
+    Channel(usize),
+    /// A fault injected into a channel (`fault N REASON`: tool breakage, failed supply, ...),
+    /// a machine with several channels; 0-based here.
+    Fault(usize, String),
+    /// The part target of a machine with a work flow (`target N`).
+    Target(u32),
+    /// The tool-offset mode of a machine with several channels (`op OFS`).
+    OfsMode,
 }
 
 /// The longest `wait ms` a script may ask for, ms (100 hours of machine time).
@@ -416,8 +425,18 @@ impl PanelEvent {
         })
     }
 
-    /// Parses one script line (docs/cli.md). `Ok(None)` for a blank or comment line.
+    /// Parses one script line (docs/cli.md) of a machine with one channel (the machining
+    /// centre). `Ok(None)` for a blank or comment line.
     pub fn parse_script_line(raw: &str) -> Result<Option<PanelEvent>, String> {
+        PanelEvent::parse_script_line_on(raw, 1)
+    }
+
+    /// Parses one script line of a machine with `channels` channels: the one panel-script
+    /// grammar of every console (docs/cli.md; docs/lathe.md "Panel script"). The words of a
+    /// machine with several channels (`channel`, `fault`, `target`, `op OFS`) are refused with
+    /// one channel; `override` takes 0–150 in 10 % steps with one channel (the centre's
+    /// switch), any whole percentage to 150 with several (the lathe's).
+    pub fn parse_script_line_on(raw: &str, channels: usize) -> Result<Option<PanelEvent>, String> {
         let line = raw.trim_end_matches(['\r', '\n']);
         let trimmed = line.trim_start();
         if trimmed.is_empty() || trimmed.starts_with('#') {
@@ -446,7 +465,50 @@ impl PanelEvent {
                 Err(format!("'{word}' takes no argument"))
             }
         };
+        let multi = channels > 1;
+        let channel = |a: &str| -> Result<usize, String> {
+            if !multi {
+                return Err(format!(
+                    "'{word}' is for a machine with several channels; this one has one"
+                ));
+            }
+            match a.parse::<usize>() {
+                Ok(n) if (1..=channels).contains(&n) => Ok(n - 1),
+                _ => Err(format!("'{a}' is not a channel (1 to {channels})")),
+            }
+        };
         let ev = match word {
+            "op" if multi => match one("position")? {
+                "OFS" => PanelEvent::OfsMode,
+                a => PanelEvent::Op(OpMode::from_word(a).ok_or_else(|| {
+                    format!("op {a}: the lathe's modes are AUTO, MDI, DATA and OFS")
+                })?),
+            },
+            "channel" => PanelEvent::Channel(channel(one("channel number")?)?),
+            "fault" => {
+                let (c, why) = rest.split_once(char::is_whitespace).unwrap_or((rest, ""));
+                let ch = channel(c)?;
+                let why = why.trim();
+                if why.is_empty() {
+                    return Err(
+                        "fault CH REASON: say why (tool breakage, failed supply, ...)".into(),
+                    );
+                }
+                PanelEvent::Fault(ch, why.chars().take(40).collect())
+            }
+            "target" if multi => match one("part count")?.parse::<u32>() {
+                Ok(n) if (1..=999_999).contains(&n) => PanelEvent::Target(n),
+                _ => return Err(format!("target '{rest}': a part count from 1 to 999999")),
+            },
+            "target" => {
+                return Err(
+                    "'target' is the part target of a machine with a work flow (the lathe)".into(),
+                )
+            }
+            "override" if multi => match one("percentage")?.trim_end_matches('%').parse::<u32>() {
+                Ok(p) if p <= 150 => PanelEvent::Override(p),
+                _ => return Err(format!("override '{rest}': a percentage from 0 to 150")),
+            },
             "op" => {
                 let a = one("position")?;
                 PanelEvent::Op(OpMode::from_word(a).ok_or_else(|| {
@@ -578,11 +640,16 @@ impl PanelEvent {
         Ok(Some(ev))
     }
 
-    /// Parses a whole script; the first bad line fails it.
+    /// Parses a whole script of a machine with one channel; the first bad line fails it.
     pub fn parse_script(text: &str) -> Result<Vec<PanelEvent>, ScriptError> {
+        PanelEvent::parse_script_on(text, 1)
+    }
+
+    /// Parses a whole script of a machine with `channels` channels; the first bad line fails it.
+    pub fn parse_script_on(text: &str, channels: usize) -> Result<Vec<PanelEvent>, ScriptError> {
         let mut out = Vec::new();
         for (i, l) in text.lines().enumerate() {
-            match PanelEvent::parse_script_line(l) {
+            match PanelEvent::parse_script_line_on(l, channels) {
                 Ok(Some(e)) => out.push(e),
                 Ok(None) => {}
                 Err(message) => {

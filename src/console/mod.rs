@@ -33,6 +33,7 @@ pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use run::{RunSource, WAIT_LIMIT_NS};
+pub use script_line::script_line;
 
 use crate::block::TranslateError;
 use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
@@ -719,6 +720,16 @@ impl Console {
             PanelEvent::WaitBlock(n) => run::wait(self, run::WaitFor::Block(n)),
             PanelEvent::WaitMs(t) => run::wait(self, run::WaitFor::Ms(t)),
             PanelEvent::Show => {}
+            // The words of a machine with several channels: refused on the centre's one.
+            ev @ (PanelEvent::Channel(_)
+            | PanelEvent::Fault(..)
+            | PanelEvent::Target(_)
+            | PanelEvent::OfsMode) => {
+                self.message = format!(
+                    "{}: this machine has one channel and no work flow",
+                    script_line::script_line(&ev)
+                );
+            }
         }
     }
 

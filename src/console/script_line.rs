@@ -36,6 +36,10 @@ pub fn script_line(ev: &PanelEvent) -> String {
         PanelEvent::WaitBlock(n) => format!("wait block {n}"),
         PanelEvent::WaitMs(t) => format!("wait ms {t}"),
         PanelEvent::Show => "show".into(),
+        PanelEvent::Channel(c) => format!("channel {}", c + 1),
+        PanelEvent::Fault(c, why) => format!("fault {} {why}", c + 1),
+        PanelEvent::Target(n) => format!("target {n}"),
+        PanelEvent::OfsMode => "op OFS".into(),
         PanelEvent::Input {
             digital: true,
             index,

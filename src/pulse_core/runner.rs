@@ -56,6 +56,9 @@ enum Wait {
     Block(u32, u64),
 }
 
+/// A look at the kernel run in its thread ([`PulseCore::inspect_kernel`]).
+type KernelLook = Box<dyn FnOnce(Option<&Kernel>) + Send>;
+
 enum Msg {
     Cmd(Command),
     /// A command to channel `.0` of a kernel (None: every channel).
@@ -65,7 +68,7 @@ enum Msg {
     /// A kernel's part target.
     Target(u32),
     /// A look at the kernel from its thread, between two ticks.
-    Inspect(Box<dyn FnOnce(Option<&Kernel>) + Send>),
+    Inspect(KernelLook),
     Capture(bool),
     Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),

@@ -1,6 +1,7 @@
 //! The lathe console's operator events and their panel-script lines (docs/lathe.md "Panel
 //! script"): what `novanc script --machine citizen` reads and `/panel/event` records.
 
+use crate::panel_model::{OpMode, PanelEvent};
 use novanc_panel::Key;
 
 /// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions).
@@ -115,76 +116,70 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> Option<LatheE
     })
 }
 
-/// Parses one panel-script line of the lathe console; `Ok(None)` for a blank or comment line.
-/// Waits (`wait`, `wait ms T`) and `show` are the script runner's, not events: they come back
-/// as `Err` with the word so the runner can take them first.
+/// Parses one panel-script line of the lathe console with the one grammar of every console
+/// (`PanelEvent::parse_script_line_on`); `Ok(None)` for a blank or comment line. Waits
+/// (`wait`, `wait ms T`) and `show` are the script runner's, not events: they are refused here
+/// and taken by [`parse_script`].
 pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String> {
-    let l = line.trim();
-    if l.is_empty() || l.starts_with('#') {
-        return Ok(None);
+    match PanelEvent::parse_script_line_on(line, channels.max(2))? {
+        None => Ok(None),
+        Some(ev) => match from_panel(ev)? {
+            ScriptStep::Ev(e) => Ok(Some(e)),
+            _ => Err(format!("'{}' is the script runner's word", line.trim())),
+        },
     }
-    let (w, rest) = l.split_once(char::is_whitespace).unwrap_or((l, ""));
-    let rest = rest.trim();
-    let ch = |s: &str| -> Result<usize, String> {
-        match s.parse::<usize>() {
-            Ok(n) if (1..=channels).contains(&n) => Ok(n - 1),
-            _ => Err(format!("'{s}' is not a channel (1 to {channels})")),
+}
+
+/// A panel event of the one grammar as the lathe console's: a mode, a channel, a key, ...
+/// The centre's own words (HOME, the handwheel, the data selector, tape, DRY RUN ...) are
+/// refused with what they are.
+fn from_panel(ev: PanelEvent) -> Result<ScriptStep, String> {
+    let e = match ev {
+        PanelEvent::Op(OpMode::Auto) => LatheEv::Mode(Mode::Auto),
+        PanelEvent::Op(OpMode::Mdi) => LatheEv::Mode(Mode::Mdi),
+        PanelEvent::Op(OpMode::Data) => LatheEv::Mode(Mode::Data),
+        PanelEvent::OfsMode => LatheEv::Mode(Mode::Ofs),
+        PanelEvent::Op(m) => {
+            return Err(format!(
+                "op {}: the lathe's modes are AUTO, MDI, DATA and OFS",
+                m.word()
+            ))
         }
-    };
-    let onoff = |s: &str| match s {
-        "on" => Ok(true),
-        "off" => Ok(false),
-        _ => Err(format!("'{s}': on or off")),
-    };
-    let ev = match w {
-        "op" => match rest {
-            "AUTO" => LatheEv::Mode(Mode::Auto),
-            "MDI" => LatheEv::Mode(Mode::Mdi),
-            "DATA" => LatheEv::Mode(Mode::Data),
-            "OFS" => LatheEv::Mode(Mode::Ofs),
-            m => {
+        PanelEvent::Channel(c) => LatheEv::Channel(c),
+        PanelEvent::Type(t) => LatheEv::Type(t),
+        PanelEvent::Key(c) => LatheEv::Key(c),
+        PanelEvent::Rubout => LatheEv::Rubout,
+        PanelEvent::Eob => LatheEv::Eob,
+        PanelEvent::Start => LatheEv::Start,
+        PanelEvent::Stop => LatheEv::Stop,
+        PanelEvent::Reset => LatheEv::Reset,
+        PanelEvent::EStop => LatheEv::EStop,
+        PanelEvent::Fault(c, why) => LatheEv::Fault(c, why),
+        PanelEvent::Target(n) => LatheEv::Target(n),
+        PanelEvent::OptionalStop(b) => LatheEv::OptionalStop(b),
+        PanelEvent::BlockDelete(b) => LatheEv::BlockDelete(b),
+        PanelEvent::Override(p) => LatheEv::Override(p),
+        PanelEvent::Press(Key::Tab) => LatheEv::NextChannel,
+        PanelEvent::Press(k) => match map_key(k, false, false) {
+            Some(ev) => ev,
+            None => {
                 return Err(format!(
-                    "op {m}: the lathe's modes are AUTO, MDI, DATA and OFS"
+                    "key {}: the lathe console has no use for it",
+                    crate::console::keys::key_name(k)
                 ))
             }
         },
-        "channel" => LatheEv::Channel(ch(rest)?),
-        "type" => LatheEv::Type(rest.to_string()),
-        "start" if rest.is_empty() => LatheEv::Start,
-        "stop" if rest.is_empty() => LatheEv::Stop,
-        "reset" if rest.is_empty() => LatheEv::Reset,
-        "estop" if rest.is_empty() => LatheEv::EStop,
-        "eob" if rest.is_empty() => LatheEv::Eob,
-        "rubout" if rest.is_empty() => LatheEv::Rubout,
-        "fault" => {
-            let (c, why) = rest.split_once(char::is_whitespace).unwrap_or((rest, ""));
-            let why = why.trim();
-            if why.is_empty() {
-                return Err("fault CH REASON: say why (tool breakage, failed supply, ...)".into());
-            }
-            LatheEv::Fault(ch(c)?, why.chars().take(40).collect())
+        PanelEvent::Wait => return Ok(ScriptStep::Wait),
+        PanelEvent::WaitMs(ms) => return Ok(ScriptStep::WaitMs(ms)),
+        PanelEvent::Show => return Ok(ScriptStep::Show),
+        other => {
+            return Err(format!(
+                "'{}' is the machining centre's; the lathe console has no use for it",
+                crate::console::script_line(&other)
+            ))
         }
-        "target" => match rest.parse::<u32>() {
-            Ok(n) if (1..=999_999).contains(&n) => LatheEv::Target(n),
-            _ => return Err(format!("target '{rest}': a part count from 1 to 999999")),
-        },
-        "optionalstop" => LatheEv::OptionalStop(onoff(rest)?),
-        "override" => match rest.parse::<u32>() {
-            Ok(p) if p <= 150 => LatheEv::Override(p),
-            _ => return Err(format!("override '{rest}': a percentage from 0 to 150")),
-        },
-        "blockdelete" => LatheEv::BlockDelete(onoff(rest)?),
-        "key" if rest == "Tab" => LatheEv::NextChannel,
-        "key" => match crate::console::keys::parse_key(rest) {
-            Ok(k) => match map_key(k, false, false) {
-                Some(ev) => ev,
-                None => return Err(format!("key {rest}: the lathe console has no use for it")),
-            },
-            Err(e) => return Err(e),
-        },
-        w => return Err(format!("'{w}' is not a lathe panel event (docs/lathe.md)")),
     };
-    Ok(Some(ev))
+    Ok(ScriptStep::Ev(e))
 }
 
 /// One line of a lathe panel script: an event, or one of the runner's own words.
@@ -205,21 +200,10 @@ pub enum ScriptStep {
 pub fn parse_script(text: &str, channels: usize) -> Result<Vec<ScriptStep>, (usize, String)> {
     let mut steps = Vec::new();
     for (i, l) in text.lines().enumerate() {
-        let t = l.trim();
-        let step = match t {
-            "wait" => ScriptStep::Wait,
-            "show" => ScriptStep::Show,
-            _ if t.starts_with("wait ms ") => match t[8..].trim().parse::<u64>() {
-                Ok(ms) if ms <= 3_600_000_000 => ScriptStep::WaitMs(ms),
-                _ => return Err((i + 1, "wait ms T: T in milliseconds".into())),
-            },
-            _ => match parse_line(t, channels) {
-                Ok(Some(ev)) => ScriptStep::Ev(ev),
-                Ok(None) => continue,
-                Err(e) => return Err((i + 1, e)),
-            },
-        };
-        steps.push(step);
+        let step = PanelEvent::parse_script_line_on(l, channels.max(2))
+            .and_then(|ev| ev.map(from_panel).transpose())
+            .map_err(|e| (i + 1, e))?;
+        steps.extend(step);
     }
     Ok(steps)
 }
