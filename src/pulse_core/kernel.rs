@@ -361,6 +361,17 @@ impl Kernel {
         }
     }
 
+    /// Sets the clock of every channel to `t` (a whole NCBR tick, rounded up) before anything
+    /// has run: a kernel made for a console's next cycle goes on from its machine time.
+    pub fn set_clock(&mut self, t: u64) -> Result<(), String> {
+        if self.chans.iter_mut().all(|c| c.m.set_clock(t)) {
+            self.now = self.chans.first().map_or(t, |c| c.m.now());
+            Ok(())
+        } else {
+            Err("the clock is set before anything runs".into())
+        }
+    }
+
     /// Sets the part target (refused below the works already supplied).
     pub fn set_target(&mut self, n: u32) -> Result<(), String> {
         if n != self.table.target() && self.chans.iter().any(|c| c.done) {

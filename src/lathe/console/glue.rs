@@ -150,9 +150,9 @@ impl Cycle {
         self.started_ns
     }
 
-    /// The console's machine time now: the cycle's start plus the kernel's time.
+    /// The console's machine time now: the kernel's, which began at the cycle's start.
     pub fn now_ns(&self) -> u64 {
-        self.started_ns + self.t
+        self.t
     }
 
     /// The channels this cycle runs (every channel in AUTO, the selected one in MDI).
@@ -370,7 +370,6 @@ impl Cycle {
             .iter()
             .map(|c| c.sync.as_ref().and_then(|v| v.done_at))
             .try_fold(0, |a, d| d.map(|d| a.max(d)))
-            .map(|t| self.started_ns + t)
     }
 
     /// Channel `ch`'s totals since the cycle began: blocks, pulses X and Z, parts.

@@ -694,6 +694,20 @@ impl Machine {
         true
     }
 
+    /// Sets the machine's clock to `t` (rounded up to a whole NCBR tick) before anything has
+    /// run on it (refused, false, once a run, a block or a jog has begun): a kernel made for a
+    /// console's next cycle goes on from the console's machine time, so that one recording
+    /// has one time base.
+    pub fn set_clock(&mut self, t: u64) -> bool {
+        if self.current.is_some() || self.jog.is_some() || self.job.is_some() || self.runs > 0 {
+            return false;
+        }
+        let t = t.div_ceil(self.period()) * self.period();
+        self.now = t;
+        self.next_tick = t;
+        true
+    }
+
     /// Machine time, ns.
     pub fn now(&self) -> u64 {
         self.now
