@@ -184,16 +184,15 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     };
     let rec = match args.value("--record") {
         None => None,
-        Some(p) => match crate::lathe::record::LatheRecorder::create(
-            Path::new(p),
-            &desc.name,
-            desc.channels.len(),
-            desc.pulse_mm,
-            desc.tick_ns,
-        ) {
-            Ok(r) => Some(r),
-            Err(e) => return fail(&format!("novanc: {e}")),
-        },
+        Some(p) => {
+            let Some(settings) = crate::settings::MachineSettings::lathe_channel(&desc, 0) else {
+                return fail("novanc: the machine has no channel");
+            };
+            match crate::record::Recorder::start(Path::new(p), &settings) {
+                Ok(r) => Some(r),
+                Err(e) => return fail(&format!("novanc: {e}")),
+            }
+        }
     };
     super::signals::install();
     let home: Vec<[i64; 2]> = (0..desc.channels.len())
@@ -210,14 +209,14 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         0,
         100,
         crate::pulse_core::ClockMode::Virtual,
-        None,
+        rec.as_ref().map(crate::record::Recorder::sink),
     ) {
         Ok(c) => c,
         Err(e) => {
             // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
             let msg = e.split_once(' ').map_or(e.as_str(), |(_, m)| m);
             if let Some(r) = rec {
-                let _ = r.finish(None);
+                let _ = r.finish();
             }
             return fail(msg);
         }
@@ -270,11 +269,15 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         );
     }
     let mut code = 0;
+    // The kernel's thread holds a sink: it ends first, so everything it sent is written.
+    drop(cycle);
     if let Some(r) = rec {
-        let sum = r.finish(interrupted.as_deref());
-        out += &format!("{}\n", sum.line());
-        if sum.error.is_some() {
-            code = 1;
+        match r.finish() {
+            Ok(sum) => out += &format!("{sum}\n"),
+            Err(line) => {
+                out += &format!("{line}\n");
+                code = 1;
+            }
         }
     }
     print!("{out}");
@@ -382,9 +385,13 @@ fn run_script(
     let _ = out.flush();
     let interrupted = super::signals::caught_reason();
     match c.finish(interrupted.as_deref()) {
-        Some(sum) => {
-            eprintln!("novanc script: {}", sum.line());
-            i32::from(sum.error.is_some())
+        Some(Ok(line)) => {
+            eprintln!("novanc script: {line}");
+            0
+        }
+        Some(Err(line)) => {
+            eprintln!("novanc script: {line}");
+            1
         }
         None => 0,
     }
@@ -416,8 +423,8 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
-    if let Some(sum) = c.finish(interrupted.as_deref()) {
-        eprintln!("novanc: {}", sum.line());
+    if let Some(Ok(line) | Err(line)) = c.finish(interrupted.as_deref()) {
+        eprintln!("novanc: {line}");
     }
     super::signals::exit_code(code)
 }

@@ -18,8 +18,8 @@ pub mod view;
 pub use glue::{home, Cycle};
 
 use super::desc::LatheDesc;
-use super::record::{LatheRecordSummary, LatheRecorder};
 use crate::pulse_core::ClockMode;
+use crate::record::{Event, EventSink, Recorder};
 use crate::store::lathe::{Counter, LatheStore, Program};
 use events::{LatheEv, Mode};
 use std::path::Path;
@@ -42,7 +42,10 @@ pub struct LatheConsole {
     cycle: Option<glue::Cycle>,
     rows: usize,
     cols: usize,
-    rec: Option<LatheRecorder>,
+    /// The recording (the one recorder of every console: `crate::record::Recorder`), and
+    /// the console's own sink into it (panel events, display frames).
+    rec: Option<Recorder>,
+    sink: Option<EventSink>,
     last_display: Vec<String>,
     help: bool,
     optional_stop: bool,
@@ -97,15 +100,14 @@ impl LatheConsole {
         }
         let n = desc.channels.len();
         let rec = match record {
-            Some(p) => Some(LatheRecorder::create(
-                p,
-                &desc.name,
-                n,
-                desc.pulse_mm,
-                desc.tick_ns,
-            )?),
+            Some(p) => {
+                let settings = crate::settings::MachineSettings::lathe_channel(&desc, 0)
+                    .ok_or("the machine has no channel")?;
+                Some(Recorder::start(p, &settings)?)
+            }
             None => None,
         };
+        let sink = rec.as_ref().map(Recorder::sink);
         let stale = o
             .counter
             .counts
@@ -127,6 +129,7 @@ impl LatheConsole {
             rows,
             cols,
             rec,
+            sink,
             last_display: Vec::new(),
             help: false,
             optional_stop: false,
@@ -292,8 +295,11 @@ impl LatheConsole {
     /// line and changes nothing.
     pub fn event(&mut self, ev: LatheEv) {
         let line = ev.script_line();
-        if let Some(r) = self.rec.as_mut() {
-            r.panel_event(self.now_ns, &line);
+        if let Some(r) = &self.sink {
+            r.send(Event::PanelEvent {
+                t_ns: self.now_ns,
+                event: line.clone(),
+            });
         }
         match ev {
             LatheEv::Help => self.help = !self.help,
@@ -475,7 +481,7 @@ impl LatheConsole {
             self.now_ns,
             self.feed_override,
             self.clock,
-            None,
+            self.sink.clone(),
         ) {
             Err(e) => self.message = e,
             Ok(c) => {
@@ -569,19 +575,19 @@ impl LatheConsole {
             }
         }
         self.record_display();
-        if let Some(r) = self.rec.as_mut() {
-            r.keep_readable();
-        }
     }
 
     fn record_display(&mut self) {
-        if self.rec.is_none() {
+        if self.sink.is_none() {
             return;
         }
         let d = self.view().display;
         if d != self.last_display {
-            if let Some(r) = self.rec.as_mut() {
-                r.display(self.now_ns, &d);
+            if let Some(r) = &self.sink {
+                r.send(Event::Display {
+                    t_ns: self.now_ns,
+                    lines: d.clone(),
+                });
             }
             self.last_display = d;
         }
@@ -680,12 +686,18 @@ impl LatheConsole {
 
     /// Ends the session: closes the recording. `interrupted` names a stop signal, if one cut
     /// the session short: the machine is then stopped first (E-STOP), and the recording says
-    /// `complete: false` and why.
-    pub fn finish(mut self, interrupted: Option<&str>) -> Option<LatheRecordSummary> {
+    /// `complete: false` and why. The recording's summary line for the operator: `Err` when
+    /// the file could not be finished (a disk error).
+    pub fn finish(mut self, interrupted: Option<&str>) -> Option<Result<String, String>> {
         if interrupted.is_some() {
             self.stop_machine();
         }
-        self.rec.take().map(|r| r.finish(interrupted))
+        // The kernel's thread holds a sink: it ends first, so everything it sent is written.
+        self.cycle = None;
+        self.sink = None;
+        self.rec
+            .take()
+            .map(|r| r.finish().map(|sum| sum.to_string()))
     }
 
     /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one

@@ -405,8 +405,8 @@ impl eframe::App for LatheApp {
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
         // Close the recording, as quitting the terminal panel does.
         if let Some(c) = self.console.take() {
-            if let Some(sum) = c.finish(self.interrupted.as_deref()) {
-                eprintln!("novanc: {}", sum.line());
+            if let Some(Ok(line) | Err(line)) = c.finish(self.interrupted.as_deref()) {
+                eprintln!("novanc: {line}");
             }
         }
     }
