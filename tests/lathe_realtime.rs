@@ -1,0 +1,100 @@
+//! The lathe console in real time runs on the one kernel's thread, not on its screen loop
+//! (issue 22: "the lathe's real time is the screen loop"): with the front end frozen (no
+//! `tick` for a while), the machine still moves; E-STOP then stops every channel, and RESET
+//! and START begin a new cycle from each program's start.
+
+mod common;
+
+use novanc::lathe::console::events::LatheEv;
+use novanc::lathe::console::LatheConsole;
+use novanc::lathe::desc::LatheDesc;
+use novanc::pulse_core::ClockMode;
+use std::time::{Duration, Instant};
+
+fn console() -> LatheConsole {
+    let dir = common::temp_dir("lathe-realtime");
+    let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, None).unwrap();
+    c.set_clock(ClockMode::RealTime);
+    c
+}
+
+/// Ticks (in real time: takes the kernel's state) until `done` or `patience` passes.
+fn until(c: &mut LatheConsole, patience: Duration, done: impl Fn(&LatheConsole) -> bool) -> bool {
+    let end = Instant::now() + patience;
+    while Instant::now() < end {
+        c.tick(0);
+        if done(c) {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    false
+}
+
+#[test]
+fn the_machine_keeps_its_clock_while_the_screen_is_frozen() {
+    let mut c = console();
+    c.event(LatheEv::Start);
+    assert!(
+        until(&mut c, Duration::from_secs(20), |c| c.machine_ns() > 0),
+        "the kernel started"
+    );
+    let t0 = c.machine_ns();
+    let pos0 = c.view().channels[0].pos;
+    // The front end freezes: no tick, no key, for 400 ms of wall time.
+    std::thread::sleep(Duration::from_millis(400));
+    let frozen_t = c.machine_ns();
+    assert_eq!(
+        frozen_t, t0,
+        "the console's own view does not move without a tick"
+    );
+    c.tick(0);
+    let t1 = c.machine_ns();
+    // The machine went on meanwhile (at least 200 ms of machine time: the machine is shared,
+    // so the thread may have been slow to get a core, but it does not wait for the screen).
+    assert!(
+        t1 >= t0 + 200_000_000,
+        "machine time {t0} -> {t1} ns while the screen was frozen 400 ms"
+    );
+    assert_ne!(c.view().channels[0].pos, pos0, "CH1 moved meanwhile");
+}
+
+#[test]
+fn estop_then_reset_and_start_begin_a_new_cycle_in_real_time() {
+    let mut c = console();
+    c.event(LatheEv::Start);
+    assert!(
+        until(&mut c, Duration::from_secs(30), |c| c
+            .view()
+            .channels
+            .iter()
+            .any(|ch| ch.state == "RUN" && ch.line > 10)),
+        "CH1 is into its program: {:?}",
+        c.view().summary
+    );
+    c.event(LatheEv::EStop);
+    let v = c.view();
+    assert!(
+        v.channels.iter().all(|ch| ch.state == "ESTOP"),
+        "every channel in E-STOP at once: {:?}",
+        v.summary
+    );
+    let pos: Vec<[i64; 2]> = v.channels.iter().map(|ch| ch.pos).collect();
+    std::thread::sleep(Duration::from_millis(200));
+    c.tick(0);
+    let after: Vec<[i64; 2]> = c.view().channels.iter().map(|ch| ch.pos).collect();
+    assert_eq!(after, pos, "nothing moves after E-STOP");
+    c.event(LatheEv::Reset);
+    assert!(
+        c.view().channels.iter().all(|ch| ch.state == "IDLE"),
+        "RESET returns every channel to its program start: {:?}",
+        c.view().summary
+    );
+    c.event(LatheEv::Start);
+    // The new cycle begins at each program's first block, none resumed mid-way.
+    let first = c.view().channels[0].line;
+    assert!(
+        first <= 10,
+        "CH1 begins again at its start (line {first}), not inside the interrupted block"
+    );
+}
