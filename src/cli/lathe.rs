@@ -74,6 +74,9 @@ pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings:
     s.dialect = m.dialect;
     s.tool_change_z_mm = m.tool_change_z_mm;
     s.workpiece = m.workpiece.clone();
+    s.spindle_max_rpm = m.spindle_max_rpm;
+    s.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
+    s.spindle_encoder_lines = m.spindle_encoder_lines;
 }
 
 /// Loads a machine for a subcommand; a lathe or the centre's settings.

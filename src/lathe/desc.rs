@@ -328,6 +328,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut tick_us = 100.0;
     let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
     let mut rotary_a: Option<(AxisDesc, bool)> = None;
+    // A mill's spindle line: (max rpm, accel rpm/s, encoder lines), 0 where not given.
+    let mut mill_spindle: Option<ChannelDesc> = None;
     let mut channels: Vec<ChannelDesc> = Vec::new();
     let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
     let mut remap_m6 = None;
@@ -462,6 +464,25 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     ch.axes[usize::from(head == "z")] = a;
                 }
             }
+            "spindle" if kind == Some("mill") => {
+                if mill_spindle.is_some() {
+                    return Err(e("the spindle is described twice".into()));
+                }
+                let mut ch = ChannelDesc {
+                    name: String::new(),
+                    axes: [0, 1].map(|_| AxisDesc {
+                        travel: [f64::NAN; 2],
+                        rapid: 0.0,
+                        accel: 0.0,
+                    }),
+                    max_rpm: 0.0,
+                    spindle_accel: 0.0,
+                    encoder: 0,
+                    tools: Vec::new(),
+                };
+                spindle(&words, &mut ch).map_err(e)?;
+                mill_spindle = Some(ch);
+            }
             "spindle" if in_channel => {
                 if let Some(ch) = channels.last_mut() {
                     spindle(&words, ch).map_err(e)?;
@@ -510,6 +531,17 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     s.travel_max_mm[3] = a.travel[1];
                     s.rapid_mm_min = s.rapid_mm_min.min(a.rapid);
                     s.accel_mm_s2 = s.accel_mm_s2.min(a.accel);
+                }
+                if let Some(sp) = &mill_spindle {
+                    // The same words as a lathe channel's spindle (one description format):
+                    // what is not given keeps the built-in (at speed at once, 1024 lines).
+                    if sp.max_rpm > 0.0 {
+                        s.spindle_max_rpm = sp.max_rpm;
+                    }
+                    s.spindle_accel_rpm_s = sp.spindle_accel;
+                    if sp.encoder > 0 {
+                        s.spindle_encoder_lines = sp.encoder;
+                    }
                 }
                 s.remap_m6 = remap_m6;
                 s.dialect = dialect.unwrap_or_default();
@@ -759,6 +791,35 @@ mod tests {
         assert_eq!(parse_tool(&tool_line(&t)), Ok(t));
         assert!(parse_tool("tool 7 tip 12").unwrap_err().contains("tip 12"));
         assert!(parse_tool("axis").is_err());
+    }
+
+    #[test]
+    fn a_mill_spindle_line_is_a_lathe_channels_words() {
+        let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
+        match parse(&format!("{base}spindle max 6000 accel 2000 encoder 4096\n")) {
+            Ok(MachineDesc::Mill(s)) => {
+                assert_eq!(s.spindle_max_rpm, 6000.0);
+                assert_eq!(s.spindle_accel_rpm_s, 2000.0);
+                assert_eq!(s.spindle_encoder_lines, 4096);
+                assert!(!s.tool_turret, "a mill changes tools with M6");
+            }
+            other => panic!("{other:?}"),
+        }
+        // Without the line the spindle is the built-in one: at speed at once.
+        match parse(base) {
+            Ok(MachineDesc::Mill(s)) => {
+                let b = crate::settings::MachineSettings::builtin();
+                assert_eq!(s.spindle_accel_rpm_s, b.spindle_accel_rpm_s);
+                assert_eq!(s.spindle_encoder_lines, b.spindle_encoder_lines);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(parse(&format!("{base}spindle max 6000\nspindle accel 1\n"))
+            .unwrap_err()
+            .starts_with("7: the spindle is described twice"));
+        assert!(parse(&format!("{base}spindle encoder 0.5\n"))
+            .unwrap_err()
+            .contains("spindle encoder 0.5"));
     }
 
     #[test]
