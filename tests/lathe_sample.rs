@@ -1,6 +1,7 @@
 //! The three-channel sample (`novanc::lathe::testkit`, docs/pulse-core.md "Channels") on the
 //! one kernel: the 5-part run, the sample on the embedded Citizen description, waiting codes
-//! and deadlocks, refused programs, a feed hold of every channel. Until issue 22 these ran on
+//! and deadlocks, refused programs, a feed hold of every channel, the part target, a fault
+//! during a thread pass. Until issue 22 these ran on
 //! the lockstep lathe simulator (`lathe/sim`, deleted); its figures are kept where the kernel
 //! is compared with them. The fault in channel 1 during part 3, E-STOP/RESET and the random
 //! operator sequences are in tests/kernel_channels.rs.
@@ -225,4 +226,66 @@ fn feed_hold_slows_every_channel_to_a_stop_and_start_resumes() {
     for w in 1..=3 {
         assert_eq!(k.table().machined(w), vec![1, 1, 1], "work {w}");
     }
+}
+
+#[test]
+fn the_target_can_change_until_it_would_strand_a_work() {
+    let mut k = sample(5);
+    k.start(None).expect("START");
+    // Until channel 1 has taken its third work.
+    while k.table().supplied() < 3 {
+        let t = k.now() + 10_000_000;
+        k.advance_to(t);
+        assert!(k.now() < MINUTE, "never supplied");
+    }
+    let e = k.set_target(2).err().unwrap_or_default();
+    assert!(e.contains("already supplied 3"), "{e}");
+    assert_eq!(k.table().target(), 5);
+    assert_eq!(k.set_target(3), Ok(()));
+    assert_eq!(
+        k.run_until_idle(10 * MINUTE),
+        Outcome::Finished { parts: 3 }
+    );
+    assert_eq!(k.table().supplied(), 3);
+    assert!(k.set_target(4).is_err(), "the channels have finished");
+}
+
+#[test]
+fn a_fault_during_a_thread_pass_lets_the_pass_end_on_its_helix() {
+    // A fault is a feed hold (docs/pulse-core.md "Channels"); a hold during a thread pass
+    // comes at its end, so the pass is never cut short and resumed (the simulator stopped the
+    // pass dead and re-synchronised it to the index on START).
+    use novanc::lathe::testkit::{rapid, rpm, thread};
+    let desc = citizen_like(1);
+    let prog = program(
+        "t",
+        vec![
+            Op::ChuckClose,
+            rpm(600.0),
+            rapid(8.0, 2.0),
+            thread(8.0, -30.0, 2.0),
+            rapid(12.0, -30.0),
+        ],
+    );
+    let mut k = kernel(&desc, &[prog], 1, Some(pt(20.0, 5.0))).expect("a kernel");
+    k.start(None).expect("START");
+    while k.channel(0).expect("CH1").pos[2] > -8_000 {
+        let t = k.now() + 1_000_000;
+        k.advance_to(t);
+        assert!(k.now() < MINUTE, "the pass never began");
+    }
+    k.fault(0, "tool breakage").expect("CH1 runs");
+    assert!(matches!(
+        k.run_until_idle(MINUTE),
+        Outcome::Fault { ch: 0, .. }
+    ));
+    assert_eq!(
+        k.channel(0).expect("CH1").pos,
+        [8_000, 0, -30_000],
+        "held at the end of the pass, the retract not begun"
+    );
+    k.reset(Some(0)).expect("RESET");
+    k.start(None).expect("START");
+    assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 0 });
+    assert_eq!(k.channel(0).expect("CH1").pos, [12_000, 0, -30_000]);
 }
