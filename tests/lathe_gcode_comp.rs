@@ -276,9 +276,9 @@ fn a_tip_3_tool_turning_parallel_to_z_moves_p_on_the_profile() {
 /// and position, mm. (Until issue 22 this was the lathe simulator's path, sampled at each
 /// 100 µs tick: 48,321 samples on the cut, the envelope within 0.000663 mm of R and no centre
 /// closer than R by more than 0.000698 mm in every tip position; G41 instead of G42 put the
-/// nose in the work.)
+/// nose in the work. The kernel's steps: 38,997 on the cut, within 0.000487 mm and 0.000498 mm.)
 fn recorded(tip: u8, side: &str) -> Vec<(u32, [f64; 2])> {
-    use novanc::pulse_core::{Kernel, Outcome};
+    use novanc::pulse_core::Outcome;
     let mut d = desc(tip);
     d.channels.truncate(1);
     d.transfers.clear();
@@ -289,9 +289,7 @@ fn recorded(tip: u8, side: &str) -> Vec<(u32, [f64; 2])> {
     let home = novanc::lathe::gcode::home(&d, 0);
     let start = [home[0], 0, home[1]];
     let mm = d.pulse_mm;
-    let (chans, flow) = novanc::lathe::blocks::kernel_channels(&d, &[p]).unwrap();
-    let mut k = Kernel::new(chans, Some(flow), 1).unwrap();
-    k.set_position(0, start).unwrap();
+    let mut k = novanc::lathe::testkit::kernel(&d, &[p], 1, None).unwrap();
     let m = k.machine_mut(0).unwrap();
     m.set_recording(None, true);
     m.set_audit(true);
