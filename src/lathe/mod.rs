@@ -1,20 +1,22 @@
 //! The Citizen multi-spindle lathe (seed 004) and the UNAM thesis lathe (seed 003): lathe
 //! channels, each with its own spindle, tool post, chuck and program, run by the one kernel
-//! (`crate::pulse_core::Kernel`, one thread, one NCBR clock; docs/lathe.md).
+//! (`crate::pulse_core::Kernel`, one thread, one NCBR clock; docs/lathe.md, docs/pulse-core.md
+//! "Channels").
 //!
 //! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded).
 //! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
-//!   reader ([`gcode`]) and the channel simulator ([`sim`]).
+//!   reader ([`gcode`]) and the adapter to the kernel's blocks ([`blocks`]).
 //! - [`console`]: the lathe's panel (it records with `crate::record`, as the centre's does);
 //!   its stores are
 //!   `crate::store::lathe` (the one journal), and [`store`] only reads the old whole-file
 //!   store once, to migrate it.
 //! - [`blocks`]: the adapter from operations to the kernel's blocks (issue 22).
+//! - [`testkit`]: a Citizen-like machine and a sample part, for the tests and the benchmark.
 
 pub mod blocks;
 pub mod console;
 pub mod desc;
 pub mod gcode;
 pub mod ops;
-pub mod sim;
 pub mod store;
+pub mod testkit;

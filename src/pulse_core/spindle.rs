@@ -9,7 +9,8 @@
 //! pass steps by). Speeds are signed rpm (negative = reverse, M4); the encoder counts up
 //! turning forward and down in reverse, `lines` counts per revolution, the index at every
 //! multiple of `lines`. Replaces the lathe simulator's per-tick spindle integration
-//! (`lathe/sim/exec.rs` `spindle`, `target_rpm`, `at_speed`), which the kernel does not copy.
+//! (`lathe/sim/exec.rs` `spindle`, `target_rpm`, `at_speed`, deleted in issue 22), which the
+//! kernel did not copy.
 
 use crate::settings::MachineSettings;
 

@@ -1,8 +1,8 @@
-//! Hand-built machines and programs for the simulator's tests and benchmark: a three-channel
+//! Hand-built lathe machines and programs for the tests and the benchmark: a three-channel
 //! Citizen-like lathe (seed 004's three systems, spindles 1 → 2 → 3 → unloader) and a sample
-//! part (docs/lathe-sim.md "The sample run").
+//! part (docs/pulse-core.md "Channels", "The sample run"), run on the kernel through
+//! `lathe::blocks::kernel_channels`.
 
-use super::Lathe;
 use crate::lathe::desc::{AxisDesc, ChannelDesc, LatheDesc, ToolDesc};
 use crate::lathe::ops::{Feed, LatheProgram, Op, SpeedMode, SpindleDir, Step};
 
@@ -177,11 +177,30 @@ pub fn sample_programs() -> Vec<LatheProgram> {
     vec![system1(), system2(), system3()]
 }
 
-/// The sample lathe to `target` parts, tools at home (X 20, Z 5 mm), not started.
-pub fn sample_lathe(target: u32) -> Result<Lathe, String> {
-    let mut l = Lathe::new(citizen_like(3), sample_programs(), target)?;
-    for ch in 0..3 {
-        l.set_position(ch, pt(20.0, 5.0))?;
+/// The kernel running `programs` on `desc` to `target` parts (`blocks::kernel_channels`),
+/// every tool at `at` ([X, Z] pulses) or, if None, at its home (`gcode::home`); not started.
+pub fn kernel(
+    desc: &LatheDesc,
+    programs: &[LatheProgram],
+    target: u32,
+    at: Option<[i64; 2]>,
+) -> Result<crate::pulse_core::Kernel, String> {
+    let (chans, flow) = crate::lathe::blocks::kernel_channels(desc, programs)?;
+    let mut k = crate::pulse_core::Kernel::new(chans, Some(flow), target)?;
+    for ch in 0..desc.channels.len() {
+        let p = at.unwrap_or_else(|| crate::lathe::gcode::home(desc, ch));
+        k.set_position(ch, [p[0], 0, p[1]])?;
     }
-    Ok(l)
+    Ok(k)
+}
+
+/// The sample (`citizen_like(3)`, [`sample_programs`]) to `target` parts, every tool at
+/// X 20 Z 5 mm, not started.
+pub fn sample_kernel(target: u32) -> Result<crate::pulse_core::Kernel, String> {
+    kernel(
+        &citizen_like(3),
+        &sample_programs(),
+        target,
+        Some(pt(20.0, 5.0)),
+    )
 }
