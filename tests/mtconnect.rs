@@ -69,28 +69,76 @@ fn table_b_streams_to_the_stand_in_agent() {
         "op SINGLE\nstart\nwait\nstart\nwait\nstart\nwait\nop AUTO\nstart\nwait ms 2000\nstop\nwait\nstart\nwait\nestop\nreset\nkey Ctrl+O\nkey Down\ntype 155\n",
     )
     .unwrap();
-    let (port, rec) = (free_port(), d.join("r.mcap"));
+    let rec = d.join("r.mcap");
+    let state = d.join("state");
+    let args = [
+        "--state".as_ref(),
+        state.as_os_str(),
+        "--record".as_ref(),
+        rec.as_os_str(),
+    ];
+    script_to_the_stand_in_agent(&script, &args, "Devices.xml", &[], &[rec.as_os_str()]);
+}
+
+/// The Citizen's three channels as three paths of one device: START, 3 s, E-STOP, RESET,
+/// streamed to the stand-in agent (tests/mtconnect_agent.py --citizen: every key and value
+/// against docs/mtconnect/Devices-citizen.xml, three paths, WAIT on CH2 while CH1 runs, estop
+/// TRIGGERED then ARMED, the `system` FAULT and NORMAL).
+#[test]
+fn the_citizen_streams_three_paths_to_the_stand_in_agent() {
+    let d = common::temp_dir("mtc-citizen");
+    let script = d.join("run.script");
+    std::fs::write(&script, "start\nwait ms 3000\nestop\nreset\n").unwrap();
+    let state = d.join("state");
+    let args = [
+        "--machine".as_ref(),
+        "citizen".as_ref(),
+        "--state".as_ref(),
+        state.as_os_str(),
+    ];
+    script_to_the_stand_in_agent(
+        &script,
+        &args,
+        "Devices-citizen.xml",
+        &["--citizen".as_ref()],
+        &[],
+    );
+}
+
+/// Runs `novanc script SCRIPT ARGS --mtconnect PORT --mtconnect-wait 30` and the stand-in
+/// agent `tests/mtconnect_agent.py FLAGS PORT docs/mtconnect/DEVICES REST` on it; both must
+/// pass. Returns quietly when Python is missing outside CI (the helper says so loudly).
+fn script_to_the_stand_in_agent(
+    script: &std::path::Path,
+    args: &[&std::ffi::OsStr],
+    devices: &str,
+    flags: &[&std::ffi::OsStr],
+    rest: &[&std::ffi::OsStr],
+) {
+    let port = free_port();
     let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .arg("script")
-        .arg(&script)
-        .arg("--state")
-        .arg(d.join("state"))
-        .arg("--record")
-        .arg(&rec)
+        .arg(script)
+        .args(args)
         .args(["--mtconnect", &format!("127.0.0.1:{port}")])
         .args(["--mtconnect-wait", "30"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let devices =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/mtconnect/Devices.xml");
+    let devices = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("docs/mtconnect")
+        .join(devices);
     let port = port.to_string();
-    let agent = common::python_script(
-        "mtconnect_agent.py",
-        &["mcap"],
-        &[port.as_ref(), devices.as_os_str(), rec.as_os_str()],
-    );
+    let mut agent_args = flags.to_vec();
+    agent_args.extend([port.as_ref(), devices.as_os_str()]);
+    agent_args.extend(rest);
+    let modules: &[&str] = if rest.is_empty() {
+        &["socket"]
+    } else {
+        &["mcap"]
+    };
+    let agent = common::python_script("mtconnect_agent.py", modules, &agent_args);
     let Some((ok, text)) = agent else {
         // No Python (outside CI, said loudly by the helper): no agent will come.
         let mut child = child;
@@ -283,43 +331,107 @@ fn novanc_run_streams_its_program_to_an_agent() {
     );
 }
 
+/// `novanc run --machine citizen` streams each channel as a path, in 10 ms steps of machine
+/// time: every path completes its part, and CH2 and CH3 wait at their sync points.
+#[test]
+fn novanc_run_streams_the_citizens_three_paths() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", "--machine", "citizen", dir.to_str().unwrap()])
+        .args(["--parts", "1"])
+        .args(["--mtconnect", &port.to_string(), "--mtconnect-wait", "30"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let a = connect(port);
+    let t = std::thread::spawn(move || read_all(a));
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let lines = t.join().unwrap();
+    for p in ["p1_", "p2_", "p3_"] {
+        let ex = values(&lines, &format!("{p}exec"));
+        assert_eq!(
+            ex.first().map(|s| s.as_str()),
+            Some("ACTIVE"),
+            "{p}: {ex:?}"
+        );
+        assert_eq!(
+            ex.last().map(|s| s.as_str()),
+            Some("PROGRAM_COMPLETED"),
+            "{p}: {ex:?}"
+        );
+        assert_eq!(values(&lines, &format!("{p}partcount")), ["0", "1"], "{p}");
+        assert_eq!(values(&lines, &format!("{p}mode")), ["AUTOMATIC"], "{p}");
+        if p != "p1_" {
+            assert!(ex.iter().any(|e| e == "WAIT"), "{p}: {ex:?}");
+        }
+    }
+    assert_eq!(values(&lines, "estop"), ["ARMED"]);
+}
+
 #[test]
 fn the_terminal_console_streams_its_mode_to_an_agent() {
+    // The dump: DATA INPUT is EDIT; Alt+2 turns the selector to AUTO.
+    console_streams(
+        "mtc-console",
+        "",
+        &[(&[], "|mode|EDIT"), (&["M-2"], "|mode|AUTOMATIC")],
+    );
+}
+
+/// The lathe's terminal console streams its three channels as paths: idle and READY, then
+/// START (Alt+s) runs all three.
+#[test]
+fn the_lathe_console_streams_its_paths_to_an_agent() {
+    console_streams(
+        "mtc-lathe",
+        "--machine citizen",
+        &[
+            (&[], "|p3_exec|READY"),
+            (&["M-2"], "|p1_mode|AUTOMATIC"),
+            (&["M-s"], "|p2_exec|ACTIVE"),
+        ],
+    );
+}
+
+/// Runs `novanc ARGS --mtconnect PORT` in tmux, connects as an agent and, for each step,
+/// presses its keys and reads until a line contains its text; then the heartbeat, and Ctrl-C
+/// ends the console with exit 0.
+fn console_streams(name: &str, args: &str, steps: &[(&[&str], &str)]) {
     if !tmux::tmux_or_skip("mtconnect console") {
         return;
     }
-    let d = common::temp_dir("mtc-console");
+    let d = common::temp_dir(name);
     let port = free_port();
     let run = format!(
-        "{} --state {} --mtconnect {port}",
+        "{} {args} --state {} --mtconnect {port}",
         env!("CARGO_BIN_EXE_novanc"),
         d.join("state").display()
     );
-    let t = tmux::session("mtc-console", &d, &run);
+    let t = tmux::session(name, &d, &run);
     let mut a = connect(port);
     a.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
     let mut r = BufReader::new(a.try_clone().unwrap());
     let mut seen = Vec::new();
     let mut line = String::new();
-    // The dump: DATA INPUT is EDIT.
-    while !seen.iter().any(|l: &String| l.contains("|mode|EDIT")) {
-        line.clear();
-        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
-        seen.push(line.clone());
-    }
-    // Alt+2 turns the selector to AUTO.
-    t.keys(&["M-2"]);
-    while !seen.iter().any(|l: &String| l.contains("|mode|AUTOMATIC")) {
-        line.clear();
-        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
-        seen.push(line.clone());
+    let mut read_until = |want: &dyn Fn(&str) -> bool, seen: &mut Vec<String>| {
+        while !seen.iter().any(|l| want(l)) {
+            line.clear();
+            assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
+            seen.push(line.clone());
+        }
+    };
+    for (keys, text) in steps {
+        if !keys.is_empty() {
+            t.keys(keys);
+        }
+        read_until(&|l: &str| l.contains(text), &mut seen);
     }
     a.write_all(b"* PING\n").unwrap();
-    while !seen.iter().any(|l: &String| l.starts_with("* PONG 10000")) {
-        line.clear();
-        assert!(r.read_line(&mut line).unwrap() > 0, "{seen:?}");
-        seen.push(line.clone());
-    }
+    read_until(&|l: &str| l.starts_with("* PONG 10000"), &mut seen);
     t.keys(&["C-c"]);
     assert!(tmux::wait_file(&d.join("exit"), 20).contains("exit=0"));
 }

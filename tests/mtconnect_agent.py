@@ -2,6 +2,7 @@
 """A stand-in MTConnect agent for novanc's SHDR adapter (docs/mtconnect.md).
 
 usage: mtconnect_agent.py PORT DEVICES_XML RECORDING.mcap
+       mtconnect_agent.py --citizen PORT DEVICES_XML
 
 An adapter-level test, not agent conformance: it reads the adapter as the reference agent
 (cppagent) would, with that agent's SHDR tokenizer rules, and checks what novanc sent against
@@ -32,7 +33,19 @@ Checks:
     in the spindle;
   * T02's length revised on OFS after the run is sent in a new `tooloffsets` table.
 
-Exit status 0 if every check passes, 1 with the failures on stderr, 2 if `mcap` is missing.
+With --citizen it reads `novanc script --machine citizen` (START, 3 s of machine time,
+E-STOP, RESET) against the Citizen's device file (docs/mtconnect/Devices-citizen.xml): the
+same connection, dump, key, value and timestamp checks, then:
+  * the three channels are three paths: `p1_`, `p2_`, `p3_` items in the dump, each path
+    READY, then ACTIVE after START;
+  * a channel waiting at a sync point is WAIT: `p2_exec` WAIT while `p1_exec` is ACTIVE;
+  * `estop` ARMED, TRIGGERED at E-STOP (every path STOPPED), ARMED after RESET (every path
+    READY: the cycle is abandoned); `system` FAULT then NORMAL;
+  * each path's `partcount` an integer that never falls; its work and machine positions equal
+    (a lathe channel has no work offsets).
+
+Exit status 0 if every check passes, 1 with the failures on stderr, 2 if `mcap` is missing
+(Table B only).
 """
 
 import re
@@ -41,12 +54,6 @@ import sys
 import threading
 import time
 import xml.etree.ElementTree as ET
-
-try:
-    from mcap.reader import make_reader
-except ImportError as e:  # pragma: no cover - environment problem
-    print(f"mtconnect_agent: the Python `mcap` module is missing ({e})", file=sys.stderr)
-    sys.exit(2)
 
 import json
 
@@ -215,6 +222,11 @@ def series(values, key):
 
 
 def recording(path):
+    try:
+        from mcap.reader import make_reader
+    except ImportError as e:  # pragma: no cover - environment problem
+        print(f"mtconnect_agent: the Python `mcap` module is missing ({e})", file=sys.stderr)
+        sys.exit(2)
     stmts, last_pos = [], None
     with open(path, "rb") as fh:
         for _schema, channel, message in make_reader(fh).iter_messages(topics=["/nc/block", "/nc/position"]):
@@ -228,7 +240,9 @@ def recording(path):
 
 
 def main():
-    port, devices, mcap_path = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+    citizen = sys.argv[1] == "--citizen"
+    args = sys.argv[2:] if citizen else sys.argv[1:]
+    port, devices = int(args[0]), args[1]
     items = device_items(devices)
     a, b = connect(port), connect(port)
     a.sendall(b"* PING\n")
@@ -255,7 +269,57 @@ def main():
     tail = lambda v: [x for x in v if x[0] > max(va[0][0], vb[0][0])]
     if tail(va) != tail(vb):
         fail("the two agents got different changes")
+    if citizen:
+        return check_citizen(la, va)
+    return check_table_b(la, va, args[2])
 
+
+def check_citizen(la, va):
+    """The Citizen's three channels as three paths (see the module's doc)."""
+    paths = ("p1_", "p2_", "p3_")
+    dump = {k for ts, k, _ in va if ts == va[0][0]}
+    for p in paths:
+        if p + "exec" not in dump:
+            fail(f"path {p} is not in the dump")
+        ex = [v for _, v in series(va, p + "exec")]
+        if not ex or ex[0] != "READY" or "ACTIVE" not in ex:
+            fail(f"{p}exec {ex}: READY, then ACTIVE after START expected")
+        if ex and ex[-1] != "READY":
+            fail(f"{p}exec ends {ex[-1]}, not READY after RESET")
+        pc = [v for _, v in series(va, p + "partcount")]
+        if any(not re.fullmatch(r"\d+", v) for v in pc) or pc != sorted(pc, key=int):
+            fail(f"{p}partcount {pc}: integers that never fall expected")
+        for a in "XZ":
+            act, mach = series(va, p + a + "act"), series(va, p + a + "mach")
+            if act != mach:
+                fail(f"{p}{a}act and {p}{a}mach differ (no work offsets on a lathe channel)")
+    # WAIT on CH2 while CH1 runs: the values in the order sent, the latest of each.
+    now, waited = {}, False
+    for _, k, f in va:
+        now[k] = f[0]
+        if k == "p2_exec" and f[0] == "WAIT" and now.get("p1_exec") == "ACTIVE":
+            waited = True
+    if not waited:
+        fail("p2_exec was never WAIT while p1_exec was ACTIVE")
+    estop = [v for _, v in series(va, "estop")]
+    if estop != ["ARMED", "TRIGGERED", "ARMED"]:
+        fail(f"estop {estop}, not ARMED, TRIGGERED, ARMED")
+    at = [ts for ts, v in series(va, "estop") if v == "TRIGGERED"]
+    for p in paths:
+        if at and (at[0], "STOPPED") not in series(va, p + "exec"):
+            fail(f"{p}exec is not STOPPED at E-STOP ({at[0]})")
+    system = [v for _, v in series(va, "system")]
+    if system != ["NORMAL", "FAULT", "NORMAL"]:
+        fail(f"system condition {system}: NORMAL, FAULT at E-STOP, NORMAL after RESET expected")
+    print(f"mtconnect_agent: citizen: {len(la)} lines, {len(va)} values; exec per path "
+          + "; ".join(f"{p}{[v for _, v in series(va, p + 'exec')]}" for p in paths))
+    for f in failures:
+        print(f"mtconnect_agent: {f}", file=sys.stderr)
+    return 1 if failures else 0
+
+
+def check_table_b(la, va, mcap_path):
+    """Table B on the mill (see the module's doc)."""
     ex = [v for _, v in series(va, "exec")]
     order = ["READY", "ACTIVE", "INTERRUPTED", "ACTIVE", "FEED_HOLD", "ACTIVE", "PROGRAM_COMPLETED", "STOPPED"]
     i = 0

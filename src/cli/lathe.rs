@@ -86,7 +86,8 @@ pub fn machine(name: &str) -> Result<MachineDesc, String> {
 
 const RUN_HELP: &str = "\
 usage: novanc run --machine MACHINE DIR [--parts N] [--record OUT.mcap] [--optional-stop]
-                                        [--block-delete]
+                                        [--block-delete] [--mtconnect ADDR:PORT|PORT]
+                                        [--mtconnect-wait SECONDS]
        novanc run --machine MACHINE PROG1 PROG2 .. [options]
 
 Runs a lathe's channel programs headless, in lockstep virtual time, to the part target, and
@@ -102,6 +103,9 @@ options:
   --record OUT.mcap     record the run (docs/recording.md, \"Lathe recordings\")
   --optional-stop       M01 stops (and the run goes on)
   --block-delete        skip lines that start with /
+  --mtconnect ADDR:PORT stream the machine to MTConnect agents, each channel a path
+                        (SHDR over TCP, docs/mtconnect.md; port 7878 and loopback unless given)
+  --mtconnect-wait S    before the cycle starts, wait up to S seconds for an agent
 ";
 
 /// The channel programs of a headless lathe run: a directory's programs in name order, or the
@@ -146,6 +150,11 @@ fn program_files(pos: &[String], channels: usize) -> Result<Vec<PathBuf>, String
 
 /// `novanc run --machine M ...` on a lathe; returns the exit code.
 pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
+    let (mtc, argv) = match super::mtconnect::take(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("run --machine {}: {e}", desc.name)),
+    };
+    let argv = argv.as_slice();
     const OPTS: [Opt; 6] = [
         Opt::value("--parts"),
         Opt::value("--record"),
@@ -224,14 +233,37 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             return fail(msg);
         }
     };
+    let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
+    let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc run", true, 0) {
+        Ok(f) => f,
+        Err(e) => return fail(&format!("novanc run: {e}")),
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_cycle(&cycle, &names, desc.pulse_mm);
+        if let Err(e) = f.wait(&mtc) {
+            return fail(&format!("novanc run: {e}"));
+        }
+    }
+    // A second of machine time at a time, so that a stop signal is seen; with an adapter,
+    // 10 ms, each step's state published (docs/mtconnect.md "The lathe").
+    let step = if feed.is_some() {
+        10_000_000
+    } else {
+        1_000_000_000
+    };
     let mut interrupted = None;
     let outcome = loop {
-        // A second of machine time at a time, so that a stop signal is seen.
-        let rest = cycle.run_until_rest(1_000_000_000);
+        let rest = cycle.run_until_rest(step);
+        if let Some(f) = feed.as_mut() {
+            f.publish_cycle(&cycle, &names, desc.pulse_mm);
+        }
         if let Some(why) = super::signals::caught_reason() {
             // Every channel stops at once; one tick records it.
             cycle.estop();
             cycle.advance(desc.tick_ns.max(1));
+            if let Some(f) = feed.as_mut() {
+                f.publish_cycle(&cycle, &names, desc.pulse_mm);
+            }
             interrupted = Some(why);
             break cycle.outcome();
         }
@@ -246,6 +278,9 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             Ok(false) => {
                 if let Err(e) = cycle.start() {
                     break Err(e);
+                }
+                if let Some(f) = feed.as_mut() {
+                    f.publish_cycle(&cycle, &names, desc.pulse_mm);
                 }
             }
             o => break o,
@@ -296,6 +331,7 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
 
 const SCRIPT_HELP: &str = "\
 usage: novanc script FILE --machine MACHINE [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
+                           [--mtconnect ADDR:PORT|PORT] [--mtconnect-wait SECONDS]
 
 Runs a lathe panel script (one event per line, # comments) in virtual time:
   op AUTO|MDI|DATA   channel N   type TEXT   start | stop | reset | estop
@@ -305,6 +341,9 @@ Runs a lathe panel script (one event per line, # comments) in virtual time:
   wait ms T          let T milliseconds of machine time pass
   show               print the display (title, summary lines, plasma) between --- lines
 A bad line stops the script before anything runs (exit 1).
+--mtconnect streams the machine to MTConnect agents, each channel a path (docs/mtconnect.md):
+the state is sent after every event and every 10 ms of machine time. --mtconnect-wait S waits
+up to S seconds for an agent before the first event.
 ";
 
 /// `novanc script FILE --machine M` on a lathe; returns the exit code.
@@ -313,6 +352,11 @@ pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
         print!("{SCRIPT_HELP}");
         return 0;
     }
+    let (mtc, argv) = match super::mtconnect::take(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+    };
+    let argv = argv.as_slice();
     let has_state = argv
         .iter()
         .any(|a| a == "--state" || a.starts_with("--state="));
@@ -342,7 +386,7 @@ pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
     });
     let state = temp.clone().unwrap_or(cfg.state_dir.clone());
     super::signals::install();
-    let code = run_script(desc, &state, &cfg, steps);
+    let code = run_script(desc, &state, &cfg, steps, &mtc);
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -354,6 +398,7 @@ fn run_script(
     state: &Path,
     cfg: &crate::console::ConsoleConfig,
     steps: Vec<ScriptStep>,
+    mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
     let (mut c, warnings) =
         match LatheConsole::open(desc, state, cfg.rows, cfg.cols, cfg.record.as_deref()) {
@@ -362,6 +407,17 @@ fn run_script(
         };
     for w in warnings {
         eprintln!("novanc script: warning: {w}");
+    }
+    let mut feed = match super::mtconnect::Feed::start_on(mtc, "novanc script", true, 0) {
+        Ok(f) => f,
+        Err(e) => return fail(&format!("novanc script: {e}")),
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_lathe(&c);
+        if let Err(e) = f.wait(mtc) {
+            let _ = c.finish(None);
+            return fail(&format!("novanc script: {e}"));
+        }
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
@@ -373,12 +429,15 @@ fn run_script(
             break;
         }
         match s {
-            ScriptStep::Ev(ev) => c.event(ev),
-            ScriptStep::Wait => {
-                c.run_for(3_600_000_000_000_000, true, stop);
+            ScriptStep::Ev(ev) => {
+                c.event(ev);
+                if let Some(f) = feed.as_mut() {
+                    f.publish_lathe(&c);
+                }
             }
+            ScriptStep::Wait => run_for(&mut c, 3_600_000_000_000_000, true, stop, &mut feed),
             ScriptStep::WaitMs(ms) => {
-                c.run_for(ms * 1_000_000, false, stop);
+                run_for(&mut c, ms.saturating_mul(1_000_000), false, stop, &mut feed)
             }
             ScriptStep::Show => {
                 let _ = writeln!(out, "--- display\n{}\n---", c.frame_text());
@@ -400,9 +459,44 @@ fn run_script(
     }
 }
 
+/// Runs the console for `limit_ns` of machine time (only until every channel is at rest with
+/// `until_rest`) as `LatheConsole::run_for` does; with an adapter, in steps of 10 ms of
+/// machine time, each step's state published (the kernel's watcher is the mill's only:
+/// docs/mtconnect.md "The lathe").
+fn run_for(
+    c: &mut LatheConsole,
+    limit_ns: u64,
+    until_rest: bool,
+    stop: fn() -> bool,
+    feed: &mut Option<super::mtconnect::Feed>,
+) {
+    let Some(f) = feed.as_mut() else {
+        c.run_for(limit_ns, until_rest, stop);
+        return;
+    };
+    const STEP: u64 = 10_000_000;
+    let mut used = 0;
+    while used < limit_ns && !stop() {
+        let n = STEP.min(limit_ns - used);
+        let ran = c.run_for(n, until_rest, stop);
+        used += n;
+        f.publish_lathe(c);
+        if until_rest && (ran < n || c.at_rest()) {
+            break;
+        }
+    }
+}
+
 /// `novanc --machine M` on a lathe: the terminal console; returns the exit code.
 pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
-    let (cfg, rest) = match super::console_opts::config_from_args(argv) {
+    let (mtc, argv) = match super::mtconnect::take(argv) {
+        Ok(x) => x,
+        Err(e) => return super::usage_error(&e),
+    };
+    if mtc.wait.is_some() {
+        return super::usage_error("--mtconnect-wait is for novanc run and novanc script");
+    }
+    let (cfg, rest) = match super::console_opts::config_from_args(&argv) {
         Ok(x) => x,
         Err(e) => return super::usage_error(&e),
     };
@@ -419,7 +513,17 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
     };
     // At a terminal the kernel keeps the wall clock in its own thread.
     c.set_clock(crate::pulse_core::ClockMode::RealTime);
-    let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols);
+    let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc", false, 0) {
+        Ok(f) => f,
+        Err(e) => {
+            let _ = c.finish(None);
+            return fail(&format!("novanc: {e}"));
+        }
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_lathe(&c);
+    }
+    let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols, &mut feed);
     // A stop signal (said now that the terminal is back): E-STOP, the recording closed
     // `complete: false` with the signal named, exit 128 + N.
     let interrupted = super::signals::caught_reason();

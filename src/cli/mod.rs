@@ -130,7 +130,7 @@ fn console(argv: &[String]) -> i32 {
 /// `novanc --window`: the window's options, then the console's.
 #[cfg(feature = "window")]
 fn window(argv: &[String]) -> i32 {
-    let opts = match crate::window::parse_options(argv) {
+    let mut opts = match crate::window::parse_options(argv) {
         Ok(o) => o,
         Err(e) => return usage_error(&e),
     };
@@ -151,6 +151,14 @@ fn window(argv: &[String]) -> i32 {
             Ok(d) => (Some(d), rest),
         },
     };
+    let (mtc, args) = match mtconnect::take(&args) {
+        Ok(x) => x,
+        Err(e) => return usage_error(&e),
+    };
+    if mtc.wait.is_some() {
+        return usage_error("--mtconnect-wait is for novanc run and novanc script");
+    }
+    opts.mtc = mtc;
     let (mut cfg, rest) = match console_opts::config_from_args(&args) {
         Ok(x) => x,
         Err(e) => return usage_error(&e),

@@ -194,15 +194,17 @@ pub fn main(argv: &[String]) -> i32 {
         Err(e) => return fail(&format!("novanc run: {e}")),
     };
     let modes = crate::mtconnect::Modes {
-        op: crate::panel_model::OpMode::Auto,
+        mode: crate::mtconnect::items::controller_mode(crate::panel_model::OpMode::Auto),
         program: prog.clone(),
         partcount: 0,
-        wpo: crate::mtconnect::items::wpo_table(&src.offsets.0),
+        wpo: Some(crate::mtconnect::items::wpo_table(&src.offsets.0)),
         program_alarm: None,
         pulse_mm: settings.pulse_mm,
         // No console, no POS: positions in G54 (where a run starts), without the tool length.
         work_origin: src.offsets.0[0],
-        tooloffsets: tool_table,
+        tooloffsets: Some(tool_table),
+        waiting: false,
+        fault: None,
     };
     if let Some(f) = feed.as_mut() {
         f.publish_status(&core.status(), modes.clone());

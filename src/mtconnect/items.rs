@@ -1,21 +1,24 @@
 //! The data items and their values, derived from the pulse core's status snapshot and the
 //! console's modes (the mapping is in docs/mtconnect.md).
 
+use super::Key;
+use crate::lathe::console::events::Mode as LatheMode;
 use crate::panel_model::OpMode;
 use crate::pulse_core::{EndCause, Status};
 
-/// What the adapter needs from the console besides the core's status.
+/// What the adapter needs from the console for one path besides the core's status.
 #[derive(Clone, Debug)]
 pub struct Modes {
-    /// The operation mode selector.
-    pub op: OpMode,
+    /// The ControllerMode value of the mode selector ([`controller_mode`], [`lathe_mode`]).
+    pub mode: &'static str,
     /// The program in program memory.
     pub program: String,
-    /// Runs that reached the end of their program (M02/M30) since the console opened.
+    /// Runs that reached the end of their program (M02/M30) since the console opened (the
+    /// lathe: the channel's part count).
     pub partcount: u64,
     /// The `wpo` table ([`wpo_table`]): formatted once per change of the offsets, not at
-    /// every change of state.
-    pub wpo: String,
+    /// every change of state. None: the path has no work offsets (the lathe).
+    pub wpo: Option<String>,
     /// A program that does not translate: its message (the `logic_program` condition).
     pub program_alarm: Option<String>,
     /// mm per pulse.
@@ -24,8 +27,52 @@ pub struct Modes {
     /// shows: the active system's zero with G92, and on Z the tool length in force
     /// (`console::pages::pos::work_origin`).
     pub work_origin: [f64; 3],
-    /// The `tooloffsets` table ([`tool_table`]).
-    pub tooloffsets: String,
+    /// The `tooloffsets` table ([`tool_table`]). None: not sent (the lathe).
+    pub tooloffsets: Option<String>,
+    /// The path stands at a sync point waiting for another (a lathe channel): Execution WAIT.
+    pub waiting: bool,
+    /// A fault of the path besides the core's alarm (a lathe channel's injected fault): the
+    /// `motion_program` condition, and Execution STOPPED.
+    pub fault: Option<String>,
+}
+
+/// The keys of one path's data items: the mill's names, prefixed `pN_` on a device of several
+/// paths (the lathe's channels), and the axes it has.
+#[derive(Clone, Debug)]
+pub struct PathKeys {
+    prefix: String,
+    /// Index into the status's axes, and the axis letter of the keys (`Xact`, `Xmach`).
+    axes: &'static [(usize, &'static str)],
+}
+
+impl PathKeys {
+    /// The mill's one path: X, Y, Z, keys unprefixed.
+    pub fn mill() -> PathKeys {
+        PathKeys {
+            prefix: String::new(),
+            axes: &[(0, "X"), (1, "Y"), (2, "Z")],
+        }
+    }
+
+    /// Path `n` (1-based) of a lathe: X and Z, every key prefixed `pN_`.
+    pub fn lathe(n: usize) -> PathKeys {
+        PathKeys {
+            prefix: format!("p{n}_"),
+            axes: &[(0, "X"), (2, "Z")],
+        }
+    }
+
+    fn key(&self, k: &'static str) -> Key {
+        if self.prefix.is_empty() {
+            Key::Borrowed(k)
+        } else {
+            Key::Owned(format!("{}{k}", self.prefix))
+        }
+    }
+
+    fn axis_key(&self, axis: &str, what: &str) -> Key {
+        Key::Owned(format!("{}{axis}{what}", self.prefix))
+    }
 }
 
 const WPO: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
@@ -65,6 +112,29 @@ pub fn execution(s: &Status) -> &'static str {
     }
 }
 
+/// The MTConnect Execution of a path: [`execution`], and STOPPED for a fault, WAIT at a sync
+/// point (a feed hold there is FEED_HOLD).
+pub fn path_execution(s: &Status, m: &Modes) -> &'static str {
+    let e = execution(s);
+    if m.fault.is_some() && e != "STOPPED" {
+        return "STOPPED";
+    }
+    if m.waiting && matches!(e, "ACTIVE" | "INTERRUPTED") {
+        return "WAIT";
+    }
+    e
+}
+
+/// The MTConnect ControllerMode of the lathe's mode selector: AUTO `AUTOMATIC`, MDI
+/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`.
+pub fn lathe_mode(m: LatheMode) -> &'static str {
+    match m {
+        LatheMode::Auto => "AUTOMATIC",
+        LatheMode::Mdi => "MANUAL_DATA_INPUT",
+        LatheMode::Data | LatheMode::Ofs => "EDIT",
+    }
+}
+
 /// The MTConnect ControllerMode of the selector.
 pub fn controller_mode(op: OpMode) -> &'static str {
     match op {
@@ -99,76 +169,108 @@ pub fn tool_table(tools: &[(u32, [f64; 4])]) -> String {
         .join(" ")
 }
 
-/// Every data item of the mill's one path and its value, in a fixed order.
-pub fn items(s: &Status, m: &Modes) -> Vec<(&'static str, String)> {
-    let mm = |p: i64| format!("{:.3}", p as f64 * m.pulse_mm);
+/// Every data item of the mill (the controller's and its one path's) and its value.
+pub fn items(s: &Status, m: &Modes) -> Vec<(Key, String)> {
+    let mut v = controller_items(s.estop, s.alarm.as_deref(), s.notice.as_deref());
+    v.extend(path_items(s, m, &PathKeys::mill()));
+    v
+}
+
+/// The controller's data items, once per device: `avail`, `estop`, the `system` condition
+/// (E-STOP's alarm while it is in force) and the operator `message`.
+pub fn controller_items(
+    estop: bool,
+    alarm: Option<&str>,
+    message: Option<&str>,
+) -> Vec<(Key, String)> {
+    vec![
+        (Key::Borrowed("avail"), "AVAILABLE".into()),
+        (
+            Key::Borrowed("estop"),
+            if estop { "TRIGGERED" } else { "ARMED" }.into(),
+        ),
+        (
+            Key::Borrowed("system"),
+            condition(alarm.filter(|_| estop).map(|a| ("ESTOP", a))),
+        ),
+        (
+            Key::Borrowed("message"),
+            format!("|{}", super::shdr::escape(message.unwrap_or(""))),
+        ),
+    ]
+}
+
+/// Every data item of one path and its value, in a fixed order, keyed by `k`.
+pub fn path_items(s: &Status, m: &Modes, k: &PathKeys) -> Vec<(Key, String)> {
     let (block, line) = match &s.executing {
         Some(e) => (e.stmt.text.clone(), e.stmt.line.to_string()),
         None => ("UNAVAILABLE".into(), "UNAVAILABLE".into()),
     };
     let core_alarm = s.alarm.as_deref();
-    let work = |a: usize| format!("{:.3}", s.pos[a] as f64 * m.pulse_mm - m.work_origin[a]);
-    vec![
-        ("avail", "AVAILABLE".into()),
-        ("estop", if s.estop { "TRIGGERED" } else { "ARMED" }.into()),
-        ("mode", controller_mode(m.op).into()),
-        ("exec", execution(s).into()),
+    let mut v = vec![
+        (k.key("mode"), m.mode.into()),
+        (k.key("exec"), path_execution(s, m).into()),
         (
-            "program",
+            k.key("program"),
             if m.program.is_empty() {
                 "UNAVAILABLE".into()
             } else {
                 m.program.clone()
             },
         ),
-        ("block", block),
-        ("line", line),
-        // The tool tip in the active work system (as POS shows it), and the axes in machine
-        // coordinates.
-        ("Xact", work(0)),
-        ("Yact", work(1)),
-        ("Zact", work(2)),
-        ("Xmach", mm(s.pos[0])),
-        ("Ymach", mm(s.pos[1])),
-        ("Zmach", mm(s.pos[2])),
+        (k.key("block"), block),
+        (k.key("line"), line),
+    ];
+    // The tool tip in the active work system (as POS shows it), and the axes in machine
+    // coordinates.
+    for &(a, name) in k.axes {
+        let mm = s.pos[a] as f64 * m.pulse_mm;
+        v.push((
+            k.axis_key(name, "act"),
+            format!("{:.3}", mm - m.work_origin[a]),
+        ));
+    }
+    for &(a, name) in k.axes {
+        let mm = s.pos[a] as f64 * m.pulse_mm;
+        v.push((k.axis_key(name, "mach"), format!("{mm:.3}")));
+    }
+    v.extend([
         // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
-        ("path_feedrate", format!("{:.3}", s.speed_mm_min / 60.0)),
-        ("Fovr", s.feed_override.to_string()),
+        (
+            k.key("path_feedrate"),
+            format!("{:.3}", s.speed_mm_min / 60.0),
+        ),
+        (k.key("Fovr"), s.feed_override.to_string()),
         // The rapid override's F0 is sent as 0 (MTConnect's RapidOverride is a percentage).
-        ("Rovr", s.switches.rapid_override.to_string()),
+        (k.key("Rovr"), s.switches.rapid_override.to_string()),
         // The switch's position, as /nc/state records it (held at 100 % during a tap, when
         // Srpm shows the programmed speed: docs/pulse-core.md "Tapping").
-        ("Sovr", s.switches.spindle_override.to_string()),
-        ("Srpm", s.spindle.unsigned_abs().to_string()),
+        (k.key("Sovr"), s.switches.spindle_override.to_string()),
+        (k.key("Srpm"), s.spindle.unsigned_abs().to_string()),
         (
-            "tool",
+            k.key("tool"),
             s.tool
                 .map(|t| t.to_string())
                 .unwrap_or_else(|| "UNAVAILABLE".into()),
         ),
-        ("partcount", m.partcount.to_string()),
-        ("wpo", m.wpo.clone()),
-        ("tooloffsets", m.tooloffsets.clone()),
-        (
-            "system",
-            condition(core_alarm.filter(|_| s.estop).map(|a| ("ESTOP", a))),
-        ),
-        (
-            "motion_program",
-            condition(core_alarm.filter(|_| !s.estop).map(|a| ("CORE", a))),
-        ),
-        (
-            "logic_program",
-            condition(m.program_alarm.as_deref().map(|a| ("PROGRAM", a))),
-        ),
-        (
-            "message",
-            format!(
-                "|{}",
-                super::shdr::escape(s.notice.as_deref().unwrap_or(""))
-            ),
-        ),
-    ]
+        (k.key("partcount"), m.partcount.to_string()),
+    ]);
+    if let Some(w) = &m.wpo {
+        v.push((k.key("wpo"), w.clone()));
+    }
+    if let Some(t) = &m.tooloffsets {
+        v.push((k.key("tooloffsets"), t.clone()));
+    }
+    let motion = core_alarm
+        .filter(|_| !s.estop)
+        .map(|a| ("CORE", a))
+        .or(m.fault.as_deref().map(|f| ("FAULT", f)));
+    v.push((k.key("motion_program"), condition(motion)));
+    v.push((
+        k.key("logic_program"),
+        condition(m.program_alarm.as_deref().map(|a| ("PROGRAM", a))),
+    ));
+    v
 }
 
 #[cfg(test)]
@@ -178,18 +280,20 @@ mod tests {
 
     fn modes() -> Modes {
         Modes {
-            op: OpMode::Auto,
+            mode: controller_mode(OpMode::Auto),
             program: "O0001".into(),
             partcount: 0,
-            wpo: wpo_table(&[[0.0; 3]; 6]),
+            wpo: Some(wpo_table(&[[0.0; 3]; 6])),
             program_alarm: None,
             pulse_mm: 0.001,
             work_origin: [0.0; 3],
-            tooloffsets: String::new(),
+            tooloffsets: Some(String::new()),
+            waiting: false,
+            fault: None,
         }
     }
 
-    fn value(items: &[(&str, String)], k: &str) -> String {
+    fn value(items: &[(Key, String)], k: &str) -> String {
         items.iter().find(|(n, _)| *n == k).unwrap().1.clone()
     }
 
@@ -201,7 +305,10 @@ mod tests {
         };
         let mut m = modes();
         m.work_origin = [10.0, -5.0, 150.0];
-        m.tooloffsets = tool_table(&[(1, [150.0, 5.0, -0.02, 0.01]), (3, [90.5, 3.0, 0.0, 0.0])]);
+        m.tooloffsets = Some(tool_table(&[
+            (1, [150.0, 5.0, -0.02, 0.01]),
+            (3, [90.5, 3.0, 0.0, 0.0]),
+        ]));
         let it = items(&s, &m);
         assert_eq!(value(&it, "Xact"), "-9.000");
         assert_eq!(value(&it, "Yact"), "2.500");
@@ -263,7 +370,39 @@ mod tests {
         );
         assert_eq!(value(&it, "system"), "NORMAL||||");
         let mut m = modes();
-        m.op = OpMode::Single;
+        m.mode = controller_mode(OpMode::Single);
         assert_eq!(value(&items(&s, &m), "mode"), "SEMI_AUTOMATIC");
+    }
+
+    #[test]
+    fn a_lathe_path_is_prefixed_waits_and_faults() {
+        let mut s = Status {
+            pos: [20_000, 0, -5_000].into(),
+            run: 1,
+            ..Status::default()
+        };
+        let mut m = modes();
+        m.wpo = None;
+        m.tooloffsets = None;
+        m.mode = lathe_mode(LatheMode::Ofs);
+        let it = path_items(&s, &m, &PathKeys::lathe(2));
+        let keys: Vec<&str> = it.iter().map(|(k, _)| k.as_ref()).collect();
+        assert!(keys.iter().all(|k| k.starts_with("p2_")), "{keys:?}");
+        assert!(!keys.contains(&"p2_Yact") && !keys.contains(&"p2_wpo"));
+        assert_eq!(value(&it, "p2_Xact"), "20.000");
+        assert_eq!(value(&it, "p2_Zmach"), "-5.000");
+        assert_eq!(value(&it, "p2_mode"), "EDIT");
+        assert_eq!(value(&it, "p2_exec"), "ACTIVE");
+        m.waiting = true;
+        assert_eq!(
+            value(&path_items(&s, &m, &PathKeys::lathe(2)), "p2_exec"),
+            "WAIT"
+        );
+        s.hold = true;
+        assert_eq!(path_execution(&s, &m), "FEED_HOLD");
+        m.fault = Some("chuck".into());
+        let it = path_items(&s, &m, &PathKeys::lathe(2));
+        assert_eq!(value(&it, "p2_exec"), "STOPPED");
+        assert_eq!(value(&it, "p2_motion_program"), "FAULT|FAULT|||chuck");
     }
 }

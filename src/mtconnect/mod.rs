@@ -7,6 +7,9 @@ pub mod options;
 pub mod server;
 pub mod shdr;
 
-pub use items::{items, Modes};
+pub use items::{items, Modes, PathKeys};
+
+/// A data item's key as sent: the mill's names are static, a path's prefixed ones are made.
+pub type Key = std::borrow::Cow<'static, str>;
 pub use options::{parse_addr, parse_wait, DEFAULT_PORT};
 pub use server::Adapter;

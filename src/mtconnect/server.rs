@@ -43,7 +43,7 @@ impl Client {
 #[derive(Default)]
 struct Inner {
     clients: Vec<Client>,
-    current: Vec<(&'static str, String)>,
+    current: Vec<(super::Key, String)>,
     /// The timestamp of the last publish: a connecting agent's dump carries it.
     current_ts: Option<SystemTime>,
     next_id: u64,
@@ -123,7 +123,9 @@ impl Adapter {
 
     /// Takes a snapshot's items at time `ts`: sends the ones that changed since the last call
     /// to every agent (nothing if none changed), stamped `ts`. Never blocks on a client.
-    pub fn publish(&self, items: Vec<(&'static str, String)>, ts: SystemTime) {
+    pub fn publish<K: Into<super::Key>>(&self, items: Vec<(K, String)>, ts: SystemTime) {
+        let items: Vec<(super::Key, String)> =
+            items.into_iter().map(|(k, v)| (k.into(), v)).collect();
         let Ok(mut g) = self.inner.lock() else {
             return;
         };
@@ -131,7 +133,7 @@ impl Adapter {
         // The items come in a fixed order: compared pairwise (by key when the order differs).
         let same_keys = items.len() == inner.current.len()
             && items.iter().zip(&inner.current).all(|(a, b)| a.0 == b.0);
-        let changed: Vec<(&'static str, String)> = if same_keys {
+        let changed: Vec<(super::Key, String)> = if same_keys {
             items
                 .iter()
                 .zip(&inner.current)

@@ -63,16 +63,30 @@ fn civil(z: i64) -> (i64, u32, u32) {
 /// own line.
 pub fn own_line(key: &str) -> bool {
     matches!(
-        key,
+        base_key(key),
         "system" | "logic_program" | "motion_program" | "message" | "wpo" | "tooloffsets"
     )
 }
 
+/// The mill's name of a path's key: `exec` for `p2_exec` (a path of a device of several,
+/// docs/mtconnect.md "The lathe"), the key itself otherwise.
+pub fn base_key(key: &str) -> &str {
+    let Some(rest) = key.strip_prefix('p') else {
+        return key;
+    };
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    match rest[digits..].strip_prefix('_') {
+        Some(base) if digits > 0 => base,
+        _ => key,
+    }
+}
+
 /// The SHDR text (one or more lines) for `items` at time `ts`; empty for no items.
-pub fn lines(ts: &str, items: &[(&'static str, String)]) -> String {
+pub fn lines<K: AsRef<str>>(ts: &str, items: &[(K, String)]) -> String {
     let mut out = String::new();
     let mut shared = String::new();
     for (k, v) in items {
+        let k = k.as_ref();
         if own_line(k) {
             // Multi-field values are pre-escaped field by field by `items`.
             out.push_str(&format!("{ts}|{k}|{v}\n"));
@@ -121,6 +135,15 @@ mod tests {
             lines("T", &items),
             "T|exec|ACTIVE|Xact|1.000\nT|system|NORMAL||||\n"
         );
-        assert_eq!(lines("T", &[]), "");
+        let none: &[(&str, String)] = &[];
+        assert_eq!(lines("T", none), "");
+        // A path's conditions too, whatever its number; a prefix alone is not one.
+        assert_eq!(
+            lines("T", &[("p12_motion_program", "NORMAL||||".to_string())]),
+            "T|p12_motion_program|NORMAL||||\n"
+        );
+        assert_eq!(base_key("p3_wpo"), "wpo");
+        assert_eq!(base_key("path_feedrate"), "path_feedrate");
+        assert_eq!(base_key("p_wpo"), "p_wpo");
     }
 }

@@ -86,8 +86,14 @@ pub fn draw(s: &mut Screen, v: &LatheView) {
 }
 
 /// Runs the lathe console in the terminal until Ctrl-C or a stop signal (the caller closes
-/// the session with `LatheConsole::finish`); returns the exit code.
-pub fn run(mut c: LatheConsole, rows: usize, cols: usize) -> (i32, LatheConsole) {
+/// the session with `LatheConsole::finish`), publishing to MTConnect agents once a frame
+/// after the tick with `feed`; returns the exit code.
+pub fn run(
+    mut c: LatheConsole,
+    rows: usize,
+    cols: usize,
+    feed: &mut Option<crate::cli::mtconnect::Feed>,
+) -> (i32, LatheConsole) {
     let mut term = match Terminal::enter() {
         Ok(t) => t,
         Err(e) => {
@@ -128,6 +134,9 @@ pub fn run(mut c: LatheConsole, rows: usize, cols: usize) -> (i32, LatheConsole)
         let ns = now.duration_since(last).as_nanos().min(1_000_000_000) as u64;
         last = now;
         c.tick(ns);
+        if let Some(f) = feed.as_mut() {
+            f.publish_lathe(&c);
+        }
         if screen.width() != w || screen.height() != h {
             screen = Screen::new(w, h);
         }

@@ -80,6 +80,8 @@ pub struct App {
     program_checked: u64,
     /// A backplot translation is running.
     translating: bool,
+    /// The MTConnect adapter (`--mtconnect`): the state is published once a frame.
+    feed: Option<crate::cli::mtconnect::Feed>,
 }
 
 impl App {
@@ -111,7 +113,14 @@ impl App {
             program_dirty: true,
             program_checked: 0,
             translating: false,
+            feed: None,
         }
+    }
+
+    /// Streams to MTConnect agents through `feed` (once a frame, after the tick).
+    pub fn with_feed(mut self, feed: Option<crate::cli::mtconnect::Feed>) -> App {
+        self.feed = feed;
+        self
     }
 
     fn fail(&mut self, ctx: &egui::Context, msg: String) {
@@ -253,6 +262,9 @@ impl App {
         self.frames += 1;
         m.tick();
         self.play_script(m, &ctx);
+        if let Some(f) = self.feed.as_mut() {
+            m.publish(f);
+        }
         let was = self.view.wheel.0;
         self.view = m.view();
         self.tape = m.tape();

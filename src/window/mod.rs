@@ -64,6 +64,8 @@ pub trait Machine {
     fn tape(&self) -> Option<crate::console::tape::TapeView>;
     /// Ends the session: stops the machine, closes the recording; its summary, if any.
     fn finish(self: Box<Self>) -> Result<Option<String>, String>;
+    /// Publishes the state to MTConnect agents (`--mtconnect`, once a frame).
+    fn publish(&self, feed: &mut crate::cli::mtconnect::Feed);
 }
 
 impl Machine for crate::console::Console {
@@ -124,6 +126,9 @@ impl Machine for crate::console::Console {
     fn finish(self: Box<Self>) -> Result<Option<String>, String> {
         crate::console::Console::finish(*self)
     }
+    fn publish(&self, feed: &mut crate::cli::mtconnect::Feed) {
+        feed.publish(self)
+    }
 }
 
 /// The window's `--help`.
@@ -142,7 +147,8 @@ console: every channel side by side with its backplot (\"The lathe window\").
                       and close; prints the plasma and backplot rectangles
   --bench-frames N    after the script, measure N frames, print frame time and pulse rate, close
   --size WxH          window size in points (default 1400x860)
-Other options go to the console (e.g. --state DIR, --rows N, --cols N).
+Other options go to the console (e.g. --state DIR, --rows N, --cols N, --machine M, and
+--mtconnect ADDR:PORT: the window streams to MTConnect agents once a frame, docs/mtconnect.md).
 ";
 
 /// The window's own options, split from the console's.
@@ -160,6 +166,9 @@ pub struct WindowOptions {
     pub help: bool,
     /// Everything else, for the console (without `--window`).
     pub console_args: Vec<String>,
+    /// `--mtconnect ADDR:PORT`, taken out of the console's arguments by the command line:
+    /// the window streams to MTConnect agents once a frame (docs/mtconnect.md).
+    pub mtc: crate::cli::mtconnect::MtcOpts,
 }
 
 /// Splits `argv` into the window's options and the console's.
@@ -261,7 +270,7 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
     drive.bench_frames = opts.bench_frames;
     // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
     crate::cli::signals::install();
-    let machine = match open_console(cfg) {
+    let (machine, feed) = match open_console(cfg, &opts.mtc) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("novanc: {e}");
@@ -270,7 +279,7 @@ pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
     };
     let size = opts.size.unwrap_or((1400.0, 860.0));
     let code = open_window("novanc — NC panel", size, move |exit| {
-        Box::new(app::App::new(machine, drive, exit))
+        Box::new(app::App::new(machine, drive, exit).with_feed(feed))
     });
     crate::cli::signals::exit_code(code)
 }
@@ -315,12 +324,26 @@ fn open_window(
 }
 
 /// Opens the console the window drives.
-fn open_console(cfg: crate::console::ConsoleConfig) -> Result<Box<dyn Machine>, String> {
+/// Opens the console, and the MTConnect adapter if `mtc` asks (its state published once).
+fn open_console(
+    cfg: crate::console::ConsoleConfig,
+    mtc: &crate::cli::mtconnect::MtcOpts,
+) -> Result<(Box<dyn Machine>, Option<crate::cli::mtconnect::Feed>), String> {
     let (console, warnings) = crate::console::Console::open(cfg)?;
     for w in warnings {
         eprintln!("novanc: {w}");
     }
-    Ok(Box::new(console))
+    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc", console.core()) {
+        Ok(f) => f,
+        Err(e) => {
+            let _ = console.finish();
+            return Err(e);
+        }
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish(&console);
+    }
+    Ok((Box::new(console), feed))
 }
 
 #[cfg(test)]

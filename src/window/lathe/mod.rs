@@ -85,13 +85,30 @@ pub fn run(desc: LatheDesc, cfg: ConsoleConfig, opts: WindowOptions) -> i32 {
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
+    let virt = script.is_some();
+    let mut feed = match crate::cli::mtconnect::Feed::start_on(
+        &opts.mtc,
+        "novanc",
+        virt,
+        console.machine_ns(),
+    ) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            let _ = console.finish(None);
+            return 1;
+        }
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_lathe(&console);
+    }
     // A stop signal closes the window as closing it does, the recording marked interrupted.
     crate::cli::signals::install();
     let title = format!("novanc — {} lathe", console.desc().name);
     let size = opts.size.unwrap_or((1400.0, 860.0));
     let shot = opts.screenshot.map(PathBuf::from);
     let code = super::open_window(&title, size, move |exit| {
-        Box::new(LatheApp::new(console, script, shot, exit))
+        Box::new(LatheApp::new(console, script, shot, exit).with_feed(feed))
     });
     crate::cli::signals::exit_code(code)
 }
@@ -131,6 +148,8 @@ pub struct LatheApp {
     exit: Arc<AtomicI32>,
     /// The stop signal that closed the window, as the recording says it.
     interrupted: Option<String>,
+    /// The MTConnect adapter (`--mtconnect`): the state is published once a frame.
+    feed: Option<crate::cli::mtconnect::Feed>,
 }
 
 impl LatheApp {
@@ -160,10 +179,17 @@ impl LatheApp {
             layout: Layout::default(),
             exit,
             interrupted: None,
+            feed: None,
         };
         app.sample(&console);
         app.console = Some(console);
         app
+    }
+
+    /// Streams to MTConnect agents through `feed` (once a frame, after the machine's time).
+    pub fn with_feed(mut self, feed: Option<crate::cli::mtconnect::Feed>) -> LatheApp {
+        self.feed = feed;
+        self
     }
 
     /// Takes every channel's tip into its trail.
@@ -399,6 +425,9 @@ impl eframe::App for LatheApp {
             return;
         };
         self.frame(&mut c, ui);
+        if let Some(f) = self.feed.as_mut() {
+            f.publish_lathe(&c);
+        }
         self.console = Some(c);
     }
 
