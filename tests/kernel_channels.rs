@@ -13,7 +13,8 @@ use novanc::lathe::sim::testkit::{citizen_like, sample_programs};
 use novanc::lathe::sim::{Event, Lathe, Outcome as SimOutcome};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
-    ClockMode, Command, Kernel, Machine, Outcome, PulseCore, RunKind, VecSource,
+    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, RunKind, VecSource,
+    WaitOn,
 };
 use novanc::settings::MachineSettings;
 
@@ -338,7 +339,21 @@ fn the_chuck_interlock_refuses_a_cut_on_an_empty_spindle_or_an_open_chuck() {
                     assert!(
                         msg.contains("chuck interlock") && msg.contains(why),
                         "{msg}"
-                    )
+                    );
+                    let alarms: Vec<_> = k
+                        .take_events()
+                        .into_iter()
+                        .filter_map(|e| match e {
+                            KernelEvent::Alarm { ch, line, msg, .. } => Some((ch, line, msg)),
+                            _ => None,
+                        })
+                        .collect();
+                    assert_eq!(alarms.len(), 1, "{alarms:?}");
+                    let (ch, line, text) = &alarms[0];
+                    assert!(
+                        *ch == 0 && *line > 0 && msg.ends_with(text.as_str()),
+                        "{alarms:?}"
+                    );
                 }
                 other => panic!("{other:?}"),
             }
@@ -390,6 +405,8 @@ fn a_fault_in_channel_1_during_part_3_loses_nothing() {
     until(&mut k, |k| k.table().machined(3).first() == Some(&1));
     let t = k.now() + 200_000_000;
     k.advance_to(t);
+    let _ = k.take_events();
+    let t_fault = k.now();
     k.fault(0, "tool breakage").expect("CH1 runs");
     assert_eq!(
         k.run_until_idle(MINUTE),
@@ -397,6 +414,26 @@ fn a_fault_in_channel_1_during_part_3_loses_nothing() {
             ch: 0,
             reason: "tool breakage".into()
         }
+    );
+    let evs = k.take_events();
+    assert_eq!(
+        evs.first(),
+        Some(&KernelEvent::Fault {
+            ch: 0,
+            t: t_fault,
+            reason: "tool breakage".into()
+        })
+    );
+    let waits: Vec<(usize, WaitOn)> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Wait { ch, on, .. } => Some((*ch, *on)),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        waits.contains(&(1, WaitOn::Channel(0))) && waits.contains(&(2, WaitOn::Channel(1))),
+        "CH2 waits on CH1, CH3 on CH2: {waits:?}"
     );
     let v: Vec<_> = (0..3).map(|ch| k.channel(ch).expect("a channel")).collect();
     assert_eq!((v[0].work, v[1].work, v[2].work), (Some(3), None, None));
@@ -434,7 +471,21 @@ fn estop_abandons_every_channel_in_one_tick_and_reset_starts_a_new_cycle() {
     });
     let works = k.table().works();
     let t = k.now();
+    let _ = k.take_events();
     k.estop();
+    let alarms: Vec<(usize, u64, bool)> = k
+        .take_events()
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Alarm { ch, t, msg, .. } => Some((*ch, *t, msg.contains("EMERGENCY"))),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        alarms,
+        vec![(0, t, true), (1, t, true), (2, t, true)],
+        "an alarm on every channel at the E-STOP"
+    );
     for ch in 0..3 {
         let m = k.machine(ch).expect("a channel");
         let st = m.status();
@@ -653,6 +704,103 @@ fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
         .collect()
 }
 
+/// The kernel's events of the Citizen's 5 parts against what the kernel knows otherwise: in
+/// time order; 5 `Part` events per channel counting 1 to 5, then `Done`; the table's 20
+/// transfers, each with both chucks closed (15 into a chuck); every thread pass of system 3
+/// at an encoder index (a multiple of the encoder's lines) on the work in its chuck; every cut
+/// on a work; waits on other channels only.
+fn check_citizen_events(k: &Kernel, evs: &[KernelEvent], passes: usize, lines: u32) {
+    assert!(
+        evs.windows(2).all(|w| w[0].t() <= w[1].t()),
+        "events in time order"
+    );
+    for ch in 0..3 {
+        let parts: Vec<u32> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::Part { ch: c, count, .. } if *c == ch => Some(*count),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(parts, vec![1, 2, 3, 4, 5], "CH{} parts", ch + 1);
+        let done: Vec<u64> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::Done { ch: c, t } if *c == ch => Some(*t),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(done.len(), 1, "CH{} done once", ch + 1);
+        let cuts: std::collections::BTreeSet<Option<u32>> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::CutStart { ch: c, work, .. } if *c == ch => Some(*work),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            cuts,
+            (1..=5).map(Some).collect(),
+            "CH{} cut every work and only works",
+            ch + 1
+        );
+    }
+    let transfers: Vec<_> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Transfer {
+                t,
+                from,
+                to,
+                work,
+                both_closed,
+            } => Some((*t, *from, *to, *work, *both_closed)),
+            _ => None,
+        })
+        .collect();
+    let table: Vec<_> = k
+        .transfers()
+        .iter()
+        .map(|t| (t.t, t.from, t.to, t.work, true))
+        .collect();
+    assert_eq!(transfers, table, "every transfer, both chucks closed");
+    assert_eq!(transfers.iter().filter(|t| t.2.is_some()).count(), 15);
+    let threads: Vec<_> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::ThreadPass {
+                ch, index, encoder, ..
+            } => Some((*ch, *index, *encoder)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(threads.len(), passes, "every thread pass");
+    for (ch, index, encoder) in threads {
+        assert_eq!(ch, 2, "system 3 cuts the thread");
+        assert!(index > 0 && index % u64::from(lines) == 0, "index {index}");
+        assert!(
+            encoder >= index && encoder <= index + 1,
+            "{encoder} at {index}"
+        );
+    }
+    let waits = evs
+        .iter()
+        .filter(|e| match e {
+            KernelEvent::Wait { ch, on, .. } => {
+                assert_ne!(*on, WaitOn::Channel(*ch), "a channel waits on another");
+                true
+            }
+            _ => false,
+        })
+        .count();
+    assert!(waits > 0, "the channels waited on one another");
+    assert!(
+        !evs.iter()
+            .any(|e| matches!(e, KernelEvent::Fault { .. } | KernelEvent::Alarm { .. })),
+        "no fault, no alarm"
+    );
+}
+
 #[test]
 fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let desc = LatheDesc::citizen();
@@ -675,9 +823,16 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let per_pulse = lines * desc.pulse_mm / 1.5;
     let (mut passes, mut pulses, mut ends) = (0, Vec::new(), Vec::new());
     let mut at = 0;
+    let mut evs: Vec<KernelEvent> = Vec::new();
     while k.finished_at().is_none() {
         let t = k.now() + 10_000_000;
         k.advance_to(t);
+        let new = k.take_events();
+        assert!(
+            new.iter().all(|e| e.t() <= k.now()),
+            "no event ahead of the clock"
+        );
+        evs.extend(new);
         assert!(
             t < 10 * MINUTE,
             "the Citizen did not finish: {:?}",
@@ -706,6 +861,8 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     }
     assert_eq!(passes, 5 * threads.len(), "every pass of every part");
     assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 5 });
+    evs.extend(k.take_events());
+    check_citizen_events(&k, &evs, 5 * threads.len(), desc.channels[2].encoder);
     let t = k.transfers();
     assert_eq!(t.len(), 20, "5 works × 4 handovers");
     assert_eq!(
