@@ -4,6 +4,8 @@
 //! oracle); E-STOP, RESET and a fault; random operator sequences with invariants; the kernel
 //! in the pulse core's thread (commands to a channel, E-STOP with a frozen front end).
 
+mod common;
+
 use novanc::block::{Block, Motion, Statement, Sync};
 use novanc::lathe::blocks::{blocks, kernel_channels};
 use novanc::lathe::desc::LatheDesc;
@@ -1038,4 +1040,142 @@ fn the_mills_pulse_core_is_the_one_channel_case() {
     assert!(core.status().estop, "channel 0 is the machine");
     assert!(core.channels()[0].status.estop);
     assert_eq!(core.estop_at(), Some(core.status().machine_ns));
+}
+
+/// A field of a JSON message: the text after `"key":` up to the next `,` or `}`.
+fn field<'a>(json: &'a str, key: &str) -> Option<&'a str> {
+    let rest = json.split(&format!("\"{key}\":")).nth(1)?;
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    Some(&rest[..end])
+}
+
+/// Issue 22: "lathe recordings carry `/nc/pulses` whose totals equal the counters per channel,
+/// and the real override". The Citizen's 5 parts recorded through `PulseCore::spawn_kernel` in
+/// virtual time with CH2's feed override at 50 %: each channel's pulses, summed with their
+/// directions, equal its counters' travel; CH2's `/nc/state` says 50, the others 100; every
+/// channel's message carries its channel; `/lathe/event` holds the kernel's events, in order,
+/// as the kernel encodes them; a centre's topics only (no scene is derived from channels), and
+/// Python's reader reads it.
+#[test]
+fn a_kernel_recording_has_each_channels_pulses_its_override_and_the_events() {
+    use novanc::record::{json::encode_event, Recorder};
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let k = kernel(&desc, &progs, 5);
+    let home: Vec<[i64; 3]> = (0..3)
+        .map(|ch| k.machine(ch).expect("a channel").pos().xyz())
+        .collect();
+    let settings = k.machine(0).expect("CH1").settings().clone();
+    let path = common::temp_dir("kernel-record").join("citizen.mcap");
+    let rec = Recorder::start(&path, &settings).expect("a recording");
+    let core = PulseCore::spawn_kernel(k, ClockMode::Virtual, Some(rec.sink()));
+    core.channel_command(Some(1), Command::Override(50))
+        .expect("CH2 at 50 %");
+    core.channel_command(None, Command::Start(RunKind::Auto))
+        .expect("START");
+    assert!(
+        core.wait_idle(std::time::Duration::from_secs(600))
+            .is_some(),
+        "the batch ends"
+    );
+    let events = core.take_events();
+    let end: Vec<[i64; 3]> = core.channels().iter().map(|c| c.status.pos.xyz()).collect();
+    drop(core);
+    let sum = rec.finish().expect("the recording closes");
+    assert_eq!(sum.count("/foxglove/scene"), 0, "no scene from channels");
+
+    let bytes = std::fs::read(&path).expect("the file");
+    let mut travel = [[0i64; 3]; 3];
+    let mut overrides: Vec<std::collections::BTreeSet<String>> = vec![Default::default(); 3];
+    let mut lathe = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let m = m.expect("a message");
+        let text = String::from_utf8(m.data.to_vec()).expect("UTF-8");
+        let topic = m.channel.topic.as_str();
+        if topic == "/lathe/event" {
+            lathe.push(text);
+            continue;
+        }
+        let ch: usize = field(&text, "channel")
+            .and_then(|c| c.parse().ok())
+            .unwrap_or_else(|| panic!("{topic} without its channel: {text}"));
+        assert!(
+            text.starts_with("{\"channel\":") && (1..=3).contains(&ch),
+            "{text}"
+        );
+        match topic {
+            "/nc/pulses" => {
+                let axis = match field(&text, "axis") {
+                    Some("\"X\"") => 0,
+                    Some("\"Y\"") => 1,
+                    Some("\"Z\"") => 2,
+                    other => panic!("axis {other:?}"),
+                };
+                let dir: i64 = field(&text, "dir")
+                    .and_then(|d| d.parse().ok())
+                    .expect("dir");
+                let list = text.split("\"t_ns\":[").nth(1).expect("t_ns");
+                let n = list.split(']').next().unwrap_or("").split(',').count() as i64;
+                travel[ch - 1][axis] += dir * n;
+            }
+            "/nc/state" => {
+                // An override takes effect at the next NCBR tick, as on the centre.
+                if m.log_time >= settings.ncbr_period_ns {
+                    overrides[ch - 1]
+                        .insert(field(&text, "feed_override").expect("override").into());
+                }
+            }
+            _ => {}
+        }
+    }
+    for ch in 0..3 {
+        let counters: Vec<i64> = (0..3).map(|a| end[ch][a] - home[ch][a]).collect();
+        assert_eq!(
+            travel[ch].to_vec(),
+            counters,
+            "CH{} pulses = its counters",
+            ch + 1
+        );
+        assert!(
+            travel[ch].iter().any(|&t| t != 0) || ch > 0,
+            "CH{} moved",
+            ch + 1
+        );
+    }
+    let want = |p: &str| std::iter::once(p.to_string()).collect();
+    assert_eq!(overrides, vec![want("100"), want("50"), want("100")]);
+    // The kernel's events, as the runner records them (a thread pass on its channel's
+    // latest cut's work).
+    let mut work = [None; 3];
+    let expected: Vec<String> = events
+        .iter()
+        .map(|e| {
+            if let KernelEvent::CutStart { ch, work: w, .. } = e {
+                work[*ch] = *w;
+            }
+            let mut out = Vec::new();
+            encode_event(&mut out, &e.record(work[e.channel()]), settings.pulse_mm);
+            String::from_utf8(out).expect("UTF-8")
+        })
+        .collect();
+    assert!(expected.len() > 100, "{} events", expected.len());
+    assert_eq!(lathe, expected, "/lathe/event is the kernel's events");
+    assert!(lathe
+        .iter()
+        .any(|e| e.contains("\"event\":\"thread\",\"work\":")));
+    if let Some((ok, out)) = common::python_check(
+        &path,
+        &[
+            "--expect-topics",
+            "/nc/pulses",
+            "/nc/state",
+            "/lathe/event",
+            "--expect-complete",
+        ],
+    ) {
+        assert!(ok, "{out}");
+        for ch in 1..=3 {
+            assert!(out.contains(&format!("channel {ch} ")), "{out}");
+        }
+    }
 }

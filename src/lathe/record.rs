@@ -22,16 +22,8 @@ use std::path::{Path, PathBuf};
 /// The lathe's extra topic.
 pub const EVENT_TOPIC: &str = "/lathe/event";
 
-const EVENT_SCHEMA: &str = concat!(
-    r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.LatheEvent","#,
-    r#""description":"A lathe channel's event besides motion","type":"object","#,
-    r#""properties":{"channel":{"type":"integer","description":"1-based channel"},"#,
-    r#""event":{"type":"string","description":"transfer, thread, cut, part, wait, fault, alarm, reset, done, ..."},"#,
-    r#""work":{"type":"integer","description":"the work piece, 1-based, if the event concerns one"},"#,
-    r#""value":{"type":"integer","description":"the event's number: the receiving channel of a transfer, the encoder index of a thread pass, the count of a part"},"#,
-    r#""text":{"type":"string","description":"the event in words"}},"#,
-    r#""required":["channel","event","text"]}"#
-);
+/// The schema of `/lathe/event`: the one recorder's (`crate::record::topic`).
+const EVENT_SCHEMA: &str = crate::record::topic::LATHE_EVENT_SCHEMA;
 
 /// Topic slots of a lathe recording.
 const BLOCK: usize = 0;

@@ -230,6 +230,92 @@ impl KernelEvent {
         }
     }
 
+    /// The `/lathe/event` message of this event (docs/recording.md, "Lathe recordings"):
+    /// the lathe console's words and texts. `work`: the work a thread pass cuts (the work of
+    /// the channel's latest cut; the pass itself is one).
+    pub fn record(&self, work: Option<u32>) -> crate::record::Event {
+        let chan = |c: usize| u16::try_from(c + 1).unwrap_or(u16::MAX);
+        let ev = |ch: usize, event, work, value, text| crate::record::Event::Lathe {
+            t_ns: self.t(),
+            channel: chan(ch),
+            event,
+            work,
+            value,
+            text,
+        };
+        match self {
+            KernelEvent::Transfer {
+                from,
+                to,
+                work,
+                both_closed,
+                ..
+            } => {
+                let text = format!(
+                    "W{work} {} -> {}{}",
+                    from.map_or("BAR FEEDER".to_string(), |c| format!("CH{}", c + 1)),
+                    to.map_or("UNLOADER".to_string(), |c| format!("CH{}", c + 1)),
+                    match (from, both_closed) {
+                        (None, _) => "",
+                        (Some(_), true) => " (both chucks closed)",
+                        (Some(_), false) => " (NOT INTERLOCKED)",
+                    }
+                );
+                match from {
+                    None => ev(to.unwrap_or(0), "supply", Some(*work), None, text),
+                    Some(f) => ev(
+                        *f,
+                        "transfer",
+                        Some(*work),
+                        Some(to.map_or(0, |c| c as i64 + 1)),
+                        text,
+                    ),
+                }
+            }
+            KernelEvent::ThreadPass {
+                ch,
+                line,
+                index,
+                encoder,
+                resumed,
+                ..
+            } => ev(
+                *ch,
+                "thread",
+                work,
+                Some(i64::try_from(*index).unwrap_or(i64::MAX)),
+                format!(
+                    "line {line}: pass {} at index {index} (encoder {encoder} at the first Z pulse)",
+                    if *resumed { "resumed" } else { "starts" }
+                ),
+            ),
+            KernelEvent::CutStart { ch, line, work, .. } => {
+                ev(*ch, "cut", *work, None, format!("line {line}"))
+            }
+            KernelEvent::Wait { ch, on, .. } => {
+                ev(*ch, "wait", None, None, format!("CH{} waits {on}", ch + 1))
+            }
+            KernelEvent::Part { ch, count, .. } => ev(
+                *ch,
+                "part",
+                None,
+                Some(i64::from(*count)),
+                format!("CH{} part {count}", ch + 1),
+            ),
+            KernelEvent::Done { ch, .. } => ev(
+                *ch,
+                "done",
+                None,
+                None,
+                format!("CH{} reached the part target", ch + 1),
+            ),
+            KernelEvent::Fault { ch, reason, .. } => ev(*ch, "fault", None, None, reason.clone()),
+            KernelEvent::Alarm { ch, line, msg, .. } => {
+                ev(*ch, "alarm", None, Some(i64::from(*line)), msg.clone())
+            }
+        }
+    }
+
     /// The channel it happened on (a transfer: the giving channel, or the receiving one
     /// from the bar feeder).
     pub fn channel(&self) -> usize {

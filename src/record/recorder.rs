@@ -341,6 +341,9 @@ impl fmt::Display for RecordSummary {
         if m[Topic::Log.index()] > 0 {
             write!(f, ", {} log messages", m[Topic::Log.index()])?;
         }
+        if m[Topic::LatheEvent.index()] > 0 {
+            write!(f, ", {} lathe events", m[Topic::LatheEvent.index()])?;
+        }
         if self.disk_error.is_none() {
             write!(f, ", {:.1} MB", self.bytes as f64 / 1e6)?;
         }

@@ -4,7 +4,7 @@
 use super::Event;
 
 /// How many topics there are.
-pub const TOPICS: usize = 9;
+pub const TOPICS: usize = 10;
 
 /// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -27,7 +27,23 @@ pub enum Topic {
     Io,
     /// `/foxglove/log`: operator and program messages and alarms (issue 25).
     Log,
+    /// `/lathe/event`: a lathe channel's transfers, cuts, thread passes, parts, waits, faults
+    /// and alarms (issue 22). Declared in a file only once it has a message, so a
+    /// machining centre's recording has no such channel.
+    LatheEvent,
 }
+
+/// The JSON schema of `/lathe/event`.
+pub const LATHE_EVENT_SCHEMA: &str = concat!(
+    r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.LatheEvent","#,
+    r#""description":"A lathe channel's event besides motion","type":"object","#,
+    r#""properties":{"channel":{"type":"integer","description":"1-based channel"},"#,
+    r#""event":{"type":"string","description":"transfer, thread, cut, part, wait, fault, alarm, reset, done, ..."},"#,
+    r#""work":{"type":"integer","description":"the work piece, 1-based, if the event concerns one"},"#,
+    r#""value":{"type":"integer","description":"the event's number: the receiving channel of a transfer, the encoder index of a thread pass, the count of a part"},"#,
+    r#""text":{"type":"string","description":"the event in words"}},"#,
+    r#""required":["channel","event","text"]}"#
+);
 
 impl Topic {
     /// Every topic, in channel order.
@@ -41,6 +57,7 @@ impl Topic {
         Topic::Probe,
         Topic::Io,
         Topic::Log,
+        Topic::LatheEvent,
     ];
 
     /// The MCAP topic name.
@@ -55,6 +72,7 @@ impl Topic {
             Topic::Probe => "/nc/probe",
             Topic::Io => "/nc/io",
             Topic::Log => "/foxglove/log",
+            Topic::LatheEvent => "/lathe/event",
         }
     }
 
@@ -75,6 +93,8 @@ impl Topic {
             Event::Probe { .. } => Topic::Probe,
             Event::Io { .. } => Topic::Io,
             Event::Log { .. } => Topic::Log,
+            Event::Lathe { .. } => Topic::LatheEvent,
+            Event::OnChannel { ev, .. } => Topic::of(ev),
         }
     }
 
@@ -90,6 +110,7 @@ impl Topic {
             Topic::Probe => "novanc.Probe",
             Topic::Io => "novanc.Io",
             Topic::Log => "foxglove.Log",
+            Topic::LatheEvent => "novanc.LatheEvent",
         }
     }
 
@@ -197,6 +218,7 @@ impl Topic {
                 r#""required":["seq","stmt","kind","index","value","synced"]}"#
             ),
             Topic::Log => super::foxglove::LOG_SCHEMA,
+            Topic::LatheEvent => LATHE_EVENT_SCHEMA,
         }
     }
 }
@@ -226,6 +248,7 @@ mod tests {
             ],
             &["seq", "stmt", "kind", "index", "value", "synced"],
             &["timestamp", "level", "message", "name", "file", "line"],
+            &["channel", "event", "text"],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();

@@ -60,7 +60,9 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     pulse_mm: f64,
     /// The machine's axes (3, or 4 with A): positions carry `a` then.
     axes: usize,
-    channels: [u16; CHANNELS],
+    /// The MCAP channel id of each slot (None: not declared yet; only `/lathe/event` waits
+    /// for its first message).
+    channels: [Option<u16>; CHANNELS],
     sequence: [u32; CHANNELS],
     /// Derives the Foxglove scene and tool transform (None: left out, `SCENE_ENV`).
     scene: Option<Scene>,
@@ -134,7 +136,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
             axes: settings.axes,
-            channels: [0; CHANNELS],
+            channels: [None; CHANNELS],
             sequence: [0; CHANNELS],
             scene: scene_on.then(|| Scene::new(settings.pulse_mm, info.tool_sizes())),
             out: WriterOutcome::default(),
@@ -181,7 +183,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         mcap: &mut mcap::Writer<W>,
         settings: &MachineSettings,
         info: &RecordingInfo,
-        channels: &mut [u16; CHANNELS],
+        channels: &mut [Option<u16>; CHANNELS],
     ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
@@ -223,10 +225,42 @@ impl<W: RecordOutput> RecordWriter<W> {
                     .map(|d| (d.schema_name(), d.schema().into(), d.name())),
             );
         for (i, (schema_name, schema, topic)) in declared.enumerate() {
+            if i == Topic::LatheEvent.index() {
+                // Declared with its first message (`declare_late`): a centre's file is as
+                // it was before the lathe recorded through this writer.
+                continue;
+            }
             let schema = mcap.add_schema(schema_name, "jsonschema", schema.as_bytes())?;
-            channels[i] = mcap.add_channel(schema, topic, "json", &no_metadata)?;
+            channels[i] = Some(mcap.add_channel(schema, topic, "json", &no_metadata)?);
         }
         Ok(())
+    }
+
+    /// Declares topic slot `i`'s schema and channel before its first message, if not yet.
+    fn declare_late(&mut self, i: usize) -> Result<u16, ()> {
+        if let Some(id) = self.channels.get(i).copied().flatten() {
+            return Ok(id);
+        }
+        let (Some(mcap), Some(t)) = (self.mcap.as_mut(), Topic::ALL.get(i)) else {
+            return Err(());
+        };
+        let r = mcap
+            .add_schema(
+                t.schema_name(),
+                "jsonschema",
+                t.schema_for(self.axes).as_bytes(),
+            )
+            .and_then(|s| mcap.add_channel(s, t.name(), "json", &BTreeMap::new()));
+        match r {
+            Ok(id) => {
+                self.channels[i] = Some(id);
+                Ok(id)
+            }
+            Err(e) => {
+                self.fail(e);
+                Err(())
+            }
+        }
     }
 
     /// Keeps the first error, lets go of the MCAP writer, and from now on only counts events.
@@ -260,7 +294,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             self.out.lost_to_disk_error += 1;
             return false;
         }
-        if let Event::Pulses { t_ns, .. } = ev {
+        if let Event::Pulses { t_ns, .. } = ev.inner() {
             if t_ns.is_empty() {
                 return true;
             }
@@ -268,7 +302,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         let i = Topic::of(ev).index();
         self.buf.clear();
         let t = encode_event_axes(&mut self.buf, ev, self.pulse_mm, self.axes);
-        let pulses = match ev {
+        let pulses = match ev.inner() {
             Event::Pulses { t_ns, .. } => t_ns.len() as u64,
             _ => 0,
         };
@@ -277,6 +311,10 @@ impl<W: RecordOutput> RecordWriter<W> {
         self.buf = buf;
         if !written {
             return false;
+        }
+        // The scene draws one tool: a channel's messages (a lathe's) are not derived.
+        if ev.channel().is_some() {
+            return true;
         }
         if let Some(mut scene) = self.scene.take() {
             scene.derive(ev, &mut |d, t, data| {
@@ -296,12 +334,16 @@ impl<W: RecordOutput> RecordWriter<W> {
             self.out.lost_to_disk_error += lost;
             return false;
         }
+        let Ok(channel_id) = self.declare_late(i) else {
+            self.out.lost_to_disk_error += lost;
+            return false;
+        };
         let Some(mcap) = self.mcap.as_mut() else {
             self.out.lost_to_disk_error += lost;
             return false;
         };
         let header = mcap::records::MessageHeader {
-            channel_id: self.channels[i],
+            channel_id,
             sequence: self.sequence[i],
             log_time: t,
             publish_time: t,

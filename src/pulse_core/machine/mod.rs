@@ -371,7 +371,14 @@ pub struct Machine {
     cuts: u64,
     /// What the kernel reports besides motion (a channel only; [`Machine::take_marks`]).
     marks: Vec<Mark>,
+    /// A recording channel's next position sample and pulse batch flush, ns.
+    next_sample: u64,
 }
+
+/// A channel of a kernel records its position, and sends its pulse batches, at most this
+/// often while it moves (and whenever a run call returns): docs/recording.md, "Lathe
+/// recordings" (every 10 ms). The centre's machine records at every NCBR tick (5 ms).
+pub const CHANNEL_SAMPLE_NS: u64 = 10_000_000;
 
 /// What a channel's machine did that its kernel reports as an event (docs/pulse-core.md,
 /// "Channels"): kept only on a channel ([`Machine::set_channel`]), taken by the kernel.
@@ -475,6 +482,7 @@ impl Machine {
             cut_interlock: None,
             cuts: 0,
             marks: Vec::new(),
+            next_sample: 0,
         }
     }
 
@@ -974,6 +982,15 @@ impl Machine {
     }
 
     fn tick_end(&mut self) {
+        if self.channel && self.events.is_some() {
+            // A channel's tick is short (the Citizen's 100 µs): its positions and pulse
+            // batches are recorded every CHANNEL_SAMPLE_NS, its state on every change.
+            if self.now < self.next_sample {
+                self.send_state();
+                return;
+            }
+            self.next_sample = self.now.saturating_add(CHANNEL_SAMPLE_NS);
+        }
         self.out.flush();
         if self.events.is_none() {
             return;
