@@ -17,7 +17,7 @@ pub mod writer;
 
 pub use info::RecordingInfo;
 pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
-pub use topic::{Topic, TOPICS};
+pub use topic::{Topic, ALL_TOPICS, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};
 
 use crate::block::Axes;

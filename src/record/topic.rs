@@ -3,8 +3,12 @@
 
 use super::Event;
 
-/// How many topics there are.
-pub const TOPICS: usize = 10;
+/// How many topics every recording declares ([`Topic::ALL`]).
+pub const TOPICS: usize = 9;
+
+/// Every topic, the lathe's `/lathe/event` included ([`Topic::EVERY`]): a recording of a
+/// kernel's channels declares it with its first message.
+pub const ALL_TOPICS: usize = TOPICS + 1;
 
 /// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -46,8 +50,21 @@ pub const LATHE_EVENT_SCHEMA: &str = concat!(
 );
 
 impl Topic {
-    /// Every topic, in channel order.
+    /// The topics every recording declares, in channel order.
     pub const ALL: [Topic; TOPICS] = [
+        Topic::Block,
+        Topic::Position,
+        Topic::Pulses,
+        Topic::State,
+        Topic::Display,
+        Topic::PanelEvent,
+        Topic::Probe,
+        Topic::Io,
+        Topic::Log,
+    ];
+
+    /// Every topic, in slot order ([`Topic::index`]): [`Topic::ALL`], then `/lathe/event`.
+    pub const EVERY: [Topic; ALL_TOPICS] = [
         Topic::Block,
         Topic::Position,
         Topic::Pulses,
@@ -76,7 +93,7 @@ impl Topic {
         }
     }
 
-    /// Index 0..[`TOPICS`] (channel order).
+    /// Index 0..[`ALL_TOPICS`] (channel order; `/lathe/event` last).
     pub fn index(self) -> usize {
         self as usize
     }
@@ -248,7 +265,6 @@ mod tests {
             ],
             &["seq", "stmt", "kind", "index", "value", "synced"],
             &["timestamp", "level", "message", "name", "file", "line"],
-            &["channel", "event", "text"],
         ];
         for (topic, fields) in Topic::ALL.iter().zip(required) {
             let schema = topic.schema();
@@ -256,6 +272,9 @@ mod tests {
                 assert!(schema.contains(&format!("\"{f}\"")), "{topic:?} lacks {f}");
             }
             assert!(schema.contains(topic.schema_name()));
+        }
+        for f in ["channel", "event", "text"] {
+            assert!(Topic::LatheEvent.schema().contains(&format!("\"{f}\"")));
         }
     }
 }

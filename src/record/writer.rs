@@ -18,14 +18,14 @@ use super::file::{
 use super::foxglove::{Derived, Scene, DERIVED};
 use super::info::RecordingInfo;
 use super::json::encode_event_axes;
-use super::topic::{Topic, TOPICS};
+use super::topic::{Topic, ALL_TOPICS, TOPICS};
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Channels in the file: one per topic, then the derived Foxglove ones.
-const CHANNELS: usize = TOPICS + DERIVED;
+/// Channel slots: one per topic (`/lathe/event` last), then the derived Foxglove ones.
+const CHANNELS: usize = ALL_TOPICS + DERIVED;
 
 /// The environment variable that leaves the derived Foxglove topics (`/foxglove/scene`,
 /// `/foxglove/tool`) out when set to `off`: for measuring what they cost
@@ -37,6 +37,8 @@ pub const SCENE_ENV: &str = "NOVANC_FOXGLOVE_SCENE";
 pub struct WriterOutcome {
     /// Messages on disk per topic (in chunks flushed to the file), in `Topic::ALL` order.
     pub messages: [u64; TOPICS],
+    /// Messages on disk on `/lathe/event` (a kernel's channels).
+    pub lathe_events: u64,
     /// Pulses on disk in `/nc/pulses` batches.
     pub pulses: u64,
     /// Derived messages on disk per Foxglove channel, in `Derived::ALL` order.
@@ -216,20 +218,23 @@ impl<W: RecordOutput> RecordWriter<W> {
             })?;
         }
         let no_metadata = BTreeMap::new();
+        // `/lathe/event` is declared with its first message (`declare_late`): a centre's
+        // file is as it was before the lathe recorded through this writer.
         let declared = Topic::ALL
             .iter()
-            .map(|t| (t.schema_name(), t.schema_for(settings.axes), t.name()))
-            .chain(
-                Derived::ALL
-                    .iter()
-                    .map(|d| (d.schema_name(), d.schema().into(), d.name())),
-            );
-        for (i, (schema_name, schema, topic)) in declared.enumerate() {
-            if i == Topic::LatheEvent.index() {
-                // Declared with its first message (`declare_late`): a centre's file is as
-                // it was before the lathe recorded through this writer.
-                continue;
-            }
+            .map(|t| {
+                (
+                    t.index(),
+                    t.schema_name(),
+                    t.schema_for(settings.axes),
+                    t.name(),
+                )
+            })
+            .chain(Derived::ALL.iter().map(|d| {
+                let slot = ALL_TOPICS + d.index();
+                (slot, d.schema_name(), d.schema().into(), d.name())
+            }));
+        for (i, schema_name, schema, topic) in declared {
             let schema = mcap.add_schema(schema_name, "jsonschema", schema.as_bytes())?;
             channels[i] = Some(mcap.add_channel(schema, topic, "json", &no_metadata)?);
         }
@@ -241,7 +246,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         if let Some(id) = self.channels.get(i).copied().flatten() {
             return Ok(id);
         }
-        let (Some(mcap), Some(t)) = (self.mcap.as_mut(), Topic::ALL.get(i)) else {
+        let (Some(mcap), Some(t)) = (self.mcap.as_mut(), Topic::EVERY.get(i)) else {
             return Err(());
         };
         let r = mcap
@@ -267,7 +272,7 @@ impl<W: RecordOutput> RecordWriter<W> {
     fn fail(&mut self, e: impl std::error::Error + 'static) {
         // The open chunk never got its length and CRC: its messages are not readable.
         let lost = std::mem::take(&mut self.pending);
-        self.out.lost_to_disk_error += lost.messages[..TOPICS].iter().sum::<u64>();
+        self.out.lost_to_disk_error += lost.messages[..ALL_TOPICS].iter().sum::<u64>();
         if self.out.disk_error.is_none() {
             self.out.disk_error = Some(format!("writing {}: {}", self.path.display(), cause(&e)));
         }
@@ -318,7 +323,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         }
         if let Some(mut scene) = self.scene.take() {
             scene.derive(ev, &mut |d, t, data| {
-                self.emit(TOPICS + d.index(), t, data, 0);
+                self.emit(ALL_TOPICS + d.index(), t, data, 0);
             });
             self.scene = Some(scene);
         }
@@ -329,7 +334,7 @@ impl<W: RecordOutput> RecordWriter<W> {
     /// closing the chunk first if it is due. A lost event (not a derived message) counts in
     /// `lost_to_disk_error`.
     fn emit(&mut self, i: usize, t: u64, data: &[u8], pulses: u64) -> bool {
-        let lost = u64::from(i < TOPICS);
+        let lost = u64::from(i < ALL_TOPICS);
         if self.clock.due(self.pending.bytes, self.chunk_bytes) && !self.flush_chunk() {
             self.out.lost_to_disk_error += lost;
             return false;
@@ -400,7 +405,8 @@ impl<W: RecordOutput> RecordWriter<W> {
         for (n, m) in self.out.messages.iter_mut().zip(p.messages) {
             *n += m;
         }
-        for (n, m) in self.out.foxglove.iter_mut().zip(&p.messages[TOPICS..]) {
+        self.out.lathe_events += p.messages[Topic::LatheEvent.index()];
+        for (n, m) in self.out.foxglove.iter_mut().zip(&p.messages[ALL_TOPICS..]) {
             *n += m;
         }
         self.out.pulses += p.pulses;
@@ -420,7 +426,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         if let Some(mut scene) = self.scene.take() {
             // The path since the last block's start.
             scene.flush(0, &mut |d, t, data| {
-                self.emit(TOPICS + d.index(), t, data, 0);
+                self.emit(ALL_TOPICS + d.index(), t, data, 0);
             });
         }
         if !self.flush_chunk() {
