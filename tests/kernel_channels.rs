@@ -1179,3 +1179,29 @@ fn a_kernel_recording_has_each_channels_pulses_its_override_and_the_events() {
         }
     }
 }
+
+/// A kernel in real time publishes its snapshot at most every 2 ms of wall time (the Citizen's
+/// 100 µs tick published 10,000 a second), and at once after a message: E-STOP's snapshot is
+/// there when the command returns.
+#[test]
+fn a_kernel_in_real_time_publishes_at_most_every_2_ms_and_at_once_after_a_message() {
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.start(None).expect("START");
+    let t0 = std::time::Instant::now();
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, None);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let rt = core.realtime_stats();
+    let wall_ms = t0.elapsed().as_millis() as u64;
+    assert!(rt.slices > 1000, "the ticks ran: {} slices", rt.slices);
+    assert!(
+        rt.published <= wall_ms / 2 + 2,
+        "{} snapshots in {wall_ms} ms ({} slices)",
+        rt.published,
+        rt.slices
+    );
+    core.channel_command(None, Command::EStop).expect("E-STOP");
+    assert!(core.status().estop, "the E-STOP's snapshot at once");
+    assert!(core.channels().iter().all(|c| c.status.estop));
+}

@@ -46,6 +46,11 @@ pub struct RtStats {
     pub lateness_ns: Vec<i64>,
     /// Slices that finished after their start time (the queue ran dry).
     pub dry: u64,
+    /// Slices generated (moving or not).
+    pub slices: u64,
+    /// Snapshots published (after a message, or after a slice: every slice of the single
+    /// machine, at most every 2 ms of wall time for a kernel).
+    pub published: u64,
 }
 
 /// What a virtual-time advance runs until.
@@ -904,6 +909,9 @@ impl Runner {
 
     fn publish(&mut self) {
         self.published = Instant::now();
+        if self.rt.is_some() || self.k.is_some() {
+            lock(&self.shared.rt).published += 1;
+        }
         self.drain_audit();
         let (mut st, mut chans) = states(self.k.as_deref(), &self.m);
         if self.k.is_some() {
@@ -999,6 +1007,7 @@ impl Runner {
             }
             let done = Instant::now();
             let publish = self.k.is_none() || done - self.published >= KERNEL_PUBLISH;
+            lock(&self.shared.rt).slices += 1;
             if moving {
                 let late = if done >= slice_start {
                     (done - slice_start).as_nanos() as i64
