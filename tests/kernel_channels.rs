@@ -1118,12 +1118,9 @@ fn a_kernel_recording_has_each_channels_pulses_its_override_and_the_events() {
                 let n = list.split(']').next().unwrap_or("").split(',').count() as i64;
                 travel[ch - 1][axis] += dir * n;
             }
-            "/nc/state" => {
-                // An override takes effect at the next NCBR tick, as on the centre.
-                if m.log_time >= settings.ncbr_period_ns {
-                    overrides[ch - 1]
-                        .insert(field(&text, "feed_override").expect("override").into());
-                }
+            // An override takes effect at the next NCBR tick, as on the centre.
+            "/nc/state" if m.log_time >= settings.ncbr_period_ns => {
+                overrides[ch - 1].insert(field(&text, "feed_override").expect("override").into());
             }
             _ => {}
         }
