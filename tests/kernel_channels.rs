@@ -4,6 +4,8 @@
 //! simulator (the oracle until issue 22 deleted it); E-STOP, RESET and a fault; random
 //! operator sequences with invariants; the kernel in the pulse core's thread (commands to a channel, E-STOP with a frozen front end).
 
+mod common;
+
 use novanc::block::{Block, Motion, Statement, Sync};
 use novanc::lathe::blocks::{blocks, kernel_channels};
 use novanc::lathe::desc::LatheDesc;
@@ -12,7 +14,8 @@ use novanc::lathe::ops::{Feed, LatheProgram, Op, SpeedMode};
 use novanc::lathe::testkit::{citizen_like, sample_programs};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
-    ClockMode, Command, Kernel, Machine, Outcome, PulseCore, RunKind, VecSource,
+    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, RunKind, VecSource,
+    WaitOn,
 };
 use novanc::settings::MachineSettings;
 
@@ -345,7 +348,21 @@ fn the_chuck_interlock_refuses_a_cut_on_an_empty_spindle_or_an_open_chuck() {
                     assert!(
                         msg.contains("chuck interlock") && msg.contains(why),
                         "{msg}"
-                    )
+                    );
+                    let alarms: Vec<_> = k
+                        .take_events()
+                        .into_iter()
+                        .filter_map(|e| match e {
+                            KernelEvent::Alarm { ch, line, msg, .. } => Some((ch, line, msg)),
+                            _ => None,
+                        })
+                        .collect();
+                    assert_eq!(alarms.len(), 1, "{alarms:?}");
+                    let (ch, line, text) = &alarms[0];
+                    assert!(
+                        *ch == 0 && *line > 0 && msg.ends_with(text.as_str()),
+                        "{alarms:?}"
+                    );
                 }
                 other => panic!("{other:?}"),
             }
@@ -397,6 +414,8 @@ fn a_fault_in_channel_1_during_part_3_loses_nothing() {
     until(&mut k, |k| k.table().machined(3).first() == Some(&1));
     let t = k.now() + 200_000_000;
     k.advance_to(t);
+    let _ = k.take_events();
+    let t_fault = k.now();
     k.fault(0, "tool breakage").expect("CH1 runs");
     assert_eq!(
         k.run_until_idle(MINUTE),
@@ -404,6 +423,26 @@ fn a_fault_in_channel_1_during_part_3_loses_nothing() {
             ch: 0,
             reason: "tool breakage".into()
         }
+    );
+    let evs = k.take_events();
+    assert_eq!(
+        evs.first(),
+        Some(&KernelEvent::Fault {
+            ch: 0,
+            t: t_fault,
+            reason: "tool breakage".into()
+        })
+    );
+    let waits: Vec<(usize, WaitOn)> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Wait { ch, on, .. } => Some((*ch, *on)),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        waits.contains(&(1, WaitOn::Channel(0))) && waits.contains(&(2, WaitOn::Channel(1))),
+        "CH2 waits on CH1, CH3 on CH2: {waits:?}"
     );
     let v: Vec<_> = (0..3).map(|ch| k.channel(ch).expect("a channel")).collect();
     assert_eq!((v[0].work, v[1].work, v[2].work), (Some(3), None, None));
@@ -441,7 +480,21 @@ fn estop_abandons_every_channel_in_one_tick_and_reset_starts_a_new_cycle() {
     });
     let works = k.table().works();
     let t = k.now();
+    let _ = k.take_events();
     k.estop();
+    let alarms: Vec<(usize, u64, bool)> = k
+        .take_events()
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Alarm { ch, t, msg, .. } => Some((*ch, *t, msg.contains("EMERGENCY"))),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        alarms,
+        vec![(0, t, true), (1, t, true), (2, t, true)],
+        "an alarm on every channel at the E-STOP"
+    );
     for ch in 0..3 {
         let m = k.machine(ch).expect("a channel");
         let st = m.status();
@@ -660,6 +713,103 @@ fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
         .collect()
 }
 
+/// The kernel's events of the Citizen's 5 parts against what the kernel knows otherwise: in
+/// time order; 5 `Part` events per channel counting 1 to 5, then `Done`; the table's 20
+/// transfers, each with both chucks closed (15 into a chuck); every thread pass of system 3
+/// at an encoder index (a multiple of the encoder's lines) on the work in its chuck; every cut
+/// on a work; waits on other channels only.
+fn check_citizen_events(k: &Kernel, evs: &[KernelEvent], passes: usize, lines: u32) {
+    assert!(
+        evs.windows(2).all(|w| w[0].t() <= w[1].t()),
+        "events in time order"
+    );
+    for ch in 0..3 {
+        let parts: Vec<u32> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::Part { ch: c, count, .. } if *c == ch => Some(*count),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(parts, vec![1, 2, 3, 4, 5], "CH{} parts", ch + 1);
+        let done: Vec<u64> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::Done { ch: c, t } if *c == ch => Some(*t),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(done.len(), 1, "CH{} done once", ch + 1);
+        let cuts: std::collections::BTreeSet<Option<u32>> = evs
+            .iter()
+            .filter_map(|e| match e {
+                KernelEvent::CutStart { ch: c, work, .. } if *c == ch => Some(*work),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            cuts,
+            (1..=5).map(Some).collect(),
+            "CH{} cut every work and only works",
+            ch + 1
+        );
+    }
+    let transfers: Vec<_> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::Transfer {
+                t,
+                from,
+                to,
+                work,
+                both_closed,
+            } => Some((*t, *from, *to, *work, *both_closed)),
+            _ => None,
+        })
+        .collect();
+    let table: Vec<_> = k
+        .transfers()
+        .iter()
+        .map(|t| (t.t, t.from, t.to, t.work, true))
+        .collect();
+    assert_eq!(transfers, table, "every transfer, both chucks closed");
+    assert_eq!(transfers.iter().filter(|t| t.2.is_some()).count(), 15);
+    let threads: Vec<_> = evs
+        .iter()
+        .filter_map(|e| match e {
+            KernelEvent::ThreadPass {
+                ch, index, encoder, ..
+            } => Some((*ch, *index, *encoder)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(threads.len(), passes, "every thread pass");
+    for (ch, index, encoder) in threads {
+        assert_eq!(ch, 2, "system 3 cuts the thread");
+        assert!(index > 0 && index % u64::from(lines) == 0, "index {index}");
+        assert!(
+            encoder >= index && encoder <= index + 1,
+            "{encoder} at {index}"
+        );
+    }
+    let waits = evs
+        .iter()
+        .filter(|e| match e {
+            KernelEvent::Wait { ch, on, .. } => {
+                assert_ne!(*on, WaitOn::Channel(*ch), "a channel waits on another");
+                true
+            }
+            _ => false,
+        })
+        .count();
+    assert!(waits > 0, "the channels waited on one another");
+    assert!(
+        !evs.iter()
+            .any(|e| matches!(e, KernelEvent::Fault { .. } | KernelEvent::Alarm { .. })),
+        "no fault, no alarm"
+    );
+}
+
 #[test]
 fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let desc = LatheDesc::citizen();
@@ -682,9 +832,16 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let per_pulse = lines * desc.pulse_mm / 1.5;
     let (mut passes, mut pulses, mut ends) = (0, Vec::new(), Vec::new());
     let mut at = 0;
+    let mut evs: Vec<KernelEvent> = Vec::new();
     while k.finished_at().is_none() {
         let t = k.now() + 10_000_000;
         k.advance_to(t);
+        let new = k.take_events();
+        assert!(
+            new.iter().all(|e| e.t() <= k.now()),
+            "no event ahead of the clock"
+        );
+        evs.extend(new);
         assert!(
             t < 10 * MINUTE,
             "the Citizen did not finish: {:?}",
@@ -713,6 +870,8 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     }
     assert_eq!(passes, 5 * threads.len(), "every pass of every part");
     assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 5 });
+    evs.extend(k.take_events());
+    check_citizen_events(&k, &evs, 5 * threads.len(), desc.channels[2].encoder);
     let t = k.transfers();
     assert_eq!(t.len(), 20, "5 works × 4 handovers");
     assert_eq!(
@@ -878,4 +1037,165 @@ fn the_mills_pulse_core_is_the_one_channel_case() {
     assert!(core.status().estop, "channel 0 is the machine");
     assert!(core.channels()[0].status.estop);
     assert_eq!(core.estop_at(), Some(core.status().machine_ns));
+}
+
+/// A field of a JSON message: the text after `"key":` up to the next `,` or `}`.
+fn field<'a>(json: &'a str, key: &str) -> Option<&'a str> {
+    let rest = json.split(&format!("\"{key}\":")).nth(1)?;
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    Some(&rest[..end])
+}
+
+/// Issue 22: "lathe recordings carry `/nc/pulses` whose totals equal the counters per channel,
+/// and the real override". The Citizen's 5 parts recorded through `PulseCore::spawn_kernel` in
+/// virtual time with CH2's feed override at 50 %: each channel's pulses, summed with their
+/// directions, equal its counters' travel; CH2's `/nc/state` says 50, the others 100; every
+/// channel's message carries its channel; `/lathe/event` holds the kernel's events, in order,
+/// as the kernel encodes them; a centre's topics only (no scene is derived from channels), and
+/// Python's reader reads it.
+#[test]
+fn a_kernel_recording_has_each_channels_pulses_its_override_and_the_events() {
+    use novanc::record::{json::encode_event, Recorder};
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let k = kernel(&desc, &progs, 5);
+    let home: Vec<[i64; 3]> = (0..3)
+        .map(|ch| k.machine(ch).expect("a channel").pos().xyz())
+        .collect();
+    let settings = k.machine(0).expect("CH1").settings().clone();
+    let path = common::temp_dir("kernel-record").join("citizen.mcap");
+    let rec = Recorder::start(&path, &settings).expect("a recording");
+    let core = PulseCore::spawn_kernel(k, ClockMode::Virtual, Some(rec.sink()));
+    core.channel_command(Some(1), Command::Override(50))
+        .expect("CH2 at 50 %");
+    core.channel_command(None, Command::Start(RunKind::Auto))
+        .expect("START");
+    assert!(
+        core.wait_idle(std::time::Duration::from_secs(600))
+            .is_some(),
+        "the batch ends"
+    );
+    let events = core.take_events();
+    let end: Vec<[i64; 3]> = core.channels().iter().map(|c| c.status.pos.xyz()).collect();
+    drop(core);
+    let sum = rec.finish().expect("the recording closes");
+    assert_eq!(sum.count("/foxglove/scene"), 0, "no scene from channels");
+
+    let bytes = std::fs::read(&path).expect("the file");
+    let mut travel = [[0i64; 3]; 3];
+    let mut overrides: Vec<std::collections::BTreeSet<String>> = vec![Default::default(); 3];
+    let mut lathe = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let m = m.expect("a message");
+        let text = String::from_utf8(m.data.to_vec()).expect("UTF-8");
+        let topic = m.channel.topic.as_str();
+        if topic == "/lathe/event" {
+            lathe.push(text);
+            continue;
+        }
+        let ch: usize = field(&text, "channel")
+            .and_then(|c| c.parse().ok())
+            .unwrap_or_else(|| panic!("{topic} without its channel: {text}"));
+        assert!(
+            text.starts_with("{\"channel\":") && (1..=3).contains(&ch),
+            "{text}"
+        );
+        match topic {
+            "/nc/pulses" => {
+                let axis = match field(&text, "axis") {
+                    Some("\"X\"") => 0,
+                    Some("\"Y\"") => 1,
+                    Some("\"Z\"") => 2,
+                    other => panic!("axis {other:?}"),
+                };
+                let dir: i64 = field(&text, "dir")
+                    .and_then(|d| d.parse().ok())
+                    .expect("dir");
+                let list = text.split("\"t_ns\":[").nth(1).expect("t_ns");
+                let n = list.split(']').next().unwrap_or("").split(',').count() as i64;
+                travel[ch - 1][axis] += dir * n;
+            }
+            // An override takes effect at the next NCBR tick, as on the centre.
+            "/nc/state" if m.log_time >= settings.ncbr_period_ns => {
+                overrides[ch - 1].insert(field(&text, "feed_override").expect("override").into());
+            }
+            _ => {}
+        }
+    }
+    for ch in 0..3 {
+        let counters: Vec<i64> = (0..3).map(|a| end[ch][a] - home[ch][a]).collect();
+        assert_eq!(
+            travel[ch].to_vec(),
+            counters,
+            "CH{} pulses = its counters",
+            ch + 1
+        );
+        assert!(
+            travel[ch].iter().any(|&t| t != 0) || ch > 0,
+            "CH{} moved",
+            ch + 1
+        );
+    }
+    let want = |p: &str| std::iter::once(p.to_string()).collect();
+    assert_eq!(overrides, vec![want("100"), want("50"), want("100")]);
+    // The kernel's events, as the runner records them (a thread pass on its channel's
+    // latest cut's work).
+    let mut work = [None; 3];
+    let expected: Vec<String> = events
+        .iter()
+        .map(|e| {
+            if let KernelEvent::CutStart { ch, work: w, .. } = e {
+                work[*ch] = *w;
+            }
+            let mut out = Vec::new();
+            encode_event(&mut out, &e.record(work[e.channel()]), settings.pulse_mm);
+            String::from_utf8(out).expect("UTF-8")
+        })
+        .collect();
+    assert!(expected.len() > 100, "{} events", expected.len());
+    assert_eq!(lathe, expected, "/lathe/event is the kernel's events");
+    assert!(lathe
+        .iter()
+        .any(|e| e.contains("\"event\":\"thread\",\"work\":")));
+    if let Some((ok, out)) = common::python_check(
+        &path,
+        &[
+            "--expect-topics",
+            "/nc/pulses",
+            "/nc/state",
+            "/lathe/event",
+            "--expect-complete",
+        ],
+    ) {
+        assert!(ok, "{out}");
+        for ch in 1..=3 {
+            assert!(out.contains(&format!("channel {ch} ")), "{out}");
+        }
+    }
+}
+
+/// A kernel in real time publishes its snapshot at most every 2 ms of wall time (the Citizen's
+/// 100 µs tick published 10,000 a second), and at once after a message: E-STOP's snapshot is
+/// there when the command returns.
+#[test]
+fn a_kernel_in_real_time_publishes_at_most_every_2_ms_and_at_once_after_a_message() {
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.start(None).expect("START");
+    let t0 = std::time::Instant::now();
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, None);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let rt = core.realtime_stats();
+    let wall_ms = t0.elapsed().as_millis() as u64;
+    assert!(rt.slices > 1000, "the ticks ran: {} slices", rt.slices);
+    assert!(
+        rt.published <= wall_ms / 2 + 2,
+        "{} snapshots in {wall_ms} ms ({} slices)",
+        rt.published,
+        rt.slices
+    );
+    core.channel_command(None, Command::EStop).expect("E-STOP");
+    assert!(core.status().estop, "the E-STOP's snapshot at once");
+    assert!(core.channels().iter().all(|c| c.status.estop));
 }

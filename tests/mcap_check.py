@@ -9,7 +9,9 @@ Checks:
   * every channel's schema encoding is `jsonschema` and its message encoding is `json`, and every
     channel's topic is one of docs/recording.md's;
   * every message parses as a JSON object with its topic's required fields, of the right types;
-  * log times never decrease within a topic;
+  * log times never decrease within a topic (within each channel's messages of a topic, in a
+    recording of several channels, whose messages carry `channel`: docs/recording.md "Lathe
+    recordings");
   * both readers see the same messages, and the summary statistics agree with them;
   * with --expect-topics, each named topic has at least one message;
   * with --expect-complete, the closing `novanc.recording` metadata says complete;
@@ -18,7 +20,9 @@ Checks:
     readers must read it (`make_reader` then streams it), and its `novanc.recording` metadata
     must say complete false.
 
-Prints the message count of each topic and the pulse count per axis. Exit status 0 if every
+Prints the message count of each topic and the pulse count per axis (and, in a recording of
+several channels, each channel's pulses per axis with their directions summed: its counters'
+travel). Exit status 0 if every
 check passes, 1 with a message on stderr otherwise, 2 if the `mcap` module is missing.
 """
 
@@ -176,6 +180,8 @@ def check(path, expect_topics, expect_complete, unfinished=False):
     counts = {}
     last_log = {}
     pulses = {"X": 0, "Y": 0, "Z": 0, "A": 0}
+    # channel -> axis -> pulses with their directions (the counters' travel)
+    travel = {}
     indexed = []
     with open(path, "rb") as f:
         reader = make_reader(f, validate_crcs=True)
@@ -190,14 +196,21 @@ def check(path, expect_topics, expect_complete, unfinished=False):
             check_channel(channel, schema)
             obj = check_message(channel.topic, msg, where)
             topic = channel.topic
+            ch = obj.get("channel")
+            if ch is not None and not is_int(ch):
+                raise CheckError(f"{where}: {topic} field 'channel' has a bad value {ch!r:.80}")
             # Pulse batches of different axes may be written slightly out of time order
-            # (MCAP allows it); every other topic is written in time order.
-            if topic != "/nc/pulses" and msg.log_time < last_log.get(topic, 0):
-                raise CheckError(f"{where}: {topic} log time goes back from {last_log[topic]}")
-            last_log[topic] = msg.log_time
+            # (MCAP allows it); every other topic is written in time order, per channel.
+            key = (topic, ch)
+            if topic != "/nc/pulses" and msg.log_time < last_log.get(key, 0):
+                raise CheckError(f"{where}: {topic} log time goes back from {last_log[key]}")
+            last_log[key] = msg.log_time
             counts[topic] = counts.get(topic, 0) + 1
             if topic == "/nc/pulses":
                 pulses[obj["axis"]] += len(obj["t_ns"])
+                if ch is not None:
+                    axes = travel.setdefault(ch, {})
+                    axes[obj["axis"]] = axes.get(obj["axis"], 0) + obj["dir"] * len(obj["t_ns"])
                 if obj["t_ns"] != sorted(obj["t_ns"]):
                     raise CheckError(f"{where}: pulse times not ascending")
                 if obj["t_ns"] and msg.log_time != obj["t_ns"][0]:
@@ -229,6 +242,9 @@ def check(path, expect_topics, expect_complete, unfinished=False):
         print(f"{topic:16} {counts.get(topic, 0):10} messages")
     a = f"  A {pulses['A']}" if pulses["A"] else ""
     print(f"pulses           X {pulses['X']}  Y {pulses['Y']}  Z {pulses['Z']}{a}")
+    for ch in sorted(travel):
+        t = "  ".join(f"{ax} {travel[ch][ax]:+d}" for ax in sorted(travel[ch]))
+        print(f"channel {ch} travel {t}")
     if recording is not None:
         print(f"novanc.recording {recording}")
     finished = "" if summary is not None else " (unfinished: no summary section)"

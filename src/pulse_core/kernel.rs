@@ -12,7 +12,7 @@
 //! operator command (E-STOP) acts on all channels in the same tick. A kernel of one channel
 //! without sync points is its machine alone: the same calls, the same pulses (tested).
 
-use super::machine::{Machine, Reached, Until};
+use super::machine::{Machine, Mark, Reached, Until};
 use super::source::VecSource;
 use super::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 use super::{Command, EndCause, RunKind};
@@ -39,12 +39,13 @@ struct Channel {
     done: bool,
     /// When it finished.
     done_at: Option<u64>,
-    cuts_seen: u64,
     /// Blocks and pulses of its runs before the current one (each part is a run).
     blocks_before: u64,
     pulses_before: [u64; 3],
     /// The run whose counts are in the totals.
     totalled_run: u64,
+    /// What it was last reported waiting on at its sync point (a `Wait` event).
+    waiting: Option<WaitOn>,
 }
 
 impl Channel {
@@ -233,8 +234,129 @@ pub struct Kernel {
     chans: Vec<Channel>,
     table: SyncTable,
     now: u64,
-    /// Events not yet taken ([`Kernel::take_events`]).
+    /// Events not yet taken ([`Kernel::take_events`]), in time order, none later than `now`.
     events: Vec<KernelEvent>,
+    /// Events made but not yet released: channels run one after the other up to the same
+    /// time, and a thread pass is known at its block's start but begins at the index, which
+    /// may lie beyond `now`.
+    pending: Vec<KernelEvent>,
+}
+
+impl KernelEvent {
+    /// Its machine time, ns.
+    pub fn t(&self) -> u64 {
+        match self {
+            KernelEvent::Transfer { t, .. }
+            | KernelEvent::ThreadPass { t, .. }
+            | KernelEvent::CutStart { t, .. }
+            | KernelEvent::Wait { t, .. }
+            | KernelEvent::Part { t, .. }
+            | KernelEvent::Done { t, .. }
+            | KernelEvent::Fault { t, .. }
+            | KernelEvent::Alarm { t, .. } => *t,
+        }
+    }
+
+    /// The `/lathe/event` message of this event (docs/recording.md, "Lathe recordings"):
+    /// the lathe console's words and texts. `work`: the work a thread pass cuts (the work of
+    /// the channel's latest cut; the pass itself is one).
+    pub fn record(&self, work: Option<u32>) -> crate::record::Event {
+        let chan = |c: usize| u16::try_from(c + 1).unwrap_or(u16::MAX);
+        let ev = |ch: usize, event, work, value, text| crate::record::Event::Lathe {
+            t_ns: self.t(),
+            channel: chan(ch),
+            event,
+            work,
+            value,
+            text,
+        };
+        match self {
+            KernelEvent::Transfer {
+                from,
+                to,
+                work,
+                both_closed,
+                ..
+            } => {
+                let text = format!(
+                    "W{work} {} -> {}{}",
+                    from.map_or("BAR FEEDER".to_string(), |c| format!("CH{}", c + 1)),
+                    to.map_or("UNLOADER".to_string(), |c| format!("CH{}", c + 1)),
+                    match (from, both_closed) {
+                        (None, _) => "",
+                        (Some(_), true) => " (both chucks closed)",
+                        (Some(_), false) => " (NOT INTERLOCKED)",
+                    }
+                );
+                match from {
+                    None => ev(to.unwrap_or(0), "supply", Some(*work), None, text),
+                    Some(f) => ev(
+                        *f,
+                        "transfer",
+                        Some(*work),
+                        Some(to.map_or(0, |c| c as i64 + 1)),
+                        text,
+                    ),
+                }
+            }
+            KernelEvent::ThreadPass {
+                ch,
+                line,
+                index,
+                encoder,
+                resumed,
+                ..
+            } => ev(
+                *ch,
+                "thread",
+                work,
+                Some(i64::try_from(*index).unwrap_or(i64::MAX)),
+                format!(
+                    "line {line}: pass {} at index {index} (encoder {encoder} at the first Z pulse)",
+                    if *resumed { "resumed" } else { "starts" }
+                ),
+            ),
+            KernelEvent::CutStart { ch, line, work, .. } => {
+                ev(*ch, "cut", *work, None, format!("line {line}"))
+            }
+            KernelEvent::Wait { ch, on, .. } => {
+                ev(*ch, "wait", None, None, format!("CH{} waits {on}", ch + 1))
+            }
+            KernelEvent::Part { ch, count, .. } => ev(
+                *ch,
+                "part",
+                None,
+                Some(i64::from(*count)),
+                format!("CH{} part {count}", ch + 1),
+            ),
+            KernelEvent::Done { ch, .. } => ev(
+                *ch,
+                "done",
+                None,
+                None,
+                format!("CH{} reached the part target", ch + 1),
+            ),
+            KernelEvent::Fault { ch, reason, .. } => ev(*ch, "fault", None, None, reason.clone()),
+            KernelEvent::Alarm { ch, line, msg, .. } => {
+                ev(*ch, "alarm", None, Some(i64::from(*line)), msg.clone())
+            }
+        }
+    }
+
+    /// The channel it happened on (a transfer: the giving channel, or the receiving one
+    /// from the bar feeder).
+    pub fn channel(&self) -> usize {
+        match self {
+            KernelEvent::Transfer { from, to, .. } => from.or(*to).unwrap_or(0),
+            KernelEvent::ThreadPass { ch, .. }
+            | KernelEvent::CutStart { ch, .. }
+            | KernelEvent::Wait { ch, .. }
+            | KernelEvent::Part { ch, .. }
+            | KernelEvent::Done { ch, .. }
+            | KernelEvent::Fault { ch, .. }
+            | KernelEvent::Alarm { ch, .. } => *ch,
+        }
+    }
 }
 
 impl Kernel {
@@ -292,10 +414,10 @@ impl Kernel {
                     seen_end: 0,
                     done: false,
                     done_at: None,
-                    cuts_seen: 0,
                     blocks_before: 0,
                     pulses_before: [0; 3],
                     totalled_run: 0,
+                    waiting: None,
                 }
             })
             .collect();
@@ -304,6 +426,7 @@ impl Kernel {
             table,
             now: 0,
             events: Vec::new(),
+            pending: Vec::new(),
         })
     }
 
@@ -312,9 +435,73 @@ impl Kernel {
         self.now
     }
 
-    /// The events since the last call, in time order.
+    /// The events since the last call, in time order; every one at or before [`Kernel::now`]
+    /// (a thread pass is reported once the encoder has reached its index).
     pub fn take_events(&mut self) -> Vec<KernelEvent> {
         std::mem::take(&mut self.events)
+    }
+
+    /// Releases the events made so far that are not later than `now`, in time order (stable:
+    /// events of the same time keep the order they were made in).
+    fn flush(&mut self) {
+        if self.pending.is_empty() {
+            return;
+        }
+        self.pending.sort_by_key(KernelEvent::t);
+        let now = self.now;
+        let later = self.pending.partition_point(|e| e.t() <= now);
+        let rest = self.pending.split_off(later);
+        self.events.append(&mut self.pending);
+        self.pending = rest;
+    }
+
+    /// A thread pass not begun when channel `ch` (None: every channel) stopped its run
+    /// (E-STOP, RESET) never happened: it is forgotten.
+    fn forget_passes(&mut self, ch: Option<usize>) {
+        let now = self.now;
+        self.pending.retain(|e| {
+            !matches!(e, KernelEvent::ThreadPass { ch: c, t, .. }
+                if *t > now && ch.is_none_or(|ch| ch == *c))
+        });
+    }
+
+    /// Channel `i`'s machine's marks since the last look become events: a cut notes the
+    /// work in the table.
+    fn note(&mut self, i: usize) {
+        let marks = self.chans[i].m.take_marks();
+        for mk in marks {
+            let ev = match mk {
+                Mark::Cut { t, line } => {
+                    self.table.cut(i);
+                    KernelEvent::CutStart {
+                        ch: i,
+                        t,
+                        line,
+                        work: self.table.work(i).0,
+                    }
+                }
+                Mark::Thread {
+                    t,
+                    line,
+                    index,
+                    encoder,
+                } => KernelEvent::ThreadPass {
+                    ch: i,
+                    t,
+                    line,
+                    index,
+                    encoder,
+                    resumed: false,
+                },
+                Mark::Alarm { t, line, msg } => KernelEvent::Alarm {
+                    ch: i,
+                    t,
+                    line,
+                    msg,
+                },
+            };
+            self.pending.push(ev);
+        }
     }
 
     /// The number of channels.
@@ -448,19 +635,35 @@ impl Kernel {
             c.src.rewind();
             c.at_point = None;
             c.counted = false;
+            c.waiting = None;
             self.table.reset(i);
+            self.note(i);
+            self.forget_passes(Some(i));
         }
+        self.flush();
         Ok(())
     }
 
     /// E-STOP: every channel's run is abandoned now, in the same tick; RESET needed.
     pub fn estop(&mut self) {
+        let now = self.now;
         for (i, c) in self.chans.iter_mut().enumerate() {
+            let line = c.m.status().executing.map_or(0, |e| e.stmt.line);
             c.m.command(Command::EStop);
             c.at_point = None;
             c.counted = false;
+            c.waiting = None;
             self.table.leave(i);
+            let msg = c.m.alarm().unwrap_or("EMERGENCY STOP").to_string();
+            self.pending.push(KernelEvent::Alarm {
+                ch: i,
+                t: now,
+                line,
+                msg,
+            });
         }
+        self.forget_passes(None);
+        self.flush();
     }
 
     /// Injects a fault into channel `ch` (tool breakage): a feed hold that only RESET then
@@ -472,6 +675,12 @@ impl Kernel {
         }
         c.fault = Some(reason.to_string());
         c.m.command(Command::Stop);
+        self.pending.push(KernelEvent::Fault {
+            ch,
+            t: self.now,
+            reason: reason.to_string(),
+        });
+        self.flush();
         Ok(())
     }
 
@@ -537,7 +746,11 @@ impl Kernel {
                 c.m.advance_to(t, &mut c.src);
             }
         }
+        for i in 0..self.chans.len() {
+            self.note(i);
+        }
         self.now = self.now.max(t);
+        self.flush();
     }
 
     /// Runs channel `i` alone until `t`, its next sync point, or its end (the part counter
@@ -549,7 +762,7 @@ impl Kernel {
                 return;
             }
             let r = c.m.run(&mut c.src, Until::SyncPoint(t), u64::MAX);
-            self.note_cuts(i);
+            self.note(i);
             let c = &mut self.chans[i];
             match r {
                 Reached::Sync => {
@@ -569,16 +782,6 @@ impl Kernel {
         }
     }
 
-    /// A cutting block started on channel `i` since the last look: the table notes the work.
-    fn note_cuts(&mut self, i: usize) {
-        let c = &mut self.chans[i];
-        let k = c.m.cuts_started();
-        if k != c.cuts_seen {
-            c.cuts_seen = k;
-            self.table.cut(i);
-        }
-    }
-
     /// Channel `i`'s run ended: at its program's end the part counter counts the work and,
     /// short of the target, rewinds the program and begins the next cycle (true).
     fn program_end(&mut self, i: usize) -> bool {
@@ -594,11 +797,20 @@ impl Kernel {
             return false;
         }
         let now = c.m.now();
-        if self.table.program_end(i) {
+        let done = self.table.program_end(i);
+        self.pending.push(KernelEvent::Part {
+            ch: i,
+            t: now,
+            count: self.table.parts(i),
+        });
+        if done {
+            let c = &mut self.chans[i];
             c.done = true;
             c.done_at = Some(now);
+            self.pending.push(KernelEvent::Done { ch: i, t: now });
             return false;
         }
+        let c = &mut self.chans[i];
         c.src.rewind();
         c.begin_run();
         true
@@ -629,13 +841,25 @@ impl Kernel {
         if at.iter().all(Option::is_none) {
             return;
         }
-        for (i, d) in self.table.resolve(te, &at) {
+        let before = self.table.transfers().len();
+        let decided = self.table.resolve(te, &at);
+        for tr in &self.table.transfers()[before..] {
+            self.pending.push(KernelEvent::Transfer {
+                t: tr.t,
+                from: tr.from,
+                to: tr.to,
+                work: tr.work,
+                both_closed: tr.both_closed,
+            });
+        }
+        for (i, d) in decided {
             let c = &mut self.chans[i];
             if c.m.now() < te {
                 c.m.advance_to(te, &mut c.src);
             }
             c.at_point = None;
             c.counted = false;
+            c.waiting = None;
             match d {
                 Decision::Release => {
                     c.m.release_sync();
@@ -645,6 +869,13 @@ impl Kernel {
         }
         for (i, c) in self.chans.iter_mut().enumerate() {
             c.m.set_cut_interlock(self.table.interlock(i));
+            let on = self.table.waits_on(i).filter(|_| c.at_point.is_some());
+            if on.is_some() && on != c.waiting {
+                if let Some(on) = on {
+                    self.pending.push(KernelEvent::Wait { ch: i, t: te, on });
+                }
+            }
+            c.waiting = on.or(c.waiting.filter(|_| c.at_point.is_some()));
         }
     }
 

@@ -46,7 +46,7 @@ pub use self::arc::{ArcError, ArcStep, ArcStepper};
 pub use self::block_buffer::{Answer, MachineLink, MakeRun, StatementIter};
 pub use self::drive::Drive;
 pub use self::kernel::{ChannelView, Kernel, KernelEvent, Outcome, MAX_CHANNELS};
-pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Reached, Signals, Until};
+pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Mark, Reached, Signals, Until};
 pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};

@@ -537,6 +537,21 @@ impl ThreadMotion {
         self.anchor
     }
 
+    /// When the encoder reaches the anchor (the pass's index), ns, and the encoder count at
+    /// the pass's first step (|count|: a spindle in reverse counts down).
+    pub fn index_and_first_count(&self) -> (u64, u64) {
+        let at = |phase: f64| {
+            self.spindle
+                .time_at_phase(phase)
+                .unwrap_or(self.t)
+                .max(self.t)
+        };
+        let t_index = at(self.anchor);
+        let first = at(self.anchor + self.counts_per_step);
+        let count = self.spindle.phase_at(first as u64).floor().abs();
+        (t_index as u64, count as u64)
+    }
+
     /// The spindle changed its target (at an NCBR tick): the steps not yet taken follow it.
     pub fn set_spindle(&mut self, spindle: &Spindle) {
         self.spindle = spindle.clone();

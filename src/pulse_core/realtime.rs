@@ -98,7 +98,9 @@ fn times(ev: &Event) -> (u64, u64) {
         | Event::PanelEvent { t_ns, .. }
         | Event::Probe { t_ns, .. }
         | Event::Io { t_ns, .. }
-        | Event::Log { t_ns, .. } => (*t_ns, *t_ns),
+        | Event::Log { t_ns, .. }
+        | Event::Lathe { t_ns, .. } => (*t_ns, *t_ns),
+        Event::OnChannel { ev, .. } => times(ev),
         Event::Pulses { t_ns, .. } => (
             t_ns.first().copied().unwrap_or(0),
             t_ns.last().copied().unwrap_or(0),

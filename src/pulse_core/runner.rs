@@ -46,6 +46,11 @@ pub struct RtStats {
     pub lateness_ns: Vec<i64>,
     /// Slices that finished after their start time (the queue ran dry).
     pub dry: u64,
+    /// Slices generated (moving or not).
+    pub slices: u64,
+    /// Snapshots published (after a message, or after a slice: every slice of the single
+    /// machine, at most every 2 ms of wall time for a kernel).
+    pub published: u64,
 }
 
 /// What a virtual-time advance runs until.
@@ -180,6 +185,10 @@ impl PulseCore {
                     k: None,
                     epoch: Instant::now(),
                     capture: false,
+                    sink: None,
+                    last_work: Vec::new(),
+                    lossless: std::cell::Cell::new(false),
+                    published: Instant::now(),
                 };
                 if clock == ClockMode::RealTime {
                     r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
@@ -201,12 +210,26 @@ impl PulseCore {
     /// Starts the pulse core thread running `kernel`'s N channels on its clock (each channel's
     /// program is the kernel's; B1 stays empty). In real time, machine time 0 of the kernel's
     /// clock is now on the wall clock, and each NCBR tick of every channel is generated at
-    /// most one tick ahead of it; nothing is recorded (the step queue and its recording are
-    /// the single machine's, not yet the kernel's). `sink`: the recording every channel's
-    /// machine writes to, each message carrying its channel (not yet wired: issue 22).
-    pub fn spawn_kernel(kernel: Kernel, clock: ClockMode, sink: Option<EventSink>) -> PulseCore {
-        let _ = sink;
+    /// most one tick ahead of it. `sink`: the recording. Every channel's machine writes its
+    /// blocks, positions, pulses and states to it, each message carrying its channel
+    /// ([`EventSink::for_channel`]), and the kernel's events go to `/lathe/event`; in virtual
+    /// time nothing is dropped (the thread waits for the recorder), in real time the kernel
+    /// never waits (a full queue drops and marks the recording incomplete, as the step queue
+    /// does for the centre).
+    pub fn spawn_kernel(
+        mut kernel: Kernel,
+        clock: ClockMode,
+        sink: Option<EventSink>,
+    ) -> PulseCore {
         let (tx, rx) = mpsc::channel();
+        if let Some(s) = &sink {
+            for i in 0..kernel.channels() {
+                if let Some(m) = kernel.machine_mut(i) {
+                    m.set_recording(Some(s.for_channel(i)), false);
+                    m.set_lossless_recording(clock == ClockMode::Virtual);
+                }
+            }
+        }
         let settings = kernel
             .machine(0)
             .map(|m| m.settings().clone())
@@ -242,8 +265,12 @@ impl PulseCore {
                     rt: None,
                     interrupt: None,
                     epoch: Instant::now() - Duration::from_nanos(kernel.now()),
+                    last_work: vec![None; kernel.channels()],
                     k: Some(Box::new(kernel)),
                     capture: false,
+                    sink,
+                    lossless: std::cell::Cell::new(clock == ClockMode::Virtual),
+                    published: Instant::now(),
                 };
                 r.run(clock)
             })
@@ -598,7 +625,19 @@ struct Runner {
     epoch: Instant,
     /// Pulses are captured for `take_pulses`.
     capture: bool,
+    /// With a kernel: the recording (its channels' machines hold their own tagged sinks).
+    sink: Option<EventSink>,
+    /// With a kernel: the work of each channel's latest cut (a thread pass's work).
+    last_work: Vec<Option<u32>>,
+    /// With a kernel: `/lathe/event` waits for the recorder (virtual time).
+    lossless: std::cell::Cell<bool>,
+    /// When the snapshot was last published.
+    published: Instant,
 }
+
+/// A kernel in real time publishes its snapshot at most this often (and at once after a
+/// message): its NCBR tick (100 µs on the Citizen) would otherwise publish 10,000 a second.
+const KERNEL_PUBLISH: Duration = Duration::from_millis(2);
 
 impl Runner {
     fn handle(&mut self, msg: Msg) {
@@ -637,7 +676,7 @@ impl Runner {
                 if let Some(k) = &mut self.k {
                     for i in 0..k.channels() {
                         if let Some(m) = k.machine_mut(i) {
-                            m.set_recording(None, on);
+                            m.set_recording(self.sink.as_ref().map(|s| s.for_channel(i)), on);
                         }
                     }
                 }
@@ -786,6 +825,21 @@ impl Runner {
     fn drain_pulses(&mut self) {
         if let Some(k) = &mut self.k {
             let ev = k.take_events();
+            if let Some(s) = &self.sink {
+                for e in &ev {
+                    let ch = e.channel();
+                    let work = match e {
+                        KernelEvent::CutStart { work, .. } => {
+                            if let Some(w) = self.last_work.get_mut(ch) {
+                                *w = *work;
+                            }
+                            *work
+                        }
+                        _ => self.last_work.get(ch).copied().flatten(),
+                    };
+                    super::pulse_out::emit(s, e.record(work), &self.lossless);
+                }
+            }
             if !ev.is_empty() {
                 lock(&self.shared.events).extend(ev);
             }
@@ -896,6 +950,10 @@ impl Runner {
     }
 
     fn publish(&mut self) {
+        self.published = Instant::now();
+        if self.rt.is_some() || self.k.is_some() {
+            lock(&self.shared.rt).published += 1;
+        }
         self.drain_audit();
         let (mut st, mut chans) = states(self.k.as_deref(), &self.m);
         if self.k.is_some() {
@@ -990,6 +1048,8 @@ impl Runner {
                 (None, None) => return,
             }
             let done = Instant::now();
+            let publish = self.k.is_none() || done - self.published >= KERNEL_PUBLISH;
+            lock(&self.shared.rt).slices += 1;
             if moving {
                 let late = if done >= slice_start {
                     (done - slice_start).as_nanos() as i64
@@ -1004,7 +1064,9 @@ impl Runner {
                     st.lateness_ns.push(late);
                 }
             }
-            self.publish();
+            if publish {
+                self.publish();
+            }
         }
     }
 }

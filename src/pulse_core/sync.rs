@@ -80,6 +80,11 @@ pub struct Transfer {
     pub to: Option<usize>,
     /// The work's number (1 = the first the bar feeder supplied).
     pub work: u32,
+    /// No chuck let go of the work before the next held it: between chucks the receiver
+    /// closed and the giver was closed until then (the table hands over only from a closed
+    /// chuck, so this is always true there); from the bar feeder the receiver closed; to the
+    /// unloader the giving chuck was closed when M11 opened it.
+    pub both_closed: bool,
 }
 
 /// A channel at its sync point as the kernel sees it at the time of a resolution.
@@ -275,6 +280,7 @@ impl SyncTable {
                             from: None,
                             to: Some(i),
                             work: w,
+                            both_closed: true,
                         });
                         Step::Go
                     }
@@ -304,6 +310,7 @@ impl SyncTable {
                     None if i == flow.unloader => {
                         self.delivered += 1;
                         let s = &mut self.seats[i];
+                        let both_closed = s.closed;
                         s.work = None;
                         s.closed = false;
                         self.transfers.push(Transfer {
@@ -311,6 +318,7 @@ impl SyncTable {
                             from: Some(i),
                             to: None,
                             work: w,
+                            both_closed,
                         });
                         Step::Go
                     }
@@ -344,7 +352,7 @@ impl SyncTable {
         let Some(w) = self.seats[from].work.take() else {
             return;
         };
-        self.seats[from].closed = false;
+        let both_closed = std::mem::replace(&mut self.seats[from].closed, false);
         let r = &mut self.seats[to];
         r.work = Some(w);
         r.closed = true;
@@ -353,6 +361,7 @@ impl SyncTable {
             from: Some(from),
             to: Some(to),
             work: w,
+            both_closed,
         });
     }
 

@@ -404,6 +404,43 @@ pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usi
             out.push(b'}');
             *t_ns
         }
+        Event::Lathe {
+            t_ns,
+            channel,
+            event,
+            work,
+            value,
+            text,
+        } => {
+            out.extend_from_slice(b"{\"channel\":");
+            push_u64(out, u64::from(*channel));
+            out.extend_from_slice(b",\"event\":");
+            push_str(out, event);
+            if let Some(w) = work {
+                out.extend_from_slice(b",\"work\":");
+                push_u64(out, u64::from(*w));
+            }
+            if let Some(v) = value {
+                out.extend_from_slice(b",\"value\":");
+                push_i64(out, *v);
+            }
+            out.extend_from_slice(b",\"text\":");
+            push_str(out, text);
+            out.push(b'}');
+            *t_ns
+        }
+        Event::OnChannel { channel, ev } => {
+            // `{"channel":N,` then the event's own fields: its encoding less its `{`.
+            out.extend_from_slice(b"{\"channel\":");
+            push_u64(out, u64::from(*channel));
+            out.push(b',');
+            let at = out.len();
+            let t = encode_event_axes(out, ev, pulse_mm, axes);
+            if out.get(at) == Some(&b'{') {
+                out.remove(at);
+            }
+            t
+        }
     }
 }
 

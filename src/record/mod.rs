@@ -17,7 +17,7 @@ pub mod writer;
 
 pub use info::RecordingInfo;
 pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
-pub use topic::{Topic, TOPICS};
+pub use topic::{Topic, ALL_TOPICS, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};
 
 use crate::block::Axes;
@@ -176,6 +176,49 @@ pub enum Event {
         /// Its source line, 1-based (0 when none).
         line: u32,
     },
+    /// `/lathe/event`: what a lathe channel does besides moving (docs/recording.md, "Lathe
+    /// recordings"): a supply, transfer, cut, thread pass, part, wait, fault, alarm, done.
+    Lathe {
+        /// Machine time, ns.
+        t_ns: u64,
+        /// The channel, 1-based.
+        channel: u16,
+        /// The event's word (`supply`, `transfer`, `thread`, `cut`, `part`, `wait`, `fault`,
+        /// `alarm`, `reset`, `done`).
+        event: &'static str,
+        /// The work it concerns, if any.
+        work: Option<u32>,
+        /// Its number, if any (the receiving channel, the encoder index, the count, the line).
+        value: Option<i64>,
+        /// The event in words.
+        text: String,
+    },
+    /// Any other event, sent by one channel of a kernel ([`EventSink::for_channel`]): written
+    /// on its own topic with `"channel"` (1-based) first.
+    OnChannel {
+        /// The channel, 1-based.
+        channel: u16,
+        /// The event.
+        ev: Box<Event>,
+    },
+}
+
+impl Event {
+    /// The event itself, without the channel it was sent on.
+    pub fn inner(&self) -> &Event {
+        match self {
+            Event::OnChannel { ev, .. } => ev.inner(),
+            ev => ev,
+        }
+    }
+
+    /// The channel (1-based) a kernel's channel sent it on; None for a single machine's.
+    pub fn channel(&self) -> Option<u16> {
+        match self {
+            Event::OnChannel { channel, .. } => Some(*channel),
+            _ => None,
+        }
+    }
 }
 
 /// The non-blocking sending side of a recording. Cloneable; shared by every producer.
@@ -186,6 +229,9 @@ pub struct EventSink {
     dropped: Arc<AtomicU64>,
     /// The pulse core sends `/nc/pulses` (off: `--pulses off`).
     pulses: bool,
+    /// Every event sent is tagged with this channel, 1-based (None: a single machine's sink,
+    /// whose messages carry no channel).
+    channel: Option<u16>,
 }
 
 impl EventSink {
@@ -196,6 +242,34 @@ impl EventSink {
             incomplete: Arc::new(AtomicBool::new(false)),
             dropped: Arc::new(AtomicU64::new(0)),
             pulses: true,
+            channel: None,
+        }
+    }
+
+    /// The same recording for channel `ch` (0-based) of a kernel: every event sent through
+    /// it is written with `"channel": ch + 1` (docs/recording.md, "Lathe recordings").
+    pub fn for_channel(&self, ch: usize) -> EventSink {
+        let mut s = self.clone();
+        s.channel = Some(u16::try_from(ch + 1).unwrap_or(u16::MAX));
+        s
+    }
+
+    /// The event as this sink sends it (tagged with its channel, if it has one).
+    fn tag(&self, ev: Event) -> Event {
+        match self.channel {
+            Some(channel) => Event::OnChannel {
+                channel,
+                ev: Box::new(ev),
+            },
+            None => ev,
+        }
+    }
+
+    /// An event handed back untagged (so that a retry does not tag it twice).
+    fn untag(&self, ev: Event) -> Event {
+        match (self.channel, ev) {
+            (Some(_), Event::OnChannel { ev, .. }) => *ev,
+            (_, ev) => ev,
         }
     }
 
@@ -214,7 +288,7 @@ impl EventSink {
     /// Sends an event without ever blocking; on a full queue or a gone recorder the event is
     /// dropped and the recording marked incomplete.
     pub fn send(&self, ev: Event) {
-        match self.tx.try_send(ev) {
+        match self.tx.try_send(self.tag(ev)) {
             Ok(()) => {}
             Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => {
                 self.incomplete.store(true, Ordering::Relaxed);
@@ -227,9 +301,9 @@ impl EventSink {
     /// of dropping it, so that a producer with no real-time duty (the pulse core in virtual
     /// time) can let the recorder catch up and retry. A gone recorder drops it as `send` does.
     pub fn try_send(&self, ev: Event) -> Result<(), Event> {
-        match self.tx.try_send(ev) {
+        match self.tx.try_send(self.tag(ev)) {
             Ok(()) => Ok(()),
-            Err(TrySendError::Full(ev)) => Err(ev),
+            Err(TrySendError::Full(ev)) => Err(self.untag(ev)),
             Err(TrySendError::Disconnected(_)) => {
                 self.incomplete.store(true, Ordering::Relaxed);
                 self.dropped.fetch_add(1, Ordering::Relaxed);

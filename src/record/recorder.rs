@@ -173,6 +173,7 @@ impl Recorder {
         Ok(RecordSummary {
             path: self.path.clone(),
             messages: out.messages,
+            lathe_events: out.lathe_events,
             foxglove: out.foxglove,
             pulses: out.pulses,
             bytes: out.bytes,
@@ -254,6 +255,8 @@ pub struct RecordSummary {
     pub path: PathBuf,
     /// Messages written per topic, in `Topic::ALL` order.
     pub messages: [u64; TOPICS],
+    /// Messages written on `/lathe/event` (a kernel's channels).
+    pub lathe_events: u64,
     /// Derived Foxglove messages written (`/foxglove/scene`, `/foxglove/tool`).
     pub foxglove: [u64; DERIVED],
     /// Pulses written in `/nc/pulses`.
@@ -282,6 +285,9 @@ impl RecordSummary {
         {
             return self.foxglove[d.index()];
         }
+        if topic == Topic::LatheEvent.name() {
+            return self.lathe_events;
+        }
         Topic::ALL
             .iter()
             .find(|t| t.name() == topic)
@@ -290,7 +296,7 @@ impl RecordSummary {
 
     /// Messages written on every topic together.
     pub fn total_messages(&self) -> u64 {
-        self.messages.iter().sum()
+        self.messages.iter().sum::<u64>() + self.lathe_events
     }
 }
 
@@ -341,6 +347,9 @@ impl fmt::Display for RecordSummary {
         if m[Topic::Log.index()] > 0 {
             write!(f, ", {} log messages", m[Topic::Log.index()])?;
         }
+        if self.lathe_events > 0 {
+            write!(f, ", {} lathe events", self.lathe_events)?;
+        }
         if self.disk_error.is_none() {
             write!(f, ", {:.1} MB", self.bytes as f64 / 1e6)?;
         }
@@ -356,6 +365,7 @@ mod tests {
         RecordSummary {
             path: PathBuf::from("run.mcap"),
             messages: [12, 40, 620, 5, 3, 2, 0, 0, 0],
+            lathe_events: 0,
             foxglove: [0, 0],
             pulses: 1_234_567,
             bytes: 17_200_000,

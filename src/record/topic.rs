@@ -3,8 +3,12 @@
 
 use super::Event;
 
-/// How many topics there are.
+/// How many topics every recording declares ([`Topic::ALL`]).
 pub const TOPICS: usize = 9;
+
+/// Every topic, the lathe's `/lathe/event` included ([`Topic::EVERY`]): a recording of a
+/// kernel's channels declares it with its first message.
+pub const ALL_TOPICS: usize = TOPICS + 1;
 
 /// The docs/recording.md topics, in channel order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -27,10 +31,26 @@ pub enum Topic {
     Io,
     /// `/foxglove/log`: operator and program messages and alarms (issue 25).
     Log,
+    /// `/lathe/event`: a lathe channel's transfers, cuts, thread passes, parts, waits, faults
+    /// and alarms (issue 22). Declared in a file only once it has a message, so a
+    /// machining centre's recording has no such channel.
+    LatheEvent,
 }
 
+/// The JSON schema of `/lathe/event`.
+pub const LATHE_EVENT_SCHEMA: &str = concat!(
+    r#"{"$schema":"https://json-schema.org/draft/2020-12/schema","title":"novanc.LatheEvent","#,
+    r#""description":"A lathe channel's event besides motion","type":"object","#,
+    r#""properties":{"channel":{"type":"integer","description":"1-based channel"},"#,
+    r#""event":{"type":"string","description":"transfer, thread, cut, part, wait, fault, alarm, reset, done, ..."},"#,
+    r#""work":{"type":"integer","description":"the work piece, 1-based, if the event concerns one"},"#,
+    r#""value":{"type":"integer","description":"the event's number: the receiving channel of a transfer, the encoder index of a thread pass, the count of a part"},"#,
+    r#""text":{"type":"string","description":"the event in words"}},"#,
+    r#""required":["channel","event","text"]}"#
+);
+
 impl Topic {
-    /// Every topic, in channel order.
+    /// The topics every recording declares, in channel order.
     pub const ALL: [Topic; TOPICS] = [
         Topic::Block,
         Topic::Position,
@@ -41,6 +61,20 @@ impl Topic {
         Topic::Probe,
         Topic::Io,
         Topic::Log,
+    ];
+
+    /// Every topic, in slot order ([`Topic::index`]): [`Topic::ALL`], then `/lathe/event`.
+    pub const EVERY: [Topic; ALL_TOPICS] = [
+        Topic::Block,
+        Topic::Position,
+        Topic::Pulses,
+        Topic::State,
+        Topic::Display,
+        Topic::PanelEvent,
+        Topic::Probe,
+        Topic::Io,
+        Topic::Log,
+        Topic::LatheEvent,
     ];
 
     /// The MCAP topic name.
@@ -55,10 +89,11 @@ impl Topic {
             Topic::Probe => "/nc/probe",
             Topic::Io => "/nc/io",
             Topic::Log => "/foxglove/log",
+            Topic::LatheEvent => "/lathe/event",
         }
     }
 
-    /// Index 0..[`TOPICS`] (channel order).
+    /// Index 0..[`ALL_TOPICS`] (channel order; `/lathe/event` last).
     pub fn index(self) -> usize {
         self as usize
     }
@@ -75,6 +110,8 @@ impl Topic {
             Event::Probe { .. } => Topic::Probe,
             Event::Io { .. } => Topic::Io,
             Event::Log { .. } => Topic::Log,
+            Event::Lathe { .. } => Topic::LatheEvent,
+            Event::OnChannel { ev, .. } => Topic::of(ev),
         }
     }
 
@@ -90,6 +127,7 @@ impl Topic {
             Topic::Probe => "novanc.Probe",
             Topic::Io => "novanc.Io",
             Topic::Log => "foxglove.Log",
+            Topic::LatheEvent => "novanc.LatheEvent",
         }
     }
 
@@ -197,6 +235,7 @@ impl Topic {
                 r#""required":["seq","stmt","kind","index","value","synced"]}"#
             ),
             Topic::Log => super::foxglove::LOG_SCHEMA,
+            Topic::LatheEvent => LATHE_EVENT_SCHEMA,
         }
     }
 }
@@ -233,6 +272,9 @@ mod tests {
                 assert!(schema.contains(&format!("\"{f}\"")), "{topic:?} lacks {f}");
             }
             assert!(schema.contains(topic.schema_name()));
+        }
+        for f in ["channel", "event", "text"] {
+            assert!(Topic::LatheEvent.schema().contains(&format!("\"{f}\"")));
         }
     }
 }

@@ -18,14 +18,14 @@ use super::file::{
 use super::foxglove::{Derived, Scene, DERIVED};
 use super::info::RecordingInfo;
 use super::json::encode_event_axes;
-use super::topic::{Topic, TOPICS};
+use super::topic::{Topic, ALL_TOPICS, TOPICS};
 use super::Event;
 use crate::settings::MachineSettings;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Channels in the file: one per topic, then the derived Foxglove ones.
-const CHANNELS: usize = TOPICS + DERIVED;
+/// Channel slots: one per topic (`/lathe/event` last), then the derived Foxglove ones.
+const CHANNELS: usize = ALL_TOPICS + DERIVED;
 
 /// The environment variable that leaves the derived Foxglove topics (`/foxglove/scene`,
 /// `/foxglove/tool`) out when set to `off`: for measuring what they cost
@@ -37,6 +37,8 @@ pub const SCENE_ENV: &str = "NOVANC_FOXGLOVE_SCENE";
 pub struct WriterOutcome {
     /// Messages on disk per topic (in chunks flushed to the file), in `Topic::ALL` order.
     pub messages: [u64; TOPICS],
+    /// Messages on disk on `/lathe/event` (a kernel's channels).
+    pub lathe_events: u64,
     /// Pulses on disk in `/nc/pulses` batches.
     pub pulses: u64,
     /// Derived messages on disk per Foxglove channel, in `Derived::ALL` order.
@@ -60,7 +62,9 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     pulse_mm: f64,
     /// The machine's axes (3, or 4 with A): positions carry `a` then.
     axes: usize,
-    channels: [u16; CHANNELS],
+    /// The MCAP channel id of each slot (None: not declared yet; only `/lathe/event` waits
+    /// for its first message).
+    channels: [Option<u16>; CHANNELS],
     sequence: [u32; CHANNELS],
     /// Derives the Foxglove scene and tool transform (None: left out, `SCENE_ENV`).
     scene: Option<Scene>,
@@ -134,7 +138,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
             axes: settings.axes,
-            channels: [0; CHANNELS],
+            channels: [None; CHANNELS],
             sequence: [0; CHANNELS],
             scene: scene_on.then(|| Scene::new(settings.pulse_mm, info.tool_sizes())),
             out: WriterOutcome::default(),
@@ -181,7 +185,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         mcap: &mut mcap::Writer<W>,
         settings: &MachineSettings,
         info: &RecordingInfo,
-        channels: &mut [u16; CHANNELS],
+        channels: &mut [Option<u16>; CHANNELS],
     ) -> Result<(), mcap::McapError> {
         let metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
@@ -214,26 +218,61 @@ impl<W: RecordOutput> RecordWriter<W> {
             })?;
         }
         let no_metadata = BTreeMap::new();
+        // `/lathe/event` is declared with its first message (`declare_late`): a centre's
+        // file is as it was before the lathe recorded through this writer.
         let declared = Topic::ALL
             .iter()
-            .map(|t| (t.schema_name(), t.schema_for(settings.axes), t.name()))
-            .chain(
-                Derived::ALL
-                    .iter()
-                    .map(|d| (d.schema_name(), d.schema().into(), d.name())),
-            );
-        for (i, (schema_name, schema, topic)) in declared.enumerate() {
+            .map(|t| {
+                (
+                    t.index(),
+                    t.schema_name(),
+                    t.schema_for(settings.axes),
+                    t.name(),
+                )
+            })
+            .chain(Derived::ALL.iter().map(|d| {
+                let slot = ALL_TOPICS + d.index();
+                (slot, d.schema_name(), d.schema().into(), d.name())
+            }));
+        for (i, schema_name, schema, topic) in declared {
             let schema = mcap.add_schema(schema_name, "jsonschema", schema.as_bytes())?;
-            channels[i] = mcap.add_channel(schema, topic, "json", &no_metadata)?;
+            channels[i] = Some(mcap.add_channel(schema, topic, "json", &no_metadata)?);
         }
         Ok(())
+    }
+
+    /// Declares topic slot `i`'s schema and channel before its first message, if not yet.
+    fn declare_late(&mut self, i: usize) -> Result<u16, ()> {
+        if let Some(id) = self.channels.get(i).copied().flatten() {
+            return Ok(id);
+        }
+        let (Some(mcap), Some(t)) = (self.mcap.as_mut(), Topic::EVERY.get(i)) else {
+            return Err(());
+        };
+        let r = mcap
+            .add_schema(
+                t.schema_name(),
+                "jsonschema",
+                t.schema_for(self.axes).as_bytes(),
+            )
+            .and_then(|s| mcap.add_channel(s, t.name(), "json", &BTreeMap::new()));
+        match r {
+            Ok(id) => {
+                self.channels[i] = Some(id);
+                Ok(id)
+            }
+            Err(e) => {
+                self.fail(e);
+                Err(())
+            }
+        }
     }
 
     /// Keeps the first error, lets go of the MCAP writer, and from now on only counts events.
     fn fail(&mut self, e: impl std::error::Error + 'static) {
         // The open chunk never got its length and CRC: its messages are not readable.
         let lost = std::mem::take(&mut self.pending);
-        self.out.lost_to_disk_error += lost.messages[..TOPICS].iter().sum::<u64>();
+        self.out.lost_to_disk_error += lost.messages[..ALL_TOPICS].iter().sum::<u64>();
         if self.out.disk_error.is_none() {
             self.out.disk_error = Some(format!("writing {}: {}", self.path.display(), cause(&e)));
         }
@@ -260,7 +299,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             self.out.lost_to_disk_error += 1;
             return false;
         }
-        if let Event::Pulses { t_ns, .. } = ev {
+        if let Event::Pulses { t_ns, .. } = ev.inner() {
             if t_ns.is_empty() {
                 return true;
             }
@@ -268,7 +307,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         let i = Topic::of(ev).index();
         self.buf.clear();
         let t = encode_event_axes(&mut self.buf, ev, self.pulse_mm, self.axes);
-        let pulses = match ev {
+        let pulses = match ev.inner() {
             Event::Pulses { t_ns, .. } => t_ns.len() as u64,
             _ => 0,
         };
@@ -278,9 +317,13 @@ impl<W: RecordOutput> RecordWriter<W> {
         if !written {
             return false;
         }
+        // The scene draws one tool: a channel's messages (a lathe's) are not derived.
+        if ev.channel().is_some() {
+            return true;
+        }
         if let Some(mut scene) = self.scene.take() {
             scene.derive(ev, &mut |d, t, data| {
-                self.emit(TOPICS + d.index(), t, data, 0);
+                self.emit(ALL_TOPICS + d.index(), t, data, 0);
             });
             self.scene = Some(scene);
         }
@@ -291,17 +334,21 @@ impl<W: RecordOutput> RecordWriter<W> {
     /// closing the chunk first if it is due. A lost event (not a derived message) counts in
     /// `lost_to_disk_error`.
     fn emit(&mut self, i: usize, t: u64, data: &[u8], pulses: u64) -> bool {
-        let lost = u64::from(i < TOPICS);
+        let lost = u64::from(i < ALL_TOPICS);
         if self.clock.due(self.pending.bytes, self.chunk_bytes) && !self.flush_chunk() {
             self.out.lost_to_disk_error += lost;
             return false;
         }
+        let Ok(channel_id) = self.declare_late(i) else {
+            self.out.lost_to_disk_error += lost;
+            return false;
+        };
         let Some(mcap) = self.mcap.as_mut() else {
             self.out.lost_to_disk_error += lost;
             return false;
         };
         let header = mcap::records::MessageHeader {
-            channel_id: self.channels[i],
+            channel_id,
             sequence: self.sequence[i],
             log_time: t,
             publish_time: t,
@@ -358,7 +405,8 @@ impl<W: RecordOutput> RecordWriter<W> {
         for (n, m) in self.out.messages.iter_mut().zip(p.messages) {
             *n += m;
         }
-        for (n, m) in self.out.foxglove.iter_mut().zip(&p.messages[TOPICS..]) {
+        self.out.lathe_events += p.messages[Topic::LatheEvent.index()];
+        for (n, m) in self.out.foxglove.iter_mut().zip(&p.messages[ALL_TOPICS..]) {
             *n += m;
         }
         self.out.pulses += p.pulses;
@@ -378,7 +426,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         if let Some(mut scene) = self.scene.take() {
             // The path since the last block's start.
             scene.flush(0, &mut |d, t, data| {
-                self.emit(TOPICS + d.index(), t, data, 0);
+                self.emit(ALL_TOPICS + d.index(), t, data, 0);
             });
         }
         if !self.flush_chunk() {

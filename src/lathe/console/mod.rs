@@ -562,6 +562,9 @@ impl LatheConsole {
     /// Takes what the machine reported: records it, counts parts into the stores.
     fn after(&mut self) {
         if let Some(c) = self.cycle.as_mut() {
+            // The kernel's events are in the recording already (the pulse core writes them);
+            // taken here so that they do not pile up in the core for the console's lifetime.
+            let _ = c.take_events();
             let counts = c.counts(&self.counter.counts);
             c.positions(&mut self.pos);
             if !c.mdi && counts != self.counter.counts {

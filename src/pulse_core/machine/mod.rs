@@ -369,6 +369,49 @@ pub struct Machine {
     cut_interlock: Option<String>,
     /// Cutting blocks started (for the kernel's log of which work each channel machined).
     cuts: u64,
+    /// What the kernel reports besides motion (a channel only; [`Machine::take_marks`]).
+    marks: Vec<Mark>,
+    /// A recording channel's next position sample and pulse batch flush, ns.
+    next_sample: u64,
+}
+
+/// A channel of a kernel records its position, and sends its pulse batches, at most this
+/// often while it moves (and whenever a run call returns): docs/recording.md, "Lathe
+/// recordings" (every 10 ms). The centre's machine records at every NCBR tick (5 ms).
+pub const CHANNEL_SAMPLE_NS: u64 = 10_000_000;
+
+/// What a channel's machine did that its kernel reports as an event (docs/pulse-core.md,
+/// "Channels"): kept only on a channel ([`Machine::set_channel`]), taken by the kernel.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Mark {
+    /// A cutting block (a feed move, arc or thread pass) started at `t`.
+    Cut {
+        /// Machine time, ns.
+        t: u64,
+        /// Source line.
+        line: u32,
+    },
+    /// A thread pass starts at encoder index `index` (a whole number of revolutions), which
+    /// the encoder reaches at `t`; `encoder` is the count at its first step.
+    Thread {
+        /// Machine time the encoder reaches the index, ns.
+        t: u64,
+        /// Source line.
+        line: u32,
+        /// The index count the pass is anchored to.
+        index: u64,
+        /// The encoder count at its first step.
+        encoder: u64,
+    },
+    /// A block was refused: the machine is in alarm.
+    Alarm {
+        /// Machine time, ns.
+        t: u64,
+        /// Source line (0: none).
+        line: u32,
+        /// The alarm as the machine shows it.
+        msg: String,
+    },
 }
 
 impl Machine {
@@ -438,6 +481,8 @@ impl Machine {
             channel: false,
             cut_interlock: None,
             cuts: 0,
+            marks: Vec::new(),
+            next_sample: 0,
         }
     }
 
@@ -454,6 +499,13 @@ impl Machine {
     /// Cutting blocks (feed moves) started since the machine was made.
     pub fn cuts_started(&self) -> u64 {
         self.cuts
+    }
+
+    /// What happened since the last call that the kernel reports (cuts started, thread
+    /// passes at their index, refused blocks), in the order it happened; nothing unless the
+    /// machine is a channel.
+    pub fn take_marks(&mut self) -> Vec<Mark> {
+        std::mem::take(&mut self.marks)
     }
 
     /// The sync point the machine waits at, if it waits at one.
@@ -944,6 +996,15 @@ impl Machine {
     }
 
     fn tick_end(&mut self) {
+        if self.channel && self.events.is_some() {
+            // A channel's tick is short (the Citizen's 100 µs): its positions and pulse
+            // batches are recorded every CHANNEL_SAMPLE_NS, its state on every change.
+            if self.now < self.next_sample {
+                self.send_state();
+                return;
+            }
+            self.next_sample = self.now.saturating_add(CHANNEL_SAMPLE_NS);
+        }
         self.out.flush();
         if self.events.is_none() {
             return;
@@ -1094,6 +1155,13 @@ impl Machine {
         let line = e.stmt.line;
         let seq = b.map(|b| format!("N{} ", b.seq)).unwrap_or_default();
         self.alarm = Some(format!("line {line}: {seq}{why}"));
+        if self.channel {
+            self.marks.push(Mark::Alarm {
+                t: self.now,
+                line,
+                msg: format!("{seq}{why}"),
+            });
+        }
         if let Some(j) = &mut self.job {
             j.last = Some(e.clone());
         }
@@ -1234,6 +1302,12 @@ impl Machine {
             return;
         }
         self.cuts += u64::from(cut);
+        if cut && self.channel {
+            self.marks.push(Mark::Cut {
+                t: self.now,
+                line: e.stmt.line,
+            });
+        }
         if let Some(s) = &self.events {
             send_ev(
                 s,
@@ -1393,6 +1467,20 @@ impl Machine {
                         m.set_hold(self.hold);
                         m
                     });
+                    let line = c.entry.stmt.line;
+                    let mark = match c.motion.as_mut().and_then(Drive::as_thread) {
+                        Some(th) if self.channel && b.thread.is_some() => {
+                            let (t, encoder) = th.index_and_first_count();
+                            Some(Mark::Thread {
+                                t,
+                                line,
+                                index: th.anchor().abs() as u64,
+                                encoder,
+                            })
+                        }
+                        _ => None,
+                    };
+                    self.marks.extend(mark);
                 }
                 Phase::Move => {
                     if let Some(m) = &mut c.motion {
