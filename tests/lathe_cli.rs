@@ -175,9 +175,12 @@ fn the_samples_make_five_parts_with_every_transfer_interlocked() {
         "every thread pass on the encoder index"
     );
     each_work_machined_once(&a);
-    // The recording's last message is at the end of the machine time printed.
+    // The recording's last message is at the end of the machine time printed (the last part
+    // done), or just after it: the spindles coast down, sampled every 10 ms, until the run
+    // sees every channel at rest (within 0.1 s: the kernel looks every 1,000 ticks).
+    let last = a.last_t as f64 * 1e-9;
     assert!(
-        (a.last_t as f64 * 1e-9 - secs).abs() < 0.01,
+        last > secs - 0.01 && last < secs + 0.11,
         "{} vs {secs}",
         a.last_t
     );
@@ -253,10 +256,11 @@ fn estop_abandons_every_channels_run_and_reset_returns_them_to_their_program_sta
     // work still in the chuck.
     assert!(frames[0].contains(">0006 G0 X40 Z10"), "{}", frames[0]);
     assert!(frames[0].contains(" S     0"), "{}", frames[0]);
-    assert!(frames[0].contains("W3 CHUCK CLOSED STOP"), "{}", frames[0]);
+    assert!(frames[0].contains("W3 CHUCK CLOSED IDLE"), "{}", frames[0]);
     for ch in 1..=3 {
+        // The run is abandoned: each channel stands at its program's start, not running.
         assert!(
-            frames[0].contains(&format!("CH{ch} STOP  reset")),
+            frames[0].contains(&format!("CH{ch} IDLE  ")),
             "{}",
             frames[0]
         );

@@ -33,6 +33,8 @@ pub struct Cycle {
     message: Option<String>,
     /// The source lines of each channel's program, for the block texts.
     lines: Vec<Vec<String>>,
+    /// Each program's first block's line.
+    first: Vec<u32>,
     /// The kernel's last published state, per channel, and its machine time.
     snap: Vec<ChannelStatus>,
     t: u64,
@@ -51,7 +53,7 @@ fn make_kernel(
     only: usize,
     pos: &[[i64; 2]],
     feed_override: u32,
-) -> Result<(Kernel, Vec<Vec<String>>), String> {
+) -> Result<(Kernel, Vec<Vec<String>>, Vec<u32>), String> {
     let mut progs = Vec::new();
     for (ch, (name, text)) in texts.iter().enumerate() {
         if mdi && ch != only {
@@ -68,6 +70,11 @@ fn make_kernel(
     }
     let lines = progs.iter().map(|p| p.lines.clone()).collect();
     let (chans, flow) = crate::lathe::blocks::kernel_channels(desc, &progs)?;
+    // Where each program starts: the pointer of a channel not yet running (or RESET).
+    let first = chans
+        .iter()
+        .map(|(_, st)| st.iter().find(|s| s.line > 0).map_or(0, |s| s.line))
+        .collect();
     // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
     let flow = (!mdi).then_some(flow);
     let mut k = Kernel::new(chans, flow, target)?;
@@ -75,7 +82,7 @@ fn make_kernel(
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(feed_override))?;
     }
-    Ok((k, lines))
+    Ok((k, lines, first))
 }
 
 impl Cycle {
@@ -96,7 +103,8 @@ impl Cycle {
         clock: ClockMode,
         sink: Option<EventSink>,
     ) -> Result<Cycle, String> {
-        let (mut k, lines) = make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
+        let (mut k, lines, first) =
+            make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
         k.start(Some(only).filter(|_| mdi))?;
         let core = PulseCore::spawn_kernel(k, clock, sink);
         let mut c = Cycle {
@@ -106,6 +114,7 @@ impl Cycle {
             started_ns,
             message: None,
             lines,
+            first,
             snap: Vec::new(),
             t: 0,
             clock,
@@ -444,6 +453,10 @@ impl Cycle {
                 let st = &c.status;
                 v.state = self.state_word(ch).into();
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
+                if v.line == 0 && st.run == 0 && !st.program_end {
+                    // Not begun, or RESET: the pointer stands at the program's start.
+                    v.line = self.first.get(ch).copied().unwrap_or(0);
+                }
                 v.text = self
                     .lines
                     .get(ch)

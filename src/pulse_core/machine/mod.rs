@@ -352,6 +352,8 @@ pub struct Machine {
     watch: Option<report::Watch>,
     events: Option<EventSink>,
     last_state: Option<report::StateKey>,
+    /// When `/nc/state` was last sent (a ramping spindle is sampled, not sent every tick).
+    last_state_t: u64,
     op_mode: String,
     data_mode: String,
     commands: u64,
@@ -472,6 +474,7 @@ impl Machine {
             watch: None,
             events: None,
             last_state: None,
+            last_state_t: 0,
             op_mode: "AUTO".into(),
             data_mode: "SEARCH".into(),
             commands: 0,

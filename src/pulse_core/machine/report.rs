@@ -4,6 +4,9 @@ use super::{send_ev, Machine, Phase};
 use crate::pulse_core::{RunInfo, Status};
 use crate::record::{Event, Switches};
 
+/// How often the state of a spindle whose speed changes every tick is sampled, ns.
+const STATE_SAMPLE_NS: u64 = 10_000_000;
+
 /// What `/nc/state` last said: a new message only when it changes.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct StateKey {
@@ -145,6 +148,23 @@ impl Machine {
         if self.last_state.as_ref() == Some(&key) {
             return;
         }
+        // A spindle ramping or following G96 changes its speed every tick: its state is
+        // sampled every 10 ms of machine time, and sent at once when it reaches its commanded
+        // speed or stops, or when anything else changes.
+        if let Some(last) = &self.last_state {
+            let only_spindle = StateKey {
+                spindle: last.spindle,
+                ..key.clone()
+            } == *last;
+            let settled = key.spindle == 0 || key.spindle == self.spindle_actual();
+            if only_spindle
+                && !settled
+                && self.now < self.last_state_t.saturating_add(STATE_SAMPLE_NS)
+            {
+                return;
+            }
+        }
+        self.last_state_t = self.now;
         send_ev(
             s,
             &self.out.lossless,
