@@ -1199,3 +1199,28 @@ fn a_kernel_in_real_time_publishes_at_most_every_2_ms_and_at_once_after_a_messag
     assert!(core.status().estop, "the E-STOP's snapshot at once");
     assert!(core.channels().iter().all(|c| c.status.estop));
 }
+
+#[test]
+fn a_kernel_given_commands_before_it_is_spawned_still_waits_for_each_message() {
+    // The console sets positions, overrides and the clock, and STARTs, before the core runs
+    // the kernel: the channels' machines count those commands, and the core's first status
+    // once said they were its own, so the first `run_for` returned before it was applied.
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.set_clock(1_000_000_000)
+        .expect("set before anything runs");
+    for ch in 0..3 {
+        k.command(ch, Command::Override(100)).expect("override");
+    }
+    k.start(None).expect("START");
+    let core = PulseCore::spawn_kernel(k, ClockMode::Virtual, None);
+    assert_eq!(core.status().machine_ns, 1_000_000_000);
+    let (r, st) = core.run_for(100_000_000);
+    assert_eq!(
+        r,
+        novanc::pulse_core::Reached::Time,
+        "the advance was applied before run_for returned"
+    );
+    assert_eq!(st.machine_ns, 1_100_000_000);
+}

@@ -98,3 +98,17 @@ fn estop_then_reset_and_start_begin_a_new_cycle_in_real_time() {
         "CH1 begins again at its start (line {first}), not inside the interrupted block"
     );
 }
+
+#[test]
+fn a_cycle_goes_on_from_the_consoles_machine_time() {
+    // One time base for the console and its recording: a cycle started at 1 s of machine
+    // time runs from 1 s, not from 0 (virtual time, as a script).
+    let dir = common::temp_dir("lathe-timebase");
+    let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, None).unwrap();
+    c.tick(1_000_000_000);
+    c.event(LatheEv::Start);
+    assert_eq!(c.machine_ns(), 1_000_000_000);
+    c.run_for(100_000_000, false, || false);
+    assert_eq!(c.machine_ns(), 1_100_000_000);
+    assert!(c.view().title.ends_with("1.100 s"), "{}", c.view().title);
+}

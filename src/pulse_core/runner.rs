@@ -236,7 +236,14 @@ impl PulseCore {
             .unwrap_or_default();
         // The core's single machine stands idle: the kernel's channels run instead.
         let machine = Machine::new(settings.clone());
-        let (st, chans) = states(Some(&kernel), &machine);
+        let (mut st, mut chans) = states(Some(&kernel), &machine);
+        // No message of this core is applied yet: the channels' machines count the commands
+        // the kernel was given before it was spawned, which a caller's wait must not take for
+        // its own (it would return before its message is applied).
+        st.commands_applied = 0;
+        for c in &mut chans {
+            c.status.commands_applied = 0;
+        }
         let shared = Arc::new(Shared {
             status: Mutex::new(st),
             changed: Condvar::new(),

@@ -105,6 +105,10 @@ impl Cycle {
     ) -> Result<Cycle, String> {
         let (mut k, lines, first) =
             make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
+        // One time base for the console's cycles (and its recording): the kernel's clock goes
+        // on from the console's machine time.
+        k.set_clock(started_ns)?;
+        let started_ns = k.now();
         k.start(Some(only).filter(|_| mdi))?;
         let core = PulseCore::spawn_kernel(k, clock, sink);
         let mut c = Cycle {
