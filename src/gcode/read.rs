@@ -217,6 +217,11 @@ pub struct Line {
     pub comments: Vec<Comment>,
     /// A Fanuc Custom Macro B flow statement (GOTO, a true IF's GOTO, WHILE, DO, END).
     pub fanuc: Option<Macro>,
+    /// Fanuc dialect: the letters ([`letter_bit`]) whose value is a number written plainly,
+    /// not an expression or a variable.
+    pub plain: u32,
+    /// Fanuc dialect: the letters whose plain number has a decimal point.
+    pub pointed: u32,
 }
 
 /// A Fanuc Custom Macro B flow statement (docs/gcode.md "Fanuc dialect"). An `IF [..] GOTO n`
@@ -300,6 +305,8 @@ impl Line {
         self.o = None;
         self.comments.clear();
         self.fanuc = None;
+        self.plain = 0;
+        self.pointed = 0;
     }
 }
 
@@ -506,6 +513,10 @@ impl Reader<'_> {
         let (n, _) = self.integer("parameter number")?;
         if self.fanuc && n == 0 {
             return Ok((Target::Numbered(0), col));
+        }
+        if self.fanuc && n > MAX_PARAM as i64 && n <= super::sysvars::MAX_FANUC_VAR as i64 {
+            // Fanuc's tool offsets #10001–#13999 (docs/gcode.md "Fanuc dialect").
+            return Ok((Target::Numbered(n as usize), col));
         }
         if n < 1 || n > MAX_PARAM as i64 {
             return Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}")));
@@ -1074,10 +1085,16 @@ pub fn read_into_opts(
         r.i += 1;
         // A number, or a minus and a number: read straight (what `value` does with them).
         let value = if r.fanuc {
-            let v = fanuc_word_value(&mut r, letter, opts.increment)?;
+            let (v, plain) = fanuc_word_value(&mut r, letter, opts.increment)?;
             if is_null(v) {
                 // A word whose value is null is as if it were not written (Fanuc).
                 continue;
+            }
+            if let Some(point) = plain {
+                out.plain |= letter_bit(letter);
+                if point {
+                    out.pointed |= letter_bit(letter);
+                }
             }
             v
         } else {
@@ -1097,12 +1114,18 @@ pub fn read_into_opts(
 
 /// A word's value in the Fanuc dialect: a number written without a decimal point on a
 /// length address ([`FANUC_INCREMENT_LETTERS`]) is in least increments (`X10` is 0.010 mm).
-fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64, TranslateError> {
+/// With the value: `Some(point)` for a number written plainly (with a decimal point or
+/// not), `None` for an expression or a variable.
+fn fanuc_word_value(
+    r: &mut Reader,
+    letter: char,
+    increment: f64,
+) -> Result<(f64, Option<bool>), TranslateError> {
     let sign = match (r.at(0), r.at(1)) {
         (Some(b'-'), Some(b'0'..=b'9' | b'.')) => -1.0,
         (Some(b'+'), Some(b'0'..=b'9' | b'.')) => 1.0,
         (Some(b'0'..=b'9' | b'.'), _) => 0.0,
-        _ => return r.value(),
+        _ => return Ok((r.value()?, None)),
     };
     if sign != 0.0 {
         r.i += 1;
@@ -1110,9 +1133,17 @@ fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64,
     let v = r.number()?;
     let sign = if sign == 0.0 { 1.0 } else { sign };
     if !r.point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
-        return Ok(sign * v * increment);
+        return Ok((sign * v * increment, Some(false)));
     }
-    Ok(sign * v)
+    Ok((sign * v, Some(r.point)))
+}
+
+/// A letter's bit in [`Line::pointed`] and [`Line::plain`] (A = bit 0 … Z = bit 25).
+pub fn letter_bit(letter: char) -> u32 {
+    match letter {
+        'A'..='Z' => 1 << (letter as u32 - 'A' as u32),
+        _ => 0,
+    }
 }
 
 /// Whether a Fanuc statement's keyword starts at the reader's place: GOTO, IF [, WHILE [,
