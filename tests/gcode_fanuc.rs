@@ -247,7 +247,7 @@ fn loops_nest_as_fanuc_s_and_a_mismatch_is_refused_with_its_place() {
 fn null_and_the_decimal_point_follow_fanuc() {
     let src = "O1\nG10 L2 P1 X100. Y100. Z-100.\n#1=#0\n#2=#1+1.\n#3=[#0 EQ #0]\n#4=[#0 EQ 0]\n#5=[#0 NE 0]\n#6=[#0 GE 0]\n\
                G0 X#2 Y#3 Z#1\nG0 X#4 Y#5 Z-#6\nG0 X10 Y10. Z[-10]\nG20\nG0 X10\nG21\nG0 X-5 Y#0\n\
-               G0 X[FIX[-1.5]] Y[FUP[-1.2]]\nG0 X[ATAN[-1]/[-1]] Y[BIN[BCD[25]]]\nM30\n";
+               G0 X[FIX[-1.5]] Y[FUP[-1.2]]\nG0 X[ATAN[-1]/[-1]] Y[BIN[BCD[25]]]\nG0 X[ATAN[-1,1]] Y[ATAN[1,-1]]\nM30\n";
     let inch = 10.0 * 0.0001 * 25.4;
     // In work coordinates (G54 at 100, 100, -100); the first move's Z stays at machine 0.
     let want = [
@@ -262,9 +262,15 @@ fn null_and_the_decimal_point_follow_fanuc() {
         // FIX[-1.5] is -1, FUP[-1.2] is -2; ATAN answers 0 to 360; BIN undoes BCD.
         ('R', [-1.0, -2.0, -10.0]),
         ('R', [225.0, 25.0, -10.0]),
+        // Fanuc 30i's ATAN[y,x] is ATAN[y]/[x].
+        ('R', [315.0, 135.0, -10.0]),
     ]
     .map(|(k, p)| (k, [p[0] + 100.0, p[1] + 100.0, p[2] - 100.0]));
     assert_moves(&moves(src, Fanuc).unwrap(), &want);
+    assert_eq!(
+        moves("O1\nG0 X[ATAN[1]]\nM30\n", Fanuc).unwrap_err(),
+        "2:13: ATAN is written ATAN[y]/[x] or ATAN[y,x]"
+    );
     assert_eq!(
         moves("O1\n#0=1\nM30\n", Fanuc).unwrap_err(),
         "2:1: #0 is null: it cannot be set"
@@ -648,5 +654,22 @@ fn a_tool_offset_written_by_a_program_is_journaled_and_the_part_counter_read() {
     assert!(
         (wear - before - 0.02).abs() < 1e-9,
         "after a restart: {wear}"
+    );
+}
+
+#[test]
+fn adp_reads_an_argument_given_without_a_point_as_if_with_one() {
+    // X10 is 0.010 mm as an argument (least increments), X10. is 10 mm: ADP gives 10 for
+    // both; F is never in increments; a null argument stays null. M98 shares the locals.
+    let src = "O1\nG65 P9 X10 Y10. F200 A5\nG65 P9 L0 X7\nM30\n\
+               O9\nG0 X[ADP[#24]] Y[ADP[#25]] Z-[ADP[#9]/100]\nM98 P8\nM99\n\
+               O8\nG0 X[ADP[#1]] Y#24 Z[ADP[#26] - 1]\nM99\n";
+    assert_moves(
+        &moves(src, Fanuc).unwrap(),
+        &[('R', [10.0, 10.0, -2.0]), ('R', [5.0, 0.01, -1.0])],
+    );
+    assert_eq!(
+        moves("O1\nG0 X[ADP[#100]]\nM30\n", Fanuc).unwrap_err(),
+        "2:10: ADP takes a local variable: ADP[#1] to ADP[#33]"
     );
 }

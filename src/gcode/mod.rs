@@ -152,6 +152,7 @@ struct ParamEnv<'a> {
     magazine: &'a Magazine,
     parts: Option<(u64, u64)>,
     first_code: Option<usize>,
+    adp: &'a [u64],
 }
 
 impl ParamEnv<'_> {
@@ -229,6 +230,11 @@ impl Env for ParamEnv<'_> {
         }
         Ok(self.st.named_value(name, self.flow.locals()))
     }
+
+    fn unpointed(&self, n: usize) -> bool {
+        let level = self.flow.g65_level();
+        level > 0 && self.adp.get(level).is_some_and(|m| m & (1 << n) != 0)
+    }
 }
 
 /// One line's execution context over the source's fields (a macro, so that the other
@@ -300,6 +306,9 @@ pub struct GcodeSource {
     remap: Option<RemapLine>,
     /// The console's part counter, parts made and required (Fanuc's #3901/#3902).
     parts: Option<(u64, u64)>,
+    /// By G65 call level: the locals (bit n for #n) given without a decimal point on a length
+    /// address, which ADP reads as if with one.
+    adp: Vec<u64>,
 }
 
 /// The line of a remapped M6 whose subroutine is running.
@@ -411,6 +420,7 @@ impl GcodeSource {
             finder: Box::new(NoFiles),
             remap: None,
             parts: None,
+            adp: Vec::new(),
         }
     }
 
@@ -668,6 +678,7 @@ impl GcodeSource {
                 magazine: &self.magazine,
                 parts: self.parts,
                 first_code: self.first_code,
+                adp: &self.adp,
             };
             let flow = &self.flow;
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
@@ -1023,6 +1034,7 @@ impl GcodeSource {
             .find(|w| w.letter == 'G')
             .map_or(1, |w| w.col);
         let mut args = [f64::NAN; flow::LOCALS];
+        let mut unpointed = 0u64;
         let (mut p, mut l) = (None, None);
         for w in &line.words {
             match w.letter {
@@ -1064,12 +1076,20 @@ impl GcodeSource {
                         return Err(err(w.col, format!("G65: argument {c} is given twice")));
                     }
                     args[k - 1] = w.value;
+                    let bit = read::letter_bit(c);
+                    if line.plain & bit != 0
+                        && line.pointed & bit == 0
+                        && read::FANUC_INCREMENT_LETTERS.contains(&(c as u8))
+                    {
+                        unpointed |= 1 << k;
+                    }
                 }
             }
         }
         let Some(p) = p else {
             return Err(err(g_col, "G65 needs P, the macro's program number".into()));
         };
+        let before = self.flow.level();
         self.flow
             .call_numbered(
                 p,
@@ -1080,7 +1100,15 @@ impl GcodeSource {
                 &mut self.st,
                 self.finder.as_ref(),
             )
-            .map_err(|m| err(g_col, m))
+            .map_err(|m| err(g_col, m))?;
+        let level = self.flow.level();
+        if level > before {
+            if self.adp.len() <= level {
+                self.adp.resize(level + 1, 0);
+            }
+            self.adp[level] = unpointed;
+        }
+        Ok(())
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: macro alarm 3000 + n, the run stops there; `#3006 = n

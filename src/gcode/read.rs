@@ -37,6 +37,11 @@ pub trait Env {
     /// The value of the named parameter `#<name>` (`name` in lower case, without spaces), or
     /// `None` if it is not defined.
     fn named(&self, name: &str) -> Result<Option<f64>, String>;
+    /// Fanuc: whether local `#n` (1–33) is a G65 argument given without a decimal point on a
+    /// length address (so in least increments: what ADP undoes).
+    fn unpointed(&self, _n: usize) -> bool {
+        false
+    }
 }
 
 /// One word: its letter (upper case), value and 1-based column.
@@ -333,6 +338,8 @@ struct Reader<'a> {
     fanuc: bool,
     /// The last number read had a decimal point.
     point: bool,
+    /// The least increment in program units (Fanuc's numbers without a point).
+    increment: f64,
 }
 
 impl Reader<'_> {
@@ -560,7 +567,7 @@ impl Reader<'_> {
             "abs", "acos", "asin", "atan", "cos", "exists", "exp", "fix", "fup", "ln", "round",
             "sin", "sqrt", "tan",
         ];
-        const FANUC_NAMES: [&str; 2] = ["bcd", "bin"];
+        const FANUC_NAMES: [&str; 3] = ["adp", "bcd", "bin"];
         let fanuc_names: &[&str] = if self.fanuc { &FANUC_NAMES } else { &[] };
         let Some(name) = NAMES.iter().chain(fanuc_names).find(|n| self.eat_name(n)) else {
             let mut word = String::new();
@@ -599,8 +606,48 @@ impl Reader<'_> {
                 },
             });
         }
+        if *name == "adp" {
+            // ADP[#n]: a G65 argument given without a decimal point, as if it had one.
+            self.i += 1;
+            let (t, pcol) = if self.peek() == Some('#') {
+                self.param_ref()?
+            } else {
+                (Target::Numbered(0), self.col())
+            };
+            let n = match t {
+                Target::Numbered(n @ 1..=33) => n,
+                _ => return Err(self.err(pcol, "ADP takes a local variable: ADP[#1] to ADP[#33]")),
+            };
+            if !self.eat(']') {
+                return Err(self.err(self.col(), "']' expected after ADP[#n"));
+            }
+            let v = self.lookup(&Target::Numbered(n), pcol)?;
+            if is_null(v) || !self.env.unpointed(n) {
+                return Ok(v);
+            }
+            return Ok((v / self.increment).round());
+        }
+        // Fanuc 30i's ATAN[y,x]: the two arguments in one bracket.
+        let mut fanuc_atan2 = None;
+        let a = if self.fanuc && *name == "atan" {
+            let open = self.col();
+            self.i += 1; // '['
+            let y = self.expr(0)?;
+            if self.eat(',') {
+                fanuc_atan2 = Some(nz(self.expr(0)?));
+            }
+            if !self.eat(']') {
+                return Err(self.err(
+                    self.col(),
+                    format!("']' expected to close the '[' at column {open}"),
+                ));
+            }
+            y
+        } else {
+            self.bracket()?
+        };
         // Null in arithmetic is 0 (Fanuc; nothing is null in LinuxCNC's language).
-        let a = nz(self.bracket()?);
+        let a = nz(a);
         let dom = |ok: bool, what: &str| -> Result<(), TranslateError> {
             if ok {
                 Ok(())
@@ -623,10 +670,19 @@ impl Reader<'_> {
                 a.asin().to_degrees()
             }
             "atan" => {
-                if !self.eat('/') || self.peek() != Some('[') {
-                    return Err(self.err(self.col(), "ATAN is written ATAN[y]/[x]"));
-                }
-                let b = nz(self.bracket()?);
+                let b = if let Some(b) = fanuc_atan2 {
+                    b
+                } else {
+                    if !self.eat('/') || self.peek() != Some('[') {
+                        let m = if self.fanuc {
+                            "ATAN is written ATAN[y]/[x] or ATAN[y,x]"
+                        } else {
+                            "ATAN is written ATAN[y]/[x]"
+                        };
+                        return Err(self.err(self.col(), m));
+                    }
+                    nz(self.bracket()?)
+                };
                 let t = a.atan2(b).to_degrees();
                 // Fanuc's ATAN answers 0 to 360 degrees (parameter 6004#0 = 0).
                 if self.fanuc && t < 0.0 {
@@ -1003,6 +1059,7 @@ pub fn read_into_opts(
         depth: 0,
         fanuc: opts.fanuc,
         point: false,
+        increment: opts.increment,
     };
     if r.eat('/') {
         out.block_delete = true;
