@@ -44,7 +44,7 @@ pub struct ToolVar {
 pub fn tool_var(n: usize) -> Option<ToolVar> {
     let (kind, offset) = match n {
         2001..=2800 => ((n - 2001) / 200, (n - 2001) % 200 + 1),
-        10001..=13999 if n % 1000 != 0 => ((n - 10000) / 1000, n % 1000),
+        10001..=13999 if !n.is_multiple_of(1000) => ((n - 10000) / 1000, n % 1000),
         _ => return None,
     };
     Some(ToolVar {
