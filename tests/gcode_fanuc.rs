@@ -247,7 +247,7 @@ fn loops_nest_as_fanuc_s_and_a_mismatch_is_refused_with_its_place() {
 fn null_and_the_decimal_point_follow_fanuc() {
     let src = "O1\nG10 L2 P1 X100. Y100. Z-100.\n#1=#0\n#2=#1+1.\n#3=[#0 EQ #0]\n#4=[#0 EQ 0]\n#5=[#0 NE 0]\n#6=[#0 GE 0]\n\
                G0 X#2 Y#3 Z#1\nG0 X#4 Y#5 Z-#6\nG0 X10 Y10. Z[-10]\nG20\nG0 X10\nG21\nG0 X-5 Y#0\n\
-               G0 X[FIX[-1.5]] Y[FUP[-1.2]]\nG0 X[ATAN[-1]/[-1]] Y[BIN[BCD[25]]]\nM30\n";
+               G0 X[FIX[-1.5]] Y[FUP[-1.2]]\nG0 X[ATAN[-1]/[-1]] Y[BIN[BCD[25]]]\nG0 X[ATAN[-1,1]] Y[ATAN[1,-1]]\nM30\n";
     let inch = 10.0 * 0.0001 * 25.4;
     // In work coordinates (G54 at 100, 100, -100); the first move's Z stays at machine 0.
     let want = [
@@ -262,9 +262,15 @@ fn null_and_the_decimal_point_follow_fanuc() {
         // FIX[-1.5] is -1, FUP[-1.2] is -2; ATAN answers 0 to 360; BIN undoes BCD.
         ('R', [-1.0, -2.0, -10.0]),
         ('R', [225.0, 25.0, -10.0]),
+        // Fanuc 30i's ATAN[y,x] is ATAN[y]/[x].
+        ('R', [315.0, 135.0, -10.0]),
     ]
     .map(|(k, p)| (k, [p[0] + 100.0, p[1] + 100.0, p[2] - 100.0]));
     assert_moves(&moves(src, Fanuc).unwrap(), &want);
+    assert_eq!(
+        moves("O1\nG0 X[ATAN[1]]\nM30\n", Fanuc).unwrap_err(),
+        "2:13: ATAN is written ATAN[y]/[x] or ATAN[y,x]"
+    );
     assert_eq!(
         moves("O1\n#0=1\nM30\n", Fanuc).unwrap_err(),
         "2:1: #0 is null: it cannot be set"
@@ -417,5 +423,253 @@ fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
     assert_eq!(
         moves("O1\nG65 P9031 X1.\nM30\n", Fanuc).unwrap_err(),
         "2:1: G65 P9031: macro O9031 is not in the program (searched forward from the call) nor a file 9031.ngc in the subroutine path"
+    );
+}
+
+#[test]
+fn a_probing_macro_skips_by_g31_against_the_workpiece() {
+    // The centre's stock (docs/gcode.md "Probing"): X 300 to 700, Y 200 to 600, top Z -450;
+    // no tool, so the skip point is the gauge line. G54 is machine zero until the program
+    // moves it onto the corner it found.
+    let src = program("probe.nc");
+    let (top, face) = (-450.0, 300.0);
+    let want = [
+        ('R', [500.0, 400.0, -400.0]),
+        // G31 to Z-480 skips at the top; the block goes to its end point, the machine stops
+        // it, and reading goes on from the skip point.
+        ('F', [500.0, 400.0, -480.0]),
+        ('R', [500.0, 400.0, top + 10.0]),
+        ('R', [280.0, 400.0, top + 10.0]),
+        ('R', [280.0, 400.0, top - 10.0]),
+        // G91 X40 from X280: skips at the X- face.
+        ('F', [320.0, 400.0, top - 10.0]),
+        ('R', [face - 5.0, 400.0, top - 10.0]),
+        ('R', [face - 5.0, 400.0, top + 10.0]),
+        // #5221/#5223 moved G54 onto the corner at once (Fanuc): X10 Y10 is machine 310, 10.
+        ('R', [face + 10.0, 10.0, top + 10.0]),
+        // Above the stock nothing skips: no alarm, the move ends at its end point (the
+        // macro's IF checks #5061 = -50 there).
+        ('F', [face - 50.0, 10.0, top + 10.0]),
+        ('R', [face, 0.0, top + 10.0]),
+    ];
+    assert_moves(&moves(&src, Fanuc).unwrap(), &want);
+    assert_eq!(check_listing("probe"), 0);
+    // G31 is one-shot: the motion mode stays G00 after it (an X word alone rapids).
+    assert_moves(
+        &moves(
+            "O1\nG00 X500. Y400. Z-400.\nG31 Z-480. F100.\nX510.\nM30\n",
+            Fanuc,
+        )
+        .unwrap(),
+        &[
+            ('R', [500.0, 400.0, -400.0]),
+            ('F', [500.0, 400.0, -480.0]),
+            ('R', [510.0, 400.0, -450.0]),
+        ],
+    );
+    // LinuxCNC's dialect has no G31.
+    assert!(moves("G31 Z-480 F100\nM30\n", LinuxCnc)
+        .unwrap_err()
+        .contains("G31"));
+}
+
+/// The dwells of `src` read in the Fanuc dialect, seconds; or the error.
+fn dwells(src: &str) -> Result<Vec<f64>, String> {
+    let mut out = Vec::new();
+    for s in gcode_source_in(src, Fanuc) {
+        let s = s.map_err(|e| e.to_string())?;
+        for b in s.blocks.iter().filter(|b| b.motion == Motion::Dwell) {
+            out.push(b.dwell_ns as f64 / 1e9);
+        }
+    }
+    Ok(out)
+}
+
+#[test]
+fn g04_dwells_as_fanuc_s_x_u_in_seconds_p_in_milliseconds() {
+    assert_eq!(
+        dwells("O1\nG04 X1.5\nG04 U2.\nG04 P1500\nG04 X2500\nG20\nG04 X2500\nG01 X1. F10.\nG04 X3.\nM30\n")
+            .unwrap(),
+        // X without a point: 0.001 s increments, in inches too; X on G04 never moves.
+        [1.5, 2.0, 1.5, 2.5, 2.5, 3.0]
+    );
+    for (src, e) in [
+        ("G04 P1.5", "2:5: G04 P1.5: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds)"),
+        ("#1=1.5\nG04 P#1", "3:5: G04 P1.5: P is a whole number of milliseconds"),
+        ("G04 X1. P10", "2:9: G04 takes one dwell: X or U in seconds, or P in milliseconds"),
+        ("G04", "2:1: G04 needs its dwell: X or U in seconds (X1.5), or P in milliseconds (P1500)"),
+    ] {
+        assert_eq!(dwells(&format!("O1\n{src}\nM30\n")).unwrap_err(), e);
+    }
+}
+
+/// The values of variables `ns` after `src` ran in the Fanuc dialect with 7 parts machined of
+/// 10 required; or the error.
+fn values(src: &str, ns: &[usize]) -> Result<Vec<f64>, String> {
+    let mut g = gcode_source_in(src, Fanuc).part_counter(7, 10);
+    for s in g.by_ref() {
+        s.map_err(|e| e.to_string())?;
+    }
+    Ok(ns.iter().map(|&n| g.state().params[n]).collect())
+}
+
+#[test]
+fn system_variables_give_positions_modes_offsets_and_parts() {
+    let mag = novanc::tooldata::sample_magazine();
+    let t2 = mag.tools.get(2).unwrap().clone();
+    let src = "O1234\nG21 G90 G10 L2 P2 X10. Y20. Z-300.\nG55 G43 H2 G00 X1. Y2. Z3.\n\
+               G01 X5. F300. S1200 M03 T7\n\
+               #101=#5001 #102=#5002 #103=#5003 #104=#5021 #105=#5023 #106=#5043\n\
+               #107=#4001 #108=#4003 #109=#4014 #110=#4109 #111=#4113 #112=#4115\n\
+               #113=#4119 #114=#4120 #115=#4008 #116=#4111 #117=#4201 #118=#4006\n\
+               #119=#11002 #120=#2202 #121=#13002 #122=#10002 #123=#3901 #124=#3902\n\
+               #10002=0.05\n#125=#10002 #126=#11002\nM30\n";
+    let got = values(src, &(101..=126).collect::<Vec<_>>()).unwrap();
+    let l = t2.set_length;
+    let want = [
+        // Block end: work coordinates, the tool length not included.
+        5.0,
+        2.0,
+        3.0,
+        // Machine: G55's zero and the tool length included.
+        15.0,
+        -297.0 + l,
+        // Work position with the tool length included.
+        3.0 + l,
+        // G01, G90, G55, F300, M03, O1234, S1200, T7, G43, H2; #4201 as #4001; G21.
+        1.0,
+        90.0,
+        55.0,
+        300.0,
+        3.0,
+        1234.0,
+        1200.0,
+        7.0,
+        43.0,
+        2.0,
+        1.0,
+        21.0,
+        // Offset 2 (T code 2): length geometry in #11002 and #2202, radius in #13002, wear.
+        l,
+        l,
+        t2.diameter / 2.0,
+        t2.wear_length,
+        7.0,
+        10.0,
+        // Length wear written and read back; the geometry unchanged.
+        0.05,
+        l,
+    ];
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!((g - w).abs() < 1e-9, "#{}: {g}, want {w}", 101 + i);
+    }
+    // A written wear is in the tool data the next G43 takes, and said as an event.
+    let mut g = gcode_source_in(
+        "O1\nG10 L2 P1 Z-300.\nG43 H2 G00 Z0.\n#10002=1.\nG43 H2 G00 Z0.\nM30\n",
+        Fanuc,
+    );
+    let zs: Vec<i64> = g
+        .by_ref()
+        .flat_map(|s| s.unwrap().blocks)
+        .map(|b| b.end.xyz()[2])
+        .collect();
+    assert_eq!(zs.last().unwrap() - zs.first().unwrap(), 1000, "{zs:?}");
+    assert!(g.take_events().iter().any(|e| matches!(e,
+        novanc::gcode::Event::ToolOffsets { t: 2, wear_length, .. } if *wear_length == 1.0)));
+    // A work offset written for the system in force acts at once (Fanuc), journaled as G10.
+    assert_moves(
+        &moves(
+            "O1\nG10 L2 P1 X10.\nG00 X0\n#5221=20.\nG00 X0\nM30\n",
+            Fanuc,
+        )
+        .unwrap(),
+        &[('R', [10.0, 0.0, 0.0]), ('R', [20.0, 0.0, 0.0])],
+    );
+    // The LinuxCNC dialect reads its own parameters there, and has no #10001.
+    assert_eq!(
+        moves("G10 L2 P1 X10.\n#1=#5021\nG0 X#1\nM30\n", LinuxCnc).unwrap(),
+        [('R', [10.0, 0.0, 0.0])]
+    );
+    assert_eq!(
+        moves("#1=#10001\nM30\n", LinuxCnc).unwrap_err(),
+        "1:4: parameter number 10001 is not 1 to 5602"
+    );
+}
+
+#[test]
+fn system_variables_novanc_lacks_are_refused_with_their_reason() {
+    for (line, e) in [
+        ("#1=#3001", "#3001 (the millisecond clock): novanc's reader runs ahead of the machine and has no machine clock to read"),
+        ("#3001=0", "#3001: novanc's reader has no machine clock to set (it runs ahead of the machine)"),
+        ("#3901=0", "#3901: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"),
+        ("#4001=1", "#4001 (modal information) is read-only"),
+        ("#5041=1", "#5041 (the work position) is read-only"),
+        ("#1=#4012", "#4012: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4008 #4009 #4010 #4014 #4015 #4107 #4109 #4111 #4113 #4114 #4115 #4119 #4120)"),
+        ("#1=#5004", "#5004 (the block end position of axis 4): this machine has the axes X, Y, Z"),
+        ("#1=#9999", "#9999: novanc has no such variable (the Fanuc dialect reads #1 to #5602, and the tool offsets #10001 to #13999)"),
+        ("#1=#10024", "#10024 (length wear of offset 24): T code 24 has no tool data in the tool file"),
+        ("#12001=20.", "#12001 (radius wear): 20 mm is beyond the largest wear (10 mm either way)"),
+        ("#13001=#0", "#13001 (radius geometry): a tool offset cannot be null"),
+        ("G41 D1 G01 X50. F100.\n#1=#5001", "#5001 (the block end position) cannot be read with cutter radius compensation on"),
+    ] {
+        let src = format!("O1\n{line}\nM30\n");
+        let got = values(&src, &[]).unwrap_err();
+        assert!(got.ends_with(e), "{line}: {got}");
+    }
+    // Without a console there is no part counter.
+    assert!(moves("O1\n#1=#3901\nM30\n", Fanuc).unwrap_err().ends_with(
+        "#3901 (parts machined): there is no part counter here (the console's POS page keeps one)"
+    ));
+}
+
+#[test]
+fn a_tool_offset_written_by_a_program_is_journaled_and_the_part_counter_read() {
+    let d = common::temp_dir("fanuc-offsets");
+    let prog = d.join("WEAR.NC");
+    std::fs::write(
+        &prog,
+        "O5000 (WEAR OF OFFSET 1 UP 0.01 A PART)\n#101=#3901\n#10001=#10001+0.01\nM30\n",
+    )
+    .unwrap();
+    let state = d.join("state");
+    let before = novanc::tooldata::sample_magazine()
+        .tools
+        .get(1)
+        .unwrap()
+        .wear_length;
+    for run in 1..=2 {
+        let mut c = common::reopen_in(&state, Fanuc);
+        read_and_run(&mut c, &prog);
+        assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+        // The parts machined before this run.
+        assert_eq!(c.interp_state().params[101], f64::from(run - 1));
+        let wear = c.magazine().tools.get(1).unwrap().wear_length;
+        assert!(
+            (wear - before - 0.01 * f64::from(run)).abs() < 1e-9,
+            "run {run}: {wear}"
+        );
+    }
+    let c = common::reopen_in(&state, Fanuc);
+    let wear = c.magazine().tools.get(1).unwrap().wear_length;
+    assert!(
+        (wear - before - 0.02).abs() < 1e-9,
+        "after a restart: {wear}"
+    );
+}
+
+#[test]
+fn adp_reads_an_argument_given_without_a_point_as_if_with_one() {
+    // X10 is 0.010 mm as an argument (least increments), X10. is 10 mm: ADP gives 10 for
+    // both; F is never in increments; a null argument stays null. M98 shares the locals.
+    let src = "O1\nG65 P9 X10 Y10. F200 A5\nG65 P9 L0 X7\nM30\n\
+               O9\nG0 X[ADP[#24]] Y[ADP[#25]] Z-[ADP[#9]/100]\nM98 P8\nM99\n\
+               O8\nG0 X[ADP[#1]] Y#24 Z[ADP[#26] - 1]\nM99\n";
+    assert_moves(
+        &moves(src, Fanuc).unwrap(),
+        &[('R', [10.0, 10.0, -2.0]), ('R', [5.0, 0.01, -1.0])],
+    );
+    assert_eq!(
+        moves("O1\nG0 X[ADP[#100]]\nM30\n", Fanuc).unwrap_err(),
+        "2:10: ADP takes a local variable: ADP[#1] to ADP[#33]"
     );
 }

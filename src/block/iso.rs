@@ -155,6 +155,7 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut 
             Some(383) => "G38.3",
             Some(384) => "G38.4",
             Some(385) => "G38.5",
+            Some(310) => "G31",
             _ => "G38.2",
         }),
         Motion::Linear if b.thread.is_some() => Some("G33"),

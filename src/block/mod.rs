@@ -211,7 +211,8 @@ pub struct Block {
     /// An input or output the block sets or waits on (M62–M68, M19, M48–M53), done when the
     /// block is reached.
     pub io: Option<Io>,
-    /// A probe move (G38.2 … G38.5 ×10: 382 … 385): the move stops where the probe trips.
+    /// A probe move (G38.2 … G38.5 ×10: 382 … 385; Fanuc's G31 skip: 310, as G38.3): the
+    /// move stops where the probe trips.
     pub probe: Option<u16>,
     /// The block is part of a tap (TAP, G84, G74): the feed is geared to the spindle, so the
     /// feed and spindle overrides are held at 100 % and a feed hold waits for the tap to be

@@ -179,6 +179,22 @@ fn take(c: &mut Console) {
                     super::book::program_message(c, "NOT KEPT", &format!("G10 T{t:02}: {e}"));
                 }
             }
+            Event::ToolOffsets {
+                t,
+                length,
+                diameter,
+                wear_length,
+                wear_diameter,
+            } if keep => {
+                let v = [length, diameter, wear_length, wear_diameter];
+                if let Err(e) = c.mem.set_tool_offsets(t, v) {
+                    super::book::program_message(
+                        c,
+                        "NOT KEPT",
+                        &format!("tool offset T{t:02}: {e}"),
+                    );
+                }
+            }
             Event::Message { kind, text } => super::book::program_message(c, kind, &text),
             _ => {}
         }

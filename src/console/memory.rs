@@ -371,6 +371,17 @@ impl Memory {
     /// G10 L1/L10/L11: T code `t`'s tool gets `length` and `diameter` (mm, wear included: the
     /// set values become these less the wear), one journaled revision of the tool file.
     pub fn set_tool_size(&mut self, t: u32, length: f64, diameter: f64) -> Result<(), String> {
+        let Some(rec) = self.magazine().tools.get(t).cloned() else {
+            return Err(format!("T{t:02} holds no tool with data"));
+        };
+        let (wl, wd) = (rec.wear_length, rec.wear_diameter);
+        self.set_tool_offsets(t, [length - wl, diameter - wd, wl, wd])
+    }
+
+    /// T code `t`'s tool gets its set length, diameter, length wear and diameter wear (mm,
+    /// in that order; Fanuc's #2001–/#10001– tool offset variables, and G10 through
+    /// [`Memory::set_tool_size`]): one journaled revision of the tool file.
+    pub fn set_tool_offsets(&mut self, t: u32, v: [f64; 4]) -> Result<(), String> {
         let m = self.magazine();
         let (Some(tool), Some(rec)) = (m.tcodes.tool_in(t), m.tools.get(t)) else {
             return Err(format!("T{t:02} holds no tool with data"));
@@ -378,8 +389,10 @@ impl Memory {
         let mut new = rec.clone();
         // Three decimals at most, as the tool file writes numbers.
         let r3 = |v: f64| (v * 1000.0).round() / 1000.0;
-        new.set_length = r3(length - rec.wear_length);
-        new.diameter = r3(diameter - rec.wear_diameter);
+        new.set_length = r3(v[0]);
+        new.diameter = r3(v[1]);
+        new.wear_length = r3(v[2]);
+        new.wear_diameter = r3(v[3]);
         if new == *rec {
             return Ok(());
         }

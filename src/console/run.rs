@@ -56,6 +56,8 @@ pub struct RunSource {
     pub feed: Option<super::gcode_run::RunFeed>,
     /// G-code: the programs and folders where `o<name> call` finds `name.ngc`.
     pub subroutines: Option<Arc<crate::gcode::SubPrograms>>,
+    /// G-code: the part counter, parts made and required (Fanuc's #3901/#3902).
+    pub parts: Option<(u64, u64)>,
 }
 
 impl RunSource {
@@ -80,6 +82,7 @@ impl RunSource {
             switches: Switches::default(),
             feed: None,
             subroutines: None,
+            parts: None,
         }
     }
 
@@ -139,6 +142,9 @@ impl RunSource {
         }
         if let Some(l) = self.resume_at {
             g = g.resume_at(l);
+        }
+        if let Some((made, required)) = self.parts {
+            g = g.part_counter(made, required);
         }
         if let Some(f) = self.subroutines {
             g = g.subroutines(Box::new(SharedSubs(f)));
@@ -200,6 +206,7 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         switches: c.switches,
         feed: None,
         subroutines: gcode.then(|| Arc::new(c.mem.subroutines())),
+        parts: Some((c.book.counters.parts, c.book.counters.target)),
     }
 }
 

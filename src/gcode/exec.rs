@@ -109,6 +109,20 @@ pub enum Event {
         /// The new diameter, mm.
         diameter: f64,
     },
+    /// A program set a tool offset (Fanuc's #2001–#2800, #10001–#13999): T code `t`'s data
+    /// as it now is, mm.
+    ToolOffsets {
+        /// The T code (the offset number).
+        t: u32,
+        /// The set length.
+        length: f64,
+        /// The diameter.
+        diameter: f64,
+        /// The length wear.
+        wear_length: f64,
+        /// The diameter wear.
+        wear_diameter: f64,
+    },
     /// An operator message: `(MSG,...)`, `(DEBUG,...)`, `(PRINT,...)`, `(LOG,...)`.
     Message {
         /// The kind (`MSG`, `DEBUG`, `PRINT`, `LOG`).
@@ -264,7 +278,8 @@ fn motion_to_be(
             30 => Motion::Ccw,
             50..=52 => Motion::Spline(g as u16),
             331 => Motion::RigidTap,
-            382..=385 => Motion::Probe(g as u16),
+            // G31 (Fanuc's skip: only its dialect's words have it) probes as G38.3 does.
+            310 | 382..=385 => Motion::Probe(g as u16),
             730 | 740 | 810..=890 => Motion::Cycle(g as u16),
             800 => Motion::None,
             _ => continue,
@@ -1139,7 +1154,10 @@ fn motion_line(
             Ok(())
         }
         Motion::Probe(g) => {
-            st.modal.motion = m;
+            // Fanuc's G31 is one-shot (group 00): the motion mode stays as it was.
+            if g != 310 {
+                st.modal.motion = m;
+            }
             super::probe::probe(st, comp, x, w, g, col)
         }
         Motion::Spline(g) => {

@@ -318,6 +318,15 @@ impl Flow {
         }
     }
 
+    /// The call level of the innermost G65 call, whose #1–#33 the running program reads
+    /// (an M98 subprogram shares its caller's); 0 for the main program's.
+    pub fn g65_level(&self) -> usize {
+        self.frames
+            .iter()
+            .rposition(|f| f.call_type == CallType::G65)
+            .map_or(0, |i| i + 1)
+    }
+
     /// The local named parameters of the running subroutine (None at level 0).
     pub fn locals(&self) -> Option<&HashMap<String, f64>> {
         self.frames.last().map(|f| &f.locals)

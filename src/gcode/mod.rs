@@ -23,6 +23,7 @@ pub mod read;
 pub mod search;
 pub mod spline;
 pub mod state;
+pub mod sysvars;
 pub mod words;
 
 pub use exec::{Ask, Event, Machine, Probed};
@@ -146,6 +147,29 @@ impl SubFinder for SubPrograms {
 struct ParamEnv<'a> {
     st: &'a InterpState,
     flow: &'a Flow,
+    /// The Fanuc dialect: its system variables (`sysvars`) are read.
+    fanuc: bool,
+    magazine: &'a Magazine,
+    parts: Option<(u64, u64)>,
+    first_code: Option<usize>,
+    adp: &'a [u64],
+}
+
+impl ParamEnv<'_> {
+    /// The number of the program running now: the subprogram's or macro's, else the main
+    /// program's `O` (Fanuc's #4115).
+    fn program_number(&self) -> Option<f64> {
+        let name = match self.flow.sub_name() {
+            Some(n) if self.flow.level() > 0 => n.to_string(),
+            _ => {
+                let l = self.flow.units[0].nth_line(self.first_code?)?;
+                let t = l.trim_start();
+                let t = t.strip_prefix(['O', 'o'])?;
+                t.chars().take_while(char::is_ascii_digit).collect()
+            }
+        };
+        name.parse::<u32>().ok().map(f64::from)
+    }
 }
 
 /// Fanuc's argument specification I: the letters G65 takes and the local variable each
@@ -177,6 +201,21 @@ pub const G65_ARGUMENTS: [(char, usize); 21] = [
 
 impl Env for ParamEnv<'_> {
     fn numbered(&self, n: usize) -> Result<f64, String> {
+        if self.fanuc {
+            let e = sysvars::SysEnv {
+                st: self.st,
+                magazine: self.magazine,
+                parts: self.parts,
+                program: if matches!(n, 4115 | 4315) {
+                    self.program_number()
+                } else {
+                    None
+                },
+            };
+            if let Some(r) = sysvars::read(n, &e) {
+                return r;
+            }
+        }
         if (5420..=5428).contains(&n) && self.st.modal.comp != state::CompSide::Off {
             return Err(format!(
                 "#{n} (the current position) cannot be read with cutter radius compensation on"
@@ -190,6 +229,11 @@ impl Env for ParamEnv<'_> {
             return Err(format!("#<{name}> (the current position) cannot be read with cutter radius compensation on"));
         }
         Ok(self.st.named_value(name, self.flow.locals()))
+    }
+
+    fn unpointed(&self, n: usize) -> bool {
+        let level = self.flow.g65_level();
+        level > 0 && self.adp.get(level).is_some_and(|m| m & (1 << n) != 0)
     }
 }
 
@@ -260,6 +304,11 @@ pub struct GcodeSource {
     /// A remapped M6's line, while its subroutine runs: the rest of the line executes when
     /// the call level falls below `level` (docs/gcode.md "Remapping M6").
     remap: Option<RemapLine>,
+    /// The console's part counter, parts made and required (Fanuc's #3901/#3902).
+    parts: Option<(u64, u64)>,
+    /// By G65 call level: the locals (bit n for #n) given without a decimal point on a length
+    /// address, which ADP reads as if with one.
+    adp: Vec<u64>,
 }
 
 /// The line of a remapped M6 whose subroutine is running.
@@ -370,6 +419,8 @@ impl GcodeSource {
             searching: false,
             finder: Box::new(NoFiles),
             remap: None,
+            parts: None,
+            adp: Vec::new(),
         }
     }
 
@@ -395,6 +446,12 @@ impl GcodeSource {
     /// The machine that answers probes and inputs.
     pub fn machine(mut self, m: Box<dyn Machine>) -> GcodeSource {
         self.machine = m;
+        self
+    }
+
+    /// The part counter the program reads (Fanuc's #3901 parts machined, #3902 required).
+    pub fn part_counter(mut self, made: u64, required: u64) -> GcodeSource {
+        self.parts = Some((made, required));
         self
     }
 
@@ -617,6 +674,11 @@ impl GcodeSource {
             let env = ParamEnv {
                 st: &self.st,
                 flow: &self.flow,
+                fanuc: self.settings.dialect == Dialect::Fanuc,
+                magazine: &self.magazine,
+                parts: self.parts,
+                first_code: self.first_code,
+                adp: &self.adp,
             };
             let flow = &self.flow;
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
@@ -627,6 +689,13 @@ impl GcodeSource {
                 increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
+                .and_then(|()| {
+                    if opts.fanuc {
+                        fanuc_dwell(&mut line, n, opts.increment)
+                    } else {
+                        Ok(())
+                    }
+                })
         };
         let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
         self.line_buf = Some(line);
@@ -721,6 +790,24 @@ impl GcodeSource {
                     self.fanuc_message(n, *p, *v, *col, &line.comments)?;
                     stop = Some(*col);
                 }
+                Target::Numbered(p)
+                    if fanuc
+                        && (*p > read::MAX_PARAM
+                            || sysvars::tool_var(*p).is_some()
+                            || (3001..=5048).contains(p)) =>
+                {
+                    let r = sysvars::write(*p, *v, &self.st, &mut self.magazine, &mut self.events);
+                    if let Some(Err(m)) = r {
+                        return Err(TranslateError {
+                            line: n,
+                            col: *col,
+                            message: m,
+                        });
+                    }
+                    if r.is_none() {
+                        self.st.params[*p] = *v;
+                    }
+                }
                 Target::Numbered(p) if fanuc && state::is_fanuc_kept(*p) => {
                     self.st.params[*p] = *v;
                     // Kept by the stores; a vacant one is kept as nothing (0).
@@ -736,6 +823,11 @@ impl GcodeSource {
                     self.st.params[*p] = *v;
                     if state::is_persistent(*p) {
                         self.events.push(Event::Param(*p, *v));
+                    }
+                    // Fanuc: a changed work offset of the system in force acts at once.
+                    let b = state::system_base(self.st.modal.cs);
+                    if fanuc && (b + 1..=b + 3).contains(p) {
+                        self.st.select_system(self.st.modal.cs);
                     }
                 }
                 Target::Named(name) => {
@@ -812,11 +904,18 @@ impl GcodeSource {
             }
             return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
         }
+        if fanuc {
+            // #4113: the last M code read.
+            if let Some(m) = line.words.iter().rev().find(|w| w.letter == 'M') {
+                self.st.fanuc_m = m.value;
+            }
+        }
         let mut words = self.words_buf.take().unwrap_or_default();
-        let dialect = if self.st.a_axis.is_some() {
-            &words::MILL4
-        } else {
-            &words::MILL
+        let dialect = match (self.st.a_axis.is_some(), fanuc) {
+            (true, false) => &words::MILL4,
+            (false, false) => &words::MILL,
+            (true, true) => &words::FANUC4,
+            (false, true) => &words::FANUC,
         };
         let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
         let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
@@ -935,6 +1034,7 @@ impl GcodeSource {
             .find(|w| w.letter == 'G')
             .map_or(1, |w| w.col);
         let mut args = [f64::NAN; flow::LOCALS];
+        let mut unpointed = 0u64;
         let (mut p, mut l) = (None, None);
         for w in &line.words {
             match w.letter {
@@ -976,12 +1076,20 @@ impl GcodeSource {
                         return Err(err(w.col, format!("G65: argument {c} is given twice")));
                     }
                     args[k - 1] = w.value;
+                    let bit = read::letter_bit(c);
+                    if line.plain & bit != 0
+                        && line.pointed & bit == 0
+                        && read::FANUC_INCREMENT_LETTERS.contains(&(c as u8))
+                    {
+                        unpointed |= 1 << k;
+                    }
                 }
             }
         }
         let Some(p) = p else {
             return Err(err(g_col, "G65 needs P, the macro's program number".into()));
         };
+        let before = self.flow.level();
         self.flow
             .call_numbered(
                 p,
@@ -992,7 +1100,15 @@ impl GcodeSource {
                 &mut self.st,
                 self.finder.as_ref(),
             )
-            .map_err(|m| err(g_col, m))
+            .map_err(|m| err(g_col, m))?;
+        let level = self.flow.level();
+        if level > before {
+            if self.adp.len() <= level {
+                self.adp.resize(level + 1, 0);
+            }
+            self.adp[level] = unpointed;
+        }
+        Ok(())
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: macro alarm 3000 + n, the run stops there; `#3006 = n
@@ -1137,6 +1253,77 @@ impl GcodeSource {
             self.spare = Some(st);
         }
     }
+}
+
+/// Fanuc's G04 (docs/gcode.md "Fanuc dialect"): `X` or `U` in seconds (without a decimal
+/// point in least increments of 0.001 s), `P` in milliseconds written without a decimal
+/// point; made LinuxCNC's `P` in seconds for the line's execution.
+fn fanuc_dwell(line: &mut read::Line, n: u32, increment: f64) -> Result<(), TranslateError> {
+    if !line.words.iter().any(|w| w.letter == 'G' && w.value == 4.0) {
+        return Ok(());
+    }
+    let err = |col: u32, message: String| TranslateError {
+        line: n,
+        col,
+        message,
+    };
+    let mut dwell = None;
+    for (i, w) in line.words.iter().enumerate() {
+        if !matches!(w.letter, 'X' | 'U' | 'P') {
+            continue;
+        }
+        if dwell.is_some() {
+            return Err(err(
+                w.col,
+                "G04 takes one dwell: X or U in seconds, or P in milliseconds".into(),
+            ));
+        }
+        dwell = Some(i);
+    }
+    let Some(i) = dwell else {
+        let col = line
+            .words
+            .iter()
+            .find(|w| w.letter == 'G' && w.value == 4.0)
+            .map_or(1, |w| w.col);
+        return Err(err(
+            col,
+            "G04 needs its dwell: X or U in seconds (X1.5), or P in milliseconds (P1500)".into(),
+        ));
+    };
+    let w = line.words[i];
+    let bit = read::letter_bit(w.letter);
+    let plain = line.plain & bit != 0;
+    let pointed = line.pointed & bit != 0;
+    let seconds = if w.letter == 'P' {
+        if pointed {
+            return Err(err(w.col, format!(
+                "G04 P{}: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds)",
+                crate::input_text::short_number(w.value)
+            )));
+        }
+        if w.value.fract() != 0.0 {
+            return Err(err(
+                w.col,
+                format!(
+                    "G04 P{}: P is a whole number of milliseconds",
+                    crate::input_text::short_number(w.value)
+                ),
+            ));
+        }
+        w.value / 1000.0
+    } else if plain && !pointed {
+        // Least increments: the count read, in milliseconds.
+        (w.value / increment).round() / 1000.0
+    } else {
+        w.value
+    };
+    line.words[i] = read::Word {
+        letter: 'P',
+        value: seconds,
+        col: w.col,
+    };
+    Ok(())
 }
 
 /// `raw.trim()`, the usual line (ASCII letters and digits at both ends) without the search.

@@ -21,8 +21,11 @@ use crate::workpiece::{along, Touch, Workpiece};
 /// The shortest probe move LinuxCNC accepts, inches (its "start point too close").
 const MIN_PROBE_INCH: f64 = 0.01;
 
-/// `G38.2` … `G38.5` for motion `g` (×10: 382 … 385).
+/// `G38.2` … `G38.5` for motion `g` (×10: 382 … 385), `G31` for 310 (Fanuc's skip).
 fn name(g: u16) -> String {
+    if g == 310 {
+        return "G31".into();
+    }
     format!("G38.{}", g % 10)
 }
 
@@ -137,7 +140,13 @@ pub fn answer(
             }
             st.pos = r.at;
             let k = st.factor();
-            let p = st.to_program(r.at);
+            // Fanuc's skip position (#5061–) is in work coordinates with the tool offset
+            // included; LinuxCNC's probe point is in the program's frame.
+            let p = if g == 310 {
+                st.work_with_tool(r.at)
+            } else {
+                st.to_program(r.at)
+            };
             for (a, v) in p.iter().enumerate() {
                 st.params[5061 + a] = v / k;
             }

@@ -37,6 +37,11 @@ pub trait Env {
     /// The value of the named parameter `#<name>` (`name` in lower case, without spaces), or
     /// `None` if it is not defined.
     fn named(&self, name: &str) -> Result<Option<f64>, String>;
+    /// Fanuc: whether local `#n` (1–33) is a G65 argument given without a decimal point on a
+    /// length address (so in least increments: what ADP undoes).
+    fn unpointed(&self, _n: usize) -> bool {
+        false
+    }
 }
 
 /// One word: its letter (upper case), value and 1-based column.
@@ -217,6 +222,11 @@ pub struct Line {
     pub comments: Vec<Comment>,
     /// A Fanuc Custom Macro B flow statement (GOTO, a true IF's GOTO, WHILE, DO, END).
     pub fanuc: Option<Macro>,
+    /// Fanuc dialect: the letters ([`letter_bit`]) whose value is a number written plainly,
+    /// not an expression or a variable.
+    pub plain: u32,
+    /// Fanuc dialect: the letters whose plain number has a decimal point.
+    pub pointed: u32,
 }
 
 /// A Fanuc Custom Macro B flow statement (docs/gcode.md "Fanuc dialect"). An `IF [..] GOTO n`
@@ -300,6 +310,8 @@ impl Line {
         self.o = None;
         self.comments.clear();
         self.fanuc = None;
+        self.plain = 0;
+        self.pointed = 0;
     }
 }
 
@@ -326,6 +338,8 @@ struct Reader<'a> {
     fanuc: bool,
     /// The last number read had a decimal point.
     point: bool,
+    /// The least increment in program units (Fanuc's numbers without a point).
+    increment: f64,
 }
 
 impl Reader<'_> {
@@ -507,6 +521,10 @@ impl Reader<'_> {
         if self.fanuc && n == 0 {
             return Ok((Target::Numbered(0), col));
         }
+        if self.fanuc && n > MAX_PARAM as i64 && n <= super::sysvars::MAX_FANUC_VAR as i64 {
+            // Fanuc's tool offsets #10001–#13999 (docs/gcode.md "Fanuc dialect").
+            return Ok((Target::Numbered(n as usize), col));
+        }
         if n < 1 || n > MAX_PARAM as i64 {
             return Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}")));
         }
@@ -549,7 +567,7 @@ impl Reader<'_> {
             "abs", "acos", "asin", "atan", "cos", "exists", "exp", "fix", "fup", "ln", "round",
             "sin", "sqrt", "tan",
         ];
-        const FANUC_NAMES: [&str; 2] = ["bcd", "bin"];
+        const FANUC_NAMES: [&str; 3] = ["adp", "bcd", "bin"];
         let fanuc_names: &[&str] = if self.fanuc { &FANUC_NAMES } else { &[] };
         let Some(name) = NAMES.iter().chain(fanuc_names).find(|n| self.eat_name(n)) else {
             let mut word = String::new();
@@ -588,8 +606,48 @@ impl Reader<'_> {
                 },
             });
         }
+        if *name == "adp" {
+            // ADP[#n]: a G65 argument given without a decimal point, as if it had one.
+            self.i += 1;
+            let (t, pcol) = if self.peek() == Some('#') {
+                self.param_ref()?
+            } else {
+                (Target::Numbered(0), self.col())
+            };
+            let n = match t {
+                Target::Numbered(n @ 1..=33) => n,
+                _ => return Err(self.err(pcol, "ADP takes a local variable: ADP[#1] to ADP[#33]")),
+            };
+            if !self.eat(']') {
+                return Err(self.err(self.col(), "']' expected after ADP[#n"));
+            }
+            let v = self.lookup(&Target::Numbered(n), pcol)?;
+            if is_null(v) || !self.env.unpointed(n) {
+                return Ok(v);
+            }
+            return Ok((v / self.increment).round());
+        }
+        // Fanuc 30i's ATAN[y,x]: the two arguments in one bracket.
+        let mut fanuc_atan2 = None;
+        let a = if self.fanuc && *name == "atan" {
+            let open = self.col();
+            self.i += 1; // '['
+            let y = self.expr(0)?;
+            if self.eat(',') {
+                fanuc_atan2 = Some(nz(self.expr(0)?));
+            }
+            if !self.eat(']') {
+                return Err(self.err(
+                    self.col(),
+                    format!("']' expected to close the '[' at column {open}"),
+                ));
+            }
+            y
+        } else {
+            self.bracket()?
+        };
         // Null in arithmetic is 0 (Fanuc; nothing is null in LinuxCNC's language).
-        let a = nz(self.bracket()?);
+        let a = nz(a);
         let dom = |ok: bool, what: &str| -> Result<(), TranslateError> {
             if ok {
                 Ok(())
@@ -612,10 +670,19 @@ impl Reader<'_> {
                 a.asin().to_degrees()
             }
             "atan" => {
-                if !self.eat('/') || self.peek() != Some('[') {
-                    return Err(self.err(self.col(), "ATAN is written ATAN[y]/[x]"));
-                }
-                let b = nz(self.bracket()?);
+                let b = if let Some(b) = fanuc_atan2 {
+                    b
+                } else {
+                    if !self.eat('/') || self.peek() != Some('[') {
+                        let m = if self.fanuc {
+                            "ATAN is written ATAN[y]/[x] or ATAN[y,x]"
+                        } else {
+                            "ATAN is written ATAN[y]/[x]"
+                        };
+                        return Err(self.err(self.col(), m));
+                    }
+                    nz(self.bracket()?)
+                };
                 let t = a.atan2(b).to_degrees();
                 // Fanuc's ATAN answers 0 to 360 degrees (parameter 6004#0 = 0).
                 if self.fanuc && t < 0.0 {
@@ -992,6 +1059,7 @@ pub fn read_into_opts(
         depth: 0,
         fanuc: opts.fanuc,
         point: false,
+        increment: opts.increment,
     };
     if r.eat('/') {
         out.block_delete = true;
@@ -1074,10 +1142,16 @@ pub fn read_into_opts(
         r.i += 1;
         // A number, or a minus and a number: read straight (what `value` does with them).
         let value = if r.fanuc {
-            let v = fanuc_word_value(&mut r, letter, opts.increment)?;
+            let (v, plain) = fanuc_word_value(&mut r, letter, opts.increment)?;
             if is_null(v) {
                 // A word whose value is null is as if it were not written (Fanuc).
                 continue;
+            }
+            if let Some(point) = plain {
+                out.plain |= letter_bit(letter);
+                if point {
+                    out.pointed |= letter_bit(letter);
+                }
             }
             v
         } else {
@@ -1097,12 +1171,18 @@ pub fn read_into_opts(
 
 /// A word's value in the Fanuc dialect: a number written without a decimal point on a
 /// length address ([`FANUC_INCREMENT_LETTERS`]) is in least increments (`X10` is 0.010 mm).
-fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64, TranslateError> {
+/// With the value: `Some(point)` for a number written plainly (with a decimal point or
+/// not), `None` for an expression or a variable.
+fn fanuc_word_value(
+    r: &mut Reader,
+    letter: char,
+    increment: f64,
+) -> Result<(f64, Option<bool>), TranslateError> {
     let sign = match (r.at(0), r.at(1)) {
         (Some(b'-'), Some(b'0'..=b'9' | b'.')) => -1.0,
         (Some(b'+'), Some(b'0'..=b'9' | b'.')) => 1.0,
         (Some(b'0'..=b'9' | b'.'), _) => 0.0,
-        _ => return r.value(),
+        _ => return Ok((r.value()?, None)),
     };
     if sign != 0.0 {
         r.i += 1;
@@ -1110,9 +1190,17 @@ fn fanuc_word_value(r: &mut Reader, letter: char, increment: f64) -> Result<f64,
     let v = r.number()?;
     let sign = if sign == 0.0 { 1.0 } else { sign };
     if !r.point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
-        return Ok(sign * v * increment);
+        return Ok((sign * v * increment, Some(false)));
     }
-    Ok(sign * v)
+    Ok((sign * v, Some(r.point)))
+}
+
+/// A letter's bit in [`Line::pointed`] and [`Line::plain`] (A = bit 0 … Z = bit 25).
+pub fn letter_bit(letter: char) -> u32 {
+    match letter {
+        'A'..='Z' => 1 << (letter as u32 - 'A' as u32),
+        _ => 0,
+    }
 }
 
 /// Whether a Fanuc statement's keyword starts at the reader's place: GOTO, IF [, WHILE [,

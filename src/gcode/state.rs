@@ -292,6 +292,8 @@ pub struct InterpState {
     /// The Fanuc dialect's variables have been made vacant (null) once: #1–#33, #100–#199
     /// and the #500–#999 not kept (docs/gcode.md "Fanuc dialect").
     pub fanuc_vacant: bool,
+    /// The last M code read (Fanuc's #4113), null until one is.
+    pub fanuc_m: f64,
 }
 
 /// Fanuc's common variables kept across a restart (#500–#999), journaled with the
@@ -341,6 +343,7 @@ impl Default for InterpState {
             nurbs: None,
             g5_tangent: [0.0; 2],
             fanuc_vacant: false,
+            fanuc_m: f64::NAN,
         }
     }
 }
@@ -458,6 +461,18 @@ impl InterpState {
             m[0] - self.origin[0] - self.tlo[0],
             m[1] - self.origin[1] - self.tlo[1],
             m[2] - self.origin[2] - self.tlo[2],
+        ];
+        let r = rotate([q[0], q[1]], -self.rotation);
+        [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]]
+    }
+
+    /// A machine point in the work coordinates with the tool length offset included (the
+    /// gauge line's work position: Fanuc's #5041), mm.
+    pub fn work_with_tool(&self, m: [f64; 3]) -> [f64; 3] {
+        let q = [
+            m[0] - self.origin[0],
+            m[1] - self.origin[1],
+            m[2] - self.origin[2],
         ];
         let r = rotate([q[0], q[1]], -self.rotation);
         [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]]

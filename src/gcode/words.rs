@@ -48,6 +48,26 @@ pub const MILL4: Dialect = Dialect {
     ..MILL
 };
 
+/// The mill dialect read in Fanuc's language (docs/gcode.md "Fanuc dialect"): G31 (skip) is
+/// a motion besides LinuxCNC's codes.
+pub const FANUC: Dialect = Dialect {
+    g_group: fanuc_g_group,
+    ..MILL
+};
+
+/// [`FANUC`] on a machine with a rotary A axis.
+pub const FANUC4: Dialect = Dialect {
+    g_group: fanuc_g_group,
+    ..MILL4
+};
+
+fn fanuc_g_group(g: u32) -> Option<u8> {
+    if g == 310 {
+        return Some(1);
+    }
+    g_group(g)
+}
+
 fn mill_g_why(g: u32) -> &'static str {
     match g {
         70 | 80 => " (G07/G08 diameter and radius mode are the lathe's)",

@@ -1,0 +1,331 @@
+//! Fanuc Custom Macro B's system variables in the Fanuc dialect (docs/gcode.md "Fanuc
+//! dialect", "System variables"): the modal information #4001–#4130 and #4201–#4330, the
+//! positions #5001–#5048, the tool offsets #2001–#2800 and #10001–#13999 (memory C), the
+//! part counter #3901/#3902, and the clocks #3001/#3002 refused with their reason. Each is
+//! worked out when read from the interpreter's state as read (the state the machine will
+//! have when it reaches the line), as LinuxCNC's #5420 is. The LinuxCNC dialect never comes
+//! here.
+
+use super::exec::Event;
+use super::read::MAX_PARAM;
+use super::state::{CompSide, FeedMode, InterpState, Motion, PathMode};
+use crate::block::Plane;
+use crate::tooldata::Magazine;
+
+/// The highest variable number the Fanuc dialect reads (#13999: radius geometry of offset 999).
+pub const MAX_FANUC_VAR: usize = 13999;
+
+/// What the system variables are worked out from.
+pub struct SysEnv<'a> {
+    /// The interpreter's state as read.
+    pub st: &'a InterpState,
+    /// The tool data.
+    pub magazine: &'a Magazine,
+    /// The console's part counter: parts made and required (None: no counter here).
+    pub parts: Option<(u64, u64)>,
+    /// The number of the program running now (#4115), if it has one.
+    pub program: Option<f64>,
+}
+
+/// A tool offset variable: which of memory C's four kinds, of which offset number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ToolVar {
+    /// The offset number (novanc's T code, as H and D name them).
+    pub offset: u32,
+    /// Radius (else length).
+    pub radius: bool,
+    /// Wear (else geometry).
+    pub wear: bool,
+}
+
+/// The tool offset variable `#n`, if it is one: #2001–#2200 length wear, #2201–#2400 length
+/// geometry, #2401–#2600 radius wear, #2601–#2800 radius geometry (offsets 1–200), and
+/// #10001–#10999, #11001–, #12001–, #13001– the same for offsets 1–999 (Fanuc 0i memory C).
+pub fn tool_var(n: usize) -> Option<ToolVar> {
+    let (kind, offset) = match n {
+        2001..=2800 => ((n - 2001) / 200, (n - 2001) % 200 + 1),
+        10001..=13999 if !n.is_multiple_of(1000) => ((n - 10000) / 1000, n % 1000),
+        _ => return None,
+    };
+    Some(ToolVar {
+        offset: offset as u32,
+        radius: kind >= 2,
+        wear: kind % 2 == 0,
+    })
+}
+
+fn var_name(v: ToolVar) -> String {
+    format!(
+        "{} {}",
+        if v.radius { "radius" } else { "length" },
+        if v.wear { "wear" } else { "geometry" }
+    )
+}
+
+/// The value of a tool offset variable, mm: (length, radius) geometry or wear.
+fn tool_value(v: ToolVar, n: usize, m: &Magazine) -> Result<f64, String> {
+    let rec = m.tools.get(v.offset).ok_or_else(|| {
+        format!(
+            "#{n} ({} of offset {o}): T code {o} has no tool data in the tool file",
+            var_name(v),
+            o = v.offset
+        )
+    })?;
+    Ok(match (v.radius, v.wear) {
+        (false, false) => rec.set_length,
+        (false, true) => rec.wear_length,
+        (true, false) => rec.diameter / 2.0,
+        (true, true) => rec.wear_diameter / 2.0,
+    })
+}
+
+/// A Fanuc system variable's value, or why it cannot be read; `None` when `#n` is not one of
+/// these (a variable kept as LinuxCNC's parameters are).
+pub fn read(n: usize, e: &SysEnv) -> Option<Result<f64, String>> {
+    let st = e.st;
+    let k = st.factor();
+    if let Some(v) = tool_var(n) {
+        return Some(tool_value(v, n, e.magazine).map(|mm| mm / k));
+    }
+    Some(match n {
+        3001 | 3002 => Err(format!(
+            "#{n} (the {} clock): novanc's reader runs ahead of the machine and has no machine clock to read",
+            if n == 3001 { "millisecond" } else { "hour" }
+        )),
+        3901 | 3902 => match e.parts {
+            Some((made, required)) => Ok(if n == 3901 { made } else { required } as f64),
+            None => Err(format!(
+                "#{n} (parts {}): there is no part counter here (the console's POS page keeps one)",
+                if n == 3901 { "machined" } else { "required" }
+            )),
+        },
+        4001..=4130 => modal(n, n - 4000, e),
+        4201..=4330 => modal(n, n - 4200, e),
+        5001..=5008 | 5021..=5028 | 5041..=5048 => position(n, st),
+        _ if n > MAX_PARAM => Err(unknown(n)),
+        _ => return None,
+    })
+}
+
+fn unknown(n: usize) -> String {
+    format!("#{n}: novanc has no such variable (the Fanuc dialect reads #1 to #{MAX_PARAM}, and the tool offsets #10001 to #{MAX_FANUC_VAR})")
+}
+
+/// The modal information item `i` (#4000 + i, or #4200 + i).
+fn modal(n: usize, i: usize, e: &SysEnv) -> Result<f64, String> {
+    let st = e.st;
+    let m = &st.modal;
+    let null = f64::NAN;
+    Ok(match i {
+        1 => match m.motion {
+            Motion::Rapid => 0.0,
+            Motion::Feed => 1.0,
+            Motion::Cw => 2.0,
+            Motion::Ccw => 3.0,
+            _ => 80.0,
+        },
+        2 => match m.plane {
+            Plane::XY => 17.0,
+            Plane::XZ => 18.0,
+            Plane::YZ => 19.0,
+        },
+        3 => {
+            if m.incremental {
+                91.0
+            } else {
+                90.0
+            }
+        }
+        5 => match m.feed_mode {
+            FeedMode::InverseTime => 93.0,
+            FeedMode::PerMinute => 94.0,
+            FeedMode::PerRevolution => 95.0,
+        },
+        6 => {
+            if m.inch {
+                20.0
+            } else {
+                21.0
+            }
+        }
+        7 => match m.comp {
+            CompSide::Off => 40.0,
+            CompSide::Left => 41.0,
+            CompSide::Right => 42.0,
+        },
+        8 => {
+            if st.tlo_tool.is_some() || st.tlo.iter().any(|&v| v != 0.0) {
+                43.0
+            } else {
+                49.0
+            }
+        }
+        9 => match m.motion {
+            Motion::Cycle(g) => f64::from(g) / 10.0,
+            _ => 80.0,
+        },
+        10 => {
+            if m.retract_r {
+                99.0
+            } else {
+                98.0
+            }
+        }
+        14 => match m.cs {
+            cs @ 0..=5 => 54.0 + cs as f64,
+            cs => 59.0 + (cs - 5) as f64 / 10.0,
+        },
+        15 => match m.path {
+            PathMode::Blend { .. } => 64.0,
+            _ => 61.0,
+        },
+        107 => st.comp_tool.map_or(0.0, f64::from),
+        109 => m.feed / st.factor(),
+        111 => st.tlo_tool.map_or(0.0, f64::from),
+        113 => st.fanuc_m,
+        114 => st.line_number,
+        115 => e.program.unwrap_or(null),
+        119 => m.speed,
+        120 => st.selected.map_or(null, f64::from),
+        _ => {
+            let base = n - i;
+            let have: Vec<String> = [
+                1, 2, 3, 5, 6, 7, 8, 9, 10, 14, 15, 107, 109, 111, 113, 114, 115, 119, 120,
+            ]
+            .iter()
+            .map(|j| format!("#{}", base + j))
+            .collect();
+            return Err(format!(
+                "#{n}: novanc keeps no such modal information (it has {})",
+                have.join(" ")
+            ));
+        }
+    })
+}
+
+/// #5001–#5008 (block end, work, tool offset not included), #5021–#5028 (machine),
+/// #5041–#5048 (work, tool offset included): axis 1–3 X Y Z, 4 A.
+fn position(n: usize, st: &InterpState) -> Result<f64, String> {
+    let kind = (n - 5001) / 20;
+    let axis = (n - 5001) % 20;
+    let what = [
+        "the block end position",
+        "the machine position",
+        "the work position",
+    ][kind];
+    if st.modal.comp != CompSide::Off {
+        return Err(format!(
+            "#{n} ({what}) cannot be read with cutter radius compensation on"
+        ));
+    }
+    if axis == 3 && st.a_axis.is_some() {
+        return Ok(st.a);
+    }
+    if axis >= 3 {
+        return Err(format!(
+            "#{n} ({what} of axis {}): this machine has the axes X, Y, Z{}",
+            axis + 1,
+            if st.a_axis.is_some() { " and A" } else { "" }
+        ));
+    }
+    let k = st.factor();
+    let mm = match kind {
+        0 => st.prog()[axis],
+        1 => st.pos[axis],
+        _ => st.work_with_tool(st.pos)[axis],
+    };
+    Ok(mm / k)
+}
+
+/// Sets a Fanuc system variable: `None` when `#n` is not one (a parameter as LinuxCNC's);
+/// else done, or why not. A tool offset is changed in the tool data and said as an event
+/// (the console journals it as OFS does).
+pub fn write(
+    n: usize,
+    v: f64,
+    st: &InterpState,
+    magazine: &mut Magazine,
+    events: &mut Vec<Event>,
+) -> Option<Result<(), String>> {
+    if let Some(tv) = tool_var(n) {
+        return Some(write_tool(n, tv, v * st.factor(), magazine, events));
+    }
+    let ro = |what: &str| Some(Err(format!("#{n} ({what}) is read-only")));
+    match n {
+        3001 | 3002 => Some(Err(format!(
+            "#{n}: novanc's reader has no machine clock to set (it runs ahead of the machine)"
+        ))),
+        3901 | 3902 => Some(Err(format!(
+            "#{n}: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"
+        ))),
+        4001..=4130 | 4201..=4330 => ro("modal information"),
+        5001..=5008 => ro("the block end position"),
+        5021..=5028 => ro("the machine position"),
+        5041..=5048 => ro("the work position"),
+        _ if n > MAX_PARAM => Some(Err(unknown(n))),
+        _ => None,
+    }
+}
+
+fn write_tool(
+    n: usize,
+    tv: ToolVar,
+    mm: f64,
+    magazine: &mut Magazine,
+    events: &mut Vec<Event>,
+) -> Result<(), String> {
+    if read_null(mm) {
+        return Err(format!(
+            "#{n} ({}): a tool offset cannot be null",
+            var_name(tv)
+        ));
+    }
+    let t = tv.offset;
+    let Some(rec) = magazine.tools.get(t).cloned() else {
+        return Err(format!(
+            "#{n} ({} of offset {t}): T code {t} has no tool data in the tool file",
+            var_name(tv)
+        ));
+    };
+    let mut new = rec.clone();
+    match (tv.radius, tv.wear) {
+        (false, false) => new.set_length = mm,
+        (false, true) => new.wear_length = mm,
+        (true, false) => new.diameter = 2.0 * mm,
+        (true, true) => new.wear_diameter = 2.0 * mm,
+    }
+    let max = crate::tooldata::MAX_WEAR_MM;
+    if tv.wear && mm.abs() * if tv.radius { 2.0 } else { 1.0 } > max {
+        return Err(format!(
+            "#{n} ({}): {mm} mm is beyond the largest wear ({max} mm either way)",
+            var_name(tv)
+        ));
+    }
+    if !(new.length().is_finite() && new.length().abs() <= 1e5) {
+        return Err(format!(
+            "#{n} ({}): the tool length is out of range",
+            var_name(tv)
+        ));
+    }
+    if !(new.cutting_diameter() > 0.0 && new.diameter > 0.0 && new.cutting_diameter() <= 1e5) {
+        return Err(format!(
+            "#{n} ({}): it leaves no diameter (diameter {} mm, wear {} mm)",
+            var_name(tv),
+            new.diameter,
+            new.wear_diameter
+        ));
+    }
+    magazine.tools.set(t, Some(new.clone()));
+    events.push(Event::ToolOffsets {
+        t,
+        length: new.set_length,
+        diameter: new.diameter,
+        wear_length: new.wear_length,
+        wear_diameter: new.wear_diameter,
+    });
+    Ok(())
+}
+
+fn read_null(v: f64) -> bool {
+    super::read::is_null(v)
+}
