@@ -178,6 +178,8 @@ pub enum CallType {
     M98,
     /// `G65 P... L...` with arguments (Fanuc's Custom Macro B): local #1–#33 of its own.
     G65,
+    /// The macro of a `G66 P...` modal call, called after a move: as G65.
+    G66,
 }
 
 /// Fanuc's local variables, #1 to #33: each G65 call level has its own.
@@ -694,7 +696,7 @@ impl Flow {
                 CallType::M98 => {
                     format!("M98 P{name}: subprogram calls nested more than {MAX_CALL_DEPTH} deep")
                 }
-                CallType::G65 => {
+                CallType::G65 | CallType::G66 => {
                     format!("G65 P{name}: macro calls nested more than {MAX_CALL_DEPTH} deep")
                 }
                 CallType::Oword => format!(
@@ -709,7 +711,7 @@ impl Flow {
         // null (vacant) when not given.
         let (locals, absent) = match call_type {
             CallType::Oword => (MAX_ARGS, 0.0),
-            CallType::G65 => (LOCALS, f64::NAN),
+            CallType::G65 | CallType::G66 => (LOCALS, f64::NAN),
             CallType::M98 => (0, 0.0),
         };
         for (i, s) in saved.iter_mut().enumerate().take(locals) {
@@ -812,7 +814,7 @@ impl Flow {
         };
         let locals = match f.call_type {
             CallType::Oword => MAX_ARGS,
-            CallType::G65 => LOCALS,
+            CallType::G65 | CallType::G66 => LOCALS,
             CallType::M98 => 0,
         };
         for (i, v) in f.saved_args.iter().enumerate().take(locals) {
@@ -867,8 +869,9 @@ impl Flow {
                 CallType::M98 => format!(
                     "M98 P{name}: subprogram O{name} is not in the program (searched forward from the call, as LinuxCNC does)"
                 ),
-                CallType::G65 => format!(
-                    "G65 P{name}: macro O{name} is not in the program (searched forward from the call) nor a file {file} in the subroutine path"
+                CallType::G65 | CallType::G66 => format!(
+                    "{} P{name}: macro O{name} is not in the program (searched forward from the call) nor a file {file} in the subroutine path",
+                    if call_type == CallType::G65 { "G65" } else { "G66" }
                 ),
                 CallType::Oword => format!(
                     "subroutine {} not found (not in this program, and no file {file} in the subroutine path)",
@@ -1045,6 +1048,7 @@ impl Flow {
             match self.frames.last().map(|f| f.call_type) {
                 Some(CallType::M98) => return format!("M98 P{s}: subprogram O{s} is not in the program (searched forward from the call, as LinuxCNC does)"),
                 Some(CallType::G65) => return format!("G65 P{s}: macro O{s} is not in the program"),
+                Some(CallType::G66) => return format!("G66 P{s}: macro O{s} is not in the program"),
                 _ => {}
             }
             let file = s.rsplit('#').next().unwrap_or(s);
@@ -1063,7 +1067,7 @@ impl Flow {
             Some(f) if f.call_type == CallType::M98 => {
                 format!("subprogram O{} ends without M99", f.name)
             }
-            Some(f) if f.call_type == CallType::G65 => {
+            Some(f) if matches!(f.call_type, CallType::G65 | CallType::G66) => {
                 format!("macro O{} ends without M99", f.name)
             }
             Some(f) => format!(
