@@ -441,6 +441,54 @@ fn common_variable_500_counts_across_a_restart() {
 }
 
 #[test]
+fn a_dnc_file_s_programs_are_stored_one_by_one_and_called_by_number() {
+    let d = common::temp_dir("fanuc-dnc");
+    let prog = d.join("SHOP.NC");
+    let text =
+        "%\nO1000 (MAIN)\nG21 G90 G54 G10 L2 P1 X0 Y0 Z0\nG65 P9010 X5. Y6.\nM98 P9020\nM30\n\
+                O9010 (MACRO)\nG00 X#24 Y#25\nM99\nO9020 (SUB)\nG00 Z-2.\nM99\n%\n";
+    std::fs::write(&prog, text).unwrap();
+    let state = d.join("state");
+    let mut c = common::reopen_in(&state, Fanuc);
+    read_and_run(&mut c, &prog);
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+    assert_eq!(c.program_name(), "O1000.NGC");
+    // O1000 alone is the current program: the macro and the subprogram are found in program
+    // memory by number, not by searching on in its text.
+    assert!(!c.program_text().contains("O9010"), "{}", c.program_text());
+    assert_eq!(
+        c.status().pos,
+        [common::p(5.0), common::p(6.0), common::p(-2.0)]
+    );
+    // Kept across a restart; read again, the numbers are in use: refused, nothing stored.
+    drop(c);
+    let mut c = common::reopen_in(&state, Fanuc);
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(prog.clone()));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    // The message wraps on the display: compared with its lines joined.
+    let f = c.frame_text().replace('\n', " ");
+    assert!(
+        f.contains(
+            "SHOP.NC:2: program number O1000 already in use (program O1000.NGC); nothing stored"
+        ),
+        "{f}"
+    );
+    assert_eq!(c.program_name(), "O1000.NGC");
+    // In LinuxCNC's dialect the file is one program, as before.
+    let mut c = common::reopen_in(&d.join("state2"), LinuxCnc);
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(prog));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.program_name(), "SHOP.NC");
+    assert!(c.program_text().contains("O9010"));
+}
+
+#[test]
 fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
     let d = common::temp_dir("fanuc-subs");
     std::fs::write(

@@ -1134,7 +1134,38 @@ fn starts_program(raw: &str) -> bool {
     it.peek().is_some_and(u8::is_ascii_digit) && it.all(|c| c.is_ascii_digit())
 }
 
-/// The loop number of a `WHILE [...] DOm` or `DOm` line.
+/// The program number of a line that starts a Fanuc program (`O1000`, nothing else but a
+/// comment).
+pub fn program_number(raw: &str) -> Option<u32> {
+    if !starts_program(raw) {
+        return None;
+    }
+    let digits: Vec<u8> = significant(o_label(raw)?).collect();
+    std::str::from_utf8(&digits).ok()?.parse().ok()
+}
+
+/// The programs of a Fanuc DNC file holding several (`O1000 ... M30 O9010 ... M99 %`): each
+/// one's number, the line of its `O` (from 1) and its lines (the first with the lines before
+/// its `O`, such as the opening `%`). Empty when the file holds fewer than two.
+pub fn dnc_programs(text: &str) -> Vec<(u32, usize, String)> {
+    let mut out: Vec<(u32, usize, String)> = Vec::new();
+    let mut head = String::new();
+    for (i, raw) in text.split_inclusive('\n').enumerate() {
+        match program_number(raw.trim_end_matches(['\r', '\n'])) {
+            Some(n) => out.push((n, i + 1, std::mem::take(&mut head) + raw)),
+            None => match out.last_mut() {
+                Some(p) => p.2.push_str(raw),
+                None => head.push_str(raw),
+            },
+        }
+    }
+    if out.len() < 2 {
+        out.clear();
+    }
+    out
+}
+
+/// The loop number of a `WHILE [...] DOm` or `DOm` line./// The loop number of a `WHILE [...] DOm` or `DOm` line.
 fn loop_start_number(raw: &str) -> Option<u8> {
     let (body, _) = block_body(raw);
     let tail = if body.starts_with(b"while") {

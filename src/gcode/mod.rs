@@ -134,7 +134,17 @@ pub struct SubPrograms {
 impl SubFinder for SubPrograms {
     fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
         let want = format!("{}.NGC", name.to_ascii_uppercase());
-        if let Some((n, t)) = self.programs.iter().find(|(n, _)| *n == want) {
+        // A program number (M98/G65 P9010) is also program O9010.NGC, as a Fanuc DNC file's
+        // programs are stored (docs/gcode.md "Fanuc dialect").
+        let numbered = name
+            .bytes()
+            .all(|c| c.is_ascii_digit())
+            .then(|| format!("O{want}"));
+        if let Some((n, t)) = self
+            .programs
+            .iter()
+            .find(|(n, _)| *n == want || Some(n) == numbered.as_ref())
+        {
             return Ok(Some((n.clone(), t.clone())));
         }
         self.path.find(name)
