@@ -231,6 +231,23 @@ fn g66_and_g67_are_refused_with_their_place_where_novanc_differs_or_the_block_is
 }
 
 #[test]
+fn the_msg_page_shows_a_3000_alarm_with_its_number() {
+    let d = common::temp_dir("fanuc-msg");
+    let mut c = common::reopen_in(&d.join("state"), Fanuc);
+    read_and_run(&mut c, &golden("missing.nc"));
+    assert!(c.view().lamps.alarm, "{}", c.frame_text());
+    common::keys(&mut c, &["Ctrl+e"]);
+    assert!(
+        common::shows(
+            &c,
+            "ALARM 3:1: in O9020.NGC line 2:21: MACRO ALARM 3001: X MISSING (#3000 = 1)"
+        ),
+        "{}",
+        c.frame_text()
+    );
+}
+
+#[test]
 fn stop_3006_stops_with_its_message_and_start_goes_on() {
     let mut g = gcode_source_in("O1\n#3006=1 (LOAD THE PART)\nG0 X1.\nM30\n", Fanuc);
     let stmts: Vec<_> = g.by_ref().collect::<Result<_, _>>().unwrap();
@@ -468,13 +485,13 @@ fn a_dnc_file_s_programs_are_stored_one_by_one_and_called_by_number() {
     c.handle(E::Tape(prog.clone()));
     c.handle(E::Start);
     c.handle(E::Wait);
-    // The message wraps on the display: compared with its lines joined.
-    let f = c.frame_text().replace('\n', " ");
     assert!(
-        f.contains(
+        common::shows(
+            &c,
             "SHOP.NC:2: program number O1000 already in use (program O1000.NGC); nothing stored"
         ),
-        "{f}"
+        "{}",
+        c.frame_text()
     );
     assert_eq!(c.program_name(), "O1000.NGC");
     // In LinuxCNC's dialect the file is one program, as before.
