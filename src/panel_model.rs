@@ -186,17 +186,20 @@ pub enum Page {
     Modal,
     /// I/O: the outputs M62–M68 set and the inputs M66 reads (Fanuc's PMC signal page).
     Io,
+    /// MACRO: the Fanuc dialect's macro variables.
+    Macro,
 }
 
 impl Page {
     /// The pages of the row of page keys, in order.
-    pub const KEYS: [Page; 6] = [
+    pub const KEYS: [Page; 7] = [
         Page::Pos,
         Page::Prog,
         Page::Ofs,
         Page::Msg,
         Page::Modal,
         Page::Io,
+        Page::Macro,
     ];
 
     /// The key's label.
@@ -209,6 +212,7 @@ impl Page {
             Page::Msg => "MSG",
             Page::Modal => "MODAL",
             Page::Io => "I/O",
+            Page::Macro => "MACRO",
         }
     }
 }

@@ -168,6 +168,86 @@ fn a_missing_argument_raises_the_3000_alarm_and_nothing_moves() {
 }
 
 #[test]
+fn a_row_of_holes_is_drilled_by_a_g66_modal_call() {
+    let src = program("row.nc");
+    // O9100 drills where the move left the tool: the feed to Z-6 and the rapid up to R2 after
+    // each of the four moves in G66; not after M08 (no move), nor in the macro, nor after G67.
+    let mut want = vec![('R', [0.0, 0.0, WZ + 10.0])];
+    let mut z = WZ + 10.0;
+    for x in [10.0, 25.0, 40.0, 55.0] {
+        want.push(('R', [x, 20.0, z]));
+        want.push(('F', [x, 20.0, WZ - 6.0]));
+        z = WZ + 2.0;
+        want.push(('R', [x, 20.0, z]));
+    }
+    want.push(('R', [55.0, 20.0, WZ + 10.0]));
+    want.push(('R', [0.0, 0.0, WZ + 10.0]));
+    assert_moves(&moves(&src, Fanuc).unwrap(), &want);
+    assert_eq!(check_listing("row"), 0);
+    // L0 gives no calls; without G67, M30 ends the modal call with its program.
+    let l0 = src.replace("G66 P9100 R2.", "G66 P9100 L0 R2.");
+    assert_eq!(moves(&l0, Fanuc).unwrap().len(), 6);
+    // The macro's arguments are given at G66: a missing one is the macro's alarm, at the
+    // macro's line, after the first move.
+    let e = gcode_source_in(&src.replace(" Z-6. F120.", " F120."), Fanuc)
+        .find_map(|s| s.err())
+        .unwrap();
+    assert_eq!(
+        e.to_string(),
+        "18:21: MACRO ALARM 3001: Z MISSING (#3000 = 1)"
+    );
+}
+
+#[test]
+fn g66_and_g67_are_refused_with_their_place_where_novanc_differs_or_the_block_is_wrong() {
+    let cases = [
+        (
+            "O1\nG66 P9100 Z1.\nG66 P9200\nM30\n",
+            "3:1: G66 while the modal call G66 P9100 of line 2 is in force: G67 first (novanc keeps one modal call)",
+        ),
+        (
+            "O1\nG66 P9100 L2\nM30\n",
+            "2:1: G66 L2: novanc calls a modal macro once after each move (L1, or L0 for none)",
+        ),
+        ("O1\nG66 X1.\nM30\n", "2:1: G66 needs P, the macro's program number"),
+        (
+            "O1\nG66 P9100 G01 X1.\nM30\n",
+            "2:11: G66 stands alone on its block: no other G code with it",
+        ),
+        ("O1\nG67 X1.\nM30\n", "2:5: G67 stands alone on its block"),
+        (
+            "O1\nG66 P9100\nG0 X1.\nM30\n",
+            "3:1: G66 P9100: macro O9100 is not in the program (searched forward from the call) nor a file 9100.ngc in the subroutine path (the modal call of line 2)",
+        ),
+    ];
+    for (src, want) in cases {
+        assert_eq!(moves(src, Fanuc).unwrap_err(), want, "{src}");
+    }
+    // LinuxCNC's dialect has no G66 or G67, as before.
+    for g in ["G66 P9100", "G67"] {
+        let e = moves(&format!("{g}\nM30\n"), LinuxCnc).unwrap_err();
+        assert!(e.contains(&g[..3]), "{e}");
+    }
+}
+
+#[test]
+fn the_msg_page_shows_a_3000_alarm_with_its_number() {
+    let d = common::temp_dir("fanuc-msg");
+    let mut c = common::reopen_in(&d.join("state"), Fanuc);
+    read_and_run(&mut c, &golden("missing.nc"));
+    assert!(c.view().lamps.alarm, "{}", c.frame_text());
+    common::keys(&mut c, &["Ctrl+e"]);
+    assert!(
+        common::shows(
+            &c,
+            "ALARM 3:1: in O9020.NGC line 2:21: MACRO ALARM 3001: X MISSING (#3000 = 1)"
+        ),
+        "{}",
+        c.frame_text()
+    );
+}
+
+#[test]
 fn stop_3006_stops_with_its_message_and_start_goes_on() {
     let mut g = gcode_source_in("O1\n#3006=1 (LOAD THE PART)\nG0 X1.\nM30\n", Fanuc);
     let stmts: Vec<_> = g.by_ref().collect::<Result<_, _>>().unwrap();
@@ -381,6 +461,54 @@ fn common_variable_500_counts_across_a_restart() {
         );
         assert_eq!(c.interp_state().params[500], f64::from(run));
     }
+}
+
+#[test]
+fn a_dnc_file_s_programs_are_stored_one_by_one_and_called_by_number() {
+    let d = common::temp_dir("fanuc-dnc");
+    let prog = d.join("SHOP.NC");
+    let text =
+        "%\nO1000 (MAIN)\nG21 G90 G54 G10 L2 P1 X0 Y0 Z0\nG65 P9010 X5. Y6.\nM98 P9020\nM30\n\
+                O9010 (MACRO)\nG00 X#24 Y#25\nM99\nO9020 (SUB)\nG00 Z-2.\nM99\n%\n";
+    std::fs::write(&prog, text).unwrap();
+    let state = d.join("state");
+    let mut c = common::reopen_in(&state, Fanuc);
+    read_and_run(&mut c, &prog);
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+    assert_eq!(c.program_name(), "O1000.NGC");
+    // O1000 alone is the current program: the macro and the subprogram are found in program
+    // memory by number, not by searching on in its text.
+    assert!(!c.program_text().contains("O9010"), "{}", c.program_text());
+    assert_eq!(
+        c.status().pos,
+        [common::p(5.0), common::p(6.0), common::p(-2.0)]
+    );
+    // Kept across a restart; read again, the numbers are in use: refused, nothing stored.
+    drop(c);
+    let mut c = common::reopen_in(&state, Fanuc);
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(prog.clone()));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(
+        common::shows(
+            &c,
+            "SHOP.NC:2: program number O1000 already in use (program O1000.NGC); nothing stored"
+        ),
+        "{}",
+        c.frame_text()
+    );
+    assert_eq!(c.program_name(), "O1000.NGC");
+    // In LinuxCNC's dialect the file is one program, as before.
+    let mut c = common::reopen_in(&d.join("state2"), LinuxCnc);
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(prog));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(c.program_name(), "SHOP.NC");
+    assert!(c.program_text().contains("O9010"));
 }
 
 #[test]

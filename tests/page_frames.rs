@@ -11,16 +11,18 @@ use common::{keys, temp_dir, type_line};
 use novanc::console::{Console, ConsoleConfig};
 use novanc::panel_model::PanelEvent;
 use novanc::pulse_core::ClockMode;
+use novanc::settings::Dialect;
 use novanc::terminal::layout::{draw_panel, panel_size};
 use novanc_panel::Screen;
 use std::path::Path;
 
-/// A console on the defaults with a `rows`×`cols` display, in virtual time.
-fn console(rows: usize, cols: usize) -> Console {
-    let mut cfg = ConsoleConfig::new(temp_dir(&format!("pages-{rows}x{cols}")));
+/// A console on the defaults with a `rows`×`cols` display, in virtual time, reading `dialect`.
+fn console(rows: usize, cols: usize, dialect: Dialect) -> Console {
+    let mut cfg = ConsoleConfig::new(temp_dir(&format!("pages-{rows}x{cols}-{dialect:?}")));
     cfg.clock = ClockMode::Virtual;
     cfg.rows = rows;
     cfg.cols = cols;
+    cfg.settings.dialect = dialect;
     Console::open(cfg).unwrap().0
 }
 
@@ -109,7 +111,7 @@ fn golden(name: &str, text: &str) {
 }
 
 fn pages_at(rows: usize, cols: usize) {
-    let mut c = console(rows, cols);
+    let mut c = console(rows, cols, Dialect::LinuxCnc);
     scene(&mut c);
     let (w, h) = panel_size(rows, cols);
     // Each page's frame: its size, its mark (the lit key, or the I/O page's title, whose key
@@ -142,6 +144,51 @@ fn pages_at(rows: usize, cols: usize) {
     type_line(&mut c, "P5 ON");
     type_line(&mut c, "E2 4.5");
     check(&c, "io", "IN E M66 E2=4.5");
+}
+
+/// The MACRO page (Fanuc dialect): values set by INPUT at the cursor and by `#n=`, a vacant
+/// one blank; #500 kept across a restart; what it refuses, with the reason.
+#[test]
+fn the_macro_page_lists_and_sets_the_fanuc_variables() {
+    let mut c = console(12, 40, Dialect::Fanuc);
+    let dir = c.config().state_dir.clone();
+    keys(&mut c, &["Ctrl+U"]);
+    type_line(&mut c, "#500=12.5");
+    type_line(&mut c, "#101=3");
+    keys(&mut c, &["Down"]);
+    type_line(&mut c, "-2.25");
+    // +INPUT adds, as on OFS.
+    type_line(&mut c, "#101");
+    c.handle(PanelEvent::Press(novanc_panel::Key::Char('1')));
+    c.handle(PanelEvent::Press(novanc_panel::Key::Tab));
+    assert_eq!(c.interp_state().params[101], 4.0);
+    assert_eq!(c.interp_state().params[102], -2.25);
+    let (w, h) = panel_size(12, 40);
+    let text = normalize(&frame(&c));
+    assert_eq!(text.lines().count(), h);
+    assert!(text.lines().all(|l| l.chars().count() <= w), "{text}");
+    golden(&format!("macro_{w}x{h}"), &text);
+    for (line, why) in [
+        ("#50=1", "'#50' is not a variable of this page"),
+        ("#500=x", "'x' is not a value"),
+    ] {
+        type_line(&mut c, line);
+        assert!(common::shows(&c, why), "{line}:\n{}", c.frame_text());
+    }
+    // #500 is journaled: read back after a restart; #101 is not kept.
+    drop(c);
+    let c = common::reopen_in(&dir, Dialect::Fanuc);
+    assert_eq!(c.interp_state().params[500], 12.5);
+    assert!(c.interp_state().params[101].is_nan());
+    // In LinuxCNC's dialect the page says whose variables they are and sets nothing.
+    let mut c = console(12, 40, Dialect::LinuxCnc);
+    keys(&mut c, &["Ctrl+U"]);
+    type_line(&mut c, "#500=1");
+    assert!(
+        common::shows(&c, "the macro variables are the Fanuc dialect's"),
+        "{}",
+        c.frame_text()
+    );
 }
 
 #[test]

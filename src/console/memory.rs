@@ -307,6 +307,39 @@ impl Memory {
         self.bump(r)
     }
 
+    /// PROGRAM READ of a Fanuc DNC file's programs (`gcode::flow::dnc_programs`): each is
+    /// stored as `O<number>.NGC`, the first made current. A number already in program memory
+    /// (or twice in the file) refuses the whole read before anything is stored, naming it and
+    /// its line, as Fanuc's alarm "program number already in use" stops the read there.
+    pub fn program_read_dnc(
+        &mut self,
+        file: &str,
+        programs: &[(u32, usize, String)],
+    ) -> Result<Vec<String>, String> {
+        let mut names: Vec<String> = Vec::with_capacity(programs.len());
+        for (n, line, _) in programs {
+            let name = format!("O{n}.NGC");
+            if names.contains(&name) || self.stores.program_text(&name).is_some() {
+                return Err(format!(
+                    "{file}:{line}: program number O{n} already in use (program {name}); nothing stored: delete it first"
+                ));
+            }
+            names.push(name);
+        }
+        for (name, (_, _, text)) in names.iter().zip(programs) {
+            let r = self
+                .stores
+                .program_read(name, text)
+                .map_err(|e| e.to_string());
+            self.bump(r)?;
+        }
+        if let Some(first) = names.first() {
+            let r = self.stores.select_program(first).map_err(|e| e.to_string());
+            self.bump(r)?;
+        }
+        Ok(names)
+    }
+
     /// TOOL DATA READ: stores the tape's records of the tools assigned to T codes.
     pub fn tool_read(&mut self, tape: &str, file: &str) -> Result<ReadReport, String> {
         let r = self.stores.tool_read(tape, file).map_err(|e| e.to_string());

@@ -248,6 +248,11 @@ impl Console {
         if let Some(w) = warnings.first() {
             c.message = w.clone();
         }
+        // Fanuc's power-on: the locals and #100–#199 vacant (the MACRO page shows them so
+        // before the first run, as that run would make them).
+        if c.cfg.settings.dialect == crate::settings::Dialect::Fanuc {
+            c.interp.fanuc_power_on();
+        }
         warnings.retain(|w| !w.is_empty());
         posmem::restore(&mut c);
         c.refresh();

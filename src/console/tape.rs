@@ -469,6 +469,23 @@ fn empty_tape() -> Tape {
 /// PROGRAM READ's end: the text becomes a program in program memory (named after the file)
 /// and the current one.
 fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
+    if c.cfg.settings.dialect == crate::settings::Dialect::Fanuc {
+        let programs = crate::gcode::flow::dnc_programs(text);
+        if !programs.is_empty() {
+            c.message = match c.mem.program_read_dnc(file, &programs) {
+                Ok(names) => {
+                    c.search = None;
+                    format!(
+                        "read {file} ({how}): {} programs: {}",
+                        names.len(),
+                        names.join(" ")
+                    )
+                }
+                Err(e) => format!("PROGRAM READ refused: {e}"),
+            };
+            return;
+        }
+    }
     match c.mem.program_read_file(file, text) {
         Ok(r) => {
             let n = text.lines().count();

@@ -178,6 +178,8 @@ pub enum CallType {
     M98,
     /// `G65 P... L...` with arguments (Fanuc's Custom Macro B): local #1–#33 of its own.
     G65,
+    /// The macro of a `G66 P...` modal call, called after a move: as G65.
+    G66,
 }
 
 /// Fanuc's local variables, #1 to #33: each G65 call level has its own.
@@ -703,7 +705,7 @@ impl Flow {
                 CallType::M98 => {
                     format!("M98 P{name}: subprogram calls nested more than {MAX_CALL_DEPTH} deep")
                 }
-                CallType::G65 => {
+                CallType::G65 | CallType::G66 => {
                     format!("G65 P{name}: macro calls nested more than {MAX_CALL_DEPTH} deep")
                 }
                 CallType::Oword => format!(
@@ -718,7 +720,7 @@ impl Flow {
         // null (vacant) when not given.
         let (locals, absent) = match call_type {
             CallType::Oword => (MAX_ARGS, 0.0),
-            CallType::G65 => (LOCALS, f64::NAN),
+            CallType::G65 | CallType::G66 => (LOCALS, f64::NAN),
             CallType::M98 => (0, 0.0),
         };
         for (i, s) in saved.iter_mut().enumerate().take(locals) {
@@ -821,7 +823,7 @@ impl Flow {
         };
         let locals = match f.call_type {
             CallType::Oword => MAX_ARGS,
-            CallType::G65 => LOCALS,
+            CallType::G65 | CallType::G66 => LOCALS,
             CallType::M98 => 0,
         };
         for (i, v) in f.saved_args.iter().enumerate().take(locals) {
@@ -876,8 +878,9 @@ impl Flow {
                 CallType::M98 => format!(
                     "M98 P{name}: subprogram O{name} is not in the program (searched forward from the call, as LinuxCNC does)"
                 ),
-                CallType::G65 => format!(
-                    "G65 P{name}: macro O{name} is not in the program (searched forward from the call) nor a file {file} in the subroutine path"
+                CallType::G65 | CallType::G66 => format!(
+                    "{} P{name}: macro O{name} is not in the program (searched forward from the call) nor a file {file} in the subroutine path",
+                    if call_type == CallType::G65 { "G65" } else { "G66" }
                 ),
                 CallType::Oword => format!(
                     "subroutine {} not found (not in this program, and no file {file} in the subroutine path)",
@@ -1054,6 +1057,7 @@ impl Flow {
             match self.frames.last().map(|f| f.call_type) {
                 Some(CallType::M98) => return format!("M98 P{s}: subprogram O{s} is not in the program (searched forward from the call, as LinuxCNC does)"),
                 Some(CallType::G65) => return format!("G65 P{s}: macro O{s} is not in the program"),
+                Some(CallType::G66) => return format!("G66 P{s}: macro O{s} is not in the program"),
                 _ => {}
             }
             let file = s.rsplit('#').next().unwrap_or(s);
@@ -1072,7 +1076,7 @@ impl Flow {
             Some(f) if f.call_type == CallType::M98 => {
                 format!("subprogram O{} ends without M99", f.name)
             }
-            Some(f) if f.call_type == CallType::G65 => {
+            Some(f) if matches!(f.call_type, CallType::G65 | CallType::G66) => {
                 format!("macro O{} ends without M99", f.name)
             }
             Some(f) => format!(
@@ -1139,7 +1143,38 @@ fn starts_program(raw: &str) -> bool {
     it.peek().is_some_and(u8::is_ascii_digit) && it.all(|c| c.is_ascii_digit())
 }
 
-/// The loop number of a `WHILE [...] DOm` or `DOm` line.
+/// The program number of a line that starts a Fanuc program (`O1000`, nothing else but a
+/// comment).
+pub fn program_number(raw: &str) -> Option<u32> {
+    if !starts_program(raw) {
+        return None;
+    }
+    let digits: Vec<u8> = significant(o_label(raw)?).collect();
+    std::str::from_utf8(&digits).ok()?.parse().ok()
+}
+
+/// The programs of a Fanuc DNC file holding several (`O1000 ... M30 O9010 ... M99 %`): each
+/// one's number, the line of its `O` (from 1) and its lines (the first with the lines before
+/// its `O`, such as the opening `%`). Empty when the file holds fewer than two.
+pub fn dnc_programs(text: &str) -> Vec<(u32, usize, String)> {
+    let mut out: Vec<(u32, usize, String)> = Vec::new();
+    let mut head = String::new();
+    for (i, raw) in text.split_inclusive('\n').enumerate() {
+        match program_number(raw.trim_end_matches(['\r', '\n'])) {
+            Some(n) => out.push((n, i + 1, std::mem::take(&mut head) + raw)),
+            None => match out.last_mut() {
+                Some(p) => p.2.push_str(raw),
+                None => head.push_str(raw),
+            },
+        }
+    }
+    if out.len() < 2 {
+        out.clear();
+    }
+    out
+}
+
+/// The loop number of a `WHILE [...] DOm` or `DOm` line./// The loop number of a `WHILE [...] DOm` or `DOm` line.
 fn loop_start_number(raw: &str) -> Option<u8> {
     let (body, _) = block_body(raw);
     let tail = if body.starts_with(b"while") {

@@ -135,7 +135,17 @@ pub struct SubPrograms {
 impl SubFinder for SubPrograms {
     fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
         let want = format!("{}.NGC", name.to_ascii_uppercase());
-        if let Some((n, t)) = self.programs.iter().find(|(n, _)| *n == want) {
+        // A program number (M98/G65 P9010) is also program O9010.NGC, as a Fanuc DNC file's
+        // programs are stored (docs/gcode.md "Fanuc dialect").
+        let numbered = name
+            .bytes()
+            .all(|c| c.is_ascii_digit())
+            .then(|| format!("O{want}"));
+        if let Some((n, t)) = self
+            .programs
+            .iter()
+            .find(|(n, _)| *n == want || Some(n) == numbered.as_ref())
+        {
             return Ok(Some((n.clone(), t.clone())));
         }
         self.path.find(name)
@@ -309,6 +319,22 @@ pub struct GcodeSource {
     /// By G65 call level: the locals (bit n for #n) given without a decimal point on a length
     /// address, which ADP reads as if with one.
     adp: Vec<u64>,
+    /// Fanuc's G66 modal call in force (docs/gcode.md "Fanuc dialect").
+    modal_call: Option<ModalCall>,
+    /// The line being executed has a move and a modal call is in force: the macro is called
+    /// after it.
+    modal_due: bool,
+}
+
+/// A G66 modal call in force: the macro, its arguments and where it was given.
+struct ModalCall {
+    p: u32,
+    args: [f64; flow::LOCALS],
+    /// The G66 line.
+    line: u32,
+    /// The call level of the program that gave G66: moves at that level or outside it call
+    /// the macro, moves in the macro (or deeper) do not.
+    level: usize,
 }
 
 /// The line of a remapped M6 whose subroutine is running.
@@ -421,6 +447,8 @@ impl GcodeSource {
             remap: None,
             parts: None,
             adp: Vec::new(),
+            modal_call: None,
+            modal_due: false,
         }
     }
 
@@ -889,14 +917,31 @@ impl GcodeSource {
             })?;
             return Ok(None);
         }
-        if fanuc
-            && line
+        if fanuc {
+            let g = line
                 .words
                 .iter()
-                .any(|w| w.letter == 'G' && w.value == 65.0)
-        {
-            self.g65(at, n, line)?;
-            return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                .find(|w| w.letter == 'G' && matches!(w.value, 65.0 | 66.0 | 67.0));
+            match g.map(|w| w.value as u8) {
+                Some(65) => {
+                    self.g65(at, n, line)?;
+                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                }
+                Some(66) => {
+                    self.g66(n, line)?;
+                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                }
+                Some(_) => {
+                    self.g67(n, line)?;
+                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                }
+                None => {}
+            }
+            self.modal_due = self.modal_call.is_some()
+                && line
+                    .words
+                    .iter()
+                    .any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C'));
         }
         if line.words.is_empty() {
             if line.assigns.is_empty() && line.comments.is_empty() {
@@ -953,8 +998,14 @@ impl GcodeSource {
                 return Err(e);
             }
         };
+        let modal_due = std::mem::take(&mut self.modal_due);
         match flow {
-            LineFlow::Next => Ok(Some(self.finish(n, trimmed(raw), out, false))),
+            LineFlow::Next => {
+                if modal_due {
+                    self.modal_call_after_move(at, n)?;
+                }
+                Ok(Some(self.finish(n, trimmed(raw), out, false)))
+            }
             LineFlow::Call { o, l, col } => {
                 let r = self
                     .flow
@@ -980,7 +1031,11 @@ impl GcodeSource {
                 self.remap_m6(at, n, raw, col)?;
                 Ok(Some(self.finish(n, trimmed(raw), out, false)))
             }
-            LineFlow::End => Ok(Some(self.end(n, trimmed(raw), out, Some(end_m)))),
+            LineFlow::End => {
+                // M02/M30 cancel a G66 in force, as on Fanuc.
+                self.modal_call = None;
+                Ok(Some(self.end(n, trimmed(raw), out, Some(end_m))))
+            }
         }
     }
 
@@ -1023,72 +1078,7 @@ impl GcodeSource {
     /// Fanuc's `G65 P L` and its arguments (specification I, [`G65_ARGUMENTS`]): calls macro
     /// program O`P` with local variables #1–#33 of its own.
     fn g65(&mut self, at: Pos, n: u32, line: &read::Line) -> Result<(), TranslateError> {
-        let err = |col: u32, message: String| TranslateError {
-            line: n,
-            col,
-            message,
-        };
-        let g_col = line
-            .words
-            .iter()
-            .find(|w| w.letter == 'G')
-            .map_or(1, |w| w.col);
-        let mut args = [f64::NAN; flow::LOCALS];
-        let mut unpointed = 0u64;
-        let (mut p, mut l) = (None, None);
-        for w in &line.words {
-            match w.letter {
-                'G' if w.value == 65.0 && w.col == g_col => {}
-                'G' => {
-                    return Err(err(
-                        w.col,
-                        "G65 stands alone on its block: no other G code with it".into(),
-                    ))
-                }
-                'P' | 'L' => {
-                    let v = w.value.round();
-                    // L is bounded as M98's is (docs/limits.md).
-                    let max = if w.letter == 'P' {
-                        99_999_999.0
-                    } else {
-                        MAX_REPEATS as f64
-                    };
-                    if (w.value - v).abs() > 1e-4 || !(0.0..=max).contains(&v) {
-                        return Err(err(
-                            w.col,
-                            format!("G65 {}: a whole number 0 to {max}", w.letter),
-                        ));
-                    }
-                    let slot = if w.letter == 'P' { &mut p } else { &mut l };
-                    if slot.is_some() {
-                        return Err(err(w.col, format!("G65: {} is given twice", w.letter)));
-                    }
-                    *slot = Some(v as u32);
-                }
-                c => {
-                    let Some(&(_, k)) = G65_ARGUMENTS.iter().find(|(a, _)| *a == c) else {
-                        return Err(err(
-                            w.col,
-                            format!("G65: {c} is not an argument (A B C D E F H I J K M Q R S T U V W X Y Z)"),
-                        ));
-                    };
-                    if !args[k - 1].is_nan() {
-                        return Err(err(w.col, format!("G65: argument {c} is given twice")));
-                    }
-                    args[k - 1] = w.value;
-                    let bit = read::letter_bit(c);
-                    if line.plain & bit != 0
-                        && line.pointed & bit == 0
-                        && read::FANUC_INCREMENT_LETTERS.contains(&(c as u8))
-                    {
-                        unpointed |= 1 << k;
-                    }
-                }
-            }
-        }
-        let Some(p) = p else {
-            return Err(err(g_col, "G65 needs P, the macro's program number".into()));
-        };
+        let (p, l, args, g_col, unpointed) = macro_call_words(65, n, line)?;
         let before = self.flow.level();
         self.flow
             .call_numbered(
@@ -1100,7 +1090,11 @@ impl GcodeSource {
                 &mut self.st,
                 self.finder.as_ref(),
             )
-            .map_err(|m| err(g_col, m))?;
+            .map_err(|message| TranslateError {
+                line: n,
+                col: g_col,
+                message,
+            })?;
         let level = self.flow.level();
         if level > before {
             if self.adp.len() <= level {
@@ -1109,6 +1103,83 @@ impl GcodeSource {
             self.adp[level] = unpointed;
         }
         Ok(())
+    }
+
+    /// Fanuc's `G66 P L` and its arguments: the modal call of macro O`P`, made after each
+    /// move until G67. One G66 is in force at a time; L is 1 (or 0: no calls).
+    fn g66(&mut self, n: u32, line: &read::Line) -> Result<(), TranslateError> {
+        let (p, l, args, g_col, _) = macro_call_words(66, n, line)?;
+        let err = |message: String| TranslateError {
+            line: n,
+            col: g_col,
+            message,
+        };
+        if let Some(m) = &self.modal_call {
+            return Err(err(format!(
+                "G66 while the modal call G66 P{} of line {} is in force: G67 first (novanc keeps one modal call)",
+                m.p, m.line
+            )));
+        }
+        match l {
+            Some(0) => return Ok(()),
+            Some(l) if l > 1 => {
+                return Err(err(format!(
+                    "G66 L{l}: novanc calls a modal macro once after each move (L1, or L0 for none)"
+                )))
+            }
+            _ => {}
+        }
+        self.modal_call = Some(ModalCall {
+            p,
+            args,
+            line: n,
+            level: self.flow.level(),
+        });
+        Ok(())
+    }
+
+    /// Fanuc's `G67`: cancels the G66 modal call (none in force: nothing to do, as Fanuc).
+    fn g67(&mut self, n: u32, line: &read::Line) -> Result<(), TranslateError> {
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| !(w.letter == 'G' && w.value == 67.0))
+        {
+            return Err(TranslateError {
+                line: n,
+                col: w.col,
+                message: "G67 stands alone on its block".into(),
+            });
+        }
+        self.modal_call = None;
+        Ok(())
+    }
+
+    /// The move of line `n` has been made with a G66 in force: its macro is called, unless
+    /// the move is in the macro itself (or deeper).
+    fn modal_call_after_move(&mut self, at: Pos, n: u32) -> Result<(), TranslateError> {
+        let Some(m) = &self.modal_call else {
+            return Ok(());
+        };
+        if self.flow.level() > m.level {
+            return Ok(());
+        }
+        let (p, args, given) = (m.p, m.args, m.line);
+        self.flow
+            .call_numbered(
+                p,
+                None,
+                flow::CallType::G66,
+                &args,
+                at,
+                &mut self.st,
+                self.finder.as_ref(),
+            )
+            .map_err(|message| TranslateError {
+                line: n,
+                col: 1,
+                message: format!("{message} (the modal call of line {given})"),
+            })
     }
 
     /// Fanuc's `#3000 = n (MESSAGE)`: macro alarm 3000 + n, the run stops there; `#3006 = n
@@ -1337,6 +1408,89 @@ fn trimmed(raw: &str) -> &str {
 }
 
 /// The words of a line, as `words::sort_words` takes them.
+/// The words of a Fanuc macro call block, `G65` or `G66` (`g`) with P, L and the arguments of
+/// specification I ([`G65_ARGUMENTS`]): the program number, L, #1–#33 (NaN: not given) and
+/// the G's column.
+#[allow(clippy::type_complexity)]
+fn macro_call_words(
+    g: u8,
+    n: u32,
+    line: &read::Line,
+) -> Result<(u32, Option<u32>, [f64; flow::LOCALS], u32, u64), TranslateError> {
+    let err = |col: u32, message: String| TranslateError {
+        line: n,
+        col,
+        message,
+    };
+    let g_col = line
+        .words
+        .iter()
+        .find(|w| w.letter == 'G')
+        .map_or(1, |w| w.col);
+    let mut args = [f64::NAN; flow::LOCALS];
+    // The locals given without a decimal point on a length address (ADP reads them as if
+    // with one).
+    let mut unpointed = 0u64;
+    let (mut p, mut l) = (None, None);
+    for w in &line.words {
+        match w.letter {
+            'G' if w.value == f64::from(g) && w.col == g_col => {}
+            'G' => {
+                return Err(err(
+                    w.col,
+                    format!("G{g} stands alone on its block: no other G code with it"),
+                ))
+            }
+            'P' | 'L' => {
+                let v = w.value.round();
+                // L is bounded as M98's is (docs/limits.md).
+                let max = if w.letter == 'P' {
+                    99_999_999.0
+                } else {
+                    MAX_REPEATS as f64
+                };
+                if (w.value - v).abs() > 1e-4 || !(0.0..=max).contains(&v) {
+                    return Err(err(
+                        w.col,
+                        format!("G{g} {}: a whole number 0 to {max}", w.letter),
+                    ));
+                }
+                let slot = if w.letter == 'P' { &mut p } else { &mut l };
+                if slot.is_some() {
+                    return Err(err(w.col, format!("G{g}: {} is given twice", w.letter)));
+                }
+                *slot = Some(v as u32);
+            }
+            c => {
+                let Some(&(_, k)) = G65_ARGUMENTS.iter().find(|(a, _)| *a == c) else {
+                    return Err(err(
+                            w.col,
+                            format!("G{g}: {c} is not an argument (A B C D E F H I J K M Q R S T U V W X Y Z)"),
+                        ));
+                };
+                if !args[k - 1].is_nan() {
+                    return Err(err(w.col, format!("G{g}: argument {c} is given twice")));
+                }
+                args[k - 1] = w.value;
+                let bit = read::letter_bit(c);
+                if line.plain & bit != 0
+                    && line.pointed & bit == 0
+                    && read::FANUC_INCREMENT_LETTERS.contains(&(c as u8))
+                {
+                    unpointed |= 1 << k;
+                }
+            }
+        }
+    }
+    let Some(p) = p else {
+        return Err(err(
+            g_col,
+            format!("G{g} needs P, the macro's program number"),
+        ));
+    };
+    Ok((p, l, args, g_col, unpointed))
+}
+
 fn line_words(l: &read::Line) -> &read::Line {
     l
 }

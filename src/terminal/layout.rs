@@ -233,6 +233,7 @@ pub const HELP_EDITOR: &[&str] = &[
     "  Ctrl-E MSG   alarm and message history, newest first",
     "  Ctrl-G MODAL the G codes, F S T H D and offsets in force, overrides, switches",
     "  Ctrl-T I/O   outputs and inputs: P3 ON, P3 OFF or E2 4.5 Enter sets an input",
+    "  Ctrl-U MACRO Fanuc #1-#33 #100-#199 #500-#999: #500=12.5 Enter sets",
     "MDI mode: a statement or a G-code line, Enter, F9; Up/Down recall 20",
     "",
     "F8 closes the help; any other key closes it and acts as on the panel.",

@@ -362,12 +362,12 @@ pub fn jog_buttons(ui: &mut Ui, view: &PanelView, hand: &mut HandState, out: &mu
 pub const HOLD_TO_JOG: std::time::Duration = std::time::Duration::from_millis(300);
 
 /// The row of page keys beside the selectors (docs/panel.md, "Pages"): POS, PROG, OFS, MSG,
-/// MODAL, I/O, the one shown lit; a click is the page key (Ctrl-P/D/O/E/G/T).
+/// MODAL, I/O, MACRO, the one shown lit; a click is the page key (Ctrl-P/D/O/E/G/T/U).
 pub fn page_keys(ui: &mut Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
     ui.horizontal(|ui| {
         for (page, ch) in crate::panel_model::Page::KEYS
             .iter()
-            .zip(['p', 'd', 'o', 'e', 'g', 't'])
+            .zip(['p', 'd', 'o', 'e', 'g', 't', 'u'])
         {
             let b = egui::Button::new(egui::RichText::new(page.label()).monospace())
                 .min_size(vec2(48.0, 24.0))

@@ -198,6 +198,7 @@ pub fn keyboard(
                         K::E if ctrl => out.push(PanelEvent::Press(Key::Ctrl('e'))),
                         K::G if ctrl => out.push(PanelEvent::Press(Key::Ctrl('g'))),
                         K::T if ctrl => out.push(PanelEvent::Press(Key::Ctrl('t'))),
+                        K::U if ctrl => out.push(PanelEvent::Press(Key::Ctrl('u'))),
                         K::Comma if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, -1)),
                         K::Period if alt => out.push(PanelEvent::Wheel(hand.wheel_axis, 1)),
                         _ => {}

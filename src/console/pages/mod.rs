@@ -18,8 +18,11 @@
 //!   restarts.
 //! - I/O (`io.rs`, Ctrl-T): the outputs and the simulated inputs; `P3 ON`, `E2 4.5` INPUT
 //!   sets an input.
+//! - MACRO (`macros.rs`, Ctrl-U): the Fanuc dialect's variables #1–#33, #100–#199 and
+//!   #500–#999; INPUT as on OFS (`#500=12.5`, or a value at the cursor).
 
 mod io;
+mod macros;
 mod measure;
 mod modal;
 mod msg;
@@ -55,6 +58,8 @@ pub struct Pages {
     pub ofs_axis: usize,
     /// The MSG page's first entry shown (0: the newest).
     pub msg_first: usize,
+    /// The MACRO page's cursor: a variable number.
+    pub macro_var: usize,
     /// The last MDI lines typed, oldest first, and where the recall stands.
     pub recall: Vec<String>,
     recall_at: Option<usize>,
@@ -89,6 +94,7 @@ impl Pages {
             ofs: (1, ofs::LENGTH),
             ofs_axis: 0,
             msg_first: 0,
+            macro_var: 1,
             recall: Vec::new(),
             recall_at: None,
             pending_len: None,
@@ -138,6 +144,7 @@ pub fn page_of_key(k: Key) -> Option<Page> {
         Key::Ctrl('e') => Some(Page::Msg),
         Key::Ctrl('g') => Some(Page::Modal),
         Key::Ctrl('t') => Some(Page::Io),
+        Key::Ctrl('u') => Some(Page::Macro),
         _ => None,
     }
 }
@@ -166,6 +173,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),
                 Page::Msg => msg::arrow(c, k),
+                Page::Macro => macros::arrow(c, k, c.cfg.rows.saturating_sub(4)),
                 Page::Pos | Page::Modal | Page::Io | Page::Mode => return false,
             }
             true
@@ -212,6 +220,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             c.message = "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
         }
         Page::Io => io::enter(c, line),
+        Page::Macro => macros::enter(c, line, add),
         Page::Mode => {}
     }
 }
@@ -224,6 +233,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         Page::Ofs => ofs::compose(c, rows, cols),
         Page::Modal => modal::compose(c, rows, cols),
         Page::Io => io::compose(c, rows, cols),
+        Page::Macro => macros::compose(c, rows, cols),
         Page::Msg | Page::Mode => msg::compose(c, rows, cols),
     }
 }

@@ -67,12 +67,13 @@ pub(super) fn axis_words(text: &str) -> Result<[Option<f64>; 3], String> {
     Ok(out)
 }
 
-/// Whether the offsets may change now; if not, the message says why.
-fn allowed(c: &mut Console) -> bool {
+/// Whether the offsets (or page `page`'s values) may change now: no run loaded, or the run
+/// at rest; if not, the message says why.
+pub(super) fn at_rest(c: &mut Console, page: &str) -> bool {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.message = "OFS refused: the machine is moving; STOP first".into();
+        c.message = format!("{page} refused: the machine is moving; STOP first");
         return false;
     }
     true
@@ -80,7 +81,7 @@ fn allowed(c: &mut Console) -> bool {
 
 /// Sets (or adds to, with `add`) the axes given of work offset `system`.
 pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
-    if !allowed(c) {
+    if !at_rest(c, "OFS") {
         return;
     }
     let mut o = c.mem.system_offset(system);
