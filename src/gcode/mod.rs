@@ -1397,17 +1397,23 @@ fn fanuc_dwell(line: &mut read::Line, n: u32, increment: f64) -> Result<(), Tran
     Ok(())
 }
 
-/// `raw.trim()`, the usual line (ASCII letters and digits at both ends) without the search.
+/// `raw.trim()`, the usual line (ASCII letters and digits at both ends, perhaps with ASCII
+/// blanks around them, as CAM output ends its lines) without the search for Unicode spaces.
 fn trimmed(raw: &str) -> &str {
+    // ASCII blanks are spaces to `trim` too; past them, an ASCII graphic at both ends is
+    // where `trim` stops.
+    let blank = |c: &u8| matches!(c, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c);
     let b = raw.as_bytes();
-    if b.first().is_some_and(u8::is_ascii_graphic) && b.last().is_some_and(u8::is_ascii_graphic) {
-        raw
-    } else {
-        raw.trim()
+    let from = b.iter().position(|c| !blank(c)).unwrap_or(b.len());
+    let to = b.iter().rposition(|c| !blank(c)).map_or(from, |i| i + 1);
+    match raw.get(from..to) {
+        Some(t) if t.is_empty() || (b[from].is_ascii_graphic() && b[to - 1].is_ascii_graphic()) => {
+            t
+        }
+        _ => raw.trim(),
     }
 }
 
-/// The words of a line, as `words::sort_words` takes them.
 /// The words of a Fanuc macro call block, `G65` or `G66` (`g`) with P, L and the arguments of
 /// specification I ([`G65_ARGUMENTS`]): the program number, L, #1–#33 (NaN: not given) and
 /// the G's column.
@@ -1491,6 +1497,7 @@ fn macro_call_words(
     Ok((p, l, args, g_col, unpointed))
 }
 
+/// The words of a line, as `words::sort_words` takes them.
 fn line_words(l: &read::Line) -> &read::Line {
     l
 }
@@ -1501,4 +1508,31 @@ fn lookup(st: &InterpState, flow: &Flow, name: &str) -> Option<f64> {
         return (n <= read::MAX_PARAM).then(|| st.param(n));
     }
     st.named_value(name, flow.locals())
+}
+
+#[cfg(test)]
+mod trim_tests {
+    use super::trimmed;
+
+    /// `trimmed` is `trim` without its Unicode search on the usual lines: ASCII blanks around
+    /// ASCII words (CAM output's trailing spaces), and the same as `trim` on anything else.
+    #[test]
+    fn trimmed_is_trim() {
+        for raw in [
+            "G01 X1 Y2",
+            "G01 X-0.3089 Y1.5993  ",
+            "\t N10 G0 X1\r",
+            "   ",
+            "",
+            "\u{b}G1 X1\u{c}",
+            "G1 X1 (é)",
+            "(é) G1 X1 \u{a0}",
+            "\u{2003}G1 X1",
+            " \u{a0} ",
+            "G1 X1 \u{85}",
+            "é",
+        ] {
+            assert_eq!(trimmed(raw), raw.trim(), "{raw:?}");
+        }
+    }
 }

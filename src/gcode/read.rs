@@ -320,6 +320,9 @@ impl Line {
 pub struct Scratch {
     bytes: Vec<u8>,
     cols: Vec<u32>,
+    /// How many of `bytes` and `cols` are the line's: the buffers only grow, so a line is
+    /// written over the last without clearing them first.
+    len: usize,
 }
 
 /// The reader over one normalised line.
@@ -889,14 +892,15 @@ fn normalise(
     line: u32,
 ) -> Result<u32, TranslateError> {
     let (bytes, cols) = (&mut scratch.bytes, &mut scratch.cols);
-    bytes.clear();
-    cols.clear();
+    scratch.len = 0;
     // The usual line: ASCII words, no comment. One pass over its bytes, each column its
     // byte's place, written by index (the buffers sized once); anything else (a comment, a
     // character outside ASCII) starts again below, character by character.
     let rb = raw.as_bytes();
-    bytes.resize(rb.len(), 0);
-    cols.resize(rb.len(), 0);
+    if bytes.len() < rb.len() {
+        bytes.resize(rb.len(), 0);
+        cols.resize(rb.len(), 0);
+    }
     let mut k = 0;
     let mut plain = true;
     for (i, &c) in rb.iter().enumerate() {
@@ -914,8 +918,7 @@ fn normalise(
         }
     }
     if plain {
-        bytes.truncate(k);
-        cols.truncate(k);
+        scratch.len = k;
         return Ok(raw.len() as u32 + 1);
     }
     bytes.clear();
@@ -950,6 +953,7 @@ fn normalise(
                     text: rest,
                     col,
                 });
+                scratch.len = bytes.len();
                 return Ok(col + 1);
             }
             ' ' | '\t' | '\r' | '\n' => {}
@@ -976,6 +980,7 @@ fn normalise(
             message: "comment '(' not closed on its line".into(),
         });
     }
+    scratch.len = bytes.len();
     Ok(col + 1)
 }
 
@@ -1044,8 +1049,9 @@ pub fn read_into_opts(
 ) -> Result<(), TranslateError> {
     out.clear();
     let end_col = normalise(scratch, out, raw, line)?;
-    let (bytes, cols) = (&scratch.bytes, &scratch.cols);
-    if bytes.as_slice() == b"%" {
+    let n = scratch.len;
+    let (bytes, cols) = (&scratch.bytes[..n], &scratch.cols[..n]);
+    if bytes == b"%" {
         out.percent = true;
         return Ok(());
     }
@@ -1685,5 +1691,32 @@ mod tests {
         let l = read("G1 @5 ^30").unwrap();
         assert_eq!(l.words[1].letter, '@');
         assert_eq!(l.words[2].letter, '^');
+    }
+
+    /// The reader's buffers are written over, not cleared: a line read after a longer one, or
+    /// after one with a comment, reads as it does alone.
+    #[test]
+    fn a_line_reads_the_same_after_any_other() {
+        let lines = [
+            "G01 X-0.3089 Y1.5993 Z-0.125 F20  ",
+            "X1",
+            "G1 (cut) X2 ; rest",
+            "%",
+            "Y3.5",
+            "#1=2 G0 X#1",
+            "",
+            "G2 X1 Y1 I0.5 J0.5",
+        ];
+        let mut scratch = Scratch::default();
+        for (i, first) in lines.iter().enumerate() {
+            for then in &lines[i..] {
+                let mut after = Line::default();
+                read_into(&mut scratch, &mut after, first, 1, &env(), None).unwrap();
+                read_into(&mut scratch, &mut after, then, 2, &env(), None).unwrap();
+                let mut alone = Line::default();
+                read_into(&mut Scratch::default(), &mut alone, then, 2, &env(), None).unwrap();
+                assert_eq!(after, alone, "{then:?} after {first:?}");
+            }
+        }
     }
 }
