@@ -41,6 +41,9 @@ pub struct Cycle {
     clock: ClockMode,
 }
 
+/// A kernel ready to start, each program's source lines and each program's first line.
+type MadeKernel = (Kernel, Vec<Vec<String>>, Vec<u32>);
+
 /// What the kernel would do with a cycle of `desc` running `texts`: the kernel, ready to start,
 /// and the program lines. Any error names the channel, the program and the line.
 #[allow(clippy::too_many_arguments)]
@@ -53,7 +56,7 @@ fn make_kernel(
     only: usize,
     pos: &[[i64; 2]],
     feed_override: u32,
-) -> Result<(Kernel, Vec<Vec<String>>, Vec<u32>), String> {
+) -> Result<MadeKernel, String> {
     let mut progs = Vec::new();
     for (ch, (name, text)) in texts.iter().enumerate() {
         if mdi && ch != only {
