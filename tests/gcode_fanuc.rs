@@ -796,6 +796,10 @@ fn adp_reads_an_argument_given_without_a_point_as_if_with_one() {
         &moves(src, Fanuc).unwrap(),
         &[('R', [10.0, 10.0, -2.0]), ('R', [5.0, 0.01, -1.0])],
     );
+    // A G66 modal call's arguments too: Z5 is 0.005 mm as an argument, ADP gives 5.
+    let g66 = "O1\nG66 P9 Z5\nG0 X1.\nG67\nM30\nO9\nG0 Z-[ADP[#26]]\nM99\n";
+    let m = moves(g66, Fanuc).unwrap();
+    assert_eq!(m.last().map(|x| x.1[2]), Some(-5.0), "{m:?}");
     assert_eq!(
         moves("O1\nG0 X[ADP[#100]]\nM30\n", Fanuc).unwrap_err(),
         "2:10: ADP takes a local variable: ADP[#1] to ADP[#33]"

@@ -320,12 +320,13 @@ impl Flow {
         }
     }
 
-    /// The call level of the innermost G65 call, whose #1–#33 the running program reads
-    /// (an M98 subprogram shares its caller's); 0 for the main program's.
+    /// The call level of the innermost macro call (G65, or G66's modal call: each has #1–#33
+    /// of its own), whose locals the running program reads (an M98 subprogram shares its
+    /// caller's); 0 for the main program's.
     pub fn g65_level(&self) -> usize {
         self.frames
             .iter()
-            .rposition(|f| f.call_type == CallType::G65)
+            .rposition(|f| matches!(f.call_type, CallType::G65 | CallType::G66))
             .map_or(0, |i| i + 1)
     }
 

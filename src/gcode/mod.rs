@@ -330,6 +330,8 @@ pub struct GcodeSource {
 struct ModalCall {
     p: u32,
     args: [f64; flow::LOCALS],
+    /// The arguments given without a decimal point (ADP).
+    unpointed: u64,
     /// The G66 line.
     line: u32,
     /// The call level of the program that gave G66: moves at that level or outside it call
@@ -1079,22 +1081,28 @@ impl GcodeSource {
     /// program O`P` with local variables #1–#33 of its own.
     fn g65(&mut self, at: Pos, n: u32, line: &read::Line) -> Result<(), TranslateError> {
         let (p, l, args, g_col, unpointed) = macro_call_words(65, n, line)?;
-        let before = self.flow.level();
-        self.flow
-            .call_numbered(
-                p,
-                l,
-                flow::CallType::G65,
-                &args,
-                at,
-                &mut self.st,
-                self.finder.as_ref(),
-            )
+        self.call_macro(p, l, flow::CallType::G65, &args, unpointed, at)
             .map_err(|message| TranslateError {
                 line: n,
                 col: g_col,
                 message,
-            })?;
+            })
+    }
+
+    /// Calls macro O`p` (G65, or G66's modal call) with its locals, noting for ADP which of
+    /// them were given without a decimal point at the call level it opens.
+    fn call_macro(
+        &mut self,
+        p: u32,
+        l: Option<u32>,
+        kind: flow::CallType,
+        args: &[f64; flow::LOCALS],
+        unpointed: u64,
+        at: Pos,
+    ) -> Result<(), String> {
+        let before = self.flow.level();
+        self.flow
+            .call_numbered(p, l, kind, args, at, &mut self.st, self.finder.as_ref())?;
         let level = self.flow.level();
         if level > before {
             if self.adp.len() <= level {
@@ -1108,7 +1116,7 @@ impl GcodeSource {
     /// Fanuc's `G66 P L` and its arguments: the modal call of macro O`P`, made after each
     /// move until G67. One G66 is in force at a time; L is 1 (or 0: no calls).
     fn g66(&mut self, n: u32, line: &read::Line) -> Result<(), TranslateError> {
-        let (p, l, args, g_col, _) = macro_call_words(66, n, line)?;
+        let (p, l, args, g_col, unpointed) = macro_call_words(66, n, line)?;
         let err = |message: String| TranslateError {
             line: n,
             col: g_col,
@@ -1132,6 +1140,7 @@ impl GcodeSource {
         self.modal_call = Some(ModalCall {
             p,
             args,
+            unpointed,
             line: n,
             level: self.flow.level(),
         });
@@ -1164,17 +1173,8 @@ impl GcodeSource {
         if self.flow.level() > m.level {
             return Ok(());
         }
-        let (p, args, given) = (m.p, m.args, m.line);
-        self.flow
-            .call_numbered(
-                p,
-                None,
-                flow::CallType::G66,
-                &args,
-                at,
-                &mut self.st,
-                self.finder.as_ref(),
-            )
+        let (p, args, unpointed, given) = (m.p, m.args, m.unpointed, m.line);
+        self.call_macro(p, None, flow::CallType::G66, &args, unpointed, at)
             .map_err(|message| TranslateError {
                 line: n,
                 col: 1,
