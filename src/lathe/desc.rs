@@ -44,6 +44,22 @@ pub struct ChannelDesc {
 }
 
 impl ChannelDesc {
+    /// A channel nothing of which is described yet (travel NaN: "not given").
+    fn unset() -> ChannelDesc {
+        ChannelDesc {
+            name: String::new(),
+            axes: [0, 1].map(|_| AxisDesc {
+                travel: [f64::NAN; 2],
+                rapid: 0.0,
+                accel: 0.0,
+            }),
+            max_rpm: 0.0,
+            spindle_accel: 0.0,
+            encoder: 0,
+            tools: Vec::new(),
+        }
+    }
+
     /// The tool numbered `n`, if the tool post has it.
     pub fn tool(&self, n: u32) -> Option<&ToolDesc> {
         self.tools.iter().find(|t| t.number == n)
@@ -390,22 +406,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 }
                 channels.push(ChannelDesc {
                     name: cname,
-                    axes: [
-                        AxisDesc {
-                            travel: [f64::NAN; 2],
-                            rapid: 0.0,
-                            accel: 0.0,
-                        },
-                        AxisDesc {
-                            travel: [f64::NAN; 2],
-                            rapid: 0.0,
-                            accel: 0.0,
-                        },
-                    ],
-                    max_rpm: 0.0,
-                    spindle_accel: 0.0,
-                    encoder: 0,
-                    tools: Vec::new(),
+                    ..ChannelDesc::unset()
                 });
             }
             "dialect" => {
@@ -468,18 +469,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 if mill_spindle.is_some() {
                     return Err(e("the spindle is described twice".into()));
                 }
-                let mut ch = ChannelDesc {
-                    name: String::new(),
-                    axes: [0, 1].map(|_| AxisDesc {
-                        travel: [f64::NAN; 2],
-                        rapid: 0.0,
-                        accel: 0.0,
-                    }),
-                    max_rpm: 0.0,
-                    spindle_accel: 0.0,
-                    encoder: 0,
-                    tools: Vec::new(),
-                };
+                let mut ch = ChannelDesc::unset();
                 spindle(&words, &mut ch).map_err(e)?;
                 mill_spindle = Some(ch);
             }

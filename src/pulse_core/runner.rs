@@ -106,6 +106,27 @@ struct Shared {
     events: Mutex<Vec<KernelEvent>>,
 }
 
+impl Shared {
+    /// The shared state of a new core: its first status and every channel's (one pulse log
+    /// per channel).
+    fn new(status: Status, channels: Vec<ChannelStatus>) -> Arc<Shared> {
+        let n = channels.len();
+        Arc::new(Shared {
+            status: Mutex::new(status),
+            changed: Condvar::new(),
+            waiters: AtomicUsize::new(0),
+            reached: Mutex::new(None),
+            audit: Mutex::new(Vec::new()),
+            rt: Mutex::new(RtStats::default()),
+            channels: Mutex::new(channels),
+            refusal: Mutex::new(None),
+            estop_at: Mutex::new(None),
+            pulses: Mutex::new(vec![Vec::new(); n]),
+            events: Mutex::new(Vec::new()),
+        })
+    }
+}
+
 /// One channel's published state.
 #[derive(Clone, Debug)]
 pub struct ChannelStatus {
@@ -155,19 +176,7 @@ impl PulseCore {
                 machine.set_lossless_recording(true);
             }
         }
-        let shared = Arc::new(Shared {
-            status: Mutex::new(machine.status()),
-            changed: Condvar::new(),
-            waiters: AtomicUsize::new(0),
-            reached: Mutex::new(None),
-            audit: Mutex::new(Vec::new()),
-            rt: Mutex::new(RtStats::default()),
-            channels: Mutex::new(states(None, &machine).1),
-            refusal: Mutex::new(None),
-            estop_at: Mutex::new(None),
-            pulses: Mutex::new(vec![Vec::new()]),
-            events: Mutex::new(Vec::new()),
-        });
+        let shared = Shared::new(machine.status(), states(None, &machine).1);
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
         let thread = std::thread::Builder::new()
@@ -244,19 +253,7 @@ impl PulseCore {
         for c in &mut chans {
             c.status.commands_applied = 0;
         }
-        let shared = Arc::new(Shared {
-            status: Mutex::new(st),
-            changed: Condvar::new(),
-            waiters: AtomicUsize::new(0),
-            reached: Mutex::new(None),
-            audit: Mutex::new(Vec::new()),
-            rt: Mutex::new(RtStats::default()),
-            channels: Mutex::new(chans),
-            refusal: Mutex::new(None),
-            estop_at: Mutex::new(None),
-            pulses: Mutex::new(vec![Vec::new(); kernel.channels()]),
-            events: Mutex::new(Vec::new()),
-        });
+        let shared = Shared::new(st, chans);
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
         let thread = std::thread::Builder::new()
