@@ -436,6 +436,12 @@ impl Console {
         &self.interp
     }
 
+    /// Where a G-code run finds the subroutines and macros it calls (program memory, then the
+    /// state directory's `subroutines` folder): what START reads them from, for a preview.
+    pub fn subroutines(&self) -> crate::gcode::SubPrograms {
+        self.mem.subroutines()
+    }
+
     /// What is subtracted from the axis position (machine mm) to give the work position POS
     /// shows: the active system's zero with G92, and the tool length in force on Z.
     pub fn work_origin(&self) -> [f64; 3] {

@@ -19,15 +19,6 @@ use std::sync::Arc;
 /// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
 pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
 
-/// A shared finder of subroutines, for the run's source.
-struct SharedSubs(Arc<crate::gcode::SubPrograms>);
-
-impl crate::gcode::SubFinder for SharedSubs {
-    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
-        self.0.find(name)
-    }
-}
-
 /// What a program source is made from at START.
 #[derive(Clone)]
 pub struct RunSource {
@@ -147,7 +138,7 @@ impl RunSource {
             g = g.part_counter(made, required);
         }
         if let Some(f) = self.subroutines {
-            g = g.subroutines(Box::new(SharedSubs(f)));
+            g = g.subroutines(Box::new(f));
         }
         // Probes are answered by the pulse core running this source (issue 21).
         if let Some(m) = super::answers::RunMachine::here(pulse_mm) {

@@ -138,6 +138,14 @@ pub trait SubFinder {
     fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String>;
 }
 
+/// A finder shared between threads (the console's run and the window's backplot) finds what
+/// it finds.
+impl<T: SubFinder + ?Sized> SubFinder for Arc<T> {
+    fn find(&self, name: &str) -> Result<Option<(String, Arc<str>)>, String> {
+        (**self).find(name)
+    }
+}
+
 /// No subroutine files.
 pub struct NoFiles;
 

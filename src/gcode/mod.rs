@@ -99,6 +99,7 @@ pub fn restore_text(line: u32) -> String {
 }
 
 /// Finds subroutine files `name.ngc` in a list of folders (the subroutine path).
+#[derive(Debug)]
 pub struct SubPath(pub Vec<PathBuf>);
 
 impl SubFinder for SubPath {
@@ -125,6 +126,7 @@ impl SubFinder for SubPath {
 
 /// Subroutines kept as programs (the console's program memory, `NAME.NGC`), then files of a
 /// subroutine path: what `o<name> call` finds at the console.
+#[derive(Debug)]
 pub struct SubPrograms {
     /// Program name (upper case, with its extension) and text.
     pub programs: Vec<(String, Arc<str>)>,

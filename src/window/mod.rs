@@ -85,6 +85,7 @@ impl Machine for crate::console::Console {
         crate::console::Console::run_text_is_gcode(self).then(|| plot::GcodeStart::State {
             state: Box::new(self.interp_state().clone()),
             mdi: self.run_text_is_mdi(),
+            subs: Some(Arc::new(self.subroutines())),
         })
     }
     fn magazine(&self) -> Magazine {

@@ -60,6 +60,8 @@ pub enum GcodeStart {
         state: Box<crate::gcode::InterpState>,
         /// The text is the MDI buffer.
         mdi: bool,
+        /// Where the subroutines and macros it calls are found, as START finds them.
+        subs: Option<Arc<crate::gcode::SubPrograms>>,
     },
 }
 
@@ -69,8 +71,8 @@ impl GcodeStart {
     fn key(&self) -> String {
         match self {
             GcodeStart::Offsets(o) => format!("{o:?}"),
-            GcodeStart::State { state, mdi } => format!(
-                "{:?}{:?}{:?}{:?}{:?}{mdi}{:?}",
+            GcodeStart::State { state, mdi, subs } => format!(
+                "{:?}{:?}{:?}{:?}{:?}{mdi}{:?}{:?}",
                 state.modal,
                 state.g92,
                 state.tlo,
@@ -79,7 +81,13 @@ impl GcodeStart {
                 state.params[5161..=5390]
                     .iter()
                     .map(|v| v.to_bits())
-                    .collect::<Vec<_>>()
+                    .collect::<Vec<_>>(),
+                // A macro or subroutine in memory revised: the path may change.
+                subs.as_ref().map(|s| s
+                    .programs
+                    .iter()
+                    .map(|(n, t)| (n.as_str(), crate::crc32::crc32(t.as_bytes())))
+                    .collect::<Vec<_>>())
             ),
         }
     }
@@ -221,8 +229,8 @@ impl PlotState {
                                     *o,
                                     sw,
                                 ),
-                                GcodeStart::State { state, mdi } => {
-                                    let g = crate::gcode::GcodeSource::with_state(
+                                GcodeStart::State { state, mdi, subs } => {
+                                    let mut g = crate::gcode::GcodeSource::with_state(
                                         text.as_str().into(),
                                         mag.clone(),
                                         settings.clone(),
@@ -230,6 +238,9 @@ impl PlotState {
                                         (**state).clone(),
                                         sw,
                                     );
+                                    if let Some(f) = subs {
+                                        g = g.subroutines(Box::new(f.clone()));
+                                    }
                                     if *mdi {
                                         g.mdi()
                                     } else {
@@ -479,6 +490,31 @@ mod tests {
         assert!(plotted(None).error.is_some());
     }
 
+    /// A program that calls a subroutine kept in program memory is plotted through it, as
+    /// START reads it (the plot once said the subroutine was not in the program).
+    #[test]
+    fn a_subroutine_in_program_memory_is_plotted() {
+        let text = "G10 L2 P1 X100\nG54\no<square> call\nM30\n";
+        let subs = crate::gcode::SubPrograms {
+            programs: vec![(
+                "SQUARE.NGC".into(),
+                "o<square> sub\nG0 X10\nG0 Y10\no<square> endsub\nM2\n".into(),
+            )],
+            path: crate::gcode::SubPath(Vec::new()),
+        };
+        let start = |subs| GcodeStart::State {
+            state: Box::default(),
+            mdi: false,
+            subs,
+        };
+        let without = plotted_from(text, [0; 3], Some(start(None)));
+        assert!(without.error.is_some(), "no finder, no subroutine");
+        let bp = plotted_from(text, [0; 3], Some(start(Some(Arc::new(subs)))));
+        assert!(bp.error.is_none(), "{:?}", bp.error);
+        assert_eq!(bp.segments.len(), 2, "{:?}", bp.segments);
+        assert!((bp.segments[1].to[1] - 10.0).abs() < 1e-9);
+    }
+
     /// MDI G-code is plotted as START will read it: from the console's state (here G91), and
     /// without the M30 a program needs.
     #[test]
@@ -488,6 +524,7 @@ mod tests {
         let g = GcodeStart::State {
             state: Box::new(state),
             mdi: true,
+            subs: None,
         };
         let bp = plotted_from("G0 X5\n", [10_000, 0, 0], Some(g));
         assert!(bp.error.is_none(), "{:?}", bp.error);
