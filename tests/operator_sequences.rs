@@ -42,6 +42,10 @@
 //!   no axis moves after it;
 //! - STOP inside a tap (the steps take a run into a G84/TAP): no hold in the hole; the hold
 //!   comes with the tap back out at R and the spindle forward.
+//! - the Fanuc dialect (one G-code session in two: Table B and the MDI lines with a decimal
+//!   point on every length, `seq_gcode::fanuc_text`, under every invariant above): a MACRO
+//!   page INPUT is taken only with the machine at rest, and in LinuxCNC's dialect never; a
+//!   #500-#999 it set is kept across every restart.
 //!
 //! One session in four runs on the error-proportional interpolator.
 //!
@@ -61,7 +65,7 @@ use novanc::panel_model::{OpMode, PanelEvent as E};
 use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
 use novanc::record::{Event, EventSink};
-use novanc::settings::Interpolator;
+use novanc::settings::{Dialect, Interpolator};
 use novanc::tape::{self, ReadOptions};
 use novanc::tooldata::format_record;
 use seq_stats::{count, run_many, Stats};
@@ -152,6 +156,11 @@ struct Session {
     gcode: bool,
     /// On the error-proportional interpolator.
     ep: bool,
+    /// In the Fanuc dialect (one G-code session in two): Table B and the MDI lines with a
+    /// decimal point on every length, and the MACRO page takes its writes.
+    fanuc: bool,
+    /// The #500-#999 the MACRO page set, and their values: kept across a restart.
+    kept: std::collections::BTreeMap<usize, f64>,
     /// Machine time of the last rapid override change, ns (the ramp to the new speed takes
     /// its time).
     rapid_changed_ns: u64,
@@ -183,11 +192,14 @@ const ESTOP_STATES: [&str; 9] = [
 
 /// The console of a session on `dir`: virtual time, the session's event sink, the pulse
 /// core's audit on (the same at a restart).
-fn console_on(dir: &std::path::Path, ep: bool, sink: &EventSink) -> Console {
+fn console_on(dir: &std::path::Path, ep: bool, fanuc: bool, sink: &EventSink) -> Console {
     let mut cfg = ConsoleConfig::new(dir.to_path_buf());
     cfg.clock = ClockMode::Virtual;
     if ep {
         cfg.settings.interpolator = Interpolator::ErrorProportional;
+    }
+    if fanuc {
+        cfg.settings.dialect = Dialect::Fanuc;
     }
     cfg.sink = Some(sink.clone());
     let c = Console::open(cfg).unwrap().0;
@@ -197,7 +209,8 @@ fn console_on(dir: &std::path::Path, ep: bool, sink: &EventSink) -> Console {
 
 impl Session {
     fn open(seed: u64) -> Session {
-        let (tx, rx) = std::sync::mpsc::sync_channel(1 << 14);
+        // Room for bursts while this machine is loaded: a full queue drops (and says so).
+        let (tx, rx) = std::sync::mpsc::sync_channel(1 << 17);
         let (ctx, counts) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let mut n = [0i64; 3];
@@ -219,8 +232,9 @@ impl Session {
         // One session in four on the error-proportional interpolator (issue 12): the same
         // invariants hold whichever distributes the pulses.
         let ep = seed % 4 == 1;
-        let c = console_on(&dir, ep, &sink);
         let gcode = seed.is_multiple_of(3);
+        let fanuc = gcode && seed.is_multiple_of(2);
+        let c = console_on(&dir, ep, fanuc, &sink);
         let mut s = Session {
             c,
             sink,
@@ -233,6 +247,8 @@ impl Session {
             tapes: temp_dir("seq-tapes"),
             gcode,
             ep,
+            fanuc,
+            kept: Default::default(),
             rapid_changed_ns: 0,
             dir,
             home_owed: false,
@@ -240,7 +256,14 @@ impl Session {
             pos_offset: [0; 3],
         };
         if gcode {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(seq_gcode::PROGRAM);
+            let mut path =
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(seq_gcode::PROGRAM);
+            if fanuc {
+                let text = std::fs::read_to_string(&path).unwrap();
+                path = s.tapes.join("tableb.ngc");
+                std::fs::write(&path, seq_gcode::fanuc_text(&text)).unwrap();
+                s.stats.fanuc_sessions += 1;
+            }
             s.key("Alt+4");
             s.key("F2");
             s.ev(E::Tape(path));
@@ -386,7 +409,7 @@ impl Session {
         spare.clock = ClockMode::Virtual;
         let dead = std::mem::replace(&mut self.c, Console::open(spare).unwrap().0);
         drop(dead);
-        self.c = console_on(&self.dir, self.ep, &self.sink);
+        self.c = console_on(&self.dir, self.ep, self.fanuc, &self.sink);
         self.log.push("restart".into());
         self.stats.restarts += 1;
         let now = self.c.status().clone();
@@ -406,7 +429,15 @@ impl Session {
             assert_eq!(owed, self.home_owed, "HOME is owed only as before\n{frame}");
         }
         self.home_owed |= owed;
-        // The restored position came without pulses.
+        // The macro variables #500-#999 the MACRO page set are kept (journaled).
+        for (&n, &v) in &self.kept {
+            assert_eq!(
+                self.c.interp_state().params[n],
+                v,
+                "#{n} set on the MACRO page is kept across a restart"
+            );
+            self.stats.macro_kept += 1;
+        }
         let rec = self.recorded();
         self.pos_offset = [0, 1, 2].map(|a| now.machine_pos[a] - rec[a]);
         if self.home_owed {
@@ -612,8 +643,10 @@ impl Session {
             "Up" | "Down" => 1,
             _ => 2,
         };
-        let now = self.c.status().pos;
-        let moved: Vec<i64> = (0..3).map(|a| now[a] - st.pos[a]).collect();
+        // The axes (a run under MACHINE LOCK or Z NEGLECT leaves the program position apart
+        // from them until the next motion brings it back).
+        let now = self.c.status().machine_pos;
+        let moved: Vec<i64> = (0..3).map(|a| now[a] - st.machine_pos[a]).collect();
         let manual = matches!(
             v.op_mode,
             OpMode::Continuous | OpMode::Step | OpMode::Handle
@@ -723,7 +756,8 @@ impl Session {
             }
             86..=91 => {
                 // An MDI program.
-                let (text, low) = if self.gcode && self.rng.range(0, 1) == 0 {
+                let g = self.gcode && self.rng.range(0, 1) == 0;
+                let (text, low) = if g {
                     seq_gcode::MDI[self.rng.range(0, 3) as usize]
                 } else {
                     MDI[self.rng.range(0, MDI.len() as i64 - 1) as usize]
@@ -731,6 +765,11 @@ impl Session {
                 self.lowest_mm = self.lowest_mm.min(low);
                 self.key("Alt+4");
                 self.key("F7");
+                let text = if g && self.fanuc {
+                    seq_gcode::fanuc_text(text)
+                } else {
+                    text.to_string()
+                };
                 self.ev(E::Type(format!("-999L999KI{text}")));
                 self.key("Alt+3");
             }
@@ -811,7 +850,17 @@ impl Session {
         let line = match self.rng.range(0, 10) {
             // 20 mm down, incremental: a probe that stays above the lowest tip the
             // programs command (the invariant below), tripping where the stock is.
-            9 => "G91 G38.3 Z-20 F3000".to_string(),
+            9 => {
+                // It commands the tip 20 mm below where it stands, which may already be low
+                // (a run stopped in the bore, then abandoned): the bound follows.
+                let len = st
+                    .tool
+                    .and_then(|t| self.c.magazine().tools.get(t).map(|r| r.length()))
+                    .unwrap_or(0.0);
+                let tip = self.c.settings().to_mm(st.machine_pos[2]) - len;
+                self.lowest_mm = self.lowest_mm.min(tip - 20.001);
+                "G91 G38.3 Z-20 F3000".to_string()
+            }
             0 => "G91".to_string(),
             1 => "G90".to_string(),
             2 => "G92 X0 Y0".to_string(),
@@ -828,7 +877,12 @@ impl Session {
         let pos = st.pos;
         self.key("Alt+4");
         self.key("F7");
-        self.ev(E::Type(format!("-999L999KI{line}")));
+        let typed = if self.fanuc {
+            seq_gcode::fanuc_text(&line)
+        } else {
+            line.clone()
+        };
+        self.ev(E::Type(format!("-999L999KI{typed}")));
         self.key("Alt+3");
         self.key("F9");
         self.ev(E::Wait);
@@ -858,6 +912,13 @@ impl Session {
                     "a refused MDI {line} moved X or Y"
                 );
             }
+            // The MDI buffer keeps its text, and START in MDI runs it again: 20 mm lower each
+            // time, with no bound. An operator types the next line; here, one that moves
+            // nothing.
+            self.key("Alt+4");
+            self.key("F7");
+            self.ev(E::Type("-999L999KIG90".into()));
+            self.key("Alt+3");
             return;
         }
         let Some(xy) = line.strip_prefix("G0 ") else {
@@ -917,8 +978,10 @@ impl Session {
         let held = st.job.is_some() && stopped && self.rng.range(0, 2) != 0;
         let page = if held {
             "Ctrl+O"
+        } else if self.fanuc && self.rng.range(0, 1) == 0 {
+            "Ctrl+U"
         } else {
-            self.pick(&["Ctrl+P", "Ctrl+D", "Ctrl+O", "Ctrl+E"])
+            self.pick(&["Ctrl+P", "Ctrl+D", "Ctrl+O", "Ctrl+E", "Ctrl+U"])
         };
         self.key(page);
         match page {
@@ -955,6 +1018,7 @@ impl Session {
                 let w = self.pick(&["", "C P2", "R P3", "D", "D"]);
                 self.ev(E::Type(w.into()));
             }
+            "Ctrl+U" => self.macro_input(),
             _ => {}
         }
         let at_rest = st.job.is_none() || stopped;
@@ -983,6 +1047,56 @@ impl Session {
         }
         if self.rng.range(0, 1) == 0 {
             self.key(page);
+        }
+    }
+
+    /// A MACRO page INPUT, `#n=v`, of a local, a common or a kept variable. In the Fanuc
+    /// dialect the console takes it with the machine at rest (as OFS's) and sets the
+    /// variable, a #500-#999 journaled (the restart checks it is kept); with the machine
+    /// moving, or in LinuxCNC's dialect, it is refused and nothing changes.
+    fn macro_input(&mut self) {
+        let n = match self.rng.range(0, 3) {
+            0 => self.rng.range(1, 33),
+            1 => self.rng.range(100, 199),
+            _ => self.rng.range(500, 999),
+        } as usize;
+        let v = self.rng.range(-99_999, 99_999) as f64 / 1000.0;
+        let rest = |st: &novanc::pulse_core::Status| {
+            (st.job.is_none() || (st.idle && (st.hold || st.run == 0))) && !st.moving
+        };
+        // The page key toggles: an earlier step may have left the page up.
+        if !self.c.frame_text().starts_with("MACRO") {
+            self.key("Ctrl+U");
+        }
+        let before = self.c.interp_state().params[n];
+        let rest_before = rest(self.c.status());
+        self.ev(E::Type(format!("#{n}={v}")));
+        let rest_after = rest(self.c.status());
+        let after = self.c.interp_state().params[n];
+        let changed = after.to_bits() != before.to_bits();
+        if self.fanuc && rest_before && rest_after {
+            assert_eq!(after, v, "MACRO #{n}={v} at rest\n{}", self.c.frame_text());
+        }
+        if changed {
+            assert!(
+                self.fanuc && (rest_before || rest_after),
+                "MACRO #{n}={v} was taken moving or in LinuxCNC's dialect\n{}",
+                self.c.frame_text()
+            );
+            self.stats.macro_writes += 1;
+            if n >= 500 {
+                self.kept.insert(n, v);
+                // Sometimes the console dies right after: the write was acknowledged.
+                if self.rng.range(0, 2) == 0 {
+                    self.restart();
+                }
+            }
+        } else if before != v {
+            assert!(
+                common::shows(&self.c, "MACRO refused"),
+                "MACRO #{n}={v}: neither taken nor refused\n{}",
+                self.c.frame_text()
+            );
         }
     }
 
@@ -1033,11 +1147,11 @@ impl Session {
             return;
         }
         self.stats.tape_reads += 1;
-        if self.rng.range(0, 3) == 0 {
+        if self.rng.range(0, 1) == 0 {
             let t = self.rng.range(1, 3000) as u64;
             self.ev(E::WaitMs(t));
             if self.c.tape_reading() {
-                let k = self.pick(&["F10", "F11", "F12", "Alt+2", "F3"]);
+                let k = self.pick(&["F10", "F11", "F12", "F12", "Alt+2", "F3"]);
                 self.key(k);
                 assert!(!self.c.tape_reading(), "{k} abandons the read");
                 assert_eq!(self.c.program_text(), program, "{k}: nothing stored");
@@ -1405,6 +1519,8 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
             "{st:?}"
         );
         assert!(st.measures > 0, "{st:?}");
+        assert!(st.fanuc_sessions > 0 && st.macro_writes > 0, "{st:?}");
+        assert!(st.macro_kept > 0, "{st:?}");
         let missed: Vec<&str> = (0..ESTOP_STATES.len())
             .filter(|b| st.estop_states & (1 << b) == 0)
             .map(|b| ESTOP_STATES[b])

@@ -31,3 +31,36 @@ pub const OFFSETS: [&str; 3] = ["G54 X1", "G55 X100 Y50 Z-300", "G59 Z-1"];
 pub fn revised_in_run(lowest_mm: f64, before: f64, after: f64) -> f64 {
     lowest_mm - (after - before).max(0.0)
 }
+
+/// A G-code text as the Fanuc dialect reads it the same: a decimal point added to every whole
+/// number of a length word (X Y Z I J K R Q), outside comments (Fanuc reads `X150` as 150
+/// least increments, 0.150 mm; docs/gcode.md "Fanuc dialect").
+pub fn fanuc_text(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + text.len() / 8);
+    let mut chars = text.chars().peekable();
+    let mut comment = false;
+    while let Some(c) = chars.next() {
+        out.push(c);
+        match c {
+            '(' => comment = true,
+            ')' => comment = false,
+            'X' | 'Y' | 'Z' | 'I' | 'J' | 'K' | 'R' | 'Q' if !comment => {
+                if let Some(&s) = chars.peek().filter(|s| **s == '-' || **s == '+') {
+                    out.push(s);
+                    chars.next();
+                }
+                let mut digits = false;
+                while let Some(&d) = chars.peek().filter(|d| d.is_ascii_digit()) {
+                    out.push(d);
+                    chars.next();
+                    digits = true;
+                }
+                if digits && chars.peek() != Some(&'.') {
+                    out.push('.');
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}

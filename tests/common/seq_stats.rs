@@ -57,6 +57,12 @@ pub struct Stats {
     pub homes: u64,
     /// OFS MEASURE inputs the console accepted (work offset or tool length).
     pub measures: u64,
+    /// Sessions in the Fanuc dialect (Table B with a decimal point on every length).
+    pub fanuc_sessions: u64,
+    /// MACRO page writes the console took (Fanuc sessions), and #500-#999 found kept after
+    /// a restart.
+    pub macro_writes: u64,
+    pub macro_kept: u64,
     /// The machine states E-STOP was pressed in, one bit each (`ESTOP_STATES` in the test).
     pub estop_states: u32,
 }
@@ -90,6 +96,9 @@ impl Stats {
         self.restarts_moving += o.restarts_moving;
         self.homes += o.homes;
         self.measures += o.measures;
+        self.fanuc_sessions += o.fanuc_sessions;
+        self.macro_writes += o.macro_writes;
+        self.macro_kept += o.macro_kept;
         self.estop_states |= o.estop_states;
     }
 }
