@@ -11,10 +11,9 @@
 //!
 //! Run with `cargo bench --bench lathe`.
 
+use novanc::block::Statement;
 use novanc::lathe::desc::LatheDesc;
-use novanc::lathe::gcode::read_program;
-use novanc::lathe::ops::LatheProgram;
-use novanc::lathe::testkit::{citizen_like, kernel, pt, sample_programs};
+use novanc::lathe::testkit::{citizen_like, citizen_programs, kernel, pt, sample_programs};
 use novanc::pulse_core::Outcome;
 use std::time::Instant;
 
@@ -90,29 +89,15 @@ fn best_of<T: Copy>(
     }
 }
 
-/// The Citizen's programs read by the lathe reader.
-fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
-    (1..=3)
-        .map(|i| {
-            let name = format!("system{i}.ngc");
-            let path = format!("{}/programs/citizen/{name}", env!("CARGO_MANIFEST_DIR"));
-            let text = std::fs::read_to_string(&path).unwrap_or_default();
-            read_program(&name, &text, desc, i - 1, &Default::default()).unwrap_or_else(|e| {
-                eprintln!("lathe bench: {name}: {e}");
-                std::process::exit(1)
-            })
-        })
-        .collect()
-}
-
 /// `programs` on `desc` to `parts` in process on the kernel, every tool at `at` (None: its
 /// home): (wall s, axis pulses, machine ns).
 fn on_kernel(
     desc: &LatheDesc,
-    progs: &[LatheProgram],
+    progs: &[Vec<Statement>],
     parts: u32,
     at: Option<[i64; 2]>,
 ) -> Result<(f64, u64, u64), String> {
+    let progs = progs.to_vec();
     let t0 = Instant::now();
     let mut k = kernel(desc, progs, parts, at)?;
     k.start(None)?;
@@ -130,7 +115,10 @@ fn on_kernel(
 
 fn main() {
     let desc = LatheDesc::citizen();
-    let progs = citizen_programs(&desc);
+    let progs = citizen_programs(&desc).unwrap_or_else(|e| {
+        eprintln!("lathe bench: {e}");
+        std::process::exit(1)
+    });
     let sample = citizen_like(3);
     let sample_progs = sample_programs();
     for (name, d, p, parts, at) in [

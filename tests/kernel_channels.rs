@@ -7,11 +7,9 @@
 mod common;
 
 use novanc::block::{Block, Motion, Statement, Sync};
-use novanc::lathe::blocks::{blocks, kernel_channels};
 use novanc::lathe::desc::LatheDesc;
 use novanc::lathe::gcode::home;
-use novanc::lathe::ops::{Feed, LatheProgram, Op, SpeedMode};
-use novanc::lathe::testkit::{citizen_like, sample_programs};
+use novanc::lathe::testkit::{citizen_like, program, sample_programs};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
     ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, RunKind, VecSource,
@@ -22,8 +20,10 @@ use novanc::settings::MachineSettings;
 const MINUTE: u64 = 60_000_000_000;
 
 /// The kernel running `programs` on `desc` to `target` parts, every tool at its home.
-fn kernel(desc: &LatheDesc, programs: &[LatheProgram], target: u32) -> Kernel {
-    let (chans, flow) = kernel_channels(desc, programs).expect("the programs fit the machine");
+fn kernel(desc: &LatheDesc, programs: &[Vec<Statement>], target: u32) -> Kernel {
+    let (chans, flow) = desc
+        .kernel_channels(programs.to_vec())
+        .expect("the programs fit the machine");
     let mut k = Kernel::new(chans, Some(flow), target).expect("a kernel");
     for ch in 0..desc.channels.len() {
         let h = home(desc, ch);
@@ -234,31 +234,13 @@ fn an_arc_of_the_zx_plane_turns_the_way_the_simulator_turns_it() {
     // turn through X7.414 Z-0.586. Clockwise it would be three quarters, through X4.
     let desc = citizen_like(1);
     let mm = |v: f64| (v * 1000.0).round() as i64;
-    let arc = |ccw: bool| LatheProgram {
-        name: "arc".into(),
-        lines: vec![String::new(); 2],
-        steps: vec![
-            novanc::lathe::ops::Step {
-                line: 1,
-                op: Op::Rapid {
-                    end: [mm(6.0), mm(0.0)],
-                },
-            },
-            novanc::lathe::ops::Step {
-                line: 2,
-                op: Op::Arc {
-                    end: [mm(8.0), mm(-2.0)],
-                    centre: [mm(6.0), mm(-2.0)],
-                    ccw,
-                    feed: Feed::PerMin(300.0),
-                },
-            },
-        ],
+    let arc = |ccw: bool| {
+        let g = if ccw { "G3" } else { "G2" };
+        program(&desc, 0, &format!("G8 G0 X6 Z0\n{g} X8 Z-2 I0 K-2 F300\n")).expect("an arc")
     };
     for ccw in [true, false] {
         let st = MachineSettings::lathe_channel(&desc, 0).expect("channel 1");
-        let mut k =
-            Kernel::new(vec![(st, blocks(&arc(ccw), &desc, 0))], None, 1).expect("a kernel");
+        let mut k = Kernel::new(vec![(st, arc(ccw))], None, 1).expect("a kernel");
         let h = home(&desc, 0);
         let start = [h[0], 0, h[1]];
         k.set_position(0, start).expect("at rest");
@@ -300,44 +282,21 @@ fn an_arc_of_the_zx_plane_turns_the_way_the_simulator_turns_it() {
 #[test]
 fn the_chuck_interlock_refuses_a_cut_on_an_empty_spindle_or_an_open_chuck() {
     let desc = citizen_like(1);
-    let p = |ops: Vec<Op>| novanc::lathe::testkit::program("p", ops);
-    let cut = Op::Line {
-        end: [5_000, -1_000],
-        feed: Feed::PerMin(100.0),
-    };
-    let spin = Op::Spindle {
-        dir: novanc::lathe::ops::SpindleDir::Cw,
-        mode: SpeedMode::Rpm(1000.0),
-    };
+    let p = |text: &str| program(&desc, 0, text).expect("a program");
+    // Spindle on, a rapid to X6 Z0 (radius), a cut to X5 Z-1.
     let cases = [
         (
-            vec![spin.clone(), Op::Rapid { end: [6_000, 0] }, cut.clone()],
+            "G8 M3 S1000\nG0 X6 Z0\nG1 X5 Z-1 F100\n",
             "no work in the spindle of CH1",
         ),
         (
-            vec![
-                Op::ChuckClose,
-                spin.clone(),
-                Op::Rapid { end: [6_000, 0] },
-                Op::ChuckOpen,
-                cut.clone(),
-            ],
+            "M10\nG8 M3 S1000\nG0 X6 Z0\nM11\nG1 X5 Z-1 F100\n",
             "no work in the spindle of CH1",
         ),
-        (
-            vec![
-                Op::ChuckClose,
-                spin,
-                Op::Rapid { end: [6_000, 0] },
-                cut,
-                Op::ChuckOpen,
-                Op::End { m30: true },
-            ],
-            "",
-        ),
+        ("M10\nG8 M3 S1000\nG0 X6 Z0\nG1 X5 Z-1 F100\nM11\nM30\n", ""),
     ];
-    for (ops, why) in cases {
-        let mut k = kernel(&desc, &[p(ops)], 1);
+    for (text, why) in cases {
+        let mut k = kernel(&desc, &[p(text)], 1);
         k.start(None).expect("START");
         let o = k.run_until_idle(MINUTE);
         if why.is_empty() {
@@ -701,16 +660,8 @@ fn random_operator_sequences_keep_the_invariants() {
 
 /// The Citizen's programs (`programs/citizen/system{1,2,3}.ngc`) read by the lathe G-code
 /// reader.
-fn citizen_programs(desc: &LatheDesc) -> Vec<LatheProgram> {
-    (1..=3)
-        .map(|i| {
-            let name = format!("system{i}.ngc");
-            let path = format!("{}/programs/citizen/{name}", env!("CARGO_MANIFEST_DIR"));
-            let text = std::fs::read_to_string(&path).expect("the Citizen's program");
-            novanc::lathe::gcode::read_program(&name, &text, desc, i - 1, &Default::default())
-                .unwrap_or_else(|e| panic!("{name}: {e}"))
-        })
-        .collect()
+fn citizen_programs(desc: &LatheDesc) -> Vec<Vec<Statement>> {
+    novanc::lathe::testkit::citizen_programs(desc).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The kernel's events of the Citizen's 5 parts against what the kernel knows otherwise: in
@@ -814,7 +765,7 @@ fn check_citizen_events(k: &Kernel, evs: &[KernelEvent], passes: usize, lines: u
 fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     let desc = LatheDesc::citizen();
     let progs = citizen_programs(&desc);
-    let threads: Vec<u32> = blocks(&progs[2], &desc, 2)
+    let threads: Vec<u32> = progs[2]
         .iter()
         .flat_map(|s| s.blocks.iter())
         .filter(|b| b.thread.is_some())

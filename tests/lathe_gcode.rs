@@ -2,6 +2,7 @@
 //! column and says why in a part programmer's words. The seeded no-panic test is
 //! tests/lathe_gcode_fuzz.rs.
 
+use novanc::block::Motion;
 use novanc::lathe::desc::LatheDesc;
 use novanc::lathe::gcode::{read_program, ReadOptions};
 
@@ -15,8 +16,8 @@ fn desc() -> LatheDesc {
 }
 
 fn error(text: &str) -> String {
-    match read_program("e.ngc", text, &desc(), 0, &ReadOptions::default()) {
-        Ok(p) => panic!("read without error: {text:?} → {:?}", p.steps),
+    match read_program(text, &desc(), 0, &ReadOptions::default()) {
+        Ok(p) => panic!("read without error: {text:?} → {p:?}"),
         Err(e) => e.to_string(),
     }
 }
@@ -494,15 +495,9 @@ fn a_program_missing_g95_is_refused_at_its_first_feed() {
         panic!("{path} is missing");
     };
     let text = text.replace(" G95", "");
-    let e = read_program(
-        &path,
-        &text,
-        &LatheDesc::citizen(),
-        0,
-        &ReadOptions::default(),
-    )
-    .err()
-    .map(|e| e.to_string());
+    let e = read_program(&text, &LatheDesc::citizen(), 0, &ReadOptions::default())
+        .err()
+        .map(|e| e.to_string());
     assert_eq!(
         e.as_deref(),
         Some("12:1: F0.08 is below the slowest feed, 1 mm/min (G94 reads F per minute: G95 reads it per revolution)")
@@ -511,7 +506,7 @@ fn a_program_missing_g95_is_refused_at_its_first_feed() {
 
 #[test]
 fn a_missing_channel_is_refused() {
-    let e = read_program("x", "G0 X1\n", &desc(), 5, &ReadOptions::default());
+    let e = read_program("G0 X1\n", &desc(), 5, &ReadOptions::default());
     assert_eq!(
         e.err().map(|e| e.to_string()),
         Some("1:1: channel 6 does not exist (the machine has 3)".to_string())
@@ -522,7 +517,7 @@ fn a_missing_channel_is_refused() {
 fn a_bad_pulse_size_is_refused() {
     let mut d = desc();
     d.pulse_mm = 0.0;
-    let e = read_program("x", "G0 X1\n", &d, 0, &ReadOptions::default());
+    let e = read_program("G0 X1\n", &d, 0, &ReadOptions::default());
     assert_eq!(
         e.err().map(|e| e.to_string()),
         Some("1:1: the machine's pulse size is not a positive number".to_string())
@@ -541,10 +536,12 @@ fn the_citizen_samples_read_on_their_channels() {
         let Ok(text) = std::fs::read_to_string(&path) else {
             panic!("{path} is missing");
         };
-        match read_program(&path, &text, &d, ch, &ReadOptions::default()) {
+        match read_program(&text, &d, ch, &ReadOptions::default()) {
             Ok(p) => assert!(
-                p.steps.iter().any(|s| s.op.cuts()),
-                "{path}: no cutting operation"
+                p.iter()
+                    .flat_map(|s| &s.blocks)
+                    .any(|b| matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw)),
+                "{path}: no cutting block"
             ),
             Err(e) => panic!("{path}: {e}"),
         }

@@ -4,9 +4,9 @@
 //! centre C = P − R·v(tip) recovered with the chart written out here (not the reader's), and
 //! the nose circle's envelope compared with the programmed profile.
 
+use novanc::block::Motion;
 use novanc::lathe::desc::{LatheDesc, ToolDesc};
 use novanc::lathe::gcode::{read_program, ReadOptions};
-use novanc::lathe::ops::Op;
 
 const R: f64 = 0.8;
 const TOL: f64 = 0.002;
@@ -161,25 +161,27 @@ const CUT: std::ops::RangeInclusive<u32> = 5..=10;
 fn path(tip: u8, side: &str) -> Vec<(u32, Piece)> {
     let d = desc(tip);
     let text = PROGRAM.replace("{SIDE}", side);
-    let p = match read_program("comp.ngc", &text, &d, 0, &ReadOptions::default()) {
+    let p = match read_program(&text, &d, 0, &ReadOptions::default()) {
         Ok(p) => p,
         Err(e) => panic!("tip {tip} {side}: {e}"),
     };
     let mm = |q: [i64; 2]| [q[0] as f64 * d.pulse_mm, q[1] as f64 * d.pulse_mm];
     let mut at: Option<[f64; 2]> = None;
     let mut out = Vec::new();
-    for s in &p.steps {
-        let (end, piece) = match s.op {
-            Op::Rapid { end } | Op::Line { end, .. } => {
-                (mm(end), at.map(|a| Piece::Seg(a, mm(end))))
+    for b in p.iter().flat_map(|s| &s.blocks) {
+        let end = [b.end[0], b.end[2]];
+        let (end, piece) = match (b.motion, b.centre3()) {
+            (Motion::Rapid | Motion::Linear, _) => (mm(end), at.map(|a| Piece::Seg(a, mm(end)))),
+            (Motion::ArcCw | Motion::ArcCcw, Some(c)) => {
+                let s = b.start();
+                let centre = [s[0] + c[0], s[2] + c[2]];
+                let ccw = b.motion == Motion::ArcCcw;
+                (mm(end), at.map(|a| Piece::Arc(a, mm(end), mm(centre), ccw)))
             }
-            Op::Arc {
-                end, centre, ccw, ..
-            } => (mm(end), at.map(|a| Piece::Arc(a, mm(end), mm(centre), ccw))),
             _ => continue,
         };
         if let Some(pc) = piece {
-            out.push((s.line, pc));
+            out.push((b.stmt, pc));
         }
         at = Some(end);
     }
@@ -285,11 +287,11 @@ fn recorded(tip: u8, side: &str) -> Vec<(u32, [f64; 2])> {
     d.supplier = 0;
     d.unloader = 0;
     let text = format!("M10\n{}", PROGRAM.replace("{SIDE}", side));
-    let p = read_program("comp.ngc", &text, &d, 0, &ReadOptions::default()).unwrap();
+    let p = read_program(&text, &d, 0, &ReadOptions::default()).unwrap();
     let home = novanc::lathe::gcode::home(&d, 0);
     let start = [home[0], 0, home[1]];
     let mm = d.pulse_mm;
-    let mut k = novanc::lathe::testkit::kernel(&d, &[p], 1, None).unwrap();
+    let mut k = novanc::lathe::testkit::kernel(&d, vec![p], 1, None).unwrap();
     let m = k.machine_mut(0).unwrap();
     m.set_recording(None, true);
     m.set_audit(true);

@@ -130,10 +130,10 @@ fn random_bytes_and_fragments_never_panic() {
         } else {
             (rng.next() % 3) as usize
         };
-        match read_program("fuzz", &text, &d, ch, &opts) {
+        match read_program(&text, &d, ch, &opts) {
             Ok(p) => {
                 good += 1;
-                assert!(p.steps.iter().all(|s| s.line >= 1));
+                assert!(p.iter().all(|s| s.line >= 1));
             }
             Err(e) => {
                 errors += 1;
@@ -164,7 +164,7 @@ fn random_bytes_and_fragments_never_panic() {
 /// keeps the limits: dwells at most `MAX_DWELL_S`, feeds per minute at least `MIN_FEED`.
 #[test]
 fn extreme_values_never_panic_or_pass_a_limit() {
-    use novanc::lathe::ops::{Feed, Op};
+    use novanc::block::{FeedMode, Motion};
     use novanc::limits::{MAX_DWELL_S, MIN_FEED};
     let nums = gcode_fragments::extreme_numbers();
     let d = desc();
@@ -203,21 +203,16 @@ fn extreme_values_never_panic_or_pass_a_limit() {
             text.push('\n');
         }
         let t = std::time::Instant::now();
-        match read_program("x", &text, &d, 0, &ReadOptions::default()) {
+        match read_program(&text, &d, 0, &ReadOptions::default()) {
             Ok(p) => {
                 read += 1;
-                for s in &p.steps {
-                    match s.op {
-                        Op::Dwell { ns } => assert!(ns as f64 <= MAX_DWELL_S * 1e9, "{text}"),
-                        Op::Line {
-                            feed: Feed::PerMin(f),
-                            ..
+                for b in p.iter().flat_map(|s| &s.blocks) {
+                    match (b.motion, b.feed_mode) {
+                        (Motion::Dwell, _) => {
+                            assert!(b.dwell_ns as f64 <= MAX_DWELL_S * 1e9, "{text}")
                         }
-                        | Op::Arc {
-                            feed: Feed::PerMin(f),
-                            ..
-                        } => {
-                            assert!(f.is_finite() && f >= MIN_FEED, "{text}")
+                        (Motion::Linear | Motion::ArcCw | Motion::ArcCcw, FeedMode::PerMin) => {
+                            assert!(b.feed.is_finite() && b.feed >= MIN_FEED, "{text}")
                         }
                         _ => {}
                     }

@@ -6,12 +6,9 @@
 //! is compared with them. The fault in channel 1 during part 3, E-STOP/RESET and the random
 //! operator sequences are in tests/kernel_channels.rs.
 
-use novanc::lathe::blocks::blocks;
+use novanc::block::Sync;
 use novanc::lathe::desc::LatheDesc;
-use novanc::lathe::ops::Op;
-use novanc::lathe::testkit::{
-    citizen_like, kernel, program, pt, sample_kernel, sample_programs, system1,
-};
+use novanc::lathe::testkit::{citizen_like, kernel, program, pt, sample_kernel, sample_programs};
 use novanc::pulse_core::{Kernel, Outcome, WaitOn};
 
 const MINUTE: u64 = 60_000_000_000;
@@ -23,9 +20,9 @@ fn sample(target: u32) -> Kernel {
     }
 }
 
-/// The sequence numbers of channel `ch`'s thread passes in `desc`'s sample programs.
-fn thread_passes(desc: &LatheDesc, ch: usize) -> Vec<u32> {
-    blocks(&sample_programs()[ch], desc, ch)
+/// The sequence numbers of channel `ch`'s thread passes in the sample programs.
+fn thread_passes(ch: usize) -> Vec<u32> {
+    sample_programs()[ch]
         .iter()
         .flat_map(|s| s.blocks.iter())
         .filter(|b| b.thread.is_some())
@@ -57,7 +54,7 @@ fn five_parts_pass_through_three_channels() {
         assert_eq!(works, vec![1, 2, 3, 4, 5], "{from:?} → {to:?}");
     }
     // Three passes a part, each run to its end.
-    let seqs = thread_passes(&citizen_like(3), 2);
+    let seqs = thread_passes(2);
     assert_eq!(seqs.len(), 3);
     let passes = k
         .machine_mut(2)
@@ -97,7 +94,7 @@ fn five_parts_pass_through_three_channels() {
 #[test]
 fn the_sample_runs_on_the_embedded_citizen_description() {
     let desc = LatheDesc::citizen();
-    let mut k = kernel(&desc, &sample_programs(), 5, Some(pt(20.0, 5.0)))
+    let mut k = kernel(&desc, sample_programs(), 5, Some(pt(20.0, 5.0)))
         .expect("the sample on the Citizen");
     k.start(None).expect("START");
     assert_eq!(
@@ -117,15 +114,15 @@ fn the_sample_runs_on_the_embedded_citizen_description() {
     );
 }
 
-/// Two channels of `citizen_like(2)` running `a` and `b` (no work: neither cuts), started.
-fn two(a: Vec<Op>, b: Vec<Op>) -> Kernel {
-    let mut k = kernel(
-        &citizen_like(2),
-        &[program("a", a), program("b", b)],
-        1,
-        Some(pt(20.0, 5.0)),
-    )
-    .expect("a valid two-channel kernel");
+/// Two channels of `citizen_like(2)` running G-code `a` and `b` (no work: neither cuts),
+/// started.
+fn two(a: &str, b: &str) -> Kernel {
+    let d = citizen_like(2);
+    let progs = vec![
+        program(&d, 0, a).expect("CH1's program"),
+        program(&d, 1, b).expect("CH2's program"),
+    ];
+    let mut k = kernel(&d, progs, 1, Some(pt(20.0, 5.0))).expect("a valid two-channel kernel");
     k.start(None).expect("START");
     k
 }
@@ -133,10 +130,7 @@ fn two(a: Vec<Op>, b: Vec<Op>) -> Kernel {
 #[test]
 fn waiting_codes_meet_and_a_deadlock_is_reported() {
     // Channel 2 dwells 50 ms before M100: channel 1 waits for it there, then both go on.
-    let mut k = two(
-        vec![Op::Wait { m: 100, with: 3 }, Op::Dwell { ns: 1_000_000 }],
-        vec![Op::Dwell { ns: 50_000_000 }, Op::Wait { m: 100, with: 3 }],
-    );
+    let mut k = two("M100 P12\nG4 P0.001\n", "G4 P0.05\nM100 P12\n");
     k.advance_to(20_000_000);
     assert_eq!(
         k.channel(0).expect("CH1").waits_on,
@@ -148,10 +142,7 @@ fn waiting_codes_meet_and_a_deadlock_is_reported() {
     assert!(k.now() >= 50_000_000, "{}", k.now());
 
     // M100 against M101: neither can ever go on.
-    let mut k = two(
-        vec![Op::Wait { m: 100, with: 3 }],
-        vec![Op::Wait { m: 101, with: 3 }],
-    );
+    let mut k = two("M100 P12\n", "M101 P12\n");
     assert_eq!(
         k.run_until_idle(MINUTE),
         Outcome::Deadlock {
@@ -160,10 +151,7 @@ fn waiting_codes_meet_and_a_deadlock_is_reported() {
     );
     assert!(k.now() < 1_000_000_000, "{}", k.now());
     // A wait with a channel that has finished: a deadlock too.
-    let mut k = two(
-        vec![Op::Dwell { ns: 1_000_000 }],
-        vec![Op::Wait { m: 100, with: 3 }],
-    );
+    let mut k = two("G4 P0.001\n", "M100 P12\n");
     assert_eq!(
         k.run_until_idle(MINUTE),
         Outcome::Deadlock {
@@ -174,22 +162,20 @@ fn waiting_codes_meet_and_a_deadlock_is_reported() {
 
 #[test]
 fn bad_machines_and_programs_are_refused() {
-    let refused = |desc: LatheDesc, progs: Vec<novanc::lathe::ops::LatheProgram>| {
-        kernel(&desc, &progs, 5, None)
+    let refused = |desc: LatheDesc, progs: Vec<Vec<novanc::block::Statement>>| {
+        let shown = format!("{progs:?}");
+        kernel(&desc, progs, 5, None)
             .err()
-            .unwrap_or_else(|| panic!("accepted {progs:?}"))
+            .unwrap_or_else(|| panic!("accepted {shown}"))
     };
-    let e = refused(citizen_like(3), vec![system1()]);
+    let e = refused(citizen_like(3), vec![sample_programs()[0].clone()]);
     assert!(e.contains("one program per channel"), "{e}");
-    // A waiting code must list its own channel, and only channels the machine has.
+    // A waiting code must list its own channel, and only channels the machine has (the
+    // reader refuses such a P word; a block made otherwise is refused by the kernel).
     for with in [2u8, 0b101] {
-        let e = refused(
-            citizen_like(2),
-            vec![
-                program("w", vec![Op::Wait { m: 100, with }]),
-                program("b", vec![]),
-            ],
-        );
+        let mut w = program(&citizen_like(2), 0, "M100 P12\n").expect("a wait");
+        w[0].blocks[0].sync = Some(Sync::Wait { m: 100, with });
+        let e = refused(citizen_like(2), vec![w, Vec::new()]);
         assert!(
             e.contains("CH1 line 1: M100 must list channel 1 and only channels the machine has"),
             "{e}"
@@ -255,19 +241,10 @@ fn a_fault_during_a_thread_pass_lets_the_pass_end_on_its_helix() {
     // A fault is a feed hold (docs/pulse-core.md "Channels"); a hold during a thread pass
     // comes at its end, so the pass is never cut short and resumed (the simulator stopped the
     // pass dead and re-synchronised it to the index on START).
-    use novanc::lathe::testkit::{rapid, rpm, thread};
     let desc = citizen_like(1);
-    let prog = program(
-        "t",
-        vec![
-            Op::ChuckClose,
-            rpm(600.0),
-            rapid(8.0, 2.0),
-            thread(8.0, -30.0, 2.0),
-            rapid(12.0, -30.0),
-        ],
-    );
-    let mut k = kernel(&desc, &[prog], 1, Some(pt(20.0, 5.0))).expect("a kernel");
+    let prog = program(&desc, 0, "M10\nM3 S600\nG8 G0 X8 Z2\nG33 Z-30 K2\nG0 X12\n")
+        .expect("a thread pass");
+    let mut k = kernel(&desc, vec![prog], 1, Some(pt(20.0, 5.0))).expect("a kernel");
     k.start(None).expect("START");
     while k.channel(0).expect("CH1").pos[2] > -8_000 {
         let t = k.now() + 1_000_000;

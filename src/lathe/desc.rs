@@ -101,6 +101,45 @@ impl LatheDesc {
     pub fn pulses(&self, mm: f64) -> i64 {
         (mm / self.pulse_mm).round() as i64
     }
+
+    /// The settings and blocks of every channel running `programs` (each channel's
+    /// statements, as the lathe G-code reader makes them), and the work flow, for
+    /// [`crate::pulse_core::Kernel::new`]. Errors: a program count other than the channel
+    /// count.
+    #[allow(clippy::type_complexity)]
+    pub fn kernel_channels(
+        &self,
+        programs: Vec<Vec<crate::block::Statement>>,
+    ) -> Result<
+        (
+            Vec<(
+                crate::settings::MachineSettings,
+                Vec<crate::block::Statement>,
+            )>,
+            crate::pulse_core::WorkFlow,
+        ),
+        String,
+    > {
+        if programs.len() != self.channels.len() {
+            return Err(format!(
+                "{} programs for {} channels: give one program per channel",
+                programs.len(),
+                self.channels.len()
+            ));
+        }
+        let mut chans = Vec::new();
+        for (ch, p) in programs.into_iter().enumerate() {
+            let s = crate::settings::MachineSettings::lathe_channel(self, ch)
+                .ok_or_else(|| format!("no channel {}", ch + 1))?;
+            chans.push((s, p));
+        }
+        let flow = crate::pulse_core::WorkFlow {
+            supplier: self.supplier,
+            transfers: self.transfers.clone(),
+            unloader: self.unloader,
+        };
+        Ok((chans, flow))
+    }
 }
 
 /// The embedded three-channel Citizen lathe (`--machine citizen`).

@@ -3,20 +3,18 @@
 //! (`crate::pulse_core::Kernel`, one thread, one NCBR clock; docs/lathe.md, docs/pulse-core.md
 //! "Channels").
 //!
-//! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded).
-//! - [`ops`]: what a lathe program becomes: the narrow interface between the lathe G-code
-//!   reader ([`gcode`]) and the adapter to the kernel's blocks ([`blocks`]).
+//! - [`desc`]: the machine description (a small text format; `--machine citizen` is embedded),
+//!   and each channel's settings for the kernel (`LatheDesc::kernel_channels`).
+//! - [`gcode`]: the lathe G-code reader; it hands the kernel its blocks (`crate::block`, the
+//!   one interface between the language readers and the kernel), as the mill's reader does.
 //! - [`console`]: the lathe's panel (it records with `crate::record`, as the centre's does);
 //!   its stores are
 //!   `crate::store::lathe` (the one journal), and [`store`] only reads the old whole-file
 //!   store once, to migrate it.
-//! - [`blocks`]: the adapter from operations to the kernel's blocks (issue 22).
 //! - [`testkit`]: a Citizen-like machine and a sample part, for the tests and the benchmark.
 
-pub mod blocks;
 pub mod console;
 pub mod desc;
 pub mod gcode;
-pub mod ops;
 pub mod store;
 pub mod testkit;

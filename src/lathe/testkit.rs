@@ -1,10 +1,9 @@
 //! Hand-built lathe machines and programs for the tests and the benchmark: a three-channel
 //! Citizen-like lathe (seed 004's three systems, spindles 1 → 2 → 3 → unloader) and a sample
-//! part (docs/pulse-core.md "Channels", "The sample run"), run on the kernel through
-//! `lathe::blocks::kernel_channels`.
+//! part in G-code (docs/pulse-core.md "Channels", "The sample run"), run on the kernel through
+//! `LatheDesc::kernel_channels`.
 
 use crate::lathe::desc::{AxisDesc, ChannelDesc, LatheDesc, ToolDesc};
-use crate::lathe::ops::{Feed, LatheProgram, Op, SpeedMode, SpindleDir, Step};
 
 /// Millimetres to pulses of the test machine (0.001 mm).
 pub fn mm(v: f64) -> i64 {
@@ -54,138 +53,96 @@ pub fn citizen_like(n: usize) -> LatheDesc {
     }
 }
 
-/// A program named `name` of the given operations, one source line each.
-pub fn program(name: &str, ops: Vec<Op>) -> LatheProgram {
-    let lines = ops.iter().map(|op| format!("{op:?}")).collect();
-    let steps = ops
-        .into_iter()
-        .enumerate()
-        .map(|(k, op)| Step {
-            line: k as u32 + 1,
-            op,
-        })
-        .collect();
-    LatheProgram {
-        name: name.to_string(),
-        lines,
-        steps,
-    }
-}
-
-/// A rapid to (x, z) mm.
-pub fn rapid(x: f64, z: f64) -> Op {
-    Op::Rapid { end: pt(x, z) }
-}
-
-/// A feed line to (x, z) mm at `f` mm/rev.
-pub fn line_rev(x: f64, z: f64, f: f64) -> Op {
-    Op::Line {
-        end: pt(x, z),
-        feed: Feed::PerRev(f),
-    }
-}
-
-/// Spindle clockwise at `rpm`.
-pub fn rpm(rpm: f64) -> Op {
-    Op::Spindle {
-        dir: SpindleDir::Cw,
-        mode: SpeedMode::Rpm(rpm),
-    }
-}
-
-/// Spindle clockwise at `v` m/min constant surface speed, at most `limit` rpm.
-pub fn css(v: f64, limit: f64) -> Op {
-    Op::Spindle {
-        dir: SpindleDir::Cw,
-        mode: SpeedMode::Css {
-            m_per_min: v,
-            limit_rpm: limit,
-        },
-    }
-}
-
-/// A thread pass to (x, z) mm with `lead` mm/rev.
-pub fn thread(x: f64, z: f64, lead: f64) -> Op {
-    Op::Thread {
-        end: pt(x, z),
-        lead,
-    }
+/// Channel `ch`'s program `text` read by the lathe G-code reader on `desc`.
+pub fn program(
+    desc: &LatheDesc,
+    ch: usize,
+    text: &str,
+) -> Result<Vec<crate::block::Statement>, String> {
+    crate::lathe::gcode::read_program(text, desc, ch, &Default::default())
+        .map_err(|e| format!("CH{}:{e}", ch + 1))
 }
 
 /// System 1: receives the bar, faces under G96 and turns a diameter, delivers to system 2.
-pub fn system1() -> LatheProgram {
-    program(
-        "sys1",
-        vec![
-            Op::ChuckClose,
-            Op::Tool { tool: 1 },
-            css(150.0, 4_000.0),
-            rapid(12.0, 0.0),
-            line_rev(0.0, 0.0, 0.1),
-            rapid(10.0, 1.0),
-            line_rev(10.0, -20.0, 0.2),
-            rapid(15.0, 1.0),
-            Op::ChuckOpen,
-            Op::End { m30: true },
-        ],
-    )
-}
+/// X is a radius (G08), one block a line.
+pub const SYSTEM1: &str = "G8 G95 M10
+T0101
+G96 S150 D4000 M3
+G0 X12 Z0
+G1 X0 Z0 F0.1
+G0 X10 Z1
+G1 Z-20 F0.2
+G0 X15 Z1
+M11
+M30
+";
 
 /// System 2: receives from system 1, back-works (a turned step and a G03 round), delivers.
-pub fn system2() -> LatheProgram {
-    program(
-        "sys2",
-        vec![
-            Op::ChuckClose,
-            Op::Tool { tool: 1 },
-            rpm(2_000.0),
-            rapid(9.0, 1.0),
-            line_rev(9.0, -8.0, 0.1),
-            rapid(6.0, 1.0),
-            line_rev(6.0, 0.0, 0.1),
-            Op::Arc {
-                end: pt(8.0, -2.0),
-                centre: pt(6.0, -2.0),
-                ccw: true,
-                feed: Feed::PerRev(0.1),
-            },
-            rapid(12.0, 1.0),
-            Op::ChuckOpen,
-            Op::End { m30: true },
-        ],
-    )
-}
+pub const SYSTEM2: &str = "G8 G95 M10
+T0101
+M3 S2000
+G0 X9 Z1
+G1 Z-8 F0.1
+G0 X6 Z1
+G1 Z0
+G3 X8 Z-2 I0 K-2
+G0 X12 Z1
+M11
+M30
+";
 
 /// System 3: receives from system 2, cuts a 1.5 mm thread in three passes, delivers to the
 /// unloader.
-pub fn system3() -> LatheProgram {
-    let mut ops = vec![Op::ChuckClose, Op::Tool { tool: 2 }, rpm(1_000.0)];
-    for x in [9.7, 9.5, 9.35] {
-        ops.push(rapid(x, 2.0));
-        ops.push(thread(x, -15.0, 1.5));
-        ops.push(rapid(11.0, -15.0));
-        ops.push(rapid(11.0, 2.0));
-    }
-    ops.push(rapid(15.0, 5.0));
-    ops.push(Op::ChuckOpen);
-    ops.push(Op::End { m30: true });
-    program("sys3", ops)
+pub const SYSTEM3: &str = "G8 G95 M10
+T0202
+M3 S1000
+G0 X9.7 Z2
+G33 Z-15 K1.5
+G0 X11
+Z2
+G0 X9.5
+G33 Z-15 K1.5
+G0 X11
+Z2
+G0 X9.35
+G33 Z-15 K1.5
+G0 X11
+Z2
+G0 X15 Z5
+M11
+M30
+";
+
+/// The three sample programs as read on `citizen_like(3)` (the reader's checks of them are
+/// tests/lathe_reader_blocks.rs's).
+pub fn sample_programs() -> Vec<Vec<crate::block::Statement>> {
+    let desc = citizen_like(3);
+    [SYSTEM1, SYSTEM2, SYSTEM3]
+        .iter()
+        .enumerate()
+        .map(|(ch, text)| program(&desc, ch, text).unwrap_or_default())
+        .collect()
 }
 
-/// The three sample programs.
-pub fn sample_programs() -> Vec<LatheProgram> {
-    vec![system1(), system2(), system3()]
+/// The Citizen's programs (`programs/citizen/system{1,2,3}.ngc`, embedded as
+/// `store::lathe::CITIZEN_PROGRAMS`) read on `desc`, one per channel.
+pub fn citizen_programs(desc: &LatheDesc) -> Result<Vec<Vec<crate::block::Statement>>, String> {
+    crate::store::lathe::CITIZEN_PROGRAMS
+        .iter()
+        .enumerate()
+        .map(|(ch, (name, text))| program(desc, ch, text).map_err(|e| format!("{name} {e}")))
+        .collect()
 }
 
-/// The kernel running `programs` on `desc` to `target` parts (`blocks::kernel_channels`),
+/// The kernel running `programs` on `desc` to `target` parts (`LatheDesc::kernel_channels`),
 /// every tool at `at` ([X, Z] pulses) or, if None, at its home (`gcode::home`); not started.
 pub fn kernel(
     desc: &LatheDesc,
-    programs: &[LatheProgram],
+    programs: Vec<Vec<crate::block::Statement>>,
     target: u32,
     at: Option<[i64; 2]>,
 ) -> Result<crate::pulse_core::Kernel, String> {
-    let (chans, flow) = crate::lathe::blocks::kernel_channels(desc, programs)?;
+    let (chans, flow) = desc.kernel_channels(programs)?;
     let mut k = crate::pulse_core::Kernel::new(chans, Some(flow), target)?;
     for ch in 0..desc.channels.len() {
         let p = at.unwrap_or_else(|| crate::lathe::gcode::home(desc, ch));
@@ -199,7 +156,7 @@ pub fn kernel(
 pub fn sample_kernel(target: u32) -> Result<crate::pulse_core::Kernel, String> {
     kernel(
         &citizen_like(3),
-        &sample_programs(),
+        sample_programs(),
         target,
         Some(pt(20.0, 5.0)),
     )

@@ -11,7 +11,6 @@
 use super::view::ChanView;
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::gcode::{read_program, ReadOptions};
-use crate::lathe::ops::LatheProgram;
 use crate::pulse_core::{ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore};
 use crate::record::EventSink;
 use crate::store::lathe::Program;
@@ -58,21 +57,23 @@ fn make_kernel(
     feed_override: u32,
 ) -> Result<MadeKernel, String> {
     let mut progs = Vec::new();
+    let mut lines = Vec::new();
     for (ch, (name, text)) in texts.iter().enumerate() {
         if mdi && ch != only {
             // The other channels stand still with no program during an MDI run.
-            progs.push(LatheProgram::default());
+            progs.push(Vec::new());
+            lines.push(Vec::new());
             continue;
         }
-        let p = read_program(name, text, desc, ch, opts)
-            .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
-        if !mdi && p.steps.is_empty() {
+        let p =
+            read_program(text, desc, ch, opts).map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        if !mdi && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
         }
         progs.push(p);
+        lines.push(text.lines().map(str::to_string).collect());
     }
-    let lines = progs.iter().map(|p| p.lines.clone()).collect();
-    let (chans, flow) = crate::lathe::blocks::kernel_channels(desc, &progs)?;
+    let (chans, flow) = desc.kernel_channels(progs)?;
     // Where each program starts: the pointer of a channel not yet running (or RESET).
     let first = chans
         .iter()

@@ -12,9 +12,9 @@
 //! batch implementation of the same rules on a whole run (entry to exit) of moves.
 
 use super::out::{Kind, Mv};
+use crate::block::Block;
 use crate::block::TranslateError;
 use crate::gcode::geom::{circle_circle, line_circle};
-use crate::lathe::ops::Step;
 use std::f64::consts::TAU;
 
 /// A corner turning by less than this (radians) is tangent: no join.
@@ -31,8 +31,8 @@ pub struct Run {
     pub tip: u8,
     /// The programmed moves, the entry move first.
     pub segs: Vec<Mv>,
-    /// Non-motion operations, each after the first `n` moves.
-    pub aux: Vec<(usize, Step)>,
+    /// Blocks without motion and their lines, each after the first `n` moves.
+    pub aux: Vec<(usize, u32, Block)>,
 }
 
 /// The direction from the nose centre C to the imaginary tip P for a tip position, `[Z, X]`

@@ -7,7 +7,6 @@ use super::out::{Kind, Mv};
 use super::MAX_PASSES;
 use crate::block::TranslateError;
 use crate::gcode::words::Words;
-use crate::lathe::ops::SpindleDir;
 use std::f64::consts::FRAC_PI_2;
 
 fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
@@ -74,7 +73,7 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             "G76 with nose-radius compensation in force: give G40 first",
         ));
     }
-    if r.st.dir == SpindleDir::Stop {
+    if r.st.stopped() {
         return Err(err(n, c, "G76 with the spindle stopped: give M03 or M04"));
     }
     let f = r.st.factor();
@@ -305,7 +304,7 @@ pub fn g71_moves(
     depth: f64,
     retract: f64,
     allow: [f64; 2],
-    feed: crate::lathe::ops::Feed,
+    feed: super::out::Feed,
     n: u32,
     c: u32,
 ) -> Result<Vec<Mv>, TranslateError> {

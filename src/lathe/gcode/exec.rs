@@ -2,13 +2,12 @@
 //! line's words, in LinuxCNC's order: feed mode and F, spindle speed, T, M03–M05, chuck, waits,
 //! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
 
-use super::out::Out;
+use super::out::{self, Feed, Out};
 use super::{cycles, read_line, ReadOptions, LATHE, MAX_LINES};
-use crate::block::TranslateError;
+use crate::block::{Css, FeedMode, Sync, TranslateError};
 use crate::gcode::read::{OKind, Params, Target};
 use crate::gcode::words::{sort_words_in, Words};
 use crate::lathe::desc::{ChannelDesc, LatheDesc};
-use crate::lathe::ops::{Feed, Op, SpeedMode, SpindleDir};
 use std::collections::HashMap;
 
 /// The modal state of a lathe program.
@@ -26,8 +25,8 @@ pub struct State {
     pub per_rev: bool,
     /// The F word in force, mm (per minute or per revolution).
     pub feed: Option<f64>,
-    /// The spindle's direction.
-    pub dir: SpindleDir,
+    /// The spindle's direction as its M code: 3 clockwise, 4 counter-clockwise, 5 stopped.
+    pub dir: u8,
     /// G96 constant surface speed.
     pub css: bool,
     /// The S word in force (rpm, or m/min under G96).
@@ -49,7 +48,7 @@ impl State {
             inch: false,
             per_rev: false,
             feed: None,
-            dir: SpindleDir::Stop,
+            dir: 5,
             css: false,
             s: 0.0,
             limit: max,
@@ -66,14 +65,19 @@ impl State {
         }
     }
 
-    /// The feed in force as an operation's feed.
+    /// The feed in force, per minute or per revolution.
     pub fn feed_of(&self) -> Option<Feed> {
         let f = self.feed?;
         Some(if self.per_rev {
-            Feed::PerRev(f)
+            (f, FeedMode::PerRev)
         } else {
-            Feed::PerMin(f)
+            (f, FeedMode::PerMin)
         })
+    }
+
+    /// Whether the spindle is stopped (M05, or no M03/M04 yet).
+    pub fn stopped(&self) -> bool {
+        self.dir == 5
     }
 }
 
@@ -292,21 +296,18 @@ impl Reader<'_> {
             self.tool(t, n, col('T'))?;
         }
         for &(m, _) in w.m.as_slice() {
-            match m {
-                3 => self.st.dir = SpindleDir::Cw,
-                4 => self.st.dir = SpindleDir::Ccw,
-                5 => self.st.dir = SpindleDir::Stop,
-                _ => continue,
+            if (3..=5).contains(&m) {
+                self.st.dir = m as u8;
+                spindle = true;
             }
-            spindle = true;
         }
         if spindle {
-            let mode = if self.st.css {
+            let css = if self.st.css {
                 let k = if self.st.inch { 0.3048 } else { 1.0 };
-                SpeedMode::Css {
+                Some(Css {
                     m_per_min: self.st.s * k,
                     limit_rpm: self.st.limit,
-                }
+                })
             } else {
                 if self.st.s > self.chan.max_rpm {
                     return Err(err(
@@ -320,26 +321,19 @@ impl Reader<'_> {
                         ),
                     ));
                 }
-                SpeedMode::Rpm(self.st.s)
+                None
             };
-            self.out.op(
-                n,
-                1,
-                Op::Spindle {
-                    dir: self.st.dir,
-                    mode,
-                },
-            )?;
+            self.out.spindle(n, 1, self.st.dir, self.st.s, css)?;
         }
         // Chuck and waiting codes.
         for &(m, c) in w.m.as_slice() {
             match m {
-                10 => self.out.op(n, c, Op::ChuckClose)?,
-                11 => self.out.op(n, c, Op::ChuckOpen)?,
+                10 => self.out.op(n, c, out::sync(Sync::ChuckClose))?,
+                11 => self.out.op(n, c, out::sync(Sync::ChuckOpen))?,
                 100..=199 => {
                     use_('P');
                     let with = self.wait_channels(w.get('P'), n, col('P'))?;
-                    self.out.op(n, c, Op::Wait { m, with })?;
+                    self.out.op(n, c, out::sync(Sync::Wait { m, with }))?;
                 }
                 _ => {}
             }
@@ -370,13 +364,12 @@ impl Reader<'_> {
                     )),
                 ));
             }
-            self.out.op(
-                n,
-                c,
-                Op::Dwell {
-                    ns: (p * 1e9).round() as u64,
-                },
-            )?;
+            let dwell = crate::block::Block {
+                motion: crate::block::Motion::Dwell,
+                dwell_ns: (p * 1e9).round() as u64,
+                ..out::aux()
+            };
+            self.out.op(n, c, dwell)?;
         }
         // Compensation and distance mode.
         for &(g, c) in w.g.as_slice() {
@@ -453,13 +446,13 @@ impl Reader<'_> {
         // Stops and the end.
         for &(m, c) in w.m.as_slice() {
             match m {
-                0 => self.out.op(n, c, Op::Stop { optional: false })?,
-                1 if self.opts.optional_stop => self.out.op(n, c, Op::Stop { optional: true })?,
+                0 => self.out.op(n, c, out::m(0))?,
+                1 if self.opts.optional_stop => self.out.op(n, c, out::m(1))?,
                 2 | 30 => {
                     if self.in_cycle {
                         return Err(err(n, c, format!("M{m:02} inside a G70/G71 profile")));
                     }
-                    self.out.op(n, c, Op::End { m30: m == 30 })?;
+                    self.out.op(n, c, out::m(m as u8))?;
                     flow = Flow::End;
                 }
                 _ => {}
@@ -526,7 +519,11 @@ impl Reader<'_> {
             ));
         }
         self.out.set_tool(td.clone(), offset != 0);
-        self.out.op(n, c, Op::Tool { tool })
+        let b = crate::block::Block {
+            t: Some(tool),
+            ..out::aux()
+        };
+        self.out.op(n, c, b)
     }
 
     fn wait_channels(&self, p: Option<f64>, n: u32, c: u32) -> Result<u8, TranslateError> {

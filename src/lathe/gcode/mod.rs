@@ -1,13 +1,14 @@
 //! The lathe G-code reader (docs/lathe-gcode.md): one channel's ISO program, read with
-//! LinuxCNC 2.9's lathe-mode semantics (Fanuc 0i-T's for G71/G70 and the U/W words), into a
-//! [`LatheProgram`] of operations on the imaginary tool tip P.
+//! LinuxCNC 2.9's lathe-mode semantics (Fanuc 0i-T's for G71/G70 and the U/W words), into the
+//! kernel's statements and blocks (`crate::block`, the one interface between the language
+//! readers and the kernel) of the imaginary tool tip P.
 //!
 //! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::read`);
 //! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
 //!
 //! - [`exec`]: one line's words executed against the modal state.
 //! - [`moves`]: end points, feeds, arcs and G33.
-//! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses.
+//! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses, blocks.
 //! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
 
@@ -20,14 +21,13 @@ pub mod out;
 #[cfg(test)]
 mod tests;
 
-use crate::block::TranslateError;
+use crate::block::{Statement, TranslateError};
 use crate::gcode::read::{self, Params};
 use crate::gcode::words::Dialect;
 use crate::lathe::desc::LatheDesc;
-use crate::lathe::ops::LatheProgram;
 use std::collections::HashMap;
 
-/// The bounds on a lathe program's work (docs/limits.md): the most operations one program may
+/// The bounds on a lathe program's work (docs/limits.md): the most blocks one program may
 /// produce (cycles included), the most lines it may have and execute (G70 repeats of its
 /// profile lines counted), the most passes of one G71 or G76 cycle.
 pub use crate::limits::{LATHE_MAX_LINES as MAX_LINES, LATHE_MAX_STEPS as MAX_STEPS, MAX_PASSES};
@@ -102,15 +102,15 @@ pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
     }
 }
 
-/// Reads one channel's lathe program into its operations (docs/lathe-gcode.md). `ch` is the
-/// 0-based channel whose tools, spindle and travel apply.
+/// Reads one channel's lathe program into the kernel's statements (docs/lathe-gcode.md), one
+/// per source line that makes blocks, the blocks numbered from 1 and starting where
+/// [`home`] says. `ch` is the 0-based channel whose tools, spindle and travel apply.
 pub fn read_program(
-    name: &str,
     text: &str,
     desc: &LatheDesc,
     ch: usize,
     opts: &ReadOptions,
-) -> Result<LatheProgram, TranslateError> {
+) -> Result<Vec<Statement>, TranslateError> {
     // Counted before anything is kept for them: the program is held whole, a line at a time.
     let count = text.lines().count();
     if count as u64 > MAX_LINES {
@@ -164,11 +164,13 @@ pub fn read_program(
     };
     r.run_range(0, lines.len())?;
     r.out.finish()?;
-    Ok(LatheProgram {
-        name: name.to_string(),
-        lines: lines.iter().map(|s| s.to_string()).collect(),
-        steps: r.out.steps,
-    })
+    let mut statements = std::mem::take(&mut r.out.statements);
+    for s in &mut statements {
+        s.text = lines
+            .get((s.line as usize).wrapping_sub(1))
+            .map_or_else(String::new, |l| l.to_string());
+    }
+    Ok(statements)
 }
 
 /// The N number a line starts with (after an optional `/`), if any: a cheap scan used only to

@@ -2,12 +2,11 @@
 //! mode, feeds, arcs by centre (I always a radius) or R, and G33 thread passes.
 
 use super::exec::{err, Reader};
-use super::out::{Kind, Mv};
+use super::out::{Feed, Kind, Mv};
 use crate::block::TranslateError;
 use crate::gcode::geom::{self, ArcFault};
 use crate::gcode::words::Words;
 use crate::input_text::fixed;
-use crate::lathe::ops::{Feed, SpindleDir};
 
 impl Reader<'_> {
     /// The end point of a move from X/U and Z/W, `[Z, X]` mm (X a radius).
@@ -53,7 +52,7 @@ impl Reader<'_> {
         let Some(feed) = self.st.feed_of() else {
             return Err(err(n, c, "a feed move without a feed: give F"));
         };
-        if self.st.per_rev && self.st.dir == SpindleDir::Stop {
+        if self.st.per_rev && self.st.stopped() {
             return Err(err(
                 n,
                 c,
@@ -129,7 +128,7 @@ impl Reader<'_> {
                         ),
                     ));
                 }
-                if self.st.dir == SpindleDir::Stop {
+                if self.st.stopped() {
                     return Err(err(n, c, "G33 with the spindle stopped: give M03 or M04"));
                 }
                 if (end[0] - self.out.pos[0]).abs() < 1e-9 {

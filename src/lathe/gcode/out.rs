@@ -1,16 +1,53 @@
 //! The emitter (docs/lathe-gcode.md "Tool offsets", "Nose-radius compensation", "Travel"):
-//! programmed moves in mm become operations in pulses on the imaginary tip P, with the tool's
+//! programmed moves in mm become the kernel's blocks (`crate::block`, the one interface between
+//! the language readers and the kernel) in pulses of the imaginary tip P, with the tool's
 //! offsets added, G41/G42 applied, and every point checked against the channel's travel.
 //!
+//! - X (a radius) is axis 0, Z axis 2, Y stays 0; arcs are in `Plane::XZ`, their centre
+//!   relative to the start as (I, K), counter-clockwise (G03) turning from +Z towards +X
+//!   (`Plane::XZ.turn_axes()` is Z → X);
+//! - a per-revolution feed is `feed_mode: PerRev`; G96 is `css` on every block while it is in
+//!   force (it is modal, as the kernel reads it); a thread pass is a `Linear` block with
+//!   `thread` (its lead, also its per-revolution feed);
+//! - the spindle's state is M3/M4/M5 with `s` (G97) or `css` (G96); a tool is `t` alone (a
+//!   turret indexes, no M6);
+//! - M10, M11 and the waiting M codes are `sync` blocks; M00/M01 are m 0/1 (the reader has
+//!   already dropped M01 with OPTIONAL STOP off); the end is m 2 or 30, and nothing follows it;
+//! - the blocks of one source line make one statement (a G70 repeating a profile line makes a
+//!   statement of that line again).
+//!
 //! Internally points are in the turning order of G18, `[Z, X]` (X a radius), so that a
-//! counter-clockwise arc turns from +Z towards +X as `Op::Arc::ccw` says.
+//! counter-clockwise arc turns from +Z towards +X.
 
 use super::comp;
 use super::MAX_STEPS;
-use crate::block::TranslateError;
+use crate::block::{Block, Css, FeedMode, Motion, Plane, Statement, Sync, TranslateError};
 use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
-use crate::lathe::ops::{Feed, Op, SpeedMode, Step};
 use crate::limits::{MAX_MOVE_S, MIN_FEED};
+
+/// A feed move's rate: mm per minute (G94) or mm per revolution (G95), as a block has it.
+pub type Feed = (f64, FeedMode);
+
+/// A block with no motion, for the reader to fill in (its place is set when it is emitted).
+pub fn aux() -> Block {
+    Block::aux(0, 0, [0, 0, 0])
+}
+
+/// A waiting M code's or the chuck's block.
+pub fn sync(s: Sync) -> Block {
+    Block {
+        sync: Some(s),
+        ..aux()
+    }
+}
+
+/// An M code's block (M00, M01, M02, M30).
+pub fn m(code: u8) -> Block {
+    Block {
+        m: Some(code),
+        ..aux()
+    }
+}
 
 /// What a programmed move is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,8 +89,10 @@ pub struct Out<'a> {
     desc: &'a LatheDesc,
     chan: &'a ChannelDesc,
     ch: usize,
-    /// The operations so far.
-    pub steps: Vec<Step>,
+    /// The statements so far (their text is filled in at the end, from the source lines).
+    pub statements: Vec<Statement>,
+    /// The blocks so far.
+    blocks: usize,
     /// The programmed position of P, `[Z, X]` mm (before offsets and compensation).
     pub pos: [f64; 2],
     /// The tool in place and whether its offsets apply.
@@ -68,8 +107,14 @@ pub struct Out<'a> {
     pub capture: Option<Vec<Mv>>,
     /// Where the last emitted move ended, pulses [X, Z].
     at: [i64; 2],
-    /// The spindle speed programmed last, for the time a feed per revolution takes.
-    speed: SpeedMode,
+    /// The spindle speed programmed last, rpm or G96's (the reader's order), for the time a
+    /// feed per revolution takes.
+    speed: (f64, Option<Css>),
+    /// G96 as the emitted blocks have it in force (the order of the blocks: a spindle block
+    /// held behind moves under compensation takes effect where it is emitted).
+    css: Option<Css>,
+    /// M02 or M30 was emitted: nothing follows it.
+    ended: bool,
 }
 
 impl<'a> Out<'a> {
@@ -80,7 +125,8 @@ impl<'a> Out<'a> {
             desc,
             chan,
             ch,
-            steps: Vec::new(),
+            statements: Vec::new(),
+            blocks: 0,
             pos: [chan.axes[1].travel[1], chan.axes[0].travel[1]],
             tool: None,
             comp_side: None,
@@ -88,7 +134,9 @@ impl<'a> Out<'a> {
             exit_pending: false,
             capture: None,
             at: super::home(desc, ch),
-            speed: SpeedMode::Rpm(0.0),
+            speed: (0.0, None),
+            css: None,
+            ended: false,
         }
     }
 
@@ -118,37 +166,84 @@ impl<'a> Out<'a> {
         self.tool = Some((t, offsets));
     }
 
-    fn push(&mut self, line: u32, col: u32, op: Op) -> Result<(), TranslateError> {
-        if self.steps.len() >= MAX_STEPS {
+    /// Emits one block: its sequence number, its line and where it starts and ends.
+    fn push(&mut self, line: u32, col: u32, mut b: Block) -> Result<(), TranslateError> {
+        if self.ended {
+            return Ok(());
+        }
+        if self.blocks >= MAX_STEPS {
             return Err(Self::err(
                 line,
                 col,
                 format!("the program makes more than {MAX_STEPS} operations"),
             ));
         }
-        self.steps.push(Step { line, op });
+        self.blocks += 1;
+        let start = [self.at[0], 0, self.at[1]];
+        b.seq = self.blocks as u32;
+        b.stmt = line;
+        if b.motion == Motion::Aux || b.motion == Motion::Dwell {
+            b.end = start.into();
+        }
+        if matches!(b.m, Some(3..=5)) {
+            self.css = b.css;
+        }
+        b.css = self.css;
+        b.delta = [b.end[0] - start[0], 0, b.end[2] - start[2]].into();
+        self.at = [b.end[0], b.end[2]];
+        self.ended = matches!(b.m, Some(2 | 30));
+        match self.statements.last_mut() {
+            Some(s) if s.line == line => s.blocks.push(b),
+            _ => self.statements.push(Statement {
+                line,
+                text: String::new(),
+                blocks: vec![b],
+            }),
+        }
         Ok(())
     }
 
-    /// A non-motion operation. Under compensation it waits behind the held moves; in a G71
-    /// profile it is dropped.
-    pub fn op(&mut self, line: u32, col: u32, op: Op) -> Result<(), TranslateError> {
+    /// A block without motion (a tool, a wait, the chuck, a stop, a dwell, the end). Under
+    /// compensation it waits behind the held moves; in a G71 profile it is dropped.
+    pub fn op(&mut self, line: u32, col: u32, b: Block) -> Result<(), TranslateError> {
         if self.capture.is_some() {
             return Ok(());
         }
-        if let Op::Spindle { mode, .. } = op {
-            self.speed = mode;
-        }
-        if matches!(op, Op::End { .. }) {
+        if matches!(b.m, Some(2 | 30)) {
             self.flush(None)?;
             self.comp_side = None;
             self.exit_pending = false;
         }
         if let Some(run) = self.run.as_mut() {
-            run.aux.push((run.segs.len(), Step { line, op }));
+            run.aux.push((run.segs.len(), line, b));
             return Ok(());
         }
-        self.push(line, col, op)
+        self.push(line, col, b)
+    }
+
+    /// The spindle's full commanded state after an M03/M04/M05, S, G96 or G97: `m` 3, 4 or 5
+    /// at `rpm` (G97) or at G96's surface speed.
+    pub fn spindle(
+        &mut self,
+        line: u32,
+        col: u32,
+        m: u8,
+        rpm: f64,
+        css: Option<Css>,
+    ) -> Result<(), TranslateError> {
+        if self.capture.is_some() {
+            return Ok(());
+        }
+        self.speed = (rpm, css);
+        let b = Block {
+            m: Some(m),
+            s: css
+                .is_none()
+                .then(|| rpm.clamp(0.0, f64::from(u32::MAX)) as u32),
+            css,
+            ..aux()
+        };
+        self.op(line, col, b)
     }
 
     /// G41 (`left`) or G42.
@@ -288,8 +383,8 @@ impl<'a> Out<'a> {
         let shift = [v[0] * run.radius, v[1] * run.radius];
         let mut aux = run.aux.into_iter().peekable();
         for (i, group) in pieces.iter().enumerate() {
-            while let Some((_, s)) = aux.next_if(|a| a.0 <= i) {
-                self.push(s.line, 0, s.op)?;
+            while let Some((_, line, b)) = aux.next_if(|a| a.0 <= i) {
+                self.push(line, 0, b)?;
             }
             for (mv, exact) in group {
                 let mut m = *mv;
@@ -306,8 +401,8 @@ impl<'a> Out<'a> {
                 self.emit(&m)?;
             }
         }
-        for (_, s) in aux {
-            self.push(s.line, 0, s.op)?;
+        for (_, line, b) in aux {
+            self.push(line, 0, b)?;
         }
         Ok(())
     }
@@ -326,21 +421,38 @@ impl<'a> Out<'a> {
         let e = [mv.end[0] + off[0], mv.end[1] + off[1]];
         self.check_travel(e, mv)?;
         let end = [self.desc.pulses(e[1]), self.desc.pulses(e[0])];
-        let op = match mv.kind {
-            Kind::Rapid => Op::Rapid { end },
-            Kind::Line(feed) => Op::Line { end, feed },
-            Kind::Thread(lead) => Op::Thread { end, lead },
-            Kind::Arc { c, ccw, feed } => {
+        let mut b = Block {
+            end: [end[0], 0, end[1]].into(),
+            ..aux()
+        };
+        let feed = |b: &mut Block, (f, mode): Feed| {
+            b.feed = f;
+            b.feed_mode = mode;
+        };
+        match mv.kind {
+            Kind::Rapid => b.motion = Motion::Rapid,
+            Kind::Line(f) => {
+                b.motion = Motion::Linear;
+                feed(&mut b, f);
+            }
+            Kind::Thread(lead) => {
+                b.motion = Motion::Linear;
+                feed(&mut b, (lead, FeedMode::PerRev));
+                b.thread = Some(lead);
+            }
+            Kind::Arc { c, ccw, feed: f } => {
                 let c = [c[0] + off[0], c[1] + off[1]];
                 self.check_arc_travel(c, e, ccw, mv)?;
-                Op::Arc {
-                    end,
-                    centre: [self.desc.pulses(c[1]), self.desc.pulses(c[0])],
-                    ccw,
-                    feed,
-                }
+                b.motion = if ccw { Motion::ArcCcw } else { Motion::ArcCw };
+                b.plane = Plane::XZ;
+                // (I, K) from the start: the plane's axes in X Y Z order.
+                b.center = Some([
+                    self.desc.pulses(c[1]) - self.at[0],
+                    self.desc.pulses(c[0]) - self.at[1],
+                ]);
+                feed(&mut b, f);
             }
-        };
+        }
         if end == self.at {
             // A move that does not move in pulses is dropped: above all an arc, which would
             // read as a full circle (a tiny corner join of the compensation, rounded).
@@ -351,8 +463,7 @@ impl<'a> Out<'a> {
                 return Ok(());
             }
         }
-        self.at = end;
-        self.push(mv.line, mv.col, op)
+        self.push(mv.line, mv.col, b)
     }
 
     /// A feed move at its feed: per minute at least the slowest feed, and at most
@@ -368,7 +479,7 @@ impl<'a> Out<'a> {
                 s[1].abs().max(e[1].abs()),
             ),
             Kind::Thread(lead) => (
-                Feed::PerRev(lead),
+                (lead, FeedMode::PerRev),
                 (e[0] - s[0]).hypot(e[1] - s[1]),
                 s[1].abs().max(e[1].abs()),
             ),
@@ -378,7 +489,7 @@ impl<'a> Out<'a> {
             }
         };
         let mm_min = match per_rev {
-            Feed::PerMin(f) => {
+            (f, FeedMode::PerMin) => {
                 if f < MIN_FEED {
                     return Err(Self::err(
                         mv.line,
@@ -394,13 +505,16 @@ impl<'a> Out<'a> {
                 }
                 f
             }
-            Feed::PerRev(f) => {
+            (f, FeedMode::PerRev) => {
                 let rpm = match self.speed {
-                    SpeedMode::Rpm(r) => r,
-                    SpeedMode::Css {
-                        m_per_min,
-                        limit_rpm,
-                    } => {
+                    (r, None) => r,
+                    (
+                        _,
+                        Some(Css {
+                            m_per_min,
+                            limit_rpm,
+                        }),
+                    ) => {
                         let at = m_per_min * 1000.0 / (std::f64::consts::TAU * far);
                         if at.is_finite() {
                             at.min(limit_rpm)
