@@ -130,6 +130,12 @@ impl Cycle {
         Ok(c)
     }
 
+    /// Virtual time: `w` is told every channel's state at every change of one of them
+    /// (`PulseCore::set_watch`); None stops it.
+    pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
+        self.core.set_watch(w);
+    }
+
     /// Takes the kernel's latest published state; an alarm that appeared since is the
     /// operator's message.
     fn refresh(&mut self) {
