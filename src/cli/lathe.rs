@@ -200,7 +200,8 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             let Some(settings) = crate::settings::MachineSettings::lathe_channel(&desc, 0) else {
                 return fail("novanc: the machine has no channel");
             };
-            match crate::record::Recorder::start(Path::new(p), &settings) {
+            let info = crate::lathe::console::recording_info(&desc, &texts);
+            match crate::record::Recorder::start_with_info(Path::new(p), &settings, &info) {
                 Ok(r) => Some(r),
                 Err(e) => return fail(&format!("novanc: {e}")),
             }

@@ -15,7 +15,7 @@ mod glue;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, Cycle};
+pub use glue::{home, recording_info, Cycle};
 
 use super::desc::LatheDesc;
 use crate::pulse_core::ClockMode;
@@ -105,7 +105,13 @@ impl LatheConsole {
             Some(p) => {
                 let settings = crate::settings::MachineSettings::lathe_channel(&desc, 0)
                     .ok_or("the machine has no channel")?;
-                Some(Recorder::start(p, &settings)?)
+                let programs: Vec<(String, String)> = o
+                    .programs
+                    .iter()
+                    .map(|p| (p.name.clone(), p.text.clone()))
+                    .collect();
+                let info = glue::recording_info(&desc, &programs);
+                Some(Recorder::start_with_info(p, &settings, &info)?)
             }
             None => None,
         };
