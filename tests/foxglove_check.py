@@ -86,10 +86,13 @@ def main():
         # without it.
         settings = [m.metadata for m in reader.iter_metadata() if m.name == "novanc.settings"]
         pulse_mm = float(settings[0].get("pulse_mm", "0.001")) if settings else 0.001
-        positions = []  # (log time, (x, y, z) mm, speed)
-        block_starts = []  # (log time, seq)
-        strips = []  # (log time, entity id, [(x, y, z) m])
-        tools = []  # (log time, (x, y, z) m)
+        # Per channel (None: a single machine; N: a kernel's channel N, its messages carrying
+        # "channel": N).
+        positions = {}  # (log time, (x, y, z) mm, speed)
+        block_starts = {}  # (log time, seq)
+        strips = {}  # (log time, entity id, [(x, y, z) m])
+        tools = {}  # (log time, (x, y, z) m)
+        placed = {}  # channel frame -> its translation in `machine`
         for _, ch, m in reader.iter_messages(log_time_order=False):
             obj = json.loads(m.data)
             if ch.topic in validators:
@@ -106,20 +109,57 @@ def main():
                 for t in times:
                     if stamp(t) != m.log_time:
                         fail(f"{ch.topic}: timestamp {t} is not the log time {m.log_time}")
+            c = obj.get("channel") if isinstance(obj, dict) else None
             if ch.topic == "/nc/position":
-                positions.append((m.log_time, (obj["x"], obj["y"], obj["z"]), obj.get("speed", 0)))
+                positions.setdefault(c, []).append((m.log_time, (obj["x"], obj["y"], obj["z"]), obj.get("speed", 0)))
             elif ch.topic == "/nc/block":
-                block_starts.append((m.log_time, obj["seq"]))
+                block_starts.setdefault(c, []).append((m.log_time, obj["seq"]))
             elif ch.topic == "/foxglove/scene":
+                prefix = "" if c is None else f"channel{c}/"
+                frame = "machine" if c is None else f"channel{c}"
                 for e in obj["entities"]:
+                    if not e["id"].startswith(prefix):
+                        fail(f"scene entity {e['id']} of channel {c} is not named {prefix}...")
                     for line in e["lines"]:
-                        strips.append((m.log_time, e["id"], [(p["x"], p["y"], p["z"]) for p in line["points"]]))
+                        if e["frame_id"] != frame:
+                            fail(f"scene entity {e['id']} of channel {c} is in frame {e['frame_id']}, not {frame}")
+                        strips.setdefault(c, []).append((m.log_time, e["id"], [(p["x"], p["y"], p["z"]) for p in line["points"]]))
             elif ch.topic == "/foxglove/tool":
                 tr = obj["translation"]
-                tools.append((m.log_time, (tr["x"], tr["y"], tr["z"])))
+                xyz = (tr["x"], tr["y"], tr["z"])
+                if c is not None and obj["child_frame_id"] == f"channel{c}":
+                    # A channel's frame placed in `machine`, once.
+                    if obj["parent_frame_id"] != "machine" or obj["child_frame_id"] in placed:
+                        fail(f"channel frame {obj['child_frame_id']} placed twice or not in machine")
+                    placed[obj["child_frame_id"]] = xyz
+                    continue
+                want = ("machine", "tool") if c is None else (f"channel{c}", f"channel{c}/tool")
+                if (obj["parent_frame_id"], obj["child_frame_id"]) != want:
+                    fail(f"tool transform {obj['parent_frame_id']} -> {obj['child_frame_id']} of channel {c}, not {want}")
+                tools.setdefault(c, []).append((m.log_time, xyz))
 
-    def mm(p):
-        return tuple(round(c * 1000, 6) for c in p)
+    for c in sorted(set(positions) | set(strips) | set(tools), key=lambda c: -1 if c is None else c):
+        if c is not None and f"channel{c}" not in placed and (strips.get(c) or tools.get(c)):
+            fail(f"channel {c} is drawn but its frame channel{c} is never placed")
+        check_path(c, positions.get(c, []), block_starts.get(c, []), strips.get(c, []), tools.get(c, []), pulse_mm)
+    if len(set(placed.values())) != len(placed):
+        fail(f"two channels placed at the same spot: {placed}")
+    for name in sorted(counts):
+        print(f"foxglove {name} {counts[name]}")
+    print(f"channels drawn {len(placed)}")
+    print("OK")
+
+
+def mm(p):
+    return tuple(round(c * 1000, 6) for c in p)
+
+
+def check_path(c, positions, block_starts, strips, tools, pulse_mm):
+    """One channel's scene against its /nc/position and /nc/block (c None: a single machine)."""
+    name = "" if c is None else f"channel {c}: "
+
+    def fail_on(msg):
+        fail(name + msg)
 
     # The path: consecutive distinct positions; the strips joined (each starts where the one
     # before ended) pick points of it in order, and pass within a pulse of every other.
@@ -131,9 +171,9 @@ def main():
     for i, (_, ident, pts) in enumerate(strips):
         pts = [mm(p) for p in pts]
         if len(pts) < 2:
-            fail(f"strip {ident} has {len(pts)} points")
+            fail_on(f"strip {ident} has {len(pts)} points")
         if drawn and pts[0] != drawn[-1]:
-            fail(f"strip {ident} starts at {pts[0]}, not where the one before ended ({drawn[-1]})")
+            fail_on(f"strip {ident} starts at {pts[0]}, not where the one before ended ({drawn[-1]})")
         drawn.extend(pts[1:] if drawn else pts)
     tol = pulse_mm * 1.0 + 1e-9
 
@@ -148,18 +188,18 @@ def main():
         try:
             k = path_mm.index(drawn[0])
         except ValueError:
-            fail(f"the scene starts at {drawn[0]}, not a /nc/position point")
+            fail_on(f"the scene starts at {drawn[0]}, not a /nc/position point")
         for a, b in zip(drawn, drawn[1:]):
             j = k + 1
             while j < len(path_mm) and path_mm[j] != b:
                 if off(a, b, path_mm[j]) > tol:
-                    fail(f"/nc/position {path_mm[j]} is {off(a, b, path_mm[j]):.6f} mm from the scene's segment {a} -> {b}")
+                    fail_on(f"/nc/position {path_mm[j]} is {off(a, b, path_mm[j]):.6f} mm from the scene's segment {a} -> {b}")
                 j += 1
             if j == len(path_mm):
-                fail(f"scene point {b} is not the next /nc/position point after {a}")
+                fail_on(f"scene point {b} is not the next /nc/position point after {a}")
             k = j
         if k != len(path_mm) - 1:
-            fail(f"the scene ends at {drawn[-1]}, /nc/position at {path_mm[-1]}")
+            fail_on(f"the scene ends at {drawn[-1]}, /nc/position at {path_mm[-1]}")
     # Block ends: the last position before each block starts is the end of the last strip
     # written for the block before (strip ids N<seq> and N<seq>.<k>).
     last_of = {}
@@ -168,10 +208,10 @@ def main():
     ends = 0
     for (t, seq), (_, prev_seq) in zip(block_starts[1:], block_starts[:-1]):
         before = [p for (tp, p, _) in positions if tp <= t]
-        key = f"N{prev_seq}"
+        key = ("" if c is None else f"channel{c}/") + f"N{prev_seq}"
         if before and key in last_of:
             if last_of[key] != before[-1]:
-                fail(f"block N{prev_seq} ends at {before[-1]} on /nc/position, its strip at {last_of[key]}")
+                fail_on(f"block N{prev_seq} ends at {before[-1]} on /nc/position, its strip at {last_of[key]}")
             ends += 1
     at = {}
     for tp, p, _ in positions:
@@ -179,16 +219,13 @@ def main():
     moved = {tt for tt, _ in tools}
     for tt, tp in tools:
         if mm(tp) not in at.get(tt, []):
-            fail(f"tool transform at {tt} {mm(tp)} is not a /nc/position of that time {at.get(tt)}")
+            fail_on(f"tool transform at {tt} {mm(tp)} is not a /nc/position of that time {at.get(tt)}")
     for tp, p, speed in positions:
         if speed == 0 and tp not in moved:
-            fail(f"/nc/position at rest at {tp} {p} has no tool transform")
-    for name in sorted(counts):
-        print(f"foxglove {name} {counts[name]}")
-    print(f"path points {len(drawn)} of {len(path_mm)}")
-    print(f"tool transforms {len(tools)} for {len(positions)} positions")
-    print(f"block ends {ends}")
-    print("OK")
+            fail_on(f"/nc/position at rest at {tp} {p} has no tool transform")
+    print(f"{name}path points {len(drawn)} of {len(path_mm)}")
+    print(f"{name}tool transforms {len(tools)} for {len(positions)} positions")
+    print(f"{name}block ends {ends}")
 
 
 if __name__ == "__main__":

@@ -1030,7 +1030,9 @@ fn a_kernel_recording_has_each_channels_pulses_its_override_and_the_events() {
     let end: Vec<[i64; 3]> = core.channels().iter().map(|c| c.status.pos.xyz()).collect();
     drop(core);
     let sum = rec.finish().expect("the recording closes");
-    assert_eq!(sum.count("/foxglove/scene"), 0, "no scene from channels");
+    // Each channel draws its own scene (docs/recording.md "Foxglove topics"; checked in
+    // full by tests/record_foxglove.rs).
+    assert!(sum.count("/foxglove/scene") > 0, "a scene per channel");
 
     let bytes = std::fs::read(&path).expect("the file");
     let mut travel = [[0i64; 3]; 3];

@@ -331,11 +331,8 @@ fn novanc_run_streams_its_program_to_an_agent() {
     );
 }
 
-/// `novanc run --machine citizen` streams each channel as a path, in 10 ms steps of machine
-/// time: every path completes its part, and CH2 and CH3 wait at their sync points.
-#[test]
-fn novanc_run_streams_the_citizens_three_paths() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
+/// `novanc run --machine citizen DIR --parts 1` streamed to one agent: every line it got.
+fn citizen_run_streamed(dir: &std::path::Path) -> Vec<String> {
     let port = free_port();
     let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .args(["run", "--machine", "citizen", dir.to_str().unwrap()])
@@ -350,7 +347,15 @@ fn novanc_run_streams_the_citizens_three_paths() {
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
-    let lines = t.join().unwrap();
+    t.join().unwrap()
+}
+
+/// `novanc run --machine citizen` streams each channel as a path, every change as the kernel
+/// makes it: every path completes its part, and CH2 and CH3 wait at their sync points.
+#[test]
+fn novanc_run_streams_the_citizens_three_paths() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
+    let lines = citizen_run_streamed(&dir);
     for p in ["p1_", "p2_", "p3_"] {
         let ex = values(&lines, &format!("{p}exec"));
         assert_eq!(
@@ -370,6 +375,45 @@ fn novanc_run_streams_the_citizens_three_paths() {
         }
     }
     assert_eq!(values(&lines, "estop"), ["ARMED"]);
+}
+
+/// In virtual time every change of state is sent, none merged away: three dwells of 2, 3 and
+/// 4 ms in a row on CH1 (each shorter than the 10 ms steps the lathe once published at) each
+/// appear as CH1's block and line, in order, while the other channels run on.
+#[test]
+fn a_lathe_change_shorter_than_10_ms_is_streamed() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
+    let d = common::temp_dir("mtc-short");
+    for f in ["system1.ngc", "system2.ngc", "system3.ngc"] {
+        let mut text = std::fs::read_to_string(src.join(f)).unwrap();
+        if f == "system1.ngc" {
+            text = text.replacen("\nM10\n", "\nM10\nG4 P0.002\nG4 P0.003\nG4 P0.004\n", 1);
+        }
+        std::fs::write(d.join(f), text).unwrap();
+    }
+    let lines = citizen_run_streamed(&d);
+    let blocks = values(&lines, "p1_block");
+    let dwells: Vec<&str> = blocks
+        .iter()
+        .map(|b| b.as_str())
+        .filter(|b| b.starts_with("G4"))
+        .collect();
+    assert_eq!(
+        dwells,
+        ["G4 P0.002", "G4 P0.003", "G4 P0.004"],
+        "{blocks:?}"
+    );
+    let line = values(&lines, "p1_line");
+    for n in ["8", "9", "10"] {
+        assert!(line.iter().any(|l| l == n), "line {n}: {line:?}");
+    }
+    // Stamped in machine time, never backwards.
+    let ts: Vec<&str> = lines
+        .iter()
+        .filter(|l| !l.starts_with('*'))
+        .filter_map(|l| l.split('|').next())
+        .collect();
+    assert!(ts.windows(2).all(|w| w[0] <= w[1]), "{ts:?}");
 }
 
 #[test]

@@ -32,8 +32,13 @@ fn foxglove_check(rec: &Path) -> Option<String> {
 struct Read {
     attachments: BTreeMap<String, (String, Vec<u8>)>,
     metadata: BTreeMap<String, BTreeMap<String, String>>,
+    /// Every `novanc.program` record, in file order (a kernel's machine has one per channel).
+    programs: Vec<BTreeMap<String, String>>,
     topics: BTreeMap<String, (String, u64)>,
     logs: Vec<String>,
+    /// The messages of `/foxglove/scene` and `/foxglove/tool`.
+    scene: Vec<String>,
+    frames: Vec<String>,
 }
 
 fn read(path: &Path) -> Read {
@@ -45,8 +50,12 @@ fn read(path: &Path) -> Read {
         attachments.insert(a.name.clone(), (a.media_type.clone(), a.data.to_vec()));
     }
     let mut metadata = BTreeMap::new();
+    let mut programs = Vec::new();
     for i in &summary.metadata_indexes {
         let m = mcap::read::metadata(&bytes, i).unwrap();
+        if m.name == "novanc.program" {
+            programs.push(m.metadata.clone());
+        }
         metadata.insert(m.name, m.metadata);
     }
     let stats = summary.stats.as_ref().unwrap();
@@ -64,17 +73,22 @@ fn read(path: &Path) -> Read {
             .unwrap_or(0);
         topics.insert(ch.topic.clone(), (schema.name.clone(), n));
     }
-    let logs = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(|m| m.unwrap())
-        .filter(|m| m.channel.topic == "/foxglove/log")
-        .map(|m| String::from_utf8(m.data.to_vec()).unwrap())
-        .collect();
+    let on = |topic: &str| -> Vec<String> {
+        mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(|m| m.unwrap())
+            .filter(|m| m.channel.topic == topic)
+            .map(|m| String::from_utf8(m.data.to_vec()).unwrap())
+            .collect()
+    };
     Read {
         attachments,
         metadata,
+        programs,
         topics,
-        logs,
+        logs: on("/foxglove/log"),
+        scene: on("/foxglove/scene"),
+        frames: on("/foxglove/tool"),
     }
 }
 
@@ -196,6 +210,118 @@ fn messages_and_alarms_go_to_the_foxglove_log() {
     if let Some(text) = foxglove_check(&rec) {
         assert!(text.contains("foxglove foxglove.Log "), "{text}");
         assert!(text.contains("\nOK"), "{text}");
+    }
+}
+
+/// A lathe's recorded run (`novanc run --machine citizen --record`): each channel's path and
+/// tool post drawn in its own frame `channelN`, placed once in `machine`, every derived message
+/// carrying its `"channel"`; the metadata names the machine and its channels, and each
+/// channel's program, tool post and description are attached (docs/recording.md).
+#[test]
+fn a_lathe_recording_draws_each_channel_and_names_the_machine() {
+    let dir = common::temp_dir("foxglove-lathe");
+    let rec = dir.join("l.mcap");
+    let progs = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", "--machine", "citizen"])
+        .arg(&progs)
+        .args(["--parts", "2", "--record"])
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let r = read(&rec);
+    for n in 1..=3 {
+        let tag = format!("{{\"channel\":{n},");
+        let strips = r
+            .scene
+            .iter()
+            .filter(|m| {
+                m.starts_with(&tag)
+                    && m.contains(&format!(
+                        "\"frame_id\":\"channel{n}\",\"id\":\"channel{n}/N"
+                    ))
+            })
+            .count();
+        assert!(strips > 5, "channel {n}: {strips} strips");
+        assert!(
+            r.scene
+                .iter()
+                .any(|m| m.starts_with(&tag) && m.contains(&format!("\"id\":\"channel{n}/tool\""))),
+            "channel {n}: no tool"
+        );
+        let placed = format!("\"parent_frame_id\":\"machine\",\"child_frame_id\":\"channel{n}\"");
+        assert_eq!(
+            r.frames.iter().filter(|m| m.contains(&placed)).count(),
+            1,
+            "channel {n}"
+        );
+        let post =
+            format!("\"parent_frame_id\":\"channel{n}\",\"child_frame_id\":\"channel{n}/tool\"");
+        assert!(
+            r.frames
+                .iter()
+                .any(|m| m.starts_with(&tag) && m.contains(&post)),
+            "channel {n}"
+        );
+    }
+    // No channel's message is drawn as the single machine's.
+    assert!(!r
+        .scene
+        .iter()
+        .any(|m| m.contains("\"frame_id\":\"machine\"")));
+
+    // The machine and its channels, each channel's program, tool post and description.
+    let s = &r.metadata["novanc.settings"];
+    assert_eq!(
+        (s["machine"].as_str(), s["channels"].as_str()),
+        ("citizen", "3")
+    );
+    assert_eq!(r.programs.len(), 3, "{:?}", r.programs);
+    for (i, p) in r.programs.iter().enumerate() {
+        let n = i + 1;
+        assert_eq!(p["channel"], n.to_string());
+        assert!(!p["channel_name"].is_empty(), "{p:?}");
+        let file = progs.join(format!("system{n}.ngc"));
+        let text = std::fs::read(&file).unwrap();
+        assert_eq!(p["name"], file.display().to_string());
+        assert_eq!(p["bytes"], text.len().to_string());
+        assert_eq!(
+            r.attachments[&format!("channel{n}/program/{}", file.display())],
+            ("text/plain".to_string(), text)
+        );
+        let (media, tools) = &r.attachments[&format!("channel{n}/tooldata.csv")];
+        let tools = String::from_utf8_lossy(tools);
+        assert_eq!(media, "text/csv");
+        assert!(tools.starts_with("tool,nose_radius_mm,tip,x_offset_mm,z_offset_mm\n"));
+        assert_eq!(
+            tools.lines().count().to_string(),
+            (p["tools"].parse::<usize>().unwrap() + 1).to_string()
+        );
+        assert!(p["tools"] != "0", "{p:?}");
+        let (media, machine) = &r.attachments[&format!("channel{n}/machine.json")];
+        assert_eq!(media, "application/json");
+        assert!(
+            String::from_utf8_lossy(machine).contains("\"ncbr_period_ns\":100000,"),
+            "{}",
+            String::from_utf8_lossy(machine)
+        );
+    }
+
+    // Every Foxglove message against the published schemas; each channel's path against its
+    // own /nc/position.
+    if let Some(text) = foxglove_check(&rec) {
+        assert!(text.contains("channels drawn 3"), "{text}");
+        for n in 1..=3 {
+            assert!(
+                text.contains(&format!("channel {n}: path points")),
+                "{text}"
+            );
+        }
+        assert!(text.contains("\nOK"), "{text}");
+    }
+    if let Some((ok, text)) = common::python_check(&rec, &["--expect-complete"]) {
+        assert!(ok, "{text}");
     }
 }
 

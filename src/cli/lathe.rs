@@ -200,7 +200,8 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             let Some(settings) = crate::settings::MachineSettings::lathe_channel(&desc, 0) else {
                 return fail("novanc: the machine has no channel");
             };
-            match crate::record::Recorder::start(Path::new(p), &settings) {
+            let info = crate::lathe::console::recording_info(&desc, &texts);
+            match crate::record::Recorder::start_with_info(Path::new(p), &settings, &info) {
                 Ok(r) => Some(r),
                 Err(e) => return fail(&format!("novanc: {e}")),
             }
@@ -243,14 +244,12 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         if let Err(e) = f.wait(&mtc) {
             return fail(&format!("novanc run: {e}"));
         }
+        // Every change of every channel is published as the kernel makes it, in machine
+        // time (docs/mtconnect.md "The lathe").
+        cycle.set_watch(Some(f.lathe_watcher()));
     }
-    // A second of machine time at a time, so that a stop signal is seen; with an adapter,
-    // 10 ms, each step's state published (docs/mtconnect.md "The lathe").
-    let step = if feed.is_some() {
-        10_000_000
-    } else {
-        1_000_000_000
-    };
+    // A second of machine time at a time, so that a stop signal is seen.
+    let step = 1_000_000_000;
     let mut interrupted = None;
     let outcome = loop {
         let rest = cycle.run_until_rest(step);
@@ -342,7 +341,7 @@ Runs a lathe panel script (one event per line, # comments) in virtual time:
   show               print the display (title, summary lines, plasma) between --- lines
 A bad line stops the script before anything runs (exit 1).
 --mtconnect streams the machine to MTConnect agents, each channel a path (docs/mtconnect.md):
-the state is sent after every event and every 10 ms of machine time. --mtconnect-wait S waits
+every change of state is sent, in machine time. --mtconnect-wait S waits
 up to S seconds for an agent before the first event.
 ";
 
@@ -418,6 +417,9 @@ fn run_script(
             let _ = c.finish(None);
             return fail(&format!("novanc script: {e}"));
         }
+        // Every change of every channel inside a wait is published as the kernel makes it,
+        // in machine time (docs/mtconnect.md "The lathe").
+        c.set_watch(Some(f.lathe_watcher()));
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
@@ -460,9 +462,8 @@ fn run_script(
 }
 
 /// Runs the console for `limit_ns` of machine time (only until every channel is at rest with
-/// `until_rest`) as `LatheConsole::run_for` does; with an adapter, in steps of 10 ms of
-/// machine time, each step's state published (the kernel's watcher is the mill's only:
-/// docs/mtconnect.md "The lathe").
+/// `until_rest`) as `LatheConsole::run_for` does; with an adapter, the kernel's watcher has
+/// published every change on the way, and the console's state is published at the end.
 fn run_for(
     c: &mut LatheConsole,
     limit_ns: u64,
@@ -470,20 +471,9 @@ fn run_for(
     stop: fn() -> bool,
     feed: &mut Option<super::mtconnect::Feed>,
 ) {
-    let Some(f) = feed.as_mut() else {
-        c.run_for(limit_ns, until_rest, stop);
-        return;
-    };
-    const STEP: u64 = 10_000_000;
-    let mut used = 0;
-    while used < limit_ns && !stop() {
-        let n = STEP.min(limit_ns - used);
-        let ran = c.run_for(n, until_rest, stop);
-        used += n;
+    c.run_for(limit_ns, until_rest, stop);
+    if let Some(f) = feed.as_mut() {
         f.publish_lathe(c);
-        if until_rest && (ran < n || c.at_rest()) {
-            break;
-        }
     }
 }
 

@@ -6,7 +6,9 @@ use crate::lathe::console::events::Mode as LatheMode;
 use crate::lathe::console::{Cycle, LatheConsole};
 use crate::mtconnect::items::lathe_mode;
 use crate::mtconnect::{Adapter, Key, Modes, PathKeys};
-use crate::pulse_core::{ChannelView, ClockMode, EndCause, PulseCore, Status};
+use crate::pulse_core::{
+    ChannelStatus, ChannelView, ClockMode, EndCause, PulseCore, Status, Watcher,
+};
 use crate::tooldata::Magazine;
 use std::net::SocketAddr;
 use std::sync::{Arc, Mutex};
@@ -54,6 +56,60 @@ struct FeedState {
     /// machine time). None in real time: stamped with the wall clock.
     epoch: Option<SystemTime>,
     last_ts: SystemTime,
+    /// A lathe's batch besides its channels' states, as last published from the console or
+    /// the headless run: the kernel's watcher publishes with it.
+    lathe: Option<LatheCtx>,
+}
+
+/// What a lathe's batch says besides its channels' states.
+#[derive(Clone, Debug)]
+struct LatheCtx {
+    mode: &'static str,
+    /// Per channel: its program's name, its tool post with no cycle loaded (pulses [X, Z]),
+    /// its parts (the console's counter: an MDI run counts none).
+    programs: Vec<String>,
+    pos: Vec<[i64; 2]>,
+    parts: Vec<u64>,
+    /// The parts are the sync table's (AUTO).
+    auto_parts: bool,
+    pulse_mm: f64,
+    feed_override: u32,
+    message: Option<String>,
+}
+
+impl LatheCtx {
+    /// The items of the lathe with `chans` (empty: no cycle loaded), each channel a path.
+    fn items(&self, chans: &[ChannelStatus]) -> Vec<(Key, String)> {
+        let paths: Vec<LathePath> = self
+            .programs
+            .iter()
+            .enumerate()
+            .map(|(i, program)| {
+                let c = chans.get(i);
+                let sync = c.and_then(|c| c.sync.as_ref());
+                let parts = self.parts.get(i).copied().unwrap_or(0);
+                LathePath {
+                    status: c.map(|c| &c.status),
+                    sync,
+                    pos: c.map_or(self.pos.get(i).copied().unwrap_or([0; 2]), |c| {
+                        [c.status.pos[0], c.status.pos[2]]
+                    }),
+                    program: program.clone(),
+                    parts: match sync {
+                        Some(v) if self.auto_parts => u64::from(v.parts),
+                        _ => parts,
+                    },
+                }
+            })
+            .collect();
+        lathe_items(
+            self.mode,
+            &paths,
+            self.pulse_mm,
+            self.feed_override,
+            self.message.as_deref(),
+        )
+    }
 }
 
 impl FeedState {
@@ -77,6 +133,18 @@ impl FeedState {
         modes.partcount = partcount;
         let items = crate::mtconnect::items(s, modes);
         self.send(items, s.machine_ns);
+    }
+
+    /// Publishes a lathe's channels with `ctx` (None: as last published), stamped with
+    /// machine time `machine_ns`.
+    fn publish_lathe(&mut self, chans: &[ChannelStatus], ctx: Option<LatheCtx>, machine_ns: u64) {
+        if let Some(c) = ctx {
+            self.lathe = Some(c);
+        }
+        let Some(items) = self.lathe.as_ref().map(|c| c.items(chans)) else {
+            return;
+        };
+        self.send(items, machine_ns);
     }
 
     /// Sends `items`, stamped with machine time `machine_ns` in virtual time, the wall clock
@@ -107,8 +175,10 @@ impl Feed {
         };
         if virt {
             let st = feed.state.clone();
-            core.set_watch(Some(Arc::new(move |s: &Status| {
-                lock(&st).publish(s, None);
+            core.set_watch(Some(Arc::new(move |s: &[ChannelStatus]| {
+                if let Some(c) = s.first() {
+                    lock(&st).publish(&c.status, None);
+                }
             })));
         }
         Ok(Some(feed))
@@ -135,6 +205,7 @@ impl Feed {
             modes: None,
             epoch,
             last_ts: std::time::UNIX_EPOCH,
+            lathe: None,
         }));
         Ok(Some(Feed { state }))
     }
@@ -143,47 +214,48 @@ impl Feed {
     /// a path (`p1_exec`, `p2_exec`, ...), stamped with the console's machine time.
     pub fn publish_lathe(&mut self, c: &LatheConsole) {
         let v = c.view();
+        let ctx = LatheCtx {
+            mode: lathe_mode(c.mode()),
+            programs: v.channels.iter().map(|ch| ch.program.clone()).collect(),
+            pos: v.channels.iter().map(|ch| ch.pos).collect(),
+            parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
+            auto_parts: c.cycle().is_some_and(|cy| !cy.mdi),
+            pulse_mm: c.desc().pulse_mm,
+            feed_override: c.feed_override(),
+            message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
+        };
         let snap = c.cycle().map_or(&[][..], |cy| cy.channels());
-        let paths: Vec<LathePath> = v
-            .channels
-            .iter()
-            .enumerate()
-            .map(|(i, ch)| LathePath {
-                status: snap.get(i).map(|s| &s.status),
-                sync: snap.get(i).and_then(|s| s.sync.as_ref()),
-                pos: ch.pos,
-                program: ch.program.clone(),
-                parts: u64::from(ch.parts),
-            })
-            .collect();
-        let msg = Some(c.message()).filter(|m| !m.is_empty());
-        let items = lathe_items(
-            lathe_mode(c.mode()),
-            &paths,
-            c.desc().pulse_mm,
-            c.feed_override(),
-            msg,
-        );
-        lock(&self.state).send(items, c.machine_ns());
+        lock(&self.state).publish_lathe(snap, Some(ctx), c.machine_ns());
     }
 
     /// Publishes a headless lathe cycle (`novanc run --machine`): AUTO, each channel a path
     /// running `programs[i]`, stamped with the cycle's machine time.
     pub fn publish_cycle(&mut self, cy: &Cycle, programs: &[String], pulse_mm: f64) {
-        let paths: Vec<LathePath> = cy
-            .channels()
-            .iter()
-            .enumerate()
-            .map(|(i, s)| LathePath {
-                status: Some(&s.status),
-                sync: s.sync.as_ref(),
-                pos: [s.status.pos[0], s.status.pos[2]],
-                program: programs.get(i).cloned().unwrap_or_default(),
-                parts: u64::from(cy.totals(i).2),
-            })
-            .collect();
-        let items = lathe_items(lathe_mode(LatheMode::Auto), &paths, pulse_mm, 100, None);
-        lock(&self.state).send(items, cy.now_ns());
+        let n = cy.channels().len();
+        let ctx = LatheCtx {
+            mode: lathe_mode(LatheMode::Auto),
+            programs: (0..n)
+                .map(|i| programs.get(i).cloned().unwrap_or_default())
+                .collect(),
+            pos: vec![[0; 2]; n],
+            parts: vec![0; n],
+            auto_parts: true,
+            pulse_mm,
+            feed_override: 100,
+            message: None,
+        };
+        lock(&self.state).publish_lathe(cy.channels(), Some(ctx), cy.now_ns());
+    }
+
+    /// The watcher of a lathe's kernel (virtual time): every change of a channel's state is
+    /// published as it happens, stamped with its machine time, with what the console or the
+    /// run last published besides the channels (mode, programs, message).
+    pub fn lathe_watcher(&self) -> Watcher {
+        let st = self.state.clone();
+        Arc::new(move |chans: &[ChannelStatus]| {
+            let t = chans.first().map_or(0, |c| c.status.machine_ns);
+            lock(&st).publish_lathe(chans, None, t);
+        })
     }
 
     /// Publishes the console's state, then waits for an agent if `--mtconnect-wait` asks

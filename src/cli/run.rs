@@ -150,6 +150,7 @@ pub fn main(argv: &[String]) -> i32 {
                 program_text: source.clone(),
                 magazine: Some(magazine.clone()),
                 work_offsets: offsets.0,
+                ..Default::default()
             },
         ) {
             Ok(r) => Some(r),

@@ -176,6 +176,7 @@ impl Console {
                 program_text: mem.text(crate::store::Target::Program),
                 magazine: Some(mem.magazine()),
                 work_offsets: mem.work_offsets().0,
+                ..Default::default()
             },
             None => Default::default(),
         };

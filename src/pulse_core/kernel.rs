@@ -13,9 +13,10 @@
 //! without sync points is its machine alone: the same calls, the same pulses (tested).
 
 use super::machine::{Machine, Mark, Reached, Until};
+use super::runner::ChannelStatus;
 use super::source::VecSource;
 use super::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
-use super::{Command, EndCause, RunKind};
+use super::{Command, EndCause, RunKind, Status, Watcher};
 use crate::block::{Statement, Sync};
 use crate::settings::MachineSettings;
 
@@ -240,6 +241,59 @@ pub struct Kernel {
     /// time, and a thread pass is known at its block's start but begins at the index, which
     /// may lie beyond `now`.
     pending: Vec<KernelEvent>,
+    /// The watcher ([`Kernel::set_watch`]).
+    watch: Option<Box<KernelWatch>>,
+}
+
+/// What the sync table decides of a channel's view: a change of it is told to the watcher.
+type SyncKey = (
+    Option<Sync>,
+    Option<WaitOn>,
+    Option<String>,
+    bool,
+    Option<u32>,
+    bool,
+    u32,
+);
+
+fn sync_key(v: &ChannelView) -> SyncKey {
+    (
+        v.at_sync,
+        v.waits_on,
+        v.fault.clone(),
+        v.done,
+        v.work,
+        v.closed,
+        v.parts,
+    )
+}
+
+/// One change a channel made, at a machine time.
+#[derive(Clone, Debug)]
+enum Change {
+    /// Its machine's status changed (its machine's watch kept it).
+    Status(Box<Status>),
+    /// Its place in the sync table changed.
+    Sync(Box<ChannelView>),
+}
+
+/// The kernel's watcher: every channel's state as last told, and the changes not yet told.
+/// Channels run one after the other up to the same time, so their changes are gathered and
+/// told in machine-time order once every channel stands at the kernel's time.
+#[derive(Clone)]
+struct KernelWatch {
+    f: Watcher,
+    told: Vec<ChannelStatus>,
+    noted: Vec<Option<SyncKey>>,
+    changes: Vec<(u64, usize, Change)>,
+}
+
+impl std::fmt::Debug for KernelWatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("KernelWatch")
+            .field("changes", &self.changes.len())
+            .finish()
+    }
 }
 
 impl KernelEvent {
@@ -427,7 +481,89 @@ impl Kernel {
             now: 0,
             events: Vec::new(),
             pending: Vec::new(),
+            watch: None,
         })
+    }
+
+    /// Tells `w` every channel's state at every change of one of them (its machine's status:
+    /// RUN, hold, alarm, the block, tool, spindle, overrides; or its place in the sync table:
+    /// arrival, wait, release, chuck, work, part, fault), in machine-time order, each once
+    /// every channel stands at the time asked of [`Kernel::advance_to`]; every status's
+    /// `machine_ns` is the time of the change. None stops it (and the channels keep nothing).
+    pub fn set_watch(&mut self, w: Option<Watcher>) {
+        for c in &mut self.chans {
+            c.m.keep_watch(w.is_some());
+        }
+        self.watch = w.map(|f| {
+            let told: Vec<ChannelStatus> = (0..self.chans.len())
+                .map(|i| ChannelStatus {
+                    status: self.chans[i].m.status(),
+                    sync: self.channel(i),
+                })
+                .collect();
+            Box::new(KernelWatch {
+                f,
+                noted: told.iter().map(|c| c.sync.as_ref().map(sync_key)).collect(),
+                told,
+                changes: Vec::new(),
+            })
+        });
+    }
+
+    /// With a watcher: notes a change of channels `chans`' places in the sync table, at `t`.
+    fn note_sync(&mut self, t: u64, chans: std::ops::Range<usize>) {
+        if self.watch.is_none() {
+            return;
+        }
+        for i in chans {
+            let Some(v) = self.channel(i) else { continue };
+            let key = sync_key(&v);
+            let Some(w) = self.watch.as_mut() else { return };
+            if w.noted.get(i) != Some(&Some(key.clone())) {
+                if let Some(n) = w.noted.get_mut(i) {
+                    *n = Some(key);
+                }
+                w.changes.push((t, i, Change::Sync(Box::new(v))));
+            }
+        }
+    }
+
+    /// With a watcher: the commands given since the last advance (E-STOP, RESET, START, a
+    /// fault, an override) changed what at the kernel's time.
+    fn watch_commands(&mut self) {
+        if self.watch.is_none() {
+            return;
+        }
+        for c in &mut self.chans {
+            c.m.watch_now();
+        }
+        self.note_sync(self.now, 0..self.chans.len());
+    }
+
+    /// With a watcher: tells it the changes made up to now, in time order (stable: a channel's
+    /// changes at one time keep their order).
+    fn tell_watch(&mut self) {
+        let Some(w) = self.watch.as_mut() else {
+            return;
+        };
+        for (i, c) in self.chans.iter_mut().enumerate() {
+            for st in c.m.take_watched() {
+                w.changes
+                    .push((st.machine_ns, i, Change::Status(Box::new(st))));
+            }
+        }
+        w.changes.sort_by_key(|c| c.0);
+        for (t, i, change) in std::mem::take(&mut w.changes) {
+            let Some(c) = w.told.get_mut(i) else { continue };
+            match change {
+                Change::Status(st) => c.status = *st,
+                Change::Sync(v) => c.sync = Some(*v),
+            }
+            for c in &mut w.told {
+                c.status.machine_ns = t;
+            }
+            (w.f)(&w.told);
+        }
     }
 
     /// Machine time, ns (every channel stands at it between calls).
@@ -724,6 +860,7 @@ impl Kernel {
 
     /// Runs every channel to machine time `t` (see the module comment).
     pub fn advance_to(&mut self, t: u64) {
+        self.watch_commands();
         // Commands since the last call (START of a held channel) may free a waiting one.
         self.resolve_at(self.now);
         loop {
@@ -751,6 +888,7 @@ impl Kernel {
         }
         self.now = self.now.max(t);
         self.flush();
+        self.tell_watch();
     }
 
     /// Runs channel `i` alone until `t`, its next sync point, or its end (the part counter
@@ -808,8 +946,10 @@ impl Kernel {
             c.done = true;
             c.done_at = Some(now);
             self.pending.push(KernelEvent::Done { ch: i, t: now });
+            self.note_sync(now, i..i + 1);
             return false;
         }
+        self.note_sync(now, i..i + 1);
         let c = &mut self.chans[i];
         c.src.rewind();
         c.begin_run();
@@ -877,6 +1017,7 @@ impl Kernel {
             }
             c.waiting = on.or(c.waiting.filter(|_| c.at_point.is_some()));
         }
+        self.note_sync(te, 0..self.chans.len());
     }
 
     /// Whether some channel can still move without the operator (not finished, not waiting

@@ -234,9 +234,11 @@ pub enum EndCause {
     Alarm,
 }
 
-/// Told the status at every change of state while the machine runs in virtual time
-/// ([`PulseCore::set_watch`]); called on the pulse core thread, so it must be quick.
-pub type Watcher = std::sync::Arc<dyn Fn(&Status) + Send + Sync>;
+/// Told every channel's state at every change of state of one of them while the machine runs
+/// in virtual time ([`PulseCore::set_watch`]): the single machine is one channel (with no sync
+/// view); a kernel's channels are told in machine-time order, each status's `machine_ns` the
+/// time of the change. Called on the pulse core thread, so it must be quick.
+pub type Watcher = std::sync::Arc<dyn Fn(&[ChannelStatus]) + Send + Sync>;
 
 /// A snapshot of the machine, published at display rate and after every message.
 #[derive(Clone, Debug, Default)]

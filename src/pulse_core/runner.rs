@@ -464,11 +464,15 @@ impl PulseCore {
         self.send_sync(Msg::Audit(on));
     }
 
-    /// Virtual time: `w` is told the status at every change of state while the machine runs
-    /// (every block, hold, stop and alarm inside one `wait`), in order, on the pulse core
-    /// thread; None stops it. Ignored in real time, where the caller's own snapshots (at
-    /// display rate) are the record.
+    /// Virtual time: `w` is told every channel's state at every change of state while the
+    /// machine runs (every block, hold, stop and alarm inside one `wait`; with a kernel, every
+    /// channel's, and every arrival, wait and release at a sync point, merged in machine-time
+    /// order: [`Kernel::set_watch`]), on the pulse core thread; None stops it. Ignored in real
+    /// time, where the caller's own snapshots (at display rate) are the record.
     pub fn set_watch(&self, w: Option<super::Watcher>) {
+        if self.clock == ClockMode::RealTime {
+            return;
+        }
         self.send_sync(Msg::Watch(w));
     }
 
@@ -739,9 +743,11 @@ impl Runner {
                 return;
             }
             Msg::Watch(w) => {
-                // Real time publishes at display rate; the watcher is for virtual time.
-                if self.rt.is_none() {
-                    self.m.set_watch(w);
+                // Real time publishes at display rate; the watcher is for virtual time
+                // (`PulseCore::set_watch` sends none in real time).
+                match &mut self.k {
+                    Some(k) => k.set_watch(w),
+                    None => self.m.set_watch(w),
                 }
                 self.applied += 1;
                 return;

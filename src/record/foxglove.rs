@@ -24,6 +24,11 @@ pub const MACHINE_FRAME: &str = "machine";
 /// The spindle's frame: its origin is the position `/nc/position` records (the gauge line).
 pub const TOOL_FRAME: &str = "tool";
 
+/// How far apart a kernel's channels are laid out along the machine frame's X, m: channel N's
+/// frame `channelN` stands at X = (N − 1) × this, so that the channels' paths (each in its own
+/// X/Z, the tool post's coordinates) lie side by side (docs/recording.md "Foxglove topics").
+pub const CHANNEL_SPACING_M: f64 = 0.2;
+
 /// `foxglove.Log` levels.
 pub mod level {
     /// An operator or program message.
@@ -190,13 +195,40 @@ pub struct Scene {
     tool_t: Option<u64>,
     /// The T code drawn (None: not drawn yet).
     tool: Option<u32>,
+    /// A kernel's channel (1-based): its messages carry `"channel"` first, its path is drawn
+    /// in frame `channelN`, its tool post in `channelN/tool`, its entities' ids begin with
+    /// `channelN/`. None: the single machine (`machine`, `tool`, no prefix).
+    channel: Option<u16>,
+    frame: String,
+    tool_frame: String,
+    prefix: String,
+    /// The channel's frame has been placed in `machine` (its first message).
+    placed: bool,
     buf: Vec<u8>,
 }
 
 impl Scene {
     /// A scene with the tools' sizes (T code, cutting diameter, length, mm).
     pub fn new(pulse_mm: f64, tools: Vec<(u32, f64, f64)>) -> Scene {
+        Scene::on(pulse_mm, tools, None)
+    }
+
+    /// The scene of a kernel's channel `channel` (1-based; None: the single machine's).
+    pub fn on(pulse_mm: f64, tools: Vec<(u32, f64, f64)>, channel: Option<u16>) -> Scene {
+        let (frame, tool_frame, prefix) = match channel {
+            Some(n) => (
+                format!("channel{n}"),
+                format!("channel{n}/tool"),
+                format!("channel{n}/"),
+            ),
+            None => (MACHINE_FRAME.into(), TOOL_FRAME.into(), String::new()),
+        };
         Scene {
+            channel,
+            frame,
+            tool_frame,
+            prefix,
+            placed: channel.is_none(),
             pulse_mm,
             tools,
             stroke: Stroke::Other,
@@ -215,6 +247,14 @@ impl Scene {
 
     /// The derived messages of one event, each given to `emit` (channel, log time, JSON).
     pub fn derive(&mut self, ev: &Event, emit: &mut dyn FnMut(Derived, u64, &[u8])) {
+        if !self.placed {
+            if let Event::Block { t_ns, .. }
+            | Event::Position { t_ns, .. }
+            | Event::State { t_ns, .. } = ev
+            {
+                self.place(*t_ns, emit);
+            }
+        }
         match ev {
             Event::Block {
                 t_ns, seq, text, ..
@@ -256,6 +296,43 @@ impl Scene {
             }
             _ => {}
         }
+    }
+
+    /// A channel's frame placed in `machine`, once, at its first message.
+    fn place(&mut self, t_ns: u64, emit: &mut dyn FnMut(Derived, u64, &[u8])) {
+        self.placed = true;
+        let n = self.channel.map_or(1, u64::from);
+        self.buf.clear();
+        self.open();
+        self.buf.extend_from_slice(b"\"timestamp\":");
+        push_time(&mut self.buf, t_ns);
+        self.buf
+            .extend_from_slice(b",\"parent_frame_id\":\"machine\",\"child_frame_id\":");
+        let frame = std::mem::take(&mut self.frame);
+        push_str(&mut self.buf, &frame);
+        self.frame = frame;
+        self.buf.extend_from_slice(b",\"translation\":{\"x\":");
+        push_decimal(&mut self.buf, (n - 1) as f64 * CHANNEL_SPACING_M, 9);
+        self.buf
+            .extend_from_slice(b",\"y\":0,\"z\":0},\"rotation\":");
+        self.buf.extend_from_slice(IDENTITY);
+        self.buf.push(b'}');
+        emit(Derived::Tool, t_ns, &self.buf);
+    }
+
+    /// Opens a message: `{`, and a channel's `"channel":N,` first.
+    fn open(&mut self) {
+        self.buf.push(b'{');
+        if let Some(n) = self.channel {
+            self.buf.extend_from_slice(b"\"channel\":");
+            push_u64(&mut self.buf, u64::from(n));
+            self.buf.push(b',');
+        }
+    }
+
+    /// Appends `s` as a JSON string.
+    fn push_owned(&mut self, s: &str) {
+        push_str(&mut self.buf, s);
     }
 
     /// Adds a position to the strip: the last point is replaced when the segment to `p`
@@ -314,11 +391,15 @@ impl Scene {
 
     /// `foxglove.FrameTransform`: `tool` at the position, in `machine`.
     fn transform(&mut self, t_ns: u64, p: &[i64; 3]) {
-        self.buf.extend_from_slice(b"{\"timestamp\":");
+        self.open();
+        self.buf.extend_from_slice(b"\"timestamp\":");
         push_time(&mut self.buf, t_ns);
-        self.buf.extend_from_slice(
-            b",\"parent_frame_id\":\"machine\",\"child_frame_id\":\"tool\",\"translation\":",
-        );
+        self.buf.extend_from_slice(b",\"parent_frame_id\":");
+        let (frame, tool) = (self.frame.clone(), self.tool_frame.clone());
+        self.push_owned(&frame);
+        self.buf.extend_from_slice(b",\"child_frame_id\":");
+        self.push_owned(&tool);
+        self.buf.extend_from_slice(b",\"translation\":");
         self.push_xyz(p);
         self.buf.extend_from_slice(b",\"rotation\":");
         self.buf.extend_from_slice(IDENTITY);
@@ -327,8 +408,9 @@ impl Scene {
 
     /// The start of a `foxglove.SceneUpdate` with one entity, up to its metadata.
     fn entity_head(&mut self, t_ns: u64, frame: &str, id: &str, frame_locked: bool) {
+        self.open();
         self.buf
-            .extend_from_slice(b"{\"deletions\":[],\"entities\":[{\"timestamp\":");
+            .extend_from_slice(b"\"deletions\":[],\"entities\":[{\"timestamp\":");
         push_time(&mut self.buf, t_ns);
         self.buf.extend_from_slice(b",\"frame_id\":");
         push_str(&mut self.buf, frame);
@@ -343,11 +425,12 @@ impl Scene {
     /// A strip entity: `N<seq>` (its first strip) or `N<seq>.<part>`.
     fn strip(&mut self, t_ns: u64) {
         let id = if self.part == 0 {
-            format!("N{}", self.seq)
+            format!("{}N{}", self.prefix, self.seq)
         } else {
-            format!("N{}.{}", self.seq, self.part)
+            format!("{}N{}.{}", self.prefix, self.seq, self.part)
         };
-        self.entity_head(t_ns, MACHINE_FRAME, &id, false);
+        let frame = self.frame.clone();
+        self.entity_head(t_ns, &frame, &id, false);
         self.buf
             .extend_from_slice(b",\"metadata\":[{\"key\":\"block\",\"value\":");
         let text = std::mem::take(&mut self.text);
@@ -378,14 +461,19 @@ impl Scene {
     }
 
     /// The tool in the spindle: a cylinder hanging from the gauge line by the tool's length
-    /// (entity `tool`, in frame `tool`, following it); none for T0 (a deletion).
+    /// (entity `tool`, in frame `tool`, following it); none for T0 (a deletion). A channel's
+    /// tool (a lathe's tool post) is the same cylinder lying along +X from the tip, in
+    /// `channelN/tool` (entity `channelN/tool`).
     fn tool_entity(&mut self, t_ns: u64, t: u32) {
+        let id = format!("{}tool", self.prefix);
         if t == 0 {
+            self.open();
             self.buf
-                .extend_from_slice(b"{\"deletions\":[{\"timestamp\":");
+                .extend_from_slice(b"\"deletions\":[{\"timestamp\":");
             push_time(&mut self.buf, t_ns);
-            self.buf
-                .extend_from_slice(b",\"type\":0,\"id\":\"tool\"}],\"entities\":[]}");
+            self.buf.extend_from_slice(b",\"type\":0,\"id\":");
+            self.push_owned(&id);
+            self.buf.extend_from_slice(b"}],\"entities\":[]}");
             return;
         }
         let (dia, len) = self
@@ -395,16 +483,26 @@ impl Scene {
             .map(|&(_, d, l)| (d, l))
             .filter(|&(d, l)| d > 0.0 && l > 0.0 && d.is_finite() && l.is_finite())
             .unwrap_or(UNKNOWN_TOOL_MM);
-        self.entity_head(t_ns, TOOL_FRAME, "tool", true);
+        let frame = self.tool_frame.clone();
+        self.entity_head(t_ns, &frame, &id, true);
         self.buf
             .extend_from_slice(b",\"metadata\":[{\"key\":\"T\",\"value\":\"");
         push_u64(&mut self.buf, t as u64);
         self.buf.extend_from_slice(
-            b"\"}],\"arrows\":[],\"cubes\":[],\"spheres\":[],\"cylinders\":[{\"pose\":{\"position\":{\"x\":0,\"y\":0,\"z\":",
+            b"\"}],\"arrows\":[],\"cubes\":[],\"spheres\":[],\"cylinders\":[{\"pose\":{\"position\":{\"x\":",
         );
-        push_decimal(&mut self.buf, -len / 2000.0, 9);
-        self.buf.extend_from_slice(b"},\"orientation\":");
-        self.buf.extend_from_slice(IDENTITY);
+        if self.channel.is_some() {
+            // Along +X: the cylinder's axis (its Z) turned 90° about Y.
+            push_decimal(&mut self.buf, len / 2000.0, 9);
+            self.buf.extend_from_slice(
+                b",\"y\":0,\"z\":0},\"orientation\":{\"x\":0,\"y\":0.707106781,\"z\":0,\"w\":0.707106781}",
+            );
+        } else {
+            self.buf.extend_from_slice(b"0,\"y\":0,\"z\":");
+            push_decimal(&mut self.buf, -len / 2000.0, 9);
+            self.buf.extend_from_slice(b"},\"orientation\":");
+            self.buf.extend_from_slice(IDENTITY);
+        }
         self.buf.extend_from_slice(b"},\"size\":{\"x\":");
         push_decimal(&mut self.buf, dia / 1000.0, 9);
         self.buf.extend_from_slice(b",\"y\":");

@@ -21,6 +21,27 @@ pub struct RecordingInfo {
     pub magazine: Option<Magazine>,
     /// Work offsets G54 to G59, machine mm.
     pub work_offsets: [[f64; 3]; 6],
+    /// A kernel's machine (a lathe): its name (empty: the centre's single machine).
+    pub machine_name: String,
+    /// A kernel's channels, each with its program and tool post (empty: a single machine,
+    /// whose program is `program_name`).
+    pub channels: Vec<ChannelInfo>,
+}
+
+/// One channel of a kernel's machine as the recording starts (docs/recording.md,
+/// "Attachments").
+#[derive(Clone, Debug)]
+pub struct ChannelInfo {
+    /// Its name as the display shows it.
+    pub name: String,
+    /// Its program's name and text (an empty name: none).
+    pub program_name: String,
+    pub program_text: String,
+    /// Its description (travel, rates, spindle, clock), as `machine.json` says the centre's.
+    pub settings: MachineSettings,
+    /// Its tool post: (tool number, nose radius mm, imaginary tip 0–9, X (radius) and Z
+    /// offsets mm).
+    pub tools: Vec<(u32, f64, u8, [f64; 2])>,
 }
 
 /// One attachment: name, media type, bytes.
@@ -63,7 +84,43 @@ impl RecordingInfo {
             "application/json",
             machine_json(settings).into_bytes(),
         ));
+        for (i, c) in self.channels.iter().enumerate() {
+            let n = i + 1;
+            if !c.program_name.is_empty() {
+                out.push((
+                    format!("channel{n}/program/{}", c.program_name),
+                    "text/plain",
+                    c.program_text.as_bytes().to_vec(),
+                ));
+            }
+            let mut tools = String::from("tool,nose_radius_mm,tip,x_offset_mm,z_offset_mm\n");
+            for (t, r, tip, o) in &c.tools {
+                let _ = writeln!(tools, "{t},{r},{tip},{},{}", o[0], o[1]);
+            }
+            out.push((
+                format!("channel{n}/tooldata.csv"),
+                "text/csv",
+                tools.into_bytes(),
+            ));
+            out.push((
+                format!("channel{n}/machine.json"),
+                "application/json",
+                machine_json(&c.settings).into_bytes(),
+            ));
+        }
         out
+    }
+
+    /// What `novanc.settings` adds for a kernel's machine: `machine` (its name) and `channels`
+    /// (how many); nothing for a single machine.
+    pub fn settings_metadata(&self) -> Vec<(String, String)> {
+        if self.channels.is_empty() {
+            return Vec::new();
+        }
+        vec![
+            ("machine".to_string(), self.machine_name.clone()),
+            ("channels".to_string(), self.channels.len().to_string()),
+        ]
     }
 
     /// The tool file as CSV: one line per T code with data.
@@ -92,22 +149,35 @@ impl RecordingInfo {
         s
     }
 
-    /// The `novanc.program` metadata record: `name`, `bytes`, `lines` (of the program text),
-    /// `tools` (T codes with data).
-    pub fn metadata(&self) -> mcap::records::Metadata {
-        let tools = self.magazine.as_ref().map_or(0, |m| m.tools.iter().count());
-        mcap::records::Metadata {
+    /// The `novanc.program` metadata records: `name`, `bytes`, `lines` (of the program text),
+    /// `tools` (T codes with data); a kernel's machine has one per channel, which adds
+    /// `channel` (1-based) and `channel_name`, `tools` counting its tool post.
+    pub fn metadata(&self) -> Vec<mcap::records::Metadata> {
+        let record = |name: &str, text: &str, tools: usize| mcap::records::Metadata {
             name: "novanc.program".to_string(),
             metadata: BTreeMap::from([
-                ("name".to_string(), self.program_name.clone()),
-                ("bytes".to_string(), self.program_text.len().to_string()),
-                (
-                    "lines".to_string(),
-                    self.program_text.lines().count().to_string(),
-                ),
+                ("name".to_string(), name.to_string()),
+                ("bytes".to_string(), text.len().to_string()),
+                ("lines".to_string(), text.lines().count().to_string()),
                 ("tools".to_string(), tools.to_string()),
             ]),
+        };
+        if self.channels.is_empty() {
+            let tools = self.magazine.as_ref().map_or(0, |m| m.tools.iter().count());
+            return vec![record(&self.program_name, &self.program_text, tools)];
         }
+        self.channels
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let mut m = record(&c.program_name, &c.program_text, c.tools.len());
+                m.metadata
+                    .insert("channel".to_string(), (i + 1).to_string());
+                m.metadata
+                    .insert("channel_name".to_string(), c.name.clone());
+                m
+            })
+            .collect()
     }
 }
 

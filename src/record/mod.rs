@@ -15,7 +15,7 @@ pub mod testkit;
 pub mod topic;
 pub mod writer;
 
-pub use info::RecordingInfo;
+pub use info::{ChannelInfo, RecordingInfo};
 pub use recorder::{interrupt_all, interrupted, RecordSummary, Recorder, DEFAULT_QUEUE_EVENTS};
 pub use topic::{Topic, ALL_TOPICS, TOPICS};
 pub use writer::{RecordWriter, WriterOutcome};

@@ -66,8 +66,12 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     /// for its first message).
     channels: [Option<u16>; CHANNELS],
     sequence: [u32; CHANNELS],
-    /// Derives the Foxglove scene and tool transform (None: left out, `SCENE_ENV`).
-    scene: Option<Scene>,
+    /// Derives the Foxglove scene and tool transform, one scene per channel (index 0: a
+    /// single machine's; N: a kernel's channel N, made at its first message). None: left
+    /// out, `SCENE_ENV`.
+    scenes: Option<Vec<Option<Scene>>>,
+    /// The tools' sizes drawn in the scenes.
+    tool_sizes: Vec<(u32, f64, f64)>,
     out: WriterOutcome,
     /// Messages and pulses of the chunk still open (not yet flushed to the file).
     pending: Pending,
@@ -140,7 +144,8 @@ impl<W: RecordOutput> RecordWriter<W> {
             axes: settings.axes,
             channels: [None; CHANNELS],
             sequence: [0; CHANNELS],
-            scene: scene_on.then(|| Scene::new(settings.pulse_mm, info.tool_sizes())),
+            scenes: scene_on.then(Vec::new),
+            tool_sizes: info.tool_sizes(),
             out: WriterOutcome::default(),
             pending: Pending::default(),
             chunk_bytes: CHUNK_BYTES,
@@ -187,7 +192,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         info: &RecordingInfo,
         channels: &mut [Option<u16>; CHANNELS],
     ) -> Result<(), mcap::McapError> {
-        let metadata = BTreeMap::from([
+        let mut metadata = BTreeMap::from([
             ("pulse_mm".to_string(), settings.pulse_mm.to_string()),
             (
                 "ncbr_period_ns".to_string(),
@@ -203,11 +208,14 @@ impl<W: RecordOutput> RecordWriter<W> {
                 "machine time, ns since the run started".to_string(),
             ),
         ]);
+        metadata.extend(info.settings_metadata());
         mcap.write_metadata(&mcap::records::Metadata {
             name: "novanc.settings".to_string(),
             metadata,
         })?;
-        mcap.write_metadata(&info.metadata())?;
+        for m in info.metadata() {
+            mcap.write_metadata(&m)?;
+        }
         for (name, media_type, data) in info.attachments(settings) {
             mcap.attach(&mcap::Attachment {
                 log_time: 0,
@@ -317,15 +325,23 @@ impl<W: RecordOutput> RecordWriter<W> {
         if !written {
             return false;
         }
-        // The scene draws one tool: a channel's messages (a lathe's) are not derived.
-        if ev.channel().is_some() {
+        // Each channel's messages draw its own scene.
+        let ch = ev.channel();
+        let k = ch.map_or(0, usize::from);
+        let Some(scenes) = self.scenes.as_mut() else {
             return true;
+        };
+        if scenes.len() <= k {
+            scenes.resize_with(k + 1, || None);
         }
-        if let Some(mut scene) = self.scene.take() {
-            scene.derive(ev, &mut |d, t, data| {
-                self.emit(ALL_TOPICS + d.index(), t, data, 0);
-            });
-            self.scene = Some(scene);
+        let mut scene = scenes[k]
+            .take()
+            .unwrap_or_else(|| Scene::on(self.pulse_mm, self.tool_sizes.clone(), ch));
+        scene.derive(ev.inner(), &mut |d, t, data| {
+            self.emit(ALL_TOPICS + d.index(), t, data, 0);
+        });
+        if let Some(s) = self.scenes.as_mut().and_then(|s| s.get_mut(k)) {
+            *s = Some(scene);
         }
         true
     }
@@ -423,8 +439,8 @@ impl<W: RecordOutput> RecordWriter<W> {
     /// The last chunk is flushed first, so its messages count as written even if the summary
     /// section then fails to fit on the disk.
     pub fn finish(mut self, incomplete: bool, dropped: u64) -> WriterOutcome {
-        if let Some(mut scene) = self.scene.take() {
-            // The path since the last block's start.
+        // The path since each channel's last block's start.
+        for mut scene in self.scenes.take().into_iter().flatten().flatten() {
             scene.flush(0, &mut |d, t, data| {
                 self.emit(ALL_TOPICS + d.index(), t, data, 0);
             });

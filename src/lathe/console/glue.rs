@@ -89,6 +89,39 @@ fn make_kernel(
     Ok((k, lines, first))
 }
 
+/// What a recording of `desc` says before its first message (docs/recording.md,
+/// "Attachments"): the machine's name, and each channel's name, program (`programs[i]`: name
+/// and text), description and tool post.
+pub fn recording_info(
+    desc: &LatheDesc,
+    programs: &[(String, String)],
+) -> crate::record::RecordingInfo {
+    let channels = desc
+        .channels
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let (program_name, program_text) = programs.get(i).cloned().unwrap_or_default();
+            Some(crate::record::ChannelInfo {
+                name: c.name.clone(),
+                program_name,
+                program_text,
+                settings: crate::settings::MachineSettings::lathe_channel(desc, i)?,
+                tools: c
+                    .tools
+                    .iter()
+                    .map(|t| (t.number, t.radius, t.tip, t.offset))
+                    .collect(),
+            })
+        })
+        .collect();
+    crate::record::RecordingInfo {
+        machine_name: desc.name.clone(),
+        channels,
+        ..Default::default()
+    }
+}
+
 impl Cycle {
     /// Reads every channel's program (`texts`: name and text per channel) and starts the
     /// kernel on `clock`, each tool post where `pos` says, recording into `sink`. Any error
@@ -129,6 +162,12 @@ impl Cycle {
         };
         c.refresh();
         Ok(c)
+    }
+
+    /// Virtual time: `w` is told every channel's state at every change of one of them
+    /// (`PulseCore::set_watch`); None stops it.
+    pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
+        self.core.set_watch(w);
     }
 
     /// Takes the kernel's latest published state; an alarm that appeared since is the

@@ -15,7 +15,7 @@ mod glue;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, Cycle};
+pub use glue::{home, recording_info, Cycle};
 
 use super::desc::LatheDesc;
 use crate::pulse_core::ClockMode;
@@ -60,6 +60,8 @@ pub struct LatheConsole {
     stale_counts: bool,
     /// The kernel's clock: real time at a terminal or window, virtual in scripts.
     clock: ClockMode,
+    /// Told every change of every cycle's channels (virtual time: the MTConnect adapter).
+    watch: Option<crate::pulse_core::Watcher>,
 }
 
 /// What the terminal or the window draws.
@@ -103,7 +105,13 @@ impl LatheConsole {
             Some(p) => {
                 let settings = crate::settings::MachineSettings::lathe_channel(&desc, 0)
                     .ok_or("the machine has no channel")?;
-                Some(Recorder::start(p, &settings)?)
+                let programs: Vec<(String, String)> = o
+                    .programs
+                    .iter()
+                    .map(|p| (p.name.clone(), p.text.clone()))
+                    .collect();
+                let info = glue::recording_info(&desc, &programs);
+                Some(Recorder::start_with_info(p, &settings, &info)?)
             }
             None => None,
         };
@@ -139,6 +147,7 @@ impl LatheConsole {
             feed_override: 100,
             pos: Vec::new(),
             clock: ClockMode::Virtual,
+            watch: None,
         };
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = o.warnings.first() {
@@ -484,7 +493,10 @@ impl LatheConsole {
             self.sink.clone(),
         ) {
             Err(e) => self.message = e,
-            Ok(c) => {
+            Ok(mut c) => {
+                if self.watch.is_some() {
+                    c.set_watch(self.watch.clone());
+                }
                 if !mdi {
                     let mut next = self.counter.clone();
                     next.counts.iter_mut().for_each(|c| *c = 0);
@@ -520,6 +532,15 @@ impl LatheConsole {
             return;
         }
         self.message = c.reset(self.sel);
+    }
+
+    /// Virtual time: `w` is told every channel's state at every change of one of them, in
+    /// this cycle and every later one (`PulseCore::set_watch`); None stops it.
+    pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
+        if let Some(c) = self.cycle.as_mut() {
+            c.set_watch(w.clone());
+        }
+        self.watch = w;
     }
 
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and

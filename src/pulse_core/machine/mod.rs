@@ -674,7 +674,27 @@ impl Machine {
     /// runs, between its ticks, so that nothing that happens inside one advance is merged into
     /// the state after it (the MTConnect adapter, docs/mtconnect.md). None stops it.
     pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
-        self.watch = w.map(report::Watch::new);
+        self.watch = w.map(|f| report::Watch::new(Some(f)));
+    }
+
+    /// The same watch with no watcher: every changed status is kept, in order, for
+    /// [`Machine::take_watched`] (a kernel's channel, the kernel merging its channels' changes
+    /// in time order). Off forgets them.
+    pub fn keep_watch(&mut self, on: bool) {
+        self.watch = on.then(|| report::Watch::new(None));
+    }
+
+    /// Checks the state now, between runs (after a command): a change is told, or kept.
+    pub fn watch_now(&mut self) {
+        self.watch_check();
+    }
+
+    /// The statuses kept since the last call (with [`Machine::keep_watch`] on).
+    pub fn take_watched(&mut self) -> Vec<crate::pulse_core::Status> {
+        self.watch
+            .as_mut()
+            .map(report::Watch::take)
+            .unwrap_or_default()
     }
 
     /// The block ends logged since the last call (with the audit on).
@@ -951,6 +971,8 @@ impl Machine {
                     }
                 }
                 if sync_stops && self.sync_point().is_some() {
+                    // Its arrival is a change of state, told at the tick it arrived.
+                    self.watch_check();
                     return Reached::Sync;
                 }
             }

@@ -39,16 +39,28 @@ pub(super) struct WatchKey {
     single_block: bool,
 }
 
-/// The watcher and what it was last told.
+/// The watcher and what it was last told: a watcher called at once (the single machine), or
+/// none, the statuses kept for the owner to take in order (a kernel's channel: the kernel
+/// merges its channels' changes in time order, docs/pulse-core.md "Channels").
 #[derive(Clone)]
 pub(super) struct Watch {
-    f: crate::pulse_core::Watcher,
+    f: Option<crate::pulse_core::Watcher>,
+    kept: Vec<Status>,
     last: Option<WatchKey>,
 }
 
 impl Watch {
-    pub(super) fn new(f: crate::pulse_core::Watcher) -> Watch {
-        Watch { f, last: None }
+    pub(super) fn new(f: Option<crate::pulse_core::Watcher>) -> Watch {
+        Watch {
+            f,
+            kept: Vec::new(),
+            last: None,
+        }
+    }
+
+    /// The statuses kept since the last call (a kept watch).
+    pub(super) fn take(&mut self) -> Vec<Status> {
+        std::mem::take(&mut self.kept)
     }
 }
 
@@ -104,7 +116,13 @@ impl Machine {
         let st = self.status();
         if let Some(w) = &mut self.watch {
             w.last = Some(key);
-            (w.f)(&st);
+            match &w.f {
+                Some(f) => f(&[crate::pulse_core::ChannelStatus {
+                    status: st,
+                    sync: None,
+                }]),
+                None => w.kept.push(st),
+            }
         }
     }
 
