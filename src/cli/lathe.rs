@@ -506,32 +506,5 @@ pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
     if let Some(r) = rest.first() {
         return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
-    super::signals::install();
-    let (mut c, warnings) = match LatheConsole::open_config(desc, &cfg) {
-        Ok(x) => x,
-        Err(e) => return fail(&format!("novanc: {e}")),
-    };
-    // At a terminal the kernel keeps the wall clock in its own thread.
-    c.set_clock(crate::pulse_core::ClockMode::RealTime);
-    let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc", false, 0) {
-        Ok(f) => f,
-        Err(e) => {
-            let _ = c.finish(None);
-            return fail(&format!("novanc: {e}"));
-        }
-    };
-    if let Some(f) = feed.as_mut() {
-        f.publish_lathe(&c);
-    }
-    let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols, &mut feed);
-    // A stop signal (said now that the terminal is back): E-STOP, the recording closed
-    // `complete: false` with the signal named, exit 128 + N.
-    let interrupted = super::signals::caught_reason();
-    for w in warnings {
-        eprintln!("novanc: warning at start: {w}");
-    }
-    if let Some(Ok(line) | Err(line)) = c.finish(interrupted.as_deref()) {
-        eprintln!("novanc: {line}");
-    }
-    super::signals::exit_code(code)
+    crate::terminal::run_machine(Some(desc), cfg, &mtc)
 }

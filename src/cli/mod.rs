@@ -124,7 +124,7 @@ fn console(argv: &[String]) -> i32 {
     if let Some(r) = rest.first() {
         return usage_error(&format!("unexpected argument '{r}' (see --help)"));
     }
-    crate::terminal::run_with(cfg, &mtc)
+    crate::terminal::run_machine(None, cfg, &mtc)
 }
 
 /// `novanc --window`: the window's options, then the console's.
