@@ -494,3 +494,20 @@ fn a_recording_on_a_full_disk_says_no_space() {
         "{e}"
     );
 }
+
+/// The lathe window opens as the centre's does (`window::before_opening`): an option it does
+/// not take is a usage error said before anything else, display or not (it said "no
+/// display", exit 1, without one).
+#[cfg(feature = "window")]
+#[test]
+fn the_lathe_window_refuses_a_benchmark_before_looking_for_a_display() {
+    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["--window", "--machine", "citizen", "--bench-frames", "5"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("novanc runs");
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("the lathe window has no benchmark"), "{e}");
+}
