@@ -135,14 +135,8 @@ pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) 
                 Err(e) => return fail(&format!("novanc: {e}")),
             };
             console.set_saves_after_frame(true);
-            match Feed::start(mtc, "novanc", console.core()) {
-                Ok(feed) => run(console, warnings, feed),
-                Err(e) => {
-                    eprintln!("novanc: {e}");
-                    console.close(None);
-                    1
-                }
-            }
+            let feed = Feed::start(mtc, "novanc", console.core());
+            run(console, warnings, feed)
         }
         Some(desc) => {
             let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
@@ -151,22 +145,25 @@ pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) 
             };
             // At a terminal the kernel keeps the wall clock in its own thread.
             console.set_clock(crate::pulse_core::ClockMode::RealTime);
-            match Feed::start_on(mtc, "novanc", false, 0) {
-                Ok(feed) => run(console, warnings, feed),
-                Err(e) => {
-                    eprintln!("novanc: {e}");
-                    console.close(None);
-                    1
-                }
-            }
+            let feed = Feed::start_on(mtc, "novanc", false, 0);
+            run(console, warnings, feed)
         }
     }
 }
 
 /// Runs the terminal panel on an opened console until Ctrl-C, Alt-q or a stop signal, then
 /// closes it (the warnings of its opening said once the terminal is back); returns the exit
-/// code (128 + N after a stop signal).
-pub fn run<F: Front>(front: F, warnings: Vec<String>, mut feed: Option<Feed>) -> i32 {
+/// code (128 + N after a stop signal). `feed`: the MTConnect adapter as it started (an
+/// adapter that could not start closes the console, exit 1).
+pub fn run<F: Front>(front: F, warnings: Vec<String>, feed: Result<Option<Feed>, String>) -> i32 {
+    let mut feed = match feed {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            front.close(None);
+            return 1;
+        }
+    };
     if let Some(f) = feed.as_mut() {
         front.publish(f);
     }
