@@ -378,6 +378,51 @@ fn bad_machines_programs_and_scripts_are_refused_whole() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// One console entry (`novanc [--machine M] [--window] ...`): the console's arguments are
+/// parsed once, whatever the machine and the front end, so a bad one is the same usage error
+/// (exit 2), in the same words, before anything opens. (They were parsed twice: the window
+/// called a stray argument an "unknown option", the terminal an "unexpected argument".)
+#[test]
+fn the_console_takes_the_same_arguments_on_every_machine_and_front_end() {
+    let dir = common::temp_dir("lathe-console-args");
+    let state = dir.join("state");
+    let fronts: &[&[&str]] = if cfg!(feature = "window") {
+        &[&[], &["--window"]]
+    } else {
+        &[&[]]
+    };
+    for machine in [&[][..], &["--machine", "citizen"], &["--machine", "centre"]] {
+        for front in fronts {
+            for (bad, said) in [
+                (&["--rows", "1"][..], "--rows 1 is outside"),
+                (&["--bogus"], "unexpected argument '--bogus'"),
+                (
+                    &["--mtconnect-wait", "1"],
+                    "--mtconnect-wait needs --mtconnect",
+                ),
+            ] {
+                let mut args: Vec<&str> = machine.to_vec();
+                args.extend_from_slice(front);
+                args.extend_from_slice(&["--state", state.to_str().unwrap()]);
+                args.extend_from_slice(bad);
+                // No display: a window that got as far as opening would fail (exit 1).
+                let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+                    .args(&args)
+                    .env_remove("DISPLAY")
+                    .env_remove("WAYLAND_DISPLAY")
+                    .stdin(std::process::Stdio::null())
+                    .output()
+                    .expect("novanc runs");
+                let e = text(&o.stderr);
+                assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+                assert!(e.contains(said), "{args:?}: {e}");
+            }
+        }
+    }
+    assert!(!state.exists(), "nothing was opened");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_centre_description_sets_the_centres_travel() {
     let dir = common::temp_dir("lathe-centre");
@@ -448,4 +493,21 @@ fn a_recording_on_a_full_disk_says_no_space() {
         e.contains("/dev/full: No space left on device") && !e.contains("compression"),
         "{e}"
     );
+}
+
+/// The lathe window opens as the centre's does (`window::before_opening`): an option it does
+/// not take is a usage error said before anything else, display or not (it said "no
+/// display", exit 1, without one).
+#[cfg(feature = "window")]
+#[test]
+fn the_lathe_window_refuses_a_benchmark_before_looking_for_a_display() {
+    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["--window", "--machine", "citizen", "--bench-frames", "5"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("novanc runs");
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("the lathe window has no benchmark"), "{e}");
 }

@@ -110,6 +110,42 @@ fn the_panel_works_in_tmux_and_hands_the_terminal_back() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// The Citizen's console runs in the same terminal loop as the centre's: while the terminal
+/// is too small only the relay panel acts (E-STOP stops every channel), and another key is
+/// refused by name on the notice, as the centre's are (it was dropped in silence).
+#[test]
+fn the_lathe_console_in_a_terminal_too_small_takes_only_the_relay_panel() {
+    if !tmux_or_skip("lathe terminal panel") {
+        return;
+    }
+    let d = temp_dir("tmux-lathe");
+    let exe = env!("CARGO_BIN_EXE_novanc");
+    let t = session(
+        "lathe",
+        &d,
+        &format!("'{exe}' --machine citizen --state '{}/state'", d.display()),
+    );
+    t.wait_for(
+        &["CITIZEN 3 CHANNELS", "PLASMA DISPLAY 14", ">CH1 IDLE"],
+        20,
+    );
+    t.keys(&["F9"]);
+    t.wait_for(&["CH1 RUN"], 20);
+    t.run(&["resize-window", "-t", "0", "-x", "30", "-y", "8"]);
+    t.wait_for(&["enlarge to 68x18", "(now 30x8)"], 10);
+    // Tab (the channel selector) is refused and says so; E-STOP (F12) acts.
+    t.keys(&["Tab"]);
+    t.wait_for(&["key Tab ignored: the terminal", "is too small"], 10);
+    t.keys(&["F12"]);
+    t.run(&["resize-window", "-t", "0", "-x", "80", "-y", "24"]);
+    t.wait_for(&[">CH1 ESTOP", " CH2 ESTOP", " CH3 ESTOP"], 10);
+    t.keys(&["C-c"]);
+    let exit = wait_file(&d.join("exit"), 20);
+    assert_eq!(exit.trim(), "exit=0");
+    assert_stty_unchanged(&d);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn sigterm_hands_the_terminal_back() {
     if !tmux_or_skip("SIGTERM") {

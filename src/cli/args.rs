@@ -1,6 +1,9 @@
 //! A small command-line parser: positional arguments, `--flag`, `--opt VALUE` (or
-//! `--opt=VALUE`), and repeatable options such as `-c CMD`.
+//! `--opt=VALUE`), and repeatable options such as `-c CMD`; and the machine every subcommand
+//! takes (`--machine`, `--dialect`).
 
+use crate::lathe::desc::{load, LatheDesc, MachineDesc};
+use crate::settings::{Dialect, MachineSettings};
 use std::collections::HashMap;
 
 /// How one option is spelled and whether it takes a value.
@@ -74,6 +77,86 @@ pub fn take_values(
         }
     }
     Ok((taken, rest))
+}
+
+/// The machine a command acts on (docs/cli.md): `--machine NAME|FILE` and `--dialect
+/// fanuc|linuxcnc`, taken out of its arguments the same way by every subcommand and both
+/// front ends.
+#[derive(Clone, Debug)]
+pub enum Machine {
+    /// The machining centre: its description's settings when `--machine` named one (else the
+    /// built-in centre), and the dialect asked for.
+    Centre(Option<MachineSettings>, Option<Dialect>),
+    /// A lathe. Its channels read LinuxCNC's dialect: `--dialect fanuc` was refused.
+    Lathe(LatheDesc),
+}
+
+impl Machine {
+    /// The centre's settings: the description's (else the defaults), in the dialect asked for.
+    pub fn settings(&self) -> MachineSettings {
+        let mut s = MachineSettings::default();
+        if let Machine::Centre(Some(m), _) = self {
+            s = m.clone();
+        }
+        if let Machine::Centre(_, Some(d)) = self {
+            s.dialect = *d;
+        }
+        s
+    }
+
+    /// Puts what the centre's description gives (pulse size, travel, rapid rate,
+    /// acceleration, tool-change height, workpiece, M6 remap, dialect, spindle) and the
+    /// dialect asked for into a console's settings, keeping the rest (interpolator, B1, ...).
+    /// Nothing for a lathe.
+    pub fn apply(&self, s: &mut MachineSettings) {
+        let Machine::Centre(desc, dialect) = self else {
+            return;
+        };
+        if let Some(m) = desc {
+            s.pulse_mm = m.pulse_mm;
+            s.travel_min_mm = m.travel_min_mm;
+            s.travel_max_mm = m.travel_max_mm;
+            s.rapid_mm_min = m.rapid_mm_min;
+            s.accel_mm_s2 = m.accel_mm_s2;
+            s.remap_m6 = m.remap_m6.clone();
+            s.dialect = m.dialect;
+            s.tool_change_z_mm = m.tool_change_z_mm;
+            s.workpiece = m.workpiece.clone();
+            s.spindle_max_rpm = m.spindle_max_rpm;
+            s.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
+            s.spindle_encoder_lines = m.spindle_encoder_lines;
+        }
+        if let Some(d) = dialect {
+            s.dialect = *d;
+        }
+    }
+}
+
+/// Takes `--dialect fanuc|linuxcnc` (docs/gcode.md "Fanuc dialect") and `--machine NAME|FILE`
+/// (`citizen`, `centre`, `centre4` or a description file: docs/lathe.md "Machine
+/// description") out of `argv`: the machine, and the other arguments.
+pub fn take_machine(argv: &[String]) -> Result<(Machine, Vec<String>), String> {
+    let (taken, rest) = take_values(argv, &["--dialect"])?;
+    let dialect = match taken.last() {
+        Some((_, v)) => Some(Dialect::parse(v).map_err(|e| format!("--{e}"))?),
+        None => None,
+    };
+    let (taken, rest) = take_values(&rest, &["--machine"])
+        .map_err(|_| "--machine needs a value: citizen, centre or a description file")?;
+    let Some((_, name)) = taken.last() else {
+        return Ok((Machine::Centre(None, dialect), rest));
+    };
+    let machine = match load(name).map_err(|e| format!("--machine: {e}"))? {
+        MachineDesc::Mill(s) => Machine::Centre(Some(s), dialect),
+        MachineDesc::Lathe(_) if dialect == Some(Dialect::Fanuc) => {
+            return Err(
+                "--dialect fanuc: the lathe's channels read LinuxCNC's dialect only (docs/gcode.md \"Fanuc dialect\")"
+                    .into(),
+            )
+        }
+        MachineDesc::Lathe(d) => Machine::Lathe(d),
+    };
+    Ok((machine, rest))
 }
 
 /// Parsed arguments.

@@ -1,88 +1,14 @@
 //! The command line on a lathe (`--machine citizen` or a lathe description; docs/lathe.md
-//! "Headless" and docs/cli.md): `novanc run --machine M DIR|FILES`, `novanc script FILE
-//! --machine M`, and the terminal console `novanc --machine M`.
+//! "Headless" and docs/cli.md): `novanc run --machine M DIR|FILES` and `novanc script FILE
+//! --machine M`. The console `novanc --machine M` is every machine's (`super::console`).
 
 use super::args::{Args, Opt};
 use super::fail;
 use crate::lathe::console::events::ScriptStep;
 use crate::lathe::console::LatheConsole;
-use crate::lathe::desc::{load, LatheDesc, MachineDesc};
+use crate::lathe::desc::LatheDesc;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// `--dialect fanuc|linuxcnc` out of `argv` (docs/gcode.md "Fanuc dialect"): the dialect,
-/// if given, and the other arguments.
-pub fn take_dialect(
-    argv: &[String],
-) -> Result<(Option<crate::settings::Dialect>, Vec<String>), String> {
-    let (taken, rest) = super::args::take_values(argv, &["--dialect"])?;
-    let d = match taken.last() {
-        Some((_, v)) => Some(crate::settings::Dialect::parse(v).map_err(|e| format!("--{e}"))?),
-        None => None,
-    };
-    Ok((d, rest))
-}
-
-/// A lathe's programs are read in LinuxCNC's dialect: `--dialect fanuc` is refused there.
-pub fn lathe_dialect(d: Option<crate::settings::Dialect>) -> Result<(), String> {
-    match d {
-        Some(crate::settings::Dialect::Fanuc) => Err(
-            "--dialect fanuc: the lathe's channels read LinuxCNC's dialect only (docs/gcode.md \"Fanuc dialect\")"
-                .into(),
-        ),
-        _ => Ok(()),
-    }
-}
-
-/// `--machine NAME` out of `argv`: the value and the other arguments. `None` when absent.
-pub fn take_machine(argv: &[String]) -> Result<Option<(String, Vec<String>)>, String> {
-    let mut rest = Vec::new();
-    let mut found = None;
-    let mut i = 0;
-    while i < argv.len() {
-        let a = &argv[i];
-        if let Some(v) = a.strip_prefix("--machine=") {
-            found = Some(v.to_string());
-        } else if a == "--machine" {
-            match argv.get(i + 1) {
-                Some(v) => found = Some(v.clone()),
-                None => {
-                    return Err(
-                        "--machine needs a value: citizen, centre or a description file".into(),
-                    )
-                }
-            }
-            i += 1;
-        } else {
-            rest.push(a.clone());
-        }
-        i += 1;
-    }
-    Ok(found.map(|m| (m, rest)))
-}
-
-/// Puts what a machining centre description gives (pulse size, travel, rapid rate,
-/// acceleration, tool-change height, workpiece, M6 remap) into the console's settings,
-/// keeping the rest (interpolator, B1, ...).
-pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings::MachineSettings) {
-    s.pulse_mm = m.pulse_mm;
-    s.travel_min_mm = m.travel_min_mm;
-    s.travel_max_mm = m.travel_max_mm;
-    s.rapid_mm_min = m.rapid_mm_min;
-    s.accel_mm_s2 = m.accel_mm_s2;
-    s.remap_m6 = m.remap_m6.clone();
-    s.dialect = m.dialect;
-    s.tool_change_z_mm = m.tool_change_z_mm;
-    s.workpiece = m.workpiece.clone();
-    s.spindle_max_rpm = m.spindle_max_rpm;
-    s.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
-    s.spindle_encoder_lines = m.spindle_encoder_lines;
-}
-
-/// Loads a machine for a subcommand; a lathe or the centre's settings.
-pub fn machine(name: &str) -> Result<MachineDesc, String> {
-    load(name).map_err(|e| format!("--machine: {e}"))
-}
 
 const RUN_HELP: &str = "\
 usage: novanc run --machine MACHINE DIR [--parts N] [--record OUT.mcap] [--optional-stop]
@@ -475,53 +401,4 @@ fn run_for(
     if let Some(f) = feed.as_mut() {
         f.publish_lathe(c);
     }
-}
-
-/// `novanc --machine M` on a lathe: the terminal console; returns the exit code.
-pub fn console(desc: LatheDesc, argv: &[String]) -> i32 {
-    let (mtc, argv) = match super::mtconnect::take(argv) {
-        Ok(x) => x,
-        Err(e) => return super::usage_error(&e),
-    };
-    if mtc.wait.is_some() {
-        return super::usage_error("--mtconnect-wait is for novanc run and novanc script");
-    }
-    let (cfg, rest) = match super::console_opts::config_from_args(&argv) {
-        Ok(x) => x,
-        Err(e) => return super::usage_error(&e),
-    };
-    if let Err(e) = cfg.check() {
-        return super::usage_error(&e);
-    }
-    if let Some(r) = rest.first() {
-        return super::usage_error(&format!("unexpected argument '{r}' (see --help)"));
-    }
-    super::signals::install();
-    let (mut c, warnings) = match LatheConsole::open_config(desc, &cfg) {
-        Ok(x) => x,
-        Err(e) => return fail(&format!("novanc: {e}")),
-    };
-    // At a terminal the kernel keeps the wall clock in its own thread.
-    c.set_clock(crate::pulse_core::ClockMode::RealTime);
-    let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc", false, 0) {
-        Ok(f) => f,
-        Err(e) => {
-            let _ = c.finish(None);
-            return fail(&format!("novanc: {e}"));
-        }
-    };
-    if let Some(f) = feed.as_mut() {
-        f.publish_lathe(&c);
-    }
-    let (code, c) = crate::terminal::lathe::run(c, cfg.rows, cfg.cols, &mut feed);
-    // A stop signal (said now that the terminal is back): E-STOP, the recording closed
-    // `complete: false` with the signal named, exit 128 + N.
-    let interrupted = super::signals::caught_reason();
-    for w in warnings {
-        eprintln!("novanc: warning at start: {w}");
-    }
-    if let Some(Ok(line) | Err(line)) = c.finish(interrupted.as_deref()) {
-        eprintln!("novanc: {line}");
-    }
-    super::signals::exit_code(code)
 }

@@ -12,6 +12,8 @@ pub mod signals;
 pub mod tape;
 pub mod translate;
 
+use crate::console::ConsoleConfig;
+use crate::lathe::desc::LatheDesc;
 use std::io::Write;
 
 const USAGE: &str = "\
@@ -68,124 +70,73 @@ pub fn main(argv: Vec<String>) -> i32 {
     }
 }
 
-/// The interactive console (no subcommand): the terminal panel, or the window with `--window`.
+/// The interactive console (no subcommand) of whatever machine `--machine` describes (the
+/// centre's, or a lathe's with its channel selector): the terminal panel, or the window with
+/// `--window`.
 fn console(argv: &[String]) -> i32 {
+    #[cfg(feature = "window")]
     if argv.iter().any(|a| a == "--window") {
-        #[cfg(feature = "window")]
-        {
-            return window(argv);
+        let opts = match crate::window::parse_options(argv) {
+            Ok(o) => o,
+            Err(e) => return usage_error(&e),
+        };
+        if opts.help {
+            print!("{}", crate::window::HELP);
+            return 0;
         }
-        #[cfg(not(feature = "window"))]
-        {
-            return usage_error(
-                "this build has no window: run `novanc` for the terminal panel, or build with `cargo run --release --features window -- --window`",
-            );
-        }
+        return match console_args(&opts.console_args, "novanc --window --help") {
+            Err(code) => code,
+            Ok((lathe, cfg, mtc)) => {
+                let opts = crate::window::WindowOptions { mtc, ..opts };
+                match lathe {
+                    Some(d) => crate::window::lathe::run(d, cfg, opts),
+                    None => crate::window::run(cfg, opts),
+                }
+            }
+        };
+    }
+    #[cfg(not(feature = "window"))]
+    if argv.iter().any(|a| a == "--window") {
+        return usage_error(
+            "this build has no window: run `novanc` for the terminal panel, or build with `cargo run --release --features window -- --window`",
+        );
     }
     if argv.iter().any(|a| a == "-h" || a == "--help") {
         print!("{}", crate::terminal::HELP);
         return 0;
     }
-    let (dialect, argv) = match lathe::take_dialect(argv) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
-    let (mill, argv) = match lathe::take_machine(&argv) {
-        Err(e) => return usage_error(&e),
-        Ok(None) => (None, argv.to_vec()),
-        Ok(Some((m, rest))) => match lathe::machine(&m) {
-            Err(e) => return usage_error(&e),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => {
-                if let Err(e) = lathe::lathe_dialect(dialect) {
-                    return usage_error(&e);
-                }
-                return lathe::console(d, &rest);
-            }
-            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
-        },
-    };
-    let (mtc, argv) = match mtconnect::take(&argv) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
-    if mtc.wait.is_some() {
-        return usage_error("--mtconnect-wait is for novanc run and novanc script");
+    match console_args(argv, "--help") {
+        Err(code) => code,
+        Ok((lathe, cfg, mtc)) => crate::terminal::run_machine(lathe, cfg, &mtc),
     }
-    let (mut cfg, rest) = match console_opts::config_from_args(&argv) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
-    if let Some(m) = &mill {
-        lathe::apply_mill(&mut cfg.settings, m);
-    }
-    if let Some(d) = dialect {
-        cfg.settings.dialect = d;
-    }
-    if let Some(r) = rest.first() {
-        return usage_error(&format!("unexpected argument '{r}' (see --help)"));
-    }
-    crate::terminal::run_with(cfg, &mtc)
 }
 
-/// `novanc --window`: the window's options, then the console's.
-#[cfg(feature = "window")]
-fn window(argv: &[String]) -> i32 {
-    let mut opts = match crate::window::parse_options(argv) {
-        Ok(o) => o,
-        Err(e) => return usage_error(&e),
-    };
-    if opts.help {
-        print!("{}", crate::window::HELP);
-        return 0;
-    }
-    // `--machine` first: a lathe opens the lathe's window; the centre's axes go to the mill's.
-    let (dialect, console_args) = match lathe::take_dialect(&opts.console_args) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
-    let (machine, args) = match lathe::take_machine(&console_args) {
-        Err(e) => return usage_error(&e),
-        Ok(None) => (None, console_args.clone()),
-        Ok(Some((m, rest))) => match lathe::machine(&m) {
-            Err(e) => return usage_error(&e),
-            Ok(d) => (Some(d), rest),
-        },
-    };
-    let (mtc, args) = match mtconnect::take(&args) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
+/// The console's arguments, parsed once for the terminal and the window: the machine (a
+/// lathe's description, or `None`: the centre's settings are in the configuration), the
+/// console's configuration and the MTConnect adapter's options. `Err`: a usage error, said,
+/// as its exit code; `help` is where an unknown argument's message sends the operator.
+fn console_args(
+    argv: &[String],
+    help: &str,
+) -> Result<(Option<LatheDesc>, ConsoleConfig, mtconnect::MtcOpts), i32> {
+    let (machine, argv) = args::take_machine(argv).map_err(|e| usage_error(&e))?;
+    let (mtc, argv) = mtconnect::take(&argv).map_err(|e| usage_error(&e))?;
     if mtc.wait.is_some() {
-        return usage_error("--mtconnect-wait is for novanc run and novanc script");
-    }
-    opts.mtc = mtc;
-    let (mut cfg, rest) = match console_opts::config_from_args(&args) {
-        Ok(x) => x,
-        Err(e) => return usage_error(&e),
-    };
-    if let Some(a) = rest.first() {
-        return usage_error(&format!(
-            "unknown option '{a}' (see novanc --window --help)"
+        return Err(usage_error(
+            "--mtconnect-wait is for novanc run and novanc script",
         ));
     }
+    let (mut cfg, rest) = console_opts::config_from_args(&argv).map_err(|e| usage_error(&e))?;
+    if let Some(a) = rest.first() {
+        return Err(usage_error(&format!(
+            "unexpected argument '{a}' (see {help})"
+        )));
+    }
+    machine.apply(&mut cfg.settings);
+    cfg.check().map_err(|e| usage_error(&e))?;
     match machine {
-        Some(crate::lathe::desc::MachineDesc::Lathe(d)) => match lathe::lathe_dialect(dialect) {
-            Ok(()) => crate::window::lathe::run(d, cfg, opts),
-            Err(e) => usage_error(&e),
-        },
-        Some(crate::lathe::desc::MachineDesc::Mill(m)) => {
-            lathe::apply_mill(&mut cfg.settings, &m);
-            if let Some(d) = dialect {
-                cfg.settings.dialect = d;
-            }
-            crate::window::run(cfg, opts)
-        }
-        None => {
-            if let Some(d) = dialect {
-                cfg.settings.dialect = d;
-            }
-            crate::window::run(cfg, opts)
-        }
+        args::Machine::Lathe(d) => Ok((Some(d), cfg, mtc)),
+        args::Machine::Centre(..) => Ok((None, cfg, mtc)),
     }
 }
 

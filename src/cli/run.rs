@@ -71,27 +71,11 @@ const OPTS: [Opt; 12] = [
 
 /// Runs `novanc run`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
-    let (dialect, argv) = match super::lathe::take_dialect(argv) {
-        Ok(x) => x,
+    let (base, argv) = match super::args::take_machine(argv) {
         Err(e) => return super::usage_error(&format!("run: {e}")),
+        Ok((super::args::Machine::Lathe(d), rest)) => return super::lathe::run(d, &rest),
+        Ok((m, rest)) => (m.settings(), rest),
     };
-    let (mut base, argv) = match super::lathe::take_machine(&argv) {
-        Err(e) => return super::usage_error(&format!("run: {e}")),
-        Ok(None) => (MachineSettings::default(), argv.to_vec()),
-        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
-            Err(e) => return super::usage_error(&format!("run: {e}")),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => {
-                if let Err(e) = super::lathe::lathe_dialect(dialect) {
-                    return super::usage_error(&format!("run: {e}"));
-                }
-                return super::lathe::run(d, &rest);
-            }
-            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
-        },
-    };
-    if let Some(d) = dialect {
-        base.dialect = d;
-    }
     let (mtc, argv) = match super::mtconnect::take(&argv) {
         Ok(x) => x,
         Err(e) => return super::usage_error(&format!("run: {e}")),

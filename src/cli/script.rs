@@ -44,23 +44,10 @@ and `---`. A bad line stops the script before anything runs (exit 1). Without --
 
 /// Runs `novanc script`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
-    let (dialect, argv) = match super::lathe::take_dialect(argv) {
+    let (machine, argv) = match super::args::take_machine(argv) {
+        Err(e) => return super::usage_error(&format!("script: {e}")),
+        Ok((super::args::Machine::Lathe(d), rest)) => return super::lathe::script(d, &rest),
         Ok(x) => x,
-        Err(e) => return super::usage_error(&format!("script: {e}")),
-    };
-    let (mill, argv) = match super::lathe::take_machine(&argv) {
-        Err(e) => return super::usage_error(&format!("script: {e}")),
-        Ok(None) => (None, argv.to_vec()),
-        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
-            Err(e) => return super::usage_error(&format!("script: {e}")),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(d)) => {
-                if let Err(e) = super::lathe::lathe_dialect(dialect) {
-                    return super::usage_error(&format!("script: {e}"));
-                }
-                return super::lathe::script(d, &rest);
-            }
-            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (Some(s), rest),
-        },
     };
     if argv.iter().any(|a| a == "-h" || a == "--help") {
         print!("{HELP}");
@@ -78,12 +65,7 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(x) => x,
         Err(e) => return super::usage_error(&format!("script: {e}")),
     };
-    if let Some(m) = &mill {
-        super::lathe::apply_mill(&mut cfg.settings, m);
-    }
-    if let Some(d) = dialect {
-        cfg.settings.dialect = d;
-    }
+    machine.apply(&mut cfg.settings);
     let file = match rest.as_slice() {
         [f] if !f.starts_with('-') => PathBuf::from(f),
         [] => return super::usage_error("script: which script? (novanc script FILE)"),

@@ -354,27 +354,17 @@ impl Listing<'_> {
 
 /// Runs `novanc translate`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
-    let (dialect, argv) = match super::lathe::take_dialect(argv) {
-        Ok(x) => x,
-        Err(e) => return super::usage_error(&format!("translate: {e}")),
-    };
     // --machine: a mill's description (its M6 remap, travel, tool change); not a lathe.
-    let (mut settings, argv) = match super::lathe::take_machine(&argv) {
+    let (settings, argv) = match super::args::take_machine(argv) {
         Err(e) => return super::usage_error(&format!("translate: {e}")),
-        Ok(None) => (MachineSettings::default(), argv.to_vec()),
-        Ok(Some((m, rest))) => match super::lathe::machine(&m) {
-            Err(e) => return super::usage_error(&format!("translate: {e}")),
-            Ok(crate::lathe::desc::MachineDesc::Lathe(_)) => {
-                return super::usage_error(&format!(
-                    "translate: --machine {m} is a lathe: novanc translate lists a machining centre's programs"
-                ))
-            }
-            Ok(crate::lathe::desc::MachineDesc::Mill(s)) => (s, rest),
-        },
+        Ok((super::args::Machine::Lathe(d), _)) => {
+            return super::usage_error(&format!(
+                "translate: --machine {} is a lathe: novanc translate lists a machining centre's programs",
+                d.name
+            ))
+        }
+        Ok((m, rest)) => (m.settings(), rest),
     };
-    if let Some(d) = dialect {
-        settings.dialect = d;
-    }
     let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
         Ok(a) => a,

@@ -1,10 +1,14 @@
 //! The terminal panel's layout: the plasma display (orange on black), both selectors as rotary
 //! switches, the relay panel (buttons, feed override, handwheel), the position readout, the
-//! lamps, the data keys and a key legend; the help screen; and the "enlarge" notice.
+//! lamps, the data keys and a key legend; the help screen; and the "enlarge" notice. The
+//! lathe's panel (docs/lathe.md "The panel"): the title, one summary line per channel, the
+//! selected channel's plasma display and the key legend beside it.
 //!
 //! For a display of R×C the panel needs (C + 39) × (max(R + 2, 14) + 10) cells: 79×24 for
 //! the default 12×40.
 
+use crate::lathe::console::view::{LATHE_HELP, LATHE_KEYS};
+use crate::lathe::console::LatheView;
 use crate::panel_model::{DataMode, OpMode, Page, PanelView};
 use novanc_panel::draw::{button, gauge, lamp, rotary};
 use novanc_panel::{Color, Screen, Style};
@@ -271,6 +275,50 @@ pub fn draw_too_small(s: &mut Screen, need: (usize, usize), ignored: Option<&str
             s.text(0, row, &l, *style);
             row += 1;
         }
+    }
+}
+
+/// Width of the lathe's key legend column.
+const LATHE_KEYS_W: usize = 25;
+
+/// The cells the lathe panel needs for `channels` and a `rows`×`cols` display: (width, height).
+pub fn lathe_size(channels: usize, rows: usize, cols: usize) -> (usize, usize) {
+    (cols + 3 + LATHE_KEYS_W, 1 + channels + rows + 2)
+}
+
+/// Draws the lathe panel, or its help.
+pub fn draw_lathe(s: &mut Screen, v: &LatheView) {
+    if v.help {
+        for (i, l) in LATHE_HELP.iter().enumerate() {
+            s.text(0, i, l, if i == 0 { LIT } else { PANEL });
+        }
+        return;
+    }
+    let cols = v.display.first().map(|l| l.chars().count()).unwrap_or(40);
+    s.text(0, 0, &v.title, LIT);
+    for (i, l) in v.summary.iter().enumerate() {
+        let c = &v.channels[i];
+        let style = match c.state.as_str() {
+            "FAULT" | "ALARM" | "ESTOP" => RED,
+            _ if i == v.selected => LIT,
+            _ => PANEL,
+        };
+        s.text(0, 1 + i, l, style);
+    }
+    let top = 1 + v.summary.len();
+    s.frame(
+        0,
+        top,
+        cols + 2,
+        v.display.len() + 2,
+        "PLASMA DISPLAY 14",
+        PANEL,
+    );
+    for (i, l) in v.display.iter().enumerate() {
+        s.text(1, top + 1 + i, l, PLASMA);
+    }
+    for (i, k) in LATHE_KEYS.iter().enumerate() {
+        s.text(cols + 3, top + 1 + i, k, PANEL);
     }
 }
 

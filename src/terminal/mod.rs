@@ -6,14 +6,16 @@
 //! "Terminal"). A stop signal ends the session as it ends `novanc run` (`crate::cli::signals`):
 //! the machine stopped, the recording closed `complete: false`, exit 128 + the signal.
 
-pub mod lathe;
 pub mod layout;
 
-use crate::cli::signals;
+use crate::cli::mtconnect::{Feed, MtcOpts};
+use crate::cli::{fail, signals};
 use crate::console::{Console, ConsoleConfig};
-use layout::{draw_help, draw_panel, draw_too_small, panel_size};
+use crate::lathe::console::LatheConsole;
+use crate::lathe::desc::LatheDesc;
+use layout::{draw_help, draw_lathe, draw_panel, draw_too_small, lathe_size, panel_size};
 use novanc_panel::{Decoder, Key, Renderer, Screen, Terminal};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The terminal front end's `--help`.
 pub const HELP: &str = "\
@@ -21,58 +23,175 @@ usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap] [--mtconne
 The terminal front panel; F8 in the panel shows the keys.
 ";
 
-/// Runs the terminal panel on a console opened with `cfg`; returns the exit code.
-pub fn run(cfg: ConsoleConfig) -> i32 {
-    run_with(cfg, &crate::cli::mtconnect::MtcOpts::default())
+/// A console the terminal runs: the machining centre's (`Console`) or a lathe's
+/// (`LatheConsole`). The loop ([`run`]) is the same for both: keys, tick, the MTConnect feed,
+/// the frame (or the too-small notice), the frame-written hook.
+pub trait Front {
+    /// The cells the panel needs: (width, height).
+    fn need(&self) -> (usize, usize);
+    /// Whether the terminal is large enough for the panel, told every frame before the keys:
+    /// while it is not, only the relay panel's STOP, RESET and E-STOP act, and another key is
+    /// refused with the notice's `key NAME ignored` ([`Front::ignored_key`]).
+    fn set_screen_fits(&mut self, fits: bool);
+    /// The last key refused because the terminal is too small.
+    fn ignored_key(&self) -> Option<&str>;
+    /// A key of the terminal (Ctrl-C, Alt-q and Ctrl-L are the loop's).
+    fn press(&mut self, k: Key);
+    /// Once a frame after the keys, `ns` of wall time after the last.
+    fn tick(&mut self, ns: u64);
+    /// The state to the MTConnect adapter, once a frame after the tick.
+    fn publish(&self, feed: &mut Feed);
+    /// Draws the panel (or its help) on a cleared screen at least [`Front::need`] large.
+    fn draw(&self, s: &mut Screen);
+    /// The frame is on the terminal.
+    fn frame_written(&mut self) {}
+    /// Ends the session once the terminal is back: `interrupted` names a stop signal that cut
+    /// it short. Says the recording's summary (or its failure) on stderr.
+    fn close(self, interrupted: Option<&str>);
 }
 
-/// The terminal panel, streaming to MTConnect agents with `--mtconnect` (docs/mtconnect.md):
-/// the state is published once a frame, after the console's tick.
-pub fn run_with(cfg: ConsoleConfig, mtc: &crate::cli::mtconnect::MtcOpts) -> i32 {
-    signals::install();
-    let (console, warnings) = match Console::open(cfg) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("novanc: {e}");
-            return 1;
+impl Front for Console {
+    fn need(&self) -> (usize, usize) {
+        panel_size(self.config().rows, self.config().cols)
+    }
+    fn set_screen_fits(&mut self, fits: bool) {
+        Console::set_screen_fits(self, fits)
+    }
+    fn ignored_key(&self) -> Option<&str> {
+        Console::ignored_key(self)
+    }
+    fn press(&mut self, k: Key) {
+        Console::press(self, k)
+    }
+    fn tick(&mut self, _ns: u64) {
+        // The pulse core keeps its own clock: the tick takes its state.
+        Console::tick(self)
+    }
+    fn publish(&self, feed: &mut Feed) {
+        feed.publish(self)
+    }
+    fn draw(&self, s: &mut Screen) {
+        let view = self.view();
+        if view.help > 0 {
+            draw_help(s, view.help);
+        } else {
+            draw_panel(s, &view);
         }
-    };
-    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc", console.core()) {
+    }
+    fn frame_written(&mut self) {
+        Console::frame_written(self)
+    }
+    fn close(self, _interrupted: Option<&str>) {
+        // A stop signal has marked the recording interrupted (`signals::caught`); `finish`
+        // stops the machine (RESET) and closes it.
+        match self.finish() {
+            Ok(Some(s)) => eprintln!("novanc: {s}"),
+            Ok(None) => {}
+            Err(e) => eprintln!("novanc: recording: {e}"),
+        }
+    }
+}
+
+impl Front for LatheConsole {
+    fn need(&self) -> (usize, usize) {
+        let (rows, cols) = self.display_size();
+        lathe_size(self.desc().channels.len(), rows, cols)
+    }
+    fn set_screen_fits(&mut self, fits: bool) {
+        LatheConsole::set_screen_fits(self, fits)
+    }
+    fn ignored_key(&self) -> Option<&str> {
+        LatheConsole::ignored_key(self)
+    }
+    fn press(&mut self, k: Key) {
+        LatheConsole::press(self, k)
+    }
+    fn tick(&mut self, ns: u64) {
+        LatheConsole::tick(self, ns)
+    }
+    fn publish(&self, feed: &mut Feed) {
+        feed.publish_lathe(self)
+    }
+    fn draw(&self, s: &mut Screen) {
+        draw_lathe(s, &self.view())
+    }
+    fn close(self, interrupted: Option<&str>) {
+        // A stop signal: E-STOP first, the recording closed `complete: false`, the signal named.
+        if let Some(Ok(line) | Err(line)) = self.finish(interrupted) {
+            eprintln!("novanc: {line}");
+        }
+    }
+}
+
+/// Opens the console of the machine (`lathe`: a lathe's description; `None`: the machining
+/// centre of `cfg`) and runs the terminal panel on it, streaming to MTConnect agents with
+/// `--mtconnect` (docs/mtconnect.md); returns the exit code.
+pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) -> i32 {
+    signals::install();
+    match lathe {
+        None => {
+            let (mut console, warnings) = match Console::open(cfg) {
+                Ok(x) => x,
+                Err(e) => return fail(&format!("novanc: {e}")),
+            };
+            console.set_saves_after_frame(true);
+            let feed = Feed::start(mtc, "novanc", console.core());
+            run(console, warnings, feed)
+        }
+        Some(desc) => {
+            let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
+                Ok(x) => x,
+                Err(e) => return fail(&format!("novanc: {e}")),
+            };
+            // At a terminal the kernel keeps the wall clock in its own thread.
+            console.set_clock(crate::pulse_core::ClockMode::RealTime);
+            let feed = Feed::start_on(mtc, "novanc", false, 0);
+            run(console, warnings, feed)
+        }
+    }
+}
+
+/// Runs the terminal panel on an opened console until Ctrl-C, Alt-q or a stop signal, then
+/// closes it (the warnings of its opening said once the terminal is back); returns the exit
+/// code (128 + N after a stop signal). `feed`: the MTConnect adapter as it started (an
+/// adapter that could not start closes the console, exit 1).
+pub fn run<F: Front>(front: F, warnings: Vec<String>, feed: Result<Option<Feed>, String>) -> i32 {
+    let mut feed = match feed {
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc: {e}");
-            let _ = console.finish();
+            front.close(None);
             return 1;
         }
     };
+    if let Some(f) = feed.as_mut() {
+        front.publish(f);
+    }
     let mut term = match Terminal::enter() {
         Ok(t) => t,
         Err(e) => {
             eprintln!("novanc: {e}");
+            front.close(None);
             return 1;
         }
     };
-    let (code, console) = run_loop(&mut term, console, &mut feed);
+    let (code, front) = run_loop(&mut term, front, &mut feed);
     term.restore();
     // A stop signal is said now that the terminal is back, and marks the recording
-    // interrupted before `finish` (RESET, then the recording closed) closes it.
-    let _ = signals::caught();
+    // interrupted before `close` (the machine stopped, the recording closed) closes it.
+    let interrupted = signals::caught_reason();
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
-    match console.finish() {
-        Ok(Some(s)) => eprintln!("novanc: {s}"),
-        Ok(None) => {}
-        Err(e) => eprintln!("novanc: recording: {e}"),
-    }
+    front.close(interrupted.as_deref());
     signals::exit_code(code)
 }
 
-/// What the loops of both panels do first in each frame: end on a stop signal or on a panic in
+/// What the loop does first in each frame: end on a stop signal or on a panic in
 /// another thread (`Some` exit code; a stop signal's, 128 + N, is the caller's
 /// `signals::exit_code`), and take job control and resizes (`Terminal::take_redraw`: the
 /// whole frame drawn again).
-pub(crate) fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Option<i32> {
+fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Option<i32> {
     if term.panicked() {
         return Some(128 + libc::SIGABRT);
     }
@@ -86,58 +205,55 @@ pub(crate) fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Op
 }
 
 /// The input/draw loop; returns the exit code and the console.
-fn run_loop(
-    term: &mut Terminal,
-    mut console: Console,
-    feed: &mut Option<crate::cli::mtconnect::Feed>,
-) -> (i32, Console) {
+fn run_loop<F: Front>(term: &mut Terminal, mut front: F, feed: &mut Option<Feed>) -> (i32, F) {
     let mut dec = Decoder::new();
     let mut renderer = Renderer::new();
     let mut screen = Screen::new(0, 0);
     let mut out = Vec::with_capacity(16 * 1024);
-    let need = panel_size(console.config().rows, console.config().cols);
-    console.set_saves_after_frame(true);
+    let need = front.need();
+    let mut last = Instant::now();
     // Test hook: proves that a panic hands the terminal back (tests/tmux_panel.rs).
     let panic_requested = std::env::var_os("NOVANC_TEST_PANIC").is_some();
     loop {
         if let Some(code) = between_frames(term, &mut renderer) {
-            return (code, console);
+            return (code, front);
         }
         let (w, h) = term.size();
-        console.set_screen_fits(w >= need.0 && h >= need.1);
+        let fits = w >= need.0 && h >= need.1;
+        front.set_screen_fits(fits);
         let keys = match term.read_keys(Duration::from_millis(20), &mut dec) {
             Ok(k) => k,
-            Err(_) => return (0, console),
+            Err(_) => return (0, front),
         };
         for k in keys {
             match k {
-                Key::Ctrl('c') | Key::Alt('q') => return (0, console),
+                Key::Ctrl('c') | Key::Alt('q') => return (0, front),
                 Key::Ctrl('l') => renderer.invalidate(),
-                k => console.press(k),
+                k => front.press(k),
             }
         }
-        console.tick();
+        let now = Instant::now();
+        let ns = now.duration_since(last).as_nanos().min(1_000_000_000) as u64;
+        last = now;
+        front.tick(ns);
         if let Some(f) = feed.as_mut() {
-            f.publish(&console);
+            front.publish(f);
         }
         if screen.width() != w || screen.height() != h {
             screen = Screen::new(w, h);
         }
         screen.clear();
-        let view = console.view();
-        if w < need.0 || h < need.1 {
-            draw_too_small(&mut screen, need, view.ignored.as_deref());
-        } else if view.help > 0 {
-            draw_help(&mut screen, view.help);
+        if fits {
+            front.draw(&mut screen);
         } else {
-            draw_panel(&mut screen, &view);
+            draw_too_small(&mut screen, need, front.ignored_key());
         }
         out.clear();
         renderer.render(&screen, &mut out);
         if !out.is_empty() && term.write_all(&out).is_err() {
-            return (1, console);
+            return (1, front);
         }
-        console.frame_written();
+        front.frame_written();
         if panic_requested && !out.is_empty() {
             panic!("NOVANC_TEST_PANIC: a panic after the first frame, as requested");
         }

@@ -325,16 +325,7 @@ impl App {
         self.measure(m, &ctx, frame);
         let headless_busy =
             !self.script_done() || self.translating || self.bench.is_some() || self.shot.busy();
-        if headless_busy {
-            // Scripts, screenshots and the benchmark run frames back to back.
-            ctx.request_repaint();
-        } else if !m.is_idle() {
-            // The machine moves: about 60 frames a second, no more (the pulse core's CPU).
-            ctx.request_repaint_after(Duration::from_millis(16));
-        } else {
-            // Idle: still look at the console now and then (messages, alarms).
-            ctx.request_repaint_after(Duration::from_millis(100));
-        }
+        super::schedule_repaint(&ctx, headless_busy, !m.is_idle());
     }
 }
 

@@ -237,28 +237,55 @@ pub fn display_named() -> bool {
 const NO_WINDOW_HINT: &str =
     "run the terminal panel instead: novanc (without --window), or a headless panel session: novanc script FILE";
 
-/// Opens the console configured by `cfg` in a window (`novanc --window`); returns the exit
-/// code.
-pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
+/// Both windows before they open: with no display named, says why the window cannot open
+/// and returns exit code 1; else the text of the `--script` file, if any (a file that cannot
+/// be read is said, exit 1).
+fn before_opening(opts: &WindowOptions) -> Result<Option<(String, String)>, i32> {
     if !display_named() {
         eprintln!(
             "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
              novanc: {NO_WINDOW_HINT}"
         );
-        return 1;
+        return Err(1);
     }
+    let Some(path) = &opts.script else {
+        return Ok(None);
+    };
+    match std::fs::read_to_string(path) {
+        Ok(t) => Ok(Some((path.clone(), t))),
+        Err(e) => {
+            eprintln!("novanc: cannot read script {path}: {e}");
+            Err(1)
+        }
+    }
+}
+
+/// Schedules both windows' next frame: at once while a script, a screenshot or the benchmark
+/// runs (`busy`: frames back to back); about 60 frames a second while the machine moves, no
+/// more (the pulse core's CPU); idle, still a look at the console now and then (messages,
+/// alarms).
+fn schedule_repaint(ctx: &egui::Context, busy: bool, moving: bool) {
+    if busy {
+        ctx.request_repaint();
+    } else if moving {
+        ctx.request_repaint_after(Duration::from_millis(16));
+    } else {
+        ctx.request_repaint_after(Duration::from_millis(100));
+    }
+}
+
+/// Opens the console configured by `cfg` in a window (`novanc --window`); returns the exit
+/// code.
+pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
+    let script = match before_opening(&opts) {
+        Ok(s) => s,
+        Err(code) => return code,
+    };
     let mut drive = app::Drive {
         wait_limit: Duration::from_secs(300),
         ..app::Drive::default()
     };
-    if let Some(path) = &opts.script {
-        let text = match std::fs::read_to_string(path) {
-            Ok(t) => t,
-            Err(e) => {
-                eprintln!("novanc: cannot read script {path}: {e}");
-                return 1;
-            }
-        };
+    if let Some((path, text)) = script {
         match PanelEvent::parse_script(&text) {
             Ok(evs) => drive.script = evs.into(),
             Err(e) => {

@@ -62,6 +62,10 @@ pub struct LatheConsole {
     clock: ClockMode,
     /// Told every change of every cycle's channels (virtual time: the MTConnect adapter).
     watch: Option<crate::pulse_core::Watcher>,
+    /// The terminal is large enough for the panel (`set_screen_fits`).
+    screen_fits: bool,
+    /// The last key refused because the terminal is too small, for the notice.
+    ignored: Option<String>,
 }
 
 /// What the terminal or the window draws.
@@ -148,6 +152,8 @@ impl LatheConsole {
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
+            screen_fits: true,
+            ignored: None,
         };
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = o.warnings.first() {
@@ -261,9 +267,41 @@ impl LatheConsole {
         self.cycle.as_ref().is_none_or(|c| c.at_rest())
     }
 
-    /// A key of the terminal.
+    /// The plasma display's size: (rows, columns).
+    pub fn display_size(&self) -> (usize, usize) {
+        (self.rows, self.cols)
+    }
+
+    /// Tells the console whether the terminal is large enough for the panel (the terminal
+    /// front end does every frame), as the centre's console is told: while it is not, only
+    /// the relay panel's STOP, RESET and E-STOP act.
+    pub fn set_screen_fits(&mut self, fits: bool) {
+        if fits && !self.screen_fits {
+            self.ignored = None;
+        }
+        self.screen_fits = fits;
+    }
+
+    /// The last key ignored because the terminal is too small, for the notice.
+    pub fn ignored_key(&self) -> Option<&str> {
+        self.ignored.as_deref()
+    }
+
+    /// A key of the terminal. While the terminal is too small only STOP, RESET and E-STOP
+    /// act; another key is ignored, and the notice says which.
     pub fn press(&mut self, k: novanc_panel::Key) {
         use novanc_panel::Key;
+        let relay = matches!(
+            events::map_key(k, false, false),
+            Some(LatheEv::Stop | LatheEv::Reset | LatheEv::EStop)
+        );
+        if !self.screen_fits && !relay {
+            self.ignored = Some(format!(
+                "key {} ignored: the terminal is too small",
+                crate::console::keys::key_name(k)
+            ));
+            return;
+        }
         match k {
             Key::Alt('f') => {
                 let why = std::mem::take(&mut self.entry);

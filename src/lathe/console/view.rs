@@ -1,6 +1,37 @@
 //! What the lathe console shows (docs/lathe.md "The panel"): the summary line of every channel
 //! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
 
+/// The key legend beside the plasma display (the terminal's).
+pub const LATHE_KEYS: [&str; 11] = [
+    "F9  START   F10 STOP",
+    "F11 RESET   F12 E-STOP",
+    "Tab CHANNEL",
+    "Alt+2 AUTO  Alt+3 MDI",
+    "Alt+4 DATA  Alt+5 OFS",
+    "Alt+f FAULT the channel",
+    "Alt+n TARGET (typed N)",
+    "Alt+o M01   Alt+b /DEL",
+    "Alt+= Alt+- OVERRIDE",
+    "Enter EOB   F8 help",
+    "Ctrl-C quit",
+];
+
+/// The help screen (the terminal's and the window's).
+pub const LATHE_HELP: [&str; 12] = [
+    "LATHE CONSOLE  (F8 or Alt+h: back)",
+    "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
+    "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
+    "F10 / Alt+p   STOP: feed hold on every channel",
+    "F11 / Alt+r   RESET the selected channel (a fault or alarm); after E-STOP, the machine",
+    "F12 / Alt+e   E-STOP: everything stops at once",
+    "Alt+f         FAULT: stop the selected channel with the typed reason (else 'operator')",
+    "Alt+n         set the part target to the typed number",
+    "Alt+2/3/4/5   AUTO / MDI (Enter adds a line) / DATA (an editor line) / OFS (T1 X.. Z.. R.. P..)",
+    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
+    "The summary line: channel, state, current block or whom it waits for, parts/target",
+    "Ctrl-C or Alt+q quits; programs and the part counter are stored at every change",
+];
+
 /// One channel as the display shows it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ChanView {

@@ -39,36 +39,20 @@ const WAIT_LIMIT: Duration = Duration::from_secs(300);
 /// Opens the lathe `desc`'s console, configured by `cfg` (state directory, display size,
 /// recording), in a window; returns the exit code.
 pub fn run(desc: LatheDesc, cfg: ConsoleConfig, opts: WindowOptions) -> i32 {
-    if !super::display_named() {
-        eprintln!(
-            "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
-             novanc: {}",
-            super::NO_WINDOW_HINT
-        );
-        return 1;
-    }
     if opts.bench_frames.is_some() {
         eprintln!("novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)");
         return 2;
     }
-    let script = match &opts.script {
-        None => None,
-        Some(path) => {
-            let text = match std::fs::read_to_string(path) {
-                Ok(t) => t,
-                Err(e) => {
-                    eprintln!("novanc: cannot read script {path}: {e}");
-                    return 1;
-                }
-            };
-            match parse_script(&text, desc.channels.len()) {
-                Ok(s) => Some(s),
-                Err((line, e)) => {
-                    eprintln!("novanc: {path}:{line}: {e}");
-                    return 1;
-                }
+    let script = match super::before_opening(&opts) {
+        Err(code) => return code,
+        Ok(None) => None,
+        Ok(Some((path, text))) => match parse_script(&text, desc.channels.len()) {
+            Ok(s) => Some(s),
+            Err((line, e)) => {
+                eprintln!("novanc: {path}:{line}: {e}");
+                return 1;
             }
-        }
+        },
     };
     let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
         Ok(x) => x,
@@ -337,13 +321,8 @@ impl LatheApp {
             self.sample(c);
         }
         self.screenshot(&ctx);
-        if !self.script_done() || self.shot.busy() || self.screenshot.is_some() {
-            ctx.request_repaint();
-        } else if !c.at_rest() {
-            ctx.request_repaint_after(Duration::from_millis(16));
-        } else {
-            ctx.request_repaint_after(Duration::from_millis(100));
-        }
+        let busy = !self.script_done() || self.shot.busy() || self.screenshot.is_some();
+        super::schedule_repaint(&ctx, busy, !c.at_rest());
     }
 
     fn screenshot(&mut self, ctx: &egui::Context) {
