@@ -814,9 +814,10 @@ mod tests {
         s.spindle = [1200, -1200, 0][(i / 3 % 3) as usize];
         s.tool = [None, Some(2), Some(12)][(i / 23 % 3) as usize];
         s.estop = i % 29 == 3;
-        s.alarm = [None, Some("X TRAVEL LIMIT|+".to_string())][(i / 31 % 2) as usize]
-            .or(s.estop.then(|| "EMERGENCY STOP".into()));
-        s.notice = [None, Some("check\\nchuck".to_string())][(i / 37 % 2) as usize];
+        // Some(`text`) every other `n` steps.
+        let some = |n: u64, text: &str| (i / n % 2 == 1).then(|| text.to_string());
+        s.alarm = some(31, "X TRAVEL LIMIT|+").or(s.estop.then(|| "EMERGENCY STOP".into()));
+        s.notice = some(37, "check\nchuck");
         m.mode = [
             controller_mode(OpMode::Auto),
             controller_mode(OpMode::Single),
@@ -825,15 +826,14 @@ mod tests {
         m.partcount = i / 47;
         m.work_origin[2] = [0.0, 150.0][(i / 53 % 2) as usize];
         m.pulse_mm = [0.001, 0.0001][(i / 59 % 2) as usize];
-        m.program_alarm = [None, Some("bad word".into())][(i / 61 % 2) as usize];
-        m.fault = [None, Some("chuck".into())][(i / 67 % 2) as usize];
-        m.wpo = [
-            Some(wpo_table(&[[0.0; 3]; 6])),
-            None,
-            Some("G54={X=1.000}".into()),
-        ][(i / 71 % 3) as usize]
-            .clone();
-        m.tooloffsets = [Some(String::new()), None][(i / 73 % 2) as usize].clone();
+        m.program_alarm = some(61, "bad word");
+        m.fault = some(67, "chuck");
+        m.wpo = match i / 71 % 3 {
+            0 => Some(wpo_table(&[[0.0; 3]; 6])),
+            1 => None,
+            _ => Some("G54={X=1.000}".into()),
+        };
+        m.tooloffsets = some(73, "");
     }
 
     #[test]
