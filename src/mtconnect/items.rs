@@ -383,30 +383,33 @@ impl PathItem {
             return;
         }
         let mm = |i: usize| s.pos[k.axes[i].0] as f64 * m.pulse_mm;
-        // Writing to a String cannot fail.
-        let _ = match self {
+        // A count, as `to_string` writes it (writing to a String cannot fail).
+        let count = |out: &mut String, v: u64| {
+            let _ = write!(out, "{v}");
+        };
+        match self {
             PathItem::Line => match &s.executing {
-                Some(e) => write!(out, "{}", e.stmt.line),
-                None => Ok(out.push_str("UNAVAILABLE")),
+                Some(e) => count(out, u64::from(e.stmt.line)),
+                None => out.push_str("UNAVAILABLE"),
             },
             // The tool tip in the active work system (as POS shows it), and the axes in
             // machine coordinates.
-            PathItem::Act(i) => Ok(fixed3(out, mm(i) - m.work_origin[k.axes[i].0])),
-            PathItem::Mach(i) => Ok(fixed3(out, mm(i))),
+            PathItem::Act(i) => fixed3(out, mm(i) - m.work_origin[k.axes[i].0]),
+            PathItem::Mach(i) => fixed3(out, mm(i)),
             // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
-            PathItem::Feedrate => Ok(fixed3(out, s.speed_mm_min / 60.0)),
-            PathItem::Fovr => write!(out, "{}", s.feed_override),
+            PathItem::Feedrate => fixed3(out, s.speed_mm_min / 60.0),
+            PathItem::Fovr => count(out, u64::from(s.feed_override)),
             // The rapid override's F0 is sent as 0 (MTConnect's RapidOverride is a percentage).
-            PathItem::Rovr => write!(out, "{}", s.switches.rapid_override),
+            PathItem::Rovr => count(out, u64::from(s.switches.rapid_override)),
             // The switch's position, as /nc/state records it (held at 100 % during a tap, when
             // Srpm shows the programmed speed: docs/pulse-core.md "Tapping").
-            PathItem::Sovr => write!(out, "{}", s.switches.spindle_override),
-            PathItem::Srpm => write!(out, "{}", s.spindle.unsigned_abs()),
+            PathItem::Sovr => count(out, u64::from(s.switches.spindle_override)),
+            PathItem::Srpm => count(out, s.spindle.unsigned_abs()),
             PathItem::Tool => match s.tool {
-                Some(t) => write!(out, "{t}"),
-                None => Ok(out.push_str("UNAVAILABLE")),
+                Some(t) => count(out, u64::from(t)),
+                None => out.push_str("UNAVAILABLE"),
             },
-            PathItem::Partcount => write!(out, "{}", m.partcount),
+            PathItem::Partcount => count(out, m.partcount),
             PathItem::Motion => {
                 let motion = s
                     .alarm
@@ -414,20 +417,17 @@ impl PathItem {
                     .filter(|_| !s.estop)
                     .map(|a| ("CORE", a))
                     .or(m.fault.as_deref().map(|f| ("FAULT", f)));
-                Ok(condition(out, motion))
+                condition(out, motion)
             }
-            PathItem::Logic => Ok(condition(
-                out,
-                m.program_alarm.as_deref().map(|a| ("PROGRAM", a)),
-            )),
+            PathItem::Logic => condition(out, m.program_alarm.as_deref().map(|a| ("PROGRAM", a))),
             // Texts, written above.
             PathItem::Mode
             | PathItem::Exec
             | PathItem::Program
             | PathItem::Block
             | PathItem::Wpo
-            | PathItem::ToolOffsets => Ok(()),
-        };
+            | PathItem::ToolOffsets => {}
+        }
     }
 }
 
