@@ -131,8 +131,8 @@ impl FeedState {
             return;
         };
         modes.partcount = partcount;
-        let items = crate::mtconnect::items(s, modes);
-        self.send(items, s.machine_ns);
+        let ts = Self::stamp(self.epoch, &mut self.last_ts, s.machine_ns);
+        self.adapter.publish_mill(s, modes, ts);
     }
 
     /// Publishes a lathe's channels with `ctx` (None: as last published), stamped with
@@ -147,16 +147,22 @@ impl FeedState {
         self.send(items, machine_ns);
     }
 
-    /// Sends `items`, stamped with machine time `machine_ns` in virtual time, the wall clock
-    /// in real time (never before the last batch).
+    /// Sends `items`, stamped ([`FeedState::stamp`]).
     fn send(&mut self, items: Vec<(Key, String)>, machine_ns: u64) {
-        let ts = match self.epoch {
+        let ts = Self::stamp(self.epoch, &mut self.last_ts, machine_ns);
+        self.adapter.publish(items, ts);
+    }
+
+    /// The time of a batch: machine time `machine_ns` in virtual time, the wall clock in real
+    /// time, never before the last batch.
+    fn stamp(epoch: Option<SystemTime>, last_ts: &mut SystemTime, machine_ns: u64) -> SystemTime {
+        let ts = match epoch {
             Some(t0) => t0 + Duration::from_nanos(machine_ns),
             None => SystemTime::now(),
         }
-        .max(self.last_ts);
-        self.last_ts = ts;
-        self.adapter.publish(items, ts);
+        .max(*last_ts);
+        *last_ts = ts;
+        ts
     }
 }
 

@@ -77,15 +77,17 @@ impl PathKeys {
 
 const WPO: [&str; 6] = ["G54", "G55", "G56", "G57", "G58", "G59"];
 
-/// A condition value: `LEVEL|native_code|native_severity|qualifier|message`, each field escaped.
-fn condition(fault: Option<(&str, &str)>) -> String {
+/// A condition value, appended to `out`: `LEVEL|native_code|native_severity|qualifier|message`,
+/// each field escaped.
+fn condition(out: &mut String, fault: Option<(&str, &str)>) {
     match fault {
-        None => "NORMAL||||".into(),
-        Some((code, msg)) => format!(
-            "FAULT|{}|||{}",
-            super::shdr::escape(code),
-            super::shdr::escape(msg)
-        ),
+        None => out.push_str("NORMAL||||"),
+        Some((code, msg)) => {
+            out.push_str("FAULT|");
+            out.push_str(&super::shdr::escape(code));
+            out.push_str("|||");
+            out.push_str(&super::shdr::escape(msg));
+        }
     }
 }
 
@@ -183,100 +185,438 @@ pub fn controller_items(
     alarm: Option<&str>,
     message: Option<&str>,
 ) -> Vec<(Key, String)> {
-    vec![
-        (Key::Borrowed("avail"), "AVAILABLE".into()),
-        (
-            Key::Borrowed("estop"),
-            if estop { "TRIGGERED" } else { "ARMED" }.into(),
-        ),
-        (
-            Key::Borrowed("system"),
-            condition(alarm.filter(|_| estop).map(|a| ("ESTOP", a))),
-        ),
-        (
-            Key::Borrowed("message"),
-            format!("|{}", super::shdr::escape(message.unwrap_or(""))),
-        ),
-    ]
+    let c = Controller {
+        estop,
+        alarm,
+        message,
+    };
+    CONTROLLER
+        .iter()
+        .map(|it| {
+            let mut v = String::new();
+            it.write(&c, &mut v);
+            (Key::Borrowed(it.key()), v)
+        })
+        .collect()
 }
 
 /// Every data item of one path and its value, in a fixed order, keyed by `k`.
 pub fn path_items(s: &Status, m: &Modes, k: &PathKeys) -> Vec<(Key, String)> {
-    let (block, line) = match &s.executing {
-        Some(e) => (e.stmt.text.clone(), e.stmt.line.to_string()),
-        None => ("UNAVAILABLE".into(), "UNAVAILABLE".into()),
-    };
-    let core_alarm = s.alarm.as_deref();
-    let mut v = vec![
-        (k.key("mode"), m.mode.into()),
-        (k.key("exec"), path_execution(s, m).into()),
-        (
-            k.key("program"),
-            if m.program.is_empty() {
-                "UNAVAILABLE".into()
-            } else {
-                m.program.clone()
+    PathItem::list(k, m)
+        .into_iter()
+        .map(|it| {
+            let mut v = String::new();
+            it.write(s, m, k, &mut v);
+            (it.key(k), v)
+        })
+        .collect()
+}
+
+/// What the controller's items are made of.
+struct Controller<'a> {
+    estop: bool,
+    alarm: Option<&'a str>,
+    message: Option<&'a str>,
+}
+
+/// A data item of the controller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ControllerItem {
+    Avail,
+    Estop,
+    System,
+    Message,
+}
+
+/// The controller's items in the order sent.
+const CONTROLLER: [ControllerItem; 4] = [
+    ControllerItem::Avail,
+    ControllerItem::Estop,
+    ControllerItem::System,
+    ControllerItem::Message,
+];
+
+impl ControllerItem {
+    fn key(self) -> &'static str {
+        match self {
+            ControllerItem::Avail => "avail",
+            ControllerItem::Estop => "estop",
+            ControllerItem::System => "system",
+            ControllerItem::Message => "message",
+        }
+    }
+
+    /// Appends the item's value to `out`.
+    fn write(self, c: &Controller, out: &mut String) {
+        match self {
+            ControllerItem::Avail => out.push_str("AVAILABLE"),
+            ControllerItem::Estop => out.push_str(if c.estop { "TRIGGERED" } else { "ARMED" }),
+            ControllerItem::System => {
+                condition(out, c.alarm.filter(|_| c.estop).map(|a| ("ESTOP", a)))
+            }
+            ControllerItem::Message => {
+                out.push('|');
+                out.push_str(&super::shdr::escape(c.message.unwrap_or("")));
+            }
+        }
+    }
+}
+
+/// A data item of a path. An axis's items hold its place in the path's axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PathItem {
+    Mode,
+    Exec,
+    Program,
+    Block,
+    Line,
+    Act(usize),
+    Mach(usize),
+    Feedrate,
+    Fovr,
+    Rovr,
+    Sovr,
+    Srpm,
+    Tool,
+    Partcount,
+    Wpo,
+    ToolOffsets,
+    Motion,
+    Logic,
+}
+
+impl PathItem {
+    /// The path's items in the order sent: the tables only when the modes have them.
+    fn list(k: &PathKeys, m: &Modes) -> Vec<PathItem> {
+        use PathItem::*;
+        let mut v = vec![Mode, Exec, Program, Block, Line];
+        v.extend((0..k.axes.len()).map(Act));
+        v.extend((0..k.axes.len()).map(Mach));
+        v.extend([Feedrate, Fovr, Rovr, Sovr, Srpm, Tool, Partcount]);
+        if m.wpo.is_some() {
+            v.push(Wpo);
+        }
+        if m.tooloffsets.is_some() {
+            v.push(ToolOffsets);
+        }
+        v.extend([Motion, Logic]);
+        v
+    }
+
+    fn key(self, k: &PathKeys) -> Key {
+        use PathItem::*;
+        match self {
+            Act(i) => k.axis_key(k.axes[i].1, "act"),
+            Mach(i) => k.axis_key(k.axes[i].1, "mach"),
+            Mode => k.key("mode"),
+            Exec => k.key("exec"),
+            Program => k.key("program"),
+            Block => k.key("block"),
+            Line => k.key("line"),
+            Feedrate => k.key("path_feedrate"),
+            Fovr => k.key("Fovr"),
+            Rovr => k.key("Rovr"),
+            Sovr => k.key("Sovr"),
+            Srpm => k.key("Srpm"),
+            Tool => k.key("tool"),
+            Partcount => k.key("partcount"),
+            Wpo => k.key("wpo"),
+            ToolOffsets => k.key("tooloffsets"),
+            Motion => k.key("motion_program"),
+            Logic => k.key("logic_program"),
+        }
+    }
+
+    /// The value when it is a text the status or modes hold as it is sent (compared before it
+    /// is copied).
+    fn text<'a>(self, s: &'a Status, m: &'a Modes) -> Option<&'a str> {
+        match self {
+            PathItem::Mode => Some(m.mode),
+            PathItem::Exec => Some(path_execution(s, m)),
+            PathItem::Program if m.program.is_empty() => Some("UNAVAILABLE"),
+            PathItem::Program => Some(&m.program),
+            PathItem::Block => Some(
+                s.executing
+                    .as_ref()
+                    .map_or("UNAVAILABLE", |e| e.stmt.text.as_str()),
+            ),
+            PathItem::Wpo => m.wpo.as_deref(),
+            PathItem::ToolOffsets => m.tooloffsets.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// What a number's value is made of: equal inputs make the same value, which is then not
+    /// formatted again. None: not a number.
+    fn input(self, s: &Status, m: &Modes, k: &PathKeys) -> Option<[u64; 3]> {
+        let pos = |i: usize| s.pos[k.axes[i].0] as u64;
+        Some(match self {
+            PathItem::Line => match &s.executing {
+                Some(e) => [1, u64::from(e.stmt.line), 0],
+                None => [0; 3],
             },
-        ),
-        (k.key("block"), block),
-        (k.key("line"), line),
-    ];
-    // The tool tip in the active work system (as POS shows it), and the axes in machine
-    // coordinates.
-    for &(a, name) in k.axes {
-        let mm = s.pos[a] as f64 * m.pulse_mm;
-        v.push((
-            k.axis_key(name, "act"),
-            format!("{:.3}", mm - m.work_origin[a]),
-        ));
+            PathItem::Act(i) => [
+                pos(i),
+                m.pulse_mm.to_bits(),
+                m.work_origin[k.axes[i].0].to_bits(),
+            ],
+            PathItem::Mach(i) => [pos(i), m.pulse_mm.to_bits(), 0],
+            PathItem::Feedrate => [s.speed_mm_min.to_bits(), 0, 0],
+            PathItem::Fovr => [u64::from(s.feed_override), 0, 0],
+            PathItem::Rovr => [u64::from(s.switches.rapid_override), 0, 0],
+            PathItem::Sovr => [u64::from(s.switches.spindle_override), 0, 0],
+            PathItem::Srpm => [s.spindle.unsigned_abs(), 0, 0],
+            PathItem::Tool => match s.tool {
+                Some(t) => [1, u64::from(t), 0],
+                None => [0; 3],
+            },
+            PathItem::Partcount => [m.partcount, 0, 0],
+            _ => return None,
+        })
     }
-    for &(a, name) in k.axes {
-        let mm = s.pos[a] as f64 * m.pulse_mm;
-        v.push((k.axis_key(name, "mach"), format!("{mm:.3}")));
+
+    /// Appends the item's value to `out`.
+    fn write(self, s: &Status, m: &Modes, k: &PathKeys, out: &mut String) {
+        use std::fmt::Write;
+        if let Some(t) = self.text(s, m) {
+            out.push_str(t);
+            return;
+        }
+        let mm = |i: usize| s.pos[k.axes[i].0] as f64 * m.pulse_mm;
+        // A count, as `to_string` writes it (writing to a String cannot fail).
+        let count = |out: &mut String, v: u64| {
+            let _ = write!(out, "{v}");
+        };
+        match self {
+            PathItem::Line => match &s.executing {
+                Some(e) => count(out, u64::from(e.stmt.line)),
+                None => out.push_str("UNAVAILABLE"),
+            },
+            // The tool tip in the active work system (as POS shows it), and the axes in
+            // machine coordinates.
+            PathItem::Act(i) => fixed3(out, mm(i) - m.work_origin[k.axes[i].0]),
+            PathItem::Mach(i) => fixed3(out, mm(i)),
+            // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
+            PathItem::Feedrate => fixed3(out, s.speed_mm_min / 60.0),
+            PathItem::Fovr => count(out, u64::from(s.feed_override)),
+            // The rapid override's F0 is sent as 0 (MTConnect's RapidOverride is a percentage).
+            PathItem::Rovr => count(out, u64::from(s.switches.rapid_override)),
+            // The switch's position, as /nc/state records it (held at 100 % during a tap, when
+            // Srpm shows the programmed speed: docs/pulse-core.md "Tapping").
+            PathItem::Sovr => count(out, u64::from(s.switches.spindle_override)),
+            PathItem::Srpm => count(out, s.spindle.unsigned_abs()),
+            PathItem::Tool => match s.tool {
+                Some(t) => count(out, u64::from(t)),
+                None => out.push_str("UNAVAILABLE"),
+            },
+            PathItem::Partcount => count(out, m.partcount),
+            PathItem::Motion => {
+                let motion = s
+                    .alarm
+                    .as_deref()
+                    .filter(|_| !s.estop)
+                    .map(|a| ("CORE", a))
+                    .or(m.fault.as_deref().map(|f| ("FAULT", f)));
+                condition(out, motion)
+            }
+            PathItem::Logic => condition(out, m.program_alarm.as_deref().map(|a| ("PROGRAM", a))),
+            // Texts, written above.
+            PathItem::Mode
+            | PathItem::Exec
+            | PathItem::Program
+            | PathItem::Block
+            | PathItem::Wpo
+            | PathItem::ToolOffsets => {}
+        }
     }
-    v.extend([
-        // MTConnect's PathFeedrate is in MILLIMETER/SECOND.
-        (
-            k.key("path_feedrate"),
-            format!("{:.3}", s.speed_mm_min / 60.0),
-        ),
-        (k.key("Fovr"), s.feed_override.to_string()),
-        // The rapid override's F0 is sent as 0 (MTConnect's RapidOverride is a percentage).
-        (k.key("Rovr"), s.switches.rapid_override.to_string()),
-        // The switch's position, as /nc/state records it (held at 100 % during a tap, when
-        // Srpm shows the programmed speed: docs/pulse-core.md "Tapping").
-        (k.key("Sovr"), s.switches.spindle_override.to_string()),
-        (k.key("Srpm"), s.spindle.unsigned_abs().to_string()),
-        (
-            k.key("tool"),
-            s.tool
-                .map(|t| t.to_string())
-                .unwrap_or_else(|| "UNAVAILABLE".into()),
-        ),
-        (k.key("partcount"), m.partcount.to_string()),
-    ]);
-    if let Some(w) = &m.wpo {
-        v.push((k.key("wpo"), w.clone()));
+}
+
+/// `format!("{x:.3}")` appended to `out`, without the float formatter (it was most of the
+/// adapter's cost): the binary value rounded exactly to thousandths, a tie to even, the sign
+/// of a negative value kept when it rounds to zero (`-0.000`), as Rust's formatting does.
+fn fixed3(out: &mut String, x: f64) {
+    let bits = x.to_bits();
+    let exp = ((bits >> 52) & 0x7ff) as i32;
+    let frac = bits & ((1 << 52) - 1);
+    // x = ±m·2^e
+    let (m, e) = if exp == 0 {
+        (frac, -1074)
+    } else {
+        (frac | 1 << 52, exp - 1075)
+    };
+    // Infinities, NaN and values past 2^64 thousandths: the formatter's own way.
+    if exp == 0x7ff || e > 0 {
+        use std::fmt::Write;
+        let _ = write!(out, "{x:.3}");
+        return;
     }
-    if let Some(t) = &m.tooloffsets {
-        v.push((k.key("tooloffsets"), t.clone()));
+    let n = u128::from(m) * 1000;
+    let k = e.unsigned_abs();
+    let q = if k >= 120 {
+        0 // below 2^-67: n < 2^63 is less than half a unit
+    } else {
+        let q = n >> k;
+        let r = n - (q << k);
+        let half = if k == 0 { 0 } else { 1u128 << (k - 1) };
+        if k > 0 && (r > half || (r == half && q & 1 == 1)) {
+            q + 1
+        } else {
+            q
+        }
+    };
+    if bits >> 63 == 1 {
+        out.push('-');
     }
-    let motion = core_alarm
-        .filter(|_| !s.estop)
-        .map(|a| ("CORE", a))
-        .or(m.fault.as_deref().map(|f| ("FAULT", f)));
-    v.push((k.key("motion_program"), condition(motion)));
-    v.push((
-        k.key("logic_program"),
-        condition(m.program_alarm.as_deref().map(|a| ("PROGRAM", a))),
-    ));
-    v
+    // q < 2^53·1000 < 2^63.
+    let q = q as u64;
+    let mut digits = [0u8; 24];
+    let mut i = digits.len();
+    let mut v = q;
+    loop {
+        i -= 1;
+        digits[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 && i <= digits.len() - 4 {
+            break;
+        }
+    }
+    let int_end = digits.len() - 3;
+    for &d in &digits[i..int_end] {
+        out.push(char::from(d));
+    }
+    out.push('.');
+    for &d in &digits[int_end..] {
+        out.push(char::from(d));
+    }
+}
+
+/// The current value of every data item of a device, and what the mill's were made from: a
+/// new snapshot formats only the items whose inputs changed, and copies only the values that
+/// differ (the adapter's cost at every change of state, docs/mtconnect.md "Figures").
+#[derive(Debug, Default)]
+pub struct Current {
+    /// Every item and its value, in the order sent.
+    pub values: Vec<(Key, String)>,
+    /// The indices in `values` of the items the last update changed.
+    pub changed: Vec<usize>,
+    /// The mill's path items `values` follow after the controller's (None: set by `replace`).
+    mill: Option<Vec<PathItem>>,
+    /// For each item, what its value was made from when it is a number.
+    inputs: Vec<Option<[u64; 3]>>,
+    scratch: String,
+    /// Numbers formatted by `update_mill` so far (what the input comparison saves, tested).
+    numbers_made: u64,
+}
+
+impl Current {
+    /// Takes the values of any device (the lathe's): the items that changed are noted. The
+    /// items come in a fixed order: compared pairwise, or by key when the keys differ.
+    pub fn replace(&mut self, items: Vec<(Key, String)>) {
+        self.changed.clear();
+        let same_keys = items.len() == self.values.len()
+            && items.iter().zip(&self.values).all(|(a, b)| a.0 == b.0);
+        if same_keys {
+            self.changed.extend(
+                items
+                    .iter()
+                    .zip(&self.values)
+                    .enumerate()
+                    .filter(|(_, (a, b))| a.1 != b.1)
+                    .map(|(i, _)| i),
+            );
+        } else {
+            let old = &self.values;
+            self.changed.extend(
+                items
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, (k, v))| !old.iter().any(|(ok, ov)| ok == k && ov == v))
+                    .map(|(i, _)| i),
+            );
+        }
+        self.values = items;
+        self.mill = None;
+    }
+
+    /// Takes the mill's snapshot: the same values as [`items`], made only where they changed.
+    pub fn update_mill(&mut self, s: &Status, m: &Modes) {
+        let k = PathKeys::mill();
+        let fits = self.mill.as_ref().is_some_and(|p| {
+            p.contains(&PathItem::Wpo) == m.wpo.is_some()
+                && p.contains(&PathItem::ToolOffsets) == m.tooloffsets.is_some()
+        });
+        if !fits {
+            self.replace(items(s, m));
+            let path = PathItem::list(&k, m);
+            self.inputs = CONTROLLER
+                .iter()
+                .map(|_| None)
+                .chain(path.iter().map(|it| it.input(s, m, &k)))
+                .collect();
+            self.mill = Some(path);
+            return;
+        }
+        self.changed.clear();
+        let c = Controller {
+            estop: s.estop,
+            alarm: s.alarm.as_deref(),
+            message: s.notice.as_deref(),
+        };
+        let Current {
+            values,
+            changed,
+            mill: Some(path),
+            inputs,
+            scratch,
+            numbers_made,
+        } = self
+        else {
+            return;
+        };
+        for (i, it) in CONTROLLER.iter().enumerate() {
+            scratch.clear();
+            it.write(&c, scratch);
+            if *scratch != values[i].1 {
+                std::mem::swap(scratch, &mut values[i].1);
+                changed.push(i);
+            }
+        }
+        for (j, it) in path.iter().enumerate() {
+            let i = CONTROLLER.len() + j;
+            let value = &mut values[i].1;
+            if let Some(t) = it.text(s, m) {
+                if value != t {
+                    value.clear();
+                    value.push_str(t);
+                    changed.push(i);
+                }
+                continue;
+            }
+            let input = it.input(s, m, &k);
+            if input.is_some() {
+                if input == inputs[i] {
+                    continue;
+                }
+                inputs[i] = input;
+                *numbers_made += 1;
+            }
+            scratch.clear();
+            it.write(s, m, &k, scratch);
+            if scratch != value {
+                std::mem::swap(scratch, value);
+                changed.push(i);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pulse_core::{RunEnd, RunKind};
+    use crate::block::Statement;
+    use crate::pulse_core::testkit::Rng;
+    use crate::pulse_core::{BlockEntry, RunEnd, RunKind};
+    use std::sync::Arc;
 
     fn modes() -> Modes {
         Modes {
@@ -404,5 +744,128 @@ mod tests {
         let it = path_items(&s, &m, &PathKeys::lathe(2));
         assert_eq!(value(&it, "p2_exec"), "STOPPED");
         assert_eq!(value(&it, "p2_motion_program"), "FAULT|FAULT|||chuck");
+    }
+
+    #[test]
+    fn thousandths_are_written_as_the_float_formatter_writes_them() {
+        let mut rng = Rng::new(25);
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            0.0625, // ties: to even
+            0.1875,
+            -0.3125,
+            0.0005,
+            -0.0001,
+            1.0005,
+            4503599627370495.5,
+            9007199254740993.0,
+            1e20,
+            -1e300,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for _ in 0..20_000 {
+            // Positions as the adapter makes them, sixteenths (exact ties), and any bits.
+            let pulses = rng.range(-2_000_000_000, 2_000_000_000);
+            xs.push(pulses as f64 * 0.001 - rng.range(-500, 500) as f64 * 0.1);
+            xs.push(pulses as f64 * 0.0001);
+            xs.push(rng.range(-1_000_000, 1_000_000) as f64 / 16.0);
+            xs.push(rng.unit() * 8000.0 / 60.0);
+            xs.push(f64::from_bits(rng.next_u64()));
+        }
+        for x in xs {
+            let mut out = String::from("x");
+            fixed3(&mut out, x);
+            assert_eq!(out, format!("x{x:.3}"), "{x:e}");
+        }
+    }
+
+    /// A status at step `i` of a made-up run: positions, feed, block, tool, alarms and
+    /// messages changing at their own paces.
+    fn varied(rng: &mut Rng, i: u64, s: &mut Status, m: &mut Modes) {
+        let a = rng.range(0, 2) as usize;
+        if rng.range(0, 3) == 0 {
+            s.pos[a] += rng.range(-3, 3);
+        }
+        s.pos[2] += rng.range(-1000, 1000);
+        s.speed_mm_min = [0.0, 120.0, rng.unit() * 6000.0][rng.range(0, 2) as usize];
+        s.run = (i / 7 % 2) as u8;
+        s.hold = i % 11 == 0;
+        if i % 5 == 0 {
+            s.executing = Some(BlockEntry {
+                stmt: Arc::new(Statement {
+                    line: (i / 5 % 4) as u32,
+                    text: format!("G01 Z{}|\"", i % 3),
+                    blocks: Vec::new(),
+                }),
+                index: 0,
+            });
+        }
+        if i % 17 == 0 {
+            s.executing = None;
+        }
+        s.feed_override = [100, 80][(i / 13 % 2) as usize];
+        s.switches.rapid_override = [100, 0][(i / 19 % 2) as usize];
+        s.spindle = [1200, -1200, 0][(i / 3 % 3) as usize];
+        s.tool = [None, Some(2), Some(12)][(i / 23 % 3) as usize];
+        s.estop = i % 29 == 3;
+        // Some(`text`) every other `n` steps.
+        let some = |n: u64, text: &str| (i / n % 2 == 1).then(|| text.to_string());
+        s.alarm = some(31, "X TRAVEL LIMIT|+").or(s.estop.then(|| "EMERGENCY STOP".into()));
+        s.notice = some(37, "check\nchuck");
+        m.mode = [
+            controller_mode(OpMode::Auto),
+            controller_mode(OpMode::Single),
+        ][(i / 41 % 2) as usize];
+        m.program = ["O0001", "", "P2"][(i / 43 % 3) as usize].into();
+        m.partcount = i / 47;
+        m.work_origin[2] = [0.0, 150.0][(i / 53 % 2) as usize];
+        m.pulse_mm = [0.001, 0.0001][(i / 59 % 2) as usize];
+        m.program_alarm = some(61, "bad word");
+        m.fault = some(67, "chuck");
+        m.wpo = match i / 71 % 3 {
+            0 => Some(wpo_table(&[[0.0; 3]; 6])),
+            1 => None,
+            _ => Some("G54={X=1.000}".into()),
+        };
+        m.tooloffsets = some(73, "");
+    }
+
+    #[test]
+    fn the_mill_updated_in_place_has_the_values_and_changes_of_the_items_made_whole() {
+        let mut rng = Rng::new(7);
+        let (mut s, mut m) = (Status::default(), modes());
+        let (mut fast, mut whole) = (Current::default(), Current::default());
+        let mut any_changed = 0;
+        for i in 0..5_000 {
+            varied(&mut rng, i, &mut s, &mut m);
+            fast.update_mill(&s, &m);
+            whole.replace(items(&s, &m));
+            assert_eq!(fast.values, whole.values, "step {i}");
+            assert_eq!(fast.changed, whole.changed, "step {i}");
+            any_changed += fast.changed.len();
+        }
+        assert!(any_changed > 5_000, "{any_changed}");
+    }
+
+    #[test]
+    fn the_mill_formats_only_the_numbers_whose_inputs_changed() {
+        let mut s = Status::default();
+        let m = modes();
+        let mut c = Current::default();
+        c.update_mill(&s, &m);
+        let made = c.numbers_made;
+        for z in 1..=100 {
+            s.pos[2] = -z;
+            c.update_mill(&s, &m);
+            let keys: Vec<&str> = c.changed.iter().map(|&i| c.values[i].0.as_ref()).collect();
+            assert_eq!(keys, ["Zact", "Zmach"]);
+        }
+        assert_eq!(c.numbers_made - made, 200);
     }
 }

@@ -13,6 +13,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime};
 
+use super::items::{Current, Modes};
+use crate::pulse_core::Status;
+
 /// The heartbeat the adapter announces, ms (`* PONG <ms>`).
 pub const HEARTBEAT_MS: u64 = 10_000;
 
@@ -43,7 +46,7 @@ impl Client {
 #[derive(Default)]
 struct Inner {
     clients: Vec<Client>,
-    current: Vec<(super::Key, String)>,
+    current: super::items::Current,
     /// The timestamp of the last publish: a connecting agent's dump carries it.
     current_ts: Option<SystemTime>,
     next_id: u64,
@@ -124,38 +127,37 @@ impl Adapter {
     /// Takes a snapshot's items at time `ts`: sends the ones that changed since the last call
     /// to every agent (nothing if none changed), stamped `ts`. Never blocks on a client.
     pub fn publish<K: Into<super::Key>>(&self, items: Vec<(K, String)>, ts: SystemTime) {
-        let items: Vec<(super::Key, String)> =
-            items.into_iter().map(|(k, v)| (k.into(), v)).collect();
+        let items = items.into_iter().map(|(k, v)| (k.into(), v)).collect();
+        self.update(ts, |c| c.replace(items));
+    }
+
+    /// [`Adapter::publish`] of the mill's items ([`super::items`]) of `s` with `m`, made only
+    /// where their inputs changed.
+    pub fn publish_mill(&self, s: &Status, m: &Modes, ts: SystemTime) {
+        self.update(ts, |c| c.update_mill(s, m));
+    }
+
+    /// Updates the current values with `f` and sends what changed.
+    fn update(&self, ts: SystemTime, f: impl FnOnce(&mut Current)) {
         let Ok(mut g) = self.inner.lock() else {
             return;
         };
         let inner = &mut *g;
-        // The items come in a fixed order: compared pairwise (by key when the order differs).
-        let same_keys = items.len() == inner.current.len()
-            && items.iter().zip(&inner.current).all(|(a, b)| a.0 == b.0);
-        let changed: Vec<(super::Key, String)> = if same_keys {
-            items
-                .iter()
-                .zip(&inner.current)
-                .filter(|(a, b)| a.1 != b.1)
-                .map(|(a, _)| a.clone())
-                .collect()
-        } else {
-            items
-                .iter()
-                .filter(|(k, v)| !inner.current.iter().any(|(ck, cv)| ck == k && cv == v))
-                .cloned()
-                .collect()
-        };
-        inner.current = items;
-        if changed.is_empty() {
+        f(&mut inner.current);
+        let c = &inner.current;
+        if c.changed.is_empty() {
             return;
         }
         inner.current_ts = Some(ts);
         if inner.clients.is_empty() {
             return;
         }
-        let text = super::shdr::lines(&super::shdr::timestamp(ts), &changed);
+        let text = super::shdr::lines_of(
+            &super::shdr::timestamp(ts),
+            c.changed
+                .iter()
+                .map(|&i| (c.values[i].0.as_ref(), c.values[i].1.as_str())),
+        );
         let before = inner.clients.len();
         inner.clients.retain_mut(|c| c.send(text.as_bytes()));
         inner.dropped += (before - inner.clients.len()) as u64;
@@ -201,7 +203,7 @@ fn accept_loop(listener: TcpListener, inner: Arc<Mutex<Inner>>, stop: Arc<Atomic
                     queue: Vec::new(),
                 };
                 let ts = g.current_ts.unwrap_or_else(SystemTime::now);
-                let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current);
+                let dump = super::shdr::lines(&super::shdr::timestamp(ts), &g.current.values);
                 if c.send(dump.as_bytes()) {
                     g.clients.push(c);
                     let (i2, s2) = (inner.clone(), stop.clone());

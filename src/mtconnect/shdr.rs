@@ -2,6 +2,7 @@
 //! with milliseconds. Conditions, messages and tables go on lines of their own (their values
 //! have several fields or spaces), plain samples and events share one line.
 
+use std::borrow::Cow;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// A value as SHDR carries it: line breaks become spaces; a value with a `|` or beginning
@@ -9,14 +10,20 @@ use std::time::{SystemTime, UNIX_EPOCH};
 /// Checked against the reference agent's tokenizer (cppagent `ShdrTokenizer::tokenize`): in a
 /// quoted field a bare `|` still ends the field, and a backslash takes the next character as
 /// it is; its tests read `"a\|b"` as `a|b`.
-pub fn escape(v: &str) -> String {
-    let v: String = v
-        .chars()
-        .map(|c| if c == '\n' || c == '\r' { ' ' } else { c })
-        .collect();
+pub fn escape(v: &str) -> Cow<'_, str> {
+    let v = if v.contains(['\n', '\r']) {
+        Cow::Owned(v.replace(['\n', '\r'], " "))
+    } else {
+        Cow::Borrowed(v)
+    };
     if !v.contains('|') && !v.trim_start().starts_with('"') {
         return v;
     }
+    Cow::Owned(quote(&v))
+}
+
+/// `v` in quotes, every `|`, `"` and `\` inside preceded by `\`.
+fn quote(v: &str) -> String {
     let mut out = String::with_capacity(v.len() + 2);
     out.push('"');
     for c in v.chars() {
@@ -83,21 +90,33 @@ pub fn base_key(key: &str) -> &str {
 
 /// The SHDR text (one or more lines) for `items` at time `ts`; empty for no items.
 pub fn lines<K: AsRef<str>>(ts: &str, items: &[(K, String)]) -> String {
+    lines_of(ts, items.iter().map(|(k, v)| (k.as_ref(), v.as_str())))
+}
+
+/// [`lines`] of items given as (key, value) pairs.
+pub fn lines_of<'a>(ts: &str, items: impl IntoIterator<Item = (&'a str, &'a str)>) -> String {
     let mut out = String::new();
     let mut shared = String::new();
     for (k, v) in items {
-        let k = k.as_ref();
         if own_line(k) {
             // Multi-field values are pre-escaped field by field by `items`.
-            out.push_str(&format!("{ts}|{k}|{v}\n"));
+            for part in [ts, "|", k, "|", v, "\n"] {
+                out.push_str(part);
+            }
         } else {
-            shared.push_str(&format!("|{k}|{}", escape(v)));
+            for part in ["|", k, "|", &escape(v)] {
+                shared.push_str(part);
+            }
         }
     }
     if shared.is_empty() {
         out
     } else {
-        format!("{ts}{shared}\n{out}")
+        let mut all = String::with_capacity(ts.len() + shared.len() + 1 + out.len());
+        for part in [ts, &shared, "\n", &out] {
+            all.push_str(part);
+        }
+        all
     }
 }
 
