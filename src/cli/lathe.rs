@@ -62,7 +62,7 @@ pub fn take_machine(argv: &[String]) -> Result<Option<(String, Vec<String>)>, St
 }
 
 /// Puts what a machining centre description gives (pulse size, travel, rapid rate,
-/// acceleration, tool-change height, workpiece, M6 remap) into the console's settings,
+/// acceleration, tool-change height, workpiece, M6 remap, dialect and its settings) into the console's settings,
 /// keeping the rest (interpolator, B1, ...).
 pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings::MachineSettings) {
     s.pulse_mm = m.pulse_mm;
@@ -72,6 +72,7 @@ pub fn apply_mill(s: &mut crate::settings::MachineSettings, m: &crate::settings:
     s.accel_mm_s2 = m.accel_mm_s2;
     s.remap_m6 = m.remap_m6.clone();
     s.dialect = m.dialect;
+    s.fanuc = m.fanuc;
     s.tool_change_z_mm = m.tool_change_z_mm;
     s.workpiece = m.workpiece.clone();
     s.spindle_max_rpm = m.spindle_max_rpm;

@@ -717,6 +717,7 @@ impl GcodeSource {
             let opts = read::ReadOpts {
                 fanuc: self.settings.dialect == Dialect::Fanuc,
                 increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
+                calculator: self.settings.fanuc.calculator,
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
