@@ -847,8 +847,13 @@ fn a_probing_macro_skips_by_g31_against_the_workpiece() {
 
 /// The dwells of `src` read in the Fanuc dialect, seconds; or the error.
 fn dwells(src: &str) -> Result<Vec<f64>, String> {
+    dwells_in(src, Fanuc)
+}
+
+/// The dwells of `src` read in `dialect`, seconds; or the error.
+fn dwells_in(src: &str, dialect: Dialect) -> Result<Vec<f64>, String> {
     let mut out = Vec::new();
-    for s in gcode_source_in(src, Fanuc) {
+    for s in gcode_source_in(src, dialect) {
         let s = s.map_err(|e| e.to_string())?;
         for b in s.blocks.iter().filter(|b| b.motion == Motion::Dwell) {
             out.push(b.dwell_ns as f64 / 1e9);
@@ -872,6 +877,28 @@ fn g04_dwells_as_fanuc_s_x_u_in_seconds_p_in_milliseconds() {
         ("G04", "2:1: G04 needs its dwell: X or U in seconds (X1.5), or P in milliseconds (P1500)"),
     ] {
         assert_eq!(dwells(&format!("O1\n{src}\nM30\n")).unwrap_err(), e);
+    }
+}
+
+#[test]
+fn a_canned_cycle_s_dwell_p_is_in_milliseconds_in_fanuc_s_dialect_seconds_in_linuxcnc_s() {
+    let cycles = |p82: &str, p89: &str| {
+        format!(
+            "G21 G90 G00 Z-5.\nG99 G82 X10. Y10. Z-12. R-6. P{p82} F100.\nX20.\nG80\n\
+             G89 X30. Z-12. R-6. P{p89} F100.\nG80\nM30\n"
+        )
+    };
+    // The second G82 hole repeats the cycle with its P.
+    assert_eq!(dwells(&cycles("1500", "250")).unwrap(), [1.5, 1.5, 0.25]);
+    assert_eq!(
+        dwells_in(&cycles("1.5", "0.25"), LinuxCnc).unwrap(),
+        [1.5, 1.5, 0.25]
+    );
+    for (src, e) in [
+        ("G82 X0. Y0. Z-9. R-6. P1.5 F100.", "2:23: G82 P1.5: P is a whole number of milliseconds in the Fanuc dialect (P1500 is 1.5 s)"),
+        ("G89 X0. Y0. Z-9. R-6. F100.", "2:1: G89 needs P, the dwell at the bottom in milliseconds"),
+    ] {
+        assert_eq!(dwells(&format!("G21 G90 G00 Z-5.\n{src}\nM30\n")).unwrap_err(), e);
     }
 }
 
