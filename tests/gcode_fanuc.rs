@@ -540,9 +540,10 @@ fn a_program_is_read_in_the_dialect_it_was_stored_in_after_the_machine_changes_i
         "O1000\n#1=2\nIF [#1 EQ 2] GOTO 10\nG00 X99.\nN10 G00 X500 Y6.\nM30\n",
     )
     .unwrap();
-    // LinuxCNC's: X10 is 10 mm (Fanuc's would be 0.010 mm).
+    // LinuxCNC's: X10 is 10 mm (Fanuc's would be 0.010 mm); Z#100, left vacant by a Fanuc run
+    // reads 0 (LinuxCNC has no null).
     let linuxcnc = d.join("LC.NGC");
-    std::fs::write(&linuxcnc, "G21 G90\nG00 X10 Y[2*3]\nM30\n").unwrap();
+    std::fs::write(&linuxcnc, "G21 G90\nG00 X10 Y[2*3] Z#100\nM30\n").unwrap();
     let at = |c: &novanc::console::Console| c.status().pos;
     let mut c = common::reopen_in(&state, Fanuc);
     read_and_run(&mut c, &fanuc);

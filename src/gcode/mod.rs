@@ -406,6 +406,12 @@ impl GcodeSource {
         st.nurbs = None;
         if settings.dialect == Dialect::Fanuc {
             st.fanuc_power_on();
+        } else if st.fanuc_vacant {
+            // A LinuxCNC-dialect run after a Fanuc one (each program keeps its dialect):
+            // LinuxCNC has no null, its parameters start at 0, so a vacant one reads 0.
+            for v in st.params.iter_mut().filter(|v| v.is_nan()) {
+                *v = 0.0;
+            }
         }
         let first_code = source.split('\n').position(|l| {
             let t = l.trim();
