@@ -76,6 +76,22 @@ pub struct MachineSettings {
     /// Macro B (docs/gcode.md "Fanuc dialect"): the machine description's `dialect` line, or
     /// `--dialect`.
     pub dialect: Dialect,
+    /// The Fanuc dialect's settings of a machine: Fanuc's parameters 6001#6 and 3401#0
+    /// (the description's `common` and `decimal` lines; docs/gcode.md "Fanuc dialect").
+    pub fanuc: FanucSettings,
+}
+
+/// What a Fanuc's parameters decide that the Fanuc dialect follows (docs/gcode.md "Fanuc
+/// dialect"). The defaults are Fanuc's parameters at 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct FanucSettings {
+    /// RESET keeps the common variables #100–#199 (parameter 6001#6 CCV = 1: the
+    /// description's `common keep`); false: RESET makes them vacant (`common clear`).
+    pub keep_common: bool,
+    /// Calculator-type decimal point input (parameter 3401#0 DPI = 1: `decimal
+    /// calculator`): `X10` is 10 mm; false: in least increments, 0.010 mm (`decimal
+    /// increments`).
+    pub calculator: bool,
 }
 
 /// The G-code dialect (docs/gcode.md "Fanuc dialect").
@@ -95,6 +111,14 @@ impl Dialect {
             "fanuc" => Ok(Dialect::Fanuc),
             "linuxcnc" => Ok(Dialect::LinuxCnc),
             _ => Err(format!("dialect '{s}': fanuc or linuxcnc")),
+        }
+    }
+
+    /// Its name as `parse` reads it and the stores write it: `fanuc` or `linuxcnc`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Fanuc => "fanuc",
+            Dialect::LinuxCnc => "linuxcnc",
         }
     }
 }
@@ -217,6 +241,10 @@ impl MachineSettings {
             workpiece: crate::workpiece::Workpiece::default(),
             remap_m6: None,
             dialect: Dialect::LinuxCnc,
+            fanuc: FanucSettings {
+                keep_common: false,
+                calculator: false,
+            },
         }
     }
 }

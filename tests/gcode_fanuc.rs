@@ -511,6 +511,251 @@ fn a_dnc_file_s_programs_are_stored_one_by_one_and_called_by_number() {
     assert!(c.program_text().contains("O9010"));
 }
 
+/// An AUTO run of the current program from X0 Y0 (a move read the same in both dialects).
+fn run_current(c: &mut novanc::console::Console) {
+    common::mdi(c, "G00 X0. Y0.");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+}
+
+/// Whether the PROG page says each of `texts`; the mode's display is shown again after.
+fn prog_page_shows(c: &mut novanc::console::Console, texts: &[&str]) {
+    common::keys(c, &["Ctrl+d"]);
+    for t in texts {
+        assert!(common::shows(c, t), "{t}:\n{}", c.frame_text());
+    }
+    common::keys(c, &["Ctrl+d"]);
+}
+
+#[test]
+fn a_program_is_read_in_the_dialect_it_was_stored_in_after_the_machine_changes_its_own() {
+    let d = common::temp_dir("fanuc-kept");
+    let state = d.join("state");
+    // Fanuc's: IF/GOTO (refused by LinuxCNC), X500 in least increments (0.5 mm).
+    let fanuc = d.join("FAM.NC");
+    std::fs::write(
+        &fanuc,
+        "O1000\n#1=2\nIF [#1 EQ 2] GOTO 10\nG00 X99.\nN10 G00 X500 Y6.\nM30\n",
+    )
+    .unwrap();
+    // LinuxCNC's: X10 is 10 mm (Fanuc's would be 0.010 mm); Z#100, left vacant by a Fanuc run
+    // reads 0 (LinuxCNC has no null).
+    let linuxcnc = d.join("LC.NGC");
+    std::fs::write(&linuxcnc, "G21 G90\nG00 X10 Y[2*3] Z#100\nM30\n").unwrap();
+    let at = |c: &novanc::console::Console| c.status().pos;
+    let mut c = common::reopen_in(&state, Fanuc);
+    read_and_run(&mut c, &fanuc);
+    assert_eq!(
+        at(&c),
+        [common::p(0.5), common::p(6.0), 0],
+        "{}",
+        c.frame_text()
+    );
+    drop(c);
+    // The machine switched to LinuxCNC's dialect: FAM.NC is still read as Fanuc's.
+    let mut c = common::reopen_in(&state, LinuxCnc);
+    prog_page_shows(&mut c, &["PROG  FAM.NC FANUC", "*FAM.NC       FAN"]);
+    run_current(&mut c);
+    assert_eq!(
+        at(&c),
+        [common::p(0.5), common::p(6.0), 0],
+        "{}",
+        c.frame_text()
+    );
+    read_and_run(&mut c, &linuxcnc);
+    assert_eq!(
+        at(&c),
+        [common::p(10.0), common::p(6.0), 0],
+        "{}",
+        c.frame_text()
+    );
+    drop(c);
+    // And the reverse, after a restart (FAM.NC's dialect now read from the snapshot, LC.NGC's
+    // from the journal).
+    let mut c = common::reopen_in(&state, Fanuc);
+    prog_page_shows(
+        &mut c,
+        &[
+            "PROG  LC.NGC LINUXCNC",
+            "FAM.NC       FAN",
+            "*LC.NGC       ISO",
+        ],
+    );
+    run_current(&mut c);
+    assert_eq!(
+        at(&c),
+        [common::p(10.0), common::p(6.0), 0],
+        "{}",
+        c.frame_text()
+    );
+    // MDI is read in the machine's dialect.
+    common::mdi(&mut c, "G00 X2000");
+    assert_eq!(at(&c)[0], common::p(2.0), "{}", c.frame_text());
+    drop(c);
+    let mut c = common::reopen_in(&state, Fanuc);
+    prog_page_shows(&mut c, &["FAM.NC       FAN", "*LC.NGC       ISO"]);
+}
+
+#[test]
+fn a_store_written_before_programs_kept_their_dialect_reads_them_in_the_machine_s() {
+    let d = common::temp_dir("fanuc-old-store");
+    let state = d.join("state");
+    {
+        // A store told no dialect writes the records of before (`read NAME`, `program NAME
+        // POINTER`), byte for byte.
+        let (mut s, _) = novanc::store::Stores::open(&state, 24).unwrap();
+        s.program_read("OLD.NGC", "G00 X10 Y6.\nM30\n").unwrap();
+        assert_eq!(s.program_dialect("OLD.NGC"), None);
+    }
+    let journal = std::fs::read(state.join("journal.log")).unwrap();
+    assert!(
+        journal.windows(13).any(|w| w == b"read OLD.NGC\n"),
+        "{}",
+        String::from_utf8_lossy(&journal)
+    );
+    for (dialect, x, shown) in [
+        (Fanuc, 0.010, "*OLD.NGC      FAN"),
+        (LinuxCnc, 10.0, "*OLD.NGC      ISO"),
+        (Fanuc, 0.010, "*OLD.NGC      FAN"),
+    ] {
+        let mut c = common::reopen_in(&state, dialect);
+        prog_page_shows(&mut c, &[shown]);
+        run_current(&mut c);
+        assert_eq!(c.status().pos, [common::p(x), common::p(6.0), 0]);
+    }
+}
+
+#[test]
+fn reset_clears_the_common_variables_or_keeps_them_by_the_machine_s_setting() {
+    let d = common::temp_dir("fanuc-ccv");
+    let prog = d.join("COMMON.NC");
+    std::fs::write(&prog, "O1\n#100=5.\n#199=#100+1\nG00 X1.\nM30\n").unwrap();
+    for (keep, want) in [(false, None), (true, Some([5.0, 6.0]))] {
+        let state = d.join(format!("state-{keep}"));
+        let mut c = common::reopen_with(&state, |s| {
+            s.dialect = Fanuc;
+            s.fanuc.keep_common = keep;
+        });
+        read_and_run(&mut c, &prog);
+        assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+        assert_eq!(c.interp_state().params[100], 5.0);
+        c.handle(E::Reset);
+        let now = [100, 199].map(|n| c.interp_state().params[n]);
+        match want {
+            Some(v) => assert_eq!(now, v, "common keep"),
+            None => assert!(now.iter().all(|v| v.is_nan()), "common clear: {now:?}"),
+        }
+        // Power-off clears them either way (Fanuc's #100-#199 are not kept).
+        drop(c);
+        let c = common::reopen_with(&state, |s| {
+            s.dialect = Fanuc;
+            s.fanuc.keep_common = keep;
+        });
+        assert!(c.interp_state().params[100].is_nan());
+    }
+}
+
+#[test]
+fn the_fanuc_settings_are_lines_of_the_machine_description() {
+    use novanc::lathe::desc::{parse, MachineDesc};
+    let centre = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/centre.machine"),
+    )
+    .unwrap();
+    let fanuc = |extra: &str| match parse(&format!("{centre}{extra}")) {
+        Ok(MachineDesc::Mill(s)) => Ok(s.fanuc),
+        Ok(_) => Err("not a mill".to_string()),
+        Err(e) => Err(e),
+    };
+    let set = |keep_common, calculator| novanc::settings::FanucSettings {
+        keep_common,
+        calculator,
+    };
+    assert_eq!(fanuc(""), Ok(set(false, false)));
+    assert_eq!(
+        fanuc("common keep\ndecimal calculator\n"),
+        Ok(set(true, true))
+    );
+    assert_eq!(
+        fanuc("common clear\ndecimal increments\n"),
+        Ok(set(false, false))
+    );
+    let lines = centre.lines().count();
+    for (extra, e) in [
+        (
+            "common keep\ncommon clear\n",
+            format!("{}: common is given twice", lines + 2),
+        ),
+        (
+            "decimal point\n",
+            format!(
+                "{}: decimal takes calculator or increments (the Fanuc dialect's setting)",
+                lines + 1
+            ),
+        ),
+        (
+            "common\n",
+            format!(
+                "{}: common takes keep or clear (the Fanuc dialect's setting)",
+                lines + 1
+            ),
+        ),
+    ] {
+        assert_eq!(fanuc(extra), Err(e));
+    }
+    let citizen = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
+    )
+    .unwrap();
+    assert!(parse(&format!("{citizen}common keep\n"))
+        .unwrap_err()
+        .contains("common: a setting of the Fanuc dialect, which a lathe's channels do not read"));
+}
+
+#[test]
+fn calculator_type_input_reads_a_number_without_a_point_in_millimetres() {
+    let calculator = novanc::settings::MachineSettings {
+        dialect: Fanuc,
+        fanuc: novanc::settings::FanucSettings {
+            calculator: true,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let src = "O1\nG21 G90\nG00 X10 Y20. Z-3\nG65 P9 X10 Y5.\nG04 X2\nG04 P1500\nM30\n\
+               O9\n#100=#24\n#101=ADP[#24]\n#102=#25\nM99\n";
+    let run = |settings: novanc::settings::MachineSettings| {
+        let (mut ends, mut dwells) = (Vec::new(), Vec::new());
+        let mut src = common::gcode_source_with(src, settings);
+        for s in src.by_ref() {
+            for b in &s.unwrap().blocks {
+                match b.motion {
+                    Motion::Dwell => dwells.push(b.dwell_ns as f64 / 1e9),
+                    _ => ends.push(b.end.xyz().map(|p| p as f64 / 1000.0)),
+                }
+            }
+        }
+        let st = src.state().clone();
+        (ends, dwells, [100, 101, 102].map(|n| st.params[n]))
+    };
+    let (ends, dwells, vars) = run(calculator.clone());
+    assert_eq!(ends.last(), Some(&[10.0, 20.0, -3.0]));
+    // G04 X2 is 2 s (seconds as written), P stays milliseconds; an argument is as written.
+    assert_eq!(dwells, [2.0, 1.5]);
+    assert_eq!(vars, [10.0, 10.0, 5.0]);
+    // The default: least increments.
+    let increments = novanc::settings::MachineSettings {
+        fanuc: Default::default(),
+        ..calculator
+    };
+    let (ends, dwells, vars) = run(increments);
+    assert_eq!(ends.last(), Some(&[0.01, 20.0, -0.003]));
+    assert_eq!(dwells, [0.002, 1.5]);
+    assert_eq!(vars, [0.01, 10.0, 5.0]);
+}
+
 #[test]
 fn a_macro_is_found_as_a_file_of_its_number_in_the_subroutine_path() {
     let d = common::temp_dir("fanuc-subs");
@@ -603,8 +848,13 @@ fn a_probing_macro_skips_by_g31_against_the_workpiece() {
 
 /// The dwells of `src` read in the Fanuc dialect, seconds; or the error.
 fn dwells(src: &str) -> Result<Vec<f64>, String> {
+    dwells_in(src, Fanuc)
+}
+
+/// The dwells of `src` read in `dialect`, seconds; or the error.
+fn dwells_in(src: &str, dialect: Dialect) -> Result<Vec<f64>, String> {
     let mut out = Vec::new();
-    for s in gcode_source_in(src, Fanuc) {
+    for s in gcode_source_in(src, dialect) {
         let s = s.map_err(|e| e.to_string())?;
         for b in s.blocks.iter().filter(|b| b.motion == Motion::Dwell) {
             out.push(b.dwell_ns as f64 / 1e9);
@@ -628,6 +878,28 @@ fn g04_dwells_as_fanuc_s_x_u_in_seconds_p_in_milliseconds() {
         ("G04", "2:1: G04 needs its dwell: X or U in seconds (X1.5), or P in milliseconds (P1500)"),
     ] {
         assert_eq!(dwells(&format!("O1\n{src}\nM30\n")).unwrap_err(), e);
+    }
+}
+
+#[test]
+fn a_canned_cycle_s_dwell_p_is_in_milliseconds_in_fanuc_s_dialect_seconds_in_linuxcnc_s() {
+    let cycles = |p82: &str, p89: &str| {
+        format!(
+            "G21 G90 G00 Z-5.\nG99 G82 X10. Y10. Z-12. R-6. P{p82} F100.\nX20.\nG80\n\
+             G89 X30. Z-12. R-6. P{p89} F100.\nG80\nM30\n"
+        )
+    };
+    // The second G82 hole repeats the cycle with its P.
+    assert_eq!(dwells(&cycles("1500", "250")).unwrap(), [1.5, 1.5, 0.25]);
+    assert_eq!(
+        dwells_in(&cycles("1.5", "0.25"), LinuxCnc).unwrap(),
+        [1.5, 1.5, 0.25]
+    );
+    for (src, e) in [
+        ("G82 X0. Y0. Z-9. R-6. P1.5 F100.", "2:23: G82 P1.5: P is a whole number of milliseconds in the Fanuc dialect (P1500 is 1.5 s)"),
+        ("G89 X0. Y0. Z-9. R-6. F100.", "2:1: G89 needs P, the dwell at the bottom in milliseconds"),
+    ] {
+        assert_eq!(dwells(&format!("G21 G90 G00 Z-5.\n{src}\nM30\n")).unwrap_err(), e);
     }
 }
 

@@ -120,6 +120,7 @@ impl Machine {
             s.accel_mm_s2 = m.accel_mm_s2;
             s.remap_m6 = m.remap_m6.clone();
             s.dialect = m.dialect;
+            s.fanuc = m.fanuc;
             s.tool_change_z_mm = m.tool_change_z_mm;
             s.workpiece = m.workpiece.clone();
             s.spindle_max_rpm = m.spindle_max_rpm;

@@ -203,7 +203,7 @@ fn take(c: &mut Console) {
     if let Some(mut st) = state {
         if keep {
             if c.reset_seen {
-                reset_state(&mut st);
+                reset_state(&mut st, &c.cfg.settings);
             }
             // What no event said (the system selected, #5220) is kept with the rest.
             keep_persistent(c, &st);
@@ -278,13 +278,17 @@ pub(super) fn before_read(c: &mut Console) {
     }
 }
 
-/// RESET of the interpreter's state (docs/gcode.md "The interpreter's state"): cutter
+/// RESET of the interpreter's state (docs/gcode.md "The interpreter's state"): the Fanuc
+/// dialect's #100–#199 vacant unless the machine keeps them, cutter
 /// compensation off, the call stack and the M70 saved states dropped, coolant off (RESET
 /// turns the machine's off: LinuxCNC's M9 state after a reset), the other modal groups as
 /// read; the position and the tool are the machine's at the next START.
-pub(super) fn reset_state(st: &mut InterpState) {
-    // Fanuc's common variables #100–#199 are cleared (vacant) by RESET.
-    st.fanuc_reset();
+pub(super) fn reset_state(st: &mut InterpState, settings: &crate::settings::MachineSettings) {
+    // Fanuc's common variables #100–#199 are cleared (vacant) by RESET, unless the machine
+    // keeps them (parameter 6001#6 CCV = 1: `common keep`).
+    if !settings.fanuc.keep_common {
+        st.fanuc_reset();
+    }
     st.modal.mist = false;
     st.modal.flood = false;
     st.modal.comp = CompSide::Off;

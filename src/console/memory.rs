@@ -55,10 +55,16 @@ pub struct Memory {
 }
 
 impl Memory {
-    /// Opens the memory kept in `dir` (created on the embedded defaults when new).
-    pub fn open(dir: &Path, capacity: u32) -> Result<(Memory, Vec<String>), String> {
-        let (stores, warnings) = Stores::open(dir, capacity)
+    /// Opens the memory kept in `dir` (created on the embedded defaults when new) of a
+    /// machine whose G-code dialect is `dialect`: each program stored from now on records it.
+    pub fn open(
+        dir: &Path,
+        capacity: u32,
+        dialect: crate::settings::Dialect,
+    ) -> Result<(Memory, Vec<String>), String> {
+        let (mut stores, warnings) = Stores::open(dir, capacity)
             .map_err(|e| format!("cannot open the memory in {}: {e}", dir.display()))?;
+        stores.set_dialect(dialect);
         Ok((
             Memory {
                 stores,
@@ -72,6 +78,17 @@ impl Memory {
     /// Name of the current program in program memory.
     pub fn program_name(&self) -> String {
         self.stores.current_program().to_string()
+    }
+
+    /// The G-code dialect program `name` is read in (docs/gcode.md "Fanuc dialect"): the one
+    /// it was stored in, or, when none was recorded (a program stored before programs kept
+    /// their dialect), the machine's `machine`.
+    pub fn program_dialect(
+        &self,
+        name: &str,
+        machine: crate::settings::Dialect,
+    ) -> crate::settings::Dialect {
+        self.stores.program_dialect(name).unwrap_or(machine)
     }
 
     /// Names of the programs in program memory.

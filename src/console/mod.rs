@@ -165,7 +165,11 @@ impl Console {
     /// Returns the console and the warnings to show the operator.
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {
         cfg.check()?;
-        let (mem, mut warnings) = Memory::open(&cfg.state_dir, cfg.settings.magazine_capacity)?;
+        let (mem, mut warnings) = Memory::open(
+            &cfg.state_dir,
+            cfg.settings.magazine_capacity,
+            cfg.settings.dialect,
+        )?;
         let (book, more) = book::Book::open(&cfg.state_dir);
         warnings.extend(more);
         // What the recording starts from (docs/recording.md, "Attachments"): copied only when
@@ -629,7 +633,7 @@ impl Console {
                 self.command(Command::Reset);
                 book::acknowledge(self);
                 self.reset_seen = true;
-                gcode_run::reset_state(&mut self.interp);
+                gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
                 self.program_alarm = None;
                 self.tape_alarm = None;
                 self.jogging = false;

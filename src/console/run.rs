@@ -184,6 +184,14 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
     if gcode {
         super::gcode_run::before_read(c);
     }
+    // AUTO reads the program in the dialect it was stored in; MDI in the machine's
+    // (docs/gcode.md "Fanuc dialect": the programs a run calls are read in the run's).
+    let mut settings = c.cfg.settings.clone();
+    if kind == RunKind::Auto {
+        settings.dialect = c
+            .mem
+            .program_dialect(&c.mem.program_name(), settings.dialect);
+    }
     RunSource {
         text,
         gcode,
@@ -191,7 +199,7 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         definitions,
         resume_at,
         magazine: c.mem.magazine(),
-        settings: c.cfg.settings.clone(),
+        settings,
         offsets: c.mem.work_offsets(),
         interp: gcode.then(|| c.interp.clone()),
         switches: c.switches,

@@ -102,19 +102,36 @@ pub fn cycle(
             return Err(x.err(col, format!("{name} needs {lc}, the bottom of the hole ({lc} is kept only while the same cycle repeats)")))
         }
     };
+    // Fanuc's P is in milliseconds, a whole number (P1000 is 1 s); LinuxCNC's in seconds.
+    let fanuc = x.settings.dialect == crate::settings::Dialect::Fanuc;
+    let unit = if fanuc { "milliseconds" } else { "seconds" };
     let p = match w.get('P') {
-        Some(p) if p < 0.0 => return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P")),
-        Some(p) if p > MAX_DWELL_S => {
+        Some(p) if fanuc && p.fract() != 0.0 => {
             return Err(x.err(
                 w.col('P').unwrap_or(col),
-                crate::limits::dwell_too_long(&format!("P{}", short_number(p))),
+                format!(
+                    "{name} P{}: P is a whole number of milliseconds in the Fanuc dialect (P1500 is 1.5 s)",
+                    short_number(p)
+                ),
             ))
+        }
+        Some(p) if fanuc => Some(p / 1000.0),
+        other => other,
+    };
+    let p = match p {
+        Some(p) if p < 0.0 => return Err(x.err(w.col('P').unwrap_or(col), "a negative dwell P")),
+        Some(p) if p > MAX_DWELL_S => {
+            let written = if fanuc { p * 1000.0 } else { p };
+            return Err(x.err(
+                w.col('P').unwrap_or(col),
+                crate::limits::dwell_too_long(&format!("P{}", short_number(written))),
+            ));
         }
         Some(p) => p,
         None if matches!(kind, 82 | 86 | 89) && !same => {
             return Err(x.err(
                 col,
-                format!("{name} needs P, the dwell at the bottom in seconds"),
+                format!("{name} needs P, the dwell at the bottom in {unit}"),
             ))
         }
         None => st.cycle.p,

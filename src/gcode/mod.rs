@@ -408,6 +408,12 @@ impl GcodeSource {
         st.nurbs = None;
         if settings.dialect == Dialect::Fanuc {
             st.fanuc_power_on();
+        } else if st.fanuc_vacant {
+            // A LinuxCNC-dialect run after a Fanuc one (each program keeps its dialect):
+            // LinuxCNC has no null, its parameters start at 0, so a vacant one reads 0.
+            for v in st.params.iter_mut().filter(|v| v.is_nan()) {
+                *v = 0.0;
+            }
         }
         let first_code = source.split('\n').position(|l| {
             let t = l.trim();
@@ -719,6 +725,7 @@ impl GcodeSource {
             let opts = read::ReadOpts {
                 fanuc: self.settings.dialect == Dialect::Fanuc,
                 increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
+                calculator: self.settings.fanuc.calculator,
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {

@@ -275,6 +275,9 @@ pub struct ReadOpts {
     pub fanuc: bool,
     /// The least increment in program units (0.001 mm under G21, 0.0001 inch under G20).
     pub increment: f64,
+    /// Fanuc: calculator-type decimal point input (parameter 3401#0 DPI = 1): a number
+    /// without a point is in mm, inches, degrees or seconds as written, not in increments.
+    pub calculator: bool,
 }
 
 /// The addresses whose value, written without a decimal point, is in least increments in the
@@ -1148,7 +1151,8 @@ pub fn read_into_opts(
         r.i += 1;
         // A number, or a minus and a number: read straight (what `value` does with them).
         let value = if r.fanuc {
-            let (v, plain) = fanuc_word_value(&mut r, letter, opts.increment)?;
+            let increment = (!opts.calculator).then_some(opts.increment);
+            let (v, plain) = fanuc_word_value(&mut r, letter, increment)?;
             if is_null(v) {
                 // A word whose value is null is as if it were not written (Fanuc).
                 continue;
@@ -1176,13 +1180,14 @@ pub fn read_into_opts(
 }
 
 /// A word's value in the Fanuc dialect: a number written without a decimal point on a
-/// length address ([`FANUC_INCREMENT_LETTERS`]) is in least increments (`X10` is 0.010 mm).
-/// With the value: `Some(point)` for a number written plainly (with a decimal point or
-/// not), `None` for an expression or a variable.
+/// length address ([`FANUC_INCREMENT_LETTERS`]) is in least increments (`X10` is 0.010 mm),
+/// or, with calculator-type input (`increment` None), as written, as if with its point
+/// (`X10` is 10 mm). With the value: `Some(point)` for a number written plainly (with a
+/// decimal point or not), `None` for an expression or a variable.
 fn fanuc_word_value(
     r: &mut Reader,
     letter: char,
-    increment: f64,
+    increment: Option<f64>,
 ) -> Result<(f64, Option<bool>), TranslateError> {
     let sign = match (r.at(0), r.at(1)) {
         (Some(b'-'), Some(b'0'..=b'9' | b'.')) => -1.0,
@@ -1196,7 +1201,10 @@ fn fanuc_word_value(
     let v = r.number()?;
     let sign = if sign == 0.0 { 1.0 } else { sign };
     if !r.point && FANUC_INCREMENT_LETTERS.contains(&(letter as u8)) {
-        return Ok((sign * v * increment, Some(false)));
+        return Ok(match increment {
+            Some(increment) => (sign * v * increment, Some(false)),
+            None => (sign * v, Some(true)),
+        });
     }
     Ok((sign * v, Some(r.point)))
 }

@@ -405,7 +405,7 @@ impl InterpState {
     }
 
     /// RESET in the Fanuc dialect: the common variables #100–#199 vacant again (Fanuc's
-    /// parameter 6001#6 CCV = 0).
+    /// parameter 6001#6 CCV = 0; the console does not call it under `common keep`).
     pub fn fanuc_reset(&mut self) {
         if self.fanuc_vacant {
             for n in FANUC_COMMON {

@@ -391,6 +391,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut workpiece = crate::workpiece::Workpiece::default();
     let mut tool_change_z = None;
     let mut dialect = None;
+    let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -463,6 +464,32 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     ));
                 }
                 dialect = Some(d);
+            }
+            "common" | "decimal" => {
+                // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
+                let (slot, words_are) = if head == "common" {
+                    (&mut fanuc.0, ["keep", "clear"])
+                } else {
+                    (&mut fanuc.1, ["calculator", "increments"])
+                };
+                if slot.is_some() {
+                    return Err(e(format!("{head} is given twice")));
+                }
+                *slot = match words.as_slice() {
+                    [_, w] if *w == words_are[0] => Some(true),
+                    [_, w] if *w == words_are[1] => Some(false),
+                    _ => {
+                        return Err(e(format!(
+                            "{head} takes {} or {} (the Fanuc dialect's setting)",
+                            words_are[0], words_are[1]
+                        )))
+                    }
+                };
+                if kind != Some("mill") {
+                    return Err(e(format!(
+                        "{head}: a setting of the Fanuc dialect, which a lathe's channels do not read (say 'kind mill' first for a machining centre)"
+                    )));
+                }
             }
             "remap" if kind == Some("mill") => {
                 if remap_m6.is_some() {
@@ -574,6 +601,10 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 }
                 s.remap_m6 = remap_m6;
                 s.dialect = dialect.unwrap_or_default();
+                s.fanuc = crate::settings::FanucSettings {
+                    keep_common: fanuc.0.unwrap_or(false),
+                    calculator: fanuc.1.unwrap_or(false),
+                };
                 s.workpiece = workpiece;
                 if let Some((ln, z)) = tool_change_z {
                     if !(s.travel_min_mm[2]..=s.travel_max_mm[2]).contains(&z) {

@@ -151,6 +151,9 @@ pub struct Stores {
     /// Why nothing may be written at all: the directory is read-only and could not be locked.
     read_only: Option<String>,
     journal_limit: usize,
+    /// The machine's G-code dialect, recorded with each program read or made (None: none
+    /// recorded, as before programs kept their dialect; `set_dialect`).
+    dialect: Option<crate::settings::Dialect>,
     /// When each program last changed (`program-times`, not operator data).
     stamps: stamps::Stamps,
     _lock: DirLock,
@@ -289,6 +292,7 @@ impl Stores {
             aside: fsutil::Aside::default(),
             read_only: lock.read_only().map(str::to_string),
             journal_limit: JOURNAL_RECORDS,
+            dialect: None,
             stamps: stamps::Stamps::open(dir),
             _lock: lock,
         };
@@ -389,7 +393,7 @@ impl Stores {
                 target: EditTarget::Program(name),
                 ..
             } => self.stamps.touch(name, now),
-            Record::NewProgram(name) | Record::ProgramRead { name, .. } => {
+            Record::NewProgram { name, .. } | Record::ProgramRead { name, .. } => {
                 self.stamps.touch(name, now)
             }
             Record::Copy { to, .. } => self.stamps.touch(to, now),
@@ -475,6 +479,18 @@ impl Stores {
         self.state.programs.keys().cloned().collect()
     }
 
+    /// The machine's G-code dialect: each program read or made from now on is stored as
+    /// written in it (docs/gcode.md "Fanuc dialect"). Without it, none is recorded.
+    pub fn set_dialect(&mut self, d: crate::settings::Dialect) {
+        self.dialect = Some(d);
+    }
+
+    /// The G-code dialect program `name` was stored in, if one was recorded.
+    pub fn program_dialect(&self, name: &str) -> Option<crate::settings::Dialect> {
+        let n = program_name(name).ok()?;
+        self.state.dialects.get(&n).copied()
+    }
+
     /// The name of the current program (the one PROGRAM REVISION and AUTO use).
     pub fn current_program(&self) -> &str {
         &self.state.current
@@ -497,9 +513,15 @@ impl Stores {
     /// Creates an empty program and makes it current.
     pub fn new_program(&mut self, name: &str) -> Result<(), StoreError> {
         let n = program_name(name).map_err(serr)?;
-        self.commit(Record::NewProgram(n), None)
-            .map(|_| ())
-            .map_err(to_store)
+        self.commit(
+            Record::NewProgram {
+                name: n,
+                dialect: self.dialect,
+            },
+            None,
+        )
+        .map(|_| ())
+        .map_err(to_store)
     }
 
     /// PROGRAM READ: adds `text` (a tape file; CR and CR LF become end of block) as program
@@ -510,6 +532,7 @@ impl Stores {
             Record::ProgramRead {
                 name: n,
                 text: text.to_string(),
+                dialect: self.dialect,
             },
             None,
         )

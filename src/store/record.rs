@@ -2,6 +2,8 @@
 //! A payload is a header line (`edit P NAME`, `tcode 5 106`, ...) and, for the changes that
 //! carry text, a body after the first `\n`.
 
+use crate::settings::Dialect;
+
 /// Which buffer an edit record applies to; a program is named so replay does not depend on
 /// which program was current.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -27,13 +29,22 @@ pub enum Record {
     /// SEARCH: another program made current.
     Select(String),
     /// A new empty program, made current.
-    NewProgram(String),
+    NewProgram {
+        /// The program name.
+        name: String,
+        /// The G-code dialect it is written in (the machine's when it was made); None in a
+        /// record written before programs kept their dialect: the machine's at each run.
+        dialect: Option<Dialect>,
+    },
     /// PROGRAM READ: a program added or replaced from tape, made current.
     ProgramRead {
         /// The program name.
         name: String,
         /// Its text.
         text: String,
+        /// The G-code dialect it is written in (the machine's when it was read); None in a
+        /// record written before programs kept their dialect: the machine's at each run.
+        dialect: Option<Dialect>,
     },
     /// TOOL DATA READ: the tool file replaced (tool-file text).
     ToolFile(String),
@@ -112,8 +123,14 @@ impl Record {
                 EditTarget::ToolFile => format!("edit T\n{line}"),
             },
             Record::Select(n) => format!("select {n}"),
-            Record::NewProgram(n) => format!("new {n}"),
-            Record::ProgramRead { name, text } => format!("read {name}\n{text}"),
+            Record::NewProgram { name, dialect } => {
+                format!("new {name}{}", dialect_field(*dialect))
+            }
+            Record::ProgramRead {
+                name,
+                text,
+                dialect,
+            } => format!("read {name}{}\n{text}", dialect_field(*dialect)),
             Record::ToolFile(text) => format!("tools\n{text}"),
             Record::TCodes(text) => format!("tcodes\n{text}"),
             Record::Delete(n) => format!("delete {n}"),
@@ -170,10 +187,14 @@ impl Record {
                 line: body_of(body)?,
             },
             ["select", n] => Record::Select(n.to_string()),
-            ["new", n] => Record::NewProgram(n.to_string()),
-            ["read", n] => Record::ProgramRead {
+            ["new", n, d @ ..] if d.len() <= 1 => Record::NewProgram {
+                name: n.to_string(),
+                dialect: dialect_of(d.first(), head)?,
+            },
+            ["read", n, d @ ..] if d.len() <= 1 => Record::ProgramRead {
                 name: n.to_string(),
                 text: body_of(body)?,
+                dialect: dialect_of(d.first(), head)?,
             },
             ["tools"] => Record::ToolFile(body_of(body)?),
             ["tcodes"] => Record::TCodes(body_of(body)?),
@@ -254,6 +275,21 @@ impl Record {
     }
 }
 
+/// A program record's dialect field: ` fanuc` or ` linuxcnc`, nothing when not recorded.
+fn dialect_field(d: Option<Dialect>) -> String {
+    d.map_or(String::new(), |d| format!(" {}", d.name()))
+}
+
+/// A program record's dialect field read back (absent: not recorded, an older record).
+fn dialect_of(d: Option<&&str>, head: &str) -> Result<Option<Dialect>, String> {
+    match d {
+        None => Ok(None),
+        Some(&"fanuc") => Ok(Some(Dialect::Fanuc)),
+        Some(&"linuxcnc") => Ok(Some(Dialect::LinuxCnc)),
+        Some(_) => Err(format!("bad dialect in '{head}'")),
+    }
+}
+
 /// A channel number as a record writes it (1 to 99), 0-based.
 fn channel(c: &str, head: &str) -> Result<usize, String> {
     match c.parse::<usize>() {
@@ -282,10 +318,28 @@ mod tests {
                 line: "Sx$\ny".into(),
             },
             Record::Select("A".into()),
-            Record::NewProgram("B".into()),
+            Record::NewProgram {
+                name: "B".into(),
+                dialect: None,
+            },
+            Record::NewProgram {
+                name: "O1.NGC".into(),
+                dialect: Some(Dialect::Fanuc),
+            },
             Record::ProgramRead {
                 name: "C".into(),
                 text: "P1 = (1, 2)\nDRL\n".into(),
+                dialect: None,
+            },
+            Record::ProgramRead {
+                name: "O1000.NGC".into(),
+                text: "G65 P9010\nM30\n".into(),
+                dialect: Some(Dialect::Fanuc),
+            },
+            Record::ProgramRead {
+                name: "D.NGC".into(),
+                text: "G0 X1\n".into(),
+                dialect: Some(Dialect::LinuxCnc),
             },
             Record::ToolFile("T01\nT02\n".into()),
             Record::TCodes("T01 00106\n".into()),
@@ -331,7 +385,28 @@ mod tests {
         assert!(Record::decode("chprog 1\nno name line").is_err());
         assert!(Record::decode("chtools x\n").is_err());
         assert!(Record::decode("parts 5").is_err());
+        assert!(Record::decode("read A fanu\nG0").is_err());
+        assert!(Record::decode("new A fanuc linuxcnc").is_err());
         assert!(Record::decode("parts 5 1 -1").is_err());
+    }
+
+    #[test]
+    fn a_program_record_written_before_the_dialect_was_kept_reads_without_one() {
+        assert_eq!(
+            Record::decode("read O1.NGC\nG0 X1\n"),
+            Ok(Record::ProgramRead {
+                name: "O1.NGC".into(),
+                text: "G0 X1\n".into(),
+                dialect: None
+            })
+        );
+        assert_eq!(
+            Record::decode("new P"),
+            Ok(Record::NewProgram {
+                name: "P".into(),
+                dialect: None
+            })
+        );
     }
 
     #[test]

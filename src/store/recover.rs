@@ -202,7 +202,7 @@ fn replay(state: &mut State, records: &[Record], stand_ins: Vec<EditTarget>) -> 
         match state.apply(rec, None) {
             Ok(_) => {
                 let whole = match rec {
-                    Record::ProgramRead { name, .. } | Record::NewProgram(name) => {
+                    Record::ProgramRead { name, .. } | Record::NewProgram { name, .. } => {
                         Some(EditTarget::Program(name.clone()))
                     }
                     Record::ClearMdi => Some(EditTarget::Mdi),

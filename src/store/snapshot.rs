@@ -4,7 +4,10 @@
 //! ```text
 //! novanc-state 2 GEN CAPACITY     header: format version, generation, magazine capacity
 //! current NAME                    the current program
-//! program NAME POINTER\n<text>    one per program in program memory
+//! program NAME POINTER [DIALECT]\n<text>
+//!                                 one per program in program memory; DIALECT (`fanuc`,
+//!                                 `linuxcnc`) the one it was stored in, absent when not
+//!                                 recorded (written before programs kept it)
 //! mdi POINTER\n<text>             the MDI buffer
 //! tcodes\n<text>                  the T-code table, one `Tnn TOOLNO` per line
 //! tools POINTER\n<text>           the tool file, one T code per line
@@ -38,7 +41,13 @@ pub fn encode(s: &State, gen: u64) -> Vec<u8> {
     put(format!("novanc-state 2 {gen} {}", s.tcodes.capacity()));
     put(format!("current {}", s.current));
     for (name, b) in &s.programs {
-        put(format!("program {name} {}\n{}", b.pointer(), b.text()));
+        let dialect = s.dialects.get(name).map_or("", |d| d.name());
+        let sep = if dialect.is_empty() { "" } else { " " };
+        put(format!(
+            "program {name} {}{sep}{dialect}\n{}",
+            b.pointer(),
+            b.text()
+        ));
     }
     put(format!("mdi {}\n{}", s.mdi.pointer(), s.mdi.text()));
     put(format!("tcodes\n{}", s.tcodes.to_text()));
@@ -160,6 +169,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
     let (mut current, mut mdi, mut tcodes_text, mut tools, mut end) =
         (None, None, None, None, false);
     let mut params = BTreeMap::new();
+    let mut dialects = BTreeMap::new();
     for r in &records {
         let Ok(r) = std::str::from_utf8(r) else {
             lost.push("a record that is not text".to_string());
@@ -178,12 +188,21 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
                 }
             }
             ["current", n] => current = Some(n.to_string()),
-            ["program", n, p] => match buffer_at(body, p) {
-                Ok(b) => {
-                    programs.insert(n.to_string(), b);
+            ["program", n, p, d @ ..] if d.len() <= 1 => {
+                let dialect = match d.first() {
+                    None => Ok(None),
+                    Some(d) => crate::settings::Dialect::parse(d).map(Some),
+                };
+                match (buffer_at(body, p), dialect) {
+                    (Ok(b), Ok(d)) => {
+                        programs.insert(n.to_string(), b);
+                        if let Some(d) = d {
+                            dialects.insert(n.to_string(), d);
+                        }
+                    }
+                    (Err(e), _) | (_, Err(e)) => lost.push(format!("program {n} ({e})")),
                 }
-                Err(e) => lost.push(format!("program {n} ({e})")),
-            },
+            }
             ["mdi", p] => match buffer_at(body, p) {
                 Ok(b) => mdi = Some(b),
                 Err(e) => lost.push(format!("the MDI buffer record ({e})")),
@@ -292,6 +311,7 @@ pub fn read(data: &[u8], capacity: u32) -> SnapRead {
         gen,
         state: State {
             programs,
+            dialects,
             current,
             mdi,
             tcodes,

@@ -6,6 +6,7 @@ use super::lathe::LatheState;
 use super::names::program_name;
 use super::record::{EditTarget, Record};
 use super::toolfile::{parse_tool_text, tool_text, tool_text_keeping};
+use crate::settings::Dialect;
 use crate::tooldata::{
     parse_tape, parse_tcodes, Magazine, TCodeTable, ToolFile, SAMPLE_TAPE, SAMPLE_TCODES,
 };
@@ -68,6 +69,11 @@ impl Base {
 pub struct State {
     /// Part programs by name.
     pub programs: BTreeMap<String, Buffer>,
+    /// The G-code dialect each program was stored in (docs/gcode.md "Fanuc dialect"), by
+    /// name: the machine's when it was read or made, a copy's from its original. A program
+    /// not here (stored before programs kept their dialect, or by a store that was told no
+    /// machine dialect) is read in the machine's dialect of the day.
+    pub dialects: BTreeMap<String, Dialect>,
     /// The current program's name (always a key of `programs`).
     pub current: String,
     /// The MDI buffer.
@@ -130,6 +136,7 @@ impl State {
             tcodes: m.tcodes,
             tools: m.tools,
             params: BTreeMap::new(),
+            dialects: BTreeMap::new(),
             lathe: None,
         }
     }
@@ -144,6 +151,7 @@ impl State {
             tool_buf: Buffer::new(),
             tools: ToolFile::new(1),
             params: BTreeMap::new(),
+            dialects: BTreeMap::new(),
             lathe: Some(l),
         }
     }
@@ -191,6 +199,14 @@ impl State {
         self.tools = tools;
         self.refresh_tool_buf();
         warnings
+    }
+
+    /// Records program `name`'s dialect (None: not recorded, the machine's at each run).
+    fn set_dialect(&mut self, name: &str, dialect: Option<Dialect>) {
+        match dialect {
+            Some(d) => self.dialects.insert(name.to_string(), d),
+            None => self.dialects.remove(name),
+        };
     }
 
     /// The buffer an edit record names.
@@ -263,7 +279,7 @@ impl State {
                 self.current = n;
                 Ok((Outcome::default(), moved))
             }
-            Record::NewProgram(name) => {
+            Record::NewProgram { name, dialect } => {
                 let n = program_name(name).map_err(Refusal::Other)?;
                 if self.programs.contains_key(&n) {
                     return Err(Refusal::Other(format!(
@@ -271,13 +287,19 @@ impl State {
                     )));
                 }
                 self.programs.insert(n.clone(), Buffer::new());
+                self.set_dialect(&n, *dialect);
                 self.current = n;
                 Ok((Outcome::default(), true))
             }
-            Record::ProgramRead { name, text } => {
+            Record::ProgramRead {
+                name,
+                text,
+                dialect,
+            } => {
                 let n = program_name(name).map_err(Refusal::Other)?;
                 self.programs
                     .insert(n.clone(), Buffer::from_text(&tape_text(text)));
+                self.set_dialect(&n, *dialect);
                 self.current = n;
                 Ok((Outcome::default(), true))
             }
@@ -336,6 +358,7 @@ impl State {
                     )));
                 }
                 self.programs.remove(&n);
+                self.dialects.remove(&n);
                 if self.current == n {
                     if let Some(first) = self.programs.keys().next() {
                         self.current = first.clone();
@@ -360,6 +383,11 @@ impl State {
                 } else {
                     Buffer::from_text(&text)
                 };
+                let dialect = self.dialects.get(&a).copied();
+                if rename {
+                    self.dialects.remove(&a);
+                }
+                self.set_dialect(&b, dialect);
                 self.programs.insert(b.clone(), buf);
                 if !rename || self.current == a {
                     self.current = b;
@@ -418,6 +446,72 @@ mod tests {
     #[test]
     fn tape_text_ends_blocks() {
         assert_eq!(tape_text("A\r\nB\rC\n"), "A\nB\nC\n");
+    }
+
+    #[test]
+    fn a_program_keeps_its_dialect_through_edits_copies_renames_and_the_snapshot() {
+        let mut s = State::defaults(24);
+        let read = |name: &str, dialect| Record::ProgramRead {
+            name: name.into(),
+            text: "G0 X1\n".into(),
+            dialect,
+        };
+        let ok = |s: &mut State, r: Record| s.apply(&r, None).map(|_| ()).unwrap();
+        ok(&mut s, read("F.NGC", Some(Dialect::Fanuc)));
+        ok(&mut s, read("L.NGC", Some(Dialect::LinuxCnc)));
+        ok(&mut s, read("OLD.NGC", None));
+        ok(
+            &mut s,
+            Record::Edit {
+                target: EditTarget::Program("F.NGC".into()),
+                line: "IG0 Y2*".into(),
+            },
+        );
+        let copy = |from: &str, to: &str| Record::Copy {
+            from: from.into(),
+            to: to.into(),
+        };
+        ok(&mut s, copy("F.NGC", "F2.NGC"));
+        ok(
+            &mut s,
+            Record::Rename {
+                from: "L.NGC".into(),
+                to: "L2.NGC".into(),
+            },
+        );
+        ok(
+            &mut s,
+            Record::NewProgram {
+                name: "N.NGC".into(),
+                dialect: Some(Dialect::Fanuc),
+            },
+        );
+        ok(&mut s, Record::Delete("N.NGC".into()));
+        let want: BTreeMap<String, Dialect> = [
+            ("F.NGC", Dialect::Fanuc),
+            ("F2.NGC", Dialect::Fanuc),
+            ("L2.NGC", Dialect::LinuxCnc),
+        ]
+        .into_iter()
+        .map(|(n, d)| (n.to_string(), d))
+        .collect();
+        assert_eq!(s.dialects, want);
+        // A program read again takes the dialect of that read (none: none recorded).
+        ok(&mut s, read("F2.NGC", None));
+        ok(&mut s, read("OLD.NGC", Some(Dialect::LinuxCnc)));
+        let snap = super::super::snapshot::encode(&s, 7);
+        let back = super::super::snapshot::read(&snap, 24);
+        assert!(back.lost.is_empty(), "{:?}", back.lost);
+        let want: BTreeMap<String, Dialect> = [
+            ("F.NGC", Dialect::Fanuc),
+            ("L2.NGC", Dialect::LinuxCnc),
+            ("OLD.NGC", Dialect::LinuxCnc),
+        ]
+        .into_iter()
+        .map(|(n, d)| (n.to_string(), d))
+        .collect();
+        assert_eq!(back.state.dialects, want);
+        assert_eq!(back.state.programs.len(), 5);
     }
 
     #[test]

@@ -20,13 +20,24 @@ pub fn gcode_source_in(
     src: &str,
     dialect: novanc::settings::Dialect,
 ) -> novanc::gcode::GcodeSource {
-    novanc::gcode::GcodeSource::new(
-        src.into(),
-        novanc::tooldata::sample_magazine(),
+    gcode_source_with(
+        src,
         novanc::settings::MachineSettings {
             dialect,
             ..Default::default()
         },
+    )
+}
+
+/// [`gcode_source`] on a machine of `settings` (a dialect and its settings).
+pub fn gcode_source_with(
+    src: &str,
+    settings: novanc::settings::MachineSettings,
+) -> novanc::gcode::GcodeSource {
+    novanc::gcode::GcodeSource::new(
+        src.into(),
+        novanc::tooldata::sample_magazine(),
+        settings,
         novanc::block::MachineState::at([0, 0, 0]),
         novanc::gcode::WorkOffsets::default(),
         novanc::gcode::Switches::default(),
@@ -99,9 +110,17 @@ pub fn reopen(dir: &Path) -> Console {
 
 /// [`reopen`] with programs read in a dialect (docs/gcode.md "Fanuc dialect").
 pub fn reopen_in(dir: &Path, dialect: novanc::settings::Dialect) -> Console {
+    reopen_with(dir, |s| s.dialect = dialect)
+}
+
+/// [`reopen`] with the console's settings changed by `set` (a dialect and its settings).
+pub fn reopen_with(
+    dir: &Path,
+    set: impl FnOnce(&mut novanc::settings::MachineSettings),
+) -> Console {
     let mut cfg = ConsoleConfig::new(dir.to_path_buf());
     cfg.clock = ClockMode::Virtual;
-    cfg.settings.dialect = dialect;
+    set(&mut cfg.settings);
     Console::open(cfg).unwrap().0
 }
 

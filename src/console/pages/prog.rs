@@ -1,5 +1,6 @@
 //! PROG: the directory of the programs in memory (name, language, size, last change; `>` on
-//! the cursor, `*` on the current program) and what can be done to them, with the machine stopped and no
+//! the cursor, `*` on the current program; a G-code program's language is its dialect: ISO
+//! LinuxCNC's, FAN Fanuc's, and the current one's is named in the header) and what can be done to them, with the machine stopped and no
 //! run loaded, every change journaled:
 //! - Enter with nothing typed: make the program under the cursor current;
 //! - `C NAME` Enter: copy it as NAME (the copy becomes current);
@@ -93,10 +94,18 @@ pub(super) fn enter(c: &mut Console, line: &str) {
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let list = c.mem.program_list();
     let current = c.mem.program_name();
+    let machine = c.cfg.settings.dialect;
+    // The current G-code program and the dialect it is read in (docs/gcode.md "Fanuc dialect").
+    let head = if c.mem.program_is_gcode() {
+        let d = c.mem.program_dialect(&current, machine);
+        format!("PROG  {current} {}", d.name().to_ascii_uppercase())
+    } else {
+        "PROG".to_string()
+    };
     let mut p = Frame::new(
         rows,
         cols,
-        split_line("PROG", &format!("{} programs", list.len()), cols),
+        split_line(&head, &format!("{} programs", list.len()), cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
     p.bottom.push(format!("> {}_", c.entry));
@@ -128,10 +137,11 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             name.pop();
             name.push('…');
         }
-        let lang = if crate::gcode::is_gcode(&info.name, "") {
-            "ISO"
-        } else {
-            language(&info.first_line)
+        let gcode = crate::gcode::is_gcode(&info.name, "") || language(&info.first_line) == "ISO";
+        let lang = match (gcode, c.mem.program_dialect(&info.name, machine)) {
+            (false, _) => "AP",
+            (true, crate::settings::Dialect::LinuxCnc) => "ISO",
+            (true, crate::settings::Dialect::Fanuc) => "FAN",
         };
         let when = changed(info.changed_s);
         p.body.push(if wide {
