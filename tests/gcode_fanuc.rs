@@ -999,8 +999,11 @@ fn system_variables_give_positions_modes_offsets_and_parts() {
 #[test]
 fn system_variables_novanc_lacks_are_refused_with_their_reason() {
     for (line, e) in [
-        ("#1=#3001", "#3001 (the millisecond clock): novanc's reader runs ahead of the machine and has no machine clock to read"),
-        ("#3001=0", "#3001: novanc's reader has no machine clock to set (it runs ahead of the machine)"),
+        // No machine runs the program here (`values` reads it as `novanc translate` does).
+        ("#1=#3001", "2:4: #3001 (the millisecond clock): the clocks are the machine's, and no machine runs the program here (novanc translate, the window's plot, the lines before a SEARCH point)"),
+        ("#3002=0", "2:1: #3002 (the hour clock): the clocks are the machine's, and no machine runs the program here (novanc translate, the window's plot, the lines before a SEARCH point)"),
+        ("#5081=1", "#5081 (the tool length offset) is read-only"),
+        ("#1=#5084", "#5084 (the tool length offset of axis 4): this machine has the axes X, Y, Z"),
         ("#3901=0", "#3901: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"),
         ("#4001=1", "#4001 (modal information) is read-only"),
         ("#5041=1", "#5041 (the work position) is read-only"),
@@ -1076,4 +1079,118 @@ fn adp_reads_an_argument_given_without_a_point_as_if_with_one() {
         moves("O1\nG0 X[ADP[#100]]\nM30\n", Fanuc).unwrap_err(),
         "2:10: ADP takes a local variable: ADP[#1] to ADP[#33]"
     );
+}
+
+/// The final machine position `novanc run` printed, mm.
+fn final_position(stdout: &str) -> [f64; 3] {
+    let line = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("final position: "))
+        .unwrap_or_else(|| panic!("no final position: {stdout}"));
+    let v: Vec<f64> = line
+        .split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
+/// Fanuc's clocks in a run (`novanc run`, virtual time): a line that reads or sets #3001 or
+/// #3002 waits until the pulse core has executed every block before it, and reads the core's
+/// machine time. A dwell of 2 s reads 2000 ms and one of 36 s 0.01 h, each up to two NCBR
+/// ticks (5 ms) more: the clocks block is reached at a tick, the machine waits for the reader
+/// until the next, and the block after a dwell starts at the tick after its end. A WHILE on
+/// #3001 waits one second of machine time (the line is read again, a new wait, each time
+/// round). `novanc translate` refuses them with the reason.
+#[test]
+fn the_clocks_are_the_machine_s_when_it_has_reached_the_line() {
+    let prog = "O1\n#3001=0\nG04 X2.\n#100=#3001\nG00 X[#100/100]\n\
+                #3002=0\nG04 X36.\n#101=#3002\nG00 Y[#101*10000]\n\
+                #3001=0\nWHILE [#3001 LT 1000] DO1\nEND1\nG00 Z[-#3001/100]\nM30\n";
+    let (code, out, err, _) = common::novanc_on(&["run", "--dialect", "fanuc"], "t.nc", prog, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    let [x, y, z] = final_position(&out);
+    assert!((20.0..=20.1).contains(&x), "#100 = {} ms", x * 100.0);
+    assert!((100.0..=100.03).contains(&y), "#101 = {} h", y / 10000.0);
+    assert!(
+        (-10.1..=-10.0).contains(&z),
+        "#3001 after the loop: {} ms",
+        -z * 100.0
+    );
+    let (code, _, err, _) =
+        common::novanc_on(&["translate", "--dialect", "fanuc"], "t.nc", prog, &[]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("t.nc:2:1: #3001 (the millisecond clock): the clocks are the machine's, and no machine runs the program here"), "{err}");
+}
+
+/// #3001 counts all the time since power-on, #3002 only while the cycle-start lamp is lit (a
+/// run going, not held); what a program set them to stays for the next run (they are the
+/// machine's). At the console in virtual time: both set to 0 by MDI, 5 s idle, then a 10 s
+/// feed move held for 3 s halfway: #3001 reads 18 s, #3002 10 s (and the few ticks each MDI
+/// run lights the lamp).
+#[test]
+fn the_hour_clock_counts_only_while_a_run_goes() {
+    let mut c = common::reopen_in(&common::temp_dir("fanuc-clocks"), Fanuc);
+    common::mdi(&mut c, "#3001=0 #3002=0");
+    c.handle(E::WaitMs(5000));
+    c.handle(E::Op(OpMode::Mdi));
+    common::type_line(&mut c, "G01 X100. F600.");
+    c.handle(E::Start);
+    c.handle(E::WaitMs(5000));
+    c.handle(E::Stop);
+    c.handle(E::WaitMs(3000));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    common::mdi(&mut c, "#100=#3001 #101=#3002");
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+    let p = &c.interp_state().params;
+    let (ms, h) = (p[100], p[101]);
+    assert!((18_000.0..=18_100.0).contains(&ms), "#3001 = {ms}");
+    assert!(
+        (10_000.0..=10_100.0).contains(&(h * 3.6e6)),
+        "#3002 = {h} h"
+    );
+}
+
+/// #5081–#5083: the tool length offset in force along X, Y, Z, in program units (0 after G49).
+#[test]
+fn the_tool_length_offset_in_force_is_read_per_axis() {
+    let mag = novanc::tooldata::sample_magazine();
+    let l = mag.tools.get(2).unwrap().set_length;
+    let got = values(
+        "O1\nG43 H2\n#101=#5081 #102=#5082 #103=#5083\nG20\n#104=#5083\nG21 G49\n#105=#5083\nM30\n",
+        &[101, 102, 103, 104, 105],
+    )
+    .unwrap();
+    let want = [0.0, 0.0, l, l / 25.4, 0.0];
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!((g - w).abs() < 1e-9, "#{}: {g}, want {w}", 101 + i);
+    }
+}
+
+/// RESET while reading waits for the machine's clocks: SINGLE BLOCK stops the run after the
+/// rapid before the clock line (the translator has handed on the clocks block and waits);
+/// RESET abandons the run and its wait, and the next run goes through to its end.
+#[test]
+fn reset_during_a_clock_wait_abandons_the_run_without_a_hang() {
+    let mut c = common::reopen_in(&common::temp_dir("fanuc-clock-reset"), Fanuc);
+    c.core().set_audit(true);
+    let f = common::temp_dir("fanuc-clock-reset-prog").join("CLOCK.NC");
+    std::fs::write(&f, "O1\nG00 X10.\n#100=#3001\nG00 Y[#100/1000]\nM30\n").unwrap();
+    c.handle(E::Op(OpMode::Data));
+    c.handle(E::Data(DataMode::Read));
+    c.handle(E::Tape(f));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Single));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert_eq!(common::audit(&c).len(), 1, "{}", c.frame_text());
+    c.handle(E::Reset);
+    c.handle(E::Wait);
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::Wait);
+    assert!(common::shows(&c, "program end"), "{}", c.frame_text());
+    assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+    assert!(c.interp_state().params[100] > 0.0);
 }

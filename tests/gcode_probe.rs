@@ -4,7 +4,6 @@
 //! through.
 
 use novanc::gcode::{Event, GcodeSource};
-use std::process::Command;
 
 mod common;
 
@@ -25,35 +24,6 @@ fn read(src: &str) -> (Result<usize, String>, GcodeSource) {
         }
     }
     (Ok(n), g)
-}
-
-/// `novanc ARGS PROG EXTRA..` on `text` written as `name` in a fresh directory (an EXTRA
-/// word not starting with `--` is a file in that directory): the exit code, stdout and
-/// stderr, and the directory.
-fn novanc(
-    args: &[&str],
-    name: &str,
-    text: &str,
-    extra: &[&str],
-) -> (Option<i32>, String, String, std::path::PathBuf) {
-    let dir = common::temp_dir("probe-cli");
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .arg(&p)
-        .args(extra.iter().map(|e| match e.starts_with("--") {
-            true => std::path::PathBuf::from(e),
-            false => dir.join(e),
-        }))
-        .output()
-        .unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-        dir,
-    )
 }
 
 fn param(g: &GcodeSource, n: usize) -> f64 {
@@ -85,7 +55,7 @@ const TOUCH_OFF: &str = "G21 G90 G17 G40 G49 G80\n\
 /// `novanc translate` of [`TOUCH_OFF`], answered from the workpiece.
 #[test]
 fn translate_touches_off_on_the_default_workpiece() {
-    let (code, text, stderr, _) = novanc(&["translate"], "touch.ngc", TOUCH_OFF, &[]);
+    let (code, text, stderr, _) = common::novanc_on(&["translate"], "touch.ngc", TOUCH_OFF, &[]);
     assert_eq!(code, Some(0), "{stderr}");
     // The top is at machine Z −450: G54 Z0 there, so Z10 is −440 and Z−10 is −460 (beside
     // the block, X 280 < 300). The X− face is at machine X 300: X0 there, X−5 is 295; the
@@ -254,7 +224,7 @@ fn m66_reads_the_simulated_inputs_low() {
 /// X 500 + 220 + 20 + 5 + 25, Z 400 + 50 + 10 + 20.
 #[test]
 fn a_run_stops_the_probe_on_the_workpiece_and_reads_on_from_the_answer() {
-    let (code, text, stderr, _) = novanc(&["run"], "run.ngc", TOUCH_OFF, &[]);
+    let (code, text, stderr, _) = common::novanc_on(&["run"], "run.ngc", TOUCH_OFF, &[]);
     assert_eq!(code, Some(0), "{stderr}");
     assert!(
         text.contains("pulses: X 770000 Y 400000 Z 480000"),
@@ -270,7 +240,7 @@ fn a_run_stops_the_probe_on_the_workpiece_and_reads_on_from_the_answer() {
 /// the error and nothing after it moves.
 #[test]
 fn a_run_whose_probe_misses_stops_after_the_probe_move() {
-    let (code, stdout, stderr, _) = novanc(
+    let (code, stdout, stderr, _) = common::novanc_on(
         &["run"],
         "miss.ngc",
         "G21 G90\nG0 X100 Y100 Z-400\nG38.2 Z-480 F500\nG0 Z-300\nM30\n",
@@ -346,7 +316,7 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
 /// Python reader's check with the new topic.
 #[test]
 fn a_run_records_the_probe_result() {
-    let (code, stdout, stderr, dir) = novanc(
+    let (code, stdout, stderr, dir) = common::novanc_on(
         &["run"],
         "rec.ngc",
         "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG0 Z-300\nM30\n",
@@ -409,7 +379,7 @@ fn the_machine_description_gives_the_workpiece() {
             Some(p) => vec!["--machine", p.as_str()],
             None => vec![],
         };
-        let (_, out, err, _) = novanc(&["translate"], "probe.ngc", prog, &extra);
+        let (_, out, err, _) = common::novanc_on(&["translate"], "probe.ngc", prog, &extra);
         assert!(
             out.contains(want) || err.contains(want),
             "{machine:?}: {out}{err}"

@@ -232,6 +232,10 @@ pub struct Block {
     /// A meeting point with the machine's other channels (the kernel's sync table): a waiting
     /// M code, a chuck close that receives a work, a chuck open that delivers one.
     pub sync: Option<Sync>,
+    /// The core answers the source with its clocks when this block ends (a Fanuc #3001/#3002
+    /// read in a run: reading waits until the machine has executed every block before the
+    /// line, docs/gcode.md "Fanuc dialect"). Set only on a block with nothing else to do.
+    pub clocks: bool,
 }
 
 /// How a block's feed is given.
@@ -357,6 +361,7 @@ impl Block {
             css: None,
             thread: None,
             sync: None,
+            clocks: false,
         }
     }
 

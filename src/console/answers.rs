@@ -1,8 +1,10 @@
 //! The machine a run's G-code source asks (docs/gcode.md "Probing", docs/pulse-core.md "The
 //! machine's answers"): on the translator thread, a probe waits until the pulse core has run
-//! the probe block and says where it stopped. Reading does not run ahead of that answer.
+//! the probe block and says where it stopped, an M66 until it has read its input, a Fanuc
+//! clock read until it has run every block before the line. Reading does not run ahead of
+//! that answer.
 
-use crate::gcode::{Machine, Probed};
+use crate::gcode::{Clocks, Machine, Probed};
 use crate::pulse_core::{Answer, MachineLink};
 
 /// The pulse core of the run this translator thread feeds.
@@ -38,7 +40,7 @@ impl Machine for RunMachine {
                 tripped,
                 at_start,
             }),
-            Answer::Input(_) => Err("the machine answered an M66 where a probe was asked".into()),
+            a => Err(mismatch(&a, "a probe")),
         }
     }
 
@@ -53,9 +55,37 @@ impl Machine for RunMachine {
     ) -> Result<Option<f64>, String> {
         match self.link.wait_answer()? {
             Answer::Input(v) => Ok(v),
-            Answer::Probe { .. } => {
-                Err("the machine answered a probe where an M66 was asked".into())
-            }
+            a => Err(mismatch(&a, "an M66")),
         }
     }
+
+    fn keeps_time(&self) -> bool {
+        true
+    }
+
+    /// #3001/#3002: the core's machine time (virtual in scripts and `novanc run`, real at the
+    /// terminal) and cycle-start lamp time when it ended the clocks block.
+    fn clocks(&mut self) -> Result<Clocks, String> {
+        match self.link.wait_answer()? {
+            Answer::Clocks {
+                machine_ns,
+                cycle_ns,
+            } => Ok(Clocks {
+                machine_ns,
+                cycle_ns,
+            }),
+            a => Err(mismatch(&a, "its clocks")),
+        }
+    }
+}
+
+/// The answers come in block order, one for each question: another answer than the one
+/// asked for is an internal fault, said as such (the run stops).
+fn mismatch(got: &Answer, asked: &str) -> String {
+    let got = match got {
+        Answer::Probe { .. } => "a probe",
+        Answer::Input(_) => "an M66",
+        Answer::Clocks { .. } => "its clocks",
+    };
+    format!("the machine answered {got} where {asked} was asked")
 }

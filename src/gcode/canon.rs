@@ -46,6 +46,9 @@ pub enum Canon {
     /// Marks the blocks that follow as a tap's (`Tap::Part`), the next one as its last
     /// (`Tap::End`), or none (`Tap::No`); makes no block.
     Tap(Tap),
+    /// Nothing to do but answer with the machine's clocks when reached (a Fanuc #3001/#3002
+    /// read in a run, `Block::clocks`).
+    Clocks,
     /// S, T and M functions.
     Aux {
         /// Spindle speed.
@@ -280,6 +283,7 @@ impl Emitter {
                     b.t = *t;
                     b.m = *m;
                 }
+                Canon::Clocks => b.clocks = true,
                 Canon::Tap(_) => continue,
             }
             if self.tap == Tap::End {

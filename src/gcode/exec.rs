@@ -42,6 +42,25 @@ pub trait Machine {
         mode: u32,
         timeout: f64,
     ) -> Result<Option<f64>, String>;
+    /// Whether this machine runs the blocks handed on and can say its clocks when it reaches
+    /// a line (a run's pulse core); where none does, Fanuc's #3001/#3002 are refused.
+    fn keeps_time(&self) -> bool {
+        false
+    }
+    /// The machine's clocks when it reached the clocks block handed on last (after every
+    /// block before it).
+    fn clocks(&mut self) -> Result<Clocks, String> {
+        Err("no machine runs this program here".into())
+    }
+}
+
+/// The machine's clocks when it reached a line (Fanuc's #3001 and #3002), ns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Clocks {
+    /// Machine time since the machine was switched on (the console's start).
+    pub machine_ns: u64,
+    /// Machine time with the cycle-start lamp lit (a run going, not held).
+    pub cycle_ns: u64,
 }
 
 /// A probe move's outcome.
@@ -61,7 +80,8 @@ pub fn low_input(mode: u32) -> Option<f64> {
     (mode == 0 || mode == 4).then_some(0.0)
 }
 
-/// A question a line asks of the machine (G38.x, M66), answered before the next line is read.
+/// A question a line asks of the machine (G38.x, M66, a clocks read), answered before the
+/// next line is read.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Ask {
     /// A probe move (G38.2 … G38.5 ×10 in `g`) from `from` to `to` (machine mm, the gauge
@@ -92,6 +112,13 @@ pub enum Ask {
         mode: u32,
         /// Q, seconds.
         timeout: f64,
+    },
+    /// Fanuc's #3001/#3002 read or written on a line in a run: the machine's clocks once it
+    /// has executed every block before the line (its clocks block, `Canon::Clocks`); the line
+    /// is read again with them.
+    Clocks {
+        /// The column of the variable.
+        col: u32,
     },
 }
 

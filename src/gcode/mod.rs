@@ -26,7 +26,7 @@ pub mod state;
 pub mod sysvars;
 pub mod words;
 
-pub use exec::{Ask, Event, Machine, Probed};
+pub use exec::{Ask, Clocks, Event, Machine, Probed};
 pub use flow::{NoFiles, SubFinder};
 pub use probe::SimMachine;
 pub use search::translate_all;
@@ -165,6 +165,10 @@ struct ParamEnv<'a> {
     parts: Option<(u64, u64)>,
     first_code: Option<usize>,
     adp: &'a [u64],
+    /// The machine's clocks at this line, once it has answered (Fanuc's #3001, #3002).
+    clocks: Option<exec::Clocks>,
+    /// The clock the line read without them.
+    wants_clocks: &'a std::cell::Cell<Option<usize>>,
 }
 
 impl ParamEnv<'_> {
@@ -223,6 +227,8 @@ impl Env for ParamEnv<'_> {
                 } else {
                     None
                 },
+                clocks: self.clocks,
+                wants_clocks: self.wants_clocks,
             };
             if let Some(r) = sysvars::read(n, &e) {
                 return r;
@@ -310,6 +316,9 @@ pub struct GcodeSource {
     /// What the last line asked of the machine, and the line: answered before the next line
     /// is read (docs/gcode.md "Probing").
     pending: (Vec<exec::Ask>, u32),
+    /// The machine's clocks when it reached the line read next (a Fanuc #3001/#3002 line
+    /// read again once the machine has answered), for that line only.
+    clocks: Option<exec::Clocks>,
     /// SEARCH is running the lines before its point: the settings' machine answers.
     pub(crate) searching: bool,
     finder: Box<dyn SubFinder>,
@@ -452,6 +461,7 @@ impl GcodeSource {
             done: false,
             machine: sim,
             pending: (Vec::new(), 0),
+            clocks: None,
             searching: false,
             finder: Box::new(NoFiles),
             remap: None,
@@ -586,6 +596,15 @@ impl GcodeSource {
             } else {
                 self.machine.as_mut()
             };
+            if let Ask::Clocks { col } = *ask {
+                let c = m.clocks().map_err(|message| TranslateError {
+                    line: n,
+                    col,
+                    message,
+                })?;
+                self.clocks = Some(c);
+                continue;
+            }
             if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
                 let a = self.emitter.pos[3];
                 self.emitter.pos =
@@ -708,6 +727,8 @@ impl GcodeSource {
         raw: &str,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         let mut line = self.line_buf.take().unwrap_or_default();
+        let clocks = self.clocks.take();
+        let wants_clocks = std::cell::Cell::new(None);
         let r = {
             let env = ParamEnv {
                 st: &self.st,
@@ -717,6 +738,8 @@ impl GcodeSource {
                 parts: self.parts,
                 first_code: self.first_code,
                 adp: &self.adp,
+                clocks,
+                wants_clocks: &wants_clocks,
             };
             let flow = &self.flow;
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
@@ -736,9 +759,68 @@ impl GcodeSource {
                     }
                 })
         };
-        let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
+        // A Fanuc clock read or written: the machine's clocks at this line first.
+        let clock_at = match &r {
+            Err(e) => wants_clocks.get().map(|v| (e.col, v)),
+            Ok(()) if clocks.is_none() && self.settings.dialect == Dialect::Fanuc => {
+                line.assigns.iter().find_map(|(t, _, col)| match t {
+                    Target::Numbered(p @ (3001 | 3002)) => Some((*col, *p)),
+                    _ => None,
+                })
+            }
+            _ => None,
+        };
+        let out = match clock_at {
+            Some((col, v)) => self.ask_clocks(at, n, raw, col, v),
+            None => {
+                self.clocks = clocks;
+                let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
+                self.clocks = None;
+                out
+            }
+        };
         self.line_buf = Some(line);
         out
+    }
+
+    /// A line that reads or writes Fanuc's clock `#v` (at `col`) before the machine has
+    /// answered for it: a clocks block is handed on and the line is read again once the
+    /// machine has run it, every block before it done (LinuxCNC's queue buster, as a probe's
+    /// answer). Refused with the reason where no machine can answer for the line.
+    #[allow(clippy::type_complexity)]
+    fn ask_clocks(
+        &mut self,
+        at: Pos,
+        n: u32,
+        raw: &str,
+        col: u32,
+        v: usize,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
+        let why = if self.searching || !self.machine.keeps_time() {
+            Some("the clocks are the machine's, and no machine runs the program here (novanc translate, the window's plot, the lines before a SEARCH point)")
+        } else if self.comp.active() {
+            Some("cannot be read or set with cutter radius compensation on (the compensated move is held back until the next move is known: the machine has not reached the line)")
+        } else if self.st.nurbs.is_some() {
+            Some("cannot be read or set between G5.2 and G5.3 (the curve is made at G5.3: the machine has not reached the line)")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(TranslateError {
+                line: n,
+                col,
+                message: format!("{}: {why}", sysvars::clock_name(v)),
+            });
+        }
+        self.flow.pc = at;
+        self.executed = self.executed.saturating_sub(1);
+        self.pending = (vec![Ask::Clocks { col }], n);
+        Ok(Some(self.finish(
+            n,
+            trimmed(raw),
+            vec![(Canon::Clocks, n, col)],
+            false,
+        )))
     }
 
     #[allow(clippy::type_complexity)]
@@ -829,11 +911,22 @@ impl GcodeSource {
                     self.fanuc_message(n, *p, *v, *col, &line.comments)?;
                     stop = Some(*col);
                 }
+                Target::Numbered(p @ (3001 | 3002)) if fanuc => {
+                    // `line` read the machine's clocks for this line first.
+                    let c = self.clocks.ok_or_else(|| sysvars::clock_name(*p));
+                    c.and_then(|c| sysvars::set_clock(*p, *v, c, &mut self.st))
+                        .map_err(|m| TranslateError {
+                            line: n,
+                            col: *col,
+                            message: m,
+                        })?;
+                }
                 Target::Numbered(p)
                     if fanuc
                         && (*p > read::MAX_PARAM
                             || sysvars::tool_var(*p).is_some()
-                            || (3001..=5048).contains(p)) =>
+                            || (3001..=5048).contains(p)
+                            || (5081..=5088).contains(p)) =>
                 {
                     let r = sysvars::write(*p, *v, &self.st, &mut self.magazine, &mut self.events);
                     if let Some(Err(m)) = r {

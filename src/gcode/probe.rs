@@ -101,6 +101,8 @@ pub fn answer(
         message,
     };
     match *ask {
+        // Answered where the line that asked is read again (`GcodeSource::answer_pending`).
+        Ask::Clocks { .. } => Ok(None),
         Ask::Input {
             col,
             digital,

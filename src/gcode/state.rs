@@ -294,6 +294,9 @@ pub struct InterpState {
     pub fanuc_vacant: bool,
     /// The last M code read (Fanuc's #4113), null until one is.
     pub fanuc_m: f64,
+    /// What a program wrote to Fanuc's clocks #3001 and #3002 moved them by, ms: each reads
+    /// the machine's clock plus this (docs/gcode.md "Fanuc dialect").
+    pub clock_offset_ms: [f64; 2],
 }
 
 /// Fanuc's common variables kept across a restart (#500–#999), journaled with the
@@ -344,6 +347,7 @@ impl Default for InterpState {
             g5_tangent: [0.0; 2],
             fanuc_vacant: false,
             fanuc_m: f64::NAN,
+            clock_offset_ms: [0.0; 2],
         }
     }
 }

@@ -1,12 +1,13 @@
 //! Fanuc Custom Macro B's system variables in the Fanuc dialect (docs/gcode.md "Fanuc
 //! dialect", "System variables"): the modal information #4001–#4130 and #4201–#4330, the
-//! positions #5001–#5048, the tool offsets #2001–#2800 and #10001–#13999 (memory C), the
-//! part counter #3901/#3902, and the clocks #3001/#3002 refused with their reason. Each is
-//! worked out when read from the interpreter's state as read (the state the machine will
-//! have when it reaches the line), as LinuxCNC's #5420 is. The LinuxCNC dialect never comes
-//! here.
+//! positions #5001–#5048, the tool length offsets #5081–#5088, the tool offsets #2001–#2800
+//! and #10001–#13999 (memory C), the part counter #3901/#3902, and the clocks #3001/#3002.
+//! Each but the clocks is worked out when read from the interpreter's state as read (the
+//! state the machine will have when it reaches the line), as LinuxCNC's #5420 is; the clocks
+//! are the machine's when it reached the line (reading waits for it, `GcodeSource`). The
+//! LinuxCNC dialect never comes here.
 
-use super::exec::Event;
+use super::exec::{Clocks, Event};
 use super::read::MAX_PARAM;
 use super::state::{CompSide, FeedMode, InterpState, Motion, PathMode};
 use crate::block::Plane;
@@ -25,6 +26,65 @@ pub struct SysEnv<'a> {
     pub parts: Option<(u64, u64)>,
     /// The number of the program running now (#4115), if it has one.
     pub program: Option<f64>,
+    /// The machine's clocks when it reached this line, once it has answered; until then a
+    /// read of #3001/#3002 sets `wants_clocks` and fails (the line is read again with them,
+    /// or refused with the reason).
+    pub clocks: Option<Clocks>,
+    /// The clock read without `clocks`, if one was.
+    pub wants_clocks: &'a std::cell::Cell<Option<usize>>,
+}
+
+/// Where Fanuc's clocks come back to 0, ms: #3001 at 2^31 ms, #3002 at 2^35 ms (9544.37 h).
+const CLOCK_WRAP_MS: [f64; 2] = [2_147_483_648.0, 34_359_738_368.0];
+
+/// The clock #3001 (millisecond) or #3002 (hour)'s name.
+pub fn clock_name(n: usize) -> String {
+    format!(
+        "#{n} (the {} clock)",
+        if n == 3001 { "millisecond" } else { "hour" }
+    )
+}
+
+/// Clock `n`'s machine time at `c`, whole ms (as Fanuc counts): 3001 since power-on, 3002
+/// with the cycle-start lamp lit.
+fn machine_ms(n: usize, c: Clocks) -> f64 {
+    let ns = if n == 3001 { c.machine_ns } else { c.cycle_ns };
+    (ns / 1_000_000) as f64
+}
+
+/// The value of clock `n` at `c` (#3001 ms, #3002 hours), moved by what the program wrote to
+/// it, back to 0 where Fanuc's comes back.
+fn clock_value(n: usize, c: Clocks, st: &InterpState) -> f64 {
+    let i = n - 3001;
+    let ms = (machine_ms(n, c) + st.clock_offset_ms[i]).rem_euclid(CLOCK_WRAP_MS[i]);
+    if i == 0 {
+        ms
+    } else {
+        ms / 3.6e6
+    }
+}
+
+/// `#3001=v` or `#3002=v` at `c`: the clock reads `v` there (to the ms) and counts on from it.
+pub fn set_clock(n: usize, v: f64, c: Clocks, st: &mut InterpState) -> Result<(), String> {
+    let i = n - 3001;
+    let ms = if i == 0 { v } else { v * 3.6e6 };
+    let max = CLOCK_WRAP_MS[i];
+    if read_null(v) {
+        return Err(format!("{}: a clock cannot be null", clock_name(n)));
+    }
+    if !(ms.is_finite() && (0.0..max).contains(&ms)) {
+        let (top, unit) = if i == 0 {
+            (max - 1.0, "ms")
+        } else {
+            (max / 3.6e6, "hours")
+        };
+        return Err(format!(
+            "{}: {v} is not a time it counts (0 to {top} {unit})",
+            clock_name(n)
+        ));
+    }
+    st.clock_offset_ms[i] = ms.round() - machine_ms(n, c);
+    Ok(())
 }
 
 /// A tool offset variable: which of memory C's four kinds, of which offset number.
@@ -88,10 +148,13 @@ pub fn read(n: usize, e: &SysEnv) -> Option<Result<f64, String>> {
         return Some(tool_value(v, n, e.magazine).map(|mm| mm / k));
     }
     Some(match n {
-        3001 | 3002 => Err(format!(
-            "#{n} (the {} clock): novanc's reader runs ahead of the machine and has no machine clock to read",
-            if n == 3001 { "millisecond" } else { "hour" }
-        )),
+        3001 | 3002 => match e.clocks {
+            Some(c) => Ok(clock_value(n, c, st)),
+            None => {
+                e.wants_clocks.set(Some(n));
+                Err(format!("{} waits for the machine", clock_name(n)))
+            }
+        },
         3901 | 3902 => match e.parts {
             Some((made, required)) => Ok(if n == 3901 { made } else { required } as f64),
             None => Err(format!(
@@ -102,6 +165,7 @@ pub fn read(n: usize, e: &SysEnv) -> Option<Result<f64, String>> {
         4001..=4130 => modal(n, n - 4000, e),
         4201..=4330 => modal(n, n - 4200, e),
         5001..=5008 | 5021..=5028 | 5041..=5048 => position(n, st),
+        5081..=5088 => tool_length(n, st),
         _ if n > MAX_PARAM => Err(unknown(n)),
         _ => return None,
     })
@@ -237,6 +301,21 @@ fn position(n: usize, st: &InterpState) -> Result<f64, String> {
     Ok(mm / k)
 }
 
+/// #5081–#5088: the tool length offset in force along axis 1–3 X Y Z (G43, G43.1: the
+/// state's, in program units); axis 4 A has none (0 on a machine with A).
+fn tool_length(n: usize, st: &InterpState) -> Result<f64, String> {
+    let axis = n - 5081;
+    match axis {
+        0..=2 => Ok(st.tlo[axis] / st.factor()),
+        3 if st.a_axis.is_some() => Ok(0.0),
+        _ => Err(format!(
+            "#{n} (the tool length offset of axis {}): this machine has the axes X, Y, Z{}",
+            axis + 1,
+            if st.a_axis.is_some() { " and A" } else { "" }
+        )),
+    }
+}
+
 /// Sets a Fanuc system variable: `None` when `#n` is not one (a parameter as LinuxCNC's);
 /// else done, or why not. A tool offset is changed in the tool data and said as an event
 /// (the console journals it as OFS does).
@@ -252,9 +331,6 @@ pub fn write(
     }
     let ro = |what: &str| Some(Err(format!("#{n} ({what}) is read-only")));
     match n {
-        3001 | 3002 => Some(Err(format!(
-            "#{n}: novanc's reader has no machine clock to set (it runs ahead of the machine)"
-        ))),
         3901 | 3902 => Some(Err(format!(
             "#{n}: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"
         ))),
@@ -262,6 +338,7 @@ pub fn write(
         5001..=5008 => ro("the block end position"),
         5021..=5028 => ro("the machine position"),
         5041..=5048 => ro("the work position"),
+        5081..=5088 => ro("the tool length offset"),
         _ if n > MAX_PARAM => Some(Err(unknown(n))),
         _ => None,
     }

@@ -67,6 +67,14 @@ pub enum Answer {
     /// An M66 block ended: the input's value (digital 0 or 1), `None` when its wait timed
     /// out.
     Input(Option<f64>),
+    /// A clocks block ended (`Block::clocks`): the machine time then, and how long the
+    /// cycle-start lamp had been lit by then (Fanuc's #3001 and #3002), ns.
+    Clocks {
+        /// Machine time, ns.
+        machine_ns: u64,
+        /// Machine time with the cycle-start lamp lit (a run going, not held), ns.
+        cycle_ns: u64,
+    },
 }
 
 thread_local! {

@@ -368,3 +368,32 @@ pub fn recorded_script(dir: &Path, script_text: &str) -> (PathBuf, String) {
     assert_eq!(out.status.code(), Some(0), "{text}");
     (rec, text)
 }
+
+/// `novanc ARGS PROG EXTRA..` on `text` written as `name` in a fresh directory (an EXTRA
+/// word not starting with `--` is a file in that directory): the exit code, stdout and
+/// stderr, and the directory.
+pub fn novanc_on(
+    args: &[&str],
+    name: &str,
+    text: &str,
+    extra: &[&str],
+) -> (Option<i32>, String, String, std::path::PathBuf) {
+    let dir = temp_dir("cli");
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(args)
+        .arg(&p)
+        .args(extra.iter().map(|e| match e.starts_with("--") {
+            true => std::path::PathBuf::from(e),
+            false => dir.join(e),
+        }))
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir,
+    )
+}

@@ -23,6 +23,8 @@ impl Machine {
         ) {
             self.notice = None;
         }
+        // The cycle-start lamp's time so far is counted in the state it had (#3002).
+        self.lamp();
         match c {
             Command::Start(kind) => self.start(kind),
             Command::Stop
@@ -187,6 +189,7 @@ impl Machine {
                 }
             }
         }
+        self.lamp();
         self.send_state();
     }
 

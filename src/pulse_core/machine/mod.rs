@@ -357,8 +357,14 @@ pub struct Machine {
     op_mode: String,
     data_mode: String,
     commands: u64,
-    /// The answer of the probe or M66 block just ended, for the source at the next NCBR.
+    /// The answer of the probe, M66 or clocks block just ended, for the source at the next
+    /// NCBR.
     probe_answer: Option<Answer>,
+    /// Machine time the cycle-start lamp has been lit (a run going, not held) before
+    /// `lamp_since`, ns (Fanuc's #3002 counts it).
+    lamp_ns: u64,
+    /// When the cycle-start lamp was last lit, while it is.
+    lamp_since: Option<u64>,
     /// The simulated inputs M66 reads.
     inputs: Signals,
     /// The outputs M62–M65, M67 and M68 set.
@@ -479,6 +485,8 @@ impl Machine {
             data_mode: "SEARCH".into(),
             commands: 0,
             probe_answer: None,
+            lamp_ns: 0,
+            lamp_since: None,
             inputs: Signals::default(),
             outputs: Signals::default(),
             channel: false,
@@ -961,6 +969,7 @@ impl Machine {
             if self.now >= self.next_tick {
                 self.started_seq = None;
                 self.ncbr(src);
+                self.lamp();
                 if std::mem::take(&mut self.starved) {
                     return Reached::Starved;
                 }
@@ -1193,6 +1202,26 @@ impl Machine {
         self.end_run(EndCause::Alarm);
     }
 
+    /// The cycle-start lamp (Fanuc's STL: a run going, neither held nor stopped) as it is
+    /// now: the time it was lit is counted up to now when it goes out (#3002). Called after
+    /// whatever may change it (a command, NCBR, a run's end); the time counted is to the tick.
+    pub(super) fn lamp(&mut self) {
+        let lit = self.run != 0 && !self.hold && !self.estop;
+        match (self.lamp_since, lit) {
+            (Some(t), false) => {
+                self.lamp_ns += self.now.saturating_sub(t);
+                self.lamp_since = None;
+            }
+            (None, true) => self.lamp_since = Some(self.now),
+            _ => {}
+        }
+    }
+
+    /// The time the cycle-start lamp has been lit up to machine time `t`, ns.
+    fn lamp_time(&self, t: u64) -> u64 {
+        self.lamp_ns + self.lamp_since.map_or(0, |s| t.saturating_sub(s))
+    }
+
     /// Ends the loaded run: RUN = 0, nothing held, the end recorded for the display.
     fn end_run(&mut self, cause: EndCause) {
         self.run = 0;
@@ -1214,6 +1243,7 @@ impl Machine {
                 cause,
             });
         }
+        self.lamp();
     }
 
     /// Starts a new run of `kind` (its blocks come from the source the caller passes).
@@ -1756,6 +1786,12 @@ impl Machine {
         }
         if let Some(w) = c.wait {
             self.probe_answer = Some(Answer::Input(w.value));
+        }
+        if c.block.clocks {
+            self.probe_answer = Some(Answer::Clocks {
+                machine_ns: t,
+                cycle_ns: self.lamp_time(t),
+            });
         }
         if let Some((tripped, at_start)) = c.probe {
             self.probe_answer = Some(Answer::Probe {
