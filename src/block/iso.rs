@@ -496,58 +496,6 @@ mod tests {
         }
     }
 
-    /// The packed words (all of a word made in one integer) print what the formatter prints
-    /// at every length a number may have, up to the longest, past the 16 bytes one copy
-    /// holds: millimetres, whole numbers, thousandths and N.
-    #[test]
-    fn words_of_every_length_print_as_the_formatter_prints_them() {
-        let st = MachineSettings::default();
-        let mut values = vec![0u64, u64::MAX, i64::MAX as u64];
-        for k in 0..20 {
-            let p = 10u64.pow(k);
-            values.extend([p - 1, p, p + 1, p + 999, 7 * p / 3]);
-        }
-        for &v in &values {
-            for neg in [false, true] {
-                let p = if neg {
-                    -((v / 2) as i64)
-                } else {
-                    (v / 2) as i64
-                };
-                let mut a = Vec::new();
-                mm(&mut a, b'X', p, &st);
-                let sign = if p < 0 { "-" } else { "" };
-                let q = p.unsigned_abs();
-                let want = format!(" X{sign}{}.{:03}", q / 1000, q % 1000);
-                assert_eq!(text(a), want, "{p}");
-                let f = if neg {
-                    -((v % (1 << 49)) as f64)
-                } else {
-                    (v % (1 << 49)) as f64
-                };
-                for x in [f, f / 1000.0, f / 100.0, f / 10.0] {
-                    let (mut fast, mut slow) = (Vec::new(), Vec::new());
-                    number(&mut fast, b'F', x);
-                    number_fmt(&mut slow, b'F', x);
-                    let slow = text(slow);
-                    // The formatter prints a whole -0 as "-0"; novanc's whole numbers print 0.
-                    if x != 0.0 {
-                        assert_eq!(text(fast), slow, "{x:e}");
-                    }
-                }
-            }
-            let seq = (v % (u64::from(u32::MAX) + 1)) as u32;
-            let mut b = Block::aux(seq, 1, [0, 0, 0]);
-            b.m = Some(5);
-            let want = if seq == 0 {
-                "M05".to_string()
-            } else {
-                format!("N{seq} M05")
-            };
-            assert_eq!(iso_line(&b, &st), want);
-        }
-    }
-
     #[test]
     fn arcs_outside_xy_say_their_plane_and_ijk_from_the_start() {
         let st = MachineSettings::default();
