@@ -7,7 +7,7 @@
 
 use super::{Block, Css, FeedMode, Io, Motion, Plane, Statement};
 use crate::settings::MachineSettings;
-use std::fmt::Write;
+use std::io::Write;
 
 /// The program preamble: metric, absolute, XY plane, feed per minute, no cutter-radius or
 /// tool-length compensation, no canned cycle.
@@ -16,75 +16,131 @@ pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
 /// The program end.
 pub const END: &str = "M30";
 
-/// Appends a whole number in decimal (what `{}` prints, without the formatting machinery).
-/// "000" to "999", three digits each: numbers are printed a thousand at a time.
-const THOUSANDS: &str = {
-    const fn table() -> [u8; 3000] {
-        let mut t = [0u8; 3000];
-        let mut i = 0;
-        while i < 1000 {
-            t[3 * i] = b'0' + (i / 100) as u8;
-            t[3 * i + 1] = b'0' + (i / 10 % 10) as u8;
-            t[3 * i + 2] = b'0' + (i % 10) as u8;
-            i += 1;
+/// Decimal digits packed little-endian in an integer (the first character in the lowest
+/// byte): a word of up to 16 characters is made in a register and appended in one copy of
+/// 16 bytes, then the vector's length set back to the word's ([`push_packed`]). Pushed a
+/// character at a time, each cost a capacity check; copied by the length of the number, a
+/// call of the library's `memcpy`.
+const fn packed_table(trim: bool, point: bool) -> [u32; 1000] {
+    let mut t = [0u32; 1000];
+    let mut i = 0;
+    while i < 1000 {
+        let d = [
+            (b'0' + (i / 100) as u8) as u32,
+            (b'0' + (i / 10 % 10) as u8) as u32,
+            (b'0' + (i % 10) as u8) as u32,
+        ];
+        t[i] = if point {
+            b'.' as u32 | d[0] << 8 | d[1] << 16 | d[2] << 24
+        } else if !trim || i >= 100 {
+            d[0] | d[1] << 8 | d[2] << 16
+        } else if i >= 10 {
+            d[1] | d[2] << 8
+        } else {
+            d[2]
+        };
+        i += 1;
+    }
+    t
+}
+
+/// "0" to "999", packed, without leading zeros.
+const SMALL: [u32; 1000] = packed_table(true, false);
+/// "000" to "999", packed.
+const THREE: [u32; 1000] = packed_table(false, false);
+/// ".000" to ".999", packed.
+const DECIMALS: [u32; 1000] = packed_table(false, true);
+
+/// `v` in decimal, packed, and its number of digits; `None` from 10^12 (more than 12 digits).
+#[inline]
+fn packed(mut v: u64) -> Option<(u128, u32)> {
+    let mut groups = [0usize; 3];
+    let mut k = 0;
+    while v >= 1000 && k < 3 {
+        groups[k] = (v % 1000) as usize;
+        v /= 1000;
+        k += 1;
+    }
+    let lead = v as usize;
+    let mut x = u128::from(*SMALL.get(lead)?);
+    let mut n = 1 + u32::from(lead >= 10) + u32::from(lead >= 100);
+    while k > 0 {
+        k -= 1;
+        x |= u128::from(THREE[groups[k]]) << (8 * n);
+        n += 3;
+    }
+    Some((x, n))
+}
+
+/// Appends the first `len` (at most 16) bytes of `x`, packed.
+#[inline]
+fn push_packed(out: &mut Vec<u8>, x: u128, len: u32) {
+    let at = out.len();
+    out.extend_from_slice(&x.to_le_bytes());
+    out.truncate(at + len as usize);
+}
+
+/// Appends `v` in decimal.
+fn push_uint(out: &mut Vec<u8>, v: u64) {
+    match packed(v) {
+        Some((x, n)) => push_packed(out, x, n),
+        None => {
+            push_uint(out, v / 1_000_000);
+            let low = v % 1_000_000;
+            let x = u128::from(THREE[(low / 1000) as usize])
+                | u128::from(THREE[(low % 1000) as usize]) << 24;
+            push_packed(out, x, 6);
         }
-        t
     }
-    const T: [u8; 3000] = table();
-    match std::str::from_utf8(&T) {
-        Ok(s) => s,
-        Err(_) => panic!("ASCII digits"),
-    }
-};
+}
 
-/// The three digits of `v` (below 1000), or fewer without leading zeros when `trim`.
-fn digits3(v: u64, trim: bool) -> &'static str {
-    let i = 3 * v as usize;
-    let skip = if !trim || v >= 100 {
-        0
-    } else if v >= 10 {
-        1
+/// A word's start, packed: a space, its letter and a minus sign when `neg`.
+#[inline]
+fn word_start(word: u8, neg: bool) -> (u128, u32) {
+    let x = u128::from(b' ') | u128::from(word) << 8;
+    if neg {
+        (x | u128::from(b'-') << 16, 3)
     } else {
-        2
-    };
-    &THOUSANDS[i + skip..i + 3]
-}
-
-fn push_u64(out: &mut String, v: u64) {
-    if v < 1000 {
-        out.push_str(digits3(v, true));
-        return;
+        (x, 2)
     }
-    push_u64(out, v / 1000);
-    out.push_str(digits3(v % 1000, false));
 }
 
-fn mm(out: &mut String, word: char, pulses: i64, st: &MachineSettings) {
+/// Appends the word `start` (packed, `len` bytes) followed by the whole number `v` and then
+/// `tail` (packed, `tail_len` bytes, at most 4).
+#[inline]
+fn push_word(out: &mut Vec<u8>, (start, len): (u128, u32), v: u64, tail: u32, tail_len: u32) {
+    match packed(v) {
+        Some((d, n)) if len + n + tail_len <= 16 => {
+            // A tail of no bytes may start at the 17th: shifted out, not over the edge.
+            let tail = u128::from(tail).checked_shl(8 * (len + n)).unwrap_or(0);
+            let x = start | d << (8 * len) | tail;
+            push_packed(out, x, len + n + tail_len);
+        }
+        _ => {
+            push_packed(out, start, len);
+            push_uint(out, v);
+            push_packed(out, u128::from(tail), tail_len);
+        }
+    }
+}
+
+/// Appends ` {word}{mm:.3}` for `pulses` in millimetres.
+fn mm(out: &mut Vec<u8>, word: u8, pulses: i64, st: &MachineSettings) {
     if st.pulse_mm == 0.001 {
         // Whole pulses of 0.001 mm are exactly three decimals: print the integer (the same
         // text as formatting the float, several times faster).
-        out.push(' ');
-        out.push(word);
-        if pulses < 0 {
-            out.push('-');
-        }
         let p = pulses.unsigned_abs();
-        push_u64(out, p / 1000);
-        out.push('.');
-        out.push_str(digits3(p % 1000, false));
+        let decimals = DECIMALS[(p % 1000) as usize];
+        push_word(out, word_start(word, pulses < 0), p / 1000, decimals, 4);
         return;
     }
-    let _ = write!(out, " {word}{:.3}", st.to_mm(pulses));
+    let _ = write!(out, " {}{:.3}", word as char, st.to_mm(pulses));
 }
 
-fn number(out: &mut String, word: char, v: f64) {
+/// Appends ` {word}{v}` with at most three decimals, trailing zeros dropped.
+fn number(out: &mut Vec<u8>, word: u8, v: f64) {
     if v.fract() == 0.0 && v.abs() < 1e15 {
-        out.push(' ');
-        out.push(word);
-        if v < 0.0 {
-            out.push('-');
-        }
-        push_u64(out, v.abs() as u64);
+        push_word(out, word_start(word, v < 0.0), v.abs() as u64, 0, 0);
         return;
     }
     // Thousandths far from a half-way case round as `{:.3}` does: print the integer.
@@ -92,34 +148,34 @@ fn number(out: &mut String, word: char, v: f64) {
     let r = k.round();
     if k < 1e15 && (k - k.floor() - 0.5).abs() > 1e-6 {
         let t = r as u64;
-        out.push(' ');
-        out.push(word);
-        if v < 0.0 {
-            out.push('-');
-        }
-        push_u64(out, t / 1000);
         let f = t % 1000;
-        if f != 0 {
-            out.push('.');
-            let keep = if !f.is_multiple_of(10) {
-                3
-            } else if !f.is_multiple_of(100) {
-                2
-            } else {
-                1
-            };
-            out.push_str(&digits3(f, false)[..keep]);
-        }
+        // The point and the decimals but trailing zeros (none when all are).
+        let keep = if f == 0 {
+            0
+        } else if !f.is_multiple_of(10) {
+            4
+        } else if !f.is_multiple_of(100) {
+            3
+        } else {
+            2
+        };
+        let decimals = DECIMALS[f as usize];
+        push_word(out, word_start(word, v < 0.0), t / 1000, decimals, keep);
         return;
     }
     number_fmt(out, word, v);
 }
 
 /// `number` by the formatter: three decimals, trailing zeros dropped.
-fn number_fmt(out: &mut String, word: char, v: f64) {
+fn number_fmt(out: &mut Vec<u8>, word: u8, v: f64) {
     let s = format!("{v:.3}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
-    let _ = write!(out, " {word}{s}");
+    let _ = write!(out, " {}{s}", word as char);
+}
+
+/// The text an ISO printer made (ASCII, and the formatter's UTF-8 where it printed).
+fn text(v: Vec<u8>) -> String {
+    String::from_utf8(v).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
 /// The modal words a reader has in force before a line: those of the preamble (G17, G94,
@@ -132,7 +188,7 @@ struct Modes {
 }
 
 /// Appends one block's ISO line (no newline) to `out`.
-pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
+pub fn write_line(out: &mut Vec<u8>, b: &Block, st: &MachineSettings) {
     let mut modes = Modes::default();
     write_line_in(out, b, st, &mut modes);
 }
@@ -141,76 +197,72 @@ pub fn write_line(out: &mut String, b: &Block, st: &MachineSettings) {
 /// (updated): an arc in another plane prints its G17, G18 or G19; a change of feed mode its
 /// G94 or G95; a change of constant surface speed `G96 … S.. D..` or G97. A block the mill's
 /// sources make has none of these, so its line is as it always was.
-fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut Modes) {
+fn write_line_in(out: &mut Vec<u8>, b: &Block, st: &MachineSettings, modes: &mut Modes) {
     let plane = &mut modes.plane;
     let start = out.len();
     // A block the console or the core made (a SEARCH restore) has no N number.
     if b.seq != 0 {
-        out.push('N');
-        push_u64(out, u64::from(b.seq));
+        push_word(out, (u128::from(b'N'), 1), u64::from(b.seq), 0, 0);
     }
-    let g = match b.motion {
-        Motion::Rapid => Some("G00"),
-        Motion::Linear if b.probe.is_some() => Some(match b.probe {
-            Some(383) => "G38.3",
-            Some(384) => "G38.4",
-            Some(385) => "G38.5",
-            Some(310) => "G31",
-            _ => "G38.2",
-        }),
-        Motion::Linear if b.thread.is_some() => Some("G33"),
-        Motion::Linear => Some("G01"),
-        Motion::ArcCw => Some("G02"),
-        Motion::ArcCcw => Some("G03"),
-        Motion::Dwell => Some("G04"),
-        Motion::Aux => None,
-    };
     let arc = matches!(b.motion, Motion::ArcCw | Motion::ArcCcw);
     if arc && (b.plane != Plane::XY || *plane != Plane::XY) {
-        out.push(' ');
-        out.push_str(b.plane.g_code());
+        out.push(b' ');
+        out.extend_from_slice(b.plane.g_code().as_bytes());
         *plane = b.plane;
     }
     let feed_mode = (modes.feed_mode != b.feed_mode).then_some(b.feed_mode);
     modes.feed_mode = b.feed_mode;
     match feed_mode {
-        Some(FeedMode::PerRev) => out.push_str(" G95"),
-        Some(FeedMode::PerMin) => out.push_str(" G94"),
+        Some(FeedMode::PerRev) => out.extend_from_slice(b" G95"),
+        Some(FeedMode::PerMin) => out.extend_from_slice(b" G94"),
         None => {}
     }
     let css = (modes.css != b.css).then_some(b.css);
     modes.css = b.css;
     match css {
-        Some(Some(_)) => out.push_str(" G96"),
-        Some(None) => out.push_str(" G97"),
+        Some(Some(_)) => out.extend_from_slice(b" G96"),
+        Some(None) => out.extend_from_slice(b" G97"),
         None => {}
     }
-    if let Some(g) = g {
-        out.push(' ');
-        out.push_str(g);
+    // Each code its own copy of a length the compiler knows (no call of `memcpy`).
+    match b.motion {
+        Motion::Rapid => out.extend_from_slice(b" G00"),
+        Motion::Linear if b.probe.is_some() => match b.probe {
+            Some(383) => out.extend_from_slice(b" G38.3"),
+            Some(384) => out.extend_from_slice(b" G38.4"),
+            Some(385) => out.extend_from_slice(b" G38.5"),
+            Some(310) => out.extend_from_slice(b" G31"),
+            _ => out.extend_from_slice(b" G38.2"),
+        },
+        Motion::Linear if b.thread.is_some() => out.extend_from_slice(b" G33"),
+        Motion::Linear => out.extend_from_slice(b" G01"),
+        Motion::ArcCw => out.extend_from_slice(b" G02"),
+        Motion::ArcCcw => out.extend_from_slice(b" G03"),
+        Motion::Dwell => out.extend_from_slice(b" G04"),
+        Motion::Aux => {}
     }
     match b.motion {
         Motion::Rapid | Motion::Linear => {
             let all = b.delta == [0; 3];
-            for (i, w) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            for (i, w) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
                 if all || b.delta[i] != 0 {
                     mm(out, w, b.end[i], st);
                 }
             }
             // A rotary A, in degrees, when it moves (docs/gcode.md "Rotary axis A").
             if b.delta[3] != 0 {
-                mm(out, 'A', b.end[3], st);
+                mm(out, b'A', b.end[3], st);
             }
         }
         Motion::ArcCw | Motion::ArcCcw => {
             let [a0, a1, normal] = b.plane.axes();
-            for (i, w) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            for (i, w) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
                 if i != normal || b.delta[i] != 0 {
                     mm(out, w, b.end[i], st);
                 }
             }
             let c = b.center.unwrap_or([0, 0]);
-            let names = ['I', 'J', 'K'];
+            let names = [b'I', b'J', b'K'];
             mm(out, names[a0], c[0], st);
             mm(out, names[a1], c[1], st);
         }
@@ -220,13 +272,13 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut 
         Motion::Aux => {}
     }
     if let (Motion::Linear, Some(lead)) = (b.motion, b.thread) {
-        number(out, 'K', lead);
+        number(out, b'K', lead);
     } else if matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw) {
-        number(out, 'F', b.feed);
+        number(out, b'F', b.feed);
     }
     if let Some(Some(c)) = css {
-        number(out, 'S', c.m_per_min);
-        number(out, 'D', c.limit_rpm);
+        number(out, b'S', c.m_per_min);
+        number(out, b'D', c.limit_rpm);
     }
     if let Some(s) = b.s {
         let _ = write!(out, " S{s}");
@@ -240,14 +292,14 @@ fn write_line_in(out: &mut String, b: &Block, st: &MachineSettings, modes: &mut 
     if let Some(io) = b.io {
         write_io(out, io);
     }
-    if b.seq == 0 && out[start..].starts_with(' ') {
+    if b.seq == 0 && out.get(start) == Some(&b' ') {
         out.remove(start);
     }
 }
 
 /// The words of an I/O action (`M62 P3`, `M67 E1 Q2.5`, `M66 P0 L3 Q5`, `M19 R90 P0`,
 /// `M50 P0 M51 P1`).
-fn write_io(out: &mut String, io: Io) {
+fn write_io(out: &mut Vec<u8>, io: Io) {
     match io {
         Io::Digital { index, on, synced } => {
             let m = match (synced, on) {
@@ -264,7 +316,7 @@ fn write_io(out: &mut String, io: Io) {
             synced,
         } => {
             let _ = write!(out, " M{} E{index}", if synced { 67 } else { 68 });
-            number(out, 'Q', value);
+            number(out, b'Q', value);
         }
         Io::Wait {
             digital,
@@ -278,12 +330,12 @@ fn write_io(out: &mut String, io: Io) {
                 if digital { 'P' } else { 'E' }
             );
             if timeout > 0.0 {
-                number(out, 'Q', timeout);
+                number(out, b'Q', timeout);
             }
         }
         Io::Orient { angle, dir } => {
-            out.push_str(" M19");
-            number(out, 'R', angle);
+            out.extend_from_slice(b" M19");
+            number(out, b'R', angle);
             let _ = write!(out, " P{dir}");
         }
         Io::Overrides { feed, speed } => {
@@ -294,25 +346,26 @@ fn write_io(out: &mut String, io: Io) {
 
 /// One block as an ISO 6983 word-address line in absolute mm with 3 decimals.
 pub fn iso_line(block: &Block, settings: &MachineSettings) -> String {
-    let mut s = String::with_capacity(48);
+    let mut s = Vec::with_capacity(48);
     write_line(&mut s, block, settings);
-    s
+    text(s)
 }
 
 /// The whole program: the preamble, one line per block, then `M30` unless the last block
 /// already is the translator's end-of-program `M30`.
 pub fn iso_program(statements: &[Statement], settings: &MachineSettings) -> String {
-    let mut s = String::new();
+    let mut s = Vec::new();
     let mut w = IsoWriter::new(&mut s);
     for st in statements {
         w.statement(&mut s, st, settings);
     }
     w.finish(&mut s);
-    s
+    text(s)
 }
 
 /// Prints a program statement by statement (the same text as [`iso_program`]), so that a
-/// long program need not be held whole.
+/// long program need not be held whole. It appends bytes (ASCII text) to a `Vec<u8>`, which
+/// a writer takes as it is: a `String` would have its every character checked on the way.
 #[derive(Clone, Copy, Debug)]
 pub struct IsoWriter {
     modes: Modes,
@@ -321,9 +374,9 @@ pub struct IsoWriter {
 
 impl IsoWriter {
     /// Starts a program: appends the preamble to `out`.
-    pub fn new(out: &mut String) -> IsoWriter {
-        out.push_str(PREAMBLE);
-        out.push('\n');
+    pub fn new(out: &mut Vec<u8>) -> IsoWriter {
+        out.extend_from_slice(PREAMBLE.as_bytes());
+        out.push(b'\n');
         IsoWriter {
             modes: Modes::default(),
             last_m: None,
@@ -331,19 +384,19 @@ impl IsoWriter {
     }
 
     /// Appends the lines of one statement's blocks.
-    pub fn statement(&mut self, out: &mut String, st: &Statement, settings: &MachineSettings) {
+    pub fn statement(&mut self, out: &mut Vec<u8>, st: &Statement, settings: &MachineSettings) {
         for b in &st.blocks {
             write_line_in(out, b, settings, &mut self.modes);
-            out.push('\n');
+            out.push(b'\n');
             self.last_m = b.m;
         }
     }
 
     /// Ends the program: `M30` unless the last block was one.
-    pub fn finish(self, out: &mut String) {
+    pub fn finish(self, out: &mut Vec<u8>) {
         if self.last_m != Some(30) {
-            out.push_str(END);
-            out.push('\n');
+            out.extend_from_slice(END.as_bytes());
+            out.push(b'\n');
         }
     }
 }
@@ -380,9 +433,10 @@ mod tests {
             ]);
         }
         for v in values {
-            let (mut fast, mut slow) = (String::new(), String::new());
-            number(&mut fast, 'F', v);
-            number_fmt(&mut slow, 'F', v);
+            let (mut fast, mut slow) = (Vec::new(), Vec::new());
+            number(&mut fast, b'F', v);
+            number_fmt(&mut slow, b'F', v);
+            let (fast, slow) = (text(fast), text(slow));
             if v.fract() != 0.0 || v.abs() >= 1e15 {
                 assert_eq!(fast, slow, "{v:e}");
             }
@@ -436,9 +490,9 @@ mod tests {
             -485_000,
             1 << 40,
         ] {
-            let mut a = String::new();
-            mm(&mut a, 'X', p, &st);
-            assert_eq!(a, format!(" X{:.3}", st.to_mm(p)), "{p}");
+            let mut a = Vec::new();
+            mm(&mut a, b'X', p, &st);
+            assert_eq!(text(a), format!(" X{:.3}", st.to_mm(p)), "{p}");
         }
     }
 

@@ -233,10 +233,10 @@ pub fn print_iso(
         subroutines: subroutine_path(name, subroutines),
     };
     if let Some(text) = run.held(hold).map_err(PrintError::Program)? {
-        return out.write_all(text.as_bytes()).map_err(PrintError::Write);
+        return out.write_all(&text).map_err(PrintError::Write);
     }
     // Too long to hold, and without an error: made again, and written a piece at a time.
-    let mut buf = String::new();
+    let mut buf = Vec::new();
     let mut w = IsoWriter::new(&mut buf);
     let mut statements = run.statements();
     while let Some(r) = statements.next() {
@@ -244,12 +244,12 @@ pub fn print_iso(
         w.statement(&mut buf, &st, settings);
         statements.recycle(st);
         if buf.len() > 1 << 20 {
-            out.write_all(buf.as_bytes()).map_err(PrintError::Write)?;
+            out.write_all(&buf).map_err(PrintError::Write)?;
             buf.clear();
         }
     }
     w.finish(&mut buf);
-    out.write_all(buf.as_bytes()).map_err(PrintError::Write)
+    out.write_all(&buf).map_err(PrintError::Write)
 }
 
 /// A program's statements, each handed back once printed so that the next is made in its
@@ -314,7 +314,9 @@ impl Listing<'_> {
                         self.switches,
                     )
                 }
-                .subroutines(Box::new(crate::gcode::SubPath(self.subroutines.clone()))),
+                .subroutines(Box::new(crate::gcode::SubPath(self.subroutines.clone())))
+                // Only the blocks are printed.
+                .without_texts(),
             )
         } else {
             Box::new(Translator::new(
@@ -328,8 +330,8 @@ impl Listing<'_> {
 
     /// The whole listing, translated to the end; `None` (the program without an error) once
     /// it is longer than `hold` bytes, the text then dropped.
-    fn held(&self, hold: usize) -> Result<Option<String>, TranslateError> {
-        let mut out = String::with_capacity(self.source.len().saturating_mul(2).min(hold));
+    fn held(&self, hold: usize) -> Result<Option<Vec<u8>>, TranslateError> {
+        let mut out = Vec::with_capacity(self.source.len().saturating_mul(2).min(hold));
         let mut w = IsoWriter::new(&mut out);
         let mut held = true;
         let mut statements = self.statements();
@@ -337,7 +339,7 @@ impl Listing<'_> {
             let st = r?;
             if held && out.len() + st.blocks.len() * BYTES_PER_LINE > hold {
                 held = false;
-                out = String::new();
+                out = Vec::new();
             }
             if held {
                 w.statement(&mut out, &st, self.settings);

@@ -237,10 +237,13 @@ impl Emitter {
                     let mut best = c;
                     let mut diff = (rad(s, c) - rad(e, c)).abs();
                     // Only an arc programmed on its circle is nudged; a spiral stays as given.
+                    // (Asked only of radii that parted: two square roots an arc otherwise.)
                     let radius_mm = |p: [f64; 3]| (p[a0] - centre[a0]).hypot(p[a1] - centre[a1]);
-                    let s_mm = [st.to_mm(s[0]), st.to_mm(s[1]), st.to_mm(s[2])];
-                    let on_circle = (radius_mm(s_mm) - radius_mm(*end)).abs() < 0.5 * st.pulse_mm;
-                    if diff > 1.0 && on_circle {
+                    let on_circle = || {
+                        let s_mm = [st.to_mm(s[0]), st.to_mm(s[1]), st.to_mm(s[2])];
+                        (radius_mm(s_mm) - radius_mm(*end)).abs() < 0.5 * st.pulse_mm
+                    };
+                    if diff > 1.0 && on_circle() {
                         for du in -1..=1 {
                             for dv in -1..=1 {
                                 let mut cc = c;
@@ -254,16 +257,17 @@ impl Emitter {
                             }
                         }
                     }
-                    if rad(s, best) > 100_000_000.0 {
+                    let radius = rad(s, best);
+                    if radius > 100_000_000.0 {
                         return Err(err(format!(
                             "arc radius {:.3} mm is over the 100 m the pulse core steps",
-                            st.to_mm(rad(s, best) as i64)
+                            st.to_mm(radius as i64)
                         )));
                     }
-                    if rad(s, best) < 2.0 {
+                    if radius < 2.0 {
                         return Err(err(format!(
                             "arc radius {:.4} mm is below 2 pulses",
-                            st.to_mm(rad(s, best) as i64)
+                            st.to_mm(radius as i64)
                         )));
                     }
                     b.end = Axes::with_a(e, self.pos[3]);
@@ -272,7 +276,7 @@ impl Emitter {
                     b.center = Some([best[a0] - s[a0], best[a1] - s[a1]]);
                     b.feed = *feed;
                     check_point(st, e).map_err(err)?;
-                    check_arc(st, s, e, best, *plane, *ccw).map_err(err)?;
+                    check_arc(st, &limits, s, e, best, *plane, *ccw).map_err(err)?;
                 }
                 Canon::Dwell(secs) => {
                     b.motion = Motion::Dwell;
@@ -320,11 +324,6 @@ fn round(x: f64) -> i64 {
     }
 }
 
-/// A point inside every travel limit, or why not.
-fn check_point(st: &MachineSettings, p: [i64; 3]) -> Result<(), String> {
-    check_in(st, &travel_pulses(st), p)
-}
-
 /// A point inside the travel limits given in pulses, or why not.
 #[inline]
 fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Result<(), String> {
@@ -349,19 +348,54 @@ fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
     )
 }
 
-/// The axis points (centre ± R) an arc sweeps over must be inside the travel too.
+/// The axis points (centre ± R) an arc sweeps over must be inside the travel too (`limits`,
+/// the travel in pulses).
 fn check_arc(
     st: &MachineSettings,
+    limits: &[(i64, i64); 3],
     s: [i64; 3],
     e: [i64; 3],
     c: [i64; 3],
     plane: Plane,
     ccw: bool,
 ) -> Result<(), String> {
+    let [u, v] = plane.turn_axes();
+    let r = ((s[u] - c[u]) as f64).hypot((s[v] - c[v]) as f64);
+    // The four axis points of the whole circle, as the sweep below works them out: the
+    // cosine and sine of a quarter turn are 1, 0 or −1 to within 2e-16, which moves no
+    // point of a radius up to the 100 m the emitter allows by half a pulse. All four inside
+    // the travel: so is any part of the circle, and the angles (two `atan2`, a tenth of the
+    // work of a program of arcs) are not needed.
+    if r <= 1e9 {
+        let k = r.round() as i64;
+        let inside = [(k, 0), (0, k), (-k, 0), (0, -k)].iter().all(|&(du, dv)| {
+            let mut p = s;
+            p[u] = c[u] + du;
+            p[v] = c[v] + dv;
+            check_in(st, limits, p).is_ok()
+        });
+        if inside {
+            return Ok(());
+        }
+    }
+    check_sweep(st, limits, s, e, c, plane, ccw, r)
+}
+
+/// [`check_arc`] by the angles: the axis points within the arc's sweep, radius `r`.
+#[allow(clippy::too_many_arguments)]
+fn check_sweep(
+    st: &MachineSettings,
+    limits: &[(i64, i64); 3],
+    s: [i64; 3],
+    e: [i64; 3],
+    c: [i64; 3],
+    plane: Plane,
+    ccw: bool,
+    r: f64,
+) -> Result<(), String> {
     use std::f64::consts::{FRAC_PI_2, TAU};
     let [u, v] = plane.turn_axes();
     let a = |p: [i64; 3]| ((p[v] - c[v]) as f64).atan2((p[u] - c[u]) as f64);
-    let r = ((s[u] - c[u]) as f64).hypot((s[v] - c[v]) as f64);
     let (a0, a1) = (a(s), a(e));
     let mut sweep = if ccw { a1 - a0 } else { a0 - a1 }.rem_euclid(TAU);
     if s[u] == e[u] && s[v] == e[v] {
@@ -374,7 +408,7 @@ fn check_arc(
             let mut p = s;
             p[u] = c[u] + (r * q.cos()).round() as i64;
             p[v] = c[v] + (r * q.sin()).round() as i64;
-            check_point(st, p)?;
+            check_in(st, limits, p)?;
         }
     }
     Ok(())
@@ -382,6 +416,48 @@ fn check_arc(
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    /// An arc whose whole circle is inside the travel is passed without its angles; the
+    /// answer (and the message of a point beyond) is the sweep's for any arc, near the
+    /// travel's edges or far inside.
+    #[test]
+    fn the_circle_inside_gives_the_sweeps_answer() {
+        let st = MachineSettings::default();
+        let limits = travel_pulses(&st);
+        let mut rng = crate::pulse_core::testkit::Rng::new(21);
+        let (mut passed, mut refused) = (0, 0);
+        for i in 0..20_000 {
+            let plane = [Plane::XY, Plane::XZ, Plane::YZ][i % 3];
+            let [u, v] = plane.turn_axes();
+            // Centres spread over the travel and a little beyond, radii up to a metre.
+            let mut c = [0i64; 3];
+            for (a, x) in c.iter_mut().enumerate() {
+                let (lo, hi) = limits[a];
+                *x = rng.range(lo - 20_000, hi + 20_000);
+            }
+            let r = 2.0 + rng.unit() * [100.0, 10_000.0, 1_000_000.0][i % 3];
+            let (t0, t1) = (rng.unit() * 7.0, rng.unit() * 7.0);
+            let mut s = c;
+            let mut e = c;
+            s[u] += (r * t0.cos()).round() as i64;
+            s[v] += (r * t0.sin()).round() as i64;
+            e[u] += (r * t1.cos()).round() as i64;
+            e[v] += (r * t1.sin()).round() as i64;
+            let ccw = i % 2 == 0;
+            let rs = ((s[u] - c[u]) as f64).hypot((s[v] - c[v]) as f64);
+            let fast = check_arc(&st, &limits, s, e, c, plane, ccw);
+            let sweep = check_sweep(&st, &limits, s, e, c, plane, ccw, rs);
+            assert_eq!(fast, sweep, "{s:?} {e:?} {c:?} {plane:?} {ccw}");
+            if fast.is_ok() {
+                passed += 1;
+            } else {
+                refused += 1;
+            }
+        }
+        assert!(passed > 1000 && refused > 1000, "{passed} {refused}");
+    }
+
     #[test]
     fn round_is_half_away_from_zero_like_f64_round() {
         for x in [
@@ -397,7 +473,7 @@ mod tests {
             -7.0,
             1e15 + 0.5,
         ] {
-            assert_eq!(super::round(x), x.round() as i64, "{x}");
+            assert_eq!(round(x), x.round() as i64, "{x}");
         }
     }
 }

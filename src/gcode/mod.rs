@@ -335,6 +335,8 @@ pub struct GcodeSource {
     /// The line being executed has a move and a modal call is in force: the macro is called
     /// after it.
     modal_due: bool,
+    /// Statements carry their source line's text ([`GcodeSource::without_texts`]).
+    texts: bool,
 }
 
 /// A G66 modal call in force: the macro, its arguments and where it was given.
@@ -469,7 +471,16 @@ impl GcodeSource {
             adp: Vec::new(),
             modal_call: None,
             modal_due: false,
+            texts: true,
         }
+    }
+
+    /// Statements without their source line's text (empty): for a reader whose statements
+    /// are only printed as blocks (`novanc translate`), which then neither trims nor copies
+    /// each line.
+    pub fn without_texts(mut self) -> GcodeSource {
+        self.texts = false;
+        self
     }
 
     /// The most lines this program may execute (default [`MAX_LINES`]).
@@ -858,7 +869,7 @@ impl GcodeSource {
             }
             // The closing %: the program ends.
             spline::unfinished(&self.st, n, 1, "the program's end")?;
-            return Ok(Some(self.end(n, trimmed(raw), Vec::new(), None)));
+            return Ok(Some(self.end(n, raw, Vec::new(), None)));
         }
         if let Some(o) = &line.o {
             if o.kind == read::OKind::Bare && !self.flow.skipping() {
@@ -1004,7 +1015,7 @@ impl GcodeSource {
                 self.out_buf = out;
                 return Err(e);
             }
-            return Ok(Some(self.finish(n, trimmed(raw), out, false)));
+            return Ok(Some(self.finish(n, raw, out, false)));
         }
         self.comments(n, &line.comments)?;
         if let Some(m) = line.fanuc {
@@ -1029,15 +1040,15 @@ impl GcodeSource {
             match g.map(|w| w.value as u8) {
                 Some(65) => {
                     self.g65(at, n, line)?;
-                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
                 }
                 Some(66) => {
                     self.g66(n, line)?;
-                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
                 }
                 Some(_) => {
                     self.g67(n, line)?;
-                    return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
                 }
                 None => {}
             }
@@ -1051,7 +1062,7 @@ impl GcodeSource {
             if line.assigns.is_empty() && line.comments.is_empty() {
                 return Ok(None);
             }
-            return Ok(Some(self.finish(n, trimmed(raw), Vec::new(), false)));
+            return Ok(Some(self.finish(n, raw, Vec::new(), false)));
         }
         if fanuc {
             // #4113: the last M code read.
@@ -1108,7 +1119,7 @@ impl GcodeSource {
                 if modal_due {
                     self.modal_call_after_move(at, n)?;
                 }
-                Ok(Some(self.finish(n, trimmed(raw), out, false)))
+                Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Call { o, l, col } => {
                 let r = self
@@ -1119,7 +1130,7 @@ impl GcodeSource {
                     col,
                     message: m,
                 })?;
-                Ok(Some(self.finish(n, trimmed(raw), out, false)))
+                Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Return { col } => {
                 self.flow
@@ -1129,16 +1140,16 @@ impl GcodeSource {
                         col,
                         message: m,
                     })?;
-                Ok(Some(self.finish(n, trimmed(raw), out, false)))
+                Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Remap { col } => {
                 self.remap_m6(at, n, raw, col)?;
-                Ok(Some(self.finish(n, trimmed(raw), out, false)))
+                Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::End => {
                 // M02/M30 cancel a G66 in force, as on Fanuc.
                 self.modal_call = None;
-                Ok(Some(self.end(n, trimmed(raw), out, Some(end_m))))
+                Ok(Some(self.end(n, raw, out, Some(end_m))))
             }
         }
     }
@@ -1408,7 +1419,9 @@ impl GcodeSource {
             });
         }
         buf.clear();
-        buf.push_str(text);
+        if self.texts {
+            buf.push_str(trimmed(text));
+        }
         Some(Ok(Statement {
             line: n,
             text: buf,
@@ -1615,6 +1628,30 @@ fn lookup(st: &InterpState, flow: &Flow, name: &str) -> Option<f64> {
 #[cfg(test)]
 mod trim_tests {
     use super::trimmed;
+
+    /// A reader without texts makes the same blocks, and statements whose text is empty.
+    #[test]
+    fn without_texts_the_blocks_are_the_same() {
+        let src = "G0 X1 Y2  \n(a comment)\nG1 Z-1 F100\n G2 X3 Y2 I1 J0\nM30\n";
+        let make = || {
+            super::GcodeSource::new(
+                src.into(),
+                crate::tooldata::sample_magazine(),
+                crate::settings::MachineSettings::default(),
+                crate::block::MachineState::at([0, 0, 0]),
+                Default::default(),
+                Default::default(),
+            )
+        };
+        let with: Vec<_> = make().map(|r| r.unwrap()).collect();
+        let without: Vec<_> = make().without_texts().map(|r| r.unwrap()).collect();
+        assert_eq!(with.len(), without.len());
+        assert!(with.iter().any(|s| s.text == "G0 X1 Y2"));
+        for (a, b) in with.iter().zip(&without) {
+            assert_eq!(a.blocks, b.blocks);
+            assert_eq!((a.line, b.text.as_str()), (b.line, ""));
+        }
+    }
 
     /// `trimmed` is `trim` without its Unicode search on the usual lines: ASCII blanks around
     /// ASCII words (CAM output's trailing spaces), and the same as `trim` on anything else.
