@@ -375,6 +375,18 @@ impl Console {
         self.op == OpMode::Mdi
     }
 
+    /// The settings a run reads its text with: in AUTO (`auto`) the program's own dialect
+    /// (docs/gcode.md "Fanuc dialect"), in MDI the machine's.
+    pub fn run_settings_for(&self, auto: bool) -> crate::settings::MachineSettings {
+        let mut s = self.cfg.settings.clone();
+        if auto {
+            s.dialect = self
+                .mem
+                .program_dialect(&self.mem.program_name(), s.dialect);
+        }
+        s
+    }
+
     /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
     /// otherwise (what a backplot should draw).
     pub fn run_text(&self) -> String {

@@ -186,12 +186,7 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
     }
     // AUTO reads the program in the dialect it was stored in; MDI in the machine's
     // (docs/gcode.md "Fanuc dialect": the programs a run calls are read in the run's).
-    let mut settings = c.cfg.settings.clone();
-    if kind == RunKind::Auto {
-        settings.dialect = c
-            .mem
-            .program_dialect(&c.mem.program_name(), settings.dialect);
-    }
+    let settings = c.run_settings_for(kind == RunKind::Auto);
     RunSource {
         text,
         gcode,

@@ -795,8 +795,8 @@ mod tests {
         s.pos[2] += rng.range(-1000, 1000);
         s.speed_mm_min = [0.0, 120.0, rng.unit() * 6000.0][rng.range(0, 2) as usize];
         s.run = (i / 7 % 2) as u8;
-        s.hold = i % 11 == 0;
-        if i % 5 == 0 {
+        s.hold = i.is_multiple_of(11);
+        if i.is_multiple_of(5) {
             s.executing = Some(BlockEntry {
                 stmt: Arc::new(Statement {
                     line: (i / 5 % 4) as u32,
@@ -806,7 +806,7 @@ mod tests {
                 index: 0,
             });
         }
-        if i % 17 == 0 {
+        if i.is_multiple_of(17) {
             s.executing = None;
         }
         s.feed_override = [100, 80][(i / 13 % 2) as usize];

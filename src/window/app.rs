@@ -288,7 +288,8 @@ impl App {
         if self.program_dirty
             && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
         {
-            let s = m.settings();
+            // Read as START reads it: in the program's own dialect.
+            let s = m.run_settings();
             let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
             let gcode = m.gcode_start();
             self.plot

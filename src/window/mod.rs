@@ -44,6 +44,10 @@ pub trait Machine {
     fn magazine(&self) -> Magazine;
     /// The machine settings.
     fn settings(&self) -> MachineSettings;
+    /// The settings START reads `program_text` with (the program's own dialect).
+    fn run_settings(&self) -> MachineSettings {
+        self.settings()
+    }
     /// RUN = 0 and no motion.
     fn is_idle(&self) -> bool;
     /// The N number of the block executing now, if one is.
@@ -93,6 +97,9 @@ impl Machine for crate::console::Console {
     }
     fn settings(&self) -> MachineSettings {
         crate::console::Console::settings(self).clone()
+    }
+    fn run_settings(&self) -> MachineSettings {
+        self.run_settings_for(!self.run_text_is_mdi())
     }
     fn is_idle(&self) -> bool {
         crate::console::Console::is_idle(self)
