@@ -1176,11 +1176,7 @@ fn reset_during_a_clock_wait_abandons_the_run_without_a_hang() {
     c.core().set_audit(true);
     let f = common::temp_dir("fanuc-clock-reset-prog").join("CLOCK.NC");
     std::fs::write(&f, "O1\nG00 X10.\n#100=#3001\nG00 Y[#100/1000]\nM30\n").unwrap();
-    c.handle(E::Op(OpMode::Data));
-    c.handle(E::Data(DataMode::Read));
-    c.handle(E::Tape(f));
-    c.handle(E::Start);
-    c.handle(E::Wait);
+    common::read_program(&mut c, f);
     c.handle(E::Op(OpMode::Single));
     c.handle(E::Start);
     c.handle(E::Wait);

@@ -265,7 +265,7 @@ fn a_run_whose_probe_misses_stops_after_the_probe_move() {
 /// through to its end (no hang).
 #[test]
 fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
-    use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
+    use novanc::panel_model::{OpMode, PanelEvent as E};
     let mut c = common::open("probe-reset");
     let f = common::temp_dir("probe-reset-prog").join("touch.ngc");
     std::fs::write(
@@ -273,11 +273,7 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
         "G21 G90\nG0 X500 Y400 Z-400\nG38.2 Z-480 F100\nG0 Z#5063\nM30\n",
     )
     .unwrap();
-    c.handle(E::Op(OpMode::Data));
-    c.handle(E::Data(DataMode::Read));
-    c.handle(E::Tape(f));
-    c.handle(E::Start);
-    c.handle(E::Wait);
+    common::read_program(&mut c, f);
     c.handle(E::Op(OpMode::Single));
     c.handle(E::Start);
     c.handle(E::Wait);

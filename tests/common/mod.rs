@@ -132,6 +132,16 @@ pub fn mdi(c: &mut Console, line: &str) {
     c.handle(PanelEvent::Wait);
 }
 
+/// PROGRAM READ of a file into program memory: DATA, READ, the file in the reader, START, and
+/// waited for.
+pub fn read_program(c: &mut Console, path: PathBuf) {
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    c.handle(PanelEvent::Data(novanc::panel_model::DataMode::Read));
+    c.handle(PanelEvent::Tape(path));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+}
+
 /// Presses keys by their script names (`F9`, `Alt+2`, `Right`, `x`, ...).
 pub fn keys(c: &mut Console, names: &[&str]) {
     for n in names {
