@@ -37,12 +37,14 @@ pub const NOT_CLOSED: &str = "not closed: the process ended while recording";
 
 /// The options of every novanc MCAP file: no compression, no automatic chunks (the writers
 /// close them, so that they know what reached the file), chunks built in memory and written
-/// whole (no seeking back into the file), the library named.
+/// whole (no seeking back into the file), no CRC of the data section (the file holds records
+/// the MCAP writer does not see: `RecordFile`), the library named.
 pub fn mcap_options() -> mcap::WriteOptions {
     mcap::WriteOptions::new()
         .compression(None)
         .chunk_size(None)
         .disable_seeking(true)
+        .calculate_data_section_crc(false)
         .profile("")
         .library(concat!("novanc ", env!("CARGO_PKG_VERSION")))
 }
@@ -76,77 +78,180 @@ pub trait RecordOutput: Write + Seek {
     }
 }
 
+/// Where a `RecordFile` puts its bytes: the file, or (in tests) a log of every write.
+pub trait Disk {
+    /// Writes all of `buf` at byte `at` (past the end: the gap reads as zeros).
+    fn write_at(&mut self, buf: &[u8], at: u64) -> io::Result<()>;
+    /// Cuts (or extends) the file to `len` bytes.
+    fn set_len(&mut self, len: u64) -> io::Result<()>;
+}
+
+impl Disk for File {
+    fn write_at(&mut self, buf: &[u8], at: u64) -> io::Result<()> {
+        self.write_all_at(buf, at)
+    }
+
+    fn set_len(&mut self, len: u64) -> io::Result<()> {
+        File::set_len(self, len)
+    }
+}
+
+/// The size of a page: the unit in which Linux copies a write into a file, and so the unit in
+/// which SIGKILL can cut one short. A write that stays inside one page is done whole or not at
+/// all (the kernel tests for a fatal signal before each page it copies).
+pub const PAGE: u64 = 4096;
+
+/// The opcode a provisional end takes once the next commit is in place: a private record
+/// (opcodes 0x80–0xFF), which every MCAP reader skips by its length.
+pub const SKIPPED_END: u8 = 0x80;
+
 /// An MCAP file that ends with a footer at every moment (see the module's documentation),
-/// but for the moment of one write system call: what the MCAP writer writes between two
-/// commits (a chunk, its message indexes) is kept in memory, and the commit (`flush`) writes
-/// it with the new provisional end in one positioned write over the old end. (It was written
-/// as it came, and a process killed between the chunk's write and the commit, a window that
-/// a loaded machine's scheduler stretches, left a file cut inside a chunk.)
+/// even when a stop signal cuts one of its writes short. What the MCAP writer writes between
+/// two commits (a chunk, its message indexes) is kept in memory, and a commit (`flush`) puts
+/// it in the file in three writes, each of which may be cut:
+///
+/// 1. the new provisional end, after where the chunk will end, placed (by a padding record
+///    before it) inside one page, so that this write is whole or absent;
+/// 2. the chunk (and the padding) between the old provisional end and the new one;
+/// 3. the old provisional end's first 9 bytes (its opcode and length, again inside one page)
+///    turned into the header of a `SKIPPED_END` record as long as it was.
+///
+/// Until the third write the file reads as the last commit left it: a reader from the start
+/// stops at the old end's footer, and a reader that starts from the file's last bytes finds
+/// the new end's footer, which has no summary and sends it to read from the start. After it,
+/// both read the new chunk. (Before, one write put the chunk and the new end over the old end;
+/// SIGKILL during it left a file that ended inside a chunk.) The skipped ends stay in the
+/// file, about 170 bytes per commit; the data section has no CRC (`mcap_options`), since the
+/// MCAP writer does not see them.
 #[derive(Debug)]
-pub struct RecordFile {
-    file: File,
-    /// Bytes of the MCAP stream in the file as of the last commit.
-    committed: u64,
-    /// Bytes of the MCAP stream written so far (the stream's position): the file's, and
+pub struct RecordFile<D: Disk = File> {
+    disk: D,
+    /// The provisional end in force: where it starts and its length (none before the first
+    /// commit).
+    end: Option<(u64, u64)>,
+    /// Bytes of the MCAP stream written so far (the stream's position): the file's through
+    /// the provisional end in force (which stays in the stream as a skipped record), and
     /// `pending` after them.
     written: u64,
     /// What was written since the last commit, not yet in the file.
     pending: Vec<u8>,
+    /// Where what the last commit wrote ends, before the padding and the provisional end.
+    content_end: u64,
 }
 
 impl RecordFile {
     /// Creates (or empties) the file.
     pub fn create(path: &Path) -> io::Result<RecordFile> {
-        Ok(RecordFile {
-            file: File::create(path)?,
-            committed: 0,
+        Ok(RecordFile::on(File::create(path)?))
+    }
+}
+
+impl<D: Disk> RecordFile<D> {
+    /// A recording written to `disk`, which is empty.
+    pub fn on(disk: D) -> RecordFile<D> {
+        RecordFile {
+            disk,
+            end: None,
             written: 0,
             pending: Vec::new(),
-        })
+            content_end: 0,
+        }
+    }
+
+    /// Where the stream's bytes in the file end: after the provisional end in force.
+    fn placed(&self) -> u64 {
+        self.end.map_or(0, |(at, len)| at + len)
+    }
+
+    /// Writes the provisional end `end` where it will stay, after `pending` and a padding
+    /// record that keeps it inside one page; returns where it starts. `pending` gains the
+    /// padding.
+    fn place_end(&mut self, end: &[u8]) -> io::Result<u64> {
+        let from = self.written;
+        let pad = padding(from, end.len() as u64);
+        push_padding(&mut self.pending, pad);
+        let at = from + pad;
+        self.disk.write_at(end, at)?;
+        Ok(at)
+    }
+
+    /// The provisional end in force turned into a record readers skip (the commit after it is
+    /// in place).
+    fn skip_old_end(&mut self) -> io::Result<()> {
+        if let Some((at, len)) = self.end {
+            let mut header = [0u8; 9];
+            header[0] = SKIPPED_END;
+            header[1..].copy_from_slice(&(len - 9).to_le_bytes());
+            self.disk.write_at(&header, at)?;
+        }
+        Ok(())
     }
 
     /// After a write error: the file put back as the last commit left it (its chunks and a
     /// provisional end, now naming the error), as far as the disk allows.
     fn put_back(&mut self, e: &io::Error) {
         let end = provisional_end(&format!("not closed: writing the file failed: {e}"));
-        let _ = self.file.set_len(self.committed);
-        let _ = self.file.write_all_at(&end, self.committed);
-        self.written = self.committed;
+        let at = self.end.map_or(0, |(at, _)| at);
+        let _ = self.disk.set_len(at);
+        if self.disk.write_at(&end, at).is_ok() && self.end.is_some() {
+            self.end = Some((at, end.len() as u64));
+        }
+        self.written = self.placed();
         self.pending.clear();
+    }
+
+    /// The three writes of a commit (see the type's documentation).
+    fn commit(&mut self) -> io::Result<()> {
+        let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
+        let at = self.place_end(&end)?;
+        self.disk.write_at(&self.pending, self.placed())?;
+        self.skip_old_end()?;
+        self.end = Some((at, end.len() as u64));
+        self.content_end = self.written;
+        self.written = self.placed();
+        self.pending.clear();
+        Ok(())
     }
 }
 
-impl Write for RecordFile {
-    /// Keeps `buf` for the next commit, which writes it over the provisional end.
+/// The bytes of padding record that put a provisional end of `len` bytes (under a page),
+/// written at `from` or after, inside one page: none if it fits where it is, else to the
+/// next page, and at least 9 (a record's opcode and length).
+fn padding(from: u64, len: u64) -> u64 {
+    let room = PAGE - from % PAGE;
+    if len <= room {
+        0
+    } else {
+        room.max(9)
+    }
+}
+
+/// A padding record of `n` bytes (none for 0): a `SKIPPED_END` record of zeros.
+fn push_padding(out: &mut Vec<u8>, n: u64) {
+    if n == 0 {
+        return;
+    }
+    out.push(SKIPPED_END);
+    out.extend_from_slice(&(n - 9).to_le_bytes());
+    out.resize(out.len() + (n - 9) as usize, 0);
+}
+
+impl<D: Disk> Write for RecordFile<D> {
+    /// Keeps `buf` for the next commit.
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         self.pending.extend_from_slice(buf);
         self.written += buf.len() as u64;
         Ok(buf.len())
     }
 
-    /// A commit (the MCAP writer flushes its output after it closed a chunk): the provisional
-    /// end after what was written.
+    /// A commit (the MCAP writer flushes its output after it closed a chunk): what was
+    /// written, then a new provisional end.
     fn flush(&mut self) -> io::Result<()> {
-        let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
-        let n = self.pending.len();
-        self.pending.extend_from_slice(&end);
-        let r = self.file.write_all_at(&self.pending, self.committed);
-        self.pending.truncate(n);
-        match r {
-            Ok(()) => {
-                self.committed = self.written;
-                self.pending.clear();
-                Ok(())
-            }
-            Err(e) => {
-                self.put_back(&e);
-                Err(e)
-            }
-        }
+        self.commit().inspect_err(|e| self.put_back(e))
     }
 }
 
-impl Seek for RecordFile {
+impl<D: Disk> Seek for RecordFile<D> {
     /// Only tells the position (the MCAP writer asks it for its indexes); it never seeks back.
     fn seek(&mut self, pos: SeekFrom) -> io::Result<u64> {
         match pos {
@@ -159,18 +264,39 @@ impl Seek for RecordFile {
     }
 }
 
-impl RecordOutput for RecordFile {
-    /// Ends the file after the real end (the MCAP writer's `finish` wrote it over the
-    /// provisional one): cuts what a provisional end left beyond.
+impl<D: Disk> RecordOutput for RecordFile<D> {
+    /// Ends the file with the real end (the MCAP writer's `finish` wrote it into `pending`):
+    /// a provisional end after where it will end (the file's end while the real one is
+    /// written), the real end after the provisional end in force, that end skipped, and the
+    /// file cut after the real end.
     fn close(&mut self) -> io::Result<u64> {
-        if let Err(e) = self.file.write_all_at(&self.pending, self.committed) {
+        if let Err(e) = self.write_real_end() {
             self.put_back(&e);
             return Err(e);
         }
         self.pending.clear();
-        self.file.set_len(self.written)?;
-        self.committed = self.written;
+        self.end = None;
         Ok(self.written)
+    }
+}
+
+impl<D: Disk> RecordFile<D> {
+    /// `close`'s writes. When the last commit wrote the real end (the MCAP writer's `finish`
+    /// flushes), the provisional end after it is cut off.
+    fn write_real_end(&mut self) -> io::Result<()> {
+        if self.pending.is_empty() && self.end.is_some() {
+            self.written = self.content_end;
+            return self.disk.set_len(self.written);
+        }
+        if self.end.is_some() {
+            let end = provisional_end(super::recorder::interrupted().unwrap_or(NOT_CLOSED));
+            let from = self.written;
+            self.disk
+                .write_at(&end, from + padding(from, end.len() as u64))?;
+        }
+        self.disk.write_at(&self.pending, self.placed())?;
+        self.skip_old_end()?;
+        self.disk.set_len(self.written)
     }
 }
 
@@ -268,7 +394,7 @@ mod tests {
         (meta, n)
     }
 
-    fn message(w: &mut mcap::Writer<RecordFile>, ch: u16, i: u32) {
+    fn message<D: Disk>(w: &mut mcap::Writer<RecordFile<D>>, ch: u16, i: u32) {
         let h = mcap::records::MessageHeader {
             channel_id: ch,
             sequence: i,
@@ -320,6 +446,157 @@ mod tests {
         assert!(!meta.contains_key("interrupted"));
         let summary = mcap::Summary::read(&bytes).unwrap().expect("a summary");
         assert_eq!(summary.stats.unwrap().message_count, 11);
+    }
+
+    /// A disk that logs its writes, so that a test can replay them cut anywhere.
+    #[derive(Default)]
+    struct Log {
+        ops: std::rc::Rc<std::cell::RefCell<Vec<Op>>>,
+    }
+
+    #[derive(Clone)]
+    enum Op {
+        Write(u64, Vec<u8>),
+        SetLen(u64),
+    }
+
+    impl Disk for Log {
+        fn write_at(&mut self, buf: &[u8], at: u64) -> io::Result<()> {
+            self.ops.borrow_mut().push(Op::Write(at, buf.to_vec()));
+            Ok(())
+        }
+        fn set_len(&mut self, len: u64) -> io::Result<()> {
+            self.ops.borrow_mut().push(Op::SetLen(len));
+            Ok(())
+        }
+    }
+
+    fn apply(file: &mut Vec<u8>, op: &Op) {
+        match op {
+            Op::Write(at, buf) => {
+                let at = *at as usize;
+                if file.len() < at + buf.len() {
+                    file.resize(at + buf.len(), 0);
+                }
+                file[at..at + buf.len()].copy_from_slice(buf);
+            }
+            Op::SetLen(len) => file.resize(*len as usize, 0),
+        }
+    }
+
+    /// What a reader gets out of `bytes` from the start (checking chunk CRCs and the end
+    /// magic) and from the end (the footer, then the summary it points to): the messages, or
+    /// why it cannot.
+    fn readable(bytes: &[u8]) -> Result<usize, String> {
+        let n = mcap::MessageStream::new_with_options(
+            bytes,
+            mcap::read::Options::ValidateChunkCrcs.into(),
+        )
+        .map_err(|e| e.to_string())?
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?
+        .len();
+        mcap::Summary::read(bytes).map_err(|e| format!("from the end: {e}"))?;
+        Ok(n)
+    }
+
+    #[test]
+    fn a_write_cut_at_any_page_leaves_a_readable_file() {
+        // A recording of several commits of chunks larger than a page, then closed; its writes
+        // replayed, each one also cut at every page boundary it crosses (where SIGKILL can cut
+        // a write): every state of the file reads, from the start and from the end, with at
+        // least the messages of the last whole commit.
+        let log = Log::default();
+        let ops = log.ops.clone();
+        let mut w = mcap_options().create(RecordFile::on(log)).unwrap();
+        let s = w
+            .add_schema("novanc.PanelEvent", "jsonschema", b"{}")
+            .unwrap();
+        let ch = w
+            .add_channel(s, "/panel/event", "json", &BTreeMap::new())
+            .unwrap();
+        w.flush().unwrap();
+        let mut committed = vec![(ops.borrow().len(), 0)];
+        let mut n = 0;
+        for size in [3, 1, 150, 400, 7, 260] {
+            for _ in 0..size {
+                message(&mut w, ch, n);
+                n += 1;
+            }
+            let before = ops.borrow().len();
+            w.flush().unwrap();
+            committed.push((ops.borrow().len() - before, n as usize));
+        }
+        w.write_metadata(&recording_metadata(true, Some(0), None))
+            .unwrap();
+        w.finish().unwrap();
+        w.into_inner().close().unwrap();
+        let ops = ops.borrow().clone();
+        let mut file = Vec::new();
+        let mut states = 0;
+        let mut least = 0;
+        let mut whole_commits = 0;
+        let mut ops_done = 0;
+        let mut commit_ops = committed.iter().skip(1);
+        let mut next_commit = None;
+        for op in &ops {
+            // Before the first commit there is no file to read (as before the recording).
+            if whole_commits == 0 {
+                apply(&mut file, op);
+                ops_done += 1;
+                if ops_done == committed[0].0 {
+                    ops_done = 0;
+                    whole_commits = 1;
+                    next_commit = commit_ops.next().copied();
+                }
+                continue;
+            }
+            if let Op::Write(at, buf) = op {
+                let first_page = at / PAGE + 1;
+                let last = (at + buf.len() as u64).div_ceil(PAGE);
+                for page in first_page..last {
+                    let cut = (page * PAGE - at) as usize;
+                    let mut torn = file.clone();
+                    apply(&mut torn, &Op::Write(*at, buf[..cut].to_vec()));
+                    let got = readable(&torn).unwrap_or_else(|e| {
+                        panic!("cut at byte {} of a write at {at}: {e}", page * PAGE)
+                    });
+                    assert!(got >= least, "cut: {got} messages, {least} committed");
+                    states += 1;
+                }
+            }
+            apply(&mut file, op);
+            ops_done += 1;
+            if let Some((k, msgs)) = next_commit {
+                if ops_done == k {
+                    ops_done = 0;
+                    least = msgs;
+                    whole_commits += 1;
+                    next_commit = commit_ops.next().copied();
+                }
+            }
+            let got = readable(&file).unwrap_or_else(|e| panic!("after a write: {e}"));
+            assert!(got >= least);
+            states += 1;
+        }
+        assert_eq!(whole_commits, 7);
+        assert_eq!(readable(&file), Ok(n as usize));
+        let summary = mcap::Summary::read(&file).unwrap().expect("a summary");
+        assert_eq!(summary.stats.unwrap().message_count, u64::from(n));
+        assert!(states > 30, "{states} states tried");
+    }
+
+    #[test]
+    fn a_provisional_end_is_padded_into_one_page() {
+        let len = provisional_end(NOT_CLOSED).len() as u64;
+        assert!(len < 300, "{len}");
+        for from in (0..3 * PAGE).chain([PAGE - 1, PAGE - 8, PAGE - 9, 2 * PAGE + 5]) {
+            let pad = padding(from, len);
+            let at = from + pad;
+            assert!(pad == 0 || pad >= 9, "from {from}: pad {pad}");
+            assert_eq!(at / PAGE, (at + len - 1) / PAGE, "from {from}: pad {pad}");
+            assert!(pad <= len.max(9), "from {from}: pad {pad}");
+        }
     }
 
     #[test]
