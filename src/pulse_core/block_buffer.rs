@@ -476,7 +476,12 @@ mod tests {
             }),
             MachineState::default(),
         );
-        b.wait_ready(Duration::from_secs(5));
+        // The panic's message and backtrace take seconds on a loaded machine (7.7 s seen with
+        // CI's RUST_BACKTRACE): wait for the buffer to be ready, up to a minute.
+        let until = std::time::Instant::now() + Duration::from_secs(60);
+        while !b.ready() && std::time::Instant::now() < until {
+            b.wait_ready(Duration::from_millis(100));
+        }
         assert!(matches!((&*b).fetch(), Fetch::Error(_)));
     }
 
