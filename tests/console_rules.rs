@@ -6,6 +6,7 @@ mod common;
 
 use novanc::console::{Console, ConsoleConfig};
 use novanc::panel_model::{Axis, DataMode, OpMode, PanelEvent as E};
+use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
 use std::path::PathBuf;
 
@@ -201,26 +202,10 @@ fn accepted_edits_survive_a_restart() {
     assert_eq!(c.magazine().tcodes.tool_in(21), Some(111));
 }
 
-/// splitmix64: a small seeded PRNG for the random session.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
-
 #[test]
 fn a_random_session_never_corrupts_the_display_or_edits_outside_data_input() {
     let mut c = open("random");
-    let mut r = Rng(0x5eed);
+    let mut r = Rng::new(0x5eed);
     let words = [
         "2K", "I*", "-5D", "S$", "C$", "Y", "T5=", "0", "6", "Q", "%%", "", "9999999L",
     ];
@@ -230,7 +215,7 @@ fn a_random_session_never_corrupts_the_display_or_edits_outside_data_input() {
         let ev = match r.below(14) {
             0 => E::Op(OpMode::ALL[r.below(7) as usize]),
             1 => E::Data(DataMode::ALL[r.below(7) as usize]),
-            2 | 3 => E::Type(words[r.below(words.len() as u64) as usize].into()),
+            2 | 3 => E::Type(words[r.below(words.len())].into()),
             4 => E::Key(char::from(32 + r.below(95) as u8)),
             5 => E::Eob,
             6 => E::Rubout,

@@ -159,15 +159,8 @@ fn flips_lose_nothing(
 ) -> usize {
     let snap = fs::read(d.join("state.snap")).unwrap();
     let jour = fs::read(d.join("journal.log")).unwrap();
-    let mut seed = 0x5EED_0015u64;
-    let mut rnd = || {
-        // splitmix64
-        seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = seed;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    };
+    let mut rng = novanc::pulse_core::testkit::Rng::new(0x5EED_0015);
+    let mut rnd = || rng.next_u64();
     let mut opens = 0;
     for (name, data) in [("state.snap", &snap), ("journal.log", &jour)] {
         // The first record's header and 60 random places.

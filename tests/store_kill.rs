@@ -27,6 +27,7 @@
 mod common;
 
 use novanc::lathe::desc::{LatheDesc, ToolDesc};
+use novanc::pulse_core::testkit::Rng;
 use novanc::store::lathe::{Counter, LatheStore, Program};
 use novanc::store::{Stores, Target};
 use novanc_editor::{Buffer, ExecOptions};
@@ -40,22 +41,6 @@ const CHILD_DIR: &str = "NOVANC_KILL_TEST_DIR";
 const CHILD_FROM: &str = "NOVANC_KILL_TEST_FROM";
 const CHILD_LIMIT: &str = "NOVANC_KILL_TEST_LIMIT";
 const CHILD_KIND: &str = "NOVANC_KILL_TEST_KIND";
-
-/// splitmix64: the seeded PRNG of this test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
 
 /// A T-code table file: the sample's T01 to T20, and tools 90000.. in some of T21 to T24.
 fn tcode_table(r: &mut Rng) -> String {
@@ -74,7 +59,7 @@ fn tcode_table(r: &mut Rng) -> String {
 /// Change number `k` to the centre's stores, the same in the child and in the reference: Ok
 /// if acknowledged, Err with the message if refused (a refusal changes nothing).
 fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
-    let mut r = Rng(k.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x5EED);
+    let mut r = Rng::new(k.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x5EED);
     let edit = |s: &mut Stores, t: Target, line: String| {
         s.edit(t, &line, None)
             .map(|_| ())
@@ -174,7 +159,7 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
         }
         // SEARCH, new and deleted programs.
         89..=93 => s
-            .select_program(program[r.below(program.len() as u64) as usize])
+            .select_program(program[r.below(program.len())])
             .map_err(|e| e.to_string()),
         94..=96 => s
             .new_program(&format!("N{}", r.below(2)))
@@ -292,7 +277,7 @@ impl Subject for Lathe {
     }
 
     fn apply(&mut self, k: u64) -> Result<(), String> {
-        let mut r = Rng(k.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1A7E);
+        let mut r = Rng::new(k.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1A7E);
         let ch = r.below(3) as usize;
         match r.below(100) {
             // DATA: an editor command line on the channel's program (insert or kill a line).
@@ -315,7 +300,7 @@ impl Subject for Lathe {
             // OFS: a tool's offsets revised.
             55..=79 => {
                 let mut tools = self.tools[ch].clone();
-                let i = r.below(tools.len() as u64) as usize;
+                let i = r.below(tools.len());
                 tools[i].offset = [(k % 997) as f64 * 0.001, -((k % 89) as f64) * 0.01];
                 self.store.save_tools(ch, &tools)?;
                 self.tools[ch] = tools;
@@ -455,7 +440,7 @@ fn kill_run<S: Subject>(kills: usize, tag: &str) -> Tally {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(0x5EED_0002);
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut t = Tally::default();
     let mut next = 0u64;
     for round in 0..kills {
@@ -479,7 +464,7 @@ fn kill_run<S: Subject>(kills: usize, tag: &str) -> Tally {
         // One kill in ten lands while the child opens the stores (replay, compaction).
         let want = match rng.below(10) {
             0 => 0,
-            _ => 1 + rng.below(S::MOST),
+            _ => 1 + rng.below(S::MOST as usize) as u64,
         };
         let mut done: Vec<(u64, bool)> = Vec::new();
         let seen = |l: &str, done: &mut Vec<(u64, bool)>| {
@@ -499,7 +484,7 @@ fn kill_run<S: Subject>(kills: usize, tag: &str) -> Tally {
                 }
             }
         }
-        std::thread::sleep(Duration::from_micros(rng.below(3000)));
+        std::thread::sleep(Duration::from_micros(rng.below(3000) as u64));
         child.kill().unwrap(); // SIGKILL
         for l in lines.map_while(Result::ok) {
             seen(&l, &mut done);
@@ -660,7 +645,7 @@ fn edit_kill_run(kills: usize, hard: bool) -> EditTally {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(0x5EED_0002u64);
-    let mut rng = Rng(seed ^ (hard as u64 + 1) << 40);
+    let mut rng = Rng::new(seed ^ (hard as u64 + 1) << 40);
     let mut t = EditTally::default();
     let novanc = env!("CARGO_BIN_EXE_novanc");
     while t.kills < kills {
@@ -684,7 +669,7 @@ fn edit_kill_run(kills: usize, hard: bool) -> EditTally {
                 .unwrap();
             kids.push((child, line));
         }
-        std::thread::sleep(Duration::from_micros(rng.below(8000)));
+        std::thread::sleep(Duration::from_micros(rng.below(8000) as u64));
         for (c, _) in kids.iter_mut() {
             if rng.below(2) == 0 {
                 let _ = c.kill(); // SIGKILL

@@ -3,6 +3,7 @@
 //! of docs/tape.md frame by frame, they read back to the same text, and every single-bit error
 //! of every frame is caught or changes nothing.
 
+use novanc::pulse_core::testkit::Rng;
 use novanc::tape::{self, Code, PunchOptions, ReadOptions};
 use std::collections::HashMap;
 use std::path::Path;
@@ -243,22 +244,6 @@ fn the_docs_eia_table_is_the_code_table() {
 
 // ---------------------------------------------------------------- round trips
 
-/// splitmix64: the seeded PRNG of this test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
-
 /// Every character a code can punch.
 fn charset(code: Code) -> Vec<char> {
     (0u8..128)
@@ -269,7 +254,7 @@ fn charset(code: Code) -> Vec<char> {
 
 #[test]
 fn random_texts_round_trip_in_both_codes() {
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     for code in [Code::Iso, Code::Eia] {
         let chars = charset(code);
         for case in 0..300 {
@@ -439,7 +424,7 @@ fn every_single_bit_error_of_every_golden_frame_is_caught_or_harmless() {
 #[test]
 fn thousands_of_random_single_frame_corruptions_of_a_long_tape() {
     // A generated program of 400 blocks; 5,000 random (frame, channel) flips per code.
-    let mut rng = Rng(2024);
+    let mut rng = Rng::new(2024);
     let mut text = String::new();
     for n in 1..=400 {
         text.push_str(&format!(

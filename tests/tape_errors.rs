@@ -2,6 +2,7 @@
 //! the frame, the block, the character position and the frame's holes, and returns no text;
 //! and the incremental reader the console will use gives the same results, frame by frame.
 
+use novanc::pulse_core::testkit::Rng;
 use novanc::tape::{self, Code, ErrorKind, PunchOptions, ReadOptions, Reader, TapeError};
 use std::path::Path;
 
@@ -158,21 +159,12 @@ fn an_empty_image_and_a_blank_tape_have_nothing_to_read() {
     );
 }
 
-/// splitmix64.
-fn splitmix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 #[test]
 fn images_of_random_bytes_are_refused() {
-    let mut s = 7u64;
+    let mut s = Rng::new(7);
     for case in 0..500 {
-        let len = 64 + (splitmix(&mut s) % 4000) as usize;
-        let image: Vec<u8> = (0..len).map(|_| splitmix(&mut s) as u8).collect();
+        let len = 64 + (s.next_u64() % 4000) as usize;
+        let image: Vec<u8> = (0..len).map(|_| s.next_u64() as u8).collect();
         let e = read(&image).expect_err("random bytes read as a tape");
         assert!(e.frame >= 1 && e.frame <= len as u64, "case {case}: {e}");
         assert_ne!(e.kind, ErrorKind::Empty);

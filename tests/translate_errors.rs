@@ -1,6 +1,7 @@
 //! Bad input: every error carries LINE:COL and an operator's message, and the statement in
 //! error yields no blocks (the translator hands out nothing after it).
 
+use novanc::pulse_core::testkit::Rng;
 use novanc::settings::MachineSettings;
 use novanc::tooldata::{parse_tape, parse_tcodes, sample_magazine, Magazine};
 use novanc::translator::{TranslateError, Translator};
@@ -353,18 +354,6 @@ fn a_good_statement_before_the_error_is_whole() {
     assert!(t.next().is_none());
 }
 
-/// xorshift64*: a small seeded PRNG for the no-panic test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-}
-
 #[test]
 fn no_input_makes_the_translator_panic() {
     // Table B with random characters replaced, inserted and deleted, and random soup made of
@@ -421,15 +410,15 @@ fn no_input_makes_the_translator_panic() {
         "1e5",
         "é",
     ];
-    let mut rng = Rng(0x00C0_FFEE);
+    let mut rng = Rng::new(0x00C0_FFEE);
     let (mut ok, mut failed) = (0, 0);
     for round in 0..3000 {
         let src = if round % 2 == 0 {
             let mut b: Vec<char> = base.chars().collect();
-            for _ in 0..1 + rng.next() % 4 {
-                let i = (rng.next() % b.len() as u64) as usize;
-                let piece = pieces[(rng.next() % pieces.len() as u64) as usize];
-                match rng.next() % 3 {
+            for _ in 0..1 + rng.next_u64() % 4 {
+                let i = (rng.next_u64() % b.len() as u64) as usize;
+                let piece = pieces[(rng.next_u64() % pieces.len() as u64) as usize];
+                match rng.next_u64() % 3 {
                     0 => {
                         b.remove(i);
                     }
@@ -439,8 +428,8 @@ fn no_input_makes_the_translator_panic() {
             }
             b.into_iter().collect::<String>()
         } else {
-            (0..rng.next() % 60)
-                .map(|_| pieces[(rng.next() % pieces.len() as u64) as usize])
+            (0..rng.next_u64() % 60)
+                .map(|_| pieces[(rng.next_u64() % pieces.len() as u64) as usize])
                 .collect::<String>()
         };
         let r = novanc::translator::translate_all(

@@ -4,6 +4,7 @@
 //! on Table B, a milling program and seeded random programs.
 
 use novanc::block::{Block, Motion};
+use novanc::pulse_core::testkit::Rng;
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
 use novanc::translator::{iso_program, translate_all, Statement};
@@ -166,26 +167,9 @@ fn a_milling_program_reads_back_exactly() {
     assert!(n > 80, "{n} lines");
 }
 
-/// splitmix64: a small seeded PRNG.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        let x = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
-        ((lo + x * (hi - lo)) * 1000.0).round() / 1000.0
-    }
+/// A length in [lo, hi) mm, to the micrometre.
+fn mm(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
+    (rng.uniform(lo, hi) * 1000.0).round() / 1000.0
 }
 
 /// A random program of definitions, patterns, cycles, contours and positioning.
@@ -194,11 +178,11 @@ fn random_program(rng: &mut Rng) -> String {
     let taps = [208, 206, 209, 205];
     let mut s = String::new();
     let (mut p, mut pat) = (0, 0);
-    let da_z = rng.range(-450.0, -330.0);
+    let da_z = mm(rng, -450.0, -330.0);
     s += &format!(
         "DA1 = ({}, {}, {da_z})\n",
-        rng.range(200.0, 700.0),
-        rng.range(200.0, 500.0)
+        mm(rng, 200.0, 700.0),
+        mm(rng, 200.0, 500.0)
     );
     for _ in 0..12 {
         match rng.below(9) {
@@ -206,9 +190,9 @@ fn random_program(rng: &mut Rng) -> String {
                 p += 1;
                 s += &format!(
                     "P{p} = ({}, {}, {})\n",
-                    rng.range(-100.0, 100.0),
-                    rng.range(-100.0, 100.0),
-                    rng.range(-10.0, 5.0)
+                    mm(rng, -100.0, 100.0),
+                    mm(rng, -100.0, 100.0),
+                    mm(rng, -10.0, 5.0)
                 );
             }
             2 if p > 0 => {
@@ -217,36 +201,36 @@ fn random_program(rng: &mut Rng) -> String {
                     "PAT{pat} = DA1, NH{}, P{}, R{}, SA{}, IA{}\n",
                     1 + rng.below(8),
                     1 + rng.below(p),
-                    rng.range(5.0, 80.0),
-                    rng.range(0.0, 90.0),
-                    rng.range(10.0, 60.0)
+                    mm(rng, 5.0, 80.0),
+                    mm(rng, 0.0, 90.0),
+                    mm(rng, 10.0, 60.0)
                 );
             }
             3 if pat > 0 => {
-                let t = drills[rng.below(drills.len() as u64) as usize];
+                let t = drills[rng.below(drills.len())];
                 let dh = if rng.below(2) == 0 {
-                    format!(", DH{}", rng.range(2.0, 8.0))
+                    format!(", DH{}", mm(rng, 2.0, 8.0))
                 } else {
                     String::new()
                 };
                 s += &format!(
                     "DRL, {t}/DP{}{dh}/PAT{}\n",
-                    rng.range(1.0, 30.0),
+                    mm(rng, 1.0, 30.0),
                     1 + rng.below(pat)
                 );
             }
             4 if p > 0 => {
-                let t = taps[rng.below(taps.len() as u64) as usize];
+                let t = taps[rng.below(taps.len())];
                 s += &format!(
                     "TAP, {t}/DP{}/DA1, P{}\n",
-                    rng.range(3.0, 20.0),
+                    mm(rng, 3.0, 20.0),
                     1 + rng.below(p)
                 );
             }
             5 if p > 0 => {
                 s += &format!(
                     "BOR, 603/DP{}, SDP2, DW0.25/DA1, P{}\n",
-                    rng.range(3.0, 20.0),
+                    mm(rng, 3.0, 20.0),
                     1 + rng.below(p)
                 )
             }
@@ -254,7 +238,7 @@ fn random_program(rng: &mut Rng) -> String {
                 // A regular polygon about a point, closed, milled inside or outside.
                 let c = 1 + rng.below(p);
                 let n = 3 + rng.below(5);
-                let r = rng.range(15.0, 40.0);
+                let r = mm(rng, 15.0, 40.0);
                 let mut names = Vec::new();
                 for k in 0..n {
                     let a = (k as f64 * 360.0 / n as f64).to_radians();
@@ -266,15 +250,15 @@ fn random_program(rng: &mut Rng) -> String {
                 let side = ["RGT, ", "LFT, ", ""][rng.below(3) as usize];
                 s += &format!(
                     "MIL, 402/{side}DP{}/DA1, {}\n",
-                    rng.range(1.0, 5.0),
+                    mm(rng, 1.0, 5.0),
                     names.join(", ")
                 );
             }
             7 => {
                 s += &format!(
                     "GO, DA1, {}, {}, 60\n",
-                    rng.range(-50.0, 50.0),
-                    rng.range(-50.0, 50.0)
+                    mm(rng, -50.0, 50.0),
+                    mm(rng, -50.0, 50.0)
                 )
             }
             _ => s += "CL\n",
@@ -285,7 +269,7 @@ fn random_program(rng: &mut Rng) -> String {
 
 #[test]
 fn random_programs_read_back_exactly() {
-    let mut rng = Rng(0x5EED_0003);
+    let mut rng = Rng::new(0x5EED_0003);
     let mut ok = 0;
     for _ in 0..200 {
         let src = random_program(&mut rng);

@@ -1,4 +1,5 @@
-//! Hand-made blocks and a small seeded PRNG, for the pulse core's tests and benchmarks (no
+//! Hand-made blocks, and the project's one small seeded PRNG (every test, fuzz family and
+//! benchmark that draws random numbers uses this `Rng`), for tests and benchmarks (no
 //! translator needed).
 
 use crate::block::{Block, Motion};
@@ -31,6 +32,30 @@ impl Rng {
     /// A uniform float in [0, 1).
     pub fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A uniform float in [lo, hi).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + self.unit() * (hi - lo)
+    }
+
+    /// A uniform integer in `0..n` (0 if n is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        if n == 0 {
+            0
+        } else {
+            (self.next_u64() % n as u64) as usize
+        }
+    }
+
+    /// True with probability `p`.
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+
+    /// One of `items` (which must not be empty).
+    pub fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
     }
 }
 

@@ -3,29 +3,13 @@
 //! order, unicode and characters that need escaping in display lines).
 
 use super::Event;
-
-/// xorshift64*, seeded.
-struct Rng(u64);
-
-impl Rng {
-    /// The next 64 random bits.
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// A uniform integer below `n`.
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
+use crate::pulse_core::testkit::Rng;
 
 /// A run of `slices` NCBR ticks (5 ms): a block now and then, pulses of every axis in each tick
 /// (sent Z, Y, X, so a later axis can start earlier than the batch before it), a position per
 /// tick, states, display frames with unicode and characters that need escaping, panel events.
 pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
-    let mut rng = Rng(seed | 1);
+    let mut rng = Rng::new(seed | 1);
     let mut evs = Vec::new();
     let mut pos = [0i64; 3];
     let tick = 5_000_000u64;
@@ -54,12 +38,12 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
             });
         }
         for axis in [2u8, 1, 0] {
-            let n = rng.below(400);
+            let n = rng.next_u64() % 400;
             if n == 0 {
                 continue;
             }
-            let dir: i8 = if rng.below(2) == 0 { 1 } else { -1 };
-            let start = t0 + rng.below(tick / 2);
+            let dir: i8 = if rng.next_u64() % 2 == 0 { 1 } else { -1 };
+            let start = t0 + rng.next_u64() % (tick / 2);
             let step = (tick / 2) / n;
             let times: Vec<u64> = (0..n).map(|k| start + k * step).collect();
             pos[axis as usize] += dir as i64 * n as i64;

@@ -235,17 +235,7 @@ mod tests {
     use crate::store::{Stores, Target};
 
     /// splitmix64, the seeded PRNG of the tests.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-    }
+    use crate::pulse_core::testkit::Rng;
 
     /// A state directory with two programs, MDI text and revised tools in the snapshot, and
     /// every kind of journal record after it. Returns (snapshot, journal) bytes.
@@ -300,12 +290,12 @@ mod tests {
         assert!(clean.notes.is_empty(), "{:?}", clean.notes);
         let want = snapshot::encode(&clean.state, 0);
         assert!(clean.state.programs.contains_key("R1"));
-        let mut rng = Rng(0x5EED_0015);
+        let mut rng = Rng::new(0x5EED_0015);
         for which in 0..2 {
             let data = if which == 0 { &snap } else { &jour };
             for i in 0..data.len() {
                 let mut bad = data.clone();
-                bad[i] ^= (rng.next() % 255 + 1) as u8;
+                bad[i] ^= (rng.next_u64() % 255 + 1) as u8;
                 let l = if which == 0 {
                     open(&bad, &jour)
                 } else {

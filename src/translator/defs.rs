@@ -488,14 +488,8 @@ mod tests {
 
     #[test]
     fn the_continued_fraction_check_agrees_with_trying_every_pair() {
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = seed;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        };
+        let mut rng = crate::pulse_core::testkit::Rng::new(7);
+        let mut next = || rng.next_u64();
         let mut refused = 0;
         for _ in 0..20_000 {
             let k = 2 + (next() % 400) as u32;
