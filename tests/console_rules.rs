@@ -213,8 +213,8 @@ fn a_random_session_never_corrupts_the_display_or_edits_outside_data_input() {
     let cols = c.config().cols;
     for _ in 0..1500 {
         let ev = match r.below(14) {
-            0 => E::Op(OpMode::ALL[r.below(7) as usize]),
-            1 => E::Data(DataMode::ALL[r.below(7) as usize]),
+            0 => E::Op(OpMode::ALL[r.below(7)]),
+            1 => E::Data(DataMode::ALL[r.below(7)]),
             2 | 3 => E::Type(words[r.below(words.len())].into()),
             4 => E::Key(char::from(32 + r.below(95) as u8)),
             5 => E::Eob,

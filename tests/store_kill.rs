@@ -133,11 +133,8 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
                 (5211, v),
                 (5212, -(r.below(1000) as f64)),
                 (5220, (1 + r.below(9)) as f64),
-                (5161 + r.below(3) as usize, v * 2.0),
-                (
-                    5230 + 20 * r.below(9) as usize,
-                    (r.below(360) as f64) - 180.0,
-                ),
+                (5161 + r.below(3), v * 2.0),
+                (5230 + 20 * r.below(9), (r.below(360) as f64) - 180.0),
             ];
             match r.below(20) {
                 0 => ps.push((5400, 1.0)),
@@ -148,7 +145,7 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
         }
         // Work offsets (OFS page, G10 L2): one refused in ten (beyond 100 m).
         87..=88 => {
-            let system = r.below(9) as usize;
+            let system = r.below(9);
             let x = if r.below(10) == 0 {
                 1e9
             } else {
@@ -278,7 +275,7 @@ impl Subject for Lathe {
 
     fn apply(&mut self, k: u64) -> Result<(), String> {
         let mut r = Rng::new(k.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1A7E);
-        let ch = r.below(3) as usize;
+        let ch = r.below(3);
         match r.below(100) {
             // DATA: an editor command line on the channel's program (insert or kill a line).
             0..=54 => {

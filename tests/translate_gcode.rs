@@ -247,7 +247,7 @@ fn random_program(rng: &mut Rng) -> String {
                     names.push(format!("P{p}"));
                 }
                 names.push(names[0].clone());
-                let side = ["RGT, ", "LFT, ", ""][rng.below(3) as usize];
+                let side = ["RGT, ", "LFT, ", ""][rng.below(3)];
                 s += &format!(
                     "MIL, 402/{side}DP{}/DA1, {}\n",
                     mm(rng, 1.0, 5.0),

@@ -42,7 +42,11 @@ pub fn synthetic_run(seed: u64, slices: u64) -> Vec<Event> {
             if n == 0 {
                 continue;
             }
-            let dir: i8 = if rng.next_u64() % 2 == 0 { 1 } else { -1 };
+            let dir: i8 = if rng.next_u64().is_multiple_of(2) {
+                1
+            } else {
+                -1
+            };
             let start = t0 + rng.next_u64() % (tick / 2);
             let step = (tick / 2) / n;
             let times: Vec<u64> = (0..n).map(|k| start + k * step).collect();
