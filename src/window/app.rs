@@ -316,4 +316,92 @@ pub(crate) mod tests {
         }
         f
     }
+
+    /// A machine of events numbered by the script, whose clock moves 1 ms each time a wait
+    /// looks at it, and which comes to rest at the third look.
+    #[derive(Default)]
+    struct Fake {
+        t: u64,
+        evs: Vec<u32>,
+        looks: u32,
+    }
+
+    impl Front for Fake {
+        type Ev = u32;
+        fn tick(&mut self, _wall_ns: Option<u64>) {}
+        fn event(&mut self, ev: u32) {
+            self.evs.push(ev);
+        }
+        fn machine_ns(&self) -> u64 {
+            self.t
+        }
+        fn begin_wait(&mut self, _w: Wait) {
+            self.looks = 0;
+        }
+        fn pursue(&mut self, w: Wait, _deadline: Instant) -> bool {
+            self.looks += 1;
+            self.t += 1_000_000;
+            match w {
+                Wait::Until(t) => self.t >= t,
+                Wait::Rest => self.looks >= 3,
+                Wait::Block(_) => false,
+            }
+        }
+        fn show(&self) -> String {
+            String::new()
+        }
+        fn moving(&self) -> bool {
+            false
+        }
+        fn draw(&mut self, _ui: &mut egui::Ui, _events: &[egui::Event]) -> bool {
+            false
+        }
+        fn layout(&self, _ppp: f32) -> String {
+            String::new()
+        }
+        fn pulses(&self) -> u64 {
+            0
+        }
+        fn publish(&self, _feed: &mut Feed) {}
+        fn close(self, _interrupted: Option<&str>) {}
+    }
+
+    fn app(script: Vec<Step<u32>>) -> App<Fake> {
+        let drive = Drive {
+            script: script.into(),
+            scripted: true,
+            ..Drive::default()
+        };
+        App::new(Fake::default(), drive, Arc::new(AtomicI32::new(0)), None)
+    }
+
+    #[test]
+    fn the_script_stops_at_each_wait_until_the_machine_reaches_it() {
+        let mut a = app(vec![
+            Step::Ev(1),
+            Step::WaitMs(5),
+            Step::Ev(2),
+            Step::Wait(Wait::Rest),
+            Step::Ev(3),
+        ]);
+        let ctx = egui::Context::default();
+        let mut f = a.front.take().unwrap();
+        a.play(&mut f, &ctx);
+        assert_eq!(f.evs, [1], "the event after the wait waits");
+        assert_eq!(a.waiting.map(|w| w.1), Some(Wait::Until(5_000_000)));
+        a.front = Some(f);
+        let f = play_all(&mut a);
+        assert_eq!(f.evs, [1, 2, 3]);
+        // `wait ms 5` from 0, then three looks for the rest.
+        assert_eq!(f.t, 8_000_000);
+    }
+
+    #[test]
+    fn a_wait_not_reached_in_time_ends_the_run_with_exit_1() {
+        let mut a = app(vec![Step::Wait(Wait::Block(7)), Step::Ev(1)]);
+        a.drive.wait_limit = Duration::ZERO;
+        let f = play_all(&mut a);
+        assert!(f.evs.is_empty(), "{:?}", f.evs);
+        assert_eq!(a.exit.load(Ordering::SeqCst), 1);
+    }
 }
