@@ -326,23 +326,11 @@ impl Centre {
 
     /// The NC panel (11): plasma display, data-processing mode selector, data keys, readout.
     fn nc_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
-        let rows = view.display.len().max(1);
-        let cols = view
-            .display
-            .iter()
-            .map(|l| l.chars().count())
-            .max()
-            .unwrap_or(40)
-            .max(1);
-        let ppp = ui.ctx().pixels_per_point();
         // The largest whole dot pitch (physical pixels) that fits 760 points across.
-        let pitch = ((760.0 * ppp) / (cols * super::font::CELL_W + 1) as f32)
-            .floor()
-            .clamp(1.0, 6.0) as usize;
-        let rect = self.plasma.show(ui, &view.display, pitch);
+        let max = vec2(760.0, f32::INFINITY);
+        let (rect, pitch) = self.plasma.show_fit(ui, &view.display, max, 6);
         self.layout.plasma = Some(rect);
         self.layout.pitch = pitch;
-        let _ = rows;
         // The tape passing the read head, while a read is shown (docs/window.md).
         self.layout.tape = match &self.tape {
             Some(t) => {
@@ -398,42 +386,11 @@ impl Centre {
                 out.push(PanelEvent::Op(OpMode::ALL[i]));
             }
             ui.vertical(|ui| {
-                ui.horizontal(|ui| {
-                    let l = &view.lamps;
-                    if controls::lamp_button(
-                        ui,
-                        "START",
-                        Color32::from_rgb(30, 120, 40),
-                        Some((l.run, controls::LAMP_RUN)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Start);
-                    }
-                    if controls::lamp_button(
-                        ui,
-                        "STOP",
-                        Color32::from_rgb(150, 110, 20),
-                        Some((l.hold, controls::LAMP_HOLD)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Stop);
-                    }
-                    if controls::lamp_button(
-                        ui,
-                        "RESET",
-                        Color32::from_rgb(60, 70, 110),
-                        Some((l.alarm, controls::LAMP_RED)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Reset);
-                    }
-                    if controls::estop_button(ui, l.estop).clicked() {
-                        out.push(PanelEvent::EStop);
-                    }
-                });
+                let l = &view.lamps;
+                out.extend(controls::relay_buttons(
+                    ui,
+                    [l.run, l.hold, l.alarm, l.estop],
+                ));
                 ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
                 controls::jog_buttons(ui, view, &mut self.hand, out);
                 ui.label(

@@ -157,7 +157,7 @@ impl Lathe {
                 ui.horizontal_top(|ui| {
                     ui.vertical(|ui| {
                         let max = egui::vec2(ui.available_width() * 0.4, 330.0);
-                        let (r, pitch) = panel::plasma(ui, &mut self.plasma, &v.display, max);
+                        let (r, pitch) = self.plasma.show_fit(ui, &v.display, max, 4);
                         self.layout.plasma = Some(r);
                         self.layout.pitch = pitch;
                     });
