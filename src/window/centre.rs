@@ -43,12 +43,17 @@ pub fn read_script(text: &str) -> Result<Vec<Step<PanelEvent>>, (usize, String)>
 }
 
 /// Opens the centre's console configured by `cfg`, and the MTConnect adapter if `mtc` asks
-/// (the state published once).
+/// (the state published once); with the window's title. A failure is said; its exit code
+/// comes back.
 pub fn open(
     cfg: crate::console::ConsoleConfig,
     mtc: &crate::cli::mtconnect::MtcOpts,
-) -> Result<(Centre, Option<Feed>), String> {
-    let (console, warnings) = Console::open(cfg)?;
+) -> Result<(Centre, Option<Feed>, String), i32> {
+    let fail = |e: String| {
+        eprintln!("novanc: {e}");
+        1
+    };
+    let (console, warnings) = Console::open(cfg).map_err(fail)?;
     for w in warnings {
         eprintln!("novanc: {w}");
     }
@@ -56,13 +61,13 @@ pub fn open(
         Ok(f) => f,
         Err(e) => {
             let _ = console.finish();
-            return Err(e);
+            return Err(fail(e));
         }
     };
     if let Some(f) = feed.as_mut() {
         f.publish(&console);
     }
-    Ok((Centre::new(console), feed))
+    Ok((Centre::new(console), feed, "novanc — NC panel".into()))
 }
 
 /// The machining centre's console in the window.

@@ -187,74 +187,45 @@ pub fn run(
     cfg: crate::console::ConsoleConfig,
     opts: WindowOptions,
 ) -> i32 {
-    let code = match lathe {
-        None => {
-            let drive = match before_opening(&opts, centre::read_script) {
-                Ok(d) => d,
-                Err(code) => return code,
-            };
-            // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
-            crate::cli::signals::install();
-            match centre::open(cfg, &opts.mtc) {
-                Ok((front, feed)) => show("novanc — NC panel".into(), &opts, front, drive, feed),
-                Err(e) => {
-                    eprintln!("novanc: {e}");
-                    return 1;
-                }
-            }
-        }
-        Some(desc) => {
-            if opts.bench_frames.is_some() {
-                eprintln!(
-                    "novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)"
-                );
-                return 2;
-            }
-            let channels = desc.channels.len();
-            let drive = match before_opening(&opts, |t| lathe::read_script(t, channels)) {
-                Ok(d) => d,
-                Err(code) => return code,
-            };
-            crate::cli::signals::install();
-            match lathe::open(desc, &cfg, &opts.mtc, drive.scripted) {
-                Ok((front, feed)) => {
-                    let title = format!("novanc — {} lathe", front.name());
-                    show(title, &opts, front, drive, feed)
-                }
-                Err(code) => return code,
-            }
-        }
+    let Some(desc) = lathe else {
+        return open(&opts, centre::read_script, |_| centre::open(cfg, &opts.mtc));
     };
-    crate::cli::signals::exit_code(code)
+    if opts.bench_frames.is_some() {
+        eprintln!("novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)");
+        return 2;
+    }
+    let channels = desc.channels.len();
+    open(
+        &opts,
+        |text| lathe::read_script(text, channels),
+        |scripted| lathe::open(desc, &cfg, &opts.mtc, scripted),
+    )
 }
 
-/// Opens the window on the machine's `front`, with the run's `drive` and the MTConnect
-/// adapter `feed`; returns when it closes, with its exit code.
-fn show<F: Front>(
-    title: String,
+/// Reads the script with `parse`, opens the machine's front with `make` (told whether a
+/// script plays it: its front, MTConnect adapter and window title, or the exit code of a
+/// failure it has said) and the window on it; returns when it closes, with its exit code.
+/// A window that cannot open says why and suggests the terminal.
+fn open<F: Front>(
     opts: &WindowOptions,
-    front: F,
-    drive: Drive<F::Ev>,
-    feed: Option<crate::cli::mtconnect::Feed>,
+    parse: impl FnOnce(&str) -> Result<Vec<Step<F::Ev>>, (usize, String)>,
+    make: impl FnOnce(bool) -> Result<(F, Option<crate::cli::mtconnect::Feed>, String), i32>,
 ) -> i32 {
-    let size = opts.size.unwrap_or((1400.0, 860.0));
-    open_window(&title, size, move |exit| {
-        Box::new(App::new(front, drive, exit, feed))
-    })
-}
-
-/// Opens an eframe window titled `title`, `size` points, with the app `make` builds (given
-/// the cell its exit code goes in); runs it until it closes; returns the exit code. A window
-/// that cannot open says why and suggests the terminal.
-fn open_window(
-    title: &str,
-    size: (f32, f32),
-    make: impl FnOnce(Arc<AtomicI32>) -> Box<dyn eframe::App> + 'static,
-) -> i32 {
+    let drive = match before_opening(opts, parse) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
+    crate::cli::signals::install();
+    let (front, feed, title) = match make(drive.scripted) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(title)
-            .with_inner_size([size.0, size.1]),
+            .with_inner_size([w, h]),
         ..eframe::NativeOptions::default()
     };
     let exit = Arc::new(AtomicI32::new(0));
@@ -265,11 +236,11 @@ fn open_window(
             native,
             Box::new(move |cc| {
                 cc.egui_ctx.set_visuals(egui::Visuals::dark());
-                Ok(make(exit2))
+                Ok(Box::new(App::new(front, drive, exit2, feed)))
             }),
         )
     }));
-    match result {
+    let code = match result {
         Ok(Ok(())) => exit.load(Ordering::SeqCst),
         Ok(Err(e)) => {
             eprintln!("novanc: the window cannot open: {e}\nnovanc: {NO_WINDOW_HINT}");
@@ -279,7 +250,8 @@ fn open_window(
             eprintln!("novanc: the window failed while opening.\nnovanc: {NO_WINDOW_HINT}");
             1
         }
-    }
+    };
+    crate::cli::signals::exit_code(code)
 }
 
 #[cfg(test)]

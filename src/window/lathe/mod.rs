@@ -50,15 +50,15 @@ pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<LatheEv>>, (u
 }
 
 /// Opens the lathe `desc`'s console, configured by `cfg` (state directory, display size,
-/// recording), and the MTConnect adapter if `mtc` asks. Without a script (`scripted`) the
-/// kernel keeps the wall clock in its own thread; a script plays it in virtual time. A
-/// failure is said; its exit code comes back.
+/// recording), and the MTConnect adapter if `mtc` asks; with the window's title. Without a
+/// script (`scripted`) the kernel keeps the wall clock in its own thread; a script plays it in
+/// virtual time. A failure is said; its exit code comes back.
 pub fn open(
     desc: LatheDesc,
     cfg: &ConsoleConfig,
     mtc: &crate::cli::mtconnect::MtcOpts,
     scripted: bool,
-) -> Result<(Lathe, Option<Feed>), i32> {
+) -> Result<(Lathe, Option<Feed>, String), i32> {
     let (mut console, warnings) = LatheConsole::open_config(desc, cfg).map_err(|e| {
         eprintln!("novanc: {e}");
         1
@@ -80,7 +80,8 @@ pub fn open(
     if let Some(f) = feed.as_mut() {
         f.publish_lathe(&console);
     }
-    Ok((Lathe::new(console), feed))
+    let title = format!("novanc — {} lathe", console.desc().name);
+    Ok((Lathe::new(console), feed, title))
 }
 
 /// The lathe's console in the window.
@@ -107,11 +108,6 @@ impl Lathe {
         l.clear_paths();
         l.sample();
         l
-    }
-
-    /// The machine's name (the window's title).
-    pub fn name(&self) -> &str {
-        &self.console.desc().name
     }
 
     /// Empties every channel's trail.
