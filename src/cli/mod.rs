@@ -87,11 +87,7 @@ fn console(argv: &[String]) -> i32 {
         return match console_args(&opts.console_args, "novanc --window --help") {
             Err(code) => code,
             Ok((lathe, cfg, mtc)) => {
-                let opts = crate::window::WindowOptions { mtc, ..opts };
-                match lathe {
-                    Some(d) => crate::window::lathe::run(d, cfg, opts),
-                    None => crate::window::run(cfg, opts),
-                }
+                crate::window::run(lathe, cfg, crate::window::WindowOptions { mtc, ..opts })
             }
         };
     }

@@ -1,126 +1,151 @@
-//! The eframe application: each frame it ticks the console, draws its `PanelView` (plasma,
-//! selectors, relay panel, data keys, readout, backplot) and hands the operator's actions back
-//! as `PanelEvent`s. It also plays a panel script, takes a screenshot and measures frames when
-//! asked (headless runs under Xvfb). No NC logic lives here.
+//! The one eframe application of both machines (docs/window.md): each frame it gives the
+//! machine its time, plays the panel script, lets the machine's part of the window (a
+//! [`Front`]: the centre's panel and backplot, or the lathe's channels) draw and take the
+//! operator's actions, takes the screenshot and measures frames when asked (headless runs
+//! under Xvfb), streams to MTConnect and schedules the next frame. It is to the window what
+//! `terminal::Front` and its one loop are to the terminal. No NC logic lives here.
 
 use super::bench::Bench;
-use super::controls::{self, HandState};
-use super::plasma::Plasma;
-use super::plot::PlotState;
-use super::shot::{rect_px, Shot};
-use super::tapestrip::{self, StripLayout};
-use super::Machine;
-use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
-use egui::{vec2, Color32, Rect};
+use super::shot::Shot;
+use crate::cli::mtconnect::Feed;
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// What a headless run asks of the window (all optional).
-#[derive(Debug, Default)]
-pub struct Drive {
-    /// Panel events to play, in order (`--script FILE`).
-    pub script: VecDeque<PanelEvent>,
+/// The most wall time one frame hands a machine that keeps time by the window, ns (a window
+/// held up does not make the machine jump).
+const MAX_FRAME_NS: u64 = 250_000_000;
+/// Wall time a frame may spend on a script's waits before it draws (a machine the script
+/// runs in virtual time).
+const SCRIPT_BUDGET: Duration = Duration::from_millis(25);
+
+/// What a script wait waits for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wait {
+    /// `wait`: the machine at rest (the centre idle; every lathe channel at rest).
+    Rest,
+    /// `wait block N`: block N executing, or the machine at rest.
+    Block(u32),
+    /// `wait ms T`, begun: machine time at or past this, ns.
+    Until(u64),
+}
+
+/// One step of a panel script, as the window plays it: an event of the machine's own, or one
+/// of the player's words.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step<E> {
+    /// An operator action.
+    Ev(E),
+    /// `wait` / `wait block N` (`Wait::Until` is not read: `WaitMs` is).
+    Wait(Wait),
+    /// `wait ms T`: T milliseconds of machine time from the moment the wait begins.
+    WaitMs(u64),
+    /// `show`: print the display between `--- display` and `---`.
+    Show,
+}
+
+/// What differs between the machines in the window, behind the one application: the console
+/// it drives, its panel and plots, its key map and its clock.
+pub trait Front: 'static {
+    /// A script's event (the centre's `PanelEvent`, the lathe's `LatheEv`).
+    type Ev;
+    /// First in every frame: the console takes its machine's state. `wall_ns` is the wall time
+    /// since the last frame when the machine keeps time by the window's frames; `None` while
+    /// a script plays it (virtual time) or holds it still for the screenshot. A machine with a
+    /// clock of its own (the centre's pulse core) ignores it.
+    fn tick(&mut self, wall_ns: Option<u64>);
+    /// A script's event.
+    fn event(&mut self, ev: Self::Ev);
+    /// Machine time, ns.
+    fn machine_ns(&self) -> u64;
+    /// A script wait for `w` begins.
+    fn begin_wait(&mut self, w: Wait);
+    /// Works towards `w` until `deadline` (a machine in virtual time is advanced; one with its
+    /// own clock only looked at, once a frame); whether it is reached.
+    fn pursue(&mut self, w: Wait, deadline: Instant) -> bool;
+    /// The display as the script's `show` prints it.
+    fn show(&self) -> String;
+    /// The machine can move (the window then draws about 60 frames a second).
+    fn moving(&self) -> bool;
+    /// Work of the window's own under way that a screenshot waits for (the backplot's
+    /// translation).
+    fn settling(&self) -> bool {
+        false
+    }
+    /// Draws the panel from the console's view and hands this frame's keys (`events`),
+    /// clicks and drags to the console. Returns whether a quit key (the terminal's Ctrl-C or
+    /// Alt+q) was pressed.
+    fn draw(&mut self, ui: &mut egui::Ui, events: &[egui::Event]) -> bool;
+    /// The screenshot line's rectangles after `WxH` (physical pixels, `ppp` pixels a point).
+    fn layout(&self, ppp: f32) -> String;
+    /// Pulses output so far, all axes together (`--bench-frames`).
+    fn pulses(&self) -> u64;
+    /// The state to the MTConnect adapter, once a frame.
+    fn publish(&self, feed: &mut Feed);
+    /// Ends the session (the machine stopped, the recording closed, its summary on stderr);
+    /// `interrupted` names the stop signal that closed the window.
+    fn close(self, interrupted: Option<&str>);
+}
+
+/// What a run asks of the window besides drawing (all optional).
+#[derive(Debug)]
+pub struct Drive<E> {
+    /// The script's steps still to play (`--script FILE`).
+    pub script: VecDeque<Step<E>>,
+    /// A script was given: the script plays the machine in virtual time, and with a
+    /// screenshot asked for, the machine holds still where the script left it.
+    pub scripted: bool,
     /// Where to write a screenshot once the script has been played (`--screenshot OUT`).
     pub screenshot: Option<PathBuf>,
     /// Frames to measure, then print the figures and close (`--bench-frames N`).
     pub bench_frames: Option<u64>,
-    /// Longest a script `wait` may take before the run is abandoned.
+    /// Longest a script wait may take in wall time before the run is abandoned.
     pub wait_limit: Duration,
 }
 
-/// What a script wait is waiting for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Waiting {
-    /// `wait`: the machine idle.
-    Idle,
-    /// `wait block N`: block N executing, or the machine idle.
-    Block(u32),
-    /// `wait ms T`: machine time at or past this, ns.
-    Until(u64),
+impl<E> Default for Drive<E> {
+    fn default() -> Self {
+        Drive {
+            script: VecDeque::new(),
+            scripted: false,
+            screenshot: None,
+            bench_frames: None,
+            wait_limit: Duration::from_secs(300),
+        }
+    }
 }
 
-/// The screen rectangles a test needs to read a screenshot (physical pixels).
-#[derive(Clone, Copy, Debug, Default)]
-struct Layout {
-    plasma: Option<Rect>,
-    pitch: usize,
-    plot: Option<Rect>,
-    /// The velocity strip, when shown.
-    velocity: Option<Rect>,
-    tape: Option<StripLayout>,
-}
-
-/// The window application.
-pub struct App {
-    machine: Option<Box<dyn Machine>>,
-    view: PanelView,
-    /// The tape read on display, if any (the tape strip).
-    tape: Option<crate::console::tape::TapeView>,
-    plasma: Plasma,
-    plot: PlotState,
-    /// Each axis's velocity against time for the running block (docs/window.md).
-    velocity: super::velocity::VelocityTrace,
-    /// The pulse length and the interpolator's name, for the velocity strip.
-    vel_units: Option<(f64, &'static str)>,
-    hand: HandState,
-    drive: Drive,
-    waiting: Option<(Instant, u32, Waiting)>,
+/// The window application around one machine's [`Front`].
+pub struct App<F: Front> {
+    front: Option<F>,
+    drive: Drive<F::Ev>,
+    waiting: Option<(Instant, Wait)>,
     shot: Shot,
     bench: Option<Bench>,
-    frames: u64,
-    layout: Layout,
+    last: Instant,
     exit: Arc<AtomicI32>,
-    status: String,
-    /// A panel event may have changed program memory or tool data since the last look.
-    program_dirty: bool,
-    /// The frame of the last look.
-    program_checked: u64,
-    /// A backplot translation is running.
-    translating: bool,
+    /// The stop signal that closed the window, as the recording says it.
+    interrupted: Option<String>,
     /// The MTConnect adapter (`--mtconnect`): the state is published once a frame.
-    feed: Option<crate::cli::mtconnect::Feed>,
+    feed: Option<Feed>,
 }
 
-impl App {
-    /// The application around an opened console. `exit` receives the exit code.
-    pub fn new(machine: Box<dyn Machine>, drive: Drive, exit: Arc<AtomicI32>) -> App {
-        let view = machine.view();
-        let wheel_axis = view.wheel.0;
-        let bench = drive.bench_frames.map(|_| Bench::default());
+impl<F: Front> App<F> {
+    /// The application around an opened machine. `exit` receives the exit code.
+    pub fn new(front: F, drive: Drive<F::Ev>, exit: Arc<AtomicI32>, feed: Option<Feed>) -> Self {
         App {
-            machine: Some(machine),
-            view,
-            tape: None,
-            plasma: Plasma::new(),
-            plot: PlotState::new(),
-            velocity: Default::default(),
-            vel_units: None,
-            hand: HandState {
-                wheel_axis,
-                ..HandState::default()
-            },
+            front: Some(front),
+            bench: drive.bench_frames.map(|_| Bench::default()),
             drive,
             waiting: None,
             shot: Shot::Idle,
-            bench,
-            frames: 0,
-            layout: Layout::default(),
+            last: Instant::now(),
             exit,
-            status: String::new(),
-            program_dirty: true,
-            program_checked: 0,
-            translating: false,
-            feed: None,
+            interrupted: None,
+            feed,
         }
-    }
-
-    /// Streams to MTConnect agents through `feed` (once a frame, after the tick).
-    pub fn with_feed(mut self, feed: Option<crate::cli::mtconnect::Feed>) -> App {
-        self.feed = feed;
-        self
     }
 
     fn fail(&mut self, ctx: &egui::Context, msg: String) {
@@ -129,110 +154,69 @@ impl App {
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }
 
-    /// Plays script events until a `wait` that is not yet satisfied.
-    fn play_script(&mut self, m: &mut dyn Machine, ctx: &egui::Context) {
-        if let Some((since, idle_frames, what)) = self.waiting {
-            let idle = m.is_idle();
-            let done = match what {
-                Waiting::Idle => idle && idle_frames >= 2,
-                Waiting::Block(n) => idle || m.block_executing() == Some(n),
-                Waiting::Until(t) => m.view().machine_ns >= t,
-            };
-            self.waiting = if done {
-                None
-            } else if idle {
-                Some((since, idle_frames + 1, what))
-            } else {
-                Some((since, 0, what))
-            };
-            if self.waiting.is_some() && since.elapsed() > self.drive.wait_limit {
-                self.fail(
-                    ctx,
-                    format!(
-                        "script 'wait': not done after {} s",
-                        self.drive.wait_limit.as_secs()
-                    ),
-                );
-                self.drive.script.clear();
-                self.waiting = None;
-            }
-            if self.waiting.is_some() {
-                return;
-            }
-        }
-        while let Some(ev) = self.drive.script.pop_front() {
-            match ev {
-                PanelEvent::Wait => {
-                    self.waiting = Some((Instant::now(), 0, Waiting::Idle));
-                    return;
-                }
-                PanelEvent::WaitBlock(n) => {
-                    self.waiting = Some((Instant::now(), 0, Waiting::Block(n)));
-                    return;
-                }
-                PanelEvent::WaitMs(t) => {
-                    let at = m
-                        .view()
-                        .machine_ns
-                        .saturating_add(t.saturating_mul(1_000_000));
-                    self.waiting = Some((Instant::now(), 0, Waiting::Until(at)));
-                    return;
-                }
-                PanelEvent::Show => {
-                    super::say(&format!(
-                        "--- display\n{}\n---",
-                        m.view().display.join("\n")
-                    ));
-                }
-                other => {
-                    self.program_dirty = true;
-                    m.handle(other);
-                }
-            }
-        }
-    }
-
+    /// The script has been played to its end (or there is none).
     fn script_done(&self) -> bool {
         self.drive.script.is_empty() && self.waiting.is_none()
     }
 
-    fn screenshot(&mut self, ctx: &egui::Context) {
+    /// Plays script steps until a wait not yet reached, for at most `SCRIPT_BUDGET` of wall
+    /// time on waits.
+    fn play(&mut self, f: &mut F, ctx: &egui::Context) {
+        let deadline = Instant::now() + SCRIPT_BUDGET;
+        loop {
+            if let Some((since, w)) = self.waiting {
+                if f.pursue(w, deadline) {
+                    self.waiting = None;
+                } else {
+                    if since.elapsed() > self.drive.wait_limit {
+                        self.drive.script.clear();
+                        self.waiting = None;
+                        let s = self.drive.wait_limit.as_secs();
+                        self.fail(ctx, format!("script wait: not done after {s} s"));
+                    }
+                    return;
+                }
+            }
+            let Some(step) = self.drive.script.pop_front() else {
+                return;
+            };
+            let w = match step {
+                Step::Ev(ev) => {
+                    f.event(ev);
+                    continue;
+                }
+                Step::Show => {
+                    super::say(&format!("--- display\n{}\n---", f.show()));
+                    continue;
+                }
+                Step::Wait(w) => w,
+                Step::WaitMs(ms) => {
+                    Wait::Until(f.machine_ns().saturating_add(ms.saturating_mul(1_000_000)))
+                }
+            };
+            f.begin_wait(w);
+            self.waiting = Some((Instant::now(), w));
+        }
+    }
+
+    fn screenshot(&mut self, f: &F, ctx: &egui::Context) {
         let Some(path) = self.drive.screenshot.clone() else {
             return;
         };
-        let ready = self.script_done()
-            && !self.translating
-            && !self.program_dirty
-            && (self.bench.is_none() || self.drive.bench_frames.is_none());
+        // After the benchmark, if both are asked for.
+        let ready = self.script_done() && !f.settling() && self.drive.bench_frames.is_none();
         match self.shot.step(ctx, &path, ready) {
             None => {}
             Some(Err(e)) => self.fail(ctx, e),
             Some(Ok([w, h])) => {
-                let r = |o: Option<Rect>| rect_px(o, ctx.pixels_per_point());
-                let ppp = ctx.pixels_per_point();
-                let tape = self.layout.tape.map_or("none".to_string(), |t| {
-                    format!(
-                        "{} strip {} first {} count {}",
-                        r(Some(t.rect)),
-                        (t.pitch * ppp).round(),
-                        t.first,
-                        t.count
-                    )
-                });
-                super::say(&format!(
-                    "screenshot {} {w}x{h} plasma {} pitch {} plot {} tape {tape} velocity {}",
-                    path.display(),
-                    r(self.layout.plasma),
-                    self.layout.pitch,
-                    r(self.layout.plot),
-                    r(self.layout.velocity)
-                ));
+                let layout = f.layout(ctx.pixels_per_point());
+                super::say(&format!("screenshot {} {w}x{h} {layout}", path.display()));
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }
     }
 
-    fn measure(&mut self, m: &mut dyn Machine, ctx: &egui::Context, frame: &eframe::Frame) {
+    fn measure(&mut self, f: &F, ctx: &egui::Context, frame: &eframe::Frame) {
         let (Some(b), Some(n)) = (self.bench.as_mut(), self.drive.bench_frames) else {
             return;
         };
@@ -240,7 +224,7 @@ impl App {
             return;
         }
         let cpu = frame.info().cpu_usage;
-        if let Some(report) = b.frame(n, self.view.machine_ns, cpu, m.pulses()) {
+        if let Some(report) = b.frame(n, f.machine_ns(), cpu, f.pulses()) {
             super::say(&report);
             self.drive.bench_frames = None;
             // With a screenshot asked for too, it is taken now, and that closes the window.
@@ -250,336 +234,174 @@ impl App {
         }
     }
 
-    /// One frame: tick the console, play the script, draw, hand the operator's actions over.
-    fn frame(&mut self, m: &mut dyn Machine, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+    /// One frame: the machine's time, the script, the panel and the operator's actions, the
+    /// screenshot, the benchmark, MTConnect, the next frame.
+    fn frame(&mut self, f: &mut F, ui: &mut egui::Ui, frame: &eframe::Frame) {
         let ctx = ui.ctx().clone();
         // A stop signal closes the window as closing it does (`on_exit`: the machine stopped,
-        // the recording closed); `caught` marks the recording interrupted first.
-        if crate::cli::signals::caught().is_some() {
-            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        // the recording closed and marked interrupted).
+        if let Some(why) = crate::cli::signals::caught_reason() {
+            if self.interrupted.is_none() {
+                self.interrupted = Some(why);
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
             return;
         }
-        self.frames += 1;
-        m.tick();
-        self.play_script(m, &ctx);
-        if let Some(f) = self.feed.as_mut() {
-            m.publish(f);
+        let now = Instant::now();
+        // Real time, unless a script plays the machine or holds it for the screenshot.
+        let held = self.drive.scripted && self.drive.screenshot.is_some();
+        let wall = (self.script_done() && !held)
+            .then(|| (now.duration_since(self.last).as_nanos() as u64).min(MAX_FRAME_NS));
+        self.last = now;
+        f.tick(wall);
+        if !self.script_done() {
+            self.play(f, &ctx);
         }
-        let was = self.view.wheel.0;
-        self.view = m.view();
-        self.tape = m.tape();
-        let (t_ns, pos, moving) = m.motion_sample();
-        // The strip's clock stops with the machine (a hold, a dwell, an E-STOP).
-        self.velocity.sample(m.block_executing(), t_ns, pos, moving);
-        if self.vel_units.is_none() {
-            let s = m.settings();
-            let what = match s.interpolator {
-                crate::settings::Interpolator::Dda => "DDA",
-                crate::settings::Interpolator::ErrorProportional => "EP",
-            };
-            self.vel_units = Some((s.pulse_mm, what));
-        }
-        // The handwheel axis turned by another input (a script) shows on the selector too.
-        if self.view.wheel.0 != was {
-            self.hand.wheel_axis = self.view.wheel.0;
-        }
-        // Program memory and tool data change only through panel events: look again (on the
-        // backplot's own thread) after events, at most every 15 frames.
-        if self.program_dirty
-            && (self.program_checked == 0 || self.frames >= self.program_checked + 15)
-        {
-            // Read as START reads it: in the program's own dialect.
-            let s = m.run_settings();
-            let start = self.view.axis_mm.map(|mm| s.to_pulses(mm));
-            let gcode = m.gcode_start();
-            self.plot
-                .request_program(m.program_text(), m.magazine(), s, start, gcode);
-            self.program_dirty = false;
-            self.program_checked = self.frames;
-        }
-        self.translating = self.plot.poll();
-        self.plot.record(self.view.axis_mm);
-        self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
-        let mut out = Vec::new();
         let events = ctx.input(|i| i.events.clone());
-        super::keys::keyboard(&events, &self.view, &mut self.hand, &mut out);
-        self.draw(ui, &mut out);
-        // Whole notches nobody under the pointer took are dropped.
-        self.hand.scroll = self.hand.scroll.fract();
-        if std::mem::take(&mut self.hand.tape_requested) {
-            self.program_dirty = true;
-            m.tape_from_entry();
-        }
-        if std::mem::take(&mut self.hand.punch_requested) {
-            m.punch_from_entry();
-        }
-        if std::mem::take(&mut self.hand.quit_requested) {
-            // The terminal's quit keys (Ctrl-C, Alt+q) close the window as closing it does.
+        if f.draw(ui, &events) {
+            // The terminal's quit keys close the window as closing it does.
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
-        for ev in out {
-            self.program_dirty = true;
-            self.status = format!("{ev:?}");
-            m.handle(ev);
+        self.screenshot(f, &ctx);
+        self.measure(f, &ctx, frame);
+        if let Some(feed) = self.feed.as_mut() {
+            f.publish(feed);
         }
-        self.screenshot(&ctx);
-        self.measure(m, &ctx, frame);
-        let headless_busy =
-            !self.script_done() || self.translating || self.bench.is_some() || self.shot.busy();
-        super::schedule_repaint(&ctx, headless_busy, !m.is_idle());
+        let busy = !self.script_done()
+            || f.settling()
+            || self.bench.is_some()
+            || self.drive.screenshot.is_some();
+        super::schedule_repaint(&ctx, busy, f.moving());
     }
 }
 
-impl eframe::App for App {
+impl<F: Front> eframe::App for App<F> {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        // The console is taken out for the frame (and put back), so that it can be finished
+        // The machine is taken out for the frame (and put back), so that it can be closed
         // when the window closes.
-        let Some(mut m) = self.machine.take() else {
+        let Some(mut f) = self.front.take() else {
             return;
         };
-        self.frame(&mut *m, ui, frame);
-        self.machine = Some(m);
+        self.frame(&mut f, ui, frame);
+        self.front = Some(f);
     }
 
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
         // Stop the machine and close the recording, as the terminal panel does on quitting.
-        if let Some(m) = self.machine.take() {
-            match m.finish() {
-                Ok(Some(summary)) => eprintln!("novanc: {summary}"),
-                Ok(None) => {}
-                Err(e) => eprintln!("novanc: recording: {e}"),
-            }
+        if let Some(f) = self.front.take() {
+            f.close(self.interrupted.as_deref());
         }
     }
+
     fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
-        controls::ENAMEL.to_normalized_gamma_f32()
-    }
-}
-
-/// Mouse-wheel movement in notches (one line = one notch, 40 points = one notch), positive up.
-fn scroll_notches(events: &[egui::Event]) -> f32 {
-    events
-        .iter()
-        .map(|e| match e {
-            egui::Event::MouseWheel { unit, delta, .. } => match unit {
-                egui::MouseWheelUnit::Line => delta.y,
-                egui::MouseWheelUnit::Point => delta.y / 40.0,
-                egui::MouseWheelUnit::Page => delta.y * 10.0,
-            },
-            _ => 0.0,
-        })
-        .sum()
-}
-
-impl App {
-    fn draw(&mut self, ui: &mut egui::Ui, out: &mut Vec<PanelEvent>) {
-        let view = self.view.clone();
-        let frame = egui::Frame::new().fill(controls::ENAMEL).inner_margin(8.0);
-        egui::Panel::bottom("relay")
-            .resizable(false)
-            .frame(frame.fill(Color32::from_rgb(48, 52, 56)))
-            .show(ui, |ui| self.relay_panel(ui, &view, out));
-        egui::Panel::left("nc")
-            .resizable(false)
-            .frame(frame)
-            .show(ui, |ui| self.nc_panel(ui, &view, out));
-        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
-            // The velocity strip has its own place under the backplot, which it once covered.
-            let full = ui.available_rect_before_wrap();
-            let strip_h = (full.height() * 0.22).clamp(60.0, 140.0);
-            let plot_area =
-                Rect::from_min_max(full.min, egui::pos2(full.max.x, full.max.y - strip_h - 6.0));
-            let strip = Rect::from_min_max(egui::pos2(full.min.x, full.max.y - strip_h), full.max);
-            let tool = view.axis_mm;
-            let mut scroll = self.hand.scroll;
-            let r = ui
-                .scope_builder(egui::UiBuilder::new().max_rect(plot_area), |ui| {
-                    self.plot.show(ui, tool, &mut scroll)
-                })
-                .inner;
-            self.hand.scroll = scroll;
-            self.layout.plot = Some(r);
-            let (pulse_mm, what) = self.vel_units.unwrap_or((0.001, "DDA"));
-            self.layout.velocity = Some(self.velocity.show(ui.painter(), strip, pulse_mm, what));
-        });
-    }
-
-    /// The NC panel (11): plasma display, data-processing mode selector, data keys, readout.
-    fn nc_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
-        let rows = view.display.len().max(1);
-        let cols = view
-            .display
-            .iter()
-            .map(|l| l.chars().count())
-            .max()
-            .unwrap_or(40)
-            .max(1);
-        let ppp = ui.ctx().pixels_per_point();
-        // The largest whole dot pitch (physical pixels) that fits 760 points across.
-        let pitch = ((760.0 * ppp) / (cols * super::font::CELL_W + 1) as f32)
-            .floor()
-            .clamp(1.0, 6.0) as usize;
-        let rect = self.plasma.show(ui, &view.display, pitch);
-        self.layout.plasma = Some(rect);
-        self.layout.pitch = pitch;
-        let _ = rows;
-        // The tape passing the read head, while a read is shown (docs/window.md).
-        self.layout.tape = match &self.tape {
-            Some(t) => {
-                ui.add_space(4.0);
-                Some(tapestrip::show(ui, t, rect.width()))
-            }
-            None => None,
-        };
-        ui.add_space(6.0);
-        ui.horizontal(|ui| {
-            let sel = DataMode::ALL
-                .iter()
-                .position(|m| *m == view.data_mode)
-                .unwrap_or(0);
-            ui.vertical(|ui| {
-                if let Some(i) = controls::rotary(
-                    ui,
-                    "DATA PROCESSING MODE",
-                    &DataMode::ALL.map(|m| m.names().short),
-                    sel,
-                    vec2(240.0, 170.0),
-                    &mut self.hand,
-                ) {
-                    out.push(PanelEvent::Data(DataMode::ALL[i]));
-                }
-            });
-            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out, true));
-            ui.vertical(|ui| controls::readout(ui, view));
-        });
-        ui.label(
-            egui::RichText::new(format!("entry: {}", view.entry))
-                .monospace()
-                .color(controls::LEGEND),
-        );
-    }
-
-    /// The relay panel (12): operation mode selector, buttons and lamps, feed override,
-    /// handwheel, jog.
-    fn relay_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
-        ui.horizontal(|ui| {
-            let sel = OpMode::ALL
-                .iter()
-                .position(|m| *m == view.op_mode)
-                .unwrap_or(0);
-            if let Some(i) = controls::rotary(
-                ui,
-                "OPERATION MODE",
-                &OpMode::ALL.map(|m| m.names().short),
-                sel,
-                vec2(240.0, 170.0),
-                &mut self.hand,
-            ) {
-                out.push(PanelEvent::Op(OpMode::ALL[i]));
-            }
-            ui.vertical(|ui| {
-                ui.horizontal(|ui| {
-                    let l = &view.lamps;
-                    if controls::lamp_button(
-                        ui,
-                        "START",
-                        Color32::from_rgb(30, 120, 40),
-                        Some((l.run, controls::LAMP_RUN)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Start);
-                    }
-                    if controls::lamp_button(
-                        ui,
-                        "STOP",
-                        Color32::from_rgb(150, 110, 20),
-                        Some((l.hold, controls::LAMP_HOLD)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Stop);
-                    }
-                    if controls::lamp_button(
-                        ui,
-                        "RESET",
-                        Color32::from_rgb(60, 70, 110),
-                        Some((l.alarm, controls::LAMP_RED)),
-                    )
-                    .clicked()
-                    {
-                        out.push(PanelEvent::Reset);
-                    }
-                    if controls::estop_button(ui, l.estop).clicked() {
-                        out.push(PanelEvent::EStop);
-                    }
-                });
-                ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
-                controls::jog_buttons(ui, view, &mut self.hand, out);
-                ui.label(
-                    egui::RichText::new("PAGES  ^P ^D ^O ^E")
-                        .small()
-                        .color(controls::LEGEND),
-                );
-                controls::page_keys(ui, view, out);
-            });
-            let ov_labels: Vec<String> = (0..=15)
-                .map(|i| {
-                    if i % 5 == 0 {
-                        format!("{}", i * 10)
-                    } else {
-                        String::new()
-                    }
-                })
-                .collect();
-            let ov_refs: Vec<&str> = ov_labels.iter().map(String::as_str).collect();
-            let sel = (view.feed_override / 10).min(15) as usize;
-            if let Some(i) = controls::rotary(
-                ui,
-                &format!("FEED OVERRIDE {} %", view.feed_override),
-                &ov_refs,
-                sel,
-                vec2(170.0, 170.0),
-                &mut self.hand,
-            ) {
-                out.push(PanelEvent::Override(i as u32 * 10));
-            }
-            controls::switches(ui, view, out);
-            ui.vertical(|ui| {
-                ui.label(
-                    egui::RichText::new("MANUAL PULSE GENERATOR")
-                        .small()
-                        .color(controls::LEGEND),
-                );
-                ui.horizontal(|ui| {
-                    controls::handwheel(ui, &mut self.hand, out);
-                    ui.vertical(|ui| controls::wheel_selectors(ui, view, &mut self.hand, out));
-                });
-            });
-        });
-        if !self.status.is_empty() {
-            ui.label(
-                egui::RichText::new(format!("last action: {}", self.status))
-                    .small()
-                    .color(Color32::GRAY),
-            );
-        }
+        super::controls::ENAMEL.to_normalized_gamma_f32()
     }
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
+    /// Plays the whole script of `app` as frames would, each within its budget; the front
+    /// comes back.
+    pub(crate) fn play_all<F: Front>(app: &mut App<F>) -> F {
+        let ctx = egui::Context::default();
+        let mut f = app.front.take().expect("the front");
+        let mut frames = 0;
+        while !app.script_done() {
+            f.tick(None);
+            app.play(&mut f, &ctx);
+            frames += 1;
+            assert!(frames < 100_000, "the script does not end");
+        }
+        f
+    }
+
+    /// A machine of events numbered by the script, whose clock moves 1 ms each time a wait
+    /// looks at it, and which comes to rest at the third look.
+    #[derive(Default)]
+    struct Fake {
+        t: u64,
+        evs: Vec<u32>,
+        looks: u32,
+    }
+
+    impl Front for Fake {
+        type Ev = u32;
+        fn tick(&mut self, _wall_ns: Option<u64>) {}
+        fn event(&mut self, ev: u32) {
+            self.evs.push(ev);
+        }
+        fn machine_ns(&self) -> u64 {
+            self.t
+        }
+        fn begin_wait(&mut self, _w: Wait) {
+            self.looks = 0;
+        }
+        fn pursue(&mut self, w: Wait, _deadline: Instant) -> bool {
+            self.looks += 1;
+            self.t += 1_000_000;
+            match w {
+                Wait::Until(t) => self.t >= t,
+                Wait::Rest => self.looks >= 3,
+                Wait::Block(_) => false,
+            }
+        }
+        fn show(&self) -> String {
+            String::new()
+        }
+        fn moving(&self) -> bool {
+            false
+        }
+        fn draw(&mut self, _ui: &mut egui::Ui, _events: &[egui::Event]) -> bool {
+            false
+        }
+        fn layout(&self, _ppp: f32) -> String {
+            String::new()
+        }
+        fn pulses(&self) -> u64 {
+            0
+        }
+        fn publish(&self, _feed: &mut Feed) {}
+        fn close(self, _interrupted: Option<&str>) {}
+    }
+
+    fn app(script: Vec<Step<u32>>) -> App<Fake> {
+        let drive = Drive {
+            script: script.into(),
+            scripted: true,
+            ..Drive::default()
+        };
+        App::new(Fake::default(), drive, Arc::new(AtomicI32::new(0)), None)
+    }
+
     #[test]
-    fn scroll_is_counted_in_notches() {
-        let evs = vec![egui::Event::MouseWheel {
-            unit: egui::MouseWheelUnit::Line,
-            delta: vec2(0.0, 2.0),
-            phase: egui::TouchPhase::Move,
-            source: egui::MouseWheelSource::Unknown,
-            modifiers: Default::default(),
-        }];
-        assert_eq!(scroll_notches(&evs), 2.0);
+    fn the_script_stops_at_each_wait_until_the_machine_reaches_it() {
+        let mut a = app(vec![
+            Step::Ev(1),
+            Step::WaitMs(5),
+            Step::Ev(2),
+            Step::Wait(Wait::Rest),
+            Step::Ev(3),
+        ]);
+        let ctx = egui::Context::default();
+        let mut f = a.front.take().unwrap();
+        a.play(&mut f, &ctx);
+        assert_eq!(f.evs, [1], "the event after the wait waits");
+        assert_eq!(a.waiting.map(|w| w.1), Some(Wait::Until(5_000_000)));
+        a.front = Some(f);
+        let f = play_all(&mut a);
+        assert_eq!(f.evs, [1, 2, 3]);
+        // `wait ms 5` from 0, then three looks for the rest.
+        assert_eq!(f.t, 8_000_000);
+    }
+
+    #[test]
+    fn a_wait_not_reached_in_time_ends_the_run_with_exit_1() {
+        let mut a = app(vec![Step::Wait(Wait::Block(7)), Step::Ev(1)]);
+        a.drive.wait_limit = Duration::ZERO;
+        let f = play_all(&mut a);
+        assert!(f.evs.is_empty(), "{:?}", f.evs);
+        assert_eq!(a.exit.load(Ordering::SeqCst), 1);
     }
 }

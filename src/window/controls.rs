@@ -218,6 +218,30 @@ pub fn lamp_button(
     resp
 }
 
+/// The relay panel's START, STOP and RESET with their lamps lit by `lit` (RUN green, feed
+/// hold amber, alarm red) and the E-STOP (ringed red while `lit[3]`), side by side, as both
+/// machines have them: the button clicked, as the panel event it is.
+pub fn relay_buttons(ui: &mut Ui, lit: [bool; 4]) -> Option<crate::panel_model::PanelEvent> {
+    use crate::panel_model::PanelEvent as E;
+    let mut out = None;
+    ui.horizontal(|ui| {
+        let buttons = [
+            ("START", Color32::from_rgb(30, 120, 40), LAMP_RUN, E::Start),
+            ("STOP", Color32::from_rgb(150, 110, 20), LAMP_HOLD, E::Stop),
+            ("RESET", Color32::from_rgb(60, 70, 110), LAMP_RED, E::Reset),
+        ];
+        for ((label, face, lamp, ev), on) in buttons.into_iter().zip(lit) {
+            if lamp_button(ui, label, face, Some((on, lamp))).clicked() {
+                out = Some(ev);
+            }
+        }
+        if estop_button(ui, lit[3]).clicked() {
+            out = Some(E::EStop);
+        }
+    });
+    out
+}
+
 /// The emergency stop: a red mushroom head on a yellow collar, with its lamp.
 pub fn estop_button(ui: &mut Ui, on: bool) -> Response {
     let (rect, resp) = ui.allocate_exact_size(vec2(84.0, 84.0), Sense::click());

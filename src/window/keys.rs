@@ -223,6 +223,8 @@ pub fn terminal_keys(events: &[egui::Event]) -> Vec<Key> {
     let mut out = Vec::new();
     for e in events {
         match e {
+            // egui turns Ctrl-C into a copy (with no key event): it is the terminal's Ctrl-C.
+            egui::Event::Copy => out.push(Key::Ctrl('c')),
             egui::Event::Text(t) if !alt_combo => {
                 out.extend(t.chars().filter(|c| !c.is_control()).map(Key::Char));
             }
@@ -488,6 +490,12 @@ mod tests {
             terminal_keys(&evs),
             [Key::Alt('f'), Key::Alt('3'), Key::Ctrl('c')]
         );
+    }
+
+    /// egui-winit sends Ctrl-C as `Event::Copy` alone: the lathe window did not close on it.
+    #[test]
+    fn egui_s_copy_is_the_terminal_s_ctrl_c() {
+        assert_eq!(terminal_keys(&[egui::Event::Copy]), [Key::Ctrl('c')]);
     }
 
     #[test]

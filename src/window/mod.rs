@@ -2,10 +2,12 @@
 //! desktop front panel — plasma display, selectors, relay panel, data keys, handwheel,
 //! position readout — with a backplot. It is only a renderer and input source for the same
 //! `Console` as the terminal; see docs/window.md. With `--machine` naming a lathe, the
-//! lathe's console instead (`lathe`, docs/window.md "The lathe window").
+//! lathe's console instead (`lathe`, docs/window.md "The lathe window"). One application
+//! (`app`) for both: what differs is each machine's `app::Front` (`centre`, `lathe`).
 
-mod app;
+pub(crate) mod app;
 mod bench;
+mod centre;
 mod controls;
 pub mod font;
 pub mod image;
@@ -18,126 +20,10 @@ mod shot;
 mod tapestrip;
 mod velocity;
 
-use crate::panel_model::{PanelEvent, PanelView};
-use crate::settings::MachineSettings;
-use crate::tooldata::Magazine;
+use app::{App, Drive, Front, Step};
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
-
-/// What the window needs from the console: feed it events, let it run, read its view.
-pub trait Machine {
-    /// One operator action.
-    fn handle(&mut self, ev: PanelEvent);
-    /// Lets the console look at the pulse core and the translator (once per frame).
-    fn tick(&mut self);
-    /// The panel to draw.
-    fn view(&self) -> PanelView;
-    /// The text START runs in the current operation mode (program memory, or the MDI buffer in
-    /// MDI), for the backplot.
-    fn program_text(&self) -> String;
-    /// For a `program_text` in ISO G-code, where reading starts (the console's interpreter
-    /// state, so that the plot reads G91, G92 and the tool length as START will); None for the
-    /// source language.
-    fn gcode_start(&self) -> Option<plot::GcodeStart>;
-    /// The magazine in force (T codes and tool data, for the backplot's translation).
-    fn magazine(&self) -> Magazine;
-    /// The machine settings.
-    fn settings(&self) -> MachineSettings;
-    /// The settings START reads `program_text` with (the program's own dialect).
-    fn run_settings(&self) -> MachineSettings {
-        self.settings()
-    }
-    /// RUN = 0 and no motion.
-    fn is_idle(&self) -> bool;
-    /// The N number of the block executing now, if one is.
-    fn block_executing(&self) -> Option<u32>;
-    /// Machine time (ns), the axis counters (pulses) and whether the axes are moving (not in
-    /// a hold, a dwell or an E-STOP), for the velocity strip.
-    fn motion_sample(&self) -> (u64, [i64; 3], bool);
-    /// Waits until every action so far has been taken up and the machine is idle.
-    fn wait_idle(&mut self);
-    /// Pulses output in this run, all axes together (the pulse counters).
-    fn pulses(&self) -> u64;
-    /// The tape reader key: the typed line names the tape to put in the reader.
-    fn tape_from_entry(&mut self);
-    /// The punch key: in PROGRAM READ the typed line names the image to punch program memory
-    /// to (docs/tape.md).
-    fn punch_from_entry(&mut self);
-    /// The tape read in progress (or the one an error stopped), for the tape strip.
-    fn tape(&self) -> Option<crate::console::tape::TapeView>;
-    /// Ends the session: stops the machine, closes the recording; its summary, if any.
-    fn finish(self: Box<Self>) -> Result<Option<String>, String>;
-    /// Publishes the state to MTConnect agents (`--mtconnect`, once a frame).
-    fn publish(&self, feed: &mut crate::cli::mtconnect::Feed);
-}
-
-impl Machine for crate::console::Console {
-    fn handle(&mut self, ev: PanelEvent) {
-        crate::console::Console::handle(self, ev)
-    }
-    fn tick(&mut self) {
-        crate::console::Console::tick(self)
-    }
-    fn view(&self) -> PanelView {
-        crate::console::Console::view(self)
-    }
-    fn program_text(&self) -> String {
-        crate::console::Console::run_text(self)
-    }
-    fn gcode_start(&self) -> Option<plot::GcodeStart> {
-        crate::console::Console::run_text_is_gcode(self).then(|| plot::GcodeStart::State {
-            state: Box::new(self.interp_state().clone()),
-            mdi: self.run_text_is_mdi(),
-            subs: Some(Arc::new(self.subroutines())),
-        })
-    }
-    fn magazine(&self) -> Magazine {
-        crate::console::Console::magazine(self)
-    }
-    fn settings(&self) -> MachineSettings {
-        crate::console::Console::settings(self).clone()
-    }
-    fn run_settings(&self) -> MachineSettings {
-        self.run_settings_for(!self.run_text_is_mdi())
-    }
-    fn is_idle(&self) -> bool {
-        crate::console::Console::is_idle(self)
-    }
-    fn block_executing(&self) -> Option<u32> {
-        let st = self.status();
-        st.executing
-            .as_ref()
-            .filter(|_| st.in_block)
-            .and_then(|e| e.block())
-            .map(|b| b.seq)
-    }
-    fn motion_sample(&self) -> (u64, [i64; 3], bool) {
-        let st = self.status();
-        (st.machine_ns, st.pos.xyz(), st.moving && !st.estop)
-    }
-    fn wait_idle(&mut self) {
-        crate::console::Console::wait_idle(self)
-    }
-    fn pulses(&self) -> u64 {
-        self.status().pulses.iter().sum()
-    }
-    fn tape_from_entry(&mut self) {
-        crate::console::Console::tape_from_entry(self)
-    }
-    fn punch_from_entry(&mut self) {
-        crate::console::Console::punch_from_entry(self)
-    }
-    fn tape(&self) -> Option<crate::console::tape::TapeView> {
-        crate::console::Console::tape_view(self)
-    }
-    fn finish(self: Box<Self>) -> Result<Option<String>, String> {
-        crate::console::Console::finish(*self)
-    }
-    fn publish(&self, feed: &mut crate::cli::mtconnect::Feed) {
-        feed.publish(self)
-    }
-}
 
 /// The window's `--help`.
 pub const HELP: &str = "\
@@ -244,10 +130,13 @@ pub fn display_named() -> bool {
 const NO_WINDOW_HINT: &str =
     "run the terminal panel instead: novanc (without --window), or a headless panel session: novanc script FILE";
 
-/// Both windows before they open: with no display named, says why the window cannot open
-/// and returns exit code 1; else the text of the `--script` file, if any (a file that cannot
-/// be read is said, exit 1).
-fn before_opening(opts: &WindowOptions) -> Result<Option<(String, String)>, i32> {
+/// Before the window opens: with no display named, says why the window cannot open and
+/// returns exit code 1; else the script (`--script`), if any, read by `parse` (a file that
+/// cannot be read, or a bad line, is said with its place, exit 1).
+fn before_opening<E>(
+    opts: &WindowOptions,
+    parse: impl FnOnce(&str) -> Result<Vec<Step<E>>, (usize, String)>,
+) -> Result<Drive<E>, i32> {
     if !display_named() {
         eprintln!(
             "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
@@ -255,16 +144,26 @@ fn before_opening(opts: &WindowOptions) -> Result<Option<(String, String)>, i32>
         );
         return Err(1);
     }
-    let Some(path) = &opts.script else {
-        return Ok(None);
+    let mut drive = Drive {
+        screenshot: opts.screenshot.as_ref().map(Into::into),
+        bench_frames: opts.bench_frames,
+        ..Drive::default()
     };
-    match std::fs::read_to_string(path) {
-        Ok(t) => Ok(Some((path.clone(), t))),
-        Err(e) => {
-            eprintln!("novanc: cannot read script {path}: {e}");
-            Err(1)
-        }
-    }
+    let Some(path) = &opts.script else {
+        return Ok(drive);
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        eprintln!("novanc: cannot read script {path}: {e}");
+        1
+    })?;
+    drive.script = parse(&text)
+        .map_err(|(line, e)| {
+            eprintln!("novanc: {path}:{line}: {e}");
+            1
+        })?
+        .into();
+    drive.scripted = true;
+    Ok(drive)
 }
 
 /// Schedules both windows' next frame: at once while a script, a screenshot or the benchmark
@@ -281,56 +180,52 @@ fn schedule_repaint(ctx: &egui::Context, busy: bool, moving: bool) {
     }
 }
 
-/// Opens the console configured by `cfg` in a window (`novanc --window`); returns the exit
-/// code.
-pub fn run(cfg: crate::console::ConsoleConfig, opts: WindowOptions) -> i32 {
-    let script = match before_opening(&opts) {
-        Ok(s) => s,
-        Err(code) => return code,
+/// Opens the console of the machine (`lathe`: a lathe's description; `None`: the machining
+/// centre of `cfg`) in a window (`novanc --window`); returns the exit code.
+pub fn run(
+    lathe: Option<crate::lathe::desc::LatheDesc>,
+    cfg: crate::console::ConsoleConfig,
+    opts: WindowOptions,
+) -> i32 {
+    let Some(desc) = lathe else {
+        return open(&opts, centre::read_script, |_| centre::open(cfg, &opts.mtc));
     };
-    let mut drive = app::Drive {
-        wait_limit: Duration::from_secs(300),
-        ..app::Drive::default()
-    };
-    if let Some((path, text)) = script {
-        match PanelEvent::parse_script(&text) {
-            Ok(evs) => drive.script = evs.into(),
-            Err(e) => {
-                eprintln!("novanc: {path}:{}: {}", e.line, e.message);
-                return 1;
-            }
-        }
+    if opts.bench_frames.is_some() {
+        eprintln!("novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)");
+        return 2;
     }
-    drive.screenshot = opts.screenshot.as_ref().map(Into::into);
-    drive.bench_frames = opts.bench_frames;
-    // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
-    crate::cli::signals::install();
-    let (machine, feed) = match open_console(cfg, &opts.mtc) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("novanc: {e}");
-            return 1;
-        }
-    };
-    let size = opts.size.unwrap_or((1400.0, 860.0));
-    let code = open_window("novanc — NC panel", size, move |exit| {
-        Box::new(app::App::new(machine, drive, exit).with_feed(feed))
-    });
-    crate::cli::signals::exit_code(code)
+    let channels = desc.channels.len();
+    open(
+        &opts,
+        |text| lathe::read_script(text, channels),
+        |scripted| lathe::open(desc, &cfg, &opts.mtc, scripted),
+    )
 }
 
-/// Opens an eframe window titled `title`, `size` points, with the app `make` builds (given
-/// the cell its exit code goes in); runs it until it closes; returns the exit code. A window
-/// that cannot open says why and suggests the terminal.
-fn open_window(
-    title: &str,
-    size: (f32, f32),
-    make: impl FnOnce(Arc<AtomicI32>) -> Box<dyn eframe::App> + 'static,
+/// Reads the script with `parse`, opens the machine's front with `make` (told whether a
+/// script plays it: its front, MTConnect adapter and window title, or the exit code of a
+/// failure it has said) and the window on it; returns when it closes, with its exit code.
+/// A window that cannot open says why and suggests the terminal.
+fn open<F: Front>(
+    opts: &WindowOptions,
+    parse: impl FnOnce(&str) -> Result<Vec<Step<F::Ev>>, (usize, String)>,
+    make: impl FnOnce(bool) -> Result<(F, Option<crate::cli::mtconnect::Feed>, String), i32>,
 ) -> i32 {
+    let drive = match before_opening(opts, parse) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
+    crate::cli::signals::install();
+    let (front, feed, title) = match make(drive.scripted) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title(title)
-            .with_inner_size([size.0, size.1]),
+            .with_inner_size([w, h]),
         ..eframe::NativeOptions::default()
     };
     let exit = Arc::new(AtomicI32::new(0));
@@ -341,11 +236,11 @@ fn open_window(
             native,
             Box::new(move |cc| {
                 cc.egui_ctx.set_visuals(egui::Visuals::dark());
-                Ok(make(exit2))
+                Ok(Box::new(App::new(front, drive, exit2, feed)))
             }),
         )
     }));
-    match result {
+    let code = match result {
         Ok(Ok(())) => exit.load(Ordering::SeqCst),
         Ok(Err(e)) => {
             eprintln!("novanc: the window cannot open: {e}\nnovanc: {NO_WINDOW_HINT}");
@@ -355,30 +250,8 @@ fn open_window(
             eprintln!("novanc: the window failed while opening.\nnovanc: {NO_WINDOW_HINT}");
             1
         }
-    }
-}
-
-/// Opens the console the window drives.
-/// Opens the console, and the MTConnect adapter if `mtc` asks (its state published once).
-fn open_console(
-    cfg: crate::console::ConsoleConfig,
-    mtc: &crate::cli::mtconnect::MtcOpts,
-) -> Result<(Box<dyn Machine>, Option<crate::cli::mtconnect::Feed>), String> {
-    let (console, warnings) = crate::console::Console::open(cfg)?;
-    for w in warnings {
-        eprintln!("novanc: {w}");
-    }
-    let mut feed = match crate::cli::mtconnect::Feed::start(mtc, "novanc", console.core()) {
-        Ok(f) => f,
-        Err(e) => {
-            let _ = console.finish();
-            return Err(e);
-        }
     };
-    if let Some(f) = feed.as_mut() {
-        f.publish(&console);
-    }
-    Ok((Box::new(console), feed))
+    crate::cli::signals::exit_code(code)
 }
 
 #[cfg(test)]

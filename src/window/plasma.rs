@@ -66,6 +66,24 @@ impl Plasma {
 }
 
 impl Plasma {
+    /// Draws `lines` pixel for pixel at the largest whole dot pitch (physical pixels, 1 to
+    /// `most`) that fits `max` points. Returns its rectangle and the pitch.
+    pub fn show_fit(
+        &mut self,
+        ui: &mut egui::Ui,
+        lines: &[String],
+        max: egui::Vec2,
+        most: usize,
+    ) -> (egui::Rect, usize) {
+        let cols = lines.iter().map(|l| l.chars().count()).max().unwrap_or(40);
+        let rows = lines.len().max(1);
+        let ppp = ui.ctx().pixels_per_point();
+        let fit_w = (max.x * ppp) / (cols * super::font::CELL_W + 1) as f32;
+        let fit_h = (max.y * ppp) / (rows * super::font::CELL_H + 1) as f32;
+        let pitch = fit_w.min(fit_h).floor().clamp(1.0, most as f32) as usize;
+        (self.show(ui, lines, pitch), pitch)
+    }
+
     /// Shows the frame at `pitch` in the next space of `ui`, snapped to whole physical pixels
     /// so each dot is drawn pixel for pixel; returns where it went (points).
     pub fn show(&mut self, ui: &mut egui::Ui, lines: &[String], pitch: usize) -> egui::Rect {

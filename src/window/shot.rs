@@ -24,11 +24,6 @@ pub enum Shot {
 }
 
 impl Shot {
-    /// The screenshot is under way (frames should follow one another at once).
-    pub fn busy(&self) -> bool {
-        matches!(self, Shot::Settling(_) | Shot::Requested(_))
-    }
-
     /// One frame's step towards a screenshot to `path`, begun once `ready`. Returns the image
     /// size when it has been written (the caller prints its layout and closes the window), or
     /// why it could not be.

@@ -11,7 +11,6 @@ use crate::lathe::console::LatheView;
 use crate::lathe::desc::LatheDesc;
 use crate::panel_model::PanelEvent;
 use crate::window::controls::{self, HandState};
-use crate::window::plasma::Plasma;
 use egui::{vec2, Color32, Rect, RichText, Sense, Stroke, StrokeKind, Ui};
 use novanc_panel::Key;
 
@@ -199,18 +198,6 @@ pub fn help(ui: &mut Ui) {
     }
 }
 
-/// The selected channel's plasma display, pixel for pixel at the largest whole dot pitch
-/// (1–4) that fits `max` points. Returns its rectangle and the pitch.
-pub fn plasma(ui: &mut Ui, p: &mut Plasma, lines: &[String], max: egui::Vec2) -> (Rect, usize) {
-    let cols = lines.iter().map(|l| l.chars().count()).max().unwrap_or(40);
-    let rows = lines.len().max(1);
-    let ppp = ui.ctx().pixels_per_point();
-    let fit_w = (max.x * ppp) / (cols * crate::window::font::CELL_W + 1) as f32;
-    let fit_h = (max.y * ppp) / (rows * crate::window::font::CELL_H + 1) as f32;
-    let pitch = fit_w.min(fit_h).floor().clamp(1.0, 4.0) as usize;
-    (p.show(ui, lines, pitch), pitch)
-}
-
 /// What the relay buttons' lamps show: some channel runs, holds, is faulted or alarmed, or
 /// the machine is in E-STOP.
 fn lamps(v: &LatheView) -> [bool; 4] {
@@ -225,39 +212,7 @@ fn lamps(v: &LatheView) -> [bool; 4] {
 
 /// The relay buttons, the channel and mode selectors, FAULT, TARGET and the switches.
 pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out: &mut Vec<Act>) {
-    let [run, hold, alarm, estop] = lamps(v);
-    ui.horizontal(|ui| {
-        let b = |ui: &mut Ui, label: &str, face: Color32, lamp: (bool, Color32)| {
-            controls::lamp_button(ui, label, face, Some(lamp)).clicked()
-        };
-        if b(
-            ui,
-            "START",
-            Color32::from_rgb(30, 120, 40),
-            (run, controls::LAMP_RUN),
-        ) {
-            out.push(Act::Ev(LatheEv::Start));
-        }
-        if b(
-            ui,
-            "STOP",
-            Color32::from_rgb(150, 110, 20),
-            (hold, controls::LAMP_HOLD),
-        ) {
-            out.push(Act::Ev(LatheEv::Stop));
-        }
-        if b(
-            ui,
-            "RESET",
-            Color32::from_rgb(60, 70, 110),
-            (alarm, controls::LAMP_RED),
-        ) {
-            out.push(Act::Ev(LatheEv::Reset));
-        }
-        if controls::estop_button(ui, estop).clicked() {
-            out.push(Act::Ev(LatheEv::EStop));
-        }
-    });
+    out.extend(controls::relay_buttons(ui, lamps(v)).and_then(lathe_ev));
     let key = |ui: &mut Ui, label: &str, lit: bool, w: f32| {
         let fill = if lit {
             Color32::from_rgb(150, 120, 30)
@@ -338,18 +293,27 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
     });
 }
 
+/// A control the two machines' panels share, as the lathe's event (those it has).
+fn lathe_ev(e: PanelEvent) -> Option<Act> {
+    let ev = match e {
+        PanelEvent::Key(c) => LatheEv::Key(c),
+        PanelEvent::Rubout => LatheEv::Rubout,
+        PanelEvent::Eob => LatheEv::Eob,
+        PanelEvent::Start => LatheEv::Start,
+        PanelEvent::Stop => LatheEv::Stop,
+        PanelEvent::Reset => LatheEv::Reset,
+        PanelEvent::EStop => LatheEv::EStop,
+        _ => return None,
+    };
+    Some(Act::Ev(ev))
+}
+
 /// The data keys (the mill's, without the tape keys), as lathe events.
 pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<Act>) {
     let mut evs = Vec::new();
     crate::window::keys::data_keys(ui, hand, &mut evs, false);
-    out.extend(evs.into_iter().filter_map(|e| match e {
-        PanelEvent::Key(c) => Some(Act::Ev(LatheEv::Key(c))),
-        PanelEvent::Rubout => Some(Act::Ev(LatheEv::Rubout)),
-        PanelEvent::Eob => Some(Act::Ev(LatheEv::Eob)),
-        _ => None,
-    }));
+    out.extend(evs.into_iter().filter_map(lathe_ev));
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
