@@ -139,6 +139,11 @@ impl Emitter {
         // A point in pulses, if each of its `axes` is a finite number within reach of a pulse
         // count (far beyond any travel is refused as beyond it, with its real size).
         let p3 = |v: [f64; 3], axes: &[usize]| -> Result<[i64; 3], String> {
+            let p = [v[0] * inv, v[1] * inv, v[2] * inv];
+            // The usual point: every coordinate a number within reach (NaN fails the test).
+            if p.iter().all(|x| x.abs() <= 1e15) {
+                return Ok([round(p[0]), round(p[1]), round(p[2])]);
+            }
             for &a in axes {
                 if !v[a].is_finite() {
                     let name = ["X", "Y", "Z"][a];

@@ -760,6 +760,7 @@ impl GcodeSource {
                 fanuc: self.settings.dialect == Dialect::Fanuc,
                 increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
                 calculator: self.settings.fanuc.calculator,
+                sort: true,
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
@@ -1069,6 +1070,15 @@ impl GcodeSource {
             if let Some(m) = line.words.iter().rev().find(|w| w.letter == 'M') {
                 self.st.fanuc_m = m.value;
             }
+        }
+        if line.sorted && !fanuc {
+            // Sorted as read, in the mill's dialect (which a line without A reads the same
+            // with an A axis).
+            let r = self.run_words(at, n, raw, &line.sorted_words, false);
+            if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
+                r.words = Some(Box::new(line.sorted_words.clone()));
+            }
+            return r;
         }
         let mut words = self.words_buf.take().unwrap_or_default();
         let dialect = match (self.st.a_axis.is_some(), fanuc) {
