@@ -169,12 +169,18 @@ impl Emitter {
                 self.tap = *t;
                 continue;
             }
-            let mut b = Block::aux(0, *line, self.pos);
+            // Made in place at the end of `out` (not made aside and copied in); taken back
+            // off for an action that moves nowhere, and left for `emit` to cut on an error.
+            out.push(Block::aux(0, *line, self.pos));
+            let Some(b) = out.last_mut() else {
+                continue;
+            };
             b.tap = self.tap;
             match c {
                 Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
                     if end == self.pos.xyz() && !matches!(c, Canon::Probe(..)) {
+                        out.pop();
                         continue;
                     }
                     b.end = Axes::with_a(end, self.pos[3]);
@@ -197,6 +203,7 @@ impl Emitter {
                     let a = round(a * inv);
                     let to = Axes::with_a(e, a);
                     if to == self.pos {
+                        out.pop();
                         continue;
                     }
                     b.end = to;
@@ -293,7 +300,10 @@ impl Emitter {
                     b.m = *m;
                 }
                 Canon::Clocks => b.clocks = true,
-                Canon::Tap(_) => continue,
+                Canon::Tap(_) => {
+                    out.pop();
+                    continue;
+                }
             }
             if self.tap == Tap::End {
                 self.tap = Tap::No;
@@ -302,7 +312,6 @@ impl Emitter {
             b.seq = self.seq;
             b.delta = Axes::from_fn(|a| b.end[a] - self.pos[a]);
             self.pos = b.end;
-            out.push(b);
             if out.len() == 1 {
                 // The first block is made: room for exactly the rest (at most one block an
                 // action; no doubling), reserved only now so that a line refused at its first

@@ -705,7 +705,11 @@ impl GcodeSource {
             }
             // Skipping (a false `if`, a subroutine's definition): only an O-word line can stop
             // it, and nothing else is read (LinuxCNC evaluates nothing it skips).
-            if self.flow.skipping() && flow::o_label(raw).is_none() && !raw.contains('%') {
+            // (A byte loop: the library's search is made for long texts.)
+            if self.flow.skipping()
+                && flow::o_label(raw).is_none()
+                && !raw.bytes().any(|c| c == b'%')
+            {
                 continue;
             }
             if let Some(e) = crate::limits::line_too_long(raw, n, "") {
