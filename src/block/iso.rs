@@ -185,6 +185,32 @@ struct Modes {
     plane: Plane,
     feed_mode: FeedMode,
     css: Option<Css>,
+    /// The last N word printed: its number, its text packed and its length (0: none).
+    n: (u32, u128, u32),
+}
+
+/// The N word of sequence number `seq` (not 0), packed, and its length: the last one printed
+/// (`last`) counted on by one in its text when `seq` follows it, as it does from block to
+/// block (a tenth of what making it anew costs), else made anew.
+#[inline]
+fn n_word(last: (u32, u128, u32), seq: u32) -> (u128, u32) {
+    let (n, mut x, len) = last;
+    if len > 1 && n.checked_add(1) == Some(seq) {
+        // From the last digit: 9s become 0s until a digit takes the carry.
+        for k in (1..len).rev() {
+            let shift = 8 * k;
+            let d = (x >> shift) as u8;
+            x &= !(0xffu128 << shift);
+            if d != b'9' {
+                return (x | u128::from(d + 1) << shift, len);
+            }
+            x |= u128::from(b'0') << shift;
+        }
+    }
+    match packed(u64::from(seq)) {
+        Some((d, k)) => (u128::from(b'N') | d << 8, k + 1),
+        None => (0, 0),
+    }
 }
 
 /// Appends one block's ISO line (no newline) to `out`.
@@ -202,7 +228,9 @@ fn write_line_in(out: &mut Vec<u8>, b: &Block, st: &MachineSettings, modes: &mut
     let start = out.len();
     // A block the console or the core made (a SEARCH restore) has no N number.
     if b.seq != 0 {
-        push_word(out, (u128::from(b'N'), 1), u64::from(b.seq), 0, 0);
+        let (x, len) = n_word(modes.n, b.seq);
+        push_packed(out, x, len);
+        modes.n = (b.seq, x, len);
     }
     let arc = matches!(b.motion, Motion::ArcCw | Motion::ArcCcw);
     if arc && (b.plane != Plane::XY || *plane != Plane::XY) {
@@ -572,5 +600,25 @@ mod tests {
                 "N4 G01 Z-31.000 F100",
             ]
         );
+    }
+
+    /// An N word counted on from the last one prints what making it anew prints: through
+    /// every carry (9 to 10, 999 to 1000, 99,999 to 100,000), after jumps and a SEARCH's
+    /// blocks without N, up to the largest sequence number.
+    #[test]
+    fn n_words_counted_on_are_made_anew() {
+        let seqs = (1..=120_000u32)
+            .chain([
+                5, 6, 999, 1000, 1001, 99_999, 100_000, 9_999_999, 10_000_000,
+            ])
+            .chain([u32::MAX - 1, u32::MAX, 1, 2]);
+        let mut last = (0, 0, 0);
+        for seq in seqs {
+            let (x, len) = n_word(last, seq);
+            let mut out = Vec::new();
+            push_packed(&mut out, x, len);
+            assert_eq!(out, format!("N{seq}").as_bytes(), "after {}", last.0);
+            last = (seq, x, len);
+        }
     }
 }

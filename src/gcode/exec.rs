@@ -1210,6 +1210,9 @@ fn m_codes_without_comp(
     x: &Exec,
     w: &Words,
 ) -> Result<Vec<(u32, u32)>, TranslateError> {
+    if w.m.as_slice().is_empty() {
+        return Ok(Vec::new());
+    }
     let on: Vec<(u32, u32)> = range.filter_map(|m| w.has_m(m).map(|c| (m, c))).collect();
     match on.first() {
         Some(&(m, col)) if comp.active() => Err(x.err(

@@ -705,7 +705,11 @@ impl GcodeSource {
             }
             // Skipping (a false `if`, a subroutine's definition): only an O-word line can stop
             // it, and nothing else is read (LinuxCNC evaluates nothing it skips).
-            if self.flow.skipping() && flow::o_label(raw).is_none() && !raw.contains('%') {
+            // (A byte loop: the library's search is made for long texts.)
+            if self.flow.skipping()
+                && flow::o_label(raw).is_none()
+                && !raw.bytes().any(|c| c == b'%')
+            {
                 continue;
             }
             if let Some(e) = crate::limits::line_too_long(raw, n, "") {
@@ -760,6 +764,7 @@ impl GcodeSource {
                 fanuc: self.settings.dialect == Dialect::Fanuc,
                 increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
                 calculator: self.settings.fanuc.calculator,
+                sort: true,
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
@@ -1069,6 +1074,15 @@ impl GcodeSource {
             if let Some(m) = line.words.iter().rev().find(|w| w.letter == 'M') {
                 self.st.fanuc_m = m.value;
             }
+        }
+        if line.sorted && !fanuc {
+            // Sorted as read, in the mill's dialect (which a line without A reads the same
+            // with an A axis).
+            let r = self.run_words(at, n, raw, &line.sorted_words, false);
+            if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
+                r.words = Some(Box::new(line.sorted_words.clone()));
+            }
+            return r;
         }
         let mut words = self.words_buf.take().unwrap_or_default();
         let dialect = match (self.st.a_axis.is_some(), fanuc) {

@@ -8,6 +8,7 @@
 //! interpreter's state for the mill, a plain parameter table for the lathe. It knows nothing of
 //! what the words mean; `words` sorts them and `exec` executes them.
 
+use super::words::{self, Seen, Words};
 use crate::block::TranslateError;
 use crate::input_text::describe_char;
 
@@ -227,6 +228,10 @@ pub struct Line {
     pub plain: u32,
     /// Fanuc dialect: the letters whose plain number has a decimal point.
     pub pointed: u32,
+    /// The words are also sorted, in `sorted_words` ([`ReadOpts::sort`]).
+    pub sorted: bool,
+    /// The words sorted in the mill's dialect as they were read, when `sorted`.
+    pub sorted_words: Words,
 }
 
 /// A Fanuc Custom Macro B flow statement (docs/gcode.md "Fanuc dialect"). An `IF [..] GOTO n`
@@ -278,6 +283,12 @@ pub struct ReadOpts {
     /// Fanuc: calculator-type decimal point input (parameter 3401#0 DPI = 1): a number
     /// without a point is in mm, inches, degrees or seconds as written, not in increments.
     pub calculator: bool,
+    /// The usual line (words of a letter and a number, nothing else) read in one pass over
+    /// its bytes, each word sorted in the mill's dialect ([`words::MILL`]) as it is read, into
+    /// [`Line::sorted_words`]: no list of words sorted afterwards. Any other line, one with an
+    /// A word (the dialects with an A axis accept it) and one whose words are refused are read
+    /// and sorted as before, so that the same error is given at the same place.
+    pub sort: bool,
 }
 
 /// The addresses whose value, written without a decimal point, is in least increments in the
@@ -315,6 +326,72 @@ impl Line {
         self.fanuc = None;
         self.plain = 0;
         self.pointed = 0;
+        self.sorted = false;
+    }
+}
+
+/// The digits of a number, with at most one decimal point: what `Reader::number` and
+/// [`read_plain`] read.
+struct Digits {
+    /// The first 19 digits as an integer.
+    mant: u64,
+    /// How many digits.
+    digits: u32,
+    /// How many of them after the point.
+    decimals: i32,
+    /// How many bytes (digits and point).
+    len: usize,
+    /// A decimal point was read.
+    point: bool,
+}
+
+impl Digits {
+    #[inline]
+    fn read(rest: &[u8]) -> Digits {
+        // Digits into an integer mantissa: exact, and correctly rounded by one division
+        // while it stays below 2^53 with at most 22 decimals (else the standard parser).
+        let (mut mant, mut digits, mut decimals) = (0u64, 0u32, 0i32);
+        let mut k = 0;
+        let mut point = false;
+        // The digits before the point, then those after it.
+        for part in 0..2 {
+            while let Some(&c) = rest.get(k) {
+                let d = c.wrapping_sub(b'0');
+                if d > 9 {
+                    break;
+                }
+                if digits < 19 {
+                    mant = mant * 10 + u64::from(d);
+                }
+                digits += 1;
+                decimals += part;
+                k += 1;
+            }
+            if part == 1 || rest.get(k) != Some(&b'.') {
+                point = part == 1;
+                break;
+            }
+            k += 1;
+        }
+        Digits {
+            mant,
+            digits,
+            decimals,
+            len: k,
+            point,
+        }
+    }
+
+    /// The value, when the integer holds every digit (at most 19) with at most 22 decimals;
+    /// `None` for the standard parser (or, without digits, for an error).
+    #[inline]
+    fn value(&self) -> Option<f64> {
+        // Up to 15 digits the division is correctly rounded. CAM output's 17 digits: the
+        // mantissa is exact in u64; one rounding to f64 and one division leave at most an
+        // ulp (1e-16 of the value), far below any machine's resolution, and skip the general
+        // parser.
+        (self.digits > 0 && self.digits <= 19 && self.decimals <= 22)
+            .then(|| self.mant as f64 / POW10[self.decimals as usize])
     }
 }
 
@@ -392,48 +469,19 @@ impl Reader<'_> {
 
     fn number(&mut self) -> Result<f64, TranslateError> {
         let start = self.i;
-        // Digits into an integer mantissa: exact, and correctly rounded by one division
-        // while it stays below 2^53 with at most 22 decimals (else the standard parser).
-        let (mut mant, mut digits, mut decimals) = (0u64, 0u32, 0i32);
-        let rest = self.b.get(start..).unwrap_or(&[]);
-        let mut k = 0;
-        // The digits before the point, then those after it.
-        for part in 0..2 {
-            while let Some(&c) = rest.get(k) {
-                let d = c.wrapping_sub(b'0');
-                if d > 9 {
-                    break;
-                }
-                if digits < 19 {
-                    mant = mant * 10 + u64::from(d);
-                }
-                digits += 1;
-                decimals += part;
-                k += 1;
-            }
-            if part == 1 || rest.get(k) != Some(&b'.') {
-                self.point = part == 1;
-                break;
-            }
-            k += 1;
-        }
-        self.i = start + k;
+        let d = Digits::read(self.b.get(start..).unwrap_or(&[]));
+        self.point = d.point;
+        self.i = start + d.len;
         let col = self.cols.get(start).copied().unwrap_or(self.end_col);
-        if digits == 0 {
+        if d.digits == 0 {
             self.i = start;
             let what = self
                 .peek()
                 .map_or("the end of the line".to_string(), describe_char);
             return Err(self.err(col, format!("a number was expected, not {what}")));
         }
-        if digits <= 15 && decimals <= 22 {
-            return Ok(mant as f64 / POW10[decimals as usize]);
-        }
-        if digits <= 19 && decimals <= 22 {
-            // CAM output's 17 digits: the mantissa is exact in u64; one rounding to f64 and one
-            // division leave at most an ulp (1e-16 of the value), far below any machine's
-            // resolution, and skip the general parser.
-            return Ok(mant as f64 / POW10[decimals as usize]);
+        if let Some(v) = d.value() {
+            return Ok(v);
         }
         // Only ASCII digits and one point were read: the standard parser rounds them exactly.
         let text = std::str::from_utf8(&self.b[start..self.i]).unwrap_or("0");
@@ -1051,6 +1099,13 @@ pub fn read_into_opts(
     opts: ReadOpts,
 ) -> Result<(), TranslateError> {
     out.clear();
+    if opts.sort && !opts.fanuc && skipping.is_none() {
+        if read_plain(out, raw, line) {
+            out.sorted = true;
+            return Ok(());
+        }
+        out.clear();
+    }
     let end_col = normalise(scratch, out, raw, line)?;
     let n = scratch.len;
     let (bytes, cols) = (&scratch.bytes[..n], &scratch.cols[..n]);
@@ -1177,6 +1232,71 @@ pub fn read_into_opts(
         out.words.push(Word { letter, value, col });
     }
     Ok(())
+}
+
+/// The usual line read straight into its sorted words ([`ReadOpts::sort`]): an optional N, then
+/// words of an upper- or lower-case letter followed at once by a number (`-`, digits, at most
+/// one point), blanks between them. One pass over the bytes: no normalised copy, no list of
+/// words sorted afterwards. `false` for any other line (a comment, a parameter, an
+/// expression, a blank inside a word, an A word) and for one whose words are refused: `out`
+/// is then read again by the general reader, which gives the error, if any, at its place.
+/// What it reads is what the general reader reads (`Line::words`, `n`, each column the
+/// byte's place) and what `words::sort_words_into` sorts them into.
+fn read_plain(out: &mut Line, raw: &str, line: u32) -> bool {
+    let b = raw.as_bytes();
+    let blank = |c: u8| matches!(c, b' ' | b'\t' | b'\r');
+    let mut i = 0;
+    while i < b.len() && blank(b[i]) {
+        i += 1;
+    }
+    let w = &mut out.sorted_words;
+    w.clear();
+    let mut seen = Seen::default();
+    if i < b.len() && b[i] | 0x20 == b'n' {
+        let d = Digits::read(&b[i + 1..]);
+        let Some(v) = d.value() else {
+            return false;
+        };
+        out.n = Some(v);
+        i += 1 + d.len;
+    }
+    loop {
+        while i < b.len() && blank(b[i]) {
+            i += 1;
+        }
+        let Some(&c) = b.get(i) else {
+            return true;
+        };
+        let letter = c.to_ascii_uppercase();
+        // N and O out of place are errors; A is a word only with an A axis.
+        if !letter.is_ascii_uppercase() || matches!(letter, b'A' | b'N' | b'O') {
+            return false;
+        }
+        let col = i as u32 + 1;
+        i += 1;
+        let neg = b.get(i) == Some(&b'-');
+        i += usize::from(neg);
+        let d = Digits::read(b.get(i..).unwrap_or(&[]));
+        let Some(v) = d.value() else {
+            return false;
+        };
+        i += d.len;
+        // A letter, a blank or the end after the number (`X1-2`, `X1.2.3`: an error).
+        if b.get(i)
+            .is_some_and(|&c| !blank(c) && !c.is_ascii_alphabetic())
+        {
+            return false;
+        }
+        let word = Word {
+            letter: letter as char,
+            value: if neg { -v } else { v },
+            col,
+        };
+        if w.add(word, line, &words::MILL, &mut seen).is_err() {
+            return false;
+        }
+        out.words.push(word);
+    }
 }
 
 /// A word's value in the Fanuc dialect: a number written without a decimal point on a
@@ -1726,5 +1846,109 @@ mod tests {
                 assert_eq!(after, alone, "{then:?} after {first:?}");
             }
         }
+    }
+
+    /// The usual line is read in one pass and sorted as read (`ReadOpts::sort`): the same
+    /// words, N, errors and sorted words as reading the general way and sorting afterwards,
+    /// on lines of every shape (blanks inside words, signs, points, long numbers, letters
+    /// twice, codes of one group, A, N and O out of place, comments, parameters).
+    #[test]
+    fn the_usual_line_is_sorted_as_it_is_read() {
+        let mut rng = crate::pulse_core::testkit::Rng::new(33);
+        const PIECES: [&str; 40] = [
+            "G",
+            "g",
+            "M",
+            "X",
+            "x",
+            "Y",
+            "Z",
+            "I",
+            "J",
+            "K",
+            "F",
+            "S",
+            "T",
+            "P",
+            "R",
+            "Q",
+            "D",
+            "H",
+            "L",
+            "E",
+            "A",
+            "N",
+            "n",
+            "O",
+            "B",
+            " ",
+            "  ",
+            "\t",
+            "-",
+            ".",
+            "1",
+            "0",
+            "25",
+            "3.5",
+            "-0.8925",
+            "17.123456789012345",
+            "12345678901234567890.5",
+            "#1=2",
+            "(c)",
+            "+",
+        ];
+        const CODES: [&str; 12] = [
+            "G0", "G1", "G01", "G2", "G3", "G80", "G81", "G17", "G90", "M3", "M5", "G91.1",
+        ];
+        let (mut sorted, mut general) = (0, 0);
+        for i in 0..20_000 {
+            let mut line = String::new();
+            if i % 5 == 0 {
+                line.push_str(["N10 ", "n5", " N1.5", "N", "/"][rng.range(0, 4) as usize]);
+            }
+            for _ in 0..rng.range(0, 6) {
+                if rng.unit() < 0.5 {
+                    line.push_str(CODES[rng.range(0, 11) as usize]);
+                    line.push(' ');
+                } else {
+                    line.push_str(PIECES[rng.range(0, 39) as usize]);
+                }
+            }
+            let opts = |sort| ReadOpts {
+                sort,
+                ..ReadOpts::default()
+            };
+            let mut a = Line::default();
+            let ra = read_into_opts(
+                &mut Scratch::default(),
+                &mut a,
+                &line,
+                7,
+                &env(),
+                None,
+                opts(false),
+            );
+            let mut b = Line::default();
+            let rb = read_into_opts(
+                &mut Scratch::default(),
+                &mut b,
+                &line,
+                7,
+                &env(),
+                None,
+                opts(true),
+            );
+            assert_eq!(ra, rb, "{line:?}");
+            assert!(!a.sorted, "{line:?}");
+            assert_eq!((&a.words, a.n), (&b.words, b.n), "{line:?}");
+            if b.sorted {
+                let w = super::words::sort_words_in(&a, 7, &words::MILL);
+                assert_eq!(w.as_ref(), Ok(&b.sorted_words), "{line:?}");
+                sorted += 1;
+            } else {
+                general += 1;
+            }
+        }
+        assert!(sorted > 2_000 && general > 2_000, "{sorted} {general}");
     }
 }

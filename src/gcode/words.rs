@@ -118,8 +118,15 @@ impl Codes {
     }
 }
 
+impl PartialEq for Codes {
+    /// The codes given (the slots past them keep an earlier line's).
+    fn eq(&self, o: &Codes) -> bool {
+        self.as_slice() == o.as_slice()
+    }
+}
+
 /// The words of one line sorted out: G and M codes, one value per other letter.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Words {
     /// G codes ×10 (G04 = 40, G43.1 = 431) with columns.
     pub g: Codes,
@@ -146,8 +153,9 @@ impl Words {
         self.vals[slot(c)].map(|v| v.1)
     }
 
-    /// Whether a G code (×10) is on the line, and its column.
-    #[inline]
+    /// Whether a G code (×10) is on the line, and its column. Inlined: the executor asks for
+    /// a dozen constant codes a line, each then a test of a constant bit.
+    #[inline(always)]
     pub fn has_g(&self, g: u32) -> Option<u32> {
         if g < 1280 {
             let bits = if g.is_multiple_of(10) {
@@ -163,7 +171,7 @@ impl Words {
     }
 
     /// Whether an M code is on the line, and its column.
-    #[inline]
+    #[inline(always)]
     pub fn has_m(&self, m: u32) -> Option<u32> {
         if m < 128 && self.m_bits & (1u128 << m) == 0 {
             return None;
@@ -194,7 +202,7 @@ impl Words {
 
     /// Empties the words: only the slots of the letters given are touched (the whole is a
     /// kilobyte, and a reader sorts every line into the same one).
-    fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         let mut given = self.letters;
         while given != 0 {
             self.vals[given.trailing_zeros() as usize] = None;
@@ -318,15 +326,73 @@ pub fn sort_words_into(
     d: &Dialect,
     w: &mut Words,
 ) -> Result<(), TranslateError> {
-    let err = |col: u32, message: String| TranslateError {
-        line: n,
-        col,
-        message,
-    };
     w.clear();
-    let mut g_seen: [Option<(u32, u32)>; 17] = [None; 17];
-    let mut m_seen: [Option<(u32, u32)>; 11] = [None; 11];
-    for &Word { letter, value, col } in &line.words {
+    let mut seen = Seen::default();
+    for &word in &line.words {
+        w.add(word, n, d, &mut seen)?;
+    }
+    Ok(())
+}
+
+/// The codes of each modal group a line's words have given so far (what [`Words::add`]
+/// checks a code against), with their columns.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Seen {
+    g: [Option<(u32, u32)>; 17],
+    m: [Option<(u32, u32)>; 11],
+}
+
+impl Words {
+    /// Sorts in one more word of line `n` (the words written before it already in, `seen`
+    /// their modal groups): refused as [`sort_words_in`] refuses it. The reader sorts each
+    /// word so as it reads it (`read::ReadOpts::sort`), `sort_words_into` a line's words.
+    #[inline]
+    pub fn add(
+        &mut self,
+        word: Word,
+        n: u32,
+        d: &Dialect,
+        seen: &mut Seen,
+    ) -> Result<(), TranslateError> {
+        match word.letter {
+            'G' | 'M' => self.add_code(word, n, d, seen),
+            c if letter_in(d.letter_bits, c) => {
+                // The usual word, made short: its errors are made out of line.
+                let s = slot(c);
+                self.letters |= 1 << s;
+                if self.vals[s].is_some() {
+                    return Err(refused(
+                        n,
+                        word.col,
+                        format_args!("two {c} words on one line"),
+                    ));
+                }
+                self.vals[s] = Some((word.value, word.col));
+                Ok(())
+            }
+            c => Err(refused(
+                n,
+                word.col,
+                format_args!("unknown word {c}{}", d.letter_hint),
+            )),
+        }
+    }
+
+    /// [`Words::add`] for a G or M code.
+    fn add_code(
+        &mut self,
+        Word { letter, value, col }: Word,
+        n: u32,
+        d: &Dialect,
+        seen: &mut Seen,
+    ) -> Result<(), TranslateError> {
+        let err = |col: u32, message: String| TranslateError {
+            line: n,
+            col,
+            message,
+        };
+        let w = self;
+        let (g_seen, m_seen) = (&mut seen.g, &mut seen.m);
         match letter {
             'G' => {
                 // Rounded without the library call where the integer holds it exactly.
@@ -368,7 +434,7 @@ pub fn sort_words_into(
                 if grp == 1 && g == 800 && g_seen[1].is_some() {
                     // G80 beside another motion code gives way to it (LinuxCNC reads a
                     // safe-start line `G0 G80 ...` so).
-                    continue;
+                    return Ok(());
                 }
                 if grp == 1 && g_seen[1].is_some_and(|(o, _)| o == 800) {
                     w.g.remove(800);
@@ -417,16 +483,19 @@ pub fn sort_words_into(
                     w.m_bits |= 1u128 << m;
                 }
             }
-            c if letter_in(d.letter_bits, c) => {
-                w.letters |= 1 << slot(c);
-                let slot = &mut w.vals[slot(c)];
-                if slot.is_some() {
-                    return Err(err(col, format!("two {c} words on one line")));
-                }
-                *slot = Some((value, col));
-            }
-            c => return Err(err(col, format!("unknown word {c}{}", d.letter_hint))),
+            _ => {}
         }
+        Ok(())
     }
-    Ok(())
+}
+
+/// A word of line `n` at `col` refused: the error, made out of line (cold).
+#[cold]
+#[inline(never)]
+fn refused(n: u32, col: u32, message: std::fmt::Arguments) -> TranslateError {
+    TranslateError {
+        line: n,
+        col,
+        message: message.to_string(),
+    }
 }
