@@ -1122,6 +1122,15 @@ impl GcodeSource {
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Call { o, l, col } => {
+                // Fanuc 0i's M98 P with more than four digits and no L: the last four are
+                // the program number, the digits above them the repeats (P30010: O0010
+                // three times; docs/gcode.md "Fanuc dialect").
+                let (o, l) = match l {
+                    None if o > 9999 && self.settings.dialect == Dialect::Fanuc => {
+                        (o % 10_000, Some(o / 10_000))
+                    }
+                    _ => (o, l),
+                };
                 let r = self
                     .flow
                     .call_m98(o, l, at, &mut self.st, self.finder.as_ref());
