@@ -1591,3 +1591,54 @@ fn held_a_tape_with_n_numbers_comments_block_delete_and_eob() {
     // LinuxCNC's ';' is a comment to the end of the line, as before.
     assert_eq!(moves("G00 X1.;G00 X2.\nM30\n", LinuxCnc).unwrap().len(), 1);
 }
+
+#[test]
+fn translate_and_run_with_state_read_a_stored_program_in_the_dialect_it_was_stored_in() {
+    let d = common::temp_dir("fanuc-state-cli");
+    let state = d.join("state");
+    {
+        let (mut s, _) = novanc::store::Stores::open(&state, 24).unwrap();
+        // Stored before programs kept their dialect: none recorded.
+        s.program_read("OLD.NGC", "G00 X10 Y6.\nM30\n").unwrap();
+        s.set_dialect(Fanuc);
+        s.program_read("FAMILY.NGC", &program("family.nc")).unwrap();
+        s.set_dialect(LinuxCnc);
+        s.program_read("ISO.NGC", "G00 X10 Y6.\nM30\n").unwrap();
+    }
+    let novanc = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .args(args)
+            .arg("--state")
+            .arg(&state)
+            .output()
+            .unwrap()
+    };
+    let stdout = |o: &std::process::Output| String::from_utf8_lossy(&o.stdout).into_owned();
+    // The Fanuc program is read in the Fanuc dialect whatever the command line says, as START
+    // reads it.
+    for dialect in [&[][..], &["--dialect", "linuxcnc"]] {
+        let out = novanc(&[&["translate", "family.ngc"], dialect].concat());
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        assert_eq!(stdout(&out), program("family.iso"));
+        let out = novanc(&[&["run", "FAMILY.NGC"], dialect].concat());
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+    }
+    // A program stored in LinuxCNC's dialect: X10 is 10 mm, even with --dialect fanuc.
+    let out = novanc(&["translate", "ISO.NGC", "--dialect", "fanuc"]);
+    assert!(stdout(&out).contains("G00 X10.000 Y6.000"), "{out:?}");
+    // Without a recorded dialect, and for a file, the command line's (or the default).
+    for (args, x) in [
+        (
+            &["translate", "OLD.NGC", "--dialect", "fanuc"][..],
+            "X0.010",
+        ),
+        (&["translate", "OLD.NGC"][..], "X10.000"),
+    ] {
+        let out = novanc(args);
+        assert!(stdout(&out).contains(x), "{args:?}: {out:?}");
+    }
+    let file = d.join("FILE.NC");
+    std::fs::write(&file, "G00 X10 Y6.\nM30\n").unwrap();
+    let out = novanc(&["translate", file.to_str().unwrap(), "--dialect", "fanuc"]);
+    assert!(stdout(&out).contains("X0.010"), "{out:?}");
+}
