@@ -1642,3 +1642,35 @@ fn translate_and_run_with_state_read_a_stored_program_in_the_dialect_it_was_stor
     let out = novanc(&["translate", file.to_str().unwrap(), "--dialect", "fanuc"]);
     assert!(stdout(&out).contains("X0.010"), "{out:?}");
 }
+
+#[test]
+fn the_hour_clock_is_kept_across_a_restart() {
+    let state = common::temp_dir("fanuc-3002-kept").join("state");
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        let mut c = common::reopen_in(&state, Fanuc);
+        // 3.6 s with the lamp lit: 0.001 h a console session.
+        common::mdi(&mut c, "G04 X3.6");
+        common::mdi(&mut c, "#100=#3002");
+        assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+        seen.push(c.interp_state().params[100] * 3.6e6);
+    }
+    // Each session counts on from what the last one kept (to the tick of each MDI line).
+    for (i, ms) in seen.iter().enumerate() {
+        let low = 3600.0 * (i + 1) as f64;
+        assert!((low..low + 100.0).contains(ms), "{seen:?}");
+    }
+    // A program's setting is kept too: #3002=100. reads 100 h after a restart.
+    let mut c = common::reopen_in(&state, Fanuc);
+    common::mdi(&mut c, "#3002=100.");
+    drop(c);
+    let mut c = common::reopen_in(&state, Fanuc);
+    common::mdi(&mut c, "#100=#3002");
+    let h = c.interp_state().params[100];
+    assert!((100.0..100.0 + 100.0 / 3.6e6).contains(&h), "{h}");
+    drop(c);
+    // In LinuxCNC's dialect #3002 is a parameter of its own, and not the clock kept.
+    let mut c = common::reopen_in(&state, LinuxCnc);
+    common::mdi(&mut c, "#100=#3002");
+    assert_eq!(c.interp_state().params[100], 0.0);
+}
