@@ -898,9 +898,27 @@ fn a_canned_cycle_s_dwell_p_is_in_milliseconds_in_fanuc_s_dialect_seconds_in_lin
     for (src, e) in [
         ("G82 X0. Y0. Z-9. R-6. P1.5 F100.", "2:23: G82 P1.5: P is a whole number of milliseconds in the Fanuc dialect (P1500 is 1.5 s)"),
         ("G89 X0. Y0. Z-9. R-6. F100.", "2:1: G89 needs P, the dwell at the bottom in milliseconds"),
+        // A point where Fanuc 0i allows none (alarm PS0007): on the cycle's line, and on a
+        // line that repeats the cycle in force.
+        ("G82 X0. Y0. Z-9. R-6. P1500. F100.", "2:23: G82 P1500.: P is a whole number of milliseconds written without a decimal point in the Fanuc dialect (P1500 is 1.5 s; a Fanuc 0i raises alarm PS0007, illegal use of decimal point)"),
+        ("G89 X0. Y0. Z-9. R-6. P250 F100.\nX10. P0.", "3:6: G89 P0.: P is a whole number of milliseconds written without a decimal point in the Fanuc dialect (P1500 is 1.5 s; a Fanuc 0i raises alarm PS0007, illegal use of decimal point)"),
     ] {
         assert_eq!(dwells(&format!("G21 G90 G00 Z-5.\n{src}\nM30\n")).unwrap_err(), e);
     }
+    // Another P on a line in a cycle keeps its own rules (G04's), and LinuxCNC's P is seconds
+    // with a point.
+    assert_eq!(
+        dwells("G21 G90 G00 Z-5.\nG82 X0. Y0. Z-9. R-6. P1500 F100.\nG04 X2.\nG80\nM30\n").unwrap(),
+        [1.5, 2.0]
+    );
+    assert_eq!(
+        dwells_in(
+            "G21 G90 G00 Z-5.\nG82 X0. Y0. Z-9. R-6. P2. F100.\nM30\n",
+            LinuxCnc
+        )
+        .unwrap(),
+        [2.0]
+    );
 }
 
 /// The values of variables `ns` after `src` ran in the Fanuc dialect with 7 parts machined of
