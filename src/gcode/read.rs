@@ -1070,7 +1070,7 @@ pub fn read_into(
 /// block on the line, which novanc does not drop unread: it is refused at its place.
 fn eob_ends_the_line(out: &Line, raw: &str, line: u32) -> Result<(), TranslateError> {
     for c in &out.comments {
-        if raw.chars().nth(c.col as usize - 1) != Some(';') {
+        if raw.chars().nth((c.col as usize).saturating_sub(1)) != Some(';') {
             continue;
         }
         let mut depth = 0;
