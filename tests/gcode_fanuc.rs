@@ -898,9 +898,27 @@ fn a_canned_cycle_s_dwell_p_is_in_milliseconds_in_fanuc_s_dialect_seconds_in_lin
     for (src, e) in [
         ("G82 X0. Y0. Z-9. R-6. P1.5 F100.", "2:23: G82 P1.5: P is a whole number of milliseconds in the Fanuc dialect (P1500 is 1.5 s)"),
         ("G89 X0. Y0. Z-9. R-6. F100.", "2:1: G89 needs P, the dwell at the bottom in milliseconds"),
+        // A point where Fanuc 0i allows none (alarm PS0007): on the cycle's line, and on a
+        // line that repeats the cycle in force.
+        ("G82 X0. Y0. Z-9. R-6. P1500. F100.", "2:23: G82 P1500.: P is a whole number of milliseconds written without a decimal point in the Fanuc dialect (P1500 is 1.5 s; a Fanuc 0i raises alarm PS0007, illegal use of decimal point)"),
+        ("G89 X0. Y0. Z-9. R-6. P250 F100.\nX10. P0.", "3:6: G89 P0.: P is a whole number of milliseconds written without a decimal point in the Fanuc dialect (P1500 is 1.5 s; a Fanuc 0i raises alarm PS0007, illegal use of decimal point)"),
     ] {
         assert_eq!(dwells(&format!("G21 G90 G00 Z-5.\n{src}\nM30\n")).unwrap_err(), e);
     }
+    // Another P on a line in a cycle keeps its own rules (G04's), and LinuxCNC's P is seconds
+    // with a point.
+    assert_eq!(
+        dwells("G21 G90 G00 Z-5.\nG82 X0. Y0. Z-9. R-6. P1500 F100.\nG04 X2.\nG80\nM30\n").unwrap(),
+        [1.5, 2.0]
+    );
+    assert_eq!(
+        dwells_in(
+            "G21 G90 G00 Z-5.\nG82 X0. Y0. Z-9. R-6. P2. F100.\nM30\n",
+            LinuxCnc
+        )
+        .unwrap(),
+        [2.0]
+    );
 }
 
 /// The values of variables `ns` after `src` ran in the Fanuc dialect with 7 parts machined of
@@ -1189,4 +1207,488 @@ fn reset_during_a_clock_wait_abandons_the_run_without_a_hang() {
     assert!(common::shows(&c, "program end"), "{}", c.frame_text());
     assert!(!c.view().lamps.alarm, "{}", c.frame_text());
     assert!(c.interp_state().params[100] > 0.0);
+}
+
+// The second set (issue 24's "held-out set ... run the same way"): thirteen programs in the
+// styles of shop programs and Fanuc's manuals, each with its moves worked out here by hand
+// from the program's own numbers, and its listing kept in `tests/golden/fanuc/`.
+
+/// The moves of `name` (a golden program) read in the Fanuc dialect, checked against `want`
+/// (work coordinates of G54 at X0 Y0 Z`WZ`, each shifted to machine coordinates here), and its
+/// listing against the golden one; the listing's exit code.
+fn check_program(name: &str, want: &[(char, [f64; 3])]) -> i32 {
+    let want: Vec<_> = want
+        .iter()
+        .map(|&(k, p)| (k, [p[0], p[1], p[2] + WZ]))
+        .collect();
+    assert_moves(
+        &moves(&program(&format!("{name}.nc")), Fanuc).unwrap(),
+        &want,
+    );
+    check_listing(name)
+}
+
+/// A rapid and a feed in work coordinates (G54 Z0 at `WZ`).
+fn r(x: f64, y: f64, z: f64) -> (char, [f64; 3]) {
+    ('R', [x, y, z])
+}
+fn f(x: f64, y: f64, z: f64) -> (char, [f64; 3]) {
+    ('F', [x, y, z])
+}
+
+#[test]
+fn held_a_bolt_hole_circle_macro_takes_its_defaults_from_null_arguments() {
+    // O9010: I radius, J depth, H holes; A first angle (0), B step (360/H), C R plane (2.),
+    // K feed (100.), X Y the centre (the position now). A hole: over it at the height the tool
+    // is at, down to C, feed to J, up to C.
+    let mut want = vec![r(150.0, 120.0, 20.0)];
+    let mut z = 20.0;
+    let mut circle =
+        |want: &mut Vec<_>, c: [f64; 2], rad: f64, a0: f64, step: f64, n: u32, j: f64, rp: f64| {
+            for k in 0..n {
+                let a = (a0 + f64::from(k) * step).to_radians();
+                let (x, y) = (c[0] + rad * a.cos(), c[1] + rad * a.sin());
+                want.push(r(x, y, z));
+                if z != rp {
+                    want.push(r(x, y, rp));
+                }
+                want.push(f(x, y, j));
+                want.push(r(x, y, rp));
+                z = rp;
+            }
+        };
+    circle(&mut want, [150.0, 120.0], 50.0, 90.0, 72.0, 5, -8.0, 3.0);
+    want.push(r(400.0, 300.0, 3.0));
+    circle(&mut want, [400.0, 300.0], 25.0, 0.0, 30.0, 4, -4.0, 2.0);
+    want.push(r(425.0 - 25.0, 300.0 + 25.0, 20.0));
+    assert_eq!(check_program("boltmac", &want), 0);
+    // Without I: the macro's alarm 3001 at its line.
+    let e = moves(&program("boltmac.nc").replace("I50. ", ""), Fanuc).unwrap_err();
+    assert_eq!(e, "16:20: MACRO ALARM 3001: I RADIUS MISSING (#3000 = 1)");
+}
+
+#[test]
+fn held_a_grid_of_holes_by_nested_while_loops() {
+    let mut want = vec![r(0.0, 0.0, 10.0)];
+    for row in 0..3 {
+        for col in 0..4 {
+            let (x, y) = (20.0 + 15.0 * f64::from(col), 30.0 + 10.0 * f64::from(row));
+            want.push(r(x, y, if row + col == 0 { 10.0 } else { 1.0 }));
+            if row + col == 0 {
+                want.push(r(x, y, 1.0));
+            }
+            want.push(f(x, y, -3.0));
+            want.push(r(x, y, 1.0));
+        }
+    }
+    want.push(r(65.0, 50.0, 10.0));
+    assert_eq!(check_program("grid", &want), 0);
+}
+
+#[test]
+fn held_a_g66_modal_call_after_incremental_moves_keeps_the_caller_s_modes() {
+    let mut want = vec![r(50.0, 50.0, 10.0)];
+    let mut z = 10.0;
+    for (x, y) in [(70.0, 50.0), (70.0, 70.0), (50.0, 70.0)] {
+        // The move in G91, then the macro: spot to Z-2, a square of side 2 (G91), up to R5.
+        want.push(r(x, y, z));
+        want.push(f(x, y, -2.0));
+        want.extend([
+            f(x + 2.0, y, -2.0),
+            f(x + 2.0, y + 2.0, -2.0),
+            f(x, y + 2.0, -2.0),
+            f(x, y, -2.0),
+        ]);
+        z = 5.0;
+        want.push(r(x, y, z));
+    }
+    want.extend([r(50.0, 70.0, 10.0), r(0.0, 0.0, 10.0)]);
+    assert_eq!(check_program("spot", &want), 0);
+}
+
+#[test]
+fn held_a_part_family_by_a_computed_goto() {
+    let src = program("family2.nc");
+    for (part, len, depth) in [(1, 40.0, -1.0), (2, 60.0, -2.0), (3, 80.0, -3.0)] {
+        let text = src.replace("#1=2 ", &format!("#1={part} "));
+        let want = [
+            r(10.0, 10.0, 5.0),
+            f(10.0, 10.0, depth),
+            f(10.0 + len, 10.0, depth),
+            r(10.0 + len, 10.0, 5.0),
+        ]
+        .map(|(k, p)| (k, [p[0], p[1], p[2] + WZ]));
+        assert_moves(&moves(&text, Fanuc).unwrap(), &want);
+    }
+    for bad in ["4", "0", "1.5"] {
+        let text = src.replace("#1=2 ", &format!("#1={bad} "));
+        assert_eq!(
+            moves(&text, Fanuc).unwrap_err(),
+            "10:5: MACRO ALARM 3009: PART NUMBER 1 TO 3 (#3000 = 9)",
+            "part {bad}"
+        );
+    }
+    assert_eq!(check_listing("family2"), 0);
+}
+
+#[test]
+fn held_digits_engraved_by_subprograms_repeated_by_l_and_by_p_s_upper_digits() {
+    // Each digit is drawn in G91 from where the last one ended, 8 mm on; the cut is at Z-0.2.
+    let mut want = vec![r(10.0, 10.0, 2.0)];
+    let mut x = 10.0;
+    let cut = 2.0 - 2.2;
+    let one = |want: &mut Vec<_>, x: &mut f64| {
+        let c = *x + 3.0;
+        want.extend([
+            r(c, 10.0, 2.0),
+            f(c, 10.0, cut),
+            f(c, 20.0, cut),
+            r(c, 20.0, 2.0),
+            r(c, 10.0, 2.0),
+        ]);
+        *x += 8.0;
+        want.push(r(*x, 10.0, 2.0));
+    };
+    for _ in 0..3 {
+        one(&mut want, &mut x);
+    }
+    for _ in 0..2 {
+        want.extend([
+            f(x, 10.0, cut),
+            f(x, 20.0, cut),
+            f(x + 6.0, 20.0, cut),
+            f(x + 6.0, 10.0, cut),
+            f(x, 10.0, cut),
+            r(x, 10.0, 2.0),
+        ]);
+        x += 8.0;
+        want.push(r(x, 10.0, 2.0));
+    }
+    // M98 P21001: O1001 twice (Fanuc 0i: P's digits above the four of the number).
+    for _ in 0..2 {
+        one(&mut want, &mut x);
+    }
+    want.push(r(x, 10.0, 10.0));
+    assert_eq!(check_program("engrave", &want), 0);
+}
+
+#[test]
+fn held_a_part_counter_and_tool_life_count_by_3901_3902_and_500() {
+    let src = program("counter.nc");
+    let run = |src: &str, done: u64, target: u64| {
+        let mut g = gcode_source_in(src, Fanuc).part_counter(done, target);
+        let mut out = Vec::new();
+        for s in g.by_ref() {
+            for b in s.map_err(|e| e.to_string())?.blocks {
+                out.push(b.end.xyz().map(|p| p as f64 / 1000.0));
+            }
+        }
+        Ok::<_, String>((out, g.state().params[500]))
+    };
+    // 7 of 10 made, #500 vacant: it counts 1; the part is cut at X70 Y1.
+    let (ends, kept) = run(&src, 7, 10).unwrap();
+    assert_eq!(ends[0], [70.0, 1.0, WZ + 5.0]);
+    assert_eq!(ends[1], [70.0, 1.0, WZ - 1.0]);
+    assert_eq!(kept, 1.0);
+    // No target (0): not checked.
+    assert_eq!(run(&src, 12, 0).unwrap().1, 1.0);
+    // The count reached, and the tool's life over after 25 parts: the alarms.
+    assert_eq!(
+        run(&src, 10, 10).unwrap_err(),
+        "5:26: MACRO ALARM 3010: PART COUNT REACHED (#3000 = 10)"
+    );
+    let worn = src.replace("N10 IF", "#500=25\nN10 IF");
+    assert_eq!(
+        run(&worn, 1, 10).unwrap_err(),
+        "9:22: MACRO ALARM 3011: TOOL 1 LIFE OVER (#3000 = 11)"
+    );
+    // novanc translate has no part counter: refused at the variable.
+    assert_eq!(check_listing("counter"), 1);
+}
+
+#[test]
+fn held_a_bad_argument_raises_its_alarm_after_the_moves_before_it() {
+    let src = program("badarg.nc");
+    let mut ends = Vec::new();
+    let mut err = None;
+    for s in gcode_source_in(&src, Fanuc) {
+        match s {
+            Ok(s) => ends.extend(s.blocks.iter().map(|b| b.end.xyz())),
+            Err(e) => err = Some(e.to_string()),
+        }
+    }
+    // The first call (R5.) moves; the second (R-5.) stops at its alarm, nothing after it.
+    assert_eq!(
+        ends.iter()
+            .map(|p| p.map(|v| v as f64 / 1000.0))
+            .collect::<Vec<_>>(),
+        [[10.0, 10.0, WZ + 5.0], [15.0, 15.0, WZ + 5.0]]
+    );
+    assert_eq!(
+        err.unwrap(),
+        "11:20: MACRO ALARM 3002: R MUST BE ABOVE 0 (#3000 = 2)"
+    );
+    for (call, want) in [
+        (
+            "R5. H4.5",
+            "12:27: MACRO ALARM 3003: H MUST BE WHOLE (#3000 = 3)",
+        ),
+        ("R5. H0", "13:36: MACRO ALARM 3004: H 1 TO 9 (#3000 = 4)"),
+        ("H3", "10:21: MACRO ALARM 3001: R MISSING (#3000 = 1)"),
+    ] {
+        let text = src.replace("R-5. H4", call);
+        assert_eq!(moves(&text, Fanuc).unwrap_err(), want, "{call}");
+    }
+    assert_eq!(check_listing("badarg"), 1);
+}
+
+#[test]
+fn held_a_3006_stop_between_the_two_sides_of_a_part() {
+    let src = program("turnover.nc");
+    let want = [
+        r(0.0, 0.0, 5.0),
+        f(0.0, 0.0, -1.0),
+        f(50.0, 0.0, -1.0),
+        r(50.0, 0.0, 50.0),
+        r(0.0, 150.0, 50.0),
+        r(0.0, 0.0, 5.0),
+        f(0.0, 0.0, -1.0),
+        f(0.0, 50.0, -1.0),
+        r(0.0, 50.0, 50.0),
+    ];
+    assert_eq!(check_program("turnover", &want), 0);
+    let mut g = gcode_source_in(&src, Fanuc);
+    let stop: Vec<_> = g
+        .by_ref()
+        .map(|s| s.unwrap())
+        .filter(|s| s.line == 9)
+        .flat_map(|s| s.blocks)
+        .map(|b| b.m)
+        .collect();
+    assert_eq!(stop, [Some(0)]);
+    assert!(g.take_events().iter().any(|e| matches!(e,
+        novanc::gcode::Event::Message { text, .. } if text == "#3006 STOP 1: TURN THE PART OVER")));
+}
+
+#[test]
+fn held_a_probing_macro_measures_the_stock_s_width_by_two_g31_skips() {
+    // The stock is Y 200 to 600 (docs/gcode.md "Probing"); G54 is machine zero (Z too), so
+    // these are machine coordinates. Each G31 block ends where it was written; reading goes
+    // on from the skip point (#5062).
+    let src = program("width.nc");
+    let want = [
+        ('R', [500.0, 650.0, -400.0]),
+        ('R', [500.0, 650.0, -460.0]),
+        ('F', [500.0, 550.0, -460.0]),
+        ('R', [500.0, 650.0, -460.0]),
+        ('R', [500.0, 650.0, -400.0]),
+        ('R', [500.0, 150.0, -400.0]),
+        ('R', [500.0, 150.0, -460.0]),
+        ('F', [500.0, 250.0, -460.0]),
+        ('R', [500.0, 150.0, -460.0]),
+        ('R', [500.0, 150.0, -400.0]),
+        // G54 Y0 moved onto the middle, (600 + 200) / 2.
+        ('R', [500.0, 400.0, -400.0]),
+    ];
+    assert_moves(&moves(&src, Fanuc).unwrap(), &want);
+    assert_eq!(check_listing("width"), 0);
+    // Started where nothing is to touch: the macro's own alarm.
+    let e = moves(&src.replace("X500. Y650.", "X900. Y650."), Fanuc).unwrap_err();
+    assert_eq!(e, "8:25: MACRO ALARM 3001: NO Y+ FACE (#3000 = 1)");
+}
+
+#[test]
+fn held_a_macro_reads_the_modal_information_and_puts_the_modes_back() {
+    // G55 is 100 mm over G54 in X and Y: the zigzag in G55 G91 goes on from where the tool is.
+    let want = [
+        r(10.0, 10.0, 5.0),
+        f(20.0, 10.0, 5.0),
+        f(23.0, 13.0, 5.0),
+        f(26.0, 10.0, 5.0),
+        r(20.0, 10.0, 5.0),
+        // After the macro: G01, G90, G54 and F300 again, so X30. feeds in G54.
+        f(30.0, 10.0, 5.0),
+        r(30.0, 10.0, 10.0),
+    ];
+    assert_eq!(check_program("modes", &want), 0);
+    let feeds: Vec<_> = gcode_source_in(&program("modes.nc"), Fanuc)
+        .flat_map(|s| s.unwrap().blocks)
+        .filter(|b| b.motion == Motion::Linear)
+        .map(|b| b.feed)
+        .collect();
+    assert_eq!(feeds, [300.0, 50.0, 50.0, 300.0]);
+}
+
+#[test]
+fn held_fanuc_s_functions_and_numbers_with_and_without_a_point() {
+    // G54 at X100 Y100. ROUND[2.5] 3, FIX[7.9] 7, FUP[7.1] 8; ATAN[1.]/[1.] 45, SQRT[16.] 4,
+    // ABS[-3.5] 3.5; BIN[BCD[37]] 37, BCD[12] 18 (0x12), 17 MOD 5 2; #10=10 is 10 mm, while
+    // Y10 is 0.010 mm and X1000 1 mm; AND, OR and XOR bit by bit: 10 AND 6 = 2, 10 XOR 3 = 9.
+    let want = [
+        ('R', [103.0, 107.0, WZ + 8.0]),
+        ('R', [145.0, 104.0, WZ + 3.5]),
+        ('R', [137.0, 118.0, WZ + 2.0]),
+        ('R', [110.0, 100.01, WZ + 10.0]),
+        ('R', [101.0, 110.0, WZ - 0.005]),
+        ('R', [112.5, 100.5, WZ - 0.5]),
+        ('R', [102.0, 101.0, WZ + 9.0]),
+    ];
+    assert_moves(&moves(&program("arith.nc"), Fanuc).unwrap(), &want);
+    assert_eq!(check_listing("arith"), 0);
+    assert_eq!(
+        moves("O1\n#1=2.5 AND 1\nM30\n", Fanuc).unwrap_err(),
+        "2:8: 2.5 AND 1: in the Fanuc dialect AND, OR and XOR work bit by bit on whole numbers 0 or above"
+    );
+    // LinuxCNC's AND stays logical.
+    assert_moves(
+        &moves("#1=[10 AND 6]\nG0 X#1\nM30\n", LinuxCnc).unwrap(),
+        &[('R', [1.0, 0.0, 0.0])],
+    );
+}
+
+#[test]
+fn held_a_dnc_file_s_programs_call_each_other() {
+    // O1000 calls O2000 twice (L2); each steps 30 in X and calls O9200 (G65, D2.), which pecks
+    // by M98 P3000 twice from Z2. (a second G00 Z2. where the tool is makes no block).
+    let mut want = vec![r(0.0, 0.0, 10.0)];
+    for (i, x) in [30.0, 60.0].into_iter().enumerate() {
+        want.push(r(x, 0.0, if i == 0 { 10.0 } else { 2.0 }));
+        if i == 0 {
+            want.push(r(x, 0.0, 2.0));
+        }
+        want.extend([f(x, 0.0, 1.0), f(x, 0.0, 0.0), r(x, 0.0, 2.0)]);
+    }
+    want.push(r(60.0, 0.0, 10.0));
+    assert_eq!(check_program("dnc", &want), 0);
+}
+
+#[test]
+fn held_a_tape_with_n_numbers_comments_block_delete_and_eob() {
+    // Block delete off: the / blocks run.
+    let want = [
+        r(10.0, 10.0, 5.0),
+        f(10.0, 10.0, -1.0),
+        r(20.0, 10.0, -1.0),
+        r(30.0, 10.0, -1.0),
+        r(30.0, 20.0, -1.0),
+    ];
+    assert_eq!(check_program("tape", &want), 0);
+    // Block delete on: they do not.
+    let on = novanc::gcode::GcodeSource::new(
+        program("tape.nc").into(),
+        novanc::tooldata::sample_magazine(),
+        novanc::settings::MachineSettings {
+            dialect: Fanuc,
+            ..Default::default()
+        },
+        novanc::block::MachineState::at([0, 0, 0]),
+        novanc::gcode::WorkOffsets::default(),
+        novanc::gcode::Switches {
+            block_delete: true,
+            ..Default::default()
+        },
+    );
+    let ends: Vec<_> = on
+        .flat_map(|s| s.unwrap().blocks)
+        .filter(|b| b.motion == Motion::Rapid)
+        .map(|b| b.end.xyz().map(|p| p as f64 / 1000.0))
+        .collect();
+    assert_eq!(
+        ends,
+        [
+            [10.0, 10.0, WZ + 5.0],
+            [20.0, 10.0, WZ + 5.0],
+            [20.0, 20.0, WZ + 5.0]
+        ]
+    );
+    // ';' ends a block: a second block after it on the line is refused, not dropped.
+    assert_eq!(
+        moves("O1\nG00 X1.;G00 X2.;\nM30;\n", Fanuc).unwrap_err(),
+        "2:9: a block after ';' on the same line: ';' ends a block in the Fanuc dialect (EOB); put the next block on a line of its own"
+    );
+    // LinuxCNC's ';' is a comment to the end of the line, as before.
+    assert_eq!(moves("G00 X1.;G00 X2.\nM30\n", LinuxCnc).unwrap().len(), 1);
+}
+
+#[test]
+fn translate_and_run_with_state_read_a_stored_program_in_the_dialect_it_was_stored_in() {
+    let d = common::temp_dir("fanuc-state-cli");
+    let state = d.join("state");
+    {
+        let (mut s, _) = novanc::store::Stores::open(&state, 24).unwrap();
+        // Stored before programs kept their dialect: none recorded.
+        s.program_read("OLD.NGC", "G00 X10 Y6.\nM30\n").unwrap();
+        s.set_dialect(Fanuc);
+        s.program_read("FAMILY.NGC", &program("family.nc")).unwrap();
+        s.set_dialect(LinuxCnc);
+        s.program_read("ISO.NGC", "G00 X10 Y6.\nM30\n").unwrap();
+    }
+    let novanc = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .args(args)
+            .arg("--state")
+            .arg(&state)
+            .output()
+            .unwrap()
+    };
+    let stdout = |o: &std::process::Output| String::from_utf8_lossy(&o.stdout).into_owned();
+    // The Fanuc program is read in the Fanuc dialect whatever the command line says, as START
+    // reads it.
+    for dialect in [&[][..], &["--dialect", "linuxcnc"]] {
+        let out = novanc(&[&["translate", "family.ngc"], dialect].concat());
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        assert_eq!(stdout(&out), program("family.iso"));
+        let out = novanc(&[&["run", "FAMILY.NGC"], dialect].concat());
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+    }
+    // A program stored in LinuxCNC's dialect: X10 is 10 mm, even with --dialect fanuc.
+    let out = novanc(&["translate", "ISO.NGC", "--dialect", "fanuc"]);
+    assert!(stdout(&out).contains("G00 X10.000 Y6.000"), "{out:?}");
+    // Without a recorded dialect, and for a file, the command line's (or the default).
+    for (args, x) in [
+        (
+            &["translate", "OLD.NGC", "--dialect", "fanuc"][..],
+            "X0.010",
+        ),
+        (&["translate", "OLD.NGC"][..], "X10.000"),
+    ] {
+        let out = novanc(args);
+        assert!(stdout(&out).contains(x), "{args:?}: {out:?}");
+    }
+    let file = d.join("FILE.NC");
+    std::fs::write(&file, "G00 X10 Y6.\nM30\n").unwrap();
+    let out = novanc(&["translate", file.to_str().unwrap(), "--dialect", "fanuc"]);
+    assert!(stdout(&out).contains("X0.010"), "{out:?}");
+}
+
+#[test]
+fn the_hour_clock_is_kept_across_a_restart() {
+    let state = common::temp_dir("fanuc-3002-kept").join("state");
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        let mut c = common::reopen_in(&state, Fanuc);
+        // 3.6 s with the lamp lit: 0.001 h a console session.
+        common::mdi(&mut c, "G04 X3.6");
+        common::mdi(&mut c, "#100=#3002");
+        assert!(!c.view().lamps.alarm, "{}", c.frame_text());
+        seen.push(c.interp_state().params[100] * 3.6e6);
+    }
+    // Each session counts on from what the last one kept (to the tick of each MDI line).
+    for (i, ms) in seen.iter().enumerate() {
+        let low = 3600.0 * (i + 1) as f64;
+        assert!((low..low + 100.0).contains(ms), "{seen:?}");
+    }
+    // A program's setting is kept too: #3002=100. reads 100 h after a restart.
+    let mut c = common::reopen_in(&state, Fanuc);
+    common::mdi(&mut c, "#3002=100.");
+    drop(c);
+    let mut c = common::reopen_in(&state, Fanuc);
+    common::mdi(&mut c, "#100=#3002");
+    let h = c.interp_state().params[100];
+    assert!((100.0..100.0 + 100.0 / 3.6e6).contains(&h), "{h}");
+    drop(c);
+    // In LinuxCNC's dialect #3002 is a parameter of its own, and not the clock kept.
+    let mut c = common::reopen_in(&state, LinuxCnc);
+    common::mdi(&mut c, "#100=#3002");
+    assert_eq!(c.interp_state().params[100], 0.0);
 }

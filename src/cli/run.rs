@@ -119,7 +119,7 @@ pub fn main(argv: &[String]) -> i32 {
         }
     }
     let (prog, source, magazine, offsets, params) =
-        match super::translate::program_and_tools(&args, &settings, "run") {
+        match super::translate::program_and_tools(&args, &mut settings, "run") {
             Ok(x) => x,
             Err(code) => return code,
         };

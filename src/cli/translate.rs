@@ -65,11 +65,13 @@ const OPTS: [Opt; 8] = [
 pub type Program = (String, String, Magazine, WorkOffsets, Vec<(usize, f64)>);
 
 /// The program to work on and the tool data, from the files given or from a console's memory
-/// (`--state DIR`, whose work offsets a G-code program uses). `Err` is the exit code after a
-/// message.
+/// (`--state DIR`, whose work offsets a G-code program uses). A program taken from the memory
+/// is read in the dialect it was stored in, as START reads it: `settings.dialect` becomes that
+/// dialect; a file, or a program stored without one, keeps the command line's (or the
+/// description's). `Err` is the exit code after a message.
 pub fn program_and_tools(
     args: &Args,
-    settings: &MachineSettings,
+    settings: &mut MachineSettings,
     what: &str,
 ) -> Result<Program, i32> {
     let prog = match args.positional.as_slice() {
@@ -109,6 +111,9 @@ pub fn program_and_tools(
         .iter()
         .find(|(n, _)| n.eq_ignore_ascii_case(&name))
     {
+        if let Some(&d) = view.dialects.get(n) {
+            settings.dialect = d;
+        }
         return Ok((
             n.clone(),
             text.clone(),
@@ -367,6 +372,7 @@ pub fn main(argv: &[String]) -> i32 {
         }
         Ok((m, rest)) => (m.settings(), rest),
     };
+    let mut settings = settings;
     let argv = argv.as_slice();
     let args = match Args::parse(argv, &OPTS) {
         Ok(a) => a,
@@ -377,7 +383,7 @@ pub fn main(argv: &[String]) -> i32 {
         return 0;
     }
     let (prog, source, magazine, offsets, params) =
-        match program_and_tools(&args, &settings, "translate") {
+        match program_and_tools(&args, &mut settings, "translate") {
             Ok(x) => x,
             Err(code) => return code,
         };

@@ -243,6 +243,21 @@ fn journal_params(c: &mut Console, ps: &[(usize, f64)]) {
     }
 }
 
+/// At a run's end in the Fanuc dialect: the hour clock #3002 as it reads now (the lamp lit
+/// `lamp_ns` since the console started, plus what the stores kept and programs wrote),
+/// journaled when it moved, so that it counts on after a restart as Fanuc's does through
+/// power-off (docs/gcode.md "Fanuc dialect").
+pub(super) fn keep_hour_clock(c: &mut Console, lamp_ns: u64) {
+    if c.cfg.settings.dialect != crate::settings::Dialect::Fanuc {
+        return;
+    }
+    let n = crate::gcode::state::HOUR_CLOCK;
+    let hours = crate::gcode::sysvars::hour_clock(lamp_ns, &c.interp);
+    if (hours - stored(c)(n)).abs() > 0.5e-6 {
+        journal_params(c, &[(n, hours)]);
+    }
+}
+
 /// The persistent parameters of `st` that the stores do not hold yet, journaled as one record.
 fn keep_persistent(c: &mut Console, st: &InterpState) {
     let was = stored(c);

@@ -284,6 +284,7 @@ pub(super) fn note_run_end(c: &mut Console) {
         }
     );
     super::gcode_run::end_run(c, nothing_moved);
+    super::gcode_run::keep_hour_clock(c, end.lamp_ns);
     let done = end.cause == EndCause::ProgramEnd;
     super::book::count_run(c, end.kind == RunKind::Auto, done, end.machine_ns);
     let secs = end.machine_ns as f64 / 1e9;

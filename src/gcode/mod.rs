@@ -769,7 +769,8 @@ impl GcodeSource {
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
                     if opts.fanuc {
-                        fanuc_dwell(&mut line, n, opts.increment)
+                        fanuc_dwell(&mut line, n, opts.increment)?;
+                        fanuc_cycle_p(&line, n, self.st.modal.motion)
                     } else {
                         Ok(())
                     }
@@ -1136,6 +1137,15 @@ impl GcodeSource {
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Call { o, l, col } => {
+                // Fanuc 0i's M98 P with more than four digits and no L: the last four are
+                // the program number, the digits above them the repeats (P30010: O0010
+                // three times; docs/gcode.md "Fanuc dialect").
+                let (o, l) = match l {
+                    None if o > 9999 && self.settings.dialect == Dialect::Fanuc => {
+                        (o % 10_000, Some(o / 10_000))
+                    }
+                    _ => (o, l),
+                };
                 let r = self
                     .flow
                     .call_m98(o, l, at, &mut self.st, self.finder.as_ref());
@@ -1453,6 +1463,50 @@ impl GcodeSource {
             self.spare = Some(st);
         }
     }
+}
+
+/// Fanuc's canned-cycle P (the dwell at the bottom, docs/gcode.md "Fanuc dialect") takes no
+/// decimal point, as Fanuc 0i's (alarm PS0007, illegal use of decimal point): a `P1500.` on a
+/// line with a cycle's G code, or repeating the cycle in force (an axis word or R, and no
+/// G04, G10, G65, G66 or M98 of its own P), is refused at the P.
+fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(), TranslateError> {
+    if line.pointed & read::letter_bit('P') == 0 {
+        return Ok(());
+    }
+    let is_cycle = |g: f64| g == 73.0 || g == 74.0 || g == 76.0 || (81.0..=89.0).contains(&g);
+    let g_on_line = line
+        .words
+        .iter()
+        .find(|w| w.letter == 'G' && is_cycle(w.value))
+        .map(|w| w.value);
+    let own_p = line.words.iter().any(|w| {
+        (w.letter == 'G' && [4.0, 10.0, 65.0, 66.0].contains(&w.value))
+            || (w.letter == 'M' && w.value == 98.0)
+    });
+    let repeats = matches!(motion, state::Motion::Cycle(_))
+        && !own_p
+        && line.words.iter().any(|w| "XYZRABC".contains(w.letter));
+    let g = match (g_on_line, motion) {
+        (Some(g), _) => g,
+        (None, state::Motion::Cycle(g)) if repeats => f64::from(g) / 10.0,
+        _ => return Ok(()),
+    };
+    // A P with a fraction is refused as such by the cycle (`G82 P1.5: ...`).
+    let Some(p) = line
+        .words
+        .iter()
+        .find(|w| w.letter == 'P' && w.value.fract() == 0.0)
+    else {
+        return Ok(());
+    };
+    Err(TranslateError {
+        line: n,
+        col: p.col,
+        message: format!(
+            "G{g:02} P{}.: P is a whole number of milliseconds written without a decimal point in the Fanuc dialect (P1500 is 1.5 s; a Fanuc 0i raises alarm PS0007, illegal use of decimal point)",
+            crate::input_text::short_number(p.value)
+        ),
+    })
 }
 
 /// Fanuc's G04 (docs/gcode.md "Fanuc dialect"): `X` or `U` in seconds (without a decimal

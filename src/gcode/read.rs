@@ -867,6 +867,16 @@ impl Reader<'_> {
                 "ge" => t((a - b).abs() < TOLERANCE_EQUAL || a >= b),
                 "lt" => t(a < b),
                 "le" => t((a - b).abs() < TOLERANCE_EQUAL || a <= b),
+                "and" | "or" | "xor" if self.fanuc => bitwise(op, a, b)
+                    .ok_or_else(|| {
+                        self.err(
+                            col,
+                            format!(
+                                "{a} {} {b}: in the Fanuc dialect AND, OR and XOR work bit by bit on whole numbers 0 or above",
+                                op.to_uppercase()
+                            ),
+                        )
+                    })?,
                 "and" => t(a != 0.0 && b != 0.0),
                 "or" => t(a != 0.0 || b != 0.0),
                 _ => t((a != 0.0) != (b != 0.0)),
@@ -912,6 +922,20 @@ fn bin_bcd(bin: bool, a: u64) -> Result<u64, String> {
         shift += 1;
     }
     Ok(out)
+}
+
+/// Fanuc's AND, OR, XOR: bit by bit on whole numbers from 0 to 2^53 (a condition's 1 or 0
+/// gives the logical answer); `None` for any other number.
+fn bitwise(op: &str, a: f64, b: f64) -> Option<f64> {
+    let whole = |v: f64| {
+        (v.fract() == 0.0 && (0.0..=9_007_199_254_740_992.0).contains(&v)).then_some(v as u64)
+    };
+    let (a, b) = (whole(a)?, whole(b)?);
+    Some(match op {
+        "and" => a & b,
+        "or" => a | b,
+        _ => a ^ b,
+    } as f64)
 }
 
 /// What the plain-line pass of [`normalise`] makes of each byte: [`BLANK`] (a space, a tab, a
@@ -1088,6 +1112,37 @@ pub fn read_into(
     read_into_opts(scratch, out, raw, line, env, skipping, ReadOpts::default())
 }
 
+/// In the Fanuc dialect `;` is the end of block (EOB) that Fanuc prints at the end of each
+/// block, not LinuxCNC's comment to the end of the line: a `;` may end a line, followed only by
+/// blanks, more `;` and comments in parentheses. Anything else after it would be a second
+/// block on the line, which novanc does not drop unread: it is refused at its place.
+fn eob_ends_the_line(out: &Line, raw: &str, line: u32) -> Result<(), TranslateError> {
+    for c in &out.comments {
+        if raw.chars().nth((c.col as usize).saturating_sub(1)) != Some(';') {
+            continue;
+        }
+        let mut depth = 0;
+        for (i, ch) in c.text.chars().enumerate() {
+            match ch {
+                '(' => depth += 1,
+                ')' if depth > 0 => depth -= 1,
+                ';' | ' ' | '\t' | '\r' => {}
+                _ if depth > 0 => {}
+                _ => {
+                    return Err(TranslateError {
+                        line,
+                        col: c.col + 1 + i as u32,
+                        message: "a block after ';' on the same line: ';' ends a block in the \
+                                  Fanuc dialect (EOB); put the next block on a line of its own"
+                            .into(),
+                    })
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// [`read_into`] in a dialect (`opts`).
 pub fn read_into_opts(
     scratch: &mut Scratch,
@@ -1107,6 +1162,9 @@ pub fn read_into_opts(
         out.clear();
     }
     let end_col = normalise(scratch, out, raw, line)?;
+    if opts.fanuc && !out.comments.is_empty() {
+        eob_ends_the_line(out, raw, line)?;
+    }
     let n = scratch.len;
     let (bytes, cols) = (&scratch.bytes[..n], &scratch.cols[..n]);
     if bytes == b"%" {

@@ -305,9 +305,15 @@ pub fn is_fanuc_kept(n: usize) -> bool {
     (500..=999).contains(&n)
 }
 
-/// The parameters the stores keep: LinuxCNC's persistent ones and Fanuc's #500–#999.
+/// Where the stores keep Fanuc's hour clock #3002 (hours), which Fanuc keeps through
+/// power-off: journaled at the end of each run in the Fanuc dialect, and read back into the
+/// clock (never into parameter #3002, which is LinuxCNC's own).
+pub const HOUR_CLOCK: usize = 3002;
+
+/// The parameters the stores keep: LinuxCNC's persistent ones, Fanuc's #500–#999 and the
+/// hour clock [`HOUR_CLOCK`].
 pub fn is_kept(n: usize) -> bool {
-    is_persistent(n) || is_fanuc_kept(n)
+    is_persistent(n) || is_fanuc_kept(n) || n == HOUR_CLOCK
 }
 
 /// Fanuc's common variables cleared by RESET (#100–#199).
@@ -370,6 +376,9 @@ impl InterpState {
         for &(n, v) in persistent {
             if (is_persistent(n) || is_fanuc_kept(n)) && v.is_finite() {
                 s.params[n] = v;
+            } else if n == HOUR_CLOCK && v.is_finite() {
+                // The hour clock kept: the new session's lamp time counts on from it.
+                s.clock_offset_ms[1] = (v * 3.6e6).round();
             }
         }
         let cs = s.params[5220].round();

@@ -64,6 +64,19 @@ fn clock_value(n: usize, c: Clocks, st: &InterpState) -> f64 {
     }
 }
 
+/// What the hour clock #3002 reads, hours, once the cycle-start lamp has been lit for
+/// `lamp_ns` since power-on: what the stores keep of it (docs/gcode.md "Fanuc dialect").
+pub fn hour_clock(lamp_ns: u64, st: &InterpState) -> f64 {
+    clock_value(
+        3002,
+        Clocks {
+            machine_ns: 0,
+            cycle_ns: lamp_ns,
+        },
+        st,
+    )
+}
+
 /// `#3001=v` or `#3002=v` at `c`: the clock reads `v` there (to the ms) and counts on from it.
 pub fn set_clock(n: usize, v: f64, c: Clocks, st: &mut InterpState) -> Result<(), String> {
     let i = n - 3001;

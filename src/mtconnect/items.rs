@@ -679,6 +679,7 @@ mod tests {
             kind: RunKind::Auto,
             blocks: 3,
             machine_ns: 1,
+            lamp_ns: 1,
             cause: EndCause::ProgramEnd,
         });
         assert_eq!(execution(&s), "PROGRAM_COMPLETED");

@@ -211,6 +211,9 @@ pub struct RunEnd {
     pub blocks: u64,
     /// Machine time from its START to its end, ns.
     pub machine_ns: u64,
+    /// The time the cycle-start lamp had been lit since the machine started, at the run's
+    /// end, ns (Fanuc's #3002 counts it).
+    pub lamp_ns: u64,
     /// Why it ended, if not at the end of its program.
     pub cause: EndCause,
 }

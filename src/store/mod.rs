@@ -206,6 +206,8 @@ pub struct MemoryView {
     pub offsets: crate::gcode::WorkOffsets,
     /// The G-code interpreter's persistent parameters that are not zero (number, value).
     pub params: Vec<(usize, f64)>,
+    /// The G-code dialect each program was stored in, where one was recorded.
+    pub dialects: std::collections::BTreeMap<String, crate::settings::Dialect>,
     /// What the reading found (a damaged file read around, a journal tail skipped).
     pub warnings: Vec<String>,
 }
@@ -232,6 +234,7 @@ impl MemoryView {
             magazine: l.state.magazine(),
             offsets: params::offsets_of(&l.state.params),
             params: params::params_of(&l.state.params),
+            dialects: l.state.dialects.clone(),
             warnings: l.notes.into_iter().map(|n| n.text).collect(),
         })
     }

@@ -71,7 +71,7 @@ impl Stores {
         for &(n, v) in ps {
             if !is_kept(n) {
                 return Err(serr(format!(
-                    "#{n} is not a parameter the controller keeps (#500-#999 in the Fanuc dialect, #5161-#5169, #5181-#5189, #5210-#5390)"
+                    "#{n} is not a parameter the controller keeps (#500-#999 and the hour clock #3002 in the Fanuc dialect, #5161-#5169, #5181-#5189, #5210-#5390)"
                 )));
             }
             let m = to_millionths(n, v).map_err(serr)?;

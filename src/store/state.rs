@@ -398,7 +398,7 @@ impl State {
                 for &(n, v) in ps {
                     if !crate::gcode::state::is_kept(usize::from(n)) {
                         return Err(Refusal::Other(format!(
-                            "#{n} is not a parameter the controller keeps (#500-#999, #5161-#5169, #5181-#5189, #5210-#5390)"
+                            "#{n} is not a parameter the controller keeps (#500-#999, #3002, #5161-#5169, #5181-#5189, #5210-#5390)"
                         )));
                     }
                     if v.abs() > PARAM_LIMIT {

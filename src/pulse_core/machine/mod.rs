@@ -1240,6 +1240,7 @@ impl Machine {
                 kind: j.kind,
                 blocks: self.blocks_done,
                 machine_ns: self.now.saturating_sub(j.started_ns),
+                lamp_ns: self.lamp_time(self.now),
                 cause,
             });
         }
