@@ -41,6 +41,10 @@ pub struct ChannelDesc {
     pub encoder: u32,
     /// The tools on the tool post.
     pub tools: Vec<ToolDesc>,
+    /// The G-code dialect its programs are read in (the description's `dialect` line in the
+    /// channel, else the machine's line before the channels, else `--dialect`); `None`: not
+    /// said, LinuxCNC's (docs/lathe.md "Machine description").
+    pub dialect: Option<crate::settings::Dialect>,
 }
 
 impl ChannelDesc {
@@ -57,6 +61,7 @@ impl ChannelDesc {
             spindle_accel: 0.0,
             encoder: 0,
             tools: Vec::new(),
+            dialect: None,
         }
     }
 
