@@ -4,10 +4,13 @@
 //! `dialect fanuc`), the bound on the lines a program executes, and the description's
 //! `dialect` line per channel.
 
+mod common;
+
 use novanc::block::{Block, Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc, CITIZEN};
 use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
 use novanc::settings::Dialect;
+use novanc::store::lathe::{LatheStore, Program};
 
 /// The Citizen, its description's first channel given `line` (`dialect fanuc`).
 fn citizen_with(line: &str) -> Result<LatheDesc, String> {
@@ -218,4 +221,26 @@ fn parameters_that_report_the_mills_state_are_refused_on_the_lathe() {
     assert!(e("#1 = #5001\n", Some(Dialect::Fanuc))
         .starts_with("1:6: #5001: the lathe reader keeps no system variables"));
     assert!(e("#2001 = 1\n", Some(Dialect::Fanuc)).starts_with("1:1: #2001"));
+}
+
+#[test]
+fn a_lathe_program_keeps_the_dialect_it_was_stored_in() {
+    let state = common::temp_dir("lathe-reader-dialect");
+    let desc = LatheDesc::citizen();
+    let p = Program {
+        name: "O1000.NGC".into(),
+        text: "G65 P9100 A1.\nM30\n".into(),
+        dialect: Some(Dialect::Fanuc),
+    };
+    match LatheStore::open(&state, &desc) {
+        Ok(mut o) => o
+            .store
+            .save_program(0, &p)
+            .unwrap_or_else(|e| panic!("{e}")),
+        Err(e) => panic!("{e}"),
+    }
+    let o = LatheStore::open(&state, &desc).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(o.programs[0], p);
+    // The samples (and programs stored before) say none: the channel's at each run.
+    assert_eq!(o.programs[1].dialect, None);
 }
