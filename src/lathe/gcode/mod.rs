@@ -3,8 +3,11 @@
 //! kernel's statements and blocks (`crate::block`, the one interface between the language
 //! readers and the kernel) of the imaginary tool tip P.
 //!
-//! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::read`);
-//! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
+//! The program is read by the one G-code reader (`crate::gcode::GcodeSource`, the mill's): its
+//! lines, flow (O-words, M98/M99, the Fanuc dialect's GOTO, WHILE, G65), parameters, messages
+//! and bounds, in the channel's dialect; the lathe's reader ([`exec::Reader`], a
+//! `crate::gcode::Motion` back end) executes each line's words, sorted by `sort_words_in`
+//! with the lathe's own letters and codes ([`LATHE`]).
 //!
 //! - [`exec`]: one line's words executed against the modal state.
 //! - [`moves`]: end points, feeds, arcs and G33.
