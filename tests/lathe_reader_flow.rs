@@ -244,3 +244,74 @@ fn a_lathe_program_keeps_the_dialect_it_was_stored_in() {
     // The samples (and programs stored before) say none: the channel's at each run.
     assert_eq!(o.programs[1].dialect, None);
 }
+
+#[test]
+fn start_reads_a_stored_program_in_the_dialect_it_was_stored_in() {
+    use novanc::lathe::console::events::LatheEv;
+    use novanc::lathe::console::LatheConsole;
+    let fanuc = "#1 = 0\nWHILE [#1 LT 2] DO1\nG0 X[30. - #1] Z2.\n#1 = #1 + 1\nEND1\nM30\n";
+    // The same text stored without a dialect (before programs kept theirs) and with Fanuc's,
+    // on the Citizen whose description says none: LinuxCNC's for the channel.
+    for (dialect, starts) in [(None, false), (Some(Dialect::Fanuc), true)] {
+        let state = common::temp_dir("lathe-reader-start-dialect");
+        let desc = LatheDesc::citizen();
+        let p = Program {
+            name: "O1000.NGC".into(),
+            text: fanuc.into(),
+            dialect,
+        };
+        match LatheStore::open(&state, &desc) {
+            Ok(mut o) => o
+                .store
+                .save_program(0, &p)
+                .unwrap_or_else(|e| panic!("{e}")),
+            Err(e) => panic!("{e}"),
+        }
+        let (mut c, _) =
+            LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
+        c.event(LatheEv::Start);
+        let m = c.message().to_string();
+        if starts {
+            assert_eq!(m, "cycle start", "{dialect:?}");
+        } else {
+            assert!(m.starts_with("CH1 O1000.NGC:2:"), "{m}");
+        }
+        c.event(LatheEv::EStop);
+    }
+}
+
+#[test]
+fn dialect_on_the_command_line_is_the_default_of_the_channels_that_say_none() {
+    use novanc::cli::args::{take_machine, Machine};
+    let path = common::temp_path("lathe-reader-dialect.machine");
+    let text = CITIZEN.replacen(
+        "channel SYSTEM-2\n",
+        "channel SYSTEM-2\ndialect linuxcnc\n",
+        1,
+    );
+    std::fs::write(&path, text).unwrap_or_else(|e| panic!("{e}"));
+    let argv: Vec<String> = [
+        "--machine",
+        path.to_str().unwrap_or(""),
+        "--dialect",
+        "fanuc",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    match take_machine(&argv) {
+        Ok((Machine::Lathe(d), rest)) => {
+            assert!(rest.is_empty());
+            let got: Vec<_> = d.channels.iter().map(|c| c.dialect).collect();
+            assert_eq!(
+                got,
+                [
+                    Some(Dialect::Fanuc),
+                    Some(Dialect::LinuxCnc),
+                    Some(Dialect::Fanuc)
+                ]
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}
