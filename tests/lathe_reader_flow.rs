@@ -224,6 +224,26 @@ fn parameters_that_report_the_mills_state_are_refused_on_the_lathe() {
 }
 
 #[test]
+fn fanucs_least_increment_follows_g20_and_g21() {
+    // X and Z without a point: 0.001 mm under G21, 0.0001 inch under G20 (the lathe's G20
+    // takes X on the diameter, so X10000 is a radius of 0.5 inch).
+    let p = read_program_in(
+        "G0 X20000 Z2000\nG20\nG0 X10000 Z1000\nG21\nG0 X30000\n",
+        &LatheDesc::citizen(),
+        0,
+        &ReadOptions::default(),
+        Some(Dialect::Fanuc),
+    );
+    let ends: Vec<[i64; 2]> = p
+        .unwrap_or_else(|e| panic!("{e}"))
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .map(|b| [b.end[0], b.end[2]])
+        .collect();
+    assert_eq!(ends, [[10_000, 2_000], [12_700, 2_540], [15_000, 2_540]]);
+}
+
+#[test]
 fn a_lathe_program_keeps_the_dialect_it_was_stored_in() {
     let state = common::temp_dir("lathe-reader-dialect");
     let desc = LatheDesc::citizen();

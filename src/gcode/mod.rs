@@ -320,6 +320,10 @@ pub trait Lines {
     /// (an O-word, GOTO, WHILE, a macro call) or `#3006` is refused: it cannot run inside
     /// another line.
     fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError>;
+
+    /// The program's units from here on (G20 `inch`, or G21), as the back end keeps them:
+    /// the Fanuc dialect's least increment follows them (0.0001 inch, 0.001 mm).
+    fn units(&mut self, inch: bool);
 }
 
 /// Whether parameter `n` is refused by a lathe back end: in the Fanuc dialect the system
@@ -1643,6 +1647,10 @@ impl GcodeSource {
 }
 
 impl Lines for GcodeSource {
+    fn units(&mut self, inch: bool) {
+        self.st.modal.inch = inch;
+    }
+
     fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError> {
         let placed = |message: String| TranslateError {
             line: n,

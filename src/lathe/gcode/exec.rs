@@ -156,7 +156,9 @@ impl Motion for Reader<'_> {
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
         let w = sort_words_in(line, n, &LATHE)?;
-        Ok(match self.execute(&w, n, at.line, lines)? {
+        let flow = self.execute(&w, n, at.line, lines);
+        lines.units(self.st.inch);
+        Ok(match flow? {
             Flow::Next => Then::Next,
             Flow::Jump(j) => Then::Skip(Pos {
                 unit: at.unit,
@@ -222,7 +224,9 @@ impl Reader<'_> {
             return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, &LATHE)?;
-        self.execute(&w, n, i, lines)
+        let flow = self.execute(&w, n, i, lines);
+        lines.units(self.st.inch);
+        flow
     }
 
     fn execute(
