@@ -848,21 +848,29 @@ impl GcodeSource {
     }
 
     /// One more line executed: refused past the bound on the lines a program executes.
+    #[inline]
     fn count_line(&mut self) -> Result<(), String> {
         self.executed += 1;
         if self.executed <= self.max_lines {
             return Ok(());
         }
+        Err(self.too_many_lines())
+    }
+
+    /// The refusal of the line past the bound.
+    #[cold]
+    fn too_many_lines(&self) -> String {
         let max = self.max_lines;
         // Without a call or a loop, every line read was a line of the file.
-        Err(if self.flow.jumped() {
+        if self.flow.jumped() {
             format!("the program executes more than {max} lines, counting each line of a loop or subroutine each time it runs: refused")
         } else {
             format!("the program has more than {max} lines (the most a program may have)")
-        })
+        }
     }
 
     /// How the line being read reads its numbers.
+    #[inline]
     fn read_opts(&self) -> read::ReadOpts {
         read::ReadOpts {
             fanuc: self.settings.dialect == Dialect::Fanuc,
@@ -972,11 +980,12 @@ impl GcodeSource {
         line: &read::Line,
         motion: Option<&mut (dyn Motion + 'm)>,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
-        if line.percent && motion.is_some() {
-            // The lathe's `%` is a tape mark, read over wherever it stands (docs/lathe-gcode.md).
-            return Ok(None);
-        }
         if line.percent {
+            if motion.is_some() {
+                // The lathe's `%` is a tape mark, read over wherever it stands
+                // (docs/lathe-gcode.md).
+                return Ok(None);
+            }
             if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
@@ -1049,7 +1058,11 @@ impl GcodeSource {
         }
         let fanuc = self.settings.dialect == Dialect::Fanuc;
         // Parameters take their new values before the words execute.
-        let stop = self.assign(n, line, motion.is_some())?;
+        let stop = if line.assigns.is_empty() {
+            None
+        } else {
+            self.assign(n, line, motion.is_some())?
+        };
         if let Some(col) = stop {
             // #3006: a stop with its message, as M00.
             if !line.words.is_empty() {
