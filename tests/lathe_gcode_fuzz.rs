@@ -3,7 +3,8 @@
 //! read.
 
 use novanc::lathe::desc::LatheDesc;
-use novanc::lathe::gcode::{read_program, ReadOptions};
+use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::settings::Dialect;
 
 #[path = "common/gcode_fragments.rs"]
 #[allow(dead_code)]
@@ -130,6 +131,21 @@ fn random_bytes_and_fragments_never_panic() {
         } else {
             (rng.next() % 3) as usize
         };
+        // The same text in Fanuc's dialect, with a macro word before it (the fuzz families
+        // include the dialect): read or refused with its place, never a panic.
+        let macro_word = [
+            "",
+            "#1 = 2\nWHILE [#1 GT 0] DO1\n#1 = #1 - 1\nEND1\n",
+            "GOTO 1\n",
+            "G65 P1 A1.\n",
+            "IF [#0 EQ #1] GOTO 2\n",
+        ][round % 5];
+        let fanuc = format!("{macro_word}{text}");
+        if let Err(e) = read_program_in(&fanuc, &d, ch, &opts, Some(Dialect::Fanuc)) {
+            let lines = fanuc.lines().count().max(1) as u32;
+            assert!(e.line >= 1 && e.line <= lines + 1, "{e} for {fanuc:?}");
+            assert!(!e.message.is_empty());
+        }
         match read_program(&text, &d, ch, &opts) {
             Ok(p) => {
                 good += 1;

@@ -136,6 +136,7 @@ fn a_program_file_that_cannot_be_read_is_never_replaced_by_the_sample() {
     let p = Program {
         name: "NEW.NGC".into(),
         text: "G0 X1\n".into(),
+        dialect: None,
     };
     o.store.save_program(0, &p).unwrap();
     o.store.save_program(1, &p).unwrap();
@@ -406,6 +407,7 @@ fn a_store_of_three_channels_opened_with_two_says_what_does_not_fit() {
     let p = Program {
         name: "TWO.NGC".into(),
         text: "G0 X2\n".into(),
+        dialect: None,
     };
     o.store.save_program(1, &p).unwrap();
     drop(o);

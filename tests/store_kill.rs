@@ -290,6 +290,7 @@ impl Subject for Lathe {
                 let p = Program {
                     name: self.programs[ch].name.clone(),
                     text: buf.text(),
+                    dialect: None,
                 };
                 self.store.save_program(ch, &p)?;
                 self.programs[ch] = p;

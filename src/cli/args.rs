@@ -87,7 +87,7 @@ pub enum Machine {
     /// The machining centre: its description's settings when `--machine` named one (else the
     /// built-in centre), and the dialect asked for.
     Centre(Option<MachineSettings>, Option<Dialect>),
-    /// A lathe. Its channels read LinuxCNC's dialect: `--dialect fanuc` was refused.
+    /// A lathe, `--dialect` given to each channel whose description says no dialect.
     Lathe(LatheDesc),
 }
 
@@ -149,13 +149,13 @@ pub fn take_machine(argv: &[String]) -> Result<(Machine, Vec<String>), String> {
     };
     let machine = match load(name).map_err(|e| format!("--machine: {e}"))? {
         MachineDesc::Mill(s) => Machine::Centre(Some(s), dialect),
-        MachineDesc::Lathe(_) if dialect == Some(Dialect::Fanuc) => {
-            return Err(
-                "--dialect fanuc: the lathe's channels read LinuxCNC's dialect only (docs/gcode.md \"Fanuc dialect\")"
-                    .into(),
-            )
+        MachineDesc::Lathe(mut d) => {
+            // `--dialect` says it for the channels whose description does not.
+            for ch in &mut d.channels {
+                ch.dialect = ch.dialect.or(dialect);
+            }
+            Machine::Lathe(d)
         }
-        MachineDesc::Lathe(d) => Machine::Lathe(d),
     };
     Ok((machine, rest))
 }

@@ -290,6 +290,12 @@ impl Flow {
         self.jumped || !self.frames.is_empty()
     }
 
+    /// A line has been read again without a jump of the flow's own (a lathe G70 runs its
+    /// profile's lines where it stands): the lines executed are more than the file's.
+    pub fn read_again(&mut self) {
+        self.jumped = true;
+    }
+
     /// The line that started the skip that reached the end of a unit (a call that searched
     /// forward, a definition with no end), if any.
     pub fn skip_from(&self) -> Option<Pos> {

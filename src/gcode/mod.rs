@@ -169,6 +169,9 @@ struct ParamEnv<'a> {
     clocks: Option<exec::Clocks>,
     /// The clock the line read without them.
     wants_clocks: &'a std::cell::Cell<Option<usize>>,
+    /// A motion back end other than the mill's executes the words (the lathe's): the
+    /// parameters that report the mill's state are refused ([`lathe_refuses`]).
+    lathe: bool,
 }
 
 impl ParamEnv<'_> {
@@ -217,6 +220,9 @@ pub const G65_ARGUMENTS: [(char, usize); 21] = [
 
 impl Env for ParamEnv<'_> {
     fn numbered(&self, n: usize) -> Result<f64, String> {
+        if self.lathe && lathe_refuses(self.fanuc, n) {
+            return Err(lathe_refusal(self.fanuc, n));
+        }
         if self.fanuc {
             let e = sysvars::SysEnv {
                 st: self.st,
@@ -243,6 +249,11 @@ impl Env for ParamEnv<'_> {
     }
 
     fn named(&self, name: &str) -> Result<Option<f64>, String> {
+        if self.lathe && name.starts_with('_') && self.st.predefined(name).is_some() {
+            return Err(format!(
+                "#<{name}> reports the mill's interpreter state: the lathe reader does not give LinuxCNC's predefined named parameters (docs/lathe-gcode.md)"
+            ));
+        }
         if matches!(name, "_x" | "_y" | "_z") && self.st.modal.comp != state::CompSide::Off {
             return Err(format!("#<{name}> (the current position) cannot be read with cutter radius compensation on"));
         }
@@ -253,6 +264,104 @@ impl Env for ParamEnv<'_> {
         let level = self.flow.g65_level();
         level > 0 && self.adp.get(level).is_some_and(|m| m & (1 << n) != 0)
     }
+}
+
+/// A machine's own execution of a line's words behind the one reader (docs/lathe-gcode.md
+/// "One reader"): [`GcodeSource`] reads the lines, runs the program's flow (O-words, M98/M99,
+/// the Fanuc dialect's GOTO, IF, WHILE/DO/END, G65/G66 calls), sets the parameters, runs the
+/// messages and keeps the bounds; each line left with words to execute is handed to the back
+/// end ([`GcodeSource::next_with`]), which makes its own blocks. The mill's back end is the
+/// source's own (`exec`, `canon`); the lathe's is `lathe::gcode`'s reader.
+pub trait Motion {
+    /// Executes the words of the line at `at` (its number `at.line + 1`): its parameters
+    /// are set and its flow is done. `lines` reads other lines of the program for it (a
+    /// G70/G71 profile).
+    fn words(
+        &mut self,
+        line: &read::Line,
+        at: Pos,
+        lines: &mut dyn Lines,
+    ) -> Result<Then, TranslateError>;
+
+    /// A stop with a message (Fanuc's `#3006`) at line `n`, column `col`: as M00.
+    fn stop(&mut self, n: u32, col: u32) -> Result<(), TranslateError>;
+}
+
+/// What a back end's line asks of the program's flow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Then {
+    /// Go on with the next line.
+    Next,
+    /// M98 P`o` L`l`: call subprogram O`o`.
+    Call {
+        /// The program number.
+        o: u32,
+        /// The repeats.
+        l: Option<u32>,
+        /// The column of M98.
+        col: u32,
+    },
+    /// M99: return from a subprogram.
+    Return {
+        /// The column of M99.
+        col: u32,
+    },
+    /// M02/M30: the program ends.
+    End,
+    /// Go on at this line, further on in the same unit (past a G71's profile).
+    Skip(Pos),
+}
+
+/// What a back end may ask of the reader while it executes a line.
+pub trait Lines {
+    /// Reads line `raw`, numbered `n`, of the program with its parameters, as a line the
+    /// program runs (its assignments set, its messages run, counted against the bound on the
+    /// lines a program executes); its words are the back end's to execute. A line of flow
+    /// (an O-word, GOTO, WHILE, a macro call) or `#3006` is refused: it cannot run inside
+    /// another line.
+    fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError>;
+
+    /// The program's units from here on (G20 `inch`, or G21), as the back end keeps them:
+    /// the Fanuc dialect's least increment follows them (0.0001 inch, 0.001 mm).
+    fn units(&mut self, inch: bool);
+}
+
+/// Whether parameter `n` is refused by a lathe back end: in the Fanuc dialect the system
+/// variables (#1000 and above, but for #3000 and #3006, which are messages), in LinuxCNC's
+/// the parameters from #5000 on (offsets, positions, the tool: the mill's state).
+pub fn lathe_refuses(fanuc: bool, n: usize) -> bool {
+    if fanuc {
+        n >= 1000 && !matches!(n, 3000 | 3006)
+    } else {
+        n >= 5000
+    }
+}
+
+fn lathe_refusal(fanuc: bool, n: usize) -> String {
+    if fanuc {
+        format!("#{n}: the lathe reader keeps no system variables (#1000 and above; docs/lathe-gcode.md)")
+    } else {
+        format!("#{n}: parameters from #5000 report the mill's state; the lathe reader keeps #1 to #4999 (docs/lathe-gcode.md)")
+    }
+}
+
+/// The parameters as the line being read sees them (a macro over the source's fields, so
+/// that its scratch stays free to borrow).
+macro_rules! param_env {
+    ($s:ident, $clocks:expr, $wants:expr, $lathe:expr) => {
+        ParamEnv {
+            st: &$s.st,
+            flow: &$s.flow,
+            fanuc: $s.settings.dialect == Dialect::Fanuc,
+            magazine: &$s.magazine,
+            parts: $s.parts,
+            first_code: $s.first_code,
+            adp: &$s.adp,
+            clocks: $clocks,
+            wants_clocks: $wants,
+            lathe: $lathe,
+        }
+    };
 }
 
 /// One line's execution context over the source's fields (a macro, so that the other
@@ -627,6 +736,23 @@ impl GcodeSource {
 
     /// Executes the next line; `None` when there is nothing more to do.
     fn step(&mut self) -> Option<Result<Statement, TranslateError>> {
+        self.step_in(None)
+    }
+
+    /// Executes the next line with `motion` executing the words of each line ([`Motion`]):
+    /// the statement yielded has no blocks (the back end keeps its own); `None` when the
+    /// program is done. Errors are placed as the source's own.
+    pub fn next_with(
+        &mut self,
+        motion: &mut dyn Motion,
+    ) -> Option<Result<Statement, TranslateError>> {
+        self.step_in(Some(motion))
+    }
+
+    fn step_in<'m>(
+        &mut self,
+        mut motion: Option<&mut (dyn Motion + 'm)>,
+    ) -> Option<Result<Statement, TranslateError>> {
         if let Err(e) = self.answer_pending() {
             return self.fail(e);
         }
@@ -687,15 +813,7 @@ impl GcodeSource {
                 line: at.line + 1,
                 byte: next,
             };
-            self.executed += 1;
-            if self.executed > self.max_lines {
-                let max = self.max_lines;
-                // Without a call or a loop, every line read was a line of the file.
-                let message = if self.flow.jumped() {
-                    format!("the program executes more than {max} lines, counting each line of a loop or subroutine each time it runs: refused")
-                } else {
-                    format!("the program has more than {max} lines (the most a program may have)")
-                };
+            if let Err(message) = self.count_line() {
                 let e = self.error_at(at.unit, n, 1, message);
                 return self.fail(e);
             }
@@ -722,7 +840,7 @@ impl GcodeSource {
             {
                 continue;
             }
-            match self.line(at, n, raw) {
+            match self.line(at, n, raw, motion.as_deref_mut()) {
                 Ok(Some(s)) => return s,
                 Ok(None) => continue,
                 Err(e) => {
@@ -733,47 +851,85 @@ impl GcodeSource {
         }
     }
 
+    /// One more line executed: refused past the bound on the lines a program executes.
+    #[inline]
+    fn count_line(&mut self) -> Result<(), String> {
+        self.executed += 1;
+        if self.executed <= self.max_lines {
+            return Ok(());
+        }
+        Err(self.too_many_lines())
+    }
+
+    /// The refusal of the line past the bound.
+    #[cold]
+    fn too_many_lines(&self) -> String {
+        let max = self.max_lines;
+        // Without a call or a loop, every line read was a line of the file.
+        if self.flow.jumped() {
+            format!("the program executes more than {max} lines, counting each line of a loop or subroutine each time it runs: refused")
+        } else {
+            format!("the program has more than {max} lines (the most a program may have)")
+        }
+    }
+
+    /// M98's program and repeats: Fanuc 0i's M98 P with more than four digits and no L
+    /// gives the program number in its last four digits and the repeats above them (P30010:
+    /// O0010 three times; docs/gcode.md "Fanuc dialect").
+    fn m98_program(&self, o: u32, l: Option<u32>) -> (u32, Option<u32>) {
+        match l {
+            None if o > 9999 && self.settings.dialect == Dialect::Fanuc => {
+                (o % 10_000, Some(o / 10_000))
+            }
+            _ => (o, l),
+        }
+    }
+
+    /// How the line being read reads its numbers.
+    #[inline]
+    fn read_opts(&self) -> read::ReadOpts {
+        read::ReadOpts {
+            fanuc: self.settings.dialect == Dialect::Fanuc,
+            increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
+            calculator: self.settings.fanuc.calculator,
+            sort: false,
+        }
+    }
+
     /// Reads and executes one line: `None` to go on to the next, or what to yield.
     #[allow(clippy::type_complexity)]
-    fn line(
+    fn line<'m>(
         &mut self,
         at: Pos,
         n: u32,
         raw: &str,
+        motion: Option<&mut (dyn Motion + 'm)>,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         let mut line = self.line_buf.take().unwrap_or_default();
         let clocks = self.clocks.take();
         let wants_clocks = std::cell::Cell::new(None);
         let r = {
-            let env = ParamEnv {
-                st: &self.st,
-                flow: &self.flow,
-                fanuc: self.settings.dialect == Dialect::Fanuc,
-                magazine: &self.magazine,
-                parts: self.parts,
-                first_code: self.first_code,
-                adp: &self.adp,
-                clocks,
-                wants_clocks: &wants_clocks,
-            };
+            let env = param_env!(self, clocks, &wants_clocks, motion.is_some());
             let flow = &self.flow;
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
             let skipping: Option<&dyn Fn(&str, read::OKind) -> bool> =
                 if flow.skipping() { Some(&skip) } else { None };
+            // The mill's usual line is sorted into its words as it is read (a back end reads
+            // its own letters: the lathe's are sorted by its executor).
+            let mill = motion.is_none();
             let opts = read::ReadOpts {
-                fanuc: self.settings.dialect == Dialect::Fanuc,
-                increment: if self.st.modal.inch { 0.0001 } else { 0.001 },
-                calculator: self.settings.fanuc.calculator,
-                sort: true,
+                sort: mill,
+                ..self.read_opts()
             };
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
                     if opts.fanuc {
                         fanuc_dwell(&mut line, n, opts.increment)?;
-                        fanuc_cycle_p(&line, n, self.st.modal.motion)
-                    } else {
-                        Ok(())
+                        if mill {
+                            fanuc_cycle_p(&line, n, self.st.modal.motion)?;
+                        }
                     }
+                    Ok(())
                 })
         };
         // A Fanuc clock read or written: the machine's clocks at this line first.
@@ -791,7 +947,7 @@ impl GcodeSource {
             Some((col, v)) => self.ask_clocks(at, n, raw, col, v),
             None => {
                 self.clocks = clocks;
-                let out = r.and_then(|()| self.execute_line(at, n, raw, &line));
+                let out = r.and_then(|()| self.execute_line(at, n, raw, &line, motion));
                 self.clocks = None;
                 out
             }
@@ -841,14 +997,20 @@ impl GcodeSource {
     }
 
     #[allow(clippy::type_complexity)]
-    fn execute_line(
+    fn execute_line<'m>(
         &mut self,
         at: Pos,
         n: u32,
         raw: &str,
         line: &read::Line,
+        motion: Option<&mut (dyn Motion + 'm)>,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         if line.percent {
+            if motion.is_some() {
+                // The lathe's `%` is a tape mark, read over wherever it stands
+                // (docs/lathe-gcode.md).
+                return Ok(None);
+            }
             if self.flow.skipping() || at.unit != 0 {
                 return Ok(None);
             }
@@ -920,13 +1082,148 @@ impl GcodeSource {
             self.st.line_number = v;
         }
         let fanuc = self.settings.dialect == Dialect::Fanuc;
-        let mut stop = None;
         // Parameters take their new values before the words execute.
+        let stop = if line.assigns.is_empty() {
+            None
+        } else {
+            self.assign(n, line, motion.is_some())?
+        };
+        if let Some(col) = stop {
+            // #3006: a stop with its message, as M00.
+            if !line.words.is_empty() {
+                return Err(TranslateError {
+                    line: n,
+                    col,
+                    message: "#3006 stands on a block of its own (no words with it)".into(),
+                });
+            }
+            if let Some(m) = motion {
+                m.stop(n, col)?;
+                return Ok(Some(self.finish(n, raw, Vec::new(), false)));
+            }
+            let mut x = ctx!(self, n);
+            let r = self.comp.flush(&mut x, col);
+            if r.is_ok() {
+                let m0 = Canon::Aux {
+                    s: None,
+                    t: None,
+                    m: Some(0),
+                };
+                self.comp.aux(&mut x, m0, col);
+            }
+            let out = x.out;
+            if let Err(e) = r {
+                self.out_buf = out;
+                return Err(e);
+            }
+            return Ok(Some(self.finish(n, raw, out, false)));
+        }
+        self.comments(n, &line.comments)?;
+        if let Some(m) = line.fanuc {
+            let (r, col) = match m {
+                read::Macro::Goto { n: seq, col } => (self.flow.goto(seq, at), col),
+                read::Macro::While { test, m, col } => (self.flow.fanuc_do(Some(test), m, at), col),
+                read::Macro::Do { m, col } => (self.flow.fanuc_do(None, m, at), col),
+                read::Macro::End { m, col } => (self.flow.fanuc_end(m), col),
+            };
+            r.map_err(|message| TranslateError {
+                line: n,
+                col,
+                message,
+            })?;
+            return Ok(None);
+        }
+        if fanuc {
+            let g = line
+                .words
+                .iter()
+                .find(|w| w.letter == 'G' && matches!(w.value, 65.0 | 66.0 | 67.0));
+            match g.map(|w| w.value as u8) {
+                Some(65) => {
+                    self.g65(at, n, line)?;
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
+                }
+                Some(66) => {
+                    self.g66(n, line)?;
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
+                }
+                Some(_) => {
+                    self.g67(n, line)?;
+                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
+                }
+                None => {}
+            }
+            // A move: an axis word (the lathe's U and W too).
+            let lathe = motion.is_some();
+            self.modal_due = self.modal_call.is_some()
+                && line.words.iter().any(|w| {
+                    matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C')
+                        || (lathe && matches!(w.letter, 'U' | 'W'))
+                });
+        }
+        if line.words.is_empty() {
+            if line.assigns.is_empty() && line.comments.is_empty() {
+                return Ok(None);
+            }
+            return Ok(Some(self.finish(n, raw, Vec::new(), false)));
+        }
+        if fanuc {
+            // #4113: the last M code read.
+            if let Some(m) = line.words.iter().rev().find(|w| w.letter == 'M') {
+                self.st.fanuc_m = m.value;
+            }
+        }
+        if let Some(m) = motion {
+            return self.run_motion(m, at, n, raw, line);
+        }
+        if line.sorted && !fanuc {
+            // Sorted as read, in the mill's dialect (which a line without A reads the same
+            // with an A axis).
+            let r = self.run_words(at, n, raw, &line.sorted_words, false);
+            if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
+                r.words = Some(Box::new(line.sorted_words.clone()));
+            }
+            return r;
+        }
+        let mut words = self.words_buf.take().unwrap_or_default();
+        let dialect = match (self.st.a_axis.is_some(), fanuc) {
+            (true, false) => &words::MILL4,
+            (false, false) => &words::MILL,
+            (true, true) => &words::FANUC4,
+            (false, true) => &words::FANUC,
+        };
+        let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
+        let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
+        match self.remap.as_mut() {
+            // The line of a remapped M6 just called: kept to finish when the call returns.
+            Some(r) if r.words.is_none() => r.words = Some(words),
+            _ => self.words_buf = Some(words),
+        }
+        r
+    }
+
+    /// Sets line `n`'s parameters (`line.assigns`), before its words execute; `lathe`: a
+    /// lathe back end executes them. The column of a `#3006` stop, if the line gives one.
+    fn assign(
+        &mut self,
+        n: u32,
+        line: &read::Line,
+        lathe: bool,
+    ) -> Result<Option<u32>, TranslateError> {
+        let fanuc = self.settings.dialect == Dialect::Fanuc;
+        let mut stop = None;
         for (t, v, col) in &line.assigns {
             match t {
                 Target::Numbered(p @ (3000 | 3006)) if fanuc => {
                     self.fanuc_message(n, *p, *v, *col, &line.comments)?;
                     stop = Some(*col);
+                }
+                Target::Numbered(p) if lathe && lathe_refuses(fanuc, *p) => {
+                    return Err(TranslateError {
+                        line: n,
+                        col: *col,
+                        message: lathe_refusal(fanuc, *p),
+                    });
                 }
                 Target::Numbered(p @ (3001 | 3002)) if fanuc => {
                     // `line` read the machine's clocks for this line first.
@@ -997,109 +1294,50 @@ impl GcodeSource {
                 }
             }
         }
-        if let Some(col) = stop {
-            // #3006: a stop with its message, as M00.
-            if !line.words.is_empty() {
-                return Err(TranslateError {
-                    line: n,
-                    col,
-                    message: "#3006 stands on a block of its own (no words with it)".into(),
-                });
-            }
-            let mut x = ctx!(self, n);
-            let r = self.comp.flush(&mut x, col);
-            if r.is_ok() {
-                let m0 = Canon::Aux {
-                    s: None,
-                    t: None,
-                    m: Some(0),
-                };
-                self.comp.aux(&mut x, m0, col);
-            }
-            let out = x.out;
-            if let Err(e) = r {
-                self.out_buf = out;
-                return Err(e);
-            }
-            return Ok(Some(self.finish(n, raw, out, false)));
-        }
-        self.comments(n, &line.comments)?;
-        if let Some(m) = line.fanuc {
-            let (r, col) = match m {
-                read::Macro::Goto { n: seq, col } => (self.flow.goto(seq, at), col),
-                read::Macro::While { test, m, col } => (self.flow.fanuc_do(Some(test), m, at), col),
-                read::Macro::Do { m, col } => (self.flow.fanuc_do(None, m, at), col),
-                read::Macro::End { m, col } => (self.flow.fanuc_end(m), col),
-            };
-            r.map_err(|message| TranslateError {
-                line: n,
-                col,
-                message,
-            })?;
-            return Ok(None);
-        }
-        if fanuc {
-            let g = line
-                .words
-                .iter()
-                .find(|w| w.letter == 'G' && matches!(w.value, 65.0 | 66.0 | 67.0));
-            match g.map(|w| w.value as u8) {
-                Some(65) => {
-                    self.g65(at, n, line)?;
-                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
-                }
-                Some(66) => {
-                    self.g66(n, line)?;
-                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
-                }
-                Some(_) => {
-                    self.g67(n, line)?;
-                    return Ok(Some(self.finish(n, raw, Vec::new(), false)));
-                }
-                None => {}
-            }
-            self.modal_due = self.modal_call.is_some()
-                && line
-                    .words
-                    .iter()
-                    .any(|w| matches!(w.letter, 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C'));
-        }
-        if line.words.is_empty() {
-            if line.assigns.is_empty() && line.comments.is_empty() {
-                return Ok(None);
-            }
-            return Ok(Some(self.finish(n, raw, Vec::new(), false)));
-        }
-        if fanuc {
-            // #4113: the last M code read.
-            if let Some(m) = line.words.iter().rev().find(|w| w.letter == 'M') {
-                self.st.fanuc_m = m.value;
-            }
-        }
-        if line.sorted && !fanuc {
-            // Sorted as read, in the mill's dialect (which a line without A reads the same
-            // with an A axis).
-            let r = self.run_words(at, n, raw, &line.sorted_words, false);
-            if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
-                r.words = Some(Box::new(line.sorted_words.clone()));
-            }
-            return r;
-        }
-        let mut words = self.words_buf.take().unwrap_or_default();
-        let dialect = match (self.st.a_axis.is_some(), fanuc) {
-            (true, false) => &words::MILL4,
-            (false, false) => &words::MILL,
-            (true, true) => &words::FANUC4,
-            (false, true) => &words::FANUC,
+        Ok(stop)
+    }
+
+    /// Line `n`'s words executed by a back end, and what it asks of the flow.
+    #[allow(clippy::type_complexity)]
+    fn run_motion(
+        &mut self,
+        m: &mut dyn Motion,
+        at: Pos,
+        n: u32,
+        raw: &str,
+        line: &read::Line,
+    ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
+        let modal_due = std::mem::take(&mut self.modal_due);
+        let placed = |col: u32, message: String| TranslateError {
+            line: n,
+            col,
+            message,
         };
-        let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
-        let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
-        match self.remap.as_mut() {
-            // The line of a remapped M6 just called: kept to finish when the call returns.
-            Some(r) if r.words.is_none() => r.words = Some(words),
-            _ => self.words_buf = Some(words),
+        match m.words(line, at, self)? {
+            Then::Next => {
+                if modal_due {
+                    self.modal_call_after_move(at, n)?;
+                }
+            }
+            Then::Call { o, l, col } => {
+                let (o, l) = self.m98_program(o, l);
+                let r = self
+                    .flow
+                    .call_m98(o, l, at, &mut self.st, self.finder.as_ref());
+                r.map_err(|m| placed(col, m))?;
+            }
+            Then::Return { col } => {
+                let r = self.flow.return_m99(&mut self.st);
+                r.map_err(|m| placed(col, m))?;
+            }
+            Then::End => {
+                self.modal_call = None;
+                self.st.program_end_reset();
+                self.done = true;
+            }
+            Then::Skip(to) => self.flow.pc = to,
         }
-        r
+        Ok(Some(self.finish(n, raw, Vec::new(), false)))
     }
 
     /// Executes a line's sorted words (`after_m6`: only its steps after a remapped M6).
@@ -1137,15 +1375,7 @@ impl GcodeSource {
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Call { o, l, col } => {
-                // Fanuc 0i's M98 P with more than four digits and no L: the last four are
-                // the program number, the digits above them the repeats (P30010: O0010
-                // three times; docs/gcode.md "Fanuc dialect").
-                let (o, l) = match l {
-                    None if o > 9999 && self.settings.dialect == Dialect::Fanuc => {
-                        (o % 10_000, Some(o / 10_000))
-                    }
-                    _ => (o, l),
-                };
+                let (o, l) = self.m98_program(o, l);
                 let r = self
                     .flow
                     .call_m98(o, l, at, &mut self.st, self.finder.as_ref());
@@ -1462,6 +1692,64 @@ impl GcodeSource {
         if st.blocks.capacity() <= SPARE_BLOCKS {
             self.spare = Some(st);
         }
+    }
+}
+
+impl Lines for GcodeSource {
+    fn units(&mut self, inch: bool) {
+        self.st.modal.inch = inch;
+    }
+
+    fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError> {
+        let placed = |message: String| TranslateError {
+            line: n,
+            col: 1,
+            message,
+        };
+        // A line run by another line (a G70's profile) is read again.
+        self.flow.read_again();
+        self.count_line().map_err(placed)?;
+        if let Some(e) = crate::limits::line_too_long(raw, n, "") {
+            return Err(e);
+        }
+        let mut line = read::Line::default();
+        let wants_clocks = std::cell::Cell::new(None);
+        let opts = self.read_opts();
+        {
+            let env = param_env!(self, None, &wants_clocks, true);
+            read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, None, opts)?;
+        }
+        if opts.fanuc {
+            fanuc_dwell(&mut line, n, opts.increment)?;
+        }
+        let flow = match (&line.o, &line.fanuc) {
+            (Some(o), _) if o.kind != read::OKind::Bare => Some(o.col),
+            (_, Some(read::Macro::Goto { col, .. } | read::Macro::While { col, .. })) => Some(*col),
+            (_, Some(read::Macro::Do { col, .. } | read::Macro::End { col, .. })) => Some(*col),
+            _ => line
+                .words
+                .iter()
+                .find(|w| w.letter == 'G' && matches!(w.value, 65.0 | 66.0 | 67.0))
+                .filter(|_| opts.fanuc)
+                .map(|w| w.col),
+        };
+        if let Some(col) = flow {
+            return Err(TranslateError {
+                line: n,
+                col,
+                message: "program flow (an O-word, GOTO, WHILE/DO/END, a macro call) cannot stand in a line another line runs (a G70/G71 profile)".into(),
+            });
+        }
+        if let Some(col) = self.assign(n, &line, true)? {
+            return Err(TranslateError {
+                line: n,
+                col,
+                message: "#3006 cannot stand in a line another line runs (a G70/G71 profile)"
+                    .into(),
+            });
+        }
+        self.comments(n, &line.comments)?;
+        Ok(line)
     }
 }
 

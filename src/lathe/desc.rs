@@ -41,6 +41,10 @@ pub struct ChannelDesc {
     pub encoder: u32,
     /// The tools on the tool post.
     pub tools: Vec<ToolDesc>,
+    /// The G-code dialect its programs are read in (the description's `dialect` line in the
+    /// channel, else the machine's line before the channels, else `--dialect`); `None`: not
+    /// said, LinuxCNC's (docs/lathe.md "Machine description").
+    pub dialect: Option<crate::settings::Dialect>,
 }
 
 impl ChannelDesc {
@@ -57,6 +61,7 @@ impl ChannelDesc {
             spindle_accel: 0.0,
             encoder: 0,
             tools: Vec::new(),
+            dialect: None,
         }
     }
 
@@ -450,20 +455,23 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 });
             }
             "dialect" => {
-                if dialect.is_some() {
-                    return Err(e("the dialect is given twice".into()));
-                }
                 let d = match words.as_slice() {
                     [_, d] => crate::settings::Dialect::parse(d).map_err(e)?,
                     _ => return Err(e("dialect takes fanuc or linuxcnc".into())),
                 };
-                if d == crate::settings::Dialect::Fanuc && kind != Some("mill") {
-                    return Err(e(
-                        "dialect fanuc: a lathe's channels read LinuxCNC's dialect only (say 'kind mill' first for a machining centre)"
-                            .into(),
-                    ));
+                // In a lathe's channel, the channel's dialect; before the channels (or on a
+                // mill), the machine's.
+                let slot = match channels.last_mut() {
+                    Some(ch) if in_channel => &mut ch.dialect,
+                    _ => &mut dialect,
+                };
+                if slot.is_some() {
+                    return Err(e(format!(
+                        "the dialect is given twice{}",
+                        if in_channel { " in this channel" } else { "" }
+                    )));
                 }
-                dialect = Some(d);
+                *slot = Some(d);
             }
             "common" | "decimal" => {
                 // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
@@ -620,7 +628,13 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             }
             Ok(m)
         }
-        Some(_) => lathe(name, pulse_mm, tick_us, channels, &links),
+        Some(_) => {
+            // The machine's dialect line says it for the channels that do not.
+            for ch in &mut channels {
+                ch.dialect = ch.dialect.or(dialect);
+            }
+            lathe(name, pulse_mm, tick_us, channels, &links)
+        }
         None => Err("1: the description has no 'kind lathe' or 'kind mill' line".into()),
     }
 }

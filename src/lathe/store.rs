@@ -166,5 +166,6 @@ fn split_program(t: &str) -> Result<Program, String> {
     Ok(Program {
         name: name.to_string(),
         text: text.to_string(),
+        dialect: None,
     })
 }

@@ -36,6 +36,7 @@ pub fn channel(name: &str) -> ChannelDesc {
                 offset: [0.0, 0.0],
             })
             .collect(),
+        dialect: None,
     }
 }
 

@@ -63,6 +63,10 @@ pub struct Program {
     pub name: String,
     /// The text.
     pub text: String,
+    /// The G-code dialect it is written in (the channel's when it was stored); `None`: not
+    /// recorded (a program stored before programs kept their dialect, or a sample), read in
+    /// the channel's at each run.
+    pub dialect: Option<crate::settings::Dialect>,
 }
 
 impl Program {
@@ -71,6 +75,7 @@ impl Program {
         Program {
             name: format!("CH{}.NGC", ch + 1),
             text: String::new(),
+            dialect: None,
         }
     }
 
@@ -123,6 +128,7 @@ impl LatheState {
                     ("citizen", Some((name, text))) => Program {
                         name: name.to_string(),
                         text: text.to_string(),
+                        dialect: None,
                     },
                     _ => Program::empty(ch),
                 })
@@ -140,6 +146,7 @@ impl LatheState {
                 ch,
                 name: p.name.clone(),
                 text: p.text.clone(),
+                dialect: p.dialect,
             });
         }
         for (ch, t) in self.tools.iter().enumerate() {
@@ -166,11 +173,17 @@ impl LatheState {
             ))),
         };
         let changed = match rec {
-            Record::ChannelProgram { ch, name, text } => {
+            Record::ChannelProgram {
+                ch,
+                name,
+                text,
+                dialect,
+            } => {
                 let ch = chan(*ch)?;
                 let p = Program {
                     name: name.clone(),
                     text: text.clone(),
+                    dialect: *dialect,
                 };
                 p.check().map_err(Refusal::Other)?;
                 let changed = self.programs[ch] != p;
@@ -423,6 +436,7 @@ impl LatheStore {
             ch,
             name: p.name.clone(),
             text: p.text.clone(),
+            dialect: p.dialect,
         };
         self.commit(rec)
             .map_err(|e| format!("channel {}: the program could not be stored: {e}", ch + 1))

@@ -95,6 +95,9 @@ pub enum Record {
         name: String,
         /// The text.
         text: String,
+        /// The G-code dialect it is written in (the channel's when it was stored); None in a
+        /// record written before lathe programs kept their dialect: the channel's at each run.
+        dialect: Option<Dialect>,
     },
     /// A lathe channel's tools as revised at the OFS page, one description `tool` line each;
     /// None: the machine description's tools.
@@ -147,8 +150,17 @@ impl Record {
                 }
                 t
             }
-            Record::ChannelProgram { ch, name, text } => {
-                format!("chprog {}\n{name}\n{text}", ch + 1)
+            Record::ChannelProgram {
+                ch,
+                name,
+                text,
+                dialect,
+            } => {
+                format!(
+                    "chprog {}{}\n{name}\n{text}",
+                    ch + 1,
+                    dialect_field(*dialect)
+                )
             }
             Record::ChannelTools { ch, text: Some(t) } => format!("chtools {}\n{t}", ch + 1),
             Record::ChannelTools { ch, text: None } => format!("chtools {} -", ch + 1),
@@ -240,7 +252,7 @@ impl Record {
                 }
                 Record::Params(ps)
             }
-            ["chprog", c] => {
+            ["chprog", c, d @ ..] if d.len() <= 1 => {
                 let (name, text) = body_of(body)?
                     .split_once('\n')
                     .map(|(n, t)| (n.to_string(), t.to_string()))
@@ -249,6 +261,7 @@ impl Record {
                     ch: channel(c, head)?,
                     name,
                     text,
+                    dialect: dialect_of(d.first(), head)?,
                 }
             }
             ["chtools", c] => Record::ChannelTools {
@@ -355,11 +368,13 @@ mod tests {
                 ch: 2,
                 name: "SYSTEM 3.NGC".into(),
                 text: "G0 X1\n\nM30\n".into(),
+                dialect: Some(Dialect::Fanuc),
             },
             Record::ChannelProgram {
                 ch: 0,
                 name: "E".into(),
                 text: "".into(),
+                dialect: None,
             },
             Record::ChannelTools {
                 ch: 1,
@@ -407,6 +422,17 @@ mod tests {
                 dialect: None
             })
         );
+        // A lathe channel's program likewise.
+        assert_eq!(
+            Record::decode("chprog 2\nA.NGC\nG0 X1\n"),
+            Ok(Record::ChannelProgram {
+                ch: 1,
+                name: "A.NGC".into(),
+                text: "G0 X1\n".into(),
+                dialect: None
+            })
+        );
+        assert!(Record::decode("chprog 2 fanuc x\nA.NGC\nG0 X1\n").is_err());
     }
 
     #[test]

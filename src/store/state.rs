@@ -551,6 +551,7 @@ mod tests {
                 ch: 0,
                 name: "A".into(),
                 text: "G0 X1\n".into(),
+                dialect: None,
             },
             Record::Parts {
                 target: 5,
@@ -572,16 +573,19 @@ mod tests {
                 ch: 3,
                 name: "A".into(),
                 text: "".into(),
+                dialect: None,
             },
             Record::ChannelProgram {
                 ch: 0,
                 name: "".into(),
                 text: "".into(),
+                dialect: None,
             },
             Record::ChannelProgram {
                 ch: 0,
                 name: "A".into(),
                 text: "x".repeat(super::super::lathe::MAX_PROGRAM + 1),
+                dialect: None,
             },
             Record::ChannelTools {
                 ch: 1,

@@ -93,9 +93,17 @@ impl LatheConsole {
                     self.entry = line.to_string();
                     return;
                 }
+                // The program keeps the dialect it is stored in: the channel's now.
                 let p = Program {
                     name: self.programs[ch].name.clone(),
                     text,
+                    dialect: Some(
+                        self.desc
+                            .channels
+                            .get(ch)
+                            .and_then(|c| c.dialect)
+                            .unwrap_or_default(),
+                    ),
                 };
                 if out.changed {
                     if let Err(e) = self.store.save_program(ch, &p) {

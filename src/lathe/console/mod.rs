@@ -517,8 +517,16 @@ impl LatheConsole {
             optional_stop: self.optional_stop,
         };
         let target = if mdi { 1 } else { self.counter.target };
+        // Each stored program is read in the dialect it was stored in (one stored before
+        // programs kept theirs, in its channel's); MDI in the channel's.
+        let mut desc = self.desc.clone();
+        if !mdi {
+            for (c, p) in desc.channels.iter_mut().zip(&self.programs) {
+                c.dialect = p.dialect.or(c.dialect);
+            }
+        }
         match glue::Cycle::new(
-            &self.desc,
+            &desc,
             &texts,
             &opts,
             target,

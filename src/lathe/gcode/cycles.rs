@@ -7,6 +7,7 @@ use super::out::{Kind, Mv};
 use super::MAX_PASSES;
 use crate::block::TranslateError;
 use crate::gcode::words::Words;
+use crate::gcode::Lines;
 use std::f64::consts::FRAC_PI_2;
 
 fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
@@ -215,12 +216,18 @@ fn profile_lines(
 }
 
 /// G70 P Q: the finishing pass, the profile's lines run as written, then back to the start.
-pub fn g70(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateError> {
+pub fn g70(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    lines: &mut dyn Lines,
+) -> Result<Flow, TranslateError> {
     refuse(w, "XZUWIKRJHEL", n, "G70")?;
     let (p, q) = profile_lines(r, w, n, c, "G70")?;
     let start = r.out.pos;
     r.in_cycle = true;
-    let res = r.run_range(p, q + 1);
+    let res = r.run_range(p, q + 1, lines);
     r.in_cycle = false;
     res?;
     r.out.motion(mv(Kind::Rapid, start, n, c))?;
@@ -230,7 +237,14 @@ pub fn g70(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateE
 /// G71 U R (depth of cut, retract) or G71 P Q U W F: roughing in passes parallel to Z down to
 /// the profile of lines P..Q, left with the allowances U (on the diameter in G07) and W, then
 /// one pass along the profile; the lines P..Q are then skipped.
-pub fn g71(r: &mut Reader, w: &Words, n: u32, c: u32, idx: usize) -> Result<Flow, TranslateError> {
+pub fn g71(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    idx: usize,
+    lines: &mut dyn Lines,
+) -> Result<Flow, TranslateError> {
     let f = r.st.factor();
     if w.get('P').is_none() && w.get('Q').is_none() {
         refuse(w, "XZWIKJHEL", n, "G71 U R")?;
@@ -282,7 +296,7 @@ pub fn g71(r: &mut Reader, w: &Words, n: u32, c: u32, idx: usize) -> Result<Flow
     let (saved, a) = (r.st.clone(), r.out.pos);
     r.out.capture = Some(Vec::new());
     r.in_cycle = true;
-    let res = r.run_range(p, q + 1);
+    let res = r.run_range(p, q + 1, lines);
     r.in_cycle = false;
     let prof = r.out.capture.take().unwrap_or_default();
     r.st = saved;

@@ -3,10 +3,11 @@
 //! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
 
 use super::out::{self, Feed, Out};
-use super::{cycles, read_line, ReadOptions, LATHE, MAX_LINES};
+use super::{cycles, ReadOptions, LATHE};
 use crate::block::{Css, FeedMode, Sync, TranslateError};
-use crate::gcode::read::{OKind, Params, Target};
+use crate::gcode::flow::Pos;
 use crate::gcode::words::{sort_words_in, Words};
+use crate::gcode::{read, Lines, Motion, Then};
 use crate::lathe::desc::{ChannelDesc, LatheDesc};
 use std::collections::HashMap;
 
@@ -89,6 +90,20 @@ pub enum Flow {
     Jump(usize),
     /// M02/M30: stop reading.
     End,
+    /// M98 P L: call subprogram O`o`.
+    Call {
+        /// The program number.
+        o: u32,
+        /// The repeats.
+        l: Option<u32>,
+        /// The column of M98.
+        col: u32,
+    },
+    /// M99: back from a subprogram.
+    Return {
+        /// The column of M99.
+        col: u32,
+    },
 }
 
 /// The reader of one program.
@@ -105,14 +120,12 @@ pub struct Reader<'a> {
     pub lines: &'a [&'a str],
     /// N number to line index.
     pub n_lines: HashMap<u32, usize>,
-    /// The numbered parameters.
-    pub params: Params,
+    /// The byte where each line starts (for going on after a G71's profile).
+    pub starts: Vec<usize>,
     /// The modal state.
     pub st: State,
     /// The emitter.
     pub out: Out<'a>,
-    /// Lines executed so far.
-    pub executed: u64,
     /// Inside a G70 or G71 profile.
     pub in_cycle: bool,
     /// M02/M30 was read.
@@ -132,71 +145,97 @@ fn is_int(v: f64) -> bool {
     v.fract() == 0.0 && v.is_finite()
 }
 
+/// The lathe's execution of a line's words behind the one reader (`crate::gcode::Motion`):
+/// the reader has done the line's flow and parameters.
+impl Motion for Reader<'_> {
+    fn words(
+        &mut self,
+        line: &read::Line,
+        at: Pos,
+        lines: &mut dyn Lines,
+    ) -> Result<Then, TranslateError> {
+        let n = at.line as u32 + 1;
+        let w = sort_words_in(line, n, &LATHE)?;
+        let flow = self.execute(&w, n, at.line, lines);
+        lines.units(self.st.inch);
+        Ok(match flow? {
+            Flow::Next => Then::Next,
+            Flow::Jump(j) => Then::Skip(Pos {
+                unit: at.unit,
+                line: j,
+                byte: self.starts.get(j).copied().unwrap_or(usize::MAX),
+            }),
+            Flow::End => {
+                self.ended = true;
+                Then::End
+            }
+            Flow::Call { o, l, col } => Then::Call { o, l, col },
+            Flow::Return { col } => Then::Return { col },
+        })
+    }
+
+    fn stop(&mut self, n: u32, col: u32) -> Result<(), TranslateError> {
+        self.out.op(n, col, out::m(0))
+    }
+}
+
 impl Reader<'_> {
-    /// Runs lines `from..to` (indices).
-    pub fn run_range(&mut self, from: usize, to: usize) -> Result<(), TranslateError> {
+    /// Runs lines `from..to` (indices) of a G70/G71 profile, each read by `lines` (the one
+    /// reader: parameters, messages, the bound on lines executed).
+    pub fn run_range(
+        &mut self,
+        from: usize,
+        to: usize,
+        lines: &mut dyn Lines,
+    ) -> Result<(), TranslateError> {
         let mut i = from;
         while i < to.min(self.lines.len()) && !self.ended {
-            let n = (i + 1) as u32;
-            self.executed += 1;
-            if self.executed > MAX_LINES {
-                return Err(err(
-                    n,
-                    1,
-                    format!("the program executes more than {MAX_LINES} lines"),
-                ));
-            }
-            match self.line(i)? {
+            match self.line(i, lines)? {
                 Flow::Next => i += 1,
                 Flow::Jump(j) => i = j,
                 Flow::End => {
                     self.ended = true;
                     break;
                 }
+                Flow::Call { col, .. } | Flow::Return { col } => {
+                    return Err(err(
+                        (i + 1) as u32,
+                        col,
+                        "M98 or M99 inside a G70/G71 profile",
+                    ))
+                }
             }
         }
         Ok(())
     }
 
-    fn line(&mut self, i: usize) -> Result<Flow, TranslateError> {
+    fn line(&mut self, i: usize, lines: &mut dyn Lines) -> Result<Flow, TranslateError> {
         let n = (i + 1) as u32;
         let raw = self.lines[i];
         if self.opts.block_delete && raw.trim_start().starts_with('/') {
             // Skipped unread, as in LinuxCNC: a deleted line cannot stop the program.
             return Ok(Flow::Next);
         }
-        let l = read_line(raw, n, &self.params)?;
-        if l.percent {
+        if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
             return Ok(Flow::Next);
         }
-        if let Some(o) = l.o.as_ref().filter(|o| o.kind != OKind::Bare) {
-            return Err(err(
-                n,
-                o.col,
-                format!("O-word control flow (o{} {}) is not read by the lathe reader yet: only M98/M99 subprograms", o.label, o.kind.name()),
-            ));
-        }
-        for (t, v, col) in &l.assigns {
-            match t {
-                Target::Numbered(p) => {
-                    self.params.set(*p, *v);
-                }
-                Target::Named(name) => {
-                    return Err(err(
-                        n,
-                        *col,
-                        format!(
-                            "named parameters (#<{name}>) are not read by the lathe reader yet"
-                        ),
-                    ))
-                }
-            }
+        let l = lines.read_line(raw, n)?;
+        if l.percent || l.words.is_empty() {
+            return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, &LATHE)?;
-        self.execute(&w, n, i)
+        let flow = self.execute(&w, n, i, lines);
+        lines.units(self.st.inch);
+        flow
     }
 
-    fn execute(&mut self, w: &Words, n: u32, idx: usize) -> Result<Flow, TranslateError> {
+    fn execute(
+        &mut self,
+        w: &Words,
+        n: u32,
+        idx: usize,
+        lines: &mut dyn Lines,
+    ) -> Result<Flow, TranslateError> {
         let col = |c: char| w.col(c).unwrap_or(1);
         let mut used: u32 = 1 << (b'N' - b'A');
         let mut use_ = |c: char| used |= 1 << (c as u8 - b'A');
@@ -406,8 +445,8 @@ impl Reader<'_> {
                         cycles::g76(self, w, n, c)?;
                         Flow::Next
                     }
-                    710 => cycles::g71(self, w, n, c, idx)?,
-                    _ => cycles::g70(self, w, n, c)?,
+                    710 => cycles::g71(self, w, n, c, idx, lines)?,
+                    _ => cycles::g70(self, w, n, c, lines)?,
                 };
             }
             _ => {
@@ -455,6 +494,12 @@ impl Reader<'_> {
                     self.out.op(n, c, out::m(m as u8))?;
                     flow = Flow::End;
                 }
+                98 => {
+                    use_('P');
+                    use_('L');
+                    flow = self.m98(w, n, c)?;
+                }
+                99 => flow = Flow::Return { col: c },
                 _ => {}
             }
         }
@@ -469,6 +514,28 @@ impl Reader<'_> {
             }
         }
         Ok(flow)
+    }
+
+    /// M98 P L: the call of subprogram O`P`, `L` times (the mill's bounds).
+    fn m98(&self, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateError> {
+        let whole = |l: char, max: f64| -> Result<Option<u32>, TranslateError> {
+            match w.get(l) {
+                None => Ok(None),
+                Some(v) if is_int(v) && (0.0..=max).contains(&v) => Ok(Some(v as u32)),
+                Some(v) => Err(err(
+                    n,
+                    w.col(l).unwrap_or(c),
+                    format!(
+                        "M98 {l}{}: a whole number 0 to {max}",
+                        crate::input_text::short_number(v)
+                    ),
+                )),
+            }
+        };
+        let o = whole('P', 99_999_999.0)?
+            .ok_or_else(|| err(n, c, "M98 needs P, the O number of the subprogram"))?;
+        let l = whole('L', crate::limits::MAX_REPEATS as f64)?;
+        Ok(Flow::Call { o, l, col: c })
     }
 
     fn tool(&mut self, t: f64, n: u32, c: u32) -> Result<(), TranslateError> {

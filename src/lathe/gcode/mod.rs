@@ -3,8 +3,11 @@
 //! kernel's statements and blocks (`crate::block`, the one interface between the language
 //! readers and the kernel) of the imaginary tool tip P.
 //!
-//! Line reading, expressions and `#` parameters are the mill reader's (`crate::gcode::read`);
-//! word sorting is its `sort_words_in` with the lathe's own letters and codes ([`LATHE`]).
+//! The program is read by the one G-code reader (`crate::gcode::GcodeSource`, the mill's): its
+//! lines, flow (O-words, M98/M99, the Fanuc dialect's GOTO, WHILE, G65), parameters, messages
+//! and bounds, in the channel's dialect; the lathe's reader ([`exec::Reader`], a
+//! `crate::gcode::Motion` back end) executes each line's words, sorted by `sort_words_in`
+//! with the lathe's own letters and codes ([`LATHE`]).
 //!
 //! - [`exec`]: one line's words executed against the modal state.
 //! - [`moves`]: end points, feeds, arcs and G33.
@@ -22,7 +25,6 @@ pub mod out;
 mod tests;
 
 use crate::block::{Statement, TranslateError};
-use crate::gcode::read::{self, Params};
 use crate::gcode::words::Dialect;
 use crate::lathe::desc::LatheDesc;
 use std::collections::HashMap;
@@ -74,6 +76,7 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         10 | 11 => 5,
         3..=5 => 7,
         100..=199 => 9,
+        98 | 99 => 10,
         _ => return None,
     })
 }
@@ -111,6 +114,20 @@ pub fn read_program(
     ch: usize,
     opts: &ReadOptions,
 ) -> Result<Vec<Statement>, TranslateError> {
+    read_program_in(text, desc, ch, opts, None)
+}
+
+/// [`read_program`] in the program's own `dialect` (a stored program keeps the one it was
+/// stored in); `None` reads it in the channel's ([`ChannelDesc::dialect`], else LinuxCNC's).
+///
+/// [`ChannelDesc::dialect`]: crate::lathe::desc::ChannelDesc::dialect
+pub fn read_program_in(
+    text: &str,
+    desc: &LatheDesc,
+    ch: usize,
+    opts: &ReadOptions,
+    dialect: Option<crate::settings::Dialect>,
+) -> Result<Vec<Statement>, TranslateError> {
     // Counted before anything is kept for them: the program is held whole, a line at a time.
     let count = text.lines().count();
     if count as u64 > MAX_LINES {
@@ -143,7 +160,11 @@ pub fn read_program(
     }
     // N numbers to line indices, for G70/G71 P and Q (the first line with each number).
     let mut n_lines: HashMap<u32, usize> = HashMap::new();
-    for (i, raw) in lines.iter().enumerate() {
+    let mut starts = Vec::with_capacity(lines.len());
+    let mut byte = 0;
+    for (i, raw) in text.split_inclusive('\n').enumerate() {
+        starts.push(byte);
+        byte += raw.len();
         if let Some(n) = n_number(raw) {
             n_lines.entry(n).or_insert(i);
         }
@@ -155,14 +176,37 @@ pub fn read_program(
         opts: *opts,
         lines: &lines,
         n_lines,
-        params: Params::default(),
+        starts,
         st: exec::State::new(desc, ch),
         out: out::Out::new(desc, ch),
-        executed: 0,
         in_cycle: false,
         ended: false,
     };
-    r.run_range(0, lines.len())?;
+    // The one reader (`crate::gcode`) runs the program's flow and parameters, in the
+    // channel's dialect; the lathe's reader executes each line's words.
+    let settings = crate::settings::MachineSettings {
+        dialect: dialect.or(chan.dialect).unwrap_or_default(),
+        ..Default::default()
+    };
+    let magazine = crate::tooldata::Magazine::load(crate::tooldata::TCodeTable::new(0), &[]);
+    let switches = crate::gcode::Switches {
+        block_delete: opts.block_delete,
+        optional_stop: opts.optional_stop,
+    };
+    let mut source = crate::gcode::GcodeSource::new(
+        std::sync::Arc::from(text),
+        magazine,
+        settings,
+        crate::block::MachineState::at([0, 0, 0]),
+        Default::default(),
+        switches,
+    )
+    .mdi()
+    .without_texts()
+    .line_limit(MAX_LINES);
+    while let Some(s) = source.next_with(&mut r) {
+        s?;
+    }
     r.out.finish()?;
     let mut statements = std::mem::take(&mut r.out.statements);
     for s in &mut statements {
@@ -186,9 +230,4 @@ fn n_number(raw: &str) -> Option<u32> {
         .take(9)
         .collect();
     digits.parse().ok()
-}
-
-/// Reads one line with the mill reader's expression and parameter rules.
-fn read_line(raw: &str, n: u32, params: &Params) -> Result<read::Line, TranslateError> {
-    read::read_line(raw, n, params)
 }

@@ -497,3 +497,23 @@ fn the_side_changes_without_g40_as_the_thesis_allows() {
     // Under G41 travelling -Z, C is 0.2 below X20: P on X 20.0, Z-20.2.
     assert!(e.contains(&[20000, -20200]), "{e:?}");
 }
+
+#[test]
+fn m98_calls_a_subprogram_and_abort_stops_at_its_line() {
+    // One reader's flow (docs/lathe-gcode.md "One reader, two dialects"): M98 runs O100 twice.
+    let called = blocks("M3 S500\nG0 X20 Z0\nM98 P100 L2\nM30\nO100\nG0 W-1\nM99\n");
+    let flat = blocks("M3 S500\nG0 X20 Z0\nG0 W-1\nG0 W-1\nM30\n");
+    assert_eq!(moves(&called), moves(&flat));
+    assert_eq!(moves(&called).last().map(|m| m.1), Some([10_000, -2_000]));
+    let e = read("G0 X20 Z0\n#1 = 2\n(abort, depth #1 is too deep)\nG0 X10\n")
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("3:1: (ABORT) depth 2.000000 is too deep")
+    );
+    let e = read("G0 X20 Z0\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10\nN2 M98 P100\n")
+        .err()
+        .map(|e| e.to_string());
+    assert!(e.as_deref().is_some_and(|e| e.starts_with("5:")), "{e:?}");
+}

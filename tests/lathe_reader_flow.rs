@@ -1,0 +1,337 @@
+//! The lathe's programs read through the one G-code reader's flow and parameters
+//! (docs/lathe-gcode.md "One reader, two dialects"): O-word subroutines, loops and named
+//! parameters (LinuxCNC's dialect), Fanuc's macro calls, WHILE and IF/GOTO (a channel's
+//! `dialect fanuc`), the bound on the lines a program executes, and the description's
+//! `dialect` line per channel.
+
+mod common;
+
+use novanc::block::{Block, Motion, Statement};
+use novanc::lathe::desc::{parse, LatheDesc, MachineDesc, CITIZEN};
+use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::settings::Dialect;
+use novanc::store::lathe::{LatheStore, Program};
+
+/// The Citizen, its description's first channel given `line` (`dialect fanuc`).
+fn citizen_with(line: &str) -> Result<LatheDesc, String> {
+    let text = CITIZEN.replacen(
+        "channel SYSTEM-1\n",
+        &format!("channel SYSTEM-1\n{line}\n"),
+        1,
+    );
+    match parse(&text)? {
+        MachineDesc::Lathe(d) => Ok(d),
+        MachineDesc::Mill(_) => Err("a mill".into()),
+    }
+}
+
+fn read(text: &str, desc: &LatheDesc) -> Vec<Statement> {
+    match read_program(text, desc, 0, &ReadOptions::default()) {
+        Ok(p) => p,
+        Err(e) => panic!("{e}\n{text}"),
+    }
+}
+
+/// The blocks without their places in the program (sequence and line), which differ between
+/// a program and its flat form.
+fn unplaced(p: Vec<Statement>) -> Vec<Block> {
+    p.into_iter()
+        .flat_map(|s| s.blocks)
+        .map(|b| Block {
+            seq: 0,
+            stmt: 0,
+            ..b
+        })
+        .collect()
+}
+
+#[test]
+fn an_oword_subroutine_a_loop_and_named_parameters_move_as_the_flat_program() {
+    let desc = LatheDesc::citizen();
+    let program = "\
+o<groove> sub
+  #<bottom> = #1
+  G1 X#<bottom> F50
+  G0 X30
+o<groove> endsub
+T0101 M3 S1000
+G0 X30 Z-5
+o<groove> call [20]
+G0 Z-10
+o<groove> call [18]
+#<z> = -15
+G0 Z#<z>
+o100 repeat [2]
+  #<z> = [#<z> - 2]
+  G0 Z#<z>
+o100 endrepeat
+M30
+";
+    let flat = "\
+T0101 M3 S1000
+G0 X30 Z-5
+G1 X20 F50
+G0 X30
+G0 Z-10
+G1 X18 F50
+G0 X30
+G0 Z-15
+G0 Z-17
+G0 Z-19
+M30
+";
+    let a = unplaced(read(program, &desc));
+    let b = unplaced(read(flat, &desc));
+    assert!(b.len() >= 10, "{b:?}");
+    assert_eq!(a, b);
+}
+
+#[test]
+fn a_runaway_loop_on_the_lathe_is_refused_at_its_line() {
+    let desc = LatheDesc::citizen();
+    // Three lines a turn: the 1,000,001st line executed is line 2.
+    let e = read_program(
+        "o1 while [1]\nG0 X20\no1 endwhile\nM30\n",
+        &desc,
+        0,
+        &ReadOptions::default(),
+    )
+    .err()
+    .map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("2:1: the program executes more than 1000000 lines, counting each line of a loop or subroutine each time it runs: refused")
+    );
+    // And in Fanuc's dialect: four lines a turn, the 1,000,001st is line 2 again.
+    let e = read_program_in(
+        "#1 = 0\nWHILE [#1 GE 0] DO1\n#1 = #1 + 1\nEND1\nM30\n",
+        &desc,
+        0,
+        &ReadOptions::default(),
+        Some(Dialect::Fanuc),
+    )
+    .err()
+    .map(|e| e.to_string());
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.starts_with("2:1: the program executes more than 1000000 lines")),
+        "{e:?}"
+    );
+}
+
+/// A program's moves in brief, as `fanuc_macro.moves` writes them by hand.
+fn moves(p: &[Statement]) -> Vec<String> {
+    p.iter()
+        .flat_map(|s| &s.blocks)
+        .filter_map(|b| {
+            let k = match b.motion {
+                Motion::Rapid => 'R',
+                Motion::Linear => 'F',
+                _ => return None,
+            };
+            Some(format!(
+                "{k} X{:.3} Z{:.3}",
+                b.end[0] as f64 / 1000.0,
+                b.end[2] as f64 / 1000.0
+            ))
+        })
+        .collect()
+}
+
+#[test]
+fn a_fanuc_macro_program_with_g65_while_and_if_goto_moves_as_worked_by_hand() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/lathe");
+    let program = std::fs::read_to_string(format!("{dir}/fanuc_macro.ngc")).unwrap_or_default();
+    let want: Vec<String> = std::fs::read_to_string(format!("{dir}/fanuc_macro.moves"))
+        .unwrap_or_default()
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(str::to_string)
+        .collect();
+    assert_eq!(want.len(), 13, "the hand-worked moves are missing");
+    let desc = match citizen_with("dialect fanuc") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(desc.channels[0].dialect, Some(Dialect::Fanuc));
+    assert_eq!(moves(&read(&program, &desc)), want);
+    // The same channel without the line reads LinuxCNC's dialect, which has no GOTO.
+    let e = read_program(&program, &LatheDesc::citizen(), 0, &ReadOptions::default());
+    assert!(e.is_err());
+    // A call without its B: the macro's #3000 alarm, at its line, with its number.
+    let no_b = program.replace(" B20.", "");
+    let e = read_program(&no_b, &desc, 0, &ReadOptions::default())
+        .err()
+        .map(|e| e.to_string());
+    assert_eq!(
+        e.as_deref(),
+        Some("18:1: MACRO ALARM 3001: NO BOTTOM DIAMETER (#3000 = 1)")
+    );
+}
+
+#[test]
+fn the_description_gives_each_channel_its_dialect() {
+    // A line before the channels is the machine's; a channel's own line says last.
+    let text = CITIZEN
+        .replacen("channel SYSTEM-1\n", "dialect fanuc\nchannel SYSTEM-1\n", 1)
+        .replacen(
+            "channel SYSTEM-2\n",
+            "channel SYSTEM-2\ndialect linuxcnc\n",
+            1,
+        );
+    let Ok(MachineDesc::Lathe(d)) = parse(&text) else {
+        panic!("{:?}", parse(&text));
+    };
+    let got: Vec<_> = d.channels.iter().map(|c| c.dialect).collect();
+    assert_eq!(
+        got,
+        [
+            Some(Dialect::Fanuc),
+            Some(Dialect::LinuxCnc),
+            Some(Dialect::Fanuc)
+        ]
+    );
+    // Without a line, none is said (the console's --dialect, else LinuxCNC's).
+    assert!(LatheDesc::citizen()
+        .channels
+        .iter()
+        .all(|c| c.dialect.is_none()));
+    let twice = CITIZEN.replacen(
+        "channel SYSTEM-1\n",
+        "channel SYSTEM-1\ndialect fanuc\ndialect fanuc\n",
+        1,
+    );
+    assert_eq!(
+        parse(&twice).err().as_deref(),
+        Some("15: the dialect is given twice in this channel")
+    );
+}
+
+#[test]
+fn parameters_that_report_the_mills_state_are_refused_on_the_lathe() {
+    let desc = LatheDesc::citizen();
+    let e = |text: &str, d: Option<Dialect>| {
+        read_program_in(text, &desc, 0, &ReadOptions::default(), d)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    };
+    assert!(e("G0 X#5420\n", None).starts_with("1:5: #5420: parameters from #5000"));
+    assert!(e("#1 = #<_x>\n", None).contains("#<_x> reports the mill's interpreter state"));
+    assert!(e("#1 = #5001\n", Some(Dialect::Fanuc))
+        .starts_with("1:6: #5001: the lathe reader keeps no system variables"));
+    assert!(e("#2001 = 1\n", Some(Dialect::Fanuc)).starts_with("1:1: #2001"));
+}
+
+#[test]
+fn fanucs_least_increment_follows_g20_and_g21() {
+    // X and Z without a point: 0.001 mm under G21, 0.0001 inch under G20 (the lathe's G20
+    // takes X on the diameter, so X10000 is a radius of 0.5 inch).
+    let p = read_program_in(
+        "G0 X20000 Z2000\nG20\nG0 X10000 Z1000\nG21\nG0 X30000\n",
+        &LatheDesc::citizen(),
+        0,
+        &ReadOptions::default(),
+        Some(Dialect::Fanuc),
+    );
+    let ends: Vec<[i64; 2]> = p
+        .unwrap_or_else(|e| panic!("{e}"))
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .map(|b| [b.end[0], b.end[2]])
+        .collect();
+    assert_eq!(ends, [[10_000, 2_000], [12_700, 2_540], [15_000, 2_540]]);
+}
+
+#[test]
+fn a_lathe_program_keeps_the_dialect_it_was_stored_in() {
+    let state = common::temp_dir("lathe-reader-dialect");
+    let desc = LatheDesc::citizen();
+    let p = Program {
+        name: "O1000.NGC".into(),
+        text: "G65 P9100 A1.\nM30\n".into(),
+        dialect: Some(Dialect::Fanuc),
+    };
+    match LatheStore::open(&state, &desc) {
+        Ok(mut o) => o
+            .store
+            .save_program(0, &p)
+            .unwrap_or_else(|e| panic!("{e}")),
+        Err(e) => panic!("{e}"),
+    }
+    let o = LatheStore::open(&state, &desc).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(o.programs[0], p);
+    // The samples (and programs stored before) say none: the channel's at each run.
+    assert_eq!(o.programs[1].dialect, None);
+}
+
+#[test]
+fn start_reads_a_stored_program_in_the_dialect_it_was_stored_in() {
+    use novanc::lathe::console::events::LatheEv;
+    use novanc::lathe::console::LatheConsole;
+    let fanuc = "#1 = 0\nWHILE [#1 LT 2] DO1\nG0 X[30. - #1] Z2.\n#1 = #1 + 1\nEND1\nM30\n";
+    // The same text stored without a dialect (before programs kept theirs) and with Fanuc's,
+    // on the Citizen whose description says none: LinuxCNC's for the channel.
+    for (dialect, starts) in [(None, false), (Some(Dialect::Fanuc), true)] {
+        let state = common::temp_dir("lathe-reader-start-dialect");
+        let desc = LatheDesc::citizen();
+        let p = Program {
+            name: "O1000.NGC".into(),
+            text: fanuc.into(),
+            dialect,
+        };
+        match LatheStore::open(&state, &desc) {
+            Ok(mut o) => o
+                .store
+                .save_program(0, &p)
+                .unwrap_or_else(|e| panic!("{e}")),
+            Err(e) => panic!("{e}"),
+        }
+        let (mut c, _) =
+            LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
+        c.event(LatheEv::Start);
+        let m = c.message().to_string();
+        if starts {
+            assert_eq!(m, "cycle start", "{dialect:?}");
+        } else {
+            assert!(m.starts_with("CH1 O1000.NGC:2:"), "{m}");
+        }
+        c.event(LatheEv::EStop);
+    }
+}
+
+#[test]
+fn dialect_on_the_command_line_is_the_default_of_the_channels_that_say_none() {
+    use novanc::cli::args::{take_machine, Machine};
+    let path = common::temp_path("lathe-reader-dialect.machine");
+    let text = CITIZEN.replacen(
+        "channel SYSTEM-2\n",
+        "channel SYSTEM-2\ndialect linuxcnc\n",
+        1,
+    );
+    std::fs::write(&path, text).unwrap_or_else(|e| panic!("{e}"));
+    let argv: Vec<String> = [
+        "--machine",
+        path.to_str().unwrap_or(""),
+        "--dialect",
+        "fanuc",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    match take_machine(&argv) {
+        Ok((Machine::Lathe(d), rest)) => {
+            assert!(rest.is_empty());
+            let got: Vec<_> = d.channels.iter().map(|c| c.dialect).collect();
+            assert_eq!(
+                got,
+                [
+                    Some(Dialect::Fanuc),
+                    Some(Dialect::LinuxCnc),
+                    Some(Dialect::Fanuc)
+                ]
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+}
