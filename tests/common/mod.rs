@@ -121,7 +121,20 @@ pub fn reopen_with(
     let mut cfg = ConsoleConfig::new(dir.to_path_buf());
     cfg.clock = ClockMode::Virtual;
     set(&mut cfg.settings);
-    Console::open(cfg).unwrap().0
+    // A child process that another test of this binary is starting holds a copy of the
+    // directory's lock (an open file of this process) from its fork to its exec (`serial`):
+    // a restart right after the console before it was dropped may meet that copy. It lasts
+    // milliseconds; a second console really holding the lock is still refused.
+    let until = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    loop {
+        match Console::open(cfg.clone()) {
+            Ok((c, _)) => return c,
+            Err(e) if e.contains("another novanc") && std::time::Instant::now() < until => {
+                std::thread::sleep(std::time::Duration::from_millis(20))
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
 }
 
 /// One MDI line: typed in MDI, START, and waited for.
