@@ -4,6 +4,7 @@
 
 use novanc::lathe::desc::LatheDesc;
 use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::pulse_core::testkit::Rng;
 use novanc::settings::Dialect;
 
 #[path = "common/gcode_fragments.rs"]
@@ -20,20 +21,6 @@ fn desc() -> LatheDesc {
 }
 
 /// A small deterministic generator (xorshift).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn pick<'a>(&mut self, v: &[&'a str]) -> &'a str {
-        v[(self.next() % v.len() as u64) as usize]
-    }
-}
-
 #[test]
 fn random_bytes_and_fragments_never_panic() {
     let frags = [
@@ -88,7 +75,7 @@ fn random_bytes_and_fragments_never_panic() {
         "1", "5", "-2", "20", "0.5", "-10", "12", "0", "0.8", "101", "3", "-0.4",
     ];
     let d = desc();
-    let mut rng = Rng(0x5eed_1a7e_u64);
+    let mut rng = Rng::new(0x5eed_1a7e_u64);
     let mut good = 0;
     let mut deep = 0;
     let start = std::time::Instant::now();
@@ -96,27 +83,27 @@ fn random_bytes_and_fragments_never_panic() {
     for round in 0..10_000 {
         let mut text = String::new();
         if round % 5 == 0 {
-            for _ in 0..(rng.next() % 200) {
-                text.push((rng.next() % 128) as u8 as char);
+            for _ in 0..(rng.next_u64() % 200) {
+                text.push((rng.next_u64() % 128) as u8 as char);
             }
         } else if round % 5 == 1 {
-            for _ in 0..(rng.next() % 60) {
-                text.push_str(rng.pick(&frags));
-                if rng.next().is_multiple_of(3) {
-                    text.push_str(rng.pick(&["1", "5", "-2", "20", "0.5"]));
+            for _ in 0..(rng.next_u64() % 60) {
+                text.push_str(*rng.pick(&frags));
+                if rng.next_u64().is_multiple_of(3) {
+                    text.push_str(*rng.pick(&["1", "5", "-2", "20", "0.5"]));
                 }
             }
         } else {
             // Line by line, word by word: deep enough to reach moves, compensation, cycles.
-            text.push_str(rng.pick(&["T0101 M3 S800 F100\n", "T0202 M4 G96 S100 F0.1 G95\n", ""]));
-            text.push_str(rng.pick(&["G0 X40 Z5\n", "G0 X20 Z2\n", ""]));
-            for _ in 0..(1 + rng.next() % 14) {
-                if rng.next().is_multiple_of(6) {
-                    text.push_str(rng.pick(&["N1 ", "N2 ", "N3 ", "/"]));
+            text.push_str(*rng.pick(&["T0101 M3 S800 F100\n", "T0202 M4 G96 S100 F0.1 G95\n", ""]));
+            text.push_str(*rng.pick(&["G0 X40 Z5\n", "G0 X20 Z2\n", ""]));
+            for _ in 0..(1 + rng.next_u64() % 14) {
+                if rng.next_u64().is_multiple_of(6) {
+                    text.push_str(*rng.pick(&["N1 ", "N2 ", "N3 ", "/"]));
                 }
-                for _ in 0..(1 + rng.next() % 3) {
-                    text.push_str(rng.pick(&words));
-                    text.push_str(rng.pick(&values));
+                for _ in 0..(1 + rng.next_u64() % 3) {
+                    text.push_str(*rng.pick(&words));
+                    text.push_str(*rng.pick(&values));
                     text.push(' ');
                 }
                 text.push('\n');
@@ -129,7 +116,7 @@ fn random_bytes_and_fragments_never_panic() {
         let ch = if round % 50 == 7 {
             3
         } else {
-            (rng.next() % 3) as usize
+            (rng.next_u64() % 3) as usize
         };
         // The same text in Fanuc's dialect, with a macro word before it (the fuzz families
         // include the dialect): read or refused with its place, never a panic.
@@ -184,15 +171,15 @@ fn extreme_values_never_panic_or_pass_a_limit() {
     use novanc::limits::{MAX_DWELL_S, MIN_FEED};
     let nums = gcode_fragments::extreme_numbers();
     let d = desc();
-    let mut rng = Rng(0x2020_1ea7_u64);
+    let mut rng = Rng::new(0x2020_1ea7_u64);
     let (mut read, mut refused) = (0, 0);
     let start = std::time::Instant::now();
     for _ in 0..2000 {
         let mut text = String::from("T0101 M3 S1000 F100\nG0 X40 Z5\n");
-        let lines = 1 + rng.next() % 8;
+        let lines = 1 + rng.next_u64() % 8;
         for _ in 0..lines {
-            let kind = rng.next() % 11;
-            let mut n = || nums[(rng.next() % nums.len() as u64) as usize].clone();
+            let kind = rng.next_u64() % 11;
+            let mut n = || nums[(rng.next_u64() % nums.len() as u64) as usize].clone();
             let line = match kind {
                 0 => format!("G0 X{} Z{}", n(), n()),
                 1 => format!("G1 X{} Z{} F{}", n(), n(), n()),
