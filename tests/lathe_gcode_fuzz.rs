@@ -88,22 +88,26 @@ fn random_bytes_and_fragments_never_panic() {
             }
         } else if round % 5 == 1 {
             for _ in 0..(rng.next_u64() % 60) {
-                text.push_str(*rng.pick(&frags));
+                text.push_str(rng.pick::<&str>(&frags));
                 if rng.next_u64().is_multiple_of(3) {
-                    text.push_str(*rng.pick(&["1", "5", "-2", "20", "0.5"]));
+                    text.push_str(rng.pick::<&str>(&["1", "5", "-2", "20", "0.5"]));
                 }
             }
         } else {
             // Line by line, word by word: deep enough to reach moves, compensation, cycles.
-            text.push_str(*rng.pick(&["T0101 M3 S800 F100\n", "T0202 M4 G96 S100 F0.1 G95\n", ""]));
-            text.push_str(*rng.pick(&["G0 X40 Z5\n", "G0 X20 Z2\n", ""]));
+            text.push_str(rng.pick::<&str>(&[
+                "T0101 M3 S800 F100\n",
+                "T0202 M4 G96 S100 F0.1 G95\n",
+                "",
+            ]));
+            text.push_str(rng.pick::<&str>(&["G0 X40 Z5\n", "G0 X20 Z2\n", ""]));
             for _ in 0..(1 + rng.next_u64() % 14) {
                 if rng.next_u64().is_multiple_of(6) {
-                    text.push_str(*rng.pick(&["N1 ", "N2 ", "N3 ", "/"]));
+                    text.push_str(rng.pick::<&str>(&["N1 ", "N2 ", "N3 ", "/"]));
                 }
                 for _ in 0..(1 + rng.next_u64() % 3) {
-                    text.push_str(*rng.pick(&words));
-                    text.push_str(*rng.pick(&values));
+                    text.push_str(rng.pick::<&str>(&words));
+                    text.push_str(rng.pick::<&str>(&values));
                     text.push(' ');
                 }
                 text.push('\n');
