@@ -1,6 +1,7 @@
 //! A model-based test of the Citizen lathe console (docs/lathe.md): random sequences of operator
 //! actions — START, STOP, RESET of the selected channel, E-STOP, faults injected in random
-//! channels, the channel selector, part targets, MDI lines (good and bad), editor lines that
+//! channels, the channel selector, part targets, MDI lines (good and bad, with parameters,
+//! expressions, messages and O-words), editor lines that
 //! move the pointer or search, mode changes, the help screen and waits of random length — on the
 //! `LatheConsole` the terminal uses, in virtual time.
 //!
@@ -29,13 +30,20 @@ use novanc::pulse_core::testkit::Rng;
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 6] = [
+const MDI_LINES: [&str; 11] = [
     "G0 X30 Z20",
     "G97 S500 M3",
     "M5",
     "G1 X20 F0.1",
     "G0 X99999",
     "Q7",
+    // What the lathe reads through the mill's flow and parameters (issue 22's one reader):
+    // parameters and expressions, a message, an abort, an O-word left open in one line.
+    "#1 = 25 G0 X[#1 + 5] Z[20 + SQRT[25]]",
+    "#<clear> = 30 (print, clear=#<clear>)",
+    "G0 X#<undefined> Z20",
+    "(abort, operator abort)",
+    "o1 if [1 GT 0]",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
 const OFS_LINES: [&str; 4] = ["T1 X0.01", "T2 Z-0.005", "T9 X1", "T1 P12"];
@@ -213,7 +221,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         50..=53 => {
             LatheEv::Mode([Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize])
         }
-        54..=57 => LatheEv::Type(MDI_LINES[rng.range(0, 5) as usize].into()),
+        54..=57 => LatheEv::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => LatheEv::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => LatheEv::Help,
         65 => LatheEv::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
