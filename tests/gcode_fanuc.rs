@@ -1195,16 +1195,7 @@ fn reset_during_a_clock_wait_abandons_the_run_without_a_hang() {
     let f = common::temp_dir("fanuc-clock-reset-prog").join("CLOCK.NC");
     std::fs::write(&f, "O1\nG00 X10.\n#100=#3001\nG00 Y[#100/1000]\nM30\n").unwrap();
     common::read_program(&mut c, f);
-    c.handle(E::Op(OpMode::Single));
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert_eq!(common::audit(&c).len(), 1, "{}", c.frame_text());
-    c.handle(E::Reset);
-    c.handle(E::Wait);
-    c.handle(E::Op(OpMode::Auto));
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert!(common::shows(&c, "program end"), "{}", c.frame_text());
+    common::one_block_reset_then_run(&mut c);
     assert!(!c.view().lamps.alarm, "{}", c.frame_text());
     assert!(c.interp_state().params[100] > 0.0);
 }

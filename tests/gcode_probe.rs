@@ -265,7 +265,6 @@ fn a_run_whose_probe_misses_stops_after_the_probe_move() {
 /// through to its end (no hang).
 #[test]
 fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
-    use novanc::panel_model::{OpMode, PanelEvent as E};
     let mut c = common::open("probe-reset");
     let f = common::temp_dir("probe-reset-prog").join("touch.ngc");
     std::fs::write(
@@ -274,16 +273,7 @@ fn reset_during_a_probe_wait_abandons_the_run_without_a_hang() {
     )
     .unwrap();
     common::read_program(&mut c, f);
-    c.handle(E::Op(OpMode::Single));
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert_eq!(common::audit(&c).len(), 1, "{}", c.frame_text());
-    c.handle(E::Reset);
-    c.handle(E::Wait);
-    c.handle(E::Op(OpMode::Auto));
-    c.handle(E::Start);
-    c.handle(E::Wait);
-    assert!(common::shows(&c, "program end"), "{}", c.frame_text());
+    common::one_block_reset_then_run(&mut c);
     let ends: Vec<[i64; 3]> = common::audit(&c).iter().map(|e| e.end.xyz()).collect();
     // The second run starts where the first stopped (its rapid makes no block): the probe
     // stops on the top (machine Z −450), `G0 Z#5063` stays there, then M30.

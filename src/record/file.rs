@@ -394,6 +394,20 @@ mod tests {
         (meta, n)
     }
 
+    /// A recording on `out` with one channel (`/panel/event`), committed once: the writer
+    /// and the channel.
+    fn panel_recording<D: Disk>(out: RecordFile<D>) -> (mcap::Writer<RecordFile<D>>, u16) {
+        let mut w = mcap_options().create(out).unwrap();
+        let s = w
+            .add_schema("novanc.PanelEvent", "jsonschema", b"{}")
+            .unwrap();
+        let ch = w
+            .add_channel(s, "/panel/event", "json", &BTreeMap::new())
+            .unwrap();
+        w.flush().unwrap();
+        (w, ch)
+    }
+
     fn message<D: Disk>(w: &mut mcap::Writer<RecordFile<D>>, ch: u16, i: u32) {
         let h = mcap::records::MessageHeader {
             channel_id: ch,
@@ -408,16 +422,7 @@ mod tests {
     #[test]
     fn the_file_is_a_finished_mcap_after_every_commit_and_only_then() {
         let path = temp("commits");
-        let mut w = mcap_options()
-            .create(RecordFile::create(&path).unwrap())
-            .unwrap();
-        let s = w
-            .add_schema("novanc.PanelEvent", "jsonschema", b"{}")
-            .unwrap();
-        let ch = w
-            .add_channel(s, "/panel/event", "json", &BTreeMap::new())
-            .unwrap();
-        w.flush().unwrap();
+        let (mut w, ch) = panel_recording(RecordFile::create(&path).unwrap());
         let (meta, n) = read(&std::fs::read(&path).unwrap());
         assert_eq!((meta["complete"].as_str(), n), ("false", 0));
         assert_eq!(meta["interrupted"], NOT_CLOSED);
@@ -508,14 +513,7 @@ mod tests {
         // least the messages of the last whole commit.
         let log = Log::default();
         let ops = log.ops.clone();
-        let mut w = mcap_options().create(RecordFile::on(log)).unwrap();
-        let s = w
-            .add_schema("novanc.PanelEvent", "jsonschema", b"{}")
-            .unwrap();
-        let ch = w
-            .add_channel(s, "/panel/event", "json", &BTreeMap::new())
-            .unwrap();
-        w.flush().unwrap();
+        let (mut w, ch) = panel_recording(RecordFile::on(log));
         let mut committed = vec![(ops.borrow().len(), 0)];
         let mut n = 0;
         for size in [3, 1, 150, 400, 7, 260] {

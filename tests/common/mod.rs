@@ -137,6 +137,22 @@ pub fn reopen_with(
     }
 }
 
+/// The program read runs one block in SINGLE, is RESET, then runs again in AUTO to its end
+/// (a restart after RESET reads from the top). Checks the one block and the end.
+pub fn one_block_reset_then_run(c: &mut Console) {
+    use novanc::panel_model::OpMode;
+    c.handle(PanelEvent::Op(OpMode::Single));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert_eq!(audit(c).len(), 1, "{}", c.frame_text());
+    c.handle(PanelEvent::Reset);
+    c.handle(PanelEvent::Wait);
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(shows(c, "program end"), "{}", c.frame_text());
+}
+
 /// One MDI line: typed in MDI, START, and waited for.
 pub fn mdi(c: &mut Console, line: &str) {
     c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
