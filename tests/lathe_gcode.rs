@@ -58,11 +58,11 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
         ("G17\n".into(), "1:1", "the lathe works in G18 (Z–X) only"),
         ("G19 G0 X1\n".into(), "1:1", "plane the lathe does not have"),
         (
-            "G54\n".into(),
+            "G55\n".into(),
             "1:1",
-            "work offsets are not supported on the lathe",
+            "the lathe has one work coordinate system, G54",
         ),
-        ("G72\n".into(), "1:1", "G72–G75 are not supported"),
+        ("G72\n".into(), "1:1", "G72 and G73 are not supported"),
         ("M6\n".into(), "1:1", "unknown or unsupported code M06"),
         (
             "G0 Y5\n".into(),

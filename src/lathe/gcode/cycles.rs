@@ -192,7 +192,8 @@ fn profile_lines(
 ) -> Result<(usize, usize), TranslateError> {
     let mut idx = [0usize; 2];
     for (k, l) in ['P', 'Q'].into_iter().enumerate() {
-        let v = need(w, l, n, c, what)?;
+        // Fanuc's `Q20` here is N20, not 20 least increments.
+        let v = r.as_written(l, need(w, l, n, c, what)?);
         let col = w.col(l).unwrap_or(c);
         if !(v.fract() == 0.0 && (0.0..1e9).contains(&v)) {
             return Err(err(

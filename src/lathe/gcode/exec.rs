@@ -2,8 +2,8 @@
 //! line's words, in LinuxCNC's order: feed mode and F, spindle speed, T, M03–M05, chuck, waits,
 //! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
 
-use super::out::{self, Feed, Out};
-use super::{cycles, ReadOptions, LATHE};
+use super::out::{self, Feed, Kind, Mv, Out};
+use super::{cycles, grooving, ReadOptions, LATHE};
 use crate::block::{Css, FeedMode, Sync, TranslateError};
 use crate::gcode::flow::Pos;
 use crate::gcode::words::{sort_words_in, Words};
@@ -36,6 +36,8 @@ pub struct State {
     pub limit: f64,
     /// G71's depth of cut and retract (from its first block), mm radius.
     pub g71: Option<(f64, f64)>,
+    /// G74/G75's return after each peck (their first block's R), mm.
+    pub peck_return: f64,
 }
 
 impl State {
@@ -54,6 +56,7 @@ impl State {
             s: 0.0,
             limit: max,
             g71: None,
+            peck_return: 0.0,
         }
     }
 
@@ -130,6 +133,10 @@ pub struct Reader<'a> {
     pub in_cycle: bool,
     /// M02/M30 was read.
     pub ended: bool,
+    /// Fanuc's dialect: the letters of the line being executed written as plain numbers
+    /// (`read::Line::plain`), and of those the ones written with a decimal point: the one
+    /// reader read X, Z, U, W, I, K, R and Q without a point in least increments.
+    pub plain: (u32, u32),
 }
 
 /// An error at a line and column.
@@ -155,6 +162,7 @@ impl Motion for Reader<'_> {
         lines: &mut dyn Lines,
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
+        self.note_q(line);
         let w = sort_words_in(line, n, &LATHE)?;
         let flow = self.execute(&w, n, at.line, lines);
         lines.units(self.st.inch);
@@ -209,6 +217,43 @@ impl Reader<'_> {
         Ok(())
     }
 
+    /// Notes how the line's numbers were written ([`Reader::plain`]).
+    fn note_q(&mut self, l: &read::Line) {
+        self.plain = (l.plain, l.pointed);
+    }
+
+    /// The least increment, program units (Fanuc's numbers without a point).
+    pub fn increment(&self) -> f64 {
+        if self.st.inch {
+            0.0001
+        } else {
+            0.001
+        }
+    }
+
+    /// Whether letter `l` of the line was written as a plain number without a decimal point
+    /// (Fanuc's dialect only).
+    pub fn unpointed(&self, l: char) -> bool {
+        let b = read::letter_bit(l);
+        self.plain.0 & b != 0 && self.plain.1 & b == 0
+    }
+
+    /// Whether letter `l` of the line was written with a decimal point (Fanuc's dialect only).
+    pub fn pointed(&self, l: char) -> bool {
+        self.plain.1 & read::letter_bit(l) != 0
+    }
+
+    /// Letter `l`'s value as written: where the one reader took a number without a point in
+    /// least increments (X, Z, U, W, I, K, R, Q in Fanuc's dialect), the number itself (a G70
+    /// or G71 `Q20` is N20, not 0.020).
+    pub fn as_written(&self, l: char, v: f64) -> f64 {
+        if self.unpointed(l) && read::FANUC_INCREMENT_LETTERS.contains(&(l as u8)) {
+            (v / self.increment()).round()
+        } else {
+            v
+        }
+    }
+
     fn line(&mut self, i: usize, lines: &mut dyn Lines) -> Result<Flow, TranslateError> {
         let n = (i + 1) as u32;
         let raw = self.lines[i];
@@ -223,6 +268,7 @@ impl Reader<'_> {
         if l.percent || l.words.is_empty() {
             return Ok(Flow::Next);
         }
+        self.note_q(&l);
         let w = sort_words_in(&l, n, &LATHE)?;
         let flow = self.execute(&w, n, i, lines);
         lines.units(self.st.inch);
@@ -364,6 +410,12 @@ impl Reader<'_> {
             };
             self.out.spindle(n, 1, self.st.dir, self.st.s, css)?;
         }
+        // Coolant: the channel's (the kernel keeps it; M09, M02, M30, RESET and E-STOP stop it).
+        for &(m, c) in w.m.as_slice() {
+            if (7..=9).contains(&m) {
+                self.out.op(n, c, out::m(m as u8))?;
+            }
+        }
         // Chuck and waiting codes.
         for &(m, c) in w.m.as_slice() {
             match m {
@@ -425,11 +477,20 @@ impl Reader<'_> {
         let motion_code =
             w.g.as_slice()
                 .iter()
-                .find(|x| matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 760))
+                .find(|x| matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760))
                 .copied();
         let mut flow = Flow::Next;
         let axes = ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
         match motion_code {
+            Some((g @ (740 | 750), c)) => {
+                for l in ['P', 'Q', 'U', 'W', 'R', 'X', 'Z'] {
+                    use_(l);
+                }
+                if self.in_cycle {
+                    return Err(err(n, c, format!("G{} inside a G70/G71 profile", g / 10)));
+                }
+                flow = grooving::g74_75(self, w, n, c, g)?;
+            }
             Some((700, c)) | Some((710, c)) | Some((760, c)) => {
                 for l in [
                     'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L',
@@ -458,7 +519,14 @@ impl Reader<'_> {
                         let _ = c;
                     }
                 }
-                if axes {
+                if let Some(c) = w.has_g(280) {
+                    // G28 takes the line's axis words; a motion code beside it only sets the
+                    // mode (`G28 G00 U0 W0`, as on a Fanuc).
+                    for l in ['X', 'Z', 'U', 'W'] {
+                        use_(l);
+                    }
+                    self.g28(w, n, c)?;
+                } else if axes {
                     for l in ['X', 'Z', 'U', 'W'] {
                         use_(l);
                     }
@@ -514,6 +582,62 @@ impl Reader<'_> {
             }
         }
         Ok(flow)
+    }
+
+    /// G28: a rapid to the intermediate point the axis words give (X/U, Z/W, as a move
+    /// reads them), then a rapid of the axes named to the channel's reference position, the
+    /// slide where the program started (docs/lathe-gcode.md "The reference position"). An axis
+    /// not named does not move. With no axis word, LinuxCNC's dialect returns both axes (its
+    /// G28 without axes goes to the stored position, here the reference) and Fanuc's refuses
+    /// the line, where a Fanuc moves nothing.
+    fn g28(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        if self.in_cycle {
+            return Err(err(n, c, "G28 inside a G70/G71 profile"));
+        }
+        if self.out.comp_on() {
+            return Err(err(
+                n,
+                c,
+                "G28 under nose-radius compensation: give G40 first (the reference position is the slide's, not the nose's)",
+            ));
+        }
+        let mut x = w.get('X').is_some() || w.get('U').is_some();
+        let mut z = w.get('Z').is_some() || w.get('W').is_some();
+        if !x && !z {
+            if self.chan.dialect == Some(crate::settings::Dialect::Fanuc) {
+                return Err(err(
+                    n,
+                    c,
+                    "G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named)",
+                ));
+            }
+            (x, z) = (true, true);
+        }
+        let mid = self.target(w, n)?;
+        let start = self.out.pos;
+        let rapid = |start, end| Mv {
+            kind: Kind::Rapid,
+            start,
+            end,
+            line: n,
+            col: c,
+        };
+        if mid != start {
+            // `U0 W0` names the point where the tool stands: no move (not even the offsets
+            // of a tool selected since, which the move to the reference takes up).
+            self.out.motion(rapid(start, mid))?;
+        }
+        // The reference in programmed coordinates: the slide at the top of both travels, less
+        // the offsets the emitter adds to every programmed point.
+        let off = self.out.offset();
+        let mut end = mid;
+        if z {
+            end[0] = self.chan.axes[1].travel[1] - off[0];
+        }
+        if x {
+            end[1] = self.chan.axes[0].travel[1] - off[1];
+        }
+        self.out.motion(rapid(mid, end))
     }
 
     /// M98 P L: the call of subprogram O`P`, `L` times (the mill's bounds).

@@ -18,6 +18,7 @@
 pub mod comp;
 pub mod cycles;
 pub mod exec;
+pub mod grooving;
 pub mod moves;
 pub mod out;
 
@@ -57,7 +58,7 @@ pub const LATHE: Dialect = Dialect {
 
 fn lathe_g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 330 | 700 | 710 | 760 => 1,
+        0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
         70 | 80 => 4,
@@ -65,7 +66,9 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         200 | 210 => 6,
         400 | 410 | 420 => 7,
         960 | 970 => 8,
-        40 => 0,
+        40 | 280 => 0,
+        800 => 9,
+        540 => 12,
         _ => return None,
     })
 }
@@ -75,6 +78,7 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         0 | 1 | 2 | 30 => 4,
         10 | 11 => 5,
         3..=5 => 7,
+        7..=9 => 8,
         100..=199 => 9,
         98 | 99 => 10,
         _ => return None,
@@ -85,10 +89,11 @@ fn lathe_g_why(g: u32) -> &'static str {
     match g {
         920..=923 => " (G92 offsets are not supported on the lathe)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
-        720 | 730 | 740 | 750 => " (the roughing cycle is G71 with G70; G72–G75 are not supported)",
+        720 | 730 => " (the roughing cycle is G71 with G70; G72 and G73 are not supported)",
         800..=890 => " (drilling cycles are not supported on the lathe)",
         430 | 490 => " (the lathe applies a tool's offsets with its T word)",
-        540..=590 => " (work offsets are not supported on the lathe: Z 0 is the work face)",
+        550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
+        530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",
         _ => "",
     }
 }
@@ -181,6 +186,7 @@ pub fn read_program_in(
         out: out::Out::new(desc, ch),
         in_cycle: false,
         ended: false,
+        plain: (0, 0),
     };
     // The one reader (`crate::gcode`) runs the program's flow and parameters, in the
     // channel's dialect; the lathe's reader executes each line's words.

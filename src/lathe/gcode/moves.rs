@@ -48,7 +48,9 @@ impl Reader<'_> {
         Ok(p)
     }
 
-    fn feed(&self, n: u32, c: u32) -> Result<Feed, TranslateError> {
+    /// The feed in force for a feed move (refused without F, or per revolution with the
+    /// spindle stopped).
+    pub fn feed_in_force(&self, n: u32, c: u32) -> Result<Feed, TranslateError> {
         let Some(feed) = self.st.feed_of() else {
             return Err(err(n, c, "a feed move without a feed: give F"));
         };
@@ -67,9 +69,9 @@ impl Reader<'_> {
         let end = self.target(w, n)?;
         let kind = match g {
             0 => Kind::Rapid,
-            10 => Kind::Line(self.feed(n, c)?),
+            10 => Kind::Line(self.feed_in_force(n, c)?),
             20 | 30 => {
-                let feed = self.feed(n, c)?;
+                let feed = self.feed_in_force(n, c)?;
                 let ccw = g == 30;
                 let f = self.st.factor();
                 let s = self.out.pos;

@@ -41,7 +41,7 @@ pub fn sync(s: Sync) -> Block {
     }
 }
 
-/// An M code's block (M00, M01, M02, M30).
+/// An M code's block (M00, M01, M02, M30; the coolant's M07, M08, M09).
 pub fn m(code: u8) -> Block {
     Block {
         m: Some(code),
@@ -156,6 +156,15 @@ impl<'a> Out<'a> {
     /// The tool in place.
     pub fn tool(&self) -> Option<&ToolDesc> {
         self.tool.as_ref().map(|t| &t.0)
+    }
+
+    /// The offsets of the tool in place, `[Z, X]` mm (X a radius), what [`Out::emit`] adds to a
+    /// programmed point; zero without a tool or with its offsets off (T0100).
+    pub fn offset(&self) -> [f64; 2] {
+        match &self.tool {
+            Some((t, true)) => [t.offset[1], t.offset[0]],
+            _ => [0.0, 0.0],
+        }
     }
 
     /// Puts a tool in place (its offsets applying if `offsets`).
@@ -414,10 +423,7 @@ impl<'a> Out<'a> {
 
     /// Emits one move of P, adding the tool's offsets and checking the travel.
     fn emit(&mut self, mv: &Mv) -> Result<(), TranslateError> {
-        let off = match &self.tool {
-            Some((t, true)) => [t.offset[1], t.offset[0]],
-            _ => [0.0, 0.0],
-        };
+        let off = self.offset();
         let e = [mv.end[0] + off[0], mv.end[1] + off[1]];
         self.check_travel(e, mv)?;
         let end = [self.desc.pulses(e[1]), self.desc.pulses(e[0])];

@@ -1,0 +1,214 @@
+//! The codes every shop lathe program carries around its cuts (docs/lathe-gcode.md "Shop
+//! codes"): G28 U0 W0, coolant M08/M09, G80 and G54 in a safe-start line, Fanuc's G74/G75
+//! peck cycles and a G71 whose Q is written without a point. Moves worked out by hand from
+//! each program, not by the reader.
+
+use novanc::block::{Motion, Statement};
+use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
+use novanc::lathe::gcode::{read_program, ReadOptions};
+
+/// A one-channel lathe: X travel 0..100 (radius), Z −100..100; tool 1 with offsets X 2 (radius)
+/// Z −3, tool 2 without; in `dialect`.
+fn lathe(dialect: &str) -> LatheDesc {
+    let text = format!(
+        "machine shop\nkind lathe\npulse 0.001\ntick 100\ndialect {dialect}\nchannel PATH-1\n\
+         x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+         spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3 offset 2 -3\n\
+         tool 2 radius 0 tip 3\n"
+    );
+    match parse(&text) {
+        Ok(MachineDesc::Lathe(d)) => d,
+        Ok(MachineDesc::Mill(_)) => panic!("a mill"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn read(text: &str, desc: &LatheDesc) -> Result<Vec<Statement>, String> {
+    read_program(text, desc, 0, &ReadOptions::default()).map_err(|e| e.to_string())
+}
+
+/// The moves in brief: R rapid, F feed, the block's end (X a radius, Z), mm.
+fn moves(p: &[Statement]) -> Vec<String> {
+    p.iter()
+        .flat_map(|s| &s.blocks)
+        .filter_map(|b| {
+            let k = match b.motion {
+                Motion::Rapid => 'R',
+                Motion::Linear => 'F',
+                _ => return None,
+            };
+            Some(format!(
+                "{k} X{:.3} Z{:.3}",
+                b.end[0] as f64 / 1000.0,
+                b.end[2] as f64 / 1000.0
+            ))
+        })
+        .collect()
+}
+
+fn ok(text: &str, desc: &LatheDesc) -> Vec<String> {
+    match read(text, desc) {
+        Ok(p) => moves(&p),
+        Err(e) => panic!("{e}\n{text}"),
+    }
+}
+
+#[test]
+fn g28_returns_the_axes_named_through_the_intermediate_point_to_the_reference() {
+    let desc = lathe("fanuc");
+    // Tool 1's offsets (X +2 radius, Z −3) move every programmed point: X40. Z5. is the slide
+    // at X 20+2 = 22, Z 5−3 = 2. The reference is the top of the travels: X100 Z100.
+    let p = "G95 T0101\nG0 X40. Z5.\nG28 U0 W0\n";
+    assert_eq!(
+        ok(p, &desc),
+        ["R X22.000 Z2.000", "R X100.000 Z100.000"],
+        "U0 W0: the intermediate point is where the tool stands, then both axes home"
+    );
+    // One axis named: only it returns; the intermediate point X30. (radius 15 + 2 = 17) first.
+    let p = "G95 T0101\nG0 X40. Z5.\nG28 X30.\n";
+    assert_eq!(
+        ok(p, &desc),
+        ["R X22.000 Z2.000", "R X17.000 Z2.000", "R X100.000 Z2.000"]
+    );
+    // After G28 the program goes on from the reference: W-10. is 10 mm below it, the offset
+    // still applied (the slide at Z 90).
+    let p = "G95 T0101\nG28 G0 U0 W0\nW-10.\n";
+    assert_eq!(ok(p, &desc), ["R X100.000 Z90.000"]);
+    // Fanuc returns only the axes named: G28 alone is refused, where LinuxCNC's dialect
+    // returns both (its G28 goes to the stored position, here the reference).
+    assert_eq!(
+        read("G0 X40. Z5.\nG28\n", &desc).err().as_deref(),
+        Some("2:1: G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named)")
+    );
+    let lcnc = lathe("linuxcnc");
+    assert_eq!(
+        ok("G0 X40 Z5\nG28\n", &lcnc),
+        ["R X20.000 Z5.000", "R X100.000 Z100.000"]
+    );
+    // Under nose-radius compensation the reference is refused: it is the slide's.
+    let e = read("T0202\nG42 G0 X40. Z5.\nG28 U0 W0\n", &desc).err();
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.starts_with("3:1: G28 under nose-radius compensation")),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn a_safe_start_line_and_coolant_are_read_and_act() {
+    let desc = lathe("fanuc");
+    // G18 G21 G40 G80 G99-style safe start: G80 and G54 are accepted (no drilling cycle can be
+    // in force, and G54 is the lathe's one work system); coolant makes its blocks.
+    let p = read(
+        "G0 G18 G21 G40 G80 G54\nM08\nG95 M03 S500\nG1 X10. Z0 F0.1 M09\n",
+        &desc,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let ms: Vec<u8> = p
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .filter_map(|b| b.m)
+        .collect();
+    assert_eq!(
+        ms,
+        [8, 3, 9],
+        "M08 and M09 each make a block with their code"
+    );
+    // The other work systems and G53 are refused with what the lathe has instead.
+    for (text, want) in [
+        ("G55\n", "1:1: unknown or unsupported code G55 (the lathe has one work coordinate system, G54: Z 0 is the work face)"),
+        ("G53 G0 X0.\n", "1:1: unknown or unsupported code G53 (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)"),
+    ] {
+        assert_eq!(read(text, &desc).err().as_deref(), Some(want), "{text}");
+    }
+}
+
+#[test]
+fn g74_pecks_along_z_and_g75_along_x_as_fanuc_0i_t() {
+    let desc = lathe("fanuc");
+    // Peck drilling on the centre line with tool 2 (no offsets): from Z2., 4 mm pecks to Z-10.,
+    // backing off 1 mm (the first block's R) after each peck but the last, then back to Z2.
+    let p = "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 R1.\nG74 Z-10. Q4000 F0.1\nG0 X50.\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            "R X0.000 Z2.000",
+            "F X0.000 Z-2.000",
+            "R X0.000 Z-1.000",
+            "F X0.000 Z-6.000",
+            "R X0.000 Z-5.000",
+            "F X0.000 Z-10.000",
+            "R X0.000 Z2.000",
+            "R X25.000 Z2.000",
+        ]
+    );
+    // Grooving: from X30. Z-20. (radius 15) to X20. (radius 10) in pecks 2 mm deeper each
+    // (P2000, a radius), backing off 0.5 after each; a second groove 3 mm on (Q3000), which
+    // is the last, at Z-23.
+    let p = "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 R0.5\nG75 X20. Z-23. P2000 Q3000 F0.05\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            "R X15.000 Z-20.000",
+            "F X13.000 Z-20.000",
+            "R X13.500 Z-20.000",
+            "F X11.000 Z-20.000",
+            "R X11.500 Z-20.000",
+            "F X10.000 Z-20.000",
+            "R X15.000 Z-20.000",
+            "R X15.000 Z-23.000",
+            "F X13.000 Z-23.000",
+            "R X13.500 Z-23.000",
+            "F X11.000 Z-23.000",
+            "R X11.500 Z-23.000",
+            "F X10.000 Z-23.000",
+            "R X15.000 Z-23.000",
+            "R X15.000 Z-20.000",
+        ]
+    );
+    // Refusals, each at its place.
+    for (text, want) in [
+        (
+            "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 Z-10. Q4. F0.1\n",
+            "3:11: G74 Q: in least increments, without a decimal point (P1000 is 1.000 mm)",
+        ),
+        (
+            "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 Z-10. F0.1\n",
+            "3:1: G74 needs Q, the depth of each peck, above 0",
+        ),
+        (
+            "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 X20. Z-23. P2000 F0.05\n",
+            "3:1: G75 needs Q, the shift between grooves, above 0",
+        ),
+    ] {
+        assert_eq!(read(text, &desc).err().as_deref(), Some(want), "{text}");
+    }
+    // LinuxCNC has no G74: its dialect refuses it and says which reads it.
+    let e = read("G0 X0 Z2\nG74 Z-10 Q4 F100\n", &lathe("linuxcnc")).err();
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.starts_with("2:1: G74 is Fanuc's peck cycle")),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn a_fanuc_g71_q_without_a_point_is_a_sequence_number() {
+    let desc = lathe("fanuc");
+    // `Q20` would be 0.020 mm as a length; in G71 and G70 it is N20.
+    let p = "T0202 G95 M03 S800\nG0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0 W0 F0.2\n\
+             N10 G0 X46.\nG1 Z-10. F0.1\nN20 X52.\nG70 P10 Q20\n";
+    let m = ok(p, &desc);
+    // Roughing from radius 26 to 23 in 2 mm cuts: radius 24 then 23 (the profile), ...
+    assert!(m.contains(&"F X24.000 Z-10.000".to_string()), "{m:?}");
+    // ... and G70's finishing pass runs N10..N20 and returns to the start.
+    assert_eq!(
+        m[m.len() - 4..],
+        [
+            "R X23.000 Z2.000",
+            "F X23.000 Z-10.000",
+            "F X26.000 Z-10.000",
+            "R X26.000 Z2.000"
+        ]
+    );
+}
