@@ -63,7 +63,8 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "the lathe has one work coordinate system, G54",
         ),
         ("G72\n".into(), "1:1", "G72 and G73 are not supported"),
-        ("M6\n".into(), "1:1", "unknown or unsupported code M06"),
+        ("M6\n".into(), "1:1", "M06 without a tool: give T"),
+        ("M7 M8\n".into(), "1:4", "in the same modal group"),
         (
             "G0 Y5\n".into(),
             "1:4",

@@ -212,3 +212,75 @@ fn a_fanuc_g71_q_without_a_point_is_a_sequence_number() {
         ]
     );
 }
+
+mod common;
+
+/// A lathe of one channel that the operator loads by hand, in Fanuc's dialect.
+const BY_HAND: &str = "machine byhand\nkind lathe\npulse 0.001\ntick 100\ndialect fanuc\n\
+    loading manual\nchannel PATH-1\nx travel 0 100 rapid 12000 accel 3000\n\
+    z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n\
+    tool 1 radius 0 tip 3\n";
+
+#[test]
+fn a_lathe_loaded_by_hand_runs_a_program_without_chuck_codes_part_after_part() {
+    // A shop program: no M10/M11 (the operator loads the work and closes the chuck).
+    let prog = "O1000\nG21 G40 G80 G95\nG28 U0 W0\nT0101\nG97 S1000 M03\nM08\n\
+                G0 X42. Z2.\nG1 Z-20. F0.2\nG0 X50.\nG28 U0 W0\nM09 M05\nM30\n";
+    let dir = common::temp_dir("byhand");
+    std::fs::write(dir.join("byhand.machine"), BY_HAND).unwrap();
+    std::fs::write(dir.join("o1000.nc"), prog).unwrap();
+    let run = |machine: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .args(["run", "--machine"])
+            .arg(dir.join(machine))
+            .arg(dir.join("o1000.nc"))
+            .args(["--parts", "3"])
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            format!(
+                "{}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ),
+        )
+    };
+    let (code, text) = run("byhand.machine");
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("parts: 3"), "{text}");
+    // The same lathe with the bar feeder's loading (the default) refuses the first cut: no
+    // work in the spindle, as the chuck interlock says; nothing was cut.
+    std::fs::write(
+        dir.join("bar.machine"),
+        BY_HAND.replace("loading manual\n", ""),
+    )
+    .unwrap();
+    let (code, text) = run("bar.machine");
+    assert_ne!(code, Some(0), "{text}");
+    assert!(text.contains("no work in the spindle of CH1"), "{text}");
+    // Loaded by hand, the program does not work the chuck: M10 is refused with why.
+    std::fs::write(dir.join("o1000.nc"), prog.replace("M08\n", "M10\n")).unwrap();
+    let (code, text) = run("byhand.machine");
+    assert_ne!(code, Some(0), "{text}");
+    assert!(
+        text.contains("M10: the operator loads this lathe by hand"),
+        "{text}"
+    );
+}
+
+#[test]
+fn loading_by_hand_is_for_a_lathe_of_one_channel() {
+    let three = novanc::lathe::desc::CITIZEN.replacen("tick 100", "tick 100\nloading manual", 1);
+    let e = parse(&three).err();
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.contains("loading manual: a lathe of one channel")),
+        "{e:?}"
+    );
+    let e = parse(&BY_HAND.replace("loading manual", "loading auto")).err();
+    assert!(
+        e.as_deref().is_some_and(|e| e.starts_with("6: loading:")),
+        "{e:?}"
+    );
+}

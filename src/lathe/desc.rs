@@ -88,6 +88,9 @@ pub struct LatheDesc {
     pub transfers: Vec<(usize, usize)>,
     /// The channel that delivers to the unloader, 0-based.
     pub unloader: usize,
+    /// `loading manual`: the operator loads each work by hand (one channel, no bar feeder or
+    /// unloader); `loading bar` (the default) the bar feeder and M10/M11 do.
+    pub manual: bool,
 }
 
 impl LatheDesc {
@@ -142,6 +145,7 @@ impl LatheDesc {
             supplier: self.supplier,
             transfers: self.transfers.clone(),
             unloader: self.unloader,
+            manual: self.manual,
         };
         Ok((chans, flow))
     }
@@ -431,7 +435,9 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     return Err(e(format!("tick {tick_us}: 10 to 10000 whole microseconds")));
                 }
             }
-            "supplier" | "transfer" | "unloader" => links.push((ln, head, words.clone())),
+            "supplier" | "transfer" | "unloader" | "loading" => {
+                links.push((ln, head, words.clone()))
+            }
             "channel" => {
                 if kind != Some("lathe") {
                     return Err(e(
@@ -758,10 +764,26 @@ fn lathe(
         supplier: 0,
         transfers: Vec::new(),
         unloader: n - 1,
+        manual: false,
     };
     for (ln, w, words) in links {
         let e = |m: String| format!("{ln}: {m}");
         match *w {
+            "loading" => {
+                d.manual = match (words.get(1).copied(), words.len()) {
+                    (Some("manual"), 2) => true,
+                    (Some("bar"), 2) => false,
+                    _ => return Err(e(
+                        "loading: 'loading manual' (the operator loads each work) or 'loading bar'"
+                            .into(),
+                    )),
+                };
+                if d.manual && n != 1 {
+                    return Err(e(format!(
+                        "loading manual: a lathe of one channel is loaded by hand; this one has {n}"
+                    )));
+                }
+            }
             "supplier" => d.supplier = channel_no(words.get(1), n, "supplier").map_err(e)?,
             "unloader" => d.unloader = channel_no(words.get(1), n, "unloader").map_err(e)?,
             _ => {

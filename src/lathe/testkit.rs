@@ -51,6 +51,7 @@ pub fn citizen_like(n: usize) -> LatheDesc {
         supplier: 0,
         transfers: (1..n).map(|i| (i - 1, i)).collect(),
         unloader: n.saturating_sub(1),
+        manual: false,
     }
 }
 

@@ -733,6 +733,13 @@ impl Kernel {
                 // Running (or waiting at a sync point): START has nothing to do.
                 continue;
             }
+            // Loading by hand: a cycle begins with a work in the chuck.
+            let now = c.m.now();
+            let before = self.table.transfers().len();
+            self.table.load_by_hand(now);
+            self.push_transfers(before);
+            let c = &mut self.chans[i];
+            c.m.set_cut_interlock(self.table.interlock(i));
             c.begin_run();
             if let Some(n) = c.m.status().notice {
                 refused.push(format!("CH{} {n}", i + 1));
@@ -935,7 +942,11 @@ impl Kernel {
             return false;
         }
         let now = c.m.now();
-        let done = self.table.program_end(i);
+        let before = self.table.transfers().len();
+        let done = self.table.program_end(i, now);
+        self.push_transfers(before);
+        let c = &mut self.chans[i];
+        c.m.set_cut_interlock(self.table.interlock(i));
         self.pending.push(KernelEvent::Part {
             ch: i,
             t: now,
@@ -954,6 +965,19 @@ impl Kernel {
         c.src.rewind();
         c.begin_run();
         true
+    }
+
+    /// The table's transfers from the `before`-th on, as events.
+    fn push_transfers(&mut self, before: usize) {
+        for tr in &self.table.transfers()[before..] {
+            self.pending.push(KernelEvent::Transfer {
+                t: tr.t,
+                from: tr.from,
+                to: tr.to,
+                work: tr.work,
+                both_closed: tr.both_closed,
+            });
+        }
     }
 
     /// The arrivals at time `te` are counted, then the table releases whom it can, at `te`.
@@ -983,15 +1007,7 @@ impl Kernel {
         }
         let before = self.table.transfers().len();
         let decided = self.table.resolve(te, &at);
-        for tr in &self.table.transfers()[before..] {
-            self.pending.push(KernelEvent::Transfer {
-                t: tr.t,
-                from: tr.from,
-                to: tr.to,
-                work: tr.work,
-                both_closed: tr.both_closed,
-            });
-        }
+        self.push_transfers(before);
         for (i, d) in decided {
             let c = &mut self.chans[i];
             if c.m.now() < te {

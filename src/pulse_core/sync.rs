@@ -20,6 +20,10 @@ pub struct WorkFlow {
     pub transfers: Vec<(usize, usize)>,
     /// The channel whose M11 hands its work to the unloader.
     pub unloader: usize,
+    /// The operator loads each work by hand (a one-channel lathe without a bar feeder,
+    /// `loading manual`): its chuck holds a new work, closed, when each cycle begins, and the
+    /// work is taken out at the program's end; M10 and M11 are refused.
+    pub manual: bool,
 }
 
 impl WorkFlow {
@@ -35,6 +39,9 @@ impl WorkFlow {
 
     /// Refuses a flow naming a channel the machine has not.
     pub fn check(&self, channels: usize) -> Result<(), String> {
+        if self.manual && (channels != 1 || !self.transfers.is_empty()) {
+            return Err("loading by hand is for a lathe of one channel, without transfers".into());
+        }
         if self.supplier >= channels || self.unloader >= channels {
             return Err("the supplier or unloader channel is not a channel".into());
         }
@@ -157,6 +164,36 @@ impl SyncTable {
         }
     }
 
+    /// Whether the operator loads the works by hand ([`WorkFlow::manual`]).
+    pub fn manual(&self) -> bool {
+        self.flow.as_ref().is_some_and(|f| f.manual)
+    }
+
+    /// Loading by hand, at the start of a cycle (time `t`): the operator puts a new work in
+    /// the empty chuck of the one channel and closes it, while the target wants more.
+    pub fn load_by_hand(&mut self, t: u64) {
+        if !self.manual() || self.supplied >= self.target {
+            return;
+        }
+        let Some(s) = self.seats.first_mut() else {
+            return;
+        };
+        if s.work.is_some() {
+            return;
+        }
+        self.supplied += 1;
+        let w = self.supplied;
+        s.work = Some(w);
+        s.closed = true;
+        self.transfers.push(Transfer {
+            t,
+            from: None,
+            to: Some(0),
+            work: w,
+            both_closed: true,
+        });
+    }
+
     /// Whether the machine has chucks and a work flow.
     pub fn has_flow(&self) -> bool {
         self.flow.is_some()
@@ -255,6 +292,10 @@ impl SyncTable {
             }
             Sync::ChuckClose | Sync::ChuckOpen if self.flow.is_none() => Step::Refuse(format!(
                 "M{}: this machine has no chuck",
+                if point == Sync::ChuckClose { 10 } else { 11 }
+            )),
+            Sync::ChuckClose | Sync::ChuckOpen if self.manual() => Step::Refuse(format!(
+                "M{}: the operator loads this lathe by hand (loading manual); its program does not work the chuck",
                 if point == Sync::ChuckClose { 10 } else { 11 }
             )),
             Sync::ChuckClose => {
@@ -368,15 +409,34 @@ impl SyncTable {
     /// Channel `ch` reached its program's end (M2/M30): it counts its work. True when its
     /// count has reached the target (the channel has finished); otherwise its next cycle
     /// begins.
-    pub fn program_end(&mut self, ch: usize) -> bool {
+    /// Loading by hand (at time `t`), the work is taken out and the next one put in.
+    pub fn program_end(&mut self, ch: usize, t: u64) -> bool {
         let target = self.target;
+        let manual = self.manual();
         let Some(s) = self.seats.get_mut(ch) else {
             return true;
         };
         s.parts += 1;
         s.cycle_arrivals = s.arrivals.clone();
         s.cycle_cut = None;
-        s.parts >= target
+        let done = s.parts >= target;
+        if manual {
+            if let Some(w) = s.work.take() {
+                let both_closed = std::mem::replace(&mut s.closed, false);
+                self.delivered += 1;
+                self.transfers.push(Transfer {
+                    t,
+                    from: Some(ch),
+                    to: None,
+                    work: w,
+                    both_closed,
+                });
+            }
+            if !done {
+                self.load_by_hand(t);
+            }
+        }
+        done
     }
 
     /// RESET of channel `ch` abandoned its run: it returns to the start of its cycle (its

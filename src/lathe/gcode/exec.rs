@@ -380,6 +380,13 @@ impl Reader<'_> {
             use_('T');
             self.tool(t, n, col('T'))?;
         }
+        // M06: the turret indexed at the T word (a lathe's tool changes at once); M06 is read
+        // as LinuxCNC's `T1 M6` asks, and needs a tool.
+        if let Some(c) = w.m.as_slice().iter().find(|x| x.0 == 6).map(|x| x.1) {
+            if self.out.tool().is_none() {
+                return Err(err(n, c, "M06 without a tool: give T (T1 M6, or T0101)"));
+            }
+        }
         for &(m, _) in w.m.as_slice() {
             if (3..=5).contains(&m) {
                 self.st.dir = m as u8;
@@ -462,9 +469,54 @@ impl Reader<'_> {
             };
             self.out.op(n, c, dwell)?;
         }
-        // Compensation and distance mode.
+        // Compensation, the tool's offsets, path control and distance mode.
         for &(g, c) in w.g.as_slice() {
             match g {
+                430 | 490 => {
+                    if self.out.comp_on() {
+                        return Err(err(
+                            n,
+                            c,
+                            format!(
+                                "G{} with nose-radius compensation in force: give G40 first",
+                                g / 10
+                            ),
+                        ));
+                    }
+                    if g == 430 {
+                        use_('H');
+                        let have = self.out.tool().map(|t| t.number);
+                        if let (Some(h), Some(t)) = (w.get('H'), have) {
+                            if h != t as f64 {
+                                return Err(err(
+                                    n,
+                                    col('H'),
+                                    format!("G43 H{}: the offsets are tool {t}'s, the tool in place (give H{t} or no H)", crate::input_text::short_number(h)),
+                                ));
+                            }
+                        }
+                    }
+                    if !self.out.set_offsets(g == 430) && g == 430 {
+                        return Err(err(n, c, "G43 without a tool in place: give T first"));
+                    }
+                }
+                640 => {
+                    // The tolerance the path may leave its line by: every lathe block ends at
+                    // rest on its programmed end, so the path is within any tolerance.
+                    for l in ['P', 'Q'] {
+                        use_(l);
+                        if let Some(v) = w.get(l).filter(|v| !(*v >= 0.0 && v.is_finite())) {
+                            return Err(err(
+                                n,
+                                col(l),
+                                format!(
+                                    "G64 {l}{}: a tolerance is not negative",
+                                    crate::input_text::short_number(v)
+                                ),
+                            ));
+                        }
+                    }
+                }
                 400 => self.out.comp_stop(),
                 410 => self.out.comp_start(true, n, c)?,
                 420 => self.out.comp_start(false, n, c)?,

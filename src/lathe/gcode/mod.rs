@@ -68,7 +68,9 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         960 | 970 => 8,
         40 | 280 => 0,
         800 => 9,
+        430 | 490 => 10,
         540 => 12,
+        610 | 611 | 640 => 13,
         _ => return None,
     })
 }
@@ -78,6 +80,7 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         0 | 1 | 2 | 30 => 4,
         10 | 11 => 5,
         3..=5 => 7,
+        6 => 6,
         7..=9 => 8,
         100..=199 => 9,
         98 | 99 => 10,
@@ -91,7 +94,6 @@ fn lathe_g_why(g: u32) -> &'static str {
         930 => " (inverse-time feed is not supported: G94 or G95)",
         720 | 730 => " (the roughing cycle is G71 with G70; G72 and G73 are not supported)",
         800..=890 => " (drilling cycles are not supported on the lathe)",
-        430 | 490 => " (the lathe applies a tool's offsets with its T word)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
         530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",
         _ => "",

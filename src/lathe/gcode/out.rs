@@ -167,6 +167,17 @@ impl<'a> Out<'a> {
         }
     }
 
+    /// Turns the offsets of the tool in place on or off (G43, G49); false without a tool.
+    pub fn set_offsets(&mut self, on: bool) -> bool {
+        match self.tool.as_mut() {
+            Some(t) => {
+                t.1 = on;
+                true
+            }
+            None => false,
+        }
+    }
+
     /// Puts a tool in place (its offsets applying if `offsets`).
     pub fn set_tool(&mut self, t: ToolDesc, offsets: bool) {
         if self.capture.is_some() {
