@@ -3,7 +3,7 @@
 //! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
 
 use super::out::{self, Feed, Out};
-use super::{cycles, ReadOptions, LATHE};
+use super::{cycles, ReadOptions, LATHE, LATHE_A};
 use crate::block::{Css, FeedMode, Sync, TranslateError};
 use crate::gcode::flow::Pos;
 use crate::gcode::words::{sort_words_in, Words};
@@ -36,6 +36,42 @@ pub struct State {
     pub limit: f64,
     /// G71's depth of cut and retract (from its first block), mm radius.
     pub g71: Option<(f64, f64)>,
+    /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
+    pub g76: Option<FanucG76>,
+    /// System A's single cycle (G90, G92, G94) last given: its end `[Z, X]` and taper R, kept
+    /// for the lines after it (Fanuc: X, Z and R are modal in the cycle).
+    pub single: Option<[f64; 3]>,
+}
+
+/// What Fanuc's first G76 block keeps (0i-T: parameters 5140–5143 otherwise): the finishing
+/// passes m, the chamfer r in leads, the tool's angle a (degrees), the least cut Δdmin and
+/// the finishing allowance d, mm radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FanucG76 {
+    /// m: the passes at the full depth, 1 to 99.
+    pub m: u32,
+    /// r: the chamfer, in leads (r / 10).
+    pub chamfer: f64,
+    /// a: the tool's angle, 0 to 80 degrees.
+    pub angle: f64,
+    /// Δdmin: the least cut, mm.
+    pub step: f64,
+    /// d: the finishing allowance, mm.
+    pub allowance: f64,
+}
+
+impl Default for FanucG76 {
+    /// What a first block that gives nothing keeps: one finishing pass, no chamfer, the tool
+    /// straight in (angle 0), no least cut, no allowance.
+    fn default() -> FanucG76 {
+        FanucG76 {
+            m: 1,
+            chamfer: 0.0,
+            angle: 0.0,
+            step: 0.0,
+            allowance: 0.0,
+        }
+    }
 }
 
 impl State {
@@ -54,6 +90,8 @@ impl State {
             s: 0.0,
             limit: max,
             g71: None,
+            g76: None,
+            single: None,
         }
     }
 
@@ -130,6 +168,10 @@ pub struct Reader<'a> {
     pub in_cycle: bool,
     /// M02/M30 was read.
     pub ended: bool,
+    /// The program is read in Fanuc's dialect (G76 is Fanuc's two-block form).
+    pub fanuc: bool,
+    /// Fanuc's G code system A (docs/lathe-gcode.md "G code systems").
+    pub system_a: bool,
 }
 
 /// An error at a line and column.
@@ -155,7 +197,7 @@ impl Motion for Reader<'_> {
         lines: &mut dyn Lines,
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
-        let w = sort_words_in(line, n, &LATHE)?;
+        let w = sort_words_in(line, n, self.dialect())?;
         let flow = self.execute(&w, n, at.line, lines);
         lines.units(self.st.inch);
         Ok(match flow? {
@@ -180,6 +222,15 @@ impl Motion for Reader<'_> {
 }
 
 impl Reader<'_> {
+    /// The letters and codes the program is read with: system B's, or system A's.
+    fn dialect(&self) -> &'static crate::gcode::words::Dialect {
+        if self.system_a {
+            &LATHE_A
+        } else {
+            &LATHE
+        }
+    }
+
     /// Runs lines `from..to` (indices) of a G70/G71 profile, each read by `lines` (the one
     /// reader: parameters, messages, the bound on lines executed).
     pub fn run_range(
@@ -223,7 +274,7 @@ impl Reader<'_> {
         if l.percent || l.words.is_empty() {
             return Ok(Flow::Next);
         }
-        let w = sort_words_in(&l, n, &LATHE)?;
+        let w = sort_words_in(&l, n, self.dialect())?;
         let flow = self.execute(&w, n, i, lines);
         lines.units(self.st.inch);
         flow
@@ -256,8 +307,11 @@ impl Reader<'_> {
                 210 => self.st.inch = false,
                 70 => self.st.diameter = true,
                 80 => self.st.diameter = false,
-                940 => self.st.per_rev = false,
+                // In system A, G94 is the facing cycle (G95 is refused by its dialect).
+                940 if !self.system_a => self.st.per_rev = false,
                 950 => self.st.per_rev = true,
+                980 => self.st.per_rev = false,
+                990 => self.st.per_rev = true,
                 _ => {}
             }
         }
@@ -302,7 +356,12 @@ impl Reader<'_> {
             self.st.limit = d;
             spindle = true;
         }
-        if let Some(s) = w.get('S') {
+        if let Some(c) = w.has_g(500) {
+            // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T).
+            use_('S');
+            self.g50(w, n, c)?;
+            spindle = true;
+        } else if let Some(s) = w.get('S') {
             use_('S');
             if !(s >= 0.0 && s.is_finite()) {
                 return Err(err(
@@ -416,7 +475,7 @@ impl Reader<'_> {
                 400 => self.out.comp_stop(),
                 410 => self.out.comp_start(true, n, c)?,
                 420 => self.out.comp_start(false, n, c)?,
-                900 => self.st.absolute = true,
+                900 if !self.system_a => self.st.absolute = true,
                 910 => self.st.absolute = false,
                 _ => {}
             }
@@ -425,7 +484,10 @@ impl Reader<'_> {
         let motion_code =
             w.g.as_slice()
                 .iter()
-                .find(|x| matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 760))
+                .find(|x| {
+                    matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 760)
+                        || (self.system_a && matches!(x.0, 900 | 920 | 940))
+                })
                 .copied();
         let mut flow = Flow::Next;
         let axes = ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
@@ -441,6 +503,10 @@ impl Reader<'_> {
                     return Err(err(n, c, format!("G{} inside a G70/G71 profile", g / 10)));
                 }
                 flow = match g {
+                    760 if self.fanuc => {
+                        cycles::g76_fanuc(self, w, n, c)?;
+                        Flow::Next
+                    }
                     760 => {
                         cycles::g76(self, w, n, c)?;
                         Flow::Next
@@ -451,6 +517,10 @@ impl Reader<'_> {
             }
             _ => {
                 if let Some((g, c)) = motion_code {
+                    if self.st.motion != Some(g) {
+                        // A single cycle's kept end and taper last while its code is in force.
+                        self.st.single = None;
+                    }
                     self.st.motion = Some(g);
                     if !axes {
                         // A motion code alone sets the mode (LinuxCNC refuses G01 alone
@@ -473,9 +543,14 @@ impl Reader<'_> {
                     match g {
                         20 | 30 => ['I', 'K', 'R'].into_iter().for_each(&mut use_),
                         330 => use_('K'),
+                        900 | 920 | 940 => use_('R'),
                         _ => {}
                     }
-                    self.motion(g, w, n, mc)?;
+                    if matches!(g, 900 | 920 | 940) {
+                        cycles::single(self, g, w, n, mc)?;
+                    } else {
+                        self.motion(g, w, n, mc)?;
+                    }
                 } else if w.get('I').is_some() || w.get('K').is_some() || w.get('R').is_some() {
                     let c = w.col('I').or(w.col('K')).or(w.col('R')).unwrap_or(1);
                     return Err(err(n, c, "I, K or R without an X or Z end point"));
@@ -514,6 +589,36 @@ impl Reader<'_> {
             }
         }
         Ok(flow)
+    }
+
+    /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
+    /// `G50 X Z`, setting the coordinate system, is refused.
+    fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        for l in ['X', 'Z', 'U', 'W'] {
+            if let Some(col) = w.col(l) {
+                return Err(err(
+                    n,
+                    col,
+                    "G50 X Z (setting the coordinate system) is not supported on the lathe: X 0 is the axis and Z 0 the work face, the tools' offsets give the rest (G50 S, the G96 spindle limit, is)",
+                ));
+            }
+        }
+        let Some(s) = w.get('S') else {
+            return Err(err(n, c, "G50 needs S, the spindle limit under G96 (rpm)"));
+        };
+        if !(s > 0.0 && s <= self.chan.max_rpm) {
+            return Err(err(
+                n,
+                w.col('S').unwrap_or(c),
+                format!(
+                    "G50 S{}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                    crate::input_text::short_number(s),
+                    self.chan.max_rpm
+                ),
+            ));
+        }
+        self.st.limit = s;
+        Ok(())
     }
 
     /// M98 P L: the call of subprogram O`P`, `L` times (the mill's bounds).

@@ -48,7 +48,7 @@ impl Reader<'_> {
         Ok(p)
     }
 
-    fn feed(&self, n: u32, c: u32) -> Result<Feed, TranslateError> {
+    pub(super) fn feed(&self, n: u32, c: u32) -> Result<Feed, TranslateError> {
         let Some(feed) = self.st.feed_of() else {
             return Err(err(n, c, "a feed move without a feed: give F"));
         };
@@ -56,7 +56,10 @@ impl Reader<'_> {
             return Err(err(
                 n,
                 c,
-                "a feed per revolution (G95) with the spindle stopped: give M03 or M04",
+                format!(
+                    "a feed per revolution ({}) with the spindle stopped: give M03 or M04",
+                    self.out.feed_codes.1
+                ),
             ));
         }
         Ok(feed)
