@@ -506,9 +506,9 @@ fn system_a_and_fanucs_g76_refusals_name_their_place_and_say_why() {
         (s("G91 G0 U1.\n"), "2:1", "G code system A has no G91"),
         (s("G95\n"), "2:1", "G98 per minute and G99 per revolution"),
         (
-            s("G50 X10. S2000\n"),
+            s("G50 U1. S2000\n"),
             "2:5",
-            "G50 X Z (setting the coordinate system) is not supported",
+            "G50 U: shifting the coordinate system by increments is not supported",
         ),
         (s("G50\n"), "2:1", "G50 needs S"),
         (

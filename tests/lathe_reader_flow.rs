@@ -238,6 +238,33 @@ fn a_system_a_program_turns_faces_and_threads_as_worked_by_hand() {
 }
 
 #[test]
+fn system_a_g50_x_z_makes_where_the_tool_stands_that_point() {
+    let desc = match citizen_with("dialect fanuc\ngcode system A") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    // By hand (X a radius): the tool stands at X30 Z50 when G50 X100. Z100. makes that point
+    // X100 (radius 50) Z100, so the program's zero lies at X30 - 50 = -20, Z50 - 100 = -50:
+    // X60. Z90. is at -20 + 30 = 10, Z -50 + 90 = 40; U and W are increments as before; and
+    // X100. Z100. is where G50 was given.
+    let p = read(
+        "G0 X60. Z50.\nG50 X100. Z100.\nG0 X60. Z90.\nG1 U-10. W-5. F100.\nG0 X100. Z100.\n",
+        &desc,
+    );
+    assert_eq!(
+        moves(&p),
+        [
+            "R X30.000 Z50.000",
+            "R X10.000 Z40.000",
+            "F X5.000 Z35.000",
+            "R X30.000 Z50.000"
+        ]
+    );
+    // G50 on its own line moves nothing and gives no block.
+    assert!(p.iter().all(|s| s.line != 2));
+}
+
+#[test]
 fn gcode_system_a_is_a_fanuc_channels_line() {
     // System B is the default: no channel of the Citizen reads system A.
     assert!(LatheDesc::citizen().channels.iter().all(|c| !c.system_a));

@@ -38,6 +38,9 @@ pub struct State {
     pub g71: Option<(f64, f64)>,
     /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
     pub g76: Option<FanucG76>,
+    /// Where the program's zero lies, `[Z, X]` mm (X a radius), in the coordinates the
+    /// channel starts in (its work coordinates): moved by system A's `G50 X Z`.
+    pub origin: [f64; 2],
     /// System A's single cycle (G90, G92, G94) last given: its end `[Z, X]` and taper R, kept
     /// for the lines after it (Fanuc: X, Z and R are modal in the cycle).
     pub single: Option<[f64; 3]>,
@@ -91,6 +94,7 @@ impl State {
             limit: max,
             g71: None,
             g76: None,
+            origin: [0.0, 0.0],
             single: None,
         }
     }
@@ -357,10 +361,13 @@ impl Reader<'_> {
             spindle = true;
         }
         if let Some(c) = w.has_g(500) {
-            // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T).
-            use_('S');
+            // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T); X Z set the
+            // coordinate system.
+            for l in ['S', 'X', 'Z', 'U', 'W'] {
+                use_(l);
+            }
             self.g50(w, n, c)?;
-            spindle = true;
+            spindle = w.get('S').is_some();
         } else if let Some(s) = w.get('S') {
             use_('S');
             if !(s >= 0.0 && s.is_finite()) {
@@ -490,7 +497,9 @@ impl Reader<'_> {
                 })
                 .copied();
         let mut flow = Flow::Next;
-        let axes = ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
+        // G50's X and Z set the coordinate system: nothing moves.
+        let axes =
+            w.has_g(500).is_none() && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
         match motion_code {
             Some((700, c)) | Some((710, c)) | Some((760, c)) => {
                 for l in [
@@ -592,19 +601,42 @@ impl Reader<'_> {
     }
 
     /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
-    /// `G50 X Z`, setting the coordinate system, is refused.
+    /// `G50 X Z` sets the coordinate system: the point where the tool stands becomes X Z.
     fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
-        for l in ['X', 'Z', 'U', 'W'] {
+        for l in ['U', 'W'] {
             if let Some(col) = w.col(l) {
                 return Err(err(
                     n,
                     col,
-                    "G50 X Z (setting the coordinate system) is not supported on the lathe: X 0 is the axis and Z 0 the work face, the tools' offsets give the rest (G50 S, the G96 spindle limit, is)",
+                    format!("G50 {l}: shifting the coordinate system by increments is not supported: give G50 X Z, where the tool stands"),
                 ));
             }
         }
+        let f = self.st.factor();
+        let dia = if self.st.diameter { 2.0 } else { 1.0 };
+        for (i, l) in [(0, 'Z'), (1, 'X')] {
+            if let Some(v) = w.get(l) {
+                let v = v * f / if l == 'X' { dia } else { 1.0 };
+                let o = self.out.pos[i] - v;
+                if !(o.is_finite() && o.abs() < 1e6) {
+                    return Err(err(
+                        n,
+                        w.col(l).unwrap_or(c),
+                        "the G50 point is not a reasonable number",
+                    ));
+                }
+                self.st.origin[i] = o;
+            }
+        }
         let Some(s) = w.get('S') else {
-            return Err(err(n, c, "G50 needs S, the spindle limit under G96 (rpm)"));
+            if w.get('X').is_some() || w.get('Z').is_some() {
+                return Ok(());
+            }
+            return Err(err(
+                n,
+                c,
+                "G50 needs S (the spindle limit under G96, rpm) or X Z (the point where the tool stands)",
+            ));
         };
         if !(s > 0.0 && s <= self.chan.max_rpm) {
             return Err(err(
