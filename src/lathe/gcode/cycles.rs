@@ -579,10 +579,11 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
                 ((p / 100.0).floor()) % 100.0,
                 p % 100.0,
             );
-            if !(whole(p) && (0.0..=999_999.0).contains(&p))
-                || !(1.0..=99.0).contains(&m)
-                || a > 80.0
-            {
+            let ok = whole(p)
+                && (0.0..=999_999.0).contains(&p)
+                && (1.0..=99.0).contains(&m)
+                && a <= 80.0;
+            if !ok {
                 return Err(err(
                     n,
                     col('P'),
@@ -658,7 +659,7 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
     if !(q > 0.0 && q < 1000.0) {
         return Err(err(n, col('Q'), "G76 Q, the first cut Δd, must be above 0"));
     }
-    if !(g.allowance < k) {
+    if g.allowance >= k {
         return Err(err(
             n,
             col('P'),
