@@ -542,6 +542,11 @@ fn system_a_and_fanucs_g76_refusals_name_their_place_and_say_why() {
             "G92 needs F, the lead",
         ),
         (
+            s("G0 X40. Z2.\nG71 U1. R0\nG71 P1 Q2 F100\nN1 G0 X10.\nN2 G90 X20. Z-5.\n"),
+            "6:4",
+            "G90 inside a G70/G71 profile",
+        ),
+        (
             s("G0 X40. Z5.\nG42 G0 X30. Z2.\nG90 X20. Z-10. F100\n"),
             "4:1",
             "G90 with nose-radius compensation",

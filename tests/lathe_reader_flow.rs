@@ -265,6 +265,21 @@ fn system_a_g50_x_z_makes_where_the_tool_stands_that_point() {
 }
 
 #[test]
+fn fanucs_g71_and_g70_read_q_as_a_sequence_number() {
+    // Q is a length elsewhere in Fanuc's dialect (Q20 is 0.020 mm), but G71's and G70's Q
+    // names the profile's last line, N20: the same blocks as LinuxCNC's dialect reads.
+    let program = "T0101 M3 S1000\nG0 X40. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F100.\nN10 G0 X20.\nG1 Z-10.\nN20 G1 X40. Z-20.\nG70 P10 Q20\nM30\n";
+    let want = unplaced(read(program, &LatheDesc::citizen()));
+    for line in ["dialect fanuc", "dialect fanuc\ngcode system A"] {
+        let desc = match citizen_with(line) {
+            Ok(d) => d,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(unplaced(read(program, &desc)), want, "{line}");
+    }
+}
+
+#[test]
 fn gcode_system_a_is_a_fanuc_channels_line() {
     // System B is the default: no channel of the Citizen reads system A.
     assert!(LatheDesc::citizen().channels.iter().all(|c| !c.system_a));

@@ -269,7 +269,12 @@ fn profile_lines(
 ) -> Result<(usize, usize), TranslateError> {
     let mut idx = [0usize; 2];
     for (k, l) in ['P', 'Q'].into_iter().enumerate() {
-        let v = need(w, l, n, c, what)?;
+        let mut v = need(w, l, n, c, what)?;
+        if r.fanuc && r.unpointed & crate::gcode::read::letter_bit(l) != 0 && l == 'Q' {
+            // Fanuc's dialect read Q, a length elsewhere, in least increments: here it is a
+            // sequence number, as written (Q20 is N20).
+            v = (v / if r.st.inch { 0.0001 } else { 0.001 }).round();
+        }
         let col = w.col(l).unwrap_or(c);
         if !(v.fract() == 0.0 && (0.0..1e9).contains(&v)) {
             return Err(err(
@@ -734,6 +739,9 @@ pub fn single(r: &mut Reader, g: u32, w: &Words, n: u32, c: u32) -> Result<(), T
         920 => "G92",
         _ => "G94",
     };
+    if r.in_cycle {
+        return Err(err(n, c, format!("{name} inside a G70/G71 profile")));
+    }
     if r.out.comp_on() {
         return Err(err(
             n,

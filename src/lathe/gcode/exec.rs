@@ -176,6 +176,10 @@ pub struct Reader<'a> {
     pub fanuc: bool,
     /// Fanuc's G code system A (docs/lathe-gcode.md "G code systems").
     pub system_a: bool,
+    /// Fanuc's dialect: the letters of the line being executed whose number was written
+    /// without a decimal point, so read in least increments where the letter is a length
+    /// (`read::Line::plain` less `pointed`).
+    pub unpointed: u32,
 }
 
 /// An error at a line and column.
@@ -202,6 +206,7 @@ impl Motion for Reader<'_> {
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
         let w = sort_words_in(line, n, self.dialect())?;
+        self.unpointed = line.plain & !line.pointed;
         let flow = self.execute(&w, n, at.line, lines);
         lines.units(self.st.inch);
         Ok(match flow? {
@@ -279,6 +284,7 @@ impl Reader<'_> {
             return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, self.dialect())?;
+        self.unpointed = l.plain & !l.pointed;
         let flow = self.execute(&w, n, i, lines);
         lines.units(self.st.inch);
         flow

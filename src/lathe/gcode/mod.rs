@@ -216,6 +216,7 @@ pub fn read_program_in(
         fanuc: dialect == crate::settings::Dialect::Fanuc,
         // System A is Fanuc's: a program kept in LinuxCNC's dialect reads system B.
         system_a: chan.system_a && dialect == crate::settings::Dialect::Fanuc,
+        unpointed: 0,
     };
     if r.system_a {
         r.out.feed_codes = ("G98", "G99");
