@@ -5,6 +5,7 @@
 use novanc::block::Motion;
 use novanc::lathe::desc::LatheDesc;
 use novanc::lathe::gcode::{read_program, ReadOptions};
+use novanc::settings::Dialect;
 
 fn desc() -> LatheDesc {
     let mut d = LatheDesc::citizen();
@@ -15,11 +16,30 @@ fn desc() -> LatheDesc {
     d
 }
 
-fn error(text: &str) -> String {
-    match read_program(text, &desc(), 0, &ReadOptions::default()) {
+fn error(text: &str, desc: &LatheDesc) -> String {
+    match read_program(text, desc, 0, &ReadOptions::default()) {
         Ok(p) => panic!("read without error: {text:?} → {p:?}"),
         Err(e) => e.to_string(),
     }
+}
+
+/// The cases (program, "line:col", part of the message) read on `desc` that are not refused
+/// at their place or not for their reason, each told.
+fn misplaced(desc: &LatheDesc, cases: Vec<(String, &str, &str)>) -> Vec<String> {
+    let mut bad = Vec::new();
+    for (text, at, needle) in cases {
+        let e = error(&text, desc);
+        let place_ok = if at.contains(':') {
+            e.starts_with(&format!("{at}: "))
+        } else {
+            e.contains(':')
+        };
+        if !place_ok || !e.contains(needle) {
+            let head: String = text.chars().take(60).collect();
+            bad.push(format!("{head:?}\n   want {at}: …{needle}…\n   got  {e}"));
+        }
+    }
+    bad
 }
 
 const S: &str = "T0101 M3 S1000\n";
@@ -468,19 +488,156 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
 
 #[test]
 fn every_refusal_names_its_place_and_says_why() {
-    let mut bad = Vec::new();
-    for (text, at, needle) in cases() {
-        let e = error(&text);
-        let place_ok = if at.contains(':') {
-            e.starts_with(&format!("{at}: "))
-        } else {
-            e.contains(':')
-        };
-        if !place_ok || !e.contains(needle) {
-            let head: String = text.chars().take(60).collect();
-            bad.push(format!("{head:?}\n   want {at}: …{needle}…\n   got  {e}"));
-        }
-    }
+    let bad = misplaced(&desc(), cases());
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// [`desc`] with channel 1 in Fanuc's dialect, in G code system A or B.
+fn fanuc(system_a: bool) -> LatheDesc {
+    let mut d = desc();
+    d.channels[0].dialect = Some(Dialect::Fanuc);
+    d.channels[0].system_a = system_a;
+    d
+}
+
+#[test]
+fn system_a_and_fanucs_g76_refusals_name_their_place_and_say_why() {
+    let s = |t: &str| format!("{S}{t}");
+    let a = vec![
+        (s("G91 G0 U1.\n"), "2:1", "G code system A has no G91"),
+        (s("G95\n"), "2:1", "G98 per minute and G99 per revolution"),
+        (
+            s("G50 U1. S2000\n"),
+            "2:5",
+            "G50 U: shifting the coordinate system by increments is not supported",
+        ),
+        (s("G50\n"), "2:1", "G50 needs S"),
+        (
+            s("G50 S7000\n"),
+            "2:5",
+            "at most the spindle's maximum 6000 rpm",
+        ),
+        (
+            s("G0 X40. Z2.\nG90 X30. Z-10.\n"),
+            "3:1",
+            "a feed move without a feed",
+        ),
+        (
+            s("G0 X40. Z2.\nG90 X30. Z2. F100\n"),
+            "3:1",
+            "G90 ends where the tool stands in Z",
+        ),
+        (
+            s("G0 X40. Z2.\nG94 X40. Z-2. F100\n"),
+            "3:1",
+            "G94 ends where the tool stands in X",
+        ),
+        (
+            "G0 X40. Z2.\nG92 X30. Z-10. F1.5\n".into(),
+            "2:1",
+            "G92 with the spindle stopped",
+        ),
+        (
+            s("G0 X40. Z2.\nG92 X30. Z-10. F150\n"),
+            "3:16",
+            "G92 needs F, the lead",
+        ),
+        (
+            s("G0 X40. Z2.\nG71 U1. R0\nG71 P1 Q2 F100\nN1 G0 X10.\nN2 G90 X20. Z-5.\n"),
+            "6:4",
+            "G90 inside a G70/G71 profile",
+        ),
+        (
+            s("G0 X40. Z5.\nG42 G0 X30. Z2.\nG90 X20. Z-10. F100\n"),
+            "4:1",
+            "G90 with nose-radius compensation",
+        ),
+        (
+            s("G98 G0 X40. Z2.\nG1 Z-5. F0.08\n"),
+            "3:1",
+            "(G98 reads F per minute: G99 reads it per revolution)",
+        ),
+        (
+            "G99 G0 X40. Z2.\nG1 Z-5. F0.1\n".into(),
+            "2:1",
+            "a feed per revolution (G99) with the spindle stopped",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 X18. Z-20. P920 Q350 F1.5\n"),
+            "3:1",
+            "needs Fanuc's first G76 block",
+        ),
+        (
+            s("G76 P021060 Q150 R0.05 F1\n"),
+            "2:24",
+            "G76 P Q R (Fanuc's first block) takes no F word",
+        ),
+        (s("G76 P1000000\n"), "2:5", "six digits mmrraa"),
+        (s("G76 P001060\n"), "2:5", "m the finishing passes 01 to 99"),
+        (s("G76 P010090\n"), "2:5", "a the tool's angle 00 to 80"),
+        (
+            s("G76 P1 Z-10. I-1 J0.1 K0.5\n"),
+            "2:14",
+            "G76 I: a word of LinuxCNC's one-block G76",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P0.92 Q350 F1.5\n"),
+            "4:16",
+            "a whole number of least increments",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P920 F1.5\n"),
+            "4:1",
+            "G76 (second block) needs Q",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P010060 R1.\nG76 X18. Z-20. P920 Q350 F1.5\n"),
+            "4:16",
+            "greater than the finishing allowance",
+        ),
+        (
+            s("G0 X19. Z5.\nG76 P010060\nG76 X18. Z-20. P920 Q350 F1.5\n"),
+            "4:1",
+            "must stand clear of the thread",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P019960\nG76 X18. Z-5. P920 Q350 F1.5\n"),
+            "4:1",
+            "the chamfer",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P920 Q1 F1.5\n"),
+            "4:1",
+            "G76 makes more than 2000 passes",
+        ),
+        (
+            s("G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P920 Q350\n"),
+            "4:1",
+            "G76 needs F, the lead",
+        ),
+        (
+            "G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P920 Q350 F1.5\n".into(),
+            "3:1",
+            "G76 with the spindle stopped",
+        ),
+    ];
+    let bad = misplaced(&fanuc(true), a);
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    // In system B (Fanuc's dialect without the line), G50 and G98/G99 are system A's.
+    let b = vec![
+        (s("G50 S3000\n"), "2:1", "G50 is Fanuc's G code system A"),
+        (
+            s("G99\n"),
+            "2:1",
+            "G98 and G99 are the feeds of Fanuc's G code system A",
+        ),
+        (
+            s("G76 P1 Z-10. I-1 J0.1 K0.5\n"),
+            "2:14",
+            "G76 I: a word of LinuxCNC's one-block G76",
+        ),
+    ];
+    let bad = misplaced(&fanuc(false), b);
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
 
@@ -507,7 +664,7 @@ fn a_program_missing_g95_is_refused_at_its_first_feed() {
 
 #[test]
 fn a_missing_channel_is_refused() {
-    let e = read_program("G0 X1\n", &desc(), 5, &ReadOptions::default());
+    let e = read_program("G0 X1.\n", &desc(), 5, &ReadOptions::default());
     assert_eq!(
         e.err().map(|e| e.to_string()),
         Some("1:1: channel 6 does not exist (the machine has 3)".to_string())
@@ -518,7 +675,7 @@ fn a_missing_channel_is_refused() {
 fn a_bad_pulse_size_is_refused() {
     let mut d = desc();
     d.pulse_mm = 0.0;
-    let e = read_program("G0 X1\n", &d, 0, &ReadOptions::default());
+    let e = read_program("G0 X1.\n", &d, 0, &ReadOptions::default());
     assert_eq!(
         e.err().map(|e| e.to_string()),
         Some("1:1: the machine's pulse size is not a positive number".to_string())

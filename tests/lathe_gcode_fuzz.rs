@@ -29,7 +29,7 @@ fn random_bytes_and_fragments_never_panic() {
         "M4", "M5", "M10", "M11", "M100", "M130", "M30", "T0101", "T2", "T0303", "X", "Z", "U",
         "W", "I", "K", "R", "P", "Q", "F", "S", "D", "J", "H", "E", "L", "N1", "N2", "N3", "-",
         ".", "1", "2.5", "0", "10", "-3", "40", "0.8", "#1=", "[", "]", "(", ")", "/", "%", "\n",
-        " ", "*", "#", "\u{e9}", "1e9",
+        " ", "*", "#", "\u{e9}", "1e9", "G50", "G92", "G98", "G99",
     ];
     let words = [
         "G0 X",
@@ -70,11 +70,21 @@ fn random_bytes_and_fragments_never_panic() {
         "G0 Z",
         "X",
         "Z",
+        // Fanuc's G code system A and two-block G76 (read so on channel 1 in Fanuc's dialect).
+        "G76 P021060 Q150 R",
+        "G76 X18. Z-20. P920 Q",
+        "G90 X",
+        "G92 Z-10. F",
+        "G94 Z",
+        "G50 S",
+        "G99 F",
     ];
     let values = [
         "1", "5", "-2", "20", "0.5", "-10", "12", "0", "0.8", "101", "3", "-0.4",
     ];
-    let d = desc();
+    // Channel 1 reads Fanuc's G code system A when a program is read in Fanuc's dialect.
+    let mut d = desc();
+    d.channels[0].system_a = true;
     let mut rng = Rng::new(0x5eed_1a7e_u64);
     let mut good = 0;
     let mut deep = 0;

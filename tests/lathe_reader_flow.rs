@@ -6,7 +6,7 @@
 
 mod common;
 
-use novanc::block::{Block, Motion, Statement};
+use novanc::block::{Block, FeedMode, Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc, CITIZEN};
 use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
 use novanc::settings::Dialect;
@@ -119,18 +119,23 @@ fn a_runaway_loop_on_the_lathe_is_refused_at_its_line() {
     );
 }
 
-/// A program's moves in brief, as `fanuc_macro.moves` writes them by hand.
+/// A program's moves in brief, as the `.moves` golden listings write them by hand: R rapid, F
+/// feed (" per rev" under G95/G99), T a thread pass with its lead; X a radius, Z, mm.
 fn moves(p: &[Statement]) -> Vec<String> {
     p.iter()
         .flat_map(|s| &s.blocks)
         .filter_map(|b| {
-            let k = match b.motion {
-                Motion::Rapid => 'R',
-                Motion::Linear => 'F',
+            let (k, tail) = match (b.motion, b.thread) {
+                (Motion::Rapid, _) => ('R', String::new()),
+                (Motion::Linear, Some(lead)) => ('T', format!(" lead {lead:.3}")),
+                (Motion::Linear, None) if b.feed_mode == FeedMode::PerRev => {
+                    ('F', " per rev".to_string())
+                }
+                (Motion::Linear, None) => ('F', String::new()),
                 _ => return None,
             };
             Some(format!(
-                "{k} X{:.3} Z{:.3}",
+                "{k} X{:.3} Z{:.3}{tail}",
                 b.end[0] as f64 / 1000.0,
                 b.end[2] as f64 / 1000.0
             ))
@@ -138,16 +143,23 @@ fn moves(p: &[Statement]) -> Vec<String> {
         .collect()
 }
 
-#[test]
-fn a_fanuc_macro_program_with_g65_while_and_if_goto_moves_as_worked_by_hand() {
+/// The golden listing `tests/golden/lathe/NAME.moves` (its lines without the comments) and
+/// the program `NAME.ngc` it was worked out for.
+fn golden(name: &str) -> (String, Vec<String>) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/lathe");
-    let program = std::fs::read_to_string(format!("{dir}/fanuc_macro.ngc")).unwrap_or_default();
-    let want: Vec<String> = std::fs::read_to_string(format!("{dir}/fanuc_macro.moves"))
+    let program = std::fs::read_to_string(format!("{dir}/{name}.ngc")).unwrap_or_default();
+    let want = std::fs::read_to_string(format!("{dir}/{name}.moves"))
         .unwrap_or_default()
         .lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
         .map(str::to_string)
         .collect();
+    (program, want)
+}
+
+#[test]
+fn a_fanuc_macro_program_with_g65_while_and_if_goto_moves_as_worked_by_hand() {
+    let (program, want) = golden("fanuc_macro");
     assert_eq!(want.len(), 13, "the hand-worked moves are missing");
     let desc = match citizen_with("dialect fanuc") {
         Ok(d) => d,
@@ -167,6 +179,170 @@ fn a_fanuc_macro_program_with_g65_while_and_if_goto_moves_as_worked_by_hand() {
         e.as_deref(),
         Some("18:1: MACRO ALARM 3001: NO BOTTOM DIAMETER (#3000 = 1)")
     );
+}
+
+#[test]
+fn fanucs_two_block_g76_cuts_an_m20_thread_as_worked_by_hand() {
+    let (program, want) = golden("fanuc_g76");
+    assert_eq!(want.len(), 36, "the hand-worked moves are missing");
+    let desc = match citizen_with("dialect fanuc") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(moves(&read(&program, &desc)), want);
+    // The same passes in G code system A: G76 is the same in both.
+    let desc = match citizen_with("dialect fanuc\ngcode system A") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    assert_eq!(moves(&read(&program, &desc)), want);
+}
+
+#[test]
+fn a_system_a_program_turns_faces_and_threads_as_worked_by_hand() {
+    let (program, want) = golden("fanuc_system_a");
+    assert_eq!(want.len(), 32, "the hand-worked moves are missing");
+    let desc = match citizen_with("dialect fanuc\ngcode system A") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    assert!(desc.channels[0].system_a);
+    let p = read(&program, &desc);
+    assert_eq!(moves(&p), want);
+    // G50 S3000 is the limit G96 S150 runs under (every block under G96 carries it), as
+    // LinuxCNC's D.
+    let css: Vec<_> = p
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .filter_map(|b| b.css)
+        .collect();
+    assert!(!css.is_empty());
+    assert!(
+        css.iter()
+            .all(|c| (c.m_per_min, c.limit_rpm) == (150.0, 3000.0)),
+        "{css:?}"
+    );
+    // In system B (the default) the same program is refused at its first system A code.
+    let b = match citizen_with("dialect fanuc") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    let e = read_program(&program, &b, 0, &ReadOptions::default())
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.starts_with("3:4: ") && e.contains("G50")),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn system_a_g50_x_z_makes_where_the_tool_stands_that_point() {
+    let desc = match citizen_with("dialect fanuc\ngcode system A") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    // By hand (X a radius): the tool stands at X30 Z50 when G50 X100. Z100. makes that point
+    // X100 (radius 50) Z100, so the program's zero lies at X30 - 50 = -20, Z50 - 100 = -50:
+    // X60. Z90. is at -20 + 30 = 10, Z -50 + 90 = 40; U and W are increments as before; and
+    // X100. Z100. is where G50 was given.
+    let p = read(
+        "G0 X60. Z50.\nG50 X100. Z100.\nG0 X60. Z90.\nG1 U-10. W-5. F100.\nG0 X100. Z100.\n",
+        &desc,
+    );
+    assert_eq!(
+        moves(&p),
+        [
+            "R X30.000 Z50.000",
+            "R X10.000 Z40.000",
+            "F X5.000 Z35.000",
+            "R X30.000 Z50.000"
+        ]
+    );
+    // G50 on its own line moves nothing and gives no block.
+    assert!(p.iter().all(|s| s.line != 2));
+}
+
+#[test]
+fn fanucs_g71_and_g70_read_q_as_a_sequence_number() {
+    // Q is a length elsewhere in Fanuc's dialect (Q20 is 0.020 mm), but G71's and G70's Q
+    // names the profile's last line, N20: the same blocks as LinuxCNC's dialect reads.
+    let program = "T0101 M3 S1000\nG0 X40. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F100.\nN10 G0 X20.\nG1 Z-10.\nN20 G1 X40. Z-20.\nG70 P10 Q20\nM30\n";
+    let want = unplaced(read(program, &LatheDesc::citizen()));
+    for line in ["dialect fanuc", "dialect fanuc\ngcode system A"] {
+        let desc = match citizen_with(line) {
+            Ok(d) => d,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(unplaced(read(program, &desc)), want, "{line}");
+    }
+}
+
+#[test]
+fn gcode_system_a_is_a_fanuc_channels_line() {
+    // System B is the default: no channel of the Citizen reads system A.
+    assert!(LatheDesc::citizen().channels.iter().all(|c| !c.system_a));
+    // LinuxCNC's lathe has system B only: system A without Fanuc's dialect is refused at
+    // its line (the Citizen's channel 1 starts on line 13, its own line is 14).
+    let e = citizen_with("gcode system A").err();
+    assert_eq!(
+        e.as_deref(),
+        Some("14: gcode system A is Fanuc's G code system: give 'dialect fanuc' in this channel or before the channels (LinuxCNC's lathe reads system B only)")
+    );
+    assert!(citizen_with("dialect linuxcnc\ngcode system A").is_err());
+    assert!(citizen_with("gcode system B").is_ok_and(|d| !d.channels[0].system_a));
+    // The machine's dialect line counts for the channel.
+    let text = CITIZEN.replacen(
+        "channel SYSTEM-1\n",
+        "dialect fanuc\nchannel SYSTEM-1\ngcode system a\n",
+        1,
+    );
+    let Ok(MachineDesc::Lathe(d)) = parse(&text) else {
+        panic!("{:?}", parse(&text));
+    };
+    assert_eq!(
+        d.channels.iter().map(|c| c.system_a).collect::<Vec<_>>(),
+        [true, false, false]
+    );
+    for (line, want) in [
+        (
+            "dialect fanuc\ngcode system A\ngcode system B",
+            "16: the gcode system is given twice in this channel",
+        ),
+        (
+            "gcode system C",
+            "14: gcode takes system A or system B (Fanuc's lathe G code systems)",
+        ),
+        (
+            "gcode A",
+            "14: gcode takes system A or system B (Fanuc's lathe G code systems)",
+        ),
+    ] {
+        assert_eq!(citizen_with(line).err().as_deref(), Some(want), "{line}");
+    }
+    let before = CITIZEN.replacen(
+        "channel SYSTEM-1\n",
+        "gcode system A\nchannel SYSTEM-1\n",
+        1,
+    );
+    assert_eq!(
+        parse(&before).err().as_deref(),
+        Some("13: gcode system: a lathe channel's line (write 'channel NAME' first)")
+    );
+    // A program kept in LinuxCNC's dialect reads system B on a system A channel.
+    let a = match citizen_with("dialect fanuc\ngcode system A") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    let p = read_program_in(
+        "G91 G0 U-2\n",
+        &a,
+        0,
+        &ReadOptions::default(),
+        Some(Dialect::LinuxCnc),
+    );
+    assert!(p.is_ok(), "{p:?}");
 }
 
 #[test]

@@ -45,6 +45,10 @@ pub struct ChannelDesc {
     /// channel, else the machine's line before the channels, else `--dialect`); `None`: not
     /// said, LinuxCNC's (docs/lathe.md "Machine description").
     pub dialect: Option<crate::settings::Dialect>,
+    /// Fanuc's G code system A (the description's `gcode system A` line in the channel):
+    /// G98/G99 feeds, G90/G92/G94 single cycles, G50, no G91 (docs/lathe-gcode.md "G code
+    /// systems"); `false`: system B, as LinuxCNC's lathe reads. Only with the Fanuc dialect.
+    pub system_a: bool,
 }
 
 impl ChannelDesc {
@@ -62,6 +66,7 @@ impl ChannelDesc {
             encoder: 0,
             tools: Vec::new(),
             dialect: None,
+            system_a: false,
         }
     }
 
@@ -400,6 +405,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut workpiece = crate::workpiece::Workpiece::default();
     let mut tool_change_z = None;
     let mut dialect = None;
+    // Each channel's `gcode system A` line, by channel index: its line number.
+    let mut system_a: Vec<(usize, usize)> = Vec::new();
     let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
@@ -478,6 +485,29 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     )));
                 }
                 *slot = Some(d);
+            }
+            "gcode" => {
+                let a = match words.as_slice() {
+                    [_, "system", s] if s.eq_ignore_ascii_case("a") => true,
+                    [_, "system", s] if s.eq_ignore_ascii_case("b") => false,
+                    _ => {
+                        return Err(e(
+                            "gcode takes system A or system B (Fanuc's lathe G code systems)"
+                                .into(),
+                        ))
+                    }
+                };
+                if !in_channel {
+                    return Err(e(
+                        "gcode system: a lathe channel's line (write 'channel NAME' first)".into(),
+                    ));
+                }
+                let ch = channels.len() - 1;
+                if system_a.iter().any(|&(c, _)| c == ch) {
+                    return Err(e("the gcode system is given twice in this channel".into()));
+                }
+                // System B is kept as said (0), so that a second line is refused.
+                system_a.push((ch, if a { ln } else { 0 }));
             }
             "common" | "decimal" => {
                 // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
@@ -638,6 +668,18 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             // The machine's dialect line says it for the channels that do not.
             for ch in &mut channels {
                 ch.dialect = ch.dialect.or(dialect);
+            }
+            // System A is Fanuc's: LinuxCNC's lathe has system B only.
+            for &(c, ln) in system_a.iter().filter(|s| s.1 > 0) {
+                let Some(ch) = channels.get_mut(c) else {
+                    continue;
+                };
+                if ch.dialect != Some(crate::settings::Dialect::Fanuc) {
+                    return Err(format!(
+                        "{ln}: gcode system A is Fanuc's G code system: give 'dialect fanuc' in this channel or before the channels (LinuxCNC's lathe reads system B only)"
+                    ));
+                }
+                ch.system_a = true;
             }
             lathe(name, pulse_mm, tick_us, channels, &links)
         }

@@ -37,6 +37,7 @@ pub fn channel(name: &str) -> ChannelDesc {
             })
             .collect(),
         dialect: None,
+        system_a: false,
     }
 }
 

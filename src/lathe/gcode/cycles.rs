@@ -34,27 +34,107 @@ fn refuse(w: &Words, letters: &str, n: u32, what: &str) -> Result<(), TranslateE
     Ok(())
 }
 
-/// The depths of a G76's passes, mm below the thread's peak: J·k^(1/R) while below K, then
-/// K, then H spring passes at K (LinuxCNC 2.9).
-pub fn g76_depths(j: f64, k: f64, r: f64, h: u32) -> Option<Vec<f64>> {
+/// The depths of a G76's passes, mm below the thread's crest: `j`·n^(1/`r`) for n = 1, 2, …,
+/// each at least `step` deeper than the one before, while below `k` − `allowance`; then
+/// `k` − `allowance`; then `finish` passes at `k`. LinuxCNC 2.9's G76 is J, K, R and H spring
+/// passes with no step and no allowance; Fanuc's two-block G76 is Δd, k, 2 (Δd·√n), m
+/// finishing passes, Δdmin and d (docs/lathe-gcode.md "G76, Fanuc's two-block form").
+pub fn g76_depths(
+    j: f64,
+    k: f64,
+    r: f64,
+    finish: u32,
+    step: f64,
+    allowance: f64,
+) -> Option<Vec<f64>> {
+    let rough = k - allowance;
     let mut v = Vec::new();
     let mut i = 1.0f64;
+    let mut last = 0.0f64;
     loop {
-        let d = j * i.powf(1.0 / r);
-        if d >= k - 1e-9 {
+        let d = (j * i.powf(1.0 / r)).max(last + step);
+        if d >= rough - 1e-9 {
             break;
         }
         if v.len() >= MAX_PASSES {
             return None;
         }
         v.push(d);
+        last = d;
         i += 1.0;
     }
-    v.push(k);
-    for _ in 0..h {
+    v.push(rough);
+    for _ in 0..finish {
         v.push(k);
     }
     (v.len() <= MAX_PASSES).then_some(v)
+}
+
+/// One thread's passes, as both forms of G76 make them.
+struct Passes {
+    /// The drive line: where the tool stood when the cycle started, `[Z, X]`.
+    start: [f64; 2],
+    /// The thread's end Z.
+    z_end: f64,
+    /// The crest's offset from the drive line at the thread's end (radius; negative
+    /// outside, positive in a bore).
+    crest: f64,
+    /// The depths, mm below the crest.
+    depths: Vec<f64>,
+    /// The thread's full depth.
+    full: f64,
+    /// tan of the compound angle (0: straight in).
+    tan_q: f64,
+    /// The lead, mm per revolution.
+    lead: f64,
+    /// Fanuc: each pass retracts to the drive line and the cycle ends where it started;
+    /// LinuxCNC: the retract lies `full` − depth beyond the drive line and the cycle ends at
+    /// the drive line at `z_end`.
+    fanuc: bool,
+    /// Fanuc's taper, the radius at the start of the cut less the radius at its end.
+    taper: f64,
+    /// Fanuc's chamfer (thread pull-out): the last `chamfer` mm of Z leave at 45°.
+    chamfer: f64,
+}
+
+/// The passes (LinuxCNC 2.9's `threading_pass`, interp_convert.cc): back to the retract X
+/// at the start Z, in to the depth, the synchronised cut to Z (a 45° pull-out over its last
+/// `chamfer` mm), out to the retract X.
+fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), TranslateError> {
+    let sign = p.crest.signum();
+    let first = p.depths.first().copied().unwrap_or(0.0);
+    let dz = (p.z_end - p.start[0]).signum();
+    let length = (p.z_end - p.start[0]).abs();
+    for &d in &p.depths {
+        let x = p.start[1] + p.crest + sign * d;
+        let back = if p.fanuc {
+            p.start[1]
+        } else {
+            p.start[1] - sign * (p.full - d)
+        };
+        // Q, the compound angle: each pass starts and ends (depth - first)·tan(Q) further
+        // along -Z than the first, so the tool goes down one flank (LinuxCNC's zoff).
+        let zoff = (d - first) * p.tan_q;
+        let (z0, z1) = (p.start[0] - zoff, p.z_end - zoff);
+        r.out.motion(mv(Kind::Rapid, [z0, back], n, c))?;
+        r.out.motion(mv(Kind::Rapid, [z0, x + p.taper], n, c))?;
+        if p.chamfer > 0.0 {
+            let at = x + p.taper * p.chamfer / length;
+            r.out
+                .motion(mv(Kind::Thread(p.lead), [z1 - dz * p.chamfer, at], n, c))?;
+            r.out
+                .motion(mv(Kind::Thread(p.lead), [z1, x - sign * p.chamfer], n, c))?;
+        } else {
+            r.out.motion(mv(Kind::Thread(p.lead), [z1, x], n, c))?;
+        }
+        r.out.motion(mv(Kind::Rapid, [z1, back], n, c))?;
+    }
+    let end = if p.fanuc {
+        p.start
+    } else {
+        [p.z_end, p.start[1]]
+    };
+    r.out.motion(mv(Kind::Rapid, end, n, c))
 }
 
 /// G76 P Z I J K [R] [H] [Q] [E0] [L]: threading passes from the drive line (where the
@@ -158,29 +238,26 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             "G76 Z is where the tool stands: a thread needs a length",
         ));
     }
-    let Some(depths) = g76_depths(j, k, deg, h as u32) else {
+    let Some(depths) = g76_depths(j, k, deg, h as u32, 0.0, 0.0) else {
         return Err(err(
             n,
             c,
             format!("G76 makes more than {MAX_PASSES} passes: deepen J or raise R"),
         ));
     };
-    // LinuxCNC 2.9's passes (interp_convert.cc, threading_pass): back to the retract X at the
-    // start Z, in to the depth, the synchronised cut to Z, out to the retract X; the retract
-    // X lies (K - depth) beyond the drive line. Then to the drive line at Z.
-    let sign = i.signum();
-    let first = depths.first().copied().unwrap_or(0.0);
-    for d in depths {
-        let x = start[1] + i + sign * d;
-        let back = start[1] - sign * (k - d);
-        let zoff = (d - first) * tan_q;
-        let (z0, z1) = (start[0] - zoff, z_end - zoff);
-        r.out.motion(mv(Kind::Rapid, [z0, back], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [z0, x], n, c))?;
-        r.out.motion(mv(Kind::Thread(pitch), [z1, x], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [z1, back], n, c))?;
-    }
-    r.out.motion(mv(Kind::Rapid, [z_end, start[1]], n, c))
+    let passes = Passes {
+        start,
+        z_end,
+        crest: i,
+        depths,
+        full: k,
+        tan_q,
+        lead: pitch,
+        fanuc: false,
+        taper: 0.0,
+        chamfer: 0.0,
+    };
+    thread_passes(r, &passes, n, c)
 }
 
 fn profile_lines(
@@ -472,4 +549,266 @@ fn z_at(segs: &[Mv], x: f64, sx: f64) -> Option<f64> {
         }
     }
     None
+}
+
+/// Fanuc's two-block G76 (0i-T, "Multiple repetitive cycle: threading"), in Fanuc's dialect:
+/// `G76 P(m)(r)(a) Q(Δdmin) R(d)` keeps the finishing passes m, the chamfer r (0.1 leads),
+/// the tool angle a, the least cut Δdmin and the finishing allowance d; `G76 X(U) Z(W) R(i)
+/// P(k) Q(Δd) F(L)` cuts the thread from where the tool stands to the root X at Z, with the
+/// taper i, the height k (least increments), the first cut Δd and the lead L, in LinuxCNC's
+/// passes (docs/lathe-gcode.md "G76, Fanuc's two-block form").
+pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+    for l in ['I', 'J', 'K'] {
+        if let Some(col) = w.col(l) {
+            return Err(err(
+                n,
+                col,
+                format!("G76 {l}: a word of LinuxCNC's one-block G76; in Fanuc's dialect G76 is Fanuc's two-block form (G76 P(m)(r)(a) Q R, then G76 X Z R P Q F)"),
+            ));
+        }
+    }
+    let col = |l: char| w.col(l).unwrap_or(c);
+    let whole = |v: f64| v.fract() == 0.0 && v.is_finite();
+    let f = r.st.factor();
+    let second = ['X', 'Z', 'U', 'W'].iter().any(|&l| w.get(l).is_some());
+    if !second {
+        refuse(w, "FDSHEL", n, "G76 P Q R (Fanuc's first block)")?;
+        let mut g = r.st.g76.unwrap_or_default();
+        if let Some(p) = w.get('P') {
+            let (m, ch, a) = (
+                (p / 10_000.0).floor(),
+                ((p / 100.0).floor()) % 100.0,
+                p % 100.0,
+            );
+            let ok = whole(p)
+                && (0.0..=999_999.0).contains(&p)
+                && (1.0..=99.0).contains(&m)
+                && a <= 80.0;
+            if !ok {
+                return Err(err(
+                    n,
+                    col('P'),
+                    format!(
+                        "G76 P{}: six digits mmrraa: m the finishing passes 01 to 99, r the chamfer in tenths of the lead 00 to 99, a the tool's angle 00 to 80 (P021060)",
+                        crate::input_text::short_number(p)
+                    ),
+                ));
+            }
+            g.m = m as u32;
+            g.chamfer = ch / 10.0;
+            g.angle = a;
+        }
+        if let Some(q) = w.get('Q') {
+            if !(0.0..1000.0).contains(&q) {
+                return Err(err(
+                    n,
+                    col('Q'),
+                    "G76 Q, the least cut Δdmin, must not be negative",
+                ));
+            }
+            g.step = q * f;
+        }
+        if let Some(d) = w.get('R') {
+            if !(0.0..1000.0).contains(&d) {
+                return Err(err(
+                    n,
+                    col('R'),
+                    "G76 R, the finishing allowance d, must not be negative",
+                ));
+            }
+            g.allowance = d * f;
+        }
+        r.st.g76 = Some(g);
+        return Ok(());
+    }
+    refuse(w, "DSHEL", n, "G76 X Z R P Q F (Fanuc's second block)")?;
+    let Some(g) = r.st.g76 else {
+        return Err(err(
+            n,
+            c,
+            "G76 X Z needs Fanuc's first G76 block (G76 P(m)(r)(a) Q R) before it",
+        ));
+    };
+    if r.out.comp_on() {
+        return Err(err(
+            n,
+            c,
+            "G76 with nose-radius compensation in force: give G40 first",
+        ));
+    }
+    if r.st.stopped() {
+        return Err(err(n, c, "G76 with the spindle stopped: give M03 or M04"));
+    }
+    let start = r.out.pos;
+    let end = r.target(w, n)?;
+    let taper = w.get('R').unwrap_or(0.0) * f;
+    // P, the thread's height, in least increments whatever is written (Fanuc).
+    let inc = if r.st.inch { 0.0001 } else { 0.001 };
+    let p = need(w, 'P', n, c, "G76 (second block)")?;
+    if !(whole(p) && p > 0.0 && p < 1e9) {
+        return Err(err(
+            n,
+            col('P'),
+            format!(
+                "G76 P{}: the thread's height k, a whole number of least increments above 0 (P975 is 0.975 mm)",
+                crate::input_text::short_number(p)
+            ),
+        ));
+    }
+    let k = p * inc * f;
+    let q = need(w, 'Q', n, c, "G76 (second block)")? * f;
+    if !(q > 0.0 && q < 1000.0) {
+        return Err(err(n, col('Q'), "G76 Q, the first cut Δd, must be above 0"));
+    }
+    if g.allowance >= k {
+        return Err(err(
+            n,
+            col('P'),
+            "G76 P, the thread's height, must be greater than the finishing allowance (the first block's R)",
+        ));
+    }
+    let Some(lead) = r.st.feed.filter(|l| *l > 0.0 && *l <= 100.0) else {
+        return Err(err(
+            n,
+            col('F'),
+            "G76 needs F, the lead, above 0 and at most 100 mm",
+        ));
+    };
+    if (end[0] - start[0]).abs() < 1e-9 {
+        return Err(err(
+            n,
+            c,
+            "G76 Z is where the tool stands: a thread needs a length",
+        ));
+    }
+    // X is the root; the crest lies k beyond it, towards the start point.
+    let outside = end[1] < start[1];
+    let crest = if outside { end[1] + k } else { end[1] - k };
+    let clear = if outside {
+        start[1] - (crest + taper.max(0.0))
+    } else {
+        (crest + taper.min(0.0)) - start[1]
+    };
+    if clear <= 1e-9 || (end[1] - start[1]).abs() < 1e-9 {
+        return Err(err(
+            n,
+            c,
+            "G76: the start point must stand clear of the thread, beyond its crest (the root X less or more the height P)",
+        ));
+    }
+    let chamfer = g.chamfer * lead;
+    if chamfer >= (end[0] - start[0]).abs() {
+        return Err(err(
+            n,
+            c,
+            "G76: the chamfer (the first block's r, in tenths of the lead) is as long as the thread",
+        ));
+    }
+    let Some(depths) = g76_depths(q, k, 2.0, g.m, g.step, g.allowance) else {
+        return Err(err(
+            n,
+            c,
+            format!("G76 makes more than {MAX_PASSES} passes: deepen Q or raise the least cut"),
+        ));
+    };
+    let passes = Passes {
+        start,
+        z_end: end[0],
+        crest: crest - start[1],
+        depths,
+        full: k,
+        tan_q: (g.angle / 2.0).to_radians().tan(),
+        lead,
+        fanuc: true,
+        taper,
+        chamfer,
+    };
+    thread_passes(r, &passes, n, c)
+}
+
+/// Fanuc's G code system A single cycles (0i-T, "Single repetitive cycle"): G90 turning,
+/// G92 threading and G94 facing, each a box from where the tool stands to X(U) Z(W), R the
+/// taper, its end and R kept for the lines after it that give X, Z, U or W.
+pub fn single(r: &mut Reader, g: u32, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+    let name = match g {
+        900 => "G90",
+        920 => "G92",
+        _ => "G94",
+    };
+    if r.in_cycle {
+        return Err(err(n, c, format!("{name} inside a G70/G71 profile")));
+    }
+    if r.out.comp_on() {
+        return Err(err(
+            n,
+            c,
+            format!("{name} with nose-radius compensation in force: give G40 first"),
+        ));
+    }
+    let s = r.out.pos;
+    let mut e = r.target(w, n)?;
+    let last = r.st.single;
+    if let Some(l) = last {
+        // What the line does not give is the cycle's last (Fanuc: X, Z and R are modal).
+        if w.get('X').is_none() && w.get('U').is_none() {
+            e[1] = l[1];
+        }
+        if w.get('Z').is_none() && w.get('W').is_none() {
+            e[0] = l[0];
+        }
+    }
+    let taper = match w.get('R') {
+        Some(v) => v * r.st.factor(),
+        None => last.map_or(0.0, |l| l[2]),
+    };
+    r.st.single = Some([e[0], e[1], taper]);
+    if (e[0] - s[0]).abs() < 1e-9 || (e[1] - s[1]).abs() < 1e-9 {
+        return Err(err(
+            n,
+            c,
+            format!(
+                "{name} ends where the tool stands in {}: the cycle needs a length in X and in Z",
+                if (e[0] - s[0]).abs() < 1e-9 { 'Z' } else { 'X' }
+            ),
+        ));
+    }
+    let kind = if g == 920 {
+        if r.st.stopped() {
+            return Err(err(n, c, "G92 with the spindle stopped: give M03 or M04"));
+        }
+        match r.st.feed.filter(|l| *l > 0.0 && *l <= 100.0) {
+            Some(lead) => Kind::Thread(lead),
+            None => {
+                return Err(err(
+                    n,
+                    w.col('F').unwrap_or(c),
+                    "G92 needs F, the lead, above 0 and at most 100 mm",
+                ))
+            }
+        }
+    } else {
+        Kind::Line(r.feed_in_force(n, c)?)
+    };
+    let moves = if g == 940 {
+        // In along Z (to Z + R), down X, back along Z, out along X.
+        [
+            (Kind::Rapid, [e[0] + taper, s[1]]),
+            (kind, e),
+            (kind, [s[0], e[1]]),
+            (Kind::Rapid, s),
+        ]
+    } else {
+        // In along X (to X + R), the cut along Z, out along X (G92 rapid), back along Z.
+        let out = if g == 920 { Kind::Rapid } else { kind };
+        [
+            (Kind::Rapid, [s[0], e[1] + taper]),
+            (kind, e),
+            (out, [e[0], s[1]]),
+            (Kind::Rapid, s),
+        ]
+    };
+    for (k, p) in moves {
+        r.out.motion(mv(k, p, n, c))?;
+    }
+    Ok(())
 }

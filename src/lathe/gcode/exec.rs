@@ -3,7 +3,7 @@
 //! dwell, plane, units, diameter mode, compensation, distance mode, motion, stops.
 
 use super::out::{self, Feed, Kind, Mv, Out};
-use super::{cycles, grooving, ReadOptions, LATHE};
+use super::{cycles, grooving, ReadOptions, LATHE, LATHE_A};
 use crate::block::{Css, FeedMode, Sync, TranslateError};
 use crate::gcode::flow::Pos;
 use crate::gcode::words::{sort_words_in, Words};
@@ -38,6 +38,45 @@ pub struct State {
     pub g71: Option<(f64, f64)>,
     /// G74/G75's return after each peck (their first block's R), mm.
     pub peck_return: f64,
+    /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
+    pub g76: Option<FanucG76>,
+    /// Where the program's zero lies, `[Z, X]` mm (X a radius), in the coordinates the
+    /// channel starts in (its work coordinates): moved by system A's `G50 X Z`.
+    pub origin: [f64; 2],
+    /// System A's single cycle (G90, G92, G94) last given: its end `[Z, X]` and taper R, kept
+    /// for the lines after it (Fanuc: X, Z and R are modal in the cycle).
+    pub single: Option<[f64; 3]>,
+}
+
+/// What Fanuc's first G76 block keeps (0i-T: parameters 5140–5143 otherwise): the finishing
+/// passes m, the chamfer r in leads, the tool's angle a (degrees), the least cut Δdmin and
+/// the finishing allowance d, mm radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FanucG76 {
+    /// m: the passes at the full depth, 1 to 99.
+    pub m: u32,
+    /// r: the chamfer, in leads (r / 10).
+    pub chamfer: f64,
+    /// a: the tool's angle, 0 to 80 degrees.
+    pub angle: f64,
+    /// Δdmin: the least cut, mm.
+    pub step: f64,
+    /// d: the finishing allowance, mm.
+    pub allowance: f64,
+}
+
+impl Default for FanucG76 {
+    /// What a first block that gives nothing keeps: one finishing pass, no chamfer, the tool
+    /// straight in (angle 0), no least cut, no allowance.
+    fn default() -> FanucG76 {
+        FanucG76 {
+            m: 1,
+            chamfer: 0.0,
+            angle: 0.0,
+            step: 0.0,
+            allowance: 0.0,
+        }
+    }
 }
 
 impl State {
@@ -57,6 +96,9 @@ impl State {
             limit: max,
             g71: None,
             peck_return: 0.0,
+            g76: None,
+            origin: [0.0, 0.0],
+            single: None,
         }
     }
 
@@ -133,10 +175,17 @@ pub struct Reader<'a> {
     pub in_cycle: bool,
     /// M02/M30 was read.
     pub ended: bool,
-    /// Fanuc's dialect: the letters of the line being executed written as plain numbers
-    /// (`read::Line::plain`), and of those the ones written with a decimal point: the one
-    /// reader read X, Z, U, W, I, K, R and Q without a point in least increments.
-    pub plain: (u32, u32),
+    /// The program is read in Fanuc's dialect (G76 is Fanuc's two-block form).
+    pub fanuc: bool,
+    /// Fanuc's G code system A (docs/lathe-gcode.md "G code systems").
+    pub system_a: bool,
+    /// Fanuc's dialect: the letters of the line being executed whose number was written
+    /// without a decimal point, so read in least increments where the letter is a length
+    /// (`read::Line::plain` less `pointed`).
+    pub unpointed: u32,
+    /// Fanuc's dialect: the letters of the line being executed written as plain numbers with
+    /// a decimal point (`read::Line::plain` and `pointed`).
+    pub pointed: u32,
 }
 
 /// An error at a line and column.
@@ -162,8 +211,9 @@ impl Motion for Reader<'_> {
         lines: &mut dyn Lines,
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
-        self.note_q(line);
-        let w = sort_words_in(line, n, &LATHE)?;
+        let w = sort_words_in(line, n, self.dialect())?;
+        self.unpointed = line.plain & !line.pointed;
+        self.pointed = line.plain & line.pointed;
         let flow = self.execute(&w, n, at.line, lines);
         lines.units(self.st.inch);
         Ok(match flow? {
@@ -188,6 +238,15 @@ impl Motion for Reader<'_> {
 }
 
 impl Reader<'_> {
+    /// The letters and codes the program is read with: system B's, or system A's.
+    fn dialect(&self) -> &'static crate::gcode::words::Dialect {
+        if self.system_a {
+            &LATHE_A
+        } else {
+            &LATHE
+        }
+    }
+
     /// Runs lines `from..to` (indices) of a G70/G71 profile, each read by `lines` (the one
     /// reader: parameters, messages, the bound on lines executed).
     pub fn run_range(
@@ -217,11 +276,6 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// Notes how the line's numbers were written ([`Reader::plain`]).
-    fn note_q(&mut self, l: &read::Line) {
-        self.plain = (l.plain, l.pointed);
-    }
-
     /// The least increment, program units (Fanuc's numbers without a point).
     pub fn increment(&self) -> f64 {
         if self.st.inch {
@@ -233,21 +287,20 @@ impl Reader<'_> {
 
     /// Whether letter `l` of the line was written as a plain number without a decimal point
     /// (Fanuc's dialect only).
-    pub fn unpointed(&self, l: char) -> bool {
-        let b = read::letter_bit(l);
-        self.plain.0 & b != 0 && self.plain.1 & b == 0
+    pub fn written_without_point(&self, l: char) -> bool {
+        self.unpointed & read::letter_bit(l) != 0
     }
 
     /// Whether letter `l` of the line was written with a decimal point (Fanuc's dialect only).
-    pub fn pointed(&self, l: char) -> bool {
-        self.plain.1 & read::letter_bit(l) != 0
+    pub fn written_with_point(&self, l: char) -> bool {
+        self.pointed & read::letter_bit(l) != 0
     }
 
     /// Letter `l`'s value as written: where the one reader took a number without a point in
     /// least increments (X, Z, U, W, I, K, R, Q in Fanuc's dialect), the number itself (a G70
     /// or G71 `Q20` is N20, not 0.020).
     pub fn as_written(&self, l: char, v: f64) -> f64 {
-        if self.unpointed(l) && read::FANUC_INCREMENT_LETTERS.contains(&(l as u8)) {
+        if self.written_without_point(l) && read::FANUC_INCREMENT_LETTERS.contains(&(l as u8)) {
             (v / self.increment()).round()
         } else {
             v
@@ -268,8 +321,9 @@ impl Reader<'_> {
         if l.percent || l.words.is_empty() {
             return Ok(Flow::Next);
         }
-        self.note_q(&l);
-        let w = sort_words_in(&l, n, &LATHE)?;
+        let w = sort_words_in(&l, n, self.dialect())?;
+        self.unpointed = l.plain & !l.pointed;
+        self.pointed = l.plain & l.pointed;
         let flow = self.execute(&w, n, i, lines);
         lines.units(self.st.inch);
         flow
@@ -302,8 +356,11 @@ impl Reader<'_> {
                 210 => self.st.inch = false,
                 70 => self.st.diameter = true,
                 80 => self.st.diameter = false,
-                940 => self.st.per_rev = false,
+                // In system A, G94 is the facing cycle (G95 is refused by its dialect).
+                940 if !self.system_a => self.st.per_rev = false,
                 950 => self.st.per_rev = true,
+                980 => self.st.per_rev = false,
+                990 => self.st.per_rev = true,
                 _ => {}
             }
         }
@@ -348,7 +405,15 @@ impl Reader<'_> {
             self.st.limit = d;
             spindle = true;
         }
-        if let Some(s) = w.get('S') {
+        if let Some(c) = w.has_g(500) {
+            // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T); X Z set the
+            // coordinate system.
+            for l in ['S', 'X', 'Z', 'U', 'W'] {
+                use_(l);
+            }
+            self.g50(w, n, c)?;
+            spindle = w.get('S').is_some();
+        } else if let Some(s) = w.get('S') {
             use_('S');
             if !(s >= 0.0 && s.is_finite()) {
                 return Err(err(
@@ -520,7 +585,7 @@ impl Reader<'_> {
                 400 => self.out.comp_stop(),
                 410 => self.out.comp_start(true, n, c)?,
                 420 => self.out.comp_start(false, n, c)?,
-                900 => self.st.absolute = true,
+                900 if !self.system_a => self.st.absolute = true,
                 910 => self.st.absolute = false,
                 _ => {}
             }
@@ -529,10 +594,15 @@ impl Reader<'_> {
         let motion_code =
             w.g.as_slice()
                 .iter()
-                .find(|x| matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760))
+                .find(|x| {
+                    matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760)
+                        || (self.system_a && matches!(x.0, 900 | 920 | 940))
+                })
                 .copied();
         let mut flow = Flow::Next;
-        let axes = ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
+        // G50's X and Z set the coordinate system: nothing moves.
+        let axes =
+            w.has_g(500).is_none() && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
         match motion_code {
             Some((g @ (740 | 750), c)) => {
                 for l in ['P', 'Q', 'U', 'W', 'R', 'X', 'Z'] {
@@ -554,6 +624,10 @@ impl Reader<'_> {
                     return Err(err(n, c, format!("G{} inside a G70/G71 profile", g / 10)));
                 }
                 flow = match g {
+                    760 if self.fanuc => {
+                        cycles::g76_fanuc(self, w, n, c)?;
+                        Flow::Next
+                    }
                     760 => {
                         cycles::g76(self, w, n, c)?;
                         Flow::Next
@@ -564,6 +638,10 @@ impl Reader<'_> {
             }
             _ => {
                 if let Some((g, c)) = motion_code {
+                    if self.st.motion != Some(g) {
+                        // A single cycle's kept end and taper last while its code is in force.
+                        self.st.single = None;
+                    }
                     self.st.motion = Some(g);
                     if !axes {
                         // A motion code alone sets the mode (LinuxCNC refuses G01 alone
@@ -593,9 +671,14 @@ impl Reader<'_> {
                     match g {
                         20 | 30 => ['I', 'K', 'R'].into_iter().for_each(&mut use_),
                         330 => use_('K'),
+                        900 | 920 | 940 => use_('R'),
                         _ => {}
                     }
-                    self.motion(g, w, n, mc)?;
+                    if matches!(g, 900 | 920 | 940) {
+                        cycles::single(self, g, w, n, mc)?;
+                    } else {
+                        self.motion(g, w, n, mc)?;
+                    }
                 } else if w.get('I').is_some() || w.get('K').is_some() || w.get('R').is_some() {
                     let c = w.col('I').or(w.col('K')).or(w.col('R')).unwrap_or(1);
                     return Err(err(n, c, "I, K or R without an X or Z end point"));
@@ -656,7 +739,7 @@ impl Reader<'_> {
         let mut x = w.get('X').is_some() || w.get('U').is_some();
         let mut z = w.get('Z').is_some() || w.get('W').is_some();
         if !x && !z {
-            if self.chan.dialect == Some(crate::settings::Dialect::Fanuc) {
+            if self.fanuc {
                 return Err(err(
                     n,
                     c,
@@ -690,6 +773,59 @@ impl Reader<'_> {
             end[1] = self.chan.axes[0].travel[1] - off[1];
         }
         self.out.motion(rapid(mid, end))
+    }
+
+    /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
+    /// `G50 X Z` sets the coordinate system: the point where the tool stands becomes X Z.
+    fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        for l in ['U', 'W'] {
+            if let Some(col) = w.col(l) {
+                return Err(err(
+                    n,
+                    col,
+                    format!("G50 {l}: shifting the coordinate system by increments is not supported: give G50 X Z, where the tool stands"),
+                ));
+            }
+        }
+        let f = self.st.factor();
+        let dia = if self.st.diameter { 2.0 } else { 1.0 };
+        for (i, l) in [(0, 'Z'), (1, 'X')] {
+            if let Some(v) = w.get(l) {
+                let v = v * f / if l == 'X' { dia } else { 1.0 };
+                let o = self.out.pos[i] - v;
+                if !(o.is_finite() && o.abs() < 1e6) {
+                    return Err(err(
+                        n,
+                        w.col(l).unwrap_or(c),
+                        "the G50 point is not a reasonable number",
+                    ));
+                }
+                self.st.origin[i] = o;
+            }
+        }
+        let Some(s) = w.get('S') else {
+            if w.get('X').is_some() || w.get('Z').is_some() {
+                return Ok(());
+            }
+            return Err(err(
+                n,
+                c,
+                "G50 needs S (the spindle limit under G96, rpm) or X Z (the point where the tool stands)",
+            ));
+        };
+        if !(s > 0.0 && s <= self.chan.max_rpm) {
+            return Err(err(
+                n,
+                w.col('S').unwrap_or(c),
+                format!(
+                    "G50 S{}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                    crate::input_text::short_number(s),
+                    self.chan.max_rpm
+                ),
+            ));
+        }
+        self.st.limit = s;
+        Ok(())
     }
 
     /// M98 P L: the call of subprogram O`P`, `L` times (the mill's bounds).

@@ -7,7 +7,6 @@ use super::out::{Kind, Mv};
 use super::MAX_STEPS;
 use crate::block::TranslateError;
 use crate::gcode::words::Words;
-use crate::settings::Dialect;
 
 fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
     Mv {
@@ -28,7 +27,7 @@ fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
 /// without a decimal point (0i-T: `P1000` is 1.000 mm), P as a radius.
 pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow, TranslateError> {
     let name = format!("G{}", g / 10);
-    if r.chan.dialect != Some(Dialect::Fanuc) {
+    if !r.fanuc {
         return Err(err(
             n,
             c,
@@ -65,8 +64,8 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
         return Ok(Flow::Next);
     }
     // P (Δi) is not read in increments by the reader (it is not a length elsewhere); Q (Δk) is.
-    if r.pointed('P') || r.pointed('Q') {
-        let l = if r.pointed('P') { 'P' } else { 'Q' };
+    if r.written_with_point('P') || r.written_with_point('Q') {
+        let l = if r.written_with_point('P') { 'P' } else { 'Q' };
         return Err(err(
             n,
             w.col(l).unwrap_or(c),

@@ -56,6 +56,35 @@ pub const LATHE: Dialect = Dialect {
     letter_hint: " (the lathe has the axes X and Z; U and W are incremental X and Z)",
 };
 
+/// The lathe dialect in Fanuc's G code system A (a channel's `gcode system A`,
+/// docs/lathe-gcode.md "G code systems"): G90, G92 and G94 are the single cycles of group 1,
+/// G98/G99 the feeds, G50 the spindle limit; G91 and G95 do not exist.
+pub const LATHE_A: Dialect = Dialect {
+    g_group: lathe_a_g_group,
+    g_why: lathe_a_g_why,
+    ..LATHE
+};
+
+fn lathe_a_g_group(g: u32) -> Option<u8> {
+    match g {
+        900 | 920 | 940 => Some(1),
+        980 | 990 => Some(5),
+        500 => Some(0),
+        910 | 950 => None,
+        _ => lathe_g_group(g),
+    }
+}
+
+fn lathe_a_g_why(g: u32) -> &'static str {
+    match g {
+        910 => " (G code system A has no G91: U and W are the increments, X and Z absolute)",
+        950 => " (in G code system A the feeds are G98 per minute and G99 per revolution)",
+        921..=923 => " (G92 is the threading cycle in G code system A)",
+        930 => " (inverse-time feed is not supported: G98 or G99)",
+        _ => lathe_g_why(g),
+    }
+}
+
 fn lathe_g_group(g: u32) -> Option<u8> {
     Some(match g {
         0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760 => 1,
@@ -96,6 +125,8 @@ fn lathe_g_why(g: u32) -> &'static str {
         800..=890 => " (drilling cycles are not supported on the lathe)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
         530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",
+        500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is D)",
+        980 | 990 => " (G98 and G99 are the feeds of Fanuc's G code system A: in system B, G94 per minute and G95 per revolution)",
         _ => "",
     }
 }
@@ -176,6 +207,7 @@ pub fn read_program_in(
             n_lines.entry(n).or_insert(i);
         }
     }
+    let dialect = dialect.or(chan.dialect).unwrap_or_default();
     let mut r = exec::Reader {
         desc,
         ch,
@@ -188,12 +220,19 @@ pub fn read_program_in(
         out: out::Out::new(desc, ch),
         in_cycle: false,
         ended: false,
-        plain: (0, 0),
+        fanuc: dialect == crate::settings::Dialect::Fanuc,
+        // System A is Fanuc's: a program kept in LinuxCNC's dialect reads system B.
+        system_a: chan.system_a && dialect == crate::settings::Dialect::Fanuc,
+        unpointed: 0,
+        pointed: 0,
     };
+    if r.system_a {
+        r.out.feed_codes = ("G98", "G99");
+    }
     // The one reader (`crate::gcode`) runs the program's flow and parameters, in the
     // channel's dialect; the lathe's reader executes each line's words.
     let settings = crate::settings::MachineSettings {
-        dialect: dialect.or(chan.dialect).unwrap_or_default(),
+        dialect,
         ..Default::default()
     };
     let magazine = crate::tooldata::Magazine::load(crate::tooldata::TCodeTable::new(0), &[]);

@@ -9,7 +9,8 @@ use crate::gcode::words::Words;
 use crate::input_text::fixed;
 
 impl Reader<'_> {
-    /// The end point of a move from X/U and Z/W, `[Z, X]` mm (X a radius).
+    /// The end point of a move from X/U and Z/W, `[Z, X]` mm (X a radius), absolute X and Z
+    /// from the program's zero (`State::origin`, moved by system A's G50 X Z).
     pub fn target(&self, w: &Words, n: u32) -> Result<[f64; 2], TranslateError> {
         let f = self.st.factor();
         let dia = if self.st.diameter { 2.0 } else { 1.0 };
@@ -30,14 +31,22 @@ impl Reader<'_> {
         }
         if let Some(x) = w.get('X') {
             let v = x * f / dia;
-            p[1] = if self.st.absolute { v } else { p[1] + v };
+            p[1] = if self.st.absolute {
+                self.st.origin[1] + v
+            } else {
+                p[1] + v
+            };
         }
         if let Some(u) = w.get('U') {
             p[1] += u * f / dia;
         }
         if let Some(z) = w.get('Z') {
             let v = z * f;
-            p[0] = if self.st.absolute { v } else { p[0] + v };
+            p[0] = if self.st.absolute {
+                self.st.origin[0] + v
+            } else {
+                p[0] + v
+            };
         }
         if let Some(wv) = w.get('W') {
             p[0] += wv * f;
@@ -58,7 +67,10 @@ impl Reader<'_> {
             return Err(err(
                 n,
                 c,
-                "a feed per revolution (G95) with the spindle stopped: give M03 or M04",
+                format!(
+                    "a feed per revolution ({}) with the spindle stopped: give M03 or M04",
+                    self.out.feed_codes.1
+                ),
             ));
         }
         Ok(feed)

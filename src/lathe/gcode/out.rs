@@ -115,6 +115,9 @@ pub struct Out<'a> {
     css: Option<Css>,
     /// M02 or M30 was emitted: nothing follows it.
     ended: bool,
+    /// The feed codes, per minute and per revolution, the messages name: G94 and G95 (G code
+    /// system B), or G98 and G99 (system A).
+    pub feed_codes: (&'static str, &'static str),
 }
 
 impl<'a> Out<'a> {
@@ -137,6 +140,7 @@ impl<'a> Out<'a> {
             speed: (0.0, None),
             css: None,
             ended: false,
+            feed_codes: ("G94", "G95"),
         }
     }
 
@@ -512,11 +516,13 @@ impl<'a> Out<'a> {
                         mv.line,
                         mv.col,
                         format!(
-                            "{} (G94 reads F per minute: G95 reads it per revolution)",
+                            "{} ({} reads F per minute: {} reads it per revolution)",
                             crate::limits::feed_too_slow(&format!(
                                 "F{}",
                                 crate::input_text::short_number(f)
-                            ))
+                            )),
+                            self.feed_codes.0,
+                            self.feed_codes.1
                         ),
                     ));
                 }
