@@ -14,12 +14,15 @@
 //! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses, blocks.
 //! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
+//! - [`sysvars`]: the machine state a program reads: Fanuc's system variables, LinuxCNC's
+//!   parameters from #5000 and predefined named parameters.
 
 pub mod comp;
 pub mod cycles;
 pub mod exec;
 pub mod moves;
 pub mod out;
+pub mod sysvars;
 
 #[cfg(test)]
 mod tests;
