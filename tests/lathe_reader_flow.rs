@@ -8,9 +8,9 @@ mod common;
 
 use novanc::block::{Block, Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc, CITIZEN};
-use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::lathe::gcode::{read_program, read_program_in, Parts, ReadOptions};
 use novanc::settings::Dialect;
-use novanc::store::lathe::{LatheStore, Program};
+use novanc::store::lathe::{Counter, LatheStore, Program};
 
 /// The Citizen, its description's first channel given `line` (`dialect fanuc`).
 fn citizen_with(line: &str) -> Result<LatheDesc, String> {
@@ -484,4 +484,47 @@ fn the_lathes_system_variables_are_refused_at_their_place() {
         let got = linuxcnc(text);
         assert!(got.starts_with(want), "{text}: {got}");
     }
+}
+
+#[test]
+fn the_part_counter_is_read_per_channel_as_it_stood_at_start() {
+    let text = "#1 = #3901\n#2 = #3902\n(abort, #1 #2)\n";
+    let desc = LatheDesc::citizen();
+    let opts = ReadOptions {
+        parts: Some(Parts::new(&[3, 1, 0], 10)),
+        ..Default::default()
+    };
+    let said = |ch: usize| match read_program_in(text, &desc, ch, &opts, Some(Dialect::Fanuc)) {
+        Ok(_) => "read without a refusal".to_string(),
+        Err(e) => e.to_string(),
+    };
+    assert_eq!(said(0), "3:1: (ABORT) 3.000000 10.000000");
+    assert_eq!(said(1), "3:1: (ABORT) 1.000000 10.000000");
+    // The console's START gives its counter (channel 1 has made 2 of 7).
+    use novanc::lathe::console::events::LatheEv;
+    use novanc::lathe::console::LatheConsole;
+    let state = common::temp_dir("lathe-reader-part-counter");
+    let p = Program {
+        name: "O1000.NGC".into(),
+        text: text.into(),
+        dialect: Some(Dialect::Fanuc),
+    };
+    match LatheStore::open(&state, &desc) {
+        Ok(mut o) => {
+            let c = Counter {
+                target: 7,
+                counts: vec![2, 0, 0],
+            };
+            let r = o
+                .store
+                .save_program(0, &p)
+                .and_then(|()| o.store.save_counter(&c));
+            r.unwrap_or_else(|e| panic!("{e}"));
+        }
+        Err(e) => panic!("{e}"),
+    }
+    let (mut c, _) =
+        LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
+    c.event(LatheEv::Start);
+    assert_eq!(c.message(), "CH1 O1000.NGC:3:1: (ABORT) 2.000000 7.000000");
 }
