@@ -447,6 +447,24 @@ G1 F100 X20
          10.000000 2.000000 1.000000 1.000000 100.000000 1000.000000 4.000000 10.000000 \
          180.000000 400.000000 0.000000 1.000000 1.000000"
     );
+    // A message prints them as the line reads them, and `######` for what the lathe
+    // refuses (the mill's machine position, its Y).
+    assert_eq!(
+        said(
+            "G0 X30. Z2.\n(abort, #5001 #5002 #4001 #5021)\n",
+            &desc,
+            Dialect::Fanuc
+        ),
+        "2:1: (ABORT) 30.000000 2.000000 0.000000 ######"
+    );
+    assert_eq!(
+        said(
+            "G0 X30 Z2\n(abort, #5420 #<_x> #<_z> #<_y>)\n",
+            &desc,
+            Dialect::LinuxCnc
+        ),
+        "2:1: (ABORT) 15.000000 15.000000 2.000000 ######"
+    );
 }
 
 #[test]
@@ -527,4 +545,26 @@ fn the_part_counter_is_read_per_channel_as_it_stood_at_start() {
         LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
     c.event(LatheEv::Start);
     assert_eq!(c.message(), "CH1 O1000.NGC:3:1: (ABORT) 2.000000 7.000000");
+}
+#[test]
+fn a_g70_profile_line_reads_the_block_end_position_too() {
+    // The profile's lines are read by the one reader for the cycle (`Lines::read_line`):
+    // N2 reads Z where N1 left it, 2, and goes to Z-3; G70 then returns to its start.
+    let program = "\
+T0101 M3 S1000
+G0 X20. Z2.
+G70 P1. Q2.
+M30
+N1 G1 X10. F100.
+N2 G1 Z[#5002 - 5.]
+";
+    assert_eq!(
+        move_ends(program, &LatheDesc::citizen(), Dialect::Fanuc),
+        [
+            [10_000, 2_000],
+            [5_000, 2_000],
+            [5_000, -3_000],
+            [10_000, 2_000]
+        ]
+    );
 }

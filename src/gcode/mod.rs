@@ -161,7 +161,8 @@ struct ParamEnv<'a> {
     flow: &'a Flow,
     /// The Fanuc dialect: its system variables (`sysvars`) are read.
     fanuc: bool,
-    magazine: &'a Magazine,
+    /// The mill's tool data (`None` on a back end's lines: the lathe keeps its own).
+    magazine: Option<&'a Magazine>,
     parts: Option<(u64, u64)>,
     first_code: Option<usize>,
     adp: &'a [u64],
@@ -251,11 +252,12 @@ impl Env for ParamEnv<'_> {
             if lathe_refuses(self.fanuc, n) {
                 return Err(lathe_refusal(self.fanuc, n));
             }
+            return Ok(self.st.param(n));
         }
-        if self.fanuc {
+        if let (true, Some(magazine)) = (self.fanuc, self.magazine) {
             let e = sysvars::SysEnv {
                 st: self.st,
-                magazine: self.magazine,
+                magazine,
                 parts: self.parts,
                 program: if matches!(n, 4115 | 4315) {
                     self.program_number()
@@ -423,7 +425,7 @@ macro_rules! param_env {
             st: &$s.st,
             flow: &$s.flow,
             fanuc: $s.settings.dialect == Dialect::Fanuc,
-            magazine: &$s.magazine,
+            magazine: Some(&$s.magazine),
             parts: $s.parts,
             first_code: $s.first_code,
             adp: &$s.adp,
@@ -1138,7 +1140,7 @@ impl GcodeSource {
                     message: m,
                 })?;
             if !self.flow.skipping() && !line.comments.is_empty() {
-                self.comments(n, &line.comments)?;
+                self.comments(n, &line.comments, motion.as_deref())?;
             }
             return Ok(None);
         }
@@ -1188,7 +1190,7 @@ impl GcodeSource {
             }
             return Ok(Some(self.finish(n, raw, out, false)));
         }
-        self.comments(n, &line.comments)?;
+        self.comments(n, &line.comments, motion.as_deref())?;
         if let Some(m) = line.fanuc {
             let (r, col) = match m {
                 read::Macro::Goto { n: seq, col } => (self.flow.goto(seq, at), col),
@@ -1703,13 +1705,41 @@ impl GcodeSource {
     }
 
     /// Runs a line's comments (MSG, PRINT, DEBUG, LOG, ABORT), their messages kept as events.
-    fn comments(&mut self, n: u32, comments: &[read::Comment]) -> Result<(), TranslateError> {
+    /// Runs line `n`'s messages; `back`: a back end other than the mill's executes the line,
+    /// and a message prints the machine state it keeps as the line reads it (`#5001`,
+    /// `#<_x>`), `######` for what it refuses.
+    fn comments(
+        &mut self,
+        n: u32,
+        comments: &[read::Comment],
+        back: Option<&dyn Motion>,
+    ) -> Result<(), TranslateError> {
         if comments.is_empty() {
             return Ok(());
         }
         let mut x = ctx!(self, n);
+        let wants_clocks = std::cell::Cell::new(None);
+        let env = back.map(|b| ParamEnv {
+            st: &self.st,
+            flow: &self.flow,
+            fanuc: self.settings.dialect == Dialect::Fanuc,
+            magazine: None,
+            parts: self.parts,
+            first_code: self.first_code,
+            adp: &self.adp,
+            clocks: None,
+            wants_clocks: &wants_clocks,
+            back: Some(b),
+        });
         let (st, flow) = (&self.st, &self.flow);
-        let lk = |name: &str| lookup(st, flow, name);
+        let lk = |name: &str| match &env {
+            None => lookup(st, flow, name),
+            Some(e) => match name.parse::<usize>() {
+                Ok(n) if n <= sysvars::MAX_FANUC_VAR => e.numbered(n).ok(),
+                Ok(_) => None,
+                Err(_) => e.named(name).ok().flatten(),
+            },
+        };
         let c = exec::comments(&mut x, comments, &lk, st.params[5599] > 0.0);
         self.events.append(&mut x.events);
         self.out_buf = x.out;
@@ -1833,7 +1863,7 @@ impl Lines for GcodeSource {
                     .into(),
             });
         }
-        self.comments(n, &line.comments)?;
+        self.comments(n, &line.comments, Some(&*back))?;
         Ok(line)
     }
 }
