@@ -116,6 +116,7 @@ fn random_bytes_and_fragments_never_panic() {
         let opts = ReadOptions {
             block_delete: round % 2 == 0,
             optional_stop: round % 3 == 0,
+            parts: None,
         };
         let ch = if round % 50 == 7 {
             3

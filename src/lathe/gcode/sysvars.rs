@@ -177,9 +177,8 @@ pub fn write(r: &Reader, n: usize, fanuc: bool) -> Option<String> {
             ));
         }
     }
-    if read(r, n, fanuc).is_none() {
-        return None;
-    }
+    // One the lathe keeps (its value or why it cannot be read: either way not written).
+    let _kept = read(r, n, fanuc)?;
     Some(
         read_only(n)
             .filter(|_| fanuc)
