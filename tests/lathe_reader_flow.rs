@@ -465,6 +465,21 @@ G1 F100 X20
         ),
         "2:1: (ABORT) 15.000000 15.000000 2.000000 ######"
     );
+    // What the one reader keeps itself, on both machines: the last N, a returned value, the
+    // call level.
+    let returned = "\
+o<seven> sub
+o<seven> return [7]
+o<seven> endsub
+N20 G0 X30 Z2
+o<seven> call
+#1 = [#<_value> + #<_value_returned> + #<_call_level> + #<_line>]
+(abort, #1)
+";
+    assert_eq!(
+        said(returned, &desc, Dialect::LinuxCnc),
+        "7:1: (ABORT) 28.000000"
+    );
 }
 
 #[test]

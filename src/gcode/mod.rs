@@ -193,6 +193,19 @@ impl ParamEnv<'_> {
     }
 }
 
+/// LinuxCNC's predefined named parameters the one reader keeps for every machine (the last N,
+/// a subroutine's returned value, the call level, the interpreter's version): a back end's
+/// lines read them as the mill's do.
+const READER_NAMES: [&str; 7] = [
+    "_line",
+    "_value",
+    "_value_returned",
+    "_call_level",
+    "_task",
+    "_vmajor",
+    "_vminor",
+];
+
 /// Fanuc's argument specification I: the letters G65 takes and the local variable each
 /// sets (A→#1, B→#2, C→#3, I→#4, J→#5, K→#6, D→#7, E→#8, F→#9, H→#11, M→#13, Q→#17,
 /// R→#18, S→#19, T→#20, U→#21, V→#22, W→#23, X→#24, Y→#25, Z→#26).
@@ -284,7 +297,7 @@ impl Env for ParamEnv<'_> {
             if let Some(r) = back.named_param(name) {
                 return r.map(Some);
             }
-            if self.st.predefined(name).is_some() {
+            if self.st.predefined(name).is_some() && !READER_NAMES.contains(&name) {
                 return Err(format!(
                     "#<{name}> reports the mill's interpreter state: the lathe reader does not give it (docs/lathe-gcode.md \"System variables\")"
                 ));
