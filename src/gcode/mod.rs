@@ -1311,7 +1311,8 @@ impl GcodeSource {
                         .as_deref_mut()
                         .and_then(|b| b.write_param(*p, *v, fanuc));
                     r.unwrap_or_else(|| {
-                        let ro = if fanuc { sysvars::read_only(*p) } else { None };
+                        let reader = fanuc && (3901..=4330).contains(p);
+                        let ro = if reader { sysvars::read_only(*p) } else { None };
                         Err(ro.unwrap_or_else(|| lathe_refusal(fanuc, *p)))
                     })
                     .map_err(|message| TranslateError {

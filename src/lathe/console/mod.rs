@@ -512,7 +512,6 @@ impl LatheConsole {
     }
 
     fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
-        let target = if mdi { 1 } else { self.counter.target };
         let opts = super::gcode::ReadOptions {
             block_delete: self.block_delete,
             optional_stop: self.optional_stop,
@@ -521,6 +520,7 @@ impl LatheConsole {
                 self.counter.target,
             )),
         };
+        let target = if mdi { 1 } else { self.counter.target };
         // Each stored program is read in the dialect it was stored in (one stored before
         // programs kept theirs, in its channel's); MDI in the channel's.
         let mut desc = self.desc.clone();
