@@ -3,7 +3,7 @@
 //! read.
 
 use novanc::lathe::desc::LatheDesc;
-use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::lathe::gcode::{read_program, read_program_in, Parts, ReadOptions};
 use novanc::pulse_core::testkit::Rng;
 use novanc::settings::Dialect;
 
@@ -126,6 +126,8 @@ fn random_bytes_and_fragments_never_panic() {
         let opts = ReadOptions {
             block_delete: round % 2 == 0,
             optional_stop: round % 3 == 0,
+            // A part counter on some rounds (Fanuc's #3901/#3902 read, else refused).
+            parts: (round % 4 == 0).then(|| Parts::new(&[1, 2, 3], 5)),
         };
         let ch = if round % 50 == 7 {
             3
@@ -141,11 +143,28 @@ fn random_bytes_and_fragments_never_panic() {
             "G65 P1 A1.\n",
             "IF [#0 EQ #1] GOTO 2\n",
         ][round % 5];
-        let fanuc = format!("{macro_word}{text}");
-        if let Err(e) = read_program_in(&fanuc, &d, ch, &opts, Some(Dialect::Fanuc)) {
-            let lines = fanuc.lines().count().max(1) as u32;
-            assert!(e.line >= 1 && e.line <= lines + 1, "{e} for {fanuc:?}");
-            assert!(!e.message.is_empty());
+        // After the random lines, the machine state they leave is read and moved to (the
+        // lathe's system variables, docs/lathe-gcode.md), in both dialects.
+        let sysvars = [
+            ("", ""),
+            (
+                "#1 = #5001 + #5002 + #4001 + #4120 + #2001 + #2901 + #10001 + #4109\nG0 X[#5001 - 1.] Z[#5002 - 1.]\n",
+                "#1 = [#5420 + #5422 + #5400 + #5401 + #<_x> + #<_z> + #<_feed> + #<_line>]\nG0 X[#5420 * 2 - 1] Z[#<_z> - 1]\n",
+            ),
+            (
+                "#1 = #3901 + #3902 + #4007 + #2301 + #2005 (print, #5001 #2001 #4120)\n#4001 = 1\n",
+                "(print, #5420 #<_x> #<_motion_mode> #<_ccomp>)\n#5420 = 1\n",
+            ),
+        ][round % 3];
+        let fanuc = format!("{macro_word}{text}{}", sysvars.0);
+        let linuxcnc = format!("{text}{}", sysvars.1);
+        for (program, dialect) in [(&fanuc, Dialect::Fanuc), (&linuxcnc, Dialect::LinuxCnc)] {
+            let r = read_program_in(program, &d, ch, &opts, Some(dialect));
+            if let Err(e) = r {
+                let lines = program.lines().count().max(1) as u32;
+                assert!(e.line >= 1 && e.line <= lines + 1, "{e} for {program:?}");
+                assert!(!e.message.is_empty());
+            }
         }
         match read_program(&text, &d, ch, &opts) {
             Ok(p) => {

@@ -53,6 +53,7 @@ fn statements(name: &str, text: &str, desc: &LatheDesc, ch: usize) -> Vec<Statem
     let opts = ReadOptions {
         block_delete: name == "stops",
         optional_stop: name == "stops",
+        parts: None,
     };
     let st = read_program(text, desc, ch, &opts)
         .unwrap_or_else(|e| panic!("{name} on channel {}: {e}", ch + 1));

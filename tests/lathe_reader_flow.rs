@@ -8,9 +8,9 @@ mod common;
 
 use novanc::block::{Block, FeedMode, Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc, CITIZEN};
-use novanc::lathe::gcode::{read_program, read_program_in, ReadOptions};
+use novanc::lathe::gcode::{read_program, read_program_in, Parts, ReadOptions};
 use novanc::settings::Dialect;
-use novanc::store::lathe::{LatheStore, Program};
+use novanc::store::lathe::{Counter, LatheStore, Program};
 
 /// The Citizen, its description's first channel given `line` (`dialect fanuc`).
 fn citizen_with(line: &str) -> Result<LatheDesc, String> {
@@ -392,10 +392,12 @@ fn parameters_that_report_the_mills_state_are_refused_on_the_lathe() {
             .map(|e| e.to_string())
             .unwrap_or_default()
     };
-    assert!(e("G0 X#5420\n", None).starts_with("1:5: #5420: parameters from #5000"));
-    assert!(e("#1 = #<_x>\n", None).contains("#<_x> reports the mill's interpreter state"));
-    assert!(e("#1 = #5001\n", Some(Dialect::Fanuc))
-        .starts_with("1:6: #5001: the lathe reader keeps no system variables"));
+    // What the lathe keeps is read (docs/lathe-gcode.md "System variables"); the rest is
+    // the mill's: its work offsets, its Y, its machine position.
+    assert!(e("G0 X#5221\n", None).starts_with("1:5: #5221: parameters from #5000"));
+    assert!(e("#1 = #<_y>\n", None).contains("#<_y> reports the mill's interpreter state"));
+    assert!(e("#1 = #5021\n", Some(Dialect::Fanuc))
+        .starts_with("1:6: #5021: the lathe keeps no such system variable"));
     assert!(e("#2001 = 1\n", Some(Dialect::Fanuc)).starts_with("1:1: #2001"));
 }
 
@@ -510,4 +512,251 @@ fn dialect_on_the_command_line_is_the_default_of_the_channels_that_say_none() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// The Citizen with a tool 4 on channel 1's tool post whose offsets are X 0.02 (radius) and
+/// Z -0.01, nose radius 0.5 mm, tip 2.
+fn citizen_with_offsets() -> LatheDesc {
+    citizen_with("tool 4 radius 0.5 tip 2 offset 0.02 -0.01").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The end points, pulses [X radius, Z], of the moves a program makes on channel 1.
+fn move_ends(text: &str, desc: &LatheDesc, dialect: Dialect) -> Vec<[i64; 2]> {
+    match read_program_in(text, desc, 0, &ReadOptions::default(), Some(dialect)) {
+        Ok(p) => p
+            .iter()
+            .flat_map(|s| &s.blocks)
+            .filter(|b| matches!(b.motion, Motion::Rapid | Motion::Linear))
+            .map(|b| [b.end[0], b.end[2]])
+            .collect(),
+        Err(e) => panic!("{e}\n{text}"),
+    }
+}
+
+/// What a program's `(abort, ...)` says: the values it read, or the refusal before it.
+fn said(text: &str, desc: &LatheDesc, dialect: Dialect) -> String {
+    match read_program_in(text, desc, 0, &ReadOptions::default(), Some(dialect)) {
+        Ok(_) => "read without a refusal".into(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn a_fanuc_lathe_macro_moves_from_the_block_end_position_modes_and_tool_offsets() {
+    // A gauging-style macro: it retracts from where the last block ended (#5001 X on the
+    // diameter, #5002 Z), checks the modes it relies on (#4001, #4005, #4120; a wrong one
+    // jumps over every move after it), adds the X wear (#2004, on the diameter), and reads
+    // X on the radius after G8.
+    let program = "\
+O0001
+T0404 M3 S1000
+G0 X40. Z5.
+G95 G1 X30. F0.2
+#1 = #5001
+#2 = #5002
+IF [#4001 NE 1] GOTO 90
+IF [#4005 NE 95] GOTO 90
+IF [#4120 NE 404] GOTO 90
+G0 Z[#5002 + 2.]
+X[#1 + 10. + #2004]
+G#4001 Z[#2 - 1.]
+G8
+G0 X[#5001 + 1.]
+G7
+G1 Z[#5002 + #2104 * 100.]
+N90 M30
+";
+    // Worked by hand: the tool's offsets are added to every programmed point (X 0.020 mm on
+    // the radius, Z -0.010 mm), pulses of 0.001 mm.
+    // G0 X40 Z5: r 20 → 20.020; Z 5 → 4.990.  G1 X30: r 15.020.
+    // #1 = 30, #2 = 5.  G0 Z7: 6.990.  X 30 + 10 + 0.04 = 40.04: r 20.02 → 20.040.
+    // G0 (#4001 is 0 now) Z4: 3.990.  G8: #5001 = 20.02 (radius), X 21.02 → 21.040.
+    // G7, G1 Z 4 + (-0.01 × 100) = 3: 2.990.
+    assert_eq!(
+        move_ends(program, &citizen_with_offsets(), Dialect::Fanuc),
+        [
+            [20_020, 4_990],
+            [15_020, 4_990],
+            [15_020, 6_990],
+            [20_040, 6_990],
+            [20_040, 3_990],
+            [21_040, 3_990],
+            [21_040, 2_990],
+        ]
+    );
+}
+
+#[test]
+fn the_lathes_system_variables_read_the_tool_offsets_modes_and_positions() {
+    let desc = citizen_with_offsets();
+    // Fanuc 0i-TF's numbers, in inches after G20 (X on the diameter).
+    let fanuc = "\
+T0404 M3 S1000
+G0 X30. Z2.
+G20
+#1=#5001 #2=#5002 #3=#2004 #4=#2104 #5=#2904 #6=#2304 #7=#10004 #8=#11004 #9=#12004
+#10=#13004 #11=#2704 #12=#2804 #13=#2204 #14=#4006 #15=#4002 #16=#4003 #17=#4007
+#18=#4016 #19=#4120 #20=#4119 #21=#4201 #22=#4113 #23=#4109 #24=#4005
+(abort, #1 #2 #3 #4 #5 #6 #7 #8 #9 #10 #11 #12 #13 #14 #15 #16 #17 #18 #19 #20 #21 #22 #23 #24)
+";
+    assert_eq!(
+        said(fanuc, &desc, Dialect::Fanuc),
+        "7:1: (ABORT) 1.181102 0.078740 0.001575 -0.000394 0.019685 2.000000 0.001575 \
+         -0.000394 0.000000 2.000000 0.000000 0.000000 0.000000 20.000000 97.000000 \
+         90.000000 40.000000 18.000000 404.000000 1000.000000 0.000000 3.000000 0.000000 \
+         94.000000"
+    );
+    // LinuxCNC's parameters and named parameters: X on the radius (as LinuxCNC's).
+    let linuxcnc = "\
+T0404 M3 S1000
+G0 X30 Z2
+G1 F100 X20
+#1=#5400 #2=#5401 #3=#5403 #4=#5410 #5=#5411 #6=#5420 #7=#5422 #8=#<_x> #9=#<_z>
+#10=#<_metric> #11=#<_absolute> #12=#<_feed> #13=#<_rpm> #14=#<_current_tool>
+#15=#<_motion_mode> #16=#<_plane> #17=#<_ccomp> #18=#<_units_per_rev>
+#19=#<_lathe_diameter_mode> #20=#<_spindle_on>
+(abort, #1 #2 #3 #4 #5 #6 #7 #8 #9 #10 #11 #12 #13 #14 #15 #16 #17 #18 #19 #20)
+";
+    assert_eq!(
+        said(linuxcnc, &desc, Dialect::LinuxCnc),
+        "8:1: (ABORT) 4.000000 0.020000 -0.010000 1.000000 2.000000 10.000000 2.000000 \
+         10.000000 2.000000 1.000000 1.000000 100.000000 1000.000000 4.000000 10.000000 \
+         180.000000 400.000000 0.000000 1.000000 1.000000"
+    );
+    // A message prints them as the line reads them, and `######` for what the lathe
+    // refuses (the mill's machine position, its Y).
+    assert_eq!(
+        said(
+            "G0 X30. Z2.\n(abort, #5001 #5002 #4001 #5021)\n",
+            &desc,
+            Dialect::Fanuc
+        ),
+        "2:1: (ABORT) 30.000000 2.000000 0.000000 ######"
+    );
+    assert_eq!(
+        said(
+            "G0 X30 Z2\n(abort, #5420 #<_x> #<_z> #<_y>)\n",
+            &desc,
+            Dialect::LinuxCnc
+        ),
+        "2:1: (ABORT) 15.000000 15.000000 2.000000 ######"
+    );
+    // What the one reader keeps itself, on both machines: the last N, a returned value, the
+    // call level.
+    let returned = "\
+o<seven> sub
+o<seven> return [7]
+o<seven> endsub
+N20 G0 X30 Z2
+o<seven> call
+#1 = [#<_value> + #<_value_returned> + #<_call_level> + #<_line>]
+(abort, #1)
+";
+    assert_eq!(
+        said(returned, &desc, Dialect::LinuxCnc),
+        "7:1: (ABORT) 28.000000"
+    );
+}
+
+#[test]
+fn the_lathes_system_variables_are_refused_at_their_place() {
+    let desc = citizen_with_offsets();
+    let fanuc = |t: &str| said(t, &desc, Dialect::Fanuc);
+    let cases = [
+        ("#5001 = 1.\n", "1:1: #5001 (the block end position) is read-only"),
+        ("G0 X1. Z1.\n#4001 = 1\n", "2:1: #4001 (modal information) is read-only"),
+        ("#1 = 2 #2104 = 0.1\n", "1:8: #2104 (Z wear of offset 4): a lathe program cannot set a tool offset: the lathe reads its program whole at START"),
+        ("#3901 = 5\n", "1:1: #3901: the part counter is set on the POS page"),
+        ("#1 = #3901\n", "1:6: #3901 (parts machined): there is no part counter here"),
+        ("G0 X#2005\n", "1:5: #2005 (X wear of offset 5): tool 5 is not on channel 1's tool post (it has 4, 1, 2, 3;"),
+        ("#1 = #2401\n", "1:6: #2401: the lathe has no such tool offset variable"),
+        ("#1 = #5003\n", "1:6: #5003: the lathe keeps no such system variable"),
+        ("#5021 = 1.\n", "1:1: #5021: the lathe keeps no such system variable"),
+        ("#1 = #4008\n", "1:6: #4008: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4016 #4109 #4113 #4114 #4115 #4119 #4120)"),
+    ];
+    for (text, want) in cases {
+        let got = fanuc(text);
+        assert!(got.starts_with(want), "{text}: {got}");
+    }
+    let linuxcnc = |t: &str| said(t, &desc, Dialect::LinuxCnc);
+    let cases = [
+        (
+            "#5420 = 1\n",
+            "1:1: #5420 reports the lathe's state: it is read-only",
+        ),
+        ("#<_x> = 1\n", "1:1: #<_x> is read-only"),
+        (
+            "T0404\nG0 X30 Z2\nG42 G1 X20 F100\nG1 Z#5422\n",
+            "4:5: #5422 (the current position) cannot be read with nose-radius compensation on",
+        ),
+    ];
+    for (text, want) in cases {
+        let got = linuxcnc(text);
+        assert!(got.starts_with(want), "{text}: {got}");
+    }
+}
+
+#[test]
+fn the_part_counter_is_read_per_channel_as_it_stood_at_start() {
+    let text = "#1 = #3901\n#2 = #3902\n(abort, #1 #2)\n";
+    let desc = LatheDesc::citizen();
+    let opts = ReadOptions {
+        parts: Some(Parts::new(&[3, 1, 0], 10)),
+        ..Default::default()
+    };
+    let said = |ch: usize| match read_program_in(text, &desc, ch, &opts, Some(Dialect::Fanuc)) {
+        Ok(_) => "read without a refusal".to_string(),
+        Err(e) => e.to_string(),
+    };
+    assert_eq!(said(0), "3:1: (ABORT) 3.000000 10.000000");
+    assert_eq!(said(1), "3:1: (ABORT) 1.000000 10.000000");
+    // The console's START gives its counter (channel 1 has made 2 of 7).
+    use novanc::lathe::console::events::LatheEv;
+    use novanc::lathe::console::LatheConsole;
+    let state = common::temp_dir("lathe-reader-part-counter");
+    let p = Program {
+        name: "O1000.NGC".into(),
+        text: text.into(),
+        dialect: Some(Dialect::Fanuc),
+    };
+    match LatheStore::open(&state, &desc) {
+        Ok(mut o) => {
+            let c = Counter {
+                target: 7,
+                counts: vec![2, 0, 0],
+            };
+            let r = o
+                .store
+                .save_program(0, &p)
+                .and_then(|()| o.store.save_counter(&c));
+            r.unwrap_or_else(|e| panic!("{e}"));
+        }
+        Err(e) => panic!("{e}"),
+    }
+    let (mut c, _) =
+        LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
+    c.event(LatheEv::Start);
+    assert_eq!(c.message(), "CH1 O1000.NGC:3:1: (ABORT) 2.000000 7.000000");
+}
+#[test]
+fn a_g70_profile_line_reads_the_block_end_position_too() {
+    // The profile's lines are read by the one reader for the cycle (`Lines::read_line`):
+    // N2 reads Z where N1 left it, 2, and goes to Z-3; G70 then returns to its start.
+    let program = "\
+T0101 M3 S1000
+G0 X20. Z2.
+G70 P1. Q2.
+M30
+N1 G1 X10. F100.
+N2 G1 Z[#5002 - 5.]
+";
+    assert_eq!(
+        move_ends(program, &LatheDesc::citizen(), Dialect::Fanuc),
+        [
+            [10_000, 2_000],
+            [5_000, 2_000],
+            [5_000, -3_000],
+            [10_000, 2_000]
+        ]
+    );
 }

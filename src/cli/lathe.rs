@@ -119,6 +119,8 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     let opts = crate::lathe::gcode::ReadOptions {
         block_delete: args.flag("--block-delete"),
         optional_stop: args.flag("--optional-stop"),
+        // A batch from none made (Fanuc's #3901 reads 0, #3902 the target).
+        parts: Some(crate::lathe::gcode::Parts::new(&[], target)),
     };
     let rec = match args.value("--record") {
         None => None,

@@ -161,7 +161,8 @@ struct ParamEnv<'a> {
     flow: &'a Flow,
     /// The Fanuc dialect: its system variables (`sysvars`) are read.
     fanuc: bool,
-    magazine: &'a Magazine,
+    /// The mill's tool data (`None` on a back end's lines: the lathe keeps its own).
+    magazine: Option<&'a Magazine>,
     parts: Option<(u64, u64)>,
     first_code: Option<usize>,
     adp: &'a [u64],
@@ -170,8 +171,9 @@ struct ParamEnv<'a> {
     /// The clock the line read without them.
     wants_clocks: &'a std::cell::Cell<Option<usize>>,
     /// A motion back end other than the mill's executes the words (the lathe's): the
-    /// parameters that report the mill's state are refused ([`lathe_refuses`]).
-    lathe: bool,
+    /// system variables and parameters that report a machine's state are its to answer
+    /// ([`Motion::param`]), else refused ([`lathe_refuses`]). `None` for the mill.
+    back: Option<&'a dyn Motion>,
 }
 
 impl ParamEnv<'_> {
@@ -190,6 +192,19 @@ impl ParamEnv<'_> {
         name.parse::<u32>().ok().map(f64::from)
     }
 }
+
+/// LinuxCNC's predefined named parameters the one reader keeps for every machine (the last N,
+/// a subroutine's returned value, the call level, the interpreter's version): a back end's
+/// lines read them as the mill's do.
+const READER_NAMES: [&str; 7] = [
+    "_line",
+    "_value",
+    "_value_returned",
+    "_call_level",
+    "_task",
+    "_vmajor",
+    "_vminor",
+];
 
 /// Fanuc's argument specification I: the letters G65 takes and the local variable each
 /// sets (A→#1, B→#2, C→#3, I→#4, J→#5, K→#6, D→#7, E→#8, F→#9, H→#11, M→#13, Q→#17,
@@ -218,15 +233,44 @@ pub const G65_ARGUMENTS: [(char, usize); 21] = [
     ('Z', 26),
 ];
 
+impl ParamEnv<'_> {
+    /// A back end's machine state `#n` (the lathe's): the one reader's modal items and part
+    /// counter, else the back end's answer; `None` if neither has it.
+    fn back_param(&self, back: &dyn Motion, n: usize) -> Option<Result<f64, String>> {
+        if self.fanuc {
+            if let Some(m) = back.modal() {
+                let program = if matches!(n, 4115 | 4315) {
+                    self.program_number()
+                } else {
+                    None
+                };
+                if let Some(r) = sysvars::modal_info(n, self.st, program, m) {
+                    return Some(r);
+                }
+            }
+            if matches!(n, 3901 | 3902) {
+                return Some(sysvars::parts(n, self.parts));
+            }
+        }
+        back.param(n, self.fanuc)
+    }
+}
+
 impl Env for ParamEnv<'_> {
     fn numbered(&self, n: usize) -> Result<f64, String> {
-        if self.lathe && lathe_refuses(self.fanuc, n) {
-            return Err(lathe_refusal(self.fanuc, n));
+        if let Some(back) = self.back {
+            if let Some(r) = self.back_param(back, n) {
+                return r;
+            }
+            if lathe_refuses(self.fanuc, n) {
+                return Err(lathe_refusal(self.fanuc, n));
+            }
+            return Ok(self.st.param(n));
         }
-        if self.fanuc {
+        if let (true, Some(magazine)) = (self.fanuc, self.magazine) {
             let e = sysvars::SysEnv {
                 st: self.st,
-                magazine: self.magazine,
+                magazine,
                 parts: self.parts,
                 program: if matches!(n, 4115 | 4315) {
                     self.program_number()
@@ -249,10 +293,15 @@ impl Env for ParamEnv<'_> {
     }
 
     fn named(&self, name: &str) -> Result<Option<f64>, String> {
-        if self.lathe && name.starts_with('_') && self.st.predefined(name).is_some() {
-            return Err(format!(
-                "#<{name}> reports the mill's interpreter state: the lathe reader does not give LinuxCNC's predefined named parameters (docs/lathe-gcode.md)"
-            ));
+        if let Some(back) = self.back.filter(|_| name.starts_with('_')) {
+            if let Some(r) = back.named_param(name) {
+                return r.map(Some);
+            }
+            if self.st.predefined(name).is_some() && !READER_NAMES.contains(&name) {
+                return Err(format!(
+                    "#<{name}> reports the mill's interpreter state: the lathe reader does not give it (docs/lathe-gcode.md \"System variables\")"
+                ));
+            }
         }
         if matches!(name, "_x" | "_y" | "_z") && self.st.modal.comp != state::CompSide::Off {
             return Err(format!("#<{name}> (the current position) cannot be read with cutter radius compensation on"));
@@ -285,6 +334,35 @@ pub trait Motion {
 
     /// A stop with a message (Fanuc's `#3006`) at line `n`, column `col`: as M00.
     fn stop(&mut self, n: u32, col: u32) -> Result<(), TranslateError>;
+
+    /// The machine state `#n` this back end keeps, read at the line being read: a Fanuc
+    /// system variable (`fanuc`) or one of LinuxCNC's parameters; its value, or why it
+    /// cannot be read. `None`: the back end keeps no such one (the reader refuses it,
+    /// [`lathe_refuses`]). The modal information and the part counter are the reader's
+    /// ([`Motion::modal`]).
+    fn param(&self, n: usize, fanuc: bool) -> Option<Result<f64, String>> {
+        let _ = (n, fanuc);
+        None
+    }
+
+    /// LinuxCNC's predefined named parameter `#<name>` (`_x`, `_metric`, …) as this back end
+    /// keeps it; `None`: it keeps no such one.
+    fn named_param(&self, name: &str) -> Option<Result<f64, String>> {
+        let _ = name;
+        None
+    }
+
+    /// Fanuc's modal information (#4001–, #4201–) of this back end's groups, if it keeps any.
+    fn modal(&self) -> Option<&dyn sysvars::Modal> {
+        None
+    }
+
+    /// A write of `#n`, one of the back end's ([`Motion::param`]): done, or why not.
+    /// `None`: the reader refuses it ([`lathe_refuses`]).
+    fn write_param(&mut self, n: usize, v: f64, fanuc: bool) -> Option<Result<(), String>> {
+        let _ = (n, v, fanuc);
+        None
+    }
 }
 
 /// What a back end's line asks of the program's flow.
@@ -319,14 +397,21 @@ pub trait Lines {
     /// lines a program executes); its words are the back end's to execute. A line of flow
     /// (an O-word, GOTO, WHILE, a macro call) or `#3006` is refused: it cannot run inside
     /// another line.
-    fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError>;
+    /// `back` is the back end asking (it answers the system variables the line reads).
+    fn read_line(
+        &mut self,
+        raw: &str,
+        n: u32,
+        back: &mut dyn Motion,
+    ) -> Result<read::Line, TranslateError>;
 
     /// The program's units from here on (G20 `inch`, or G21), as the back end keeps them:
     /// the Fanuc dialect's least increment follows them (0.0001 inch, 0.001 mm).
     fn units(&mut self, inch: bool);
 }
 
-/// Whether parameter `n` is refused by a lathe back end: in the Fanuc dialect the system
+/// Whether parameter `n` is refused by a lathe back end when neither it nor the reader
+/// answers for it ([`Motion::param`], [`Motion::modal`]): in the Fanuc dialect the system
 /// variables (#1000 and above, but for #3000 and #3006, which are messages), in LinuxCNC's
 /// the parameters from #5000 on (offsets, positions, the tool: the mill's state).
 pub fn lathe_refuses(fanuc: bool, n: usize) -> bool {
@@ -339,27 +424,27 @@ pub fn lathe_refuses(fanuc: bool, n: usize) -> bool {
 
 fn lathe_refusal(fanuc: bool, n: usize) -> String {
     if fanuc {
-        format!("#{n}: the lathe reader keeps no system variables (#1000 and above; docs/lathe-gcode.md)")
+        format!("#{n}: the lathe keeps no such system variable (docs/lathe-gcode.md \"System variables\" lists those it has)")
     } else {
-        format!("#{n}: parameters from #5000 report the mill's state; the lathe reader keeps #1 to #4999 (docs/lathe-gcode.md)")
+        format!("#{n}: parameters from #5000 report the mill's state; the lathe keeps #1 to #4999 and those docs/lathe-gcode.md \"System variables\" lists")
     }
 }
 
 /// The parameters as the line being read sees them (a macro over the source's fields, so
 /// that its scratch stays free to borrow).
 macro_rules! param_env {
-    ($s:ident, $clocks:expr, $wants:expr, $lathe:expr) => {
+    ($s:ident, $clocks:expr, $wants:expr, $back:expr) => {
         ParamEnv {
             st: &$s.st,
             flow: &$s.flow,
             fanuc: $s.settings.dialect == Dialect::Fanuc,
-            magazine: &$s.magazine,
+            magazine: Some(&$s.magazine),
             parts: $s.parts,
             first_code: $s.first_code,
             adp: &$s.adp,
             clocks: $clocks,
             wants_clocks: $wants,
-            lathe: $lathe,
+            back: $back,
         }
     };
 }
@@ -909,7 +994,7 @@ impl GcodeSource {
         let clocks = self.clocks.take();
         let wants_clocks = std::cell::Cell::new(None);
         let r = {
-            let env = param_env!(self, clocks, &wants_clocks, motion.is_some());
+            let env = param_env!(self, clocks, &wants_clocks, motion.as_deref());
             let flow = &self.flow;
             let skip = |label: &str, kind: read::OKind| flow.reads_while_skipping(label, kind);
             let skipping: Option<&dyn Fn(&str, read::OKind) -> bool> =
@@ -1003,7 +1088,7 @@ impl GcodeSource {
         n: u32,
         raw: &str,
         line: &read::Line,
-        motion: Option<&mut (dyn Motion + 'm)>,
+        mut motion: Option<&mut (dyn Motion + 'm)>,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         if line.percent {
             if motion.is_some() {
@@ -1068,7 +1153,7 @@ impl GcodeSource {
                     message: m,
                 })?;
             if !self.flow.skipping() && !line.comments.is_empty() {
-                self.comments(n, &line.comments)?;
+                self.comments(n, &line.comments, motion.as_deref())?;
             }
             return Ok(None);
         }
@@ -1086,7 +1171,7 @@ impl GcodeSource {
         let stop = if line.assigns.is_empty() {
             None
         } else {
-            self.assign(n, line, motion.is_some())?
+            self.assign(n, line, motion.as_deref_mut())?
         };
         if let Some(col) = stop {
             // #3006: a stop with its message, as M00.
@@ -1118,7 +1203,7 @@ impl GcodeSource {
             }
             return Ok(Some(self.finish(n, raw, out, false)));
         }
-        self.comments(n, &line.comments)?;
+        self.comments(n, &line.comments, motion.as_deref())?;
         if let Some(m) = line.fanuc {
             let (r, col) = match m {
                 read::Macro::Goto { n: seq, col } => (self.flow.goto(seq, at), col),
@@ -1202,13 +1287,14 @@ impl GcodeSource {
         r
     }
 
-    /// Sets line `n`'s parameters (`line.assigns`), before its words execute; `lathe`: a
-    /// lathe back end executes them. The column of a `#3006` stop, if the line gives one.
-    fn assign(
+    /// Sets line `n`'s parameters (`line.assigns`), before its words execute; `back`: a
+    /// back end other than the mill's executes them (the lathe's), and answers for the
+    /// machine state it keeps. The column of a `#3006` stop, if the line gives one.
+    fn assign<'m>(
         &mut self,
         n: u32,
         line: &read::Line,
-        lathe: bool,
+        mut back: Option<&mut (dyn Motion + 'm)>,
     ) -> Result<Option<u32>, TranslateError> {
         let fanuc = self.settings.dialect == Dialect::Fanuc;
         let mut stop = None;
@@ -1218,12 +1304,22 @@ impl GcodeSource {
                     self.fanuc_message(n, *p, *v, *col, &line.comments)?;
                     stop = Some(*col);
                 }
-                Target::Numbered(p) if lathe && lathe_refuses(fanuc, *p) => {
-                    return Err(TranslateError {
+                Target::Numbered(p) if back.is_some() && lathe_refuses(fanuc, *p) => {
+                    // The back end's machine state, else the reader's read-only variables
+                    // (modal information, part counter), else none it keeps.
+                    let r = back
+                        .as_deref_mut()
+                        .and_then(|b| b.write_param(*p, *v, fanuc));
+                    r.unwrap_or_else(|| {
+                        let reader = fanuc && (3901..=4330).contains(p);
+                        let ro = if reader { sysvars::read_only(*p) } else { None };
+                        Err(ro.unwrap_or_else(|| lathe_refusal(fanuc, *p)))
+                    })
+                    .map_err(|message| TranslateError {
                         line: n,
                         col: *col,
-                        message: lathe_refusal(fanuc, *p),
-                    });
+                        message,
+                    })?;
                 }
                 Target::Numbered(p @ (3001 | 3002)) if fanuc => {
                     // `line` read the machine's clocks for this line first.
@@ -1623,13 +1719,41 @@ impl GcodeSource {
     }
 
     /// Runs a line's comments (MSG, PRINT, DEBUG, LOG, ABORT), their messages kept as events.
-    fn comments(&mut self, n: u32, comments: &[read::Comment]) -> Result<(), TranslateError> {
+    /// Runs line `n`'s messages; `back`: a back end other than the mill's executes the line,
+    /// and a message prints the machine state it keeps as the line reads it (`#5001`,
+    /// `#<_x>`), `######` for what it refuses.
+    fn comments(
+        &mut self,
+        n: u32,
+        comments: &[read::Comment],
+        back: Option<&dyn Motion>,
+    ) -> Result<(), TranslateError> {
         if comments.is_empty() {
             return Ok(());
         }
         let mut x = ctx!(self, n);
+        let wants_clocks = std::cell::Cell::new(None);
+        let env = back.map(|b| ParamEnv {
+            st: &self.st,
+            flow: &self.flow,
+            fanuc: self.settings.dialect == Dialect::Fanuc,
+            magazine: None,
+            parts: self.parts,
+            first_code: self.first_code,
+            adp: &self.adp,
+            clocks: None,
+            wants_clocks: &wants_clocks,
+            back: Some(b),
+        });
         let (st, flow) = (&self.st, &self.flow);
-        let lk = |name: &str| lookup(st, flow, name);
+        let lk = |name: &str| match &env {
+            None => lookup(st, flow, name),
+            Some(e) => match name.parse::<usize>() {
+                Ok(n) if n <= sysvars::MAX_FANUC_VAR => e.numbered(n).ok(),
+                Ok(_) => None,
+                Err(_) => e.named(name).ok().flatten(),
+            },
+        };
         let c = exec::comments(&mut x, comments, &lk, st.params[5599] > 0.0);
         self.events.append(&mut x.events);
         self.out_buf = x.out;
@@ -1700,7 +1824,12 @@ impl Lines for GcodeSource {
         self.st.modal.inch = inch;
     }
 
-    fn read_line(&mut self, raw: &str, n: u32) -> Result<read::Line, TranslateError> {
+    fn read_line(
+        &mut self,
+        raw: &str,
+        n: u32,
+        back: &mut dyn Motion,
+    ) -> Result<read::Line, TranslateError> {
         let placed = |message: String| TranslateError {
             line: n,
             col: 1,
@@ -1716,7 +1845,7 @@ impl Lines for GcodeSource {
         let wants_clocks = std::cell::Cell::new(None);
         let opts = self.read_opts();
         {
-            let env = param_env!(self, None, &wants_clocks, true);
+            let env = param_env!(self, None, &wants_clocks, Some(&*back));
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, None, opts)?;
         }
         if opts.fanuc {
@@ -1740,7 +1869,7 @@ impl Lines for GcodeSource {
                 message: "program flow (an O-word, GOTO, WHILE/DO/END, a macro call) cannot stand in a line another line runs (a G70/G71 profile)".into(),
             });
         }
-        if let Some(col) = self.assign(n, &line, true)? {
+        if let Some(col) = self.assign(n, &line, Some(back))? {
             return Err(TranslateError {
                 line: n,
                 col,
@@ -1748,7 +1877,7 @@ impl Lines for GcodeSource {
                     .into(),
             });
         }
-        self.comments(n, &line.comments)?;
+        self.comments(n, &line.comments, Some(&*back))?;
         Ok(line)
     }
 }

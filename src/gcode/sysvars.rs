@@ -168,15 +168,8 @@ pub fn read(n: usize, e: &SysEnv) -> Option<Result<f64, String>> {
                 Err(format!("{} waits for the machine", clock_name(n)))
             }
         },
-        3901 | 3902 => match e.parts {
-            Some((made, required)) => Ok(if n == 3901 { made } else { required } as f64),
-            None => Err(format!(
-                "#{n} (parts {}): there is no part counter here (the console's POS page keeps one)",
-                if n == 3901 { "machined" } else { "required" }
-            )),
-        },
-        4001..=4130 => modal(n, n - 4000, e),
-        4201..=4330 => modal(n, n - 4200, e),
+        3901 | 3902 => parts(n, e.parts),
+        4001..=4130 | 4201..=4330 => return modal_info(n, st, e.program, st),
         5001..=5008 | 5021..=5028 | 5041..=5048 => position(n, st),
         5081..=5088 => tool_length(n, st),
         _ if n > MAX_PARAM => Err(unknown(n)),
@@ -188,96 +181,144 @@ fn unknown(n: usize) -> String {
     format!("#{n}: novanc has no such variable (the Fanuc dialect reads #1 to #{MAX_PARAM}, and the tool offsets #10001 to #{MAX_FANUC_VAR})")
 }
 
-/// The modal information item `i` (#4000 + i, or #4200 + i).
-fn modal(n: usize, i: usize, e: &SysEnv) -> Result<f64, String> {
-    let st = e.st;
-    let m = &st.modal;
-    let null = f64::NAN;
-    Ok(match i {
-        1 => match m.motion {
-            Motion::Rapid => 0.0,
-            Motion::Feed => 1.0,
-            Motion::Cw => 2.0,
-            Motion::Ccw => 3.0,
-            _ => 80.0,
-        },
-        2 => match m.plane {
-            Plane::XY => 17.0,
-            Plane::XZ => 18.0,
-            Plane::YZ => 19.0,
-        },
-        3 => {
-            if m.incremental {
-                91.0
-            } else {
-                90.0
-            }
-        }
-        5 => match m.feed_mode {
-            FeedMode::InverseTime => 93.0,
-            FeedMode::PerMinute => 94.0,
-            FeedMode::PerRevolution => 95.0,
-        },
-        6 => {
-            if m.inch {
-                20.0
-            } else {
-                21.0
-            }
-        }
-        7 => match m.comp {
-            CompSide::Off => 40.0,
-            CompSide::Left => 41.0,
-            CompSide::Right => 42.0,
-        },
-        8 => {
-            if st.tlo_tool.is_some() || st.tlo.iter().any(|&v| v != 0.0) {
-                43.0
-            } else {
-                49.0
-            }
-        }
-        9 => match m.motion {
-            Motion::Cycle(g) => f64::from(g) / 10.0,
-            _ => 80.0,
-        },
-        10 => {
-            if m.retract_r {
-                99.0
-            } else {
-                98.0
-            }
-        }
-        14 => match m.cs {
-            cs @ 0..=5 => 54.0 + cs as f64,
-            cs => 59.0 + (cs - 5) as f64 / 10.0,
-        },
-        15 => match m.path {
-            PathMode::Blend { .. } => 64.0,
-            _ => 61.0,
-        },
-        107 => st.comp_tool.map_or(0.0, f64::from),
-        109 => m.feed / st.factor(),
-        111 => st.tlo_tool.map_or(0.0, f64::from),
-        113 => st.fanuc_m,
-        114 => st.line_number,
-        115 => e.program.unwrap_or(null),
-        119 => m.speed,
-        120 => st.selected.map_or(null, f64::from),
+/// A machine's modal information as Fanuc numbers it (Custom Macro B's #4000 + item, and
+/// #4200 + item the same): the items it keeps and their values. The one reader keeps
+/// #4113–#4115 itself for every machine ([`modal_info`]); the mill's is its
+/// [`InterpState`], the lathe's its reader (docs/lathe-gcode.md "System variables").
+pub trait Modal {
+    /// The items it keeps, ascending (#4113–#4115 aside).
+    fn items(&self) -> &'static [usize];
+    /// Item `i`'s value, for each of [`Modal::items`] (null: none yet).
+    fn item(&self, i: usize) -> f64;
+}
+
+/// The modal items the one reader keeps for every machine: the last M code read, the last
+/// N, the number of the program running.
+const READER_ITEMS: [usize; 3] = [113, 114, 115];
+
+/// Modal information `#n` (#4001–#4130, #4201–#4330): the one reader's items (#4113 the
+/// last M code, #4114 the last N, #4115 the program running, `program`), else machine `m`'s,
+/// else refused with the list of those there are; `None` for another number.
+pub fn modal_info(
+    n: usize,
+    st: &InterpState,
+    program: Option<f64>,
+    m: &dyn Modal,
+) -> Option<Result<f64, String>> {
+    let i = match n {
+        4001..=4130 => n - 4000,
+        4201..=4330 => n - 4200,
+        _ => return None,
+    };
+    Some(match i {
+        113 => Ok(st.fanuc_m),
+        114 => Ok(st.line_number),
+        115 => Ok(program.unwrap_or(f64::NAN)),
+        _ if m.items().contains(&i) => Ok(m.item(i)),
         _ => {
-            let base = n - i;
-            let have: Vec<String> = [
-                1, 2, 3, 5, 6, 7, 8, 9, 10, 14, 15, 107, 109, 111, 113, 114, 115, 119, 120,
-            ]
-            .iter()
-            .map(|j| format!("#{}", base + j))
-            .collect();
-            return Err(format!(
+            let mut have: Vec<usize> = m.items().iter().chain(&READER_ITEMS).copied().collect();
+            have.sort_unstable();
+            let have: Vec<String> = have.iter().map(|j| format!("#{}", n - i + j)).collect();
+            Err(format!(
                 "#{n}: novanc keeps no such modal information (it has {})",
                 have.join(" ")
-            ));
+            ))
         }
     })
+}
+
+/// The mill's modal information (docs/gcode.md "System variables").
+impl Modal for InterpState {
+    fn items(&self) -> &'static [usize] {
+        &[1, 2, 3, 5, 6, 7, 8, 9, 10, 14, 15, 107, 109, 111, 119, 120]
+    }
+
+    fn item(&self, i: usize) -> f64 {
+        let st = self;
+        let m = &st.modal;
+        match i {
+            1 => match m.motion {
+                Motion::Rapid => 0.0,
+                Motion::Feed => 1.0,
+                Motion::Cw => 2.0,
+                Motion::Ccw => 3.0,
+                _ => 80.0,
+            },
+            2 => match m.plane {
+                Plane::XY => 17.0,
+                Plane::XZ => 18.0,
+                Plane::YZ => 19.0,
+            },
+            3 => {
+                if m.incremental {
+                    91.0
+                } else {
+                    90.0
+                }
+            }
+            5 => match m.feed_mode {
+                FeedMode::InverseTime => 93.0,
+                FeedMode::PerMinute => 94.0,
+                FeedMode::PerRevolution => 95.0,
+            },
+            6 => {
+                if m.inch {
+                    20.0
+                } else {
+                    21.0
+                }
+            }
+            7 => match m.comp {
+                CompSide::Off => 40.0,
+                CompSide::Left => 41.0,
+                CompSide::Right => 42.0,
+            },
+            8 => {
+                if st.tlo_tool.is_some() || st.tlo.iter().any(|&v| v != 0.0) {
+                    43.0
+                } else {
+                    49.0
+                }
+            }
+            9 => match m.motion {
+                Motion::Cycle(g) => f64::from(g) / 10.0,
+                _ => 80.0,
+            },
+            10 => {
+                if m.retract_r {
+                    99.0
+                } else {
+                    98.0
+                }
+            }
+            14 => match m.cs {
+                cs @ 0..=5 => 54.0 + cs as f64,
+                cs => 59.0 + (cs - 5) as f64 / 10.0,
+            },
+            15 => match m.path {
+                PathMode::Blend { .. } => 64.0,
+                _ => 61.0,
+            },
+            107 => st.comp_tool.map_or(0.0, f64::from),
+            109 => m.feed / st.factor(),
+            111 => st.tlo_tool.map_or(0.0, f64::from),
+            119 => m.speed,
+            120 => st.selected.map_or(f64::NAN, f64::from),
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// #3901/#3902: parts machined and required, from the console's counter `parts` (None: no
+/// counter here).
+pub fn parts(n: usize, parts: Option<(u64, u64)>) -> Result<f64, String> {
+    match parts {
+        Some((made, required)) => Ok(if n == 3901 { made } else { required } as f64),
+        None => Err(format!(
+            "#{n} (parts {}): there is no part counter here (the console's POS page keeps one)",
+            if n == 3901 { "machined" } else { "required" }
+        )),
+    }
 }
 
 /// #5001–#5008 (block end, work, tool offset not included), #5021–#5028 (machine),
@@ -342,19 +383,32 @@ pub fn write(
     if let Some(tv) = tool_var(n) {
         return Some(write_tool(n, tv, v * st.factor(), magazine, events));
     }
-    let ro = |what: &str| Some(Err(format!("#{n} ({what}) is read-only")));
+    if let Some(why) = read_only(n) {
+        return Some(Err(why));
+    }
     match n {
-        3901 | 3902 => Some(Err(format!(
-            "#{n}: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"
-        ))),
-        4001..=4130 | 4201..=4330 => ro("modal information"),
-        5001..=5008 => ro("the block end position"),
-        5021..=5028 => ro("the machine position"),
-        5041..=5048 => ro("the work position"),
-        5081..=5088 => ro("the tool length offset"),
         _ if n > MAX_PARAM => Some(Err(unknown(n))),
         _ => None,
     }
+}
+
+/// Why system variable `#n` cannot be written, if it is one a program only reads: the part
+/// counter, the modal information, the positions, the tool length offset.
+pub fn read_only(n: usize) -> Option<String> {
+    let what = match n {
+        3901 | 3902 => {
+            return Some(format!(
+            "#{n}: the part counter is set on the POS page (PARTS n, TARGET n), not by a program"
+        ))
+        }
+        4001..=4130 | 4201..=4330 => "modal information",
+        5001..=5008 => "the block end position",
+        5021..=5028 => "the machine position",
+        5041..=5048 => "the work position",
+        5081..=5088 => "the tool length offset",
+        _ => return None,
+    };
+    Some(format!("#{n} ({what}) is read-only"))
 }
 
 fn write_tool(

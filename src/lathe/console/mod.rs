@@ -515,6 +515,10 @@ impl LatheConsole {
         let opts = super::gcode::ReadOptions {
             block_delete: self.block_delete,
             optional_stop: self.optional_stop,
+            parts: Some(super::gcode::Parts::new(
+                &self.counter.counts,
+                self.counter.target,
+            )),
         };
         let target = if mdi { 1 } else { self.counter.target };
         // Each stored program is read in the dialect it was stored in (one stored before

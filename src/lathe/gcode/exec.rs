@@ -235,6 +235,23 @@ impl Motion for Reader<'_> {
     fn stop(&mut self, n: u32, col: u32) -> Result<(), TranslateError> {
         self.out.op(n, col, out::m(0))
     }
+
+    // The machine state a program reads (docs/lathe-gcode.md "System variables").
+    fn param(&self, n: usize, fanuc: bool) -> Option<Result<f64, String>> {
+        super::sysvars::read(self, n, fanuc)
+    }
+
+    fn named_param(&self, name: &str) -> Option<Result<f64, String>> {
+        super::sysvars::named(self, name)
+    }
+
+    fn modal(&self) -> Option<&dyn crate::gcode::sysvars::Modal> {
+        Some(self)
+    }
+
+    fn write_param(&mut self, n: usize, _: f64, fanuc: bool) -> Option<Result<(), String>> {
+        super::sysvars::write(self, n, fanuc).map(Err)
+    }
 }
 
 impl Reader<'_> {
@@ -317,7 +334,7 @@ impl Reader<'_> {
         if raw.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\r')) {
             return Ok(Flow::Next);
         }
-        let l = lines.read_line(raw, n)?;
+        let l = lines.read_line(raw, n, self)?;
         if l.percent || l.words.is_empty() {
             return Ok(Flow::Next);
         }

@@ -14,6 +14,8 @@
 //! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses, blocks.
 //! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
+//! - [`sysvars`]: the machine state a program reads: Fanuc's system variables, LinuxCNC's
+//!   parameters from #5000 and predefined named parameters.
 
 pub mod comp;
 pub mod cycles;
@@ -21,6 +23,7 @@ pub mod exec;
 pub mod grooving;
 pub mod moves;
 pub mod out;
+pub mod sysvars;
 
 #[cfg(test)]
 mod tests;
@@ -42,6 +45,33 @@ pub struct ReadOptions {
     pub block_delete: bool,
     /// OPTIONAL STOP: M01 stops (else it is dropped).
     pub optional_stop: bool,
+    /// The console's part counter when the program is read (Fanuc's #3901/#3902); `None`:
+    /// no counter (the reader refuses them).
+    pub parts: Option<Parts>,
+}
+
+/// The lathe's part counter as a program reads it (Fanuc's #3901 parts machined, #3902
+/// required): each channel's count of finished works and the target.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Parts {
+    /// Works each channel has finished (channels past the machine's read 0).
+    pub counts: [u32; crate::lathe::desc::MAX_CHANNELS],
+    /// The number of parts to make.
+    pub target: u32,
+}
+
+impl Parts {
+    /// The counter of `counts` (one a channel) and `target`.
+    pub fn new(counts: &[u32], target: u32) -> Parts {
+        let mut p = Parts {
+            counts: Default::default(),
+            target,
+        };
+        for (to, from) in p.counts.iter_mut().zip(counts) {
+            *to = *from;
+        }
+        p
+    }
 }
 
 const LATHE_LETTERS: &str = "DEFHIJKLNPQRSTUWXZ";
@@ -251,6 +281,10 @@ pub fn read_program_in(
     .mdi()
     .without_texts()
     .line_limit(MAX_LINES);
+    if let Some(p) = opts.parts {
+        let made = p.counts.get(ch).copied().unwrap_or(0);
+        source = source.part_counter(u64::from(made), u64::from(p.target));
+    }
     while let Some(s) = source.next_with(&mut r) {
         s?;
     }

@@ -157,6 +157,11 @@ impl<'a> Out<'a> {
         self.comp_side.is_some()
     }
 
+    /// G41 (true) or G42 (false), if either is in force.
+    pub fn comp_side(&self) -> Option<bool> {
+        self.comp_side
+    }
+
     /// The tool in place.
     pub fn tool(&self) -> Option<&ToolDesc> {
         self.tool.as_ref().map(|t| &t.0)
@@ -180,6 +185,11 @@ impl<'a> Out<'a> {
             }
             None => false,
         }
+    }
+
+    /// Whether the tool in place has its offsets applied (T0101, not T0100).
+    pub fn offsets_on(&self) -> bool {
+        self.tool.as_ref().is_some_and(|t| t.1)
     }
 
     /// Puts a tool in place (its offsets applying if `offsets`).

@@ -361,6 +361,7 @@ fn chuck_stops_block_delete_and_optional_stop() {
     let on = ReadOptions {
         block_delete: true,
         optional_stop: false,
+        parts: None,
     };
     assert!(read_program("/G0 X1 X2\nM2\n", &wide_desc(), 0, &on).is_ok());
     assert!(read("/G0 X1 X2\nM2\n").is_err());
@@ -382,6 +383,7 @@ fn chuck_stops_block_delete_and_optional_stop() {
     let opts = ReadOptions {
         block_delete: true,
         optional_stop: true,
+        parts: None,
     };
     let p = read_program(text, &d, 0, &opts).unwrap_or_default();
     assert_eq!(
