@@ -45,6 +45,14 @@ pub struct ChannelDesc {
     /// channel, else the machine's line before the channels, else `--dialect`); `None`: not
     /// said, LinuxCNC's (docs/lathe.md "Machine description").
     pub dialect: Option<crate::settings::Dialect>,
+    /// The Fanuc dialect's `common keep|clear` (parameter 6001#6 CCV): whether RESET keeps
+    /// the common variables #100–#199 (the channel's line, else the machine's before the
+    /// channels); `None`: not said, RESET makes them vacant.
+    pub keep_common: Option<bool>,
+    /// The feed mode at power-on and after RESET (`feed per-rev` G95, `feed per-minute` G94;
+    /// the channel's line, else the machine's); `None`: not said, by the dialect: Fanuc's
+    /// G95 (a Fanuc 0i-T powers on in G99), LinuxCNC's G94.
+    pub per_rev: Option<bool>,
 }
 
 impl ChannelDesc {
@@ -62,6 +70,8 @@ impl ChannelDesc {
             encoder: 0,
             tools: Vec::new(),
             dialect: None,
+            keep_common: None,
+            per_rev: None,
         }
     }
 
@@ -397,6 +407,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut tool_change_z = None;
     let mut dialect = None;
     let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
+    let mut feed = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -473,6 +484,25 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 }
                 *slot = Some(d);
             }
+            "feed" if kind == Some("lathe") => {
+                let v = match words.as_slice() {
+                    [_, "per-rev"] => true,
+                    [_, "per-minute"] => false,
+                    _ => return Err(e("feed takes per-rev or per-minute".into())),
+                };
+                // In a channel, the channel's; before the channels, the machine's.
+                let slot = match channels.last_mut() {
+                    Some(ch) if in_channel => &mut ch.per_rev,
+                    _ => &mut feed,
+                };
+                if slot.is_some() {
+                    return Err(e(format!(
+                        "feed is given twice{}",
+                        if in_channel { " in this channel" } else { "" }
+                    )));
+                }
+                *slot = Some(v);
+            }
             "common" | "decimal" => {
                 // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
                 let (slot, words_are) = if head == "common" {
@@ -480,8 +510,22 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 } else {
                     (&mut fanuc.1, ["calculator", "increments"])
                 };
+                // On a lathe, `common` is the channel's (in a channel) or the machine's
+                // (before the channels), as `dialect` is; `decimal` is a mill's.
+                let lathe_common = kind == Some("lathe") && head == "common";
+                let slot = match channels.last_mut() {
+                    Some(ch) if lathe_common && in_channel => &mut ch.keep_common,
+                    _ => slot,
+                };
                 if slot.is_some() {
-                    return Err(e(format!("{head} is given twice")));
+                    return Err(e(format!(
+                        "{head} is given twice{}",
+                        if lathe_common && in_channel {
+                            " in this channel"
+                        } else {
+                            ""
+                        }
+                    )));
                 }
                 *slot = match words.as_slice() {
                     [_, w] if *w == words_are[0] => Some(true),
@@ -493,7 +537,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                         )))
                     }
                 };
-                if kind != Some("mill") {
+                if kind != Some("mill") && !lathe_common {
                     return Err(e(format!(
                         "{head}: a setting of the Fanuc dialect, which a lathe's channels do not read (say 'kind mill' first for a machining centre)"
                     )));
@@ -632,6 +676,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             // The machine's dialect line says it for the channels that do not.
             for ch in &mut channels {
                 ch.dialect = ch.dialect.or(dialect);
+                ch.keep_common = ch.keep_common.or(fanuc.0);
+                ch.per_rev = ch.per_rev.or(feed);
             }
             lathe(name, pulse_mm, tick_us, channels, &links)
         }

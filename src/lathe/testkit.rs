@@ -37,6 +37,8 @@ pub fn channel(name: &str) -> ChannelDesc {
             })
             .collect(),
         dialect: None,
+        keep_common: None,
+        per_rev: None,
     }
 }
 
