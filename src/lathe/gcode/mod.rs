@@ -353,11 +353,12 @@ pub fn read_kept(
     }
     let mut modal = r.st.clone();
     if r.ended && dialect == crate::settings::Dialect::LinuxCnc {
-        // LinuxCNC's M2/M30 (`convert_stop`), as the centre's: G90, G94, G40, G1, the
+        // LinuxCNC's M2/M30 (`convert_stop`), as the centre's: G90, G94, F0, G40, G1, the
         // spindle stopped; the units, the diameter mode and the parameters stay. Fanuc's
         // end of program keeps the modal state.
         modal.absolute = true;
         modal.per_rev = false;
+        modal.feed = None;
         modal.motion = Some(10);
     }
     modal.dir = 5;
