@@ -282,3 +282,52 @@ fn the_feed_mode_at_power_on_is_the_channels_else_its_dialects() {
     let e = novanc::lathe::desc::parse(&bad).err().unwrap_or_default();
     assert!(e.ends_with("feed takes per-rev or per-minute"), "{e}");
 }
+
+#[test]
+fn a_channels_subroutine_path_finds_o_word_and_m98_subprograms_in_files() {
+    let dir = common::temp_dir("lathe-state-subs");
+    std::fs::write(
+        dir.join("groove.ngc"),
+        "o<groove> sub\nG0 X#1 Z#2\no<groove> endsub\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(dir.join("100.ngc"), "O100\nG0 X12 Z3\nM99\n").unwrap_or_else(|e| panic!("{e}"));
+    let program = "o<groove> call [20] [5]\nM98 P100\n";
+    let citizen = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let read = |text: &str| {
+        let Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) = novanc::lathe::desc::parse(text)
+        else {
+            panic!("{text}");
+        };
+        novanc::lathe::gcode::read_program(program, &d, 1, &Default::default())
+            .map(|p| {
+                p.iter()
+                    .flat_map(|s| &s.blocks)
+                    .map(|b| [b.end[0], b.end[2]])
+                    .collect::<Vec<_>>()
+            })
+            .map_err(|e| e.to_string())
+    };
+    // Without a path: not found, at the call's line.
+    let e = read(&citizen).err().unwrap_or_default();
+    assert!(e.starts_with("1:"), "{e}");
+    // The machine's line is every channel's; a channel's own comes first.
+    let line = format!("subroutines {}\n", dir.display());
+    let machine = citizen.replacen("kind lathe\n", &format!("kind lathe\n{line}"), 1);
+    assert_eq!(read(&machine), Ok(vec![[10_000, 5_000], [6_000, 3_000]]));
+    let channel = citizen.replacen(
+        "channel SYSTEM-2\n",
+        &format!("channel SYSTEM-2\n{line}"),
+        1,
+    );
+    assert_eq!(read(&channel), Ok(vec![[10_000, 5_000], [6_000, 3_000]]));
+    let other = citizen.replacen(
+        "channel SYSTEM-3\n",
+        &format!("channel SYSTEM-3\n{line}"),
+        1,
+    );
+    assert!(read(&other).is_err());
+}

@@ -53,6 +53,9 @@ pub struct ChannelDesc {
     /// the channel's line, else the machine's); `None`: not said, by the dialect: Fanuc's
     /// G95 (a Fanuc 0i-T powers on in G99), LinuxCNC's G94.
     pub per_rev: Option<bool>,
+    /// Where `o<name> call` and `M98 P` look for a subroutine the program does not hold
+    /// (`name.ngc`), in order: the channel's `subroutines` lines, then the machine's.
+    pub subroutines: Vec<std::path::PathBuf>,
 }
 
 impl ChannelDesc {
@@ -72,6 +75,7 @@ impl ChannelDesc {
             dialect: None,
             keep_common: None,
             per_rev: None,
+            subroutines: Vec::new(),
         }
     }
 
@@ -408,6 +412,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut dialect = None;
     let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
     let mut feed = None;
+    let mut sub_path: Vec<std::path::PathBuf> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -502,6 +507,18 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     )));
                 }
                 *slot = Some(v);
+            }
+            "subroutines" if kind == Some("lathe") => {
+                let dir = match words.as_slice() {
+                    [_, d] => std::path::PathBuf::from(d),
+                    _ => return Err(e("subroutines takes one folder (no spaces)".into())),
+                };
+                // In a channel, the channel's; before the channels, every channel's (after
+                // its own).
+                match channels.last_mut() {
+                    Some(ch) if in_channel => ch.subroutines.push(dir),
+                    _ => sub_path.push(dir),
+                }
             }
             "common" | "decimal" => {
                 // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
@@ -678,6 +695,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 ch.dialect = ch.dialect.or(dialect);
                 ch.keep_common = ch.keep_common.or(fanuc.0);
                 ch.per_rev = ch.per_rev.or(feed);
+                ch.subroutines.extend(sub_path.iter().cloned());
             }
             lathe(name, pulse_mm, tick_us, channels, &links)
         }

@@ -39,6 +39,7 @@ pub fn channel(name: &str) -> ChannelDesc {
         dialect: None,
         keep_common: None,
         per_rev: None,
+        subroutines: Vec::new(),
     }
 }
 

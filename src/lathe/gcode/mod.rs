@@ -331,6 +331,10 @@ pub fn read_kept(
     .mdi()
     .without_texts()
     .line_limit(MAX_LINES);
+    if !chan.subroutines.is_empty() {
+        // The channel's subroutine path (docs/lathe-gcode.md "One reader, two dialects").
+        source = source.subroutines(Box::new(crate::gcode::SubPath(chan.subroutines.clone())));
+    }
     let mut messages = Vec::new();
     loop {
         let before = r.out.statements.len();
