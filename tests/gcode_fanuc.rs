@@ -709,9 +709,10 @@ fn the_fanuc_settings_are_lines_of_the_machine_description() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
     )
     .unwrap();
-    assert!(parse(&format!("{citizen}common keep\n"))
+    // `decimal` is a mill's; a lathe's channels take `common` (tests/lathe_state.rs).
+    assert!(parse(&format!("{citizen}decimal calculator\n"))
         .unwrap_err()
-        .contains("common: a setting of the Fanuc dialect, which a lathe's channels do not read"));
+        .contains("decimal: a setting of the Fanuc dialect, which a lathe's channels do not read"));
 }
 
 #[test]

@@ -249,6 +249,8 @@ struct Lathe {
     programs: Vec<Program>,
     tools: Vec<Vec<ToolDesc>>,
     counter: Counter,
+    /// Each channel's #500–#999 (docs/lathe-gcode.md "What a channel keeps").
+    params: Vec<std::collections::BTreeMap<usize, f64>>,
 }
 
 impl Subject for Lathe {
@@ -269,6 +271,11 @@ impl Subject for Lathe {
             programs: o.programs,
             tools,
             counter: o.counter,
+            params: o
+                .params
+                .iter()
+                .map(|p| p.iter().copied().collect())
+                .collect(),
         };
         Ok((l, o.warnings))
     }
@@ -303,6 +310,21 @@ impl Subject for Lathe {
                 self.store.save_tools(ch, &tools)?;
                 self.tools[ch] = tools;
             }
+            // A START whose read changed a channel's #500–#999 (0: vacant again).
+            80..=89 => {
+                let n = 500 + r.below(500);
+                let v = if r.below(4) == 0 {
+                    0.0
+                } else {
+                    k as f64 * 0.25
+                };
+                self.store.save_params(ch, &[(n, v)])?;
+                if v == 0.0 {
+                    self.params[ch].remove(&n);
+                } else {
+                    self.params[ch].insert(n, v);
+                }
+            }
             // The part counter: a channel counts a work, or a new target starts a batch.
             _ => {
                 let mut c = self.counter.clone();
@@ -321,8 +343,8 @@ impl Subject for Lathe {
 
     fn digest(&self) -> u64 {
         fnv(&format!(
-            "{:?}{:?}{:?}",
-            self.programs, self.tools, self.counter
+            "{:?}{:?}{:?}{:?}",
+            self.programs, self.tools, self.counter, self.params
         ))
     }
 

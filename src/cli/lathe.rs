@@ -151,6 +151,9 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         100,
         crate::pulse_core::ClockMode::Virtual,
         rec.as_ref().map(crate::record::Recorder::sink),
+        &mut (0..desc.channels.len())
+            .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
+            .collect::<Vec<_>>(),
     ) {
         Ok(c) => c,
         Err(e) => {

@@ -49,6 +49,17 @@ pub struct ChannelDesc {
     /// G98/G99 feeds, G90/G92/G94 single cycles, G50, no G91 (docs/lathe-gcode.md "G code
     /// systems"); `false`: system B, as LinuxCNC's lathe reads. Only with the Fanuc dialect.
     pub system_a: bool,
+    /// The Fanuc dialect's `common keep|clear` (parameter 6001#6 CCV): whether RESET keeps
+    /// the common variables #100–#199 (the channel's line, else the machine's before the
+    /// channels); `None`: not said, RESET makes them vacant.
+    pub keep_common: Option<bool>,
+    /// The feed mode at power-on and after RESET (`feed per-rev` G95, `feed per-minute` G94;
+    /// the channel's line, else the machine's); `None`: not said, by the dialect: Fanuc's
+    /// G95 (a Fanuc 0i-T powers on in G99), LinuxCNC's G94.
+    pub per_rev: Option<bool>,
+    /// Where `o<name> call` and `M98 P` look for a subroutine the program does not hold
+    /// (`name.ngc`), in order: the channel's `subroutines` lines, then the machine's.
+    pub subroutines: Vec<std::path::PathBuf>,
 }
 
 impl ChannelDesc {
@@ -67,6 +78,9 @@ impl ChannelDesc {
             tools: Vec::new(),
             dialect: None,
             system_a: false,
+            keep_common: None,
+            per_rev: None,
+            subroutines: Vec::new(),
         }
     }
 
@@ -408,6 +422,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     // Each channel's `gcode system A` line, by channel index: its line number.
     let mut system_a: Vec<(usize, usize)> = Vec::new();
     let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
+    let mut feed = None;
+    let mut sub_path: Vec<std::path::PathBuf> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -509,6 +525,37 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 // System B is kept as said (0), so that a second line is refused.
                 system_a.push((ch, if a { ln } else { 0 }));
             }
+            "feed" if kind == Some("lathe") => {
+                let v = match words.as_slice() {
+                    [_, "per-rev"] => true,
+                    [_, "per-minute"] => false,
+                    _ => return Err(e("feed takes per-rev or per-minute".into())),
+                };
+                // In a channel, the channel's; before the channels, the machine's.
+                let slot = match channels.last_mut() {
+                    Some(ch) if in_channel => &mut ch.per_rev,
+                    _ => &mut feed,
+                };
+                if slot.is_some() {
+                    return Err(e(format!(
+                        "feed is given twice{}",
+                        if in_channel { " in this channel" } else { "" }
+                    )));
+                }
+                *slot = Some(v);
+            }
+            "subroutines" if kind == Some("lathe") => {
+                let dir = match words.as_slice() {
+                    [_, d] => std::path::PathBuf::from(d),
+                    _ => return Err(e("subroutines takes one folder (no spaces)".into())),
+                };
+                // In a channel, the channel's; before the channels, every channel's (after
+                // its own).
+                match channels.last_mut() {
+                    Some(ch) if in_channel => ch.subroutines.push(dir),
+                    _ => sub_path.push(dir),
+                }
+            }
             "common" | "decimal" => {
                 // Fanuc's parameters 6001#6 and 3401#0 (docs/gcode.md "Fanuc dialect").
                 let (slot, words_are) = if head == "common" {
@@ -516,8 +563,22 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 } else {
                     (&mut fanuc.1, ["calculator", "increments"])
                 };
+                // On a lathe, `common` is the channel's (in a channel) or the machine's
+                // (before the channels), as `dialect` is; `decimal` is a mill's.
+                let lathe_common = kind == Some("lathe") && head == "common";
+                let slot = match channels.last_mut() {
+                    Some(ch) if lathe_common && in_channel => &mut ch.keep_common,
+                    _ => slot,
+                };
                 if slot.is_some() {
-                    return Err(e(format!("{head} is given twice")));
+                    return Err(e(format!(
+                        "{head} is given twice{}",
+                        if lathe_common && in_channel {
+                            " in this channel"
+                        } else {
+                            ""
+                        }
+                    )));
                 }
                 *slot = match words.as_slice() {
                     [_, w] if *w == words_are[0] => Some(true),
@@ -529,7 +590,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                         )))
                     }
                 };
-                if kind != Some("mill") {
+                if kind != Some("mill") && !lathe_common {
                     return Err(e(format!(
                         "{head}: a setting of the Fanuc dialect, which a lathe's channels do not read (say 'kind mill' first for a machining centre)"
                     )));
@@ -668,6 +729,9 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             // The machine's dialect line says it for the channels that do not.
             for ch in &mut channels {
                 ch.dialect = ch.dialect.or(dialect);
+                ch.keep_common = ch.keep_common.or(fanuc.0);
+                ch.per_rev = ch.per_rev.or(feed);
+                ch.subroutines.extend(sub_path.iter().cloned());
             }
             // System A is Fanuc's: LinuxCNC's lathe has system B only.
             for &(c, ln) in system_a.iter().filter(|s| s.1 > 0) {

@@ -38,6 +38,9 @@ pub fn channel(name: &str) -> ChannelDesc {
             .collect(),
         dialect: None,
         system_a: false,
+        keep_common: None,
+        per_rev: None,
+        subroutines: Vec::new(),
     }
 }
 

@@ -102,7 +102,12 @@ pub struct LatheState {
     pub tools: Vec<Option<Vec<ToolDesc>>>,
     /// The part counter.
     pub counter: Counter,
+    /// Each channel's kept parameters (#500–#999), in millionths; a vacant one is not held.
+    pub params: Vec<std::collections::BTreeMap<u16, i64>>,
 }
+
+/// The parameters a lathe channel keeps in the stores: the Fanuc dialect's #500–#999.
+pub const KEPT_PARAMS: std::ops::RangeInclusive<usize> = 500..=999;
 
 /// The tool lines of a table, as the journal and the snapshot keep them.
 pub fn tools_text(tools: &[ToolDesc]) -> String {
@@ -135,6 +140,7 @@ impl LatheState {
                 .collect(),
             tools: vec![None; n],
             counter: Counter::fresh(n),
+            params: vec![Default::default(); n],
         }
     }
 
@@ -154,6 +160,14 @@ impl LatheState {
                 ch,
                 text: t.as_deref().map(tools_text),
             });
+        }
+        for (ch, ps) in self.params.iter().enumerate() {
+            if !ps.is_empty() {
+                out.push(Record::ChannelParams {
+                    ch,
+                    params: ps.iter().map(|(&n, &v)| (n, v)).collect(),
+                });
+            }
         }
         out.push(Record::Parts {
             target: self.counter.target,
@@ -198,6 +212,36 @@ impl LatheState {
                 };
                 let changed = self.tools[ch] != tools;
                 self.tools[ch] = tools;
+                changed
+            }
+            Record::ChannelParams { ch, params } => {
+                let ch = chan(*ch)?;
+                if let Some((n, _)) = params
+                    .iter()
+                    .find(|(n, _)| !KEPT_PARAMS.contains(&usize::from(*n)))
+                {
+                    return Err(Refusal::Other(format!(
+                        "#{n} is not a parameter a lathe channel keeps (#500-#999)"
+                    )));
+                }
+                if let Some((n, v)) = params
+                    .iter()
+                    .find(|(_, v)| v.abs() > super::state::PARAM_LIMIT)
+                {
+                    return Err(Refusal::Other(format!(
+                        "#{n} = {v} millionths is beyond the stores' limit"
+                    )));
+                }
+                let kept = &mut self.params[ch];
+                let mut changed = false;
+                for &(n, v) in params {
+                    changed |= kept.get(&n).copied().unwrap_or(0) != v;
+                    if v == 0 {
+                        kept.remove(&n);
+                    } else {
+                        kept.insert(n, v);
+                    }
+                }
                 changed
             }
             Record::Parts { target, counts } => {
@@ -393,6 +437,8 @@ pub struct Opened {
     pub counter: Counter,
     /// Each channel's tools as last revised at the console (`None`: the description's).
     pub tools: Vec<Option<Vec<ToolDesc>>>,
+    /// Each channel's kept parameters (#500–#999) that are not vacant, (number, value).
+    pub params: Vec<Vec<(usize, f64)>>,
     /// What the operator should know (damage found and kept aside, a migration).
     pub warnings: Vec<String>,
 }
@@ -426,8 +472,47 @@ impl LatheStore {
             programs: l.programs,
             counter: l.counter,
             tools: l.tools,
+            params: l.params.iter().map(super::params::params_of).collect(),
             warnings,
         })
+    }
+
+    /// Stores channel `ch`'s kept parameters (#500–#999) together, as one journaled record,
+    /// before it returns Ok; a vacant one (NaN) is 0, which the stores do not hold. Values
+    /// that already stand are left out. A value that is not a number within the stores'
+    /// limit refuses the whole change.
+    pub fn save_params(&mut self, ch: usize, ps: &[(usize, f64)]) -> Result<(), String> {
+        let kept = self.stores.lathe().and_then(|l| l.params.get(ch));
+        let mut rec = Vec::with_capacity(ps.len());
+        for &(n, v) in ps {
+            let v = if v.is_nan() { 0.0 } else { v };
+            let m = super::params::to_millionths(n, v)?;
+            let k = u16::try_from(n).map_err(|_| format!("#{n} is not kept"))?;
+            if kept.and_then(|p| p.get(&k)).copied().unwrap_or(0) != m {
+                rec.retain(|&(j, _)| j != k);
+                rec.push((k, m));
+            }
+        }
+        if rec.is_empty() {
+            return Ok(());
+        }
+        self.commit(Record::ChannelParams { ch, params: rec })
+            .map_err(|e| {
+                format!(
+                    "channel {}: the parameters could not be stored: {e}",
+                    ch + 1
+                )
+            })
+    }
+
+    /// Channel `ch`'s kept parameters as the stores hold them (number, value; a vacant one
+    /// is not listed).
+    pub fn params(&self, ch: usize) -> Vec<(usize, f64)> {
+        self.stores
+            .lathe()
+            .and_then(|l| l.params.get(ch))
+            .map(super::params::params_of)
+            .unwrap_or_default()
     }
 
     /// Stores channel `ch`'s program; when this returns Ok it is on disk.

@@ -107,6 +107,14 @@ pub enum Record {
         /// The tool lines.
         text: Option<String>,
     },
+    /// A lathe channel's kept parameters set together (the Fanuc dialect's #500–#999: docs/
+    /// stores.md "A lathe's stores"), each in millionths; 0 (vacant) removes one.
+    ChannelParams {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// Parameter number and value in millionths.
+        params: Vec<(u16, i64)>,
+    },
     /// A lathe's part counter: the target and each channel's count.
     Parts {
         /// The number of parts to make.
@@ -164,6 +172,13 @@ impl Record {
             }
             Record::ChannelTools { ch, text: Some(t) } => format!("chtools {}\n{t}", ch + 1),
             Record::ChannelTools { ch, text: None } => format!("chtools {} -", ch + 1),
+            Record::ChannelParams { ch, params } => {
+                let mut t = format!("chparam {}", ch + 1);
+                for (n, v) in params {
+                    t.push_str(&format!(" {n} {v}"));
+                }
+                t
+            }
             Record::Parts { target, counts } => {
                 let mut t = format!("parts {target}");
                 for c in counts {
@@ -272,6 +287,19 @@ impl Record {
                 ch: channel(c, head)?,
                 text: None,
             },
+            ["chparam", c, rest @ ..] if !rest.is_empty() && rest.len() % 2 == 0 => {
+                let bad = || format!("bad parameter record '{head}'");
+                let mut ps = Vec::with_capacity(rest.len() / 2);
+                for pair in rest.chunks(2) {
+                    let n = pair[0].parse::<u16>().map_err(|_| bad())?;
+                    let v = pair[1].parse::<i64>().map_err(|_| bad())?;
+                    ps.push((n, v));
+                }
+                Record::ChannelParams {
+                    ch: channel(c, head)?,
+                    params: ps,
+                }
+            }
             ["parts", t, counts @ ..] if !counts.is_empty() => {
                 let bad = || format!("bad part counter record '{head}'");
                 Record::Parts {

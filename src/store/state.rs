@@ -230,7 +230,10 @@ impl State {
     ) -> Result<(Outcome, bool), Refusal> {
         let lathe_rec = matches!(
             rec,
-            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. }
+            Record::ChannelProgram { .. }
+                | Record::ChannelTools { .. }
+                | Record::ChannelParams { .. }
+                | Record::Parts { .. }
         );
         match (self.lathe.as_mut(), lathe_rec) {
             (Some(l), _) => return l.apply(rec),
@@ -421,11 +424,12 @@ impl State {
                 }
                 Ok((Outcome::default(), changed))
             }
-            Record::ChannelProgram { .. } | Record::ChannelTools { .. } | Record::Parts { .. } => {
-                Err(Refusal::Other(
-                    "not a record of the centre's stores".to_string(),
-                ))
-            }
+            Record::ChannelProgram { .. }
+            | Record::ChannelTools { .. }
+            | Record::ChannelParams { .. }
+            | Record::Parts { .. } => Err(Refusal::Other(
+                "not a record of the centre's stores".to_string(),
+            )),
             Record::TCode { t, tool } => {
                 if self.tcodes.tool_in(*t) == *tool && *t >= 1 && *t <= self.tcodes.capacity() {
                     return Ok((Outcome::default(), false));

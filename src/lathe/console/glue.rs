@@ -10,7 +10,7 @@
 
 use super::view::ChanView;
 use crate::lathe::desc::LatheDesc;
-use crate::lathe::gcode::{read_program, ReadOptions};
+use crate::lathe::gcode::{read_kept, Kept, ReadOptions};
 use crate::pulse_core::{ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore};
 use crate::record::EventSink;
 use crate::store::lathe::Program;
@@ -38,10 +38,25 @@ pub struct Cycle {
     snap: Vec<ChannelStatus>,
     t: u64,
     clock: ClockMode,
+    /// Each channel's messages (`(msg,)`, `(print,)`...): the block they come before, by its
+    /// number (`u32::MAX`: after the last block), and the text shown.
+    msgs: Vec<Vec<(u32, String)>>,
+    /// Each channel's next message to show and the block it last saw executing (a lower one:
+    /// the program runs again, for the next part).
+    msg_at: Vec<(usize, u32)>,
+    /// The messages shown since the console last took them: channel and text.
+    said: Vec<(usize, String)>,
 }
 
-/// A kernel ready to start, each program's source lines and each program's first line.
-type MadeKernel = (Kernel, Vec<Vec<String>>, Vec<u32>);
+/// A kernel ready to start, each program's source lines, each program's first line, each
+/// channel's state after its read (None: not read) and its messages.
+type MadeKernel = (
+    Kernel,
+    Vec<Vec<String>>,
+    Vec<u32>,
+    Vec<Option<Kept>>,
+    Vec<Vec<(u32, String)>>,
+);
 
 /// What the kernel would do with a cycle of `desc` running `texts`: the kernel, ready to start,
 /// and the program lines. Any error names the channel, the program and the line.
@@ -55,21 +70,52 @@ fn make_kernel(
     only: usize,
     pos: &[[i64; 2]],
     feed_override: u32,
+    kept: &[Kept],
 ) -> Result<MadeKernel, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
+    let mut after = Vec::new();
+    let mut msgs = Vec::new();
     for (ch, (name, text)) in texts.iter().enumerate() {
         if mdi && ch != only {
             // The other channels stand still with no program during an MDI run.
             progs.push(Vec::new());
             lines.push(Vec::new());
+            after.push(None);
+            msgs.push(Vec::new());
             continue;
         }
-        let p =
-            read_program(text, desc, ch, opts).map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        // Each channel reads from the state its last program or MDI left (docs/lathe-gcode.md
+        // "What a channel keeps"), the tool post where it stands.
+        let from = kept
+            .get(ch)
+            .cloned()
+            .unwrap_or_else(|| Kept::power_on(desc, ch, None));
+        let r = read_kept(text, desc, ch, opts, None, &from, pos.get(ch).copied())
+            .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        let p = r.statements;
         if !mdi && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
         }
+        // A message is shown when the first block of the statement after it begins.
+        let seq_of = |i: usize| {
+            p.iter()
+                .skip(i)
+                .find_map(|s| s.blocks.first())
+                .map_or(u32::MAX, |b| b.seq)
+        };
+        msgs.push(
+            r.messages
+                .iter()
+                .map(|m| {
+                    (
+                        seq_of(m.before),
+                        format!("CH{} {}: {}", ch + 1, m.kind, m.text),
+                    )
+                })
+                .collect(),
+        );
+        after.push(Some(r.kept));
         progs.push(p);
         lines.push(text.lines().map(str::to_string).collect());
     }
@@ -86,7 +132,7 @@ fn make_kernel(
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(feed_override))?;
     }
-    Ok((k, lines, first))
+    Ok((k, lines, first, after, msgs))
 }
 
 /// What a recording of `desc` says before its first message (docs/recording.md,
@@ -139,14 +185,31 @@ impl Cycle {
         feed_override: u32,
         clock: ClockMode,
         sink: Option<EventSink>,
+        kept: &mut [Kept],
     ) -> Result<Cycle, String> {
-        let (mut k, lines, first) =
-            make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
+        let (mut k, lines, first, after, msgs) = make_kernel(
+            desc,
+            texts,
+            opts,
+            target,
+            mdi,
+            only,
+            pos,
+            feed_override,
+            kept,
+        )?;
         // One time base for the console's cycles (and its recording): the kernel's clock goes
         // on from the console's machine time.
         k.set_clock(started_ns)?;
         let started_ns = k.now();
         k.start(Some(only).filter(|_| mdi))?;
+        // The cycle starts: each channel read keeps the state its read left.
+        for (k, a) in kept.iter_mut().zip(after) {
+            if let Some(a) = a {
+                *k = a;
+            }
+        }
+        let n = msgs.len();
         let core = PulseCore::spawn_kernel(k, clock, sink);
         let mut c = Cycle {
             core,
@@ -159,6 +222,9 @@ impl Cycle {
             snap: Vec::new(),
             t: 0,
             clock,
+            msgs,
+            msg_at: vec![(0, 0); n],
+            said: Vec::new(),
         };
         c.refresh();
         Ok(c)
@@ -187,6 +253,45 @@ impl Cycle {
         }
         self.snap = snap;
         self.t = self.core.status().machine_ns;
+        self.show_messages();
+    }
+
+    /// The programs' messages whose block has begun (or, after the last block, whose channel
+    /// has finished its program) are said, in order; a program that runs again for the next
+    /// part says them again.
+    fn show_messages(&mut self) {
+        for (ch, c) in self.snap.iter().enumerate() {
+            let Some(msgs) = self.msgs.get(ch).filter(|m| !m.is_empty()) else {
+                continue;
+            };
+            let st = &c.status;
+            let seq = st
+                .executing
+                .as_ref()
+                .and_then(|e| e.block())
+                .map_or(0, |b| b.seq);
+            let (next, last) = &mut self.msg_at[ch];
+            // Ran to its end (an MDI run: it ran a block and stands idle again).
+            let ended = st.program_end
+                || c.sync.as_ref().is_some_and(|v| v.done)
+                || (st.run == 0 && st.idle && (seq > 0 || *last > 0));
+            let said = &mut self.said;
+            let mut show = |upto: u32, next: &mut usize| {
+                while let Some((_, text)) = msgs.get(*next).filter(|m| m.0 <= upto) {
+                    said.push((ch, text.clone()));
+                    *next += 1;
+                }
+            };
+            if seq > 0 && seq < *last {
+                // The program began again (the next part): what it had left to say first.
+                show(u32::MAX, next);
+                *next = 0;
+            }
+            if seq > 0 {
+                *last = seq;
+            }
+            show(if ended { u32::MAX } else { seq }, next);
+        }
     }
 
     /// Every channel's state as the kernel last published it.
@@ -342,6 +447,11 @@ impl Cycle {
         let r = self.core.fault(ch, why);
         self.refresh();
         r
+    }
+
+    /// The programs' messages said since the last call: channel and text (`CH1 MSG: text`).
+    pub fn take_said(&mut self) -> Vec<(usize, String)> {
+        std::mem::take(&mut self.said)
     }
 
     /// A message for the operator, once.

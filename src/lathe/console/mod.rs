@@ -66,6 +66,9 @@ pub struct LatheConsole {
     screen_fits: bool,
     /// The last key refused because the terminal is too small, for the notice.
     ignored: Option<String>,
+    /// Each channel's interpreter state, as its last program or MDI left it
+    /// (docs/lathe-gcode.md "What a channel keeps").
+    kept: Vec<super::gcode::Kept>,
 }
 
 /// What the terminal or the window draws.
@@ -154,7 +157,21 @@ impl LatheConsole {
             watch: None,
             screen_fits: true,
             ignored: None,
+            kept: Vec::new(),
         };
+        c.kept = (0..n)
+            .map(|ch| {
+                let mut k = super::gcode::Kept::power_on(&c.desc, ch, None);
+                // #500–#999 as the stores kept them (docs/lathe-gcode.md "What a channel
+                // keeps").
+                for &(p, v) in o.params.get(ch).map_or(&[][..], |v| &v[..]) {
+                    if let Some(slot) = k.params.params.get_mut(p) {
+                        *slot = v;
+                    }
+                }
+                k
+            })
+            .collect();
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = o.warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
@@ -541,6 +558,7 @@ impl LatheConsole {
             self.feed_override,
             self.clock,
             self.sink.clone(),
+            &mut self.kept,
         ) {
             Err(e) => self.message = e,
             Ok(mut c) => {
@@ -565,11 +583,51 @@ impl LatheConsole {
                 } else {
                     "cycle start".into()
                 };
+                self.keep_params();
+            }
+        }
+    }
+
+    /// Journals the channels' #500–#999 that their reads changed (the reads the cycle just
+    /// started: once per START, not once per part). A value the stores refuse is said on the
+    /// message line and left out.
+    fn keep_params(&mut self) {
+        for (ch, k) in self.kept.iter().enumerate() {
+            let kept: std::collections::HashMap<usize, f64> =
+                self.store.params(ch).into_iter().collect();
+            let changed: Vec<(usize, f64)> = crate::store::lathe::KEPT_PARAMS
+                .filter_map(|n| {
+                    let v = *k.params.params.get(n)?;
+                    let was = kept.get(&n).copied().unwrap_or(0.0);
+                    let now = if v.is_nan() { 0.0 } else { v };
+                    ((now - was).abs() > 0.5e-6).then_some((n, v))
+                })
+                .collect();
+            if changed.is_empty() {
+                continue;
+            }
+            if self.store.save_params(ch, &changed).is_err() {
+                for &p in &changed {
+                    if let Err(e) = self.store.save_params(ch, &[p]) {
+                        self.message = format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0);
+                    }
+                }
             }
         }
     }
 
     fn reset(&mut self) {
+        // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
+        // channel's): docs/lathe-gcode.md "What a channel keeps".
+        let all = self
+            .cycle
+            .as_ref()
+            .is_some_and(|c| c.channels().iter().any(|s| s.status.estop));
+        for (ch, k) in self.kept.iter_mut().enumerate() {
+            if all || ch == self.sel {
+                k.reset(&self.desc, ch);
+            }
+        }
         let Some(c) = self.cycle.as_mut() else {
             self.mdi[self.sel].clear();
             self.entry.clear();
@@ -646,6 +704,28 @@ impl LatheConsole {
             }
             if let Some(m) = c.take_message() {
                 self.message = m;
+            }
+            // The programs' messages: on the message line (the last one), each in the
+            // recording's log as the centre's (docs/recording.md `/foxglove/log`).
+            for (ch, text) in c.take_said() {
+                if let Some(r) = &self.sink {
+                    r.send(Event::Log {
+                        t_ns: self.now_ns,
+                        level: crate::record::foxglove::level::INFO,
+                        name: "console".into(),
+                        message: text.clone(),
+                        file: if c.mdi {
+                            format!("MDI CH{}", ch + 1)
+                        } else {
+                            self.programs
+                                .get(ch)
+                                .map(|p| p.name.clone())
+                                .unwrap_or_default()
+                        },
+                        line: 0,
+                    });
+                }
+                self.message = text;
             }
         }
         self.record_display();

@@ -196,6 +196,120 @@ pub fn read_program_in(
     opts: &ReadOptions,
     dialect: Option<crate::settings::Dialect>,
 ) -> Result<Vec<Statement>, TranslateError> {
+    let kept = Kept::power_on(desc, ch, dialect);
+    read_kept(text, desc, ch, opts, dialect, &kept, None).map(|r| r.statements)
+}
+
+/// What a channel keeps from one read to the next, as a control keeps its interpreter's state
+/// between programs and MDI (docs/lathe-gcode.md "What a channel keeps"): the modal state, the
+/// tool in place and the one reader's parameters.
+#[derive(Clone, Debug)]
+pub struct Kept {
+    /// The modal state (G20/G21, G90/G91, G07/G08, G94/G95, G96/G97, F, S, D, the motion
+    /// mode, G71's depth of cut). The spindle's direction is the machine's: stopped at
+    /// every START.
+    pub modal: exec::State,
+    /// The tool in place, by number, and whether its offsets apply (T0101 or T0100).
+    pub tool: Option<(u32, bool)>,
+    /// The one reader's state: the parameters, named globals and the Fanuc dialect's vacancy.
+    pub params: crate::gcode::InterpState,
+}
+
+impl Kept {
+    /// Channel `ch`'s state at power-on: the initial modes (docs/lathe-gcode.md "Start,
+    /// modes and coordinates"), the feed mode the channel's `feed` line says, else its
+    /// dialect's (`dialect`, else the channel's: Fanuc's G95, LinuxCNC's G94), no tool,
+    /// every parameter 0 (vacant in the Fanuc dialect).
+    pub fn power_on(
+        desc: &LatheDesc,
+        ch: usize,
+        dialect: Option<crate::settings::Dialect>,
+    ) -> Kept {
+        Kept {
+            modal: power_on_modes(desc, ch, dialect),
+            tool: None,
+            params: crate::gcode::InterpState::with_persistent(&[], [0.0; 3], None),
+        }
+    }
+
+    /// RESET of the channel (docs/lathe-gcode.md "What a channel keeps"): the modal state and
+    /// the tool's offsets back to power-on (Fanuc's RESET with parameter CLR = 1); in the
+    /// Fanuc dialect the locals #1–#33 vacant, and the common variables #100–#199 too unless
+    /// the channel keeps them (`common keep`). Every other parameter stays.
+    pub fn reset(&mut self, desc: &LatheDesc, ch: usize) {
+        self.modal = power_on_modes(desc, ch, None);
+        self.tool = None;
+        let keep_common = desc
+            .channels
+            .get(ch)
+            .and_then(|c| c.keep_common)
+            .unwrap_or(false);
+        let p = &mut self.params;
+        if p.fanuc_vacant {
+            for n in 1..=33 {
+                p.params[n] = f64::NAN;
+            }
+            if !keep_common {
+                p.fanuc_reset();
+            }
+        }
+        p.call_level = 0;
+    }
+}
+
+/// The modal state at power-on: [`exec::State::new`]'s, in the feed mode of the channel's
+/// `feed` line, else of the dialect (`dialect`, else the channel's): a Fanuc 0i-T powers on
+/// in feed per revolution (G99 in system A, G95 in system B; parameter 3402#4 FPM = 0),
+/// LinuxCNC in G94.
+fn power_on_modes(
+    desc: &LatheDesc,
+    ch: usize,
+    dialect: Option<crate::settings::Dialect>,
+) -> exec::State {
+    let mut st = exec::State::new(desc, ch);
+    if let Some(c) = desc.channels.get(ch) {
+        let d = dialect.or(c.dialect).unwrap_or_default();
+        st.per_rev = c.per_rev.unwrap_or(d == crate::settings::Dialect::Fanuc);
+    }
+    st
+}
+
+/// A message a program gave (`(msg,)`, `(print,)`, `(debug,)`, `(log,)`), to be shown when
+/// the block after it begins.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Message {
+    /// The index of the statement it comes before (the statement count: after the last one).
+    pub before: usize,
+    /// `MSG`, `PRINT`, `DEBUG` or `LOG`.
+    pub kind: &'static str,
+    /// The text, parameters substituted.
+    pub text: String,
+}
+
+/// What a read makes: the statements, the messages by the statement they come before, and the
+/// channel's state as the read leaves it.
+#[derive(Debug)]
+pub struct Reading {
+    /// The statements, as [`read_program`]'s.
+    pub statements: Vec<Statement>,
+    /// The messages, in the order they were read.
+    pub messages: Vec<Message>,
+    /// The channel's state after the program.
+    pub kept: Kept,
+}
+
+/// Reads a program from the state `kept` the channel's last read left, the tool post at `at`
+/// (pulses [X, Z]; `None`: at [`home`]). A read refused gives no state: the channel keeps
+/// `kept`.
+pub fn read_kept(
+    text: &str,
+    desc: &LatheDesc,
+    ch: usize,
+    opts: &ReadOptions,
+    dialect: Option<crate::settings::Dialect>,
+    kept: &Kept,
+    at: Option<[i64; 2]>,
+) -> Result<Reading, TranslateError> {
     // Counted before anything is kept for them: the program is held whole, a line at a time.
     let count = text.lines().count();
     if count as u64 > MAX_LINES {
@@ -238,6 +352,18 @@ pub fn read_program_in(
         }
     }
     let dialect = dialect.or(chan.dialect).unwrap_or_default();
+    let mut st = kept.modal.clone();
+    // The spindle is the machine's: stopped at every START (each cycle's spindles start so).
+    st.dir = 5;
+    let mut out = out::Out::new(desc, ch);
+    if let Some((t, offsets)) = kept.tool {
+        if let Some(td) = chan.tool(t) {
+            out.set_tool(td.clone(), offsets);
+        }
+    }
+    if let Some(at) = at {
+        out.start_at(at);
+    }
     let mut r = exec::Reader {
         desc,
         ch,
@@ -246,8 +372,8 @@ pub fn read_program_in(
         lines: &lines,
         n_lines,
         starts,
-        st: exec::State::new(desc, ch),
-        out: out::Out::new(desc, ch),
+        st,
+        out,
         in_cycle: false,
         ended: false,
         fanuc: dialect == crate::settings::Dialect::Fanuc,
@@ -270,12 +396,12 @@ pub fn read_program_in(
         block_delete: opts.block_delete,
         optional_stop: opts.optional_stop,
     };
-    let mut source = crate::gcode::GcodeSource::new(
+    let mut source = crate::gcode::GcodeSource::with_state(
         std::sync::Arc::from(text),
         magazine,
         settings,
         crate::block::MachineState::at([0, 0, 0]),
-        Default::default(),
+        kept.params.clone(),
         switches,
     )
     .mdi()
@@ -285,8 +411,22 @@ pub fn read_program_in(
         let made = p.counts.get(ch).copied().unwrap_or(0);
         source = source.part_counter(u64::from(made), u64::from(p.target));
     }
-    while let Some(s) = source.next_with(&mut r) {
+    if !chan.subroutines.is_empty() {
+        // The channel's subroutine path (docs/lathe-gcode.md "One reader, two dialects").
+        source = source.subroutines(Box::new(crate::gcode::SubPath(chan.subroutines.clone())));
+    }
+    let mut messages = Vec::new();
+    loop {
+        let before = r.out.statements.len();
+        let Some(s) = source.next_with(&mut r) else {
+            break;
+        };
         s?;
+        for e in source.take_events() {
+            if let crate::gcode::Event::Message { kind, text } = e {
+                messages.push(Message { before, kind, text });
+            }
+        }
     }
     r.out.finish()?;
     let mut statements = std::mem::take(&mut r.out.statements);
@@ -295,7 +435,27 @@ pub fn read_program_in(
             .get((s.line as usize).wrapping_sub(1))
             .map_or_else(String::new, |l| l.to_string());
     }
-    Ok(statements)
+    let mut modal = r.st.clone();
+    if r.ended && dialect == crate::settings::Dialect::LinuxCnc {
+        // LinuxCNC's M2/M30 (`convert_stop`), as the centre's: G90, G94, F0, G40, G1, the
+        // spindle stopped; the units, the diameter mode and the parameters stay. Fanuc's
+        // end of program keeps the modal state.
+        modal.absolute = true;
+        modal.per_rev = false;
+        modal.feed = None;
+        modal.motion = Some(10);
+    }
+    modal.dir = 5;
+    let tool = r.out.tool_in_place();
+    Ok(Reading {
+        statements,
+        messages,
+        kept: Kept {
+            modal,
+            tool,
+            params: source.into_state(),
+        },
+    })
 }
 
 /// The N number a line starts with (after an optional `/`), if any: a cheap scan used only to

@@ -192,6 +192,23 @@ impl<'a> Out<'a> {
         self.tool.as_ref().is_some_and(|t| t.1)
     }
 
+    /// The tool in place, by number, and whether its offsets apply.
+    pub fn tool_in_place(&self) -> Option<(u32, bool)> {
+        self.tool.as_ref().map(|(t, o)| (t.number, *o))
+    }
+
+    /// The tool post stands at `at` (pulses [X, Z]) before the first line: the programmed
+    /// position is P less the offsets of the tool in place.
+    pub fn start_at(&mut self, at: [i64; 2]) {
+        let off = match &self.tool {
+            Some((t, true)) => t.offset,
+            _ => [0.0, 0.0],
+        };
+        self.at = at;
+        let mm = |p: i64| p as f64 * self.desc.pulse_mm;
+        self.pos = [mm(at[1]) - off[1], mm(at[0]) - off[0]];
+    }
+
     /// Puts a tool in place (its offsets applying if `offsets`).
     pub fn set_tool(&mut self, t: ToolDesc, offsets: bool) {
         if self.capture.is_some() {

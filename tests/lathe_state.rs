@@ -1,0 +1,333 @@
+//! A lathe channel's interpreter state between reads (docs/lathe-gcode.md "What a channel
+//! keeps"): MDI and the next program read from the state the last one left; RESET returns it
+//! to power-on; the Fanuc dialect's #100–#199 by `common keep|clear`, #500–#999 kept across a
+//! restart of the console; the programs' messages on the display when their block runs.
+
+mod common;
+
+use novanc::lathe::console::events::{LatheEv, Mode};
+use novanc::lathe::console::LatheConsole;
+use novanc::lathe::desc::LatheDesc;
+use novanc::settings::Dialect;
+use novanc::store::lathe::{LatheStore, Program};
+use std::path::Path;
+
+/// The one-channel test lathe, its channel in `dialect`, RESET keeping #100–#199 if `keep`.
+fn desc(dialect: Option<Dialect>, keep: Option<bool>) -> LatheDesc {
+    let mut d = novanc::lathe::testkit::citizen_like(1);
+    d.channels[0].dialect = dialect;
+    d.channels[0].keep_common = keep;
+    d
+}
+
+fn open(desc: &LatheDesc, state: &Path) -> LatheConsole {
+    LatheConsole::open(desc.clone(), state, 20, 160, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
+/// MDI on the selected channel: `lines`, START, and the run to its end. The message START gave.
+fn mdi(c: &mut LatheConsole, lines: &[&str]) -> String {
+    c.event(LatheEv::Mode(Mode::Mdi));
+    for l in lines {
+        c.event(LatheEv::Type(l.to_string()));
+    }
+    c.event(LatheEv::Start);
+    let m = c.message().to_string();
+    c.run_for(600_000_000_000, true, || false);
+    m
+}
+
+/// The tool post, pulses [X radius, Z].
+fn at(c: &LatheConsole) -> [i64; 2] {
+    c.tips()[0].0
+}
+
+#[test]
+fn an_mdi_line_reads_in_the_feed_mode_the_program_left() {
+    let state = common::temp_dir("lathe-state-g95");
+    let d = desc(None, None);
+    let p = Program {
+        name: "G95.NGC".into(),
+        // No M30: LinuxCNC's M2/M30 would return the channel to G94 (below).
+        text: "G18 G7 G21 G90 G95\nM10\nG0 X30 Z5\nM11\n".into(),
+        dialect: None,
+    };
+    match LatheStore::open(&state, &d) {
+        Ok(mut o) => o
+            .store
+            .save_program(0, &p)
+            .unwrap_or_else(|e| panic!("{e}")),
+        Err(e) => panic!("{e}"),
+    }
+    let mut c = open(&d, &state);
+    c.event(LatheEv::Target(1));
+    c.event(LatheEv::Start);
+    assert_eq!(c.message(), "cycle start");
+    c.run_for(60_000_000_000, true, || false);
+    assert_eq!(c.counter().counts, [1]);
+    // F0.1 per revolution, as the program's G95 left it (per minute it is refused).
+    assert_eq!(mdi(&mut c, &["M3 S1000", "G1 X20 F0.1"]), "MDI CH1 runs");
+    assert_eq!(at(&c), [10_000, 5_000]);
+    // RESET: the channel is back at power-on, G94.
+    c.event(LatheEv::Reset);
+    let m = mdi(&mut c, &["M3 S1000", "G1 X24 F0.1"]);
+    assert!(m.contains("F0.1 is below the slowest feed"), "{m}");
+    assert_eq!(at(&c), [10_000, 5_000]);
+}
+
+#[test]
+fn linuxcnc_m30_returns_the_feed_mode_to_g94_and_fanucs_keeps_it() {
+    for (dialect, kept) in [(None, false), (Some(Dialect::Fanuc), true)] {
+        let state = common::temp_dir("lathe-state-m30");
+        let mut c = open(&desc(dialect, None), &state);
+        assert_eq!(mdi(&mut c, &["G95 G0 X30. Z5.", "M30"]), "MDI CH1 runs");
+        let m = mdi(&mut c, &["M3 S1000", "G1 X20. F0.1"]);
+        assert_eq!(m == "MDI CH1 runs", kept, "{dialect:?}: {m}");
+    }
+}
+
+#[test]
+fn g91_in_one_mdi_run_holds_for_the_next_from_where_the_tool_stands() {
+    let state = common::temp_dir("lathe-state-g91");
+    let mut c = open(&desc(None, None), &state);
+    mdi(&mut c, &["G0 X20 Z10"]);
+    assert_eq!(at(&c), [10_000, 10_000]);
+    mdi(&mut c, &["G91"]);
+    mdi(&mut c, &["G0 X4 Z-2"]);
+    // X4 on the diameter is 2 on the radius, from where the tool stands.
+    assert_eq!(at(&c), [12_000, 8_000]);
+    // The offsets of the tool in place hold for the next run too (its offsets are 0 here:
+    // U and W move from the tip).
+    mdi(&mut c, &["G90 T0101", "G0 X10 Z4"]);
+    mdi(&mut c, &["G0 U2 W-1"]);
+    assert_eq!(at(&c), [6_000, 3_000]);
+}
+
+#[test]
+fn reset_makes_the_common_variables_vacant_unless_the_channel_keeps_them() {
+    for (keep, x) in [(None, 0), (Some(false), 0), (Some(true), 5_000)] {
+        let state = common::temp_dir("lathe-state-common");
+        let mut c = open(&desc(Some(Dialect::Fanuc), keep), &state);
+        mdi(&mut c, &["#100 = 5.", "G0 X[#100 * 2.] Z10."]);
+        assert_eq!(at(&c), [5_000, 10_000]);
+        // Without RESET the next MDI run still reads it.
+        mdi(&mut c, &["G0 X[#100 * 4.]"]);
+        assert_eq!(at(&c), [10_000, 10_000]);
+        c.event(LatheEv::Reset);
+        // Vacant: #0 times 2 is 0 (Fanuc's null arithmetic).
+        mdi(&mut c, &["G0 X[#100 * 2.]"]);
+        assert_eq!(at(&c)[0], x, "{keep:?}");
+    }
+}
+
+#[test]
+fn common_is_the_channels_or_the_machines_in_a_lathe_description() {
+    let citizen = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let lathe = |text: &str| match novanc::lathe::desc::parse(text) {
+        Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) => Ok(d),
+        Ok(_) => Err("not a lathe".to_string()),
+        Err(e) => Err(e),
+    };
+    let machine_wide = citizen.replacen("kind lathe\n", "kind lathe\ncommon keep\n", 1);
+    let d = lathe(&machine_wide).unwrap_or_else(|e| panic!("{e}"));
+    assert!(d.channels.iter().all(|c| c.keep_common == Some(true)));
+    let one = machine_wide.replacen("channel SYSTEM-2\n", "channel SYSTEM-2\ncommon clear\n", 1);
+    let d = lathe(&one).unwrap_or_else(|e| panic!("{e}"));
+    let keeps: Vec<Option<bool>> = d.channels.iter().map(|c| c.keep_common).collect();
+    assert_eq!(keeps, [Some(true), Some(false), Some(true)]);
+    let twice = one.replacen(
+        "channel SYSTEM-2\ncommon clear\n",
+        "channel SYSTEM-2\ncommon clear\ncommon keep\n",
+        1,
+    );
+    let e = lathe(&twice).err().unwrap_or_default();
+    assert!(e.ends_with("common is given twice in this channel"), "{e}");
+}
+
+#[test]
+fn a_message_shows_on_the_display_when_its_block_runs() {
+    let state = common::temp_dir("lathe-state-msg");
+    let rec = state.join("r.mcap");
+    let mut c = LatheConsole::open(desc(None, None), &state, 20, 160, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.event(LatheEv::Mode(Mode::Mdi));
+    for l in [
+        "G0 X20 Z10",
+        "(msg, at the corner)",
+        "G4 P2",
+        "#1 = 3",
+        "(print,count=#1)",
+    ] {
+        c.event(LatheEv::Type(l.to_string()));
+    }
+    c.event(LatheEv::Start);
+    assert_eq!(c.message(), "MDI CH1 runs");
+    // The rapid runs: the message waits for the dwell, the block after it.
+    c.tick(1_000_000);
+    assert!(!c.frame_text().contains("at the corner"));
+    c.run_for(1_500_000_000, false, || false);
+    assert_eq!(c.message(), "CH1 MSG: at the corner");
+    assert!(c.frame_text().contains("CH1 MSG: at the corner"));
+    // After the last block: shown when the program ends.
+    c.run_for(600_000_000_000, true, || false);
+    assert_eq!(c.message(), "CH1 PRINT: count=3.000000");
+    // Recorded as the centre records them: each in the log, and the frame that shows it.
+    assert!(matches!(c.finish(None), Some(Ok(_))));
+    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
+    let mut logs = Vec::new();
+    let mut frames = 0;
+    for m in mcap::MessageStream::new(&bytes).unwrap_or_else(|e| panic!("{e}")) {
+        let m = m.unwrap_or_else(|e| panic!("{e}"));
+        let json = String::from_utf8_lossy(&m.data).into_owned();
+        match m.channel.topic.as_str() {
+            "/foxglove/log" if json.contains("CH1 ") => logs.push(json),
+            "/panel/display" if json.contains("CH1 MSG: at the corner") => frames += 1,
+            _ => {}
+        }
+    }
+    assert_eq!(logs.len(), 2, "{logs:?}");
+    assert!(
+        logs[0].contains("\"message\":\"CH1 MSG: at the corner\""),
+        "{}",
+        logs[0]
+    );
+    assert!(logs[1].contains("CH1 PRINT: count=3.000000"), "{}", logs[1]);
+    assert!(frames >= 1);
+}
+
+#[test]
+fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
+    let state = common::temp_dir("lathe-state-500");
+    let d = desc(Some(Dialect::Fanuc), None);
+    let p = Program {
+        name: "O0500.NGC".into(),
+        text: "#500 = #500 + 7.\n#501 = 3.5\nM10\nG0 X30. Z5.\nM11\n".into(),
+        dialect: None,
+    };
+    match LatheStore::open(&state, &d) {
+        Ok(mut o) => o
+            .store
+            .save_program(0, &p)
+            .unwrap_or_else(|e| panic!("{e}")),
+        Err(e) => panic!("{e}"),
+    }
+    for (round, x) in [(1, 7_000), (2, 14_000)] {
+        let mut c = open(&d, &state);
+        c.event(LatheEv::Target(2));
+        c.event(LatheEv::Start);
+        assert_eq!(c.message(), "cycle start");
+        c.run_for(60_000_000_000, true, || false);
+        assert_eq!(c.counter().counts, [2]);
+        // Two parts, one read: the program's #500 counts once per START.
+        mdi(&mut c, &["G0 X[#500 * 2.] Z[#501]"]);
+        assert_eq!(at(&c), [x, 3_500], "round {round}");
+        // RESET leaves them (they are not common variables).
+        c.event(LatheEv::Reset);
+        mdi(&mut c, &["G0 X[#500 * 2.]"]);
+        assert_eq!(at(&c)[0], x, "round {round}");
+        let _ = c.finish(None);
+    }
+    // Stored in the channel's own stores: another channel of a machine would not see them.
+    let o = LatheStore::open(&state, &d).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(o.params[0], [(500, 14.0), (501, 3.5)]);
+}
+
+#[test]
+fn the_feed_mode_at_power_on_is_the_channels_else_its_dialects() {
+    // Fanuc's G95 (a Fanuc 0i-T powers on in G99), LinuxCNC's G94; a `feed` line says last.
+    for (dialect, per_rev, runs) in [
+        (None, None, false),
+        (Some(Dialect::Fanuc), None, true),
+        (None, Some(true), true),
+        (Some(Dialect::Fanuc), Some(false), false),
+    ] {
+        let state = common::temp_dir("lathe-state-feed");
+        let mut d = desc(dialect, None);
+        d.channels[0].per_rev = per_rev;
+        let mut c = open(&d, &state);
+        let m = mdi(&mut c, &["M3 S1000", "G1 X20. F0.1"]);
+        assert_eq!(m == "MDI CH1 runs", runs, "{dialect:?} {per_rev:?}: {m}");
+        // RESET returns to the same mode, from the other.
+        mdi(&mut c, &[if runs { "G94" } else { "G95" }]);
+        c.event(LatheEv::Reset);
+        let m = mdi(&mut c, &["M3 S1000", "G1 X22. F0.1"]);
+        assert_eq!(
+            m == "MDI CH1 runs",
+            runs,
+            "after RESET {dialect:?} {per_rev:?}: {m}"
+        );
+    }
+    let citizen = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let text = citizen
+        .replacen("kind lathe\n", "kind lathe\nfeed per-rev\n", 1)
+        .replacen(
+            "channel SYSTEM-3\n",
+            "channel SYSTEM-3\nfeed per-minute\n",
+            1,
+        );
+    let Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) = novanc::lathe::desc::parse(&text) else {
+        panic!("{text}");
+    };
+    let modes: Vec<Option<bool>> = d.channels.iter().map(|c| c.per_rev).collect();
+    assert_eq!(modes, [Some(true), Some(true), Some(false)]);
+    let bad = citizen.replacen("kind lathe\n", "kind lathe\nfeed per-second\n", 1);
+    let e = novanc::lathe::desc::parse(&bad).err().unwrap_or_default();
+    assert!(e.ends_with("feed takes per-rev or per-minute"), "{e}");
+}
+
+#[test]
+fn a_channels_subroutine_path_finds_o_word_and_m98_subprograms_in_files() {
+    let dir = common::temp_dir("lathe-state-subs");
+    std::fs::write(
+        dir.join("groove.ngc"),
+        "o<groove> sub\nG0 X#1 Z#2\no<groove> endsub\n",
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(dir.join("100.ngc"), "O100\nG0 X12 Z3\nM99\n").unwrap_or_else(|e| panic!("{e}"));
+    let program = "o<groove> call [20] [5]\nM98 P100\n";
+    let citizen = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let read = |text: &str| {
+        let Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) = novanc::lathe::desc::parse(text)
+        else {
+            panic!("{text}");
+        };
+        novanc::lathe::gcode::read_program(program, &d, 1, &Default::default())
+            .map(|p| {
+                p.iter()
+                    .flat_map(|s| &s.blocks)
+                    .map(|b| [b.end[0], b.end[2]])
+                    .collect::<Vec<_>>()
+            })
+            .map_err(|e| e.to_string())
+    };
+    // Without a path: not found, at the call's line.
+    let e = read(&citizen).err().unwrap_or_default();
+    assert!(e.starts_with("1:"), "{e}");
+    // The machine's line is every channel's; a channel's own comes first.
+    let line = format!("subroutines {}\n", dir.display());
+    let machine = citizen.replacen("kind lathe\n", &format!("kind lathe\n{line}"), 1);
+    assert_eq!(read(&machine), Ok(vec![[10_000, 5_000], [6_000, 3_000]]));
+    let channel = citizen.replacen(
+        "channel SYSTEM-2\n",
+        &format!("channel SYSTEM-2\n{line}"),
+        1,
+    );
+    assert_eq!(read(&channel), Ok(vec![[10_000, 5_000], [6_000, 3_000]]));
+    let other = citizen.replacen(
+        "channel SYSTEM-3\n",
+        &format!("channel SYSTEM-3\n{line}"),
+        1,
+    );
+    assert!(read(&other).is_err());
+}
