@@ -161,7 +161,9 @@ fn golden(name: &str) -> (String, Vec<String>) {
 fn a_fanuc_macro_program_with_g65_while_and_if_goto_moves_as_worked_by_hand() {
     let (program, want) = golden("fanuc_macro");
     assert_eq!(want.len(), 13, "the hand-worked moves are missing");
-    let desc = match citizen_with("dialect fanuc") {
+    // The program's F50. is per minute, as the moves were worked out; a Fanuc channel powers
+    // on in G95 unless its description says `feed per-minute`.
+    let desc = match citizen_with("dialect fanuc\nfeed per-minute") {
         Ok(d) => d,
         Err(e) => panic!("{e}"),
     };
@@ -239,7 +241,8 @@ fn a_system_a_program_turns_faces_and_threads_as_worked_by_hand() {
 
 #[test]
 fn system_a_g50_x_z_makes_where_the_tool_stands_that_point() {
-    let desc = match citizen_with("dialect fanuc\ngcode system A") {
+    // F100. per minute (G98 at power-on, by the description).
+    let desc = match citizen_with("dialect fanuc\ngcode system A\nfeed per-minute") {
         Ok(d) => d,
         Err(e) => panic!("{e}"),
     };
@@ -270,7 +273,11 @@ fn fanucs_g71_and_g70_read_q_as_a_sequence_number() {
     // names the profile's last line, N20: the same blocks as LinuxCNC's dialect reads.
     let program = "T0101 M3 S1000\nG0 X40. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F100.\nN10 G0 X20.\nG1 Z-10.\nN20 G1 X40. Z-20.\nG70 P10 Q20\nM30\n";
     let want = unplaced(read(program, &LatheDesc::citizen()));
-    for line in ["dialect fanuc", "dialect fanuc\ngcode system A"] {
+    // Both powered on per minute, as LinuxCNC's dialect does (F100. per minute).
+    for line in [
+        "dialect fanuc\nfeed per-minute",
+        "dialect fanuc\ngcode system A\nfeed per-minute",
+    ] {
         let desc = match citizen_with(line) {
             Ok(d) => d,
             Err(e) => panic!("{e}"),
@@ -589,7 +596,8 @@ N90 M30
 #[test]
 fn the_lathes_system_variables_read_the_tool_offsets_modes_and_positions() {
     let desc = citizen_with_offsets();
-    // Fanuc 0i-TF's numbers, in inches after G20 (X on the diameter).
+    // Fanuc 0i-TF's numbers, in inches after G20 (X on the diameter); #4005 is 95, the feed
+    // per revolution a Fanuc channel powers on in.
     let fanuc = "\
 T0404 M3 S1000
 G0 X30. Z2.
@@ -604,7 +612,7 @@ G20
         "7:1: (ABORT) 1.181102 0.078740 0.001575 -0.000394 0.019685 2.000000 0.001575 \
          -0.000394 0.000000 2.000000 0.000000 0.000000 0.000000 20.000000 97.000000 \
          90.000000 40.000000 18.000000 404.000000 1000.000000 0.000000 3.000000 0.000000 \
-         94.000000"
+         95.000000"
     );
     // LinuxCNC's parameters and named parameters: X on the radius (as LinuxCNC's).
     let linuxcnc = "\
