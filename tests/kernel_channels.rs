@@ -12,8 +12,8 @@ use novanc::lathe::gcode::home;
 use novanc::lathe::testkit::{citizen_like, program, sample_programs};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
-    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, RunKind, VecSource,
-    WaitOn,
+    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, Reached, RunKind, Until,
+    VecSource, WaitOn,
 };
 use novanc::settings::MachineSettings;
 
@@ -105,6 +105,61 @@ fn a_one_channel_kernel_is_the_machine_alone() {
     assert_eq!(a, b, "pulses");
     assert_eq!(alone.take_audit(), m.take_audit(), "block ends");
     assert_eq!(alone.status().last_end, m.status().last_end);
+}
+
+#[test]
+fn a_kernel_waits_for_a_channels_block_start_as_the_machine_alone_does() {
+    // `wait block N` on a kernel (`Kernel::run_until`): it stops with the NCBR tick block N
+    // starts in, the tick the machine alone stops at (`Until::BlockStart`), and what follows
+    // is the same as if it had not stopped.
+    let st = MachineSettings::default();
+    let p = st.ncbr_period_ns;
+    let blocks = polyline(
+        &[
+            [0, 0, 0],
+            [40_000, 10_000, -5_000],
+            [40_000, 60_000, -5_000],
+            [0, 0, -20_000],
+        ],
+        1500.0,
+    );
+    let stmts: Vec<Statement> = blocks
+        .iter()
+        .map(|b| Statement {
+            line: b.stmt,
+            text: String::new(),
+            blocks: vec![b.clone()],
+        })
+        .collect();
+    let seq = blocks[2].seq;
+    let mut alone = Machine::new(st.clone());
+    let mut src = VecSource::from_blocks(blocks);
+    alone.set_recording(None, true);
+    alone.command(Command::Start(RunKind::Auto));
+    assert_eq!(
+        alone.run(&mut src, Until::BlockStart(seq), MINUTE),
+        Reached::BlockStart
+    );
+    let tb = alone.now();
+    assert!(tb > 0);
+    let mut k = Kernel::new(vec![(st, stmts)], None, 1).expect("one channel");
+    k.machine_mut(0)
+        .expect("channel 1")
+        .set_recording(None, true);
+    k.start(None).expect("START");
+    assert_eq!(
+        k.run_until(MINUTE, Some((0, seq))),
+        Outcome::BlockStart { ch: 0, t: tb }
+    );
+    assert_eq!(k.now(), tb + p, "the end of the tick it started in");
+    let m = k.machine(0).expect("channel 1");
+    let executing = m.status().executing.and_then(|e| e.block().map(|b| b.seq));
+    assert_eq!(executing, Some(seq));
+    // A block the program has not: the wait ends at rest, and both ran the same pulses.
+    assert_eq!(k.run_until(MINUTE, Some((0, 999))), Outcome::Stopped);
+    alone.advance_to(k.now(), &mut src);
+    let m = k.machine_mut(0).expect("channel 1");
+    assert_eq!(alone.take_pulses(), m.take_pulses(), "pulses");
 }
 
 #[test]
