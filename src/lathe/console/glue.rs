@@ -11,7 +11,9 @@
 use super::view::ChanView;
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::gcode::{read_program, ReadOptions};
-use crate::pulse_core::{ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore};
+use crate::pulse_core::{
+    ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore, Reached,
+};
 use crate::record::EventSink;
 use crate::store::lathe::Program;
 
@@ -20,6 +22,20 @@ use crate::store::lathe::Program;
 /// start where the last one left it.
 pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
     crate::lathe::gcode::home(desc, ch)
+}
+
+/// What [`Cycle::run`] runs until, besides the machine time it is given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunUntil {
+    /// Only the time.
+    Time,
+    /// Every channel at rest ([`Cycle::at_rest`]): `novanc run`.
+    Rest,
+    /// Block `.1` of channel `.0`'s program starts (its sequence number, the N of the
+    /// listing, as the centre's `wait block N`), or every channel is at rest. In virtual
+    /// time every channel then stands at the end of the NCBR tick it started in
+    /// (`Kernel::run_until`); in real time its start is seen in the kernel's published state.
+    Block(usize, u32),
 }
 
 /// A cycle (AUTO: every channel to the part target) or an MDI run of one channel.
@@ -238,23 +254,45 @@ impl Cycle {
         })
     }
 
-    /// Advances the machine by `ns` of machine time (virtual time); in real time the kernel
-    /// keeps its own clock and this only takes its state.
-    pub fn advance(&mut self, ns: u64) {
-        if self.clock == ClockMode::Virtual && ns > 0 {
-            self.core.run_for(ns);
-        }
+    /// Advances the machine by at most `ns` of machine time (virtual time), or less when
+    /// `until` holds first; in real time the kernel keeps its own clock and this only takes
+    /// its state. Whether `until` holds (never for [`RunUntil::Time`]).
+    pub fn run(&mut self, ns: u64, until: RunUntil) -> bool {
+        let virt = self.clock == ClockMode::Virtual && ns > 0;
+        let started = match until {
+            RunUntil::Time if virt => {
+                self.core.run_for(ns);
+                false
+            }
+            RunUntil::Rest if virt => {
+                self.core.run_until_idle(ns);
+                false
+            }
+            RunUntil::Block(ch, seq) if virt => {
+                self.core.run_until_block(ch, seq, ns).0 == Reached::BlockStart
+            }
+            _ => false,
+        };
         self.refresh();
-    }
-
-    /// Runs until nothing can move without the operator or `limit_ns` has passed (virtual
-    /// time). True if it came to rest.
-    pub fn run_until_rest(&mut self, limit_ns: u64) -> bool {
-        if self.clock == ClockMode::Virtual {
-            self.core.run_until_idle(limit_ns);
+        match until {
+            RunUntil::Time => false,
+            RunUntil::Rest => self.at_rest(),
+            RunUntil::Block(ch, seq) => {
+                // Real time: the block executes in the kernel's published state (as the
+                // centre's real-time wait sees it).
+                let executes = |c: &ChannelStatus| {
+                    c.status.in_block
+                        && c.status
+                            .executing
+                            .as_ref()
+                            .and_then(|e| e.block())
+                            .map(|b| b.seq)
+                            == Some(seq)
+                };
+                let real = self.clock == ClockMode::RealTime;
+                started || (real && self.snap.get(ch).is_some_and(executes)) || self.at_rest()
+            }
         }
-        self.refresh();
-        self.at_rest()
     }
 
     /// START: every channel of the cycle resumes (a held or stopped one) and a waiting

@@ -15,7 +15,7 @@ mod glue;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, recording_info, Cycle};
+pub use glue::{home, recording_info, Cycle, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::pulse_core::ClockMode;
@@ -592,24 +592,35 @@ impl LatheConsole {
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and
     /// stores the part counter as it counts.
     pub fn tick(&mut self, ns: u64) {
+        self.step(ns, RunUntil::Time);
+    }
+
+    /// [`LatheConsole::tick`], ending early when `until` holds (`Cycle::run`): whether it
+    /// does. Without a cycle nothing runs or waits (true), and only the time passes.
+    pub fn step(&mut self, ns: u64, until: RunUntil) -> bool {
         let Some(c) = self.cycle.as_mut() else {
-            self.now_ns += ns;
-            return;
+            if until == RunUntil::Time {
+                self.now_ns += ns;
+            }
+            return true;
         };
-        c.advance(ns);
+        let reached = c.run(ns, until);
         self.now_ns = c.now_ns();
         self.after();
+        reached
     }
 
     /// Runs the machine for `limit_ns` of machine time, 10 ms at a time, recording as it goes
-    /// (a script's `wait ms T`); with `until_rest`, only until every channel is at rest
-    /// (finished, stopped, waiting on a stopped channel, faulted or in E-STOP: a script's
-    /// `wait`). `stop` is asked before each step and ends the run early when true (a stop
-    /// signal). Returns the machine time used.
-    pub fn run_for(&mut self, limit_ns: u64, until_rest: bool, stop: impl Fn() -> bool) -> u64 {
+    /// (a script's `wait ms T`), or only until `until` holds: [`RunUntil::Rest`], every
+    /// channel at rest (finished, stopped, waiting on a stopped channel, faulted or in
+    /// E-STOP), looked for between the steps (a script's `wait`); [`RunUntil::Block`], the
+    /// block's start, which ends its step (a script's `wait block N`). `stop` is asked before
+    /// each step and ends the run early when true (a stop signal). Returns the machine time
+    /// given to the steps run.
+    pub fn run_for(&mut self, limit_ns: u64, until: RunUntil, stop: impl Fn() -> bool) -> u64 {
         if self.cycle.is_none() {
-            // Nothing moves: time only passes (or, waiting for rest, nothing to wait for).
-            let used = if until_rest { 0 } else { limit_ns };
+            // Nothing moves: time only passes (or, waiting, nothing to wait for).
+            let used = if until == RunUntil::Time { limit_ns } else { 0 };
             self.tick(used);
             return used;
         }
@@ -617,9 +628,15 @@ impl LatheConsole {
         let step = 10_000_000;
         while used < limit_ns && !stop() {
             let n = step.min(limit_ns - used);
-            self.tick(n);
             used += n;
-            if until_rest && self.cycle.as_mut().is_none_or(|c| c.at_rest()) {
+            let reached = match until {
+                RunUntil::Rest => {
+                    self.tick(n);
+                    self.cycle.as_ref().is_none_or(|c| c.at_rest())
+                }
+                u => self.step(n, u),
+            };
+            if reached {
                 break;
             }
         }
