@@ -138,19 +138,19 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     let home: Vec<[i64; 2]> = (0..desc.channels.len())
         .map(|c| crate::lathe::console::home(&desc, c))
         .collect();
-    let mut cycle = match crate::lathe::console::Cycle::new(
-        &desc,
-        &texts,
-        &opts,
+    let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
+    let spec = crate::lathe::console::CycleSpec {
+        texts,
+        opts,
         target,
-        false,
-        0,
-        &home,
-        0,
-        100,
-        crate::pulse_core::ClockMode::Virtual,
-        rec.as_ref().map(crate::record::Recorder::sink),
-    ) {
+        mdi: None,
+        pos: home,
+        started_ns: 0,
+        feed_override: 100,
+        clock: crate::pulse_core::ClockMode::Virtual,
+        sink: rec.as_ref().map(crate::record::Recorder::sink),
+    };
+    let mut cycle = match crate::lathe::console::Cycle::new(&desc, spec) {
         Ok(c) => c,
         Err(e) => {
             // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
@@ -161,7 +161,6 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             return fail(msg);
         }
     };
-    let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
     let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc run", true, 0) {
         Ok(f) => f,
         Err(e) => return fail(&format!("novanc run: {e}")),

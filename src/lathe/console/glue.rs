@@ -4,7 +4,7 @@
 //!
 //! The kernel runs in its own thread: in real time (the terminal, the window) it keeps its
 //! NCBR clock whatever the screen does, and E-STOP acts from that thread; in virtual time
-//! (scripts, `novanc run`, tests) machine time passes only in [`Cycle::advance`]. Every view is
+//! (scripts, `novanc run`, tests) machine time passes only in [`Cycle::run`]. Every view is
 //! derived from the kernel's published state (its snapshot), never from the console's memory
 //! of what it asked for.
 
@@ -59,31 +59,46 @@ pub struct Cycle {
 /// A kernel ready to start, each program's source lines and each program's first line.
 type MadeKernel = (Kernel, Vec<Vec<String>>, Vec<u32>);
 
-/// What the kernel would do with a cycle of `desc` running `texts`: the kernel, ready to start,
-/// and the program lines. Any error names the channel, the program and the line.
-#[allow(clippy::too_many_arguments)]
-fn make_kernel(
-    desc: &LatheDesc,
-    texts: &[(String, String)],
-    opts: &ReadOptions,
-    target: u32,
-    mdi: bool,
-    only: usize,
-    pos: &[[i64; 2]],
-    feed_override: u32,
-) -> Result<MadeKernel, String> {
+/// What describes a cycle to start ([`Cycle::new`]), built once by whoever starts it (the
+/// console's START, `novanc run`).
+#[derive(Clone, Debug)]
+pub struct CycleSpec {
+    /// Each channel's program: name and text (an MDI run: the run channel's lines, empty
+    /// texts for the others).
+    pub texts: Vec<(String, String)>,
+    /// How the programs are read (BLOCK DELETE, OPTIONAL STOP).
+    pub opts: ReadOptions,
+    /// The part target.
+    pub target: u32,
+    /// An MDI run of this channel (None: AUTO, every channel to the part target).
+    pub mdi: Option<usize>,
+    /// Where each channel's tool post starts, pulses [X radius, Z].
+    pub pos: Vec<[i64; 2]>,
+    /// The console's machine time the cycle begins at, ns.
+    pub started_ns: u64,
+    /// Feed override, percent, of every channel's feed moves.
+    pub feed_override: u32,
+    /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
+    pub clock: ClockMode,
+    /// Where the kernel records.
+    pub sink: Option<EventSink>,
+}
+
+/// What the kernel would do with a cycle of `desc` as `spec` describes it: the kernel, ready
+/// to start, and the program lines. Any error names the channel, the program and the line.
+fn make_kernel(desc: &LatheDesc, spec: &CycleSpec) -> Result<MadeKernel, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
-    for (ch, (name, text)) in texts.iter().enumerate() {
-        if mdi && ch != only {
+    for (ch, (name, text)) in spec.texts.iter().enumerate() {
+        if spec.mdi.is_some_and(|only| ch != only) {
             // The other channels stand still with no program during an MDI run.
             progs.push(Vec::new());
             lines.push(Vec::new());
             continue;
         }
-        let p =
-            read_program(text, desc, ch, opts).map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
-        if !mdi && p.is_empty() {
+        let p = read_program(text, desc, ch, &spec.opts)
+            .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        if spec.mdi.is_none() && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
         }
         progs.push(p);
@@ -96,11 +111,11 @@ fn make_kernel(
         .map(|(_, st)| st.iter().find(|s| s.line > 0).map_or(0, |s| s.line))
         .collect();
     // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
-    let flow = (!mdi).then_some(flow);
-    let mut k = Kernel::new(chans, flow, target)?;
-    for (ch, p) in pos.iter().enumerate().take(k.channels()) {
+    let flow = spec.mdi.is_none().then_some(flow);
+    let mut k = Kernel::new(chans, flow, spec.target)?;
+    for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
-        k.command(ch, Command::Override(feed_override))?;
+        k.command(ch, Command::Override(spec.feed_override))?;
     }
     Ok((k, lines, first))
 }
@@ -139,31 +154,18 @@ pub fn recording_info(
 }
 
 impl Cycle {
-    /// Reads every channel's program (`texts`: name and text per channel) and starts the
-    /// kernel on `clock`, each tool post where `pos` says, recording into `sink`. Any error
-    /// names the channel, the program and the line, and nothing is started.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        desc: &LatheDesc,
-        texts: &[(String, String)],
-        opts: &ReadOptions,
-        target: u32,
-        mdi: bool,
-        only: usize,
-        pos: &[[i64; 2]],
-        started_ns: u64,
-        feed_override: u32,
-        clock: ClockMode,
-        sink: Option<EventSink>,
-    ) -> Result<Cycle, String> {
-        let (mut k, lines, first) =
-            make_kernel(desc, texts, opts, target, mdi, only, pos, feed_override)?;
+    /// Reads every channel's program (`spec.texts`) and starts the kernel on `spec.clock`,
+    /// each tool post where `spec.pos` says, recording into `spec.sink`. Any error names the
+    /// channel, the program and the line, and nothing is started.
+    pub fn new(desc: &LatheDesc, spec: CycleSpec) -> Result<Cycle, String> {
+        let (mut k, lines, first) = make_kernel(desc, &spec)?;
         // One time base for the console's cycles (and its recording): the kernel's clock goes
         // on from the console's machine time.
-        k.set_clock(started_ns)?;
+        k.set_clock(spec.started_ns)?;
         let started_ns = k.now();
-        k.start(Some(only).filter(|_| mdi))?;
-        let core = PulseCore::spawn_kernel(k, clock, sink);
+        k.start(spec.mdi)?;
+        let (mdi, only, clock) = (spec.mdi.is_some(), spec.mdi.unwrap_or(0), spec.clock);
+        let core = PulseCore::spawn_kernel(k, clock, spec.sink);
         let mut c = Cycle {
             core,
             mdi,

@@ -15,7 +15,7 @@ mod glue;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, recording_info, Cycle, RunUntil};
+pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::pulse_core::ClockMode;
@@ -525,19 +525,18 @@ impl LatheConsole {
                 c.dialect = p.dialect.or(c.dialect);
             }
         }
-        match glue::Cycle::new(
-            &desc,
-            &texts,
-            &opts,
+        let spec = glue::CycleSpec {
+            texts,
+            opts,
             target,
-            mdi,
-            self.sel,
-            &self.pos,
-            self.now_ns,
-            self.feed_override,
-            self.clock,
-            self.sink.clone(),
-        ) {
+            mdi: mdi.then_some(self.sel),
+            pos: self.pos.clone(),
+            started_ns: self.now_ns,
+            feed_override: self.feed_override,
+            clock: self.clock,
+            sink: self.sink.clone(),
+        };
+        match glue::Cycle::new(&desc, spec) {
             Err(e) => self.message = e,
             Ok(mut c) => {
                 if self.watch.is_some() {
