@@ -1047,8 +1047,8 @@ impl Kernel {
     /// every channel at the end of the NCBR tick the block started in, so the block is the
     /// channel's executing one. Channels run one after the other up to the same time and
     /// cannot be taken back, so each step is first run on a quiet copy of the kernel
-    /// (recording nothing, telling no watcher) that finds the tick; the kernel then runs to
-    /// that tick's end, and finds the start itself.
+    /// (recording and keeping nothing, telling no watcher) that finds the tick; the kernel
+    /// then runs to that tick's end, and finds the start itself.
     pub fn run_until(&mut self, max_ns: u64, block: Option<(usize, u32)>) -> Outcome {
         let t0 = self.now;
         let period = self
@@ -1089,16 +1089,35 @@ impl Kernel {
 
     /// When block `seq` of channel `ch` starts if every channel runs on to `t`, found on a
     /// quiet copy of the kernel (None: not before `t`).
-    fn block_start_before(&self, ch: usize, seq: u32, t: u64) -> Option<u64> {
-        let mut k = self.clone();
-        k.set_watch(None);
-        for c in &mut k.chans {
-            c.m.set_recording(None, false);
-        }
-        let m = &mut k.chans.get_mut(ch)?.m;
-        m.look_for_block(Some(seq));
+    fn block_start_before(&mut self, ch: usize, seq: u32, t: u64) -> Option<u64> {
+        let mut k = self.quiet_copy();
+        k.chans.get_mut(ch)?.m.look_for_block(Some(seq));
         k.advance_to(t);
         k.chans[ch].m.block_started_at()
+    }
+
+    /// A copy of the kernel to look ahead with: the same state, every channel's machine a
+    /// quiet copy (`Machine::quiet_copy`), no events and no watcher.
+    fn quiet_copy(&mut self) -> Kernel {
+        let chans = self
+            .chans
+            .iter_mut()
+            .map(|c| {
+                let quiet = c.m.quiet_copy();
+                let m = std::mem::replace(&mut c.m, quiet);
+                let copy = c.clone();
+                c.m = m;
+                copy
+            })
+            .collect();
+        Kernel {
+            chans,
+            table: self.table.clone(),
+            now: self.now,
+            events: Vec::new(),
+            pending: Vec::new(),
+            watch: None,
+        }
     }
 
     /// What the state means once no channel progresses.

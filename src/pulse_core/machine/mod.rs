@@ -523,6 +523,22 @@ impl Machine {
         std::mem::take(&mut self.marks)
     }
 
+    /// A copy of the machine to look ahead with (a kernel's `wait block N`): the same state,
+    /// recording and keeping nothing (no sink, captured pulses, audit, watch or marks), made
+    /// without copying what it has kept.
+    pub fn quiet_copy(&mut self) -> Machine {
+        let quiet = self.out.quiet_copy();
+        let out = std::mem::replace(&mut self.out, quiet);
+        let audit = self.audit.take();
+        let watch = self.watch.take();
+        let events = self.events.take();
+        let marks = std::mem::take(&mut self.marks);
+        let copy = self.clone();
+        (self.out, self.audit, self.watch, self.events, self.marks) =
+            (out, audit, watch, events, marks);
+        copy
+    }
+
     /// Looks for the next start of block `seq` (its sequence number, the N of the listing)
     /// from now on; None stops looking. [`Machine::block_started_at`] then tells when it
     /// started (a kernel's `wait block N`, which cannot stop one channel alone mid-step).
