@@ -261,7 +261,7 @@ impl LatheConsole {
     }
 
     /// Nothing moves or can move without the operator: no cycle, or every channel finished,
-    /// stopped, waiting on a stopped channel, faulted or in E-STOP (what `run_until_rest`
+    /// stopped, waiting on a stopped channel, faulted or in E-STOP (what a script's `wait`
     /// waits for), as the last tick found it: after START, tick before asking.
     pub fn at_rest(&self) -> bool {
         self.cycle.as_ref().is_none_or(|c| c.at_rest())
@@ -595,13 +595,14 @@ impl LatheConsole {
     }
 
     /// [`LatheConsole::tick`], ending early when `until` holds (`Cycle::run`): whether it
-    /// does. Without a cycle nothing runs or waits (true), and only the time passes.
+    /// does (never for [`RunUntil::Time`]). Without a cycle only the time passes, and a wait
+    /// has nothing to wait for (it holds).
     pub fn step(&mut self, ns: u64, until: RunUntil) -> bool {
         let Some(c) = self.cycle.as_mut() else {
             if until == RunUntil::Time {
                 self.now_ns += ns;
             }
-            return true;
+            return until != RunUntil::Time;
         };
         let reached = c.run(ns, until);
         self.now_ns = c.now_ns();
