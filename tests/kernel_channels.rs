@@ -12,8 +12,8 @@ use novanc::lathe::gcode::home;
 use novanc::lathe::testkit::{citizen_like, program, sample_programs};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
-    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, RunKind, VecSource,
-    WaitOn,
+    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, Reached, RunKind, Until,
+    VecSource, WaitOn,
 };
 use novanc::settings::MachineSettings;
 
@@ -60,19 +60,12 @@ const SIMULATOR_TRANSFERS: [(Option<usize>, Option<usize>, u32); 20] = [
     (Some(2), None, 5),
 ];
 
-#[test]
-fn a_one_channel_kernel_is_the_machine_alone() {
-    // A mill program with the recording's pulse capture on: the same pulses at the same times
-    // and the same block ends, advanced in the same slices.
+/// A mill program through `pts` (1500 mm/min) on the machine alone and on a kernel of one
+/// channel, each with the recording's pulse capture and the audit on, each started: the
+/// machine, its source and the kernel.
+fn alone_and_kernel(pts: &[[i64; 3]]) -> (Machine, VecSource, Kernel) {
     let st = MachineSettings::default();
-    let pts = [
-        [0, 0, 0],
-        [40_000, 10_000, -5_000],
-        [40_000, 60_000, -5_000],
-        [-0, 0, -20_000],
-        [123_456, 7_890, -1],
-    ];
-    let blocks = polyline(&pts, 1500.0);
+    let blocks = polyline(pts, 1500.0);
     let stmts: Vec<Statement> = blocks
         .iter()
         .map(|b| Statement {
@@ -82,17 +75,29 @@ fn a_one_channel_kernel_is_the_machine_alone() {
         })
         .collect();
     let mut alone = Machine::new(st.clone());
-    let mut src = VecSource::from_blocks(blocks);
+    let src = VecSource::from_blocks(blocks);
     alone.set_recording(None, true);
     alone.set_audit(true);
-    alone.command(novanc::pulse_core::Command::Start(
-        novanc::pulse_core::RunKind::Auto,
-    ));
+    alone.command(Command::Start(RunKind::Auto));
     let mut k = Kernel::new(vec![(st, stmts)], None, 1).expect("one channel");
     let m = k.machine_mut(0).expect("channel 1");
     m.set_recording(None, true);
     m.set_audit(true);
     k.start(None).expect("START");
+    (alone, src, k)
+}
+
+#[test]
+fn a_one_channel_kernel_is_the_machine_alone() {
+    // A mill program with the recording's pulse capture on: the same pulses at the same times
+    // and the same block ends, advanced in the same slices.
+    let (mut alone, mut src, mut k) = alone_and_kernel(&[
+        [0, 0, 0],
+        [40_000, 10_000, -5_000],
+        [40_000, 60_000, -5_000],
+        [-0, 0, -20_000],
+        [123_456, 7_890, -1],
+    ]);
     let mut t = 0;
     while t < 30_000_000_000 {
         t += 777_000_000;
@@ -105,6 +110,42 @@ fn a_one_channel_kernel_is_the_machine_alone() {
     assert_eq!(a, b, "pulses");
     assert_eq!(alone.take_audit(), m.take_audit(), "block ends");
     assert_eq!(alone.status().last_end, m.status().last_end);
+}
+
+#[test]
+fn a_kernel_waits_for_a_channels_block_start_as_the_machine_alone_does() {
+    // `wait block N` on a kernel (`Kernel::run_until`): it stops with the NCBR tick block N
+    // starts in, the tick the machine alone stops at (`Until::BlockStart`), and what follows
+    // is the same as if it had not stopped.
+    let (mut alone, mut src, mut k) = alone_and_kernel(&[
+        [0, 0, 0],
+        [40_000, 10_000, -5_000],
+        [40_000, 60_000, -5_000],
+        [0, 0, -20_000],
+    ]);
+    let seq = 3;
+    assert_eq!(
+        alone.run(&mut src, Until::BlockStart(seq), MINUTE),
+        Reached::BlockStart
+    );
+    let tb = alone.now();
+    assert!(tb > 0);
+    assert_eq!(
+        k.run_until(MINUTE, Some((0, seq))),
+        Outcome::BlockStart { ch: 0, t: tb }
+    );
+    let p = MachineSettings::default().ncbr_period_ns;
+    assert_eq!(k.now(), tb + p, "the end of the tick it started in");
+    let m = k.machine(0).expect("channel 1");
+    let executing = m.status().executing.and_then(|e| e.block().map(|b| b.seq));
+    assert_eq!(executing, Some(seq));
+    // A block the program has not: the wait ends at rest, and both ran the same pulses and
+    // block ends.
+    assert_eq!(k.run_until(MINUTE, Some((0, 999))), Outcome::Stopped);
+    alone.advance_to(k.now(), &mut src);
+    let m = k.machine_mut(0).expect("channel 1");
+    assert_eq!(alone.take_pulses(), m.take_pulses(), "pulses");
+    assert_eq!(alone.take_audit(), m.take_audit(), "block ends");
 }
 
 #[test]

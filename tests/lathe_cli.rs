@@ -286,6 +286,72 @@ fn estop_abandons_every_channels_run_and_reset_returns_them_to_their_program_sta
 }
 
 #[test]
+fn wait_block_stops_with_the_tick_the_selected_channels_block_starts() {
+    // `wait block 12` on channel 2: the 12th block of system2.ngc as read (its N number in
+    // the recording's `/nc/block`, as the centre's listing numbers its blocks).
+    let (dir, rec, so) = recorded_script(
+        "lathe-wait-block",
+        "channel 2\nstart\nwait block 12\nshow\nchannel 2\nwait block 9999\nshow\n",
+    );
+    let frames: Vec<&str> = so.split("--- display\n").skip(1).collect();
+    assert_eq!(frames.len(), 2, "{so}");
+    let msgs = read(&rec);
+    let starts: Vec<&Msg> = msgs
+        .iter()
+        .filter(|m| {
+            m.topic == "/nc/block"
+                && int(&m.json, "channel") == Some(2)
+                && int(&m.json, "seq") == Some(12)
+        })
+        .collect();
+    assert_eq!(starts.len(), 5, "once per part");
+    let (tb, line) = (starts[0].t, int(&starts[0].json, "stmt").unwrap());
+    let program = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen/system2.ngc"),
+    )
+    .unwrap();
+    let source = program.lines().nth(line as usize - 1).unwrap().to_string();
+    // The first frame: CH2 executes that block, selected.
+    assert!(
+        frames[0].contains(&format!(">CH2 RUN   {line:04} {source}")),
+        "{}",
+        frames[0]
+    );
+    // Exactly at the end of the NCBR tick it started in (the Citizen's 100 µs): the panel
+    // event after the wait is recorded then.
+    let after: Vec<u64> = msgs
+        .iter()
+        .filter(|m| m.topic == "/panel/event" && m.json.contains("channel 2"))
+        .map(|m| m.t)
+        .collect();
+    assert_eq!(after.len(), 2, "{after:?}");
+    assert_eq!(after[1], tb + 100_000, "block 12 of CH2 started at {tb}");
+    // A block the program never reaches: the wait ends when every channel is at rest.
+    assert!(frames[1].contains("PARTS 5/5"), "{}", frames[1]);
+    assert!(frames[1].contains(">CH2 DONE"), "{}", frames[1]);
+
+    // A block number the lathe has not is refused at its line, before anything runs.
+    for (bad, why) in [
+        (
+            "wait block 0",
+            "wait block 0: the lathe's blocks are numbered from 1",
+        ),
+        ("wait block x", "wait block: 'x' is not a block number"),
+    ] {
+        let s = dir.join("bad.panel");
+        std::fs::write(&s, format!("start\n{bad}\nshow\n")).unwrap();
+        let o = citizen_script(&s, &dir.join("st"), &[]);
+        assert_eq!(o.status.code(), Some(1));
+        assert!(text(&o.stdout).is_empty(), "{}", text(&o.stdout));
+        assert!(
+            text(&o.stderr).contains(&format!("bad.panel:2: {why}")),
+            "{}",
+            text(&o.stderr)
+        );
+    }
+}
+
+#[test]
 fn bad_machines_programs_and_scripts_are_refused_whole() {
     let dir = common::temp_dir("lathe-bad");
     let o = novanc(&["run", "--machine", "nowhere", "programs/citizen"]);

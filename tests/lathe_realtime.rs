@@ -6,7 +6,7 @@
 mod common;
 
 use novanc::lathe::console::events::LatheEv;
-use novanc::lathe::console::LatheConsole;
+use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
 use novanc::pulse_core::ClockMode;
 use std::time::{Duration, Instant};
@@ -108,7 +108,7 @@ fn a_cycle_goes_on_from_the_consoles_machine_time() {
     c.tick(1_000_000_000);
     c.event(LatheEv::Start);
     assert_eq!(c.machine_ns(), 1_000_000_000);
-    c.run_for(100_000_000, false, || false);
+    c.run_for(100_000_000, RunUntil::Time, || false);
     assert_eq!(c.machine_ns(), 1_100_000_000);
     assert!(c.view().title.ends_with("1.100 s"), "{}", c.view().title);
 }

@@ -6,7 +6,7 @@
 mod common;
 
 use novanc::lathe::console::events::{LatheEv, Mode};
-use novanc::lathe::console::LatheConsole;
+use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
 use novanc::settings::Dialect;
 use novanc::store::lathe::{LatheStore, Program};
@@ -34,7 +34,7 @@ fn mdi(c: &mut LatheConsole, lines: &[&str]) -> String {
     }
     c.event(LatheEv::Start);
     let m = c.message().to_string();
-    c.run_for(600_000_000_000, true, || false);
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
     m
 }
 
@@ -64,7 +64,7 @@ fn an_mdi_line_reads_in_the_feed_mode_the_program_left() {
     c.event(LatheEv::Target(1));
     c.event(LatheEv::Start);
     assert_eq!(c.message(), "cycle start");
-    c.run_for(60_000_000_000, true, || false);
+    c.run_for(60_000_000_000, RunUntil::Rest, || false);
     assert_eq!(c.counter().counts, [1]);
     // F0.1 per revolution, as the program's G95 left it (per minute it is refused).
     assert_eq!(mdi(&mut c, &["M3 S1000", "G1 X20 F0.1"]), "MDI CH1 runs");
@@ -170,11 +170,11 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
     // The rapid runs: the message waits for the dwell, the block after it.
     c.tick(1_000_000);
     assert!(!c.frame_text().contains("at the corner"));
-    c.run_for(1_500_000_000, false, || false);
+    c.run_for(1_500_000_000, RunUntil::Time, || false);
     assert_eq!(c.message(), "CH1 MSG: at the corner");
     assert!(c.frame_text().contains("CH1 MSG: at the corner"));
     // After the last block: shown when the program ends.
-    c.run_for(600_000_000_000, true, || false);
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
     assert_eq!(c.message(), "CH1 PRINT: count=3.000000");
     // Recorded as the centre records them: each in the log, and the frame that shows it.
     assert!(matches!(c.finish(None), Some(Ok(_))));
@@ -221,7 +221,7 @@ fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
         c.event(LatheEv::Target(2));
         c.event(LatheEv::Start);
         assert_eq!(c.message(), "cycle start");
-        c.run_for(60_000_000_000, true, || false);
+        c.run_for(60_000_000_000, RunUntil::Rest, || false);
         assert_eq!(c.counter().counts, [2]);
         // Two parts, one read: the program's #500 counts once per START.
         mdi(&mut c, &["G0 X[#500 * 2.] Z[#501]"]);

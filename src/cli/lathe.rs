@@ -4,8 +4,9 @@
 
 use super::args::{Args, Opt};
 use super::fail;
+use crate::console::WAIT_LIMIT_NS;
 use crate::lathe::console::events::ScriptStep;
-use crate::lathe::console::LatheConsole;
+use crate::lathe::console::{LatheConsole, RunUntil};
 use crate::lathe::desc::LatheDesc;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -139,22 +140,22 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     let home: Vec<[i64; 2]> = (0..desc.channels.len())
         .map(|c| crate::lathe::console::home(&desc, c))
         .collect();
-    let mut cycle = match crate::lathe::console::Cycle::new(
-        &desc,
-        &texts,
-        &opts,
+    let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
+    let spec = crate::lathe::console::CycleSpec {
+        texts,
+        opts,
         target,
-        false,
-        0,
-        &home,
-        0,
-        100,
-        crate::pulse_core::ClockMode::Virtual,
-        rec.as_ref().map(crate::record::Recorder::sink),
-        &mut (0..desc.channels.len())
-            .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
-            .collect::<Vec<_>>(),
-    ) {
+        mdi: None,
+        pos: home,
+        started_ns: 0,
+        feed_override: 100,
+        clock: crate::pulse_core::ClockMode::Virtual,
+        sink: rec.as_ref().map(crate::record::Recorder::sink),
+    };
+    let mut kept: Vec<_> = (0..desc.channels.len())
+        .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
+        .collect();
+    let mut cycle = match crate::lathe::console::Cycle::new(&desc, spec, &mut kept) {
         Ok(c) => c,
         Err(e) => {
             // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.
@@ -165,7 +166,6 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
             return fail(msg);
         }
     };
-    let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
     let mut feed = match super::mtconnect::Feed::start_on(&mtc, "novanc run", true, 0) {
         Ok(f) => f,
         Err(e) => return fail(&format!("novanc run: {e}")),
@@ -183,14 +183,14 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     let step = 1_000_000_000;
     let mut interrupted = None;
     let outcome = loop {
-        let rest = cycle.run_until_rest(step);
+        let rest = cycle.run(step, RunUntil::Rest);
         if let Some(f) = feed.as_mut() {
             f.publish_cycle(&cycle, &names, desc.pulse_mm);
         }
         if let Some(why) = super::signals::caught_reason() {
             // Every channel stops at once; one tick records it.
             cycle.estop();
-            cycle.advance(desc.tick_ns.max(1));
+            cycle.run(desc.tick_ns.max(1), RunUntil::Time);
             if let Some(f) = feed.as_mut() {
                 f.publish_cycle(&cycle, &names, desc.pulse_mm);
             }
@@ -268,6 +268,8 @@ Runs a lathe panel script (one event per line, # comments) in virtual time:
   fault N REASON     target N    override PCT   optionalstop on|off   blockdelete on|off   key NAME
   wait               until every channel is at rest (finished, stopped, waiting on a stopped
                      channel, faulted, or in E-STOP)
+  wait block N       until block N (its N number, counted from 1 in the program as read) of
+                     the selected channel's program starts, or every channel is at rest
   wait ms T          let T milliseconds of machine time pass
   show               print the display (title, summary lines, plasma) between --- lines
 A bad line stops the script before anything runs (exit 1).
@@ -368,9 +370,14 @@ fn run_script(
                     f.publish_lathe(&c);
                 }
             }
-            ScriptStep::Wait => run_for(&mut c, 3_600_000_000_000_000, true, stop, &mut feed),
+            ScriptStep::Wait => run_for(&mut c, WAIT_LIMIT_NS, RunUntil::Rest, stop, &mut feed),
+            ScriptStep::WaitBlock(n) => {
+                let on = RunUntil::Block(c.selected(), n);
+                run_for(&mut c, WAIT_LIMIT_NS, on, stop, &mut feed)
+            }
             ScriptStep::WaitMs(ms) => {
-                run_for(&mut c, ms.saturating_mul(1_000_000), false, stop, &mut feed)
+                let ns = ms.saturating_mul(1_000_000);
+                run_for(&mut c, ns, RunUntil::Time, stop, &mut feed)
             }
             ScriptStep::Show => {
                 let _ = writeln!(out, "--- display\n{}\n---", c.frame_text());
@@ -392,17 +399,17 @@ fn run_script(
     }
 }
 
-/// Runs the console for `limit_ns` of machine time (only until every channel is at rest with
-/// `until_rest`) as `LatheConsole::run_for` does; with an adapter, the kernel's watcher has
-/// published every change on the way, and the console's state is published at the end.
+/// Runs the console for `limit_ns` of machine time, or only until `until`, as
+/// `LatheConsole::run_for` does; with an adapter, the kernel's watcher has published every
+/// change on the way, and the console's state is published at the end.
 fn run_for(
     c: &mut LatheConsole,
     limit_ns: u64,
-    until_rest: bool,
+    until: RunUntil,
     stop: fn() -> bool,
     feed: &mut Option<super::mtconnect::Feed>,
 ) {
-    c.run_for(limit_ns, until_rest, stop);
+    c.run_for(limit_ns, until, stop);
     if let Some(f) = feed.as_mut() {
         f.publish_lathe(c);
     }

@@ -382,7 +382,7 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
     }
     let (r, st) = match w {
         WaitFor::Idle => c.core.run_until_idle(WAIT_LIMIT_NS),
-        WaitFor::Block(n) => c.core.run_until_block(n, WAIT_LIMIT_NS),
+        WaitFor::Block(n) => c.core.run_until_block(0, n, WAIT_LIMIT_NS),
         WaitFor::Ms(t) => c.core.run_for(t.saturating_mul(1_000_000)),
     };
     c.status = st;

@@ -227,6 +227,13 @@ pub enum Outcome {
     },
     /// The machine time given passed first.
     TimeLimit,
+    /// The block asked of [`Kernel::run_until`] started.
+    BlockStart {
+        /// Channel.
+        ch: usize,
+        /// The NCBR tick it started at, ns (the kernel stands at that tick's end).
+        t: u64,
+    },
 }
 
 /// N channels on one NCBR clock with a sync table.
@@ -1047,21 +1054,85 @@ impl Kernel {
     /// Runs until every channel has finished or none can go on without the operator, or
     /// `max_ns` of machine time has passed.
     pub fn run_until_idle(&mut self, max_ns: u64) -> Outcome {
+        self.run_until(max_ns, None)
+    }
+
+    /// [`Kernel::run_until_idle`], and with `block` = (channel, N) only until block N of that
+    /// channel's program starts: N is the block's sequence number (`Block::seq`, the N of the
+    /// listing, the centre's `wait block N`). It then returns [`Outcome::BlockStart`] with
+    /// every channel at the end of the NCBR tick the block started in, so the block is the
+    /// channel's executing one. Channels run one after the other up to the same time and
+    /// cannot be taken back, so each step is first run on a quiet copy of the kernel
+    /// (recording and keeping nothing, telling no watcher) that finds the tick; the kernel
+    /// then runs to that tick's end, and finds the start itself.
+    pub fn run_until(&mut self, max_ns: u64, block: Option<(usize, u32)>) -> Outcome {
         let t0 = self.now;
-        let step = self
+        let period = self
             .chans
             .first()
-            .map_or(1, |c| c.m.settings().ncbr_period_ns.max(1))
-            .saturating_mul(1000);
-        loop {
-            let t = self.now.saturating_add(step).min(t0.saturating_add(max_ns));
+            .map_or(1, |c| c.m.settings().ncbr_period_ns.max(1));
+        let step = period.saturating_mul(1000);
+        let looked = block.and_then(|(ch, seq)| {
+            let m = &mut self.chans.get_mut(ch)?.m;
+            m.look_for_block(Some(seq));
+            Some(ch)
+        });
+        let outcome = loop {
+            let mut t = self.now.saturating_add(step).min(t0.saturating_add(max_ns));
+            if let Some((ch, seq)) = block {
+                if let Some(tb) = self.block_start_before(ch, seq, t) {
+                    t = (tb / period).saturating_add(1).saturating_mul(period);
+                }
+            }
             self.advance_to(t);
+            if let Some(ch) = looked {
+                if let Some(t) = self.chans[ch].m.block_started_at() {
+                    break Outcome::BlockStart { ch, t };
+                }
+            }
             if !self.progressing() {
-                return self.outcome();
+                break self.outcome();
             }
             if self.now - t0 >= max_ns {
-                return Outcome::TimeLimit;
+                break Outcome::TimeLimit;
             }
+        };
+        if let Some(ch) = looked {
+            self.chans[ch].m.look_for_block(None);
+        }
+        outcome
+    }
+
+    /// When block `seq` of channel `ch` starts if every channel runs on to `t`, found on a
+    /// quiet copy of the kernel (None: not before `t`).
+    fn block_start_before(&mut self, ch: usize, seq: u32, t: u64) -> Option<u64> {
+        let mut k = self.quiet_copy();
+        k.chans.get_mut(ch)?.m.look_for_block(Some(seq));
+        k.advance_to(t);
+        k.chans[ch].m.block_started_at()
+    }
+
+    /// A copy of the kernel to look ahead with: the same state, every channel's machine a
+    /// quiet copy (`Machine::quiet_copy`), no events and no watcher.
+    fn quiet_copy(&mut self) -> Kernel {
+        let chans = self
+            .chans
+            .iter_mut()
+            .map(|c| {
+                let quiet = c.m.quiet_copy();
+                let m = std::mem::replace(&mut c.m, quiet);
+                let copy = c.clone();
+                c.m = m;
+                copy
+            })
+            .collect();
+        Kernel {
+            chans,
+            table: self.table.clone(),
+            now: self.now,
+            events: Vec::new(),
+            pending: Vec::new(),
+            watch: None,
         }
     }
 

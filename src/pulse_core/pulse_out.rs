@@ -109,6 +109,19 @@ impl PulseOut {
         self.shift = Axes::default();
     }
 
+    /// A copy that outputs the same pulses and logs none (no sink, capture or batches): a
+    /// machine's look-ahead copy, made without copying what the log holds.
+    pub fn quiet_copy(&mut self) -> PulseOut {
+        let sink = self.sink.take();
+        let capture = self.capture.take();
+        let batches = std::mem::take(&mut self.batches);
+        let mut q = self.clone();
+        (self.sink, self.capture, self.batches) = (sink, capture, batches);
+        q.log = false;
+        q.slow = q.lock.iter().any(|&l| l);
+        q
+    }
+
     /// Takes the captured pulses so far.
     pub fn take_capture(&mut self) -> Vec<PulseRec> {
         self.capture

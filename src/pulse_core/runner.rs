@@ -58,7 +58,9 @@ pub struct RtStats {
 enum Wait {
     Idle(u64),
     For(u64),
-    Block(u32, u64),
+    /// Block `.1` (its sequence number) of channel `.0` starts (the single machine is
+    /// channel 0), at most `.2` ns.
+    Block(usize, u32, u64),
 }
 
 /// A look at the kernel run in its thread ([`PulseCore::inspect_kernel`]).
@@ -520,14 +522,12 @@ impl PulseCore {
                 None,
             ),
             Wait::For(ns) => self.wait_until(|st| st.machine_ns >= start.saturating_add(ns), None),
-            Wait::Block(seq, limit) => self.wait_until(
+            Wait::Block(_, _, limit) => self.wait_until(
                 |st| {
                     applied(st)
                         && (st.idle
                             || st.machine_ns >= start.saturating_add(limit)
-                            || (st.in_block
-                                && st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq)
-                                    == Some(seq)))
+                            || self.at_block(w, st))
                 },
                 None,
             ),
@@ -538,11 +538,28 @@ impl PulseCore {
         } else {
             match w {
                 Wait::For(_) => Reached::Time,
-                Wait::Block(..) if st.in_block => Reached::BlockStart,
+                Wait::Block(..) if self.at_block(w, &st) => Reached::BlockStart,
                 _ => Reached::Limit,
             }
         };
         (reached, st)
+    }
+
+    /// Real time: whether the block `w` waits for executes, as last published (`st`: the
+    /// core's status, which is channel 0's; another channel of a kernel is looked at in its
+    /// own).
+    fn at_block(&self, w: Wait, st: &Status) -> bool {
+        let Wait::Block(ch, seq, _) = w else {
+            return false;
+        };
+        let chans = (ch > 0).then(|| lock(&self.shared.channels));
+        let Some(c) = chans
+            .as_ref()
+            .map_or(Some(st), |c| c.get(ch).map(|c| &c.status))
+        else {
+            return false;
+        };
+        c.in_block && c.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq) == Some(seq)
     }
 
     /// Runs (or waits) until the machine is idle: RUN = 0, or a feed hold at rest, or an
@@ -556,10 +573,12 @@ impl PulseCore {
         self.advance(Wait::For(ns))
     }
 
-    /// Runs until block `seq` (its N number) starts executing, or the machine is idle; at most
-    /// `limit_ns` of machine time.
-    pub fn run_until_block(&self, seq: u32, limit_ns: u64) -> (Reached, Status) {
-        self.advance(Wait::Block(seq, limit_ns))
+    /// Runs until block `seq` (its N number) of channel `ch` starts executing (the single
+    /// machine is channel 0; a kernel's in virtual time: every channel at the end of the NCBR
+    /// tick it started in, `Kernel::run_until`), or the machine is idle; at most `limit_ns` of
+    /// machine time.
+    pub fn run_until_block(&self, ch: usize, seq: u32, limit_ns: u64) -> (Reached, Status) {
+        self.advance(Wait::Block(ch, seq, limit_ns))
     }
 
     /// Waits until the machine is idle (see [`PulseCore::run_until_idle`]); `None` if it is not
@@ -875,8 +894,13 @@ impl Runner {
                 k.advance_to(k.now().saturating_add(ns));
                 Reached::Time
             }
-            Wait::Idle(limit) | Wait::Block(_, limit) => match k.run_until_idle(limit) {
+            Wait::Idle(limit) => match k.run_until_idle(limit) {
                 Outcome::TimeLimit => Reached::Limit,
+                _ => Reached::Idle,
+            },
+            Wait::Block(ch, seq, limit) => match k.run_until(limit, Some((ch, seq))) {
+                Outcome::TimeLimit => Reached::Limit,
+                Outcome::BlockStart { .. } => Reached::BlockStart,
                 _ => Reached::Idle,
             },
         };
@@ -908,7 +932,7 @@ impl Runner {
                 let t = now.saturating_add(ns);
                 (Until::Time(t), t)
             }
-            Wait::Block(seq, limit) => (Until::BlockStart(seq), now.saturating_add(limit)),
+            Wait::Block(_, seq, limit) => (Until::BlockStart(seq), now.saturating_add(limit)),
         };
         let mut shown = Instant::now();
         loop {

@@ -118,7 +118,7 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> Option<LatheE
 
 /// Parses one panel-script line of the lathe console with the one grammar of every console
 /// (`PanelEvent::parse_script_line_on`); `Ok(None)` for a blank or comment line. Waits
-/// (`wait`, `wait ms T`) and `show` are the script runner's, not events: they are refused here
+/// (`wait`, `wait ms T`, `wait block N`) and `show` are the script runner's, not events: they are refused here
 /// and taken by [`parse_script`].
 pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String> {
     match PanelEvent::parse_script_line_on(line, channels.max(2))? {
@@ -171,6 +171,12 @@ fn from_panel(ev: PanelEvent) -> Result<ScriptStep, String> {
         },
         PanelEvent::Wait => return Ok(ScriptStep::Wait),
         PanelEvent::WaitMs(ms) => return Ok(ScriptStep::WaitMs(ms)),
+        // The lathe's blocks are numbered from 1 (docs/lathe.md "Headless"); the centre's
+        // block 0 is a SEARCH's restore block, which the lathe has not.
+        PanelEvent::WaitBlock(0) => {
+            return Err("wait block 0: the lathe's blocks are numbered from 1".into())
+        }
+        PanelEvent::WaitBlock(n) => return Ok(ScriptStep::WaitBlock(n)),
         PanelEvent::Show => return Ok(ScriptStep::Show),
         other => {
             return Err(format!(
@@ -191,6 +197,9 @@ pub enum ScriptStep {
     Wait,
     /// `wait ms T`: T milliseconds of machine time.
     WaitMs(u64),
+    /// `wait block N`: until block N (its sequence number) of the selected channel's program
+    /// starts, or every channel is at rest.
+    WaitBlock(u32),
     /// `show`: print the display.
     Show,
 }
@@ -247,15 +256,23 @@ mod tests {
 
     #[test]
     fn a_script_reads_whole_or_names_its_bad_line() {
-        let s = parse_script("# c\nstart\nwait ms 250\n\nwait\nshow\n", 3).unwrap();
+        let s = parse_script("# c\nstart\nwait ms 250\n\nwait block 7\nwait\nshow\n", 3).unwrap();
         assert_eq!(
             s,
             [
                 ScriptStep::Ev(LatheEv::Start),
                 ScriptStep::WaitMs(250),
+                ScriptStep::WaitBlock(7),
                 ScriptStep::Wait,
                 ScriptStep::Show
             ]
+        );
+        assert_eq!(
+            parse_script("start\nwait block 0\n", 3).unwrap_err(),
+            (
+                2,
+                "wait block 0: the lathe's blocks are numbered from 1".into()
+            )
         );
         assert_eq!(
             parse_script("start\nwait ms x\n", 3).unwrap_err().0,

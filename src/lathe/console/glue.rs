@@ -4,14 +4,16 @@
 //!
 //! The kernel runs in its own thread: in real time (the terminal, the window) it keeps its
 //! NCBR clock whatever the screen does, and E-STOP acts from that thread; in virtual time
-//! (scripts, `novanc run`, tests) machine time passes only in [`Cycle::advance`]. Every view is
+//! (scripts, `novanc run`, tests) machine time passes only in [`Cycle::run`]. Every view is
 //! derived from the kernel's published state (its snapshot), never from the console's memory
 //! of what it asked for.
 
 use super::view::ChanView;
 use crate::lathe::desc::LatheDesc;
 use crate::lathe::gcode::{read_kept, Kept, ReadOptions};
-use crate::pulse_core::{ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore};
+use crate::pulse_core::{
+    ChannelStatus, ClockMode, Command, Kernel, KernelEvent, PulseCore, Reached,
+};
 use crate::record::EventSink;
 use crate::store::lathe::Program;
 
@@ -20,6 +22,20 @@ use crate::store::lathe::Program;
 /// start where the last one left it.
 pub fn home(desc: &LatheDesc, ch: usize) -> [i64; 2] {
     crate::lathe::gcode::home(desc, ch)
+}
+
+/// What [`Cycle::run`] runs until, besides the machine time it is given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunUntil {
+    /// Only the time.
+    Time,
+    /// Every channel at rest ([`Cycle::at_rest`]): `novanc run`.
+    Rest,
+    /// Block `.1` of channel `.0`'s program starts (its sequence number, the N of the
+    /// listing, as the centre's `wait block N`), or every channel is at rest. In virtual
+    /// time every channel then stands at the end of the NCBR tick it started in
+    /// (`Kernel::run_until`); in real time its start is seen in the kernel's published state.
+    Block(usize, u32),
 }
 
 /// A cycle (AUTO: every channel to the part target) or an MDI run of one channel.
@@ -58,26 +74,41 @@ type MadeKernel = (
     Vec<Vec<(u32, String)>>,
 );
 
-/// What the kernel would do with a cycle of `desc` running `texts`: the kernel, ready to start,
-/// and the program lines. Any error names the channel, the program and the line.
-#[allow(clippy::too_many_arguments)]
-fn make_kernel(
-    desc: &LatheDesc,
-    texts: &[(String, String)],
-    opts: &ReadOptions,
-    target: u32,
-    mdi: bool,
-    only: usize,
-    pos: &[[i64; 2]],
-    feed_override: u32,
-    kept: &[Kept],
-) -> Result<MadeKernel, String> {
+/// What describes a cycle to start ([`Cycle::new`]), built once by whoever starts it (the
+/// console's START, `novanc run`).
+#[derive(Clone, Debug)]
+pub struct CycleSpec {
+    /// Each channel's program: name and text (an MDI run: the run channel's lines, empty
+    /// texts for the others).
+    pub texts: Vec<(String, String)>,
+    /// How the programs are read (BLOCK DELETE, OPTIONAL STOP).
+    pub opts: ReadOptions,
+    /// The part target.
+    pub target: u32,
+    /// An MDI run of this channel (None: AUTO, every channel to the part target).
+    pub mdi: Option<usize>,
+    /// Where each channel's tool post starts, pulses [X radius, Z].
+    pub pos: Vec<[i64; 2]>,
+    /// The console's machine time the cycle begins at, ns.
+    pub started_ns: u64,
+    /// Feed override, percent, of every channel's feed moves.
+    pub feed_override: u32,
+    /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
+    pub clock: ClockMode,
+    /// Where the kernel records.
+    pub sink: Option<EventSink>,
+}
+
+/// What the kernel would do with a cycle of `desc` as `spec` describes it, each channel read
+/// from the state `kept` says: the kernel, ready to start, and the program lines. Any error
+/// names the channel, the program and the line.
+fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<MadeKernel, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
     let mut after = Vec::new();
     let mut msgs = Vec::new();
-    for (ch, (name, text)) in texts.iter().enumerate() {
-        if mdi && ch != only {
+    for (ch, (name, text)) in spec.texts.iter().enumerate() {
+        if spec.mdi.is_some_and(|only| ch != only) {
             // The other channels stand still with no program during an MDI run.
             progs.push(Vec::new());
             lines.push(Vec::new());
@@ -91,10 +122,18 @@ fn make_kernel(
             .get(ch)
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
-        let r = read_kept(text, desc, ch, opts, None, &from, pos.get(ch).copied())
-            .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        let r = read_kept(
+            text,
+            desc,
+            ch,
+            &spec.opts,
+            None,
+            &from,
+            spec.pos.get(ch).copied(),
+        )
+        .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
         let p = r.statements;
-        if !mdi && p.is_empty() {
+        if spec.mdi.is_none() && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
         }
         // A message is shown when the first block of the statement after it begins.
@@ -126,11 +165,11 @@ fn make_kernel(
         .map(|(_, st)| st.iter().find(|s| s.line > 0).map_or(0, |s| s.line))
         .collect();
     // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
-    let flow = (!mdi).then_some(flow);
-    let mut k = Kernel::new(chans, flow, target)?;
-    for (ch, p) in pos.iter().enumerate().take(k.channels()) {
+    let flow = spec.mdi.is_none().then_some(flow);
+    let mut k = Kernel::new(chans, flow, spec.target)?;
+    for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
-        k.command(ch, Command::Override(feed_override))?;
+        k.command(ch, Command::Override(spec.feed_override))?;
     }
     Ok((k, lines, first, after, msgs))
 }
@@ -169,40 +208,18 @@ pub fn recording_info(
 }
 
 impl Cycle {
-    /// Reads every channel's program (`texts`: name and text per channel) and starts the
-    /// kernel on `clock`, each tool post where `pos` says, recording into `sink`. Any error
-    /// names the channel, the program and the line, and nothing is started.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        desc: &LatheDesc,
-        texts: &[(String, String)],
-        opts: &ReadOptions,
-        target: u32,
-        mdi: bool,
-        only: usize,
-        pos: &[[i64; 2]],
-        started_ns: u64,
-        feed_override: u32,
-        clock: ClockMode,
-        sink: Option<EventSink>,
-        kept: &mut [Kept],
-    ) -> Result<Cycle, String> {
-        let (mut k, lines, first, after, msgs) = make_kernel(
-            desc,
-            texts,
-            opts,
-            target,
-            mdi,
-            only,
-            pos,
-            feed_override,
-            kept,
-        )?;
+    /// Reads every channel's program (`spec.texts`), each from the state `kept` says, and
+    /// starts the kernel on `spec.clock`, each tool post where `spec.pos` says, recording into
+    /// `spec.sink`; once it has started, `kept` holds the state each read left. Any error
+    /// names the channel, the program and the line, and nothing is started (`kept` is as it
+    /// was).
+    pub fn new(desc: &LatheDesc, spec: CycleSpec, kept: &mut [Kept]) -> Result<Cycle, String> {
+        let (mut k, lines, first, after, msgs) = make_kernel(desc, &spec, kept)?;
         // One time base for the console's cycles (and its recording): the kernel's clock goes
         // on from the console's machine time.
-        k.set_clock(started_ns)?;
+        k.set_clock(spec.started_ns)?;
         let started_ns = k.now();
-        k.start(Some(only).filter(|_| mdi))?;
+        k.start(spec.mdi)?;
         // The cycle starts: each channel read keeps the state its read left.
         for (k, a) in kept.iter_mut().zip(after) {
             if let Some(a) = a {
@@ -210,7 +227,8 @@ impl Cycle {
             }
         }
         let n = msgs.len();
-        let core = PulseCore::spawn_kernel(k, clock, sink);
+        let (mdi, only, clock) = (spec.mdi.is_some(), spec.mdi.unwrap_or(0), spec.clock);
+        let core = PulseCore::spawn_kernel(k, clock, spec.sink);
         let mut c = Cycle {
             core,
             mdi,
@@ -343,23 +361,45 @@ impl Cycle {
         })
     }
 
-    /// Advances the machine by `ns` of machine time (virtual time); in real time the kernel
-    /// keeps its own clock and this only takes its state.
-    pub fn advance(&mut self, ns: u64) {
-        if self.clock == ClockMode::Virtual && ns > 0 {
-            self.core.run_for(ns);
-        }
+    /// Advances the machine by at most `ns` of machine time (virtual time), or less when
+    /// `until` holds first; in real time the kernel keeps its own clock and this only takes
+    /// its state. Whether `until` holds (never for [`RunUntil::Time`]).
+    pub fn run(&mut self, ns: u64, until: RunUntil) -> bool {
+        let virt = self.clock == ClockMode::Virtual && ns > 0;
+        let started = match until {
+            RunUntil::Time if virt => {
+                self.core.run_for(ns);
+                false
+            }
+            RunUntil::Rest if virt => {
+                self.core.run_until_idle(ns);
+                false
+            }
+            RunUntil::Block(ch, seq) if virt => {
+                self.core.run_until_block(ch, seq, ns).0 == Reached::BlockStart
+            }
+            _ => false,
+        };
         self.refresh();
-    }
-
-    /// Runs until nothing can move without the operator or `limit_ns` has passed (virtual
-    /// time). True if it came to rest.
-    pub fn run_until_rest(&mut self, limit_ns: u64) -> bool {
-        if self.clock == ClockMode::Virtual {
-            self.core.run_until_idle(limit_ns);
+        match until {
+            RunUntil::Time => false,
+            RunUntil::Rest => self.at_rest(),
+            RunUntil::Block(ch, seq) => {
+                // Real time: the block executes in the kernel's published state (as the
+                // centre's real-time wait sees it).
+                let executes = |c: &ChannelStatus| {
+                    c.status.in_block
+                        && c.status
+                            .executing
+                            .as_ref()
+                            .and_then(|e| e.block())
+                            .map(|b| b.seq)
+                            == Some(seq)
+                };
+                let real = self.clock == ClockMode::RealTime;
+                started || (real && self.snap.get(ch).is_some_and(executes)) || self.at_rest()
+            }
         }
-        self.refresh();
-        self.at_rest()
     }
 
     /// START: every channel of the cycle resumes (a held or stopped one) and a waiting

@@ -15,7 +15,7 @@ mod glue;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, recording_info, Cycle};
+pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::pulse_core::ClockMode;
@@ -278,7 +278,7 @@ impl LatheConsole {
     }
 
     /// Nothing moves or can move without the operator: no cycle, or every channel finished,
-    /// stopped, waiting on a stopped channel, faulted or in E-STOP (what `run_until_rest`
+    /// stopped, waiting on a stopped channel, faulted or in E-STOP (what a script's `wait`
     /// waits for), as the last tick found it: after START, tick before asking.
     pub fn at_rest(&self) -> bool {
         self.cycle.as_ref().is_none_or(|c| c.at_rest())
@@ -546,20 +546,18 @@ impl LatheConsole {
                 c.dialect = p.dialect.or(c.dialect);
             }
         }
-        match glue::Cycle::new(
-            &desc,
-            &texts,
-            &opts,
+        let spec = glue::CycleSpec {
+            texts,
+            opts,
             target,
-            mdi,
-            self.sel,
-            &self.pos,
-            self.now_ns,
-            self.feed_override,
-            self.clock,
-            self.sink.clone(),
-            &mut self.kept,
-        ) {
+            mdi: mdi.then_some(self.sel),
+            pos: self.pos.clone(),
+            started_ns: self.now_ns,
+            feed_override: self.feed_override,
+            clock: self.clock,
+            sink: self.sink.clone(),
+        };
+        match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
             Ok(mut c) => {
                 if self.watch.is_some() {
@@ -654,24 +652,36 @@ impl LatheConsole {
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and
     /// stores the part counter as it counts.
     pub fn tick(&mut self, ns: u64) {
+        self.step(ns, RunUntil::Time);
+    }
+
+    /// [`LatheConsole::tick`], ending early when `until` holds (`Cycle::run`): whether it
+    /// does (never for [`RunUntil::Time`]). Without a cycle only the time passes, and a wait
+    /// has nothing to wait for (it holds).
+    pub fn step(&mut self, ns: u64, until: RunUntil) -> bool {
         let Some(c) = self.cycle.as_mut() else {
-            self.now_ns += ns;
-            return;
+            if until == RunUntil::Time {
+                self.now_ns += ns;
+            }
+            return until != RunUntil::Time;
         };
-        c.advance(ns);
+        let reached = c.run(ns, until);
         self.now_ns = c.now_ns();
         self.after();
+        reached
     }
 
     /// Runs the machine for `limit_ns` of machine time, 10 ms at a time, recording as it goes
-    /// (a script's `wait ms T`); with `until_rest`, only until every channel is at rest
-    /// (finished, stopped, waiting on a stopped channel, faulted or in E-STOP: a script's
-    /// `wait`). `stop` is asked before each step and ends the run early when true (a stop
-    /// signal). Returns the machine time used.
-    pub fn run_for(&mut self, limit_ns: u64, until_rest: bool, stop: impl Fn() -> bool) -> u64 {
+    /// (a script's `wait ms T`), or only until `until` holds: [`RunUntil::Rest`], every
+    /// channel at rest (finished, stopped, waiting on a stopped channel, faulted or in
+    /// E-STOP), looked for between the steps (a script's `wait`); [`RunUntil::Block`], the
+    /// block's start, which ends its step (a script's `wait block N`). `stop` is asked before
+    /// each step and ends the run early when true (a stop signal). Returns the machine time
+    /// given to the steps run.
+    pub fn run_for(&mut self, limit_ns: u64, until: RunUntil, stop: impl Fn() -> bool) -> u64 {
         if self.cycle.is_none() {
-            // Nothing moves: time only passes (or, waiting for rest, nothing to wait for).
-            let used = if until_rest { 0 } else { limit_ns };
+            // Nothing moves: time only passes (or, waiting, nothing to wait for).
+            let used = if until == RunUntil::Time { limit_ns } else { 0 };
             self.tick(used);
             return used;
         }
@@ -679,9 +689,15 @@ impl LatheConsole {
         let step = 10_000_000;
         while used < limit_ns && !stop() {
             let n = step.min(limit_ns - used);
-            self.tick(n);
             used += n;
-            if until_rest && self.cycle.as_mut().is_none_or(|c| c.at_rest()) {
+            let reached = match until {
+                RunUntil::Rest => {
+                    self.tick(n);
+                    self.cycle.as_ref().is_none_or(|c| c.at_rest())
+                }
+                u => self.step(n, u),
+            };
+            if reached {
                 break;
             }
         }

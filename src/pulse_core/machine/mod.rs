@@ -345,6 +345,9 @@ pub struct Machine {
     starve_stops: bool,
     starved: bool,
     started_seq: Option<u32>,
+    /// The block start looked for ([`Machine::look_for_block`]): its sequence number, and the
+    /// NCBR tick it first started at since (None: not yet).
+    looked_for: Option<(u32, Option<u64>)>,
     /// Time the block in progress completed inside the last PGEN call.
     finished_at: Option<u64>,
     audit: Option<Vec<BlockEnd>>,
@@ -475,6 +478,7 @@ impl Machine {
             starve_stops: false,
             starved: false,
             started_seq: None,
+            looked_for: None,
             finished_at: None,
             audit: None,
             watch: None,
@@ -517,6 +521,34 @@ impl Machine {
     /// machine is a channel.
     pub fn take_marks(&mut self) -> Vec<Mark> {
         std::mem::take(&mut self.marks)
+    }
+
+    /// A copy of the machine to look ahead with (a kernel's `wait block N`): the same state,
+    /// recording and keeping nothing (no sink, captured pulses, audit, watch or marks), made
+    /// without copying what it has kept.
+    pub fn quiet_copy(&mut self) -> Machine {
+        let quiet = self.out.quiet_copy();
+        let out = std::mem::replace(&mut self.out, quiet);
+        let audit = self.audit.take();
+        let watch = self.watch.take();
+        let events = self.events.take();
+        let marks = std::mem::take(&mut self.marks);
+        let copy = self.clone();
+        (self.out, self.audit, self.watch, self.events, self.marks) =
+            (out, audit, watch, events, marks);
+        copy
+    }
+
+    /// Looks for the next start of block `seq` (its sequence number, the N of the listing)
+    /// from now on; None stops looking. [`Machine::block_started_at`] then tells when it
+    /// started (a kernel's `wait block N`, which cannot stop one channel alone mid-step).
+    pub fn look_for_block(&mut self, seq: Option<u32>) {
+        self.looked_for = seq.map(|s| (s, None));
+    }
+
+    /// The NCBR tick the block looked for first started at, if it has since it was asked.
+    pub fn block_started_at(&self) -> Option<u64> {
+        self.looked_for.and_then(|l| l.1)
     }
 
     /// The sync point the machine waits at, if it waits at one.
@@ -1392,6 +1424,11 @@ impl Machine {
         self.in_tap = b.tap != crate::block::Tap::No || b.thread.is_some();
         self.spindle_sync(self.now);
         self.started_seq = Some(b.seq);
+        if let Some((seq, at @ None)) = &mut self.looked_for {
+            if *seq == b.seq {
+                *at = Some(self.now);
+            }
+        }
         if let Some(j) = &mut self.job {
             j.last = Some(e.clone());
             j.last_block = Some(b.clone());

@@ -16,7 +16,7 @@ use super::shot::rect_px;
 use crate::cli::mtconnect::Feed;
 use crate::console::ConsoleConfig;
 use crate::lathe::console::events::{parse_script, LatheEv, ScriptStep};
-use crate::lathe::console::{LatheConsole, LatheView};
+use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
 use crate::lathe::desc::LatheDesc;
 use egui::{Color32, Rect};
 use panel::Act;
@@ -44,6 +44,7 @@ pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<LatheEv>>, (u
             ScriptStep::Ev(ev) => Step::Ev(ev),
             ScriptStep::Wait => Step::Wait(Wait::Rest),
             ScriptStep::WaitMs(ms) => Step::WaitMs(ms),
+            ScriptStep::WaitBlock(n) => Step::Wait(Wait::Block(n)),
             ScriptStep::Show => Step::Show,
         })
         .collect())
@@ -127,17 +128,26 @@ impl Lathe {
 
     /// Advances the machine `ns` in steps of `STEP_NS`, sampling after each.
     fn advance(&mut self, ns: u64) {
+        self.advance_until(ns, RunUntil::Time);
+    }
+
+    /// [`Lathe::advance`], ending with the step in which `until` holds (`LatheConsole::step`):
+    /// whether it does.
+    fn advance_until(&mut self, ns: u64, until: RunUntil) -> bool {
         if self.console.cycle().is_none() {
-            self.console.tick(ns);
-            return;
+            return self.console.step(ns, until);
         }
         let mut left = ns;
         while left > 0 {
             let n = left.min(STEP_NS);
-            self.console.tick(n);
+            let reached = self.console.step(n, until);
             self.sample();
+            if reached {
+                return true;
+            }
             left -= n;
         }
+        false
     }
 
     fn panels(&mut self, ui: &mut egui::Ui, out: &mut Vec<Act>) {
@@ -199,6 +209,17 @@ impl Front for Lathe {
         self.advance(STEP_NS);
     }
     fn pursue(&mut self, w: Wait, deadline: Instant) -> bool {
+        if let Wait::Block(n) = w {
+            // The selected channel's block N: each step runs to its start at most, so the
+            // wait ends with the tick it starts in (or at rest), as `novanc script`'s.
+            let until = RunUntil::Block(self.console.selected(), n);
+            while Instant::now() <= deadline {
+                if self.advance_until(16 * STEP_NS, until) {
+                    return true;
+                }
+            }
+            return false;
+        }
         loop {
             let done = match w {
                 Wait::Until(t) => self.console.machine_ns() >= t,
@@ -328,6 +349,24 @@ mod tests {
                 t.points().filter_map(|p| p.work).collect();
             assert_eq!(works.into_iter().collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
         }
+        let _ = std::fs::remove_dir_all(d);
+    }
+
+    #[test]
+    fn a_script_wait_block_ends_with_the_selected_channels_block_executing() {
+        // Block 12 of CH2's program (system2.ngc as read) is its line 18, the arc.
+        let steps = read_script("channel 2\nstart\nwait block 12\n", 3).unwrap();
+        let (mut a, d) = app("waitblock", steps);
+        let l = play_all(&mut a);
+        let v = l.console.view();
+        assert_eq!(v.selected, 1);
+        let ch2 = &v.channels[1];
+        assert_eq!(
+            (ch2.state.as_str(), ch2.line, ch2.text.as_str()),
+            ("RUN", 18, "G2 X16 Z-7 R3"),
+            "{ch2:?}"
+        );
+        assert!(!l.console.at_rest(), "the cycle runs on");
         let _ = std::fs::remove_dir_all(d);
     }
 
