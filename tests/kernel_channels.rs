@@ -755,6 +755,7 @@ fn check_citizen_events(k: &Kernel, evs: &[KernelEvent], passes: usize, lines: u
                 to,
                 work,
                 both_closed,
+                ..
             } => Some((*t, *from, *to, *work, *both_closed)),
             _ => None,
         })

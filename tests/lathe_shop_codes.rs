@@ -249,6 +249,28 @@ fn a_lathe_loaded_by_hand_runs_a_program_without_chuck_codes_part_after_part() {
     let (code, text) = run("byhand.machine");
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("parts: 3"), "{text}");
+    // The recording says who loaded each work: the operator (its chunks are not compressed,
+    // so the event texts stand in the file as written).
+    let rec = dir.join("byhand.mcap");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", "--machine"])
+        .arg(dir.join("byhand.machine"))
+        .arg(dir.join("o1000.nc"))
+        .args(["--parts", "2", "--record"])
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let bytes = std::fs::read(&rec).unwrap_or_default();
+    let count = |needle: &str| {
+        bytes
+            .windows(needle.len())
+            .filter(|w| *w == needle.as_bytes())
+            .count()
+    };
+    assert_eq!(count("W1 OPERATOR -> CH1"), 1);
+    assert_eq!(count("W2 CH1 -> OPERATOR (both chucks closed)"), 1);
+    assert_eq!(count("BAR FEEDER"), 0);
     // The same lathe with the bar feeder's loading (the default) refuses the first cut: no
     // work in the spindle, as the chuck interlock says; nothing was cut.
     std::fs::write(
@@ -282,5 +304,34 @@ fn loading_by_hand_is_for_a_lathe_of_one_channel() {
     assert!(
         e.as_deref().is_some_and(|e| e.starts_with("6: loading:")),
         "{e:?}"
+    );
+}
+
+#[test]
+fn a_work_loaded_by_hand_is_the_operators_in_the_lathes_events() {
+    use novanc::pulse_core::KernelEvent;
+    use novanc::record::Event;
+    let text = |from, to, by_hand| match (KernelEvent::Transfer {
+        t: 0,
+        from,
+        to,
+        work: 1,
+        both_closed: true,
+        by_hand,
+    })
+    .record(None)
+    {
+        Event::Lathe { text, .. } => text,
+        _ => String::new(),
+    };
+    assert_eq!(text(None, Some(0), true), "W1 OPERATOR -> CH1");
+    assert_eq!(
+        text(Some(0), None, true),
+        "W1 CH1 -> OPERATOR (both chucks closed)"
+    );
+    assert_eq!(text(None, Some(0), false), "W1 BAR FEEDER -> CH1");
+    assert_eq!(
+        text(Some(0), None, false),
+        "W1 CH1 -> UNLOADER (both chucks closed)"
     );
 }

@@ -120,6 +120,9 @@ pub enum KernelEvent {
         work: u32,
         /// Both chucks were closed on the work at the handover.
         both_closed: bool,
+        /// The operator loaded it, or took it out (`loading manual`): `from` or `to` None is
+        /// the operator, not the bar feeder or the unloader.
+        by_hand: bool,
     },
     /// A thread pass started (or resumed) at an encoder index.
     ThreadPass {
@@ -337,12 +340,18 @@ impl KernelEvent {
                 to,
                 work,
                 both_closed,
+                by_hand,
                 ..
             } => {
+                let (feeder, unloader) = if *by_hand {
+                    ("OPERATOR", "OPERATOR")
+                } else {
+                    ("BAR FEEDER", "UNLOADER")
+                };
                 let text = format!(
                     "W{work} {} -> {}{}",
-                    from.map_or("BAR FEEDER".to_string(), |c| format!("CH{}", c + 1)),
-                    to.map_or("UNLOADER".to_string(), |c| format!("CH{}", c + 1)),
+                    from.map_or(feeder.to_string(), |c| format!("CH{}", c + 1)),
+                    to.map_or(unloader.to_string(), |c| format!("CH{}", c + 1)),
                     match (from, both_closed) {
                         (None, _) => "",
                         (Some(_), true) => " (both chucks closed)",
@@ -976,6 +985,7 @@ impl Kernel {
 
     /// The table's transfers from the `before`-th on, as events.
     fn push_transfers(&mut self, before: usize) {
+        let by_hand = self.table.manual();
         for tr in &self.table.transfers()[before..] {
             self.pending.push(KernelEvent::Transfer {
                 t: tr.t,
@@ -983,6 +993,7 @@ impl Kernel {
                 to: tr.to,
                 work: tr.work,
                 both_closed: tr.both_closed,
+                by_hand,
             });
         }
     }
