@@ -577,3 +577,35 @@ fn the_lathe_window_refuses_a_benchmark_before_looking_for_a_display() {
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(e.contains("the lathe window has no benchmark"), "{e}");
 }
+
+#[test]
+fn a_wait_at_feed_override_0_with_a_cut_in_progress_stops_the_script_as_the_centres_does() {
+    // Before: the wait ran on for 1000 hours of machine time (hours of CPU) while no channel
+    // could move. Now it stops at once with the centre's words, and the script exits 1.
+    let dir = common::temp_dir("lathe-ov0");
+    let script = dir.join("ov0.panel");
+    std::fs::write(&script, "start\nwait ms 3000\noverride 0\nwait\nshow\n").unwrap();
+    let t0 = std::time::Instant::now();
+    let o = citizen_script(&script, &dir.join("state"), &[]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(
+            "novanc script: event 4: wait: the machine stands still at feed override 0 %; raise the override"
+        ),
+        "{err}"
+    );
+    assert!(
+        !text(&o.stdout).contains("--- display"),
+        "the show after it did not run"
+    );
+    assert!(t0.elapsed() < std::time::Duration::from_secs(60));
+    // At 10 % the same script waits the cycle out.
+    std::fs::write(
+        &script,
+        "start\nwait ms 3000\noverride 10\nwait ms 1000\noverride 100\nwait\n",
+    )
+    .unwrap();
+    let o = citizen_script(&script, &dir.join("state2"), &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+}

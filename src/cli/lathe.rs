@@ -359,16 +359,17 @@ fn run_script(
     // A stop signal ends the script before its next line, and a wait between two steps of
     // 10 ms of machine time.
     let stop = super::signals::pending;
-    for s in steps {
+    for (i, s) in steps.into_iter().enumerate() {
         if stop() {
             break;
         }
-        match s {
+        let stuck = match s {
             ScriptStep::Ev(ev) => {
                 c.event(ev);
                 if let Some(f) = feed.as_mut() {
                     f.publish_lathe(&c);
                 }
+                None
             }
             ScriptStep::Wait => run_for(&mut c, WAIT_LIMIT_NS, RunUntil::Rest, stop, &mut feed),
             ScriptStep::WaitBlock(n) => {
@@ -381,7 +382,15 @@ fn run_script(
             }
             ScriptStep::Show => {
                 let _ = writeln!(out, "--- display\n{}\n---", c.frame_text());
+                None
             }
+        };
+        if let Some(e) = stuck {
+            // As the centre's script: the wait cannot end, so the script stops (exit 1).
+            let _ = out.flush();
+            eprintln!("novanc script: event {}: {e}", i + 1);
+            let _ = c.finish(None);
+            return 1;
         }
     }
     let _ = out.flush();
@@ -402,15 +411,31 @@ fn run_script(
 /// Runs the console for `limit_ns` of machine time, or only until `until`, as
 /// `LatheConsole::run_for` does; with an adapter, the kernel's watcher has published every
 /// change on the way, and the console's state is published at the end.
+/// Runs the machine as a script's wait asks; why the wait cannot end, if it cannot (the
+/// centre's words: feed override 0 with a feed move in progress, or the limit of machine time).
 fn run_for(
     c: &mut LatheConsole,
     limit_ns: u64,
     until: RunUntil,
     stop: fn() -> bool,
     feed: &mut Option<super::mtconnect::Feed>,
-) {
-    c.run_for(limit_ns, until, stop);
+) -> Option<String> {
+    let used = c.run_for(limit_ns, until, stop);
     if let Some(f) = feed.as_mut() {
         f.publish_lathe(c);
     }
+    if until == RunUntil::Time || stop() {
+        return None;
+    }
+    if c.stalled() {
+        return Some(
+            "wait: the machine stands still at feed override 0 %; raise the override".into(),
+        );
+    }
+    (used >= limit_ns && !c.at_rest()).then(|| {
+        format!(
+            "wait: not done within {} hours of machine time",
+            limit_ns / 3_600_000_000_000
+        )
+    })
 }

@@ -361,6 +361,41 @@ impl Cycle {
         })
     }
 
+    /// Feed override 0 holds the machine still for good: every channel not at rest is in a
+    /// feed move (a line or an arc, not a thread pass, which keeps 100 %), and at least one
+    /// is. Nothing but the operator can change that: a wait would never end.
+    pub fn stalled(&self, feed_override: u32) -> bool {
+        if feed_override > 0 {
+            return false;
+        }
+        let mut feeding = false;
+        for c in &self.snap {
+            let v = c.sync.as_ref();
+            if v.is_some_and(|v| v.done || v.at_sync.is_some()) || c.status.idle {
+                continue;
+            }
+            let feed = c
+                .status
+                .executing
+                .as_ref()
+                .and_then(|e| e.block())
+                .is_some_and(|b| {
+                    b.thread.is_none()
+                        && matches!(
+                            b.motion,
+                            crate::block::Motion::Linear
+                                | crate::block::Motion::ArcCw
+                                | crate::block::Motion::ArcCcw
+                        )
+                });
+            if !feed {
+                return false;
+            }
+            feeding = true;
+        }
+        feeding
+    }
+
     /// Advances the machine by at most `ns` of machine time (virtual time), or less when
     /// `until` holds first; in real time the kernel keeps its own clock and this only takes
     /// its state. Whether `until` holds (never for [`RunUntil::Time`]).

@@ -284,6 +284,14 @@ impl LatheConsole {
         self.cycle.as_ref().is_none_or(|c| c.at_rest())
     }
 
+    /// The machine stands still at feed override 0 with a feed move in progress: a wait
+    /// would never end (the centre's `wait` says so too).
+    pub fn stalled(&self) -> bool {
+        self.cycle
+            .as_ref()
+            .is_some_and(|c| c.stalled(self.feed_override))
+    }
+
     /// The plasma display's size: (rows, columns).
     pub fn display_size(&self) -> (usize, usize) {
         (self.rows, self.cols)
@@ -697,7 +705,7 @@ impl LatheConsole {
                 }
                 u => self.step(n, u),
             };
-            if reached {
+            if reached || (until != RunUntil::Time && self.stalled()) {
                 break;
             }
         }
