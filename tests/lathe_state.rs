@@ -12,6 +12,14 @@ use novanc::settings::Dialect;
 use novanc::store::lathe::{LatheStore, Program};
 use std::path::Path;
 
+/// Stores `p` as channel 1's program in the lathe's stores at `state`.
+fn save_program(state: &Path, d: &LatheDesc, p: &Program) {
+    match LatheStore::open(state, d) {
+        Ok(mut o) => o.store.save_program(0, p).unwrap_or_else(|e| panic!("{e}")),
+        Err(e) => panic!("{e}"),
+    }
+}
+
 /// The one-channel test lathe, its channel in `dialect`, RESET keeping #100–#199 if `keep`.
 fn desc(dialect: Option<Dialect>, keep: Option<bool>) -> LatheDesc {
     let mut d = novanc::lathe::testkit::citizen_like(1);
@@ -53,13 +61,7 @@ fn an_mdi_line_reads_in_the_feed_mode_the_program_left() {
         text: "G18 G7 G21 G90 G95\nM10\nG0 X30 Z5\nM11\n".into(),
         dialect: None,
     };
-    match LatheStore::open(&state, &d) {
-        Ok(mut o) => o
-            .store
-            .save_program(0, &p)
-            .unwrap_or_else(|e| panic!("{e}")),
-        Err(e) => panic!("{e}"),
-    }
+    save_program(&state, &d, &p);
     let mut c = open(&d, &state);
     c.event(LatheEv::Target(1));
     c.event(LatheEv::Start);
@@ -209,13 +211,7 @@ fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
         text: "#500 = #500 + 7.\n#501 = 3.5\nM10\nG0 X30. Z5.\nM11\n".into(),
         dialect: None,
     };
-    match LatheStore::open(&state, &d) {
-        Ok(mut o) => o
-            .store
-            .save_program(0, &p)
-            .unwrap_or_else(|e| panic!("{e}")),
-        Err(e) => panic!("{e}"),
-    }
+    save_program(&state, &d, &p);
     for (round, x) in [(1, 7_000), (2, 14_000)] {
         let mut c = open(&d, &state);
         c.event(LatheEv::Target(2));

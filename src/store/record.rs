@@ -258,14 +258,7 @@ impl Record {
                 Record::Params(vec![(b + 1, v(x)?), (b + 2, v(y)?), (b + 3, v(z)?)])
             }
             ["param", rest @ ..] if !rest.is_empty() && rest.len() % 2 == 0 => {
-                let bad = || format!("bad parameter record '{head}'");
-                let mut ps = Vec::with_capacity(rest.len() / 2);
-                for pair in rest.chunks(2) {
-                    let n = pair[0].parse::<u16>().map_err(|_| bad())?;
-                    let v = pair[1].parse::<i64>().map_err(|_| bad())?;
-                    ps.push((n, v));
-                }
-                Record::Params(ps)
+                Record::Params(param_pairs(rest, head)?)
             }
             ["chprog", c, d @ ..] if d.len() <= 1 => {
                 let (name, text) = body_of(body)?
@@ -288,16 +281,9 @@ impl Record {
                 text: None,
             },
             ["chparam", c, rest @ ..] if !rest.is_empty() && rest.len() % 2 == 0 => {
-                let bad = || format!("bad parameter record '{head}'");
-                let mut ps = Vec::with_capacity(rest.len() / 2);
-                for pair in rest.chunks(2) {
-                    let n = pair[0].parse::<u16>().map_err(|_| bad())?;
-                    let v = pair[1].parse::<i64>().map_err(|_| bad())?;
-                    ps.push((n, v));
-                }
                 Record::ChannelParams {
                     ch: channel(c, head)?,
-                    params: ps,
+                    params: param_pairs(rest, head)?,
                 }
             }
             ["parts", t, counts @ ..] if !counts.is_empty() => {
@@ -332,6 +318,18 @@ fn dialect_of(d: Option<&&str>, head: &str) -> Result<Option<Dialect>, String> {
 }
 
 /// A channel number as a record writes it (1 to 99), 0-based.
+/// A parameter record's `N V` pairs (`param`, `chparam`), whole numbers as journaled.
+fn param_pairs(rest: &[&str], head: &str) -> Result<Vec<(u16, i64)>, String> {
+    let bad = || format!("bad parameter record '{head}'");
+    rest.chunks(2)
+        .map(|pair| {
+            let n = pair[0].parse::<u16>().map_err(|_| bad())?;
+            let v = pair[1].parse::<i64>().map_err(|_| bad())?;
+            Ok((n, v))
+        })
+        .collect()
+}
+
 fn channel(c: &str, head: &str) -> Result<usize, String> {
     match c.parse::<usize>() {
         Ok(n @ 1..=99) => Ok(n - 1),

@@ -10,7 +10,8 @@ use crate::gcode::words::Words;
 use crate::gcode::Lines;
 use std::f64::consts::FRAC_PI_2;
 
-fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
+/// A move of `kind` to `end` (its start is where the emitter stands), at line `n`, column `c`.
+pub(super) fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
     Mv {
         kind,
         start: end,

@@ -2,21 +2,12 @@
 //! grooving, or peck drilling on the centre line), G75 along X (grooving, or parting), each in
 //! Fanuc's two-block form. Fanuc's dialect only: LinuxCNC has neither.
 
+use super::cycles::mv;
 use super::exec::{err, Flow, Reader};
-use super::out::{Kind, Mv};
+use super::out::Kind;
 use super::MAX_STEPS;
 use crate::block::TranslateError;
 use crate::gcode::words::Words;
-
-fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
-    Mv {
-        kind,
-        start: end,
-        end,
-        line: n,
-        col: c,
-    }
-}
 
 /// G74 (`g` 740) or G75 (750): the first block `G74 R(e)` sets the return after each peck; the
 /// second, `G74 X(U) Z(W) P(Δi) Q(Δk) R(Δd) F`, cuts from where the tool stands to the end
