@@ -30,8 +30,13 @@ use novanc::pulse_core::testkit::Rng;
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 11] = [
+const MDI_LINES: [&str; 14] = [
     "G0 X30 Z20",
+    // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
+    // G91 in one MDI run makes the next one's moves increments from where the tool stands.
+    "G91",
+    "G90 G95 M3 S800",
+    "G0 U4 W-2",
     "G97 S500 M3",
     "M5",
     "G1 X20 F0.1",
