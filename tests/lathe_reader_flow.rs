@@ -452,8 +452,8 @@ fn a_lathe_program_keeps_the_dialect_it_was_stored_in() {
 
 #[test]
 fn start_reads_a_stored_program_in_the_dialect_it_was_stored_in() {
-    use novanc::lathe::console::events::LatheEv;
     use novanc::lathe::console::LatheConsole;
+    use novanc::panel_model::PanelEvent;
     let fanuc = "#1 = 0\nWHILE [#1 LT 2] DO1\nG0 X[30. - #1] Z2.\n#1 = #1 + 1\nEND1\nM30\n";
     // The same text stored without a dialect (before programs kept theirs) and with Fanuc's,
     // on the Citizen whose description says none: LinuxCNC's for the channel.
@@ -474,14 +474,14 @@ fn start_reads_a_stored_program_in_the_dialect_it_was_stored_in() {
         }
         let (mut c, _) =
             LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
-        c.event(LatheEv::Start);
+        c.handle(PanelEvent::Start);
         let m = c.message().to_string();
         if starts {
             assert_eq!(m, "cycle start", "{dialect:?}");
         } else {
             assert!(m.starts_with("CH1 O1000.NGC:2:"), "{m}");
         }
-        c.event(LatheEv::EStop);
+        c.handle(PanelEvent::EStop);
     }
 }
 
@@ -719,8 +719,8 @@ fn the_part_counter_is_read_per_channel_as_it_stood_at_start() {
     assert_eq!(said(0), "3:1: (ABORT) 3.000000 10.000000");
     assert_eq!(said(1), "3:1: (ABORT) 1.000000 10.000000");
     // The console's START gives its counter (channel 1 has made 2 of 7).
-    use novanc::lathe::console::events::LatheEv;
     use novanc::lathe::console::LatheConsole;
+    use novanc::panel_model::PanelEvent;
     let state = common::temp_dir("lathe-reader-part-counter");
     let p = Program {
         name: "O1000.NGC".into(),
@@ -743,7 +743,7 @@ fn the_part_counter_is_read_per_channel_as_it_stood_at_start() {
     }
     let (mut c, _) =
         LatheConsole::open(desc, &state, 20, 160, None).unwrap_or_else(|e| panic!("{e}"));
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "CH1 O1000.NGC:3:1: (ABORT) 2.000000 7.000000");
 }
 #[test]

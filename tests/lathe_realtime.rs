@@ -5,9 +5,9 @@
 
 mod common;
 
-use novanc::lathe::console::events::LatheEv;
 use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
+use novanc::panel_model::PanelEvent;
 use novanc::pulse_core::ClockMode;
 use std::time::{Duration, Instant};
 
@@ -34,7 +34,7 @@ fn until(c: &mut LatheConsole, patience: Duration, done: impl Fn(&LatheConsole) 
 #[test]
 fn the_machine_keeps_its_clock_while_the_screen_is_frozen() {
     let mut c = console();
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     assert!(
         until(&mut c, Duration::from_secs(20), |c| c.machine_ns() > 0),
         "the kernel started"
@@ -62,7 +62,7 @@ fn the_machine_keeps_its_clock_while_the_screen_is_frozen() {
 #[test]
 fn estop_then_reset_and_start_begin_a_new_cycle_in_real_time() {
     let mut c = console();
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     assert!(
         until(&mut c, Duration::from_secs(30), |c| c
             .view()
@@ -72,7 +72,7 @@ fn estop_then_reset_and_start_begin_a_new_cycle_in_real_time() {
         "CH1 is into its program: {:?}",
         c.view().summary
     );
-    c.event(LatheEv::EStop);
+    c.handle(PanelEvent::EStop);
     let v = c.view();
     assert!(
         v.channels.iter().all(|ch| ch.state == "ESTOP"),
@@ -84,13 +84,13 @@ fn estop_then_reset_and_start_begin_a_new_cycle_in_real_time() {
     c.tick(0);
     let after: Vec<[i64; 2]> = c.view().channels.iter().map(|ch| ch.pos).collect();
     assert_eq!(after, pos, "nothing moves after E-STOP");
-    c.event(LatheEv::Reset);
+    c.handle(PanelEvent::Reset);
     assert!(
         c.view().channels.iter().all(|ch| ch.state == "IDLE"),
         "RESET returns every channel to its program start: {:?}",
         c.view().summary
     );
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     // The new cycle begins at each program's first block, none resumed mid-way.
     let first = c.view().channels[0].line;
     assert!(
@@ -106,7 +106,7 @@ fn a_cycle_goes_on_from_the_consoles_machine_time() {
     let dir = common::temp_dir("lathe-timebase");
     let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, None).unwrap();
     c.tick(1_000_000_000);
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     assert_eq!(c.machine_ns(), 1_000_000_000);
     c.run_for(100_000_000, RunUntil::Time, || false);
     assert_eq!(c.machine_ns(), 1_100_000_000);

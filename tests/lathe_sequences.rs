@@ -22,9 +22,10 @@
 
 mod common;
 
-use novanc::lathe::console::events::{LatheEv, Mode};
+use novanc::lathe::console::events::Mode;
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
+use novanc::panel_model::PanelEvent;
 use novanc::pulse_core::testkit::Rng;
 
 const ROWS: usize = 12;
@@ -206,32 +207,56 @@ fn advance(s: &mut Seq, ns: u64) {
 
 fn step(s: &mut Seq, rng: &mut Rng) -> String {
     let ev = match rng.range(0, 99) {
-        0..=14 => LatheEv::Start,
-        15..=19 => LatheEv::Stop,
-        20..=26 => LatheEv::Reset,
+        0..=14 => PanelEvent::Start,
+        15..=19 => PanelEvent::Stop,
+        20..=26 => PanelEvent::Reset,
         27..=29 => {
             s.stats.estops += 1;
-            LatheEv::EStop
+            PanelEvent::EStop
         }
         30..=37 => {
             s.stats.faults += 1;
-            LatheEv::Fault(
+            PanelEvent::Fault(
                 rng.range(0, 2) as usize,
                 ["tool breakage", "failed supply", "operator"][rng.range(0, 2) as usize].into(),
             )
         }
-        38..=45 => LatheEv::Channel(rng.range(0, 2) as usize),
-        46..=47 => LatheEv::NextChannel,
-        48..=49 => LatheEv::Target(rng.range(1, 4) as u32),
-        50..=53 => {
-            LatheEv::Mode([Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize])
+        38..=45 => PanelEvent::Channel(rng.range(0, 2) as usize),
+        46..=47 => PanelEvent::Press(novanc_panel::Key::Tab),
+        48..=49 => PanelEvent::Target(rng.range(1, 4) as u32),
+        50..=53 => [Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize].event(),
+        54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
+        58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
+        61 => PanelEvent::Press(novanc_panel::Key::F(8)),
+        65 => PanelEvent::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
+        66 => PanelEvent::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
+        62..=63 => PanelEvent::OptionalStop(rng.range(0, 1) == 1),
+        80..=81 => {
+            // Keys of the one key map, the centre's own among them: each acts or says that it
+            // does nothing here (no key is lost in silence).
+            use novanc_panel::Key;
+            let keys = [
+                Key::Alt('='),
+                Key::Alt('-'),
+                Key::Alt('0'),
+                Key::Left,
+                Key::F(2),
+                Key::Alt('d'),
+                Key::Alt('o'),
+            ];
+            let k = keys[rng.below(keys.len())];
+            let silent = !matches!(k, Key::Alt('=' | '-' | 'o'));
+            let line = format!("key {}", novanc::console::keys::key_name(k));
+            s.c.handle(PanelEvent::Press(k));
+            if silent {
+                assert!(
+                    s.c.message().contains("does nothing on the lathe console"),
+                    "{line}: {}",
+                    s.c.message()
+                );
+            }
+            return line;
         }
-        54..=57 => LatheEv::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
-        58..=60 => LatheEv::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
-        61 => LatheEv::Help,
-        65 => LatheEv::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
-        66 => LatheEv::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
-        62..=63 => LatheEv::OptionalStop(rng.range(0, 1) == 1),
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
@@ -248,8 +273,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             return "wait".into();
         }
     };
-    let line = ev.script_line();
-    s.c.event(ev);
+    let line = novanc::console::script_line(&ev);
+    s.c.handle(ev);
     line
 }
 

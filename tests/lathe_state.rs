@@ -5,9 +5,10 @@
 
 mod common;
 
-use novanc::lathe::console::events::{LatheEv, Mode};
+use novanc::lathe::console::events::Mode;
 use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
+use novanc::panel_model::PanelEvent;
 use novanc::settings::Dialect;
 use novanc::store::lathe::{LatheStore, Program};
 use std::path::Path;
@@ -36,11 +37,11 @@ fn open(desc: &LatheDesc, state: &Path) -> LatheConsole {
 
 /// MDI on the selected channel: `lines`, START, and the run to its end. The message START gave.
 fn mdi(c: &mut LatheConsole, lines: &[&str]) -> String {
-    c.event(LatheEv::Mode(Mode::Mdi));
+    c.handle(Mode::Mdi.event());
     for l in lines {
-        c.event(LatheEv::Type(l.to_string()));
+        c.handle(PanelEvent::Type(l.to_string()));
     }
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     let m = c.message().to_string();
     c.run_for(600_000_000_000, RunUntil::Rest, || false);
     m
@@ -63,8 +64,8 @@ fn an_mdi_line_reads_in_the_feed_mode_the_program_left() {
     };
     save_program(&state, &d, &p);
     let mut c = open(&d, &state);
-    c.event(LatheEv::Target(1));
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "cycle start");
     c.run_for(60_000_000_000, RunUntil::Rest, || false);
     assert_eq!(c.counter().counts, [1]);
@@ -72,7 +73,7 @@ fn an_mdi_line_reads_in_the_feed_mode_the_program_left() {
     assert_eq!(mdi(&mut c, &["M3 S1000", "G1 X20 F0.1"]), "MDI CH1 runs");
     assert_eq!(at(&c), [10_000, 5_000]);
     // RESET: the channel is back at power-on, G94.
-    c.event(LatheEv::Reset);
+    c.handle(PanelEvent::Reset);
     let m = mdi(&mut c, &["M3 S1000", "G1 X24 F0.1"]);
     assert!(m.contains("F0.1 is below the slowest feed"), "{m}");
     assert_eq!(at(&c), [10_000, 5_000]);
@@ -116,7 +117,7 @@ fn reset_makes_the_common_variables_vacant_unless_the_channel_keeps_them() {
         // Without RESET the next MDI run still reads it.
         mdi(&mut c, &["G0 X[#100 * 4.]"]);
         assert_eq!(at(&c), [10_000, 10_000]);
-        c.event(LatheEv::Reset);
+        c.handle(PanelEvent::Reset);
         // Vacant: #0 times 2 is 0 (Fanuc's null arithmetic).
         mdi(&mut c, &["G0 X[#100 * 2.]"]);
         assert_eq!(at(&c)[0], x, "{keep:?}");
@@ -157,7 +158,7 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
     let mut c = LatheConsole::open(desc(None, None), &state, 20, 160, Some(&rec))
         .unwrap_or_else(|e| panic!("{e}"))
         .0;
-    c.event(LatheEv::Mode(Mode::Mdi));
+    c.handle(Mode::Mdi.event());
     for l in [
         "G0 X20 Z10",
         "(msg, at the corner)",
@@ -165,9 +166,9 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
         "#1 = 3",
         "(print,count=#1)",
     ] {
-        c.event(LatheEv::Type(l.to_string()));
+        c.handle(PanelEvent::Type(l.to_string()));
     }
-    c.event(LatheEv::Start);
+    c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "MDI CH1 runs");
     // The rapid runs: the message waits for the dwell, the block after it.
     c.tick(1_000_000);
@@ -214,8 +215,8 @@ fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
     save_program(&state, &d, &p);
     for (round, x) in [(1, 7_000), (2, 14_000)] {
         let mut c = open(&d, &state);
-        c.event(LatheEv::Target(2));
-        c.event(LatheEv::Start);
+        c.handle(PanelEvent::Target(2));
+        c.handle(PanelEvent::Start);
         assert_eq!(c.message(), "cycle start");
         c.run_for(60_000_000_000, RunUntil::Rest, || false);
         assert_eq!(c.counter().counts, [2]);
@@ -223,7 +224,7 @@ fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
         mdi(&mut c, &["G0 X[#500 * 2.] Z[#501]"]);
         assert_eq!(at(&c), [x, 3_500], "round {round}");
         // RESET leaves them (they are not common variables).
-        c.event(LatheEv::Reset);
+        c.handle(PanelEvent::Reset);
         mdi(&mut c, &["G0 X[#500 * 2.]"]);
         assert_eq!(at(&c)[0], x, "round {round}");
         let _ = c.finish(None);
@@ -250,7 +251,7 @@ fn the_feed_mode_at_power_on_is_the_channels_else_its_dialects() {
         assert_eq!(m == "MDI CH1 runs", runs, "{dialect:?} {per_rev:?}: {m}");
         // RESET returns to the same mode, from the other.
         mdi(&mut c, &[if runs { "G94" } else { "G95" }]);
-        c.event(LatheEv::Reset);
+        c.handle(PanelEvent::Reset);
         let m = mdi(&mut c, &["M3 S1000", "G1 X22. F0.1"]);
         assert_eq!(
             m == "MDI CH1 runs",

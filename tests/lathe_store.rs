@@ -11,9 +11,9 @@
 
 mod common;
 
-use novanc::lathe::console::events::LatheEv;
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::{parse, tool_line, LatheDesc, MachineDesc};
+use novanc::panel_model::PanelEvent;
 use novanc::store::lathe::{Counter, LatheStore, Program, CITIZEN_PROGRAMS};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -379,7 +379,7 @@ fn child() {
             let (mut c, w) = LatheConsole::open(desc, &state, 20, 160, None).unwrap();
             assert!(w.is_empty(), "{w:?}");
             common::limit_file_size(1);
-            c.event(LatheEv::Target(9));
+            c.handle(PanelEvent::Target(9));
             let v = c.view();
             assert!(v.title.contains("PARTS 0/5"), "{}", v.title);
             let shown = v.display.join("\n");

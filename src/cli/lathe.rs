@@ -4,11 +4,9 @@
 
 use super::args::{Args, Opt};
 use super::fail;
-use crate::console::WAIT_LIMIT_NS;
-use crate::lathe::console::events::ScriptStep;
 use crate::lathe::console::{LatheConsole, RunUntil};
 use crate::lathe::desc::LatheDesc;
-use std::io::Write;
+use crate::panel_model::PanelEvent;
 use std::path::{Path, PathBuf};
 
 const RUN_HELP: &str = "\
@@ -329,7 +327,7 @@ fn run_script(
     desc: LatheDesc,
     state: &Path,
     cfg: &crate::console::ConsoleConfig,
-    steps: Vec<ScriptStep>,
+    steps: Vec<PanelEvent>,
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
     let (mut c, warnings) =
@@ -354,88 +352,8 @@ fn run_script(
         // in machine time (docs/mtconnect.md "The lathe").
         c.set_watch(Some(f.lathe_watcher()));
     }
-    let stdout = std::io::stdout();
-    let mut out = stdout.lock();
     // A stop signal ends the script before its next line, and a wait between two steps of
     // 10 ms of machine time.
-    let stop = super::signals::pending;
-    for (i, s) in steps.into_iter().enumerate() {
-        if stop() {
-            break;
-        }
-        let stuck = match s {
-            ScriptStep::Ev(ev) => {
-                c.event(ev);
-                if let Some(f) = feed.as_mut() {
-                    f.publish_lathe(&c);
-                }
-                None
-            }
-            ScriptStep::Wait => run_for(&mut c, WAIT_LIMIT_NS, RunUntil::Rest, stop, &mut feed),
-            ScriptStep::WaitBlock(n) => {
-                let on = RunUntil::Block(c.selected(), n);
-                run_for(&mut c, WAIT_LIMIT_NS, on, stop, &mut feed)
-            }
-            ScriptStep::WaitMs(ms) => {
-                let ns = ms.saturating_mul(1_000_000);
-                run_for(&mut c, ns, RunUntil::Time, stop, &mut feed)
-            }
-            ScriptStep::Show => {
-                let _ = writeln!(out, "--- display\n{}\n---", c.frame_text());
-                None
-            }
-        };
-        if let Some(e) = stuck {
-            // As the centre's script: the wait cannot end, so the script stops (exit 1).
-            let _ = out.flush();
-            eprintln!("novanc script: event {}: {e}", i + 1);
-            let _ = c.finish(None);
-            return 1;
-        }
-    }
-    let _ = out.flush();
-    let interrupted = super::signals::caught_reason();
-    match c.finish(interrupted.as_deref()) {
-        Some(Ok(line)) => {
-            eprintln!("novanc script: {line}");
-            0
-        }
-        Some(Err(line)) => {
-            eprintln!("novanc script: {line}");
-            1
-        }
-        None => 0,
-    }
-}
-
-/// Runs the console for `limit_ns` of machine time, or only until `until`, as
-/// `LatheConsole::run_for` does; with an adapter, the kernel's watcher has published every
-/// change on the way, and the console's state is published at the end.
-/// Runs the machine as a script's wait asks; why the wait cannot end, if it cannot (the
-/// centre's words: feed override 0 with a feed move in progress, or the limit of machine time).
-fn run_for(
-    c: &mut LatheConsole,
-    limit_ns: u64,
-    until: RunUntil,
-    stop: fn() -> bool,
-    feed: &mut Option<super::mtconnect::Feed>,
-) -> Option<String> {
-    let used = c.run_for(limit_ns, until, stop);
-    if let Some(f) = feed.as_mut() {
-        f.publish_lathe(c);
-    }
-    if until == RunUntil::Time || stop() {
-        return None;
-    }
-    if c.stalled() {
-        return Some(
-            "wait: the machine stands still at feed override 0 %; raise the override".into(),
-        );
-    }
-    (used >= limit_ns && !c.at_rest()).then(|| {
-        format!(
-            "wait: not done within {} hours of machine time",
-            limit_ns / 3_600_000_000_000
-        )
-    })
+    c.set_interrupt(Some(super::signals::pending));
+    super::script::play(c, steps, feed)
 }

@@ -129,6 +129,60 @@ fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
     }
 }
 
+/// What the one script runner asks of a console: the centre's (`Console`) and a lathe's
+/// (`LatheConsole`) take the same events of the one grammar, waits included, the same way.
+pub(super) trait Scripted {
+    /// One event of the script (a wait runs the machine in virtual time).
+    fn handle(&mut self, ev: PanelEvent);
+    /// The frame as `show` prints it.
+    fn show(&mut self) -> String;
+    /// Why the last wait could not end, if it could not.
+    fn wait_error(&self) -> Option<&str>;
+    /// The state to the MTConnect adapter, after every event.
+    fn publish(&self, feed: &mut super::mtconnect::Feed);
+    /// Ends the session: the machine stopped (E-STOP first when a stop signal cut it
+    /// short), the recording closed; its summary line, `Err` when it could not be finished.
+    fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String>;
+}
+
+impl Scripted for Console {
+    fn handle(&mut self, ev: PanelEvent) {
+        Console::handle(self, ev)
+    }
+    fn show(&mut self) -> String {
+        self.tick();
+        self.frame_text()
+    }
+    fn wait_error(&self) -> Option<&str> {
+        Console::wait_error(self)
+    }
+    fn publish(&self, feed: &mut super::mtconnect::Feed) {
+        feed.publish(self)
+    }
+    fn close(self, _interrupted: Option<&str>) -> Result<Option<String>, String> {
+        // A stop signal has marked the recording interrupted (`signals::caught`).
+        self.finish().map_err(|e| format!("recording: {e}"))
+    }
+}
+
+impl Scripted for crate::lathe::console::LatheConsole {
+    fn handle(&mut self, ev: PanelEvent) {
+        crate::lathe::console::LatheConsole::handle(self, ev)
+    }
+    fn show(&mut self) -> String {
+        self.frame_text()
+    }
+    fn wait_error(&self) -> Option<&str> {
+        crate::lathe::console::LatheConsole::wait_error(self)
+    }
+    fn publish(&self, feed: &mut super::mtconnect::Feed) {
+        feed.publish_lathe(self)
+    }
+    fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String> {
+        self.finish(interrupted).transpose()
+    }
+}
+
 /// Runs the events on a console; returns the exit code.
 fn run(
     cfg: crate::console::ConsoleConfig,
@@ -137,7 +191,7 @@ fn run(
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
     super::signals::install();
-    let (mut console, warnings) = match Console::open(cfg) {
+    let (console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("novanc script: {e}");
@@ -160,6 +214,24 @@ fn run(
         let _ = console.finish();
         return 1;
     }
+    let events = events
+        .into_iter()
+        .map(|ev| match ev {
+            PanelEvent::Tape(p) => PanelEvent::Tape(resolve_tape(p, file)),
+            ev => ev,
+        })
+        .collect();
+    play(console, events, feed)
+}
+
+/// The one script runner: plays `events` on the console, one after another, publishing
+/// after each; a wait that cannot end stops the script (exit 1), a stop signal ends it before
+/// its next event. Returns the exit code.
+pub(super) fn play<C: Scripted>(
+    mut console: C,
+    events: Vec<PanelEvent>,
+    mut feed: Option<super::mtconnect::Feed>,
+) -> i32 {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for (i, ev) in events.into_iter().enumerate() {
@@ -172,14 +244,12 @@ fn run(
         );
         match ev {
             PanelEvent::Show => {
-                console.tick();
-                let _ = writeln!(out, "--- display\n{}\n---", console.frame_text());
+                let _ = writeln!(out, "--- display\n{}\n---", console.show());
             }
-            PanelEvent::Tape(p) => console.handle(PanelEvent::Tape(resolve_tape(p, file))),
             ev => console.handle(ev),
         }
         if let Some(f) = feed.as_mut() {
-            f.publish(&console);
+            console.publish(f);
         }
         if super::signals::caught().is_some() {
             break;
@@ -187,19 +257,20 @@ fn run(
         if let Some(e) = console.wait_error().filter(|_| waits) {
             let _ = out.flush();
             eprintln!("novanc script: event {}: {e}", i + 1);
-            let _ = console.finish();
+            let _ = console.close(None);
             return 1;
         }
     }
     let _ = out.flush();
-    match console.finish() {
+    let interrupted = super::signals::caught_reason();
+    match console.close(interrupted.as_deref()) {
         Ok(Some(summary)) => {
             eprintln!("novanc script: {summary}");
             0
         }
         Ok(None) => 0,
         Err(e) => {
-            eprintln!("novanc script: recording: {e}");
+            eprintln!("novanc script: {e}");
             1
         }
     }

@@ -42,13 +42,24 @@ fn target(c: &mut Console, what: &str) -> Option<To> {
     Some(To::Data)
 }
 
+/// The longest entry line, characters: every console's (the centre's and the lathe's).
+pub const ENTRY_MAX: usize = 240;
+
+/// One data key on an entry line, every console's rule: a full line refuses the key and says
+/// so (no key is lost in silence).
+pub(crate) fn push_key(entry: &mut String, ch: char) -> Result<(), String> {
+    if entry.chars().count() >= ENTRY_MAX {
+        return Err(format!("the command line is full ({ENTRY_MAX} characters)"));
+    }
+    entry.push(ch);
+    Ok(())
+}
+
 /// One data key.
 pub(super) fn key(c: &mut Console, ch: char) {
     if target(c, &format!("key '{ch}'")).is_some() {
-        if c.entry.chars().count() < 240 {
-            c.entry.push(ch);
-        } else {
-            c.message = "the command line is full (240 characters)".into();
+        if let Err(e) = push_key(&mut c.entry, ch) {
+            c.message = e;
         }
     }
 }

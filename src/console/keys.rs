@@ -39,6 +39,56 @@ pub(super) struct JogKey {
     held: bool,
 }
 
+/// Whether the terminal is large enough for the panel, and the key last refused while it was
+/// not: every console's rule (the centre's and the lathe's). While it is not, only the relay
+/// panel's STOP, RESET and E-STOP act; another key is refused, and the notice names it.
+#[derive(Clone, Debug)]
+pub struct ScreenFit {
+    fits: bool,
+    ignored: Option<String>,
+}
+
+impl Default for ScreenFit {
+    fn default() -> Self {
+        ScreenFit {
+            fits: true,
+            ignored: None,
+        }
+    }
+}
+
+impl ScreenFit {
+    /// The front end tells it every frame; a terminal grown large enough forgets the notice.
+    pub fn set(&mut self, fits: bool) {
+        if fits && !self.fits {
+            self.ignored = None;
+        }
+        self.fits = fits;
+    }
+
+    /// Whether the panel fits.
+    pub fn fits(&self) -> bool {
+        self.fits
+    }
+
+    /// Whether `k` is refused because the panel does not fit (then the notice names it).
+    pub fn refuses(&mut self, k: Key) -> bool {
+        if self.fits || is_relay_stop(k) {
+            return false;
+        }
+        self.ignored = Some(format!(
+            "key {} ignored: the terminal is too small",
+            key_name(k)
+        ));
+        true
+    }
+
+    /// The last key refused, for the notice.
+    pub fn ignored(&self) -> Option<&str> {
+        self.ignored.as_deref()
+    }
+}
+
 /// What a key asks of the console.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
@@ -187,7 +237,7 @@ impl Console {
     /// ignored, and the notice says so.
     pub fn press(&mut self, k: Key) {
         let action = map_key(k);
-        if self.screen_fits && !is_relay_stop(k) {
+        if self.screen.fits() && !is_relay_stop(k) {
             self.new_action();
         }
         if is_relay_stop(k) {
@@ -208,11 +258,7 @@ impl Console {
                 return;
             }
         }
-        if !self.screen_fits {
-            self.ignored = Some(format!(
-                "key {} ignored: the terminal is too small",
-                key_name(k)
-            ));
+        if self.screen.refuses(k) {
             return;
         }
         if let Some(p) = pages::page_of_key(k) {
@@ -411,10 +457,7 @@ impl Console {
     /// Tells the console whether the terminal is large enough for the panel (the terminal
     /// front end calls it every frame).
     pub fn set_screen_fits(&mut self, fits: bool) {
-        if fits && !self.screen_fits {
-            self.ignored = None;
-        }
-        self.screen_fits = fits;
+        self.screen.set(fits)
     }
 
     /// Whether the help screen is up.
@@ -424,7 +467,7 @@ impl Console {
 
     /// The last key ignored because the terminal is too small, for the notice.
     pub fn ignored_key(&self) -> Option<&str> {
-        self.ignored.as_deref()
+        self.screen.ignored()
     }
 }
 

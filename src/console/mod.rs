@@ -15,13 +15,14 @@ mod answers;
 mod book;
 mod config;
 mod display;
-mod entry;
+pub(crate) mod entry;
 mod gcode_run;
 pub mod keys;
 mod memory;
 pub mod pages;
 mod posmem;
 mod punch;
+pub mod recording;
 mod run;
 mod script_line;
 pub mod search;
@@ -131,10 +132,8 @@ pub struct Console {
     pages: pages::Pages,
     /// The alarm and message history and the counters.
     book: book::Book,
-    /// The terminal is large enough for the panel.
-    screen_fits: bool,
-    /// The last key ignored while the terminal was too small.
-    ignored: Option<String>,
+    /// Whether the terminal is large enough for the panel, and the key last refused.
+    screen: keys::ScreenFit,
     /// The selector positions last told to the pulse core (for `/nc/state`).
     modes_told: Option<(OpMode, DataMode)>,
     /// The last pulse-core notice shown.
@@ -157,7 +156,7 @@ pub struct Console {
     feed_back: bool,
     /// RESET since the last G-code run began: its state, when it comes back, is reset.
     reset_seen: bool,
-    recorder: run::Recording,
+    recorder: recording::Recording,
 }
 
 impl Console {
@@ -184,7 +183,7 @@ impl Console {
             },
             None => Default::default(),
         };
-        let recorder = run::Recording::start(
+        let recorder = recording::Recording::start(
             cfg.record.as_deref(),
             cfg.sink.clone(),
             &cfg.settings,
@@ -236,8 +235,7 @@ impl Console {
             help: 0,
             pages: pages::Pages::new(),
             book,
-            screen_fits: true,
-            ignored: None,
+            screen: keys::ScreenFit::default(),
             modes_told: None,
             notice_seen: None,
             end_seen: 0,
@@ -316,7 +314,7 @@ impl Console {
             machine_ns: self.status.machine_ns,
             help: self.help,
             page: self.pages.page,
-            ignored: self.ignored.clone(),
+            ignored: self.screen.ignored().map(str::to_string),
         }
     }
 

@@ -6,14 +6,12 @@
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
 use crate::gcode::{GcodeSource, InterpState, Switches, WorkOffsets};
-use crate::panel_model::{Axis, OpMode, PanelEvent};
+use crate::panel_model::{Axis, OpMode};
 use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
-use crate::record::{Event, EventSink, Recorder, RecordingInfo};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use crate::tooldata::Magazine;
 use crate::translator::Translator;
-use std::path::Path;
 use std::sync::Arc;
 
 /// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
@@ -599,81 +597,5 @@ pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
             c.message = "HANDLE: turn the handwheel (jog keys work in CONTINUOUS and STEP)".into()
         }
         _ => c.message = format!("jog refused in {}: use CONTINUOUS or STEP", c.op.name()),
-    }
-}
-
-/// The recording of a session (docs/recording.md): panel events and display frames go to the recorder;
-/// the pulse core gets the same sink for blocks, positions, pulses and `/nc/state` (the
-/// console tells it the selector positions).
-pub(super) struct Recording {
-    recorder: Option<Recorder>,
-    sink: Option<EventSink>,
-}
-
-impl Recording {
-    /// Starts recording to `path`, if given, the file beginning with `info` (the program in
-    /// memory, the tool data, the work offsets); else to `sink`, if given.
-    pub fn start(
-        path: Option<&Path>,
-        sink: Option<EventSink>,
-        settings: &MachineSettings,
-        info: &RecordingInfo,
-    ) -> Result<Recording, String> {
-        let recorder = match path {
-            Some(p) => Some(Recorder::start_with_info(p, settings, info)?),
-            None => None,
-        };
-        Ok(Recording {
-            sink: recorder.as_ref().map(|r| r.sink()).or(sink),
-            recorder,
-        })
-    }
-
-    /// The sink for the pulse core.
-    pub fn sink(&self) -> Option<EventSink> {
-        self.sink.clone()
-    }
-
-    /// Records an operator action as its script line.
-    pub fn panel_event(&mut self, ev: &PanelEvent, t_ns: u64) {
-        if let Some(s) = &self.sink {
-            s.send(Event::PanelEvent {
-                t_ns,
-                event: super::script_line::script_line(ev),
-            });
-        }
-    }
-
-    /// Records a message or an alarm of the MSG history on `/foxglove/log`.
-    pub fn log(&mut self, t_ns: u64, level: u8, message: &str, file: &str, line: u32) {
-        if let Some(s) = &self.sink {
-            s.send(Event::Log {
-                t_ns,
-                level,
-                name: "console".into(),
-                message: message.to_string(),
-                file: file.to_string(),
-                line,
-            });
-        }
-    }
-
-    /// Records a new display frame.
-    pub fn display(&mut self, lines: &[String], t_ns: u64) {
-        if let Some(s) = &self.sink {
-            s.send(Event::Display {
-                t_ns,
-                lines: lines.iter().map(|l| l.trim_end().to_string()).collect(),
-            });
-        }
-    }
-
-    /// Closes the recording; its summary.
-    pub fn finish(self) -> Result<Option<String>, String> {
-        drop(self.sink);
-        match self.recorder {
-            Some(r) => r.finish().map(|s| Some(s.to_string())),
-            None => Ok(None),
-        }
     }
 }

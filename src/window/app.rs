@@ -46,10 +46,27 @@ pub enum Step<E> {
     Show,
 }
 
+/// A panel script of the one grammar as the window plays it: its waits and `show` are the
+/// player's steps, every other line an event for the console.
+pub fn script_steps(
+    evs: Vec<crate::panel_model::PanelEvent>,
+) -> Vec<Step<crate::panel_model::PanelEvent>> {
+    use crate::panel_model::PanelEvent;
+    evs.into_iter()
+        .map(|ev| match ev {
+            PanelEvent::Wait => Step::Wait(Wait::Rest),
+            PanelEvent::WaitBlock(n) => Step::Wait(Wait::Block(n)),
+            PanelEvent::WaitMs(t) => Step::WaitMs(t),
+            PanelEvent::Show => Step::Show,
+            ev => Step::Ev(ev),
+        })
+        .collect()
+}
+
 /// What differs between the machines in the window, behind the one application: the console
 /// it drives, its panel and plots, its key map and its clock.
 pub trait Front: 'static {
-    /// A script's event (the centre's `PanelEvent`, the lathe's `LatheEv`).
+    /// A script's event (`PanelEvent` for both machines; the tests' fake has its own).
     type Ev;
     /// First in every frame: the console takes its machine's state. `wall_ns` is the wall time
     /// since the last frame when the machine keeps time by the window's frames; `None` while

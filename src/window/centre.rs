@@ -30,16 +30,7 @@ struct Layout {
 /// The centre's panel script (docs/cli.md) as the window plays it.
 pub fn read_script(text: &str) -> Result<Vec<Step<PanelEvent>>, (usize, String)> {
     let evs = PanelEvent::parse_script(text).map_err(|e| (e.line as usize, e.message))?;
-    Ok(evs
-        .into_iter()
-        .map(|ev| match ev {
-            PanelEvent::Wait => Step::Wait(Wait::Rest),
-            PanelEvent::WaitBlock(n) => Step::Wait(Wait::Block(n)),
-            PanelEvent::WaitMs(t) => Step::WaitMs(t),
-            PanelEvent::Show => Step::Show,
-            ev => Step::Ev(ev),
-        })
-        .collect())
+    Ok(super::app::script_steps(evs))
 }
 
 /// Opens the centre's console configured by `cfg`, and the MTConnect adapter if `mtc` asks

@@ -1,10 +1,14 @@
-//! The lathe console's operator events and their panel-script lines (docs/lathe.md "Panel
-//! script"): what `novanc script --machine citizen` reads and `/panel/event` records.
+//! The lathe console's part of the one panel language (docs/lathe.md "Panel script", "Keys"):
+//! which events of the one grammar (`PanelEvent`, the centre's and the lathe's alike) the lathe
+//! takes, and what a key of the one key map (`crate::console::keys::map_key`) does on it.
+//! `novanc script --machine citizen` reads the one grammar, and `/panel/event` records each
+//! action as its script line (`crate::console::script_line`).
 
+use crate::console::keys::{self, Action};
 use crate::panel_model::{OpMode, PanelEvent};
 use novanc_panel::Key;
 
-/// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions).
+/// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions, and OFS).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// AUTO: START runs every channel's program, to the part target.
@@ -27,192 +31,127 @@ impl Mode {
             Mode::Ofs => "OFS",
         }
     }
-}
 
-/// One operator action on the lathe console.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LatheEv {
-    /// `op AUTO|MDI|DATA`.
-    Mode(Mode),
-    /// `channel N`: the channel selector (1-based in the script, 0-based here).
-    Channel(usize),
-    /// The channel selector's next position (Tab).
-    NextChannel,
-    /// `type TEXT`: data keys, then EOB.
-    Type(String),
-    /// One data key.
-    Key(char),
-    /// Rub out the last typed character.
-    Rubout,
-    /// The EOB key.
-    Eob,
-    /// `start`: cycle start.
-    Start,
-    /// `stop`: feed hold on every channel.
-    Stop,
-    /// `reset`: RESET of the selected channel (after an E-STOP, of the machine).
-    Reset,
-    /// `estop`: emergency stop of the whole machine.
-    EStop,
-    /// `fault N REASON`: a fault in channel N (0-based here).
-    Fault(usize, String),
-    /// `target N`: the part target.
-    Target(u32),
-    /// `optionalstop on|off`.
-    OptionalStop(bool),
-    /// `override PCT`: the feed override of every channel's feed moves, 0 to 150 %.
-    Override(u32),
-    /// `blockdelete on|off`.
-    BlockDelete(bool),
-    /// The help screen on or off.
-    Help,
-}
-
-impl LatheEv {
-    /// The event as a panel-script line.
-    pub fn script_line(&self) -> String {
-        let on = |b: bool| if b { "on" } else { "off" };
+    /// The event that turns the selector here (`op AUTO|MDI|DATA|OFS`).
+    pub fn event(self) -> PanelEvent {
         match self {
-            LatheEv::Mode(m) => format!("op {}", m.word()),
-            LatheEv::Channel(c) => format!("channel {}", c + 1),
-            LatheEv::NextChannel => "key Tab".into(),
-            LatheEv::Type(t) => format!("type {t}"),
-            LatheEv::Key(c) => format!("key {c}"),
-            LatheEv::Rubout => "rubout".into(),
-            LatheEv::Eob => "eob".into(),
-            LatheEv::Start => "start".into(),
-            LatheEv::Stop => "stop".into(),
-            LatheEv::Reset => "reset".into(),
-            LatheEv::EStop => "estop".into(),
-            LatheEv::Fault(c, r) => format!("fault {} {r}", c + 1),
-            LatheEv::Target(n) => format!("target {n}"),
-            LatheEv::OptionalStop(b) => format!("optionalstop {}", on(*b)),
-            LatheEv::Override(p) => format!("override {p}"),
-            LatheEv::BlockDelete(b) => format!("blockdelete {}", on(*b)),
-            LatheEv::Help => "key F8".into(),
+            Mode::Auto => PanelEvent::Op(OpMode::Auto),
+            Mode::Mdi => PanelEvent::Op(OpMode::Mdi),
+            Mode::Data => PanelEvent::Op(OpMode::Data),
+            Mode::Ofs => PanelEvent::OfsMode,
         }
     }
 }
 
-/// What a key of the terminal does on the lathe console (docs/lathe.md "Keys").
-pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> Option<LatheEv> {
-    Some(match k {
-        Key::F(9) | Key::Alt('s') => LatheEv::Start,
-        Key::F(10) | Key::Alt('p') => LatheEv::Stop,
-        Key::F(11) | Key::Alt('r') => LatheEv::Reset,
-        Key::F(12) | Key::Alt('e') => LatheEv::EStop,
-        Key::F(8) | Key::Alt('h') => LatheEv::Help,
-        Key::Alt('2') => LatheEv::Mode(Mode::Auto),
-        Key::Alt('3') => LatheEv::Mode(Mode::Mdi),
-        Key::Alt('4') => LatheEv::Mode(Mode::Data),
-        Key::Alt('5') => LatheEv::Mode(Mode::Ofs),
-        Key::Tab | Key::Alt('c') => LatheEv::NextChannel,
-        Key::Alt('o') => LatheEv::OptionalStop(!optional_stop),
-        Key::Alt('b') => LatheEv::BlockDelete(!block_delete),
-        Key::Enter => LatheEv::Eob,
-        Key::Backspace => LatheEv::Rubout,
-        Key::Char(c) if !c.is_control() => LatheEv::Key(c.to_ascii_uppercase()),
-        _ => return None,
-    })
+/// What a key of the terminal does on the lathe console.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LatheKey {
+    /// A panel event (START, a mode, a data key, a switch turned over, ...).
+    Ev(PanelEvent),
+    /// The channel selector's next position (Tab, Alt+c).
+    NextChannel,
+    /// The help screen (F8, Alt+h).
+    Help,
+    /// FAULT of the selected channel with the typed reason (Alt+f).
+    Fault,
+    /// The part target from the typed number (Alt+n).
+    Target,
+    /// Feed override up or down 10 % (Alt+=, Alt+-).
+    Override(i32),
+    /// Nothing on the lathe: the message line says so.
+    None,
 }
 
-/// Parses one panel-script line of the lathe console with the one grammar of every console
-/// (`PanelEvent::parse_script_line_on`); `Ok(None)` for a blank or comment line. Waits
-/// (`wait`, `wait ms T`, `wait block N`) and `show` are the script runner's, not events: they are refused here
-/// and taken by [`parse_script`].
-pub fn parse_line(line: &str, channels: usize) -> Result<Option<LatheEv>, String> {
-    match PanelEvent::parse_script_line_on(line, channels.max(2))? {
-        None => Ok(None),
-        Some(ev) => match from_panel(ev)? {
-            ScriptStep::Ev(e) => Ok(Some(e)),
-            _ => Err(format!("'{}' is the script runner's word", line.trim())),
-        },
+/// What a key does on the lathe console (docs/lathe.md "Keys"): the one key map of every
+/// console (`crate::console::keys::map_key`), with the lathe's own keys on top (Tab, Alt+c,
+/// Alt+f, Alt+n, Alt+5) and the centre's words it has no use for as [`LatheKey::None`].
+pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
+    match k {
+        Key::Tab | Key::Alt('c') => return LatheKey::NextChannel,
+        Key::Alt('f') => return LatheKey::Fault,
+        Key::Alt('n') => return LatheKey::Target,
+        Key::Alt('5') => return LatheKey::Ev(PanelEvent::OfsMode),
+        Key::Char(c) if !c.is_control() => {
+            return LatheKey::Ev(PanelEvent::Key(c.to_ascii_uppercase()))
+        }
+        _ => {}
+    }
+    match keys::map_key(k) {
+        Action::Event(e) if takes(&e).is_ok() && !matches!(e, PanelEvent::Press(_)) => {
+            LatheKey::Ev(e)
+        }
+        Action::Help => LatheKey::Help,
+        Action::Override(d) => LatheKey::Override(d),
+        Action::BlockDelete => LatheKey::Ev(PanelEvent::BlockDelete(!block_delete)),
+        Action::OptionalStop => LatheKey::Ev(PanelEvent::OptionalStop(!optional_stop)),
+        _ => LatheKey::None,
     }
 }
 
-/// A panel event of the one grammar as the lathe console's: a mode, a channel, a key, ...
-/// The centre's own words (HOME, the handwheel, the data selector, tape, DRY RUN ...) are
-/// refused with what they are.
-fn from_panel(ev: PanelEvent) -> Result<ScriptStep, String> {
-    let e = match ev {
-        PanelEvent::Op(OpMode::Auto) => LatheEv::Mode(Mode::Auto),
-        PanelEvent::Op(OpMode::Mdi) => LatheEv::Mode(Mode::Mdi),
-        PanelEvent::Op(OpMode::Data) => LatheEv::Mode(Mode::Data),
-        PanelEvent::OfsMode => LatheEv::Mode(Mode::Ofs),
-        PanelEvent::Op(m) => {
-            return Err(format!(
-                "op {}: the lathe's modes are AUTO, MDI, DATA and OFS",
-                m.word()
-            ))
-        }
-        PanelEvent::Channel(c) => LatheEv::Channel(c),
-        PanelEvent::Type(t) => LatheEv::Type(t),
-        PanelEvent::Key(c) => LatheEv::Key(c),
-        PanelEvent::Rubout => LatheEv::Rubout,
-        PanelEvent::Eob => LatheEv::Eob,
-        PanelEvent::Start => LatheEv::Start,
-        PanelEvent::Stop => LatheEv::Stop,
-        PanelEvent::Reset => LatheEv::Reset,
-        PanelEvent::EStop => LatheEv::EStop,
-        PanelEvent::Fault(c, why) => LatheEv::Fault(c, why),
-        PanelEvent::Target(n) => LatheEv::Target(n),
-        PanelEvent::OptionalStop(b) => LatheEv::OptionalStop(b),
-        PanelEvent::BlockDelete(b) => LatheEv::BlockDelete(b),
-        PanelEvent::Override(p) => LatheEv::Override(p),
-        PanelEvent::Press(Key::Tab) => LatheEv::NextChannel,
-        PanelEvent::Press(k) => match map_key(k, false, false) {
-            Some(ev) => ev,
-            None => {
-                return Err(format!(
-                    "key {}: the lathe console has no use for it",
-                    crate::console::keys::key_name(k)
-                ))
-            }
-        },
-        PanelEvent::Wait => return Ok(ScriptStep::Wait),
-        PanelEvent::WaitMs(ms) => return Ok(ScriptStep::WaitMs(ms)),
+/// Whether the lathe console takes `ev`, an event of the one grammar; if not, why (the
+/// centre's own words: HOME, the handwheel, the data selector, tape, DRY RUN ...). A `key
+/// NAME` is taken when the key does something on the lathe.
+pub fn takes(ev: &PanelEvent) -> Result<(), String> {
+    match ev {
+        PanelEvent::Op(OpMode::Auto | OpMode::Mdi | OpMode::Data)
+        | PanelEvent::OfsMode
+        | PanelEvent::Channel(_)
+        | PanelEvent::Type(_)
+        | PanelEvent::Key(_)
+        | PanelEvent::Rubout
+        | PanelEvent::Eob
+        | PanelEvent::Start
+        | PanelEvent::Stop
+        | PanelEvent::Reset
+        | PanelEvent::EStop
+        | PanelEvent::Fault(..)
+        | PanelEvent::Target(_)
+        | PanelEvent::OptionalStop(_)
+        | PanelEvent::BlockDelete(_)
+        | PanelEvent::Override(_)
+        | PanelEvent::Wait
+        | PanelEvent::WaitMs(_)
+        | PanelEvent::Show => Ok(()),
+        PanelEvent::Op(m) => Err(format!(
+            "op {}: the lathe's modes are AUTO, MDI, DATA and OFS",
+            m.word()
+        )),
         // The lathe's blocks are numbered from 1 (docs/lathe.md "Headless"); the centre's
         // block 0 is a SEARCH's restore block, which the lathe has not.
         PanelEvent::WaitBlock(0) => {
-            return Err("wait block 0: the lathe's blocks are numbered from 1".into())
+            Err("wait block 0: the lathe's blocks are numbered from 1".into())
         }
-        PanelEvent::WaitBlock(n) => return Ok(ScriptStep::WaitBlock(n)),
-        PanelEvent::Show => return Ok(ScriptStep::Show),
-        other => {
-            return Err(format!(
-                "'{}' is the machining centre's; the lathe console has no use for it",
-                crate::console::script_line(&other)
-            ))
-        }
-    };
-    Ok(ScriptStep::Ev(e))
+        PanelEvent::WaitBlock(_) => Ok(()),
+        PanelEvent::Press(k) => match map_key(*k, false, false) {
+            LatheKey::None => Err(format!(
+                "key {}: the lathe console has no use for it",
+                keys::key_name(*k)
+            )),
+            _ => Ok(()),
+        },
+        other => Err(format!(
+            "'{}' is the machining centre's; the lathe console has no use for it",
+            crate::console::script_line(other)
+        )),
+    }
 }
 
-/// One line of a lathe panel script: an event, or one of the runner's own words.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ScriptStep {
-    /// An operator action.
-    Ev(LatheEv),
-    /// `wait`: until every channel is at rest (`LatheConsole::at_rest`).
-    Wait,
-    /// `wait ms T`: T milliseconds of machine time.
-    WaitMs(u64),
-    /// `wait block N`: until block N (its sequence number) of the selected channel's program
-    /// starts, or every channel is at rest.
-    WaitBlock(u32),
-    /// `show`: print the display.
-    Show,
+/// Parses one panel-script line for the lathe console with the one grammar of every console
+/// (`PanelEvent::parse_script_line_on`); `Ok(None)` for a blank or comment line.
+pub fn parse_line(line: &str, channels: usize) -> Result<Option<PanelEvent>, String> {
+    let ev = PanelEvent::parse_script_line_on(line, channels.max(2))?;
+    if let Some(e) = &ev {
+        takes(e)?;
+    }
+    Ok(ev)
 }
 
 /// Reads a whole lathe panel script (`novanc script --machine M`, the lathe window's
 /// `--script`); a bad line gives its number (1-based) and why, and nothing is returned.
-pub fn parse_script(text: &str, channels: usize) -> Result<Vec<ScriptStep>, (usize, String)> {
+pub fn parse_script(text: &str, channels: usize) -> Result<Vec<PanelEvent>, (usize, String)> {
     let mut steps = Vec::new();
     for (i, l) in text.lines().enumerate() {
-        let step = PanelEvent::parse_script_line_on(l, channels.max(2))
-            .and_then(|ev| ev.map(from_panel).transpose())
-            .map_err(|e| (i + 1, e))?;
-        steps.extend(step);
+        steps.extend(parse_line(l, channels).map_err(|e| (i + 1, e))?);
     }
     Ok(steps)
 }
@@ -220,25 +159,28 @@ pub fn parse_script(text: &str, channels: usize) -> Result<Vec<ScriptStep>, (usi
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::console::script_line;
 
     #[test]
     fn script_lines_read_back_as_the_same_event() {
         for ev in [
-            LatheEv::Mode(Mode::Mdi),
-            LatheEv::Channel(2),
-            LatheEv::Type("G0 X10".into()),
-            LatheEv::Start,
-            LatheEv::Stop,
-            LatheEv::Reset,
-            LatheEv::EStop,
-            LatheEv::Fault(0, "tool breakage".into()),
-            LatheEv::Target(5),
-            LatheEv::OptionalStop(true),
-            LatheEv::Override(70),
-            LatheEv::NextChannel,
+            Mode::Mdi.event(),
+            Mode::Ofs.event(),
+            PanelEvent::Channel(2),
+            PanelEvent::Type("G0 X10".into()),
+            PanelEvent::Start,
+            PanelEvent::Stop,
+            PanelEvent::Reset,
+            PanelEvent::EStop,
+            PanelEvent::Fault(0, "tool breakage".into()),
+            PanelEvent::Target(5),
+            PanelEvent::OptionalStop(true),
+            PanelEvent::Override(70),
+            PanelEvent::Press(Key::Tab),
+            PanelEvent::Press(Key::F(8)),
         ] {
             assert_eq!(
-                parse_line(&ev.script_line(), 3),
+                parse_line(&script_line(&ev), 3),
                 Ok(Some(ev.clone())),
                 "{ev:?}"
             );
@@ -251,6 +193,10 @@ mod tests {
         assert!(parse_line("op HANDLE", 3)
             .unwrap_err()
             .contains("AUTO, MDI, DATA and OFS"));
+        assert!(parse_line("home", 3)
+            .unwrap_err()
+            .contains("machining centre's"));
+        assert!(parse_line("key Alt+d", 3).unwrap_err().contains("no use"));
         assert_eq!(parse_line("  # note", 3), Ok(None));
     }
 
@@ -260,11 +206,11 @@ mod tests {
         assert_eq!(
             s,
             [
-                ScriptStep::Ev(LatheEv::Start),
-                ScriptStep::WaitMs(250),
-                ScriptStep::WaitBlock(7),
-                ScriptStep::Wait,
-                ScriptStep::Show
+                PanelEvent::Start,
+                PanelEvent::WaitMs(250),
+                PanelEvent::WaitBlock(7),
+                PanelEvent::Wait,
+                PanelEvent::Show
             ]
         );
         assert_eq!(
@@ -283,5 +229,40 @@ mod tests {
             .unwrap_err()
             .1
             .contains("not a channel"));
+    }
+
+    #[test]
+    fn the_lathe_keys_sit_on_the_one_key_map() {
+        assert_eq!(
+            map_key(Key::F(9), false, false),
+            LatheKey::Ev(PanelEvent::Start)
+        );
+        assert_eq!(
+            map_key(Key::Alt('3'), false, false),
+            LatheKey::Ev(Mode::Mdi.event())
+        );
+        assert_eq!(
+            map_key(Key::Alt('5'), false, false),
+            LatheKey::Ev(PanelEvent::OfsMode)
+        );
+        assert_eq!(map_key(Key::Tab, false, false), LatheKey::NextChannel);
+        assert_eq!(
+            map_key(Key::Char('g'), false, false),
+            LatheKey::Ev(PanelEvent::Key('G'))
+        );
+        assert_eq!(
+            map_key(Key::Alt('o'), true, false),
+            LatheKey::Ev(PanelEvent::OptionalStop(false))
+        );
+        // The centre's own keys do nothing here, and say so (not dropped in silence).
+        for k in [
+            Key::Alt('0'),
+            Key::Alt('1'),
+            Key::Alt('d'),
+            Key::Left,
+            Key::F(2),
+        ] {
+            assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
+        }
     }
 }

@@ -18,10 +18,12 @@ pub mod view;
 pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
+use crate::console::recording::Recording;
+use crate::console::WAIT_LIMIT_NS;
+use crate::panel_model::{OpMode, PanelEvent};
 use crate::pulse_core::ClockMode;
-use crate::record::{Event, EventSink, Recorder};
 use crate::store::lathe::{Counter, LatheStore, Program};
-use events::{LatheEv, Mode};
+use events::{LatheKey, Mode};
 use std::path::Path;
 use view::ChanView;
 
@@ -42,10 +44,8 @@ pub struct LatheConsole {
     cycle: Option<glue::Cycle>,
     rows: usize,
     cols: usize,
-    /// The recording (the one recorder of every console: `crate::record::Recorder`), and
-    /// the console's own sink into it (panel events, display frames).
-    rec: Option<Recorder>,
-    sink: Option<EventSink>,
+    /// The recording (the one recording of every console: `crate::console::recording`).
+    recorder: Recording,
     last_display: Vec<String>,
     help: bool,
     optional_stop: bool,
@@ -62,13 +62,16 @@ pub struct LatheConsole {
     clock: ClockMode,
     /// Told every change of every cycle's channels (virtual time: the MTConnect adapter).
     watch: Option<crate::pulse_core::Watcher>,
-    /// The terminal is large enough for the panel (`set_screen_fits`).
-    screen_fits: bool,
-    /// The last key refused because the terminal is too small, for the notice.
-    ignored: Option<String>,
+    /// Whether the terminal is large enough for the panel (`set_screen_fits`), and the key
+    /// last refused: the centre's rule.
+    screen: crate::console::keys::ScreenFit,
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
+    /// Why the last script wait could not end (`handle(PanelEvent::Wait)`).
+    wait_error: Option<String>,
+    /// Asked between the steps of a script's wait (a stop signal ends it).
+    interrupt: Option<fn() -> bool>,
 }
 
 /// What the terminal or the window draws.
@@ -108,21 +111,15 @@ impl LatheConsole {
             }
         }
         let n = desc.channels.len();
-        let rec = match record {
-            Some(p) => {
-                let settings = crate::settings::MachineSettings::lathe_channel(&desc, 0)
-                    .ok_or("the machine has no channel")?;
-                let programs: Vec<(String, String)> = o
-                    .programs
-                    .iter()
-                    .map(|p| (p.name.clone(), p.text.clone()))
-                    .collect();
-                let info = glue::recording_info(&desc, &programs);
-                Some(Recorder::start_with_info(p, &settings, &info)?)
-            }
-            None => None,
-        };
-        let sink = rec.as_ref().map(Recorder::sink);
+        let settings = crate::settings::MachineSettings::lathe_channel(&desc, 0)
+            .ok_or("the machine has no channel")?;
+        let programs: Vec<(String, String)> = o
+            .programs
+            .iter()
+            .map(|p| (p.name.clone(), p.text.clone()))
+            .collect();
+        let info = glue::recording_info(&desc, &programs);
+        let recorder = Recording::start(record, None, &settings, &info)?;
         let stale = o
             .counter
             .counts
@@ -143,8 +140,7 @@ impl LatheConsole {
             cycle: None,
             rows,
             cols,
-            rec,
-            sink,
+            recorder,
             last_display: Vec::new(),
             help: false,
             optional_stop: false,
@@ -155,9 +151,10 @@ impl LatheConsole {
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
-            screen_fits: true,
-            ignored: None,
+            screen: crate::console::keys::ScreenFit::default(),
             kept: Vec::new(),
+            wait_error: None,
+            interrupt: None,
         };
         c.kept = (0..n)
             .map(|ch| {
@@ -301,117 +298,150 @@ impl LatheConsole {
     /// front end does every frame), as the centre's console is told: while it is not, only
     /// the relay panel's STOP, RESET and E-STOP act.
     pub fn set_screen_fits(&mut self, fits: bool) {
-        if fits && !self.screen_fits {
-            self.ignored = None;
-        }
-        self.screen_fits = fits;
+        self.screen.set(fits)
     }
 
     /// The last key ignored because the terminal is too small, for the notice.
     pub fn ignored_key(&self) -> Option<&str> {
-        self.ignored.as_deref()
+        self.screen.ignored()
     }
 
-    /// A key of the terminal. While the terminal is too small only STOP, RESET and E-STOP
-    /// act; another key is ignored, and the notice says which.
+    /// Whether the help screen is up.
+    pub fn help_shown(&self) -> bool {
+        self.help
+    }
+
+    /// A key of the terminal, on the one key map (`events::map_key`), with the centre's
+    /// rules: STOP, RESET and E-STOP act on every screen; with the help screen up any other
+    /// key closes it and acts (F8 closes it); while the terminal is too small every other key
+    /// is ignored and the notice says which; a key that does nothing here says so.
     pub fn press(&mut self, k: novanc_panel::Key) {
-        use novanc_panel::Key;
-        let relay = matches!(
-            events::map_key(k, false, false),
-            Some(LatheEv::Stop | LatheEv::Reset | LatheEv::EStop)
-        );
-        if !self.screen_fits && !relay {
-            self.ignored = Some(format!(
-                "key {} ignored: the terminal is too small",
-                crate::console::keys::key_name(k)
-            ));
+        let act = events::map_key(k, self.optional_stop, self.block_delete);
+        if crate::console::keys::is_relay_stop(k) {
+            self.help = false;
+            if let LatheKey::Ev(e) = act {
+                self.handle(e);
+            }
             return;
         }
-        match k {
-            Key::Alt('f') => {
+        if self.help {
+            self.help = false;
+            if act == LatheKey::Help {
+                self.record_event(&PanelEvent::Press(k));
+                return;
+            }
+        }
+        if self.screen.refuses(k) {
+            return;
+        }
+        match act {
+            LatheKey::Ev(e) => self.handle(e),
+            LatheKey::NextChannel => {
+                self.record_event(&PanelEvent::Press(k));
+                self.select((self.sel + 1) % self.desc.channels.len());
+                self.after();
+            }
+            LatheKey::Help => {
+                self.record_event(&PanelEvent::Press(k));
+                self.help = true;
+            }
+            LatheKey::Fault => {
                 let why = std::mem::take(&mut self.entry);
                 let why = if why.trim().is_empty() {
                     "operator".to_string()
                 } else {
                     why.trim().to_lowercase()
                 };
-                return self.event(LatheEv::Fault(self.sel, why));
+                self.handle(PanelEvent::Fault(self.sel, why));
             }
-            Key::Alt('=' | '+' | '-') => {
-                let p = if k == Key::Alt('-') {
-                    self.feed_override.saturating_sub(10)
-                } else {
-                    (self.feed_override + 10).min(150)
-                };
-                return self.event(LatheEv::Override(p));
+            LatheKey::Override(d) => {
+                let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
+                self.handle(PanelEvent::Override(p));
             }
-            Key::Alt('n') => {
+            LatheKey::Target => {
                 let typed = std::mem::take(&mut self.entry);
                 match typed.trim().parse::<u32>() {
-                    Ok(n) if (1..=999_999).contains(&n) => return self.event(LatheEv::Target(n)),
+                    Ok(n) if (1..=999_999).contains(&n) => self.handle(PanelEvent::Target(n)),
                     _ => {
                         self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
                         self.entry = typed;
-                        return;
                     }
                 }
             }
-            _ => {}
-        }
-        if let Some(ev) = events::map_key(k, self.optional_stop, self.block_delete) {
-            self.event(ev);
+            LatheKey::None => {
+                self.record_event(&PanelEvent::Press(k));
+                self.message = format!(
+                    "key {} does nothing on the lathe console (F8 shows the keys)",
+                    crate::console::keys::key_name(k)
+                );
+                self.after();
+            }
         }
     }
 
-    /// One operator action. Recorded on `/panel/event`; a refusal says why on the message
-    /// line and changes nothing.
-    pub fn event(&mut self, ev: LatheEv) {
-        let line = ev.script_line();
-        if let Some(r) = &self.sink {
-            r.send(Event::PanelEvent {
-                t_ns: self.now_ns,
-                event: line.clone(),
-            });
+    fn record_event(&mut self, ev: &PanelEvent) {
+        self.recorder.panel_event(ev, self.now_ns);
+    }
+
+    /// One operator action, an event of the one panel grammar (the centre's and the lathe's
+    /// alike), or a script's `wait`, `wait block N`, `wait ms T` (run in machine time, as
+    /// the centre's console runs them; [`LatheConsole::wait_error`] says why one could not
+    /// end) and `show`. Recorded on `/panel/event`; a refusal, and an event the lathe has no
+    /// use for, says why on the message line and changes nothing.
+    pub fn handle(&mut self, ev: PanelEvent) {
+        match ev {
+            PanelEvent::Wait => return self.wait(WAIT_LIMIT_NS, RunUntil::Rest),
+            PanelEvent::WaitBlock(n) => {
+                return self.wait(WAIT_LIMIT_NS, RunUntil::Block(self.sel, n))
+            }
+            PanelEvent::WaitMs(ms) => {
+                return self.wait(ms.saturating_mul(1_000_000), RunUntil::Time)
+            }
+            PanelEvent::Show => return,
+            PanelEvent::Press(k) => return self.press(k),
+            _ => {}
+        }
+        self.record_event(&ev);
+        if let Err(e) = events::takes(&ev) {
+            self.message = e;
+            return self.after();
         }
         match ev {
-            LatheEv::Help => self.help = !self.help,
-            LatheEv::Mode(m) => {
-                self.mode = m;
-                self.entry.clear();
-                self.message = format!("{} mode", m.word());
-            }
-            LatheEv::Channel(c) if c < self.desc.channels.len() => self.select(c),
-            LatheEv::Channel(c) => self.message = format!("there is no channel {}", c + 1),
-            LatheEv::NextChannel => self.select((self.sel + 1) % self.desc.channels.len()),
-            LatheEv::Key(c) => {
-                if self.entry.chars().count() < 120 {
-                    self.entry.push(c);
+            PanelEvent::Op(OpMode::Auto) => self.turn(Mode::Auto),
+            PanelEvent::Op(OpMode::Mdi) => self.turn(Mode::Mdi),
+            PanelEvent::Op(_) => self.turn(Mode::Data),
+            PanelEvent::OfsMode => self.turn(Mode::Ofs),
+            PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
+            PanelEvent::Channel(c) => self.message = format!("there is no channel {}", c + 1),
+            PanelEvent::Key(c) => {
+                if let Err(e) = crate::console::entry::push_key(&mut self.entry, c) {
+                    self.message = e;
                 }
             }
-            LatheEv::Rubout => {
+            PanelEvent::Rubout => {
                 self.entry.pop();
             }
-            LatheEv::Type(t) => {
-                self.entry = t.chars().filter(|c| !c.is_control()).take(120).collect();
+            PanelEvent::Type(t) => {
+                self.entry = t.chars().filter(|c| !c.is_control()).collect();
                 self.eob();
             }
-            LatheEv::Eob => self.eob(),
-            LatheEv::Start => self.start(),
-            LatheEv::Stop => match self.cycle.as_mut() {
+            PanelEvent::Eob => self.eob(),
+            PanelEvent::Start => self.start(),
+            PanelEvent::Stop => match self.cycle.as_mut() {
                 Some(c) => {
                     c.hold();
                     self.message = "STOP: feed hold on every channel; START resumes".into();
                 }
                 None => self.message = "STOP: nothing runs".into(),
             },
-            LatheEv::Reset => self.reset(),
-            LatheEv::EStop => {
+            PanelEvent::Reset => self.reset(),
+            PanelEvent::EStop => {
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
                 self.message = "E-STOP: every channel stopped; RESET releases".into();
             }
-            LatheEv::Fault(ch, why) => match self.cycle.as_mut() {
+            PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
                 Some(c) if ch < self.desc.channels.len() => {
                     self.message = match c.fault(ch, &why) {
                         Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
@@ -420,30 +450,74 @@ impl LatheConsole {
                 }
                 _ => self.message = format!("fault CH{}: no cycle runs", ch + 1),
             },
-            LatheEv::Target(n) => self.set_target(n),
-            LatheEv::Override(p) => {
+            PanelEvent::Target(n) => self.set_target(n),
+            PanelEvent::Override(p) => {
                 self.feed_override = p.min(150);
                 if let Some(c) = self.cycle.as_mut() {
                     c.set_feed_override(self.feed_override);
                 }
                 self.message = format!("feed override {} %", self.feed_override);
             }
-            LatheEv::OptionalStop(b) => {
+            PanelEvent::OptionalStop(b) => {
                 self.optional_stop = b;
                 self.message = format!(
                     "OPTIONAL STOP {} (from the next START of a cycle)",
                     if b { "on" } else { "off" }
                 );
             }
-            LatheEv::BlockDelete(b) => {
+            PanelEvent::BlockDelete(b) => {
                 self.block_delete = b;
                 self.message = format!(
                     "BLOCK DELETE {} (from the next START of a cycle)",
                     if b { "on" } else { "off" }
                 );
             }
+            // `events::takes` let through only the words above.
+            _ => {}
         }
         self.after();
+    }
+
+    fn turn(&mut self, m: Mode) {
+        self.mode = m;
+        self.entry.clear();
+        self.message = format!("{} mode", m.word());
+    }
+
+    /// A script's wait: runs the machine as [`LatheConsole::run_for`] does, and says why the
+    /// wait cannot end, if it cannot (the centre's words: feed override 0 with a feed move in
+    /// progress, or the limit of machine time), on the message line and in
+    /// [`LatheConsole::wait_error`].
+    fn wait(&mut self, limit_ns: u64, until: RunUntil) {
+        self.wait_error = None;
+        let stop = self.interrupt.unwrap_or(|| false);
+        let used = self.run_for(limit_ns, until, stop);
+        if until == RunUntil::Time || stop() {
+            return;
+        }
+        let e = if self.stalled() {
+            "wait: the machine stands still at feed override 0 %; raise the override".to_string()
+        } else if used >= limit_ns && !self.at_rest() {
+            format!(
+                "wait: not done within {} hours of machine time",
+                limit_ns / 3_600_000_000_000
+            )
+        } else {
+            return;
+        };
+        self.message = e.clone();
+        self.wait_error = Some(e);
+    }
+
+    /// Why the last script wait could not end, if it could not.
+    pub fn wait_error(&self) -> Option<&str> {
+        self.wait_error.as_deref()
+    }
+
+    /// Asked between the steps of a script's wait: a true answer ends it early (a stop
+    /// signal), as the centre's `ConsoleConfig::interrupt`.
+    pub fn set_interrupt(&mut self, f: Option<fn() -> bool>) {
+        self.interrupt = f;
     }
 
     fn select(&mut self, c: usize) {
@@ -563,7 +637,7 @@ impl LatheConsole {
             started_ns: self.now_ns,
             feed_override: self.feed_override,
             clock: self.clock,
-            sink: self.sink.clone(),
+            sink: self.recorder.sink(),
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
@@ -732,23 +806,21 @@ impl LatheConsole {
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
             for (ch, text) in c.take_said() {
-                if let Some(r) = &self.sink {
-                    r.send(Event::Log {
-                        t_ns: self.now_ns,
-                        level: crate::record::foxglove::level::INFO,
-                        name: "console".into(),
-                        message: text.clone(),
-                        file: if c.mdi {
-                            format!("MDI CH{}", ch + 1)
-                        } else {
-                            self.programs
-                                .get(ch)
-                                .map(|p| p.name.clone())
-                                .unwrap_or_default()
-                        },
-                        line: 0,
-                    });
-                }
+                let file = if c.mdi {
+                    format!("MDI CH{}", ch + 1)
+                } else {
+                    self.programs
+                        .get(ch)
+                        .map(|p| p.name.clone())
+                        .unwrap_or_default()
+                };
+                self.recorder.log(
+                    self.now_ns,
+                    crate::record::foxglove::level::INFO,
+                    &text,
+                    &file,
+                    0,
+                );
                 self.message = text;
             }
         }
@@ -756,17 +828,12 @@ impl LatheConsole {
     }
 
     fn record_display(&mut self) {
-        if self.sink.is_none() {
+        if !self.recorder.on() {
             return;
         }
         let d = self.view().display;
         if d != self.last_display {
-            if let Some(r) = &self.sink {
-                r.send(Event::Display {
-                    t_ns: self.now_ns,
-                    lines: d.clone(),
-                });
-            }
+            self.recorder.display(&d, self.now_ns);
             self.last_display = d;
         }
     }
@@ -872,10 +939,7 @@ impl LatheConsole {
         }
         // The kernel's thread holds a sink: it ends first, so everything it sent is written.
         self.cycle = None;
-        self.sink = None;
-        self.rec
-            .take()
-            .map(|r| r.finish().map(|sum| sum.to_string()))
+        self.recorder.finish().transpose()
     }
 
     /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one

@@ -4,7 +4,7 @@
 //! one application (`app::App`) drives it as a [`Front`], as it drives the centre's: each frame
 //! it advances the same `LatheConsole` as the terminal's (by wall time, or by a script's waits
 //! in virtual time), draws `LatheView`, and hands keys and clicks back as
-//! `LatheConsole::press` / `LatheConsole::event`.
+//! `LatheConsole::press` / `LatheConsole::handle`.
 
 mod panel;
 pub mod plot;
@@ -15,9 +15,10 @@ use super::plasma::Plasma;
 use super::shot::rect_px;
 use crate::cli::mtconnect::Feed;
 use crate::console::ConsoleConfig;
-use crate::lathe::console::events::{parse_script, LatheEv, ScriptStep};
+use crate::lathe::console::events::parse_script;
 use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
 use crate::lathe::desc::LatheDesc;
+use crate::panel_model::PanelEvent;
 use egui::{Color32, Rect};
 use panel::Act;
 use plot::Trail;
@@ -36,18 +37,8 @@ struct Layout {
 }
 
 /// A lathe panel script (docs/lathe.md) on `channels` channels as the window plays it.
-pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<LatheEv>>, (usize, String)> {
-    let steps = parse_script(text, channels)?;
-    Ok(steps
-        .into_iter()
-        .map(|s| match s {
-            ScriptStep::Ev(ev) => Step::Ev(ev),
-            ScriptStep::Wait => Step::Wait(Wait::Rest),
-            ScriptStep::WaitMs(ms) => Step::WaitMs(ms),
-            ScriptStep::WaitBlock(n) => Step::Wait(Wait::Block(n)),
-            ScriptStep::Show => Step::Show,
-        })
-        .collect())
+pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<PanelEvent>>, (usize, String)> {
+    Ok(super::app::script_steps(parse_script(text, channels)?))
 }
 
 /// Opens the lathe `desc`'s console, configured by `cfg` (state directory, display size,
@@ -186,15 +177,15 @@ impl Lathe {
 }
 
 impl Front for Lathe {
-    type Ev = LatheEv;
+    type Ev = PanelEvent;
 
     fn tick(&mut self, wall_ns: Option<u64>) {
         if let Some(ns) = wall_ns {
             self.advance(ns);
         }
     }
-    fn event(&mut self, ev: LatheEv) {
-        self.console.event(ev);
+    fn event(&mut self, ev: PanelEvent) {
+        self.console.handle(ev);
         self.sample();
     }
     fn machine_ns(&self) -> u64 {
@@ -263,7 +254,7 @@ impl Front for Lathe {
         self.panels(ui, &mut acts);
         for a in acts {
             match a {
-                Act::Ev(ev) => self.console.event(ev),
+                Act::Ev(ev) => self.console.handle(ev),
                 Act::Press(k) => self.console.press(k),
                 Act::ClearPaths => self.clear_paths(),
             }
@@ -314,7 +305,7 @@ mod tests {
     use std::sync::atomic::AtomicI32;
     use std::sync::Arc;
 
-    fn app(name: &str, steps: Vec<Step<LatheEv>>) -> (App<Lathe>, PathBuf) {
+    fn app(name: &str, steps: Vec<Step<PanelEvent>>) -> (App<Lathe>, PathBuf) {
         let d =
             std::env::temp_dir().join(format!("novanc-lathe-window-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
@@ -332,7 +323,7 @@ mod tests {
     fn a_script_wait_after_start_runs_the_cycle_to_rest_in_virtual_time() {
         let (mut a, d) = app(
             "wait",
-            vec![Step::Ev(LatheEv::Start), Step::Wait(Wait::Rest)],
+            vec![Step::Ev(PanelEvent::Start), Step::Wait(Wait::Rest)],
         );
         let l = play_all(&mut a);
         let c = &l.console;
@@ -374,7 +365,7 @@ mod tests {
     fn a_script_wait_ms_lets_exactly_that_machine_time_pass() {
         let (mut a, d) = app(
             "waitms",
-            vec![Step::Ev(LatheEv::Start), Step::WaitMs(1_234)],
+            vec![Step::Ev(PanelEvent::Start), Step::WaitMs(1_234)],
         );
         let l = play_all(&mut a);
         assert_eq!(l.console.machine_ns(), 1_234_000_000);

@@ -5,7 +5,7 @@
 //! `LatheView` and hands the operator's action back as an [`Act`]; the console decides.
 
 use super::plot::{self, Trail};
-use crate::lathe::console::events::{LatheEv, Mode};
+use crate::lathe::console::events::Mode;
 use crate::lathe::console::view::ChanView;
 use crate::lathe::console::LatheView;
 use crate::lathe::desc::LatheDesc;
@@ -24,8 +24,8 @@ pub const RED: Color32 = Color32::from_rgb(255, 70, 60);
 /// An operator action from the window.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Act {
-    /// An event for `LatheConsole::event`.
-    Ev(LatheEv),
+    /// An event for `LatheConsole::handle`.
+    Ev(PanelEvent),
     /// A key for `LatheConsole::press` (FAULT and TARGET take the typed line).
     Press(Key),
     /// Clear every channel's backplot.
@@ -64,7 +64,7 @@ pub fn summary(ui: &mut Ui, v: &LatheView, out: &mut Vec<Act>) {
         }
         let r = ui.add(egui::Label::new(t).sense(Sense::click()));
         if r.clicked() && i != v.selected {
-            out.push(Act::Ev(LatheEv::Channel(i)));
+            out.push(Act::Ev(PanelEvent::Channel(i)));
         }
     }
 }
@@ -183,7 +183,7 @@ pub fn channels(
                     .rect_stroke(col, 4.0, Stroke::new(2.0, LIT), StrokeKind::Outside);
             }
             if (r1.clicked() || r2.clicked()) && i != v.selected {
-                out.push(Act::Ev(LatheEv::Channel(i)));
+                out.push(Act::Ev(PanelEvent::Channel(i)));
             }
         }
     });
@@ -233,7 +233,7 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             let r = key(ui, &format!("CH{}", i + 1), i == v.selected, 52.0)
                 .on_hover_text("the channel selector (Tab)");
             if r.clicked() && i != v.selected {
-                out.push(Act::Ev(LatheEv::Channel(i)));
+                out.push(Act::Ev(PanelEvent::Channel(i)));
             }
         }
     });
@@ -247,7 +247,7 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
         ] {
             let r = key(ui, m.word(), m == mode, 52.0).on_hover_text(format!("Alt+{k}"));
             if r.clicked() && m != mode {
-                out.push(Act::Ev(LatheEv::Mode(m)));
+                out.push(Act::Ev(m.event()));
             }
         }
     });
@@ -268,13 +268,13 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             .on_hover_text("OPTIONAL STOP (Alt+O)")
             .clicked()
         {
-            out.push(Act::Ev(LatheEv::OptionalStop(!switches.0)));
+            out.push(Act::Ev(PanelEvent::OptionalStop(!switches.0)));
         }
         if key(ui, "/DEL", switches.1, 44.0)
             .on_hover_text("BLOCK DELETE (Alt+B)")
             .clicked()
         {
-            out.push(Act::Ev(LatheEv::BlockDelete(!switches.1)));
+            out.push(Act::Ev(PanelEvent::BlockDelete(!switches.1)));
         }
     });
     ui.horizontal(|ui| {
@@ -282,7 +282,7 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             .on_hover_text("the key list (F8)")
             .clicked()
         {
-            out.push(Act::Ev(LatheEv::Help));
+            out.push(Act::Press(Key::F(8)));
         }
         if key(ui, "CLEAR PATHS", false, 96.0)
             .on_hover_text("clear every backplot")
@@ -293,19 +293,11 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
     });
 }
 
-/// A control the two machines' panels share, as the lathe's event (those it has).
+/// A control the two machines' panels share, if the lathe has a use for it.
 fn lathe_ev(e: PanelEvent) -> Option<Act> {
-    let ev = match e {
-        PanelEvent::Key(c) => LatheEv::Key(c),
-        PanelEvent::Rubout => LatheEv::Rubout,
-        PanelEvent::Eob => LatheEv::Eob,
-        PanelEvent::Start => LatheEv::Start,
-        PanelEvent::Stop => LatheEv::Stop,
-        PanelEvent::Reset => LatheEv::Reset,
-        PanelEvent::EStop => LatheEv::EStop,
-        _ => return None,
-    };
-    Some(Act::Ev(ev))
+    crate::lathe::console::events::takes(&e)
+        .is_ok()
+        .then_some(Act::Ev(e))
 }
 
 /// The data keys (the mill's, without the tape keys), as lathe events.
