@@ -16,6 +16,7 @@ pub mod panel_model;
 pub mod pulse_core;
 pub mod record;
 pub mod settings;
+pub mod signals;
 pub mod store;
 pub mod tape;
 pub mod terminal;

@@ -449,3 +449,60 @@ fn the_console_model_names_nothing_of_the_display() {
         "model modules that name the display, the pages or the key map: {wrong:?}"
     );
 }
+
+/// DESIGN.md: "Nothing below the command line imports from it." The terminal and the window
+/// are front ends beside it, and take the MTConnect feed and the stop signals from their own
+/// modules (`mtconnect::feed`, `signals`), not from `cli` (issue 22: the window imported the
+/// command line). Read from the sources with their comments left out.
+#[test]
+fn nothing_outside_the_command_line_imports_it() {
+    fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()) {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    walk(&src, &mut files);
+    let mut bad = Vec::new();
+    for p in files {
+        let rel = p
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
+        if rel.starts_with("cli/") || rel == "main.rs" {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        for (i, l) in text.lines().enumerate() {
+            let code = l.split("//").next().unwrap_or("");
+            if code.contains("crate::cli") || code.contains("novanc::cli") {
+                bad.push(format!("src/{rel}:{}: {}", i + 1, l.trim()));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "imports of the command line:\n{}",
+        bad.join("\n")
+    );
+    assert!(
+        files_named(&src, "cli").len() > 3,
+        "the walk found the command line's own files"
+    );
+}
+
+fn files_named(src: &std::path::Path, dir: &str) -> Vec<String> {
+    std::fs::read_dir(src.join(dir))
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+                .collect()
+        })
+        .unwrap_or_default()
+}

@@ -8,7 +8,7 @@ pub mod lathe;
 pub mod mtconnect;
 pub mod run;
 pub mod script;
-pub mod signals;
+pub use crate::signals;
 pub mod tape;
 pub mod translate;
 

@@ -155,7 +155,7 @@ pub fn main(argv: &[String]) -> i32 {
     );
     core.set_magazine(magazine.clone());
     let tool_table =
-        crate::mtconnect::items::tool_table(&super::mtconnect::tool_offsets(&magazine));
+        crate::mtconnect::items::tool_table(&crate::mtconnect::feed::tool_offsets(&magazine));
     // A headless run is a memory operation in AUTO (Fanuc's MEM mode): no data-processing
     // selector is turned, so the data mode recorded is MEMORY (docs/recording.md).
     core.set_panel_modes("AUTO", "MEMORY");

@@ -3,16 +3,16 @@
 //! events, ticks the console (about 50 Hz) and draws the panel with diff rendering. The
 //! terminal is handed back on exit, on panic, on SIGQUIT and on SIGTERM/SIGINT/SIGHUP; SIGTSTP
 //! hands it back and stops, SIGCONT takes it again and draws the whole frame (docs/panel.md,
-//! "Terminal"). A stop signal ends the session as it ends `novanc run` (`crate::cli::signals`):
+//! "Terminal"). A stop signal ends the session as it ends `novanc run` (`crate::signals`):
 //! the machine stopped, the recording closed `complete: false`, exit 128 + the signal.
 
 pub mod layout;
 
-use crate::cli::mtconnect::{Feed, MtcOpts};
-use crate::cli::{fail, signals};
 use crate::console::{Console, ConsoleConfig};
 use crate::lathe::console::LatheConsole;
 use crate::lathe::desc::LatheDesc;
+use crate::mtconnect::feed::{Feed, MtcOpts};
+use crate::signals;
 use layout::{draw_help, draw_lathe, draw_panel, draw_too_small, lathe_size, panel_size};
 use novanc_panel::{Decoder, Key, Renderer, Screen, Terminal};
 use std::time::{Duration, Instant};
@@ -132,7 +132,10 @@ pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) 
         None => {
             let (mut console, warnings) = match Console::open(cfg) {
                 Ok(x) => x,
-                Err(e) => return fail(&format!("novanc: {e}")),
+                Err(e) => {
+                    eprintln!("novanc: {e}");
+                    return 1;
+                }
             };
             console.set_saves_after_frame(true);
             let feed = Feed::start(mtc, "novanc", console.core());
@@ -141,7 +144,10 @@ pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) 
         Some(desc) => {
             let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
                 Ok(x) => x,
-                Err(e) => return fail(&format!("novanc: {e}")),
+                Err(e) => {
+                    eprintln!("novanc: {e}");
+                    return 1;
+                }
             };
             // At a terminal the kernel keeps the wall clock in its own thread.
             console.set_clock(crate::pulse_core::ClockMode::RealTime);

@@ -7,7 +7,7 @@
 
 use super::bench::Bench;
 use super::shot::Shot;
-use crate::cli::mtconnect::Feed;
+use crate::mtconnect::feed::Feed;
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
@@ -257,7 +257,7 @@ impl<F: Front> App<F> {
         let ctx = ui.ctx().clone();
         // A stop signal closes the window as closing it does (`on_exit`: the machine stopped,
         // the recording closed and marked interrupted).
-        if let Some(why) = crate::cli::signals::caught_reason() {
+        if let Some(why) = crate::signals::caught_reason() {
             if self.interrupted.is_none() {
                 self.interrupted = Some(why);
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);

@@ -9,8 +9,8 @@ use super::plasma::Plasma;
 use super::plot::PlotState;
 use super::shot::rect_px;
 use super::tapestrip::{self, StripLayout};
-use crate::cli::mtconnect::Feed;
 use crate::console::Console;
+use crate::mtconnect::feed::Feed;
 use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
 use egui::{vec2, Color32, Rect};
 use std::sync::Arc;
@@ -38,7 +38,7 @@ pub fn read_script(text: &str) -> Result<Vec<Step<PanelEvent>>, (usize, String)>
 /// comes back.
 pub fn open(
     cfg: crate::console::ConsoleConfig,
-    mtc: &crate::cli::mtconnect::MtcOpts,
+    mtc: &crate::mtconnect::feed::MtcOpts,
 ) -> Result<(Centre, Option<Feed>, String), i32> {
     let fail = |e: String| {
         eprintln!("novanc: {e}");

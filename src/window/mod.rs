@@ -62,7 +62,7 @@ pub struct WindowOptions {
     pub console_args: Vec<String>,
     /// `--mtconnect ADDR:PORT`, taken out of the console's arguments by the command line:
     /// the window streams to MTConnect agents once a frame (docs/mtconnect.md).
-    pub mtc: crate::cli::mtconnect::MtcOpts,
+    pub mtc: crate::mtconnect::feed::MtcOpts,
 }
 
 /// Splits `argv` into the window's options and the console's.
@@ -209,14 +209,14 @@ pub fn run(
 fn open<F: Front>(
     opts: &WindowOptions,
     parse: impl FnOnce(&str) -> Result<Vec<Step<F::Ev>>, (usize, String)>,
-    make: impl FnOnce(bool) -> Result<(F, Option<crate::cli::mtconnect::Feed>, String), i32>,
+    make: impl FnOnce(bool) -> Result<(F, Option<crate::mtconnect::feed::Feed>, String), i32>,
 ) -> i32 {
     let drive = match before_opening(opts, parse) {
         Ok(d) => d,
         Err(code) => return code,
     };
     // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
-    crate::cli::signals::install();
+    crate::signals::install();
     let (front, feed, title) = match make(drive.scripted) {
         Ok(x) => x,
         Err(code) => return code,
@@ -251,7 +251,7 @@ fn open<F: Front>(
             1
         }
     };
-    crate::cli::signals::exit_code(code)
+    crate::signals::exit_code(code)
 }
 
 #[cfg(test)]

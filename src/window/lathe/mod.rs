@@ -13,11 +13,11 @@ use super::app::{Front, Step, Wait};
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::shot::rect_px;
-use crate::cli::mtconnect::Feed;
 use crate::console::ConsoleConfig;
 use crate::lathe::console::events::parse_script;
 use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
 use crate::lathe::desc::LatheDesc;
+use crate::mtconnect::feed::Feed;
 use crate::panel_model::PanelEvent;
 use egui::{Color32, Rect};
 use panel::Act;
@@ -48,7 +48,7 @@ pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<PanelEvent>>,
 pub fn open(
     desc: LatheDesc,
     cfg: &ConsoleConfig,
-    mtc: &crate::cli::mtconnect::MtcOpts,
+    mtc: &crate::mtconnect::feed::MtcOpts,
     scripted: bool,
 ) -> Result<(Lathe, Option<Feed>, String), i32> {
     let (mut console, warnings) = LatheConsole::open_config(desc, cfg).map_err(|e| {

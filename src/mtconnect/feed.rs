@@ -1,0 +1,378 @@
+//! The adapter fed from a console (docs/mtconnect.md): every front end's (the terminal, the
+//! window, `novanc script` and `novanc run`), so it lives here, beside the adapter, and not in
+//! the command line, which only reads its options (`cli::mtconnect::take`).
+
+use super::items::lathe_mode;
+use super::{Adapter, Key, Modes, PathKeys};
+use crate::console::Console;
+use crate::lathe::console::events::Mode as LatheMode;
+use crate::lathe::console::{Cycle, LatheConsole};
+use crate::pulse_core::{
+    ChannelStatus, ChannelView, ClockMode, EndCause, PulseCore, Status, Watcher,
+};
+use crate::tooldata::Magazine;
+use std::net::SocketAddr;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, SystemTime};
+
+/// The adapter options of a command line.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MtcOpts {
+    /// Where to listen.
+    pub addr: Option<SocketAddr>,
+    /// How long to wait for an agent before the first event.
+    pub wait: Option<Duration>,
+}
+
+/// An adapter fed from a console: counts parts, builds the modes, publishes. Shared with the
+/// pulse core's watcher in virtual time, which publishes every change of state inside a
+/// `wait` (or a headless run) with the modes last published.
+pub struct Feed {
+    state: Arc<Mutex<FeedState>>,
+}
+
+struct FeedState {
+    adapter: Adapter,
+    partcount: u64,
+    last_run_end: Option<u64>,
+    modes: Option<Modes>,
+    /// Virtual time: the wall time of machine time 0 (a change is stamped with it plus its
+    /// machine time). None in real time: stamped with the wall clock.
+    epoch: Option<SystemTime>,
+    last_ts: SystemTime,
+    /// A lathe's batch besides its channels' states, as last published from the console or
+    /// the headless run: the kernel's watcher publishes with it.
+    lathe: Option<LatheCtx>,
+}
+
+/// What a lathe's batch says besides its channels' states.
+#[derive(Clone, Debug)]
+struct LatheCtx {
+    mode: &'static str,
+    /// Per channel: its program's name, its tool post with no cycle loaded (pulses [X, Z]),
+    /// its parts (the console's counter: an MDI run counts none).
+    programs: Vec<String>,
+    pos: Vec<[i64; 2]>,
+    parts: Vec<u64>,
+    /// The parts are the sync table's (AUTO).
+    auto_parts: bool,
+    pulse_mm: f64,
+    feed_override: u32,
+    message: Option<String>,
+}
+
+impl LatheCtx {
+    /// The items of the lathe with `chans` (empty: no cycle loaded), each channel a path.
+    fn items(&self, chans: &[ChannelStatus]) -> Vec<(Key, String)> {
+        let paths: Vec<LathePath> = self
+            .programs
+            .iter()
+            .enumerate()
+            .map(|(i, program)| {
+                let c = chans.get(i);
+                let sync = c.and_then(|c| c.sync.as_ref());
+                let parts = self.parts.get(i).copied().unwrap_or(0);
+                LathePath {
+                    status: c.map(|c| &c.status),
+                    sync,
+                    pos: c.map_or(self.pos.get(i).copied().unwrap_or([0; 2]), |c| {
+                        [c.status.pos[0], c.status.pos[2]]
+                    }),
+                    program: program.clone(),
+                    parts: match sync {
+                        Some(v) if self.auto_parts => u64::from(v.parts),
+                        _ => parts,
+                    },
+                }
+            })
+            .collect();
+        lathe_items(
+            self.mode,
+            &paths,
+            self.pulse_mm,
+            self.feed_override,
+            self.message.as_deref(),
+        )
+    }
+}
+
+impl FeedState {
+    /// Publishes `s` with `modes` (None: the modes last published; nothing before any).
+    fn publish(&mut self, s: &Status, modes: Option<Modes>) {
+        if let Some(m) = modes {
+            self.modes = Some(m);
+        }
+        if let Some(e) = &s.last_end {
+            if self.last_run_end != Some(e.id) {
+                self.last_run_end = Some(e.id);
+                if e.cause == EndCause::ProgramEnd && s.program_end {
+                    self.partcount += 1;
+                }
+            }
+        }
+        let partcount = self.partcount;
+        let Some(modes) = self.modes.as_mut() else {
+            return;
+        };
+        modes.partcount = partcount;
+        let ts = Self::stamp(self.epoch, &mut self.last_ts, s.machine_ns);
+        self.adapter.publish_mill(s, modes, ts);
+    }
+
+    /// Publishes a lathe's channels with `ctx` (None: as last published), stamped with
+    /// machine time `machine_ns`.
+    fn publish_lathe(&mut self, chans: &[ChannelStatus], ctx: Option<LatheCtx>, machine_ns: u64) {
+        if let Some(c) = ctx {
+            self.lathe = Some(c);
+        }
+        let Some(items) = self.lathe.as_ref().map(|c| c.items(chans)) else {
+            return;
+        };
+        self.send(items, machine_ns);
+    }
+
+    /// Sends `items`, stamped ([`FeedState::stamp`]).
+    fn send(&mut self, items: Vec<(Key, String)>, machine_ns: u64) {
+        let ts = Self::stamp(self.epoch, &mut self.last_ts, machine_ns);
+        self.adapter.publish(items, ts);
+    }
+
+    /// The time of a batch: machine time `machine_ns` in virtual time, the wall clock in real
+    /// time, never before the last batch.
+    fn stamp(epoch: Option<SystemTime>, last_ts: &mut SystemTime, machine_ns: u64) -> SystemTime {
+        let ts = match epoch {
+            Some(t0) => t0 + Duration::from_nanos(machine_ns),
+            None => SystemTime::now(),
+        }
+        .max(*last_ts);
+        *last_ts = ts;
+        ts
+    }
+}
+
+fn lock(m: &Mutex<FeedState>) -> std::sync::MutexGuard<'_, FeedState> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl Feed {
+    /// Starts the adapter (announcing its address on stderr as `who: mtconnect: listening on
+    /// ADDR`); None with no `--mtconnect`. In virtual time, `core` is watched: every change of
+    /// state inside an advance is published, stamped with its machine time.
+    pub fn start(o: &MtcOpts, who: &str, core: &PulseCore) -> Result<Option<Feed>, String> {
+        let virt = core.clock() == ClockMode::Virtual;
+        let Some(feed) = Feed::start_on(o, who, virt, core.status().machine_ns)? else {
+            return Ok(None);
+        };
+        if virt {
+            let st = feed.state.clone();
+            core.set_watch(Some(Arc::new(move |s: &[ChannelStatus]| {
+                if let Some(c) = s.first() {
+                    lock(&st).publish(&c.status, None);
+                }
+            })));
+        }
+        Ok(Some(feed))
+    }
+
+    /// Starts the adapter with no core to watch (the lathe, whose cycles each have their own):
+    /// in virtual time (`virt`) a batch is stamped with the wall time now plus its machine
+    /// time since `machine_ns`, in real time with the wall clock. None with no `--mtconnect`.
+    pub fn start_on(
+        o: &MtcOpts,
+        who: &str,
+        virt: bool,
+        machine_ns: u64,
+    ) -> Result<Option<Feed>, String> {
+        let Some(addr) = o.addr else { return Ok(None) };
+        let adapter = Adapter::start(addr)?;
+        eprintln!("{who}: mtconnect: listening on {}", adapter.local_addr());
+        let now = SystemTime::now();
+        let epoch = virt.then(|| now - Duration::from_nanos(machine_ns));
+        let state = Arc::new(Mutex::new(FeedState {
+            adapter,
+            partcount: 0,
+            last_run_end: None,
+            modes: None,
+            epoch,
+            last_ts: std::time::UNIX_EPOCH,
+            lathe: None,
+        }));
+        Ok(Some(Feed { state }))
+    }
+
+    /// Publishes the lathe console's state: the controller's items once, and each channel as
+    /// a path (`p1_exec`, `p2_exec`, ...), stamped with the console's machine time.
+    pub fn publish_lathe(&mut self, c: &LatheConsole) {
+        let v = c.view();
+        let ctx = LatheCtx {
+            mode: lathe_mode(c.mode()),
+            programs: v.channels.iter().map(|ch| ch.program.clone()).collect(),
+            pos: v.channels.iter().map(|ch| ch.pos).collect(),
+            parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
+            auto_parts: c.cycle().is_some_and(|cy| !cy.mdi),
+            pulse_mm: c.desc().pulse_mm,
+            feed_override: c.feed_override(),
+            message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
+        };
+        let snap = c.cycle().map_or(&[][..], |cy| cy.channels());
+        lock(&self.state).publish_lathe(snap, Some(ctx), c.machine_ns());
+    }
+
+    /// Publishes a headless lathe cycle (`novanc run --machine`): AUTO, each channel a path
+    /// running `programs[i]`, stamped with the cycle's machine time.
+    pub fn publish_cycle(&mut self, cy: &Cycle, programs: &[String], pulse_mm: f64) {
+        let n = cy.channels().len();
+        let ctx = LatheCtx {
+            mode: lathe_mode(LatheMode::Auto),
+            programs: (0..n)
+                .map(|i| programs.get(i).cloned().unwrap_or_default())
+                .collect(),
+            pos: vec![[0; 2]; n],
+            parts: vec![0; n],
+            auto_parts: true,
+            pulse_mm,
+            feed_override: 100,
+            message: None,
+        };
+        lock(&self.state).publish_lathe(cy.channels(), Some(ctx), cy.now_ns());
+    }
+
+    /// The watcher of a lathe's kernel (virtual time): every change of a channel's state is
+    /// published as it happens, stamped with its machine time, with what the console or the
+    /// run last published besides the channels (mode, programs, message).
+    pub fn lathe_watcher(&self) -> Watcher {
+        let st = self.state.clone();
+        Arc::new(move |chans: &[ChannelStatus]| {
+            let t = chans.first().map_or(0, |c| c.status.machine_ns);
+            lock(&st).publish_lathe(chans, None, t);
+        })
+    }
+
+    /// Publishes the console's state, then waits for an agent if `--mtconnect-wait` asks
+    /// (the agent's first lines are then the state before the first event).
+    pub fn start_and_wait(&mut self, c: &Console, o: &MtcOpts) -> Result<(), String> {
+        self.publish(c);
+        self.wait(o)
+    }
+
+    /// Publishes the console's state now.
+    pub fn publish(&mut self, c: &Console) {
+        let modes = Modes {
+            mode: crate::mtconnect::items::controller_mode(c.view().op_mode),
+            program: c.program_name(),
+            partcount: 0,
+            wpo: Some(crate::mtconnect::items::wpo_table(&c.work_offsets().0)),
+            program_alarm: c.program_alarm().map(|a| a.error.to_string()),
+            pulse_mm: c.settings().pulse_mm,
+            work_origin: c.work_origin(),
+            tooloffsets: Some(crate::mtconnect::items::tool_table(&tool_offsets(
+                &c.magazine(),
+            ))),
+            waiting: false,
+            fault: None,
+        };
+        self.publish_status(c.status(), modes);
+    }
+
+    /// Publishes a status snapshot with the modes given (their partcount is the feed's own).
+    pub fn publish_status(&mut self, s: &Status, modes: Modes) {
+        lock(&self.state).publish(s, Some(modes));
+    }
+
+    /// Waits for an agent if `--mtconnect-wait` asks (publish the state first: an agent's
+    /// first lines are the state before the first event).
+    pub fn wait(&self, o: &MtcOpts) -> Result<(), String> {
+        if let Some(w) = o.wait {
+            // Before the first event: the machine is not running, the watcher is silent.
+            if !lock(&self.state).adapter.wait_for_agent(w) {
+                return Err(format!(
+                    "mtconnect: no agent connected within {} s",
+                    w.as_secs_f64()
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One lathe channel as the adapter sees it.
+struct LathePath<'a> {
+    /// Its machine's status (None with no cycle loaded: idle at `pos`).
+    status: Option<&'a Status>,
+    /// Its place in the sync table.
+    sync: Option<&'a ChannelView>,
+    /// The tool post, pulses [X, Z].
+    pos: [i64; 2],
+    program: String,
+    parts: u64,
+}
+
+/// The lathe's items: the controller's once (E-STOP is machine-wide), then each channel as
+/// path `pN_` with the mill's mapping ([`crate::mtconnect::items::path_items`]); a channel
+/// with no cycle loaded stands idle at its tool post with the console's feed override.
+fn lathe_items(
+    mode: &'static str,
+    paths: &[LathePath],
+    pulse_mm: f64,
+    feed_override: u32,
+    message: Option<&str>,
+) -> Vec<(Key, String)> {
+    let idle: Vec<Status> = paths
+        .iter()
+        .map(|p| Status {
+            pos: [p.pos[0], 0, p.pos[1]].into(),
+            feed_override,
+            ..Status::default()
+        })
+        .collect();
+    let statuses: Vec<&Status> = paths
+        .iter()
+        .zip(&idle)
+        .map(|(p, i)| p.status.unwrap_or(i))
+        .collect();
+    let estop = statuses.iter().find(|s| s.estop);
+    let mut v = crate::mtconnect::items::controller_items(
+        estop.is_some(),
+        estop.and_then(|s| s.alarm.as_deref()),
+        message,
+    );
+    for (i, (p, s)) in paths.iter().zip(&statuses).enumerate() {
+        let m = Modes {
+            mode,
+            program: p.program.clone(),
+            partcount: p.parts,
+            wpo: None,
+            program_alarm: None,
+            pulse_mm,
+            work_origin: [0.0; 3],
+            tooloffsets: None,
+            waiting: p.sync.is_some_and(|v| v.waits_on.is_some()),
+            fault: p.sync.and_then(|v| v.fault.clone()),
+        };
+        v.extend(crate::mtconnect::items::path_items(
+            s,
+            &m,
+            &PathKeys::lathe(i + 1),
+        ));
+    }
+    v
+}
+
+/// The tool file as the `tooloffsets` table: by T code, set length, radius (half the diameter),
+/// length wear, radius wear.
+pub fn tool_offsets(m: &Magazine) -> Vec<(u32, [f64; 4])> {
+    m.tools
+        .iter()
+        .map(|(t, r)| {
+            (
+                t,
+                [
+                    r.set_length,
+                    r.diameter / 2.0,
+                    r.wear_length,
+                    r.wear_diameter / 2.0,
+                ],
+            )
+        })
+        .collect()
+}
