@@ -609,3 +609,42 @@ fn a_wait_at_feed_override_0_with_a_cut_in_progress_stops_the_script_as_the_cent
     let o = citizen_script(&script, &dir.join("state2"), &[]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
 }
+
+/// The lathe console on the one grammar: an editor command line's `Y` type-out is shown (the
+/// lathe dropped it), and a centre word or a key with no use here is refused with the line
+/// before anything runs. (A key pressed at the console says it does nothing: the
+/// model-based sequences check that after every such key.)
+#[test]
+fn the_lathe_shows_the_editors_type_out_and_refuses_the_centres_words_whole() {
+    let dir = common::temp_dir("lathe-keys");
+    let script = dir.join("keys.panel");
+    std::fs::write(&script, "op DATA\ntype 2L\ntype 1Y\nshow\ntype 1L\nshow\n").unwrap();
+    let o = citizen_script(&script, &dir.join("state"), &[]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}{}", text(&o.stderr));
+    let frames: Vec<&str> = so.split("--- display").skip(1).collect();
+    assert_eq!(frames.len(), 2, "{so}");
+    // 2L then 1Y: the third line, shown in place of the listing (no `>` pointer line).
+    assert!(
+        frames[0].contains(" (seed 004: receive block P11"),
+        "{}",
+        frames[0]
+    );
+    assert!(!frames[0].contains(">0003"), "{}", frames[0]);
+    // The next line brings the listing back, the pointer on line 4.
+    assert!(frames[1].contains(">0004 G18"), "{}", frames[1]);
+    for (line, why) in [
+        ("home", "'home' is the machining centre's"),
+        (
+            "key Alt+0",
+            "key Alt+0: the lathe console has no use for it",
+        ),
+    ] {
+        std::fs::write(&script, format!("start\n{line}\n")).unwrap();
+        let o = citizen_script(&script, &dir.join("state"), &[]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains(&format!("keys.panel:2: {why}")), "{err}");
+        assert!(!err.contains("START"), "nothing ran: {err}");
+    }
+}

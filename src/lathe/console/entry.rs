@@ -12,6 +12,7 @@ impl LatheConsole {
     /// editor command line on the channel's program.
     pub(super) fn eob(&mut self) {
         let line = std::mem::take(&mut self.entry);
+        self.y_output = None;
         match self.mode {
             Mode::Auto => {
                 if !line.is_empty() {
@@ -113,6 +114,9 @@ impl LatheConsole {
                     }
                     self.programs[ch] = p;
                 }
+                // `Y` type-out is shown in place of the listing until the next line or mode
+                // (the centre's rule): what the operator asked to see is not dropped.
+                self.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
                 self.pointers[ch] = buf.pointer();
                 self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
                 self.message = if out.changed {
@@ -129,6 +133,14 @@ impl LatheConsole {
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
         if self.mode == Mode::Ofs {
             return ofs::table(&self.desc.channels[self.sel].tools);
+        }
+        if let (Mode::Data, Some(y)) = (self.mode, &self.y_output) {
+            let room = self.rows.saturating_sub(5).max(1);
+            return y
+                .split_inclusive('\n')
+                .take(room)
+                .map(|l| format!(" {}", l.replace('\n', "*")))
+                .collect();
         }
         let text = match self.mode {
             Mode::Mdi => self.mdi[self.sel].join("\n"),

@@ -68,6 +68,9 @@ pub struct LatheConsole {
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
+    /// The `Y` type-out of the last editor command line, shown in DATA in place of the
+    /// listing until the next line, mode or channel.
+    y_output: Option<String>,
     /// Why the last script wait could not end (`handle(PanelEvent::Wait)`).
     wait_error: Option<String>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
@@ -153,6 +156,7 @@ impl LatheConsole {
             watch: None,
             screen: crate::console::keys::ScreenFit::default(),
             kept: Vec::new(),
+            y_output: None,
             wait_error: None,
             interrupt: None,
         };
@@ -480,6 +484,7 @@ impl LatheConsole {
 
     fn turn(&mut self, m: Mode) {
         self.mode = m;
+        self.y_output = None;
         self.entry.clear();
         self.message = format!("{} mode", m.word());
     }
@@ -522,6 +527,7 @@ impl LatheConsole {
 
     fn select(&mut self, c: usize) {
         self.sel = c;
+        self.y_output = None;
         self.entry.clear();
         self.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
     }
