@@ -328,3 +328,38 @@ fn a_channels_subroutine_path_finds_o_word_and_m98_subprograms_in_files() {
     );
     assert!(read(&other).is_err());
 }
+
+/// "Nothing they typed is ever lost": the lines typed into a channel's MDI buffer are stored
+/// as they are typed, as the centre's MDI buffer is, so a console that closes (or is killed:
+/// tests/store_kill.rs) opens with them; START runs them and clears the buffer, stored too.
+#[test]
+fn the_mdi_lines_typed_survive_a_restart_until_they_run() {
+    let state = common::temp_dir("lathe-state-mdi");
+    let d = desc(None, None);
+    let mut c = open(&d, &state);
+    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Type("G0 X30 Z20".into()));
+    c.handle(PanelEvent::Type("G0 X36".into()));
+    assert!(c.message().contains("2 lines"), "{}", c.message());
+    drop(c);
+    let mut c = open(&d, &state);
+    c.handle(Mode::Mdi.event());
+    let shown = c.frame_text();
+    assert!(
+        shown.contains("0001 G0 X30 Z20") && shown.contains("0002 G0 X36"),
+        "{shown}"
+    );
+    c.handle(PanelEvent::Start);
+    assert!(c.message().contains("MDI CH1 runs"), "{}", c.message());
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(at(&c)[0], 18_000, "X36 as a diameter: the lines ran");
+    drop(c);
+    let mut c = open(&d, &state);
+    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().contains("the buffer is empty"),
+        "{}",
+        c.message()
+    );
+}

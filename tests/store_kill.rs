@@ -251,6 +251,8 @@ struct Lathe {
     counter: Counter,
     /// Each channel's #500–#999 (docs/lathe-gcode.md "What a channel keeps").
     params: Vec<std::collections::BTreeMap<usize, f64>>,
+    /// Each channel's MDI buffer (the lines typed in MDI, not yet run).
+    mdi: Vec<Vec<String>>,
 }
 
 impl Subject for Lathe {
@@ -276,6 +278,7 @@ impl Subject for Lathe {
                 .iter()
                 .map(|p| p.iter().copied().collect())
                 .collect(),
+            mdi: o.mdi,
         };
         Ok((l, o.warnings))
     }
@@ -310,8 +313,19 @@ impl Subject for Lathe {
                 self.store.save_tools(ch, &tools)?;
                 self.tools[ch] = tools;
             }
+            // MDI: a line typed into the channel's buffer, or the buffer run (cleared).
+            80..=84 => {
+                let mut lines = self.mdi[ch].clone();
+                if lines.len() >= 60 || r.below(4) == 0 {
+                    lines.clear();
+                } else {
+                    lines.push(format!("G0 X{} Z{}", k % 40, k % 17));
+                }
+                self.store.save_mdi(ch, &lines)?;
+                self.mdi[ch] = lines;
+            }
             // A START whose read changed a channel's #500–#999 (0: vacant again).
-            80..=89 => {
+            85..=89 => {
                 let n = 500 + r.below(500);
                 let v = if r.below(4) == 0 {
                     0.0
@@ -343,8 +357,8 @@ impl Subject for Lathe {
 
     fn digest(&self) -> u64 {
         fnv(&format!(
-            "{:?}{:?}{:?}{:?}",
-            self.programs, self.tools, self.counter, self.params
+            "{:?}{:?}{:?}{:?}{:?}",
+            self.programs, self.tools, self.counter, self.params, self.mdi
         ))
     }
 

@@ -104,7 +104,12 @@ pub struct LatheState {
     pub counter: Counter,
     /// Each channel's kept parameters (#500–#999), in millionths; a vacant one is not held.
     pub params: Vec<std::collections::BTreeMap<u16, i64>>,
+    /// Each channel's MDI buffer: the lines typed and not yet run, each ended by a line break.
+    pub mdi: Vec<String>,
 }
+
+/// The most lines a lathe channel's MDI buffer holds.
+pub const MAX_MDI_LINES: usize = 64;
 
 /// The parameters a lathe channel keeps in the stores: the Fanuc dialect's #500–#999.
 pub const KEPT_PARAMS: std::ops::RangeInclusive<usize> = 500..=999;
@@ -141,6 +146,7 @@ impl LatheState {
             tools: vec![None; n],
             counter: Counter::fresh(n),
             params: vec![Default::default(); n],
+            mdi: vec![String::new(); n],
         }
     }
 
@@ -166,6 +172,14 @@ impl LatheState {
                 out.push(Record::ChannelParams {
                     ch,
                     params: ps.iter().map(|(&n, &v)| (n, v)).collect(),
+                });
+            }
+        }
+        for (ch, text) in self.mdi.iter().enumerate() {
+            if !text.is_empty() {
+                out.push(Record::ChannelMdi {
+                    ch,
+                    text: text.clone(),
                 });
             }
         }
@@ -242,6 +256,20 @@ impl LatheState {
                         kept.insert(n, v);
                     }
                 }
+                changed
+            }
+            Record::ChannelMdi { ch, text } => {
+                let ch = chan(*ch)?;
+                if text.len() > MAX_PROGRAM
+                    || text.lines().count() > MAX_MDI_LINES
+                    || !(text.is_empty() || text.ends_with('\n'))
+                {
+                    return Err(Refusal::Other(format!(
+                        "an MDI buffer is at most {MAX_MDI_LINES} whole lines"
+                    )));
+                }
+                let changed = self.mdi[ch] != *text;
+                self.mdi[ch] = text.clone();
                 changed
             }
             Record::Parts { target, counts } => {
@@ -439,6 +467,8 @@ pub struct Opened {
     pub tools: Vec<Option<Vec<ToolDesc>>>,
     /// Each channel's kept parameters (#500–#999) that are not vacant, (number, value).
     pub params: Vec<Vec<(usize, f64)>>,
+    /// Each channel's MDI buffer, its lines (typed and not yet run).
+    pub mdi: Vec<Vec<String>>,
     /// What the operator should know (damage found and kept aside, a migration).
     pub warnings: Vec<String>,
 }
@@ -473,6 +503,11 @@ impl LatheStore {
             counter: l.counter,
             tools: l.tools,
             params: l.params.iter().map(super::params::params_of).collect(),
+            mdi: l
+                .mdi
+                .iter()
+                .map(|t| t.lines().map(str::to_string).collect())
+                .collect(),
             warnings,
         })
     }
@@ -543,6 +578,21 @@ impl LatheStore {
         };
         self.commit(rec)
             .map_err(|e| format!("channel {}: the tools could not be stored: {e}", ch + 1))
+    }
+
+    /// Stores channel `ch`'s MDI buffer, whole (empty: cleared); when this returns Ok it is
+    /// on disk.
+    pub fn save_mdi(&mut self, ch: usize, lines: &[String]) -> Result<(), String> {
+        let text: String = lines.iter().map(|l| format!("{l}\n")).collect();
+        if lines.iter().any(|l| l.contains('\n')) {
+            return Err(format!("channel {}: an MDI line is one line", ch + 1));
+        }
+        self.commit(Record::ChannelMdi { ch, text }).map_err(|e| {
+            format!(
+                "channel {}: the MDI buffer could not be stored: {e}",
+                ch + 1
+            )
+        })
     }
 
     /// Stores the part counter.

@@ -115,6 +115,14 @@ pub enum Record {
         /// Parameter number and value in millionths.
         params: Vec<(u16, i64)>,
     },
+    /// A lathe channel's MDI buffer, whole: the lines typed in MDI that START has not run yet
+    /// (docs/stores.md "A lathe's stores"); empty when cleared.
+    ChannelMdi {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// The lines, each ended by a line break.
+        text: String,
+    },
     /// A lathe's part counter: the target and each channel's count.
     Parts {
         /// The number of parts to make.
@@ -179,6 +187,7 @@ impl Record {
                 }
                 t
             }
+            Record::ChannelMdi { ch, text } => format!("chmdi {}\n{text}", ch + 1),
             Record::Parts { target, counts } => {
                 let mut t = format!("parts {target}");
                 for c in counts {
@@ -286,6 +295,10 @@ impl Record {
                     params: param_pairs(rest, head)?,
                 }
             }
+            ["chmdi", c] => Record::ChannelMdi {
+                ch: channel(c, head)?,
+                text: body.unwrap_or_default().to_string(),
+            },
             ["parts", t, counts @ ..] if !counts.is_empty() => {
                 let bad = || format!("bad part counter record '{head}'");
                 Record::Parts {
@@ -407,6 +420,14 @@ mod tests {
                 text: Some("tool 1 radius 0.4 tip 3 offset 0 0\n".into()),
             },
             Record::ChannelTools { ch: 0, text: None },
+            Record::ChannelMdi {
+                ch: 1,
+                text: "G0 X30 Z20\nG0 X36\n".into(),
+            },
+            Record::ChannelMdi {
+                ch: 0,
+                text: String::new(),
+            },
             Record::Parts {
                 target: 5,
                 counts: vec![1, 0, 2],
@@ -425,6 +446,7 @@ mod tests {
         assert!(Record::decode("chprog 0\nA\n").is_err());
         assert!(Record::decode("chprog 1\nno name line").is_err());
         assert!(Record::decode("chtools x\n").is_err());
+        assert!(Record::decode("chmdi 0\nG0 X1\n").is_err());
         assert!(Record::decode("parts 5").is_err());
         assert!(Record::decode("read A fanu\nG0").is_err());
         assert!(Record::decode("new A fanuc linuxcnc").is_err());

@@ -233,6 +233,7 @@ impl State {
             Record::ChannelProgram { .. }
                 | Record::ChannelTools { .. }
                 | Record::ChannelParams { .. }
+                | Record::ChannelMdi { .. }
                 | Record::Parts { .. }
         );
         match (self.lathe.as_mut(), lathe_rec) {
@@ -427,6 +428,7 @@ impl State {
             Record::ChannelProgram { .. }
             | Record::ChannelTools { .. }
             | Record::ChannelParams { .. }
+            | Record::ChannelMdi { .. }
             | Record::Parts { .. } => Err(Refusal::Other(
                 "not a record of the centre's stores".to_string(),
             )),

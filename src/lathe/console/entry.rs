@@ -4,7 +4,7 @@
 
 use super::events::Mode;
 use super::{ofs, LatheConsole};
-use crate::store::lathe::{Program, MAX_PROGRAM};
+use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
 
 impl LatheConsole {
@@ -23,12 +23,19 @@ impl LatheConsole {
                 if line.is_empty() {
                     return;
                 }
-                if self.mdi[self.sel].len() >= 64 {
-                    self.message = "the MDI buffer holds 64 lines: START or RESET it".into();
+                if self.mdi[self.sel].len() >= MAX_MDI_LINES {
+                    self.message =
+                        format!("the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it");
                     self.entry = line;
                     return;
                 }
-                self.mdi[self.sel].push(line);
+                let mut lines = self.mdi[self.sel].clone();
+                lines.push(line.clone());
+                if !self.set_mdi(lines) {
+                    // Not stored: the line stays on the entry line, nothing is lost.
+                    self.entry = line;
+                    return;
+                }
                 self.message = format!(
                     "MDI CH{}: {} lines; START runs them",
                     self.sel + 1,

@@ -132,7 +132,7 @@ impl LatheConsole {
             programs: o.programs,
             pointers: vec![0; n],
             edit_line: vec![1; n],
-            mdi: vec![Vec::new(); n],
+            mdi: o.mdi.clone(),
             counter: o.counter,
             store: o.store,
             desc,
@@ -660,16 +660,40 @@ impl LatheConsole {
                     }
                     self.counter = next;
                     self.stale_counts = false;
-                } else {
-                    self.mdi[self.sel].clear();
                 }
+                // The buffer is cleared once it runs; if the clear cannot be stored, the
+                // buffer stays (in memory as on disk) and the message says so.
+                let cleared = !mdi || self.set_mdi(Vec::new());
                 self.cycle = Some(c);
-                self.message = if mdi {
-                    format!("MDI CH{} runs", self.sel + 1)
-                } else {
-                    "cycle start".into()
+                self.message = match (mdi, cleared) {
+                    (false, _) => "cycle start".into(),
+                    (true, true) => format!("MDI CH{} runs", self.sel + 1),
+                    (true, false) => format!(
+                        "MDI CH{} runs; {}: the buffer is kept",
+                        self.sel + 1,
+                        self.message
+                    ),
                 };
                 self.keep_params();
+            }
+        }
+    }
+
+    /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
+    /// restart, as the centre's): whether it was stored. Not stored, the buffer stays as it
+    /// was and the message line says why.
+    fn set_mdi(&mut self, lines: Vec<String>) -> bool {
+        if lines == self.mdi[self.sel] {
+            return true;
+        }
+        match self.store.save_mdi(self.sel, &lines) {
+            Ok(()) => {
+                self.mdi[self.sel] = lines;
+                true
+            }
+            Err(e) => {
+                self.message = e;
+                false
             }
         }
     }
@@ -715,9 +739,9 @@ impl LatheConsole {
             }
         }
         let Some(c) = self.cycle.as_mut() else {
-            self.mdi[self.sel].clear();
             self.entry.clear();
             self.message = format!("RESET CH{}", self.sel + 1);
+            self.set_mdi(Vec::new());
             return;
         };
         if c.is_over() {
