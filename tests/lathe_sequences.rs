@@ -59,6 +59,8 @@ struct Seq {
     dir: std::path::PathBuf,
     counts: Vec<u32>,
     stats: Stats,
+    /// The last step was an operator action with no machine time after it.
+    fresh: bool,
 }
 
 #[derive(Default)]
@@ -114,6 +116,26 @@ fn check(s: &mut Seq, what: &str) {
         }
     }
     s.counts = counts.clone();
+    // The message line says what the machine does only while it does it: never "runs" or
+    // "START" with every channel at rest, never a feed hold or an E-STOP that is not there
+    // (the acknowledgement of an action that has not yet had a tick is the one exception).
+    let m = s.c.message().to_string();
+    let states: Vec<&str> = v.channels.iter().map(|c| c.state.as_str()).collect();
+    let any = |w: &[&str]| states.iter().any(|s| w.contains(s));
+    if !s.fresh {
+        if m == "START" || m == "cycle start" || m.starts_with("MDI CH") && m.ends_with(" runs") {
+            assert!(
+                any(&["RUN", "WAIT", "STOP"]),
+                "{what}: '{m}' with {states:?}"
+            );
+        }
+        if m.starts_with("STOP: feed hold") {
+            assert!(any(&["HOLD"]), "{what}: '{m}' with {states:?}");
+        }
+        if m.starts_with("E-STOP") {
+            assert!(any(&["ESTOP"]), "{what}: '{m}' with {states:?}");
+        }
+    }
     let Some(l) = s.c.cycle() else { return };
     let chans = l.channels();
     for (ch, c) in chans.iter().enumerate() {
@@ -178,6 +200,7 @@ fn check(s: &mut Seq, what: &str) {
 
 /// Advances `ns` and checks that a faulted or E-stopped channel did not move meanwhile.
 fn advance(s: &mut Seq, ns: u64) {
+    s.fresh = false;
     let state = |s: &Seq| -> Vec<(String, [i64; 2])> {
         s.c.view()
             .channels
@@ -247,6 +270,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             let k = keys[rng.below(keys.len())];
             let silent = !matches!(k, Key::Alt('=' | '-' | 'o'));
             let line = format!("key {}", novanc::console::keys::key_name(k));
+            s.fresh = true;
             s.c.handle(PanelEvent::Press(k));
             if silent {
                 assert!(
@@ -274,6 +298,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         }
     };
     let line = novanc::console::script_line(&ev);
+    s.fresh = true;
     s.c.handle(ev);
     line
 }
@@ -288,6 +313,7 @@ fn run(n: u64, steps: usize) -> Stats {
             dir: dir.clone(),
             counts: vec![0; 3],
             stats: Stats::default(),
+            fresh: false,
         };
         let mut rng = Rng::new(0x1a7e ^ seed.wrapping_mul(0x9E37_79B9));
         let mut log = Vec::new();

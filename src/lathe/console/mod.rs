@@ -40,7 +40,12 @@ pub struct LatheConsole {
     sel: usize,
     mode: Mode,
     entry: String,
+    /// The operator message: the result, refusal or error of an action, or what the machine
+    /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
+    /// from the channels' states when the frame is drawn ([`LatheConsole::message`]).
     message: String,
+    /// How long [`LatheConsole::message`] lives, and the machine time it was said at.
+    msg_life: (MsgLife, u64),
     cycle: Option<glue::Cycle>,
     rows: usize,
     cols: usize,
@@ -75,6 +80,22 @@ pub struct LatheConsole {
     wait_error: Option<String>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
+}
+
+/// How long the lathe console's operator message lives (the centre's rule, docs/panel.md
+/// "Messages"): until the next operator action; an acknowledgement of what the machine does
+/// ("cycle start", "STOP: feed hold ...") only while the machine still does it, so that the
+/// screen never says a cycle runs when every channel stands still.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum MsgLife {
+    /// Until the next operator action.
+    NextAction,
+    /// While a channel runs (RUN, WAIT, STOP between blocks), and the next action at most.
+    WhileRunning,
+    /// While a channel is in feed hold.
+    WhileHeld,
+    /// While the machine is in E-STOP.
+    WhileEstop,
 }
 
 /// What the terminal or the window draws.
@@ -140,6 +161,7 @@ impl LatheConsole {
             mode: Mode::Auto,
             entry: String::new(),
             message: String::new(),
+            msg_life: (MsgLife::NextAction, 0),
             cycle: None,
             rows,
             cols,
@@ -226,9 +248,39 @@ impl LatheConsole {
         &self.counter
     }
 
-    /// The last message.
+    /// The message line: the operator message while it lives ([`MsgLife`]), else what the
+    /// machine is doing that needs the operator (E-STOP, a feed hold), derived from the
+    /// channels' states.
     pub fn message(&self) -> &str {
-        &self.message
+        self.message_with(&self.chan_views())
+    }
+
+    fn message_with(&self, chans: &[ChanView]) -> &str {
+        let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
+        let (life, at) = self.msg_life;
+        // Said in this instant: the machine has not answered yet (START before its tick).
+        let fresh = at == self.now_ns;
+        let lives = match life {
+            MsgLife::NextAction => true,
+            MsgLife::WhileRunning => fresh || any(&["RUN", "WAIT", "STOP"]),
+            MsgLife::WhileHeld => fresh || any(&["HOLD"]),
+            MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
+        };
+        if lives && !self.message.is_empty() {
+            &self.message
+        } else if any(&["ESTOP"]) {
+            "E-STOP: every channel stopped; RESET releases"
+        } else if any(&["HOLD"]) {
+            "STOP: feed hold; START resumes"
+        } else {
+            ""
+        }
+    }
+
+    /// Says `text` on the message line for as long as `life`.
+    fn say(&mut self, text: impl Into<String>, life: MsgLife) {
+        self.message = text.into();
+        self.msg_life = (life, self.now_ns);
     }
 
     /// The mode: AUTO, MDI, DATA or OFS.
@@ -321,6 +373,9 @@ impl LatheConsole {
     /// is ignored and the notice says which; a key that does nothing here says so.
     pub fn press(&mut self, k: novanc_panel::Key) {
         let act = events::map_key(k, self.optional_stop, self.block_delete);
+        if self.screen.fits() || crate::console::keys::is_relay_stop(k) {
+            self.say("", MsgLife::NextAction);
+        }
         if crate::console::keys::is_relay_stop(k) {
             self.help = false;
             if let LatheKey::Ev(e) = act {
@@ -406,6 +461,8 @@ impl LatheConsole {
             _ => {}
         }
         self.record_event(&ev);
+        // An operator action: the last one's message has lived its life.
+        self.say("", MsgLife::NextAction);
         if let Err(e) = events::takes(&ev) {
             self.message = e;
             return self.after();
@@ -434,7 +491,10 @@ impl LatheConsole {
             PanelEvent::Stop => match self.cycle.as_mut() {
                 Some(c) => {
                     c.hold();
-                    self.message = "STOP: feed hold on every channel; START resumes".into();
+                    self.say(
+                        "STOP: feed hold on every channel; START resumes",
+                        MsgLife::WhileHeld,
+                    );
                 }
                 None => self.message = "STOP: nothing runs".into(),
             },
@@ -443,7 +503,10 @@ impl LatheConsole {
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
-                self.message = "E-STOP: every channel stopped; RESET releases".into();
+                self.say(
+                    "E-STOP: every channel stopped; RESET releases",
+                    MsgLife::WhileEstop,
+                );
             }
             PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
                 Some(c) if ch < self.desc.channels.len() => {
@@ -569,10 +632,10 @@ impl LatheConsole {
     fn start(&mut self) {
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
-                self.message = match c.start() {
-                    Ok(()) => "START".into(),
-                    Err(e) => e,
-                };
+                match c.start() {
+                    Ok(()) => self.say("START", MsgLife::WhileRunning),
+                    Err(e) => self.message = e,
+                }
                 return;
             }
         }
@@ -665,7 +728,7 @@ impl LatheConsole {
                 // buffer stays (in memory as on disk) and the message says so.
                 let cleared = !mdi || self.set_mdi(Vec::new());
                 self.cycle = Some(c);
-                self.message = match (mdi, cleared) {
+                let said = match (mdi, cleared) {
                     (false, _) => "cycle start".into(),
                     (true, true) => format!("MDI CH{} runs", self.sel + 1),
                     (true, false) => format!(
@@ -674,6 +737,13 @@ impl LatheConsole {
                         self.message
                     ),
                 };
+                // The store's refusal lives as a message of its own would.
+                let life = if cleared {
+                    MsgLife::WhileRunning
+                } else {
+                    MsgLife::NextAction
+                };
+                self.say(said, life);
                 self.keep_params();
             }
         }
@@ -720,6 +790,7 @@ impl LatheConsole {
                 for &p in &changed {
                     if let Err(e) = self.store.save_params(ch, &[p]) {
                         self.message = format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0);
+                        self.msg_life = (MsgLife::NextAction, self.now_ns);
                     }
                 }
             }
@@ -828,10 +899,12 @@ impl LatheConsole {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
                     self.message = e;
+                    self.msg_life = (MsgLife::NextAction, self.now_ns);
                 }
             }
             if let Some(m) = c.take_message() {
                 self.message = m;
+                self.msg_life = (MsgLife::NextAction, self.now_ns);
             }
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
@@ -852,6 +925,7 @@ impl LatheConsole {
                     0,
                 );
                 self.message = text;
+                self.msg_life = (MsgLife::NextAction, self.now_ns);
             }
         }
         self.record_display();
@@ -930,7 +1004,7 @@ impl LatheConsole {
             &mode,
             self.desc.pulse_mm,
             &listing,
-            &self.message,
+            self.message_with(&chans),
             &self.entry,
             self.rows,
             w,
