@@ -28,7 +28,7 @@ pub fn op_name(m: OpMode) -> &'static str {
 pub const CUT: char = '…';
 
 /// Exactly `cols` characters: padded with blanks, or cut with [`CUT`] as its last character.
-pub(super) fn fit(s: &str, cols: usize) -> String {
+pub(crate) fn fit(s: &str, cols: usize) -> String {
     let n = s.chars().count();
     if n > cols {
         let mut out: String = s.chars().take(cols.saturating_sub(1)).collect();
@@ -55,7 +55,7 @@ pub(super) fn split_line(left: &str, right: &str, cols: usize) -> String {
 
 /// A message wrapped on at most `max` lines of `cols` (words kept whole where possible); if it
 /// needs more, the last line shown ends in [`CUT`].
-pub(super) fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
+pub(crate) fn wrap(msg: &str, cols: usize, max: usize) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut cur = String::new();
     for w in msg.split(' ') {

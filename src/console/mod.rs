@@ -14,7 +14,7 @@
 mod answers;
 mod book;
 mod config;
-mod display;
+pub(crate) mod display;
 pub(crate) mod entry;
 mod gcode_run;
 pub mod keys;

@@ -65,10 +65,7 @@ pub struct ChanView {
 
 /// Pads or cuts `s` to exactly `w` characters.
 pub fn fit(s: &str, w: usize) -> String {
-    let mut out: String = s.chars().take(w).collect();
-    let n = out.chars().count();
-    out.extend(std::iter::repeat_n(' ', w - n));
-    out
+    crate::console::display::fit(s, w)
 }
 
 /// The summary line of channel `i` (0-based), `w` characters: number, state, current block,
@@ -133,14 +130,17 @@ pub fn plasma(
         &format!("T{:02} {work} CHUCK {chuck} {}", c.tool, c.state),
         cols,
     ));
-    let body = rows.saturating_sub(out.len() + 2);
+    // The message takes the lines it needs, up to a third of the display (the centre's
+    // wrapping: words kept whole, a cut said), the listing the rest.
+    let said = crate::console::display::wrap(message, cols, (rows / 3).max(1));
+    let body = rows.saturating_sub(out.len() + 1 + said.len());
     for l in listing.iter().take(body) {
         out.push(fit(l, cols));
     }
-    while out.len() < rows.saturating_sub(2) {
+    while out.len() < rows.saturating_sub(1 + said.len()) {
         out.push(fit("", cols));
     }
-    out.push(fit(message, cols));
+    out.extend(said.iter().map(|l| fit(l, cols)));
     out.push(fit(&format!("> {entry}"), cols));
     out.truncate(rows);
     out
@@ -166,7 +166,8 @@ mod tests {
         c.line = 17;
         c.text = "G1 Z-12 F0.12".into();
         let l = summary_line(0, &c, 5, false, 30);
-        assert_eq!(l, " CH1 WAIT  0017 G1 Z parts 2/5");
+        // The block is cut to fit, and the cut says so (the centre's rule).
+        assert_eq!(l, " CH1 WAIT  0017 G1 … parts 2/5");
     }
 
     #[test]
@@ -195,5 +196,21 @@ mod tests {
             d[1]
         );
         assert_eq!(d[11].trim_end(), "> ab");
+        // A long message wraps on up to a third of the rows, the listing giving way.
+        let long = "key Alt+0 does nothing on the lathe console (F8 shows the keys)";
+        let d = plasma(
+            0,
+            &c,
+            "AUTO",
+            0.001,
+            &["0001 G0 X40".into()],
+            long,
+            "",
+            12,
+            40,
+        );
+        assert_eq!(d.len(), 12);
+        assert_eq!(d[9].trim_end(), "key Alt+0 does nothing on the lathe");
+        assert_eq!(d[10].trim_end(), "console (F8 shows the keys)");
     }
 }
