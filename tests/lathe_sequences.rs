@@ -15,7 +15,13 @@
 //! - part counts never decrease within a batch and never pass the target;
 //! - a channel in E-STOP does not move while the others run, nor one in FAULT once its feed
 //!   hold has brought it to rest;
-//! - the stores hold exactly the console's programs and part counter.
+//! - the message line says a cycle runs, a feed hold or an E-STOP only while the machine is so;
+//! - a key the lathe has no use for says so;
+//! - at the end of each sequence, the stores (reopened) hold exactly the console's programs,
+//!   MDI buffers and part counter.
+//!
+//! The same sequences run on the Citizen and on a one-channel Fanuc lathe that the operator
+//! loads by hand (`loading manual`, a shop program without chuck codes).
 //!
 //! CI runs `NOVANC_LATHE_SEQUENCES` sequences (default 40) of 40 steps. The long run:
 //! `NOVANC_LATHE_SEQUENCES=2000 cargo test --release --test lathe_sequences -- --ignored --nocapture`.
@@ -27,6 +33,7 @@ use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
 use novanc::panel_model::PanelEvent;
 use novanc::pulse_core::testkit::Rng;
+use novanc::store::lathe::{LatheStore, Program};
 
 const ROWS: usize = 12;
 const COLS: usize = 40;
@@ -81,7 +88,7 @@ fn check(s: &mut Seq, what: &str) {
         "{what}: {:?}",
         v.display
     );
-    assert_eq!(v.summary.len(), 3, "{what}");
+    assert_eq!(v.summary.len(), s.c.desc().channels.len(), "{what}");
     assert!(
         v.summary.iter().all(|l| l.chars().count() == COLS),
         "{what}: {:?}",
@@ -89,21 +96,7 @@ fn check(s: &mut Seq, what: &str) {
     );
     let desc = s.c.desc().clone();
     let target = s.c.counter().target;
-    // Stores.
-    let dir = s.dir.join("lathe-citizen");
-    let parts = std::fs::read_to_string(dir.join("parts")).unwrap_or_default();
     let counts = &s.c.counter().counts;
-    if !parts.is_empty() {
-        let want = format!(
-            "target {target}\ncounts {}\n",
-            counts
-                .iter()
-                .map(|c| c.to_string())
-                .collect::<Vec<_>>()
-                .join(" ")
-        );
-        assert_eq!(parts, want, "{what}: the stored part counter");
-    }
     for (i, c) in counts.iter().enumerate() {
         assert!(*c <= target, "{what}: CH{} counted {c} of {target}", i + 1);
         if *c < s.counts[i] {
@@ -240,11 +233,12 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         30..=37 => {
             s.stats.faults += 1;
             PanelEvent::Fault(
-                rng.range(0, 2) as usize,
+                rng.below(s.c.desc().channels.len() + 1),
                 ["tool breakage", "failed supply", "operator"][rng.range(0, 2) as usize].into(),
             )
         }
-        38..=45 => PanelEvent::Channel(rng.range(0, 2) as usize),
+        // One past the last channel now and then: refused, said.
+        38..=45 => PanelEvent::Channel(rng.below(s.c.desc().channels.len() + 1)),
         46..=47 => PanelEvent::Press(novanc_panel::Key::Tab),
         48..=49 => PanelEvent::Target(rng.range(1, 4) as u32),
         50..=53 => [Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize].event(),
@@ -303,15 +297,83 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
     line
 }
 
-fn run(n: u64, steps: usize) -> Stats {
+/// A lathe to run the sequences on: its description and the program stored for each channel
+/// before the console opens (`None`: the stores' defaults, the Citizen's samples).
+struct Machine {
+    desc: LatheDesc,
+    programs: Option<Vec<Program>>,
+    tag: &'static str,
+}
+
+fn citizen() -> Machine {
+    Machine {
+        desc: LatheDesc::citizen(),
+        programs: None,
+        tag: "citizen",
+    }
+}
+
+/// A one-channel lathe in Fanuc's dialect that the operator loads by hand, with a shop program
+/// that works no chuck (docs/lathe.md "Loading by hand").
+fn by_hand() -> Machine {
+    let desc = match novanc::lathe::desc::parse(
+        "machine byhand\nkind lathe\npulse 0.001\ntick 100\ndialect fanuc\n\
+         loading manual\nchannel PATH-1\nx travel 0 100 rapid 12000 accel 3000\n\
+         z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n\
+         tool 1 radius 0.4 tip 3\ntool 2 radius 0 tip 8\n",
+    ) {
+        Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) => d,
+        other => panic!("{other:?}"),
+    };
+    let text = "O1000\nG21 G40 G80 G95\nG28 U0 W0\nT0101\nG96 S120 M03\nM08\n\
+                G0 X42. Z2.\nG1 Z-20. F0.2\nX46.\nG0 Z2.\nG28 U0 W0\nT0202\nG97 S800\n\
+                G0 X0 Z5.\nG1 Z-10. F0.1\nG0 Z5.\nG28 U0 W0\nM09 M05\nM30\n";
+    Machine {
+        desc,
+        programs: Some(vec![Program {
+            name: "O1000.NC".into(),
+            text: text.into(),
+            dialect: None,
+        }]),
+        tag: "byhand",
+    }
+}
+
+/// At the end of a sequence: the stores, reopened, hold exactly what the console held.
+fn stores_hold_the_console(s: Seq, m: &Machine, what: &str) {
+    let n = m.desc.channels.len();
+    let programs = s.c.programs().to_vec();
+    let mdi: Vec<Vec<String>> = (0..n).map(|ch| s.c.mdi_lines(ch).to_vec()).collect();
+    let counter = s.c.counter().clone();
+    drop(s);
+    let o = LatheStore::open(
+        &std::path::PathBuf::from(what.split('|').next().unwrap()),
+        &m.desc,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(o.programs, programs, "{what}: the stored programs");
+    assert_eq!(o.mdi, mdi, "{what}: the stored MDI buffers");
+    assert_eq!(o.counter, counter, "{what}: the stored part counter");
+}
+
+fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
     let mut total = Stats::default();
+    let channels = m.desc.channels.len();
     for seed in 0..n {
-        let dir = common::temp_dir(&format!("lathe-seq-{seed}"));
-        let (c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, ROWS, COLS, None).unwrap();
+        let dir = common::temp_dir(&format!("lathe-seq-{}-{seed}", m.tag));
+        if let Some(ps) = &m.programs {
+            let mut o = LatheStore::open(&dir, &m.desc).unwrap_or_else(|e| panic!("{e}"));
+            for (ch, p) in ps.iter().enumerate() {
+                o.store
+                    .save_program(ch, p)
+                    .unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
+        let (c, _) = LatheConsole::open(m.desc.clone(), &dir, ROWS, COLS, None).unwrap();
         let mut s = Seq {
             c,
             dir: dir.clone(),
-            counts: vec![0; 3],
+            counts: vec![0; channels],
             stats: Stats::default(),
             fresh: false,
         };
@@ -320,11 +382,11 @@ fn run(n: u64, steps: usize) -> Stats {
         for i in 0..steps {
             let what = step(&mut s, &mut rng);
             log.push(what);
-            let ctx = format!("seed {seed} step {i}: {}", log.join(" | "));
+            let ctx = format!("{} seed {seed} step {i}: {}", m.tag, log.join(" | "));
             check(&mut s, &ctx);
             s.stats.steps += 1;
         }
-        s.stats.parts += s.c.counter().counts[2] as u64;
+        s.stats.parts += s.c.counter().counts[m.desc.unloader] as u64;
         if s.c.view().channels.iter().all(|c| c.state == "DONE") {
             s.stats.batches_done += 1;
         }
@@ -334,10 +396,14 @@ fn run(n: u64, steps: usize) -> Stats {
         total.estops += s.stats.estops;
         total.handovers_seen += s.stats.handovers_seen;
         total.batches_done += s.stats.batches_done;
-        drop(s);
+        stores_hold_the_console(s, m, &format!("{}|{} seed {seed}", dir.display(), m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
     total
+}
+
+fn run(n: u64, steps: usize) -> Stats {
+    run_on(&citizen(), n, steps)
 }
 
 fn count() -> u64 {
@@ -361,19 +427,34 @@ fn random_operator_sequences_keep_the_lathe_invariants() {
 }
 
 #[test]
-#[ignore]
-fn many_random_operator_sequences() {
-    let t = std::time::Instant::now();
-    let st = run(count(), 60);
-    println!(
-        "{} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {:.1} s",
-        count(),
-        st.steps,
+fn random_operator_sequences_keep_the_invariants_on_a_lathe_loaded_by_hand() {
+    let st = run_on(&by_hand(), count() / 2, 40);
+    assert!(
+        st.parts > 0 && st.faults > 0 && st.estops > 0,
+        "parts {} faults {} estops {}",
         st.parts,
         st.faults,
-        st.estops,
-        st.handovers_seen,
-        st.batches_done,
-        t.elapsed().as_secs_f64()
+        st.estops
     );
+}
+
+#[test]
+#[ignore]
+fn many_random_operator_sequences() {
+    for m in [citizen(), by_hand()] {
+        let t = std::time::Instant::now();
+        let st = run_on(&m, count(), 60);
+        println!(
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {:.1} s",
+            m.tag,
+            count(),
+            st.steps,
+            st.parts,
+            st.faults,
+            st.estops,
+            st.handovers_seen,
+            st.batches_done,
+            t.elapsed().as_secs_f64()
+        );
+    }
 }

@@ -243,6 +243,16 @@ impl LatheConsole {
         self.sel
     }
 
+    /// Each channel's program as the console holds it (stored before it is taken).
+    pub fn programs(&self) -> &[Program] {
+        &self.programs
+    }
+
+    /// Channel `ch`'s MDI buffer: the lines typed and not yet run.
+    pub fn mdi_lines(&self, ch: usize) -> &[String] {
+        self.mdi.get(ch).map_or(&[], |l| &l[..])
+    }
+
     /// The part counter.
     pub fn counter(&self) -> &Counter {
         &self.counter
