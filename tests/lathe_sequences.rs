@@ -345,12 +345,9 @@ fn stores_hold_the_console(s: Seq, m: &Machine, what: &str) {
     let programs = s.c.programs().to_vec();
     let mdi: Vec<Vec<String>> = (0..n).map(|ch| s.c.mdi_lines(ch).to_vec()).collect();
     let counter = s.c.counter().clone();
+    let dir = s.dir.clone();
     drop(s);
-    let o = LatheStore::open(
-        &std::path::PathBuf::from(what.split('|').next().unwrap()),
-        &m.desc,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let o = LatheStore::open(&dir, &m.desc).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(o.programs, programs, "{what}: the stored programs");
     assert_eq!(o.mdi, mdi, "{what}: the stored MDI buffers");
     assert_eq!(o.counter, counter, "{what}: the stored part counter");
@@ -396,7 +393,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.estops += s.stats.estops;
         total.handovers_seen += s.stats.handovers_seen;
         total.batches_done += s.stats.batches_done;
-        stores_hold_the_console(s, m, &format!("{}|{} seed {seed}", dir.display(), m.tag));
+        stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
     total
