@@ -349,3 +349,40 @@ fn a_fanuc_program_with_g83_runs_to_its_end() {
     assert!(out.contains("CH1 PATH-1:"), "{out}");
     assert!(out.contains(", parts 2"), "{out}");
 }
+
+#[test]
+fn g83_stays_in_force_from_one_read_to_the_next_until_m30() {
+    use novanc::lathe::gcode::{read_kept, Kept};
+    let desc = lathe("fanuc");
+    let opts = ReadOptions::default();
+    let kept = Kept::power_on(&desc, 0, None);
+    let first = format!("{HEAD}G0 X0 Z5.\nG83 Z-10. R-2. F0.1\n");
+    let r = read_kept(&first, &desc, 0, &opts, None, &kept, None).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        r.kept.modal.drill.is_some(),
+        "G83 is modal, as an MDI line leaves it"
+    );
+    // The next read (an MDI line) starts where the last left the tool, on Z5, and `Z-12.`
+    // repeats the cycle: initial level Z5, R level Z3, one feed to −12, back to Z5.
+    let at = Some([0, 5000]);
+    let spin = "M03\nZ-12.\n";
+    let r2 = read_kept(spin, &desc, 0, &opts, None, &r.kept, at).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        moves(&r2.statements),
+        ["R X0.000 Z3.000", "F X0.000 Z-12.000", "R X0.000 Z5.000"]
+    );
+    // M30 resets the cycle: the next program's `Z-12.` is a G00 move.
+    let r3 = read_kept(
+        "G80\nM03\nG83 Z-10. R-2. F0.1\nM30\n",
+        &desc,
+        0,
+        &opts,
+        None,
+        &r2.kept,
+        at,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(r3.kept.modal.drill.is_none());
+    let r4 = read_kept(spin, &desc, 0, &opts, None, &r3.kept, at).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(moves(&r4.statements), ["R X0.000 Z-12.000"]);
+}

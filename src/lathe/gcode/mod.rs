@@ -454,6 +454,11 @@ pub fn read_kept(
         modal.motion = Some(10);
     }
     modal.dir = 5;
+    if r.ended {
+        // M02/M30 reset a Fanuc, and a reset cancels the drilling cycle (G80): the next
+        // program's first X or Z must not drill.
+        modal.drill = None;
+    }
     let tool = r.out.tool_in_place();
     Ok(Reading {
         statements,
