@@ -386,3 +386,31 @@ fn g83_stays_in_force_from_one_read_to_the_next_until_m30() {
     let r4 = read_kept(spin, &desc, 0, &opts, None, &r3.kept, at).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(moves(&r4.statements), ["R X0.000 Z-12.000"]);
 }
+
+#[test]
+fn g83_under_g20_reads_q_in_ten_thousandths_and_r_from_the_initial_level() {
+    let desc = lathe("fanuc");
+    // A Haas-styled line (R the plane's position, Q with a point) is refused at Q, in inch
+    // terms; Fanuc's form of it reads.
+    refused(
+        "G20 G40 G95\nT0202\nG97 S1000 M03\nG0 X0 Z0.2\nG83 X0 Z-1.3 R.1 Q0.3125 F.006\n",
+        &desc,
+        "5:18",
+        "(Q1000 is 0.1000 inch under G20)",
+    );
+    let p = "G20 G40 G95\nT0202\nG97 S1000 M03\nG0 X0 Z0.2\nG83 X0 Z-1.3 R-.1 Q5000 F.006\nG80\n";
+    // By hand, in mm: the initial level 0.2 in = Z5.08, R-.1 in = −2.54: the R level Z2.54;
+    // Q5000 = 0.5 in = 12.7 mm: pecks at 2.54 − 12.7 = −10.16 and −22.86 (−35.56 passes the
+    // bottom −1.3 in = −33.02), each backing off 0.254; the bottom −33.02; back to Z5.08.
+    let want = [
+        "R X0.000 Z5.080",
+        "R X0.000 Z2.540",
+        "F X0.000 Z-10.160",
+        "R X0.000 Z-9.906",
+        "F X0.000 Z-22.860",
+        "R X0.000 Z-22.606",
+        "F X0.000 Z-33.020",
+        "R X0.000 Z5.080",
+    ];
+    assert_eq!(ok(p, &desc), want, "{p}");
+}

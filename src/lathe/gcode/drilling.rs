@@ -69,10 +69,10 @@ pub fn g83(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateE
     }
     for l in ['P', 'Q'] {
         if r.written_with_point(l) {
-            let what = if l == 'P' {
-                "G83 P, the dwell, is in milliseconds, without a decimal point (P500 is 0.5 s)"
-            } else {
-                "G83 Q, the depth of each peck, is in least increments, without a decimal point (Q5000 is 5.000 mm)"
+            let what = match (l, r.st.inch) {
+                ('P', _) => "G83 P, the dwell, is in milliseconds, without a decimal point (P500 is 0.5 s)",
+                (_, false) => "G83 Q, the depth of each peck, is in least increments, without a decimal point (Q5000 is 5.000 mm)",
+                (_, true) => "G83 Q, the depth of each peck, is in least increments, without a decimal point (Q1000 is 0.1000 inch under G20)",
             };
             return Err(err(n, w.col(l).unwrap_or(c), what));
         }
