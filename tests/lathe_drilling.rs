@@ -414,3 +414,17 @@ fn g83_under_g20_reads_q_in_ten_thousandths_and_r_from_the_initial_level() {
     ];
     assert_eq!(ok(p, &desc), want, "{p}");
 }
+
+#[test]
+fn a_program_reads_g83_and_its_return_level_as_fanucs_modal_information() {
+    let desc = lathe("fanuc");
+    // #4010 is group 10 (G80 or G83), #4011 group 11 (G98 or G99): a macro that checks them
+    // passes the alarms only when both are what the lines before set.
+    let p = format!(
+        "{HEAD}G0 X0 Z5.\nIF [#4010 NE 80] GOTO 90\nG99 G83 Z-10. R-2. F0.1\n\
+         IF [#4010 NE 83] GOTO 90\nIF [#4011 NE 99] GOTO 90\nG80\nIF [#4010 NE 80] GOTO 90\n\
+         M30\nN90 #3000 = 1 (MODAL INFORMATION WRONG)\n"
+    );
+    let got = ok(&p, &desc);
+    assert_eq!(got.len(), 4, "{got:?}");
+}
