@@ -680,7 +680,7 @@ fn the_lathes_system_variables_are_refused_at_their_place() {
         ("#1 = #2401\n", "1:6: #2401: the lathe has no such tool offset variable"),
         ("#1 = #5003\n", "1:6: #5003: the lathe keeps no such system variable"),
         ("#5021 = 1.\n", "1:1: #5021: the lathe keeps no such system variable"),
-        ("#1 = #4008\n", "1:6: #4008: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4016 #4109 #4113 #4114 #4115 #4119 #4120)"),
+        ("#1 = #4008\n", "1:6: #4008: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4010 #4011 #4016 #4109 #4113 #4114 #4115 #4119 #4120)"),
     ];
     for (text, want) in cases {
         let got = fanuc(text);

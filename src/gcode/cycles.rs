@@ -55,8 +55,8 @@ pub fn peck_depths(r: f64, bottom: f64, q: f64) -> Result<Vec<f64>, PeckFault> {
 }
 
 /// G73 and G83 retract this far above the last depth before the next peck, inches (rs274
-/// 2.9's clearance).
-const PECK_CLEARANCE_INCH: f64 = 0.010;
+/// 2.9's clearance; the lathe's G83 backs off as far, docs/lathe-gcode.md "G83").
+pub const PECK_CLEARANCE_INCH: f64 = 0.010;
 
 /// The plane's axes as (aa, bb, cc) indices into X Y Z, and their letters.
 fn axes(plane: Plane) -> ([usize; 3], [char; 3]) {

@@ -188,11 +188,12 @@ pub fn write(r: &Reader, n: usize, fanuc: bool) -> Option<String> {
 
 /// The lathe's modal information in Fanuc 0i-TF's groups (G-code system B): #4001 group 1
 /// (G00–G03 as 0–3, G33 as 33; null before one), #4002 G96/G97, #4003 G90/G91, #4005
-/// G94/G95, #4006 G20/G21, #4007 G40/G41/G42, #4016 the plane (18), #4109 F, #4119 S, #4120
-/// the T code (tool and offset, 101; null before one).
+/// G94/G95, #4006 G20/G21, #4007 G40/G41/G42, #4010 G80/G83, #4011 G98/G99 (G83's return
+/// level), #4016 the plane (18), #4109 F, #4119 S, #4120 the T code (tool and offset, 101;
+/// null before one).
 impl Modal for Reader<'_> {
     fn items(&self) -> &'static [usize] {
-        &[1, 2, 3, 5, 6, 7, 16, 109, 119, 120]
+        &[1, 2, 3, 5, 6, 7, 10, 11, 16, 109, 119, 120]
     }
 
     fn item(&self, i: usize) -> f64 {
@@ -209,6 +210,9 @@ impl Modal for Reader<'_> {
                 Some(true) => 41.0,
                 Some(false) => 42.0,
             },
+            10 => pick(st.drill.is_some(), 83.0, 80.0),
+            11 if self.system_a => f64::NAN,
+            11 => pick(st.drill_to_r, 99.0, 98.0),
             16 => 18.0,
             109 => st.feed.unwrap_or(0.0) / st.factor(),
             119 => st.s,
