@@ -257,84 +257,19 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
     }
 }
 
-const SCRIPT_HELP: &str = "\
-usage: novanc script FILE --machine MACHINE [--state DIR] [--record OUT.mcap] [--rows N] [--cols N]
-                           [--mtconnect ADDR:PORT|PORT] [--mtconnect-wait SECONDS]
-
-Runs a lathe panel script (one event per line, # comments) in virtual time:
-  op AUTO|MDI|DATA   channel N   type TEXT   start | stop | reset | estop
-  fault N REASON     target N    override PCT   optionalstop on|off   blockdelete on|off   key NAME
-  wait               until every channel is at rest (finished, stopped, waiting on a stopped
-                     channel, faulted, or in E-STOP)
-  wait block N       until block N (its N number, counted from 1 in the program as read) of
-                     the selected channel's program starts, or every channel is at rest
-  wait ms T          let T milliseconds of machine time pass
-  show               print the display (title, summary lines, plasma) between --- lines
-A bad line stops the script before anything runs (exit 1).
---mtconnect streams the machine to MTConnect agents, each channel a path (docs/mtconnect.md):
-every change of state is sent, in machine time. --mtconnect-wait S waits
-up to S seconds for an agent before the first event.
-";
-
-/// `novanc script FILE --machine M` on a lathe; returns the exit code.
-pub fn script(desc: LatheDesc, argv: &[String]) -> i32 {
-    if argv.iter().any(|a| a == "-h" || a == "--help") {
-        print!("{SCRIPT_HELP}");
-        return 0;
-    }
-    let (mtc, argv) = match super::mtconnect::take(argv) {
-        Ok(x) => x,
-        Err(e) => return super::usage_error(&format!("script: {e}")),
-    };
-    let argv = argv.as_slice();
-    let has_state = argv
-        .iter()
-        .any(|a| a == "--state" || a.starts_with("--state="));
-    let (cfg, rest) = match super::console_opts::config_from_args(argv) {
-        Ok(x) => x,
-        Err(e) => return super::usage_error(&format!("script: {e}")),
-    };
-    if let Err(e) = cfg.check() {
-        return super::usage_error(&format!("script: {e}"));
-    }
-    let file = match rest.as_slice() {
-        [f] if !f.starts_with('-') => PathBuf::from(f),
-        _ => return super::usage_error("script: which script? (novanc script FILE --machine M)"),
-    };
-    let text = match std::fs::read_to_string(&file) {
-        Ok(t) => t,
-        Err(e) => return fail(&format!("novanc script: {}: {e}", file.display())),
-    };
-    let steps = match crate::lathe::console::events::parse_script(&text, desc.channels.len()) {
-        Ok(s) => s,
-        Err((line, e)) => return fail(&format!("novanc script: {}:{line}: {e}", file.display())),
-    };
-    let temp = (!has_state).then(|| {
-        let d = std::env::temp_dir().join(format!("novanc-lathe-script-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        d
-    });
-    let state = temp.clone().unwrap_or(cfg.state_dir.clone());
-    super::signals::install();
-    let code = run_script(desc, &state, &cfg, steps, &mtc);
-    if let Some(d) = temp {
-        let _ = std::fs::remove_dir_all(d);
-    }
-    super::signals::exit_code(code)
-}
-
-fn run_script(
+/// `novanc script FILE --machine M` on a lathe, once `cli::script::main` has read the
+/// arguments and the script: opens the console on `cfg` (its state directory, display size and
+/// recording), starts the MTConnect adapter, and plays the events with the one runner.
+pub(super) fn run_script(
     desc: LatheDesc,
-    state: &Path,
     cfg: &crate::console::ConsoleConfig,
     steps: Vec<PanelEvent>,
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
-    let (mut c, warnings) =
-        match LatheConsole::open(desc, state, cfg.rows, cfg.cols, cfg.record.as_deref()) {
-            Ok(x) => x,
-            Err(e) => return fail(&format!("novanc script: {e}")),
-        };
+    let (mut c, warnings) = match LatheConsole::open_config(desc, cfg) {
+        Ok(x) => x,
+        Err(e) => return fail(&format!("novanc script: {e}")),
+    };
     for w in warnings {
         eprintln!("novanc script: warning: {w}");
     }
@@ -353,7 +288,6 @@ fn run_script(
         c.set_watch(Some(f.lathe_watcher()));
     }
     // A stop signal ends the script before its next line, and a wait between two steps of
-    // 10 ms of machine time.
-    c.set_interrupt(Some(super::signals::pending));
+    // 10 ms of machine time (`cfg.interrupt`, taken by `open_config`).
     super::script::play(c, steps, feed)
 }

@@ -30,6 +30,17 @@ Runs a panel event script (one event per line, # comments):
                  run ends
   wait ms T      let T milliseconds of machine time pass
 
+On a lathe (--machine citizen or a lathe description; docs/lathe.md, Panel script) the same
+grammar, with the lathe's words and without the centre's own (HOME, the handwheel, the data
+selector, tape, DRY RUN ... are refused with the line):
+  op AUTO|MDI|DATA|OFS   channel N   type TEXT   start | stop | reset | estop   key NAME
+  fault N REASON     target N    override PCT   optionalstop on|off   blockdelete on|off
+  wait               until every channel is at rest (finished, stopped, waiting on a stopped
+                     channel, faulted, or in E-STOP)
+  wait block N       until block N (counted from 1 in the program as read) of the selected
+                     channel's program starts, or every channel is at rest
+  show               the title, the summary lines and the selected channel's plasma
+
 --mtconnect streams the machine's state to MTConnect agents (SHDR over TCP, docs/mtconnect.md;
 port 7878 and loopback unless given); the state is sent after every event. --mtconnect-wait S
 waits up to S seconds for an agent before the first event (exit 1 if none came).
@@ -42,11 +53,11 @@ and `---`. A bad line stops the script before anything runs (exit 1). Without --
 (the embedded defaults) that is removed afterwards; with --state DIR it uses and keeps DIR.
 ";
 
-/// Runs `novanc script`; returns the exit code.
+/// Runs `novanc script` on either machine (one command, one grammar, one runner: [`play`]);
+/// returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
     let (machine, argv) = match super::args::take_machine(argv) {
         Err(e) => return super::usage_error(&format!("script: {e}")),
-        Ok((super::args::Machine::Lathe(d), rest)) => return super::lathe::script(d, &rest),
         Ok(x) => x,
     };
     if argv.iter().any(|a| a == "-h" || a == "--help") {
@@ -65,7 +76,18 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(x) => x,
         Err(e) => return super::usage_error(&format!("script: {e}")),
     };
-    machine.apply(&mut cfg.settings);
+    let lathe = match machine {
+        super::args::Machine::Lathe(d) => {
+            if let Err(e) = cfg.check() {
+                return super::usage_error(&format!("script: {e}"));
+            }
+            Some(d)
+        }
+        m => {
+            m.apply(&mut cfg.settings);
+            None
+        }
+    };
     let file = match rest.as_slice() {
         [f] if !f.starts_with('-') => PathBuf::from(f),
         [] => return super::usage_error("script: which script? (novanc script FILE)"),
@@ -82,15 +104,16 @@ pub fn main(argv: &[String]) -> i32 {
             return 1;
         }
     };
-    let events = match PanelEvent::parse_script(&text) {
+    // The one grammar, checked whole before anything opens; a lathe refuses the centre's own
+    // words (and the centre a lathe's) with the line.
+    let events = match &lathe {
+        Some(d) => crate::lathe::console::events::parse_script(&text, d.channels.len()),
+        None => PanelEvent::parse_script(&text).map_err(|e| (e.line as usize, e.message)),
+    };
+    let events = match events {
         Ok(ev) => ev,
-        Err(e) => {
-            eprintln!(
-                "novanc script: {}:{}: {}",
-                file.display(),
-                e.line,
-                e.message
-            );
+        Err((line, e)) => {
+            eprintln!("novanc script: {}:{line}: {e}", file.display());
             return 1;
         }
     };
@@ -102,11 +125,15 @@ pub fn main(argv: &[String]) -> i32 {
         Some(d)
     };
     cfg.interrupt = Some(super::signals::pending);
-    let code = super::signals::exit_code(run(virtual_clock(cfg), &file, events, &mtc));
+    super::signals::install();
+    let code = match lathe {
+        Some(d) => super::lathe::run_script(d, &virtual_clock(cfg), events, &mtc),
+        None => run(virtual_clock(cfg), &file, events, &mtc),
+    };
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
-    code
+    super::signals::exit_code(code)
 }
 
 /// A new, empty temporary directory for one script's state.
@@ -190,7 +217,6 @@ fn run(
     events: Vec<PanelEvent>,
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
-    super::signals::install();
     let (console, warnings) = match Console::open(cfg) {
         Ok(x) => x,
         Err(e) => {

@@ -218,19 +218,21 @@ impl LatheConsole {
         Ok((c, o.warnings))
     }
 
-    /// Opens the console with a launcher's configuration: its state directory, display size
-    /// and recording.
+    /// Opens the console with a launcher's configuration: its state directory, display size,
+    /// recording and the interrupt a script's waits ask (`ConsoleConfig::interrupt`).
     pub fn open_config(
         desc: LatheDesc,
         cfg: &crate::console::ConsoleConfig,
     ) -> Result<(LatheConsole, Vec<String>), String> {
-        LatheConsole::open(
+        let (mut c, w) = LatheConsole::open(
             desc,
             &cfg.state_dir,
             cfg.rows,
             cfg.cols,
             cfg.record.as_deref(),
-        )
+        )?;
+        c.set_interrupt(cfg.interrupt);
+        Ok((c, w))
     }
 
     /// The machine description.
