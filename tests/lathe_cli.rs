@@ -648,3 +648,31 @@ fn the_lathe_shows_the_editors_type_out_and_refuses_the_centres_words_whole() {
         assert!(!err.contains("START"), "nothing ran: {err}");
     }
 }
+
+/// The screen says what the machine does: a channel's coolant (M07 mist, M08 flood), which the
+/// kernel keeps per channel, is on its plasma's tool line until M09 turns it off.
+#[test]
+fn the_plasma_shows_the_channels_coolant() {
+    let dir = common::temp_dir("lathe-coolant");
+    let script = dir.join("coolant.panel");
+    std::fs::write(
+        &script,
+        "op MDI\ntype M8\nstart\nwait\nshow\ntype M7\ntype M8\nstart\nwait\nshow\ntype M9\nstart\nwait\nshow\nkey Tab\nshow\n",
+    )
+    .unwrap();
+    let o = citizen_script(&script, &dir.join("state"), &[]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}{}", text(&o.stderr));
+    let tool_lines: Vec<&str> = so.lines().filter(|l| l.starts_with("T00 ")).collect();
+    assert_eq!(
+        tool_lines,
+        [
+            "T00 EMPTY CHUCK OPEN IDLE M08",
+            "T00 EMPTY CHUCK OPEN IDLE M07 M08",
+            "T00 EMPTY CHUCK OPEN IDLE",
+            // Channel 2's coolant was never on.
+            "T00 EMPTY CHUCK OPEN IDLE",
+        ],
+        "{so}"
+    );
+}

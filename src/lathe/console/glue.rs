@@ -710,6 +710,7 @@ impl Cycle {
                 v.pos = [st.pos[0], st.pos[2]];
                 v.rpm = st.spindle as f64;
                 v.tool = st.tool.unwrap_or(0);
+                v.coolant = st.coolant;
                 v
             })
             .collect()

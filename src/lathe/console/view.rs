@@ -61,6 +61,20 @@ pub struct ChanView {
     pub chuck: bool,
     /// Works this channel has finished.
     pub parts: u32,
+    /// Coolant mist (M07) and flood (M08) on, as the kernel keeps them.
+    pub coolant: (bool, bool),
+}
+
+impl ChanView {
+    /// The coolant as the display says it: ` M07`, ` M08`, ` M07 M08`, or nothing when off.
+    pub fn coolant_text(&self) -> &'static str {
+        match self.coolant {
+            (false, false) => "",
+            (true, false) => " M07",
+            (false, true) => " M08",
+            (true, true) => " M07 M08",
+        }
+    }
 }
 
 /// Pads or cuts `s` to exactly `w` characters.
@@ -127,7 +141,12 @@ pub fn plasma(
     };
     let chuck = if c.chuck { "CLOSED" } else { "OPEN" };
     out.push(fit(
-        &format!("T{:02} {work} CHUCK {chuck} {}", c.tool, c.state),
+        &format!(
+            "T{:02} {work} CHUCK {chuck} {}{}",
+            c.tool,
+            c.state,
+            c.coolant_text()
+        ),
         cols,
     ));
     // The message takes the lines it needs, up to a third of the display (the centre's

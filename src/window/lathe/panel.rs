@@ -120,8 +120,9 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
         ui.label(mono(work, 13.0, wc).strong());
         ui.label(mono(
             format!(
-                " CHUCK {}  parts {}/{}",
+                " CHUCK {}{}  parts {}/{}",
                 if c.chuck { "CLOSED" } else { "OPEN" },
+                c.coolant_text(),
                 c.parts,
                 target
             ),
