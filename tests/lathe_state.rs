@@ -363,3 +363,64 @@ fn the_mdi_lines_typed_survive_a_restart_until_they_run() {
         c.message()
     );
 }
+
+/// What a real lathe keeps between two STARTs: an MDI `M3 S500` turns the spindle until M5,
+/// RESET, M30 or E-STOP, and the coolant stays on until M9; the next MDI run goes on with them
+/// (its feed per revolution at the spindle's speed, with no ramp from rest). Before, each
+/// START began with the spindle stopped and the coolant off, while the screen still showed
+/// the last run's spindle turning: the next G95 feed was refused ("the spindle stopped").
+#[test]
+fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
+    let state = common::temp_dir("lathe-state-spindle");
+    let d = desc(Some(Dialect::Fanuc), None);
+    let mut c = open(&d, &state);
+    let ch = |c: &LatheConsole| c.view().channels[0].clone();
+    assert_eq!(mdi(&mut c, &["G95 G97 M3 S500", "M8"]), "MDI CH1 runs");
+    c.run_for(5_000_000_000, RunUntil::Time, || false);
+    assert_eq!((ch(&c).rpm, ch(&c).coolant), (500.0, (false, true)));
+    // The next run: the feed per revolution is accepted, the spindle is at 500 at once.
+    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Type("G1 X30. F0.2".into()));
+    c.handle(PanelEvent::Start);
+    assert_eq!(
+        c.message(),
+        "MDI CH1 runs",
+        "a G95 feed with the spindle turning"
+    );
+    c.tick(10_000_000);
+    assert_eq!(ch(&c).rpm, 500.0, "no ramp from rest at START");
+    assert_eq!(ch(&c).coolant, (false, true));
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(at(&c)[0], 15_000, "X30 as a diameter");
+    // M5 and M9 stop them, and the next run starts with them stopped.
+    assert_eq!(mdi(&mut c, &["M5 M9"]), "MDI CH1 runs");
+    c.run_for(5_000_000_000, RunUntil::Time, || false);
+    assert_eq!((ch(&c).rpm, ch(&c).coolant), (0.0, (false, false)));
+    // RESET stops them too.
+    assert_eq!(mdi(&mut c, &["M3 S400 M7"]), "MDI CH1 runs");
+    c.run_for(5_000_000_000, RunUntil::Time, || false);
+    assert_eq!((ch(&c).rpm, ch(&c).coolant), (400.0, (true, false)));
+    c.handle(PanelEvent::Reset);
+    c.handle(PanelEvent::Reset);
+    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Type("G95 G1 X20. F0.2".into()));
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().contains("spindle stopped"),
+        "after RESET: {}",
+        c.message()
+    );
+    // E-STOP stops them.
+    c.handle(PanelEvent::Reset);
+    assert_eq!(mdi(&mut c, &["M3 S400"]), "MDI CH1 runs");
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Reset);
+    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Type("G95 G1 X20. F0.2".into()));
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().contains("spindle stopped"),
+        "after E-STOP: {}",
+        c.message()
+    );
+}

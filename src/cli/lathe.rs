@@ -140,6 +140,7 @@ pub fn run(desc: LatheDesc, argv: &[String]) -> i32 {
         .collect();
     let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
     let spec = crate::lathe::console::CycleSpec {
+        left: Vec::new(),
         texts,
         opts,
         target,

@@ -80,6 +80,18 @@ impl Spindle {
         self.target = rpm;
     }
 
+    /// Turning at `rpm` (signed) at time `t`, already at that speed, its target: a spindle that
+    /// was turning before this machine's clock began (a lathe channel's new cycle goes on with
+    /// the spindle the last one left turning). The encoder keeps its phase.
+    pub fn preset(&mut self, t: u64, rpm: f64) {
+        let rpm = if rpm.is_finite() { rpm } else { 0.0 };
+        let t = (t as f64).max(self.t0);
+        self.phase0 = self.phase_at_f(t);
+        self.t0 = t;
+        self.rpm0 = rpm;
+        self.target = rpm;
+    }
+
     /// Stops at once at time `t` (E-STOP: the drive is cut, the encoder keeps its count).
     pub fn halt(&mut self, t: u64) {
         let t = (t as f64).max(self.t0);

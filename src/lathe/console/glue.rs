@@ -97,6 +97,35 @@ pub struct CycleSpec {
     pub clock: ClockMode,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
+    /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
+    /// off): the new cycle goes on with them (docs/lathe-gcode.md "What a channel keeps").
+    pub left: Vec<ChannelLeft>,
+}
+
+/// A channel's spindle and coolant as a cycle left them: what a real lathe keeps between two
+/// STARTs (an MDI `M3 S500` turns on until M5, RESET, M30 or E-STOP).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelLeft {
+    /// 1 forward, -1 reverse, 0 stopped.
+    pub dir: i8,
+    /// The programmed speed, rpm (G97).
+    pub s_rpm: u32,
+    /// The actual speed, signed rpm (a ramp in progress goes on from it).
+    pub actual_rpm: f64,
+    /// Coolant mist (M07) and flood (M08).
+    pub coolant: (bool, bool),
+}
+
+impl ChannelLeft {
+    /// What channel `st` (its latest status) leaves.
+    pub fn of(st: &crate::pulse_core::Status) -> ChannelLeft {
+        ChannelLeft {
+            dir: st.spindle_programmed.signum() as i8,
+            s_rpm: u32::try_from(st.spindle_programmed.unsigned_abs()).unwrap_or(u32::MAX),
+            actual_rpm: st.spindle as f64,
+            coolant: st.coolant,
+        }
+    }
 }
 
 /// What the kernel would do with a cycle of `desc` as `spec` describes it, each channel read
@@ -118,10 +147,16 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
         }
         // Each channel reads from the state its last program or MDI left (docs/lathe-gcode.md
         // "What a channel keeps"), the tool post where it stands.
-        let from = kept
+        let mut from = kept
             .get(ch)
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
+        // The spindle is the machine's: the reader starts from it as the last cycle left it.
+        from.modal.dir = match spec.left.get(ch).map_or(0, |l| l.dir) {
+            1 => 3,
+            -1 => 4,
+            _ => 5,
+        };
         let r = read_kept(
             text,
             desc,
@@ -170,6 +205,20 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
     for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(spec.feed_override))?;
+    }
+    // Each channel's spindle and coolant go on as the last cycle left them; under G96 the
+    // surface speed is the channel's kept one.
+    for (ch, l) in spec.left.iter().enumerate().take(k.channels()) {
+        let css = kept.get(ch).filter(|k| k.modal.css).map(|k| {
+            let f = if k.modal.inch { 0.3048 } else { 1.0 };
+            crate::block::Css {
+                m_per_min: k.modal.s * f,
+                limit_rpm: k.modal.limit,
+            }
+        });
+        if let Some(m) = k.machine_mut(ch) {
+            m.preset_spindle(l.dir, l.s_rpm, css, l.actual_rpm, l.coolant);
+        }
     }
     Ok((k, lines, first, after, msgs))
 }

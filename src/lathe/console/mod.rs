@@ -76,6 +76,9 @@ pub struct LatheConsole {
     /// The `Y` type-out of the last editor command line, shown in DATA in place of the
     /// listing until the next line, mode or channel.
     y_output: Option<String>,
+    /// Each channel's spindle and coolant as the last cycle left them: the next START goes on
+    /// with them (an MDI `M3` turns until M5, RESET, M30 or E-STOP, as on a real lathe).
+    left: Vec<glue::ChannelLeft>,
     /// Why the last script wait could not end (`handle(PanelEvent::Wait)`).
     wait_error: Option<String>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
@@ -179,6 +182,7 @@ impl LatheConsole {
             screen: crate::console::keys::ScreenFit::default(),
             kept: Vec::new(),
             y_output: None,
+            left: vec![glue::ChannelLeft::default(); n],
             wait_error: None,
             interrupt: None,
         };
@@ -515,6 +519,8 @@ impl LatheConsole {
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
+                // Every spindle and the coolant stop (the drives are cut).
+                self.left.fill(glue::ChannelLeft::default());
                 self.say(
                     "E-STOP: every channel stopped; RESET releases",
                     MsgLife::WhileEstop,
@@ -710,6 +716,7 @@ impl LatheConsole {
             }
         }
         let spec = glue::CycleSpec {
+            left: self.left.clone(),
             texts,
             opts,
             target,
@@ -824,12 +831,16 @@ impl LatheConsole {
         let Some(c) = self.cycle.as_mut() else {
             self.entry.clear();
             self.message = format!("RESET CH{}", self.sel + 1);
+            // RESET stops the channel's spindle and coolant, as the kernel's RESET does.
+            self.left[self.sel] = glue::ChannelLeft::default();
             self.set_mdi(Vec::new());
             return;
         };
         if c.is_over() {
             self.cycle = None;
             self.message = "RESET: the cycle is cleared".into();
+            // With the cycle cleared nothing shows a spindle: every one stops, and the coolant.
+            self.left.fill(glue::ChannelLeft::default());
             return;
         }
         self.message = c.reset(self.sel);
@@ -905,6 +916,9 @@ impl LatheConsole {
             // The kernel's events are in the recording already (the pulse core writes them);
             // taken here so that they do not pile up in the core for the console's lifetime.
             let _ = c.take_events();
+            for (l, s) in self.left.iter_mut().zip(c.channels()) {
+                *l = glue::ChannelLeft::of(&s.status);
+            }
             let counts = c.counts(&self.counter.counts);
             c.positions(&mut self.pos);
             if !c.mdi && counts != self.counter.counts {

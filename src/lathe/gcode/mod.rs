@@ -214,8 +214,9 @@ pub fn read_program_in(
 #[derive(Clone, Debug)]
 pub struct Kept {
     /// The modal state (G20/G21, G90/G91, G07/G08, G94/G95, G96/G97, F, S, D, the motion
-    /// mode, G71's depth of cut). The spindle's direction is the machine's: stopped at
-    /// every START.
+    /// mode, G71's depth of cut). The spindle's direction is the machine's: kept here as
+    /// stopped, and set at START from the spindle the last cycle left (the console's
+    /// `ChannelLeft`).
     pub modal: exec::State,
     /// The tool in place, by number, and whether its offsets apply (T0101 or T0100).
     pub tool: Option<(u32, bool)>,
@@ -360,9 +361,9 @@ pub fn read_kept(
         }
     }
     let dialect = dialect.or(chan.dialect).unwrap_or_default();
-    let mut st = kept.modal.clone();
-    // The spindle is the machine's: stopped at every START (each cycle's spindles start so).
-    st.dir = 5;
+    // The spindle's direction is the machine's: the caller says it in `kept.modal.dir` (the
+    // console: as the last cycle left the spindle; else stopped, as `Kept` keeps it).
+    let st = kept.modal.clone();
     let mut out = out::Out::new(desc, ch);
     if let Some((t, offsets)) = kept.tool {
         if let Some(td) = chan.tool(t) {
@@ -371,6 +372,17 @@ pub fn read_kept(
     }
     if let Some(at) = at {
         out.start_at(at);
+    }
+    if !st.stopped() {
+        // Turning already: the feeds per revolution go on from its speed.
+        let css = st.css.then(|| {
+            let k = if st.inch { 0.3048 } else { 1.0 };
+            crate::block::Css {
+                m_per_min: st.s * k,
+                limit_rpm: st.limit,
+            }
+        });
+        out.set_speed(st.s, css);
     }
     let mut r = exec::Reader {
         desc,

@@ -274,6 +274,12 @@ impl<'a> Out<'a> {
 
     /// The spindle's full commanded state after an M03/M04/M05, S, G96 or G97: `m` 3, 4 or 5
     /// at `rpm` (G97) or at G96's surface speed.
+    /// The spindle already turning when the read begins (the machine's, as the last cycle
+    /// left it): `rpm` under G97, or `css`; no block (the machine turns it already).
+    pub fn set_speed(&mut self, rpm: f64, css: Option<Css>) {
+        self.speed = (rpm, css);
+    }
+
     pub fn spindle(
         &mut self,
         line: u32,

@@ -797,6 +797,34 @@ impl Machine {
         }
     }
 
+    /// The spindle and coolant as a machine before this one's clock left them (a lathe
+    /// channel's new cycle: docs/lathe-gcode.md "What a channel keeps"): turning `dir` (1
+    /// forward, -1 reverse, 0 stopped) at `s_rpm` programmed (G97) or under `css`, actually at
+    /// `actual_rpm` (signed; it goes on from there, no ramp from rest), coolant mist and
+    /// flood. Before the first block only; false (nothing changed) after.
+    pub fn preset_spindle(
+        &mut self,
+        dir: i8,
+        s_rpm: u32,
+        css: Option<crate::block::Css>,
+        actual_rpm: f64,
+        coolant: (bool, bool),
+    ) -> bool {
+        if self.run != 0 || self.current.is_some() {
+            return false;
+        }
+        self.coolant = coolant;
+        self.s_rpm = s_rpm;
+        self.spindle_dir = dir.signum();
+        self.spindle = i64::from(dir.signum()) * i64::from(s_rpm);
+        self.css = if dir == 0 { None } else { css };
+        // From its actual speed towards its target: a spindle still coasting down after M5
+        // goes on coasting down.
+        self.sp.preset(self.now, actual_rpm);
+        self.spindle_sync(self.now);
+        true
+    }
+
     /// Sets the axis positions (pulses) with the machine at rest and no run loaded; refused
     /// otherwise.
     pub fn set_position(&mut self, pos: impl Into<Axes>) -> bool {
