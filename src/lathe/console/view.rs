@@ -17,8 +17,8 @@ pub const LATHE_KEYS: [&str; 11] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 12] = [
-    "LATHE CONSOLE  (F8 or Alt+h: back)",
+pub const LATHE_HELP: [&str; 13] = [
+    "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
     "F10 / Alt+p   STOP: feed hold on every channel",
@@ -29,7 +29,8 @@ pub const LATHE_HELP: [&str; 12] = [
     "Alt+2/3/4/5   AUTO / MDI (Enter adds a line) / DATA (an editor line) / OFS (T1 X.. Z.. R.. P..)",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
-    "Ctrl-C or Alt+q quits; programs and the part counter are stored at every change",
+    "A key of the centre's (jog, HOME, F1-F7 ...) says on the message line that it does nothing",
+    "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
 
 /// One channel as the display shows it.
