@@ -633,10 +633,9 @@ fn g84_refusals_name_their_line_column_and_reason() {
     );
 }
 
-/// The start times (machine ns) of blocks `seqs` of a one-channel lathe's program at feed
-/// override `pct`, read on the kernel (`run_until` stops at each start).
-fn block_starts(desc: &LatheDesc, prog: &[Statement], pct: u32, seqs: &[u32]) -> Vec<u64> {
-    use novanc::pulse_core::{Command, Kernel, Outcome};
+/// A kernel of one channel running `prog` at feed override `pct`, started, the tool at home.
+fn started(desc: &LatheDesc, prog: &[Statement], pct: u32) -> novanc::pulse_core::Kernel {
+    use novanc::pulse_core::{Command, Kernel};
     let (chans, flow) = desc
         .kernel_channels(vec![prog.to_vec()])
         .expect("the program fits the machine");
@@ -645,6 +644,14 @@ fn block_starts(desc: &LatheDesc, prog: &[Statement], pct: u32, seqs: &[u32]) ->
     k.set_position(0, [h[0], 0, h[1]]).expect("at rest");
     k.command(0, Command::Override(pct)).expect("override");
     k.start(None).expect("START");
+    k
+}
+
+/// The start times (machine ns) of blocks `seqs` of a one-channel lathe's program at feed
+/// override `pct`, read on the kernel (`run_until` stops at each start).
+fn block_starts(desc: &LatheDesc, prog: &[Statement], pct: u32, seqs: &[u32]) -> Vec<u64> {
+    use novanc::pulse_core::Outcome;
+    let mut k = started(desc, prog, pct);
     seqs.iter()
         .map(|&seq| match k.run_until(600_000_000_000, Some((0, seq))) {
             Outcome::BlockStart { t, .. } => t,
@@ -704,6 +711,38 @@ fn a_tap_holds_the_feed_override_at_100_percent_on_a_one_channel_lathe() {
             "the tap's feed at 50 %: {b} s, at 100 %: {a} s"
         );
     }
+}
+
+#[test]
+fn a_stop_during_the_tap_holds_once_the_tap_is_out_at_r_with_the_spindle_forward() {
+    use novanc::pulse_core::Outcome;
+    let desc = lathe("fanuc");
+    let p = format!("M10\n{TAP_HEAD}G0 X0 Z5.\nG84 Z-10. R-2. F1.25\nG80\nG0 Z20.\nM30\n");
+    let prog = read(&p, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let tap = &prog.iter().find(|s| s.line == 6).expect("line 6").blocks;
+    // R to Z3, the feed in, M05, M04, the feed out, M05, M03 (the tap's End), R to Z5.
+    let (feed_in, end) = (tap[1].seq, tap[6].seq);
+    assert_eq!(tap[6].tap, novanc::block::Tap::End);
+    let mut k = started(&desc, &prog, 100);
+    let Outcome::BlockStart { t, .. } = k.run_until(60_000_000_000, Some((0, feed_in))) else {
+        panic!("the feed in did not start");
+    };
+    // STOP half a second into the feed in, the tap in the hole.
+    k.advance_to(t + 500_000_000);
+    let z = k.machine(0).expect("CH1").status().pos[2];
+    assert!(z < 3000 && z > -10_000, "in the hole: Z {z}");
+    k.stop(Some(0)).expect("STOP");
+    assert_eq!(k.run_until_idle(60_000_000_000), Outcome::Stopped);
+    // The hold came after the tap's last block: out at R (Z3), the spindle forward at 500.
+    let st = k.machine(0).expect("CH1").status();
+    assert!(st.hold, "held");
+    assert_eq!(st.pos[2], 3000, "held at the R level");
+    assert_eq!(st.executed.as_ref().map(|b| b.seq), Some(end));
+    // M03 is given (the spindle ramps from −500 rpm back up to 500 while the run holds).
+    assert_eq!(st.spindle_programmed, 500);
+    let now = k.now();
+    k.advance_to(now + 1_000_000_000);
+    assert_eq!(k.machine(0).expect("CH1").status().spindle, 500);
 }
 
 #[test]
