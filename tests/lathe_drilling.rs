@@ -1,7 +1,9 @@
-//! Fanuc 0i-T's G83 face drilling on the lathe's centre line (docs/lathe-gcode.md "G83 face
-//! drilling"): the moves of a pecked and of a one-feed hole worked out by hand from each
-//! program, not by the reader; every refusal at its line and column; a one-channel Fanuc
-//! program with G83 run to its end by `novanc run --machine FILE`.
+//! Fanuc 0i-T's G83 face drilling and G84 face tapping on the lathe's centre line
+//! (docs/lathe-gcode.md "G83 face drilling", "G84 face tapping"): the moves of a pecked and of
+//! a one-feed hole, and a tap's blocks with their tap marks and spindle codes, worked out by
+//! hand from each program, not by the reader; a tap run on the kernel at feed override 50 %
+//! taking the time it takes at 100 %; every refusal at its line and column; one-channel Fanuc
+//! programs with G83 and G84 run to their end by `novanc run --machine FILE`.
 
 mod common;
 
@@ -192,7 +194,8 @@ fn g83_in_system_a_returns_to_the_initial_level_and_reads_g99_as_the_feed() {
 fn g83_refusals_name_their_line_column_and_reason() {
     let fanuc = lathe("fanuc");
     let at = |tail: &str| format!("{HEAD}G0 X0 Z5.\n{tail}");
-    let cases: Vec<(String, &str, &str)> = vec![
+    let cases: Vec<(String, &str, &str)> =
+        vec![
         // Off the centre line: no live tooling.
         (
             at("G83 X20. Z-10. R-1. F0.1\n"),
@@ -284,16 +287,11 @@ fn g83_refusals_name_their_line_column_and_reason() {
             "7:1",
             "G98 and G99 are the feeds of Fanuc's G code system A",
         ),
-        // G84 and the other drilling cycles.
-        (
-            at("G84 Z-10. R-1. F1.25\n"),
-            "5:1",
-            "G84 face tapping is not supported: the kernel reverses the spindle only between blocks",
-        ),
+        // The other drilling cycles (G84's refusals: `g84_refusals_...` below).
         (
             at("G81 Z-10. R-1. F0.1\n"),
             "5:1",
-            "the lathe's one drilling cycle is G83",
+            "the lathe's drilling cycles are G83 and G84",
         ),
     ];
     for (p, at, why) in &cases {
@@ -427,4 +425,358 @@ fn a_program_reads_g83_and_its_return_level_as_fanucs_modal_information() {
     );
     let got = ok(&p, &desc);
     assert_eq!(got.len(), 4, "{got:?}");
+}
+
+/// Line `line`'s blocks in brief, each with its tap mark: R rapid and F feed to the end (X a
+/// radius, Z, mm; a feed with its rate and mode), D a dwell (ms), M a spindle code with its S.
+fn tap_blocks(p: &[Statement], line: u32) -> Vec<String> {
+    use novanc::block::FeedMode;
+    p.iter()
+        .filter(|s| s.line == line)
+        .flat_map(|s| &s.blocks)
+        .map(|b| {
+            let at = format!(
+                "X{:.3} Z{:.3}",
+                b.end[0] as f64 / 1000.0,
+                b.end[2] as f64 / 1000.0
+            );
+            let what = match b.motion {
+                Motion::Rapid => format!("R {at}"),
+                Motion::Linear => format!(
+                    "F {at} {}{}",
+                    b.feed,
+                    if b.feed_mode == FeedMode::PerMin {
+                        "/min"
+                    } else {
+                        "/rev"
+                    }
+                ),
+                Motion::Dwell => format!("D {}", b.dwell_ns / 1_000_000),
+                _ => format!("M{} S{}", b.m.unwrap_or(0), b.s.unwrap_or(0)),
+            };
+            format!("{what} {:?}", b.tap)
+        })
+        .collect()
+}
+
+/// The tap's set-up: the tap (tool 2), the spindle forward at 500 rpm, feed per revolution.
+const TAP_HEAD: &str = "G21 G40 G95\nT0202\nG97 S500 M03\n";
+
+#[test]
+fn g84_taps_with_the_mills_blocks_and_marks_and_returns_to_the_initial_level() {
+    let desc = lathe("fanuc");
+    let p = format!("{TAP_HEAD}G0 X0 Z5.\nG84 Z-15. R-2. P300 F1.25\nG80\nG0 X40. Z20.\nM30\n");
+    // By hand. The tap stands at X0 Z5: the initial level Z5, the R level 5 − 2 = Z3, the
+    // bottom Z−15. F1.25 under G95 is the lead, 1.25 mm a revolution: at S500 the tap feeds
+    // 1.25 × 500 = 625 mm/min, carried per minute as the mill's G84 carries it (the pulse
+    // core gears it to the spindle: 625 / 500 = 1.25 mm/rev). The mill's order and marks
+    // (`gcode/cycles.rs`, `74 | 84`): Part from the feed in to the M05 out of the hole, End on
+    // the M03 (the spindle forward again, the tap out at R); the rapid back to the initial
+    // level (G98, the default) is no longer the tap's. P300: a 300 ms dwell after the reversal.
+    let want = [
+        "R X0.000 Z3.000 No",
+        "F X0.000 Z-15.000 625/min Part",
+        "M5 S500 Part",
+        "M4 S500 Part",
+        "D 300 Part",
+        "F X0.000 Z3.000 625/min Part",
+        "M5 S500 Part",
+        "M3 S500 End",
+        "R X0.000 Z5.000 No",
+    ];
+    let prog = read(&p, &desc).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(tap_blocks(&prog, 5), want, "{p}");
+    // No block before or after the tap is marked.
+    let marked: Vec<u32> = prog
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .filter(|b| b.tap != novanc::block::Tap::No)
+        .map(|b| b.stmt)
+        .collect();
+    assert_eq!(marked, [5; 7]);
+}
+
+#[test]
+fn g84_g99_returns_to_r_repeats_under_its_mode_and_reads_a_feed_per_minute_as_f_over_s() {
+    let desc = lathe("fanuc");
+    let p = format!(
+        "{TAP_HEAD}G0 X30. Z10.\nG99 G84 X0 W-10. R-3. F1.5\nIF [#4010 NE 84] GOTO 90\nZ-6.\nG80\n\
+         G94 F750\nG98 G84 Z-4. R-1.\nG80\nM30\nN90 #3000 = 1 (NOT G84)\n"
+    );
+    // By hand. Line 5: the tool at X30 (radius 15) Z10: a rapid to X0 at Z10, to the R level
+    // 10 − 3 = Z7; W-10 from it: the bottom Z−3. F1.5 at S500: 750 mm/min. G99: the tap ends
+    // out at R (the feed out goes there), no rapid after it. #4010 reads 84 (group 10). Line
+    // 7 repeats under the mode, the bottom Z−6, from Z7 already at R. Line 8 cancels; line 9
+    // sets feed per minute, F750: the lead is F / S = 1.5 mm, the same 750 mm/min. Line 10 a
+    // new series from Z7: R-1 is Z6, the bottom Z−4, G98 back to Z7.
+    let tap = |bottom: &str, r: &str| {
+        vec![
+            format!("F X0.000 Z{bottom} 750/min Part"),
+            "M5 S500 Part".to_string(),
+            "M4 S500 Part".to_string(),
+            format!("F X0.000 Z{r} 750/min Part"),
+            "M5 S500 Part".to_string(),
+            "M3 S500 End".to_string(),
+        ]
+    };
+    let prog = read(&p, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let mut want5 = vec!["R X15.000 Z10.000 No".to_string()];
+    want5.extend([
+        "R X0.000 Z10.000 No".to_string(),
+        "R X0.000 Z7.000 No".to_string(),
+    ]);
+    want5.extend(tap("-3.000", "7.000"));
+    assert_eq!(tap_blocks(&prog, 4).len(), 1);
+    assert_eq!(tap_blocks(&prog, 5), want5[1..], "{p}");
+    assert_eq!(tap_blocks(&prog, 7), tap("-6.000", "7.000"), "{p}");
+    let mut want10 = vec!["R X0.000 Z6.000 No".to_string()];
+    want10.extend(tap("-4.000", "6.000"));
+    want10.push("R X0.000 Z7.000 No".to_string());
+    assert_eq!(tap_blocks(&prog, 10), want10, "{p}");
+}
+
+#[test]
+fn g84_refusals_name_their_line_column_and_reason() {
+    let fanuc = lathe("fanuc");
+    let at = |tail: &str| format!("{TAP_HEAD}G0 X0 Z5.\n{tail}");
+    let cases: Vec<(String, &str, &str)> = vec![
+        // The spindle: forward only (a right-hand tap), the mill's words; stopped; G96; no S.
+        (
+            "G21 G40 G95\nT0202\nG97 S500 M04\nG0 X0 Z5.\nG84 Z-10. R-1. F1.25\n".to_string(),
+            "5:1",
+            "G84 with the spindle turning backward (M04): right-hand tapping needs M03",
+        ),
+        (
+            "G21 G40 G95\nT0202\nG97 S500\nG0 X0 Z5.\nG84 Z-10. R-1. F1.25\n".to_string(),
+            "5:1",
+            "G84 needs the spindle turning forward: give M03 first",
+        ),
+        (
+            "G21 G40 G95\nT0202\nG96 S100 M03\nG0 X0 Z5.\nG84 Z-10. R-1. F1.25\n".to_string(),
+            "5:1",
+            "G84 under G96 (constant surface speed): the tap is geared to a fixed speed, give G97 S",
+        ),
+        (
+            "G21 G40 G95\nT0202\nG97 M03\nG0 X0 Z5.\nG84 Z-10. R-1. F1.25\n".to_string(),
+            "5:1",
+            "G84 needs the spindle speed: give G97 S",
+        ),
+        // Off the centre line, the bottom not below R, no bottom.
+        (
+            at("G84 X20. Z-10. R-1. F1.25\n"),
+            "5:5",
+            "G84 at X20.000: the lathe taps on the centre line only (X0), it has no live tooling to tap off the centre",
+        ),
+        (
+            format!("{TAP_HEAD}G0 X12. Z5.\nG84 Z-10. R-1. F1.25\n"),
+            "5:1",
+            "G84 with the tool at X12.000: the lathe taps on the centre line only",
+        ),
+        (
+            at("G84 Z5. R-2. F1.25\n"),
+            "5:5",
+            "G84: the bottom Z5.000 is not below the R level Z3.000 (the initial level Z5.000 and R-2.000): the tap feeds towards -Z",
+        ),
+        (at("G84 R-2. F1.25\n"), "5:1", "G84 needs Z (or W, from the R level)"),
+        // Words: Q (peck tapping), K, others; P with a point; no feed.
+        (
+            at("G84 Z-10. R-1. Q1000 F1.25\n"),
+            "5:16",
+            "G84 Q, peck tapping, is not supported",
+        ),
+        (
+            at("G84 Z-10. R-1. K2 F1.25\n"),
+            "5:16",
+            "G84 K, the repeats, is not supported: the tap stands on the centre line",
+        ),
+        (at("G84 Z-10. R-1. J1. F1.25\n"), "5:16", "G84 takes no J word"),
+        (
+            at("G84 Z-10. R-1. P0.5 F1.25\n"),
+            "5:16",
+            "G84 P, the dwell, is in milliseconds, without a decimal point",
+        ),
+        (
+            "G21 G40 G95\nT0202\nG97 S500 M03\nG0 X0 Z5.\nG84 Z-10. R-1.\n".to_string(),
+            "5:1",
+            "a feed move without a feed: give F",
+        ),
+        // Compensation, a group 01 code on the line, and the cycle ended by G80 and by G01.
+        (
+            format!("{TAP_HEAD}G0 X0 Z5.\nG42\nG84 Z-10. R-1. F1.25\n"),
+            "6:1",
+            "G84 with nose-radius compensation in force: give G40 first",
+        ),
+        (
+            at("G1 G84 Z-10. R-1. F1.25\n"),
+            "5:4",
+            "G84 and G01 on one line",
+        ),
+        (
+            at("G84 Z-10. R-1. F1.25\nG80\nR-3.\n"),
+            "7:1",
+            "I, K or R without an X or Z end point",
+        ),
+        (
+            at("G84 Z-10. R-1. F1.25\nG1 Z4.\nR-3.\n"),
+            "7:1",
+            "I, K or R without an X or Z end point",
+        ),
+    ];
+    for (p, at, why) in &cases {
+        refused(p, &fanuc, at, why);
+    }
+    refused(
+        &at("G84 X0 Z-10. R-1. F1.25\n"),
+        &lathe("linuxcnc"),
+        "5:1",
+        "G84 is Fanuc's face tapping cycle; LinuxCNC has no drilling cycle on a lathe",
+    );
+}
+
+/// A kernel of one channel running `prog` at feed override `pct`, started, the tool at home.
+fn started(desc: &LatheDesc, prog: &[Statement], pct: u32) -> novanc::pulse_core::Kernel {
+    use novanc::pulse_core::{Command, Kernel};
+    let (chans, flow) = desc
+        .kernel_channels(vec![prog.to_vec()])
+        .expect("the program fits the machine");
+    let mut k = Kernel::new(chans, Some(flow), 1).expect("a kernel");
+    let h = novanc::lathe::gcode::home(desc, 0);
+    k.set_position(0, [h[0], 0, h[1]]).expect("at rest");
+    k.command(0, Command::Override(pct)).expect("override");
+    k.start(None).expect("START");
+    k
+}
+
+/// The start times (machine ns) of blocks `seqs` of a one-channel lathe's program at feed
+/// override `pct`, read on the kernel (`run_until` stops at each start).
+fn block_starts(desc: &LatheDesc, prog: &[Statement], pct: u32, seqs: &[u32]) -> Vec<u64> {
+    use novanc::pulse_core::Outcome;
+    let mut k = started(desc, prog, pct);
+    seqs.iter()
+        .map(|&seq| match k.run_until(600_000_000_000, Some((0, seq))) {
+            Outcome::BlockStart { t, .. } => t,
+            o => panic!("block N{seq} did not start: {o:?}"),
+        })
+        .collect()
+}
+
+#[test]
+fn a_tap_holds_the_feed_override_at_100_percent_on_a_one_channel_lathe() {
+    let desc = lathe("fanuc");
+    // A feed of 1 mm at 0.1 mm/rev and 500 rpm (50 mm/min, 1.2 s at 100 %), then a tap of
+    // 12 mm (the initial level Z4, R Z2, the bottom Z−10) at 1.25 mm/rev: 625 mm/min, 1.152 s
+    // in and as long out.
+    // M10 first: the kernel turns nothing without a work in the chuck (the bar feeder's).
+    let p =
+        format!("M10\n{TAP_HEAD}G0 X0 Z5.\nG1 Z4. F0.1\nG84 Z-10. R-2. F1.25\nG80\nG0 Z20.\nM30\n");
+    let prog = read(&p, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let seq = |line: u32, i: usize| {
+        prog.iter()
+            .find(|s| s.line == line)
+            .map(|s| s.blocks[i].seq)
+            .expect("the line makes blocks")
+    };
+    // The G01 and the block after it; the tap's feed in (line 7, after the rapid to R), the
+    // M05 after it, its feed out and the M05 after that.
+    let seqs = [
+        seq(6, 0),
+        seq(7, 0),
+        seq(7, 1),
+        seq(7, 2),
+        seq(7, 4),
+        seq(7, 5),
+    ];
+    let full = block_starts(&desc, &prog, 100, &seqs);
+    let half = block_starts(&desc, &prog, 50, &seqs);
+    let secs = |t: &[u64], i: usize| (t[i + 1] - t[i]) as f64 / 1e9;
+    // Outside the tap the override acts: the G01 takes twice as long at 50 %.
+    let (g1_full, g1_half) = (secs(&full, 0), secs(&half, 0));
+    assert!((g1_full - 1.2).abs() < 0.05, "G01 at 100 %: {g1_full} s");
+    assert!(
+        (g1_half / g1_full - 2.0).abs() < 0.05,
+        "G01 at 50 %: {g1_half} s, at 100 %: {g1_full} s"
+    );
+    // In the tap it is held: the feed in and the feed out take the time of 100 %, at both
+    // overrides alike: 12 mm at 625 mm/min = 1.152 s each, geared to the spindle's encoder.
+    // The feed out starts once the spindle has reversed to −500 rpm (a cut starts at speed):
+    // 1000 rpm at 4000 rpm/s, 0.25 s more in its block.
+    for (i, want) in [(2, 1.152), (4, 1.152 + 0.25)] {
+        let (a, b) = (secs(&full, i), secs(&half, i));
+        assert!(
+            (a - want).abs() < 0.01,
+            "the tap's feed at 100 %: {a} s, not {want}"
+        );
+        assert!(
+            (b - a).abs() < 0.002,
+            "the tap's feed at 50 %: {b} s, at 100 %: {a} s"
+        );
+    }
+}
+
+#[test]
+fn a_stop_during_the_tap_holds_once_the_tap_is_out_at_r_with_the_spindle_forward() {
+    use novanc::pulse_core::Outcome;
+    let desc = lathe("fanuc");
+    let p = format!("M10\n{TAP_HEAD}G0 X0 Z5.\nG84 Z-10. R-2. F1.25\nG80\nG0 Z20.\nM30\n");
+    let prog = read(&p, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let tap = &prog.iter().find(|s| s.line == 6).expect("line 6").blocks;
+    // R to Z3, the feed in, M05, M04, the feed out, M05, M03 (the tap's End), R to Z5.
+    let (feed_in, end) = (tap[1].seq, tap[6].seq);
+    assert_eq!(tap[6].tap, novanc::block::Tap::End);
+    let mut k = started(&desc, &prog, 100);
+    let Outcome::BlockStart { t, .. } = k.run_until(60_000_000_000, Some((0, feed_in))) else {
+        panic!("the feed in did not start");
+    };
+    // STOP half a second into the feed in, the tap in the hole.
+    k.advance_to(t + 500_000_000);
+    let z = k.machine(0).expect("CH1").status().pos[2];
+    assert!(z < 3000 && z > -10_000, "in the hole: Z {z}");
+    k.stop(Some(0)).expect("STOP");
+    assert_eq!(k.run_until_idle(60_000_000_000), Outcome::Stopped);
+    // The hold came after the tap's last block: out at R (Z3), the spindle forward at 500.
+    let st = k.machine(0).expect("CH1").status();
+    assert!(st.hold, "held");
+    assert_eq!(st.pos[2], 3000, "held at the R level");
+    assert_eq!(st.executed.as_ref().map(|b| b.seq), Some(end));
+    // M03 is given (the spindle ramps from −500 rpm back up to 500 while the run holds).
+    assert_eq!(st.spindle_programmed, 500);
+    let now = k.now();
+    k.advance_to(now + 1_000_000_000);
+    assert_eq!(k.machine(0).expect("CH1").status().spindle, 500);
+}
+
+#[test]
+fn a_fanuc_program_with_g84_runs_to_its_end() {
+    let dir = common::temp_dir("lathe-tapping");
+    let m = dir.join("shop.desc");
+    std::fs::write(&m, desc_text("fanuc", "")).unwrap();
+    // A nut: face, drill the core hole, tap it M10×1.5 (shapes of a shop program).
+    let prog = dir.join("nut.nc");
+    std::fs::write(
+        &prog,
+        "%\nO0200 (NUT)\nG21 G40 G80 G95\nM10\nG28 U0 W0\n\
+         T0101\nG96 S150 D3000 M03\nG0 X42. Z2. M08\nG1 Z0 F0.15\nX-1.6\nG0 Z2.\n\
+         G28 U0 W0\nT0202\nG97 S1200 M03\nG0 X0 Z5.\n\
+         G83 Z-20. R-2. Q5000 F0.12\nG80\n\
+         G97 S300 M03\nG84 Z-16. R-2. P200 F1.5\nG80\n\
+         G0 Z20. M09\nG28 U0 W0\nM30\n%\n",
+    )
+    .unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args([
+            "run",
+            "--machine",
+            m.to_str().unwrap(),
+            prog.to_str().unwrap(),
+            "--parts",
+            "2",
+        ])
+        .output()
+        .expect("novanc runs");
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(0), "{out}\n{err}");
+    assert!(out.contains("parts: 2"), "{out}");
+    assert!(out.contains("CH1 PATH-1:"), "{out}");
+    assert!(out.contains(", parts 2"), "{out}");
 }

@@ -24,6 +24,14 @@ use crate::input_text::{fixed, short_number};
 pub use crate::limits::MAX_PECKS;
 use crate::limits::{MAX_BLOCKS, MAX_DWELL_S};
 
+/// Why G84 is refused with the spindle stopped, on the mill and on the lathe (one tapping
+/// rule for both machines).
+pub const G84_STOPPED: &str = "G84 needs the spindle turning forward: give M03 first";
+
+/// Why G84 is refused with the spindle turning backward (a right-hand tap), on both machines.
+pub const G84_BACKWARD: &str =
+    "G84 with the spindle turning backward (M04): right-hand tapping needs M03";
+
 /// Why a G73/G83 hole cannot be pecked.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum PeckFault {
@@ -186,9 +194,9 @@ pub fn cycle(
             return Err(x.err(
                 col,
                 if spindle == 0 {
-                    "G84 needs the spindle turning forward: give M03 first"
+                    G84_STOPPED
                 } else {
-                    "G84 with the spindle turning backward (M04): right-hand tapping needs M03"
+                    G84_BACKWARD
                 },
             ))
         }

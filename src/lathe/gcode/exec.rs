@@ -40,11 +40,11 @@ pub struct State {
     pub peck_return: f64,
     /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
     pub g76: Option<FanucG76>,
-    /// G83 in force (Fanuc's face drilling; G80 or a group 01 code cancels it): the series'
-    /// initial level, R, Q and P.
+    /// G83 or G84 in force (Fanuc's face drilling and tapping; G80 or a group 01 code
+    /// cancels it): the cycle, the series' initial level, R, Q and P.
     pub drill: Option<drilling::Drill>,
-    /// G99 in G code system B: G83 returns to the R level; else (G98, the default) to the
-    /// initial level. System A has no such choice: G83 returns to the initial level.
+    /// G99 in G code system B: G83 and G84 return to the R level; else (G98, the default) to
+    /// the initial level. System A has no such choice: they return to the initial level.
     pub drill_to_r: bool,
     /// Where the program's zero lies, `[Z, X]` mm (X a radius), in the coordinates the
     /// channel starts in (its work coordinates): moved by system A's `G50 X Z`.
@@ -628,11 +628,16 @@ impl Reader<'_> {
         // G50's X and Z set the coordinate system: nothing moves.
         let axes =
             w.has_g(500).is_none() && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
-        // G83, its mode and its return level (docs/lathe-gcode.md "G83 face drilling").
-        let g83 = w.has_g(830);
+        // G83 or G84, its mode and its return level (docs/lathe-gcode.md "G83 face drilling",
+        // "G84 face tapping").
+        let given =
+            w.g.as_slice()
+                .iter()
+                .find(|x| matches!(x.0, 830 | 840))
+                .map(|&(g, c)| (g / 10, c));
         if !self.system_a {
             if let Some(&(g, c)) = w.g.as_slice().iter().find(|x| matches!(x.0, 980 | 990)) {
-                if !self.fanuc || (g83.is_none() && self.st.drill.is_none()) {
+                if !self.fanuc || (given.is_none() && self.st.drill.is_none()) {
                     return Err(err(n, c, super::G98_G99_FEEDS));
                 }
                 self.st.drill_to_r = g == 990;
@@ -641,30 +646,32 @@ impl Reader<'_> {
         if w.has_g(800).is_some() {
             self.st.drill = None;
         }
-        if let (Some(c), Some((g, _))) = (g83, motion_code) {
+        if let (Some((code, c)), Some((g, _))) = (given, motion_code) {
             return Err(err(
                 n,
                 c,
                 format!(
-                    "G83 and G{:02} on one line: the drilling cycle and a motion code of group 01 exclude each other",
+                    "G{code} and G{:02} on one line: the drilling cycle and a motion code of group 01 exclude each other",
                     g / 10
                 ),
             ));
         }
         if motion_code.is_some() {
-            // A group 01 code ends G83's mode (Fanuc: as G80).
+            // A group 01 code ends G83's or G84's mode (Fanuc: as G80).
             self.st.drill = None;
         }
-        let drill_here = g83.or_else(|| {
-            (self.st.drill.is_some() && axes && w.has_g(280).is_none())
+        let drill_here = given.or_else(|| {
+            let code = self.st.drill.map(|d| d.code)?;
+            (axes && w.has_g(280).is_none())
                 .then(|| ['X', 'U', 'Z', 'W'].iter().filter_map(|&l| w.col(l)).min())
                 .flatten()
+                .map(|c| (code, c))
         });
-        if let Some(c) = drill_here {
+        if let Some((code, c)) = drill_here {
             for l in ['P', 'Q', 'R', 'K', 'X', 'Z', 'U', 'W'] {
                 use_(l);
             }
-            flow = drilling::g83(self, w, n, c)?;
+            flow = drilling::cycle(self, w, n, c, code)?;
         }
         match motion_code {
             Some((g @ (740 | 750), c)) => {
@@ -713,7 +720,7 @@ impl Reader<'_> {
                     }
                 }
                 if drill_here.is_some() {
-                    // G83 made its moves above.
+                    // G83 or G84 made its moves above.
                 } else if let Some(c) = w.has_g(280) {
                     // G28 takes the line's axis words; a motion code beside it only sets the
                     // mode (`G28 G00 U0 W0`, as on a Fanuc).

@@ -14,7 +14,8 @@
 //! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses, blocks.
 //! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
-//! - [`grooving`]: Fanuc's G74/G75 peck cycles; [`drilling`]: Fanuc's G83 face drilling.
+//! - [`grooving`]: Fanuc's G74/G75 peck cycles; [`drilling`]: Fanuc's G83 face drilling and
+//!   G84 face tapping.
 //! - [`sysvars`]: the machine state a program reads: Fanuc's system variables, LinuxCNC's
 //!   parameters from #5000 and predefined named parameters.
 
@@ -128,10 +129,10 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         400 | 410 | 420 => 7,
         960 | 970 => 8,
         40 | 280 => 0,
-        800 | 830 => 9,
+        800 | 830 | 840 => 9,
         430 | 490 => 10,
-        // System B's return levels of G83 (initial level, R); `exec` refuses them on a line
-        // without G83 and out of its mode, with [`G98_G99_FEEDS`].
+        // System B's return levels of G83 and G84 (initial level, R); `exec` refuses them on a
+        // line without either and out of their mode, with [`G98_G99_FEEDS`].
         980 | 990 => 11,
         540 => 12,
         610 | 611 | 640 => 13,
@@ -153,15 +154,14 @@ fn lathe_m_group(m: u32) -> Option<u8> {
 }
 
 /// Why G98 or G99 is refused in G code system B out of G83's mode (and in LinuxCNC's dialect).
-pub const G98_G99_FEEDS: &str = "G98 and G99 are the feeds of Fanuc's G code system A: in system B, G94 per minute and G95 per revolution (and with G83, in the Fanuc dialect, G98 returns to the initial level, G99 to R)";
+pub const G98_G99_FEEDS: &str = "G98 and G99 are the feeds of Fanuc's G code system A: in system B, G94 per minute and G95 per revolution (and with G83 or G84, in the Fanuc dialect, G98 returns to the initial level, G99 to R)";
 
 fn lathe_g_why(g: u32) -> &'static str {
     match g {
         920..=923 => " (G92 offsets are not supported on the lathe)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
         720 | 730 => " (the roughing cycle is G71 with G70; G72 and G73 are not supported)",
-        840 => " (G84 face tapping is not supported: the kernel reverses the spindle only between blocks, with the tap standing still in the hole, not under a move synchronised to the spindle)",
-        810..=890 => " (the lathe's one drilling cycle is G83, on the centre line, in the Fanuc dialect)",
+        810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
         530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",
         500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is D)",

@@ -21,7 +21,7 @@
 
 use super::comp;
 use super::MAX_STEPS;
-use crate::block::{Block, Css, FeedMode, Motion, Plane, Statement, Sync, TranslateError};
+use crate::block::{Block, Css, FeedMode, Motion, Plane, Statement, Sync, Tap, TranslateError};
 use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
 use crate::limits::{MAX_MOVE_S, MIN_FEED};
 
@@ -115,6 +115,9 @@ pub struct Out<'a> {
     css: Option<Css>,
     /// M02 or M30 was emitted: nothing follows it.
     ended: bool,
+    /// What the blocks emitted now belong to (a G84 tap's, docs/pulse-core.md "Tapping"):
+    /// set by [`Out::set_tap`], back to `Tap::No` after the block marked `Tap::End`.
+    tap: Tap,
     /// The feed codes, per minute and per revolution, the messages name: G94 and G95 (G code
     /// system B), or G98 and G99 (system A).
     pub feed_codes: (&'static str, &'static str),
@@ -140,6 +143,7 @@ impl<'a> Out<'a> {
             speed: (0.0, None),
             css: None,
             ended: false,
+            tap: Tap::No,
             feed_codes: ("G94", "G95"),
         }
     }
@@ -231,6 +235,10 @@ impl<'a> Out<'a> {
         }
         self.blocks += 1;
         let start = [self.at[0], 0, self.at[1]];
+        b.tap = self.tap;
+        if self.tap == Tap::End {
+            self.tap = Tap::No;
+        }
         b.seq = self.blocks as u32;
         b.stmt = line;
         if b.motion == Motion::Aux || b.motion == Motion::Dwell {
@@ -252,6 +260,12 @@ impl<'a> Out<'a> {
             }),
         }
         Ok(())
+    }
+
+    /// Marks the blocks emitted from now on as a tap's (`Tap::Part`), the next one as its last
+    /// (`Tap::End`, after which the marks stop), or none: the mill's `Canon::Tap`, for G84.
+    pub fn set_tap(&mut self, t: Tap) {
+        self.tap = t;
     }
 
     /// A block without motion (a tool, a wait, the chuck, a stop, a dwell, the end). Under

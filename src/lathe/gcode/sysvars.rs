@@ -210,7 +210,7 @@ impl Modal for Reader<'_> {
                 Some(true) => 41.0,
                 Some(false) => 42.0,
             },
-            10 => pick(st.drill.is_some(), 83.0, 80.0),
+            10 => st.drill.map_or(80.0, |d| f64::from(d.code)),
             11 if self.system_a => f64::NAN,
             11 => pick(st.drill_to_r, 99.0, 98.0),
             16 => 18.0,
