@@ -424,3 +424,32 @@ fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
         c.message()
     );
 }
+
+/// A cycle (AUTO) starts with every spindle stopped and the coolant off, whatever an MDI run
+/// left turning: its programs close and open the chucks (M10/M11), which must never act on a
+/// turning spindle, and command the spindle themselves.
+#[test]
+fn an_auto_cycle_starts_with_the_spindles_stopped_whatever_mdi_left() {
+    let state = common::temp_dir("lathe-state-auto-spindle");
+    let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), &state, 20, 160, None).unwrap();
+    assert_eq!(mdi(&mut c, &["M3 S500", "M8"]), "MDI CH1 runs");
+    c.run_for(5_000_000_000, RunUntil::Time, || false);
+    assert_eq!(c.view().channels[0].rpm, 500.0);
+    c.handle(Mode::Auto.event());
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "cycle start");
+    // Run until CH1's chuck has closed on the bar (M10, line 7), a tick at a time.
+    let mut closed_at = None;
+    for _ in 0..20_000 {
+        c.tick(1_000_000);
+        let v = &c.view().channels[0];
+        if v.chuck {
+            closed_at = Some((v.rpm, v.coolant));
+            break;
+        }
+    }
+    // In the tick the chuck closed, the program's own M3 may have begun its ramp from rest.
+    let (rpm, coolant) = closed_at.expect("the chuck closed");
+    assert!(rpm < 10.0, "the chuck closed on a spindle at {rpm} rpm");
+    assert_eq!(coolant, (false, false));
+}

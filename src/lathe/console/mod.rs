@@ -716,7 +716,10 @@ impl LatheConsole {
             }
         }
         let spec = glue::CycleSpec {
-            left: self.left.clone(),
+            // An MDI run goes on with the spindles and coolant as they are; a cycle (AUTO)
+            // starts them stopped: its programs work the chucks, which must never close or
+            // open on a turning spindle, and command the spindle themselves.
+            left: if mdi { self.left.clone() } else { Vec::new() },
             texts,
             opts,
             target,
