@@ -717,8 +717,9 @@ impl LatheConsole {
         }
         let spec = glue::CycleSpec {
             // An MDI run goes on with the spindles and coolant as they are; a cycle (AUTO)
-            // starts them stopped: its programs work the chucks, which must never close or
-            // open on a turning spindle, and command the spindle themselves.
+            // starts them stopped: its programs work the chucks and command the spindles
+            // around them themselves (a bar must not be received into a spindle an MDI run
+            // left turning).
             left: if mdi { self.left.clone() } else { Vec::new() },
             texts,
             opts,
