@@ -676,3 +676,23 @@ fn the_plasma_shows_the_channels_coolant() {
         "{so}"
     );
 }
+
+/// The DATA pointer of each channel is kept across a restart, as the centre's is: the editor
+/// goes on where the operator left it.
+#[test]
+fn the_editor_pointer_of_each_channel_is_kept_across_a_restart() {
+    let dir = common::temp_dir("lathe-pointer");
+    let state = dir.join("state");
+    let script = dir.join("ptr.panel");
+    std::fs::write(&script, "op DATA\ntype 3L\nchannel 2\ntype 5L\nshow\n").unwrap();
+    let o = citizen_script(&script, &state, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains(">0006 "), "{}", text(&o.stdout));
+    std::fs::write(&script, "op DATA\nshow\nchannel 2\nshow\n").unwrap();
+    let o = citizen_script(&script, &state, &[]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let frames: Vec<&str> = so.split("--- display").skip(1).collect();
+    assert!(frames[0].contains(">0004 "), "CH1 at line 4: {}", frames[0]);
+    assert!(frames[1].contains(">0006 "), "CH2 at line 6: {}", frames[1]);
+}

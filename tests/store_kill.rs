@@ -253,6 +253,8 @@ struct Lathe {
     params: Vec<std::collections::BTreeMap<usize, f64>>,
     /// Each channel's MDI buffer (the lines typed in MDI, not yet run).
     mdi: Vec<Vec<String>>,
+    /// Each channel's editor pointer (characters from its program's start).
+    pointers: Vec<usize>,
 }
 
 impl Subject for Lathe {
@@ -279,6 +281,7 @@ impl Subject for Lathe {
                 .map(|p| p.iter().copied().collect())
                 .collect(),
             mdi: o.mdi,
+            pointers: o.pointers,
         };
         Ok((l, o.warnings))
     }
@@ -288,7 +291,7 @@ impl Subject for Lathe {
         let ch = r.below(3);
         match r.below(100) {
             // DATA: an editor command line on the channel's program (insert or kill a line).
-            0..=54 => {
+            0..=49 => {
                 let at = r.below(12);
                 let line = match r.below(3) {
                     0 => format!("-999999L{at}LK"),
@@ -303,6 +306,9 @@ impl Subject for Lathe {
                     dialect: None,
                 };
                 self.store.save_program(ch, &p)?;
+                // A pointer past the new text's end stands at its end (as the stores do).
+                let len = p.text.chars().count();
+                self.pointers[ch] = self.pointers[ch].min(len);
                 self.programs[ch] = p;
             }
             // OFS: a tool's offsets revised.
@@ -312,6 +318,12 @@ impl Subject for Lathe {
                 tools[i].offset = [(k % 997) as f64 * 0.001, -((k % 89) as f64) * 0.01];
                 self.store.save_tools(ch, &tools)?;
                 self.tools[ch] = tools;
+            }
+            // DATA: a pointer move alone (nL), kept across a restart.
+            50..=54 => {
+                let at = r.below(self.programs[ch].text.chars().count() + 1);
+                self.store.save_pointer(ch, at)?;
+                self.pointers[ch] = at;
             }
             // MDI: a line typed into the channel's buffer, or the buffer run (cleared).
             80..=84 => {
@@ -357,8 +369,8 @@ impl Subject for Lathe {
 
     fn digest(&self) -> u64 {
         fnv(&format!(
-            "{:?}{:?}{:?}{:?}{:?}",
-            self.programs, self.tools, self.counter, self.params, self.mdi
+            "{:?}{:?}{:?}{:?}{:?}{:?}",
+            self.programs, self.tools, self.counter, self.params, self.mdi, self.pointers
         ))
     }
 

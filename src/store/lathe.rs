@@ -106,6 +106,8 @@ pub struct LatheState {
     pub params: Vec<std::collections::BTreeMap<u16, i64>>,
     /// Each channel's MDI buffer: the lines typed and not yet run, each ended by a line break.
     pub mdi: Vec<String>,
+    /// Each channel's editor pointer in its program, characters from the start.
+    pub pointers: Vec<usize>,
 }
 
 /// The most lines a lathe channel's MDI buffer holds.
@@ -147,6 +149,7 @@ impl LatheState {
             counter: Counter::fresh(n),
             params: vec![Default::default(); n],
             mdi: vec![String::new(); n],
+            pointers: vec![0; n],
         }
     }
 
@@ -173,6 +176,11 @@ impl LatheState {
                     ch,
                     params: ps.iter().map(|(&n, &v)| (n, v)).collect(),
                 });
+            }
+        }
+        for (ch, &at) in self.pointers.iter().enumerate() {
+            if at > 0 {
+                out.push(Record::ChannelPointer { ch, at });
             }
         }
         for (ch, text) in self.mdi.iter().enumerate() {
@@ -215,6 +223,9 @@ impl LatheState {
                 };
                 p.check().map_err(Refusal::Other)?;
                 let changed = self.programs[ch] != p;
+                // A pointer past the new text's end stands at its end.
+                let len = p.text.chars().count();
+                self.pointers[ch] = self.pointers[ch].min(len);
                 self.programs[ch] = p;
                 changed
             }
@@ -256,6 +267,19 @@ impl LatheState {
                         kept.insert(n, v);
                     }
                 }
+                changed
+            }
+            Record::ChannelPointer { ch, at } => {
+                let ch = chan(*ch)?;
+                let len = self.programs[ch].text.chars().count();
+                if *at > len {
+                    return Err(Refusal::Other(format!(
+                        "a pointer at {at} is past channel {}'s program of {len} characters",
+                        ch + 1
+                    )));
+                }
+                let changed = self.pointers[ch] != *at;
+                self.pointers[ch] = *at;
                 changed
             }
             Record::ChannelMdi { ch, text } => {
@@ -469,6 +493,8 @@ pub struct Opened {
     pub params: Vec<Vec<(usize, f64)>>,
     /// Each channel's MDI buffer, its lines (typed and not yet run).
     pub mdi: Vec<Vec<String>>,
+    /// Each channel's editor pointer in its program, characters from the start.
+    pub pointers: Vec<usize>,
     /// What the operator should know (damage found and kept aside, a migration).
     pub warnings: Vec<String>,
 }
@@ -503,6 +529,7 @@ impl LatheStore {
             counter: l.counter,
             tools: l.tools,
             params: l.params.iter().map(super::params::params_of).collect(),
+            pointers: l.pointers.clone(),
             mdi: l
                 .mdi
                 .iter()
@@ -593,6 +620,16 @@ impl LatheStore {
                 ch + 1
             )
         })
+    }
+
+    /// Stores channel `ch`'s editor pointer (characters from its program's start); when this
+    /// returns Ok it is on disk.
+    pub fn save_pointer(&mut self, ch: usize, at: usize) -> Result<(), String> {
+        if self.stores.lathe().and_then(|l| l.pointers.get(ch)) == Some(&at) {
+            return Ok(());
+        }
+        self.commit(Record::ChannelPointer { ch, at })
+            .map_err(|e| format!("channel {}: the pointer could not be stored: {e}", ch + 1))
     }
 
     /// Stores the part counter.

@@ -123,6 +123,14 @@ pub enum Record {
         /// The lines, each ended by a line break.
         text: String,
     },
+    /// A lathe channel's editor pointer in its program, characters from the start (a DATA
+    /// line that moved it; docs/stores.md "A lathe's stores").
+    ChannelPointer {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// Characters from the program's start.
+        at: usize,
+    },
     /// A lathe's part counter: the target and each channel's count.
     Parts {
         /// The number of parts to make.
@@ -188,6 +196,7 @@ impl Record {
                 t
             }
             Record::ChannelMdi { ch, text } => format!("chmdi {}\n{text}", ch + 1),
+            Record::ChannelPointer { ch, at } => format!("chptr {} {at}", ch + 1),
             Record::Parts { target, counts } => {
                 let mut t = format!("parts {target}");
                 for c in counts {
@@ -295,6 +304,10 @@ impl Record {
                     params: param_pairs(rest, head)?,
                 }
             }
+            ["chptr", c, at] => Record::ChannelPointer {
+                ch: channel(c, head)?,
+                at: at.parse().map_err(|_| format!("bad pointer in '{head}'"))?,
+            },
             ["chmdi", c] => Record::ChannelMdi {
                 ch: channel(c, head)?,
                 text: body.unwrap_or_default().to_string(),
@@ -428,6 +441,7 @@ mod tests {
                 ch: 0,
                 text: String::new(),
             },
+            Record::ChannelPointer { ch: 2, at: 417 },
             Record::Parts {
                 target: 5,
                 counts: vec![1, 0, 2],
@@ -447,6 +461,7 @@ mod tests {
         assert!(Record::decode("chprog 1\nno name line").is_err());
         assert!(Record::decode("chtools x\n").is_err());
         assert!(Record::decode("chmdi 0\nG0 X1\n").is_err());
+        assert!(Record::decode("chptr 1 -3").is_err());
         assert!(Record::decode("parts 5").is_err());
         assert!(Record::decode("read A fanu\nG0").is_err());
         assert!(Record::decode("new A fanuc linuxcnc").is_err());

@@ -234,6 +234,7 @@ impl State {
                 | Record::ChannelTools { .. }
                 | Record::ChannelParams { .. }
                 | Record::ChannelMdi { .. }
+                | Record::ChannelPointer { .. }
                 | Record::Parts { .. }
         );
         match (self.lathe.as_mut(), lathe_rec) {
@@ -429,6 +430,7 @@ impl State {
             | Record::ChannelTools { .. }
             | Record::ChannelParams { .. }
             | Record::ChannelMdi { .. }
+            | Record::ChannelPointer { .. }
             | Record::Parts { .. } => Err(Refusal::Other(
                 "not a record of the centre's stores".to_string(),
             )),

@@ -121,16 +121,28 @@ impl LatheConsole {
                     }
                     self.programs[ch] = p;
                 }
+                // The pointer is kept across a restart, as the centre's is.
+                if let Err(e) = self.store.save_pointer(ch, buf.pointer()) {
+                    if !out.changed {
+                        // A move alone that cannot be stored is refused: the pointer stays.
+                        self.message = format!("{e}: the line is refused");
+                        self.entry = line.to_string();
+                        return;
+                    }
+                    self.message = e;
+                }
                 // `Y` type-out is shown in place of the listing until the next line or mode
                 // (the centre's rule): what the operator asked to see is not dropped.
                 self.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
                 self.pointers[ch] = buf.pointer();
                 self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
-                self.message = if out.changed {
-                    "stored".into()
-                } else {
-                    "ok".into()
-                };
+                if self.message.is_empty() {
+                    self.message = if out.changed {
+                        "stored".into()
+                    } else {
+                        "ok".into()
+                    };
+                }
             }
         }
     }

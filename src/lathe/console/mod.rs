@@ -152,10 +152,17 @@ impl LatheConsole {
             .counts
             .iter()
             .any(|&c| c > 0 && c < o.counter.target);
+        // The editor's line in each program, from the pointer the stores kept.
+        let edit_line = o
+            .programs
+            .iter()
+            .zip(&o.pointers)
+            .map(|(p, &at)| 1 + p.text.chars().take(at).filter(|&c| c == '\n').count())
+            .collect();
         let mut c = LatheConsole {
             programs: o.programs,
-            pointers: vec![0; n],
-            edit_line: vec![1; n],
+            edit_line,
+            pointers: o.pointers.clone(),
             mdi: o.mdi.clone(),
             counter: o.counter,
             store: o.store,
