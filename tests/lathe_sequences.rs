@@ -345,12 +345,14 @@ fn stores_hold_the_console(s: Seq, m: &Machine, what: &str) {
     let programs = s.c.programs().to_vec();
     let mdi: Vec<Vec<String>> = (0..n).map(|ch| s.c.mdi_lines(ch).to_vec()).collect();
     let counter = s.c.counter().clone();
+    let pointers: Vec<usize> = (0..n).map(|ch| s.c.pointer(ch)).collect();
     let dir = s.dir.clone();
     drop(s);
     let o = LatheStore::open(&dir, &m.desc).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(o.programs, programs, "{what}: the stored programs");
     assert_eq!(o.mdi, mdi, "{what}: the stored MDI buffers");
     assert_eq!(o.counter, counter, "{what}: the stored part counter");
+    assert_eq!(o.pointers, pointers, "{what}: the stored editor pointers");
 }
 
 fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {

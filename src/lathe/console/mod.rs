@@ -261,6 +261,11 @@ impl LatheConsole {
         &self.programs
     }
 
+    /// Channel `ch`'s editor pointer, characters from its program's start.
+    pub fn pointer(&self, ch: usize) -> usize {
+        self.pointers.get(ch).copied().unwrap_or(0)
+    }
+
     /// Channel `ch`'s MDI buffer: the lines typed and not yet run.
     pub fn mdi_lines(&self, ch: usize) -> &[String] {
         self.mdi.get(ch).map_or(&[], |l| &l[..])
