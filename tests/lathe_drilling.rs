@@ -9,7 +9,7 @@ mod common;
 
 use novanc::block::{Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
-use novanc::lathe::gcode::{read_program, ReadOptions};
+use novanc::lathe::gcode::ReadOptions;
 use std::process::Command;
 
 /// The machine's description: one channel, X travel 0..100 (radius), Z −100..100; tool 1 with
@@ -36,36 +36,17 @@ fn lathe(dialect: &str) -> LatheDesc {
     lathe_with(dialect, "")
 }
 
-fn read(text: &str, desc: &LatheDesc) -> Result<Vec<Statement>, String> {
-    read_program(text, desc, 0, &ReadOptions::default()).map_err(|e| e.to_string())
-}
+#[path = "common/lathe_moves.rs"]
+mod lathe_moves;
+use lathe_moves::read;
 
-/// The moves and dwells in brief: R rapid, F feed, the block's end (X a radius, Z), mm; D and
-/// the dwell in ms.
-fn moves(p: &[Statement]) -> Vec<String> {
-    p.iter()
-        .flat_map(|s| &s.blocks)
-        .filter_map(|b| {
-            let k = match b.motion {
-                Motion::Rapid => 'R',
-                Motion::Linear => 'F',
-                Motion::Dwell => return Some(format!("D {}", b.dwell_ns / 1_000_000)),
-                _ => return None,
-            };
-            Some(format!(
-                "{k} X{:.3} Z{:.3}",
-                b.end[0] as f64 / 1000.0,
-                b.end[2] as f64 / 1000.0
-            ))
-        })
-        .collect()
-}
-
+/// The moves and dwells in brief.
 fn ok(text: &str, desc: &LatheDesc) -> Vec<String> {
-    match read(text, desc) {
-        Ok(p) => moves(&p),
-        Err(e) => panic!("{e}\n{text}"),
-    }
+    lathe_moves::ok(text, desc, true)
+}
+
+fn moves(p: &[Statement]) -> Vec<String> {
+    lathe_moves::moves(p, true)
 }
 
 /// The program's error, which must start with `at` (LINE:COL) and hold `why`.
@@ -313,6 +294,23 @@ fn g83_refusals_name_their_line_column_and_reason() {
     );
 }
 
+/// `novanc run --machine M PROG --parts 2` delivers its 2 parts, exit 0.
+fn runs_two_parts(m: &std::path::Path, prog: &std::path::Path) {
+    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["run", "--machine"])
+        .arg(m)
+        .arg(prog)
+        .args(["--parts", "2"])
+        .output()
+        .expect("novanc runs");
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(0), "{out}\n{err}");
+    assert!(out.contains("parts: 2"), "{out}");
+    assert!(out.contains("CH1 PATH-1:"), "{out}");
+    assert!(out.contains(", parts 2"), "{out}");
+}
+
 #[test]
 fn a_fanuc_program_with_g83_runs_to_its_end() {
     let dir = common::temp_dir("lathe-drilling");
@@ -329,23 +327,7 @@ fn a_fanuc_program_with_g83_runs_to_its_end() {
          G0 Z20. M09\nG28 U0 W0\nM30\n%\n",
     )
     .unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args([
-            "run",
-            "--machine",
-            m.to_str().unwrap(),
-            prog.to_str().unwrap(),
-            "--parts",
-            "2",
-        ])
-        .output()
-        .expect("novanc runs");
-    let out = String::from_utf8_lossy(&o.stdout).into_owned();
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(0), "{out}\n{err}");
-    assert!(out.contains("parts: 2"), "{out}");
-    assert!(out.contains("CH1 PATH-1:"), "{out}");
-    assert!(out.contains(", parts 2"), "{out}");
+    runs_two_parts(&m, &prog);
 }
 
 #[test]
@@ -762,21 +744,5 @@ fn a_fanuc_program_with_g84_runs_to_its_end() {
          G0 Z20. M09\nG28 U0 W0\nM30\n%\n",
     )
     .unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args([
-            "run",
-            "--machine",
-            m.to_str().unwrap(),
-            prog.to_str().unwrap(),
-            "--parts",
-            "2",
-        ])
-        .output()
-        .expect("novanc runs");
-    let out = String::from_utf8_lossy(&o.stdout).into_owned();
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert_eq!(o.status.code(), Some(0), "{out}\n{err}");
-    assert!(out.contains("parts: 2"), "{out}");
-    assert!(out.contains("CH1 PATH-1:"), "{out}");
-    assert!(out.contains(", parts 2"), "{out}");
+    runs_two_parts(&m, &prog);
 }

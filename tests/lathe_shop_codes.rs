@@ -3,9 +3,7 @@
 //! peck cycles and a G71 whose Q is written without a point. Moves worked out by hand from
 //! each program, not by the reader.
 
-use novanc::block::{Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
-use novanc::lathe::gcode::{read_program, ReadOptions};
 
 /// A one-channel lathe: X travel 0..100 (radius), Z −100..100; tool 1 with offsets X 2 (radius)
 /// Z −3, tool 2 without; in `dialect`.
@@ -23,34 +21,13 @@ fn lathe(dialect: &str) -> LatheDesc {
     }
 }
 
-fn read(text: &str, desc: &LatheDesc) -> Result<Vec<Statement>, String> {
-    read_program(text, desc, 0, &ReadOptions::default()).map_err(|e| e.to_string())
-}
+#[path = "common/lathe_moves.rs"]
+mod lathe_moves;
+use lathe_moves::read;
 
-/// The moves in brief: R rapid, F feed, the block's end (X a radius, Z), mm.
-fn moves(p: &[Statement]) -> Vec<String> {
-    p.iter()
-        .flat_map(|s| &s.blocks)
-        .filter_map(|b| {
-            let k = match b.motion {
-                Motion::Rapid => 'R',
-                Motion::Linear => 'F',
-                _ => return None,
-            };
-            Some(format!(
-                "{k} X{:.3} Z{:.3}",
-                b.end[0] as f64 / 1000.0,
-                b.end[2] as f64 / 1000.0
-            ))
-        })
-        .collect()
-}
-
+/// The moves in brief (no dwells).
 fn ok(text: &str, desc: &LatheDesc) -> Vec<String> {
-    match read(text, desc) {
-        Ok(p) => moves(&p),
-        Err(e) => panic!("{e}\n{text}"),
-    }
+    lathe_moves::ok(text, desc, false)
 }
 
 #[test]

@@ -37,14 +37,20 @@ fn open(desc: &LatheDesc, state: &Path) -> LatheConsole {
 
 /// MDI on the selected channel: `lines`, START, and the run to its end. The message START gave.
 fn mdi(c: &mut LatheConsole, lines: &[&str]) -> String {
+    let m = mdi_start(c, lines);
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    m
+}
+
+/// MDI on the selected channel: `lines`, then START, with no machine time after it. The
+/// message START gave.
+fn mdi_start(c: &mut LatheConsole, lines: &[&str]) -> String {
     c.handle(Mode::Mdi.event());
     for l in lines {
         c.handle(PanelEvent::Type(l.to_string()));
     }
     c.handle(PanelEvent::Start);
-    let m = c.message().to_string();
-    c.run_for(600_000_000_000, RunUntil::Rest, || false);
-    m
+    c.message().to_string()
 }
 
 /// The tool post, pulses [X radius, Z].
@@ -355,13 +361,8 @@ fn the_mdi_lines_typed_survive_a_restart_until_they_run() {
     assert_eq!(at(&c)[0], 18_000, "X36 as a diameter: the lines ran");
     drop(c);
     let mut c = open(&d, &state);
-    c.handle(Mode::Mdi.event());
-    c.handle(PanelEvent::Start);
-    assert!(
-        c.message().contains("the buffer is empty"),
-        "{}",
-        c.message()
-    );
+    let m = mdi_start(&mut c, &[]);
+    assert!(m.contains("the buffer is empty"), "{m}");
 }
 
 /// What a real lathe keeps between two STARTs: an MDI `M3 S500` turns the spindle until M5,
@@ -379,11 +380,8 @@ fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
     c.run_for(5_000_000_000, RunUntil::Time, || false);
     assert_eq!((ch(&c).rpm, ch(&c).coolant), (500.0, (false, true)));
     // The next run: the feed per revolution is accepted, the spindle is at 500 at once.
-    c.handle(Mode::Mdi.event());
-    c.handle(PanelEvent::Type("G1 X30. F0.2".into()));
-    c.handle(PanelEvent::Start);
     assert_eq!(
-        c.message(),
+        mdi_start(&mut c, &["G1 X30. F0.2"]),
         "MDI CH1 runs",
         "a G95 feed with the spindle turning"
     );
@@ -402,27 +400,15 @@ fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
     assert_eq!((ch(&c).rpm, ch(&c).coolant), (400.0, (true, false)));
     c.handle(PanelEvent::Reset);
     c.handle(PanelEvent::Reset);
-    c.handle(Mode::Mdi.event());
-    c.handle(PanelEvent::Type("G95 G1 X20. F0.2".into()));
-    c.handle(PanelEvent::Start);
-    assert!(
-        c.message().contains("spindle stopped"),
-        "after RESET: {}",
-        c.message()
-    );
+    let m = mdi_start(&mut c, &["G95 G1 X20. F0.2"]);
+    assert!(m.contains("spindle stopped"), "after RESET: {m}");
     // E-STOP stops them.
     c.handle(PanelEvent::Reset);
     assert_eq!(mdi(&mut c, &["M3 S400"]), "MDI CH1 runs");
     c.handle(PanelEvent::EStop);
     c.handle(PanelEvent::Reset);
-    c.handle(Mode::Mdi.event());
-    c.handle(PanelEvent::Type("G95 G1 X20. F0.2".into()));
-    c.handle(PanelEvent::Start);
-    assert!(
-        c.message().contains("spindle stopped"),
-        "after E-STOP: {}",
-        c.message()
-    );
+    let m = mdi_start(&mut c, &["G95 G1 X20. F0.2"]);
+    assert!(m.contains("spindle stopped"), "after E-STOP: {m}");
 }
 
 /// A cycle (AUTO) starts with every spindle stopped and the coolant off, whatever an MDI run
