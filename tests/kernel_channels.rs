@@ -331,10 +331,13 @@ fn the_chuck_interlock_refuses_a_cut_on_an_empty_spindle_or_an_open_chuck() {
             "no work in the spindle of CH1",
         ),
         (
-            "M10\nG8 M3 S1000\nG0 X6 Z0\nM11\nG1 X5 Z-1 F100\n",
+            "M10\nG8 G0 X6 Z0\nM11\nM3 S1000\nG1 X5 Z-1 F100\n",
             "no work in the spindle of CH1",
         ),
-        ("M10\nG8 M3 S1000\nG0 X6 Z0\nG1 X5 Z-1 F100\nM11\nM30\n", ""),
+        (
+            "M10\nG8 M3 S1000\nG0 X6 Z0\nG1 X5 Z-1 F100\nM5\nM11\nM30\n",
+            "",
+        ),
     ];
     for (text, why) in cases {
         let mut k = kernel(&desc, &[p(text)], 1);
@@ -366,6 +369,89 @@ fn the_chuck_interlock_refuses_a_cut_on_an_empty_spindle_or_an_open_chuck() {
                 }
                 other => panic!("{other:?}"),
             }
+        }
+    }
+}
+
+/// The chuck interlock on the spindle (seed 004: the receiving spindle turns with the giving
+/// one, in the same direction at a synchronised speed, while the work passes): a chuck closes
+/// or opens on a stopped spindle, or in a handover whose two spindles are both stopped or turn
+/// together. Anything else stops the channel with an alarm that says why, and no work moves.
+#[test]
+fn a_chuck_acts_only_on_a_stopped_spindle_or_in_a_handover_turning_together() {
+    // One channel: receiving the bar, and delivering to the unloader.
+    let desc = citizen_like(1);
+    let one = |text: &str| {
+        let mut k = kernel(&desc, &[program(&desc, 0, text).expect("a program")], 1);
+        k.start(None).expect("START");
+        let o = k.run_until_idle(MINUTE);
+        (o, k.transfers().len())
+    };
+    // (program, alarm, works passed: the bar received, none delivered)
+    for (text, why, passed) in [
+        (
+            "G97 S800 M3\nM10\nM30\n",
+            "M10: the spindle of CH1 turns (800 rpm M3): a chuck closes and opens on a stopped spindle (give M05 first)",
+            0,
+        ),
+        (
+            "M10\nG97 S800 M4\nM11\nM30\n",
+            "M11: the spindle of CH1 turns (800 rpm M4): a chuck closes and opens on a stopped spindle (give M05 first)",
+            1,
+        ),
+    ] {
+        match one(text) {
+            (Outcome::Alarm { ch: 0, msg }, n) => {
+                assert!(msg.ends_with(why), "{msg}");
+                assert_eq!(n, passed, "{text}");
+            }
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+    // M5 first: the part is delivered.
+    assert_eq!(
+        one("M10\nG97 S800 M3\nM5\nM11\nM30\n").0,
+        Outcome::Finished { parts: 1 }
+    );
+    // Two channels: CH1 gives its work to CH2 at M101.
+    let desc = citizen_like(2);
+    let two = |giver: &str, receiver: &str| {
+        let progs = [
+            program(&desc, 0, &format!("M10\n{giver}\nM101 P12\nM11\nM5\nM30\n")).expect("CH1"),
+            program(
+                &desc,
+                1,
+                &format!("{receiver}\nM101 P12\nM10\nM5\nM11\nM30\n"),
+            )
+            .expect("CH2"),
+        ];
+        let mut k = kernel(&desc, &progs, 1);
+        k.start(None).expect("START");
+        k.run_until_idle(MINUTE)
+    };
+    // Both stopped, or both M3 at 1200 rpm: the handover of the seed.
+    assert_eq!(
+        two("G97 S1200 M5", "G97 S1200 M5"),
+        Outcome::Finished { parts: 1 }
+    );
+    assert_eq!(
+        two("G97 S1200 M3", "G97 S1200 M3"),
+        Outcome::Finished { parts: 1 }
+    );
+    // A stopped chuck closing on a turning work, opposite directions, different speeds.
+    for (giver, receiver, said) in [
+        ("G97 S1200 M3", "M5", "CH2 stopped"),
+        ("G97 S1200 M3", "G97 S1200 M4", "CH2 1200 rpm M4"),
+        ("G97 S1200 M3", "G97 S1000 M3", "CH2 1000 rpm M3"),
+    ] {
+        match two(giver, receiver) {
+            Outcome::Alarm { msg, .. } => assert!(
+                msg.contains("the spindles of the handover do not turn together")
+                    && msg.contains("CH1 1200 rpm M3")
+                    && msg.contains(said),
+                "{giver} / {receiver}: {msg}"
+            ),
+            other => panic!("{giver} / {receiver}: {other:?}"),
         }
     }
 }

@@ -1017,6 +1017,7 @@ impl Kernel {
                 (c.counted && c.at_point.is_some_and(|a| a <= te)).then_some(AtPoint {
                     point: p,
                     can_go: !c.m.is_held() && c.fault.is_none(),
+                    spindle: c.m.spindle_commanded(),
                 })
             })
             .collect();

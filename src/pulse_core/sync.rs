@@ -95,13 +95,38 @@ pub struct Transfer {
 }
 
 /// A channel at its sync point as the kernel sees it at the time of a resolution.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AtPoint {
     /// The sync point.
     pub point: Sync,
     /// It may go on: not held, not faulted. A channel that may not still counts as arrived
     /// at a waiting M code, but takes no part in a handover.
     pub can_go: bool,
+    /// Its spindle as commanded: signed rpm (M3 +, M4 -), 0 when stopped (M5, M30, M19). A
+    /// chuck closes or opens only on a stopped spindle, or in a handover between two
+    /// spindles turning together (seed 004: the receiving spindle turns in the same direction
+    /// at a speed synchronised with the giving one's).
+    pub spindle: f64,
+}
+
+/// Two spindles turn together: both stopped, or the same direction at the same speed (to
+/// half a percent, or 1 rpm).
+fn together(a: f64, b: f64) -> bool {
+    (a.abs() < 0.5 && b.abs() < 0.5)
+        || (a.signum() == b.signum() && (a - b).abs() <= (0.005 * a.abs()).max(1.0))
+}
+
+/// A commanded spindle in words: `1500 rpm M3`, `stopped`.
+fn turning(rpm: f64) -> String {
+    if rpm.abs() < 0.5 {
+        "stopped".into()
+    } else {
+        format!(
+            "{:.0} rpm {}",
+            rpm.abs(),
+            if rpm > 0.0 { "M3" } else { "M4" }
+        )
+    }
 }
 
 /// What the table decides for a channel at its sync point.
@@ -298,6 +323,9 @@ impl SyncTable {
                 "M{}: the operator loads this lathe by hand (loading manual); its program does not work the chuck",
                 if point == Sync::ChuckClose { 10 } else { 11 }
             )),
+            Sync::ChuckClose | Sync::ChuckOpen if !self.may_work_chuck(i, point, at, open) => {
+                Step::Refuse(self.chuck_refusal(i, point, at))
+            }
             Sync::ChuckClose => {
                 if self.seats[i].work.is_some() {
                     self.seats[i].closed = true;
@@ -379,6 +407,58 @@ impl SyncTable {
                     }
                 }
             }
+        }
+    }
+
+    /// The chuck interlock at channel `i`'s M10 or M11: its spindle is stopped, or the chuck
+    /// acts in a handover with a partner standing ready whose spindle turns together with it.
+    /// (With the partner not yet there, the channel waits; the partner's arrival decides.)
+    fn may_work_chuck(&self, i: usize, point: Sync, at: &[Option<AtPoint>], open: &[bool]) -> bool {
+        let me = at.get(i).copied().flatten().map_or(0.0, |p| p.spindle);
+        let partner = self.handover_partner(i, point);
+        match partner {
+            Some(o) if open.get(o).copied().unwrap_or(false) => {
+                match at.get(o).copied().flatten() {
+                    Some(p) if p.can_go && p.point != point => together(me, p.spindle),
+                    // Not at its side of the handover yet: this one waits for it (decided then).
+                    _ => true,
+                }
+            }
+            Some(_) => true,
+            None => me.abs() < 0.5,
+        }
+    }
+
+    /// The other chuck of the handover channel `i`'s chuck point takes part in: its supplier
+    /// at M10 on an empty chuck, its receiver at M11 holding a work. None: the chuck acts
+    /// alone (the bar feeder, the unloader, a work already held, an empty chuck opening).
+    fn handover_partner(&self, i: usize, point: Sync) -> Option<usize> {
+        let flow = self.flow.as_ref()?;
+        let holds = self.seats.get(i)?.work.is_some();
+        match point {
+            Sync::ChuckClose if !holds => flow.supplier_of(i),
+            Sync::ChuckOpen if holds => flow.receiver_of(i),
+            _ => None,
+        }
+    }
+
+    /// Why the chuck interlock refuses channel `i`'s M10 or M11.
+    fn chuck_refusal(&self, i: usize, point: Sync, at: &[Option<AtPoint>]) -> String {
+        let m = if point == Sync::ChuckClose { 10 } else { 11 };
+        let spindle = |c: usize| at.get(c).copied().flatten().map_or(0.0, |p| p.spindle);
+        match self.handover_partner(i, point) {
+            Some(o) => format!(
+                "M{m}: the spindles of the handover do not turn together (CH{} {}, CH{} {}): both stopped, or the same direction and speed",
+                i + 1,
+                turning(spindle(i)),
+                o + 1,
+                turning(spindle(o))
+            ),
+            None => format!(
+                "M{m}: the spindle of CH{} turns ({}): a chuck closes and opens on a stopped spindle (give M05 first)",
+                i + 1,
+                turning(spindle(i))
+            ),
         }
     }
 
@@ -577,6 +657,7 @@ mod tests {
         at[0] = Some(AtPoint {
             point: w,
             can_go: true,
+            spindle: 0.0,
         });
         assert_eq!(t.resolve(0, &at), vec![(0, Decision::Release)]);
     }

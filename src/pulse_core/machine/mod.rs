@@ -1771,6 +1771,16 @@ impl Machine {
         geared.then(|| b.feed / self.spindle.unsigned_abs() as f64)
     }
 
+    /// The spindle as commanded: signed rpm (M3 +, M4 -; under G96 the target at X now), 0
+    /// when M5, M30 or M19 stopped it (it may still be coasting down).
+    pub fn spindle_commanded(&self) -> f64 {
+        if self.spindle_dir == 0 {
+            0.0
+        } else {
+            self.sp.target()
+        }
+    }
+
     /// The spindle: its actual speed, encoder and index (docs/pulse-core.md, "The spindle").
     pub fn spindle(&self) -> &Spindle {
         &self.sp
