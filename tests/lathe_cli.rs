@@ -489,6 +489,117 @@ fn the_console_takes_the_same_arguments_on_every_machine_and_front_end() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `novanc run` is one command: the options of a run (override, real time, the pulses in a
+/// recording, the two switches) act on a lathe as on the centre, and an option only one
+/// machine has is refused on the other with the reason, before anything runs.
+#[test]
+fn run_takes_the_same_options_on_every_machine() {
+    let secs = |o: &Output| -> f64 {
+        let so = text(&o.stdout);
+        assert!(o.status.success(), "{so}\n{}", text(&o.stderr));
+        so.lines()
+            .find_map(|l| l.strip_prefix("machine time: "))
+            .and_then(|s| s.trim_end_matches(" s").parse().ok())
+            .expect("the machine time is printed")
+    };
+    let lathe = |more: &[&str]| {
+        let mut a = vec![
+            "run",
+            "--machine",
+            "citizen",
+            "programs/citizen",
+            "--parts",
+            "1",
+        ];
+        a.extend_from_slice(more);
+        novanc(&a)
+    };
+    // The feed override slows the cuts (not the rapids): longer, not twice as long.
+    let full = secs(&lathe(&[]));
+    let half = secs(&lathe(&["--feed-override", "50"]));
+    assert!(
+        half > full * 1.2 && half < full * 2.0,
+        "{full} s vs {half} s at 50 %"
+    );
+    // --pulses off: the recording keeps no /nc/pulses, and says so.
+    let dir = common::temp_dir("lathe-run-options");
+    let rec = dir.join("no-pulses.mcap");
+    let o = lathe(&["--record", rec.to_str().unwrap(), "--pulses", "off"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains(" 0 pulses in 0 batches"),
+        "{}",
+        text(&o.stdout)
+    );
+    assert!(!read(&rec).iter().any(|m| m.topic == "/nc/pulses"));
+    // The switches are taken on both machines.
+    for machine in [
+        &["--machine", "citizen", "programs/citizen"][..],
+        &["programs/pocket.ngc"],
+    ] {
+        let mut a = vec!["run"];
+        a.extend_from_slice(machine);
+        a.extend_from_slice(&["--optional-stop", "--block-delete"]);
+        let o = novanc(&a);
+        assert!(o.status.success(), "{a:?}: {}", text(&o.stderr));
+    }
+    // One machine's options on the other: refused, exit 2, nothing printed.
+    for (args, said) in [
+        (
+            &[
+                "run",
+                "--machine",
+                "citizen",
+                "programs/citizen",
+                "--tools",
+                "x.tt",
+            ][..],
+            "--tools is the machining centre's",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "citizen",
+                "programs/citizen",
+                "--interpolator",
+                "dda",
+            ],
+            "--interpolator is the machining centre's",
+        ),
+        (
+            &["run", "programs/pocket.ngc", "--parts", "3"],
+            "--parts is a lathe's part target",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "citizen",
+                "programs/citizen",
+                "--feed-override",
+                "0",
+            ],
+            "--feed-override: '0' is not a percentage from 1 to 150",
+        ),
+    ] {
+        let o = novanc(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            text(&o.stderr).contains(said),
+            "{args:?}: {}",
+            text(&o.stderr)
+        );
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+    // One help, on either machine.
+    let a = text(&novanc(&["run", "--help"]).stdout);
+    let b = text(&novanc(&["run", "--machine", "citizen", "--help"]).stdout);
+    assert_eq!(a, b);
+    assert!(a.contains("--parts N") && a.contains("--tools TAPE"), "{a}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_centre_description_sets_the_centres_travel() {
     let dir = common::temp_dir("lathe-centre");

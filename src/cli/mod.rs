@@ -4,7 +4,6 @@
 pub mod args;
 pub mod console_opts;
 pub mod edit;
-pub mod lathe;
 pub mod mtconnect;
 pub mod run;
 pub mod script;
@@ -27,7 +26,7 @@ usage:
   novanc run PROG [--tools ..] [--magazine ..] [--record OUT.mcap] [--realtime] [--feed-override PCT]
   novanc edit FILE -c 'CMDLINE' [-c ..] [--write]
   novanc script FILE [--record OUT.mcap] [--machine citizen]
-  novanc run --machine citizen DIR [--parts N] [--record OUT.mcap]
+  novanc run --machine citizen DIR [--parts N] [--record ..] [--realtime] [--feed-override PCT]
   novanc tape read IMAGE [--block-parity] [--holes]
   novanc tape punch FILE --code iso|eia [--leader N] [--label TEXT] -o IMAGE
 

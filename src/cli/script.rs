@@ -127,7 +127,7 @@ pub fn main(argv: &[String]) -> i32 {
     cfg.interrupt = Some(super::signals::pending);
     super::signals::install();
     let code = match lathe {
-        Some(d) => super::lathe::run_script(d, &virtual_clock(cfg), events, &mtc),
+        Some(d) => play_lathe(d, &virtual_clock(cfg), events, &mtc),
         None => run(virtual_clock(cfg), &file, events, &mtc),
     };
     if let Some(d) = temp {
@@ -300,4 +300,39 @@ pub(super) fn play<C: Scripted>(
             1
         }
     }
+}
+
+/// `novanc script FILE --machine M` on a lathe, once `cli::script::main` has read the
+/// arguments and the script: opens the console on `cfg` (its state directory, display size and
+/// recording), starts the MTConnect adapter, and plays the events with the one runner.
+fn play_lathe(
+    desc: crate::lathe::desc::LatheDesc,
+    cfg: &crate::console::ConsoleConfig,
+    steps: Vec<crate::panel_model::PanelEvent>,
+    mtc: &super::mtconnect::MtcOpts,
+) -> i32 {
+    let (mut c, warnings) = match crate::lathe::console::LatheConsole::open_config(desc, cfg) {
+        Ok(x) => x,
+        Err(e) => return super::fail(&format!("novanc script: {e}")),
+    };
+    for w in warnings {
+        eprintln!("novanc script: warning: {w}");
+    }
+    let mut feed = match super::mtconnect::Feed::start_on(mtc, "novanc script", true, 0) {
+        Ok(f) => f,
+        Err(e) => return super::fail(&format!("novanc script: {e}")),
+    };
+    if let Some(f) = feed.as_mut() {
+        f.publish_lathe(&c);
+        if let Err(e) = f.wait(mtc) {
+            let _ = c.finish(None);
+            return super::fail(&format!("novanc script: {e}"));
+        }
+        // Every change of every channel inside a wait is published as the kernel makes it,
+        // in machine time (docs/mtconnect.md "The lathe").
+        c.set_watch(Some(f.lathe_watcher()));
+    }
+    // A stop signal ends the script before its next line, and a wait between two steps of
+    // 10 ms of machine time (`cfg.interrupt`, taken by `open_config`).
+    play(c, steps, feed)
 }
