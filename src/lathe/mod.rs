@@ -8,13 +8,11 @@
 //! - [`gcode`]: the lathe G-code reader; it hands the kernel its blocks (`crate::block`, the
 //!   one interface between the language readers and the kernel), as the mill's reader does.
 //! - [`console`]: the lathe's panel (it records with `crate::record`, as the centre's does);
-//!   its stores are
-//!   `crate::store::lathe` (the one journal), and [`store`] only reads the old whole-file
-//!   store once, to migrate it.
+//!   its stores are `crate::store::lathe` (the one journal, which reads the old whole-file
+//!   store once, to migrate it).
 //! - [`testkit`]: a Citizen-like machine and a sample part, for the tests and the benchmark.
 
 pub mod console;
 pub mod desc;
 pub mod gcode;
-pub mod store;
 pub mod testkit;

@@ -5,7 +5,7 @@
 //! acknowledged and replayed at start; the snapshot holds the same records under its own
 //! header (`novanc-lathe 2 GEN CHANNELS`). This replaces the lathe's own store, which rewrote
 //! whole files (`chN.prog`, `chN.tools`, `parts`); those are read once, to migrate them
-//! (`crate::lathe::store`).
+//! (`store::lathe_old`).
 
 use super::frame;
 use super::record::Record;
@@ -512,7 +512,7 @@ impl LatheStore {
         let mut warnings = Vec::new();
         let mut base = LatheState::defaults(desc);
         if Stores::is_new(&dir) {
-            if let Some(old) = crate::lathe::store::read_old(&dir, desc, &base) {
+            if let Some(old) = super::lathe_old::read_old(&dir, desc, &base) {
                 base = old.state;
                 warnings.extend(old.warnings);
             }

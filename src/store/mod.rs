@@ -8,6 +8,7 @@ pub mod fsutil;
 pub mod history;
 mod journal;
 pub mod lathe;
+mod lathe_old;
 mod names;
 pub mod params;
 mod record;

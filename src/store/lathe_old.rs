@@ -7,9 +7,9 @@
 //! not parse is damage, never "missing": it is kept aside and said, and its channel starts
 //! empty (a program), on the description's tools, or at 0 of 5 parts in its place.
 
-use super::desc::LatheDesc;
-use crate::store::fsutil::Aside;
-use crate::store::lathe::{parse_tools, Counter, LatheState, Program, MAX_NAME, MAX_PROGRAM};
+use super::fsutil::Aside;
+use super::lathe::{parse_tools, Counter, LatheState, Program, MAX_NAME, MAX_PROGRAM};
+use crate::lathe::desc::LatheDesc;
 use std::path::Path;
 
 /// What an old lathe directory held.
