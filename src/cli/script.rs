@@ -2,7 +2,7 @@
 //! on the same `Console` as the terminal, in virtual time (deterministic frames).
 
 use super::console_opts::config_from_args;
-use crate::console::{virtual_clock, Console};
+use crate::console::{virtual_clock, Panel};
 use crate::panel_model::PanelEvent;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -126,10 +126,7 @@ pub fn main(argv: &[String]) -> i32 {
     };
     cfg.interrupt = Some(super::signals::pending);
     super::signals::install();
-    let code = match lathe {
-        Some(d) => play_lathe(d, &virtual_clock(cfg), events, &mtc),
-        None => run(virtual_clock(cfg), &file, events, &mtc),
-    };
+    let code = run(lathe, virtual_clock(cfg), &file, events, &mtc);
     if let Some(d) = temp {
         let _ = std::fs::remove_dir_all(d);
     }
@@ -156,90 +153,32 @@ fn resolve_tape(p: PathBuf, script: &Path) -> PathBuf {
     }
 }
 
-/// What the one script runner asks of a console: the centre's (`Console`) and a lathe's
-/// (`LatheConsole`) take the same events of the one grammar, waits included, the same way.
-pub(super) trait Scripted {
-    /// One event of the script (a wait runs the machine in virtual time).
-    fn handle(&mut self, ev: PanelEvent);
-    /// The frame as `show` prints it.
-    fn show(&mut self) -> String;
-    /// Why the last wait could not end, if it could not.
-    fn wait_error(&self) -> Option<&str>;
-    /// The state to the MTConnect adapter, after every event.
-    fn publish(&self, feed: &mut super::mtconnect::Feed);
-    /// Ends the session: the machine stopped (E-STOP first when a stop signal cut it
-    /// short), the recording closed; its summary line, `Err` when it could not be finished.
-    fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String>;
-}
-
-impl Scripted for Console {
-    fn handle(&mut self, ev: PanelEvent) {
-        Console::handle(self, ev)
-    }
-    fn show(&mut self) -> String {
-        self.tick();
-        self.frame_text()
-    }
-    fn wait_error(&self) -> Option<&str> {
-        Console::wait_error(self)
-    }
-    fn publish(&self, feed: &mut super::mtconnect::Feed) {
-        feed.publish(self)
-    }
-    fn close(self, _interrupted: Option<&str>) -> Result<Option<String>, String> {
-        // A stop signal has marked the recording interrupted (`signals::caught`).
-        self.finish().map_err(|e| format!("recording: {e}"))
-    }
-}
-
-impl Scripted for crate::lathe::console::LatheConsole {
-    fn handle(&mut self, ev: PanelEvent) {
-        crate::lathe::console::LatheConsole::handle(self, ev)
-    }
-    fn show(&mut self) -> String {
-        self.frame_text()
-    }
-    fn wait_error(&self) -> Option<&str> {
-        crate::lathe::console::LatheConsole::wait_error(self)
-    }
-    fn publish(&self, feed: &mut super::mtconnect::Feed) {
-        feed.publish_lathe(self)
-    }
-    fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String> {
-        self.finish(interrupted).transpose()
-    }
-}
-
-/// Runs the events on a console; returns the exit code.
+/// Opens the console of the machine (`lathe`: a lathe's description; None: the centre of
+/// `cfg`) on `cfg` (its state directory, display size, recording, virtual clock), starts the
+/// MTConnect adapter, and plays the events with the one runner; returns the exit code.
 fn run(
+    lathe: Option<crate::lathe::desc::LatheDesc>,
     cfg: crate::console::ConsoleConfig,
     file: &Path,
     events: Vec<PanelEvent>,
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
-    let (console, warnings) = match Console::open(cfg) {
+    let (mut console, warnings) = match Panel::open(lathe, cfg) {
         Ok(x) => x,
-        Err(e) => {
-            eprintln!("novanc script: {e}");
-            return 1;
-        }
+        Err(e) => return super::fail(&format!("novanc script: {e}")),
     };
     for w in warnings {
         eprintln!("novanc script: warning: {w}");
     }
-    let mut feed = match super::mtconnect::Feed::start(mtc, "novanc script", console.core()) {
+    // A stop signal ends the script before its next line, and a wait between two steps of
+    // 10 ms of machine time (`cfg.interrupt`).
+    let feed = match console.start_feed(mtc, "novanc script", true) {
         Ok(f) => f,
         Err(e) => {
-            eprintln!("novanc script: {e}");
-            let _ = console.finish();
-            return 1;
+            let _ = console.close(None);
+            return super::fail(&format!("novanc script: {e}"));
         }
     };
-    if let Some(Err(e)) = feed.as_mut().map(|f| f.start_and_wait(&console, mtc)) {
-        eprintln!("novanc script: {e}");
-        let _ = console.finish();
-        return 1;
-    }
     let events = events
         .into_iter()
         .map(|ev| match ev {
@@ -253,8 +192,8 @@ fn run(
 /// The one script runner: plays `events` on the console, one after another, publishing
 /// after each; a wait that cannot end stops the script (exit 1), a stop signal ends it before
 /// its next event. Returns the exit code.
-pub(super) fn play<C: Scripted>(
-    mut console: C,
+fn play(
+    mut console: Panel,
     events: Vec<PanelEvent>,
     mut feed: Option<super::mtconnect::Feed>,
 ) -> i32 {
@@ -270,7 +209,7 @@ pub(super) fn play<C: Scripted>(
         );
         match ev {
             PanelEvent::Show => {
-                let _ = writeln!(out, "--- display\n{}\n---", console.show());
+                let _ = writeln!(out, "--- display\n{}\n---", console.frame_text());
             }
             ev => console.handle(ev),
         }
@@ -300,39 +239,4 @@ pub(super) fn play<C: Scripted>(
             1
         }
     }
-}
-
-/// `novanc script FILE --machine M` on a lathe, once `cli::script::main` has read the
-/// arguments and the script: opens the console on `cfg` (its state directory, display size and
-/// recording), starts the MTConnect adapter, and plays the events with the one runner.
-fn play_lathe(
-    desc: crate::lathe::desc::LatheDesc,
-    cfg: &crate::console::ConsoleConfig,
-    steps: Vec<crate::panel_model::PanelEvent>,
-    mtc: &super::mtconnect::MtcOpts,
-) -> i32 {
-    let (mut c, warnings) = match crate::lathe::console::LatheConsole::open_config(desc, cfg) {
-        Ok(x) => x,
-        Err(e) => return super::fail(&format!("novanc script: {e}")),
-    };
-    for w in warnings {
-        eprintln!("novanc script: warning: {w}");
-    }
-    let mut feed = match super::mtconnect::Feed::start_on(mtc, "novanc script", true, 0) {
-        Ok(f) => f,
-        Err(e) => return super::fail(&format!("novanc script: {e}")),
-    };
-    if let Some(f) = feed.as_mut() {
-        f.publish_lathe(&c);
-        if let Err(e) = f.wait(mtc) {
-            let _ = c.finish(None);
-            return super::fail(&format!("novanc script: {e}"));
-        }
-        // Every change of every channel inside a wait is published as the kernel makes it,
-        // in machine time (docs/mtconnect.md "The lathe").
-        c.set_watch(Some(f.lathe_watcher()));
-    }
-    // A stop signal ends the script before its next line, and a wait between two steps of
-    // 10 ms of machine time (`cfg.interrupt`, taken by `open_config`).
-    play(c, steps, feed)
 }

@@ -20,6 +20,7 @@ mod gcode_run;
 pub mod keys;
 mod memory;
 pub mod pages;
+mod panel;
 mod posmem;
 mod punch;
 pub mod recording;
@@ -33,6 +34,7 @@ pub mod tcode;
 pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
+pub use panel::Panel;
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 

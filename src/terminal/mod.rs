@@ -8,8 +8,7 @@
 
 pub mod layout;
 
-use crate::console::{Console, ConsoleConfig};
-use crate::lathe::console::LatheConsole;
+use crate::console::{ConsoleConfig, Panel};
 use crate::lathe::desc::LatheDesc;
 use crate::mtconnect::feed::{Feed, MtcOpts};
 use crate::signals;
@@ -23,150 +22,62 @@ usage: novanc [--state DIR] [--rows N] [--cols N] [--record OUT.mcap] [--mtconne
 The terminal front panel; F8 in the panel shows the keys.
 ";
 
-/// A console the terminal runs: the machining centre's (`Console`) or a lathe's
-/// (`LatheConsole`). The loop ([`run`]) is the same for both: keys, tick, the MTConnect feed,
-/// the frame (or the too-small notice), the frame-written hook.
-pub trait Front {
-    /// The cells the panel needs: (width, height).
-    fn need(&self) -> (usize, usize);
-    /// Whether the terminal is large enough for the panel, told every frame before the keys:
-    /// while it is not, only the relay panel's STOP, RESET and E-STOP act, and another key is
-    /// refused with the notice's `key NAME ignored` ([`Front::ignored_key`]).
-    fn set_screen_fits(&mut self, fits: bool);
-    /// The last key refused because the terminal is too small.
-    fn ignored_key(&self) -> Option<&str>;
-    /// A key of the terminal (Ctrl-C, Alt-q and Ctrl-L are the loop's).
-    fn press(&mut self, k: Key);
-    /// Once a frame after the keys, `ns` of wall time after the last.
-    fn tick(&mut self, ns: u64);
-    /// The state to the MTConnect adapter, once a frame after the tick.
-    fn publish(&self, feed: &mut Feed);
-    /// Draws the panel (or its help) on a cleared screen at least [`Front::need`] large.
-    fn draw(&self, s: &mut Screen);
-    /// The frame is on the terminal.
-    fn frame_written(&mut self) {}
-    /// Ends the session once the terminal is back: `interrupted` names a stop signal that cut
-    /// it short. Says the recording's summary (or its failure) on stderr.
-    fn close(self, interrupted: Option<&str>);
-}
-
-impl Front for Console {
-    fn need(&self) -> (usize, usize) {
-        panel_size(self.config().rows, self.config().cols)
-    }
-    fn set_screen_fits(&mut self, fits: bool) {
-        Console::set_screen_fits(self, fits)
-    }
-    fn ignored_key(&self) -> Option<&str> {
-        Console::ignored_key(self)
-    }
-    fn press(&mut self, k: Key) {
-        Console::press(self, k)
-    }
-    fn tick(&mut self, _ns: u64) {
-        // The pulse core keeps its own clock: the tick takes its state.
-        Console::tick(self)
-    }
-    fn publish(&self, feed: &mut Feed) {
-        feed.publish(self)
-    }
-    fn draw(&self, s: &mut Screen) {
-        let view = self.view();
-        if view.help > 0 {
-            draw_help(s, view.help);
-        } else {
-            draw_panel(s, &view);
-        }
-    }
-    fn frame_written(&mut self) {
-        Console::frame_written(self)
-    }
-    fn close(self, _interrupted: Option<&str>) {
-        // A stop signal has marked the recording interrupted (`signals::caught`); `finish`
-        // stops the machine (RESET) and closes it.
-        match self.finish() {
-            Ok(Some(s)) => eprintln!("novanc: {s}"),
-            Ok(None) => {}
-            Err(e) => eprintln!("novanc: recording: {e}"),
+/// The cells the panel of the console needs: (width, height).
+fn need(p: &Panel) -> (usize, usize) {
+    match p {
+        Panel::Centre(c) => panel_size(c.config().rows, c.config().cols),
+        Panel::Lathe(c) => {
+            let (rows, cols) = c.display_size();
+            lathe_size(c.desc().channels.len(), rows, cols)
         }
     }
 }
 
-impl Front for LatheConsole {
-    fn need(&self) -> (usize, usize) {
-        let (rows, cols) = self.display_size();
-        lathe_size(self.desc().channels.len(), rows, cols)
-    }
-    fn set_screen_fits(&mut self, fits: bool) {
-        LatheConsole::set_screen_fits(self, fits)
-    }
-    fn ignored_key(&self) -> Option<&str> {
-        LatheConsole::ignored_key(self)
-    }
-    fn press(&mut self, k: Key) {
-        LatheConsole::press(self, k)
-    }
-    fn tick(&mut self, ns: u64) {
-        LatheConsole::tick(self, ns)
-    }
-    fn publish(&self, feed: &mut Feed) {
-        feed.publish_lathe(self)
-    }
-    fn draw(&self, s: &mut Screen) {
-        draw_lathe(s, &self.view())
-    }
-    fn close(self, interrupted: Option<&str>) {
-        // A stop signal: E-STOP first, the recording closed `complete: false`, the signal named.
-        if let Some(Ok(line) | Err(line)) = self.finish(interrupted) {
-            eprintln!("novanc: {line}");
+/// Draws the panel (or its help) on a cleared screen at least [`need`] large.
+fn draw(p: &Panel, s: &mut Screen) {
+    match p {
+        Panel::Centre(c) => {
+            let view = c.view();
+            if view.help > 0 {
+                draw_help(s, view.help);
+            } else {
+                draw_panel(s, &view);
+            }
         }
+        Panel::Lathe(c) => draw_lathe(s, &c.view()),
     }
 }
 
 /// Opens the console of the machine (`lathe`: a lathe's description; `None`: the machining
 /// centre of `cfg`) and runs the terminal panel on it, streaming to MTConnect agents with
-/// `--mtconnect` (docs/mtconnect.md); returns the exit code.
+/// `--mtconnect` (docs/mtconnect.md); returns the exit code. The machine keeps the wall clock
+/// in its own thread (`cfg.clock`).
 pub fn run_machine(lathe: Option<LatheDesc>, cfg: ConsoleConfig, mtc: &MtcOpts) -> i32 {
     signals::install();
-    match lathe {
-        None => {
-            let (mut console, warnings) = match Console::open(cfg) {
-                Ok(x) => x,
-                Err(e) => {
-                    eprintln!("novanc: {e}");
-                    return 1;
-                }
-            };
-            console.set_saves_after_frame(true);
-            let feed = Feed::start(mtc, "novanc", console.core());
-            run(console, warnings, feed)
+    let (mut panel, warnings) = match Panel::open(lathe, cfg) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            return 1;
         }
-        Some(desc) => {
-            let (mut console, warnings) = match LatheConsole::open_config(desc, &cfg) {
-                Ok(x) => x,
-                Err(e) => {
-                    eprintln!("novanc: {e}");
-                    return 1;
-                }
-            };
-            // At a terminal the kernel keeps the wall clock in its own thread.
-            console.set_clock(crate::pulse_core::ClockMode::RealTime);
-            let feed = Feed::start_on(mtc, "novanc", false, 0);
-            run(console, warnings, feed)
-        }
+    };
+    if let Panel::Centre(c) = &mut panel {
+        c.set_saves_after_frame(true);
     }
+    let feed = panel.start_feed(mtc, "novanc", false);
+    run(panel, warnings, feed)
 }
 
 /// Runs the terminal panel on an opened console until Ctrl-C, Alt-q or a stop signal, then
 /// closes it (the warnings of its opening said once the terminal is back); returns the exit
 /// code (128 + N after a stop signal). `feed`: the MTConnect adapter as it started (an
 /// adapter that could not start closes the console, exit 1).
-pub fn run<F: Front>(front: F, warnings: Vec<String>, feed: Result<Option<Feed>, String>) -> i32 {
+pub fn run(front: Panel, warnings: Vec<String>, feed: Result<Option<Feed>, String>) -> i32 {
     let mut feed = match feed {
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc: {e}");
-            front.close(None);
+            close(front, None);
             return 1;
         }
     };
@@ -177,7 +88,7 @@ pub fn run<F: Front>(front: F, warnings: Vec<String>, feed: Result<Option<Feed>,
         Ok(t) => t,
         Err(e) => {
             eprintln!("novanc: {e}");
-            front.close(None);
+            close(front, None);
             return 1;
         }
     };
@@ -189,8 +100,17 @@ pub fn run<F: Front>(front: F, warnings: Vec<String>, feed: Result<Option<Feed>,
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
-    front.close(interrupted.as_deref());
+    close(front, interrupted.as_deref());
     signals::exit_code(code)
+}
+
+/// Closes the console (the machine stopped, the recording closed) and says the recording's
+/// summary, or its failure, on stderr.
+pub fn close(front: Panel, interrupted: Option<&str>) {
+    match front.close(interrupted) {
+        Ok(Some(line)) | Err(line) => eprintln!("novanc: {line}"),
+        Ok(None) => {}
+    }
 }
 
 /// What the loop does first in each frame: end on a stop signal or on a panic in
@@ -211,12 +131,12 @@ fn between_frames(term: &mut Terminal, renderer: &mut Renderer) -> Option<i32> {
 }
 
 /// The input/draw loop; returns the exit code and the console.
-fn run_loop<F: Front>(term: &mut Terminal, mut front: F, feed: &mut Option<Feed>) -> (i32, F) {
+fn run_loop(term: &mut Terminal, mut front: Panel, feed: &mut Option<Feed>) -> (i32, Panel) {
     let mut dec = Decoder::new();
     let mut renderer = Renderer::new();
     let mut screen = Screen::new(0, 0);
     let mut out = Vec::with_capacity(16 * 1024);
-    let need = front.need();
+    let need = need(&front);
     let mut last = Instant::now();
     // Test hook: proves that a panic hands the terminal back (tests/tmux_panel.rs).
     let panic_requested = std::env::var_os("NOVANC_TEST_PANIC").is_some();
@@ -250,7 +170,7 @@ fn run_loop<F: Front>(term: &mut Terminal, mut front: F, feed: &mut Option<Feed>
         }
         screen.clear();
         if fits {
-            front.draw(&mut screen);
+            draw(&front, &mut screen);
         } else {
             draw_too_small(&mut screen, need, front.ignored_key());
         }

@@ -3,7 +3,7 @@
 //! [`Front`]: the centre's panel and backplot, or the lathe's channels) draw and take the
 //! operator's actions, takes the screenshot and measures frames when asked (headless runs
 //! under Xvfb), streams to MTConnect and schedules the next frame. It is to the window what
-//! `terminal::Front` and its one loop are to the terminal. No NC logic lives here.
+//! `terminal::run` and its one loop are to the terminal. No NC logic lives here.
 
 use super::bench::Bench;
 use super::shot::Shot;

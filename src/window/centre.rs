@@ -268,7 +268,10 @@ impl Front for Centre {
         feed.publish(&self.console)
     }
     fn close(self, interrupted: Option<&str>) {
-        crate::terminal::Front::close(self.console, interrupted)
+        crate::terminal::close(
+            crate::console::Panel::Centre(Box::new(self.console)),
+            interrupted,
+        )
     }
 }
 

@@ -293,7 +293,10 @@ impl Front for Lathe {
         feed.publish_lathe(&self.console)
     }
     fn close(self, interrupted: Option<&str>) {
-        crate::terminal::Front::close(self.console, interrupted)
+        crate::terminal::close(
+            crate::console::Panel::Lathe(Box::new(self.console)),
+            interrupted,
+        )
     }
 }
 
