@@ -293,6 +293,9 @@ pub struct Status {
     pub spindle_programmed: i64,
     /// Feed override in force, percent.
     pub feed_override: u32,
+    /// The machine stands still in a feed move at feed override 0: nothing but the operator
+    /// (raising the override, RESET, E-STOP) moves it on.
+    pub stalled: bool,
     /// The rapid and spindle overrides, DRY RUN, MACHINE LOCK, Z NEGLECT in force, and
     /// whether a tap holds the overrides at 100 % (the switches keep their positions in
     /// `feed_override` and `switches.spindle_override`): what `/nc/state` records.

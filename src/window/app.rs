@@ -84,6 +84,11 @@ pub trait Front: 'static {
     fn pursue(&mut self, w: Wait, deadline: Instant) -> bool;
     /// The display as the script's `show` prints it.
     fn show(&self) -> String;
+    /// Why a wait cannot end without the operator, if it cannot (the machine stands still at
+    /// feed override 0): `novanc script`'s words.
+    fn stuck(&self) -> Option<String> {
+        None
+    }
     /// The machine can move (the window then draws about 60 frames a second).
     fn moving(&self) -> bool;
     /// Work of the window's own under way that a screenshot waits for (the backplot's
@@ -171,6 +176,11 @@ impl<F: Front> App<F> {
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }
 
+    /// The run is unattended: it ends by itself with a screenshot or a benchmark.
+    fn unattended(&self) -> bool {
+        self.drive.screenshot.is_some() || self.drive.bench_frames.is_some()
+    }
+
     /// The script has been played to its end (or there is none).
     fn script_done(&self) -> bool {
         self.drive.script.is_empty() && self.waiting.is_none()
@@ -184,6 +194,14 @@ impl<F: Front> App<F> {
             if let Some((since, w)) = self.waiting {
                 if f.pursue(w, deadline) {
                     self.waiting = None;
+                } else if let Some(why) = f.stuck().filter(|_| self.unattended()) {
+                    // Nobody is there to raise the override: the script stops, as
+                    // `novanc script` does. An operator at the window raises it and the
+                    // wait ends.
+                    self.drive.script.clear();
+                    self.waiting = None;
+                    self.fail(ctx, format!("script wait: {why}"));
+                    return;
                 } else {
                     if since.elapsed() > self.drive.wait_limit {
                         self.drive.script.clear();
@@ -341,6 +359,8 @@ pub(crate) mod tests {
         t: u64,
         evs: Vec<u32>,
         looks: u32,
+        /// It stands still at feed override 0.
+        stalled: bool,
     }
 
     impl Front for Fake {
@@ -366,6 +386,9 @@ pub(crate) mod tests {
         }
         fn show(&self) -> String {
             String::new()
+        }
+        fn stuck(&self) -> Option<String> {
+            self.stalled.then(|| "it stands still".to_string())
         }
         fn moving(&self) -> bool {
             false
@@ -420,5 +443,25 @@ pub(crate) mod tests {
         let f = play_all(&mut a);
         assert!(f.evs.is_empty(), "{:?}", f.evs);
         assert_eq!(a.exit.load(Ordering::SeqCst), 1);
+    }
+
+    /// A wait the machine cannot end by itself (feed override 0) ends an unattended run (a
+    /// screenshot or a benchmark asked for) at once, with exit 1, as `novanc script` stops; an
+    /// operator at the window can raise the override, so there the wait goes on.
+    #[test]
+    fn a_stuck_wait_ends_an_unattended_run_at_once() {
+        for unattended in [true, false] {
+            let mut a = app(vec![Step::Wait(Wait::Block(7)), Step::Ev(1)]);
+            if unattended {
+                a.drive.screenshot = Some(PathBuf::from("never.png"));
+            }
+            a.front.as_mut().unwrap().stalled = true;
+            let ctx = egui::Context::default();
+            let mut f = a.front.take().unwrap();
+            a.play(&mut f, &ctx);
+            assert!(f.evs.is_empty(), "{:?}", f.evs);
+            assert_eq!(a.waiting.is_none(), unattended);
+            assert_eq!(a.exit.load(Ordering::SeqCst), i32::from(unattended));
+        }
     }
 }

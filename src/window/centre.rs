@@ -213,6 +213,15 @@ impl Front for Centre {
     fn show(&self) -> String {
         self.console.view().display.join("\n")
     }
+    fn stuck(&self) -> Option<String> {
+        let s = self.console.status();
+        s.stalled.then(|| {
+            format!(
+                "the machine stands still at feed override {} %; raise the override",
+                s.feed_override
+            )
+        })
+    }
     fn moving(&self) -> bool {
         !self.console.is_idle()
     }

@@ -219,6 +219,7 @@ impl Machine {
             .or(self.jog.as_ref().map(|j| &j.motion))
             .or(self.ret.as_ref().map(|j| &j.motion));
         Status {
+            stalled: self.is_stalled(),
             run: self.run,
             hold: self.hold,
             estop: self.estop,

@@ -237,6 +237,11 @@ impl Front for Lathe {
     fn show(&self) -> String {
         self.console.frame_text()
     }
+    fn stuck(&self) -> Option<String> {
+        self.console.stalled().then(|| {
+            "the machine stands still at feed override 0 %; raise the override".to_string()
+        })
+    }
     fn moving(&self) -> bool {
         !self.console.at_rest()
     }
