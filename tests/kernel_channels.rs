@@ -518,7 +518,7 @@ fn a_chuck_waits_for_its_spindle_to_stop_after_m5() {
     k.start(None).expect("START");
     k.run_until_idle(MINUTE);
     let out = k.transfers().last().expect("delivered").t;
-    assert!(out >= 750_000_000 && out < 751_000_000, "{out}");
+    assert!((750_000_000..751_000_000).contains(&out), "{out}");
 
     // A handover: CH1 gives its work to CH2, each spindle coasting down from its M5 (CH1 from
     // 2000 rpm, 0.25 s; CH2 from 1500, 0.1875 s). The work passes once both stand still.
