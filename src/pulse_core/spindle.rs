@@ -172,6 +172,17 @@ impl Spindle {
         Some((t_in.ceil() as u64).max(t))
     }
 
+    /// The time (ns) at which a spindle commanded to stop (a target of 0: M5, M30, M19) stands
+    /// still, its speed 0 at the end of the ramp down (the zero-speed signal): the anchor if it
+    /// was at rest already or stops at once (no ramp). `None` for a target that is not 0.
+    pub fn stops_at(&self) -> Option<u64> {
+        if self.target != 0.0 {
+            return None;
+        }
+        let (_, dur) = self.ramp();
+        Some((self.t0 + dur).ceil() as u64)
+    }
+
     /// The time (ns, fractional) at which the encoder phase reaches `phase`, turning the way
     /// the target turns (`None` if it never does: stopped, or the phase lies behind).
     pub fn time_at_phase(&self, phase: f64) -> Option<f64> {
@@ -262,9 +273,16 @@ mod tests {
         // At speed within 1 %: 30 rpm = 5 ms before the end.
         assert_eq!(s.ready_at(0), Some(end - 5_000_000));
         assert!(!s.at_speed(end - 5_000_001) && s.at_speed(end - 5_000_000));
+        assert_eq!(s.stops_at(), None);
         // Back down to 1000 rpm from t = 2 s: ramp of 1/3 s.
         s.set_target(2_000_000_000, 1000.0);
         assert_eq!(s.rpm_at(2_000_000_000 + 1_000_000_000 / 3 + 1), 1000.0);
+        // Stopped (M5) at t = 3 s: 1000 rpm coasts down at 6000 rpm/s in 1/6 s.
+        s.set_target(3_000_000_000, 0.0);
+        let stop = 3_000_000_000 + 1_000_000_000 / 6 + 1;
+        assert_eq!(s.stops_at(), Some(stop));
+        assert!(s.rpm_at(stop - 1_000) > 0.0 && s.rpm_at(stop) == 0.0);
+        assert_eq!(spindle(0.0, 1024).stops_at(), Some(0));
     }
 
     #[test]

@@ -29,6 +29,9 @@ impl Machine {
             if !at_rest {
                 let why = match c.phase {
                     Phase::Sync => "the channel waits at a sync point (STOP first)",
+                    Phase::Spindle { .. } => {
+                        "the chuck waits for the spindle to stop or reach its speed"
+                    }
                     Phase::PreAux | Phase::PostAux => {
                         "an auxiliary function (tool change or spindle) is in progress"
                     }

@@ -55,6 +55,12 @@ enum Phase {
     Move,
     /// Auxiliary functions after the motion (M05, M30), until `until`.
     PostAux,
+    /// A chuck point (M10, M11) reached with the spindle not yet giving its signal: commanded
+    /// stopped but still coasting down (zero speed), or commanded turning but not yet at speed
+    /// (speed arrival). The machine arrives at the sync point at the NCBR tick `until`, the
+    /// first with the signal on; `pre` is the block's PreAux duration, kept for `Sync`
+    /// (docs/pulse-core.md, "Chuck and spindle").
+    Spindle { pre: u64 },
     /// A channel's sync point (`Block::sync`): waiting for the kernel's sync table to release
     /// it (docs/pulse-core.md, "Channels"); `until` holds the PreAux duration meanwhile.
     Sync,
@@ -350,6 +356,9 @@ pub struct Machine {
     looked_for: Option<(u32, Option<u64>)>,
     /// Time the block in progress completed inside the last PGEN call.
     finished_at: Option<u64>,
+    /// The NCBR tick a chuck point's spindle signal came on at inside the last PGEN call (the
+    /// machine arrived at the sync point then).
+    signal_at: Option<u64>,
     audit: Option<Vec<BlockEnd>>,
     /// Told the status at every change of state inside [`Machine::run`] (virtual time).
     watch: Option<report::Watch>,
@@ -480,6 +489,7 @@ impl Machine {
             started_seq: None,
             looked_for: None,
             finished_at: None,
+            signal_at: None,
             audit: None,
             watch: None,
             events: None,
@@ -1054,6 +1064,7 @@ impl Machine {
                 && !self.spindle_live();
             if whole_block {
                 self.finished_at = None;
+                self.signal_at = None;
                 self.pgen(t_end);
                 // The block completed: the tick it completed in ends. The motion came to rest
                 // (feed hold, override 0): the tick it stopped in ends, after which nothing
@@ -1064,9 +1075,11 @@ impl Machine {
                     .and_then(|c| c.motion.as_ref())
                     .filter(|m| m.at_rest())
                     .map(|m| m.last_t());
-                self.now = match (self.finished_at.take(), resting) {
-                    (Some(t), _) => ((t / p + 1) * p).min(t_end),
-                    (None, Some(t)) => {
+                // Arrived at a chuck point: at the tick its spindle's signal came on.
+                self.now = match (self.signal_at.take(), self.finished_at.take(), resting) {
+                    (Some(t), _, _) => t,
+                    (None, Some(t), _) => ((t / p + 1) * p).min(t_end),
+                    (None, None, Some(t)) => {
                         let rest = ((t / p + 1) * p).min(t_end);
                         if rest > self.now {
                             rest
@@ -1074,7 +1087,7 @@ impl Machine {
                             t_end
                         }
                     }
-                    (None, None) => t_end,
+                    (None, None, None) => t_end,
                 };
                 self.next_tick = self.now.div_ceil(p) * p;
             } else {
@@ -1463,11 +1476,20 @@ impl Machine {
             j.started_blocks += 1;
         }
         let sync = b.sync.is_some();
+        let signal = self.chuck_signal_at(&b);
         self.current = Some(Current {
             entry: e,
             block: b,
-            phase: if sync { Phase::Sync } else { Phase::PreAux },
-            until: if sync { pre } else { self.now + pre },
+            phase: match (sync, signal) {
+                (true, Some(_)) => Phase::Spindle { pre },
+                (true, None) => Phase::Sync,
+                (false, _) => Phase::PreAux,
+            },
+            until: match (sync, signal) {
+                (true, Some(t)) => t,
+                (true, None) => pre,
+                (false, _) => self.now + pre,
+            },
             motion: None,
             len_planned: None,
             probe,
@@ -1516,6 +1538,16 @@ impl Machine {
         while let Some(c) = &mut self.current {
             match c.phase {
                 Phase::Sync => break,
+                Phase::Spindle { pre } => {
+                    // At the chuck point once the spindle gives its signal, at a tick.
+                    if c.until > end {
+                        break;
+                    }
+                    self.signal_at = Some(c.until);
+                    c.phase = Phase::Sync;
+                    c.until = pre;
+                    break;
+                }
                 Phase::PreAux => {
                     if c.until >= end {
                         break;
@@ -1779,6 +1811,31 @@ impl Machine {
         } else {
             self.sp.target()
         }
+    }
+
+    /// When a chuck point (M10, M11) block `b` is reached if not now: the first NCBR tick at
+    /// which the spindle gives the signal its command asks for, zero speed if it is commanded
+    /// stopped (`|rpm| >= 1` is still turning: the end of its coast-down), speed arrival if
+    /// commanded turning (`Spindle::ready_at`), as a real control's chuck waits for them. None
+    /// for any other block, or with the signal on now. The sync table then decides on the
+    /// commanded speeds (docs/pulse-core.md, "Chuck and spindle").
+    fn chuck_signal_at(&self, b: &Block) -> Option<u64> {
+        use crate::block::Sync;
+        if !matches!(b.sync, Some(Sync::ChuckClose) | Some(Sync::ChuckOpen)) {
+            return None;
+        }
+        let now = self.now;
+        let t = if self.spindle_dir == 0 {
+            if self.sp.rpm_at(now).abs() >= 1.0 {
+                self.sp.stops_at().unwrap_or(now)
+            } else {
+                now
+            }
+        } else {
+            self.sp.ready_at(now).unwrap_or(now)
+        };
+        let p = self.period();
+        (t > now).then(|| t.div_ceil(p) * p)
     }
 
     /// The spindle: its actual speed, encoder and index (docs/pulse-core.md, "The spindle").
