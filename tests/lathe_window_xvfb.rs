@@ -1,5 +1,5 @@
 //! The lathe window under Xvfb (issue 13, docs/window.md "The lathe window"):
-//! `novanc --window --machine citizen` plays a panel script that starts the cycle and lets 25 s
+//! `novanc --window --machine citizen` plays a panel script that starts the cycle and lets 27 s
 //! of machine time pass (virtual time), then takes a PNG screenshot. The pixels must show, in
 //! each of the three channels' backplots, the path cut on the work in its spindle (drawn in
 //! that work's colour), and the plasma display read back dot by dot must be the selected
@@ -85,7 +85,7 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
     let script = dir.join("run25.txt");
     std::fs::write(
         &script,
-        "# the cycle, 25 s of machine time: every channel has a work and cuts it\nstart\nwait ms 25000\nshow\n",
+        "# the cycle, 27 s of machine time: every channel has a work and cuts it\nstart\nwait ms 27000\nshow\n",
     )
     .unwrap();
     let shot = dir.join("shot.png");
@@ -158,7 +158,7 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
         "the window's plasma display differs from the console's"
     );
     assert!(display[0].starts_with("CH1 SYSTEM-1"), "{display:?}");
-    // 25 s in, every channel runs with a work (the summary lines, after the title).
+    // 27 s in (the chucks wait for their spindles to stop since issue 22), every channel runs with a work (the summary lines, after the title).
     for (i, l) in shown[1..4].iter().enumerate() {
         assert!(l.contains(&format!("CH{} RUN", i + 1)), "{l}");
     }
