@@ -11,7 +11,7 @@ use super::canon::{Canon, Io};
 use super::comp::Comp;
 use super::moves;
 use super::read::{Comment, CommentKind};
-use super::state::{CompSide, FeedMode, InterpState, Motion, PathMode, Saved, SYSTEM_NAMES};
+use super::state::{CompSide, FeedMode, InterpState, Motion, PathMode, Saved};
 use super::words::Words;
 use crate::block::{Plane, TranslateError};
 use crate::settings::MachineSettings;
@@ -1577,9 +1577,4 @@ pub fn tool_change(st: &mut InterpState, comp: &mut Comp, x: &mut Exec, t: u32, 
     );
     st.tool = if t == 0 { None } else { Some(t) };
     st.params[5400] = f64::from(t);
-}
-
-/// The name of coordinate system `cs` (G54 …).
-pub fn system_name(cs: usize) -> &'static str {
-    SYSTEM_NAMES.get(cs).copied().unwrap_or("G54")
 }

@@ -310,11 +310,6 @@ fn nz(v: f64) -> f64 {
 }
 
 impl Line {
-    /// Whether the line has any comment.
-    pub fn has_comment(&self) -> bool {
-        !self.comments.is_empty()
-    }
-
     fn clear(&mut self) {
         self.block_delete = false;
         self.n = None;

@@ -248,13 +248,6 @@ impl Feed {
         })
     }
 
-    /// Publishes the console's state, then waits for an agent if `--mtconnect-wait` asks
-    /// (the agent's first lines are then the state before the first event).
-    pub fn start_and_wait(&mut self, c: &Console, o: &MtcOpts) -> Result<(), String> {
-        self.publish(c);
-        self.wait(o)
-    }
-
     /// Publishes the console's state now.
     pub fn publish(&mut self, c: &Console) {
         let modes = Modes {

@@ -763,11 +763,6 @@ fn to_store(e: EditFailure) -> StoreError {
     }
 }
 
-/// The magazine (T-code table and tool file) the translator uses.
-pub fn magazine_of(s: &Stores) -> Magazine {
-    s.magazine()
-}
-
 /// A change that alone fills the journal: a program read whole ([`JOURNAL_BYTES`] of text or
 /// more). Writing it to the journal would be followed at once by a compaction.
 fn rec_is_large(rec: &Record) -> bool {

@@ -326,11 +326,6 @@ impl LatheConsole {
         (self.optional_stop, self.block_delete)
     }
 
-    /// A cycle is loaded (running, stopped or finished but not yet cleared by RESET).
-    pub fn has_cycle(&self) -> bool {
-        self.cycle.is_some()
-    }
-
     /// The cycle loaded, if any (for tests: its state as the kernel published it).
     pub fn cycle(&self) -> Option<&glue::Cycle> {
         self.cycle.as_ref()

@@ -387,8 +387,6 @@ pub struct Machine {
     /// The kernel's chuck interlock: while set, a cutting block (a feed move) is refused
     /// with this reason (the chuck is open or the spindle empty).
     cut_interlock: Option<String>,
-    /// Cutting blocks started (for the kernel's log of which work each channel machined).
-    cuts: u64,
     /// What the kernel reports besides motion (a channel only; [`Machine::take_marks`]).
     marks: Vec<Mark>,
     /// A recording channel's next position sample and pulse batch flush, ns.
@@ -505,7 +503,6 @@ impl Machine {
             outputs: Signals::default(),
             channel: false,
             cut_interlock: None,
-            cuts: 0,
             marks: Vec::new(),
             next_sample: 0,
         }
@@ -519,11 +516,6 @@ impl Machine {
     /// The kernel's chuck interlock: `Some(reason)` refuses every cutting block from now on.
     pub fn set_cut_interlock(&mut self, why: Option<String>) {
         self.cut_interlock = why;
-    }
-
-    /// Cutting blocks (feed moves) started since the machine was made.
-    pub fn cuts_started(&self) -> u64 {
-        self.cuts
     }
 
     /// What happened since the last call that the kernel reports (cuts started, thread
@@ -1430,7 +1422,6 @@ impl Machine {
             self.refuse(&e, Some(&b), why.into());
             return;
         }
-        self.cuts += u64::from(cut);
         if cut && self.channel {
             self.marks.push(Mark::Cut {
                 t: self.now,
