@@ -489,6 +489,39 @@ fn the_console_takes_the_same_arguments_on_every_machine_and_front_end() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A program that opens a chuck on a turning spindle stops at that block with an alarm that
+/// says why (the chuck interlock on the spindle), nothing delivered; the channel's summary and
+/// its listing stand at the block that stopped it, not at the program's start, until RESET.
+#[test]
+fn a_chuck_opened_on_a_turning_spindle_stops_the_channel_at_that_block() {
+    let dir = common::temp_dir("lathe-chuck-spindle");
+    let script = dir.join("m3.script");
+    // CH3's M5 before its delivery (line 14) becomes M3: M11 (line 16) opens on 1200 rpm.
+    std::fs::write(
+        &script,
+        "channel 3\nop DATA\ntype SX40 Z10\nkey Enter\ntype CM5$M3\nkey Enter\n\
+         op AUTO\ntarget 1\nstart\nwait\nshow\nreset\nshow\n",
+    )
+    .unwrap();
+    let o = citizen_script(&script, &dir.join("state"), &[]);
+    let out = text(&o.stdout);
+    assert!(o.status.success(), "{out}\n{}", text(&o.stderr));
+    let shows: Vec<&str> = out.split("--- display").skip(1).collect();
+    assert_eq!(shows.len(), 2, "{out}");
+    let alarm = shows[0].replace('\n', " ");
+    assert!(
+        alarm.contains("CH3 ALARM line 16:")
+            && alarm.contains("M11: the spindle of CH3 turns (1200 rpm M3)")
+            && alarm.contains("T02 W1 CHUCK CLOSED ALARM"),
+        "{}",
+        shows[0]
+    );
+    assert!(shows[0].contains("\n>0016 M11\n"), "{}", shows[0]);
+    // RESET: the channel back at its program's start.
+    assert!(shows[1].contains("\n>0005 G0 X40 Z10\n"), "{}", shows[1]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `novanc run` is one command: the options of a run (override, real time, the pulses in a
 /// recording, the two switches) act on a lathe as on the centre, and an option only one
 /// machine has is refused on the other with the reason, before anything runs.

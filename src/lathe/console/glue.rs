@@ -735,8 +735,14 @@ impl Cycle {
                 v.state = self.state_word(ch).into();
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
                 if v.line == 0 && st.run == 0 && !st.program_end {
-                    // Not begun, or RESET: the pointer stands at the program's start.
-                    v.line = self.first.get(ch).copied().unwrap_or(0);
+                    // An alarm stops the channel at its block, and the listing stays there
+                    // until RESET; not begun, or RESET: the pointer at the program's start.
+                    v.line = st
+                        .alarm
+                        .as_deref()
+                        .map(crate::record::foxglove::alarm_line)
+                        .filter(|&l| l > 0)
+                        .unwrap_or_else(|| self.first.get(ch).copied().unwrap_or(0));
                 }
                 v.text = self
                     .lines
