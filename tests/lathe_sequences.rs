@@ -78,6 +78,8 @@ struct Stats {
     estops: u64,
     handovers_seen: u64,
     batches_done: u64,
+    /// STEP moves made (a jog key that moved a tool post).
+    jogs: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -241,7 +243,9 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         38..=45 => PanelEvent::Channel(rng.below(s.c.desc().channels.len() + 1)),
         46..=47 => PanelEvent::Press(novanc_panel::Key::Tab),
         48..=49 => PanelEvent::Target(rng.range(1, 4) as u32),
-        50..=53 => [Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs][rng.range(0, 3) as usize].event(),
+        50..=53 => [Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs, Mode::Step]
+            [rng.range(0, 4) as usize]
+            .event(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => PanelEvent::Press(novanc_panel::Key::F(8)),
@@ -256,7 +260,6 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 Key::Alt('='),
                 Key::Alt('-'),
                 Key::Alt('0'),
-                Key::Left,
                 Key::F(2),
                 Key::Alt('d'),
                 Key::Alt('o'),
@@ -272,6 +275,41 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                     "{line}: {}",
                     s.c.message()
                 );
+            }
+            return line;
+        }
+        82..=85 => {
+            // A jog key: in STEP with no cycle under way, the selected channel's tool post
+            // moves one increment on one axis and nothing else moves; otherwise it is refused
+            // with the reason and nothing moves.
+            use novanc_panel::Key;
+            let k = [Key::Up, Key::Down, Key::Left, Key::Right][rng.range(0, 3) as usize];
+            let line = format!("key {}", novanc::console::keys::key_name(k));
+            let posts =
+                |c: &LatheConsole| -> Vec<[i64; 2]> { c.tips().into_iter().map(|t| t.0).collect() };
+            let before = posts(&s.c);
+            let sel = s.c.selected();
+            s.fresh = true;
+            s.c.handle(PanelEvent::Press(k));
+            let after = posts(&s.c);
+            let said = s.c.message().to_string();
+            if said.starts_with("STEP CH") {
+                s.stats.jogs += 1;
+                for (ch, (b, a)) in before.iter().zip(&after).enumerate() {
+                    let moved: Vec<i64> = (0..2).map(|i| (a[i] - b[i]).abs()).collect();
+                    let want: &[i64] = match (ch == sel, k) {
+                        (false, _) => &[0, 0],
+                        (true, Key::Up | Key::Down) => &[10, 0],
+                        (true, _) => &[0, 10],
+                    };
+                    assert_eq!(moved, want, "{line}: CH{} {b:?} -> {a:?} ({said})", ch + 1);
+                }
+            } else {
+                assert!(
+                    said.contains("refused") || said.contains("turn to STEP"),
+                    "{line}: {said}"
+                );
+                assert_eq!(after, before, "{line}: {said}");
             }
             return line;
         }
@@ -395,6 +433,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.estops += s.stats.estops;
         total.handovers_seen += s.stats.handovers_seen;
         total.batches_done += s.stats.batches_done;
+        total.jogs += s.stats.jogs;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -417,11 +456,12 @@ fn random_operator_sequences_keep_the_lathe_invariants() {
     let st = run(count(), 40);
     // The sequences must reach what they are meant to test.
     assert!(
-        st.parts > 0 && st.faults > 0 && st.estops > 0,
-        "parts {} faults {} estops {}",
+        st.parts > 0 && st.faults > 0 && st.estops > 0 && st.jogs > 0,
+        "parts {} faults {} estops {} jogs {}",
         st.parts,
         st.faults,
-        st.estops
+        st.estops,
+        st.jogs
     );
 }
 
@@ -444,7 +484,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} STEP moves, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -453,6 +493,7 @@ fn many_random_operator_sequences() {
             st.estops,
             st.handovers_seen,
             st.batches_done,
+            st.jogs,
             t.elapsed().as_secs_f64()
         );
     }

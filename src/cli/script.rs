@@ -33,8 +33,9 @@ Runs a panel event script (one event per line, # comments):
 On a lathe (--machine citizen or a lathe description; docs/lathe.md, Panel script) the same
 grammar, with the lathe's words and without the centre's own (HOME, the handwheel, the data
 selector, tape, DRY RUN ... are refused with the line):
-  op AUTO|MDI|DATA|OFS   channel N   type TEXT   start | stop | reset | estop   key NAME
+  op AUTO|MDI|DATA|OFS|STEP   channel N   type TEXT   start | stop | reset | estop   key NAME
   fault N REASON     target N    override PCT   optionalstop on|off   blockdelete on|off
+  wheelscale 1|10|100|1000       the STEP increment (key Up/Down: X+/X-, Left/Right: Z-/Z+)
   wait               until every channel is at rest (finished, stopped, waiting on a stopped
                      channel, faulted, or in E-STOP)
   wait block N       until block N (counted from 1 in the program as read) of the selected

@@ -418,7 +418,7 @@ fn wait_tape(c: &mut Console) {
 
 /// Whether `pos` moved by `pulses` on `axis` stays inside the travel limits; if not, the
 /// operator's message.
-fn travel_check(
+pub(crate) fn travel_check(
     s: &MachineSettings,
     pos: crate::block::Axes,
     axis: Axis,
@@ -489,7 +489,7 @@ pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
 
 /// The increments, in pulses: the handwheel per detent, and STEP per key (docs/panel.md,
 /// "Jogging"): 0.001, 0.01, 0.1 and 1 mm at the default pulse of 0.001 mm.
-pub(super) const SCALES: [u32; 4] = [1, 10, 100, 1000];
+pub(crate) const SCALES: [u32; 4] = [1, 10, 100, 1000];
 
 /// The increment the console starts with: the configured STEP length when it is one of
 /// [`SCALES`], else 0.1 mm's worth (x100).
@@ -503,7 +503,7 @@ pub(super) fn default_scale(s: &MachineSettings) -> u32 {
 }
 
 /// An increment as the operator reads it: "0.100 mm (x100)".
-pub(super) fn increment_text(s: &MachineSettings, scale: u32) -> String {
+pub(crate) fn increment_text(s: &MachineSettings, scale: u32) -> String {
     format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
 }
 

@@ -128,12 +128,13 @@ pub fn path_execution(s: &Status, m: &Modes) -> &'static str {
 }
 
 /// The MTConnect ControllerMode of the lathe's mode selector: AUTO `AUTOMATIC`, MDI
-/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`.
+/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`, STEP `MANUAL`.
 pub fn lathe_mode(m: LatheMode) -> &'static str {
     match m {
         LatheMode::Auto => "AUTOMATIC",
         LatheMode::Mdi => "MANUAL_DATA_INPUT",
         LatheMode::Data | LatheMode::Ofs => "EDIT",
+        LatheMode::Step => "MANUAL",
     }
 }
 

@@ -14,9 +14,11 @@ impl LatheConsole {
         let line = std::mem::take(&mut self.entry);
         self.y_output = None;
         match self.mode {
-            Mode::Auto => {
+            Mode::Auto | Mode::Step => {
                 if !line.is_empty() {
-                    self.message = "AUTO takes no data: turn to MDI or DATA".into();
+                    self.message =
+                        format!("{} takes no data: turn to MDI or DATA", self.mode.word());
+                    self.entry = line;
                 }
             }
             Mode::Mdi => {

@@ -5,7 +5,7 @@
 //! action as its script line (`crate::console::script_line`).
 
 use crate::console::keys::{self, Action};
-use crate::panel_model::{OpMode, PanelEvent};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
 /// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions, and OFS).
@@ -19,6 +19,8 @@ pub enum Mode {
     Data,
     /// OFS: the data keys revise the selected channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`).
     Ofs,
+    /// STEP: each jog key moves the selected channel's tool post one increment.
+    Step,
 }
 
 impl Mode {
@@ -29,6 +31,7 @@ impl Mode {
             Mode::Mdi => "MDI",
             Mode::Data => "DATA",
             Mode::Ofs => "OFS",
+            Mode::Step => "STEP",
         }
     }
 
@@ -39,6 +42,7 @@ impl Mode {
             Mode::Mdi => PanelEvent::Op(OpMode::Mdi),
             Mode::Data => PanelEvent::Op(OpMode::Data),
             Mode::Ofs => PanelEvent::OfsMode,
+            Mode::Step => PanelEvent::Op(OpMode::Step),
         }
     }
 }
@@ -58,6 +62,8 @@ pub enum LatheKey {
     Target,
     /// Feed override up or down 10 % (Alt+=, Alt+-).
     Override(i32),
+    /// The next STEP increment (Alt+w).
+    Increment,
     /// Nothing on the lathe: the message line says so.
     None,
 }
@@ -71,6 +77,12 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
         Key::Alt('f') => return LatheKey::Fault,
         Key::Alt('n') => return LatheKey::Target,
         Key::Alt('5') => return LatheKey::Ev(PanelEvent::OfsMode),
+        // The lathe's jog keys as its tool post moves on the screen: X up and down, Z along
+        // the spindle left and right (PgUp and PgDn are Z too, as on the centre).
+        Key::Up => return LatheKey::Ev(PanelEvent::Jog(Axis::X, 1)),
+        Key::Down => return LatheKey::Ev(PanelEvent::Jog(Axis::X, -1)),
+        Key::Left => return LatheKey::Ev(PanelEvent::Jog(Axis::Z, -1)),
+        Key::Right => return LatheKey::Ev(PanelEvent::Jog(Axis::Z, 1)),
         Key::Char(c) if !c.is_control() => {
             return LatheKey::Ev(PanelEvent::Key(c.to_ascii_uppercase()))
         }
@@ -82,6 +94,8 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
         }
         Action::Help => LatheKey::Help,
         Action::Override(d) => LatheKey::Override(d),
+        Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Ev(PanelEvent::Jog(axis, dir)),
+        Action::WheelScale => LatheKey::Increment,
         Action::BlockDelete => LatheKey::Ev(PanelEvent::BlockDelete(!block_delete)),
         Action::OptionalStop => LatheKey::Ev(PanelEvent::OptionalStop(!optional_stop)),
         _ => LatheKey::None,
@@ -93,8 +107,10 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
 /// NAME` is taken when the key does something on the lathe.
 pub fn takes(ev: &PanelEvent) -> Result<(), String> {
     match ev {
-        PanelEvent::Op(OpMode::Auto | OpMode::Mdi | OpMode::Data)
+        PanelEvent::Op(OpMode::Auto | OpMode::Mdi | OpMode::Data | OpMode::Step)
         | PanelEvent::OfsMode
+        | PanelEvent::Jog(Axis::X | Axis::Z, _)
+        | PanelEvent::WheelScale(_)
         | PanelEvent::Channel(_)
         | PanelEvent::Type(_)
         | PanelEvent::Key(_)
@@ -113,9 +129,10 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),
         PanelEvent::Op(m) => Err(format!(
-            "op {}: the lathe's modes are AUTO, MDI, DATA and OFS",
+            "op {}: the lathe's modes are AUTO, MDI, DATA, OFS and STEP",
             m.word()
         )),
+        PanelEvent::Jog(a, _) => Err(format!("jog {}: the lathe's axes are X and Z", a.letter())),
         // The lathe's blocks are numbered from 1 (docs/lathe.md "Headless"); the centre's
         // block 0 is a SEARCH's restore block, which the lathe has not.
         PanelEvent::WaitBlock(0) => {

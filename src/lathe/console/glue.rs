@@ -43,6 +43,8 @@ pub struct Cycle {
     core: PulseCore,
     /// True for an MDI run of channel `only`.
     pub mdi: bool,
+    /// Made for manual moves (STEP) of channel `only`, with nothing run.
+    manual: bool,
     only: usize,
     started_ns: u64,
     message: Option<String>,
@@ -95,6 +97,8 @@ pub struct CycleSpec {
     pub feed_override: u32,
     /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
     pub clock: ClockMode,
+    /// For manual moves only (STEP): the kernel is made with nothing started.
+    pub manual: bool,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
     /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
@@ -268,7 +272,9 @@ impl Cycle {
         // on from the console's machine time.
         k.set_clock(spec.started_ns)?;
         let started_ns = k.now();
-        k.start(spec.mdi)?;
+        if !spec.manual {
+            k.start(spec.mdi)?;
+        }
         // The cycle starts: each channel read keeps the state its read left.
         for (k, a) in kept.iter_mut().zip(after) {
             if let Some(a) = a {
@@ -277,10 +283,12 @@ impl Cycle {
         }
         let n = msgs.len();
         let (mdi, only, clock) = (spec.mdi.is_some(), spec.mdi.unwrap_or(0), spec.clock);
+        let manual = spec.manual;
         let core = PulseCore::spawn_kernel(k, clock, spec.sink);
         let mut c = Cycle {
             core,
             mdi,
+            manual,
             only,
             started_ns,
             message: None,
@@ -483,6 +491,19 @@ impl Cycle {
                 let real = self.clock == ClockMode::RealTime;
                 started || (real && self.snap.get(ch).is_some_and(executes)) || self.at_rest()
             }
+        }
+    }
+
+    /// A manual move of channel `ch`'s machine (STEP's `Command::Increment`): its refusal,
+    /// if any.
+    pub fn manual(&mut self, ch: usize, cmd: Command) -> Result<(), String> {
+        let before = self.snap.get(ch).and_then(|c| c.status.notice.clone());
+        self.core.channel_command(Some(ch), cmd)?;
+        self.refresh();
+        // The machine says a refusal in its notice.
+        match self.snap.get(ch).and_then(|c| c.status.notice.clone()) {
+            Some(n) if Some(&n) != before.as_ref() => Err(n),
+            _ => Ok(()),
         }
     }
 
@@ -719,7 +740,7 @@ impl Cycle {
                 let mut v = ChanView {
                     name: desc.channels[ch].name.clone(),
                     program: if self.mdi && ch == self.only {
-                        "MDI".into()
+                        if self.manual { "STEP" } else { "MDI" }.into()
                     } else {
                         programs[ch].name.clone()
                     },

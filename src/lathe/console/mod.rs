@@ -12,6 +12,7 @@
 mod entry;
 pub mod events;
 mod glue;
+mod jog;
 mod ofs;
 pub mod view;
 
@@ -83,6 +84,11 @@ pub struct LatheConsole {
     wait_error: Option<String>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
+    /// E-STOP was pressed and RESET has not released it (with or without a cycle loaded):
+    /// nothing starts and nothing moves by hand until RESET.
+    estop_latched: bool,
+    /// The STEP increment, pulses (the centre's x1, x10, x100, x1000).
+    increment: u32,
 }
 
 /// How long the lathe console's operator message lives (the centre's rule, docs/panel.md
@@ -192,6 +198,8 @@ impl LatheConsole {
             left: vec![glue::ChannelLeft::default(); n],
             wait_error: None,
             interrupt: None,
+            estop_latched: false,
+            increment: 10,
         };
         c.kept = (0..n)
             .map(|ch| {
@@ -436,6 +444,7 @@ impl LatheConsole {
                 };
                 self.handle(PanelEvent::Fault(self.sel, why));
             }
+            LatheKey::Increment => self.handle(PanelEvent::WheelScale(self.next_increment())),
             LatheKey::Override(d) => {
                 let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
                 self.handle(PanelEvent::Override(p));
@@ -493,7 +502,10 @@ impl LatheConsole {
         match ev {
             PanelEvent::Op(OpMode::Auto) => self.turn(Mode::Auto),
             PanelEvent::Op(OpMode::Mdi) => self.turn(Mode::Mdi),
+            PanelEvent::Op(OpMode::Step) => self.turn(Mode::Step),
             PanelEvent::Op(_) => self.turn(Mode::Data),
+            PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
+            PanelEvent::WheelScale(n) => self.set_increment(n),
             PanelEvent::OfsMode => self.turn(Mode::Ofs),
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => self.message = format!("there is no channel {}", c + 1),
@@ -523,6 +535,7 @@ impl LatheConsole {
             },
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
+                self.estop_latched = true;
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
@@ -655,6 +668,10 @@ impl LatheConsole {
     }
 
     fn start(&mut self) {
+        if self.estop_latched {
+            self.message = "START refused: EMERGENCY STOP in force, press RESET".into();
+            return;
+        }
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
                 match c.start() {
@@ -665,7 +682,7 @@ impl LatheConsole {
             }
         }
         match self.mode {
-            Mode::Data | Mode::Ofs => {
+            Mode::Data | Mode::Ofs | Mode::Step => {
                 self.message = format!("{} mode: turn to AUTO or MDI to run", self.mode.word())
             }
             Mode::Auto => {
@@ -737,6 +754,7 @@ impl LatheConsole {
             feed_override: self.feed_override,
             clock: self.clock,
             sink: self.recorder.sink(),
+            manual: false,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
@@ -827,7 +845,17 @@ impl LatheConsole {
         }
     }
 
+    /// E-STOP is in force: pressed and not yet released by RESET.
+    fn estop(&self) -> bool {
+        self.estop_latched
+            || self
+                .cycle
+                .as_ref()
+                .is_some_and(|c| c.channels().iter().any(|s| s.status.estop))
+    }
+
     fn reset(&mut self) {
+        self.estop_latched = false;
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self

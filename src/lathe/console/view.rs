@@ -2,12 +2,13 @@
 //! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
 
 /// The key legend beside the plasma display (the terminal's).
-pub const LATHE_KEYS: [&str; 11] = [
+pub const LATHE_KEYS: [&str; 12] = [
     "F9  START   F10 STOP",
     "F11 RESET   F12 E-STOP",
     "Tab CHANNEL",
     "Alt+2 AUTO  Alt+3 MDI",
     "Alt+4 DATA  Alt+5 OFS",
+    "Alt+6 STEP: arrows jog",
     "Alt+f FAULT the channel",
     "Alt+n TARGET (typed N)",
     "Alt+o M01   Alt+b /DEL",
@@ -17,7 +18,7 @@ pub const LATHE_KEYS: [&str; 11] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 13] = [
+pub const LATHE_HELP: [&str; 14] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -29,7 +30,8 @@ pub const LATHE_HELP: [&str; 13] = [
     "Alt+2/3/4/5   AUTO / MDI (Enter adds a line) / DATA (an editor line) / OFS (T1 X.. Z.. R.. P..)",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
-    "A key of the centre's (jog, HOME, F1-F7 ...) says on the message line that it does nothing",
+    "Alt+6 STEP    Up/Down X+/X- (a radius), Left/Right Z-/Z+: one increment; Alt+w x1..x1000",
+    "A key of the centre's (HOME, F1-F7 ...) says on the message line that it does nothing",
     "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
 

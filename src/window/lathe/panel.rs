@@ -245,6 +245,7 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             (Mode::Mdi, "3"),
             (Mode::Data, "4"),
             (Mode::Ofs, "5"),
+            (Mode::Step, "6"),
         ] {
             let r = key(ui, m.word(), m == mode, 52.0).on_hover_text(format!("Alt+{k}"));
             if r.clicked() && m != mode {
