@@ -107,3 +107,28 @@ fn the_step_mode_and_its_keys_are_on_the_screen() {
         .any(|l| l.starts_with("Alt+6 STEP") && l.contains("Alt+w")));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// E-STOP holds until RESET on a console with no cycle loaded too: START after it is refused
+/// and nothing moves (the console began a cycle here before).
+#[test]
+fn estop_with_no_cycle_loaded_holds_until_reset() {
+    let dir = common::temp_dir("lathe-estop-latch");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().starts_with("START refused: EMERGENCY STOP"),
+        "{}",
+        c.message()
+    );
+    c.run_for(2_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c), home);
+    assert!(c.view().summary.iter().all(|l| l.contains("IDLE")));
+    c.handle(PanelEvent::Reset);
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "cycle start");
+    c.run_for(2_000_000_000, RunUntil::Time, || false);
+    assert_ne!(posts(&c), home, "the cycle runs after RESET");
+    let _ = std::fs::remove_dir_all(&dir);
+}
