@@ -209,7 +209,7 @@ mod tests {
         assert!(parse_line("target 0", 3).is_err());
         assert!(parse_line("op HANDLE", 3)
             .unwrap_err()
-            .contains("AUTO, MDI, DATA and OFS"));
+            .contains("AUTO, MDI, DATA, OFS and STEP"));
         assert!(parse_line("home", 3)
             .unwrap_err()
             .contains("machining centre's"));
@@ -272,14 +272,28 @@ mod tests {
             LatheKey::Ev(PanelEvent::OptionalStop(false))
         );
         // The centre's own keys do nothing here, and say so (not dropped in silence).
-        for k in [
-            Key::Alt('0'),
-            Key::Alt('1'),
-            Key::Alt('d'),
-            Key::Left,
-            Key::F(2),
-        ] {
+        for k in [Key::Alt('0'), Key::Alt('1'), Key::Alt('d'), Key::F(2)] {
             assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
         }
+        // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.
+        for (k, axis, dir) in [
+            (Key::Up, Axis::X, 1),
+            (Key::Down, Axis::X, -1),
+            (Key::Left, Axis::Z, -1),
+            (Key::Right, Axis::Z, 1),
+            (Key::PageUp, Axis::Z, 1),
+            (Key::PageDown, Axis::Z, -1),
+        ] {
+            assert_eq!(
+                map_key(k, false, false),
+                LatheKey::Ev(PanelEvent::Jog(axis, dir)),
+                "{k:?}"
+            );
+        }
+        assert_eq!(
+            map_key(Key::Alt('6'), false, false),
+            LatheKey::Ev(PanelEvent::Op(OpMode::Step))
+        );
+        assert_eq!(map_key(Key::Alt('w'), false, false), LatheKey::Increment);
     }
 }
