@@ -137,3 +137,25 @@ fn g72_refusals_name_g72_and_its_words() {
         Some("7:1: the G72 profile must be monotonic: this move turns back in X")
     );
 }
+
+#[test]
+fn a_g71_profile_that_comes_back_to_its_start_z_is_refused_at_the_line_that_turns() {
+    let desc = lathe();
+    // A shop's profile that ends with a rapid back to the start's Z (line 8, its G0): the profile
+    // turns back in Z there, and that line is the one at fault. The first move (line 5) is
+    // a proper type I move and was named before, with "must move along Z", though the profile
+    // does move along Z.
+    let p = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n\
+             N10 G0 X20.\nG1 Z-10. F0.1\nX40.\nN20 G0 Z2.\n";
+    assert_eq!(
+        read(p, &desc).err().as_deref(),
+        Some("8:5: the G71 profile must be monotonic: this move turns back in Z")
+    );
+    // A profile with no move along Z at all is still refused at its first move.
+    let p = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n\
+             N10 G0 X20.\nN20 G1 X30. F0.1\n";
+    assert_eq!(
+        read(p, &desc).err().as_deref(),
+        Some("5:5: the G71 profile must move along Z after its first move")
+    );
+}

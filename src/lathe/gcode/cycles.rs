@@ -491,16 +491,21 @@ pub fn g71_moves(
         ));
     }
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
-    let last = prof[prof.len() - 1].end;
-    let dz = last[0] - first.end[0];
-    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
-    if dz.abs() < 1e-9 || prof.len() < 2 {
+    // The way the profile goes along its passes is the way its first move along them goes; a
+    // profile that comes back (to where it began, even) turns back at a line of its own, found
+    // below, not here.
+    let Some(dz) = prof[1..]
+        .iter()
+        .map(|m| m.end[0] - m.start[0])
+        .find(|d| d.abs() > 1e-9)
+    else {
         return Err(err(
             first.line,
             first.col,
             format!("the {g} profile must move along {along} after its first move"),
         ));
-    }
+    };
+    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
     // Shift and check monotony: X away from the axis (OD) or towards it (ID), Z one way.
     let shift = |p: [f64; 2]| [p[0] + allow[0], p[1] + allow[1]];
     let mut segs: Vec<Mv> = Vec::with_capacity(prof.len());
