@@ -159,3 +159,85 @@ fn a_g71_profile_that_comes_back_to_its_start_z_is_refused_at_the_line_that_turn
         Some("5:5: the G71 profile must move along Z after its first move")
     );
 }
+
+/// The leads of the thread passes of `text` read on `desc`, mm per revolution, in order.
+fn leads(text: &str, desc: &LatheDesc) -> Vec<f64> {
+    match read(text, desc) {
+        Ok(p) => p
+            .iter()
+            .flat_map(|s| &s.blocks)
+            .filter_map(|b| b.thread)
+            .collect(),
+        Err(e) => panic!("{e}\n{text}"),
+    }
+}
+
+#[test]
+fn g32_cuts_a_thread_pass_with_the_lead_in_f_kept_for_the_next_pass() {
+    let desc = lathe();
+    // A course's threading by hand: two passes of G32, the second without F (the lead kept,
+    // as Fanuc's F is modal), each in to the depth, along Z, out and back. A thread pass is a
+    // feed block (F) with its lead: 1.5 mm per revolution both times.
+    let p = "G95 T0202 S500 M3\nG0 X30. Z5.\nX29.\nG32 Z-20. F1.5\nG0 X32.\nZ5.\nX28.6\n\
+             G32 Z-20.\nG0 X32.\nZ5.\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            "R X15.000 Z5.000",
+            "R X14.500 Z5.000",
+            "F X14.500 Z-20.000",
+            "R X16.000 Z-20.000",
+            "R X16.000 Z5.000",
+            "R X14.300 Z5.000",
+            "F X14.300 Z-20.000",
+            "R X16.000 Z-20.000",
+            "R X16.000 Z5.000",
+        ]
+    );
+    assert_eq!(leads(p, &desc), [1.5, 1.5]);
+    // A taper thread: X and Z in one G32 (Ø29 to Ø31 over 25 mm), lead 2; in inches, the lead
+    // is inches per revolution (F0.0625 is 1.5875 mm).
+    let p = "G95 T0202 S500 M3\nG0 X29. Z5.\nG32 X31. Z-20. F2.\n";
+    assert_eq!(ok(p, &desc)[1], "F X15.500 Z-20.000");
+    assert_eq!(leads(p, &desc), [2.0]);
+    let p = "G20 G95 T0202 S500 M3\nG0 X1. Z.2\nG32 Z-1. F.0625\n";
+    assert!((leads(p, &desc)[0] - 1.5875).abs() < 1e-9);
+}
+
+#[test]
+fn g32_refusals() {
+    let desc = lathe();
+    let start = "G95 T0202 S500 M3\nG0 X30. Z5.\n";
+    // No lead at all.
+    assert_eq!(
+        read(&format!("{start}G32 Z-20.\n"), &desc).err().as_deref(),
+        Some("3:1: G32 needs F, the lead in mm per revolution")
+    );
+    // A thread is cut along Z.
+    assert_eq!(
+        read(&format!("{start}G32 X20. F1.5\n"), &desc)
+            .err()
+            .as_deref(),
+        Some("3:1: G32 needs a Z move (F is the lead along Z)")
+    );
+    // The spindle must turn.
+    assert_eq!(
+        read("G95 T0202\nG0 X30. Z5.\nG32 Z-20. F1.5\n", &desc)
+            .err()
+            .as_deref(),
+        Some("3:1: G32 with the spindle stopped: give M03 or M04")
+    );
+    // LinuxCNC has no G32: its thread pass is G33 K.
+    let lcnc = {
+        let text = "machine real\nkind lathe\npulse 0.001\ntick 100\nchannel PATH-1\n\
+                    x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+                    spindle max 4000 accel 4000 encoder 1024\ntool 2 radius 0 tip 3\n";
+        match parse(text) {
+            Ok(MachineDesc::Lathe(d)) => d,
+            _ => panic!("not a lathe"),
+        }
+    };
+    assert!(read("G95 T0202 S500 M3\nG0 X30 Z5\nG32 Z-20 F1.5\n", &lcnc)
+        .err()
+        .is_some_and(|e| e.starts_with("3:1: G32 is Fanuc's thread cutting")));
+}

@@ -622,7 +622,7 @@ impl Reader<'_> {
                 .find(|x| {
                     matches!(
                         x.0,
-                        0 | 10 | 20 | 30 | 330 | 700 | 710 | 720 | 740 | 750 | 760
+                        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 740 | 750 | 760
                     ) || (self.system_a && matches!(x.0, 900 | 920 | 940))
                 })
                 .copied();
@@ -711,6 +711,9 @@ impl Reader<'_> {
             }
             _ => {
                 if let Some((g, c)) = motion_code {
+                    if g == 320 && !self.fanuc {
+                        return Err(err(n, c, "G32 is Fanuc's thread cutting (its F the lead); LinuxCNC's is G33 K: read the program in the Fanuc dialect (`dialect fanuc`)"));
+                    }
                     if self.st.motion != Some(g) {
                         // A single cycle's kept end and taper last while its code is in force.
                         self.st.single = None;
