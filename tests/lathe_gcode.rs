@@ -82,7 +82,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "1:1",
             "the lathe has one work coordinate system, G54",
         ),
-        ("G72\n".into(), "1:1", "G72 and G73 are not supported"),
+        ("G73\n".into(), "1:1", "G73 is not supported"),
         ("M6\n".into(), "1:1", "M06 without a tool: give T"),
         ("M7 M8\n".into(), "1:4", "in the same modal group"),
         (

@@ -324,45 +324,76 @@ pub fn g71(
     idx: usize,
     lines: &mut dyn Lines,
 ) -> Result<Flow, TranslateError> {
+    rough(r, w, n, c, idx, lines, false)
+}
+
+/// G72 W R (depth of cut along Z, retract) or G72 P Q U W F: Fanuc 0i-T's stock removal in
+/// facing, G71 with the axes' parts swapped: passes parallel to X, one depth of cut deeper in
+/// Z each, down to the profile of lines P..Q (its first move Z only, type I), then one pass
+/// along the profile. The depth and retract are the ones G71's first block sets (a Fanuc keeps
+/// both cycles' in one pair of parameters, 5132 and 5133).
+pub fn g72(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    idx: usize,
+    lines: &mut dyn Lines,
+) -> Result<Flow, TranslateError> {
+    rough(r, w, n, c, idx, lines, true)
+}
+
+/// G71 (`face` false) or G72 (`face` true).
+fn rough(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    idx: usize,
+    lines: &mut dyn Lines,
+    face: bool,
+) -> Result<Flow, TranslateError> {
     let f = r.st.factor();
+    let (name, dl) = if face { ("G72", 'W') } else { ("G71", 'U') };
     if w.get('P').is_none() && w.get('Q').is_none() {
-        refuse(w, "XZWIKJHEL", n, "G71 U R")?;
-        let d = need(w, 'U', n, c, "G71 (first block)")? * f;
+        let other = if face { "XZUIKJHEL" } else { "XZWIKJHEL" };
+        refuse(w, other, n, &format!("{name} {dl} R"))?;
+        let d = need(w, dl, n, c, &format!("{name} (first block)"))? * f;
         let e = w.get('R').unwrap_or(0.0) * f;
         if !(d > 0.0 && d < 1000.0) {
             return Err(err(
                 n,
-                w.col('U').unwrap_or(c),
-                "G71 U, the depth of cut, must be above 0",
+                w.col(dl).unwrap_or(c),
+                format!("{name} {dl}, the depth of cut, must be above 0"),
             ));
         }
         if !(0.0..1000.0).contains(&e) {
             return Err(err(
                 n,
                 w.col('R').unwrap_or(c),
-                "G71 R, the retract, must not be negative",
+                format!("{name} R, the retract, must not be negative"),
             ));
         }
         r.st.g71 = Some((d, e));
         return Ok(Flow::Next);
     }
-    refuse(w, "XZIKRJHEL", n, "G71 P Q")?;
+    refuse(w, "XZIKRJHEL", n, &format!("{name} P Q"))?;
     if r.out.comp_on() {
-        return Err(err(n, c, "G71 with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)"));
+        return Err(err(n, c, format!("{name} with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)")));
     }
     let Some((depth, retract)) = r.st.g71 else {
         return Err(err(
             n,
             c,
-            "G71 P Q needs the first G71 block (G71 U R: depth of cut and retract) before it",
+            format!("{name} P Q needs the first {name} block ({name} {dl} R: depth of cut and retract) before it"),
         ));
     };
-    let (p, q) = profile_lines(r, w, n, c, "G71")?;
+    let (p, q) = profile_lines(r, w, n, c, name)?;
     if p <= idx {
         return Err(err(
             n,
             c,
-            "the G71 profile (lines P to Q) must follow the G71 line",
+            format!("the {name} profile (lines P to Q) must follow the {name} line"),
         ));
     }
     let dia = if r.st.diameter { 2.0 } else { 1.0 };
@@ -381,15 +412,52 @@ pub fn g71(
     r.st = saved;
     r.out.pos = a;
     res?;
-    let rough = g71_moves(&prof, a, depth, retract, [dw, du], feed, n, c)?;
+    let rough = if face {
+        // G72 is G71 on the plane mirrored across Z = X: swap each point's parts, cut, swap back.
+        let prof: Vec<Mv> = prof.iter().map(swapped).collect();
+        g71_moves(
+            &prof,
+            [a[1], a[0]],
+            depth,
+            retract,
+            [du, dw],
+            feed,
+            n,
+            c,
+            true,
+        )?
+        .iter()
+        .map(swapped)
+        .collect()
+    } else {
+        g71_moves(&prof, a, depth, retract, [dw, du], feed, n, c, false)?
+    };
     for m in rough {
         r.out.motion(m)?;
     }
     Ok(Flow::Jump(q + 1))
 }
 
+/// `m` mirrored across the line Z = X: each point's `[Z, X]` swapped, so an arc turns the other
+/// way. Twice is `m` again.
+fn swapped(m: &Mv) -> Mv {
+    let sw = |p: [f64; 2]| [p[1], p[0]];
+    let mut s = *m;
+    s.start = sw(m.start);
+    s.end = sw(m.end);
+    if let Kind::Arc { c, ccw, feed } = m.kind {
+        s.kind = Kind::Arc {
+            c: sw(c),
+            ccw: !ccw,
+            feed,
+        };
+    }
+    s
+}
+
 /// The roughing moves of G71 from the start `a` `[Z, X]` over the profile `prof` (its first
-/// move X only), shifted by `allow` `[W, U radius]`.
+/// move X only), shifted by `allow` `[W, U radius]`. With `face` the points come swapped,
+/// `[X, Z]`, from G72, and the messages name G72's axes and words.
 #[allow(clippy::too_many_arguments)]
 pub fn g71_moves(
     prof: &[Mv],
@@ -400,28 +468,44 @@ pub fn g71_moves(
     feed: super::out::Feed,
     n: u32,
     c: u32,
+    face: bool,
 ) -> Result<Vec<Mv>, TranslateError> {
+    // The cycle, the axis of its depth (across the passes) and of its passes, its depth word.
+    let (g, ax, along, dl) = if face {
+        ("G72", 'Z', 'X', 'W')
+    } else {
+        ("G71", 'X', 'Z', 'U')
+    };
     let Some(first) = prof.first() else {
-        return Err(err(n, c, "the G71 profile (lines P to Q) has no move"));
+        return Err(err(
+            n,
+            c,
+            format!("the {g} profile (lines P to Q) has no move"),
+        ));
     };
     if (first.end[0] - a[0]).abs() > 1e-9 || (first.end[1] - a[1]).abs() < 1e-9 {
         return Err(err(
             first.line,
             first.col,
-            "the G71 profile's first move must move X only (Fanuc type I)",
+            format!("the {g} profile's first move must move {ax} only (Fanuc type I)"),
         ));
     }
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
-    let last = prof[prof.len() - 1].end;
-    let dz = last[0] - first.end[0];
-    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
-    if dz.abs() < 1e-9 || prof.len() < 2 {
+    // The way the profile goes along its passes is the way its first move along them goes; a
+    // profile that comes back (to where it began, even) turns back at a line of its own, found
+    // below, not here.
+    let Some(dz) = prof[1..]
+        .iter()
+        .map(|m| m.end[0] - m.start[0])
+        .find(|d| d.abs() > 1e-9)
+    else {
         return Err(err(
             first.line,
             first.col,
-            "the G71 profile must move along Z after its first move",
+            format!("the {g} profile must move along {along} after its first move"),
         ));
-    }
+    };
+    let sz = if dz > 0.0 { 1.0 } else { -1.0 };
     // Shift and check monotony: X away from the axis (OD) or towards it (ID), Z one way.
     let shift = |p: [f64; 2]| [p[0] + allow[0], p[1] + allow[1]];
     let mut segs: Vec<Mv> = Vec::with_capacity(prof.len());
@@ -430,20 +514,20 @@ pub fn g71_moves(
             err(
                 m.line,
                 m.col,
-                format!("the G71 profile must be monotonic: this move {what}"),
+                format!("the {g} profile must be monotonic: this move {what}"),
             )
         };
         if sx * (m.end[1] - m.start[1]) < -1e-9 {
-            return Err(bad("turns back in X"));
+            return Err(bad(&format!("turns back in {ax}")));
         }
         if sz * (m.end[0] - m.start[0]) < -1e-9 {
-            return Err(bad("turns back in Z"));
+            return Err(bad(&format!("turns back in {along}")));
         }
         let mut s = *m;
         s.start = shift(m.start);
         s.end = shift(m.end);
         match m.kind {
-            Kind::Thread(_) => return Err(err(m.line, m.col, "G33 in a G71 profile")),
+            Kind::Thread(_) => return Err(err(m.line, m.col, format!("G33 in a {g} profile"))),
             Kind::Arc { c: ctr, ccw, feed } => {
                 let sw = sweep(ctr, m.start, m.end, ccw);
                 let a0 = (m.start[1] - ctr[1]).atan2(m.start[0] - ctr[0]);
@@ -467,14 +551,14 @@ pub fn g71_moves(
     let x1 = first.end[1] + allow[1];
     let span = sx * (a[1] - x1);
     if span <= 0.0 {
-        return Err(err(n, c, "the G71 start point must be outside the stock: X beyond the profile's first X and its allowance"));
+        return Err(err(n, c, format!("the {g} start point must be outside the stock: {ax} beyond the profile's first {ax} and its allowance")));
     }
     let levels = (span / depth).ceil() as usize;
     if levels > MAX_PASSES {
         return Err(err(
             n,
             c,
-            format!("G71 would make more than {MAX_PASSES} passes: deepen U"),
+            format!("{g} would make more than {MAX_PASSES} passes: deepen {dl}"),
         ));
     }
     let mut out = Vec::new();

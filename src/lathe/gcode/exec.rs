@@ -620,8 +620,10 @@ impl Reader<'_> {
             w.g.as_slice()
                 .iter()
                 .find(|x| {
-                    matches!(x.0, 0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760)
-                        || (self.system_a && matches!(x.0, 900 | 920 | 940))
+                    matches!(
+                        x.0,
+                        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 740 | 750 | 760
+                    ) || (self.system_a && matches!(x.0, 900 | 920 | 940))
                 })
                 .copied();
         let mut flow = Flow::Next;
@@ -683,7 +685,7 @@ impl Reader<'_> {
                 }
                 flow = grooving::g74_75(self, w, n, c, g)?;
             }
-            Some((700, c)) | Some((710, c)) | Some((760, c)) => {
+            Some((700, c)) | Some((710, c)) | Some((720, c)) | Some((760, c)) => {
                 for l in [
                     'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L',
                 ] {
@@ -703,11 +705,15 @@ impl Reader<'_> {
                         Flow::Next
                     }
                     710 => cycles::g71(self, w, n, c, idx, lines)?,
+                    720 => cycles::g72(self, w, n, c, idx, lines)?,
                     _ => cycles::g70(self, w, n, c, lines)?,
                 };
             }
             _ => {
                 if let Some((g, c)) = motion_code {
+                    if g == 320 && !self.fanuc {
+                        return Err(err(n, c, "G32 is Fanuc's thread cutting (its F the lead); LinuxCNC's is G33 K: read the program in the Fanuc dialect (`dialect fanuc`)"));
+                    }
                     if self.st.motion != Some(g) {
                         // A single cycle's kept end and taper last while its code is in force.
                         self.st.single = None;

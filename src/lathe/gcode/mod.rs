@@ -120,7 +120,7 @@ fn lathe_a_g_why(g: u32) -> &'static str {
 
 fn lathe_g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 330 | 700 | 710 | 740 | 750 | 760 => 1,
+        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 740 | 750 | 760 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
         70 | 80 => 4,
@@ -160,7 +160,7 @@ fn lathe_g_why(g: u32) -> &'static str {
     match g {
         920..=923 => " (G92 offsets are not supported on the lathe)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
-        720 | 730 => " (the roughing cycle is G71 with G70; G72 and G73 are not supported)",
+        730 => " (the roughing cycles are G71 and G72 with G70; G73 is not supported)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
         530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",

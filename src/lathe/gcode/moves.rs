@@ -127,26 +127,43 @@ impl Reader<'_> {
                 }
             }
             _ => {
-                // G33.
-                let Some(k) = w.get('K') else {
-                    return Err(err(n, c, "G33 needs K, the lead in mm per revolution"));
+                // G33 (its K the lead) or Fanuc's G32 (the F in force the lead, modal, as
+                // G76's and G92's: `G32 Z-20. F1.5` then `G32 Z-20.` cuts the same lead).
+                let (name, l) = if g == 320 { ("G32", 'F') } else { ("G33", 'K') };
+                let (given, lead) = if g == 320 {
+                    let Some(lead) = self.st.feed else {
+                        return Err(err(n, c, "G32 needs F, the lead in mm per revolution"));
+                    };
+                    (w.get('F').unwrap_or(lead), lead)
+                } else {
+                    let Some(k) = w.get('K') else {
+                        return Err(err(n, c, "G33 needs K, the lead in mm per revolution"));
+                    };
+                    (k, k * self.st.factor())
                 };
-                let lead = k * self.st.factor();
                 if !(lead > 0.0 && lead <= 100.0) {
                     return Err(err(
                         n,
-                        w.col('K').unwrap_or(c),
+                        w.col(l).unwrap_or(c),
                         format!(
-                            "G33 K{}: the lead must be above 0 and at most 100 mm",
-                            crate::input_text::short_number(k)
+                            "{name} {l}{}: the lead must be above 0 and at most 100 mm",
+                            crate::input_text::short_number(given)
                         ),
                     ));
                 }
                 if self.st.stopped() {
-                    return Err(err(n, c, "G33 with the spindle stopped: give M03 or M04"));
+                    return Err(err(
+                        n,
+                        c,
+                        format!("{name} with the spindle stopped: give M03 or M04"),
+                    ));
                 }
                 if (end[0] - self.out.pos[0]).abs() < 1e-9 {
-                    return Err(err(n, c, "G33 needs a Z move (K is the lead along Z)"));
+                    return Err(err(
+                        n,
+                        c,
+                        format!("{name} needs a Z move ({l} is the lead along Z)"),
+                    ));
                 }
                 Kind::Thread(lead)
             }

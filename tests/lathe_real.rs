@@ -1,0 +1,243 @@
+//! What real Fanuc lathe programs (shop and course programs nobody here wrote, tried by hand
+//! on a one-channel lathe) met in the reader, each in a small program of our own of the same
+//! form: Fanuc 0i-T's G72 face roughing, and a G71 profile that turns back in Z refused at the
+//! line that turns. The moves are worked out by hand from each program, not by the reader.
+
+use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
+
+#[path = "common/lathe_moves.rs"]
+mod lathe_moves;
+use lathe_moves::read;
+
+/// A one-channel Fanuc lathe: X travel 0..100 (radius), Z −100..100; tools 1 and 2 with no nose
+/// radius and no offsets, so the moves are the programmed points.
+fn lathe() -> LatheDesc {
+    let text = "machine real\nkind lathe\npulse 0.001\ntick 100\ndialect fanuc\nchannel PATH-1\n\
+                x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+                spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3\n\
+                tool 2 radius 0 tip 3\n";
+    match parse(text) {
+        Ok(MachineDesc::Lathe(d)) => d,
+        Ok(MachineDesc::Mill(_)) => panic!("a mill"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The moves in brief (no dwells).
+fn ok(text: &str, desc: &LatheDesc) -> Vec<String> {
+    lathe_moves::ok(text, desc, false)
+}
+
+/// A flange face: from Ø40 at Z−5 a face down to Ø20, then a taper up to Ø10 at Z0. The tool
+/// starts at X40. Z2. (radius 20).
+const FACE_PROFILE: &str = "N10 G0 Z-5.\nG1 X20. F0.1\nN20 X10. Z0.\n";
+
+#[test]
+fn g72_faces_in_passes_along_x_one_depth_deeper_in_z_each() {
+    let desc = lathe();
+    // G72 W2. R0.5: 2 mm deeper in Z each pass, 0.5 retract. No allowances: the levels are
+    // Z 0, −2, −4 (the next, −6, is past the profile's first Z, −5). The taper runs from
+    // (radius 10, Z−5) to (radius 5, Z0): at Z0 it is at radius 5, at Z−2 at 5 + 5·2/5 = 7,
+    // at Z−4 at 9. Each pass: rapid to the level at A's X (20), feed along X to the taper,
+    // 45° away by 0.5 (X +0.5, Z +0.5), rapid back to A's X. Then the profile itself from
+    // A′ (radius 20, Z−5), out along Z to A's Z and back to A.
+    let p =
+        format!("G95 T0202 S500 M3\nG0 X40. Z2.\nG72 W2. R0.5\nG72 P10 Q20 F0.2\n{FACE_PROFILE}");
+    assert_eq!(
+        ok(&p, &desc),
+        [
+            "R X20.000 Z2.000",
+            "R X20.000 Z0.000",
+            "F X5.000 Z0.000",
+            "R X5.500 Z0.500",
+            "R X20.000 Z0.500",
+            "R X20.000 Z-2.000",
+            "F X7.000 Z-2.000",
+            "R X7.500 Z-1.500",
+            "R X20.000 Z-1.500",
+            "R X20.000 Z-4.000",
+            "F X9.000 Z-4.000",
+            "R X9.500 Z-3.500",
+            "R X20.000 Z-3.500",
+            "R X20.000 Z-5.000",
+            "F X10.000 Z-5.000",
+            "F X5.000 Z0.000",
+            "R X5.000 Z2.000",
+            "R X20.000 Z2.000",
+        ]
+    );
+}
+
+#[test]
+fn g72_leaves_its_allowances_and_g70_finishes_the_profile() {
+    let desc = lathe();
+    // U0.4 (0.2 on the radius) and W0.2: the profile shifted to (20.2, −4.8) (10.2, −4.8)
+    // (5.2, 0.2). Levels Z 0, −2, −4 (−4 is still above −4.8). The shifted taper at Z0 is at
+    // 10.2 − 5·4.8/5 = 5.4, at Z−2 at 10.2 − 2.8 = 7.4, at Z−4 at 10.2 − 0.8 = 9.4. The last
+    // pass rapids to the shifted A′ (X 20.2) before following the profile.
+    // G70 then runs the profile as written and rapids back to where it began.
+    let p = format!(
+        "G95 T0202 S500 M3\nG0 X40. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.4 W0.2 F0.2\n{FACE_PROFILE}G70 P10 Q20\n"
+    );
+    assert_eq!(
+        ok(&p, &desc),
+        [
+            "R X20.000 Z2.000",
+            "R X20.000 Z0.000",
+            "F X5.400 Z0.000",
+            "R X5.900 Z0.500",
+            "R X20.000 Z0.500",
+            "R X20.000 Z-2.000",
+            "F X7.400 Z-2.000",
+            "R X7.900 Z-1.500",
+            "R X20.000 Z-1.500",
+            "R X20.000 Z-4.000",
+            "F X9.400 Z-4.000",
+            "R X9.900 Z-3.500",
+            "R X20.000 Z-3.500",
+            "R X20.000 Z-4.800",
+            "R X20.200 Z-4.800",
+            "F X10.200 Z-4.800",
+            "F X5.200 Z0.200",
+            "R X5.200 Z2.000",
+            "R X20.000 Z2.000",
+            // G70: the profile as written, then back to the start.
+            "R X20.000 Z-5.000",
+            "F X10.000 Z-5.000",
+            "F X5.000 Z0.000",
+            "R X20.000 Z2.000",
+        ]
+    );
+}
+
+#[test]
+fn g72_refusals_name_g72_and_its_words() {
+    let desc = lathe();
+    let start = "G95 T0202 S500 M3\nG0 X40. Z2.\n";
+    // The first block's depth is W; a U there is G71's word, not G72's.
+    assert_eq!(
+        read(&format!("{start}G72 W0 R0.5\n"), &desc)
+            .err()
+            .as_deref(),
+        Some("3:5: G72 W, the depth of cut, must be above 0")
+    );
+    assert!(read(&format!("{start}G72 U2. R0.5\n"), &desc)
+        .err()
+        .is_some_and(|e| e.starts_with("3:5: ") && e.contains("G72 W R")));
+    // Type I: the profile's first move is along Z only (G71's is along X).
+    let p = format!("{start}G72 W2. R0.5\nG72 P10 Q20 F0.2\nN10 G0 X30. Z-5.\nN20 G1 X10. Z0.\n");
+    assert_eq!(
+        read(&p, &desc).err().as_deref(),
+        Some("5:5: the G72 profile's first move must move Z only (Fanuc type I)")
+    );
+    // A profile that turns back in X (radius 10 out to 12) is refused at the line that turns.
+    let p = format!("{start}G72 W2. R0.5\nG72 P10 Q20 F0.2\nN10 G0 Z-5.\nG1 X20. F0.1\nX24. Z-3.\nN20 X10. Z0.\n");
+    assert_eq!(
+        read(&p, &desc).err().as_deref(),
+        Some("7:1: the G72 profile must be monotonic: this move turns back in X")
+    );
+}
+
+#[test]
+fn a_g71_profile_that_comes_back_to_its_start_z_is_refused_at_the_line_that_turns() {
+    let desc = lathe();
+    // A shop's profile that ends with a rapid back to the start's Z (line 8, its G0): the profile
+    // turns back in Z there, and that line is the one at fault. The first move (line 5) is
+    // a proper type I move and was named before, with "must move along Z", though the profile
+    // does move along Z.
+    let p = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n\
+             N10 G0 X20.\nG1 Z-10. F0.1\nX40.\nN20 G0 Z2.\n";
+    assert_eq!(
+        read(p, &desc).err().as_deref(),
+        Some("8:5: the G71 profile must be monotonic: this move turns back in Z")
+    );
+    // A profile with no move along Z at all is still refused at its first move.
+    let p = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n\
+             N10 G0 X20.\nN20 G1 X30. F0.1\n";
+    assert_eq!(
+        read(p, &desc).err().as_deref(),
+        Some("5:5: the G71 profile must move along Z after its first move")
+    );
+}
+
+/// The leads of the thread passes of `text` read on `desc`, mm per revolution, in order.
+fn leads(text: &str, desc: &LatheDesc) -> Vec<f64> {
+    match read(text, desc) {
+        Ok(p) => p
+            .iter()
+            .flat_map(|s| &s.blocks)
+            .filter_map(|b| b.thread)
+            .collect(),
+        Err(e) => panic!("{e}\n{text}"),
+    }
+}
+
+#[test]
+fn g32_cuts_a_thread_pass_with_the_lead_in_f_kept_for_the_next_pass() {
+    let desc = lathe();
+    // A course's threading by hand: two passes of G32, the second without F (the lead kept,
+    // as Fanuc's F is modal), each in to the depth, along Z, out and back. A thread pass is a
+    // feed block (F) with its lead: 1.5 mm per revolution both times.
+    let p = "G95 T0202 S500 M3\nG0 X30. Z5.\nX29.\nG32 Z-20. F1.5\nG0 X32.\nZ5.\nX28.6\n\
+             G32 Z-20.\nG0 X32.\nZ5.\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            "R X15.000 Z5.000",
+            "R X14.500 Z5.000",
+            "F X14.500 Z-20.000",
+            "R X16.000 Z-20.000",
+            "R X16.000 Z5.000",
+            "R X14.300 Z5.000",
+            "F X14.300 Z-20.000",
+            "R X16.000 Z-20.000",
+            "R X16.000 Z5.000",
+        ]
+    );
+    assert_eq!(leads(p, &desc), [1.5, 1.5]);
+    // A taper thread: X and Z in one G32 (Ø29 to Ø31 over 25 mm), lead 2; in inches, the lead
+    // is inches per revolution (F0.0625 is 1.5875 mm).
+    let p = "G95 T0202 S500 M3\nG0 X29. Z5.\nG32 X31. Z-20. F2.\n";
+    assert_eq!(ok(p, &desc)[1], "F X15.500 Z-20.000");
+    assert_eq!(leads(p, &desc), [2.0]);
+    let p = "G20 G95 T0202 S500 M3\nG0 X1. Z.2\nG32 Z-1. F.0625\n";
+    assert!((leads(p, &desc)[0] - 1.5875).abs() < 1e-9);
+}
+
+#[test]
+fn g32_refusals() {
+    let desc = lathe();
+    let start = "G95 T0202 S500 M3\nG0 X30. Z5.\n";
+    // No lead at all.
+    assert_eq!(
+        read(&format!("{start}G32 Z-20.\n"), &desc).err().as_deref(),
+        Some("3:1: G32 needs F, the lead in mm per revolution")
+    );
+    // A thread is cut along Z.
+    assert_eq!(
+        read(&format!("{start}G32 X20. F1.5\n"), &desc)
+            .err()
+            .as_deref(),
+        Some("3:1: G32 needs a Z move (F is the lead along Z)")
+    );
+    // The spindle must turn.
+    assert_eq!(
+        read("G95 T0202\nG0 X30. Z5.\nG32 Z-20. F1.5\n", &desc)
+            .err()
+            .as_deref(),
+        Some("3:1: G32 with the spindle stopped: give M03 or M04")
+    );
+    // LinuxCNC has no G32: its thread pass is G33 K.
+    let lcnc = {
+        let text = "machine real\nkind lathe\npulse 0.001\ntick 100\nchannel PATH-1\n\
+                    x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+                    spindle max 4000 accel 4000 encoder 1024\ntool 2 radius 0 tip 3\n";
+        match parse(text) {
+            Ok(MachineDesc::Lathe(d)) => d,
+            _ => panic!("not a lathe"),
+        }
+    };
+    assert!(read("G95 T0202 S500 M3\nG0 X30 Z5\nG32 Z-20 F1.5\n", &lcnc)
+        .err()
+        .is_some_and(|e| e.starts_with("3:1: G32 is Fanuc's thread cutting")));
+}
