@@ -537,15 +537,7 @@ fn a_chuck_waits_for_its_spindle_to_stop_after_m5() {
         )
         .expect("CH2"),
     ];
-    let mut k = kernel(&desc, &progs, 1);
-    k.start(None).expect("START");
-    assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 1 });
-    let pass = k
-        .transfers()
-        .iter()
-        .find(|t| t.from == Some(0) && t.to == Some(1))
-        .expect("handed over")
-        .t;
+    let (k, pass) = handover(&desc, &progs);
     let probe = pass.saturating_sub(200_000_000);
     let (s1, s2) = (coast_end(&k, 0, probe), coast_end(&k, 1, probe));
     for (ch, stop) in [(0, s1), (1, s2)] {
@@ -563,7 +555,14 @@ fn a_chuck_waits_for_its_spindle_to_stop_after_m5() {
         program(&desc, 0, "M10\nG97 S1200 M3\nM101 P12\nM11\nM5\nM30\n").expect("CH1"),
         program(&desc, 1, "G97 S1200 M3\nM101 P12\nM10\nM5\nM11\nM30\n").expect("CH2"),
     ];
-    let mut k = kernel(&desc, &progs, 1);
+    let (_, pass) = handover(&desc, &progs);
+    assert!((148_500_000..149_000_000).contains(&pass), "{pass}");
+}
+
+/// Runs the two channels' programs to one part: the kernel, and when CH1 handed its work to
+/// CH2.
+fn handover(desc: &LatheDesc, progs: &[Vec<Statement>]) -> (Kernel, u64) {
+    let mut k = kernel(desc, progs, 1);
     k.start(None).expect("START");
     assert_eq!(k.run_until_idle(MINUTE), Outcome::Finished { parts: 1 });
     let pass = k
@@ -572,7 +571,7 @@ fn a_chuck_waits_for_its_spindle_to_stop_after_m5() {
         .find(|t| t.from == Some(0) && t.to == Some(1))
         .expect("handed over")
         .t;
-    assert!((148_500_000..149_000_000).contains(&pass), "{pass}");
+    (k, pass)
 }
 
 /// Runs one NCBR tick at a time until `what` holds (at most a minute of machine time).
