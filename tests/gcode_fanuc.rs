@@ -712,7 +712,7 @@ fn the_fanuc_settings_are_lines_of_the_machine_description() {
     // `decimal` is a mill's; a lathe's channels take `common` (tests/lathe_state.rs).
     assert!(parse(&format!("{citizen}decimal calculator\n"))
         .unwrap_err()
-        .contains("decimal: a setting of the Fanuc dialect, which a lathe's channels do not read"));
+        .contains("decimal: a machining centre's setting; a lathe's channels read a number without a point in least increments"));
 }
 
 #[test]

@@ -592,7 +592,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 };
                 if kind != Some("mill") && !lathe_common {
                     return Err(e(format!(
-                        "{head}: a setting of the Fanuc dialect, which a lathe's channels do not read (say 'kind mill' first for a machining centre)"
+                        "{head}: a machining centre's setting; a lathe's channels read a number without a point in least increments (Fanuc's DPI = 0), and calculator-type input is not built for them yet (say 'kind mill' first for a machining centre)"
                     )));
                 }
             }
