@@ -709,10 +709,15 @@ fn the_fanuc_settings_are_lines_of_the_machine_description() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/citizen.machine"),
     )
     .unwrap();
-    // `decimal` is a mill's; a lathe's channels take `common` (tests/lathe_state.rs).
-    assert!(parse(&format!("{citizen}decimal calculator\n"))
-        .unwrap_err()
-        .contains("decimal: a machining centre's setting; a lathe's channels read a number without a point in least increments"));
+    // A lathe's channels take `common` (tests/lathe_state.rs) and `decimal`
+    // (tests/lathe_real.rs), each in a channel (here the last) or machine-wide.
+    match parse(&format!("{citizen}decimal calculator\n")) {
+        Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) => {
+            let c: Vec<_> = d.channels.iter().map(|c| c.calculator).collect();
+            assert_eq!(c, [None, None, Some(true)]);
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -241,3 +241,53 @@ fn g32_refusals() {
         .err()
         .is_some_and(|e| e.starts_with("3:1: G32 is Fanuc's thread cutting")));
 }
+
+/// The same lathe with calculator-type input (`decimal calculator`, Fanuc's 3401#0 DPI = 1).
+fn calculator_lathe() -> LatheDesc {
+    let mut d = lathe();
+    d.channels[0].calculator = Some(true);
+    d
+}
+
+/// A program written without decimal points (a real Spanish course program threads and turns
+/// that way) reads on a calculator-type lathe as the same program with its points reads on
+/// the default one: `X30` is 30 mm. The words Fanuc takes in least increments only (G74,
+/// G76 and G83's Q, G76's P) stay in increments, and G70/G71's P and Q stay sequence numbers.
+#[test]
+fn calculator_type_input_reads_a_program_without_points_as_written() {
+    let pointed = "G21 G95\nT0101\nG97 S800 M3\nG0 X30. Z2.\nG1 Z-20. F0.2\nG0 X40.\n\
+                   G71 U1. R0.5\nG71 P10 Q20 U0.2 W0.1 F0.2\nN10 G0 X20.\nG1 Z-10.\nN20 X30.\n\
+                   G70 P10 Q20\nG0 X0 Z5.\nG83 Z-10. Q2000 F0.1\nG80\nG0 X0 Z5.\n\
+                   G74 R1.\nG74 Z-6. Q3000 F0.1\nG0 X40. Z5.\nT0202\nG0 X32. Z4.\n\
+                   G76 P010060 Q100 R0.02\nG76 X27.4 Z-15. P1300 Q400 F2.\nG0 X40. Z5.\nM30\n";
+    let plain = pointed.replace(".\n", "\n").replace(". ", " ");
+    assert!(plain.contains("G0 X30 Z2\n") && plain.contains("G83 Z-10 Q2000"));
+    let want = ok(pointed, &lathe());
+    assert_eq!(ok(&plain, &calculator_lathe()), want);
+    // Without calculator-type input the same plain program is read in least increments
+    // (X30 is 0.030 mm): another program.
+    assert_ne!(
+        lathe_moves::read(&plain, &lathe()).map(|p| lathe_moves::moves(&p, false)),
+        Ok(want)
+    );
+}
+
+/// The description's `decimal calculator` line, machine-wide or in a channel.
+#[test]
+fn a_lathe_description_takes_decimal_calculator() {
+    let base = "machine m\nkind lathe\npulse 0.001\ndialect fanuc\n";
+    let chan =
+        "channel A\nx travel 0 100 rapid 1000 accel 100\nz travel -100 100 rapid 1000 accel 100\n\
+                spindle max 1000 accel 1000 encoder 100\n";
+    for (text, want) in [
+        (format!("{base}decimal calculator\n{chan}"), Some(true)),
+        (format!("{base}{chan}decimal calculator\n"), Some(true)),
+        (format!("{base}{chan}decimal increments\n"), Some(false)),
+        (format!("{base}{chan}"), None),
+    ] {
+        match parse(&text) {
+            Ok(MachineDesc::Lathe(d)) => assert_eq!(d.channels[0].calculator, want, "{text}"),
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+}

@@ -226,8 +226,12 @@ pub struct Line {
     /// Fanuc dialect: the letters ([`letter_bit`]) whose value is a number written plainly,
     /// not an expression or a variable.
     pub plain: u32,
-    /// Fanuc dialect: the letters whose plain number has a decimal point.
+    /// Fanuc dialect: the letters whose plain number has a decimal point, or is read as if it
+    /// had one (calculator-type input).
     pub pointed: u32,
+    /// Fanuc dialect: the letters whose plain number was written with a decimal point, as
+    /// written whatever the input type (a lathe's words that Fanuc takes in increments only).
+    pub dotted: u32,
     /// The words are also sorted, in `sorted_words` ([`ReadOpts::sort`]).
     pub sorted: bool,
     /// The words sorted in the mill's dialect as they were read, when `sorted`.
@@ -321,6 +325,7 @@ impl Line {
         self.fanuc = None;
         self.plain = 0;
         self.pointed = 0;
+        self.dotted = 0;
         self.sorted = false;
     }
 }
@@ -1269,6 +1274,9 @@ pub fn read_into_opts(
                 out.plain |= letter_bit(letter);
                 if point {
                     out.pointed |= letter_bit(letter);
+                }
+                if r.point {
+                    out.dotted |= letter_bit(letter);
                 }
             }
             v

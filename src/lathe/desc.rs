@@ -53,6 +53,11 @@ pub struct ChannelDesc {
     /// the common variables #100–#199 (the channel's line, else the machine's before the
     /// channels); `None`: not said, RESET makes them vacant.
     pub keep_common: Option<bool>,
+    /// The Fanuc dialect's `decimal calculator|increments` (parameter 3401#0 DPI): a number
+    /// written without a point in X, Z, U, W, I, K, R is in millimetres (`X30` is 30 mm), not
+    /// least increments; the words Fanuc takes in least increments only (G74/G75 Q, G76 Q,
+    /// G83 Q) stay so (the channel's line, else the machine's); `None`: not said, increments.
+    pub calculator: Option<bool>,
     /// The feed mode at power-on and after RESET (`feed per-rev` G95, `feed per-minute` G94;
     /// the channel's line, else the machine's); `None`: not said, by the dialect: Fanuc's
     /// G95 (a Fanuc 0i-T powers on in G99), LinuxCNC's G94.
@@ -79,6 +84,7 @@ impl ChannelDesc {
             dialect: None,
             system_a: false,
             keep_common: None,
+            calculator: None,
             per_rev: None,
             subroutines: Vec::new(),
         }
@@ -563,11 +569,14 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 } else {
                     (&mut fanuc.1, ["calculator", "increments"])
                 };
-                // On a lathe, `common` is the channel's (in a channel) or the machine's
-                // (before the channels), as `dialect` is; `decimal` is a mill's.
-                let lathe_common = kind == Some("lathe") && head == "common";
+                // On a lathe, `common` and `decimal` are the channel's (in a channel) or the
+                // machine's (before the channels), as `dialect` is.
+                let lathe_common = kind == Some("lathe");
                 let slot = match channels.last_mut() {
-                    Some(ch) if lathe_common && in_channel => &mut ch.keep_common,
+                    Some(ch) if lathe_common && in_channel && head == "common" => {
+                        &mut ch.keep_common
+                    }
+                    Some(ch) if lathe_common && in_channel => &mut ch.calculator,
                     _ => slot,
                 };
                 if slot.is_some() {
@@ -592,7 +601,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 };
                 if kind != Some("mill") && !lathe_common {
                     return Err(e(format!(
-                        "{head}: a machining centre's setting; a lathe's channels read a number without a point in least increments (Fanuc's DPI = 0), and calculator-type input is not built for them yet (say 'kind mill' first for a machining centre)"
+                        "{head}: a setting of the Fanuc dialect: say 'kind mill' or 'kind lathe' first"
                     )));
                 }
             }
@@ -730,6 +739,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
             for ch in &mut channels {
                 ch.dialect = ch.dialect.or(dialect);
                 ch.keep_common = ch.keep_common.or(fanuc.0);
+                ch.calculator = ch.calculator.or(fanuc.1);
                 ch.per_rev = ch.per_rev.or(feed);
                 ch.subroutines.extend(sub_path.iter().cloned());
             }

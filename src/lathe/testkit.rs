@@ -39,6 +39,7 @@ pub fn channel(name: &str) -> ChannelDesc {
         dialect: None,
         system_a: false,
         keep_common: None,
+        calculator: None,
         per_rev: None,
         subroutines: Vec::new(),
     }

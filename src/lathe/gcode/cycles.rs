@@ -683,7 +683,7 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
             g.chamfer = ch / 10.0;
             g.angle = a;
         }
-        if let Some(q) = w.get('Q') {
+        if let Some(q) = w.get('Q').map(|q| r.in_increments('Q', q)) {
             if !(0.0..1000.0).contains(&q) {
                 return Err(err(
                     n,
@@ -741,7 +741,7 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
         ));
     }
     let k = p * inc * f;
-    let q = need(w, 'Q', n, c, "G76 (second block)")? * f;
+    let q = r.in_increments('Q', need(w, 'Q', n, c, "G76 (second block)")?) * f;
     if !(q > 0.0 && q < 1000.0) {
         return Err(err(n, col('Q'), "G76 Q, the first cut Δd, must be above 0"));
     }

@@ -280,7 +280,7 @@ fn dwell(r: &mut Reader, p: f64, n: u32, c: u32) -> Result<(), TranslateError> {
 pub fn g83(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateError> {
     let h = hole(r, w, n, c, 83)?;
     let f = r.st.factor();
-    let q = match w.get('Q') {
+    let q = match w.get('Q').map(|v| r.in_increments('Q', v)) {
         Some(v) if v.is_finite() && v > 0.0 => v * f,
         Some(v) => {
             return Err(err(
@@ -288,7 +288,7 @@ pub fn g83(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<Flow, TranslateE
                 w.col('Q').unwrap_or(c),
                 format!(
                     "G83 Q{}: the depth of each peck must be above 0 (leave Q out to drill in one feed)",
-                    short_number(r.as_written('Q', v))
+                    short_number(r.as_written('Q', w.get('Q').unwrap_or(v)))
                 ),
             ))
         }

@@ -187,12 +187,15 @@ pub struct Reader<'a> {
     pub fanuc: bool,
     /// Fanuc's G code system A (docs/lathe-gcode.md "G code systems").
     pub system_a: bool,
+    /// Fanuc's calculator-type input (`decimal calculator`): the one reader leaves a number
+    /// written without a point as written, in program units.
+    pub calculator: bool,
     /// Fanuc's dialect: the letters of the line being executed whose number was written
     /// without a decimal point, so read in least increments where the letter is a length
-    /// (`read::Line::plain` less `pointed`).
+    /// unless the input is calculator-type (`read::Line::plain` less `dotted`).
     pub unpointed: u32,
     /// Fanuc's dialect: the letters of the line being executed written as plain numbers with
-    /// a decimal point (`read::Line::plain` and `pointed`).
+    /// a decimal point (`read::Line::plain` and `dotted`).
     pub pointed: u32,
 }
 
@@ -220,8 +223,8 @@ impl Motion for Reader<'_> {
     ) -> Result<Then, TranslateError> {
         let n = at.line as u32 + 1;
         let w = sort_words_in(line, n, self.dialect())?;
-        self.unpointed = line.plain & !line.pointed;
-        self.pointed = line.plain & line.pointed;
+        self.unpointed = line.plain & !line.dotted;
+        self.pointed = line.plain & line.dotted;
         let flow = self.execute(&w, n, at.line, lines);
         lines.units(self.st.inch);
         Ok(match flow? {
@@ -325,8 +328,23 @@ impl Reader<'_> {
     /// least increments (X, Z, U, W, I, K, R, Q in Fanuc's dialect), the number itself (a G70
     /// or G71 `Q20` is N20, not 0.020).
     pub fn as_written(&self, l: char, v: f64) -> f64 {
-        if self.written_without_point(l) && read::FANUC_INCREMENT_LETTERS.contains(&(l as u8)) {
+        if !self.calculator
+            && self.written_without_point(l)
+            && read::FANUC_INCREMENT_LETTERS.contains(&(l as u8))
+        {
             (v / self.increment()).round()
+        } else {
+            v
+        }
+    }
+
+    /// Letter `l`'s value, program units, where Fanuc takes it in least increments only, with
+    /// no point (G74/G75 Q, G76 Q, G83 Q): the one reader has scaled a number written without
+    /// a point, unless calculator-type input left it as written; then it is scaled here, as a
+    /// Fanuc with DPI = 1 still reads these words in increments.
+    pub fn in_increments(&self, l: char, v: f64) -> f64 {
+        if self.calculator && self.written_without_point(l) {
+            v * self.increment()
         } else {
             v
         }
@@ -347,8 +365,8 @@ impl Reader<'_> {
             return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, self.dialect())?;
-        self.unpointed = l.plain & !l.pointed;
-        self.pointed = l.plain & l.pointed;
+        self.unpointed = l.plain & !l.dotted;
+        self.pointed = l.plain & l.dotted;
         let flow = self.execute(&w, n, i, lines);
         lines.units(self.st.inch);
         flow

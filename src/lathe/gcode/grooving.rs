@@ -65,7 +65,7 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
     }
     let inc = r.increment();
     let di = w.get('P').unwrap_or(0.0) * inc * f;
-    let dk = w.get('Q').unwrap_or(0.0) * f;
+    let dk = r.in_increments('Q', w.get('Q').unwrap_or(0.0)) * f;
     let relief = w.get('R').unwrap_or(0.0) * f;
     if !(di.is_finite() && dk.is_finite() && di >= 0.0 && dk >= 0.0) {
         let l = if di.is_finite() && di >= 0.0 {

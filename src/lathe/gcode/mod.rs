@@ -399,6 +399,7 @@ pub fn read_kept(
         fanuc: dialect == crate::settings::Dialect::Fanuc,
         // System A is Fanuc's: a program kept in LinuxCNC's dialect reads system B.
         system_a: chan.system_a && dialect == crate::settings::Dialect::Fanuc,
+        calculator: chan.calculator.unwrap_or(false) && dialect == crate::settings::Dialect::Fanuc,
         unpointed: 0,
         pointed: 0,
     };
@@ -409,6 +410,10 @@ pub fn read_kept(
     // channel's dialect; the lathe's reader executes each line's words.
     let settings = crate::settings::MachineSettings {
         dialect,
+        fanuc: crate::settings::FanucSettings {
+            calculator: r.calculator,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let magazine = crate::tooldata::Magazine::load(crate::tooldata::TCodeTable::new(0), &[]);
