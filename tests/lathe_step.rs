@@ -40,6 +40,12 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
         "{}",
         c.message()
     );
+    // The channel's program is still the one shown (no program runs for a manual move).
+    assert!(
+        c.view().display[0].contains("SYSTEM-1 SYSTEM1.NGC STEP"),
+        "{:?}",
+        c.view().display[0]
+    );
     c.press(Key::Left);
     c.press(Key::Left);
     let mut want = home.clone();

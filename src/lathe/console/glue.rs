@@ -739,8 +739,10 @@ impl Cycle {
             .map(|ch| {
                 let mut v = ChanView {
                     name: desc.channels[ch].name.clone(),
-                    program: if self.mdi && ch == self.only {
-                        if self.manual { "STEP" } else { "MDI" }.into()
+                    // A kernel loaded for manual moves runs no program: the channel's own
+                    // is still the one shown.
+                    program: if self.mdi && ch == self.only && !self.manual {
+                        "MDI".into()
                     } else {
                         programs[ch].name.clone()
                     },
