@@ -16,9 +16,9 @@ const STEP_LIMIT_NS: u64 = 60_000_000_000;
 const STEP_SLICE_NS: u64 = 10_000_000;
 
 impl LatheConsole {
-    /// A jog key or `jog AXIS +|-`: in STEP, one increment of the selected channel's X or Z;
-    /// refused, with the reason, in another mode, in E-STOP, with a cycle under way, or past
-    /// the travel. Nothing else moves.
+    /// A jog key (`PanelEvent::Jog`, recorded as `jog X+`): in STEP, one increment of the
+    /// selected channel's X or Z; refused, with the reason, in another mode, in E-STOP, with a
+    /// cycle under way, or past the travel. Nothing else moves.
     pub(super) fn jog(&mut self, axis: Axis, dir: i8) {
         if self.mode != Mode::Step {
             self.message = format!(
