@@ -78,7 +78,7 @@ struct Stats {
     estops: u64,
     handovers_seen: u64,
     batches_done: u64,
-    /// STEP moves made (a jog key that moved a tool post).
+    /// Manual moves made (a jog key or the handwheel that moved a tool post).
     jogs: u64,
 }
 
@@ -243,8 +243,15 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         38..=45 => PanelEvent::Channel(rng.below(s.c.desc().channels.len() + 1)),
         46..=47 => PanelEvent::Press(novanc_panel::Key::Tab),
         48..=49 => PanelEvent::Target(rng.range(1, 4) as u32),
-        50..=53 => [Mode::Auto, Mode::Mdi, Mode::Data, Mode::Ofs, Mode::Step]
-            [rng.range(0, 4) as usize]
+        50..=53 => [
+            Mode::Auto,
+            Mode::Mdi,
+            Mode::Data,
+            Mode::Ofs,
+            Mode::Step,
+            Mode::Continuous,
+            Mode::Handle,
+        ][rng.range(0, 6) as usize]
             .event(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
@@ -279,11 +286,19 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             return line;
         }
         82..=85 => {
-            // A jog key: in STEP with no cycle under way, the selected channel's tool post
+            // A jog key or the handwheel's: in STEP, CONTINUOUS (a tap, in virtual time) or
+            // HANDLE (a detent) with no cycle under way, the selected channel's tool post
             // moves one increment on one axis and nothing else moves; otherwise it is refused
             // with the reason and nothing moves.
             use novanc_panel::Key;
-            let k = [Key::Up, Key::Down, Key::Left, Key::Right][rng.range(0, 3) as usize];
+            let k = [
+                Key::Up,
+                Key::Down,
+                Key::Left,
+                Key::Right,
+                Key::Alt(','),
+                Key::Alt('.'),
+            ][rng.range(0, 5) as usize];
             let line = format!("key {}", novanc::console::keys::key_name(k));
             let posts =
                 |c: &LatheConsole| -> Vec<[i64; 2]> { c.tips().into_iter().map(|t| t.0).collect() };
@@ -293,20 +308,28 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             s.c.handle(PanelEvent::Press(k));
             let after = posts(&s.c);
             let said = s.c.message().to_string();
-            if said.starts_with("STEP CH") {
+            if ["STEP CH", "CONTINUOUS CH", "HANDLE CH"]
+                .iter()
+                .any(|w| said.starts_with(w))
+            {
                 s.stats.jogs += 1;
                 for (ch, (b, a)) in before.iter().zip(&after).enumerate() {
                     let moved: Vec<i64> = (0..2).map(|i| (a[i] - b[i]).abs()).collect();
                     let want: &[i64] = match (ch == sel, k) {
                         (false, _) => &[0, 0],
                         (true, Key::Up | Key::Down) => &[10, 0],
+                        // The handwheel turns the axis last turned.
+                        (true, Key::Alt(_)) if moved[0] != 0 => &[10, 0],
                         (true, _) => &[0, 10],
                     };
                     assert_eq!(moved, want, "{line}: CH{} {b:?} -> {a:?} ({said})", ch + 1);
                 }
             } else {
                 assert!(
-                    said.contains("refused") || said.contains("turn to STEP"),
+                    said.contains("refused")
+                        || said.contains("(Alt+6) to move a tool post")
+                        || said.contains("turn the operation selector to HANDLE")
+                        || said.starts_with("HANDLE: turn the handwheel"),
                     "{line}: {said}"
                 );
                 assert_eq!(after, before, "{line}: {said}");
@@ -484,7 +507,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} STEP moves, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {:.1} s",
             m.tag,
             count(),
             st.steps,

@@ -7,7 +7,7 @@ mod common;
 
 use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::{OpMode, PanelEvent};
+use novanc::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
 fn open(state: &std::path::Path) -> LatheConsole {
@@ -28,7 +28,7 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
     let home = posts(&c);
     // Not in STEP: refused, nothing moves.
     c.press(Key::Down);
-    assert!(c.message().contains("turn to STEP"), "{}", c.message());
+    assert!(c.message().contains("or STEP (Alt+6)"), "{}", c.message());
     assert_eq!(posts(&c), home);
     c.handle(PanelEvent::Op(OpMode::Step));
     c.handle(PanelEvent::WheelScale(100));
@@ -92,7 +92,7 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
     c.handle(PanelEvent::Op(OpMode::Step));
     let before = posts(&c);
     c.press(Key::Down);
-    assert!(c.message().starts_with("jog refused"), "{}", c.message());
+    assert!(c.message().starts_with("STEP refused"), "{}", c.message());
     assert_eq!(posts(&c), before);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -110,7 +110,10 @@ fn the_step_mode_and_its_keys_are_on_the_screen() {
         .any(|l| l.contains("Alt+6 STEP")));
     assert!(novanc::lathe::console::view::LATHE_HELP
         .iter()
-        .any(|l| l.starts_with("Alt+6 STEP") && l.contains("Alt+w")));
+        .any(|l| l.starts_with("Alt+1/5/6") && l.contains("STEP")));
+    assert!(novanc::lathe::console::view::LATHE_HELP
+        .iter()
+        .any(|l| l.contains("Alt+w increment")));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -136,5 +139,158 @@ fn estop_with_no_cycle_loaded_holds_until_reset() {
     assert_eq!(c.message(), "cycle start");
     c.run_for(2_000_000_000, RunUntil::Time, || false);
     assert_ne!(posts(&c), home, "the cycle runs after RESET");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// HANDLE: each detent of the handwheel moves the selected channel's tool post one increment
+/// on the wheel's axis (a jog key turns it on its own axis); the wheel is refused, and moves
+/// nothing, in another mode.
+#[test]
+fn handle_moves_an_increment_a_detent_on_the_wheels_axis() {
+    let dir = common::temp_dir("lathe-handle");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Step));
+    c.handle(PanelEvent::Wheel(Axis::Z, -1));
+    assert!(c
+        .message()
+        .contains("turn the operation selector to HANDLE"));
+    assert_eq!(posts(&c), home);
+    c.press(Key::Alt('5'));
+    assert!(
+        c.view().display[0].trim_end().ends_with("HANDLE"),
+        "{:?}",
+        c.view().display[0]
+    );
+    c.handle(PanelEvent::WheelScale(10));
+    // A jog key is a detent on its axis: Down is X- (a radius).
+    c.press(Key::Down);
+    assert!(
+        c.message().contains("HANDLE CH1 X- 0.010 mm"),
+        "{}",
+        c.message()
+    );
+    // Three detents of Z-, then the wheel keys turn it on Z, the axis last turned.
+    c.handle(PanelEvent::Wheel(Axis::Z, -3));
+    assert!(c.message().contains("3 × 0.010 mm"), "{}", c.message());
+    c.press(Key::Alt(','));
+    let mut want = home.clone();
+    want[0] = [home[0][0] - 10, home[0][1] - 40];
+    assert_eq!(posts(&c), want);
+    // Past the travel: refused whole, nothing moves.
+    c.handle(PanelEvent::Wheel(Axis::X, 5));
+    assert!(c.message().contains("outside travel"), "{}", c.message());
+    assert_eq!(posts(&c), want);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// CONTINUOUS: a jog runs until released, the summary line says JOG while the tool post
+/// moves, a mode turned or E-STOP lets it go; in virtual time a key is a tap (one increment).
+#[test]
+fn continuous_jogs_until_released_and_the_screen_says_so() {
+    let dir = common::temp_dir("lathe-continuous");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.press(Key::Alt('1'));
+    assert!(
+        c.view().display[0].trim_end().ends_with("CONTINUOUS"),
+        "{:?}",
+        c.view().display[0]
+    );
+    c.handle(PanelEvent::WheelScale(100));
+    // A key in virtual time (a script's `key Left`) is a tap.
+    c.press(Key::Left);
+    assert!(
+        c.message().contains("CONTINUOUS CH1 Z- 0.100 mm"),
+        "{}",
+        c.message()
+    );
+    assert_eq!(posts(&c)[0], [home[0][0], home[0][1] - 100]);
+    // A jog: Z- at jog feed until released.
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert!(c.message().contains("jogging"), "{}", c.message());
+    c.run_for(300_000_000, RunUntil::Time, || false);
+    let v = c.view();
+    assert_eq!(v.channels[0].state, "JOG", "{:?}", v.summary[0]);
+    assert!(v.summary[0].contains("JOG"), "{:?}", v.summary[0]);
+    let moved = posts(&c)[0][1];
+    assert!(
+        moved < home[0][1] - 1_000,
+        "jogged well past a tap: {moved}"
+    );
+    c.handle(PanelEvent::JogRelease);
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    let stopped = posts(&c)[0];
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c)[0], stopped, "at rest once released");
+    assert_eq!(c.view().channels[0].state, "IDLE");
+    // Only CH1 moved.
+    assert_eq!(posts(&c)[1..], home[1..]);
+    // A mode turned lets a jog go.
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    c.run_for(100_000_000, RunUntil::Time, || false);
+    c.press(Key::Alt('6'));
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    let p = posts(&c)[0];
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c)[0], p, "the mode turned stopped the jog");
+    // E-STOP stops a jog at once and latches: no jog until RESET.
+    c.press(Key::Alt('1'));
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    c.run_for(100_000_000, RunUntil::Time, || false);
+    c.handle(PanelEvent::EStop);
+    let p = posts(&c)[0];
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c)[0], p, "E-STOP stopped the jog");
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert!(c.message().contains("EMERGENCY STOP"), "{}", c.message());
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c)[0], p);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A held key at a terminal in real time: the axis jogs while the key repeats and stops by
+/// itself once the repeats stop (no key release comes from a terminal), the centre's rule.
+#[test]
+fn a_held_key_jogs_in_real_time_until_it_stops_repeating() {
+    use std::time::{Duration, Instant};
+    let dir = common::temp_dir("lathe-held");
+    let mut c = open(&dir);
+    c.set_clock(novanc::pulse_core::ClockMode::RealTime);
+    let home = posts(&c);
+    c.press(Key::Alt('1'));
+    c.handle(PanelEvent::WheelScale(1));
+    // 600 ms of auto-repeat, a key every 30 ms, the console ticking between them.
+    let t0 = Instant::now();
+    let mut last = Instant::now();
+    while t0.elapsed() < Duration::from_millis(600) {
+        c.press(Key::Left);
+        c.tick(0);
+        if t0.elapsed() > Duration::from_millis(100) {
+            assert!(c.message().contains("JOG"), "{}", c.message());
+        }
+        std::thread::sleep(Duration::from_millis(30));
+        last = Instant::now();
+    }
+    // Let go: ticks only. The console releases the jog after its release time.
+    let mut rest_at = None;
+    let mut prev = posts(&c)[0];
+    while last.elapsed() < Duration::from_secs(3) {
+        std::thread::sleep(Duration::from_millis(20));
+        c.tick(0);
+        let p = posts(&c)[0];
+        if p == prev && rest_at.is_none() && last.elapsed() > Duration::from_millis(200) {
+            rest_at = Some(p);
+        }
+        prev = p;
+    }
+    let end = posts(&c)[0];
+    assert!(
+        home[0][1] - end[1] > 50,
+        "a held key jogs past one increment: {} pulses",
+        home[0][1] - end[1]
+    );
+    assert_eq!(Some(end), rest_at, "it came to rest and stayed");
+    assert_eq!(end[0], home[0][0], "X did not move");
     let _ = std::fs::remove_dir_all(&dir);
 }

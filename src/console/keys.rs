@@ -30,13 +30,105 @@ const TAP_LIMIT_NS: u64 = 60_000_000_000;
 
 /// The CONTINUOUS jog key last pressed.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct JogKey {
+struct JogKey {
     axis: Axis,
     dir: i8,
     /// When it was last pressed (or repeated).
     at: Instant,
     /// Repeating: a continuous jog is running (else it was tapped: one increment).
     held: bool,
+}
+
+/// A CONTINUOUS jog key as a terminal reports it, every console's rule (the centre's and a
+/// lathe's; docs/panel.md, "Jogging"): terminals report presses and auto-repeats, never a
+/// release. A tap moves one increment, as STEP does; a key pressed again within
+/// [`REPEAT_GAP`] is the auto-repeat of a held key, and then the axis jogs until the key stops
+/// repeating for [`JOG_RELEASE`]. In virtual time every press is a tap. The console acts on
+/// what [`HeldJog::press`] answers and tells it whether a jog began.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct HeldJog(Option<JogKey>);
+
+/// What a CONTINUOUS jog key asks of the console ([`HeldJog::press`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum JogPress {
+    /// A repeat of a held key: keep the running jog alive (`Command::JogAlive`).
+    KeepAlive,
+    /// A repeat of a tapped key: the key is held. Once the tap's increment is at rest, begin
+    /// the continuous jog and say whether it began ([`HeldJog::began`]); while it still
+    /// moves, nothing (a later repeat begins it).
+    Begin,
+    /// A new press: one increment (a tap), after releasing the jog of the key held until now
+    /// when `release`.
+    Tap {
+        /// Another key's continuous jog runs: release it first.
+        release: bool,
+    },
+}
+
+impl HeldJog {
+    /// A CONTINUOUS jog key `axis`, `dir` pressed at `now`.
+    pub(crate) fn press(
+        &mut self,
+        axis: Axis,
+        dir: i8,
+        now: Instant,
+        virtual_time: bool,
+    ) -> JogPress {
+        if let Some(k) = self.0.as_mut() {
+            if k.axis == axis && k.dir == dir && !virtual_time {
+                // A held key that has not repeated for the release time (the console was
+                // not running: the core's deadman may have stopped the jog) is pressed anew.
+                let gap = now.duration_since(k.at);
+                if gap <= REPEAT_GAP || (k.held && gap <= JOG_RELEASE) {
+                    k.at = now;
+                    return if k.held {
+                        JogPress::KeepAlive
+                    } else {
+                        JogPress::Begin
+                    };
+                }
+            }
+        }
+        let release = self.0.is_some_and(|k| k.held);
+        self.0 = (!virtual_time).then_some(JogKey {
+            axis,
+            dir,
+            at: now,
+            held: false,
+        });
+        JogPress::Tap { release }
+    }
+
+    /// After [`JogPress::Begin`]: whether the continuous jog began (the key is held from now
+    /// on) or was refused (the key is forgotten).
+    pub(crate) fn began(&mut self, ok: bool) {
+        match self.0.as_mut() {
+            Some(k) if ok => k.held = true,
+            _ => self.0 = None,
+        }
+    }
+
+    /// Called each display tick: whether a held key's jog is to be released now (it has not
+    /// repeated for [`JOG_RELEASE`]); a tapped key is forgotten then.
+    pub(crate) fn expired(&mut self, now: Instant) -> bool {
+        match self.0 {
+            Some(k) if now.duration_since(k.at) > JOG_RELEASE => {
+                self.0 = None;
+                k.held
+            }
+            _ => false,
+        }
+    }
+
+    /// Forgets the key (RESET, E-STOP, a release, a mode turned).
+    pub(crate) fn clear(&mut self) {
+        self.0 = None;
+    }
+
+    /// No key is pressed (a jog that runs was begun by a front end's button).
+    pub(crate) fn is_none(&self) -> bool {
+        self.0.is_none()
+    }
 }
 
 /// Whether the terminal is large enough for the panel, and the key last refused while it was
@@ -374,80 +466,46 @@ impl Console {
         }
     }
 
-    /// A CONTINUOUS jog key (docs/panel.md, "Jogging"). A tap moves one increment, as STEP
-    /// does; a key pressed again within [`REPEAT_GAP`] is the terminal's auto-repeat of a held
-    /// key, and then the axis jogs until the key stops repeating for [`JOG_RELEASE`]. In
-    /// virtual time every press is a tap, and the increment is run to rest at once.
+    /// A CONTINUOUS jog key ([`HeldJog`]). In virtual time a tap's increment is run to rest
+    /// at once.
     fn hold_jog(&mut self, axis: Axis, dir: i8) {
-        let now = Instant::now();
         let virtual_time = self.cfg.clock == ClockMode::Virtual;
-        let repeat = match self.jog_key {
-            Some(k) if k.axis == axis && k.dir == dir && !virtual_time => {
-                // A held key that has not repeated for the release time (the console was
-                // not running: the core's deadman may have stopped the jog) is pressed anew.
-                let gap = now.duration_since(k.at);
-                gap <= REPEAT_GAP || (k.held && gap <= JOG_RELEASE)
-            }
-            _ => false,
-        };
-        if repeat {
-            let mut k = self.jog_key.expect("a repeat has a key");
-            k.at = now;
-            if k.held {
+        match self.jog_key.press(axis, dir, Instant::now(), virtual_time) {
+            JogPress::KeepAlive => {
                 self.status = self
                     .core
                     .command(Command::JogAlive(super::run::deadman_ms()));
-            } else {
+            }
+            JogPress::Begin => {
                 // The tap's increment may still be moving: the jog starts on a later repeat.
                 self.status = self.core.status();
-                if self.status.moving {
-                    self.jog_key = Some(k);
-                    return;
+                if !self.status.moving {
+                    self.handle(PanelEvent::Jog(axis, dir));
+                    self.jog_key.began(self.jogging);
                 }
-                self.handle(PanelEvent::Jog(axis, dir));
-                if !self.jogging {
-                    self.jog_key = None;
-                    return;
-                }
-                k.held = true;
             }
-            self.jog_key = Some(k);
-            return;
-        }
-        if self.jog_key.is_some_and(|k| k.held) {
-            self.release_jog_key();
-        }
-        self.jog_key = None;
-        super::run::step(self, axis, dir, "jog");
-        if virtual_time {
-            self.core.run_until_idle(TAP_LIMIT_NS);
-            self.refresh();
-        } else {
-            self.jog_key = Some(JogKey {
-                axis,
-                dir,
-                at: now,
-                held: false,
-            });
+            JogPress::Tap { release } => {
+                if release {
+                    self.release_jog();
+                }
+                super::run::step(self, axis, dir, "jog");
+                if virtual_time {
+                    self.core.run_until_idle(TAP_LIMIT_NS);
+                    self.refresh();
+                }
+            }
         }
     }
 
-    /// Forgets a tapped CONTINUOUS key, or releases a held one, once it has not repeated for
-    /// [`JOG_RELEASE`] (called each display tick).
+    /// Releases a held CONTINUOUS key's jog once it has not repeated for [`JOG_RELEASE`]
+    /// (called each display tick).
     pub(super) fn expire_jog_key(&mut self) {
-        if let Some(k) = self.jog_key {
-            if k.at.elapsed() > JOG_RELEASE {
-                if k.held {
-                    self.release_jog_key();
-                } else {
-                    self.jog_key = None;
-                }
-            }
+        if self.jog_key.expired(Instant::now()) {
+            self.release_jog();
         }
     }
 
-    fn release_jog_key(&mut self) {
-        self.jog_key = None;
+    fn release_jog(&mut self) {
         // Always told: a jog the console lost track of must still stop.
         self.core.command(Command::JogRelease);
         self.jogging = false;

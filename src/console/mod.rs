@@ -35,7 +35,7 @@ pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
-pub(crate) use run::{increment_text, travel_check, SCALES};
+pub(crate) use run::{deadman_ms, increment_text, travel_check, SCALES};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 
@@ -128,7 +128,7 @@ pub struct Console {
     /// A CONTINUOUS jog is in progress.
     jogging: bool,
     /// The CONTINUOUS jog key last pressed: when, and whether it is held (a continuous jog).
-    jog_key: Option<keys::JogKey>,
+    jog_key: keys::HeldJog,
     /// The help screen page up (0: none, 1: the panel keys, 2: the editor commands and pages).
     help: u8,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
@@ -234,7 +234,7 @@ impl Console {
             tool_focus: 1,
             read_report: Vec::new(),
             jogging: false,
-            jog_key: None,
+            jog_key: keys::HeldJog::default(),
             help: 0,
             pages: pages::Pages::new(),
             book,
@@ -650,13 +650,13 @@ impl Console {
                 self.program_alarm = None;
                 self.tape_alarm = None;
                 self.jogging = false;
-                self.jog_key = None;
+                self.jog_key.clear();
                 self.message = "reset: machine idle, block buffer empty".into();
             }
             PanelEvent::EStop => {
                 self.command(Command::EStop);
                 self.jogging = false;
-                self.jog_key = None;
+                self.jog_key.clear();
                 // Said by the display while it is in force (state::machine_note).
             }
             PanelEvent::Override(p) => {
@@ -742,7 +742,7 @@ impl Console {
             PanelEvent::JogRelease => {
                 self.command(Command::JogRelease);
                 self.jogging = false;
-                self.jog_key = None;
+                self.jog_key.clear();
             }
             PanelEvent::Press(k) => self.press(k),
             PanelEvent::Wait => run::wait(self, run::WaitFor::Idle),
@@ -771,7 +771,7 @@ impl Console {
             self.command(Command::JogRelease);
             self.jogging = false;
         }
-        self.jog_key = None;
+        self.jog_key.clear();
         let was = self.op;
         self.op = m;
         self.entry.clear();

@@ -561,7 +561,7 @@ pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
 pub const JOG_DEADMAN: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// [`JOG_DEADMAN`] in milliseconds.
-pub(super) fn deadman_ms() -> u32 {
+pub(crate) fn deadman_ms() -> u32 {
     JOG_DEADMAN.as_millis() as u32
 }
 

@@ -128,13 +128,14 @@ pub fn path_execution(s: &Status, m: &Modes) -> &'static str {
 }
 
 /// The MTConnect ControllerMode of the lathe's mode selector: AUTO `AUTOMATIC`, MDI
-/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`, STEP `MANUAL`.
+/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`, CONTINUOUS,
+/// HANDLE and STEP `MANUAL`.
 pub fn lathe_mode(m: LatheMode) -> &'static str {
     match m {
         LatheMode::Auto => "AUTOMATIC",
         LatheMode::Mdi => "MANUAL_DATA_INPUT",
         LatheMode::Data | LatheMode::Ofs => "EDIT",
-        LatheMode::Step => "MANUAL",
+        LatheMode::Continuous | LatheMode::Handle | LatheMode::Step => "MANUAL",
     }
 }
 

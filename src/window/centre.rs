@@ -11,7 +11,7 @@ use super::shot::rect_px;
 use super::tapestrip::{self, StripLayout};
 use crate::console::Console;
 use crate::mtconnect::feed::Feed;
-use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
 use egui::{vec2, Color32, Rect};
 use std::sync::Arc;
 use std::time::Instant;
@@ -400,7 +400,14 @@ impl Centre {
                     [l.run, l.hold, l.alarm, l.estop],
                 ));
                 ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
-                controls::jog_buttons(ui, view, &mut self.hand, out);
+                controls::jog_buttons(
+                    ui,
+                    &[Axis::X, Axis::Y, Axis::Z],
+                    view.op_mode == OpMode::Continuous,
+                    super::keys::arrow_key,
+                    &mut self.hand,
+                    out,
+                );
                 ui.label(
                     egui::RichText::new("PAGES  ^P ^D ^O ^E")
                         .small()
@@ -438,7 +445,15 @@ impl Centre {
                 );
                 ui.horizontal(|ui| {
                     controls::handwheel(ui, &mut self.hand, out);
-                    ui.vertical(|ui| controls::wheel_selectors(ui, view, &mut self.hand, out));
+                    ui.vertical(|ui| {
+                        controls::wheel_selectors(
+                            ui,
+                            &[Axis::X, Axis::Y, Axis::Z],
+                            view.wheel.1,
+                            &mut self.hand,
+                            out,
+                        )
+                    });
                 });
             });
         });

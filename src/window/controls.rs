@@ -4,7 +4,7 @@
 //! Each widget only draws the `PanelView` and turns the operator's clicks, drags, scrolls and
 //! keys into `PanelEvent`s; the console decides what they mean.
 
-use crate::panel_model::{Axis, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{Axis, PanelEvent, PanelView};
 use egui::{
     pos2, vec2, Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Ui,
 };
@@ -310,15 +310,17 @@ pub fn handwheel(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
     }
 }
 
-/// The handwheel's axis and the ×1/×10/×100/×1000 increment selector (also STEP's).
+/// The handwheel's axis (one of `axes`) and the ×1/×10/×100/×1000 increment selector (also
+/// STEP's), `scale` lit: every machine's.
 pub fn wheel_selectors(
     ui: &mut Ui,
-    view: &PanelView,
+    axes: &[Axis],
+    scale: u32,
     hand: &mut HandState,
     out: &mut Vec<PanelEvent>,
 ) {
     ui.horizontal(|ui| {
-        for a in [Axis::X, Axis::Y, Axis::Z] {
+        for &a in axes {
             if ui
                 .selectable_label(hand.wheel_axis == a, a.letter().to_string())
                 .clicked()
@@ -329,22 +331,27 @@ pub fn wheel_selectors(
     });
     ui.horizontal(|ui| {
         for s in [1u32, 10, 100, 1000] {
-            if ui
-                .selectable_label(view.wheel.1 == s, format!("×{s}"))
-                .clicked()
-                && view.wheel.1 != s
-            {
+            if ui.selectable_label(scale == s, format!("×{s}")).clicked() && scale != s {
                 out.push(PanelEvent::WheelScale(s));
             }
         }
     });
 }
 
-/// The jog buttons (CONTINUOUS: move while held; STEP: one increment per press).
-pub fn jog_buttons(ui: &mut Ui, view: &PanelView, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
+/// The jog buttons of `axes` (CONTINUOUS, `continuous`: move while held; STEP: one increment
+/// per press): a press is the console's key for the axis direction (`key`), so that a press
+/// does what the keyboard's does; held past [`HOLD_TO_JOG`] in CONTINUOUS, a jog until let go.
+pub fn jog_buttons(
+    ui: &mut Ui,
+    axes: &[Axis],
+    continuous: bool,
+    key: fn(Axis, i8) -> novanc_panel::Key,
+    hand: &mut HandState,
+    out: &mut Vec<PanelEvent>,
+) {
     let mut held_now = None;
     ui.horizontal(|ui| {
-        for a in [Axis::X, Axis::Y, Axis::Z] {
+        for &a in axes {
             for dir in [-1i8, 1] {
                 let sign = if dir < 0 { '−' } else { '+' };
                 let r = ui.add(
@@ -366,15 +373,12 @@ pub fn jog_buttons(ui: &mut Ui, view: &PanelView, hand: &mut HandState, out: &mu
         hand.jog_since = std::time::Instant::now();
         if let Some((a, d)) = held_now {
             // The press is the terminal's key: one increment (docs/panel.md, "Jogging").
-            out.push(PanelEvent::Press(super::keys::arrow_key(a, d)));
+            out.push(PanelEvent::Press(key(a, d)));
         }
         hand.jog_held = held_now;
     } else if let Some((a, d)) = held_now {
         // Held past HOLD_TO_JOG in CONTINUOUS: jog until the button is let go.
-        if !hand.jog_continuous
-            && view.op_mode == OpMode::Continuous
-            && hand.jog_since.elapsed() > HOLD_TO_JOG
-        {
+        if !hand.jog_continuous && continuous && hand.jog_since.elapsed() > HOLD_TO_JOG {
             out.push(PanelEvent::Jog(a, d));
             hand.jog_continuous = true;
         }

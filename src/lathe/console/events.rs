@@ -8,9 +8,12 @@ use crate::console::keys::{self, Action};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
-/// The lathe console's modes (the operation selector's AUTO, MDI and DATA positions, and OFS).
+/// The lathe console's modes: the operation selector's positions (the centre's, without
+/// SINGLE BLOCK), and OFS.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
+    /// CONTINUOUS: a jog key moves the selected channel's tool post while it is held.
+    Continuous,
     /// AUTO: START runs every channel's program, to the part target.
     Auto,
     /// MDI: the data keys fill the selected channel's MDI buffer; START runs it.
@@ -19,6 +22,8 @@ pub enum Mode {
     Data,
     /// OFS: the data keys revise the selected channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`).
     Ofs,
+    /// HANDLE: the handwheel moves the selected channel's tool post, an increment a detent.
+    Handle,
     /// STEP: each jog key moves the selected channel's tool post one increment.
     Step,
 }
@@ -31,17 +36,26 @@ impl Mode {
             Mode::Mdi => "MDI",
             Mode::Data => "DATA",
             Mode::Ofs => "OFS",
+            Mode::Continuous => "CONTINUOUS",
+            Mode::Handle => "HANDLE",
             Mode::Step => "STEP",
         }
     }
 
-    /// The event that turns the selector here (`op AUTO|MDI|DATA|OFS`).
+    /// A mode of manual moves (CONTINUOUS, HANDLE, STEP).
+    pub fn manual(self) -> bool {
+        matches!(self, Mode::Continuous | Mode::Handle | Mode::Step)
+    }
+
+    /// The event that turns the selector here (`op AUTO|MDI|DATA|OFS|...`).
     pub fn event(self) -> PanelEvent {
         match self {
             Mode::Auto => PanelEvent::Op(OpMode::Auto),
             Mode::Mdi => PanelEvent::Op(OpMode::Mdi),
             Mode::Data => PanelEvent::Op(OpMode::Data),
             Mode::Ofs => PanelEvent::OfsMode,
+            Mode::Continuous => PanelEvent::Op(OpMode::Continuous),
+            Mode::Handle => PanelEvent::Op(OpMode::Handle),
             Mode::Step => PanelEvent::Op(OpMode::Step),
         }
     }
@@ -62,27 +76,33 @@ pub enum LatheKey {
     Target,
     /// Feed override up or down 10 % (Alt+=, Alt+-).
     Override(i32),
-    /// The next STEP increment (Alt+w).
+    /// The next STEP and handwheel increment (Alt+w).
     Increment,
+    /// A jog key: its axis and direction (CONTINUOUS, STEP; a detent in HANDLE).
+    Move(Axis, i8),
+    /// The handwheel turned `n` detents on its axis (Alt+, Alt+.).
+    Wheel(i32),
     /// Nothing on the lathe: the message line says so.
     None,
 }
 
 /// What a key does on the lathe console (docs/lathe.md "Keys"): the one key map of every
-/// console (`crate::console::keys::map_key`), with the lathe's own keys on top (Tab, Alt+c,
-/// Alt+f, Alt+n, Alt+5) and the centre's words it has no use for as [`LatheKey::None`].
+/// console (`crate::console::keys::map_key`, whose Alt+1 to Alt+6 turn the operation
+/// selector here as on the centre), with the lathe's own keys on top (Tab, Alt+c, Alt+f,
+/// Alt+n, and Ctrl+O for OFS, the centre's tool-offset page key) and the centre's words it
+/// has no use for as [`LatheKey::None`].
 pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
     match k {
         Key::Tab | Key::Alt('c') => return LatheKey::NextChannel,
         Key::Alt('f') => return LatheKey::Fault,
         Key::Alt('n') => return LatheKey::Target,
-        Key::Alt('5') => return LatheKey::Ev(PanelEvent::OfsMode),
+        Key::Ctrl('o') => return LatheKey::Ev(PanelEvent::OfsMode),
         // The lathe's jog keys as its tool post moves on the screen: X up and down, Z along
         // the spindle left and right (PgUp and PgDn are Z too, as on the centre).
-        Key::Up => return LatheKey::Ev(PanelEvent::Jog(Axis::X, 1)),
-        Key::Down => return LatheKey::Ev(PanelEvent::Jog(Axis::X, -1)),
-        Key::Left => return LatheKey::Ev(PanelEvent::Jog(Axis::Z, -1)),
-        Key::Right => return LatheKey::Ev(PanelEvent::Jog(Axis::Z, 1)),
+        Key::Up => return LatheKey::Move(Axis::X, 1),
+        Key::Down => return LatheKey::Move(Axis::X, -1),
+        Key::Left => return LatheKey::Move(Axis::Z, -1),
+        Key::Right => return LatheKey::Move(Axis::Z, 1),
         Key::Char(c) if !c.is_control() => {
             return LatheKey::Ev(PanelEvent::Key(c.to_ascii_uppercase()))
         }
@@ -94,11 +114,23 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
         }
         Action::Help => LatheKey::Help,
         Action::Override(d) => LatheKey::Override(d),
-        Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Ev(PanelEvent::Jog(axis, dir)),
+        Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Move(axis, dir),
         Action::WheelScale => LatheKey::Increment,
+        Action::Wheel(n) => LatheKey::Wheel(n),
         Action::BlockDelete => LatheKey::Ev(PanelEvent::BlockDelete(!block_delete)),
         Action::OptionalStop => LatheKey::Ev(PanelEvent::OptionalStop(!optional_stop)),
         _ => LatheKey::None,
+    }
+}
+
+/// The key of an axis direction on the lathe (the inverse of [`map_key`]'s jog keys): X+ Up,
+/// X- Down, Z+ Right, Z- Left, as the tool post moves on the screen.
+pub fn jog_key(axis: Axis, dir: i8) -> Key {
+    match (axis, dir > 0) {
+        (Axis::X, true) => Key::Up,
+        (Axis::X, false) => Key::Down,
+        (Axis::Z, true) | (Axis::Y, true) => Key::Right,
+        (Axis::Z, false) | (Axis::Y, false) => Key::Left,
     }
 }
 
@@ -107,9 +139,18 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
 /// NAME` is taken when the key does something on the lathe.
 pub fn takes(ev: &PanelEvent) -> Result<(), String> {
     match ev {
-        PanelEvent::Op(OpMode::Auto | OpMode::Mdi | OpMode::Data | OpMode::Step)
+        PanelEvent::Op(
+            OpMode::Continuous
+            | OpMode::Auto
+            | OpMode::Mdi
+            | OpMode::Data
+            | OpMode::Handle
+            | OpMode::Step,
+        )
         | PanelEvent::OfsMode
         | PanelEvent::Jog(Axis::X | Axis::Z, _)
+        | PanelEvent::Wheel(Axis::X | Axis::Z, _)
+        | PanelEvent::JogRelease
         | PanelEvent::WheelScale(_)
         | PanelEvent::Channel(_)
         | PanelEvent::Type(_)
@@ -129,10 +170,13 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),
         PanelEvent::Op(m) => Err(format!(
-            "op {}: the lathe's modes are AUTO, MDI, DATA, OFS and STEP",
+            "op {}: the lathe's modes are CONTINUOUS, AUTO, MDI, DATA, HANDLE, STEP and OFS",
             m.word()
         )),
-        PanelEvent::Jog(a, _) => Err(format!("jog {}: the lathe's axes are X and Z", a.letter())),
+        PanelEvent::Jog(..) | PanelEvent::Wheel(..) => Err(format!(
+            "{}: the lathe's axes are X and Z",
+            crate::console::script_line(ev)
+        )),
         // The lathe's blocks are numbered from 1 (docs/lathe.md "Headless"); the centre's
         // block 0 is a SEARCH's restore block, which the lathe has not.
         PanelEvent::WaitBlock(0) => {
@@ -207,9 +251,13 @@ mod tests {
             .contains("not a channel"));
         assert!(parse_line("fault 1", 3).unwrap_err().contains("say why"));
         assert!(parse_line("target 0", 3).is_err());
-        assert!(parse_line("op HANDLE", 3)
+        assert!(parse_line("op SINGLE", 3)
             .unwrap_err()
-            .contains("AUTO, MDI, DATA, OFS and STEP"));
+            .contains("AUTO, MDI, DATA, HANDLE, STEP and OFS"));
+        assert_eq!(
+            parse_line("op HANDLE", 3),
+            Ok(Some(PanelEvent::Op(OpMode::Handle)))
+        );
         assert!(parse_line("home", 3)
             .unwrap_err()
             .contains("machining centre's"));
@@ -258,10 +306,20 @@ mod tests {
             map_key(Key::Alt('3'), false, false),
             LatheKey::Ev(Mode::Mdi.event())
         );
+        // The operation selector's keys are the centre's; OFS is the centre's OFS page key.
         assert_eq!(
             map_key(Key::Alt('5'), false, false),
+            LatheKey::Ev(PanelEvent::Op(OpMode::Handle))
+        );
+        assert_eq!(
+            map_key(Key::Alt('1'), false, false),
+            LatheKey::Ev(PanelEvent::Op(OpMode::Continuous))
+        );
+        assert_eq!(
+            map_key(Key::Ctrl('o'), false, false),
             LatheKey::Ev(PanelEvent::OfsMode)
         );
+        assert_eq!(map_key(Key::Alt('.'), false, false), LatheKey::Wheel(1));
         assert_eq!(map_key(Key::Tab, false, false), LatheKey::NextChannel);
         assert_eq!(
             map_key(Key::Char('g'), false, false),
@@ -272,7 +330,7 @@ mod tests {
             LatheKey::Ev(PanelEvent::OptionalStop(false))
         );
         // The centre's own keys do nothing here, and say so (not dropped in silence).
-        for k in [Key::Alt('0'), Key::Alt('1'), Key::Alt('d'), Key::F(2)] {
+        for k in [Key::Alt('0'), Key::Alt('7'), Key::Alt('d'), Key::F(2)] {
             assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
         }
         // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.
@@ -284,16 +342,18 @@ mod tests {
             (Key::PageUp, Axis::Z, 1),
             (Key::PageDown, Axis::Z, -1),
         ] {
-            assert_eq!(
-                map_key(k, false, false),
-                LatheKey::Ev(PanelEvent::Jog(axis, dir)),
-                "{k:?}"
-            );
+            assert_eq!(map_key(k, false, false), LatheKey::Move(axis, dir), "{k:?}");
         }
         assert_eq!(
             map_key(Key::Alt('6'), false, false),
             LatheKey::Ev(PanelEvent::Op(OpMode::Step))
         );
         assert_eq!(map_key(Key::Alt('w'), false, false), LatheKey::Increment);
+        for (axis, dir) in [(Axis::X, 1), (Axis::X, -1), (Axis::Z, 1), (Axis::Z, -1)] {
+            assert_eq!(
+                map_key(jog_key(axis, dir), false, false),
+                LatheKey::Move(axis, dir)
+            );
+        }
     }
 }

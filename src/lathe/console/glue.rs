@@ -313,7 +313,7 @@ impl Cycle {
 
     /// Takes the kernel's latest published state; an alarm that appeared since is the
     /// operator's message.
-    fn refresh(&mut self) {
+    pub(super) fn refresh(&mut self) {
         let snap = self.core.channels();
         for (i, s) in snap.iter().enumerate() {
             let before = self.snap.get(i).and_then(|b| b.status.alarm.clone());
@@ -722,6 +722,9 @@ impl Cycle {
             "STOP"
         } else if st.run != 0 {
             "RUN"
+        } else if st.moving {
+            // A manual move: no program runs, and an axis moves (CONTINUOUS, HANDLE, STEP).
+            "JOG"
         } else {
             "IDLE"
         }

@@ -87,8 +87,14 @@ pub struct LatheConsole {
     /// E-STOP was pressed and RESET has not released it (with or without a cycle loaded):
     /// nothing starts and nothing moves by hand until RESET.
     estop_latched: bool,
-    /// The STEP increment, pulses (the centre's x1, x10, x100, x1000).
+    /// The STEP and handwheel increment, pulses (the centre's x1, x10, x100, x1000).
     increment: u32,
+    /// The axis the handwheel turns (the last jog key's or wheel's in HANDLE).
+    wheel_axis: crate::panel_model::Axis,
+    /// The CONTINUOUS jog key as the terminal reports it (the centre's rule).
+    jog_key: crate::console::keys::HeldJog,
+    /// The channel a continuous jog was begun on and not yet released.
+    jogging: Option<usize>,
 }
 
 /// How long the lathe console's operator message lives (the centre's rule, docs/panel.md
@@ -99,7 +105,8 @@ pub struct LatheConsole {
 enum MsgLife {
     /// Until the next operator action.
     NextAction,
-    /// While a channel runs (RUN, WAIT, STOP between blocks), and the next action at most.
+    /// While a channel runs (RUN, WAIT, STOP between blocks) or jogs (JOG), and the next
+    /// action at most.
     WhileRunning,
     /// While a channel is in feed hold.
     WhileHeld,
@@ -200,6 +207,9 @@ impl LatheConsole {
             interrupt: None,
             estop_latched: false,
             increment: 10,
+            wheel_axis: crate::panel_model::Axis::X,
+            jog_key: Default::default(),
+            jogging: None,
         };
         c.kept = (0..n)
             .map(|ch| {
@@ -298,7 +308,7 @@ impl LatheConsole {
         let fresh = at == self.now_ns;
         let lives = match life {
             MsgLife::NextAction => true,
-            MsgLife::WhileRunning => fresh || any(&["RUN", "WAIT", "STOP"]),
+            MsgLife::WhileRunning => fresh || any(&["RUN", "WAIT", "STOP", "JOG"]),
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
             MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
         };
@@ -308,6 +318,8 @@ impl LatheConsole {
             "E-STOP: every channel stopped; RESET releases"
         } else if any(&["HOLD"]) {
             "STOP: feed hold; START resumes"
+        } else if any(&["JOG"]) {
+            "JOG: a tool post moves by hand (the summary line says which)"
         } else {
             ""
         }
@@ -426,6 +438,12 @@ impl LatheConsole {
         }
         match act {
             LatheKey::Ev(e) => self.handle(e),
+            LatheKey::Move(axis, dir) => match self.mode {
+                Mode::Continuous => self.hold_jog(k, axis, dir),
+                Mode::Handle => self.handle(PanelEvent::Wheel(axis, i32::from(dir))),
+                _ => self.handle(PanelEvent::Jog(axis, dir)),
+            },
+            LatheKey::Wheel(n) => self.handle(PanelEvent::Wheel(self.wheel_axis, n)),
             LatheKey::NextChannel => {
                 self.record_event(&PanelEvent::Press(k));
                 self.select((self.sel + 1) % self.desc.channels.len());
@@ -500,11 +518,18 @@ impl LatheConsole {
             return self.after();
         }
         match ev {
+            PanelEvent::Op(OpMode::Continuous) => self.turn(Mode::Continuous),
             PanelEvent::Op(OpMode::Auto) => self.turn(Mode::Auto),
             PanelEvent::Op(OpMode::Mdi) => self.turn(Mode::Mdi),
+            PanelEvent::Op(OpMode::Handle) => self.turn(Mode::Handle),
             PanelEvent::Op(OpMode::Step) => self.turn(Mode::Step),
             PanelEvent::Op(_) => self.turn(Mode::Data),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
+            PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
+            PanelEvent::JogRelease => {
+                self.release_jog();
+                self.message = "jog released".into();
+            }
             PanelEvent::WheelScale(n) => self.set_increment(n),
             PanelEvent::OfsMode => self.turn(Mode::Ofs),
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
@@ -536,6 +561,8 @@ impl LatheConsole {
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
                 self.estop_latched = true;
+                self.jog_key.clear();
+                self.jogging = None;
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
@@ -584,6 +611,10 @@ impl LatheConsole {
     }
 
     fn turn(&mut self, m: Mode) {
+        if m != self.mode {
+            // A mode turned lets a continuous jog go (the centre's rule).
+            self.release_jog();
+        }
         self.mode = m;
         self.y_output = None;
         self.entry.clear();
@@ -627,6 +658,10 @@ impl LatheConsole {
     }
 
     fn select(&mut self, c: usize) {
+        if c != self.sel {
+            // The channel selector turned lets the last channel's jog go.
+            self.release_jog();
+        }
         self.sel = c;
         self.y_output = None;
         self.entry.clear();
@@ -682,8 +717,8 @@ impl LatheConsole {
             }
         }
         match self.mode {
-            Mode::Data | Mode::Ofs | Mode::Step => {
-                self.message = format!("{} mode: turn to AUTO or MDI to run", self.mode.word())
+            m @ (Mode::Data | Mode::Ofs | Mode::Continuous | Mode::Handle | Mode::Step) => {
+                self.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
             }
             Mode::Auto => {
                 if self
@@ -856,6 +891,8 @@ impl LatheConsole {
 
     fn reset(&mut self) {
         self.estop_latched = false;
+        self.jog_key.clear();
+        self.jogging = None;
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self
@@ -897,6 +934,7 @@ impl LatheConsole {
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and
     /// stores the part counter as it counts.
     pub fn tick(&mut self, ns: u64) {
+        self.keep_jog();
         self.step(ns, RunUntil::Time);
     }
 

@@ -2,12 +2,13 @@
 //! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
 
 /// The key legend beside the plasma display (the terminal's).
-pub const LATHE_KEYS: [&str; 12] = [
+pub const LATHE_KEYS: [&str; 13] = [
     "F9  START   F10 STOP",
     "F11 RESET   F12 E-STOP",
     "Tab CHANNEL",
     "Alt+2 AUTO  Alt+3 MDI",
-    "Alt+4 DATA  Alt+5 OFS",
+    "Alt+4 DATA  Ctrl+O OFS",
+    "Alt+1 CONT Alt+5 HANDLE",
     "Alt+6 STEP: arrows jog",
     "Alt+f FAULT the channel",
     "Alt+n TARGET (typed N)",
@@ -18,7 +19,7 @@ pub const LATHE_KEYS: [&str; 12] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 14] = [
+pub const LATHE_HELP: [&str; 15] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -27,10 +28,11 @@ pub const LATHE_HELP: [&str; 14] = [
     "F12 / Alt+e   E-STOP: everything stops at once",
     "Alt+f         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         set the part target to the typed number",
-    "Alt+2/3/4/5   AUTO / MDI (Enter adds a line) / DATA (an editor line) / OFS (T1 X.. Z.. R.. P..)",
+    "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
-    "Alt+6 STEP    Up/Down X+/X- (a radius), Left/Right Z-/Z+: one increment; Alt+w x1..x1000",
+    "Alt+1/5/6     CONTINUOUS (hold an arrow) / HANDLE (Alt+, Alt+. turn the wheel) / STEP (an increment)",
+    "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000",
     "A key of the centre's (HOME, F1-F7 ...) says on the message line that it does nothing",
     "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
@@ -42,7 +44,8 @@ pub struct ChanView {
     pub name: String,
     /// Its program's name.
     pub program: String,
-    /// The state word: IDLE, RUN, WAIT, HOLD, STOP, FAULT, ALARM, ESTOP, DONE.
+    /// The state word: IDLE, RUN, WAIT, HOLD, STOP, FAULT, ALARM, ESTOP, DONE, JOG (a manual
+    /// move).
     pub state: String,
     /// The current block's source line (0: none) and text.
     pub line: u32,

@@ -162,6 +162,10 @@ impl Lathe {
                     ui.vertical(|ui| panel::relay(ui, &v, c.mode(), c.switches(), out));
                     ui.add_space(8.0);
                     ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));
+                    ui.add_space(8.0);
+                    ui.vertical(|ui| {
+                        panel::manual(ui, c.mode(), c.increment(), &mut self.hand, out)
+                    });
                 });
             });
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {

@@ -238,21 +238,33 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             }
         }
     });
-    ui.horizontal(|ui| {
-        ui.label(mono("MODE   ", 12.0, controls::LEGEND));
-        for (m, k) in [
-            (Mode::Auto, "2"),
-            (Mode::Mdi, "3"),
-            (Mode::Data, "4"),
-            (Mode::Ofs, "5"),
-            (Mode::Step, "6"),
-        ] {
-            let r = key(ui, m.word(), m == mode, 52.0).on_hover_text(format!("Alt+{k}"));
-            if r.clicked() && m != mode {
-                out.push(Act::Ev(m.event()));
+    let modes = [
+        (Mode::Continuous, "CONT", "Alt+1"),
+        (Mode::Auto, "AUTO", "Alt+2"),
+        (Mode::Mdi, "MDI", "Alt+3"),
+        (Mode::Data, "DATA", "Alt+4"),
+        (Mode::Handle, "HANDLE", "Alt+5"),
+        (Mode::Step, "STEP", "Alt+6"),
+        (Mode::Ofs, "OFS", "Ctrl+O"),
+    ];
+    // The operation selector's positions in two rows, the manual ones below.
+    for (row, legend) in [(&modes[1..4], "MODE   "), (&modes[4..], "       ")] {
+        ui.horizontal(|ui| {
+            ui.label(mono(legend, 12.0, controls::LEGEND));
+            let row = if legend.trim().is_empty() {
+                [&modes[..1], row].concat()
+            } else {
+                row.to_vec()
+            };
+            for (m, label, k) in row {
+                let r =
+                    key(ui, label, m == mode, 52.0).on_hover_text(format!("{} ({k})", m.word()));
+                if r.clicked() && m != mode {
+                    out.push(Act::Ev(m.event()));
+                }
             }
-        }
-    });
+        });
+    }
     ui.horizontal(|ui| {
         if key(ui, "FAULT", false, 60.0)
             .on_hover_text("stop the selected channel with the typed reason (Alt+F)")
@@ -300,6 +312,29 @@ fn lathe_ev(e: PanelEvent) -> Option<Act> {
     crate::lathe::console::events::takes(&e)
         .is_ok()
         .then_some(Act::Ev(e))
+}
+
+/// The manual controls, the centre's on the lathe's axes: the jog buttons (X up and down, Z
+/// along the spindle), the handwheel, its axis and the increment.
+pub fn manual(ui: &mut Ui, mode: Mode, increment: u32, hand: &mut HandState, out: &mut Vec<Act>) {
+    let axes = [crate::panel_model::Axis::X, crate::panel_model::Axis::Z];
+    let mut evs = Vec::new();
+    ui.label(mono("JOG", 12.0, controls::LEGEND));
+    controls::jog_buttons(
+        ui,
+        &axes,
+        mode == Mode::Continuous,
+        crate::lathe::console::events::jog_key,
+        hand,
+        &mut evs,
+    );
+    ui.label(mono("MANUAL PULSE GENERATOR", 12.0, controls::LEGEND));
+    controls::handwheel(ui, hand, &mut evs);
+    controls::wheel_selectors(ui, &axes, increment, hand, &mut evs);
+    out.extend(evs.into_iter().filter_map(|e| match e {
+        PanelEvent::Press(k) => Some(Act::Press(k)),
+        e => lathe_ev(e),
+    }));
 }
 
 /// The data keys (the mill's, without the tape keys), as lathe events.
