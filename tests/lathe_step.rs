@@ -294,3 +294,39 @@ fn a_held_key_jogs_in_real_time_until_it_stops_repeating() {
     assert_eq!(end[0], home[0][0], "X did not move");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A front end that freezes with a jog key held (no repeat, no tick, no release): the kernel
+/// stops the jog by itself within its deadman, in its own thread (docs/panel.md "The jog
+/// deadman"), as on the centre.
+#[test]
+fn a_frozen_front_end_cannot_keep_a_jog_going() {
+    use std::time::Duration;
+    let dir = common::temp_dir("lathe-frozen");
+    let mut c = open(&dir);
+    c.set_clock(novanc::pulse_core::ClockMode::RealTime);
+    c.press(Key::Alt('1'));
+    c.handle(PanelEvent::WheelScale(1));
+    for _ in 0..10 {
+        c.press(Key::Left);
+        c.tick(0);
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    c.tick(0);
+    let last = posts(&c)[0];
+    assert_eq!(c.view().channels[0].state, "JOG");
+    // Frozen: nothing from the front end for 1.5 s.
+    std::thread::sleep(Duration::from_millis(1_500));
+    c.tick(0);
+    let a = posts(&c)[0];
+    std::thread::sleep(Duration::from_millis(300));
+    c.tick(0);
+    assert_eq!(posts(&c)[0], a, "at rest");
+    // 1000 mm/min is 16.7 mm/s: the deadman (250 ms) and the deceleration stop it within a
+    // few millimetres; a runaway jog would have gone 25 mm.
+    let ran = last[1] - a[1];
+    assert!(
+        (0..8_000).contains(&ran),
+        "ran {ran} pulses after the last key"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
