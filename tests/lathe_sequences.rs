@@ -251,7 +251,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             Mode::Step,
             Mode::Continuous,
             Mode::Handle,
-        ][rng.range(0, 6) as usize]
+            Mode::Single,
+        ][rng.range(0, 7) as usize]
             .event(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),

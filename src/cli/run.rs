@@ -443,6 +443,7 @@ fn lathe(
             .as_ref()
             .map(|r| r.sink().with_pulses(common.record_pulses)),
         manual: false,
+        single_block: false,
     };
     let mut kept: Vec<_> = (0..desc.channels.len())
         .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))

@@ -127,12 +127,14 @@ pub fn path_execution(s: &Status, m: &Modes) -> &'static str {
     e
 }
 
-/// The MTConnect ControllerMode of the lathe's mode selector: AUTO `AUTOMATIC`, MDI
+/// The MTConnect ControllerMode of the lathe's mode selector (the centre's rule): AUTO
+/// `AUTOMATIC`, SINGLE BLOCK `SEMI_AUTOMATIC`, MDI
 /// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`, CONTINUOUS,
 /// HANDLE and STEP `MANUAL`.
 pub fn lathe_mode(m: LatheMode) -> &'static str {
     match m {
         LatheMode::Auto => "AUTOMATIC",
+        LatheMode::Single => "SEMI_AUTOMATIC",
         LatheMode::Mdi => "MANUAL_DATA_INPUT",
         LatheMode::Data | LatheMode::Ofs => "EDIT",
         LatheMode::Continuous | LatheMode::Handle | LatheMode::Step => "MANUAL",

@@ -14,7 +14,7 @@ impl LatheConsole {
         let line = std::mem::take(&mut self.entry);
         self.y_output = None;
         match self.mode {
-            Mode::Auto | Mode::Continuous | Mode::Handle | Mode::Step => {
+            Mode::Auto | Mode::Single | Mode::Continuous | Mode::Handle | Mode::Step => {
                 if !line.is_empty() {
                     self.message =
                         format!("{} takes no data: turn to MDI or DATA", self.mode.word());

@@ -8,8 +8,7 @@ use crate::console::keys::{self, Action};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
-/// The lathe console's modes: the operation selector's positions (the centre's, without
-/// SINGLE BLOCK), and OFS.
+/// The lathe console's modes: the operation selector's positions (the centre's), and OFS.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// CONTINUOUS: a jog key moves the selected channel's tool post while it is held.
@@ -26,6 +25,8 @@ pub enum Mode {
     Handle,
     /// STEP: each jog key moves the selected channel's tool post one increment.
     Step,
+    /// SINGLE BLOCK: AUTO, every channel stopping after each block until the next START.
+    Single,
 }
 
 impl Mode {
@@ -39,6 +40,7 @@ impl Mode {
             Mode::Continuous => "CONTINUOUS",
             Mode::Handle => "HANDLE",
             Mode::Step => "STEP",
+            Mode::Single => "SINGLE",
         }
     }
 
@@ -57,6 +59,7 @@ impl Mode {
             Mode::Continuous => PanelEvent::Op(OpMode::Continuous),
             Mode::Handle => PanelEvent::Op(OpMode::Handle),
             Mode::Step => PanelEvent::Op(OpMode::Step),
+            Mode::Single => PanelEvent::Op(OpMode::Single),
         }
     }
 }
@@ -145,7 +148,8 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
             | OpMode::Mdi
             | OpMode::Data
             | OpMode::Handle
-            | OpMode::Step,
+            | OpMode::Step
+            | OpMode::Single,
         )
         | PanelEvent::OfsMode
         | PanelEvent::Jog(Axis::X | Axis::Z, _)
@@ -169,10 +173,6 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::Wait
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),
-        PanelEvent::Op(m) => Err(format!(
-            "op {}: the lathe's modes are CONTINUOUS, AUTO, MDI, DATA, HANDLE, STEP and OFS",
-            m.word()
-        )),
         PanelEvent::Jog(..) | PanelEvent::Wheel(..) => Err(format!(
             "{}: the lathe's axes are X and Z",
             crate::console::script_line(ev)
@@ -251,9 +251,10 @@ mod tests {
             .contains("not a channel"));
         assert!(parse_line("fault 1", 3).unwrap_err().contains("say why"));
         assert!(parse_line("target 0", 3).is_err());
-        assert!(parse_line("op SINGLE", 3)
-            .unwrap_err()
-            .contains("AUTO, MDI, DATA, HANDLE, STEP and OFS"));
+        assert_eq!(
+            parse_line("op SINGLE", 3),
+            Ok(Some(PanelEvent::Op(OpMode::Single)))
+        );
         assert_eq!(
             parse_line("op HANDLE", 3),
             Ok(Some(PanelEvent::Op(OpMode::Handle)))
@@ -330,7 +331,11 @@ mod tests {
             LatheKey::Ev(PanelEvent::OptionalStop(false))
         );
         // The centre's own keys do nothing here, and say so (not dropped in silence).
-        for k in [Key::Alt('0'), Key::Alt('7'), Key::Alt('d'), Key::F(2)] {
+        assert_eq!(
+            map_key(Key::Alt('7'), false, false),
+            LatheKey::Ev(PanelEvent::Op(OpMode::Single))
+        );
+        for k in [Key::Alt('0'), Key::Alt('l'), Key::Alt('d'), Key::F(2)] {
             assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
         }
         // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.

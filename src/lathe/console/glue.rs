@@ -99,6 +99,8 @@ pub struct CycleSpec {
     pub clock: ClockMode,
     /// For manual moves only (STEP): the kernel is made with nothing started.
     pub manual: bool,
+    /// SINGLE BLOCK: every channel stops after each block until the next START.
+    pub single_block: bool,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
     /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
@@ -272,6 +274,10 @@ impl Cycle {
         // on from the console's machine time.
         k.set_clock(spec.started_ns)?;
         let started_ns = k.now();
+        for ch in 0..k.channels() {
+            // Before the start, so that not even a block without motion runs past it.
+            k.command(ch, Command::SingleBlock(spec.single_block))?;
+        }
         if !spec.manual {
             k.start(spec.mdi)?;
         }
@@ -530,6 +536,12 @@ impl Cycle {
         self.refresh();
     }
 
+    /// SINGLE BLOCK on or off for every channel: on, each stops after the block it is in.
+    pub fn set_single_block(&mut self, on: bool) {
+        let _ = self.core.channel_command(None, Command::SingleBlock(on));
+        self.refresh();
+    }
+
     /// The feed override of every channel's feed moves, percent.
     pub fn set_feed_override(&mut self, pct: u32) {
         let _ = self.core.channel_command(None, Command::Override(pct));
@@ -722,6 +734,9 @@ impl Cycle {
             "STOP"
         } else if st.run != 0 {
             "RUN"
+        } else if st.job.is_some() && !st.moving {
+            // Its run loaded and stopped between two blocks (SINGLE BLOCK): START goes on.
+            "STOP"
         } else if st.moving {
             // A manual move: no program runs, and an axis moves (CONTINUOUS, HANDLE, STEP).
             "JOG"

@@ -318,6 +318,7 @@ impl LatheConsole {
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: true,
+            single_block: false,
         };
         let mut kept = self.kept.clone();
         let mut c = glue::Cycle::new(&self.desc, spec, &mut kept)?;

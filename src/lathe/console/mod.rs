@@ -105,8 +105,8 @@ pub struct LatheConsole {
 enum MsgLife {
     /// Until the next operator action.
     NextAction,
-    /// While a channel runs (RUN, WAIT, STOP between blocks) or jogs (JOG), and the next
-    /// action at most.
+    /// While a channel runs (RUN, or WAIT on one that is not stopped) or jogs (JOG), and
+    /// the next action at most: not while every channel stands stopped between blocks.
     WhileRunning,
     /// While a channel is in feed hold.
     WhileHeld,
@@ -308,7 +308,11 @@ impl LatheConsole {
         let fresh = at == self.now_ns;
         let lives = match life {
             MsgLife::NextAction => true,
-            MsgLife::WhileRunning => fresh || any(&["RUN", "WAIT", "STOP", "JOG"]),
+            // A channel waiting on another stopped between blocks waits on the operator:
+            // the machine does not run then.
+            MsgLife::WhileRunning => {
+                fresh || any(&["RUN", "JOG"]) || (any(&["WAIT"]) && !any(&["STOP"]))
+            }
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
             MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
         };
@@ -318,6 +322,10 @@ impl LatheConsole {
             "E-STOP: every channel stopped; RESET releases"
         } else if any(&["HOLD"]) {
             "STOP: feed hold; START resumes"
+        } else if any(&["STOP"]) && self.mode == Mode::Single {
+            "SINGLE BLOCK: a channel stops after each block; START runs the next"
+        } else if any(&["STOP"]) {
+            "STOP: a program stop; START goes on"
         } else if any(&["JOG"]) {
             "JOG: a tool post moves by hand (the summary line says which)"
         } else {
@@ -523,6 +531,7 @@ impl LatheConsole {
             PanelEvent::Op(OpMode::Mdi) => self.turn(Mode::Mdi),
             PanelEvent::Op(OpMode::Handle) => self.turn(Mode::Handle),
             PanelEvent::Op(OpMode::Step) => self.turn(Mode::Step),
+            PanelEvent::Op(OpMode::Single) => self.turn(Mode::Single),
             PanelEvent::Op(_) => self.turn(Mode::Data),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
             PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
@@ -614,6 +623,14 @@ impl LatheConsole {
         if m != self.mode {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_jog();
+        }
+        let single = m == Mode::Single;
+        if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
+            if single != (self.mode == Mode::Single) {
+                // SINGLE BLOCK turned on or off in a cycle: from the block each channel is in
+                // (the centre's AUTO <-> SINGLE BLOCK).
+                c.set_single_block(single);
+            }
         }
         self.mode = m;
         self.y_output = None;
@@ -720,7 +737,7 @@ impl LatheConsole {
             m @ (Mode::Data | Mode::Ofs | Mode::Continuous | Mode::Handle | Mode::Step) => {
                 self.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
             }
-            Mode::Auto => {
+            Mode::Auto | Mode::Single => {
                 if self
                     .counter
                     .counts
@@ -790,6 +807,7 @@ impl LatheConsole {
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
+            single_block: !mdi && self.mode == Mode::Single,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,

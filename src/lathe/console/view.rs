@@ -9,7 +9,7 @@ pub const LATHE_KEYS: [&str; 13] = [
     "Alt+2 AUTO  Alt+3 MDI",
     "Alt+4 DATA  Ctrl+O OFS",
     "Alt+1 CONT Alt+5 HANDLE",
-    "Alt+6 STEP: arrows jog",
+    "Alt+6 STEP  Alt+7 SINGLE",
     "Alt+f FAULT the channel",
     "Alt+n TARGET (typed N)",
     "Alt+o M01   Alt+b /DEL",
@@ -19,7 +19,7 @@ pub const LATHE_KEYS: [&str; 13] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 15] = [
+pub const LATHE_HELP: [&str; 16] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -31,6 +31,7 @@ pub const LATHE_HELP: [&str; 15] = [
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
+    "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
     "Alt+1/5/6     CONTINUOUS (hold an arrow) / HANDLE (Alt+, Alt+. turn the wheel) / STEP (an increment)",
     "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000",
     "A key of the centre's (HOME, F1-F7 ...) says on the message line that it does nothing",

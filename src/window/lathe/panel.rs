@@ -243,12 +243,13 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
         (Mode::Auto, "AUTO", "Alt+2"),
         (Mode::Mdi, "MDI", "Alt+3"),
         (Mode::Data, "DATA", "Alt+4"),
+        (Mode::Single, "SINGLE", "Alt+7"),
         (Mode::Handle, "HANDLE", "Alt+5"),
         (Mode::Step, "STEP", "Alt+6"),
         (Mode::Ofs, "OFS", "Ctrl+O"),
     ];
     // The operation selector's positions in two rows, the manual ones below.
-    for (row, legend) in [(&modes[1..4], "MODE   "), (&modes[4..], "       ")] {
+    for (row, legend) in [(&modes[1..5], "MODE   "), (&modes[5..], "       ")] {
         ui.horizontal(|ui| {
             ui.label(mono(legend, 12.0, controls::LEGEND));
             let row = if legend.trim().is_empty() {

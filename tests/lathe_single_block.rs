@@ -1,0 +1,119 @@
+//! SINGLE BLOCK on the lathe console (docs/lathe.md "SINGLE BLOCK"): the centre's operation
+//! selector position, on every channel of the one kernel. Each START runs one block of every
+//! channel stopped between blocks; the summary line says STOP and the message line what START
+//! does; AUTO turned mid-cycle runs on. A cycle stepped block by block ends where the same
+//! cycle run in AUTO ends, with the same parts.
+
+mod common;
+
+use novanc::lathe::console::LatheConsole;
+use novanc::lathe::desc::LatheDesc;
+use novanc::panel_model::{OpMode, PanelEvent};
+
+fn open(state: &std::path::Path) -> LatheConsole {
+    let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    c.handle(PanelEvent::Target(1));
+    c
+}
+
+fn states(c: &LatheConsole) -> Vec<String> {
+    c.view().channels.iter().map(|v| v.state.clone()).collect()
+}
+
+fn over(c: &LatheConsole) -> bool {
+    c.cycle().is_none_or(|k| k.is_over())
+}
+
+/// Where one part in AUTO leaves every tool post, and the counts.
+fn auto_run() -> (Vec<([i64; 2], Option<u32>)>, Vec<u32>) {
+    let dir = common::temp_dir("lathe-single-auto");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(over(&c), "{}", c.frame_text());
+    let out = (c.tips(), c.counter().counts.clone());
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
+#[test]
+fn a_cycle_stepped_block_by_block_ends_as_the_same_cycle_in_auto() {
+    let want = auto_run();
+    let dir = common::temp_dir("lathe-single");
+    let mut c = open(&dir);
+    c.press(novanc_panel::Key::Alt('7'));
+    assert!(
+        c.view().display[0].trim_end().ends_with("SINGLE"),
+        "{:?}",
+        c.view().display[0]
+    );
+    let mut starts = 0;
+    loop {
+        c.handle(PanelEvent::Start);
+        c.handle(PanelEvent::Wait);
+        starts += 1;
+        assert!(starts < 5_000, "stepping does not end: {}", c.frame_text());
+        if over(&c) {
+            break;
+        }
+        // Nothing runs between two STARTs: each channel stopped after its block, waits on
+        // one that did, or is done; and the screen says what START does.
+        let s = states(&c);
+        assert!(
+            s.iter()
+                .all(|w| ["STOP", "WAIT", "DONE"].contains(&w.as_str())),
+            "after START {starts}: {s:?}\n{}",
+            c.frame_text()
+        );
+        if s.iter().any(|w| w == "STOP") {
+            assert!(
+                c.message().starts_with("SINGLE BLOCK:"),
+                "after START {starts}: {}",
+                c.message()
+            );
+        }
+    }
+    // CH3 alone has 55 blocks a part: one START a block, give or take the waits.
+    assert!(starts > 50, "{starts} STARTs");
+    eprintln!("one part of the Citizen in SINGLE BLOCK: {starts} STARTs");
+    assert_eq!((c.tips(), c.counter().counts.clone()), want);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn auto_turned_mid_cycle_runs_on_to_the_end() {
+    let want = auto_run();
+    let dir = common::temp_dir("lathe-single-then-auto");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Single));
+    for _ in 0..5 {
+        c.handle(PanelEvent::Start);
+        c.handle(PanelEvent::Wait);
+    }
+    assert!(!over(&c));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(over(&c), "{}", c.frame_text());
+    assert_eq!((c.tips(), c.counter().counts.clone()), want);
+    // And back: SINGLE BLOCK turned on in a running cycle stops every channel after its block.
+    c.handle(PanelEvent::Reset);
+    c.handle(PanelEvent::Target(2));
+    c.handle(PanelEvent::Start);
+    c.run_for(300_000_000, novanc::lathe::console::RunUntil::Time, || {
+        false
+    });
+    c.handle(PanelEvent::Op(OpMode::Single));
+    c.handle(PanelEvent::Wait);
+    assert!(!over(&c));
+    let s = states(&c);
+    assert!(
+        s.iter()
+            .all(|w| ["STOP", "WAIT", "DONE"].contains(&w.as_str()))
+            && s.contains(&"STOP".into()),
+        "{s:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
