@@ -25,8 +25,11 @@ fn over(c: &LatheConsole) -> bool {
     c.cycle().is_none_or(|k| k.is_over())
 }
 
+/// Every tool post and the work it holds, and each channel's part count.
+type End = (Vec<([i64; 2], Option<u32>)>, Vec<u32>);
+
 /// Where one part in AUTO leaves every tool post, and the counts.
-fn auto_run() -> (Vec<([i64; 2], Option<u32>)>, Vec<u32>) {
+fn auto_run() -> End {
     let dir = common::temp_dir("lathe-single-auto");
     let mut c = open(&dir);
     c.handle(PanelEvent::Op(OpMode::Auto));
