@@ -308,11 +308,7 @@ impl LatheConsole {
         let fresh = at == self.now_ns;
         let lives = match life {
             MsgLife::NextAction => true,
-            // A channel waiting on another stopped between blocks waits on the operator:
-            // the machine does not run then.
-            MsgLife::WhileRunning => {
-                fresh || any(&["RUN", "JOG"]) || (any(&["WAIT"]) && !any(&["STOP"]))
-            }
+            MsgLife::WhileRunning => fresh || view::runs(chans),
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
             MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
         };

@@ -38,6 +38,15 @@ pub const LATHE_HELP: [&str; 16] = [
     "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
 
+/// Whether the machine runs, from its channels' state words (the RUN lamp, and how long a
+/// "cycle start" message lives): a channel runs (RUN) or moves by hand (JOG), or waits on
+/// another while none stands stopped between blocks or held (a channel waiting on a stopped
+/// one waits on the operator).
+pub fn runs(chans: &[ChanView]) -> bool {
+    let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
+    any(&["RUN", "JOG"]) || (any(&["WAIT"]) && !any(&["STOP", "HOLD"]))
+}
+
 /// One channel as the display shows it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ChanView {

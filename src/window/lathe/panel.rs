@@ -199,12 +199,13 @@ pub fn help(ui: &mut Ui) {
     }
 }
 
-/// What the relay buttons' lamps show: some channel runs, holds, is faulted or alarmed, or
-/// the machine is in E-STOP.
+/// What the relay buttons' lamps show: the machine runs (`view::runs`: not while every
+/// channel stands stopped between blocks or waits on one that does), some channel holds or
+/// stands stopped, is faulted or alarmed, or the machine is in E-STOP.
 fn lamps(v: &LatheView) -> [bool; 4] {
     let any = |w: &[&str]| v.channels.iter().any(|c| w.contains(&c.state.as_str()));
     [
-        any(&["RUN", "WAIT"]),
+        crate::lathe::console::view::runs(&v.channels),
         any(&["HOLD", "STOP"]),
         any(&["FAULT", "ALARM"]),
         any(&["ESTOP"]),
@@ -367,6 +368,9 @@ mod tests {
         v.channels[0] = ch("FAULT");
         v.channels[1] = ch("HOLD");
         assert_eq!(lamps(&v), [false, true, true, false]);
+        // SINGLE BLOCK: one channel stopped between blocks, the others waiting on it.
+        v.channels = vec![ch("STOP"), ch("WAIT"), ch("WAIT")];
+        assert_eq!(lamps(&v), [false, true, false, false]);
         v.channels = vec![ch("ESTOP"); 3];
         assert_eq!(lamps(&v), [false, false, false, true]);
         assert_eq!(state_colour("ESTOP"), RED);
