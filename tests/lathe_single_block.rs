@@ -1,7 +1,7 @@
 //! SINGLE BLOCK on the lathe console (docs/lathe.md "SINGLE BLOCK"): the centre's operation
 //! selector position, on every channel of the one kernel. Each START runs one block of every
 //! channel stopped between blocks; the summary line says STOP and the message line what START
-//! does; AUTO turned mid-cycle runs on. A cycle stepped block by block ends where the same
+//! does; AUTO turned mid-cycle, then START, runs on. A cycle stepped block by block ends where the same
 //! cycle run in AUTO ends, with the same parts.
 
 mod common;
@@ -96,7 +96,11 @@ fn auto_turned_mid_cycle_runs_on_to_the_end() {
         c.handle(PanelEvent::Wait);
     }
     assert!(!over(&c));
+    let at = c.tips();
+    // AUTO turned: nothing runs on until START (the centre's rule).
     c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.tips(), at);
     c.handle(PanelEvent::Start);
     c.handle(PanelEvent::Wait);
     assert!(over(&c), "{}", c.frame_text());

@@ -620,12 +620,12 @@ impl LatheConsole {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_jog();
         }
-        let single = m == Mode::Single;
         if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
-            if single != (self.mode == Mode::Single) {
-                // SINGLE BLOCK turned on or off in a cycle: from the block each channel is in
-                // (the centre's AUTO <-> SINGLE BLOCK).
-                c.set_single_block(single);
+            if m == Mode::Single && self.mode != Mode::Single {
+                // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
+                // until START. Turned off, the blocks started in SINGLE BLOCK still end and
+                // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
+                c.set_single_block(true);
             }
         }
         self.mode = m;
@@ -722,6 +722,9 @@ impl LatheConsole {
         }
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
+                if !c.mdi {
+                    c.set_single_block(self.mode == Mode::Single);
+                }
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
                     Err(e) => self.message = e,
