@@ -1012,6 +1012,16 @@ impl Runner {
         if let Some(rt) = &mut self.rt {
             rt.release_all();
         }
+        // Every pulse made is in the recording when the thread ends (in real time a moving
+        // axis's batch fills across slices).
+        self.m.flush_recording();
+        if let Some(k) = self.k.as_mut() {
+            for i in 0..k.channels() {
+                if let Some(m) = k.machine_mut(i) {
+                    m.flush_recording();
+                }
+            }
+        }
         self.publish();
     }
 
