@@ -131,6 +131,13 @@ impl Spindle {
         self.phase0 + k * (p + self.target * (tau - in_ramp))
     }
 
+    /// Whether the speed is at the target from time `t` on (the ramp is over, or there is
+    /// none): `rpm_at` then gives exactly `target` for `t` and every later time.
+    pub fn steady_at(&self, t: u64) -> bool {
+        let (_, dur) = self.ramp();
+        (t as f64 - self.t0).max(0.0) >= dur
+    }
+
     /// The actual speed at time `t`, signed rpm.
     pub fn rpm_at(&self, t: u64) -> f64 {
         self.rpm_at_f(t as f64)

@@ -1053,7 +1053,7 @@ impl Machine {
                 && self.jog.is_none()
                 && self.increments.is_empty()
                 && !self.returning()
-                && !self.spindle_live();
+                && !self.spindle_needs_ticks();
             if whole_block {
                 self.finished_at = None;
                 self.signal_at = None;
@@ -1838,6 +1838,52 @@ impl Machine {
     /// per revolution follows its speed), with it turning. Else blocks may run whole.
     fn spindle_live(&self) -> bool {
         self.spindle_dir != 0 && (self.css.is_some() || self.sp.ramps())
+    }
+
+    /// Whether the NCBR ticks until the current block ends could change anything: a live
+    /// spindle (above) makes each tick look at its target and at the feed per revolution, but
+    /// once neither can change before the block ends, those ticks change nothing but time and
+    /// the block may run whole (as with the spindle stopped, or on the centre). That is:
+    /// - the spindle's target is the one the tick would give it (`spindle_sync` sets none),
+    ///   and stays so: under G97 it depends on nothing a block in motion changes; under G96
+    ///   on X, so the rest of the block must not move X (a line or rapid with no X amount, or
+    ///   no motion at all);
+    /// - a feed per revolution in motion is the one the tick would compute, and the spindle is
+    ///   at its target for good (`Spindle::steady_at`: `rpm_at` gives the target from then
+    ///   on), so every later tick computes the very same speed and does not retarget;
+    /// - the block is past its auxiliary functions (`PreAux` changes the spindle);
+    /// - no watcher (it would see the state at every tick) and no answer for the source.
+    ///
+    /// A thread pass is timed by the spindle's closed form, which only a new target changes.
+    fn spindle_needs_ticks(&self) -> bool {
+        if !self.spindle_live() {
+            return false;
+        }
+        if self.watch.is_some() || self.probe_answer.is_some() {
+            return true;
+        }
+        let Some(c) = &self.current else {
+            return true;
+        };
+        if c.phase == Phase::PreAux {
+            return true;
+        }
+        if self.spindle_target() != self.sp.target() {
+            return true;
+        }
+        if self.css.is_some() {
+            let moves_x = c.motion.is_some()
+                && (!matches!(c.block.motion, Kind::Linear | Kind::Rapid) || c.block.delta[0] != 0);
+            if moves_x {
+                return true;
+            }
+        }
+        if let (Some(v), Some(_)) = (c.per_rev_v, &c.motion) {
+            if !self.sp.steady_at(self.now) || self.feed_speed(&c.block, self.now) != v {
+                return true;
+            }
+        }
+        false
     }
 
     /// The spindle speed the status shows, signed rpm: the actual one; a spindle without a
