@@ -26,7 +26,7 @@
 
 use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
-use super::spindle::Spindle;
+use super::spindle::{PhaseClock, Spindle};
 use crate::block::{Axes, MAX_AXES};
 
 /// What a call to `Motion::run` left the motion in.
@@ -513,6 +513,8 @@ impl Motion {
 pub struct ThreadMotion {
     ln: Linear,
     spindle: Spindle,
+    /// `spindle.phase_clock()`, which times every step.
+    clock: PhaseClock,
     /// The encoder phase the pass is anchored to: an index (a thread), or where the encoder
     /// stood at the start (a rigid tap).
     anchor: f64,
@@ -541,6 +543,7 @@ impl ThreadMotion {
             } else {
                 spindle.phase_at(t0)
             },
+            clock: spindle.phase_clock(),
             spindle,
             counts_per_step,
             t: t0 as f64,
@@ -570,6 +573,7 @@ impl ThreadMotion {
     /// The spindle changed its target (at an NCBR tick): the steps not yet taken follow it.
     pub fn set_spindle(&mut self, spindle: &Spindle) {
         self.spindle = spindle.clone();
+        self.clock = spindle.phase_clock();
     }
 
     /// Distributes the steps whose encoder time falls before `horizon`.
@@ -578,7 +582,7 @@ impl ThreadMotion {
         while self.ln.steps_left > 0 {
             let k = self.ln.lb - self.ln.steps_left + 1;
             let phase = self.anchor + k as f64 * self.counts_per_step;
-            let Some(t) = self.spindle.time_at_phase(phase) else {
+            let Some(t) = self.clock.time_at_phase(phase) else {
                 return Progress::Pending;
             };
             let t = t.max(self.t);
