@@ -157,6 +157,15 @@ impl Drive {
         }
     }
 
+    /// The time (ns) of the step the last `run` stopped before (`Progress::Pending`), if the
+    /// interpolator knows it: the DDA's (`Motion::pending_step_at`).
+    pub fn pending_step_at(&self) -> Option<f64> {
+        match self {
+            Drive::Dda(m) => m.pending_step_at(),
+            Drive::Ep(_) | Drive::Thread(_) => None,
+        }
+    }
+
     /// A thread pass's motion (to follow a change of the spindle's target).
     pub fn as_thread(&mut self) -> Option<&mut ThreadMotion> {
         match self {

@@ -26,7 +26,7 @@
 
 use super::arc::{ArcStep, ArcStepper};
 use super::pulse_out::PulseOut;
-use super::spindle::Spindle;
+use super::spindle::{PhaseClock, Spindle};
 use crate::block::{Axes, MAX_AXES};
 
 /// What a call to `Motion::run` left the motion in.
@@ -78,6 +78,9 @@ struct Profile {
     v: f64,
     t: f64,
     s: f64,
+    /// The time of the next step, found at or past the horizon by the last `run` that stopped
+    /// there (`Progress::Pending`); NaN when unknown. Any new anchor forgets it.
+    pending_t: f64,
 }
 
 impl Profile {
@@ -97,6 +100,7 @@ impl Profile {
             v: 0.0,
             t: t0 as f64,
             s: 0.0,
+            pending_t: f64::NAN,
         };
         p.anchor();
         p
@@ -104,6 +108,7 @@ impl Profile {
 
     /// Starts the phase that fits where the motion is now.
     fn anchor(&mut self) {
+        self.pending_t = f64::NAN;
         let (v, s) = (self.v, self.s);
         let e2 = self.a2 * (self.total - s).max(0.0);
         let phase = if v > 0.0 && v * v > e2 {
@@ -248,6 +253,7 @@ impl Profile {
         let (v, t) = self.formula(s1, rem);
         let t = if t < self.t { self.t } else { t };
         if t >= h {
+            self.pending_t = t;
             return Err(Progress::Pending);
         }
         self.v = if last { 0.0 } else { v };
@@ -437,10 +443,19 @@ impl Motion {
         self.prof.t as u64
     }
 
+    /// After a `run` that returned `Progress::Pending`, with no new target, hold or resume
+    /// since: the time (ns) of the step it stopped before. A later `run` takes no step while
+    /// its horizon is at or before it (the step's time depends only on the profile's anchor
+    /// and the path position, which only a new target, hold or resume changes).
+    pub fn pending_step_at(&self) -> Option<f64> {
+        (!self.prof.pending_t.is_nan()).then_some(self.prof.pending_t)
+    }
+
     /// Distributes pulses until the motion completes, stands still, or the next step would
     /// fall at or after `horizon`.
     pub fn run(&mut self, horizon: u64, out: &mut PulseOut) -> Progress {
         let h = horizon as f64;
+        self.prof.pending_t = f64::NAN;
         match &mut self.path {
             Path::Linear(ln) => run_linear(ln, &mut self.prof, h, out),
             Path::Arc {
@@ -498,6 +513,8 @@ impl Motion {
 pub struct ThreadMotion {
     ln: Linear,
     spindle: Spindle,
+    /// `spindle.phase_clock()`, which times every step.
+    clock: PhaseClock,
     /// The encoder phase the pass is anchored to: an index (a thread), or where the encoder
     /// stood at the start (a rigid tap).
     anchor: f64,
@@ -526,6 +543,7 @@ impl ThreadMotion {
             } else {
                 spindle.phase_at(t0)
             },
+            clock: spindle.phase_clock(),
             spindle,
             counts_per_step,
             t: t0 as f64,
@@ -555,6 +573,7 @@ impl ThreadMotion {
     /// The spindle changed its target (at an NCBR tick): the steps not yet taken follow it.
     pub fn set_spindle(&mut self, spindle: &Spindle) {
         self.spindle = spindle.clone();
+        self.clock = spindle.phase_clock();
     }
 
     /// Distributes the steps whose encoder time falls before `horizon`.
@@ -563,7 +582,7 @@ impl ThreadMotion {
         while self.ln.steps_left > 0 {
             let k = self.ln.lb - self.ln.steps_left + 1;
             let phase = self.anchor + k as f64 * self.counts_per_step;
-            let Some(t) = self.spindle.time_at_phase(phase) else {
+            let Some(t) = self.clock.time_at_phase(phase) else {
                 return Progress::Pending;
             };
             let t = t.max(self.t);
@@ -619,6 +638,7 @@ fn phase_run(
         let tn = if tn < t { t } else { tn };
         if tn >= h {
             pending = true;
+            prof.pending_t = tn;
             break;
         }
         left = nl;

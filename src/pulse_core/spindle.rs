@@ -131,6 +131,13 @@ impl Spindle {
         self.phase0 + k * (p + self.target * (tau - in_ramp))
     }
 
+    /// Whether the speed is at the target from time `t` on (the ramp is over, or there is
+    /// none): `rpm_at` then gives exactly `target` for `t` and every later time.
+    pub fn steady_at(&self, t: u64) -> bool {
+        let (_, dur) = self.ramp();
+        (t as f64 - self.t0).max(0.0) >= dur
+    }
+
     /// The actual speed at time `t`, signed rpm.
     pub fn rpm_at(&self, t: u64) -> f64 {
         self.rpm_at_f(t as f64)
@@ -186,33 +193,29 @@ impl Spindle {
     /// The time (ns, fractional) at which the encoder phase reaches `phase`, turning the way
     /// the target turns (`None` if it never does: stopped, or the phase lies behind).
     pub fn time_at_phase(&self, phase: f64) -> Option<f64> {
+        self.phase_clock().time_at_phase(phase)
+    }
+
+    /// What `time_at_phase` needs of the spindle as it is now, worked out once: a thread
+    /// pass asks it for every step.
+    pub fn phase_clock(&self) -> PhaseClock {
         let s = self.target.signum();
-        if s == 0.0 {
-            return None;
-        }
         let k = f64::from(self.lines) / NS_MIN;
         // Mirrored so that the spindle turns forward: rpm r0 ≥ 0 wanted.
         let (r0, tg) = (s * self.rpm0, s * self.target);
         let (a, dur) = self.ramp();
         let a = s * a;
-        let need = s * (phase - self.phase0) / k; // rpm·ns still to turn
-        if need <= 0.0 {
-            return Some(self.t0);
+        PhaseClock {
+            s,
+            k,
+            r0,
+            tg,
+            a,
+            dur,
+            in_ramp: r0 * dur + 0.5 * a * dur * dur,
+            t0: self.t0,
+            phase0: self.phase0,
         }
-        let in_ramp = r0 * dur + 0.5 * a * dur * dur;
-        if need <= in_ramp {
-            // r0·τ + a·τ²/2 = need, the smaller root in the stable form.
-            let disc = r0 * r0 + 2.0 * a * need;
-            let den = r0 + disc.max(0.0).sqrt();
-            if den > 0.0 {
-                return Some(self.t0 + 2.0 * need / den);
-            }
-            return None;
-        }
-        if tg <= 0.0 {
-            return None;
-        }
-        Some(self.t0 + dur + (need - in_ramp) / tg)
     }
 
     /// The next index (a multiple of `lines`) at or after the phase at time `t`, in the
@@ -226,6 +229,56 @@ impl Spindle {
             p.ceil()
         };
         (i * n) as i64
+    }
+}
+
+/// [`Spindle::time_at_phase`] for one state of the spindle (`Spindle::phase_clock`): the
+/// ramp and the constants it uses, each computed as before, so the times are the same to the
+/// bit; only the work per call is less.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhaseClock {
+    /// The sign of the target (0: stopped), and the encoder counts per rpm·ns.
+    s: f64,
+    k: f64,
+    /// The anchor's speed and the target, mirrored to turn forward; the mirrored acceleration
+    /// (rpm/ns), the ramp's duration (ns) and the rpm·ns turned during it.
+    r0: f64,
+    tg: f64,
+    a: f64,
+    dur: f64,
+    in_ramp: f64,
+    /// The anchor's time (ns) and encoder phase (counts).
+    t0: f64,
+    phase0: f64,
+}
+
+impl PhaseClock {
+    /// The time (ns, fractional) at which the encoder phase reaches `phase`, turning the way
+    /// the target turns (`None` if it never does: stopped, or the phase lies behind).
+    #[inline]
+    pub fn time_at_phase(&self, phase: f64) -> Option<f64> {
+        let s = self.s;
+        if s == 0.0 {
+            return None;
+        }
+        let (r0, tg, a, dur, in_ramp) = (self.r0, self.tg, self.a, self.dur, self.in_ramp);
+        let need = s * (phase - self.phase0) / self.k; // rpm·ns still to turn
+        if need <= 0.0 {
+            return Some(self.t0);
+        }
+        if need <= in_ramp {
+            // r0·τ + a·τ²/2 = need, the smaller root in the stable form.
+            let disc = r0 * r0 + 2.0 * a * need;
+            let den = r0 + disc.max(0.0).sqrt();
+            if den > 0.0 {
+                return Some(self.t0 + 2.0 * need / den);
+            }
+            return None;
+        }
+        if tg <= 0.0 {
+            return None;
+        }
+        Some(self.t0 + dur + (need - in_ramp) / tg)
     }
 }
 

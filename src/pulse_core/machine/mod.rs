@@ -1075,7 +1075,7 @@ impl Machine {
                 && self.jog.is_none()
                 && self.increments.is_empty()
                 && !self.returning()
-                && !self.spindle_live();
+                && !self.spindle_needs_ticks();
             if whole_block {
                 self.finished_at = None;
                 self.signal_at = None;
@@ -1113,6 +1113,14 @@ impl Machine {
                 self.tick_end();
             }
             self.watch_check();
+            if self.now == self.next_tick {
+                if let Some(t) = self.quiet_ticks_end(t_end) {
+                    // The ticks up to `t` would each have changed nothing (see there).
+                    self.now = t;
+                    self.next_tick = t;
+                    self.started_seq = None;
+                }
+            }
         }
     }
 
@@ -1795,6 +1803,61 @@ impl Machine {
         }
     }
 
+    /// At a tick boundary, with the block kept on the ticks by its live spindle
+    /// (`spindle_needs_ticks`): the end of the whole ticks from now (up to `t_end`) in which
+    /// nothing can happen, if there is at least one. On the Citizen these are most ticks of a
+    /// G96 facing cut, where X moves one pulse every few ticks, and the ticks of a wait for
+    /// the spindle at speed. Such a tick's work changes nothing when
+    /// - its NCBR part does nothing: nothing recorded, watched, pending (override, answer),
+    ///   no manual move; the spindle's target is the one the tick would set (`spindle_sync`),
+    ///   and stays so as long as no pulse moves X; a feed per revolution in motion is the one
+    ///   the tick would compute, with the spindle at its target for good (`Spindle::steady_at`);
+    /// - and its PGEN part takes no step: the block's auxiliary functions end at or after the
+    ///   tick's end (`PreAux`), or its DDA motion's next step, found by the last PGEN call
+    ///   (`Drive::pending_step_at`), falls at or after the tick's end.
+    ///
+    /// Nothing then changes from tick to tick but time, so each of those ticks would find the
+    /// same, and the tick in which the step (or the end of the auxiliary functions) falls runs
+    /// as before, from the same state.
+    fn quiet_ticks_end(&self, t_end: u64) -> Option<u64> {
+        let calm = self.events.is_none()
+            && self.watch.is_none()
+            && self.pending_override.is_none()
+            && self.probe_answer.is_none()
+            && self.jog.is_none()
+            && self.increments.is_empty()
+            && !self.returning();
+        if !calm {
+            return None;
+        }
+        let c = self.current.as_ref()?;
+        // A tick ending at h takes no step while h <= `quiet`.
+        let quiet = match (c.phase, &c.motion) {
+            (Phase::PreAux, _) => c.until,
+            (Phase::Move, Some(m)) => {
+                // PGEN takes the step when its time t < h (as f64, exact below 2^53 ns):
+                // for a whole h that is h <= floor(t).
+                let t = m.pending_step_at()?;
+                if t.is_nan() || t < 0.0 {
+                    return None;
+                }
+                t.floor() as u64 // saturates for +inf: no step ever
+            }
+            _ => return None,
+        };
+        let p = self.period();
+        let ticks = quiet.min(t_end).checked_sub(self.now)? / p;
+        if ticks == 0 || !self.spindle_needs_ticks() || self.spindle_target() != self.sp.target() {
+            return None;
+        }
+        if let (Some(v), Some(_)) = (c.per_rev_v, &c.motion) {
+            if !self.sp.steady_at(self.now) || self.feed_speed(&c.block, self.now) != v {
+                return None;
+            }
+        }
+        Some(self.now + ticks * p)
+    }
+
     /// A tap's feed on a spindle with a ramp is geared to its encoder (rigid tapping): the
     /// pitch, mm/rev, is the block's feed over the programmed speed. None for any other block,
     /// and on a spindle without a ramp, which is always at the programmed speed (the centre's
@@ -1853,6 +1916,52 @@ impl Machine {
     /// per revolution follows its speed), with it turning. Else blocks may run whole.
     fn spindle_live(&self) -> bool {
         self.spindle_dir != 0 && (self.css.is_some() || self.sp.ramps())
+    }
+
+    /// Whether the NCBR ticks until the current block ends could change anything: a live
+    /// spindle (above) makes each tick look at its target and at the feed per revolution, but
+    /// once neither can change before the block ends, those ticks change nothing but time and
+    /// the block may run whole (as with the spindle stopped, or on the centre). That is:
+    /// - the spindle's target is the one the tick would give it (`spindle_sync` sets none),
+    ///   and stays so: under G97 it depends on nothing a block in motion changes; under G96
+    ///   on X, so the rest of the block must not move X (a line or rapid with no X amount, or
+    ///   no motion at all);
+    /// - a feed per revolution in motion is the one the tick would compute, and the spindle is
+    ///   at its target for good (`Spindle::steady_at`: `rpm_at` gives the target from then
+    ///   on), so every later tick computes the very same speed and does not retarget;
+    /// - the block is past its auxiliary functions (`PreAux` changes the spindle);
+    /// - no watcher (it would see the state at every tick) and no answer for the source.
+    ///
+    /// A thread pass is timed by the spindle's closed form, which only a new target changes.
+    fn spindle_needs_ticks(&self) -> bool {
+        if !self.spindle_live() {
+            return false;
+        }
+        if self.watch.is_some() || self.probe_answer.is_some() {
+            return true;
+        }
+        let Some(c) = &self.current else {
+            return true;
+        };
+        if c.phase == Phase::PreAux {
+            return true;
+        }
+        if self.css.is_some() {
+            let moves_x = c.motion.is_some()
+                && (!matches!(c.block.motion, Kind::Linear | Kind::Rapid) || c.block.delta[0] != 0);
+            if moves_x {
+                return true;
+            }
+        }
+        if self.spindle_target() != self.sp.target() {
+            return true;
+        }
+        if let (Some(v), Some(_)) = (c.per_rev_v, &c.motion) {
+            if !self.sp.steady_at(self.now) || self.feed_speed(&c.block, self.now) != v {
+                return true;
+            }
+        }
+        false
     }
 
     /// The spindle speed the status shows, signed rpm: the actual one; a spindle without a
