@@ -28,10 +28,9 @@
 
 mod common;
 
-use novanc::lathe::console::events::Mode;
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::PanelEvent;
+use novanc::panel_model::{OpMode, PanelEvent};
 use novanc::pulse_core::testkit::Rng;
 use novanc::store::lathe::{LatheStore, Program};
 
@@ -244,16 +243,16 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         46..=47 => PanelEvent::Press(novanc_panel::Key::Tab),
         48..=49 => PanelEvent::Target(rng.range(1, 4) as u32),
         50..=53 => [
-            Mode::Auto,
-            Mode::Mdi,
-            Mode::Data,
-            Mode::Ofs,
-            Mode::Step,
-            Mode::Continuous,
-            Mode::Handle,
-            Mode::Single,
+            PanelEvent::Op(OpMode::Auto),
+            PanelEvent::Op(OpMode::Mdi),
+            PanelEvent::Op(OpMode::Data),
+            PanelEvent::OfsMode,
+            PanelEvent::Op(OpMode::Step),
+            PanelEvent::Op(OpMode::Continuous),
+            PanelEvent::Op(OpMode::Handle),
+            PanelEvent::Op(OpMode::Single),
         ][rng.range(0, 7) as usize]
-            .event(),
+            .clone(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => PanelEvent::Press(novanc_panel::Key::F(8)),

@@ -124,3 +124,42 @@ fn auto_turned_mid_cycle_runs_on_to_the_end() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// OFS is a page over the operation selector, as the centre's tool-offset page is: called up
+/// in AUTO while the cycle runs, it shows the channel's tools and takes a revision without
+/// stopping anything; START still acts (the mode is AUTO); a mode key leaves the page.
+#[test]
+fn the_ofs_page_stands_over_a_running_cycle() {
+    let dir = common::temp_dir("lathe-ofs-page");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(2));
+    c.handle(PanelEvent::Start);
+    c.run_for(500_000_000, novanc::lathe::console::RunUntil::Time, || {
+        false
+    });
+    c.press(novanc_panel::Key::Ctrl('o'));
+    assert!(c.ofs_page() && c.mode() == OpMode::Auto);
+    let v = c.view();
+    assert!(v.display[0].contains(" OFS"), "{:?}", v.display[0]);
+    assert!(
+        v.display.iter().any(|l| l.starts_with("T01")),
+        "{:?}",
+        v.display
+    );
+    assert!(states(&c).contains(&"RUN".to_string()), "{:?}", states(&c));
+    c.handle(PanelEvent::Type("T1 X0.02".into()));
+    assert!(c.message().contains("T01 revised"), "{}", c.message());
+    c.handle(PanelEvent::Stop);
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "START");
+    c.press(novanc_panel::Key::Ctrl('o'));
+    assert!(!c.ofs_page(), "the page key again leaves the page");
+    c.press(novanc_panel::Key::Ctrl('o'));
+    assert!(c.ofs_page());
+    c.press(novanc_panel::Key::Alt('2'));
+    assert!(!c.ofs_page());
+    assert!(c.view().display[0].trim_end().ends_with("AUTO"));
+    c.handle(PanelEvent::Wait);
+    assert!(over(&c), "the cycle ran on to its target");
+    let _ = std::fs::remove_dir_all(&dir);
+}

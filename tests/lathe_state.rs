@@ -5,7 +5,6 @@
 
 mod common;
 
-use novanc::lathe::console::events::Mode;
 use novanc::lathe::console::{LatheConsole, RunUntil};
 use novanc::lathe::desc::LatheDesc;
 use novanc::panel_model::PanelEvent;
@@ -45,7 +44,7 @@ fn mdi(c: &mut LatheConsole, lines: &[&str]) -> String {
 /// MDI on the selected channel: `lines`, then START, with no machine time after it. The
 /// message START gave.
 fn mdi_start(c: &mut LatheConsole, lines: &[&str]) -> String {
-    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
     for l in lines {
         c.handle(PanelEvent::Type(l.to_string()));
     }
@@ -164,7 +163,7 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
     let mut c = LatheConsole::open(desc(None, None), &state, 20, 160, Some(&rec))
         .unwrap_or_else(|e| panic!("{e}"))
         .0;
-    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
     for l in [
         "G0 X20 Z10",
         "(msg, at the corner)",
@@ -343,13 +342,13 @@ fn the_mdi_lines_typed_survive_a_restart_until_they_run() {
     let state = common::temp_dir("lathe-state-mdi");
     let d = desc(None, None);
     let mut c = open(&d, &state);
-    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
     c.handle(PanelEvent::Type("G0 X30 Z20".into()));
     c.handle(PanelEvent::Type("G0 X36".into()));
     assert!(c.message().contains("2 lines"), "{}", c.message());
     drop(c);
     let mut c = open(&d, &state);
-    c.handle(Mode::Mdi.event());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
     let shown = c.frame_text();
     assert!(
         shown.contains("0001 G0 X30 Z20") && shown.contains("0002 G0 X36"),
@@ -421,7 +420,7 @@ fn an_auto_cycle_starts_with_the_spindles_stopped_whatever_mdi_left() {
     assert_eq!(mdi(&mut c, &["M3 S500", "M8"]), "MDI CH1 runs");
     c.run_for(5_000_000_000, RunUntil::Time, || false);
     assert_eq!(c.view().channels[0].rpm, 500.0);
-    c.handle(Mode::Auto.event());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
     c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "cycle start");
     // Run until CH1's chuck has closed on the bar (M10, line 7), a tick at a time.

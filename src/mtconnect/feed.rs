@@ -2,10 +2,8 @@
 //! window, `novanc script` and `novanc run`), so it lives here, beside the adapter, and not in
 //! the command line, which only reads its options (`cli::mtconnect::take`).
 
-use super::items::lathe_mode;
 use super::{Adapter, Key, Modes, PathKeys};
 use crate::console::Console;
-use crate::lathe::console::events::Mode as LatheMode;
 use crate::lathe::console::{Cycle, LatheConsole};
 use crate::pulse_core::{
     ChannelStatus, ChannelView, ClockMode, EndCause, PulseCore, Status, Watcher,
@@ -205,7 +203,7 @@ impl Feed {
     pub fn publish_lathe(&mut self, c: &LatheConsole) {
         let v = c.view();
         let ctx = LatheCtx {
-            mode: lathe_mode(c.mode()),
+            mode: super::items::controller_mode(c.mode()),
             programs: v.channels.iter().map(|ch| ch.program.clone()).collect(),
             pos: v.channels.iter().map(|ch| ch.pos).collect(),
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
@@ -223,7 +221,7 @@ impl Feed {
     pub fn publish_cycle(&mut self, cy: &Cycle, programs: &[String], pulse_mm: f64) {
         let n = cy.channels().len();
         let ctx = LatheCtx {
-            mode: lathe_mode(LatheMode::Auto),
+            mode: super::items::controller_mode(crate::panel_model::OpMode::Auto),
             programs: (0..n)
                 .map(|i| programs.get(i).cloned().unwrap_or_default())
                 .collect(),

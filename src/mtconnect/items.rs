@@ -2,14 +2,13 @@
 //! console's modes (the mapping is in docs/mtconnect.md).
 
 use super::Key;
-use crate::lathe::console::events::Mode as LatheMode;
 use crate::panel_model::OpMode;
 use crate::pulse_core::{EndCause, Status};
 
 /// What the adapter needs from the console for one path besides the core's status.
 #[derive(Clone, Debug)]
 pub struct Modes {
-    /// The ControllerMode value of the mode selector ([`controller_mode`], [`lathe_mode`]).
+    /// The ControllerMode value of the mode selector ([`controller_mode`], both machines').
     pub mode: &'static str,
     /// The program in program memory.
     pub program: String,
@@ -125,20 +124,6 @@ pub fn path_execution(s: &Status, m: &Modes) -> &'static str {
         return "WAIT";
     }
     e
-}
-
-/// The MTConnect ControllerMode of the lathe's mode selector (the centre's rule): AUTO
-/// `AUTOMATIC`, SINGLE BLOCK `SEMI_AUTOMATIC`, MDI
-/// `MANUAL_DATA_INPUT`, DATA and OFS (entering programs and offsets) `EDIT`, CONTINUOUS,
-/// HANDLE and STEP `MANUAL`.
-pub fn lathe_mode(m: LatheMode) -> &'static str {
-    match m {
-        LatheMode::Auto => "AUTOMATIC",
-        LatheMode::Single => "SEMI_AUTOMATIC",
-        LatheMode::Mdi => "MANUAL_DATA_INPUT",
-        LatheMode::Data | LatheMode::Ofs => "EDIT",
-        LatheMode::Continuous | LatheMode::Handle | LatheMode::Step => "MANUAL",
-    }
 }
 
 /// The MTConnect ControllerMode of the selector.
@@ -729,7 +714,7 @@ mod tests {
         let mut m = modes();
         m.wpo = None;
         m.tooloffsets = None;
-        m.mode = lathe_mode(LatheMode::Ofs);
+        m.mode = controller_mode(OpMode::Data);
         let it = path_items(&s, &m, &PathKeys::lathe(2));
         let keys: Vec<&str> = it.iter().map(|(k, _)| k.as_ref()).collect();
         assert!(keys.iter().all(|k| k.starts_with("p2_")), "{keys:?}");

@@ -2,8 +2,8 @@
 //! each mode (MDI lines, editor command lines, tool revisions), and the listing the plasma
 //! display shows around the current line.
 
-use super::events::Mode;
 use super::{ofs, LatheConsole};
+use crate::panel_model::OpMode;
 use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
 
@@ -13,15 +13,18 @@ impl LatheConsole {
     pub(super) fn eob(&mut self) {
         let line = std::mem::take(&mut self.entry);
         self.y_output = None;
+        if self.ofs {
+            return self.revise_tool(&line);
+        }
         match self.mode {
-            Mode::Auto | Mode::Single | Mode::Continuous | Mode::Handle | Mode::Step => {
+            OpMode::Auto | OpMode::Single | OpMode::Continuous | OpMode::Handle | OpMode::Step => {
                 if !line.is_empty() {
                     self.message =
                         format!("{} takes no data: turn to MDI or DATA", self.mode.word());
                     self.entry = line;
                 }
             }
-            Mode::Mdi => {
+            OpMode::Mdi => {
                 if line.is_empty() {
                     return;
                 }
@@ -44,8 +47,7 @@ impl LatheConsole {
                     self.mdi[self.sel].len()
                 );
             }
-            Mode::Data => self.edit(&line),
-            Mode::Ofs => self.revise_tool(&line),
+            OpMode::Data => self.edit(&line),
         }
     }
 
@@ -152,10 +154,10 @@ impl LatheConsole {
     /// The program lines around `line` (the current block's), or around the editor's pointer
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
-        if self.mode == Mode::Ofs {
+        if self.ofs {
             return ofs::table(&self.desc.channels[self.sel].tools);
         }
-        if let (Mode::Data, Some(y)) = (self.mode, &self.y_output) {
+        if let (OpMode::Data, Some(y)) = (self.mode, &self.y_output) {
             let room = self.rows.saturating_sub(5).max(1);
             return y
                 .split_inclusive('\n')
@@ -164,12 +166,12 @@ impl LatheConsole {
                 .collect();
         }
         let text = match self.mode {
-            Mode::Mdi => self.mdi[self.sel].join("\n"),
+            OpMode::Mdi => self.mdi[self.sel].join("\n"),
             _ => self.programs[self.sel].text.clone(),
         };
         let lines: Vec<&str> = text.lines().collect();
         let cur = match self.mode {
-            Mode::Data => self.edit_line[self.sel],
+            OpMode::Data => self.edit_line[self.sel],
             _ => line.max(1) as usize,
         };
         let room = self.rows.saturating_sub(5).max(1);

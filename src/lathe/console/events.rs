@@ -8,60 +8,11 @@ use crate::console::keys::{self, Action};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
-/// The lathe console's modes: the operation selector's positions (the centre's), and OFS.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
-    /// CONTINUOUS: a jog key moves the selected channel's tool post while it is held.
-    Continuous,
-    /// AUTO: START runs every channel's program, to the part target.
-    Auto,
-    /// MDI: the data keys fill the selected channel's MDI buffer; START runs it.
-    Mdi,
-    /// DATA: the data keys take editor command lines on the selected channel's program.
-    Data,
-    /// OFS: the data keys revise the selected channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`).
-    Ofs,
-    /// HANDLE: the handwheel moves the selected channel's tool post, an increment a detent.
-    Handle,
-    /// STEP: each jog key moves the selected channel's tool post one increment.
-    Step,
-    /// SINGLE BLOCK: AUTO, every channel stopping after each block until the next START.
-    Single,
-}
-
-impl Mode {
-    /// The script word.
-    pub fn word(self) -> &'static str {
-        match self {
-            Mode::Auto => "AUTO",
-            Mode::Mdi => "MDI",
-            Mode::Data => "DATA",
-            Mode::Ofs => "OFS",
-            Mode::Continuous => "CONTINUOUS",
-            Mode::Handle => "HANDLE",
-            Mode::Step => "STEP",
-            Mode::Single => "SINGLE",
-        }
-    }
-
-    /// A mode of manual moves (CONTINUOUS, HANDLE, STEP).
-    pub fn manual(self) -> bool {
-        matches!(self, Mode::Continuous | Mode::Handle | Mode::Step)
-    }
-
-    /// The event that turns the selector here (`op AUTO|MDI|DATA|OFS|...`).
-    pub fn event(self) -> PanelEvent {
-        match self {
-            Mode::Auto => PanelEvent::Op(OpMode::Auto),
-            Mode::Mdi => PanelEvent::Op(OpMode::Mdi),
-            Mode::Data => PanelEvent::Op(OpMode::Data),
-            Mode::Ofs => PanelEvent::OfsMode,
-            Mode::Continuous => PanelEvent::Op(OpMode::Continuous),
-            Mode::Handle => PanelEvent::Op(OpMode::Handle),
-            Mode::Step => PanelEvent::Op(OpMode::Step),
-            Mode::Single => PanelEvent::Op(OpMode::Single),
-        }
-    }
+/// Whether the operation selector's position moves a tool post by hand (CONTINUOUS, HANDLE,
+/// STEP). The lathe's selector is the centre's (`OpMode`); OFS is a page over it, as the
+/// centre's tool-offset page is.
+pub fn manual(m: OpMode) -> bool {
+    matches!(m, OpMode::Continuous | OpMode::Handle | OpMode::Step)
 }
 
 /// What a key of the terminal does on the lathe console.
@@ -225,8 +176,8 @@ mod tests {
     #[test]
     fn script_lines_read_back_as_the_same_event() {
         for ev in [
-            Mode::Mdi.event(),
-            Mode::Ofs.event(),
+            PanelEvent::Op(OpMode::Mdi),
+            PanelEvent::OfsMode,
             PanelEvent::Channel(2),
             PanelEvent::Type("G0 X10".into()),
             PanelEvent::Start,
@@ -305,7 +256,7 @@ mod tests {
         );
         assert_eq!(
             map_key(Key::Alt('3'), false, false),
-            LatheKey::Ev(Mode::Mdi.event())
+            LatheKey::Ev(PanelEvent::Op(OpMode::Mdi))
         );
         // The operation selector's keys are the centre's; OFS is the centre's OFS page key.
         assert_eq!(

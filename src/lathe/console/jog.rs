@@ -7,10 +7,9 @@
 //! The increment is the centre's (`x1 x10 x100 x1000` pulses, Alt+w or `wheelscale N`); X
 //! moves on its radius.
 
-use super::events::Mode;
 use super::{glue, LatheConsole, MsgLife};
 use crate::console::keys::JogPress;
-use crate::panel_model::{Axis, PanelEvent};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
 use crate::settings::MachineSettings;
 use std::time::Instant;
@@ -35,12 +34,12 @@ impl LatheConsole {
     /// E-STOP, with a cycle under way, or past the travel. Nothing else moves.
     pub(super) fn jog(&mut self, axis: Axis, dir: i8) {
         match self.mode {
-            Mode::Step => {
+            OpMode::Step => {
                 let pulses = i64::from(dir.signum()) * i64::from(self.increment);
                 self.increment_move(axis, pulses, "STEP");
             }
-            Mode::Continuous => self.begin_jog(axis, dir),
-            Mode::Handle => {
+            OpMode::Continuous => self.begin_jog(axis, dir),
+            OpMode::Handle => {
                 self.message =
                     "HANDLE: turn the handwheel (Alt+, Alt+.; the jog keys turn it on their axis)"
                         .into()
@@ -58,7 +57,7 @@ impl LatheConsole {
     /// selected channel's X or Z, an increment each, in HANDLE only.
     pub(super) fn wheel(&mut self, axis: Axis, n: i32) {
         self.wheel_axis = axis;
-        if self.mode != Mode::Handle {
+        if self.mode != OpMode::Handle {
             self.message = format!(
                 "handwheel refused: turn the operation selector to HANDLE (Alt+5; now {})",
                 self.mode.word()

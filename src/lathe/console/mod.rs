@@ -24,7 +24,7 @@ use crate::console::WAIT_LIMIT_NS;
 use crate::panel_model::{OpMode, PanelEvent};
 use crate::pulse_core::ClockMode;
 use crate::store::lathe::{Counter, LatheStore, Program};
-use events::{LatheKey, Mode};
+use events::LatheKey;
 use std::path::Path;
 use view::ChanView;
 
@@ -39,7 +39,11 @@ pub struct LatheConsole {
     mdi: Vec<Vec<String>>,
     counter: Counter,
     sel: usize,
-    mode: Mode,
+    /// The operation selector (the centre's positions).
+    mode: OpMode,
+    /// The OFS page is up over the mode display: the data keys revise the selected
+    /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), in any mode (the centre's page rule).
+    ofs: bool,
     entry: String,
     /// The operator message: the result, refusal or error of an action, or what the machine
     /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
@@ -181,7 +185,8 @@ impl LatheConsole {
             store: o.store,
             desc,
             sel: 0,
-            mode: Mode::Auto,
+            mode: OpMode::Auto,
+            ofs: false,
             entry: String::new(),
             message: String::new(),
             msg_life: (MsgLife::NextAction, 0),
@@ -318,7 +323,7 @@ impl LatheConsole {
             "E-STOP: every channel stopped; RESET releases"
         } else if any(&["HOLD"]) {
             "STOP: feed hold; START resumes"
-        } else if any(&["STOP"]) && self.mode == Mode::Single {
+        } else if any(&["STOP"]) && self.mode == OpMode::Single {
             "SINGLE BLOCK: a channel stops after each block; START runs the next"
         } else if any(&["STOP"]) {
             "STOP: a program stop; START goes on"
@@ -335,9 +340,14 @@ impl LatheConsole {
         self.msg_life = (life, self.now_ns);
     }
 
-    /// The mode: AUTO, MDI, DATA or OFS.
-    pub fn mode(&self) -> Mode {
+    /// The operation selector's position.
+    pub fn mode(&self) -> OpMode {
         self.mode
+    }
+
+    /// Whether the OFS page is up.
+    pub fn ofs_page(&self) -> bool {
+        self.ofs
     }
 
     /// The feed override, percent.
@@ -441,10 +451,17 @@ impl LatheConsole {
             return;
         }
         match act {
+            LatheKey::Ev(PanelEvent::OfsMode) if self.ofs => {
+                // The page key again: back to the mode's display (the centre's rule).
+                self.record_event(&PanelEvent::Press(k));
+                self.ofs = false;
+                self.message = format!("{} mode", self.mode.word());
+                self.after();
+            }
             LatheKey::Ev(e) => self.handle(e),
             LatheKey::Move(axis, dir) => match self.mode {
-                Mode::Continuous => self.hold_jog(k, axis, dir),
-                Mode::Handle => self.handle(PanelEvent::Wheel(axis, i32::from(dir))),
+                OpMode::Continuous => self.hold_jog(k, axis, dir),
+                OpMode::Handle => self.handle(PanelEvent::Wheel(axis, i32::from(dir))),
                 _ => self.handle(PanelEvent::Jog(axis, dir)),
             },
             LatheKey::Wheel(n) => self.handle(PanelEvent::Wheel(self.wheel_axis, n)),
@@ -522,13 +539,7 @@ impl LatheConsole {
             return self.after();
         }
         match ev {
-            PanelEvent::Op(OpMode::Continuous) => self.turn(Mode::Continuous),
-            PanelEvent::Op(OpMode::Auto) => self.turn(Mode::Auto),
-            PanelEvent::Op(OpMode::Mdi) => self.turn(Mode::Mdi),
-            PanelEvent::Op(OpMode::Handle) => self.turn(Mode::Handle),
-            PanelEvent::Op(OpMode::Step) => self.turn(Mode::Step),
-            PanelEvent::Op(OpMode::Single) => self.turn(Mode::Single),
-            PanelEvent::Op(_) => self.turn(Mode::Data),
+            PanelEvent::Op(m) => self.turn(m),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
             PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
             PanelEvent::JogRelease => {
@@ -536,7 +547,15 @@ impl LatheConsole {
                 self.message = "jog released".into();
             }
             PanelEvent::WheelScale(n) => self.set_increment(n),
-            PanelEvent::OfsMode => self.turn(Mode::Ofs),
+            PanelEvent::OfsMode => {
+                self.ofs = true;
+                self.y_output = None;
+                self.entry.clear();
+                self.message = format!(
+                    "OFS: CH{}'s tools; type T1 X.. Z.. R.. P.., Enter (a mode key leaves)",
+                    self.sel + 1
+                );
+            }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => self.message = format!("there is no channel {}", c + 1),
             PanelEvent::Key(c) => {
@@ -615,13 +634,15 @@ impl LatheConsole {
         self.after();
     }
 
-    fn turn(&mut self, m: Mode) {
+    fn turn(&mut self, m: OpMode) {
+        // A selector turned leaves a page (the centre's rule).
+        self.ofs = false;
         if m != self.mode {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_jog();
         }
         if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
-            if m == Mode::Single && self.mode != Mode::Single {
+            if m == OpMode::Single && self.mode != OpMode::Single {
                 // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
                 // until START. Turned off, the blocks started in SINGLE BLOCK still end and
                 // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
@@ -723,7 +744,7 @@ impl LatheConsole {
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
                 if !c.mdi {
-                    c.set_single_block(self.mode == Mode::Single);
+                    c.set_single_block(self.mode == OpMode::Single);
                 }
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
@@ -733,10 +754,10 @@ impl LatheConsole {
             }
         }
         match self.mode {
-            m @ (Mode::Data | Mode::Ofs | Mode::Continuous | Mode::Handle | Mode::Step) => {
+            m @ (OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step) => {
                 self.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
             }
-            Mode::Auto | Mode::Single => {
+            OpMode::Auto | OpMode::Single => {
                 if self
                     .counter
                     .counts
@@ -757,7 +778,7 @@ impl LatheConsole {
                     .collect();
                 self.begin(texts, false);
             }
-            Mode::Mdi => {
+            OpMode::Mdi => {
                 if self.mdi[self.sel].is_empty() {
                     self.message = "MDI: the buffer is empty; type lines, then START".into();
                     return;
@@ -806,7 +827,7 @@ impl LatheConsole {
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
-            single_block: !mdi && self.mode == Mode::Single,
+            single_block: !mdi && self.mode == OpMode::Single,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
@@ -1109,7 +1130,7 @@ impl LatheConsole {
         let listing = self.listing(c.line);
         let mode = format!(
             "{}{}{}{}",
-            self.mode.word(),
+            if self.ofs { "OFS" } else { self.mode.word() },
             if self.feed_override != 100 {
                 format!(" F{}%", self.feed_override)
             } else {

@@ -159,7 +159,9 @@ impl Lathe {
                         self.layout.pitch = pitch;
                     });
                     ui.add_space(8.0);
-                    ui.vertical(|ui| panel::relay(ui, &v, c.mode(), c.switches(), out));
+                    ui.vertical(|ui| {
+                        panel::relay(ui, &v, (c.mode(), c.ofs_page()), c.switches(), out)
+                    });
                     ui.add_space(8.0);
                     ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));
                     ui.add_space(8.0);

@@ -5,11 +5,10 @@
 //! `LatheView` and hands the operator's action back as an [`Act`]; the console decides.
 
 use super::plot::{self, Trail};
-use crate::lathe::console::events::Mode;
 use crate::lathe::console::view::ChanView;
 use crate::lathe::console::LatheView;
 use crate::lathe::desc::LatheDesc;
-use crate::panel_model::PanelEvent;
+use crate::panel_model::{OpMode, PanelEvent};
 use crate::window::controls::{self, HandState};
 use egui::{vec2, Color32, Rect, RichText, Sense, Stroke, StrokeKind, Ui};
 use novanc_panel::Key;
@@ -213,7 +212,13 @@ fn lamps(v: &LatheView) -> [bool; 4] {
 }
 
 /// The relay buttons, the channel and mode selectors, FAULT, TARGET and the switches.
-pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out: &mut Vec<Act>) {
+pub fn relay(
+    ui: &mut Ui,
+    v: &LatheView,
+    (mode, ofs): (OpMode, bool),
+    switches: (bool, bool),
+    out: &mut Vec<Act>,
+) {
     out.extend(controls::relay_buttons(ui, lamps(v)).and_then(lathe_ev));
     let key = |ui: &mut Ui, label: &str, lit: bool, w: f32| {
         let fill = if lit {
@@ -239,31 +244,42 @@ pub fn relay(ui: &mut Ui, v: &LatheView, mode: Mode, switches: (bool, bool), out
             }
         }
     });
-    let modes = [
-        (Mode::Continuous, "CONT", "Alt+1"),
-        (Mode::Auto, "AUTO", "Alt+2"),
-        (Mode::Mdi, "MDI", "Alt+3"),
-        (Mode::Data, "DATA", "Alt+4"),
-        (Mode::Single, "SINGLE", "Alt+7"),
-        (Mode::Handle, "HANDLE", "Alt+5"),
-        (Mode::Step, "STEP", "Alt+6"),
-        (Mode::Ofs, "OFS", "Ctrl+O"),
+    // The operation selector's positions (the centre's) in two rows, the manual ones below,
+    // and the OFS page key beside them (lit while the page is up).
+    let rows: [&[(OpMode, &str, &str)]; 2] = [
+        &[
+            (OpMode::Auto, "AUTO", "Alt+2"),
+            (OpMode::Mdi, "MDI", "Alt+3"),
+            (OpMode::Data, "DATA", "Alt+4"),
+            (OpMode::Single, "SINGLE", "Alt+7"),
+        ],
+        &[
+            (OpMode::Continuous, "CONT", "Alt+1"),
+            (OpMode::Handle, "HANDLE", "Alt+5"),
+            (OpMode::Step, "STEP", "Alt+6"),
+        ],
     ];
-    // The operation selector's positions in two rows, the manual ones below.
-    for (row, legend) in [(&modes[1..5], "MODE   "), (&modes[5..], "       ")] {
+    for (i, row) in rows.iter().enumerate() {
         ui.horizontal(|ui| {
-            ui.label(mono(legend, 12.0, controls::LEGEND));
-            let row = if legend.trim().is_empty() {
-                [&modes[..1], row].concat()
-            } else {
-                row.to_vec()
-            };
-            for (m, label, k) in row {
-                let r =
-                    key(ui, label, m == mode, 52.0).on_hover_text(format!("{} ({k})", m.word()));
-                if r.clicked() && m != mode {
-                    out.push(Act::Ev(m.event()));
+            ui.label(mono(
+                if i == 0 { "MODE   " } else { "       " },
+                12.0,
+                controls::LEGEND,
+            ));
+            for &(m, label, k) in row.iter() {
+                let r = key(ui, label, m == mode, 52.0)
+                    .on_hover_text(format!("{} ({k})", m.name()));
+                if r.clicked() && (m != mode || ofs) {
+                    out.push(Act::Ev(PanelEvent::Op(m)));
                 }
+            }
+            if i == 1
+                && key(ui, "OFS", ofs, 52.0)
+                    .on_hover_text("the tool offsets page (Ctrl+O)")
+                    .clicked()
+                && !ofs
+            {
+                out.push(Act::Ev(PanelEvent::OfsMode));
             }
         });
     }
@@ -318,14 +334,14 @@ fn lathe_ev(e: PanelEvent) -> Option<Act> {
 
 /// The manual controls, the centre's on the lathe's axes: the jog buttons (X up and down, Z
 /// along the spindle), the handwheel, its axis and the increment.
-pub fn manual(ui: &mut Ui, mode: Mode, increment: u32, hand: &mut HandState, out: &mut Vec<Act>) {
+pub fn manual(ui: &mut Ui, mode: OpMode, increment: u32, hand: &mut HandState, out: &mut Vec<Act>) {
     let axes = [crate::panel_model::Axis::X, crate::panel_model::Axis::Z];
     let mut evs = Vec::new();
     ui.label(mono("JOG", 12.0, controls::LEGEND));
     controls::jog_buttons(
         ui,
         &axes,
-        mode == Mode::Continuous,
+        mode == OpMode::Continuous,
         crate::lathe::console::events::jog_key,
         hand,
         &mut evs,
