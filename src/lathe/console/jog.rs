@@ -29,7 +29,7 @@ struct Ready {
 
 impl LatheConsole {
     /// A jog event (`PanelEvent::Jog`, recorded as `jog X+`): in STEP one increment of the
-    /// selected channel's X or Z; in CONTINUOUS the axis jogs until `jogrelease` (a held key:
+    /// selected channel's X or Z; in CONTINUOUS the axis jogs until released (a held key:
     /// until it is let go) or its travel limit; refused, with the reason, in another mode, in
     /// E-STOP, with a cycle under way, or past the travel. Nothing else moves.
     pub(super) fn jog(&mut self, axis: Axis, dir: i8) {
@@ -123,7 +123,7 @@ impl LatheConsole {
         }
     }
 
-    /// Lets a continuous jog go (`jogrelease`, a key let go, a mode or channel turned): the
+    /// Lets a continuous jog go (`JogRelease`, a key let go, a mode or channel turned): the
     /// axis decelerates to rest.
     pub(super) fn release_jog(&mut self) {
         self.jog_key.clear();
