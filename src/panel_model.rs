@@ -596,6 +596,23 @@ impl PanelEvent {
                 }
                 _ => return Err("'wheel' takes an axis and a number of detents".into()),
             },
+            // A jog button pressed (CONTINUOUS: the axis jogs until `jogrelease`; STEP: one
+            // increment), as the recording names it.
+            "jog" => {
+                let a = one("axis and direction (jog X+, jog Z-)")?;
+                let bad = || format!("jog '{a}': an axis and + or - (jog X+, jog Z-)");
+                let dir = match a.chars().last() {
+                    Some('+') => 1,
+                    Some('-') => -1,
+                    _ => return Err(bad()),
+                };
+                let axis = Axis::from_word(&a[..a.len() - 1]).ok_or_else(bad)?;
+                PanelEvent::Jog(axis, dir)
+            }
+            "jogrelease" => none().map(|_| PanelEvent::JogRelease)?,
+            // The data keys RUBOUT and EOB as the window's buttons give them.
+            "rubout" => none().map(|_| PanelEvent::Rubout)?,
+            "eob" => none().map(|_| PanelEvent::Eob)?,
             "wheelscale" => {
                 let a = one("increment")?;
                 let n: u32 = a

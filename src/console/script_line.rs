@@ -86,3 +86,75 @@ fn on_off(on: bool) -> &'static str {
         "off"
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::panel_model::{Axis, DataMode, OpMode};
+
+    /// Every event the consoles record reads back as itself: a recording's `/panel/event`
+    /// lines are a script (a data key reads back as the key that types it).
+    #[test]
+    fn every_recorded_event_reads_back_as_a_script_line() {
+        let evs = [
+            PanelEvent::Op(OpMode::Handle),
+            PanelEvent::Data(DataMode::Revise),
+            PanelEvent::Type("G0 X10".into()),
+            PanelEvent::Rubout,
+            PanelEvent::Eob,
+            PanelEvent::Tape("/tmp/t.tape".into()),
+            PanelEvent::Start,
+            PanelEvent::Stop,
+            PanelEvent::Home,
+            PanelEvent::Reset,
+            PanelEvent::EStop,
+            PanelEvent::Override(70),
+            PanelEvent::RapidOverride(25),
+            PanelEvent::SpindleOverride(110),
+            PanelEvent::DryRun(true),
+            PanelEvent::MachineLock(false),
+            PanelEvent::ZNeglect(true),
+            PanelEvent::Wheel(Axis::Z, -3),
+            PanelEvent::WheelScale(100),
+            PanelEvent::BlockDelete(true),
+            PanelEvent::OptionalStop(false),
+            PanelEvent::Jog(Axis::X, 1),
+            PanelEvent::Jog(Axis::Z, -1),
+            PanelEvent::JogRelease,
+            PanelEvent::Press(Key::Alt('5')),
+            PanelEvent::Wait,
+            PanelEvent::WaitBlock(12),
+            PanelEvent::WaitMs(250),
+            PanelEvent::Show,
+            PanelEvent::Channel(1),
+            PanelEvent::Fault(2, "tool breakage".into()),
+            PanelEvent::Target(5),
+            PanelEvent::OfsMode,
+            PanelEvent::Input {
+                digital: true,
+                index: 3,
+                value: 1.0,
+            },
+            PanelEvent::Input {
+                digital: false,
+                index: 2,
+                value: 4.5,
+            },
+        ];
+        for ev in evs {
+            let line = script_line(&ev);
+            assert_eq!(
+                PanelEvent::parse_script_line_on(&line, 3),
+                Ok(Some(ev.clone())),
+                "{line}"
+            );
+        }
+        assert_eq!(
+            PanelEvent::parse_script_line(&script_line(&PanelEvent::Key('G'))),
+            Ok(Some(PanelEvent::Press(Key::Char('G'))))
+        );
+        for bad in ["jog X", "jog +", "jog Q+", "jog X+ Z+", "jogrelease now"] {
+            assert!(PanelEvent::parse_script_line(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -267,8 +267,8 @@ pub fn relay(
                 controls::LEGEND,
             ));
             for &(m, label, k) in row.iter() {
-                let r = key(ui, label, m == mode, 52.0)
-                    .on_hover_text(format!("{} ({k})", m.name()));
+                let r =
+                    key(ui, label, m == mode, 52.0).on_hover_text(format!("{} ({k})", m.name()));
                 if r.clicked() && (m != mode || ofs) {
                     out.push(Act::Ev(PanelEvent::Op(m)));
                 }
