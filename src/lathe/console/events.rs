@@ -210,6 +210,14 @@ mod tests {
             parse_line("op HANDLE", 3),
             Ok(Some(PanelEvent::Op(OpMode::Handle)))
         );
+        assert_eq!(
+            parse_line("jog Z-", 3),
+            Ok(Some(PanelEvent::Jog(Axis::Z, -1)))
+        );
+        assert_eq!(
+            parse_line("jog Y+", 3),
+            Err("jog Y+: the lathe's axes are X and Z".into())
+        );
         assert!(parse_line("home", 3)
             .unwrap_err()
             .contains("machining centre's"));
