@@ -163,3 +163,61 @@ fn the_ofs_page_stands_over_a_running_cycle() {
     assert!(over(&c), "the cycle ran on to its target");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// CH1's tool post where block `seq` of its program starts, the `nth` time (1: part 1).
+fn at_block(c: &mut LatheConsole, seq: u32, nth: usize) -> [i64; 2] {
+    let mut seen = 0;
+    for _ in 0..10_000 {
+        if c.step(20_000_000, novanc::lathe::console::RunUntil::Block(0, seq)) {
+            seen += 1;
+            if seen == nth {
+                return c.tips()[0].0;
+            }
+            // On past the block's start.
+            c.step(1_000_000, novanc::lathe::console::RunUntil::Time);
+        }
+    }
+    panic!("block {seq} did not start {nth} times: {}", c.frame_text());
+}
+
+/// A wear offset revised on the OFS page while a batch runs takes effect from the channel's
+/// next part, as a real lathe takes it at the next T call: the part under way is cut as it
+/// was read, the next with the revised offset; the batch does not stop.
+#[test]
+fn a_wear_offset_revised_mid_batch_takes_effect_at_the_next_part() {
+    // CH1: T0303, then `G0 X22 Z0.5` (line 11): where its 6th block (line 12, `G1 X-1`)
+    // starts, T3's tip stands at X22 Z0.5.
+    let plain = {
+        let dir = common::temp_dir("lathe-wear-plain");
+        let mut c = open(&dir);
+        c.handle(PanelEvent::Target(2));
+        c.handle(PanelEvent::Start);
+        let p = [at_block(&mut c, 6, 1), at_block(&mut c, 6, 1)];
+        let _ = std::fs::remove_dir_all(&dir);
+        p
+    };
+    let dir = common::temp_dir("lathe-wear");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(2));
+    c.handle(PanelEvent::Start);
+    let first = at_block(&mut c, 6, 1);
+    assert_eq!(first, plain[0]);
+    assert_eq!(plain, [[11_000, 500]; 2], "the same place in both parts");
+    // Part 1 is under way: T3's X wear offset +0.1 mm on the diameter.
+    c.handle(PanelEvent::OfsMode);
+    c.handle(PanelEvent::Type("T3 X0.1".into()));
+    assert_eq!(c.message(), "T03 revised: CH1 takes it from its next part");
+    let second = at_block(&mut c, 6, 1);
+    // 0.1 mm on the diameter is 0.05 mm, 50 pulses, on the radius; Z as it was.
+    assert_eq!(
+        (second[0] - plain[1][0]).abs(),
+        50,
+        "{second:?} against {:?}",
+        plain[1]
+    );
+    assert_eq!(second[1], plain[1][1]);
+    c.handle(PanelEvent::Wait);
+    assert!(over(&c), "the batch ran to its target: {}", c.frame_text());
+    assert_eq!(c.counter().counts, vec![2, 2, 2]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -47,9 +47,20 @@ struct Channel {
     totalled_run: u64,
     /// What it was last reported waiting on at its sync point (a `Wait` event).
     waiting: Option<WaitOn>,
+    /// Its program from its next run on (read again with revised tool offsets): taken at the
+    /// next part or RESET, never inside a run.
+    next_src: Option<VecSource>,
 }
 
 impl Channel {
+    /// Its program from the start: the one read again for it, if any, else the same.
+    fn restart_program(&mut self) {
+        match self.next_src.take() {
+            Some(s) => self.src = s,
+            None => self.src.rewind(),
+        }
+    }
+
     /// Its machine begins a new run (a new part, a START after RESET): the counts of the run
     /// that ends are added to the totals first.
     fn begin_run(&mut self) {
@@ -488,6 +499,7 @@ impl Kernel {
                     pulses_before: [0; 3],
                     totalled_run: 0,
                     waiting: None,
+                    next_src: None,
                 }
             })
             .collect();
@@ -791,7 +803,7 @@ impl Kernel {
                 continue;
             }
             c.m.command(Command::Reset);
-            c.src.rewind();
+            c.restart_program();
             c.at_point = None;
             c.counted = false;
             c.waiting = None;
@@ -840,6 +852,25 @@ impl Kernel {
             reason: reason.to_string(),
         });
         self.flush();
+        Ok(())
+    }
+
+    /// Channel `ch` runs `prog` from its next run on (its next part, or a RESET): the same
+    /// program read again, with its tools revised. Refused unless its waiting codes and
+    /// chuck codes are those of the program it replaces, in the same order: the sync table
+    /// was made for them.
+    pub fn replace_program(&mut self, ch: usize, prog: Vec<Statement>) -> Result<(), String> {
+        let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        let syncs =
+            |src: &VecSource| -> Vec<Sync> { src.blocks().filter_map(|b| b.sync).collect() };
+        let next = VecSource::from_statements(prog.into_iter().map(Ok));
+        if syncs(&next) != syncs(&c.src) {
+            return Err(format!(
+                "CH{}: the program read again has other waiting or chuck codes",
+                ch + 1
+            ));
+        }
+        c.next_src = Some(next);
         Ok(())
     }
 
@@ -978,7 +1009,7 @@ impl Kernel {
         }
         self.note_sync(now, i..i + 1);
         let c = &mut self.chans[i];
-        c.src.rewind();
+        c.restart_program();
         c.begin_run();
         true
     }

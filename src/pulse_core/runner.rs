@@ -74,6 +74,8 @@ enum Msg {
     Fault(usize, String),
     /// A kernel's part target.
     Target(u32),
+    /// A kernel channel's program from its next run on.
+    Program(usize, Vec<crate::block::Statement>),
     /// A look at the kernel from its thread, between two ticks.
     Inspect(KernelLook),
     Capture(bool),
@@ -392,6 +394,16 @@ impl PulseCore {
         rx.recv_timeout(APPLY_PATIENCE).ok()
     }
 
+    /// Channel `ch` of a kernel runs `prog` from its next run on (`Kernel::replace_program`).
+    pub fn replace_program(
+        &self,
+        ch: usize,
+        prog: Vec<crate::block::Statement>,
+    ) -> Result<(), String> {
+        self.send_sync(Msg::Program(ch, prog));
+        lock(&self.shared.refusal).take().map_or(Ok(()), Err)
+    }
+
     /// Sets a kernel's part target (refused below the works already supplied, or once a
     /// channel has finished).
     pub fn set_target(&self, n: u32) -> Result<(), String> {
@@ -686,6 +698,15 @@ impl Runner {
             }
             Msg::Inspect(f) => {
                 f(self.k.as_deref());
+                self.applied += 1;
+                return;
+            }
+            Msg::Program(ch, prog) => {
+                let r = match &mut self.k {
+                    Some(k) => k.replace_program(ch, prog),
+                    None => Err("a program is replaced on a kernel's channel".into()),
+                };
+                *lock(&self.shared.refusal) = r.err();
                 self.applied += 1;
                 return;
             }

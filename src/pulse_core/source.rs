@@ -90,6 +90,14 @@ impl VecSource {
         self.len() == 0
     }
 
+    /// Every block it holds, from the first.
+    pub fn blocks(&self) -> impl Iterator<Item = &crate::block::Block> {
+        self.q.iter().filter_map(|f| match f {
+            Fetch::Block(e) => e.stmt.blocks.get(e.index),
+            _ => None,
+        })
+    }
+
     /// Back to the first block: the program is read again from its start.
     pub fn rewind(&mut self) {
         self.at = 0;

@@ -52,8 +52,9 @@ impl LatheConsole {
     }
 
     /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
-    /// diameter, Z offset, nose radius, tip position; any of them), stored at once; the
-    /// programs read it from the next START of a cycle.
+    /// diameter, Z offset, nose radius, tip position; any of them), stored at once; a batch
+    /// under way takes it from the channel's next part (`Cycle::reread`), else the programs
+    /// read it from the next START.
     fn revise_tool(&mut self, line: &str) {
         if line.trim().is_empty() {
             return;
@@ -70,8 +71,17 @@ impl LatheConsole {
                     self.entry = line.to_string();
                 }
                 Ok(()) => {
+                    // A cycle under way takes it from the channel's next part, as a real
+                    // lathe takes a wear offset at the next T call.
+                    let running = self.cycle.as_mut().filter(|c| !c.is_over() && !c.mdi);
+                    self.message = match running.map(|c| c.reread(ch, &tools)) {
+                        Some(Ok(())) => {
+                            format!("T{t:02} revised: CH{} takes it from its next part", ch + 1)
+                        }
+                        Some(Err(e)) => format!("T{t:02} revised: from the next START ({e})"),
+                        None => format!("T{t:02} revised: from the next START"),
+                    };
                     self.desc.channels[ch].tools = tools;
-                    self.message = format!("T{t:02} revised: from the next START");
                 }
             },
         }

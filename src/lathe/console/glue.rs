@@ -64,6 +64,22 @@ pub struct Cycle {
     msg_at: Vec<(usize, u32)>,
     /// The messages shown since the console last took them: channel and text.
     said: Vec<(usize, String)>,
+    /// What each channel's program was read from, to read it again with revised tools
+    /// ([`Cycle::reread`]); None for a channel with no program of the cycle.
+    reread: Vec<Option<Reread>>,
+    /// How the programs were read, and the machine they were read for.
+    opts: ReadOptions,
+    desc: LatheDesc,
+}
+
+/// A channel's program as the cycle read it: its name and text, the state and place its read
+/// began from.
+#[derive(Clone, Debug)]
+struct Reread {
+    name: String,
+    text: String,
+    from: Kept,
+    at: Option<[i64; 2]>,
 }
 
 /// A kernel ready to start, each program's source lines, each program's first line, each
@@ -74,6 +90,7 @@ type MadeKernel = (
     Vec<u32>,
     Vec<Option<Kept>>,
     Vec<Vec<(u32, String)>>,
+    Vec<Option<Reread>>,
 );
 
 /// What describes a cycle to start ([`Cycle::new`]), built once by whoever starts it (the
@@ -142,6 +159,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
     let mut lines = Vec::new();
     let mut after = Vec::new();
     let mut msgs = Vec::new();
+    let mut rereads = Vec::new();
     for (ch, (name, text)) in spec.texts.iter().enumerate() {
         if spec.mdi.is_some_and(|only| ch != only) {
             // The other channels stand still with no program during an MDI run.
@@ -149,6 +167,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             lines.push(Vec::new());
             after.push(None);
             msgs.push(Vec::new());
+            rereads.push(None);
             continue;
         }
         // Each channel reads from the state its last program or MDI left (docs/lathe-gcode.md
@@ -173,6 +192,12 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             spec.pos.get(ch).copied(),
         )
         .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
+        rereads.push((spec.mdi.is_none() && !spec.manual).then(|| Reread {
+            name: name.clone(),
+            text: text.clone(),
+            from,
+            at: spec.pos.get(ch).copied(),
+        }));
         let p = r.statements;
         if spec.mdi.is_none() && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
@@ -226,7 +251,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             m.preset_spindle(l.dir, l.s_rpm, css, l.actual_rpm, l.coolant);
         }
     }
-    Ok((k, lines, first, after, msgs))
+    Ok((k, lines, first, after, msgs, rereads))
 }
 
 /// What a recording of `desc` says before its first message (docs/recording.md,
@@ -269,7 +294,8 @@ impl Cycle {
     /// names the channel, the program and the line, and nothing is started (`kept` is as it
     /// was).
     pub fn new(desc: &LatheDesc, spec: CycleSpec, kept: &mut [Kept]) -> Result<Cycle, String> {
-        let (mut k, lines, first, after, msgs) = make_kernel(desc, &spec, kept)?;
+        let (mut k, lines, first, after, msgs, reread) = make_kernel(desc, &spec, kept)?;
+        let opts = spec.opts;
         // One time base for the console's cycles (and its recording): the kernel's clock goes
         // on from the console's machine time.
         k.set_clock(spec.started_ns)?;
@@ -306,6 +332,9 @@ impl Cycle {
             msgs,
             msg_at: vec![(0, 0); n],
             said: Vec::new(),
+            reread,
+            opts,
+            desc: desc.clone(),
         };
         c.refresh();
         Ok(c)
@@ -534,6 +563,30 @@ impl Cycle {
     pub fn estop(&mut self) {
         let _ = self.core.channel_command(None, Command::EStop);
         self.refresh();
+    }
+
+    /// Channel `ch`'s program read again with its tools now `tools` (revised on the OFS page),
+    /// from the state and place its read in this cycle began from: the channel runs it from
+    /// its next part (or RESET), never inside the part it is in. Refused for a channel with no
+    /// program of the cycle (MDI, manual moves), a read that fails (a revised offset that
+    /// takes the tool past its travel), or other waiting codes; the cycle then runs on as read.
+    pub fn reread(
+        &mut self,
+        ch: usize,
+        tools: &[crate::lathe::desc::ToolDesc],
+    ) -> Result<(), String> {
+        let r = self
+            .reread
+            .get(ch)
+            .and_then(Option::as_ref)
+            .ok_or("no program of a cycle runs on this channel")?;
+        let mut desc = self.desc.clone();
+        desc.channels.get_mut(ch).ok_or("no such channel")?.tools = tools.to_vec();
+        let read = read_kept(&r.text, &desc, ch, &self.opts, None, &r.from, r.at)
+            .map_err(|e| format!("{}:{e}", r.name))?;
+        self.core.replace_program(ch, read.statements)?;
+        self.desc = desc;
+        Ok(())
     }
 
     /// SINGLE BLOCK on or off for every channel: on, each stops after the block it is in.
