@@ -118,14 +118,29 @@ impl LatheConsole {
             self.cycle.as_mut(),
         ) {
             // A jog held by a front end's button (the window's): each frame keeps it alive,
-            // so a front end that stops drawing lets the kernel stop it.
-            let _ = c.manual(ch, Command::JogAlive(crate::console::deadman_ms()));
+            // so a front end that stops drawing lets the kernel stop it. A jog that has come
+            // to rest (its travel limit, the deadman) is not told every frame after.
+            if c.channels().get(ch).is_some_and(|s| s.status.moving) {
+                let _ = c.manual(ch, Command::JogAlive(crate::console::deadman_ms()));
+            }
         }
     }
 
-    /// Lets a continuous jog go (`JogRelease`, a key let go, a mode or channel turned): the
-    /// axis decelerates to rest.
+    /// Lets a continuous jog go (`JogRelease`, a key let go): the axis decelerates to rest.
     pub(super) fn release_jog(&mut self) {
+        self.release_jog_if(true);
+    }
+
+    /// A mode or channel turned lets a jog go, when one was begun or a key is held (the
+    /// centre's rule: the kernel is not told when nothing jogs).
+    pub(super) fn release_any_jog(&mut self) {
+        self.release_jog_if(self.jogging.is_some() || !self.jog_key.is_none());
+    }
+
+    fn release_jog_if(&mut self, tell: bool) {
+        if !tell {
+            return;
+        }
         self.jog_key.clear();
         // Always told (to the selected channel when none is known to jog): a jog the console
         // lost track of must still stop.

@@ -639,7 +639,7 @@ impl LatheConsole {
         self.ofs = false;
         if m != self.mode {
             // A mode turned lets a continuous jog go (the centre's rule).
-            self.release_jog();
+            self.release_any_jog();
         }
         if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
             if m == OpMode::Single && self.mode != OpMode::Single {
@@ -694,7 +694,7 @@ impl LatheConsole {
     fn select(&mut self, c: usize) {
         if c != self.sel {
             // The channel selector turned lets the last channel's jog go.
-            self.release_jog();
+            self.release_any_jog();
         }
         self.sel = c;
         self.y_output = None;
