@@ -16,6 +16,13 @@ fn open(state: &std::path::Path) -> LatheConsole {
         .0
 }
 
+/// Turns the selector with `k` and finds the mode's word ending the display's first line.
+fn turn_to(c: &mut LatheConsole, k: Key, word: &str) {
+    c.press(k);
+    let top = c.view().display[0].clone();
+    assert!(top.trim_end().ends_with(word), "{top:?}");
+}
+
 /// Every channel's tool post, pulses [X radius, Z].
 fn posts(c: &LatheConsole) -> Vec<[i64; 2]> {
     c.tips().into_iter().map(|t| t.0).collect()
@@ -102,9 +109,7 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
 fn the_step_mode_and_its_keys_are_on_the_screen() {
     let dir = common::temp_dir("lathe-step-screen");
     let mut c = open(&dir);
-    c.press(Key::Alt('6'));
-    let v = c.view();
-    assert!(v.display[0].trim_end().ends_with("STEP"), "{:?}", v.display);
+    turn_to(&mut c, Key::Alt('6'), "STEP");
     assert!(novanc::lathe::console::view::LATHE_KEYS
         .iter()
         .any(|l| l.contains("Alt+6 STEP")));
@@ -156,12 +161,7 @@ fn handle_moves_an_increment_a_detent_on_the_wheels_axis() {
         .message()
         .contains("turn the operation selector to HANDLE"));
     assert_eq!(posts(&c), home);
-    c.press(Key::Alt('5'));
-    assert!(
-        c.view().display[0].trim_end().ends_with("HANDLE"),
-        "{:?}",
-        c.view().display[0]
-    );
+    turn_to(&mut c, Key::Alt('5'), "HANDLE");
     c.handle(PanelEvent::WheelScale(10));
     // A jog key is a detent on its axis: Down is X- (a radius).
     c.press(Key::Down);
@@ -191,12 +191,7 @@ fn continuous_jogs_until_released_and_the_screen_says_so() {
     let dir = common::temp_dir("lathe-continuous");
     let mut c = open(&dir);
     let home = posts(&c);
-    c.press(Key::Alt('1'));
-    assert!(
-        c.view().display[0].trim_end().ends_with("CONTINUOUS"),
-        "{:?}",
-        c.view().display[0]
-    );
+    turn_to(&mut c, Key::Alt('1'), "CONTINUOUS");
     c.handle(PanelEvent::WheelScale(100));
     // A key in virtual time (a script's `key Left`) is a tap.
     c.press(Key::Left);
