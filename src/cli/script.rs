@@ -107,11 +107,7 @@ pub fn main(argv: &[String]) -> i32 {
     };
     // The one grammar, checked whole before anything opens; a lathe refuses the centre's own
     // words (and the centre a lathe's) with the line.
-    let events = match &lathe {
-        Some(d) => crate::lathe::console::events::parse_script(&text, d.channels.len()),
-        None => PanelEvent::parse_script(&text).map_err(|e| (e.line as usize, e.message)),
-    };
-    let events = match events {
+    let events = match crate::console::Panel::read_script(lathe.as_ref(), &text) {
         Ok(ev) => ev,
         Err((line, e)) => {
             eprintln!("novanc script: {}:{line}: {e}", file.display());

@@ -38,6 +38,20 @@ impl Panel {
         }
     }
 
+    /// Reads a whole panel script for the machine (`lathe`: a lathe's description; None: the
+    /// machining centre) with the one grammar, checked whole before anything opens: a lathe
+    /// refuses the centre's own words, and the centre a lathe's. A bad line gives its number
+    /// (1-based) and why, and nothing is returned.
+    pub fn read_script(
+        lathe: Option<&LatheDesc>,
+        text: &str,
+    ) -> Result<Vec<PanelEvent>, (usize, String)> {
+        match lathe {
+            Some(d) => crate::lathe::console::events::parse_script(text, d.channels.len()),
+            None => PanelEvent::parse_script(text).map_err(|e| (e.line as usize, e.message)),
+        }
+    }
+
     /// A key of the panel.
     pub fn press(&mut self, k: Key) {
         match self {

@@ -3,7 +3,7 @@
 //! keys, readout, backplot and velocity strip, and hands the operator's actions back as
 //! `PanelEvent`s. The one application (`app::App`) drives it as a [`Front`].
 
-use super::app::{Front, Step, Wait};
+use super::app::{Front, Wait};
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::plot::PlotState;
@@ -25,40 +25,6 @@ struct Layout {
     /// The velocity strip, when shown.
     velocity: Option<Rect>,
     tape: Option<StripLayout>,
-}
-
-/// The centre's panel script (docs/cli.md) as the window plays it.
-pub fn read_script(text: &str) -> Result<Vec<Step<PanelEvent>>, (usize, String)> {
-    let evs = PanelEvent::parse_script(text).map_err(|e| (e.line as usize, e.message))?;
-    Ok(super::app::script_steps(evs))
-}
-
-/// Opens the centre's console configured by `cfg`, and the MTConnect adapter if `mtc` asks
-/// (the state published once); with the window's title. A failure is said; its exit code
-/// comes back.
-pub fn open(
-    cfg: crate::console::ConsoleConfig,
-    mtc: &crate::mtconnect::feed::MtcOpts,
-) -> Result<(Centre, Option<Feed>, String), i32> {
-    let fail = |e: String| {
-        eprintln!("novanc: {e}");
-        1
-    };
-    let (console, warnings) = Console::open(cfg).map_err(fail)?;
-    for w in warnings {
-        eprintln!("novanc: {w}");
-    }
-    let mut feed = match Feed::start(mtc, "novanc", console.core()) {
-        Ok(f) => f,
-        Err(e) => {
-            let _ = console.finish();
-            return Err(fail(e));
-        }
-    };
-    if let Some(f) = feed.as_mut() {
-        f.publish(&console);
-    }
-    Ok((Centre::new(console), feed, "novanc — NC panel".into()))
 }
 
 /// The machining centre's console in the window.

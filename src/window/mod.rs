@@ -20,7 +20,9 @@ mod shot;
 mod tapestrip;
 mod velocity;
 
-use app::{App, Drive, Front, Step};
+use crate::console::Panel;
+use crate::panel_model::PanelEvent;
+use app::{App, Drive, Front};
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -131,12 +133,13 @@ const NO_WINDOW_HINT: &str =
     "run the terminal panel instead: novanc (without --window), or a headless panel session: novanc script FILE";
 
 /// Before the window opens: with no display named, says why the window cannot open and
-/// returns exit code 1; else the script (`--script`), if any, read by `parse` (a file that
-/// cannot be read, or a bad line, is said with its place, exit 1).
-fn before_opening<E>(
+/// returns exit code 1; else the script (`--script`), if any, read with the machine's grammar
+/// (`Panel::read_script`; a file that cannot be read, or a bad line, is said with its place,
+/// exit 1).
+fn before_opening(
     opts: &WindowOptions,
-    parse: impl FnOnce(&str) -> Result<Vec<Step<E>>, (usize, String)>,
-) -> Result<Drive<E>, i32> {
+    lathe: Option<&crate::lathe::desc::LatheDesc>,
+) -> Result<Drive<PanelEvent>, i32> {
     if !display_named() {
         eprintln!(
             "novanc: the window cannot open: no display (neither DISPLAY nor WAYLAND_DISPLAY is set).\n\
@@ -156,12 +159,11 @@ fn before_opening<E>(
         eprintln!("novanc: cannot read script {path}: {e}");
         1
     })?;
-    drive.script = parse(&text)
-        .map_err(|(line, e)| {
-            eprintln!("novanc: {path}:{line}: {e}");
-            1
-        })?
-        .into();
+    let events = Panel::read_script(lathe, &text).map_err(|(line, e)| {
+        eprintln!("novanc: {path}:{line}: {e}");
+        1
+    })?;
+    drive.script = app::script_steps(events).into();
     drive.scripted = true;
     Ok(drive)
 }
@@ -181,46 +183,69 @@ fn schedule_repaint(ctx: &egui::Context, busy: bool, moving: bool) {
 }
 
 /// Opens the console of the machine (`lathe`: a lathe's description; `None`: the machining
-/// centre of `cfg`) in a window (`novanc --window`); returns the exit code.
+/// centre of `cfg`) in a window (`novanc --window`), as the terminal opens it (`Panel::open`,
+/// `Panel::start_feed`); returns the exit code when the window closes. A lathe's script plays
+/// in virtual time; without one, and on the centre, the machine keeps the wall clock in its
+/// own thread. A window that cannot open says why and suggests the terminal.
 pub fn run(
     lathe: Option<crate::lathe::desc::LatheDesc>,
-    cfg: crate::console::ConsoleConfig,
+    mut cfg: crate::console::ConsoleConfig,
     opts: WindowOptions,
 ) -> i32 {
-    let Some(desc) = lathe else {
-        return open(&opts, centre::read_script, |_| centre::open(cfg, &opts.mtc));
-    };
-    if opts.bench_frames.is_some() {
+    if lathe.is_some() && opts.bench_frames.is_some() {
         eprintln!("novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)");
         return 2;
     }
-    let channels = desc.channels.len();
-    open(
-        &opts,
-        |text| lathe::read_script(text, channels),
-        |scripted| lathe::open(desc, &cfg, &opts.mtc, scripted),
-    )
-}
-
-/// Reads the script with `parse`, opens the machine's front with `make` (told whether a
-/// script plays it: its front, MTConnect adapter and window title, or the exit code of a
-/// failure it has said) and the window on it; returns when it closes, with its exit code.
-/// A window that cannot open says why and suggests the terminal.
-fn open<F: Front>(
-    opts: &WindowOptions,
-    parse: impl FnOnce(&str) -> Result<Vec<Step<F::Ev>>, (usize, String)>,
-    make: impl FnOnce(bool) -> Result<(F, Option<crate::mtconnect::feed::Feed>, String), i32>,
-) -> i32 {
-    let drive = match before_opening(opts, parse) {
+    let drive = match before_opening(&opts, lathe.as_ref()) {
         Ok(d) => d,
         Err(code) => return code,
     };
+    if lathe.is_some() && drive.scripted {
+        cfg.clock = crate::pulse_core::ClockMode::Virtual;
+    }
     // SIGINT, SIGTERM and SIGHUP close the window (docs/window.md, "Closing").
     crate::signals::install();
-    let (front, feed, title) = match make(drive.scripted) {
+    let (mut panel, warnings) = match Panel::open(lathe, cfg) {
         Ok(x) => x,
-        Err(code) => return code,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            return 1;
+        }
     };
+    for w in warnings {
+        eprintln!("novanc: warning at start: {w}");
+    }
+    let feed = match panel.start_feed(&opts.mtc, "novanc", drive.scripted) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("novanc: {e}");
+            crate::terminal::close(panel, None);
+            return 1;
+        }
+    };
+    match panel {
+        Panel::Centre(c) => open(
+            &opts,
+            drive,
+            centre::Centre::new(*c),
+            feed,
+            "novanc — NC panel",
+        ),
+        Panel::Lathe(c) => {
+            let title = format!("novanc — {} lathe", c.desc().name);
+            open(&opts, drive, lathe::Lathe::new(*c), feed, &title)
+        }
+    }
+}
+
+/// Opens the window on `front`, played by `drive`; returns when it closes, with its exit code.
+fn open<F: Front<Ev = PanelEvent>>(
+    opts: &WindowOptions,
+    drive: Drive<PanelEvent>,
+    front: F,
+    feed: Option<crate::mtconnect::feed::Feed>,
+    title: &str,
+) -> i32 {
     let (w, h) = opts.size.unwrap_or((1400.0, 860.0));
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

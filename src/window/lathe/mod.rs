@@ -9,14 +9,11 @@
 mod panel;
 pub mod plot;
 
-use super::app::{Front, Step, Wait};
+use super::app::{Front, Wait};
 use super::controls::{self, HandState};
 use super::plasma::Plasma;
 use super::shot::rect_px;
-use crate::console::ConsoleConfig;
-use crate::lathe::console::events::parse_script;
 use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
-use crate::lathe::desc::LatheDesc;
 use crate::mtconnect::feed::Feed;
 use crate::panel_model::PanelEvent;
 use egui::{Color32, Rect};
@@ -34,46 +31,6 @@ struct Layout {
     pitch: usize,
     /// Each channel's travel box and detail box.
     plots: Vec<(Rect, Rect)>,
-}
-
-/// A lathe panel script (docs/lathe.md) on `channels` channels as the window plays it.
-pub fn read_script(text: &str, channels: usize) -> Result<Vec<Step<PanelEvent>>, (usize, String)> {
-    Ok(super::app::script_steps(parse_script(text, channels)?))
-}
-
-/// Opens the lathe `desc`'s console, configured by `cfg` (state directory, display size,
-/// recording), and the MTConnect adapter if `mtc` asks; with the window's title. Without a
-/// script (`scripted`) the kernel keeps the wall clock in its own thread; a script plays it in
-/// virtual time. A failure is said; its exit code comes back.
-pub fn open(
-    desc: LatheDesc,
-    cfg: &ConsoleConfig,
-    mtc: &crate::mtconnect::feed::MtcOpts,
-    scripted: bool,
-) -> Result<(Lathe, Option<Feed>, String), i32> {
-    let (mut console, warnings) = LatheConsole::open_config(desc, cfg).map_err(|e| {
-        eprintln!("novanc: {e}");
-        1
-    })?;
-    if !scripted {
-        console.set_clock(crate::pulse_core::ClockMode::RealTime);
-    }
-    for w in warnings {
-        eprintln!("novanc: warning at start: {w}");
-    }
-    let mut feed = match Feed::start_on(mtc, "novanc", scripted, console.machine_ns()) {
-        Ok(f) => f,
-        Err(e) => {
-            eprintln!("novanc: {e}");
-            let _ = console.finish(None);
-            return Err(1);
-        }
-    };
-    if let Some(f) = feed.as_mut() {
-        f.publish_lathe(&console);
-    }
-    let title = format!("novanc — {} lathe", console.desc().name);
-    Ok((Lathe::new(console), feed, title))
 }
 
 /// The lathe's console in the window.
@@ -314,6 +271,7 @@ impl Front for Lathe {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lathe::desc::LatheDesc;
     use crate::window::app::{tests::play_all, App, Drive, Step};
     use std::path::PathBuf;
     use std::sync::atomic::AtomicI32;
@@ -360,7 +318,12 @@ mod tests {
     #[test]
     fn a_script_wait_block_ends_with_the_selected_channels_block_executing() {
         // Block 12 of CH2's program (system2.ngc as read) is its line 18, the arc.
-        let steps = read_script("channel 2\nstart\nwait block 12\n", 3).unwrap();
+        let evs = crate::console::Panel::read_script(
+            Some(&LatheDesc::citizen()),
+            "channel 2\nstart\nwait block 12\n",
+        )
+        .unwrap();
+        let steps = crate::window::app::script_steps(evs);
         let (mut a, d) = app("waitblock", steps);
         let l = play_all(&mut a);
         let v = l.console.view();
