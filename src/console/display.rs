@@ -614,7 +614,7 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         ),
         OpMode::Step => format!(
             "{} per jog key",
-            super::run::increment_text(&c.cfg.settings, v.wheel.1)
+            super::manual::increment_text(&c.cfg.settings, v.wheel.1)
         ),
         _ => format!(
             "wheel {} {:.3} mm x{}",

@@ -392,12 +392,7 @@ impl Console {
                 self.handle(PanelEvent::Override(o.clamp(0, 150) as u32));
             }
             Action::WheelScale => {
-                let s = match self.wheel.1 {
-                    1 => 10,
-                    10 => 100,
-                    100 => 1000,
-                    _ => 1,
-                };
+                let s = super::manual::next_scale(self.wheel.1);
                 self.handle(PanelEvent::WheelScale(s));
             }
             Action::Wheel(n) => {
@@ -488,7 +483,7 @@ impl Console {
                 if release {
                     self.release_jog();
                 }
-                super::run::step(self, axis, dir, "jog");
+                super::run::tap(self, axis, dir);
                 if virtual_time {
                     self.core.run_until_idle(TAP_LIMIT_NS);
                     self.refresh();

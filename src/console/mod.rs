@@ -18,6 +18,7 @@ pub(crate) mod display;
 pub(crate) mod entry;
 mod gcode_run;
 pub mod keys;
+pub(crate) mod manual;
 mod memory;
 pub mod pages;
 mod panel;
@@ -35,7 +36,7 @@ pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
-pub(crate) use run::{deadman_ms, increment_text, travel_check, SCALES};
+pub(crate) use run::deadman_ms;
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 
@@ -667,17 +668,13 @@ impl Console {
                     self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
                 }
             }
-            PanelEvent::WheelScale(s) => {
-                if run::SCALES.contains(&s) {
+            PanelEvent::WheelScale(s) => match manual::set_scale(&self.cfg.settings, s) {
+                Ok(m) => {
                     self.wheel.1 = s;
-                    self.message = format!(
-                        "increment {}: handwheel detent and STEP",
-                        run::increment_text(&self.cfg.settings, s)
-                    );
-                } else {
-                    self.message = format!("increment x{s}: only x1, x10, x100, x1000");
+                    self.message = m;
                 }
-            }
+                Err(e) => self.message = e,
+            },
             PanelEvent::RapidOverride(p) => {
                 self.command(Command::RapidOverride(p));
                 self.message = if self.status.switches.rapid_override == p {

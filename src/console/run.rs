@@ -3,6 +3,7 @@
 //! the machine's actual state), the program alarm, jog/STEP/HANDLE, the
 //! script's waits (a tape read in progress runs to its end first), and the session recording.
 
+use super::manual::{self, Move, SCALES};
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
 use crate::gcode::{GcodeSource, InterpState, Switches, WorkOffsets};
@@ -416,29 +417,6 @@ fn wait_tape(c: &mut Console) {
     }
 }
 
-/// Whether `pos` moved by `pulses` on `axis` stays inside the travel limits; if not, the
-/// operator's message.
-pub(crate) fn travel_check(
-    s: &MachineSettings,
-    pos: crate::block::Axes,
-    axis: Axis,
-    pulses: i64,
-) -> Result<(), String> {
-    let a = axis.index();
-    let (lo, hi) = s.travel_pulses(a);
-    let to = pos[a].saturating_add(pulses);
-    if to < lo || to > hi {
-        return Err(format!(
-            "refused: {} would go to {:.3} mm, outside travel {:.3}..{:.3}",
-            axis.letter(),
-            s.to_mm(to),
-            s.to_mm(lo),
-            s.to_mm(hi)
-        ));
-    }
-    Ok(())
-}
-
 /// Whether a manual move may start now; if not, the message says why.
 fn manual_allowed(c: &mut Console, what: &str) -> bool {
     if c.status.estop {
@@ -460,36 +438,16 @@ fn after_manual(c: &mut Console) {
     }
 }
 
-/// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only.
+/// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only
+/// (`manual::wheel`).
 pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
     c.wheel.0 = axis;
-    if c.op != OpMode::Handle {
-        c.message = format!(
-            "handwheel refused: turn the operation selector to HANDLE (now {})",
-            c.op.name()
-        );
-        return;
+    match manual::wheel(c.op, n, c.wheel.1) {
+        Ok(0) => {}
+        Ok(pulses) => manual_move(c, axis, Move::Increment(pulses), "handwheel"),
+        Err(e) => c.message = e,
     }
-    if !manual_allowed(c, "handwheel") {
-        return;
-    }
-    let pulses = n as i64 * c.wheel.1 as i64;
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
-        c.message = e;
-        return;
-    }
-    if pulses != 0 {
-        c.command(Command::Increment {
-            axis: axis.index(),
-            pulses,
-        });
-    }
-    after_manual(c);
 }
-
-/// The increments, in pulses: the handwheel per detent, and STEP per key (docs/panel.md,
-/// "Jogging"): 0.001, 0.01, 0.1 and 1 mm at the default pulse of 0.001 mm.
-pub(crate) const SCALES: [u32; 4] = [1, 10, 100, 1000];
 
 /// The increment the console starts with: the configured STEP length when it is one of
 /// [`SCALES`], else 0.1 mm's worth (x100).
@@ -500,11 +458,6 @@ pub(super) fn default_scale(s: &MachineSettings) -> u32 {
         .copied()
         .find(|&k| i64::from(k) == p)
         .unwrap_or(100)
-}
-
-/// An increment as the operator reads it: "0.100 mm (x100)".
-pub(crate) fn increment_text(s: &MachineSettings, scale: u32) -> String {
-    format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
 }
 
 /// A rapid override as the operator reads it: "F0" or "25 %".
@@ -536,21 +489,40 @@ pub(super) fn machine_switch_message(name: &str, on: bool) -> String {
     }
 }
 
-/// One increment (the selected scale) on `axis` at jog feed: the STEP key, and a CONTINUOUS
-/// key tapped once.
-pub(super) fn step(c: &mut Console, axis: Axis, dir: i8, what: &str) {
+/// One increment (the selected scale) on `axis` at jog feed: a CONTINUOUS key tapped once.
+pub(super) fn tap(c: &mut Console, axis: Axis, dir: i8) {
+    let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
+    manual_move(c, axis, Move::Increment(pulses), "jog");
+}
+
+/// A manual move the selector allowed: checked (`manual_allowed`, `manual::check`), sent to
+/// the pulse core and its answer said (a CONTINUOUS jog held to run in real time).
+fn manual_move(c: &mut Console, axis: Axis, mv: Move, what: &str) {
     if !manual_allowed(c, what) {
         return;
     }
-    let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
-    if let Err(e) = travel_check(&c.cfg.settings, c.status.machine_state().pos, axis, pulses) {
+    if let Err(e) = manual::check(&c.cfg.settings, c.status.machine_state().pos, axis, mv) {
         c.message = e;
         return;
     }
-    c.command(Command::Increment {
-        axis: axis.index(),
-        pulses,
-    });
+    match mv {
+        Move::Increment(pulses) => c.command(Command::Increment {
+            axis: axis.index(),
+            pulses,
+        }),
+        Move::Jog(dir) => {
+            c.command(Command::Jog {
+                axis: axis.index(),
+                dir,
+            });
+            c.jogging = c.status.notice.is_none();
+            if c.jogging && c.cfg.clock == crate::pulse_core::ClockMode::RealTime {
+                // Hold-to-run: the front end keeps the jog alive (key repeats, the window's
+                // frames while the button is held), or the core stops it (docs/panel.md).
+                c.command(Command::JogAlive(deadman_ms()));
+            }
+        }
+    }
     after_manual(c);
 }
 
@@ -565,37 +537,12 @@ pub(crate) fn deadman_ms() -> u32 {
     JOG_DEADMAN.as_millis() as u32
 }
 
-/// A jog button: CONTINUOUS jogs while held, STEP moves one increment.
+/// A jog event (a jog button, `jog X+`): CONTINUOUS jogs while held, STEP moves one
+/// increment (`manual::jog`).
 pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
-    let dir: i8 = if dir < 0 { -1 } else { 1 };
-    match c.op {
-        OpMode::Continuous => {
-            if !manual_allowed(c, "jog") {
-                return;
-            }
-            let edge = if dir < 0 { 0 } else { 1 };
-            let (lo, hi) = c.cfg.settings.travel_pulses(axis.index());
-            let at = c.status.machine_state().pos[axis.index()];
-            if (edge == 0 && at <= lo) || (edge == 1 && at >= hi) {
-                c.message = format!("jog refused: {} is at its travel limit", axis.letter());
-                return;
-            }
-            c.command(Command::Jog {
-                axis: axis.index(),
-                dir,
-            });
-            c.jogging = c.status.notice.is_none();
-            if c.jogging && c.cfg.clock == crate::pulse_core::ClockMode::RealTime {
-                // Hold-to-run: the front end keeps the jog alive (key repeats, the window's
-                // frames while the button is held), or the core stops it (docs/panel.md).
-                c.command(Command::JogAlive(deadman_ms()));
-            }
-            after_manual(c);
-        }
-        OpMode::Step => step(c, axis, dir, "step"),
-        OpMode::Handle => {
-            c.message = "HANDLE: turn the handwheel (jog keys work in CONTINUOUS and STEP)".into()
-        }
-        _ => c.message = format!("jog refused in {}: use CONTINUOUS or STEP", c.op.name()),
+    let what = if c.op == OpMode::Step { "step" } else { "jog" };
+    match manual::jog(c.op, axis, dir, c.wheel.1) {
+        Ok(mv) => manual_move(c, axis, mv, what),
+        Err(e) => c.message = e,
     }
 }

@@ -9,6 +9,7 @@
 
 use super::{glue, LatheConsole, MsgLife};
 use crate::console::keys::JogPress;
+use crate::console::manual::{self, Move};
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
 use crate::settings::MachineSettings;
@@ -20,10 +21,9 @@ const STEP_LIMIT_NS: u64 = 60_000_000_000;
 /// The slices it runs in, looked at between them.
 const STEP_SLICE_NS: u64 = 10_000_000;
 
-/// A manual move that may begin: the channel, the kernel's axis index and its settings.
+/// A manual move that may begin: the channel and its settings.
 struct Ready {
     ch: usize,
-    axis: usize,
     settings: MachineSettings,
 }
 
@@ -31,25 +31,17 @@ impl LatheConsole {
     /// A jog event (`PanelEvent::Jog`, recorded as `jog X+`): in STEP one increment of the
     /// selected channel's X or Z; in CONTINUOUS the axis jogs until released (a held key:
     /// until it is let go) or its travel limit; refused, with the reason, in another mode, in
-    /// E-STOP, with a cycle under way, or past the travel. Nothing else moves.
+    /// E-STOP, with a cycle under way, or past the travel (every console's rule,
+    /// `crate::console::manual`). Nothing else moves.
     pub(super) fn jog(&mut self, axis: Axis, dir: i8) {
-        match self.mode {
-            OpMode::Step => {
-                let pulses = i64::from(dir.signum()) * i64::from(self.increment);
-                self.increment_move(axis, pulses, "STEP");
-            }
-            OpMode::Continuous => self.begin_jog(axis, dir),
-            OpMode::Handle => {
-                self.message =
-                    "HANDLE: turn the handwheel (Alt+, Alt+.; the jog keys turn it on their axis)"
-                        .into()
-            }
-            _ => {
-                self.message = format!(
-                    "jog {}: turn to CONTINUOUS (Alt+1), HANDLE (Alt+5) or STEP (Alt+6) to move a tool post by hand",
-                    axis.letter()
-                )
-            }
+        let what = if self.mode == OpMode::Step {
+            "STEP"
+        } else {
+            "jog"
+        };
+        match manual::jog(self.mode, axis, dir, self.increment) {
+            Ok(mv) => self.manual_move(axis, mv, what),
+            Err(e) => self.message = e,
         }
     }
 
@@ -57,15 +49,11 @@ impl LatheConsole {
     /// selected channel's X or Z, an increment each, in HANDLE only.
     pub(super) fn wheel(&mut self, axis: Axis, n: i32) {
         self.wheel_axis = axis;
-        if self.mode != OpMode::Handle {
-            self.message = format!(
-                "handwheel refused: turn the operation selector to HANDLE (Alt+5; now {})",
-                self.mode.word()
-            );
-            return;
+        match manual::wheel(self.mode, n, self.increment) {
+            Ok(0) => {}
+            Ok(pulses) => self.manual_move(axis, Move::Increment(pulses), "HANDLE"),
+            Err(e) => self.message = e,
         }
-        let pulses = i64::from(n) * i64::from(self.increment);
-        self.increment_move(axis, pulses, "HANDLE");
     }
 
     /// A jog key pressed in CONTINUOUS, as a terminal reports it (the centre's rule,
@@ -99,7 +87,7 @@ impl LatheConsole {
                 self.record_event(&PanelEvent::Press(k));
                 self.say("", MsgLife::NextAction);
                 let pulses = i64::from(dir.signum()) * i64::from(self.increment);
-                self.increment_move(axis, pulses, "CONTINUOUS");
+                self.manual_move(axis, Move::Increment(pulses), "CONTINUOUS");
                 self.after();
             }
         }
@@ -154,14 +142,10 @@ impl LatheConsole {
     /// message says why.
     fn manual_ready(&mut self, axis: Axis, what: &str) -> Option<Ready> {
         let ch = self.sel;
-        let a = match axis {
-            Axis::X => 0,
-            Axis::Z => 2,
-            Axis::Y => {
-                self.message = format!("{what} Y: the lathe's axes are X and Z");
-                return None;
-            }
-        };
+        if axis == Axis::Y {
+            self.message = format!("{what} Y: the lathe's axes are X and Z");
+            return None;
+        }
         if self.estop() {
             self.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
             return None;
@@ -185,133 +169,112 @@ impl LatheConsole {
                 return None;
             }
         }
-        Some(Ready {
-            ch,
-            axis: a,
-            settings,
-        })
+        Some(Ready { ch, settings })
     }
 
-    /// `pulses` on the selected channel's `axis` at jog feed (STEP, a tap in CONTINUOUS, the
-    /// handwheel), checked against the travel first; in virtual time run to rest.
-    fn increment_move(&mut self, axis: Axis, pulses: i64, what: &str) {
+    /// A manual move the selector allowed (`manual::jog`, `manual::wheel`, a CONTINUOUS
+    /// tap) of the selected channel's `axis`, checked against the travel first: an increment
+    /// at jog feed, run to rest in virtual time; or a CONTINUOUS jog until released or at the
+    /// travel limit (a real-time jog also stops by itself when nothing keeps it alive).
+    fn manual_move(&mut self, axis: Axis, mv: Move, what: &str) {
         let Some(r) = self.manual_ready(axis, what) else {
             return;
         };
         let [x, z] = self.pos[r.ch];
-        if let Err(e) = crate::console::travel_check(&r.settings, [x, 0, z].into(), axis, pulses) {
+        if let Err(e) = manual::check(&r.settings, [x, 0, z].into(), axis, mv) {
             // X is a radius on the lathe (the display shows its diameter).
-            self.message = format!("{what} {}", e.replacen("X would", "X (a radius) would", 1));
+            self.message = match mv {
+                Move::Increment(_) => {
+                    format!("{what} {}", e.replacen("X would", "X (a radius) would", 1))
+                }
+                Move::Jog(_) => e,
+            };
             return;
         }
         let Some(c) = self.cycle.as_mut() else {
             return;
         };
-        if let Err(e) = c.manual(
-            r.ch,
-            Command::Increment {
-                axis: r.axis,
-                pulses,
-            },
-        ) {
+        let a = axis.index();
+        let sent = match mv {
+            Move::Increment(pulses) => c.manual(r.ch, Command::Increment { axis: a, pulses }),
+            Move::Jog(dir) => c.manual(r.ch, Command::Jog { axis: a, dir }),
+        };
+        if let Err(e) = sent {
             self.message = format!("{what} refused: {e}");
             return;
         }
-        if self.clock == ClockMode::Virtual {
-            // The increment runs to rest (the channel's run is over: the cycle's rest is not
-            // the axis's).
-            let mut spent = 0;
-            while spent < STEP_LIMIT_NS
-                && c.channels()
-                    .get(r.ch)
-                    .is_some_and(|s| !s.status.idle || s.status.moving)
-            {
-                c.run(STEP_SLICE_NS, super::RunUntil::Time);
-                spent += STEP_SLICE_NS;
+        let sign = |n: i64| if n < 0 { '-' } else { '+' };
+        match mv {
+            Move::Jog(dir) => {
+                self.jogging = Some(r.ch);
+                if self.clock == ClockMode::RealTime {
+                    // Hold-to-run: the key's repeats keep the jog alive, or the kernel stops it.
+                    let _ = c.manual(r.ch, Command::JogAlive(crate::console::deadman_ms()));
+                }
+                self.say(
+                    format!(
+                        "CONTINUOUS CH{} {}{}: jogging",
+                        r.ch + 1,
+                        axis.letter(),
+                        sign(i64::from(dir))
+                    ),
+                    MsgLife::WhileRunning,
+                );
             }
-            self.now_ns = c.now_ns();
+            Move::Increment(pulses) => {
+                if self.clock == ClockMode::Virtual {
+                    // The increment runs to rest (the channel's run is over: the cycle's rest
+                    // is not the axis's).
+                    let mut spent = 0;
+                    while spent < STEP_LIMIT_NS
+                        && c.channels()
+                            .get(r.ch)
+                            .is_some_and(|s| !s.status.idle || s.status.moving)
+                    {
+                        c.run(STEP_SLICE_NS, super::RunUntil::Time);
+                        spent += STEP_SLICE_NS;
+                    }
+                    self.now_ns = c.now_ns();
+                }
+                let scale = self.increment;
+                let detents = pulses.unsigned_abs() / u64::from(scale.max(1));
+                self.say(
+                    format!(
+                        "{what} CH{} {}{} {}{}",
+                        r.ch + 1,
+                        axis.letter(),
+                        sign(pulses),
+                        if detents > 1 {
+                            format!("{detents} × ")
+                        } else {
+                            String::new()
+                        },
+                        manual::increment_text(&r.settings, scale)
+                    ),
+                    MsgLife::NextAction,
+                );
+            }
         }
-        let scale = self.increment;
-        let detents = pulses.unsigned_abs() / u64::from(scale.max(1));
-        self.say(
-            format!(
-                "{what} CH{} {}{} {}{}",
-                r.ch + 1,
-                axis.letter(),
-                if pulses < 0 { '-' } else { '+' },
-                if detents > 1 {
-                    format!("{detents} × ")
-                } else {
-                    String::new()
-                },
-                crate::console::increment_text(&r.settings, scale)
-            ),
-            MsgLife::NextAction,
-        );
-    }
-
-    /// CONTINUOUS: the selected channel's `axis` jogs at jog feed until released or at its
-    /// travel limit (a real-time jog also stops by itself when nothing keeps it alive).
-    fn begin_jog(&mut self, axis: Axis, dir: i8) {
-        let dir: i8 = if dir < 0 { -1 } else { 1 };
-        let Some(r) = self.manual_ready(axis, "jog") else {
-            return;
-        };
-        let (lo, hi) = r.settings.travel_pulses(r.axis);
-        let at = self.pos[r.ch][if r.axis == 0 { 0 } else { 1 }];
-        if (dir < 0 && at <= lo) || (dir > 0 && at >= hi) {
-            self.message = format!("jog refused: {} is at its travel limit", axis.letter());
-            return;
-        }
-        let Some(c) = self.cycle.as_mut() else {
-            return;
-        };
-        if let Err(e) = c.manual(r.ch, Command::Jog { axis: r.axis, dir }) {
-            self.message = format!("jog refused: {e}");
-            return;
-        }
-        self.jogging = Some(r.ch);
-        if self.clock == ClockMode::RealTime {
-            // Hold-to-run: the key's repeats keep the jog alive, or the kernel stops it.
-            let _ = c.manual(r.ch, Command::JogAlive(crate::console::deadman_ms()));
-        }
-        self.say(
-            format!(
-                "CONTINUOUS CH{} {}{}: jogging",
-                r.ch + 1,
-                axis.letter(),
-                if dir < 0 { '-' } else { '+' },
-            ),
-            MsgLife::WhileRunning,
-        );
     }
 
     /// `wheelscale N` or Alt+w: the STEP and handwheel increment, x1, x10, x100 or x1000
-    /// pulses.
+    /// pulses (`manual::set_scale`).
     pub(super) fn set_increment(&mut self, scale: u32) {
-        if !crate::console::SCALES.contains(&scale) {
-            self.message = format!("increment x{scale}: only x1, x10, x100, x1000");
+        let Some(s) = MachineSettings::lathe_channel(&self.desc, self.sel) else {
             return;
-        }
-        self.increment = scale;
-        if let Some(s) = MachineSettings::lathe_channel(&self.desc, self.sel) {
-            self.message = format!(
-                "increment {}: STEP, HANDLE and a CONTINUOUS tap",
-                crate::console::increment_text(&s, scale)
-            );
+        };
+        match manual::set_scale(&s, scale) {
+            Ok(m) => {
+                self.increment = scale;
+                self.message = m;
+            }
+            Err(e) => self.message = e,
         }
     }
 
     /// The STEP and handwheel increment, pulses.
     pub fn increment(&self) -> u32 {
         self.increment
-    }
-
-    /// The next increment (Alt+w), after x1000 x1 again.
-    pub(super) fn next_increment(&self) -> u32 {
-        let s = crate::console::SCALES;
-        let i = s.iter().position(|&k| k == self.increment).unwrap_or(0);
-        s[(i + 1) % s.len()]
     }
 
     /// A kernel for manual moves when none is loaded: the selected channel's, with nothing to

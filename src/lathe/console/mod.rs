@@ -483,7 +483,10 @@ impl LatheConsole {
                 };
                 self.handle(PanelEvent::Fault(self.sel, why));
             }
-            LatheKey::Increment => self.handle(PanelEvent::WheelScale(self.next_increment())),
+            LatheKey::Increment => {
+                let s = crate::console::manual::next_scale(self.increment);
+                self.handle(PanelEvent::WheelScale(s))
+            }
             LatheKey::Override(d) => {
                 let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
                 self.handle(PanelEvent::Override(p));
