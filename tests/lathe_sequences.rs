@@ -123,10 +123,10 @@ fn check(s: &mut Seq, what: &str) {
                 "{what}: '{m}' with {states:?}"
             );
         }
-        if m.starts_with("STOP: feed hold") {
+        if m.starts_with("feed hold") {
             assert!(any(&["HOLD"]), "{what}: '{m}' with {states:?}");
         }
-        if m.starts_with("E-STOP") {
+        if m.starts_with("EMERGENCY STOP") {
             assert!(any(&["ESTOP"]), "{what}: '{m}' with {states:?}");
         }
     }

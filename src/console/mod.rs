@@ -28,7 +28,7 @@ pub mod recording;
 mod run;
 mod script_line;
 pub mod search;
-mod state;
+pub(crate) mod state;
 pub mod tape;
 pub mod tcode;
 

@@ -35,6 +35,12 @@ pub(super) fn lamps(c: &Console) -> Lamps {
     }
 }
 
+/// The message line while the machine is in EMERGENCY STOP, on every console.
+pub(crate) const ESTOP_NOTE: &str = "EMERGENCY STOP: pulses stopped; press RESET";
+
+/// The message line while a run is held by STOP (the selector runs it), on every console.
+pub(crate) const HOLD_NOTE: &str = "feed hold: press START to resume, RESET to abandon";
+
 /// What the machine is doing, for the message line, derived from the status snapshot when the
 /// frame is drawn (never kept), so that it cannot outlive what it describes: an emergency stop,
 /// a feed hold, the end of a block START was given for in SINGLE BLOCK, a run waiting for
@@ -43,7 +49,7 @@ pub(super) fn lamps(c: &Console) -> Lamps {
 pub(super) fn machine_note(c: &Console) -> Option<String> {
     let s = &c.status;
     if s.estop {
-        return Some("EMERGENCY STOP: pulses stopped; press RESET".into());
+        return Some(ESTOP_NOTE.into());
     }
     let job = s.job.as_ref()?;
     if job.returning {
@@ -55,7 +61,7 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
     };
     if s.hold {
         return Some(if runs_it {
-            "feed hold: press START to resume, RESET to abandon".into()
+            HOLD_NOTE.into()
         } else {
             format!(
                 "feed hold: the {} run is held (RESET abandons it)",

@@ -20,6 +20,7 @@ pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::console::recording::Recording;
+use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::WAIT_LIMIT_NS;
 use crate::panel_model::{OpMode, PanelEvent};
 use crate::pulse_core::ClockMode;
@@ -103,7 +104,7 @@ pub struct LatheConsole {
 
 /// How long the lathe console's operator message lives (the centre's rule, docs/panel.md
 /// "Messages"): until the next operator action; an acknowledgement of what the machine does
-/// ("cycle start", "STOP: feed hold ...") only while the machine still does it, so that the
+/// ("cycle start", "feed hold: ...") only while the machine still does it, so that the
 /// screen never says a cycle runs when every channel stands still.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum MsgLife {
@@ -320,9 +321,9 @@ impl LatheConsole {
         if lives && !self.message.is_empty() {
             &self.message
         } else if any(&["ESTOP"]) {
-            "E-STOP: every channel stopped; RESET releases"
+            ESTOP_NOTE
         } else if any(&["HOLD"]) {
-            "STOP: feed hold; START resumes"
+            HOLD_NOTE
         } else if any(&["STOP"]) && self.mode == OpMode::Single {
             "SINGLE BLOCK: a channel stops after each block; START runs the next"
         } else if any(&["STOP"]) {
@@ -578,10 +579,7 @@ impl LatheConsole {
             PanelEvent::Stop => match self.cycle.as_mut() {
                 Some(c) => {
                     c.hold();
-                    self.say(
-                        "STOP: feed hold on every channel; START resumes",
-                        MsgLife::WhileHeld,
-                    );
+                    self.say(HOLD_NOTE, MsgLife::WhileHeld);
                 }
                 None => self.message = "STOP: nothing runs".into(),
             },
@@ -595,10 +593,7 @@ impl LatheConsole {
                 }
                 // Every spindle and the coolant stop (the drives are cut).
                 self.left.fill(glue::ChannelLeft::default());
-                self.say(
-                    "E-STOP: every channel stopped; RESET releases",
-                    MsgLife::WhileEstop,
-                );
+                self.say(ESTOP_NOTE, MsgLife::WhileEstop);
             }
             PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
                 Some(c) if ch < self.desc.channels.len() => {
