@@ -36,7 +36,7 @@ pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
-pub(crate) use run::deadman_ms;
+pub(crate) use run::{deadman_ms, stalled_note, wait_limit_note};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 

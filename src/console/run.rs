@@ -385,15 +385,9 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
         WaitFor::Ms(t) => c.core.run_for(t.saturating_mul(1_000_000)),
     };
     c.status = st;
-    let hours = WAIT_LIMIT_NS / 3_600_000_000_000;
     let err = match r {
-        Reached::Stalled => Some(format!(
-            "wait: the machine stands still at feed override {} %; raise the override",
-            c.status.feed_override
-        )),
-        Reached::Limit => Some(format!(
-            "wait: not done within {hours} hours of machine time"
-        )),
+        Reached::Stalled => Some(format!("wait: {}", stalled_note(c.status.feed_override))),
+        Reached::Limit => Some(wait_limit_note(WAIT_LIMIT_NS)),
         Reached::Interrupted => Some("wait: interrupted".to_string()),
         _ => None,
     };
@@ -402,6 +396,21 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
         c.wait_error = Some(e);
     }
     note_run_end(c);
+}
+
+/// Why nothing moves and nothing will until the operator acts, on every console and front
+/// end: a block in progress (a feed move) at feed override `feed_override` (0).
+pub(crate) fn stalled_note(feed_override: u32) -> String {
+    format!("the machine stands still at feed override {feed_override} %; raise the override")
+}
+
+/// Why a script's wait of at most `limit_ns` of machine time ended without its condition, on
+/// every console.
+pub(crate) fn wait_limit_note(limit_ns: u64) -> String {
+    format!(
+        "wait: not done within {} hours of machine time",
+        limit_ns / 3_600_000_000_000
+    )
 }
 
 /// Lets the tape read in progress, if any, run to its end (a script's `wait` or `wait block`):

@@ -181,12 +181,8 @@ impl Front for Centre {
     }
     fn stuck(&self) -> Option<String> {
         let s = self.console.status();
-        s.stalled.then(|| {
-            format!(
-                "the machine stands still at feed override {} %; raise the override",
-                s.feed_override
-            )
-        })
+        s.stalled
+            .then(|| crate::console::stalled_note(s.feed_override))
     }
     fn moving(&self) -> bool {
         !self.console.is_idle()

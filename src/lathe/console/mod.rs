@@ -665,12 +665,9 @@ impl LatheConsole {
             return;
         }
         let e = if self.stalled() {
-            "wait: the machine stands still at feed override 0 %; raise the override".to_string()
+            format!("wait: {}", crate::console::stalled_note(0))
         } else if used >= limit_ns && !self.at_rest() {
-            format!(
-                "wait: not done within {} hours of machine time",
-                limit_ns / 3_600_000_000_000
-            )
+            crate::console::wait_limit_note(limit_ns)
         } else {
             return;
         };

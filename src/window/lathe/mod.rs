@@ -201,9 +201,9 @@ impl Front for Lathe {
         self.console.frame_text()
     }
     fn stuck(&self) -> Option<String> {
-        self.console.stalled().then(|| {
-            "the machine stands still at feed override 0 %; raise the override".to_string()
-        })
+        self.console
+            .stalled()
+            .then(|| crate::console::stalled_note(0))
     }
     fn moving(&self) -> bool {
         !self.console.at_rest()
