@@ -285,11 +285,24 @@ impl Backplot {
     }
 }
 
-/// The executed path: axis positions sampled from the pulse counters while the machine moves.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Trail {
+/// The executed path: axis positions sampled from the pulse counters while the machine moves,
+/// each with a tag of what it was (`()` on the centre; on a lathe the work in the spindle, so
+/// that each work's cuts are drawn in its colour). Every window's backplot keeps this one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trail<T = ()> {
     points: Vec<[f64; 3]>,
+    tags: Vec<T>,
     epoch: u64,
+}
+
+impl<T> Default for Trail<T> {
+    fn default() -> Self {
+        Trail {
+            points: Vec::new(),
+            tags: Vec::new(),
+            epoch: 0,
+        }
+    }
 }
 
 /// Most points a trail keeps; beyond this every other inner point is dropped.
@@ -301,27 +314,42 @@ impl Trail {
         Trail::default()
     }
 
-    /// Records a sampled position; a sample within 0.5 µm of the last one adds nothing, and a
-    /// sample in line with the last two replaces the last (so a long straight move stays two
-    /// points however often it is sampled).
+    /// Records a sampled position (see [`Trail::push_tagged`]).
     pub fn push(&mut self, p: [f64; 3]) {
+        self.push_tagged(p, ());
+    }
+}
+
+impl<T: Copy + PartialEq> Trail<T> {
+    /// Records a sampled position with its tag; a sample within 0.5 µm of the last one adds
+    /// nothing, and a sample in line with the last two replaces the last (so a long straight
+    /// move stays two points however often it is sampled), as long as the tag stays the
+    /// same: a new tag always starts a point.
+    pub fn push_tagged(&mut self, p: [f64; 3], tag: T) {
         let n = self.points.len();
-        if n >= 1 && dist(self.points[n - 1], p) < 0.0005 {
+        let same = |k: usize| n >= k && self.tags[n - k..].iter().all(|t| *t == tag);
+        if same(1) && dist(self.points[n - 1], p) < 0.0005 {
             return;
         }
-        if n >= 2 && collinear(self.points[n - 2], self.points[n - 1], p) {
+        if same(2) && collinear(self.points[n - 2], self.points[n - 1], p) {
             self.points[n - 1] = p;
             return;
         }
         self.points.push(p);
+        self.tags.push(tag);
         if self.points.len() > MAX_TRAIL_POINTS {
             self.epoch += 1;
             let last = self.points.len() - 1;
+            let keep = |i: usize| i == 0 || i == last || i.is_multiple_of(2);
             let mut i = 0;
             self.points.retain(|_| {
-                let keep = i == 0 || i == last || i % 2 == 0;
                 i += 1;
-                keep
+                keep(i - 1)
+            });
+            let mut i = 0;
+            self.tags.retain(|_| {
+                i += 1;
+                keep(i - 1)
             });
         }
     }
@@ -329,6 +357,7 @@ impl Trail {
     /// Forgets the trail (a new program, or the operator cleared the plot).
     pub fn clear(&mut self) {
         self.points.clear();
+        self.tags.clear();
         self.epoch += 1;
     }
 
@@ -341,6 +370,11 @@ impl Trail {
     /// The recorded points, oldest first.
     pub fn points(&self) -> &[[f64; 3]] {
         &self.points
+    }
+
+    /// The points with their tags, oldest first.
+    pub fn tagged(&self) -> impl Iterator<Item = ([f64; 3], T)> + '_ {
+        self.points.iter().copied().zip(self.tags.iter().copied())
     }
 }
 
@@ -622,6 +656,27 @@ mod tests {
         t.clear();
         assert!(t.points().is_empty());
         assert_eq!(t.epoch(), 1);
+    }
+
+    #[test]
+    fn a_new_tag_starts_a_point_and_tags_stay_with_their_points() {
+        let mut t: Trail<Option<u32>> = Trail::default();
+        t.push_tagged([0.0, 0.0, 0.0], None);
+        t.push_tagged([0.0, 0.0, -1.0], Some(1));
+        t.push_tagged([0.0, 0.0, -2.0], Some(1));
+        t.push_tagged([0.0, 0.0, -3.0], Some(1));
+        // In line, same work: the last point follows the tip.
+        assert_eq!(t.points().len(), 3);
+        // The next work starts a point even in line.
+        t.push_tagged([0.0, 0.0, -4.0], Some(2));
+        let tags: Vec<Option<u32>> = t.tagged().map(|(_, w)| w).collect();
+        assert_eq!(tags, [None, Some(1), Some(1), Some(2)]);
+        for i in 0..(MAX_TRAIL_POINTS as i32 + 10) {
+            t.push_tagged([f64::from(i % 2), 0.0, f64::from(i)], Some(3));
+        }
+        assert_eq!(t.points().len(), t.tags.len());
+        assert!(t.points().len() <= MAX_TRAIL_POINTS);
+        assert_eq!(t.tagged().next().map(|(_, w)| w), Some(None));
     }
 
     #[test]

@@ -61,16 +61,14 @@ impl Lathe {
 
     /// Empties every channel's trail.
     fn clear_paths(&mut self) {
-        let step = self.console.desc().pulses(plot::TRAIL_STEP_MM).max(1);
-        self.trails = (0..self.console.desc().channels.len())
-            .map(|_| Trail::new(step, plot::TRAIL_POINTS))
-            .collect();
+        self.trails = vec![Trail::default(); self.console.desc().channels.len()];
     }
 
     /// Takes every channel's tip into its trail.
     fn sample(&mut self) {
+        let mm = self.console.desc().pulse_mm;
         for (t, (pos, work)) in self.trails.iter_mut().zip(self.console.tips()) {
-            t.push(pos, work);
+            t.push_tagged([pos[0] as f64 * mm, 0.0, pos[1] as f64 * mm], work);
         }
     }
 
@@ -309,7 +307,7 @@ mod tests {
         // Every channel's trail holds its cuts, tagged with the works 1 to 5.
         for t in &l.trails {
             let works: std::collections::BTreeSet<u32> =
-                t.points().filter_map(|p| p.work).collect();
+                t.tagged().filter_map(|(_, w)| w).collect();
             assert_eq!(works.into_iter().collect::<Vec<_>>(), vec![1, 2, 3, 4, 5]);
         }
         let _ = std::fs::remove_dir_all(d);

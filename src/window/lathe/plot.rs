@@ -1,18 +1,16 @@
 //! The lathe window's backplot (docs/window.md, "The lathe window"): one channel's tool-tip
 //! path in the Z–X plane, Z to the right and X (the radius) up at equal scale, inside the
 //! channel's travel box. The path is the trail of positions the window sampled after every step
-//! of the machine: bounded (`TRAIL_POINTS`), each point tagged with the work in the spindle,
-//! drawn in that work's colour — the work now in the spindle bright and thick, earlier works
+//! of the machine, the centre's executed path (`crate::backplot::Trail`) with each point tagged
+//! with the work in the spindle, drawn in that work's colour — the work now in the spindle bright and thick, earlier works
 //! dimmed, moves with an empty spindle grey.
 
 use crate::lathe::desc::ChannelDesc;
 use egui::{pos2, vec2, Align2, Color32, FontId, Painter, Pos2, Rect, Shape, Stroke, StrokeKind};
-use std::collections::VecDeque;
 
-/// Points kept per channel; the oldest go first.
-pub const TRAIL_POINTS: usize = 20_000;
-/// Kept points are at least this far apart (mm); the last point always follows the tip.
-pub const TRAIL_STEP_MM: f64 = 0.05;
+/// A channel's trail: its tool tip's positions, mm [X radius, 0, Z], each with the work in the
+/// spindle then.
+pub type Trail = crate::backplot::Trail<Option<u32>>;
 
 /// The plot's background.
 pub const PLOT_BG: Color32 = Color32::from_rgb(8, 12, 20);
@@ -42,77 +40,6 @@ pub fn work_colour(w: u32) -> Color32 {
 /// An earlier work's colour: half as bright, opaque (the latest work drawn over the others).
 pub fn dim(c: Color32) -> Color32 {
     Color32::from_rgb(c.r() / 2, c.g() / 2, c.b() / 2)
-}
-
-/// One sampled tool-tip position: pulses [X radius, Z], and the work in the spindle then.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TrailPt {
-    /// Pulses [X radius, Z].
-    pub pos: [i64; 2],
-    /// The work in the spindle.
-    pub work: Option<u32>,
-}
-
-/// A channel's bounded trail of tool-tip positions.
-#[derive(Clone, Debug)]
-pub struct Trail {
-    pts: VecDeque<TrailPt>,
-    step: i64,
-    cap: usize,
-}
-
-impl Trail {
-    /// An empty trail keeping at most `cap` points at least `step` pulses apart.
-    pub fn new(step: i64, cap: usize) -> Trail {
-        Trail {
-            pts: VecDeque::new(),
-            step: step.max(1),
-            cap: cap.max(2),
-        }
-    }
-
-    /// Takes a sample. The last point follows the tip; it is kept for good once it is `step`
-    /// (or more) from the point before, or when the work in the spindle changes.
-    pub fn push(&mut self, pos: [i64; 2], work: Option<u32>) {
-        let p = TrailPt { pos, work };
-        let n = self.pts.len();
-        if let Some(last) = self.pts.back() {
-            if *last == p {
-                return;
-            }
-            if n >= 2 && last.work == work {
-                let prev = self.pts[n - 2];
-                let d = (last.pos[0] - prev.pos[0])
-                    .abs()
-                    .max((last.pos[1] - prev.pos[1]).abs());
-                if prev.work == work && d < self.step {
-                    if let Some(b) = self.pts.back_mut() {
-                        *b = p;
-                    }
-                    return;
-                }
-            }
-        }
-        self.pts.push_back(p);
-        if self.pts.len() > self.cap {
-            self.pts.pop_front();
-        }
-    }
-
-    /// The points, oldest first.
-    pub fn points(&self) -> impl Iterator<Item = &TrailPt> {
-        self.pts.iter()
-    }
-
-    /// How many points are kept.
-    pub fn len(&self) -> usize {
-        self.pts.len()
-    }
-
-    /// No points.
-    pub fn is_empty(&self) -> bool {
-        self.pts.is_empty()
-    }
 }
 
 /// A box in the Z–X plane, mm: X (radius) from `x[0]` to `x[1]`, Z from `z[0]` to `z[1]`.
@@ -186,8 +113,7 @@ impl Frame {
 /// `None` before anything was cut.
 pub fn detail_box(trail: &Trail, tip: [i64; 2], pulse_mm: f64, travel: Box2) -> Option<Box2> {
     let mut b: Option<Box2> = None;
-    let mut take = |p: [i64; 2]| {
-        let (x, z) = (p[0] as f64 * pulse_mm, p[1] as f64 * pulse_mm);
+    let mut take = |x: f64, z: f64| {
         let n = b.get_or_insert(Box2 {
             x: [x, x],
             z: [z, z],
@@ -196,14 +122,14 @@ pub fn detail_box(trail: &Trail, tip: [i64; 2], pulse_mm: f64, travel: Box2) -> 
         n.z = [n.z[0].min(z), n.z[1].max(z)];
     };
     let mut cut = false;
-    for p in trail.points().filter(|p| p.work.is_some()) {
-        take(p.pos);
+    for (p, _) in trail.tagged().filter(|(_, w)| w.is_some()) {
+        take(p[0], p[2]);
         cut = true;
     }
     if !cut {
         return None;
     }
-    take(tip);
+    take(tip[0] as f64 * pulse_mm, tip[1] as f64 * pulse_mm);
     b.map(|b| {
         let grow = |r: [f64; 2], lim: [f64; 2]| {
             let m = (r[1] - r[0]) * 0.12 + 1.0;
@@ -293,7 +219,7 @@ pub fn draw_overview(p: &Painter, area: Rect, d: &PlotData, detail: Option<Box2>
         ));
     }
     let clip = p.with_clip_rect(r.expand(1.0));
-    draw_trail(&clip, &f, d.pulse_mm, d.trail, d.current);
+    draw_trail(&clip, &f, d.trail, d.current);
     tip_mark(&clip, &f, d.pulse_mm, d.tip);
     r
 }
@@ -343,7 +269,7 @@ pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
         small,
         FRAME,
     );
-    draw_trail(&clip, &f, d.pulse_mm, d.trail, d.current);
+    draw_trail(&clip, &f, d.trail, d.current);
     tip_mark(&clip, &f, d.pulse_mm, d.tip);
     r
 }
@@ -389,32 +315,26 @@ fn tip_mark(p: &Painter, f: &Frame, pulse_mm: f64, tip: [i64; 2]) {
 /// The trail as polylines of one work each: earlier works and empty-spindle moves first,
 /// oldest first, dimmed and thin; the work in the spindle now last, bright and thick. Points closer than
 /// half a pixel to the last one drawn are skipped.
-fn draw_trail(p: &Painter, f: &Frame, pulse_mm: f64, trail: &Trail, current: Option<u32>) {
+fn draw_trail(p: &Painter, f: &Frame, trail: &Trail, current: Option<u32>) {
     let mut runs: Vec<(Option<u32>, Vec<Pos2>)> = Vec::new();
-    let mut last: Option<TrailPt> = None;
-    for pt in trail.points() {
-        let s = f.at(pt.pos[0] as f64 * pulse_mm, pt.pos[1] as f64 * pulse_mm);
+    let mut last: Option<Pos2> = None;
+    for (pt, work) in trail.tagged() {
+        let s = f.at(pt[0], pt[2]);
         match runs.last_mut() {
-            Some((w, v)) if *w == pt.work => {
+            Some((w, v)) if *w == work => {
                 if v.last().is_none_or(|q| q.distance(s) >= 0.5) {
                     v.push(s);
                 }
             }
             _ => {
                 // A new run starts where the last one ended, so the path has no gap.
-                let mut v = Vec::new();
-                if let Some(l) = last {
-                    v.push(f.at(l.pos[0] as f64 * pulse_mm, l.pos[1] as f64 * pulse_mm));
-                }
-                v.push(s);
-                runs.push((pt.work, v));
+                runs.push((work, last.into_iter().chain([s]).collect()));
             }
         }
-        last = Some(*pt);
+        last = Some(s);
     }
     // The tip's latest position ends its run even if it is under half a pixel away.
-    if let (Some(l), Some((_, v))) = (last, runs.last_mut()) {
-        let s = f.at(l.pos[0] as f64 * pulse_mm, l.pos[1] as f64 * pulse_mm);
+    if let (Some(s), Some((_, v))) = (last, runs.last_mut()) {
         if v.last() != Some(&s) {
             v.push(s);
         }
@@ -437,35 +357,6 @@ fn draw_trail(p: &Painter, f: &Frame, pulse_mm: f64, trail: &Trail, current: Opt
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_trail_keeps_points_a_step_apart_and_follows_the_tip() {
-        let mut t = Trail::new(50, 100);
-        t.push([0, 0], None);
-        for z in 1..=120 {
-            t.push([0, -z], Some(1));
-        }
-        let pts: Vec<[i64; 2]> = t.points().map(|p| p.pos).collect();
-        // The first point, the first with the work, then every 50 pulses, and the tip.
-        assert_eq!(pts, [[0, 0], [0, -1], [0, -51], [0, -101], [0, -120]]);
-        // The same sample again adds nothing.
-        t.push([0, -120], Some(1));
-        assert_eq!(t.len(), 5);
-        // A new work starts a point at once.
-        t.push([0, -121], Some(2));
-        assert_eq!(t.points().last().map(|p| p.work), Some(Some(2)));
-        assert_eq!(t.len(), 6);
-    }
-
-    #[test]
-    fn the_trail_is_bounded_and_drops_the_oldest() {
-        let mut t = Trail::new(1, 10);
-        for z in 0..25 {
-            t.push([0, z * 10], Some(1));
-        }
-        assert_eq!(t.len(), 10);
-        assert_eq!(t.points().next().map(|p| p.pos), Some([0, 150]));
-    }
 
     #[test]
     fn the_frame_is_at_equal_scale_z_right_x_up() {
@@ -492,11 +383,11 @@ mod tests {
             x: [-2.0, 35.0],
             z: [-60.0, 60.0],
         };
-        let mut t = Trail::new(1, 100);
+        let mut t = Trail::default();
         assert_eq!(detail_box(&t, [0, 0], 0.001, travel), None);
-        t.push([35_000, 60_000], None); // home: not a cut
-        t.push([11_000, 1_000], Some(1));
-        t.push([-500, -20_000], Some(1));
+        t.push_tagged([35.0, 0.0, 60.0], None); // home: not a cut
+        t.push_tagged([11.0, 0.0, 1.0], Some(1));
+        t.push_tagged([-0.5, 0.0, -20.0], Some(1));
         let b = detail_box(&t, [20_000, 10_000], 0.001, travel).unwrap();
         // The cuts and the tip inside, with a margin; the rapid from home outside.
         assert!(b.x[0] < -0.5 && b.x[1] > 20.0 && b.z[0] < -20.0 && b.z[1] > 10.0);
@@ -504,8 +395,8 @@ mod tests {
         // Never past the travel.
         assert!(b.x[0] >= -2.0, "{b:?}");
         // A single point still gives a 4 mm box.
-        let mut one = Trail::new(1, 10);
-        one.push([5_000, -5_000], Some(2));
+        let mut one = Trail::default();
+        one.push_tagged([5.0, 0.0, -5.0], Some(2));
         let b = detail_box(&one, [5_000, -5_000], 0.001, travel).unwrap();
         assert!((b.z[1] - b.z[0] - 4.0).abs() < 1e-9, "{b:?}");
     }
