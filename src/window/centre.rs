@@ -341,19 +341,9 @@ impl Centre {
     /// handwheel, jog.
     fn relay_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
         ui.horizontal(|ui| {
-            let sel = OpMode::ALL
-                .iter()
-                .position(|m| *m == view.op_mode)
-                .unwrap_or(0);
-            if let Some(i) = controls::rotary(
-                ui,
-                "OPERATION MODE",
-                &OpMode::ALL.map(|m| m.names().short),
-                sel,
-                vec2(240.0, 170.0),
-                &mut self.hand,
-            ) {
-                out.push(PanelEvent::Op(OpMode::ALL[i]));
+            let size = vec2(240.0, 170.0);
+            if let Some(m) = controls::op_selector(ui, view.op_mode, size, &mut self.hand) {
+                out.push(PanelEvent::Op(m));
             }
             ui.vertical(|ui| {
                 let l = &view.lamps;
@@ -377,26 +367,10 @@ impl Centre {
                 );
                 controls::page_keys(ui, view, out);
             });
-            let ov_labels: Vec<String> = (0..=15)
-                .map(|i| {
-                    if i % 5 == 0 {
-                        format!("{}", i * 10)
-                    } else {
-                        String::new()
-                    }
-                })
-                .collect();
-            let ov_refs: Vec<&str> = ov_labels.iter().map(String::as_str).collect();
-            let sel = (view.feed_override / 10).min(15) as usize;
-            if let Some(i) = controls::rotary(
-                ui,
-                &format!("FEED OVERRIDE {} %", view.feed_override),
-                &ov_refs,
-                sel,
-                vec2(170.0, 170.0),
-                &mut self.hand,
-            ) {
-                out.push(PanelEvent::Override(i as u32 * 10));
+            let size = vec2(170.0, 170.0);
+            if let Some(p) = controls::override_switch(ui, view.feed_override, size, &mut self.hand)
+            {
+                out.push(PanelEvent::Override(p));
             }
             controls::switches(ui, view, out);
             ui.vertical(|ui| {

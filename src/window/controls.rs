@@ -177,6 +177,43 @@ pub fn rotary(
     chosen.filter(|&i| i != selected && i < n)
 }
 
+/// The operation mode selector (17), every window's: a rotary with its seven positions (the
+/// centre's and a lathe's are the same selector). The position newly turned to, if any.
+pub fn op_selector(
+    ui: &mut Ui,
+    mode: crate::panel_model::OpMode,
+    size: egui::Vec2,
+    hand: &mut HandState,
+) -> Option<crate::panel_model::OpMode> {
+    use crate::panel_model::OpMode;
+    let sel = OpMode::ALL.iter().position(|m| *m == mode).unwrap_or(0);
+    let labels = OpMode::ALL.map(|m| m.names().short);
+    rotary(ui, "OPERATION MODE", &labels, sel, size, hand).map(|i| OpMode::ALL[i])
+}
+
+/// The feed override switch, every window's: 0 to 150 % in 10 % steps. The percentage newly
+/// turned to, if any.
+pub fn override_switch(
+    ui: &mut Ui,
+    pct: u32,
+    size: egui::Vec2,
+    hand: &mut HandState,
+) -> Option<u32> {
+    let labels: Vec<String> = (0..=15)
+        .map(|i| {
+            if i % 5 == 0 {
+                format!("{}", i * 10)
+            } else {
+                String::new()
+            }
+        })
+        .collect();
+    let refs: Vec<&str> = labels.iter().map(String::as_str).collect();
+    let title = format!("FEED OVERRIDE {pct} %");
+    let sel = (pct / 10).min(15) as usize;
+    rotary(ui, &title, &refs, sel, size, hand).map(|i| i as u32 * 10)
+}
+
 /// A push button with a lamp above it; returns the button's response.
 pub fn lamp_button(
     ui: &mut Ui,

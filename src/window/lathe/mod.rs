@@ -115,7 +115,9 @@ impl Lathe {
                     });
                     ui.add_space(8.0);
                     ui.vertical(|ui| {
-                        panel::relay(ui, &v, (c.mode(), c.ofs_page()), c.switches(), out)
+                        let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
+                        let hand = &mut self.hand;
+                        panel::relay(ui, &v, modes, (sw, c.feed_override()), hand, out)
                     });
                     ui.add_space(8.0);
                     ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));

@@ -211,12 +211,15 @@ fn lamps(v: &LatheView) -> [bool; 4] {
     ]
 }
 
-/// The relay buttons, the channel and mode selectors, FAULT, TARGET and the switches.
+/// The relay buttons, the channel selector and the OFS page key, the operation selector and
+/// the feed override (the centre's, `controls::op_selector`, `controls::override_switch`),
+/// FAULT, TARGET and the switches.
 pub fn relay(
     ui: &mut Ui,
     v: &LatheView,
     (mode, ofs): (OpMode, bool),
-    switches: (bool, bool),
+    (switches, feed_override): ((bool, bool), u32),
+    hand: &mut HandState,
     out: &mut Vec<Act>,
 ) {
     out.extend(controls::relay_buttons(ui, lamps(v)).and_then(lathe_ev));
@@ -243,46 +246,21 @@ pub fn relay(
                 out.push(Act::Ev(PanelEvent::Channel(i)));
             }
         }
+        // The tool offsets page over the selector (lit while it is up): the page key again,
+        // or a mode turned, leaves it.
+        let r = key(ui, "OFS", ofs, 52.0).on_hover_text("the tool offsets page (Ctrl+O)");
+        if r.clicked() {
+            out.push(Act::Press(Key::Ctrl('o')));
+        }
     });
-    // The operation selector's positions (the centre's) in two rows, the manual ones below,
-    // and the OFS page key beside them (lit while the page is up).
-    let rows: [&[(OpMode, &str, &str)]; 2] = [
-        &[
-            (OpMode::Auto, "AUTO", "Alt+2"),
-            (OpMode::Mdi, "MDI", "Alt+3"),
-            (OpMode::Data, "DATA", "Alt+4"),
-            (OpMode::Single, "SINGLE", "Alt+7"),
-        ],
-        &[
-            (OpMode::Continuous, "CONT", "Alt+1"),
-            (OpMode::Handle, "HANDLE", "Alt+5"),
-            (OpMode::Step, "STEP", "Alt+6"),
-        ],
-    ];
-    for (i, row) in rows.iter().enumerate() {
-        ui.horizontal(|ui| {
-            ui.label(mono(
-                if i == 0 { "MODE   " } else { "       " },
-                12.0,
-                controls::LEGEND,
-            ));
-            for &(m, label, k) in row.iter() {
-                let r =
-                    key(ui, label, m == mode, 52.0).on_hover_text(format!("{} ({k})", m.name()));
-                if r.clicked() && (m != mode || ofs) {
-                    out.push(Act::Ev(PanelEvent::Op(m)));
-                }
-            }
-            if i == 1
-                && key(ui, "OFS", ofs, 52.0)
-                    .on_hover_text("the tool offsets page (Ctrl+O)")
-                    .clicked()
-                && !ofs
-            {
-                out.push(Act::Ev(PanelEvent::OfsMode));
-            }
-        });
-    }
+    ui.horizontal(|ui| {
+        if let Some(m) = controls::op_selector(ui, mode, vec2(170.0, 120.0), hand) {
+            out.push(Act::Ev(PanelEvent::Op(m)));
+        }
+        if let Some(p) = controls::override_switch(ui, feed_override, vec2(130.0, 120.0), hand) {
+            out.push(Act::Ev(PanelEvent::Override(p)));
+        }
+    });
     ui.horizontal(|ui| {
         if key(ui, "FAULT", false, 60.0)
             .on_hover_text("stop the selected channel with the typed reason (Alt+F)")
