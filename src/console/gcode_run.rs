@@ -332,7 +332,7 @@ pub(super) fn program_stop_note(c: &Console) -> Option<String> {
 }
 
 /// What the display says when a switch is turned: it applies from the next new run.
-pub(super) fn switch_message(name: &str, on: bool) -> String {
+pub(crate) fn switch_message(name: &str, on: bool) -> String {
     let state = if on { "on" } else { "off" };
     format!("{name} {state}: G-code programs, from the next START of a new run")
 }

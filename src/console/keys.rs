@@ -262,6 +262,19 @@ pub fn map_key(k: Key) -> Action {
     }
 }
 
+/// What a key that does nothing where it is pressed says, on every console: in selector
+/// position `op`, on `page` when a page is up.
+pub(crate) fn does_nothing(k: Key, op: OpMode, page: Option<&str>) -> String {
+    let on = page
+        .map(|p| format!(" on the {p} page"))
+        .unwrap_or_default();
+    format!(
+        "key {} does nothing in {}{on} (F8 shows the keys)",
+        key_name(k),
+        op.name()
+    )
+}
+
 /// Whether a key is on the relay panel's stop side (STOP, RESET, E-STOP): these always act.
 pub fn is_relay_stop(k: Key) -> bool {
     matches!(
@@ -447,15 +460,10 @@ impl Console {
                 self.refresh();
             }
             Action::None => {
-                self.message = format!(
-                    "key {} does nothing in {}{} (F8 shows the keys)",
-                    key_name(k),
-                    self.op.name(),
-                    match self.pages.page {
-                        Page::Mode => String::new(),
-                        p => format!(" on the {} page", p.label()),
-                    }
-                );
+                let page = Some(self.pages.page)
+                    .filter(|p| *p != Page::Mode)
+                    .map(|p| p.label());
+                self.message = does_nothing(k, self.op, page);
                 self.refresh();
             }
         }

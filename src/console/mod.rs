@@ -34,6 +34,7 @@ pub mod tcode;
 
 pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
+pub(crate) use gcode_run::switch_message;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
 pub(crate) use run::{deadman_ms, stalled_note, wait_limit_note};
@@ -49,7 +50,9 @@ use crate::tooldata::Magazine;
 use memory::Memory;
 use std::path::PathBuf;
 
-/// How long an operator message lives (docs/panel.md, "Messages").
+/// How long an operator message lives (docs/panel.md, "Messages"), on every console. The
+/// centre's console uses the first two; a lathe's channel panel, whose machine is several
+/// channels, says how long by what the channels do.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) enum MsgLife {
     /// Until the next operator action (a key, a script word other than `wait` and `show`).
@@ -59,6 +62,13 @@ pub(crate) enum MsgLife {
     /// still executes and the run goes on (a START ignored during a block), and at most until
     /// the next operator action.
     WhileBlock(u64),
+    /// While a channel runs (RUN, or WAIT on one that is not stopped) or jogs (JOG), and the
+    /// next action at most: not while every channel stands stopped between blocks.
+    WhileRunning,
+    /// While a channel is in feed hold.
+    WhileHeld,
+    /// While the machine is in E-STOP.
+    WhileEstop,
 }
 
 /// A program that would not translate: shown with the ALARM lamp until the program (or the

@@ -7,9 +7,10 @@
 //! The increment is the centre's (`x1 x10 x100 x1000` pulses, Alt+w or `wheelscale N`); X
 //! moves on its radius.
 
-use super::{glue, LatheConsole, MsgLife};
+use super::{glue, LatheConsole};
 use crate::console::keys::JogPress;
 use crate::console::manual::{self, Move};
+use crate::console::MsgLife;
 use crate::panel_model::{Axis, OpMode, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
 use crate::settings::MachineSettings;
@@ -85,7 +86,7 @@ impl LatheConsole {
                     self.release_jog();
                 }
                 self.record_event(&PanelEvent::Press(k));
-                self.say("", MsgLife::NextAction);
+                self.say("", MsgLife::NextKey);
                 let pulses = i64::from(dir.signum()) * i64::from(self.increment);
                 self.manual_move(axis, Move::Increment(pulses), "CONTINUOUS");
                 self.after();
@@ -251,7 +252,7 @@ impl LatheConsole {
                         },
                         manual::increment_text(&r.settings, scale)
                     ),
-                    MsgLife::NextAction,
+                    MsgLife::NextKey,
                 );
             }
         }

@@ -21,6 +21,7 @@ pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 use super::desc::LatheDesc;
 use crate::console::recording::Recording;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
+use crate::console::MsgLife;
 use crate::console::WAIT_LIMIT_NS;
 use crate::panel_model::{OpMode, PanelEvent};
 use crate::pulse_core::ClockMode;
@@ -102,23 +103,6 @@ pub struct LatheConsole {
     jogging: Option<usize>,
 }
 
-/// How long the lathe console's operator message lives (the centre's rule, docs/panel.md
-/// "Messages"): until the next operator action; an acknowledgement of what the machine does
-/// ("cycle start", "feed hold: ...") only while the machine still does it, so that the
-/// screen never says a cycle runs when every channel stands still.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum MsgLife {
-    /// Until the next operator action.
-    NextAction,
-    /// While a channel runs (RUN, or WAIT on one that is not stopped) or jogs (JOG), and
-    /// the next action at most: not while every channel stands stopped between blocks.
-    WhileRunning,
-    /// While a channel is in feed hold.
-    WhileHeld,
-    /// While the machine is in E-STOP.
-    WhileEstop,
-}
-
 /// What the terminal or the window draws.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatheView {
@@ -190,7 +174,7 @@ impl LatheConsole {
             ofs: false,
             entry: String::new(),
             message: String::new(),
-            msg_life: (MsgLife::NextAction, 0),
+            msg_life: (MsgLife::NextKey, 0),
             cycle: None,
             rows,
             cols,
@@ -313,7 +297,7 @@ impl LatheConsole {
         // Said in this instant: the machine has not answered yet (START before its tick).
         let fresh = at == self.now_ns;
         let lives = match life {
-            MsgLife::NextAction => true,
+            MsgLife::NextKey | MsgLife::WhileBlock(_) => true,
             MsgLife::WhileRunning => fresh || view::runs(chans),
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
             MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
@@ -432,7 +416,7 @@ impl LatheConsole {
     pub fn press(&mut self, k: novanc_panel::Key) {
         let act = events::map_key(k, self.optional_stop, self.block_delete);
         if self.screen.fits() || crate::console::keys::is_relay_stop(k) {
-            self.say("", MsgLife::NextAction);
+            self.say("", MsgLife::NextKey);
         }
         if crate::console::keys::is_relay_stop(k) {
             self.help = false;
@@ -504,10 +488,8 @@ impl LatheConsole {
             }
             LatheKey::None => {
                 self.record_event(&PanelEvent::Press(k));
-                self.message = format!(
-                    "key {} does nothing on the lathe console (F8 shows the keys)",
-                    crate::console::keys::key_name(k)
-                );
+                let page = self.ofs.then_some("OFS");
+                self.message = crate::console::keys::does_nothing(k, self.mode, page);
                 self.after();
             }
         }
@@ -537,7 +519,7 @@ impl LatheConsole {
         }
         self.record_event(&ev);
         // An operator action: the last one's message has lived its life.
-        self.say("", MsgLife::NextAction);
+        self.say("", MsgLife::NextKey);
         if let Err(e) = events::takes(&ev) {
             self.message = e;
             return self.after();
@@ -614,17 +596,11 @@ impl LatheConsole {
             }
             PanelEvent::OptionalStop(b) => {
                 self.optional_stop = b;
-                self.message = format!(
-                    "OPTIONAL STOP {} (from the next START of a cycle)",
-                    if b { "on" } else { "off" }
-                );
+                self.message = crate::console::switch_message("OPTIONAL STOP", b);
             }
             PanelEvent::BlockDelete(b) => {
                 self.block_delete = b;
-                self.message = format!(
-                    "BLOCK DELETE {} (from the next START of a cycle)",
-                    if b { "on" } else { "off" }
-                );
+                self.message = crate::console::switch_message("BLOCK DELETE", b);
             }
             // `events::takes` let through only the words above.
             _ => {}
@@ -857,7 +833,7 @@ impl LatheConsole {
                 let life = if cleared {
                     MsgLife::WhileRunning
                 } else {
-                    MsgLife::NextAction
+                    MsgLife::NextKey
                 };
                 self.say(said, life);
                 self.keep_params();
@@ -906,7 +882,7 @@ impl LatheConsole {
                 for &p in &changed {
                     if let Err(e) = self.store.save_params(ch, &[p]) {
                         self.message = format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0);
-                        self.msg_life = (MsgLife::NextAction, self.now_ns);
+                        self.msg_life = (MsgLife::NextKey, self.now_ns);
                     }
                 }
             }
@@ -1035,12 +1011,12 @@ impl LatheConsole {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
                     self.message = e;
-                    self.msg_life = (MsgLife::NextAction, self.now_ns);
+                    self.msg_life = (MsgLife::NextKey, self.now_ns);
                 }
             }
             if let Some(m) = c.take_message() {
                 self.message = m;
-                self.msg_life = (MsgLife::NextAction, self.now_ns);
+                self.msg_life = (MsgLife::NextKey, self.now_ns);
             }
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
@@ -1061,7 +1037,7 @@ impl LatheConsole {
                     0,
                 );
                 self.message = text;
-                self.msg_life = (MsgLife::NextAction, self.now_ns);
+                self.msg_life = (MsgLife::NextKey, self.now_ns);
             }
         }
         self.record_display();
