@@ -132,6 +132,15 @@ fn check(s: &mut Seq, what: &str) {
     }
     let Some(l) = s.c.cycle() else { return };
     let chans = l.channels();
+    // The rapid and spindle overrides the console shows are every channel's machine's.
+    for c in chans {
+        let sw = &c.status.switches;
+        assert_eq!(
+            (sw.rapid_override, sw.spindle_override),
+            s.c.rapid_spindle(),
+            "{what}"
+        );
+    }
     for (ch, c) in chans.iter().enumerate() {
         let pos = [c.status.pos[0], c.status.pos[2]];
         for (a, ax) in desc.channels[ch].axes.iter().enumerate() {
@@ -270,9 +279,12 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 Key::F(2),
                 Key::Alt('d'),
                 Key::Alt('o'),
+                Key::Alt('f'),
+                Key::Alt('['),
+                Key::Alt(']'),
             ];
             let k = keys[rng.below(keys.len())];
-            let silent = !matches!(k, Key::Alt('=' | '-' | 'o'));
+            let silent = !matches!(k, Key::Alt('=' | '-' | 'o' | 'f' | '[' | ']'));
             let line = format!("key {}", novanc::console::keys::key_name(k));
             s.fresh = true;
             s.c.handle(PanelEvent::Press(k));

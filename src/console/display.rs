@@ -257,15 +257,11 @@ pub(super) fn state_line(c: &Console) -> String {
     if c.switches.optional_stop {
         s.push_str(" M01");
     }
-    if c.status.switches.rapid_override != 100 {
-        s.push_str(&format!(
-            " RPD{}",
-            super::run::rapid_override_text(c.status.switches.rapid_override).replace(' ', "")
-        ));
-    }
-    if c.status.switches.spindle_override != 100 {
-        s.push_str(&format!(" SOV{}%", c.status.switches.spindle_override));
-    }
+    let sw = &c.status.switches;
+    s.push_str(&super::override_words(
+        sw.rapid_override,
+        sw.spindle_override,
+    ));
     if c.status.switches.dry_run {
         s.push_str(" DRY");
     }

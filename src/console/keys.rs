@@ -423,17 +423,12 @@ impl Console {
                 self.handle(PanelEvent::OptionalStop(on));
             }
             Action::RapidOverride => {
-                let p = match self.status.switches.rapid_override {
-                    100 => 50,
-                    50 => 25,
-                    25 => 0,
-                    _ => 100,
-                };
+                let p = super::next_rapid(self.status.switches.rapid_override);
                 self.handle(PanelEvent::RapidOverride(p));
             }
             Action::SpindleOverride(d) => {
-                let p = self.status.switches.spindle_override as i32 + d;
-                self.handle(PanelEvent::SpindleOverride(p.clamp(50, 120) as u32));
+                let p = super::next_spindle(self.status.switches.spindle_override, d);
+                self.handle(PanelEvent::SpindleOverride(p));
             }
             Action::DryRun => {
                 let on = !self.status.switches.dry_run;

@@ -37,7 +37,10 @@ pub use gcode_run::mdi_is_gcode;
 pub(crate) use gcode_run::switch_message;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
-pub(crate) use run::{deadman_ms, stalled_note, wait_limit_note};
+pub(crate) use run::{
+    deadman_ms, next_rapid, next_spindle, override_words, rapid_override_message,
+    spindle_override_message, stalled_note, wait_limit_note,
+};
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 
@@ -688,10 +691,7 @@ impl Console {
             PanelEvent::RapidOverride(p) => {
                 self.command(Command::RapidOverride(p));
                 self.message = if self.status.switches.rapid_override == p {
-                    format!(
-                        "rapid override {}: rapids, jogs and returns",
-                        run::rapid_override_text(p)
-                    )
+                    run::rapid_override_message(p).unwrap_or_else(|e| e)
                 } else {
                     self.refused_switch()
                 };
@@ -699,7 +699,7 @@ impl Console {
             PanelEvent::SpindleOverride(p) => {
                 self.command(Command::SpindleOverride(p));
                 self.message = if self.status.switches.spindle_override == p {
-                    format!("spindle override {p} %: the spindle turns at S x {p} %")
+                    run::spindle_override_message(p).unwrap_or_else(|e| e)
                 } else {
                     self.refused_switch()
                 };

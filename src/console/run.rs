@@ -478,6 +478,66 @@ pub(super) fn rapid_override_text(p: u32) -> String {
     }
 }
 
+/// The rapid override switch turned to `p`, on every console: what it does, or why the
+/// machine refuses it (its positions are F0, 25, 50 and 100 %, as `Machine` takes them).
+pub(crate) fn rapid_override_message(p: u32) -> Result<String, String> {
+    if matches!(p, 0 | 25 | 50 | 100) {
+        Ok(format!(
+            "rapid override {}: rapids, jogs and returns",
+            rapid_override_text(p)
+        ))
+    } else {
+        Err(format!(
+            "rapid override {p} % refused: F0 (0), 25, 50 or 100"
+        ))
+    }
+}
+
+/// The spindle override turned to `p`, on every console: what it does, or why the machine
+/// refuses it (50 to 120 % in steps of 10, as `Machine` takes it).
+pub(crate) fn spindle_override_message(p: u32) -> Result<String, String> {
+    if (50..=120).contains(&p) && p.is_multiple_of(10) {
+        Ok(format!(
+            "spindle override {p} %: the spindle turns at S x {p} %"
+        ))
+    } else {
+        Err(format!(
+            "spindle override {p} % refused: 50 to 120 in steps of 10"
+        ))
+    }
+}
+
+/// The rapid override key's next position (Alt+f): one step down, 100 → 50 → 25 → F0 → 100.
+pub(crate) fn next_rapid(p: u32) -> u32 {
+    match p {
+        100 => 50,
+        50 => 25,
+        25 => 0,
+        _ => 100,
+    }
+}
+
+/// The spindle override keys (Alt+[ and Alt+]): `d` percent from `p`, inside 50 to 120 %.
+pub(crate) fn next_spindle(p: u32, d: i32) -> u32 {
+    (p as i32 + d).clamp(50, 120) as u32
+}
+
+/// The overrides away from 100 % as the state line writes them, on every console: ` RPD50%`,
+/// ` RPDF0`, ` SOV110%`.
+pub(crate) fn override_words(rapid: u32, spindle: u32) -> String {
+    let mut s = String::new();
+    if rapid != 100 {
+        s.push_str(&format!(
+            " RPD{}",
+            rapid_override_text(rapid).replace(' ', "")
+        ));
+    }
+    if spindle != 100 {
+        s.push_str(&format!(" SOV{spindle}%"));
+    }
+    s
+}
+
 /// What DRY RUN, MACHINE LOCK or Z NEGLECT does, as the message of turning it over.
 pub(super) fn machine_switch_message(name: &str, on: bool) -> String {
     if !on {

@@ -475,6 +475,31 @@ pub fn readout(ui: &mut Ui, view: &PanelView) {
     );
 }
 
+/// The rapid override (each click one step down, as Alt+f) and the spindle override (− and +,
+/// as Alt+[ and Alt+]), every window's: each button sends what the terminal key does.
+pub fn override_buttons(
+    ui: &mut egui::Ui,
+    (rapid, spindle): (u32, u32),
+    out: &mut Vec<PanelEvent>,
+) {
+    let label = match rapid {
+        0 => "RAPID F0".to_string(),
+        p => format!("RAPID {p} %"),
+    };
+    if ui.button(label).clicked() {
+        out.push(PanelEvent::Press(novanc_panel::Key::Alt('f')));
+    }
+    ui.horizontal(|ui| {
+        if ui.small_button("-").clicked() {
+            out.push(PanelEvent::Press(novanc_panel::Key::Alt('[')));
+        }
+        ui.label(format!("SPINDLE {spindle} %"));
+        if ui.small_button("+").clicked() {
+            out.push(PanelEvent::Press(novanc_panel::Key::Alt(']')));
+        }
+    });
+}
+
 /// The rapid and spindle overrides and the DRY RUN, MACHINE LOCK and Z NEGLECT switches: each
 /// button sends what the terminal key does (docs/window.md).
 pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
@@ -484,22 +509,8 @@ pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) 
                 .small()
                 .color(LEGEND),
         );
-        let rapid = match view.switches.rapid_override {
-            0 => "RAPID F0".to_string(),
-            p => format!("RAPID {p} %"),
-        };
-        if ui.button(rapid).clicked() {
-            out.push(PanelEvent::Press(novanc_panel::Key::Alt('f')));
-        }
-        ui.horizontal(|ui| {
-            if ui.small_button("-").clicked() {
-                out.push(PanelEvent::Press(novanc_panel::Key::Alt('[')));
-            }
-            ui.label(format!("SPINDLE {} %", view.switches.spindle_override));
-            if ui.small_button("+").clicked() {
-                out.push(PanelEvent::Press(novanc_panel::Key::Alt(']')));
-            }
-        });
+        let sw = &view.switches;
+        override_buttons(ui, (sw.rapid_override, sw.spindle_override), out);
         for (on, name, ev) in [
             (
                 view.switches.dry_run,

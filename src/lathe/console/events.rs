@@ -24,12 +24,16 @@ pub enum LatheKey {
     NextChannel,
     /// The help screen (F8, Alt+h).
     Help,
-    /// FAULT of the selected channel with the typed reason (Alt+f).
+    /// FAULT of the selected channel with the typed reason (Alt+x).
     Fault,
     /// The part target from the typed number (Alt+n).
     Target,
     /// Feed override up or down 10 % (Alt+=, Alt+-).
     Override(i32),
+    /// Rapid override one step down (Alt+f, the centre's key).
+    RapidOverride,
+    /// Spindle override up or down 10 % (Alt+], Alt+[, the centre's keys).
+    SpindleOverride(i32),
     /// The next STEP and handwheel increment (Alt+w).
     Increment,
     /// A jog key: its axis and direction (CONTINUOUS, STEP; a detent in HANDLE).
@@ -42,13 +46,13 @@ pub enum LatheKey {
 
 /// What a key does on the lathe console (docs/lathe.md "Keys"): the one key map of every
 /// console (`crate::console::keys::map_key`, whose Alt+1 to Alt+6 turn the operation
-/// selector here as on the centre), with the lathe's own keys on top (Tab, Alt+c, Alt+f,
+/// selector here as on the centre), with the lathe's own keys on top (Tab, Alt+c, Alt+x,
 /// Alt+n, and Ctrl+O for OFS, the centre's tool-offset page key) and the centre's words it
 /// has no use for as [`LatheKey::None`].
 pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
     match k {
         Key::Tab | Key::Alt('c') => return LatheKey::NextChannel,
-        Key::Alt('f') => return LatheKey::Fault,
+        Key::Alt('x') => return LatheKey::Fault,
         Key::Alt('n') => return LatheKey::Target,
         Key::Ctrl('o') => return LatheKey::Ev(PanelEvent::OfsMode),
         // The lathe's jog keys as its tool post moves on the screen: X up and down, Z along
@@ -68,6 +72,8 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
         }
         Action::Help => LatheKey::Help,
         Action::Override(d) => LatheKey::Override(d),
+        Action::RapidOverride => LatheKey::RapidOverride,
+        Action::SpindleOverride(d) => LatheKey::SpindleOverride(d),
         Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Move(axis, dir),
         Action::WheelScale => LatheKey::Increment,
         Action::Wheel(n) => LatheKey::Wheel(n),
@@ -121,6 +127,8 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::OptionalStop(_)
         | PanelEvent::BlockDelete(_)
         | PanelEvent::Override(_)
+        | PanelEvent::RapidOverride(_)
+        | PanelEvent::SpindleOverride(_)
         | PanelEvent::Wait
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),

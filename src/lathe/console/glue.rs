@@ -112,6 +112,9 @@ pub struct CycleSpec {
     pub started_ns: u64,
     /// Feed override, percent, of every channel's feed moves.
     pub feed_override: u32,
+    /// Rapid override and spindle override, percent, of every channel (the centre's switches:
+    /// F0 (0), 25, 50, 100; 50 to 120).
+    pub rapid_spindle: (u32, u32),
     /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
     pub clock: ClockMode,
     /// For manual moves only (STEP): the kernel is made with nothing started.
@@ -236,6 +239,13 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
     for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(spec.feed_override))?;
+        let (rapid, spindle) = spec.rapid_spindle;
+        if rapid != 100 {
+            k.command(ch, Command::RapidOverride(rapid))?;
+        }
+        if spindle != 100 {
+            k.command(ch, Command::SpindleOverride(spindle))?;
+        }
     }
     // Each channel's spindle and coolant go on as the last cycle left them; under G96 the
     // surface speed is the channel's kept one.
@@ -599,6 +609,14 @@ impl Cycle {
     pub fn set_feed_override(&mut self, pct: u32) {
         let _ = self.core.channel_command(None, Command::Override(pct));
         self.refresh();
+    }
+
+    /// A switch of every channel's machine (rapid override, spindle override): its refusal,
+    /// if any.
+    pub fn command_all(&mut self, cmd: Command) -> Result<(), String> {
+        let r = self.core.channel_command(None, cmd);
+        self.refresh();
+        r
     }
 
     /// The part target (refused below what a channel has finished).

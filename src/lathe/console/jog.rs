@@ -293,6 +293,7 @@ impl LatheConsole {
             pos: self.pos.clone(),
             started_ns: self.now_ns,
             feed_override: self.feed_override,
+            rapid_spindle: (self.rapid_override, self.spindle_override),
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: true,

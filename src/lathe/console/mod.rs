@@ -24,7 +24,7 @@ use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::MsgLife;
 use crate::console::WAIT_LIMIT_NS;
 use crate::panel_model::{OpMode, PanelEvent};
-use crate::pulse_core::ClockMode;
+use crate::pulse_core::{ClockMode, Command};
 use crate::store::lathe::{Counter, LatheStore, Program};
 use events::LatheKey;
 use std::path::Path;
@@ -68,6 +68,10 @@ pub struct LatheConsole {
     pos: Vec<[i64; 2]>,
     /// Feed override, percent, of every channel's feed moves (rapids and threads keep 100).
     feed_override: u32,
+    /// Rapid override (F0 (0), 25, 50, 100) and spindle override (50 to 120), percent, of
+    /// every channel: the centre's switches, kept across cycles.
+    rapid_override: u32,
+    spindle_override: u32,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
     /// The kernel's clock: real time at a terminal or window, virtual in scripts.
@@ -186,6 +190,8 @@ impl LatheConsole {
             now_ns: 0,
             stale_counts: stale,
             feed_override: 100,
+            rapid_override: 100,
+            spindle_override: 100,
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
@@ -323,6 +329,11 @@ impl LatheConsole {
     fn say(&mut self, text: impl Into<String>, life: MsgLife) {
         self.message = text.into();
         self.msg_life = (life, self.now_ns);
+    }
+
+    /// The rapid override and the spindle override, percent (the centre's switches).
+    pub fn rapid_spindle(&self) -> (u32, u32) {
+        (self.rapid_override, self.spindle_override)
     }
 
     /// The operation selector's position.
@@ -472,6 +483,14 @@ impl LatheConsole {
                 let s = crate::console::manual::next_scale(self.increment);
                 self.handle(PanelEvent::WheelScale(s))
             }
+            LatheKey::RapidOverride => {
+                let p = crate::console::next_rapid(self.rapid_override);
+                self.handle(PanelEvent::RapidOverride(p));
+            }
+            LatheKey::SpindleOverride(d) => {
+                let p = crate::console::next_spindle(self.spindle_override, d);
+                self.handle(PanelEvent::SpindleOverride(p));
+            }
             LatheKey::Override(d) => {
                 let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
                 self.handle(PanelEvent::Override(p));
@@ -594,6 +613,14 @@ impl LatheConsole {
                 }
                 self.message = format!("feed override {} %", self.feed_override);
             }
+            PanelEvent::RapidOverride(p) => match crate::console::rapid_override_message(p) {
+                Ok(m) => self.switch_all(Command::RapidOverride(p), m),
+                Err(e) => self.message = e,
+            },
+            PanelEvent::SpindleOverride(p) => match crate::console::spindle_override_message(p) {
+                Ok(m) => self.switch_all(Command::SpindleOverride(p), m),
+                Err(e) => self.message = e,
+            },
             PanelEvent::OptionalStop(b) => {
                 self.optional_stop = b;
                 self.message = crate::console::switch_message("OPTIONAL STOP", b);
@@ -606,6 +633,21 @@ impl LatheConsole {
             _ => {}
         }
         self.after();
+    }
+
+    /// The rapid or spindle override turned (`cmd`): kept for every later cycle, and told
+    /// to every channel of the cycle under way; `said` on the message line, or the machine's
+    /// refusal.
+    fn switch_all(&mut self, cmd: Command, said: String) {
+        match cmd {
+            Command::RapidOverride(p) => self.rapid_override = p,
+            Command::SpindleOverride(p) => self.spindle_override = p,
+            _ => {}
+        }
+        self.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
+            Some(Err(e)) => e,
+            _ => said,
+        };
     }
 
     fn turn(&mut self, m: OpMode) {
@@ -795,6 +837,7 @@ impl LatheConsole {
             pos: self.pos.clone(),
             started_ns: self.now_ns,
             feed_override: self.feed_override,
+            rapid_spindle: (self.rapid_override, self.spindle_override),
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
@@ -1106,7 +1149,7 @@ impl LatheConsole {
                 format!(" F{}%", self.feed_override)
             } else {
                 String::new()
-            },
+            } + &crate::console::override_words(self.rapid_override, self.spindle_override),
             if self.optional_stop { " M01" } else { "" },
             if self.block_delete { " /DEL" } else { "" }
         );

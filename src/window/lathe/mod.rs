@@ -117,7 +117,8 @@ impl Lathe {
                     ui.vertical(|ui| {
                         let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
                         let hand = &mut self.hand;
-                        panel::relay(ui, &v, modes, (sw, c.feed_override()), hand, out)
+                        let ovr = (sw, c.feed_override(), c.rapid_spindle());
+                        panel::relay(ui, &v, modes, ovr, hand, out)
                     });
                     ui.add_space(8.0);
                     ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));

@@ -218,7 +218,7 @@ pub fn relay(
     ui: &mut Ui,
     v: &LatheView,
     (mode, ofs): (OpMode, bool),
-    (switches, feed_override): ((bool, bool), u32),
+    (switches, feed_override, rapid_spindle): ((bool, bool), u32, (u32, u32)),
     hand: &mut HandState,
     out: &mut Vec<Act>,
 ) {
@@ -260,13 +260,21 @@ pub fn relay(
         if let Some(p) = controls::override_switch(ui, feed_override, vec2(130.0, 120.0), hand) {
             out.push(Act::Ev(PanelEvent::Override(p)));
         }
+        ui.vertical(|ui| {
+            let mut evs = Vec::new();
+            controls::override_buttons(ui, rapid_spindle, &mut evs);
+            out.extend(evs.into_iter().map(|e| match e {
+                PanelEvent::Press(k) => Act::Press(k),
+                e => Act::Ev(e),
+            }));
+        });
     });
     ui.horizontal(|ui| {
         if key(ui, "FAULT", false, 60.0)
-            .on_hover_text("stop the selected channel with the typed reason (Alt+F)")
+            .on_hover_text("stop the selected channel with the typed reason (Alt+X)")
             .clicked()
         {
-            out.push(Act::Press(Key::Alt('f')));
+            out.push(Act::Press(Key::Alt('x')));
         }
         if key(ui, "TARGET", false, 60.0)
             .on_hover_text("the typed number is the part target (Alt+N)")

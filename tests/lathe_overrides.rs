@@ -1,0 +1,117 @@
+//! The rapid and spindle overrides on the lathe console (docs/lathe.md "Keys"): the centre's
+//! switches, on every channel of the one kernel, with the centre's keys, words and limits; kept
+//! across cycles; a whole Citizen part is made under both.
+
+mod common;
+
+use novanc::lathe::console::LatheConsole;
+use novanc::lathe::desc::LatheDesc;
+use novanc::panel_model::{OpMode, PanelEvent};
+use novanc_panel::Key;
+
+fn open(state: &std::path::Path) -> LatheConsole {
+    LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
+/// CH1's spindle speed as the display shows it, rpm.
+fn rpm(c: &LatheConsole) -> f64 {
+    c.view().channels[0].rpm
+}
+
+/// Runs `line` as CH1's MDI program and waits for the machine to come to rest; the machine
+/// time it took, ns.
+fn mdi(c: &mut LatheConsole, line: &str) -> u64 {
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type(line.into()));
+    let t0 = c.machine_ns();
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(c.wait_error().is_none(), "{:?}", c.wait_error());
+    c.machine_ns() - t0
+}
+
+#[test]
+fn the_spindle_override_turns_the_spindles_at_s_times_the_override() {
+    let dir = common::temp_dir("lathe-sov");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::SpindleOverride(120));
+    assert!(
+        c.message().starts_with("spindle override 120 %"),
+        "{}",
+        c.message()
+    );
+    mdi(&mut c, "G97 S1000 M3");
+    c.handle(PanelEvent::WaitMs(3000));
+    assert!((rpm(&c) - 1200.0).abs() < 1.0, "{}", rpm(&c));
+    assert!(c.view().display[0].contains("SOV120%"), "{:?}", c.view());
+    // Turned back with the spindle on: the spindle follows.
+    c.press(Key::Alt('['));
+    c.press(Key::Alt('['));
+    assert_eq!(c.rapid_spindle(), (100, 100));
+    c.handle(PanelEvent::WaitMs(3000));
+    assert!((rpm(&c) - 1000.0).abs() < 1.0, "{}", rpm(&c));
+    assert!(!c.view().display[0].contains("SOV"), "{:?}", c.view());
+    // Past its range: refused with the machine's words, nothing changed.
+    c.handle(PanelEvent::SpindleOverride(130));
+    assert!(
+        c.message().contains("refused: 50 to 120 in steps of 10"),
+        "{}",
+        c.message()
+    );
+    assert_eq!(c.rapid_spindle(), (100, 100));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_rapid_override_slows_every_rapid_and_is_kept_for_the_next_cycle() {
+    let dir = common::temp_dir("lathe-rpd");
+    let mut c = open(&dir);
+    let full = mdi(&mut c, "G0 X20 Z10");
+    mdi(&mut c, "G0 X70 Z60");
+    // Alt+f steps it down, as on the centre: 100 → 50.
+    c.press(Key::Alt('f'));
+    assert_eq!(c.rapid_spindle(), (50, 100));
+    assert!(
+        c.message().starts_with("rapid override 50 %"),
+        "{}",
+        c.message()
+    );
+    let half = mdi(&mut c, "G0 X20 Z10");
+    assert!(
+        half as f64 > 1.6 * full as f64,
+        "the same rapid took {half} ns at 50 %, {full} ns at 100 %"
+    );
+    // A cycle begun now runs every channel at the override.
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::WaitMs(100));
+    let cyc = c.cycle().expect("a cycle runs");
+    for ch in cyc.channels() {
+        assert_eq!(ch.status.switches.rapid_override, 50);
+    }
+    // FAULT moved to Alt+x: Alt+f is the rapid override on every console.
+    c.press(Key::Alt('x'));
+    assert!(c.message().contains("CH1 FAULT"), "{}", c.message());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_citizen_part_is_made_under_both_overrides() {
+    let dir = common::temp_dir("lathe-ovr-part");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::SpindleOverride(80));
+    c.handle(PanelEvent::RapidOverride(25));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(c.wait_error().is_none(), "{:?}", c.wait_error());
+    let v = c.view();
+    for ch in &v.channels {
+        assert_eq!((ch.state.as_str(), ch.parts), ("DONE", 1), "{v:?}");
+    }
+    assert!(v.title.contains("1/1"), "{}", v.title);
+    let _ = std::fs::remove_dir_all(&dir);
+}
