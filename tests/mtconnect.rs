@@ -426,8 +426,8 @@ fn the_terminal_console_streams_its_mode_to_an_agent() {
     );
 }
 
-/// The lathe's terminal console streams its three channels as paths: idle and READY, then
-/// START (Alt+s) runs all three.
+/// The lathe's terminal console streams its three channels as paths: idle and READY, the
+/// rapid and spindle overrides turned, then START (Alt+s) runs all three.
 #[test]
 fn the_lathe_console_streams_its_paths_to_an_agent() {
     console_streams(
@@ -435,6 +435,9 @@ fn the_lathe_console_streams_its_paths_to_an_agent() {
         "--machine citizen",
         &[
             (&[], "|p3_exec|READY"),
+            // The centre's rapid and spindle override keys, on every channel (stop 38).
+            (&["M-f"], "|p3_Rovr|50"),
+            (&["M-]"], "|p2_Sovr|110"),
             (&["M-2"], "|p1_mode|AUTOMATIC"),
             (&["M-s"], "|p2_exec|ACTIVE"),
         ],

@@ -55,7 +55,8 @@ struct LatheCtx {
     /// The parts are the sync table's (AUTO).
     auto_parts: bool,
     pulse_mm: f64,
-    feed_override: u32,
+    /// The console's feed, rapid and spindle overrides (a channel with no cycle loaded).
+    overrides: [u32; 3],
     message: Option<String>,
 }
 
@@ -88,7 +89,7 @@ impl LatheCtx {
             self.mode,
             &paths,
             self.pulse_mm,
-            self.feed_override,
+            self.overrides,
             self.message.as_deref(),
         )
     }
@@ -209,7 +210,10 @@ impl Feed {
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
             auto_parts: c.cycle().is_some_and(|cy| !cy.mdi),
             pulse_mm: c.desc().pulse_mm,
-            feed_override: c.feed_override(),
+            overrides: {
+                let (rapid, spindle) = c.rapid_spindle();
+                [c.feed_override(), rapid, spindle]
+            },
             message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
         };
         let snap = c.cycle().map_or(&[][..], |cy| cy.channels());
@@ -229,7 +233,7 @@ impl Feed {
             parts: vec![0; n],
             auto_parts: true,
             pulse_mm,
-            feed_override: 100,
+            overrides: [100; 3],
             message: None,
         };
         lock(&self.state).publish_lathe(cy.channels(), Some(ctx), cy.now_ns());
@@ -300,12 +304,13 @@ struct LathePath<'a> {
 
 /// The lathe's items: the controller's once (E-STOP is machine-wide), then each channel as
 /// path `pN_` with the mill's mapping ([`crate::mtconnect::items::path_items`]); a channel
-/// with no cycle loaded stands idle at its tool post with the console's feed override.
+/// with no cycle loaded stands idle at its tool post with the console's overrides (feed,
+/// rapid, spindle).
 fn lathe_items(
     mode: &'static str,
     paths: &[LathePath],
     pulse_mm: f64,
-    feed_override: u32,
+    [feed_override, rapid_override, spindle_override]: [u32; 3],
     message: Option<&str>,
 ) -> Vec<(Key, String)> {
     let idle: Vec<Status> = paths
@@ -313,6 +318,11 @@ fn lathe_items(
         .map(|p| Status {
             pos: [p.pos[0], 0, p.pos[1]].into(),
             feed_override,
+            switches: crate::record::Switches {
+                rapid_override,
+                spindle_override,
+                ..Default::default()
+            },
             ..Status::default()
         })
         .collect();
