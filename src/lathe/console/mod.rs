@@ -1142,21 +1142,24 @@ impl LatheConsole {
             .collect();
         let c = &chans[self.sel];
         let listing = self.listing(c.line);
-        let mode = format!(
+        let mode = if self.ofs { "OFS" } else { self.mode.word() };
+        // The switches are the machine's, every channel's: on the title line, where the
+        // plasma's 40 columns do not cut them off.
+        let switches = format!(
             "{}{}{}{}",
-            if self.ofs { "OFS" } else { self.mode.word() },
             if self.feed_override != 100 {
-                format!(" F{}%", self.feed_override)
+                format!("  F{}%", self.feed_override)
             } else {
                 String::new()
-            } + &crate::console::override_words(self.rapid_override, self.spindle_override),
+            },
+            crate::console::override_words(self.rapid_override, self.spindle_override),
             if self.optional_stop { " M01" } else { "" },
             if self.block_delete { " /DEL" } else { "" }
         );
         let display = view::plasma(
             self.sel,
             c,
-            &mode,
+            mode,
             self.desc.pulse_mm,
             &listing,
             self.message_with(&chans),
@@ -1172,7 +1175,7 @@ impl LatheConsole {
             .unwrap_or(0);
         LatheView {
             title: format!(
-                "{} {} CHANNELS  PARTS {}/{}  {:.3} s",
+                "{} {} CHANNELS  PARTS {}/{}  {:.3} s{switches}",
                 self.desc.name.to_uppercase(),
                 self.desc.channels.len(),
                 done,
