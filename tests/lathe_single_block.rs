@@ -180,9 +180,10 @@ fn at_block(c: &mut LatheConsole, seq: u32, nth: usize) -> [i64; 2] {
     panic!("block {seq} did not start {nth} times: {}", c.frame_text());
 }
 
-/// A wear offset revised on the OFS page while a batch runs takes effect from the channel's
-/// next part, as a real lathe takes it at the next T call: the part under way is cut as it
-/// was read, the next with the revised offset; the batch does not stop.
+/// A wear offset revised on the OFS page for the tool that cuts, which the part under way does
+/// not call again, takes effect from the channel's next part (a real lathe takes it at the
+/// next T call): the part under way is cut as it was read, the next with the revised offset;
+/// the batch does not stop.
 #[test]
 fn a_wear_offset_revised_mid_batch_takes_effect_at_the_next_part() {
     // CH1: T0303, then `G0 X22 Z0.5` (line 11): where its 6th block (line 12, `G1 X-1`)
@@ -219,5 +220,45 @@ fn a_wear_offset_revised_mid_batch_takes_effect_at_the_next_part() {
     c.handle(PanelEvent::Wait);
     assert!(over(&c), "the batch ran to its target: {}", c.frame_text());
     assert_eq!(c.counter().counts, vec![2, 2, 2]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A wear offset revised for a tool the part under way has still to call takes effect at that
+/// call, in this part: CH1 cuts with T3 (block 6, line 12) when T1's X wear is revised, and
+/// T1, called at line 14, already stands where the revision puts it in part 1.
+#[test]
+fn a_wear_offset_revised_before_its_tool_is_called_takes_effect_at_the_call() {
+    // Block 9 (line 15, `G0 X14 Z1`, T1's approach) ends where block 10 starts.
+    let plain = {
+        let dir = common::temp_dir("lathe-wear-call-plain");
+        let mut c = open(&dir);
+        c.handle(PanelEvent::Target(1));
+        c.handle(PanelEvent::Start);
+        let p = at_block(&mut c, 10, 1);
+        let _ = std::fs::remove_dir_all(&dir);
+        p
+    };
+    let dir = common::temp_dir("lathe-wear-call");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Start);
+    at_block(&mut c, 6, 1);
+    c.handle(PanelEvent::OfsMode);
+    c.handle(PanelEvent::Type("T1 X0.1".into()));
+    assert_eq!(
+        c.message(),
+        "T01 revised: CH1 takes it from its next tool call, line 14"
+    );
+    let revised = at_block(&mut c, 10, 1);
+    // 0.1 mm on the diameter is 50 pulses on the radius, in this part; Z as it was.
+    assert_eq!(
+        (revised[0] - plain[0]).abs(),
+        50,
+        "{revised:?} against {plain:?}"
+    );
+    assert_eq!(revised[1], plain[1]);
+    c.handle(PanelEvent::Wait);
+    assert!(over(&c), "the part was made: {}", c.frame_text());
+    assert_eq!(c.counter().counts, vec![1, 1, 1]);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -855,11 +855,16 @@ impl Kernel {
         Ok(())
     }
 
-    /// Channel `ch` runs `prog` from its next run on (its next part, or a RESET): the same
-    /// program read again, with its tools revised. Refused unless its waiting codes and
-    /// chuck codes are those of the program it replaces, in the same order: the sync table
-    /// was made for them.
-    pub fn replace_program(&mut self, ch: usize, prog: Vec<Statement>) -> Result<(), String> {
+    /// Channel `ch` runs `prog`, the same program read again with its tools revised: from its
+    /// next tool call not yet read in the part under way, as a real lathe takes a wear offset
+    /// at the next T, and whole from its next part (or a RESET). Refused unless its waiting
+    /// codes and chuck codes are those of the program it replaces, in the same order: the sync
+    /// table was made for them. The line of the tool call it is taken at, if in this part.
+    pub fn replace_program(
+        &mut self,
+        ch: usize,
+        prog: Vec<Statement>,
+    ) -> Result<Option<u32>, String> {
         let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
         let syncs =
             |src: &VecSource| -> Vec<Sync> { src.blocks().filter_map(|b| b.sync).collect() };
@@ -870,8 +875,11 @@ impl Kernel {
                 ch + 1
             ));
         }
+        // Inside the part: from the next tool call B1 has not yet read (every block before it
+        // is the one read before; a block ahead of it, already read, keeps the old offsets).
+        let at = c.src.splice_at_next_tool_call(&next).map(|b| b.stmt);
         c.next_src = Some(next);
-        Ok(())
+        Ok(at)
     }
 
     /// Another operator command to channel `ch`'s machine (override, SINGLE BLOCK, ...).

@@ -75,7 +75,11 @@ enum Msg {
     /// A kernel's part target.
     Target(u32),
     /// A kernel channel's program from its next run on.
-    Program(usize, Vec<crate::block::Statement>),
+    Program(
+        usize,
+        Vec<crate::block::Statement>,
+        mpsc::Sender<Result<Option<u32>, String>>,
+    ),
     /// A look at the kernel from its thread, between two ticks.
     Inspect(KernelLook),
     Capture(bool),
@@ -394,14 +398,18 @@ impl PulseCore {
         rx.recv_timeout(APPLY_PATIENCE).ok()
     }
 
-    /// Channel `ch` of a kernel runs `prog` from its next run on (`Kernel::replace_program`).
+    /// Channel `ch` of a kernel runs `prog`, its program read again with revised tools, from
+    /// its next tool call in the part under way, else from its next part
+    /// (`Kernel::replace_program`): the line of that tool call, if in this part.
     pub fn replace_program(
         &self,
         ch: usize,
         prog: Vec<crate::block::Statement>,
-    ) -> Result<(), String> {
-        self.send_sync(Msg::Program(ch, prog));
-        lock(&self.shared.refusal).take().map_or(Ok(()), Err)
+    ) -> Result<Option<u32>, String> {
+        let (tx, rx) = mpsc::channel();
+        self.send_sync(Msg::Program(ch, prog, tx));
+        rx.recv_timeout(APPLY_PATIENCE)
+            .unwrap_or_else(|_| Err("the pulse core did not answer".into()))
     }
 
     /// Sets a kernel's part target (refused below the works already supplied, or once a
@@ -701,12 +709,12 @@ impl Runner {
                 self.applied += 1;
                 return;
             }
-            Msg::Program(ch, prog) => {
+            Msg::Program(ch, prog, tx) => {
                 let r = match &mut self.k {
                     Some(k) => k.replace_program(ch, prog),
                     None => Err("a program is replaced on a kernel's channel".into()),
                 };
-                *lock(&self.shared.refusal) = r.err();
+                let _ = tx.send(r);
                 self.applied += 1;
                 return;
             }

@@ -102,6 +102,51 @@ impl VecSource {
     pub fn rewind(&mut self) {
         self.at = 0;
     }
+
+    /// Takes `other`'s blocks from the first tool call (`t`) not yet handed out on, where
+    /// `other` is this program read again (the same blocks in the same order, their end
+    /// points moved by a revised tool offset), and where the block before the call ends at
+    /// the same point in both (so that the machine stands where `other`'s next block starts
+    /// from: not after a tool whose offset was revised). What is handed out from there is
+    /// `other`'s. Returns the block of the call, or None (no such call, or the two are not the
+    /// same program up to it: nothing changes).
+    pub fn splice_at_next_tool_call(&mut self, other: &VecSource) -> Option<&Block> {
+        fn block(f: &Fetch) -> Option<&Block> {
+            match f {
+                Fetch::Block(e) => e.stmt.blocks.get(e.index),
+                _ => None,
+            }
+        }
+        // The same program, block for block: the same numbers, tools and meeting points.
+        let same = |a: Option<&Block>, b: Option<&Block>| match (a, b) {
+            (Some(a), Some(b)) => (a.seq, a.stmt, a.t, a.sync) == (b.seq, b.stmt, b.t, b.sync),
+            (None, None) => true,
+            _ => false,
+        };
+        let n = self.q.len().min(other.q.len());
+        let mut last_end = None;
+        let mut k = None;
+        for i in 0..n {
+            let (a, b) = (block(&self.q[i]), block(&other.q[i]));
+            if !same(a, b) {
+                return None;
+            }
+            if i >= self.at
+                && a.is_some_and(|a| a.t.is_some())
+                && last_end.is_none_or(|(x, y)| x == y)
+            {
+                k = Some(i);
+                break;
+            }
+            if let (Some(a), Some(b)) = (a, b) {
+                last_end = Some((a.end, b.end));
+            }
+        }
+        let k = k?;
+        self.q.truncate(k);
+        self.q.extend(other.q[k..].iter().cloned());
+        block(&self.q[k])
+    }
 }
 
 impl BlockSource for VecSource {

@@ -53,8 +53,8 @@ impl LatheConsole {
 
     /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
     /// diameter, Z offset, nose radius, tip position; any of them), stored at once; a batch
-    /// under way takes it from the channel's next part (`Cycle::reread`), else the programs
-    /// read it from the next START.
+    /// under way takes it from the channel's next tool call, in this part or the next
+    /// (`Cycle::reread`), else the programs read it from the next START.
     fn revise_tool(&mut self, line: &str) {
         if line.trim().is_empty() {
             return;
@@ -71,11 +71,16 @@ impl LatheConsole {
                     self.entry = line.to_string();
                 }
                 Ok(()) => {
-                    // A cycle under way takes it from the channel's next part, as a real
-                    // lathe takes a wear offset at the next T call.
+                    // A cycle under way takes it at the channel's next tool call not yet read,
+                    // in this part or the next, as a real lathe takes a wear offset at the
+                    // next T.
                     let running = self.cycle.as_mut().filter(|c| !c.is_over() && !c.mdi);
                     self.message = match running.map(|c| c.reread(ch, &tools)) {
-                        Some(Ok(())) => {
+                        Some(Ok(Some(line))) => format!(
+                            "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
+                            ch + 1
+                        ),
+                        Some(Ok(None)) => {
                             format!("T{t:02} revised: CH{} takes it from its next part", ch + 1)
                         }
                         Some(Err(e)) => format!("T{t:02} revised: from the next START ({e})"),

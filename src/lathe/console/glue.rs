@@ -576,15 +576,17 @@ impl Cycle {
     }
 
     /// Channel `ch`'s program read again with its tools now `tools` (revised on the OFS page),
-    /// from the state and place its read in this cycle began from: the channel runs it from
-    /// its next part (or RESET), never inside the part it is in. Refused for a channel with no
-    /// program of the cycle (MDI, manual moves), a read that fails (a revised offset that
-    /// takes the tool past its travel), or other waiting codes; the cycle then runs on as read.
+    /// from the state and place its read in this cycle began from: the channel takes it at
+    /// its next tool call not yet read in the part it is in (a real lathe takes a wear offset
+    /// at the next T), else from its next part (or RESET). The line of that tool call, if in
+    /// this part. Refused for a channel with no program of the cycle (MDI, manual moves), a
+    /// read that fails (a revised offset that takes the tool past its travel), or other
+    /// waiting codes; the cycle then runs on as read.
     pub fn reread(
         &mut self,
         ch: usize,
         tools: &[crate::lathe::desc::ToolDesc],
-    ) -> Result<(), String> {
+    ) -> Result<Option<u32>, String> {
         let r = self
             .reread
             .get(ch)
@@ -594,9 +596,9 @@ impl Cycle {
         desc.channels.get_mut(ch).ok_or("no such channel")?.tools = tools.to_vec();
         let read = read_kept(&r.text, &desc, ch, &self.opts, None, &r.from, r.at)
             .map_err(|e| format!("{}:{e}", r.name))?;
-        self.core.replace_program(ch, read.statements)?;
+        let at = self.core.replace_program(ch, read.statements)?;
         self.desc = desc;
-        Ok(())
+        Ok(at)
     }
 
     /// SINGLE BLOCK on or off for every channel: on, each stops after the block it is in.
