@@ -310,7 +310,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 Key::Right,
                 Key::Alt(','),
                 Key::Alt('.'),
-            ][rng.range(0, 5) as usize];
+                Key::Delete,
+            ][rng.range(0, 6) as usize];
             let line = format!("key {}", novanc::console::keys::key_name(k));
             let posts =
                 |c: &LatheConsole| -> Vec<[i64; 2]> { c.tips().into_iter().map(|t| t.0).collect() };
@@ -320,6 +321,29 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             s.c.handle(PanelEvent::Press(k));
             let after = posts(&s.c);
             let said = s.c.message().to_string();
+            let arrow = matches!(
+                k,
+                Key::Up | Key::Down | Key::Left | Key::Right | Key::Delete
+            );
+            if arrow && s.c.mode() == OpMode::Data && !s.c.ofs_page() {
+                // In DATA the arrows and Delete are the editor's cursor keys: the pointer moves
+                // or a character goes (nothing said but what the machine is doing), or they
+                // say why not; no tool post moves.
+                let notes = [
+                    "EMERGENCY STOP",
+                    "feed hold",
+                    "STOP: ",
+                    "SINGLE BLOCK",
+                    "JOG",
+                ];
+                let keys = ["Up: ", "Down: ", "Left: ", "Right: ", "Delete: "];
+                assert!(
+                    said.is_empty() || keys.iter().chain(&notes).any(|w| said.starts_with(w)),
+                    "{line}: {said}"
+                );
+                assert_eq!(after, before, "{line}: {said}");
+                return line;
+            }
             if ["STEP CH", "CONTINUOUS CH", "HANDLE CH"]
                 .iter()
                 .any(|w| said.starts_with(w))
@@ -341,7 +365,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                     said.contains("refused")
                         || said.contains("(Alt+6) to move a tool post")
                         || said.contains("turn the operation selector to HANDLE")
-                        || said.starts_with("HANDLE: turn the handwheel"),
+                        || said.starts_with("HANDLE: turn the handwheel")
+                        || (k == Key::Delete && said.contains(" does nothing in ")),
                     "{line}: {said}"
                 );
                 assert_eq!(after, before, "{line}: {said}");

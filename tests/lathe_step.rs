@@ -333,3 +333,73 @@ fn a_frozen_front_end_cannot_keep_a_jog_going() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// In DATA the arrows, PgUp/PgDn, Home/End and Delete are the editor's cursor keys on the
+/// selected channel's program, the centre's (`console::entry::cursor_command`): each is the
+/// editor command it stands for, stored like a typed one; the typed line stays on the entry
+/// line; a cycle under way refuses them, and nothing moves.
+#[test]
+fn in_data_the_arrows_are_the_editors_cursor_keys() {
+    let dir = common::temp_dir("lathe-cursor");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Data));
+    let line_of = |c: &LatheConsole| {
+        c.view()
+            .display
+            .iter()
+            .find_map(|l| l.strip_prefix('>').map(|r| r[..4].to_string()))
+    };
+    c.handle(PanelEvent::Key('Z'));
+    c.press(Key::Down);
+    c.press(Key::Down);
+    assert_eq!(
+        line_of(&c).as_deref(),
+        Some("0003"),
+        "{:?}",
+        c.view().display
+    );
+    assert_eq!(c.message(), "");
+    c.press(Key::Up);
+    assert_eq!(line_of(&c).as_deref(), Some("0002"));
+    // Nothing moved, and the typed line is still there.
+    assert_eq!(posts(&c), home);
+    assert!(
+        c.frame_text().lines().any(|l| l.trim_end() == "> Z"),
+        "{}",
+        c.frame_text()
+    );
+    // Line 3 is a comment: Home, Right, then Delete takes its second character, stored.
+    c.press(Key::Down);
+    c.press(Key::Home);
+    c.press(Key::Right);
+    let before = c.programs()[0].text.clone();
+    c.press(Key::Delete);
+    let after = c.programs()[0].text.clone();
+    assert_eq!(after.len() + 1, before.len());
+    assert!(after.contains("\n(eed 004"), "{after}");
+    // At the first line, Up says why and changes nothing.
+    c.press(Key::PageUp);
+    c.press(Key::Up);
+    assert!(
+        c.message()
+            .starts_with("Up: the pointer is on the first line"),
+        "{}",
+        c.message()
+    );
+    // With a cycle under way: refused, said.
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Op(OpMode::Data));
+    assert!(c.cycle().is_some_and(|l| !l.is_over()), "{}", c.message());
+    c.press(Key::Down);
+    assert!(
+        c.message().contains("the programs are in use"),
+        "{}",
+        c.message()
+    );
+    c.handle(PanelEvent::EStop);
+    drop(c);
+    assert_eq!(open(&dir).programs()[0].text, after, "stored");
+    let _ = std::fs::remove_dir_all(&dir);
+}

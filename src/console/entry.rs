@@ -64,21 +64,17 @@ pub(super) fn key(c: &mut Console, ch: char) {
     }
 }
 
-/// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT, on the
-/// buffer the data-processing mode edits (PROGRAM REVISION, MDI, TOOL DATA REVISION), beside
-/// the letter commands, as Fanuc's EDIT screen has them (docs/editor.md, "Cursor keys"). Each
-/// is the editor command it stands for (`nM` to move, `1D` for Delete), journaled like a typed
-/// one; the line being typed stays on the entry line. Returns false for a key that is not one
-/// of these here (the key then does what it does elsewhere).
-pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
+/// The editor command an editor cursor key (arrows, PgUp/PgDn, Home/End) or Delete stands for
+/// on buffer `b`, every console's (docs/editor.md, "Cursor keys"): `nM` to move the pointer,
+/// `1D` for Delete; `page` lines for PgUp and PgDn. None: not such a key. Err: why the pointer
+/// cannot move (said on the message line; nothing is run).
+pub(crate) fn cursor_command(
+    b: &novanc_editor::Buffer,
+    k: novanc_panel::Key,
+    page: usize,
+) -> Option<(&'static str, Result<String, String>)> {
     use super::memory::Cursor as C;
     use novanc_panel::Key as K;
-    let t = match (c.op, c.data) {
-        (OpMode::Data, DataMode::Revise) => Target::Program,
-        (OpMode::Data, DataMode::Mdi) => Target::Mdi,
-        (OpMode::Data, DataMode::ToolRevise) => Target::ToolFile,
-        _ => return false,
-    };
     let (cursor, name) = match k {
         K::Left => (Some(C::Left), "Left"),
         K::Right => (Some(C::Right), "Right"),
@@ -89,31 +85,44 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
         K::Home => (Some(C::Home), "Home"),
         K::End => (Some(C::End), "End"),
         K::Delete => (None, "Delete"),
+        _ => return None,
+    };
+    let Some(cur) = cursor else {
+        return Some((name, Ok("1D".into())));
+    };
+    let r = match super::memory::cursor_target(b, cur, page) {
+        Ok(to) if to == b.pointer() => Err(format!("{name}: the pointer is there already")),
+        Ok(to) => Ok(format!("{}M", to as i64 - b.pointer() as i64)),
+        Err(e) => Err(format!("{name}: {e}")),
+    };
+    Some((name, r))
+}
+
+/// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT, on the
+/// buffer the data-processing mode edits (PROGRAM REVISION, MDI, TOOL DATA REVISION), beside
+/// the letter commands, as Fanuc's EDIT screen has them (docs/editor.md, "Cursor keys"). Each
+/// is the editor command it stands for ([`cursor_command`]), journaled like a typed one; the
+/// line being typed stays on the entry line. Returns false for a key that is not one of these
+/// here (the key then does what it does elsewhere).
+pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
+    let t = match (c.op, c.data) {
+        (OpMode::Data, DataMode::Revise) => Target::Program,
+        (OpMode::Data, DataMode::Mdi) => Target::Mdi,
+        (OpMode::Data, DataMode::ToolRevise) => Target::ToolFile,
         _ => return false,
+    };
+    let Some((name, command)) = cursor_command(c.mem.buffer(t), k, c.cfg.text_rows()) else {
+        return false;
     };
     if c.running() {
         c.message = format!("{name} refused: the machine is running");
         return true;
     }
-    let command = match cursor {
-        None => "1D".to_string(),
-        Some(cur) => {
-            let rows = c.cfg.text_rows();
-            match c.mem.cursor_target(t, cur, rows) {
-                Ok(to) => {
-                    let p = c.mem.pointer(t) as i64;
-                    let d = to as i64 - p;
-                    if d == 0 {
-                        c.message = format!("{name}: the pointer is there already");
-                        return true;
-                    }
-                    format!("{d}M")
-                }
-                Err(e) => {
-                    c.message = format!("{name}: {e}");
-                    return true;
-                }
-            }
+    let command = match command {
+        Ok(cmd) => cmd,
+        Err(e) => {
+            c.message = e;
+            return true;
         }
     };
     let rev = c.mem.rev();
@@ -126,7 +135,7 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
             }
             run::recheck_program_alarm(c);
         }
-        Err(e) if cursor.is_none() => {
+        Err(e) if command == "1D" => {
             c.message = format!("Delete: nothing after the pointer ({e})");
         }
         Err(e) => c.message = format!("{name}: {e}"),

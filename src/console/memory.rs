@@ -4,6 +4,7 @@
 
 use crate::store::{Stores, Target};
 use crate::tooldata::{Magazine, ToolRecord};
+use novanc_editor::Buffer;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -197,11 +198,6 @@ impl Memory {
         b.is_empty() || (b.len() < 4096 && b.text().trim().is_empty())
     }
 
-    /// The pointer of a buffer.
-    pub fn pointer(&self, t: Target) -> usize {
-        self.stores.buffer(t).pointer()
-    }
-
     /// Lines in a buffer.
     pub fn line_count(&self, t: Target) -> usize {
         self.stores.buffer(t).line_count()
@@ -251,50 +247,9 @@ impl Memory {
         }
     }
 
-    /// Where an editor cursor key takes the pointer of a buffer: a character left or right,
-    /// a line (or `page` lines) up or down keeping the column where the line is long enough,
-    /// the start or the end of the line (docs/editor.md, "Cursor keys"). Err says why the
-    /// pointer cannot go there (at the start or the end of the buffer).
-    pub fn cursor_target(&self, t: Target, k: Cursor, page: usize) -> Result<usize, String> {
-        let b = self.stores.buffer(t);
-        let p = b.pointer();
-        let count = b.line_count().max(1);
-        let line = b.line_of(p);
-        let start = |l: usize| b.line_start(l.min(count));
-        // The end of line `l`: before its end of block, or the buffer's end for the last.
-        let end = |l: usize| {
-            if l + 1 >= count {
-                let s = start(l);
-                let e = b.len();
-                if e > s && b.slice(e - 1, e) == "\n" {
-                    e - 1
-                } else {
-                    e
-                }
-            } else {
-                start(l + 1) - 1
-            }
-        };
-        let col = p - start(line);
-        let to_line = |l: usize| (start(l) + col).min(end(l));
-        match k {
-            Cursor::Left if p == 0 => Err("the pointer is at the start of the buffer".into()),
-            Cursor::Left => Ok(p - 1),
-            Cursor::Right if p >= b.len() => Err("the pointer is at the end of the buffer".into()),
-            Cursor::Right => Ok(p + 1),
-            Cursor::Up | Cursor::PageUp if line == 0 => {
-                Err("the pointer is on the first line".into())
-            }
-            Cursor::Down | Cursor::PageDown if line + 1 >= count => {
-                Err("the pointer is on the last line".into())
-            }
-            Cursor::Up => Ok(to_line(line - 1)),
-            Cursor::Down => Ok(to_line(line + 1)),
-            Cursor::PageUp => Ok(to_line(line.saturating_sub(page.max(1)))),
-            Cursor::PageDown => Ok(to_line((line + page.max(1)).min(count - 1))),
-            Cursor::Home => Ok(start(line)),
-            Cursor::End => Ok(end(line)),
-        }
+    /// Buffer `t` as stored.
+    pub fn buffer(&self, t: Target) -> &Buffer {
+        self.stores.buffer(t)
     }
 
     /// Runs one editor command line on a buffer (journaled before it returns Ok); Ok carries
@@ -496,6 +451,50 @@ impl Memory {
             b.text()
         };
         crate::gcode::is_gcode(&name, &head)
+    }
+}
+
+/// Where an editor cursor key takes the pointer of a buffer: a character left or right,
+/// a line (or `page` lines) up or down keeping the column where the line is long enough,
+/// the start or the end of the line (docs/editor.md, "Cursor keys"). Err says why the
+/// pointer cannot go there (at the start or the end of the buffer). Every console's editor
+/// (the centre's buffers, a lathe channel's program).
+pub(crate) fn cursor_target(b: &Buffer, k: Cursor, page: usize) -> Result<usize, String> {
+    let p = b.pointer();
+    let count = b.line_count().max(1);
+    let line = b.line_of(p);
+    let start = |l: usize| b.line_start(l.min(count));
+    // The end of line `l`: before its end of block, or the buffer's end for the last.
+    let end = |l: usize| {
+        if l + 1 >= count {
+            let s = start(l);
+            let e = b.len();
+            if e > s && b.slice(e - 1, e) == "\n" {
+                e - 1
+            } else {
+                e
+            }
+        } else {
+            start(l + 1) - 1
+        }
+    };
+    let col = p - start(line);
+    let to_line = |l: usize| (start(l) + col).min(end(l));
+    match k {
+        Cursor::Left if p == 0 => Err("the pointer is at the start of the buffer".into()),
+        Cursor::Left => Ok(p - 1),
+        Cursor::Right if p >= b.len() => Err("the pointer is at the end of the buffer".into()),
+        Cursor::Right => Ok(p + 1),
+        Cursor::Up | Cursor::PageUp if line == 0 => Err("the pointer is on the first line".into()),
+        Cursor::Down | Cursor::PageDown if line + 1 >= count => {
+            Err("the pointer is on the last line".into())
+        }
+        Cursor::Up => Ok(to_line(line - 1)),
+        Cursor::Down => Ok(to_line(line + 1)),
+        Cursor::PageUp => Ok(to_line(line.saturating_sub(page.max(1)))),
+        Cursor::PageDown => Ok(to_line((line + page.max(1)).min(count - 1))),
+        Cursor::Home => Ok(start(line)),
+        Cursor::End => Ok(end(line)),
     }
 }
 

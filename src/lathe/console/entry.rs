@@ -47,8 +47,40 @@ impl LatheConsole {
                     self.mdi[self.sel].len()
                 );
             }
-            OpMode::Data => self.edit(&line),
+            OpMode::Data => {
+                if line.is_empty() {
+                    return;
+                }
+                if let Err(e) = self.edit(&line) {
+                    // Refused: the line stays on the entry line, nothing is lost.
+                    self.message = e;
+                    self.entry = line;
+                }
+            }
         }
+    }
+
+    /// An editor cursor key (arrows, PgUp/PgDn, Home/End) or Delete in DATA, on the selected
+    /// channel's program: the editor command it stands for, every console's
+    /// (`crate::console::entry::cursor_command`), run as a typed one is; the line being typed
+    /// stays on the entry line. False for another key, or with the OFS page up.
+    pub(super) fn cursor_key(&mut self, k: novanc_panel::Key) -> bool {
+        if self.mode != OpMode::Data || self.ofs {
+            return false;
+        }
+        let mut buf = Buffer::from_text(&self.programs[self.sel].text);
+        buf.set_pointer(self.pointers[self.sel]);
+        let room = self.rows.saturating_sub(5).max(1);
+        let Some((name, command)) = crate::console::entry::cursor_command(&buf, k, room) else {
+            return false;
+        };
+        self.y_output = None;
+        self.message = match command.and_then(|cmd| self.edit(&cmd)) {
+            Ok(()) => String::new(),
+            Err(e) if e.starts_with(name) => e,
+            Err(e) => format!("{name}: {e}"),
+        };
+        true
     }
 
     /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
@@ -92,14 +124,12 @@ impl LatheConsole {
         }
     }
 
-    fn edit(&mut self, line: &str) {
-        if line.is_empty() {
-            return;
-        }
+    /// Runs an editor command line on the selected channel's program and stores what it
+    /// changed (and the pointer); the message says so. Err: why it is refused (the program
+    /// and the pointer unchanged).
+    fn edit(&mut self, line: &str) -> Result<(), String> {
         if self.cycle.as_ref().is_some_and(|c| !c.is_over()) {
-            self.message = "the programs are in use: RESET the cycle before editing".into();
-            self.entry = line.to_string();
-            return;
+            return Err("the programs are in use: RESET the cycle before editing".into());
         }
         let ch = self.sel;
         let mut buf = Buffer::from_text(&self.programs[ch].text);
@@ -108,62 +138,52 @@ impl LatheConsole {
             y_max_lines: Some(self.rows),
             validator: None,
         };
-        match buf.execute(line, &opts) {
-            Err(e) => {
-                self.message = format!("{}: {}", e.command, e.reason);
-                self.entry = line.to_string();
-            }
-            Ok(out) => {
-                let text = buf.text();
-                if text.len() > MAX_PROGRAM {
-                    self.message = "the program would pass 1 MB: refused".into();
-                    self.entry = line.to_string();
-                    return;
-                }
-                // The program keeps the dialect it is stored in: the channel's now.
-                let p = Program {
-                    name: self.programs[ch].name.clone(),
-                    text,
-                    dialect: Some(
-                        self.desc
-                            .channels
-                            .get(ch)
-                            .and_then(|c| c.dialect)
-                            .unwrap_or_default(),
-                    ),
-                };
-                if out.changed {
-                    if let Err(e) = self.store.save_program(ch, &p) {
-                        self.message = format!("{e}: the edit is refused");
-                        self.entry = line.to_string();
-                        return;
-                    }
-                    self.programs[ch] = p;
-                }
-                // The pointer is kept across a restart, as the centre's is.
-                if let Err(e) = self.store.save_pointer(ch, buf.pointer()) {
-                    if !out.changed {
-                        // A move alone that cannot be stored is refused: the pointer stays.
-                        self.message = format!("{e}: the line is refused");
-                        self.entry = line.to_string();
-                        return;
-                    }
-                    self.message = e;
-                }
-                // `Y` type-out is shown in place of the listing until the next line or mode
-                // (the centre's rule): what the operator asked to see is not dropped.
-                self.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
-                self.pointers[ch] = buf.pointer();
-                self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
-                if self.message.is_empty() {
-                    self.message = if out.changed {
-                        "stored".into()
-                    } else {
-                        "ok".into()
-                    };
-                }
-            }
+        let out = buf
+            .execute(line, &opts)
+            .map_err(|e| format!("{}: {}", e.command, e.reason))?;
+        let text = buf.text();
+        if text.len() > MAX_PROGRAM {
+            return Err("the program would pass 1 MB: refused".into());
         }
+        // The program keeps the dialect it is stored in: the channel's now.
+        let p = Program {
+            name: self.programs[ch].name.clone(),
+            text,
+            dialect: Some(
+                self.desc
+                    .channels
+                    .get(ch)
+                    .and_then(|c| c.dialect)
+                    .unwrap_or_default(),
+            ),
+        };
+        if out.changed {
+            self.store
+                .save_program(ch, &p)
+                .map_err(|e| format!("{e}: the edit is refused"))?;
+            self.programs[ch] = p;
+        }
+        // The pointer is kept across a restart, as the centre's is.
+        if let Err(e) = self.store.save_pointer(ch, buf.pointer()) {
+            if !out.changed {
+                // A move alone that cannot be stored is refused: the pointer stays.
+                return Err(format!("{e}: the line is refused"));
+            }
+            self.message = e;
+        }
+        // `Y` type-out is shown in place of the listing until the next line or mode (the
+        // centre's rule): what the operator asked to see is not dropped.
+        self.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
+        self.pointers[ch] = buf.pointer();
+        self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
+        if self.message.is_empty() {
+            self.message = if out.changed {
+                "stored".into()
+            } else {
+                "ok".into()
+            };
+        }
+        Ok(())
     }
 
     /// The program lines around `line` (the current block's), or around the editor's pointer

@@ -446,6 +446,10 @@ impl LatheConsole {
         if self.screen.refuses(k) {
             return;
         }
+        if self.cursor_key(k) {
+            self.record_event(&PanelEvent::Press(k));
+            return self.after();
+        }
         match act {
             LatheKey::Ev(PanelEvent::OfsMode) if self.ofs => {
                 // The page key again: back to the mode's display (the centre's rule).

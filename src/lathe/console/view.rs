@@ -19,7 +19,7 @@ pub const LATHE_KEYS: [&str; 13] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 17] = [
+pub const LATHE_HELP: [&str; 16] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -29,13 +29,12 @@ pub const LATHE_HELP: [&str; 17] = [
     "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         set the part target to the typed number",
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
-    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %;",
+    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
     "Alt+1/5/6     CONTINUOUS (hold an arrow) / HANDLE (Alt+, Alt+. turn the wheel) / STEP (an increment)",
-    "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000",
-    "              Alt+f rapid override 100/50/25/F0; Alt+[ / Alt+] spindle override ±10 % (50-120)",
-    "A key of the centre's (HOME, F1-F7 ...) says on the message line that it does nothing",
+    "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000; in DATA the editor's cursor keys",
+    "Alt+f, Alt+[] rapid override 100/50/25/F0, spindle override ±10 % (50-120): every channel",
     "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
 
