@@ -115,3 +115,66 @@ fn a_citizen_part_is_made_under_both_overrides() {
     assert!(v.title.contains("1/1"), "{}", v.title);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// What a lathe's `/nc/state` records is what the console does: an MDI program's run is `run`
+/// 2 in `op_mode` MDI (it was 1, AUTO, whatever the selector), the selector's later turns, the
+/// rapid override turned, and `data_mode` MEMORY (the lathe has no data-processing selector;
+/// it recorded the centre's SEARCH).
+#[test]
+fn the_lathe_records_its_runs_modes_and_switches_as_they_are() {
+    let dir = common::temp_dir("lathe-rec-modes");
+    let script = dir.join("s.panel");
+    std::fs::write(
+        &script,
+        "op MDI\ntype G0 X20\nstart\nwait\nop SINGLE\nrapidoverride 50\n",
+    )
+    .unwrap();
+    let mcap = dir.join("r.mcap");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("script")
+        .arg(&script)
+        .args(["--machine", "citizen", "--record"])
+        .arg(&mcap)
+        .arg("--state")
+        .arg(dir.join("state"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&mcap).unwrap();
+    let states: Vec<String> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|m| m.channel.topic == "/nc/state")
+        .map(|m| String::from_utf8_lossy(&m.data).into_owned())
+        .filter(|s| s.starts_with("{\"channel\":1,"))
+        .collect();
+    let has = |s: &String, w: &[&str]| w.iter().all(|w| s.contains(w));
+    assert!(
+        has(
+            &states[0],
+            &[
+                "\"run\":2",
+                "\"op_mode\":\"MDI\"",
+                "\"data_mode\":\"MEMORY\""
+            ]
+        ),
+        "{states:?}"
+    );
+    assert!(
+        states.iter().any(|s| has(
+            s,
+            &[
+                "\"run\":0",
+                "\"op_mode\":\"SINGLE\"",
+                "\"rapid_override\":50"
+            ]
+        )),
+        "{states:?}"
+    );
+    assert!(!states.iter().any(|s| s.contains("SEARCH")), "{states:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -445,6 +445,7 @@ fn lathe(
             .map(|r| r.sink().with_pulses(common.record_pulses)),
         manual: false,
         single_block: false,
+        op_mode: crate::panel_model::OpMode::Auto,
     };
     let mut kept: Vec<_> = (0..desc.channels.len())
         .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))

@@ -50,6 +50,8 @@ struct Channel {
     /// Its program from its next run on (read again with revised tool offsets): taken at the
     /// next part or RESET, never inside a run.
     next_src: Option<VecSource>,
+    /// What its runs are (recorded as `/nc/state`'s `run`): AUTO, or MDI for an MDI program.
+    kind: RunKind,
 }
 
 impl Channel {
@@ -72,7 +74,7 @@ impl Channel {
                 *a += p;
             }
         }
-        self.m.command(Command::Start(RunKind::Auto));
+        self.m.command(Command::Start(self.kind));
     }
 }
 
@@ -500,6 +502,7 @@ impl Kernel {
                     totalled_run: 0,
                     waiting: None,
                     next_src: None,
+                    kind: RunKind::Auto,
                 }
             })
             .collect();
@@ -744,9 +747,15 @@ impl Kernel {
     /// program, or resumes it (a feed hold, a stop). A faulted channel needs RESET first; a
     /// finished one stays finished. The refusals, if any, are returned.
     pub fn start(&mut self, ch: Option<usize>) -> Result<(), String> {
+        self.start_as(ch, RunKind::Auto)
+    }
+
+    /// [`Kernel::start`], the runs begun being of `kind` (an MDI program's: MDI).
+    pub fn start_as(&mut self, ch: Option<usize>, kind: RunKind) -> Result<(), String> {
         let mut refused = Vec::new();
         for i in self.select(ch)? {
             let c = &mut self.chans[i];
+            c.kind = kind;
             if c.done {
                 continue;
             }

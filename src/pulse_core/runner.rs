@@ -782,7 +782,21 @@ impl Runner {
                 }
             }
             Msg::Magazine(mg) => Op::Magazine(mg),
-            Msg::Modes(o, d) => Op::Modes(o, d),
+            Msg::Modes(o, d) => {
+                let Some(k) = &mut self.k else {
+                    self.apply_op(Op::Modes(o, d));
+                    self.applied += 1;
+                    return;
+                };
+                // A kernel's channels: every one is on the same panel.
+                for ch in 0..k.channels() {
+                    if let Some(m) = k.machine_mut(ch) {
+                        m.set_panel_modes(&o, &d);
+                    }
+                }
+                self.applied += 1;
+                return;
+            }
             Msg::Position(p) => Op::Position(p),
             Msg::JogFeed(f) => Op::JogFeed(f),
             Msg::Audit(on) => {
@@ -830,7 +844,7 @@ impl Runner {
                     k.estop();
                     Ok(())
                 }
-                Command::Start(_) => k.start(ch),
+                Command::Start(kind) => k.start_as(ch, kind),
                 Command::Stop => k.stop(ch),
                 Command::Reset => k.reset(ch),
                 c => match ch {

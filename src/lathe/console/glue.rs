@@ -121,6 +121,8 @@ pub struct CycleSpec {
     pub manual: bool,
     /// SINGLE BLOCK: every channel stops after each block until the next START.
     pub single_block: bool,
+    /// The operation selector's position, as `/nc/state` records it (`op_mode`).
+    pub op_mode: crate::panel_model::OpMode,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
     /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
@@ -315,7 +317,13 @@ impl Cycle {
             k.command(ch, Command::SingleBlock(spec.single_block))?;
         }
         if !spec.manual {
-            k.start(spec.mdi)?;
+            // An MDI program's run is an MDI run (`/nc/state` records `run` 2), as the
+            // centre's; a cycle's, AUTO.
+            let kind = match spec.mdi {
+                Some(_) => crate::pulse_core::RunKind::Mdi,
+                None => crate::pulse_core::RunKind::Auto,
+            };
+            k.start_as(spec.mdi, kind)?;
         }
         // The cycle starts: each channel read keeps the state its read left.
         for (k, a) in kept.iter_mut().zip(after) {
@@ -326,6 +334,7 @@ impl Cycle {
         let n = msgs.len();
         let (mdi, only, clock) = (spec.mdi.is_some(), spec.mdi.unwrap_or(0), spec.clock);
         let manual = spec.manual;
+        let op_mode = spec.op_mode;
         let core = PulseCore::spawn_kernel(k, clock, spec.sink);
         let mut c = Cycle {
             core,
@@ -346,8 +355,16 @@ impl Cycle {
             opts,
             desc: desc.clone(),
         };
+        c.set_modes(op_mode);
         c.refresh();
         Ok(c)
+    }
+
+    /// The operation selector turned to `op`: every channel's `/nc/state` records it as
+    /// `op_mode`, and `data_mode` `MEMORY` (the lathe has no data-processing selector; its
+    /// programs run from memory, Fanuc's MEM, as `novanc run` records the centre's).
+    pub fn set_modes(&mut self, op: crate::panel_model::OpMode) {
+        self.core.set_panel_modes(op.word(), "MEMORY");
     }
 
     /// Virtual time: `w` is told every channel's state at every change of one of them
@@ -556,9 +573,13 @@ impl Cycle {
     /// one goes on when it can. The refusals, if any.
     pub fn start(&mut self) -> Result<(), String> {
         let ch = Some(self.only).filter(|_| self.mdi);
-        let r = self
-            .core
-            .channel_command(ch, Command::Start(crate::pulse_core::RunKind::Auto));
+        // An MDI program's run is an MDI run (`/nc/state` records `run` 2), as the centre's.
+        let kind = if self.mdi {
+            crate::pulse_core::RunKind::Mdi
+        } else {
+            crate::pulse_core::RunKind::Auto
+        };
+        let r = self.core.channel_command(ch, Command::Start(kind));
         self.refresh();
         r
     }

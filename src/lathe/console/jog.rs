@@ -298,6 +298,7 @@ impl LatheConsole {
             sink: self.recorder.sink(),
             manual: true,
             single_block: false,
+            op_mode: self.mode,
         };
         let mut kept = self.kept.clone();
         let mut c = glue::Cycle::new(&self.desc, spec, &mut kept)?;

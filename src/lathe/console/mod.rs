@@ -669,6 +669,11 @@ impl LatheConsole {
                 c.set_single_block(true);
             }
         }
+        if m != self.mode {
+            if let Some(c) = self.cycle.as_mut() {
+                c.set_modes(m);
+            }
+        }
         self.mode = m;
         self.y_output = None;
         self.entry.clear();
@@ -846,6 +851,7 @@ impl LatheConsole {
             sink: self.recorder.sink(),
             manual: false,
             single_block: !mdi && self.mode == OpMode::Single,
+            op_mode: self.mode,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
