@@ -106,26 +106,31 @@ impl Lathe {
         egui::Panel::bottom("lathe-panel")
             .frame(frame.fill(Color32::from_rgb(48, 52, 56)))
             .show(ui, |ui| {
-                ui.horizontal_top(|ui| {
-                    ui.vertical(|ui| {
-                        let max = egui::vec2(ui.available_width() * 0.4, 330.0);
-                        let (r, pitch) = self.plasma.show_fit(ui, &v.display, max, 4);
-                        self.layout.plasma = Some(r);
-                        self.layout.pitch = pitch;
-                    });
-                    ui.add_space(8.0);
-                    ui.vertical(|ui| {
-                        let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
-                        let hand = &mut self.hand;
-                        let ovr = (sw, c.feed_override(), c.rapid_spindle());
-                        panel::relay(ui, &v, modes, ovr, hand, out)
-                    });
-                    ui.add_space(8.0);
-                    ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));
-                    ui.add_space(8.0);
-                    ui.vertical(|ui| {
-                        panel::manual(ui, c.mode(), c.increment(), &mut self.hand, out)
-                    });
+                // A window narrower than the panel scrolls it sideways: no control is out of
+                // the operator's reach.
+                let width = ui.available_width();
+                egui::ScrollArea::horizontal().show(ui, |ui| {
+                    ui.horizontal_top(|ui| {
+                        ui.vertical(|ui| {
+                            let max = egui::vec2(width * 0.4, 330.0);
+                            let (r, pitch) = self.plasma.show_fit(ui, &v.display, max, 4);
+                            self.layout.plasma = Some(r);
+                            self.layout.pitch = pitch;
+                        });
+                        ui.add_space(8.0);
+                        ui.vertical(|ui| {
+                            let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
+                            let hand = &mut self.hand;
+                            let ovr = (sw, c.feed_override(), c.rapid_spindle());
+                            panel::relay(ui, &v, modes, ovr, hand, out)
+                        });
+                        ui.add_space(8.0);
+                        ui.vertical(|ui| panel::data_keys(ui, &mut self.hand, out));
+                        ui.add_space(8.0);
+                        ui.vertical(|ui| {
+                            panel::manual(ui, c.mode(), c.increment(), &mut self.hand, out)
+                        });
+                    })
                 });
             });
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {

@@ -254,20 +254,21 @@ pub fn relay(
         }
     });
     ui.horizontal(|ui| {
-        if let Some(m) = controls::op_selector(ui, mode, vec2(170.0, 120.0), hand) {
+        if let Some(m) = controls::op_selector(ui, mode, vec2(160.0, 110.0), hand) {
             out.push(Act::Ev(PanelEvent::Op(m)));
         }
-        if let Some(p) = controls::override_switch(ui, feed_override, vec2(130.0, 120.0), hand) {
+        if let Some(p) = controls::override_switch(ui, feed_override, vec2(120.0, 110.0), hand) {
             out.push(Act::Ev(PanelEvent::Override(p)));
         }
-        ui.vertical(|ui| {
-            let mut evs = Vec::new();
-            controls::override_buttons(ui, rapid_spindle, &mut evs);
-            out.extend(evs.into_iter().map(|e| match e {
-                PanelEvent::Press(k) => Act::Press(k),
-                e => Act::Ev(e),
-            }));
-        });
+    });
+    // Under the rotaries, so that the panel is no wider than the selector and the override.
+    ui.horizontal(|ui| {
+        let mut evs = Vec::new();
+        controls::override_buttons(ui, rapid_spindle, &mut evs);
+        out.extend(evs.into_iter().map(|e| match e {
+            PanelEvent::Press(k) => Act::Press(k),
+            e => Act::Ev(e),
+        }));
     });
     ui.horizontal(|ui| {
         if key(ui, "FAULT", false, 60.0)
