@@ -178,3 +178,24 @@ fn the_lathe_records_its_runs_modes_and_switches_as_they_are() {
     assert!(!states.iter().any(|s| s.contains("SEARCH")), "{states:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// DRY RUN, the centre's switch (Alt+d), on every channel: a slow feed move runs at the jog
+/// feed, and the switch is on the title line and kept for the next run.
+#[test]
+fn dry_run_moves_a_feed_at_the_jog_feed() {
+    let dir = common::temp_dir("lathe-dry");
+    let mut c = open(&dir);
+    // 10 mm at 10 mm/min: a minute.
+    let slow = mdi(&mut c, "G94 G1 Z50 F10");
+    assert!(slow > 59_000_000_000, "{slow} ns");
+    mdi(&mut c, "G0 Z60");
+    c.press(Key::Alt('d'));
+    assert!(c.dry_run());
+    assert!(c.message().starts_with("DRY RUN on"), "{}", c.message());
+    assert!(c.view().title.ends_with(" DRY"), "{}", c.view().title);
+    let dry = mdi(&mut c, "G94 G1 Z50 F10");
+    assert!(dry * 5 < slow, "{dry} ns under DRY RUN against {slow} ns");
+    c.handle(PanelEvent::DryRun(false));
+    assert!(!c.dry_run() && !c.view().title.contains("DRY"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -132,12 +132,13 @@ fn check(s: &mut Seq, what: &str) {
     }
     let Some(l) = s.c.cycle() else { return };
     let chans = l.channels();
-    // The rapid and spindle overrides the console shows are every channel's machine's.
+    // The rapid and spindle overrides and DRY RUN the console shows are every channel's
+    // machine's.
     for c in chans {
         let sw = &c.status.switches;
         assert_eq!(
-            (sw.rapid_override, sw.spindle_override),
-            s.c.rapid_spindle(),
+            (sw.rapid_override, sw.spindle_override, sw.dry_run),
+            (s.c.rapid_spindle().0, s.c.rapid_spindle().1, s.c.dry_run()),
             "{what}"
         );
     }
@@ -284,7 +285,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 Key::Alt(']'),
             ];
             let k = keys[rng.below(keys.len())];
-            let silent = !matches!(k, Key::Alt('=' | '-' | 'o' | 'f' | '[' | ']'));
+            let silent = !matches!(k, Key::Alt('=' | '-' | 'o' | 'f' | '[' | ']' | 'd'));
             let line = format!("key {}", novanc::console::keys::key_name(k));
             s.fresh = true;
             s.c.handle(PanelEvent::Press(k));

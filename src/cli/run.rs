@@ -439,6 +439,7 @@ fn lathe(
         started_ns: 0,
         feed_override: common.feed_override,
         rapid_spindle: (100, 100),
+        dry_run: false,
         clock: common.clock,
         sink: rec
             .as_ref()

@@ -38,8 +38,8 @@ pub(crate) use gcode_run::switch_message;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
 pub(crate) use run::{
-    deadman_ms, next_rapid, next_spindle, override_words, rapid_override_message,
-    spindle_override_message, stalled_note, wait_limit_note,
+    deadman_ms, machine_switch_message, next_rapid, next_spindle, override_words,
+    rapid_override_message, spindle_override_message, stalled_note, wait_limit_note,
 };
 pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;

@@ -539,7 +539,7 @@ pub(crate) fn override_words(rapid: u32, spindle: u32) -> String {
 }
 
 /// What DRY RUN, MACHINE LOCK or Z NEGLECT does, as the message of turning it over.
-pub(super) fn machine_switch_message(name: &str, on: bool) -> String {
+pub(crate) fn machine_switch_message(name: &str, on: bool) -> String {
     if !on {
         return match name {
             "DRY RUN" => "DRY RUN off: feed moves at their programmed F".into(),

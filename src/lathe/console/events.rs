@@ -34,6 +34,8 @@ pub enum LatheKey {
     RapidOverride,
     /// Spindle override up or down 10 % (Alt+], Alt+[, the centre's keys).
     SpindleOverride(i32),
+    /// DRY RUN turned over (Alt+d, the centre's key).
+    DryRun,
     /// The next STEP and handwheel increment (Alt+w).
     Increment,
     /// A jog key: its axis and direction (CONTINUOUS, STEP; a detent in HANDLE).
@@ -74,6 +76,7 @@ pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
         Action::Override(d) => LatheKey::Override(d),
         Action::RapidOverride => LatheKey::RapidOverride,
         Action::SpindleOverride(d) => LatheKey::SpindleOverride(d),
+        Action::DryRun => LatheKey::DryRun,
         Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Move(axis, dir),
         Action::WheelScale => LatheKey::Increment,
         Action::Wheel(n) => LatheKey::Wheel(n),
@@ -129,6 +132,7 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::Override(_)
         | PanelEvent::RapidOverride(_)
         | PanelEvent::SpindleOverride(_)
+        | PanelEvent::DryRun(_)
         | PanelEvent::Wait
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),
@@ -229,7 +233,11 @@ mod tests {
         assert!(parse_line("home", 3)
             .unwrap_err()
             .contains("machining centre's"));
-        assert!(parse_line("key Alt+d", 3).unwrap_err().contains("no use"));
+        assert!(parse_line("key Alt+l", 3).unwrap_err().contains("no use"));
+        assert_eq!(
+            parse_line("key Alt+d", 3),
+            Ok(Some(PanelEvent::Press(Key::Alt('d'))))
+        );
         assert_eq!(parse_line("  # note", 3), Ok(None));
     }
 
@@ -302,9 +310,16 @@ mod tests {
             map_key(Key::Alt('7'), false, false),
             LatheKey::Ev(PanelEvent::Op(OpMode::Single))
         );
-        for k in [Key::Alt('0'), Key::Alt('l'), Key::Alt('d'), Key::F(2)] {
+        for k in [Key::Alt('0'), Key::Alt('l'), Key::Alt('z'), Key::F(2)] {
             assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
         }
+        // The centre's switches the lathe takes: the same keys.
+        assert_eq!(map_key(Key::Alt('d'), false, false), LatheKey::DryRun);
+        assert_eq!(
+            map_key(Key::Alt('f'), false, false),
+            LatheKey::RapidOverride
+        );
+        assert_eq!(map_key(Key::Alt('x'), false, false), LatheKey::Fault);
         // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.
         for (k, axis, dir) in [
             (Key::Up, Axis::X, 1),

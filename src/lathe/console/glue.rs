@@ -115,6 +115,9 @@ pub struct CycleSpec {
     /// Rapid override and spindle override, percent, of every channel (the centre's switches:
     /// F0 (0), 25, 50, 100; 50 to 120).
     pub rapid_spindle: (u32, u32),
+    /// DRY RUN on every channel (the centre's switch): feed moves at the jog feed times the
+    /// feed override; thread passes and taps stay geared to their spindle.
+    pub dry_run: bool,
     /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
     pub clock: ClockMode,
     /// For manual moves only (STEP): the kernel is made with nothing started.
@@ -247,6 +250,9 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
         }
         if spindle != 100 {
             k.command(ch, Command::SpindleOverride(spindle))?;
+        }
+        if spec.dry_run {
+            k.command(ch, Command::DryRun(true))?;
         }
     }
     // Each channel's spindle and coolant go on as the last cycle left them; under G96 the

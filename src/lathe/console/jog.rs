@@ -294,6 +294,7 @@ impl LatheConsole {
             started_ns: self.now_ns,
             feed_override: self.feed_override,
             rapid_spindle: (self.rapid_override, self.spindle_override),
+            dry_run: self.dry_run,
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: true,

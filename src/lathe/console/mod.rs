@@ -72,6 +72,8 @@ pub struct LatheConsole {
     /// every channel: the centre's switches, kept across cycles.
     rapid_override: u32,
     spindle_override: u32,
+    /// DRY RUN on every channel (the centre's switch), kept across cycles.
+    dry_run: bool,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
     /// The kernel's clock: real time at a terminal or window, virtual in scripts.
@@ -192,6 +194,7 @@ impl LatheConsole {
             feed_override: 100,
             rapid_override: 100,
             spindle_override: 100,
+            dry_run: false,
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
@@ -334,6 +337,11 @@ impl LatheConsole {
     /// The rapid override and the spindle override, percent (the centre's switches).
     pub fn rapid_spindle(&self) -> (u32, u32) {
         (self.rapid_override, self.spindle_override)
+    }
+
+    /// Whether DRY RUN is on (the centre's switch, on every channel).
+    pub fn dry_run(&self) -> bool {
+        self.dry_run
     }
 
     /// The operation selector's position.
@@ -487,6 +495,7 @@ impl LatheConsole {
                 let s = crate::console::manual::next_scale(self.increment);
                 self.handle(PanelEvent::WheelScale(s))
             }
+            LatheKey::DryRun => self.handle(PanelEvent::DryRun(!self.dry_run)),
             LatheKey::RapidOverride => {
                 let p = crate::console::next_rapid(self.rapid_override);
                 self.handle(PanelEvent::RapidOverride(p));
@@ -625,6 +634,10 @@ impl LatheConsole {
                 Ok(m) => self.switch_all(Command::SpindleOverride(p), m),
                 Err(e) => self.message = e,
             },
+            PanelEvent::DryRun(on) => {
+                let said = crate::console::machine_switch_message("DRY RUN", on);
+                self.switch_all(Command::DryRun(on), said);
+            }
             PanelEvent::OptionalStop(b) => {
                 self.optional_stop = b;
                 self.message = crate::console::switch_message("OPTIONAL STOP", b);
@@ -646,6 +659,7 @@ impl LatheConsole {
         match cmd {
             Command::RapidOverride(p) => self.rapid_override = p,
             Command::SpindleOverride(p) => self.spindle_override = p,
+            Command::DryRun(on) => self.dry_run = on,
             _ => {}
         }
         self.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
@@ -847,6 +861,7 @@ impl LatheConsole {
             started_ns: self.now_ns,
             feed_override: self.feed_override,
             rapid_spindle: (self.rapid_override, self.spindle_override),
+            dry_run: self.dry_run,
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
@@ -1156,13 +1171,14 @@ impl LatheConsole {
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let switches = format!(
-            "{}{}{}{}",
+            "{}{}{}{}{}",
             if self.feed_override != 100 {
                 format!("  F{}%", self.feed_override)
             } else {
                 String::new()
             },
             crate::console::override_words(self.rapid_override, self.spindle_override),
+            if self.dry_run { " DRY" } else { "" },
             if self.optional_stop { " M01" } else { "" },
             if self.block_delete { " /DEL" } else { "" }
         );

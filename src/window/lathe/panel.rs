@@ -218,7 +218,7 @@ pub fn relay(
     ui: &mut Ui,
     v: &LatheView,
     (mode, ofs): (OpMode, bool),
-    (switches, feed_override, rapid_spindle): ((bool, bool), u32, (u32, u32)),
+    (switches, feed_override, rapid_spindle, dry_run): ((bool, bool), u32, (u32, u32), bool),
     hand: &mut HandState,
     out: &mut Vec<Act>,
 ) {
@@ -294,6 +294,12 @@ pub fn relay(
             .clicked()
         {
             out.push(Act::Ev(PanelEvent::BlockDelete(!switches.1)));
+        }
+        if key(ui, "DRY", dry_run, 44.0)
+            .on_hover_text("DRY RUN: feed moves at the jog feed (Alt+D)")
+            .clicked()
+        {
+            out.push(Act::Ev(PanelEvent::DryRun(!dry_run)));
         }
     });
     ui.horizontal(|ui| {
