@@ -438,8 +438,7 @@ fn lathe(
         pos: home,
         started_ns: 0,
         feed_override: common.feed_override,
-        rapid_spindle: (100, 100),
-        dry_run: false,
+        switches: Default::default(),
         clock: common.clock,
         sink: rec
             .as_ref()

@@ -55,8 +55,9 @@ struct LatheCtx {
     /// The parts are the sync table's (AUTO).
     auto_parts: bool,
     pulse_mm: f64,
-    /// The console's feed, rapid and spindle overrides (a channel with no cycle loaded).
-    overrides: [u32; 3],
+    /// The console's feed override and switches (a channel with no cycle loaded).
+    feed_override: u32,
+    switches: crate::record::Switches,
     message: Option<String>,
 }
 
@@ -89,7 +90,7 @@ impl LatheCtx {
             self.mode,
             &paths,
             self.pulse_mm,
-            self.overrides,
+            (self.feed_override, self.switches),
             self.message.as_deref(),
         )
     }
@@ -210,10 +211,8 @@ impl Feed {
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
             auto_parts: c.cycle().is_some_and(|cy| !cy.mdi),
             pulse_mm: c.desc().pulse_mm,
-            overrides: {
-                let (rapid, spindle) = c.rapid_spindle();
-                [c.feed_override(), rapid, spindle]
-            },
+            feed_override: c.feed_override(),
+            switches: c.machine_switches(),
             message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
         };
         let snap = c.cycle().map_or(&[][..], |cy| cy.channels());
@@ -233,7 +232,8 @@ impl Feed {
             parts: vec![0; n],
             auto_parts: true,
             pulse_mm,
-            overrides: [100; 3],
+            feed_override: 100,
+            switches: Default::default(),
             message: None,
         };
         lock(&self.state).publish_lathe(cy.channels(), Some(ctx), cy.now_ns());
@@ -310,7 +310,7 @@ fn lathe_items(
     mode: &'static str,
     paths: &[LathePath],
     pulse_mm: f64,
-    [feed_override, rapid_override, spindle_override]: [u32; 3],
+    (feed_override, switches): (u32, crate::record::Switches),
     message: Option<&str>,
 ) -> Vec<(Key, String)> {
     let idle: Vec<Status> = paths
@@ -318,11 +318,7 @@ fn lathe_items(
         .map(|p| Status {
             pos: [p.pos[0], 0, p.pos[1]].into(),
             feed_override,
-            switches: crate::record::Switches {
-                rapid_override,
-                spindle_override,
-                ..Default::default()
-            },
+            switches,
             ..Status::default()
         })
         .collect();

@@ -112,12 +112,10 @@ pub struct CycleSpec {
     pub started_ns: u64,
     /// Feed override, percent, of every channel's feed moves.
     pub feed_override: u32,
-    /// Rapid override and spindle override, percent, of every channel (the centre's switches:
-    /// F0 (0), 25, 50, 100; 50 to 120).
-    pub rapid_spindle: (u32, u32),
-    /// DRY RUN on every channel (the centre's switch): feed moves at the jog feed times the
-    /// feed override; thread passes and taps stay geared to their spindle.
-    pub dry_run: bool,
+    /// The centre's switches on every channel: rapid override (F0 (0), 25, 50, 100), spindle
+    /// override (50 to 120) and DRY RUN (feed moves at the jog feed times the feed override;
+    /// thread passes and taps stay geared to their spindle).
+    pub switches: crate::record::Switches,
     /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
     pub clock: ClockMode,
     /// For manual moves only (STEP): the kernel is made with nothing started.
@@ -244,14 +242,14 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
     for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(spec.feed_override))?;
-        let (rapid, spindle) = spec.rapid_spindle;
-        if rapid != 100 {
-            k.command(ch, Command::RapidOverride(rapid))?;
+        let sw = spec.switches;
+        if sw.rapid_override != 100 {
+            k.command(ch, Command::RapidOverride(sw.rapid_override))?;
         }
-        if spindle != 100 {
-            k.command(ch, Command::SpindleOverride(spindle))?;
+        if sw.spindle_override != 100 {
+            k.command(ch, Command::SpindleOverride(sw.spindle_override))?;
         }
-        if spec.dry_run {
+        if sw.dry_run {
             k.command(ch, Command::DryRun(true))?;
         }
     }

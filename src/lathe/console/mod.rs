@@ -68,12 +68,9 @@ pub struct LatheConsole {
     pos: Vec<[i64; 2]>,
     /// Feed override, percent, of every channel's feed moves (rapids and threads keep 100).
     feed_override: u32,
-    /// Rapid override (F0 (0), 25, 50, 100) and spindle override (50 to 120), percent, of
-    /// every channel: the centre's switches, kept across cycles.
-    rapid_override: u32,
-    spindle_override: u32,
-    /// DRY RUN on every channel (the centre's switch), kept across cycles.
-    dry_run: bool,
+    /// The centre's switches the lathe takes, on every channel, kept across cycles: rapid
+    /// override, spindle override, DRY RUN (the same `Switches` every machine records).
+    switches: crate::record::Switches,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
     /// The kernel's clock: real time at a terminal or window, virtual in scripts.
@@ -192,9 +189,7 @@ impl LatheConsole {
             now_ns: 0,
             stale_counts: stale,
             feed_override: 100,
-            rapid_override: 100,
-            spindle_override: 100,
-            dry_run: false,
+            switches: Default::default(),
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
@@ -336,12 +331,17 @@ impl LatheConsole {
 
     /// The rapid override and the spindle override, percent (the centre's switches).
     pub fn rapid_spindle(&self) -> (u32, u32) {
-        (self.rapid_override, self.spindle_override)
+        (self.switches.rapid_override, self.switches.spindle_override)
     }
 
     /// Whether DRY RUN is on (the centre's switch, on every channel).
     pub fn dry_run(&self) -> bool {
-        self.dry_run
+        self.switches.dry_run
+    }
+
+    /// The centre's switches the lathe takes (rapid and spindle override, DRY RUN).
+    pub fn machine_switches(&self) -> crate::record::Switches {
+        self.switches
     }
 
     /// The operation selector's position.
@@ -495,13 +495,13 @@ impl LatheConsole {
                 let s = crate::console::manual::next_scale(self.increment);
                 self.handle(PanelEvent::WheelScale(s))
             }
-            LatheKey::DryRun => self.handle(PanelEvent::DryRun(!self.dry_run)),
+            LatheKey::DryRun => self.handle(PanelEvent::DryRun(!self.switches.dry_run)),
             LatheKey::RapidOverride => {
-                let p = crate::console::next_rapid(self.rapid_override);
+                let p = crate::console::next_rapid(self.switches.rapid_override);
                 self.handle(PanelEvent::RapidOverride(p));
             }
             LatheKey::SpindleOverride(d) => {
-                let p = crate::console::next_spindle(self.spindle_override, d);
+                let p = crate::console::next_spindle(self.switches.spindle_override, d);
                 self.handle(PanelEvent::SpindleOverride(p));
             }
             LatheKey::Override(d) => {
@@ -652,14 +652,15 @@ impl LatheConsole {
         self.after();
     }
 
-    /// The rapid or spindle override turned (`cmd`): kept for every later cycle, and told
-    /// to every channel of the cycle under way; `said` on the message line, or the machine's
-    /// refusal.
+    /// A switch turned (`cmd`: rapid override, spindle override, DRY RUN): kept for every
+    /// later cycle, and told to every channel of the cycle under way; `said` on the message
+    /// line, or the machine's refusal.
     fn switch_all(&mut self, cmd: Command, said: String) {
+        let sw = &mut self.switches;
         match cmd {
-            Command::RapidOverride(p) => self.rapid_override = p,
-            Command::SpindleOverride(p) => self.spindle_override = p,
-            Command::DryRun(on) => self.dry_run = on,
+            Command::RapidOverride(p) => sw.rapid_override = p,
+            Command::SpindleOverride(p) => sw.spindle_override = p,
+            Command::DryRun(on) => sw.dry_run = on,
             _ => {}
         }
         self.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
@@ -860,8 +861,7 @@ impl LatheConsole {
             pos: self.pos.clone(),
             started_ns: self.now_ns,
             feed_override: self.feed_override,
-            rapid_spindle: (self.rapid_override, self.spindle_override),
-            dry_run: self.dry_run,
+            switches: self.switches,
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
@@ -1177,8 +1177,11 @@ impl LatheConsole {
             } else {
                 String::new()
             },
-            crate::console::override_words(self.rapid_override, self.spindle_override),
-            if self.dry_run { " DRY" } else { "" },
+            crate::console::override_words(
+                self.switches.rapid_override,
+                self.switches.spindle_override
+            ),
+            if self.switches.dry_run { " DRY" } else { "" },
             if self.optional_stop { " M01" } else { "" },
             if self.block_delete { " /DEL" } else { "" }
         );

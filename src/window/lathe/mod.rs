@@ -121,7 +121,7 @@ impl Lathe {
                         ui.vertical(|ui| {
                             let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
                             let hand = &mut self.hand;
-                            let ovr = (sw, c.feed_override(), c.rapid_spindle(), c.dry_run());
+                            let ovr = (sw, c.feed_override(), c.machine_switches());
                             panel::relay(ui, &v, modes, ovr, hand, out)
                         });
                         ui.add_space(8.0);

@@ -218,7 +218,7 @@ pub fn relay(
     ui: &mut Ui,
     v: &LatheView,
     (mode, ofs): (OpMode, bool),
-    (switches, feed_override, rapid_spindle, dry_run): ((bool, bool), u32, (u32, u32), bool),
+    (switches, feed_override, set): ((bool, bool), u32, crate::record::Switches),
     hand: &mut HandState,
     out: &mut Vec<Act>,
 ) {
@@ -264,7 +264,7 @@ pub fn relay(
     // Under the rotaries, so that the panel is no wider than the selector and the override.
     ui.horizontal(|ui| {
         let mut evs = Vec::new();
-        controls::override_buttons(ui, rapid_spindle, &mut evs);
+        controls::override_buttons(ui, (set.rapid_override, set.spindle_override), &mut evs);
         out.extend(evs.into_iter().map(|e| match e {
             PanelEvent::Press(k) => Act::Press(k),
             e => Act::Ev(e),
@@ -295,11 +295,11 @@ pub fn relay(
         {
             out.push(Act::Ev(PanelEvent::BlockDelete(!switches.1)));
         }
-        if key(ui, "DRY", dry_run, 44.0)
+        if key(ui, "DRY", set.dry_run, 44.0)
             .on_hover_text("DRY RUN: feed moves at the jog feed (Alt+D)")
             .clicked()
         {
-            out.push(Act::Ev(PanelEvent::DryRun(!dry_run)));
+            out.push(Act::Ev(PanelEvent::DryRun(!set.dry_run)));
         }
     });
     ui.horizontal(|ui| {
