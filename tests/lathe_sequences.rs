@@ -30,7 +30,7 @@ mod common;
 
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::{OpMode, PanelEvent};
+use novanc::panel_model::{OpMode, Page, PanelEvent};
 use novanc::pulse_core::testkit::Rng;
 use novanc::store::lathe::{LatheStore, Program};
 
@@ -128,6 +128,19 @@ fn check(s: &mut Seq, what: &str) {
         }
         if m.starts_with("EMERGENCY STOP") {
             assert!(any(&["ESTOP"]), "{what}: '{m}' with {states:?}");
+        }
+    }
+    // Each channel's fault or alarm in force is in the history the MSG page shows (the centre's
+    // rule: put there when it comes, whatever the screen was doing).
+    for (i, c) in v.channels.iter().enumerate() {
+        if matches!(c.state.as_str(), "FAULT" | "ALARM") {
+            let text = format!("CH{} {}: {}", i + 1, c.state, c.note);
+            assert!(
+                s.c.history()
+                    .iter()
+                    .any(|e| e.kind == novanc::store::history::Kind::Alarm && e.text == text),
+                "{what}: '{text}' is not in the history"
+            );
         }
     }
     let Some(l) = s.c.cycle() else { return };
@@ -261,7 +274,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             PanelEvent::Op(OpMode::Continuous),
             PanelEvent::Op(OpMode::Handle),
             PanelEvent::Op(OpMode::Single),
-        ][rng.range(0, 7) as usize]
+            PanelEvent::Press(novanc_panel::Key::Ctrl('e')),
+        ][rng.range(0, 8) as usize]
             .clone(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
@@ -326,7 +340,12 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 k,
                 Key::Up | Key::Down | Key::Left | Key::Right | Key::Delete
             );
-            if arrow && s.c.mode() == OpMode::Data && !s.c.ofs_page() {
+            if arrow && k != Key::Delete && s.c.page() == Page::Msg {
+                // On the MSG page the arrows scroll the history (the centre's page rule).
+                assert_eq!(after, before, "{line}: {said}");
+                return line;
+            }
+            if arrow && s.c.mode() == OpMode::Data && s.c.page() == Page::Mode {
                 // In DATA the arrows and Delete are the editor's cursor keys: the pointer moves
                 // or a character goes (nothing said but what the machine is doing), or they
                 // say why not; no tool post moves.

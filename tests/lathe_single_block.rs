@@ -8,7 +8,7 @@ mod common;
 
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::{OpMode, PanelEvent};
+use novanc::panel_model::{OpMode, Page, PanelEvent};
 
 fn open(state: &std::path::Path) -> LatheConsole {
     let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
@@ -138,7 +138,7 @@ fn the_ofs_page_stands_over_a_running_cycle() {
         false
     });
     c.press(novanc_panel::Key::Ctrl('o'));
-    assert!(c.ofs_page() && c.mode() == OpMode::Auto);
+    assert!((c.page() == Page::Ofs) && c.mode() == OpMode::Auto);
     let v = c.view();
     assert!(v.display[0].contains(" OFS"), "{:?}", v.display[0]);
     assert!(
@@ -153,11 +153,14 @@ fn the_ofs_page_stands_over_a_running_cycle() {
     c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "START");
     c.press(novanc_panel::Key::Ctrl('o'));
-    assert!(!c.ofs_page(), "the page key again leaves the page");
+    assert!(
+        !(c.page() == Page::Ofs),
+        "the page key again leaves the page"
+    );
     c.press(novanc_panel::Key::Ctrl('o'));
-    assert!(c.ofs_page());
+    assert!((c.page() == Page::Ofs));
     c.press(novanc_panel::Key::Alt('2'));
-    assert!(!c.ofs_page());
+    assert!(!(c.page() == Page::Ofs));
     assert!(c.view().display[0].trim_end().ends_with("AUTO"));
     c.handle(PanelEvent::Wait);
     assert!(over(&c), "the cycle ran on to its target");

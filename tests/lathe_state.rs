@@ -193,7 +193,10 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
         let m = m.unwrap_or_else(|e| panic!("{e}"));
         let json = String::from_utf8_lossy(&m.data).into_owned();
         match m.channel.topic.as_str() {
-            "/foxglove/log" if json.contains("CH1 ") => logs.push(json),
+            // The program's messages (the console's own are logged too, as the centre's are).
+            "/foxglove/log" if json.contains("CH1 MSG") || json.contains("CH1 PRINT") => {
+                logs.push(json)
+            }
             "/panel/display" if json.contains("CH1 MSG: at the corner") => frames += 1,
             _ => {}
         }

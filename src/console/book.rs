@@ -1,20 +1,90 @@
 //! The console's log book: the alarm and message history (the MSG page shows it), the
 //! counters (the POS page shows them), and a program's messages. Part of the console's model:
-//! the pages draw it, it names nothing of them.
+//! the pages draw it, it names nothing of them. [`Log`], the history as it is written, is every
+//! console's: the centre's and a lathe's alike.
 
+use super::recording::Recording;
 use super::Console;
 use crate::record::foxglove::{alarm_line, level};
 use crate::store::history::{Counters, Entry, History, Kind};
+
+/// The alarm and message history as every console writes it: each message and alarm when it
+/// is first shown, in the history of the state directory (the MSG page) and on the recording's
+/// `/foxglove/log`, the program it came from named as the file.
+#[derive(Debug)]
+pub(crate) struct Log {
+    /// The history kept in the state directory.
+    pub(crate) history: History,
+    /// The last message put in the history (a message shown again is not logged again).
+    last: String,
+}
+
+/// Where an entry of the history was said: machine time (ns), the program's name, its line
+/// (0: none).
+pub(crate) type At<'a> = (u64, &'a str, u32);
+
+impl Log {
+    /// The history kept in `dir`, and the warning of reading it.
+    pub(crate) fn open(dir: &std::path::Path) -> (Log, Option<String>) {
+        let (history, w) = History::open(dir);
+        let last = String::new();
+        (Log { history, last }, w)
+    }
+
+    /// `text` in the history as `kind`, and in the recording at level `lvl`, whatever was
+    /// logged before; why the history could not keep it, if it could not (said once of
+    /// failures in a row).
+    pub(crate) fn put(
+        &mut self,
+        rec: &mut Recording,
+        (t_ns, file, line): At,
+        kind: Kind,
+        lvl: u8,
+        text: &str,
+    ) -> Result<(), String> {
+        rec.log(t_ns, lvl, text, file, line);
+        if kind == Kind::Message {
+            self.last = text.to_string();
+        }
+        self.history.push(Entry {
+            machine_ns: t_ns,
+            wall_s: Some(crate::store::stamps::now_s()),
+            kind,
+            text: text.to_string(),
+        })
+    }
+
+    /// The message shown, if it is new (not empty, not `ok`, not the last one logged), as
+    /// [`Log::put`] puts it.
+    pub(crate) fn message(
+        &mut self,
+        rec: &mut Recording,
+        at: At,
+        lvl: u8,
+        text: &str,
+    ) -> Result<(), String> {
+        if text.is_empty() || text == "ok" || text == self.last {
+            return Ok(());
+        }
+        self.put(rec, at, Kind::Message, lvl, text)
+    }
+
+    /// The message line as it stands with a failure of the history added to it: not logged
+    /// again.
+    pub(crate) fn shown(&mut self, text: &str) {
+        self.last = text.to_string();
+    }
+}
 
 /// The history and the counters, kept in the stores across restarts.
 #[derive(Debug)]
 pub(super) struct Book {
     /// The alarm and message history.
-    pub(super) history: History,
+    pub(super) log: Log,
     /// The counters.
     pub(super) counters: Counters,
-    /// The last message and alarm put in the history.
-    logged: (String, String),
+    /// The last alarm put in the history.
+    alarm_logged: String,
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub(super) program_msg: Option<String>,
@@ -27,13 +97,13 @@ impl Book {
     /// The book of a console whose state directory is `dir`, with the warnings of reading its
     /// history and counters.
     pub(super) fn open(dir: &std::path::Path) -> (Book, Vec<String>) {
-        let (history, w1) = History::open(dir);
+        let (log, w1) = Log::open(dir);
         let (counters, w2) = Counters::open(dir);
         (
             Book {
-                history,
+                log,
                 counters,
-                logged: (String::new(), String::new()),
+                alarm_logged: String::new(),
                 program_msg: None,
                 unacknowledged: Vec::new(),
             },
@@ -45,64 +115,41 @@ impl Book {
 /// Puts a new message and a new alarm in the history (not `ok`, not a repeat).
 pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let t = c.status.machine_ns;
-    let wall = Some(crate::store::stamps::now_s());
+    let file = c.mem.program_name();
     let mut warn = None;
     if let Some(a) = alarm {
-        if a != c.book.logged.1 {
-            c.book.logged.1 = a.clone();
+        if a != c.book.alarm_logged {
+            c.book.alarm_logged = a.clone();
             let line = c
                 .program_alarm
                 .as_ref()
                 .filter(|p| p.error.to_string() == a)
                 .map_or_else(|| alarm_line(&a), |p| p.error.line);
-            record_log(c, t, level::ERROR, &a, line);
-            warn = c
+            let at = (t, file.as_str(), line);
+            let r = c
                 .book
-                .history
-                .push(Entry {
-                    machine_ns: t,
-                    wall_s: wall,
-                    kind: Kind::Alarm,
-                    text: a,
-                })
-                .err();
+                .log
+                .put(&mut c.recorder, at, Kind::Alarm, level::ERROR, &a);
+            warn = r.err();
         }
     } else {
-        c.book.logged.1.clear();
+        c.book.alarm_logged.clear();
     }
-    let m = c.message.clone();
-    if !m.is_empty() && m != "ok" && m != c.book.logged.0 {
-        c.book.logged.0 = m.clone();
-        // The pulse core's refusal of an operator action is a warning; the rest, information.
-        let lvl = if c.status.notice.as_deref() == Some(m.as_str()) {
-            level::WARNING
-        } else {
-            level::INFO
-        };
-        record_log(c, t, lvl, &m, 0);
-        warn = warn.or(c
-            .book
-            .history
-            .push(Entry {
-                machine_ns: t,
-                wall_s: wall,
-                kind: Kind::Message,
-                text: m,
-            })
-            .err());
-    }
-    if let Some(w) = warn {
+    // The pulse core's refusal of an operator action is a warning; the rest, information.
+    let lvl = if c.status.notice.as_deref() == Some(c.message.as_str()) {
+        level::WARNING
+    } else {
+        level::INFO
+    };
+    let r = c
+        .book
+        .log
+        .message(&mut c.recorder, (t, &file, 0), lvl, &c.message);
+    if let Some(w) = warn.or(r.err()) {
         also_say(c, &w);
         // The message with the failure added is not logged again.
-        c.book.logged.0 = c.message.clone();
+        c.book.log.shown(&c.message.clone());
     }
-}
-
-/// A message or an alarm as it goes into the history, on the recording's `/foxglove/log`:
-/// the program in memory named as its file.
-fn record_log(c: &mut Console, t_ns: u64, lvl: u8, text: &str, line: u32) {
-    let file = c.mem.program_name();
-    c.recorder.log(t_ns, lvl, text, &file, line);
 }
 
 /// Adds a secondary failure (the history or the counters could not be saved) after the
@@ -123,15 +170,12 @@ fn also_say(c: &mut Console, failure: &str) {
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
     // When the console shows it; the message does not say which line gave it.
-    let t = c.status.machine_ns;
-    record_log(c, t, level::INFO, &line, 0);
-    let pushed = c.book.history.push(Entry {
-        machine_ns: c.status.machine_ns,
-        wall_s: Some(crate::store::stamps::now_s()),
-        kind: Kind::Message,
-        text: line.clone(),
-    });
-    c.book.logged.0 = line.clone();
+    let file = c.mem.program_name();
+    let at = (c.status.machine_ns, file.as_str(), 0);
+    let pushed = c
+        .book
+        .log
+        .put(&mut c.recorder, at, Kind::Message, level::INFO, &line);
     if super::state::until_acknowledged(kind) {
         c.book.unacknowledged.push(line);
     } else {
@@ -140,7 +184,7 @@ pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     }
     if let Err(w) = pushed {
         also_say(c, &w);
-        c.book.logged.0 = c.message.clone();
+        c.book.log.shown(&c.message.clone());
     }
 }
 

@@ -216,6 +216,15 @@ pub enum Action {
     ZNeglect,
     /// Acknowledge the messages that live until acknowledged.
     Acknowledge,
+    /// A page key of the row beside the selectors: its page (docs/panel.md "Pages").
+    Page(crate::panel_model::Page),
+    /// The channel selector's next position, on a machine with several channels (Tab, Alt+c).
+    NextChannel,
+    /// FAULT of the selected channel with the typed reason, on a machine with several
+    /// channels (Alt+x).
+    Fault,
+    /// The part target from the typed number, on a machine with several channels (Alt+n).
+    Target,
     /// Nothing.
     None,
 }
@@ -258,7 +267,14 @@ pub fn map_key(k: Key) -> Action {
         Key::PageUp => A::Move(Axis::Z, 1),
         Key::PageDown => A::Move(Axis::Z, -1),
         k if k == super::state::ACKNOWLEDGE => A::Acknowledge,
-        _ => A::None,
+        // The keys of a machine with several channels (docs/lathe.md "Keys").
+        Key::Tab | Key::Alt('c') => A::NextChannel,
+        Key::Alt('x') => A::Fault,
+        Key::Alt('n') => A::Target,
+        k => match super::pages::page_of_key(k) {
+            Some(p) => A::Page(p),
+            None => A::None,
+        },
     }
 }
 
@@ -454,7 +470,12 @@ impl Console {
                     .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 self.refresh();
             }
-            Action::None => {
+            Action::Page(p) => {
+                // Taken above, before the page shown has the key.
+                pages::page_key(self, p);
+                self.refresh();
+            }
+            Action::NextChannel | Action::Fault | Action::Target | Action::None => {
                 let page = Some(self.pages.page)
                     .filter(|p| *p != Page::Mode)
                     .map(|p| p.label());

@@ -12,7 +12,7 @@
 //! after a key is the core's answer to that key.
 
 mod answers;
-mod book;
+pub(crate) mod book;
 mod config;
 pub(crate) mod display;
 pub(crate) mod entry;

@@ -25,7 +25,7 @@ mod io;
 mod macros;
 mod measure;
 mod modal;
-mod msg;
+pub(crate) mod msg;
 mod ofs;
 mod pos;
 mod prog;

@@ -1,38 +1,61 @@
 //! MSG: the alarm and message history with the time of day (and the date on a wide display), newest first, each in full (wrapped,
-//! never cut), kept across restarts (`store::history`). Up and Down scroll it.
+//! never cut), kept across restarts (`store::history`). Up and Down scroll it. Every console
+//! shows its history so: the centre on this page, a lathe in its plasma display
+//! ([`history_lines`], [`scroll`]).
 
 use super::super::display::{split_line, wrap, Page as Frame};
 use super::Console;
-use crate::store::history::Kind;
+use crate::store::history::{Entry, Kind};
 use novanc_panel::Key;
 
 /// Scrolls the history.
 pub(super) fn arrow(c: &mut Console, k: Key) {
-    let n = c.book.history.entries().len();
-    let f = &mut c.pages.msg_first;
+    let n = c.book.log.history.entries().len();
+    scroll(&mut c.pages.msg_first, n, k);
+}
+
+/// A cursor key on a history of `n` entries whose first shown is `first` (0: the newest):
+/// Down and PgDn show older ones, Up and PgUp newer ones, Home the newest, End the oldest.
+pub(crate) fn scroll(first: &mut usize, n: usize, k: Key) {
     match k {
-        Key::Down | Key::PageDown => *f = (*f + 1).min(n.saturating_sub(1)),
-        Key::Up | Key::PageUp => *f = f.saturating_sub(1),
-        Key::Home => *f = 0,
-        Key::End => *f = n.saturating_sub(1),
+        Key::Down | Key::PageDown => *first = (*first + 1).min(n.saturating_sub(1)),
+        Key::Up | Key::PageUp => *first = first.saturating_sub(1),
+        Key::Home => *first = 0,
+        Key::End => *first = n.saturating_sub(1),
         _ => {}
     }
 }
 
 /// The MSG page.
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let all = c.book.history.entries();
+    let all = c.book.log.history.entries();
     let mut p = Frame::new(
         rows,
         cols,
         split_line("MSG", &format!("{} entries", all.len()), cols),
     );
     let n = p.body_rows();
-    if all.is_empty() {
-        p.body.push("(no alarm or message yet)".into());
+    p.body = history_lines(all, c.pages.msg_first, n, cols);
+    if p.body.len() > n {
+        // The rest is further down: said, not cut silently.
+        p.body.truncate(n);
+        if let Some(last) = p.body.last_mut() {
+            let keep: String = last.chars().take(cols.saturating_sub(1)).collect();
+            *last = format!("{keep}{}", super::super::display::CUT);
+        }
     }
-    for e in all.iter().rev().skip(c.pages.msg_first) {
-        if p.body.len() >= n {
+    p.lines()
+}
+
+/// The history `all` as lines of `cols` characters, newest first from the `first`-th newest,
+/// each entry in full (wrapped, its continuation indented), at most `most` lines.
+pub(crate) fn history_lines(all: &[Entry], first: usize, most: usize, cols: usize) -> Vec<String> {
+    let mut body = Vec::new();
+    if all.is_empty() {
+        body.push("(no alarm or message yet)".into());
+    }
+    for e in all.iter().rev().skip(first) {
+        if body.len() >= most {
             break;
         }
         let kind = match e.kind {
@@ -58,16 +81,8 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             .into_iter()
             .enumerate()
         {
-            p.body.push(if i == 0 { l } else { format!("  {l}") });
+            body.push(if i == 0 { l } else { format!("  {l}") });
         }
     }
-    if p.body.len() > n {
-        // The rest is further down: said, not cut silently.
-        p.body.truncate(n);
-        if let Some(last) = p.body.last_mut() {
-            let keep: String = last.chars().take(cols.saturating_sub(1)).collect();
-            *last = format!("{keep}{}", super::super::display::CUT);
-        }
-    }
-    p.lines()
+    body
 }

@@ -3,7 +3,8 @@
 //! display shows around the current line.
 
 use super::{ofs, LatheConsole};
-use crate::panel_model::OpMode;
+use crate::console::pages::msg;
+use crate::panel_model::{OpMode, Page};
 use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
 
@@ -13,8 +14,15 @@ impl LatheConsole {
     pub(super) fn eob(&mut self) {
         let line = std::mem::take(&mut self.entry);
         self.y_output = None;
-        if self.ofs {
-            return self.revise_tool(&line);
+        match self.page {
+            Page::Ofs => return self.revise_tool(&line),
+            Page::Msg => {
+                // Read only: the typed line stays on the entry line (nothing typed is lost).
+                self.message = "MSG: the history is read only; Up/Down scroll it".into();
+                self.entry = line;
+                return;
+            }
+            _ => {}
         }
         match self.mode {
             OpMode::Auto | OpMode::Single | OpMode::Continuous | OpMode::Handle | OpMode::Step => {
@@ -65,7 +73,7 @@ impl LatheConsole {
     /// (`crate::console::entry::cursor_command`), run as a typed one is; the line being typed
     /// stays on the entry line. False for another key, or with the OFS page up.
     pub(super) fn cursor_key(&mut self, k: novanc_panel::Key) -> bool {
-        if self.mode != OpMode::Data || self.ofs {
+        if self.mode != OpMode::Data || self.page != Page::Mode {
             return false;
         }
         let mut buf = Buffer::from_text(&self.programs[self.sel].text);
@@ -189,8 +197,18 @@ impl LatheConsole {
     /// The program lines around `line` (the current block's), or around the editor's pointer
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
-        if self.ofs {
-            return ofs::table(&self.desc.channels[self.sel].tools);
+        match self.page {
+            Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools),
+            Page::Msg => {
+                // The centre's MSG page under the channel's lines: every entry in full,
+                // newest first.
+                let all = self.log.history.entries();
+                let room = self.rows.saturating_sub(6).max(1);
+                let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
+                l.extend(msg::history_lines(all, self.msg_first, room, self.cols));
+                return l;
+            }
+            _ => {}
         }
         if let (OpMode::Data, Some(y)) = (self.mode, &self.y_output) {
             let room = self.rows.saturating_sub(5).max(1);

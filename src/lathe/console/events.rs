@@ -5,7 +5,7 @@
 //! action as its script line (`crate::console::script_line`).
 
 use crate::console::keys::{self, Action};
-use crate::panel_model::{Axis, OpMode, PanelEvent};
+use crate::panel_model::{Axis, OpMode, Page, PanelEvent};
 use novanc_panel::Key;
 
 /// Whether the operation selector's position moves a tool post by hand (CONTINUOUS, HANDLE,
@@ -15,74 +15,37 @@ pub fn manual(m: OpMode) -> bool {
     matches!(m, OpMode::Continuous | OpMode::Handle | OpMode::Step)
 }
 
-/// What a key of the terminal does on the lathe console.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LatheKey {
-    /// A panel event (START, a mode, a data key, a switch turned over, ...).
-    Ev(PanelEvent),
-    /// The channel selector's next position (Tab, Alt+c).
-    NextChannel,
-    /// The help screen (F8, Alt+h).
-    Help,
-    /// FAULT of the selected channel with the typed reason (Alt+x).
-    Fault,
-    /// The part target from the typed number (Alt+n).
-    Target,
-    /// Feed override up or down 10 % (Alt+=, Alt+-).
-    Override(i32),
-    /// Rapid override one step down (Alt+f, the centre's key).
-    RapidOverride,
-    /// Spindle override up or down 10 % (Alt+], Alt+[, the centre's keys).
-    SpindleOverride(i32),
-    /// DRY RUN turned over (Alt+d, the centre's key).
-    DryRun,
-    /// The next STEP and handwheel increment (Alt+w).
-    Increment,
-    /// A jog key: its axis and direction (CONTINUOUS, STEP; a detent in HANDLE).
-    Move(Axis, i8),
-    /// The handwheel turned `n` detents on its axis (Alt+, Alt+.).
-    Wheel(i32),
-    /// Nothing on the lathe: the message line says so.
-    None,
-}
-
 /// What a key does on the lathe console (docs/lathe.md "Keys"): the one key map of every
-/// console (`crate::console::keys::map_key`, whose Alt+1 to Alt+6 turn the operation
-/// selector here as on the centre), with the lathe's own keys on top (Tab, Alt+c, Alt+x,
-/// Alt+n, and Ctrl+O for OFS, the centre's tool-offset page key) and the centre's words it
-/// has no use for as [`LatheKey::None`].
-pub fn map_key(k: Key, optional_stop: bool, block_delete: bool) -> LatheKey {
+/// console (`crate::console::keys::map_key`, whose Alt+1 to Alt+7 turn the operation selector
+/// here as on the centre, and whose Tab, Alt+c, Alt+x, Alt+n are a machine's with several
+/// channels), with the lathe's jog keys laid out as its tool post moves on the screen, the
+/// data keys in capitals, Ctrl+O the OFS page as a script's `op OFS`, and the centre's words
+/// it has no use for as [`Action::None`].
+pub fn map_key(k: Key) -> Action {
     match k {
-        Key::Tab | Key::Alt('c') => return LatheKey::NextChannel,
-        Key::Alt('x') => return LatheKey::Fault,
-        Key::Alt('n') => return LatheKey::Target,
-        Key::Ctrl('o') => return LatheKey::Ev(PanelEvent::OfsMode),
+        Key::Ctrl('o') => Action::Event(PanelEvent::OfsMode),
         // The lathe's jog keys as its tool post moves on the screen: X up and down, Z along
         // the spindle left and right (PgUp and PgDn are Z too, as on the centre).
-        Key::Up => return LatheKey::Move(Axis::X, 1),
-        Key::Down => return LatheKey::Move(Axis::X, -1),
-        Key::Left => return LatheKey::Move(Axis::Z, -1),
-        Key::Right => return LatheKey::Move(Axis::Z, 1),
-        Key::Char(c) if !c.is_control() => {
-            return LatheKey::Ev(PanelEvent::Key(c.to_ascii_uppercase()))
-        }
-        _ => {}
-    }
-    match keys::map_key(k) {
-        Action::Event(e) if takes(&e).is_ok() && !matches!(e, PanelEvent::Press(_)) => {
-            LatheKey::Ev(e)
-        }
-        Action::Help => LatheKey::Help,
-        Action::Override(d) => LatheKey::Override(d),
-        Action::RapidOverride => LatheKey::RapidOverride,
-        Action::SpindleOverride(d) => LatheKey::SpindleOverride(d),
-        Action::DryRun => LatheKey::DryRun,
-        Action::Move(axis @ (Axis::X | Axis::Z), dir) => LatheKey::Move(axis, dir),
-        Action::WheelScale => LatheKey::Increment,
-        Action::Wheel(n) => LatheKey::Wheel(n),
-        Action::BlockDelete => LatheKey::Ev(PanelEvent::BlockDelete(!block_delete)),
-        Action::OptionalStop => LatheKey::Ev(PanelEvent::OptionalStop(!optional_stop)),
-        _ => LatheKey::None,
+        Key::Up => Action::Move(Axis::X, 1),
+        Key::Down => Action::Move(Axis::X, -1),
+        Key::Left => Action::Move(Axis::Z, -1),
+        Key::Right => Action::Move(Axis::Z, 1),
+        Key::Char(c) if !c.is_control() => Action::Event(PanelEvent::Key(c.to_ascii_uppercase())),
+        k => match keys::map_key(k) {
+            Action::Event(e) if takes(&e).is_err() || matches!(e, PanelEvent::Press(_)) => {
+                Action::None
+            }
+            Action::Move(Axis::Y, _)
+            | Action::Tape
+            | Action::Punch
+            | Action::MachineLock
+            | Action::ZNeglect
+            | Action::Acknowledge
+            | Action::Page(Page::Pos | Page::Prog | Page::Modal | Page::Io | Page::Macro) => {
+                Action::None
+            }
+            a => a,
+        },
     }
 }
 
@@ -146,8 +109,8 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
             Err("wait block 0: the lathe's blocks are numbered from 1".into())
         }
         PanelEvent::WaitBlock(_) => Ok(()),
-        PanelEvent::Press(k) => match map_key(*k, false, false) {
-            LatheKey::None => Err(format!(
+        PanelEvent::Press(k) => match map_key(*k) {
+            Action::None => Err(format!(
                 "key {}: the lathe console has no use for it",
                 keys::key_name(*k)
             )),
@@ -274,52 +237,44 @@ mod tests {
 
     #[test]
     fn the_lathe_keys_sit_on_the_one_key_map() {
+        assert_eq!(map_key(Key::F(9)), Action::Event(PanelEvent::Start));
         assert_eq!(
-            map_key(Key::F(9), false, false),
-            LatheKey::Ev(PanelEvent::Start)
-        );
-        assert_eq!(
-            map_key(Key::Alt('3'), false, false),
-            LatheKey::Ev(PanelEvent::Op(OpMode::Mdi))
+            map_key(Key::Alt('3')),
+            Action::Event(PanelEvent::Op(OpMode::Mdi))
         );
         // The operation selector's keys are the centre's; OFS is the centre's OFS page key.
         assert_eq!(
-            map_key(Key::Alt('5'), false, false),
-            LatheKey::Ev(PanelEvent::Op(OpMode::Handle))
+            map_key(Key::Alt('5')),
+            Action::Event(PanelEvent::Op(OpMode::Handle))
         );
         assert_eq!(
-            map_key(Key::Alt('1'), false, false),
-            LatheKey::Ev(PanelEvent::Op(OpMode::Continuous))
+            map_key(Key::Alt('1')),
+            Action::Event(PanelEvent::Op(OpMode::Continuous))
         );
-        assert_eq!(
-            map_key(Key::Ctrl('o'), false, false),
-            LatheKey::Ev(PanelEvent::OfsMode)
-        );
-        assert_eq!(map_key(Key::Alt('.'), false, false), LatheKey::Wheel(1));
-        assert_eq!(map_key(Key::Tab, false, false), LatheKey::NextChannel);
-        assert_eq!(
-            map_key(Key::Char('g'), false, false),
-            LatheKey::Ev(PanelEvent::Key('G'))
-        );
-        assert_eq!(
-            map_key(Key::Alt('o'), true, false),
-            LatheKey::Ev(PanelEvent::OptionalStop(false))
-        );
+        assert_eq!(map_key(Key::Ctrl('o')), Action::Event(PanelEvent::OfsMode));
+        assert_eq!(map_key(Key::Alt('.')), Action::Wheel(1));
+        assert_eq!(map_key(Key::Tab), Action::NextChannel);
+        assert_eq!(map_key(Key::Char('g')), Action::Event(PanelEvent::Key('G')));
+        assert_eq!(map_key(Key::Alt('o')), Action::OptionalStop);
+        assert_eq!(map_key(Key::Ctrl('e')), Action::Page(Page::Msg));
         // The centre's own keys do nothing here, and say so (not dropped in silence).
         assert_eq!(
-            map_key(Key::Alt('7'), false, false),
-            LatheKey::Ev(PanelEvent::Op(OpMode::Single))
+            map_key(Key::Alt('7')),
+            Action::Event(PanelEvent::Op(OpMode::Single))
         );
-        for k in [Key::Alt('0'), Key::Alt('l'), Key::Alt('z'), Key::F(2)] {
-            assert_eq!(map_key(k, false, false), LatheKey::None, "{k:?}");
+        for k in [
+            Key::Alt('0'),
+            Key::Alt('l'),
+            Key::Alt('z'),
+            Key::F(2),
+            Key::Ctrl('p'),
+        ] {
+            assert_eq!(map_key(k), Action::None, "{k:?}");
         }
         // The centre's switches the lathe takes: the same keys.
-        assert_eq!(map_key(Key::Alt('d'), false, false), LatheKey::DryRun);
-        assert_eq!(
-            map_key(Key::Alt('f'), false, false),
-            LatheKey::RapidOverride
-        );
-        assert_eq!(map_key(Key::Alt('x'), false, false), LatheKey::Fault);
+        assert_eq!(map_key(Key::Alt('d')), Action::DryRun);
+        assert_eq!(map_key(Key::Alt('f')), Action::RapidOverride);
+        assert_eq!(map_key(Key::Alt('x')), Action::Fault);
         // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.
         for (k, axis, dir) in [
             (Key::Up, Axis::X, 1),
@@ -329,18 +284,15 @@ mod tests {
             (Key::PageUp, Axis::Z, 1),
             (Key::PageDown, Axis::Z, -1),
         ] {
-            assert_eq!(map_key(k, false, false), LatheKey::Move(axis, dir), "{k:?}");
+            assert_eq!(map_key(k), Action::Move(axis, dir), "{k:?}");
         }
         assert_eq!(
-            map_key(Key::Alt('6'), false, false),
-            LatheKey::Ev(PanelEvent::Op(OpMode::Step))
+            map_key(Key::Alt('6')),
+            Action::Event(PanelEvent::Op(OpMode::Step))
         );
-        assert_eq!(map_key(Key::Alt('w'), false, false), LatheKey::Increment);
+        assert_eq!(map_key(Key::Alt('w')), Action::WheelScale);
         for (axis, dir) in [(Axis::X, 1), (Axis::X, -1), (Axis::Z, 1), (Axis::Z, -1)] {
-            assert_eq!(
-                map_key(jog_key(axis, dir), false, false),
-                LatheKey::Move(axis, dir)
-            );
+            assert_eq!(map_key(jog_key(axis, dir)), Action::Move(axis, dir));
         }
     }
 }

@@ -843,6 +843,13 @@ impl Cycle {
         }
     }
 
+    /// Whether a channel is in FAULT or ALARM, as [`Cycle::views`] would say (without making
+    /// the views).
+    pub fn faulted(&self) -> bool {
+        (0..self.snap.len())
+            .any(|ch| self.runs(ch) && matches!(self.state_word(ch), "FAULT" | "ALARM"))
+    }
+
     /// Every console channel as the display shows it.
     pub fn views(
         &self,

@@ -19,14 +19,18 @@ pub mod view;
 pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
+use crate::console::book::Log;
+use crate::console::keys::Action;
+use crate::console::pages::msg;
 use crate::console::recording::Recording;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::MsgLife;
 use crate::console::WAIT_LIMIT_NS;
-use crate::panel_model::{OpMode, PanelEvent};
+use crate::panel_model::{OpMode, Page, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
+use crate::record::foxglove::level;
+use crate::store::history::Kind;
 use crate::store::lathe::{Counter, LatheStore, Program};
-use events::LatheKey;
 use std::path::Path;
 use view::ChanView;
 
@@ -43,9 +47,17 @@ pub struct LatheConsole {
     sel: usize,
     /// The operation selector (the centre's positions).
     mode: OpMode,
-    /// The OFS page is up over the mode display: the data keys revise the selected
-    /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), in any mode (the centre's page rule).
-    ofs: bool,
+    /// The page up over the mode display (the centre's page rule: in any mode, the page key
+    /// again or a mode turned leaves it): OFS, where the data keys revise the selected
+    /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), or MSG, the alarm and message history.
+    page: Page,
+    /// The alarm and message history (the centre's, `crate::console::book::Log`): what the
+    /// MSG page shows, kept in the lathe's state directory across restarts.
+    log: Log,
+    /// The MSG page's first entry shown (0: the newest).
+    msg_first: usize,
+    /// Each channel's fault or alarm last put in the history (empty: none in force).
+    alarms_logged: Vec<String>,
     entry: String,
     /// The operator message: the result, refusal or error of an action, or what the machine
     /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
@@ -164,6 +176,9 @@ impl LatheConsole {
             .zip(&o.pointers)
             .map(|(p, &at)| 1 + p.text.chars().take(at).filter(|&c| c == '\n').count())
             .collect();
+        let (log, damaged) = Log::open(o.store.dir());
+        let mut warnings = o.warnings;
+        warnings.extend(damaged);
         let mut c = LatheConsole {
             programs: o.programs,
             edit_line,
@@ -174,7 +189,10 @@ impl LatheConsole {
             desc,
             sel: 0,
             mode: OpMode::Auto,
-            ofs: false,
+            page: Page::Mode,
+            log,
+            msg_first: 0,
+            alarms_logged: vec![String::new(); n],
             entry: String::new(),
             message: String::new(),
             msg_life: (MsgLife::NextKey, 0),
@@ -219,9 +237,9 @@ impl LatheConsole {
             })
             .collect();
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
-        if let Some(w) = o.warnings.first() {
+        if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
-            c.message = match o.warnings.len() {
+            c.message = match warnings.len() {
                 1 => w.clone(),
                 n => format!("{w} (and {} more warnings)", n - 1),
             };
@@ -237,8 +255,8 @@ impl LatheConsole {
                 c.counter.target
             );
         }
-        c.record_display();
-        Ok((c, o.warnings))
+        c.after();
+        Ok((c, warnings))
     }
 
     /// Opens the console with a launcher's configuration: its state directory, display size,
@@ -349,9 +367,14 @@ impl LatheConsole {
         self.mode
     }
 
-    /// Whether the OFS page is up.
-    pub fn ofs_page(&self) -> bool {
-        self.ofs
+    /// The page up over the mode display (`Page::Mode`: none).
+    pub fn page(&self) -> Page {
+        self.page
+    }
+
+    /// The alarm and message history, oldest first (the MSG page shows it newest first).
+    pub fn history(&self) -> &[crate::store::history::Entry] {
+        self.log.history.entries()
     }
 
     /// The feed override, percent.
@@ -433,20 +456,27 @@ impl LatheConsole {
     /// key closes it and acts (F8 closes it); while the terminal is too small every other key
     /// is ignored and the notice says which; a key that does nothing here says so.
     pub fn press(&mut self, k: novanc_panel::Key) {
-        let act = events::map_key(k, self.optional_stop, self.block_delete);
+        self.press_key(k);
+        // What the key said, and the faults it found, in the history (`after` puts what the
+        // machine said).
+        self.log_book();
+    }
+
+    fn press_key(&mut self, k: novanc_panel::Key) {
+        let act = events::map_key(k);
         if self.screen.fits() || crate::console::keys::is_relay_stop(k) {
             self.say("", MsgLife::NextKey);
         }
         if crate::console::keys::is_relay_stop(k) {
             self.help = false;
-            if let LatheKey::Ev(e) = act {
+            if let Action::Event(e) = act {
                 self.handle(e);
             }
             return;
         }
         if self.help {
             self.help = false;
-            if act == LatheKey::Help {
+            if act == Action::Help {
                 self.record_event(&PanelEvent::Press(k));
                 return;
             }
@@ -454,35 +484,35 @@ impl LatheConsole {
         if self.screen.refuses(k) {
             return;
         }
-        if self.cursor_key(k) {
+        if self.cursor_key(k) || self.msg_key(k) {
             self.record_event(&PanelEvent::Press(k));
             return self.after();
         }
         match act {
-            LatheKey::Ev(PanelEvent::OfsMode) if self.ofs => {
+            Action::Event(PanelEvent::OfsMode) if self.page == Page::Ofs => {
                 // The page key again: back to the mode's display (the centre's rule).
                 self.record_event(&PanelEvent::Press(k));
-                self.ofs = false;
+                self.page = Page::Mode;
                 self.message = format!("{} mode", self.mode.word());
                 self.after();
             }
-            LatheKey::Ev(e) => self.handle(e),
-            LatheKey::Move(axis, dir) => match self.mode {
+            Action::Event(e) => self.handle(e),
+            Action::Move(axis, dir) => match self.mode {
                 OpMode::Continuous => self.hold_jog(k, axis, dir),
                 OpMode::Handle => self.handle(PanelEvent::Wheel(axis, i32::from(dir))),
                 _ => self.handle(PanelEvent::Jog(axis, dir)),
             },
-            LatheKey::Wheel(n) => self.handle(PanelEvent::Wheel(self.wheel_axis, n)),
-            LatheKey::NextChannel => {
+            Action::Wheel(n) => self.handle(PanelEvent::Wheel(self.wheel_axis, n)),
+            Action::NextChannel => {
                 self.record_event(&PanelEvent::Press(k));
                 self.select((self.sel + 1) % self.desc.channels.len());
                 self.after();
             }
-            LatheKey::Help => {
+            Action::Help => {
                 self.record_event(&PanelEvent::Press(k));
                 self.help = true;
             }
-            LatheKey::Fault => {
+            Action::Fault => {
                 let why = std::mem::take(&mut self.entry);
                 let why = if why.trim().is_empty() {
                     "operator".to_string()
@@ -491,24 +521,26 @@ impl LatheConsole {
                 };
                 self.handle(PanelEvent::Fault(self.sel, why));
             }
-            LatheKey::Increment => {
+            Action::WheelScale => {
                 let s = crate::console::manual::next_scale(self.increment);
                 self.handle(PanelEvent::WheelScale(s))
             }
-            LatheKey::DryRun => self.handle(PanelEvent::DryRun(!self.switches.dry_run)),
-            LatheKey::RapidOverride => {
+            Action::BlockDelete => self.handle(PanelEvent::BlockDelete(!self.block_delete)),
+            Action::OptionalStop => self.handle(PanelEvent::OptionalStop(!self.optional_stop)),
+            Action::DryRun => self.handle(PanelEvent::DryRun(!self.switches.dry_run)),
+            Action::RapidOverride => {
                 let p = crate::console::next_rapid(self.switches.rapid_override);
                 self.handle(PanelEvent::RapidOverride(p));
             }
-            LatheKey::SpindleOverride(d) => {
+            Action::SpindleOverride(d) => {
                 let p = crate::console::next_spindle(self.switches.spindle_override, d);
                 self.handle(PanelEvent::SpindleOverride(p));
             }
-            LatheKey::Override(d) => {
+            Action::Override(d) => {
                 let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
                 self.handle(PanelEvent::Override(p));
             }
-            LatheKey::Target => {
+            Action::Target => {
                 let typed = std::mem::take(&mut self.entry);
                 match typed.trim().parse::<u32>() {
                     Ok(n) if (1..=999_999).contains(&n) => self.handle(PanelEvent::Target(n)),
@@ -518,12 +550,93 @@ impl LatheConsole {
                     }
                 }
             }
-            LatheKey::None => {
+            // The MSG page key is taken above (`msg_key`); the centre's own keys do nothing
+            // here (`events::map_key`), and say so.
+            _ => {
                 self.record_event(&PanelEvent::Press(k));
-                let page = self.ofs.then_some("OFS");
+                let page = (self.page != Page::Mode).then(|| self.page.label());
                 self.message = crate::console::keys::does_nothing(k, self.mode, page);
                 self.after();
             }
+        }
+    }
+
+    /// The MSG page key (Ctrl+E, the centre's) and, with the page up, the keys that scroll
+    /// the history: whether `k` was one of them.
+    fn msg_key(&mut self, k: novanc_panel::Key) -> bool {
+        use novanc_panel::Key;
+        match k {
+            Key::Ctrl('e') => {
+                // The page key again leaves it (the centre's rule); the line being typed stays.
+                self.page = match self.page {
+                    Page::Msg => Page::Mode,
+                    _ => Page::Msg,
+                };
+                self.msg_first = 0;
+                self.y_output = None;
+                true
+            }
+            Key::Up
+            | Key::Down
+            | Key::Left
+            | Key::Right
+            | Key::PageUp
+            | Key::PageDown
+            | Key::Home
+            | Key::End
+                if self.page == Page::Msg =>
+            {
+                let n = self.log.history.entries().len();
+                msg::scroll(&mut self.msg_first, n, k);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Puts in the history (the MSG page, the recording's `/foxglove/log`) the message shown,
+    /// if it is new, and each channel's fault or alarm when it comes: the centre's rule. A
+    /// history that cannot be saved is said after the message, never in its place.
+    fn log_book(&mut self) {
+        let t = self.now_ns;
+        let mut failed = None;
+        let cleared = self.alarms_logged.iter().all(|a| a.is_empty());
+        if self.cycle.is_none() {
+            // The cycle cleared: the next one's faults are new.
+            self.alarms_logged.iter_mut().for_each(String::clear);
+        }
+        if let Some(c) = self.cycle.as_ref().filter(|c| c.faulted() || !cleared) {
+            let chans = c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts);
+            for (i, ch) in chans.iter().enumerate() {
+                let Some(logged) = self.alarms_logged.get_mut(i) else {
+                    continue;
+                };
+                if !matches!(ch.state.as_str(), "FAULT" | "ALARM") {
+                    logged.clear();
+                    continue;
+                }
+                let text = format!("CH{} {}: {}", i + 1, ch.state, ch.note);
+                if *logged != text {
+                    *logged = text.clone();
+                    let at = (t, ch.program.as_str(), ch.line);
+                    let r = self
+                        .log
+                        .put(&mut self.recorder, at, Kind::Alarm, level::ERROR, &text);
+                    failed = failed.or(r.err());
+                }
+            }
+        }
+        let file = self.programs.get(self.sel).map_or("", |p| p.name.as_str());
+        let r = self
+            .log
+            .message(&mut self.recorder, (t, file, 0), level::INFO, &self.message);
+        if let Some(e) = failed.or(r.err()) {
+            self.message = match self.message.as_str() {
+                "" | "ok" => e,
+                m => format!("{m}; {e}"),
+            };
+            self.msg_life = (MsgLife::NextKey, self.now_ns);
+            self.log.shown(&self.message);
         }
     }
 
@@ -566,7 +679,7 @@ impl LatheConsole {
             }
             PanelEvent::WheelScale(n) => self.set_increment(n),
             PanelEvent::OfsMode => {
-                self.ofs = true;
+                self.page = Page::Ofs;
                 self.y_output = None;
                 self.entry.clear();
                 self.message = format!(
@@ -671,7 +784,7 @@ impl LatheConsole {
 
     fn turn(&mut self, m: OpMode) {
         // A selector turned leaves a page (the centre's rule).
-        self.ofs = false;
+        self.page = Page::Mode;
         if m != self.mode {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_any_jog();
@@ -1088,6 +1201,7 @@ impl LatheConsole {
             }
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
+            let mut failed = None;
             for (ch, text) in c.take_said() {
                 let file = if c.mdi {
                     format!("MDI CH{}", ch + 1)
@@ -1097,17 +1211,21 @@ impl LatheConsole {
                         .map(|p| p.name.clone())
                         .unwrap_or_default()
                 };
-                self.recorder.log(
-                    self.now_ns,
-                    crate::record::foxglove::level::INFO,
-                    &text,
-                    &file,
-                    0,
-                );
+                // Each one in the history, however many a step gives (the centre's rule).
+                let at = (self.now_ns, file.as_str(), 0);
+                let r = self
+                    .log
+                    .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
+                failed = failed.or(r.err());
                 self.message = text;
                 self.msg_life = (MsgLife::NextKey, self.now_ns);
             }
+            if let Some(e) = failed {
+                self.message = format!("{}; {e}", self.message);
+                self.log.shown(&self.message);
+            }
         }
+        self.log_book();
         self.record_display();
     }
 
@@ -1167,7 +1285,10 @@ impl LatheConsole {
             .collect();
         let c = &chans[self.sel];
         let listing = self.listing(c.line);
-        let mode = if self.ofs { "OFS" } else { self.mode.word() };
+        let mode = match self.page {
+            Page::Mode => self.mode.word(),
+            p => p.label(),
+        };
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let switches = format!(

@@ -5,7 +5,7 @@
 pub const LATHE_KEYS: [&str; 13] = [
     "F9  START   F10 STOP",
     "F11 RESET   F12 E-STOP",
-    "Tab CHANNEL",
+    "Tab CHANNEL  Ctrl+E MSG",
     "Alt+2 AUTO  Alt+3 MDI",
     "Alt+4 DATA  Ctrl+O OFS",
     "Alt+1 CONT Alt+5 HANDLE",
@@ -19,7 +19,7 @@ pub const LATHE_KEYS: [&str; 13] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 16] = [
+pub const LATHE_HELP: [&str; 17] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -29,6 +29,7 @@ pub const LATHE_HELP: [&str; 16] = [
     "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         set the part target to the typed number",
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
+    "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",

@@ -119,7 +119,7 @@ impl Lathe {
                         });
                         ui.add_space(8.0);
                         ui.vertical(|ui| {
-                            let (modes, sw) = ((c.mode(), c.ofs_page()), c.switches());
+                            let (modes, sw) = ((c.mode(), c.page()), c.switches());
                             let hand = &mut self.hand;
                             let ovr = (sw, c.feed_override(), c.machine_switches());
                             panel::relay(ui, &v, modes, ovr, hand, out)

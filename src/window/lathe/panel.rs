@@ -8,7 +8,7 @@ use super::plot::{self, Trail};
 use crate::lathe::console::view::ChanView;
 use crate::lathe::console::LatheView;
 use crate::lathe::desc::LatheDesc;
-use crate::panel_model::{OpMode, PanelEvent};
+use crate::panel_model::{OpMode, Page, PanelEvent};
 use crate::window::controls::{self, HandState};
 use egui::{vec2, Color32, Rect, RichText, Sense, Stroke, StrokeKind, Ui};
 use novanc_panel::Key;
@@ -211,13 +211,13 @@ fn lamps(v: &LatheView) -> [bool; 4] {
     ]
 }
 
-/// The relay buttons, the channel selector and the OFS page key, the operation selector and
+/// The relay buttons, the channel selector and the OFS and MSG page keys, the operation selector and
 /// the feed override (the centre's, `controls::op_selector`, `controls::override_switch`),
 /// FAULT, TARGET and the switches.
 pub fn relay(
     ui: &mut Ui,
     v: &LatheView,
-    (mode, ofs): (OpMode, bool),
+    (mode, page): (OpMode, Page),
     (switches, feed_override, set): ((bool, bool), u32, crate::record::Switches),
     hand: &mut HandState,
     out: &mut Vec<Act>,
@@ -248,9 +248,15 @@ pub fn relay(
         }
         // The tool offsets page over the selector (lit while it is up): the page key again,
         // or a mode turned, leaves it.
-        let r = key(ui, "OFS", ofs, 52.0).on_hover_text("the tool offsets page (Ctrl+O)");
+        let r =
+            key(ui, "OFS", page == Page::Ofs, 52.0).on_hover_text("the tool offsets page (Ctrl+O)");
         if r.clicked() {
             out.push(Act::Press(Key::Ctrl('o')));
+        }
+        let r = key(ui, "MSG", page == Page::Msg, 52.0)
+            .on_hover_text("the alarm and message history (Ctrl+E)");
+        if r.clicked() {
+            out.push(Act::Press(Key::Ctrl('e')));
         }
     });
     ui.horizontal(|ui| {
