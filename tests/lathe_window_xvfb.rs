@@ -200,3 +200,42 @@ fn a_bad_lathe_script_is_refused_before_anything_opens() {
     // Nothing was made: not even the state directory.
     assert!(!dir.join("state").exists());
 }
+
+/// A lathe window made small (1000 × 700, then one of 400 × 300) still draws every frame: the
+/// readouts wrap in their columns, and the backplots take what room is left. Before stop 39 a
+/// channel column shorter than 150 points panicked the window (an overview height clamped
+/// between 60 points and less than 60).
+#[test]
+fn a_small_lathe_window_draws_and_says_where_everything_is() {
+    let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
+        return;
+    };
+    let dir = scratch("lathe_small");
+    let script = dir.join("s.txt");
+    std::fs::write(
+        &script,
+        "start\nwait ms 8000\nfault 2 chip jam\nwait ms 200\nkey Ctrl+E\nshow\n",
+    )
+    .unwrap();
+    for (w, h) in [(1000, 700), (400, 300)] {
+        let shot = dir.join(format!("shot{w}.png"));
+        let mut cmd = Command::new(BIN);
+        cmd.args(["--window", "--machine", "citizen", "--state"])
+            .arg(dir.join(format!("state{w}")))
+            .arg("--script")
+            .arg(&script)
+            .arg("--screenshot")
+            .arg(&shot)
+            .args(["--size", &format!("{w}x{h}")]);
+        xvfb::on_xvfb(&mut cmd, &x);
+        let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+        assert_eq!(code, Some(0), "{w}x{h}: stdout:\n{out}\nstderr:\n{err}");
+        let s = parse_layout(&out);
+        assert_eq!(s.size, (w, h));
+        // The MSG page is up, the fault in it.
+        assert!(out.contains("ALARM CH2 FAULT: chip jam"), "{out}");
+        for p in s.plots.windows(2) {
+            assert!(p[0].x + p[0].w < p[1].x, "plots overlap: {:?}", s.plots);
+        }
+    }
+}

@@ -76,7 +76,7 @@ fn mm(p: i64, pulse_mm: f64) -> String {
 /// One channel's readout: name and state, whom it waits for (or the fault), the current
 /// block, X as a diameter and Z, rpm and tool, the work and chuck, the part count.
 fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label(mono(format!("CH{} {}", i + 1, c.name), 15.0, TEXT).strong());
         ui.label(mono(&c.state, 15.0, state_colour(&c.state)).strong());
     });
@@ -109,7 +109,9 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
         Some(w) => format!("W{w}"),
         None => "EMPTY".into(),
     };
-    ui.horizontal(|ui| {
+    // Wrapped in a narrow column (a window 1000 points wide): the chuck and the part count
+    // go to a line of their own rather than over the next channel's readout.
+    ui.horizontal_wrapped(|ui| {
         ui.label(mono(
             format!("S{:6.0} rpm  T{:02}  ", c.rpm, c.tool),
             13.0,
@@ -168,7 +170,7 @@ pub fn channels(
             let w = ui.available_width();
             let room = ui.available_height().max(140.0);
             let span = ((travel.x[1] - travel.x[0]) / (travel.z[1] - travel.z[0]).max(1e-3)) as f32;
-            let over_h = ((w - 32.0) * span + 32.0).clamp(60.0, room * 0.4);
+            let over_h = ((w - 32.0) * span + 32.0).min(room * 0.4).max(60.0);
             let (over, r1) = ui.allocate_exact_size(vec2(w, over_h), Sense::click());
             ui.add_space(4.0);
             let det_h = ui.available_height().max(80.0);
