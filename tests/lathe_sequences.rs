@@ -275,12 +275,15 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             PanelEvent::Op(OpMode::Handle),
             PanelEvent::Op(OpMode::Single),
             PanelEvent::Press(novanc_panel::Key::Ctrl('e')),
-        ][rng.range(0, 8) as usize]
+            PanelEvent::Press(novanc_panel::Key::Ctrl('u')),
+        ][rng.range(0, 9) as usize]
             .clone(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => PanelEvent::Press(novanc_panel::Key::F(8)),
         65 => PanelEvent::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
+        // A variable set (on MACRO), an MDI line or an editor line refused elsewhere.
+        86 => PanelEvent::Type(format!("#{}={}", 500 + rng.range(0, 2), rng.range(0, 9))),
         66 => PanelEvent::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
         62..=63 => PanelEvent::OptionalStop(rng.range(0, 1) == 1),
         80..=81 => {
@@ -340,8 +343,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 k,
                 Key::Up | Key::Down | Key::Left | Key::Right | Key::Delete
             );
-            if arrow && k != Key::Delete && s.c.page() == Page::Msg {
-                // On the MSG page the arrows scroll the history (the centre's page rule).
+            if arrow && k != Key::Delete && matches!(s.c.page(), Page::Msg | Page::Macro) {
+                // On the MSG and MACRO pages the arrows scroll (the centre's page rule).
                 assert_eq!(after, before, "{line}: {said}");
                 return line;
             }

@@ -25,12 +25,15 @@ fn listed(n: usize) -> bool {
 
 /// The cursor moved by an arrow key.
 pub(super) fn arrow(c: &mut Console, k: novanc_panel::Key, rows: usize) {
+    c.pages.macro_var = cursor_moved(c.pages.macro_var, k, rows);
+}
+
+/// The variable under the cursor after key `k`, from `var`, `rows` a screenful (every console's
+/// MACRO page: the centre's, and a lathe channel's).
+pub(crate) fn cursor_moved(var: usize, k: novanc_panel::Key, rows: usize) -> usize {
     use novanc_panel::Key;
     let all: Vec<usize> = numbers().collect();
-    let at = all
-        .iter()
-        .position(|&n| n == c.pages.macro_var)
-        .unwrap_or(0);
+    let at = all.iter().position(|&n| n == var).unwrap_or(0);
     let page = rows.max(1);
     let to = match k {
         Key::Up => at.saturating_sub(1),
@@ -41,7 +44,7 @@ pub(super) fn arrow(c: &mut Console, k: novanc_panel::Key, rows: usize) {
         Key::End => all.len() - 1,
         _ => at,
     };
-    c.pages.macro_var = all[to.min(all.len() - 1)];
+    all[to.min(all.len() - 1)]
 }
 
 /// A number typed for a variable (empty: vacant).
@@ -56,13 +59,18 @@ fn value(text: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("'{t}' is not a value (a number below 10^12, or nothing: vacant)"))
 }
 
-/// INPUT (or +INPUT with `add`) on the MACRO page.
-pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
-    if c.cfg.settings.dialect != Dialect::Fanuc {
-        c.message =
-            "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into();
-        return;
-    }
+/// What a line INPUT on a MACRO page asks: the cursor to a variable, or a variable set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Input {
+    /// `#500` alone: the cursor there.
+    Cursor(usize),
+    /// Variable `n` set to the value (NaN: vacant).
+    Set(usize, f64),
+}
+
+/// A line INPUT (or +INPUT with `add`) on a MACRO page whose cursor is on `var`, over the
+/// variables `params`, on every console: what it asks, or why it is refused.
+pub(crate) fn input(line: &str, var: usize, params: &[f64], add: bool) -> Result<Input, String> {
     let t = line.trim();
     let (n, text) = match t.strip_prefix('#') {
         Some(rest) => {
@@ -72,38 +80,53 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             };
             let n = match num.parse::<usize>() {
                 Ok(n) if listed(n) => n,
-                _ => {
-                    c.message = format!(
-                        "MACRO refused: '#{num}' is not a variable of this page (#1-#33, #100-#199, #500-#999)"
-                    );
-                    return;
-                }
+                _ => return Err(format!(
+                    "MACRO refused: '#{num}' is not a variable of this page (#1-#33, #100-#199, #500-#999)"
+                )),
             };
             match val {
                 Some(v) => (n, v),
-                None => {
-                    c.pages.macro_var = n;
-                    return;
-                }
+                None => return Ok(Input::Cursor(n)),
             }
         }
-        None if t.is_empty() => {
-            c.message = "MACRO: type a value, or #500=12.5, then INPUT".into();
-            return;
-        }
-        None => (c.pages.macro_var, t),
+        None if t.is_empty() => return Err("MACRO: type a value, or #500=12.5, then INPUT".into()),
+        None => (var, t),
     };
-    let mut v = match value(text) {
-        Ok(v) => v,
-        Err(e) => {
-            c.message = format!("MACRO refused: {e}");
-            return;
-        }
-    };
+    let mut v = value(text).map_err(|e| format!("MACRO refused: {e}"))?;
     if add {
-        let was = c.interp.params[n];
+        let was = params.get(n).copied().unwrap_or(f64::NAN);
         v = if was.is_nan() { 0.0 } else { was } + if v.is_nan() { 0.0 } else { v };
     }
+    Ok(Input::Set(n, v))
+}
+
+/// What the message line says of variable `n` set to `v`.
+pub(crate) fn set_message(n: usize, v: f64) -> String {
+    if v.is_nan() {
+        format!("#{n} vacant")
+    } else {
+        format!("#{n} = {}", crate::input_text::short_number(v))
+    }
+}
+
+/// INPUT (or +INPUT with `add`) on the MACRO page.
+pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
+    if c.cfg.settings.dialect != Dialect::Fanuc {
+        c.message =
+            "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into();
+        return;
+    }
+    let (n, v) = match input(line, c.pages.macro_var, &c.interp.params, add) {
+        Ok(Input::Cursor(n)) => {
+            c.pages.macro_var = n;
+            return;
+        }
+        Ok(Input::Set(n, v)) => (n, v),
+        Err(e) => {
+            c.message = e;
+            return;
+        }
+    };
     if !super::workofs::at_rest(c, "MACRO") {
         return;
     }
@@ -117,11 +140,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     }
     c.interp.params[n] = v;
     c.pages.macro_var = n;
-    c.message = if v.is_nan() {
-        format!("#{n} vacant")
-    } else {
-        format!("#{n} = {}", crate::input_text::short_number(v))
-    };
+    c.message = set_message(n, v);
 }
 
 /// The MACRO page.
@@ -138,23 +157,30 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             .push("(the Fanuc dialect's variables: --dialect fanuc)".into());
         return p.lines();
     }
-    let fit = p.body_rows().max(1);
+    p.body = variable_rows(&c.interp.params, c.pages.macro_var, p.body_rows());
+    p.lines()
+}
+
+/// The screenful of variables the cursor on `var` falls in, `fit` rows, one a row: the value
+/// of each in `params`, a vacant (NaN) one blank, the cursor's row marked `>`.
+pub(crate) fn variable_rows(params: &[f64], var: usize, fit: usize) -> Vec<String> {
+    let fit = fit.max(1);
     let all: Vec<usize> = numbers().collect();
-    let at = all
-        .iter()
-        .position(|&n| n == c.pages.macro_var)
-        .unwrap_or(0);
+    let at = all.iter().position(|&n| n == var).unwrap_or(0);
     // The cursor's row in view: the screenful it falls in.
     let first = at / fit * fit;
-    for &n in all.iter().skip(first).take(fit) {
-        let v = c.interp.params.get(n).copied().unwrap_or(f64::NAN);
-        let shown = if v.is_nan() {
-            String::new()
-        } else {
-            crate::input_text::short_number(v)
-        };
-        let mark = if n == c.pages.macro_var { '>' } else { ' ' };
-        p.body.push(format!("{mark}#{n:<4}{shown:>14}"));
-    }
-    p.lines()
+    all.iter()
+        .skip(first)
+        .take(fit)
+        .map(|&n| {
+            let v = params.get(n).copied().unwrap_or(f64::NAN);
+            let shown = if v.is_nan() {
+                String::new()
+            } else {
+                crate::input_text::short_number(v)
+            };
+            let mark = if n == var { '>' } else { ' ' };
+            format!("{mark}#{n:<4}{shown:>14}")
+        })
+        .collect()
 }

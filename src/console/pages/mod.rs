@@ -22,7 +22,7 @@
 //!   #500–#999; INPUT as on OFS (`#500=12.5`, or a value at the cursor).
 
 mod io;
-mod macros;
+pub(crate) mod macros;
 mod measure;
 mod modal;
 pub(crate) mod msg;

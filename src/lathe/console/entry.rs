@@ -3,7 +3,7 @@
 //! display shows around the current line.
 
 use super::{ofs, LatheConsole};
-use crate::console::pages::msg;
+use crate::console::pages::{macros, msg};
 use crate::panel_model::{OpMode, Page};
 use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
@@ -22,6 +22,7 @@ impl LatheConsole {
                 self.entry = line;
                 return;
             }
+            Page::Macro => return self.macro_input(&line),
             _ => {}
         }
         match self.mode {
@@ -89,6 +90,54 @@ impl LatheConsole {
             Err(e) => format!("{name}: {e}"),
         };
         true
+    }
+
+    /// MACRO: a line INPUT on the selected channel's variables, by the centre's rules
+    /// (`console::pages::macros::input`): `12.5` sets the variable under the cursor, `#500=12.5`
+    /// the one it names, `#500` moves the cursor there. #500–#999 are stored first (the
+    /// channel's kept parameters, journaled as a program's writes are); #1–#33 and #100–#199
+    /// hold until RESET clears them. Taken with no cycle under way: the programs read the
+    /// variables at START. A refused line stays on the entry line.
+    fn macro_input(&mut self, line: &str) {
+        use crate::console::pages::macros::{input, set_message, Input};
+        let ch = self.sel;
+        let said = match input(line, self.macro_var, &self.kept[ch].params.params, false) {
+            Err(e) => Err(e),
+            Ok(Input::Cursor(n)) => {
+                self.macro_var = n;
+                return;
+            }
+            Ok(Input::Set(..)) if self.cycle.as_ref().is_some_and(|c| !c.is_over()) => Err(
+                "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
+            ),
+            Ok(Input::Set(n, v)) => {
+                // Only the Fanuc dialect has a vacant variable: elsewhere nothing is 0.
+                let fanuc = self.desc.channels[ch].dialect.unwrap_or_default()
+                    == crate::settings::Dialect::Fanuc;
+                let v = if v.is_nan() && !fanuc { 0.0 } else { v };
+                let kept = if v.is_nan() { 0.0 } else { v };
+                let stored = if crate::store::lathe::KEPT_PARAMS.contains(&n) {
+                    self.store.save_params(ch, &[(n, kept)])
+                } else {
+                    Ok(())
+                };
+                match stored {
+                    Err(e) => Err(format!("MACRO refused: #{n}: {e}")),
+                    Ok(()) => {
+                        self.kept[ch].params.params[n] = v;
+                        self.macro_var = n;
+                        Ok(format!("CH{} {}", ch + 1, set_message(n, v)))
+                    }
+                }
+            }
+        };
+        match said {
+            Ok(m) => self.message = m,
+            Err(e) => {
+                self.message = e;
+                self.entry = line.to_string();
+            }
+        }
     }
 
     /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
@@ -199,6 +248,14 @@ impl LatheConsole {
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
         match self.page {
             Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools),
+            Page::Macro => {
+                // The centre's MACRO page, of the selected channel's variables.
+                let room = self.rows.saturating_sub(6).max(1);
+                let mut l = vec![format!("MACRO CH{} #500=12.5 Enter INPUT", self.sel + 1)];
+                let params = &self.kept[self.sel].params.params;
+                l.extend(macros::variable_rows(params, self.macro_var, room));
+                return l;
+            }
             Page::Msg => {
                 // The centre's MSG page under the channel's lines: every entry in full,
                 // newest first.

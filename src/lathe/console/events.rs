@@ -41,9 +41,7 @@ pub fn map_key(k: Key) -> Action {
             | Action::MachineLock
             | Action::ZNeglect
             | Action::Acknowledge
-            | Action::Page(Page::Pos | Page::Prog | Page::Modal | Page::Io | Page::Macro) => {
-                Action::None
-            }
+            | Action::Page(Page::Pos | Page::Prog | Page::Modal | Page::Io) => Action::None,
             a => a,
         },
     }
@@ -257,6 +255,7 @@ mod tests {
         assert_eq!(map_key(Key::Char('g')), Action::Event(PanelEvent::Key('G')));
         assert_eq!(map_key(Key::Alt('o')), Action::OptionalStop);
         assert_eq!(map_key(Key::Ctrl('e')), Action::Page(Page::Msg));
+        assert_eq!(map_key(Key::Ctrl('u')), Action::Page(Page::Macro));
         // The centre's own keys do nothing here, and say so (not dropped in silence).
         assert_eq!(
             map_key(Key::Alt('7')),

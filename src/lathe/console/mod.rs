@@ -21,7 +21,7 @@ pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 use super::desc::LatheDesc;
 use crate::console::book::Log;
 use crate::console::keys::Action;
-use crate::console::pages::msg;
+use crate::console::pages::{macros, msg};
 use crate::console::recording::Recording;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::MsgLife;
@@ -56,6 +56,8 @@ pub struct LatheConsole {
     log: Log,
     /// The MSG page's first entry shown (0: the newest).
     msg_first: usize,
+    /// The MACRO page's cursor: a variable number (of the selected channel).
+    macro_var: usize,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
     alarms_logged: Vec<String>,
     entry: String,
@@ -192,6 +194,7 @@ impl LatheConsole {
             page: Page::Mode,
             log,
             msg_first: 0,
+            macro_var: 1,
             alarms_logged: vec![String::new(); n],
             entry: String::new(),
             message: String::new(),
@@ -484,7 +487,7 @@ impl LatheConsole {
         if self.screen.refuses(k) {
             return;
         }
-        if self.cursor_key(k) || self.msg_key(k) {
+        if self.cursor_key(k) || self.page_key(k) {
             self.record_event(&PanelEvent::Press(k));
             return self.after();
         }
@@ -550,7 +553,7 @@ impl LatheConsole {
                     }
                 }
             }
-            // The MSG page key is taken above (`msg_key`); the centre's own keys do nothing
+            // The MSG and MACRO page keys are taken above (`page_key`); the centre's own keys do nothing
             // here (`events::map_key`), and say so.
             _ => {
                 self.record_event(&PanelEvent::Press(k));
@@ -561,21 +564,14 @@ impl LatheConsole {
         }
     }
 
-    /// The MSG page key (Ctrl+E, the centre's) and, with the page up, the keys that scroll
-    /// the history: whether `k` was one of them.
-    fn msg_key(&mut self, k: novanc_panel::Key) -> bool {
+    /// The MSG and MACRO page keys (Ctrl+E, Ctrl+U: the centre's) and, with one of them up,
+    /// the cursor keys that scroll the history or move the variable cursor (the arrows move no
+    /// tool post under a page, as on the centre): whether `k` was one of them.
+    fn page_key(&mut self, k: novanc_panel::Key) -> bool {
         use novanc_panel::Key;
-        match k {
-            Key::Ctrl('e') => {
-                // The page key again leaves it (the centre's rule); the line being typed stays.
-                self.page = match self.page {
-                    Page::Msg => Page::Mode,
-                    _ => Page::Msg,
-                };
-                self.msg_first = 0;
-                self.y_output = None;
-                true
-            }
+        let page = match k {
+            Key::Ctrl('e') => Page::Msg,
+            Key::Ctrl('u') => Page::Macro,
             Key::Up
             | Key::Down
             | Key::Left
@@ -583,15 +579,27 @@ impl LatheConsole {
             | Key::PageUp
             | Key::PageDown
             | Key::Home
-            | Key::End
-                if self.page == Page::Msg =>
-            {
-                let n = self.log.history.entries().len();
-                msg::scroll(&mut self.msg_first, n, k);
-                true
+            | Key::End => {
+                match self.page {
+                    Page::Msg => {
+                        let n = self.log.history.entries().len();
+                        msg::scroll(&mut self.msg_first, n, k);
+                    }
+                    Page::Macro => {
+                        let room = self.rows.saturating_sub(6);
+                        self.macro_var = macros::cursor_moved(self.macro_var, k, room);
+                    }
+                    _ => return false,
+                }
+                return true;
             }
-            _ => false,
-        }
+            _ => return false,
+        };
+        // The page key again leaves it (the centre's rule); the line being typed stays.
+        self.page = if self.page == page { Page::Mode } else { page };
+        self.msg_first = 0;
+        self.y_output = None;
+        true
     }
 
     /// Puts in the history (the MSG page, the recording's `/foxglove/log`) the message shown,

@@ -5,21 +5,21 @@
 pub const LATHE_KEYS: [&str; 13] = [
     "F9  START   F10 STOP",
     "F11 RESET   F12 E-STOP",
-    "Tab CHANNEL  Ctrl+E MSG",
+    "Tab CHANNEL  Ctrl-C quit",
     "Alt+2 AUTO  Alt+3 MDI",
     "Alt+4 DATA  Ctrl+O OFS",
+    "Ctrl+E MSG  Ctrl+U MACRO",
     "Alt+1 CONT Alt+5 HANDLE",
     "Alt+6 STEP  Alt+7 SINGLE",
-    "Alt+x FAULT the channel",
-    "Alt+n TARGET (typed N)",
+    "Alt+x FAULT Alt+n TARGET",
     "Alt+o M01   Alt+b /DEL",
     "Alt+= Alt+- FOV Alt+f RPD",
     "Enter EOB   F8 help",
-    "Alt+[ ] SOV  Ctrl-C quit",
+    "Alt+[ ] SOV  Alt+d DRY",
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 17] = [
+pub const LATHE_HELP: [&str; 18] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -30,6 +30,7 @@ pub const LATHE_HELP: [&str; 17] = [
     "Alt+n         set the part target to the typed number",
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
     "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
+    "Ctrl+U        MACRO: the channel's variables #1-#33, #100-#199, #500-#999; #500=12.5 Enter sets one",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",

@@ -1,7 +1,9 @@
-//! The lathe's MSG page (docs/lathe.md "MSG: the history"): the centre's alarm and message
-//! history (`console::book::Log`), kept in the lathe's state directory. Every message the
-//! console shows and each channel's fault or alarm go into it once, when they come; Ctrl+E
-//! shows it over the mode's display, newest first, and it is still there after a restart.
+//! The lathe's pages beside OFS, the centre's: MSG (docs/lathe.md "MSG: the history"), the
+//! alarm and message history (`console::book::Log`) kept in the lathe's state directory, every
+//! message the console shows and each channel's fault or alarm put in it once, when they come,
+//! shown by Ctrl+E newest first and still there after a restart; and MACRO (docs/lathe.md
+//! "MACRO: a channel's variables", Ctrl+U), the selected channel's variables, set by INPUT,
+//! #500–#999 stored, read by the channel's next program.
 
 mod common;
 
@@ -129,5 +131,96 @@ fn a_fault_that_comes_again_in_a_new_cycle_is_kept_again() {
         c.handle(PanelEvent::Reset);
         c.handle(PanelEvent::Reset);
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The X and Z a channel's tool tip stands at after MDI `line` runs on channel 1.
+fn after_mdi(c: &mut LatheConsole, line: &str) -> [i64; 2] {
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type(line.into()));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    let t = c.tips()[0].0;
+    c.handle(PanelEvent::Reset);
+    t
+}
+
+#[test]
+fn a_variable_set_on_macro_is_stored_and_read_by_the_channels_next_program() {
+    let dir = common::temp_dir("lathe-macro");
+    let mut c = open(&dir);
+    c.press(Key::Ctrl('u'));
+    assert_eq!(c.page(), Page::Macro);
+    let d = c.view().display;
+    assert!(d[0].trim_end().ends_with("MACRO"), "{d:#?}");
+    assert!(d[3].starts_with("MACRO CH1"), "{d:#?}");
+    assert!(d[4].starts_with(">#1 "), "{d:#?}");
+    for ch in "#500=12.5".chars() {
+        c.press(Key::Char(ch));
+    }
+    c.press(Key::Enter);
+    assert_eq!(c.message(), "CH1 #500 = 12.5");
+    let d = c.view().display;
+    assert!(
+        d.iter()
+            .any(|l| l.starts_with(">#500") && l.trim_end().ends_with("12.5")),
+        "{d:#?}"
+    );
+    // A value that is not one is refused, and what was typed stays.
+    for ch in "1e99".chars() {
+        c.press(Key::Char(ch));
+    }
+    c.press(Key::Enter);
+    assert!(
+        c.message().starts_with("MACRO refused: "),
+        "{}",
+        c.message()
+    );
+    assert_eq!(
+        c.view().display.last().map(|l| l.trim_end()),
+        Some("> 1E99")
+    );
+    c.handle(PanelEvent::Type(String::new()));
+    // The arrows move the cursor, not a tool post.
+    let tips = c.tips();
+    c.press(Key::Down);
+    assert!(c.view().display.iter().any(|l| l.starts_with(">#501")));
+    assert_eq!(c.tips(), tips);
+
+    // The channel's next program reads it, as it reads a program's own #500.
+    let by_var = after_mdi(&mut c, "G0 X#500 Z5");
+    let by_hand = after_mdi(&mut c, "G0 X12.5 Z5");
+    assert_eq!(by_var, by_hand);
+    assert_ne!(by_var, tips[0].0, "the MDI run moved");
+    let by_other = after_mdi(&mut c, "G0 X20 Z5");
+    assert_ne!(by_other, by_var);
+    assert!(c.finish(None).is_none_or(|r| r.is_ok()));
+
+    // Stored: after a restart the channel still has it.
+    let mut c = open(&dir);
+    c.press(Key::Ctrl('u'));
+    c.handle(PanelEvent::Type("#500".into()));
+    let d = c.view().display;
+    assert!(
+        d.iter()
+            .any(|l| l.starts_with(">#500") && l.trim_end().ends_with("12.5")),
+        "{d:#?}"
+    );
+    // Not while a cycle is under way: its programs read the variables at START.
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.tick(100_000_000);
+    c.press(Key::Ctrl('u'));
+    c.handle(PanelEvent::Type("#501=3".into()));
+    assert!(
+        c.message().contains("a cycle is under way"),
+        "{}",
+        c.message()
+    );
+    assert_eq!(
+        c.view().display.last().map(|l| l.trim_end()),
+        Some("> #501=3")
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
