@@ -9,6 +9,7 @@ use common::{keys, shows, temp_dir, type_line};
 use novanc::console::{Console, ConsoleConfig};
 use novanc::panel_model::{Page, PanelEvent};
 use novanc::pulse_core::ClockMode;
+use novanc_panel::Key;
 use std::path::Path;
 
 fn open_in(dir: &Path) -> Console {
@@ -603,4 +604,47 @@ fn the_jog_feed_is_kept_across_a_restart() {
     // `JOG` goes back from rapid jog to the feed kept with it.
     type_line(&mut c, "JOG");
     assert!(shows(&c, "jog feed 100 mm/min"), "{}", c.frame_text());
+}
+
+/// Every key that acts on a page is in the recording's `/panel/event` once, whether the
+/// terminal pressed it or a script's `key NAME` gave it: a replay types the same revision.
+/// Before stop 39 the terminal's keys on a page (the data keys, INPUT) were not recorded at
+/// all, and a script's page key twice.
+#[test]
+fn the_keys_typed_on_a_page_are_recorded_once_each() {
+    for script in [false, true] {
+        let dir = common::temp_dir(&format!("page-keys-rec-{script}"));
+        let rec = dir.join("r.mcap");
+        let mut cfg = ConsoleConfig::new(dir.join("state"));
+        cfg.clock = ClockMode::Virtual;
+        cfg.record = Some(rec.clone());
+        let mut c = Console::open(cfg).unwrap().0;
+        let keys = [
+            Key::Ctrl('o'),
+            Key::Char('5'),
+            Key::Enter,
+            Key::F(8),
+            Key::Alt('c'),
+        ];
+        for k in keys {
+            if script {
+                c.handle(PanelEvent::Press(k));
+            } else {
+                c.press(k);
+            }
+        }
+        c.finish().unwrap();
+        let bytes = std::fs::read(&rec).unwrap();
+        let events: Vec<String> = mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .map(|m| m.unwrap())
+            .filter(|m| m.channel.topic == "/panel/event")
+            .map(|m| String::from_utf8_lossy(&m.data).into_owned())
+            .collect();
+        let want: Vec<String> = ["Ctrl+o", "5", "Enter", "F8", "Alt+c"]
+            .iter()
+            .map(|k| format!("{{\"event\":\"key {k}\"}}"))
+            .collect();
+        assert_eq!(events, want, "script {script}");
+    }
 }

@@ -182,7 +182,7 @@ fn mdi_line(c: &mut Console, line: String) {
         c.message = "MDI: type a statement or a G-code line, Enter, then START".into();
         return;
     }
-    c.pages.remember(&line);
+    c.pages.recall.remember(&line);
     if c.status.job.is_some() {
         c.message = "MDI refused: a run is loaded; RESET first (Up recalls the line)".into();
         return;
@@ -196,7 +196,7 @@ fn mdi_line(c: &mut Console, line: String) {
 
 /// Up or Down in MDI: the previous or next line typed into the entry line.
 pub(super) fn recall(c: &mut Console, back: bool) {
-    match c.pages.recall_step(back) {
+    match c.pages.recall.step(back) {
         Some(l) => c.entry = l,
         None => c.message = "MDI: no line to recall".into(),
     }

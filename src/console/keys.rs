@@ -374,6 +374,8 @@ impl Console {
             let was = self.help;
             self.help = 0;
             if action == Action::Help {
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 self.help = if was == 1 { 2 } else { 0 };
                 self.refresh();
                 return;
@@ -396,6 +398,10 @@ impl Console {
             self.pages.page = Page::Mode;
         }
         if self.pages.page != Page::Mode && pages::press(self, k) {
+            // What a page takes (a data key, INPUT, a cursor key) is in the recording, as
+            // every key that acts: a replay types the same revision.
+            self.recorder
+                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
             return;
         }
         if super::entry::cursor_key(self, k) {
@@ -405,6 +411,9 @@ impl Console {
             return;
         }
         if self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down) {
+            // Recorded, as every key that acts is: a replay recalls the same line.
+            self.recorder
+                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
             super::entry::recall(self, k == Key::Up);
             self.refresh();
             return;
@@ -413,7 +422,7 @@ impl Console {
             Action::Event(e) => self.handle(e),
             Action::Move(axis, dir) => match self.op {
                 OpMode::Handle => self.handle(PanelEvent::Wheel(axis, dir as i32)),
-                OpMode::Continuous => self.hold_jog(axis, dir),
+                OpMode::Continuous => self.hold_jog(k, axis, dir),
                 _ => self.handle(PanelEvent::Jog(axis, dir)),
             },
             Action::Override(d) => {
@@ -459,6 +468,8 @@ impl Console {
                 self.handle(PanelEvent::ZNeglect(on));
             }
             Action::Help => {
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 self.help = 1;
                 self.refresh();
             }
@@ -476,6 +487,9 @@ impl Console {
                 self.refresh();
             }
             Action::NextChannel | Action::Fault | Action::Target | Action::None => {
+                // Recorded as the lathe's are: the key was pressed, and said so.
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 let page = Some(self.pages.page)
                     .filter(|p| *p != Page::Mode)
                     .map(|p| p.label());
@@ -487,7 +501,7 @@ impl Console {
 
     /// A CONTINUOUS jog key ([`HeldJog`]). In virtual time a tap's increment is run to rest
     /// at once.
-    fn hold_jog(&mut self, axis: Axis, dir: i8) {
+    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
         let virtual_time = self.cfg.clock == ClockMode::Virtual;
         match self.jog_key.press(axis, dir, Instant::now(), virtual_time) {
             JogPress::KeepAlive => {
@@ -507,6 +521,9 @@ impl Console {
                 if release {
                     self.release_jog();
                 }
+                // A tap is the key, as the lathe records it (a held key is `jog X+`).
+                self.recorder
+                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
                 super::run::tap(self, axis, dir);
                 if virtual_time {
                     self.core.run_until_idle(TAP_LIMIT_NS);
@@ -520,6 +537,9 @@ impl Console {
     /// (called each display tick).
     pub(super) fn expire_jog_key(&mut self) {
         if self.jog_key.expired(Instant::now()) {
+            // The key let go ends the jog in the recording too (the lathe's rule).
+            self.recorder
+                .panel_event(&PanelEvent::JogRelease, self.status.machine_ns);
             self.release_jog();
         }
     }

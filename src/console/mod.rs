@@ -286,7 +286,11 @@ impl Console {
             self.new_action();
         }
         self.status = self.core.status();
-        self.recorder.panel_event(&ev, self.status.machine_ns);
+        // A key is recorded by `press`, as what it does (`start` for F9, `key 5` for a digit
+        // on a page): recorded here too, a script's key was in the recording twice.
+        if !matches!(ev, PanelEvent::Press(_)) {
+            self.recorder.panel_event(&ev, self.status.machine_ns);
+        }
         self.apply(ev);
         self.refresh();
     }

@@ -60,9 +60,8 @@ pub struct Pages {
     pub msg_first: usize,
     /// The MACRO page's cursor: a variable number.
     pub macro_var: usize,
-    /// The last MDI lines typed, oldest first, and where the recall stands.
-    pub recall: Vec<String>,
-    recall_at: Option<usize>,
+    /// The last MDI lines typed, for recall.
+    pub recall: Recall,
     /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
     pub pending_len: Option<PendingLength>,
 }
@@ -95,43 +94,53 @@ impl Pages {
             ofs_axis: 0,
             msg_first: 0,
             macro_var: 1,
-            recall: Vec::new(),
-            recall_at: None,
+            recall: Recall::default(),
             pending_len: None,
         }
     }
+}
 
+/// The MDI lines last typed, for recall with Up and Down (every console's: the centre's MDI,
+/// each channel's of a lathe): oldest first, and where the recall stands.
+#[derive(Debug, Default)]
+pub struct Recall {
+    /// The lines, oldest first (the last [`RECALL`]).
+    pub lines: Vec<String>,
+    at: Option<usize>,
+}
+
+impl Recall {
     /// Keeps an MDI line for recall (the last [`RECALL`]).
     pub fn remember(&mut self, line: &str) {
-        if line.trim().is_empty() || self.recall.last().is_some_and(|l| l == line) {
-            self.recall_at = None;
+        if line.trim().is_empty() || self.lines.last().is_some_and(|l| l == line) {
+            self.at = None;
             return;
         }
-        self.recall.push(line.to_string());
-        if self.recall.len() > RECALL {
-            self.recall.remove(0);
+        self.lines.push(line.to_string());
+        if self.lines.len() > RECALL {
+            self.lines.remove(0);
         }
-        self.recall_at = None;
+        self.at = None;
     }
 
     /// The recalled line one step back (`back`) or forward, if any.
-    pub fn recall_step(&mut self, back: bool) -> Option<String> {
-        if self.recall.is_empty() {
+    pub fn step(&mut self, back: bool) -> Option<String> {
+        if self.lines.is_empty() {
             return None;
         }
-        let n = self.recall.len();
-        let at = match (self.recall_at, back) {
+        let n = self.lines.len();
+        let at = match (self.at, back) {
             (None, true) => n - 1,
             (None, false) => return None,
             (Some(i), true) => i.saturating_sub(1),
             (Some(i), false) if i + 1 < n => i + 1,
             (Some(_), false) => {
-                self.recall_at = None;
+                self.at = None;
                 return Some(String::new());
             }
         };
-        self.recall_at = Some(at);
-        self.recall.get(at).cloned()
+        self.at = Some(at);
+        self.lines.get(at).cloned()
     }
 }
 

@@ -37,6 +37,8 @@ impl LatheConsole {
                 if line.is_empty() {
                     return;
                 }
+                // Up recalls it, stored or not (the centre's rule).
+                self.recall[self.sel].remember(&line);
                 if self.mdi[self.sel].len() >= MAX_MDI_LINES {
                     self.message =
                         format!("the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it");

@@ -58,6 +58,8 @@ pub struct LatheConsole {
     msg_first: usize,
     /// The MACRO page's cursor: a variable number (of the selected channel).
     macro_var: usize,
+    /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
+    recall: Vec<crate::console::pages::Recall>,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
     alarms_logged: Vec<String>,
     entry: String,
@@ -195,6 +197,7 @@ impl LatheConsole {
             log,
             msg_first: 0,
             macro_var: 1,
+            recall: (0..n).map(|_| Default::default()).collect(),
             alarms_logged: vec![String::new(); n],
             entry: String::new(),
             message: String::new(),
@@ -487,7 +490,7 @@ impl LatheConsole {
         if self.screen.refuses(k) {
             return;
         }
-        if self.cursor_key(k) || self.page_key(k) {
+        if self.cursor_key(k) || self.page_key(k) || self.recall_key(k) {
             self.record_event(&PanelEvent::Press(k));
             return self.after();
         }
@@ -599,6 +602,21 @@ impl LatheConsole {
         self.page = if self.page == page { Page::Mode } else { page };
         self.msg_first = 0;
         self.y_output = None;
+        true
+    }
+
+    /// Up or Down in MDI (no page up): the selected channel's previous or next line typed, on
+    /// the entry line (the centre's recall). Whether `k` was one of them.
+    fn recall_key(&mut self, k: novanc_panel::Key) -> bool {
+        use novanc_panel::Key;
+        if self.mode != OpMode::Mdi || self.page != Page::Mode || !matches!(k, Key::Up | Key::Down)
+        {
+            return false;
+        }
+        match self.recall[self.sel].step(k == Key::Up) {
+            Some(l) => self.entry = l,
+            None => self.message = "MDI: no line to recall".into(),
+        }
         true
     }
 
