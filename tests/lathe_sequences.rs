@@ -348,6 +348,27 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 assert_eq!(after, before, "{line}: {said}");
                 return line;
             }
+            if matches!(k, Key::Up | Key::Down)
+                && s.c.mode() == OpMode::Mdi
+                && s.c.page() == Page::Mode
+            {
+                // In MDI, Up and Down recall the channel's lines typed (the centre's recall):
+                // nothing said but that, or what the machine is doing.
+                let notes = [
+                    "MDI: no line to recall",
+                    "EMERGENCY STOP",
+                    "feed hold",
+                    "STOP: ",
+                    "SINGLE BLOCK",
+                    "JOG",
+                ];
+                assert!(
+                    said.is_empty() || notes.iter().any(|w| said.starts_with(w)),
+                    "{line}: {said}"
+                );
+                assert_eq!(after, before, "{line}: {said}");
+                return line;
+            }
             if arrow && s.c.mode() == OpMode::Data && s.c.page() == Page::Mode {
                 // In DATA the arrows and Delete are the editor's cursor keys: the pointer moves
                 // or a character goes (nothing said but what the machine is doing), or they
