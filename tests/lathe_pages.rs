@@ -224,3 +224,42 @@ fn a_variable_set_on_macro_is_stored_and_read_by_the_channels_next_program() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The title's `CYCLE`: the time from one part delivered at the unloader to the next (the
+/// batch's first from its START), as the kernel's part events in the recording have them.
+#[test]
+fn the_cycle_time_is_the_time_between_the_last_two_parts_delivered() {
+    let dir = common::temp_dir("lathe-cycle-time");
+    let rec = dir.join("r.mcap");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    assert_eq!(c.cycle_time_ns(), None);
+    assert!(!c.view().title.contains("CYCLE"));
+    c.handle(PanelEvent::Target(3));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    let shown = c.cycle_time_ns().expect("a cycle time after three parts");
+    let title = c.view().title;
+    assert!(
+        title.contains(&format!("CYCLE {:.3} s", shown as f64 * 1e-9)),
+        "{title}"
+    );
+    let unloader = c.desc().unloader;
+    assert!(c.finish(None).is_none_or(|r| r.is_ok()));
+    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
+    let parts: Vec<u64> = mcap::MessageStream::new(&bytes)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .map(|m| m.unwrap_or_else(|e| panic!("{e}")))
+        .filter(|m| m.channel.topic == "/lathe/event")
+        .filter(|m| {
+            let j = String::from_utf8_lossy(&m.data);
+            j.contains("\"event\":\"part\"") && j.contains(&format!("\"channel\":{unloader},"))
+        })
+        .map(|m| m.log_time)
+        .collect();
+    assert_eq!(parts.len(), 3, "{parts:?}");
+    assert_eq!(shown, parts[2] - parts[1]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -58,6 +58,11 @@ pub struct LatheConsole {
     msg_first: usize,
     /// The MACRO page's cursor: a variable number (of the selected channel).
     macro_var: usize,
+    /// The last cycle's time, ns: from the part delivered before it (the first from START) to
+    /// the part delivered at the unloader; the title shows it.
+    cycle_ns: Option<u64>,
+    /// When the last part was delivered in this batch, machine time.
+    last_part_ns: Option<u64>,
     /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
     recall: Vec<crate::console::pages::Recall>,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
@@ -198,6 +203,8 @@ impl LatheConsole {
             msg_first: 0,
             macro_var: 1,
             recall: (0..n).map(|_| Default::default()).collect(),
+            cycle_ns: None,
+            last_part_ns: None,
             alarms_logged: vec![String::new(); n],
             entry: String::new(),
             message: String::new(),
@@ -310,6 +317,12 @@ impl LatheConsole {
     /// The part counter.
     pub fn counter(&self) -> &Counter {
         &self.counter
+    }
+
+    /// The last cycle's time, ns (the title's `CYCLE`): from the part delivered before it, or
+    /// from the batch's START for its first part, to the part delivered at the unloader.
+    pub fn cycle_time_ns(&self) -> Option<u64> {
+        self.cycle_ns
     }
 
     /// The message line: the operator message while it lives ([`MsgLife`]), else what the
@@ -1022,6 +1035,8 @@ impl LatheConsole {
                     }
                     self.counter = next;
                     self.stale_counts = false;
+                    // A new batch: its first cycle is timed from this START.
+                    self.last_part_ns = None;
                 }
                 // The buffer is cleared once it runs; if the clear cannot be stored, the
                 // buffer stays (in memory as on disk) and the message says so.
@@ -1208,7 +1223,16 @@ impl LatheConsole {
         if let Some(c) = self.cycle.as_mut() {
             // The kernel's events are in the recording already (the pulse core writes them);
             // taken here so that they do not pile up in the core for the console's lifetime.
-            let _ = c.take_events();
+            // A part delivered times the cycle: from the part before it, the first from START.
+            for e in c.take_events() {
+                if let crate::pulse_core::KernelEvent::Part { ch, t, .. } = e {
+                    if ch == self.desc.unloader && !c.mdi {
+                        let from = self.last_part_ns.unwrap_or(c.started_ns());
+                        self.cycle_ns = Some(t.saturating_sub(from));
+                        self.last_part_ns = Some(t);
+                    }
+                }
+            }
             for (l, s) in self.left.iter_mut().zip(c.channels()) {
                 *l = glue::ChannelLeft::of(&s.status);
             }
@@ -1349,9 +1373,12 @@ impl LatheConsole {
             .get(self.desc.unloader)
             .copied()
             .unwrap_or(0);
+        let cycle = self.cycle_ns.map_or(String::new(), |t| {
+            format!("  CYCLE {:.3} s", t as f64 * 1e-9)
+        });
         LatheView {
             title: format!(
-                "{} {} CHANNELS  PARTS {}/{}  {:.3} s{switches}",
+                "{} {} CHANNELS  PARTS {}/{}  {:.3} s{cycle}{switches}",
                 self.desc.name.to_uppercase(),
                 self.desc.channels.len(),
                 done,
