@@ -263,3 +263,45 @@ fn the_cycle_time_is_the_time_between_the_last_two_parts_delivered() {
     assert_eq!(shown, parts[2] - parts[1]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// MODAL (Ctrl+G): the selected channel's modal state as its last read left it, what the next
+/// MDI line starts from (G91 held from one MDI run to the next), with the centre's switches.
+#[test]
+fn modal_shows_what_the_channels_last_read_left_in_force() {
+    let dir = common::temp_dir("lathe-modal");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type("G91 G95 F0.1 S800 M3".into()));
+    c.handle(PanelEvent::Type("G1 W-1".into()));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    c.handle(PanelEvent::Override(70));
+    c.press(Key::Ctrl('g'));
+    assert_eq!(c.page(), Page::Modal);
+    let d = c.view().display;
+    assert!(d[0].trim_end().ends_with("MODAL"), "{d:#?}");
+    assert!(d[3].starts_with("MODAL CH1 the state in force"), "{d:#?}");
+    assert!(d[4].starts_with("G01 G91 G7 G21 G95 G97"), "{d:#?}");
+    assert!(d[5].starts_with("F0.1 S800 M03 T--"), "{d:#?}");
+    assert!(
+        d.iter().any(|l| l.contains("FEED OVR 70%")),
+        "the switches, in the centre's words: {d:#?}"
+    );
+    // Another channel's: as at power-on.
+    c.press(Key::Tab);
+    let d = c.view().display;
+    assert!(d[3].starts_with("MODAL CH2"), "{d:#?}");
+    assert!(d[4].starts_with("G-- G90"), "{d:#?}");
+    // RESET returns the channel's state to power-on (docs/lathe-gcode.md).
+    c.press(Key::Tab);
+    c.press(Key::Tab);
+    c.handle(PanelEvent::Reset);
+    c.press(Key::Ctrl('g'));
+    c.press(Key::Ctrl('g'));
+    assert!(
+        c.view().display[4].starts_with("G-- G90"),
+        "{:#?}",
+        c.view().display
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

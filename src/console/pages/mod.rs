@@ -24,7 +24,7 @@
 mod io;
 pub(crate) mod macros;
 mod measure;
-mod modal;
+pub(crate) mod modal;
 pub(crate) mod msg;
 mod ofs;
 mod pos;

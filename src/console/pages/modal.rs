@@ -12,37 +12,74 @@ use crate::panel_model::OpMode;
 /// The overrides and switches, as (name, setting): one list, so a new override or switch is
 /// one more entry.
 fn switches(c: &Console) -> Vec<(&'static str, String)> {
+    let s = &c.status.switches;
+    let panel = (
+        c.op == OpMode::Single,
+        c.switches.block_delete,
+        c.switches.optional_stop,
+    );
+    let mut l = switch_list(c.feed_override, s, panel);
     let on = |b: bool| if b { "ON" } else { "off" }.to_string();
-    let s = &c.status;
-    let locked = if s.switches.override_locked {
+    l.insert(4, ("MACHINE LOCK", on(s.machine_lock)));
+    l.insert(5, ("Z NEGLECT", on(s.z_neglect)));
+    l
+}
+
+/// The overrides and the switches every machine has, as (name, setting), for the MODAL pages
+/// (the centre's, a lathe channel's): the feed override, the machine's `sw` (a tap holding
+/// them at 100 % said), then DRY RUN, SINGLE BLOCK, BLOCK DELETE and OPTIONAL STOP
+/// (`panel`: single block, block delete, optional stop).
+pub(crate) fn switch_list(
+    feed_override: u32,
+    sw: &crate::record::Switches,
+    (single, block_delete, optional_stop): (bool, bool, bool),
+) -> Vec<(&'static str, String)> {
+    let on = |b: bool| if b { "ON" } else { "off" }.to_string();
+    let locked = if sw.override_locked {
         " (held 100%: tap)"
     } else {
         ""
     };
     vec![
-        ("FEED OVR", format!("{}%{locked}", c.feed_override)),
+        ("FEED OVR", format!("{feed_override}%{locked}")),
         (
             "RAPID OVR",
-            match s.switches.rapid_override {
+            match sw.rapid_override {
                 0 => "F0".to_string(),
                 p => format!("{p}%"),
             },
         ),
-        (
-            "SPINDLE OVR",
-            format!("{}%{locked}", s.switches.spindle_override),
-        ),
-        ("DRY RUN", on(s.switches.dry_run)),
-        ("MACHINE LOCK", on(s.switches.machine_lock)),
-        ("Z NEGLECT", on(s.switches.z_neglect)),
-        ("SINGLE BLOCK", on(c.op == OpMode::Single)),
-        ("BLOCK DELETE", on(c.switches.block_delete)),
-        ("OPT STOP M01", on(c.switches.optional_stop)),
+        ("SPINDLE OVR", format!("{}%{locked}", sw.spindle_override)),
+        ("DRY RUN", on(sw.dry_run)),
+        ("SINGLE BLOCK", on(single)),
+        ("BLOCK DELETE", on(block_delete)),
+        ("OPT STOP M01", on(optional_stop)),
     ]
 }
 
+/// The settings `list` joined two blanks apart into lines of at most `cols` characters, each
+/// whole on its line.
+pub(crate) fn setting_lines(list: &[(&str, String)], cols: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut line = String::new();
+    for (n, v) in list {
+        let s = format!("{n} {v}");
+        if !line.is_empty() && line.chars().count() + 2 + s.chars().count() > cols {
+            out.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push_str("  ");
+        }
+        line.push_str(&s);
+    }
+    if !line.is_empty() {
+        out.push(line);
+    }
+    out
+}
+
 /// Words joined with blanks into lines of at most `cols` characters.
-pub(super) fn fill(words: &[&str], cols: usize) -> Vec<String> {
+pub(crate) fn fill(words: &[&str], cols: usize) -> Vec<String> {
     let mut out = Vec::new();
     let mut line = String::new();
     for w in words {
@@ -88,23 +125,6 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     });
     p.body
         .push(format!("SPINDLE {tool} S{}{oriented}", m.spindle));
-    let sw: Vec<String> = switches(c)
-        .into_iter()
-        .map(|(n, v)| format!("{n} {v}"))
-        .collect();
-    // Each setting whole on its line: join with two blanks.
-    let mut line = String::new();
-    for s in &sw {
-        if !line.is_empty() && line.chars().count() + 2 + s.chars().count() > cols {
-            p.body.push(std::mem::take(&mut line));
-        }
-        if !line.is_empty() {
-            line.push_str("  ");
-        }
-        line.push_str(s);
-    }
-    if !line.is_empty() {
-        p.body.push(line);
-    }
+    p.body.extend(setting_lines(&switches(c), cols));
     p.lines()
 }

@@ -245,6 +245,95 @@ impl LatheConsole {
         Ok(())
     }
 
+    /// The MODAL page of the selected channel (Ctrl+G, the centre's page key): the modal G codes
+    /// in the channel's own code system, F, S and the tool as its last read left them (what
+    /// its next MDI line starts from; a cycle reads its programs whole at START, so while one
+    /// is under way this is the state its read ends in, as the header says), the spindle as
+    /// the machine has it, then the overrides and switches in the centre's words
+    /// (`console::pages::modal::switch_list`).
+    fn modal_lines(&self) -> Vec<String> {
+        use crate::console::pages::modal::{fill, setting_lines, switch_list};
+        use crate::input_text::short_number;
+        let ch = self.sel;
+        let cd = &self.desc.channels[ch];
+        let k = &self.kept[ch];
+        let m = &k.modal;
+        let fanuc = cd.dialect.unwrap_or_default() == crate::settings::Dialect::Fanuc;
+        let sys_a = fanuc && cd.system_a;
+        let cols = self.cols;
+        let running = self.cycle.as_ref().is_some_and(|c| !c.is_over() && !c.mdi);
+        let mut l = vec![if running {
+            format!("MODAL CH{} at the end of the cycle's read", ch + 1)
+        } else {
+            format!("MODAL CH{} the state in force", ch + 1)
+        }];
+        let motion = match m.motion {
+            None => "G--".to_string(),
+            Some(330) if sys_a => "G32".to_string(),
+            Some(v) if v % 10 == 0 => format!("G{:02}", v / 10),
+            Some(v) => format!("G{}.{}", v / 10, v % 10),
+        };
+        let pick = |b: bool, on: &'static str, off: &'static str| if b { on } else { off };
+        let mut g = vec![motion.as_str()];
+        if !sys_a {
+            g.push(pick(m.absolute, "G90", "G91"));
+        }
+        if !fanuc {
+            g.push(pick(m.diameter, "G7", "G8"));
+        }
+        g.push(pick(m.inch, "G20", "G21"));
+        g.push(match (sys_a, m.per_rev) {
+            (true, true) => "G99",
+            (true, false) => "G98",
+            (false, true) => "G95",
+            (false, false) => "G94",
+        });
+        g.push(pick(m.css, "G96", "G97"));
+        let drill = m.drill.map(|d| format!("G{}", d.code));
+        if let Some(d) = &drill {
+            g.push(d);
+        }
+        l.extend(fill(&g, cols));
+        let feed = m
+            .feed
+            .map_or("F--".to_string(), |f| format!("F{}", short_number(f)));
+        let speed = if m.css {
+            format!(
+                "S{} m/min (max {} rpm)",
+                short_number(m.s),
+                short_number(m.limit)
+            )
+        } else {
+            format!("S{}", short_number(m.s))
+        };
+        let spindle = match self.left.get(ch).map_or(0, |s| s.dir) {
+            1 => "M03",
+            -1 => "M04",
+            _ => "M05",
+        };
+        let tool = k.tool.map_or("T--".to_string(), |(t, on)| {
+            format!("T{t:02}{:02}", if on { t } else { 0 })
+        });
+        l.extend(fill(&[&feed, &speed, spindle, &tool], cols));
+        if m.origin != [0.0, 0.0] {
+            l.push(format!(
+                "G50 ORIGIN Z{} X{}",
+                short_number(m.origin[0]),
+                short_number(m.origin[1] * 2.0)
+            ));
+        }
+        let panel = (
+            self.mode == OpMode::Single,
+            self.block_delete,
+            self.optional_stop,
+        );
+        l.extend(setting_lines(
+            &switch_list(self.feed_override, &self.switches, panel),
+            cols,
+        ));
+        l
+    }
+
     /// The program lines around `line` (the current block's), or around the editor's pointer
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
@@ -258,6 +347,7 @@ impl LatheConsole {
                 l.extend(macros::variable_rows(params, self.macro_var, room));
                 return l;
             }
+            Page::Modal => return self.modal_lines(),
             Page::Msg => {
                 // The centre's MSG page under the channel's lines: every entry in full,
                 // newest first.

@@ -41,7 +41,7 @@ pub fn map_key(k: Key) -> Action {
             | Action::MachineLock
             | Action::ZNeglect
             | Action::Acknowledge
-            | Action::Page(Page::Pos | Page::Prog | Page::Modal | Page::Io) => Action::None,
+            | Action::Page(Page::Pos | Page::Prog | Page::Io) => Action::None,
             a => a,
         },
     }
@@ -256,6 +256,7 @@ mod tests {
         assert_eq!(map_key(Key::Alt('o')), Action::OptionalStop);
         assert_eq!(map_key(Key::Ctrl('e')), Action::Page(Page::Msg));
         assert_eq!(map_key(Key::Ctrl('u')), Action::Page(Page::Macro));
+        assert_eq!(map_key(Key::Ctrl('g')), Action::Page(Page::Modal));
         // The centre's own keys do nothing here, and say so (not dropped in silence).
         assert_eq!(
             map_key(Key::Alt('7')),

@@ -580,7 +580,8 @@ impl LatheConsole {
         }
     }
 
-    /// The MSG and MACRO page keys (Ctrl+E, Ctrl+U: the centre's) and, with one of them up,
+    /// The MSG, MACRO and MODAL page keys (Ctrl+E, Ctrl+U, Ctrl+G: the centre's) and, with MSG
+    /// or MACRO up,
     /// the cursor keys that scroll the history or move the variable cursor (the arrows move no
     /// tool post under a page, as on the centre): whether `k` was one of them.
     fn page_key(&mut self, k: novanc_panel::Key) -> bool {
@@ -588,6 +589,7 @@ impl LatheConsole {
         let page = match k {
             Key::Ctrl('e') => Page::Msg,
             Key::Ctrl('u') => Page::Macro,
+            Key::Ctrl('g') => Page::Modal,
             Key::Up
             | Key::Down
             | Key::Left

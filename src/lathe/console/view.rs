@@ -19,7 +19,7 @@ pub const LATHE_KEYS: [&str; 13] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 18] = [
+pub const LATHE_HELP: [&str; 19] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -31,6 +31,7 @@ pub const LATHE_HELP: [&str; 18] = [
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
     "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
     "Ctrl+U        MACRO: the channel's variables #1-#33, #100-#199, #500-#999; #500=12.5 Enter sets one",
+    "Ctrl+G        MODAL: the channel's modal G codes, F, S, tool and the switches, read only",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
