@@ -291,6 +291,22 @@ pub(crate) fn does_nothing(k: Key, op: OpMode, page: Option<&str>) -> String {
     )
 }
 
+/// Whether a key is one of a page's or the editor's cursor keys: the arrows, PgUp/PgDn,
+/// Home/End.
+pub(crate) fn is_cursor_key(k: Key) -> bool {
+    matches!(
+        k,
+        Key::Up
+            | Key::Down
+            | Key::Left
+            | Key::Right
+            | Key::PageUp
+            | Key::PageDown
+            | Key::Home
+            | Key::End
+    )
+}
+
 /// Whether a key is on the relay panel's stop side (STOP, RESET, E-STOP): these always act.
 pub fn is_relay_stop(k: Key) -> bool {
     matches!(

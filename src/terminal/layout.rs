@@ -268,7 +268,7 @@ pub fn draw_too_small(s: &mut Screen, need: (usize, usize), ignored: Option<&str
     ];
     let mut row = 0;
     for (text, style) in &lines {
-        for l in wrap_words(text, w) {
+        for l in crate::console::display::wrap(text, w.max(1), usize::MAX) {
             if row >= h {
                 return;
             }
@@ -320,28 +320,6 @@ pub fn draw_lathe(s: &mut Screen, v: &LatheView) {
     for (i, k) in LATHE_KEYS.iter().enumerate() {
         s.text(cols + 3, top + 1 + i, k, PANEL);
     }
-}
-
-/// Splits `text` into lines of at most `width` characters at spaces (a longer word is cut).
-fn wrap_words(text: &str, width: usize) -> Vec<String> {
-    let width = width.max(1);
-    let mut out: Vec<String> = Vec::new();
-    let mut cur = String::new();
-    for word in text.split(' ') {
-        let word: String = word.chars().take(width).collect();
-        let len = cur.chars().count();
-        if len > 0 && len + 1 + word.chars().count() > width {
-            out.push(std::mem::take(&mut cur));
-        }
-        if !cur.is_empty() {
-            cur.push(' ');
-        }
-        cur.push_str(&word);
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    out
 }
 
 #[cfg(test)]

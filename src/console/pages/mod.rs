@@ -170,14 +170,7 @@ pub(super) fn page_key(c: &mut Console, p: Page) {
 pub(super) fn press(c: &mut Console, k: Key) -> bool {
     let page = c.pages.page;
     let take = match k {
-        Key::Up
-        | Key::Down
-        | Key::Left
-        | Key::Right
-        | Key::PageUp
-        | Key::PageDown
-        | Key::Home
-        | Key::End => {
+        k if super::keys::is_cursor_key(k) => {
             match page {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),

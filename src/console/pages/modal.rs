@@ -4,7 +4,7 @@
 //! the switches. The G-code state is the console's (what MDI and the last run left, the run's
 //! own once a G-code run has started a block). Read only: MDI sets the state.
 
-use super::super::display::{message_lines, split_line, state_line, Page as Frame};
+use super::super::display::{message_lines, split_line, state_line, wrap, Page as Frame};
 use super::super::search::state_lines;
 use super::Console;
 use crate::panel_model::OpMode;
@@ -78,23 +78,12 @@ pub(crate) fn setting_lines(list: &[(&str, String)], cols: usize) -> Vec<String>
     out
 }
 
-/// Words joined with blanks into lines of at most `cols` characters.
+/// Words joined with blanks into lines of at most `cols` characters (none for no words).
 pub(crate) fn fill(words: &[&str], cols: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut line = String::new();
-    for w in words {
-        if !line.is_empty() && line.chars().count() + 1 + w.chars().count() > cols {
-            out.push(std::mem::take(&mut line));
-        }
-        if !line.is_empty() {
-            line.push(' ');
-        }
-        line.push_str(w);
+    if words.is_empty() {
+        return Vec::new();
     }
-    if !line.is_empty() {
-        out.push(line);
-    }
-    out
+    wrap(&words.join(" "), cols, usize::MAX)
 }
 
 /// The MODAL page.

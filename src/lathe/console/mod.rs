@@ -585,19 +585,9 @@ impl LatheConsole {
     /// the cursor keys that scroll the history or move the variable cursor (the arrows move no
     /// tool post under a page, as on the centre): whether `k` was one of them.
     fn page_key(&mut self, k: novanc_panel::Key) -> bool {
-        use novanc_panel::Key;
-        let page = match k {
-            Key::Ctrl('e') => Page::Msg,
-            Key::Ctrl('u') => Page::Macro,
-            Key::Ctrl('g') => Page::Modal,
-            Key::Up
-            | Key::Down
-            | Key::Left
-            | Key::Right
-            | Key::PageUp
-            | Key::PageDown
-            | Key::Home
-            | Key::End => {
+        let page = match crate::console::pages::page_of_key(k) {
+            Some(p @ (Page::Msg | Page::Macro | Page::Modal)) => p,
+            _ if crate::console::keys::is_cursor_key(k) => {
                 match self.page {
                     Page::Msg => {
                         let n = self.log.history.entries().len();
