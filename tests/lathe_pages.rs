@@ -305,3 +305,105 @@ fn modal_shows_what_the_channels_last_read_left_in_force() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every key of the terminal, in every position of the selector and on every page, with a
+/// cycle running and without: the console never panics, the display keeps its size, and a key
+/// that the lathe has no use for says so (none is dropped in silence).
+#[test]
+fn every_key_in_every_mode_and_page_acts_or_says_why() {
+    let dir = common::temp_dir("lathe-every-key");
+    let mut c = open(&dir);
+    let mut keys: Vec<Key> = (1..=12).map(Key::F).collect();
+    keys.extend(
+        "abcdefghijklmnopqrstuvwxyz0123456789=-[],."
+            .chars()
+            .map(Key::Alt),
+    );
+    keys.extend("abdefghijklmnpqrstuvwxyz".chars().map(Key::Ctrl));
+    keys.extend([
+        Key::Up,
+        Key::Down,
+        Key::Left,
+        Key::Right,
+        Key::PageUp,
+        Key::PageDown,
+        Key::Home,
+        Key::End,
+        Key::Insert,
+        Key::Delete,
+        Key::Esc,
+        Key::Enter,
+        Key::Backspace,
+        Key::Char('#'),
+        Key::Char('5'),
+    ]);
+    let pages = [
+        None,
+        Some(Key::Ctrl('o')),
+        Some(Key::Ctrl('e')),
+        Some(Key::Ctrl('u')),
+        Some(Key::Ctrl('g')),
+    ];
+    let modes = [
+        OpMode::Auto,
+        OpMode::Mdi,
+        OpMode::Data,
+        OpMode::Continuous,
+        OpMode::Handle,
+        OpMode::Step,
+        OpMode::Single,
+    ];
+    let mut silent = Vec::new();
+    for running in [false, true] {
+        for m in modes {
+            for p in pages {
+                for &k in &keys {
+                    // Quit and E-STOP/RESET are tried by their own tests; F12 latches E-STOP.
+                    if matches!(k, Key::Ctrl('c') | Key::Alt('q')) {
+                        continue;
+                    }
+                    c.handle(PanelEvent::Reset);
+                    if running && c.cycle().is_none_or(|y| y.is_over()) {
+                        c.handle(PanelEvent::Target(999));
+                        c.handle(PanelEvent::Op(OpMode::Auto));
+                        c.handle(PanelEvent::Start);
+                        c.tick(50_000_000);
+                    }
+                    c.handle(PanelEvent::Op(m));
+                    if let Some(pk) = p {
+                        c.press(pk);
+                    }
+                    let before = c.view().display;
+                    let typed = before.last().is_some_and(|l| l.trim_end() != ">");
+                    c.press(k);
+                    c.tick(1_000_000);
+                    let v = c.view();
+                    assert_eq!(v.display.len(), 20, "{k:?} in {m:?} {p:?}");
+                    assert!(v.display.iter().all(|l| l.chars().count() == 60));
+                    // Silent and right so: a page's cursor key at its end (the centre's rule),
+                    // RUBOUT or EOB with nothing typed.
+                    let at_end = matches!(c.page(), Page::Msg | Page::Macro)
+                        && novanc::console::keys::is_cursor_key(k);
+                    let nothing_typed = matches!(k, Key::Backspace | Key::Enter) && !typed;
+                    if v.display == before
+                        && c.message().is_empty()
+                        && !v.help
+                        && !at_end
+                        && !nothing_typed
+                    {
+                        silent.push(format!("{k:?} in {m:?} page {p:?} running {running}"));
+                    }
+                    if v.help {
+                        c.press(Key::F(8));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        silent.is_empty(),
+        "keys that changed nothing and said nothing:\n{}",
+        silent.join("\n")
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -293,7 +293,7 @@ pub(crate) fn does_nothing(k: Key, op: OpMode, page: Option<&str>) -> String {
 
 /// Whether a key is one of a page's or the editor's cursor keys: the arrows, PgUp/PgDn,
 /// Home/End.
-pub(crate) fn is_cursor_key(k: Key) -> bool {
+pub fn is_cursor_key(k: Key) -> bool {
     matches!(
         k,
         Key::Up

@@ -23,6 +23,13 @@ impl LatheConsole {
                 return;
             }
             Page::Macro => return self.macro_input(&line),
+            Page::Modal => {
+                // The centre's words; the typed line stays.
+                self.message =
+                    "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into();
+                self.entry = line;
+                return;
+            }
             _ => {}
         }
         match self.mode {

@@ -843,11 +843,10 @@ impl Cycle {
         }
     }
 
-    /// Whether a channel is in FAULT or ALARM, as [`Cycle::views`] would say (without making
-    /// the views).
-    pub fn faulted(&self) -> bool {
-        (0..self.snap.len())
-            .any(|ch| self.runs(ch) && matches!(self.state_word(ch), "FAULT" | "ALARM"))
+    /// Whether a channel's state word is one of `words`, as [`Cycle::views`] would say (without
+    /// making the views).
+    pub fn any_state(&self, words: &[&str]) -> bool {
+        (0..self.snap.len()).any(|ch| self.runs(ch) && words.contains(&self.state_word(ch)))
     }
 
     /// Every console channel as the display shows it.

@@ -636,7 +636,7 @@ impl LatheConsole {
             // The cycle cleared: the next one's faults are new.
             self.alarms_logged.iter_mut().for_each(String::clear);
         }
-        if let Some(c) = self.cycle.as_ref().filter(|c| c.faulted() || !cleared) {
+        if let Some(c) = self.cycle.as_ref().filter(|c| c.any_state(&["FAULT", "ALARM"]) || !cleared) {
             let chans = c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts);
             for (i, ch) in chans.iter().enumerate() {
                 let Some(logged) = self.alarms_logged.get_mut(i) else {
@@ -734,12 +734,21 @@ impl LatheConsole {
             }
             PanelEvent::Eob => self.eob(),
             PanelEvent::Start => self.start(),
+            // STOP always acts; what it did is said, in the centre's words: a feed hold while
+            // it lasts, else why nothing was held (before, STOP on a cycle standing still said
+            // nothing at all).
             PanelEvent::Stop => match self.cycle.as_mut() {
-                Some(c) => {
+                Some(c) if !c.is_over() => {
                     c.hold();
-                    self.say(HOLD_NOTE, MsgLife::WhileHeld);
+                    if c.any_state(&["HOLD"]) {
+                        self.say(HOLD_NOTE, MsgLife::WhileHeld);
+                    } else {
+                        self.message =
+                            "STOP: the cycle is already stopped (START continues, RESET abandons)"
+                                .into();
+                    }
                 }
-                None => self.message = "STOP: nothing runs".into(),
+                _ => self.message = "STOP: the machine is not running".into(),
             },
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
