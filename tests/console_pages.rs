@@ -648,3 +648,117 @@ fn the_keys_typed_on_a_page_are_recorded_once_each() {
         assert_eq!(events, want, "script {script}");
     }
 }
+
+/// Every key of the terminal in every position of the operation selector, on every page, with
+/// a program run loaded and without: the display changes (what the key did, or the message
+/// that says why not) or the help comes up; none is dropped in silence. A page's cursor key at
+/// its end, and RUBOUT or EOB with nothing typed, are silent and right so.
+#[test]
+fn every_key_in_every_mode_and_page_acts_or_says_why() {
+    use novanc::panel_model::{DataMode, OpMode};
+    let mut c = common::open("every-key");
+    let mut keys: Vec<Key> = (1..=12).map(Key::F).collect();
+    keys.extend(
+        "abcdefghijklmnoprstuvwxyz0123456789=-[],."
+            .chars()
+            .map(Key::Alt),
+    );
+    keys.extend("abdfhijklmnqrsvwxyz".chars().map(Key::Ctrl));
+    keys.extend([
+        Key::Up,
+        Key::Down,
+        Key::Left,
+        Key::Right,
+        Key::PageUp,
+        Key::PageDown,
+        Key::Home,
+        Key::End,
+        Key::Insert,
+        Key::Delete,
+        Key::Esc,
+        Key::Enter,
+        Key::Backspace,
+        Key::Tab,
+        Key::Char('#'),
+        Key::Char('5'),
+    ]);
+    let pages = [
+        None,
+        Some('p'),
+        Some('d'),
+        Some('o'),
+        Some('e'),
+        Some('g'),
+        Some('t'),
+        Some('u'),
+    ];
+    let mut silent = Vec::new();
+    for running in [false, true] {
+        for m in OpMode::ALL {
+            for p in pages {
+                for &k in &keys {
+                    c.handle(PanelEvent::Reset);
+                    c.handle(PanelEvent::Op(m));
+                    if running {
+                        c.handle(PanelEvent::Op(OpMode::Single));
+                        c.handle(PanelEvent::Start);
+                        c.handle(PanelEvent::Wait);
+                        c.handle(PanelEvent::Op(m));
+                    }
+                    if let Some(pk) = p {
+                        c.press(Key::Ctrl(pk));
+                    }
+                    let before = c.view();
+                    let typed = !before.entry.is_empty();
+                    c.press(k);
+                    // Machine time passes (virtual: nothing moves between two keys otherwise).
+                    c.handle(PanelEvent::WaitMs(20));
+                    let v = c.view();
+                    assert!(v.display.iter().all(|l| l.chars().count() == 40));
+                    let at_end = p.is_some() && novanc::console::keys::is_cursor_key(k);
+                    let nothing_typed = matches!(k, Key::Backspace | Key::Enter) && !typed;
+                    // A selector key for the position it is at: the selector does not move.
+                    let same = matches!(k, Key::Alt(d) if OpMode::ALL.get((d as usize).wrapping_sub('1' as usize)) == Some(&m))
+                        || matches!(k, Key::F(n @ 1..=7) if DataMode::ALL[n as usize - 1] == before.data_mode);
+                    if v == before
+                        && !same
+                        && c.message().is_empty()
+                        && !c.help_shown()
+                        && !at_end
+                        && !nothing_typed
+                    {
+                        silent.push(format!("{k:?} in {m:?} page {p:?} running {running}"));
+                    }
+                    if c.help_shown() {
+                        c.press(Key::F(8));
+                        c.press(Key::F(8));
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        silent.is_empty(),
+        "{} keys changed nothing and said nothing:\n{}",
+        silent.len(),
+        silent.join("\n")
+    );
+}
+
+/// A selector turned leaves a page whether a key or a script's `op`/`data` word turned it, as
+/// the lathe's does (a script's `op AUTO` left the PROG page up before stop 39).
+#[test]
+fn a_selector_turned_by_a_script_leaves_the_page() {
+    use novanc::panel_model::{DataMode, OpMode};
+    let mut c = common::open("script-turn-page");
+    for ev in [
+        PanelEvent::Op(OpMode::Auto),
+        PanelEvent::Op(OpMode::Data),
+        PanelEvent::Data(DataMode::Mdi),
+    ] {
+        c.press(Key::Ctrl('d'));
+        assert_eq!(c.view().page, Page::Prog);
+        c.handle(ev.clone());
+        assert_eq!(c.view().page, Page::Mode, "{ev:?}");
+    }
+}

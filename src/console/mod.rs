@@ -439,6 +439,12 @@ impl Console {
         self.refresh();
     }
 
+    /// The operator message: what the last action did or why not (empty: nothing said; the
+    /// machine's own notes are derived when the frame is drawn).
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
     /// Why the last script `wait` ended before its condition, if it did.
     pub fn wait_error(&self) -> Option<&str> {
         self.wait_error.as_deref()
@@ -610,8 +616,14 @@ impl Console {
     /// Dispatches one event the tape rules let through.
     fn apply_event(&mut self, ev: PanelEvent) {
         match ev {
-            PanelEvent::Op(m) => self.turn_op(m),
+            PanelEvent::Op(m) => {
+                // A selector turned leaves a page, from a script as from a key (a script's
+                // `op AUTO` left the page up).
+                self.pages.page = pages::Page::Mode;
+                self.turn_op(m)
+            }
             PanelEvent::Data(d) => {
+                self.pages.page = pages::Page::Mode;
                 if d != self.data {
                     self.data = d;
                     self.entry.clear();

@@ -636,7 +636,11 @@ impl LatheConsole {
             // The cycle cleared: the next one's faults are new.
             self.alarms_logged.iter_mut().for_each(String::clear);
         }
-        if let Some(c) = self.cycle.as_ref().filter(|c| c.any_state(&["FAULT", "ALARM"]) || !cleared) {
+        if let Some(c) = self
+            .cycle
+            .as_ref()
+            .filter(|c| c.any_state(&["FAULT", "ALARM"]) || !cleared)
+        {
             let chans = c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts);
             for (i, ch) in chans.iter().enumerate() {
                 let Some(logged) = self.alarms_logged.get_mut(i) else {
