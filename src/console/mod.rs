@@ -453,6 +453,11 @@ impl Console {
     /// The tape reader key: the line typed on the data keys names the tape file to put in
     /// the reader (the line is used up).
     pub fn tape_from_entry(&mut self) {
+        // Recorded as the key, which takes the typed line: a replay of the recording types
+        // the same path and takes it off the entry line (a `tape PATH` event would leave it).
+        self.status = self.core.status();
+        self.recorder
+            .panel_event(&PanelEvent::Press(keys::TAPE_KEY), self.status.machine_ns);
         if tape::refuse_key(self, "the tape reader key") {
             self.refresh();
             return;
@@ -464,7 +469,9 @@ impl Console {
             self.refresh();
             return;
         }
-        self.handle(PanelEvent::Tape(PathBuf::from(path)));
+        self.new_action();
+        self.apply(PanelEvent::Tape(PathBuf::from(path)));
+        self.refresh();
     }
 
     /// The latest pulse-core status snapshot.

@@ -190,6 +190,12 @@ impl Console {
     /// The punch key (docs/panel.md): in PROGRAM READ the typed line names the image to punch
     /// program memory to (`PATH`, or `PATH EIA` for the EIA code).
     pub fn punch_from_entry(&mut self) {
+        // Recorded as the key, which takes the typed line (the tape reader key's rule).
+        self.status = self.core.status();
+        self.recorder.panel_event(
+            &PanelEvent::Press(super::keys::PUNCH_KEY),
+            self.status.machine_ns,
+        );
         super::punch::punch_from_entry(self);
         self.refresh();
     }

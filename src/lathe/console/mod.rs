@@ -532,13 +532,14 @@ impl LatheConsole {
                 self.help = true;
             }
             Action::Fault => {
+                self.record_event(&PanelEvent::Press(k));
                 let why = std::mem::take(&mut self.entry);
                 let why = if why.trim().is_empty() {
                     "operator".to_string()
                 } else {
                     why.trim().to_lowercase()
                 };
-                self.handle(PanelEvent::Fault(self.sel, why));
+                self.act(PanelEvent::Fault(self.sel, why));
             }
             Action::WheelScale => {
                 let s = crate::console::manual::next_scale(self.increment);
@@ -560,9 +561,10 @@ impl LatheConsole {
                 self.handle(PanelEvent::Override(p));
             }
             Action::Target => {
+                self.record_event(&PanelEvent::Press(k));
                 let typed = std::mem::take(&mut self.entry);
                 match typed.trim().parse::<u32>() {
-                    Ok(n) if (1..=999_999).contains(&n) => self.handle(PanelEvent::Target(n)),
+                    Ok(n) if (1..=999_999).contains(&n) => self.act(PanelEvent::Target(n)),
                     _ => {
                         self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
                         self.entry = typed;
@@ -685,6 +687,15 @@ impl LatheConsole {
     /// end) and `show`. Recorded on `/panel/event`; a refusal, and an event the lathe has no
     /// use for, says why on the message line and changes nothing.
     pub fn handle(&mut self, ev: PanelEvent) {
+        // A script's waits and `show` are recorded too, as the centre records them: the
+        // recording's `/panel/event` plays back as the script it was (before stop 39 the lathe
+        // left the waits out, and a replay ran every action in the same instant).
+        if matches!(
+            ev,
+            PanelEvent::Wait | PanelEvent::WaitBlock(_) | PanelEvent::WaitMs(_) | PanelEvent::Show
+        ) {
+            self.record_event(&ev);
+        }
         match ev {
             PanelEvent::Wait => return self.wait(WAIT_LIMIT_NS, RunUntil::Rest),
             PanelEvent::WaitBlock(n) => {
@@ -698,6 +709,13 @@ impl LatheConsole {
             _ => {}
         }
         self.record_event(&ev);
+        self.act(ev);
+    }
+
+    /// An operator action, recorded already (by `handle` as its event, or by `press` as the
+    /// key when the key took the typed line: FAULT's reason, TARGET's number, so that a replay
+    /// of the recording takes the same line off the entry line).
+    fn act(&mut self, ev: PanelEvent) {
         // An operator action: the last one's message has lived its life.
         self.say("", MsgLife::NextKey);
         if let Err(e) = events::takes(&ev) {
@@ -1203,6 +1221,11 @@ impl LatheConsole {
             let used = if until == RunUntil::Time { limit_ns } else { 0 };
             self.tick(used);
             return used;
+        }
+        if until == RunUntil::Rest && self.at_rest() {
+            // Nothing to wait for: no machine time passes (the centre's wait; a 10 ms step
+            // passed here before stop 39).
+            return 0;
         }
         let mut used = 0;
         let step = 10_000_000;
