@@ -229,11 +229,6 @@ pub enum Action {
     None,
 }
 
-/// The tape reader key: the typed line names the tape.
-pub const TAPE_KEY: Key = Key::Alt('t');
-/// The punch key: the typed line names the image.
-pub const PUNCH_KEY: Key = Key::Alt('u');
-
 /// The keyboard map (`docs/panel.md`). Quit (Ctrl-C, Alt+q) and redraw (Ctrl-L) belong to the
 /// terminal itself and are not here.
 pub fn map_key(k: Key) -> Action {
@@ -254,8 +249,8 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt('w') => A::WheelScale,
         Key::Alt(',') => A::Wheel(-1),
         Key::Alt('.') => A::Wheel(1),
-        TAPE_KEY => A::Tape,
-        PUNCH_KEY => A::Punch,
+        super::state::TAPE_KEY => A::Tape,
+        super::state::PUNCH_KEY => A::Punch,
         Key::Alt('b') => A::BlockDelete,
         Key::Alt('o') => A::OptionalStop,
         Key::Alt('0') => A::Event(PanelEvent::Home),

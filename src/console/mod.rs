@@ -457,7 +457,7 @@ impl Console {
         // the same path and takes it off the entry line (a `tape PATH` event would leave it).
         self.status = self.core.status();
         self.recorder
-            .panel_event(&PanelEvent::Press(keys::TAPE_KEY), self.status.machine_ns);
+            .panel_event(&PanelEvent::Press(state::TAPE_KEY), self.status.machine_ns);
         if tape::refuse_key(self, "the tape reader key") {
             self.refresh();
             return;

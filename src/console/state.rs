@@ -12,6 +12,12 @@ use novanc_panel::Key;
 /// too, as a Fanuc's RESET clears its operator message).
 pub(super) const ACKNOWLEDGE: Key = Key::Esc;
 
+/// The tape reader key: the typed line names the tape (recorded as the key, which takes it).
+pub(super) const TAPE_KEY: Key = Key::Alt('t');
+
+/// The punch key: the typed line names the image (recorded as the key, which takes it).
+pub(super) const PUNCH_KEY: Key = Key::Alt('u');
+
 /// Whether a program's message of `kind` lives until acknowledged rather than until the next
 /// key (docs/panel.md, "Messages"): `MSG`, the program's message to the operator (Fanuc's
 /// #3006 kind, LinuxCNC's `(MSG,...)` notification, which stays until dismissed), and `NOT

@@ -193,7 +193,7 @@ impl Console {
         // Recorded as the key, which takes the typed line (the tape reader key's rule).
         self.status = self.core.status();
         self.recorder.panel_event(
-            &PanelEvent::Press(super::keys::PUNCH_KEY),
+            &PanelEvent::Press(super::state::PUNCH_KEY),
             self.status.machine_ns,
         );
         super::punch::punch_from_entry(self);
