@@ -303,6 +303,25 @@ fn modal_shows_what_the_channels_last_read_left_in_force() {
         "{:#?}",
         c.view().display
     );
+    // A cycle under G96: its spindle turns, and MODAL says so (no rpm is programmed there;
+    // the first version said M05).
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    let mut seen = false;
+    for _ in 0..2_000 {
+        c.tick(10_000_000);
+        c.press(Key::Ctrl('g'));
+        let d = c.view().display;
+        c.press(Key::Ctrl('g'));
+        if d[4].contains("G96") && d[1].split_whitespace().last() != Some("0") {
+            assert!(d[3].contains("at the end of the cycle's read"), "{d:#?}");
+            assert!(d[5].contains(" M03 "), "{d:#?}");
+            seen = true;
+            break;
+        }
+    }
+    assert!(seen, "no G96 cut seen");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -313,10 +313,17 @@ impl LatheConsole {
         } else {
             format!("S{}", short_number(m.s))
         };
-        let spindle = match self.left.get(ch).map_or(0, |s| s.dir) {
-            1 => "M03",
-            -1 => "M04",
-            _ => "M05",
+        // The spindle as the machine turns it (under G96 too, where no rpm is programmed).
+        let rpm = match self.cycle.as_ref().and_then(|c| c.channels().get(ch)) {
+            Some(s) => s.status.spindle as f64,
+            None => self.left.get(ch).map_or(0.0, |s| s.actual_rpm),
+        };
+        let spindle = if rpm > 0.0 {
+            "M03"
+        } else if rpm < 0.0 {
+            "M04"
+        } else {
+            "M05"
         };
         let tool = k.tool.map_or("T--".to_string(), |(t, on)| {
             format!("T{t:02}{:02}", if on { t } else { 0 })
