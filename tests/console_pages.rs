@@ -660,31 +660,7 @@ fn the_keys_typed_on_a_page_are_recorded_once_each() {
 fn every_key_in_every_mode_and_page_acts_or_says_why() {
     use novanc::panel_model::{DataMode, OpMode};
     let mut c = common::open("every-key");
-    let mut keys: Vec<Key> = (1..=12).map(Key::F).collect();
-    keys.extend(
-        "abcdefghijklmnoprstuvwxyz0123456789=-[],."
-            .chars()
-            .map(Key::Alt),
-    );
-    keys.extend("abdfhijklmnqrsvwxyz".chars().map(Key::Ctrl));
-    keys.extend([
-        Key::Up,
-        Key::Down,
-        Key::Left,
-        Key::Right,
-        Key::PageUp,
-        Key::PageDown,
-        Key::Home,
-        Key::End,
-        Key::Insert,
-        Key::Delete,
-        Key::Esc,
-        Key::Enter,
-        Key::Backspace,
-        Key::Tab,
-        Key::Char('#'),
-        Key::Char('5'),
-    ]);
+    let keys = common::all_keys();
     let pages = [
         None,
         Some('p'),

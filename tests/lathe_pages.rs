@@ -332,30 +332,7 @@ fn modal_shows_what_the_channels_last_read_left_in_force() {
 fn every_key_in_every_mode_and_page_acts_or_says_why() {
     let dir = common::temp_dir("lathe-every-key");
     let mut c = open(&dir);
-    let mut keys: Vec<Key> = (1..=12).map(Key::F).collect();
-    keys.extend(
-        "abcdefghijklmnopqrstuvwxyz0123456789=-[],."
-            .chars()
-            .map(Key::Alt),
-    );
-    keys.extend("abdefghijklmnpqrstuvwxyz".chars().map(Key::Ctrl));
-    keys.extend([
-        Key::Up,
-        Key::Down,
-        Key::Left,
-        Key::Right,
-        Key::PageUp,
-        Key::PageDown,
-        Key::Home,
-        Key::End,
-        Key::Insert,
-        Key::Delete,
-        Key::Esc,
-        Key::Enter,
-        Key::Backspace,
-        Key::Char('#'),
-        Key::Char('5'),
-    ]);
+    let keys = common::all_keys();
     let pages = [
         None,
         Some(Key::Ctrl('o')),
@@ -377,10 +354,6 @@ fn every_key_in_every_mode_and_page_acts_or_says_why() {
         for m in modes {
             for p in pages {
                 for &k in &keys {
-                    // Quit and E-STOP/RESET are tried by their own tests; F12 latches E-STOP.
-                    if matches!(k, Key::Ctrl('c') | Key::Alt('q')) {
-                        continue;
-                    }
                     c.handle(PanelEvent::Reset);
                     if running && c.cycle().is_none_or(|y| y.is_over()) {
                         c.handle(PanelEvent::Target(999));

@@ -28,16 +28,7 @@ fn keys() -> Vec<Key> {
         Key::Delete,
     ]);
     k.extend("podegu".chars().map(Key::Ctrl));
-    k.extend([
-        Key::Up,
-        Key::Down,
-        Key::Left,
-        Key::Right,
-        Key::PageUp,
-        Key::PageDown,
-        Key::Home,
-        Key::End,
-    ]);
+    k.extend(common::CURSOR_KEYS);
     k.extend((1..=7).map(Key::F));
     k.extend([Key::F(8), Key::F(9), Key::F(10), Key::F(11)]);
     // The tape reader key takes the typed line (a path no file has: refused, said).

@@ -436,3 +436,44 @@ pub fn novanc_on(
         dir,
     )
 }
+
+/// The cursor keys: the arrows, PgUp/PgDn, Home/End.
+pub const CURSOR_KEYS: [novanc_panel::Key; 8] = {
+    use novanc_panel::Key;
+    [
+        Key::Up,
+        Key::Down,
+        Key::Left,
+        Key::Right,
+        Key::PageUp,
+        Key::PageDown,
+        Key::Home,
+        Key::End,
+    ]
+};
+
+/// Every key an operator can press at the terminal but quit (Ctrl+C, Alt+Q): F1–F12, Alt with
+/// each letter, digit and the overrides' and handwheel's signs, Ctrl with each letter, the
+/// cursor and editing keys, and two data keys.
+pub fn all_keys() -> Vec<novanc_panel::Key> {
+    use novanc_panel::Key;
+    let mut keys: Vec<Key> = (1..=12).map(Key::F).collect();
+    keys.extend(
+        "abcdefghijklmnoprstuvwxyz0123456789=-[],."
+            .chars()
+            .map(Key::Alt),
+    );
+    keys.extend("abdefghijklmnopqrstuvwxyz".chars().map(Key::Ctrl));
+    keys.extend(CURSOR_KEYS);
+    keys.extend([
+        Key::Insert,
+        Key::Delete,
+        Key::Esc,
+        Key::Enter,
+        Key::Backspace,
+        Key::Tab,
+        Key::Char('#'),
+        Key::Char('5'),
+    ]);
+    keys
+}
