@@ -441,3 +441,50 @@ fn an_auto_cycle_starts_with_the_spindles_stopped_whatever_mdi_left() {
     assert!(rpm < 10.0, "the chuck closed on a spindle at {rpm} rpm");
     assert_eq!(coolant, (false, false));
 }
+
+/// A spindle an MDI run left turning under G96 goes on turning under G96 in the next MDI run,
+/// and that run's feed per revolution follows it. Before stop 39 the next run refused `G95 G1`
+/// (`the spindle stopped: give M03 or M04`) while the spindle turned at 1,592 rpm; with only
+/// that refusal lifted, the run's blocks carried no surface speed and the kernel let the
+/// spindle run down under the feed, which never ended.
+#[test]
+fn a_spindle_left_turning_under_g96_feeds_the_next_mdi_runs_g95_move() {
+    let state = common::temp_dir("lathe-state-g96-mdi");
+    let mut c = open(&desc(None, None), &state);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
+    for l in ["G0 X20 Z10", "G96 S100 M3 D3000", "G4 P1"] {
+        c.handle(PanelEvent::Type(l.to_string()));
+    }
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    let rpm = |c: &LatheConsole| c.view().channels[0].rpm;
+    // 100 m/min at a 10 mm radius.
+    assert!((rpm(&c) - 1592.0).abs() < 1.0, "{}", rpm(&c));
+    c.handle(PanelEvent::Type("G95 G1 W-1 F0.1".into()));
+    c.handle(PanelEvent::Start);
+    c.run_for(10_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(
+        c.tips()[0].0[1],
+        9_000,
+        "{}\n{}",
+        c.message(),
+        c.frame_text()
+    );
+    assert!((rpm(&c) - 1592.0).abs() < 1.0, "{}", rpm(&c));
+    assert!(c.wait_error().is_none());
+    // After M05 the spindle is stopped for the next run, even while it still coasts down:
+    // a feed per revolution is refused, and nothing turns it again.
+    c.handle(PanelEvent::Type("M5".into()));
+    c.handle(PanelEvent::Start);
+    c.tick(10_000_000);
+    c.handle(PanelEvent::Type("G95 G1 W-1 F0.1".into()));
+    c.handle(PanelEvent::Start);
+    c.run_for(10_000_000_000, RunUntil::Rest, || false);
+    assert!(c.message().contains("spindle stopped"), "{}", c.message());
+    assert_eq!(c.tips()[0].0[1], 9_000);
+    assert!(
+        rpm(&c) < 1592.0,
+        "coasting down, not turned again: {}",
+        rpm(&c)
+    );
+}

@@ -291,6 +291,10 @@ pub struct Status {
     pub spindle: i64,
     /// The programmed spindle rpm, signed, 0 stopped (what a program source goes on from).
     pub spindle_programmed: i64,
+    /// The spindle's commanded direction: 1 M03, -1 M04, 0 M05 or stopped (under G96, where no
+    /// rpm is programmed, the one word of the direction; a spindle coasting down after M05
+    /// has 0).
+    pub spindle_dir: i8,
     /// Feed override in force, percent.
     pub feed_override: u32,
     /// The machine stands still in a feed move at feed override 0: nothing but the operator

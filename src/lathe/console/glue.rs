@@ -149,7 +149,10 @@ impl ChannelLeft {
     /// What channel `st` (its latest status) leaves.
     pub fn of(st: &crate::pulse_core::Status) -> ChannelLeft {
         ChannelLeft {
-            dir: st.spindle_programmed.signum() as i8,
+            // The commanded direction: under G96 no rpm is programmed (before stop 39 the
+            // programmed rpm's sign was taken, and a spindle turning under G96 counted as
+            // stopped), and a spindle coasting down after M05 is stopped.
+            dir: st.spindle_dir,
             s_rpm: u32::try_from(st.spindle_programmed.unsigned_abs()).unwrap_or(u32::MAX),
             actual_rpm: st.spindle as f64,
             coolant: st.coolant,

@@ -292,6 +292,10 @@ impl<'a> Out<'a> {
     /// left it): `rpm` under G97, or `css`; no block (the machine turns it already).
     pub fn set_speed(&mut self, rpm: f64, css: Option<Css>) {
         self.speed = (rpm, css);
+        // Under G96 every block carries the surface speed, from the first (before stop 39 the
+        // blocks of a read begun with the spindle turning under G96 carried none, and the
+        // kernel let the spindle run down under a feed per revolution).
+        self.css = css;
     }
 
     pub fn spindle(

@@ -262,6 +262,7 @@ impl Machine {
             tool_set_length: self.tool_len,
             spindle: self.spindle_status(),
             spindle_programmed: self.spindle,
+            spindle_dir: self.spindle_dir,
             feed_override: self.pending_override.unwrap_or(self.feed_override),
             switches: self.switches(),
             hold_after_tap: self.hold_after_tap,
