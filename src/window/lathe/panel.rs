@@ -323,6 +323,25 @@ pub fn relay(
         {
             out.push(Act::ClearPaths);
         }
+        // The other pages over the selector, lit while up (the page key again leaves one).
+        for (label, p, k, tip) in [
+            (
+                "MACRO",
+                Page::Macro,
+                'u',
+                "the channel's variables (Ctrl+U)",
+            ),
+            (
+                "MODAL",
+                Page::Modal,
+                'g',
+                "the channel's modal state (Ctrl+G)",
+            ),
+        ] {
+            if key(ui, label, page == p, 60.0).on_hover_text(tip).clicked() {
+                out.push(Act::Press(Key::Ctrl(k)));
+            }
+        }
     });
 }
 
