@@ -155,11 +155,16 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
 /// Adds a secondary failure (the history or the counters could not be saved) after the
 /// message shown, never in its place: a refusal the operator must see stays first.
 fn also_say(c: &mut Console, failure: &str) {
-    c.message = if c.message.is_empty() || c.message == "ok" {
-        failure.to_string()
-    } else {
-        format!("{}; {failure}", c.message)
-    };
+    c.message = with_failure(&c.message, failure);
+}
+
+/// The message line `message` with a secondary `failure` after it, on every console (a
+/// message that says nothing, or `ok`, gives way to it).
+pub(crate) fn with_failure(message: &str, failure: &str) -> String {
+    match message {
+        "" | "ok" => failure.to_string(),
+        m => format!("{m}; {failure}"),
+    }
 }
 
 /// A program's message (`(MSG,...)`, `(PRINT,...)`, `(DEBUG,...)`, `(LOG,...)`): in the

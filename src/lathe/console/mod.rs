@@ -668,10 +668,7 @@ impl LatheConsole {
             .log
             .message(&mut self.recorder, (t, file, 0), level::INFO, &self.message);
         if let Some(e) = failed.or(r.err()) {
-            self.message = match self.message.as_str() {
-                "" | "ok" => e,
-                m => format!("{m}; {e}"),
-            };
+            self.message = crate::console::book::with_failure(&self.message, &e);
             self.msg_life = (MsgLife::NextKey, self.now_ns);
             self.log.shown(&self.message);
         }
@@ -1299,7 +1296,7 @@ impl LatheConsole {
                 self.msg_life = (MsgLife::NextKey, self.now_ns);
             }
             if let Some(e) = failed {
-                self.message = format!("{}; {e}", self.message);
+                self.message = crate::console::book::with_failure(&self.message, &e);
                 self.log.shown(&self.message);
             }
         }
