@@ -367,45 +367,163 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
     ))
 }
 
-impl Console {
-    /// Presses a key of the terminal's key map. The relay panel (STOP, RESET, E-STOP) acts on
-    /// every screen; with the help screen up any other key closes it and acts (F8 turns to the
-    /// second page, and closes it from there); with the terminal too small any other key is
-    /// ignored, and the notice says so.
-    pub fn press(&mut self, k: Key) {
-        let action = map_key(k);
-        if self.screen.fits() && !is_relay_stop(k) {
-            self.new_action();
+/// What a console gives the one key pipeline ([`press`]): the state of the keys every console
+/// has (the help screen, the screen fit, the switches the toggle keys turn), and the keys it
+/// has of its own. The centre's `Console` and a lathe's console answer it; the pipeline is
+/// written once, so a key means the same on every machine (issue 22: the dispatch was written
+/// twice before stop 40).
+pub trait Keyed {
+    /// The help screen's pages (the help screen cycles through them, and closes after the last).
+    const HELP_PAGES: u8;
+    /// The machine's key map (a lathe's is an overlay on [`map_key`]).
+    fn action(&self, k: Key) -> Action;
+    /// The help page up (0: none).
+    fn help(&self) -> u8;
+    /// Puts up help page `page` (0 closes it).
+    fn set_help(&mut self, page: u8);
+    /// Whether the terminal is large enough, and the key last refused.
+    fn screen(&mut self) -> &mut ScreenFit;
+    /// A key arrives: the last action's message has lived its life.
+    fn new_action(&mut self);
+    /// Says `text` on the message line until the next key.
+    fn set_message(&mut self, text: String);
+    /// Records the key on `/panel/event` (what a replay presses again).
+    fn record_key(&mut self, k: Key);
+    /// Takes the machine's state after an action, and shows it.
+    fn refresh(&mut self);
+    /// The keys taken before the key map: a page's keys, the editor's cursor keys, the MDI
+    /// recall (each console records and shows what it took). Whether `k` was one of them.
+    fn takes_first(&mut self, k: Key, action: &Action) -> bool;
+    /// One event of the panel grammar (recorded as the event).
+    fn handle(&mut self, ev: PanelEvent);
+    /// A CONTINUOUS jog key ([`HeldJog`]).
+    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8);
+    /// The operation selector's position.
+    fn op(&self) -> OpMode;
+    /// The page up over the mode display.
+    fn page(&self) -> Page;
+    /// The switches the toggle keys turn: BLOCK DELETE and OPTIONAL STOP, the machine's
+    /// (rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT), the feed override and
+    /// the handwheel's axis and scale.
+    fn toggles(
+        &self,
+    ) -> (
+        crate::gcode::Switches,
+        crate::record::Switches,
+        u32,
+        (Axis, u32),
+    );
+    /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
+    /// TARGET): whether `action` was one it has.
+    fn own_key(&mut self, k: Key, action: &Action) -> bool;
+}
+
+/// Presses a key on a console: the one key pipeline. The relay panel (STOP, RESET, E-STOP)
+/// acts on every screen; with the help screen up any other key closes it and acts (the help
+/// key turns its page, and closes it from the last); with the terminal too small any other key
+/// is ignored, and the notice says so; a key that does nothing where it is pressed says so.
+pub fn press<C: Keyed>(c: &mut C, k: Key) {
+    let action = c.action(k);
+    let stop = is_relay_stop(k);
+    if stop {
+        c.set_help(0);
+        if let Action::Event(e) = action {
+            c.handle(e);
         }
-        if is_relay_stop(k) {
-            self.help = 0;
-            if let Action::Event(e) = action {
-                self.handle(e);
+        return;
+    }
+    if c.screen().fits() {
+        c.new_action();
+    }
+    let was = c.help();
+    if was > 0 {
+        // Any other key closes the help and acts (it is not eaten).
+        c.set_help(0);
+        if action == Action::Help {
+            c.record_key(k);
+            c.set_help(if was < C::HELP_PAGES { was + 1 } else { 0 });
+            return c.refresh();
+        }
+    }
+    if c.screen().refuses(k) || c.takes_first(k, &action) {
+        return;
+    }
+    let (sw, machine, feed, wheel) = c.toggles();
+    let ev = match action {
+        Action::Event(e) => e,
+        Action::Move(axis, dir) => match c.op() {
+            OpMode::Handle => PanelEvent::Wheel(axis, i32::from(dir)),
+            OpMode::Continuous => return c.hold_jog(k, axis, dir),
+            _ => PanelEvent::Jog(axis, dir),
+        },
+        Action::Override(d) => PanelEvent::Override((feed as i32 + d).clamp(0, 150) as u32),
+        Action::WheelScale => PanelEvent::WheelScale(super::manual::next_scale(wheel.1)),
+        Action::Wheel(n) => PanelEvent::Wheel(wheel.0, n),
+        Action::BlockDelete => PanelEvent::BlockDelete(!sw.block_delete),
+        Action::OptionalStop => PanelEvent::OptionalStop(!sw.optional_stop),
+        Action::RapidOverride => {
+            PanelEvent::RapidOverride(super::next_rapid(machine.rapid_override))
+        }
+        Action::SpindleOverride(d) => {
+            PanelEvent::SpindleOverride(super::next_spindle(machine.spindle_override, d))
+        }
+        Action::DryRun => PanelEvent::DryRun(!machine.dry_run),
+        Action::MachineLock => PanelEvent::MachineLock(!machine.machine_lock),
+        Action::ZNeglect => PanelEvent::ZNeglect(!machine.z_neglect),
+        Action::Help => {
+            c.record_key(k);
+            c.set_help(1);
+            return c.refresh();
+        }
+        a => {
+            if !c.own_key(k, &a) {
+                // Recorded: the key was pressed, and said so.
+                c.record_key(k);
+                let page = Some(c.page())
+                    .filter(|p| *p != Page::Mode)
+                    .map(|p| p.label());
+                c.set_message(does_nothing(k, c.op(), page));
+                c.refresh();
             }
             return;
         }
-        if self.help > 0 {
-            // F8 turns to the second help page and closes it from there; any other key closes
-            // the help and acts (it is not eaten).
-            let was = self.help;
-            self.help = 0;
-            if action == Action::Help {
-                self.recorder
-                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-                self.help = if was == 1 { 2 } else { 0 };
-                self.refresh();
-                return;
-            }
-        }
-        if self.screen.refuses(k) {
-            return;
-        }
+    };
+    c.handle(ev)
+}
+
+impl Keyed for Console {
+    const HELP_PAGES: u8 = 2;
+    fn action(&self, k: Key) -> Action {
+        map_key(k)
+    }
+    fn help(&self) -> u8 {
+        self.help
+    }
+    fn set_help(&mut self, page: u8) {
+        self.help = page;
+    }
+    fn screen(&mut self) -> &mut ScreenFit {
+        &mut self.screen
+    }
+    fn new_action(&mut self) {
+        Console::new_action(self)
+    }
+    fn set_message(&mut self, text: String) {
+        self.message = text;
+    }
+    fn record_key(&mut self, k: Key) {
+        self.recorder
+            .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+    }
+    fn refresh(&mut self) {
+        Console::refresh(self)
+    }
+    fn takes_first(&mut self, k: Key, action: &Action) -> bool {
         if let Some(p) = pages::page_of_key(k) {
-            self.recorder
-                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+            self.record_key(k);
             pages::page_key(self, p);
             self.refresh();
-            return;
+            return true;
         }
         if matches!(
             action,
@@ -416,103 +534,69 @@ impl Console {
         if self.pages.page != Page::Mode && pages::press(self, k) {
             // What a page takes (a data key, INPUT, a cursor key) is in the recording, as
             // every key that acts: a replay types the same revision.
-            self.recorder
-                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-            return;
+            self.record_key(k);
+            return true;
         }
-        if super::entry::cursor_key(self, k) {
-            self.recorder
-                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-            self.refresh();
-            return;
+        let recall = self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down);
+        if !recall && !super::entry::cursor_key(self, k) {
+            return false;
         }
-        if self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down) {
-            // Recorded, as every key that acts is: a replay recalls the same line.
-            self.recorder
-                .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+        // Recorded, as every key that acts is: a replay moves or recalls the same.
+        self.record_key(k);
+        if recall {
             super::entry::recall(self, k == Key::Up);
-            self.refresh();
-            return;
         }
+        self.refresh();
+        true
+    }
+    fn handle(&mut self, ev: PanelEvent) {
+        Console::handle(self, ev)
+    }
+    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
+        Console::hold_jog(self, k, axis, dir)
+    }
+    fn op(&self) -> OpMode {
+        self.op
+    }
+    fn page(&self) -> Page {
+        self.pages.page
+    }
+    fn toggles(
+        &self,
+    ) -> (
+        crate::gcode::Switches,
+        crate::record::Switches,
+        u32,
+        (Axis, u32),
+    ) {
+        (
+            self.switches,
+            self.status.switches,
+            self.feed_override,
+            self.wheel,
+        )
+    }
+    fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
-            Action::Event(e) => self.handle(e),
-            Action::Move(axis, dir) => match self.op {
-                OpMode::Handle => self.handle(PanelEvent::Wheel(axis, dir as i32)),
-                OpMode::Continuous => self.hold_jog(k, axis, dir),
-                _ => self.handle(PanelEvent::Jog(axis, dir)),
-            },
-            Action::Override(d) => {
-                let o = self.feed_override as i32 + d;
-                self.handle(PanelEvent::Override(o.clamp(0, 150) as u32));
-            }
-            Action::WheelScale => {
-                let s = super::manual::next_scale(self.wheel.1);
-                self.handle(PanelEvent::WheelScale(s));
-            }
-            Action::Wheel(n) => {
-                let axis = self.wheel.0;
-                self.handle(PanelEvent::Wheel(axis, n));
-            }
             Action::Tape => self.tape_from_entry(),
             Action::Punch => self.punch_from_entry(),
-            Action::BlockDelete => {
-                let on = !self.switches.block_delete;
-                self.handle(PanelEvent::BlockDelete(on));
-            }
-            Action::OptionalStop => {
-                let on = !self.switches.optional_stop;
-                self.handle(PanelEvent::OptionalStop(on));
-            }
-            Action::RapidOverride => {
-                let p = super::next_rapid(self.status.switches.rapid_override);
-                self.handle(PanelEvent::RapidOverride(p));
-            }
-            Action::SpindleOverride(d) => {
-                let p = super::next_spindle(self.status.switches.spindle_override, d);
-                self.handle(PanelEvent::SpindleOverride(p));
-            }
-            Action::DryRun => {
-                let on = !self.status.switches.dry_run;
-                self.handle(PanelEvent::DryRun(on));
-            }
-            Action::MachineLock => {
-                let on = !self.status.switches.machine_lock;
-                self.handle(PanelEvent::MachineLock(on));
-            }
-            Action::ZNeglect => {
-                let on = !self.status.switches.z_neglect;
-                self.handle(PanelEvent::ZNeglect(on));
-            }
-            Action::Help => {
-                self.recorder
-                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-                self.help = 1;
-                self.refresh();
-            }
             Action::Acknowledge => {
                 if !super::book::acknowledge(self) {
                     self.message = format!("{}: no message to acknowledge", key_name(k));
                 }
-                self.recorder
-                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
+                self.record_key(k);
                 self.refresh();
             }
-            Action::Page(p) => {
-                // Taken above, before the page shown has the key.
-                pages::page_key(self, p);
-                self.refresh();
-            }
-            Action::NextChannel | Action::Fault | Action::Target | Action::None => {
-                // Recorded as the lathe's are: the key was pressed, and said so.
-                self.recorder
-                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-                let page = Some(self.pages.page)
-                    .filter(|p| *p != Page::Mode)
-                    .map(|p| p.label());
-                self.message = does_nothing(k, self.op, page);
-                self.refresh();
-            }
+            _ => return false,
         }
+        true
+    }
+}
+
+impl Console {
+    /// Presses a key of the terminal's key map ([`press`], the one key pipeline).
+    pub fn press(&mut self, k: Key) {
+        press(self, k)
     }
 
     /// A CONTINUOUS jog key ([`HeldJog`]). In virtual time a tap's increment is run to rest

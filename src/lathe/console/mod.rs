@@ -31,6 +31,7 @@ use crate::pulse_core::{ClockMode, Command};
 use crate::record::foxglove::level;
 use crate::store::history::Kind;
 use crate::store::lathe::{Counter, LatheStore, Program};
+use novanc_panel::Key;
 use std::path::Path;
 use view::ChanView;
 
@@ -475,111 +476,10 @@ impl LatheConsole {
     /// key closes it and acts (F8 closes it); while the terminal is too small every other key
     /// is ignored and the notice says which; a key that does nothing here says so.
     pub fn press(&mut self, k: novanc_panel::Key) {
-        self.press_key(k);
+        crate::console::keys::press(self, k);
         // What the key said, and the faults it found, in the history (`after` puts what the
         // machine said).
         self.log_book();
-    }
-
-    fn press_key(&mut self, k: novanc_panel::Key) {
-        let act = events::map_key(k);
-        if self.screen.fits() || crate::console::keys::is_relay_stop(k) {
-            self.say("", MsgLife::NextKey);
-        }
-        if crate::console::keys::is_relay_stop(k) {
-            self.help = false;
-            if let Action::Event(e) = act {
-                self.handle(e);
-            }
-            return;
-        }
-        if self.help {
-            self.help = false;
-            if act == Action::Help {
-                self.record_event(&PanelEvent::Press(k));
-                return;
-            }
-        }
-        if self.screen.refuses(k) {
-            return;
-        }
-        if self.cursor_key(k) || self.page_key(k) || self.recall_key(k) {
-            self.record_event(&PanelEvent::Press(k));
-            return self.after();
-        }
-        match act {
-            Action::Event(PanelEvent::OfsMode) if self.page == Page::Ofs => {
-                // The page key again: back to the mode's display (the centre's rule).
-                self.record_event(&PanelEvent::Press(k));
-                self.page = Page::Mode;
-                self.message = format!("{} mode", self.mode.word());
-                self.after();
-            }
-            Action::Event(e) => self.handle(e),
-            Action::Move(axis, dir) => match self.mode {
-                OpMode::Continuous => self.hold_jog(k, axis, dir),
-                OpMode::Handle => self.handle(PanelEvent::Wheel(axis, i32::from(dir))),
-                _ => self.handle(PanelEvent::Jog(axis, dir)),
-            },
-            Action::Wheel(n) => self.handle(PanelEvent::Wheel(self.wheel_axis, n)),
-            Action::NextChannel => {
-                self.record_event(&PanelEvent::Press(k));
-                self.select((self.sel + 1) % self.desc.channels.len());
-                self.after();
-            }
-            Action::Help => {
-                self.record_event(&PanelEvent::Press(k));
-                self.help = true;
-            }
-            Action::Fault => {
-                self.record_event(&PanelEvent::Press(k));
-                let why = std::mem::take(&mut self.entry);
-                let why = if why.trim().is_empty() {
-                    "operator".to_string()
-                } else {
-                    why.trim().to_lowercase()
-                };
-                self.act(PanelEvent::Fault(self.sel, why));
-            }
-            Action::WheelScale => {
-                let s = crate::console::manual::next_scale(self.increment);
-                self.handle(PanelEvent::WheelScale(s))
-            }
-            Action::BlockDelete => self.handle(PanelEvent::BlockDelete(!self.block_delete)),
-            Action::OptionalStop => self.handle(PanelEvent::OptionalStop(!self.optional_stop)),
-            Action::DryRun => self.handle(PanelEvent::DryRun(!self.switches.dry_run)),
-            Action::RapidOverride => {
-                let p = crate::console::next_rapid(self.switches.rapid_override);
-                self.handle(PanelEvent::RapidOverride(p));
-            }
-            Action::SpindleOverride(d) => {
-                let p = crate::console::next_spindle(self.switches.spindle_override, d);
-                self.handle(PanelEvent::SpindleOverride(p));
-            }
-            Action::Override(d) => {
-                let p = (self.feed_override as i32 + d).clamp(0, 150) as u32;
-                self.handle(PanelEvent::Override(p));
-            }
-            Action::Target => {
-                self.record_event(&PanelEvent::Press(k));
-                let typed = std::mem::take(&mut self.entry);
-                match typed.trim().parse::<u32>() {
-                    Ok(n) if (1..=999_999).contains(&n) => self.act(PanelEvent::Target(n)),
-                    _ => {
-                        self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
-                        self.entry = typed;
-                    }
-                }
-            }
-            // The MSG and MACRO page keys are taken above (`page_key`); the centre's own keys do nothing
-            // here (`events::map_key`), and say so.
-            _ => {
-                self.record_event(&PanelEvent::Press(k));
-                let page = (self.page != Page::Mode).then(|| self.page.label());
-                self.message = crate::console::keys::does_nothing(k, self.mode, page);
-                self.after();
-            }
-        }
     }
 
     /// The MSG, MACRO and MODAL page keys (Ctrl+E, Ctrl+U, Ctrl+G: the centre's) and, with MSG
@@ -1441,5 +1341,112 @@ impl LatheConsole {
             let tick = self.desc.tick_ns.max(1);
             self.tick(tick);
         }
+    }
+}
+
+/// The lathe's part of the one key pipeline (`crate::console::keys::press`): its key map, its
+/// pages' and editor's keys, and its own keys (the channel selector, FAULT, TARGET).
+impl crate::console::keys::Keyed for LatheConsole {
+    const HELP_PAGES: u8 = 1;
+    fn action(&self, k: Key) -> Action {
+        events::map_key(k)
+    }
+    fn help(&self) -> u8 {
+        u8::from(self.help)
+    }
+    fn set_help(&mut self, page: u8) {
+        self.help = page > 0;
+    }
+    fn screen(&mut self) -> &mut crate::console::keys::ScreenFit {
+        &mut self.screen
+    }
+    fn new_action(&mut self) {
+        self.say("", MsgLife::NextKey);
+    }
+    fn set_message(&mut self, text: String) {
+        self.message = text;
+    }
+    fn record_key(&mut self, k: Key) {
+        self.record_event(&PanelEvent::Press(k));
+    }
+    fn refresh(&mut self) {
+        self.after();
+    }
+    fn takes_first(&mut self, k: Key, action: &Action) -> bool {
+        let taken = self.cursor_key(k) || self.page_key(k) || self.recall_key(k);
+        if !taken {
+            if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
+                return false;
+            }
+            // The page key again: back to the mode's display (the centre's rule).
+            self.page = Page::Mode;
+            self.message = format!("{} mode", self.mode.word());
+        }
+        self.record_key(k);
+        self.after();
+        true
+    }
+    fn handle(&mut self, ev: PanelEvent) {
+        LatheConsole::handle(self, ev)
+    }
+    fn hold_jog(&mut self, k: Key, axis: crate::panel_model::Axis, dir: i8) {
+        LatheConsole::hold_jog(self, k, axis, dir)
+    }
+    fn op(&self) -> OpMode {
+        self.mode
+    }
+    fn page(&self) -> Page {
+        self.page
+    }
+    fn toggles(
+        &self,
+    ) -> (
+        crate::gcode::Switches,
+        crate::record::Switches,
+        u32,
+        (crate::panel_model::Axis, u32),
+    ) {
+        let sw = crate::gcode::Switches {
+            block_delete: self.block_delete,
+            optional_stop: self.optional_stop,
+        };
+        (
+            sw,
+            self.switches,
+            self.feed_override,
+            (self.wheel_axis, self.increment),
+        )
+    }
+    fn own_key(&mut self, k: Key, action: &Action) -> bool {
+        match action {
+            Action::NextChannel => {
+                self.record_key(k);
+                self.select((self.sel + 1) % self.desc.channels.len());
+                self.after();
+            }
+            Action::Fault => {
+                self.record_key(k);
+                let why = std::mem::take(&mut self.entry);
+                let why = if why.trim().is_empty() {
+                    "operator".to_string()
+                } else {
+                    why.trim().to_lowercase()
+                };
+                self.act(PanelEvent::Fault(self.sel, why));
+            }
+            Action::Target => {
+                self.record_key(k);
+                let typed = std::mem::take(&mut self.entry);
+                match typed.trim().parse::<u32>() {
+                    Ok(n) if (1..=999_999).contains(&n) => self.act(PanelEvent::Target(n)),
+                    _ => {
+                        self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
+                        self.entry = typed;
+                    }
+                }
+            }
+            _ => return false,
+        }
+        true
     }
 }
