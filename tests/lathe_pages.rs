@@ -102,9 +102,12 @@ fn a_fault_and_the_messages_are_kept_once_and_shown_on_msg_after_a_restart() {
 
     c.handle(PanelEvent::EStop);
     assert!(matches!(c.finish(None), None | Some(Ok(_))));
-    // After a restart the history is the one kept on disk, the fault in it.
+    // After a restart the history is the one kept on disk, the fault and the E-STOP in it.
     let c = open(&dir);
-    assert_eq!(entries(&c, Kind::Alarm), ["CH2 FAULT: chip jam"]);
+    assert_eq!(
+        entries(&c, Kind::Alarm),
+        ["CH2 FAULT: chip jam", ESTOP_ALARM]
+    );
     assert!(entries(&c, Kind::Message).len() >= said.len());
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -120,9 +123,10 @@ fn a_fault_that_comes_again_in_a_new_cycle_is_kept_again() {
         c.tick(100_000_000);
         c.handle(PanelEvent::Fault(0, "door".into()));
         c.tick(100_000_000);
+        // The fault of each round, and the E-STOP that ended the round before.
         assert_eq!(
             entries(&c, Kind::Alarm).len(),
-            round + 1,
+            2 * round + 1,
             "{:?}",
             c.history()
         );
@@ -131,6 +135,51 @@ fn a_fault_that_comes_again_in_a_new_cycle_is_kept_again() {
         c.handle(PanelEvent::Reset);
         c.handle(PanelEvent::Reset);
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The E-STOP as the history keeps it (the centre's entry).
+const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
+
+#[test]
+fn an_estop_is_the_machines_alarm_said_while_in_force_and_kept_once() {
+    let dir = common::temp_dir("lathe-history-estop");
+    let mut c = open(&dir);
+    // With no cycle loaded: in force until RESET, shown on every channel, START refused.
+    c.handle(PanelEvent::EStop);
+    c.tick(10_000_000);
+    assert_eq!(c.message(), ESTOP_ALARM);
+    assert!(c.view().channels.iter().all(|ch| ch.state == "ESTOP"));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    assert!(c.message().starts_with("START refused"), "{}", c.message());
+    c.tick(10_000_000);
+    assert!(c.at_rest());
+    c.handle(PanelEvent::Reset);
+    assert!(c.view().channels.iter().all(|ch| ch.state == "IDLE"));
+    assert_eq!(entries(&c, Kind::Alarm), [ESTOP_ALARM]);
+
+    // In a cycle: the machine's alarm, said as on the centre, not the last channel's (before
+    // stop 40 the message line said `CH3 ALARM: EMERGENCY STOP ...`), and kept once.
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Start);
+    c.tick(3_000_000_000);
+    c.handle(PanelEvent::EStop);
+    for _ in 0..20 {
+        c.tick(10_000_000);
+        assert_eq!(c.message(), ESTOP_ALARM);
+    }
+    assert!(c.view().channels.iter().all(|ch| ch.state == "ESTOP"));
+    assert_eq!(entries(&c, Kind::Alarm), [ESTOP_ALARM, ESTOP_ALARM]);
+    assert!(
+        !entries(&c, Kind::Message)
+            .iter()
+            .any(|m| m.contains(ESTOP_ALARM)),
+        "{:?}",
+        c.history()
+    );
+    c.handle(PanelEvent::Reset);
+    assert_ne!(c.message(), ESTOP_ALARM);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -130,11 +130,16 @@ fn check(s: &mut Seq, what: &str) {
             assert!(any(&["ESTOP"]), "{what}: '{m}' with {states:?}");
         }
     }
-    // Each channel's fault or alarm in force is in the history the MSG page shows (the centre's
-    // rule: put there when it comes, whatever the screen was doing).
+    // Each channel's fault or alarm in force, and an E-STOP, is in the history the MSG page
+    // shows (the centre's rule: put there when it comes, whatever the screen was doing); an
+    // E-STOP is the machine's (one entry, not a channel's).
     for (i, c) in v.channels.iter().enumerate() {
-        if matches!(c.state.as_str(), "FAULT" | "ALARM") {
-            let text = format!("CH{} {}: {}", i + 1, c.state, c.note);
+        let text = match c.state.as_str() {
+            "FAULT" | "ALARM" => format!("CH{} {}: {}", i + 1, c.state, c.note),
+            "ESTOP" => "EMERGENCY STOP: pulses stopped; press RESET".to_string(),
+            _ => continue,
+        };
+        {
             assert!(
                 s.c.history()
                     .iter()

@@ -138,8 +138,10 @@ fn estop_with_no_cycle_loaded_holds_until_reset() {
     );
     c.run_for(2_000_000_000, RunUntil::Time, || false);
     assert_eq!(posts(&c), home);
-    assert!(c.view().summary.iter().all(|l| l.contains("IDLE")));
+    // Shown on every channel while it holds (the summary said IDLE before stop 40).
+    assert!(c.view().summary.iter().all(|l| l.contains("ESTOP")));
     c.handle(PanelEvent::Reset);
+    assert!(c.view().summary.iter().all(|l| l.contains("IDLE")));
     c.handle(PanelEvent::Start);
     assert_eq!(c.message(), "cycle start");
     c.run_for(2_000_000_000, RunUntil::Time, || false);

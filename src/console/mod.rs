@@ -70,8 +70,6 @@ pub(crate) enum MsgLife {
     WhileRunning,
     /// While a channel is in feed hold.
     WhileHeld,
-    /// While the machine is in E-STOP.
-    WhileEstop,
 }
 
 /// A program that would not translate: shown with the ALARM lamp until the program (or the

@@ -386,6 +386,12 @@ impl Cycle {
         let snap = self.core.channels();
         for (i, s) in snap.iter().enumerate() {
             let before = self.snap.get(i).and_then(|b| b.status.alarm.clone());
+            // An E-STOP is the machine's, not a channel's: the console says it, and puts it in
+            // the history once, as the centre does (before stop 40 it was said as the last
+            // channel's alarm, `CH3 ALARM: EMERGENCY STOP`).
+            if s.status.estop {
+                continue;
+            }
             if let (Some(a), None) = (&s.status.alarm, before) {
                 let line = s.status.executing.as_ref().map_or(0, |e| e.stmt.line);
                 self.message = Some(if line > 0 {

@@ -68,6 +68,8 @@ pub struct LatheConsole {
     recall: Vec<crate::console::pages::Recall>,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
     alarms_logged: Vec<String>,
+    /// The E-STOP in force is in the history.
+    estop_logged: bool,
     entry: String,
     /// The operator message: the result, refusal or error of an action, or what the machine
     /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
@@ -207,6 +209,7 @@ impl LatheConsole {
             cycle_ns: None,
             last_part_ns: None,
             alarms_logged: vec![String::new(); n],
+            estop_logged: false,
             entry: String::new(),
             message: String::new(),
             msg_life: (MsgLife::NextKey, 0),
@@ -342,11 +345,10 @@ impl LatheConsole {
             MsgLife::NextKey | MsgLife::WhileBlock(_) => true,
             MsgLife::WhileRunning => fresh || view::runs(chans),
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
-            MsgLife::WhileEstop => fresh || any(&["ESTOP"]),
         };
         if lives && !self.message.is_empty() {
             &self.message
-        } else if any(&["ESTOP"]) {
+        } else if any(&["ESTOP"]) || self.estop_latched {
             ESTOP_NOTE
         } else if any(&["HOLD"]) {
             HOLD_NOTE
@@ -533,6 +535,21 @@ impl LatheConsole {
     fn log_book(&mut self) {
         let t = self.now_ns;
         let mut failed = None;
+        // E-STOP once, the machine's (the centre's entry: `ALARM EMERGENCY STOP: ...`), from
+        // the press or the kernel's state, until RESET releases it.
+        let estop = self.estop();
+        if estop && !self.estop_logged {
+            let file = self.programs.get(self.sel).map_or("", |p| p.name.as_str());
+            let r = self.log.put(
+                &mut self.recorder,
+                (t, file, 0),
+                Kind::Alarm,
+                level::ERROR,
+                ESTOP_NOTE,
+            );
+            failed = r.err();
+        }
+        self.estop_logged = estop;
         let cleared = self.alarms_logged.iter().all(|a| a.is_empty());
         if self.cycle.is_none() {
             // The cycle cleared: the next one's faults are new.
@@ -677,9 +694,10 @@ impl LatheConsole {
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
                 }
-                // Every spindle and the coolant stop (the drives are cut).
+                // Every spindle and the coolant stop (the drives are cut). E-STOP is said while
+                // it is in force, derived from the state (`message_with`), and kept once in the
+                // history as an alarm (`log_book`), as on the centre.
                 self.left.fill(glue::ChannelLeft::default());
-                self.say(ESTOP_NOTE, MsgLife::WhileEstop);
             }
             PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
                 Some(c) if ch < self.desc.channels.len() => {
@@ -1226,7 +1244,9 @@ impl LatheConsole {
                 .map(|(i, ch)| ChanView {
                     name: ch.name.clone(),
                     program: self.programs[i].name.clone(),
-                    state: "IDLE".into(),
+                    // E-STOP pressed with no cycle is in force until RESET, and shown so.
+                    state: if self.estop_latched { "ESTOP" } else { "IDLE" }.into(),
+                    note: if self.estop_latched { ESTOP_NOTE } else { "" }.into(),
                     parts: self.counter.counts[i],
                     pos: self.pos[i],
                     ..Default::default()
