@@ -138,6 +138,38 @@ fn a_fault_that_comes_again_in_a_new_cycle_is_kept_again() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn a_channels_fault_is_filed_under_that_channels_program() {
+    let dir = common::temp_dir("lathe-history-file");
+    let rec = dir.join("fault.mcap");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.tick(200_000_000);
+    // CH1 selected; the fault is CH2's.
+    c.handle(PanelEvent::Fault(1, "chip jam".into()));
+    c.tick(10_000_000);
+    assert!(matches!(c.finish(None), Some(Ok(_))));
+    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
+    let mut filed = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap_or_else(|e| panic!("{e}")) {
+        let m = m.unwrap_or_else(|e| panic!("{e}"));
+        let json = String::from_utf8_lossy(&m.data).into_owned();
+        if m.channel.topic == "/foxglove/log" && json.contains("CH2 FAULT: chip jam") {
+            filed.push(json);
+        }
+    }
+    // The message and the alarm, both under SYSTEM2's program (the message was filed under
+    // the selected channel's, SYSTEM1's, before stop 40).
+    assert_eq!(filed.len(), 2, "{filed:?}");
+    for f in &filed {
+        assert!(f.contains("\"file\":\"SYSTEM2.NGC\""), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The E-STOP as the history keeps it (the centre's entry).
 const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 

@@ -70,6 +70,9 @@ pub struct LatheConsole {
     alarms_logged: Vec<String>,
     /// The E-STOP in force is in the history.
     estop_logged: bool,
+    /// The channel the message just said speaks of, when not the selected one (a script's
+    /// `fault 2 ...`): the history files it under that channel's program.
+    msg_of: Option<usize>,
     entry: String,
     /// The operator message: the result, refusal or error of an action, or what the machine
     /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
@@ -210,6 +213,7 @@ impl LatheConsole {
             last_part_ns: None,
             alarms_logged: vec![String::new(); n],
             estop_logged: false,
+            msg_of: None,
             entry: String::new(),
             message: String::new(),
             msg_life: (MsgLife::NextKey, 0),
@@ -580,7 +584,8 @@ impl LatheConsole {
                 }
             }
         }
-        let file = self.programs.get(self.sel).map_or("", |p| p.name.as_str());
+        let of = self.msg_of.take().unwrap_or(self.sel);
+        let file = self.programs.get(of).map_or("", |p| p.name.as_str());
         let r = self
             .log
             .message(&mut self.recorder, (t, file, 0), level::INFO, &self.message);
@@ -701,6 +706,8 @@ impl LatheConsole {
             }
             PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
                 Some(c) if ch < self.desc.channels.len() => {
+                    // Filed in the history under the faulted channel's program.
+                    self.msg_of = Some(ch);
                     self.message = match c.fault(ch, &why) {
                         Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
                         Err(e) => format!("fault CH{}: {e}", ch + 1),
