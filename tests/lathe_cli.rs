@@ -670,7 +670,8 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     let o = run();
     let so = text(&o.stdout);
     assert!(o.status.success(), "{so}{}", text(&o.stderr));
-    assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
+    // The cursor (the centre's OFS page's, since stop 40) stands on T01's X.
+    assert!(so.contains("T01 0.400 3>   0.040  -0.010"), "{so}");
     assert!(so.contains("T9 is not on this tool post"), "{so}");
     let o = LatheStore::open(&state, &LatheDesc::citizen()).unwrap();
     assert_eq!(
@@ -682,7 +683,7 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     // A new session reads them back.
     std::fs::write(&script, "op OFS\nchannel 2\nshow\n").unwrap();
     let so = text(&run().stdout);
-    assert!(so.contains("T01 0.400 3    0.040  -0.010"), "{so}");
+    assert!(so.contains("T01 0.400 3>   0.040  -0.010"), "{so}");
 }
 
 /// Issue 20, item 17: a recording on a full disk says why in the operator's words ("No space

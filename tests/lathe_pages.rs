@@ -170,6 +170,59 @@ fn a_channels_fault_is_filed_under_that_channels_program() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn ofs_input_sets_the_cell_under_the_cursor_and_plus_input_adds_to_it() {
+    let dir = common::temp_dir("lathe-ofs-cursor");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Continuous));
+    c.press(Key::Ctrl('o'));
+    assert_eq!(c.page(), Page::Ofs);
+    let tips = c.tips();
+    // The arrows move the cursor, not a tool post (the centre's rule under a page).
+    c.press(Key::Down);
+    c.press(Key::Down);
+    c.press(Key::Right);
+    assert_eq!(c.tips(), tips);
+    let row = |c: &LatheConsole, t: &str| {
+        c.view()
+            .display
+            .iter()
+            .find(|l| l.starts_with(t))
+            .map(|l| l.trim_end().to_string())
+            .unwrap_or_default()
+    };
+    assert_eq!(row(&c, "T03"), "T03 0.200 2    0.000>  0.000");
+    // INPUT: Z of T03 set to -0.1; +INPUT (Tab): 0.02 added to it.
+    for k in "-0.1".chars() {
+        c.press(Key::Char(k));
+    }
+    c.press(Key::Enter);
+    assert!(c.message().starts_with("T03 revised"), "{}", c.message());
+    for k in "0.02".chars() {
+        c.press(Key::Char(k));
+    }
+    c.press(Key::Tab);
+    assert_eq!(row(&c, "T03"), "T03 0.200 2    0.000> -0.080");
+    assert_eq!(c.selected(), 0, "Tab with a value typed is +INPUT");
+    // A value refused stays on the entry line, and changes nothing.
+    c.press(Key::Left);
+    c.press(Key::Left);
+    c.press(Key::Char('7'));
+    c.press(Key::Tab);
+    assert!(c.message().contains("not added to"), "{}", c.message());
+    assert_eq!(c.view().display.last().map(|l| l.trim_end()), Some("> 7"));
+    c.press(Key::Backspace);
+    // Stored: a restart has it.
+    assert!(matches!(c.finish(None), None | Some(Ok(_))));
+    let mut c = open(&dir);
+    assert_eq!(c.desc().channels[0].tools[2].offset, [0.0, -0.08]);
+    // Tab with nothing typed turns the channel selector, on OFS as everywhere.
+    c.press(Key::Ctrl('o'));
+    c.press(Key::Tab);
+    assert_eq!(c.selected(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The E-STOP as the history keeps it (the centre's entry).
 const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 

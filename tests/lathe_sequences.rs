@@ -58,7 +58,14 @@ const MDI_LINES: [&str; 14] = [
     "o1 if [1 GT 0]",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
-const OFS_LINES: [&str; 4] = ["T1 X0.01", "T2 Z-0.005", "T9 X1", "T1 P12"];
+const OFS_LINES: [&str; 6] = [
+    "T1 X0.01",
+    "T2 Z-0.005",
+    "T9 X1",
+    "T1 P12",
+    "-0.01",
+    "0.004",
+];
 
 struct Seq {
     c: LatheConsole,
@@ -287,7 +294,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),
         61 => PanelEvent::Press(novanc_panel::Key::F(8)),
-        65 => PanelEvent::Type(OFS_LINES[rng.range(0, 3) as usize].into()),
+        65 => PanelEvent::Type(OFS_LINES[rng.below(OFS_LINES.len())].into()),
         // A variable set (on MACRO), an MDI line or an editor line refused elsewhere.
         86 => PanelEvent::Type(format!("#{}={}", 500 + rng.range(0, 2), rng.range(0, 9))),
         66 => PanelEvent::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
@@ -349,8 +356,12 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 k,
                 Key::Up | Key::Down | Key::Left | Key::Right | Key::Delete
             );
-            if arrow && k != Key::Delete && matches!(s.c.page(), Page::Msg | Page::Macro) {
-                // On the MSG and MACRO pages the arrows scroll (the centre's page rule).
+            if arrow
+                && k != Key::Delete
+                && matches!(s.c.page(), Page::Msg | Page::Macro | Page::Ofs)
+            {
+                // On the MSG, MACRO and OFS pages the arrows scroll or move the cursor (the
+                // centre's page rule; on OFS they jogged a tool post before stop 40).
                 assert_eq!(after, before, "{line}: {said}");
                 return line;
             }

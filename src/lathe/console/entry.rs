@@ -157,6 +157,10 @@ impl LatheConsole {
         if line.trim().is_empty() {
             return;
         }
+        if !line.trim_start().starts_with(['T', 't']) {
+            // A value: INPUT on the cell under the cursor.
+            return self.cell_input(line, false);
+        }
         let ch = self.sel;
         match ofs::revise(&self.desc.channels[ch].tools, line) {
             Err(e) => {
@@ -187,6 +191,26 @@ impl LatheConsole {
                     self.desc.channels[ch].tools = tools;
                 }
             },
+        }
+    }
+
+    /// OFS: INPUT (or +INPUT with `add`) of the value `line` on the cell under the cursor,
+    /// as the revision line of that one word (`ofs::cell_line`). A refused value stays on the
+    /// entry line.
+    pub(super) fn cell_input(&mut self, line: &str, add: bool) {
+        let tools = &self.desc.channels[self.sel].tools;
+        match ofs::cell_line(tools, self.ofs_cell, line, add) {
+            Ok(revision) => {
+                self.revise_tool(&revision);
+                if !self.entry.is_empty() {
+                    // Refused: what was typed stays, not the line made of it.
+                    self.entry = line.to_string();
+                }
+            }
+            Err(e) => {
+                self.message = e;
+                self.entry = line.to_string();
+            }
         }
     }
 
@@ -352,7 +376,7 @@ impl LatheConsole {
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, line: u32) -> Vec<String> {
         match self.page {
-            Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools),
+            Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools, self.ofs_cell),
             Page::Macro => {
                 // The centre's MACRO page, of the selected channel's variables.
                 let room = self.rows.saturating_sub(6).max(1);

@@ -59,6 +59,9 @@ pub struct LatheConsole {
     msg_first: usize,
     /// The MACRO page's cursor: a variable number (of the selected channel).
     macro_var: usize,
+    /// The OFS page's cursor: the selected channel's tool (its row) and column
+    /// (`ofs::COLUMNS`).
+    ofs_cell: (usize, usize),
     /// The last cycle's time, ns: from the part delivered before it (the first from START) to
     /// the part delivered at the unloader; the title shows it.
     cycle_ns: Option<u64>,
@@ -208,6 +211,7 @@ impl LatheConsole {
             log,
             msg_first: 0,
             macro_var: 1,
+            ofs_cell: (0, ofs::FIRST_COLUMN),
             recall: (0..n).map(|_| Default::default()).collect(),
             cycle_ns: None,
             last_part_ns: None,
@@ -505,8 +509,19 @@ impl LatheConsole {
                         let room = self.rows.saturating_sub(6);
                         self.macro_var = macros::cursor_moved(self.macro_var, k, room);
                     }
+                    Page::Ofs => {
+                        let tools = &self.desc.channels[self.sel].tools;
+                        self.ofs_cell = ofs::cursor_moved(tools, self.ofs_cell, k);
+                    }
                     _ => return false,
                 }
+                return true;
+            }
+            // +INPUT (the centre's Tab) on OFS with a value typed; with nothing typed Tab
+            // turns the channel selector, as everywhere.
+            _ if k == Key::Tab && self.page == Page::Ofs && !self.entry.trim().is_empty() => {
+                let line = std::mem::take(&mut self.entry);
+                self.cell_input(&line, true);
                 return true;
             }
             _ => return false,
@@ -655,7 +670,7 @@ impl LatheConsole {
                 self.y_output = None;
                 self.entry.clear();
                 self.message = format!(
-                    "OFS: CH{}'s tools; type T1 X.. Z.. R.. P.., Enter (a mode key leaves)",
+                    "OFS: CH{}'s tools; a value, Enter INPUT, Tab +INPUT (or T1 X.. Z.. R.. P..)",
                     self.sel + 1
                 );
             }

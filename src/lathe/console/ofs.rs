@@ -1,23 +1,101 @@
-//! The lathe console's OFS mode (docs/lathe.md "Tool offsets"): a channel's tools as a table,
-//! and the revision line `T1 X0.02 Z-0.01 R0.8 P3`.
+//! The lathe console's OFS page (docs/lathe.md "Tool offsets"): a channel's tools as a table
+//! with the centre's cursor (the arrows move it by cell; a value typed then INPUT, Enter, sets
+//! the cell, +INPUT, Tab, adds to it, as on a Fanuc), and the revision line
+//! `T1 X0.02 Z-0.01 R0.8 P3`. A cell's INPUT is the revision line of that one word, so both
+//! are checked, stored and taken by one rule ([`revise`]).
 
 use crate::lathe::desc::ToolDesc;
+use novanc_panel::Key;
+
+/// The table's value columns in order, by the letter a revision gives them: nose radius, tip,
+/// X offset as a diameter, Z offset.
+pub const COLUMNS: [char; 4] = ['R', 'P', 'X', 'Z'];
+
+/// Where the cursor starts: the X offset (what an operator sizes a diameter with).
+pub const FIRST_COLUMN: usize = 2;
 
 /// The tool table of a channel, one line per tool: number, nose radius, tip, X offset as a
-/// diameter, Z offset.
-pub fn table(tools: &[ToolDesc]) -> Vec<String> {
+/// diameter, Z offset; the cell under `cursor` (tool row, column) marked `>`, as the centre's
+/// OFS page marks it.
+pub fn table(tools: &[ToolDesc], cursor: (usize, usize)) -> Vec<String> {
     let mut out = vec!["T   R     P  X(DIA)   Z".to_string()];
-    out.extend(tools.iter().map(|t| {
+    let (row, col) = clamp(tools, cursor);
+    out.extend(tools.iter().enumerate().map(|(i, t)| {
+        let sep = |c: usize| if i == row && c == col { '>' } else { ' ' };
         format!(
-            "T{:02} {:5.3} {}  {:7.3} {:7.3}",
+            "T{:02}{}{:5.3}{}{}{} {:7.3}{}{:7.3}",
             t.number,
+            sep(0),
             t.radius,
+            sep(1),
             t.tip,
+            sep(2),
             t.offset[0] * 2.0,
+            sep(3),
             t.offset[1]
         )
     }));
     out
+}
+
+/// The cursor inside the table of `tools`.
+fn clamp(tools: &[ToolDesc], (row, col): (usize, usize)) -> (usize, usize) {
+    (
+        row.min(tools.len().saturating_sub(1)),
+        col.min(COLUMNS.len() - 1),
+    )
+}
+
+/// The cursor moved by a cursor key: Up/Down a tool, PgUp/PgDn eight, Home/End the first and
+/// the last, Left/Right a column.
+pub fn cursor_moved(tools: &[ToolDesc], cursor: (usize, usize), k: Key) -> (usize, usize) {
+    let (row, col) = clamp(tools, cursor);
+    let last = tools.len().saturating_sub(1);
+    match k {
+        Key::Up => (row.saturating_sub(1), col),
+        Key::Down => ((row + 1).min(last), col),
+        Key::PageUp => (row.saturating_sub(8), col),
+        Key::PageDown => ((row + 8).min(last), col),
+        Key::Home => (0, col),
+        Key::End => (last, col),
+        Key::Left => (row, col.saturating_sub(1)),
+        Key::Right => (row, (col + 1).min(COLUMNS.len() - 1)),
+        _ => (row, col),
+    }
+}
+
+/// The revision line of INPUT of `value` on the cell under `cursor` (+INPUT with `add`: the
+/// value added to the cell's): `T1 X0.04`. Err: why it cannot be one.
+pub fn cell_line(
+    tools: &[ToolDesc],
+    cursor: (usize, usize),
+    value: &str,
+    add: bool,
+) -> Result<String, String> {
+    let (row, col) = clamp(tools, cursor);
+    let Some(t) = tools.get(row) else {
+        return Err("OFS: the channel has no tools".into());
+    };
+    let letter = COLUMNS[col];
+    let v: f64 = value
+        .trim()
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| format!("OFS: '{}' is not a number", value.trim()))?;
+    let was = match letter {
+        'R' => t.radius,
+        'P' if add => {
+            return Err("OFS: P, the tip position, is set (INPUT), not added to".into());
+        }
+        'P' => 0.0,
+        'X' => t.offset[0] * 2.0,
+        _ => t.offset[1],
+    };
+    let now = if add { was + v } else { v };
+    // Three decimals at most, as the centre's OFS page rounds.
+    let now = (now * 1000.0).round() / 1000.0;
+    Ok(format!("T{} {letter}{now}", t.number))
 }
 
 fn value(w: &str, letter: char) -> Result<f64, String> {
@@ -110,7 +188,26 @@ mod tests {
             (t[0].radius, t[0].tip, t[0].offset),
             (0.4, 2, [0.02, -0.01])
         );
-        assert_eq!(table(&t)[1], "T01 0.400 2    0.040  -0.010");
+        assert_eq!(table(&t, (0, 0))[1], "T01>0.400 2    0.040  -0.010");
+        assert_eq!(table(&t, (0, 2))[1], "T01 0.400 2>   0.040  -0.010");
+    }
+
+    #[test]
+    fn input_sets_the_cell_and_plus_input_adds_to_it() {
+        let t = tools();
+        assert_eq!(cell_line(&t, (0, 2), "0.04", false).unwrap(), "T1 X0.04");
+        let (t, _) = revise(&t, "T1 X0.04").unwrap();
+        // +INPUT: X as a diameter, -0.01 on it.
+        assert_eq!(cell_line(&t, (0, 2), "-0.01", true).unwrap(), "T1 X0.03");
+        assert_eq!(cell_line(&t, (0, 3), "-0.2", true).unwrap(), "T1 Z-0.2");
+        assert_eq!(cell_line(&t, (0, 0), "0.4", false).unwrap(), "T1 R0.4");
+        assert_eq!(cell_line(&t, (9, 1), "2", false).unwrap(), "T1 P2");
+        assert!(cell_line(&t, (0, 1), "1", true).is_err());
+        assert!(cell_line(&t, (0, 2), "x", false).is_err());
+        assert!(cell_line(&[], (0, 2), "1", false).is_err());
+        assert_eq!(cursor_moved(&t, (0, 2), Key::Right), (0, 3));
+        assert_eq!(cursor_moved(&t, (0, 3), Key::Right), (0, 3));
+        assert_eq!(cursor_moved(&t, (0, 0), Key::Down), (0, 0));
     }
 
     #[test]
