@@ -223,6 +223,45 @@ fn ofs_input_sets_the_cell_under_the_cursor_and_plus_input_adds_to_it() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn pos_shows_the_tip_and_what_is_left_of_the_block() {
+    let dir = common::temp_dir("lathe-pos");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.tick(2_600_000_000);
+    c.handle(PanelEvent::Override(10));
+    c.press(Key::Ctrl('p'));
+    assert_eq!(c.page(), Page::Pos);
+    for _ in 0..3 {
+        c.tick(300_000_000);
+        let v = c.view();
+        let ch = &v.channels[0];
+        let st = &c.cycle().map(|l| l.channels()[0].status.clone()).unwrap();
+        let end = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.end);
+        let end = end.unwrap_or_else(|| panic!("no block in execution: {:#?}", v.display));
+        assert!(st.in_block && ch.state == "RUN", "{:#?}", v.display);
+        // The tip and what is left of the block add up to the block's end, and the page shows
+        // both as the plasma shows X: a diameter.
+        assert_eq!(
+            [ch.pos[0] + ch.to_go[0], ch.pos[1] + ch.to_go[1]],
+            [end[0], end[2]]
+        );
+        assert_ne!(ch.to_go, [0, 0]);
+        let mm = |p: i64| p as f64 * c.desc().pulse_mm;
+        let x = format!("X  {:12.3} {:12.3}", mm(ch.pos[0] * 2), mm(ch.to_go[0] * 2));
+        assert!(
+            v.display.iter().any(|l| l.trim_end() == x),
+            "{x}\n{:#?}",
+            v.display
+        );
+    }
+    // The page key again leaves it; the arrows under it move no tool post.
+    c.press(Key::Ctrl('p'));
+    assert_eq!(c.page(), Page::Mode);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The E-STOP as the history keeps it (the centre's entry).
 const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 

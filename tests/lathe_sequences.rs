@@ -289,7 +289,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             PanelEvent::Press(novanc_panel::Key::Ctrl('e')),
             PanelEvent::Press(novanc_panel::Key::Ctrl('u')),
             PanelEvent::Press(novanc_panel::Key::Ctrl('g')),
-        ][rng.range(0, 10) as usize]
+            PanelEvent::Press(novanc_panel::Key::Ctrl('p')),
+        ][rng.range(0, 11) as usize]
             .clone(),
         54..=57 => PanelEvent::Type(MDI_LINES[rng.below(MDI_LINES.len())].into()),
         58..=60 => PanelEvent::Type(EDIT_LINES[rng.range(0, 5) as usize].into()),

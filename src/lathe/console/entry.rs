@@ -372,10 +372,32 @@ impl LatheConsole {
         l
     }
 
+    /// The POS page of the selected channel (`c`): its tool tip as the plasma shows it (X as
+    /// a diameter) and what is left of the block in execution (Fanuc's DIST TO GO, what an
+    /// operator watches proving out a first part at a low override), then its spindle and
+    /// tool, the parts and the last cycle's time.
+    fn pos_lines(&self, c: &super::view::ChanView) -> Vec<String> {
+        let mm = |p: i64| p as f64 * self.desc.pulse_mm;
+        let mut l = vec![
+            format!("POS CH{}  X as a diameter", self.sel + 1),
+            format!("   {:>12} {:>12}", "POSITION", "DIST TO GO"),
+            format!("X  {:12.3} {:12.3}", mm(c.pos[0] * 2), mm(c.to_go[0] * 2)),
+            format!("Z  {:12.3} {:12.3}", mm(c.pos[1]), mm(c.to_go[1])),
+            format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state),
+        ];
+        let cycle = self.cycle_ns.map_or(String::new(), |t| {
+            format!("  CYCLE {:.3} s", t as f64 * 1e-9)
+        });
+        l.push(format!("PARTS {}/{}{cycle}", c.parts, self.counter.target));
+        l
+    }
+
     /// The program lines around `line` (the current block's), or around the editor's pointer
     /// in DATA mode, marked `>`.
-    pub(super) fn listing(&self, line: u32) -> Vec<String> {
+    pub(super) fn listing(&self, c: &super::view::ChanView) -> Vec<String> {
+        let line = c.line;
         match self.page {
+            Page::Pos => return self.pos_lines(c),
             Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools, self.ofs_cell),
             Page::Macro => {
                 // The centre's MACRO page, of the selected channel's variables.

@@ -41,7 +41,7 @@ pub fn map_key(k: Key) -> Action {
             | Action::MachineLock
             | Action::ZNeglect
             | Action::Acknowledge
-            | Action::Page(Page::Pos | Page::Prog | Page::Io) => Action::None,
+            | Action::Page(Page::Prog | Page::Io) => Action::None,
             a => a,
         },
     }
@@ -268,10 +268,12 @@ mod tests {
             Key::Alt('l'),
             Key::Alt('z'),
             Key::F(2),
-            Key::Ctrl('p'),
+            Key::Ctrl('d'),
+            Key::Ctrl('t'),
         ] {
             assert_eq!(map_key(k), Action::None, "{k:?}");
         }
+        assert_eq!(map_key(Key::Ctrl('p')), Action::Page(Page::Pos));
         // The centre's switches the lathe takes: the same keys.
         assert_eq!(map_key(Key::Alt('d')), Action::DryRun);
         assert_eq!(map_key(Key::Alt('f')), Action::RapidOverride);

@@ -917,6 +917,11 @@ impl Cycle {
                     v.note = st.alarm.clone().unwrap_or_default();
                 }
                 v.pos = [st.pos[0], st.pos[2]];
+                if let Some(b) = st.executing.as_ref().and_then(|e| e.block()) {
+                    if st.in_block {
+                        v.to_go = [b.end[0] - st.pos[0], b.end[2] - st.pos[2]];
+                    }
+                }
                 v.rpm = st.spindle as f64;
                 v.tool = st.tool.unwrap_or(0);
                 v.coolant = st.coolant;

@@ -498,7 +498,7 @@ impl LatheConsole {
     /// tool post under a page, as on the centre): whether `k` was one of them.
     fn page_key(&mut self, k: novanc_panel::Key) -> bool {
         let page = match crate::console::pages::page_of_key(k) {
-            Some(p @ (Page::Msg | Page::Macro | Page::Modal)) => p,
+            Some(p @ (Page::Msg | Page::Macro | Page::Modal | Page::Pos)) => p,
             _ if crate::console::keys::is_cursor_key(k) => {
                 match self.page {
                     Page::Msg => {
@@ -1301,7 +1301,7 @@ impl LatheConsole {
             .map(|(i, c)| view::summary_line(i, c, self.counter.target, i == self.sel, w))
             .collect();
         let c = &chans[self.sel];
-        let listing = self.listing(c.line);
+        let listing = self.listing(c);
         let mode = match self.page {
             Page::Mode => self.mode.word(),
             p => p.label(),

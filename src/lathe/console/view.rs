@@ -19,7 +19,7 @@ pub const LATHE_KEYS: [&str; 13] = [
 ];
 
 /// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 19] = [
+pub const LATHE_HELP: [&str; 20] = [
     "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
     "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
@@ -28,10 +28,11 @@ pub const LATHE_HELP: [&str; 19] = [
     "F12 / Alt+e   E-STOP: everything stops at once",
     "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         set the part target to the typed number",
-    "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (T1 X.. Z.. R.. P..)",
+    "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (a value Enter, Tab adds)",
     "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
     "Ctrl+U        MACRO: the channel's variables #1-#33, #100-#199, #500-#999; #500=12.5 Enter sets one",
     "Ctrl+G        MODAL: the channel's modal G codes, F, S, tool and the switches, read only",
+    "Ctrl+P        POS: the channel's tool tip and its distance to go in the block, the parts and cycle time",
     "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
     "The summary line: channel, state, current block or whom it waits for, parts/target",
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
@@ -70,6 +71,9 @@ pub struct ChanView {
     pub note: String,
     /// Tool tip, pulses [X radius, Z].
     pub pos: [i64; 2],
+    /// What is left of the block in execution, pulses [X radius, Z]: its end less the tip
+    /// (0 between blocks). The POS page's DIST TO GO.
+    pub to_go: [i64; 2],
     /// Spindle rpm, signed.
     pub rpm: f64,
     /// Tool number (0 none).

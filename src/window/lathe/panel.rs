@@ -326,6 +326,12 @@ pub fn relay(
         // The other pages over the selector, lit while up (the page key again leaves one).
         for (label, p, k, tip) in [
             (
+                "POS",
+                Page::Pos,
+                'p',
+                "the channel's position and distance to go (Ctrl+P)",
+            ),
+            (
                 "MACRO",
                 Page::Macro,
                 'u',
