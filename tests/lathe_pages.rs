@@ -262,6 +262,33 @@ fn pos_shows_the_tip_and_what_is_left_of_the_block() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn an_mdi_run_lists_what_it_runs_with_its_block_marked() {
+    let dir = common::temp_dir("lathe-mdi-listing");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Channel(1));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    for l in ["G0 X30 Z5", "G0 X20 Z2", "G0 X40 Z20"] {
+        c.handle(PanelEvent::Type(l.into()));
+    }
+    c.handle(PanelEvent::Start);
+    c.tick(250_000_000);
+    // The buffer is cleared at START; the display lists the run (it went blank before stop 40).
+    assert!(c.mdi_lines(1).is_empty());
+    let d = c.view().display;
+    let listed: Vec<&str> = d
+        .iter()
+        .map(|l| l.trim_end())
+        .filter(|l| l.contains(" G0 "))
+        .collect();
+    assert_eq!(
+        listed,
+        [">0001 G0 X30 Z5", " 0002 G0 X20 Z2", " 0003 G0 X40 Z20"],
+        "{d:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The E-STOP as the history keeps it (the centre's entry).
 const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 

@@ -427,8 +427,13 @@ impl LatheConsole {
                 .map(|l| format!(" {}", l.replace('\n', "*")))
                 .collect();
         }
-        let text = match self.mode {
-            OpMode::Mdi => self.mdi[self.sel].join("\n"),
+        // An MDI run under way lists what it runs, its block marked, as a cycle does (the
+        // buffer is cleared at START: before stop 40 the display went blank while it ran).
+        let running = self.cycle.as_ref().filter(|c| !c.is_over());
+        let run_lines = running.and_then(|c| c.mdi_lines(self.sel));
+        let text = match (self.mode, run_lines) {
+            (OpMode::Mdi, Some(l)) if self.mdi[self.sel].is_empty() => l.join("\n"),
+            (OpMode::Mdi, _) => self.mdi[self.sel].join("\n"),
             _ => self.programs[self.sel].text.clone(),
         };
         let lines: Vec<&str> = text.lines().collect();

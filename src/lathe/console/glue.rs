@@ -444,6 +444,14 @@ impl Cycle {
         }
     }
 
+    /// The lines of the MDI program this cycle runs on channel `ch`, if it is one (what the
+    /// MDI display lists while it runs: the buffer is cleared at START).
+    pub fn mdi_lines(&self, ch: usize) -> Option<&[String]> {
+        (self.mdi && !self.manual && ch == self.only)
+            .then(|| self.lines.get(ch).map(|l| &l[..]))
+            .flatten()
+    }
+
     /// Every channel's state as the kernel last published it.
     pub fn channels(&self) -> &[ChannelStatus] {
         &self.snap
