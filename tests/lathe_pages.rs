@@ -289,6 +289,44 @@ fn an_mdi_run_lists_what_it_runs_with_its_block_marked() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn a_message_said_inside_a_long_wait_is_kept_at_its_blocks_start() {
+    let dir = common::temp_dir("lathe-msg-time");
+    let rec = dir.join("msg.mcap");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    for l in ["G0 X20 Z10", "(msg, here)", "G4 P2", "G0 X40 Z20"] {
+        c.handle(PanelEvent::Type(l.into()));
+    }
+    c.handle(PanelEvent::Start);
+    // One wait to rest: the kernel runs it in its thread in one go (since stop 40).
+    c.handle(PanelEvent::Wait);
+    assert!(c.at_rest() && c.wait_error().is_none());
+    let said: Vec<u64> = c
+        .history()
+        .iter()
+        .filter(|e| e.text == "CH1 MSG: here")
+        .map(|e| e.machine_ns)
+        .collect();
+    assert_eq!(said.len(), 1, "{:?}", c.history());
+    assert!(matches!(c.finish(None), Some(Ok(_))));
+    // The dwell's start, as the recording has it: the message is kept at that instant, to the
+    // nanosecond, not at the wait's end (or the 10 ms step the console saw it in before).
+    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
+    let mut dwell = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap_or_else(|e| panic!("{e}")) {
+        let m = m.unwrap_or_else(|e| panic!("{e}"));
+        let json = String::from_utf8_lossy(&m.data).into_owned();
+        if m.channel.topic == "/nc/block" && json.contains("G04") {
+            dwell.push(m.log_time);
+        }
+    }
+    assert_eq!(dwell, said);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The E-STOP as the history keeps it (the centre's entry).
 const ESTOP_ALARM: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 

@@ -446,6 +446,7 @@ fn lathe(
         manual: false,
         single_block: false,
         op_mode: crate::panel_model::OpMode::Auto,
+        look_ns: 0,
     };
     let mut kept: Vec<_> = (0..desc.channels.len())
         .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))

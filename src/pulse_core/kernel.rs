@@ -208,6 +208,16 @@ pub enum KernelEvent {
         /// Message.
         msg: String,
     },
+    /// A block a console asked to be told of started (`Machine::mark_starts`: the blocks it
+    /// says a program's message at). Not recorded: the console records what it says.
+    BlockStart {
+        /// Channel.
+        ch: usize,
+        /// Machine time, ns.
+        t: u64,
+        /// The block's sequence number.
+        seq: u32,
+    },
 }
 
 /// How [`Kernel::run_until_idle`] ended.
@@ -243,6 +253,8 @@ pub enum Outcome {
     },
     /// The machine time given passed first.
     TimeLimit,
+    /// Feed override 0 holds the machine still for good ([`Kernel::stalled`]).
+    Stalled,
     /// The block asked of [`Kernel::run_until`] started.
     BlockStart {
         /// Channel.
@@ -266,6 +278,9 @@ pub struct Kernel {
     pending: Vec<KernelEvent>,
     /// The watcher ([`Kernel::set_watch`]).
     watch: Option<Box<KernelWatch>>,
+    /// The machine time [`Kernel::run_until`] runs between its looks at the channels, ns
+    /// (0: a thousand NCBR periods): how late past the moment it waits for it may end.
+    look_ns: u64,
 }
 
 /// What the sync table decides of a channel's view: a change of it is told to the watcher.
@@ -330,7 +345,8 @@ impl KernelEvent {
             | KernelEvent::Part { t, .. }
             | KernelEvent::Done { t, .. }
             | KernelEvent::Fault { t, .. }
-            | KernelEvent::Alarm { t, .. } => *t,
+            | KernelEvent::Alarm { t, .. }
+            | KernelEvent::BlockStart { t, .. } => *t,
         }
     }
 
@@ -423,6 +439,9 @@ impl KernelEvent {
             KernelEvent::Alarm { ch, line, msg, .. } => {
                 ev(*ch, "alarm", None, Some(i64::from(*line)), msg.clone())
             }
+            KernelEvent::BlockStart { ch, seq, .. } => {
+                ev(*ch, "block", None, Some(i64::from(*seq)), format!("N{seq}"))
+            }
         }
     }
 
@@ -437,7 +456,8 @@ impl KernelEvent {
             | KernelEvent::Part { ch, .. }
             | KernelEvent::Done { ch, .. }
             | KernelEvent::Fault { ch, .. }
-            | KernelEvent::Alarm { ch, .. } => *ch,
+            | KernelEvent::Alarm { ch, .. }
+            | KernelEvent::BlockStart { ch, .. } => *ch,
         }
     }
 }
@@ -513,6 +533,7 @@ impl Kernel {
             events: Vec::new(),
             pending: Vec::new(),
             watch: None,
+            look_ns: 0,
         })
     }
 
@@ -660,6 +681,7 @@ impl Kernel {
                     encoder,
                     resumed: false,
                 },
+                Mark::Start { t, seq } => KernelEvent::BlockStart { ch: i, t, seq },
                 Mark::Alarm { t, line, msg } => KernelEvent::Alarm {
                     ch: i,
                     t,
@@ -1111,6 +1133,31 @@ impl Kernel {
             .any(|c| !c.done && c.at_point.is_none() && !c.m.is_idle())
     }
 
+    /// How much machine time [`Kernel::run_until`] runs between its looks at the channels
+    /// (0: a thousand NCBR periods, `novanc run`'s, which reads the machine time of each
+    /// event, not of the run's end). A console waiting for rest sets 10 ms: its wait ends at
+    /// most that late, as it did when the console stepped the kernel itself.
+    pub fn set_look_ns(&mut self, ns: u64) {
+        self.look_ns = ns;
+    }
+
+    /// Feed override 0 holds the machine still for good: every channel that would go on
+    /// stands mid-block in a feed move at override 0 (`Machine::is_stalled`), and one does.
+    /// Nothing but the operator changes that, so a wait for rest would never end.
+    pub fn stalled(&self) -> bool {
+        let mut any = false;
+        for c in &self.chans {
+            if c.done || c.at_point.is_some() || c.m.is_idle() {
+                continue;
+            }
+            if !c.m.is_stalled() {
+                return false;
+            }
+            any = true;
+        }
+        any
+    }
+
     /// Runs until every channel has finished or none can go on without the operator, or
     /// `max_ns` of machine time has passed.
     pub fn run_until_idle(&mut self, max_ns: u64) -> Outcome {
@@ -1131,7 +1178,10 @@ impl Kernel {
             .chans
             .first()
             .map_or(1, |c| c.m.settings().ncbr_period_ns.max(1));
-        let step = period.saturating_mul(1000);
+        let step = match self.look_ns {
+            0 => period.saturating_mul(1000),
+            ns => ns.max(period),
+        };
         let looked = block.and_then(|(ch, seq)| {
             let m = &mut self.chans.get_mut(ch)?.m;
             m.look_for_block(Some(seq));
@@ -1152,6 +1202,9 @@ impl Kernel {
             }
             if !self.progressing() {
                 break self.outcome();
+            }
+            if self.stalled() {
+                break Outcome::Stalled;
             }
             if self.now - t0 >= max_ns {
                 break Outcome::TimeLimit;
@@ -1193,6 +1246,7 @@ impl Kernel {
             events: Vec::new(),
             pending: Vec::new(),
             watch: None,
+            look_ns: 0,
         }
     }
 

@@ -899,6 +899,10 @@ impl Runner {
             let ev = k.take_events();
             if let Some(s) = &self.sink {
                 for e in &ev {
+                    if matches!(e, KernelEvent::BlockStart { .. }) {
+                        // The console's own marks: what it says of them, it records.
+                        continue;
+                    }
                     let ch = e.channel();
                     let work = match e {
                         KernelEvent::CutStart { work, .. } => {
@@ -929,23 +933,43 @@ impl Runner {
 
     /// Virtual time with a kernel: every channel runs until the wait is over.
     fn advance_kernel(&mut self, w: Wait) -> Reached {
+        let interrupt = self.interrupt;
         let Some(k) = &mut self.k else {
             return Reached::Limit;
         };
-        let r = match w {
-            Wait::For(ns) => {
-                k.advance_to(k.now().saturating_add(ns));
-                Reached::Time
+        let (limit, block) = match w {
+            Wait::For(ns) => (ns, None),
+            Wait::Idle(limit) => (limit, None),
+            Wait::Block(ch, seq, limit) => (limit, Some((ch, seq))),
+        };
+        let end = k.now().saturating_add(limit);
+        // A slice of machine time at a time, as the single machine runs, so that a stop
+        // signal is seen between slices (a script's wait on a lathe ends on it).
+        let r = loop {
+            let slice = end.saturating_sub(k.now()).min(SLICE_NS);
+            let out = match w {
+                Wait::For(_) => {
+                    k.advance_to(k.now().saturating_add(slice));
+                    Outcome::TimeLimit
+                }
+                _ => k.run_until(slice, block),
+            };
+            match out {
+                Outcome::TimeLimit if k.now() >= end => {
+                    break if matches!(w, Wait::For(_)) {
+                        Reached::Time
+                    } else {
+                        Reached::Limit
+                    };
+                }
+                Outcome::TimeLimit => {}
+                Outcome::BlockStart { .. } => break Reached::BlockStart,
+                Outcome::Stalled => break Reached::Stalled,
+                _ => break Reached::Idle,
             }
-            Wait::Idle(limit) => match k.run_until_idle(limit) {
-                Outcome::TimeLimit => Reached::Limit,
-                _ => Reached::Idle,
-            },
-            Wait::Block(ch, seq, limit) => match k.run_until(limit, Some((ch, seq))) {
-                Outcome::TimeLimit => Reached::Limit,
-                Outcome::BlockStart { .. } => Reached::BlockStart,
-                _ => Reached::Idle,
-            },
+            if interrupt.is_some_and(|f| f()) {
+                break Reached::Interrupted;
+            }
         };
         self.drain_pulses();
         r

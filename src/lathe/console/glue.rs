@@ -63,7 +63,10 @@ pub struct Cycle {
     /// the program runs again, for the next part).
     msg_at: Vec<(usize, u32)>,
     /// The messages shown since the console last took them: channel and text.
-    said: Vec<(usize, String)>,
+    said: Vec<(usize, u64, String)>,
+    /// The kernel's events taken and not yet given to the console (the block starts it
+    /// marked are taken here: they say the messages).
+    events: Vec<KernelEvent>,
     /// What each channel's program was read from, to read it again with revised tools
     /// ([`Cycle::reread`]); None for a channel with no program of the cycle.
     reread: Vec<Option<Reread>>,
@@ -124,6 +127,9 @@ pub struct CycleSpec {
     pub single_block: bool,
     /// The operation selector's position, as `/nc/state` records it (`op_mode`).
     pub op_mode: crate::panel_model::OpMode,
+    /// How late a wait may end past what it waits for, ns (`Kernel::set_look_ns`; 0: the
+    /// kernel's thousand NCBR periods, `novanc run`'s, which ends with the machine at rest).
+    pub look_ns: u64,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
     /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
@@ -233,6 +239,29 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
         progs.push(p);
         lines.push(text.lines().map(str::to_string).collect());
     }
+    // The blocks each channel says a message at, and its first and last blocks (a program
+    // that starts again for the next part says what it had left first), marked in its machine: their
+    // starts come back as `KernelEvent::BlockStart`, each with its machine time, however long
+    // the kernel ran at a time.
+    let starts: Vec<Vec<u32>> = progs
+        .iter()
+        .zip(&msgs)
+        .map(
+            |(p, m): (&Vec<crate::block::Statement>, &Vec<(u32, String)>)| {
+                if m.is_empty() {
+                    return Vec::new();
+                }
+                let first = p.iter().find_map(|s| s.blocks.first()).map(|b| b.seq);
+                let last = p.iter().rev().find_map(|s| s.blocks.last()).map(|b| b.seq);
+                m.iter()
+                    .map(|x| x.0)
+                    .filter(|&s| s != u32::MAX)
+                    .chain(first)
+                    .chain(last)
+                    .collect()
+            },
+        )
+        .collect();
     let (chans, flow) = desc.kernel_channels(progs)?;
     // Where each program starts: the pointer of a channel not yet running (or RESET).
     let first = chans
@@ -242,6 +271,12 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
     // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
     let flow = spec.mdi.is_none().then_some(flow);
     let mut k = Kernel::new(chans, flow, spec.target)?;
+    k.set_look_ns(spec.look_ns);
+    for (ch, seqs) in starts.into_iter().enumerate() {
+        if let Some(m) = k.machine_mut(ch) {
+            m.mark_starts(seqs);
+        }
+    }
     for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
         k.command(ch, Command::Override(spec.feed_override))?;
@@ -358,6 +393,7 @@ impl Cycle {
             msgs,
             msg_at: vec![(0, 0); n],
             said: Vec::new(),
+            events: Vec::new(),
             reread,
             opts,
             desc: desc.clone(),
@@ -378,6 +414,12 @@ impl Cycle {
     /// (`PulseCore::set_watch`); None stops it.
     pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
         self.core.set_watch(w);
+    }
+
+    /// Asked between the slices of machine time a wait runs in the kernel's thread: a true
+    /// answer ends the wait early (a stop signal), as on the centre.
+    pub fn set_interrupt(&mut self, f: fn() -> bool) {
+        self.core.set_interrupt(f);
     }
 
     /// Takes the kernel's latest published state; an alarm that appeared since is the
@@ -403,44 +445,56 @@ impl Cycle {
         }
         self.snap = snap;
         self.t = self.core.status().machine_ns;
-        self.show_messages();
+        for e in self.core.take_events() {
+            match e {
+                KernelEvent::BlockStart { ch, t, seq } => self.block_started(ch, t, seq),
+                e => self.events.push(e),
+            }
+        }
+        self.say_at_ends();
     }
 
-    /// The programs' messages whose block has begun (or, after the last block, whose channel
-    /// has finished its program) are said, in order; a program that runs again for the next
-    /// part says them again.
-    fn show_messages(&mut self) {
-        for (ch, c) in self.snap.iter().enumerate() {
-            let Some(msgs) = self.msgs.get(ch).filter(|m| !m.is_empty()) else {
-                continue;
-            };
+    /// Says channel `ch`'s messages up to block `upto` (`u32::MAX`: all it has left), in
+    /// order, at machine time `t`.
+    fn say_upto(&mut self, ch: usize, upto: u32, t: u64) {
+        let Some(msgs) = self.msgs.get(ch) else {
+            return;
+        };
+        let next = &mut self.msg_at[ch].0;
+        while let Some((_, text)) = msgs.get(*next).filter(|m| m.0 <= upto) {
+            self.said.push((ch, t, text.clone()));
+            *next += 1;
+        }
+    }
+
+    /// A block channel `ch` said a message at (or its first) started at `t`: the messages up
+    /// to it are said, each once per part; a program begun again (the next part) first says
+    /// what it had left.
+    fn block_started(&mut self, ch: usize, t: u64, seq: u32) {
+        let Some(&(_, last)) = self.msg_at.get(ch) else {
+            return;
+        };
+        if seq < last {
+            self.say_upto(ch, u32::MAX, t);
+            self.msg_at[ch].0 = 0;
+        }
+        self.msg_at[ch].1 = seq;
+        self.say_upto(ch, seq, t);
+    }
+
+    /// The messages after a program's last block, said once its channel has finished it (an
+    /// MDI run: it ran a block and stands idle again).
+    fn say_at_ends(&mut self) {
+        for ch in 0..self.snap.len() {
+            let c = &self.snap[ch];
+            let last = self.msg_at.get(ch).map_or(0, |m| m.1);
             let st = &c.status;
-            let seq = st
-                .executing
-                .as_ref()
-                .and_then(|e| e.block())
-                .map_or(0, |b| b.seq);
-            let (next, last) = &mut self.msg_at[ch];
-            // Ran to its end (an MDI run: it ran a block and stands idle again).
             let ended = st.program_end
                 || c.sync.as_ref().is_some_and(|v| v.done)
-                || (st.run == 0 && st.idle && (seq > 0 || *last > 0));
-            let said = &mut self.said;
-            let mut show = |upto: u32, next: &mut usize| {
-                while let Some((_, text)) = msgs.get(*next).filter(|m| m.0 <= upto) {
-                    said.push((ch, text.clone()));
-                    *next += 1;
-                }
-            };
-            if seq > 0 && seq < *last {
-                // The program began again (the next part): what it had left to say first.
-                show(u32::MAX, next);
-                *next = 0;
+                || (st.run == 0 && st.idle && last > 0);
+            if ended {
+                self.say_upto(ch, u32::MAX, self.t);
             }
-            if seq > 0 {
-                *last = seq;
-            }
-            show(if ended { u32::MAX } else { seq }, next);
         }
     }
 
@@ -501,39 +555,14 @@ impl Cycle {
         })
     }
 
-    /// Feed override 0 holds the machine still for good: every channel not at rest is in a
-    /// feed move (a line or an arc, not a thread pass, which keeps 100 %), and at least one
-    /// is. Nothing but the operator can change that: a wait would never end.
-    pub fn stalled(&self, feed_override: u32) -> bool {
-        if feed_override > 0 {
-            return false;
-        }
-        let mut feeding = false;
-        for c in &self.snap {
-            let v = c.sync.as_ref();
-            if v.is_some_and(|v| v.done || v.at_sync.is_some()) || c.status.idle {
-                continue;
-            }
-            let feed = c
-                .status
-                .executing
-                .as_ref()
-                .and_then(|e| e.block())
-                .is_some_and(|b| {
-                    b.thread.is_none()
-                        && matches!(
-                            b.motion,
-                            crate::block::Motion::Linear
-                                | crate::block::Motion::ArcCw
-                                | crate::block::Motion::ArcCcw
-                        )
-                });
-            if !feed {
-                return false;
-            }
-            feeding = true;
-        }
-        feeding
+    /// Feed override 0 holds the machine still for good: every channel that would go on
+    /// stands mid-block in a feed move at override 0 (a thread pass keeps 100 %), and one does
+    /// (`Kernel::stalled`, which ends a wait too). Nothing but the operator can change that: a
+    /// wait would never end.
+    pub fn stalled(&self) -> bool {
+        self.core
+            .inspect_kernel(|k| k.is_some_and(|k| k.stalled()))
+            .unwrap_or(false)
     }
 
     /// Advances the machine by at most `ns` of machine time (virtual time), or less when
@@ -721,8 +750,9 @@ impl Cycle {
         r
     }
 
-    /// The programs' messages said since the last call: channel and text (`CH1 MSG: text`).
-    pub fn take_said(&mut self) -> Vec<(usize, String)> {
+    /// The programs' messages said since the last call: channel, the machine time its block
+    /// started at, and text (`CH1 MSG: text`).
+    pub fn take_said(&mut self) -> Vec<(usize, u64, String)> {
         std::mem::take(&mut self.said)
     }
 
@@ -733,7 +763,7 @@ impl Cycle {
 
     /// The kernel's events since the last call (for the recording and the messages).
     pub fn take_events(&mut self) -> Vec<KernelEvent> {
-        self.core.take_events()
+        std::mem::take(&mut self.events)
     }
 
     /// Each channel's position now (for the next cycle to start from).

@@ -299,11 +299,15 @@ impl LatheConsole {
             manual: true,
             single_block: false,
             op_mode: self.mode,
+            look_ns: super::WAIT_LOOK_NS,
         };
         let mut kept = self.kept.clone();
         let mut c = glue::Cycle::new(&self.desc, spec, &mut kept)?;
         if self.watch.is_some() {
             c.set_watch(self.watch.clone());
+        }
+        if let Some(f) = self.interrupt {
+            c.set_interrupt(f);
         }
         self.cycle = Some(c);
         Ok(())

@@ -35,6 +35,11 @@ use novanc_panel::Key;
 use std::path::Path;
 use view::ChanView;
 
+/// How late a script's wait may end past what it waits for (rest, a block's start): the
+/// kernel looks at its channels this often, in machine time (`Kernel::set_look_ns`), as the
+/// console's 10 ms steps did before the wait ran in the kernel's thread.
+pub(crate) const WAIT_LOOK_NS: u64 = 10_000_000;
+
 /// The lathe console.
 pub struct LatheConsole {
     desc: LatheDesc,
@@ -73,6 +78,8 @@ pub struct LatheConsole {
     alarms_logged: Vec<String>,
     /// The E-STOP in force is in the history.
     estop_logged: bool,
+    /// The machine time each channel's latest fault or alarm came at (the kernel's event).
+    alarm_at: Vec<Option<u64>>,
     /// The channel the message just said speaks of, when not the selected one (a script's
     /// `fault 2 ...`): the history files it under that channel's program.
     msg_of: Option<usize>,
@@ -217,6 +224,7 @@ impl LatheConsole {
             last_part_ns: None,
             alarms_logged: vec![String::new(); n],
             estop_logged: false,
+            alarm_at: vec![None; n],
             msg_of: None,
             entry: String::new(),
             message: String::new(),
@@ -454,9 +462,7 @@ impl LatheConsole {
     /// The machine stands still at feed override 0 with a feed move in progress: a wait
     /// would never end (the centre's `wait` says so too).
     pub fn stalled(&self) -> bool {
-        self.cycle
-            .as_ref()
-            .is_some_and(|c| c.stalled(self.feed_override))
+        self.cycle.as_ref().is_some_and(|c| c.stalled())
     }
 
     /// The plasma display's size: (rows, columns).
@@ -591,7 +597,8 @@ impl LatheConsole {
                 let text = format!("CH{} {}: {}", i + 1, ch.state, ch.note);
                 if *logged != text {
                     *logged = text.clone();
-                    let at = (t, ch.program.as_str(), ch.line);
+                    let when = self.alarm_at.get(i).copied().flatten().unwrap_or(t);
+                    let at = (when, ch.program.as_str(), ch.line);
                     let r = self
                         .log
                         .put(&mut self.recorder, at, Kind::Alarm, level::ERROR, &text);
@@ -979,12 +986,16 @@ impl LatheConsole {
             manual: false,
             single_block: !mdi && self.mode == OpMode::Single,
             op_mode: self.mode,
+            look_ns: WAIT_LOOK_NS,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
             Err(e) => self.message = e,
             Ok(mut c) => {
                 if self.watch.is_some() {
                     c.set_watch(self.watch.clone());
+                }
+                if let Some(f) = self.interrupt {
+                    c.set_interrupt(f);
                 }
                 if !mdi {
                     let mut next = self.counter.clone();
@@ -1145,13 +1156,16 @@ impl LatheConsole {
         reached
     }
 
-    /// Runs the machine for `limit_ns` of machine time, 10 ms at a time, recording as it goes
-    /// (a script's `wait ms T`), or only until `until` holds: [`RunUntil::Rest`], every
-    /// channel at rest (finished, stopped, waiting on a stopped channel, faulted or in
-    /// E-STOP), looked for between the steps (a script's `wait`); [`RunUntil::Block`], the
-    /// block's start, which ends its step (a script's `wait block N`). `stop` is asked before
-    /// each step and ends the run early when true (a stop signal). Returns the machine time
-    /// given to the steps run.
+    /// Runs the machine for `limit_ns` of machine time, recording as it goes (a script's
+    /// `wait ms T`), or only until `until` holds: [`RunUntil::Rest`], every channel at rest
+    /// (finished, stopped, waiting on a stopped channel, faulted or in E-STOP: a script's
+    /// `wait`); [`RunUntil::Block`], the block's start (a script's `wait block N`). In virtual
+    /// time it is one run of the kernel in its thread, as the centre's wait is: the kernel
+    /// ends it at feed override 0 with a feed move standing still (`Kernel::stalled`) and, in
+    /// slices, on a stop signal (`set_interrupt`); what it did (parts, messages at the starts
+    /// of their blocks, alarms) comes back with its machine times. Before stop 40 the console
+    /// stepped it 10 ms at a time to see those. `stop` is asked first. Returns the machine
+    /// time given.
     pub fn run_for(&mut self, limit_ns: u64, until: RunUntil, stop: impl Fn() -> bool) -> u64 {
         if self.cycle.is_none() {
             // Nothing moves: time only passes (or, waiting, nothing to wait for).
@@ -1159,28 +1173,14 @@ impl LatheConsole {
             self.tick(used);
             return used;
         }
-        if until == RunUntil::Rest && self.at_rest() {
-            // Nothing to wait for: no machine time passes (the centre's wait; a 10 ms step
-            // passed here before stop 39).
+        if (until == RunUntil::Rest && self.at_rest()) || stop() {
+            // Nothing to wait for: no machine time passes (the centre's wait).
             return 0;
         }
-        let mut used = 0;
-        let step = 10_000_000;
-        while used < limit_ns && !stop() {
-            let n = step.min(limit_ns - used);
-            used += n;
-            let reached = match until {
-                RunUntil::Rest => {
-                    self.tick(n);
-                    self.cycle.as_ref().is_none_or(|c| c.at_rest())
-                }
-                u => self.step(n, u),
-            };
-            if reached || (until != RunUntil::Time && self.stalled()) {
-                break;
-            }
-        }
-        used
+        let t0 = self.now_ns;
+        self.keep_jog();
+        self.step(limit_ns, until);
+        self.now_ns - t0
     }
 
     /// Takes what the machine reported: records it, counts parts into the stores.
@@ -1190,12 +1190,21 @@ impl LatheConsole {
             // taken here so that they do not pile up in the core for the console's lifetime.
             // A part delivered times the cycle: from the part before it, the first from START.
             for e in c.take_events() {
-                if let crate::pulse_core::KernelEvent::Part { ch, t, .. } = e {
-                    if ch == self.desc.unloader && !c.mdi {
+                use crate::pulse_core::KernelEvent as E;
+                match e {
+                    E::Part { ch, t, .. } if ch == self.desc.unloader && !c.mdi => {
                         let from = self.last_part_ns.unwrap_or(c.started_ns());
                         self.cycle_ns = Some(t.saturating_sub(from));
                         self.last_part_ns = Some(t);
                     }
+                    // When a channel's fault or alarm came, for the history (a wait runs the
+                    // kernel for as long as it lasts, and the console looks at its end).
+                    E::Fault { ch, t, .. } | E::Alarm { ch, t, .. } => {
+                        if let Some(a) = self.alarm_at.get_mut(ch) {
+                            *a = Some(t);
+                        }
+                    }
+                    _ => {}
                 }
             }
             for (l, s) in self.left.iter_mut().zip(c.channels()) {
@@ -1217,7 +1226,7 @@ impl LatheConsole {
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
             let mut failed = None;
-            for (ch, text) in c.take_said() {
+            for (ch, t, text) in c.take_said() {
                 let file = if c.mdi {
                     format!("MDI CH{}", ch + 1)
                 } else {
@@ -1226,8 +1235,9 @@ impl LatheConsole {
                         .map(|p| p.name.clone())
                         .unwrap_or_default()
                 };
-                // Each one in the history, however many a step gives (the centre's rule).
-                let at = (self.now_ns, file.as_str(), 0);
+                // Each one in the history at the time its block started, however many a step
+                // gives (the centre's rule).
+                let at = (t, file.as_str(), 0);
                 let r = self
                     .log
                     .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);

@@ -354,6 +354,9 @@ pub struct Machine {
     /// The block start looked for ([`Machine::look_for_block`]): its sequence number, and the
     /// NCBR tick it first started at since (None: not yet).
     looked_for: Option<(u32, Option<u64>)>,
+    /// The blocks whose start a channel marks ([`Machine::mark_starts`]), by sequence number,
+    /// sorted.
+    marked: Vec<u32>,
     /// Time the block in progress completed inside the last PGEN call.
     finished_at: Option<u64>,
     /// The NCBR tick a chuck point's spindle signal came on at inside the last PGEN call (the
@@ -421,6 +424,13 @@ pub enum Mark {
         /// The encoder count at its first step.
         encoder: u64,
     },
+    /// A block of [`Machine::mark_starts`] started at `t`.
+    Start {
+        /// Machine time, ns.
+        t: u64,
+        /// Its sequence number.
+        seq: u32,
+    },
     /// A block was refused: the machine is in alarm.
     Alarm {
         /// Machine time, ns.
@@ -486,6 +496,7 @@ impl Machine {
             starved: false,
             started_seq: None,
             looked_for: None,
+            marked: Vec::new(),
             finished_at: None,
             signal_at: None,
             audit: None,
@@ -546,6 +557,15 @@ impl Machine {
     /// started (a kernel's `wait block N`, which cannot stop one channel alone mid-step).
     pub fn look_for_block(&mut self, seq: Option<u32>) {
         self.looked_for = seq.map(|s| (s, None));
+    }
+
+    /// Marks the start of each block of `seqs` (sequence numbers) with [`Mark::Start`], every
+    /// time one starts: the blocks a console says a program's message at (a kernel's
+    /// `KernelEvent::BlockStart`, with its machine time).
+    pub fn mark_starts(&mut self, mut seqs: Vec<u32>) {
+        seqs.sort_unstable();
+        seqs.dedup();
+        self.marked = seqs;
     }
 
     /// The NCBR tick the block looked for first started at, if it has since it was asked.
@@ -1479,6 +1499,12 @@ impl Machine {
         self.in_tap = b.tap != crate::block::Tap::No || b.thread.is_some();
         self.spindle_sync(self.now);
         self.started_seq = Some(b.seq);
+        if self.channel && self.marked.binary_search(&b.seq).is_ok() {
+            self.marks.push(Mark::Start {
+                t: self.now,
+                seq: b.seq,
+            });
+        }
         if let Some((seq, at @ None)) = &mut self.looked_for {
             if *seq == b.seq {
                 *at = Some(self.now);
