@@ -19,6 +19,26 @@ fn open(state: &std::path::Path) -> LatheConsole {
         .0
 }
 
+/// The Citizen's console on `state`, recording to `state/name`, and the recording's path.
+fn open_recorded(state: &std::path::Path, name: &str) -> (LatheConsole, std::path::PathBuf) {
+    let rec = state.join(name);
+    let c = LatheConsole::open(LatheDesc::citizen(), state, 20, 60, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    (c, rec)
+}
+
+/// Every message of `topic` in the recording `rec`: its log time and its JSON.
+fn recorded(rec: &std::path::Path, topic: &str) -> Vec<(u64, String)> {
+    let bytes = std::fs::read(rec).unwrap_or_else(|e| panic!("{e}"));
+    mcap::MessageStream::new(&bytes)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .map(|m| m.unwrap_or_else(|e| panic!("{e}")))
+        .filter(|m| m.channel.topic == topic)
+        .map(|m| (m.log_time, String::from_utf8_lossy(&m.data).into_owned()))
+        .collect()
+}
+
 /// The history's entries of `kind`, oldest first.
 fn entries(c: &LatheConsole, kind: Kind) -> Vec<String> {
     c.history()
@@ -141,10 +161,7 @@ fn a_fault_that_comes_again_in_a_new_cycle_is_kept_again() {
 #[test]
 fn a_channels_fault_is_filed_under_that_channels_program() {
     let dir = common::temp_dir("lathe-history-file");
-    let rec = dir.join("fault.mcap");
-    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0;
+    let (mut c, rec) = open_recorded(&dir, "fault.mcap");
     c.handle(PanelEvent::Op(OpMode::Auto));
     c.handle(PanelEvent::Start);
     c.tick(200_000_000);
@@ -152,15 +169,11 @@ fn a_channels_fault_is_filed_under_that_channels_program() {
     c.handle(PanelEvent::Fault(1, "chip jam".into()));
     c.tick(10_000_000);
     assert!(matches!(c.finish(None), Some(Ok(_))));
-    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
-    let mut filed = Vec::new();
-    for m in mcap::MessageStream::new(&bytes).unwrap_or_else(|e| panic!("{e}")) {
-        let m = m.unwrap_or_else(|e| panic!("{e}"));
-        let json = String::from_utf8_lossy(&m.data).into_owned();
-        if m.channel.topic == "/foxglove/log" && json.contains("CH2 FAULT: chip jam") {
-            filed.push(json);
-        }
-    }
+    let filed: Vec<String> = recorded(&rec, "/foxglove/log")
+        .into_iter()
+        .map(|(_, json)| json)
+        .filter(|json| json.contains("CH2 FAULT: chip jam"))
+        .collect();
     // The message and the alarm, both under SYSTEM2's program (the message was filed under
     // the selected channel's, SYSTEM1's, before stop 40).
     assert_eq!(filed.len(), 2, "{filed:?}");
@@ -256,7 +269,7 @@ fn pos_shows_the_tip_and_what_is_left_of_the_block() {
             v.display
         );
     }
-    // The page key again leaves it; the arrows under it move no tool post.
+    // The page key again leaves it.
     c.press(Key::Ctrl('p'));
     assert_eq!(c.page(), Page::Mode);
     let _ = std::fs::remove_dir_all(&dir);
@@ -292,10 +305,7 @@ fn an_mdi_run_lists_what_it_runs_with_its_block_marked() {
 #[test]
 fn a_message_said_inside_a_long_wait_is_kept_at_its_blocks_start() {
     let dir = common::temp_dir("lathe-msg-time");
-    let rec = dir.join("msg.mcap");
-    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0;
+    let (mut c, rec) = open_recorded(&dir, "msg.mcap");
     c.handle(PanelEvent::Op(OpMode::Mdi));
     for l in ["G0 X20 Z10", "(msg, here)", "G4 P2", "G0 X40 Z20"] {
         c.handle(PanelEvent::Type(l.into()));
@@ -314,15 +324,11 @@ fn a_message_said_inside_a_long_wait_is_kept_at_its_blocks_start() {
     assert!(matches!(c.finish(None), Some(Ok(_))));
     // The dwell's start, as the recording has it: the message is kept at that instant, to the
     // nanosecond, not at the wait's end (or the 10 ms step the console saw it in before).
-    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
-    let mut dwell = Vec::new();
-    for m in mcap::MessageStream::new(&bytes).unwrap_or_else(|e| panic!("{e}")) {
-        let m = m.unwrap_or_else(|e| panic!("{e}"));
-        let json = String::from_utf8_lossy(&m.data).into_owned();
-        if m.channel.topic == "/nc/block" && json.contains("G04") {
-            dwell.push(m.log_time);
-        }
-    }
+    let dwell: Vec<u64> = recorded(&rec, "/nc/block")
+        .into_iter()
+        .filter(|(_, json)| json.contains("G04"))
+        .map(|(t, _)| t)
+        .collect();
     assert_eq!(dwell, said);
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -468,10 +474,7 @@ fn a_variable_set_on_macro_is_stored_and_read_by_the_channels_next_program() {
 #[test]
 fn the_cycle_time_is_the_time_between_the_last_two_parts_delivered() {
     let dir = common::temp_dir("lathe-cycle-time");
-    let rec = dir.join("r.mcap");
-    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, Some(&rec))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0;
+    let (mut c, rec) = open_recorded(&dir, "r.mcap");
     assert_eq!(c.cycle_time_ns(), None);
     assert!(!c.view().title.contains("CYCLE"));
     c.handle(PanelEvent::Target(3));
@@ -486,16 +489,12 @@ fn the_cycle_time_is_the_time_between_the_last_two_parts_delivered() {
     );
     let unloader = c.desc().unloader;
     assert!(c.finish(None).is_none_or(|r| r.is_ok()));
-    let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
-    let parts: Vec<u64> = mcap::MessageStream::new(&bytes)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .map(|m| m.unwrap_or_else(|e| panic!("{e}")))
-        .filter(|m| m.channel.topic == "/lathe/event")
-        .filter(|m| {
-            let j = String::from_utf8_lossy(&m.data);
+    let parts: Vec<u64> = recorded(&rec, "/lathe/event")
+        .into_iter()
+        .filter(|(_, j)| {
             j.contains("\"event\":\"part\"") && j.contains(&format!("\"channel\":{unloader},"))
         })
-        .map(|m| m.log_time)
+        .map(|(t, _)| t)
         .collect();
     assert_eq!(parts.len(), 3, "{parts:?}");
     assert_eq!(shown, parts[2] - parts[1]);

@@ -405,17 +405,22 @@ pub trait Keyed {
     /// The switches the toggle keys turn: BLOCK DELETE and OPTIONAL STOP, the machine's
     /// (rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT), the feed override and
     /// the handwheel's axis and scale.
-    fn toggles(
-        &self,
-    ) -> (
-        crate::gcode::Switches,
-        crate::record::Switches,
-        u32,
-        (Axis, u32),
-    );
+    fn toggles(&self) -> Toggles;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
     /// TARGET): whether `action` was one it has.
     fn own_key(&mut self, k: Key, action: &Action) -> bool;
+}
+
+/// The switches the toggle keys of [`press`] turn, as a console has them.
+pub struct Toggles {
+    /// BLOCK DELETE and OPTIONAL STOP.
+    pub panel: crate::gcode::Switches,
+    /// The machine's: rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT.
+    pub machine: crate::record::Switches,
+    /// The feed override, percent.
+    pub feed_override: u32,
+    /// The handwheel's axis and scale.
+    pub wheel: (Axis, u32),
 }
 
 /// Presses a key on a console: the one key pipeline. The relay panel (STOP, RESET, E-STOP)
@@ -448,7 +453,12 @@ pub fn press<C: Keyed>(c: &mut C, k: Key) {
     if c.screen().refuses(k) || c.takes_first(k, &action) {
         return;
     }
-    let (sw, machine, feed, wheel) = c.toggles();
+    let Toggles {
+        panel: sw,
+        machine,
+        feed_override: feed,
+        wheel,
+    } = c.toggles();
     let ev = match action {
         Action::Event(e) => e,
         Action::Move(axis, dir) => match c.op() {
@@ -561,20 +571,13 @@ impl Keyed for Console {
     fn page(&self) -> Page {
         self.pages.page
     }
-    fn toggles(
-        &self,
-    ) -> (
-        crate::gcode::Switches,
-        crate::record::Switches,
-        u32,
-        (Axis, u32),
-    ) {
-        (
-            self.switches,
-            self.status.switches,
-            self.feed_override,
-            self.wheel,
-        )
+    fn toggles(&self) -> Toggles {
+        Toggles {
+            panel: self.switches,
+            machine: self.status.switches,
+            feed_override: self.feed_override,
+            wheel: self.wheel,
+        }
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {

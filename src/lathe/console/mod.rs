@@ -1450,24 +1450,16 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn page(&self) -> Page {
         self.page
     }
-    fn toggles(
-        &self,
-    ) -> (
-        crate::gcode::Switches,
-        crate::record::Switches,
-        u32,
-        (crate::panel_model::Axis, u32),
-    ) {
-        let sw = crate::gcode::Switches {
-            block_delete: self.block_delete,
-            optional_stop: self.optional_stop,
-        };
-        (
-            sw,
-            self.switches,
-            self.feed_override,
-            (self.wheel_axis, self.increment),
-        )
+    fn toggles(&self) -> crate::console::keys::Toggles {
+        crate::console::keys::Toggles {
+            panel: crate::gcode::Switches {
+                block_delete: self.block_delete,
+                optional_stop: self.optional_stop,
+            },
+            machine: self.switches,
+            feed_override: self.feed_override,
+            wheel: (self.wheel_axis, self.increment),
+        }
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
