@@ -298,7 +298,7 @@ fn a_work_loaded_by_hand_is_the_operators_in_the_lathes_events() {
     })
     .record(None)
     {
-        Event::Lathe { text, .. } => text,
+        Some(Event::Lathe { text, .. }) => text,
         _ => String::new(),
     };
     assert_eq!(text(None, Some(0), true), "W1 OPERATOR -> CH1");

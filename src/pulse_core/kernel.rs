@@ -350,10 +350,11 @@ impl KernelEvent {
         }
     }
 
-    /// The `/lathe/event` message of this event (docs/recording.md, "Lathe recordings"):
+    /// The `/lathe/event` message of this event (docs/recording.md, "Lathe recordings"), None
+    /// for a block start a console asked for (not recorded):
     /// the lathe console's words and texts. `work`: the work a thread pass cuts (the work of
     /// the channel's latest cut; the pass itself is one).
-    pub fn record(&self, work: Option<u32>) -> crate::record::Event {
+    pub fn record(&self, work: Option<u32>) -> Option<crate::record::Event> {
         let chan = |c: usize| u16::try_from(c + 1).unwrap_or(u16::MAX);
         let ev = |ch: usize, event, work, value, text| crate::record::Event::Lathe {
             t_ns: self.t(),
@@ -363,7 +364,7 @@ impl KernelEvent {
             value,
             text,
         };
-        match self {
+        Some(match self {
             KernelEvent::Transfer {
                 from,
                 to,
@@ -439,10 +440,9 @@ impl KernelEvent {
             KernelEvent::Alarm { ch, line, msg, .. } => {
                 ev(*ch, "alarm", None, Some(i64::from(*line)), msg.clone())
             }
-            KernelEvent::BlockStart { ch, seq, .. } => {
-                ev(*ch, "block", None, Some(i64::from(*seq)), format!("N{seq}"))
-            }
-        }
+            // The console's own marks: what it says of them, it records.
+            KernelEvent::BlockStart { .. } => return None,
+        })
     }
 
     /// The channel it happened on (a transfer: the giving channel, or the receiving one

@@ -899,10 +899,6 @@ impl Runner {
             let ev = k.take_events();
             if let Some(s) = &self.sink {
                 for e in &ev {
-                    if matches!(e, KernelEvent::BlockStart { .. }) {
-                        // The console's own marks: what it says of them, it records.
-                        continue;
-                    }
                     let ch = e.channel();
                     let work = match e {
                         KernelEvent::CutStart { work, .. } => {
@@ -913,7 +909,9 @@ impl Runner {
                         }
                         _ => self.last_work.get(ch).copied().flatten(),
                     };
-                    super::pulse_out::emit(s, e.record(work), &self.lossless);
+                    if let Some(r) = e.record(work) {
+                        super::pulse_out::emit(s, r, &self.lossless);
+                    }
                 }
             }
             if !ev.is_empty() {

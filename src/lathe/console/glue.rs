@@ -240,27 +240,25 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
         lines.push(text.lines().map(str::to_string).collect());
     }
     // The blocks each channel says a message at, and its first and last blocks (a program
-    // that starts again for the next part says what it had left first), marked in its machine: their
-    // starts come back as `KernelEvent::BlockStart`, each with its machine time, however long
-    // the kernel ran at a time.
+    // that starts again for the next part says what it had left first), marked in its
+    // machine: their starts come back as `KernelEvent::BlockStart`, each with its machine
+    // time, however long the kernel ran at a time.
     let starts: Vec<Vec<u32>> = progs
         .iter()
         .zip(&msgs)
-        .map(
-            |(p, m): (&Vec<crate::block::Statement>, &Vec<(u32, String)>)| {
-                if m.is_empty() {
-                    return Vec::new();
-                }
-                let first = p.iter().find_map(|s| s.blocks.first()).map(|b| b.seq);
-                let last = p.iter().rev().find_map(|s| s.blocks.last()).map(|b| b.seq);
-                m.iter()
-                    .map(|x| x.0)
-                    .filter(|&s| s != u32::MAX)
-                    .chain(first)
-                    .chain(last)
-                    .collect()
-            },
-        )
+        .map(|(p, m)| {
+            if m.is_empty() {
+                return Vec::new();
+            }
+            let first = p.iter().find_map(|s| s.blocks.first()).map(|b| b.seq);
+            let last = p.iter().rev().find_map(|s| s.blocks.last()).map(|b| b.seq);
+            m.iter()
+                .map(|x| x.0)
+                .filter(|&s| s != u32::MAX)
+                .chain(first)
+                .chain(last)
+                .collect()
+        })
         .collect();
     let (chans, flow) = desc.kernel_channels(progs)?;
     // Where each program starts: the pointer of a channel not yet running (or RESET).
