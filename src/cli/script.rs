@@ -216,7 +216,7 @@ fn play(
         if super::signals::caught().is_some() {
             break;
         }
-        if let Some(e) = console.wait_error().filter(|_| waits) {
+        if let Some(e) = console.front().wait_error.as_deref().filter(|_| waits) {
             let _ = out.flush();
             eprintln!("novanc script: event {}: {e}", i + 1);
             let _ = console.close(None);

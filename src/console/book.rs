@@ -136,7 +136,7 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
         c.book.alarm_logged.clear();
     }
     // The pulse core's refusal of an operator action is a warning; the rest, information.
-    let lvl = if c.status.notice.as_deref() == Some(c.message.as_str()) {
+    let lvl = if c.status.notice.as_deref() == Some(c.front.message.as_str()) {
         level::WARNING
     } else {
         level::INFO
@@ -144,18 +144,18 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let r = c
         .book
         .log
-        .message(&mut c.recorder, (t, &file, 0), lvl, &c.message);
+        .message(&mut c.recorder, (t, &file, 0), lvl, &c.front.message);
     if let Some(w) = warn.or(r.err()) {
         also_say(c, &w);
         // The message with the failure added is not logged again.
-        c.book.log.shown(&c.message.clone());
+        c.book.log.shown(&c.front.message.clone());
     }
 }
 
 /// Adds a secondary failure (the history or the counters could not be saved) after the
 /// message shown, never in its place: a refusal the operator must see stays first.
 fn also_say(c: &mut Console, failure: &str) {
-    c.message = with_failure(&c.message, failure);
+    c.front.message = with_failure(&c.front.message, failure);
 }
 
 /// The message line `message` with a secondary `failure` after it, on every console (a
@@ -185,11 +185,11 @@ pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
         c.book.unacknowledged.push(line);
     } else {
         c.book.program_msg = Some(line.clone());
-        c.message = line;
+        c.front.message = line;
     }
     if let Err(w) = pushed {
         also_say(c, &w);
-        c.book.log.shown(&c.message.clone());
+        c.book.log.shown(&c.front.message.clone());
     }
 }
 

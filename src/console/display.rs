@@ -143,7 +143,7 @@ pub(super) fn compose(c: &Console) -> Vec<String> {
     if c.pages.page != super::pages::Page::Mode {
         return super::pages::compose(c, rows, cols);
     }
-    match c.op {
+    match c.front.op {
         OpMode::Auto | OpMode::Single | OpMode::Mdi => run_page(c, rows, cols),
         OpMode::Data => data_page(c, rows, cols),
         _ if loaded => run_page(c, rows, cols),
@@ -192,7 +192,7 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
         parts.push(n);
     }
     if let Some(n) = machine_note(c) {
-        if n != c.message {
+        if n != c.front.message {
             parts.push(n);
         }
     }
@@ -215,15 +215,15 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
         });
     }
     match alarm {
-        Some(a) if !c.message.contains(a.as_str()) => {
-            if !c.message.is_empty() {
-                parts.push(c.message.clone());
+        Some(a) if !c.front.message.contains(a.as_str()) => {
+            if !c.front.message.is_empty() {
+                parts.push(c.front.message.clone());
             }
             parts.push(format!("ALARM {a}"));
         }
         _ => {
-            if !c.message.is_empty() {
-                parts.push(c.message.clone());
+            if !c.front.message.is_empty() {
+                parts.push(c.front.message.clone());
             }
         }
     }
@@ -234,14 +234,14 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
 /// interpolator; HOLD / E-STOP; the overrides away from 100 % and the switches that are on:
 /// RPD (rapid), SOV (spindle), DRY, MLK, ZNG).
 pub(super) fn state_line(c: &Console) -> String {
-    let mode = c.op.names().short;
+    let mode = c.front.op.names().short;
     let t = match c.status.tool {
         Some(t) => format!("T{t:02}"),
         None => "T--".into(),
     };
     let mut s = format!(
         "RUN {} {mode} OVR{:>3}% {t} S{}",
-        c.status.run, c.feed_override, c.status.spindle
+        c.status.run, c.front.feed_override, c.status.spindle
     );
     // What the machine is doing comes before the switches, so a narrow display that cuts the
     // line (with its mark) never cuts ESTOP or HOLD.
@@ -251,10 +251,10 @@ pub(super) fn state_line(c: &Console) -> String {
     } else if lamps.hold {
         s.push_str(" HOLD");
     }
-    if c.switches.block_delete {
+    if c.front.switches.block_delete {
         s.push_str(" /DEL");
     }
-    if c.switches.optional_stop {
+    if c.front.switches.optional_stop {
         s.push_str(" M01");
     }
     let sw = &c.status.switches;
@@ -280,14 +280,15 @@ pub(super) fn state_line(c: &Console) -> String {
 /// The run pages (AUTO, SINGLE BLOCK, MDI): the run the core has loaded, or what START will
 /// run: the statement, its blocks with the executing one marked, the message and the state.
 fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let page = if c.op == OpMode::Mdi {
+    let page = if c.front.op == OpMode::Mdi {
         RunKind::Mdi
     } else {
         RunKind::Auto
     };
     let job = c.status.job.as_ref();
-    let shown = job
-        .filter(|j| j.kind == page || !matches!(c.op, OpMode::Auto | OpMode::Single | OpMode::Mdi));
+    let shown = job.filter(|j| {
+        j.kind == page || !matches!(c.front.op, OpMode::Auto | OpMode::Single | OpMode::Mdi)
+    });
     let mut p = Page::new(rows, cols, String::new());
     // The message takes the lines it needs, up to a third of the display; the body the rest.
     p.bottom = message_lines(c, cols, (rows / 3).max(2));
@@ -400,7 +401,7 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let mut bottom = vec![format!("cmd: {}", c.last_line)];
     bottom.extend(message_lines(c, cols, (rows / 3).max(3)));
     let entry_room = cols.saturating_sub(3);
-    let typed: Vec<char> = c.entry.chars().collect();
+    let typed: Vec<char> = c.front.entry.chars().collect();
     let shown: String = typed[typed.len().saturating_sub(entry_room)..]
         .iter()
         .collect();
@@ -440,7 +441,7 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 ),
                 cols,
             );
-            match &c.y_output {
+            match &c.front.y_output {
                 Some(y) => {
                     for l in y.split_inclusive('\n').take(n) {
                         p.body.push(format!(" {}", l.replace('\n', "*")));
@@ -603,7 +604,7 @@ pub fn tool_lines(m: &Magazine, focus: u32, n: usize) -> Vec<String> {
 /// CONTINUOUS, HANDLE, STEP: positions, handwheel, tool and spindle.
 fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let v = c.view();
-    let hint = match c.op {
+    let hint = match c.front.op {
         OpMode::Continuous => format!(
             "tap {:.3} mm, hold jogs",
             c.cfg.settings.to_mm(i64::from(v.wheel.1))
@@ -619,7 +620,7 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             v.wheel.1
         ),
     };
-    let mut p = Page::new(rows, cols, split_line(op_name(c.op), &hint, cols));
+    let mut p = Page::new(rows, cols, split_line(op_name(c.front.op), &hint, cols));
     p.bottom = message_lines(c, cols, 2);
     p.bottom.push(state_line(c));
     for (i, a) in ["X", "Y", "Z"].iter().enumerate() {

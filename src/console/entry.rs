@@ -25,18 +25,18 @@ fn target(c: &mut Console, what: &str) -> Option<To> {
     if c.pages.page != Page::Mode {
         return Some(To::Page);
     }
-    if c.op == OpMode::Mdi {
+    if c.front.op == OpMode::Mdi {
         return Some(To::Mdi);
     }
-    if c.op != OpMode::Data {
-        c.message = format!(
+    if c.front.op != OpMode::Data {
+        c.front.message = format!(
             "{what} refused: data keys work in DATA INPUT, MDI or on a page (now {})",
-            c.op.name()
+            c.front.op.name()
         );
         return None;
     }
     if c.running() {
-        c.message = format!("{what} refused: the machine is running");
+        c.front.message = format!("{what} refused: the machine is running");
         return None;
     }
     Some(To::Data)
@@ -58,8 +58,8 @@ pub(crate) fn push_key(entry: &mut String, ch: char) -> Result<(), String> {
 /// One data key.
 pub(super) fn key(c: &mut Console, ch: char) {
     if target(c, &format!("key '{ch}'")).is_some() {
-        if let Err(e) = push_key(&mut c.entry, ch) {
-            c.message = e;
+        if let Err(e) = push_key(&mut c.front.entry, ch) {
+            c.front.message = e;
         }
     }
 }
@@ -105,7 +105,7 @@ pub(crate) fn cursor_command(
 /// line being typed stays on the entry line. Returns false for a key that is not one of these
 /// here (the key then does what it does elsewhere).
 pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
-    let t = match (c.op, c.data) {
+    let t = match (c.front.op, c.data) {
         (OpMode::Data, DataMode::Revise) => Target::Program,
         (OpMode::Data, DataMode::Mdi) => Target::Mdi,
         (OpMode::Data, DataMode::ToolRevise) => Target::ToolFile,
@@ -115,30 +115,30 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
         return false;
     };
     if c.running() {
-        c.message = format!("{name} refused: the machine is running");
+        c.front.message = format!("{name} refused: the machine is running");
         return true;
     }
     let command = match command {
         Ok(cmd) => cmd,
         Err(e) => {
-            c.message = e;
+            c.front.message = e;
             return true;
         }
     };
     let rev = c.mem.rev();
     match c.mem.edit(t, &command, None) {
         Ok(_) => {
-            c.message = String::new();
+            c.front.message = String::new();
             if t == Target::Program && c.mem.rev() != rev && c.search.is_some() {
                 c.search = None;
-                c.message = "SEARCH point cleared (program changed)".into();
+                c.front.message = "SEARCH point cleared (program changed)".into();
             }
             run::recheck_program_alarm(c);
         }
         Err(e) if command == "1D" => {
-            c.message = format!("Delete: nothing after the pointer ({e})");
+            c.front.message = format!("Delete: nothing after the pointer ({e})");
         }
-        Err(e) => c.message = format!("{name}: {e}"),
+        Err(e) => c.front.message = format!("{name}: {e}"),
     }
     true
 }
@@ -146,7 +146,7 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
 /// RUBOUT.
 pub(super) fn rubout(c: &mut Console) {
     if target(c, "RUBOUT").is_some() {
-        c.entry.pop();
+        c.front.entry.pop();
     }
 }
 
@@ -154,7 +154,7 @@ pub(super) fn rubout(c: &mut Console) {
 #[must_use]
 pub(super) fn eob(c: &mut Console) -> Option<String> {
     let to = target(c, "EOB")?;
-    let line = std::mem::take(&mut c.entry);
+    let line = std::mem::take(&mut c.front.entry);
     enter(c, to, line)
 }
 
@@ -162,7 +162,7 @@ pub(super) fn eob(c: &mut Console) -> Option<String> {
 #[must_use]
 pub(super) fn typed(c: &mut Console, text: String) -> Option<String> {
     let to = target(c, &format!("'{text}'"))?;
-    c.entry.clear();
+    c.front.entry.clear();
     enter(c, to, text)
 }
 
@@ -179,17 +179,17 @@ fn enter(c: &mut Console, to: To, line: String) -> Option<String> {
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).
 fn mdi_line(c: &mut Console, line: String) {
     if line.trim().is_empty() {
-        c.message = "MDI: type a statement or a G-code line, Enter, then START".into();
+        c.front.message = "MDI: type a statement or a G-code line, Enter, then START".into();
         return;
     }
     c.pages.recall.remember(&line);
     if c.status.job.is_some() {
-        c.message = "MDI refused: a run is loaded; RESET first (Up recalls the line)".into();
+        c.front.message = "MDI refused: a run is loaded; RESET first (Up recalls the line)".into();
         return;
     }
     match c.mem.set_mdi(&line) {
-        Ok(()) => c.message = "MDI buffer set: START runs it".into(),
-        Err(e) => c.message = format!("MDI refused: {e} (Up recalls the line)"),
+        Ok(()) => c.front.message = "MDI buffer set: START runs it".into(),
+        Err(e) => c.front.message = format!("MDI refused: {e} (Up recalls the line)"),
     }
     run::recheck_program_alarm(c);
 }
@@ -197,15 +197,15 @@ fn mdi_line(c: &mut Console, line: String) {
 /// Up or Down in MDI: the previous or next line typed into the entry line.
 pub(super) fn recall(c: &mut Console, back: bool) {
     match c.pages.recall.step(back) {
-        Some(l) => c.entry = l,
-        None => c.message = "MDI: no line to recall".into(),
+        Some(l) => c.front.entry = l,
+        None => c.front.message = "MDI: no line to recall".into(),
     }
 }
 
 /// A command line ended with EOB, in DATA INPUT with RUN = 0.
 fn enter_line(c: &mut Console, line: String) {
     c.last_line = line.clone();
-    c.y_output = None;
+    c.front.y_output = None;
     let target = match c.data {
         DataMode::Revise => Target::Program,
         DataMode::Mdi => Target::Mdi,
@@ -213,7 +213,7 @@ fn enter_line(c: &mut Console, line: String) {
         DataMode::TCode => return tcode::enter(c, &line),
         DataMode::Search => return search::enter(c, &line),
         DataMode::Read | DataMode::ToolRead => {
-            c.message = "put the tape in the reader and press START to read it".into();
+            c.front.message = "put the tape in the reader and press START to read it".into();
             return;
         }
     };
@@ -222,15 +222,15 @@ fn enter_line(c: &mut Console, line: String) {
     match c.mem.edit(target, &line, Some(rows)) {
         Ok(y) => {
             if !y.is_empty() {
-                c.y_output = Some(y);
+                c.front.y_output = Some(y);
             }
-            c.message = "ok".into();
+            c.front.message = "ok".into();
             if target == Target::Program && c.mem.rev() != rev && c.search.is_some() {
                 c.search = None;
-                c.message = "ok; SEARCH point cleared (program changed)".into();
+                c.front.message = "ok; SEARCH point cleared (program changed)".into();
             }
             run::recheck_program_alarm(c);
         }
-        Err(e) => c.message = e,
+        Err(e) => c.front.message = e,
     }
 }

@@ -7,179 +7,20 @@
 //! while the terminal is too small every other key is ignored and the notice says so. A key
 //! that does nothing where it is pressed says so: no key is lost in silence.
 
+use super::front::JogPress;
 use super::pages::{self, Page};
 use super::Console;
 use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent};
 use crate::pulse_core::{ClockMode, Command};
 use novanc_panel::Key;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-/// A CONTINUOUS jog stops when its key has not repeated for this long (terminals report no
-/// key release; auto-repeat keeps a held key coming).
-pub const JOG_RELEASE: Duration = Duration::from_millis(150);
-
-/// Two presses of one jog key closer than this are the terminal's auto-repeat (25 to 30 a
-/// second), so the key is held; a person tapping twice is slower (docs/panel.md, "Jogging").
-pub const REPEAT_GAP: Duration = Duration::from_millis(90);
-
+pub use super::front::{JOG_RELEASE, REPEAT_GAP};
 pub use super::run::JOG_DEADMAN;
 
 /// Machine time a tap's increment gets to come to rest in virtual time (1 mm at the slowest
 /// jog feed takes far less).
 const TAP_LIMIT_NS: u64 = 60_000_000_000;
-
-/// The CONTINUOUS jog key last pressed.
-#[derive(Clone, Copy, Debug)]
-struct JogKey {
-    axis: Axis,
-    dir: i8,
-    /// When it was last pressed (or repeated).
-    at: Instant,
-    /// Repeating: a continuous jog is running (else it was tapped: one increment).
-    held: bool,
-}
-
-/// A CONTINUOUS jog key as a terminal reports it, every console's rule (the centre's and a
-/// lathe's; docs/panel.md, "Jogging"): terminals report presses and auto-repeats, never a
-/// release. A tap moves one increment, as STEP does; a key pressed again within
-/// [`REPEAT_GAP`] is the auto-repeat of a held key, and then the axis jogs until the key stops
-/// repeating for [`JOG_RELEASE`]. In virtual time every press is a tap. The console acts on
-/// what [`HeldJog::press`] answers and tells it whether a jog began.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct HeldJog(Option<JogKey>);
-
-/// What a CONTINUOUS jog key asks of the console ([`HeldJog::press`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum JogPress {
-    /// A repeat of a held key: keep the running jog alive (`Command::JogAlive`).
-    KeepAlive,
-    /// A repeat of a tapped key: the key is held. Once the tap's increment is at rest, begin
-    /// the continuous jog and say whether it began ([`HeldJog::began`]); while it still
-    /// moves, nothing (a later repeat begins it).
-    Begin,
-    /// A new press: one increment (a tap), after releasing the jog of the key held until now
-    /// when `release`.
-    Tap {
-        /// Another key's continuous jog runs: release it first.
-        release: bool,
-    },
-}
-
-impl HeldJog {
-    /// A CONTINUOUS jog key `axis`, `dir` pressed at `now`.
-    pub(crate) fn press(
-        &mut self,
-        axis: Axis,
-        dir: i8,
-        now: Instant,
-        virtual_time: bool,
-    ) -> JogPress {
-        if let Some(k) = self.0.as_mut() {
-            if k.axis == axis && k.dir == dir && !virtual_time {
-                // A held key that has not repeated for the release time (the console was
-                // not running: the core's deadman may have stopped the jog) is pressed anew.
-                let gap = now.duration_since(k.at);
-                if gap <= REPEAT_GAP || (k.held && gap <= JOG_RELEASE) {
-                    k.at = now;
-                    return if k.held {
-                        JogPress::KeepAlive
-                    } else {
-                        JogPress::Begin
-                    };
-                }
-            }
-        }
-        let release = self.0.is_some_and(|k| k.held);
-        self.0 = (!virtual_time).then_some(JogKey {
-            axis,
-            dir,
-            at: now,
-            held: false,
-        });
-        JogPress::Tap { release }
-    }
-
-    /// After [`JogPress::Begin`]: whether the continuous jog began (the key is held from now
-    /// on) or was refused (the key is forgotten).
-    pub(crate) fn began(&mut self, ok: bool) {
-        match self.0.as_mut() {
-            Some(k) if ok => k.held = true,
-            _ => self.0 = None,
-        }
-    }
-
-    /// Called each display tick: whether a held key's jog is to be released now (it has not
-    /// repeated for [`JOG_RELEASE`]); a tapped key is forgotten then.
-    pub(crate) fn expired(&mut self, now: Instant) -> bool {
-        match self.0 {
-            Some(k) if now.duration_since(k.at) > JOG_RELEASE => {
-                self.0 = None;
-                k.held
-            }
-            _ => false,
-        }
-    }
-
-    /// Forgets the key (RESET, E-STOP, a release, a mode turned).
-    pub(crate) fn clear(&mut self) {
-        self.0 = None;
-    }
-
-    /// No key is pressed (a jog that runs was begun by a front end's button).
-    pub(crate) fn is_none(&self) -> bool {
-        self.0.is_none()
-    }
-}
-
-/// Whether the terminal is large enough for the panel, and the key last refused while it was
-/// not: every console's rule (the centre's and the lathe's). While it is not, only the relay
-/// panel's STOP, RESET and E-STOP act; another key is refused, and the notice names it.
-#[derive(Clone, Debug)]
-pub struct ScreenFit {
-    fits: bool,
-    ignored: Option<String>,
-}
-
-impl Default for ScreenFit {
-    fn default() -> Self {
-        ScreenFit {
-            fits: true,
-            ignored: None,
-        }
-    }
-}
-
-impl ScreenFit {
-    /// The front end tells it every frame; a terminal grown large enough forgets the notice.
-    pub fn set(&mut self, fits: bool) {
-        if fits && !self.fits {
-            self.ignored = None;
-        }
-        self.fits = fits;
-    }
-
-    /// Whether the panel fits.
-    pub fn fits(&self) -> bool {
-        self.fits
-    }
-
-    /// Whether `k` is refused because the panel does not fit (then the notice names it).
-    pub fn refuses(&mut self, k: Key) -> bool {
-        if self.fits || is_relay_stop(k) {
-            return false;
-        }
-        self.ignored = Some(format!(
-            "key {} ignored: the terminal is too small",
-            key_name(k)
-        ));
-        true
-    }
-
-    /// The last key refused, for the notice.
-    pub fn ignored(&self) -> Option<&str> {
-        self.ignored.as_deref()
-    }
-}
 
 /// What a key asks of the console.
 #[derive(Clone, Debug, PartialEq)]
@@ -372,21 +213,17 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
 /// has of its own. The centre's `Console` and a lathe's console answer it; the pipeline is
 /// written once, so a key means the same on every machine (issue 22: the dispatch was written
 /// twice before stop 40).
-pub trait Keyed {
+pub(crate) trait Keyed {
     /// The help screen's pages (the help screen cycles through them, and closes after the last).
     const HELP_PAGES: u8;
     /// The machine's key map (a lathe's is an overlay on [`map_key`]).
     fn action(&self, k: Key) -> Action;
-    /// The help page up (0: none).
-    fn help(&self) -> u8;
-    /// Puts up help page `page` (0 closes it).
-    fn set_help(&mut self, page: u8);
-    /// Whether the terminal is large enough, and the key last refused.
-    fn screen(&mut self) -> &mut ScreenFit;
-    /// A key arrives: the last action's message has lived its life.
-    fn new_action(&mut self);
-    /// Says `text` on the message line until the next key.
-    fn set_message(&mut self, text: String);
+    /// The operator's side of the console: the selector, the help page, the screen fit, the
+    /// message, the panel switches, the feed override and the handwheel.
+    fn front(&mut self) -> &mut super::front::Front;
+    /// The machine's switches the toggle keys turn: rapid and spindle override, DRY RUN,
+    /// MACHINE LOCK, Z NEGLECT.
+    fn machine_switches(&self) -> crate::record::Switches;
     /// Records the key on `/panel/event` (what a replay presses again).
     fn record_key(&mut self, k: Key);
     /// Takes the machine's state after an action, and shows it.
@@ -398,70 +235,54 @@ pub trait Keyed {
     fn handle(&mut self, ev: PanelEvent);
     /// A CONTINUOUS jog key ([`HeldJog`]).
     fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8);
-    /// The operation selector's position.
-    fn op(&self) -> OpMode;
     /// The page up over the mode display.
     fn page(&self) -> Page;
-    /// The switches the toggle keys turn: BLOCK DELETE and OPTIONAL STOP, the machine's
-    /// (rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT), the feed override and
-    /// the handwheel's axis and scale.
-    fn toggles(&self) -> Toggles;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
     /// TARGET): whether `action` was one it has.
     fn own_key(&mut self, k: Key, action: &Action) -> bool;
-}
-
-/// The switches the toggle keys of [`press`] turn, as a console has them.
-pub struct Toggles {
-    /// BLOCK DELETE and OPTIONAL STOP.
-    pub panel: crate::gcode::Switches,
-    /// The machine's: rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT.
-    pub machine: crate::record::Switches,
-    /// The feed override, percent.
-    pub feed_override: u32,
-    /// The handwheel's axis and scale.
-    pub wheel: (Axis, u32),
 }
 
 /// Presses a key on a console: the one key pipeline. The relay panel (STOP, RESET, E-STOP)
 /// acts on every screen; with the help screen up any other key closes it and acts (the help
 /// key turns its page, and closes it from the last); with the terminal too small any other key
 /// is ignored, and the notice says so; a key that does nothing where it is pressed says so.
-pub fn press<C: Keyed>(c: &mut C, k: Key) {
+pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
     let action = c.action(k);
     let stop = is_relay_stop(k);
     if stop {
-        c.set_help(0);
+        c.front().help = 0;
         if let Action::Event(e) = action {
             c.handle(e);
         }
         return;
     }
-    if c.screen().fits() {
-        c.new_action();
+    if c.front().screen.fits() {
+        c.front().new_action();
     }
-    let was = c.help();
+    let was = c.front().help;
     if was > 0 {
         // Any other key closes the help and acts (it is not eaten).
-        c.set_help(0);
+        c.front().help = 0;
         if action == Action::Help {
             c.record_key(k);
-            c.set_help(if was < C::HELP_PAGES { was + 1 } else { 0 });
+            c.front().help = if was < C::HELP_PAGES { was + 1 } else { 0 };
             return c.refresh();
         }
     }
-    if c.screen().refuses(k) || c.takes_first(k, &action) {
+    if !c.front().screen.fits() {
+        // Only the relay panel's stops (above) act while the panel does not fit.
+        c.front().screen.refuse(&key_name(k));
         return;
     }
-    let Toggles {
-        panel: sw,
-        machine,
-        feed_override: feed,
-        wheel,
-    } = c.toggles();
+    if c.takes_first(k, &action) {
+        return;
+    }
+    let machine = c.machine_switches();
+    let f = c.front();
+    let (sw, feed, wheel, op) = (f.switches, f.feed_override, f.wheel, f.op);
     let ev = match action {
         Action::Event(e) => e,
-        Action::Move(axis, dir) => match c.op() {
+        Action::Move(axis, dir) => match op {
             OpMode::Handle => PanelEvent::Wheel(axis, i32::from(dir)),
             OpMode::Continuous => return c.hold_jog(k, axis, dir),
             _ => PanelEvent::Jog(axis, dir),
@@ -482,7 +303,7 @@ pub fn press<C: Keyed>(c: &mut C, k: Key) {
         Action::ZNeglect => PanelEvent::ZNeglect(!machine.z_neglect),
         Action::Help => {
             c.record_key(k);
-            c.set_help(1);
+            c.front().help = 1;
             return c.refresh();
         }
         a => {
@@ -492,7 +313,7 @@ pub fn press<C: Keyed>(c: &mut C, k: Key) {
                 let page = Some(c.page())
                     .filter(|p| *p != Page::Mode)
                     .map(|p| p.label());
-                c.set_message(does_nothing(k, c.op(), page));
+                c.front().message = does_nothing(k, op, page);
                 c.refresh();
             }
             return;
@@ -506,20 +327,11 @@ impl Keyed for Console {
     fn action(&self, k: Key) -> Action {
         map_key(k)
     }
-    fn help(&self) -> u8 {
-        self.help
+    fn front(&mut self) -> &mut super::front::Front {
+        &mut self.front
     }
-    fn set_help(&mut self, page: u8) {
-        self.help = page;
-    }
-    fn screen(&mut self) -> &mut ScreenFit {
-        &mut self.screen
-    }
-    fn new_action(&mut self) {
-        Console::new_action(self)
-    }
-    fn set_message(&mut self, text: String) {
-        self.message = text;
+    fn machine_switches(&self) -> crate::record::Switches {
+        self.status.switches
     }
     fn record_key(&mut self, k: Key) {
         self.recorder
@@ -547,7 +359,7 @@ impl Keyed for Console {
             self.record_key(k);
             return true;
         }
-        let recall = self.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down);
+        let recall = self.front.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down);
         if !recall && !super::entry::cursor_key(self, k) {
             return false;
         }
@@ -565,19 +377,8 @@ impl Keyed for Console {
     fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
         Console::hold_jog(self, k, axis, dir)
     }
-    fn op(&self) -> OpMode {
-        self.op
-    }
     fn page(&self) -> Page {
         self.pages.page
-    }
-    fn toggles(&self) -> Toggles {
-        Toggles {
-            panel: self.switches,
-            machine: self.status.switches,
-            feed_override: self.feed_override,
-            wheel: self.wheel,
-        }
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
@@ -585,7 +386,7 @@ impl Keyed for Console {
             Action::Punch => self.punch_from_entry(),
             Action::Acknowledge => {
                 if !super::book::acknowledge(self) {
-                    self.message = format!("{}: no message to acknowledge", key_name(k));
+                    self.front.message = format!("{}: no message to acknowledge", key_name(k));
                 }
                 self.record_key(k);
                 self.refresh();
@@ -606,7 +407,11 @@ impl Console {
     /// at once.
     fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
         let virtual_time = self.cfg.clock == ClockMode::Virtual;
-        match self.jog_key.press(axis, dir, Instant::now(), virtual_time) {
+        match self
+            .front
+            .jog_key
+            .press(axis, dir, Instant::now(), virtual_time)
+        {
             JogPress::KeepAlive => {
                 self.status = self
                     .core
@@ -617,7 +422,7 @@ impl Console {
                 self.status = self.core.status();
                 if !self.status.moving {
                     self.handle(PanelEvent::Jog(axis, dir));
-                    self.jog_key.began(self.jogging);
+                    self.front.jog_key.began(self.jogging);
                 }
             }
             JogPress::Tap { release } => {
@@ -639,7 +444,7 @@ impl Console {
     /// Releases a held CONTINUOUS key's jog once it has not repeated for [`JOG_RELEASE`]
     /// (called each display tick).
     pub(super) fn expire_jog_key(&mut self) {
-        if self.jog_key.expired(Instant::now()) {
+        if self.front.jog_key.expired(Instant::now()) {
             // The key let go ends the jog in the recording too (the lathe's rule).
             self.recorder
                 .panel_event(&PanelEvent::JogRelease, self.status.machine_ns);
@@ -657,17 +462,12 @@ impl Console {
     /// Tells the console whether the terminal is large enough for the panel (the terminal
     /// front end calls it every frame).
     pub fn set_screen_fits(&mut self, fits: bool) {
-        self.screen.set(fits)
+        self.front.screen.set(fits)
     }
 
     /// Whether the help screen is up.
     pub fn help_shown(&self) -> bool {
-        self.help > 0
-    }
-
-    /// The last key ignored because the terminal is too small, for the notice.
-    pub fn ignored_key(&self) -> Option<&str> {
-        self.screen.ignored()
+        self.front.help_shown()
     }
 }
 

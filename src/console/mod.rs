@@ -16,6 +16,7 @@ pub(crate) mod book;
 mod config;
 pub(crate) mod display;
 pub(crate) mod entry;
+pub(crate) mod front;
 mod gcode_run;
 pub mod keys;
 pub(crate) mod manual;
@@ -45,7 +46,7 @@ pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
 
 use crate::block::TranslateError;
-use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
 use crate::pulse_core::{ClockMode, Command, PulseCore, RunKind, Status};
 use crate::settings::MachineSettings;
 use crate::store::Target;
@@ -89,19 +90,12 @@ pub struct Console {
     cfg: ConsoleConfig,
     mem: Memory,
     core: PulseCore,
-    op: OpMode,
+    /// The operator's side: selector, entry line, message, help, switches, override, wheel
+    /// (`front.rs`, every console's).
+    front: front::Front,
     data: DataMode,
-    /// The line being typed on the data keys.
-    entry: String,
     /// The last command line entered (EOB).
     last_line: String,
-    /// The operator message: the result, refusal or error of an action (or what the machine
-    /// reported on its own, such as a run's end). It lives as [`Console::msg_life`] says; what
-    /// the machine is doing (running, held, returning, waiting for START) is never kept here
-    /// but derived from the status snapshot when the frame is drawn (`state::machine_note`).
-    message: String,
-    /// How long [`Console::message`] lives.
-    msg_life: MsgLife,
     /// The front end saves the counters after it has written the frame ([`Console::frame_written`]).
     saves_after_frame: bool,
     /// The counters changed since they were last saved (with `saves_after_frame`).
@@ -114,10 +108,6 @@ pub struct Console {
     start_single: bool,
     /// A program that does not translate (see [`ProgramAlarm`]).
     program_alarm: Option<ProgramAlarm>,
-    /// `Y` output of the last editor command line, shown instead of the text window.
-    y_output: Option<String>,
-    feed_override: u32,
-    wheel: (Axis, u32),
     status: Status,
     display: Vec<String>,
     tape: Option<PathBuf>,
@@ -139,26 +129,16 @@ pub struct Console {
     read_report: Vec<String>,
     /// A CONTINUOUS jog is in progress.
     jogging: bool,
-    /// The CONTINUOUS jog key last pressed: when, and whether it is held (a continuous jog).
-    jog_key: keys::HeldJog,
-    /// The help screen page up (0: none, 1: the panel keys, 2: the editor commands and pages).
-    help: u8,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
     pages: pages::Pages,
     /// The alarm and message history and the counters.
     book: book::Book,
-    /// Whether the terminal is large enough for the panel, and the key last refused.
-    screen: keys::ScreenFit,
     /// The selector positions last told to the pulse core (for `/nc/state`).
     modes_told: Option<(OpMode, DataMode)>,
     /// The last pulse-core notice shown.
     notice_seen: Option<String>,
     /// The last run whose end has been reported.
     end_seen: u64,
-    /// Why the last `wait` ended early, if it did.
-    wait_error: Option<String>,
-    /// The BLOCK DELETE and OPTIONAL STOP switches (G-code programs).
-    switches: crate::gcode::Switches,
     /// The G-code interpreter's state (docs/gcode.md "The interpreter's state"): every G-code
     /// run (AUTO, MDI, SINGLE BLOCK, SEARCH) starts from it and hands it back as read.
     interp: crate::gcode::InterpState,
@@ -220,20 +200,14 @@ impl Console {
             cfg,
             mem,
             core,
-            op: OpMode::Data,
+            front: front::Front::new(OpMode::Data, scale),
             data: DataMode::Revise,
-            entry: String::new(),
             last_line: String::new(),
-            message: String::new(),
-            msg_life: MsgLife::NextKey,
             start_single: false,
             saves_after_frame: false,
             counters_unsaved: false,
             posmem: Default::default(),
             program_alarm: None,
-            y_output: None,
-            feed_override: 100,
-            wheel: (Axis::X, scale),
             status,
             display: Vec::new(),
             tape: None,
@@ -246,16 +220,11 @@ impl Console {
             tool_focus: 1,
             read_report: Vec::new(),
             jogging: false,
-            jog_key: keys::HeldJog::default(),
-            help: 0,
             pages: pages::Pages::new(),
             book,
-            screen: keys::ScreenFit::default(),
             modes_told: None,
             notice_seen: None,
             end_seen: 0,
-            wait_error: None,
-            switches: Default::default(),
             interp: crate::gcode::InterpState::with_persistent(&mem_params, [0.0; 3], None),
             run_feed: None,
             feed_keep: false,
@@ -264,7 +233,7 @@ impl Console {
             recorder,
         };
         if let Some(w) = warnings.first() {
-            c.message = w.clone();
+            c.front.message = w.clone();
         }
         // Fanuc's power-on: the locals and #100–#199 vacant (the MACRO page shows them so
         // before the first run, as that run would make them).
@@ -281,7 +250,7 @@ impl Console {
     /// gets a message on the display and changes nothing.
     pub fn handle(&mut self, ev: PanelEvent) {
         if is_action(&ev) {
-            self.new_action();
+            self.front.new_action();
         }
         self.status = self.core.status();
         // A key is recorded by `press`, as what it does (`start` for F9, `key 5` for a digit
@@ -296,7 +265,7 @@ impl Console {
     /// Polls the pulse core and refreshes the display; call at display rate.
     pub fn tick(&mut self) {
         self.expire_jog_key();
-        if self.jogging && self.jog_key.is_none() && self.cfg.clock == ClockMode::RealTime {
+        if self.jogging && self.front.jog_key.is_none() && self.cfg.clock == ClockMode::RealTime {
             // A jog held by a front end's button (the window's): each frame keeps it alive, so
             // a front end that stops drawing lets the core stop it (docs/panel.md).
             self.command(Command::JogAlive(run::deadman_ms()));
@@ -318,22 +287,22 @@ impl Console {
         tip_mm[2] -= pages::length_in_force(self).0;
         PanelView {
             display: self.display.clone(),
-            op_mode: self.op,
+            op_mode: self.front.op,
             data_mode: self.data,
             run: self.status.run,
             lamps: state::lamps(self),
-            feed_override: self.feed_override,
+            feed_override: self.front.feed_override,
             switches: self.status.switches,
             axis_mm,
             tip_mm,
             tool: self.status.tool,
             spindle: self.status.spindle,
-            wheel: self.wheel,
-            entry: self.entry.clone(),
+            wheel: self.front.wheel,
+            entry: self.front.entry.clone(),
             machine_ns: self.status.machine_ns,
-            help: self.help,
+            help: self.front.help,
             page: self.pages.page,
-            ignored: self.screen.ignored().map(str::to_string),
+            ignored: self.front.screen.ignored().map(str::to_string),
         }
     }
 
@@ -370,7 +339,7 @@ impl Console {
 
     /// Whether [`Console::run_text`] is ISO G-code.
     pub fn run_text_is_gcode(&self) -> bool {
-        if self.op == OpMode::Mdi {
+        if self.front.op == OpMode::Mdi {
             mdi_is_gcode(&self.mem.text(Target::Mdi))
         } else {
             self.program_is_gcode()
@@ -389,7 +358,7 @@ impl Console {
 
     /// Whether START runs the MDI buffer (the operation mode is MDI).
     pub fn run_text_is_mdi(&self) -> bool {
-        self.op == OpMode::Mdi
+        self.front.op == OpMode::Mdi
     }
 
     /// The settings a run reads its text with: in AUTO (`auto`) the program's own dialect
@@ -407,7 +376,7 @@ impl Console {
     /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
     /// otherwise (what a backplot should draw).
     pub fn run_text(&self) -> String {
-        if self.op == OpMode::Mdi {
+        if self.front.op == OpMode::Mdi {
             self.mem.text(Target::Mdi)
         } else {
             self.program_text()
@@ -440,12 +409,12 @@ impl Console {
     /// The operator message: what the last action did or why not (empty: nothing said; the
     /// machine's own notes are derived when the frame is drawn).
     pub fn message(&self) -> &str {
-        &self.message
+        &self.front.message
     }
 
     /// Why the last script `wait` ended before its condition, if it did.
     pub fn wait_error(&self) -> Option<&str> {
-        self.wait_error.as_deref()
+        self.front.wait_error.as_deref()
     }
 
     /// The tape reader key: the line typed on the data keys names the tape file to put in
@@ -460,14 +429,15 @@ impl Console {
             self.refresh();
             return;
         }
-        let path = std::mem::take(&mut self.entry);
+        let path = std::mem::take(&mut self.front.entry);
         let path = path.trim();
         if path.is_empty() {
-            self.message = "tape reader: type the tape's file path first, then the tape key".into();
+            self.front.message =
+                "tape reader: type the tape's file path first, then the tape key".into();
             self.refresh();
             return;
         }
-        self.new_action();
+        self.front.new_action();
         self.apply(PanelEvent::Tape(PathBuf::from(path)));
         self.refresh();
     }
@@ -541,11 +511,11 @@ impl Console {
         self.status = self.core.status();
         posmem::track(self);
         tape::advance(self);
-        if let MsgLife::WhileBlock(done) = self.msg_life {
+        if let MsgLife::WhileBlock(done) = self.front.life {
             let s = &self.status;
             if s.run == 0 || s.hold || s.blocks_done != done {
-                self.message.clear();
-                self.msg_life = MsgLife::NextKey;
+                self.front.message.clear();
+                self.front.life = MsgLife::NextKey;
             }
         }
         run::note_run_end(self);
@@ -553,7 +523,7 @@ impl Console {
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {
-                self.message = n.clone();
+                self.front.message = n.clone();
             }
             self.notice_seen = self.status.notice.clone();
         }
@@ -570,17 +540,12 @@ impl Console {
             self.recorder.display(&self.display, self.status.machine_ns);
         }
         self.book.program_msg = None;
-        let modes = (self.op, self.data);
+        let modes = (self.front.op, self.data);
         if self.modes_told != Some(modes) {
-            self.core.set_panel_modes(self.op.word(), self.data.word());
+            self.core
+                .set_panel_modes(self.front.op.word(), self.data.word());
             self.modes_told = Some(modes);
         }
-    }
-
-    /// An operator action begins: the operator message of the last one has lived its life.
-    fn new_action(&mut self) {
-        self.message.clear();
-        self.msg_life = MsgLife::NextKey;
     }
 
     /// Whether the machine is running or moving (by the latest status).
@@ -631,8 +596,8 @@ impl Console {
                 self.pages.page = pages::Page::Mode;
                 if d != self.data {
                     self.data = d;
-                    self.entry.clear();
-                    self.y_output = None;
+                    self.front.entry.clear();
+                    self.front.y_output = None;
                     self.last_line.clear();
                 }
             }
@@ -653,7 +618,7 @@ impl Console {
                     .file_name()
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_else(|| path.display().to_string());
-                self.message = match (self.op, self.data) {
+                self.front.message = match (self.front.op, self.data) {
                     (OpMode::Data, DataMode::Read | DataMode::ToolRead) => {
                         format!("tape {name} in the reader: press START")
                     }
@@ -667,7 +632,7 @@ impl Console {
                 self.command(Command::Stop);
                 // A feed hold is said by the display while it lasts (state::machine_note).
                 if !self.status.hold {
-                    self.message = if self.status.moving {
+                    self.front.message = if self.status.moving {
                         "STOP: the manual move decelerates to rest"
                     } else if had_run {
                         "STOP: the run is already stopped (START continues, RESET abandons)"
@@ -685,33 +650,33 @@ impl Console {
                 self.program_alarm = None;
                 self.tape_alarm = None;
                 self.jogging = false;
-                self.jog_key.clear();
-                self.message = "reset: machine idle, block buffer empty".into();
+                self.front.jog_key.clear();
+                self.front.message = "reset: machine idle, block buffer empty".into();
             }
             PanelEvent::EStop => {
                 self.command(Command::EStop);
                 self.jogging = false;
-                self.jog_key.clear();
+                self.front.jog_key.clear();
                 // Said by the display while it is in force (state::machine_note).
             }
             PanelEvent::Override(p) => {
                 if p <= 150 && p % 10 == 0 {
-                    self.feed_override = p;
+                    self.front.feed_override = p;
                     self.command(Command::Override(p));
                 } else {
-                    self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
+                    self.front.message = format!("override {p} % is not 0 to 150 in 10 % steps");
                 }
             }
             PanelEvent::WheelScale(s) => match manual::set_scale(&self.cfg.settings, s) {
                 Ok(m) => {
-                    self.wheel.1 = s;
-                    self.message = m;
+                    self.front.wheel.1 = s;
+                    self.front.message = m;
                 }
-                Err(e) => self.message = e,
+                Err(e) => self.front.message = e,
             },
             PanelEvent::RapidOverride(p) => {
                 self.command(Command::RapidOverride(p));
-                self.message = if self.status.switches.rapid_override == p {
+                self.front.message = if self.status.switches.rapid_override == p {
                     run::rapid_override_message(p).unwrap_or_else(|e| e)
                 } else {
                     self.refused_switch()
@@ -719,7 +684,7 @@ impl Console {
             }
             PanelEvent::SpindleOverride(p) => {
                 self.command(Command::SpindleOverride(p));
-                self.message = if self.status.switches.spindle_override == p {
+                self.front.message = if self.status.switches.spindle_override == p {
                     run::spindle_override_message(p).unwrap_or_else(|e| e)
                 } else {
                     self.refused_switch()
@@ -727,11 +692,11 @@ impl Console {
             }
             PanelEvent::DryRun(on) => {
                 self.command(Command::DryRun(on));
-                self.message = run::machine_switch_message("DRY RUN", on);
+                self.front.message = run::machine_switch_message("DRY RUN", on);
             }
             PanelEvent::MachineLock(on) => {
                 self.command(Command::MachineLock(on));
-                self.message = if self.status.switches.machine_lock == on {
+                self.front.message = if self.status.switches.machine_lock == on {
                     run::machine_switch_message("MACHINE LOCK", on)
                 } else {
                     self.refused_switch()
@@ -739,15 +704,15 @@ impl Console {
             }
             PanelEvent::ZNeglect(on) => {
                 self.command(Command::ZNeglect(on));
-                self.message = if self.status.switches.z_neglect == on {
+                self.front.message = if self.status.switches.z_neglect == on {
                     run::machine_switch_message("Z NEGLECT", on)
                 } else {
                     self.refused_switch()
                 };
             }
             PanelEvent::BlockDelete(on) => {
-                self.switches.block_delete = on;
-                self.message = gcode_run::switch_message("BLOCK DELETE", on);
+                self.front.switches.block_delete = on;
+                self.front.message = gcode_run::switch_message("BLOCK DELETE", on);
             }
             PanelEvent::Input {
                 digital,
@@ -762,15 +727,15 @@ impl Console {
             }
             PanelEvent::Home => posmem::home(self),
             PanelEvent::OptionalStop(on) => {
-                self.switches.optional_stop = on;
-                self.message = gcode_run::switch_message("OPTIONAL STOP", on);
+                self.front.switches.optional_stop = on;
+                self.front.message = gcode_run::switch_message("OPTIONAL STOP", on);
             }
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
             PanelEvent::JogRelease => {
                 self.command(Command::JogRelease);
                 self.jogging = false;
-                self.jog_key.clear();
+                self.front.jog_key.clear();
             }
             PanelEvent::Press(k) => self.press(k),
             PanelEvent::Wait => run::wait(self, run::WaitFor::Idle),
@@ -782,7 +747,7 @@ impl Console {
             | PanelEvent::Fault(..)
             | PanelEvent::Target(_)
             | PanelEvent::OfsMode) => {
-                self.message = format!(
+                self.front.message = format!(
                     "{}: this machine has one channel and no work flow",
                     script_line::script_line(&ev)
                 );
@@ -792,24 +757,24 @@ impl Console {
 
     /// Turns the operation mode selector 17.
     fn turn_op(&mut self, m: OpMode) {
-        if m == self.op {
+        if m == self.front.op {
             return;
         }
         if self.jogging {
             self.command(Command::JogRelease);
             self.jogging = false;
         }
-        self.jog_key.clear();
-        let was = self.op;
-        self.op = m;
-        self.entry.clear();
+        self.front.jog_key.clear();
+        let was = self.front.op;
+        self.front.op = m;
+        self.front.entry.clear();
         if m == OpMode::Data {
             // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
             // stays in force).
             let had_run = self.status.job.is_some() || self.running();
             self.command(Command::Abandon);
             if had_run {
-                self.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+                self.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
             }
             return;
         }
@@ -827,30 +792,30 @@ impl Console {
         }
         if self.status.run != 0 && !self.status.hold {
             self.command(Command::Stop);
-            self.message = format!("feed hold: mode changed to {} while running", m.name());
+            self.front.message = format!("feed hold: mode changed to {} while running", m.name());
         }
     }
 
     /// START: run, resume, or read the tape, by mode.
     fn start(&mut self) {
         if self.tape_alarm.is_some() {
-            self.message = "START refused: TAPE ALARM in force, press RESET".into();
+            self.front.message = "START refused: TAPE ALARM in force, press RESET".into();
             return;
         }
-        match self.op {
+        match self.front.op {
             OpMode::Auto | OpMode::Single => run::start_program(self, RunKind::Auto),
             OpMode::Mdi => run::start_program(self, RunKind::Mdi),
             OpMode::Data => match self.data {
                 DataMode::Read => tape::start_read(self, tape::ReadTarget::Program),
                 DataMode::ToolRead => tape::start_read(self, tape::ReadTarget::Tools),
                 _ => {
-                    self.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
+                    self.front.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
                 }
             },
             OpMode::Continuous | OpMode::Step | OpMode::Handle => {
-                self.message = format!(
+                self.front.message = format!(
                     "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
-                    self.op.name()
+                    self.front.op.name()
                 );
             }
         }

@@ -78,29 +78,23 @@ impl Panel {
         }
     }
 
-    /// Whether the screen is large enough for the panel: while it is not, only STOP, RESET and
-    /// E-STOP act, and another key is refused ([`Panel::ignored_key`]).
+    /// The operator's side of the console (`front.rs`): the screen fit and the key it last
+    /// refused, why the last wait could not end, the message and the entry line.
+    pub(crate) fn front(&self) -> &super::front::Front {
+        match self {
+            Panel::Centre(c) => &c.front,
+            Panel::Lathe(c) => c.front(),
+        }
+    }
+
+    /// Tells the console whether the screen is large enough for the panel: while it is not,
+    /// only STOP, RESET and E-STOP act, and another key is refused (`Front::ignored_key`).
     pub fn set_screen_fits(&mut self, fits: bool) {
-        match self {
-            Panel::Centre(c) => c.set_screen_fits(fits),
-            Panel::Lathe(c) => c.set_screen_fits(fits),
-        }
-    }
-
-    /// The last key refused because the screen is too small.
-    pub fn ignored_key(&self) -> Option<&str> {
-        match self {
-            Panel::Centre(c) => c.ignored_key(),
-            Panel::Lathe(c) => c.ignored_key(),
-        }
-    }
-
-    /// Why the last wait could not end, if it could not.
-    pub fn wait_error(&self) -> Option<&str> {
-        match self {
-            Panel::Centre(c) => c.wait_error(),
-            Panel::Lathe(c) => c.wait_error(),
-        }
+        let front = match self {
+            Panel::Centre(c) => &mut c.front,
+            Panel::Lathe(c) => c.front_mut(),
+        };
+        front.screen.set(fits)
     }
 
     /// The display as text, as a script's `show` prints it and the recording keeps it.

@@ -155,7 +155,7 @@ pub(super) fn before_motion(c: &mut Console) {
         rapid_jog: c.posmem.rapid_jog,
     };
     if let Err(e) = save(&c.cfg.state_dir, &k) {
-        c.message = format!("{} (the position could not be kept: {e})", c.message);
+        c.front.message = format!("{} (the position could not be kept: {e})", c.front.message);
         return;
     }
     c.posmem.written = Some(k);
@@ -170,7 +170,7 @@ pub(super) fn restore(c: &mut Console) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return,
         Err(e) => {
             c.posmem.home_needed = true;
-            c.message = format!(
+            c.front.message = format!(
                 "the kept position cannot be read ({e}): make the reference return (HOME, Alt+0) before AUTO or MDI"
             );
             return;
@@ -178,7 +178,7 @@ pub(super) fn restore(c: &mut Console) {
     };
     let Some(k) = Kept::parse(&text) else {
         c.posmem.home_needed = true;
-        c.message = format!(
+        c.front.message = format!(
             "the kept position ({}) is damaged: make the reference return (HOME, Alt+0) before AUTO or MDI",
             path.display()
         );
@@ -193,7 +193,7 @@ pub(super) fn restore(c: &mut Console) {
     }
     if k.moving {
         c.posmem.home_needed = true;
-        c.message = "the console stopped while the axes moved: the position is not known; make the reference return (HOME, Alt+0) before AUTO or MDI".into();
+        c.front.message = "the console stopped while the axes moved: the position is not known; make the reference return (HOME, Alt+0) before AUTO or MDI".into();
     }
     c.posmem.written = Some(k);
 }
@@ -209,11 +209,11 @@ pub(super) fn refusal(c: &Console) -> Option<String> {
 pub(super) fn home(c: &mut Console) {
     c.command(Command::Home);
     if let Some(n) = c.status.notice.clone() {
-        c.message = n;
+        c.front.message = n;
         return;
     }
     c.posmem.homing = true;
-    c.message = "HOME: reference return, Z first, then X and Y".into();
+    c.front.message = "HOME: reference return, Z first, then X and Y".into();
 }
 
 /// After each status poll: the file follows what the axes do (written only when that
@@ -225,7 +225,7 @@ pub(super) fn track(c: &mut Console) {
     if c.posmem.homing && at_rest && s.job.is_none() && s.machine_pos == [0; 3] {
         c.posmem.homing = false;
         c.posmem.home_needed = false;
-        c.message = "HOME: the reference return is made; the position is known".into();
+        c.front.message = "HOME: the reference return is made; the position is known".into();
     }
     let now = Kept {
         moving: s.moving || (s.job.is_some() && !s.idle),
@@ -243,7 +243,7 @@ pub(super) fn track(c: &mut Console) {
         return;
     }
     if let Err(e) = save(&c.cfg.state_dir, &now) {
-        c.message = format!("{} (the position could not be kept: {e})", c.message);
+        c.front.message = format!("{} (the position could not be kept: {e})", c.front.message);
         return;
     }
     c.posmem.written = Some(now);

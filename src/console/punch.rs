@@ -16,30 +16,30 @@ pub(super) fn punch_from_entry(c: &mut Console) {
     if refuse_key(c, "punch") {
         return;
     }
-    if c.op != OpMode::Data || c.data != DataMode::Read {
-        c.message = format!(
+    if c.front.op != OpMode::Data || c.data != DataMode::Read {
+        c.front.message = format!(
             "punch refused: it punches program memory in DATA INPUT with the data selector on PROGRAM READ (now {} / {})",
-            c.op.name(),
+            c.front.op.name(),
             c.data.name()
         );
         return;
     }
     if c.running() {
-        c.message = "punch refused: the machine is running".into();
+        c.front.message = "punch refused: the machine is running".into();
         return;
     }
-    let line = std::mem::take(&mut c.entry);
+    let line = std::mem::take(&mut c.front.entry);
     let (path, code) = match parse_punch_line(&line) {
         Ok(x) => x,
         Err(e) => {
-            c.message = e;
+            c.front.message = e;
             return;
         }
     };
     let name = c.mem.program_name();
     let text = c.mem.text(crate::store::Target::Program);
     if text.trim().is_empty() {
-        c.message = format!("punch refused: program {name} is empty; nothing written");
+        c.front.message = format!("punch refused: program {name} is empty; nothing written");
         return;
     }
     let opts = PunchOptions {
@@ -50,13 +50,13 @@ pub(super) fn punch_from_entry(c: &mut Console) {
     let image = match tape::punch(&text, &opts) {
         Ok(i) => i,
         Err(e) => {
-            c.message = format!("punch refused, nothing written: program {name} line {e}");
+            c.front.message = format!("punch refused, nothing written: program {name} line {e}");
             return;
         }
     };
     match crate::store::fsutil::write_output(&path, &image) {
         Ok(()) => {
-            c.message = format!(
+            c.front.message = format!(
                 "punched {name} to {} in the {} code: {} frames ({:.1} m of tape)",
                 path.display(),
                 code.name(),
@@ -65,7 +65,7 @@ pub(super) fn punch_from_entry(c: &mut Console) {
             );
         }
         Err(e) => {
-            c.message = format!(
+            c.front.message = format!(
                 "punch: cannot write {}: {e}; nothing written",
                 path.display()
             )

@@ -196,7 +196,7 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         settings,
         offsets: c.mem.work_offsets(),
         interp: gcode.then(|| c.interp.clone()),
-        switches: c.switches,
+        switches: c.front.switches,
         feed: None,
         subroutines: gcode.then(|| Arc::new(c.mem.subroutines())),
         parts: Some((c.book.counters.parts, c.book.counters.target)),
@@ -206,16 +206,16 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
 /// START in AUTO, SINGLE BLOCK (kind Auto) or MDI (kind Mdi): the core resumes the run loaded,
 /// or begins a new one from the program source, or says why it cannot.
 pub(super) fn start_program(c: &mut Console, kind: RunKind) {
-    let single = c.op == OpMode::Single;
+    let single = c.front.op == OpMode::Single;
     if c.status.job.is_none() {
         if let Some(why) = super::posmem::refusal(c) {
-            c.message = why;
+            c.front.message = why;
             return;
         }
     }
     if kind == RunKind::Auto && c.status.job.is_none() {
         if let Some(why) = super::book::target_refusal(c) {
-            c.message = why;
+            c.front.message = why;
             return;
         }
     }
@@ -245,10 +245,10 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     c.status = c.core.start(kind, make);
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {
-        c.message = n.clone();
+        c.front.message = n.clone();
         if n.starts_with("START ignored") {
             // It speaks of the block executing: it goes when that block ends.
-            c.msg_life = super::MsgLife::WhileBlock(c.status.blocks_done);
+            c.front.life = super::MsgLife::WhileBlock(c.status.blocks_done);
         }
         return;
     }
@@ -258,7 +258,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         c.program_alarm = None;
         if kind == RunKind::Auto {
             if let Some(sp) = c.search.take() {
-                c.message = format!("running from line {} (SEARCH)", sp.line);
+                c.front.message = format!("running from line {} (SEARCH)", sp.line);
             }
         }
         note_run_end(c);
@@ -289,12 +289,12 @@ pub(super) fn note_run_end(c: &mut Console) {
     let secs = end.machine_ns as f64 / 1e9;
     match end.cause {
         EndCause::ProgramEnd => {
-            c.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
+            c.front.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
             let k = c.book.counters;
             if end.kind == RunKind::Auto && k.target > 0 && k.parts >= k.target {
-                c.message = format!(
+                c.front.message = format!(
                     "{}; part count target reached ({}/{}): the next AUTO START waits for PARTS 0 or a new TARGET",
-                    c.message, k.parts, k.target
+                    c.front.message, k.parts, k.target
                 );
             }
         }
@@ -307,7 +307,7 @@ pub(super) fn note_run_end(c: &mut Console) {
             } else {
                 "the run stopped before the statement in error"
             };
-            c.message = format!(
+            c.front.message = format!(
                 "{what}: line {}:{}: {}",
                 error.line, error.col, error.message
             );
@@ -320,10 +320,10 @@ pub(super) fn note_run_end(c: &mut Console) {
         EndCause::Abandoned | EndCause::Alarm => {}
     }
     if let Some(m) = c.book.program_msg.take() {
-        if c.message.is_empty() {
-            c.message = m;
-        } else if !c.message.contains(&m) {
-            c.message = format!("{m}; {}", c.message);
+        if c.front.message.is_empty() {
+            c.front.message = m;
+        } else if !c.front.message.contains(&m) {
+            c.front.message = format!("{m}; {}", c.front.message);
         }
     }
 }
@@ -343,7 +343,8 @@ pub(super) fn recheck_program_alarm(c: &mut Console) {
     match found {
         None => {
             c.program_alarm = None;
-            c.message
+            c.front
+                .message
                 .push_str("; the program alarm is cleared (the program translates)");
         }
         Some(error) => {
@@ -367,7 +368,7 @@ pub(super) enum WaitFor {
 /// The script's waits: the machine runs (virtual time) or is waited for (real time) until the
 /// condition, at most [`WAIT_LIMIT_NS`] of machine time; a wait that cannot end says why.
 pub(super) fn wait(c: &mut Console, w: WaitFor) {
-    c.wait_error = None;
+    c.front.wait_error = None;
     if let WaitFor::Ms(t) = w {
         // The tape moves with machine time (docs/tape.md, "At the console").
         if super::tape::reading(c) {
@@ -392,8 +393,8 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
         _ => None,
     };
     if let Some(e) = err {
-        c.message = e.clone();
-        c.wait_error = Some(e);
+        c.front.message = e.clone();
+        c.front.wait_error = Some(e);
     }
     note_run_end(c);
 }
@@ -429,11 +430,11 @@ fn wait_tape(c: &mut Console) {
 /// Whether a manual move may start now; if not, the message says why.
 fn manual_allowed(c: &mut Console, what: &str) -> bool {
     if c.status.estop {
-        c.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
+        c.front.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
         return false;
     }
     if c.status.run != 0 && !c.status.hold {
-        c.message = format!("{what} refused: a program is running (STOP first)");
+        c.front.message = format!("{what} refused: a program is running (STOP first)");
         return false;
     }
     true
@@ -443,18 +444,18 @@ fn manual_allowed(c: &mut Console, what: &str) -> bool {
 fn after_manual(c: &mut Console) {
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {
-        c.message = n.clone();
+        c.front.message = n.clone();
     }
 }
 
 /// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only
 /// (`manual::wheel`).
 pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
-    c.wheel.0 = axis;
-    match manual::wheel(c.op, n, c.wheel.1) {
+    c.front.wheel.0 = axis;
+    match manual::wheel(c.front.op, n, c.front.wheel.1) {
         Ok(0) => {}
         Ok(pulses) => manual_move(c, axis, Move::Increment(pulses), "handwheel"),
-        Err(e) => c.message = e,
+        Err(e) => c.front.message = e,
     }
 }
 
@@ -560,7 +561,7 @@ pub(crate) fn machine_switch_message(name: &str, on: bool) -> String {
 
 /// One increment (the selected scale) on `axis` at jog feed: a CONTINUOUS key tapped once.
 pub(super) fn tap(c: &mut Console, axis: Axis, dir: i8) {
-    let pulses = i64::from(dir.signum()) * i64::from(c.wheel.1);
+    let pulses = i64::from(dir.signum()) * i64::from(c.front.wheel.1);
     manual_move(c, axis, Move::Increment(pulses), "jog");
 }
 
@@ -571,7 +572,7 @@ fn manual_move(c: &mut Console, axis: Axis, mv: Move, what: &str) {
         return;
     }
     if let Err(e) = manual::check(&c.cfg.settings, c.status.machine_state().pos, axis, mv) {
-        c.message = e;
+        c.front.message = e;
         return;
     }
     match mv {
@@ -597,7 +598,7 @@ fn manual_move(c: &mut Console, axis: Axis, mv: Move, what: &str) {
 
 /// The jog deadman: a held jog decelerates on its own in the pulse core when the front end
 /// has not kept it alive for this long (a key's repeat, a window frame while its button is
-/// held; the console's own release of a key, `keys::JOG_RELEASE`, comes first): for a front
+/// held; the console's own release of a key, `front::JOG_RELEASE`, comes first): for a front
 /// end that has stopped running (docs/pulse-core.md, "The jog deadman").
 pub const JOG_DEADMAN: std::time::Duration = std::time::Duration::from_millis(250);
 
@@ -609,9 +610,13 @@ pub(crate) fn deadman_ms() -> u32 {
 /// A jog event (a jog button, `jog X+`): CONTINUOUS jogs while held, STEP moves one
 /// increment (`manual::jog`).
 pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
-    let what = if c.op == OpMode::Step { "step" } else { "jog" };
-    match manual::jog(c.op, axis, dir, c.wheel.1) {
+    let what = if c.front.op == OpMode::Step {
+        "step"
+    } else {
+        "jog"
+    };
+    match manual::jog(c.front.op, axis, dir, c.front.wheel.1) {
         Ok(mv) => manual_move(c, axis, mv, what),
-        Err(e) => c.message = e,
+        Err(e) => c.front.message = e,
     }
 }

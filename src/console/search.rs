@@ -281,7 +281,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         .into_iter()
         .find(|n| n.eq_ignore_ascii_case(wanted))
     {
-        c.message = match c.mem.select_program(&name) {
+        c.front.message = match c.mem.select_program(&name) {
             Ok(()) => format!("program {name} is current; AUTO starts at the top"),
             Err(e) => format!("SEARCH: {e}"),
         };
@@ -293,20 +293,20 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Ok(Some(n)) => n,
         Ok(None) => {
             c.search = None;
-            c.message = "SEARCH cleared: AUTO starts at the top".into();
+            c.front.message = "SEARCH cleared: AUTO starts at the top".into();
             return;
         }
         Err(e) => {
-            c.message = format!("SEARCH: {e}");
+            c.front.message = format!("SEARCH: {e}");
             return;
         }
     };
     match make_plan(c, n, c.status.machine_state()) {
         Ok((at, text, _)) => {
-            c.message = format!("AUTO starts at line {at}");
+            c.front.message = format!("AUTO starts at line {at}");
             c.search = Some(SearchPoint { line: at, text });
         }
-        Err(e) => c.message = format!("SEARCH refused: {e}"),
+        Err(e) => c.front.message = format!("SEARCH refused: {e}"),
     }
 }
 

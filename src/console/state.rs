@@ -62,8 +62,8 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         return None;
     }
     let runs_it = match job.kind {
-        RunKind::Auto => matches!(c.op, OpMode::Auto | OpMode::Single),
-        RunKind::Mdi => c.op == OpMode::Mdi,
+        RunKind::Auto => matches!(c.front.op, OpMode::Auto | OpMode::Single),
+        RunKind::Mdi => c.front.op == OpMode::Mdi,
     };
     if s.hold {
         return Some(if runs_it {
@@ -76,7 +76,7 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         });
     }
     if s.run != 0 && s.in_block && s.single_block {
-        return match c.op {
+        return match c.front.op {
             OpMode::Auto => Some(
                 "AUTO: this block was started in SINGLE BLOCK; the run stops after it, START then runs on"
                     .into(),
@@ -89,7 +89,7 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
     }
     let waiting = s.run == 0 && !s.in_block && !s.moving;
     if waiting && runs_it && super::gcode_run::program_stop_note(c).is_none() {
-        return Some(format!("{}: press START to continue", c.op.name()));
+        return Some(format!("{}: press START to continue", c.front.op.name()));
     }
     None
 }

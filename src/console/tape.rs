@@ -207,7 +207,7 @@ impl Console {
 pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
     let what = target.name();
     let Some(path) = c.tape.clone() else {
-        c.message = "the tape reader is empty: put a tape in (tape PATH)".into();
+        c.front.message = "the tape reader is empty: put a tape in (tape PATH)".into();
         return;
     };
     let file = path
@@ -221,13 +221,13 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
     let image = match load(&path) {
         Ok(i) => i,
         Err(e) => {
-            c.message = format!("{what}: tape {file} cannot be read: {e}");
+            c.front.message = format!("{what}: tape {file} cannot be read: {e}");
             return;
         }
     };
     let plain = tape::is_plain_text(&image);
     if !plain && image.len() as u64 > MAX_TAPE_BYTES {
-        c.message = format!(
+        c.front.message = format!(
             "{what}: tape {file} cannot be read: it is longer than the {} MiB the reader takes",
             MAX_TAPE_BYTES >> 20
         );
@@ -254,7 +254,8 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
         return;
     }
     c.tape_read = Some(r);
-    c.message = format!("reading at {chars_per_s} characters/s: STOP or RESET abandons the read");
+    c.front.message =
+        format!("reading at {chars_per_s} characters/s: STOP or RESET abandons the read");
     advance(c);
 }
 
@@ -265,7 +266,7 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
 fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     let what = target.name();
     if target == ReadTarget::Tools {
-        c.message = format!(
+        c.front.message = format!(
             "{what}: {name} is a folder; TOOL DATA READ takes one tool tape, tool file unchanged"
         );
         return;
@@ -273,7 +274,8 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     let files = match folder_files(dir) {
         Ok(f) => f,
         Err(e) => {
-            c.message = format!("{what} refused, program memory unchanged: folder {name}: {e}");
+            c.front.message =
+                format!("{what} refused, program memory unchanged: folder {name}: {e}");
             return;
         }
     };
@@ -281,7 +283,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     for (file, _) in &files {
         match crate::store::program_name_from_file(file) {
             Ok(n) if names.contains(&n.name) => {
-                c.message = format!(
+                c.front.message = format!(
                     "{what} refused, program memory unchanged: {file} would be program {} as well as another file of {name}",
                     n.name
                 );
@@ -289,7 +291,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
             }
             Ok(n) => names.push(n.name),
             Err(e) => {
-                c.message = format!("{what} refused, program memory unchanged: {file}: {e}");
+                c.front.message = format!("{what} refused, program memory unchanged: {file}: {e}");
                 return;
             }
         }
@@ -303,7 +305,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
                 stored.push(r.name);
             }
             Err(e) => {
-                c.message = format!(
+                c.front.message = format!(
                     "{what} stopped at {file}: {e}; stored before it: {}",
                     if stored.is_empty() {
                         "none".to_string()
@@ -318,12 +320,12 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     c.search = None;
     if let Some(first) = stored.first() {
         if let Err(e) = c.mem.select_program(first) {
-            c.message =
+            c.front.message =
                 format!("read folder {name}, but program {first} cannot be made current: {e}");
             return;
         }
     }
-    c.message = format!(
+    c.front.message = format!(
         "read folder {name}: {} programs ({}), {lines} lines; {} is current",
         stored.len(),
         stored.join(" "),
@@ -445,7 +447,7 @@ fn complete(c: &mut Console, mut r: TapeRead) {
                 ReadTarget::Program => "program memory unchanged",
                 ReadTarget::Tools => "tool file unchanged",
             };
-            c.message = format!("{what} stopped, {unchanged}: {e}");
+            c.front.message = format!("{what} stopped, {unchanged}: {e}");
             c.tape_alarm = Some(e.to_string());
             r.failed = Some(e);
             c.tape_stopped = Some(r);
@@ -478,7 +480,7 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
     if c.cfg.settings.dialect == crate::settings::Dialect::Fanuc {
         let programs = crate::gcode::flow::dnc_programs(text);
         if !programs.is_empty() {
-            c.message = match c.mem.program_read_dnc(file, &programs) {
+            c.front.message = match c.mem.program_read_dnc(file, &programs) {
                 Ok(names) => {
                     c.search = None;
                     format!(
@@ -506,12 +508,12 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
             } else {
                 ""
             };
-            c.message = format!(
+            c.front.message = format!(
                 "read {file} ({how}): program {}{named}, {n} lines{again}",
                 r.name
             );
         }
-        Err(e) => c.message = format!("PROGRAM READ refused: {e}"),
+        Err(e) => c.front.message = format!("PROGRAM READ refused: {e}"),
     }
 }
 
@@ -519,7 +521,7 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
 fn store_tools(c: &mut Console, file: &str, text: &str, how: &str) {
     match c.mem.tool_read(text, file) {
         Ok(r) => {
-            c.message = format!(
+            c.front.message = format!(
                 "read {file} ({how}): {} T codes loaded, {} skipped",
                 r.loaded.len(),
                 r.skipped
@@ -532,7 +534,7 @@ fn store_tools(c: &mut Console, file: &str, text: &str, how: &str) {
             c.read_report = lines;
             c.tool_focus = r.loaded.first().copied().unwrap_or(1);
         }
-        Err(e) => c.message = format!("TOOL DATA READ refused, tool file unchanged: {e}"),
+        Err(e) => c.front.message = format!("TOOL DATA READ refused, tool file unchanged: {e}"),
     }
 }
 
@@ -545,7 +547,7 @@ pub(super) fn apply(c: &mut Console, ev: PanelEvent) {
         Gate::Pass(note) => note,
     };
     let turned = match &ev {
-        PanelEvent::Op(m) => *m != c.op,
+        PanelEvent::Op(m) => *m != c.front.op,
         PanelEvent::Data(d) => *d != c.data,
         PanelEvent::Reset => true,
         _ => false,
@@ -555,10 +557,10 @@ pub(super) fn apply(c: &mut Console, ev: PanelEvent) {
     }
     c.apply_event(ev);
     if let Some(n) = note {
-        c.message = if c.message.is_empty() {
+        c.front.message = if c.front.message.is_empty() {
             n
         } else {
-            format!("{}; {n}", c.message)
+            format!("{}; {n}", c.front.message)
         };
     }
 }
@@ -588,7 +590,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
     };
     match ev {
         PanelEvent::Stop => {
-            c.message = abandoned("STOP", r);
+            c.front.message = abandoned("STOP", r);
             c.tape_read = None;
             Gate::Done
         }
@@ -602,7 +604,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
             c.tape_read = None;
             Gate::Pass(Some(note))
         }
-        PanelEvent::Op(m) if *m != c.op => {
+        PanelEvent::Op(m) if *m != c.front.op => {
             let note = abandoned(&format!("turning to {}", m.name()), r);
             c.tape_read = None;
             Gate::Pass(Some(note))
@@ -630,7 +632,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Gate::Pass(None),
         other => {
-            c.message = refusal(&script_line(other), r);
+            c.front.message = refusal(&script_line(other), r);
             Gate::Done
         }
     }
@@ -651,7 +653,7 @@ fn refusal(what: &str, r: &TapeRead) -> String {
 pub(super) fn refuse_key(c: &mut Console, what: &str) -> bool {
     match &c.tape_read {
         Some(r) => {
-            c.message = refusal(what, r);
+            c.front.message = refusal(what, r);
             true
         }
         None => false,

@@ -59,7 +59,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     let set = match parse(line) {
         Ok(s) => s,
         Err(e) => {
-            c.message = e;
+            c.front.message = e;
             return;
         }
     };
@@ -68,7 +68,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Setting::Pocket { t, .. } | Setting::Tool { t, .. } => t,
     };
     if t == 0 || t > cap {
-        c.message = format!("T{t} refused: the magazine has T01 to T{cap:02}");
+        c.front.message = format!("T{t} refused: the magazine has T01 to T{cap:02}");
         return;
     }
     let result = match set {
@@ -79,7 +79,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Ok(()) => {
             c.tool_focus = t;
             let m = c.mem.magazine();
-            c.message = match m.tcodes.tool_in(t) {
+            c.front.message = match m.tcodes.tool_in(t) {
                 Some(n) => match m.tools.get(t) {
                     Some(r) if r.number == n => format!("T{t:02} holds tool {n:05}"),
                     _ => format!("T{t:02} holds tool {n:05}: read its data (TOOL DATA READ)"),
@@ -87,7 +87,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
                 None => format!("T{t:02} is empty"),
             };
         }
-        Err(e) => c.message = format!("refused: {e}"),
+        Err(e) => c.front.message = format!("refused: {e}"),
     }
 }
 

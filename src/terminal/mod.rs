@@ -172,7 +172,7 @@ fn run_loop(term: &mut Terminal, mut front: Panel, feed: &mut Option<Feed>) -> (
         if fits {
             draw(&front, &mut screen);
         } else {
-            draw_too_small(&mut screen, need, front.ignored_key());
+            draw_too_small(&mut screen, need, front.front().ignored_key());
         }
         out.clear();
         renderer.render(&screen, &mut out);

@@ -67,10 +67,11 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Ok(ev) => {
             let said = format!("I/O: {}", super::super::script_line::script_line(&ev));
             c.apply(ev);
-            c.message = said;
+            c.front.message = said;
         }
         Err(e) => {
-            c.message = format!("I/O: refused: {e} (type P3 ON, P3 OFF or E2 4.5, then INPUT)")
+            c.front.message =
+                format!("I/O: refused: {e} (type P3 ON, P3 OFF or E2 4.5, then INPUT)")
         }
     }
 }

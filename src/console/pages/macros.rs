@@ -112,7 +112,7 @@ pub(crate) fn set_message(n: usize, v: f64) -> String {
 /// INPUT (or +INPUT with `add`) on the MACRO page.
 pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     if c.cfg.settings.dialect != Dialect::Fanuc {
-        c.message =
+        c.front.message =
             "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into();
         return;
     }
@@ -123,7 +123,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         }
         Ok(Input::Set(n, v)) => (n, v),
         Err(e) => {
-            c.message = e;
+            c.front.message = e;
             return;
         }
     };
@@ -134,13 +134,13 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         // Kept by the stores; a vacant one is kept as nothing (0), as a program's write is.
         let kept = if v.is_nan() { 0.0 } else { v };
         if let Err(e) = c.mem.set_params(&[(n, kept)]) {
-            c.message = format!("MACRO refused: #{n}: {e}");
+            c.front.message = format!("MACRO refused: #{n}: {e}");
             return;
         }
     }
     c.interp.params[n] = v;
     c.pages.macro_var = n;
-    c.message = set_message(n, v);
+    c.front.message = set_message(n, v);
 }
 
 /// The MACRO page.
@@ -151,7 +151,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line("MACRO", "#500=12.5 / Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.entry));
+    p.bottom.push(format!("> {}_", c.front.entry));
     if c.cfg.settings.dialect != Dialect::Fanuc {
         p.body
             .push("(the Fanuc dialect's variables: --dialect fanuc)".into());

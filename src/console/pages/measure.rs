@@ -30,12 +30,12 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
     let vals = match super::workofs::axis_words(words) {
         Ok(v) => v,
         Err(e) => {
-            c.message = format!("OFS MEASURE refused: {e}");
+            c.front.message = format!("OFS MEASURE refused: {e}");
             return;
         }
     };
     if c.status.moving {
-        c.message = "OFS MEASURE refused: the machine is moving; STOP first".into();
+        c.front.message = "OFS MEASURE refused: the machine is moving; STOP first".into();
         return;
     }
     let (len, _) = super::pos::length_in_force(c);
@@ -53,7 +53,7 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
         }
         None => {
             let (Some(z), None, None) = (vals[2], vals[0], vals[1]) else {
-                c.message =
+                c.front.message =
                     "OFS MEASURE refused: a tool row measures its length in Z (MEASURE Z50); a work offset is measured on its row or by name (MEASURE G54 X0)".into();
                 return;
             };
@@ -62,7 +62,7 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
                     .status
                     .tool
                     .map_or("no tool".to_string(), |s| format!("T{s:02}"));
-                c.message = format!(
+                c.front.message = format!(
                     "OFS MEASURE refused: T{t:02} is not in the spindle ({inside} is); change to it and touch its tip"
                 );
                 return;

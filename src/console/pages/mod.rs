@@ -163,7 +163,7 @@ pub(super) fn page_key(c: &mut Console, p: Page) {
     c.pages.page = if c.pages.page == p { Page::Mode } else { p };
     c.pages.confirm_delete = None;
     c.pages.msg_first = 0;
-    c.entry.clear();
+    c.front.entry.clear();
 }
 
 /// A key while a page is shown; whether the page took it.
@@ -181,24 +181,24 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             true
         }
         Key::Enter | Key::Tab => {
-            let line = std::mem::take(&mut c.entry);
+            let line = std::mem::take(&mut c.front.entry);
             enter(c, &line, k == Key::Tab);
             // A value that cannot be applied now stays on the entry line, beside the reason
             // (the operator INPUTs it again, or corrects it), as a Fanuc keeps its key-in
             // buffer on a refused INPUT.
-            if c.entry.is_empty() && c.message.contains("refused") {
-                c.entry = line;
+            if c.front.entry.is_empty() && c.front.message.contains("refused") {
+                c.front.entry = line;
             }
             true
         }
         Key::Char(ch) => {
-            if c.entry.chars().count() < 240 {
-                c.entry.push(ch);
+            if c.front.entry.chars().count() < 240 {
+                c.front.entry.push(ch);
             }
             true
         }
         Key::Backspace => {
-            c.entry.pop();
+            c.front.entry.pop();
             true
         }
         _ => false,
@@ -216,10 +216,11 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         Page::Prog => prog::enter(c, line),
         Page::Ofs => ofs::enter(c, line, add),
         Page::Msg => {
-            c.message = "MSG: the history is read only; Up/Down scroll it".into();
+            c.front.message = "MSG: the history is read only; Up/Down scroll it".into();
         }
         Page::Modal => {
-            c.message = "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
+            c.front.message =
+                "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
         }
         Page::Io => io::enter(c, line),
         Page::Macro => macros::enter(c, line, add),

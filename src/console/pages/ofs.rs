@@ -106,7 +106,7 @@ fn revised(r: &ToolRecord, col: usize, text: &str, add: bool) -> Result<ToolReco
 pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     let (t, col) = c.pages.ofs;
     if line.trim().is_empty() {
-        c.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
+        c.front.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
         return;
     }
     if let Some(rest) = line
@@ -128,7 +128,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.message = if st.hold {
+        c.front.message = if st.hold {
             "OFS refused: the feed hold is still braking; INPUT again once it has stopped"
         } else {
             "OFS refused: the machine is moving; STOP first"
@@ -138,13 +138,13 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     }
     let m = c.mem.magazine();
     let (Some(tool), Some(rec)) = (m.tcodes.tool_in(t), m.tools.get(t)) else {
-        c.message = format!("OFS refused: T{t:02} holds no tool with data (TOOL DATA READ)");
+        c.front.message = format!("OFS refused: T{t:02} holds no tool with data (TOOL DATA READ)");
         return;
     };
     let new = match revised(rec, col, line, add) {
         Ok(n) => n,
         Err(e) => {
-            c.message = format!("OFS refused: {e}");
+            c.front.message = format!("OFS refused: {e}");
             return;
         }
     };
@@ -153,7 +153,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
         Ok(_) => {
             note_pending(c, t, before);
             let name = COLUMNS[col];
-            c.message = if c.status.job.is_some() {
+            c.front.message = if c.status.job.is_some() {
                 c.core.set_magazine(c.mem.magazine());
                 if super::super::gcode_run::gcode_run_loaded(c) {
                     // A G-code run took its lengths and radii when its lines were read (G43,
@@ -170,7 +170,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
             };
             super::super::run::recheck_program_alarm(c);
         }
-        Err(e) => c.message = format!("OFS refused: {e}"),
+        Err(e) => c.front.message = format!("OFS refused: {e}"),
     }
 }
 
@@ -189,7 +189,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line("OFS", "Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.entry));
+    p.bottom.push(format!("> {}_", c.front.entry));
     let shown = ((cols.saturating_sub(10)) / 9).clamp(1, COLUMNS.len() - FIRST);
     let first = col
         .saturating_sub(shown / 2)

@@ -31,7 +31,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     let pos = c.status.pos;
     if l == "XYZ" || l == "ORIGIN" {
         c.pages.rel_origin = pos;
-        c.message = "relative X Y Z zeroed".into();
+        c.front.message = "relative X Y Z zeroed".into();
         return;
     }
     if let Some(rest) = l.strip_prefix("JOG") {
@@ -46,12 +46,12 @@ pub(super) fn enter(c: &mut Console, line: &str) {
                     } else {
                         c.book.counters.target = n;
                     }
-                    c.message = match c.book.counters.save(&c.cfg.state_dir) {
+                    c.front.message = match c.book.counters.save(&c.cfg.state_dir) {
                         Ok(()) => format!("{} {n}", word.to_ascii_lowercase()),
                         Err(e) => e,
                     };
                 }
-                Err(_) => c.message = format!("{word} takes a whole number: {word} 100"),
+                Err(_) => c.front.message = format!("{word} takes a whole number: {word} 100"),
             }
             return;
         }
@@ -62,7 +62,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Some('Y') => 1,
         Some('Z') => 2,
         _ => {
-            c.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into();
+            c.front.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into();
             return;
         }
     };
@@ -73,13 +73,13 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         match rest.trim().parse::<f64>() {
             Ok(v) if v.is_finite() && v.abs() <= 1e6 => v,
             _ => {
-                c.message = format!("'{}' is not a position in mm", rest.trim());
+                c.front.message = format!("'{}' is not a position in mm", rest.trim());
                 return;
             }
         }
     };
     c.pages.rel_origin[axis] = pos[axis] - s.to_pulses(value);
-    c.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
+    c.front.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
 }
 
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
@@ -97,7 +97,7 @@ fn jog(c: &mut Console, rest: &str) {
                 c.posmem.rapid_jog = false;
             }
             _ => {
-                c.message = format!(
+                c.front.message = format!(
                     "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
                 );
                 return;
@@ -106,7 +106,7 @@ fn jog(c: &mut Console, rest: &str) {
     }
     let f = super::super::posmem::jog_feed(c);
     c.core.set_jog_feed(f);
-    c.message = if c.posmem.rapid_jog {
+    c.front.message = if c.posmem.rapid_jog {
         format!("rapid jog: {f:.0} mm/min")
     } else {
         format!("jog feed {f:.0} mm/min")
@@ -182,7 +182,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     p.body.push(format!(
         "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
         super::super::posmem::jog_feed(c),
-        s.to_mm(c.wheel.1 as i64)
+        s.to_mm(c.front.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
         (_, Some(t)) => format!("TOOL CHANGE to T{t:02} in progress"),

@@ -48,7 +48,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     };
     let name = name.clone();
     if c.status.job.is_some() || c.running() {
-        c.message = "PROG refused: a run is loaded; RESET first".into();
+        c.front.message = "PROG refused: a run is loaded; RESET first".into();
         return;
     }
     let l = line.trim();
@@ -80,7 +80,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     } else {
         Err("PROG: Enter selects; C NAME copies, R NAME renames, D deletes (asked twice)".into())
     };
-    c.message = r.unwrap_or_else(|e| format!("PROG refused: {e}"));
+    c.front.message = r.unwrap_or_else(|e| format!("PROG refused: {e}"));
     if c.pages.confirm_delete.is_none() && c.search.is_some() {
         c.search = None;
     }
@@ -108,7 +108,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line(&head, &format!("{} programs", list.len()), cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.entry));
+    p.bottom.push(format!("> {}_", c.front.entry));
     let n = p.body_rows().saturating_sub(1);
     let wide = cols >= 56;
     let name_w = if wide { 16 } else { 12 };

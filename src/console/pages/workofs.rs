@@ -73,7 +73,7 @@ pub(super) fn at_rest(c: &mut Console, page: &str) -> bool {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.message = format!("{page} refused: the machine is moving; STOP first");
+        c.front.message = format!("{page} refused: the machine is moving; STOP first");
         return false;
     }
     true
@@ -98,13 +98,13 @@ pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: b
             } else {
                 ""
             };
-            c.message = format!(
+            c.front.message = format!(
                 "{} X{:.3} Y{:.3} Z{:.3}{when}",
                 SYSTEM_NAMES[system], o[0], o[1], o[2]
             );
             c.pages.ofs.0 = c.mem.magazine().tcodes.capacity() + 1 + system as u32;
         }
-        Err(e) => c.message = format!("OFS refused: {e}"),
+        Err(e) => c.front.message = format!("OFS refused: {e}"),
     }
 }
 
@@ -112,7 +112,7 @@ pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: b
 pub(super) fn enter_line(c: &mut Console, system: usize, rest: &str, add: bool) {
     match axis_words(rest) {
         Ok(v) => set(c, system, v, add),
-        Err(e) => c.message = format!("OFS refused: {e}"),
+        Err(e) => c.front.message = format!("OFS refused: {e}"),
     }
 }
 
@@ -124,7 +124,7 @@ pub(super) fn enter_cell(c: &mut Console, system: usize, axis: usize, text: &str
             vals[axis.min(2)] = Some(v);
             set(c, system, vals, add);
         }
-        Err(e) => c.message = format!("OFS refused: {e}"),
+        Err(e) => c.front.message = format!("OFS refused: {e}"),
     }
 }
 
@@ -142,7 +142,7 @@ pub(super) fn compose(
         split_line("OFS WORK", "G55 X10 / Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.entry));
+    p.bottom.push(format!("> {}_", c.front.entry));
     let mut table = Vec::new();
     for (i, name) in SYSTEM_NAMES.iter().enumerate() {
         let o = c.mem.system_offset(i);

@@ -12,32 +12,34 @@ impl LatheConsole {
     /// The EOB key: in MDI the line goes into the channel's MDI buffer; in DATA it is an
     /// editor command line on the channel's program.
     pub(super) fn eob(&mut self) {
-        let line = std::mem::take(&mut self.entry);
-        self.y_output = None;
+        let line = std::mem::take(&mut self.front.entry);
+        self.front.y_output = None;
         match self.page {
             Page::Ofs => return self.revise_tool(&line),
             Page::Msg => {
                 // Read only: the typed line stays on the entry line (nothing typed is lost).
-                self.message = "MSG: the history is read only; Up/Down scroll it".into();
-                self.entry = line;
+                self.front.message = "MSG: the history is read only; Up/Down scroll it".into();
+                self.front.entry = line;
                 return;
             }
             Page::Macro => return self.macro_input(&line),
             Page::Modal => {
                 // The centre's words; the typed line stays.
-                self.message =
+                self.front.message =
                     "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into();
-                self.entry = line;
+                self.front.entry = line;
                 return;
             }
             _ => {}
         }
-        match self.mode {
+        match self.front.op {
             OpMode::Auto | OpMode::Single | OpMode::Continuous | OpMode::Handle | OpMode::Step => {
                 if !line.is_empty() {
-                    self.message =
-                        format!("{} takes no data: turn to MDI or DATA", self.mode.word());
-                    self.entry = line;
+                    self.front.message = format!(
+                        "{} takes no data: turn to MDI or DATA",
+                        self.front.op.word()
+                    );
+                    self.front.entry = line;
                 }
             }
             OpMode::Mdi => {
@@ -47,19 +49,19 @@ impl LatheConsole {
                 // Up recalls it, stored or not (the centre's rule).
                 self.recall[self.sel].remember(&line);
                 if self.mdi[self.sel].len() >= MAX_MDI_LINES {
-                    self.message =
+                    self.front.message =
                         format!("the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it");
-                    self.entry = line;
+                    self.front.entry = line;
                     return;
                 }
                 let mut lines = self.mdi[self.sel].clone();
                 lines.push(line.clone());
                 if !self.set_mdi(lines) {
                     // Not stored: the line stays on the entry line, nothing is lost.
-                    self.entry = line;
+                    self.front.entry = line;
                     return;
                 }
-                self.message = format!(
+                self.front.message = format!(
                     "MDI CH{}: {} lines; START runs them",
                     self.sel + 1,
                     self.mdi[self.sel].len()
@@ -71,8 +73,8 @@ impl LatheConsole {
                 }
                 if let Err(e) = self.edit(&line) {
                     // Refused: the line stays on the entry line, nothing is lost.
-                    self.message = e;
-                    self.entry = line;
+                    self.front.message = e;
+                    self.front.entry = line;
                 }
             }
         }
@@ -83,7 +85,7 @@ impl LatheConsole {
     /// (`crate::console::entry::cursor_command`), run as a typed one is; the line being typed
     /// stays on the entry line. False for another key, or with the OFS page up.
     pub(super) fn cursor_key(&mut self, k: novanc_panel::Key) -> bool {
-        if self.mode != OpMode::Data || self.page != Page::Mode {
+        if self.front.op != OpMode::Data || self.page != Page::Mode {
             return false;
         }
         let mut buf = Buffer::from_text(&self.programs[self.sel].text);
@@ -92,8 +94,8 @@ impl LatheConsole {
         let Some((name, command)) = crate::console::entry::cursor_command(&buf, k, room) else {
             return false;
         };
-        self.y_output = None;
-        self.message = match command.and_then(|cmd| self.edit(&cmd)) {
+        self.front.y_output = None;
+        self.front.message = match command.and_then(|cmd| self.edit(&cmd)) {
             Ok(()) => String::new(),
             Err(e) if e.starts_with(name) => e,
             Err(e) => format!("{name}: {e}"),
@@ -141,10 +143,10 @@ impl LatheConsole {
             }
         };
         match said {
-            Ok(m) => self.message = m,
+            Ok(m) => self.front.message = m,
             Err(e) => {
-                self.message = e;
-                self.entry = line.to_string();
+                self.front.message = e;
+                self.front.entry = line.to_string();
             }
         }
     }
@@ -164,20 +166,20 @@ impl LatheConsole {
         let ch = self.sel;
         match ofs::revise(&self.desc.channels[ch].tools, line) {
             Err(e) => {
-                self.message = e;
-                self.entry = line.to_string();
+                self.front.message = e;
+                self.front.entry = line.to_string();
             }
             Ok((tools, t)) => match self.store.save_tools(ch, &tools) {
                 Err(e) => {
-                    self.message = format!("{e}: the revision is refused");
-                    self.entry = line.to_string();
+                    self.front.message = format!("{e}: the revision is refused");
+                    self.front.entry = line.to_string();
                 }
                 Ok(()) => {
                     // A cycle under way takes it at the channel's next tool call not yet read,
                     // in this part or the next, as a real lathe takes a wear offset at the
                     // next T.
                     let running = self.cycle.as_mut().filter(|c| !c.is_over() && !c.mdi);
-                    self.message = match running.map(|c| c.reread(ch, &tools)) {
+                    self.front.message = match running.map(|c| c.reread(ch, &tools)) {
                         Some(Ok(Some(line))) => format!(
                             "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
                             ch + 1
@@ -202,14 +204,14 @@ impl LatheConsole {
         match ofs::cell_line(tools, self.ofs_cell, line, add) {
             Ok(revision) => {
                 self.revise_tool(&revision);
-                if !self.entry.is_empty() {
+                if !self.front.entry.is_empty() {
                     // Refused: what was typed stays, not the line made of it.
-                    self.entry = line.to_string();
+                    self.front.entry = line.to_string();
                 }
             }
             Err(e) => {
-                self.message = e;
-                self.entry = line.to_string();
+                self.front.message = e;
+                self.front.entry = line.to_string();
             }
         }
     }
@@ -259,15 +261,15 @@ impl LatheConsole {
                 // A move alone that cannot be stored is refused: the pointer stays.
                 return Err(format!("{e}: the line is refused"));
             }
-            self.message = e;
+            self.front.message = e;
         }
         // `Y` type-out is shown in place of the listing until the next line or mode (the
         // centre's rule): what the operator asked to see is not dropped.
-        self.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
+        self.front.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
         self.pointers[ch] = buf.pointer();
         self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
-        if self.message.is_empty() {
-            self.message = if out.changed {
+        if self.front.message.is_empty() {
+            self.front.message = if out.changed {
                 "stored".into()
             } else {
                 "ok".into()
@@ -361,12 +363,12 @@ impl LatheConsole {
             ));
         }
         let panel = (
-            self.mode == OpMode::Single,
-            self.block_delete,
-            self.optional_stop,
+            self.front.op == OpMode::Single,
+            self.front.switches.block_delete,
+            self.front.switches.optional_stop,
         );
         l.extend(setting_lines(
-            &switch_list(self.feed_override, &self.switches, panel),
+            &switch_list(self.front.feed_override, &self.switches, panel),
             cols,
         ));
         l
@@ -419,7 +421,7 @@ impl LatheConsole {
             }
             _ => {}
         }
-        if let (OpMode::Data, Some(y)) = (self.mode, &self.y_output) {
+        if let (OpMode::Data, Some(y)) = (self.front.op, &self.front.y_output) {
             let room = self.rows.saturating_sub(5).max(1);
             return y
                 .split_inclusive('\n')
@@ -431,13 +433,13 @@ impl LatheConsole {
         // buffer is cleared at START: before stop 40 the display went blank while it ran).
         let running = self.cycle.as_ref().filter(|c| !c.is_over());
         let run_lines = running.and_then(|c| c.mdi_lines(self.sel));
-        let text = match (self.mode, run_lines) {
+        let text = match (self.front.op, run_lines) {
             (OpMode::Mdi, Some(l)) if self.mdi[self.sel].is_empty() => l.join("\n"),
             (OpMode::Mdi, _) => self.mdi[self.sel].join("\n"),
             _ => self.programs[self.sel].text.clone(),
         };
         let lines: Vec<&str> = text.lines().collect();
-        let cur = match self.mode {
+        let cur = match self.front.op {
             OpMode::Data => self.edit_line[self.sel],
             _ => line.max(1) as usize,
         };

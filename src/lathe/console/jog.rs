@@ -1,14 +1,14 @@
 //! Manual moves on the lathe console (docs/lathe.md "Moving a tool post by hand"): the
 //! operation selector's CONTINUOUS, HANDLE and STEP positions move the selected channel's tool
 //! post, X or Z, as the centre's do, on the one kernel (`Command::Jog`, `Command::Increment`
-//! to that channel's machine) and with the centre's key rule (`crate::console::keys::HeldJog`):
+//! to that channel's machine) and with the centre's key rule (`crate::console::front::HeldJog`):
 //! in CONTINUOUS a tapped key moves one increment and a held key jogs until it is let go; in
 //! HANDLE a detent of the handwheel moves one increment; in STEP a key moves one increment.
 //! The increment is the centre's (`x1 x10 x100 x1000` pulses, Alt+w or `wheelscale N`); X
 //! moves on its radius.
 
 use super::{glue, LatheConsole};
-use crate::console::keys::JogPress;
+use crate::console::front::JogPress;
 use crate::console::manual::{self, Move};
 use crate::console::MsgLife;
 use crate::panel_model::{Axis, OpMode, PanelEvent};
@@ -35,25 +35,25 @@ impl LatheConsole {
     /// E-STOP, with a cycle under way, or past the travel (every console's rule,
     /// `crate::console::manual`). Nothing else moves.
     pub(super) fn jog(&mut self, axis: Axis, dir: i8) {
-        let what = if self.mode == OpMode::Step {
+        let what = if self.front.op == OpMode::Step {
             "STEP"
         } else {
             "jog"
         };
-        match manual::jog(self.mode, axis, dir, self.increment) {
+        match manual::jog(self.front.op, axis, dir, self.front.wheel.1) {
             Ok(mv) => self.manual_move(axis, mv, what),
-            Err(e) => self.message = e,
+            Err(e) => self.front.message = e,
         }
     }
 
     /// The handwheel (`PanelEvent::Wheel`, recorded as `wheel X 3`): `n` detents of the
     /// selected channel's X or Z, an increment each, in HANDLE only.
     pub(super) fn wheel(&mut self, axis: Axis, n: i32) {
-        self.wheel_axis = axis;
-        match manual::wheel(self.mode, n, self.increment) {
+        self.front.wheel.0 = axis;
+        match manual::wheel(self.front.op, n, self.front.wheel.1) {
             Ok(0) => {}
             Ok(pulses) => self.manual_move(axis, Move::Increment(pulses), "HANDLE"),
-            Err(e) => self.message = e,
+            Err(e) => self.front.message = e,
         }
     }
 
@@ -61,7 +61,11 @@ impl LatheConsole {
     /// `HeldJog`): a tap moves one increment, a held key jogs until it stops repeating.
     pub(super) fn hold_jog(&mut self, k: novanc_panel::Key, axis: Axis, dir: i8) {
         let virtual_time = self.clock == ClockMode::Virtual;
-        match self.jog_key.press(axis, dir, Instant::now(), virtual_time) {
+        match self
+            .front
+            .jog_key
+            .press(axis, dir, Instant::now(), virtual_time)
+        {
             JogPress::KeepAlive => {
                 if let (Some(ch), Some(c)) = (self.jogging, self.cycle.as_mut()) {
                     let _ = c.manual(ch, Command::JogAlive(crate::console::deadman_ms()));
@@ -78,7 +82,7 @@ impl LatheConsole {
                     .is_some_and(|c| c.channels().get(self.sel).is_some_and(|s| s.status.moving));
                 if !moving {
                     self.handle(PanelEvent::Jog(axis, dir));
-                    self.jog_key.began(self.jogging.is_some());
+                    self.front.jog_key.began(self.jogging.is_some());
                 }
             }
             JogPress::Tap { release } => {
@@ -87,7 +91,7 @@ impl LatheConsole {
                 }
                 self.record_event(&PanelEvent::Press(k));
                 self.say("", MsgLife::NextKey);
-                let pulses = i64::from(dir.signum()) * i64::from(self.increment);
+                let pulses = i64::from(dir.signum()) * i64::from(self.front.wheel.1);
                 self.manual_move(axis, Move::Increment(pulses), "CONTINUOUS");
                 self.after();
             }
@@ -97,13 +101,13 @@ impl LatheConsole {
     /// Once a frame: a held CONTINUOUS key that stopped repeating lets its jog go; a jog a
     /// front end's button holds is kept alive (docs/panel.md "The jog deadman").
     pub(super) fn keep_jog(&mut self) {
-        if self.jog_key.expired(Instant::now()) {
+        if self.front.jog_key.expired(Instant::now()) {
             self.record_event(&PanelEvent::JogRelease);
             self.release_jog();
         }
         if let (Some(ch), true, Some(c)) = (
             self.jogging,
-            self.jog_key.is_none() && self.clock == ClockMode::RealTime,
+            self.front.jog_key.is_none() && self.clock == ClockMode::RealTime,
             self.cycle.as_mut(),
         ) {
             // A jog held by a front end's button (the window's): each frame keeps it alive,
@@ -123,14 +127,14 @@ impl LatheConsole {
     /// A mode or channel turned lets a jog go, when one was begun or a key is held (the
     /// centre's rule: the kernel is not told when nothing jogs).
     pub(super) fn release_any_jog(&mut self) {
-        self.release_jog_if(self.jogging.is_some() || !self.jog_key.is_none());
+        self.release_jog_if(self.jogging.is_some() || !self.front.jog_key.is_none());
     }
 
     fn release_jog_if(&mut self, tell: bool) {
         if !tell {
             return;
         }
-        self.jog_key.clear();
+        self.front.jog_key.clear();
         // Always told (to the selected channel when none is known to jog): a jog the console
         // lost track of must still stop.
         let ch = self.jogging.take().unwrap_or(self.sel);
@@ -144,18 +148,18 @@ impl LatheConsole {
     fn manual_ready(&mut self, axis: Axis, what: &str) -> Option<Ready> {
         let ch = self.sel;
         if axis == Axis::Y {
-            self.message = format!("{what} Y: the lathe's axes are X and Z");
+            self.front.message = format!("{what} Y: the lathe's axes are X and Z");
             return None;
         }
         if self.estop() {
-            self.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
+            self.front.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
             return None;
         }
         if let Some(c) = self.cycle.as_mut() {
             // The kernel's state now (in real time it runs on between the console's ticks).
             c.refresh();
             if !c.is_over() {
-                self.message = if c.at_rest() {
+                self.front.message = if c.at_rest() {
                     format!("{what} refused: a cycle is under way (RESET it first)")
                 } else {
                     format!("{what} refused: the machine is moving")
@@ -166,7 +170,7 @@ impl LatheConsole {
         let settings = MachineSettings::lathe_channel(&self.desc, ch)?;
         if self.cycle.is_none() {
             if let Err(e) = self.begin_manual() {
-                self.message = e;
+                self.front.message = e;
                 return None;
             }
         }
@@ -184,7 +188,7 @@ impl LatheConsole {
         let [x, z] = self.pos[r.ch];
         if let Err(e) = manual::check(&r.settings, [x, 0, z].into(), axis, mv) {
             // X is a radius on the lathe (the display shows its diameter).
-            self.message = match mv {
+            self.front.message = match mv {
                 Move::Increment(_) => {
                     format!("{what} {}", e.replacen("X would", "X (a radius) would", 1))
                 }
@@ -201,7 +205,7 @@ impl LatheConsole {
             Move::Jog(dir) => c.manual(r.ch, Command::Jog { axis: a, dir }),
         };
         if let Err(e) = sent {
-            self.message = format!("{what} refused: {e}");
+            self.front.message = format!("{what} refused: {e}");
             return;
         }
         let sign = |n: i64| if n < 0 { '-' } else { '+' };
@@ -237,7 +241,7 @@ impl LatheConsole {
                     }
                     self.now_ns = c.now_ns();
                 }
-                let scale = self.increment;
+                let scale = self.front.wheel.1;
                 let detents = pulses.unsigned_abs() / u64::from(scale.max(1));
                 self.say(
                     format!(
@@ -266,16 +270,16 @@ impl LatheConsole {
         };
         match manual::set_scale(&s, scale) {
             Ok(m) => {
-                self.increment = scale;
-                self.message = m;
+                self.front.wheel.1 = scale;
+                self.front.message = m;
             }
-            Err(e) => self.message = e,
+            Err(e) => self.front.message = e,
         }
     }
 
     /// The STEP and handwheel increment, pulses.
     pub fn increment(&self) -> u32 {
-        self.increment
+        self.front.wheel.1
     }
 
     /// A kernel for manual moves when none is loaded: the selected channel's, with nothing to
@@ -292,13 +296,13 @@ impl LatheConsole {
             mdi: Some(self.sel),
             pos: self.pos.clone(),
             started_ns: self.now_ns,
-            feed_override: self.feed_override,
+            feed_override: self.front.feed_override,
             switches: self.switches,
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: true,
             single_block: false,
-            op_mode: self.mode,
+            op_mode: self.front.op,
             look_ns: super::WAIT_LOOK_NS,
         };
         let mut kept = self.kept.clone();

@@ -20,6 +20,7 @@ pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::console::book::Log;
+use crate::console::front::Front;
 use crate::console::keys::Action;
 use crate::console::pages::{macros, msg};
 use crate::console::recording::Recording;
@@ -42,6 +43,9 @@ pub(crate) const WAIT_LOOK_NS: u64 = 10_000_000;
 
 /// The lathe console.
 pub struct LatheConsole {
+    /// The operator's side, the centre's (`crate::console::front`): selector (AUTO at
+    /// power-on), entry line, message, help, switches, feed override, handwheel.
+    front: Front,
     desc: LatheDesc,
     store: LatheStore,
     programs: Vec<Program>,
@@ -51,8 +55,6 @@ pub struct LatheConsole {
     mdi: Vec<Vec<String>>,
     counter: Counter,
     sel: usize,
-    /// The operation selector (the centre's positions).
-    mode: OpMode,
     /// The page up over the mode display (the centre's page rule: in any mode, the page key
     /// again or a mode turned leaves it): OFS, where the data keys revise the selected
     /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), or MSG, the alarm and message history.
@@ -83,28 +85,16 @@ pub struct LatheConsole {
     /// The channel the message just said speaks of, when not the selected one (a script's
     /// `fault 2 ...`): the history files it under that channel's program.
     msg_of: Option<usize>,
-    entry: String,
-    /// The operator message: the result, refusal or error of an action, or what the machine
-    /// or a program said. It lives as [`MsgLife`] says; what the machine is doing is derived
-    /// from the channels' states when the frame is drawn ([`LatheConsole::message`]).
-    message: String,
-    /// How long [`LatheConsole::message`] lives, and the machine time it was said at.
-    msg_life: (MsgLife, u64),
     cycle: Option<glue::Cycle>,
     rows: usize,
     cols: usize,
     /// The recording (the one recording of every console: `crate::console::recording`).
     recorder: Recording,
     last_display: Vec<String>,
-    help: bool,
-    optional_stop: bool,
-    block_delete: bool,
     /// Machine time since the console opened, ns (cycles follow one another on it).
     now_ns: u64,
     /// Each channel's tool post, pulses [X radius, Z] (where the last cycle left it).
     pos: Vec<[i64; 2]>,
-    /// Feed override, percent, of every channel's feed moves (rapids and threads keep 100).
-    feed_override: u32,
     /// The centre's switches the lathe takes, on every channel, kept across cycles: rapid
     /// override, spindle override, DRY RUN (the same `Switches` every machine records).
     switches: crate::record::Switches,
@@ -114,31 +104,17 @@ pub struct LatheConsole {
     clock: ClockMode,
     /// Told every change of every cycle's channels (virtual time: the MTConnect adapter).
     watch: Option<crate::pulse_core::Watcher>,
-    /// Whether the terminal is large enough for the panel (`set_screen_fits`), and the key
-    /// last refused: the centre's rule.
-    screen: crate::console::keys::ScreenFit,
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
-    /// The `Y` type-out of the last editor command line, shown in DATA in place of the
-    /// listing until the next line, mode or channel.
-    y_output: Option<String>,
     /// Each channel's spindle and coolant as the last cycle left them: the next START goes on
     /// with them (an MDI `M3` turns until M5, RESET, M30 or E-STOP, as on a real lathe).
     left: Vec<glue::ChannelLeft>,
-    /// Why the last script wait could not end (`handle(PanelEvent::Wait)`).
-    wait_error: Option<String>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
     /// E-STOP was pressed and RESET has not released it (with or without a cycle loaded):
     /// nothing starts and nothing moves by hand until RESET.
     estop_latched: bool,
-    /// The STEP and handwheel increment, pulses (the centre's x1, x10, x100, x1000).
-    increment: u32,
-    /// The axis the handwheel turns (the last jog key's or wheel's in HANDLE).
-    wheel_axis: crate::panel_model::Axis,
-    /// The CONTINUOUS jog key as the terminal reports it (the centre's rule).
-    jog_key: crate::console::keys::HeldJog,
     /// The channel a continuous jog was begun on and not yet released.
     jogging: Option<usize>,
 }
@@ -212,8 +188,8 @@ impl LatheConsole {
             counter: o.counter,
             store: o.store,
             desc,
+            front: Front::new(OpMode::Auto, 10),
             sel: 0,
-            mode: OpMode::Auto,
             page: Page::Mode,
             log,
             msg_first: 0,
@@ -226,34 +202,21 @@ impl LatheConsole {
             estop_logged: false,
             alarm_at: vec![None; n],
             msg_of: None,
-            entry: String::new(),
-            message: String::new(),
-            msg_life: (MsgLife::NextKey, 0),
             cycle: None,
             rows,
             cols,
             recorder,
             last_display: Vec::new(),
-            help: false,
-            optional_stop: false,
-            block_delete: false,
             now_ns: 0,
             stale_counts: stale,
-            feed_override: 100,
             switches: Default::default(),
             pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
-            screen: crate::console::keys::ScreenFit::default(),
             kept: Vec::new(),
-            y_output: None,
             left: vec![glue::ChannelLeft::default(); n],
-            wait_error: None,
             interrupt: None,
             estop_latched: false,
-            increment: 10,
-            wheel_axis: crate::panel_model::Axis::X,
-            jog_key: Default::default(),
             jogging: None,
         };
         c.kept = (0..n)
@@ -272,12 +235,12 @@ impl LatheConsole {
         c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
-            c.message = match warnings.len() {
+            c.front.message = match warnings.len() {
                 1 => w.clone(),
                 n => format!("{w} (and {} more warnings)", n - 1),
             };
         } else if stale {
-            c.message = format!(
+            c.front.message = format!(
                 "last batch stopped at {} of {}: START begins anew",
                 c.counter
                     .counts
@@ -354,7 +317,7 @@ impl LatheConsole {
 
     fn message_with(&self, chans: &[ChanView]) -> &str {
         let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
-        let (life, at) = self.msg_life;
+        let (life, at) = (self.front.life, self.front.said_ns);
         // Said in this instant: the machine has not answered yet (START before its tick).
         let fresh = at == self.now_ns;
         let lives = match life {
@@ -362,13 +325,13 @@ impl LatheConsole {
             MsgLife::WhileRunning => fresh || view::runs(chans),
             MsgLife::WhileHeld => fresh || any(&["HOLD"]),
         };
-        if lives && !self.message.is_empty() {
-            &self.message
+        if lives && !self.front.message.is_empty() {
+            &self.front.message
         } else if any(&["ESTOP"]) || self.estop_latched {
             ESTOP_NOTE
         } else if any(&["HOLD"]) {
             HOLD_NOTE
-        } else if any(&["STOP"]) && self.mode == OpMode::Single {
+        } else if any(&["STOP"]) && self.front.op == OpMode::Single {
             "SINGLE BLOCK: a channel stops after each block; START runs the next"
         } else if any(&["STOP"]) {
             "STOP: a program stop; START goes on"
@@ -381,8 +344,7 @@ impl LatheConsole {
 
     /// Says `text` on the message line for as long as `life`.
     fn say(&mut self, text: impl Into<String>, life: MsgLife) {
-        self.message = text.into();
-        self.msg_life = (life, self.now_ns);
+        self.front.say(text, life, self.now_ns)
     }
 
     /// The rapid override and the spindle override, percent (the centre's switches).
@@ -402,7 +364,7 @@ impl LatheConsole {
 
     /// The operation selector's position.
     pub fn mode(&self) -> OpMode {
-        self.mode
+        self.front.op
     }
 
     /// The page up over the mode display (`Page::Mode`: none).
@@ -417,12 +379,15 @@ impl LatheConsole {
 
     /// The feed override, percent.
     pub fn feed_override(&self) -> u32 {
-        self.feed_override
+        self.front.feed_override
     }
 
     /// The switches: OPTIONAL STOP, BLOCK DELETE.
     pub fn switches(&self) -> (bool, bool) {
-        (self.optional_stop, self.block_delete)
+        (
+            self.front.switches.optional_stop,
+            self.front.switches.block_delete,
+        )
     }
 
     /// The cycle loaded, if any (for tests: its state as the kernel published it).
@@ -470,21 +435,19 @@ impl LatheConsole {
         (self.rows, self.cols)
     }
 
-    /// Tells the console whether the terminal is large enough for the panel (the terminal
-    /// front end does every frame), as the centre's console is told: while it is not, only
-    /// the relay panel's STOP, RESET and E-STOP act.
-    pub fn set_screen_fits(&mut self, fits: bool) {
-        self.screen.set(fits)
+    /// The operator's side of the console, the centre's (`crate::console::front`).
+    pub(crate) fn front(&self) -> &Front {
+        &self.front
     }
 
-    /// The last key ignored because the terminal is too small, for the notice.
-    pub fn ignored_key(&self) -> Option<&str> {
-        self.screen.ignored()
+    /// The operator's side of the console, to change (the screen fit, each frame).
+    pub(crate) fn front_mut(&mut self) -> &mut Front {
+        &mut self.front
     }
 
     /// Whether the help screen is up.
     pub fn help_shown(&self) -> bool {
-        self.help
+        self.front.help_shown()
     }
 
     /// A key of the terminal, on the one key map (`events::map_key`), with the centre's
@@ -525,8 +488,8 @@ impl LatheConsole {
             }
             // +INPUT (the centre's Tab) on OFS with a value typed; with nothing typed Tab
             // turns the channel selector, as everywhere.
-            _ if k == Key::Tab && self.page == Page::Ofs && !self.entry.trim().is_empty() => {
-                let line = std::mem::take(&mut self.entry);
+            _ if k == Key::Tab && self.page == Page::Ofs && !self.front.entry.trim().is_empty() => {
+                let line = std::mem::take(&mut self.front.entry);
                 self.cell_input(&line, true);
                 return true;
             }
@@ -535,7 +498,7 @@ impl LatheConsole {
         // The page key again leaves it (the centre's rule); the line being typed stays.
         self.page = if self.page == page { Page::Mode } else { page };
         self.msg_first = 0;
-        self.y_output = None;
+        self.front.y_output = None;
         true
     }
 
@@ -543,13 +506,15 @@ impl LatheConsole {
     /// the entry line (the centre's recall). Whether `k` was one of them.
     fn recall_key(&mut self, k: novanc_panel::Key) -> bool {
         use novanc_panel::Key;
-        if self.mode != OpMode::Mdi || self.page != Page::Mode || !matches!(k, Key::Up | Key::Down)
+        if self.front.op != OpMode::Mdi
+            || self.page != Page::Mode
+            || !matches!(k, Key::Up | Key::Down)
         {
             return false;
         }
         match self.recall[self.sel].step(k == Key::Up) {
-            Some(l) => self.entry = l,
-            None => self.message = "MDI: no line to recall".into(),
+            Some(l) => self.front.entry = l,
+            None => self.front.message = "MDI: no line to recall".into(),
         }
         true
     }
@@ -608,13 +573,16 @@ impl LatheConsole {
         }
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
-        let r = self
-            .log
-            .message(&mut self.recorder, (t, file, 0), level::INFO, &self.message);
+        let r = self.log.message(
+            &mut self.recorder,
+            (t, file, 0),
+            level::INFO,
+            &self.front.message,
+        );
         if let Some(e) = failed.or(r.err()) {
-            self.message = crate::console::book::with_failure(&self.message, &e);
-            self.msg_life = (MsgLife::NextKey, self.now_ns);
-            self.log.shown(&self.message);
+            let m = crate::console::book::with_failure(&self.front.message, &e);
+            self.say(m, MsgLife::NextKey);
+            self.log.shown(&self.front.message);
         }
     }
 
@@ -660,7 +628,7 @@ impl LatheConsole {
         // An operator action: the last one's message has lived its life.
         self.say("", MsgLife::NextKey);
         if let Err(e) = events::takes(&ev) {
-            self.message = e;
+            self.front.message = e;
             return self.after();
         }
         match ev {
@@ -669,30 +637,30 @@ impl LatheConsole {
             PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
             PanelEvent::JogRelease => {
                 self.release_jog();
-                self.message = "jog released".into();
+                self.front.message = "jog released".into();
             }
             PanelEvent::WheelScale(n) => self.set_increment(n),
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
-                self.y_output = None;
-                self.entry.clear();
-                self.message = format!(
+                self.front.y_output = None;
+                self.front.entry.clear();
+                self.front.message = format!(
                     "OFS: CH{}'s tools; a value, Enter INPUT, Tab +INPUT (or T1 X.. Z.. R.. P..)",
                     self.sel + 1
                 );
             }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
-            PanelEvent::Channel(c) => self.message = format!("there is no channel {}", c + 1),
+            PanelEvent::Channel(c) => self.front.message = format!("there is no channel {}", c + 1),
             PanelEvent::Key(c) => {
-                if let Err(e) = crate::console::entry::push_key(&mut self.entry, c) {
-                    self.message = e;
+                if let Err(e) = crate::console::entry::push_key(&mut self.front.entry, c) {
+                    self.front.message = e;
                 }
             }
             PanelEvent::Rubout => {
-                self.entry.pop();
+                self.front.entry.pop();
             }
             PanelEvent::Type(t) => {
-                self.entry = t.chars().filter(|c| !c.is_control()).collect();
+                self.front.entry = t.chars().filter(|c| !c.is_control()).collect();
                 self.eob();
             }
             PanelEvent::Eob => self.eob(),
@@ -706,17 +674,17 @@ impl LatheConsole {
                     if c.any_state(&["HOLD"]) {
                         self.say(HOLD_NOTE, MsgLife::WhileHeld);
                     } else {
-                        self.message =
+                        self.front.message =
                             "STOP: the cycle is already stopped (START continues, RESET abandons)"
                                 .into();
                     }
                 }
-                _ => self.message = "STOP: the machine is not running".into(),
+                _ => self.front.message = "STOP: the machine is not running".into(),
             },
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
                 self.estop_latched = true;
-                self.jog_key.clear();
+                self.front.jog_key.clear();
                 self.jogging = None;
                 if let Some(c) = self.cycle.as_mut() {
                     c.estop();
@@ -730,40 +698,40 @@ impl LatheConsole {
                 Some(c) if ch < self.desc.channels.len() => {
                     // Filed in the history under the faulted channel's program.
                     self.msg_of = Some(ch);
-                    self.message = match c.fault(ch, &why) {
+                    self.front.message = match c.fault(ch, &why) {
                         Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
                         Err(e) => format!("fault CH{}: {e}", ch + 1),
                     };
                 }
-                _ => self.message = format!("fault CH{}: no cycle runs", ch + 1),
+                _ => self.front.message = format!("fault CH{}: no cycle runs", ch + 1),
             },
             PanelEvent::Target(n) => self.set_target(n),
             PanelEvent::Override(p) => {
-                self.feed_override = p.min(150);
+                self.front.feed_override = p.min(150);
                 if let Some(c) = self.cycle.as_mut() {
-                    c.set_feed_override(self.feed_override);
+                    c.set_feed_override(self.front.feed_override);
                 }
-                self.message = format!("feed override {} %", self.feed_override);
+                self.front.message = format!("feed override {} %", self.front.feed_override);
             }
             PanelEvent::RapidOverride(p) => match crate::console::rapid_override_message(p) {
                 Ok(m) => self.switch_all(Command::RapidOverride(p), m),
-                Err(e) => self.message = e,
+                Err(e) => self.front.message = e,
             },
             PanelEvent::SpindleOverride(p) => match crate::console::spindle_override_message(p) {
                 Ok(m) => self.switch_all(Command::SpindleOverride(p), m),
-                Err(e) => self.message = e,
+                Err(e) => self.front.message = e,
             },
             PanelEvent::DryRun(on) => {
                 let said = crate::console::machine_switch_message("DRY RUN", on);
                 self.switch_all(Command::DryRun(on), said);
             }
             PanelEvent::OptionalStop(b) => {
-                self.optional_stop = b;
-                self.message = crate::console::switch_message("OPTIONAL STOP", b);
+                self.front.switches.optional_stop = b;
+                self.front.message = crate::console::switch_message("OPTIONAL STOP", b);
             }
             PanelEvent::BlockDelete(b) => {
-                self.block_delete = b;
-                self.message = crate::console::switch_message("BLOCK DELETE", b);
+                self.front.switches.block_delete = b;
+                self.front.message = crate::console::switch_message("BLOCK DELETE", b);
             }
             // `events::takes` let through only the words above.
             _ => {}
@@ -782,7 +750,7 @@ impl LatheConsole {
             Command::DryRun(on) => sw.dry_run = on,
             _ => {}
         }
-        self.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
+        self.front.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
             Some(Err(e)) => e,
             _ => said,
         };
@@ -791,27 +759,27 @@ impl LatheConsole {
     fn turn(&mut self, m: OpMode) {
         // A selector turned leaves a page (the centre's rule).
         self.page = Page::Mode;
-        if m != self.mode {
+        if m != self.front.op {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_any_jog();
         }
         if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
-            if m == OpMode::Single && self.mode != OpMode::Single {
+            if m == OpMode::Single && self.front.op != OpMode::Single {
                 // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
                 // until START. Turned off, the blocks started in SINGLE BLOCK still end and
                 // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
                 c.set_single_block(true);
             }
         }
-        if m != self.mode {
+        if m != self.front.op {
             if let Some(c) = self.cycle.as_mut() {
                 c.set_modes(m);
             }
         }
-        self.mode = m;
-        self.y_output = None;
-        self.entry.clear();
-        self.message = format!("{} mode", m.word());
+        self.front.op = m;
+        self.front.y_output = None;
+        self.front.entry.clear();
+        self.front.message = format!("{} mode", m.word());
     }
 
     /// A script's wait: runs the machine as [`LatheConsole::run_for`] does, and says why the
@@ -819,7 +787,7 @@ impl LatheConsole {
     /// progress, or the limit of machine time), on the message line and in
     /// [`LatheConsole::wait_error`].
     fn wait(&mut self, limit_ns: u64, until: RunUntil) {
-        self.wait_error = None;
+        self.front.wait_error = None;
         let stop = self.interrupt.unwrap_or(|| false);
         let used = self.run_for(limit_ns, until, stop);
         if until == RunUntil::Time || stop() {
@@ -832,13 +800,13 @@ impl LatheConsole {
         } else {
             return;
         };
-        self.message = e.clone();
-        self.wait_error = Some(e);
+        self.front.message = e.clone();
+        self.front.wait_error = Some(e);
     }
 
     /// Why the last script wait could not end, if it could not.
     pub fn wait_error(&self) -> Option<&str> {
-        self.wait_error.as_deref()
+        self.front.wait_error.as_deref()
     }
 
     /// Asked between the steps of a script's wait: a true answer ends it early (a stop
@@ -853,9 +821,9 @@ impl LatheConsole {
             self.release_any_jog();
         }
         self.sel = c;
-        self.y_output = None;
-        self.entry.clear();
-        self.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
+        self.front.y_output = None;
+        self.front.entry.clear();
+        self.front.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
     }
 
     /// Sets the part target. It is taken only once stored: a target that cannot be stored
@@ -866,52 +834,52 @@ impl LatheConsole {
         if let Some(c) = self.cycle.as_mut() {
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
-                self.message = format!("target {n}: a channel has already finished {most}");
+                self.front.message = format!("target {n}: a channel has already finished {most}");
                 return;
             }
             let old = self.counter.target;
             if let Err(e) = c.set_target(n) {
-                self.message = e;
+                self.front.message = e;
                 return;
             }
             if let Err(e) = self.store.save_counter(&next) {
                 // The machine took `n` just now, so it takes its old target back.
                 let _ = c.set_target(old);
-                self.message = format!("{e}: the target is not changed");
+                self.front.message = format!("{e}: the target is not changed");
                 return;
             }
         } else {
             next.counts.iter_mut().for_each(|c| *c = 0);
             if let Err(e) = self.store.save_counter(&next) {
-                self.message = format!("{e}: the target is not changed");
+                self.front.message = format!("{e}: the target is not changed");
                 return;
             }
             self.stale_counts = false;
         }
         self.counter = next;
-        self.message = format!("part target {n}");
+        self.front.message = format!("part target {n}");
     }
 
     fn start(&mut self) {
         if self.estop_latched {
-            self.message = "START refused: EMERGENCY STOP in force, press RESET".into();
+            self.front.message = "START refused: EMERGENCY STOP in force, press RESET".into();
             return;
         }
         if let Some(c) = self.cycle.as_mut() {
             if !c.is_over() {
                 if !c.mdi {
-                    c.set_single_block(self.mode == OpMode::Single);
+                    c.set_single_block(self.front.op == OpMode::Single);
                 }
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
-                    Err(e) => self.message = e,
+                    Err(e) => self.front.message = e,
                 }
                 return;
             }
         }
-        match self.mode {
+        match self.front.op {
             m @ (OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step) => {
-                self.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
+                self.front.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
             }
             OpMode::Auto | OpMode::Single => {
                 if self
@@ -921,7 +889,7 @@ impl LatheConsole {
                     .all(|&c| c >= self.counter.target)
                     && !self.stale_counts
                 {
-                    self.message = format!(
+                    self.front.message = format!(
                         "the target of {} parts is reached: set a new target (Alt+n) to run again",
                         self.counter.target
                     );
@@ -936,7 +904,7 @@ impl LatheConsole {
             }
             OpMode::Mdi => {
                 if self.mdi[self.sel].is_empty() {
-                    self.message = "MDI: the buffer is empty; type lines, then START".into();
+                    self.front.message = "MDI: the buffer is empty; type lines, then START".into();
                     return;
                 }
                 let mut texts = vec![(String::new(), String::new()); self.desc.channels.len()];
@@ -951,8 +919,8 @@ impl LatheConsole {
 
     fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
         let opts = super::gcode::ReadOptions {
-            block_delete: self.block_delete,
-            optional_stop: self.optional_stop,
+            block_delete: self.front.switches.block_delete,
+            optional_stop: self.front.switches.optional_stop,
             parts: Some(super::gcode::Parts::new(
                 &self.counter.counts,
                 self.counter.target,
@@ -979,17 +947,17 @@ impl LatheConsole {
             mdi: mdi.then_some(self.sel),
             pos: self.pos.clone(),
             started_ns: self.now_ns,
-            feed_override: self.feed_override,
+            feed_override: self.front.feed_override,
             switches: self.switches,
             clock: self.clock,
             sink: self.recorder.sink(),
             manual: false,
-            single_block: !mdi && self.mode == OpMode::Single,
-            op_mode: self.mode,
+            single_block: !mdi && self.front.op == OpMode::Single,
+            op_mode: self.front.op,
             look_ns: WAIT_LOOK_NS,
         };
         match glue::Cycle::new(&desc, spec, &mut self.kept) {
-            Err(e) => self.message = e,
+            Err(e) => self.front.message = e,
             Ok(mut c) => {
                 if self.watch.is_some() {
                     c.set_watch(self.watch.clone());
@@ -1001,7 +969,7 @@ impl LatheConsole {
                     let mut next = self.counter.clone();
                     next.counts.iter_mut().for_each(|c| *c = 0);
                     if let Err(e) = self.store.save_counter(&next) {
-                        self.message = format!("{e}: the cycle does not start");
+                        self.front.message = format!("{e}: the cycle does not start");
                         return;
                     }
                     self.counter = next;
@@ -1019,7 +987,7 @@ impl LatheConsole {
                     (true, false) => format!(
                         "MDI CH{} runs; {}: the buffer is kept",
                         self.sel + 1,
-                        self.message
+                        self.front.message
                     ),
                 };
                 // The store's refusal lives as a message of its own would.
@@ -1047,7 +1015,7 @@ impl LatheConsole {
                 true
             }
             Err(e) => {
-                self.message = e;
+                self.front.message = e;
                 false
             }
         }
@@ -1074,8 +1042,11 @@ impl LatheConsole {
             if self.store.save_params(ch, &changed).is_err() {
                 for &p in &changed {
                     if let Err(e) = self.store.save_params(ch, &[p]) {
-                        self.message = format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0);
-                        self.msg_life = (MsgLife::NextKey, self.now_ns);
+                        self.front.say(
+                            format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0),
+                            MsgLife::NextKey,
+                            self.now_ns,
+                        );
                     }
                 }
             }
@@ -1093,7 +1064,7 @@ impl LatheConsole {
 
     fn reset(&mut self) {
         self.estop_latched = false;
-        self.jog_key.clear();
+        self.front.jog_key.clear();
         self.jogging = None;
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
@@ -1107,8 +1078,8 @@ impl LatheConsole {
             }
         }
         let Some(c) = self.cycle.as_mut() else {
-            self.entry.clear();
-            self.message = format!("RESET CH{}", self.sel + 1);
+            self.front.entry.clear();
+            self.front.message = format!("RESET CH{}", self.sel + 1);
             // RESET stops the channel's spindle and coolant, as the kernel's RESET does.
             self.left[self.sel] = glue::ChannelLeft::default();
             self.set_mdi(Vec::new());
@@ -1116,12 +1087,12 @@ impl LatheConsole {
         };
         if c.is_over() {
             self.cycle = None;
-            self.message = "RESET: the cycle is cleared".into();
+            self.front.message = "RESET: the cycle is cleared".into();
             // With the cycle cleared nothing shows a spindle: every one stops, and the coolant.
             self.left.fill(glue::ChannelLeft::default());
             return;
         }
-        self.message = c.reset(self.sel);
+        self.front.message = c.reset(self.sel);
     }
 
     /// Virtual time: `w` is told every channel's state at every change of one of them, in
@@ -1215,13 +1186,11 @@ impl LatheConsole {
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
-                    self.message = e;
-                    self.msg_life = (MsgLife::NextKey, self.now_ns);
+                    self.front.say(e, MsgLife::NextKey, self.now_ns);
                 }
             }
             if let Some(m) = c.take_message() {
-                self.message = m;
-                self.msg_life = (MsgLife::NextKey, self.now_ns);
+                self.front.say(m, MsgLife::NextKey, self.now_ns);
             }
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
@@ -1242,12 +1211,11 @@ impl LatheConsole {
                     .log
                     .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
                 failed = failed.or(r.err());
-                self.message = text;
-                self.msg_life = (MsgLife::NextKey, self.now_ns);
+                self.front.say(text, MsgLife::NextKey, self.now_ns);
             }
             if let Some(e) = failed {
-                self.message = crate::console::book::with_failure(&self.message, &e);
-                self.log.shown(&self.message);
+                self.front.message = crate::console::book::with_failure(&self.front.message, &e);
+                self.log.shown(&self.front.message);
             }
         }
         self.log_book();
@@ -1313,15 +1281,15 @@ impl LatheConsole {
         let c = &chans[self.sel];
         let listing = self.listing(c);
         let mode = match self.page {
-            Page::Mode => self.mode.word(),
+            Page::Mode => self.front.op.word(),
             p => p.label(),
         };
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let switches = format!(
             "{}{}{}{}{}",
-            if self.feed_override != 100 {
-                format!("  F{}%", self.feed_override)
+            if self.front.feed_override != 100 {
+                format!("  F{}%", self.front.feed_override)
             } else {
                 String::new()
             },
@@ -1330,8 +1298,16 @@ impl LatheConsole {
                 self.switches.spindle_override
             ),
             if self.switches.dry_run { " DRY" } else { "" },
-            if self.optional_stop { " M01" } else { "" },
-            if self.block_delete { " /DEL" } else { "" }
+            if self.front.switches.optional_stop {
+                " M01"
+            } else {
+                ""
+            },
+            if self.front.switches.block_delete {
+                " /DEL"
+            } else {
+                ""
+            }
         );
         let display = view::plasma(
             self.sel,
@@ -1340,7 +1316,7 @@ impl LatheConsole {
             self.desc.pulse_mm,
             &listing,
             self.message_with(&chans),
-            &self.entry,
+            &self.front.entry,
             self.rows,
             w,
         );
@@ -1366,7 +1342,7 @@ impl LatheConsole {
             display,
             channels: chans,
             selected: self.sel,
-            help: self.help,
+            help: self.front.help_shown(),
             machine_ns: self.now_ns,
         }
     }
@@ -1403,20 +1379,11 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn action(&self, k: Key) -> Action {
         events::map_key(k)
     }
-    fn help(&self) -> u8 {
-        u8::from(self.help)
+    fn front(&mut self) -> &mut Front {
+        &mut self.front
     }
-    fn set_help(&mut self, page: u8) {
-        self.help = page > 0;
-    }
-    fn screen(&mut self) -> &mut crate::console::keys::ScreenFit {
-        &mut self.screen
-    }
-    fn new_action(&mut self) {
-        self.say("", MsgLife::NextKey);
-    }
-    fn set_message(&mut self, text: String) {
-        self.message = text;
+    fn machine_switches(&self) -> crate::record::Switches {
+        self.switches
     }
     fn record_key(&mut self, k: Key) {
         self.record_event(&PanelEvent::Press(k));
@@ -1432,7 +1399,7 @@ impl crate::console::keys::Keyed for LatheConsole {
             }
             // The page key again: back to the mode's display (the centre's rule).
             self.page = Page::Mode;
-            self.message = format!("{} mode", self.mode.word());
+            self.front.message = format!("{} mode", self.front.op.word());
         }
         self.record_key(k);
         self.after();
@@ -1444,22 +1411,8 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn hold_jog(&mut self, k: Key, axis: crate::panel_model::Axis, dir: i8) {
         LatheConsole::hold_jog(self, k, axis, dir)
     }
-    fn op(&self) -> OpMode {
-        self.mode
-    }
     fn page(&self) -> Page {
         self.page
-    }
-    fn toggles(&self) -> crate::console::keys::Toggles {
-        crate::console::keys::Toggles {
-            panel: crate::gcode::Switches {
-                block_delete: self.block_delete,
-                optional_stop: self.optional_stop,
-            },
-            machine: self.switches,
-            feed_override: self.feed_override,
-            wheel: (self.wheel_axis, self.increment),
-        }
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
@@ -1470,7 +1423,7 @@ impl crate::console::keys::Keyed for LatheConsole {
             }
             Action::Fault => {
                 self.record_key(k);
-                let why = std::mem::take(&mut self.entry);
+                let why = std::mem::take(&mut self.front.entry);
                 let why = if why.trim().is_empty() {
                     "operator".to_string()
                 } else {
@@ -1480,12 +1433,12 @@ impl crate::console::keys::Keyed for LatheConsole {
             }
             Action::Target => {
                 self.record_key(k);
-                let typed = std::mem::take(&mut self.entry);
+                let typed = std::mem::take(&mut self.front.entry);
                 match typed.trim().parse::<u32>() {
                     Ok(n) if (1..=999_999).contains(&n) => self.act(PanelEvent::Target(n)),
                     _ => {
-                        self.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
-                        self.entry = typed;
+                        self.front.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
+                        self.front.entry = typed;
                     }
                 }
             }
