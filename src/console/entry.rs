@@ -58,9 +58,7 @@ pub(crate) fn push_key(entry: &mut String, ch: char) -> Result<(), String> {
 /// One data key.
 pub(super) fn key(c: &mut Console, ch: char) {
     if target(c, &format!("key '{ch}'")).is_some() {
-        if let Err(e) = push_key(&mut c.front.entry, ch) {
-            c.front.message = e;
-        }
+        c.front.key(ch);
     }
 }
 

@@ -8,7 +8,7 @@
 //! it names nothing of the display, the pages or the key map (`tests/console_rules.rs`).
 
 use super::MsgLife;
-use crate::panel_model::{Axis, OpMode};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
 use std::time::{Duration, Instant};
 
 /// A CONTINUOUS jog stops when its key has not repeated for this long (terminals report no
@@ -84,6 +84,38 @@ impl Front {
     pub fn new_action(&mut self) {
         self.message.clear();
         self.life = MsgLife::NextKey;
+    }
+
+    /// One data key on the entry line: a full line refuses it, and says so (no key is lost
+    /// in silence).
+    pub fn key(&mut self, ch: char) {
+        if let Err(e) = super::entry::push_key(&mut self.entry, ch) {
+            self.message = e;
+        }
+    }
+
+    /// The panel's own switches, the same on every machine: the feed override turned (0 to
+    /// 150 % in 10 % steps, the rotary's positions; another is refused and said), BLOCK
+    /// DELETE and OPTIONAL STOP turned (kept for the next run, and said). Whether `ev` was one
+    /// of them and was taken (the console tells its machine a new feed override).
+    pub fn switch(&mut self, ev: &PanelEvent) -> bool {
+        match *ev {
+            PanelEvent::Override(p) if p <= 150 && p % 10 == 0 => self.feed_override = p,
+            PanelEvent::Override(p) => {
+                self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
+                return false;
+            }
+            PanelEvent::BlockDelete(on) => {
+                self.switches.block_delete = on;
+                self.message = super::switch_message("BLOCK DELETE", on);
+            }
+            PanelEvent::OptionalStop(on) => {
+                self.switches.optional_stop = on;
+                self.message = super::switch_message("OPTIONAL STOP", on);
+            }
+            _ => return false,
+        }
+        true
     }
 
     /// Whether the help screen is up.

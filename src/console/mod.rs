@@ -659,12 +659,11 @@ impl Console {
                 self.front.jog_key.clear();
                 // Said by the display while it is in force (state::machine_note).
             }
-            PanelEvent::Override(p) => {
-                if p <= 150 && p % 10 == 0 {
-                    self.front.feed_override = p;
-                    self.command(Command::Override(p));
-                } else {
-                    self.front.message = format!("override {p} % is not 0 to 150 in 10 % steps");
+            ev @ (PanelEvent::Override(_)
+            | PanelEvent::BlockDelete(_)
+            | PanelEvent::OptionalStop(_)) => {
+                if self.front.switch(&ev) && matches!(ev, PanelEvent::Override(_)) {
+                    self.command(Command::Override(self.front.feed_override));
                 }
             }
             PanelEvent::WheelScale(s) => match manual::set_scale(&self.cfg.settings, s) {
@@ -710,10 +709,6 @@ impl Console {
                     self.refused_switch()
                 };
             }
-            PanelEvent::BlockDelete(on) => {
-                self.front.switches.block_delete = on;
-                self.front.message = gcode_run::switch_message("BLOCK DELETE", on);
-            }
             PanelEvent::Input {
                 digital,
                 index,
@@ -726,10 +721,6 @@ impl Console {
                 });
             }
             PanelEvent::Home => posmem::home(self),
-            PanelEvent::OptionalStop(on) => {
-                self.front.switches.optional_stop = on;
-                self.front.message = gcode_run::switch_message("OPTIONAL STOP", on);
-            }
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
             PanelEvent::JogRelease => {

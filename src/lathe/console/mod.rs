@@ -651,11 +651,7 @@ impl LatheConsole {
             }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => self.front.message = format!("there is no channel {}", c + 1),
-            PanelEvent::Key(c) => {
-                if let Err(e) = crate::console::entry::push_key(&mut self.front.entry, c) {
-                    self.front.message = e;
-                }
-            }
+            PanelEvent::Key(c) => self.front.key(c),
             PanelEvent::Rubout => {
                 self.front.entry.pop();
             }
@@ -706,12 +702,16 @@ impl LatheConsole {
                 _ => self.front.message = format!("fault CH{}: no cycle runs", ch + 1),
             },
             PanelEvent::Target(n) => self.set_target(n),
-            PanelEvent::Override(p) => {
-                self.front.feed_override = p.min(150);
-                if let Some(c) = self.cycle.as_mut() {
-                    c.set_feed_override(self.front.feed_override);
+            ev @ (PanelEvent::Override(_)
+            | PanelEvent::BlockDelete(_)
+            | PanelEvent::OptionalStop(_)) => {
+                if self.front.switch(&ev) && matches!(ev, PanelEvent::Override(_)) {
+                    let p = self.front.feed_override;
+                    if let Some(c) = self.cycle.as_mut() {
+                        c.set_feed_override(p);
+                    }
+                    self.front.message = format!("feed override {p} %");
                 }
-                self.front.message = format!("feed override {} %", self.front.feed_override);
             }
             PanelEvent::RapidOverride(p) => match crate::console::rapid_override_message(p) {
                 Ok(m) => self.switch_all(Command::RapidOverride(p), m),
@@ -724,14 +724,6 @@ impl LatheConsole {
             PanelEvent::DryRun(on) => {
                 let said = crate::console::machine_switch_message("DRY RUN", on);
                 self.switch_all(Command::DryRun(on), said);
-            }
-            PanelEvent::OptionalStop(b) => {
-                self.front.switches.optional_stop = b;
-                self.front.message = crate::console::switch_message("OPTIONAL STOP", b);
-            }
-            PanelEvent::BlockDelete(b) => {
-                self.front.switches.block_delete = b;
-                self.front.message = crate::console::switch_message("BLOCK DELETE", b);
             }
             // `events::takes` let through only the words above.
             _ => {}
