@@ -199,3 +199,29 @@ fn dry_run_moves_a_feed_at_the_jog_feed() {
     assert!(!c.dry_run() && !c.view().title.contains("DRY"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The feed override is the centre's rotary switch on the lathe too (`console::front`): 0 to
+/// 150 % in 10 % steps. Before stop 41 the lathe clamped any value (`override 75` ran at 75 %,
+/// the centre refused it); a refused position now says why and leaves the override as it was,
+/// on both machines, and a taken one is told to the cycle under way.
+#[test]
+fn the_feed_override_takes_the_rotarys_positions_only_on_both_machines() {
+    let dir = common::temp_dir("lathe-fov");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Override(70));
+    assert_eq!(c.feed_override(), 70);
+    assert_eq!(c.message(), "feed override 70 %");
+    for bad in [75, 151, 155] {
+        c.handle(PanelEvent::Override(bad));
+        assert_eq!(c.feed_override(), 70, "override {bad}");
+        assert_eq!(
+            c.message(),
+            format!("override {bad} % is not 0 to 150 in 10 % steps")
+        );
+    }
+    let mut m = common::open("centre-fov");
+    m.handle(PanelEvent::Override(70));
+    m.handle(PanelEvent::Override(75));
+    assert_eq!(m.view().feed_override, 70);
+    assert_eq!(m.message(), "override 75 % is not 0 to 150 in 10 % steps");
+}

@@ -94,27 +94,33 @@ impl Front {
         }
     }
 
-    /// The panel's own switches, the same on every machine: the feed override turned (0 to
-    /// 150 % in 10 % steps, the rotary's positions; another is refused and said), BLOCK
-    /// DELETE and OPTIONAL STOP turned (kept for the next run, and said). Whether `ev` was one
-    /// of them and was taken (the console tells its machine a new feed override).
+    /// The feed override switch turned to `p` percent, the same on every machine: 0 to 150 %
+    /// in 10 % steps, the rotary's positions; another is refused, and said. Whether it was
+    /// taken (the console then tells its machine).
+    pub fn set_override(&mut self, p: u32) -> bool {
+        if p <= 150 && p.is_multiple_of(10) {
+            self.feed_override = p;
+            return true;
+        }
+        self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
+        false
+    }
+
+    /// BLOCK DELETE or OPTIONAL STOP turned, the same on every machine: kept for the next
+    /// run, and said. Whether `ev` was one of them.
     pub fn switch(&mut self, ev: &PanelEvent) -> bool {
-        match *ev {
-            PanelEvent::Override(p) if p <= 150 && p % 10 == 0 => self.feed_override = p,
-            PanelEvent::Override(p) => {
-                self.message = format!("override {p} % is not 0 to 150 in 10 % steps");
-                return false;
-            }
+        let (name, on) = match *ev {
             PanelEvent::BlockDelete(on) => {
                 self.switches.block_delete = on;
-                self.message = super::switch_message("BLOCK DELETE", on);
+                ("BLOCK DELETE", on)
             }
             PanelEvent::OptionalStop(on) => {
                 self.switches.optional_stop = on;
-                self.message = super::switch_message("OPTIONAL STOP", on);
+                ("OPTIONAL STOP", on)
             }
             _ => return false,
-        }
+        };
+        self.message = super::switch_message(name, on);
         true
     }
 

@@ -659,12 +659,13 @@ impl Console {
                 self.front.jog_key.clear();
                 // Said by the display while it is in force (state::machine_note).
             }
-            ev @ (PanelEvent::Override(_)
-            | PanelEvent::BlockDelete(_)
-            | PanelEvent::OptionalStop(_)) => {
-                if self.front.switch(&ev) && matches!(ev, PanelEvent::Override(_)) {
-                    self.command(Command::Override(self.front.feed_override));
+            PanelEvent::Override(p) => {
+                if self.front.set_override(p) {
+                    self.command(Command::Override(p));
                 }
+            }
+            ev @ (PanelEvent::BlockDelete(_) | PanelEvent::OptionalStop(_)) => {
+                self.front.switch(&ev);
             }
             PanelEvent::WheelScale(s) => match manual::set_scale(&self.cfg.settings, s) {
                 Ok(m) => {

@@ -702,16 +702,17 @@ impl LatheConsole {
                 _ => self.front.message = format!("fault CH{}: no cycle runs", ch + 1),
             },
             PanelEvent::Target(n) => self.set_target(n),
-            ev @ (PanelEvent::Override(_)
-            | PanelEvent::BlockDelete(_)
-            | PanelEvent::OptionalStop(_)) => {
-                if self.front.switch(&ev) && matches!(ev, PanelEvent::Override(_)) {
-                    let p = self.front.feed_override;
-                    if let Some(c) = self.cycle.as_mut() {
-                        c.set_feed_override(p);
-                    }
-                    self.front.message = format!("feed override {p} %");
+            PanelEvent::Override(p) => {
+                if !self.front.set_override(p) {
+                    return self.after();
                 }
+                if let Some(c) = self.cycle.as_mut() {
+                    c.set_feed_override(p);
+                }
+                self.front.message = format!("feed override {p} %");
+            }
+            ev @ (PanelEvent::BlockDelete(_) | PanelEvent::OptionalStop(_)) => {
+                self.front.switch(&ev);
             }
             PanelEvent::RapidOverride(p) => match crate::console::rapid_override_message(p) {
                 Ok(m) => self.switch_all(Command::RapidOverride(p), m),
