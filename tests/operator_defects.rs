@@ -578,3 +578,49 @@ fn a_program_message_stays_until_acknowledged() {
         c.frame_text()
     );
 }
+
+/// A full entry line refuses the next key and says so on every console and every screen that
+/// types (stop 41: the centre's pages dropped the 241st key in silence, while DATA INPUT, MDI
+/// and the lathe said it): no key is lost without a word.
+#[test]
+fn a_full_entry_line_says_so_wherever_the_data_keys_type() {
+    use novanc::lathe::console::LatheConsole;
+    use novanc::lathe::desc::LatheDesc;
+    use novanc::panel_model::OpMode;
+    use novanc_panel::Key;
+    const FULL: &str = "the command line is full (240 characters)";
+    // The centre: DATA INPUT, MDI and the OFS page.
+    for (name, setup) in [
+        ("data", vec![]),
+        ("mdi", vec![E::Op(OpMode::Mdi)]),
+        ("ofs page", vec![E::Press(Key::Ctrl('o'))]),
+    ] {
+        let mut c = open(&format!("full-entry-{}", name.replace(' ', "-")));
+        for ev in setup {
+            c.handle(ev);
+        }
+        for _ in 0..240 {
+            c.press(Key::Char('1'));
+        }
+        assert_eq!(c.view().entry.len(), 240, "{name}");
+        assert_ne!(c.message(), FULL, "{name}");
+        c.press(Key::Char('2'));
+        assert_eq!(c.view().entry, "1".repeat(240), "{name}");
+        assert_eq!(c.message(), FULL, "{name}");
+    }
+    // The lathe: MDI and its OFS page.
+    for (name, page) in [("mdi", false), ("ofs", true)] {
+        let dir = common::temp_dir(&format!("full-entry-lathe-{name}"));
+        let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, None)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0;
+        c.handle(E::Op(OpMode::Mdi));
+        if page {
+            c.press(Key::Ctrl('o'));
+        }
+        for _ in 0..241 {
+            c.press(Key::Char('1'));
+        }
+        assert_eq!(c.message(), FULL, "lathe {name}");
+    }
+}

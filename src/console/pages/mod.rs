@@ -192,9 +192,9 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             true
         }
         Key::Char(ch) => {
-            if c.front.entry.chars().count() < 240 {
-                c.front.entry.push(ch);
-            }
+            // A full line refuses the key and says so, as everywhere (before stop 41 a page
+            // dropped the 241st key in silence).
+            c.front.key(ch);
             true
         }
         Key::Backspace => {
