@@ -191,11 +191,6 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
     if let Some(n) = super::gcode_run::program_stop_note(c) {
         parts.push(n);
     }
-    if let Some(n) = machine_note(c) {
-        if n != c.front.message {
-            parts.push(n);
-        }
-    }
     let alarm = c
         .status
         .alarm
@@ -206,6 +201,13 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
                 .map(|a| format!("line {}:{}: {}", a.error.line, a.error.col, a.error.message))
         })
         .or_else(|| c.tape_alarm.clone());
+    if let Some(n) = machine_note(c) {
+        // E-STOP is both what the machine is doing and its alarm: said once, as the alarm
+        // (before stop 41 the line said the same words twice).
+        if n != c.front.message && alarm.as_ref() != Some(&n) {
+            parts.push(n);
+        }
+    }
     // The newest program message that lives until acknowledged, before the last action's.
     if let Some(m) = c.book.unacknowledged.last() {
         let more = c.book.unacknowledged.len() - 1;
