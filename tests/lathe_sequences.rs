@@ -169,6 +169,19 @@ fn check(s: &mut Seq, what: &str) {
     }
     for (ch, c) in chans.iter().enumerate() {
         let pos = [c.status.pos[0], c.status.pos[2]];
+        // The screen shows what each channel's machine does, whether or not the run under
+        // way has a program for it (stop 41: a channel outside an MDI run showed S 0 with its
+        // spindle turning): its spindle, coolant and tool post, and E-STOP on every channel.
+        let shown = &v.channels[ch];
+        assert_eq!(
+            (shown.rpm, shown.coolant, shown.pos),
+            (c.status.spindle as f64, c.status.coolant, pos),
+            "{what}: CH{} shown otherwise than its machine",
+            ch + 1
+        );
+        if c.status.estop {
+            assert_eq!(shown.state, "ESTOP", "{what}: CH{}", ch + 1);
+        }
         for (a, ax) in desc.channels[ch].axes.iter().enumerate() {
             let lo = desc.pulses(ax.travel[0]);
             let hi = desc.pulses(ax.travel[1]);

@@ -489,3 +489,37 @@ fn a_spindle_left_turning_under_g96_feeds_the_next_mdi_runs_g95_move() {
         rpm(&c)
     );
 }
+
+/// The screen shows what every channel's machine does, not only the channels a run has a
+/// program for: CH2's spindle, left turning by its MDI `M3 S500`, turns on while CH1's MDI
+/// runs, and CH2's display says so; E-STOP during that run is every channel's, and says so on
+/// each. Before stop 41 a channel outside the MDI run showed `IDLE` and `S 0` whatever its
+/// machine did: a spindle turning at 500 rpm was shown stopped.
+#[test]
+fn a_channel_outside_an_mdi_run_shows_what_its_machine_does() {
+    let state = common::temp_dir("lathe-state-other-channel");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &state, 20, 60, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.handle(PanelEvent::Channel(1));
+    assert_eq!(mdi(&mut c, &["M3 S500 M8"]), "MDI CH2 runs");
+    c.run_for(3_000_000_000, RunUntil::Time, || false);
+    let ch2 = |c: &LatheConsole| c.view().channels[1].clone();
+    assert_eq!((ch2(&c).rpm, ch2(&c).coolant), (500.0, (false, true)));
+    c.handle(PanelEvent::Channel(0));
+    assert_eq!(mdi_start(&mut c, &["G4 P2"]), "MDI CH1 runs");
+    c.run_for(500_000_000, RunUntil::Time, || false);
+    assert_eq!(c.view().channels[0].state, "RUN");
+    assert_eq!(ch2(&c).state, "IDLE");
+    assert_eq!(
+        (ch2(&c).rpm, ch2(&c).coolant),
+        (500.0, (false, true)),
+        "CH2's spindle turns on while CH1's MDI runs"
+    );
+    c.handle(PanelEvent::Channel(1));
+    assert!(c.frame_text().contains("S   500"), "{}", c.frame_text());
+    c.handle(PanelEvent::EStop);
+    c.tick(10_000_000);
+    let states: Vec<String> = c.view().channels.iter().map(|v| v.state.clone()).collect();
+    assert_eq!(states, ["ESTOP", "ESTOP", "ESTOP"]);
+}

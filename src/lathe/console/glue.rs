@@ -918,11 +918,23 @@ impl Cycle {
                     parts: counts[ch],
                     ..Default::default()
                 };
-                let Some(c) = self.snap.get(ch).filter(|_| self.runs(ch)) else {
+                let Some(c) = self.snap.get(ch) else {
                     return v;
                 };
                 let st = &c.status;
                 v.state = self.state_word(ch).into();
+                // What the channel's machine is doing, whether or not this cycle runs its
+                // program: a spindle an earlier MDI left turning turns on while another
+                // channel's MDI runs, and E-STOP is every channel's (before stop 41 a channel
+                // outside an MDI run showed IDLE and S 0 whatever its machine did).
+                v.pos = [st.pos[0], st.pos[2]];
+                v.rpm = st.spindle as f64;
+                v.tool = st.tool.unwrap_or(0);
+                v.coolant = st.coolant;
+                if !self.runs(ch) {
+                    v.note = st.alarm.clone().unwrap_or_default();
+                    return v;
+                }
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
                 if v.line == 0 && st.run == 0 && !st.program_end {
                     // An alarm stops the channel at its block, and the listing stays there
@@ -952,15 +964,11 @@ impl Cycle {
                 if v.note.is_empty() {
                     v.note = st.alarm.clone().unwrap_or_default();
                 }
-                v.pos = [st.pos[0], st.pos[2]];
                 if let Some(b) = st.executing.as_ref().and_then(|e| e.block()) {
                     if st.in_block {
                         v.to_go = [b.end[0] - st.pos[0], b.end[2] - st.pos[2]];
                     }
                 }
-                v.rpm = st.spindle as f64;
-                v.tool = st.tool.unwrap_or(0);
-                v.coolant = st.coolant;
                 v
             })
             .collect()
