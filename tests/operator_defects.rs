@@ -640,3 +640,38 @@ fn an_emergency_stop_is_said_once_on_the_message_line() {
     keys(&mut c, &["F11"]);
     assert!(!c.frame_text().contains("EMERGENCY STOP"));
 }
+
+/// A page key shows a screen and takes nothing back: the line being typed stays on the entry
+/// line, on both machines (stop 41: the centre cleared it, the lathe kept it). A turn of the
+/// selector still clears it, on both.
+#[test]
+fn a_page_key_keeps_the_line_being_typed_on_both_machines() {
+    use novanc::lathe::console::LatheConsole;
+    use novanc::lathe::desc::LatheDesc;
+    use novanc::panel_model::OpMode;
+    use novanc_panel::Key;
+    let mut c = open("page-keeps-entry");
+    c.handle(E::Op(OpMode::Mdi));
+    c.handle(E::Key('X'));
+    c.handle(E::Key('1'));
+    for k in [Key::Ctrl('p'), Key::Ctrl('o'), Key::Ctrl('o')] {
+        c.press(k);
+        assert_eq!(c.view().entry, "X1", "after {k:?}");
+    }
+    c.handle(E::Op(OpMode::Auto));
+    assert_eq!(c.view().entry, "");
+    let dir = common::temp_dir("page-keeps-entry-lathe");
+    let mut l = LatheConsole::open(LatheDesc::citizen(), &dir, 20, 60, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    l.handle(E::Op(OpMode::Mdi));
+    l.handle(E::Key('X'));
+    l.handle(E::Key('1'));
+    let entry = |l: &LatheConsole| l.view().display.last().unwrap().trim_end().to_string();
+    for k in [Key::Ctrl('p'), Key::Ctrl('o'), Key::Ctrl('o')] {
+        l.press(k);
+        assert_eq!(entry(&l), "> X1", "after {k:?}: {}", l.frame_text());
+    }
+    l.handle(E::Op(OpMode::Auto));
+    assert_eq!(entry(&l), ">");
+}

@@ -163,7 +163,9 @@ pub(super) fn page_key(c: &mut Console, p: Page) {
     c.pages.page = if c.pages.page == p { Page::Mode } else { p };
     c.pages.confirm_delete = None;
     c.pages.msg_first = 0;
-    c.front.entry.clear();
+    // The line being typed stays on the entry line, as on the lathe: a page key shows a
+    // screen, it does not take back what the operator typed (before stop 41 the centre
+    // cleared it, the lathe kept it).
 }
 
 /// A key while a page is shown; whether the page took it.

@@ -643,7 +643,7 @@ impl LatheConsole {
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
                 self.front.y_output = None;
-                self.front.entry.clear();
+                // The line being typed stays, as under every page key (stop 41).
                 self.front.message = format!(
                     "OFS: CH{}'s tools; a value, Enter INPUT, Tab +INPUT (or T1 X.. Z.. R.. P..)",
                     self.sel + 1
