@@ -27,6 +27,8 @@ struct Shot {
     pitch: usize,
     plots: Vec<R>,
     details: Vec<R>,
+    /// The operator's panel along the bottom.
+    panel: R,
 }
 
 fn parse_layout(stdout: &str) -> Shot {
@@ -57,6 +59,7 @@ fn parse_layout(stdout: &str) -> Shot {
         pitch: num(at("pitch") + 1),
         plots: (1..=3).map(|i| rect(&format!("plot{i}"))).collect(),
         details: (1..=3).map(|i| rect(&format!("detail{i}"))).collect(),
+        panel: rect("panel"),
     }
 }
 
@@ -102,6 +105,13 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
     let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
     assert_eq!((img.0, img.1), s.size, "the PNG's size is the one printed");
     assert_eq!(s.size, (1400, 860));
+    // Every control of the operator's panel is inside the default window, none behind its
+    // right edge (stop 41: the Z+ jog button and the x1000 increment were cut off there).
+    assert!(
+        s.panel.x + s.panel.w <= s.size.0 && s.panel.w > 1000,
+        "the panel runs past the window: {:?}",
+        s.panel
+    );
 
     // The three channels side by side: their boxes left to right, apart, inside the image.
     for w in s.plots.windows(2) {

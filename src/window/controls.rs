@@ -366,13 +366,18 @@ pub fn wheel_selectors(
             }
         }
     });
-    ui.horizontal(|ui| {
-        for s in [1u32, 10, 100, 1000] {
-            if ui.selectable_label(scale == s, format!("×{s}")).clicked() && scale != s {
-                out.push(PanelEvent::WheelScale(s));
+    // Two axes (a lathe's): the increments in two rows, as the jog buttons, to keep the
+    // manual column inside the default window (×1000 was cut off its edge).
+    let per_row = if axes.len() > 2 { 4 } else { 2 };
+    for row in [1u32, 10, 100, 1000].chunks(per_row) {
+        ui.horizontal(|ui| {
+            for &s in row {
+                if ui.selectable_label(scale == s, format!("×{s}")).clicked() && scale != s {
+                    out.push(PanelEvent::WheelScale(s));
+                }
             }
-        }
-    });
+        });
+    }
 }
 
 /// The jog buttons of `axes` (CONTINUOUS, `continuous`: move while held; STEP: one increment
@@ -387,7 +392,7 @@ pub fn jog_buttons(
     out: &mut Vec<PanelEvent>,
 ) {
     let mut held_now = None;
-    ui.horizontal(|ui| {
+    let mut buttons = |ui: &mut Ui, axes: &[Axis]| {
         for &a in axes {
             for dir in [-1i8, 1] {
                 let sign = if dir < 0 { '−' } else { '+' };
@@ -401,7 +406,16 @@ pub fn jog_buttons(
                 }
             }
         }
-    });
+    };
+    if axes.len() > 2 {
+        ui.horizontal(|ui| buttons(ui, axes));
+    } else {
+        // Two axes (a lathe's X and Z): one row each, so that the manual column is no wider
+        // than the handwheel (at the default 1400-point window, Z+ was cut off the edge).
+        for a in axes.chunks(1) {
+            ui.horizontal(|ui| buttons(ui, a));
+        }
+    }
     if held_now != hand.jog_held {
         if hand.jog_held.is_some() && hand.jog_continuous {
             out.push(PanelEvent::JogRelease);

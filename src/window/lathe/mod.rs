@@ -31,6 +31,9 @@ struct Layout {
     pitch: usize,
     /// Each channel's travel box and detail box.
     plots: Vec<(Rect, Rect)>,
+    /// The operator's panel along the bottom (plasma, relay, data keys, manual controls), as
+    /// laid out: wider than the window, it scrolls sideways.
+    panel: Option<Rect>,
 }
 
 /// The lathe's console in the window.
@@ -110,7 +113,7 @@ impl Lathe {
                 // the operator's reach.
                 let width = ui.available_width();
                 egui::ScrollArea::horizontal().show(ui, |ui| {
-                    ui.horizontal_top(|ui| {
+                    let row = ui.horizontal_top(|ui| {
                         ui.vertical(|ui| {
                             let max = egui::vec2(width * 0.4, 330.0);
                             let (r, pitch) = self.plasma.show_fit(ui, &v.display, max, 4);
@@ -130,7 +133,8 @@ impl Lathe {
                         ui.vertical(|ui| {
                             panel::manual(ui, c.mode(), c.increment(), &mut self.hand, out)
                         });
-                    })
+                    });
+                    self.layout.panel = Some(row.response.rect);
                 });
             });
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {
@@ -253,10 +257,11 @@ impl Front for Lathe {
             })
             .collect();
         format!(
-            "plasma {} pitch {} {}",
+            "plasma {} pitch {} {} panel {}",
             rect_px(self.layout.plasma, ppp),
             self.layout.pitch,
-            plots.join(" ")
+            plots.join(" "),
+            rect_px(self.layout.panel, ppp)
         )
     }
     fn pulses(&self) -> u64 {
