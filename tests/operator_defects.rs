@@ -249,6 +249,9 @@ fn each_run_reports_its_own_end() {
 }
 
 /// One RESET after E-STOP clears the alarm, and START works at once; the lamp and START agree.
+/// E-STOP is said once on the message line, as its alarm: before stop 41 the line read
+/// `EMERGENCY STOP: pulses stopped; press RESET / ALARM EMERGENCY STOP: pulses stopped; press
+/// RESET` (what the machine does, then the same words as the alarm).
 #[test]
 fn one_reset_clears_an_emergency_stop() {
     let mut c = open("estop");
@@ -256,6 +259,9 @@ fn one_reset_clears_an_emergency_stop() {
     c.handle(E::WaitMs(5000));
     keys(&mut c, &["F12"]);
     assert!(c.view().lamps.alarm && c.view().lamps.estop);
+    let f = c.frame_text();
+    assert_eq!(f.matches("EMERGENCY STOP").count(), 1, "{f}");
+    assert!(f.contains("ALARM EMERGENCY STOP: pulses stopped;"), "{f}");
     keys(&mut c, &["F9"]);
     assert!(
         c.status().job.is_none(),
@@ -623,22 +629,6 @@ fn a_full_entry_line_says_so_wherever_the_data_keys_type() {
         }
         assert_eq!(c.message(), FULL, "lathe {name}");
     }
-}
-
-/// E-STOP is said once on the centre's message line, as its alarm: before stop 41 the line
-/// read `EMERGENCY STOP: pulses stopped; press RESET / ALARM EMERGENCY STOP: pulses stopped;
-/// press RESET` (what the machine does, then the same words as the alarm).
-#[test]
-fn an_emergency_stop_is_said_once_on_the_message_line() {
-    let mut c = open("estop-once");
-    keys(&mut c, &["Alt+2", "F9"]);
-    c.handle(E::WaitBlock(3));
-    keys(&mut c, &["F12"]);
-    let f = c.frame_text();
-    assert_eq!(f.matches("EMERGENCY STOP").count(), 1, "{f}");
-    assert!(f.contains("ALARM EMERGENCY STOP: pulses stopped;"), "{f}");
-    keys(&mut c, &["F11"]);
-    assert!(!c.frame_text().contains("EMERGENCY STOP"));
 }
 
 /// A page key shows a screen and takes nothing back: the line being typed stays on the entry
