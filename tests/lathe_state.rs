@@ -523,3 +523,25 @@ fn a_channel_outside_an_mdi_run_shows_what_its_machine_does() {
     let states: Vec<String> = c.view().channels.iter().map(|v| v.state.clone()).collect();
     assert_eq!(states, ["ESTOP", "ESTOP", "ESTOP"]);
 }
+
+/// A turret stands where its last program or MDI indexed it, and the screen says so from the
+/// start of the next run: before stop 41 each new run's machine began at `T00` while the
+/// reader went on applying the kept tool's offsets (the screen showed no tool with T03's
+/// offsets in force). RESET returns the reader to no tool, and the screen with it.
+#[test]
+fn the_tool_indexed_stays_on_the_screen_into_the_next_run() {
+    let state = common::temp_dir("lathe-state-tool-kept");
+    let d = desc(None, None);
+    let mut c = open(&d, &state);
+    let tool = |c: &LatheConsole| c.view().channels[0].tool;
+    assert_eq!(mdi(&mut c, &["T0303"]), "MDI CH1 runs");
+    assert_eq!(tool(&c), 3);
+    assert_eq!(mdi_start(&mut c, &["G4 P1"]), "MDI CH1 runs");
+    c.tick(10_000_000);
+    assert_eq!(tool(&c), 3, "the next run starts with T03 indexed");
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(tool(&c), 3);
+    c.handle(PanelEvent::Reset);
+    assert_eq!(c.message(), "RESET: the cycle is cleared");
+    assert_eq!(tool(&c), 0, "RESET: the reader's power-on state, no tool");
+}

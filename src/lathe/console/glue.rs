@@ -303,6 +303,14 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             m.preset_spindle(l.dir, l.s_rpm, css, l.actual_rpm, l.coolant);
         }
     }
+    // Each turret stands at the tool its last program or MDI indexed (the reader goes on with
+    // its offsets): the machine shows it from the start. Before stop 41 every new run began
+    // showing T00, while the reader still applied the kept tool's offsets.
+    for (ch, kept) in kept.iter().enumerate().take(k.channels()) {
+        if let Some((t, _)) = kept.tool {
+            k.command(ch, Command::SetTool(Some(t)))?;
+        }
+    }
     Ok((k, lines, first, after, msgs, rereads))
 }
 

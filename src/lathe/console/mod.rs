@@ -1242,6 +1242,8 @@ impl LatheConsole {
                     note: if self.estop_latched { ESTOP_NOTE } else { "" }.into(),
                     parts: self.counter.counts[i],
                     pos: self.pos[i],
+                    // The tool the channel's turret stands at, as its reader keeps it.
+                    tool: self.kept.get(i).and_then(|k| k.tool).map_or(0, |t| t.0),
                     ..Default::default()
                 })
                 .collect(),
