@@ -445,11 +445,6 @@ impl LatheConsole {
         &mut self.front
     }
 
-    /// Whether the help screen is up.
-    pub fn help_shown(&self) -> bool {
-        self.front.help_shown()
-    }
-
     /// A key of the terminal, on the one key map (`events::map_key`), with the centre's
     /// rules: STOP, RESET and E-STOP act on every screen; with the help screen up any other
     /// key closes it and acts (F8 closes it); while the terminal is too small every other key
