@@ -250,7 +250,7 @@ fn pos_shows_the_tip_and_what_is_left_of_the_block() {
         c.tick(300_000_000);
         let v = c.view();
         let ch = &v.channels[0];
-        let st = &c.cycle().map(|l| l.channels()[0].status.clone()).unwrap();
+        let st = &c.cycle().channels()[0].status.clone();
         let end = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.end);
         let end = end.unwrap_or_else(|| panic!("no block in execution: {:#?}", v.display));
         assert!(st.in_block && ch.state == "RUN", "{:#?}", v.display);
@@ -592,7 +592,7 @@ fn every_key_in_every_mode_and_page_acts_or_says_why() {
             for p in pages {
                 for &k in &keys {
                     c.handle(PanelEvent::Reset);
-                    if running && c.cycle().is_none_or(|y| y.is_over()) {
+                    if running && c.cycle().is_over() {
                         c.handle(PanelEvent::Target(999));
                         c.handle(PanelEvent::Op(OpMode::Auto));
                         c.handle(PanelEvent::Start);

@@ -137,7 +137,7 @@ fn a_real_time_recording_batches_the_pulses_as_virtual_time_does() {
         } else {
             assert!(until(&mut c, Duration::from_secs(20), |c| c
                 .cycle()
-                .is_some_and(|k| k.is_over())));
+                .is_over()));
         }
         let summary = c.finish(None).expect("a recording").expect("finished");
         // "... N pulses in M batches ..."

@@ -155,7 +155,7 @@ fn check(s: &mut Seq, what: &str) {
             );
         }
     }
-    let Some(l) = s.c.cycle() else { return };
+    let l = s.c.cycle();
     let chans = l.channels();
     // The rapid and spindle overrides and DRY RUN the console shows are every channel's
     // machine's.
@@ -252,9 +252,9 @@ fn advance(s: &mut Seq, ns: u64) {
     };
     // E-STOP stops at once; a fault is a feed hold, which decelerates first: once at rest,
     // a faulted channel stays there.
-    let moving: Vec<bool> = s.c.cycle().map_or(Vec::new(), |l| {
-        l.channels().iter().map(|c| c.status.moving).collect()
-    });
+    let moving: Vec<bool> = (s.c.cycle().channels().iter())
+        .map(|c| c.status.moving)
+        .collect();
     let frozen: Vec<(usize, [i64; 2])> = state(s)
         .into_iter()
         .enumerate()
@@ -457,7 +457,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             // Run to rest, a slice at a time so the frozen-channel check sees every slice.
             for _ in 0..200 {
                 advance(s, 500_000_000);
-                if s.c.cycle().is_none() || s.c.view().channels.iter().all(|c| c.state != "RUN") {
+                if s.c.view().channels.iter().all(|c| c.state != "RUN") {
                     break;
                 }
             }

@@ -22,7 +22,7 @@ fn states(c: &LatheConsole) -> Vec<String> {
 }
 
 fn over(c: &LatheConsole) -> bool {
-    c.cycle().is_none_or(|k| k.is_over())
+    c.cycle().is_over()
 }
 
 /// Every tool post and the work it holds, and each channel's part count.

@@ -166,13 +166,18 @@ impl LatheDesc {
                 .ok_or_else(|| format!("no channel {}", ch + 1))?;
             chans.push((s, p));
         }
-        let flow = crate::pulse_core::WorkFlow {
+        Ok((chans, self.work_flow()))
+    }
+
+    /// How works pass between the channels' chucks: the bar feeder, the handovers, the
+    /// unloader (the kernel's sync table).
+    pub fn work_flow(&self) -> crate::pulse_core::WorkFlow {
+        crate::pulse_core::WorkFlow {
             supplier: self.supplier,
             transfers: self.transfers.clone(),
             unloader: self.unloader,
             manual: self.manual,
-        };
-        Ok((chans, flow))
+        }
     }
 }
 

@@ -209,13 +209,13 @@ impl Feed {
             programs: v.channels.iter().map(|ch| ch.program.clone()).collect(),
             pos: v.channels.iter().map(|ch| ch.pos).collect(),
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
-            auto_parts: c.cycle().is_some_and(|cy| !cy.mdi),
+            auto_parts: !c.cycle().mdi,
             pulse_mm: c.desc().pulse_mm,
             feed_override: c.feed_override(),
             switches: c.machine_switches(),
             message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
         };
-        let snap = c.cycle().map_or(&[][..], |cy| cy.channels());
+        let snap = c.cycle().channels();
         lock(&self.state).publish_lathe(snap, Some(ctx), c.machine_ns());
     }
 

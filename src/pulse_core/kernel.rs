@@ -483,23 +483,7 @@ impl Kernel {
         if channels.iter().any(|c| c.0.ncbr_period_ns != period) {
             return Err("the channels have different NCBR periods: one clock runs them all".into());
         }
-        if let Some(f) = &flow {
-            f.check(n)?;
-        }
-        for (i, (_, prog)) in channels.iter().enumerate() {
-            for b in prog.iter().flat_map(|s| s.blocks.iter()) {
-                if let Some(Sync::Wait { m, with }) = b.sync {
-                    if u32::from(with) >> n != 0 || with & (1 << i) == 0 {
-                        return Err(format!(
-                            "CH{} line {}: M{m} must list channel {} and only channels the machine has",
-                            i + 1,
-                            b.stmt,
-                            i + 1
-                        ));
-                    }
-                }
-            }
-        }
+        check_programs(n, channels.iter().map(|c| &c.1), flow.as_ref())?;
         let table = SyncTable::new(n, flow, target);
         let chans = channels
             .into_iter()
@@ -535,6 +519,59 @@ impl Kernel {
             watch: None,
             look_ns: 0,
         })
+    }
+
+    /// A new cycle's programs, one a channel, with its work flow (None: no chucks) and part
+    /// target, on the kernel as it stands: each channel's machine keeps its axes, spindle,
+    /// coolant, tool, overrides, switches and the one clock, as a real control keeps its
+    /// machine when a program is loaded; the sync table, the part counts and the totals
+    /// begin again. `starts[i]`: the block numbers whose starts channel i reports
+    /// ([`KernelEvent::BlockStart`]). Refused, nothing changed, while a channel has a run
+    /// loaded or moves, or for programs [`Kernel::new`] would refuse. Nothing starts: START
+    /// does.
+    pub fn load(
+        &mut self,
+        programs: Vec<Vec<Statement>>,
+        flow: Option<WorkFlow>,
+        target: u32,
+        starts: Vec<Vec<u32>>,
+    ) -> Result<(), String> {
+        let n = self.chans.len();
+        if programs.len() != n {
+            return Err(format!(
+                "{} programs for {n} channels: give one program per channel",
+                programs.len()
+            ));
+        }
+        check_programs(n, programs.iter(), flow.as_ref())?;
+        for (i, c) in self.chans.iter().enumerate() {
+            if !c.m.start_begins_run(c.kind) || !c.m.is_idle() || c.m.is_estop() {
+                return Err(format!(
+                    "CH{}: a run is loaded or the machine moves; a program is loaded at rest",
+                    i + 1
+                ));
+            }
+        }
+        self.table = SyncTable::new(n, flow, target);
+        let mut starts = starts.into_iter();
+        for (i, (c, prog)) in self.chans.iter_mut().zip(programs).enumerate() {
+            c.m.set_cut_interlock(self.table.interlock(i));
+            c.m.mark_starts(starts.next().unwrap_or_default());
+            c.src = VecSource::from_statements(prog.into_iter().map(Ok));
+            c.next_src = None;
+            c.at_point = None;
+            c.counted = false;
+            c.fault = None;
+            c.done = false;
+            c.done_at = None;
+            c.waiting = None;
+            // The totals are the new cycle's: the run that ended before it is not counted.
+            c.blocks_before = 0;
+            c.pulses_before = [0; 3];
+            c.totalled_run = c.m.status().runs;
+        }
+        self.note_sync(self.now, 0..n);
+        Ok(())
     }
 
     /// Tells `w` every channel's state at every change of one of them (its machine's status:
@@ -1293,6 +1330,34 @@ impl Kernel {
                 .collect(),
         }
     }
+}
+
+/// The programs of a kernel of `n` channels and its work flow, checked: a flow naming a
+/// channel the machine has not, a waiting M code that does not list its own channel or lists
+/// one the machine has not, are refused.
+fn check_programs<'a>(
+    n: usize,
+    programs: impl Iterator<Item = &'a Vec<Statement>>,
+    flow: Option<&WorkFlow>,
+) -> Result<(), String> {
+    if let Some(f) = flow {
+        f.check(n)?;
+    }
+    for (i, prog) in programs.enumerate() {
+        for b in prog.iter().flat_map(|s| s.blocks.iter()) {
+            if let Some(Sync::Wait { m, with }) = b.sync {
+                if u32::from(with) >> n != 0 || with & (1 << i) == 0 {
+                    return Err(format!(
+                        "CH{} line {}: M{m} must list channel {} and only channels the machine has",
+                        i + 1,
+                        b.stmt,
+                        i + 1
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn no_channel(ch: usize) -> String {

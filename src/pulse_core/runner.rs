@@ -65,6 +65,8 @@ enum Wait {
 
 /// A look at the kernel run in its thread ([`PulseCore::inspect_kernel`]).
 type KernelLook = Box<dyn FnOnce(Option<&Kernel>) + Send>;
+/// A change made to the kernel in its thread, between two ticks ([`PulseCore::edit_kernel`]).
+type KernelEdit = Box<dyn FnOnce(&mut Kernel) -> Result<(), String> + Send>;
 
 enum Msg {
     Cmd(Command),
@@ -82,6 +84,8 @@ enum Msg {
     ),
     /// A look at the kernel from its thread, between two ticks.
     Inspect(KernelLook),
+    /// A change to the kernel from its thread, between two ticks.
+    Edit(KernelEdit),
     Capture(bool),
     Start(RunKind, Option<MakeRun>),
     Magazine(Box<Magazine>),
@@ -412,6 +416,17 @@ impl PulseCore {
             .unwrap_or_else(|_| Err("the pulse core did not answer".into()))
     }
 
+    /// Changes the kernel in its thread, between two NCBR ticks, as one step: no tick runs
+    /// inside `f` (a new cycle's programs loaded with `Kernel::load`, with what goes with
+    /// them). `f`'s refusal, or that the core runs no kernel.
+    pub fn edit_kernel(
+        &self,
+        f: impl FnOnce(&mut Kernel) -> Result<(), String> + Send + 'static,
+    ) -> Result<(), String> {
+        self.send_sync(Msg::Edit(Box::new(f)));
+        lock(&self.shared.refusal).take().map_or(Ok(()), Err)
+    }
+
     /// Sets a kernel's part target (refused below the works already supplied, or once a
     /// channel has finished).
     pub fn set_target(&self, n: u32) -> Result<(), String> {
@@ -706,6 +721,15 @@ impl Runner {
             }
             Msg::Inspect(f) => {
                 f(self.k.as_deref());
+                self.applied += 1;
+                return;
+            }
+            Msg::Edit(f) => {
+                let r = match &mut self.k {
+                    Some(k) => f(k),
+                    None => Err("the pulse core runs a single machine, not a kernel".into()),
+                };
+                *lock(&self.shared.refusal) = r.err();
                 self.applied += 1;
                 return;
             }

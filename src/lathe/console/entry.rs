@@ -118,7 +118,7 @@ impl LatheConsole {
                 self.macro_var = n;
                 return;
             }
-            Ok(Input::Set(..)) if self.cycle.as_ref().is_some_and(|c| !c.is_over()) => Err(
+            Ok(Input::Set(..)) if !self.cycle.is_over() => Err(
                 "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
             ),
             Ok(Input::Set(n, v)) => {
@@ -178,7 +178,7 @@ impl LatheConsole {
                     // A cycle under way takes it at the channel's next tool call not yet read,
                     // in this part or the next, as a real lathe takes a wear offset at the
                     // next T.
-                    let running = self.cycle.as_mut().filter(|c| !c.is_over() && !c.mdi);
+                    let running = Some(&mut self.cycle).filter(|c| !c.is_over() && !c.mdi);
                     self.front.message = match running.map(|c| c.reread(ch, &tools)) {
                         Some(Ok(Some(line))) => format!(
                             "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
@@ -220,7 +220,7 @@ impl LatheConsole {
     /// changed (and the pointer); the message says so. Err: why it is refused (the program
     /// and the pointer unchanged).
     fn edit(&mut self, line: &str) -> Result<(), String> {
-        if self.cycle.as_ref().is_some_and(|c| !c.is_over()) {
+        if !self.cycle.is_over() {
             return Err("the programs are in use: RESET the cycle before editing".into());
         }
         let ch = self.sel;
@@ -294,7 +294,7 @@ impl LatheConsole {
         let fanuc = cd.dialect.unwrap_or_default() == crate::settings::Dialect::Fanuc;
         let sys_a = fanuc && cd.system_a;
         let cols = self.cols;
-        let running = self.cycle.as_ref().is_some_and(|c| !c.is_over() && !c.mdi);
+        let running = !self.cycle.is_over() && !self.cycle.mdi;
         let mut l = vec![if running {
             format!("MODAL CH{} at the end of the cycle's read", ch + 1)
         } else {
@@ -340,10 +340,7 @@ impl LatheConsole {
             format!("S{}", short_number(m.s))
         };
         // The spindle as the machine turns it (under G96 too, where no rpm is programmed).
-        let rpm = match self.cycle.as_ref().and_then(|c| c.channels().get(ch)) {
-            Some(s) => s.status.spindle as f64,
-            None => self.left.get(ch).map_or(0.0, |s| s.actual_rpm),
-        };
+        let rpm = (self.cycle.channels().get(ch)).map_or(0.0, |s| s.status.spindle as f64);
         let spindle = if rpm > 0.0 {
             "M03"
         } else if rpm < 0.0 {
@@ -431,7 +428,7 @@ impl LatheConsole {
         }
         // An MDI run under way lists what it runs, its block marked, as a cycle does (the
         // buffer is cleared at START: before stop 40 the display went blank while it ran).
-        let running = self.cycle.as_ref().filter(|c| !c.is_over());
+        let running = Some(&self.cycle).filter(|c| !c.is_over());
         let run_lines = running.and_then(|c| c.mdi_lines(self.sel));
         let text = match (self.front.op, run_lines) {
             (OpMode::Mdi, Some(l)) if self.mdi[self.sel].is_empty() => l.join("\n"),

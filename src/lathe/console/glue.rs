@@ -85,16 +85,19 @@ struct Reread {
     at: Option<[i64; 2]>,
 }
 
-/// A kernel ready to start, each program's source lines, each program's first line, each
-/// channel's state after its read (None: not read) and its messages.
-type MadeKernel = (
-    Kernel,
-    Vec<Vec<String>>,
-    Vec<u32>,
-    Vec<Option<Kept>>,
-    Vec<Vec<(u32, String)>>,
-    Vec<Option<Reread>>,
-);
+/// Every channel's program of a cycle as read ([`read_cycle`]): the kernel's statements,
+/// each program's source lines and first line, each channel's state after its read (None: not
+/// read), its messages, what to read again with revised tools, and the blocks whose starts
+/// the kernel reports (the messages' blocks, each program's first and last).
+struct ReadCycle {
+    progs: Vec<Vec<crate::block::Statement>>,
+    lines: Vec<Vec<String>>,
+    first: Vec<u32>,
+    after: Vec<Option<Kept>>,
+    msgs: Vec<Vec<(u32, String)>>,
+    rereads: Vec<Option<Reread>>,
+    starts: Vec<Vec<u32>>,
+}
 
 /// What describes a cycle to start ([`Cycle::new`]), built once by whoever starts it (the
 /// console's START, `novanc run`).
@@ -166,18 +169,19 @@ impl ChannelLeft {
     }
 }
 
-/// What the kernel would do with a cycle of `desc` as `spec` describes it, each channel read
-/// from the state `kept` says: the kernel, ready to start, and the program lines. Any error
-/// names the channel, the program and the line.
-fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<MadeKernel, String> {
+/// Every channel's program of a cycle of `desc` as `spec` describes it, each read from the
+/// state `kept` says, the tool post where `spec.pos` says. Any error names the channel, the
+/// program and the line.
+fn read_cycle(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<ReadCycle, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
     let mut after = Vec::new();
     let mut msgs = Vec::new();
     let mut rereads = Vec::new();
     for (ch, (name, text)) in spec.texts.iter().enumerate() {
-        if spec.mdi.is_some_and(|only| ch != only) {
-            // The other channels stand still with no program during an MDI run.
+        if spec.manual || spec.mdi.is_some_and(|only| ch != only) {
+            // The other channels stand still with no program during an MDI run (and every
+            // channel with no program loaded).
             progs.push(Vec::new());
             lines.push(Vec::new());
             after.push(None);
@@ -191,7 +195,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             .get(ch)
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
-        // The spindle is the machine's: the reader starts from it as the last cycle left it.
+        // The spindle is the machine's: the reader starts from it as the cycle finds it.
         from.modal.dir = match spec.left.get(ch).map_or(0, |l| l.dir) {
             1 => 3,
             -1 => 4,
@@ -207,7 +211,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             spec.pos.get(ch).copied(),
         )
         .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
-        rereads.push((spec.mdi.is_none() && !spec.manual).then(|| Reread {
+        rereads.push(spec.mdi.is_none().then(|| Reread {
             name: name.clone(),
             text: text.clone(),
             from,
@@ -260,17 +264,36 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
                 .collect()
         })
         .collect();
-    let (chans, flow) = desc.kernel_channels(progs)?;
     // Where each program starts: the pointer of a channel not yet running (or RESET).
-    let first = chans
+    let first = progs
         .iter()
-        .map(|(_, st)| st.iter().find(|s| s.line > 0).map_or(0, |s| s.line))
+        .map(|st| st.iter().find(|s| s.line > 0).map_or(0, |s| s.line))
         .collect();
+    Ok(ReadCycle {
+        progs,
+        lines,
+        first,
+        after,
+        msgs,
+        rereads,
+        starts,
+    })
+}
+
+/// The kernel of a new machine, its channels' programs `read`, as `spec` describes the cycle,
+/// each turret at the tool `kept` says: ready to start.
+fn make_kernel(
+    desc: &LatheDesc,
+    spec: &CycleSpec,
+    kept: &[Kept],
+    read: &mut ReadCycle,
+) -> Result<Kernel, String> {
+    let (chans, flow) = desc.kernel_channels(std::mem::take(&mut read.progs))?;
     // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
     let flow = spec.mdi.is_none().then_some(flow);
     let mut k = Kernel::new(chans, flow, spec.target)?;
     k.set_look_ns(spec.look_ns);
-    for (ch, seqs) in starts.into_iter().enumerate() {
+    for (ch, seqs) in std::mem::take(&mut read.starts).into_iter().enumerate() {
         if let Some(m) = k.machine_mut(ch) {
             m.mark_starts(seqs);
         }
@@ -311,7 +334,7 @@ fn make_kernel(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<Made
             k.command(ch, Command::SetTool(Some(t)))?;
         }
     }
-    Ok((k, lines, first, after, msgs, rereads))
+    Ok(k)
 }
 
 /// What a recording of `desc` says before its first message (docs/recording.md,
@@ -354,7 +377,16 @@ impl Cycle {
     /// names the channel, the program and the line, and nothing is started (`kept` is as it
     /// was).
     pub fn new(desc: &LatheDesc, spec: CycleSpec, kept: &mut [Kept]) -> Result<Cycle, String> {
-        let (mut k, lines, first, after, msgs, reread) = make_kernel(desc, &spec, kept)?;
+        let mut read = read_cycle(desc, &spec, kept)?;
+        let mut k = make_kernel(desc, &spec, kept, &mut read)?;
+        let ReadCycle {
+            lines,
+            first,
+            after,
+            msgs,
+            rereads: reread,
+            ..
+        } = read;
         let opts = spec.opts;
         // One time base for the console's cycles (and its recording): the kernel's clock goes
         // on from the console's machine time.
@@ -407,6 +439,145 @@ impl Cycle {
         c.set_modes(op_mode);
         c.refresh();
         Ok(c)
+    }
+
+    /// A kernel for `desc` with no program loaded (a console's, from its opening: the machine
+    /// stands for manual moves, and each cycle is loaded into it, [`Cycle::load`]): each tool
+    /// post at `pos`, each spindle and coolant as `left` says, each turret at the tool `kept`
+    /// says, on `clock` from machine time `now_ns`, recording into `sink`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn idle(
+        desc: &LatheDesc,
+        kept: &mut [Kept],
+        pos: Vec<[i64; 2]>,
+        left: Vec<ChannelLeft>,
+        clock: ClockMode,
+        now_ns: u64,
+        switches: (u32, crate::record::Switches),
+        op_mode: crate::panel_model::OpMode,
+        sink: Option<EventSink>,
+    ) -> Result<Cycle, String> {
+        let n = desc.channels.len();
+        let spec = CycleSpec {
+            texts: vec![(String::new(), String::new()); n],
+            opts: ReadOptions::default(),
+            target: 1,
+            mdi: Some(0),
+            pos,
+            started_ns: now_ns,
+            feed_override: switches.0,
+            switches: switches.1,
+            clock,
+            manual: true,
+            single_block: false,
+            op_mode,
+            look_ns: super::WAIT_LOOK_NS,
+            sink,
+            left,
+        };
+        Cycle::new(desc, spec, kept)
+    }
+
+    /// Loads a new cycle (AUTO), an MDI program or nothing (`spec.manual`: the machine stands
+    /// for manual moves) into this cycle's kernel, which goes on with every tool post, spindle,
+    /// turret, override and switch as they are, on the same clock and recording (a real
+    /// control loads a program into the machine it has). Each channel's program is read from
+    /// the state `kept` says, and its tool post where the kernel has it. A cycle (AUTO) starts
+    /// with every spindle and coolant stopped: its programs work the chucks and command the
+    /// spindles around them themselves (a bar must not be received into a spindle an MDI run
+    /// left turning); an MDI run goes on with them. Nothing starts: [`Cycle::start`] does.
+    /// Refused, nothing changed, while a channel runs or moves, a channel to run has an alarm
+    /// in force (RESET first, as on the centre), or a read fails (the error names the
+    /// channel, program and line); once loaded, `kept` holds the state each read left.
+    pub fn load(
+        &mut self,
+        desc: &LatheDesc,
+        mut spec: CycleSpec,
+        kept: &mut [Kept],
+    ) -> Result<(), String> {
+        self.refresh();
+        spec.pos = self
+            .snap
+            .iter()
+            .map(|c| [c.status.pos[0], c.status.pos[2]])
+            .collect();
+        let auto = spec.mdi.is_none() && !spec.manual;
+        spec.left = if auto {
+            Vec::new()
+        } else {
+            self.snap
+                .iter()
+                .map(|c| ChannelLeft::of(&c.status))
+                .collect()
+        };
+        let mut read = read_cycle(desc, &spec, kept)?;
+        let flow = auto.then(|| desc.work_flow());
+        let progs = std::mem::take(&mut read.progs);
+        let starts = std::mem::take(&mut read.starts);
+        let tools: Vec<Option<u32>> = kept.iter().map(|k| k.tool.map(|t| t.0)).collect();
+        let to_run: Vec<usize> = match (spec.manual, spec.mdi) {
+            (true, _) => Vec::new(),
+            (false, Some(ch)) => vec![ch],
+            (false, None) => (0..progs.len()).collect(),
+        };
+        let (target, single) = (spec.target, spec.single_block);
+        self.core.edit_kernel(move |k| {
+            for &ch in &to_run {
+                if k.machine(ch).is_some_and(|m| m.alarm().is_some()) {
+                    return Err(format!(
+                        "CH{} START refused: alarm in force, press RESET",
+                        ch + 1
+                    ));
+                }
+            }
+            k.load(progs, flow, target, starts)?;
+            for (ch, t) in tools.into_iter().enumerate().take(k.channels()) {
+                if auto {
+                    if let Some(m) = k.machine_mut(ch) {
+                        m.preset_spindle(0, 0, None, 0.0, (false, false));
+                    }
+                }
+                // Each turret at the tool its reader keeps (RESET returns it to none).
+                k.command(ch, Command::SetTool(t))?;
+                k.command(ch, Command::SingleBlock(single))?;
+            }
+            Ok(())
+        })?;
+        for (k, a) in kept.iter_mut().zip(read.after) {
+            if let Some(a) = a {
+                *k = a;
+            }
+        }
+        let n = read.msgs.len();
+        self.mdi = spec.mdi.is_some();
+        self.manual = spec.manual;
+        self.only = spec.mdi.unwrap_or(0);
+        self.message = None;
+        self.lines = read.lines;
+        self.first = read.first;
+        self.msgs = read.msgs;
+        self.msg_at = vec![(0, 0); n];
+        self.reread = read.rereads;
+        self.opts = spec.opts;
+        self.desc = desc.clone();
+        self.set_modes(spec.op_mode);
+        self.refresh();
+        self.started_ns = self.t;
+        Ok(())
+    }
+
+    /// Whether a cycle or an MDI program is loaded (false: the kernel stands with no program,
+    /// for manual moves).
+    pub fn loaded(&self) -> bool {
+        !self.manual
+    }
+
+    /// Each channel's tool post as the kernel last published it, pulses [X radius, Z].
+    pub fn tool_posts(&self) -> Vec<[i64; 2]> {
+        self.snap
+            .iter()
+            .map(|c| [c.status.pos[0], c.status.pos[2]])
+            .collect()
     }
 
     /// The operation selector turned to `op`: every channel's `/nc/state` records it as
@@ -534,9 +705,10 @@ impl Cycle {
         self.t
     }
 
-    /// The channels this cycle runs (every channel in AUTO, the selected one in MDI).
+    /// The channels this cycle runs (every channel in AUTO, the selected one in MDI; with no
+    /// program loaded, every channel stands for manual moves and RESET).
     fn runs(&self, ch: usize) -> bool {
-        !self.mdi || ch == self.only
+        !self.mdi || self.manual || ch == self.only
     }
 
     /// Every channel finished (AUTO), or the MDI program ran out.
@@ -698,6 +870,24 @@ impl Cycle {
         r
     }
 
+    /// RESET of channel `ch` (None: every channel) with nothing loaded: its spindle and
+    /// coolant stop, its alarm clears, and its turret stands at the tool `tools[ch]` (its
+    /// reader's, which RESET returns to none).
+    pub fn reset_channels(
+        &mut self,
+        ch: Option<usize>,
+        tools: Vec<Option<u32>>,
+    ) -> Result<(), String> {
+        let r = self.core.channel_command(ch, Command::Reset);
+        for (i, t) in tools.into_iter().enumerate() {
+            if ch.is_none_or(|c| c == i) {
+                let _ = self.core.channel_command(Some(i), Command::SetTool(t));
+            }
+        }
+        self.refresh();
+        r
+    }
+
     /// The part target (refused below what a channel has finished).
     pub fn set_target(&mut self, n: u32) -> Result<(), String> {
         let r = self.core.set_target(n);
@@ -770,13 +960,6 @@ impl Cycle {
     /// The kernel's events since the last call (for the recording and the messages).
     pub fn take_events(&mut self) -> Vec<KernelEvent> {
         std::mem::take(&mut self.events)
-    }
-
-    /// Each channel's position now (for the next cycle to start from).
-    pub fn positions(&self, out: &mut [[i64; 2]]) {
-        for (o, c) in out.iter_mut().zip(&self.snap) {
-            *o = [c.status.pos[0], c.status.pos[2]];
-        }
     }
 
     /// Each channel's work in the spindle now.
@@ -903,13 +1086,7 @@ impl Cycle {
     }
 
     /// Every console channel as the display shows it.
-    pub fn views(
-        &self,
-        desc: &LatheDesc,
-        programs: &[Program],
-        pos: &[[i64; 2]],
-        counts: &[u32],
-    ) -> Vec<ChanView> {
+    pub fn views(&self, desc: &LatheDesc, programs: &[Program], counts: &[u32]) -> Vec<ChanView> {
         (0..desc.channels.len())
             .map(|ch| {
                 let mut v = ChanView {
@@ -922,7 +1099,6 @@ impl Cycle {
                         programs[ch].name.clone()
                     },
                     state: "IDLE".into(),
-                    pos: pos[ch],
                     parts: counts[ch],
                     ..Default::default()
                 };

@@ -7,7 +7,7 @@
 //! The increment is the centre's (`x1 x10 x100 x1000` pulses, Alt+w or `wheelscale N`); X
 //! moves on its radius.
 
-use super::{glue, LatheConsole};
+use super::LatheConsole;
 use crate::console::front::JogPress;
 use crate::console::manual::{self, Move};
 use crate::console::MsgLife;
@@ -67,19 +67,16 @@ impl LatheConsole {
             .press(axis, dir, Instant::now(), virtual_time)
         {
             JogPress::KeepAlive => {
-                if let (Some(ch), Some(c)) = (self.jogging, self.cycle.as_mut()) {
-                    let _ = c.manual(ch, Command::JogAlive(crate::console::deadman_ms()));
+                if let Some(ch) = self.jogging {
+                    let _ = self
+                        .cycle
+                        .manual(ch, Command::JogAlive(crate::console::deadman_ms()));
                 }
             }
             JogPress::Begin => {
                 // The tap's increment may still be moving: the jog begins on a later repeat.
-                if let Some(c) = self.cycle.as_mut() {
-                    c.refresh();
-                }
-                let moving = self
-                    .cycle
-                    .as_ref()
-                    .is_some_and(|c| c.channels().get(self.sel).is_some_and(|s| s.status.moving));
+                self.cycle.refresh();
+                let moving = (self.cycle.channels().get(self.sel)).is_some_and(|s| s.status.moving);
                 if !moving {
                     self.handle(PanelEvent::Jog(axis, dir));
                     self.front.jog_key.began(self.jogging.is_some());
@@ -105,11 +102,11 @@ impl LatheConsole {
             self.record_event(&PanelEvent::JogRelease);
             self.release_jog();
         }
-        if let (Some(ch), true, Some(c)) = (
+        if let (Some(ch), true) = (
             self.jogging,
             self.front.jog_key.is_none() && self.clock == ClockMode::RealTime,
-            self.cycle.as_mut(),
         ) {
+            let c = &mut self.cycle;
             // A jog held by a front end's button (the window's): each frame keeps it alive,
             // so a front end that stops drawing lets the kernel stop it. A jog that has come
             // to rest (its travel limit, the deadman) is not told every frame after.
@@ -138,9 +135,7 @@ impl LatheConsole {
         // Always told (to the selected channel when none is known to jog): a jog the console
         // lost track of must still stop.
         let ch = self.jogging.take().unwrap_or(self.sel);
-        if let Some(c) = self.cycle.as_mut() {
-            let _ = c.manual(ch, Command::JogRelease);
-        }
+        let _ = self.cycle.manual(ch, Command::JogRelease);
     }
 
     /// Whether a manual move of the selected channel's `axis` may begin now; if not, the
@@ -155,25 +150,18 @@ impl LatheConsole {
             self.front.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
             return None;
         }
-        if let Some(c) = self.cycle.as_mut() {
-            // The kernel's state now (in real time it runs on between the console's ticks).
-            c.refresh();
-            if !c.is_over() {
-                self.front.message = if c.at_rest() {
-                    format!("{what} refused: a cycle is under way (RESET it first)")
-                } else {
-                    format!("{what} refused: the machine is moving")
-                };
-                return None;
-            }
+        let c = &mut self.cycle;
+        // The kernel's state now (in real time it runs on between the console's ticks).
+        c.refresh();
+        if !c.is_over() {
+            self.front.message = if c.at_rest() {
+                format!("{what} refused: a cycle is under way (RESET it first)")
+            } else {
+                format!("{what} refused: the machine is moving")
+            };
+            return None;
         }
         let settings = MachineSettings::lathe_channel(&self.desc, ch)?;
-        if self.cycle.is_none() {
-            if let Err(e) = self.begin_manual() {
-                self.front.message = e;
-                return None;
-            }
-        }
         Some(Ready { ch, settings })
     }
 
@@ -185,7 +173,12 @@ impl LatheConsole {
         let Some(r) = self.manual_ready(axis, what) else {
             return;
         };
-        let [x, z] = self.pos[r.ch];
+        let [x, z] = self
+            .cycle
+            .tool_posts()
+            .get(r.ch)
+            .copied()
+            .unwrap_or_default();
         if let Err(e) = manual::check(&r.settings, [x, 0, z].into(), axis, mv) {
             // X is a radius on the lathe (the display shows its diameter).
             self.front.message = match mv {
@@ -196,9 +189,7 @@ impl LatheConsole {
             };
             return;
         }
-        let Some(c) = self.cycle.as_mut() else {
-            return;
-        };
+        let c = &mut self.cycle;
         let a = axis.index();
         let sent = match mv {
             Move::Increment(pulses) => c.manual(r.ch, Command::Increment { axis: a, pulses }),
@@ -280,40 +271,5 @@ impl LatheConsole {
     /// The STEP and handwheel increment, pulses.
     pub fn increment(&self) -> u32 {
         self.front.wheel.1
-    }
-
-    /// A kernel for manual moves when none is loaded: the selected channel's, with nothing to
-    /// run, every tool post where it stands, the spindles and coolant as they are.
-    fn begin_manual(&mut self) -> Result<(), String> {
-        let n = self.desc.channels.len();
-        let mut texts = vec![(String::new(), String::new()); n];
-        texts[self.sel] = (format!("MANUAL CH{}", self.sel + 1), String::new());
-        let spec = glue::CycleSpec {
-            left: self.left.clone(),
-            texts,
-            opts: Default::default(),
-            target: 1,
-            mdi: Some(self.sel),
-            pos: self.pos.clone(),
-            started_ns: self.now_ns,
-            feed_override: self.front.feed_override,
-            switches: self.switches,
-            clock: self.clock,
-            sink: self.recorder.sink(),
-            manual: true,
-            single_block: false,
-            op_mode: self.front.op,
-            look_ns: super::WAIT_LOOK_NS,
-        };
-        let mut kept = self.kept.clone();
-        let mut c = glue::Cycle::new(&self.desc, spec, &mut kept)?;
-        if self.watch.is_some() {
-            c.set_watch(self.watch.clone());
-        }
-        if let Some(f) = self.interrupt {
-            c.set_interrupt(f);
-        }
-        self.cycle = Some(c);
-        Ok(())
     }
 }

@@ -85,7 +85,12 @@ pub struct LatheConsole {
     /// The channel the message just said speaks of, when not the selected one (a script's
     /// `fault 2 ...`): the history files it under that channel's program.
     msg_of: Option<usize>,
-    cycle: Option<glue::Cycle>,
+    /// The one kernel of the machine, in the pulse core thread from the console's opening to
+    /// its close, and the cycle, MDI program or nothing loaded into it (every view of the
+    /// machine is the kernel's published state: where each tool post stands, what each
+    /// spindle does, E-STOP). Before stop 42 a kernel was spawned at each START, and between
+    /// cycles the screen was drawn from the console's memory of the last one.
+    cycle: glue::Cycle,
     rows: usize,
     cols: usize,
     /// The recording (the one recording of every console: `crate::console::recording`).
@@ -93,8 +98,6 @@ pub struct LatheConsole {
     last_display: Vec<String>,
     /// Machine time since the console opened, ns (cycles follow one another on it).
     now_ns: u64,
-    /// Each channel's tool post, pulses [X radius, Z] (where the last cycle left it).
-    pos: Vec<[i64; 2]>,
     /// The centre's switches the lathe takes, on every channel, kept across cycles: rapid
     /// override, spindle override, DRY RUN (the same `Switches` every machine records).
     switches: crate::record::Switches,
@@ -107,14 +110,8 @@ pub struct LatheConsole {
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
-    /// Each channel's spindle and coolant as the last cycle left them: the next START goes on
-    /// with them (an MDI `M3` turns until M5, RESET, M30 or E-STOP, as on a real lathe).
-    left: Vec<glue::ChannelLeft>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
-    /// E-STOP was pressed and RESET has not released it (with or without a cycle loaded):
-    /// nothing starts and nothing moves by hand until RESET.
-    estop_latched: bool,
     /// The channel a continuous jog was begun on and not yet released.
     jogging: Option<usize>,
 }
@@ -180,6 +177,33 @@ impl LatheConsole {
         let (log, damaged) = Log::open(o.store.dir());
         let mut warnings = o.warnings;
         warnings.extend(damaged);
+        let mut kept: Vec<_> = (0..n)
+            .map(|ch| {
+                let mut k = super::gcode::Kept::power_on(&desc, ch, None);
+                // #500–#999 as the stores kept them (docs/lathe-gcode.md "What a channel
+                // keeps").
+                for &(p, v) in o.params.get(ch).map_or(&[][..], |v| &v[..]) {
+                    if let Some(slot) = k.params.params.get_mut(p) {
+                        *slot = v;
+                    }
+                }
+                k
+            })
+            .collect();
+        let front = Front::new(OpMode::Auto, 10);
+        // The machine from power-on: every tool post at the top of its travel, the spindles
+        // stopped, in virtual time until a front end sets the clock (`set_clock`).
+        let cycle = glue::Cycle::idle(
+            &desc,
+            &mut kept,
+            (0..n).map(|ch| glue::home(&desc, ch)).collect(),
+            Vec::new(),
+            ClockMode::Virtual,
+            0,
+            (front.feed_override, Default::default()),
+            front.op,
+            recorder.sink(),
+        )?;
         let mut c = LatheConsole {
             programs: o.programs,
             edit_line,
@@ -188,7 +212,7 @@ impl LatheConsole {
             counter: o.counter,
             store: o.store,
             desc,
-            front: Front::new(OpMode::Auto, 10),
+            front,
             sel: 0,
             page: Page::Mode,
             log,
@@ -202,7 +226,7 @@ impl LatheConsole {
             estop_logged: false,
             alarm_at: vec![None; n],
             msg_of: None,
-            cycle: None,
+            cycle,
             rows,
             cols,
             recorder,
@@ -210,29 +234,12 @@ impl LatheConsole {
             now_ns: 0,
             stale_counts: stale,
             switches: Default::default(),
-            pos: Vec::new(),
             clock: ClockMode::Virtual,
             watch: None,
-            kept: Vec::new(),
-            left: vec![glue::ChannelLeft::default(); n],
+            kept,
             interrupt: None,
-            estop_latched: false,
             jogging: None,
         };
-        c.kept = (0..n)
-            .map(|ch| {
-                let mut k = super::gcode::Kept::power_on(&c.desc, ch, None);
-                // #500–#999 as the stores kept them (docs/lathe-gcode.md "What a channel
-                // keeps").
-                for &(p, v) in o.params.get(ch).map_or(&[][..], |v| &v[..]) {
-                    if let Some(slot) = k.params.params.get_mut(p) {
-                        *slot = v;
-                    }
-                }
-                k
-            })
-            .collect();
-        c.pos = (0..n).map(|ch| glue::home(&c.desc, ch)).collect();
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
             c.front.message = match warnings.len() {
@@ -327,7 +334,7 @@ impl LatheConsole {
         };
         if lives && !self.front.message.is_empty() {
             &self.front.message
-        } else if any(&["ESTOP"]) || self.estop_latched {
+        } else if any(&["ESTOP"]) {
             ESTOP_NOTE
         } else if any(&["HOLD"]) {
             HOLD_NOTE
@@ -390,16 +397,46 @@ impl LatheConsole {
         )
     }
 
-    /// The cycle loaded, if any (for tests: its state as the kernel published it).
-    pub fn cycle(&self) -> Option<&glue::Cycle> {
-        self.cycle.as_ref()
+    /// The machine's kernel and what is loaded into it: a cycle, an MDI program or nothing
+    /// (`Cycle::loaded`); its state as the kernel published it.
+    pub fn cycle(&self) -> &glue::Cycle {
+        &self.cycle
     }
 
-    /// Sets the kernel's clock for the cycles started from now on: real time (the terminal,
+    /// Sets the kernel's clock, as the front end opens the console: real time (the terminal,
     /// the window: the kernel keeps the wall clock on its own) or virtual (scripts: machine
-    /// time passes in `tick` and `run_for`). Virtual unless set.
+    /// time passes in `tick` and `run_for`). Virtual unless set. The kernel is made anew on
+    /// the clock, with nothing loaded, every tool post, spindle and turret as they stand;
+    /// refused, as the clock it had, while something is loaded or moves.
     pub fn set_clock(&mut self, clock: ClockMode) {
-        self.clock = clock;
+        if clock == self.clock || self.cycle.loaded() || !self.cycle.at_rest() {
+            return;
+        }
+        let left = self
+            .cycle
+            .channels()
+            .iter()
+            .map(|c| glue::ChannelLeft::of(&c.status))
+            .collect();
+        let made = glue::Cycle::idle(
+            &self.desc,
+            &mut self.kept,
+            self.cycle.tool_posts(),
+            left,
+            clock,
+            self.now_ns,
+            (self.front.feed_override, self.switches),
+            self.front.op,
+            self.recorder.sink(),
+        );
+        if let Ok(mut c) = made {
+            c.set_watch(self.watch.clone());
+            if let Some(f) = self.interrupt {
+                c.set_interrupt(f);
+            }
+            self.cycle = c;
+            self.clock = clock;
+        }
     }
 
     /// Machine time, ns.
@@ -411,23 +448,21 @@ impl LatheConsole {
     /// tick left them (the window's backplot samples these after every step).
     pub fn tips(&self) -> Vec<([i64; 2], Option<u32>)> {
         let mut works = vec![None; self.desc.channels.len()];
-        if let Some(c) = &self.cycle {
-            c.works(&mut works);
-        }
-        self.pos.iter().copied().zip(works).collect()
+        self.cycle.works(&mut works);
+        self.cycle.tool_posts().into_iter().zip(works).collect()
     }
 
-    /// Nothing moves or can move without the operator: no cycle, or every channel finished,
+    /// Nothing moves or can move without the operator: nothing loaded, or every channel finished,
     /// stopped, waiting on a stopped channel, faulted or in E-STOP (what a script's `wait`
     /// waits for), as the last tick found it: after START, tick before asking.
     pub fn at_rest(&self) -> bool {
-        self.cycle.as_ref().is_none_or(|c| c.at_rest())
+        self.cycle.at_rest()
     }
 
     /// The machine stands still at feed override 0 with a feed move in progress: a wait
     /// would never end (the centre's `wait` says so too).
     pub fn stalled(&self) -> bool {
-        self.cycle.as_ref().is_some_and(|c| c.stalled())
+        self.cycle.stalled()
     }
 
     /// The plasma display's size: (rows, columns).
@@ -536,16 +571,9 @@ impl LatheConsole {
         }
         self.estop_logged = estop;
         let cleared = self.alarms_logged.iter().all(|a| a.is_empty());
-        if self.cycle.is_none() {
-            // The cycle cleared: the next one's faults are new.
-            self.alarms_logged.iter_mut().for_each(String::clear);
-        }
-        if let Some(c) = self
-            .cycle
-            .as_ref()
-            .filter(|c| c.any_state(&["FAULT", "ALARM"]) || !cleared)
-        {
-            let chans = c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts);
+        let c = &self.cycle;
+        if c.any_state(&["FAULT", "ALARM"]) || !cleared {
+            let chans = c.views(&self.desc, &self.programs, &self.counter.counts);
             for (i, ch) in chans.iter().enumerate() {
                 let Some(logged) = self.alarms_logged.get_mut(i) else {
                     continue;
@@ -659,51 +687,44 @@ impl LatheConsole {
             // STOP always acts; what it did is said, in the centre's words: a feed hold while
             // it lasts, else why nothing was held (before, STOP on a cycle standing still said
             // nothing at all).
-            PanelEvent::Stop => match self.cycle.as_mut() {
-                Some(c) if !c.is_over() => {
-                    c.hold();
-                    if c.any_state(&["HOLD"]) {
-                        self.say(HOLD_NOTE, MsgLife::WhileHeld);
-                    } else {
-                        self.front.message =
-                            "STOP: the cycle is already stopped (START continues, RESET abandons)"
-                                .into();
-                    }
+            PanelEvent::Stop if !self.cycle.is_over() => {
+                self.cycle.hold();
+                if self.cycle.any_state(&["HOLD"]) {
+                    self.say(HOLD_NOTE, MsgLife::WhileHeld);
+                } else {
+                    self.front.message =
+                        "STOP: the cycle is already stopped (START continues, RESET abandons)"
+                            .into();
                 }
-                _ => self.front.message = "STOP: the machine is not running".into(),
-            },
+            }
+            PanelEvent::Stop => self.front.message = "STOP: the machine is not running".into(),
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
-                self.estop_latched = true;
                 self.front.jog_key.clear();
                 self.jogging = None;
-                if let Some(c) = self.cycle.as_mut() {
-                    c.estop();
-                }
-                // Every spindle and the coolant stop (the drives are cut). E-STOP is said while
-                // it is in force, derived from the state (`message_with`), and kept once in the
-                // history as an alarm (`log_book`), as on the centre.
-                self.left.fill(glue::ChannelLeft::default());
+                // Every channel's run is abandoned and every spindle and the coolant stop (the
+                // drives are cut), from the kernel's thread, loaded or not. E-STOP is said
+                // while it is in force, derived from the state (`message_with`), and kept once
+                // in the history as an alarm (`log_book`), as on the centre.
+                self.cycle.estop();
             }
-            PanelEvent::Fault(ch, why) => match self.cycle.as_mut() {
-                Some(c) if ch < self.desc.channels.len() => {
-                    // Filed in the history under the faulted channel's program.
-                    self.msg_of = Some(ch);
-                    self.front.message = match c.fault(ch, &why) {
-                        Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
-                        Err(e) => format!("fault CH{}: {e}", ch + 1),
-                    };
-                }
-                _ => self.front.message = format!("fault CH{}: no cycle runs", ch + 1),
-            },
+            PanelEvent::Fault(ch, why) if ch < self.desc.channels.len() && self.cycle.loaded() => {
+                // Filed in the history under the faulted channel's program.
+                self.msg_of = Some(ch);
+                self.front.message = match self.cycle.fault(ch, &why) {
+                    Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
+                    Err(e) => format!("fault CH{}: {e}", ch + 1),
+                };
+            }
+            PanelEvent::Fault(ch, _) => {
+                self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
+            }
             PanelEvent::Target(n) => self.set_target(n),
             PanelEvent::Override(p) => {
                 if !self.front.set_override(p) {
                     return self.after();
                 }
-                if let Some(c) = self.cycle.as_mut() {
-                    c.set_feed_override(p);
-                }
+                self.cycle.set_feed_override(p);
                 self.front.message = format!("feed override {p} %");
             }
             ev @ (PanelEvent::BlockDelete(_) | PanelEvent::OptionalStop(_)) => {
@@ -738,9 +759,9 @@ impl LatheConsole {
             Command::DryRun(on) => sw.dry_run = on,
             _ => {}
         }
-        self.front.message = match self.cycle.as_mut().map(|c| c.command_all(cmd)) {
-            Some(Err(e)) => e,
-            _ => said,
+        self.front.message = match self.cycle.command_all(cmd) {
+            Err(e) => e,
+            Ok(()) => said,
         };
     }
 
@@ -751,18 +772,15 @@ impl LatheConsole {
             // A mode turned lets a continuous jog go (the centre's rule).
             self.release_any_jog();
         }
-        if let Some(c) = self.cycle.as_mut().filter(|c| !c.mdi && !c.is_over()) {
-            if m == OpMode::Single && self.front.op != OpMode::Single {
-                // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
-                // until START. Turned off, the blocks started in SINGLE BLOCK still end and
-                // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
-                c.set_single_block(true);
-            }
+        let c = &mut self.cycle;
+        if !c.mdi && !c.is_over() && m == OpMode::Single && self.front.op != OpMode::Single {
+            // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
+            // until START. Turned off, the blocks started in SINGLE BLOCK still end and
+            // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
+            c.set_single_block(true);
         }
         if m != self.front.op {
-            if let Some(c) = self.cycle.as_mut() {
-                c.set_modes(m);
-            }
+            self.cycle.set_modes(m);
         }
         self.front.op = m;
         self.front.y_output = None;
@@ -800,6 +818,9 @@ impl LatheConsole {
     /// Asked between the steps of a script's wait: a true answer ends it early (a stop
     /// signal), as the centre's `ConsoleConfig::interrupt`.
     pub fn set_interrupt(&mut self, f: Option<fn() -> bool>) {
+        if let Some(f) = f {
+            self.cycle.set_interrupt(f);
+        }
         self.interrupt = f;
     }
 
@@ -819,7 +840,8 @@ impl LatheConsole {
     fn set_target(&mut self, n: u32) {
         let mut next = self.counter.clone();
         next.target = n;
-        if let Some(c) = self.cycle.as_mut() {
+        if self.cycle.loaded() {
+            let c = &mut self.cycle;
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
                 self.front.message = format!("target {n}: a channel has already finished {most}");
@@ -849,11 +871,12 @@ impl LatheConsole {
     }
 
     fn start(&mut self) {
-        if self.estop_latched {
+        if self.estop() {
             self.front.message = "START refused: EMERGENCY STOP in force, press RESET".into();
             return;
         }
-        if let Some(c) = self.cycle.as_mut() {
+        {
+            let c = &mut self.cycle;
             if !c.is_over() {
                 if !c.mdi {
                     c.set_single_block(self.front.op == OpMode::Single);
@@ -923,71 +946,96 @@ impl LatheConsole {
                 c.dialect = p.dialect.or(c.dialect);
             }
         }
-        let spec = glue::CycleSpec {
-            // An MDI run goes on with the spindles and coolant as they are; a cycle (AUTO)
-            // starts them stopped: its programs work the chucks and command the spindles
-            // around them themselves (a bar must not be received into a spindle an MDI run
-            // left turning).
-            left: if mdi { self.left.clone() } else { Vec::new() },
-            texts,
+        let spec = self.spec(texts, opts, target, mdi.then_some(self.sel));
+        if let Err(e) = self.cycle.load(&desc, spec, &mut self.kept) {
+            self.front.message = e;
+            return;
+        }
+        // A new cycle: its channels' faults are new to the history.
+        self.alarms_logged.iter_mut().for_each(String::clear);
+        if !mdi {
+            let mut next = self.counter.clone();
+            next.counts.iter_mut().for_each(|c| *c = 0);
+            if let Err(e) = self.store.save_counter(&next) {
+                // Loaded and not started: nothing is left loaded either.
+                self.clear_cycle();
+                self.front.message = format!("{e}: the cycle does not start");
+                return;
+            }
+            self.counter = next;
+            self.stale_counts = false;
+            // A new batch: its first cycle is timed from this START.
+            self.last_part_ns = None;
+        }
+        if let Err(e) = self.cycle.start() {
+            self.front.message = e;
+            return;
+        }
+        // The buffer is cleared once it runs; if the clear cannot be stored, the buffer stays
+        // (in memory as on disk) and the message says so.
+        let cleared = !mdi || self.set_mdi(Vec::new());
+        let said = match (mdi, cleared) {
+            (false, _) => "cycle start".into(),
+            (true, true) => format!("MDI CH{} runs", self.sel + 1),
+            (true, false) => format!(
+                "MDI CH{} runs; {}: the buffer is kept",
+                self.sel + 1,
+                self.front.message
+            ),
+        };
+        // The store's refusal lives as a message of its own would.
+        let life = if cleared {
+            MsgLife::WhileRunning
+        } else {
+            MsgLife::NextKey
+        };
+        self.say(said, life);
+        self.keep_params();
+    }
+
+    /// What a load into the kernel takes (`Cycle::load`): the programs `texts` read with
+    /// `opts`, to the part target, of one channel's MDI (`mdi`) or every channel (None), with
+    /// the panel's switches (no texts and `mdi` Some: nothing loaded, manual moves).
+    fn spec(
+        &self,
+        texts: Vec<(String, String)>,
+        opts: super::gcode::ReadOptions,
+        target: u32,
+        mdi: Option<usize>,
+    ) -> glue::CycleSpec {
+        glue::CycleSpec {
+            // Where the kernel has them, when it loads.
+            left: Vec::new(),
+            pos: Vec::new(),
+            manual: texts.is_empty(),
+            texts: if texts.is_empty() {
+                vec![(String::new(), String::new()); self.desc.channels.len()]
+            } else {
+                texts
+            },
             opts,
             target,
-            mdi: mdi.then_some(self.sel),
-            pos: self.pos.clone(),
+            mdi,
             started_ns: self.now_ns,
             feed_override: self.front.feed_override,
             switches: self.switches,
             clock: self.clock,
-            sink: self.recorder.sink(),
-            manual: false,
-            single_block: !mdi && self.front.op == OpMode::Single,
+            sink: None,
+            single_block: mdi.is_none() && self.front.op == OpMode::Single,
             op_mode: self.front.op,
             look_ns: WAIT_LOOK_NS,
-        };
-        match glue::Cycle::new(&desc, spec, &mut self.kept) {
-            Err(e) => self.front.message = e,
-            Ok(mut c) => {
-                if self.watch.is_some() {
-                    c.set_watch(self.watch.clone());
-                }
-                if let Some(f) = self.interrupt {
-                    c.set_interrupt(f);
-                }
-                if !mdi {
-                    let mut next = self.counter.clone();
-                    next.counts.iter_mut().for_each(|c| *c = 0);
-                    if let Err(e) = self.store.save_counter(&next) {
-                        self.front.message = format!("{e}: the cycle does not start");
-                        return;
-                    }
-                    self.counter = next;
-                    self.stale_counts = false;
-                    // A new batch: its first cycle is timed from this START.
-                    self.last_part_ns = None;
-                }
-                // The buffer is cleared once it runs; if the clear cannot be stored, the
-                // buffer stays (in memory as on disk) and the message says so.
-                let cleared = !mdi || self.set_mdi(Vec::new());
-                self.cycle = Some(c);
-                let said = match (mdi, cleared) {
-                    (false, _) => "cycle start".into(),
-                    (true, true) => format!("MDI CH{} runs", self.sel + 1),
-                    (true, false) => format!(
-                        "MDI CH{} runs; {}: the buffer is kept",
-                        self.sel + 1,
-                        self.front.message
-                    ),
-                };
-                // The store's refusal lives as a message of its own would.
-                let life = if cleared {
-                    MsgLife::WhileRunning
-                } else {
-                    MsgLife::NextKey
-                };
-                self.say(said, life);
-                self.keep_params();
-            }
         }
+    }
+
+    /// Nothing loaded any more: every channel's RESET (its spindle and coolant stop, its
+    /// alarm clears), and the kernel stands with no program, for manual moves.
+    fn clear_cycle(&mut self) {
+        let _ = self.cycle.command_all(Command::Reset);
+        let spec = self.spec(Vec::new(), Default::default(), 1, Some(self.sel));
+        if let Err(e) = self.cycle.load(&self.desc, spec, &mut self.kept) {
+            self.front.message = e;
+        }
+        self.alarms_logged.iter_mut().for_each(String::clear);
     }
 
     /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
@@ -1041,54 +1089,50 @@ impl LatheConsole {
         }
     }
 
-    /// E-STOP is in force: pressed and not yet released by RESET.
+    /// E-STOP is in force: pressed and not yet released by RESET (the kernel's state).
     fn estop(&self) -> bool {
-        self.estop_latched
-            || self
-                .cycle
-                .as_ref()
-                .is_some_and(|c| c.channels().iter().any(|s| s.status.estop))
+        self.cycle.channels().iter().any(|s| s.status.estop)
     }
 
     fn reset(&mut self) {
-        self.estop_latched = false;
         self.front.jog_key.clear();
         self.jogging = None;
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
-        let all = self
-            .cycle
-            .as_ref()
-            .is_some_and(|c| c.channels().iter().any(|s| s.status.estop));
+        let all = self.estop();
         for (ch, k) in self.kept.iter_mut().enumerate() {
             if all || ch == self.sel {
                 k.reset(&self.desc, ch);
             }
         }
-        let Some(c) = self.cycle.as_mut() else {
+        if !self.cycle.loaded() {
+            // Nothing loaded: the channel's RESET (after an E-STOP, the machine's) stops its
+            // spindle and coolant, and clears its MDI buffer.
+            let ch = (!all).then_some(self.sel);
+            let _ = self.cycle.reset_channels(ch, self.kept_tools());
             self.front.entry.clear();
             self.front.message = format!("RESET CH{}", self.sel + 1);
-            // RESET stops the channel's spindle and coolant, as the kernel's RESET does.
-            self.left[self.sel] = glue::ChannelLeft::default();
             self.set_mdi(Vec::new());
             return;
-        };
-        if c.is_over() {
-            self.cycle = None;
-            self.front.message = "RESET: the cycle is cleared".into();
+        }
+        if self.cycle.is_over() {
             // With the cycle cleared nothing shows a spindle: every one stops, and the coolant.
-            self.left.fill(glue::ChannelLeft::default());
+            self.clear_cycle();
+            self.front.message = "RESET: the cycle is cleared".into();
             return;
         }
-        self.front.message = c.reset(self.sel);
+        self.front.message = self.cycle.reset(self.sel);
+    }
+
+    /// Each channel's tool as its reader keeps it (the turret a load sets).
+    fn kept_tools(&self) -> Vec<Option<u32>> {
+        self.kept.iter().map(|k| k.tool.map(|t| t.0)).collect()
     }
 
     /// Virtual time: `w` is told every channel's state at every change of one of them, in
     /// this cycle and every later one (`PulseCore::set_watch`); None stops it.
     pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
-        if let Some(c) = self.cycle.as_mut() {
-            c.set_watch(w.clone());
-        }
+        self.cycle.set_watch(w.clone());
         self.watch = w;
     }
 
@@ -1100,17 +1144,10 @@ impl LatheConsole {
     }
 
     /// [`LatheConsole::tick`], ending early when `until` holds (`Cycle::run`): whether it
-    /// does (never for [`RunUntil::Time`]). Without a cycle only the time passes, and a wait
-    /// has nothing to wait for (it holds).
+    /// does (never for [`RunUntil::Time`]).
     pub fn step(&mut self, ns: u64, until: RunUntil) -> bool {
-        let Some(c) = self.cycle.as_mut() else {
-            if until == RunUntil::Time {
-                self.now_ns += ns;
-            }
-            return until != RunUntil::Time;
-        };
-        let reached = c.run(ns, until);
-        self.now_ns = c.now_ns();
+        let reached = self.cycle.run(ns, until);
+        self.now_ns = self.cycle.now_ns();
         self.after();
         reached
     }
@@ -1126,12 +1163,6 @@ impl LatheConsole {
     /// stepped it 10 ms at a time to see those. `stop` is asked first. Returns the machine
     /// time given.
     pub fn run_for(&mut self, limit_ns: u64, until: RunUntil, stop: impl Fn() -> bool) -> u64 {
-        if self.cycle.is_none() {
-            // Nothing moves: time only passes (or, waiting, nothing to wait for).
-            let used = if until == RunUntil::Time { limit_ns } else { 0 };
-            self.tick(used);
-            return used;
-        }
         if (until == RunUntil::Rest && self.at_rest()) || stop() {
             // Nothing to wait for: no machine time passes (the centre's wait).
             return 0;
@@ -1144,7 +1175,8 @@ impl LatheConsole {
 
     /// Takes what the machine reported: records it, counts parts into the stores.
     fn after(&mut self) {
-        if let Some(c) = self.cycle.as_mut() {
+        {
+            let c = &mut self.cycle;
             // The kernel's events are in the recording already (the pulse core writes them);
             // taken here so that they do not pile up in the core for the console's lifetime.
             // A part delivered times the cycle: from the part before it, the first from START.
@@ -1166,11 +1198,7 @@ impl LatheConsole {
                     _ => {}
                 }
             }
-            for (l, s) in self.left.iter_mut().zip(c.channels()) {
-                *l = glue::ChannelLeft::of(&s.status);
-            }
             let counts = c.counts(&self.counter.counts);
-            c.positions(&mut self.pos);
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
@@ -1222,27 +1250,8 @@ impl LatheConsole {
     }
 
     fn chan_views(&self) -> Vec<ChanView> {
-        match &self.cycle {
-            Some(c) => c.views(&self.desc, &self.programs, &self.pos, &self.counter.counts),
-            None => self
-                .desc
-                .channels
-                .iter()
-                .enumerate()
-                .map(|(i, ch)| ChanView {
-                    name: ch.name.clone(),
-                    program: self.programs[i].name.clone(),
-                    // E-STOP pressed with no cycle is in force until RESET, and shown so.
-                    state: if self.estop_latched { "ESTOP" } else { "IDLE" }.into(),
-                    note: if self.estop_latched { ESTOP_NOTE } else { "" }.into(),
-                    parts: self.counter.counts[i],
-                    pos: self.pos[i],
-                    // The tool the channel's turret stands at, as its reader keeps it.
-                    tool: self.kept.get(i).and_then(|k| k.tool).map_or(0, |t| t.0),
-                    ..Default::default()
-                })
-                .collect(),
-        }
+        self.cycle
+            .views(&self.desc, &self.programs, &self.counter.counts)
     }
 
     /// The frame as text, as `show` prints it (the mill console's `frame_text`): the title,
@@ -1346,16 +1355,19 @@ impl LatheConsole {
             self.stop_machine();
         }
         // The kernel's thread holds a sink: it ends first, so everything it sent is written.
-        self.cycle = None;
-        self.recorder.finish().transpose()
+        let LatheConsole {
+            cycle, recorder, ..
+        } = self;
+        drop(cycle);
+        recorder.finish().transpose()
     }
 
     /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one
     /// tick of machine time records it (`/nc/state` ESTOP). Not an operator action: no
     /// `/panel/event`.
     fn stop_machine(&mut self) {
-        if let Some(c) = self.cycle.as_mut().filter(|c| !c.is_over()) {
-            c.estop();
+        if !self.cycle.is_over() {
+            self.cycle.estop();
             let tick = self.desc.tick_ns.max(1);
             self.tick(tick);
         }

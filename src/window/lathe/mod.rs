@@ -83,9 +83,6 @@ impl Lathe {
     /// [`Lathe::advance`], ending with the step in which `until` holds (`LatheConsole::step`):
     /// whether it does.
     fn advance_until(&mut self, ns: u64, until: RunUntil) -> bool {
-        if self.console.cycle().is_none() {
-            return self.console.step(ns, until);
-        }
         let mut left = ns;
         while left > 0 {
             let n = left.min(STEP_NS);
@@ -167,7 +164,7 @@ impl Front for Lathe {
     fn begin_wait(&mut self, w: Wait) {
         // The machine knows it is busy only once it has ticked (after a START, say), so a
         // wait takes one step first, as `novanc script`'s does.
-        if w != Wait::Rest || self.console.cycle().is_none() {
+        if w != Wait::Rest {
             return;
         }
         self.advance(STEP_NS);
