@@ -545,3 +545,25 @@ fn the_tool_indexed_stays_on_the_screen_into_the_next_run() {
     assert_eq!(c.message(), "RESET: the cycle is cleared");
     assert_eq!(tool(&c), 0, "RESET: the reader's power-on state, no tool");
 }
+
+/// The console's one kernel keeps a channel's alarm until RESET, as the centre's machine does
+/// (Fanuc: an alarm is cleared by RESET): before stop 42 each MDI START spawned a fresh kernel,
+/// and the next MDI run forgot the alarm of the last. START is refused and says why; nothing
+/// moves; RESET clears it and the next MDI runs.
+#[test]
+fn an_alarm_holds_until_reset_across_mdi_runs() {
+    let state = common::temp_dir("lathe-state-alarm-holds");
+    let mut c = open(&LatheDesc::citizen(), &state);
+    // A chuck code in MDI: an MDI run has no work flow, so the kernel's sync table refuses it.
+    mdi(&mut c, &["M10"]);
+    assert_eq!(c.view().channels[0].state, "ALARM", "{}", c.frame_text());
+    let before = at(&c);
+    let said = mdi(&mut c, &["G0 X30"]);
+    assert_eq!(said, "CH1 START refused: alarm in force, press RESET");
+    assert_eq!(at(&c), before, "nothing moves");
+    assert_eq!(c.view().channels[0].state, "ALARM");
+    c.handle(PanelEvent::Reset);
+    assert_eq!(c.view().channels[0].state, "IDLE", "{}", c.message());
+    assert_eq!(mdi(&mut c, &["G0 X30"]), "MDI CH1 runs");
+    assert_eq!(at(&c)[0], 15_000, "X30 is a diameter: 15 mm radius");
+}
