@@ -429,29 +429,39 @@ fn lathe(
         .map(|c| crate::lathe::console::home(&desc, c))
         .collect();
     let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
-    let spec = crate::lathe::console::CycleSpec {
+    let kept: Vec<_> = (0..desc.channels.len())
+        .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
+        .collect();
+    let machine = crate::lathe::console::KernelSpec {
+        pos: home,
         left: Vec::new(),
+        clock: common.clock,
+        now_ns: 0,
+        feed_override: common.feed_override,
+        switches: Default::default(),
+        op_mode: crate::panel_model::OpMode::Auto,
+        look_ns: 0,
+        sink: rec
+            .as_ref()
+            .map(|r| r.sink().with_pulses(common.record_pulses)),
+    };
+    let spec = crate::lathe::console::CycleSpec {
         texts,
         opts,
         target,
         mdi: None,
-        pos: home,
-        started_ns: 0,
-        feed_override: common.feed_override,
-        switches: Default::default(),
-        clock: common.clock,
-        sink: rec
-            .as_ref()
-            .map(|r| r.sink().with_pulses(common.record_pulses)),
         manual: false,
         single_block: false,
         op_mode: crate::panel_model::OpMode::Auto,
-        look_ns: 0,
     };
-    let mut kept: Vec<_> = (0..desc.channels.len())
-        .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
-        .collect();
-    let mut cycle = match crate::lathe::console::Cycle::new(&desc, spec, &mut kept) {
+    // The kernel, then the programs loaded into it and started, as the console does.
+    let made = crate::lathe::console::Cycle::idle(&desc, &kept, machine).and_then(|mut c| {
+        let mut kept = kept;
+        c.load(&desc, spec, &mut kept)?;
+        c.start()?;
+        Ok(c)
+    });
+    let mut cycle = match made {
         Ok(c) => c,
         Err(e) => {
             // A reading error: `CHn NAME:LINE:COL: message`; the name is the file.

@@ -31,8 +31,7 @@ impl Panel {
         match lathe {
             None => Console::open(cfg).map(|(c, w)| (Panel::Centre(Box::new(c)), w)),
             Some(desc) => {
-                let (mut c, w) = LatheConsole::open_config(desc, &cfg)?;
-                c.set_clock(cfg.clock);
+                let (c, w) = LatheConsole::open_config(desc, &cfg)?;
                 Ok((Panel::Lathe(Box::new(c)), w))
             }
         }

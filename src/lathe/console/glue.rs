@@ -99,8 +99,8 @@ struct ReadCycle {
     starts: Vec<Vec<u32>>,
 }
 
-/// What describes a cycle to start ([`Cycle::new`]), built once by whoever starts it (the
-/// console's START, `novanc run`).
+/// What is loaded into the kernel ([`Cycle::load`]), built once by whoever starts it (the
+/// console's START, RESET and opening, `novanc run`).
 #[derive(Clone, Debug)]
 pub struct CycleSpec {
     /// Each channel's program: name and text (an MDI run: the run channel's lines, empty
@@ -112,22 +112,33 @@ pub struct CycleSpec {
     pub target: u32,
     /// An MDI run of this channel (None: AUTO, every channel to the part target).
     pub mdi: Option<usize>,
-    /// Where each channel's tool post starts, pulses [X radius, Z].
+    /// Nothing loaded: the kernel stands with no program, for manual moves (STEP, CONTINUOUS,
+    /// HANDLE).
+    pub manual: bool,
+    /// SINGLE BLOCK: every channel stops after each block until the next START.
+    pub single_block: bool,
+    /// The operation selector's position, as `/nc/state` records it (`op_mode`).
+    pub op_mode: crate::panel_model::OpMode,
+}
+
+/// The machine a kernel is made for ([`Cycle::idle`]), as it stands when the kernel is made.
+#[derive(Clone, Debug)]
+pub struct KernelSpec {
+    /// Where each channel's tool post stands, pulses [X radius, Z].
     pub pos: Vec<[i64; 2]>,
-    /// The console's machine time the cycle begins at, ns.
-    pub started_ns: u64,
+    /// Each channel's spindle and coolant (empty: all stopped, off).
+    pub left: Vec<ChannelLeft>,
+    /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
+    pub clock: ClockMode,
+    /// The machine time the kernel's clock begins at, ns (one time base for a console's
+    /// recording).
+    pub now_ns: u64,
     /// Feed override, percent, of every channel's feed moves.
     pub feed_override: u32,
     /// The centre's switches on every channel: rapid override (F0 (0), 25, 50, 100), spindle
     /// override (50 to 120) and DRY RUN (feed moves at the jog feed times the feed override;
     /// thread passes and taps stay geared to their spindle).
     pub switches: crate::record::Switches,
-    /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
-    pub clock: ClockMode,
-    /// For manual moves only (STEP): the kernel is made with nothing started.
-    pub manual: bool,
-    /// SINGLE BLOCK: every channel stops after each block until the next START.
-    pub single_block: bool,
     /// The operation selector's position, as `/nc/state` records it (`op_mode`).
     pub op_mode: crate::panel_model::OpMode,
     /// How late a wait may end past what it waits for, ns (`Kernel::set_look_ns`; 0: the
@@ -135,9 +146,6 @@ pub struct CycleSpec {
     pub look_ns: u64,
     /// Where the kernel records.
     pub sink: Option<EventSink>,
-    /// Each channel's spindle and coolant as the last cycle left them (empty: all stopped,
-    /// off): the new cycle goes on with them (docs/lathe-gcode.md "What a channel keeps").
-    pub left: Vec<ChannelLeft>,
 }
 
 /// A channel's spindle and coolant as a cycle left them: what a real lathe keeps between two
@@ -170,9 +178,15 @@ impl ChannelLeft {
 }
 
 /// Every channel's program of a cycle of `desc` as `spec` describes it, each read from the
-/// state `kept` says, the tool post where `spec.pos` says. Any error names the channel, the
+/// state `kept` says, the tool post where `pos` says, the spindle as `left` says. Any error names the channel, the
 /// program and the line.
-fn read_cycle(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<ReadCycle, String> {
+fn read_cycle(
+    desc: &LatheDesc,
+    spec: &CycleSpec,
+    kept: &[Kept],
+    pos: &[[i64; 2]],
+    left: &[ChannelLeft],
+) -> Result<ReadCycle, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
     let mut after = Vec::new();
@@ -196,7 +210,7 @@ fn read_cycle(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<ReadC
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
         // The spindle is the machine's: the reader starts from it as the cycle finds it.
-        from.modal.dir = match spec.left.get(ch).map_or(0, |l| l.dir) {
+        from.modal.dir = match left.get(ch).map_or(0, |l| l.dir) {
             1 => 3,
             -1 => 4,
             _ => 5,
@@ -208,14 +222,14 @@ fn read_cycle(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<ReadC
             &spec.opts,
             None,
             &from,
-            spec.pos.get(ch).copied(),
+            pos.get(ch).copied(),
         )
         .map_err(|e| format!("CH{} {name}:{e}", ch + 1))?;
         rereads.push(spec.mdi.is_none().then(|| Reread {
             name: name.clone(),
             text: text.clone(),
             from,
-            at: spec.pos.get(ch).copied(),
+            at: pos.get(ch).copied(),
         }));
         let p = r.statements;
         if spec.mdi.is_none() && p.is_empty() {
@@ -280,28 +294,18 @@ fn read_cycle(desc: &LatheDesc, spec: &CycleSpec, kept: &[Kept]) -> Result<ReadC
     })
 }
 
-/// The kernel of a new machine, its channels' programs `read`, as `spec` describes the cycle,
-/// each turret at the tool `kept` says: ready to start.
-fn make_kernel(
-    desc: &LatheDesc,
-    spec: &CycleSpec,
-    kept: &[Kept],
-    read: &mut ReadCycle,
-) -> Result<Kernel, String> {
-    let (chans, flow) = desc.kernel_channels(std::mem::take(&mut read.progs))?;
-    // An MDI run has no chucks to hand over and no part to count: the channel runs its lines.
-    let flow = spec.mdi.is_none().then_some(flow);
-    let mut k = Kernel::new(chans, flow, spec.target)?;
+/// The kernel of `desc` with no program loaded, its machines as `spec` describes them, each
+/// turret at the tool `kept` says.
+fn make_kernel(desc: &LatheDesc, spec: &KernelSpec, kept: &[Kept]) -> Result<Kernel, String> {
+    let (chans, _) = desc.kernel_channels(vec![Vec::new(); desc.channels.len()])?;
+    let mut k = Kernel::new(chans, None, 1)?;
     k.set_look_ns(spec.look_ns);
-    for (ch, seqs) in std::mem::take(&mut read.starts).into_iter().enumerate() {
-        if let Some(m) = k.machine_mut(ch) {
-            m.mark_starts(seqs);
-        }
-    }
     for (ch, p) in spec.pos.iter().enumerate().take(k.channels()) {
         k.set_position(ch, [p[0], 0, p[1]])?;
+    }
+    let sw = spec.switches;
+    for ch in 0..k.channels() {
         k.command(ch, Command::Override(spec.feed_override))?;
-        let sw = spec.switches;
         if sw.rapid_override != 100 {
             k.command(ch, Command::RapidOverride(sw.rapid_override))?;
         }
@@ -312,8 +316,8 @@ fn make_kernel(
             k.command(ch, Command::DryRun(true))?;
         }
     }
-    // Each channel's spindle and coolant go on as the last cycle left them; under G96 the
-    // surface speed is the channel's kept one.
+    // Each channel's spindle and coolant as they stand; under G96 the surface speed is the
+    // channel's kept one.
     for (ch, l) in spec.left.iter().enumerate().take(k.channels()) {
         let css = kept.get(ch).filter(|k| k.modal.css).map(|k| {
             let f = if k.modal.inch { 0.3048 } else { 1.0 };
@@ -326,14 +330,13 @@ fn make_kernel(
             m.preset_spindle(l.dir, l.s_rpm, css, l.actual_rpm, l.coolant);
         }
     }
-    // Each turret stands at the tool its last program or MDI indexed (the reader goes on with
-    // its offsets): the machine shows it from the start. Before stop 41 every new run began
-    // showing T00, while the reader still applied the kept tool's offsets.
+    // Each turret stands at the tool its reader keeps (every load sets it again).
     for (ch, kept) in kept.iter().enumerate().take(k.channels()) {
-        if let Some((t, _)) = kept.tool {
-            k.command(ch, Command::SetTool(Some(t)))?;
-        }
+        k.command(ch, Command::SetTool(kept.tool.map(|t| t.0)))?;
     }
+    // One time base for a console's cycles (and its recording): the kernel's clock goes on
+    // from the machine time given.
+    k.set_clock(spec.now_ns)?;
     Ok(k)
 }
 
@@ -371,111 +374,40 @@ pub fn recording_info(
 }
 
 impl Cycle {
-    /// Reads every channel's program (`spec.texts`), each from the state `kept` says, and
-    /// starts the kernel on `spec.clock`, each tool post where `spec.pos` says, recording into
-    /// `spec.sink`; once it has started, `kept` holds the state each read left. Any error
-    /// names the channel, the program and the line, and nothing is started (`kept` is as it
-    /// was).
-    pub fn new(desc: &LatheDesc, spec: CycleSpec, kept: &mut [Kept]) -> Result<Cycle, String> {
-        let mut read = read_cycle(desc, &spec, kept)?;
-        let mut k = make_kernel(desc, &spec, kept, &mut read)?;
-        let ReadCycle {
-            lines,
-            first,
-            after,
-            msgs,
-            rereads: reread,
-            ..
-        } = read;
-        let opts = spec.opts;
-        // One time base for the console's cycles (and its recording): the kernel's clock goes
-        // on from the console's machine time.
-        k.set_clock(spec.started_ns)?;
+    /// The kernel of `desc`, with no program loaded, in the pulse core thread on `spec.clock`
+    /// (a console's from its opening to its close, `novanc run`'s): each tool post, spindle,
+    /// override and switch as `spec` says, each turret at the tool `kept` says, recording into
+    /// `spec.sink`. Each cycle, MDI program or manual move is loaded into it
+    /// ([`Cycle::load`]) and started ([`Cycle::start`]).
+    pub fn idle(desc: &LatheDesc, kept: &[Kept], spec: KernelSpec) -> Result<Cycle, String> {
+        let k = make_kernel(desc, &spec, kept)?;
         let started_ns = k.now();
-        for ch in 0..k.channels() {
-            // Before the start, so that not even a block without motion runs past it.
-            k.command(ch, Command::SingleBlock(spec.single_block))?;
-        }
-        if !spec.manual {
-            // An MDI program's run is an MDI run (`/nc/state` records `run` 2), as the
-            // centre's; a cycle's, AUTO.
-            let kind = match spec.mdi {
-                Some(_) => crate::pulse_core::RunKind::Mdi,
-                None => crate::pulse_core::RunKind::Auto,
-            };
-            k.start_as(spec.mdi, kind)?;
-        }
-        // The cycle starts: each channel read keeps the state its read left.
-        for (k, a) in kept.iter_mut().zip(after) {
-            if let Some(a) = a {
-                *k = a;
-            }
-        }
-        let n = msgs.len();
-        let (mdi, only, clock) = (spec.mdi.is_some(), spec.mdi.unwrap_or(0), spec.clock);
-        let manual = spec.manual;
-        let op_mode = spec.op_mode;
+        let n = k.channels();
+        let clock = spec.clock;
         let core = PulseCore::spawn_kernel(k, clock, spec.sink);
         let mut c = Cycle {
             core,
-            mdi,
-            manual,
-            only,
+            mdi: true,
+            manual: true,
+            only: 0,
             started_ns,
             message: None,
-            lines,
-            first,
+            lines: vec![Vec::new(); n],
+            first: vec![0; n],
             snap: Vec::new(),
             t: 0,
             clock,
-            msgs,
+            msgs: vec![Vec::new(); n],
             msg_at: vec![(0, 0); n],
             said: Vec::new(),
             events: Vec::new(),
-            reread,
-            opts,
+            reread: vec![None; n],
+            opts: ReadOptions::default(),
             desc: desc.clone(),
         };
-        c.set_modes(op_mode);
+        c.set_modes(spec.op_mode);
         c.refresh();
         Ok(c)
-    }
-
-    /// A kernel for `desc` with no program loaded (a console's, from its opening: the machine
-    /// stands for manual moves, and each cycle is loaded into it, [`Cycle::load`]): each tool
-    /// post at `pos`, each spindle and coolant as `left` says, each turret at the tool `kept`
-    /// says, on `clock` from machine time `now_ns`, recording into `sink`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn idle(
-        desc: &LatheDesc,
-        kept: &mut [Kept],
-        pos: Vec<[i64; 2]>,
-        left: Vec<ChannelLeft>,
-        clock: ClockMode,
-        now_ns: u64,
-        switches: (u32, crate::record::Switches),
-        op_mode: crate::panel_model::OpMode,
-        sink: Option<EventSink>,
-    ) -> Result<Cycle, String> {
-        let n = desc.channels.len();
-        let spec = CycleSpec {
-            texts: vec![(String::new(), String::new()); n],
-            opts: ReadOptions::default(),
-            target: 1,
-            mdi: Some(0),
-            pos,
-            started_ns: now_ns,
-            feed_override: switches.0,
-            switches: switches.1,
-            clock,
-            manual: true,
-            single_block: false,
-            op_mode,
-            look_ns: super::WAIT_LOOK_NS,
-            sink,
-            left,
-        };
-        Cycle::new(desc, spec, kept)
     }
 
     /// Loads a new cycle (AUTO), an MDI program or nothing (`spec.manual`: the machine stands
@@ -492,17 +424,13 @@ impl Cycle {
     pub fn load(
         &mut self,
         desc: &LatheDesc,
-        mut spec: CycleSpec,
+        spec: CycleSpec,
         kept: &mut [Kept],
     ) -> Result<(), String> {
         self.refresh();
-        spec.pos = self
-            .snap
-            .iter()
-            .map(|c| [c.status.pos[0], c.status.pos[2]])
-            .collect();
+        let pos = self.tool_posts();
         let auto = spec.mdi.is_none() && !spec.manual;
-        spec.left = if auto {
+        let left: Vec<ChannelLeft> = if auto {
             Vec::new()
         } else {
             self.snap
@@ -510,7 +438,7 @@ impl Cycle {
                 .map(|c| ChannelLeft::of(&c.status))
                 .collect()
         };
-        let mut read = read_cycle(desc, &spec, kept)?;
+        let mut read = read_cycle(desc, &spec, kept, &pos, &left)?;
         let flow = auto.then(|| desc.work_flow());
         let progs = std::mem::take(&mut read.progs);
         let starts = std::mem::take(&mut read.starts);

@@ -16,7 +16,7 @@ mod jog;
 mod ofs;
 pub mod view;
 
-pub use glue::{home, recording_info, Cycle, CycleSpec, RunUntil};
+pub use glue::{home, recording_info, Cycle, CycleSpec, KernelSpec, RunUntil};
 
 use super::desc::LatheDesc;
 use crate::console::book::Log;
@@ -145,6 +145,17 @@ impl LatheConsole {
         cols: usize,
         record: Option<&Path>,
     ) -> Result<(LatheConsole, Vec<String>), String> {
+        LatheConsole::open_on(desc, state, (rows, cols), record, ClockMode::Virtual)
+    }
+
+    /// [`LatheConsole::open`], its kernel on `clock` from the start.
+    fn open_on(
+        desc: LatheDesc,
+        state: &Path,
+        (rows, cols): (usize, usize),
+        record: Option<&Path>,
+        clock: ClockMode,
+    ) -> Result<(LatheConsole, Vec<String>), String> {
         let o = LatheStore::open(state, &desc)?;
         let mut desc = desc;
         for (ch, t) in o.tools.iter().enumerate() {
@@ -177,7 +188,7 @@ impl LatheConsole {
         let (log, damaged) = Log::open(o.store.dir());
         let mut warnings = o.warnings;
         warnings.extend(damaged);
-        let mut kept: Vec<_> = (0..n)
+        let kept: Vec<_> = (0..n)
             .map(|ch| {
                 let mut k = super::gcode::Kept::power_on(&desc, ch, None);
                 // #500–#999 as the stores kept them (docs/lathe-gcode.md "What a channel
@@ -192,17 +203,21 @@ impl LatheConsole {
             .collect();
         let front = Front::new(OpMode::Auto, 10);
         // The machine from power-on: every tool post at the top of its travel, the spindles
-        // stopped, in virtual time until a front end sets the clock (`set_clock`).
+        // stopped, on the front end's clock.
         let cycle = glue::Cycle::idle(
             &desc,
-            &mut kept,
-            (0..n).map(|ch| glue::home(&desc, ch)).collect(),
-            Vec::new(),
-            ClockMode::Virtual,
-            0,
-            (front.feed_override, Default::default()),
-            front.op,
-            recorder.sink(),
+            &kept,
+            glue::KernelSpec {
+                pos: (0..n).map(|ch| glue::home(&desc, ch)).collect(),
+                left: Vec::new(),
+                clock,
+                now_ns: 0,
+                feed_override: front.feed_override,
+                switches: Default::default(),
+                op_mode: front.op,
+                look_ns: WAIT_LOOK_NS,
+                sink: recorder.sink(),
+            },
         )?;
         let mut c = LatheConsole {
             programs: o.programs,
@@ -234,7 +249,7 @@ impl LatheConsole {
             now_ns: 0,
             stale_counts: stale,
             switches: Default::default(),
-            clock: ClockMode::Virtual,
+            clock,
             watch: None,
             kept,
             interrupt: None,
@@ -263,17 +278,17 @@ impl LatheConsole {
     }
 
     /// Opens the console with a launcher's configuration: its state directory, display size,
-    /// recording and the interrupt a script's waits ask (`ConsoleConfig::interrupt`).
+    /// recording, clock and the interrupt a script's waits ask (`ConsoleConfig::interrupt`).
     pub fn open_config(
         desc: LatheDesc,
         cfg: &crate::console::ConsoleConfig,
     ) -> Result<(LatheConsole, Vec<String>), String> {
-        let (mut c, w) = LatheConsole::open(
+        let (mut c, w) = LatheConsole::open_on(
             desc,
             &cfg.state_dir,
-            cfg.rows,
-            cfg.cols,
+            (cfg.rows, cfg.cols),
             cfg.record.as_deref(),
+            cfg.clock,
         )?;
         c.set_interrupt(cfg.interrupt);
         Ok((c, w))
@@ -403,11 +418,12 @@ impl LatheConsole {
         &self.cycle
     }
 
-    /// Sets the kernel's clock, as the front end opens the console: real time (the terminal,
-    /// the window: the kernel keeps the wall clock on its own) or virtual (scripts: machine
-    /// time passes in `tick` and `run_for`). Virtual unless set. The kernel is made anew on
-    /// the clock, with nothing loaded, every tool post, spindle and turret as they stand;
-    /// refused, as the clock it had, while something is loaded or moves.
+    /// Sets the kernel's clock (a front end opens the console on its own,
+    /// `LatheConsole::open_config`): real time (the terminal, the window: the kernel keeps the
+    /// wall clock on its own) or virtual (scripts: machine time passes in `tick` and
+    /// `run_for`). Virtual unless set. The kernel is made anew on the clock, with nothing
+    /// loaded, every tool post, spindle and turret as they stand, its clock going on from the
+    /// last; nothing changes while something is loaded or moves.
     pub fn set_clock(&mut self, clock: ClockMode) {
         if clock == self.clock || self.cycle.loaded() || !self.cycle.at_rest() {
             return;
@@ -420,14 +436,18 @@ impl LatheConsole {
             .collect();
         let made = glue::Cycle::idle(
             &self.desc,
-            &mut self.kept,
-            self.cycle.tool_posts(),
-            left,
-            clock,
-            self.now_ns,
-            (self.front.feed_override, self.switches),
-            self.front.op,
-            self.recorder.sink(),
+            &self.kept,
+            glue::KernelSpec {
+                pos: self.cycle.tool_posts(),
+                left,
+                clock,
+                now_ns: self.now_ns.max(self.cycle.now_ns()),
+                feed_override: self.front.feed_override,
+                switches: self.switches,
+                op_mode: self.front.op,
+                look_ns: WAIT_LOOK_NS,
+                sink: self.recorder.sink(),
+            },
         );
         if let Ok(mut c) = made {
             c.set_watch(self.watch.clone());
@@ -1004,9 +1024,6 @@ impl LatheConsole {
         mdi: Option<usize>,
     ) -> glue::CycleSpec {
         glue::CycleSpec {
-            // Where the kernel has them, when it loads.
-            left: Vec::new(),
-            pos: Vec::new(),
             manual: texts.is_empty(),
             texts: if texts.is_empty() {
                 vec![(String::new(), String::new()); self.desc.channels.len()]
@@ -1016,14 +1033,8 @@ impl LatheConsole {
             opts,
             target,
             mdi,
-            started_ns: self.now_ns,
-            feed_override: self.front.feed_override,
-            switches: self.switches,
-            clock: self.clock,
-            sink: None,
             single_block: mdi.is_none() && self.front.op == OpMode::Single,
             op_mode: self.front.op,
-            look_ns: WAIT_LOOK_NS,
         }
     }
 
