@@ -125,6 +125,47 @@ fn auto_turned_mid_cycle_runs_on_to_the_end() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A mode other than AUTO and SINGLE BLOCK turned while a cycle runs is a feed hold on every
+/// channel, said on the message line (the centre's rule; before stop 42 the lathe's cycle ran
+/// on under MDI, DATA or a manual mode). AUTO turned back and START go on to the end, with
+/// the same tool posts, works and counts as a cycle left alone.
+#[test]
+fn a_mode_turned_while_the_cycle_runs_holds_every_channel() {
+    let want = auto_run();
+    for m in [OpMode::Mdi, OpMode::Data, OpMode::Continuous] {
+        let dir = common::temp_dir("lathe-turn-holds");
+        let mut c = open(&dir);
+        c.handle(PanelEvent::Op(OpMode::Auto));
+        c.handle(PanelEvent::Start);
+        c.run_for(3_000_000_000, novanc::lathe::console::RunUntil::Time, || {
+            false
+        });
+        assert!(states(&c).contains(&"RUN".into()), "{:?}", states(&c));
+        c.handle(PanelEvent::Op(m));
+        assert_eq!(
+            c.message(),
+            format!("feed hold: mode changed to {} while running", m.name())
+        );
+        c.handle(PanelEvent::Wait);
+        let s = states(&c);
+        assert!(
+            s.iter().all(|w| w != "RUN") && s.contains(&"HOLD".into()),
+            "{m:?}: {s:?}"
+        );
+        let at = c.tips();
+        c.run_for(2_000_000_000, novanc::lathe::console::RunUntil::Time, || {
+            false
+        });
+        assert_eq!(c.tips(), at, "{m:?}: held, nothing moves");
+        c.handle(PanelEvent::Op(OpMode::Auto));
+        c.handle(PanelEvent::Start);
+        c.handle(PanelEvent::Wait);
+        assert!(over(&c), "{m:?}: {}", c.frame_text());
+        assert_eq!((c.tips(), c.counter().counts.clone()), want, "{m:?}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
 /// OFS is a page over the operation selector, as the centre's tool-offset page is: called up
 /// in AUTO while the cycle runs, it shows the channel's tools and takes a revision without
 /// stopping anything; START still acts (the mode is AUTO); a mode key leaves the page.

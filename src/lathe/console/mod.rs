@@ -799,13 +799,28 @@ impl LatheConsole {
             // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
             c.set_single_block(true);
         }
-        if m != self.front.op {
+        let was = self.front.op;
+        if m != was {
             self.cycle.set_modes(m);
         }
         self.front.op = m;
         self.front.y_output = None;
         self.front.entry.clear();
         self.front.message = format!("{} mode", m.word());
+        // A turn to any other mode while running is a feed hold, on every channel (the
+        // centre's rule, docs/panel.md; a Fanuc stops automatic operation when its mode is
+        // turned). Between AUTO and SINGLE BLOCK it is not: that turns single block. Before
+        // stop 42 the lathe's cycle ran on under MDI, DATA or a manual mode.
+        let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
+        if m != was && !(runs(was) && runs(m)) && self.cycle.any_state(&["RUN"]) {
+            self.cycle.hold();
+            // Said once a channel holds (a thread pass or a tap holds at its end, and the
+            // state line then says HOLD).
+            if self.cycle.any_state(&["HOLD"]) {
+                self.front.message =
+                    format!("feed hold: mode changed to {} while running", m.name());
+            }
+        }
     }
 
     /// A script's wait: runs the machine as [`LatheConsole::run_for`] does, and says why the
