@@ -127,8 +127,9 @@ fn auto_turned_mid_cycle_runs_on_to_the_end() {
 
 /// A mode other than AUTO and SINGLE BLOCK turned while a cycle runs is a feed hold on every
 /// channel, said on the message line (the centre's rule; before stop 42 the lathe's cycle ran
-/// on under MDI, DATA or a manual mode). AUTO turned back and START go on to the end, with
-/// the same tool posts, works and counts as a cycle left alone.
+/// on under MDI, DATA or a manual mode, and START resumed it in any mode). START in that mode
+/// is refused in the centre's words; AUTO turned back and START go on to the end, with the
+/// same tool posts, works and counts as a cycle left alone.
 #[test]
 fn a_mode_turned_while_the_cycle_runs_holds_every_channel() {
     let want = auto_run();
@@ -137,9 +138,11 @@ fn a_mode_turned_while_the_cycle_runs_holds_every_channel() {
         let mut c = open(&dir);
         c.handle(PanelEvent::Op(OpMode::Auto));
         c.handle(PanelEvent::Start);
-        c.run_for(3_000_000_000, novanc::lathe::console::RunUntil::Time, || {
-            false
-        });
+        c.run_for(
+            3_000_000_000,
+            novanc::lathe::console::RunUntil::Time,
+            || false,
+        );
         assert!(states(&c).contains(&"RUN".into()), "{:?}", states(&c));
         c.handle(PanelEvent::Op(m));
         assert_eq!(
@@ -153,10 +156,28 @@ fn a_mode_turned_while_the_cycle_runs_holds_every_channel() {
             "{m:?}: {s:?}"
         );
         let at = c.tips();
-        c.run_for(2_000_000_000, novanc::lathe::console::RunUntil::Time, || {
-            false
-        });
+        c.run_for(
+            2_000_000_000,
+            novanc::lathe::console::RunUntil::Time,
+            || false,
+        );
         assert_eq!(c.tips(), at, "{m:?}: held, nothing moves");
+        // START in that mode does not resume the cycle: the centre's words.
+        c.handle(PanelEvent::Start);
+        let refused = match m {
+            OpMode::Mdi => "START refused: an AUTO run is loaded; press RESET first".into(),
+            m => format!(
+                "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
+                m.name()
+            ),
+        };
+        assert_eq!(c.message(), refused);
+        c.run_for(
+            1_000_000_000,
+            novanc::lathe::console::RunUntil::Time,
+            || false,
+        );
+        assert_eq!(c.tips(), at, "{m:?}: START refused, nothing moves");
         c.handle(PanelEvent::Op(OpMode::Auto));
         c.handle(PanelEvent::Start);
         c.handle(PanelEvent::Wait);

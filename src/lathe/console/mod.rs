@@ -910,11 +910,31 @@ impl LatheConsole {
             self.front.message = "START refused: EMERGENCY STOP in force, press RESET".into();
             return;
         }
+        let op = self.front.op;
+        if matches!(
+            op,
+            OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step
+        ) {
+            // The centre's words: START runs in AUTO, MDI and SINGLE BLOCK only (before stop
+            // 42 a lathe cycle held by a mode turn resumed on START in any mode).
+            self.front.message = format!(
+                "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
+                op.name()
+            );
+            return;
+        }
         {
             let c = &mut self.cycle;
             if !c.is_over() {
+                if c.loaded() && c.mdi != (op == OpMode::Mdi) {
+                    // A cycle held in MDI mode, or an MDI run in AUTO: the machine's words.
+                    let kind = if c.mdi { "MDI" } else { "AUTO" };
+                    self.front.message =
+                        format!("START refused: an {kind} run is loaded; press RESET first");
+                    return;
+                }
                 if !c.mdi {
-                    c.set_single_block(self.front.op == OpMode::Single);
+                    c.set_single_block(op == OpMode::Single);
                 }
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
@@ -923,10 +943,8 @@ impl LatheConsole {
                 return;
             }
         }
-        match self.front.op {
-            m @ (OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step) => {
-                self.front.message = format!("{} mode: turn to AUTO or MDI to run", m.word())
-            }
+        match op {
+            OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step => {}
             OpMode::Auto | OpMode::Single => {
                 if self
                     .counter
