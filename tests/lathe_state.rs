@@ -567,3 +567,53 @@ fn an_alarm_holds_until_reset_across_mdi_runs() {
     assert_eq!(mdi(&mut c, &["G0 X30"]), "MDI CH1 runs");
     assert_eq!(at(&c)[0], 15_000, "X30 is a diameter: 15 mm radius");
 }
+
+/// E-STOP before anything has run is the kernel's, from the console's opening (stop 42): every
+/// channel shows it from the kernel's state, and the recording has every channel's machine
+/// from time 0 and the kernel's alarm on each (`/lathe/event`). Before stop 42 no kernel ran
+/// until the first START or jog: the console latched the E-STOP itself, and the recording had
+/// no channel state and no alarm of it.
+#[test]
+fn an_e_stop_before_any_run_is_the_kernels_and_is_recorded() {
+    let state = common::temp_dir("lathe-state-estop-first");
+    let mcap = state.join("r.mcap");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &state, 20, 60, Some(&mcap))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::WaitMs(100));
+    let states: Vec<String> = c.view().channels.iter().map(|v| v.state.clone()).collect();
+    assert_eq!(states, ["ESTOP", "ESTOP", "ESTOP"]);
+    assert!(c.cycle().channels().iter().all(|s| s.status.estop));
+    c.handle(PanelEvent::Reset);
+    assert!(c.cycle().channels().iter().all(|s| !s.status.estop));
+    c.finish(None).expect("a recording").expect("finished");
+    let bytes = std::fs::read(&mcap).unwrap();
+    let msgs: Vec<(String, u64, String)> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|m| {
+            let text = String::from_utf8_lossy(&m.data).into_owned();
+            (m.channel.topic.clone(), m.log_time, text)
+        })
+        .collect();
+    for ch in 1..=3 {
+        let of = format!("{{\"channel\":{ch},");
+        assert!(
+            msgs.iter()
+                .any(|(t, at, m)| t == "/nc/state" && *at == 0 && m.starts_with(&of)),
+            "CH{ch}'s machine is recorded from time 0"
+        );
+        assert!(
+            msgs.iter().any(|(t, at, m)| t == "/lathe/event"
+                && *at == 0
+                && m.starts_with(&of)
+                && m.contains("\"event\":\"alarm\"")
+                && m.contains("EMERGENCY STOP")),
+            "CH{ch}'s E-STOP alarm: {:?}",
+            msgs.iter()
+                .filter(|m| m.0 == "/lathe/event")
+                .collect::<Vec<_>>()
+        );
+    }
+}
