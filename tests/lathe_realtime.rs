@@ -13,8 +13,14 @@ use std::time::{Duration, Instant};
 
 fn console() -> LatheConsole {
     let dir = common::temp_dir("lathe-realtime");
-    let (mut c, _) = LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, None).unwrap();
-    c.set_clock(ClockMode::RealTime);
+    let (c, _) = LatheConsole::open_on(
+        LatheDesc::citizen(),
+        &dir,
+        (12, 40),
+        None,
+        ClockMode::RealTime,
+    )
+    .unwrap();
     c
 }
 
@@ -124,8 +130,7 @@ fn a_real_time_recording_batches_the_pulses_as_virtual_time_does() {
         let dir = common::temp_dir("lathe-rt-record");
         let rec = dir.join("run.mcap");
         let (mut c, _) =
-            LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, Some(&rec)).unwrap();
-        c.set_clock(clock);
+            LatheConsole::open_on(LatheDesc::citizen(), &dir, (12, 40), Some(&rec), clock).unwrap();
         c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
         // About 0.7 s of moves on X and Z.
         for l in ["G0 X30 Z50", "G1 X20 Z20 F2500", "G0 X34 Z58"] {

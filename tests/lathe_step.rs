@@ -16,6 +16,14 @@ fn open(state: &std::path::Path) -> LatheConsole {
         .0
 }
 
+/// The Citizen's console with its kernel in real time, as at a terminal.
+fn open_real_time(state: &std::path::Path) -> LatheConsole {
+    let clock = novanc::pulse_core::ClockMode::RealTime;
+    LatheConsole::open_on(LatheDesc::citizen(), state, (20, 60), None, clock)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
 /// Turns the selector with `k` and finds the mode's word ending the display's first line.
 fn turn_to(c: &mut LatheConsole, k: Key, word: &str) {
     c.press(k);
@@ -252,8 +260,7 @@ fn continuous_jogs_until_released_and_the_screen_says_so() {
 fn a_held_key_jogs_in_real_time_until_it_stops_repeating() {
     use std::time::{Duration, Instant};
     let dir = common::temp_dir("lathe-held");
-    let mut c = open(&dir);
-    c.set_clock(novanc::pulse_core::ClockMode::RealTime);
+    let mut c = open_real_time(&dir);
     let home = posts(&c);
     c.press(Key::Alt('1'));
     c.handle(PanelEvent::WheelScale(1));
@@ -304,8 +311,7 @@ fn a_held_key_jogs_in_real_time_until_it_stops_repeating() {
 fn a_frozen_front_end_cannot_keep_a_jog_going() {
     use std::time::Duration;
     let dir = common::temp_dir("lathe-frozen");
-    let mut c = open(&dir);
-    c.set_clock(novanc::pulse_core::ClockMode::RealTime);
+    let mut c = open_real_time(&dir);
     c.press(Key::Alt('1'));
     c.handle(PanelEvent::WheelScale(1));
     // The key held until the tool post jogs (a few repeats; more when the machine is loaded).

@@ -434,7 +434,6 @@ fn lathe(
         .collect();
     let machine = crate::lathe::console::KernelSpec {
         pos: home,
-        left: Vec::new(),
         clock: common.clock,
         now_ns: 0,
         feed_override: common.feed_override,

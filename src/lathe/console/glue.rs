@@ -124,10 +124,9 @@ pub struct CycleSpec {
 /// The machine a kernel is made for ([`Cycle::idle`]), as it stands when the kernel is made.
 #[derive(Clone, Debug)]
 pub struct KernelSpec {
-    /// Where each channel's tool post stands, pulses [X radius, Z].
+    /// Where each channel's tool post stands, pulses [X radius, Z] (the spindles stand
+    /// still, the coolant off).
     pub pos: Vec<[i64; 2]>,
-    /// Each channel's spindle and coolant (empty: all stopped, off).
-    pub left: Vec<ChannelLeft>,
     /// The kernel's clock: real time (a terminal, the window) or virtual (scripts, `run`).
     pub clock: ClockMode,
     /// The machine time the kernel's clock begins at, ns (one time base for a console's
@@ -148,44 +147,16 @@ pub struct KernelSpec {
     pub sink: Option<EventSink>,
 }
 
-/// A channel's spindle and coolant as a cycle left them: what a real lathe keeps between two
-/// STARTs (an MDI `M3 S500` turns on until M5, RESET, M30 or E-STOP).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ChannelLeft {
-    /// 1 forward, -1 reverse, 0 stopped.
-    pub dir: i8,
-    /// The programmed speed, rpm (G97).
-    pub s_rpm: u32,
-    /// The actual speed, signed rpm (a ramp in progress goes on from it).
-    pub actual_rpm: f64,
-    /// Coolant mist (M07) and flood (M08).
-    pub coolant: (bool, bool),
-}
-
-impl ChannelLeft {
-    /// What channel `st` (its latest status) leaves.
-    pub fn of(st: &crate::pulse_core::Status) -> ChannelLeft {
-        ChannelLeft {
-            // The commanded direction: under G96 no rpm is programmed (before stop 39 the
-            // programmed rpm's sign was taken, and a spindle turning under G96 counted as
-            // stopped), and a spindle coasting down after M05 is stopped.
-            dir: st.spindle_dir,
-            s_rpm: u32::try_from(st.spindle_programmed.unsigned_abs()).unwrap_or(u32::MAX),
-            actual_rpm: st.spindle as f64,
-            coolant: st.coolant,
-        }
-    }
-}
-
 /// Every channel's program of a cycle of `desc` as `spec` describes it, each read from the
-/// state `kept` says, the tool post where `pos` says, the spindle as `left` says. Any error names the channel, the
+/// state `kept` says, the tool post where `pos` says, the spindle turning as `dirs` says (1
+/// forward, -1 reverse, 0 stopped). Any error names the channel, the
 /// program and the line.
 fn read_cycle(
     desc: &LatheDesc,
     spec: &CycleSpec,
     kept: &[Kept],
     pos: &[[i64; 2]],
-    left: &[ChannelLeft],
+    dirs: &[i8],
 ) -> Result<ReadCycle, String> {
     let mut progs = Vec::new();
     let mut lines = Vec::new();
@@ -210,7 +181,7 @@ fn read_cycle(
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
         // The spindle is the machine's: the reader starts from it as the cycle finds it.
-        from.modal.dir = match left.get(ch).map_or(0, |l| l.dir) {
+        from.modal.dir = match dirs.get(ch).copied().unwrap_or(0) {
             1 => 3,
             -1 => 4,
             _ => 5,
@@ -316,20 +287,6 @@ fn make_kernel(desc: &LatheDesc, spec: &KernelSpec, kept: &[Kept]) -> Result<Ker
             k.command(ch, Command::DryRun(true))?;
         }
     }
-    // Each channel's spindle and coolant as they stand; under G96 the surface speed is the
-    // channel's kept one.
-    for (ch, l) in spec.left.iter().enumerate().take(k.channels()) {
-        let css = kept.get(ch).filter(|k| k.modal.css).map(|k| {
-            let f = if k.modal.inch { 0.3048 } else { 1.0 };
-            crate::block::Css {
-                m_per_min: k.modal.s * f,
-                limit_rpm: k.modal.limit,
-            }
-        });
-        if let Some(m) = k.machine_mut(ch) {
-            m.preset_spindle(l.dir, l.s_rpm, css, l.actual_rpm, l.coolant);
-        }
-    }
     // Each turret stands at the tool its reader keeps (every load sets it again).
     for (ch, kept) in kept.iter().enumerate().take(k.channels()) {
         k.command(ch, Command::SetTool(kept.tool.map(|t| t.0)))?;
@@ -430,15 +387,14 @@ impl Cycle {
         self.refresh();
         let pos = self.tool_posts();
         let auto = spec.mdi.is_none() && !spec.manual;
-        let left: Vec<ChannelLeft> = if auto {
+        // The spindles as they turn (the commanded direction: under G96 no rpm is programmed,
+        // and a spindle coasting down after M05 is stopped); a cycle stops them.
+        let dirs: Vec<i8> = if auto {
             Vec::new()
         } else {
-            self.snap
-                .iter()
-                .map(|c| ChannelLeft::of(&c.status))
-                .collect()
+            self.snap.iter().map(|c| c.status.spindle_dir).collect()
         };
-        let mut read = read_cycle(desc, &spec, kept, &pos, &left)?;
+        let mut read = read_cycle(desc, &spec, kept, &pos, &dirs)?;
         let flow = auto.then(|| desc.work_flow());
         let progs = std::mem::take(&mut read.progs);
         let starts = std::mem::take(&mut read.starts);

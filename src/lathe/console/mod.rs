@@ -105,8 +105,6 @@ pub struct LatheConsole {
     stale_counts: bool,
     /// The kernel's clock: real time at a terminal or window, virtual in scripts.
     clock: ClockMode,
-    /// Told every change of every cycle's channels (virtual time: the MTConnect adapter).
-    watch: Option<crate::pulse_core::Watcher>,
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
@@ -148,8 +146,10 @@ impl LatheConsole {
         LatheConsole::open_on(desc, state, (rows, cols), record, ClockMode::Virtual)
     }
 
-    /// [`LatheConsole::open`], its kernel on `clock` from the start.
-    fn open_on(
+    /// [`LatheConsole::open`], its kernel on `clock` for the console's life: real time (the
+    /// terminal, the window: the kernel keeps the wall clock on its own) or virtual (scripts:
+    /// machine time passes in `tick` and `run_for`).
+    pub fn open_on(
         desc: LatheDesc,
         state: &Path,
         (rows, cols): (usize, usize),
@@ -209,7 +209,6 @@ impl LatheConsole {
             &kept,
             glue::KernelSpec {
                 pos: (0..n).map(|ch| glue::home(&desc, ch)).collect(),
-                left: Vec::new(),
                 clock,
                 now_ns: 0,
                 feed_override: front.feed_override,
@@ -250,7 +249,6 @@ impl LatheConsole {
             stale_counts: stale,
             switches: Default::default(),
             clock,
-            watch: None,
             kept,
             interrupt: None,
             jogging: None,
@@ -416,47 +414,6 @@ impl LatheConsole {
     /// (`Cycle::loaded`); its state as the kernel published it.
     pub fn cycle(&self) -> &glue::Cycle {
         &self.cycle
-    }
-
-    /// Sets the kernel's clock (a front end opens the console on its own,
-    /// `LatheConsole::open_config`): real time (the terminal, the window: the kernel keeps the
-    /// wall clock on its own) or virtual (scripts: machine time passes in `tick` and
-    /// `run_for`). Virtual unless set. The kernel is made anew on the clock, with nothing
-    /// loaded, every tool post, spindle and turret as they stand, its clock going on from the
-    /// last; nothing changes while something is loaded or moves.
-    pub fn set_clock(&mut self, clock: ClockMode) {
-        if clock == self.clock || self.cycle.loaded() || !self.cycle.at_rest() {
-            return;
-        }
-        let left = self
-            .cycle
-            .channels()
-            .iter()
-            .map(|c| glue::ChannelLeft::of(&c.status))
-            .collect();
-        let made = glue::Cycle::idle(
-            &self.desc,
-            &self.kept,
-            glue::KernelSpec {
-                pos: self.cycle.tool_posts(),
-                left,
-                clock,
-                now_ns: self.now_ns.max(self.cycle.now_ns()),
-                feed_override: self.front.feed_override,
-                switches: self.switches,
-                op_mode: self.front.op,
-                look_ns: WAIT_LOOK_NS,
-                sink: self.recorder.sink(),
-            },
-        );
-        if let Ok(mut c) = made {
-            c.set_watch(self.watch.clone());
-            if let Some(f) = self.interrupt {
-                c.set_interrupt(f);
-            }
-            self.cycle = c;
-            self.clock = clock;
-        }
     }
 
     /// Machine time, ns.
@@ -1176,8 +1133,7 @@ impl LatheConsole {
     /// Virtual time: `w` is told every channel's state at every change of one of them, in
     /// this cycle and every later one (`PulseCore::set_watch`); None stops it.
     pub fn set_watch(&mut self, w: Option<crate::pulse_core::Watcher>) {
-        self.cycle.set_watch(w.clone());
-        self.watch = w;
+        self.cycle.set_watch(w);
     }
 
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and

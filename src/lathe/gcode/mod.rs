@@ -215,8 +215,7 @@ pub fn read_program_in(
 pub struct Kept {
     /// The modal state (G20/G21, G90/G91, G07/G08, G94/G95, G96/G97, F, S, D, the motion
     /// mode, G71's depth of cut). The spindle's direction is the machine's: kept here as
-    /// stopped, and set at START from the spindle the last cycle left (the console's
-    /// `ChannelLeft`).
+    /// stopped, and set at START from the spindle as the kernel turns it (`Cycle::load`).
     pub modal: exec::State,
     /// The tool in place, by number, and whether its offsets apply (T0101 or T0100).
     pub tool: Option<(u32, bool)>,
