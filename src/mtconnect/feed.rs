@@ -47,37 +47,31 @@ struct FeedState {
 #[derive(Clone, Debug)]
 struct LatheCtx {
     mode: &'static str,
-    /// Per channel: its program's name, its tool post with no cycle loaded (pulses [X, Z]),
-    /// its parts (the console's counter: an MDI run counts none).
+    /// Per channel: its program's name and its parts (the console's counter: an MDI run
+    /// counts none).
     programs: Vec<String>,
-    pos: Vec<[i64; 2]>,
     parts: Vec<u64>,
     /// The parts are the sync table's (AUTO).
     auto_parts: bool,
     pulse_mm: f64,
-    /// The console's feed override and switches (a channel with no cycle loaded).
-    feed_override: u32,
-    switches: crate::record::Switches,
     message: Option<String>,
 }
 
 impl LatheCtx {
-    /// The items of the lathe with `chans` (empty: no cycle loaded), each channel a path.
+    /// The items of the lathe with its channels `chans` (the kernel's, loaded or not), each
+    /// channel a path.
     fn items(&self, chans: &[ChannelStatus]) -> Vec<(Key, String)> {
         let paths: Vec<LathePath> = self
             .programs
             .iter()
+            .zip(chans)
             .enumerate()
-            .map(|(i, program)| {
-                let c = chans.get(i);
-                let sync = c.and_then(|c| c.sync.as_ref());
+            .map(|(i, (program, c))| {
+                let sync = c.sync.as_ref();
                 let parts = self.parts.get(i).copied().unwrap_or(0);
                 LathePath {
-                    status: c.map(|c| &c.status),
+                    status: &c.status,
                     sync,
-                    pos: c.map_or(self.pos.get(i).copied().unwrap_or([0; 2]), |c| {
-                        [c.status.pos[0], c.status.pos[2]]
-                    }),
                     program: program.clone(),
                     parts: match sync {
                         Some(v) if self.auto_parts => u64::from(v.parts),
@@ -86,13 +80,7 @@ impl LatheCtx {
                 }
             })
             .collect();
-        lathe_items(
-            self.mode,
-            &paths,
-            self.pulse_mm,
-            (self.feed_override, self.switches),
-            self.message.as_deref(),
-        )
+        lathe_items(self.mode, &paths, self.pulse_mm, self.message.as_deref())
     }
 }
 
@@ -207,12 +195,9 @@ impl Feed {
         let ctx = LatheCtx {
             mode: super::items::controller_mode(c.mode()),
             programs: v.channels.iter().map(|ch| ch.program.clone()).collect(),
-            pos: v.channels.iter().map(|ch| ch.pos).collect(),
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
             auto_parts: !c.cycle().mdi,
             pulse_mm: c.desc().pulse_mm,
-            feed_override: c.feed_override(),
-            switches: c.machine_switches(),
             message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
         };
         let snap = c.cycle().channels();
@@ -228,12 +213,9 @@ impl Feed {
             programs: (0..n)
                 .map(|i| programs.get(i).cloned().unwrap_or_default())
                 .collect(),
-            pos: vec![[0; 2]; n],
             parts: vec![0; n],
             auto_parts: true,
             pulse_mm,
-            feed_override: 100,
-            switches: Default::default(),
             message: None,
         };
         lock(&self.state).publish_lathe(cy.channels(), Some(ctx), cy.now_ns());
@@ -292,41 +274,26 @@ impl Feed {
 
 /// One lathe channel as the adapter sees it.
 struct LathePath<'a> {
-    /// Its machine's status (None with no cycle loaded: idle at `pos`).
-    status: Option<&'a Status>,
+    /// Its machine's status.
+    status: &'a Status,
     /// Its place in the sync table.
     sync: Option<&'a ChannelView>,
-    /// The tool post, pulses [X, Z].
-    pos: [i64; 2],
     program: String,
     parts: u64,
 }
 
 /// The lathe's items: the controller's once (E-STOP is machine-wide), then each channel as
-/// path `pN_` with the mill's mapping ([`crate::mtconnect::items::path_items`]); a channel
-/// with no cycle loaded stands idle at its tool post with the console's overrides (feed,
-/// rapid, spindle).
+/// path `pN_` with the mill's mapping ([`crate::mtconnect::items::path_items`]), each from
+/// its machine in the kernel (the lathe console's kernel runs from its opening: before stop
+/// 42 a channel with no cycle loaded was published as an idle status made up from the
+/// console's memory).
 fn lathe_items(
     mode: &'static str,
     paths: &[LathePath],
     pulse_mm: f64,
-    (feed_override, switches): (u32, crate::record::Switches),
     message: Option<&str>,
 ) -> Vec<(Key, String)> {
-    let idle: Vec<Status> = paths
-        .iter()
-        .map(|p| Status {
-            pos: [p.pos[0], 0, p.pos[1]].into(),
-            feed_override,
-            switches,
-            ..Status::default()
-        })
-        .collect();
-    let statuses: Vec<&Status> = paths
-        .iter()
-        .zip(&idle)
-        .map(|(p, i)| p.status.unwrap_or(i))
-        .collect();
+    let statuses: Vec<&Status> = paths.iter().map(|p| p.status).collect();
     let estop = statuses.iter().find(|s| s.estop);
     let mut v = crate::mtconnect::items::controller_items(
         estop.is_some(),
