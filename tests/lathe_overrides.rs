@@ -235,3 +235,65 @@ fn the_feed_override_takes_the_rotarys_positions_only_on_both_machines() {
     assert_eq!(m.view().feed_override, 70);
     assert_eq!(m.message(), "override 75 % is not 0 to 150 in 10 % steps");
 }
+
+/// MACHINE LOCK, the centre's switch (Alt+l), on every channel (stop 42; the lathe refused it
+/// before): an MDI program runs and takes its time, the screen follows the program, and the
+/// axes stay; the switch changes only with no run loaded, on every channel or none; the next
+/// run starts from where the axes stand, not from where the locked program left the screen.
+#[test]
+fn machine_lock_runs_the_program_with_the_axes_standing() {
+    let dir = common::temp_dir("lathe-mlk");
+    let mut c = open(&dir);
+    let axes = |c: &LatheConsole| c.cycle().axes()[0];
+    let at = axes(&c);
+    c.press(Key::Alt('l'));
+    assert!(c.machine_switches().machine_lock, "{}", c.message());
+    assert!(
+        c.message().starts_with("MACHINE LOCK on"),
+        "{}",
+        c.message()
+    );
+    assert!(c.view().title.contains(" MLK"), "{}", c.view().title);
+    assert!(c
+        .cycle()
+        .channels()
+        .iter()
+        .all(|s| s.status.switches.machine_lock));
+    let took = mdi(&mut c, "G0 X30 Z50");
+    assert!(
+        took > 10_000_000,
+        "the locked rapid takes its time: {took} ns"
+    );
+    assert_eq!(
+        c.view().channels[0].pos,
+        [15_000, 50_000],
+        "the screen follows"
+    );
+    assert_eq!(axes(&c), at, "the axes stay");
+    // With a run loaded the switch is refused, on every channel.
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type("G4 P5".into()));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::WaitMs(1000));
+    c.press(Key::Alt('l'));
+    assert!(
+        c.message()
+            .starts_with("MACHINE LOCK refused: a run is loaded"),
+        "{}",
+        c.message()
+    );
+    assert!(c
+        .cycle()
+        .channels()
+        .iter()
+        .all(|s| s.status.switches.machine_lock));
+    c.handle(PanelEvent::Wait);
+    c.press(Key::Alt('l'));
+    assert!(!c.machine_switches().machine_lock, "{}", c.message());
+    assert!(!c.view().title.contains("MLK"));
+    // The next run starts from the axes: 10 mm less on the diameter is 5 mm of radius.
+    mdi(&mut c, "G91 G0 X-10");
+    assert_eq!(axes(&c), [at[0] - 5_000, at[1]]);
+    assert_eq!(c.view().channels[0].pos, axes(&c));
+    let _ = std::fs::remove_dir_all(&dir);
+}

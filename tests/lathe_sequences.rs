@@ -86,6 +86,8 @@ struct Stats {
     batches_done: u64,
     /// Manual moves made (a jog key or the handwheel that moved a tool post).
     jogs: u64,
+    /// Steps that ended with MACHINE LOCK on.
+    locked: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -157,13 +159,26 @@ fn check(s: &mut Seq, what: &str) {
     }
     let l = s.c.cycle();
     let chans = l.channels();
-    // The rapid and spindle overrides and DRY RUN the console shows are every channel's
-    // machine's.
+    // The rapid and spindle overrides, DRY RUN and MACHINE LOCK the console shows are every
+    // channel's machine's (MACHINE LOCK on all or none).
+    let mlk = s.c.machine_switches().machine_lock;
+    assert_eq!(v.title.contains(" MLK"), mlk, "{what}: {}", v.title);
+    s.stats.locked += u64::from(mlk);
     for c in chans {
         let sw = &c.status.switches;
         assert_eq!(
-            (sw.rapid_override, sw.spindle_override, sw.dry_run),
-            (s.c.rapid_spindle().0, s.c.rapid_spindle().1, s.c.dry_run()),
+            (
+                sw.rapid_override,
+                sw.spindle_override,
+                sw.dry_run,
+                sw.machine_lock
+            ),
+            (
+                s.c.rapid_spindle().0,
+                s.c.rapid_spindle().1,
+                s.c.dry_run(),
+                mlk
+            ),
             "{what}"
         );
     }
@@ -323,13 +338,14 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 Key::Alt('0'),
                 Key::F(2),
                 Key::Alt('d'),
+                Key::Alt('l'),
                 Key::Alt('o'),
                 Key::Alt('f'),
                 Key::Alt('['),
                 Key::Alt(']'),
             ];
             let k = keys[rng.below(keys.len())];
-            let silent = !matches!(k, Key::Alt('=' | '-' | 'o' | 'f' | '[' | ']' | 'd'));
+            let silent = !matches!(k, Key::Alt('=' | '-' | 'o' | 'f' | '[' | ']' | 'd' | 'l'));
             let line = format!("key {}", novanc::console::keys::key_name(k));
             s.fresh = true;
             s.c.handle(PanelEvent::Press(k));
@@ -569,6 +585,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.handovers_seen += s.stats.handovers_seen;
         total.batches_done += s.stats.batches_done;
         total.jogs += s.stats.jogs;
+        total.locked += s.stats.locked;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -619,7 +636,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -629,6 +646,7 @@ fn many_random_operator_sequences() {
             st.handovers_seen,
             st.batches_done,
             st.jogs,
+            st.locked,
             t.elapsed().as_secs_f64()
         );
     }

@@ -38,7 +38,6 @@ pub fn map_key(k: Key) -> Action {
             Action::Move(Axis::Y, _)
             | Action::Tape
             | Action::Punch
-            | Action::MachineLock
             | Action::ZNeglect
             | Action::Acknowledge
             | Action::Page(Page::Prog | Page::Io) => Action::None,
@@ -94,6 +93,7 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::RapidOverride(_)
         | PanelEvent::SpindleOverride(_)
         | PanelEvent::DryRun(_)
+        | PanelEvent::MachineLock(_)
         | PanelEvent::Wait
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Ok(()),
@@ -265,7 +265,6 @@ mod tests {
         );
         for k in [
             Key::Alt('0'),
-            Key::Alt('l'),
             Key::Alt('z'),
             Key::F(2),
             Key::Ctrl('d'),
@@ -276,6 +275,7 @@ mod tests {
         assert_eq!(map_key(Key::Ctrl('p')), Action::Page(Page::Pos));
         // The centre's switches the lathe takes: the same keys.
         assert_eq!(map_key(Key::Alt('d')), Action::DryRun);
+        assert_eq!(map_key(Key::Alt('l')), Action::MachineLock);
         assert_eq!(map_key(Key::Alt('f')), Action::RapidOverride);
         assert_eq!(map_key(Key::Alt('x')), Action::Fault);
         // The jog keys as a lathe's tool post moves on the screen; STEP and its increment.

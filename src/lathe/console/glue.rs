@@ -286,6 +286,9 @@ fn make_kernel(desc: &LatheDesc, spec: &KernelSpec, kept: &[Kept]) -> Result<Ker
         if sw.dry_run {
             k.command(ch, Command::DryRun(true))?;
         }
+        if sw.machine_lock {
+            k.command(ch, Command::MachineLock(true))?;
+        }
     }
     // Each turret stands at the tool its reader keeps (every load sets it again).
     for (ch, kept) in kept.iter().enumerate().take(k.channels()) {
@@ -385,7 +388,9 @@ impl Cycle {
         kept: &mut [Kept],
     ) -> Result<(), String> {
         self.refresh();
-        let pos = self.tool_posts();
+        // The programs are read from where the axes stand (after a run under MACHINE LOCK the
+        // program position is still the program's: the next run starts from the axes).
+        let pos = self.axes();
         let auto = spec.mdi.is_none() && !spec.manual;
         // The spindles as they turn (the commanded direction: under G96 no rpm is programmed,
         // and a spindle coasting down after M05 is stopped); a cycle stops them.
@@ -456,11 +461,21 @@ impl Cycle {
         !self.manual
     }
 
-    /// Each channel's tool post as the kernel last published it, pulses [X radius, Z].
+    /// Each channel's tool post as the kernel last published it, pulses [X radius, Z]: its
+    /// program position, what the screen shows.
     pub fn tool_posts(&self) -> Vec<[i64; 2]> {
         self.snap
             .iter()
             .map(|c| [c.status.pos[0], c.status.pos[2]])
+            .collect()
+    }
+
+    /// Where each channel's axes stand, pulses [X radius, Z]: the tool post, except after a
+    /// run under MACHINE LOCK, whose program position the axes did not follow.
+    pub fn axes(&self) -> Vec<[i64; 2]> {
+        self.snap
+            .iter()
+            .map(|c| [c.status.machine_pos[0], c.status.machine_pos[2]])
             .collect()
     }
 

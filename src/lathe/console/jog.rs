@@ -173,12 +173,8 @@ impl LatheConsole {
         let Some(r) = self.manual_ready(axis, what) else {
             return;
         };
-        let [x, z] = self
-            .cycle
-            .tool_posts()
-            .get(r.ch)
-            .copied()
-            .unwrap_or_default();
+        // Checked from where the axes stand (the centre's rule after a run under MACHINE LOCK).
+        let [x, z] = self.cycle.axes().get(r.ch).copied().unwrap_or_default();
         if let Err(e) = manual::check(&r.settings, [x, 0, z].into(), axis, mv) {
             // X is a radius on the lathe (the display shows its diameter).
             self.front.message = match mv {

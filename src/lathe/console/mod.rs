@@ -719,6 +719,7 @@ impl LatheConsole {
                 let said = crate::console::machine_switch_message("DRY RUN", on);
                 self.switch_all(Command::DryRun(on), said);
             }
+            PanelEvent::MachineLock(on) => self.machine_lock(on),
             // `events::takes` let through only the words above.
             _ => {}
         }
@@ -734,12 +735,45 @@ impl LatheConsole {
             Command::RapidOverride(p) => sw.rapid_override = p,
             Command::SpindleOverride(p) => sw.spindle_override = p,
             Command::DryRun(on) => sw.dry_run = on,
+            Command::MachineLock(on) => sw.machine_lock = on,
             _ => {}
         }
         self.front.message = match self.cycle.command_all(cmd) {
             Err(e) => e,
             Ok(()) => said,
         };
+    }
+
+    /// MACHINE LOCK on every channel (the centre's switch, docs/pulse-core.md "Machine
+    /// lock"): the programs run, every block takes its time, the spindles and the chucks act,
+    /// the screen follows the program, and no axis moves. Changed only with no channel's run
+    /// loaded and nothing moving, on every channel or on none (a cycle is locked all through
+    /// or not at all); otherwise refused in the machine's words. Kept for the console's life.
+    fn machine_lock(&mut self, on: bool) {
+        self.cycle.refresh();
+        let free = (self.cycle.channels().iter())
+            .all(|c| c.status.job.is_none() && !c.status.moving && !c.status.estop);
+        if !free {
+            self.front.message =
+                "MACHINE LOCK refused: a run is loaded or an axis is moving; RESET or finish it first"
+                    .into();
+            return;
+        }
+        let said = crate::console::machine_switch_message("MACHINE LOCK", on);
+        self.switch_all(Command::MachineLock(on), said);
+        if !(self.cycle.channels().iter()).all(|c| c.status.switches.machine_lock == on) {
+            // Not taken on every channel: none keeps it (the machine said why).
+            let _ = self.cycle.command_all(Command::MachineLock(!on));
+            self.switches.machine_lock = !on;
+            if let Some(n) = self
+                .cycle
+                .channels()
+                .iter()
+                .find_map(|c| c.status.notice.clone())
+            {
+                self.front.message = n;
+            }
+        }
     }
 
     fn turn(&mut self, m: OpMode) {
@@ -1286,7 +1320,7 @@ impl LatheConsole {
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let switches = format!(
-            "{}{}{}{}{}",
+            "{}{}{}{}{}{}",
             if self.front.feed_override != 100 {
                 format!("  F{}%", self.front.feed_override)
             } else {
@@ -1297,6 +1331,11 @@ impl LatheConsole {
                 self.switches.spindle_override
             ),
             if self.switches.dry_run { " DRY" } else { "" },
+            if self.switches.machine_lock {
+                " MLK"
+            } else {
+                ""
+            },
             if self.front.switches.optional_stop {
                 " M01"
             } else {

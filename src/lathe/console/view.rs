@@ -38,7 +38,7 @@ pub const LATHE_HELP: [&str; 20] = [
     "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
     "Alt+1/5/6     CONTINUOUS (hold an arrow) / HANDLE (Alt+, Alt+. turn the wheel) / STEP (an increment)",
     "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000; in DATA the editor's cursor keys",
-    "Alt+f, Alt+[] rapid override 100/50/25/F0, spindle override ±10 % (50-120); Alt+d DRY RUN",
+    "Alt+f, Alt+[] rapid override 100/50/25/F0, spindle override ±10 % (50-120); Alt+d DRY RUN; Alt+l MACHINE LOCK",
     "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
 ];
 
