@@ -309,6 +309,12 @@ pub fn relay(
         {
             out.push(Act::Ev(PanelEvent::DryRun(!set.dry_run)));
         }
+        if key(ui, "MLK", set.machine_lock, 44.0)
+            .on_hover_text("MACHINE LOCK: the programs run, the axes stay (Alt+L)")
+            .clicked()
+        {
+            out.push(Act::Press(Key::Alt('l')));
+        }
     });
     ui.horizontal(|ui| {
         if key(ui, "HELP", v.help, 60.0)
