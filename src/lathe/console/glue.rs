@@ -461,6 +461,11 @@ impl Cycle {
         !self.manual
     }
 
+    /// The kernel's clock, chosen when it was made: real time or virtual.
+    pub fn clock(&self) -> ClockMode {
+        self.clock
+    }
+
     /// Each channel's tool post as the kernel last published it, pulses [X radius, Z]: its
     /// program position, what the screen shows.
     pub fn tool_posts(&self) -> Vec<[i64; 2]> {

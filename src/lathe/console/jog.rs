@@ -60,7 +60,7 @@ impl LatheConsole {
     /// A jog key pressed in CONTINUOUS, as a terminal reports it (the centre's rule,
     /// `HeldJog`): a tap moves one increment, a held key jogs until it stops repeating.
     pub(super) fn hold_jog(&mut self, k: novanc_panel::Key, axis: Axis, dir: i8) {
-        let virtual_time = self.clock == ClockMode::Virtual;
+        let virtual_time = self.cycle.clock() == ClockMode::Virtual;
         match self
             .front
             .jog_key
@@ -104,7 +104,7 @@ impl LatheConsole {
         }
         if let (Some(ch), true) = (
             self.jogging,
-            self.front.jog_key.is_none() && self.clock == ClockMode::RealTime,
+            self.front.jog_key.is_none() && self.cycle.clock() == ClockMode::RealTime,
         ) {
             let c = &mut self.cycle;
             // A jog held by a front end's button (the window's): each frame keeps it alive,
@@ -199,7 +199,7 @@ impl LatheConsole {
         match mv {
             Move::Jog(dir) => {
                 self.jogging = Some(r.ch);
-                if self.clock == ClockMode::RealTime {
+                if c.clock() == ClockMode::RealTime {
                     // Hold-to-run: the key's repeats keep the jog alive, or the kernel stops it.
                     let _ = c.manual(r.ch, Command::JogAlive(crate::console::deadman_ms()));
                 }
@@ -214,7 +214,7 @@ impl LatheConsole {
                 );
             }
             Move::Increment(pulses) => {
-                if self.clock == ClockMode::Virtual {
+                if c.clock() == ClockMode::Virtual {
                     // The increment runs to rest (the channel's run is over: the cycle's rest
                     // is not the axis's).
                     let mut spent = 0;

@@ -103,8 +103,6 @@ pub struct LatheConsole {
     switches: crate::record::Switches,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
-    /// The kernel's clock: real time at a terminal or window, virtual in scripts.
-    clock: ClockMode,
     /// Each channel's interpreter state, as its last program or MDI left it
     /// (docs/lathe-gcode.md "What a channel keeps").
     kept: Vec<super::gcode::Kept>,
@@ -248,7 +246,6 @@ impl LatheConsole {
             now_ns: 0,
             stale_counts: stale,
             switches: Default::default(),
-            clock,
             kept,
             interrupt: None,
             jogging: None,
@@ -751,8 +748,8 @@ impl LatheConsole {
     /// or not at all); otherwise refused in the machine's words. Kept for the console's life.
     fn machine_lock(&mut self, on: bool) {
         self.cycle.refresh();
-        let free = (self.cycle.channels().iter())
-            .all(|c| c.status.job.is_none() && !c.status.moving && !c.status.estop);
+        let free =
+            (self.cycle.channels().iter()).all(|c| c.status.job.is_none() && !c.status.moving);
         if !free {
             self.front.message =
                 "MACHINE LOCK refused: a run is loaded or an axis is moving; RESET or finish it first"
