@@ -411,3 +411,40 @@ fn in_data_the_arrows_are_the_editors_cursor_keys() {
     assert_eq!(open(&dir).programs()[0].text, after, "stored");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// STOP on a manual move is the centre's rule (`console::relay::stop`, one for every console):
+/// the tool post brakes to rest short of the increments asked, and the message says so. Before
+/// stop 43 the lathe said "the cycle is already stopped" of a handwheel move braking, and a
+/// STOP after it said nothing of the machine standing still.
+#[test]
+fn stop_brings_a_manual_move_to_rest_and_says_so() {
+    let dir = common::temp_dir("lathe-stop-manual");
+    let mut c = open_real_time(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Handle));
+    c.handle(PanelEvent::WheelScale(1000));
+    c.handle(PanelEvent::Wheel(Axis::Z, -20));
+    assert!(c.message().contains("20 × 1.000 mm"), "{}", c.message());
+    std::thread::sleep(std::time::Duration::from_millis(60));
+    c.tick(0);
+    assert!(!c.at_rest(), "the tool post moves: {}", c.message());
+    c.handle(PanelEvent::Stop);
+    assert_eq!(c.message(), "STOP: the manual move decelerates to rest");
+    let t0 = std::time::Instant::now();
+    while !c.at_rest() && t0.elapsed() < std::time::Duration::from_secs(5) {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        c.tick(0);
+    }
+    assert!(c.at_rest(), "at rest after STOP");
+    let moved = home[0][1] - posts(&c)[0][1];
+    assert!(
+        moved > 0 && moved < 20_000,
+        "stopped short of the 20 mm asked: {moved} pulses"
+    );
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    c.tick(0);
+    assert_eq!(home[0][1] - posts(&c)[0][1], moved, "and stays");
+    c.handle(PanelEvent::Stop);
+    assert_eq!(c.message(), "STOP: the machine is not running");
+    let _ = std::fs::remove_dir_all(&dir);
+}

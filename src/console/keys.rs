@@ -213,21 +213,13 @@ pub fn parse_key(name: &str) -> Result<Key, String> {
 /// has of its own. The centre's `Console` and a lathe's console answer it; the pipeline is
 /// written once, so a key means the same on every machine (issue 22: the dispatch was written
 /// twice before stop 40).
-pub(crate) trait Keyed {
+pub(crate) trait Keyed: super::side::Side {
     /// The help screen's pages (the help screen cycles through them, and closes after the last).
     const HELP_PAGES: u8;
     /// The machine's key map (a lathe's is an overlay on [`map_key`]).
     fn action(&self, k: Key) -> Action;
-    /// The operator's side of the console: the selector, the help page, the screen fit, the
-    /// message, the panel switches, the feed override and the handwheel.
-    fn front(&mut self) -> &mut super::front::Front;
-    /// The machine's switches the toggle keys turn: rapid and spindle override, DRY RUN,
-    /// MACHINE LOCK, Z NEGLECT.
-    fn machine_switches(&self) -> crate::record::Switches;
     /// Records the key on `/panel/event` (what a replay presses again).
     fn record_key(&mut self, k: Key);
-    /// Takes the machine's state after an action, and shows it.
-    fn refresh(&mut self);
     /// The keys taken before the key map: a page's keys, the editor's cursor keys, the MDI
     /// recall (each console records and shows what it took). Whether `k` was one of them.
     fn takes_first(&mut self, k: Key, action: &Action) -> bool;
@@ -327,18 +319,9 @@ impl Keyed for Console {
     fn action(&self, k: Key) -> Action {
         map_key(k)
     }
-    fn front(&mut self) -> &mut super::front::Front {
-        &mut self.front
-    }
-    fn machine_switches(&self) -> crate::record::Switches {
-        self.status.switches
-    }
     fn record_key(&mut self, k: Key) {
         self.recorder
             .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-    }
-    fn refresh(&mut self) {
-        Console::refresh(self)
     }
     fn takes_first(&mut self, k: Key, action: &Action) -> bool {
         if let Some(p) = pages::page_of_key(k) {

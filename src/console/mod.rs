@@ -26,10 +26,13 @@ mod panel;
 mod posmem;
 mod punch;
 pub mod recording;
+pub(crate) mod relay;
 mod run;
 mod script_line;
 pub mod search;
+pub(crate) mod side;
 pub(crate) mod state;
+pub(crate) mod switches;
 pub mod tape;
 pub mod tcode;
 
@@ -69,8 +72,6 @@ pub(crate) enum MsgLife {
     /// While a channel runs (RUN, or WAIT on one that is not stopped) or jogs (JOG), and the
     /// next action at most: not while every channel stands stopped between blocks.
     WhileRunning,
-    /// While a channel is in feed hold.
-    WhileHeld,
 }
 
 /// A program that would not translate: shown with the ALARM lamp until the program (or the
@@ -570,14 +571,6 @@ impl Console {
         }
     }
 
-    /// The core's reason for refusing an override or switch.
-    fn refused_switch(&self) -> String {
-        self.status
-            .notice
-            .clone()
-            .unwrap_or_else(|| "refused by the machine".into())
-    }
-
     /// Dispatches one event (the rules of `docs/panel.md`).
     fn apply(&mut self, ev: PanelEvent) {
         tape::apply(self, ev);
@@ -627,21 +620,7 @@ impl Console {
                 self.tape = Some(path);
             }
             PanelEvent::Start => self.start(),
-            PanelEvent::Stop => {
-                let had_run = self.status.job.is_some();
-                self.command(Command::Stop);
-                // A feed hold is said by the display while it lasts (state::machine_note).
-                if !self.status.hold {
-                    self.front.message = if self.status.moving {
-                        "STOP: the manual move decelerates to rest"
-                    } else if had_run {
-                        "STOP: the run is already stopped (START continues, RESET abandons)"
-                    } else {
-                        "STOP: the machine is not running"
-                    }
-                    .into();
-                }
-            }
+            PanelEvent::Stop => relay::stop(self),
             PanelEvent::Reset => {
                 self.command(Command::Reset);
                 book::acknowledge(self);
@@ -659,56 +638,16 @@ impl Console {
                 self.front.jog_key.clear();
                 // Said by the display while it is in force (state::machine_note).
             }
-            PanelEvent::Override(p) => {
-                if self.front.set_override(p) {
-                    self.command(Command::Override(p));
-                }
-            }
-            ev @ (PanelEvent::BlockDelete(_) | PanelEvent::OptionalStop(_)) => {
-                self.front.switch(&ev);
-            }
-            PanelEvent::WheelScale(s) => match manual::set_scale(&self.cfg.settings, s) {
-                Ok(m) => {
-                    self.front.wheel.1 = s;
-                    self.front.message = m;
-                }
-                Err(e) => self.front.message = e,
-            },
-            PanelEvent::RapidOverride(p) => {
-                self.command(Command::RapidOverride(p));
-                self.front.message = if self.status.switches.rapid_override == p {
-                    run::rapid_override_message(p).unwrap_or_else(|e| e)
-                } else {
-                    self.refused_switch()
-                };
-            }
-            PanelEvent::SpindleOverride(p) => {
-                self.command(Command::SpindleOverride(p));
-                self.front.message = if self.status.switches.spindle_override == p {
-                    run::spindle_override_message(p).unwrap_or_else(|e| e)
-                } else {
-                    self.refused_switch()
-                };
-            }
-            PanelEvent::DryRun(on) => {
-                self.command(Command::DryRun(on));
-                self.front.message = run::machine_switch_message("DRY RUN", on);
-            }
-            PanelEvent::MachineLock(on) => {
-                self.command(Command::MachineLock(on));
-                self.front.message = if self.status.switches.machine_lock == on {
-                    run::machine_switch_message("MACHINE LOCK", on)
-                } else {
-                    self.refused_switch()
-                };
-            }
-            PanelEvent::ZNeglect(on) => {
-                self.command(Command::ZNeglect(on));
-                self.front.message = if self.status.switches.z_neglect == on {
-                    run::machine_switch_message("Z NEGLECT", on)
-                } else {
-                    self.refused_switch()
-                };
+            ev @ (PanelEvent::Override(_)
+            | PanelEvent::BlockDelete(_)
+            | PanelEvent::OptionalStop(_)
+            | PanelEvent::RapidOverride(_)
+            | PanelEvent::SpindleOverride(_)
+            | PanelEvent::DryRun(_)
+            | PanelEvent::MachineLock(_)
+            | PanelEvent::ZNeglect(_)
+            | PanelEvent::WheelScale(_)) => {
+                switches::turn(self, &ev);
             }
             PanelEvent::Input {
                 digital,

@@ -365,7 +365,7 @@ impl LatheConsole {
             self.front.switches.optional_stop,
         );
         l.extend(setting_lines(
-            &switch_list(self.front.feed_override, &self.switches, panel),
+            &switch_list(self.front.feed_override, &self.machine_switches(), panel),
             cols,
         ));
         l

@@ -760,12 +760,6 @@ impl Cycle {
         self.refresh();
     }
 
-    /// The feed override of every channel's feed moves, percent.
-    pub fn set_feed_override(&mut self, pct: u32) {
-        let _ = self.core.channel_command(None, Command::Override(pct));
-        self.refresh();
-    }
-
     /// A switch of every channel's machine (rapid override, spindle override): its refusal,
     /// if any.
     pub fn command_all(&mut self, cmd: Command) -> Result<(), String> {

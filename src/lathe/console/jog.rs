@@ -249,21 +249,6 @@ impl LatheConsole {
         }
     }
 
-    /// `wheelscale N` or Alt+w: the STEP and handwheel increment, x1, x10, x100 or x1000
-    /// pulses (`manual::set_scale`).
-    pub(super) fn set_increment(&mut self, scale: u32) {
-        let Some(s) = MachineSettings::lathe_channel(&self.desc, self.sel) else {
-            return;
-        };
-        match manual::set_scale(&s, scale) {
-            Ok(m) => {
-                self.front.wheel.1 = scale;
-                self.front.message = m;
-            }
-            Err(e) => self.front.message = e,
-        }
-    }
-
     /// The STEP and handwheel increment, pulses.
     pub fn increment(&self) -> u32 {
         self.front.wheel.1

@@ -98,9 +98,6 @@ pub struct LatheConsole {
     last_display: Vec<String>,
     /// Machine time since the console opened, ns (cycles follow one another on it).
     now_ns: u64,
-    /// The centre's switches the lathe takes, on every channel, kept across cycles: rapid
-    /// override, spindle override, DRY RUN (the same `Switches` every machine records).
-    switches: crate::record::Switches,
     /// A partial batch found at open: START begins a new batch from 0.
     stale_counts: bool,
     /// Each channel's interpreter state, as its last program or MDI left it
@@ -245,7 +242,6 @@ impl LatheConsole {
             last_display: Vec::new(),
             now_ns: 0,
             stale_counts: stale,
-            switches: Default::default(),
             kept,
             interrupt: None,
             jogging: None,
@@ -340,7 +336,6 @@ impl LatheConsole {
         let lives = match life {
             MsgLife::NextKey | MsgLife::WhileBlock(_) => true,
             MsgLife::WhileRunning => fresh || view::runs(chans),
-            MsgLife::WhileHeld => fresh || any(&["HOLD"]),
         };
         if lives && !self.front.message.is_empty() {
             &self.front.message
@@ -366,17 +361,20 @@ impl LatheConsole {
 
     /// The rapid override and the spindle override, percent (the centre's switches).
     pub fn rapid_spindle(&self) -> (u32, u32) {
-        (self.switches.rapid_override, self.switches.spindle_override)
+        let sw = self.machine_switches();
+        (sw.rapid_override, sw.spindle_override)
     }
 
     /// Whether DRY RUN is on (the centre's switch, on every channel).
     pub fn dry_run(&self) -> bool {
-        self.switches.dry_run
+        self.machine_switches().dry_run
     }
 
-    /// The centre's switches the lathe takes (rapid and spindle override, DRY RUN).
+    /// The centre's switches the lathe takes (rapid and spindle override, DRY RUN, MACHINE
+    /// LOCK), as the machine has them: every channel's are the same (`switches::turn` turns
+    /// them on every channel or on none), so channel 1's.
     pub fn machine_switches(&self) -> crate::record::Switches {
-        self.switches
+        (self.cycle.channels().first()).map_or_else(Default::default, |c| c.status.switches)
     }
 
     /// The operation selector's position.
@@ -636,7 +634,6 @@ impl LatheConsole {
                 self.release_jog();
                 self.front.message = "jog released".into();
             }
-            PanelEvent::WheelScale(n) => self.set_increment(n),
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
                 self.front.y_output = None;
@@ -658,20 +655,7 @@ impl LatheConsole {
             }
             PanelEvent::Eob => self.eob(),
             PanelEvent::Start => self.start(),
-            // STOP always acts; what it did is said, in the centre's words: a feed hold while
-            // it lasts, else why nothing was held (before, STOP on a cycle standing still said
-            // nothing at all).
-            PanelEvent::Stop if !self.cycle.is_over() => {
-                self.cycle.hold();
-                if self.cycle.any_state(&["HOLD"]) {
-                    self.say(HOLD_NOTE, MsgLife::WhileHeld);
-                } else {
-                    self.front.message =
-                        "STOP: the cycle is already stopped (START continues, RESET abandons)"
-                            .into();
-                }
-            }
-            PanelEvent::Stop => self.front.message = "STOP: the machine is not running".into(),
+            PanelEvent::Stop => crate::console::relay::stop(self),
             PanelEvent::Reset => self.reset(),
             PanelEvent::EStop => {
                 self.front.jog_key.clear();
@@ -694,83 +678,20 @@ impl LatheConsole {
                 self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
             PanelEvent::Target(n) => self.set_target(n),
-            PanelEvent::Override(p) => {
-                if !self.front.set_override(p) {
-                    return self.after();
-                }
-                self.cycle.set_feed_override(p);
-                self.front.message = format!("feed override {p} %");
+            ev @ (PanelEvent::Override(_)
+            | PanelEvent::BlockDelete(_)
+            | PanelEvent::OptionalStop(_)
+            | PanelEvent::RapidOverride(_)
+            | PanelEvent::SpindleOverride(_)
+            | PanelEvent::DryRun(_)
+            | PanelEvent::MachineLock(_)
+            | PanelEvent::WheelScale(_)) => {
+                crate::console::switches::turn(self, &ev);
             }
-            ev @ (PanelEvent::BlockDelete(_) | PanelEvent::OptionalStop(_)) => {
-                self.front.switch(&ev);
-            }
-            PanelEvent::RapidOverride(p) => match crate::console::rapid_override_message(p) {
-                Ok(m) => self.switch_all(Command::RapidOverride(p), m),
-                Err(e) => self.front.message = e,
-            },
-            PanelEvent::SpindleOverride(p) => match crate::console::spindle_override_message(p) {
-                Ok(m) => self.switch_all(Command::SpindleOverride(p), m),
-                Err(e) => self.front.message = e,
-            },
-            PanelEvent::DryRun(on) => {
-                let said = crate::console::machine_switch_message("DRY RUN", on);
-                self.switch_all(Command::DryRun(on), said);
-            }
-            PanelEvent::MachineLock(on) => self.machine_lock(on),
             // `events::takes` let through only the words above.
             _ => {}
         }
         self.after();
-    }
-
-    /// A switch turned (`cmd`: rapid override, spindle override, DRY RUN): kept for every
-    /// later cycle, and told to every channel of the cycle under way; `said` on the message
-    /// line, or the machine's refusal.
-    fn switch_all(&mut self, cmd: Command, said: String) {
-        let sw = &mut self.switches;
-        match cmd {
-            Command::RapidOverride(p) => sw.rapid_override = p,
-            Command::SpindleOverride(p) => sw.spindle_override = p,
-            Command::DryRun(on) => sw.dry_run = on,
-            Command::MachineLock(on) => sw.machine_lock = on,
-            _ => {}
-        }
-        self.front.message = match self.cycle.command_all(cmd) {
-            Err(e) => e,
-            Ok(()) => said,
-        };
-    }
-
-    /// MACHINE LOCK on every channel (the centre's switch, docs/pulse-core.md "Machine
-    /// lock"): the programs run, every block takes its time, the spindles and the chucks act,
-    /// the screen follows the program, and no axis moves. Changed only with no channel's run
-    /// loaded and nothing moving, on every channel or on none (a cycle is locked all through
-    /// or not at all); otherwise refused in the machine's words. Kept for the console's life.
-    fn machine_lock(&mut self, on: bool) {
-        self.cycle.refresh();
-        let free =
-            (self.cycle.channels().iter()).all(|c| c.status.job.is_none() && !c.status.moving);
-        if !free {
-            self.front.message =
-                "MACHINE LOCK refused: a run is loaded or an axis is moving; RESET or finish it first"
-                    .into();
-            return;
-        }
-        let said = crate::console::machine_switch_message("MACHINE LOCK", on);
-        self.switch_all(Command::MachineLock(on), said);
-        if !(self.cycle.channels().iter()).all(|c| c.status.switches.machine_lock == on) {
-            // Not taken on every channel: none keeps it (the machine said why).
-            let _ = self.cycle.command_all(Command::MachineLock(!on));
-            self.switches.machine_lock = !on;
-            if let Some(n) = self
-                .cycle
-                .channels()
-                .iter()
-                .find_map(|c| c.status.notice.clone())
-            {
-                self.front.message = n;
-            }
-        }
     }
 
     fn turn(&mut self, m: OpMode) {
@@ -1316,6 +1237,7 @@ impl LatheConsole {
         };
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
+        let sw = self.machine_switches();
         let switches = format!(
             "{}{}{}{}{}{}",
             if self.front.feed_override != 100 {
@@ -1323,16 +1245,9 @@ impl LatheConsole {
             } else {
                 String::new()
             },
-            crate::console::override_words(
-                self.switches.rapid_override,
-                self.switches.spindle_override
-            ),
-            if self.switches.dry_run { " DRY" } else { "" },
-            if self.switches.machine_lock {
-                " MLK"
-            } else {
-                ""
-            },
+            crate::console::override_words(sw.rapid_override, sw.spindle_override),
+            if sw.dry_run { " DRY" } else { "" },
+            if sw.machine_lock { " MLK" } else { "" },
             if self.front.switches.optional_stop {
                 " M01"
             } else {
@@ -1417,17 +1332,8 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn action(&self, k: Key) -> Action {
         events::map_key(k)
     }
-    fn front(&mut self) -> &mut Front {
-        &mut self.front
-    }
-    fn machine_switches(&self) -> crate::record::Switches {
-        self.switches
-    }
     fn record_key(&mut self, k: Key) {
         self.record_event(&PanelEvent::Press(k));
-    }
-    fn refresh(&mut self) {
-        self.after();
     }
     fn takes_first(&mut self, k: Key, action: &Action) -> bool {
         let taken = self.cursor_key(k) || self.page_key(k) || self.recall_key(k);
@@ -1483,5 +1389,31 @@ impl crate::console::keys::Keyed for LatheConsole {
             _ => return false,
         }
         true
+    }
+}
+
+/// The lathe's machine side for the one console's rules (`crate::console::side`): its
+/// channels, every one told a switch at once.
+impl crate::console::side::Side for LatheConsole {
+    fn front(&mut self) -> &mut Front {
+        &mut self.front
+    }
+    fn machine_switches(&self) -> crate::record::Switches {
+        LatheConsole::machine_switches(self)
+    }
+    fn refresh(&mut self) {
+        self.after();
+    }
+    fn command_all(&mut self, cmd: Command) {
+        // Every channel takes it or says why not, in its notice (`channels`).
+        let _ = self.cycle.command_all(cmd);
+    }
+    fn channels(&self) -> Vec<crate::pulse_core::Status> {
+        (self.cycle.channels().iter())
+            .map(|c| c.status.clone())
+            .collect()
+    }
+    fn axis_settings(&self) -> crate::settings::MachineSettings {
+        crate::settings::MachineSettings::lathe_channel(&self.desc, self.sel).unwrap_or_default()
     }
 }

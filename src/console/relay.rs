@@ -1,0 +1,30 @@
+//! The relay panel's STOP, every console's one rule (docs/panel.md "Rules", docs/lathe.md
+//! "Keys"), the machining centre being a machine of one channel: a feed hold on every channel
+//! that runs, and a manual move brought to rest; what it did is said by the machine's state
+//! while it lasts (the feed hold note), or on the message line: the machine's own words (a
+//! thread pass or a tap holds at its end), a manual move braking, a run already stopped, or
+//! nothing running. STOP always acts: it is told to every channel whatever the console thinks
+//! is running.
+
+use super::side::Side;
+use crate::pulse_core::Command;
+
+/// STOP.
+pub(crate) fn stop<C: Side>(c: &mut C) {
+    let had_run = c.channels().iter().any(|s| s.job.is_some());
+    c.command_all(Command::Stop);
+    let after = c.channels();
+    let said = if after.iter().any(|s| s.hold) {
+        // The feed hold is said by the state while it lasts.
+        String::new()
+    } else if let Some(n) = after.iter().find_map(|s| s.notice.clone()) {
+        n
+    } else if after.iter().any(|s| s.moving && s.job.is_none()) {
+        "STOP: the manual move decelerates to rest".into()
+    } else if had_run {
+        "STOP: the run is already stopped (START continues, RESET abandons)".into()
+    } else {
+        "STOP: the machine is not running".into()
+    };
+    c.front().message = said;
+}
