@@ -614,7 +614,11 @@ fn every_key_in_every_mode_and_page_acts_or_says_why() {
                     let at_end = matches!(c.page(), Page::Msg | Page::Macro)
                         && novanc::console::keys::is_cursor_key(k);
                     let nothing_typed = matches!(k, Key::Backspace | Key::Enter) && !typed;
+                    // A selector key for the position it is at: the selector does not move
+                    // (the centre's rule, one for both since stop 43).
+                    let same = matches!(k, Key::Alt(d) if OpMode::ALL.get((d as usize).wrapping_sub('1' as usize)) == Some(&m));
                     if v.display == before
+                        && !same
                         && c.message().is_empty()
                         && !v.help
                         && !at_end

@@ -327,3 +327,34 @@ fn a_wear_offset_revised_before_its_tool_is_called_takes_effect_at_the_call() {
     assert_eq!(c.counter().counts, vec![1, 1, 1]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The selector turned to the position it is at does nothing, on both machines (one rule,
+/// `console::selector`): the line being typed stays. Before stop 43 the lathe cleared it (and
+/// said the mode again), so a second press of Alt+3 in MDI lost what the operator had typed.
+/// A turn to another position clears it on both: it was typed for the mode left.
+#[test]
+fn a_turn_to_the_selectors_own_position_keeps_the_typed_line_on_both_machines() {
+    let dir = common::temp_dir("lathe-same-turn");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    for ch in "G0X12".chars() {
+        c.handle(PanelEvent::Key(ch));
+    }
+    assert!(c.frame_text().contains("G0X12"), "{}", c.frame_text());
+    c.press(novanc_panel::Key::Alt('3'));
+    assert_eq!(c.mode(), OpMode::Mdi);
+    assert!(c.frame_text().contains("G0X12"), "{}", c.frame_text());
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    assert!(!c.frame_text().contains("G0X12"), "{}", c.frame_text());
+    let _ = std::fs::remove_dir_all(&dir);
+
+    let mut m = common::open("centre-same-turn");
+    m.handle(PanelEvent::Op(OpMode::Mdi));
+    for ch in "G0X12".chars() {
+        m.handle(PanelEvent::Key(ch));
+    }
+    m.press(novanc_panel::Key::Alt('3'));
+    assert_eq!(m.view().entry, "G0X12");
+    m.handle(PanelEvent::Op(OpMode::Auto));
+    assert_eq!(m.view().entry, "");
+}

@@ -30,6 +30,7 @@ pub(crate) mod relay;
 mod run;
 mod script_line;
 pub mod search;
+pub(crate) mod selector;
 pub(crate) mod side;
 pub(crate) mod state;
 pub(crate) mod switches;
@@ -579,12 +580,7 @@ impl Console {
     /// Dispatches one event the tape rules let through.
     fn apply_event(&mut self, ev: PanelEvent) {
         match ev {
-            PanelEvent::Op(m) => {
-                // A selector turned leaves a page, from a script as from a key (a script's
-                // `op AUTO` left the page up).
-                self.pages.page = pages::Page::Mode;
-                self.turn_op(m)
-            }
+            PanelEvent::Op(m) => selector::turn(self, m),
             PanelEvent::Data(d) => {
                 self.pages.page = pages::Page::Mode;
                 if d != self.data {
@@ -683,47 +679,6 @@ impl Console {
                     script_line::script_line(&ev)
                 );
             }
-        }
-    }
-
-    /// Turns the operation mode selector 17.
-    fn turn_op(&mut self, m: OpMode) {
-        if m == self.front.op {
-            return;
-        }
-        if self.jogging {
-            self.command(Command::JogRelease);
-            self.jogging = false;
-        }
-        self.front.jog_key.clear();
-        let was = self.front.op;
-        self.front.op = m;
-        self.front.entry.clear();
-        if m == OpMode::Data {
-            // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
-            // stays in force).
-            let had_run = self.status.job.is_some() || self.running();
-            self.command(Command::Abandon);
-            if had_run {
-                self.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
-            }
-            return;
-        }
-        let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
-        if runs(was) && runs(m) {
-            // SINGLE BLOCK on: the block in progress is the last. Off: a run set going by a
-            // START in SINGLE BLOCK still ends the block START was given for and waits for
-            // START (docs/panel.md, "Rules and choices"); what the machine does is said by the
-            // display (state::machine_note).
-            let keep_single = m == OpMode::Auto && self.start_single && self.status.job.is_some();
-            if !keep_single {
-                self.command(Command::SingleBlock(m == OpMode::Single));
-            }
-            return;
-        }
-        if self.status.run != 0 && !self.status.hold {
-            self.command(Command::Stop);
-            self.front.message = format!("feed hold: mode changed to {} while running", m.name());
         }
     }
 

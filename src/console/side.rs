@@ -6,6 +6,7 @@
 
 use super::front::Front;
 use super::Console;
+use crate::panel_model::OpMode;
 use crate::pulse_core::{Command, Status};
 use crate::record::Switches;
 use crate::settings::MachineSettings;
@@ -27,6 +28,16 @@ pub(crate) trait Side {
     fn channels(&self) -> Vec<Status>;
     /// The settings the selected channel's manual moves are measured in (the increment's).
     fn axis_settings(&self) -> MachineSettings;
+    /// A channel runs a program (RUN: not held, not stopped between blocks, not waiting for
+    /// another channel).
+    fn running(&self) -> bool;
+    /// Leaves the page up over the mode display.
+    fn leave_page(&mut self);
+    /// Lets a CONTINUOUS jog go, if one was begun.
+    fn let_go_jog(&mut self);
+    /// The machine's own rule for the selector turned from `was` to `front().op` (after the
+    /// console's, `selector::turn`): whether it has said all the turn does.
+    fn turned(&mut self, was: OpMode) -> bool;
 }
 
 /// The machining centre: a machine of one channel.
@@ -48,5 +59,41 @@ impl Side for Console {
     }
     fn axis_settings(&self) -> MachineSettings {
         self.cfg.settings.clone()
+    }
+    fn running(&self) -> bool {
+        self.status.run != 0 && !self.status.hold
+    }
+    fn leave_page(&mut self) {
+        self.pages.page = crate::panel_model::Page::Mode;
+    }
+    fn let_go_jog(&mut self) {
+        if self.jogging {
+            self.command(Command::JogRelease);
+            self.jogging = false;
+        }
+    }
+    fn turned(&mut self, was: OpMode) -> bool {
+        let m = self.front.op;
+        if m == OpMode::Data {
+            // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
+            // stays in force).
+            let had_run = self.status.job.is_some() || self.running();
+            self.command(Command::Abandon);
+            if had_run {
+                self.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+            }
+            return true;
+        }
+        if super::selector::runs(was) && super::selector::runs(m) {
+            // SINGLE BLOCK on: the block in progress is the last. Off: a run set going by a
+            // START in SINGLE BLOCK still ends the block START was given for and waits for
+            // START (docs/panel.md, "Rules and choices"); what the machine does is said by the
+            // display (state::machine_note).
+            let keep_single = m == OpMode::Auto && self.start_single && self.status.job.is_some();
+            if !keep_single {
+                self.command(Command::SingleBlock(m == OpMode::Single));
+            }
+        }
+        false
     }
 }

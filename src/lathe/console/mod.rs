@@ -627,7 +627,7 @@ impl LatheConsole {
             return self.after();
         }
         match ev {
-            PanelEvent::Op(m) => self.turn(m),
+            PanelEvent::Op(m) => crate::console::selector::turn(self, m),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
             PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
             PanelEvent::JogRelease => {
@@ -692,44 +692,6 @@ impl LatheConsole {
             _ => {}
         }
         self.after();
-    }
-
-    fn turn(&mut self, m: OpMode) {
-        // A selector turned leaves a page (the centre's rule).
-        self.page = Page::Mode;
-        if m != self.front.op {
-            // A mode turned lets a continuous jog go (the centre's rule).
-            self.release_any_jog();
-        }
-        let c = &mut self.cycle;
-        if !c.mdi && !c.is_over() && m == OpMode::Single && self.front.op != OpMode::Single {
-            // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
-            // until START. Turned off, the blocks started in SINGLE BLOCK still end and
-            // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
-            c.set_single_block(true);
-        }
-        let was = self.front.op;
-        if m != was {
-            self.cycle.set_modes(m);
-        }
-        self.front.op = m;
-        self.front.y_output = None;
-        self.front.entry.clear();
-        self.front.message = format!("{} mode", m.word());
-        // A turn to any other mode while running is a feed hold, on every channel (the
-        // centre's rule, docs/panel.md; a Fanuc stops automatic operation when its mode is
-        // turned). Between AUTO and SINGLE BLOCK it is not: that turns single block. Before
-        // stop 42 the lathe's cycle ran on under MDI, DATA or a manual mode.
-        let runs = |o: OpMode| matches!(o, OpMode::Auto | OpMode::Single);
-        if m != was && !(runs(was) && runs(m)) && self.cycle.any_state(&["RUN"]) {
-            self.cycle.hold();
-            // Said once a channel holds (a thread pass or a tap holds at its end, and the
-            // state line then says HOLD).
-            if self.cycle.any_state(&["HOLD"]) {
-                self.front.message =
-                    format!("feed hold: mode changed to {} while running", m.name());
-            }
-        }
     }
 
     /// A script's wait: runs the machine as [`LatheConsole::run_for`] does, and says why the
@@ -1415,5 +1377,27 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn axis_settings(&self) -> crate::settings::MachineSettings {
         crate::settings::MachineSettings::lathe_channel(&self.desc, self.sel).unwrap_or_default()
+    }
+    fn running(&self) -> bool {
+        self.cycle.any_state(&["RUN"])
+    }
+    fn leave_page(&mut self) {
+        self.page = Page::Mode;
+    }
+    fn let_go_jog(&mut self) {
+        self.release_any_jog();
+    }
+    fn turned(&mut self, _was: OpMode) -> bool {
+        let m = self.front.op;
+        let c = &mut self.cycle;
+        if !c.mdi && !c.is_over() && m == OpMode::Single {
+            // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
+            // until START. Turned off, the blocks started in SINGLE BLOCK still end and
+            // wait: START in AUTO runs on (the centre's rule, docs/panel.md).
+            c.set_single_block(true);
+        }
+        // Every channel's machine is on the same panel (`/nc/state`).
+        c.set_modes(m);
+        false
     }
 }
