@@ -448,3 +448,40 @@ fn stop_brings_a_manual_move_to_rest_and_says_so() {
     assert_eq!(c.message(), "STOP: the machine is not running");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// E-STOP during a CONTINUOUS jog, and a jog released, are one rule on both machines
+/// (`console::relay`): the jog stops where E-STOP found it and is forgotten (after RESET
+/// nothing goes on moving), and `jogrelease` is told to the machine and said on both (the
+/// centre said nothing before stop 43).
+#[test]
+fn estop_stops_a_jog_and_a_released_jog_is_said_on_both_machines() {
+    let dir = common::temp_dir("lathe-estop-jog");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Continuous));
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    c.run_for(100_000_000, RunUntil::Time, || false);
+    let at = posts(&c);
+    assert_ne!(at, home, "the jog moves: {}", c.message());
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Reset);
+    c.run_for(1_000_000_000, RunUntil::Time, || false);
+    assert_eq!(posts(&c), at, "the jog stopped at E-STOP");
+    c.handle(PanelEvent::JogRelease);
+    assert_eq!(c.message(), "jog released");
+    let _ = std::fs::remove_dir_all(&dir);
+
+    let mut m = common::open("centre-estop-jog");
+    m.handle(PanelEvent::Op(OpMode::Continuous));
+    m.handle(PanelEvent::Jog(Axis::X, 1));
+    let home = m.view().axis_mm;
+    m.handle(PanelEvent::WaitMs(100));
+    let at = m.view().axis_mm;
+    assert_ne!(at, home, "the jog moves: {}", m.message());
+    m.handle(PanelEvent::EStop);
+    m.handle(PanelEvent::Reset);
+    m.handle(PanelEvent::WaitMs(1000));
+    assert_eq!(m.view().axis_mm, at, "the jog stopped at E-STOP");
+    m.handle(PanelEvent::JogRelease);
+    assert_eq!(m.message(), "jog released");
+}

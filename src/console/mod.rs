@@ -628,12 +628,7 @@ impl Console {
                 self.front.jog_key.clear();
                 self.front.message = "reset: machine idle, block buffer empty".into();
             }
-            PanelEvent::EStop => {
-                self.command(Command::EStop);
-                self.jogging = false;
-                self.front.jog_key.clear();
-                // Said by the display while it is in force (state::machine_note).
-            }
+            PanelEvent::EStop => relay::estop(self),
             ev @ (PanelEvent::Override(_)
             | PanelEvent::BlockDelete(_)
             | PanelEvent::OptionalStop(_)
@@ -659,11 +654,7 @@ impl Console {
             PanelEvent::Home => posmem::home(self),
             PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
-            PanelEvent::JogRelease => {
-                self.command(Command::JogRelease);
-                self.jogging = false;
-                self.front.jog_key.clear();
-            }
+            PanelEvent::JogRelease => relay::jog_release(self),
             PanelEvent::Press(k) => self.press(k),
             PanelEvent::Wait => run::wait(self, run::WaitFor::Idle),
             PanelEvent::WaitBlock(n) => run::wait(self, run::WaitFor::Block(n)),

@@ -1,10 +1,10 @@
-//! The relay panel's STOP, every console's one rule (docs/panel.md "Rules", docs/lathe.md
-//! "Keys"), the machining centre being a machine of one channel: a feed hold on every channel
-//! that runs, and a manual move brought to rest; what it did is said by the machine's state
-//! while it lasts (the feed hold note), or on the message line: the machine's own words (a
-//! thread pass or a tap holds at its end), a manual move braking, a run already stopped, or
-//! nothing running. STOP always acts: it is told to every channel whatever the console thinks
-//! is running.
+//! The relay panel's STOP and E-STOP, and a jog released: every console's one rule
+//! (docs/panel.md "Rules", docs/lathe.md "Keys"), the machining centre being a machine of one
+//! channel. STOP is a feed hold on every channel that runs, and a manual move brought to rest;
+//! what it did is said by the machine's state while it lasts (the feed hold note), or on the
+//! message line: the machine's own words (a thread pass or a tap holds at its end), a manual
+//! move braking, a run already stopped, or nothing running. STOP and E-STOP always act: each is
+//! told to every channel whatever the console thinks is running.
 
 use super::side::Side;
 use crate::pulse_core::Command;
@@ -27,4 +27,22 @@ pub(crate) fn stop<C: Side>(c: &mut C) {
         "STOP: the machine is not running".into()
     };
     c.front().message = said;
+}
+
+/// E-STOP: every channel's run abandoned, every axis stopped where it stands and every spindle
+/// and the coolant stopped (the drives cut), from the pulse core's thread, loaded or not; the
+/// jog it stopped forgotten. Said while it is in force, derived from the state, and kept once
+/// in the history as an alarm.
+pub(crate) fn estop<C: Side>(c: &mut C) {
+    c.command_all(Command::EStop);
+    c.front().jog_key.clear();
+    c.forget_jog();
+}
+
+/// A jog released (`jogrelease`, a jog button let go): told to the machine whether or not the
+/// console knows of a jog (one it lost track of must still stop), and said.
+pub(crate) fn jog_release<C: Side>(c: &mut C) {
+    c.front().jog_key.clear();
+    c.let_go_jog(true);
+    c.front().message = "jog released".into();
 }

@@ -29,7 +29,7 @@ pub(crate) fn turn<C: Side>(c: &mut C, m: OpMode) {
     if m == was {
         return;
     }
-    c.let_go_jog();
+    c.let_go_jog(false);
     let f = c.front();
     f.jog_key.clear();
     f.op = m;

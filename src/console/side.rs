@@ -33,8 +33,11 @@ pub(crate) trait Side {
     fn running(&self) -> bool;
     /// Leaves the page up over the mode display.
     fn leave_page(&mut self);
-    /// Lets a CONTINUOUS jog go, if one was begun.
-    fn let_go_jog(&mut self);
+    /// Lets a CONTINUOUS jog go: the machine is told when one was begun, or `always` (a jog
+    /// the console lost track of must still stop).
+    fn let_go_jog(&mut self, always: bool);
+    /// Forgets the jog E-STOP has stopped (nothing is left to let go).
+    fn forget_jog(&mut self);
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
@@ -66,11 +69,14 @@ impl Side for Console {
     fn leave_page(&mut self) {
         self.pages.page = crate::panel_model::Page::Mode;
     }
-    fn let_go_jog(&mut self) {
-        if self.jogging {
+    fn let_go_jog(&mut self, always: bool) {
+        if always || self.jogging {
             self.command(Command::JogRelease);
-            self.jogging = false;
         }
+        self.jogging = false;
+    }
+    fn forget_jog(&mut self) {
+        self.jogging = false;
     }
     fn turned(&mut self, was: OpMode) -> bool {
         let m = self.front.op;

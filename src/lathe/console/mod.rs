@@ -630,10 +630,7 @@ impl LatheConsole {
             PanelEvent::Op(m) => crate::console::selector::turn(self, m),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
             PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
-            PanelEvent::JogRelease => {
-                self.release_jog();
-                self.front.message = "jog released".into();
-            }
+            PanelEvent::JogRelease => crate::console::relay::jog_release(self),
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
                 self.front.y_output = None;
@@ -657,15 +654,7 @@ impl LatheConsole {
             PanelEvent::Start => self.start(),
             PanelEvent::Stop => crate::console::relay::stop(self),
             PanelEvent::Reset => self.reset(),
-            PanelEvent::EStop => {
-                self.front.jog_key.clear();
-                self.jogging = None;
-                // Every channel's run is abandoned and every spindle and the coolant stop (the
-                // drives are cut), from the kernel's thread, loaded or not. E-STOP is said
-                // while it is in force, derived from the state (`message_with`), and kept once
-                // in the history as an alarm (`log_book`), as on the centre.
-                self.cycle.estop();
-            }
+            PanelEvent::EStop => crate::console::relay::estop(self),
             PanelEvent::Fault(ch, why) if ch < self.desc.channels.len() && self.cycle.loaded() => {
                 // Filed in the history under the faulted channel's program.
                 self.msg_of = Some(ch);
@@ -1384,8 +1373,14 @@ impl crate::console::side::Side for LatheConsole {
     fn leave_page(&mut self) {
         self.page = Page::Mode;
     }
-    fn let_go_jog(&mut self) {
-        self.release_any_jog();
+    fn let_go_jog(&mut self, always: bool) {
+        match always {
+            true => self.release_jog(),
+            false => self.release_any_jog(),
+        }
+    }
+    fn forget_jog(&mut self) {
+        self.jogging = None;
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;
