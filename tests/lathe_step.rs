@@ -485,3 +485,32 @@ fn estop_stops_a_jog_and_a_released_jog_is_said_on_both_machines() {
     m.handle(PanelEvent::JogRelease);
     assert_eq!(m.message(), "jog released");
 }
+
+/// A handwheel turned faster than the tool post moves: every detent is taken, queued by the
+/// machine as the centre's are, and the tool post ends where the detents add up to (before
+/// stop 43 the lathe refused each detent after the first while the tool post moved: `HANDLE
+/// refused: the machine is moving`).
+#[test]
+fn detents_turned_while_the_tool_post_moves_are_all_taken() {
+    let dir = common::temp_dir("lathe-fast-wheel");
+    let mut c = open_real_time(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Handle));
+    c.handle(PanelEvent::WheelScale(1000));
+    for _ in 0..5 {
+        c.handle(PanelEvent::Wheel(Axis::Z, -1));
+        assert!(!c.message().contains("refused"), "{}", c.message());
+    }
+    let t0 = std::time::Instant::now();
+    loop {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        c.tick(0);
+        if (c.at_rest() && posts(&c) != home) || t0.elapsed() > std::time::Duration::from_secs(10) {
+            break;
+        }
+    }
+    let mut want = home.clone();
+    want[0][1] -= 5_000;
+    assert_eq!(posts(&c), want, "five detents of 1 mm");
+    let _ = std::fs::remove_dir_all(&dir);
+}

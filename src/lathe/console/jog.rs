@@ -153,7 +153,11 @@ impl LatheConsole {
         let c = &mut self.cycle;
         // The kernel's state now (in real time it runs on between the console's ticks).
         c.refresh();
-        if !c.is_over() {
+        // With nothing loaded, a manual move in progress does not refuse the next: the machine
+        // queues increments (a handwheel turned fast) and says why it refuses a jog, as the
+        // centre's does. Before stop 43 every detent after the first was refused while the
+        // tool post moved.
+        if c.loaded() && !c.is_over() {
             self.front.message = if c.at_rest() {
                 format!("{what} refused: a cycle is under way (RESET it first)")
             } else {
