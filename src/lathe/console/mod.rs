@@ -626,6 +626,10 @@ impl LatheConsole {
             self.front.message = e;
             return self.after();
         }
+        // The panel's switches: every console's one rule.
+        if crate::console::switches::turn(self, &ev) {
+            return self.after();
+        }
         match ev {
             PanelEvent::Op(m) => crate::console::selector::turn(self, m),
             PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
@@ -667,17 +671,7 @@ impl LatheConsole {
                 self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
             PanelEvent::Target(n) => self.set_target(n),
-            ev @ (PanelEvent::Override(_)
-            | PanelEvent::BlockDelete(_)
-            | PanelEvent::OptionalStop(_)
-            | PanelEvent::RapidOverride(_)
-            | PanelEvent::SpindleOverride(_)
-            | PanelEvent::DryRun(_)
-            | PanelEvent::MachineLock(_)
-            | PanelEvent::WheelScale(_)) => {
-                crate::console::switches::turn(self, &ev);
-            }
-            // `events::takes` let through only the words above.
+            // `events::takes` let through only the words above and the switches.
             _ => {}
         }
         self.after();
