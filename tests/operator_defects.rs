@@ -665,3 +665,29 @@ fn a_page_key_keeps_the_line_being_typed_on_both_machines() {
     l.handle(E::Op(OpMode::Auto));
     assert_eq!(entry(&l), ">");
 }
+
+/// Found by the random operator sequences (seed 1592591039, stop 43): a START ignored during a
+/// block in SINGLE BLOCK was said again once the block had ended, when a switch was turned
+/// (DRY RUN): the console forgot that it had shown the machine's notice, which the machine
+/// keeps across a switch. The screen said START was ignored with the run standing still.
+#[test]
+fn a_switch_turned_does_not_bring_back_a_start_ignored() {
+    let mut c = open("defect-notice");
+    keys(&mut c, &["Alt+7", "F9"]);
+    let mut ignored = false;
+    for _ in 0..3 {
+        keys(&mut c, &["F9"]);
+        if shows(&c, "START ignored") {
+            ignored = true;
+            break;
+        }
+    }
+    assert!(ignored, "{}", c.frame_text());
+    c.handle(E::Wait);
+    assert!(!c.status().in_block, "the block has ended");
+    keys(&mut c, &["Alt+2", "Alt+d"]);
+    assert!(shows(&c, "DRY RUN on"), "{}", c.frame_text());
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+    keys(&mut c, &["Alt+d", "Alt+f"]);
+    assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
+}

@@ -559,10 +559,7 @@ impl Console {
     fn command(&mut self, c: Command) {
         // The core keeps its notice across these (they answer no operator action of their
         // own): forgetting it was shown would show it again, after what it spoke of.
-        let keeps_notice = matches!(
-            c,
-            Command::Override(_) | Command::SingleBlock(_) | Command::Input { .. }
-        );
+        let keeps_notice = c.keeps_notice();
         if posmem::can_move(&c) {
             posmem::before_motion(self);
         }

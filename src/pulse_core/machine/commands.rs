@@ -10,17 +10,7 @@ impl Machine {
     pub fn command(&mut self, c: Command) {
         self.commands += 1;
         // The notice answers the latest operator action: a new action starts without one.
-        if !matches!(
-            c,
-            Command::Override(_)
-                | Command::SingleBlock(_)
-                | Command::Input { .. }
-                | Command::RapidOverride(_)
-                | Command::SpindleOverride(_)
-                | Command::DryRun(_)
-                | Command::MachineLock(_)
-                | Command::ZNeglect(_)
-        ) {
+        if !c.keeps_notice() {
             self.notice = None;
         }
         // The cycle-start lamp's time so far is counted in the state it had (#3002).
