@@ -939,6 +939,12 @@ impl Session {
         let words: Vec<f64> = xy.split(' ').map(|w| w[1..].parse().unwrap()).collect();
         let settings = self.c.settings().clone();
         let mut b = before;
+        // A run takes its work system's zero from the stores, as POS shows it; the G-code
+        // state's copy is the last run's (seed 1592591439, stop 43: G54 set on the work
+        // offset page between two MDI runs, which the model had not seen).
+        if let Some(o) = self.c.work_offsets().0.get(b.modal.cs) {
+            b.origin = *o;
+        }
         b.pos = pos.xyz().map(|v| settings.to_mm(v));
         let here = b.prog();
         let target = if b.modal.incremental {
