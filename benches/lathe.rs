@@ -4,7 +4,9 @@
 //! three-channel 5-part sample (`novanc::lathe::testkit`), best of 3: wall time, axis pulses per
 //! second, machine time. Then what the user runs: the whole `novanc run --machine citizen
 //! programs/citizen` process (reading the three programs, the run, the summary), to 5 parts and
-//! to 100 parts with and without a recording, best of 3.
+//! to 100 parts with and without a recording, best of 3. Last, an idle Citizen console in real
+//! time, as at a terminal (ticked every 20 ms): the process's CPU over 3 s, percent of a core
+//! (stop 43: its kernel thread woke for every 100 µs tick and used about 20 %).
 //!
 //! The lockstep lathe simulator this bench also timed was deleted in issue 22; its last
 //! figures are in the README ("Figures", the Citizen lathe).
@@ -113,6 +115,41 @@ fn on_kernel(
     Ok((wall, pulses, k.now()))
 }
 
+/// The CPU time the process has used, s (user and system).
+fn cpu_s() -> f64 {
+    // SAFETY: getrusage writes the struct it is given and nothing else.
+    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+    unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) };
+    let t = |v: libc::timeval| v.tv_sec as f64 + v.tv_usec as f64 * 1e-6;
+    t(u.ru_utime) + t(u.ru_stime)
+}
+
+/// An idle Citizen console in real time, ticked every 20 ms as the terminal does, for `secs`:
+/// the process's CPU, percent of one core.
+fn idle_console(secs: f64) -> Result<f64, String> {
+    let dir = std::env::temp_dir().join(format!("novanc-bench-idle-{}", std::process::id()));
+    let clock = novanc::pulse_core::ClockMode::RealTime;
+    let (mut c, _) = novanc::lathe::console::LatheConsole::open_on(
+        LatheDesc::citizen(),
+        &dir,
+        (20, 60),
+        None,
+        clock,
+    )?;
+    // Past the opening's own work.
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let (t0, cpu0) = (Instant::now(), cpu_s());
+    while t0.elapsed().as_secs_f64() < secs {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        c.tick(20_000_000);
+        let _ = c.frame_text();
+    }
+    let pct = (cpu_s() - cpu0) / t0.elapsed().as_secs_f64() * 100.0;
+    drop(c);
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(pct)
+}
+
 fn main() {
     let desc = LatheDesc::citizen();
     let progs = citizen_programs(&desc).unwrap_or_else(|e| {
@@ -151,5 +188,11 @@ fn main() {
             machine,
             machine / wall
         );
+    }
+    match idle_console(3.0) {
+        Ok(p) => {
+            println!("an idle Citizen console in real time, ticked every 20 ms: {p:.1} % of a core")
+        }
+        Err(e) => eprintln!("lathe bench: idle console: {e}"),
     }
 }
