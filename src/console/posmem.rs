@@ -264,20 +264,31 @@ mod tests {
     use crate::panel_model::{OpMode, PanelEvent};
     use crate::pulse_core::{ClockMode, RunKind};
 
+    /// A state directory of this test's own.
+    fn state_dir(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!(
+            "novanc-posmem-{name}-{}-{:?}",
+            std::process::id(),
+            std::time::SystemTime::now()
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    /// The centre's console on `dir`, in virtual time.
+    fn open(dir: &Path) -> Console {
+        let mut cfg = crate::console::ConsoleConfig::new(dir.to_path_buf());
+        cfg.clock = ClockMode::Virtual;
+        Console::open(cfg).unwrap().0
+    }
+
     /// `moving` is on disk before the pulse core is given a command that can move an axis (a
     /// console killed between the command and its next frame leaves a position not trusted),
     /// and `at rest` after.
     #[test]
     fn moving_is_on_disk_before_a_motion_is_commanded() {
-        let dir = std::env::temp_dir().join(format!(
-            "novanc-posmem-order-{}-{:?}",
-            std::process::id(),
-            std::time::SystemTime::now()
-        ));
-        std::fs::create_dir_all(&dir).unwrap();
-        let mut cfg = crate::console::ConsoleConfig::new(dir.clone());
-        cfg.clock = ClockMode::Virtual;
-        let (mut c, _) = Console::open(cfg).unwrap();
+        let dir = state_dir("order");
+        let mut c = open(&dir);
         let said = || Kept::parse(&std::fs::read_to_string(dir.join(FILE)).unwrap()).unwrap();
         assert!(!said().moving);
         for cmd in [
@@ -313,17 +324,8 @@ mod tests {
     /// arrival at machine zero writes `at rest` again.
     #[test]
     fn home_owed_is_kept_until_home_across_restarts() {
-        let dir = std::env::temp_dir().join(format!(
-            "novanc-posmem-owed-{}-{:?}",
-            std::process::id(),
-            std::time::SystemTime::now()
-        ));
-        std::fs::create_dir_all(&dir).unwrap();
-        let open = || {
-            let mut cfg = crate::console::ConsoleConfig::new(dir.clone());
-            cfg.clock = ClockMode::Virtual;
-            Console::open(cfg).unwrap().0
-        };
+        let dir = state_dir("owed");
+        let open = || open(&dir);
         let said = || Kept::parse(&std::fs::read_to_string(dir.join(FILE)).unwrap()).unwrap();
         drop(open());
         // As a console that died moving leaves it.
