@@ -35,7 +35,7 @@ pub(crate) fn turn<C: Side>(c: &mut C, m: OpMode) {
     f.op = m;
     f.entry.clear();
     f.y_output = None;
-    if c.turned(was) || (runs(was) && runs(m)) || !c.running() {
+    if c.turned(was) || (runs(was) && runs(m)) || !c.channel_runs() {
         return;
     }
     c.command_all(Command::Stop);

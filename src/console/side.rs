@@ -29,8 +29,8 @@ pub(crate) trait Side {
     /// The settings the selected channel's manual moves are measured in (the increment's).
     fn axis_settings(&self) -> MachineSettings;
     /// A channel runs a program (RUN: not held, not stopped between blocks, not waiting for
-    /// another channel).
-    fn running(&self) -> bool;
+    /// another channel): a selector turn holds it.
+    fn channel_runs(&self) -> bool;
     /// Leaves the page up over the mode display.
     fn leave_page(&mut self);
     /// Lets a CONTINUOUS jog go: the machine is told when one was begun, or `always` (a jog
@@ -63,7 +63,7 @@ impl Side for Console {
     fn axis_settings(&self) -> MachineSettings {
         self.cfg.settings.clone()
     }
-    fn running(&self) -> bool {
+    fn channel_runs(&self) -> bool {
         self.status.run != 0 && !self.status.hold
     }
     fn leave_page(&mut self) {
@@ -83,7 +83,8 @@ impl Side for Console {
         if m == OpMode::Data {
             // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
             // stays in force).
-            let had_run = self.status.job.is_some() || self.running();
+            // Running or moving (the console's own `running`), or a run loaded.
+            let had_run = self.status.job.is_some() || Console::running(self);
             self.command(Command::Abandon);
             if had_run {
                 self.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();

@@ -1172,7 +1172,9 @@ impl Runner {
             let now = Instant::now();
             // A kernel with nothing going on runs a whole `KERNEL_IDLE_STEP` at a time (below)
             // and sleeps between: no tick has anything to be on time for.
-            let at_rest = self.rt.is_none() && self.k.is_some() && self.idle();
+            // Asked once a tick: a nap goes round the loop again, so it still holds below.
+            let idle = self.idle();
+            let at_rest = self.rt.is_none() && self.k.is_some() && idle;
             if now < gen_at {
                 // wake at least every millisecond to release queued events on time
                 let most = match at_rest {
@@ -1185,7 +1187,7 @@ impl Runner {
                 }
                 continue;
             }
-            let moving = !self.idle();
+            let moving = !idle;
             match (&mut self.rt, &mut self.k) {
                 (Some(rt), _) => rt.slice(&mut self.m, &self.buffer),
                 (None, Some(k)) => {

@@ -1361,7 +1361,7 @@ impl crate::console::side::Side for LatheConsole {
     fn axis_settings(&self) -> crate::settings::MachineSettings {
         crate::settings::MachineSettings::lathe_channel(&self.desc, self.sel).unwrap_or_default()
     }
-    fn running(&self) -> bool {
+    fn channel_runs(&self) -> bool {
         self.cycle.any_state(&["RUN"])
     }
     fn leave_page(&mut self) {
