@@ -380,8 +380,15 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             let sel = s.c.selected();
             s.fresh = true;
             s.c.handle(PanelEvent::Press(k));
-            let after = posts(&s.c);
             let said = s.c.message().to_string();
+            let mut line = line;
+            if ["STEP CH", "HANDLE CH"].iter().any(|w| said.starts_with(w)) {
+                // In virtual time a STEP or a detent moves at the next wait (docs/cli.md
+                // "Time"); a CONTINUOUS tap runs to rest at once.
+                s.c.handle(PanelEvent::Wait);
+                line.push_str(" | wait");
+            }
+            let after = posts(&s.c);
             let arrow = matches!(
                 k,
                 Key::Up | Key::Down | Key::Left | Key::Right | Key::Delete

@@ -63,11 +63,13 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
     );
     c.press(Key::Left);
     c.press(Key::Left);
+    c.handle(PanelEvent::Wait);
     let mut want = home.clone();
     want[0] = [home[0][0] - 100, home[0][1] - 200];
     assert_eq!(posts(&c), want);
     // Each channel starts at the top of its travel: X+ past it is refused, and says so.
     c.press(Key::Up);
+    c.handle(PanelEvent::Wait);
     c.press(Key::Up);
     assert!(
         c.message().contains("X (a radius) would go to") && c.message().contains("outside travel"),
@@ -82,6 +84,7 @@ fn step_moves_the_selected_tool_post_one_increment_and_nothing_else() {
     c.press(Key::Right);
     assert!(c.message().contains("outside travel"), "{}", c.message());
     c.press(Key::PageDown);
+    c.handle(PanelEvent::Wait);
     want[1][1] -= 1000;
     assert_eq!(posts(&c), want);
     // The lathe has no Y: the script's word is refused before anything runs, a key says so.
@@ -184,6 +187,7 @@ fn handle_moves_an_increment_a_detent_on_the_wheels_axis() {
     c.handle(PanelEvent::Wheel(Axis::Z, -3));
     assert!(c.message().contains("3 × 0.010 mm"), "{}", c.message());
     c.press(Key::Alt(','));
+    c.handle(PanelEvent::Wait);
     let mut want = home.clone();
     want[0] = [home[0][0] - 10, home[0][1] - 40];
     assert_eq!(posts(&c), want);
@@ -513,4 +517,86 @@ fn detents_turned_while_the_tool_post_moves_are_all_taken() {
     want[0][1] -= 5_000;
     assert_eq!(posts(&c), want, "five detents of 1 mm");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A manual move is one rule on both machines (stop 44, `console::manual`): a STEP says what
+/// it moved (the centre said nothing before) and moves at the next wait in a script, so that
+/// E-STOP can stop it half way (a lathe ran it to rest at once before); a CONTINUOUS jog
+/// says so while it moves, and not after it stops at its travel limit; an increment queued behind others that
+/// the machine refuses when its turn comes is said (a lathe said nothing of it before).
+#[test]
+fn manual_moves_are_said_and_timed_alike_on_both_machines() {
+    // The lathe: a STEP of 1 mm, E-STOP 5 ms into it.
+    let dir = common::temp_dir("lathe-step-said");
+    let mut c = open(&dir);
+    let home = posts(&c);
+    c.handle(PanelEvent::Op(OpMode::Step));
+    c.handle(PanelEvent::WheelScale(1000));
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert_eq!(c.message(), "STEP CH1 Z- 1.000 mm (x1000)");
+    assert_eq!(posts(&c), home, "a STEP moves at the next wait");
+    c.handle(PanelEvent::WaitMs(5));
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Wait);
+    let z = home[0][1] - posts(&c)[0][1];
+    assert!(
+        z > 0 && z < 1000,
+        "E-STOP stopped the STEP half way: {z} pulses"
+    );
+    c.handle(PanelEvent::Reset);
+    // Two STEPs of X- then three of X+ from the top of X: the third X+ is the machine's to
+    // refuse when its turn comes, and it is said.
+    for d in [-1, -1] {
+        c.handle(PanelEvent::Jog(Axis::X, d));
+    }
+    c.handle(PanelEvent::Wait);
+    for _ in 0..3 {
+        c.handle(PanelEvent::Jog(Axis::X, 1));
+    }
+    c.handle(PanelEvent::Wait);
+    assert!(
+        c.message().starts_with("CH1 X jog refused:") && c.message().contains("travel limit"),
+        "{}",
+        c.message()
+    );
+    assert_eq!(
+        posts(&c)[0][0],
+        home[0][0],
+        "X is back at the top of its travel"
+    );
+    // A CONTINUOUS jog says so while it moves, and not once it has stopped.
+    c.handle(PanelEvent::Op(OpMode::Continuous));
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert_eq!(c.message(), "CONTINUOUS CH1 Z-: jogging");
+    c.handle(PanelEvent::WaitMs(50));
+    assert_eq!(c.message(), "CONTINUOUS CH1 Z-: jogging");
+    // It runs to the travel limit: no operator action since, and the jog is not said.
+    c.handle(PanelEvent::Wait);
+    assert!(!c.message().contains("jogging"), "{}", c.message());
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // The centre: the same words without a channel, and the same timing.
+    let mut m = common::open("centre-step-said");
+    m.handle(PanelEvent::Op(OpMode::Step));
+    m.handle(PanelEvent::WheelScale(1000));
+    let home = m.view().axis_mm;
+    m.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert_eq!(m.message(), "STEP Z- 1.000 mm (x1000)");
+    assert_eq!(m.view().axis_mm, home, "a STEP moves at the next wait");
+    m.handle(PanelEvent::WaitMs(5));
+    m.handle(PanelEvent::EStop);
+    m.handle(PanelEvent::Wait);
+    let z = home[2] - m.view().axis_mm[2];
+    assert!(
+        z > 0.0 && z < 1.0,
+        "E-STOP stopped the STEP half way: {z} mm"
+    );
+    m.handle(PanelEvent::Reset);
+    m.handle(PanelEvent::Op(OpMode::Continuous));
+    m.handle(PanelEvent::Jog(Axis::X, 1));
+    assert_eq!(m.message(), "CONTINUOUS X+: jogging");
+    m.handle(PanelEvent::WaitMs(50));
+    assert_eq!(m.message(), "CONTINUOUS X+: jogging");
+    m.handle(PanelEvent::Wait);
+    assert!(!m.message().contains("jogging"), "{}", m.message());
 }

@@ -46,6 +46,8 @@ pub(crate) struct Front {
     pub wheel: (Axis, u32),
     /// The CONTINUOUS jog key last pressed: when, and whether it is held.
     pub jog_key: HeldJog,
+    /// The channel a CONTINUOUS jog was begun on and not yet let go (`manual::release`).
+    pub jogging: Option<usize>,
     /// The `Y` type-out of the last editor command line, shown in place of the text window
     /// until the next line, mode or channel.
     pub y_output: Option<String>,
@@ -68,6 +70,7 @@ impl Front {
             feed_override: 100,
             wheel: (Axis::X, scale),
             jog_key: HeldJog::default(),
+            jogging: None,
             y_output: None,
             wait_error: None,
         }

@@ -18,10 +18,6 @@ use std::time::Instant;
 pub use super::front::{JOG_RELEASE, REPEAT_GAP};
 pub use super::run::JOG_DEADMAN;
 
-/// Machine time a tap's increment gets to come to rest in virtual time (1 mm at the slowest
-/// jog feed takes far less).
-const TAP_LIMIT_NS: u64 = 60_000_000_000;
-
 /// What a key asks of the console.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
@@ -225,8 +221,6 @@ pub(crate) trait Keyed: super::side::Side {
     fn takes_first(&mut self, k: Key, action: &Action) -> bool;
     /// One event of the panel grammar (recorded as the event).
     fn handle(&mut self, ev: PanelEvent);
-    /// A CONTINUOUS jog key ([`HeldJog`]).
-    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8);
     /// The page up over the mode display.
     fn page(&self) -> Page;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
@@ -276,7 +270,7 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         Action::Event(e) => e,
         Action::Move(axis, dir) => match op {
             OpMode::Handle => PanelEvent::Wheel(axis, i32::from(dir)),
-            OpMode::Continuous => return c.hold_jog(k, axis, dir),
+            OpMode::Continuous => return hold(c, k, axis, dir),
             _ => PanelEvent::Jog(axis, dir),
         },
         Action::Override(d) => PanelEvent::Override((feed as i32 + d).clamp(0, 150) as u32),
@@ -312,6 +306,43 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         }
     };
     c.handle(ev)
+}
+
+/// A CONTINUOUS jog key as a terminal reports it (`HeldJog`): a tap moves one increment (run
+/// to rest in virtual time), a held key jogs until it stops repeating (`manual::keep` lets it
+/// go).
+fn hold<C: Keyed>(c: &mut C, k: Key, axis: Axis, dir: i8) {
+    let virtual_time = c.clock() == ClockMode::Virtual;
+    match c
+        .front()
+        .jog_key
+        .press(axis, dir, Instant::now(), virtual_time)
+    {
+        JogPress::KeepAlive => {
+            if let Some(ch) = c.front().jogging {
+                c.tell(ch, Command::JogAlive(super::deadman_ms()));
+            }
+        }
+        JogPress::Begin => {
+            // The tap's increment may still be moving: the jog begins on a later repeat.
+            c.refresh();
+            let ch = c.selected();
+            if !c.channels().get(ch).is_some_and(|s| s.moving) {
+                c.handle(PanelEvent::Jog(axis, dir));
+                let began = c.front().jogging.is_some();
+                c.front().jog_key.began(began);
+            }
+        }
+        JogPress::Tap { release } => {
+            if release {
+                super::manual::release(c, true);
+            }
+            // A tap is the key (a held key is `jog X+`).
+            c.record(&PanelEvent::Press(k));
+            super::manual::tap(c, axis, dir);
+            c.refresh();
+        }
+    }
 }
 
 impl Keyed for Console {
@@ -357,9 +388,6 @@ impl Keyed for Console {
     fn handle(&mut self, ev: PanelEvent) {
         Console::handle(self, ev)
     }
-    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
-        Console::hold_jog(self, k, axis, dir)
-    }
     fn page(&self) -> Page {
         self.pages.page
     }
@@ -384,62 +412,6 @@ impl Console {
     /// Presses a key of the terminal's key map ([`press`], the one key pipeline).
     pub fn press(&mut self, k: Key) {
         press(self, k)
-    }
-
-    /// A CONTINUOUS jog key ([`HeldJog`]). In virtual time a tap's increment is run to rest
-    /// at once.
-    fn hold_jog(&mut self, k: Key, axis: Axis, dir: i8) {
-        let virtual_time = self.cfg.clock == ClockMode::Virtual;
-        match self
-            .front
-            .jog_key
-            .press(axis, dir, Instant::now(), virtual_time)
-        {
-            JogPress::KeepAlive => {
-                self.status = self
-                    .core
-                    .command(Command::JogAlive(super::run::deadman_ms()));
-            }
-            JogPress::Begin => {
-                // The tap's increment may still be moving: the jog starts on a later repeat.
-                self.status = self.core.status();
-                if !self.status.moving {
-                    self.handle(PanelEvent::Jog(axis, dir));
-                    self.front.jog_key.began(self.jogging);
-                }
-            }
-            JogPress::Tap { release } => {
-                if release {
-                    self.release_jog();
-                }
-                // A tap is the key, as the lathe records it (a held key is `jog X+`).
-                self.recorder
-                    .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-                super::run::tap(self, axis, dir);
-                if virtual_time {
-                    self.core.run_until_idle(TAP_LIMIT_NS);
-                    self.refresh();
-                }
-            }
-        }
-    }
-
-    /// Releases a held CONTINUOUS key's jog once it has not repeated for [`JOG_RELEASE`]
-    /// (called each display tick).
-    pub(super) fn expire_jog_key(&mut self) {
-        if self.front.jog_key.expired(Instant::now()) {
-            // The key let go ends the jog in the recording too (the lathe's rule).
-            self.recorder
-                .panel_event(&PanelEvent::JogRelease, self.status.machine_ns);
-            self.release_jog();
-        }
-    }
-
-    fn release_jog(&mut self) {
-        // Always told: a jog the console lost track of must still stop.
-        self.core.command(Command::JogRelease);
-        self.jogging = false;
-        self.refresh();
     }
 
     /// Tells the console whether the terminal is large enough for the panel (the terminal

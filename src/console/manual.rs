@@ -1,13 +1,190 @@
 //! Manual moves, every console's rule (docs/panel.md "Jogging", docs/lathe.md "Moving a tool
 //! post by hand"): what a jog key, a handwheel detent and the increment switch do in each
-//! position of the operation selector, and what is checked before an axis moves. The
-//! machining centre's console and a lathe's channel panel both decide here; each then sends
-//! the move to its machine (the centre's, or the selected channel's in the one kernel) and
-//! says the outcome. The machine checks again when the move starts (`Machine::jog_check`).
+//! position of the operation selector, what is checked before an axis moves, how a move is
+//! told to the machine (the centre's, or the selected channel's in the one kernel) and what
+//! is said of it, and how a CONTINUOUS key held on a terminal jogs (`HeldJog`). Written once
+//! over `Side` (issue 22: each console had its own copy of the flow before stop 44, and they
+//! said different things). The machine checks again when the move starts
+//! (`Machine::jog_check`).
+//!
+//! In virtual time (a script) machine time passes only in a wait and a CONTINUOUS tap
+//! (docs/cli.md "Time"): a STEP or a handwheel detent is queued in the machine and moves at
+//! the next wait (before stop 44 a lathe's ran to rest at once).
 
+use super::side::Side;
 use crate::block::Axes;
-use crate::panel_model::{Axis, OpMode};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
+use crate::pulse_core::{ClockMode, Command};
 use crate::settings::MachineSettings;
+use std::time::Instant;
+
+/// Machine time a CONTINUOUS tap's increment gets to come to rest in virtual time (1 mm at
+/// the slowest jog feed takes far less).
+pub(crate) const SETTLE_LIMIT_NS: u64 = 60_000_000_000;
+
+/// Where a manual move acts (`Side::manual_target`).
+pub(crate) struct ManualTarget {
+    /// The channel.
+    pub ch: usize,
+    /// Where its axes stand.
+    pub pos: Axes,
+    /// How the message line names the channel: `CH2 ` on a machine of several, empty on one.
+    pub label: String,
+    /// X is a radius (a lathe's): said so when an increment would leave the travel.
+    pub x_radius: bool,
+}
+
+/// A jog event (`jog X+`, a window's jog button): CONTINUOUS jogs until released, STEP moves
+/// one increment; refused, with the reason, in another position.
+pub(crate) fn jog<C: Side>(c: &mut C, axis: Axis, dir: i8) {
+    let f = c.front();
+    let what = if f.op == OpMode::Step { "STEP" } else { "jog" };
+    match jog_move(f.op, axis, dir, f.wheel.1) {
+        Ok(mv) => {
+            motion(c, axis, mv, what);
+        }
+        Err(e) => f.message = e,
+    }
+}
+
+/// The handwheel (`wheel X 3`): `n` detents on `axis`, an increment each, in HANDLE only.
+pub(crate) fn turn_wheel<C: Side>(c: &mut C, axis: Axis, n: i32) {
+    let f = c.front();
+    f.wheel.0 = axis;
+    match wheel(f.op, n, f.wheel.1) {
+        Ok(0) => {}
+        Ok(pulses) => {
+            motion(c, axis, Move::Increment(pulses), "HANDLE");
+        }
+        Err(e) => f.message = e,
+    }
+}
+
+/// A CONTINUOUS key tapped (`keys::press`): one increment of `axis` at jog feed, run to rest
+/// in virtual time.
+pub(crate) fn tap<C: Side>(c: &mut C, axis: Axis, dir: i8) {
+    let pulses = i64::from(dir.signum()) * i64::from(c.front().wheel.1);
+    if let Some(ch) = motion(c, axis, Move::Increment(pulses), "CONTINUOUS") {
+        if c.clock() == ClockMode::Virtual {
+            c.settle(ch);
+        }
+    }
+}
+
+/// Once a frame: a held CONTINUOUS key that stopped repeating lets its jog go (recorded as
+/// the key let go); a jog a front end's button holds is kept alive while it moves (docs/panel.md
+/// "The jog deadman": a front end that stops drawing lets the machine stop it).
+pub(crate) fn keep<C: Side>(c: &mut C) {
+    if c.front().jog_key.expired(Instant::now()) {
+        c.record(&PanelEvent::JogRelease);
+        release(c, true);
+    }
+    let f = c.front();
+    if let (Some(ch), true) = (f.jogging, f.jog_key.is_none()) {
+        let moving = c.channels().get(ch).is_some_and(|s| s.moving);
+        if moving && c.clock() == ClockMode::RealTime {
+            c.tell(ch, Command::JogAlive(super::deadman_ms()));
+        }
+    }
+}
+
+/// Lets a CONTINUOUS jog go: the machine is told when one was begun, or `always` (a jog the
+/// console lost track of must still stop; told to the selected channel then).
+pub(crate) fn release<C: Side>(c: &mut C, always: bool) {
+    let f = c.front();
+    f.jog_key.clear();
+    let jogging = f.jogging.take();
+    if always || jogging.is_some() {
+        let ch = jogging.unwrap_or_else(|| c.selected());
+        c.tell(ch, Command::JogRelease);
+    }
+}
+
+/// A manual move the selector allowed, of the selected channel's `axis`: checked (E-STOP,
+/// the machine's own refusal, the travel), told to the machine and said. The channel it was
+/// told to, if it was.
+fn motion<C: Side>(c: &mut C, axis: Axis, mv: Move, what: &str) -> Option<usize> {
+    let said = |c: &mut C, m: String| {
+        c.front().message = m;
+        None
+    };
+    if c.channels().iter().any(|s| s.estop) {
+        return said(
+            c,
+            format!("{what} refused: EMERGENCY STOP in force, press RESET"),
+        );
+    }
+    let t = match c.manual_target(axis, what) {
+        Ok(t) => t,
+        Err(e) => return said(c, e),
+    };
+    if let Err(e) = check(&c.axis_settings(), t.pos, axis, mv) {
+        return said(
+            c,
+            match mv {
+                Move::Increment(_) if t.x_radius => {
+                    format!("{what} {}", e.replacen("X would", "X (a radius) would", 1))
+                }
+                Move::Increment(_) => format!("{what} {e}"),
+                Move::Jog(_) => e,
+            },
+        );
+    }
+    let a = axis.index();
+    c.tell(
+        t.ch,
+        match mv {
+            Move::Increment(pulses) => Command::Increment { axis: a, pulses },
+            Move::Jog(dir) => Command::Jog { axis: a, dir },
+        },
+    );
+    // The machine's refusal, in its words.
+    if let Some(n) = c.channels().get(t.ch).and_then(|s| s.notice.clone()) {
+        return said(c, n);
+    }
+    let sign = |n: i64| if n < 0 { '-' } else { '+' };
+    let now = c.now_ns();
+    let (text, life) = match mv {
+        Move::Jog(dir) => {
+            c.front().jogging = Some(t.ch);
+            if c.clock() == ClockMode::RealTime {
+                // Hold-to-run: the key's repeats (a button's frames) keep the jog alive, or
+                // the machine stops it.
+                c.tell(t.ch, Command::JogAlive(super::deadman_ms()));
+            }
+            (
+                format!(
+                    "CONTINUOUS {}{}{}: jogging",
+                    t.label,
+                    axis.letter(),
+                    sign(i64::from(dir))
+                ),
+                super::MsgLife::WhileRunning,
+            )
+        }
+        Move::Increment(pulses) => {
+            let scale = c.front().wheel.1;
+            let detents = pulses.unsigned_abs() / u64::from(scale.max(1));
+            let times = if detents > 1 {
+                format!("{detents} × ")
+            } else {
+                String::new()
+            };
+            let inc = increment_text(&c.axis_settings(), scale);
+            (
+                format!(
+                    "{what} {}{}{} {times}{inc}",
+                    t.label,
+                    axis.letter(),
+                    sign(pulses)
+                ),
+                super::MsgLife::NextKey,
+            )
+        }
+    };
+    c.front().say(text, life, now);
+    Some(t.ch)
+}
 
 /// The increments, in pulses: the handwheel per detent, STEP per key and a CONTINUOUS tap
 /// (docs/panel.md, "Jogging"): 0.001, 0.01, 0.1 and 1 mm at the default pulse of 0.001 mm.
@@ -26,7 +203,7 @@ pub(crate) enum Move {
 /// What a jog event (`jog X+`, a window's jog button) does in selector position `op` with the
 /// increment `scale`: the move, or why none. In HANDLE a jog key turns the handwheel before it
 /// gets here (the key map), so an event here is refused.
-pub(crate) fn jog(op: OpMode, axis: Axis, dir: i8, scale: u32) -> Result<Move, String> {
+pub(crate) fn jog_move(op: OpMode, axis: Axis, dir: i8, scale: u32) -> Result<Move, String> {
     let dir: i8 = if dir < 0 { -1 } else { 1 };
     match op {
         OpMode::Continuous => Ok(Move::Jog(dir)),
@@ -112,12 +289,18 @@ mod tests {
 
     #[test]
     fn each_selector_position_gives_its_move_or_says_why_not() {
-        assert_eq!(jog(OpMode::Continuous, Axis::X, -3, 100), Ok(Move::Jog(-1)));
-        assert_eq!(jog(OpMode::Step, Axis::Z, 1, 100), Ok(Move::Increment(100)));
-        assert!(jog(OpMode::Handle, Axis::X, 1, 100)
+        assert_eq!(
+            jog_move(OpMode::Continuous, Axis::X, -3, 100),
+            Ok(Move::Jog(-1))
+        );
+        assert_eq!(
+            jog_move(OpMode::Step, Axis::Z, 1, 100),
+            Ok(Move::Increment(100))
+        );
+        assert!(jog_move(OpMode::Handle, Axis::X, 1, 100)
             .unwrap_err()
             .starts_with("HANDLE: turn the handwheel"));
-        let e = jog(OpMode::Auto, Axis::Z, 1, 100).unwrap_err();
+        let e = jog_move(OpMode::Auto, Axis::Z, 1, 100).unwrap_err();
         assert!(e.starts_with("jog Z refused in AUTO"), "{e}");
         assert_eq!(wheel(OpMode::Handle, -3, 10), Ok(-30));
         assert!(wheel(OpMode::Step, 1, 10).is_err());

@@ -36,18 +36,20 @@ pub(crate) mod state;
 pub(crate) mod switches;
 pub mod tape;
 pub mod tcode;
+pub(crate) mod wait;
 
 pub use config::ConsoleConfig;
 pub use gcode_run::mdi_is_gcode;
 pub(crate) use gcode_run::switch_message;
 pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
+pub use run::RunSource;
 pub(crate) use run::{
     deadman_ms, machine_switch_message, next_rapid, next_spindle, override_words,
-    rapid_override_message, spindle_override_message, stalled_note, wait_limit_note,
+    rapid_override_message, spindle_override_message,
 };
-pub use run::{RunSource, WAIT_LIMIT_NS};
 pub use script_line::script_line;
+pub use wait::WAIT_LIMIT_NS;
 
 use crate::block::TranslateError;
 use crate::panel_model::{DataMode, OpMode, PanelEvent, PanelView};
@@ -129,8 +131,6 @@ pub struct Console {
     tool_focus: u32,
     /// Lines of the last TOOL DATA READ report.
     read_report: Vec<String>,
-    /// A CONTINUOUS jog is in progress.
-    jogging: bool,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
     pages: pages::Pages,
     /// The alarm and message history and the counters.
@@ -221,7 +221,6 @@ impl Console {
             plan_shown: None,
             tool_focus: 1,
             read_report: Vec::new(),
-            jogging: false,
             pages: pages::Pages::new(),
             book,
             modes_told: None,
@@ -266,12 +265,7 @@ impl Console {
 
     /// Polls the pulse core and refreshes the display; call at display rate.
     pub fn tick(&mut self) {
-        self.expire_jog_key();
-        if self.jogging && self.front.jog_key.is_none() && self.cfg.clock == ClockMode::RealTime {
-            // A jog held by a front end's button (the window's): each frame keeps it alive, so
-            // a front end that stops drawing lets the core stop it (docs/panel.md).
-            self.command(Command::JogAlive(run::deadman_ms()));
-        }
+        manual::keep(self);
         self.refresh();
     }
 
@@ -402,9 +396,9 @@ impl Console {
 
     /// Waits until the machine is idle (RUN = 0, no motion, the last command taken up), then
     /// refreshes the display. In real time this waits for the machine; in virtual time the
-    /// machine runs until then (at most [`run::WAIT_LIMIT_NS`] of machine time).
+    /// machine runs until then (at most [`WAIT_LIMIT_NS`] of machine time).
     pub fn wait_idle(&mut self) {
-        run::wait(self, run::WaitFor::Idle);
+        wait::wait(self, wait::WaitFor::Idle);
         self.refresh();
     }
 
@@ -513,12 +507,19 @@ impl Console {
         self.status = self.core.status();
         posmem::track(self);
         tape::advance(self);
-        if let MsgLife::WhileBlock(done) = self.front.life {
-            let s = &self.status;
-            if s.run == 0 || s.hold || s.blocks_done != done {
-                self.front.message.clear();
-                self.front.life = MsgLife::NextKey;
+        let s = &self.status;
+        let over = match self.front.life {
+            MsgLife::NextKey => false,
+            MsgLife::WhileBlock(done) => s.run == 0 || s.hold || s.blocks_done != done,
+            // Said in this instant, the machine has not answered yet.
+            MsgLife::WhileRunning => {
+                let runs = s.moving || (s.run != 0 && !s.hold);
+                !runs && self.front.said_ns != s.machine_ns
             }
+        };
+        if over {
+            self.front.message.clear();
+            self.front.life = MsgLife::NextKey;
         }
         run::note_run_end(self);
         gcode_run::keep_read(self);
@@ -621,7 +622,7 @@ impl Console {
                 gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
                 self.program_alarm = None;
                 self.tape_alarm = None;
-                self.jogging = false;
+                self.front.jogging = None;
                 self.front.jog_key.clear();
                 self.front.message = "reset: machine idle, block buffer empty".into();
             }
@@ -649,13 +650,13 @@ impl Console {
                 });
             }
             PanelEvent::Home => posmem::home(self),
-            PanelEvent::Wheel(axis, n) => run::wheel(self, axis, n),
-            PanelEvent::Jog(axis, dir) => run::jog(self, axis, dir),
+            PanelEvent::Wheel(axis, n) => manual::turn_wheel(self, axis, n),
+            PanelEvent::Jog(axis, dir) => manual::jog(self, axis, dir),
             PanelEvent::JogRelease => relay::jog_release(self),
             PanelEvent::Press(k) => self.press(k),
-            PanelEvent::Wait => run::wait(self, run::WaitFor::Idle),
-            PanelEvent::WaitBlock(n) => run::wait(self, run::WaitFor::Block(n)),
-            PanelEvent::WaitMs(t) => run::wait(self, run::WaitFor::Ms(t)),
+            PanelEvent::Wait => wait::wait(self, wait::WaitFor::Idle),
+            PanelEvent::WaitBlock(n) => wait::wait(self, wait::WaitFor::Block(n)),
+            PanelEvent::WaitMs(t) => wait::wait(self, wait::WaitFor::Ms(t)),
             PanelEvent::Show => {}
             // The words of a machine with several channels: refused on the centre's one.
             ev @ (PanelEvent::Channel(_)

@@ -35,14 +35,14 @@ pub(crate) fn stop<C: Side>(c: &mut C) {
 /// in the history as an alarm.
 pub(crate) fn estop<C: Side>(c: &mut C) {
     c.command_all(Command::EStop);
-    c.front().jog_key.clear();
-    c.forget_jog();
+    let f = c.front();
+    f.jog_key.clear();
+    f.jogging = None;
 }
 
 /// A jog released (`jogrelease`, a jog button let go): told to the machine whether or not the
 /// console knows of a jog (one it lost track of must still stop), and said.
 pub(crate) fn jog_release<C: Side>(c: &mut C) {
-    c.front().jog_key.clear();
-    c.let_go_jog(true);
+    super::manual::release(c, true);
     c.front().message = "jog released".into();
 }

@@ -3,20 +3,18 @@
 //! the machine's actual state), the program alarm, jog/STEP/HANDLE, the
 //! script's waits (a tape read in progress runs to its end first), and the session recording.
 
-use super::manual::{self, Move, SCALES};
+use super::manual::SCALES;
+use super::wait::{WaitFor, WAIT_LIMIT_NS};
 use super::{Console, ProgramAlarm};
 use crate::block::MachineState;
 use crate::gcode::{GcodeSource, InterpState, Switches, WorkOffsets};
-use crate::panel_model::{Axis, OpMode};
+use crate::panel_model::OpMode;
 use crate::pulse_core::{Command, EndCause, MakeRun, Reached, RunKind, StatementIter};
 use crate::settings::MachineSettings;
 use crate::store::Target;
 use crate::tooldata::Magazine;
 use crate::translator::Translator;
 use std::sync::Arc;
-
-/// The most machine time a script `wait` (or `wait block`) runs before it gives up: 1000 hours.
-pub const WAIT_LIMIT_NS: u64 = 1000 * 3600 * 1_000_000_000;
 
 /// What a program source is made from at START.
 #[derive(Clone)]
@@ -357,25 +355,17 @@ pub(super) fn recheck_program_alarm(c: &mut Console) {
     }
 }
 
-/// What a script wait runs until.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum WaitFor {
-    Idle,
-    Block(u32),
-    Ms(u64),
-}
-
-/// The script's waits: the machine runs (virtual time) or is waited for (real time) until the
-/// condition, at most [`WAIT_LIMIT_NS`] of machine time; a wait that cannot end says why.
-pub(super) fn wait(c: &mut Console, w: WaitFor) {
-    c.front.wait_error = None;
+/// The centre's part of a script's wait (`wait::wait`): the machine runs (virtual time) or
+/// is waited for (real time) until the condition, at most [`WAIT_LIMIT_NS`] of machine time;
+/// a tape read in progress runs to its end first, and `wait ms` moves the tape.
+pub(super) fn run_wait(c: &mut Console, w: WaitFor) -> Reached {
     if let WaitFor::Ms(t) = w {
         // The tape moves with machine time (docs/tape.md, "At the console").
         if super::tape::reading(c) {
-            let (_, st) = c.core.run_for(t.saturating_mul(1_000_000));
+            let (r, st) = c.core.run_for(t.saturating_mul(1_000_000));
             c.status = st;
             super::tape::advance(c);
-            return;
+            return r;
         }
     } else {
         wait_tape(c);
@@ -386,32 +376,8 @@ pub(super) fn wait(c: &mut Console, w: WaitFor) {
         WaitFor::Ms(t) => c.core.run_for(t.saturating_mul(1_000_000)),
     };
     c.status = st;
-    let err = match r {
-        Reached::Stalled => Some(format!("wait: {}", stalled_note(c.status.feed_override))),
-        Reached::Limit => Some(wait_limit_note(WAIT_LIMIT_NS)),
-        Reached::Interrupted => Some("wait: interrupted".to_string()),
-        _ => None,
-    };
-    if let Some(e) = err {
-        c.front.message = e.clone();
-        c.front.wait_error = Some(e);
-    }
     note_run_end(c);
-}
-
-/// Why nothing moves and nothing will until the operator acts, on every console and front
-/// end: a block in progress (a feed move) at feed override `feed_override` (0).
-pub(crate) fn stalled_note(feed_override: u32) -> String {
-    format!("the machine stands still at feed override {feed_override} %; raise the override")
-}
-
-/// Why a script's wait of at most `limit_ns` of machine time ended without its condition, on
-/// every console.
-pub(crate) fn wait_limit_note(limit_ns: u64) -> String {
-    format!(
-        "wait: not done within {} hours of machine time",
-        limit_ns / 3_600_000_000_000
-    )
+    r
 }
 
 /// Lets the tape read in progress, if any, run to its end (a script's `wait` or `wait block`):
@@ -424,38 +390,6 @@ fn wait_tape(c: &mut Console) {
         if r == Reached::Interrupted {
             break;
         }
-    }
-}
-
-/// Whether a manual move may start now; if not, the message says why.
-fn manual_allowed(c: &mut Console, what: &str) -> bool {
-    if c.status.estop {
-        c.front.message = format!("{what} refused: EMERGENCY STOP in force, press RESET");
-        return false;
-    }
-    if c.status.run != 0 && !c.status.hold {
-        c.front.message = format!("{what} refused: a program is running (STOP first)");
-        return false;
-    }
-    true
-}
-
-/// The message after a manual move command: the core's refusal, or what START will do.
-fn after_manual(c: &mut Console) {
-    c.notice_seen = c.status.notice.clone();
-    if let Some(n) = &c.status.notice {
-        c.front.message = n.clone();
-    }
-}
-
-/// The handwheel: `n` detents on `axis` at the selected scale, in HANDLE only
-/// (`manual::wheel`).
-pub(super) fn wheel(c: &mut Console, axis: Axis, n: i32) {
-    c.front.wheel.0 = axis;
-    match manual::wheel(c.front.op, n, c.front.wheel.1) {
-        Ok(0) => {}
-        Ok(pulses) => manual_move(c, axis, Move::Increment(pulses), "handwheel"),
-        Err(e) => c.front.message = e,
     }
 }
 
@@ -559,43 +493,6 @@ pub(crate) fn machine_switch_message(name: &str, on: bool) -> String {
     }
 }
 
-/// One increment (the selected scale) on `axis` at jog feed: a CONTINUOUS key tapped once.
-pub(super) fn tap(c: &mut Console, axis: Axis, dir: i8) {
-    let pulses = i64::from(dir.signum()) * i64::from(c.front.wheel.1);
-    manual_move(c, axis, Move::Increment(pulses), "jog");
-}
-
-/// A manual move the selector allowed: checked (`manual_allowed`, `manual::check`), sent to
-/// the pulse core and its answer said (a CONTINUOUS jog held to run in real time).
-fn manual_move(c: &mut Console, axis: Axis, mv: Move, what: &str) {
-    if !manual_allowed(c, what) {
-        return;
-    }
-    if let Err(e) = manual::check(&c.cfg.settings, c.status.machine_state().pos, axis, mv) {
-        c.front.message = e;
-        return;
-    }
-    match mv {
-        Move::Increment(pulses) => c.command(Command::Increment {
-            axis: axis.index(),
-            pulses,
-        }),
-        Move::Jog(dir) => {
-            c.command(Command::Jog {
-                axis: axis.index(),
-                dir,
-            });
-            c.jogging = c.status.notice.is_none();
-            if c.jogging && c.cfg.clock == crate::pulse_core::ClockMode::RealTime {
-                // Hold-to-run: the front end keeps the jog alive (key repeats, the window's
-                // frames while the button is held), or the core stops it (docs/panel.md).
-                c.command(Command::JogAlive(deadman_ms()));
-            }
-        }
-    }
-    after_manual(c);
-}
-
 /// The jog deadman: a held jog decelerates on its own in the pulse core when the front end
 /// has not kept it alive for this long (a key's repeat, a window frame while its button is
 /// held; the console's own release of a key, `front::JOG_RELEASE`, comes first): for a front
@@ -605,18 +502,4 @@ pub const JOG_DEADMAN: std::time::Duration = std::time::Duration::from_millis(25
 /// [`JOG_DEADMAN`] in milliseconds.
 pub(crate) fn deadman_ms() -> u32 {
     JOG_DEADMAN.as_millis() as u32
-}
-
-/// A jog event (a jog button, `jog X+`): CONTINUOUS jogs while held, STEP moves one
-/// increment (`manual::jog`).
-pub(super) fn jog(c: &mut Console, axis: Axis, dir: i8) {
-    let what = if c.front.op == OpMode::Step {
-        "step"
-    } else {
-        "jog"
-    };
-    match manual::jog(c.front.op, axis, dir, c.front.wheel.1) {
-        Ok(mv) => manual_move(c, axis, mv, what),
-        Err(e) => c.front.message = e,
-    }
 }

@@ -29,9 +29,8 @@ pub(crate) fn turn<C: Side>(c: &mut C, m: OpMode) {
     if m == was {
         return;
     }
-    c.let_go_jog(false);
+    super::manual::release(c, false);
     let f = c.front();
-    f.jog_key.clear();
     f.op = m;
     f.entry.clear();
     f.y_output = None;

@@ -5,9 +5,11 @@
 //! (issue 22: each console had its own before stops 40 and 43).
 
 use super::front::Front;
+use super::manual::ManualTarget;
+use super::wait::WaitFor;
 use super::Console;
-use crate::panel_model::OpMode;
-use crate::pulse_core::{Command, Status};
+use crate::panel_model::{Axis, OpMode, PanelEvent};
+use crate::pulse_core::{ClockMode, Command, Reached, Status};
 use crate::record::Switches;
 use crate::settings::MachineSettings;
 
@@ -33,11 +35,26 @@ pub(crate) trait Side {
     fn channel_runs(&self) -> bool;
     /// Leaves the page up over the mode display.
     fn leave_page(&mut self);
-    /// Lets a CONTINUOUS jog go: the machine is told when one was begun, or `always` (a jog
-    /// the console lost track of must still stop).
-    fn let_go_jog(&mut self, always: bool);
-    /// Forgets the jog E-STOP has stopped (nothing is left to let go).
-    fn forget_jog(&mut self);
+    /// The channel the panel's manual moves act on (the selected one; the centre's 0).
+    fn selected(&self) -> usize;
+    /// The machine's own refusal of a manual move of `axis` now (after E-STOP, which the one
+    /// rule checks: `manual::motion`), named `what`; else where the selected channel's axes
+    /// stand, and how its channel is named on the message line.
+    fn manual_target(&mut self, axis: Axis, what: &str) -> Result<ManualTarget, String>;
+    /// Tells channel `ch`'s machine `cmd` (a manual move, its keep-alive or release) and takes
+    /// its state: a refusal is in that channel's notice (`channels`).
+    fn tell(&mut self, ch: usize, cmd: Command);
+    /// The clock the machine runs on.
+    fn clock(&self) -> ClockMode;
+    /// The machine's time now, ns.
+    fn now_ns(&self) -> u64;
+    /// Virtual time: runs the machine until channel `ch`'s manual move is at rest (a
+    /// CONTINUOUS tap, docs/panel.md "Jogging").
+    fn settle(&mut self, ch: usize);
+    /// Records `ev` on `/panel/event` as the operator's (a tapped key, a key let go).
+    fn record(&mut self, ev: &PanelEvent);
+    /// Runs the machine for a script's wait (`wait::wait`): how the wait ended.
+    fn run_wait(&mut self, w: WaitFor) -> Reached;
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
@@ -69,14 +86,42 @@ impl Side for Console {
     fn leave_page(&mut self) {
         self.pages.page = crate::panel_model::Page::Mode;
     }
-    fn let_go_jog(&mut self, always: bool) {
-        if always || self.jogging {
-            self.command(Command::JogRelease);
-        }
-        self.jogging = false;
+    fn selected(&self) -> usize {
+        0
     }
-    fn forget_jog(&mut self) {
-        self.jogging = false;
+    fn manual_target(&mut self, _axis: Axis, what: &str) -> Result<ManualTarget, String> {
+        // A run held (or stopped between blocks) may be left by hand: START first returns
+        // to where it stood (manual intervention, docs/pulse-core.md).
+        if self.status.run != 0 && !self.status.hold {
+            return Err(format!("{what} refused: a program is running (STOP first)"));
+        }
+        Ok(ManualTarget {
+            ch: 0,
+            pos: self.status.machine_state().pos,
+            label: String::new(),
+            x_radius: false,
+        })
+    }
+    fn tell(&mut self, _ch: usize, cmd: Command) {
+        self.command(cmd);
+        // Said by the rule (`manual::motion`), not again by the next refresh.
+        self.notice_seen = self.status.notice.clone();
+    }
+    fn clock(&self) -> ClockMode {
+        self.cfg.clock
+    }
+    fn now_ns(&self) -> u64 {
+        self.status.machine_ns
+    }
+    fn settle(&mut self, _ch: usize) {
+        self.core.run_until_idle(super::manual::SETTLE_LIMIT_NS);
+        self.status = self.core.status();
+    }
+    fn record(&mut self, ev: &PanelEvent) {
+        self.recorder.panel_event(ev, self.status.machine_ns);
+    }
+    fn run_wait(&mut self, w: WaitFor) -> Reached {
+        super::run::run_wait(self, w)
     }
     fn turned(&mut self, was: OpMode) -> bool {
         let m = self.front.op;

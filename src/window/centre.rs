@@ -182,7 +182,7 @@ impl Front for Centre {
     fn stuck(&self) -> Option<String> {
         let s = self.console.status();
         s.stalled
-            .then(|| crate::console::stalled_note(s.feed_override))
+            .then(|| crate::console::wait::stalled_note(s.feed_override))
     }
     fn moving(&self) -> bool {
         !self.console.is_idle()

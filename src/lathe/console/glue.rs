@@ -652,6 +652,9 @@ impl Cycle {
     /// its state. Whether `until` holds (never for [`RunUntil::Time`]).
     pub fn run(&mut self, ns: u64, until: RunUntil) -> bool {
         let virt = self.clock == ClockMode::Virtual && ns > 0;
+        let notices: Vec<Option<String>> = (self.snap.iter())
+            .map(|c| c.status.notice.clone())
+            .collect();
         let started = match until {
             RunUntil::Time if virt => {
                 self.core.run_for(ns);
@@ -667,6 +670,15 @@ impl Cycle {
             _ => false,
         };
         self.refresh();
+        // A notice that came while the machine ran is a refusal of its own (an increment the
+        // operator queued that would leave the travel when its turn came): said, as the
+        // centre's console says it (a command's refusal is said by its command).
+        for (i, c) in self.snap.iter().enumerate() {
+            if c.status.notice.is_some() && notices.get(i) != Some(&c.status.notice) {
+                let n = c.status.notice.as_deref().unwrap_or_default();
+                self.message = Some(format!("CH{} {n}", i + 1));
+            }
+        }
         match until {
             RunUntil::Time => false,
             RunUntil::Rest => self.at_rest(),

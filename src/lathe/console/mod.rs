@@ -25,10 +25,10 @@ use crate::console::keys::Action;
 use crate::console::pages::{macros, msg};
 use crate::console::recording::Recording;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
+use crate::console::wait::{WaitFor, WAIT_LIMIT_NS};
 use crate::console::MsgLife;
-use crate::console::WAIT_LIMIT_NS;
 use crate::panel_model::{OpMode, Page, PanelEvent};
-use crate::pulse_core::{ClockMode, Command};
+use crate::pulse_core::{ClockMode, Command, Reached};
 use crate::record::foxglove::level;
 use crate::store::history::Kind;
 use crate::store::lathe::{Counter, LatheStore, Program};
@@ -105,8 +105,6 @@ pub struct LatheConsole {
     kept: Vec<super::gcode::Kept>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
-    /// The channel a continuous jog was begun on and not yet released.
-    jogging: Option<usize>,
 }
 
 /// What the terminal or the window draws.
@@ -244,7 +242,6 @@ impl LatheConsole {
             stale_counts: stale,
             kept,
             interrupt: None,
-            jogging: None,
         };
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
@@ -600,14 +597,11 @@ impl LatheConsole {
         ) {
             self.record_event(&ev);
         }
+        use crate::console::wait::wait;
         match ev {
-            PanelEvent::Wait => return self.wait(WAIT_LIMIT_NS, RunUntil::Rest),
-            PanelEvent::WaitBlock(n) => {
-                return self.wait(WAIT_LIMIT_NS, RunUntil::Block(self.sel, n))
-            }
-            PanelEvent::WaitMs(ms) => {
-                return self.wait(ms.saturating_mul(1_000_000), RunUntil::Time)
-            }
+            PanelEvent::Wait => return wait(self, WaitFor::Idle),
+            PanelEvent::WaitBlock(n) => return wait(self, WaitFor::Block(n)),
+            PanelEvent::WaitMs(ms) => return wait(self, WaitFor::Ms(ms)),
             PanelEvent::Show => return,
             PanelEvent::Press(k) => return self.press(k),
             _ => {}
@@ -632,8 +626,8 @@ impl LatheConsole {
         }
         match ev {
             PanelEvent::Op(m) => crate::console::selector::turn(self, m),
-            PanelEvent::Jog(axis, dir) => self.jog(axis, dir),
-            PanelEvent::Wheel(axis, n) => self.wheel(axis, n),
+            PanelEvent::Jog(axis, dir) => crate::console::manual::jog(self, axis, dir),
+            PanelEvent::Wheel(axis, n) => crate::console::manual::turn_wheel(self, axis, n),
             PanelEvent::JogRelease => crate::console::relay::jog_release(self),
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
@@ -677,26 +671,27 @@ impl LatheConsole {
         self.after();
     }
 
-    /// A script's wait: runs the machine as [`LatheConsole::run_for`] does, and says why the
-    /// wait cannot end, if it cannot (the centre's words: feed override 0 with a feed move in
-    /// progress, or the limit of machine time), on the message line and in
-    /// [`LatheConsole::wait_error`].
-    fn wait(&mut self, limit_ns: u64, until: RunUntil) {
-        self.front.wait_error = None;
+    /// The lathe's part of a script's wait (`crate::console::wait`): runs the machine as
+    /// [`LatheConsole::run_for`] does, and says how it ended.
+    fn run_wait(&mut self, w: WaitFor) -> Reached {
+        let (limit_ns, until) = match w {
+            WaitFor::Idle => (WAIT_LIMIT_NS, RunUntil::Rest),
+            WaitFor::Block(n) => (WAIT_LIMIT_NS, RunUntil::Block(self.sel, n)),
+            WaitFor::Ms(ms) => (ms.saturating_mul(1_000_000), RunUntil::Time),
+        };
         let stop = self.interrupt.unwrap_or(|| false);
         let used = self.run_for(limit_ns, until, stop);
-        if until == RunUntil::Time || stop() {
-            return;
-        }
-        let e = if self.stalled() {
-            format!("wait: {}", crate::console::stalled_note(0))
+        if stop() {
+            Reached::Interrupted
+        } else if until == RunUntil::Time {
+            Reached::Time
+        } else if self.stalled() {
+            Reached::Stalled
         } else if used >= limit_ns && !self.at_rest() {
-            crate::console::wait_limit_note(limit_ns)
+            Reached::Limit
         } else {
-            return;
-        };
-        self.front.message = e.clone();
-        self.front.wait_error = Some(e);
+            Reached::Idle
+        }
     }
 
     /// Why the last script wait could not end, if it could not.
@@ -716,7 +711,7 @@ impl LatheConsole {
     fn select(&mut self, c: usize) {
         if c != self.sel {
             // The channel selector turned lets the last channel's jog go.
-            self.release_any_jog();
+            crate::console::manual::release(self, false);
         }
         self.sel = c;
         self.front.y_output = None;
@@ -994,7 +989,7 @@ impl LatheConsole {
 
     fn reset(&mut self) {
         self.front.jog_key.clear();
-        self.jogging = None;
+        self.front.jogging = None;
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self.estop();
@@ -1036,7 +1031,7 @@ impl LatheConsole {
     /// Advances the machine by `ns` of machine time (whole ticks), records what happened and
     /// stores the part counter as it counts.
     pub fn tick(&mut self, ns: u64) {
-        self.keep_jog();
+        crate::console::manual::keep(self);
         self.step(ns, RunUntil::Time);
     }
 
@@ -1065,7 +1060,7 @@ impl LatheConsole {
             return 0;
         }
         let t0 = self.now_ns;
-        self.keep_jog();
+        crate::console::manual::keep(self);
         self.step(limit_ns, until);
         self.now_ns - t0
     }
@@ -1297,9 +1292,6 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn handle(&mut self, ev: PanelEvent) {
         LatheConsole::handle(self, ev)
     }
-    fn hold_jog(&mut self, k: Key, axis: crate::panel_model::Axis, dir: i8) {
-        LatheConsole::hold_jog(self, k, axis, dir)
-    }
     fn page(&self) -> Page {
         self.page
     }
@@ -1367,14 +1359,34 @@ impl crate::console::side::Side for LatheConsole {
     fn leave_page(&mut self) {
         self.page = Page::Mode;
     }
-    fn let_go_jog(&mut self, always: bool) {
-        match always {
-            true => self.release_jog(),
-            false => self.release_any_jog(),
-        }
+    fn selected(&self) -> usize {
+        self.sel
     }
-    fn forget_jog(&mut self) {
-        self.jogging = None;
+    fn manual_target(
+        &mut self,
+        axis: crate::panel_model::Axis,
+        what: &str,
+    ) -> Result<crate::console::manual::ManualTarget, String> {
+        LatheConsole::manual_target(self, axis, what)
+    }
+    fn tell(&mut self, ch: usize, cmd: Command) {
+        // A refusal is in the channel's notice (`Side::channels`).
+        let _ = self.cycle.manual(ch, cmd);
+    }
+    fn clock(&self) -> crate::pulse_core::ClockMode {
+        self.cycle.clock()
+    }
+    fn now_ns(&self) -> u64 {
+        self.now_ns
+    }
+    fn settle(&mut self, ch: usize) {
+        LatheConsole::settle(self, ch)
+    }
+    fn record(&mut self, ev: &PanelEvent) {
+        self.record_event(ev)
+    }
+    fn run_wait(&mut self, w: WaitFor) -> crate::pulse_core::Reached {
+        LatheConsole::run_wait(self, w)
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;

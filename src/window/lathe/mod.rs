@@ -210,7 +210,7 @@ impl Front for Lathe {
     fn stuck(&self) -> Option<String> {
         self.console
             .stalled()
-            .then(|| crate::console::stalled_note(0))
+            .then(|| crate::console::wait::stalled_note(0))
     }
     fn moving(&self) -> bool {
         !self.console.at_rest()
