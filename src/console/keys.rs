@@ -219,8 +219,6 @@ pub(crate) trait Keyed: super::side::Side {
     /// The keys taken before the key map: a page's keys, the editor's cursor keys, the MDI
     /// recall (each console records and shows what it took). Whether `k` was one of them.
     fn takes_first(&mut self, k: Key, action: &Action) -> bool;
-    /// One event of the panel grammar (recorded as the event).
-    fn handle(&mut self, ev: PanelEvent);
     /// The page up over the mode display.
     fn page(&self) -> Page;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
@@ -238,7 +236,7 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
     if stop {
         c.front().help = 0;
         if let Action::Event(e) = action {
-            c.handle(e);
+            handle(c, e);
         }
         return;
     }
@@ -305,7 +303,36 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
             return;
         }
     };
-    c.handle(ev)
+    handle(c, ev)
+}
+
+/// One event of the panel grammar on a console, every console's one dispatch (issue 22: each
+/// console had its own before stop 44): a key goes through the key pipeline ([`press`], which
+/// records it as what it did); any other event is recorded on `/panel/event`; a script's
+/// waits run the machine (`wait::wait`) and `show` does nothing here (the front end prints
+/// the display); an operator action ends the last one's message and goes to the machine side
+/// (`Side::act`: its own gate, the rules written once and its own words). The machine's
+/// state is then taken and shown.
+pub(crate) fn handle<C: Keyed>(c: &mut C, ev: PanelEvent) {
+    use super::wait::{wait, WaitFor};
+    if let PanelEvent::Press(k) = ev {
+        return press(c, k);
+    }
+    c.record(&ev);
+    match ev {
+        PanelEvent::Wait => wait(c, WaitFor::Idle),
+        PanelEvent::WaitBlock(n) => wait(c, WaitFor::Block(n)),
+        PanelEvent::WaitMs(t) => wait(c, WaitFor::Ms(t)),
+        PanelEvent::Show => {}
+        ev => {
+            // A simulated machine input is not the operator's: the message lives on.
+            if !matches!(ev, PanelEvent::Input { .. }) {
+                c.front().new_action();
+            }
+            c.act(ev);
+        }
+    }
+    c.refresh();
 }
 
 /// A CONTINUOUS jog key as a terminal reports it (`HeldJog`): a tap moves one increment (run
@@ -328,7 +355,7 @@ fn hold<C: Keyed>(c: &mut C, k: Key, axis: Axis, dir: i8) {
             c.refresh();
             let ch = c.selected();
             if !c.channels().get(ch).is_some_and(|s| s.moving) {
-                c.handle(PanelEvent::Jog(axis, dir));
+                handle(c, PanelEvent::Jog(axis, dir));
                 let began = c.front().jogging.is_some();
                 c.front().jog_key.began(began);
             }
@@ -384,9 +411,6 @@ impl Keyed for Console {
         }
         self.refresh();
         true
-    }
-    fn handle(&mut self, ev: PanelEvent) {
-        Console::handle(self, ev)
     }
     fn page(&self) -> Page {
         self.pages.page

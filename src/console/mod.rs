@@ -247,20 +247,11 @@ impl Console {
         Ok((c, warnings))
     }
 
-    /// Applies one operator action. Never fails: a key that is not valid in the current mode
-    /// gets a message on the display and changes nothing.
+    /// Applies one event of the panel grammar (`keys::handle`, every console's one
+    /// dispatch). Never fails: a key that is not valid in the current mode gets a message on
+    /// the display and changes nothing.
     pub fn handle(&mut self, ev: PanelEvent) {
-        if is_action(&ev) {
-            self.front.new_action();
-        }
-        self.status = self.core.status();
-        // A key is recorded by `press`, as what it does (`start` for F9, `key 5` for a digit
-        // on a page): recorded here too, a script's key was in the recording twice.
-        if !matches!(ev, PanelEvent::Press(_)) {
-            self.recorder.panel_event(&ev, self.status.machine_ns);
-        }
-        self.apply(ev);
-        self.refresh();
+        keys::handle(self, ev)
     }
 
     /// Polls the pulse core and refreshes the display; call at display rate.
@@ -434,7 +425,7 @@ impl Console {
             return;
         }
         self.front.new_action();
-        self.apply(PanelEvent::Tape(PathBuf::from(path)));
+        tape::apply(self, PanelEvent::Tape(PathBuf::from(path)));
         self.refresh();
     }
 
@@ -570,11 +561,6 @@ impl Console {
         }
     }
 
-    /// Dispatches one event (the rules of `docs/panel.md`).
-    fn apply(&mut self, ev: PanelEvent) {
-        tape::apply(self, ev);
-    }
-
     /// Dispatches one event the tape rules let through.
     fn apply_event(&mut self, ev: PanelEvent) {
         match ev {
@@ -653,11 +639,12 @@ impl Console {
             PanelEvent::Wheel(axis, n) => manual::turn_wheel(self, axis, n),
             PanelEvent::Jog(axis, dir) => manual::jog(self, axis, dir),
             PanelEvent::JogRelease => relay::jog_release(self),
-            PanelEvent::Press(k) => self.press(k),
-            PanelEvent::Wait => wait::wait(self, wait::WaitFor::Idle),
-            PanelEvent::WaitBlock(n) => wait::wait(self, wait::WaitFor::Block(n)),
-            PanelEvent::WaitMs(t) => wait::wait(self, wait::WaitFor::Ms(t)),
-            PanelEvent::Show => {}
+            // Taken by the one dispatch (`keys::handle`) before the machine side.
+            PanelEvent::Press(_)
+            | PanelEvent::Wait
+            | PanelEvent::WaitBlock(_)
+            | PanelEvent::WaitMs(_)
+            | PanelEvent::Show => {}
             // The words of a machine with several channels: refused on the centre's one.
             ev @ (PanelEvent::Channel(_)
             | PanelEvent::Fault(..)
@@ -695,19 +682,6 @@ impl Console {
             }
         }
     }
-}
-
-/// Whether an event is an operator action (which ends the last operator message's life): not
-/// a script's waits, `show`, or a simulated machine input.
-fn is_action(ev: &PanelEvent) -> bool {
-    !matches!(
-        ev,
-        PanelEvent::Wait
-            | PanelEvent::WaitBlock(_)
-            | PanelEvent::WaitMs(_)
-            | PanelEvent::Show
-            | PanelEvent::Input { .. }
-    )
 }
 
 /// A clock choice for scripts and tests: virtual time.

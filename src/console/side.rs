@@ -55,6 +55,10 @@ pub(crate) trait Side {
     fn record(&mut self, ev: &PanelEvent);
     /// Runs the machine for a script's wait (`wait::wait`): how the wait ended.
     fn run_wait(&mut self, w: WaitFor) -> Reached;
+    /// An operator action, recorded already (`keys::handle`): the machine side's own gate
+    /// (the centre's tape reader while it reads, a lathe's refusal of the centre's own
+    /// words), then the rules written once and the machine's own.
+    fn act(&mut self, ev: PanelEvent);
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
@@ -122,6 +126,10 @@ impl Side for Console {
     }
     fn run_wait(&mut self, w: WaitFor) -> Reached {
         super::run::run_wait(self, w)
+    }
+    fn act(&mut self, ev: PanelEvent) {
+        self.status = self.core.status();
+        super::tape::apply(self, ev);
     }
     fn turned(&mut self, was: OpMode) -> bool {
         let m = self.front.op;

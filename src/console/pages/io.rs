@@ -66,7 +66,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     match PanelEvent::parse_input(&words) {
         Ok(ev) => {
             let said = format!("I/O: {}", super::super::script_line::script_line(&ev));
-            c.apply(ev);
+            super::super::tape::apply(c, ev);
             c.front.message = said;
         }
         Err(e) => {

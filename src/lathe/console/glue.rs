@@ -633,7 +633,10 @@ impl Cycle {
     pub fn at_rest(&self) -> bool {
         self.snap.iter().all(|c| {
             let v = c.sync.as_ref();
-            v.is_some_and(|v| v.done || v.at_sync.is_some()) || c.status.idle
+            // A finished channel with no run that is not idle has a manual move moving or
+            // queued (a STEP after the cycle ended, which moves at the next wait).
+            let done = v.is_some_and(|v| v.done) && (c.status.run != 0 || c.status.idle);
+            done || v.is_some_and(|v| v.at_sync.is_some()) || c.status.idle
         })
     }
 

@@ -582,47 +582,27 @@ impl LatheConsole {
         self.recorder.panel_event(ev, self.now_ns);
     }
 
-    /// One operator action, an event of the one panel grammar (the centre's and the lathe's
-    /// alike), or a script's `wait`, `wait block N`, `wait ms T` (run in machine time, as
-    /// the centre's console runs them; [`LatheConsole::wait_error`] says why one could not
-    /// end) and `show`. Recorded on `/panel/event`; a refusal, and an event the lathe has no
-    /// use for, says why on the message line and changes nothing.
+    /// One event of the panel grammar (the centre's and the lathe's alike), by every
+    /// console's one dispatch (`crate::console::keys::handle`): recorded on `/panel/event`; a
+    /// script's waits run in machine time as the centre's ([`LatheConsole::wait_error`] says
+    /// why one could not end); a refusal, and an event the lathe has no use for, says why on
+    /// the message line and changes nothing.
     pub fn handle(&mut self, ev: PanelEvent) {
-        // A script's waits and `show` are recorded too, as the centre records them: the
-        // recording's `/panel/event` plays back as the script it was (before stop 39 the lathe
-        // left the waits out, and a replay ran every action in the same instant).
-        if matches!(
-            ev,
-            PanelEvent::Wait | PanelEvent::WaitBlock(_) | PanelEvent::WaitMs(_) | PanelEvent::Show
-        ) {
-            self.record_event(&ev);
-        }
-        use crate::console::wait::wait;
-        match ev {
-            PanelEvent::Wait => return wait(self, WaitFor::Idle),
-            PanelEvent::WaitBlock(n) => return wait(self, WaitFor::Block(n)),
-            PanelEvent::WaitMs(ms) => return wait(self, WaitFor::Ms(ms)),
-            PanelEvent::Show => return,
-            PanelEvent::Press(k) => return self.press(k),
-            _ => {}
-        }
-        self.record_event(&ev);
-        self.act(ev);
+        crate::console::keys::handle(self, ev)
     }
 
     /// An operator action, recorded already (by `handle` as its event, or by `press` as the
     /// key when the key took the typed line: FAULT's reason, TARGET's number, so that a replay
-    /// of the recording takes the same line off the entry line).
+    /// of the recording takes the same line off the entry line). The caller takes the
+    /// machine's state after it (`after`).
     fn act(&mut self, ev: PanelEvent) {
-        // An operator action: the last one's message has lived its life.
-        self.say("", MsgLife::NextKey);
         if let Err(e) = events::takes(&ev) {
             self.front.message = e;
-            return self.after();
+            return;
         }
         // The panel's switches: every console's one rule.
         if crate::console::switches::turn(self, &ev) {
-            return self.after();
+            return;
         }
         match ev {
             PanelEvent::Op(m) => crate::console::selector::turn(self, m),
@@ -668,7 +648,6 @@ impl LatheConsole {
             // `events::takes` let through only the words above and the switches.
             _ => {}
         }
-        self.after();
     }
 
     /// The lathe's part of a script's wait (`crate::console::wait`): runs the machine as
@@ -1289,9 +1268,6 @@ impl crate::console::keys::Keyed for LatheConsole {
         self.after();
         true
     }
-    fn handle(&mut self, ev: PanelEvent) {
-        LatheConsole::handle(self, ev)
-    }
     fn page(&self) -> Page {
         self.page
     }
@@ -1311,12 +1287,16 @@ impl crate::console::keys::Keyed for LatheConsole {
                     why.trim().to_lowercase()
                 };
                 self.act(PanelEvent::Fault(self.sel, why));
+                self.after();
             }
             Action::Target => {
                 self.record_key(k);
                 let typed = std::mem::take(&mut self.front.entry);
                 match typed.trim().parse::<u32>() {
-                    Ok(n) if (1..=999_999).contains(&n) => self.act(PanelEvent::Target(n)),
+                    Ok(n) if (1..=999_999).contains(&n) => {
+                        self.act(PanelEvent::Target(n));
+                        self.after();
+                    }
                     _ => {
                         self.front.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
                         self.front.entry = typed;
@@ -1387,6 +1367,9 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn run_wait(&mut self, w: WaitFor) -> crate::pulse_core::Reached {
         LatheConsole::run_wait(self, w)
+    }
+    fn act(&mut self, ev: PanelEvent) {
+        LatheConsole::act(self, ev)
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;
