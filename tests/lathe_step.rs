@@ -600,3 +600,33 @@ fn manual_moves_are_said_and_timed_alike_on_both_machines() {
     m.handle(PanelEvent::Wait);
     assert!(!m.message().contains("jogging"), "{}", m.message());
 }
+
+/// A STEP after the cycle has finished moves at the next wait: a finished channel with a
+/// manual move queued is not at rest (the random sequences found a `wait` that ended at once
+/// with the increment still queued, stop 44).
+#[test]
+fn a_step_after_the_cycle_has_finished_moves_at_the_next_wait() {
+    let dir = common::temp_dir("lathe-step-after-cycle");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert!(
+        c.view().channels.iter().all(|ch| ch.state == "DONE"),
+        "{:?}",
+        c.view()
+            .channels
+            .iter()
+            .map(|ch| &ch.state)
+            .collect::<Vec<_>>()
+    );
+    c.handle(PanelEvent::Op(OpMode::Step));
+    c.handle(PanelEvent::WheelScale(1000));
+    let before = posts(&c);
+    c.handle(PanelEvent::Jog(Axis::Z, -1));
+    assert!(c.message().starts_with("STEP CH1 Z-"), "{}", c.message());
+    c.handle(PanelEvent::Wait);
+    assert_eq!(posts(&c)[0][1], before[0][1] - 1000, "{}", c.message());
+    let _ = std::fs::remove_dir_all(&dir);
+}

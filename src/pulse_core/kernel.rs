@@ -1165,9 +1165,13 @@ impl Kernel {
     /// Whether some channel can still move without the operator (not finished, not waiting
     /// at a sync point, not idle: held at rest, stopped, faulted, in E-STOP or alarm).
     pub fn progressing(&self) -> bool {
+        // A channel done with its part target, or waiting at a sync point, may still move by
+        // hand (a STEP after the cycle has finished): before stop 44 that move did not count,
+        // so a wait for rest ended with it half done, and in real time the idle step ran it
+        // up to 10 ms ahead of the wall clock.
         self.chans
             .iter()
-            .any(|c| !c.done && c.at_point.is_none() && !c.m.is_idle())
+            .any(|c| c.m.moves_by_hand() || (!c.done && c.at_point.is_none() && !c.m.is_idle()))
     }
 
     /// How much machine time [`Kernel::run_until`] runs between its looks at the channels

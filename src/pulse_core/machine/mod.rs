@@ -924,6 +924,12 @@ impl Machine {
             && self.increments.is_empty()
     }
 
+    /// A manual move moves or is queued (a CONTINUOUS jog, STEP or handwheel increments), and
+    /// no E-STOP stopped it.
+    pub fn moves_by_hand(&self) -> bool {
+        !self.estop && (self.jog.is_some() || !self.increments.is_empty())
+    }
+
     /// Nothing will happen until a command: no motion, nothing pending, and RUN = 0 (or a feed
     /// hold at rest, or an emergency stop).
     pub fn is_idle(&self) -> bool {
