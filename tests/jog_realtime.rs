@@ -75,6 +75,10 @@ fn a_held_key_jogs_and_stops_when_it_is_released() {
         ticks(&mut c, 20);
     }
     let at_release = c.status().pos;
+    // While it jogs the screen says so, from the machine's state (stop 44: the centre's said
+    // nothing, and each repeat cleared the jog's own message).
+    let said = c.frame_text();
+    assert!(said.contains("JOG: an axis moves by hand"), "{said}");
     let moved = at_release[1] - before[1];
     // A held key is a continuous jog, far more than one increment (the jog feed is about
     // 1000 mm/min: some 15 mm in a second).
@@ -91,6 +95,12 @@ fn a_held_key_jogs_and_stops_when_it_is_released() {
     );
     assert_eq!([after[0], after[2]], [before[0], before[2]], "only Y moves");
     assert!(!c.status().moving);
+    // At rest, it no longer says so.
+    let said = c.frame_text();
+    assert!(
+        !said.contains("JOG:") && !said.contains("jogging"),
+        "{said}"
+    );
 }
 
 /// A frozen front end (docs/panel.md, "The jog deadman"): the console stops running in the

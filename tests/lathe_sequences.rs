@@ -385,6 +385,15 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             if ["STEP CH", "HANDLE CH"].iter().any(|w| said.starts_with(w)) {
                 // In virtual time a STEP or a detent moves at the next wait (docs/cli.md
                 // "Time"); a CONTINUOUS tap runs to rest at once.
+                if rng.below(4) == 0 {
+                    // E-STOP before the wait: the increment queued is dropped, and nothing
+                    // moves (stop 44).
+                    s.stats.estops += 1;
+                    s.c.handle(PanelEvent::EStop);
+                    s.c.handle(PanelEvent::Wait);
+                    assert_eq!(posts(&s.c), before, "{line} | estop | wait: {said}");
+                    return format!("{line} | estop | wait");
+                }
                 s.c.handle(PanelEvent::Wait);
                 line.push_str(" | wait");
             }

@@ -503,8 +503,9 @@ impl Console {
             MsgLife::NextKey => false,
             MsgLife::WhileBlock(done) => s.run == 0 || s.hold || s.blocks_done != done,
             // Said in this instant, the machine has not answered yet.
+            // Not idle: a jog just begun has not moved yet, but it is the machine's.
             MsgLife::WhileRunning => {
-                let runs = s.moving || (s.run != 0 && !s.hold);
+                let runs = s.moving || !s.idle;
                 !runs && self.front.said_ns != s.machine_ns
             }
         };

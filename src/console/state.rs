@@ -44,6 +44,9 @@ pub(super) fn lamps(c: &Console) -> Lamps {
 /// The message line while the machine is in EMERGENCY STOP, on every console.
 pub(crate) const ESTOP_NOTE: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 
+/// The message line while an axis moves by hand with no run loaded (the centre's).
+pub(crate) const JOG_NOTE: &str = "JOG: an axis moves by hand";
+
 /// The message line while a run is held by STOP (the selector runs it), on every console.
 pub(crate) const HOLD_NOTE: &str = "feed hold: press START to resume, RESET to abandon";
 
@@ -57,7 +60,14 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
     if s.estop {
         return Some(ESTOP_NOTE.into());
     }
-    let job = s.job.as_ref()?;
+    let Some(job) = s.job.as_ref() else {
+        // No run: what moves is moved by hand (a jog, STEP or handwheel increments); said by
+        // the state while it lasts, as a lathe says it (stop 44: the centre said nothing, and a
+        // held key's repeats cleared the jog's own message).
+        // The jog's own message (`CONTINUOUS X+: jogging`) says it while it lives.
+        let said = c.front.life == super::MsgLife::WhileRunning && !c.front.message.is_empty();
+        return (!said && (s.moving || !s.idle)).then(|| JOG_NOTE.into());
+    };
     if job.returning {
         return None;
     }
