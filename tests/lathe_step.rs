@@ -630,3 +630,34 @@ fn a_step_after_the_cycle_has_finished_moves_at_the_next_wait() {
     assert_eq!(posts(&c)[0][1], before[0][1] - 1000, "{}", c.message());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// START's refusals are one rule on both machines (stop 44, `console::relay::start_allowed`):
+/// in a manual position the selector's words first, E-STOP's in a running position (before,
+/// a lathe in CONTINUOUS under E-STOP said E-STOP's and the centre the selector's).
+#[test]
+fn start_is_refused_in_the_same_words_on_both_machines() {
+    let dir = common::temp_dir("lathe-start-words");
+    let mut c = open(&dir);
+    let mut m = common::open("centre-start-words");
+    let mut said = Vec::new();
+    for op in [OpMode::Auto, OpMode::Continuous, OpMode::Mdi, OpMode::Step] {
+        c.handle(PanelEvent::EStop);
+        m.handle(PanelEvent::EStop);
+        c.handle(PanelEvent::Op(op));
+        m.handle(PanelEvent::Op(op));
+        c.handle(PanelEvent::Start);
+        m.handle(PanelEvent::Start);
+        assert_eq!(c.message(), m.message(), "{op:?}");
+        said.push(m.message().to_string());
+    }
+    assert_eq!(
+        said,
+        [
+            "START refused: EMERGENCY STOP in force, press RESET",
+            "START refused in CONTINUOUS: use AUTO, MDI or SINGLE BLOCK",
+            "START refused: EMERGENCY STOP in force, press RESET",
+            "START refused in STEP: use AUTO, MDI or SINGLE BLOCK",
+        ]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -83,6 +83,13 @@ impl Front {
         self.said_ns = now_ns;
     }
 
+    /// Forgets the CONTINUOUS key held and the jog begun (E-STOP and RESET have stopped the
+    /// machine: nothing is left to let go).
+    pub fn forget_jog(&mut self) {
+        self.jog_key.clear();
+        self.jogging = None;
+    }
+
     /// An operator action begins: the message of the last one has lived its life.
     pub fn new_action(&mut self) {
         self.message.clear();

@@ -609,8 +609,7 @@ impl Console {
                 gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
                 self.program_alarm = None;
                 self.tape_alarm = None;
-                self.front.jogging = None;
-                self.front.jog_key.clear();
+                self.front.forget_jog();
                 self.front.message = "reset: machine idle, block buffer empty".into();
             }
             PanelEvent::EStop => relay::estop(self),
@@ -661,6 +660,9 @@ impl Console {
 
     /// START: run, resume, or read the tape, by mode.
     fn start(&mut self) {
+        if !relay::start_allowed(self) {
+            return;
+        }
         if self.tape_alarm.is_some() {
             self.front.message = "START refused: TAPE ALARM in force, press RESET".into();
             return;
@@ -675,12 +677,8 @@ impl Console {
                     self.front.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
                 }
             },
-            OpMode::Continuous | OpMode::Step | OpMode::Handle => {
-                self.front.message = format!(
-                    "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
-                    self.front.op.name()
-                );
-            }
+            // `relay::start_allowed` refused these.
+            OpMode::Continuous | OpMode::Step | OpMode::Handle => {}
         }
     }
 }

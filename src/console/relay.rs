@@ -7,7 +7,28 @@
 //! told to every channel whatever the console thinks is running.
 
 use super::side::Side;
+use crate::panel_model::OpMode;
 use crate::pulse_core::Command;
+
+/// START's rules before the machine's own: refused, and said, in the selector's manual
+/// positions (START runs in AUTO, MDI and SINGLE BLOCK), and in E-STOP until RESET in those.
+/// DATA INPUT is each machine's own: the centre's START reads a tape (in E-STOP too: nothing
+/// moves), a lathe's refuses it. Whether START goes on.
+pub(crate) fn start_allowed<C: Side>(c: &mut C) -> bool {
+    let op = c.front().op;
+    let why = if matches!(op, OpMode::Continuous | OpMode::Handle | OpMode::Step) {
+        format!(
+            "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
+            op.name()
+        )
+    } else if op != OpMode::Data && c.channels().iter().any(|s| s.estop) {
+        "START refused: EMERGENCY STOP in force, press RESET".to_string()
+    } else {
+        return true;
+    };
+    c.front().message = why;
+    false
+}
 
 /// STOP.
 pub(crate) fn stop<C: Side>(c: &mut C) {
@@ -35,9 +56,7 @@ pub(crate) fn stop<C: Side>(c: &mut C) {
 /// in the history as an alarm.
 pub(crate) fn estop<C: Side>(c: &mut C) {
     c.command_all(Command::EStop);
-    let f = c.front();
-    f.jog_key.clear();
-    f.jogging = None;
+    c.front().forget_jog();
 }
 
 /// A jog released (`jogrelease`, a jog button let go): told to the machine whether or not the

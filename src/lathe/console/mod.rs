@@ -734,17 +734,14 @@ impl LatheConsole {
     }
 
     fn start(&mut self) {
-        if self.estop() {
-            self.front.message = "START refused: EMERGENCY STOP in force, press RESET".into();
+        if !crate::console::relay::start_allowed(self) {
             return;
         }
         let op = self.front.op;
-        if matches!(
-            op,
-            OpMode::Data | OpMode::Continuous | OpMode::Handle | OpMode::Step
-        ) {
+        if op == OpMode::Data {
             // The centre's words: START runs in AUTO, MDI and SINGLE BLOCK only (before stop
-            // 42 a lathe cycle held by a mode turn resumed on START in any mode).
+            // 42 a lathe cycle held by a mode turn resumed on START in any mode); the lathe
+            // has no tape reader to start.
             self.front.message = format!(
                 "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
                 op.name()
@@ -967,8 +964,7 @@ impl LatheConsole {
     }
 
     fn reset(&mut self) {
-        self.front.jog_key.clear();
-        self.front.jogging = None;
+        self.front.forget_jog();
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self.estop();
