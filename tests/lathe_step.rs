@@ -602,8 +602,10 @@ fn manual_moves_are_said_and_timed_alike_on_both_machines() {
 }
 
 /// A STEP after the cycle has finished moves at the next wait: a finished channel with a
-/// manual move queued is not at rest (the random sequences found a `wait` that ended at once
-/// with the increment still queued, stop 44).
+/// manual move queued is not at rest (stop 44: the random sequences found the console's
+/// `wait` ending at once with the increment still queued, and this test then found the
+/// kernel's `progressing` leaving the move out too, so that the wait ended with 0.12 mm of a
+/// 1 mm STEP done).
 #[test]
 fn a_step_after_the_cycle_has_finished_moves_at_the_next_wait() {
     let dir = common::temp_dir("lathe-step-after-cycle");

@@ -691,3 +691,46 @@ fn a_switch_turned_does_not_bring_back_a_start_ignored() {
     keys(&mut c, &["Alt+d", "Alt+f"]);
     assert!(!shows(&c, "START ignored"), "{}", c.frame_text());
 }
+
+/// The screen says what moves with no run loaded, from the machine's state (stop 44): a jog,
+/// STEP or handwheel move is `JOG: an axis moves by hand` (the centre said nothing), HOME's
+/// return is HOME's words even once another key has cleared the message, and a jog after a
+/// HOME stopped short by E-STOP is a jog, not HOME.
+#[test]
+fn what_moves_without_a_run_is_said_by_the_state() {
+    use novanc::panel_model::{Axis, OpMode};
+    let mut c = open("what-moves-by-hand");
+    c.handle(E::Op(OpMode::Continuous));
+    c.handle(E::Jog(Axis::X, 1));
+    c.handle(E::WaitMs(300));
+    assert!(shows(&c, "CONTINUOUS X+: jogging"), "{}", c.frame_text());
+    c.handle(E::Override(90));
+    assert!(
+        shows(&c, "JOG: an axis moves by hand"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::JogRelease);
+    c.handle(E::Wait);
+    assert!(!shows(&c, "JOG:"), "{}", c.frame_text());
+    c.handle(E::Home);
+    c.handle(E::WaitMs(50));
+    c.handle(E::Override(100));
+    assert!(
+        shows(&c, "HOME: reference return, Z first, then X and Y") && !shows(&c, "JOG:"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::EStop);
+    c.handle(E::Reset);
+    c.handle(E::Op(OpMode::Step));
+    c.handle(E::Jog(Axis::Y, 1));
+    c.handle(E::Override(90));
+    assert!(
+        shows(&c, "JOG: an axis moves by hand") && !shows(&c, "HOME"),
+        "{}",
+        c.frame_text()
+    );
+    c.handle(E::Wait);
+    assert!(!shows(&c, "JOG:"), "{}", c.frame_text());
+}

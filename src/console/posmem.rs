@@ -213,7 +213,16 @@ pub(super) fn home(c: &mut Console) {
         return;
     }
     c.posmem.homing = true;
-    c.front.message = "HOME: reference return, Z first, then X and Y".into();
+    c.front.message = HOMING.into();
+}
+
+/// What HOME does, said when it is pressed and, while it runs, by the machine's state
+/// (`state::machine_note`).
+pub(super) const HOMING: &str = "HOME: reference return, Z first, then X and Y";
+
+/// A HOME is under way (it ends at rest: at machine zero, or stopped short by E-STOP or STOP).
+pub(super) fn homing(c: &Console) -> bool {
+    c.posmem.homing
 }
 
 /// After each status poll: the file follows what the axes do (written only when that
@@ -222,10 +231,14 @@ pub(super) fn home(c: &mut Console) {
 pub(super) fn track(c: &mut Console) {
     let s = &c.status;
     let at_rest = !s.moving && s.idle;
-    if c.posmem.homing && at_rest && s.job.is_none() && s.machine_pos == [0; 3] {
+    if c.posmem.homing && at_rest && s.job.is_none() {
+        // At rest, the return is over: made at machine zero, or stopped short (then HOME is
+        // still owed, and a jog after it is not said to be HOME).
         c.posmem.homing = false;
-        c.posmem.home_needed = false;
-        c.front.message = "HOME: the reference return is made; the position is known".into();
+        if s.machine_pos == [0; 3] {
+            c.posmem.home_needed = false;
+            c.front.message = "HOME: the reference return is made; the position is known".into();
+        }
     }
     // While the reference return is owed the file keeps saying the position is not to be
     // trusted (`moving`), at rest too: before stop 43 the first rest after a restart wrote `at

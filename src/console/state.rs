@@ -61,12 +61,16 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         return Some(ESTOP_NOTE.into());
     }
     let Some(job) = s.job.as_ref() else {
-        // No run: what moves is moved by hand (a jog, STEP or handwheel increments); said by
-        // the state while it lasts, as a lathe says it (stop 44: the centre said nothing, and a
-        // held key's repeats cleared the jog's own message).
+        // No run: what moves is HOME's reference return or moved by hand (a jog, STEP or
+        // handwheel increments); said by the state while it lasts, as a lathe says a jog (stop
+        // 44: the centre said nothing, and a held key's repeats cleared the jog's own message).
         // The jog's own message (`CONTINUOUS X+: jogging`) says it while it lives.
         let said = c.front.life == super::MsgLife::WhileRunning && !c.front.message.is_empty();
-        return (!said && (s.moving || !s.idle)).then(|| JOG_NOTE.into());
+        return match (s.moving || !s.idle, super::posmem::homing(c)) {
+            (false, _) => None,
+            (true, true) => Some(super::posmem::HOMING.into()),
+            (true, false) => (!said).then(|| JOG_NOTE.into()),
+        };
     };
     if job.returning {
         return None;
