@@ -663,3 +663,22 @@ fn start_is_refused_in_the_same_words_on_both_machines() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A line entered in AUTO goes nowhere, and stays for TARGET and FAULT, which take the typed
+/// line in any mode (stop 44: the message said `turn to MDI or DATA`, and the turn cleared
+/// the line it advised keeping).
+#[test]
+fn a_line_entered_in_auto_stays_for_target() {
+    let dir = common::temp_dir("lathe-auto-line");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Type("12".into()));
+    assert_eq!(
+        c.message(),
+        "AUTO takes no line; it stays for TARGET (Alt+n) or FAULT (Alt+x)"
+    );
+    c.press(Key::Alt('n'));
+    assert_eq!(c.message(), "part target 12");
+    assert_eq!(c.counter().target, 12);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -35,8 +35,10 @@ impl LatheConsole {
         match self.front.op {
             OpMode::Auto | OpMode::Single | OpMode::Continuous | OpMode::Handle | OpMode::Step => {
                 if !line.is_empty() {
+                    // The line stays for TARGET and FAULT, which take it in any mode. Before
+                    // stop 44 this said `turn to MDI or DATA`, and the turn cleared the line.
                     self.front.message = format!(
-                        "{} takes no data: turn to MDI or DATA",
+                        "{} takes no line; it stays for TARGET (Alt+n) or FAULT (Alt+x)",
                         self.front.op.word()
                     );
                     self.front.entry = line;
