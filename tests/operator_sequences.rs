@@ -1448,7 +1448,11 @@ impl Session {
             .join(" ");
         let says = |what: &str| text.contains(what);
         let stands_for_start = st.job.is_some() && st.run == 0 && !st.in_block && !st.moving;
-        let checks: [(&str, bool); 7] = [
+        // Something moves by hand (or HOME's return) with no run loaded (stop 44).
+        let by_hand = st.job.is_none() && (st.moving || !st.idle);
+        let checks: [(&str, bool); 9] = [
+            ("JOG: an axis moves by hand", by_hand),
+            ("HOME: reference return, Z first", by_hand),
             ("START: returning", false),
             ("returning to X", returning),
             ("press START to continue", stands_for_start),
