@@ -1347,7 +1347,7 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn tell(&mut self, ch: usize, cmd: Command) {
         // A refusal is in the channel's notice (`Side::channels`).
-        let _ = self.cycle.manual(ch, cmd);
+        self.cycle.manual(ch, cmd);
     }
     fn clock(&self) -> crate::pulse_core::ClockMode {
         self.cycle.clock()
