@@ -682,3 +682,78 @@ fn a_line_entered_in_auto_stays_for_target() {
     assert_eq!(c.counter().target, 12);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The one entry rule (stop 45): a line the machine refuses stays on the entry line beside the
+/// reason, on both machines, to be entered again or corrected; before, the centre dropped a
+/// refused editor or MDI line (only its pages kept one).
+#[test]
+fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
+    use novanc::panel_model::DataMode;
+    let dir = common::temp_dir("lathe-refused-line");
+    let mut c = open(&dir);
+    let mut m = common::open("centre-refused-line");
+    let lathe_line = |c: &LatheConsole| c.view().display.last().map(|l| l.trim_end().to_string());
+    // An editor command line that fails: the program is unchanged, the line stays.
+    m.handle(PanelEvent::Op(OpMode::Data));
+    m.handle(PanelEvent::Data(DataMode::Revise));
+    c.handle(PanelEvent::Op(OpMode::Data));
+    let before = c.view().display.clone();
+    m.handle(PanelEvent::Type("SNOTHERE99".into()));
+    c.handle(PanelEvent::Type("SNOTHERE99".into()));
+    assert!(m.message().contains("not found"), "{}", m.message());
+    assert!(c.message().contains("not found"), "{}", c.message());
+    assert_eq!(m.view().entry, "SNOTHERE99");
+    assert_eq!(lathe_line(&c).as_deref(), Some("> SNOTHERE99"));
+    assert_eq!(
+        c.view().display[..before.len() - 2],
+        before[..before.len() - 2]
+    );
+    // Corrected with RUBOUT and entered again: it acts, and the line is gone.
+    for _ in 0.."NOTHERE99".len() {
+        m.handle(PanelEvent::Rubout);
+        c.handle(PanelEvent::Rubout);
+    }
+    m.handle(PanelEvent::Key('L'));
+    c.handle(PanelEvent::Key('L'));
+    m.handle(PanelEvent::Eob);
+    c.handle(PanelEvent::Eob);
+    assert_eq!(m.message(), "ok");
+    assert_eq!(m.view().entry, "");
+    assert_eq!(c.message(), "ok");
+    assert_eq!(
+        lathe_line(&c).as_deref(),
+        Some(">"),
+        "{:?}",
+        c.view().display
+    );
+    // The centre's T-CODE SETTING out of the magazine: refused, and kept.
+    m.handle(PanelEvent::Data(DataMode::TCode));
+    m.handle(PanelEvent::Type("T99=5".into()));
+    assert!(m.message().starts_with("T99 refused"), "{}", m.message());
+    assert_eq!(m.view().entry, "T99=5");
+    // MDI: an empty line says what to do on both machines; a line refused stays.
+    m.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    m.handle(PanelEvent::Eob);
+    c.handle(PanelEvent::Eob);
+    assert!(m.message().starts_with("MDI: type"), "{}", m.message());
+    assert_eq!(c.message(), "MDI: type a block, Enter, then START");
+    m.handle(PanelEvent::Type("G0 X10".into()));
+    m.handle(PanelEvent::Start);
+    m.handle(PanelEvent::Stop);
+    m.handle(PanelEvent::Type("G0 X20".into()));
+    assert!(
+        m.message().starts_with("MDI refused: a run is loaded"),
+        "{}",
+        m.message()
+    );
+    assert_eq!(m.view().entry, "G0 X20");
+    // The centre still refuses each data key where it has no use for a line, and says so.
+    m.handle(PanelEvent::Op(OpMode::Auto));
+    m.handle(PanelEvent::Key('G'));
+    assert!(m
+        .message()
+        .starts_with("key 'G' refused: data keys work in DATA INPUT"));
+    assert_eq!(m.view().entry, "");
+    let _ = std::fs::remove_dir_all(&dir);
+}

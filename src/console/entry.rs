@@ -1,45 +1,184 @@
-//! The data keys and the entry line: where a typed line goes (docs/panel.md, "Rules").
+//! The data keys and the entry line: where a typed line goes (docs/panel.md, "Rules"), one rule
+//! over every machine's side (`Side`; issue 22: each console had its own before stop 45).
 //!
-//! - On an operator page (POS, PROG, OFS): to the page, in any mode (the line is handed back
-//!   to the console, which gives it to the page shown: the model names nothing of the pages).
-//! - In MDI (the operation selector), as on a Fanuc MDI page: the line becomes the MDI buffer,
-//!   and START runs it; the last lines are kept for recall (Up and Down).
-//! - In DATA INPUT with the machine stopped: to the editor on the buffer of the data mode, or
-//!   to SEARCH, T-CODE SETTING.
-//! - Anywhere else the data keys are refused with a message, and the line is not kept.
+//! - On an operator page (POS, PROG, OFS, MACRO ...): to the page, in any mode (INPUT, or
+//!   +INPUT with Tab).
+//! - In MDI (the operation selector): to the MDI buffer (the centre's one line, a lathe
+//!   channel's lines), and START runs it; the last lines are kept for recall (Up and Down).
+//! - In DATA INPUT: to the editor on the buffer of the data mode, or to the data mode's own use
+//!   (SEARCH, T-CODE SETTING).
+//! - In another position: to the machine's own use, where it has one (a lathe's TARGET and
+//!   FAULT take the typed line).
+//!
+//! The machine may refuse the data keys where it has no use for them (the centre in AUTO, or
+//! in DATA INPUT while it runs): each key is refused with the reason. A line the machine
+//! refuses at EOB stays on the entry line beside the reason, to be entered again or corrected
+//! with Backspace, on every machine and in every position (before stop 45 the centre dropped a
+//! refused MDI or editor line, and only a page kept it).
 
+use super::side::Side;
 use super::{run, search, tcode, Console};
 use crate::panel_model::{DataMode, OpMode, Page};
 use crate::store::Target;
 
-/// Where the data keys type now.
+/// Where the data keys type now, on every console.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum To {
-    Page,
+pub(crate) enum To {
+    /// The page up over the mode display.
+    Page(Page),
+    /// MDI: the selected channel's MDI buffer.
     Mdi,
+    /// DATA INPUT: the editor or the data mode's own use.
     Data,
+    /// Another position of the operation selector: the machine's own use, if any.
+    Other,
 }
 
-/// Where the data keys go now, or why they are refused (said on the display).
-fn target(c: &mut Console, what: &str) -> Option<To> {
-    if c.pages.page != Page::Mode {
-        return Some(To::Page);
+/// Where the data keys go now, or, said on the display, why the machine refuses them.
+fn target<C: Side>(c: &mut C, what: &str) -> Option<To> {
+    let page = c.page();
+    let to = if page != Page::Mode {
+        To::Page(page)
+    } else {
+        match c.front().op {
+            OpMode::Mdi => To::Mdi,
+            OpMode::Data => To::Data,
+            _ => To::Other,
+        }
+    };
+    match c.takes_keys(to) {
+        Ok(()) => Some(to),
+        Err(e) => {
+            c.front().message = format!("{what} refused: {e}");
+            None
+        }
     }
-    if c.front.op == OpMode::Mdi {
-        return Some(To::Mdi);
+}
+
+/// One data key.
+pub(crate) fn key<C: Side>(c: &mut C, ch: char) {
+    if target(c, &format!("key '{ch}'")).is_some() {
+        c.front().key(ch);
     }
-    if c.front.op != OpMode::Data {
-        c.front.message = format!(
-            "{what} refused: data keys work in DATA INPUT, MDI or on a page (now {})",
+}
+
+/// RUBOUT.
+pub(crate) fn rubout<C: Side>(c: &mut C) {
+    if target(c, "RUBOUT").is_some() {
+        c.front().entry.pop();
+    }
+}
+
+/// EOB (INPUT on a page): the line typed is entered where it goes.
+pub(crate) fn eob<C: Side>(c: &mut C) {
+    if let Some(to) = target(c, "EOB") {
+        let line = std::mem::take(&mut c.front().entry);
+        enter(c, to, line, false);
+    }
+}
+
+/// A whole line typed, then EOB (`type TEXT`).
+pub(crate) fn typed<C: Side>(c: &mut C, text: &str) {
+    if let Some(to) = target(c, &format!("'{text}'")) {
+        // The line typed takes the entry line's place.
+        c.front().entry.clear();
+        let line = text.chars().filter(|c| !c.is_control()).collect();
+        enter(c, to, line, false);
+    }
+}
+
+/// Enters `line` at `to` (with `add`, +INPUT on a page): the machine's use of it. A line it
+/// refuses stays on the entry line beside the reason: nothing typed is lost.
+pub(crate) fn enter<C: Side>(c: &mut C, to: To, line: String, add: bool) {
+    if to == To::Data {
+        // A `Y` type-out shows until the next line (docs/editor.md).
+        c.front().y_output = None;
+    }
+    if let Err(e) = c.enter_line(to, &line, add) {
+        let f = c.front();
+        f.message = e;
+        f.entry = line;
+    }
+}
+
+/// Up or Down in MDI: the selected channel's previous or next line typed, on the entry line.
+pub(crate) fn recall<C: Side>(c: &mut C, back: bool) {
+    match c.recall().step(back) {
+        Some(l) => c.front().entry = l,
+        None => c.front().message = "MDI: no line to recall".into(),
+    }
+}
+
+/// The MDI lines kept for recall.
+pub const RECALL: usize = 20;
+
+/// The MDI lines last typed, for recall with Up and Down (every console's: the centre's MDI,
+/// each channel's of a lathe): oldest first, and where the recall stands.
+#[derive(Debug, Default)]
+pub struct Recall {
+    /// The lines, oldest first (the last [`RECALL`]).
+    pub lines: Vec<String>,
+    at: Option<usize>,
+}
+
+impl Recall {
+    /// Keeps an MDI line for recall (the last [`RECALL`]).
+    pub fn remember(&mut self, line: &str) {
+        if line.trim().is_empty() || self.lines.last().is_some_and(|l| l == line) {
+            self.at = None;
+            return;
+        }
+        self.lines.push(line.to_string());
+        if self.lines.len() > RECALL {
+            self.lines.remove(0);
+        }
+        self.at = None;
+    }
+
+    /// The recalled line one step back (`back`) or forward, if any.
+    pub fn step(&mut self, back: bool) -> Option<String> {
+        if self.lines.is_empty() {
+            return None;
+        }
+        let n = self.lines.len();
+        let at = match (self.at, back) {
+            (None, true) => n - 1,
+            (None, false) => return None,
+            (Some(i), true) => i.saturating_sub(1),
+            (Some(i), false) if i + 1 < n => i + 1,
+            (Some(_), false) => {
+                self.at = None;
+                return Some(String::new());
+            }
+        };
+        self.at = Some(at);
+        self.lines.get(at).cloned()
+    }
+}
+
+/// The centre's refusal of the data keys at `to`: outside DATA INPUT, MDI and the pages, and in
+/// DATA INPUT while the machine runs.
+pub(super) fn centre_takes_keys(c: &Console, to: To) -> Result<(), String> {
+    match to {
+        To::Page(_) | To::Mdi => Ok(()),
+        To::Data if c.running() => Err("the machine is running".into()),
+        To::Data => Ok(()),
+        To::Other => Err(format!(
+            "data keys work in DATA INPUT, MDI or on a page (now {})",
             c.front.op.name()
-        );
-        return None;
+        )),
     }
-    if c.running() {
-        c.front.message = format!("{what} refused: the machine is running");
-        return None;
+}
+
+/// The centre's use of a line entered at `to`; Err: why it is refused.
+/// (A line for a page is the pages', `Console::enter_at`.)
+pub(super) fn centre_line(c: &mut Console, to: To, line: &str) -> Result<(), String> {
+    match to {
+        To::Page(_) => Ok(()),
+        To::Mdi => mdi_line(c, line),
+        To::Data => enter_line(c, line),
+        To::Other => Err(format!("{} takes no line", c.front.op.name())),
     }
-    Some(To::Data)
 }
 
 /// The longest entry line, characters: every console's (the centre's and the lathe's).
@@ -53,13 +192,6 @@ pub(crate) fn push_key(entry: &mut String, ch: char) -> Result<(), String> {
     }
     entry.push(ch);
     Ok(())
-}
-
-/// One data key.
-pub(super) fn key(c: &mut Console, ch: char) {
-    if target(c, &format!("key '{ch}'")).is_some() {
-        c.front.key(ch);
-    }
 }
 
 /// The editor command an editor cursor key (arrows, PgUp/PgDn, Home/End) or Delete stands for
@@ -141,94 +273,46 @@ pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
     true
 }
 
-/// RUBOUT.
-pub(super) fn rubout(c: &mut Console) {
-    if target(c, "RUBOUT").is_some() {
-        c.front.entry.pop();
-    }
-}
-
-/// EOB: the line typed is entered. Returns the line when it is for the page shown.
-#[must_use]
-pub(super) fn eob(c: &mut Console) -> Option<String> {
-    let to = target(c, "EOB")?;
-    let line = std::mem::take(&mut c.front.entry);
-    enter(c, to, line)
-}
-
-/// A whole line typed, then EOB (`type TEXT`). Returns the line when it is for the page shown.
-#[must_use]
-pub(super) fn typed(c: &mut Console, text: String) -> Option<String> {
-    let to = target(c, &format!("'{text}'"))?;
-    c.front.entry.clear();
-    enter(c, to, text)
-}
-
-/// Enters a line where it goes; a line for the page shown is returned.
-fn enter(c: &mut Console, to: To, line: String) -> Option<String> {
-    match to {
-        To::Page => return Some(line),
-        To::Mdi => mdi_line(c, line),
-        To::Data => enter_line(c, line),
-    }
-    None
-}
-
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).
-fn mdi_line(c: &mut Console, line: String) {
+fn mdi_line(c: &mut Console, line: &str) -> Result<(), String> {
     if line.trim().is_empty() {
-        c.front.message = "MDI: type a statement or a G-code line, Enter, then START".into();
-        return;
+        return Err("MDI: type a statement or a G-code line, Enter, then START".into());
     }
-    c.pages.recall.remember(&line);
+    c.pages.recall.remember(line);
     if c.status.job.is_some() {
-        c.front.message = "MDI refused: a run is loaded; RESET first (Up recalls the line)".into();
-        return;
+        return Err("MDI refused: a run is loaded; RESET first".into());
     }
-    match c.mem.set_mdi(&line) {
-        Ok(()) => c.front.message = "MDI buffer set: START runs it".into(),
-        Err(e) => c.front.message = format!("MDI refused: {e} (Up recalls the line)"),
-    }
+    let set = c.mem.set_mdi(line);
     run::recheck_program_alarm(c);
-}
-
-/// Up or Down in MDI: the previous or next line typed into the entry line.
-pub(super) fn recall(c: &mut Console, back: bool) {
-    match c.pages.recall.step(back) {
-        Some(l) => c.front.entry = l,
-        None => c.front.message = "MDI: no line to recall".into(),
-    }
+    set.map_err(|e| format!("MDI refused: {e}"))?;
+    c.front.message = "MDI buffer set: START runs it".into();
+    Ok(())
 }
 
 /// A command line ended with EOB, in DATA INPUT with RUN = 0.
-fn enter_line(c: &mut Console, line: String) {
-    c.last_line = line.clone();
-    c.front.y_output = None;
+fn enter_line(c: &mut Console, line: &str) -> Result<(), String> {
+    c.last_line = line.to_string();
     let target = match c.data {
         DataMode::Revise => Target::Program,
         DataMode::Mdi => Target::Mdi,
         DataMode::ToolRevise => Target::ToolFile,
-        DataMode::TCode => return tcode::enter(c, &line),
-        DataMode::Search => return search::enter(c, &line),
+        DataMode::TCode => return tcode::enter(c, line),
+        DataMode::Search => return search::enter(c, line),
         DataMode::Read | DataMode::ToolRead => {
-            c.front.message = "put the tape in the reader and press START to read it".into();
-            return;
+            return Err("put the tape in the reader and press START to read it".into());
         }
     };
     let rows = c.cfg.text_rows();
     let rev = c.mem.rev();
-    match c.mem.edit(target, &line, Some(rows)) {
-        Ok(y) => {
-            if !y.is_empty() {
-                c.front.y_output = Some(y);
-            }
-            c.front.message = "ok".into();
-            if target == Target::Program && c.mem.rev() != rev && c.search.is_some() {
-                c.search = None;
-                c.front.message = "ok; SEARCH point cleared (program changed)".into();
-            }
-            run::recheck_program_alarm(c);
-        }
-        Err(e) => c.front.message = e,
+    let y = c.mem.edit(target, line, Some(rows))?;
+    if !y.is_empty() {
+        c.front.y_output = Some(y);
     }
+    c.front.message = "ok".into();
+    if target == Target::Program && c.mem.rev() != rev && c.search.is_some() {
+        c.search = None;
+        c.front.message = "ok; SEARCH point cleared (program changed)".into();
+    }
+    run::recheck_program_alarm(c);
+    Ok(())
 }

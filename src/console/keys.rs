@@ -219,8 +219,6 @@ pub(crate) trait Keyed: super::side::Side {
     /// The keys taken before the key map: a page's keys, the editor's cursor keys, the MDI
     /// recall (each console records and shows what it took). Whether `k` was one of them.
     fn takes_first(&mut self, k: Key, action: &Action) -> bool;
-    /// The page up over the mode display.
-    fn page(&self) -> Page;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
     /// TARGET): whether `action` was one it has.
     fn own_key(&mut self, k: Key, action: &Action) -> bool;
@@ -411,9 +409,6 @@ impl Keyed for Console {
         }
         self.refresh();
         true
-    }
-    fn page(&self) -> Page {
-        self.pages.page
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {

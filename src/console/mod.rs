@@ -577,16 +577,8 @@ impl Console {
             }
             PanelEvent::Key(ch) => entry::key(self, ch),
             PanelEvent::Rubout => entry::rubout(self),
-            PanelEvent::Eob => {
-                if let Some(line) = entry::eob(self) {
-                    pages::enter(self, &line, false);
-                }
-            }
-            PanelEvent::Type(text) => {
-                if let Some(line) = entry::typed(self, text) {
-                    pages::enter(self, &line, false);
-                }
-            }
+            PanelEvent::Eob => entry::eob(self),
+            PanelEvent::Type(text) => entry::typed(self, &text),
             PanelEvent::Tape(path) => {
                 let name = path
                     .file_name()
@@ -656,6 +648,21 @@ impl Console {
                 );
             }
         }
+    }
+
+    /// The centre's use of a line entered at `to` (`Side::enter_line`; with `add`, +INPUT on
+    /// a page); Err: why it is refused.
+    fn enter_at(&mut self, to: entry::To, line: &str, add: bool) -> Result<(), String> {
+        if let entry::To::Page(_) = to {
+            pages::enter(self, line, add);
+            // A value that cannot be applied now stays on the entry line beside the reason
+            // (`entry::enter`), as a Fanuc keeps its key-in buffer on a refused INPUT.
+            if self.front.message.contains("refused") {
+                return Err(self.front.message.clone());
+            }
+            return Ok(());
+        }
+        entry::centre_line(self, to, line)
     }
 
     /// START: run, resume, or read the tape, by mode.

@@ -273,7 +273,7 @@ fn has_word(line: &str, what: &str) -> bool {
 }
 
 /// SEARCH: a command line (a program name, a line number, or text to find) entered with EOB.
-pub(super) fn enter(c: &mut Console, line: &str) {
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<(), String> {
     let wanted = line.trim();
     if let Some(name) = c
         .mem
@@ -281,12 +281,12 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         .into_iter()
         .find(|n| n.eq_ignore_ascii_case(wanted))
     {
-        c.front.message = match c.mem.select_program(&name) {
-            Ok(()) => format!("program {name} is current; AUTO starts at the top"),
-            Err(e) => format!("SEARCH: {e}"),
-        };
+        c.mem
+            .select_program(&name)
+            .map_err(|e| format!("SEARCH: {e}"))?;
+        c.front.message = format!("program {name} is current; AUTO starts at the top");
         c.search = None;
-        return;
+        return Ok(());
     }
     let source = c.mem.text(Target::Program);
     let n = match find_line(&source, line) {
@@ -294,20 +294,15 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Ok(None) => {
             c.search = None;
             c.front.message = "SEARCH cleared: AUTO starts at the top".into();
-            return;
+            return Ok(());
         }
-        Err(e) => {
-            c.front.message = format!("SEARCH: {e}");
-            return;
-        }
+        Err(e) => return Err(format!("SEARCH: {e}")),
     };
-    match make_plan(c, n, c.status.machine_state()) {
-        Ok((at, text, _)) => {
-            c.front.message = format!("AUTO starts at line {at}");
-            c.search = Some(SearchPoint { line: at, text });
-        }
-        Err(e) => c.front.message = format!("SEARCH refused: {e}"),
-    }
+    let (at, text, _) =
+        make_plan(c, n, c.status.machine_state()).map_err(|e| format!("SEARCH refused: {e}"))?;
+    c.front.message = format!("AUTO starts at line {at}");
+    c.search = Some(SearchPoint { line: at, text });
+    Ok(())
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! (`switches::turn`) are written once over it, so a rule means the same on every machine
 //! (issue 22: each console had its own before stops 40 and 43).
 
+use super::entry::To;
 use super::front::Front;
 use super::manual::ManualTarget;
 use super::wait::WaitFor;
@@ -59,6 +60,16 @@ pub(crate) trait Side {
     /// (the centre's tape reader while it reads, a lathe's refusal of the centre's own
     /// words), then the rules written once and the machine's own.
     fn act(&mut self, ev: PanelEvent);
+    /// The page up over the mode display.
+    fn page(&self) -> crate::panel_model::Page;
+    /// The machine's refusal of the data keys where they would type now (`entry::To`): why,
+    /// if it has no use for a line there (`entry::key`, written once, says it per key).
+    fn takes_keys(&self, to: To) -> Result<(), String>;
+    /// The machine's use of a line entered at `to` (with `add`: +INPUT on a page); Err: why it
+    /// is refused (the line then stays on the entry line: `entry::enter`).
+    fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String>;
+    /// The selected channel's MDI lines last typed, for recall with Up and Down.
+    fn recall(&mut self) -> &mut super::entry::Recall;
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
@@ -130,6 +141,18 @@ impl Side for Console {
     fn act(&mut self, ev: PanelEvent) {
         self.status = self.core.status();
         super::tape::apply(self, ev);
+    }
+    fn page(&self) -> crate::panel_model::Page {
+        self.pages.page
+    }
+    fn takes_keys(&self, to: To) -> Result<(), String> {
+        super::entry::centre_takes_keys(self, to)
+    }
+    fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String> {
+        Console::enter_at(self, to, line, add)
+    }
+    fn recall(&mut self) -> &mut super::entry::Recall {
+        &mut self.pages.recall
     }
     fn turned(&mut self, was: OpMode) -> bool {
         let m = self.front.op;

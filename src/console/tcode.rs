@@ -55,40 +55,30 @@ pub fn parse(line: &str) -> Result<Setting, String> {
 }
 
 /// A command line entered in T-CODE SETTING.
-pub(super) fn enter(c: &mut Console, line: &str) {
-    let set = match parse(line) {
-        Ok(s) => s,
-        Err(e) => {
-            c.front.message = e;
-            return;
-        }
-    };
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<(), String> {
+    let set = parse(line)?;
     let cap = c.cfg.settings.magazine_capacity;
     let t = match set {
         Setting::Pocket { t, .. } | Setting::Tool { t, .. } => t,
     };
     if t == 0 || t > cap {
-        c.front.message = format!("T{t} refused: the magazine has T01 to T{cap:02}");
-        return;
+        return Err(format!("T{t} refused: the magazine has T01 to T{cap:02}"));
     }
     let result = match set {
         Setting::Pocket { t, tool } => c.mem.set_tcode(t, tool),
         Setting::Tool { tool, t } => c.mem.assign_tool(tool, t),
     };
-    match result {
-        Ok(()) => {
-            c.tool_focus = t;
-            let m = c.mem.magazine();
-            c.front.message = match m.tcodes.tool_in(t) {
-                Some(n) => match m.tools.get(t) {
-                    Some(r) if r.number == n => format!("T{t:02} holds tool {n:05}"),
-                    _ => format!("T{t:02} holds tool {n:05}: read its data (TOOL DATA READ)"),
-                },
-                None => format!("T{t:02} is empty"),
-            };
-        }
-        Err(e) => c.front.message = format!("refused: {e}"),
-    }
+    result.map_err(|e| format!("refused: {e}"))?;
+    c.tool_focus = t;
+    let m = c.mem.magazine();
+    c.front.message = match m.tcodes.tool_in(t) {
+        Some(n) => match m.tools.get(t) {
+            Some(r) if r.number == n => format!("T{t:02} holds tool {n:05}"),
+            _ => format!("T{t:02} holds tool {n:05}: read its data (TOOL DATA READ)"),
+        },
+        None => format!("T{t:02} is empty"),
+    };
+    Ok(())
 }
 
 #[cfg(test)]

@@ -37,9 +37,6 @@ use novanc_panel::Key;
 pub(super) use pos::length_in_force;
 pub(crate) use pos::work_origin;
 
-/// The MDI lines kept for recall.
-pub const RECALL: usize = 20;
-
 /// The pages' state.
 #[derive(Debug)]
 pub struct Pages {
@@ -100,49 +97,7 @@ impl Pages {
     }
 }
 
-/// The MDI lines last typed, for recall with Up and Down (every console's: the centre's MDI,
-/// each channel's of a lathe): oldest first, and where the recall stands.
-#[derive(Debug, Default)]
-pub struct Recall {
-    /// The lines, oldest first (the last [`RECALL`]).
-    pub lines: Vec<String>,
-    at: Option<usize>,
-}
-
-impl Recall {
-    /// Keeps an MDI line for recall (the last [`RECALL`]).
-    pub fn remember(&mut self, line: &str) {
-        if line.trim().is_empty() || self.lines.last().is_some_and(|l| l == line) {
-            self.at = None;
-            return;
-        }
-        self.lines.push(line.to_string());
-        if self.lines.len() > RECALL {
-            self.lines.remove(0);
-        }
-        self.at = None;
-    }
-
-    /// The recalled line one step back (`back`) or forward, if any.
-    pub fn step(&mut self, back: bool) -> Option<String> {
-        if self.lines.is_empty() {
-            return None;
-        }
-        let n = self.lines.len();
-        let at = match (self.at, back) {
-            (None, true) => n - 1,
-            (None, false) => return None,
-            (Some(i), true) => i.saturating_sub(1),
-            (Some(i), false) if i + 1 < n => i + 1,
-            (Some(_), false) => {
-                self.at = None;
-                return Some(String::new());
-            }
-        };
-        self.at = Some(at);
-        self.lines.get(at).cloned()
-    }
-}
+pub use super::entry::{Recall, RECALL};
 
 /// The page key's page, for the keys of the row of page keys.
 pub fn page_of_key(k: Key) -> Option<Page> {
@@ -183,14 +138,9 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             true
         }
         Key::Enter | Key::Tab => {
+            // INPUT (+INPUT): the one entry rule; a refused value stays on the entry line.
             let line = std::mem::take(&mut c.front.entry);
-            enter(c, &line, k == Key::Tab);
-            // A value that cannot be applied now stays on the entry line, beside the reason
-            // (the operator INPUTs it again, or corrects it), as a Fanuc keeps its key-in
-            // buffer on a refused INPUT.
-            if c.front.entry.is_empty() && c.front.message.contains("refused") {
-                c.front.entry = line;
-            }
+            super::entry::enter(c, super::entry::To::Page(page), line, k == Key::Tab);
             true
         }
         Key::Char(ch) => {

@@ -3,83 +3,67 @@
 //! display shows around the current line.
 
 use super::{ofs, LatheConsole};
+use crate::console::entry::To;
 use crate::console::pages::{macros, msg};
 use crate::panel_model::{OpMode, Page};
 use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
 
 impl LatheConsole {
-    /// The EOB key: in MDI the line goes into the channel's MDI buffer; in DATA it is an
-    /// editor command line on the channel's program.
-    pub(super) fn eob(&mut self) {
-        let line = std::mem::take(&mut self.front.entry);
-        self.front.y_output = None;
-        match self.page {
-            Page::Ofs => return self.revise_tool(&line),
-            Page::Msg => {
-                // Read only: the typed line stays on the entry line (nothing typed is lost).
-                self.front.message = "MSG: the history is read only; Up/Down scroll it".into();
-                self.front.entry = line;
-                return;
+    /// The lathe's use of a line entered at `to` (`crate::console::entry`, the one rule, which
+    /// keeps a refused line on the entry line): on OFS a tool revision or a cell's value, on
+    /// MACRO a variable; in MDI a line added to the selected channel's MDI buffer; in DATA an
+    /// editor command line on its program. In another position the line stays for TARGET and
+    /// FAULT, which take it in any mode.
+    pub(super) fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String> {
+        match to {
+            To::Page(Page::Ofs) => return self.cell_or_tool(line, add),
+            To::Page(Page::Msg) => {
+                return Err("MSG: the history is read only; Up/Down scroll it".into())
             }
-            Page::Macro => return self.macro_input(&line),
-            Page::Modal => {
-                // The centre's words; the typed line stays.
-                self.front.message =
-                    "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into();
-                self.front.entry = line;
-                return;
+            To::Page(Page::Macro) => return self.macro_input(line),
+            To::Page(Page::Modal) => {
+                return Err(
+                    "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into(),
+                )
             }
             _ => {}
         }
+        // POS shows positions only: a line goes where the selector sends it.
         match self.front.op {
-            OpMode::Auto | OpMode::Single | OpMode::Continuous | OpMode::Handle | OpMode::Step => {
-                if !line.is_empty() {
-                    // The line stays for TARGET and FAULT, which take it in any mode. Before
-                    // stop 44 this said `turn to MDI or DATA`, and the turn cleared the line.
-                    self.front.message = format!(
-                        "{} takes no line; it stays for TARGET (Alt+n) or FAULT (Alt+x)",
-                        self.front.op.word()
-                    );
-                    self.front.entry = line;
-                }
-            }
-            OpMode::Mdi => {
-                if line.is_empty() {
-                    return;
-                }
-                // Up recalls it, stored or not (the centre's rule).
-                self.recall[self.sel].remember(&line);
-                if self.mdi[self.sel].len() >= MAX_MDI_LINES {
-                    self.front.message =
-                        format!("the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it");
-                    self.front.entry = line;
-                    return;
-                }
-                let mut lines = self.mdi[self.sel].clone();
-                lines.push(line.clone());
-                if !self.set_mdi(lines) {
-                    // Not stored: the line stays on the entry line, nothing is lost.
-                    self.front.entry = line;
-                    return;
-                }
-                self.front.message = format!(
-                    "MDI CH{}: {} lines; START runs them",
-                    self.sel + 1,
-                    self.mdi[self.sel].len()
-                );
-            }
-            OpMode::Data => {
-                if line.is_empty() {
-                    return;
-                }
-                if let Err(e) = self.edit(&line) {
-                    // Refused: the line stays on the entry line, nothing is lost.
-                    self.front.message = e;
-                    self.front.entry = line;
-                }
-            }
+            OpMode::Mdi => self.mdi_line(line),
+            OpMode::Data if line.is_empty() => Ok(()),
+            OpMode::Data => self.edit(line),
+            _ if line.is_empty() => Ok(()),
+            // Before stop 44 this said `turn to MDI or DATA`, and the turn cleared the line.
+            op => Err(format!(
+                "{} takes no line; it stays for TARGET (Alt+n) or FAULT (Alt+x)",
+                op.word()
+            )),
         }
+    }
+
+    /// MDI: the line is added to the selected channel's MDI buffer (START runs its lines).
+    fn mdi_line(&mut self, line: &str) -> Result<(), String> {
+        if line.trim().is_empty() {
+            return Err("MDI: type a block, Enter, then START".into());
+        }
+        // Up recalls it, stored or not (the centre's rule).
+        self.recall[self.sel].remember(line);
+        if self.mdi[self.sel].len() >= MAX_MDI_LINES {
+            return Err(format!(
+                "the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it"
+            ));
+        }
+        let mut lines = self.mdi[self.sel].clone();
+        lines.push(line.to_string());
+        self.set_mdi(lines)?;
+        self.front.message = format!(
+            "MDI CH{}: {} lines; START runs them",
+            self.sel + 1,
+            self.mdi[self.sel].len()
+        );
+        Ok(())
     }
 
     /// An editor cursor key (arrows, PgUp/PgDn, Home/End) or Delete in DATA, on the selected
@@ -111,111 +95,70 @@ impl LatheConsole {
     /// channel's kept parameters, journaled as a program's writes are); #1–#33 and #100–#199
     /// hold until RESET clears them. Taken with no cycle under way: the programs read the
     /// variables at START. A refused line stays on the entry line.
-    fn macro_input(&mut self, line: &str) {
+    fn macro_input(&mut self, line: &str) -> Result<(), String> {
         use crate::console::pages::macros::{input, set_message, Input};
         let ch = self.sel;
-        let said = match input(line, self.macro_var, &self.kept[ch].params.params, false) {
-            Err(e) => Err(e),
-            Ok(Input::Cursor(n)) => {
-                self.macro_var = n;
-                return;
-            }
-            Ok(Input::Set(..)) if !self.cycle.is_over() => Err(
+        match input(line, self.macro_var, &self.kept[ch].params.params, false)? {
+            Input::Cursor(n) => self.macro_var = n,
+            Input::Set(..) if !self.cycle.is_over() => return Err(
                 "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
             ),
-            Ok(Input::Set(n, v)) => {
+            Input::Set(n, v) => {
                 // Only the Fanuc dialect has a vacant variable: elsewhere nothing is 0.
                 let fanuc = self.desc.channels[ch].dialect.unwrap_or_default()
                     == crate::settings::Dialect::Fanuc;
                 let v = if v.is_nan() && !fanuc { 0.0 } else { v };
                 let kept = if v.is_nan() { 0.0 } else { v };
-                let stored = if crate::store::lathe::KEPT_PARAMS.contains(&n) {
-                    self.store.save_params(ch, &[(n, kept)])
-                } else {
-                    Ok(())
-                };
-                match stored {
-                    Err(e) => Err(format!("MACRO refused: #{n}: {e}")),
-                    Ok(()) => {
-                        self.kept[ch].params.params[n] = v;
-                        self.macro_var = n;
-                        Ok(format!("CH{} {}", ch + 1, set_message(n, v)))
-                    }
+                if crate::store::lathe::KEPT_PARAMS.contains(&n) {
+                    (self.store.save_params(ch, &[(n, kept)]))
+                        .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
                 }
-            }
-        };
-        match said {
-            Ok(m) => self.front.message = m,
-            Err(e) => {
-                self.front.message = e;
-                self.front.entry = line.to_string();
+                self.kept[ch].params.params[n] = v;
+                self.macro_var = n;
+                self.front.message = format!("CH{} {}", ch + 1, set_message(n, v));
             }
         }
+        Ok(())
     }
 
     /// OFS: `T1 X0.02 Z-0.01 R0.8 P3` revises tool 1 of the selected channel (X offset as a
     /// diameter, Z offset, nose radius, tip position; any of them), stored at once; a batch
     /// under way takes it from the channel's next tool call, in this part or the next
     /// (`Cycle::reread`), else the programs read it from the next START.
-    fn revise_tool(&mut self, line: &str) {
-        if line.trim().is_empty() {
-            return;
-        }
-        if !line.trim_start().starts_with(['T', 't']) {
-            // A value: INPUT on the cell under the cursor.
-            return self.cell_input(line, false);
-        }
+    fn revise_tool(&mut self, line: &str) -> Result<(), String> {
         let ch = self.sel;
-        match ofs::revise(&self.desc.channels[ch].tools, line) {
-            Err(e) => {
-                self.front.message = e;
-                self.front.entry = line.to_string();
-            }
-            Ok((tools, t)) => match self.store.save_tools(ch, &tools) {
-                Err(e) => {
-                    self.front.message = format!("{e}: the revision is refused");
-                    self.front.entry = line.to_string();
-                }
-                Ok(()) => {
-                    // A cycle under way takes it at the channel's next tool call not yet read,
-                    // in this part or the next, as a real lathe takes a wear offset at the
-                    // next T.
-                    let running = Some(&mut self.cycle).filter(|c| !c.is_over() && !c.mdi);
-                    self.front.message = match running.map(|c| c.reread(ch, &tools)) {
-                        Some(Ok(Some(line))) => format!(
-                            "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
-                            ch + 1
-                        ),
-                        Some(Ok(None)) => {
-                            format!("T{t:02} revised: CH{} takes it from its next part", ch + 1)
-                        }
-                        Some(Err(e)) => format!("T{t:02} revised: from the next START ({e})"),
-                        None => format!("T{t:02} revised: from the next START"),
-                    };
-                    self.desc.channels[ch].tools = tools;
-                }
-            },
-        }
+        let (tools, t) = ofs::revise(&self.desc.channels[ch].tools, line)?;
+        (self.store.save_tools(ch, &tools)).map_err(|e| format!("{e}: the revision is refused"))?;
+        // A cycle under way takes it at the channel's next tool call not yet read, in this
+        // part or the next, as a real lathe takes a wear offset at the next T.
+        let running = Some(&mut self.cycle).filter(|c| !c.is_over() && !c.mdi);
+        self.front.message = match running.map(|c| c.reread(ch, &tools)) {
+            Some(Ok(Some(line))) => format!(
+                "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
+                ch + 1
+            ),
+            Some(Ok(None)) => format!("T{t:02} revised: CH{} takes it from its next part", ch + 1),
+            Some(Err(e)) => format!("T{t:02} revised: from the next START ({e})"),
+            None => format!("T{t:02} revised: from the next START"),
+        };
+        self.desc.channels[ch].tools = tools;
+        Ok(())
     }
 
-    /// OFS: INPUT (or +INPUT with `add`) of the value `line` on the cell under the cursor,
-    /// as the revision line of that one word (`ofs::cell_line`). A refused value stays on the
-    /// entry line.
-    pub(super) fn cell_input(&mut self, line: &str, add: bool) {
-        let tools = &self.desc.channels[self.sel].tools;
-        match ofs::cell_line(tools, self.ofs_cell, line, add) {
-            Ok(revision) => {
-                self.revise_tool(&revision);
-                if !self.front.entry.is_empty() {
-                    // Refused: what was typed stays, not the line made of it.
-                    self.front.entry = line.to_string();
-                }
-            }
-            Err(e) => {
-                self.front.message = e;
-                self.front.entry = line.to_string();
-            }
+    /// OFS: a line INPUT (or +INPUT with `add`): `T1 X0.02 Z-0.01 R0.8 P3` revises the tool it
+    /// names; a value sets (adds to) the cell under the cursor, as the revision line of that
+    /// one word (`ofs::cell_line`). Err: why it is refused (what was typed then stays on the
+    /// entry line, not the line made of it).
+    fn cell_or_tool(&mut self, line: &str, add: bool) -> Result<(), String> {
+        if line.trim().is_empty() {
+            return Ok(());
         }
+        if !add && line.trim_start().starts_with(['T', 't']) {
+            return self.revise_tool(line);
+        }
+        let tools = &self.desc.channels[self.sel].tools;
+        let revision = ofs::cell_line(tools, self.ofs_cell, line, add)?;
+        self.revise_tool(&revision)
     }
 
     /// Runs an editor command line on the selected channel's program and stores what it

@@ -75,7 +75,7 @@ pub struct LatheConsole {
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
     /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
-    recall: Vec<crate::console::pages::Recall>,
+    recall: Vec<crate::console::entry::Recall>,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
     alarms_logged: Vec<String>,
     /// The E-STOP in force is in the history.
@@ -489,7 +489,8 @@ impl LatheConsole {
             // turns the channel selector, as everywhere.
             _ if k == Key::Tab && self.page == Page::Ofs && !self.front.entry.trim().is_empty() => {
                 let line = std::mem::take(&mut self.front.entry);
-                self.cell_input(&line, true);
+                let to = crate::console::entry::To::Page(Page::Ofs);
+                crate::console::entry::enter(self, to, line, true);
                 return true;
             }
             _ => return false,
@@ -511,10 +512,7 @@ impl LatheConsole {
         {
             return false;
         }
-        match self.recall[self.sel].step(k == Key::Up) {
-            Some(l) => self.front.entry = l,
-            None => self.front.message = "MDI: no line to recall".into(),
-        }
+        crate::console::entry::recall(self, k == Key::Up);
         true
     }
 
@@ -620,15 +618,10 @@ impl LatheConsole {
             }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => self.front.message = format!("there is no channel {}", c + 1),
-            PanelEvent::Key(c) => self.front.key(c),
-            PanelEvent::Rubout => {
-                self.front.entry.pop();
-            }
-            PanelEvent::Type(t) => {
-                self.front.entry = t.chars().filter(|c| !c.is_control()).collect();
-                self.eob();
-            }
-            PanelEvent::Eob => self.eob(),
+            PanelEvent::Key(c) => crate::console::entry::key(self, c),
+            PanelEvent::Rubout => crate::console::entry::rubout(self),
+            PanelEvent::Type(t) => crate::console::entry::typed(self, &t),
+            PanelEvent::Eob => crate::console::entry::eob(self),
             PanelEvent::Start => self.start(),
             PanelEvent::Stop => crate::console::relay::stop(self),
             PanelEvent::Reset => self.reset(),
@@ -851,16 +844,17 @@ impl LatheConsole {
         }
         // The buffer is cleared once it runs; if the clear cannot be stored, the buffer stays
         // (in memory as on disk) and the message says so.
-        let cleared = !mdi || self.set_mdi(Vec::new());
-        let said = match (mdi, cleared) {
-            (false, _) => "cycle start".into(),
-            (true, true) => format!("MDI CH{} runs", self.sel + 1),
-            (true, false) => format!(
-                "MDI CH{} runs; {}: the buffer is kept",
-                self.sel + 1,
-                self.front.message
-            ),
+        let cleared = if mdi {
+            self.set_mdi(Vec::new())
+        } else {
+            Ok(())
         };
+        let said = match (mdi, &cleared) {
+            (false, _) => "cycle start".into(),
+            (true, Ok(())) => format!("MDI CH{} runs", self.sel + 1),
+            (true, Err(e)) => format!("MDI CH{} runs; {e}: the buffer is kept", self.sel + 1),
+        };
+        let cleared = cleared.is_ok();
         // The store's refusal lives as a message of its own would.
         let life = if cleared {
             MsgLife::WhileRunning
@@ -910,20 +904,12 @@ impl LatheConsole {
     /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
     /// restart, as the centre's): whether it was stored. Not stored, the buffer stays as it
     /// was and the message line says why.
-    fn set_mdi(&mut self, lines: Vec<String>) -> bool {
-        if lines == self.mdi[self.sel] {
-            return true;
+    fn set_mdi(&mut self, lines: Vec<String>) -> Result<(), String> {
+        if lines != self.mdi[self.sel] {
+            self.store.save_mdi(self.sel, &lines)?;
+            self.mdi[self.sel] = lines;
         }
-        match self.store.save_mdi(self.sel, &lines) {
-            Ok(()) => {
-                self.mdi[self.sel] = lines;
-                true
-            }
-            Err(e) => {
-                self.front.message = e;
-                false
-            }
-        }
+        Ok(())
     }
 
     /// Journals the channels' #500–#999 that their reads changed (the reads the cycle just
@@ -979,8 +965,10 @@ impl LatheConsole {
             let ch = (!all).then_some(self.sel);
             let _ = self.cycle.reset_channels(ch, self.kept_tools());
             self.front.entry.clear();
-            self.front.message = format!("RESET CH{}", self.sel + 1);
-            self.set_mdi(Vec::new());
+            self.front.message = match self.set_mdi(Vec::new()) {
+                Ok(()) => format!("RESET CH{}", self.sel + 1),
+                Err(e) => e,
+            };
             return;
         }
         if self.cycle.is_over() {
@@ -1264,9 +1252,6 @@ impl crate::console::keys::Keyed for LatheConsole {
         self.after();
         true
     }
-    fn page(&self) -> Page {
-        self.page
-    }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
             Action::NextChannel => {
@@ -1366,6 +1351,24 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn act(&mut self, ev: PanelEvent) {
         LatheConsole::act(self, ev)
+    }
+    fn page(&self) -> Page {
+        self.page
+    }
+    fn takes_keys(&self, _to: crate::console::entry::To) -> Result<(), String> {
+        // Every position has a use for a line: TARGET and FAULT take it in any mode.
+        Ok(())
+    }
+    fn enter_line(
+        &mut self,
+        to: crate::console::entry::To,
+        line: &str,
+        add: bool,
+    ) -> Result<(), String> {
+        LatheConsole::enter_line(self, to, line, add)
+    }
+    fn recall(&mut self) -> &mut crate::console::entry::Recall {
+        &mut self.recall[self.sel]
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;
