@@ -685,7 +685,7 @@ fn a_line_entered_in_auto_stays_for_target() {
 
 /// The one entry rule (stop 45): a line the machine refuses stays on the entry line beside the
 /// reason, on both machines, to be entered again or corrected; before, the centre dropped a
-/// refused editor or MDI line (only its pages kept one).
+/// refused editor or MDI line (only its pages kept one), and a lathe's RESET cleared the line.
 #[test]
 fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
     use novanc::panel_model::DataMode;
@@ -747,6 +747,15 @@ fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
         "{}",
         m.message()
     );
+    assert_eq!(m.view().entry, "G0 X20");
+    // RESET keeps the line being typed, on both machines (a lathe's cleared it before).
+    for ch in "G0X5".chars() {
+        c.handle(PanelEvent::Key(ch));
+    }
+    c.handle(PanelEvent::Reset);
+    m.handle(PanelEvent::Reset);
+    assert_eq!(c.message(), "RESET CH1");
+    assert_eq!(lathe_line(&c).as_deref(), Some("> G0X5"));
     assert_eq!(m.view().entry, "G0 X20");
     // The centre still refuses each data key where it has no use for a line, and says so.
     m.handle(PanelEvent::Op(OpMode::Auto));

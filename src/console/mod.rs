@@ -594,16 +594,7 @@ impl Console {
             }
             PanelEvent::Start => self.start(),
             PanelEvent::Stop => relay::stop(self),
-            PanelEvent::Reset => {
-                self.command(Command::Reset);
-                book::acknowledge(self);
-                self.reset_seen = true;
-                gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
-                self.program_alarm = None;
-                self.tape_alarm = None;
-                self.front.forget_jog();
-                self.front.message = "reset: machine idle, block buffer empty".into();
-            }
+            PanelEvent::Reset => relay::reset(self),
             PanelEvent::EStop => relay::estop(self),
             ev @ (PanelEvent::Override(_)
             | PanelEvent::BlockDelete(_)

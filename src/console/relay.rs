@@ -1,4 +1,4 @@
-//! The relay panel's STOP and E-STOP, and a jog released: every console's one rule
+//! The relay panel's STOP, RESET and E-STOP, and a jog released: every console's one rule
 //! (docs/panel.md "Rules", docs/lathe.md "Keys"), the machining centre being a machine of one
 //! channel. STOP is a feed hold on every channel that runs, and a manual move brought to rest;
 //! what it did is said by the machine's state while it lasts (the feed hold note), or on the
@@ -57,6 +57,16 @@ pub(crate) fn stop<C: Side>(c: &mut C) {
 pub(crate) fn estop<C: Side>(c: &mut C) {
     c.command_all(Command::EStop);
     c.front().forget_jog();
+}
+
+/// RESET: the jog in progress forgotten, then the machine's own RESET (`Side::reset`: the
+/// centre's run abandoned, a lathe's channel or, after E-STOP, every channel), which says
+/// what it did. The line being typed stays on the entry line on every machine (before stop 45
+/// a lathe's RESET with nothing loaded cleared it).
+pub(crate) fn reset<C: Side>(c: &mut C) {
+    c.front().forget_jog();
+    let said = c.reset();
+    c.front().message = said;
 }
 
 /// A jog released (`jogrelease`, a jog button let go): told to the machine whether or not the

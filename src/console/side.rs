@@ -70,6 +70,8 @@ pub(crate) trait Side {
     fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String>;
     /// The selected channel's MDI lines last typed, for recall with Up and Down.
     fn recall(&mut self) -> &mut super::entry::Recall;
+    /// The machine's own RESET (after the one rule's, `relay::reset`): what it did, said.
+    fn reset(&mut self) -> String;
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
@@ -144,6 +146,15 @@ impl Side for Console {
     }
     fn page(&self) -> crate::panel_model::Page {
         self.pages.page
+    }
+    fn reset(&mut self) -> String {
+        self.command(Command::Reset);
+        super::book::acknowledge(self);
+        self.reset_seen = true;
+        super::gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
+        self.program_alarm = None;
+        self.tape_alarm = None;
+        "reset: machine idle, block buffer empty".into()
     }
     fn takes_keys(&self, to: To) -> Result<(), String> {
         super::entry::centre_takes_keys(self, to)

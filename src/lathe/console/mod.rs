@@ -624,7 +624,7 @@ impl LatheConsole {
             PanelEvent::Eob => crate::console::entry::eob(self),
             PanelEvent::Start => self.start(),
             PanelEvent::Stop => crate::console::relay::stop(self),
-            PanelEvent::Reset => self.reset(),
+            PanelEvent::Reset => crate::console::relay::reset(self),
             PanelEvent::EStop => crate::console::relay::estop(self),
             PanelEvent::Fault(ch, why) if ch < self.desc.channels.len() && self.cycle.loaded() => {
                 // Filed in the history under the faulted channel's program.
@@ -949,8 +949,9 @@ impl LatheConsole {
         self.cycle.channels().iter().any(|s| s.status.estop)
     }
 
-    fn reset(&mut self) {
-        self.front.forget_jog();
+    /// The lathe's RESET (`crate::console::relay::reset`): the selected channel's, or after an
+    /// E-STOP every channel's; what it did.
+    fn reset(&mut self) -> String {
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self.estop();
@@ -964,20 +965,17 @@ impl LatheConsole {
             // spindle and coolant, and clears its MDI buffer.
             let ch = (!all).then_some(self.sel);
             let _ = self.cycle.reset_channels(ch, self.kept_tools());
-            self.front.entry.clear();
-            self.front.message = match self.set_mdi(Vec::new()) {
+            return match self.set_mdi(Vec::new()) {
                 Ok(()) => format!("RESET CH{}", self.sel + 1),
                 Err(e) => e,
             };
-            return;
         }
         if self.cycle.is_over() {
             // With the cycle cleared nothing shows a spindle: every one stops, and the coolant.
             self.clear_cycle();
-            self.front.message = "RESET: the cycle is cleared".into();
-            return;
+            return "RESET: the cycle is cleared".into();
         }
-        self.front.message = self.cycle.reset(self.sel);
+        self.cycle.reset(self.sel)
     }
 
     /// Each channel's tool as its reader keeps it (the turret a load sets).
@@ -1369,6 +1367,9 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn recall(&mut self) -> &mut crate::console::entry::Recall {
         &mut self.recall[self.sel]
+    }
+    fn reset(&mut self) -> String {
+        LatheConsole::reset(self)
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;
