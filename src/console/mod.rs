@@ -562,10 +562,15 @@ impl Console {
         }
     }
 
-    /// Dispatches one event the tape rules let through.
+    /// Dispatches one event the tape rules let through: every console's meaning of the word
+    /// (`side::words`), the centre's own below.
     fn apply_event(&mut self, ev: PanelEvent) {
+        side::words(self, ev)
+    }
+
+    /// The centre's own words of the panel grammar (`Side::own_word`).
+    fn own_word(&mut self, ev: PanelEvent) {
         match ev {
-            PanelEvent::Op(m) => selector::turn(self, m),
             PanelEvent::Data(d) => {
                 self.pages.page = pages::Page::Mode;
                 if d != self.data {
@@ -575,10 +580,6 @@ impl Console {
                     self.last_line.clear();
                 }
             }
-            PanelEvent::Key(ch) => entry::key(self, ch),
-            PanelEvent::Rubout => entry::rubout(self),
-            PanelEvent::Eob => entry::eob(self),
-            PanelEvent::Type(text) => entry::typed(self, &text),
             PanelEvent::Tape(path) => {
                 let name = path
                     .file_name()
@@ -592,21 +593,6 @@ impl Console {
                 };
                 self.tape = Some(path);
             }
-            PanelEvent::Start => self.start(),
-            PanelEvent::Stop => relay::stop(self),
-            PanelEvent::Reset => relay::reset(self),
-            PanelEvent::EStop => relay::estop(self),
-            ev @ (PanelEvent::Override(_)
-            | PanelEvent::BlockDelete(_)
-            | PanelEvent::OptionalStop(_)
-            | PanelEvent::RapidOverride(_)
-            | PanelEvent::SpindleOverride(_)
-            | PanelEvent::DryRun(_)
-            | PanelEvent::MachineLock(_)
-            | PanelEvent::ZNeglect(_)
-            | PanelEvent::WheelScale(_)) => {
-                switches::turn(self, &ev);
-            }
             PanelEvent::Input {
                 digital,
                 index,
@@ -619,15 +605,6 @@ impl Console {
                 });
             }
             PanelEvent::Home => posmem::home(self),
-            PanelEvent::Wheel(axis, n) => manual::turn_wheel(self, axis, n),
-            PanelEvent::Jog(axis, dir) => manual::jog(self, axis, dir),
-            PanelEvent::JogRelease => relay::jog_release(self),
-            // Taken by the one dispatch (`keys::handle`) before the machine side.
-            PanelEvent::Press(_)
-            | PanelEvent::Wait
-            | PanelEvent::WaitBlock(_)
-            | PanelEvent::WaitMs(_)
-            | PanelEvent::Show => {}
             // The words of a machine with several channels: refused on the centre's one.
             ev @ (PanelEvent::Channel(_)
             | PanelEvent::Fault(..)
@@ -638,6 +615,9 @@ impl Console {
                     script_line::script_line(&ev)
                 );
             }
+            // The words every console means alike (`side::words`), and those the one dispatch
+            // (`keys::handle`) takes before the machine side.
+            _ => {}
         }
     }
 
@@ -656,11 +636,9 @@ impl Console {
         entry::centre_line(self, to, line)
     }
 
-    /// START: run, resume, or read the tape, by mode.
+    /// START (after every console's refusals, `relay::start_allowed`): run, resume, or read
+    /// the tape, by mode.
     fn start(&mut self) {
-        if !relay::start_allowed(self) {
-            return;
-        }
         if self.tape_alarm.is_some() {
             self.front.message = "START refused: TAPE ALARM in force, press RESET".into();
             return;

@@ -70,11 +70,47 @@ pub(crate) trait Side {
     fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String>;
     /// The selected channel's MDI lines last typed, for recall with Up and Down.
     fn recall(&mut self) -> &mut super::entry::Recall;
+    /// The machine's own START (after the one rule's refusals, `relay::start_allowed`).
+    fn start(&mut self);
+    /// A word of the panel grammar that is the machine's own (the centre's data selector,
+    /// tape, HOME and inputs; a lathe's channel selector, FAULT, TARGET and OFS), or that it
+    /// refuses: every other word means the same on every machine ([`words`]).
+    fn own_word(&mut self, ev: PanelEvent);
     /// The machine's own RESET (after the one rule's, `relay::reset`): what it did, said.
     fn reset(&mut self) -> String;
     /// The machine's own rule for the selector turned from `was` to `front().op` (after the
     /// console's, `selector::turn`): whether it has said all the turn does.
     fn turned(&mut self, was: OpMode) -> bool;
+}
+
+/// What a word of the panel grammar does, on every machine (after the machine side's own gate,
+/// `Side::act`): the panel's switches, the operation selector, the manual moves, the data keys
+/// and the relay panel are the rules written once; the rest is the machine's own
+/// (`Side::own_word`). Before stop 45 each console had this match of its own.
+pub(crate) fn words<C: Side>(c: &mut C, ev: PanelEvent) {
+    use super::{entry, manual, relay, selector};
+    if super::switches::turn(c, &ev) {
+        return;
+    }
+    match ev {
+        PanelEvent::Op(m) => selector::turn(c, m),
+        PanelEvent::Jog(axis, dir) => manual::jog(c, axis, dir),
+        PanelEvent::Wheel(axis, n) => manual::turn_wheel(c, axis, n),
+        PanelEvent::JogRelease => relay::jog_release(c),
+        PanelEvent::Key(ch) => entry::key(c, ch),
+        PanelEvent::Rubout => entry::rubout(c),
+        PanelEvent::Eob => entry::eob(c),
+        PanelEvent::Type(text) => entry::typed(c, &text),
+        PanelEvent::Start => {
+            if relay::start_allowed(c) {
+                c.start();
+            }
+        }
+        PanelEvent::Stop => relay::stop(c),
+        PanelEvent::Reset => relay::reset(c),
+        PanelEvent::EStop => relay::estop(c),
+        ev => c.own_word(ev),
+    }
 }
 
 /// The machining centre: a machine of one channel.
@@ -146,6 +182,12 @@ impl Side for Console {
     }
     fn page(&self) -> crate::panel_model::Page {
         self.pages.page
+    }
+    fn start(&mut self) {
+        Console::start(self)
+    }
+    fn own_word(&mut self, ev: PanelEvent) {
+        Console::own_word(self, ev)
     }
     fn reset(&mut self) -> String {
         self.command(Command::Reset);

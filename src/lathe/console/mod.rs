@@ -598,15 +598,14 @@ impl LatheConsole {
             self.front.message = e;
             return;
         }
-        // The panel's switches: every console's one rule.
-        if crate::console::switches::turn(self, &ev) {
-            return;
-        }
+        crate::console::side::words(self, ev);
+    }
+
+    /// The lathe's own words of the panel grammar (`Side::own_word`): OFS, the channel
+    /// selector, FAULT and TARGET (`events::takes` let only these through besides the words
+    /// every console means alike).
+    fn own_word(&mut self, ev: PanelEvent) {
         match ev {
-            PanelEvent::Op(m) => crate::console::selector::turn(self, m),
-            PanelEvent::Jog(axis, dir) => crate::console::manual::jog(self, axis, dir),
-            PanelEvent::Wheel(axis, n) => crate::console::manual::turn_wheel(self, axis, n),
-            PanelEvent::JogRelease => crate::console::relay::jog_release(self),
             PanelEvent::OfsMode => {
                 self.page = Page::Ofs;
                 self.front.y_output = None;
@@ -618,14 +617,6 @@ impl LatheConsole {
             }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => self.front.message = format!("there is no channel {}", c + 1),
-            PanelEvent::Key(c) => crate::console::entry::key(self, c),
-            PanelEvent::Rubout => crate::console::entry::rubout(self),
-            PanelEvent::Type(t) => crate::console::entry::typed(self, &t),
-            PanelEvent::Eob => crate::console::entry::eob(self),
-            PanelEvent::Start => self.start(),
-            PanelEvent::Stop => crate::console::relay::stop(self),
-            PanelEvent::Reset => crate::console::relay::reset(self),
-            PanelEvent::EStop => crate::console::relay::estop(self),
             PanelEvent::Fault(ch, why) if ch < self.desc.channels.len() && self.cycle.loaded() => {
                 // Filed in the history under the faulted channel's program.
                 self.msg_of = Some(ch);
@@ -638,7 +629,6 @@ impl LatheConsole {
                 self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
             PanelEvent::Target(n) => self.set_target(n),
-            // `events::takes` let through only the words above and the switches.
             _ => {}
         }
     }
@@ -727,9 +717,6 @@ impl LatheConsole {
     }
 
     fn start(&mut self) {
-        if !crate::console::relay::start_allowed(self) {
-            return;
-        }
         let op = self.front.op;
         if op == OpMode::Data {
             // The centre's words: START runs in AUTO, MDI and SINGLE BLOCK only (before stop
@@ -1370,6 +1357,12 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn reset(&mut self) -> String {
         LatheConsole::reset(self)
+    }
+    fn start(&mut self) {
+        LatheConsole::start(self)
+    }
+    fn own_word(&mut self, ev: PanelEvent) {
+        LatheConsole::own_word(self, ev)
     }
     fn turned(&mut self, _was: OpMode) -> bool {
         let m = self.front.op;
