@@ -617,3 +617,44 @@ fn an_e_stop_before_any_run_is_the_kernels_and_is_recorded() {
         );
     }
 }
+
+/// The counters every console keeps (stop 45): the parts delivered in every batch, the last
+/// cycle's time and the run time are in the lathe's state directory, and a restart shows them,
+/// as the centre's POS page does; before, the lathe forgot its cycle time at a restart and kept
+/// no run time. A run of MDI counts in the run time, not in the parts.
+#[test]
+fn the_cycle_time_and_the_run_hours_survive_a_restart() {
+    let dir = common::temp_dir("lathe-counters");
+    let d = LatheDesc::citizen();
+    let mut c = open(&d, &dir);
+    assert_eq!(c.cycle_time_ns(), None);
+    c.handle(PanelEvent::Target(2));
+    c.handle(PanelEvent::Start);
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    let k = c.counters();
+    assert_eq!(k.parts, 2);
+    let cycle = c.cycle_time_ns().expect("a cycle time");
+    assert_eq!(k.last_cycle_ns, cycle);
+    // Every part of the batch ran inside the run time, and the run time ends with the batch.
+    assert!(k.run_ns >= 2 * cycle && k.run_ns <= c.machine_ns(), "{k:?}");
+    c.run_for(5_000_000_000, RunUntil::Time, || false);
+    assert_eq!(c.counters().run_ns, k.run_ns, "no run, no run time");
+    assert!(matches!(c.finish(None), None | Some(Ok(_))));
+
+    let mut c = open(&d, &dir);
+    assert_eq!(c.counters(), k);
+    assert_eq!(c.cycle_time_ns(), Some(cycle));
+    assert!(c.frame_text().contains("CYCLE"), "{}", c.frame_text());
+    c.press(novanc_panel::Key::Ctrl('p'));
+    let pos = c.frame_text();
+    assert!(
+        pos.contains(&format!("TOTAL 2 CYCLE {:.3} s", cycle as f64 * 1e-9)),
+        "{pos}"
+    );
+    // An MDI run: its time is run time; it delivers no part.
+    mdi(&mut c, &["G4 P2"]);
+    let after = c.counters();
+    assert_eq!(after.parts, 2);
+    assert!(after.run_ns >= k.run_ns + 2_000_000_000, "{after:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

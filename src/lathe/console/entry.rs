@@ -329,10 +329,16 @@ impl LatheConsole {
             format!("Z  {:12.3} {:12.3}", mm(c.pos[1]), mm(c.to_go[1])),
             format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state),
         ];
-        let cycle = self.cycle_ns.map_or(String::new(), |t| {
-            format!("  CYCLE {:.3} s", t as f64 * 1e-9)
-        });
-        l.push(format!("PARTS {}/{}{cycle}", c.parts, self.counter.target));
+        // The batch's count and target, then the counters every console keeps (the centre's
+        // POS words): parts delivered in every batch, the last cycle, the run hours.
+        let k = &self.counters;
+        l.push(format!("PARTS {}/{}", c.parts, self.counter.target));
+        l.push(format!(
+            "TOTAL {} CYCLE {:.3} s RUN {:.2} h",
+            k.parts,
+            k.last_cycle_ns as f64 * 1e-9,
+            k.run_ns as f64 / 3.6e12
+        ));
         l
     }
 

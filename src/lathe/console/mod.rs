@@ -69,9 +69,14 @@ pub struct LatheConsole {
     /// The OFS page's cursor: the selected channel's tool (its row) and column
     /// (`ofs::COLUMNS`).
     ofs_cell: (usize, usize),
-    /// The last cycle's time, ns: from the part delivered before it (the first from START) to
-    /// the part delivered at the unloader; the title shows it.
-    cycle_ns: Option<u64>,
+    /// The counters every console keeps (`crate::store::history::Counters`, the centre's),
+    /// in the lathe's state directory across restarts: the parts delivered at the unloader in
+    /// every batch, the last cycle's time (from the part delivered before it, the first from
+    /// START, to the part delivered; the title shows it) and the machine time with a cycle or
+    /// an MDI run under way. The batch's target and counts are the part counter's (`counter`,
+    /// journaled). Before stop 45 the cycle time was forgotten at a restart and the lathe
+    /// kept no run time.
+    counters: crate::store::history::Counters,
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
     /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
@@ -181,6 +186,8 @@ impl LatheConsole {
         let (log, damaged) = Log::open(o.store.dir());
         let mut warnings = o.warnings;
         warnings.extend(damaged);
+        let (counters, damaged) = crate::store::history::Counters::open(o.store.dir());
+        warnings.extend(damaged);
         let kept: Vec<_> = (0..n)
             .map(|ch| {
                 let mut k = super::gcode::Kept::power_on(&desc, ch, None);
@@ -227,7 +234,7 @@ impl LatheConsole {
             macro_var: 1,
             ofs_cell: (0, ofs::FIRST_COLUMN),
             recall: (0..n).map(|_| Default::default()).collect(),
-            cycle_ns: None,
+            counters,
             last_part_ns: None,
             alarms_logged: vec![String::new(); n],
             estop_logged: false,
@@ -315,7 +322,13 @@ impl LatheConsole {
     /// The last cycle's time, ns (the title's `CYCLE`): from the part delivered before it, or
     /// from the batch's START for its first part, to the part delivered at the unloader.
     pub fn cycle_time_ns(&self) -> Option<u64> {
-        self.cycle_ns
+        Some(self.counters.last_cycle_ns).filter(|&t| t > 0)
+    }
+
+    /// The counters kept across restarts: parts delivered in every batch, the last cycle's
+    /// time and the run time.
+    pub fn counters(&self) -> crate::store::history::Counters {
+        self.counters
     }
 
     /// The message line: the operator message while it lives ([`MsgLife`]), else what the
@@ -931,6 +944,13 @@ impl LatheConsole {
         }
     }
 
+    /// Saves the counters (`counters`) atomically; a failure is said on the message line.
+    fn save_counters(&mut self) {
+        if let Err(e) = self.counters.save(self.store.dir()) {
+            self.front.say(e, MsgLife::NextKey, self.now_ns);
+        }
+    }
+
     /// E-STOP is in force: pressed and not yet released by RESET (the kernel's state).
     fn estop(&self) -> bool {
         self.cycle.channels().iter().any(|s| s.status.estop)
@@ -986,8 +1006,15 @@ impl LatheConsole {
     /// [`LatheConsole::tick`], ending early when `until` holds (`Cycle::run`): whether it
     /// does (never for [`RunUntil::Time`]).
     pub fn step(&mut self, ns: u64, until: RunUntil) -> bool {
+        let running = self.cycle.loaded() && !self.cycle.is_over();
         let reached = self.cycle.run(ns, until);
-        self.now_ns = self.cycle.now_ns();
+        let t = self.cycle.now_ns();
+        if running {
+            // The run hours: machine time with a cycle or an MDI run under way.
+            let k = &mut self.counters;
+            k.run_ns = k.run_ns.saturating_add(t.saturating_sub(self.now_ns));
+        }
+        self.now_ns = t;
         self.after();
         reached
     }
@@ -1015,6 +1042,7 @@ impl LatheConsole {
 
     /// Takes what the machine reported: records it, counts parts into the stores.
     fn after(&mut self) {
+        let mut counted = false;
         {
             let c = &mut self.cycle;
             // The kernel's events are in the recording already (the pulse core writes them);
@@ -1025,8 +1053,11 @@ impl LatheConsole {
                 match e {
                     E::Part { ch, t, .. } if ch == self.desc.unloader && !c.mdi => {
                         let from = self.last_part_ns.unwrap_or(c.started_ns());
-                        self.cycle_ns = Some(t.saturating_sub(from));
+                        let k = &mut self.counters;
+                        k.last_cycle_ns = t.saturating_sub(from).max(1);
+                        k.parts += 1;
                         self.last_part_ns = Some(t);
+                        counted = true;
                     }
                     // When a channel's fault or alarm came, for the history (a wait runs the
                     // kernel for as long as it lasts, and the console looks at its end).
@@ -1038,6 +1069,10 @@ impl LatheConsole {
                     _ => {}
                 }
             }
+            if counted {
+                self.save_counters();
+            }
+            let c = &mut self.cycle;
             let counts = c.counts(&self.counter.counts);
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
@@ -1164,7 +1199,7 @@ impl LatheConsole {
             .get(self.desc.unloader)
             .copied()
             .unwrap_or(0);
-        let cycle = self.cycle_ns.map_or(String::new(), |t| {
+        let cycle = self.cycle_time_ns().map_or(String::new(), |t| {
             format!("  CYCLE {:.3} s", t as f64 * 1e-9)
         });
         LatheView {
@@ -1193,6 +1228,8 @@ impl LatheConsole {
         if interrupted.is_some() {
             self.stop_machine();
         }
+        // The run time since the last part (a failure to save is not the recording's).
+        self.save_counters();
         // The kernel's thread holds a sink: it ends first, so everything it sent is written.
         let LatheConsole {
             cycle, recorder, ..
