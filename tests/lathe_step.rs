@@ -766,3 +766,42 @@ fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
     assert_eq!(m.view().entry, "");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The editor's cursor keys are one rule on both machines (stop 45): on the mode display in
+/// DATA they move the pointer, and Delete at the end of the program says so in the same words;
+/// with a page up they do not edit what the page hides (the centre's Down moved its pointer
+/// under the POS page before).
+#[test]
+fn the_editor_cursor_keys_are_one_rule() {
+    use novanc::panel_model::DataMode;
+    let dir = common::temp_dir("lathe-cursor-keys");
+    let mut c = open(&dir);
+    let mut m = common::open("centre-cursor-keys");
+    m.handle(PanelEvent::Op(OpMode::Data));
+    m.handle(PanelEvent::Data(DataMode::Revise));
+    c.handle(PanelEvent::Op(OpMode::Data));
+    let header = |m: &novanc::console::Console| m.view().display[0].clone();
+    assert!(header(&m).ends_with("L1/9"), "{}", header(&m));
+    m.press(Key::Ctrl('p'));
+    m.press(Key::Down);
+    m.press(Key::Ctrl('p'));
+    assert!(header(&m).ends_with("L1/9"), "under POS: {}", header(&m));
+    m.press(Key::Down);
+    assert!(header(&m).ends_with("L2/9"), "{}", header(&m));
+    // To the end of each program, then Delete.
+    m.handle(PanelEvent::Type("99999L".into()));
+    c.handle(PanelEvent::Type("99999L".into()));
+    m.press(Key::Delete);
+    c.press(Key::Delete);
+    assert!(
+        m.message().starts_with("Delete: nothing after the pointer"),
+        "{}",
+        m.message()
+    );
+    assert!(
+        c.message().starts_with("Delete: nothing after the pointer"),
+        "{}",
+        c.message()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -228,49 +228,73 @@ pub(crate) fn cursor_command(
     Some((name, r))
 }
 
-/// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT, on the
-/// buffer the data-processing mode edits (PROGRAM REVISION, MDI, TOOL DATA REVISION), beside
-/// the letter commands, as Fanuc's EDIT screen has them (docs/editor.md, "Cursor keys"). Each
-/// is the editor command it stands for ([`cursor_command`]), journaled like a typed one; the
-/// line being typed stays on the entry line. Returns false for a key that is not one of these
-/// here (the key then does what it does elsewhere).
-pub(super) fn cursor_key(c: &mut Console, k: novanc_panel::Key) -> bool {
-    let t = match (c.front.op, c.data) {
-        (OpMode::Data, DataMode::Revise) => Target::Program,
-        (OpMode::Data, DataMode::Mdi) => Target::Mdi,
-        (OpMode::Data, DataMode::ToolRevise) => Target::ToolFile,
-        _ => return false,
-    };
-    let Some((name, command)) = cursor_command(c.mem.buffer(t), k, c.cfg.text_rows()) else {
+/// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT on the
+/// mode display, on every machine: on the buffer the machine edits there (`Side::edit_buffer`:
+/// the centre's data mode's, PROGRAM REVISION, MDI, TOOL DATA REVISION; a lathe's selected
+/// channel's program), beside the letter commands, as Fanuc's EDIT screen has them
+/// (docs/editor.md, "Cursor keys"). Each is the editor command it stands for
+/// ([`cursor_command`]), run and stored as a typed one is (`Side::edit`); the line being typed
+/// stays on the entry line. Returns false for a key that is not one of these here (the key then
+/// does what it does elsewhere). Before stop 45 each console had its own, and the centre's
+/// moved the pointer under a page that hid it.
+pub(crate) fn cursor_key<C: Side>(c: &mut C, k: novanc_panel::Key) -> bool {
+    if c.page() != Page::Mode || c.front().op != OpMode::Data {
+        return false;
+    }
+    let Some((buf, page)) = c.edit_buffer() else {
         return false;
     };
-    if c.running() {
-        c.front.message = format!("{name} refused: the machine is running");
+    let Some((name, command)) = cursor_command(&buf, k, page) else {
+        return false;
+    };
+    if let Err(e) = c.takes_keys(To::Data) {
+        c.front().message = format!("{name} refused: {e}");
         return true;
     }
-    let command = match command {
-        Ok(cmd) => cmd,
-        Err(e) => {
-            c.front.message = e;
-            return true;
-        }
+    // A `Y` type-out gives way to the listing the pointer moves in (docs/editor.md).
+    c.front().y_output = None;
+    let said = match command {
+        Err(e) => e,
+        Ok(cmd) => match c.edit(&cmd) {
+            Ok(note) => note,
+            Err(e) if cmd == "1D" => format!("Delete: nothing after the pointer ({e})"),
+            Err(e) if e.starts_with(name) => e,
+            Err(e) => format!("{name}: {e}"),
+        },
     };
-    let rev = c.mem.rev();
-    match c.mem.edit(t, &command, None) {
-        Ok(_) => {
-            c.front.message = String::new();
-            if t == Target::Program && c.mem.rev() != rev && c.search.is_some() {
-                c.search = None;
-                c.front.message = "SEARCH point cleared (program changed)".into();
-            }
-            run::recheck_program_alarm(c);
-        }
-        Err(e) if command == "1D" => {
-            c.front.message = format!("Delete: nothing after the pointer ({e})");
-        }
-        Err(e) => c.front.message = format!("{name}: {e}"),
-    }
+    c.front().message = said;
     true
+}
+
+/// The centre's buffer of the DATA editor now, and the lines of a page.
+pub(super) fn centre_buffer(c: &Console) -> Option<(novanc_editor::Buffer, usize)> {
+    let t = edited(c.data)?;
+    Some((c.mem.buffer(t).clone(), c.cfg.text_rows()))
+}
+
+/// The buffer a data mode edits.
+fn edited(d: DataMode) -> Option<Target> {
+    match d {
+        DataMode::Revise => Some(Target::Program),
+        DataMode::Mdi => Some(Target::Mdi),
+        DataMode::ToolRevise => Some(Target::ToolFile),
+        _ => None,
+    }
+}
+
+/// An editor command on the centre's buffer of the DATA editor (a cursor key's), journaled; a
+/// note to say (the SEARCH point cleared by a program changed), or why it is refused.
+pub(super) fn centre_edit(c: &mut Console, command: &str) -> Result<String, String> {
+    let t = edited(c.data).ok_or("no buffer is edited in this data mode")?;
+    let rev = c.mem.rev();
+    c.mem.edit(t, command, None)?;
+    let mut note = String::new();
+    if t == Target::Program && c.mem.rev() != rev && c.search.is_some() {
+        c.search = None;
+        note = "SEARCH point cleared (program changed)".into();
+    }
+    run::recheck_program_alarm(c);
+    Ok(note)
 }
 
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).

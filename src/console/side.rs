@@ -68,6 +68,12 @@ pub(crate) trait Side {
     /// The machine's use of a line entered at `to` (with `add`: +INPUT on a page); Err: why it
     /// is refused (the line then stays on the entry line: `entry::enter`).
     fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String>;
+    /// The buffer the DATA editor's cursor keys act on now, and the lines of a page (the
+    /// centre's data mode's buffer; a lathe's selected channel's program); None: none.
+    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)>;
+    /// Runs an editor command on that buffer and stores it: a note to say, or why it is
+    /// refused (nothing changed).
+    fn edit(&mut self, command: &str) -> Result<String, String>;
     /// The selected channel's MDI lines last typed, for recall with Up and Down.
     fn recall(&mut self) -> &mut super::entry::Recall;
     /// The machine's own START (after the one rule's refusals, `relay::start_allowed`).
@@ -206,6 +212,12 @@ impl Side for Console {
     }
     fn recall(&mut self) -> &mut super::entry::Recall {
         &mut self.pages.recall
+    }
+    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)> {
+        super::entry::centre_buffer(self)
+    }
+    fn edit(&mut self, command: &str) -> Result<String, String> {
+        super::entry::centre_edit(self, command)
     }
     fn turned(&mut self, was: OpMode) -> bool {
         let m = self.front.op;

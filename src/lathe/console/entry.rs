@@ -66,27 +66,12 @@ impl LatheConsole {
         Ok(())
     }
 
-    /// An editor cursor key (arrows, PgUp/PgDn, Home/End) or Delete in DATA, on the selected
-    /// channel's program: the editor command it stands for, every console's
-    /// (`crate::console::entry::cursor_command`), run as a typed one is; the line being typed
-    /// stays on the entry line. False for another key, or with the OFS page up.
-    pub(super) fn cursor_key(&mut self, k: novanc_panel::Key) -> bool {
-        if self.front.op != OpMode::Data || self.page != Page::Mode {
-            return false;
-        }
+    /// The selected channel's program as the DATA editor has it, its pointer, and the lines
+    /// of a page (`Side::edit_buffer`).
+    pub(super) fn edit_buffer(&self) -> Option<(Buffer, usize)> {
         let mut buf = Buffer::from_text(&self.programs[self.sel].text);
         buf.set_pointer(self.pointers[self.sel]);
-        let room = self.rows.saturating_sub(5).max(1);
-        let Some((name, command)) = crate::console::entry::cursor_command(&buf, k, room) else {
-            return false;
-        };
-        self.front.y_output = None;
-        self.front.message = match command.and_then(|cmd| self.edit(&cmd)) {
-            Ok(()) => String::new(),
-            Err(e) if e.starts_with(name) => e,
-            Err(e) => format!("{name}: {e}"),
-        };
-        true
+        Some((buf, self.rows.saturating_sub(5).max(1)))
     }
 
     /// MACRO: a line INPUT on the selected channel's variables, by the centre's rules
@@ -164,7 +149,7 @@ impl LatheConsole {
     /// Runs an editor command line on the selected channel's program and stores what it
     /// changed (and the pointer); the message says so. Err: why it is refused (the program
     /// and the pointer unchanged).
-    fn edit(&mut self, line: &str) -> Result<(), String> {
+    pub(super) fn edit(&mut self, line: &str) -> Result<(), String> {
         if !self.cycle.is_over() {
             return Err("the programs are in use: RESET the cycle before editing".into());
         }

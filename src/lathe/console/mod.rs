@@ -1261,7 +1261,8 @@ impl crate::console::keys::Keyed for LatheConsole {
         self.record_event(&PanelEvent::Press(k));
     }
     fn takes_first(&mut self, k: Key, action: &Action) -> bool {
-        let taken = self.cursor_key(k) || self.page_key(k) || self.recall_key(k);
+        let taken =
+            crate::console::entry::cursor_key(self, k) || self.page_key(k) || self.recall_key(k);
         if !taken {
             if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
                 return false;
@@ -1391,6 +1392,12 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn recall(&mut self) -> &mut crate::console::entry::Recall {
         &mut self.recall[self.sel]
+    }
+    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)> {
+        LatheConsole::edit_buffer(self)
+    }
+    fn edit(&mut self, command: &str) -> Result<String, String> {
+        LatheConsole::edit(self, command).map(|()| String::new())
     }
     fn reset(&mut self) -> String {
         LatheConsole::reset(self)
