@@ -55,6 +55,17 @@ struct Channel {
 }
 
 impl Channel {
+    /// It can still move without the operator: a manual move moving or queued, or not
+    /// finished, not waiting at a sync point and not idle (held at rest, stopped, faulted, in
+    /// E-STOP or alarm are idle).
+    fn progressing(&self) -> bool {
+        // A channel done with its part target, or waiting at a sync point, may still move by
+        // hand (a STEP after the cycle has finished): before stop 44 that move did not count,
+        // so a wait for rest ended with it half done, and in real time the idle step ran it
+        // up to 10 ms ahead of the wall clock.
+        self.m.moves_by_hand() || (!self.done && self.at_point.is_none() && !self.m.is_idle())
+    }
+
     /// Its program from the start: the one read again for it, if any, else the same.
     fn restart_program(&mut self) {
         match self.next_src.take() {
@@ -95,6 +106,10 @@ pub struct ChannelView {
     pub fault: Option<String>,
     /// Its part count reached the target.
     pub done: bool,
+    /// It can still move without the operator (`Kernel::progressing`, the one rest
+    /// predicate: the kernel's waits and idle step go by it, and a console's rest reads it
+    /// here, beside the positions it shows).
+    pub progressing: bool,
     /// The work its chuck holds, and whether the chuck is closed.
     pub work: Option<u32>,
     /// The chuck is closed.
@@ -970,6 +985,7 @@ impl Kernel {
             alarm: st.alarm,
             fault: c.fault.clone(),
             done: c.done,
+            progressing: c.progressing(),
             work,
             closed,
             parts: self.table.parts(ch),
@@ -1165,13 +1181,7 @@ impl Kernel {
     /// Whether some channel can still move without the operator (not finished, not waiting
     /// at a sync point, not idle: held at rest, stopped, faulted, in E-STOP or alarm).
     pub fn progressing(&self) -> bool {
-        // A channel done with its part target, or waiting at a sync point, may still move by
-        // hand (a STEP after the cycle has finished): before stop 44 that move did not count,
-        // so a wait for rest ended with it half done, and in real time the idle step ran it
-        // up to 10 ms ahead of the wall clock.
-        self.chans
-            .iter()
-            .any(|c| c.m.moves_by_hand() || (!c.done && c.at_point.is_none() && !c.m.is_idle()))
+        self.chans.iter().any(Channel::progressing)
     }
 
     /// How much machine time [`Kernel::run_until`] runs between its looks at the channels

@@ -629,14 +629,15 @@ impl Cycle {
     }
 
     /// Nothing moves or can move without the operator: every channel finished, stopped,
-    /// waiting at a sync point, faulted or in E-STOP.
+    /// waiting at a sync point, faulted or in E-STOP, and no manual move moving or queued.
+    /// The kernel's own predicate (`Kernel::progressing`, what its waits and its idle step go
+    /// by), as it published it with the state shown: before stop 45 the console derived its
+    /// own from the published state, and the two disagreed once (stop 44: a STEP after the
+    /// batch ended a wait half done).
     pub fn at_rest(&self) -> bool {
-        self.snap.iter().all(|c| {
-            let v = c.sync.as_ref();
-            // A finished channel with no run that is not idle has a manual move moving or
-            // queued (a STEP after the cycle ended, which moves at the next wait).
-            let done = v.is_some_and(|v| v.done) && (c.status.run != 0 || c.status.idle);
-            done || v.is_some_and(|v| v.at_sync.is_some()) || c.status.idle
+        !self.snap.iter().any(|c| match &c.sync {
+            Some(v) => v.progressing,
+            None => !c.status.idle,
         })
     }
 
