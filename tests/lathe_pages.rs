@@ -9,7 +9,7 @@ mod common;
 
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::{OpMode, Page, PanelEvent};
+use novanc::panel_model::{Axis, OpMode, Page, PanelEvent};
 use novanc::store::history::Kind;
 use novanc_panel::Key;
 
@@ -638,5 +638,49 @@ fn every_key_in_every_mode_and_page_acts_or_says_why() {
         "keys that changed nothing and said nothing:\n{}",
         silent.join("\n")
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The history's levels are every console's (stop 45, docs/recording.md "Levels"): the
+/// machine's refusal of an operator action is a WARNING on the lathe too (its queued STEP that
+/// would leave the travel, said `CH1 X jog refused: ...`), a message the console says is INFO.
+/// Before, the lathe wrote every message at INFO.
+#[test]
+fn a_machine_refusal_is_a_warning_in_the_lathe_recording() {
+    let dir = common::temp_dir("lathe-log-levels");
+    let (mut c, rec) = open_recorded(&dir, "levels.mcap");
+    c.handle(PanelEvent::Op(OpMode::Step));
+    c.handle(PanelEvent::WheelScale(1000));
+    for d in [-1, -1] {
+        c.handle(PanelEvent::Jog(Axis::X, d));
+    }
+    c.handle(PanelEvent::Wait);
+    for _ in 0..3 {
+        c.handle(PanelEvent::Jog(Axis::X, 1));
+    }
+    c.handle(PanelEvent::Wait);
+    assert!(
+        c.message().starts_with("CH1 X jog refused:"),
+        "{}",
+        c.message()
+    );
+    // The next action puts the message shown into the history.
+    c.press(Key::Alt('w'));
+    assert!(matches!(c.finish(None), Some(Ok(_))));
+    let logs: Vec<String> = recorded(&rec, "/foxglove/log")
+        .into_iter()
+        .map(|(_, json)| json)
+        .collect();
+    let at = |text: &str| -> Vec<&String> { logs.iter().filter(|l| l.contains(text)).collect() };
+    let refused = at("CH1 X jog refused:");
+    assert!(!refused.is_empty(), "{logs:#?}");
+    for l in refused {
+        assert!(l.contains("\"level\":3,"), "{l}");
+    }
+    let said = at("STEP CH1 X- 1.000 mm");
+    assert!(!said.is_empty(), "{logs:#?}");
+    for l in said {
+        assert!(l.contains("\"level\":2,"), "{l}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -135,12 +135,7 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     } else {
         c.book.alarm_logged.clear();
     }
-    // The pulse core's refusal of an operator action is a warning; the rest, information.
-    let lvl = if c.status.notice.as_deref() == Some(c.front.message.as_str()) {
-        level::WARNING
-    } else {
-        level::INFO
-    };
+    let lvl = message_level(&c.front.message, std::slice::from_ref(&c.status));
     let r = c
         .book
         .log
@@ -149,6 +144,24 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
         also_say(c, &w);
         // The message with the failure added is not logged again.
         c.book.log.shown(&c.front.message.clone());
+    }
+}
+
+/// The level a message goes into the history and the recording at, on every console
+/// (docs/recording.md "Levels"): a machine's refusal of an operator action (a channel's
+/// notice, said as it is or after the channel's name: `CH1 X jog refused: ...`) is a warning;
+/// every other message is information. Before stop 45 the lathe wrote every message as
+/// information.
+pub(crate) fn message_level(message: &str, channels: &[crate::pulse_core::Status]) -> u8 {
+    let refusal = channels.iter().any(|s| {
+        s.notice
+            .as_deref()
+            .is_some_and(|n| !n.is_empty() && message.ends_with(n))
+    });
+    if refusal {
+        level::WARNING
+    } else {
+        level::INFO
     }
 }
 

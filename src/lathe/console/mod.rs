@@ -576,12 +576,13 @@ impl LatheConsole {
         }
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
-        let r = self.log.message(
-            &mut self.recorder,
-            (t, file, 0),
-            level::INFO,
-            &self.front.message,
-        );
+        let chans: Vec<_> = (self.cycle.channels().iter())
+            .map(|c| c.status.clone())
+            .collect();
+        let lvl = crate::console::book::message_level(&self.front.message, &chans);
+        let r = self
+            .log
+            .message(&mut self.recorder, (t, file, 0), lvl, &self.front.message);
         if let Some(e) = failed.or(r.err()) {
             let m = crate::console::book::with_failure(&self.front.message, &e);
             self.say(m, MsgLife::NextKey);
