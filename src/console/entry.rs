@@ -101,12 +101,20 @@ pub(crate) fn enter<C: Side>(c: &mut C, to: To, line: String, add: bool) {
     }
 }
 
-/// Up or Down in MDI: the selected channel's previous or next line typed, on the entry line.
-pub(crate) fn recall<C: Side>(c: &mut C, back: bool) {
-    match c.recall().step(back) {
+/// Up or Down in MDI, on the mode display or a page that has no use for them (the pages that
+/// do take them first): the selected channel's previous or next line typed, on the entry line.
+/// Whether `k` was one of them. One rule since stop 45 (a lathe's POS page took Up as a jog,
+/// refused in MDI, where the centre's recalled).
+pub(crate) fn recall_key<C: Side>(c: &mut C, k: novanc_panel::Key) -> bool {
+    use novanc_panel::Key;
+    if c.front().op != OpMode::Mdi || !matches!(k, Key::Up | Key::Down) {
+        return false;
+    }
+    match c.recall().step(k == Key::Up) {
         Some(l) => c.front().entry = l,
         None => c.front().message = "MDI: no line to recall".into(),
     }
+    true
 }
 
 /// The MDI lines kept for recall.

@@ -398,15 +398,11 @@ impl Keyed for Console {
             self.record_key(k);
             return true;
         }
-        let recall = self.front.op == OpMode::Mdi && matches!(k, Key::Up | Key::Down);
-        if !recall && !super::entry::cursor_key(self, k) {
+        // Recorded, as every key that acts is: a replay moves or recalls the same.
+        if !super::entry::recall_key(self, k) && !super::entry::cursor_key(self, k) {
             return false;
         }
-        // Recorded, as every key that acts is: a replay moves or recalls the same.
         self.record_key(k);
-        if recall {
-            super::entry::recall(self, k == Key::Up);
-        }
         self.refresh();
         true
     }

@@ -515,20 +515,6 @@ impl LatheConsole {
         true
     }
 
-    /// Up or Down in MDI (no page up): the selected channel's previous or next line typed, on
-    /// the entry line (the centre's recall). Whether `k` was one of them.
-    fn recall_key(&mut self, k: novanc_panel::Key) -> bool {
-        use novanc_panel::Key;
-        if self.front.op != OpMode::Mdi
-            || self.page != Page::Mode
-            || !matches!(k, Key::Up | Key::Down)
-        {
-            return false;
-        }
-        crate::console::entry::recall(self, k == Key::Up);
-        true
-    }
-
     /// Puts in the history (the MSG page, the recording's `/foxglove/log`) the message shown,
     /// if it is new, and each channel's fault or alarm when it comes: the centre's rule. A
     /// history that cannot be saved is said after the message, never in its place.
@@ -1262,8 +1248,9 @@ impl crate::console::keys::Keyed for LatheConsole {
         self.record_event(&PanelEvent::Press(k));
     }
     fn takes_first(&mut self, k: Key, action: &Action) -> bool {
-        let taken =
-            crate::console::entry::cursor_key(self, k) || self.page_key(k) || self.recall_key(k);
+        let taken = crate::console::entry::cursor_key(self, k)
+            || self.page_key(k)
+            || crate::console::entry::recall_key(self, k);
         if !taken {
             if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
                 return false;
