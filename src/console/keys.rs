@@ -216,9 +216,10 @@ pub(crate) trait Keyed: super::side::Side {
     fn action(&self, k: Key) -> Action;
     /// Records the key on `/panel/event` (what a replay presses again).
     fn record_key(&mut self, k: Key);
-    /// The keys taken before the key map: a page's keys, the editor's cursor keys, the MDI
-    /// recall (each console records and shows what it took). Whether `k` was one of them.
-    fn takes_first(&mut self, k: Key, action: &Action) -> bool;
+    /// The machine's pages' keys, taken before the key map (`takes_first`): a page key, and
+    /// the keys of the page shown (its cursor, INPUT, +INPUT, its data keys). Whether `k` was
+    /// one of them.
+    fn page_keys(&mut self, k: Key, action: &Action) -> bool;
     /// A key of the machine's own (the centre's tape and punch, a lathe's channel, FAULT and
     /// TARGET): whether `action` was one it has.
     fn own_key(&mut self, k: Key, action: &Action) -> bool;
@@ -256,7 +257,7 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         c.front().screen.refuse(&key_name(k));
         return;
     }
-    if c.takes_first(k, &action) {
+    if takes_first(c, k, &action) {
         return;
     }
     let machine = c.machine_switches();
@@ -302,6 +303,21 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         }
     };
     handle(c, ev)
+}
+
+/// The keys taken before the key map, on every console: the pages' (`Keyed::page_keys`), the
+/// editor's cursor keys in DATA (`entry::cursor_key`) and the MDI recall (`entry::recall_key`).
+/// Each is recorded, as every key that acts is (a replay moves, types or recalls the same), and
+/// the state after it shown. Whether `k` was one of them. Before stop 45 each console had its
+/// own.
+fn takes_first<C: Keyed>(c: &mut C, k: Key, action: &Action) -> bool {
+    let taken =
+        c.page_keys(k, action) || super::entry::cursor_key(c, k) || super::entry::recall_key(c, k);
+    if taken {
+        c.record_key(k);
+        c.refresh();
+    }
+    taken
 }
 
 /// One event of the panel grammar on a console, every console's one dispatch (issue 22: each
@@ -379,11 +395,9 @@ impl Keyed for Console {
         self.recorder
             .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
     }
-    fn takes_first(&mut self, k: Key, action: &Action) -> bool {
+    fn page_keys(&mut self, k: Key, action: &Action) -> bool {
         if let Some(p) = pages::page_of_key(k) {
-            self.record_key(k);
             pages::page_key(self, p);
-            self.refresh();
             return true;
         }
         if matches!(
@@ -392,19 +406,9 @@ impl Keyed for Console {
         ) {
             self.pages.page = Page::Mode;
         }
-        if self.pages.page != Page::Mode && pages::press(self, k) {
-            // What a page takes (a data key, INPUT, a cursor key) is in the recording, as
-            // every key that acts: a replay types the same revision.
-            self.record_key(k);
-            return true;
-        }
-        // Recorded, as every key that acts is: a replay moves or recalls the same.
-        if !super::entry::recall_key(self, k) && !super::entry::cursor_key(self, k) {
-            return false;
-        }
-        self.record_key(k);
-        self.refresh();
-        true
+        // What a page takes (a data key, INPUT, a cursor key) is in the recording, as every
+        // key that acts: a replay types the same revision.
+        self.pages.page != Page::Mode && pages::press(self, k)
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {

@@ -155,9 +155,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
         }
         _ => false,
     };
-    if take {
-        c.refresh();
-    }
+    // The one pipeline records the key and shows the state after it (`keys::takes_first`).
     take
 }
 

@@ -1247,20 +1247,16 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn record_key(&mut self, k: Key) {
         self.record_event(&PanelEvent::Press(k));
     }
-    fn takes_first(&mut self, k: Key, action: &Action) -> bool {
-        let taken = crate::console::entry::cursor_key(self, k)
-            || self.page_key(k)
-            || crate::console::entry::recall_key(self, k);
-        if !taken {
-            if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
-                return false;
-            }
-            // The page key again: back to the mode's display (the centre's rule).
-            self.page = Page::Mode;
-            self.front.message = format!("{} mode", self.front.op.word());
+    fn page_keys(&mut self, k: Key, action: &Action) -> bool {
+        if self.page_key(k) {
+            return true;
         }
-        self.record_key(k);
-        self.after();
+        if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
+            return false;
+        }
+        // The page key again: back to the mode's display (the centre's rule).
+        self.page = Page::Mode;
+        self.front.message = format!("{} mode", self.front.op.word());
         true
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
