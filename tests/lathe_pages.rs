@@ -9,7 +9,7 @@ mod common;
 
 use novanc::lathe::console::LatheConsole;
 use novanc::lathe::desc::LatheDesc;
-use novanc::panel_model::{Axis, OpMode, Page, PanelEvent};
+use novanc::panel_model::{OpMode, Page, PanelEvent};
 use novanc::store::history::Kind;
 use novanc_panel::Key;
 
@@ -649,16 +649,11 @@ fn every_key_in_every_mode_and_page_acts_or_says_why() {
 fn a_machine_refusal_is_a_warning_in_the_lathe_recording() {
     let dir = common::temp_dir("lathe-log-levels");
     let (mut c, rec) = open_recorded(&dir, "levels.mcap");
-    c.handle(PanelEvent::Op(OpMode::Step));
-    c.handle(PanelEvent::WheelScale(1000));
-    for d in [-1, -1] {
-        c.handle(PanelEvent::Jog(Axis::X, d));
+    // From the top of X, the third STEP of X+ leaves the travel when its turn comes.
+    let script = "op STEP\nwheelscale 1000\njog X-\njog X-\nwait\njog X+\njog X+\njog X+\nwait\n";
+    for ev in novanc::lathe::console::events::parse_script(script, 3).unwrap() {
+        c.handle(ev);
     }
-    c.handle(PanelEvent::Wait);
-    for _ in 0..3 {
-        c.handle(PanelEvent::Jog(Axis::X, 1));
-    }
-    c.handle(PanelEvent::Wait);
     assert!(
         c.message().starts_with("CH1 X jog refused:"),
         "{}",
