@@ -411,12 +411,11 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 assert_eq!(after, before, "{line}: {said}");
                 return line;
             }
-            if matches!(k, Key::Up | Key::Down)
-                && s.c.mode() == OpMode::Mdi
-                && s.c.page() == Page::Mode
-            {
-                // In MDI, Up and Down recall the channel's lines typed (the centre's recall):
-                // nothing said but that, or what the machine is doing.
+            if matches!(k, Key::Up | Key::Down) && s.c.mode() == OpMode::Mdi {
+                // In MDI, Up and Down recall the channel's lines typed (the centre's recall),
+                // on the mode display and under a page that has no use for the arrows (POS,
+                // MODAL; one rule since stop 45): nothing said but that, or what the machine
+                // is doing.
                 let notes = [
                     "MDI: no line to recall",
                     "EMERGENCY STOP",
