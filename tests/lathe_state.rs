@@ -180,7 +180,8 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
     // (The listing shows the MDI run's lines, the comment among them, since stop 40.)
     assert!(!c.frame_text().contains("CH1 MSG: at the corner"));
     c.run_for(1_500_000_000, RunUntil::Time, || false);
-    assert_eq!(c.message(), "CH1 MSG: at the corner");
+    // A MSG stays on the message line until acknowledged (stop 45, the centre's rule).
+    assert_eq!(c.unacknowledged(), ["CH1 MSG: at the corner"]);
     assert!(c.frame_text().contains("CH1 MSG: at the corner"));
     // After the last block: shown when the program ends.
     c.run_for(600_000_000_000, RunUntil::Rest, || false);
@@ -656,5 +657,41 @@ fn the_cycle_time_and_the_run_hours_survive_a_restart() {
     let after = c.counters();
     assert_eq!(after.parts, 2);
     assert!(after.run_ns >= k.run_ns + 2_000_000_000, "{after:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A program's `(MSG, ...)` lives on the message line until acknowledged, on the lathe as on
+/// the centre (stop 45): a key pressed for something else does not clear it unread; Esc
+/// acknowledges it, and so does RESET. Before, it lived until the next key.
+#[test]
+fn a_program_message_lives_until_acknowledged() {
+    let dir = common::temp_dir("lathe-msg-ack");
+    let d = LatheDesc::citizen();
+    let mut c = open(&d, &dir);
+    mdi(&mut c, &["(MSG, check the chuck jaws)", "G4 P0.1"]);
+    let line = |c: &LatheConsole| c.view().display.join("\n");
+    let want = "CH1 MSG: check the chuck jaws (Esc acknowledges)";
+    assert!(line(&c).contains(want), "{}", line(&c));
+    assert_eq!(c.unacknowledged().len(), 1);
+    // Another key: the message stays.
+    c.press(novanc_panel::Key::Alt('w'));
+    assert!(
+        line(&c).contains("CH1 MSG: check the chuck jaws"),
+        "{}",
+        line(&c)
+    );
+    c.press(novanc_panel::Key::Esc);
+    assert!(c.unacknowledged().is_empty());
+    assert!(!line(&c).contains("check the chuck jaws"), "{}", line(&c));
+    c.press(novanc_panel::Key::Esc);
+    assert_eq!(c.message(), "Esc: no message to acknowledge");
+    // RESET acknowledges too.
+    mdi(&mut c, &["(MSG, second)", "G4 P0.1"]);
+    assert_eq!(c.unacknowledged().len(), 1);
+    c.handle(PanelEvent::Reset);
+    assert!(c.unacknowledged().is_empty());
+    // A PRINT is a diagnostic: it lives until the next key, as on the centre.
+    mdi(&mut c, &["(PRINT, a diagnostic)", "G4 P0.1"]);
+    assert!(c.unacknowledged().is_empty());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -209,13 +209,7 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
         }
     }
     // The newest program message that lives until acknowledged, before the last action's.
-    if let Some(m) = c.book.unacknowledged.last() {
-        let more = c.book.unacknowledged.len() - 1;
-        parts.push(match more {
-            0 => format!("{m} (Esc acknowledges)"),
-            n => format!("{m} (and {n} before it; Esc acknowledges)"),
-        });
-    }
+    parts.extend(super::state::unacknowledged_line(&c.book.unacknowledged));
     match alarm {
         Some(a) if !c.front.message.contains(a.as_str()) => {
             if !c.front.message.is_empty() {

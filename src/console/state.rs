@@ -10,7 +10,7 @@ use novanc_panel::Key;
 
 /// The key that acknowledges a message that lives until acknowledged (RESET acknowledges it
 /// too, as a Fanuc's RESET clears its operator message).
-pub(super) const ACKNOWLEDGE: Key = Key::Esc;
+pub(crate) const ACKNOWLEDGE: Key = Key::Esc;
 
 /// The tape reader key: the typed line names the tape (recorded as the key, which takes it).
 pub(super) const TAPE_KEY: Key = Key::Alt('t');
@@ -24,7 +24,7 @@ pub(super) const PUNCH_KEY: Key = Key::Alt('u');
 /// KEPT` (a value the program set that the stores could not keep). A program speaks while
 /// the operator's hands are on other keys; those would otherwise clear it unread. `PRINT`,
 /// `DEBUG` and `LOG` are diagnostics and live until the next key.
-pub(super) fn until_acknowledged(kind: &str) -> bool {
+pub(crate) fn until_acknowledged(kind: &str) -> bool {
     matches!(kind, "MSG" | "NOT KEPT")
 }
 
@@ -42,6 +42,16 @@ pub(super) fn lamps(c: &Console) -> Lamps {
 }
 
 /// The message line while the machine is in EMERGENCY STOP, on every console.
+/// A program message that lives until acknowledged, as the message line shows it (the newest,
+/// and how many are before it), on every console.
+pub(crate) fn unacknowledged_line(msgs: &[String]) -> Option<String> {
+    let m = msgs.last()?;
+    Some(match msgs.len() - 1 {
+        0 => format!("{m} (Esc acknowledges)"),
+        n => format!("{m} (and {n} before it; Esc acknowledges)"),
+    })
+}
+
 pub(crate) const ESTOP_NOTE: &str = "EMERGENCY STOP: pulses stopped; press RESET";
 
 /// The message line while an axis moves by hand with no run loaded (the centre's).

@@ -39,7 +39,6 @@ pub fn map_key(k: Key) -> Action {
             | Action::Tape
             | Action::Punch
             | Action::ZNeglect
-            | Action::Acknowledge
             | Action::Page(Page::Prog | Page::Io) => Action::None,
             a => a,
         },

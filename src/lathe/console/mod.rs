@@ -81,6 +81,11 @@ pub struct LatheConsole {
     last_part_ns: Option<u64>,
     /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
     recall: Vec<crate::console::entry::Recall>,
+    /// The programs' messages that live until acknowledged (`MSG`, `NOT KEPT`: the centre's
+    /// rule, `console::state::until_acknowledged`), oldest first: the message line shows the
+    /// newest until Esc or RESET. Before stop 45 a lathe's `(MSG, ...)` lived until the next
+    /// key, so a key pressed for something else cleared it unread.
+    unacknowledged: Vec<String>,
     /// Each channel's fault or alarm last put in the history (empty: none in force).
     alarms_logged: Vec<String>,
     /// The E-STOP in force is in the history.
@@ -235,6 +240,7 @@ impl LatheConsole {
             ofs_cell: (0, ofs::FIRST_COLUMN),
             recall: (0..n).map(|_| Default::default()).collect(),
             counters,
+            unacknowledged: Vec::new(),
             last_part_ns: None,
             alarms_logged: vec![String::new(); n],
             estop_logged: false,
@@ -336,6 +342,22 @@ impl LatheConsole {
     /// channels' states.
     pub fn message(&self) -> &str {
         self.message_with(&self.chan_views())
+    }
+
+    /// The message line as the plasma shows it: the newest program message that lives until
+    /// acknowledged (the centre's words), then what [`LatheConsole::message`] says.
+    fn message_line(&self, chans: &[ChanView]) -> String {
+        let said = self.message_with(chans);
+        match crate::console::state::unacknowledged_line(&self.unacknowledged) {
+            Some(m) if said.is_empty() => m,
+            Some(m) => format!("{m} / {said}"),
+            None => said.to_string(),
+        }
+    }
+
+    /// The program messages on the message line until acknowledged (newest last).
+    pub fn unacknowledged(&self) -> &[String] {
+        &self.unacknowledged
     }
 
     fn message_with(&self, chans: &[ChanView]) -> &str {
@@ -946,6 +968,9 @@ impl LatheConsole {
     /// The lathe's RESET (`crate::console::relay::reset`): the selected channel's, or after an
     /// E-STOP every channel's; what it did.
     fn reset(&mut self) -> String {
+        // RESET acknowledges the program messages, as a Fanuc's RESET clears its operator
+        // message (the centre's rule).
+        self.unacknowledged.clear();
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self.estop();
@@ -1089,7 +1114,13 @@ impl LatheConsole {
                     .log
                     .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
                 failed = failed.or(r.err());
-                self.front.say(text, MsgLife::NextKey, self.now_ns);
+                // `CH1 MSG: text`: the kind is the word after the channel.
+                let kind = text.split([' ', ':']).nth(1).unwrap_or("");
+                if crate::console::state::until_acknowledged(kind) {
+                    self.unacknowledged.push(text);
+                } else {
+                    self.front.say(text, MsgLife::NextKey, self.now_ns);
+                }
             }
             if let Some(e) = failed {
                 self.front.message = crate::console::book::with_failure(&self.front.message, &e);
@@ -1175,7 +1206,7 @@ impl LatheConsole {
             mode,
             self.desc.pulse_mm,
             &listing,
-            self.message_with(&chans),
+            &self.message_line(&chans),
             &self.front.entry,
             self.rows,
             w,
@@ -1261,6 +1292,15 @@ impl crate::console::keys::Keyed for LatheConsole {
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
+            Action::Acknowledge => {
+                self.record_key(k);
+                if self.unacknowledged.is_empty() {
+                    let name = crate::console::keys::key_name(k);
+                    self.front.message = format!("{name}: no message to acknowledge");
+                }
+                self.unacknowledged.clear();
+                self.after();
+            }
             Action::NextChannel => {
                 self.record_key(k);
                 self.select((self.sel + 1) % self.desc.channels.len());
