@@ -685,9 +685,19 @@ fn a_program_message_lives_until_acknowledged() {
     assert!(!line(&c).contains("check the chuck jaws"), "{}", line(&c));
     c.press(novanc_panel::Key::Esc);
     assert_eq!(c.message(), "Esc: no message to acknowledge");
-    // RESET acknowledges too.
+    // RESET acknowledges too: the selected channel's messages, not another channel's.
     mdi(&mut c, &["(MSG, second)", "G4 P0.1"]);
-    assert_eq!(c.unacknowledged().len(), 1);
+    c.handle(PanelEvent::Channel(1));
+    mdi(&mut c, &["(MSG, third)", "G4 P0.1"]);
+    assert_eq!(c.unacknowledged(), ["CH1 MSG: second", "CH2 MSG: third"]);
+    assert!(
+        line(&c).contains("CH2 MSG: third (and 1 before it; Esc acknowledges)"),
+        "{}",
+        line(&c)
+    );
+    c.handle(PanelEvent::Reset);
+    assert_eq!(c.unacknowledged(), ["CH1 MSG: second"]);
+    c.handle(PanelEvent::Channel(0));
     c.handle(PanelEvent::Reset);
     assert!(c.unacknowledged().is_empty());
     // A PRINT is a diagnostic: it lives until the next key, as on the centre.

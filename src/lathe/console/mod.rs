@@ -968,12 +968,13 @@ impl LatheConsole {
     /// The lathe's RESET (`crate::console::relay::reset`): the selected channel's, or after an
     /// E-STOP every channel's; what it did.
     fn reset(&mut self) -> String {
-        // RESET acknowledges the program messages, as a Fanuc's RESET clears its operator
-        // message (the centre's rule).
-        self.unacknowledged.clear();
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
         // channel's): docs/lathe-gcode.md "What a channel keeps".
         let all = self.estop();
+        // It acknowledges that channel's program messages (after an E-STOP, every one), as a
+        // Fanuc's RESET clears its path's operator message (the centre's rule).
+        let of = format!("CH{} ", self.sel + 1);
+        self.unacknowledged.retain(|m| !all && !m.starts_with(&of));
         for (ch, k) in self.kept.iter_mut().enumerate() {
             if all || ch == self.sel {
                 k.reset(&self.desc, ch);
