@@ -237,7 +237,7 @@ pub(crate) fn cursor_command(
 }
 
 /// The editor's cursor keys (arrows, PgUp/PgDn, Home/End) and Delete in DATA INPUT on the
-/// mode display, on every machine: on the buffer the machine edits there (`Side::edit_buffer`:
+/// mode display, on every machine: on the buffer the machine edits there (`Side::cursor_command`:
 /// the centre's data mode's, PROGRAM REVISION, MDI, TOOL DATA REVISION; a lathe's selected
 /// channel's program), beside the letter commands, as Fanuc's EDIT screen has them
 /// (docs/editor.md, "Cursor keys"). Each is the editor command it stands for
@@ -249,10 +249,7 @@ pub(crate) fn cursor_key<C: Side>(c: &mut C, k: novanc_panel::Key) -> bool {
     if c.page() != Page::Mode || c.front().op != OpMode::Data {
         return false;
     }
-    let Some((buf, page)) = c.edit_buffer() else {
-        return false;
-    };
-    let Some((name, command)) = cursor_command(&buf, k, page) else {
+    let Some((name, command)) = c.cursor_command(k) else {
         return false;
     };
     if let Err(e) = c.takes_keys(To::Data) {
@@ -274,10 +271,14 @@ pub(crate) fn cursor_key<C: Side>(c: &mut C, k: novanc_panel::Key) -> bool {
     true
 }
 
-/// The centre's buffer of the DATA editor now, and the lines of a page.
-pub(super) fn centre_buffer(c: &Console) -> Option<(novanc_editor::Buffer, usize)> {
+/// The command cursor key `k` stands for on the centre's buffer of the DATA editor now (a page
+/// is the display's text rows); the buffer is read in place, not copied.
+pub(super) fn centre_cursor_command(
+    c: &Console,
+    k: novanc_panel::Key,
+) -> Option<(&'static str, Result<String, String>)> {
     let t = edited(c.data)?;
-    Some((c.mem.buffer(t).clone(), c.cfg.text_rows()))
+    cursor_command(c.mem.buffer(t), k, c.cfg.text_rows())
 }
 
 /// The buffer a data mode edits.

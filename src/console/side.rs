@@ -68,9 +68,14 @@ pub(crate) trait Side {
     /// The machine's use of a line entered at `to` (with `add`: +INPUT on a page); Err: why it
     /// is refused (the line then stays on the entry line: `entry::enter`).
     fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String>;
-    /// The buffer the DATA editor's cursor keys act on now, and the lines of a page (the
-    /// centre's data mode's buffer; a lathe's selected channel's program); None: none.
-    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)>;
+    /// The editor command cursor key `k` stands for on the buffer the DATA editor acts on now
+    /// (the centre's data mode's buffer; a lathe's selected channel's program), worked out
+    /// there by `entry::cursor_command` with a page of that machine's lines: its name and the
+    /// command, or why the pointer cannot move. None: no such buffer, or not such a key.
+    fn cursor_command(
+        &self,
+        k: novanc_panel::Key,
+    ) -> Option<(&'static str, Result<String, String>)>;
     /// Runs an editor command on that buffer and stores it: a note to say, or why it is
     /// refused (nothing changed).
     fn edit(&mut self, command: &str) -> Result<String, String>;
@@ -213,8 +218,11 @@ impl Side for Console {
     fn recall(&mut self) -> &mut super::entry::Recall {
         &mut self.pages.recall
     }
-    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)> {
-        super::entry::centre_buffer(self)
+    fn cursor_command(
+        &self,
+        k: novanc_panel::Key,
+    ) -> Option<(&'static str, Result<String, String>)> {
+        super::entry::centre_cursor_command(self, k)
     }
     fn edit(&mut self, command: &str) -> Result<String, String> {
         super::entry::centre_edit(self, command)

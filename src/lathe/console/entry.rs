@@ -66,12 +66,20 @@ impl LatheConsole {
         Ok(())
     }
 
-    /// The selected channel's program as the DATA editor has it, its pointer, and the lines
-    /// of a page (`Side::edit_buffer`).
-    pub(super) fn edit_buffer(&self) -> Option<(Buffer, usize)> {
+    /// The command cursor key `k` stands for on the selected channel's program at its editor
+    /// pointer, a page being the plasma's listing (`Side::cursor_command`).
+    pub(super) fn cursor_command(
+        &self,
+        k: novanc_panel::Key,
+    ) -> Option<(&'static str, Result<String, String>)> {
+        // Any other key is not the editor's: the program is not copied for it.
+        if !crate::console::keys::is_cursor_key(k) && k != novanc_panel::Key::Delete {
+            return None;
+        }
         let mut buf = Buffer::from_text(&self.programs[self.sel].text);
         buf.set_pointer(self.pointers[self.sel]);
-        Some((buf, self.rows.saturating_sub(5).max(1)))
+        let page = self.rows.saturating_sub(5).max(1);
+        crate::console::entry::cursor_command(&buf, k, page)
     }
 
     /// MACRO: a line INPUT on the selected channel's variables, by the centre's rules

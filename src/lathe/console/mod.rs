@@ -1418,8 +1418,11 @@ impl crate::console::side::Side for LatheConsole {
     fn recall(&mut self) -> &mut crate::console::entry::Recall {
         &mut self.recall[self.sel]
     }
-    fn edit_buffer(&self) -> Option<(novanc_editor::Buffer, usize)> {
-        LatheConsole::edit_buffer(self)
+    fn cursor_command(
+        &self,
+        k: novanc_panel::Key,
+    ) -> Option<(&'static str, Result<String, String>)> {
+        LatheConsole::cursor_command(self, k)
     }
     fn edit(&mut self, command: &str) -> Result<String, String> {
         LatheConsole::edit(self, command).map(|()| String::new())
