@@ -741,3 +741,46 @@ fn a_selector_turned_by_a_script_leaves_the_page() {
         assert_eq!(c.view().page, Page::Mode, "{ev:?}");
     }
 }
+
+/// A page's refused INPUT stays on the entry line beside the reason, whatever words the
+/// reason uses, and an INPUT that acts clears it. Before stop 46 the centre kept a page's line
+/// only when its reason contained "refused": `PARTS many` or `Q7` on POS, a bad MACRO value, a
+/// line on the read-only MSG page were dropped.
+#[test]
+fn a_page_keeps_every_line_it_refuses() {
+    let mut c = common::open("pages-kept");
+    let refused = [
+        ("Ctrl+P", "Q7", "POS: type X"),
+        ("Ctrl+P", "PARTS many", "PARTS takes a whole number"),
+        ("Ctrl+P", "X1e9", "is not a position in mm"),
+        ("Ctrl+P", "JOG 0", "JOG refused"),
+        ("Ctrl+E", "G55", "MSG: the history is read only"),
+        ("Ctrl+G", "G55", "MODAL: the state is read only"),
+        ("Ctrl+T", "P99 ON", "I/O: refused"),
+        ("Ctrl+O", "1.2.3", "OFS refused"),
+        ("Ctrl+D", "X NAME", "PROG refused"),
+    ];
+    for (page, line, why) in refused {
+        // A page key shows its page, or, pressed on it, goes back to the mode display.
+        let shown = c.view().page;
+        keys(&mut c, &[page]);
+        if c.view().page == Page::Mode {
+            assert_ne!(shown, Page::Mode);
+            keys(&mut c, &[page]);
+        }
+        type_line(&mut c, line);
+        assert!(
+            c.message().contains(why),
+            "{page} '{line}': {:?}\n{}",
+            c.message(),
+            c.frame_text()
+        );
+        assert_eq!(c.view().entry, line, "{page}: the refused line stays");
+    }
+    // A line that acts leaves the entry line empty.
+    keys(&mut c, &["Ctrl+P"]);
+    assert_eq!(c.view().page, Page::Pos);
+    type_line(&mut c, "PARTS 3");
+    assert!(shows(&c, "parts 3"), "{}", c.frame_text());
+    assert_eq!(c.view().entry, "");
+}

@@ -178,17 +178,6 @@ pub(super) fn centre_takes_keys(c: &Console, to: To) -> Result<(), String> {
     }
 }
 
-/// The centre's use of a line entered at `to`; Err: why it is refused.
-/// (A line for a page is the pages', `Console::enter_at`.)
-pub(super) fn centre_line(c: &mut Console, to: To, line: &str) -> Result<(), String> {
-    match to {
-        To::Page(_) => Ok(()),
-        To::Mdi => mdi_line(c, line),
-        To::Data => enter_line(c, line),
-        To::Other => Err(format!("{} takes no line", c.front.op.name())),
-    }
-}
-
 /// The longest entry line, characters: every console's (the centre's and the lathe's).
 pub const ENTRY_MAX: usize = 240;
 
@@ -307,7 +296,7 @@ pub(super) fn centre_edit(c: &mut Console, command: &str) -> Result<String, Stri
 }
 
 /// MDI at the keys: the line becomes the MDI buffer (START runs it).
-fn mdi_line(c: &mut Console, line: &str) -> Result<(), String> {
+pub(super) fn mdi_line(c: &mut Console, line: &str) -> Result<(), String> {
     if line.trim().is_empty() {
         return Err("MDI: type a statement or a G-code line, Enter, then START".into());
     }
@@ -323,7 +312,7 @@ fn mdi_line(c: &mut Console, line: &str) -> Result<(), String> {
 }
 
 /// A command line ended with EOB, in DATA INPUT with RUN = 0.
-fn enter_line(c: &mut Console, line: &str) -> Result<(), String> {
+pub(super) fn data_line(c: &mut Console, line: &str) -> Result<(), String> {
     c.last_line = line.to_string();
     let target = match c.data {
         DataMode::Revise => Target::Program,

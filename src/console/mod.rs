@@ -624,16 +624,15 @@ impl Console {
     /// The centre's use of a line entered at `to` (`Side::enter_line`; with `add`, +INPUT on
     /// a page); Err: why it is refused.
     fn enter_at(&mut self, to: entry::To, line: &str, add: bool) -> Result<(), String> {
-        if let entry::To::Page(_) = to {
-            pages::enter(self, line, add);
-            // A value that cannot be applied now stays on the entry line beside the reason
-            // (`entry::enter`), as a Fanuc keeps its key-in buffer on a refused INPUT.
-            if self.front.message.contains("refused") {
-                return Err(self.front.message.clone());
+        match to {
+            entry::To::Page(_) => {
+                self.front.message = pages::enter(self, line, add)?;
+                Ok(())
             }
-            return Ok(());
+            entry::To::Mdi => entry::mdi_line(self, line),
+            entry::To::Data => entry::data_line(self, line),
+            entry::To::Other => Err(format!("{} takes no line", self.front.op.name())),
         }
-        entry::centre_line(self, to, line)
     }
 
     /// START (after every console's refusals, `relay::start_allowed`): run, resume, or read

@@ -61,17 +61,11 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
 }
 
 /// INPUT on the I/O page: `P3 ON`, `P3 OFF` or `E2 4.5` sets a simulated input.
-pub(super) fn enter(c: &mut Console, line: &str) {
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
     let words: Vec<&str> = line.split_whitespace().collect();
-    match PanelEvent::parse_input(&words) {
-        Ok(ev) => {
-            let said = format!("I/O: {}", super::super::script_line::script_line(&ev));
-            super::super::tape::apply(c, ev);
-            c.front.message = said;
-        }
-        Err(e) => {
-            c.front.message =
-                format!("I/O: refused: {e} (type P3 ON, P3 OFF or E2 4.5, then INPUT)")
-        }
-    }
+    let ev = PanelEvent::parse_input(&words)
+        .map_err(|e| format!("I/O: refused: {e} (type P3 ON, P3 OFF or E2 4.5, then INPUT)"))?;
+    let said = format!("I/O: {}", super::super::script_line::script_line(&ev));
+    super::super::tape::apply(c, ev);
+    Ok(said)
 }

@@ -110,37 +110,30 @@ pub(crate) fn set_message(n: usize, v: f64) -> String {
 }
 
 /// INPUT (or +INPUT with `add`) on the MACRO page.
-pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
+pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, String> {
     if c.cfg.settings.dialect != Dialect::Fanuc {
-        c.front.message =
-            "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into();
-        return;
+        return Err(
+            "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into(),
+        );
     }
-    let (n, v) = match input(line, c.pages.macro_var, &c.interp.params, add) {
-        Ok(Input::Cursor(n)) => {
+    let (n, v) = match input(line, c.pages.macro_var, &c.interp.params, add)? {
+        Input::Cursor(n) => {
             c.pages.macro_var = n;
-            return;
+            return Ok(format!("MACRO: #{n}"));
         }
-        Ok(Input::Set(n, v)) => (n, v),
-        Err(e) => {
-            c.front.message = e;
-            return;
-        }
+        Input::Set(n, v) => (n, v),
     };
-    if !super::workofs::at_rest(c, "MACRO") {
-        return;
-    }
+    super::workofs::at_rest(c, "MACRO")?;
     if is_fanuc_kept(n) {
         // Kept by the stores; a vacant one is kept as nothing (0), as a program's write is.
         let kept = if v.is_nan() { 0.0 } else { v };
-        if let Err(e) = c.mem.set_params(&[(n, kept)]) {
-            c.front.message = format!("MACRO refused: #{n}: {e}");
-            return;
-        }
+        c.mem
+            .set_params(&[(n, kept)])
+            .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
     }
     c.interp.params[n] = v;
     c.pages.macro_var = n;
-    c.front.message = set_message(n, v);
+    Ok(set_message(n, v))
 }
 
 /// The MACRO page.

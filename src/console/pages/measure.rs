@@ -17,7 +17,7 @@
 use super::Console;
 
 /// `MEASURE …` INPUT on the OFS page; `rest` follows the word.
-pub(super) fn enter(c: &mut Console, rest: &str) {
+pub(super) fn enter(c: &mut Console, rest: &str) -> Result<String, String> {
     let s = c.cfg.settings.clone();
     let mach = c.status.pos.map(|p| s.to_mm(p));
     let cap = c.mem.magazine().tcodes.capacity();
@@ -27,16 +27,10 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
         None if t > cap => (Some((t - cap - 1) as usize), rest),
         None => (None, rest),
     };
-    let vals = match super::workofs::axis_words(words) {
-        Ok(v) => v,
-        Err(e) => {
-            c.front.message = format!("OFS MEASURE refused: {e}");
-            return;
-        }
-    };
+    let vals =
+        super::workofs::axis_words(words).map_err(|e| format!("OFS MEASURE refused: {e}"))?;
     if c.status.moving {
-        c.front.message = "OFS MEASURE refused: the machine is moving; STOP first".into();
-        return;
+        return Err("OFS MEASURE refused: the machine is moving; STOP first".into());
     }
     let (len, _) = super::pos::length_in_force(c);
     let g92 = c.interp.g92;
@@ -49,23 +43,22 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
                     zero[a] = Some(tip - g92[a] - v);
                 }
             }
-            super::workofs::set(c, cs, zero, false);
+            super::workofs::set(c, cs, zero, false)
         }
         None => {
             let (Some(z), None, None) = (vals[2], vals[0], vals[1]) else {
-                c.front.message =
-                    "OFS MEASURE refused: a tool row measures its length in Z (MEASURE Z50); a work offset is measured on its row or by name (MEASURE G54 X0)".into();
-                return;
+                return Err(
+                    "OFS MEASURE refused: a tool row measures its length in Z (MEASURE Z50); a work offset is measured on its row or by name (MEASURE G54 X0)".into(),
+                );
             };
             if c.status.tool != Some(t) {
                 let inside = c
                     .status
                     .tool
                     .map_or("no tool".to_string(), |s| format!("T{s:02}"));
-                c.front.message = format!(
+                return Err(format!(
                     "OFS MEASURE refused: T{t:02} is not in the spindle ({inside} is); change to it and touch its tip"
-                );
-                return;
+                ));
             }
             let cs = c.interp.modal.cs;
             let zero = if c.status.job.is_some() {
@@ -76,7 +69,7 @@ pub(super) fn enter(c: &mut Console, rest: &str) {
             let wear = c.mem.magazine().tools.get(t).map_or(0.0, |r| r.wear_length);
             let set = mach[2] - zero - g92[2] - z - wear;
             c.pages.ofs.1 = super::ofs::LENGTH;
-            super::ofs::enter(c, &format!("{set:.3}"), false);
+            super::ofs::enter(c, &format!("{set:.3}"), false)
         }
     }
 }

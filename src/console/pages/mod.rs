@@ -159,22 +159,21 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
     take
 }
 
-/// A line entered on the page shown: INPUT (or +INPUT with `add`).
-pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
+/// A line entered on the page shown: INPUT (or +INPUT with `add`). Ok: what it did; Err: why
+/// it is refused, and the line stays on the entry line beside the reason (`entry::enter`), as
+/// a Fanuc keeps its key-in buffer on a refused INPUT.
+pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, String> {
     match c.pages.page {
         Page::Pos => pos::enter(c, line),
         Page::Prog => prog::enter(c, line),
         Page::Ofs => ofs::enter(c, line, add),
-        Page::Msg => {
-            c.front.message = "MSG: the history is read only; Up/Down scroll it".into();
-        }
+        Page::Msg => Err("MSG: the history is read only; Up/Down scroll it".into()),
         Page::Modal => {
-            c.front.message =
-                "MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into();
+            Err("MODAL: the state is read only; MDI sets it (G55, G91, F300 ...)".into())
         }
         Page::Io => io::enter(c, line),
         Page::Macro => macros::enter(c, line, add),
-        Page::Mode => {}
+        Page::Mode => Err("the mode display takes no line".into()),
     }
 }
 

@@ -102,12 +102,12 @@ fn revised(r: &ToolRecord, col: usize, text: &str, add: bool) -> Result<ToolReco
     Ok(n)
 }
 
-/// INPUT (or +INPUT with `add`) on the cell under the cursor.
-pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
+/// INPUT (or +INPUT with `add`) on the cell under the cursor: what it did, or why it is
+/// refused (nothing changed).
+pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, String> {
     let (t, col) = c.pages.ofs;
     if line.trim().is_empty() {
-        c.front.message = "OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into();
-        return;
+        return Err("OFS: type a value, then Enter (INPUT) or Tab (+INPUT)".into());
     }
     if let Some(rest) = line
         .trim_start()
@@ -128,50 +128,45 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.front.message = if st.hold {
+        return Err(if st.hold {
             "OFS refused: the feed hold is still braking; INPUT again once it has stopped"
         } else {
             "OFS refused: the machine is moving; STOP first"
         }
-        .into();
-        return;
+        .into());
     }
     let m = c.mem.magazine();
     let (Some(tool), Some(rec)) = (m.tcodes.tool_in(t), m.tools.get(t)) else {
-        c.front.message = format!("OFS refused: T{t:02} holds no tool with data (TOOL DATA READ)");
-        return;
+        return Err(format!(
+            "OFS refused: T{t:02} holds no tool with data (TOOL DATA READ)"
+        ));
     };
-    let new = match revised(rec, col, line, add) {
-        Ok(n) => n,
-        Err(e) => {
-            c.front.message = format!("OFS refused: {e}");
-            return;
-        }
-    };
+    let new = revised(rec, col, line, add).map_err(|e| format!("OFS refused: {e}"))?;
     let before = c.status.tool_set_length;
-    match c.mem.revise_tool(t, tool, &new) {
-        Ok(_) => {
-            note_pending(c, t, before);
-            let name = COLUMNS[col];
-            c.front.message = if c.status.job.is_some() {
-                c.core.set_magazine(c.mem.magazine());
-                if super::super::gcode_run::gcode_run_loaded(c) {
-                    // A G-code run took its lengths and radii when its lines were read (G43,
-                    // G41/G42), as LinuxCNC does (docs/gcode.md, "Tool length").
-                    format!(
-                        "T{t:02} {name} {}: from the next run; this G-code run keeps what its G43/G41/G42 read",
-                        cell(&new, col)
-                    )
-                } else {
-                    format!("T{t:02} {name} {}: from the next block", cell(&new, col))
-                }
-            } else {
-                format!("T{t:02} {name} {}", cell(&new, col))
-            };
-            super::super::run::recheck_program_alarm(c);
+    c.mem
+        .revise_tool(t, tool, &new)
+        .map_err(|e| format!("OFS refused: {e}"))?;
+    note_pending(c, t, before);
+    let name = COLUMNS[col];
+    let said = if c.status.job.is_some() {
+        c.core.set_magazine(c.mem.magazine());
+        if super::super::gcode_run::gcode_run_loaded(c) {
+            // A G-code run took its lengths and radii when its lines were read (G43,
+            // G41/G42), as LinuxCNC does (docs/gcode.md, "Tool length").
+            format!(
+                "T{t:02} {name} {}: from the next run; this G-code run keeps what its G43/G41/G42 read",
+                cell(&new, col)
+            )
+        } else {
+            format!("T{t:02} {name} {}: from the next block", cell(&new, col))
         }
-        Err(e) => c.front.message = format!("OFS refused: {e}"),
-    }
+    } else {
+        format!("T{t:02} {name} {}", cell(&new, col))
+    };
+    // The program alarm is rechecked against the revised tool, and says so after this.
+    c.front.message = said;
+    super::super::run::recheck_program_alarm(c);
+    Ok(std::mem::take(&mut c.front.message))
 }
 
 /// The OFS page: the T code and tool, then three value columns around the cursor.

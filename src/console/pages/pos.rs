@@ -24,36 +24,36 @@
 use super::super::display::{message_lines, split_line, state_line, Page as Frame};
 use super::Console;
 
-/// A POS page command line.
-pub(super) fn enter(c: &mut Console, line: &str) {
+/// A POS page command line: what it did, or why it is refused (nothing changed).
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
     let l = line.trim().to_ascii_uppercase();
     let s = c.cfg.settings.clone();
     let pos = c.status.pos;
     if l == "XYZ" || l == "ORIGIN" {
         c.pages.rel_origin = pos;
-        c.front.message = "relative X Y Z zeroed".into();
-        return;
+        return Ok("relative X Y Z zeroed".into());
     }
     if let Some(rest) = l.strip_prefix("JOG") {
         return jog(c, rest.trim());
     }
     for (word, set) in [("PARTS", true), ("TARGET", false)] {
         if let Some(rest) = l.strip_prefix(word) {
-            match rest.trim().parse::<u64>() {
-                Ok(n) => {
-                    if set {
-                        c.book.counters.parts = n;
-                    } else {
-                        c.book.counters.target = n;
-                    }
-                    c.front.message = match c.book.counters.save(&c.cfg.state_dir) {
-                        Ok(()) => format!("{} {n}", word.to_ascii_lowercase()),
-                        Err(e) => e,
-                    };
-                }
-                Err(_) => c.front.message = format!("{word} takes a whole number: {word} 100"),
+            let n = rest
+                .trim()
+                .parse::<u64>()
+                .map_err(|_| format!("{word} takes a whole number: {word} 100"))?;
+            let was = c.book.counters;
+            if set {
+                c.book.counters.parts = n;
+            } else {
+                c.book.counters.target = n;
             }
-            return;
+            if let Err(e) = c.book.counters.save(&c.cfg.state_dir) {
+                // Not kept: nothing changed.
+                c.book.counters = was;
+                return Err(e);
+            }
+            return Ok(format!("{} {n}", word.to_ascii_lowercase()));
         }
     }
     let mut chars = l.chars();
@@ -61,10 +61,7 @@ pub(super) fn enter(c: &mut Console, line: &str) {
         Some('X') => 0,
         Some('Y') => 1,
         Some('Z') => 2,
-        _ => {
-            c.front.message = "POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into();
-            return;
-        }
+        _ => return Err("POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into()),
     };
     let rest: String = chars.collect();
     let value = if rest.trim().is_empty() {
@@ -72,19 +69,19 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     } else {
         match rest.trim().parse::<f64>() {
             Ok(v) if v.is_finite() && v.abs() <= 1e6 => v,
-            _ => {
-                c.front.message = format!("'{}' is not a position in mm", rest.trim());
-                return;
-            }
+            _ => return Err(format!("'{}' is not a position in mm", rest.trim())),
         }
     };
     c.pages.rel_origin[axis] = pos[axis] - s.to_pulses(value);
-    c.front.message = format!("relative {} preset to {value:.3}", ["X", "Y", "Z"][axis]);
+    Ok(format!(
+        "relative {} preset to {value:.3}",
+        ["X", "Y", "Z"][axis]
+    ))
 }
 
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
 /// (back to the jog feed from rapid jog).
-fn jog(c: &mut Console, rest: &str) {
+fn jog(c: &mut Console, rest: &str) -> Result<String, String> {
     let rapid = c.cfg.settings.rapid_mm_min;
     if rest == "RAPID" {
         c.posmem.rapid_jog = true;
@@ -97,20 +94,19 @@ fn jog(c: &mut Console, rest: &str) {
                 c.posmem.rapid_jog = false;
             }
             _ => {
-                c.front.message = format!(
+                return Err(format!(
                     "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
-                );
-                return;
+                ))
             }
         }
     }
     let f = super::super::posmem::jog_feed(c);
     c.core.set_jog_feed(f);
-    c.front.message = if c.posmem.rapid_jog {
+    Ok(if c.posmem.rapid_jog {
         format!("rapid jog: {f:.0} mm/min")
     } else {
         format!("jog feed {f:.0} mm/min")
-    };
+    })
 }
 
 /// The POS page.

@@ -41,15 +41,14 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
 }
 
 /// A PROG page command line.
-pub(super) fn enter(c: &mut Console, line: &str) {
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
     let names = c.mem.program_names();
     let Some(name) = names.get(c.pages.prog_row.min(names.len().saturating_sub(1))) else {
-        return;
+        return Err("PROG: memory holds no program".into());
     };
     let name = name.clone();
     if c.status.job.is_some() || c.running() {
-        c.front.message = "PROG refused: a run is loaded; RESET first".into();
-        return;
+        return Err("PROG refused: a run is loaded; RESET first".into());
     }
     let l = line.trim();
     let up = l.to_ascii_uppercase();
@@ -80,12 +79,12 @@ pub(super) fn enter(c: &mut Console, line: &str) {
     } else {
         Err("PROG: Enter selects; C NAME copies, R NAME renames, D deletes (asked twice)".into())
     };
-    c.front.message = r.unwrap_or_else(|e| format!("PROG refused: {e}"));
     if c.pages.confirm_delete.is_none() && c.search.is_some() {
         c.search = None;
     }
     let n = c.mem.program_names().len();
     c.pages.prog_row = c.pages.prog_row.min(n.saturating_sub(1));
+    r.map_err(|e| format!("PROG refused: {e}"))
 }
 
 /// The PROG page. At 56 columns and more: name, language, lines, characters and the date and

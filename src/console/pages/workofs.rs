@@ -69,21 +69,24 @@ pub(super) fn axis_words(text: &str) -> Result<[Option<f64>; 3], String> {
 
 /// Whether the offsets (or page `page`'s values) may change now: no run loaded, or the run
 /// at rest; if not, the message says why.
-pub(super) fn at_rest(c: &mut Console, page: &str) -> bool {
+pub(super) fn at_rest(c: &Console, page: &str) -> Result<(), String> {
     let st = &c.status;
     let at_rest = st.job.is_none() || (st.idle && (st.hold || st.run == 0));
     if !at_rest || st.moving {
-        c.front.message = format!("{page} refused: the machine is moving; STOP first");
-        return false;
+        return Err(format!("{page} refused: the machine is moving; STOP first"));
     }
-    true
+    Ok(())
 }
 
-/// Sets (or adds to, with `add`) the axes given of work offset `system`.
-pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: bool) {
-    if !at_rest(c, "OFS") {
-        return;
-    }
+/// Sets (or adds to, with `add`) the axes given of work offset `system`: what it did, or why
+/// it is refused (nothing changed).
+pub(super) fn set(
+    c: &mut Console,
+    system: usize,
+    vals: [Option<f64>; 3],
+    add: bool,
+) -> Result<String, String> {
+    at_rest(c, "OFS")?;
     let mut o = c.mem.system_offset(system);
     for a in 0..3 {
         if let Some(v) = vals[a] {
@@ -91,41 +94,44 @@ pub(super) fn set(c: &mut Console, system: usize, vals: [Option<f64>; 3], add: b
             o[a] = (o[a] * 1000.0).round() / 1000.0;
         }
     }
-    match c.mem.set_work_offset(system, o) {
-        Ok(()) => {
-            let when = if c.status.job.is_some() {
-                ": from the next run"
-            } else {
-                ""
-            };
-            c.front.message = format!(
-                "{} X{:.3} Y{:.3} Z{:.3}{when}",
-                SYSTEM_NAMES[system], o[0], o[1], o[2]
-            );
-            c.pages.ofs.0 = c.mem.magazine().tcodes.capacity() + 1 + system as u32;
-        }
-        Err(e) => c.front.message = format!("OFS refused: {e}"),
-    }
+    c.mem
+        .set_work_offset(system, o)
+        .map_err(|e| format!("OFS refused: {e}"))?;
+    let when = if c.status.job.is_some() {
+        ": from the next run"
+    } else {
+        ""
+    };
+    c.pages.ofs.0 = c.mem.magazine().tcodes.capacity() + 1 + system as u32;
+    Ok(format!(
+        "{} X{:.3} Y{:.3} Z{:.3}{when}",
+        SYSTEM_NAMES[system], o[0], o[1], o[2]
+    ))
 }
 
 /// `G5n X.. Y.. Z..` INPUT (or +INPUT).
-pub(super) fn enter_line(c: &mut Console, system: usize, rest: &str, add: bool) {
-    match axis_words(rest) {
-        Ok(v) => set(c, system, v, add),
-        Err(e) => c.front.message = format!("OFS refused: {e}"),
-    }
+pub(super) fn enter_line(
+    c: &mut Console,
+    system: usize,
+    rest: &str,
+    add: bool,
+) -> Result<String, String> {
+    let v = axis_words(rest).map_err(|e| format!("OFS refused: {e}"))?;
+    set(c, system, v, add)
 }
 
 /// A value INPUT (or +INPUT) on the cell under the cursor, row `system`, axis `axis`.
-pub(super) fn enter_cell(c: &mut Console, system: usize, axis: usize, text: &str, add: bool) {
-    match number(text) {
-        Ok(v) => {
-            let mut vals = [None; 3];
-            vals[axis.min(2)] = Some(v);
-            set(c, system, vals, add);
-        }
-        Err(e) => c.front.message = format!("OFS refused: {e}"),
-    }
+pub(super) fn enter_cell(
+    c: &mut Console,
+    system: usize,
+    axis: usize,
+    text: &str,
+    add: bool,
+) -> Result<String, String> {
+    let v = number(text).map_err(|e| format!("OFS refused: {e}"))?;
+    let mut vals = [None; 3];
+    vals[axis.min(2)] = Some(v);
+    set(c, system, vals, add)
 }
 
 /// The work offsets table, the cursor on row `system`, axis `axis`.
