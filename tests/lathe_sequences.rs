@@ -497,7 +497,16 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
     };
     let line = novanc::console::script_line(&ev);
     s.fresh = true;
+    let typed = match &ev {
+        PanelEvent::Type(l) => Some(l.clone()),
+        _ => None,
+    };
     s.c.handle(ev);
+    if let Some(l) = typed {
+        if let Err(e) = common::typed_line_kept_or_taken(&l, s.c.entry(), s.c.message()) {
+            panic!("{e}\n{}", s.c.frame_text());
+        }
+    }
     line
 }
 

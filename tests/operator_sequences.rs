@@ -314,7 +314,17 @@ impl Session {
                 st.job.as_ref().map(|j| j.id)
             );
         }
+        let typed = match &e {
+            E::Type(l) => Some(l.clone()),
+            _ => None,
+        };
         self.c.handle(e);
+        if let Some(l) = typed {
+            let entry = self.c.view().entry;
+            if let Err(e) = common::typed_line_kept_or_taken(&l, &entry, self.c.message()) {
+                panic!("{e}\n{}", self.c.frame_text());
+            }
+        }
     }
 
     /// A key by name. E-STOP goes through [`Session::estop`]; START with a reference return

@@ -214,6 +214,26 @@ pub fn shows(c: &Console, text: &str) -> bool {
     joined.contains(text)
 }
 
+/// Nothing typed is lost, on every console (docs/panel.md "Rules and choices"): after a whole
+/// `line` typed and entered, with `entry` on the entry line and `message` on the message line,
+/// either the line acted (the entry line is empty), or it was refused with the reason said and
+/// stays on the entry line to be corrected, or the data keys were refused before it was read
+/// (`'LINE' refused: ...`). Err: what broke the rule.
+pub fn typed_line_kept_or_taken(line: &str, entry: &str, message: &str) -> Result<(), String> {
+    if message.starts_with(&format!("'{line}' refused")) {
+        return Ok(());
+    }
+    if entry.is_empty() && !message.is_empty() {
+        return Ok(());
+    }
+    if entry == line && !message.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "typed {line:?}: the entry line holds {entry:?} and the message says {message:?}"
+    ))
+}
+
 /// Runs `tests/mcap_check.py` on a recording; `None` if python3 or its `mcap` module is
 /// missing and `CI` is unset (a skip, said loudly). With `CI` set the module is required.
 pub fn python_check(path: &Path, extra: &[&str]) -> Option<(bool, String)> {

@@ -474,6 +474,11 @@ impl LatheConsole {
         (self.rows, self.cols)
     }
 
+    /// The line being typed on the data keys (the centre's `PanelView::entry`).
+    pub fn entry(&self) -> &str {
+        &self.front.entry
+    }
+
     /// The operator's side of the console, the centre's (`crate::console::front`).
     pub(crate) fn front(&self) -> &Front {
         &self.front
