@@ -754,7 +754,17 @@ fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
     }
     c.handle(PanelEvent::Reset);
     m.handle(PanelEvent::Reset);
-    assert_eq!(c.message(), "RESET CH1");
+    assert_eq!(
+        c.message(),
+        "RESET CH1: spindle and coolant stopped, MDI buffer cleared"
+    );
+    // After an E-STOP, RESET releases the machine, and says so.
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Reset);
+    assert_eq!(
+        c.message(),
+        "RESET: E-STOP released; every channel's spindle and coolant stopped"
+    );
     assert_eq!(lathe_line(&c).as_deref(), Some("> G0X5"));
     assert_eq!(m.view().entry, "G0 X20");
     // The centre still refuses each data key where it has no use for a line, and says so.

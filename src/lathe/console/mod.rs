@@ -990,8 +990,16 @@ impl LatheConsole {
             // spindle and coolant, and clears its MDI buffer.
             let ch = (!all).then_some(self.sel);
             let _ = self.cycle.reset_channels(ch, self.kept_tools());
+            // It says what it did, as the centre's RESET does (before stop 46 it said only
+            // `RESET CH1`, after an E-STOP too, which released every channel).
             return match self.set_mdi(Vec::new()) {
-                Ok(()) => format!("RESET CH{}", self.sel + 1),
+                Ok(()) if all => {
+                    "RESET: E-STOP released; every channel's spindle and coolant stopped".into()
+                }
+                Ok(()) => format!(
+                    "RESET CH{}: spindle and coolant stopped, MDI buffer cleared",
+                    self.sel + 1
+                ),
                 Err(e) => e,
             };
         }
