@@ -17,6 +17,9 @@ pub(crate) struct Log {
     pub(crate) history: History,
     /// The last message put in the history (a message shown again is not logged again).
     last: String,
+    /// The alarm last put in the history of each alarm slot ([`Log::alarms`]; empty: none
+    /// stands).
+    alarms: Vec<String>,
 }
 
 /// Where an entry of the history was said: machine time (ns), the program's name, its line
@@ -28,7 +31,49 @@ impl Log {
     pub(crate) fn open(dir: &std::path::Path) -> (Log, Option<String>) {
         let (history, w) = History::open(dir);
         let last = String::new();
-        (Log { history, last }, w)
+        let alarms = Vec::new();
+        (
+            Log {
+                history,
+                last,
+                alarms,
+            },
+            w,
+        )
+    }
+
+    /// Each alarm slot's alarm now (`now[i]`: slot i's, with where it was said), in the
+    /// history as an alarm when it comes: not again while it stands, again once its slot has
+    /// been clear. One rule for every console: the centre has one slot (the machine's, the
+    /// program's or the tape's alarm); a lathe has one for the machine's E-STOP and one a
+    /// channel (its FAULT or ALARM). Why the history could not keep one, if it could not.
+    pub(crate) fn alarms(
+        &mut self,
+        rec: &mut Recording,
+        now: &[Option<(String, At)>],
+    ) -> Result<(), String> {
+        if self.alarms.len() < now.len() {
+            self.alarms.resize(now.len(), String::new());
+        }
+        let mut failed = Ok(());
+        for (i, a) in now.iter().enumerate() {
+            match a {
+                None => self.alarms[i].clear(),
+                Some((text, _)) if *text == self.alarms[i] => {}
+                Some((text, at)) => {
+                    self.alarms[i] = text.clone();
+                    let r = self.put(rec, *at, Kind::Alarm, level::ERROR, text);
+                    failed = failed.and(r);
+                }
+            }
+        }
+        failed
+    }
+
+    /// The alarms standing are new to the history: each is logged again if it still stands
+    /// (a new cycle's faults are its own).
+    pub(crate) fn forget_alarms(&mut self) {
+        self.alarms.iter_mut().for_each(String::clear);
     }
 
     /// `text` in the history as `kind`, and in the recording at level `lvl`, whatever was
@@ -83,8 +128,6 @@ pub(super) struct Book {
     pub(super) log: Log,
     /// The counters.
     pub(super) counters: Counters,
-    /// The last alarm put in the history.
-    alarm_logged: String,
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub(super) program_msg: Option<String>,
@@ -103,7 +146,6 @@ impl Book {
             Book {
                 log,
                 counters,
-                alarm_logged: String::new(),
                 program_msg: None,
                 unacknowledged: Vec::new(),
             },
@@ -116,25 +158,15 @@ impl Book {
 pub(super) fn log(c: &mut Console, alarm: Option<String>) {
     let t = c.status.machine_ns;
     let file = c.mem.program_name();
-    let mut warn = None;
-    if let Some(a) = alarm {
-        if a != c.book.alarm_logged {
-            c.book.alarm_logged = a.clone();
-            let line = c
-                .program_alarm
-                .as_ref()
-                .filter(|p| p.error.to_string() == a)
-                .map_or_else(|| alarm_line(&a), |p| p.error.line);
-            let at = (t, file.as_str(), line);
-            let r = c
-                .book
-                .log
-                .put(&mut c.recorder, at, Kind::Alarm, level::ERROR, &a);
-            warn = r.err();
-        }
-    } else {
-        c.book.alarm_logged.clear();
-    }
+    let now = alarm.map(|a| {
+        let line = c
+            .program_alarm
+            .as_ref()
+            .filter(|p| p.error.to_string() == a)
+            .map_or_else(|| alarm_line(&a), |p| p.error.line);
+        (a, (t, file.as_str(), line))
+    });
+    let warn = c.book.log.alarms(&mut c.recorder, &[now]).err();
     let lvl = message_level(&c.front.message, std::slice::from_ref(&c.status));
     let r = c
         .book
@@ -249,4 +281,44 @@ pub(super) fn acknowledge(c: &mut Console) -> bool {
     let had = !c.book.unacknowledged.is_empty();
     c.book.unacknowledged.clear();
     had
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each slot's alarm goes into the history once while it stands, again once its slot has
+    /// been clear; the slots are independent (a lathe's E-STOP and its channels).
+    #[test]
+    fn an_alarm_is_logged_when_it_comes_in_its_own_slot() {
+        let dir = std::env::temp_dir().join(format!("novanc-book-alarms-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let (mut log, _) = Log::open(&dir);
+        let info = crate::record::RecordingInfo::default();
+        let settings = crate::settings::MachineSettings::default();
+        let mut rec = Recording::start(None, None, &settings, &info).unwrap();
+        let a = |text: &str, t: u64| Some((text.to_string(), (t, "P", 3)));
+        let texts = |log: &Log| -> Vec<String> {
+            log.history
+                .entries()
+                .iter()
+                .map(|e| e.text.clone())
+                .collect()
+        };
+        log.alarms(&mut rec, &[a("E", 1), None]).unwrap();
+        log.alarms(&mut rec, &[a("E", 2), a("CH1 FAULT: x", 2)])
+            .unwrap();
+        // Standing: not again; another slot's alarm of the same text is its own.
+        log.alarms(&mut rec, &[a("E", 3), a("CH1 FAULT: x", 3)])
+            .unwrap();
+        log.alarms(&mut rec, &[None, a("E", 4)]).unwrap();
+        // Cleared, then back: logged again.
+        log.alarms(&mut rec, &[a("E", 5), None]).unwrap();
+        log.forget_alarms();
+        log.alarms(&mut rec, &[a("E", 6), None]).unwrap();
+        assert_eq!(texts(&log), ["E", "CH1 FAULT: x", "E", "E", "E"]);
+        assert!(log.history.entries().iter().all(|e| e.kind == Kind::Alarm));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

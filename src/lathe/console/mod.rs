@@ -86,10 +86,6 @@ pub struct LatheConsole {
     /// newest until Esc or RESET. Before stop 45 a lathe's `(MSG, ...)` lived until the next
     /// key, so a key pressed for something else cleared it unread.
     unacknowledged: Vec<String>,
-    /// Each channel's fault or alarm last put in the history (empty: none in force).
-    alarms_logged: Vec<String>,
-    /// The E-STOP in force is in the history.
-    estop_logged: bool,
     /// The machine time each channel's latest fault or alarm came at (the kernel's event).
     alarm_at: Vec<Option<u64>>,
     /// The channel the message just said speaks of, when not the selected one (a script's
@@ -242,8 +238,6 @@ impl LatheConsole {
             counters,
             unacknowledged: Vec::new(),
             last_part_ns: None,
-            alarms_logged: vec![String::new(); n],
-            estop_logged: false,
             alarm_at: vec![None; n],
             msg_of: None,
             cycle,
@@ -547,46 +541,28 @@ impl LatheConsole {
     /// history that cannot be saved is said after the message, never in its place.
     fn log_book(&mut self) {
         let t = self.now_ns;
-        let mut failed = None;
-        // E-STOP once, the machine's (the centre's entry: `ALARM EMERGENCY STOP: ...`), from
-        // the press or the kernel's state, until RESET releases it.
-        let estop = self.estop();
-        if estop && !self.estop_logged {
+        // Slot 0: the E-STOP, once, the machine's (the centre's entry: `ALARM EMERGENCY STOP:
+        // ...`), from the press or the kernel's state, until RESET releases it. Then one slot
+        // a channel: its FAULT or ALARM (`book::Log::alarms`, the centre's rule).
+        let mut now = vec![None; 1 + self.desc.channels.len()];
+        if self.estop() {
             let file = self.programs.get(self.sel).map_or("", |p| p.name.as_str());
-            let r = self.log.put(
-                &mut self.recorder,
-                (t, file, 0),
-                Kind::Alarm,
-                level::ERROR,
-                ESTOP_NOTE,
-            );
-            failed = r.err();
+            now[0] = Some((ESTOP_NOTE.to_string(), (t, file, 0)));
         }
-        self.estop_logged = estop;
-        let cleared = self.alarms_logged.iter().all(|a| a.is_empty());
         let c = &self.cycle;
-        if c.any_state(&["FAULT", "ALARM"]) || !cleared {
-            let chans = c.views(&self.desc, &self.programs, &self.counter.counts);
-            for (i, ch) in chans.iter().enumerate() {
-                let Some(logged) = self.alarms_logged.get_mut(i) else {
-                    continue;
-                };
-                if !matches!(ch.state.as_str(), "FAULT" | "ALARM") {
-                    logged.clear();
-                    continue;
-                }
+        let chans = if c.any_state(&["FAULT", "ALARM"]) {
+            c.views(&self.desc, &self.programs, &self.counter.counts)
+        } else {
+            Vec::new()
+        };
+        for (i, ch) in chans.iter().enumerate() {
+            if matches!(ch.state.as_str(), "FAULT" | "ALARM") && i + 1 < now.len() {
                 let text = format!("CH{} {}: {}", i + 1, ch.state, ch.note);
-                if *logged != text {
-                    *logged = text.clone();
-                    let when = self.alarm_at.get(i).copied().flatten().unwrap_or(t);
-                    let at = (when, ch.program.as_str(), ch.line);
-                    let r = self
-                        .log
-                        .put(&mut self.recorder, at, Kind::Alarm, level::ERROR, &text);
-                    failed = failed.or(r.err());
-                }
+                let when = self.alarm_at.get(i).copied().flatten().unwrap_or(t);
+                now[i + 1] = Some((text, (when, ch.program.as_str(), ch.line)));
             }
         }
+        let failed = self.log.alarms(&mut self.recorder, &now).err();
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
         let chans: Vec<_> = (self.cycle.channels().iter())
@@ -837,7 +813,7 @@ impl LatheConsole {
             return;
         }
         // A new cycle: its channels' faults are new to the history.
-        self.alarms_logged.iter_mut().for_each(String::clear);
+        self.log.forget_alarms();
         if !mdi {
             let mut next = self.counter.clone();
             next.counts.iter_mut().for_each(|c| *c = 0);
@@ -912,7 +888,7 @@ impl LatheConsole {
         if let Err(e) = self.cycle.load(&self.desc, spec, &mut self.kept) {
             self.front.message = e;
         }
-        self.alarms_logged.iter_mut().for_each(String::clear);
+        self.log.forget_alarms();
     }
 
     /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
