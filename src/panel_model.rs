@@ -270,6 +270,9 @@ pub enum PanelEvent {
     Rubout,
     /// The end-of-block key (Enter).
     Eob,
+    /// +INPUT: the line typed is added to the cell under a page's cursor (OFS, MACRO), as a
+    /// Fanuc's +INPUT soft key; the keyboard's Tab on such a page (`plusinput`).
+    PlusInput,
     /// Put a file in the tape reader.
     Tape(PathBuf),
     /// Cycle start.
@@ -613,6 +616,7 @@ impl PanelEvent {
             // The data keys RUBOUT and EOB as the window's buttons give them.
             "rubout" => none().map(|_| PanelEvent::Rubout)?,
             "eob" => none().map(|_| PanelEvent::Eob)?,
+            "plusinput" => none().map(|_| PanelEvent::PlusInput)?,
             "wheelscale" => {
                 let a = one("increment")?;
                 let n: u32 = a

@@ -236,6 +236,75 @@ fn ofs_input_sets_the_cell_under_the_cursor_and_plus_input_adds_to_it() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The keypad's +INPUT key (`plusinput`) is one event on both machines: on OFS and MACRO it
+/// adds to the cell under the cursor, even with nothing typed (it never turns the channel
+/// selector, as the keyboard's Tab does then); elsewhere it is refused and the line stays.
+/// Before stop 46 the lathe's keypad had no +INPUT, and its MACRO page took Tab as INPUT.
+#[test]
+fn the_plus_input_key_adds_on_a_page_and_never_turns_the_channel() {
+    let dir = common::temp_dir("lathe-plus-input");
+    let mut c = open(&dir);
+    let mut m = common::open("centre-plus-input");
+    c.press(Key::Ctrl('o'));
+    c.handle(PanelEvent::PlusInput);
+    assert_eq!(c.selected(), 0, "{}", c.message());
+    assert!(c.message().contains("type"), "{}", c.message());
+    // T01's X offset (the cursor's cell, a diameter): 0.02 added.
+    let x = c.desc().channels[0].tools[0].offset[0];
+    for k in "0.02".chars() {
+        c.handle(PanelEvent::Key(k));
+    }
+    c.handle(PanelEvent::PlusInput);
+    let now = c.desc().channels[0].tools[0].offset[0];
+    assert!(
+        ((now - x) * 2.0 - 0.02).abs() < 1e-9,
+        "{x} -> {now}: {}",
+        c.message()
+    );
+    assert_eq!(c.entry(), "");
+    // MACRO: +INPUT adds to the variable, by the key and by the keyboard's Tab.
+    c.press(Key::Ctrl('u'));
+    assert_eq!(c.page(), Page::Macro);
+    c.handle(PanelEvent::Type("#500=2".into()));
+    for k in "3".chars() {
+        c.handle(PanelEvent::Key(k));
+    }
+    c.handle(PanelEvent::PlusInput);
+    assert!(c.message().ends_with("#500 = 5"), "{}", c.message());
+    c.handle(PanelEvent::Key('1'));
+    c.press(Key::Tab);
+    assert!(c.message().ends_with("#500 = 6"), "{}", c.message());
+    assert_eq!(c.selected(), 0);
+    // On the mode display: refused, the line kept, on both machines.
+    c.press(Key::Ctrl('u'));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    m.handle(PanelEvent::Op(OpMode::Mdi));
+    for k in "G0X1".chars() {
+        c.handle(PanelEvent::Key(k));
+        m.handle(PanelEvent::Key(k));
+    }
+    c.handle(PanelEvent::PlusInput);
+    m.handle(PanelEvent::PlusInput);
+    for (entry, said) in [
+        (c.entry().to_string(), c.message()),
+        (m.view().entry, m.message()),
+    ] {
+        assert_eq!(entry, "G0X1");
+        assert!(said.starts_with("+INPUT refused"), "{said}");
+    }
+    assert_eq!(c.selected(), 0);
+    // The centre's OFS: the key adds as its Tab does.
+    m.handle(PanelEvent::Op(OpMode::Auto));
+    m.handle(PanelEvent::Press(Key::Ctrl('o')));
+    m.handle(PanelEvent::Type("1".into()));
+    let before = m.frame_text();
+    m.handle(PanelEvent::Key('1'));
+    m.handle(PanelEvent::PlusInput);
+    assert_ne!(m.frame_text(), before);
+    assert!(m.message().starts_with("T01"), "{}", m.message());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn pos_shows_the_tip_and_what_is_left_of_the_block() {
     let dir = common::temp_dir("lathe-pos");

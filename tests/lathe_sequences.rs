@@ -326,6 +326,8 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         65 => PanelEvent::Type(OFS_LINES[rng.below(OFS_LINES.len())].into()),
         // A variable set (on MACRO), an MDI line or an editor line refused elsewhere.
         86 => PanelEvent::Type(format!("#{}={}", 500 + rng.range(0, 2), rng.range(0, 9))),
+        // The keypad's +INPUT: adds on OFS and MACRO, refused elsewhere; never a channel turn.
+        87 => PanelEvent::PlusInput,
         66 => PanelEvent::Override([0, 50, 100, 150][rng.range(0, 3) as usize]),
         62..=63 => PanelEvent::OptionalStop(rng.range(0, 1) == 1),
         80..=81 => {

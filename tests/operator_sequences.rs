@@ -1023,7 +1023,12 @@ impl Session {
                     for ch in v.chars() {
                         self.ev(E::Key(ch));
                     }
-                    self.key("Tab");
+                    // +INPUT: the keyboard's Tab or the keypad's key, one rule.
+                    if self.rng.range(0, 1) == 0 {
+                        self.key("Tab");
+                    } else {
+                        self.ev(E::PlusInput);
+                    }
                 }
             }
             "Ctrl+P" => {

@@ -77,6 +77,24 @@ pub(crate) fn eob<C: Side>(c: &mut C) {
     }
 }
 
+/// +INPUT (`plusinput`, the keypad's key): on a page, the line typed is added to the cell
+/// under its cursor (a page that has no cells takes it as INPUT); elsewhere it is refused, the
+/// line kept, since only a page has a cell to add to. One key on every machine: on a lathe the
+/// keyboard's Tab with nothing typed turns the channel selector, so the keypad's +INPUT is this
+/// event, never Tab (before stop 46 the lathe's keypad had no +INPUT).
+pub(crate) fn plus_input<C: Side>(c: &mut C) {
+    let Some(to) = target(c, "+INPUT") else {
+        return;
+    };
+    let line = std::mem::take(&mut c.front().entry);
+    if let To::Page(_) = to {
+        return enter(c, to, line, true);
+    }
+    let f = c.front();
+    f.message = "+INPUT refused: it adds to the cell under a page's cursor (OFS, MACRO); EOB enters the line here".into();
+    f.entry = line;
+}
+
 /// A whole line typed, then EOB (`type TEXT`).
 pub(crate) fn typed<C: Side>(c: &mut C, text: &str) {
     if let Some(to) = target(c, &format!("'{text}'")) {

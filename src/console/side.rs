@@ -111,6 +111,7 @@ pub(crate) fn words<C: Side>(c: &mut C, ev: PanelEvent) {
         PanelEvent::Key(ch) => entry::key(c, ch),
         PanelEvent::Rubout => entry::rubout(c),
         PanelEvent::Eob => entry::eob(c),
+        PanelEvent::PlusInput => entry::plus_input(c),
         PanelEvent::Type(text) => entry::typed(c, &text),
         PanelEvent::Start => {
             if relay::start_allowed(c) {

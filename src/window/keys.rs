@@ -24,10 +24,11 @@ pub const NUMERIC_KEYS: [(char, char); 12] = [
 ];
 
 /// The data keys: alphabetic (15a), numeric with shifted characters (15b), SHIFT (15c),
-/// SPACE, RUBOUT and EOB (INPUT on a page); with `tape`, the machining centre's keypad: the
-/// tape reader and punch keys, and +INPUT (the keyboard's Tab: a page adds the typed value to
-/// the cell under its cursor). The lathe has no tape; its +INPUT is Tab on the keyboard,
-/// which with nothing typed turns the channel selector, so it has no such key here.
+/// SPACE, RUBOUT, EOB (INPUT on a page) and +INPUT (a page adds the typed value to the cell
+/// under its cursor: `PanelEvent::PlusInput`, on every machine; the keyboard's Tab on a page);
+/// with `tape`, the machining centre's tape reader and punch keys. Before stop 46 the lathe's
+/// keypad had no +INPUT, and the centre's sent Tab, which on a lathe with nothing typed turns
+/// the channel selector.
 pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>, tape: bool) {
     let key = |ui: &mut Ui, label: &str, w: f32, lit: bool| -> bool {
         let b = egui::Button::new(egui::RichText::new(label).monospace().size(13.0))
@@ -72,8 +73,8 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>, t
         if key(ui, "EOB *", 70.0, false) {
             out.push(PanelEvent::Eob);
         }
-        if tape && key(ui, "+INPUT", 60.0, false) {
-            out.push(PanelEvent::Press(Key::Tab));
+        if key(ui, "+INPUT", 60.0, false) {
+            out.push(PanelEvent::PlusInput);
         }
         if tape && key(ui, "TAPE", 50.0, false) {
             hand.tape_requested = true;

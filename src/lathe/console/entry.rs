@@ -21,7 +21,7 @@ impl LatheConsole {
             To::Page(Page::Msg) => {
                 return Err("MSG: the history is read only; Up/Down scroll it".into())
             }
-            To::Page(Page::Macro) => return self.macro_input(line),
+            To::Page(Page::Macro) => return self.macro_input(line, add),
             To::Page(Page::Modal) => {
                 return Err(
                     "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into(),
@@ -87,11 +87,12 @@ impl LatheConsole {
     /// the one it names, `#500` moves the cursor there. #500–#999 are stored first (the
     /// channel's kept parameters, journaled as a program's writes are); #1–#33 and #100–#199
     /// hold until RESET clears them. Taken with no cycle under way: the programs read the
-    /// variables at START. A refused line stays on the entry line.
-    fn macro_input(&mut self, line: &str) -> Result<(), String> {
+    /// variables at START. +INPUT (`add`) adds to the variable, as on the centre (before stop
+    /// 46 a lathe's MACRO page took +INPUT as INPUT). A refused line stays on the entry line.
+    fn macro_input(&mut self, line: &str, add: bool) -> Result<(), String> {
         use crate::console::pages::macros::{input, set_message, Input};
         let ch = self.sel;
-        match input(line, self.macro_var, &self.kept[ch].params.params, false)? {
+        match input(line, self.macro_var, &self.kept[ch].params.params, add)? {
             Input::Cursor(n) => self.macro_var = n,
             Input::Set(..) if !self.cycle.is_over() => return Err(
                 "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
@@ -144,7 +145,11 @@ impl LatheConsole {
     /// entry line, not the line made of it).
     fn cell_or_tool(&mut self, line: &str, add: bool) -> Result<(), String> {
         if line.trim().is_empty() {
-            return Ok(());
+            // The centre's words (before stop 46 an empty INPUT said nothing here).
+            return Err(
+                "OFS: type a value, then Enter (INPUT) or Tab (+INPUT), or T1 X.. Z.. R.. P.."
+                    .into(),
+            );
         }
         if !add && line.trim_start().starts_with(['T', 't']) {
             return self.revise_tool(line);

@@ -80,6 +80,7 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::Key(_)
         | PanelEvent::Rubout
         | PanelEvent::Eob
+        | PanelEvent::PlusInput
         | PanelEvent::Start
         | PanelEvent::Stop
         | PanelEvent::Reset

@@ -519,11 +519,15 @@ impl LatheConsole {
                 }
                 return true;
             }
-            // +INPUT (the centre's Tab) on OFS with a value typed; with nothing typed Tab
-            // turns the channel selector, as everywhere.
-            _ if k == Key::Tab && self.page == Page::Ofs && !self.front.entry.trim().is_empty() => {
+            // +INPUT (the centre's Tab) on OFS or MACRO with a value typed; with nothing typed
+            // Tab turns the channel selector, as everywhere (the keypad's +INPUT key is
+            // `PanelEvent::PlusInput`, never Tab).
+            _ if k == Key::Tab
+                && matches!(self.page, Page::Ofs | Page::Macro)
+                && !self.front.entry.trim().is_empty() =>
+            {
                 let line = std::mem::take(&mut self.front.entry);
-                let to = crate::console::entry::To::Page(Page::Ofs);
+                let to = crate::console::entry::To::Page(self.page);
                 crate::console::entry::enter(self, to, line, true);
                 return true;
             }
