@@ -302,8 +302,10 @@ pub fn main(argv: &[String]) -> i32 {
         }
         match reached {
             Reached::Limit => {
+                // A stop signal is an E-STOP, on every machine (a lathe's `run` too; before
+                // stop 46 the centre was RESET).
                 super::signals::on_signal(|| {
-                    core.command(Command::Reset);
+                    core.command(Command::EStop);
                 });
                 if super::signals::caught().is_some() {
                     break Some(core.status());
@@ -525,6 +527,22 @@ fn lathe(
             o => break o,
         }
     };
+    // What stopped the run, on /foxglove/log, as the centre's `run` logs its alarm (before
+    // stop 46 a lathe's recording did not say it): for an E-STOP the machine's own words.
+    if let (Some(r), Err(e)) = (&rec, &outcome) {
+        let estop = cycle.channels().iter().find(|c| c.status.estop);
+        let message = estop
+            .and_then(|c| c.status.alarm.clone())
+            .unwrap_or_else(|| e.clone());
+        r.sink().send(Event::Log {
+            t_ns: cycle.now_ns(),
+            level: level::ERROR,
+            name: "novanc run".into(),
+            message,
+            file: names.first().cloned().unwrap_or_default(),
+            line: 0,
+        });
+    }
     let delivered = cycle.totals(desc.unloader).2;
     let mut out = format!(
         "machine: {} ({} channels)\nparts: {}\nmachine time: {:.3} s\n",

@@ -477,10 +477,24 @@ impl Console {
         }
     }
 
-    /// Ends the session: stops the machine and closes the recording. Returns the recording's
-    /// summary, if one was made.
-    pub fn finish(mut self) -> Result<Option<String>, String> {
-        self.core.command(Command::Reset);
+    /// Ends the session: stops the machine (RESET) and closes the recording. Returns the
+    /// recording's summary, if one was made.
+    pub fn finish(self) -> Result<Option<String>, String> {
+        self.close(None)
+    }
+
+    /// [`Console::finish`]; `interrupted` names a stop signal that cut the session short:
+    /// the machine is then stopped by E-STOP, as a lathe's is (every channel at once), and the
+    /// history and the recording say EMERGENCY STOP; it is not an operator action, so no
+    /// `/panel/event`. Before stop 46 the centre was RESET on a signal and a lathe E-STOPped.
+    pub fn close(mut self, interrupted: Option<&str>) -> Result<Option<String>, String> {
+        if interrupted.is_some() {
+            self.core.command(Command::EStop);
+            // The alarm into the history and `/foxglove/log`, the frame into the recording.
+            self.refresh();
+        } else {
+            self.core.command(Command::Reset);
+        }
         self.status = self.core.status();
         posmem::track(&mut self);
         run::note_run_end(&mut self);

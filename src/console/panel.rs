@@ -159,12 +159,14 @@ impl Panel {
         }
     }
 
-    /// Ends the session: the machine stopped (E-STOP first when a stop signal, `interrupted`,
-    /// cut it short; the centre's recording is marked by `signals::caught`), the stores and
-    /// the recording closed. The recording's summary line, or why it could not be finished.
+    /// Ends the session: the machine stopped (by E-STOP on every machine when a stop signal,
+    /// `interrupted`, cut it short; else the centre is RESET; the centre's recording is marked
+    /// by `signals::caught`), the stores and the recording closed. The recording's summary line, or why it could not be finished.
     pub fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String> {
         match self {
-            Panel::Centre(c) => (*c).finish().map_err(|e| format!("recording: {e}")),
+            Panel::Centre(c) => (*c)
+                .close(interrupted)
+                .map_err(|e| format!("recording: {e}")),
             Panel::Lathe(c) => (*c).finish(interrupted).transpose(),
         }
     }
