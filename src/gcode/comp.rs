@@ -21,6 +21,7 @@
 
 use super::canon::Canon;
 use super::exec::Exec;
+use super::geom::{angle, dist, polar};
 use crate::block::{Plane, TranslateError};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -131,18 +132,6 @@ impl Default for Comp {
             endpoint: None,
         }
     }
-}
-
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-fn polar(p: [f64; 2], r: f64, a: f64) -> [f64; 2] {
-    [p[0] + r * a.cos(), p[1] + r * a.sin()]
-}
-
-fn angle(from: [f64; 2], to: [f64; 2]) -> f64 {
-    (to[1] - from[1]).atan2(to[0] - from[0])
 }
 
 /// The signed sweep (radians, counter-clockwise positive) of an arc from `a` to `b` about `c`

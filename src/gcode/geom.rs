@@ -155,6 +155,36 @@ pub fn circle_circle(c0: [f64; 2], r0: f64, c1: [f64; 2], r1: f64) -> Vec<[f64; 
     vec![[m[0] + o[0], m[1] + o[1]], [m[0] - o[0], m[1] - o[1]]]
 }
 
+/// The distance between two points of a plane.
+pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// `a − b`.
+pub fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+/// `v` of length 1 (0 for a vector of no length).
+pub fn unit(v: [f64; 2]) -> [f64; 2] {
+    let l = v[0].hypot(v[1]);
+    if l < 1e-15 {
+        [0.0, 0.0]
+    } else {
+        [v[0] / l, v[1] / l]
+    }
+}
+
+/// The point `r` from `p` at angle `a` (radians, counter-clockwise from the first axis).
+pub fn polar(p: [f64; 2], r: f64, a: f64) -> [f64; 2] {
+    [p[0] + r * a.cos(), p[1] + r * a.sin()]
+}
+
+/// The angle (radians) of the direction from `from` to `to`.
+pub fn angle(from: [f64; 2], to: [f64; 2]) -> f64 {
+    (to[1] - from[1]).atan2(to[0] - from[0])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

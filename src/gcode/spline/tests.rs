@@ -8,6 +8,7 @@
 use super::curve::{self, ChordEnd};
 use super::{MAX_CHORDS, MAX_ORDER};
 use crate::block::{Block, Motion};
+use crate::gcode::geom::dist;
 use crate::gcode::{translate_all, WorkOffsets};
 use crate::pulse_core::testkit::Rng;
 use crate::settings::MachineSettings;
@@ -18,10 +19,6 @@ const SAMPLES: usize = 48;
 
 fn lerp2(a: [f64; 2], b: [f64; 2], t: f64) -> [f64; 2] {
     [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t]
-}
-
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 /// The distance from `q` to the segment `a`–`b`, written for the tests.

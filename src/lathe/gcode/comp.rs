@@ -14,7 +14,7 @@
 use super::out::{Kind, Mv};
 use crate::block::Block;
 use crate::block::TranslateError;
-use crate::gcode::geom::{circle_circle, line_circle};
+use crate::gcode::geom::{circle_circle, dist, line_circle, sub, unit};
 use std::f64::consts::TAU;
 
 /// A corner turning by less than this (radians) is tangent: no join.
@@ -70,23 +70,6 @@ pub fn sweep(c: [f64; 2], s: [f64; 2], e: [f64; 2], ccw: bool) -> f64 {
     } else {
         d
     }
-}
-
-fn unit(v: [f64; 2]) -> [f64; 2] {
-    let l = v[0].hypot(v[1]);
-    if l < 1e-15 {
-        [0.0, 0.0]
-    } else {
-        [v[0] / l, v[1] / l]
-    }
-}
-
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 /// The unit tangent of a move at point `p` on it.
