@@ -121,25 +121,35 @@ impl Log {
     }
 }
 
-/// The history and the counters, kept in the stores across restarts.
+/// The log book every console keeps (the centre's and a lathe's): the history and the
+/// counters, kept in the stores across restarts, and the program messages waiting to be
+/// acknowledged.
 #[derive(Debug)]
-pub(super) struct Book {
+pub(crate) struct Book {
     /// The alarm and message history.
-    pub(super) log: Log,
+    pub(crate) log: Log,
     /// The counters.
-    pub(super) counters: Counters,
+    pub(crate) counters: Counters,
     /// The program's message taken since the last frame (a run's end says it too, so that the
     /// frame, and with it the recording, shows it).
     pub(super) program_msg: Option<String>,
     /// Program messages that live until acknowledged (`state::until_acknowledged`), oldest
     /// first: the message line shows the newest until Esc or RESET.
-    pub(super) unacknowledged: Vec<String>,
+    pub(crate) unacknowledged: Vec<String>,
 }
 
 impl Book {
+    /// Acknowledges the program messages that live until acknowledged (Esc, RESET); whether
+    /// there was one.
+    pub(crate) fn acknowledge(&mut self) -> bool {
+        let had = !self.unacknowledged.is_empty();
+        self.unacknowledged.clear();
+        had
+    }
+
     /// The book of a console whose state directory is `dir`, with the warnings of reading its
     /// history and counters.
-    pub(super) fn open(dir: &std::path::Path) -> (Book, Vec<String>) {
+    pub(crate) fn open(dir: &std::path::Path) -> (Book, Vec<String>) {
         let (log, w1) = Log::open(dir);
         let (counters, w2) = Counters::open(dir);
         (
@@ -273,14 +283,6 @@ pub(super) fn target_refusal(c: &Console) -> Option<String> {
             k.parts, k.target
         )
     })
-}
-
-/// Acknowledges the program messages that live until acknowledged (Esc, RESET); whether there
-/// was one.
-pub(super) fn acknowledge(c: &mut Console) -> bool {
-    let had = !c.book.unacknowledged.is_empty();
-    c.book.unacknowledged.clear();
-    had
 }
 
 #[cfg(test)]

@@ -289,6 +289,15 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
             c.front().help = 1;
             return c.refresh();
         }
+        Action::Acknowledge => {
+            // Esc: the program messages waiting (MSG, NOT KEPT) are acknowledged, on every
+            // console (before stop 46 each had its own copy of this).
+            if !c.book().acknowledge() {
+                c.front().message = format!("{}: no message to acknowledge", key_name(k));
+            }
+            c.record_key(k);
+            return c.refresh();
+        }
         a => {
             if !c.own_key(k, &a) {
                 // Recorded: the key was pressed, and said so.
@@ -410,17 +419,10 @@ impl Keyed for Console {
         // key that acts: a replay types the same revision.
         self.pages.page != Page::Mode && pages::press(self, k)
     }
-    fn own_key(&mut self, k: Key, action: &Action) -> bool {
+    fn own_key(&mut self, _k: Key, action: &Action) -> bool {
         match action {
             Action::Tape => self.tape_from_entry(),
             Action::Punch => self.punch_from_entry(),
-            Action::Acknowledge => {
-                if !super::book::acknowledge(self) {
-                    self.front.message = format!("{}: no message to acknowledge", key_name(k));
-                }
-                self.record_key(k);
-                self.refresh();
-            }
             _ => return false,
         }
         true

@@ -19,6 +19,9 @@ pub(crate) trait Side {
     /// The operator's side of the console: the selector, the help page, the screen fit, the
     /// message, the panel switches, the feed override and the handwheel.
     fn front(&mut self) -> &mut Front;
+    /// The log book (`book::Book`): the history, the counters and the program messages
+    /// waiting to be acknowledged, every console's.
+    fn book(&mut self) -> &mut super::book::Book;
     /// The machine's switches (rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT),
     /// the same on every channel.
     fn machine_switches(&self) -> Switches;
@@ -130,6 +133,9 @@ impl Side for Console {
     fn front(&mut self) -> &mut Front {
         &mut self.front
     }
+    fn book(&mut self) -> &mut super::book::Book {
+        &mut self.book
+    }
     fn machine_switches(&self) -> Switches {
         self.status.switches
     }
@@ -203,7 +209,7 @@ impl Side for Console {
     }
     fn reset(&mut self) -> String {
         self.command(Command::Reset);
-        super::book::acknowledge(self);
+        self.book.acknowledge();
         self.reset_seen = true;
         super::gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
         self.program_alarm = None;

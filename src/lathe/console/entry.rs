@@ -329,7 +329,7 @@ impl LatheConsole {
         ];
         // The batch's count and target, then the counters every console keeps (the centre's
         // POS words): parts delivered in every batch, the last cycle, the run hours.
-        let k = &self.counters;
+        let k = &self.book.counters;
         l.push(format!("PARTS {}/{}", c.parts, self.counter.target));
         l.push(format!(
             "TOTAL {} CYCLE {:.3} s RUN {:.2} h",
@@ -359,7 +359,7 @@ impl LatheConsole {
             Page::Msg => {
                 // The centre's MSG page under the channel's lines: every entry in full,
                 // newest first.
-                let all = self.log.history.entries();
+                let all = self.book.log.history.entries();
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
                 l.extend(msg::history_lines(all, self.msg_first, room, self.cols));

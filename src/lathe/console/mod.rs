@@ -19,7 +19,7 @@ pub mod view;
 pub use glue::{home, recording_info, Cycle, CycleSpec, KernelSpec, RunUntil};
 
 use super::desc::LatheDesc;
-use crate::console::book::Log;
+use crate::console::book::Book;
 use crate::console::front::Front;
 use crate::console::keys::Action;
 use crate::console::pages::{macros, msg};
@@ -59,9 +59,16 @@ pub struct LatheConsole {
     /// again or a mode turned leaves it): OFS, where the data keys revise the selected
     /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), or MSG, the alarm and message history.
     page: Page,
-    /// The alarm and message history (the centre's, `crate::console::book::Log`): what the
-    /// MSG page shows, kept in the lathe's state directory across restarts.
-    log: Log,
+    /// The log book, the centre's (`crate::console::book::Book`), in the lathe's state
+    /// directory: the alarm and message history the MSG page shows, kept across restarts; the
+    /// counters (parts delivered at the unloader in every batch, the last cycle's time from the
+    /// part before it, the first from START, and the machine time with a cycle or an MDI run
+    /// under way: the batch's target and counts are the part counter's, `counter`); and the
+    /// programs' messages that live until acknowledged (`MSG`, `NOT KEPT`), oldest first, the
+    /// newest on the message line until Esc or RESET. Before stop 45 the lathe kept no run
+    /// time and forgot its cycle time at a restart, and a `(MSG, ...)` lived until the next
+    /// key; before stop 46 it kept the three beside each other, not as the centre's one book.
+    book: Book,
     /// The MSG page's first entry shown (0: the newest).
     msg_first: usize,
     /// The MACRO page's cursor: a variable number (of the selected channel).
@@ -69,23 +76,10 @@ pub struct LatheConsole {
     /// The OFS page's cursor: the selected channel's tool (its row) and column
     /// (`ofs::COLUMNS`).
     ofs_cell: (usize, usize),
-    /// The counters every console keeps (`crate::store::history::Counters`, the centre's),
-    /// in the lathe's state directory across restarts: the parts delivered at the unloader in
-    /// every batch, the last cycle's time (from the part delivered before it, the first from
-    /// START, to the part delivered; the title shows it) and the machine time with a cycle or
-    /// an MDI run under way. The batch's target and counts are the part counter's (`counter`,
-    /// journaled). Before stop 45 the cycle time was forgotten at a restart and the lathe
-    /// kept no run time.
-    counters: crate::store::history::Counters,
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
     /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
     recall: Vec<crate::console::entry::Recall>,
-    /// The programs' messages that live until acknowledged (`MSG`, `NOT KEPT`: the centre's
-    /// rule, `console::state::until_acknowledged`), oldest first: the message line shows the
-    /// newest until Esc or RESET. Before stop 45 a lathe's `(MSG, ...)` lived until the next
-    /// key, so a key pressed for something else cleared it unread.
-    unacknowledged: Vec<String>,
     /// The machine time each channel's latest fault or alarm came at (the kernel's event).
     alarm_at: Vec<Option<u64>>,
     /// The channel the message just said speaks of, when not the selected one (a script's
@@ -184,10 +178,8 @@ impl LatheConsole {
             .zip(&o.pointers)
             .map(|(p, &at)| 1 + p.text.chars().take(at).filter(|&c| c == '\n').count())
             .collect();
-        let (log, damaged) = Log::open(o.store.dir());
+        let (book, damaged) = Book::open(o.store.dir());
         let mut warnings = o.warnings;
-        warnings.extend(damaged);
-        let (counters, damaged) = crate::store::history::Counters::open(o.store.dir());
         warnings.extend(damaged);
         let kept: Vec<_> = (0..n)
             .map(|ch| {
@@ -230,13 +222,11 @@ impl LatheConsole {
             front,
             sel: 0,
             page: Page::Mode,
-            log,
+            book,
             msg_first: 0,
             macro_var: 1,
             ofs_cell: (0, ofs::FIRST_COLUMN),
             recall: (0..n).map(|_| Default::default()).collect(),
-            counters,
-            unacknowledged: Vec::new(),
             last_part_ns: None,
             alarm_at: vec![None; n],
             msg_of: None,
@@ -322,13 +312,13 @@ impl LatheConsole {
     /// The last cycle's time, ns (the title's `CYCLE`): from the part delivered before it, or
     /// from the batch's START for its first part, to the part delivered at the unloader.
     pub fn cycle_time_ns(&self) -> Option<u64> {
-        Some(self.counters.last_cycle_ns).filter(|&t| t > 0)
+        Some(self.book.counters.last_cycle_ns).filter(|&t| t > 0)
     }
 
     /// The counters kept across restarts: parts delivered in every batch, the last cycle's
     /// time and the run time.
     pub fn counters(&self) -> crate::store::history::Counters {
-        self.counters
+        self.book.counters
     }
 
     /// The message line: the operator message while it lives ([`MsgLife`]), else what the
@@ -342,7 +332,7 @@ impl LatheConsole {
     /// acknowledged (the centre's words), then what [`LatheConsole::message`] says.
     fn message_line(&self, chans: &[ChanView]) -> String {
         let said = self.message_with(chans);
-        match crate::console::state::unacknowledged_line(&self.unacknowledged) {
+        match crate::console::state::unacknowledged_line(&self.book.unacknowledged) {
             Some(m) if said.is_empty() => m,
             Some(m) => format!("{m} / {said}"),
             None => said.to_string(),
@@ -351,7 +341,7 @@ impl LatheConsole {
 
     /// The program messages on the message line until acknowledged (newest last).
     pub fn unacknowledged(&self) -> &[String] {
-        &self.unacknowledged
+        &self.book.unacknowledged
     }
 
     fn message_with(&self, chans: &[ChanView]) -> &str {
@@ -415,7 +405,7 @@ impl LatheConsole {
 
     /// The alarm and message history, oldest first (the MSG page shows it newest first).
     pub fn history(&self) -> &[crate::store::history::Entry] {
-        self.log.history.entries()
+        self.book.log.history.entries()
     }
 
     /// The feed override, percent.
@@ -504,7 +494,7 @@ impl LatheConsole {
             _ if crate::console::keys::is_cursor_key(k) => {
                 match self.page {
                     Page::Msg => {
-                        let n = self.log.history.entries().len();
+                        let n = self.book.log.history.entries().len();
                         msg::scroll(&mut self.msg_first, n, k);
                     }
                     Page::Macro => {
@@ -566,7 +556,7 @@ impl LatheConsole {
                 now[i + 1] = Some((text, (when, ch.program.as_str(), ch.line)));
             }
         }
-        let failed = self.log.alarms(&mut self.recorder, &now).err();
+        let failed = self.book.log.alarms(&mut self.recorder, &now).err();
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
         let chans: Vec<_> = (self.cycle.channels().iter())
@@ -574,12 +564,13 @@ impl LatheConsole {
             .collect();
         let lvl = crate::console::book::message_level(&self.front.message, &chans);
         let r = self
+            .book
             .log
             .message(&mut self.recorder, (t, file, 0), lvl, &self.front.message);
         if let Some(e) = failed.or(r.err()) {
             let m = crate::console::book::with_failure(&self.front.message, &e);
             self.say(m, MsgLife::NextKey);
-            self.log.shown(&self.front.message);
+            self.book.log.shown(&self.front.message);
         }
     }
 
@@ -817,7 +808,7 @@ impl LatheConsole {
             return;
         }
         // A new cycle: its channels' faults are new to the history.
-        self.log.forget_alarms();
+        self.book.log.forget_alarms();
         if !mdi {
             let mut next = self.counter.clone();
             next.counts.iter_mut().for_each(|c| *c = 0);
@@ -892,7 +883,7 @@ impl LatheConsole {
         if let Err(e) = self.cycle.load(&self.desc, spec, &mut self.kept) {
             self.front.message = e;
         }
-        self.log.forget_alarms();
+        self.book.log.forget_alarms();
     }
 
     /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
@@ -940,7 +931,7 @@ impl LatheConsole {
 
     /// Saves the counters (`counters`) atomically; a failure is said on the message line.
     fn save_counters(&mut self) {
-        if let Err(e) = self.counters.save(self.store.dir()) {
+        if let Err(e) = self.book.counters.save(self.store.dir()) {
             self.front.say(e, MsgLife::NextKey, self.now_ns);
         }
     }
@@ -959,7 +950,9 @@ impl LatheConsole {
         // It acknowledges that channel's program messages (after an E-STOP, every one), as a
         // Fanuc's RESET clears its path's operator message (the centre's rule).
         let of = format!("CH{} ", self.sel + 1);
-        self.unacknowledged.retain(|m| !all && !m.starts_with(&of));
+        self.book
+            .unacknowledged
+            .retain(|m| !all && !m.starts_with(&of));
         for (ch, k) in self.kept.iter_mut().enumerate() {
             if all || ch == self.sel {
                 k.reset(&self.desc, ch);
@@ -1017,7 +1010,7 @@ impl LatheConsole {
         let t = self.cycle.now_ns();
         if running {
             // The run hours: machine time with a cycle or an MDI run under way.
-            let k = &mut self.counters;
+            let k = &mut self.book.counters;
             k.run_ns = k.run_ns.saturating_add(t.saturating_sub(self.now_ns));
         }
         self.now_ns = t;
@@ -1059,7 +1052,7 @@ impl LatheConsole {
                 match e {
                     E::Part { ch, t, .. } if ch == self.desc.unloader && !c.mdi => {
                         let from = self.last_part_ns.unwrap_or(c.started_ns());
-                        let k = &mut self.counters;
+                        let k = &mut self.book.counters;
                         k.last_cycle_ns = t.saturating_sub(from).max(1);
                         k.parts += 1;
                         self.last_part_ns = Some(t);
@@ -1104,21 +1097,22 @@ impl LatheConsole {
                 // Each one in the history at the time its block started, however many a step
                 // gives (the centre's rule).
                 let at = (t, file.as_str(), 0);
-                let r = self
-                    .log
-                    .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
+                let r =
+                    self.book
+                        .log
+                        .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
                 failed = failed.or(r.err());
                 // `CH1 MSG: text`: the kind is the word after the channel.
                 let kind = text.split([' ', ':']).nth(1).unwrap_or("");
                 if crate::console::state::until_acknowledged(kind) {
-                    self.unacknowledged.push(text);
+                    self.book.unacknowledged.push(text);
                 } else {
                     self.front.say(text, MsgLife::NextKey, self.now_ns);
                 }
             }
             if let Some(e) = failed {
                 self.front.message = crate::console::book::with_failure(&self.front.message, &e);
-                self.log.shown(&self.front.message);
+                self.book.log.shown(&self.front.message);
             }
         }
         self.log_book();
@@ -1286,15 +1280,6 @@ impl crate::console::keys::Keyed for LatheConsole {
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
         match action {
-            Action::Acknowledge => {
-                self.record_key(k);
-                if self.unacknowledged.is_empty() {
-                    let name = crate::console::keys::key_name(k);
-                    self.front.message = format!("{name}: no message to acknowledge");
-                }
-                self.unacknowledged.clear();
-                self.after();
-            }
             Action::NextChannel => {
                 self.record_key(k);
                 self.select((self.sel + 1) % self.desc.channels.len());
@@ -1342,6 +1327,9 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn refresh(&mut self) {
         self.after();
+    }
+    fn book(&mut self) -> &mut Book {
+        &mut self.book
     }
     fn command_all(&mut self, cmd: Command) {
         // Every channel takes it or says why not, in its notice (`channels`).
