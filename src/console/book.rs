@@ -114,6 +114,27 @@ impl Log {
         self.put(rec, at, Kind::Message, lvl, text)
     }
 
+    /// The message shown (`front`), if it is new, at its level ([`message_level`] over the
+    /// machine's `channels`); a failure to keep it, or `failed` before it (an alarm the history
+    /// could not keep), is said after the message, never in its place, until the next key, and
+    /// is not logged again. Every console's rule, after each action and each look at the
+    /// machine (before stop 46 each console had its copy).
+    pub(crate) fn shown_message(
+        &mut self,
+        rec: &mut Recording,
+        front: &mut super::front::Front,
+        at: At,
+        channels: &[crate::pulse_core::Status],
+        failed: Option<String>,
+    ) {
+        let lvl = message_level(&front.message, channels);
+        let r = self.message(rec, at, lvl, &front.message);
+        if let Some(e) = failed.or(r.err()) {
+            front.say_failure(&e, at.0);
+            self.shown(&front.message);
+        }
+    }
+
     /// The message line as it stands with a failure of the history added to it: not logged
     /// again.
     pub(crate) fn shown(&mut self, text: &str) {
@@ -177,16 +198,11 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
         (a, (t, file.as_str(), line))
     });
     let warn = c.book.log.alarms(&mut c.recorder, &[now]).err();
-    let lvl = message_level(&c.front.message, std::slice::from_ref(&c.status));
-    let r = c
-        .book
+    let channels = std::slice::from_ref(&c.status);
+    let at = (t, file.as_str(), 0);
+    c.book
         .log
-        .message(&mut c.recorder, (t, &file, 0), lvl, &c.front.message);
-    if let Some(w) = warn.or(r.err()) {
-        also_say(c, &w);
-        // The message with the failure added is not logged again.
-        c.book.log.shown(&c.front.message.clone());
-    }
+        .shown_message(&mut c.recorder, &mut c.front, at, channels, warn);
 }
 
 /// The level a message goes into the history and the recording at, on every console
@@ -210,7 +226,7 @@ pub(crate) fn message_level(message: &str, channels: &[crate::pulse_core::Status
 /// Adds a secondary failure (the history or the counters could not be saved) after the
 /// message shown, never in its place: a refusal the operator must see stays first.
 fn also_say(c: &mut Console, failure: &str) {
-    c.front.message = with_failure(&c.front.message, failure);
+    c.front.say_failure(failure, c.status.machine_ns);
 }
 
 /// The message line `message` with a secondary `failure` after it, on every console (a
@@ -288,6 +304,23 @@ pub(super) fn target_refusal(c: &Console) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A failure of a store is said after the message shown, never in its place, and lives
+    /// until the next key; a message that says nothing gives way to it.
+    #[test]
+    fn a_failure_is_said_after_the_message_until_the_next_key() {
+        let mut f = super::super::front::Front::new(crate::panel_model::OpMode::Auto, 10);
+        f.say("START refused: X", super::super::MsgLife::WhileRunning, 1);
+        f.say_failure("the counters were not saved: disk full", 2);
+        assert_eq!(
+            f.message,
+            "START refused: X; the counters were not saved: disk full"
+        );
+        assert_eq!(f.life, super::super::MsgLife::NextKey);
+        f.say("ok", super::super::MsgLife::NextKey, 3);
+        f.say_failure("the history was not kept", 4);
+        assert_eq!(f.message, "the history was not kept");
+    }
 
     /// Each slot's alarm goes into the history once while it stands, again once its slot has
     /// been clear; the slots are independent (a lathe's E-STOP and its channels).

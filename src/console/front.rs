@@ -83,6 +83,14 @@ impl Front {
         self.said_ns = now_ns;
     }
 
+    /// A secondary failure (a store that could not keep the counters or the history) said
+    /// after the message shown, never in its place, until the next key: every console's rule
+    /// (`book::with_failure`).
+    pub fn say_failure(&mut self, failure: &str, now_ns: u64) {
+        let m = super::book::with_failure(&self.message, failure);
+        self.say(m, MsgLife::NextKey, now_ns);
+    }
+
     /// Forgets the CONTINUOUS key held and the jog begun (E-STOP and RESET have stopped the
     /// machine: nothing is left to let go).
     pub fn forget_jog(&mut self) {

@@ -562,16 +562,8 @@ impl LatheConsole {
         let chans: Vec<_> = (self.cycle.channels().iter())
             .map(|c| c.status.clone())
             .collect();
-        let lvl = crate::console::book::message_level(&self.front.message, &chans);
-        let r = self
-            .book
-            .log
-            .message(&mut self.recorder, (t, file, 0), lvl, &self.front.message);
-        if let Some(e) = failed.or(r.err()) {
-            let m = crate::console::book::with_failure(&self.front.message, &e);
-            self.say(m, MsgLife::NextKey);
-            self.book.log.shown(&self.front.message);
-        }
+        let at = (t, file, 0);
+        (self.book.log).shown_message(&mut self.recorder, &mut self.front, at, &chans, failed);
     }
 
     fn record_event(&mut self, ev: &PanelEvent) {
@@ -932,7 +924,7 @@ impl LatheConsole {
     /// Saves the counters (`counters`) atomically; a failure is said on the message line.
     fn save_counters(&mut self) {
         if let Err(e) = self.book.counters.save(self.store.dir()) {
-            self.front.say(e, MsgLife::NextKey, self.now_ns);
+            self.front.say_failure(&e, self.now_ns);
         }
     }
 
@@ -1076,7 +1068,7 @@ impl LatheConsole {
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
-                    self.front.say(e, MsgLife::NextKey, self.now_ns);
+                    self.front.say_failure(&e, self.now_ns);
                 }
             }
             if let Some(m) = c.take_message() {
@@ -1111,7 +1103,7 @@ impl LatheConsole {
                 }
             }
             if let Some(e) = failed {
-                self.front.message = crate::console::book::with_failure(&self.front.message, &e);
+                self.front.say_failure(&e, self.now_ns);
                 self.book.log.shown(&self.front.message);
             }
         }
