@@ -160,6 +160,27 @@ pub(crate) struct Book {
 }
 
 impl Book {
+    /// A program's message `line` of `kind` (`MSG: text`; a lathe's after its channel's name),
+    /// every console's rule: in the history at `at` at once (each one, however many a step
+    /// gives), then waiting for acknowledgement, for the kinds `state::until_acknowledged`
+    /// names, or on the message line until the next key. Why the history could not keep it.
+    pub(crate) fn program_message(
+        &mut self,
+        rec: &mut Recording,
+        front: &mut super::front::Front,
+        at: At,
+        kind: &str,
+        line: String,
+    ) -> Result<(), String> {
+        let r = self.log.put(rec, at, Kind::Message, level::INFO, &line);
+        if super::state::until_acknowledged(kind) {
+            self.unacknowledged.push(line);
+        } else {
+            front.say(line, super::MsgLife::NextKey, at.0);
+        }
+        r
+    }
+
     /// Acknowledges the program messages that live until acknowledged (Esc, RESET); whether
     /// there was one.
     pub(crate) fn acknowledge(&mut self) -> bool {
@@ -245,19 +266,15 @@ pub(crate) fn with_failure(message: &str, failure: &str) -> String {
 /// is said after the message, never in its place.
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
+    if !super::state::until_acknowledged(kind) {
+        c.book.program_msg = Some(line.clone());
+    }
     // When the console shows it; the message does not say which line gave it.
     let file = c.mem.program_name();
     let at = (c.status.machine_ns, file.as_str(), 0);
     let pushed = c
         .book
-        .log
-        .put(&mut c.recorder, at, Kind::Message, level::INFO, &line);
-    if super::state::until_acknowledged(kind) {
-        c.book.unacknowledged.push(line);
-    } else {
-        c.book.program_msg = Some(line.clone());
-        c.front.message = line;
-    }
+        .program_message(&mut c.recorder, &mut c.front, at, kind, line);
     if let Err(w) = pushed {
         also_say(c, &w);
         c.book.log.shown(&c.front.message.clone());

@@ -29,8 +29,6 @@ use crate::console::wait::{WaitFor, WAIT_LIMIT_NS};
 use crate::console::MsgLife;
 use crate::panel_model::{OpMode, Page, PanelEvent};
 use crate::pulse_core::{ClockMode, Command, Reached};
-use crate::record::foxglove::level;
-use crate::store::history::Kind;
 use crate::store::lathe::{Counter, LatheStore, Program};
 use novanc_panel::Key;
 use std::path::Path;
@@ -1089,18 +1087,16 @@ impl LatheConsole {
                 // Each one in the history at the time its block started, however many a step
                 // gives (the centre's rule).
                 let at = (t, file.as_str(), 0);
-                let r =
-                    self.book
-                        .log
-                        .put(&mut self.recorder, at, Kind::Message, level::INFO, &text);
-                failed = failed.or(r.err());
                 // `CH1 MSG: text`: the kind is the word after the channel.
-                let kind = text.split([' ', ':']).nth(1).unwrap_or("");
-                if crate::console::state::until_acknowledged(kind) {
-                    self.book.unacknowledged.push(text);
-                } else {
-                    self.front.say(text, MsgLife::NextKey, self.now_ns);
-                }
+                let kind = text.split([' ', ':']).nth(1).unwrap_or("").to_string();
+                let r = (self.book).program_message(
+                    &mut self.recorder,
+                    &mut self.front,
+                    at,
+                    &kind,
+                    text,
+                );
+                failed = failed.or(r.err());
             }
             if let Some(e) = failed {
                 self.front.say_failure(&e, self.now_ns);
