@@ -544,10 +544,7 @@ impl Console {
             .or_else(|| self.tape_alarm.clone());
         book::log(self, alarm);
         let lines = display::compose(self);
-        if lines != self.display {
-            self.display = lines;
-            self.recorder.display(&self.display, self.status.machine_ns);
-        }
+        (self.recorder).frame(&mut self.display, lines, self.status.machine_ns);
         self.book.program_msg = None;
         let modes = (self.front.op, self.data);
         if self.modes_told != Some(modes) {

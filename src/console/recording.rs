@@ -68,14 +68,19 @@ impl Recording {
         }
     }
 
-    /// Records a new display frame.
-    pub fn display(&mut self, lines: &[String], t_ns: u64) {
+    /// The display as it now stands (`lines`), every console's rule: recorded on
+    /// `/nc/display` when it differs from the frame before, `last`, which it then becomes.
+    pub fn frame(&mut self, last: &mut Vec<String>, lines: Vec<String>, t_ns: u64) {
+        if lines == *last {
+            return;
+        }
         if let Some(s) = &self.sink {
             s.send(Event::Display {
                 t_ns,
                 lines: lines.iter().map(|l| l.trim_end().to_string()).collect(),
             });
         }
+        *last = lines;
     }
 
     /// Closes the recording; its summary.

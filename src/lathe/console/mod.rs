@@ -1112,10 +1112,7 @@ impl LatheConsole {
             return;
         }
         let d = self.view().display;
-        if d != self.last_display {
-            self.recorder.display(&d, self.now_ns);
-            self.last_display = d;
-        }
+        (self.recorder).frame(&mut self.last_display, d, self.now_ns);
     }
 
     fn chan_views(&self) -> Vec<ChanView> {
