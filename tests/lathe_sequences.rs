@@ -503,12 +503,18 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         PanelEvent::Type(l) => Some(l.clone()),
         _ => None,
     };
+    let (sel, plus) = (s.c.selected(), ev == PanelEvent::PlusInput);
     s.c.handle(ev);
     if let Some(l) = typed {
         if let Err(e) = common::typed_line_kept_or_taken(&l, s.c.entry(), s.c.message()) {
             panic!("{e}\n{}", s.c.frame_text());
         }
     }
+    // The keypad's +INPUT never turns the channel selector (the keyboard's Tab may).
+    assert!(
+        !plus || s.c.selected() == sel,
+        "plusinput turned the channel"
+    );
     line
 }
 
