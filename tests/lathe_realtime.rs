@@ -144,7 +144,7 @@ fn a_real_time_recording_batches_the_pulses_as_virtual_time_does() {
                 .cycle()
                 .is_over()));
         }
-        let summary = c.finish(None).expect("a recording").expect("finished");
+        let summary = c.finish().expect("finished").expect("a recording");
         // "... N pulses in M batches ..."
         let words: Vec<&str> = summary.split_whitespace().collect();
         let at = words.iter().position(|w| *w == "batches,").expect(&summary);

@@ -187,7 +187,7 @@ fn a_message_shows_on_the_display_when_its_block_runs() {
     c.run_for(600_000_000_000, RunUntil::Rest, || false);
     assert_eq!(c.message(), "CH1 PRINT: count=3.000000");
     // Recorded as the centre records them: each in the log, and the frame that shows it.
-    assert!(matches!(c.finish(None), Some(Ok(_))));
+    assert!(matches!(c.finish(), Ok(Some(_))));
     let bytes = std::fs::read(&rec).unwrap_or_else(|e| panic!("{e}"));
     let mut logs = Vec::new();
     let mut frames = 0;
@@ -237,7 +237,7 @@ fn fanucs_500_set_by_a_program_is_read_back_after_the_console_restarts() {
         c.handle(PanelEvent::Reset);
         mdi(&mut c, &["G0 X[#500 * 2.]"]);
         assert_eq!(at(&c)[0], x, "round {round}");
-        let _ = c.finish(None);
+        let _ = c.finish();
     }
     // Stored in the channel's own stores: another channel of a machine would not see them.
     let o = LatheStore::open(&state, &d).unwrap_or_else(|e| panic!("{e}"));
@@ -588,7 +588,7 @@ fn an_e_stop_before_any_run_is_the_kernels_and_is_recorded() {
     assert!(c.cycle().channels().iter().all(|s| s.status.estop));
     c.handle(PanelEvent::Reset);
     assert!(c.cycle().channels().iter().all(|s| !s.status.estop));
-    c.finish(None).expect("a recording").expect("finished");
+    c.finish().expect("finished").expect("a recording");
     let bytes = std::fs::read(&mcap).unwrap();
     let msgs: Vec<(String, u64, String)> = mcap::MessageStream::new(&bytes)
         .unwrap()
@@ -640,7 +640,7 @@ fn the_cycle_time_and_the_run_hours_survive_a_restart() {
     assert!(k.run_ns >= 2 * cycle && k.run_ns <= c.machine_ns(), "{k:?}");
     c.run_for(5_000_000_000, RunUntil::Time, || false);
     assert_eq!(c.counters().run_ns, k.run_ns, "no run, no run time");
-    assert!(matches!(c.finish(None), None | Some(Ok(_))));
+    assert!(c.finish().is_ok());
 
     let mut c = open(&d, &dir);
     assert_eq!(c.counters(), k);

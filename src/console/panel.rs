@@ -167,7 +167,7 @@ impl Panel {
             Panel::Centre(c) => (*c)
                 .close(interrupted)
                 .map_err(|e| format!("recording: {e}")),
-            Panel::Lathe(c) => (*c).finish(interrupted).transpose(),
+            Panel::Lathe(c) => (*c).close(interrupted),
         }
     }
 }

@@ -1211,11 +1211,18 @@ impl LatheConsole {
         }
     }
 
-    /// Ends the session: closes the recording. `interrupted` names a stop signal, if one cut
-    /// the session short: the machine is then stopped first (E-STOP), and the recording says
-    /// `complete: false` and why. The recording's summary line for the operator: `Err` when
-    /// the file could not be finished (a disk error).
-    pub fn finish(mut self, interrupted: Option<&str>) -> Option<Result<String, String>> {
+    /// Ends the session and closes the recording: the recording's summary line for the
+    /// operator, if one was made; `Err` when the file could not be finished (a disk error).
+    /// The centre's `Console::finish`.
+    pub fn finish(self) -> Result<Option<String>, String> {
+        self.close(None)
+    }
+
+    /// [`LatheConsole::finish`]; `interrupted` names a stop signal, if one cut the session
+    /// short: the machine is then stopped first (E-STOP), and the recording says `complete:
+    /// false` and why. The centre's `Console::close`: one shape for both (before stop 46 the
+    /// lathe's returned `Option<Result<..>>` under the centre's `finish` name).
+    pub fn close(mut self, interrupted: Option<&str>) -> Result<Option<String>, String> {
         if interrupted.is_some() {
             self.stop_machine();
         }
@@ -1226,7 +1233,7 @@ impl LatheConsole {
             cycle, recorder, ..
         } = self;
         drop(cycle);
-        recorder.finish().transpose()
+        recorder.finish()
     }
 
     /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one
