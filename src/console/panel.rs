@@ -161,7 +161,8 @@ impl Panel {
 
     /// Ends the session: the machine stopped (by E-STOP on every machine when a stop signal,
     /// `interrupted`, cut it short; else the centre is RESET; the centre's recording is marked
-    /// by `signals::caught`), the stores and the recording closed. The recording's summary line, or why it could not be finished.
+    /// by `signals::caught`), the stores and the recording closed. The recording's summary
+    /// line, or why it could not be finished.
     pub fn close(self, interrupted: Option<&str>) -> Result<Option<String>, String> {
         match self {
             Panel::Centre(c) => (*c)
