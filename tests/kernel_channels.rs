@@ -12,10 +12,11 @@ use novanc::lathe::gcode::home;
 use novanc::lathe::testkit::{citizen_like, program, sample_programs};
 use novanc::pulse_core::testkit::{polyline, Rng};
 use novanc::pulse_core::{
-    ClockMode, Command, Kernel, KernelEvent, Machine, Outcome, PulseCore, Reached, RunKind, Until,
-    VecSource, WaitOn,
+    BlockBuffer, ClockMode, Command, Kernel, KernelEvent, Machine, MakeRun, Outcome, PulseCore,
+    Reached, RunKind, Until, VecSource, WaitOn,
 };
 use novanc::settings::MachineSettings;
+use std::sync::Arc;
 
 const MINUTE: u64 = 60_000_000_000;
 
@@ -146,6 +147,106 @@ fn a_kernel_waits_for_a_channels_block_start_as_the_machine_alone_does() {
     let m = k.machine_mut(0).expect("channel 1");
     assert_eq!(alone.take_pulses(), m.take_pulses(), "pulses");
     assert_eq!(alone.take_audit(), m.take_audit(), "block ends");
+}
+
+/// The machining centre's kernel (`Kernel::streaming`): its one channel reads B1 as a
+/// translator thread fills it, two blocks at a time, and starts the run from what `make`
+/// reads; the machine alone runs the same blocks from a source filled up front.
+fn alone_and_streaming(pts: &[[i64; 3]]) -> (Machine, VecSource, Kernel, Arc<BlockBuffer>) {
+    let st = MachineSettings::default();
+    let blocks = polyline(pts, 1500.0);
+    let mut alone = Machine::new(st.clone());
+    let src = VecSource::from_blocks(blocks.clone());
+    alone.set_recording(None, true);
+    alone.set_audit(true);
+    alone.command(Command::Start(RunKind::Auto));
+    let b1 = BlockBuffer::new(2);
+    let mut m = Machine::new(st);
+    m.set_starve_stops(true);
+    m.set_recording(None, true);
+    m.set_audit(true);
+    let mut k = Kernel::streaming(m, b1.clone());
+    let make: MakeRun = Box::new(move |_| {
+        Box::new(blocks.into_iter().map(|b| {
+            // A translator slower than the machine: B1 runs dry once primed.
+            if b.seq > 2 {
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            Ok(Statement {
+                line: b.stmt,
+                text: String::new(),
+                blocks: vec![b],
+            })
+        }))
+    });
+    b1.load(make, k.first().machine_state());
+    b1.wait_primed(None);
+    k.first_mut().command(Command::Start(RunKind::Auto));
+    (alone, src, k, b1)
+}
+
+#[test]
+fn a_streaming_kernel_is_the_machine_alone_and_waits_for_its_translator() {
+    let pts = [
+        [0, 0, 0],
+        [40_000, 10_000, -5_000],
+        [40_000, 60_000, -5_000],
+        [0, 0, -20_000],
+        [123_456, 7_890, -1],
+        [5, 5, -5],
+    ];
+    let (mut alone, mut src, mut k, b1) = alone_and_streaming(&pts);
+    // A wait for a block stops at the tick the block starts in, as the machine alone does
+    // (a kernel of channels with programs read whole runs that tick to its end).
+    let seq = 4;
+    assert_eq!(
+        alone.run(&mut src, Until::BlockStart(seq), MINUTE),
+        Reached::BlockStart
+    );
+    let mut starved = 0;
+    let out = loop {
+        match k.run_until(MINUTE, Some((0, seq))) {
+            Outcome::Starved => {
+                starved += 1;
+                b1.wait_ready(std::time::Duration::from_millis(20));
+            }
+            out => break out,
+        }
+    };
+    assert_eq!(
+        out,
+        Outcome::BlockStart {
+            ch: 0,
+            t: alone.now()
+        }
+    );
+    assert_eq!(k.now(), alone.now(), "the kernel's time is its channel's");
+    // To the end, in slices of machine time: the same pulses and block ends.
+    let mut t = k.now();
+    while !k.first().is_idle() {
+        t += 333_000_000;
+        while k.run_to(t) == Outcome::Starved {
+            starved += 1;
+            b1.wait_ready(std::time::Duration::from_millis(20));
+        }
+        assert_eq!(k.now(), t, "time stands still only while it waits");
+    }
+    assert!(starved > 0, "the translator was behind the machine");
+    alone.advance_to(k.now(), &mut src);
+    let m = k.first_mut();
+    let (a, b) = (alone.take_pulses(), m.take_pulses());
+    assert!(a.len() > 1000, "the program moved");
+    assert_eq!(a, b, "pulses");
+    assert_eq!(alone.take_audit(), m.take_audit(), "block ends");
+    assert_eq!(alone.status().last_end, m.status().last_end);
+    // What is a lathe channel's is refused, nothing changed.
+    assert!(k.channel(0).is_none(), "no place in a sync table");
+    assert!(k.set_target(3).is_err());
+    assert!(k.fault(0, "breakage").is_err());
+    assert!(k.replace_program(0, Vec::new()).is_err());
+    assert!(k.load(vec![Vec::new()], None, 1, Vec::new()).is_err());
+    assert!(k.streams());
+    assert_eq!(k.first().alarm(), None);
 }
 
 #[test]

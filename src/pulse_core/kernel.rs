@@ -11,14 +11,22 @@
 //! free again from there. When it returns every channel stands at the same machine time, so an
 //! operator command (E-STOP) acts on all channels in the same tick. A kernel of one channel
 //! without sync points is its machine alone: the same calls, the same pulses (tested).
+//!
+//! **Streaming.** The machining centre's kernel ([`Kernel::streaming`]) has one channel that
+//! reads B1 as the translator thread fills it. Such a source can be neither copied (to look
+//! ahead) nor read again (at the next work), so its channel runs alone, as its machine: the
+//! clock stands still while the translator is behind ([`Outcome::Starved`]), and a wait for a
+//! block stops at the tick it starts in.
 
+use super::block_buffer::BlockBuffer;
 use super::machine::{Machine, Mark, Reached, Until};
 use super::runner::ChannelStatus;
-use super::source::VecSource;
+use super::source::{ChannelSource, VecSource};
 use super::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 use super::{Command, EndCause, RunKind, Status, Watcher};
 use crate::block::{Statement, Sync};
 use crate::settings::MachineSettings;
+use std::sync::Arc;
 
 /// Channels a kernel may have (the waiting M codes' channel mask is 8 bits).
 pub const MAX_CHANNELS: usize = 8;
@@ -27,7 +35,7 @@ pub const MAX_CHANNELS: usize = 8;
 #[derive(Clone, Debug)]
 struct Channel {
     m: Machine,
-    src: VecSource,
+    src: ChannelSource,
     /// The NCBR tick it reached the sync point it waits at (None: at none).
     at_point: Option<u64>,
     /// Its arrival there is counted in the table.
@@ -55,6 +63,25 @@ struct Channel {
 }
 
 impl Channel {
+    fn new(m: Machine, src: ChannelSource) -> Channel {
+        Channel {
+            m,
+            src,
+            at_point: None,
+            counted: false,
+            fault: None,
+            seen_end: 0,
+            done: false,
+            done_at: None,
+            blocks_before: 0,
+            pulses_before: [0; 3],
+            totalled_run: 0,
+            waiting: None,
+            next_src: None,
+            kind: RunKind::Auto,
+        }
+    }
+
     /// It can still move without the operator: a manual move moving or queued, or not
     /// finished, not waiting at a sync point and not idle (held at rest, stopped, faulted, in
     /// E-STOP or alarm are idle).
@@ -69,7 +96,7 @@ impl Channel {
     /// Its program from the start: the one read again for it, if any, else the same.
     fn restart_program(&mut self) {
         match self.next_src.take() {
-            Some(s) => self.src = s,
+            Some(s) => self.src = ChannelSource::Program(s),
             None => self.src.rewind(),
         }
     }
@@ -270,6 +297,9 @@ pub enum Outcome {
     TimeLimit,
     /// Feed override 0 holds the machine still for good ([`Kernel::stalled`]).
     Stalled,
+    /// A streaming kernel's channel waits for its translator ([`Kernel::streaming`]): the
+    /// clock stands at the tick that wanted the block.
+    Starved,
     /// The block asked of [`Kernel::run_until`] started.
     BlockStart {
         /// Channel.
@@ -507,25 +537,29 @@ impl Kernel {
                 let mut m = Machine::new(settings);
                 m.set_channel(true);
                 m.set_cut_interlock(table.interlock(i));
-                Channel {
+                Channel::new(
                     m,
-                    src: VecSource::from_statements(prog.into_iter().map(Ok)),
-                    at_point: None,
-                    counted: false,
-                    fault: None,
-                    seen_end: 0,
-                    done: false,
-                    done_at: None,
-                    blocks_before: 0,
-                    pulses_before: [0; 3],
-                    totalled_run: 0,
-                    waiting: None,
-                    next_src: None,
-                    kind: RunKind::Auto,
-                }
+                    ChannelSource::Program(VecSource::from_statements(prog.into_iter().map(Ok))),
+                )
             })
             .collect();
-        Ok(Kernel {
+        Ok(Kernel::of(chans, table))
+    }
+
+    /// The machining centre's kernel: one channel, `settings`' machine, reading B1 as the
+    /// translator thread fills it (`buffer`), with no sync table and no part counter. Its
+    /// source can be neither copied nor read again, so it runs alone as its machine
+    /// ([`Kernel::run_until`], [`Kernel::run_to`]): time stands still while the translator
+    /// is behind (with `Machine::set_starve_stops`), and a wait for a block stops at the tick
+    /// the block starts in, as `Machine::run` does. It takes no program load, part target,
+    /// fault or program replacement: its START loads B1 (`PulseCore::start`).
+    pub fn streaming(m: Machine, buffer: Arc<BlockBuffer>) -> Kernel {
+        let chans = vec![Channel::new(m, ChannelSource::Stream(buffer))];
+        Kernel::of(chans, SyncTable::new(1, None, 0))
+    }
+
+    fn of(chans: Vec<Channel>, table: SyncTable) -> Kernel {
+        Kernel {
             chans,
             table,
             now: 0,
@@ -533,7 +567,31 @@ impl Kernel {
             pending: Vec::new(),
             watch: None,
             look_ns: 0,
-        })
+        }
+    }
+
+    /// The one channel of a streaming kernel ([`Kernel::streaming`]), which runs alone.
+    fn alone(&mut self) -> Option<&mut Channel> {
+        match self.chans.as_mut_slice() {
+            [c] if matches!(c.src, ChannelSource::Stream(_)) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// Whether the kernel is a streaming one ([`Kernel::streaming`]).
+    pub fn streams(&self) -> bool {
+        matches!(self.chans.as_slice(), [c] if matches!(c.src, ChannelSource::Stream(_)))
+    }
+
+    /// The refusal of what a streaming kernel does not take: `what`.
+    fn refuse_stream(&self, what: &str) -> Result<(), String> {
+        match self.streams() {
+            true => Err(format!(
+                "no {what} here: the machine's one channel runs its program as the translator \
+                 reads it (a lathe channel's program is read whole)"
+            )),
+            false => Ok(()),
+        }
     }
 
     /// A new cycle's programs, one a channel, with its work flow (None: no chucks) and part
@@ -558,6 +616,7 @@ impl Kernel {
                 programs.len()
             ));
         }
+        self.refuse_stream("program load")?;
         check_programs(n, programs.iter(), flow.as_ref())?;
         for (i, c) in self.chans.iter().enumerate() {
             if !c.m.start_begins_run(c.kind) || !c.m.is_idle() || c.m.is_estop() {
@@ -572,7 +631,7 @@ impl Kernel {
         for (i, (c, prog)) in self.chans.iter_mut().zip(programs).enumerate() {
             c.m.set_cut_interlock(self.table.interlock(i));
             c.m.mark_starts(starts.next().unwrap_or_default());
-            c.src = VecSource::from_statements(prog.into_iter().map(Ok));
+            c.src = ChannelSource::Program(VecSource::from_statements(prog.into_iter().map(Ok)));
             c.next_src = None;
             c.at_point = None;
             c.counted = false;
@@ -595,6 +654,11 @@ impl Kernel {
     /// every channel stands at the time asked of [`Kernel::advance_to`]; every status's
     /// `machine_ns` is the time of the change. None stops it (and the channels keep nothing).
     pub fn set_watch(&mut self, w: Option<Watcher>) {
+        if let Some(c) = self.alone() {
+            // Alone, its machine tells its changes as they come.
+            c.m.set_watch(w);
+            return;
+        }
         for c in &mut self.chans {
             c.m.keep_watch(w.is_some());
         }
@@ -672,7 +736,10 @@ impl Kernel {
 
     /// Machine time, ns (every channel stands at it between calls).
     pub fn now(&self) -> u64 {
-        self.now
+        match self.chans.as_slice() {
+            [c] if matches!(c.src, ChannelSource::Stream(_)) => c.m.now(),
+            _ => self.now,
+        }
     }
 
     /// The events since the last call, in time order; every one at or before [`Kernel::now`]
@@ -755,6 +822,17 @@ impl Kernel {
         self.chans.get(ch).map(|c| &c.m)
     }
 
+    /// Channel 0's machine (every kernel has one): the machining centre's only one.
+    pub fn first(&self) -> &Machine {
+        &self.chans[0].m
+    }
+
+    /// Channel 0's machine, for what the kernel does not wrap: the centre's magazine, position,
+    /// jog feed, audit and step queue.
+    pub fn first_mut(&mut self) -> &mut Machine {
+        &mut self.chans[0].m
+    }
+
     /// Channel `ch`'s machine, for what the kernel does not wrap (overrides, switches,
     /// recording, the audit).
     pub fn machine_mut(&mut self, ch: usize) -> Option<&mut Machine> {
@@ -802,6 +880,7 @@ impl Kernel {
 
     /// Sets the part target (refused below the works already supplied).
     pub fn set_target(&mut self, n: u32) -> Result<(), String> {
+        self.refuse_stream("part target")?;
         if n != self.table.target() && self.chans.iter().any(|c| c.done) {
             return Err(format!("target {n}: a channel has already finished"));
         }
@@ -923,6 +1002,7 @@ impl Kernel {
     /// Injects a fault into channel `ch` (tool breakage): a feed hold that only RESET then
     /// START end. A finished channel cannot fault.
     pub fn fault(&mut self, ch: usize, reason: &str) -> Result<(), String> {
+        self.refuse_stream("fault injection")?;
         let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
         if c.done {
             return Err(format!("CH{} has finished", ch + 1));
@@ -948,11 +1028,15 @@ impl Kernel {
         ch: usize,
         prog: Vec<Statement>,
     ) -> Result<Option<u32>, String> {
+        self.refuse_stream("program replacement")?;
         let c = self.chans.get_mut(ch).ok_or_else(|| no_channel(ch))?;
+        let ChannelSource::Program(src) = &mut c.src else {
+            return Err(no_channel(ch));
+        };
         let syncs =
             |src: &VecSource| -> Vec<Sync> { src.blocks().filter_map(|b| b.sync).collect() };
         let next = VecSource::from_statements(prog.into_iter().map(Ok));
-        if syncs(&next) != syncs(&c.src) {
+        if syncs(&next) != syncs(src) {
             return Err(format!(
                 "CH{}: the program read again has other waiting or chuck codes",
                 ch + 1
@@ -960,7 +1044,7 @@ impl Kernel {
         }
         // Inside the part: from the next tool call B1 has not yet read (every block before it
         // is the one read before; a block ahead of it, already read, keeps the old offsets).
-        let at = c.src.splice_at_next_tool_call(&next).map(|b| b.stmt);
+        let at = src.splice_at_next_tool_call(&next).map(|b| b.stmt);
         c.next_src = Some(next);
         Ok(at)
     }
@@ -972,8 +1056,12 @@ impl Kernel {
         Ok(())
     }
 
-    /// Channel `ch`'s state.
+    /// Channel `ch`'s state (None for a streaming kernel's, which has no place in a sync
+    /// table: its machine's status says it all).
     pub fn channel(&self, ch: usize) -> Option<ChannelView> {
+        if self.streams() {
+            return None;
+        }
         let c = self.chans.get(ch)?;
         let st = c.m.status();
         let (work, closed) = self.table.work(ch);
@@ -1002,6 +1090,20 @@ impl Kernel {
             },
             done_at: c.done_at,
         })
+    }
+
+    /// Runs every channel to machine time `t` as [`Kernel::advance_to`] does: a streaming
+    /// kernel's channel ([`Kernel::streaming`]) up to where its translator has read
+    /// ([`Outcome::Starved`]: call again once B1 has blocks), else [`Outcome::TimeLimit`].
+    pub fn run_to(&mut self, t: u64) -> Outcome {
+        if let Some(c) = self.alone() {
+            return match c.m.run(&mut c.src, Until::Time(t), 0) {
+                Reached::Starved => Outcome::Starved,
+                _ => Outcome::TimeLimit,
+            };
+        }
+        self.advance_to(t);
+        Outcome::TimeLimit
     }
 
     /// Runs every channel to machine time `t` (see the module comment).
@@ -1224,6 +1326,18 @@ impl Kernel {
     /// (recording and keeping nothing, telling no watcher) that finds the tick; the kernel
     /// then runs to that tick's end, and finds the start itself.
     pub fn run_until(&mut self, max_ns: u64, block: Option<(usize, u32)>) -> Outcome {
+        if let Some(c) = self.alone() {
+            let until = block.map_or(Until::Idle, |(_, seq)| Until::BlockStart(seq));
+            let r = c.m.run(&mut c.src, until, max_ns);
+            let t = c.m.now();
+            return match r {
+                Reached::BlockStart => Outcome::BlockStart { ch: 0, t },
+                Reached::Starved => Outcome::Starved,
+                Reached::Stalled => Outcome::Stalled,
+                Reached::Time | Reached::Limit => Outcome::TimeLimit,
+                _ => self.outcome(),
+            };
+        }
         let t0 = self.now;
         let period = self
             .chans

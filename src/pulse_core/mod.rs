@@ -43,7 +43,7 @@ mod sync;
 pub mod testkit;
 
 pub use self::arc::{ArcError, ArcStep, ArcStepper};
-pub use self::block_buffer::{Answer, MachineLink, MakeRun, StatementIter};
+pub use self::block_buffer::{Answer, BlockBuffer, MachineLink, MakeRun, StatementIter};
 pub use self::drive::Drive;
 pub use self::kernel::{ChannelView, Kernel, KernelEvent, Outcome, MAX_CHANNELS};
 pub use self::machine::{as_executed, axis_name, BlockEnd, Machine, Mark, Reached, Signals, Until};
@@ -51,7 +51,7 @@ pub use self::motion::Progress;
 pub use self::motion::{accel_pulses_ns2, speed_pulses_ns};
 pub use self::pulse_out::{PulseRec, BATCH};
 pub use self::runner::{ChannelStatus, PulseCore, RtStats};
-pub use self::source::{BlockSource, Fetch, VecSource};
+pub use self::source::{BlockSource, ChannelSource, Fetch, VecSource};
 pub use self::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 
 use crate::block::Axes;
@@ -260,8 +260,8 @@ pub enum EndCause {
 }
 
 /// Told every channel's state at every change of state of one of them while the machine runs
-/// in virtual time ([`PulseCore::set_watch`]): the single machine is one channel (with no sync
-/// view); a kernel's channels are told in machine-time order, each status's `machine_ns` the
+/// in virtual time ([`PulseCore::set_watch`]): the centre's streaming kernel tells its one
+/// channel as it changes (with no sync view); a kernel's channels are told in machine-time order, each status's `machine_ns` the
 /// time of the change. Called on the pulse core thread, so it must be quick.
 pub type Watcher = std::sync::Arc<dyn Fn(&[ChannelStatus]) + Send + Sync>;
 

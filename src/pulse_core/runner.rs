@@ -1,4 +1,4 @@
-//! The pulse core thread around [`Machine`]: operator commands in, status snapshots out.
+//! The pulse core thread around the [`Kernel`]: operator commands in, status snapshots out.
 //!
 //! - Virtual time is stepped: machine time passes only inside [`PulseCore::advance`] (the
 //!   script's `wait`, `wait ms`, `wait block`, and `novanc run`), as fast as the machine can
@@ -9,13 +9,17 @@
 //!   clock, like a step queue. A slice finished after its own start time t_k means the queue
 //!   ran dry; each slice's lateness (finish − t_k, negative = ahead) is kept in [`RtStats`].
 //!
-//! - N channels: [`PulseCore::spawn_kernel`] runs a [`Kernel`] (one [`Machine`] per channel and
-//!   the sync table) in the same thread on the same loop: one thread, one clock. Commands are
-//!   addressed to a channel or to all ([`PulseCore::channel_command`]); E-STOP is machine-wide
-//!   and acts from this thread at the kernel's machine time, whatever the caller does next.
-//!   Each channel's [`Status`] and its place in the sync table are published
-//!   ([`PulseCore::channels`]). The core made by [`PulseCore::spawn`] (the mill, B1 fed by
-//!   the translator) is the 1-channel case of the same API: channel 0 is its machine.
+//! - One kernel, N channels: the thread runs a [`Kernel`], one loop, one clock. The
+//!   machining centre's ([`PulseCore::spawn`]) is a streaming kernel
+//!   ([`Kernel::streaming`]): one channel, channel 0, that reads B1 as the translator thread
+//!   fills it; a lathe's ([`PulseCore::spawn_kernel`]) has one [`Machine`] per channel and the
+//!   sync table. Commands are addressed to a channel or to all
+//!   ([`PulseCore::channel_command`]); E-STOP is machine-wide and acts from this thread at
+//!   the kernel's machine time, whatever the caller does next. Each channel's [`Status`] and
+//!   its place in the sync table are published ([`PulseCore::channels`]). In real time the
+//!   streaming channel runs through the step queue (`realtime.rs`, an E-STOP rolled back to
+//!   the wall clock's instant), the channels of a lathe one NCBR tick at a time
+//!   (docs/pulse-core.md "Not done" says what one real-time path still needs).
 //!
 //! Every call that sends a message waits until the thread has applied it, so the snapshot a
 //! caller reads afterwards already shows its effect. The snapshot is republished after every
@@ -24,7 +28,7 @@
 
 use super::block_buffer::{BlockBuffer, MakeRun};
 use super::kernel::{ChannelView, Kernel, KernelEvent, Outcome};
-use super::machine::{BlockEnd, Machine, Reached, Until};
+use super::machine::{BlockEnd, Machine, Reached};
 use super::pulse_out::PulseRec;
 use super::realtime::{apply, Op, StepQueue};
 use super::{ClockMode, Command, RunKind, Status};
@@ -58,13 +62,13 @@ pub struct RtStats {
 enum Wait {
     Idle(u64),
     For(u64),
-    /// Block `.1` (its sequence number) of channel `.0` starts (the single machine is
-    /// channel 0), at most `.2` ns.
+    /// Block `.1` (its sequence number) of channel `.0` starts (the centre's one is channel
+    /// 0), at most `.2` ns.
     Block(usize, u32, u64),
 }
 
 /// A look at the kernel run in its thread ([`PulseCore::inspect_kernel`]).
-type KernelLook = Box<dyn FnOnce(Option<&Kernel>) + Send>;
+type KernelLook = Box<dyn FnOnce(&Kernel) + Send>;
 /// A change made to the kernel in its thread, between two ticks ([`PulseCore::edit_kernel`]).
 type KernelEdit = Box<dyn FnOnce(&mut Kernel) -> Result<(), String> + Send>;
 
@@ -106,7 +110,7 @@ struct Shared {
     reached: Mutex<Option<Reached>>,
     audit: Mutex<Vec<BlockEnd>>,
     rt: Mutex<RtStats>,
-    /// Every channel's published state (one for the core around a single machine).
+    /// Every channel's published state (one for the centre's streaming kernel).
     channels: Mutex<Vec<ChannelStatus>>,
     /// The refusal of the latest channel command (None: it acted).
     refusal: Mutex<Option<String>>,
@@ -145,7 +149,7 @@ pub struct ChannelStatus {
     /// Its machine's status (RUN, hold, alarm, block, position, ...).
     pub status: Status,
     /// Its place in the kernel's sync table: the sync point it waits at and on what, its work
-    /// and chuck, its parts (None for the core around a single machine, which has no table).
+    /// and chuck, its parts (None for the centre's streaming kernel, which has no table).
     pub sync: Option<ChannelView>,
 }
 
@@ -188,14 +192,16 @@ impl PulseCore {
                 machine.set_lossless_recording(true);
             }
         }
-        let shared = Shared::new(machine.status(), states(None, &machine).1);
         let buffer = BlockBuffer::new(settings.b1_capacity);
+        let kernel = Kernel::streaming(machine, buffer.clone());
+        let (st, chans) = states(&kernel);
+        let shared = Shared::new(st, chans);
         let (sh, b) = (shared.clone(), buffer.clone());
         let thread = std::thread::Builder::new()
             .name("pulse-core".into())
             .spawn(move || {
                 let mut r = Runner {
-                    m: machine,
+                    k: Box::new(kernel),
                     shared: sh,
                     buffer: b,
                     rx,
@@ -203,16 +209,15 @@ impl PulseCore {
                     quit: false,
                     rt: None,
                     interrupt: None,
-                    k: None,
                     epoch: Instant::now(),
                     capture: false,
                     sink: None,
-                    last_work: Vec::new(),
+                    last_work: vec![None],
                     lossless: std::cell::Cell::new(false),
                     published: Instant::now(),
                 };
                 if clock == ClockMode::RealTime {
-                    r.rt = Some(StepQueue::new(&mut r.m, rt_sink));
+                    r.rt = Some(StepQueue::new(r.k.first_mut(), rt_sink));
                 }
                 r.run(clock)
             })
@@ -251,13 +256,8 @@ impl PulseCore {
                 }
             }
         }
-        let settings = kernel
-            .machine(0)
-            .map(|m| m.settings().clone())
-            .unwrap_or_default();
-        // The core's single machine stands idle: the kernel's channels run instead.
-        let machine = Machine::new(settings.clone());
-        let (mut st, mut chans) = states(Some(&kernel), &machine);
+        let settings = kernel.first().settings().clone();
+        let (mut st, mut chans) = states(&kernel);
         // No message of this core is applied yet: the channels' machines count the commands
         // the kernel was given before it was spawned, which a caller's wait must not take for
         // its own (it would return before its message is applied).
@@ -272,7 +272,6 @@ impl PulseCore {
             .name("pulse-core".into())
             .spawn(move || {
                 let r = Runner {
-                    m: machine,
                     shared: sh,
                     buffer: b,
                     rx,
@@ -282,7 +281,7 @@ impl PulseCore {
                     interrupt: None,
                     epoch: Instant::now() - Duration::from_nanos(kernel.now()),
                     last_work: vec![None; kernel.channels()],
-                    k: Some(Box::new(kernel)),
+                    k: Box::new(kernel),
                     capture: false,
                     sink,
                     lossless: std::cell::Cell::new(clock == ClockMode::Virtual),
@@ -363,8 +362,8 @@ impl PulseCore {
 
     /// Sends an operator command to channel `ch` (None: every channel) and waits until it is
     /// applied; its refusal, if any. START, STOP (feed hold), RESET and the rest act on the
-    /// channels named; E-STOP acts on every channel, whatever `ch`. The core around a single
-    /// machine has one channel, 0.
+    /// channels named; E-STOP acts on every channel, whatever `ch`. The centre's streaming
+    /// kernel has one channel, 0.
     pub fn channel_command(&self, ch: Option<usize>, c: Command) -> Result<(), String> {
         self.send_sync(Msg::Chan(ch, c));
         lock(&self.shared.refusal).clone().map_or(Ok(()), Err)
@@ -377,7 +376,7 @@ impl PulseCore {
     }
 
     /// Injects a fault (tool breakage) into channel `ch` of a kernel: a feed hold that only
-    /// RESET then START end. Refused by the core around a single machine.
+    /// RESET then START end. Refused by the centre's streaming kernel.
     pub fn fault(&self, ch: usize, reason: &str) -> Result<(), String> {
         self.send_sync(Msg::Fault(ch, reason.into()));
         lock(&self.shared.refusal).clone().map_or(Ok(()), Err)
@@ -388,12 +387,12 @@ impl PulseCore {
         lock(&self.shared.channels).clone()
     }
 
-    /// Runs `f` on the kernel in its thread, between two ticks (None: the core around a
-    /// single machine), and returns what it gives: for what the published state does not
-    /// carry (the sync table's history, for tests and audits).
+    /// Runs `f` on the kernel in its thread, between two ticks, and returns what it gives:
+    /// for what the published state does not carry (the sync table's history, for tests and
+    /// audits).
     pub fn inspect_kernel<R: Send + 'static>(
         &self,
-        f: impl FnOnce(Option<&Kernel>) -> R + Send + 'static,
+        f: impl FnOnce(&Kernel) -> R + Send + 'static,
     ) -> Option<R> {
         let (tx, rx) = mpsc::channel();
         self.send_sync(Msg::Inspect(Box::new(move |k| {
@@ -435,7 +434,7 @@ impl PulseCore {
     }
 
     /// The kernel's events (transfers, thread passes, parts, waits, faults, alarms) since the
-    /// last call, in time order; none for the core around a single machine.
+    /// last call, in time order; none for the centre's streaming kernel.
     pub fn take_events(&self) -> Vec<KernelEvent> {
         std::mem::take(&mut *lock(&self.shared.events))
     }
@@ -446,7 +445,7 @@ impl PulseCore {
     }
 
     /// Captures every channel's pulses from now on (off: stops and forgets them). Only a
-    /// kernel's channels: the single machine's pulses go to its recording.
+    /// lathe's channels: the centre's pulses go to its recording.
     pub fn set_pulse_capture(&self, on: bool) {
         self.send_sync(Msg::Capture(on));
     }
@@ -634,35 +633,23 @@ impl Drop for PulseCore {
     }
 }
 
-/// The core's status and every channel's: with a kernel, the core's status is channel 0's at
-/// the kernel's time (idle only when every channel is: the caller checks); without, the single
-/// machine's, which is channel 0.
-fn states(k: Option<&Kernel>, m: &Machine) -> (Status, Vec<ChannelStatus>) {
-    match k {
-        Some(k) => {
-            let chans: Vec<ChannelStatus> = (0..k.channels())
-                .filter_map(|i| {
-                    Some(ChannelStatus {
-                        status: k.machine(i)?.status(),
-                        sync: k.channel(i),
-                    })
-                })
-                .collect();
-            let mut st = chans
-                .first()
-                .map_or_else(|| m.status(), |c| c.status.clone());
-            st.machine_ns = k.now();
-            (st, chans)
-        }
-        None => {
-            let st = m.status();
-            let chans = vec![ChannelStatus {
-                status: st.clone(),
-                sync: None,
-            }];
-            (st, chans)
-        }
-    }
+/// The core's status and every channel's: the core's is channel 0's at the kernel's time,
+/// idle only when no channel progresses.
+fn states(k: &Kernel) -> (Status, Vec<ChannelStatus>) {
+    let chans: Vec<ChannelStatus> = (0..k.channels())
+        .filter_map(|i| {
+            Some(ChannelStatus {
+                status: k.machine(i)?.status(),
+                sync: k.channel(i),
+            })
+        })
+        .collect();
+    let mut st = chans
+        .first()
+        .map_or_else(|| k.first().status(), |c| c.status.clone());
+    st.machine_ns = k.now();
+    st.idle = !k.progressing();
+    (st, chans)
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -671,27 +658,27 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 
 /// The state of the pulse core thread.
 struct Runner {
-    m: Machine,
+    /// The kernel: the centre's one streaming channel, or a lathe's N.
+    k: Box<Kernel>,
     shared: Arc<Shared>,
     buffer: Arc<BlockBuffer>,
     rx: Receiver<Msg>,
     applied: u64,
     quit: bool,
-    /// The step queue, in real time.
+    /// The step queue, in real time, of a streaming kernel's channel.
     rt: Option<StepQueue>,
     /// Asked between slices of a virtual-time advance: true ends it (a stop signal).
     interrupt: Option<fn() -> bool>,
-    /// N channels: the kernel runs them and `m` stands idle.
-    k: Option<Box<Kernel>>,
-    /// With a kernel in real time: the wall-clock instant of machine time 0.
+    /// With a kernel of N channels in real time: the wall-clock instant of machine time 0.
     epoch: Instant,
     /// Pulses are captured for `take_pulses`.
     capture: bool,
-    /// With a kernel: the recording (its channels' machines hold their own tagged sinks).
+    /// With a kernel of N channels: the recording (its channels' machines hold their own
+    /// tagged sinks). A streaming kernel's machine holds the centre's own.
     sink: Option<EventSink>,
-    /// With a kernel: the work of each channel's latest cut (a thread pass's work).
+    /// The work of each channel's latest cut (a thread pass's work).
     last_work: Vec<Option<u32>>,
-    /// With a kernel: `/lathe/event` waits for the recorder (virtual time).
+    /// `/lathe/event` waits for the recorder (virtual time).
     lossless: std::cell::Cell<bool>,
     /// When the snapshot was last published.
     published: Instant,
@@ -720,51 +707,39 @@ impl Runner {
                 return;
             }
             Msg::Fault(ch, why) => {
-                let r = match &mut self.k {
-                    Some(k) => k.fault(ch, &why),
-                    None => Err("a fault is injected into a channel of a kernel".into()),
-                };
+                let r = self.k.fault(ch, &why);
                 *lock(&self.shared.refusal) = r.err();
                 self.applied += 1;
                 return;
             }
             Msg::Inspect(f) => {
-                f(self.k.as_deref());
+                f(&self.k);
                 self.applied += 1;
                 return;
             }
             Msg::Edit(f) => {
-                let r = match &mut self.k {
-                    Some(k) => f(k),
-                    None => Err("the pulse core runs a single machine, not a kernel".into()),
-                };
+                let r = f(&mut self.k);
                 *lock(&self.shared.refusal) = r.err();
                 self.applied += 1;
                 return;
             }
             Msg::Program(ch, prog, tx) => {
-                let r = match &mut self.k {
-                    Some(k) => k.replace_program(ch, prog),
-                    None => Err("a program is replaced on a kernel's channel".into()),
-                };
-                let _ = tx.send(r);
+                let _ = tx.send(self.k.replace_program(ch, prog));
                 self.applied += 1;
                 return;
             }
             Msg::Target(n) => {
-                let r = match &mut self.k {
-                    Some(k) => k.set_target(n),
-                    None => Err("a part target is a kernel's, with channels".into()),
-                };
+                let r = self.k.set_target(n);
                 *lock(&self.shared.refusal) = r.err();
                 self.applied += 1;
                 return;
             }
             Msg::Capture(on) => {
                 self.capture = on;
-                if let Some(k) = &mut self.k {
-                    for i in 0..k.channels() {
-                        if let Some(m) = k.machine_mut(i) {
+                // A streaming kernel's machine keeps its own recording.
+                if !self.k.streams() {
+                    for i in 0..self.k.channels() {
+                        if let Some(m) = self.k.machine_mut(i) {
                             m.set_recording(self.sink.as_ref().map(|s| s.for_channel(i)), on);
                         }
                     }
@@ -775,12 +750,12 @@ impl Runner {
                 self.applied += 1;
                 return;
             }
-            Msg::Cmd(c) if self.k.is_some() => {
+            Msg::Cmd(c) if !self.k.streams() => {
                 let _ = self.channel_command(None, c);
                 self.applied += 1;
                 return;
             }
-            Msg::Start(kind, _) if self.k.is_some() => {
+            Msg::Start(kind, _) if !self.k.streams() => {
                 let _ = self.channel_command(None, Command::Start(kind));
                 self.applied += 1;
                 return;
@@ -792,11 +767,12 @@ impl Runner {
                 Op::Cmd(c)
             }
             Msg::Start(kind, make) => {
-                if !self.m.start_begins_run(kind) {
+                let m = self.k.first_mut();
+                if !m.start_begins_run(kind) {
                     Op::Cmd(Command::Start(kind))
                 } else {
                     match make {
-                        Some(make) => self.buffer.load(make, self.m.machine_state()),
+                        Some(make) => self.buffer.load(make, m.machine_state()),
                         None => self.buffer.clear(),
                     }
                     // Priming: the run takes no block before the buffer is full or the source is
@@ -808,42 +784,25 @@ impl Runner {
                     let op = Op::Cmd(Command::Start(kind));
                     self.apply_op(op);
                     if let Some(e) = self.buffer.take_early_error() {
-                        self.m.refuse_run(e);
+                        self.k.first_mut().refuse_run(e);
                     }
                     self.applied += 1;
                     return;
                 }
             }
             Msg::Magazine(mg) => Op::Magazine(mg),
-            Msg::Modes(o, d) => {
-                let Some(k) = &mut self.k else {
-                    self.apply_op(Op::Modes(o, d));
-                    self.applied += 1;
-                    return;
-                };
-                // A kernel's channels: every one is on the same panel.
-                for ch in 0..k.channels() {
-                    if let Some(m) = k.machine_mut(ch) {
-                        m.set_panel_modes(&o, &d);
-                    }
-                }
-                self.applied += 1;
-                return;
-            }
+            Msg::Modes(o, d) => Op::Modes(o, d),
             Msg::Position(p) => Op::Position(p),
             Msg::JogFeed(f) => Op::JogFeed(f),
             Msg::Audit(on) => {
-                self.m.set_audit(on);
+                self.k.first_mut().set_audit(on);
                 self.applied += 1;
                 return;
             }
             Msg::Watch(w) => {
                 // Real time publishes at display rate; the watcher is for virtual time
                 // (`PulseCore::set_watch` sends none in real time).
-                match &mut self.k {
-                    Some(k) => k.set_watch(w),
-                    None => self.m.set_watch(w),
-                }
+                self.k.set_watch(w);
                 self.applied += 1;
                 return;
             }
@@ -868,11 +827,13 @@ impl Runner {
         self.applied += 1;
     }
 
-    /// A command addressed to channel `ch` (None: all). The single machine is channel 0.
+    /// A command addressed to channel `ch` (None: all). A streaming kernel's one channel is
+    /// channel 0, told through its step queue in real time.
     fn channel_command(&mut self, ch: Option<usize>, c: Command) -> Result<(), String> {
         let estop = c == Command::EStop;
-        let r = match &mut self.k {
-            Some(k) => match c {
+        let r = if !self.k.streams() {
+            let k = &mut self.k;
+            match c {
                 Command::EStop => {
                     k.estop();
                     Ok(())
@@ -884,8 +845,9 @@ impl Runner {
                     Some(i) => k.command(i, c),
                     None => (0..k.channels()).try_for_each(|i| k.command(i, c.clone())),
                 },
-            },
-            None => match ch {
+            }
+        } else {
+            match ch {
                 // E-STOP is machine-wide, whatever the channel named.
                 _ if estop => {
                     self.handle(Msg::Cmd(c));
@@ -893,7 +855,7 @@ impl Runner {
                     Ok(())
                 }
                 Some(0) | None => {
-                    // The single machine's own path (a START resumes; a new run needs its
+                    // The streaming channel's own path (a START resumes; a new run needs its
                     // source, `start`); `handle` counts a message, this one is counted by
                     // its caller.
                     let msg = match c {
@@ -905,55 +867,45 @@ impl Runner {
                     Ok(())
                 }
                 Some(i) => Err(format!("CH{}: the machine has 1 channel", i + 1)),
-            },
+            }
         };
         if estop {
-            *lock(&self.shared.estop_at) = Some(self.now());
+            *lock(&self.shared.estop_at) = Some(self.k.now());
         }
         r
     }
 
-    /// Machine time: the kernel's, or the single machine's.
-    fn now(&self) -> u64 {
-        self.k.as_ref().map_or(self.m.now(), |k| k.now())
-    }
-
-    /// No channel moves or has anything pending.
-    fn idle(&self) -> bool {
-        match &self.k {
-            Some(k) => !k.progressing(),
-            None => self.m.is_idle(),
-        }
-    }
-
-    /// With a kernel: moves its events, and the captured pulses, to the shared logs.
+    /// Moves the kernel's events, the captured pulses and the audit to the shared logs.
     fn drain_pulses(&mut self) {
-        if let Some(k) = &mut self.k {
-            let ev = k.take_events();
-            if let Some(s) = &self.sink {
-                for e in &ev {
-                    let ch = e.channel();
-                    let work = match e {
-                        KernelEvent::CutStart { work, .. } => {
-                            if let Some(w) = self.last_work.get_mut(ch) {
-                                *w = *work;
-                            }
-                            *work
+        let a = self.k.first_mut().take_audit();
+        if !a.is_empty() {
+            lock(&self.shared.audit).extend(a);
+        }
+        let k = &mut self.k;
+        let ev = k.take_events();
+        if let Some(s) = &self.sink {
+            for e in &ev {
+                let ch = e.channel();
+                let work = match e {
+                    KernelEvent::CutStart { work, .. } => {
+                        if let Some(w) = self.last_work.get_mut(ch) {
+                            *w = *work;
                         }
-                        _ => self.last_work.get(ch).copied().flatten(),
-                    };
-                    if let Some(r) = e.record(work) {
-                        super::pulse_out::emit(s, r, &self.lossless);
+                        *work
                     }
+                    _ => self.last_work.get(ch).copied().flatten(),
+                };
+                if let Some(r) = e.record(work) {
+                    super::pulse_out::emit(s, r, &self.lossless);
                 }
             }
-            if !ev.is_empty() {
-                lock(&self.shared.events).extend(ev);
-            }
         }
-        let (Some(k), true) = (&mut self.k, self.capture) else {
+        if !ev.is_empty() {
+            lock(&self.shared.events).extend(ev);
+        }
+        if !self.capture || k.streams() {
             return;
-        };
+        }
         let mut log = lock(&self.shared.pulses);
         for i in 0..k.channels() {
             if let (Some(m), Some(l)) = (k.machine_mut(i), log.get_mut(i)) {
@@ -962,27 +914,43 @@ impl Runner {
         }
     }
 
-    /// Virtual time with a kernel: every channel runs until the wait is over.
-    fn advance_kernel(&mut self, w: Wait) -> Reached {
+    /// Applies `op` to channel 0's machine (through the step queue in real time), the panel's
+    /// mode names to every channel's.
+    fn apply_op(&mut self, op: Op) {
+        match &mut self.rt {
+            Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(self.k.first_mut()),
+            Some(rt) => {
+                apply(self.k.first_mut(), &op);
+                rt.applied(op);
+            }
+            None if matches!(op, Op::Modes(..)) => {
+                for i in 0..self.k.channels() {
+                    if let Some(m) = self.k.machine_mut(i) {
+                        apply(m, &op);
+                    }
+                }
+            }
+            None => apply(self.k.first_mut(), &op),
+        }
+    }
+
+    /// Virtual time: runs the kernel until the wait is over, a slice of machine time at a
+    /// time so that a stop signal is seen between slices (a script's wait ends on it); a
+    /// streaming kernel waits for its translator when B1 runs dry.
+    fn advance(&mut self, w: Wait) -> Reached {
         let interrupt = self.interrupt;
-        let Some(k) = &mut self.k else {
-            return Reached::Limit;
-        };
         let (limit, block) = match w {
             Wait::For(ns) => (ns, None),
             Wait::Idle(limit) => (limit, None),
             Wait::Block(ch, seq, limit) => (limit, Some((ch, seq))),
         };
-        let end = k.now().saturating_add(limit);
-        // A slice of machine time at a time, as the single machine runs, so that a stop
-        // signal is seen between slices (a script's wait on a lathe ends on it).
+        let end = self.k.now().saturating_add(limit);
+        let mut shown = Instant::now();
         let r = loop {
+            let k = &mut self.k;
             let slice = end.saturating_sub(k.now()).min(SLICE_NS);
             let out = match w {
-                Wait::For(_) => {
-                    k.advance_to(k.now().saturating_add(slice));
-                    Outcome::TimeLimit
-                }
+                Wait::For(_) => k.run_to(k.now().saturating_add(slice)),
                 _ => k.run_until(slice, block),
             };
             match out {
@@ -994,6 +962,7 @@ impl Runner {
                     };
                 }
                 Outcome::TimeLimit => {}
+                Outcome::Starved => self.buffer.wait_ready(Duration::from_millis(20)),
                 Outcome::BlockStart { .. } => break Reached::BlockStart,
                 Outcome::Stalled => break Reached::Stalled,
                 _ => break Reached::Idle,
@@ -1001,72 +970,13 @@ impl Runner {
             if interrupt.is_some_and(|f| f()) {
                 break Reached::Interrupted;
             }
-        };
-        self.drain_pulses();
-        r
-    }
-
-    fn apply_op(&mut self, op: Op) {
-        match &mut self.rt {
-            Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(&mut self.m),
-            Some(rt) => {
-                apply(&mut self.m, &op);
-                rt.applied(op);
-            }
-            None => apply(&mut self.m, &op),
-        }
-    }
-
-    /// Virtual time: runs the machine until the wait is over, a slice of machine time at a
-    /// time so that an interrupt is seen between slices.
-    fn advance(&mut self, w: Wait) -> Reached {
-        if self.k.is_some() {
-            return self.advance_kernel(w);
-        }
-        let now = self.m.now();
-        let (until, deadline) = match w {
-            Wait::Idle(limit) => (Until::Idle, now.saturating_add(limit)),
-            Wait::For(ns) => {
-                let t = now.saturating_add(ns);
-                (Until::Time(t), t)
-            }
-            Wait::Block(_, seq, limit) => (Until::BlockStart(seq), now.saturating_add(limit)),
-        };
-        let mut shown = Instant::now();
-        loop {
-            let buffer = self.buffer.clone();
-            let slice_end = deadline.min(self.m.now().saturating_add(SLICE_NS));
-            let r = match until {
-                Until::Time(_) => self.m.run(&mut &*buffer, Until::Time(slice_end), 0),
-                _ => self.m.run(&mut &*buffer, until, slice_end - self.m.now()),
-            };
-            let sliced = match r {
-                Reached::Time | Reached::Limit => self.m.now() < deadline,
-                _ => false,
-            };
-            if r != Reached::Starved && !sliced {
-                self.drain_audit();
-                return r;
-            }
-            if self.interrupt.is_some_and(|f| f()) {
-                self.drain_audit();
-                return Reached::Interrupted;
-            }
             if shown.elapsed() > Duration::from_millis(20) {
                 self.publish();
                 shown = Instant::now();
             }
-            if r == Reached::Starved {
-                self.buffer.wait_ready(Duration::from_millis(20));
-            }
-        }
-    }
-
-    fn drain_audit(&mut self) {
-        let a = self.m.take_audit();
-        if !a.is_empty() {
-            lock(&self.shared.audit).extend(a);
-        }
+        };
+        self.drain_pulses();
+        r
     }
 
     fn drain(&mut self) -> bool {
@@ -1083,14 +993,11 @@ impl Runner {
 
     fn publish(&mut self) {
         self.published = Instant::now();
-        if self.rt.is_some() || self.k.is_some() {
+        if self.rt.is_some() || !self.k.streams() {
             lock(&self.shared.rt).published += 1;
         }
-        self.drain_audit();
-        let (mut st, mut chans) = states(self.k.as_deref(), &self.m);
-        if self.k.is_some() {
-            st.idle = self.idle();
-        }
+        self.drain_pulses();
+        let (mut st, mut chans) = states(&self.k);
         st.commands_applied = self.applied;
         for c in &mut chans {
             c.status.commands_applied = self.applied;
@@ -1112,12 +1019,9 @@ impl Runner {
         }
         // Every pulse made is in the recording when the thread ends (in real time a moving
         // axis's batch fills across slices).
-        self.m.flush_recording();
-        if let Some(k) = self.k.as_mut() {
-            for i in 0..k.channels() {
-                if let Some(m) = k.machine_mut(i) {
-                    m.flush_recording();
-                }
+        for i in 0..self.k.channels() {
+            if let Some(m) = self.k.machine_mut(i) {
+                m.flush_recording();
             }
         }
         self.publish();
@@ -1146,35 +1050,27 @@ impl Runner {
     }
 
     fn run_realtime(&mut self) {
-        let period = self
-            .k
-            .as_ref()
-            .and_then(|k| k.machine(0))
-            .unwrap_or(&self.m)
-            .settings()
-            .ncbr_period_ns
-            .max(1);
+        let period = self.k.first().settings().ncbr_period_ns.max(1);
         loop {
             if !self.drain() {
                 return;
             }
-            let slice_start = match (&mut self.rt, &self.k) {
-                (Some(rt), _) => {
+            let slice_start = match &mut self.rt {
+                Some(rt) => {
                     rt.release();
-                    rt.wall_of(self.m.now())
+                    rt.wall_of(self.k.now())
                 }
-                (None, Some(k)) => self.epoch + Duration::from_nanos(k.now()),
-                (None, None) => return,
+                None => self.epoch + Duration::from_nanos(self.k.now()),
             };
             let gen_at = slice_start
                 .checked_sub(Duration::from_nanos(period))
                 .unwrap_or(slice_start);
             let now = Instant::now();
-            // A kernel with nothing going on runs a whole `KERNEL_IDLE_STEP` at a time (below)
-            // and sleeps between: no tick has anything to be on time for.
+            // A kernel of N channels with nothing going on runs a whole `KERNEL_IDLE_STEP` at
+            // a time (below) and sleeps between: no tick has anything to be on time for.
             // Asked once a tick: a nap goes round the loop again, so it still holds below.
-            let idle = self.idle();
-            let at_rest = self.rt.is_none() && self.k.is_some() && idle;
+            let idle = !self.k.progressing();
+            let at_rest = self.rt.is_none() && idle;
             if now < gen_at {
                 // wake at least every millisecond to release queued events on time
                 let most = match at_rest {
@@ -1188,13 +1084,14 @@ impl Runner {
                 continue;
             }
             let moving = !idle;
-            match (&mut self.rt, &mut self.k) {
-                (Some(rt), _) => rt.slice(&mut self.m, &self.buffer),
-                (None, Some(k)) => {
+            match &mut self.rt {
+                Some(rt) => rt.slice(self.k.first_mut(), &self.buffer),
+                None => {
                     // One NCBR tick of every channel; an E-STOP read by `drain` before the
                     // next one acts at the kernel's time, in the same tick on every channel.
                     // At rest, a whole idle step of ticks in one call (each channel's machine
                     // runs them as in virtual time).
+                    let k = &mut self.k;
                     let ticks = match at_rest {
                         true => (KERNEL_IDLE_STEP.as_nanos() as u64 / period).max(1),
                         false => 1,
@@ -1202,10 +1099,9 @@ impl Runner {
                     k.advance_to(k.now().saturating_add(period * ticks));
                     self.drain_pulses();
                 }
-                (None, None) => return,
             }
             let done = Instant::now();
-            let publish = self.k.is_none() || done - self.published >= KERNEL_PUBLISH;
+            let publish = self.rt.is_some() || done - self.published >= KERNEL_PUBLISH;
             lock(&self.shared.rt).slices += 1;
             if moving {
                 let late = if done >= slice_start {

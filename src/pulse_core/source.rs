@@ -1,5 +1,6 @@
 //! Where NCBR reads blocks from: the block buffer B1 as seen by the pulse core.
 
+use super::block_buffer::BlockBuffer;
 use super::BlockEntry;
 use crate::block::{Block, Statement, TranslateError};
 use std::sync::Arc;
@@ -157,6 +158,46 @@ impl BlockSource for VecSource {
                 self.at += 1;
                 f.clone()
             }
+        }
+    }
+}
+
+/// Where a kernel channel reads its blocks (docs/pulse-core.md, "Channels"): its program read
+/// whole, run once per work (a lathe channel's), or B1 as the translator thread fills it (the
+/// machining centre's one channel, whose program is translated while it runs). A copy of a
+/// stream reads the same B1: the kernel never copies a streaming channel to look ahead with
+/// (`Kernel::run_until` runs it alone).
+#[derive(Clone, Debug)]
+pub enum ChannelSource {
+    /// The program read whole, read again from its first block at each work.
+    Program(VecSource),
+    /// B1, filled by the translator thread from the machine's state at the START of each run.
+    Stream(Arc<BlockBuffer>),
+}
+
+impl ChannelSource {
+    /// Back to the start of the program: a program is read again from its first block; a
+    /// stream is abandoned (the next run's START loads B1 again).
+    pub fn rewind(&mut self) {
+        match self {
+            ChannelSource::Program(v) => v.rewind(),
+            ChannelSource::Stream(b) => b.clear(),
+        }
+    }
+}
+
+impl BlockSource for ChannelSource {
+    fn fetch(&mut self) -> Fetch {
+        match self {
+            ChannelSource::Program(v) => v.fetch(),
+            ChannelSource::Stream(b) => (&mut &**b).fetch(),
+        }
+    }
+
+    fn answer(&mut self, a: super::block_buffer::Answer) {
+        match self {
+            ChannelSource::Program(v) => v.answer(a),
+            ChannelSource::Stream(b) => (&mut &**b).answer(a),
         }
     }
 }

@@ -595,7 +595,7 @@ impl Cycle {
     /// How many times each channel cut work `id` (1-based), from the kernel's sync table.
     pub fn machined(&self, id: u32) -> Vec<u32> {
         self.core
-            .inspect_kernel(move |k| k.map(|k| k.table().machined(id)).unwrap_or_default())
+            .inspect_kernel(move |k| k.table().machined(id))
             .unwrap_or_default()
     }
 
@@ -646,9 +646,7 @@ impl Cycle {
     /// (`Kernel::stalled`, which ends a wait too). Nothing but the operator can change that: a
     /// wait would never end.
     pub fn stalled(&self) -> bool {
-        self.core
-            .inspect_kernel(|k| k.is_some_and(|k| k.stalled()))
-            .unwrap_or(false)
+        self.core.inspect_kernel(|k| k.stalled()).unwrap_or(false)
     }
 
     /// Advances the machine by at most `ns` of machine time (virtual time), or less when
