@@ -1528,3 +1528,60 @@ fn a_kernel_given_commands_before_it_is_spawned_still_waits_for_each_message() {
     );
     assert_eq!(st.machine_ns, 1_100_000_000);
 }
+
+#[test]
+fn a_real_time_estop_stops_every_channel_at_its_instant_with_every_recorded_pulse_counted() {
+    // The step queue rolls the kernel back to the wall clock's instant (stop 47; before, a
+    // lathe's E-STOP stood at the end of the tick generated ahead): no channel records a
+    // pulse from that instant on, and every pulse recorded is one its counters hold.
+    use novanc::record::{Event, EventSink};
+    use std::time::{Duration, Instant};
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.start(None).expect("START");
+    let (tx, rx) = std::sync::mpsc::sync_channel(1 << 20);
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, Some(EventSink::new(tx)));
+    let patience = Instant::now() + Duration::from_secs(20);
+    while Instant::now() < patience && !core.channels().iter().all(|c| c.status.moving) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(30));
+    core.channel_command(None, Command::EStop).expect("E-STOP");
+    let at = core.estop_at().expect("the thread applied the E-STOP");
+    std::thread::sleep(Duration::from_millis(100));
+    let chans = core.channels();
+    drop(core);
+    let events: Vec<Event> = rx.try_iter().collect();
+    for (ch, c) in chans.iter().enumerate() {
+        assert!(c.status.estop && c.status.run == 0, "CH{}", ch + 1);
+        let recorded: Vec<u64> = events
+            .iter()
+            .filter_map(|e| match e {
+                Event::OnChannel { channel, ev } if usize::from(*channel) == ch + 1 => {
+                    match &**ev {
+                        Event::Pulses { t_ns, .. } => Some(t_ns.clone()),
+                        _ => None,
+                    }
+                }
+                _ => None,
+            })
+            .flatten()
+            .collect();
+        assert!(!recorded.is_empty(), "CH{} moved before the E-STOP", ch + 1);
+        let late = recorded.iter().filter(|&&t| t >= at).count();
+        assert_eq!(
+            late,
+            0,
+            "CH{}: pulses at or after the E-STOP at {at} ns",
+            ch + 1
+        );
+        let counted: u64 = c.status.pulses.xyz().iter().sum();
+        assert_eq!(
+            recorded.len() as u64,
+            counted,
+            "CH{}: recorded = counted",
+            ch + 1
+        );
+    }
+}

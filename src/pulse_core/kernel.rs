@@ -21,10 +21,11 @@
 use super::block_buffer::BlockBuffer;
 use super::machine::{Machine, Mark, Reached, Until};
 use super::runner::ChannelStatus;
-use super::source::{ChannelSource, VecSource};
+use super::source::{ChannelSource, Fetch, VecSource};
 use super::sync::{AtPoint, Decision, SyncTable, Transfer, WaitOn, WorkFlow};
 use super::{Command, EndCause, RunKind, Status, Watcher};
 use crate::block::{Statement, Sync};
+use crate::record::EventSink;
 use crate::settings::MachineSettings;
 use std::sync::Arc;
 
@@ -554,7 +555,7 @@ impl Kernel {
     /// the block starts in, as `Machine::run` does. It takes no program load, part target,
     /// fault or program replacement: its START loads B1 (`PulseCore::start`).
     pub fn streaming(m: Machine, buffer: Arc<BlockBuffer>) -> Kernel {
-        let chans = vec![Channel::new(m, ChannelSource::Stream(buffer))];
+        let chans = vec![Channel::new(m, ChannelSource::Stream(buffer, None))];
         Kernel::of(chans, SyncTable::new(1, None, 0))
     }
 
@@ -573,14 +574,91 @@ impl Kernel {
     /// The one channel of a streaming kernel ([`Kernel::streaming`]), which runs alone.
     fn alone(&mut self) -> Option<&mut Channel> {
         match self.chans.as_mut_slice() {
-            [c] if matches!(c.src, ChannelSource::Stream(_)) => Some(c),
+            [c] if c.src.streams() => Some(c),
             _ => None,
         }
     }
 
     /// Whether the kernel is a streaming one ([`Kernel::streaming`]).
     pub fn streams(&self) -> bool {
-        matches!(self.chans.as_slice(), [c] if matches!(c.src, ChannelSource::Stream(_)))
+        matches!(self.chans.as_slice(), [c] if c.src.streams())
+    }
+
+    /// Records every channel's machine to `sink` (None: no recording): a streaming kernel's
+    /// one channel untagged, as the centre's recordings have it, each channel of a lathe
+    /// tagged with its channel (`EventSink::for_channel`); every machine keeps its pulse
+    /// capture. `lossless`: wait for the recorder (virtual time).
+    pub fn set_recording(&mut self, sink: Option<EventSink>, lossless: bool) {
+        let tagged = !self.streams();
+        for (i, c) in self.chans.iter_mut().enumerate() {
+            let s = match tagged {
+                true => sink.as_ref().map(|s| s.for_channel(i)),
+                false => sink.clone(),
+            };
+            let capture = c.m.captures();
+            c.m.set_recording(s, capture);
+            c.m.set_lossless_recording(lossless);
+        }
+    }
+
+    /// A streaming kernel's channel logs what B1 hands it from now on (the real-time step
+    /// queue's; off: forgets it).
+    pub fn log_stream(&mut self, on: bool) {
+        for c in &mut self.chans {
+            c.src.log(on);
+        }
+    }
+
+    /// What B1 has handed a streaming kernel's channel since the last call (with the log on).
+    pub fn take_stream_log(&mut self) -> Vec<Fetch> {
+        self.chans
+            .first_mut()
+            .map(|c| c.src.take_log())
+            .unwrap_or_default()
+    }
+
+    /// A streaming kernel's channel reads `fetched` again, then nothing, until
+    /// [`Kernel::resume_stream`] (a copy kept before a real-time slice, rolled forward to an
+    /// E-STOP's instant).
+    pub fn replay_stream(&mut self, fetched: Vec<Fetch>) {
+        if let Some(c) = self.chans.first_mut() {
+            c.src.replay(fetched);
+        }
+    }
+
+    /// A streaming kernel's channel reads B1 again, logging.
+    pub fn resume_stream(&mut self) {
+        if let Some(c) = self.chans.first_mut() {
+            c.src.resume();
+        }
+    }
+
+    /// Where the next NCBR slice of `ticks` ticks ends: channel 0's next tick (every channel
+    /// ticks with it) and `ticks` − 1 periods on.
+    pub fn slice_end(&self, ticks: u64) -> u64 {
+        let m = self.first();
+        let period = m.settings().ncbr_period_ns.max(1);
+        m.next_tick_end()
+            .saturating_add(period.saturating_mul(ticks.max(1) - 1))
+    }
+
+    /// An operator command to channel `ch` (None: every channel): E-STOP machine-wide
+    /// ([`Kernel::estop`]), START, STOP (feed hold) and RESET by their rules here, any other to
+    /// the channels' machines. Its refusals.
+    pub fn command_to(&mut self, ch: Option<usize>, c: Command) -> Result<(), String> {
+        match c {
+            Command::EStop => {
+                self.estop();
+                Ok(())
+            }
+            Command::Start(kind) => self.start_as(ch, kind),
+            Command::Stop => self.stop(ch),
+            Command::Reset => self.reset(ch),
+            c => match ch {
+                Some(i) => self.command(i, c),
+                None => (0..self.chans.len()).try_for_each(|i| self.command(i, c.clone())),
+            },
+        }
     }
 
     /// The refusal of what a streaming kernel does not take: `what`.
@@ -737,7 +815,7 @@ impl Kernel {
     /// Machine time, ns (every channel stands at it between calls).
     pub fn now(&self) -> u64 {
         match self.chans.as_slice() {
-            [c] if matches!(c.src, ChannelSource::Stream(_)) => c.m.now(),
+            [c] if c.src.streams() => c.m.now(),
             _ => self.now,
         }
     }
@@ -1390,9 +1468,11 @@ impl Kernel {
         k.chans[ch].m.block_started_at()
     }
 
-    /// A copy of the kernel to look ahead with: the same state, every channel's machine a
-    /// quiet copy (`Machine::quiet_copy`), no events and no watcher.
-    fn quiet_copy(&mut self) -> Kernel {
+    /// A copy of the kernel to look ahead with, or to roll back to (the real-time step
+    /// queue's): the same state, every channel's machine a quiet copy (`Machine::quiet_copy`:
+    /// no recording, capture, audit or marks), no events taken or watcher, the events not yet
+    /// due kept.
+    pub(super) fn quiet_copy(&mut self) -> Kernel {
         let chans = self
             .chans
             .iter_mut()
@@ -1409,9 +1489,9 @@ impl Kernel {
             table: self.table.clone(),
             now: self.now,
             events: Vec::new(),
-            pending: Vec::new(),
+            pending: self.pending.clone(),
             watch: None,
-            look_ns: 0,
+            look_ns: self.look_ns,
         }
     }
 

@@ -83,6 +83,11 @@ pub struct PulseOut {
 }
 
 impl PulseOut {
+    /// Whether pulses are captured for tests.
+    pub fn captures(&self) -> bool {
+        self.capture.is_some()
+    }
+
     /// Sets where logged pulses go.
     pub fn set_log(&mut self, sink: Option<EventSink>, capture: bool) {
         self.sink = sink.filter(|s| s.records_pulses());

@@ -1,18 +1,17 @@
-//! Real time: the step queue between the pulse core and the wall clock.
+//! Real time: the step queue between the pulse core and the wall clock, every kernel's.
 //!
 //! The pulse core generates each NCBR slice up to one tick ahead of the wall clock. What it
 //! generated is a queue: its recorded events are held here and released only when the wall
 //! clock reaches their machine time. An EMERGENCY STOP arriving at wall time w (machine time
-//! m_w) must stop the pulses at m_w, not at the end of what was queued, so the machine is
-//! rolled back: a snapshot is kept before each slice (with the blocks that slice read from B1
-//! and the operator messages applied since), the snapshot of the slice holding m_w is
-//! restored, advanced to exactly m_w (deterministic, so the same pulses), the messages since are
-//! applied again, and the e-stop is applied there; queued events after m_w are dropped. No
-//! pulse after m_w is counted or recorded.
+//! m_w) must stop the pulses at m_w, not at the end of what was queued, so the kernel is
+//! rolled back: a quiet copy is kept before a slice (at most every `SNAP_EVERY_NS`, with the
+//! blocks B1 handed the centre's channel since and the operator messages applied since), the
+//! latest copy before m_w is restored, advanced to exactly m_w (deterministic, so the same
+//! pulses), the messages since are applied again, and the e-stop is applied there; queued
+//! events from m_w on are dropped. No pulse from m_w on is counted or recorded, on any channel.
 
-use super::block_buffer::BlockBuffer;
-use super::machine::Machine;
-use super::source::{BlockSource, Fetch};
+use super::kernel::Kernel;
+use super::source::Fetch;
 use super::Command;
 use crate::block::Axes;
 use crate::record::{Event, EventSink};
@@ -24,11 +23,18 @@ use std::time::{Duration, Instant};
 /// The machine-side effect of a message to the pulse core (replayed after a rollback).
 #[derive(Clone, Debug)]
 pub enum Op {
-    /// An operator command.
+    /// An operator command to the centre's machine (a streaming kernel's channel 0).
     Cmd(Command),
+    /// An operator command to a channel of a kernel (None: every channel), by the kernel's
+    /// rules (`Kernel::command_to`).
+    Chan(Option<usize>, Command),
+    /// A fault injected into a channel.
+    Fault(usize, String),
+    /// The part target.
+    Target(u32),
     /// New tool data.
     Magazine(Box<Magazine>),
-    /// Panel mode names.
+    /// Panel mode names (every channel's).
     Modes(String, String),
     /// Axis positions set.
     Position(Axes),
@@ -36,56 +42,36 @@ pub enum Op {
     JogFeed(f64),
 }
 
-/// Applies an operation to the machine.
-pub fn apply(m: &mut Machine, op: &Op) {
+/// Applies an operation to the kernel: the centre's own to channel 0, the panel's mode names
+/// to every channel. A command's refusal, if any.
+pub fn apply(k: &mut Kernel, op: &Op) -> Result<(), String> {
     match op {
-        Op::Cmd(c) => m.command(c.clone()),
-        Op::Magazine(mg) => m.set_magazine((**mg).clone()),
-        Op::Modes(o, d) => m.set_panel_modes(o, d),
-        Op::Position(p) => {
-            m.set_position(*p);
+        Op::Cmd(c) => k.first_mut().command(c.clone()),
+        Op::Chan(ch, c) => return k.command_to(*ch, c.clone()),
+        Op::Fault(ch, why) => return k.fault(*ch, why),
+        Op::Target(n) => return k.set_target(*n),
+        Op::Magazine(mg) => k.first_mut().set_magazine((**mg).clone()),
+        Op::Modes(o, d) => {
+            for i in 0..k.channels() {
+                if let Some(m) = k.machine_mut(i) {
+                    m.set_panel_modes(o, d);
+                }
+            }
         }
-        Op::JogFeed(f) => m.set_jog_feed(*f),
+        Op::Position(p) => {
+            k.first_mut().set_position(*p);
+        }
+        Op::JogFeed(f) => k.first_mut().set_jog_feed(*f),
     }
+    Ok(())
 }
 
-/// The machine before one slice, what that slice read from B1, and the messages since.
+/// The kernel before one slice, what that slice read from B1, and the messages since.
 struct Snap {
     start: u64,
-    machine: Machine,
+    kernel: Kernel,
     fetched: Vec<Fetch>,
     ops: Vec<Op>,
-}
-
-/// Reads B1 and logs what it read.
-struct Logging<'a> {
-    b1: &'a BlockBuffer,
-    log: Option<&'a mut Vec<Fetch>>,
-}
-
-impl BlockSource for Logging<'_> {
-    fn fetch(&mut self) -> Fetch {
-        let mut src = self.b1;
-        let f = src.fetch();
-        if let Some(l) = &mut self.log {
-            l.push(f.clone());
-        }
-        f
-    }
-
-    fn answer(&mut self, a: super::block_buffer::Answer) {
-        let mut src = self.b1;
-        src.answer(a);
-    }
-}
-
-/// Gives back what a slice read.
-struct Replay(VecDeque<Fetch>);
-
-impl BlockSource for Replay {
-    fn fetch(&mut self) -> Fetch {
-        self.0.pop_front().unwrap_or(Fetch::Pending)
-    }
 }
 
 /// Machine time of an event, and of the last pulse of a batch.
@@ -108,6 +94,12 @@ fn times(ev: &Event) -> (u64, u64) {
     }
 }
 
+/// A copy of the kernel is kept before a slice at most this often, in machine time (the
+/// centre's 5 ms slices each have one; of the Citizen's 100 µs ticks, one in ten): an E-STOP is
+/// rolled back to the latest copy before its instant and run forward from there. A copy a
+/// tick cost the Citizen's real-time run about 15 % more CPU time.
+const SNAP_EVERY_NS: u64 = 1_000_000;
+
 /// The real-time step queue.
 pub struct StepQueue {
     wall0: Instant,
@@ -120,24 +112,36 @@ pub struct StepQueue {
 }
 
 impl StepQueue {
-    /// Takes over the machine's recording (events now go through the queue to `out`), with
-    /// machine time `m.now()` at the wall clock's now.
-    pub fn new(m: &mut Machine, out: Option<EventSink>) -> StepQueue {
+    /// Takes over the kernel's recording (events now go through the queue to `out`: the
+    /// centre's machine untagged, each channel of a lathe tagged with its channel), with
+    /// machine time `k.now()` at the wall clock's now.
+    pub fn new(k: &mut Kernel, out: Option<EventSink>) -> StepQueue {
         let (tx, rx) = sync_channel(1 << 16);
-        let internal = EventSink::new(tx);
-        if out.is_some() {
-            m.set_recording(Some(internal.clone()), false);
-            m.set_lossless_recording(false);
-        }
-        StepQueue {
+        let q = StepQueue {
             wall0: Instant::now(),
-            t0: m.now(),
+            t0: k.now(),
             snaps: VecDeque::new(),
-            internal,
+            internal: EventSink::new(tx),
             rx,
             pending: VecDeque::new(),
             out,
+        };
+        q.record(k);
+        k.log_stream(true);
+        q
+    }
+
+    /// Every channel's machine records into the queue (with an output), keeping its capture.
+    fn record(&self, k: &mut Kernel) {
+        if self.out.is_some() {
+            k.set_recording(Some(self.internal.clone()), false);
         }
+    }
+
+    /// Where what is recorded outside the machines (a kernel's events) goes: through the
+    /// queue, when there is an output.
+    pub fn sink(&self) -> Option<&EventSink> {
+        self.out.as_ref().map(|_| &self.internal)
     }
 
     /// The machine time the wall clock is at.
@@ -150,23 +154,33 @@ impl StepQueue {
         self.wall0 + Duration::from_nanos(t.saturating_sub(self.t0))
     }
 
-    /// Generates the next NCBR slice, keeping a snapshot for an e-stop rollback.
-    pub fn slice(&mut self, m: &mut Machine, b1: &BlockBuffer) {
-        self.snaps.push_back(Snap {
-            start: m.now(),
-            machine: m.clone(),
-            fetched: Vec::new(),
-            ops: Vec::new(),
-        });
-        while self.snaps.len() > 3 {
-            self.snaps.pop_front();
+    /// Generates the next NCBR slice of `ticks` ticks (more than one: a kernel at rest),
+    /// keeping a copy of the kernel for an e-stop rollback.
+    pub fn slice(&mut self, k: &mut Kernel, ticks: u64) {
+        let now = k.now();
+        if self
+            .snaps
+            .back()
+            .is_none_or(|s| now.saturating_sub(s.start) >= SNAP_EVERY_NS)
+        {
+            self.snaps.push_back(Snap {
+                start: now,
+                kernel: k.quiet_copy(),
+                fetched: Vec::new(),
+                ops: Vec::new(),
+            });
+            while self.snaps.len() > 3 {
+                self.snaps.pop_front();
+            }
         }
-        let log = self.snaps.back_mut().map(|s| &mut s.fetched);
-        m.tick(&mut Logging { b1, log });
+        k.advance_to(k.slice_end(ticks));
+        if let Some(s) = self.snaps.back_mut() {
+            s.fetched.extend(k.take_stream_log());
+        }
         self.collect();
     }
 
-    /// Records a message applied to the machine, for replay after a rollback.
+    /// Records a message applied to the kernel, for replay after a rollback.
     pub fn applied(&mut self, op: Op) {
         for s in &mut self.snaps {
             s.ops.push(op.clone());
@@ -174,39 +188,79 @@ impl StepQueue {
         self.collect();
     }
 
-    /// EMERGENCY STOP at the wall clock's machine time: pulses stop there.
-    pub fn estop(&mut self, m: &mut Machine) {
-        let mw = self.machine_now();
-        self.collect();
-        if mw < m.now() {
-            if let Some(s) = self.snaps.iter().rev().find(|s| s.start <= mw) {
-                let mut r = s.machine.clone();
-                r.set_recording(None, false);
-                r.advance_to(mw, &mut Replay(s.fetched.iter().cloned().collect()));
-                if self.out.is_some() {
-                    r.set_recording(Some(self.internal.clone()), false);
-                }
-                for op in &s.ops {
-                    apply(&mut r, op);
-                }
-                *m = r;
-                self.drop_from(mw);
-            }
-        }
-        m.command(Command::EStop);
+    /// A change that cannot be replayed (a new cycle loaded, a program read again, the
+    /// capture or audit turned): no rollback reaches back before it, so an E-STOP in the
+    /// slice under way acts at the kernel's time.
+    pub fn barrier(&mut self) {
         self.snaps.clear();
         self.collect();
     }
 
+    /// EMERGENCY STOP at the wall clock's machine time: pulses stop there. The kernel is
+    /// rolled back to the copy kept before the slice holding that instant, run forward to
+    /// it with what B1 handed out then and the messages since, and stopped there; what it
+    /// made past that instant, and had queued, is dropped. The instant it stopped at.
+    pub fn estop(&mut self, k: &mut Kernel) -> u64 {
+        let mw = self.machine_now();
+        if mw < k.now() {
+            if let Some(s) = self.snaps.iter().rev().find(|s| s.start <= mw) {
+                // Every pulse made so far goes to the queue (a lathe channel's batches fill
+                // for 10 ms of machine time), to be cut at the instant below.
+                for i in 0..k.channels() {
+                    if let Some(m) = k.machine_mut(i) {
+                        m.flush_recording();
+                    }
+                }
+                let mut r = s.kernel.clone();
+                let audits: Vec<bool> = (0..k.channels())
+                    .map(|i| k.machine(i).is_some_and(|m| m.audits()))
+                    .collect();
+                r.replay_stream(s.fetched.clone());
+                r.advance_to(mw);
+                r.resume_stream();
+                // What the copy made again up to the instant was already taken from the
+                // kernel (events): it is forgotten, not told twice.
+                r.take_events();
+                for (i, audit) in audits.into_iter().enumerate() {
+                    if let Some(m) = r.machine_mut(i) {
+                        m.set_audit(audit);
+                    }
+                }
+                for i in 0..k.channels() {
+                    let on = k.machine(i).is_some_and(|m| m.captures());
+                    if let Some(m) = r.machine_mut(i) {
+                        m.set_capture(on);
+                    }
+                }
+                self.record(&mut r);
+                for op in &s.ops {
+                    let _ = apply(&mut r, op);
+                }
+                *k = r;
+                self.collect();
+                self.drop_from(mw);
+            }
+        }
+        k.estop();
+        self.snaps.clear();
+        self.collect();
+        k.now()
+    }
+
     /// Drops queued events at or after machine time `t`.
     fn drop_from(&mut self, t: u64) {
-        self.pending.retain_mut(|ev| match ev {
-            Event::Pulses { t_ns, .. } => {
-                t_ns.retain(|&x| x < t);
-                !t_ns.is_empty()
+        /// Keeps what of `ev` happened before `t` (a channel's event looked into).
+        fn keep(ev: &mut Event, t: u64) -> bool {
+            match ev {
+                Event::OnChannel { ev, .. } => keep(ev, t),
+                Event::Pulses { t_ns, .. } => {
+                    t_ns.retain(|&x| x < t);
+                    !t_ns.is_empty()
+                }
+                _ => times(ev).0 < t,
             }
-            _ => times(ev).0 < t,
-        });
+        }
+        self.pending.retain_mut(|ev| keep(ev, t));
     }
 
     fn collect(&mut self) {

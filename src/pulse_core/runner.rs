@@ -14,17 +14,16 @@
 //!   ([`Kernel::streaming`]): one channel, channel 0, that reads B1 as the translator thread
 //!   fills it; a lathe's ([`PulseCore::spawn_kernel`]) has one [`Machine`] per channel and the
 //!   sync table. Commands are addressed to a channel or to all
-//!   ([`PulseCore::channel_command`]); E-STOP is machine-wide and acts from this thread at
-//!   the kernel's machine time, whatever the caller does next. Each channel's [`Status`] and
-//!   its place in the sync table are published ([`PulseCore::channels`]). In real time the
-//!   streaming channel runs through the step queue (`realtime.rs`, an E-STOP rolled back to
-//!   the wall clock's instant), the channels of a lathe one NCBR tick at a time
-//!   (docs/pulse-core.md "Not done" says what one real-time path still needs).
+//!   ([`PulseCore::channel_command`]); E-STOP is machine-wide and acts from this thread,
+//!   whatever the caller does next. Each channel's [`Status`] and its place in the sync table
+//!   are published ([`PulseCore::channels`]). In real time every kernel runs through the step
+//!   queue (`realtime.rs`: what it made recorded on the wall clock, an E-STOP rolled back to
+//!   the wall clock's instant).
 //!
 //! Every call that sends a message waits until the thread has applied it, so the snapshot a
 //! caller reads afterwards already shows its effect. The snapshot is republished after every
-//! message, after every real-time slice, and at most every 20 ms of wall time during a long
-//! virtual advance; a waiting caller is woken only when one waits.
+//! message, after a real-time slice at most every 2 ms, and at most every 20 ms of wall time
+//! during a long virtual advance; a waiting caller is woken only when one waits.
 
 use super::block_buffer::{BlockBuffer, MakeRun};
 use super::kernel::{ChannelView, Kernel, KernelEvent, Outcome};
@@ -52,8 +51,8 @@ pub struct RtStats {
     pub dry: u64,
     /// Slices generated (moving or not).
     pub slices: u64,
-    /// Snapshots published (after a message, or after a slice: every slice of the single
-    /// machine, at most every 2 ms of wall time for a kernel).
+    /// Snapshots published in real time (after a message, or after a slice at most every
+    /// 2 ms of wall time: every slice of the centre's 5 ms).
     pub published: u64,
 }
 
@@ -174,63 +173,20 @@ const PRIMING: Duration = Duration::from_millis(40);
 const APPLY_PATIENCE: Duration = Duration::from_secs(60);
 
 impl PulseCore {
-    /// Starts the pulse core thread.
+    /// Starts the pulse core thread: the machining centre's kernel, one channel streaming B1
+    /// from the translator thread ([`Kernel::streaming`]). `sink`: the recording, the
+    /// machine's own (no channel tag).
     pub fn spawn(
         settings: MachineSettings,
         clock: ClockMode,
         sink: Option<EventSink>,
     ) -> PulseCore {
-        let (tx, rx) = mpsc::channel();
         let mut machine = Machine::new(settings.clone());
-        let mut rt_sink = None;
-        if clock == ClockMode::RealTime {
-            rt_sink = sink;
-        } else {
-            machine.set_starve_stops(true);
-            if sink.is_some() {
-                machine.set_recording(sink, false);
-                machine.set_lossless_recording(true);
-            }
-        }
+        // Virtual time stands still while the translator is behind.
+        machine.set_starve_stops(clock == ClockMode::Virtual);
         let buffer = BlockBuffer::new(settings.b1_capacity);
         let kernel = Kernel::streaming(machine, buffer.clone());
-        let (st, chans) = states(&kernel);
-        let shared = Shared::new(st, chans);
-        let (sh, b) = (shared.clone(), buffer.clone());
-        let thread = std::thread::Builder::new()
-            .name("pulse-core".into())
-            .spawn(move || {
-                let mut r = Runner {
-                    k: Box::new(kernel),
-                    shared: sh,
-                    buffer: b,
-                    rx,
-                    applied: 0,
-                    quit: false,
-                    rt: None,
-                    interrupt: None,
-                    epoch: Instant::now(),
-                    capture: false,
-                    sink: None,
-                    last_work: vec![None],
-                    lossless: std::cell::Cell::new(false),
-                    published: Instant::now(),
-                };
-                if clock == ClockMode::RealTime {
-                    r.rt = Some(StepQueue::new(r.k.first_mut(), rt_sink));
-                }
-                r.run(clock)
-            })
-            .ok();
-        PulseCore {
-            tx,
-            shared,
-            buffer,
-            sent: AtomicU64::new(0),
-            settings,
-            clock,
-            thread,
-        }
+        PulseCore::launch(kernel, buffer, clock, sink)
     }
 
     /// Starts the pulse core thread running `kernel`'s N channels on its clock (each channel's
@@ -240,21 +196,25 @@ impl PulseCore {
     /// blocks, positions, pulses and states to it, each message carrying its channel
     /// ([`EventSink::for_channel`]), and the kernel's events go to `/lathe/event`; in virtual
     /// time nothing is dropped (the thread waits for the recorder), in real time the kernel
-    /// never waits (a full queue drops and marks the recording incomplete, as the step queue
-    /// does for the centre).
-    pub fn spawn_kernel(
+    /// never waits (the step queue releases what it made on the wall clock; a full queue
+    /// drops and marks the recording incomplete).
+    pub fn spawn_kernel(kernel: Kernel, clock: ClockMode, sink: Option<EventSink>) -> PulseCore {
+        let buffer = BlockBuffer::new(kernel.first().settings().b1_capacity);
+        PulseCore::launch(kernel, buffer, clock, sink)
+    }
+
+    /// The thread around `kernel` (`buffer`: its B1, a streaming kernel's), recording to
+    /// `sink`: directly in virtual time, through the step queue in real time.
+    fn launch(
         mut kernel: Kernel,
+        buffer: Arc<BlockBuffer>,
         clock: ClockMode,
         sink: Option<EventSink>,
     ) -> PulseCore {
         let (tx, rx) = mpsc::channel();
-        if let Some(s) = &sink {
-            for i in 0..kernel.channels() {
-                if let Some(m) = kernel.machine_mut(i) {
-                    m.set_recording(Some(s.for_channel(i)), false);
-                    m.set_lossless_recording(clock == ClockMode::Virtual);
-                }
-            }
+        let virtual_time = clock == ClockMode::Virtual;
+        if virtual_time && sink.is_some() {
+            kernel.set_recording(sink.clone(), true);
         }
         let settings = kernel.first().settings().clone();
         let (mut st, mut chans) = states(&kernel);
@@ -266,25 +226,24 @@ impl PulseCore {
             c.status.commands_applied = 0;
         }
         let shared = Shared::new(st, chans);
-        let buffer = BlockBuffer::new(settings.b1_capacity);
         let (sh, b) = (shared.clone(), buffer.clone());
         let thread = std::thread::Builder::new()
             .name("pulse-core".into())
             .spawn(move || {
+                let mut k = Box::new(kernel);
+                let rt = (!virtual_time).then(|| StepQueue::new(&mut k, sink.clone()));
                 let r = Runner {
                     shared: sh,
                     buffer: b,
                     rx,
                     applied: 0,
                     quit: false,
-                    rt: None,
+                    rt,
                     interrupt: None,
-                    epoch: Instant::now() - Duration::from_nanos(kernel.now()),
-                    last_work: vec![None; kernel.channels()],
-                    k: Box::new(kernel),
-                    capture: false,
+                    last_work: vec![None; k.channels()],
+                    k,
                     sink,
-                    lossless: std::cell::Cell::new(clock == ClockMode::Virtual),
+                    lossless: std::cell::Cell::new(virtual_time),
                     published: Instant::now(),
                 };
                 r.run(clock)
@@ -665,16 +624,12 @@ struct Runner {
     rx: Receiver<Msg>,
     applied: u64,
     quit: bool,
-    /// The step queue, in real time, of a streaming kernel's channel.
+    /// The step queue, in real time.
     rt: Option<StepQueue>,
     /// Asked between slices of a virtual-time advance: true ends it (a stop signal).
     interrupt: Option<fn() -> bool>,
-    /// With a kernel of N channels in real time: the wall-clock instant of machine time 0.
-    epoch: Instant,
-    /// Pulses are captured for `take_pulses`.
-    capture: bool,
-    /// With a kernel of N channels: the recording (its channels' machines hold their own
-    /// tagged sinks). A streaming kernel's machine holds the centre's own.
+    /// The recording: the kernel's events go to it (`/lathe/event`), the machines hold their
+    /// own sinks.
     sink: Option<EventSink>,
     /// The work of each channel's latest cut (a thread pass's work).
     last_work: Vec<Option<u32>>,
@@ -699,238 +654,192 @@ const KERNEL_IDLE_STEP: Duration = Duration::from_millis(10);
 
 impl Runner {
     fn handle(&mut self, msg: Msg) {
-        let op = match msg {
+        match msg {
+            Msg::Cmd(c) => {
+                let _ = self.channel_command(None, c);
+            }
             Msg::Chan(ch, c) => {
                 let r = self.channel_command(ch, c);
                 *lock(&self.shared.refusal) = r.err();
-                self.applied += 1;
-                return;
+            }
+            Msg::Start(kind, make) if self.k.streams() => self.start(kind, make),
+            Msg::Start(kind, _) => {
+                let _ = self.channel_command(None, Command::Start(kind));
             }
             Msg::Fault(ch, why) => {
-                let r = self.k.fault(ch, &why);
+                let r = self.apply_op(Op::Fault(ch, why));
                 *lock(&self.shared.refusal) = r.err();
-                self.applied += 1;
-                return;
             }
-            Msg::Inspect(f) => {
-                f(&self.k);
-                self.applied += 1;
-                return;
+            Msg::Target(n) => {
+                let r = self.apply_op(Op::Target(n));
+                *lock(&self.shared.refusal) = r.err();
             }
+            Msg::Inspect(f) => f(&self.k),
             Msg::Edit(f) => {
                 let r = f(&mut self.k);
+                self.barrier();
                 *lock(&self.shared.refusal) = r.err();
-                self.applied += 1;
-                return;
             }
             Msg::Program(ch, prog, tx) => {
                 let _ = tx.send(self.k.replace_program(ch, prog));
-                self.applied += 1;
-                return;
-            }
-            Msg::Target(n) => {
-                let r = self.k.set_target(n);
-                *lock(&self.shared.refusal) = r.err();
-                self.applied += 1;
-                return;
+                self.barrier();
             }
             Msg::Capture(on) => {
-                self.capture = on;
-                // A streaming kernel's machine keeps its own recording.
-                if !self.k.streams() {
-                    for i in 0..self.k.channels() {
-                        if let Some(m) = self.k.machine_mut(i) {
-                            m.set_recording(self.sink.as_ref().map(|s| s.for_channel(i)), on);
-                        }
+                for i in 0..self.k.channels() {
+                    if let Some(m) = self.k.machine_mut(i) {
+                        m.set_capture(on);
                     }
                 }
                 if !on {
                     lock(&self.shared.pulses).iter_mut().for_each(Vec::clear);
                 }
-                self.applied += 1;
-                return;
             }
-            Msg::Cmd(c) if !self.k.streams() => {
-                let _ = self.channel_command(None, c);
-                self.applied += 1;
-                return;
+            Msg::Magazine(mg) => {
+                let _ = self.apply_op(Op::Magazine(mg));
             }
-            Msg::Start(kind, _) if !self.k.streams() => {
-                let _ = self.channel_command(None, Command::Start(kind));
-                self.applied += 1;
-                return;
+            Msg::Modes(o, d) => {
+                let _ = self.apply_op(Op::Modes(o, d));
             }
-            Msg::Cmd(c) => {
-                if matches!(c, Command::Reset | Command::Abandon | Command::EStop) {
-                    self.buffer.clear();
-                }
-                Op::Cmd(c)
+            Msg::Position(p) => {
+                let _ = self.apply_op(Op::Position(p));
             }
-            Msg::Start(kind, make) => {
-                let m = self.k.first_mut();
-                if !m.start_begins_run(kind) {
-                    Op::Cmd(Command::Start(kind))
-                } else {
-                    match make {
-                        Some(make) => self.buffer.load(make, m.machine_state()),
-                        None => self.buffer.clear(),
-                    }
-                    // Priming: the run takes no block before the buffer is full or the source is
-                    // done, so an error found by then refuses the whole run. Real time waits at
-                    // most PRIMING so a slow source cannot hold up the core; the machine then
-                    // waits at its first block instead.
-                    let patience = self.rt.is_some().then_some(PRIMING);
-                    self.buffer.wait_primed(patience);
-                    let op = Op::Cmd(Command::Start(kind));
-                    self.apply_op(op);
-                    if let Some(e) = self.buffer.take_early_error() {
-                        self.k.first_mut().refuse_run(e);
-                    }
-                    self.applied += 1;
-                    return;
-                }
+            Msg::JogFeed(f) => {
+                let _ = self.apply_op(Op::JogFeed(f));
             }
-            Msg::Magazine(mg) => Op::Magazine(mg),
-            Msg::Modes(o, d) => Op::Modes(o, d),
-            Msg::Position(p) => Op::Position(p),
-            Msg::JogFeed(f) => Op::JogFeed(f),
-            Msg::Audit(on) => {
-                self.k.first_mut().set_audit(on);
-                self.applied += 1;
-                return;
-            }
-            Msg::Watch(w) => {
-                // Real time publishes at display rate; the watcher is for virtual time
-                // (`PulseCore::set_watch` sends none in real time).
-                self.k.set_watch(w);
-                self.applied += 1;
-                return;
-            }
-            Msg::Interrupt(f) => {
-                self.interrupt = Some(f);
-                self.applied += 1;
-                return;
-            }
+            Msg::Audit(on) => self.k.first_mut().set_audit(on),
+            // Real time publishes at display rate; the watcher is for virtual time
+            // (`PulseCore::set_watch` sends none in real time).
+            Msg::Watch(w) => self.k.set_watch(w),
+            Msg::Interrupt(f) => self.interrupt = Some(f),
             Msg::Advance(w) => {
                 let r = self.advance(w);
                 *lock(&self.shared.reached) = Some(r);
-                self.applied += 1;
-                return;
             }
-            Msg::Shutdown => {
-                self.quit = true;
-                self.applied += 1;
-                return;
-            }
-        };
-        self.apply_op(op);
+            Msg::Shutdown => self.quit = true,
+        }
         self.applied += 1;
     }
 
-    /// A command addressed to channel `ch` (None: all). A streaming kernel's one channel is
-    /// channel 0, told through its step queue in real time.
+    /// START of the centre's machine (a streaming kernel): resumes a run, or begins a new one
+    /// whose blocks `make` gives from the machine's actual state.
+    fn start(&mut self, kind: RunKind, make: Option<MakeRun>) {
+        let op = Op::Cmd(Command::Start(kind));
+        let m = self.k.first_mut();
+        if !m.start_begins_run(kind) {
+            let _ = self.apply_op(op);
+            return;
+        }
+        match make {
+            Some(make) => self.buffer.load(make, m.machine_state()),
+            None => self.buffer.clear(),
+        }
+        // Priming: the run takes no block before the buffer is full or the source is done, so
+        // an error found by then refuses the whole run. Real time waits at most PRIMING so a
+        // slow source cannot hold up the core; the machine then waits at its first block
+        // instead.
+        let patience = self.rt.is_some().then_some(PRIMING);
+        self.buffer.wait_primed(patience);
+        let _ = self.apply_op(op);
+        if let Some(e) = self.buffer.take_early_error() {
+            self.k.first_mut().refuse_run(e);
+        }
+    }
+
+    /// A command addressed to channel `ch` (None: all). E-STOP is machine-wide whatever the
+    /// channel named, and stops the pulses at the wall clock's instant in real time (the step
+    /// queue). The centre's streaming kernel has one channel, 0, told the centre's commands
+    /// (RESET abandons B1; a START that begins a run needs its source: `start`); a lathe's are
+    /// told by the kernel's rules (`Kernel::command_to`).
     fn channel_command(&mut self, ch: Option<usize>, c: Command) -> Result<(), String> {
-        let estop = c == Command::EStop;
-        let r = if !self.k.streams() {
-            let k = &mut self.k;
-            match c {
-                Command::EStop => {
-                    k.estop();
-                    Ok(())
+        if c == Command::EStop {
+            self.buffer.clear();
+            let at = match &mut self.rt {
+                Some(rt) => rt.estop(&mut self.k),
+                None => {
+                    self.k.estop();
+                    self.k.now()
                 }
-                Command::Start(kind) => k.start_as(ch, kind),
-                Command::Stop => k.stop(ch),
-                Command::Reset => k.reset(ch),
-                c => match ch {
-                    Some(i) => k.command(i, c),
-                    None => (0..k.channels()).try_for_each(|i| k.command(i, c.clone())),
-                },
+            };
+            *lock(&self.shared.estop_at) = Some(at);
+            // What the machines made past that instant was never output.
+            for l in lock(&self.shared.pulses).iter_mut() {
+                l.retain(|p| p.t_ns <= at);
             }
-        } else {
-            match ch {
-                // E-STOP is machine-wide, whatever the channel named.
-                _ if estop => {
-                    self.handle(Msg::Cmd(c));
-                    self.applied -= 1;
-                    Ok(())
+            return Ok(());
+        }
+        if !self.k.streams() {
+            return self.apply_op(Op::Chan(ch, c));
+        }
+        if let Some(i) = ch.filter(|&i| i > 0) {
+            return Err(format!("CH{}: the machine has 1 channel", i + 1));
+        }
+        match c {
+            Command::Start(kind) => self.start(kind, None),
+            c => {
+                if matches!(c, Command::Reset | Command::Abandon) {
+                    self.buffer.clear();
                 }
-                Some(0) | None => {
-                    // The streaming channel's own path (a START resumes; a new run needs its
-                    // source, `start`); `handle` counts a message, this one is counted by
-                    // its caller.
-                    let msg = match c {
-                        Command::Start(kind) => Msg::Start(kind, None),
-                        c => Msg::Cmd(c),
-                    };
-                    self.handle(msg);
-                    self.applied -= 1;
-                    Ok(())
-                }
-                Some(i) => Err(format!("CH{}: the machine has 1 channel", i + 1)),
+                let _ = self.apply_op(Op::Cmd(c));
             }
-        };
-        if estop {
-            *lock(&self.shared.estop_at) = Some(self.k.now());
+        }
+        Ok(())
+    }
+
+    /// Applies `op` to the kernel (`realtime::apply`), logged in the step queue for a
+    /// rollback in real time. Its refusal.
+    fn apply_op(&mut self, op: Op) -> Result<(), String> {
+        let r = apply(&mut self.k, &op);
+        if let Some(rt) = &mut self.rt {
+            rt.applied(op);
         }
         r
     }
 
+    /// A change the step queue cannot replay (a cycle loaded, a program read again).
+    fn barrier(&mut self) {
+        if let Some(rt) = &mut self.rt {
+            rt.barrier();
+        }
+    }
+
     /// Moves the kernel's events, the captured pulses and the audit to the shared logs.
     fn drain_pulses(&mut self) {
-        let a = self.k.first_mut().take_audit();
+        let k = &mut self.k;
+        let a = k.first_mut().take_audit();
         if !a.is_empty() {
             lock(&self.shared.audit).extend(a);
         }
-        let k = &mut self.k;
         let ev = k.take_events();
-        if let Some(s) = &self.sink {
-            for e in &ev {
-                let ch = e.channel();
-                let work = match e {
-                    KernelEvent::CutStart { work, .. } => {
-                        if let Some(w) = self.last_work.get_mut(ch) {
-                            *w = *work;
+        // A lathe's events: the centre's machine records its own, and says its alarms on the
+        // console.
+        if !ev.is_empty() && !k.streams() {
+            let sink = self.rt.as_ref().map_or(self.sink.as_ref(), StepQueue::sink);
+            if let Some(s) = sink {
+                for e in &ev {
+                    let ch = e.channel();
+                    let work = match e {
+                        KernelEvent::CutStart { work, .. } => {
+                            if let Some(w) = self.last_work.get_mut(ch) {
+                                *w = *work;
+                            }
+                            *work
                         }
-                        *work
+                        _ => self.last_work.get(ch).copied().flatten(),
+                    };
+                    if let Some(r) = e.record(work) {
+                        super::pulse_out::emit(s, r, &self.lossless);
                     }
-                    _ => self.last_work.get(ch).copied().flatten(),
-                };
-                if let Some(r) = e.record(work) {
-                    super::pulse_out::emit(s, r, &self.lossless);
                 }
             }
-        }
-        if !ev.is_empty() {
             lock(&self.shared.events).extend(ev);
-        }
-        if !self.capture || k.streams() {
-            return;
         }
         let mut log = lock(&self.shared.pulses);
         for i in 0..k.channels() {
             if let (Some(m), Some(l)) = (k.machine_mut(i), log.get_mut(i)) {
-                l.extend(m.take_pulses());
-            }
-        }
-    }
-
-    /// Applies `op` to channel 0's machine (through the step queue in real time), the panel's
-    /// mode names to every channel's.
-    fn apply_op(&mut self, op: Op) {
-        match &mut self.rt {
-            Some(rt) if matches!(op, Op::Cmd(Command::EStop)) => rt.estop(self.k.first_mut()),
-            Some(rt) => {
-                apply(self.k.first_mut(), &op);
-                rt.applied(op);
-            }
-            None if matches!(op, Op::Modes(..)) => {
-                for i in 0..self.k.channels() {
-                    if let Some(m) = self.k.machine_mut(i) {
-                        apply(m, &op);
-                    }
+                if m.captures() {
+                    l.extend(m.take_pulses());
                 }
             }
-            None => apply(self.k.first_mut(), &op),
         }
     }
 
@@ -993,7 +902,7 @@ impl Runner {
 
     fn publish(&mut self) {
         self.published = Instant::now();
-        if self.rt.is_some() || !self.k.streams() {
+        if self.rt.is_some() {
             lock(&self.shared.rt).published += 1;
         }
         self.drain_pulses();
@@ -1014,15 +923,16 @@ impl Runner {
             ClockMode::Virtual => self.run_virtual(),
             ClockMode::RealTime => self.run_realtime(),
         }
-        if let Some(rt) = &mut self.rt {
-            rt.release_all();
-        }
         // Every pulse made is in the recording when the thread ends (in real time a moving
         // axis's batch fills across slices).
         for i in 0..self.k.channels() {
             if let Some(m) = self.k.machine_mut(i) {
                 m.flush_recording();
             }
+        }
+        self.drain_pulses();
+        if let Some(rt) = &mut self.rt {
+            rt.release_all();
         }
         self.publish();
     }
@@ -1049,28 +959,29 @@ impl Runner {
         }
     }
 
+    /// Real time: each NCBR slice of the kernel is generated when the wall clock is one tick
+    /// short of its start, through the step queue (which releases what it made on the wall
+    /// clock and rolls an E-STOP back to its instant). A lathe at rest runs whole
+    /// `KERNEL_IDLE_STEP`s and sleeps between: no tick has anything to be on time for.
     fn run_realtime(&mut self) {
         let period = self.k.first().settings().ncbr_period_ns.max(1);
+        let idle_ticks = (KERNEL_IDLE_STEP.as_nanos() as u64 / period).max(1);
         loop {
             if !self.drain() {
                 return;
             }
-            let slice_start = match &mut self.rt {
-                Some(rt) => {
-                    rt.release();
-                    rt.wall_of(self.k.now())
-                }
-                None => self.epoch + Duration::from_nanos(self.k.now()),
+            let Some(rt) = &mut self.rt else {
+                return;
             };
+            rt.release();
+            let slice_start = rt.wall_of(self.k.now());
             let gen_at = slice_start
                 .checked_sub(Duration::from_nanos(period))
                 .unwrap_or(slice_start);
             let now = Instant::now();
-            // A kernel of N channels with nothing going on runs a whole `KERNEL_IDLE_STEP` at
-            // a time (below) and sleeps between: no tick has anything to be on time for.
             // Asked once a tick: a nap goes round the loop again, so it still holds below.
             let idle = !self.k.progressing();
-            let at_rest = self.rt.is_none() && idle;
+            let at_rest = idle && !self.k.streams();
             if now < gen_at {
                 // wake at least every millisecond to release queued events on time
                 let most = match at_rest {
@@ -1083,27 +994,14 @@ impl Runner {
                 }
                 continue;
             }
-            let moving = !idle;
-            match &mut self.rt {
-                Some(rt) => rt.slice(self.k.first_mut(), &self.buffer),
-                None => {
-                    // One NCBR tick of every channel; an E-STOP read by `drain` before the
-                    // next one acts at the kernel's time, in the same tick on every channel.
-                    // At rest, a whole idle step of ticks in one call (each channel's machine
-                    // runs them as in virtual time).
-                    let k = &mut self.k;
-                    let ticks = match at_rest {
-                        true => (KERNEL_IDLE_STEP.as_nanos() as u64 / period).max(1),
-                        false => 1,
-                    };
-                    k.advance_to(k.now().saturating_add(period * ticks));
-                    self.drain_pulses();
-                }
-            }
+            // One NCBR tick of every channel; an E-STOP read by `drain` before the next one
+            // acts at its instant, in the same tick on every channel. At rest, a whole idle
+            // step of ticks in one call (each channel's machine runs them as in virtual time).
+            rt.slice(&mut self.k, if at_rest { idle_ticks } else { 1 });
+            self.drain_pulses();
             let done = Instant::now();
-            let publish = self.rt.is_some() || done - self.published >= KERNEL_PUBLISH;
             lock(&self.shared.rt).slices += 1;
-            if moving {
+            if !idle {
                 let late = if done >= slice_start {
                     (done - slice_start).as_nanos() as i64
                 } else {
@@ -1117,7 +1015,7 @@ impl Runner {
                     st.lateness_ns.push(late);
                 }
             }
-            if publish {
+            if done - self.published >= KERNEL_PUBLISH {
                 self.publish();
             }
         }

@@ -166,13 +166,17 @@ impl BlockSource for VecSource {
 /// whole, run once per work (a lathe channel's), or B1 as the translator thread fills it (the
 /// machining centre's one channel, whose program is translated while it runs). A copy of a
 /// stream reads the same B1: the kernel never copies a streaming channel to look ahead with
-/// (`Kernel::run_until` runs it alone).
+/// (`Kernel::run_until` runs it alone), and the real-time step queue, which keeps copies to
+/// roll an E-STOP back to, gives a copy what the stream handed out instead ([`Self::replay`]).
 #[derive(Clone, Debug)]
 pub enum ChannelSource {
     /// The program read whole, read again from its first block at each work.
     Program(VecSource),
-    /// B1, filled by the translator thread from the machine's state at the START of each run.
-    Stream(Arc<BlockBuffer>),
+    /// B1, filled by the translator thread from the machine's state at the START of each run;
+    /// with a log, what it has handed out since the log was last taken.
+    Stream(Arc<BlockBuffer>, Option<Vec<Fetch>>),
+    /// What a stream handed out, read again (then `Pending`), before the stream goes on.
+    Replay(std::collections::VecDeque<Fetch>, Arc<BlockBuffer>),
 }
 
 impl ChannelSource {
@@ -181,7 +185,41 @@ impl ChannelSource {
     pub fn rewind(&mut self) {
         match self {
             ChannelSource::Program(v) => v.rewind(),
-            ChannelSource::Stream(b) => b.clear(),
+            ChannelSource::Stream(b, _) | ChannelSource::Replay(_, b) => b.clear(),
+        }
+    }
+
+    /// Whether it is B1, streamed (or read again).
+    pub fn streams(&self) -> bool {
+        !matches!(self, ChannelSource::Program(_))
+    }
+
+    /// A stream logs what it hands out from now on (off: forgets it).
+    pub fn log(&mut self, on: bool) {
+        if let ChannelSource::Stream(_, log) = self {
+            *log = on.then(Vec::new);
+        }
+    }
+
+    /// What a logging stream has handed out since the last call.
+    pub fn take_log(&mut self) -> Vec<Fetch> {
+        match self {
+            ChannelSource::Stream(_, Some(log)) => std::mem::take(log),
+            _ => Vec::new(),
+        }
+    }
+
+    /// A stream hands out `fetched` again, then `Pending`, until [`Self::resume`].
+    pub fn replay(&mut self, fetched: Vec<Fetch>) {
+        if let ChannelSource::Stream(b, _) | ChannelSource::Replay(_, b) = self {
+            *self = ChannelSource::Replay(fetched.into(), b.clone());
+        }
+    }
+
+    /// A stream read again reads B1 again, logging.
+    pub fn resume(&mut self) {
+        if let ChannelSource::Replay(_, b) = self {
+            *self = ChannelSource::Stream(b.clone(), Some(Vec::new()));
         }
     }
 }
@@ -190,14 +228,23 @@ impl BlockSource for ChannelSource {
     fn fetch(&mut self) -> Fetch {
         match self {
             ChannelSource::Program(v) => v.fetch(),
-            ChannelSource::Stream(b) => (&mut &**b).fetch(),
+            ChannelSource::Stream(b, log) => {
+                let f = (&mut &**b).fetch();
+                if let Some(l) = log {
+                    l.push(f.clone());
+                }
+                f
+            }
+            ChannelSource::Replay(q, _) => q.pop_front().unwrap_or(Fetch::Pending),
         }
     }
 
     fn answer(&mut self, a: super::block_buffer::Answer) {
         match self {
             ChannelSource::Program(v) => v.answer(a),
-            ChannelSource::Stream(b) => (&mut &**b).answer(a),
+            ChannelSource::Stream(b, _) => (&mut &**b).answer(a),
+            // A block read again was answered the first time.
+            ChannelSource::Replay(..) => {}
         }
     }
 }

@@ -714,6 +714,22 @@ impl Machine {
         self.last_state = None;
     }
 
+    /// Whether the pulses are captured for `take_pulses`.
+    pub fn captures(&self) -> bool {
+        self.out.captures()
+    }
+
+    /// Whether block ends are logged for `take_audit`.
+    pub fn audits(&self) -> bool {
+        self.audit.is_some()
+    }
+
+    /// Captures the pulses for `take_pulses` (off: stops and forgets them), the recording
+    /// kept as it is.
+    pub fn set_capture(&mut self, on: bool) {
+        self.out.set_log(self.events.clone(), on);
+    }
+
     /// Lossless recording: wait for room in the recorder's queue rather than drop an event.
     /// Only for virtual time, where machine time does not follow the wall clock.
     pub fn set_lossless_recording(&mut self, on: bool) {
@@ -996,12 +1012,16 @@ impl Machine {
 
     /// Runs exactly one NCBR tick from the current (tick-aligned) time.
     pub fn tick(&mut self, src: &mut dyn BlockSource) {
-        let t = if self.now >= self.next_tick {
+        self.advance_to(self.next_tick_end(), src);
+    }
+
+    /// Where the NCBR tick under way, or the next one from now, ends.
+    pub fn next_tick_end(&self) -> u64 {
+        if self.now >= self.next_tick {
             self.now + self.period()
         } else {
             self.next_tick
-        };
-        self.advance_to(t, src);
+        }
     }
 
     /// Runs until the machine is idle (or `max_ns` of machine time has passed, or it stalls at
