@@ -153,6 +153,14 @@ fn emergency_stop_refuses_start_until_reset() {
     c.handle(E::EStop);
     c.wait_idle();
     assert!(c.view().lamps.estop);
+    // The program's header does not invite the START it would refuse (stop 47; it said
+    // `TABLEB: press START` under the E-STOP alarm).
+    let header = |c: &Console| c.frame_text().lines().next().unwrap_or("").to_string();
+    assert!(
+        header(&c).contains("RESET, then START"),
+        "{}",
+        c.frame_text()
+    );
     c.handle(E::Start);
     c.wait_idle();
     assert_eq!(c.status().blocks_done, 0);
@@ -164,6 +172,7 @@ fn emergency_stop_refuses_start_until_reset() {
     c.handle(E::Reset);
     c.wait_idle();
     assert!(!c.view().lamps.estop);
+    assert!(header(&c).contains("press START"), "{}", c.frame_text());
     c.handle(E::Start);
     c.wait_idle();
     assert!(c.status().blocks_done > 50, "{}", c.status().blocks_done);

@@ -332,10 +332,15 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     if let Some(j) = job {
         p.header = format!("{} run loaded: RESET to run {}", j.kind.name(), page.name());
     }
+    // After an E-STOP, START is refused until RESET: the header does not invite it.
+    let go = match c.status.estop {
+        true => "RESET, then START",
+        false => "press START",
+    };
     match page {
         RunKind::Mdi => {
             if job.is_none() {
-                p.header = "MDI buffer: press START".into();
+                p.header = format!("MDI buffer: {go}");
             }
             if c.mem.is_blank(Target::Mdi) {
                 p.body.push("(MDI: nothing to run)".into());
@@ -353,7 +358,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             match &c.search {
                 Some(sp) => {
                     if job.is_none() {
-                        p.header = format!("{name} from line {}: press START", sp.line);
+                        p.header = format!("{name} from line {}: {go}", sp.line);
                     }
                     skip = sp.line.saturating_sub(1) as usize;
                     if let Some(Ok(plan)) = &c.plan_shown {
@@ -372,7 +377,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 }
                 None => {
                     if job.is_none() {
-                        p.header = format!("{name}: press START");
+                        p.header = format!("{name}: {go}");
                     }
                 }
             }
