@@ -1585,3 +1585,85 @@ fn a_real_time_estop_stops_every_channel_at_its_instant_with_every_recorded_puls
         );
     }
 }
+
+#[test]
+fn real_time_random_commands_keep_what_is_recorded_where_the_axes_are() {
+    // Operator commands at random moments on the Citizen in real time, E-STOPs among them,
+    // each rolled back to its instant by the step queue with the commands since replayed:
+    // for every channel and axis, the pulses recorded add up to where the axis stands.
+    use novanc::record::{Event, EventSink};
+    use std::time::Duration;
+    let desc = LatheDesc::citizen();
+    let progs = citizen_programs(&desc);
+    let mut k = kernel(&desc, &progs, 5);
+    k.start(None).expect("START");
+    let start: Vec<[i64; 3]> = (0..3)
+        .map(|ch| k.machine(ch).expect("channel").status().machine_pos.xyz())
+        .collect();
+    let (tx, rx) = std::sync::mpsc::sync_channel(1 << 22);
+    let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, Some(EventSink::new(tx)));
+    let seed = std::env::var("NOVANC_RT_SEED").map_or(47, |s| s.parse().unwrap_or(47));
+    let mut rng = Rng::new(seed);
+    let mut estops = 0;
+    for _ in 0..60 {
+        let ch = if rng.chance(0.5) {
+            None
+        } else {
+            Some(rng.below(3))
+        };
+        let c = match rng.below(10) {
+            0 => Command::EStop,
+            1 | 2 => {
+                let _ = core.channel_command(ch, Command::Reset);
+                Command::Start(RunKind::Auto)
+            }
+            3 | 4 => Command::Start(RunKind::Auto),
+            5 => Command::Stop,
+            6 => Command::Override(rng.below(151) as u32),
+            7 => Command::SingleBlock(rng.chance(0.5)),
+            8 => Command::MachineLock(rng.chance(0.3)),
+            // A command just before an E-STOP: replayed on the copy rolled forward.
+            9 if rng.chance(0.5) => {
+                let _ = core.channel_command(ch, Command::Override(rng.below(151) as u32));
+                Command::EStop
+            }
+            _ => Command::Increment {
+                axis: *rng.pick(&[0usize, 2]),
+                pulses: rng.range(-2000, 2000),
+            },
+        };
+        estops += usize::from(c == Command::EStop);
+        // Refusals (START in E-STOP, a move while running) are part of the sequence.
+        let _ = core.channel_command(ch, c);
+        std::thread::sleep(Duration::from_millis(rng.below(60) as u64));
+    }
+    core.channel_command(None, Command::EStop).expect("E-STOP");
+    std::thread::sleep(Duration::from_millis(50));
+    let chans = core.channels();
+    drop(core);
+    assert!(estops > 0, "an E-STOP in the sequence");
+    let mut net = [[0i64; 3]; 3];
+    let mut moved = 0;
+    for e in rx.try_iter() {
+        if let Event::OnChannel { channel, ev } = e {
+            if let Event::Pulses { axis, dir, t_ns } = *ev {
+                net[usize::from(channel) - 1][usize::from(axis)] +=
+                    i64::from(dir) * t_ns.len() as i64;
+                moved += t_ns.len();
+            }
+        }
+    }
+    assert!(moved > 0, "something moved");
+    for (ch, c) in chans.iter().enumerate() {
+        // Where the axes stand (the program's position leaves them under MACHINE LOCK).
+        let pos = c.status.machine_pos.xyz();
+        for axis in [0, 2] {
+            assert_eq!(
+                start[ch][axis] + net[ch][axis],
+                pos[axis],
+                "CH{} axis {axis}: recorded pulses against the axis",
+                ch + 1
+            );
+        }
+    }
+}
