@@ -1006,6 +1006,14 @@ fn random_operator_sequences_keep_the_invariants() {
 
 /// The Citizen's programs (`programs/citizen/system{1,2,3}.ngc`) read by the lathe G-code
 /// reader.
+/// The Citizen's kernel with its programs to 5 parts, START given: the real-time tests' machine.
+fn citizen_started() -> Kernel {
+    let desc = LatheDesc::citizen();
+    let mut k = kernel(&desc, &citizen_programs(&desc), 5);
+    k.start(None).expect("START");
+    k
+}
+
 fn citizen_programs(desc: &LatheDesc) -> Vec<Vec<Statement>> {
     novanc::lathe::testkit::citizen_programs(desc).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -1248,10 +1256,7 @@ fn the_pulse_core_runs_a_kernel_with_commands_addressed_to_a_channel() {
 /// the machine time the thread applied the E-STOP at, and the kernel's clock went on.
 #[test]
 fn estop_acts_from_the_kernel_thread_with_a_frozen_front_end() {
-    let desc = LatheDesc::citizen();
-    let progs = citizen_programs(&desc);
-    let mut k = kernel(&desc, &progs, 5);
-    k.start(None).expect("START");
+    let mut k = citizen_started();
     until(&mut k, |k| {
         (0..3).all(|ch| k.machine(ch).is_some_and(|m| m.status().moving))
     });
@@ -1536,10 +1541,7 @@ fn a_real_time_estop_stops_every_channel_at_its_instant_with_every_recorded_puls
     // pulse from that instant on, and every pulse recorded is one its counters hold.
     use novanc::record::{Event, EventSink};
     use std::time::{Duration, Instant};
-    let desc = LatheDesc::citizen();
-    let progs = citizen_programs(&desc);
-    let mut k = kernel(&desc, &progs, 5);
-    k.start(None).expect("START");
+    let k = citizen_started();
     let (tx, rx) = std::sync::mpsc::sync_channel(1 << 20);
     let core = PulseCore::spawn_kernel(k, ClockMode::RealTime, Some(EventSink::new(tx)));
     let patience = Instant::now() + Duration::from_secs(20);
@@ -1593,10 +1595,7 @@ fn real_time_random_commands_keep_what_is_recorded_where_the_axes_are() {
     // for every channel and axis, the pulses recorded add up to where the axis stands.
     use novanc::record::{Event, EventSink};
     use std::time::Duration;
-    let desc = LatheDesc::citizen();
-    let progs = citizen_programs(&desc);
-    let mut k = kernel(&desc, &progs, 5);
-    k.start(None).expect("START");
+    let k = citizen_started();
     let start: Vec<[i64; 3]> = (0..3)
         .map(|ch| k.machine(ch).expect("channel").status().machine_pos.xyz())
         .collect();
