@@ -179,6 +179,27 @@ fn emergency_stop_refuses_start_until_reset() {
 }
 
 #[test]
+fn an_estop_during_a_run_says_the_line_it_stopped_in_until_reset() {
+    let mut c = open("estop-line");
+    c.handle(E::Op(OpMode::Auto));
+    c.handle(E::Start);
+    c.handle(E::WaitMs(8000));
+    let line = c.status().executing.as_ref().map_or(0, |e| e.stmt.line);
+    assert!(line > 1, "a block after the first runs: {line}");
+    c.handle(E::EStop);
+    c.wait_idle();
+    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    assert!(
+        first.ends_with(&format!("E-STOP in line {line}: RESET first")),
+        "{first}"
+    );
+    c.handle(E::Reset);
+    c.wait_idle();
+    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    assert!(first.ends_with(": press START"), "{first}");
+}
+
+#[test]
 fn single_block_runs_one_block_per_start() {
     let mut c = open("single");
     c.handle(E::Op(OpMode::Single));

@@ -160,6 +160,29 @@ fn estop_with_no_cycle_loaded_holds_until_reset() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn after_an_estop_each_channels_listing_stays_at_the_block_it_stopped_in_until_reset() {
+    // Before stop 47 the pointer went to the program's start at the E-STOP, as if RESET had
+    // been pressed, while the tools stood where the cut stopped.
+    let dir = common::temp_dir("lathe-estop-line");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Start);
+    c.run_for(6_000_000_000, RunUntil::Time, || false);
+    let before: Vec<u32> = c.view().channels.iter().map(|v| v.line).collect();
+    assert!(before[0] > 0, "CH1 is in a block: {before:?}");
+    c.handle(PanelEvent::EStop);
+    let stopped: Vec<u32> = c.view().channels.iter().map(|v| v.line).collect();
+    assert_eq!(stopped[0], before[0], "CH1's listing where it stopped");
+    assert!(c.view().display.iter().any(|l| l.starts_with('>')));
+    c.handle(PanelEvent::Reset);
+    let reset: Vec<u32> = c.view().channels.iter().map(|v| v.line).collect();
+    assert!(
+        reset[0] < before[0],
+        "RESET: back to the start: {reset:?} {before:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// HANDLE: each detent of the handwheel moves the selected channel's tool post one increment
 /// on the wheel's axis (a jog key turns it on its own axis); the wheel is refused, and moves
 /// nothing, in another mode.

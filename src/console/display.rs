@@ -332,10 +332,12 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     if let Some(j) = job {
         p.header = format!("{} run loaded: RESET to run {}", j.kind.name(), page.name());
     }
-    // After an E-STOP, START is refused until RESET: the header does not invite it.
-    let go = match c.status.estop {
-        true => "RESET, then START",
-        false => "press START",
+    // After an E-STOP, START is refused until RESET: the header does not invite it, and
+    // says the line the E-STOP stopped the run in.
+    let go = match (c.status.estop, c.status.estop_line) {
+        (false, _) => "press START".to_string(),
+        (true, 0) => "RESET, then START".to_string(),
+        (true, line) => format!("E-STOP in line {line}: RESET first"),
     };
     match page {
         RunKind::Mdi => {

@@ -1030,13 +1030,16 @@ impl Cycle {
                 }
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
                 if v.line == 0 && st.run == 0 && !st.program_end {
-                    // An alarm stops the channel at its block, and the listing stays there
-                    // until RESET; not begun, or RESET: the pointer at the program's start.
+                    // An alarm or an E-STOP stops the channel at its block, and the listing
+                    // stays there until RESET (an E-STOP's before stop 47 went to the
+                    // program's start at once); not begun, or RESET: the pointer at the
+                    // program's start.
                     v.line = st
                         .alarm
                         .as_deref()
                         .map(crate::record::foxglove::alarm_line)
                         .filter(|&l| l > 0)
+                        .or(Some(st.estop_line).filter(|&l| l > 0))
                         .unwrap_or_else(|| self.first.get(ch).copied().unwrap_or(0));
                 }
                 v.text = self

@@ -65,6 +65,7 @@ impl Machine {
                 // lock").
                 self.out.unshift();
                 self.estop = false;
+                self.estop_line = 0;
                 self.alarm = None;
                 self.notice = None;
             }
@@ -77,7 +78,10 @@ impl Machine {
                 self.ret = None;
                 self.ret_queue.clear();
                 self.increments.clear();
-                if self.job.is_some() {
+                if let Some(j) = &self.job {
+                    if !self.estop {
+                        self.estop_line = j.last.as_ref().map_or(0, |e| e.stmt.line);
+                    }
                     self.end_run(EndCause::Abandoned);
                 }
                 self.run = 0;

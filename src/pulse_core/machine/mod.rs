@@ -296,6 +296,8 @@ pub struct Machine {
     run: u8,
     hold: bool,
     estop: bool,
+    /// The source line of the block an E-STOP abandoned its run in (0: none), until RESET.
+    estop_line: u32,
     alarm: Option<String>,
     notice: Option<String>,
     single_block: bool,
@@ -458,6 +460,7 @@ impl Machine {
             run: 0,
             hold: false,
             estop: false,
+            estop_line: 0,
             alarm: None,
             notice: None,
             single_block: false,
