@@ -547,7 +547,7 @@ impl Kernel {
         Ok(Kernel::of(chans, table))
     }
 
-    /// The machining centre's kernel: one channel, `settings`' machine, reading B1 as the
+    /// The machining centre's kernel: one channel, the machine `m`, reading B1 as the
     /// translator thread fills it (`buffer`), with no sync table and no part counter. Its
     /// source can be neither copied nor read again, so it runs alone as its machine
     /// ([`Kernel::run_until`], [`Kernel::run_to`]): time stands still while the translator
@@ -814,9 +814,9 @@ impl Kernel {
 
     /// Machine time, ns (every channel stands at it between calls).
     pub fn now(&self) -> u64 {
-        match self.chans.as_slice() {
-            [c] if c.src.streams() => c.m.now(),
-            _ => self.now,
+        match self.streams() {
+            true => self.first().now(),
+            false => self.now,
         }
     }
 
