@@ -306,6 +306,49 @@ fn the_plus_input_key_adds_on_a_page_and_never_turns_the_channel() {
 }
 
 #[test]
+fn tab_is_plus_input_on_a_page_with_a_value_typed_and_else_the_channel_selector_on_both_machines() {
+    // One rule (stop 47): before, a lathe's Tab turned the channel, and cleared the line
+    // typed, on every page but OFS and MACRO, and the centre's Tab was +INPUT on every page
+    // with nothing typed too.
+    let dir = common::temp_dir("lathe-tab-rule");
+    let mut c = open(&dir);
+    let mut m = common::open("centre-tab-rule");
+    // A lathe's MSG page with a value typed: +INPUT, refused there (no cells to add to), the
+    // line kept, the channel as it was.
+    c.press(Key::Ctrl('e'));
+    assert_eq!(c.page(), Page::Msg);
+    c.handle(PanelEvent::Key('5'));
+    c.press(Key::Tab);
+    assert_eq!(c.selected(), 0, "{}", c.message());
+    assert_eq!(c.entry(), "5", "{}", c.message());
+    // With nothing typed: the channel selector, on a page as on the mode display.
+    c.handle(PanelEvent::Rubout);
+    c.press(Key::Tab);
+    assert_eq!(c.selected(), 1, "{}", c.message());
+    // The centre's POS with a value typed: +INPUT, which POS takes as INPUT.
+    m.handle(PanelEvent::Press(Key::Ctrl('p')));
+    for k in "PARTS 3".chars() {
+        m.handle(PanelEvent::Key(k));
+    }
+    m.handle(PanelEvent::Press(Key::Tab));
+    assert_eq!(m.view().entry, "", "{}", m.message());
+    assert!(
+        m.message().to_lowercase().contains("parts 3"),
+        "{}",
+        m.message()
+    );
+    // With nothing typed, on a page: its one channel has no next; the key says so.
+    m.handle(PanelEvent::Press(Key::Ctrl('o')));
+    m.handle(PanelEvent::Press(Key::Tab));
+    assert!(
+        m.message().contains("key Tab does nothing"),
+        "{}",
+        m.message()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn pos_shows_the_tip_and_what_is_left_of_the_block() {
     let dir = common::temp_dir("lathe-pos");
     let mut c = open(&dir);

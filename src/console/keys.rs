@@ -320,13 +320,29 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
 /// the state after it shown. Whether `k` was one of them. Before stop 45 each console had its
 /// own.
 fn takes_first<C: Keyed>(c: &mut C, k: Key, action: &Action) -> bool {
-    let taken =
-        c.page_keys(k, action) || super::entry::cursor_key(c, k) || super::entry::recall_key(c, k);
+    let taken = tab_adds(c, k)
+        || c.page_keys(k, action)
+        || super::entry::cursor_key(c, k)
+        || super::entry::recall_key(c, k);
     if taken {
         c.record_key(k);
         c.refresh();
     }
     taken
+}
+
+/// The keyboard's Tab, one rule on every machine: with a page up and a value typed, +INPUT
+/// (`entry::plus_input`, the keypad's key: the value added to the cell under the cursor, or
+/// INPUT on a page without cells); otherwise the channel selector's next position, as Alt+c
+/// (a machine with one channel says the key does nothing). Whether `k` was Tab taken as
+/// +INPUT. Before stop 47 the centre took Tab as +INPUT on every page, typed or not, and a
+/// lathe only on OFS and MACRO, turning the channel (and clearing the line) on its other pages.
+fn tab_adds<C: Keyed>(c: &mut C, k: Key) -> bool {
+    if k != Key::Tab || c.page() == Page::Mode || c.front().entry.trim().is_empty() {
+        return false;
+    }
+    super::entry::plus_input(c);
+    true
 }
 
 /// One event of the panel grammar on a console, every console's one dispatch (issue 22: each

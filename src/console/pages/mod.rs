@@ -137,10 +137,11 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
             }
             true
         }
-        Key::Enter | Key::Tab => {
-            // INPUT (+INPUT): the one entry rule; a refused value stays on the entry line.
+        Key::Enter => {
+            // INPUT: the one entry rule; a refused value stays on the entry line. (Tab, +INPUT
+            // with a value typed, is the key pipeline's: `keys::tab_adds`.)
             let line = std::mem::take(&mut c.front.entry);
-            super::entry::enter(c, super::entry::To::Page(page), line, k == Key::Tab);
+            super::entry::enter(c, super::entry::To::Page(page), line, false);
             true
         }
         Key::Char(ch) => {

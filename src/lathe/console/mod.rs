@@ -507,18 +507,7 @@ impl LatheConsole {
                 }
                 return true;
             }
-            // +INPUT (the centre's Tab) on OFS or MACRO with a value typed; with nothing typed
-            // Tab turns the channel selector, as everywhere (the keypad's +INPUT key is
-            // `PanelEvent::PlusInput`, never Tab).
-            _ if k == Key::Tab
-                && matches!(self.page, Page::Ofs | Page::Macro)
-                && !self.front.entry.trim().is_empty() =>
-            {
-                let line = std::mem::take(&mut self.front.entry);
-                let to = crate::console::entry::To::Page(self.page);
-                crate::console::entry::enter(self, to, line, true);
-                return true;
-            }
+            // (Tab with a value typed on a page is +INPUT on every machine: `keys::tab_adds`.)
             _ => return false,
         };
         // The page key again leaves it (the centre's rule); the line being typed stays.
