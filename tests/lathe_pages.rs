@@ -325,6 +325,18 @@ fn tab_is_plus_input_on_a_page_with_a_value_typed_and_else_the_channel_selector_
     c.handle(PanelEvent::Rubout);
     c.press(Key::Tab);
     assert_eq!(c.selected(), 1, "{}", c.message());
+    // Off the pages, a line typed: the channel turns and the line stays, now the next
+    // channel's (before stop 47 the turn cleared it).
+    c.press(Key::Ctrl('e'));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    for k in "G0X1".chars() {
+        c.handle(PanelEvent::Key(k));
+    }
+    c.press(Key::Tab);
+    assert_eq!(c.selected(), 2, "{}", c.message());
+    assert_eq!(c.entry(), "G0X1");
+    c.press(Key::Enter);
+    assert_eq!(c.mdi_lines(2), ["G0X1"], "{}", c.message());
     // The centre's POS with a value typed: +INPUT, which POS takes as INPUT.
     m.handle(PanelEvent::Press(Key::Ctrl('p')));
     for k in "PARTS 3".chars() {

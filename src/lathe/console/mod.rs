@@ -654,7 +654,8 @@ impl LatheConsole {
         }
         self.sel = c;
         self.front.y_output = None;
-        self.front.entry.clear();
+        // The line being typed stays (nothing typed is lost): it is the next channel's now, as
+        // the display and the entry box say. Before stop 47 the turn cleared it.
         self.front.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
     }
 
