@@ -5,15 +5,10 @@
 mod common;
 
 use novanc::lathe::console::LatheConsole;
-use novanc::lathe::desc::LatheDesc;
 use novanc::panel_model::{OpMode, PanelEvent};
 use novanc_panel::Key;
 
-fn open(state: &std::path::Path) -> LatheConsole {
-    LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0
-}
+use common::open_citizen as open;
 
 /// CH1's spindle speed as the display shows it, rpm.
 fn rpm(c: &LatheConsole) -> f64 {

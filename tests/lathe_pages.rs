@@ -13,11 +13,7 @@ use novanc::panel_model::{OpMode, Page, PanelEvent};
 use novanc::store::history::Kind;
 use novanc_panel::Key;
 
-fn open(state: &std::path::Path) -> LatheConsole {
-    LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0
-}
+use common::open_citizen as open;
 
 /// The Citizen's console on `state`, recording to `state/name`, and the recording's path.
 fn open_recorded(state: &std::path::Path, name: &str) -> (LatheConsole, std::path::PathBuf) {
@@ -242,9 +238,7 @@ fn ofs_input_sets_the_cell_under_the_cursor_and_plus_input_adds_to_it() {
 /// Before stop 46 the lathe's keypad had no +INPUT, and its MACRO page took Tab as INPUT.
 #[test]
 fn the_plus_input_key_adds_on_a_page_and_never_turns_the_channel() {
-    let dir = common::temp_dir("lathe-plus-input");
-    let mut c = open(&dir);
-    let mut m = common::open("centre-plus-input");
+    let (dir, mut c, mut m) = common::both_machines("plus-input");
     c.press(Key::Ctrl('o'));
     c.handle(PanelEvent::PlusInput);
     assert_eq!(c.selected(), 0, "{}", c.message());
@@ -310,9 +304,7 @@ fn tab_is_plus_input_on_a_page_with_a_value_typed_and_else_the_channel_selector_
     // One rule (stop 47): before, a lathe's Tab turned the channel, and cleared the line
     // typed, on every page but OFS and MACRO, and the centre's Tab was +INPUT on every page
     // with nothing typed too.
-    let dir = common::temp_dir("lathe-tab-rule");
-    let mut c = open(&dir);
-    let mut m = common::open("centre-tab-rule");
+    let (dir, mut c, mut m) = common::both_machines("tab-rule");
     // A lathe's MSG page with a value typed: +INPUT, refused there (no cells to add to), the
     // line kept, the channel as it was.
     c.press(Key::Ctrl('e'));

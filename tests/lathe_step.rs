@@ -10,11 +10,7 @@ use novanc::lathe::desc::LatheDesc;
 use novanc::panel_model::{Axis, OpMode, PanelEvent};
 use novanc_panel::Key;
 
-fn open(state: &std::path::Path) -> LatheConsole {
-    LatheConsole::open(LatheDesc::citizen(), state, 20, 60, None)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .0
-}
+use common::open_citizen as open;
 
 /// The Citizen's console with its kernel in real time, as at a terminal.
 fn open_real_time(state: &std::path::Path) -> LatheConsole {
@@ -661,9 +657,7 @@ fn a_step_after_the_cycle_has_finished_moves_at_the_next_wait() {
 /// a lathe in CONTINUOUS under E-STOP said E-STOP's and the centre the selector's).
 #[test]
 fn start_is_refused_in_the_same_words_on_both_machines() {
-    let dir = common::temp_dir("lathe-start-words");
-    let mut c = open(&dir);
-    let mut m = common::open("centre-start-words");
+    let (dir, mut c, mut m) = common::both_machines("start-words");
     let mut said = Vec::new();
     for op in [OpMode::Auto, OpMode::Continuous, OpMode::Mdi, OpMode::Step] {
         c.handle(PanelEvent::EStop);
@@ -712,9 +706,7 @@ fn a_line_entered_in_auto_stays_for_target() {
 #[test]
 fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
     use novanc::panel_model::DataMode;
-    let dir = common::temp_dir("lathe-refused-line");
-    let mut c = open(&dir);
-    let mut m = common::open("centre-refused-line");
+    let (dir, mut c, mut m) = common::both_machines("refused-line");
     let lathe_line = |c: &LatheConsole| c.view().display.last().map(|l| l.trim_end().to_string());
     // An editor command line that fails: the program is unchanged, the line stays.
     m.handle(PanelEvent::Op(OpMode::Data));
@@ -807,9 +799,7 @@ fn a_refused_line_stays_on_the_entry_line_on_both_machines() {
 #[test]
 fn the_editor_cursor_keys_are_one_rule() {
     use novanc::panel_model::DataMode;
-    let dir = common::temp_dir("lathe-cursor-keys");
-    let mut c = open(&dir);
-    let mut m = common::open("centre-cursor-keys");
+    let (dir, mut c, mut m) = common::both_machines("cursor-keys");
     m.handle(PanelEvent::Op(OpMode::Data));
     m.handle(PanelEvent::Data(DataMode::Revise));
     c.handle(PanelEvent::Op(OpMode::Data));

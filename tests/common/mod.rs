@@ -103,6 +103,24 @@ pub fn open(name: &str) -> Console {
     c
 }
 
+/// The Citizen lathe's console on `state` (created or reopened), virtual time, 20×60, no
+/// recording: the lathe tests' machine.
+pub fn open_citizen(state: &Path) -> novanc::lathe::console::LatheConsole {
+    let desc = novanc::lathe::desc::LatheDesc::citizen();
+    novanc::lathe::console::LatheConsole::open(desc, state, 20, 60, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
+/// Both machines on fresh state directories, for a rule that is one on every machine: the
+/// Citizen's console on `lathe-NAME` (its directory, to remove) and the centre's on
+/// `centre-NAME`.
+pub fn both_machines(name: &str) -> (PathBuf, novanc::lathe::console::LatheConsole, Console) {
+    let dir = temp_dir(&format!("lathe-{name}"));
+    let c = open_citizen(&dir);
+    (dir, c, open(&format!("centre-{name}")))
+}
+
 /// The console on an existing state directory (a restart), virtual time.
 pub fn reopen(dir: &Path) -> Console {
     reopen_in(dir, novanc::settings::Dialect::LinuxCnc)
