@@ -193,10 +193,25 @@ fn an_estop_during_a_run_says_the_line_it_stopped_in_until_reset() {
         first.ends_with(&format!("E-STOP in line {line}: RESET first")),
         "{first}"
     );
+    // The listing stands at that line, marked, as a lathe channel's does: the one line
+    // marked is the program's line `line`.
+    let text = c.program_text();
+    let source = text.lines().nth(line as usize - 1).unwrap().to_string();
+    let frame = c.frame_text();
+    let marked: Vec<&str> = frame.lines().filter(|l| l.starts_with('>')).collect();
+    assert_eq!(marked.len(), 1, "{frame}");
+    assert!(source.starts_with(marked[0][1..].trim_end()), "{frame}");
+    // An MDI page does not show the AUTO run's line.
+    c.handle(E::Op(OpMode::Mdi));
+    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    assert!(first.ends_with("RESET, then START"), "{first}");
+    c.handle(E::Op(OpMode::Auto));
     c.handle(E::Reset);
     c.wait_idle();
-    let first = c.frame_text().lines().next().unwrap_or("").to_string();
+    let frame = c.frame_text();
+    let first = frame.lines().next().unwrap_or("").to_string();
     assert!(first.ends_with(": press START"), "{first}");
+    assert!(!frame.lines().any(|l| l.starts_with('>')), "{frame}");
 }
 
 #[test]

@@ -334,10 +334,28 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     }
     // After an E-STOP, START is refused until RESET: the header does not invite it, and
     // says the line the E-STOP stopped the run in.
-    let go = match (c.status.estop, c.status.estop_line) {
+    // The line of this page's run an E-STOP stopped in, listed marked until RESET (the
+    // lathe's channels keep theirs so too): before stop 48 the page went back to the top of
+    // the program while the axes stood where the run stopped.
+    let stopped = match c.status.estop_at {
+        Some((kind, line)) if kind == page && line > 0 && job.is_none() => Some(line as usize),
+        _ => None,
+    };
+    let go = match (c.status.estop, stopped) {
         (false, _) => "press START".to_string(),
-        (true, 0) => "RESET, then START".to_string(),
-        (true, line) => format!("E-STOP in line {line}: RESET first"),
+        (true, None) => "RESET, then START".to_string(),
+        (true, Some(line)) => format!("E-STOP in line {line}: RESET first"),
+    };
+    // `n` lines of `t` from its line `first` (0-based), or around the stopped line, marked.
+    let listing = |t: Target, first: usize, n: usize| -> Vec<String> {
+        let first = stopped.map_or(first, |l| (l - 1).saturating_sub(n / 2));
+        let lines = c.mem.lines(t, first, n);
+        (lines.iter().enumerate())
+            .map(|(i, l)| {
+                let mark = if stopped == Some(first + i + 1) { '>' } else { ' ' };
+                format!("{mark}{l}")
+            })
+            .collect()
     };
     match page {
         RunKind::Mdi => {
@@ -347,12 +365,7 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             if c.mem.is_blank(Target::Mdi) {
                 p.body.push("(MDI: nothing to run)".into());
             }
-            p.body.extend(
-                c.mem
-                    .lines(Target::Mdi, 0, n)
-                    .iter()
-                    .map(|l| format!(" {l}")),
-            );
+            p.body.extend(listing(Target::Mdi, 0, n));
         }
         RunKind::Auto => {
             let name = c.mem.program_name();
@@ -386,13 +399,12 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             if c.mem.is_blank(Target::Program) {
                 p.body.push("(AUTO: nothing to run)".into());
             }
+            if stopped.is_some() {
+                // The SEARCH point's restore plan gives way to where the run stopped.
+                p.body.clear();
+            }
             let left = n.saturating_sub(p.body.len());
-            p.body.extend(
-                c.mem
-                    .lines(Target::Program, skip, left)
-                    .iter()
-                    .map(|l| format!(" {l}")),
-            );
+            p.body.extend(listing(Target::Program, skip, left));
         }
     }
     p.lines()

@@ -274,9 +274,9 @@ pub struct Status {
     pub hold: bool,
     /// Emergency stop in force.
     pub estop: bool,
-    /// With an E-STOP in force that abandoned a run: the source line of the block the run was
-    /// in (0: none), shown until RESET.
-    pub estop_line: u32,
+    /// With an E-STOP in force that abandoned a run: that run's kind and the source line of the
+    /// block it was in (0: none), shown until RESET.
+    pub estop_at: Option<(RunKind, u32)>,
     /// A fault that needs RESET (e-stop, travel limit, arc geometry).
     pub alarm: Option<String>,
     /// Program positions, pulses, machine coordinates: where the program (and the screen)

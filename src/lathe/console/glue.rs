@@ -1039,7 +1039,7 @@ impl Cycle {
                         .as_deref()
                         .map(crate::record::foxglove::alarm_line)
                         .filter(|&l| l > 0)
-                        .or(Some(st.estop_line).filter(|&l| l > 0))
+                        .or(st.estop_at.map(|(_, l)| l).filter(|&l| l > 0))
                         .unwrap_or_else(|| self.first.get(ch).copied().unwrap_or(0));
                 }
                 v.text = self

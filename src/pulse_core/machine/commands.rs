@@ -65,7 +65,7 @@ impl Machine {
                 // lock").
                 self.out.unshift();
                 self.estop = false;
-                self.estop_line = 0;
+                self.estop_at = None;
                 self.alarm = None;
                 self.notice = None;
             }
@@ -80,7 +80,7 @@ impl Machine {
                 self.increments.clear();
                 if let Some(j) = &self.job {
                     if !self.estop {
-                        self.estop_line = j.last.as_ref().map_or(0, |e| e.stmt.line);
+                        self.estop_at = Some((j.kind, j.last.as_ref().map_or(0, |e| e.stmt.line)));
                     }
                     self.end_run(EndCause::Abandoned);
                 }

@@ -296,8 +296,9 @@ pub struct Machine {
     run: u8,
     hold: bool,
     estop: bool,
-    /// The source line of the block an E-STOP abandoned its run in (0: none), until RESET.
-    estop_line: u32,
+    /// The run an E-STOP abandoned and the source line of the block it was in (0: none), until
+    /// RESET.
+    estop_at: Option<(RunKind, u32)>,
     alarm: Option<String>,
     notice: Option<String>,
     single_block: bool,
@@ -460,7 +461,7 @@ impl Machine {
             run: 0,
             hold: false,
             estop: false,
-            estop_line: 0,
+            estop_at: None,
             alarm: None,
             notice: None,
             single_block: false,

@@ -223,7 +223,7 @@ impl Machine {
             run: self.run,
             hold: self.hold,
             estop: self.estop,
-            estop_line: self.estop_line,
+            estop_at: self.estop_at,
             alarm: self.alarm.clone(),
             pos: self.out.pos,
             machine_pos: self.out.machine_pos(),
