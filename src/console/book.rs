@@ -285,10 +285,9 @@ pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
 /// counts in the run hours.
 pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64) {
     let k = &mut c.book.counters;
-    k.run_ns = k.run_ns.saturating_add(machine_ns);
+    k.ran(machine_ns);
     if auto && done {
-        k.parts += 1;
-        k.last_cycle_ns = machine_ns;
+        k.made(machine_ns);
     }
     if c.saves_after_frame {
         // The terminal writes the frame first (the key's answer), then saves them.

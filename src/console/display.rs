@@ -352,7 +352,11 @@ fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         let lines = c.mem.lines(t, first, n);
         (lines.iter().enumerate())
             .map(|(i, l)| {
-                let mark = if stopped == Some(first + i + 1) { '>' } else { ' ' };
+                let mark = if stopped == Some(first + i + 1) {
+                    '>'
+                } else {
+                    ' '
+                };
                 format!("{mark}{l}")
             })
             .collect()

@@ -191,6 +191,27 @@ pub struct Counters {
 }
 
 impl Counters {
+    /// `ns` of machine time with a run under way, added to the run hours.
+    pub fn ran(&mut self, ns: u64) {
+        self.run_ns = self.run_ns.saturating_add(ns);
+    }
+
+    /// One part made, in a cycle of `cycle_ns` of machine time (at least 1: 0 means none).
+    pub fn made(&mut self, cycle_ns: u64) {
+        self.parts += 1;
+        self.last_cycle_ns = cycle_ns.max(1);
+    }
+
+    /// The last cycle and the run hours as every console's POS page shows them:
+    /// `CYCLE 12.345 s RUN 0.01 h`.
+    pub fn times(&self) -> String {
+        format!(
+            "CYCLE {:.3} s RUN {:.2} h",
+            self.last_cycle_ns as f64 * 1e-9,
+            self.run_ns as f64 / 3.6e12
+        )
+    }
+
     /// Reads the counters kept in `dir` (zero if there are none; a damaged file says so).
     pub fn open(dir: &Path) -> (Counters, Option<String>) {
         let path = dir.join(COUNTERS);

@@ -195,12 +195,8 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     } else {
         String::new()
     };
-    p.body.push(format!(
-        "PARTS {}{target} CYCLE {:.1} s RUN {:.2} h",
-        k.parts,
-        k.last_cycle_ns as f64 / 1e9,
-        k.run_ns as f64 / 3.6e12
-    ));
+    p.body
+        .push(format!("PARTS {}{target} {}", k.parts, k.times()));
     p.lines()
 }
 

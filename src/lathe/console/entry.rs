@@ -331,12 +331,7 @@ impl LatheConsole {
         // POS words): parts delivered in every batch, the last cycle, the run hours.
         let k = &self.book.counters;
         l.push(format!("PARTS {}/{}", c.parts, self.counter.target));
-        l.push(format!(
-            "TOTAL {} CYCLE {:.3} s RUN {:.2} h",
-            k.parts,
-            k.last_cycle_ns as f64 * 1e-9,
-            k.run_ns as f64 / 3.6e12
-        ));
+        l.push(format!("TOTAL {} {}", k.parts, k.times()));
         l
     }
 

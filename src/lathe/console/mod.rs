@@ -990,8 +990,7 @@ impl LatheConsole {
         let t = self.cycle.now_ns();
         if running {
             // The run hours: machine time with a cycle or an MDI run under way.
-            let k = &mut self.book.counters;
-            k.run_ns = k.run_ns.saturating_add(t.saturating_sub(self.now_ns));
+            self.book.counters.ran(t.saturating_sub(self.now_ns));
         }
         self.now_ns = t;
         self.after();
@@ -1032,9 +1031,7 @@ impl LatheConsole {
                 match e {
                     E::Part { ch, t, .. } if ch == self.desc.unloader && !c.mdi => {
                         let from = self.last_part_ns.unwrap_or(c.started_ns());
-                        let k = &mut self.book.counters;
-                        k.last_cycle_ns = t.saturating_sub(from).max(1);
-                        k.parts += 1;
+                        self.book.counters.made(t.saturating_sub(from));
                         self.last_part_ns = Some(t);
                         counted = true;
                     }
