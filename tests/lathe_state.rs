@@ -528,7 +528,9 @@ fn a_channel_outside_an_mdi_run_shows_what_its_machine_does() {
 /// A turret stands where its last program or MDI indexed it, and the screen says so from the
 /// start of the next run: before stop 41 each new run's machine began at `T00` while the
 /// reader went on applying the kept tool's offsets (the screen showed no tool with T03's
-/// offsets in force). RESET returns the reader to no tool, and the screen with it.
+/// offsets in force). RESET cancels the reader's offsets and leaves the turret where it is, as
+/// the centre's spindle keeps its tool: the screen goes on showing T03 (until stop 48 it
+/// showed `T00`, a turret that had not turned), MODAL `T0300`, and the next run starts there.
 #[test]
 fn the_tool_indexed_stays_on_the_screen_into_the_next_run() {
     let state = common::temp_dir("lathe-state-tool-kept");
@@ -544,7 +546,13 @@ fn the_tool_indexed_stays_on_the_screen_into_the_next_run() {
     assert_eq!(tool(&c), 3);
     c.handle(PanelEvent::Reset);
     assert_eq!(c.message(), "RESET: the cycle is cleared");
-    assert_eq!(tool(&c), 0, "RESET: the reader's power-on state, no tool");
+    assert_eq!(tool(&c), 3, "RESET does not turn the turret");
+    c.press(novanc_panel::Key::Ctrl('g'));
+    assert!(c.frame_text().contains("T0300"), "{}", c.frame_text());
+    c.press(novanc_panel::Key::Ctrl('g'));
+    assert_eq!(mdi_start(&mut c, &["G4 P1"]), "MDI CH1 runs");
+    c.tick(10_000_000);
+    assert_eq!(tool(&c), 3, "the next run starts where the turret stands");
 }
 
 /// The console's one kernel keeps a channel's alarm until RESET, as the centre's machine does

@@ -291,9 +291,15 @@ impl LatheConsole {
         } else {
             "M05"
         };
-        let tool = k.tool.map_or("T--".to_string(), |(t, on)| {
-            format!("T{t:02}{:02}", if on { t } else { 0 })
-        });
+        // The tool the reader keeps with its offset (`T0303`, `T0300` with the offset
+        // cancelled), or, with none kept (power-on, RESET), the turret's station and no
+        // offset: RESET cancels the offset and does not turn the turret.
+        let turret = (self.cycle.channels().get(ch)).and_then(|s| s.status.tool);
+        let tool = match (k.tool, turret) {
+            (Some((t, on)), _) => format!("T{t:02}{:02}", if on { t } else { 0 }),
+            (None, Some(t)) => format!("T{t:02}00"),
+            (None, None) => "T--".to_string(),
+        };
         l.extend(fill(&[&feed, &speed, spindle, &tool], cols));
         if m.origin != [0.0, 0.0] {
             l.push(format!(

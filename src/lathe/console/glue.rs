@@ -290,9 +290,12 @@ fn make_kernel(desc: &LatheDesc, spec: &KernelSpec, kept: &[Kept]) -> Result<Ker
             k.command(ch, Command::MachineLock(true))?;
         }
     }
-    // Each turret stands at the tool its reader keeps (every load sets it again).
+    // Each turret stands at the tool its reader keeps, if it keeps one (every load sets it
+    // again); else where it is.
     for (ch, kept) in kept.iter().enumerate().take(k.channels()) {
-        k.command(ch, Command::SetTool(kept.tool.map(|t| t.0)))?;
+        if let Some((t, _)) = kept.tool {
+            k.command(ch, Command::SetTool(Some(t)))?;
+        }
     }
     // One time base for a console's cycles (and its recording): the kernel's clock goes on
     // from the machine time given.
@@ -426,8 +429,11 @@ impl Cycle {
                         m.preset_spindle(0, 0, None, 0.0, (false, false));
                     }
                 }
-                // Each turret at the tool its reader keeps (RESET returns it to none).
-                k.command(ch, Command::SetTool(t))?;
+                // Each turret at the tool its reader keeps; after a RESET, which cancels the
+                // reader's offsets, where it stands (it does not turn at RESET).
+                if t.is_some() {
+                    k.command(ch, Command::SetTool(t))?;
+                }
                 k.command(ch, Command::SingleBlock(single))?;
             }
             Ok(())
@@ -780,19 +786,10 @@ impl Cycle {
     }
 
     /// RESET of channel `ch` (None: every channel) with nothing loaded: its spindle and
-    /// coolant stop, its alarm clears, and its turret stands at the tool `tools[ch]` (its
-    /// reader's, which RESET returns to none).
-    pub fn reset_channels(
-        &mut self,
-        ch: Option<usize>,
-        tools: Vec<Option<u32>>,
-    ) -> Result<(), String> {
+    /// coolant stop and its alarm clears. Its turret stays at the tool it is indexed to, as
+    /// the centre's spindle keeps its tool (the reader's offsets are what RESET cancels).
+    pub fn reset_channels(&mut self, ch: Option<usize>) -> Result<(), String> {
         let r = self.core.channel_command(ch, Command::Reset);
-        for (i, t) in tools.into_iter().enumerate() {
-            if ch.is_none_or(|c| c == i) {
-                let _ = self.core.channel_command(Some(i), Command::SetTool(t));
-            }
-        }
         self.refresh();
         r
     }

@@ -942,7 +942,7 @@ impl LatheConsole {
             // Nothing loaded: the channel's RESET (after an E-STOP, the machine's) stops its
             // spindle and coolant, and clears its MDI buffer.
             let ch = (!all).then_some(self.sel);
-            let _ = self.cycle.reset_channels(ch, self.kept_tools());
+            let _ = self.cycle.reset_channels(ch);
             // It says what it did, as the centre's RESET does (before stop 46 it said only
             // `RESET CH1`, after an E-STOP too, which released every channel).
             return match self.set_mdi(Vec::new()) {
@@ -962,11 +962,6 @@ impl LatheConsole {
             return "RESET: the cycle is cleared".into();
         }
         self.cycle.reset(self.sel)
-    }
-
-    /// Each channel's tool as its reader keeps it (the turret a load sets).
-    fn kept_tools(&self) -> Vec<Option<u32>> {
-        self.kept.iter().map(|k| k.tool.map(|t| t.0)).collect()
     }
 
     /// Virtual time: `w` is told every channel's state at every change of one of them, in
