@@ -1465,7 +1465,11 @@ impl Session {
         let stands_for_start = st.job.is_some() && st.run == 0 && !st.in_block && !st.moving;
         // Something moves by hand (or HOME's return) with no run loaded (stop 44).
         let by_hand = st.job.is_none() && (st.moving || !st.idle);
-        let checks: [(&str, bool); 9] = [
+        // The run page's header invites START only with the machine at rest and out of
+        // E-STOP (stop 48).
+        let at_rest = !st.moving && st.idle && !st.estop;
+        let checks: [(&str, bool); 10] = [
+            (": press START", at_rest || st.job.is_some()),
             ("JOG: an axis moves by hand", by_hand),
             ("HOME: reference return, Z first", by_hand),
             ("START: returning", false),
