@@ -160,7 +160,25 @@ fn cases() -> Vec<(&'static str, Want)> {
         ("G30", Acts(|r| moves(r, B::Rapid))),
         ("G30.1", Acts(|r| param(r, 5183) != 0.0)),
         ("G33 Z-20 K1", Refused("G33", "G33")),
-        ("G33.1 Z-20 K1", Refused("G33.1", "G33.1")),
+        // Rigid tapping (stop 48): in geared at K × S, the spindle reversed, out to where
+        // the tool stood, the spindle forward again, every block marked as a tap's.
+        (
+            "G33.1 Z-20 K1",
+            Acts(|r| {
+                let taps: Vec<_> = r
+                    .blocks
+                    .iter()
+                    .filter(|b| b.tap != novanc::block::Tap::No)
+                    .collect();
+                taps.len() == 6
+                    && taps[0].feed == 1000.0
+                    && taps[0].end[2] < taps[3].end[2]
+                    && taps[5].m == Some(3)
+                    && taps[5].tap == novanc::block::Tap::End
+                    && r.state.modal.motion == Motion::RigidTap
+            }),
+        ),
+        ("G33.1 Z-20 K0", Refused("K0", "G33.1 K0")),
         // Probing with nothing to touch: a move that ends without contact is refused
         // (G38.2, G38.4), one that may is a probe move (G38.3, G38.5).
         ("G38.2 Z-30", Refused("G38.2", "G38.2")),

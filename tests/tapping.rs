@@ -213,3 +213,50 @@ fn the_tap_feeds_at_pitch_times_rpm_through_a_hold() {
     assert_eq!(check_tap_feeds(&r, 375.0), 12, "{out}");
     assert!(out.contains("HOLD"), "the run held after the tap:\n{out}");
 }
+
+/// G33.1, LinuxCNC's rigid tap (issue 22: threading and rigid tapping geared to the spindle):
+/// in and out at K × S pulse by pulse at feed override 50 % and spindle override 80 %, the
+/// return at I × S when I is given, and the tool back where it started: each tap's feed out
+/// ends at the Z its feed in began from.
+#[test]
+fn g33_1_taps_at_pitch_times_rpm_and_ends_where_it_started() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z2\nG33.1 Z-16 K1.25\nG0 X180\nG33.1 Z-16 K1.25 I2\nG0 Z150\nM5\nM30\n";
+    let dir = common::temp_dir("tap-g33-1");
+    let file = dir.join("RIGID.NGC");
+    std::fs::write(&file, prog).unwrap();
+    let (r, out) = script(
+        "tap-g33-1-run",
+        &format!(
+            "override 50\nspindleoverride 80\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+            file.display()
+        ),
+    );
+    assert_eq!(
+        check_tap_feeds(&r, 375.0),
+        3,
+        "two taps in, the first out\n{out}"
+    );
+    assert_eq!(check_tap_feeds(&r, 750.0), 1, "the second out at I2\n{out}");
+    let z = |t: &str| -> String {
+        t.split_whitespace()
+            .find(|w| w.starts_with('Z'))
+            .unwrap_or_default()
+            .to_string()
+    };
+    let texts: Vec<&str> = r.blocks.iter().map(|b| b.1.as_str()).collect();
+    let taps: Vec<usize> = (0..texts.len())
+        .filter(|&i| texts[i].contains("G01 Z") && texts[i].ends_with("F375"))
+        .collect();
+    let (first_in, first_out) = (taps[0], taps[1]);
+    let approach = texts[..first_in]
+        .iter()
+        .rev()
+        .find(|t| t.contains('Z'))
+        .unwrap();
+    assert_eq!(z(texts[first_out]), z(approach), "{texts:?}");
+    assert!(
+        texts[first_in + 1..first_out].concat().contains("M04"),
+        "the spindle reversed in the hole: {texts:?}"
+    );
+    assert!(out.contains("RUN 0"), "{out}");
+}

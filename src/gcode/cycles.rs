@@ -468,3 +468,105 @@ pub fn cycle(
     }
     Ok(())
 }
+
+/// `G33.1 X Y Z K I`, LinuxCNC's rigid tapping: from where the tool stands, straight to the end
+/// point geared to the spindle at K per revolution (K × S per minute), the spindle reversed,
+/// straight back to the start geared the same (at I × S if I is given, LinuxCNC's faster
+/// return), and the spindle forward again at S. The blocks carry the tap's marks, as G84's do
+/// (docs/pulse-core.md "Tapping": the overrides held at 100 %, a feed hold kept until the tap
+/// is out, the feed geared to the encoder on a spindle that ramps). The tool ends where it
+/// started. A left-hand tap turns M04 in and M03 out. Refused under cutter compensation, in
+/// inverse time, with the spindle stopped or without S, with K not above 0 and I below 1.
+pub fn rigid_tap(
+    st: &mut InterpState,
+    comp_on: bool,
+    x: &mut Exec,
+    w: &Words,
+    col: u32,
+) -> Result<(), TranslateError> {
+    if comp_on {
+        return Err(x.err(
+            col,
+            "G33.1 cannot be used with cutter radius compensation on: G40 first",
+        ));
+    }
+    if st.modal.feed_mode == FeedMode::InverseTime {
+        return Err(x.err(
+            col,
+            "G33.1 cannot be used in inverse time feed (G93): the feed follows the spindle",
+        ));
+    }
+    if let Some(c) = w.col('A') {
+        return Err(x.err(c, "G33.1 taps along X, Y and Z: an A word cannot be tapped"));
+    }
+    let k = st.factor();
+    let pitch = match w.get('K') {
+        Some(v) if v > 0.0 && v.is_finite() => v * k,
+        Some(v) => {
+            return Err(x.err(
+                w.col('K').unwrap_or(col),
+                format!("G33.1 K{}: the pitch must be above 0", short_number(v)),
+            ))
+        }
+        None => return Err(x.err(col, "G33.1 needs K, the pitch")),
+    };
+    let faster = match w.get('I') {
+        Some(v) if v >= 1.0 && v.is_finite() => v,
+        Some(v) => {
+            return Err(x.err(
+                w.col('I').unwrap_or(col),
+                format!(
+                    "G33.1 I{}: the return's speed multiplier is 1 or more (LinuxCNC takes a smaller one as 1)",
+                    short_number(v)
+                ),
+            ))
+        }
+        None => 1.0,
+    };
+    let (fwd, back) =
+        match st.modal.spindle {
+            1 => (3, 4),
+            -1 => (4, 3),
+            _ => return Err(x.err(
+                col,
+                "G33.1 needs the spindle turning: M03 (right-hand tap) or M04 (left-hand) first",
+            )),
+        };
+    let s = st.modal.speed;
+    if s.is_nan() || s < 1.0 {
+        return Err(x.err(col, "G33.1 needs the spindle speed: give S, the tap's rpm"));
+    }
+    if !w.has_axis() {
+        return Err(x.err(col, "G33.1 needs the end of the tap: X, Y or Z"));
+    }
+    let start = st.pos;
+    let end = super::moves::target(st, x, w)?;
+    if end == start {
+        return Err(x.err(col, "G33.1: the end of the tap is where the tool stands"));
+    }
+    let out_s = (s * faster).round();
+    if out_s > u32::MAX as f64 {
+        return Err(x.err(
+            w.col('I').unwrap_or(col),
+            "G33.1: I × S is beyond any spindle",
+        ));
+    }
+    let aux = |s: Option<u32>, m: u8| Canon::Aux {
+        s,
+        t: None,
+        m: Some(m),
+    };
+    let speed_out = (faster != 1.0).then_some(out_s as u32);
+    let out = vec![
+        Canon::Tap(Tap::Part),
+        Canon::Feed(end, pitch * s),
+        aux(None, 5),
+        aux(speed_out, back),
+        Canon::Feed(start, pitch * out_s),
+        aux(None, 5),
+        Canon::Tap(Tap::End),
+        aux(speed_out.map(|_| s.round() as u32), fwd),
+    ];
+    x.push_all(out, col);
+    Ok(())
+}

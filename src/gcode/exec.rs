@@ -395,8 +395,8 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     if w.get('H').is_some() && !(g(430) || g(432)) {
         refuse('H', "G43 or G43.2")?;
     }
-    if w.get('I').is_some() && !(is(&[20, 30, 50, 51, 870]) || g(100)) {
-        refuse('I', "G2, G3, G5, G5.1, G10 or G87")?;
+    if w.get('I').is_some() && !(is(&[20, 30, 50, 51, 331, 870]) || g(100)) {
+        refuse('I', "G2, G3, G5, G5.1, G10, G33.1 or G87")?;
     }
     if w.get('J').is_some() && !(is(&[20, 30, 50, 51, 870]) || g(100)) {
         refuse('J', "G2, G3, G5, G5.1, G10 or G87")?;
@@ -1164,17 +1164,27 @@ fn motion_line(
         }
         Motion::Cw | Motion::Ccw => {
             st.modal.motion = m;
-            if !(w.has_axis() || ['I', 'J', 'K', 'R', '@', '^'].iter().any(|&c| w.get(c).is_some())) {
+            if !(w.has_axis()
+                || ['I', 'J', 'K', 'R', '@', '^']
+                    .iter()
+                    .any(|&c| w.get(c).is_some()))
+            {
                 return Ok(());
             }
             moves::arc(st, comp, x, w, col, inverse)
         }
         Motion::Cycle(g) => {
             if st.modal.feed_mode == FeedMode::InverseTime {
-                return Err(x.err(col, "canned cycles cannot be used in inverse time feed (G93)"));
+                return Err(x.err(
+                    col,
+                    "canned cycles cannot be used in inverse time feed (G93)",
+                ));
             }
             if comp.active() {
-                return Err(x.err(col, "canned cycles cannot be used with cutter radius compensation on"));
+                return Err(x.err(
+                    col,
+                    "canned cycles cannot be used with cutter radius compensation on",
+                ));
             }
             super::cycles::cycle(st, x, w, g, col)?;
             st.modal.motion = m;
@@ -1195,10 +1205,11 @@ fn motion_line(
             }
             super::spline::spline(st, comp, x, w, g, col, inverse)
         }
-        Motion::RigidTap => Err(x.err(
-            col,
-            "G33.1 rigid tapping needs a spindle encoder in the pulse core: not on this machine yet (use G84)",
-        )),
+        Motion::RigidTap => {
+            super::cycles::rigid_tap(st, comp.active(), x, w, col)?;
+            st.modal.motion = m;
+            Ok(())
+        }
     }
 }
 
