@@ -159,7 +159,18 @@ fn cases() -> Vec<(&'static str, Want)> {
         ("G28.1", Acts(|r| param(r, 5163) != 0.0)),
         ("G30", Acts(|r| moves(r, B::Rapid))),
         ("G30.1", Acts(|r| param(r, 5183) != 0.0)),
-        ("G33 Z-20 K1", Refused("G33", "G33")),
+        // A thread pass geared to the spindle (stop 48), along Z only; a taper is refused.
+        (
+            "G33 Z-20 K1",
+            Acts(|r| {
+                r.blocks.iter().any(|b| b.thread == Some(1.0))
+                    && r.state.modal.motion == Motion::Thread
+            }),
+        ),
+        (
+            "G33 X20 Z-20 K1",
+            Refused("X20", "G33 threads along Z only"),
+        ),
         // Rigid tapping (stop 48): in geared at K × S, the spindle reversed, out to where
         // the tool stood, the spindle forward again, every block marked as a tap's.
         (

@@ -260,3 +260,68 @@ fn g33_1_taps_at_pitch_times_rpm_and_ends_where_it_started() {
     );
     assert!(out.contains("RUN 0"), "{out}");
 }
+
+/// G33 on the centre (issue 22: threading geared to the spindle on the one kernel): a thread
+/// pass down Z at K × S pulse by pulse whatever the overrides (K1.5 at S300: 450 mm/min at
+/// feed override 50 %), each pass waiting for the encoder's index; the program goes on after
+/// it. A taper (X or Y moving) is refused with its place.
+#[test]
+fn g33_threads_along_z_at_pitch_times_rpm() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z2\nG33 Z-16 K1.5\nG0 X160\nZ2\nG33 Z-16 K1.5\nG0 Z150\nM5\nM30\n";
+    let dir = common::temp_dir("thread-g33");
+    let file = dir.join("THREAD.NGC");
+    std::fs::write(&file, prog).unwrap();
+    let (r, out) = script(
+        "thread-g33-run",
+        &format!(
+            "override 50\nspindleoverride 80\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+            file.display()
+        ),
+    );
+    let passes: Vec<&String> = r
+        .blocks
+        .iter()
+        .map(|b| &b.1)
+        .filter(|t| t.contains("G33"))
+        .collect();
+    assert_eq!(passes.len(), 2, "{out}");
+    assert!(out.contains("RUN 0"), "{out}");
+    // Each pass: every Z pulse at 450 mm/min but the first (the wait for the index is before
+    // it; a geared pass has no ramp).
+    for (i, (t0, text)) in r.blocks.iter().enumerate() {
+        if !text.contains("G33") {
+            continue;
+        }
+        let t1 = r.blocks.get(i + 1).map_or(u64::MAX, |b| b.0);
+        let ts: Vec<u64> = r
+            .z_pulses
+            .iter()
+            .copied()
+            .filter(|&t| t >= *t0 && t < t1)
+            .collect();
+        assert_eq!(ts.len(), 18_000, "{text}");
+        for w in ts.windows(2) {
+            let v = 0.001 / ((w[1] - w[0]) as f64 * 1e-9) * 60.0;
+            assert!(
+                (v - 450.0).abs() < 1.0,
+                "{text}: a Z pulse at {v:.1} mm/min"
+            );
+        }
+    }
+    let (taper, said) = {
+        std::fs::write(
+            &file,
+            prog.replace("G33 Z-16 K1.5\nG0 X160", "G33 X151 Z-16 K1.5\nG0 X160"),
+        )
+        .unwrap();
+        script(
+            "thread-g33-taper",
+            &format!(
+                "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+                file.display()
+            ),
+        )
+    };
+    assert!(taper.z_pulses.is_empty(), "a refused program moves nothing");
+    assert!(said.contains("G33 threads along Z only"), "{said}");
+}

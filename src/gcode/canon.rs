@@ -13,6 +13,9 @@ pub enum Canon {
     Rapid([f64; 3]),
     /// G01 to a point at a feed, mm/min.
     Feed([f64; 3], f64),
+    /// G33: a straight thread pass to the point, geared to the spindle's encoder at this lead,
+    /// mm per revolution (docs/pulse-core.md "Thread passes (G33)").
+    Thread([f64; 3], f64),
     /// G02/G03 to `end` about `centre` (absolute, mm; its normal coordinate unused).
     Arc {
         /// End point.
@@ -177,7 +180,10 @@ impl Emitter {
             };
             b.tap = self.tap;
             match c {
-                Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Probe(e, _, _) => {
+                Canon::Rapid(e)
+                | Canon::Feed(e, _)
+                | Canon::Probe(e, _, _)
+                | Canon::Thread(e, _) => {
                     let end = p3(*e, &[0, 1, 2]).map_err(err)?;
                     if end == self.pos.xyz() && !matches!(c, Canon::Probe(..)) {
                         out.pop();
@@ -188,6 +194,12 @@ impl Emitter {
                         Canon::Feed(_, f) => {
                             b.motion = Motion::Linear;
                             b.feed = *f;
+                        }
+                        Canon::Thread(_, lead) => {
+                            b.motion = Motion::Linear;
+                            b.feed = *lead;
+                            b.feed_mode = crate::block::FeedMode::PerRev;
+                            b.thread = Some(*lead);
                         }
                         Canon::Probe(_, f, g) => {
                             b.motion = Motion::Linear;

@@ -469,14 +469,105 @@ pub fn cycle(
     Ok(())
 }
 
+/// What G33 and G33.1 (`name`) share: refused under cutter compensation, in inverse time,
+/// with an A word, the spindle stopped or without S, and K not above 0. Returns the pitch (mm
+/// per revolution), the spindle's M code (3 or 4) and S.
+fn geared(
+    st: &InterpState,
+    comp_on: bool,
+    x: &Exec,
+    w: &Words,
+    col: u32,
+    name: &str,
+) -> Result<(f64, u8, f64), TranslateError> {
+    if comp_on {
+        return Err(x.err(
+            col,
+            format!("{name} cannot be used with cutter radius compensation on: G40 first"),
+        ));
+    }
+    if st.modal.feed_mode == FeedMode::InverseTime {
+        return Err(x.err(
+            col,
+            format!(
+                "{name} cannot be used in inverse time feed (G93): the feed follows the spindle"
+            ),
+        ));
+    }
+    if let Some(c) = w.col('A') {
+        return Err(x.err(
+            c,
+            format!("{name} moves along X, Y and Z: an A word cannot follow the spindle"),
+        ));
+    }
+    let pitch = match w.get('K') {
+        Some(v) if v > 0.0 && v.is_finite() => v * st.factor(),
+        Some(v) => {
+            return Err(x.err(
+                w.col('K').unwrap_or(col),
+                format!("{name} K{}: the pitch must be above 0", short_number(v)),
+            ))
+        }
+        None => return Err(x.err(col, format!("{name} needs K, the pitch"))),
+    };
+    let m = match st.modal.spindle {
+        1 => 3,
+        -1 => 4,
+        _ => {
+            return Err(x.err(
+                col,
+                format!(
+                    "{name} needs the spindle turning: M03 (right-hand) or M04 (left-hand) first"
+                ),
+            ))
+        }
+    };
+    let s = st.modal.speed;
+    if s.is_nan() || s < 1.0 {
+        return Err(x.err(col, format!("{name} needs the spindle speed: give S")));
+    }
+    Ok((pitch, m, s))
+}
+
+/// `G33 X Y Z K`, LinuxCNC's spindle-synchronised motion: one straight thread pass from where
+/// the tool stands to the end point, geared to the spindle at K per revolution: the pass waits
+/// for the encoder's index, then follows the spindle's position (docs/pulse-core.md "Thread
+/// passes (G33)"), the overrides held at 100 %. Refused as [`geared`] says, with the end
+/// point where the tool stands, and with X or Y moving (a taper).
+pub fn thread(
+    st: &mut InterpState,
+    comp_on: bool,
+    x: &mut Exec,
+    w: &Words,
+    col: u32,
+) -> Result<(), TranslateError> {
+    let (pitch, _, _) = geared(st, comp_on, x, w, col, "G33")?;
+    let end = super::moves::target(st, x, w)?;
+    if end == st.pos {
+        return Err(x.err(col, "G33: the end of the pass is where the tool stands"));
+    }
+    if end[0] != st.pos[0] || end[1] != st.pos[1] {
+        // LinuxCNC measures K along the path, a Fanuc (and the kernel) along the longer axis:
+        // a taper would be cut at another lead than the program's author meant on one of them.
+        let c = w.col('X').or(w.col('Y')).unwrap_or(col);
+        return Err(x.err(
+            c,
+            "G33 threads along Z only on this machine (X and Y would make a taper, whose lead LinuxCNC and Fanuc measure differently): move X and Y first",
+        ));
+    }
+    x.push_all(vec![Canon::Thread(end, pitch)], col);
+    st.pos = end;
+    Ok(())
+}
+
 /// `G33.1 X Y Z K I`, LinuxCNC's rigid tapping: from where the tool stands, straight to the end
 /// point geared to the spindle at K per revolution (K × S per minute), the spindle reversed,
 /// straight back to the start geared the same (at I × S if I is given, LinuxCNC's faster
 /// return), and the spindle forward again at S. The blocks carry the tap's marks, as G84's do
 /// (docs/pulse-core.md "Tapping": the overrides held at 100 %, a feed hold kept until the tap
 /// is out, the feed geared to the encoder on a spindle that ramps). The tool ends where it
-/// started. A left-hand tap turns M04 in and M03 out. Refused under cutter compensation, in
-/// inverse time, with the spindle stopped or without S, with K not above 0 and I below 1.
+/// started. A left-hand tap turns M04 in and M03 out. Refused as [`geared`] says, and with I
+/// below 1, no axis word, or the end point where the tool stands.
 pub fn rigid_tap(
     st: &mut InterpState,
     comp_on: bool,
@@ -484,32 +575,8 @@ pub fn rigid_tap(
     w: &Words,
     col: u32,
 ) -> Result<(), TranslateError> {
-    if comp_on {
-        return Err(x.err(
-            col,
-            "G33.1 cannot be used with cutter radius compensation on: G40 first",
-        ));
-    }
-    if st.modal.feed_mode == FeedMode::InverseTime {
-        return Err(x.err(
-            col,
-            "G33.1 cannot be used in inverse time feed (G93): the feed follows the spindle",
-        ));
-    }
-    if let Some(c) = w.col('A') {
-        return Err(x.err(c, "G33.1 taps along X, Y and Z: an A word cannot be tapped"));
-    }
-    let k = st.factor();
-    let pitch = match w.get('K') {
-        Some(v) if v > 0.0 && v.is_finite() => v * k,
-        Some(v) => {
-            return Err(x.err(
-                w.col('K').unwrap_or(col),
-                format!("G33.1 K{}: the pitch must be above 0", short_number(v)),
-            ))
-        }
-        None => return Err(x.err(col, "G33.1 needs K, the pitch")),
-    };
+    let (pitch, fwd, s) = geared(st, comp_on, x, w, col, "G33.1")?;
+    let back = if fwd == 3 { 4 } else { 3 };
     let faster = match w.get('I') {
         Some(v) if v >= 1.0 && v.is_finite() => v,
         Some(v) => {
@@ -523,19 +590,6 @@ pub fn rigid_tap(
         }
         None => 1.0,
     };
-    let (fwd, back) =
-        match st.modal.spindle {
-            1 => (3, 4),
-            -1 => (4, 3),
-            _ => return Err(x.err(
-                col,
-                "G33.1 needs the spindle turning: M03 (right-hand tap) or M04 (left-hand) first",
-            )),
-        };
-    let s = st.modal.speed;
-    if s.is_nan() || s < 1.0 {
-        return Err(x.err(col, "G33.1 needs the spindle speed: give S, the tap's rpm"));
-    }
     if !w.has_axis() {
         return Err(x.err(col, "G33.1 needs the end of the tap: X, Y or Z"));
     }

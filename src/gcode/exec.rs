@@ -304,6 +304,7 @@ fn motion_to_be(
             20 => Motion::Cw,
             30 => Motion::Ccw,
             50..=52 => Motion::Spline(g as u16),
+            330 => Motion::Thread,
             331 => Motion::RigidTap,
             // G31 (Fanuc's skip: only its dialect's words have it) probes as G38.3 does.
             310 | 382..=385 => Motion::Probe(g as u16),
@@ -401,8 +402,8 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     if w.get('J').is_some() && !(is(&[20, 30, 50, 51, 870]) || g(100)) {
         refuse('J', "G2, G3, G5, G5.1, G10 or G87")?;
     }
-    if w.get('K').is_some() && !(is(&[20, 30, 331, 870])) {
-        refuse('K', "G2, G3, G33.1 or G87")?;
+    if w.get('K').is_some() && !(is(&[20, 30, 330, 331, 870])) {
+        refuse('K', "G2, G3, G33, G33.1 or G87")?;
     }
     if w.get('L').is_some()
         && !(cycle || is(&[52]) || g(100) || g(410) || g(420) || g(411) || g(421) || m(66) || m(98))
@@ -445,14 +446,15 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     if w.get('S').is_none() && g(960) {
         return Err(x.err(1, "G96 needs S"));
     }
-    if matches!(motion, Some(Motion::RigidTap)) {
+    if let Some(m @ (Motion::RigidTap | Motion::Thread)) = motion {
+        let name = if m == Motion::Thread { "G33" } else { "G33.1" };
         if w.get('K').is_none() {
-            return Err(x.err(1, "G33.1 needs K, the pitch"));
+            return Err(x.err(1, format!("{name} needs K, the pitch")));
         }
         if w.get('F').is_some() {
             return Err(x.err(
                 w.col('F').unwrap_or(1),
-                "G33.1 takes no F: the feed follows the spindle",
+                format!("{name} takes no F: the feed follows the spindle"),
             ));
         }
     }
@@ -1207,6 +1209,11 @@ fn motion_line(
         }
         Motion::RigidTap => {
             super::cycles::rigid_tap(st, comp.active(), x, w, col)?;
+            st.modal.motion = m;
+            Ok(())
+        }
+        Motion::Thread => {
+            super::cycles::thread(st, comp.active(), x, w, col)?;
             st.modal.motion = m;
             Ok(())
         }

@@ -49,6 +49,8 @@ pub enum Motion {
     Probe(u16),
     /// G05, G05.1, G05.2 (×10: 50, 51, 52).
     Spline(u16),
+    /// G33 spindle-synchronised motion, a thread pass (×10: 330).
+    Thread,
     /// G33.1 rigid tapping (×10: 331).
     RigidTap,
     /// A canned cycle: G73, G74, G81–G89 (×10).
@@ -66,6 +68,7 @@ impl Motion {
             Motion::Cw => 20,
             Motion::Ccw => 30,
             Motion::Probe(g) | Motion::Spline(g) | Motion::Cycle(g) => g,
+            Motion::Thread => 330,
             Motion::RigidTap => 331,
             Motion::None => 800,
         }

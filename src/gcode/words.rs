@@ -71,9 +71,6 @@ fn fanuc_g_group(g: u32) -> Option<u8> {
 fn mill_g_why(g: u32) -> &'static str {
     match g {
         70 | 80 => " (G07/G08 diameter and radius mode are the lathe's)",
-        330 => {
-            " (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
-        }
         700..=729 | 760 => " (G70–G72 and G76 are lathe cycles)",
         960 => " (G96 constant surface speed is the lathe's)",
         171 | 181 | 191 => " (the UV, UW and VW planes need U, V and W axes)",
@@ -257,7 +254,7 @@ fn slot(c: char) -> usize {
 /// groups (group 16, G92.2/G92.3, is folded into group 0, as in 2.9).
 fn g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 50 | 51 | 52 | 331 | 382..=385 | 730 | 740 | 800..=890 => 1,
+        0 | 10 | 20 | 30 | 50 | 51 | 52 | 330 | 331 | 382..=385 | 730 | 740 | 800..=890 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
         901 | 911 => 4,
