@@ -713,3 +713,45 @@ fn a_program_message_lives_until_acknowledged() {
     assert!(c.unacknowledged().is_empty());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A stop signal E-STOPs the lathe as it does the centre, whether a cycle runs or not: a
+/// spindle an MDI run left turning stops, and the recording ends with every channel's spindle
+/// at 0 and `EMERGENCY STOP` in its log. Until stop 48 only a cycle still running was stopped,
+/// and the recording ended with CH1's spindle at 500 rpm and no E-STOP.
+#[test]
+fn a_stop_signal_e_stops_the_lathe_with_no_cycle_running() {
+    let state = common::temp_dir("lathe-state-signal-idle");
+    let mcap = state.join("r.mcap");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &state, 20, 60, Some(&mcap))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    assert_eq!(mdi(&mut c, &["M3 S500"]), "MDI CH1 runs");
+    c.handle(PanelEvent::WaitMs(1000));
+    assert!(c.frame_text().contains("S   500"), "{}", c.frame_text());
+    c.close(Some("interrupted by SIGTERM"))
+        .expect("closed")
+        .expect("a recording");
+    let bytes = std::fs::read(&mcap).unwrap();
+    let mut last = std::collections::BTreeMap::new();
+    let mut logs = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let text = String::from_utf8_lossy(&m.data).into_owned();
+        match m.channel.topic.as_str() {
+            "/nc/state" => {
+                let ch = text.split(',').next().unwrap_or_default().to_string();
+                last.insert(ch, text);
+            }
+            "/foxglove/log" => logs.push(text),
+            _ => {}
+        }
+    }
+    assert_eq!(last.len(), 3, "{last:?}");
+    for s in last.values() {
+        assert!(s.contains("\"spindle\":0,"), "{s}");
+    }
+    assert!(
+        logs.iter().any(|l| l.contains("EMERGENCY STOP")),
+        "{logs:?}"
+    );
+}

@@ -1218,15 +1218,15 @@ impl LatheConsole {
         recorder.finish()
     }
 
-    /// E-STOP for a stop signal: every channel of a cycle still running stops at once, and one
-    /// tick of machine time records it (`/nc/state` ESTOP). Not an operator action: no
-    /// `/panel/event`.
+    /// E-STOP for a stop signal, as the centre's: every channel stops at once, spindles too,
+    /// and one tick of machine time records it (`/nc/state` ESTOP, `EMERGENCY STOP` in the
+    /// history). Not an operator action: no `/panel/event`. Until stop 48 only a cycle still
+    /// running was stopped: a spindle an MDI run had left turning was recorded turning to the
+    /// end, with no E-STOP.
     fn stop_machine(&mut self) {
-        if !self.cycle.is_over() {
-            self.cycle.estop();
-            let tick = self.desc.tick_ns.max(1);
-            self.tick(tick);
-        }
+        self.cycle.estop();
+        let tick = self.desc.tick_ns.max(1);
+        self.tick(tick);
     }
 }
 
