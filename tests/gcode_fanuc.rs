@@ -373,6 +373,17 @@ fn the_linuxcnc_dialect_refuses_the_fanuc_words_as_before() {
             .contains("parameter number 0"),
         "#0 is not a parameter in LinuxCNC"
     );
+    // M29 (rigid tapping) is Fanuc's; in its dialect it needs S.
+    assert!(
+        moves("S300\nM29\nM30\n", LinuxCnc)
+            .unwrap_err()
+            .contains("unknown or unsupported code M29"),
+        "M29 is not LinuxCNC's"
+    );
+    assert_eq!(
+        moves("M29\nM30\n", Fanuc).unwrap_err(),
+        "1:1: M29 (rigid tapping) needs S, the tap's rpm: M29 S500"
+    );
     // A number without a decimal point is millimetres in LinuxCNC's dialect.
     assert_moves(
         &moves("G0 X10\nM30\n", LinuxCnc).unwrap(),

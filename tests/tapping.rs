@@ -325,3 +325,55 @@ fn g33_threads_along_z_at_pitch_times_rpm() {
     assert!(taper.z_pulses.is_empty(), "a refused program moves nothing");
     assert!(said.contains("G33 threads along Z only"), "{said}");
 }
+
+/// Fanuc's rigid tapping (issue 22; the Fanuc dialect): `M29 S300` before G84 puts the cycle
+/// in rigid mode, and the cycle turns the spindle itself: from stopped it starts it forward at
+/// S300, taps in and out at 375 mm/min pulse by pulse at feed override 50 %, and leaves it
+/// stopped, hole after hole, until G80. Before stop 48 M29 was refused (`unknown or
+/// unsupported code M29`), and so was a G84 with the spindle stopped.
+#[test]
+fn fanuc_m29_rigid_taps_from_a_stopped_spindle() {
+    let prog = "%\nO1000\nG21 G90 G17\nG10 L2 P1 X200. Y0 Z-450.\nG54\nT3 M6\nG43 H3\nG0 X150. Y130. Z50.\nM05\nM29 S300\nG99 G84 X150. Y130. Z-16. R2. F375.\nX180.\nG80\nG0 Z150.\nM30\n%\n";
+    let dir = common::temp_dir("tap-m29");
+    let file = dir.join("RIGID.NC");
+    std::fs::write(&file, prog).unwrap();
+    let s = dir.join("s.panel");
+    std::fs::write(
+        &s,
+        format!(
+            "override 50\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+            file.display()
+        ),
+    )
+    .unwrap();
+    let rec = dir.join("r.mcap");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("script")
+        .arg(&s)
+        .args(["--dialect", "fanuc", "--state"])
+        .arg(dir.join("state"))
+        .arg("--record")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    let r = read(&rec);
+    assert_eq!(
+        check_tap_feeds(&r, 375.0),
+        4,
+        "two holes, in and out\n{text}"
+    );
+    let texts: Vec<&str> = r.blocks.iter().map(|b| b.1.as_str()).collect();
+    assert_eq!(
+        texts.iter().filter(|t| t.ends_with("S300 M03")).count(),
+        2,
+        "each hole starts the spindle: {texts:?}"
+    );
+    assert!(text.contains("RUN 0"), "{text}");
+    assert!(text.contains(" S0"), "the spindle left stopped:\n{text}");
+}

@@ -189,7 +189,10 @@ pub fn cycle(
         None => 1,
     };
     let spindle = st.modal.spindle;
+    // Fanuc's rigid tapping (M29 S before the cycle): the cycle turns the spindle itself.
+    let rigid = st.cycle.rigid && matches!(kind, 74 | 84);
     match kind {
+        _ if rigid => {}
         84 if spindle != 1 => {
             return Err(x.err(
                 col,
@@ -419,9 +422,19 @@ pub fn cycle(
             }
             74 | 84 => {
                 let (back, fwd) = if kind == 84 { (4, 3) } else { (3, 4) };
+                let turning = spindle == if kind == 84 { 1 } else { -1 };
                 // The tap's blocks, up to the spindle forward again out of the hole: the
                 // overrides held, a feed hold kept for the end (docs/pulse-core.md "Tapping").
                 out.push(Canon::Tap(Tap::Part));
+                if !turning {
+                    // Rigid tapping from a spindle stopped (or turning the other way): the
+                    // cycle starts it in its direction at the tap's S.
+                    out.push(Canon::Aux {
+                        s: Some(st.modal.speed.round() as u32),
+                        t: None,
+                        m: Some(fwd),
+                    });
+                }
                 feed_to(&mut out, &mut pos, at(bottom));
                 out.push(aux(5));
                 out.push(aux(back));
@@ -429,9 +442,15 @@ pub fn cycle(
                     out.push(Canon::Dwell(p));
                 }
                 feed_to(&mut out, &mut pos, at(clear));
-                out.push(aux(5));
-                out.push(Canon::Tap(Tap::End));
-                out.push(aux(fwd));
+                if turning {
+                    out.push(aux(5));
+                    out.push(Canon::Tap(Tap::End));
+                    out.push(aux(fwd));
+                } else {
+                    // And leaves it stopped, as a Fanuc's rigid tap does.
+                    out.push(Canon::Tap(Tap::End));
+                    out.push(aux(5));
+                }
             }
             85 => {
                 feed_to(&mut out, &mut pos, at(bottom));
@@ -463,6 +482,10 @@ pub fn cycle(
     st.cycle.r = Some(r_in);
     st.cycle.z = Some(cc_in);
     st.cycle.p = p;
+    if rigid && spindle != if kind == 84 { 1 } else { -1 } {
+        // A rigid tap started the spindle and stopped it again.
+        st.modal.spindle = 0;
+    }
     if let Some(q) = q {
         st.cycle.q = Some(q);
     }

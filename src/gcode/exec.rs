@@ -744,6 +744,14 @@ pub fn execute(
                 col,
             );
         }
+        if let Some(col) = w.has_m(29) {
+            // Fanuc's rigid tapping mode (only its dialect reads M29): the S on the line or in
+            // force is the tap's speed.
+            if st.modal.speed < 1.0 {
+                return Err(x.err(col, "M29 (rigid tapping) needs S, the tap's rpm: M29 S500"));
+            }
+            st.cycle.rigid = true;
+        }
         if let Some(col) = w.has_m(19) {
             st.modal.spindle = 0;
             let angle = w.get('R').unwrap_or(0.0);
@@ -1144,10 +1152,12 @@ fn motion_line(
     match m {
         Motion::None => {
             st.modal.motion = Motion::None;
+            st.cycle.rigid = false;
             Ok(())
         }
         Motion::Rapid | Motion::Feed => {
             st.modal.motion = m;
+            st.cycle.rigid = false;
             // G00 or G01 without axis words (given on the line, or there is no motion) moves
             // to the programmed point, as LinuxCNC's: nowhere, or after G40 off the last
             // offset point; right after G41/G42 it is an entry move too short.
@@ -1166,6 +1176,7 @@ fn motion_line(
         }
         Motion::Cw | Motion::Ccw => {
             st.modal.motion = m;
+            st.cycle.rigid = false;
             if !(w.has_axis()
                 || ['I', 'J', 'K', 'R', '@', '^']
                     .iter()

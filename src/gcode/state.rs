@@ -208,6 +208,9 @@ pub struct CycleMemory {
     pub p: f64,
     /// Q (peck, mm).
     pub q: Option<f64>,
+    /// Fanuc's rigid tapping mode (M29 S, the Fanuc dialect): the next G84 or G74 turns the
+    /// spindle itself, from stopped if need be; until G80, a G00–G03 or RESET.
+    pub rigid: bool,
 }
 
 /// The M70 … M73 saved states (one per call level).

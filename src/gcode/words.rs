@@ -49,17 +49,26 @@ pub const MILL4: Dialect = Dialect {
 };
 
 /// The mill dialect read in Fanuc's language (docs/gcode.md "Fanuc dialect"): G31 (skip) is
-/// a motion besides LinuxCNC's codes.
+/// a motion and M29 (rigid tapping) a spindle code besides LinuxCNC's codes.
 pub const FANUC: Dialect = Dialect {
     g_group: fanuc_g_group,
+    m_group: fanuc_m_group,
     ..MILL
 };
 
 /// [`FANUC`] on a machine with a rotary A axis.
 pub const FANUC4: Dialect = Dialect {
     g_group: fanuc_g_group,
+    m_group: fanuc_m_group,
     ..MILL4
 };
+
+fn fanuc_m_group(m: u32) -> Option<u8> {
+    if m == 29 {
+        return Some(7);
+    }
+    m_group(m)
+}
 
 fn fanuc_g_group(g: u32) -> Option<u8> {
     if g == 310 {
