@@ -312,6 +312,8 @@ pub(super) fn reset_state(st: &mut InterpState, settings: &crate::settings::Mach
     st.call_level = 0;
     st.saved.clear();
     st.nurbs = None;
+    // Fanuc's rigid tapping mode (M29) ends at RESET.
+    st.cycle.rigid = false;
 }
 
 /// The note while a run stands at a program stop: the last block carried M00 or M01, RUN is 0

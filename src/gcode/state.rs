@@ -209,7 +209,7 @@ pub struct CycleMemory {
     /// Q (peck, mm).
     pub q: Option<f64>,
     /// Fanuc's rigid tapping mode (M29 S, the Fanuc dialect): the next G84 or G74 turns the
-    /// spindle itself, from stopped if need be; until G80, a G00–G03 or RESET.
+    /// spindle itself, from stopped if need be; until G80, a G00–G03, M02/M30 or RESET.
     pub rigid: bool,
 }
 
