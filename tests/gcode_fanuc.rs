@@ -1700,3 +1700,53 @@ fn the_hour_clock_is_kept_across_a_restart() {
     common::mdi(&mut c, "#100=#3002");
     assert_eq!(c.interp_state().params[100], 0.0);
 }
+
+/// What Fanuc CAM posts put around the cut (stop 48): the look-ahead switches G05.1 Q1 / Q0
+/// (AI contour control), G05 P10000 / P0 (high-precision contour control) and G08 P1 / P0
+/// (AI advanced preview) are read and move nothing (every block here ends at rest on its
+/// programmed end); before, `G05.1 Q1` was taken for LinuxCNC's quadratic spline and refused
+/// (`this motion needs at least one of X, Y and Z`), and G08 for the lathe's radius mode. A
+/// value that is no such switch is refused at its word. LinuxCNC's G5.1 spline (with X Y I J)
+/// stays readable in the dialect.
+#[test]
+fn the_look_ahead_switches_of_fanuc_posts_are_read() {
+    let on = "G21 G90\nG05.1 Q1\nG08 P1\nG05 P10000\nG0 X10. Y10.\nG1 X20. F500.\nG05.1 Q0\nG08 P0\nG05 P0\nM30\n";
+    assert_moves(
+        &moves(on, Fanuc).unwrap(),
+        &[('R', [10.0, 10.0, 0.0]), ('F', [20.0, 10.0, 0.0])],
+    );
+    assert_eq!(
+        moves("G05.1 Q2\nM30\n", Fanuc).unwrap_err(),
+        "1:7: G5.1 switches Fanuc's look-ahead with Q1 (on) or Q0 (off)"
+    );
+    assert_eq!(
+        moves("G08 P2\nM30\n", Fanuc).unwrap_err(),
+        "1:5: G8 switches Fanuc's look-ahead with P1 (on) or P0 (off)"
+    );
+    // LinuxCNC's quadratic spline, in either dialect.
+    let spline = "G21 G90 G17\nG0 X0 Y0\nG5.1 X20. Y0 I10. J10. F500.\nM30\n";
+    assert!(moves(spline, Fanuc).unwrap().len() > 2);
+    assert!(moves("G05.1 Q1\nM30\n", LinuxCnc).is_err());
+}
+
+/// A Fanuc's G84 under G98 feeds out to R only, then rapids up to the initial level (its
+/// manual's cycle); LinuxCNC's feeds out all the way to the clear level. Since stop 48 each
+/// dialect does its own; before, the Fanuc dialect fed the tap out at its feed to the initial
+/// level.
+#[test]
+fn a_fanuc_tap_feeds_out_to_r_then_rapids_to_the_initial_level() {
+    let prog = "G21 G90 G17\nS300 M3\nG0 X10. Y10. Z-50.\nG98 G84 Z-110. R-98. F375.\nG80\nM30\n";
+    let fanuc = moves(prog, Fanuc).unwrap();
+    assert_moves(
+        &fanuc,
+        &[
+            ('R', [10.0, 10.0, -50.0]),
+            ('R', [10.0, 10.0, -98.0]),
+            ('F', [10.0, 10.0, -110.0]),
+            ('F', [10.0, 10.0, -98.0]),
+            ('R', [10.0, 10.0, -50.0]),
+        ],
+    );
+    let linuxcnc = moves(&prog.replace('.', ""), LinuxCnc).unwrap();
+    assert_eq!(linuxcnc.last().unwrap(), &('F', [10.0, 10.0, -50.0]));
+}

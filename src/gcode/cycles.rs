@@ -271,17 +271,19 @@ pub fn cycle(
     // a rise to R first for a series below it, then per hole the approach (a rise to the
     // clear level, the crossing, the descent to R) and the cycle's own moves.
     let n = pecks.len() as u64;
+    let below = il < r;
+    let (old_est, cur_est) = if below { (r, r) } else { (il, prog[ic]) };
+    let clear_est = if st.modal.retract_r { r } else { old_est };
+    // A Fanuc's tap feeds out to R only, then rapids to the initial level (G98).
+    let tap_rapid = fanuc && clear_est > r;
     let own: u64 = match kind {
         81 => 2,
         82 | 85 | 89 => 3,
         73 => 2 * n + 2,
         83 => 3 * n + 2,
-        74 | 84 => 6 + u64::from(p > 0.0),
+        74 | 84 => 6 + u64::from(p > 0.0) + u64::from(tap_rapid),
         _ => 5,
     };
-    let below = il < r;
-    let (old_est, cur_est) = if below { (r, r) } else { (il, prog[ic]) };
-    let clear_est = if st.modal.retract_r { r } else { old_est };
     let down = u64::from(clear_est > r);
     let first = if cur_est > r {
         2
@@ -441,7 +443,9 @@ pub fn cycle(
                 if p > 0.0 {
                     out.push(Canon::Dwell(p));
                 }
-                feed_to(&mut out, &mut pos, at(clear));
+                // Out at the tap's feed to the clear level (LinuxCNC's G84), or to R in the
+                // Fanuc dialect, whose G98 then rapids up to the initial level.
+                feed_to(&mut out, &mut pos, at(if tap_rapid { r } else { clear }));
                 if turning {
                     out.push(aux(5));
                     out.push(Canon::Tap(Tap::End));
@@ -450,6 +454,9 @@ pub fn cycle(
                     // And leaves it stopped, as a Fanuc's rigid tap does.
                     out.push(Canon::Tap(Tap::End));
                     out.push(aux(5));
+                }
+                if tap_rapid {
+                    rapid(&mut out, &mut pos, at(clear));
                 }
             }
             85 => {

@@ -303,6 +303,7 @@ fn motion_to_be(
             10 => Motion::Feed,
             20 => Motion::Cw,
             30 => Motion::Ccw,
+            50 | 51 if fanuc_look_ahead(x, w, g).is_some() => continue,
             50..=52 => Motion::Spline(g as u16),
             330 => Motion::Thread,
             331 => Motion::RigidTap,
@@ -387,6 +388,9 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             format!("{c} word with no {msg} to use it"),
         ))
     };
+    let look_ahead = [50, 51, 80]
+        .iter()
+        .any(|&c| fanuc_look_ahead(x, w, c).is_some());
     if w.get('D').is_some() && !(g(410) || g(420) || g(411) || g(421) || is(&[730, 830])) {
         refuse('D', "G41, G41.1, G42, G42.1, G73 or G83")?;
     }
@@ -418,7 +422,8 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             || (50..=53).any(m)
             || (62..=66).any(m)
             || m(19)
-            || m(98))
+            || m(98)
+            || look_ahead)
     {
         refuse(
             'P',
@@ -436,7 +441,13 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
         }
     }
     if w.get('Q').is_some()
-        && !(is(&[830, 730, 50]) || (66..=68).any(m) || g(100) || m(61) || g(640) || m(19))
+        && !(is(&[830, 730, 50])
+            || (66..=68).any(m)
+            || g(100)
+            || m(61)
+            || g(640)
+            || m(19)
+            || look_ahead)
     {
         refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66, M67 or M68")?;
     }
@@ -1574,7 +1585,45 @@ fn path_control(
             q: q.map(|v| v * k),
         };
     }
+    for g in [50, 51, 80] {
+        let Some((letter, on_off)) = fanuc_look_ahead(x, w, g) else {
+            continue;
+        };
+        let col = w.has_g(g).unwrap_or(1);
+        // What switches the mode: G05 P10000 / P0, G05.1 Q1 / Q0, G08 P1 / P0.
+        let v = w.get(letter);
+        if v.is_none_or(|v| !on_off.contains(&v)) {
+            return Err(x.err(
+                w.col(letter).unwrap_or(col),
+                format!(
+                    "G{} switches Fanuc's look-ahead with {letter}{} (on) or {letter}0 (off)",
+                    crate::input_text::short_number(f64::from(g) / 10.0),
+                    crate::input_text::short_number(on_off[1])
+                ),
+            ));
+        }
+    }
     Ok(())
+}
+
+/// Fanuc's look-ahead switches, read in its dialect only (docs/gcode.md "Fanuc dialect"):
+/// G05 P10000 (high-precision contour control), G05.1 Q1 (AI contour control), G08 P1 (AI
+/// advanced preview) and their P0 / Q0. They change how a Fanuc blends and slows at corners;
+/// the pulse core ends every block at rest on its programmed end, so here they change
+/// nothing and are read, as G64 is. Some((the letter, [off, on])) when `g` (×10) is on the
+/// line as one of them: G05 and G05.1 with their letter and no X Y Z I J (else they are
+/// LinuxCNC's splines, which the dialect keeps), G08 always.
+fn fanuc_look_ahead(x: &Exec, w: &Words, g: u32) -> Option<(char, [f64; 2])> {
+    if x.settings.dialect != crate::settings::Dialect::Fanuc || w.has_g(g).is_none() {
+        return None;
+    }
+    let spline = w.has_axis() || w.get('I').is_some() || w.get('J').is_some();
+    match g {
+        50 if !spline && w.get('P').is_some() => Some(('P', [0.0, 10000.0])),
+        51 if !spline && w.get('Q').is_some() => Some(('Q', [0.0, 1.0])),
+        80 => Some(('P', [0.0, 1.0])),
+        _ => None,
+    }
 }
 
 /// M06: the machine's tool change. The spindle stops, the coolant goes off, Z rises to the

@@ -1010,6 +1010,7 @@ impl GcodeSource {
                 .and_then(|()| {
                     if opts.fanuc {
                         fanuc_dwell(&mut line, n, opts.increment)?;
+                        fanuc_mode_q(&mut line, opts.increment);
                         if mill {
                             fanuc_cycle_p(&line, n, self.st.modal.motion)?;
                         }
@@ -1850,6 +1851,7 @@ impl Lines for GcodeSource {
         }
         if opts.fanuc {
             fanuc_dwell(&mut line, n, opts.increment)?;
+            fanuc_mode_q(&mut line, opts.increment);
         }
         let flow = match (&line.o, &line.fanuc) {
             (Some(o), _) if o.kind != read::OKind::Bare => Some(o.col),
@@ -1924,6 +1926,22 @@ fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(),
             crate::input_text::short_number(p.value)
         ),
     })
+}
+
+/// Fanuc's G05.1 Q1 (AI contour control on; Q0 off): its Q is a mode number, not a length, so
+/// a Q written without a decimal point is read as written, not in least increments (`Q1` is
+/// 1, not 0.001 mm).
+fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
+    let bit = read::letter_bit('Q');
+    if line.plain & bit == 0 || line.pointed & bit != 0 || increment <= 0.0 {
+        return;
+    }
+    if !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
+        return;
+    }
+    for w in line.words.iter_mut().filter(|w| w.letter == 'Q') {
+        w.value = (w.value / increment).round();
+    }
 }
 
 /// Fanuc's G04 (docs/gcode.md "Fanuc dialect"): `X` or `U` in seconds (without a decimal

@@ -71,10 +71,12 @@ fn fanuc_m_group(m: u32) -> Option<u8> {
 }
 
 fn fanuc_g_group(g: u32) -> Option<u8> {
-    if g == 310 {
-        return Some(1);
+    match g {
+        310 => Some(1),
+        // G08 P1: Fanuc's AI advanced preview (the mill's G08 is no lathe radius mode here).
+        80 => Some(0),
+        _ => g_group(g),
     }
-    g_group(g)
 }
 
 fn mill_g_why(g: u32) -> &'static str {
