@@ -1750,3 +1750,45 @@ fn a_fanuc_tap_feeds_out_to_r_then_rapids_to_the_initial_level() {
     let linuxcnc = moves(&prog.replace('.', ""), LinuxCnc).unwrap();
     assert_eq!(linuxcnc.last().unwrap(), &('F', [10.0, 10.0, -50.0]));
 }
+
+/// Fanuc's G10 L10–L13 set the tool offsets of memory C (stop 48): L10 the length geometry,
+/// L11 its wear, L12 the radius geometry, L13 its wear, to R, or by R under G91. Before, the
+/// dialect read them as LinuxCNC's L10/L11, whose R is a radius: `G10 L10 P2 R100.` made
+/// T2 200 mm across and left its length.
+#[test]
+fn g10_l10_to_l13_set_fanuc_tool_offsets() {
+    let mut g = gcode_source_in(
+        "O1\nG10 L2 P1 Z-400.\nG10 L10 P2 R100.\nG10 L11 P2 R0.5\nG91 G10 L11 P2 R0.25\nG90\nG10 L12 P2 R4.\nG10 L13 P2 R-0.05\nG43 H2 G00 Z0.\nM30\n",
+        Fanuc,
+    );
+    let zs: Vec<i64> = g
+        .by_ref()
+        .flat_map(|s| s.unwrap().blocks)
+        .map(|b| b.end.xyz()[2])
+        .collect();
+    // The gauge line at program Z0: the work offset plus the length, geometry and wear.
+    assert_eq!(zs.last(), Some(&(-400_000 + 100_750)), "{zs:?}");
+    let last = g
+        .take_events()
+        .into_iter()
+        .filter_map(|e| match e {
+            novanc::gcode::Event::ToolOffsets {
+                t: 2,
+                length,
+                diameter,
+                wear_length,
+                wear_diameter,
+            } => Some((length, diameter, wear_length, wear_diameter)),
+            _ => None,
+        })
+        .last();
+    assert_eq!(last, Some((100.0, 8.0, 0.75, -0.1)));
+    assert_eq!(
+        moves("G10 L12 P2 X1.\nM30\n", Fanuc).unwrap_err(),
+        "1:12: G10 L12: X is not a word of a Fanuc tool offset (P the offset, R its value)"
+    );
+    assert_eq!(
+        moves("G10 L10 P2\nM30\n", Fanuc).unwrap_err(),
+        "1:1: G10 L10 needs R, the offset's value"
+    );
+}

@@ -291,6 +291,9 @@ pub fn g10(
     col: u32,
 ) -> Result<(), TranslateError> {
     let l = int_word(x, w, 'L', 0.0, 20.0)?;
+    if let (Some(l @ 10..=13), crate::settings::Dialect::Fanuc) = (l, x.settings.dialect) {
+        return fanuc_g10_offset(st, comp, x, w, l, col);
+    }
     let l = match l {
         Some(l @ (1 | 2 | 10 | 11 | 20)) => l,
         Some(0) => {
@@ -408,6 +411,51 @@ pub fn g10(
         st.select_system(cs);
     }
     Ok(())
+}
+
+/// Fanuc's G10 L10–L13 P R (the Fanuc dialect): a tool offset of memory C set to R, or R added
+/// under G91 (`sysvars::g10_offset`). Before stop 48 the dialect read them as LinuxCNC's L10
+/// and L11, whose R is the tool's radius: `G10 L10 P1 R100.` (H1 = 100 mm) made T1 200 mm
+/// across.
+fn fanuc_g10_offset(
+    st: &InterpState,
+    comp: &Comp,
+    x: &mut Exec,
+    w: &Words,
+    l: u32,
+    col: u32,
+) -> Result<(), TranslateError> {
+    if comp.active() {
+        return Err(x.err(col, "G10 cannot be used with cutter radius compensation on"));
+    }
+    for c in ['X', 'Y', 'Z', 'I', 'J', 'K', 'Q'] {
+        if let Some(cc) = w.col(c) {
+            return Err(x.err(
+                cc,
+                format!("G10 L{l}: {c} is not a word of a Fanuc tool offset (P the offset, R its value)"),
+            ));
+        }
+    }
+    let pcol = w.col('P').unwrap_or(col);
+    let p = match w.get('P') {
+        Some(p) if p.fract() == 0.0 && (1.0..=999.0).contains(&p) => p as u32,
+        Some(p) => {
+            return Err(x.err(
+                pcol,
+                format!(
+                    "G10 L{l} P{}: P is the offset number, 1 to 999",
+                    crate::input_text::short_number(p)
+                ),
+            ))
+        }
+        None => return Err(x.err(col, format!("G10 L{l} needs P, the offset number"))),
+    };
+    let Some(r) = w.get('R') else {
+        return Err(x.err(col, format!("G10 L{l} needs R, the offset's value")));
+    };
+    let r_mm = r * st.factor();
+    super::sysvars::g10_offset(l, p, r_mm, st.modal.incremental, x.magazine, &mut x.events)
+        .map_err(|e| x.err(w.col('R').unwrap_or(col), format!("G10 L{l} P{p}: {e}")))
 }
 
 /// G10 L1 (set a tool's data), L10 (so the current point reads X Y Z with that tool's

@@ -411,6 +411,37 @@ pub fn read_only(n: usize) -> Option<String> {
     Some(format!("#{n} ({what}) is read-only"))
 }
 
+/// Fanuc's G10 L10–L13 P R (memory C, docs/gcode.md "Fanuc dialect"): offset P's length
+/// geometry (L10), length wear (L11), radius geometry (L12) or radius wear (L13) set to R mm,
+/// or R added to it under G91; as a program's #11000+P, #10000+P, #13000+P or #12000+P
+/// would set it. The offset number is the T code, as H and D are.
+pub fn g10_offset(
+    l: u32,
+    p: u32,
+    r_mm: f64,
+    incremental: bool,
+    magazine: &mut Magazine,
+    events: &mut Vec<Event>,
+) -> Result<(), String> {
+    let tv = ToolVar {
+        offset: p,
+        radius: l >= 12,
+        wear: l == 11 || l == 13,
+    };
+    let n = 10_000 + 1000 * (2 * usize::from(tv.radius) + usize::from(!tv.wear)) + p as usize;
+    let now = match magazine.tools.get(p) {
+        Some(rec) => match (tv.radius, tv.wear) {
+            (false, false) => rec.set_length,
+            (false, true) => rec.wear_length,
+            (true, false) => rec.diameter / 2.0,
+            (true, true) => rec.wear_diameter / 2.0,
+        },
+        None => 0.0,
+    };
+    let v = if incremental { now + r_mm } else { r_mm };
+    write_tool(n, tv, v, magazine, events)
+}
+
 fn write_tool(
     n: usize,
     tv: ToolVar,
