@@ -1771,7 +1771,8 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
     let last = g
         .take_events()
         .into_iter()
-        .filter_map(|e| match e {
+        .rev()
+        .find_map(|e| match e {
             novanc::gcode::Event::ToolOffsets {
                 t: 2,
                 length,
@@ -1780,8 +1781,7 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
                 wear_diameter,
             } => Some((length, diameter, wear_length, wear_diameter)),
             _ => None,
-        })
-        .last();
+        });
     assert_eq!(last, Some((100.0, 8.0, 0.75, -0.1)));
     assert_eq!(
         moves("G10 L12 P2 X1.\nM30\n", Fanuc).unwrap_err(),
