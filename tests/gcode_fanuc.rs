@@ -1768,20 +1768,16 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
         .collect();
     // The gauge line at program Z0: the work offset plus the length, geometry and wear.
     assert_eq!(zs.last(), Some(&(-400_000 + 100_750)), "{zs:?}");
-    let last = g
-        .take_events()
-        .into_iter()
-        .rev()
-        .find_map(|e| match e {
-            novanc::gcode::Event::ToolOffsets {
-                t: 2,
-                length,
-                diameter,
-                wear_length,
-                wear_diameter,
-            } => Some((length, diameter, wear_length, wear_diameter)),
-            _ => None,
-        });
+    let last = g.take_events().into_iter().rev().find_map(|e| match e {
+        novanc::gcode::Event::ToolOffsets {
+            t: 2,
+            length,
+            diameter,
+            wear_length,
+            wear_diameter,
+        } => Some((length, diameter, wear_length, wear_diameter)),
+        _ => None,
+    });
     assert_eq!(last, Some((100.0, 8.0, 0.75, -0.1)));
     assert_eq!(
         moves("G10 L12 P2 X1.\nM30\n", Fanuc).unwrap_err(),
@@ -1791,4 +1787,27 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
         moves("G10 L10 P2\nM30\n", Fanuc).unwrap_err(),
         "1:1: G10 L10 needs R, the offset's value"
     );
+}
+
+/// Fanuc's codes that mean something else in LinuxCNC's language are read as Fanuc's or
+/// refused with Fanuc's meaning (stop 48): G10 L20 (Fanuc's additional work systems, not
+/// LinuxCNC's system from the current point, which would have moved G54), G76 (fine boring,
+/// not the lathe's threading); G09 (exact stop for one block) is read, every block ending at
+/// rest here anyway.
+#[test]
+fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
+    assert_eq!(
+        moves("G10 L20 P1 X100. Y50. Z-200.\nM30\n", Fanuc).unwrap_err(),
+        "1:5: G10 L20 sets Fanuc's additional work systems (G54.1 P1–P48): novanc has G54–G59.3, set with G10 L2 P1–P9"
+    );
+    assert!(moves("G76 X10. Z-20. R-5. Q1. F100.\nM30\n", Fanuc)
+        .unwrap_err()
+        .contains("Fanuc's fine boring"));
+    assert_moves(
+        &moves("G21 G90\nG09 G01 X10. F100.\nM30\n", Fanuc).unwrap(),
+        &[('F', [10.0, 0.0, 0.0])],
+    );
+    // LinuxCNC's own reading is unchanged in its dialect.
+    assert!(moves("G10 L20 P1 X0\nM30\n", LinuxCnc).is_ok());
+    assert!(moves("G09 G01 X10 F100\nM30\n", LinuxCnc).is_err());
 }

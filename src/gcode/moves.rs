@@ -291,8 +291,18 @@ pub fn g10(
     col: u32,
 ) -> Result<(), TranslateError> {
     let l = int_word(x, w, 'L', 0.0, 20.0)?;
-    if let (Some(l @ 10..=13), crate::settings::Dialect::Fanuc) = (l, x.settings.dialect) {
-        return fanuc_g10_offset(st, comp, x, w, l, col);
+    if x.settings.dialect == crate::settings::Dialect::Fanuc {
+        match l {
+            Some(l @ 10..=13) => return fanuc_g10_offset(st, comp, x, w, l, col),
+            // LinuxCNC's L20 (a system set from the current point) is another thing there.
+            Some(20) => {
+                return Err(x.err(
+                    w.col('L').unwrap_or(col),
+                    "G10 L20 sets Fanuc's additional work systems (G54.1 P1–P48): novanc has G54–G59.3, set with G10 L2 P1–P9",
+                ))
+            }
+            _ => {}
+        }
     }
     let l = match l {
         Some(l @ (1 | 2 | 10 | 11 | 20)) => l,

@@ -53,6 +53,7 @@ pub const MILL4: Dialect = Dialect {
 pub const FANUC: Dialect = Dialect {
     g_group: fanuc_g_group,
     m_group: fanuc_m_group,
+    g_why: fanuc_g_why,
     ..MILL
 };
 
@@ -60,6 +61,7 @@ pub const FANUC: Dialect = Dialect {
 pub const FANUC4: Dialect = Dialect {
     g_group: fanuc_g_group,
     m_group: fanuc_m_group,
+    g_why: fanuc_g_why,
     ..MILL4
 };
 
@@ -73,9 +75,24 @@ fn fanuc_m_group(m: u32) -> Option<u8> {
 fn fanuc_g_group(g: u32) -> Option<u8> {
     match g {
         310 => Some(1),
-        // G08 P1: Fanuc's AI advanced preview (the mill's G08 is no lathe radius mode here).
-        80 => Some(0),
+        // G08 P1: Fanuc's AI advanced preview (the mill's G08 is no lathe radius mode here);
+        // G09, exact stop for one block: every block here ends at rest on its end anyway.
+        80 | 90 => Some(0),
         _ => g_group(g),
+    }
+}
+
+/// Why a G code is unknown in the Fanuc dialect: Fanuc's own mill codes that novanc does not
+/// read say what they are (a G76 there is fine boring, not LinuxCNC's lathe threading).
+fn fanuc_g_why(g: u32) -> &'static str {
+    match g {
+        760 => " (G76, Fanuc's fine boring, orients the spindle and shifts the tool off the wall by Q before it retracts: not on this machine; use G86 or G89)",
+        680 | 690 => " (Fanuc's coordinate rotation is not read: G10 L2 P R rotates a work system about its origin)",
+        150 | 160 => " (Fanuc's polar coordinate command is not read: the @ and ^ words give polar points)",
+        501 | 511 => " (Fanuc's programmable mirror image is not read)",
+        500 | 510 => " (Fanuc's scaling is not read)",
+        541 => " (Fanuc's additional work systems G54.1 P1–P48: novanc has G54–G59.3)",
+        _ => mill_g_why(g),
     }
 }
 
