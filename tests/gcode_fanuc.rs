@@ -1807,7 +1807,16 @@ fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
         &moves("G21 G90\nG09 G01 X10. F100.\nM30\n", Fanuc).unwrap(),
         &[('F', [10.0, 0.0, 0.0])],
     );
+    // The external work offset (G10 L2 P0, #5201–#5206) shifts every system on a Fanuc;
+    // LinuxCNC's P0 is the system in force, which it would have set instead.
+    assert!(moves("G10 L2 P0 Z-0.5\nM30\n", Fanuc)
+        .unwrap_err()
+        .contains("G10 L2 P0: Fanuc's external work offset"));
+    assert!(moves("#5203=-0.5\nM30\n", Fanuc)
+        .unwrap_err()
+        .contains("#5203: Fanuc's external work offset"));
     // LinuxCNC's own reading is unchanged in its dialect.
+    assert!(moves("G10 L2 P0 Z-0.5\nM30\n", LinuxCnc).is_ok());
     assert!(moves("G10 L20 P1 X0\nM30\n", LinuxCnc).is_ok());
     assert!(moves("G09 G01 X10 F100\nM30\n", LinuxCnc).is_err());
 }

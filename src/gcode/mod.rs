@@ -1337,7 +1337,8 @@ impl GcodeSource {
                         && (*p > read::MAX_PARAM
                             || sysvars::tool_var(*p).is_some()
                             || (3001..=5048).contains(p)
-                            || (5081..=5088).contains(p)) =>
+                            || (5081..=5088).contains(p)
+                            || (5201..=5206).contains(p)) =>
                 {
                     let r = sysvars::write(*p, *v, &self.st, &mut self.magazine, &mut self.events);
                     if let Some(Err(m)) = r {

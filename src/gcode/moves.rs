@@ -342,6 +342,9 @@ pub fn g10(
     if matches!(l, 1 | 10 | 11) {
         return g10_tool(st, x, w, l, pi, col);
     }
+    if l == 2 && pi == 0.0 && x.settings.dialect == crate::settings::Dialect::Fanuc {
+        return Err(x.err(pcol, format!("G10 L2 P0: {}", super::sysvars::EXOFS)));
+    }
     if !(0.0..=9.0).contains(&pi) {
         return Err(x.err(
             pcol,

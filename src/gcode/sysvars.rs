@@ -387,10 +387,16 @@ pub fn write(
         return Some(Err(why));
     }
     match n {
+        5201..=5206 => Some(Err(format!("#{n}: {EXOFS}"))),
         _ if n > MAX_PARAM => Some(Err(unknown(n))),
         _ => None,
     }
 }
+
+/// Why Fanuc's external work offset (EXOFS: #5201–#5206, G10 L2 P0), which shifts every work
+/// system at once, is refused: novanc has none, and LinuxCNC's P0 (the system in force) would
+/// set one system where a Fanuc program meant to shift them all.
+pub const EXOFS: &str = "Fanuc's external work offset (shifting every work system) is not on this machine: set G54–G59 with G10 L2 P1–P6";
 
 /// Why system variable `#n` cannot be written, if it is one a program only reads: the part
 /// counter, the modal information, the positions, the tool length offset.
