@@ -388,9 +388,12 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             format!("{c} word with no {msg} to use it"),
         ))
     };
-    let look_ahead = [50, 51, 80]
-        .iter()
-        .any(|&c| fanuc_look_ahead(x, w, c).is_some());
+    // Asked last, only where a P or Q would otherwise be refused.
+    let look_ahead = || {
+        [50, 51, 80]
+            .iter()
+            .any(|&c| fanuc_look_ahead(x, w, c).is_some())
+    };
     if w.get('D').is_some() && !(g(410) || g(420) || g(411) || g(421) || is(&[730, 830])) {
         refuse('D', "G41, G41.1, G42, G42.1, G73 or G83")?;
     }
@@ -423,7 +426,7 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             || (62..=66).any(m)
             || m(19)
             || m(98)
-            || look_ahead)
+            || look_ahead())
     {
         refuse(
             'P',
@@ -447,7 +450,7 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
             || m(61)
             || g(640)
             || m(19)
-            || look_ahead)
+            || look_ahead())
     {
         refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66, M67 or M68")?;
     }
