@@ -1820,3 +1820,45 @@ fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
     assert!(moves("G10 L20 P1 X0\nM30\n", LinuxCnc).is_ok());
     assert!(moves("G09 G01 X10 F100\nM30\n", LinuxCnc).is_err());
 }
+
+/// Fanuc's coordinate rotation (stop 48): G68 X Y R turns the program's points about X Y by
+/// R degrees, moves, arcs and incremental moves alike, until G69; M30 and RESET end it.
+/// Before, G68 was refused. Refused: under G91, without R, outside G17, with compensation on.
+#[test]
+fn g68_rotates_the_program_about_its_centre_until_g69() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X300. Y300.\nG0 X0 Y0\nG68 X0 Y0 R90.\nG1 X10. F500.\nG2 X20. Y10. R10.\nG91 G1 Y5.\nG90\nG69\nG1 X10. Y0\nM30\n";
+    let got = moves(prog, Fanuc).unwrap();
+    // (The arc, program X20 Y10 turned to X-10 Y20, is not listed; G91 Y5 goes on from its
+    // end, turned: X-5.)
+    assert_moves(
+        &got,
+        &[
+            ('R', [300.0, 300.0, 0.0]),
+            ('F', [300.0, 310.0, 0.0]),
+            ('F', [285.0, 320.0, 0.0]),
+            ('F', [310.0, 300.0, 0.0]),
+        ],
+    );
+    // The centre defaults to where the tool stands.
+    assert_moves(
+        &moves(
+            "G21 G90\nG10 L2 P1 X300. Y300.\nG0 X10. Y0\nG68 R180.\nG1 X20. F500.\nM30\n",
+            Fanuc,
+        )
+        .unwrap(),
+        &[('R', [310.0, 300.0, 0.0]), ('F', [300.0, 300.0, 0.0])],
+    );
+    for (src, why) in [
+        ("G91 G68 X0 Y0 R45.\n", "G68 under G91"),
+        ("G68 X0 Y0\n", "G68 needs R"),
+        ("G18\nG68 X0 Y0 R45.\n", "G68 turns the XY plane only"),
+        (
+            "G41 D1\nG68 X0 Y0 R45.\n",
+            "with cutter radius compensation on",
+        ),
+    ] {
+        let e = moves(&format!("G21 G90 G17\n{src}M30\n"), Fanuc).unwrap_err();
+        assert!(e.contains(why), "{src}: {e}");
+    }
+    assert!(moves("G68 X0 Y0 R45\nM30\n", LinuxCnc).is_err());
+}

@@ -312,8 +312,9 @@ pub(super) fn reset_state(st: &mut InterpState, settings: &crate::settings::Mach
     st.call_level = 0;
     st.saved.clear();
     st.nurbs = None;
-    // Fanuc's rigid tapping mode (M29) ends at RESET.
+    // Fanuc's rigid tapping mode (M29) and coordinate rotation (G68) end at RESET.
     st.cycle.rigid = false;
+    st.g68 = None;
 }
 
 /// The note while a run stands at a program stop: the last block carried M00 or M01, RUN is 0

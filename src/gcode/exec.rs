@@ -316,7 +316,9 @@ fn motion_to_be(
         given = Some((m, col));
     }
     let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some() || w.get('A').is_some();
-    let covets = [100, 280, 300, 520, 920].iter().find_map(|&g| w.has_g(g));
+    let covets = [100, 280, 300, 520, 680, 920]
+        .iter()
+        .find_map(|&g| w.has_g(g));
     if let Some((m, col)) = given {
         if m == Motion::None {
             if axis && covets.is_none() {
@@ -454,7 +456,7 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     {
         refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66, M67 or M68")?;
     }
-    if w.get('R').is_some() && !(is(&[20, 30, 730, 740]) || cycle || g(100) || m(19)) {
+    if w.get('R').is_some() && !(is(&[20, 30, 730, 740]) || cycle || g(100) || g(680) || m(19)) {
         refuse('R', "G2, G3, a canned cycle, G10 or M19")?;
     }
     if w.get('S').is_none() && g(960) {
@@ -882,6 +884,7 @@ pub fn execute(
         if w.has_g(911).is_some() {
             st.modal.ijk_absolute = false;
         }
+        coordinate_rotation(st, comp, x, w)?;
         if let Some(col) = w.has_g(980).or(w.has_g(990)) {
             if comp.active() {
                 return Err(x.err(
@@ -1544,6 +1547,66 @@ fn tool_length(
             return Err(x.err(col, "G43.2 on this machine offsets Z only"));
         }
     }
+    Ok(())
+}
+
+/// Fanuc's G68 X Y R (the Fanuc dialect, docs/gcode.md "Fanuc dialect"): program points turn
+/// by R degrees counter-clockwise about X Y (the program frame; the current point where they
+/// are left out), until G69, M02/M30 or RESET. G17 only, R needed, under G90; refused with
+/// cutter compensation on, as a Fanuc refuses it.
+fn coordinate_rotation(
+    st: &mut InterpState,
+    comp: &Comp,
+    x: &mut Exec,
+    w: &Words,
+) -> Result<(), TranslateError> {
+    let Some(col) = w.has_g(680).or(w.has_g(690)) else {
+        return Ok(());
+    };
+    if comp.active() {
+        return Err(x.err(
+            col,
+            "G68 and G69 cannot be given with cutter radius compensation on: G40 first",
+        ));
+    }
+    if w.has_g(690).is_some() {
+        st.g68 = None;
+        return Ok(());
+    }
+    if st.modal.plane != Plane::XY {
+        return Err(x.err(col, "G68 turns the XY plane only here: give G17 first"));
+    }
+    if st.modal.incremental {
+        return Err(x.err(
+            col,
+            "G68 under G91: give its centre and angle under G90 (a Fanuc's incremental angle depends on a parameter)",
+        ));
+    }
+    if let Some(c) = w.col('Z') {
+        return Err(x.err(
+            c,
+            "G68 in G17 takes X and Y, the centre: Z is not in its plane",
+        ));
+    }
+    let Some(r) = w.get('R') else {
+        return Err(x.err(col, "G68 needs R, the angle in degrees"));
+    };
+    if !r.is_finite() || r.abs() > 360.0 {
+        return Err(x.err(
+            w.col('R').unwrap_or(col),
+            "G68 R: the angle is -360 to 360 degrees",
+        ));
+    }
+    // The centre in the program frame as it stands (under a G68 already in force, the new one
+    // replaces it: its centre is read in the frame without it).
+    st.g68 = None;
+    let k = st.factor();
+    let here = st.prog();
+    let c = [
+        w.get('X').map_or(here[0], |v| v * k),
+        w.get('Y').map_or(here[1], |v| v * k),
+    ];
+    st.g68 = Some((c, r));
     Ok(())
 }
 

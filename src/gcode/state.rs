@@ -257,6 +257,10 @@ pub struct InterpState {
     pub origin: [f64; 3],
     /// The XY rotation of the coordinate system in force, degrees.
     pub rotation: f64,
+    /// Fanuc's coordinate rotation in force (G68, the Fanuc dialect; G69 cancels): its centre
+    /// in the program frame (mm) and its angle (degrees, counter-clockwise), applied to
+    /// program points before the work offsets.
+    pub g68: Option<([f64; 2], f64)>,
     /// The G92 offset in force, mm (zero when none).
     pub g92: [f64; 3],
     /// The tool length offset in force (G43, G43.1, G43.2), mm, per axis.
@@ -339,6 +343,7 @@ impl Default for InterpState {
             a_axis: None,
             origin: [0.0; 3],
             rotation: 0.0,
+            g68: None,
             g92: [0.0; 3],
             tlo: [0.0; 3],
             tlo_tool: None,
@@ -465,6 +470,7 @@ impl InterpState {
     /// coordinates: G92, then the rotation about the system's zero, then the system's offset
     /// and the tool length (LinuxCNC's order).
     pub fn to_machine(&self, p: [f64; 3]) -> [f64; 3] {
+        let p = self.g68_rotated(p, 1.0);
         let q = [p[0] + self.g92[0], p[1] + self.g92[1], p[2] + self.g92[2]];
         let r = rotate([q[0], q[1]], self.rotation);
         [
@@ -482,7 +488,19 @@ impl InterpState {
             m[2] - self.origin[2] - self.tlo[2],
         ];
         let r = rotate([q[0], q[1]], -self.rotation);
-        [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]]
+        self.g68_rotated(
+            [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]],
+            -1.0,
+        )
+    }
+
+    /// `p` turned by G68 about its centre (`sign` -1: back), or `p` without G68.
+    fn g68_rotated(&self, p: [f64; 3], sign: f64) -> [f64; 3] {
+        let Some((c, deg)) = self.g68 else {
+            return p;
+        };
+        let r = rotate([p[0] - c[0], p[1] - c[1]], sign * deg);
+        [r[0] + c[0], r[1] + c[1], p[2]]
     }
 
     /// A machine point in the work coordinates with the tool length offset included (the
@@ -494,7 +512,10 @@ impl InterpState {
             m[2] - self.origin[2],
         ];
         let r = rotate([q[0], q[1]], -self.rotation);
-        [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]]
+        self.g68_rotated(
+            [r[0] - self.g92[0], r[1] - self.g92[1], q[2] - self.g92[2]],
+            -1.0,
+        )
     }
 
     /// Where the machine is, in the program frame, mm.
@@ -613,6 +634,8 @@ impl InterpState {
     /// parameter stay.
     pub fn program_end_reset(&mut self) {
         self.select_system(0);
+        // Fanuc's G69 is in force after M02/M30 and RESET.
+        self.g68 = None;
         let m = &mut self.modal;
         m.plane = Plane::XY;
         m.incremental = false;

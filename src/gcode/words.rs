@@ -78,6 +78,8 @@ fn fanuc_g_group(g: u32) -> Option<u8> {
         // G08 P1: Fanuc's AI advanced preview (the mill's G08 is no lathe radius mode here);
         // G09, exact stop for one block: every block here ends at rest on its end anyway.
         80 | 90 => Some(0),
+        // G68/G69: Fanuc's coordinate rotation (its group 16).
+        680 | 690 => Some(16),
         _ => g_group(g),
     }
 }
@@ -87,7 +89,6 @@ fn fanuc_g_group(g: u32) -> Option<u8> {
 fn fanuc_g_why(g: u32) -> &'static str {
     match g {
         760 => " (G76, Fanuc's fine boring, orients the spindle and shifts the tool off the wall by Q before it retracts: not on this machine; use G86 or G89)",
-        680 | 690 => " (Fanuc's coordinate rotation is not read: G10 L2 P R rotates a work system about its origin)",
         150 | 160 => " (Fanuc's polar coordinate command is not read: the @ and ^ words give polar points)",
         501 | 511 => " (Fanuc's programmable mirror image is not read)",
         500 | 510 => " (Fanuc's scaling is not read)",
