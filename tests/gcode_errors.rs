@@ -58,9 +58,15 @@ fn an_unknown_word_or_code() {
         error("G0 A1"),
         "4:4: unknown word A (novanc has the axes X, Y and Z)"
     );
+    // G33 is read since stop 48 (a thread pass geared to the spindle): with the spindle
+    // stopped it is refused for that.
     assert_eq!(
         error("G33 Z-1 K1"),
-        "4:1: unknown or unsupported code G33 (G33 spindle-synchronised motion needs a spindle encoder: not on this machine yet)"
+        "4:1: G33 needs the spindle turning: M03 (right-hand) or M04 (left-hand) first"
+    );
+    assert_eq!(
+        error("G17.1"),
+        "4:1: unknown or unsupported code G17.1 (the UV, UW and VW planes need U, V and W axes)"
     );
     assert_eq!(error("M200"), "4:1: unknown or unsupported code M200");
     assert_eq!(
