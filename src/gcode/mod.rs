@@ -1262,9 +1262,9 @@ impl GcodeSource {
         if let Some(m) = motion {
             return self.run_motion(m, at, n, raw, line);
         }
-        if line.sorted && !fanuc {
-            // Sorted as read, in the mill's dialect (which a line without A reads the same
-            // with an A axis).
+        if line.sorted {
+            // Sorted as read, in the mill's dialect or Fanuc's (which a line without A reads
+            // the same with an A axis).
             let r = self.run_words(at, n, raw, &line.sorted_words, false);
             if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
                 r.words = Some(Box::new(line.sorted_words.clone()));
