@@ -1791,18 +1791,15 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
 
 /// Fanuc's codes that mean something else in LinuxCNC's language are read as Fanuc's or
 /// refused with Fanuc's meaning (stop 48): G10 L20 (Fanuc's additional work systems, not
-/// LinuxCNC's system from the current point, which would have moved G54), G76 (fine boring,
-/// not the lathe's threading); G09 (exact stop for one block) is read, every block ending at
-/// rest here anyway.
+/// LinuxCNC's system from the current point, which would have moved G54), G10 L2 P0 and
+/// #5201– (the external work offset); G09 (exact stop for one block) is read, every block
+/// ending at rest here anyway.
 #[test]
 fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
     assert_eq!(
         moves("G10 L20 P1 X100. Y50. Z-200.\nM30\n", Fanuc).unwrap_err(),
         "1:5: G10 L20 sets Fanuc's additional work systems (G54.1 P1–P48): novanc has G54–G59.3, set with G10 L2 P1–P9"
     );
-    assert!(moves("G76 X10. Z-20. R-5. Q1. F100.\nM30\n", Fanuc)
-        .unwrap_err()
-        .contains("Fanuc's fine boring"));
     assert_moves(
         &moves("G21 G90\nG09 G01 X10. F100.\nM30\n", Fanuc).unwrap(),
         &[('F', [10.0, 0.0, 0.0])],
@@ -1861,4 +1858,52 @@ fn g68_rotates_the_program_about_its_centre_until_g69() {
         assert!(e.contains(why), "{src}: {e}");
     }
     assert!(moves("G68 X0 Y0 R45\nM30\n", LinuxCnc).is_err());
+}
+
+/// Fanuc's G76 fine boring (stop 48; before, refused as the lathe's threading): bore, dwell
+/// P (ms), the spindle oriented (M19), the tool shifted off the wall by Q along +X, out at
+/// rapid, shifted back, the spindle restarted; per hole, Q sticky like a peck. The spindle
+/// must turn; Q is needed; G17 only.
+#[test]
+fn fanuc_g76_fine_boring_orients_and_shifts_off_the_wall_before_it_retracts() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X300. Y300.\nS500 M3\nG0 X10. Y10. Z-40.\nG98 G76 Z-70. R-48. Q0.5 P500 F100.\nG80\nM30\n";
+    assert_moves(
+        &moves(prog, Fanuc).unwrap(),
+        &[
+            ('R', [310.0, 310.0, -40.0]),
+            ('R', [310.0, 310.0, -48.0]),
+            ('F', [310.0, 310.0, -70.0]),
+            ('R', [310.5, 310.0, -70.0]),
+            ('R', [310.5, 310.0, -40.0]),
+            ('R', [310.0, 310.0, -40.0]),
+        ],
+    );
+    let blocks: Vec<_> = gcode_source_in(prog, Fanuc)
+        .flat_map(|s| s.unwrap().blocks)
+        .collect();
+    let orient = blocks
+        .iter()
+        .position(|b| matches!(b.io, Some(novanc::block::Io::Orient { .. })));
+    let shift = blocks.iter().position(|b| b.end.xyz()[0] == 310_500);
+    assert!(
+        orient.is_some() && orient < shift,
+        "oriented before the shift"
+    );
+    let restart = blocks.iter().rposition(|b| b.m == Some(3));
+    assert!(restart > shift, "the spindle restarted after the shift");
+    for (src, why) in [
+        (
+            "M5\nG76 Z-70. R-48. Q0.5 F100.\n",
+            "G76 needs the spindle turning",
+        ),
+        ("S500 M3\nG76 Z-70. R-48. F100.\n", "G76 needs Q, the shift"),
+        ("S500 M3\nG18 G76 Z-70. R-48. Q1. F100.\n", "G17 only"),
+    ] {
+        let e = moves(
+            &format!("G21 G90 G17\nG10 L2 P1 X300. Y300.\n{src}M30\n"),
+            Fanuc,
+        )
+        .unwrap_err();
+        assert!(e.contains(why), "{src}: {e}");
+    }
 }

@@ -103,6 +103,12 @@ pub fn cycle(
     let k = st.factor();
     let plane = st.modal.plane;
     let ([ia, ib, ic], [la, lb, lc]) = axes(plane);
+    if kind == 76 && plane != Plane::XY {
+        return Err(x.err(
+            col,
+            "G76 shifts the tool along X off the bore's wall: G17 only",
+        ));
+    }
     let same = st.modal.motion == super::state::Motion::Cycle(g);
     if st.modal.feed_mode == FeedMode::PerMinute && st.modal.feed <= 0.0 {
         return Err(x.err(col, "a feed move without F: canned cycles feed, give F"));
@@ -156,20 +162,22 @@ pub fn cycle(
         }
         None => st.cycle.p,
     };
+    // Q: the peck of G73 and G83, the shift off the wall of Fanuc's G76.
+    let what = if kind == 76 { "shift" } else { "peck" };
     let q = match kind {
-        73 | 83 => Some(match w.get('Q') {
+        73 | 76 | 83 => Some(match w.get('Q') {
             Some(q) if q <= 0.0 => {
                 return Err(x.err(
                     w.col('Q').unwrap_or(col),
-                    format!("the peck Q must be greater than 0, not {q}"),
+                    format!("the {what} Q must be greater than 0, not {q}"),
                 ))
             }
             Some(q) => q * k,
             None if same => st
                 .cycle
                 .q
-                .ok_or_else(|| x.err(col, format!("{name} needs Q, the peck")))?,
-            None => return Err(x.err(col, format!("{name} needs Q, the peck (greater than 0)"))),
+                .ok_or_else(|| x.err(col, format!("{name} needs Q, the {what}")))?,
+            None => return Err(x.err(col, format!("{name} needs Q, the {what} (greater than 0)"))),
         }),
         _ => None,
     };
@@ -213,10 +221,10 @@ pub fn cycle(
                 },
             ))
         }
-        86 if spindle == 0 => {
+        86 | 76 if spindle == 0 => {
             return Err(x.err(
                 col,
-                "G86 needs the spindle turning: give M03 (or M04) first",
+                format!("{name} needs the spindle turning: give M03 (or M04) first"),
             ))
         }
         _ => {}
@@ -250,7 +258,7 @@ pub fn cycle(
         ));
     }
     // The pecks of a hole, the same for every hole of the line.
-    let pecks = match q.map(|q| peck_depths(r, bottom, q)) {
+    let pecks = match q.filter(|_| kind != 76).map(|q| peck_depths(r, bottom, q)) {
         None => Vec::new(),
         Some(Ok(d)) => d,
         Some(Err(fault)) => {
@@ -282,6 +290,7 @@ pub fn cycle(
         73 => 2 * n + 2,
         83 => 3 * n + 2,
         74 | 84 => 6 + u64::from(p > 0.0) + u64::from(tap_rapid),
+        76 => 6 + u64::from(p > 0.0),
         _ => 5,
     };
     let down = u64::from(clear_est > r);
@@ -468,6 +477,22 @@ pub fn cycle(
                 feed_to(&mut out, &mut pos, at(bottom));
                 out.push(Canon::Dwell(p));
                 out.push(aux(5));
+                rapid(&mut out, &mut pos, at(clear));
+                out.push(aux(if spindle == 1 { 3 } else { 4 }));
+            }
+            76 => {
+                // Fanuc's fine boring: bore, dwell, orient the spindle (M19, the tool's
+                // edge to a known angle), shift the tool off the wall by Q along +X (the
+                // direction of parameters RD1 = RD2 = 0), rapid out, shift back, restart.
+                let shift = q.unwrap_or(0.0);
+                feed_to(&mut out, &mut pos, at(bottom));
+                if p > 0.0 {
+                    out.push(Canon::Dwell(p));
+                }
+                out.push(Canon::Io(crate::block::Io::Orient { angle: 0.0, dir: 0 }));
+                let off = |c: f64| mk(aa + shift, bb, c);
+                rapid(&mut out, &mut pos, off(bottom));
+                rapid(&mut out, &mut pos, off(clear));
                 rapid(&mut out, &mut pos, at(clear));
                 out.push(aux(if spindle == 1 { 3 } else { 4 }));
             }

@@ -309,7 +309,8 @@ fn motion_to_be(
             331 => Motion::RigidTap,
             // G31 (Fanuc's skip: only its dialect's words have it) probes as G38.3 does.
             310 | 382..=385 => Motion::Probe(g as u16),
-            730 | 740 | 810..=890 => Motion::Cycle(g as u16),
+            // G76: Fanuc's fine boring (only its dialect's words have it).
+            730 | 740 | 760 | 810..=890 => Motion::Cycle(g as u16),
             800 => Motion::None,
             _ => continue,
         };
@@ -423,7 +424,7 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
         && !(g(100)
             || g(40)
             || g(640)
-            || is(&[820, 860, 880, 890, 50, 52, 20, 30, 740, 840])
+            || is(&[820, 860, 880, 890, 50, 52, 20, 30, 740, 760, 840])
             || (50..=53).any(m)
             || (62..=66).any(m)
             || m(19)
@@ -446,7 +447,7 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
         }
     }
     if w.get('Q').is_some()
-        && !(is(&[830, 730, 50])
+        && !(is(&[830, 730, 760, 50])
             || (66..=68).any(m)
             || g(100)
             || m(61)

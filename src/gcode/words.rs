@@ -80,6 +80,8 @@ fn fanuc_g_group(g: u32) -> Option<u8> {
         80 | 90 => Some(0),
         // G68/G69: Fanuc's coordinate rotation (its group 16).
         680 | 690 => Some(16),
+        // G76: Fanuc's fine boring, a canned cycle.
+        760 => Some(1),
         _ => g_group(g),
     }
 }
@@ -88,8 +90,9 @@ fn fanuc_g_group(g: u32) -> Option<u8> {
 /// read say what they are (a G76 there is fine boring, not LinuxCNC's lathe threading).
 fn fanuc_g_why(g: u32) -> &'static str {
     match g {
-        760 => " (G76, Fanuc's fine boring, orients the spindle and shifts the tool off the wall by Q before it retracts: not on this machine; use G86 or G89)",
-        150 | 160 => " (Fanuc's polar coordinate command is not read: the @ and ^ words give polar points)",
+        150 | 160 => {
+            " (Fanuc's polar coordinate command is not read: the @ and ^ words give polar points)"
+        }
         501 | 511 => " (Fanuc's programmable mirror image is not read)",
         500 | 510 => " (Fanuc's scaling is not read)",
         541 => " (Fanuc's additional work systems G54.1 P1–P48: novanc has G54–G59.3)",
