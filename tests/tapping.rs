@@ -61,6 +61,21 @@ fn script(name: &str, text: &str) -> (Rec, String) {
     (read(&rec), text)
 }
 
+/// Reads the G-code program `prog` into memory at the panel (DATA READ of it as a tape file),
+/// runs it in AUTO to its end after `before` (switches), recorded, and shows the display;
+/// `args` are more options for `novanc script` (`--dialect fanuc`).
+fn run_program(name: &str, prog: &str, before: &str, args: &[&str]) -> (Rec, String) {
+    let dir = common::temp_dir(name);
+    let file = dir.join("PROG.NC");
+    std::fs::write(&file, prog).unwrap();
+    let text = format!(
+        "{before}op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
+        file.display()
+    );
+    let (rec, out) = common::recorded_script_with(&dir, &text, args);
+    (read(&rec), out)
+}
+
 /// Every tap feed block (an ISO `G01 Z… F375` of Table B's TAP, 208): the speed of each Z
 /// pulse after the first few (the KT ramp up), as mm/min from the gap to the one before.
 /// Returns the number of tap blocks checked; panics if a pulse is off pitch × rpm by more than
@@ -183,16 +198,7 @@ fn a_stop_during_the_tap_holds_once_the_tap_is_out_with_the_spindle_forward() {
 #[test]
 fn g84_feeds_at_pitch_times_rpm_at_half_override() {
     let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z50\nG99 G84 X150 Y130 Z-16 R2 F375\nX180\nG80\nG0 Z150\nM5\nM30\n";
-    let dir = common::temp_dir("tap-g84");
-    let file = dir.join("TAP.NGC");
-    std::fs::write(&file, prog).unwrap();
-    let (r, out) = script(
-        "tap-g84-run",
-        &format!(
-            "override 50\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
-            file.display()
-        ),
-    );
+    let (r, out) = run_program("tap-g84", prog, "override 50\n", &[]);
     assert_eq!(
         check_tap_feeds(&r, 375.0),
         4,
@@ -221,16 +227,7 @@ fn the_tap_feeds_at_pitch_times_rpm_through_a_hold() {
 #[test]
 fn g33_1_taps_at_pitch_times_rpm_and_ends_where_it_started() {
     let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z2\nG33.1 Z-16 K1.25\nG0 X180\nG33.1 Z-16 K1.25 I2\nG0 Z150\nM5\nM30\n";
-    let dir = common::temp_dir("tap-g33-1");
-    let file = dir.join("RIGID.NGC");
-    std::fs::write(&file, prog).unwrap();
-    let (r, out) = script(
-        "tap-g33-1-run",
-        &format!(
-            "override 50\nspindleoverride 80\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
-            file.display()
-        ),
-    );
+    let (r, out) = run_program("tap-g33-1", prog, "override 50\nspindleoverride 80\n", &[]);
     assert_eq!(
         check_tap_feeds(&r, 375.0),
         3,
@@ -268,16 +265,7 @@ fn g33_1_taps_at_pitch_times_rpm_and_ends_where_it_started() {
 #[test]
 fn g33_threads_along_z_at_pitch_times_rpm() {
     let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z2\nG33 Z-16 K1.5\nG0 X160\nZ2\nG33 Z-16 K1.5\nG0 Z150\nM5\nM30\n";
-    let dir = common::temp_dir("thread-g33");
-    let file = dir.join("THREAD.NGC");
-    std::fs::write(&file, prog).unwrap();
-    let (r, out) = script(
-        "thread-g33-run",
-        &format!(
-            "override 50\nspindleoverride 80\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
-            file.display()
-        ),
-    );
+    let (r, out) = run_program("thread-g33", prog, "override 50\nspindleoverride 80\n", &[]);
     let passes: Vec<&String> = r
         .blocks
         .iter()
@@ -308,20 +296,12 @@ fn g33_threads_along_z_at_pitch_times_rpm() {
             );
         }
     }
-    let (taper, said) = {
-        std::fs::write(
-            &file,
-            prog.replace("G33 Z-16 K1.5\nG0 X160", "G33 X151 Z-16 K1.5\nG0 X160"),
-        )
-        .unwrap();
-        script(
-            "thread-g33-taper",
-            &format!(
-                "op DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
-                file.display()
-            ),
-        )
-    };
+    let (taper, said) = run_program(
+        "thread-g33-taper",
+        &prog.replace("G33 Z-16 K1.5\nG0 X160", "G33 X151 Z-16 K1.5\nG0 X160"),
+        "",
+        &[],
+    );
     assert!(taper.z_pulses.is_empty(), "a refused program moves nothing");
     assert!(said.contains("G33 threads along Z only"), "{said}");
 }
@@ -334,35 +314,7 @@ fn g33_threads_along_z_at_pitch_times_rpm() {
 #[test]
 fn fanuc_m29_rigid_taps_from_a_stopped_spindle() {
     let prog = "%\nO1000\nG21 G90 G17\nG10 L2 P1 X200. Y0 Z-450.\nG54\nT3 M6\nG43 H3\nG0 X150. Y130. Z50.\nM05\nM29 S300\nG99 G84 X150. Y130. Z-16. R2. F375.\nX180.\nG80\nG0 Z150.\nM30\n%\n";
-    let dir = common::temp_dir("tap-m29");
-    let file = dir.join("RIGID.NC");
-    std::fs::write(&file, prog).unwrap();
-    let s = dir.join("s.panel");
-    std::fs::write(
-        &s,
-        format!(
-            "override 50\nop DATA\ndata READ\ntape {}\nstart\nwait\nop AUTO\nstart\nwait\nshow\n",
-            file.display()
-        ),
-    )
-    .unwrap();
-    let rec = dir.join("r.mcap");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("script")
-        .arg(&s)
-        .args(["--dialect", "fanuc", "--state"])
-        .arg(dir.join("state"))
-        .arg("--record")
-        .arg(&rec)
-        .output()
-        .unwrap();
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert_eq!(out.status.code(), Some(0), "{text}");
-    let r = read(&rec);
+    let (r, text) = run_program("tap-m29", prog, "override 50\n", &["--dialect", "fanuc"]);
     assert_eq!(
         check_tap_feeds(&r, 375.0),
         4,

@@ -425,12 +425,18 @@ pub fn contents(d: &Path) -> Vec<(String, Vec<u8>)> {
 /// recording `dir/r.mcap`: the recording's path and the script's stdout and stderr, after
 /// checking that it exited 0.
 pub fn recorded_script(dir: &Path, script_text: &str) -> (PathBuf, String) {
+    recorded_script_with(dir, script_text, &[])
+}
+
+/// [`recorded_script`] with more options for `novanc script` (`--dialect fanuc`).
+pub fn recorded_script_with(dir: &Path, script_text: &str, args: &[&str]) -> (PathBuf, String) {
     let s = dir.join("s.panel");
     std::fs::write(&s, script_text).unwrap();
     let rec = dir.join("r.mcap");
     let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .arg("script")
         .arg(&s)
+        .args(args)
         .arg("--state")
         .arg(dir.join("state"))
         .arg("--record")
