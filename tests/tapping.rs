@@ -18,6 +18,17 @@ struct Rec {
     states: Vec<(u64, String)>,
 }
 
+impl Rec {
+    /// The Z pulse times of block `i`: from its start to the next block's.
+    fn z_pulses_of(&self, i: usize) -> Vec<u64> {
+        let t0 = self.blocks[i].0;
+        let t1 = self.blocks.get(i + 1).map_or(u64::MAX, |b| b.0);
+        (self.z_pulses.iter().copied())
+            .filter(|&t| t >= t0 && t < t1)
+            .collect()
+    }
+}
+
 fn read(path: &Path) -> Rec {
     let bytes = std::fs::read(path).unwrap();
     let mut r = Rec {
@@ -82,17 +93,11 @@ fn run_program(name: &str, prog: &str, before: &str, args: &[&str]) -> (Rec, Str
 /// 0.1 % at full speed, or faster than it anywhere.
 fn check_tap_feeds(r: &Rec, feed: f64) -> usize {
     let mut checked = 0;
-    for (i, (t0, text)) in r.blocks.iter().enumerate() {
+    for (i, (_, text)) in r.blocks.iter().enumerate() {
         if !(text.contains("G01 Z") && text.ends_with(&format!("F{}", feed as u32))) {
             continue;
         }
-        let t1 = r.blocks.get(i + 1).map_or(u64::MAX, |b| b.0);
-        let ts: Vec<u64> = r
-            .z_pulses
-            .iter()
-            .copied()
-            .filter(|&t| t >= *t0 && t < t1)
-            .collect();
+        let ts = r.z_pulses_of(i);
         assert!(ts.len() > 100, "{text}: {} Z pulses", ts.len());
         let speeds: Vec<f64> = ts
             .windows(2)
@@ -276,17 +281,11 @@ fn g33_threads_along_z_at_pitch_times_rpm() {
     assert!(out.contains("RUN 0"), "{out}");
     // Each pass: every Z pulse at 450 mm/min but the first (the wait for the index is before
     // it; a geared pass has no ramp).
-    for (i, (t0, text)) in r.blocks.iter().enumerate() {
+    for (i, (_, text)) in r.blocks.iter().enumerate() {
         if !text.contains("G33") {
             continue;
         }
-        let t1 = r.blocks.get(i + 1).map_or(u64::MAX, |b| b.0);
-        let ts: Vec<u64> = r
-            .z_pulses
-            .iter()
-            .copied()
-            .filter(|&t| t >= *t0 && t < t1)
-            .collect();
+        let ts = r.z_pulses_of(i);
         assert_eq!(ts.len(), 18_000, "{text}");
         for w in ts.windows(2) {
             let v = 0.001 / ((w[1] - w[0]) as f64 * 1e-9) * 60.0;
