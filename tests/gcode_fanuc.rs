@@ -1715,9 +1715,15 @@ fn the_look_ahead_switches_of_fanuc_posts_are_read() {
         &moves(on, Fanuc).unwrap(),
         &[('R', [10.0, 10.0, 0.0]), ('F', [20.0, 10.0, 0.0])],
     );
+    // Fanuc 30i posts: nano smoothing, and AI contour control's precision level.
+    assert!(moves("G05.1 Q2\nG05.1 Q1 R5\nG05.1 Q0\nM30\n", Fanuc).is_ok());
     assert_eq!(
-        moves("G05.1 Q2\nM30\n", Fanuc).unwrap_err(),
-        "1:7: G5.1 switches Fanuc's look-ahead with Q1 (on) or Q0 (off)"
+        moves("G05.1 Q4\nM30\n", Fanuc).unwrap_err(),
+        "1:7: G5.1 switches Fanuc's look-ahead with Q1 (AI contour control), Q2 (nano smoothing), Q3 (smooth tolerance control) or Q0 (off)"
+    );
+    assert_eq!(
+        moves("G05.1 Q1 R11\nM30\n", Fanuc).unwrap_err(),
+        "1:10: G5.1 R: AI contour control's precision level is a whole number 1 to 10"
     );
     assert_eq!(
         moves("G08 P2\nM30\n", Fanuc).unwrap_err(),

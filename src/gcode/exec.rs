@@ -457,7 +457,9 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     {
         refuse('Q', "G5, G10, G64, G73, G83, M19, M61, M66, M67 or M68")?;
     }
-    if w.get('R').is_some() && !(is(&[20, 30, 730, 740]) || cycle || g(100) || g(680) || m(19)) {
+    if w.get('R').is_some()
+        && !(is(&[20, 30, 730, 740]) || cycle || g(100) || g(680) || m(19) || look_ahead())
+    {
         refuse('R', "G2, G3, a canned cycle, G10 or M19")?;
     }
     if w.get('S').is_none() && g(960) {
@@ -1653,21 +1655,26 @@ fn path_control(
         };
     }
     for g in [50, 51, 80] {
-        let Some((letter, on_off)) = fanuc_look_ahead(x, w, g) else {
+        let Some((letter, values, says)) = fanuc_look_ahead(x, w, g) else {
             continue;
         };
         let col = w.has_g(g).unwrap_or(1);
-        // What switches the mode: G05 P10000 / P0, G05.1 Q1 / Q0, G08 P1 / P0.
         let v = w.get(letter);
-        if v.is_none_or(|v| !on_off.contains(&v)) {
+        if v.is_none_or(|v| !values.contains(&v)) {
+            let name = crate::input_text::short_number(f64::from(g) / 10.0);
             return Err(x.err(
                 w.col(letter).unwrap_or(col),
-                format!(
-                    "G{} switches Fanuc's look-ahead with {letter}{} (on) or {letter}0 (off)",
-                    crate::input_text::short_number(f64::from(g) / 10.0),
-                    crate::input_text::short_number(on_off[1])
-                ),
+                format!("G{name} switches Fanuc's look-ahead with {says}"),
             ));
+        }
+        // G05.1's R: AI contour control's precision level, 1 to 10.
+        if let (51, Some(r)) = (g, w.get('R')) {
+            if !(r.fract() == 0.0 && (1.0..=10.0).contains(&r)) {
+                return Err(x.err(
+                    w.col('R').unwrap_or(col),
+                    "G5.1 R: AI contour control's precision level is a whole number 1 to 10",
+                ));
+            }
         }
     }
     Ok(())
@@ -1677,18 +1684,26 @@ fn path_control(
 /// G05 P10000 (high-precision contour control), G05.1 Q1 (AI contour control), G08 P1 (AI
 /// advanced preview) and their P0 / Q0. They change how a Fanuc blends and slows at corners;
 /// the pulse core ends every block at rest on its programmed end, so here they change
-/// nothing and are read, as G64 is. Some((the letter, [off, on])) when `g` (×10) is on the
-/// line as one of them: G05 and G05.1 with their letter and no X Y Z I J (else they are
-/// LinuxCNC's splines, which the dialect keeps), G08 always.
-fn fanuc_look_ahead(x: &Exec, w: &Words, g: u32) -> Option<(char, [f64; 2])> {
+/// nothing and are read, as G64 is. Some((the letter, its values, what they are)) when `g`
+/// (×10) is on the line as one of them: G05 and G05.1 with their letter and no X Y Z I J (else
+/// they are LinuxCNC's splines, which the dialect keeps), G08 always. G05.1 also takes Q2
+/// (nano smoothing), Q3 (smooth tolerance control) and R1–R10 (the precision level), as
+/// Fanuc 30i posts write them.
+fn fanuc_look_ahead(x: &Exec, w: &Words, g: u32) -> Option<(char, &'static [f64], &'static str)> {
     if x.settings.dialect != crate::settings::Dialect::Fanuc || w.has_g(g).is_none() {
         return None;
     }
     let spline = w.has_axis() || w.get('I').is_some() || w.get('J').is_some();
     match g {
-        50 if !spline && w.get('P').is_some() => Some(('P', [0.0, 10000.0])),
-        51 if !spline && w.get('Q').is_some() => Some(('Q', [0.0, 1.0])),
-        80 => Some(('P', [0.0, 1.0])),
+        50 if !spline && w.get('P').is_some() => {
+            Some(('P', &[0.0, 10000.0], "P10000 (on) or P0 (off)"))
+        }
+        51 if !spline && w.get('Q').is_some() => Some((
+            'Q',
+            &[0.0, 1.0, 2.0, 3.0],
+            "Q1 (AI contour control), Q2 (nano smoothing), Q3 (smooth tolerance control) or Q0 (off)",
+        )),
+        80 => Some(('P', &[0.0, 1.0], "P1 (on) or P0 (off)")),
         _ => None,
     }
 }

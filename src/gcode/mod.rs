@@ -1929,19 +1929,21 @@ fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(),
     })
 }
 
-/// Fanuc's G05.1 Q1 (AI contour control on; Q0 off): its Q is a mode number, not a length, so
-/// a Q written without a decimal point is read as written, not in least increments (`Q1` is
-/// 1, not 0.001 mm).
+/// Fanuc's G05.1 Q1 R5 (AI contour control on at precision level 5; Q0 off): its Q and R are
+/// numbers of a mode, not lengths, so written without a decimal point they are read as
+/// written, not in least increments (`Q1` is 1, not 0.001 mm).
 fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
-    let bit = read::letter_bit('Q');
-    if line.plain & bit == 0 || line.pointed & bit != 0 || increment <= 0.0 {
+    if increment <= 0.0 || !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
         return;
     }
-    if !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
-        return;
-    }
-    for w in line.words.iter_mut().filter(|w| w.letter == 'Q') {
-        w.value = (w.value / increment).round();
+    for c in ['Q', 'R'] {
+        let bit = read::letter_bit(c);
+        if line.plain & bit == 0 || line.pointed & bit != 0 {
+            continue;
+        }
+        for w in line.words.iter_mut().filter(|w| w.letter == c) {
+            w.value = (w.value / increment).round();
+        }
     }
 }
 
