@@ -1904,6 +1904,10 @@ fn fanuc_g76_fine_boring_orients_and_shifts_off_the_wall_before_it_retracts() {
         ),
         ("S500 M3\nG76 Z-70. R-48. F100.\n", "G76 needs Q, the shift"),
         ("S500 M3\nG18 G76 Z-70. R-48. Q1. F100.\n", "G17 only"),
+        (
+            "S500 M3\nG68 X0 Y0 R30.\nG76 Z-70. R-48. Q1. F100.\n",
+            "G76 in a rotated coordinate system",
+        ),
     ] {
         let e = moves(
             &format!("G21 G90 G17\nG10 L2 P1 X300. Y300.\n{src}M30\n"),

@@ -109,6 +109,14 @@ pub fn cycle(
             "G76 shifts the tool along X off the bore's wall: G17 only",
         ));
     }
+    if kind == 76 && (st.rotation != 0.0 || st.g68.is_some()) {
+        // The oriented tool's edge points along the machine's X; a turned program's +X is
+        // not that way, and the shift could push the tool into the wall.
+        return Err(x.err(
+            col,
+            "G76 in a rotated coordinate system (G68 or G10 L2 R): the shift would not follow the oriented tool; cancel the rotation first",
+        ));
+    }
     let same = st.modal.motion == super::state::Motion::Cycle(g);
     if st.modal.feed_mode == FeedMode::PerMinute && st.modal.feed <= 0.0 {
         return Err(x.err(col, "a feed move without F: canned cycles feed, give F"));
