@@ -1917,3 +1917,31 @@ fn fanuc_g76_fine_boring_orients_and_shifts_off_the_wall_before_it_retracts() {
         assert!(e.contains(why), "{src}: {e}");
     }
 }
+
+/// Fanuc 0i's K on a canned cycle is the number of repeats (stop 48), read as written without
+/// a decimal point (`K3` is 3 holes, not 0.003 mm): under G91 a row of holes. Before, K was
+/// refused there (`K word with no G2, G3 ... to use it`). K and L together are refused.
+#[test]
+fn fanuc_k_repeats_a_canned_cycle() {
+    let prog = "G21 G90 G17\nG10 L2 P1 X300. Y300. Z-400.\nG0 X0 Y0 Z10.\nG91 G99 G81 X20. Z-5. R-8. K3 F100.\nG80 G90\nM30\n";
+    let bottoms: Vec<[f64; 3]> = moves(prog, Fanuc)
+        .unwrap()
+        .into_iter()
+        .filter(|(k, _)| *k == 'F')
+        .map(|(_, p)| p)
+        .collect();
+    assert_eq!(bottoms.len(), 3, "{bottoms:?}");
+    for (i, b) in bottoms.iter().enumerate() {
+        assert!(
+            (b[0] - (320.0 + 20.0 * i as f64)).abs() < 1e-6,
+            "{bottoms:?}"
+        );
+        assert!((b[2] - (-403.0)).abs() < 1e-6, "{bottoms:?}");
+    }
+    assert_eq!(
+        moves("G21 G90\nG81 X0 Z-5. R2. K2 L2 F100.\nM30\n", Fanuc).unwrap_err(),
+        "2:20: G81: K and L both give the number of repeats: give one"
+    );
+    // LinuxCNC's K is no repeat count.
+    assert!(moves("G21 G90\nG81 X0 Z-5 R2 K2 F100\nM30\n", LinuxCnc).is_err());
+}

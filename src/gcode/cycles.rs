@@ -189,13 +189,24 @@ pub fn cycle(
         }),
         _ => None,
     };
-    let l = match w.get('L') {
-        Some(_) => int_word(x, w, 'L', 1.0, super::MAX_REPEATS as f64)
+    // Fanuc 0i's K is the number of repeats (its L on older controls, and LinuxCNC's).
+    let rep = match (fanuc, w.col('K'), w.col('L')) {
+        (true, Some(_), Some(c)) => {
+            return Err(x.err(
+                c,
+                format!("{name}: K and L both give the number of repeats: give one"),
+            ))
+        }
+        (true, Some(_), None) => 'K',
+        _ => 'L',
+    };
+    let l = match w.get(rep) {
+        Some(_) => int_word(x, w, rep, 1.0, super::MAX_REPEATS as f64)
             .map_err(|e| {
                 x.err(
                     e.col,
                     format!(
-                        "{} (L0 makes no hole; the most is {})",
+                        "{} ({rep}0 makes no hole; the most is {})",
                         e.message,
                         super::MAX_REPEATS
                     ),

@@ -412,7 +412,9 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     if w.get('J').is_some() && !(is(&[20, 30, 50, 51, 870]) || g(100)) {
         refuse('J', "G2, G3, G5, G5.1, G10 or G87")?;
     }
-    if w.get('K').is_some() && !(is(&[20, 30, 330, 331, 870])) {
+    // Fanuc 0i's K repeats a canned cycle.
+    let fanuc = x.settings.dialect == crate::settings::Dialect::Fanuc;
+    if w.get('K').is_some() && !(is(&[20, 30, 330, 331, 870]) || (fanuc && cycle)) {
         refuse('K', "G2, G3, G33, G33.1 or G87")?;
     }
     if w.get('L').is_some()

@@ -1013,6 +1013,7 @@ impl GcodeSource {
                         fanuc_mode_q(&mut line, opts.increment);
                         if mill {
                             fanuc_cycle_p(&line, n, self.st.modal.motion)?;
+                            fanuc_cycle_k(&mut line, opts.increment, self.st.modal.motion);
                         }
                     }
                     Ok(())
@@ -1945,6 +1946,31 @@ fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
             w.value = (w.value / increment).round();
         }
     }
+}
+
+/// Fanuc 0i's K on a canned cycle's line (the cycle's G code on it, or the cycle in force
+/// repeated by an axis word or R) is the number of repeats, not a length: written without a
+/// decimal point it is read as written, not in least increments (`K5` is 5 holes). The line
+/// is then sorted again from its words.
+fn fanuc_cycle_k(line: &mut read::Line, increment: f64, motion: state::Motion) {
+    let bit = read::letter_bit('K');
+    if increment <= 0.0 || line.plain & bit == 0 || line.pointed & bit != 0 {
+        return;
+    }
+    let is_cycle = |g: f64| g == 73.0 || g == 74.0 || g == 76.0 || (81.0..=89.0).contains(&g);
+    let on_line = line
+        .words
+        .iter()
+        .any(|w| w.letter == 'G' && is_cycle(w.value));
+    let repeats = matches!(motion, state::Motion::Cycle(_))
+        && line.words.iter().any(|w| "XYZRABC".contains(w.letter));
+    if !(on_line || repeats) {
+        return;
+    }
+    for w in line.words.iter_mut().filter(|w| w.letter == 'K') {
+        w.value = (w.value / increment).round();
+    }
+    line.sorted = false;
 }
 
 /// Fanuc's G04 (docs/gcode.md "Fanuc dialect"): `X` or `U` in seconds (without a decimal
