@@ -1798,8 +1798,8 @@ fn g10_l10_to_l13_set_fanuc_tool_offsets() {
 /// Fanuc's codes that mean something else in LinuxCNC's language are read as Fanuc's or
 /// refused with Fanuc's meaning (stop 48): G10 L20 (Fanuc's additional work systems, not
 /// LinuxCNC's system from the current point, which would have moved G54), G10 L2 P0 and
-/// #5201– (the external work offset); G09 (exact stop for one block) is read, every block
-/// ending at rest here anyway.
+/// #5201– (the external work offset), G53 (at rapid whatever the motion in force); G09 (exact
+/// stop for one block) is read, every block ending at rest here anyway.
 #[test]
 fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
     assert_eq!(
@@ -1818,7 +1818,24 @@ fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
     assert!(moves("#5203=-0.5\nM30\n", Fanuc)
         .unwrap_err()
         .contains("#5203: Fanuc's external work offset"));
-    // LinuxCNC's own reading is unchanged in its dialect.
+    // G53 positions at rapid whatever the motion in force, and leaves it (one shot): after
+    // G01 the retract is a rapid and the next X a feed; after G80 it is read.
+    let g53 =
+        "G21 G90\nG10 L2 P1 Z-450.\nG0 Z-10.\nG1 X10. F100.\nG53 Z0.\nX20.\nG80\nG53 Z0.\nM30\n";
+    assert_moves(
+        &moves(g53, Fanuc).unwrap(),
+        &[
+            ('R', [0.0, 0.0, -460.0]),
+            ('F', [10.0, 0.0, -460.0]),
+            ('R', [10.0, 0.0, 0.0]),
+            ('F', [20.0, 0.0, 0.0]),
+        ],
+    );
+    // LinuxCNC's own reading is unchanged in its dialect: G53 takes the G01 in force.
+    assert_eq!(
+        moves(&g53.replace('.', "").replace("G80\nG53 Z0\n", ""), LinuxCnc).unwrap()[2].0,
+        'F'
+    );
     assert!(moves("G10 L2 P0 Z-0.5\nM30\n", LinuxCnc).is_ok());
     assert!(moves("G10 L20 P1 X0\nM30\n", LinuxCnc).is_ok());
     assert!(moves("G09 G01 X10 F100\nM30\n", LinuxCnc).is_err());

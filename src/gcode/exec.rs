@@ -346,6 +346,10 @@ fn motion_to_be(
     if covets.is_some() {
         return Ok(None);
     }
+    if let (Some(col), true) = (w.has_g(530), fanuc_g53(x, w)) {
+        // Fanuc's G53 positions at rapid whatever the motion in force (one shot).
+        return Ok(Some((Motion::Rapid, col)));
+    }
     let ijk = ['I', 'J', 'K'].iter().any(|&c| w.get(c).is_some());
     if axis {
         if st.modal.motion == Motion::None && w.has_g(431).is_none() {
@@ -970,7 +974,9 @@ pub fn execute(
             let feed = feed_for(st, x, inverse_feed, m, e, col)?;
             comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
             st.pos = e;
-            st.modal.motion = m;
+            if !fanuc_g53(x, w) {
+                st.modal.motion = m;
+            }
         } else {
             motion_line(st, comp, x, w, m, col, inverse_feed)?;
         }
@@ -1708,6 +1714,17 @@ fn fanuc_look_ahead(x: &Exec, w: &Words, g: u32) -> Option<(char, &'static [f64]
         80 => Some(('P', &[0.0, 1.0], "P1 (on) or P0 (off)")),
         _ => None,
     }
+}
+
+/// A Fanuc G53 line without a motion code (the Fanuc dialect): the move is at rapid whatever
+/// the motion in force, and leaves it as it was (a Fanuc's G53 is one-shot positioning at
+/// rapid traverse; LinuxCNC's takes the G00 or G01 in force). Before stop 48 the Fanuc
+/// dialect read it as LinuxCNC's: a `G53 Z0.` after G01 fed up at the cutting feed, and after
+/// G80 or an arc it was refused.
+fn fanuc_g53(x: &Exec, w: &Words) -> bool {
+    x.settings.dialect == crate::settings::Dialect::Fanuc
+        && w.has_g(530).is_some()
+        && [0, 10, 20, 30].iter().all(|&g| w.has_g(g).is_none())
 }
 
 /// M06: the machine's tool change. The spindle stops, the coolant goes off, Z rises to the
