@@ -1831,6 +1831,17 @@ fn fanuc_codes_that_linuxcnc_means_otherwise_keep_fanuc_s_meaning() {
             ('F', [20.0, 0.0, 0.0]),
         ],
     );
+    // Fanuc's own codes novanc does not read say what they are.
+    for (code, what) in [
+        ("G62", "automatic corner override"),
+        ("G63", "tapping mode"),
+        ("G37 Z0.", "tool length measurement"),
+        ("G12 I10.", "circle cutting"),
+        ("G16", "polar coordinate command"),
+    ] {
+        let e = moves(&format!("{code}\nM30\n"), Fanuc).unwrap_err();
+        assert!(e.contains(what), "{code}: {e}");
+    }
     // LinuxCNC's own reading is unchanged in its dialect: G53 takes the G01 in force.
     assert_eq!(
         moves(&g53.replace('.', "").replace("G80\nG53 Z0\n", ""), LinuxCnc).unwrap()[2].0,

@@ -96,6 +96,10 @@ fn fanuc_g_why(g: u32) -> &'static str {
         501 | 511 => " (Fanuc's programmable mirror image is not read)",
         500 | 510 => " (Fanuc's scaling is not read)",
         541 => " (Fanuc's additional work systems G54.1 P1–P48: novanc has G54–G59.3)",
+        620 => " (Fanuc's automatic corner override is not read: the feed at inside corners is the programmed one here)",
+        630 => " (Fanuc's tapping mode is not read: tap with G84, or with M29 and G84)",
+        370 => " (Fanuc's automatic tool length measurement needs a tool setter: not on this machine)",
+        120 | 130 => " (circle cutting is an option some Fanuc machines add: program the circle with G02 or G03)",
         _ => mill_g_why(g),
     }
 }
