@@ -346,7 +346,7 @@ fn motion_to_be(
     if covets.is_some() {
         return Ok(None);
     }
-    if let (Some(col), true) = (w.has_g(530), fanuc_g53(x, w)) {
+    if let Some(col) = w.has_g(530).filter(|_| fanuc_g53(x, w)) {
         // Fanuc's G53 positions at rapid whatever the motion in force (one shot).
         return Ok(Some((Motion::Rapid, col)));
     }

@@ -1934,7 +1934,11 @@ fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(),
 /// numbers of a mode, not lengths, so written without a decimal point they are read as
 /// written, not in least increments (`Q1` is 1, not 0.001 mm).
 fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
-    if increment <= 0.0 || !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
+    let bits = read::letter_bit('Q') | read::letter_bit('R');
+    if line.plain & bits == 0 || increment <= 0.0 {
+        return;
+    }
+    if !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
         return;
     }
     for c in ['Q', 'R'] {

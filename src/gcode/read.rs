@@ -1155,7 +1155,13 @@ pub fn read_into_opts(
 ) -> Result<(), TranslateError> {
     out.clear();
     if opts.sort && skipping.is_none() {
-        if read_plain(out, raw, line, opts) {
+        // One copy of the pass for each dialect: LinuxCNC's pays nothing for Fanuc's numbers.
+        let plain = if opts.fanuc {
+            read_plain::<true>(out, raw, line, opts)
+        } else {
+            read_plain::<false>(out, raw, line, opts)
+        };
+        if plain {
             out.sorted = true;
             return Ok(());
         }
@@ -1304,13 +1310,13 @@ pub fn read_into_opts(
 /// What it reads is what the general reader reads (`Line::words`, `n`, each column the
 /// byte's place) and what `words::sort_words_into` sorts them into.
 ///
-/// In the Fanuc dialect (`opts.fanuc`) the same, with its reading of a number: without a
+/// In the Fanuc dialect (`FANUC`, `opts.fanuc`) the same, with its reading of a number: without a
 /// decimal point on a length address in least increments (as written with calculator-type
 /// input), and the letters noted in `plain`, `pointed` and `dotted` as the general reader
 /// notes them; the words sorted in its dialect ([`words::FANUC`]). A line with G04 or G05.1
 /// goes to the general reader, whose words the reader rewrites after reading (their P, X and
 /// Q). Before stop 48 every Fanuc line went the general way: 1.18 times LinuxCNC's reading.
-fn read_plain(out: &mut Line, raw: &str, line: u32, opts: ReadOpts) -> bool {
+fn read_plain<const FANUC: bool>(out: &mut Line, raw: &str, line: u32, opts: ReadOpts) -> bool {
     let b = raw.as_bytes();
     let blank = |c: u8| matches!(c, b' ' | b'\t' | b'\r');
     let mut i = 0;
@@ -1356,7 +1362,7 @@ fn read_plain(out: &mut Line, raw: &str, line: u32, opts: ReadOpts) -> bool {
             return false;
         }
         let mut value = if neg { -v } else { v };
-        let dialect = if opts.fanuc {
+        let dialect = if FANUC {
             // G04 and G05.1 have words the reader rewrites after reading.
             if letter == b'G' && (value == 4.0 || value == 5.1) {
                 return false;
