@@ -641,7 +641,8 @@ pub fn thread(
 /// (docs/pulse-core.md "Tapping": the overrides held at 100 %, a feed hold kept until the tap
 /// is out, the feed geared to the encoder on a spindle that ramps). The tool ends where it
 /// started. A left-hand tap turns M04 in and M03 out. Refused as [`geared`] says, and with I
-/// below 1, no axis word, or the end point where the tool stands.
+/// below 1 or the end point where the tool stands (a line without X, Y or Z is refused before,
+/// as every motion's is).
 pub fn rigid_tap(
     st: &mut InterpState,
     comp_on: bool,
@@ -664,9 +665,6 @@ pub fn rigid_tap(
         }
         None => 1.0,
     };
-    if !w.has_axis() {
-        return Err(x.err(col, "G33.1 needs the end of the tap: X, Y or Z"));
-    }
     let start = st.pos;
     let end = super::moves::target(st, x, w)?;
     if end == start {

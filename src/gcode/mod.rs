@@ -1894,12 +1894,7 @@ fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(),
     if line.pointed & read::letter_bit('P') == 0 {
         return Ok(());
     }
-    let is_cycle = |g: f64| g == 73.0 || g == 74.0 || g == 76.0 || (81.0..=89.0).contains(&g);
-    let g_on_line = line
-        .words
-        .iter()
-        .find(|w| w.letter == 'G' && is_cycle(w.value))
-        .map(|w| w.value);
+    let g_on_line = cycle_on_line(line);
     let own_p = line.words.iter().any(|w| {
         (w.letter == 'G' && [4.0, 10.0, 65.0, 66.0].contains(&w.value))
             || (w.letter == 'M' && w.value == 98.0)
@@ -1935,21 +1930,11 @@ fn fanuc_cycle_p(line: &read::Line, n: u32, motion: state::Motion) -> Result<(),
 /// written, not in least increments (`Q1` is 1, not 0.001 mm).
 fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
     let bits = read::letter_bit('Q') | read::letter_bit('R');
-    if line.plain & bits == 0 || increment <= 0.0 {
+    if line.plain & bits == 0 || !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
         return;
     }
-    if !line.words.iter().any(|w| w.letter == 'G' && w.value == 5.1) {
-        return;
-    }
-    for c in ['Q', 'R'] {
-        let bit = read::letter_bit(c);
-        if line.plain & bit == 0 || line.pointed & bit != 0 {
-            continue;
-        }
-        for w in line.words.iter_mut().filter(|w| w.letter == c) {
-            w.value = (w.value / increment).round();
-        }
-    }
+    as_written(line, 'Q', increment);
+    as_written(line, 'R', increment);
 }
 
 /// Fanuc 0i's K on a canned cycle's line (the cycle's G code on it, or the cycle in force
@@ -1957,21 +1942,33 @@ fn fanuc_mode_q(line: &mut read::Line, increment: f64) {
 /// decimal point it is read as written, not in least increments (`K5` is 5 holes). The line
 /// is then sorted again from its words.
 fn fanuc_cycle_k(line: &mut read::Line, increment: f64, motion: state::Motion) {
-    let bit = read::letter_bit('K');
-    if increment <= 0.0 || line.plain & bit == 0 || line.pointed & bit != 0 {
+    if line.plain & read::letter_bit('K') == 0 {
         return;
     }
-    let is_cycle = |g: f64| g == 73.0 || g == 74.0 || g == 76.0 || (81.0..=89.0).contains(&g);
-    let on_line = line
-        .words
-        .iter()
-        .any(|w| w.letter == 'G' && is_cycle(w.value));
     let repeats = matches!(motion, state::Motion::Cycle(_))
         && line.words.iter().any(|w| "XYZRABC".contains(w.letter));
-    if !(on_line || repeats) {
+    if cycle_on_line(line).is_some() || repeats {
+        as_written(line, 'K', increment);
+    }
+}
+
+/// A canned cycle's G code on the line (G73, G74, G76, G81–G89), if any.
+fn cycle_on_line(line: &read::Line) -> Option<f64> {
+    let is_cycle = |g: f64| g == 73.0 || g == 74.0 || g == 76.0 || (81.0..=89.0).contains(&g);
+    (line.words.iter())
+        .find(|w| w.letter == 'G' && is_cycle(w.value))
+        .map(|w| w.value)
+}
+
+/// `letter`'s word read as written where it was written without a decimal point (the Fanuc
+/// dialect had read it in least increments): a count or a mode number, not a length. The line
+/// is then sorted again from its words, as after every rewrite of them.
+fn as_written(line: &mut read::Line, letter: char, increment: f64) {
+    let bit = read::letter_bit(letter);
+    if line.plain & bit == 0 || line.pointed & bit != 0 || increment <= 0.0 {
         return;
     }
-    for w in line.words.iter_mut().filter(|w| w.letter == 'K') {
+    for w in line.words.iter_mut().filter(|w| w.letter == letter) {
         w.value = (w.value / increment).round();
     }
     line.sorted = false;
@@ -2045,6 +2042,8 @@ fn fanuc_dwell(line: &mut read::Line, n: u32, increment: f64) -> Result<(), Tran
         value: seconds,
         col: w.col,
     };
+    // Sorted again from its words (the one-pass reader sorted X or U, in other units).
+    line.sorted = false;
     Ok(())
 }
 

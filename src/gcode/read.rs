@@ -1313,9 +1313,10 @@ pub fn read_into_opts(
 /// In the Fanuc dialect (`FANUC`, `opts.fanuc`) the same, with its reading of a number: without a
 /// decimal point on a length address in least increments (as written with calculator-type
 /// input), and the letters noted in `plain`, `pointed` and `dotted` as the general reader
-/// notes them; the words sorted in its dialect ([`words::FANUC`]). A line with G04 or G05.1
-/// goes to the general reader, whose words the reader rewrites after reading (their P, X and
-/// Q). Before stop 48 every Fanuc line went the general way: 1.18 times LinuxCNC's reading.
+/// notes them; the words sorted in its dialect ([`words::FANUC`]). Where the reader rewrites a
+/// line's words after reading (G04's dwell, G05.1's Q and R, a cycle's K), it sorts the line
+/// again from them (`Line::sorted` false). Before stop 48 every Fanuc line went the general
+/// way: 1.18 times LinuxCNC's reading.
 fn read_plain<const FANUC: bool>(out: &mut Line, raw: &str, line: u32, opts: ReadOpts) -> bool {
     let b = raw.as_bytes();
     let blank = |c: u8| matches!(c, b' ' | b'\t' | b'\r');
@@ -1363,10 +1364,6 @@ fn read_plain<const FANUC: bool>(out: &mut Line, raw: &str, line: u32, opts: Rea
         }
         let mut value = if neg { -v } else { v };
         let dialect = if FANUC {
-            // G04 and G05.1 have words the reader rewrites after reading.
-            if letter == b'G' && (value == 4.0 || value == 5.1) {
-                return false;
-            }
             let bit = letter_bit(letter as char);
             out.plain |= bit;
             if d.point {
