@@ -857,7 +857,18 @@ impl Session {
             self.key("F11");
             st = self.c.status().clone();
         }
-        let line = match self.rng.range(0, 10) {
+        let line = match self.rng.range(0, 11) {
+            // A rigid tap 5 mm down from where the tool stands and back (stop 48): it ends
+            // where it started, the tip 5 mm lower at the bottom.
+            10 => {
+                let len = st
+                    .tool
+                    .and_then(|t| self.c.magazine().tools.get(t).map(|r| r.length()))
+                    .unwrap_or(0.0);
+                let tip = self.c.settings().to_mm(st.machine_pos[2]) - len;
+                self.lowest_mm = self.lowest_mm.min(tip - 5.001);
+                "S300 M3 G91 G33.1 Z-5 K1.25".to_string()
+            }
             // 20 mm down, incremental: a probe that stays above the lowest tip the
             // programs command (the invariant below), tripping where the stock is.
             9 => {
@@ -899,6 +910,15 @@ impl Session {
         self.stats.mdi_gcode += 1;
         let now = self.c.status().clone();
         let ended = self.c.frame_text().contains("program end");
+        if line.contains("G33.1") {
+            // A rigid tap ends where it started, run in and out or refused (beyond the
+            // travel): under every invariant of the step, MACHINE LOCK and DRY RUN among them.
+            assert_eq!(now.pos, pos, "MDI {line} did not end where it started");
+            if ended {
+                self.stats.mdi_taps += 1;
+            }
+            return;
+        }
         if line.contains("G38.3") {
             // A probe toward the workpiece: where it stopped (on the stock, or at the move's
             // end) is where the interpreter reads on from, and #5070 says which.
@@ -1543,6 +1563,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
         assert!(st.mdi_moves > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
+        assert!(st.mdi_taps > 0, "{st:?}");
         assert!(st.ep_block_ends > 100, "{st:?}");
         assert!(st.switch_changes > 0 && st.locked_steps > 0, "{st:?}");
         assert!(st.rapid_checks > 0, "{st:?}");
