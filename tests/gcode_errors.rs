@@ -551,3 +551,18 @@ fn a_computed_o_label_is_for_a_call_only() {
     );
     assert_eq!(error("o[1/0] call"), "4:4: division by zero");
 }
+
+#[test]
+fn a_subroutine_defined_inside_another_is_refused_even_if_never_called() {
+    // LinuxCNC's tests/interp/nested-sub-error: rs274 refuses the definition itself.
+    assert_eq!(
+        error("o<outer> sub\no100 sub\n(inner)\no100 endsub\no<outer> endsub"),
+        "5:1: 'o100 sub' inside the definition of o<outer>: a subroutine cannot be defined inside another"
+    );
+    assert_eq!(
+        error("o1 sub\nG0 X1\n  o2 sub\n  G0 Y1\n  o2 endsub\no1 endsub\no1 call"),
+        "6:3: 'o2 sub' inside the definition of o1: a subroutine cannot be defined inside another"
+    );
+    // One after the other is not nested.
+    assert!(reads("o1 sub\nG0 X1\no1 endsub\no2 sub\nG0 Y1\no2 endsub\no1 call\no2 call") > 0);
+}

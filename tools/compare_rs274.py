@@ -185,6 +185,15 @@ def rs274_moves(prog, tbl):
                 kept[0] = e
             last = e
             after_spline = False
+        elif name == "RIGID_TAP":
+            # G33.1: in to the point at the spindle's pitch, and out again to where it began
+            # (novanc prints the two feed moves, with the spindle's stops and reversals).
+            e = machine(vals[0], vals[1], vals[2])
+            start = last
+            for p in (e, start):
+                moves.append(("F", *p))
+                inch.append(factor != 1.0)
+            kept[0] = start
         elif name == "ARC_FEED":
             fe, se, fa, sa, turns, ae = vals[:6]
             plane = current_plane[0]
@@ -517,9 +526,10 @@ def path_gap(pts, other):
     w = 0
     for p in pts:
         lo, hi = max(0, w - 50), min(len(other) - 1, w + 400)
-        best, at = min((seg_dist(p, other[q], other[q + 1]), q) for q in range(lo, max(lo + 1, hi)))
         if len(other) == 1:
             best, at = math.dist(p, other[0]), 0
+        else:
+            best, at = min((seg_dist(p, other[q], other[q + 1]), q) for q in range(lo, max(lo + 1, hi)))
         worst = max(worst, best)
         w = at
     return worst

@@ -379,6 +379,10 @@ impl Flow {
         if kind == OKind::Call {
             return false;
         }
+        if kind == OKind::Sub && self.defining_sub.is_some() {
+            // A definition inside the one being skipped over: refused (`control`).
+            return true;
+        }
         let o = OLine {
             label: label.to_string(),
             kind,
@@ -428,6 +432,15 @@ impl Flow {
         finder: &dyn SubFinder,
     ) -> Result<Outcome, String> {
         let name = self.full_name(o);
+        if let (OKind::Sub, Some(d)) = (o.kind, &self.defining_sub) {
+            // LinuxCNC refuses it too ("Nested subroutine definition"), even in a subroutine
+            // that is never called.
+            return Err(format!(
+                "'{} sub' inside the definition of {}: a subroutine cannot be defined inside another",
+                label(o),
+                short(d)
+            ));
+        }
         if let Some(s) = &self.skipping {
             // A call never ends a skip (LinuxCNC's too): a subroutine calling itself by the
             // name being skipped over (its definition) is not run there.
@@ -481,9 +494,6 @@ impl Flow {
                     }
                     // The call has arrived at its subroutine: run it.
                     return Ok(Outcome::Next);
-                }
-                if self.defining_sub.is_some() {
-                    return Err("a subroutine definition inside another one".into());
                 }
                 // A definition met in the main program: note it and skip over it.
                 self.define(&name, OKind::Sub, at)?;

@@ -567,22 +567,26 @@ impl Reader<'_> {
     /// After `#`: a numbered parameter's number, or a named parameter's name.
     fn param_ref(&mut self) -> Result<(Target, u32), TranslateError> {
         let col = self.col();
+        match self.param_or_number()? {
+            Ok(t) => Ok((t, col)),
+            Err(n) => Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}"))),
+        }
+    }
+
+    /// The parameter a `#` names, or the number after it when that names none.
+    fn param_or_number(&mut self) -> Result<Result<Target, i64>, TranslateError> {
         self.i += 1; // '#'
         if self.peek() == Some('<') {
-            return Ok((Target::Named(self.name()?), col));
+            return Ok(Ok(Target::Named(self.name()?)));
         }
         let (n, _) = self.integer("parameter number")?;
-        if self.fanuc && n == 0 {
-            return Ok((Target::Numbered(0), col));
+        let fanuc_only =
+            n == 0 || (n > MAX_PARAM as i64 && n <= super::sysvars::MAX_FANUC_VAR as i64);
+        // Fanuc's #0 and its tool offsets #10001–#13999 (docs/gcode.md "Fanuc dialect").
+        if (self.fanuc && fanuc_only) || (1..=MAX_PARAM as i64).contains(&n) {
+            return Ok(Ok(Target::Numbered(n as usize)));
         }
-        if self.fanuc && n > MAX_PARAM as i64 && n <= super::sysvars::MAX_FANUC_VAR as i64 {
-            // Fanuc's tool offsets #10001–#13999 (docs/gcode.md "Fanuc dialect").
-            return Ok((Target::Numbered(n as usize), col));
-        }
-        if n < 1 || n > MAX_PARAM as i64 {
-            return Err(self.err(col, format!("parameter number {n} is not 1 to {MAX_PARAM}")));
-        }
-        Ok((Target::Numbered(n as usize), col))
+        Ok(Err(n))
     }
 
     fn param(&mut self) -> Result<f64, TranslateError> {
@@ -643,21 +647,23 @@ impl Reader<'_> {
             ));
         }
         if *name == "exists" {
-            // EXISTS[#<name>]: 1 if the named parameter is defined.
+            // EXISTS[#<name>]: 1 if the named parameter is defined; EXISTS[#n], as
+            // LinuxCNC's: 1 if n names a parameter of the machine (EXISTS[#99999] is 0).
             self.i += 1;
             if self.peek() != Some('#') {
                 return Err(self.err(self.col(), "EXISTS takes a parameter: EXISTS[#<name>]"));
             }
-            let (t, _) = self.param_ref()?;
+            let t = self.param_or_number()?;
             if !self.eat(']') {
                 return Err(self.err(self.col(), "']' expected after EXISTS[#<name>"));
             }
             return Ok(match t {
-                Target::Numbered(_) => 1.0,
-                Target::Named(n) => match self.env.named(&n) {
+                Ok(Target::Numbered(_)) => 1.0,
+                Ok(Target::Named(n)) => match self.env.named(&n) {
                     Ok(Some(_)) => 1.0,
                     _ => 0.0,
                 },
+                Err(_) => 0.0,
             });
         }
         if *name == "adp" {
@@ -1759,6 +1765,10 @@ mod tests {
         assert_eq!(eval("[#<_global>*2]").unwrap(), 14.0);
         assert_eq!(eval("EXISTS[#<depth>]").unwrap(), 1.0);
         assert_eq!(eval("EXISTS[#<nope>]").unwrap(), 0.0);
+        // A number, as LinuxCNC's tests/interp/exists: 1 for a parameter, 0 past the last.
+        assert_eq!(eval("EXISTS[#5220]").unwrap(), 1.0);
+        assert_eq!(eval("EXISTS[#99999]").unwrap(), 0.0);
+        assert_eq!(eval("EXISTS[#[99999+1]]").unwrap(), 0.0);
         assert_eq!(
             eval("#<nope>").unwrap_err(),
             "1:2: named parameter #<nope> is not defined"
