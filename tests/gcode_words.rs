@@ -159,7 +159,8 @@ fn cases() -> Vec<(&'static str, Want)> {
         ("G28.1", Acts(|r| param(r, 5163) != 0.0)),
         ("G30", Acts(|r| moves(r, B::Rapid))),
         ("G30.1", Acts(|r| param(r, 5183) != 0.0)),
-        // A thread pass geared to the spindle (stop 48), along Z only; a taper is refused.
+        // A thread pass geared to the spindle (stop 48); a taper's K is along the path, as
+        // LinuxCNC's: the kernel's longest axis is given its share.
         (
             "G33 Z-20 K1",
             Acts(|r| {
@@ -169,7 +170,14 @@ fn cases() -> Vec<(&'static str, Want)> {
         ),
         (
             "G33 X20 Z-20 K1",
-            Refused("X20", "G33 threads along Z only"),
+            Acts(|r| {
+                r.blocks.iter().any(|b| {
+                    let d = b.delta.xyz().map(|v| v as f64);
+                    let share = d.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+                        / d.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    b.thread.is_some_and(|l| (l - share).abs() < 1e-9) && d[0] != 0.0
+                })
+            }),
         ),
         // Rigid tapping (stop 48): in geared at K × S, the spindle reversed, out to where
         // the tool stood, the spindle forward again, every block marked as a tap's.

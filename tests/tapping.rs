@@ -266,7 +266,7 @@ fn g33_1_taps_at_pitch_times_rpm_and_ends_where_it_started() {
 /// G33 on the centre (issue 22: threading geared to the spindle on the one kernel): a thread
 /// pass down Z at K × S pulse by pulse whatever the overrides (K1.5 at S300: 450 mm/min at
 /// feed override 50 %), each pass waiting for the encoder's index; the program goes on after
-/// it. A taper (X or Y moving) is refused with its place.
+/// it. A taper keeps LinuxCNC's lead, along the path.
 #[test]
 fn g33_threads_along_z_at_pitch_times_rpm() {
     let prog = "G21 G90 G17\nG10 L2 P1 X200 Y0 Z-450\nG54\nT3 M6\nG43 H3\nS300 M3\nG0 X150 Y130 Z2\nG33 Z-16 K1.5\nG0 X160\nZ2\nG33 Z-16 K1.5\nG0 Z150\nM5\nM30\n";
@@ -295,14 +295,29 @@ fn g33_threads_along_z_at_pitch_times_rpm() {
             );
         }
     }
+    // A taper, as LinuxCNC reads it: K along the path. X 10 mm over Z 18 mm: the path
+    // advances 1.5 mm a revolution, so Z 1.5 × 18 / √424 = 1.3112 mm (393.4 mm/min at S300),
+    // as LinuxCNC's nc_files/threading.ngc leaves its threads at 45° with K √2 × the pitch.
     let (taper, said) = run_program(
         "thread-g33-taper",
-        &prog.replace("G33 Z-16 K1.5\nG0 X160", "G33 X151 Z-16 K1.5\nG0 X160"),
+        &prog.replace("G33 Z-16 K1.5\nG0 X160", "G33 X160 Z-16 K1.5\nG0 X170"),
         "",
         &[],
     );
-    assert!(taper.z_pulses.is_empty(), "a refused program moves nothing");
-    assert!(said.contains("G33 threads along Z only"), "{said}");
+    assert!(said.contains("RUN 0"), "{said}");
+    let i = (taper.blocks.iter())
+        .position(|b| b.1.contains("G33 X"))
+        .expect("the taper pass");
+    let ts = taper.z_pulses_of(i);
+    assert_eq!(ts.len(), 18_000);
+    let z = 1.5 * 18.0 / 424f64.sqrt() * 300.0;
+    for w in ts.windows(2) {
+        let v = 0.001 / ((w[1] - w[0]) as f64 * 1e-9) * 60.0;
+        assert!(
+            (v - z).abs() < 1.0,
+            "a taper's Z pulse at {v:.1} mm/min, not {z:.1}"
+        );
+    }
 }
 
 /// Fanuc's rigid tapping (issue 22; the Fanuc dialect): `M29 S300` before G84 puts the cycle

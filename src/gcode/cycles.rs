@@ -606,8 +606,9 @@ fn geared(
 /// `G33 X Y Z K`, LinuxCNC's spindle-synchronised motion: one straight thread pass from where
 /// the tool stands to the end point, geared to the spindle at K per revolution: the pass waits
 /// for the encoder's index, then follows the spindle's position (docs/pulse-core.md "Thread
-/// passes (G33)"), the overrides held at 100 %. Refused as [`geared`] says, with the end
-/// point where the tool stands, and with X or Y moving (a taper).
+/// passes (G33)"), the overrides held at 100 %. A taper (X or Y moving too) keeps its lead as
+/// the dialect measures it: along the path (LinuxCNC), along the longest axis (Fanuc). Refused
+/// as [`geared`] says, and with the end point where the tool stands.
 pub fn thread(
     st: &mut InterpState,
     comp_on: bool,
@@ -620,16 +621,19 @@ pub fn thread(
     if end == st.pos {
         return Err(x.err(col, "G33: the end of the pass is where the tool stands"));
     }
-    if end[0] != st.pos[0] || end[1] != st.pos[1] {
-        // LinuxCNC measures K along the path, a Fanuc (and the kernel) along the longer axis:
-        // a taper would be cut at another lead than the program's author meant on one of them.
-        let c = w.col('X').or(w.col('Y')).unwrap_or(col);
-        return Err(x.err(
-            c,
-            "G33 threads along Z only on this machine (X and Y would make a taper, whose lead LinuxCNC and Fanuc measure differently): move X and Y first",
-        ));
-    }
-    x.push_all(vec![Canon::Thread(end, pitch)], col);
+    // A taper (X or Y moving too): the kernel gears its longest axis to the spindle at the
+    // lead it is given, as a Fanuc measures G32's F. LinuxCNC measures K along the path
+    // (its nc_files/threading.ngc leaves a thread at 45° with K √2 × the pitch, so that Z
+    // keeps the pitch), so its K is given to the kernel as the longest axis's share of it.
+    let d: Vec<f64> = (0..3).map(|i| end[i] - st.pos[i]).collect();
+    let longest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let path = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let lead = if x.settings.dialect == crate::settings::Dialect::Fanuc {
+        pitch
+    } else {
+        pitch * longest / path
+    };
+    x.push_all(vec![Canon::Thread(end, lead)], col);
     st.pos = end;
     Ok(())
 }
