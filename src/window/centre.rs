@@ -11,7 +11,7 @@ use super::shot::rect_px;
 use super::tapestrip::{self, StripLayout};
 use crate::console::Console;
 use crate::mtconnect::feed::Feed;
-use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
+use crate::panel_model::{Axis, DataMode, OpMode, Page, PanelEvent, PanelView};
 use egui::{vec2, Color32, Rect};
 use std::sync::Arc;
 use std::time::Instant;
@@ -194,24 +194,18 @@ impl Front for Centre {
         self.look();
         let ctx = ui.ctx().clone();
         self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
-        let mut out = Vec::new();
-        super::keys::keyboard(events, &self.view, &mut self.hand, &mut out);
+        let v = &self.view;
+        let jogs = v.op_mode == OpMode::Continuous && matches!(v.page, Page::Mode | Page::Pos);
+        let (mut out, quit) = super::keys::keyboard(events, jogs, &mut self.hand);
         self.panels(ui, &mut out);
         // Whole notches nobody under the pointer took are dropped.
         self.hand.scroll = self.hand.scroll.fract();
-        if std::mem::take(&mut self.hand.tape_requested) {
-            self.program_dirty = true;
-            self.console.tape_from_entry();
-        }
-        if std::mem::take(&mut self.hand.punch_requested) {
-            self.console.punch_from_entry();
-        }
         for ev in out {
             self.program_dirty = true;
             self.status = format!("{ev:?}");
             self.console.handle(ev);
         }
-        std::mem::take(&mut self.hand.quit_requested)
+        quit
     }
     fn layout(&self, ppp: f32) -> String {
         let r = |o: Option<Rect>| rect_px(o, ppp);
@@ -298,9 +292,27 @@ impl Centre {
     fn nc_panel(&mut self, ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
         // The largest whole dot pitch (physical pixels) that fits 760 points across.
         let max = vec2(760.0, f32::INFINITY);
-        let (rect, pitch) = self.plasma.show_fit(ui, &view.display, max, 6);
+        let rect = if view.help > 0 {
+            // The help screen (F8, Alt+H), the terminal's pages: every key of the panel, then
+            // the editor's commands and the pages. Any other key closes it and acts.
+            let lines = match view.help {
+                2 => crate::terminal::layout::HELP_EDITOR,
+                _ => crate::terminal::layout::HELP,
+            };
+            let r = egui::Frame::new().fill(Color32::BLACK).show(ui, |ui| {
+                ui.set_width(max.x);
+                for l in lines {
+                    let t = egui::RichText::new(*l).monospace().size(11.5);
+                    ui.label(t.color(Color32::from_rgb(255, 150, 40)));
+                }
+            });
+            r.response.rect
+        } else {
+            let (rect, pitch) = self.plasma.show_fit(ui, &view.display, max, 6);
+            self.layout.pitch = pitch;
+            rect
+        };
         self.layout.plasma = Some(rect);
-        self.layout.pitch = pitch;
         // The tape passing the read head, while a read is shown (docs/window.md).
         self.layout.tape = match &self.tape {
             Some(t) => {

@@ -38,17 +38,11 @@ pub struct HandState {
     /// The jog button held down, if any.
     pub jog_held: Option<(Axis, i8)>,
     /// The axis key held down for a CONTINUOUS jog, if any.
-    pub key_jog: Option<(Axis, i8)>,
+    pub key_jog: Option<egui::Key>,
     /// A JOG button held long enough to jog continuously (`HOLD_TO_JOG`).
     pub jog_continuous: bool,
     /// When the JOG button held now was pressed.
     pub jog_since: std::time::Instant,
-    /// The tape reader key was pressed (the typed line names the tape).
-    pub tape_requested: bool,
-    /// The punch key was pressed (the typed line names the image).
-    pub punch_requested: bool,
-    /// A quit key of the terminal's map was pressed (Ctrl-C, Alt+q): the window closes.
-    pub quit_requested: bool,
 }
 
 impl Default for HandState {
@@ -63,9 +57,6 @@ impl Default for HandState {
             key_jog: None,
             jog_continuous: false,
             jog_since: std::time::Instant::now(),
-            tape_requested: false,
-            punch_requested: false,
-            quit_requested: false,
         }
     }
 }

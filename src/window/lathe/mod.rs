@@ -15,7 +15,7 @@ use super::plasma::Plasma;
 use super::shot::rect_px;
 use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
 use crate::mtconnect::feed::Feed;
-use crate::panel_model::PanelEvent;
+use crate::panel_model::{OpMode, Page, PanelEvent};
 use egui::{Color32, Rect};
 use panel::Act;
 use plot::Trail;
@@ -217,15 +217,15 @@ impl Front for Lathe {
     }
     fn draw(&mut self, ui: &mut egui::Ui, events: &[egui::Event]) -> bool {
         self.view = self.console.view();
-        let mut quit = false;
-        let mut acts = Vec::new();
-        for k in super::keys::terminal_keys(events) {
-            // Ctrl+C and Alt+Q quit the terminal panel: here they close the window.
-            match k {
-                novanc_panel::Key::Alt('q') | novanc_panel::Key::Ctrl('c') => quit = true,
-                k => acts.push(Act::Press(k)),
-            }
-        }
+        let c = &self.console;
+        let jogs = c.mode() == OpMode::Continuous && matches!(c.page(), Page::Mode | Page::Pos);
+        let (evs, quit) = super::keys::keyboard(events, jogs, &mut self.hand);
+        let mut acts: Vec<Act> = (evs.into_iter())
+            .map(|e| match e {
+                PanelEvent::Press(k) => Act::Press(k),
+                e => Act::Ev(e),
+            })
+            .collect();
         self.panels(ui, &mut acts);
         for a in acts {
             match a {
