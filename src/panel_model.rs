@@ -720,6 +720,8 @@ pub struct PanelView {
     /// The rapid and spindle overrides, DRY RUN, MACHINE LOCK and Z NEGLECT (the pulse core's
     /// status snapshot's).
     pub switches: crate::record::Switches,
+    /// BLOCK DELETE and OPTIONAL STOP (the console's: a G-code run reads them at START).
+    pub program_switches: crate::gcode::Switches,
     /// Axis positions, mm (machine coordinates).
     pub axis_mm: [f64; 3],
     /// Tool-tip position, mm (Z less the length of the tool in the spindle that POS's WORK Z

@@ -280,6 +280,7 @@ impl Console {
             lamps: state::lamps(self),
             feed_override: self.front.feed_override,
             switches: self.status.switches,
+            program_switches: self.front.switches,
             axis_mm,
             tip_mm,
             tool: self.status.tool,

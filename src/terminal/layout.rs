@@ -336,6 +336,7 @@ mod tests {
             lamps: Lamps::default(),
             feed_override: 100,
             switches: Default::default(),
+            program_switches: Default::default(),
             axis_mm: [1.0, 2.0, -3.5],
             tip_mm: [1.0, 2.0, -153.5],
             tool: Some(2),

@@ -505,8 +505,9 @@ pub fn override_buttons(
     });
 }
 
-/// The rapid and spindle overrides and the DRY RUN, MACHINE LOCK and Z NEGLECT switches: each
-/// button sends what the terminal key does (docs/window.md).
+/// The rapid and spindle overrides and the DRY RUN, MACHINE LOCK, Z NEGLECT, BLOCK DELETE and
+/// OPTIONAL STOP switches: each button sends what the terminal key does (docs/window.md). Before
+/// stop 49 the centre's window had no BLOCK DELETE or OPTIONAL STOP button (the lathe's had).
 pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
     ui.vertical(|ui| {
         ui.label(
@@ -531,6 +532,16 @@ pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) 
                 view.switches.z_neglect,
                 "Z NEGLECT",
                 PanelEvent::ZNeglect(!view.switches.z_neglect),
+            ),
+            (
+                view.program_switches.block_delete,
+                "BLOCK DELETE",
+                PanelEvent::BlockDelete(!view.program_switches.block_delete),
+            ),
+            (
+                view.program_switches.optional_stop,
+                "OPTIONAL STOP",
+                PanelEvent::OptionalStop(!view.program_switches.optional_stop),
             ),
         ] {
             if ui.selectable_label(on, name).clicked() {
