@@ -295,3 +295,30 @@ fn machine_lock_runs_the_program_with_the_axes_standing() {
     assert_eq!(c.view().channels[0].pos, axes(&c));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The switches on the state line, one function on both machines (stop 49): the same words in
+/// the same order, BLOCK DELETE and OPTIONAL STOP first. Before, the lathe's title wrote them
+/// last, in the other order.
+#[test]
+fn both_machines_write_the_switches_in_one_order() {
+    let (dir, mut lathe, mut centre) = common::both_machines("lathe-switch-words");
+    for ev in [
+        PanelEvent::BlockDelete(true),
+        PanelEvent::OptionalStop(true),
+        PanelEvent::DryRun(true),
+    ] {
+        lathe.handle(ev.clone());
+        centre.handle(ev);
+    }
+    let want = " /DEL M01 DRY";
+    assert!(lathe.view().title.ends_with(want), "{}", lathe.view().title);
+    // The centre's state line is its run pages' (40 columns: the overrides would be cut).
+    centre.handle(PanelEvent::Op(OpMode::Auto));
+    let frame = centre.frame_text();
+    assert!(frame.contains(want), "{frame}");
+    lathe.handle(PanelEvent::RapidOverride(50));
+    lathe.handle(PanelEvent::SpindleOverride(110));
+    let title = lathe.view().title;
+    assert!(title.ends_with(" /DEL M01 RPD50% SOV110% DRY"), "{title}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -247,25 +247,7 @@ pub(super) fn state_line(c: &Console) -> String {
     } else if lamps.hold {
         s.push_str(" HOLD");
     }
-    if c.front.switches.block_delete {
-        s.push_str(" /DEL");
-    }
-    if c.front.switches.optional_stop {
-        s.push_str(" M01");
-    }
-    let sw = &c.status.switches;
-    s.push_str(&super::override_words(
-        sw.rapid_override,
-        sw.spindle_override,
-    ));
-    if c.status.switches.dry_run {
-        s.push_str(" DRY");
-    }
-    if c.status.switches.machine_lock {
-        s.push_str(" MLK");
-    } else if c.status.switches.z_neglect {
-        s.push_str(" ZNG");
-    }
+    s.push_str(&super::switch_words(&c.front.switches, &c.status.switches));
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {
         // The error-proportional interpolator (seed 001); the DDA is the default, unmarked.
         s.push_str(" EP");

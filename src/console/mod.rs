@@ -45,8 +45,8 @@ pub use memory::{default_state_dir, ReadReport, TextWindow};
 pub use panel::Panel;
 pub use run::RunSource;
 pub(crate) use run::{
-    deadman_ms, machine_switch_message, next_rapid, next_spindle, override_words,
-    rapid_override_message, spindle_override_message,
+    deadman_ms, machine_switch_message, next_rapid, next_spindle, rapid_override_message,
+    spindle_override_message, switch_words,
 };
 pub use script_line::script_line;
 pub use wait::WAIT_LIMIT_NS;

@@ -457,18 +457,35 @@ pub(crate) fn next_spindle(p: u32, d: i32) -> u32 {
     (p as i32 + d).clamp(50, 120) as u32
 }
 
-/// The overrides away from 100 % as the state line writes them, on every console: ` RPD50%`,
-/// ` RPDF0`, ` SOV110%`.
-pub(crate) fn override_words(rapid: u32, spindle: u32) -> String {
+/// The switches as a state line writes them, on every console and in one order: BLOCK DELETE
+/// and OPTIONAL STOP (` /DEL M01`), the overrides away from 100 % (` RPD50%`, ` RPDF0`,
+/// ` SOV110%`), ` DRY`, and ` MLK` or else ` ZNG`. Before stop 49 the lathe wrote /DEL and M01
+/// last, in the other order.
+pub(crate) fn switch_words(
+    program: &crate::gcode::Switches,
+    m: &crate::record::Switches,
+) -> String {
     let mut s = String::new();
-    if rapid != 100 {
-        s.push_str(&format!(
-            " RPD{}",
-            rapid_override_text(rapid).replace(' ', "")
-        ));
+    if program.block_delete {
+        s.push_str(" /DEL");
     }
-    if spindle != 100 {
-        s.push_str(&format!(" SOV{spindle}%"));
+    if program.optional_stop {
+        s.push_str(" M01");
+    }
+    if m.rapid_override != 100 {
+        let r = rapid_override_text(m.rapid_override).replace(' ', "");
+        s.push_str(&format!(" RPD{r}"));
+    }
+    if m.spindle_override != 100 {
+        s.push_str(&format!(" SOV{}%", m.spindle_override));
+    }
+    if m.dry_run {
+        s.push_str(" DRY");
+    }
+    if m.machine_lock {
+        s.push_str(" MLK");
+    } else if m.z_neglect {
+        s.push_str(" ZNG");
     }
     s
 }

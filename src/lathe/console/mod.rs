@@ -1134,27 +1134,11 @@ impl LatheConsole {
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let sw = self.machine_switches();
-        let switches = format!(
-            "{}{}{}{}{}{}",
-            if self.front.feed_override != 100 {
-                format!("  F{}%", self.front.feed_override)
-            } else {
-                String::new()
-            },
-            crate::console::override_words(sw.rapid_override, sw.spindle_override),
-            if sw.dry_run { " DRY" } else { "" },
-            if sw.machine_lock { " MLK" } else { "" },
-            if self.front.switches.optional_stop {
-                " M01"
-            } else {
-                ""
-            },
-            if self.front.switches.block_delete {
-                " /DEL"
-            } else {
-                ""
-            }
-        );
+        let feed = match self.front.feed_override {
+            100 => String::new(),
+            f => format!("  F{f}%"),
+        };
+        let switches = feed + &crate::console::switch_words(&self.front.switches, &sw);
         let display = view::plasma(
             self.sel,
             c,
