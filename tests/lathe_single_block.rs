@@ -331,7 +331,8 @@ fn a_wear_offset_revised_before_its_tool_is_called_takes_effect_at_the_call() {
 /// The selector turned to the position it is at does nothing, on both machines (one rule,
 /// `console::selector`): the line being typed stays. Before stop 43 the lathe cleared it (and
 /// said the mode again), so a second press of Alt+3 in MDI lost what the operator had typed.
-/// A turn to another position clears it on both: it was typed for the mode left.
+/// A turn to another position clears it on both: it was typed for the mode left. It is said,
+/// and an MDI line comes back with Up in MDI (stop 49: it went without a word).
 #[test]
 fn a_turn_to_the_selectors_own_position_keeps_the_typed_line_on_both_machines() {
     let dir = common::temp_dir("lathe-same-turn");
@@ -345,7 +346,12 @@ fn a_turn_to_the_selectors_own_position_keeps_the_typed_line_on_both_machines() 
     assert_eq!(c.mode(), OpMode::Mdi);
     assert!(c.frame_text().contains("G0X12"), "{}", c.frame_text());
     c.handle(PanelEvent::Op(OpMode::Auto));
-    assert!(!c.frame_text().contains("G0X12"), "{}", c.frame_text());
+    let said = "the line typed in MDI, 'G0X12', is cleared (Up recalls it in MDI)";
+    assert_eq!(c.message(), said);
+    assert_eq!(c.view().display.last().map(|l| l.trim_end()), Some(">"));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.press(novanc_panel::Key::Up);
+    assert!(c.frame_text().contains("> G0X12"), "{}", c.frame_text());
     let _ = std::fs::remove_dir_all(&dir);
 
     let mut m = common::open("centre-same-turn");
@@ -357,4 +363,8 @@ fn a_turn_to_the_selectors_own_position_keeps_the_typed_line_on_both_machines() 
     assert_eq!(m.view().entry, "G0X12");
     m.handle(PanelEvent::Op(OpMode::Auto));
     assert_eq!(m.view().entry, "");
+    assert_eq!(m.message(), said);
+    m.handle(PanelEvent::Op(OpMode::Mdi));
+    m.press(novanc_panel::Key::Up);
+    assert_eq!(m.view().entry, "G0X12");
 }

@@ -586,10 +586,13 @@ impl Console {
             PanelEvent::Data(d) => {
                 self.pages.page = pages::Page::Mode;
                 if d != self.data {
-                    self.data = d;
-                    self.front.entry.clear();
+                    let was = std::mem::replace(&mut self.data, d);
+                    let typed = std::mem::take(&mut self.front.entry);
                     self.front.y_output = None;
                     self.last_line.clear();
+                    // Typed in the MDI position of the operation selector, an MDI line.
+                    let mdi = self.front.op == OpMode::Mdi;
+                    selector::cleared(self, typed, was.name(), mdi);
                 }
             }
             PanelEvent::Tape(path) => {

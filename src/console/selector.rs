@@ -5,7 +5,10 @@
 //! - A turn to the position the selector is at does nothing more: the line being typed stays
 //!   (before stop 43 a lathe cleared it, and said the mode again).
 //! - A turn to another position lets a CONTINUOUS jog go, and clears the entry line and the
-//!   `Y` type-out: the line was typed for the mode left.
+//!   `Y` type-out: the line was typed for the mode left (kept, an editor command typed for the
+//!   program would run on the tool file after a turn). A line so cleared is said, never lost in
+//!   silence: `the line typed in MDI, 'G0X12', is cleared (Up recalls it in MDI)`, and an MDI
+//!   line goes to the recall (stop 49; before, it went without a word).
 //! - The machine's own rule for the turn comes next (`Side::turned`): the centre's DATA INPUT
 //!   clears RUN (seed lines 441–443); AUTO and SINGLE BLOCK turn single block on either
 //!   machine.
@@ -32,13 +35,33 @@ pub(crate) fn turn<C: Side>(c: &mut C, m: OpMode) {
     super::manual::release(c, false);
     let f = c.front();
     f.op = m;
-    f.entry.clear();
     f.y_output = None;
-    if c.turned(was) || (runs(was) && runs(m)) || !c.channel_runs() {
+    let typed = std::mem::take(&mut f.entry);
+    let mdi = was == OpMode::Mdi;
+    if !(c.turned(was) || (runs(was) && runs(m)) || !c.channel_runs()) {
+        c.command_all(Command::Stop);
+        if c.channels().iter().any(|s| s.hold) {
+            c.front().message = format!("feed hold: mode changed to {} while running", m.name());
+        }
+    }
+    cleared(c, typed, was.name(), mdi);
+}
+
+/// A selector's turn has cleared the line `typed` in `mode`: said after what the turn says, and,
+/// typed in MDI (`mdi`), kept for recall.
+pub(crate) fn cleared<C: Side>(c: &mut C, typed: String, mode: &str, mdi: bool) {
+    if typed.trim().is_empty() {
         return;
     }
-    c.command_all(Command::Stop);
-    if c.channels().iter().any(|s| s.hold) {
-        c.front().message = format!("feed hold: mode changed to {} while running", m.name());
+    if mdi {
+        c.recall().remember(&typed);
     }
+    let shown: String = match typed.chars().count() {
+        n if n > 24 => typed.chars().take(23).chain(['…']).collect(),
+        _ => typed,
+    };
+    let recall = if mdi { " (Up recalls it in MDI)" } else { "" };
+    let now = c.now_ns();
+    let said = format!("the line typed in {mode}, '{shown}', is cleared{recall}");
+    c.front().say_failure(&said, now);
 }
