@@ -56,3 +56,20 @@ fn a_control_character_in_gcode_is_named_not_printed() {
         Some("1:5: U+001B (a control character) is not part of the language (outside a comment)")
     );
 }
+
+/// gcode-program:0xd52d3b0b0ba488d6, 0xe5ef9760d22862a2 and 0xcfdc141d99389558 (stop 49): a
+/// G38.2 whose target is beyond the travel was refused, and the next read answered the probe
+/// the refused line had asked for, a second error (`the probe move ended without contact`)
+/// after the refusal. A refused line asks the machine nothing; the source ends at its error.
+#[test]
+fn a_refused_probe_line_is_not_answered_after_its_refusal() {
+    for src in [
+        "G38.2 M9 X99999999999999999999 F300 G40\nG0 X1\nM30\n",
+        "F300 Z2 G20 G38.2\nG0 X1\nM30\n",
+    ] {
+        let all: Vec<_> = common::gcode_source(src).collect();
+        assert_eq!(all.len(), 1, "{src}: {all:?}");
+        let e = all[0].as_ref().unwrap_err().to_string();
+        assert!(e.contains("beyond the"), "{e}");
+    }
+}

@@ -771,6 +771,9 @@ impl GcodeSource {
 
     fn fail(&mut self, e: TranslateError) -> Option<Result<Statement, TranslateError>> {
         self.done = true;
+        // A refused line asks the machine nothing: its probe did not move (the fuzzer found a
+        // refused G38.2 answered after its refusal as a second error).
+        self.pending = Default::default();
         Some(Err(e))
     }
 
