@@ -505,6 +505,9 @@ pub fn override_buttons(
     });
 }
 
+/// A switch's event, given the position it is turned to.
+type Turn = fn(bool) -> PanelEvent;
+
 /// The rapid and spindle overrides and the DRY RUN, MACHINE LOCK, Z NEGLECT, BLOCK DELETE and
 /// OPTIONAL STOP switches: each button sends what the terminal key does (docs/window.md). Before
 /// stop 49 the centre's window had no BLOCK DELETE or OPTIONAL STOP button (the lathe's had).
@@ -517,35 +520,17 @@ pub fn switches(ui: &mut egui::Ui, view: &PanelView, out: &mut Vec<PanelEvent>) 
         );
         let sw = &view.switches;
         override_buttons(ui, (sw.rapid_override, sw.spindle_override), out);
-        for (on, name, ev) in [
-            (
-                view.switches.dry_run,
-                "DRY RUN",
-                PanelEvent::DryRun(!view.switches.dry_run),
-            ),
-            (
-                view.switches.machine_lock,
-                "MACHINE LOCK",
-                PanelEvent::MachineLock(!view.switches.machine_lock),
-            ),
-            (
-                view.switches.z_neglect,
-                "Z NEGLECT",
-                PanelEvent::ZNeglect(!view.switches.z_neglect),
-            ),
-            (
-                view.program_switches.block_delete,
-                "BLOCK DELETE",
-                PanelEvent::BlockDelete(!view.program_switches.block_delete),
-            ),
-            (
-                view.program_switches.optional_stop,
-                "OPTIONAL STOP",
-                PanelEvent::OptionalStop(!view.program_switches.optional_stop),
-            ),
-        ] {
+        let p = &view.program_switches;
+        let rows: [(bool, &str, Turn); 5] = [
+            (sw.dry_run, "DRY RUN", PanelEvent::DryRun),
+            (sw.machine_lock, "MACHINE LOCK", PanelEvent::MachineLock),
+            (sw.z_neglect, "Z NEGLECT", PanelEvent::ZNeglect),
+            (p.block_delete, "BLOCK DELETE", PanelEvent::BlockDelete),
+            (p.optional_stop, "OPTIONAL STOP", PanelEvent::OptionalStop),
+        ];
+        for (on, name, ev) in rows {
             if ui.selectable_label(on, name).clicked() {
-                out.push(ev);
+                out.push(ev(!on));
             }
         }
     });
