@@ -291,3 +291,46 @@ fn a_lathe_description_takes_decimal_calculator() {
         }
     }
 }
+
+/// A one-channel lathe in LinuxCNC's dialect, loaded by hand; tools 7 and 9 with their own tip
+/// offsets (X a radius, Z), no nose radius.
+fn linuxcnc_lathe() -> LatheDesc {
+    let text = "machine lcnc\nkind lathe\npulse 0.001\ntick 100\nloading manual\nchannel PATH-1\n\
+                x travel -100 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+                spindle max 4000 accel 4000 encoder 1024\ntool 7 radius 0 tip 3 offset 1 2\n\
+                tool 9 radius 0 tip 3 offset 3 5\n";
+    match parse(text) {
+        Ok(MachineDesc::Lathe(d)) => d,
+        Ok(MachineDesc::Mill(_)) => panic!("a mill"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// LinuxCNC's own lathe samples (`nc_files/lathecomp.ngc`, `tests/ccomp/lathe-comp`, from its
+/// repository, not in ours) begin with `T0 M6`, LinuxCNC's empty pocket, and take tool 9's
+/// offsets on tool 7 with `T7 M6` then `G43 H9`. Both were refused (stop 49): T0 as a tool not
+/// on the post, H9 as not the tool in place. T0 now cancels the offsets of the tool in place
+/// and indexes nothing; G43 H of another tool puts that tool's offsets on the tool in place,
+/// until the next T.
+#[test]
+fn t0_and_g43_with_another_tool_s_h_read_as_linuxcnc_reads_them() {
+    let desc = linuxcnc_lathe();
+    // Offsets add to the programmed point: tool 7's (X 1, Z 2), then tool 9's (X 3, Z 5).
+    let moves = ok(
+        "G18 G21 G90\nT0 M6\nG0 X10 Z10\nT7 M6\nG43\nG0 X10 Z10\nG43 H9\nG0 X20 Z10\n\
+         T0\nG0 X20 Z20\nM30\n",
+        &desc,
+    );
+    assert_eq!(
+        moves,
+        [
+            "R X5.000 Z10.000",
+            "R X6.000 Z12.000",
+            "R X13.000 Z15.000",
+            "R X10.000 Z20.000"
+        ]
+    );
+    // An H that names no tool on the post is refused at its word.
+    let e = lathe_moves::read("T7 M6\nG43 H8\nM30\n", &desc).unwrap_err();
+    assert_eq!(e, "2:5: G43 H8: no tool 8 on channel 1's tool post");
+}

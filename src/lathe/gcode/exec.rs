@@ -8,7 +8,7 @@ use crate::block::{Css, FeedMode, Sync, TranslateError};
 use crate::gcode::flow::Pos;
 use crate::gcode::words::{sort_words_in, Words};
 use crate::gcode::{read, Lines, Motion, Then};
-use crate::lathe::desc::{ChannelDesc, LatheDesc};
+use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
 use std::collections::HashMap;
 
 /// The modal state of a lathe program.
@@ -491,7 +491,7 @@ impl Reader<'_> {
         // M06: the turret indexed at the T word (a lathe's tool changes at once); M06 is read
         // as LinuxCNC's `T1 M6` asks, and needs a tool.
         if let Some(c) = w.m.as_slice().iter().find(|x| x.0 == 6).map(|x| x.1) {
-            if self.out.tool().is_none() {
+            if self.out.tool().is_none() && w.get('T') != Some(0.0) {
                 return Err(err(n, c, "M06 without a tool: give T (T1 M6, or T0101)"));
             }
         }
@@ -593,14 +593,30 @@ impl Reader<'_> {
                     }
                     if g == 430 {
                         use_('H');
-                        let have = self.out.tool().map(|t| t.number);
+                        let have = self.out.tool().cloned();
                         if let (Some(h), Some(t)) = (w.get('H'), have) {
-                            if h != t as f64 {
-                                return Err(err(
-                                    n,
-                                    col('H'),
-                                    format!("G43 H{}: the offsets are tool {t}'s, the tool in place (give H{t} or no H)", crate::input_text::short_number(h)),
-                                ));
+                            if h != t.number as f64 {
+                                // LinuxCNC's G43 H of another tool (its nc_files/lathecomp.ngc,
+                                // `T7 M6 G43 H9`): that tool's offsets on the tool in place,
+                                // whose nose radius and tip stay its own, as LinuxCNC's
+                                // compensation takes them. Until the next T.
+                                let other = (is_int(h) && (1.0..=99.0).contains(&h))
+                                    .then(|| self.chan.tool(h as u32))
+                                    .flatten();
+                                let Some(o) = other else {
+                                    return Err(err(
+                                        n,
+                                        col('H'),
+                                        format!(
+                                            "G43 H{}: no tool {} on channel {}'s tool post",
+                                            crate::input_text::short_number(h),
+                                            crate::input_text::short_number(h),
+                                            self.ch + 1
+                                        ),
+                                    ));
+                                };
+                                let offset = o.offset;
+                                self.out.set_tool(ToolDesc { offset, ..t }, true);
                             }
                         }
                     }
@@ -956,6 +972,15 @@ impl Reader<'_> {
         }
         let t = t as u32;
         let (tool, offset) = if t >= 100 { (t / 100, t % 100) } else { (t, t) };
+        if tool == 0 && offset == 0 {
+            // T0 (T00, T0000): no tool indexed; the offsets of the tool in place are cancelled,
+            // as a Fanuc's T0000, and LinuxCNC's `T0 M6` (its empty pocket) leaves none. The
+            // turret stays where it stands.
+            if let Some(cur) = self.out.tool().cloned() {
+                self.out.set_tool(cur, false);
+            }
+            return Ok(());
+        }
         if self.out.comp_on() {
             return Err(err(
                 n,
