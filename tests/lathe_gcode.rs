@@ -83,6 +83,11 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "the lathe has one work coordinate system, G54",
         ),
         ("G73\n".into(), "1:1", "G73 is not supported"),
+        (
+            "G90.1\n".into(),
+            "1:1",
+            "arc centres I and K from the arc's start only: G91.1",
+        ),
         ("M6\n".into(), "1:1", "M06 without a tool: give T"),
         ("M7 M8\n".into(), "1:4", "in the same modal group"),
         (

@@ -311,13 +311,14 @@ fn linuxcnc_lathe() -> LatheDesc {
 /// offsets on tool 7 with `T7 M6` then `G43 H9`. Both were refused (stop 49): T0 as a tool not
 /// on the post, H9 as not the tool in place. T0 now cancels the offsets of the tool in place
 /// and indexes nothing; G43 H of another tool puts that tool's offsets on the tool in place,
-/// until the next T.
+/// until the next T. `G91.1` (arc centres from the start, the lathe's one mode, as
+/// LinuxCNC's gmoccapy `drilling.ngc` writes it) is read.
 #[test]
 fn t0_and_g43_with_another_tool_s_h_read_as_linuxcnc_reads_them() {
     let desc = linuxcnc_lathe();
     // Offsets add to the programmed point: tool 7's (X 1, Z 2), then tool 9's (X 3, Z 5).
     let moves = ok(
-        "G18 G21 G90\nT0 M6\nG0 X10 Z10\nT7 M6\nG43\nG0 X10 Z10\nG43 H9\nG0 X20 Z10\n\
+        "G18 G21 G90 G91.1\nT0 M6\nG0 X10 Z10\nT7 M6\nG43\nG0 X10 Z10\nG43 H9\nG0 X20 Z10\n\
          T0\nG0 X20 Z20\nM30\n",
         &desc,
     );

@@ -136,6 +136,9 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         980 | 990 => 11,
         540 => 12,
         610 | 611 | 640 => 13,
+        // LinuxCNC's arc-centre distance mode: I and K from the arc's start, the only one the
+        // lathe reads (G90.1 is refused, `lathe_g_why`).
+        911 => 14,
         _ => return None,
     })
 }
@@ -159,6 +162,7 @@ pub const G98_G99_FEEDS: &str = "G98 and G99 are the feeds of Fanuc's G code sys
 fn lathe_g_why(g: u32) -> &'static str {
     match g {
         920..=923 => " (G92 offsets are not supported on the lathe)",
+        901 => " (the lathe reads arc centres I and K from the arc's start only: G91.1)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
         730 => " (the roughing cycles are G71 and G72 with G70; G73 is not supported)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
