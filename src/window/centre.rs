@@ -11,7 +11,7 @@ use super::shot::rect_px;
 use super::tapestrip::{self, StripLayout};
 use crate::console::Console;
 use crate::mtconnect::feed::Feed;
-use crate::panel_model::{Axis, DataMode, OpMode, Page, PanelEvent, PanelView};
+use crate::panel_model::{Axis, DataMode, OpMode, PanelEvent, PanelView};
 use egui::{vec2, Color32, Rect};
 use std::sync::Arc;
 use std::time::Instant;
@@ -194,8 +194,7 @@ impl Front for Centre {
         self.look();
         let ctx = ui.ctx().clone();
         self.hand.scroll += ctx.input(|i| scroll_notches(&i.events));
-        let v = &self.view;
-        let jogs = v.op_mode == OpMode::Continuous && matches!(v.page, Page::Mode | Page::Pos);
+        let jogs = super::keys::holds_jog(self.view.op_mode, self.view.page);
         let (mut out, quit) = super::keys::keyboard(events, jogs, &mut self.hand);
         self.panels(ui, &mut out);
         // Whole notches nobody under the pointer took are dropped.

@@ -170,6 +170,13 @@ pub fn keyboard(
     (out, quit)
 }
 
+/// Whether an axis key held may jog (the `jogs` of [`keyboard`]): the selector in CONTINUOUS,
+/// no page up but POS.
+pub fn holds_jog(op: crate::panel_model::OpMode, page: crate::panel_model::Page) -> bool {
+    use crate::panel_model::{OpMode, Page};
+    op == OpMode::Continuous && matches!(page, Page::Mode | Page::Pos)
+}
+
 /// The terminal's key of a pressed key that is not an axis key, if it has one.
 fn terminal_key(key: egui::Key, m: egui::Modifiers) -> Option<Key> {
     use egui::Key as K;

@@ -15,7 +15,7 @@ use super::plasma::Plasma;
 use super::shot::rect_px;
 use crate::lathe::console::{LatheConsole, LatheView, RunUntil};
 use crate::mtconnect::feed::Feed;
-use crate::panel_model::{OpMode, Page, PanelEvent};
+use crate::panel_model::PanelEvent;
 use egui::{Color32, Rect};
 use panel::Act;
 use plot::Trail;
@@ -217,8 +217,7 @@ impl Front for Lathe {
     }
     fn draw(&mut self, ui: &mut egui::Ui, events: &[egui::Event]) -> bool {
         self.view = self.console.view();
-        let c = &self.console;
-        let jogs = c.mode() == OpMode::Continuous && matches!(c.page(), Page::Mode | Page::Pos);
+        let jogs = super::keys::holds_jog(self.console.mode(), self.console.page());
         let (evs, quit) = super::keys::keyboard(events, jogs, &mut self.hand);
         let mut acts: Vec<Act> = (evs.into_iter())
             .map(|e| match e {
