@@ -335,7 +335,23 @@ impl Session {
         }
         let runs = self.c.status().runs;
         let op = self.c.view().op_mode;
+        let typed = self.c.view().entry;
         self.press(name);
+        // A turn to another position clears the line typed, and says so (stop 49): never in
+        // silence.
+        if name.starts_with("Alt+")
+            && name.len() == 5
+            && self.c.view().op_mode != op
+            && !typed.trim().is_empty()
+        {
+            let m = self.c.message();
+            assert!(
+                self.c.view().entry.is_empty() && m.contains("is cleared"),
+                "the turn from {op:?} took '{typed}' without a word: {m}\n{}",
+                self.c.frame_text()
+            );
+            self.stats.turns_cleared += 1;
+        }
         if name == "F9"
             && self.home_owed
             && matches!(op, OpMode::Auto | OpMode::Single | OpMode::Mdi)
@@ -1564,6 +1580,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.mdi_moves > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.mdi_taps > 0, "{st:?}");
+        assert!(st.turns_cleared > 0, "{st:?}");
         assert!(st.ep_block_ends > 100, "{st:?}");
         assert!(st.switch_changes > 0 && st.locked_steps > 0, "{st:?}");
         assert!(st.rapid_checks > 0, "{st:?}");

@@ -40,6 +40,8 @@ pub struct Stats {
     pub mdi_probes: u64,
     /// MDI G33.1 rigid taps run in and out, ending where they started (stop 48).
     pub mdi_taps: u64,
+    /// Selector turns that cleared a typed line and said so.
+    pub turns_cleared: u64,
     /// Steps that ended with a STOP kept for the end of a tap.
     pub tap_holds: u64,
     /// Steps taken with MACHINE LOCK or Z NEGLECT on all through, the axes checked still.
@@ -90,6 +92,7 @@ impl Stats {
         self.mdi_moves += o.mdi_moves;
         self.mdi_probes += o.mdi_probes;
         self.mdi_taps += o.mdi_taps;
+        self.turns_cleared += o.turns_cleared;
         self.tap_holds += o.tap_holds;
         self.locked_steps += o.locked_steps;
         self.rapid_checks += o.rapid_checks;
