@@ -44,6 +44,11 @@ pub(crate) fn turn<C: Side>(c: &mut C, m: OpMode) {
             c.front().message = format!("feed hold: mode changed to {} while running", m.name());
         }
     }
+    if !typed.trim().is_empty() {
+        // What the machine says of the turn (a hold's notice) first, the cleared line after
+        // it: said after, it is not replaced.
+        c.refresh();
+    }
     cleared(c, typed, was.name(), mdi);
 }
 
