@@ -273,6 +273,29 @@ fn a_tip_3_tool_turning_parallel_to_z_moves_p_on_the_profile() {
     );
 }
 
+/// An entry move straight into an inside corner (the Citizen's system 1: G42, then along Z on
+/// the diameter, then out to a larger one): its end is where the line through its own end,
+/// parallel to it, meets the next offset move, as LinuxCNC's convert_straight_comp2 takes it
+/// (rs274 prints the same). Before stop 50 the reader crossed the next move with the line
+/// from where the tool stood to the entry's end, one radius off: P ran 0.013 mm under the
+/// diameter on the way in.
+#[test]
+fn an_entry_move_into_an_inside_corner_keeps_p_on_its_diameter() {
+    let d = desc(3);
+    let text = "T0101\nM3 S1000\nG8 G0 X7 Z1\nG42\nG1 Z-12 F100\nX9 Z-16\nZ-22\nG40 G0 X20\nM30\n";
+    let p = match read_program(text, &d, 0, &ReadOptions::default()) {
+        Ok(p) => p,
+        Err(e) => panic!("{e}"),
+    };
+    let entry: Vec<[i64; 2]> = p
+        .iter()
+        .filter(|s| s.line == 5)
+        .flat_map(|s| &s.blocks)
+        .map(|b| [b.start()[0], b.end[0]])
+        .collect();
+    assert_eq!(entry, [[7000, 7000]], "X along the entry, pulses");
+}
+
 /// The tool path as the kernel moves it: the same program run on one channel (the bar feeder
 /// supplies the work at M10), P at every step of its pulses. Returns each step's source line
 /// and position, mm. (Until issue 22 this was the lathe simulator's path, sampled at each

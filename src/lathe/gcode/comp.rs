@@ -173,7 +173,16 @@ pub fn offset_path(run: &Run, exit: Option<&Mv>) -> Result<Vec<Vec<(Mv, bool)>>,
                 (off[i].end[0] + off[i + 1].start[0]) / 2.0,
                 (off[i].end[1] + off[i + 1].start[1]) / 2.0,
             ];
-            let x = crossing(&off[i], &off[i + 1], near).ok_or_else(|| {
+            // The entry move runs from where the tool stands, but its side of the corner is
+            // the line through its end parallel to the programmed move, as LinuxCNC's
+            // convert_arc_comp2 and convert_straight_comp2 take it (the entry's direction
+            // is the programmed one): its crossing with the next offset move is there.
+            let mut before = off[i];
+            if i == 0 && matches!(before.kind, Kind::Line(_) | Kind::Rapid) {
+                let back = sub(a.start, a.end);
+                before.start = [before.end[0] + back[0], before.end[1] + back[1]];
+            }
+            let x = crossing(&before, &off[i + 1], near).ok_or_else(|| {
                 err(
                     b,
                     format!("the nose (radius {r} mm) cannot follow this inside corner: a move next to it is too short"),
