@@ -91,12 +91,47 @@ fn a_safe_start_line_and_coolant_are_read_and_act() {
         [8, 3, 9],
         "M08 and M09 each make a block with their code"
     );
-    // The other work systems and G53 are refused with what the lathe has instead.
+    // The other work systems are refused with what the lathe has instead.
+    assert_eq!(
+        read("G55\n", &desc).err().as_deref(),
+        Some("1:1: unknown or unsupported code G55 (the lathe has one work coordinate system, G54: Z 0 is the work face)")
+    );
+}
+
+#[test]
+fn g53_moves_the_slide_to_machine_positions_without_the_tools_offsets() {
+    // Tool 1's offsets (X +2 radius, Z −3) are not added: G53 X0 Z50 is the slide at X 0,
+    // Z 50, where X0 Z50 is the slide at X 2, Z 47. X is a diameter in G07 (X40. is a radius
+    // of 20). A Fanuc moves at rapid whatever the mode (the Haas form `G53 G00 X0.` too).
+    let fanuc = lathe("fanuc");
+    let p = "G95 T0101 M3 S500\nG0 X40. Z5.\nG1 Z0. F0.1\nG53 X40. Z50.\nG53 G00 X0.\nX40.\n";
+    assert_eq!(
+        ok(p, &fanuc),
+        [
+            "R X22.000 Z2.000",
+            "F X22.000 Z-3.000",
+            "R X20.000 Z50.000",
+            "R X0.000 Z50.000",
+            "R X22.000 Z50.000"
+        ],
+        "after G53 the program goes on from where the slide stands, the offsets applied again"
+    );
+    // LinuxCNC moves in the G00 or G01 in force, in radius under G08 (ngcgui's
+    // `G53 G0 X0 Z0` at the end of its lathe subroutines).
+    let lcnc = lathe("linuxcnc");
+    let p = "T1 M6 G43\nG8 G0 X20 Z5\nG53 G1 X10 Z20 F100\nG53 G0 X0 Z0\n";
+    assert_eq!(
+        ok(p, &lcnc),
+        ["R X22.000 Z2.000", "F X10.000 Z20.000", "R X0.000 Z0.000"]
+    );
     for (text, want) in [
-        ("G55\n", "1:1: unknown or unsupported code G55 (the lathe has one work coordinate system, G54: Z 0 is the work face)"),
-        ("G53 G0 X0.\n", "1:1: unknown or unsupported code G53 (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)"),
+        ("G0 X20 Z5\nG53 G2 X10 Z0 R5\n", "2:1: G53 moves in G00 or G01 only: give one on the line"),
+        ("G0 X20 Z5\nG53 G0 U10\n", "2:8: G53 takes X and Z, machine positions: U and W are increments"),
+        ("G0 X20 Z5\nG91 G53 G0 X10\n", "2:5: G53 in incremental distance (G91): give G90"),
+        ("G0 X20 Z5\nG53 G0\n", "2:1: G53 names no axis: give X or Z, machine positions"),
+        ("T1 M6 G43\nG0 X20 Z5\nG42 G1 X10 F100\nG53 G1 X30\n", "4:1: G53 under nose-radius compensation: give G40 first (machine coordinates are the slide's, not the nose's)"),
     ] {
-        assert_eq!(read(text, &desc).err().as_deref(), Some(want), "{text}");
+        assert_eq!(read(text, &lcnc).err().as_deref(), Some(want), "{text}");
     }
 }
 

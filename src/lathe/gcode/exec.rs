@@ -698,7 +698,7 @@ impl Reader<'_> {
         }
         let drill_here = given.or_else(|| {
             let code = self.st.drill.map(|d| d.code)?;
-            (axes && w.has_g(280).is_none())
+            (axes && w.has_g(280).is_none() && w.has_g(530).is_none())
                 .then(|| ['X', 'U', 'Z', 'W'].iter().filter_map(|&l| w.col(l)).min())
                 .flatten()
                 .map(|c| (code, c))
@@ -768,6 +768,11 @@ impl Reader<'_> {
                         use_(l);
                     }
                     self.g28(w, n, c)?;
+                } else if let Some(c) = w.has_g(530) {
+                    for l in ['X', 'Z', 'U', 'W'] {
+                        use_(l);
+                    }
+                    self.g53(w, n, c)?;
                 } else if axes {
                     for l in ['X', 'Z', 'U', 'W'] {
                         use_(l);
@@ -885,6 +890,74 @@ impl Reader<'_> {
             end[1] = self.chan.axes[0].travel[1] - off[1];
         }
         self.out.motion(rapid(mid, end))
+    }
+
+    /// G53: a move to X and Z in machine coordinates (docs/lathe-gcode.md "G53"): the slide's
+    /// position, without the tool's offsets and the G50 shift, X a diameter in G07. LinuxCNC
+    /// moves in the G00 or G01 in force, and refuses any other mode, incremental distance
+    /// and compensation; a Fanuc moves at rapid whatever the mode, and ignores G53 in
+    /// incremental distance, where novanc refuses it as LinuxCNC does.
+    fn g53(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        if self.in_cycle {
+            return Err(err(n, c, "G53 inside a G70/G71 profile"));
+        }
+        if self.out.comp_on() {
+            return Err(err(
+                n,
+                c,
+                "G53 under nose-radius compensation: give G40 first (machine coordinates are the slide's, not the nose's)",
+            ));
+        }
+        if let Some(col) = w.col('U').or(w.col('W')) {
+            return Err(err(
+                n,
+                col,
+                "G53 takes X and Z, machine positions: U and W are increments",
+            ));
+        }
+        if !self.st.absolute {
+            return Err(err(n, c, "G53 in incremental distance (G91): give G90"));
+        }
+        if w.get('X').is_none() && w.get('Z').is_none() {
+            return Err(err(
+                n,
+                c,
+                "G53 names no axis: give X or Z, machine positions",
+            ));
+        }
+        let kind = match self.st.motion {
+            _ if self.fanuc => Kind::Rapid,
+            Some(0) => Kind::Rapid,
+            Some(10) => Kind::Line(self.feed_in_force(n, c)?),
+            _ => {
+                return Err(err(
+                    n,
+                    c,
+                    "G53 moves in G00 or G01 only: give one on the line",
+                ))
+            }
+        };
+        let f = self.st.factor();
+        let dia = if self.st.diameter { 2.0 } else { 1.0 };
+        // The machine position less the offsets the emitter adds to every programmed point.
+        let off = self.out.offset();
+        let mut end = self.out.pos;
+        if let Some(z) = w.get('Z') {
+            end[0] = z * f - off[0];
+        }
+        if let Some(x) = w.get('X') {
+            end[1] = x * f / dia - off[1];
+        }
+        if !(end[0].is_finite() && end[1].is_finite() && end[0].abs() < 1e6 && end[1].abs() < 1e6) {
+            return Err(err(n, c, "the end point is not a reasonable number"));
+        }
+        self.out.motion(Mv {
+            kind,
+            start: self.out.pos,
+            end,
+            line: n,
+            col: c,
+        })
     }
 
     /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;

@@ -128,7 +128,7 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         200 | 210 => 6,
         400 | 410 | 420 => 7,
         960 | 970 => 8,
-        40 | 280 => 0,
+        40 | 280 | 530 => 0,
         800 | 830 | 840 => 9,
         430 | 490 => 10,
         // System B's return levels of G83 and G84 (initial level, R); `exec` refuses them on a
@@ -167,7 +167,6 @@ fn lathe_g_why(g: u32) -> &'static str {
         730 => " (the roughing cycles are G71 and G72 with G70; G73 is not supported)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
-        530 => " (the lathe's machine and work coordinates are one: G28 U0 W0 returns to the reference position)",
         500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is D)",
         _ => "",
     }
