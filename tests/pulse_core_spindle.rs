@@ -4,7 +4,7 @@
 //! the figures the lathe simulator gave where it had the same thing (the simulator was the
 //! oracle until issue 22 deleted it; its figures are kept below with their provenance).
 
-use novanc::block::{Block, Css, FeedMode, Motion};
+use novanc::block::{Block, Css, FeedMode, Motion, Tap};
 use novanc::lathe::testkit::pt;
 use novanc::pulse_core::{Command, Machine, PulseRec, RunKind, VecSource};
 use novanc::settings::MachineSettings;
@@ -201,6 +201,87 @@ fn a_thread_pass_starts_at_the_index_and_follows_the_encoder() {
     let t_index = m.spindle().time_at_phase(index).unwrap_or(0.0);
     let took = z[z.len() - 1].0 as f64 - t_index;
     assert!((took - 1.6e9).abs() < 10.0, "{took}");
+}
+
+/// A thread pass that goes on in the next block (`Tap::Part`: a G76 taper into or out of
+/// the groove, a Fanuc chamfer): the next block starts where the encoder stands at its end,
+/// not at the next index, so the whole pass is one helix; a block not so marked waits for
+/// the index (a new pass). Before stop 50 every thread block waited for an index: a pass of
+/// two blocks stood still at their junction for up to a revolution, turning a ring into the
+/// groove.
+#[test]
+fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
+    for goes_on in [true, false] {
+        let mut m = machine(lathe_settings());
+        run(
+            &mut m,
+            vec![
+                m3(1, at(20.0, 5.0), 600),
+                mv(2, Motion::Rapid, at(8.0, 2.0)),
+            ],
+        );
+        let mut first = pass(3, at(8.0, -20.0), 2.0);
+        if goes_on {
+            first.tap = Tap::Part;
+        }
+        // Out of the groove over the last 2 mm of Z, 1 mm of radius: Z the longer axis, at
+        // the same lead.
+        let p = run(&mut m, vec![first, pass(4, at(9.0, -22.0), 2.0)]);
+        assert_eq!(m.pos(), at(9.0, -22.0));
+        let z = z_steps(&p);
+        assert_eq!(z.len(), 24_000);
+        let lines = 1000.0;
+        let index = (phase(&m, z[0].0) / lines).floor() * lines;
+        // Z pulse k of the first block (22 mm: 11 revolutions) and of the second: where lead
+        // × revolutions since the index says, within one pulse, or (a new pass) since the
+        // next index after the first block's end, a revolution on.
+        let after = if goes_on { 0.0 } else { 1000.0 };
+        for &(t, k) in &z {
+            let since = phase(&m, t) - index - if k > 22_000 { after } else { 0.0 };
+            let by_encoder = since / lines * 2.0 * 1000.0;
+            assert!(
+                (by_encoder - k as f64).abs() <= 1.0,
+                "goes on {goes_on}, pulse {k}: {by_encoder}"
+            );
+        }
+    }
+}
+
+/// STOP in the first block of a pass that goes on holds at the end of the pass, not between
+/// its blocks (Fanuc: after the last of consecutive threading blocks).
+#[test]
+fn a_feed_hold_waits_for_the_last_block_of_the_pass() {
+    let mut m = machine(lathe_settings());
+    run(
+        &mut m,
+        vec![
+            m3(1, at(20.0, 5.0), 600),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+        ],
+    );
+    let mut first = pass(3, at(8.0, -20.0), 2.0);
+    first.tap = Tap::Part;
+    let mut src = VecSource::from_blocks(vec![
+        first,
+        pass(4, at(9.0, -22.0), 2.0),
+        mv(5, Motion::Rapid, at(12.0, -22.0)),
+    ]);
+    m.command(Command::Start(RunKind::Auto));
+    while m.pos()[Z] > -10_000 {
+        m.tick(&mut src);
+        assert!(m.now() < MINUTE);
+    }
+    m.command(Command::Stop);
+    m.run_until_idle(&mut src, MINUTE);
+    assert!(m.status().hold, "held");
+    assert_eq!(
+        m.pos(),
+        at(9.0, -22.0),
+        "out of the groove, the retract not begun"
+    );
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, MINUTE);
+    assert_eq!(m.pos(), at(12.0, -22.0));
 }
 
 #[test]

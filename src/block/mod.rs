@@ -226,8 +226,10 @@ pub struct Block {
     /// `limit_rpm`; `s` is then unset. None: G97, `s` is rpm.
     pub css: Option<Css>,
     /// A thread pass (G33, each pass of G76): the move waits for the spindle encoder's index,
-    /// then the axis along the spindle (Z) follows the encoder at `lead` mm per revolution and
-    /// X follows in proportion (a taper thread). Only with `Motion::Linear`.
+    /// then its longest axis follows the encoder at `lead` mm per revolution and the other
+    /// follows in proportion (a taper thread). Only with `Motion::Linear`. A thread block
+    /// whose `tap` is `Tap::Part` goes on in the next thread block, which then starts where
+    /// the encoder stands at its end rather than at an index (a G76 taper end, a chamfer).
     pub thread: Option<f64>,
     /// A meeting point with the machine's other channels (the kernel's sync table): a waiting
     /// M code, a chuck close that receives a work, a chuck open that delivers one.
@@ -277,13 +279,15 @@ pub enum Sync {
     ChuckOpen,
 }
 
-/// Whether a block belongs to a tap, and which (docs/pulse-core.md, "Tapping").
+/// Whether a block belongs to a tap or a thread pass of several blocks, and which
+/// (docs/pulse-core.md, "Tapping", "Thread passes").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Tap {
-    /// Not a tap's.
+    /// Not a tap's; a thread block: the last of its pass.
     #[default]
     No,
-    /// A tap's feed in, spindle reversal, dwell or feed out.
+    /// A tap's feed in, spindle reversal, dwell or feed out; a thread block: the pass goes on
+    /// in the next block.
     Part,
     /// The tap's last block: the spindle forward again, the tap out of the hole.
     End,

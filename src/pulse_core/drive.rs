@@ -6,7 +6,7 @@
 use super::arc::ArcStepper;
 use super::ep::arc::ArcPlan;
 use super::ep::EpMotion;
-use super::motion::{Motion, Progress, ThreadMotion};
+use super::motion::{Anchor, Motion, Progress, ThreadMotion};
 use super::pulse_out::PulseOut;
 use super::spindle::Spindle;
 use crate::block::{Axes, Block};
@@ -35,18 +35,18 @@ impl Drive {
     }
 
     /// A thread pass of `delta` pulses, `lead_mm` per revolution along its major axis, geared
-    /// to `spindle` from the first index at or after `t0` (`index`), or from where the encoder
-    /// stands at `t0` (a rigid tap).
+    /// to `spindle` from where `anchor` says: the first index at or after `t0`, where the
+    /// encoder stands at `t0` (a rigid tap), or where the pass before it ended.
     pub fn thread(
         s: &MachineSettings,
         delta: Axes,
         lead_mm: f64,
         spindle: &Spindle,
         t0: u64,
-        index: bool,
+        anchor: Anchor,
     ) -> Drive {
         let lead = lead_mm / s.pulse_mm;
-        Drive::Thread(ThreadMotion::new(delta, lead, spindle.clone(), t0, index))
+        Drive::Thread(ThreadMotion::new(delta, lead, spindle.clone(), t0, anchor))
     }
 
     /// The arc or helix block `b` (by `st` for the DDA) at path speed `speed`, starting at

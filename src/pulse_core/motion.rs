@@ -502,6 +502,24 @@ impl Motion {
     }
 }
 
+/// Where a [`ThreadMotion`] is anchored on the spindle encoder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Anchor {
+    /// The next index after its start: a thread pass.
+    Index,
+    /// Where the encoder stands at its start: a rigid tap.
+    Here,
+    /// The phase where the pass before it ended, at time `t` (its last step), the block
+    /// before it being a thread block that goes on (`Tap::Part`): the same groove, with no
+    /// wait for an index.
+    After {
+        /// The encoder phase of the last step of the block before.
+        phase: f64,
+        /// Its time, ns.
+        t: u64,
+    },
+}
+
 /// A thread pass (G33; docs/pulse-core.md, "Thread passes"): LINE/PCHK stepping whose steps
 /// are timed by the spindle encoder instead of a speed ramp. It waits for the next index
 /// after its start; major-axis pulse k then falls when the encoder has turned k / lead
@@ -515,9 +533,12 @@ pub struct ThreadMotion {
     spindle: Spindle,
     /// `spindle.phase_clock()`, which times every step.
     clock: PhaseClock,
-    /// The encoder phase the pass is anchored to: an index (a thread), or where the encoder
-    /// stood at the start (a rigid tap).
+    /// The encoder phase the pass is anchored to: an index (a thread), where the encoder
+    /// stood at the start (a rigid tap), or where the pass before it ended (a thread pass of
+    /// several blocks: a taper into or out of the groove).
     anchor: f64,
+    /// Anchored where the pass before it ended.
+    continued: bool,
     /// Encoder counts per major-axis pulse, signed as the spindle turns.
     counts_per_step: f64,
     /// Time of the last step (or of the start), ns.
@@ -528,7 +549,7 @@ impl ThreadMotion {
     /// A pass of `delta` pulses at `lead` major-axis pulses per revolution, started at `t0`
     /// with `spindle` turning: anchored to the first index at or after `t0` if `index`, else
     /// to the encoder where it stands at `t0` (a rigid tap, which needs no index).
-    pub fn new(delta: Axes, lead: f64, spindle: Spindle, t0: u64, index: bool) -> ThreadMotion {
+    pub fn new(delta: Axes, lead: f64, spindle: Spindle, t0: u64, anchor: Anchor) -> ThreadMotion {
         let ln = Linear::new(delta);
         let sign = if spindle.target() < 0.0 { -1.0 } else { 1.0 };
         let counts_per_step = if lead > 0.0 {
@@ -536,18 +557,33 @@ impl ThreadMotion {
         } else {
             0.0
         };
+        let (anchor, continued, t) = match anchor {
+            // Where the pass before ended, its steps timed from its last one's time on (the
+            // block itself starts at the next NCBR tick), so the groove goes on as one helix.
+            Anchor::After { phase, t } => (phase, true, t.min(t0) as f64),
+            Anchor::Index => (spindle.next_index(t0) as f64, false, t0 as f64),
+            Anchor::Here => (spindle.phase_at(t0), false, t0 as f64),
+        };
         ThreadMotion {
             ln,
-            anchor: if index {
-                spindle.next_index(t0) as f64
-            } else {
-                spindle.phase_at(t0)
-            },
+            anchor,
+            continued,
             clock: spindle.phase_clock(),
             spindle,
             counts_per_step,
-            t: t0 as f64,
+            t,
         }
+    }
+
+    /// Whether the pass goes on from the one before it (`Anchor::After`), not from an index.
+    pub fn continued(&self) -> bool {
+        self.continued
+    }
+
+    /// The encoder phase of its last step: where a pass that goes on in the next block
+    /// anchors it.
+    pub fn end_phase(&self) -> f64 {
+        self.anchor + self.ln.lb as f64 * self.counts_per_step
     }
 
     /// The encoder phase the pass is anchored to (an index: a whole number of revolutions).

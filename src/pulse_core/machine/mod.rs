@@ -21,7 +21,7 @@
 
 use super::block_buffer::Answer;
 use super::drive::Drive;
-use super::motion::{accel_pulses_ns2, speed_pulses_ns, Progress};
+use super::motion::{accel_pulses_ns2, speed_pulses_ns, Anchor, Progress};
 use super::pulse_out::{PulseOut, PulseRec};
 use super::source::{BlockSource, Fetch};
 use super::spindle::{css_rpm, Spindle};
@@ -319,6 +319,10 @@ pub struct Machine {
     in_tap: bool,
     /// STOP during a tap: the hold takes effect when the tap's last block ends.
     hold_after_tap: bool,
+    /// A thread block that goes on in the next (`Tap::Part`, a taper into the groove) ended
+    /// at this encoder phase, at this time: the next thread block starts from it, not from an
+    /// index.
+    thread_phase: Option<(f64, u64)>,
     current: Option<Current>,
     job: Option<Job>,
     runs: u64,
@@ -475,6 +479,7 @@ impl Machine {
             z_neglect: false,
             in_tap: false,
             hold_after_tap: false,
+            thread_phase: None,
             current: None,
             job: None,
             runs: 0,
@@ -1366,6 +1371,7 @@ impl Machine {
         self.in_tap = false;
         self.spindle_sync(self.now);
         self.hold_after_tap = false;
+        self.thread_phase = None;
         self.probe_answer = None;
         self.hold = false;
         self.just_completed = false;
@@ -1638,6 +1644,14 @@ impl Machine {
                         continue;
                     }
                     self.apply_output(&b, t0, true);
+                    // A thread block after one that goes on (`Tap::Part`) keeps its groove if
+                    // it follows at once (the next tick); after a stop between them (SINGLE
+                    // BLOCK) it is a new pass, from an index.
+                    let period = self.settings.ncbr_period_ns;
+                    let goes_on = self
+                        .thread_phase
+                        .take()
+                        .filter(|&(_, t)| b.thread.is_some() && t0.saturating_sub(t) <= 2 * period);
                     let motion = match b.motion {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
@@ -1648,11 +1662,18 @@ impl Machine {
                         )),
                         Kind::Linear => Some(match (b.thread, self.rigid_tap_pitch(&b)) {
                             (Some(lead), _) => {
-                                Drive::thread(&self.settings, b.delta, lead, &self.sp, t0, true)
+                                let anchor = goes_on
+                                    .map_or(Anchor::Index, |(phase, t)| Anchor::After { phase, t });
+                                Drive::thread(&self.settings, b.delta, lead, &self.sp, t0, anchor)
                             }
-                            (None, Some(pitch)) => {
-                                Drive::thread(&self.settings, b.delta, pitch, &self.sp, t0, false)
-                            }
+                            (None, Some(pitch)) => Drive::thread(
+                                &self.settings,
+                                b.delta,
+                                pitch,
+                                &self.sp,
+                                t0,
+                                Anchor::Here,
+                            ),
                             (None, None) => Drive::linear(
                                 &self.settings,
                                 b.delta,
@@ -1692,7 +1713,7 @@ impl Machine {
                     });
                     let line = c.entry.stmt.line;
                     let mark = match c.motion.as_mut().and_then(Drive::as_thread) {
-                        Some(th) if self.channel && b.thread.is_some() => {
+                        Some(th) if self.channel && b.thread.is_some() && !th.continued() => {
                             let (t, encoder) = th.index_and_first_count();
                             Some(Mark::Thread {
                                 t,
@@ -1710,6 +1731,12 @@ impl Machine {
                         match m.run(end, &mut self.out) {
                             Progress::Done => {
                                 c.until = c.until.max(m.last_t());
+                                if c.block.thread.is_some()
+                                    && c.block.tap == crate::block::Tap::Part
+                                {
+                                    self.thread_phase =
+                                        m.as_thread().map(|th| (th.end_phase(), th.last_t()));
+                                }
                             }
                             Progress::Pending | Progress::AtRest => break,
                         }
