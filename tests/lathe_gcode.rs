@@ -361,9 +361,14 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "Q, the compound angle, must be 0 to below 90",
         ),
         (
-            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 E1\n"),
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 E-1\n"),
             "3:27",
-            "E (tapered thread ends) is not supported",
+            "E, the taper ends' length along Z, must be 0 or more",
+        ),
+        (
+            s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 E8 L3\n"),
+            "3:27",
+            "G76 E: the taper ends are as long as the thread",
         ),
         (
             s("G0 X20 Z5\nG76 P1 Z-10 I-1 J0.1 K0.5 L7\n"),

@@ -96,16 +96,53 @@ struct Passes {
     taper: f64,
     /// Fanuc's chamfer (thread pull-out): the last `chamfer` mm of Z leave at 45°.
     chamfer: f64,
+    /// LinuxCNC's E taper ends (L 1, 2, 3): the Z length of the taper into the groove at the
+    /// start and out of it at the end (0: none), each a thread block run on from the one
+    /// before it, the lead along the path `taper_pitch` (LinuxCNC's `taper_pitch`).
+    taper_in: f64,
+    /// See `taper_in`.
+    taper_out: f64,
+}
+
+/// The kernel's lead (along a block's longest axis) of a thread move of `dz` along Z and `dx`
+/// across, whose lead LinuxCNC measures along its path: `lead` × longest / path.
+fn lead_on_longest(lead: f64, dz: f64, dx: f64) -> f64 {
+    let (dz, dx) = (dz.abs(), dx.abs());
+    let path = dz.hypot(dx);
+    if path > 0.0 {
+        lead * dz.max(dx) / path
+    } else {
+        lead
+    }
 }
 
 /// The passes (LinuxCNC 2.9's `threading_pass`, interp_convert.cc): back to the retract X
 /// at the start Z, in to the depth, the synchronised cut to Z (a 45° pull-out over its last
 /// `chamfer` mm), out to the retract X.
 fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), TranslateError> {
+    use crate::block::Tap;
     let sign = p.crest.signum();
     let first = p.depths.first().copied().unwrap_or(0.0);
     let dz = (p.z_end - p.start[0]).signum();
     let length = (p.z_end - p.start[0]).abs();
+    // Q, the compound angle, so that the tool goes down one flank. Fanuc's: each pass starts
+    // and ends (depth − first)·tan(Q) further along −Z than the first. LinuxCNC's
+    // (convert_threading_cycle): depth·tan(Q) back from the start, and the end
+    // (K − depth)·tan(Q) beyond Z, the angle's sign turned when the thread runs towards +Z.
+    let (tan_q, beyond) = if p.fanuc {
+        (p.tan_q, 0.0)
+    } else {
+        let t = -dz * p.tan_q;
+        (t, p.full * t)
+    };
+    // Each segment after the first of a pass goes on in the groove the one before it cut
+    // (`Tap::Part` on the one before): a taper end, a chamfer.
+    let thread = |r: &mut Reader, lead: f64, end: [f64; 2], last: bool| {
+        r.out.set_tap(if last { Tap::No } else { Tap::Part });
+        let done = r.out.motion(mv(Kind::Thread(lead), end, n, c));
+        r.out.set_tap(Tap::No);
+        done
+    };
     for &d in &p.depths {
         let x = p.start[1] + p.crest + sign * d;
         let back = if p.fanuc {
@@ -113,20 +150,35 @@ fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), Trans
         } else {
             p.start[1] - sign * (p.full - d)
         };
-        // Q, the compound angle: each pass starts and ends (depth - first)·tan(Q) further
-        // along -Z than the first, so the tool goes down one flank (LinuxCNC's zoff).
-        let zoff = (d - first) * p.tan_q;
-        let (z0, z1) = (p.start[0] - zoff, p.z_end - zoff);
-        r.out.motion(mv(Kind::Rapid, [z0, back], n, c))?;
-        r.out.motion(mv(Kind::Rapid, [z0, x + p.taper], n, c))?;
-        if p.chamfer > 0.0 {
-            let at = x + p.taper * p.chamfer / length;
-            r.out
-                .motion(mv(Kind::Thread(p.lead), [z1 - dz * p.chamfer, at], n, c))?;
-            r.out
-                .motion(mv(Kind::Thread(p.lead), [z1, x - sign * p.chamfer], n, c))?;
+        let zoff = if p.fanuc {
+            (d - first) * tan_q
         } else {
-            r.out.motion(mv(Kind::Thread(p.lead), [z1, x], n, c))?;
+            d * tan_q
+        };
+        let (z0, z1) = (p.start[0] - zoff, p.z_end + beyond - zoff);
+        r.out.motion(mv(Kind::Rapid, [z0, back], n, c))?;
+        if p.taper_in > 0.0 {
+            // In to the crest's height above the cut, then down the taper to the cut, both
+            // geared to the spindle (LinuxCNC's threading_pass).
+            let top = x - sign * p.full;
+            let taper_pitch = p.lead * p.taper_in.hypot(p.full) / p.taper_in;
+            thread(r, taper_pitch, [z0, top], false)?;
+            let down = lead_on_longest(taper_pitch, p.taper_in, p.full);
+            thread(r, down, [z0 + dz * p.taper_in, x], false)?;
+        } else {
+            r.out.motion(mv(Kind::Rapid, [z0, x + p.taper], n, c))?;
+        }
+        if p.taper_out > 0.0 {
+            thread(r, p.lead, [z1 - dz * p.taper_out, x], false)?;
+            let taper_pitch = p.lead * p.taper_out.hypot(p.full) / p.taper_out;
+            let up = lead_on_longest(taper_pitch, p.taper_out, p.full);
+            thread(r, up, [z1, x - sign * p.full], true)?;
+        } else if p.chamfer > 0.0 {
+            let at = x + p.taper * p.chamfer / length;
+            thread(r, p.lead, [z1 - dz * p.chamfer, at], false)?;
+            thread(r, p.lead, [z1, x - sign * p.chamfer], true)?;
+        } else {
+            thread(r, p.lead, [z1, x], true)?;
         }
         r.out.motion(mv(Kind::Rapid, [z1, back], n, c))?;
     }
@@ -218,18 +270,21 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
         ));
     }
     let tan_q = q.to_radians().tan();
-    if w.get('E').is_some_and(|e| e != 0.0) {
+    // E, the taper ends' length along Z, and L, which ends: 1 the start, 2 the end, 3 both
+    // (LinuxCNC: an E without L tapers neither end).
+    let e = w.get('E').unwrap_or(0.0) * f;
+    if !(e.is_finite() && (0.0..1000.0).contains(&e)) {
         return Err(err(
             n,
             col('E'),
-            "G76 E (tapered thread ends) is not supported",
+            "G76 E, the taper ends' length along Z, must be 0 or more",
         ));
     }
-    if let Some(l) = w.get('L') {
-        if !(l.fract() == 0.0 && (0.0..=3.0).contains(&l)) {
-            return Err(err(n, col('L'), "G76 L must be 0 to 3"));
-        }
+    let l = w.get('L').unwrap_or(0.0);
+    if !(l.fract() == 0.0 && (0.0..=3.0).contains(&l)) {
+        return Err(err(n, col('L'), "G76 L must be 0 to 3"));
     }
+    let l = l as u32;
     let z_end = if r.st.absolute { z } else { r.out.pos[0] + z };
     let start = r.out.pos;
     if (z_end - start[0]).abs() < 1e-9 {
@@ -246,6 +301,17 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
             format!("G76 makes more than {MAX_PASSES} passes: deepen J or raise R"),
         ));
     };
+    let (taper_in, taper_out) = (
+        if l & 1 != 0 { e } else { 0.0 },
+        if l & 2 != 0 { e } else { 0.0 },
+    );
+    if taper_in + taper_out >= (z_end - start[0]).abs() {
+        return Err(err(
+            n,
+            col('E'),
+            "G76 E: the taper ends are as long as the thread",
+        ));
+    }
     let passes = Passes {
         start,
         z_end,
@@ -257,6 +323,8 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
         fanuc: false,
         taper: 0.0,
         chamfer: 0.0,
+        taper_in,
+        taper_out,
     };
     thread_passes(r, &passes, n, c)
 }
@@ -807,6 +875,8 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
         fanuc: true,
         taper,
         chamfer,
+        taper_in: 0.0,
+        taper_out: 0.0,
     };
     thread_passes(r, &passes, n, c)
 }

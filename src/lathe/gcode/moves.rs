@@ -158,14 +158,22 @@ impl Reader<'_> {
                         format!("{name} with the spindle stopped: give M03 or M04"),
                     ));
                 }
-                if (end[0] - self.out.pos[0]).abs() < 1e-9 {
+                let (dz, dx) = (end[0] - self.out.pos[0], end[1] - self.out.pos[1]);
+                if dz.abs() < 1e-9 {
                     return Err(err(
                         n,
                         c,
                         format!("{name} needs a Z move ({l} is the lead along Z)"),
                     ));
                 }
-                Kind::Thread(lead)
+                // The kernel gears a taper's longest axis at the lead it is given, as a Fanuc
+                // measures G32's F. LinuxCNC measures G33's K along the path (its planner's
+                // spindle sync), so its K is given as the longest axis's share of it.
+                if self.fanuc {
+                    Kind::Thread(lead)
+                } else {
+                    Kind::Thread(lead * dz.abs().max(dx.abs()) / dz.hypot(dx))
+                }
             }
         };
         self.out.motion(Mv {

@@ -179,6 +179,7 @@ fn tool_offsets_are_added_to_programmed_points() {
 #[test]
 fn g33_is_one_thread_pass() {
     let o = blocks("M3 S500\nG0 X20 Z5\nG33 Z-20 K1.5\nG33 X22 Z-30 K2\n");
+    let lead = lead_along_z();
     let passes: Vec<_> = o[2..]
         .iter()
         .map(|b| (b.motion, end(b), b.thread, b.feed, b.feed_mode))
@@ -196,18 +197,26 @@ fn g33_is_one_thread_pass() {
             (
                 Motion::Linear,
                 [11000, -30000],
-                Some(2.0),
-                2.0,
+                Some(lead),
+                lead,
                 FeedMode::PerRev
             )
         ]
     );
 }
 
+/// LinuxCNC measures a taper's K along its path; the kernel gears the longest axis (Z here:
+/// 10 mm against 1 mm of radius), so it is given K × 10 / √101.
+fn lead_along_z() -> f64 {
+    2.0 * 10.0 / 10f64.hypot(1.0)
+}
+
 #[test]
 fn g76_q_moves_each_pass_down_the_flank() {
-    // The passes of g76_passes_by_hand with Q29.5: each starts and ends (depth - 0.2)·tan 29.5°
-    // further along -Z: 0, 0.11315, 0.22631, 0.22631 mm.
+    // The passes of g76_passes_by_hand with Q29.5, as LinuxCNC's convert_threading_cycle
+    // makes them (rs274 prints the same): each starts depth·tan 29.5° back from Z5 (0.2, 0.4,
+    // 0.6, 0.6 mm deep: 0.11315, 0.22631, 0.33946, 0.33946 mm) and ends (0.6 − depth)·tan 29.5°
+    // short of Z-20, the last at Z-20.
     let o = moves(&blocks(
         "M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 H1 Q29.5\n",
     ));
@@ -221,10 +230,10 @@ fn g76_q_moves_each_pass_down_the_flank() {
     assert_eq!(
         passes,
         vec![
-            (5000, -20000),
-            (4887, -20113),
-            (4774, -20226),
-            (4774, -20226)
+            (4887, -19774),
+            (4774, -19887),
+            (4661, -20000),
+            (4661, -20000)
         ]
     );
 }
@@ -518,4 +527,45 @@ fn m98_calls_a_subprogram_and_abort_stops_at_its_line() {
         .err()
         .map(|e| e.to_string());
     assert!(e.as_deref().is_some_and(|e| e.starts_with("5:")), "{e:?}");
+}
+
+#[test]
+fn g76_e_and_l_taper_into_and_out_of_the_groove_as_one_pass() {
+    // LinuxCNC's threading_pass with E1 L3, worked by hand for the first pass (J 0.2 deep,
+    // radius mode): from the retract X 10 + 0.6 − 0.2 = 10.4, in to the crest's height above
+    // the cut (X 9.9) and down 1 mm of Z to the cut (X 9.3), along Z, and up 1 mm of Z to
+    // X 9.9 at Z-20. LinuxCNC gears the tapers at 1.5 × √(1² + 0.6²) / 1 along their path:
+    // the kernel, which gears a block's longest axis, is given 1.74929 for the move in
+    // (X alone) and 1.5 for the tapers (Z the longer: 1.74929 × 1 / √1.36). Each block but the
+    // last goes on in the next (`Tap::Part`): the pass is one helix from its index.
+    let o = blocks("M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 E1 L3\n");
+    let pass: Vec<_> = o[2..8]
+        .iter()
+        .map(|b| (moves(std::slice::from_ref(b))[0], b.thread, b.tap))
+        .collect();
+    let taper_pitch = 1.5 * 1f64.hypot(0.6) / 1.0;
+    use crate::block::Tap;
+    assert_eq!(
+        pass,
+        [
+            (('R', [10400, 5000]), None, Tap::No),
+            (('T', [9900, 5000]), Some(taper_pitch), Tap::Part),
+            (('T', [9300, 4000]), Some(1.5), Tap::Part),
+            (('T', [9300, -19000]), Some(1.5), Tap::Part),
+            (('T', [9900, -20000]), Some(1.5), Tap::No),
+            (('R', [10400, -20000]), None, Tap::No),
+        ]
+    );
+    // L1: the start only; L2: the end only; E without L: neither (as LinuxCNC).
+    for (l, threads) in [(" L1", 3), (" L2", 2), ("", 1)] {
+        let o = blocks(&format!(
+            "M3 S500\nG8 G0 X10 Z5\nG76 P1.5 Z-20 I-0.5 J0.2 K0.6 E1{l}\n"
+        ));
+        let first: Vec<_> = o
+            .iter()
+            .skip_while(|b| b.thread.is_none())
+            .take_while(|b| b.thread.is_some())
+            .collect();
+        assert_eq!(first.len(), threads, "L{l}");
+    }
 }
