@@ -844,3 +844,58 @@ fn the_editor_pointer_of_each_channel_is_kept_across_a_restart() {
     assert!(frames[0].contains(">0004 "), "CH1 at line 4: {}", frames[0]);
     assert!(frames[1].contains(">0006 "), "CH2 at line 6: {}", frames[1]);
 }
+
+/// `novanc translate --machine LATHE`: one channel's program as the blocks the kernel gets,
+/// X a radius, the lathe's preamble, the meeting and chuck codes as the program wrote them.
+#[test]
+fn translate_lists_a_lathe_channels_blocks() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let prog = root.join("programs/citizen/system1.ngc");
+    let prog = prog.to_str().expect("utf-8 path");
+    let out = novanc(&["translate", "--machine", "citizen", prog]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let listing = text(&out.stdout);
+    let lines: Vec<&str> = listing.lines().collect();
+    assert_eq!(lines[0], "G21 G90 G18 G8 G94 G40 G80");
+    assert_eq!(lines[1], "N1 G00 X20.000 Z10.000");
+    assert_eq!(lines[2], "N2 M10");
+    // G96 and the feed per revolution once, where they begin; the arc in the turning plane
+    // without a G18 of its own; the wait for system 2 with the channels it names.
+    assert!(lines.contains(&"N4 G96 S150 D4000 M03"), "{listing}");
+    assert!(lines.contains(&"N6 G95 G01 X-0.500 F0.08"), "{listing}");
+    assert!(lines.contains(&"N7 G00 Z2.000"), "{listing}");
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("N12 G03 X9.000 Z-16.800 I")),
+        "{listing}"
+    );
+    assert!(lines.contains(&"N17 M101 P12"), "{listing}");
+    assert_eq!(lines.last(), Some(&"M30"));
+    // Channel 3's program on channel 3; a channel the machine does not have is refused.
+    let prog3 = root.join("programs/citizen/system3.ngc");
+    let prog3 = prog3.to_str().expect("utf-8 path");
+    let out = novanc(&["translate", "--machine", "citizen", "--channel", "3", prog3]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains(" G33 Z-13.649 K1.5"));
+    let out = novanc(&["translate", "--machine", "citizen", "--channel", "4", prog3]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--channel: citizen has channels 1 to 3"));
+    // A program error: PROG:LINE:COL: message, nothing on stdout.
+    let dir = common::temp_dir("lathe-translate");
+    let bad = dir.join("bad.ngc");
+    std::fs::write(&bad, "G0 X10 Z5\nG2 X20 Z0\nM30\n").expect("write");
+    let out = novanc(&[
+        "translate",
+        "--machine",
+        "citizen",
+        bad.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    assert!(
+        text(&out.stderr).starts_with(&format!("{}:2:1: ", bad.display())),
+        "{}",
+        text(&out.stderr)
+    );
+}

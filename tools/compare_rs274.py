@@ -23,9 +23,16 @@ feed moves (its chords, one at least per spline) that ends where the next rs274 
 the run stops at the first novanc move that agrees with rs274's next move. An arc after it must
 start on its own circle there. The curves themselves are checked by novanc's unit tests.
 
+Lathes (--machine a lathe description, `kind lathe`): novanc translate --machine FILE lists
+channel 1's blocks, X a radius, the tool post starting at the top of both travels. rs274 is
+given the same start (a `G53 G0 X Z` line before the program, its move not compared) and
+novanc's power-on modes G18 G21 G7 (docs/lathe-gcode.md "Initial modes"), the
+description's tools of channel 1 as its tool table (nose radius as D, tip as the orientation Q,
+offsets X Z), and no quill-up tool change.
+
 usage: compare_rs274.py [--novanc BIN] [--golden DIR] [--machine FILE] PROG.ngc...
   --machine FILE a mill description for novanc translate; its `remap M6 ...` line goes to
-                 rs274's INI as REMAP=M6 ...
+                 rs274's INI as REMAP=M6 ...; or a lathe's (above)
   --golden DIR   also write DIR/NAME.ngc and DIR/NAME.expect (the rs274 moves in machine mm,
                  or 'ERROR message') for tests/gcode_golden.rs
 Exit 0 if every program agrees.
@@ -44,8 +51,48 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOL = 0.001 + 1e-6
 
 
+# A lathe description's channel 1 (--machine): {"home": (x, z), "tools": [(n, radius, tip, x, z)]}.
+LATHE = [None]
+
+
+def read_lathe(path):
+    """Channel 1 of a lathe description, or None for a mill's."""
+    if path is None:
+        return None
+    lines = [line.split("#")[0].split() for line in open(path)]
+    if not any(f[:2] == ["kind", "lathe"] for f in lines):
+        return None
+    home = [0.0, 0.0]
+    tools = []
+    channels = 0
+    for f in lines:
+        if not f:
+            continue
+        if f[0] == "channel":
+            channels += 1
+        if channels != 1:
+            continue
+        if f[0] in ("x", "z") and len(f) >= 4 and f[1] == "travel":
+            home["xz".index(f[0])] = float(f[3])
+        elif f[0] == "tool":
+            w = dict(zip(f[2::2], f[3::2]))
+            off = f[f.index("offset") + 1:f.index("offset") + 3] if "offset" in f else ["0", "0"]
+            tools.append((int(f[1]), float(w.get("radius", 0)), int(w.get("tip", 0)), float(off[0]), float(off[1])))
+    return {"home": tuple(home), "tools": tools}
+
+
+# novanc's tip positions (Fanuc's chart, +X up) as LinuxCNC's orientations of the same tool: its
+# chart is drawn with +X down (interp_queue.cc's latheorigin: orientation 3 puts the tip at
+# +X, -Z of the nose centre, which is Fanuc's tip 2).
+LINUXCNC_Q = [0, 4, 3, 2, 1, 5, 8, 7, 6, 9]
+
+
 def tool_table():
-    """The sample magazine as an rs274 tool table (rs274 reads it in inches)."""
+    """The sample magazine as an rs274 tool table (rs274 reads it in inches); on a lathe, the
+    description's tools of channel 1."""
+    if LATHE[0]:
+        return "".join(f"T{n} P{n} X{x / 25.4:.9f} Z{z / 25.4:.9f} D{2 * r / 25.4:.9f} Q{LINUXCNC_Q[tip]} ;\n"
+                       for n, r, tip, x, z in LATHE[0]["tools"])
     tools = {}
     for line in open(os.path.join(ROOT, "tooldata/tools.tt")):
         f = line.split(";")[0].split()
@@ -87,7 +134,8 @@ def rs274_ini(prog, tmp):
     path = os.path.join(tmp, "novanc.ini")
     dirs = [os.path.dirname(os.path.abspath(prog)), os.path.join(ROOT, "programs")]
     with open(path, "w") as f:
-        f.write("[EMCIO]\nTOOL_CHANGE_QUILL_UP = 1\n[RS274NGC]\nSUBROUTINE_PATH = %s\n" % ":".join(dirs))
+        quill = "" if LATHE[0] else "TOOL_CHANGE_QUILL_UP = 1\n"
+        f.write("[EMCIO]\n%s[RS274NGC]\nSUBROUTINE_PATH = %s\n" % (quill, ":".join(dirs)))
         f.write(remap_lines())
     return path
 
@@ -115,13 +163,21 @@ def rs274_moves(prog, tbl):
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, HOME=tmp)
         ini = rs274_ini(prog, tmp)
-        p = subprocess.run(["rs274", "-i", ini, "-t", tbl, "-g", os.path.abspath(prog)], capture_output=True, text=True,
+        run = os.path.abspath(prog)
+        if LATHE[0]:
+            # The lathe's start, the top of both travels (in the program's folder, for its
+            # subroutines).
+            hx, hz = LATHE[0]["home"]
+            run = os.path.join(tmp, os.path.basename(prog))
+            with open(prog, errors="replace") as src, open(run, "w") as dst:
+                dst.write(f"G18 G21 G8\nG53 G0 X{hx} Z{hz}\nG7\n" + src.read())
+        p = subprocess.run(["rs274", "-i", ini, "-t", tbl, "-g", run], capture_output=True, text=True,
                            timeout=600, env=env, cwd=tmp)
     factor = 1.0
     g5x = [0.0, 0.0, 0.0]
     g92 = [0.0, 0.0, 0.0]
     rotation = 0.0
-    tlo = 0.0
+    tlo = [0.0, 0.0, 0.0]
     moves = []
     last = [0.0, 0.0, 0.0]
     kept = [[0.0, 0.0, 0.0]]
@@ -131,7 +187,7 @@ def rs274_moves(prog, tbl):
     def machine(x, y, z):
         x, y, z = x * factor + g92[0], y * factor + g92[1], z * factor + g92[2]
         x, y = rot(x, y, rotation)
-        return [x + g5x[0], y + g5x[1], z + g5x[2] + tlo]
+        return [x + g5x[0] + tlo[0], y + g5x[1] + tlo[1], z + g5x[2] + tlo[2]]
 
     printed = set(p.stdout.splitlines())
     def arc_to(at, c, ccw, plane, allowance):
@@ -171,7 +227,7 @@ def rs274_moves(prog, tbl):
             rotation = vals[0]
         elif name == "USE_TOOL_LENGTH_OFFSET":
             # Printed in the program's units.
-            tlo = vals[2] * factor
+            tlo = [v * factor for v in vals[:3]]
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             e = machine(vals[0], vals[1], vals[2])
             # Shorter than half a pulse from the last move kept (rs274's inch rounding, or CAM
@@ -251,6 +307,9 @@ def rs274_moves(prog, tbl):
             last_prog[0] = vals[:3]
         elif name == "ARC_FEED":
             last_prog[0] = e
+    if LATHE[0] and moves:
+        # The start line's move.
+        del moves[0], inch[0]
     return moves, None
 
 
@@ -270,7 +329,7 @@ def novanc_moves(prog, novanc):
     if p.returncode != 0:
         return [], p.stderr.strip() or "refused"
     moves = []
-    pos = [0.0, 0.0, 0.0]
+    pos = [LATHE[0]["home"][0], 0.0, LATHE[0]["home"][1]] if LATHE[0] else [0.0, 0.0, 0.0]
     g = None
     plane = "XY"
     for line in p.stdout.splitlines():
@@ -288,6 +347,9 @@ def novanc_moves(prog, novanc):
                 plane = {17: "XY", 18: "XZ", 19: "YZ"}[x]
             elif x in (0, 1, 2, 3, 38):
                 g = x
+            elif x == 33:
+                # A thread pass: a feed move (rs274's STRAIGHT_FEED under spindle sync).
+                g = 1
             elif x == 4:
                 pass
         if 4 in gs or not any(k in words for k in "XYZ"):
@@ -610,6 +672,7 @@ def main(argv):
             golden = next(it)
         elif a == "--machine":
             MACHINE[0] = next(it)
+            LATHE[0] = read_lathe(MACHINE[0])
         else:
             progs.append(a)
     with tempfile.NamedTemporaryFile("w", suffix=".tbl", delete=False) as f:
@@ -619,7 +682,7 @@ def main(argv):
     total_moves = 0
     refused = 0
     for prog in progs:
-        current_plane[0] = "XY"
+        current_plane[0] = "XZ" if LATHE[0] else "XY"
         last_prog[0] = [0.0, 0.0, 0.0]
         inch.clear()
         ref, ref_err = rs274_moves(prog, tbl)

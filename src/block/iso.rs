@@ -5,13 +5,18 @@
 //! plane says its plane on its own line (`G18 G02 X Z I K`, `G19 G03 Y Z J K`), with the third
 //! axis when it is a helix; in a whole program an XY arc after one of those says `G17`.
 
-use super::{Block, Css, FeedMode, Io, Motion, Plane, Statement};
+use super::{Block, Css, FeedMode, Io, Motion, Plane, Statement, Sync};
 use crate::settings::MachineSettings;
 use std::io::Write;
 
 /// The program preamble: metric, absolute, XY plane, feed per minute, no cutter-radius or
 /// tool-length compensation, no canned cycle.
 pub const PREAMBLE: &str = "G21 G90 G17 G94 G40 G49 G80";
+
+/// A lathe program's preamble (`novanc translate --machine LATHE`): metric, absolute, the
+/// turning plane ZX, X a radius (LinuxCNC's G8), feed per minute, no nose-radius
+/// compensation, no canned cycle.
+pub const LATHE_PREAMBLE: &str = "G21 G90 G18 G8 G94 G40 G80";
 
 /// The program end.
 pub const END: &str = "M30";
@@ -185,6 +190,8 @@ struct Modes {
     plane: Plane,
     feed_mode: FeedMode,
     css: Option<Css>,
+    /// A lathe's program: an arc says its plane only when it changes.
+    turning: bool,
     /// The last N word printed: its number, its text packed and its length (0: none).
     n: (u32, u128, u32),
 }
@@ -233,13 +240,23 @@ fn write_line_in(out: &mut Vec<u8>, b: &Block, st: &MachineSettings, modes: &mut
         modes.n = (b.seq, x, len);
     }
     let arc = matches!(b.motion, Motion::ArcCw | Motion::ArcCcw);
-    if arc && (b.plane != Plane::XY || *plane != Plane::XY) {
+    // Every arc outside XY says its plane; on a lathe (`turning`) only a change of it.
+    let said = if modes.turning {
+        b.plane != *plane
+    } else {
+        b.plane != Plane::XY || *plane != Plane::XY
+    };
+    if arc && said {
         out.push(b' ');
         out.extend_from_slice(b.plane.g_code().as_bytes());
         *plane = b.plane;
     }
-    let feed_mode = (modes.feed_mode != b.feed_mode).then_some(b.feed_mode);
-    modes.feed_mode = b.feed_mode;
+    // The feed mode as the feed moves have it (a rapid's is not printed).
+    let feeds = matches!(b.motion, Motion::Linear | Motion::ArcCw | Motion::ArcCcw);
+    let feed_mode = (feeds && modes.feed_mode != b.feed_mode).then_some(b.feed_mode);
+    if feeds {
+        modes.feed_mode = b.feed_mode;
+    }
     match feed_mode {
         Some(FeedMode::PerRev) => out.extend_from_slice(b" G95"),
         Some(FeedMode::PerMin) => out.extend_from_slice(b" G94"),
@@ -319,6 +336,18 @@ fn write_line_in(out: &mut Vec<u8>, b: &Block, st: &MachineSettings, modes: &mut
     }
     if let Some(io) = b.io {
         write_io(out, io);
+    }
+    match b.sync {
+        Some(Sync::Wait { m, with }) => {
+            // The channels that meet, as a P word lists them (P12: channels 1 and 2).
+            let _ = write!(out, " M{m} P");
+            for ch in (0..8).filter(|i| with & (1 << i) != 0) {
+                let _ = write!(out, "{}", ch + 1);
+            }
+        }
+        Some(Sync::ChuckClose) => out.extend_from_slice(b" M10"),
+        Some(Sync::ChuckOpen) => out.extend_from_slice(b" M11"),
+        None => {}
     }
     if b.seq == 0 && out.get(start) == Some(&b' ') {
         out.remove(start);
@@ -403,7 +432,20 @@ pub struct IsoWriter {
 impl IsoWriter {
     /// Starts a program: appends the preamble to `out`.
     pub fn new(out: &mut Vec<u8>) -> IsoWriter {
-        out.extend_from_slice(PREAMBLE.as_bytes());
+        IsoWriter::after(out, PREAMBLE)
+    }
+
+    /// Starts a lathe program: appends [`LATHE_PREAMBLE`] to `out`; arcs are in its plane ZX
+    /// unless they say otherwise.
+    pub fn lathe(out: &mut Vec<u8>) -> IsoWriter {
+        let mut w = IsoWriter::after(out, LATHE_PREAMBLE);
+        w.modes.plane = Plane::XZ;
+        w.modes.turning = true;
+        w
+    }
+
+    fn after(out: &mut Vec<u8>, preamble: &str) -> IsoWriter {
+        out.extend_from_slice(preamble.as_bytes());
         out.push(b'\n');
         IsoWriter {
             modes: Modes::default(),

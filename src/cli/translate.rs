@@ -15,6 +15,8 @@ usage: novanc translate PROG [--tools TAPE] [--magazine TCODES] [--block-delete]
                                 [--optional-stop] [--subroutines DIR]...
                                 [--machine FILE] [--dialect fanuc|linuxcnc]
        novanc translate [PROG] --state DIR [--block-delete] [--optional-stop]
+       novanc translate PROG --machine citizen|LATHE [--channel N] [--dialect D]
+                                [--block-delete] [--optional-stop]
 
 Translates the part program PROG into machine instruction blocks and prints them, one ISO
 6983 line per block, in absolute millimetres. PROG is in the source language
@@ -43,6 +45,14 @@ options:
   --machine FILE      a machining centre's description (docs/lathe.md \"Machine
                       description\"): its travel, and its M6 remap (docs/gcode.md)
   -h, --help          this help
+
+On a lathe (--machine citizen or a lathe's description), PROG is read as channel N's program
+(--channel, default 1; docs/lathe-gcode.md) and its blocks printed after the preamble
+'G21 G90 G18 G8 G94 G40 G80': X is the radius (G8) of the tool post's imaginary tip with the
+tool's offsets and the nose-radius compensation applied, Z as the machine has it, starting at
+the channel's reference position (the top of both travels); a thread pass is 'G33 Z K', K its
+lead along its longest axis; the meeting codes print as 'M101 P12' (the channels that meet),
+the chuck as M10 and M11. The part counter reads as at the start of a batch of 5.
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
@@ -359,17 +369,75 @@ impl Listing<'_> {
     }
 }
 
+/// The options of `novanc translate --machine LATHE`.
+const LATHE_OPTS: [Opt; 5] = [
+    Opt::value("--channel"),
+    Opt::flag("--block-delete"),
+    Opt::flag("--optional-stop"),
+    Opt::flag("--help"),
+    Opt::flag("-h"),
+];
+
+/// `novanc translate --machine LATHE PROG [--channel N]`: one channel's program as its blocks
+/// (docs/cli.md "On a lathe"), read as START reads it in a batch of the run's default
+/// target, the tool post starting at the channel's reference position.
+fn lathe(desc: crate::lathe::desc::LatheDesc, argv: &[String]) -> i32 {
+    let args = match Args::parse(argv, &LATHE_OPTS) {
+        Ok(a) => a,
+        Err(e) => return super::usage_error(&e),
+    };
+    if args.flag("--help") || args.flag("-h") {
+        print!("{HELP}");
+        return 0;
+    }
+    let n = desc.channels.len();
+    let ch = match args.value("--channel").map(|v| v.trim().parse::<usize>()) {
+        None => 0,
+        Some(Ok(c)) if (1..=n).contains(&c) => c - 1,
+        Some(_) => {
+            return super::usage_error(&format!(
+                "translate: --channel: {} has channels 1 to {n}",
+                desc.name
+            ))
+        }
+    };
+    let [prog] = args.positional.as_slice() else {
+        return super::usage_error("translate takes one program (see --help)");
+    };
+    let source = match read(prog) {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    let opts = crate::lathe::gcode::ReadOptions {
+        block_delete: args.flag("--block-delete"),
+        optional_stop: args.flag("--optional-stop"),
+        parts: Some(crate::lathe::gcode::Parts::new(&[], 5)),
+    };
+    let statements = match crate::lathe::gcode::read_program(&source, &desc, ch, &opts) {
+        Ok(s) => s,
+        Err(e) => return fail(&format!("{prog}:{e}")),
+    };
+    let Some(settings) = MachineSettings::lathe_channel(&desc, ch) else {
+        return fail("novanc: the machine has no channel");
+    };
+    let mut out = Vec::new();
+    let mut w = IsoWriter::lathe(&mut out);
+    for st in &statements {
+        w.statement(&mut out, st, &settings);
+    }
+    w.finish(&mut out);
+    match std::io::stdout().lock().write_all(&out) {
+        Ok(()) => 0,
+        Err(_) => 1,
+    }
+}
+
 /// Runs `novanc translate`; returns the exit code.
 pub fn main(argv: &[String]) -> i32 {
     // --machine: a mill's description (its M6 remap, travel, tool change); not a lathe.
     let (settings, argv) = match super::args::take_machine(argv) {
         Err(e) => return super::usage_error(&format!("translate: {e}")),
-        Ok((super::args::Machine::Lathe(d), _)) => {
-            return super::usage_error(&format!(
-                "translate: --machine {} is a lathe: novanc translate lists a machining centre's programs",
-                d.name
-            ))
-        }
+        Ok((super::args::Machine::Lathe(d), rest)) => return lathe(d, &rest),
         Ok((m, rest)) => (m.settings(), rest),
     };
     let mut settings = settings;
