@@ -948,16 +948,8 @@ impl Reader<'_> {
         if let Some(x) = w.get('X') {
             end[1] = x * f / dia - off[1];
         }
-        if !(end[0].is_finite() && end[1].is_finite() && end[0].abs() < 1e6 && end[1].abs() < 1e6) {
-            return Err(err(n, c, "the end point is not a reasonable number"));
-        }
-        self.out.motion(Mv {
-            kind,
-            start: self.out.pos,
-            end,
-            line: n,
-            col: c,
-        })
+        super::moves::reasonable(end, n)?;
+        self.out.motion(super::cycles::mv(kind, end, n, c))
     }
 
     /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;

@@ -51,9 +51,7 @@ impl Reader<'_> {
         if let Some(wv) = w.get('W') {
             p[0] += wv * f;
         }
-        if !(p[0].is_finite() && p[1].is_finite() && p[0].abs() < 1e6 && p[1].abs() < 1e6) {
-            return Err(err(n, 1, "the end point is not a reasonable number"));
-        }
+        reasonable(p, n)?;
         Ok(p)
     }
 
@@ -183,6 +181,15 @@ impl Reader<'_> {
             line: n,
             col: c,
         })
+    }
+}
+
+/// An end point `[Z, X]` mm within a million mm, or the refusal of line `n`.
+pub(super) fn reasonable(p: [f64; 2], n: u32) -> Result<(), TranslateError> {
+    if p[0].is_finite() && p[1].is_finite() && p[0].abs() < 1e6 && p[1].abs() < 1e6 {
+        Ok(())
+    } else {
+        Err(err(n, 1, "the end point is not a reasonable number"))
     }
 }
 
