@@ -88,6 +88,8 @@ struct Stats {
     jogs: u64,
     /// Steps that ended with MACHINE LOCK on.
     locked: u64,
+    /// Selector turns that cleared a line left typed (and said so).
+    turns_cleared: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -504,7 +506,19 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
         _ => None,
     };
     let (sel, plus) = (s.c.selected(), ev == PanelEvent::PlusInput);
+    let (op, left) = (s.c.mode(), s.c.entry().to_string());
     s.c.handle(ev);
+    // A turn to another position clears a line left typed, and says so (stop 49): never in
+    // silence.
+    if s.c.mode() != op && !left.trim().is_empty() {
+        let m = s.c.message();
+        assert!(
+            s.c.entry().is_empty() && m.contains("is cleared"),
+            "the turn from {op:?} took '{left}' without a word: {m}\n{}",
+            s.c.frame_text()
+        );
+        s.stats.turns_cleared += 1;
+    }
     if let Some(l) = typed {
         if let Err(e) = common::typed_line_kept_or_taken(&l, s.c.entry(), s.c.message()) {
             panic!("{e}\n{}", s.c.frame_text());
@@ -618,6 +632,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.batches_done += s.stats.batches_done;
         total.jogs += s.stats.jogs;
         total.locked += s.stats.locked;
+        total.turns_cleared += s.stats.turns_cleared;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -640,12 +655,13 @@ fn random_operator_sequences_keep_the_lathe_invariants() {
     let st = run(count(), 40);
     // The sequences must reach what they are meant to test.
     assert!(
-        st.parts > 0 && st.faults > 0 && st.estops > 0 && st.jogs > 0,
-        "parts {} faults {} estops {} jogs {}",
+        st.parts > 0 && st.faults > 0 && st.estops > 0 && st.jogs > 0 && st.turns_cleared > 0,
+        "parts {} faults {} estops {} jogs {} turns that cleared a line {}",
         st.parts,
         st.faults,
         st.estops,
-        st.jogs
+        st.jogs,
+        st.turns_cleared
     );
 }
 
@@ -668,7 +684,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -679,6 +695,7 @@ fn many_random_operator_sequences() {
             st.batches_done,
             st.jogs,
             st.locked,
+            st.turns_cleared,
             t.elapsed().as_secs_f64()
         );
     }
