@@ -714,8 +714,10 @@ def main(argv):
                 print(f"ok   {name}: {len(ref)} moves agree{also}")
         if golden and not (got_err and not ref_err) and not (ref_err is None and compare(ref, got)):
             base = os.path.join(golden, os.path.splitext(name)[0])
-            with open(prog) as src, open(base + ".ngc", "w") as dst:
-                dst.write(src.read())
+            if not os.path.exists(base + ".ngc") or not os.path.samefile(prog, base + ".ngc"):
+                # (Opened for writing, the program itself would be emptied first.)
+                with open(prog) as src, open(base + ".ngc", "w") as dst:
+                    dst.write(src.read())
             with open(base + ".expect", "w") as out:
                 if ref_err:
                     out.write("ERROR " + ref_err + "\n")
