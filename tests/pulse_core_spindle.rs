@@ -51,6 +51,20 @@ fn mv(seq: u32, motion: Motion, end: [i64; 3]) -> Block {
     b
 }
 
+/// A machine of [`lathe_settings`] with its spindle at S600 forward and the tool at X8 Z2,
+/// where the thread passes of these tests start.
+fn at_the_thread() -> Machine {
+    let mut m = machine(lathe_settings());
+    run(
+        &mut m,
+        vec![
+            m3(1, at(20.0, 5.0), 600),
+            mv(2, Motion::Rapid, at(8.0, 2.0)),
+        ],
+    );
+    m
+}
+
 /// M3 S`s` where the machine will be.
 fn m3(seq: u32, end: [i64; 3], s: u32) -> Block {
     let mut b = Block::aux(seq, seq, end);
@@ -173,15 +187,8 @@ fn z_steps(p: &[PulseRec]) -> Vec<(u64, i64)> {
 
 #[test]
 fn a_thread_pass_starts_at_the_index_and_follows_the_encoder() {
-    let mut m = machine(lathe_settings());
+    let mut m = at_the_thread();
     let lead = 2.0;
-    run(
-        &mut m,
-        vec![
-            m3(1, at(20.0, 5.0), 600),
-            mv(2, Motion::Rapid, at(8.0, 2.0)),
-        ],
-    );
     let p = run(&mut m, vec![pass(3, at(8.0, -30.0), lead)]);
     assert_eq!(m.pos(), at(8.0, -30.0));
     let z = z_steps(&p);
@@ -212,14 +219,7 @@ fn a_thread_pass_starts_at_the_index_and_follows_the_encoder() {
 #[test]
 fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
     for goes_on in [true, false] {
-        let mut m = machine(lathe_settings());
-        run(
-            &mut m,
-            vec![
-                m3(1, at(20.0, 5.0), 600),
-                mv(2, Motion::Rapid, at(8.0, 2.0)),
-            ],
-        );
+        let mut m = at_the_thread();
         let mut first = pass(3, at(8.0, -20.0), 2.0);
         if goes_on {
             first.tap = Tap::Part;
@@ -251,14 +251,7 @@ fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
 /// its blocks (Fanuc: after the last of consecutive threading blocks).
 #[test]
 fn a_feed_hold_waits_for_the_last_block_of_the_pass() {
-    let mut m = machine(lathe_settings());
-    run(
-        &mut m,
-        vec![
-            m3(1, at(20.0, 5.0), 600),
-            mv(2, Motion::Rapid, at(8.0, 2.0)),
-        ],
-    );
+    let mut m = at_the_thread();
     let mut first = pass(3, at(8.0, -20.0), 2.0);
     first.tap = Tap::Part;
     let mut src = VecSource::from_blocks(vec![
@@ -417,14 +410,7 @@ fn per_revolution_and_threads_are_refused_with_the_spindle_stopped() {
 
 #[test]
 fn a_feed_hold_during_a_thread_pass_comes_at_its_end() {
-    let mut m = machine(lathe_settings());
-    run(
-        &mut m,
-        vec![
-            m3(1, at(20.0, 5.0), 600),
-            mv(2, Motion::Rapid, at(8.0, 2.0)),
-        ],
-    );
+    let mut m = at_the_thread();
     let mut src = VecSource::from_blocks(vec![
         pass(3, at(8.0, -30.0), 2.0),
         mv(4, Motion::Rapid, at(12.0, -30.0)),
@@ -465,14 +451,7 @@ const SIMULATOR_FACING_NS: f64 = 2_401_900_000.0;
 #[test]
 fn the_thread_pass_and_the_facing_time_are_the_simulators() {
     // Thread: the kernel's pass from its index to its end against the simulator's figure.
-    let mut m = machine(lathe_settings());
-    run(
-        &mut m,
-        vec![
-            m3(1, at(20.0, 5.0), 600),
-            mv(2, Motion::Rapid, at(8.0, 2.0)),
-        ],
-    );
+    let mut m = at_the_thread();
     let p = run(&mut m, vec![pass(3, at(8.0, -30.0), 2.0)]);
     let z = z_steps(&p);
     let index = (phase(&m, z[0].0) / 1000.0).floor() * 1000.0;
