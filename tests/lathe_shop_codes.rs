@@ -347,3 +347,41 @@ fn a_work_loaded_by_hand_is_the_operators_in_the_lathes_events() {
         "W1 CH1 -> UNLOADER (both chucks closed)"
     );
 }
+
+#[test]
+fn g92_sets_where_the_tool_stands_and_g92_1_puts_the_zero_back() {
+    // System B's G92 X Z (LinuxCNC's G92 offset; a Fanuc's coordinate system setting in
+    // system B, its system A's G50): the point where the tool stands becomes X Z, nothing
+    // moves. LinuxCNC's lathe-g76.ngc threads at `G0 Z1.3 / G92 Z0`, then `G92.1`.
+    for dialect in ["linuxcnc", "fanuc"] {
+        let desc = lathe(dialect);
+        // Tool 2 (no offsets), radius mode: at X20 Z10, G92 Z0 makes that Z the zero: Z-5
+        // is the slide at Z5. X is untouched. After G92.1 Z-5 is Z-5 again.
+        let p = "G95 T0202\nG8 G0 X20. Z10.\nG92 Z0.\nG0 Z-5.\nG92.1\nG0 Z-5.\n";
+        assert_eq!(
+            ok(p, &desc),
+            ["R X20.000 Z10.000", "R X20.000 Z5.000", "R X20.000 Z-5.000"],
+            "{dialect}"
+        );
+        // X as a diameter under G07: G92 X10. at radius 20 puts X 0 at radius 15.
+        let p = "G95 T0202\nG7 G0 X40. Z10.\nG92 X10.\nG0 X20.\nG92.2\nG0 X20.\n";
+        assert_eq!(
+            ok(p, &desc),
+            [
+                "R X20.000 Z10.000",
+                "R X25.000 Z10.000",
+                "R X10.000 Z10.000"
+            ],
+            "{dialect}"
+        );
+    }
+    let lcnc = lathe("linuxcnc");
+    for (text, want) in [
+        ("G0 X20 Z5\nG92\n", "2:1: G92 needs X or Z: what the point where the tool stands is to be"),
+        ("G0 X20 Z5\nG92 W1\n", "2:5: G92 W: shifting the coordinate system by increments is not supported: give G92 X Z, where the tool stands"),
+        ("G0 X20 Z5\nG92.1 Z0\n", "2:7: G92.1 takes no axis word"),
+        ("G0 X20 Z5\nG92.3\n", "2:1: unknown or unsupported code G92.3 (the lathe keeps no G92 parameters to restore: give G92 X Z)"),
+    ] {
+        assert_eq!(read(text, &lcnc).err().as_deref(), Some(want), "{text}");
+    }
+}

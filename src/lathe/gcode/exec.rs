@@ -407,6 +407,12 @@ impl Reader<'_> {
                 _ => {}
             }
         }
+        // System B's G92, G92.1, G92.2 (in system A, G92 is the threading cycle).
+        let g92 =
+            w.g.as_slice()
+                .iter()
+                .find(|x| !self.system_a && matches!(x.0, 920..=922))
+                .copied();
         let f = self.st.factor();
         if let Some(v) = w.get('F') {
             use_('F');
@@ -447,6 +453,12 @@ impl Reader<'_> {
             }
             self.st.limit = d;
             spindle = true;
+        }
+        if let Some((g, c)) = g92 {
+            for l in ['X', 'Z', 'U', 'W'] {
+                use_(l);
+            }
+            self.g92(w, n, g, c)?;
         }
         if let Some(c) = w.has_g(500) {
             // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T); X Z set the
@@ -661,9 +673,10 @@ impl Reader<'_> {
                 })
                 .copied();
         let mut flow = Flow::Next;
-        // G50's X and Z set the coordinate system: nothing moves.
-        let axes =
-            w.has_g(500).is_none() && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
+        // G50's and G92's X and Z set the coordinate system: nothing moves.
+        let axes = w.has_g(500).is_none()
+            && g92.is_none()
+            && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
         // G83 or G84, its mode and its return level (docs/lathe-gcode.md "G83 face drilling",
         // "G84 face tapping").
         let given =
@@ -952,15 +965,16 @@ impl Reader<'_> {
         self.out.motion(super::cycles::mv(kind, end, n, c))
     }
 
-    /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
-    /// `G50 X Z` sets the coordinate system: the point where the tool stands becomes X Z.
-    fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+    /// System A's `G50 X Z` and system B's `G92 X Z` (Fanuc 0i-T's coordinate system setting,
+    /// LinuxCNC's G92 offset): the point where the tool stands (before the tool's offsets)
+    /// becomes X Z, X a diameter under G07; either word alone. `code` names it in messages.
+    fn set_origin(&mut self, w: &Words, n: u32, c: u32, code: &str) -> Result<(), TranslateError> {
         for l in ['U', 'W'] {
             if let Some(col) = w.col(l) {
                 return Err(err(
                     n,
                     col,
-                    format!("G50 {l}: shifting the coordinate system by increments is not supported: give G50 X Z, where the tool stands"),
+                    format!("{code} {l}: shifting the coordinate system by increments is not supported: give {code} X Z, where the tool stands"),
                 ));
             }
         }
@@ -974,12 +988,46 @@ impl Reader<'_> {
                     return Err(err(
                         n,
                         w.col(l).unwrap_or(c),
-                        "the G50 point is not a reasonable number",
+                        format!("the {code} point is not a reasonable number"),
                     ));
                 }
                 self.st.origin[i] = o;
             }
         }
+        Ok(())
+    }
+
+    /// System B's G92 (docs/lathe-gcode.md "G92 and G50"): `G92 X Z` as G50 X Z; G92.1 and
+    /// G92.2 put the program zero back where the channel's work coordinates have it.
+    fn g92(&mut self, w: &Words, n: u32, g: u32, c: u32) -> Result<(), TranslateError> {
+        if self.out.comp_on() {
+            return Err(err(
+                n,
+                c,
+                "G92 under nose-radius compensation: give G40 first",
+            ));
+        }
+        if g == 920 {
+            if w.get('X').is_none() && w.get('Z').is_none() && w.col('U').or(w.col('W')).is_none() {
+                return Err(err(
+                    n,
+                    c,
+                    "G92 needs X or Z: what the point where the tool stands is to be",
+                ));
+            }
+            return self.set_origin(w, n, c, "G92");
+        }
+        if let Some(col) = ['X', 'Z', 'U', 'W'].iter().find_map(|&l| w.col(l)) {
+            return Err(err(n, col, format!("G92.{} takes no axis word", g - 920)));
+        }
+        self.st.origin = [0.0, 0.0];
+        Ok(())
+    }
+
+    /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
+    /// `G50 X Z` sets the coordinate system: the point where the tool stands becomes X Z.
+    fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        self.set_origin(w, n, c, "G50")?;
         let Some(s) = w.get('S') else {
             if w.get('X').is_some() || w.get('Z').is_some() {
                 return Ok(());

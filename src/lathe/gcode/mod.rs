@@ -101,6 +101,7 @@ pub const LATHE_A: Dialect = Dialect {
 fn lathe_a_g_group(g: u32) -> Option<u8> {
     match g {
         900 | 920 | 940 => Some(1),
+        921..=923 => None,
         980 | 990 => Some(5),
         500 => Some(0),
         910 | 950 => None,
@@ -128,7 +129,7 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         200 | 210 => 6,
         400 | 410 | 420 => 7,
         960 | 970 => 8,
-        40 | 280 | 530 => 0,
+        40 | 280 | 530 | 920 | 921 | 922 => 0,
         800 | 830 | 840 => 9,
         430 | 490 => 10,
         // System B's return levels of G83 and G84 (initial level, R); `exec` refuses them on a
@@ -161,7 +162,7 @@ pub const G98_G99_FEEDS: &str = "G98 and G99 are the feeds of Fanuc's G code sys
 
 fn lathe_g_why(g: u32) -> &'static str {
     match g {
-        920..=923 => " (G92 offsets are not supported on the lathe)",
+        923 => " (the lathe keeps no G92 parameters to restore: give G92 X Z)",
         901 => " (the lathe reads arc centres I and K from the arc's start only: G91.1)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
         730 => " (the roughing cycles are G71 and G72 with G70; G73 is not supported)",
