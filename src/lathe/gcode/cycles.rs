@@ -285,7 +285,13 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
         return Err(err(n, col('L'), "G76 L must be 0 to 3"));
     }
     let l = l as u32;
-    let z_end = if r.st.absolute { z } else { r.out.pos[0] + z };
+    // An absolute Z from the program's zero (moved by G92 X Z, or system A's G50), as every
+    // move reads it.
+    let z_end = if r.st.absolute {
+        r.st.origin[0] + z
+    } else {
+        r.out.pos[0] + z
+    };
     let start = r.out.pos;
     if (z_end - start[0]).abs() < 1e-9 {
         return Err(err(
