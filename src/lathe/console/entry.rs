@@ -302,8 +302,12 @@ impl LatheConsole {
         };
         l.extend(fill(&[&feed, &speed, spindle, &tool], cols));
         if m.origin != [0.0, 0.0] {
+            // The program zero a G50 X Z (system A) or a G92 X Z (system B) moved, until
+            // RESET (or G92.1): named by the code that moves it on this channel.
+            let a = self.desc.channels.get(ch).is_some_and(|c| c.system_a);
             l.push(format!(
-                "G50 ORIGIN Z{} X{}",
+                "{} ORIGIN Z{} X{}",
+                if a { "G50" } else { "G92" },
                 short_number(m.origin[0]),
                 short_number(m.origin[1] * 2.0)
             ));
