@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 14] = [
+const MDI_LINES: [&str; 16] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -56,6 +56,9 @@ const MDI_LINES: [&str; 14] = [
     "G0 X#<undefined> Z20",
     "(abort, operator abort)",
     "o1 if [1 GT 0]",
+    // A program zero moved (kept until RESET or G92.1, stop 50), and put back.
+    "G92 Z5",
+    "G92.1",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
 const OFS_LINES: [&str; 6] = [
