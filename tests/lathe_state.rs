@@ -755,3 +755,30 @@ fn a_stop_signal_e_stops_the_lathe_with_no_cycle_running() {
         "{logs:?}"
     );
 }
+
+/// A program zero moved by G92 in MDI holds for the MDI runs after it, until RESET or G92.1,
+/// but a cycle's programs start with the zero at the work's: a shift typed at the panel does
+/// not move the next cycle unasked (stop 50).
+#[test]
+fn a_g92_zero_holds_for_mdi_but_a_cycle_starts_at_the_works_zero() {
+    let state = common::temp_dir("lathe-state-g92");
+    let d = desc(None, None);
+    let p = Program {
+        name: "ZERO.NGC".into(),
+        text: "G18 G7 G21 G90\nM10\nG0 X30 Z5\nM11\n".into(),
+        dialect: None,
+    };
+    save_program(&state, &d, &p);
+    let mut c = open(&d, &state);
+    mdi(&mut c, &["G0 X20 Z10"]);
+    assert_eq!(mdi(&mut c, &["G92 Z0"]), "MDI CH1 runs");
+    mdi(&mut c, &["G0 Z-5"]);
+    assert_eq!(at(&c), [10_000, 5_000], "the next MDI run reads from the moved zero");
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "cycle start");
+    c.run_for(60_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(c.counter().counts, [1]);
+    assert_eq!(at(&c), [15_000, 5_000], "the cycle's Z5 is the work's");
+}

@@ -180,6 +180,12 @@ fn read_cycle(
             .get(ch)
             .cloned()
             .unwrap_or_else(|| Kept::power_on(desc, ch, None));
+        // A cycle's programs start with the program zero at the work's: a G92 (or G50) shift
+        // an MDI run or the last cycle left does not move the next cycle unasked
+        // (docs/lathe-gcode.md "G50 (system A)"). MDI runs keep it until RESET or G92.1.
+        if spec.mdi.is_none() {
+            from.modal.origin = [0.0, 0.0];
+        }
         // The spindle is the machine's: the reader starts from it as the cycle finds it.
         from.modal.dir = match dirs.get(ch).copied().unwrap_or(0) {
             1 => 3,
