@@ -773,7 +773,11 @@ fn a_g92_zero_holds_for_mdi_but_a_cycle_starts_at_the_works_zero() {
     mdi(&mut c, &["G0 X20 Z10"]);
     assert_eq!(mdi(&mut c, &["G92 Z0"]), "MDI CH1 runs");
     mdi(&mut c, &["G0 Z-5"]);
-    assert_eq!(at(&c), [10_000, 5_000], "the next MDI run reads from the moved zero");
+    assert_eq!(
+        at(&c),
+        [10_000, 5_000],
+        "the next MDI run reads from the moved zero"
+    );
     c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
     c.handle(PanelEvent::Target(1));
     c.handle(PanelEvent::Start);

@@ -58,6 +58,17 @@ pub fn tip_vector(tip: u8) -> [f64; 2] {
     }
 }
 
+/// LinuxCNC's orientation (its tool table's Q, #5411) of the tool whose tip position is `tip`
+/// in Fanuc's chart: LinuxCNC draws its chart with +X down (`latheorigin_x`/`_z` in its
+/// `interp_queue.cc`), so its 2 is the usual outside turning tool, Fanuc's 3
+/// (docs/lathe-gcode.md "Nose-radius compensation").
+pub fn linuxcnc_orientation(tip: u8) -> u8 {
+    [0, 4, 3, 2, 1, 5, 8, 7, 6, 9]
+        .get(usize::from(tip))
+        .copied()
+        .unwrap_or(0)
+}
+
 /// The angle an arc from `s` to `e` about `c` sweeps, in (0, 2π] (a full circle when `s` is
 /// `e`).
 pub fn sweep(c: [f64; 2], s: [f64; 2], e: [f64; 2], ccw: bool) -> f64 {

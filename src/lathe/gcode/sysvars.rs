@@ -115,7 +115,8 @@ pub fn read(r: &Reader, n: usize, fanuc: bool) -> Option<Result<f64, String>> {
         5401 => Ok(applied.map_or(0.0, |t| t.offset[0]) / k),
         5403 => Ok(applied.map_or(0.0, |t| t.offset[1]) / k),
         5410 => Ok(tool.map_or(0.0, |t| 2.0 * t.radius) / k),
-        5411 => Ok(tool.map_or(0.0, |t| f64::from(t.tip))),
+        // LinuxCNC's number for the same tool (its chart is drawn with +X down).
+        5411 => Ok(tool.map_or(0.0, |t| f64::from(super::comp::linuxcnc_orientation(t.tip)))),
         5420 | 5422 if r.out.comp_on() => Err(format!(
             "#{n} (the current position) cannot be read with nose-radius compensation on"
         )),

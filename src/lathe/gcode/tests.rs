@@ -569,3 +569,18 @@ fn g76_e_and_l_taper_into_and_out_of_the_groove_as_one_pass() {
         assert_eq!(first.len(), threads, "L{l}");
     }
 }
+
+#[test]
+fn linuxcnc_reads_5411_in_its_own_numbering() {
+    // Tool 1 of the Citizen is tip 3 (Fanuc's chart, +X up): LinuxCNC's Q2, the same tool in
+    // its chart drawn with +X down. Tool 3, tip 2, is its Q3.
+    for (t, q) in [(1, 2), (3, 3)] {
+        let o = blocks(&format!("T{t} M6 G43\n#1=#5411\nG8 G0 X[#1] Z0\n"));
+        let m = moves(&o);
+        assert_eq!(m.last().map(|m| m.1[0]), Some(q * 1000), "tool {t}");
+    }
+    assert_eq!(
+        (0..=9).map(comp::linuxcnc_orientation).collect::<Vec<_>>(),
+        [0, 4, 3, 2, 1, 5, 8, 7, 6, 9]
+    );
+}
