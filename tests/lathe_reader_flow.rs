@@ -614,7 +614,8 @@ G20
          90.000000 40.000000 18.000000 404.000000 1000.000000 0.000000 3.000000 0.000000 \
          95.000000"
     );
-    // LinuxCNC's parameters and named parameters: X on the radius (as LinuxCNC's).
+    // LinuxCNC's parameters and named parameters: X on the radius (as LinuxCNC's); #5411 the
+    // tool's orientation in LinuxCNC's numbering: tool 4's tip 2 is its Q3 (since stop 50).
     let linuxcnc = "\
 T0404 M3 S1000
 G0 X30 Z2
@@ -627,7 +628,7 @@ G1 F100 X20
 ";
     assert_eq!(
         said(linuxcnc, &desc, Dialect::LinuxCnc),
-        "8:1: (ABORT) 4.000000 0.020000 -0.010000 1.000000 2.000000 10.000000 2.000000 \
+        "8:1: (ABORT) 4.000000 0.020000 -0.010000 1.000000 3.000000 10.000000 2.000000 \
          10.000000 2.000000 1.000000 1.000000 100.000000 1000.000000 4.000000 10.000000 \
          180.000000 400.000000 0.000000 1.000000 1.000000"
     );
