@@ -27,6 +27,8 @@ pub struct Ctx {
     pub programs: Vec<String>,
     /// Sample G-code programs (`programs/*.ngc`).
     pub gcode: Vec<String>,
+    /// Lathe programs (`programs/citizen/*.ngc`, `tests/golden/lathe_rs274/*.ngc`).
+    pub lathe: Vec<String>,
     /// The sample tool tape.
     pub tape: String,
     /// The sample T-code table.

@@ -1,7 +1,8 @@
 //! The fuzz command of issue 15 (README, *Limits*): generated part programs (by grammar and by
 //! mutation of `programs/*.ap`), G-code programs (the same two ways, from `programs/*.ngc`),
 //! tool tapes, T-code tables, editor command lines (on a buffer and on the stores), panel
-//! scripts run on a console, and damaged state directories, each case checked for no panic, no
+//! scripts run on a console, damaged state directories, and lathe programs (by grammar and by
+//! mutation of the Citizen's and the lathe golden programs), each case checked for no panic, no
 //! case slower than 5 s, no heap growth over 256 MB, the messages and limits of
 //! docs/language.md and docs/gcode.md, and no store changed by a refused input.
 //!
@@ -22,6 +23,7 @@ mod console;
 mod editor;
 mod gcode;
 mod harness;
+mod lathe;
 mod programs;
 mod rng;
 mod tooldata;
@@ -74,6 +76,10 @@ const FAMILIES: &[Family] = &[
         name: "gcode-extremes",
         case: gcode::extremes_case,
     },
+    Family {
+        name: "lathe-program",
+        case: lathe::lathe_case,
+    },
 ];
 
 fn ctx() -> Ctx {
@@ -90,6 +96,20 @@ fn ctx() -> Ctx {
     };
     let programs = read("ap");
     let gcode = read("ngc");
+    // The lathe's: the Citizen's channel programs and our lathe golden programs.
+    let mut lathe = Vec::new();
+    for dir in ["programs/citizen", "tests/golden/lathe_rs274"] {
+        for e in std::fs::read_dir(format!("{root}/{dir}"))
+            .expect(dir)
+            .flatten()
+        {
+            if e.path().extension().is_some_and(|x| x == "ngc") {
+                lathe.extend(std::fs::read_to_string(e.path()).ok());
+            }
+        }
+    }
+    lathe.sort();
+    assert!(lathe.len() >= 8, "the lathe programs");
     assert!(programs.len() >= 3, "the sample programs");
     static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -99,6 +119,7 @@ fn ctx() -> Ctx {
     Ctx {
         programs,
         gcode,
+        lathe,
         tape: std::fs::read_to_string(format!("{root}/tooldata/tools.tt")).expect("tools.tt"),
         tcodes: std::fs::read_to_string(format!("{root}/tooldata/magazine.tc"))
             .expect("magazine.tc"),
