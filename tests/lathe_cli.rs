@@ -152,6 +152,8 @@ fn the_samples_make_five_parts_with_every_transfer_interlocked() {
     for ch in 1..=3 {
         assert!(so.contains(&format!("CH{ch} SYSTEM-{ch}: blocks ")), "{so}");
     }
+    // The recording's end, as the centre's run says it (one function since stop 50).
+    assert!(so.contains("\nrecording complete: yes\nrecording "), "{so}");
     let a = audit(&read(&out));
     assert_eq!(a.parts, BTreeMap::from([(1, 5), (2, 5), (3, 5)]));
     // 1→2 and 2→3 for each work, and 3 to the unloader: 15 handovers, every one with both

@@ -39,7 +39,8 @@ the run with a message naming the statement, exit 1.
 On a lathe (--machine citizen or a lathe description), the channel programs run in lockstep to
 the part target: DIR holds one program per channel (.ngc, .nc or .iso, taken in name order), or
 name them one per channel. Each channel starts with its tool post at the top of its travel. The
-summary gives the parts, the machine time, and blocks, pulses and parts per channel. A program
+summary gives the parts, the machine time, and blocks, pulses and parts per channel, and with
+--record whether the recording is complete, as on the centre. A program
 error goes to stderr as PROG:LINE:COL: message, exit 1, and nothing moves; an alarm, a fault or a
 deadlock stops the run with a message naming the channel, exit 1.
 
@@ -358,14 +359,7 @@ pub fn main(argv: &[String]) -> i32 {
         return fail(&format!("{prog}:{e}"));
     }
     let mut code = 0;
-    let rec_line = recorder.map(|r| match r.finish() {
-        Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
-        Ok(sum) => format!("recording complete: yes\n{sum}"),
-        Err(e) => {
-            code = fail(&format!("novanc: {e}"));
-            format!("recording complete: NO\n{e}")
-        }
-    });
+    let rec_line = recorder.map(|r| recording_end(r.finish(), &mut code));
     print!("{}", summary(&status, &settings));
     if let Some(l) = rec_line {
         println!("{l}");
@@ -567,13 +561,8 @@ fn lathe(
     // The kernel's thread holds a sink: it ends first, so everything it sent is written.
     drop(cycle);
     if let Some(r) = rec {
-        match r.finish() {
-            Ok(sum) => out += &format!("{sum}\n"),
-            Err(line) => {
-                out += &format!("{line}\n");
-                code = 1;
-            }
-        }
+        out += &recording_end(r.finish(), &mut code);
+        out.push('\n');
     }
     print!("{out}");
     let err = outcome.err();
@@ -583,6 +572,20 @@ fn lathe(
     match err {
         Some(e) => fail(&format!("novanc: {e}")),
         None => code,
+    }
+}
+
+/// The end of a run's recording as `novanc run` prints it on every machine (docs/cli.md):
+/// `recording complete: yes` or `NO`, then the recording's summary, or the error that ended it
+/// (said on stderr too, `code` then 1). Until stop 50 a lathe's run printed the summary alone.
+fn recording_end(r: Result<crate::record::RecordSummary, String>, code: &mut i32) -> String {
+    match r {
+        Ok(sum) if sum.incomplete => format!("recording complete: NO\n{sum}"),
+        Ok(sum) => format!("recording complete: yes\n{sum}"),
+        Err(e) => {
+            *code = fail(&format!("novanc: {e}"));
+            format!("recording complete: NO\n{e}")
+        }
     }
 }
 
