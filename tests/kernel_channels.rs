@@ -1203,8 +1203,9 @@ fn the_citizen_delivers_5_parts_on_the_kernel_every_thread_pass_at_the_index() {
     // its spindle to coast to a stop after M5 (docs/pulse-core.md, "Chuck and spindle"), which
     // the simulator's did not: 2.5180 s more, 67.7238 s. Since stop 50 system 3's G76 Q29.5
     // makes its passes as LinuxCNC's convert_threading_cycle does (rs274 prints the same): each
-    // pass starts depth·tan Q back from the start and ends (K − depth)·tan Q short of Z, where
-    // it started and ended (depth − J)·tan Q back: shorter passes, 2.7380 s less, 64.9858 s.
+    // pass starts depth·tan Q on from the start towards Z and ends (K − depth)·tan Q short of
+    // Z, where it started and ended (depth − J)·tan Q on: shorter passes, 2.7380 s less,
+    // 64.9858 s.
     // The test holds the kernel within a second of the simulator's figure with those two.
     let (ts, tk) = (65_395_300_000u64, k.finished_at().expect("finished"));
     let coast = 2_518_000_000u64;

@@ -127,8 +127,8 @@ fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), Trans
     let length = (p.z_end - p.start[0]).abs();
     // Q, the compound angle, so that the tool goes down one flank. Fanuc's: each pass starts
     // and ends (depth − first)·tan(Q) further along −Z than the first. LinuxCNC's
-    // (convert_threading_cycle): depth·tan(Q) back from the start, and the end
-    // (K − depth)·tan(Q) beyond Z, the angle's sign turned when the thread runs towards +Z.
+    // (convert_threading_cycle): the start depth·tan(Q) on from Z0 towards Z, and the end
+    // (K − depth)·tan(Q) short of Z, the angle's sign turned when the thread runs towards +Z.
     let (tan_q, beyond) = if p.fanuc {
         (p.tan_q, 0.0)
     } else {

@@ -214,7 +214,7 @@ fn lead_along_z() -> f64 {
 #[test]
 fn g76_q_moves_each_pass_down_the_flank() {
     // The passes of g76_passes_by_hand with Q29.5, as LinuxCNC's convert_threading_cycle
-    // makes them (rs274 prints the same): each starts depth·tan 29.5° back from Z5 (0.2, 0.4,
+    // makes them (rs274 prints the same): each starts depth·tan 29.5° on from Z5 (0.2, 0.4,
     // 0.6, 0.6 mm deep: 0.11315, 0.22631, 0.33946, 0.33946 mm) and ends (0.6 − depth)·tan 29.5°
     // short of Z-20, the last at Z-20.
     let o = moves(&blocks(
