@@ -247,6 +247,42 @@ fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
     }
 }
 
+/// SINGLE BLOCK does not stop between the blocks of one pass (a Fanuc's single block waits
+/// for the end of consecutive threading blocks): START runs the whole pass, still one helix,
+/// and the run stops after its last block; the next START runs the retract.
+#[test]
+fn single_block_stops_after_the_whole_pass() {
+    let mut m = at_the_thread();
+    m.command(Command::SingleBlock(true));
+    let mut first = pass(3, at(8.0, -20.0), 2.0);
+    first.tap = Tap::Part;
+    let mut src = VecSource::from_blocks(vec![
+        first,
+        pass(4, at(9.0, -22.0), 2.0),
+        mv(5, Motion::Rapid, at(12.0, -22.0)),
+    ]);
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, MINUTE);
+    assert_eq!(
+        m.pos(),
+        at(9.0, -22.0),
+        "stopped after the pass, not inside it"
+    );
+    let z = z_steps(&m.take_pulses());
+    assert_eq!(z.len(), 24_000);
+    let index = (phase(&m, z[0].0) / 1000.0).floor() * 1000.0;
+    for &(t, k) in &z {
+        let by_encoder = (phase(&m, t) - index) / 1000.0 * 2.0 * 1000.0;
+        assert!(
+            (by_encoder - k as f64).abs() <= 1.0,
+            "pulse {k}: {by_encoder}"
+        );
+    }
+    m.command(Command::Start(RunKind::Auto));
+    m.run_until_idle(&mut src, MINUTE);
+    assert_eq!(m.pos(), at(12.0, -22.0));
+}
+
 /// STOP in the first block of a pass that goes on holds at the end of the pass, not between
 /// its blocks (Fanuc: after the last of consecutive threading blocks).
 #[test]

@@ -1006,8 +1006,11 @@ impl Machine {
     }
 
     /// Whether the run stops after the block just completed: SINGLE BLOCK, or a program stop.
+    /// SINGLE BLOCK does not stop inside a thread pass of several blocks (a block that goes
+    /// on, `Tap::Part`, has left its phase for the next): the pass ends first, as a Fanuc's
+    /// single block waits for the end of consecutive threading blocks.
     fn stops_after_block(&self) -> bool {
-        self.single_block || self.program_stop
+        (self.single_block && self.thread_phase.is_none()) || self.program_stop
     }
 
     /// Runs whole NCBR ticks (and the PGEN work inside them) until machine time `until`.
