@@ -482,3 +482,47 @@ fn console_streams(name: &str, args: &str, steps: &[(&[&str], &str)]) {
     t.keys(&["C-c"]);
     assert!(tmux::wait_file(&d.join("exit"), 20).contains("exit=0"));
 }
+
+/// The centre's `partcount` is the console's part counter, what its POS page shows and keeps
+/// across restarts, as a lathe path's is its channel's counter: a second session on the same
+/// state starts from the first's count (stop 50; before, it counted the runs that ended since
+/// the adapter started, 0 at every start). It still rises when the program completes.
+#[test]
+fn the_centres_partcount_is_the_consoles_part_counter() {
+    let d = common::temp_dir("mtc-parts");
+    let script = d.join("run.script");
+    std::fs::write(&script, "op AUTO\nstart\nwait\n").unwrap();
+    let state = d.join("state");
+    for want in [["0", "1"], ["1", "2"]] {
+        let port = free_port();
+        let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+            .arg("script")
+            .arg(&script)
+            .arg("--state")
+            .arg(&state)
+            .args(["--mtconnect", &format!("127.0.0.1:{port}")])
+            .args(["--mtconnect-wait", "30"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let a = connect(port);
+        let t = std::thread::spawn(move || read_all(a));
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let lines = t.join().unwrap();
+        assert_eq!(values(&lines, "partcount"), want, "{lines:?}");
+        let done = lines.iter().find(|l| l.contains("|exec|PROGRAM_COMPLETED"));
+        let rose = lines
+            .iter()
+            .find(|l| l.contains(&format!("|partcount|{}", want[1])));
+        let stamp = |l: Option<&String>| l.and_then(|l| l.split('|').next().map(str::to_string));
+        assert!(done.is_some() && rose.is_some(), "{lines:?}");
+        assert_eq!(stamp(done), stamp(rose), "partcount rises with the program's end");
+    }
+}

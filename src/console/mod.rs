@@ -157,6 +157,13 @@ pub struct Console {
 }
 
 impl Console {
+    /// The part counter the POS page shows (runs of program memory that reached their end,
+    /// kept across restarts) and the last run end the console has counted: MTConnect's
+    /// `partcount` (docs/mtconnect.md).
+    pub fn part_count(&self) -> (u64, u64) {
+        (self.book.counters.parts, self.end_seen)
+    }
+
     /// Opens the console: the stores in `cfg.state_dir`, the pulse core thread, the recorder.
     /// Returns the console and the warnings to show the operator.
     pub fn open(cfg: ConsoleConfig) -> Result<(Console, Vec<String>), String> {

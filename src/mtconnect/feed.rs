@@ -6,7 +6,7 @@ use super::{Adapter, Key, Modes, PathKeys};
 use crate::console::Console;
 use crate::lathe::console::{Cycle, LatheConsole};
 use crate::pulse_core::{
-    ChannelStatus, ChannelView, ClockMode, EndCause, PulseCore, Status, Watcher,
+    ChannelStatus, ChannelView, ClockMode, EndCause, PulseCore, RunKind, Status, Watcher,
 };
 use crate::tooldata::Magazine;
 use std::net::SocketAddr;
@@ -31,7 +31,14 @@ pub struct Feed {
 
 struct FeedState {
     adapter: Adapter,
+    /// Runs that reached their program's end since the adapter started (`novanc run`'s
+    /// `partcount`, which has no console).
     partcount: u64,
+    /// The console's part counter as it last published it (what its POS page shows), and the
+    /// AUTO program ends counted here since that it has not counted yet (the watcher sees an
+    /// end inside an advance before the console does): the console's `partcount` is their
+    /// sum, so it rises with the end and never falls back when the console catches up.
+    console_parts: Option<(u64, Vec<u64>)>,
     last_run_end: Option<u64>,
     modes: Option<Modes>,
     /// Virtual time: the wall time of machine time 0 (a change is stamped with it plus its
@@ -91,14 +98,20 @@ impl FeedState {
             self.modes = Some(m);
         }
         if let Some(e) = &s.last_end {
-            if self.last_run_end != Some(e.id) {
+            if self.last_run_end.is_none_or(|seen| e.id > seen) {
                 self.last_run_end = Some(e.id);
                 if e.cause == EndCause::ProgramEnd && s.program_end {
                     self.partcount += 1;
+                    if let (Some((_, ahead)), RunKind::Auto) = (&mut self.console_parts, e.kind) {
+                        ahead.push(e.id);
+                    }
                 }
             }
         }
-        let partcount = self.partcount;
+        let partcount = match &self.console_parts {
+            Some((parts, ahead)) => parts + ahead.len() as u64,
+            None => self.partcount,
+        };
         let Some(modes) = self.modes.as_mut() else {
             return;
         };
@@ -179,6 +192,7 @@ impl Feed {
         let state = Arc::new(Mutex::new(FeedState {
             adapter,
             partcount: 0,
+            console_parts: None,
             last_run_end: None,
             modes: None,
             epoch,
@@ -248,10 +262,28 @@ impl Feed {
             waiting: false,
             fault: None,
         };
+        let (parts, seen) = c.part_count();
+        {
+            let mut st = lock(&self.state);
+            // The ends the console has counted are in its counter; one it counted that the
+            // feed never saw (real time: no watcher) must not be counted again.
+            let ahead = match st.console_parts.take() {
+                Some((_, mut v)) => {
+                    v.retain(|&id| id > seen);
+                    v
+                }
+                None => Vec::new(),
+            };
+            st.console_parts = Some((parts, ahead));
+            if seen > 0 && st.last_run_end.is_none_or(|id| id < seen) {
+                st.last_run_end = Some(seen);
+            }
+        }
         self.publish_status(c.status(), modes);
     }
 
-    /// Publishes a status snapshot with the modes given (their partcount is the feed's own).
+    /// Publishes a status snapshot with the modes given (their partcount is the feed's own:
+    /// the console's counter once a console has published, else the runs that ended).
     pub fn publish_status(&mut self, s: &Status, modes: Modes) {
         lock(&self.state).publish(s, Some(modes));
     }
