@@ -523,6 +523,10 @@ fn the_centres_partcount_is_the_consoles_part_counter() {
             .find(|l| l.contains(&format!("|partcount|{}", want[1])));
         let stamp = |l: Option<&String>| l.and_then(|l| l.split('|').next().map(str::to_string));
         assert!(done.is_some() && rose.is_some(), "{lines:?}");
-        assert_eq!(stamp(done), stamp(rose), "partcount rises with the program's end");
+        assert_eq!(
+            stamp(done),
+            stamp(rose),
+            "partcount rises with the program's end"
+        );
     }
 }
