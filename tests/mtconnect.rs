@@ -297,20 +297,7 @@ fn novanc_run_streams_its_program_to_an_agent() {
     let d = common::temp_dir("mtc-run");
     let prog = d.join("p.ngc");
     std::fs::write(&prog, "G21 G90\nG0 X10 Y5\nG1 Z-1 F300\nM30\n").unwrap();
-    let port = free_port();
-    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(["run", prog.to_str().unwrap()])
-        .args(["--mtconnect", &port.to_string(), "--mtconnect-wait", "30"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let a = connect(port);
-    let t = std::thread::spawn(move || read_all(a));
-    let out = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{err}");
-    let lines = t.join().unwrap();
+    let lines = streamed(&["run".as_ref(), prog.as_os_str()]);
     assert_eq!(values(&lines, "mode"), ["AUTOMATIC"], "{lines:?}");
     assert_eq!(
         values(&lines, "exec").last().map(|s| s.as_str()),
@@ -333,11 +320,24 @@ fn novanc_run_streams_its_program_to_an_agent() {
 
 /// `novanc run --machine citizen DIR --parts 1` streamed to one agent: every line it got.
 fn citizen_run_streamed(dir: &std::path::Path) -> Vec<String> {
+    streamed(&[
+        "run".as_ref(),
+        "--machine".as_ref(),
+        "citizen".as_ref(),
+        dir.as_os_str(),
+        "--parts".as_ref(),
+        "1".as_ref(),
+    ])
+}
+
+/// `novanc ARGS --mtconnect PORT --mtconnect-wait 30`, which must exit 0: every line one
+/// agent got.
+fn streamed(args: &[&std::ffi::OsStr]) -> Vec<String> {
     let port = free_port();
     let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(["run", "--machine", "citizen", dir.to_str().unwrap()])
-        .args(["--parts", "1"])
-        .args(["--mtconnect", &port.to_string(), "--mtconnect-wait", "30"])
+        .args(args)
+        .args(["--mtconnect", &format!("127.0.0.1:{port}")])
+        .args(["--mtconnect-wait", "30"])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -494,28 +494,12 @@ fn the_centres_partcount_is_the_consoles_part_counter() {
     std::fs::write(&script, "op AUTO\nstart\nwait\n").unwrap();
     let state = d.join("state");
     for want in [["0", "1"], ["1", "2"]] {
-        let port = free_port();
-        let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
-            .arg("script")
-            .arg(&script)
-            .arg("--state")
-            .arg(&state)
-            .args(["--mtconnect", &format!("127.0.0.1:{port}")])
-            .args(["--mtconnect-wait", "30"])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let a = connect(port);
-        let t = std::thread::spawn(move || read_all(a));
-        let out = child.wait_with_output().unwrap();
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let lines = t.join().unwrap();
+        let lines = streamed(&[
+            "script".as_ref(),
+            script.as_os_str(),
+            "--state".as_ref(),
+            state.as_os_str(),
+        ]);
         assert_eq!(values(&lines, "partcount"), want, "{lines:?}");
         let done = lines.iter().find(|l| l.contains("|exec|PROGRAM_COMPLETED"));
         let rose = lines

@@ -65,6 +65,21 @@ fn at_the_thread() -> Machine {
     m
 }
 
+/// A pass of two thread blocks at 2 mm/rev from X8 Z2 (to Z-20, then out of the groove over
+/// 2 mm of Z to X9 Z-22), the first marked to go on in the second if `goes_on`, and then the
+/// retract to X12 if `retract`.
+fn two_block_pass(goes_on: bool, retract: bool) -> Vec<Block> {
+    let mut first = pass(3, at(8.0, -20.0), 2.0);
+    if goes_on {
+        first.tap = Tap::Part;
+    }
+    let mut v = vec![first, pass(4, at(9.0, -22.0), 2.0)];
+    if retract {
+        v.push(mv(5, Motion::Rapid, at(12.0, -22.0)));
+    }
+    v
+}
+
 /// M3 S`s` where the machine will be.
 fn m3(seq: u32, end: [i64; 3], s: u32) -> Block {
     let mut b = Block::aux(seq, seq, end);
@@ -220,13 +235,9 @@ fn a_thread_pass_starts_at_the_index_and_follows_the_encoder() {
 fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
     for goes_on in [true, false] {
         let mut m = at_the_thread();
-        let mut first = pass(3, at(8.0, -20.0), 2.0);
-        if goes_on {
-            first.tap = Tap::Part;
-        }
         // Out of the groove over the last 2 mm of Z, 1 mm of radius: Z the longer axis, at
         // the same lead.
-        let p = run(&mut m, vec![first, pass(4, at(9.0, -22.0), 2.0)]);
+        let p = run(&mut m, two_block_pass(goes_on, false));
         assert_eq!(m.pos(), at(9.0, -22.0));
         let z = z_steps(&p);
         assert_eq!(z.len(), 24_000);
@@ -254,13 +265,7 @@ fn a_pass_of_several_blocks_is_one_helix_from_its_index() {
 fn single_block_stops_after_the_whole_pass() {
     let mut m = at_the_thread();
     m.command(Command::SingleBlock(true));
-    let mut first = pass(3, at(8.0, -20.0), 2.0);
-    first.tap = Tap::Part;
-    let mut src = VecSource::from_blocks(vec![
-        first,
-        pass(4, at(9.0, -22.0), 2.0),
-        mv(5, Motion::Rapid, at(12.0, -22.0)),
-    ]);
+    let mut src = VecSource::from_blocks(two_block_pass(true, true));
     m.command(Command::Start(RunKind::Auto));
     m.run_until_idle(&mut src, MINUTE);
     assert_eq!(
@@ -288,13 +293,7 @@ fn single_block_stops_after_the_whole_pass() {
 #[test]
 fn a_feed_hold_waits_for_the_last_block_of_the_pass() {
     let mut m = at_the_thread();
-    let mut first = pass(3, at(8.0, -20.0), 2.0);
-    first.tap = Tap::Part;
-    let mut src = VecSource::from_blocks(vec![
-        first,
-        pass(4, at(9.0, -22.0), 2.0),
-        mv(5, Motion::Rapid, at(12.0, -22.0)),
-    ]);
+    let mut src = VecSource::from_blocks(two_block_pass(true, true));
     m.command(Command::Start(RunKind::Auto));
     while m.pos()[Z] > -10_000 {
         m.tick(&mut src);

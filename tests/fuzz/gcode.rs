@@ -3,7 +3,7 @@
 //! blocks. Every line either reads or is refused with `LINE:COL: reason` at a real place, with
 //! a short message, and nothing more comes after a refusal.
 
-use super::harness::{note, Ctx};
+use super::harness::{check_refusal, note, Ctx};
 use super::programs::mutate;
 use super::rng::Rng;
 use novanc::block::MachineState;
@@ -98,17 +98,8 @@ fn read_checked(rng: &mut Rng, src: &str, dialect: Dialect) -> Result<(), String
             }
             Ok(_) => {}
             Err(e) => {
-                let text = e.to_string();
-                if e.line < 1 || e.line > lines || e.col < 1 {
-                    return Err(format!("the refusal names no real place: {text}"));
-                }
-                if e.message.trim().is_empty() || text.chars().count() > 300 {
-                    return Err(format!("the message is empty or long: {text}"));
-                }
-                if text.chars().any(|c| c.is_control()) {
-                    return Err(format!("a control character printed raw: {text:?}"));
-                }
-                refused = Some(text);
+                check_refusal(&e, lines)?;
+                refused = Some(e.to_string());
             }
         }
     }

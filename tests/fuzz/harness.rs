@@ -323,3 +323,19 @@ pub fn replay(families: &[Family], ctx: &Ctx, name: &str, seed: u64) -> Option<S
         what.unwrap_or_else(|| "ok".to_string())
     ))
 }
+
+/// A reader's refusal as every G-code family checks it: at a real place of a program of
+/// `lines` lines, with a short message and no raw control character.
+pub fn check_refusal(e: &novanc::block::TranslateError, lines: u32) -> Result<(), String> {
+    let text = e.to_string();
+    if e.line < 1 || e.line > lines || e.col < 1 {
+        return Err(format!("the refusal names no real place: {text}"));
+    }
+    if e.message.trim().is_empty() || text.chars().count() > 300 {
+        return Err(format!("the message is empty or long: {text}"));
+    }
+    if text.chars().any(|c| c.is_control()) {
+        return Err(format!("a control character printed raw: {text:?}"));
+    }
+    Ok(())
+}

@@ -5,7 +5,7 @@
 //! it makes ends inside the channel's travel (no bad input moves an axis past it), and every
 //! thread block has a finite lead of at least a pulse.
 
-use super::harness::{note, Ctx};
+use super::harness::{check_refusal, note, Ctx};
 use super::programs::mutate;
 use super::rng::Rng;
 use novanc::block::Motion;
@@ -180,19 +180,7 @@ pub fn lathe_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
     };
     let lines = src.split_inclusive('\n').count() as u32 + 1;
     match read_program_in(&src, &desc, 0, &opts, Some(dialect)) {
-        Err(e) => {
-            let text = e.to_string();
-            if e.line < 1 || e.line > lines || e.col < 1 {
-                return Err(format!("the refusal names no real place: {text}"));
-            }
-            if e.message.trim().is_empty() || text.chars().count() > 300 {
-                return Err(format!("the message is empty or long: {text}"));
-            }
-            if text.chars().any(|c| c.is_control()) {
-                return Err(format!("a control character printed raw: {text:?}"));
-            }
-            Ok(())
-        }
+        Err(e) => check_refusal(&e, lines),
         Ok(statements) => {
             let c = &desc.channels[0];
             let pulses = |mm: f64| desc.pulses(mm);
