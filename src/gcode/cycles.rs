@@ -626,12 +626,10 @@ pub fn thread(
     // (its nc_files/threading.ngc leaves a thread at 45° with K √2 × the pitch, so that Z
     // keeps the pitch), so its K is given to the kernel as the longest axis's share of it.
     let d: [f64; 3] = std::array::from_fn(|i| end[i] - st.pos[i]);
-    let longest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let path = d.iter().map(|v| v * v).sum::<f64>().sqrt();
     let lead = if x.settings.dialect == crate::settings::Dialect::Fanuc {
         pitch
     } else {
-        pitch * longest / path
+        super::geom::lead_on_longest(pitch, &d)
     };
     x.push_all(vec![Canon::Thread(end, lead)], col);
     st.pos = end;

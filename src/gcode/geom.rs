@@ -155,6 +155,20 @@ pub fn circle_circle(c0: [f64; 2], r0: f64, c1: [f64; 2], r1: f64) -> Vec<[f64; 
     vec![[m[0] + o[0], m[1] + o[1]], [m[0] - o[0], m[1] - o[1]]]
 }
 
+/// The lead a thread block gives the kernel for a move of `d` (its amount on each axis) whose
+/// lead LinuxCNC measures along its path: the kernel gears a thread block's longest axis to
+/// the spindle (as a Fanuc measures G32's F), so it gets `lead` × longest / path. The mill's
+/// G33, the lathe's G33 and the lathe's G76 taper ends in LinuxCNC's dialect.
+pub fn lead_on_longest(lead: f64, d: &[f64]) -> f64 {
+    let longest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let path = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if path > 0.0 {
+        lead * longest / path
+    } else {
+        lead
+    }
+}
+
 /// The distance between two points of a plane.
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])

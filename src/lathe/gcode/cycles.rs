@@ -6,6 +6,7 @@ use super::exec::{err, Flow, Reader};
 use super::out::{Kind, Mv};
 use super::MAX_PASSES;
 use crate::block::TranslateError;
+use crate::gcode::geom::lead_on_longest;
 use crate::gcode::words::Words;
 use crate::gcode::Lines;
 use std::f64::consts::FRAC_PI_2;
@@ -104,18 +105,6 @@ struct Passes {
     taper_out: f64,
 }
 
-/// The kernel's lead (along a block's longest axis) of a thread move of `dz` along Z and `dx`
-/// across, whose lead LinuxCNC measures along its path: `lead` × longest / path.
-fn lead_on_longest(lead: f64, dz: f64, dx: f64) -> f64 {
-    let (dz, dx) = (dz.abs(), dx.abs());
-    let path = dz.hypot(dx);
-    if path > 0.0 {
-        lead * dz.max(dx) / path
-    } else {
-        lead
-    }
-}
-
 /// The passes (LinuxCNC 2.9's `threading_pass`, interp_convert.cc): back to the retract X
 /// at the start Z, in to the depth, the synchronised cut to Z (a 45° pull-out over its last
 /// `chamfer` mm), out to the retract X.
@@ -163,7 +152,7 @@ fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), Trans
             let top = x - sign * p.full;
             let taper_pitch = p.lead * p.taper_in.hypot(p.full) / p.taper_in;
             thread(r, taper_pitch, [z0, top], false)?;
-            let down = lead_on_longest(taper_pitch, p.taper_in, p.full);
+            let down = lead_on_longest(taper_pitch, &[p.taper_in, p.full]);
             thread(r, down, [z0 + dz * p.taper_in, x], false)?;
         } else {
             r.out.motion(mv(Kind::Rapid, [z0, x + p.taper], n, c))?;
@@ -171,7 +160,7 @@ fn thread_passes(r: &mut Reader, p: &Passes, n: u32, c: u32) -> Result<(), Trans
         if p.taper_out > 0.0 {
             thread(r, p.lead, [z1 - dz * p.taper_out, x], false)?;
             let taper_pitch = p.lead * p.taper_out.hypot(p.full) / p.taper_out;
-            let up = lead_on_longest(taper_pitch, p.taper_out, p.full);
+            let up = lead_on_longest(taper_pitch, &[p.taper_out, p.full]);
             thread(r, up, [z1, x - sign * p.full], true)?;
         } else if p.chamfer > 0.0 {
             let at = x + p.taper * p.chamfer / length;

@@ -170,7 +170,7 @@ impl Reader<'_> {
                 if self.fanuc {
                     Kind::Thread(lead)
                 } else {
-                    Kind::Thread(lead * dz.abs().max(dx.abs()) / dz.hypot(dx))
+                    Kind::Thread(geom::lead_on_longest(lead, &[dz, dx]))
                 }
             }
         };
