@@ -66,27 +66,114 @@ enum Geo {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-struct Queued {
-    canon: Canon,
+struct Queued<T> {
+    canon: T,
     line: u32,
     col: u32,
     geo: Geo,
 }
 
-impl Queued {
+impl<T: Held> Queued<T> {
     /// The end point in the plane's coordinates (`ax`: the plane's axes, then its normal).
     fn end(&self, ax: [usize; 3]) -> [f64; 2] {
-        match &self.canon {
-            Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => [e[ax[0]], e[ax[1]]],
-            _ => [0.0, 0.0],
+        match self.canon.end() {
+            Some(e) => [e[ax[0]], e[ax[1]]],
+            None => [0.0, 0.0],
         }
+    }
+}
+
+/// What compensation holds and hands on: a machine's canonical items, the mill's [`Canon`] or
+/// the lathe's (`crate::lathe::gcode::out::Held`). Moves are built and their ends moved
+/// through it; anything else (S, M functions, dwells) only waits behind the held moves.
+pub trait Held: Clone + std::fmt::Debug + PartialEq {
+    /// A feed move's rate as the machine's reader has it.
+    type Feed: Copy + std::fmt::Debug + PartialEq;
+    /// How the messages name the compensation and the tool whose radius it keeps
+    /// (`cutter compensation`, `tool`).
+    const NAMES: (&'static str, &'static str);
+    /// G00 (`rapid`) or G01 to `end`.
+    fn straight(rapid: bool, end: [f64; 3], feed: Self::Feed) -> Self;
+    /// G02/G03 to `end` about `centre` in `plane`.
+    fn arc(end: [f64; 3], centre: [f64; 3], plane: Plane, ccw: bool, feed: Self::Feed) -> Self;
+    /// A move's end point (None: not a move).
+    fn end(&self) -> Option<[f64; 3]>;
+    /// Moves a move's end point (nothing for what is not a move).
+    fn set_end(&mut self, end: [f64; 3]);
+}
+
+impl Held for Canon {
+    type Feed = f64;
+    const NAMES: (&'static str, &'static str) = ("cutter compensation", "tool");
+    fn straight(rapid: bool, e: [f64; 3], feed: f64) -> Canon {
+        if rapid {
+            Canon::Rapid(e)
+        } else {
+            Canon::Feed(e, feed)
+        }
+    }
+    fn arc(end: [f64; 3], centre: [f64; 3], plane: Plane, ccw: bool, feed: f64) -> Canon {
+        Canon::Arc {
+            end,
+            centre,
+            plane,
+            ccw,
+            feed,
+        }
+    }
+    fn end(&self) -> Option<[f64; 3]> {
+        match self {
+            Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } => Some(*e),
+            _ => None,
+        }
+    }
+    fn set_end(&mut self, p: [f64; 3]) {
+        if let Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } = self {
+            *e = p;
+        }
+    }
+}
+
+/// Where compensation hands on what it emits, and what it asks of the line being read: the
+/// mill's line execution (`Exec`) or the lathe's emitter.
+pub trait Sink<T> {
+    /// The line being read.
+    fn line(&self) -> u32;
+    /// Hands on `item`, charged to `line` and `col`.
+    fn put(&mut self, item: T, line: u32, col: u32);
+    /// The machine's pulse, mm.
+    fn pulse_mm(&self) -> f64;
+    /// An error at column `col` of the line being read.
+    fn error(&self, col: u32, message: impl Into<String>) -> TranslateError {
+        TranslateError {
+            line: self.line(),
+            col,
+            message: message.into(),
+        }
+    }
+    /// Hands on `item`, charged to the line being read.
+    fn put_now(&mut self, item: T, col: u32) {
+        let n = self.line();
+        self.put(item, n, col)
+    }
+}
+
+impl Sink<Canon> for Exec<'_> {
+    fn line(&self) -> u32 {
+        self.n
+    }
+    fn put(&mut self, item: Canon, line: u32, col: u32) {
+        self.out.push((item, line, col));
+    }
+    fn pulse_mm(&self) -> f64 {
+        self.settings.pulse_mm
     }
 }
 
 /// The compensation state: LinuxCNC's side, radius and first-move flag, its queue of held
 /// moves and the start of the move at the queue's front (its "endpoint").
 #[derive(Clone, Debug, PartialEq)]
-pub struct Comp {
+pub struct Comp<T = Canon> {
     side: Side,
     r: f64,
     /// The plane compensation works in (G17 or G18, as LinuxCNC's).
@@ -106,15 +193,15 @@ pub struct Comp {
     cur: [f64; 3],
     /// The programmed XY point of the last compensated move.
     prog: [f64; 2],
-    queue: Vec<Queued>,
+    queue: Vec<Queued<T>>,
     /// The item at the queue's front when it was last emitted: LinuxCNC reads it when it
     /// meets a concave corner with an empty queue (after M00, M01 or M60 emitted it).
-    last_front: Option<Queued>,
+    last_front: Option<Queued<T>>,
     /// Where the move at the queue's front starts, when known (LinuxCNC's endpoint).
     endpoint: Option<[f64; 2]>,
 }
 
-impl Default for Comp {
+impl<T> Default for Comp<T> {
     fn default() -> Self {
         Comp {
             side: Side::Off,
@@ -152,32 +239,22 @@ fn find_turn(a: [f64; 2], c: [f64; 2], ccw: bool, b: [f64; 2]) -> f64 {
     }
 }
 
-/// `c` with its end moved to `p` in the plane of axes `ax`.
-fn with_end(mut c: Canon, p: [f64; 2], ax: [usize; 3]) -> Canon {
-    if let Canon::Rapid(e) | Canon::Feed(e, _) | Canon::Arc { end: e, .. } = &mut c {
-        e[ax[0]] = p[0];
-        e[ax[1]] = p[1];
-    }
-    c
-}
-
-fn straight(rapid: bool, e: [f64; 3], feed: f64) -> Canon {
-    if rapid {
-        Canon::Rapid(e)
-    } else {
-        Canon::Feed(e, feed)
-    }
-}
-
 /// A gouge, charged to the line that reveals it.
-fn gouge(x: &Exec, col: u32, what: &str) -> TranslateError {
-    x.err(
+fn gouge<T: Held>(x: &impl Sink<T>, col: u32, what: &str) -> TranslateError {
+    x.error(
         col,
-        format!("gouge: {what} cannot be reached by the tool without cutting into the part"),
+        format!(
+            "gouge: {what} cannot be reached by the {} without cutting into the part",
+            T::NAMES.1
+        ),
     )
 }
 
-impl Comp {
+fn straight<T: Held>(rapid: bool, e: [f64; 3], feed: T::Feed) -> T {
+    T::straight(rapid, e, feed)
+}
+
+impl<T: Held> Comp<T> {
     /// A machine point's coordinates in the compensation plane.
     fn uv(&self, p: [f64; 3]) -> [f64; 2] {
         [p[self.ax[0]], p[self.ax[1]]]
@@ -198,14 +275,8 @@ impl Comp {
     }
 
     /// An arc in the compensation plane ending at `end`, about `c`.
-    fn plane_arc(&self, end: [f64; 3], c: [f64; 2], ccw: bool, feed: f64) -> Canon {
-        Canon::Arc {
-            end,
-            centre: self.at(c, self.normal(end)),
-            plane: self.plane,
-            ccw,
-            feed,
-        }
+    fn plane_arc(&self, end: [f64; 3], c: [f64; 2], ccw: bool, feed: T::Feed) -> T {
+        T::arc(end, self.at(c, self.normal(end)), self.plane, ccw, feed)
     }
 
     /// G41 or G42 is in force (LinuxCNC's cutter_comp_side is not OFF), whatever the radius.
@@ -217,6 +288,12 @@ impl Comp {
     /// machine stands at the last offset point, off the programmed one.
     pub fn pending_exit(&self) -> bool {
         self.exit_pending
+    }
+
+    /// Compensation has made its entry move (on, with a radius above 0): G40 then emits what
+    /// it holds.
+    pub fn entered(&self) -> bool {
+        self.offsetting() && !self.first
     }
 
     /// Compensation moves the tool (on, with a radius above 0).
@@ -244,7 +321,7 @@ impl Comp {
 
     /// G40: what is held is emitted; the next move starts from the last offset point and must
     /// be straight (none of this if no compensated move was made).
-    pub fn off(&mut self, x: &mut Exec, col: u32) -> Result<(), TranslateError> {
+    pub fn off(&mut self, x: &mut impl Sink<T>, col: u32) -> Result<(), TranslateError> {
         if self.offsetting() && !self.first {
             let cur = self.uv(self.cur);
             self.move_ends_and_emit(x, cur, col)?;
@@ -258,7 +335,7 @@ impl Comp {
 
     /// Emits what is held as it stands (LinuxCNC's flush at M00, M01, M02, M30 and M60, and
     /// before an input is read).
-    pub fn flush(&mut self, x: &mut Exec, col: u32) -> Result<(), TranslateError> {
+    pub fn flush(&mut self, x: &mut impl Sink<T>, col: u32) -> Result<(), TranslateError> {
         if self.queue.is_empty() {
             return Ok(());
         }
@@ -267,23 +344,23 @@ impl Comp {
     }
 
     /// An S, T or M function, a dwell or an I/O action: after the held move if there is one.
-    pub fn aux(&mut self, x: &mut Exec, c: Canon, col: u32) {
+    pub fn aux(&mut self, x: &mut impl Sink<T>, c: T, col: u32) {
         if self.queue.is_empty() {
-            x.push(c, col);
+            x.put_now(c, col);
         } else {
             self.queue.push(Queued {
                 canon: c,
-                line: x.n,
+                line: x.line(),
                 col,
                 geo: Geo::Other,
             });
         }
     }
 
-    fn enqueue(&mut self, x: &Exec, canon: Canon, col: u32, geo: Geo) {
+    fn enqueue(&mut self, x: &impl Sink<T>, canon: T, col: u32, geo: Geo) {
         self.queue.push(Queued {
             canon,
-            line: x.n,
+            line: x.line(),
             col,
             geo,
         });
@@ -291,13 +368,13 @@ impl Comp {
 
     /// Emits the queue as it stands (LinuxCNC's dequeue_canons): the start of what comes next
     /// is unknown to the gouge checks until it is set.
-    fn emit(&mut self, x: &mut Exec) {
+    fn emit(&mut self, x: &mut impl Sink<T>) {
         self.endpoint = None;
         if let Some(f) = self.queue.first() {
             self.last_front = Some(f.clone());
         }
         for q in self.queue.drain(..) {
-            x.out.push((q.canon, q.line, q.col));
+            x.put(q.canon, q.line, q.col);
         }
     }
 
@@ -306,10 +383,11 @@ impl Comp {
     /// (LinuxCNC's move_endpoint_and_flush). The next move starts at `p`.
     fn move_ends_and_emit(
         &mut self,
-        x: &mut Exec,
+        x: &mut impl Sink<T>,
         p: [f64; 2],
         col: u32,
     ) -> Result<(), TranslateError> {
+        let comp = T::NAMES.0;
         let unit = if self.inch { 25.4 } else { 1.0 };
         let ax = self.ax;
         for q in &mut self.queue {
@@ -318,8 +396,8 @@ impl Comp {
                     let r1 = dist(q.end(ax), c);
                     let r2 = dist(p, c);
                     if (r1 - r2).abs() > RADIUS_SLACK * unit {
-                        return Err(x.err(col, format!(
-                            "cutter compensation cannot join the arc of line {} here: its end would move off its circle (radius {r1:.4} mm, then {r2:.4} mm)",
+                        return Err(x.error(col, format!(
+                            "{comp} cannot join the arc of line {} here: its end would move off its circle (radius {r1:.4} mm, then {r2:.4} mm)",
                             q.line
                         )));
                     }
@@ -355,7 +433,11 @@ impl Comp {
                 }
                 Geo::Other => continue,
             }
-            q.canon = with_end(q.canon.clone(), p, ax);
+            if let Some(mut e) = q.canon.end() {
+                e[ax[0]] = p[0];
+                e[ax[1]] = p[1];
+                q.canon.set_end(e);
+            }
         }
         self.emit(x);
         self.endpoint = Some(p);
@@ -363,7 +445,7 @@ impl Comp {
     }
 
     /// The held move LinuxCNC looks at to choose a concave corner's formula.
-    fn front(&self) -> Option<&Queued> {
+    fn front(&self) -> Option<&Queued<T>> {
         self.queue.first().or(self.last_front.as_ref())
     }
 
@@ -371,17 +453,18 @@ impl Comp {
     #[allow(clippy::too_many_arguments)]
     pub fn line(
         &mut self,
-        x: &mut Exec,
+        x: &mut impl Sink<T>,
         from: [f64; 3],
         to: [f64; 3],
         rapid: bool,
-        feed: f64,
+        feed: T::Feed,
         col: u32,
     ) -> Result<(), TranslateError> {
+        let (comp, tool) = T::NAMES;
         self.arc_not_allowed = false;
         self.exit_pending = false;
         if !self.offsetting() {
-            x.push(straight(rapid, to, feed), col);
+            x.put_now(straight(rapid, to, feed), col);
             return Ok(());
         }
         let (c, p) = (self.uv(from), self.uv(to));
@@ -390,10 +473,10 @@ impl Comp {
         if self.first {
             let len = dist(c, p);
             if len <= r {
-                return Err(x.err(
+                return Err(x.error(
                     col,
                     format!(
-                        "the entry move of cutter compensation ({} mm) is not longer than the tool radius ({:.4} mm)",
+                        "the entry move of {comp} ({} mm) is not longer than the {tool} radius ({:.4} mm)",
                         crate::input_text::fixed(len, 4),
                         r
                     ),
@@ -455,28 +538,20 @@ impl Comp {
             // Convex: round the programmed corner (a rapid goes straight to the arc's end).
             self.move_ends_and_emit(x, cur, col)?;
             let c = if rapid {
-                Canon::Rapid(self.at(mid, cz))
+                straight(true, self.at(mid, cz), feed)
             } else {
                 self.plane_arc(self.at(mid, cz), op, !left, feed)
             };
-            x.push(c, col);
+            x.put_now(c, col);
             self.endpoint = Some(mid);
         } else if concave {
-            let q = match self.front() {
-                Some(q) => q.clone(),
-                None => Queued {
-                    canon: Canon::Dwell(0.0),
-                    line: x.n,
-                    col,
-                    geo: Geo::Other,
-                },
-            };
-            let meet = match q.geo {
+            let q = self.front().map(|q| (q.geo, q.end(self.ax)));
+            let meet = match q.map_or(Geo::Other, |q| q.0) {
                 Geo::Arc {
                     c: pc, ccw: pccw, ..
                 } => {
                     // Arc to line: where the held arc's offset circle meets the new offset line.
-                    let oldrad = dist(pc, q.end(self.ax));
+                    let oldrad = dist(pc, q.map_or([0.0; 2], |q| q.1));
                     let base = angle(op, p);
                     let th = if pccw {
                         base + FRAC_PI_2
@@ -506,18 +581,18 @@ impl Comp {
                     // Line to line: back along the held move by the corner's retreat.
                     let half = (beta + PI) / 2.0;
                     if half == 0.0 {
-                        return Err(x.err(
+                        return Err(x.error(
                             col,
-                            "a corner of zero degrees cannot be cut with cutter radius compensation",
+                            format!("a corner of zero degrees cannot be cut with {comp}"),
                         ));
                     }
                     polar(cur, r / half.tan(), theta + gamma)
                 }
             };
             if meet.iter().any(|v| !v.is_finite()) {
-                return Err(x.err(
+                return Err(x.error(
                     col,
-                    "cutter compensation's offset path is not a finite number here",
+                    format!("{comp}'s offset path is not a finite number here"),
                 ));
             }
             self.move_ends_and_emit(x, meet, col)?;
@@ -544,33 +619,25 @@ impl Comp {
     #[allow(clippy::too_many_arguments)]
     pub fn arc(
         &mut self,
-        x: &mut Exec,
+        x: &mut impl Sink<T>,
         s: [f64; 3],
         e: [f64; 3],
         centre: [f64; 3],
         plane: Plane,
         ccw: bool,
-        feed: f64,
+        feed: T::Feed,
         col: u32,
     ) -> Result<(), TranslateError> {
+        let (comp, tool) = T::NAMES;
         if self.arc_not_allowed {
-            return Err(x.err(
+            return Err(x.error(
                 col,
                 "the move after G40 must be a straight line (G00 or G01), not an arc",
             ));
         }
         self.exit_pending = false;
         if !self.offsetting() {
-            x.push(
-                Canon::Arc {
-                    end: e,
-                    centre,
-                    plane,
-                    ccw,
-                    feed,
-                },
-                col,
-            );
+            x.put_now(T::arc(e, centre, plane, ccw, feed), col);
             return Ok(());
         }
         let left = self.side == Side::Left;
@@ -585,19 +652,19 @@ impl Comp {
             dist(c, ep)
         };
         if inside && rr <= r {
-            return Err(x.err(
+            return Err(x.error(
                 col,
                 format!(
-                    "gouge: cutter compensation puts the tool (radius {r:.4} mm) inside this arc of radius {rr:.4} mm, which is not larger than the tool"
+                    "gouge: {comp} puts the {tool} (radius {r:.4} mm) inside this arc of radius {rr:.4} mm, which is not larger than the {tool}"
                 ),
             ));
         }
-        let min = MIN_RADIUS_PULSES * x.settings.pulse_mm;
+        let min = MIN_RADIUS_PULSES * x.pulse_mm();
         if inside && rr - r < min {
-            return Err(x.err(
+            return Err(x.error(
                 col,
                 format!(
-                    "cutter compensation (tool radius {r:.4} mm) leaves this arc of radius {rr:.4} mm a radius of {:.4} mm, too small to cut (at least {min:.4} mm)",
+                    "{comp} ({tool} radius {r:.4} mm) leaves this arc of radius {rr:.4} mm a radius of {:.4} mm, too small to cut (at least {min:.4} mm)",
                     rr - r
                 ),
             ));
@@ -655,9 +722,11 @@ impl Comp {
                     };
                     let cc = dist(pc, c);
                     if oldrad == 0.0 || cc == 0.0 {
-                        return Err(x.err(
+                        return Err(x.error(
                             col,
-                            "cutter compensation cannot join two arcs about the same centre at a corner",
+                            format!(
+                                "{comp} cannot join two arcs about the same centre at a corner"
+                            ),
                         ));
                     }
                     let a = (oldrad * oldrad + cc * cc - newrad * newrad) / (2.0 * oldrad * cc);
@@ -704,9 +773,9 @@ impl Comp {
                 }
             };
             if meet.iter().any(|v| !v.is_finite()) {
-                return Err(x.err(
+                return Err(x.error(
                     col,
-                    "cutter compensation's offset path is not a finite number here",
+                    format!("{comp}'s offset path is not a finite number here"),
                 ));
             }
             self.move_ends_and_emit(x, meet, col)?;
@@ -714,7 +783,7 @@ impl Comp {
             // Convex: an arc round the programmed corner, then this arc.
             let mid = polar(op, r, delta);
             self.emit(x);
-            x.push(self.plane_arc(self.at(mid, cz), op, !left, feed), col);
+            x.put_now(self.plane_arc(self.at(mid, cz), op, !left, feed), col);
             self.endpoint = Some(mid);
         } else {
             self.emit(x);
@@ -732,22 +801,23 @@ impl Comp {
     #[allow(clippy::too_many_arguments)]
     fn entry_arc(
         &mut self,
-        x: &mut Exec,
+        x: &mut impl Sink<T>,
         s: [f64; 3],
         e: [f64; 3],
         c: [f64; 2],
         ccw: bool,
-        feed: f64,
+        feed: T::Feed,
         col: u32,
         new_end: [f64; 2],
     ) -> Result<(), TranslateError> {
+        let (comp, tool) = T::NAMES;
         let start = self.uv(s);
         let len = dist(start, self.uv(e));
         if len <= self.r {
-            return Err(x.err(
+            return Err(x.error(
                 col,
                 format!(
-                    "the entry arc of cutter compensation ends {} mm from its start, not farther than the tool radius ({:.4} mm)",
+                    "the entry arc of {comp} ends {} mm from its start, not farther than the {tool} radius ({:.4} mm)",
                     crate::input_text::fixed(len, 4),
                     self.r
                 ),
@@ -757,19 +827,19 @@ impl Comp {
         let ab = angle(new_end, c);
         let a = angle(new_end, start) - ab;
         if a.cos().abs() < 1e-6 {
-            return Err(x.err(
+            return Err(x.error(
                 col,
                 format!(
-                    "the entry arc of cutter compensation has no circle from where the tool stands to one tool radius ({:.4} mm) off its end",
+                    "the entry arc of {comp} has no circle from where the {tool} stands to one {tool} radius ({:.4} mm) off its end",
                     self.r
                 ),
             ));
         }
         let centre = polar(new_end, half / a.cos(), ab);
         if centre.iter().any(|v| !v.is_finite()) {
-            return Err(x.err(
+            return Err(x.error(
                 col,
-                "cutter compensation's offset path is not a finite number here",
+                format!("{comp}'s offset path is not a finite number here"),
             ));
         }
         let canon = self.plane_arc(self.at(new_end, self.normal(e)), centre, ccw, feed);
