@@ -395,8 +395,10 @@ impl Reader<'_> {
                         ),
                     ))
                 }
-                200 => self.st.inch = true,
-                210 => self.st.inch = false,
+                200 | 210 => {
+                    self.st.inch = g == 200;
+                    self.out.set_inch(self.st.inch);
+                }
                 70 => self.st.diameter = true,
                 80 => self.st.diameter = false,
                 // In system A, G94 is the facing cycle (G95 is refused by its dialect).
@@ -653,7 +655,7 @@ impl Reader<'_> {
                         }
                     }
                 }
-                400 => self.out.comp_stop(),
+                400 => self.out.comp_stop(n, c)?,
                 410 => self.out.comp_start(true, n, c)?,
                 420 => self.out.comp_start(false, n, c)?,
                 900 if !self.system_a => self.st.absolute = true,

@@ -22,6 +22,7 @@
 use super::comp;
 use super::MAX_STEPS;
 use crate::block::{Block, Css, FeedMode, Motion, Plane, Statement, Sync, Tap, TranslateError};
+use crate::gcode::comp::{Comp, Held as _, Sink};
 use crate::lathe::desc::{ChannelDesc, LatheDesc, ToolDesc};
 use crate::limits::{MAX_MOVE_S, MIN_FEED};
 
@@ -84,6 +85,98 @@ pub struct Mv {
     pub col: u32,
 }
 
+/// What nose-radius compensation (the mill's `crate::gcode::comp::Comp`, LinuxCNC's rules)
+/// holds and hands on for the lathe: the nose centre's moves in `[X, 0, Z]` mm (X a radius,
+/// before the tool's offsets), and blocks without motion that wait behind them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Item {
+    /// G00 to a point.
+    Rapid([f64; 3]),
+    /// G01 to a point.
+    Line([f64; 3], Feed),
+    /// G02/G03 to `end` about `centre`.
+    Arc {
+        /// End point.
+        end: [f64; 3],
+        /// Centre.
+        centre: [f64; 3],
+        /// Counter-clockwise (G03).
+        ccw: bool,
+        /// The feed.
+        feed: Feed,
+    },
+    /// A block without motion.
+    Op(Box<Block>),
+}
+
+impl crate::gcode::comp::Held for Item {
+    type Feed = Feed;
+    const NAMES: (&'static str, &'static str) = ("nose-radius compensation", "nose");
+    fn straight(rapid: bool, end: [f64; 3], feed: Feed) -> Item {
+        if rapid {
+            Item::Rapid(end)
+        } else {
+            Item::Line(end, feed)
+        }
+    }
+    fn arc(end: [f64; 3], centre: [f64; 3], _plane: Plane, ccw: bool, feed: Feed) -> Item {
+        Item::Arc {
+            end,
+            centre,
+            ccw,
+            feed,
+        }
+    }
+    fn end(&self) -> Option<[f64; 3]> {
+        match self {
+            Item::Rapid(e) | Item::Line(e, _) | Item::Arc { end: e, .. } => Some(*e),
+            Item::Op(_) => None,
+        }
+    }
+    fn set_end(&mut self, p: [f64; 3]) {
+        if let Item::Rapid(e) | Item::Line(e, _) | Item::Arc { end: e, .. } = self {
+            *e = p;
+        }
+    }
+}
+
+/// What compensation has handed on and the emitter has not yet emitted, and the line it is
+/// reading (compensation charges its refusals to it).
+#[derive(Debug, Default)]
+struct Handed {
+    line: u32,
+    pulse_mm: f64,
+    items: Vec<(Item, u32, u32)>,
+}
+
+impl Sink<Item> for Handed {
+    fn line(&self) -> u32 {
+        self.line
+    }
+    fn put(&mut self, item: Item, line: u32, col: u32) {
+        self.items.push((item, line, col));
+    }
+    fn pulse_mm(&self) -> f64 {
+        self.pulse_mm
+    }
+}
+
+/// A point `[Z, X]` as compensation has it, `[X, 0, Z]`.
+fn xyz(p: [f64; 2]) -> [f64; 3] {
+    [p[1], 0.0, p[0]]
+}
+
+/// A point `[X, 0, Z]` as the emitter has it, `[Z, X]`.
+fn zx(p: [f64; 3]) -> [f64; 2] {
+    [p[2], p[0]]
+}
+
+/// Why the exit move must be straight.
+const EXIT: &str = "the move after G40 (the exit move) must be a straight line (G00 or G01)";
+
+/// Why the entry move on the other side must be straight.
+const SIDE_CHANGE: &str = "the move after G41/G42 changed the side (the entry move on the other side) must be a straight line (G00 or G01)";
+
 /// The emitter's state.
 pub struct Out<'a> {
     desc: &'a LatheDesc,
@@ -99,10 +192,19 @@ pub struct Out<'a> {
     tool: Option<(ToolDesc, bool)>,
     /// G41 (true) or G42 (false) in force.
     comp_side: Option<bool>,
-    /// The moves held under compensation since its entry move.
-    run: Option<comp::Run>,
-    /// G40 was given while a run is held: the next move is the exit move.
-    exit_pending: bool,
+    /// Nose-radius compensation: the mill's, LinuxCNC's rules, in the Z–X plane (on from the
+    /// entry move, the first after G41/G42, with the nose radius of the tool then in place).
+    comp: Comp<Item>,
+    /// What it handed on, to emit.
+    handed: Handed,
+    /// From the nose centre to the imaginary tip P, `[Z, X]` mm: R·v(tip) of the tool the entry
+    /// move found.
+    tip_shift: [f64; 2],
+    /// Where P stands after what compensation has handed on, `[Z, X]` mm.
+    comp_at: [f64; 2],
+    /// The next move must be a straight line, and why: the exit move after G40, or the entry
+    /// move on the other side after G41/G42 changed it.
+    straight_next: Option<&'static str>,
     /// G71 collects its profile here instead of emitting it.
     pub capture: Option<Vec<Mv>>,
     /// Where the last emitted move ended, pulses [X, Z].
@@ -136,8 +238,14 @@ impl<'a> Out<'a> {
             pos: [chan.axes[1].travel[1], chan.axes[0].travel[1]],
             tool: None,
             comp_side: None,
-            run: None,
-            exit_pending: false,
+            comp: Comp::default(),
+            handed: Handed {
+                pulse_mm: desc.pulse_mm,
+                ..Default::default()
+            },
+            tip_shift: [0.0; 2],
+            comp_at: [0.0; 2],
+            straight_next: None,
             capture: None,
             at: super::home(desc, ch),
             speed: (0.0, None),
@@ -274,14 +382,21 @@ impl<'a> Out<'a> {
         if self.capture.is_some() {
             return Ok(());
         }
-        if matches!(b.m, Some(2 | 30)) {
-            self.flush(None)?;
-            self.comp_side = None;
-            self.exit_pending = false;
+        // M00, M01, M02 and M30 emit what compensation holds as it stands (LinuxCNC's flush).
+        if matches!(b.m, Some(0 | 1 | 2 | 30)) {
+            self.handed.line = line;
+            self.comp.flush(&mut self.handed, col)?;
+            self.drain()?;
         }
-        if let Some(run) = self.run.as_mut() {
-            run.aux.push((run.segs.len(), line, b));
-            return Ok(());
+        if matches!(b.m, Some(2 | 30)) {
+            self.comp = Comp::default();
+            self.comp_side = None;
+            self.straight_next = None;
+        }
+        if self.comp.offsetting() {
+            self.handed.line = line;
+            self.comp.aux(&mut self.handed, Item::Op(Box::new(b)), col);
+            return self.drain();
         }
         self.push(line, col, b)
     }
@@ -326,20 +441,27 @@ impl<'a> Out<'a> {
         if self.capture.is_some() {
             return Ok(());
         }
+        if self.straight_next == Some(EXIT) {
+            return Err(Self::err(
+                line,
+                col,
+                "G41/G42 after G40 before its exit move: give the exit move first",
+            ));
+        }
         if let Some(side) = self.comp_side {
-            if self.exit_pending {
-                return Err(Self::err(
-                    line,
-                    col,
-                    "G41/G42 after G40 before its exit move: give the exit move first",
-                ));
-            }
             if side != left {
                 // The thesis (seed 003, line 2556): the side may change from block to block
                 // without G40. The held moves end one radius off their last point; the next
                 // move is a new entry move on the other side.
-                self.flush(None)?;
+                self.handed.line = line;
+                let entered = self.comp.entered();
+                self.comp.off(&mut self.handed, col)?;
+                self.drain()?;
+                self.comp = Comp::default();
                 self.comp_side = Some(left);
+                if entered {
+                    self.straight_next = Some(SIDE_CHANGE);
+                }
             }
             return Ok(());
         }
@@ -354,16 +476,26 @@ impl<'a> Out<'a> {
         Ok(())
     }
 
-    /// G40: the next move is the exit move.
-    pub fn comp_stop(&mut self) {
+    /// G40: what compensation holds is emitted, the last move ending one radius off its
+    /// end; the next move, the exit move, runs from there to its programmed end and must be
+    /// straight.
+    pub fn comp_stop(&mut self, line: u32, col: u32) -> Result<(), TranslateError> {
         if self.capture.is_some() {
-            return;
+            return Ok(());
         }
-        if self.run.is_some() {
-            self.exit_pending = true;
-        } else {
-            self.comp_side = None;
+        if self.comp.entered() {
+            self.straight_next = Some(EXIT);
         }
+        self.handed.line = line;
+        self.comp.off(&mut self.handed, col)?;
+        self.comp = Comp::default();
+        self.comp_side = None;
+        self.drain()
+    }
+
+    /// G20 (`inch`) or G21: compensation states its tolerances in the program's units.
+    pub fn set_inch(&mut self, inch: bool) {
+        self.comp.set_inch(inch);
     }
 
     /// One programmed move from `pos` to `mv.end`.
@@ -380,6 +512,11 @@ impl<'a> Out<'a> {
             cap.push(mv);
             return Ok(());
         }
+        if let Some(why) = self.straight_next.take() {
+            if matches!(mv.kind, Kind::Arc { .. }) {
+                return Err(Self::err(mv.line, mv.col, why));
+            }
+        }
         let Some(left) = self.comp_side else {
             return self.emit(&mv);
         };
@@ -390,101 +527,100 @@ impl<'a> Out<'a> {
                 "threading with nose-radius compensation in force: give G40 first",
             ));
         }
-        if self.exit_pending {
-            if matches!(mv.kind, Kind::Arc { .. }) {
-                return Err(Self::err(
-                    mv.line,
-                    mv.col,
-                    "the move after G40 (the exit move) must be a straight line (G00 or G01)",
-                ));
-            }
-            self.flush(Some(mv))?;
-            self.comp_side = None;
-            self.exit_pending = false;
-            return Ok(());
-        }
-        let (r, tip) = match self.tool() {
-            Some(t) => (t.radius, t.tip),
-            None => (0.0, 0),
-        };
         let len = (mv.end[0] - mv.start[0]).hypot(mv.end[1] - mv.start[1]);
-        let full = matches!(mv.kind, Kind::Arc { .. });
-        if len < 1e-9 && !full {
+        let arc = matches!(mv.kind, Kind::Arc { .. });
+        if len < 1e-9 && !arc {
             return Ok(());
         }
-        match self.run.as_mut() {
-            // Bounded: one move per executed line (MAX_LINES); cycles refuse compensation.
-            Some(run) => run.segs.push(mv),
-            None => {
-                if r <= 0.0 {
-                    return self.emit(&mv);
-                }
-                if full {
-                    return Err(Self::err(
-                        mv.line,
-                        mv.col,
-                        "the first move after G41/G42 (the entry move) must be a straight line (G00 or G01)",
-                    ));
-                }
-                if len <= r {
-                    return Err(Self::err(
-                        mv.line,
-                        mv.col,
-                        format!("the entry move after G41/G42 must be longer than the nose radius ({r} mm)"),
-                    ));
-                }
-                self.run = Some(comp::Run {
-                    left,
-                    radius: r,
-                    tip,
-                    segs: vec![mv],
-                    aux: Vec::new(),
-                });
+        if !self.comp.active() {
+            // The entry move: compensation takes the nose radius and tip of the tool in place.
+            let (r, tip) = match self.tool() {
+                Some(t) => (t.radius, t.tip),
+                None => (0.0, 0),
+            };
+            if r <= 0.0 {
+                return self.emit(&mv);
+            }
+            self.comp.on(left, r, Plane::XZ);
+            let v = comp::tip_vector(tip);
+            self.tip_shift = [v[0] * r, v[1] * r];
+            self.comp_at = mv.start;
+            if let (Kind::Arc { feed, .. }, true) = (mv.kind, v != [0.0, 0.0]) {
+                // An entry arc starts from the nose centre where the tool stands: P first moves
+                // onto that arc's start, a feed move R·v(tip) long, as LinuxCNC's
+                // convert_arc_comp1 makes it ("otherwise, the arc isn't an arc").
+                let to = [
+                    mv.start[0] + self.tip_shift[0],
+                    mv.start[1] + self.tip_shift[1],
+                ];
+                let first = Mv {
+                    kind: Kind::Line(feed),
+                    end: to,
+                    ..mv
+                };
+                self.comp_at = to;
+                self.emit(&first)?;
             }
         }
-        Ok(())
+        self.handed.line = mv.line;
+        let (s, e) = (xyz(mv.start), xyz(mv.end));
+        let h = &mut self.handed;
+        match mv.kind {
+            Kind::Rapid => self
+                .comp
+                .line(h, s, e, true, (0.0, FeedMode::PerMin), mv.col)?,
+            Kind::Line(f) => self.comp.line(h, s, e, false, f, mv.col)?,
+            Kind::Arc { c, ccw, feed } => {
+                (self.comp).arc(h, s, e, xyz(c), Plane::XZ, ccw, feed, mv.col)?
+            }
+            Kind::Thread(_) => {}
+        }
+        self.drain()
     }
 
-    /// Computes and emits the held run (ending with `exit` if given).
-    fn flush(&mut self, exit: Option<Mv>) -> Result<(), TranslateError> {
-        let Some(run) = self.run.take() else {
-            if let Some(e) = exit {
-                return self.emit(&e);
-            }
-            return Ok(());
+    /// Emits what compensation has handed on: its moves of the nose centre as moves of P (the
+    /// tip vector added), and the blocks that waited behind them.
+    fn drain(&mut self) -> Result<(), TranslateError> {
+        let sh = self.tip_shift;
+        let p = |q: [f64; 3]| {
+            let q = zx(q);
+            [q[0] + sh[0], q[1] + sh[1]]
         };
-        let pieces = comp::offset_path(&run, exit.as_ref())?;
-        let v = comp::tip_vector(run.tip);
-        let shift = [v[0] * run.radius, v[1] * run.radius];
-        let mut aux = run.aux.into_iter().peekable();
-        for (i, group) in pieces.iter().enumerate() {
-            while let Some((_, line, b)) = aux.next_if(|a| a.0 <= i) {
-                self.push(line, 0, b)?;
-            }
-            for (mv, exact) in group {
-                let mut m = *mv;
-                if !*exact {
-                    m.end = [m.end[0] + shift[0], m.end[1] + shift[1]];
-                    if let Kind::Arc { c, ccw, feed } = m.kind {
-                        m.kind = Kind::Arc {
-                            c: [c[0] + shift[0], c[1] + shift[1]],
-                            ccw,
-                            feed,
-                        };
-                    }
+        for (item, line, col) in std::mem::take(&mut self.handed.items) {
+            let kind = match item {
+                Item::Op(b) => {
+                    self.push(line, col, *b)?;
+                    continue;
                 }
-                self.emit(&m)?;
-            }
-        }
-        for (_, line, b) in aux {
-            self.push(line, 0, b)?;
+                Item::Rapid(_) => Kind::Rapid,
+                Item::Line(_, f) => Kind::Line(f),
+                Item::Arc {
+                    centre, ccw, feed, ..
+                } => Kind::Arc {
+                    c: p(centre),
+                    ccw,
+                    feed,
+                },
+            };
+            let end = p(item.end().unwrap_or_default());
+            let mv = Mv {
+                kind,
+                start: self.comp_at,
+                end,
+                line,
+                col,
+            };
+            self.comp_at = end;
+            self.emit(&mv)?;
         }
         Ok(())
     }
 
     /// At the end of the text: emits what compensation still holds.
     pub fn finish(&mut self) -> Result<(), TranslateError> {
-        self.flush(None)
+        // A refusal is charged to the last line read, at its start (the mill's rule).
+        self.comp.flush(&mut self.handed, 1)?;
+        self.drain()
     }
 
     /// Emits one move of P, adding the tool's offsets and checking the travel.
