@@ -417,3 +417,69 @@ fn the_recorded_tool_path_envelope_is_the_profile_in_every_tip_position() {
     let (far, close, _) = recorded_envelope(3, "G41");
     assert!(far > 0.1 || close > 0.1, "G41 passed: {far} {close}");
 }
+
+/// An arc as the entry move (LinuxCNC's convert_arc_comp1, read since stop 51; refused
+/// before), with every tip: where the nose centre is not P, P first moves onto the entry arc's
+/// start by a feed move R·v(tip) long; the arc is then an arc, ending one radius off the
+/// programmed end, less than half a turn (LinuxCNC 2.9 cuts a full circle there), and the
+/// nose centre then runs on the Z cut one radius off the programmed radius.
+#[test]
+fn an_arc_entry_moves_p_onto_the_arc_and_cuts_no_full_circle() {
+    let text = "T0101\nM3 S1000\nG8 G0 X20 Z5\nG42 G2 X10 Z-2 R9 F100\nG1 Z-10\nG40 G0 X20\nM30\n";
+    for tip in 0..=9u8 {
+        let d = desc(tip);
+        let p = match read_program(text, &d, 0, &ReadOptions::default()) {
+            Ok(p) => p,
+            Err(e) => panic!("tip {tip}: {e}"),
+        };
+        let mm = |q: i64| q as f64 * d.pulse_mm;
+        let v = chart(tip);
+        let entry: Vec<_> = p
+            .iter()
+            .filter(|s| s.line == 4)
+            .flat_map(|s| &s.blocks)
+            .collect();
+        let arc = entry.last().expect("the entry arc");
+        if v == [0.0, 0.0] {
+            assert_eq!(entry.len(), 1, "tip {tip}: the arc alone");
+        } else {
+            assert_eq!(
+                entry.len(),
+                2,
+                "tip {tip}: a feed move onto the arc, then the arc"
+            );
+            let first = entry[0];
+            assert_eq!(first.motion, Motion::Linear, "tip {tip}");
+            let (s, e) = (first.start(), first.end);
+            let dx = mm(e[0] - s[0]);
+            let dz = mm(e[2] - s[2]);
+            assert!(
+                (dx - R * v[0]).abs() < 0.0015 && (dz - R * v[1]).abs() < 0.0015,
+                "tip {tip}: moved {dx} {dz}"
+            );
+        }
+        assert!(
+            matches!(arc.motion, Motion::ArcCw),
+            "tip {tip}: {:?}",
+            arc.motion
+        );
+        let c = arc.centre3().expect("centre");
+        let s = arc.start();
+        let r0 = mm(c[0]).hypot(mm(c[2]));
+        let r1 = mm(s[0] + c[0] - arc.end[0]).hypot(mm(s[2] + c[2] - arc.end[2]));
+        assert!((r0 - r1).abs() < 0.002, "tip {tip}: radius {r0} then {r1}");
+        let chord = mm(arc.end[0] - s[0]).hypot(mm(arc.end[2] - s[2]));
+        assert!(
+            chord > 1.0 && r0 < 30.0,
+            "tip {tip}: chord {chord}, radius {r0}"
+        );
+        // The nose centre on the Z cut (line 5): one radius outside X 10 (G8: a radius), G42.
+        for b in p.iter().filter(|s| s.line == 5).flat_map(|s| &s.blocks) {
+            let cx = mm(b.end[0]) - R * v[0];
+            assert!(
+                (cx - (10.0 + R)).abs() < 0.0015,
+                "tip {tip}: centre at X {cx}"
+            );
+        }
+    }
+}
