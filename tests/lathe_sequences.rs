@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 16] = [
+const MDI_LINES: [&str; 19] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -59,6 +59,11 @@ const MDI_LINES: [&str; 16] = [
     // A program zero moved (kept until RESET or G92.1, stop 50), and put back.
     "G92 Z5",
     "G92.1",
+    // Nose-radius compensation, the mill's since stop 51: an arc as the entry move, a move
+    // under it, the exit (refused without a tool, or across runs as the channel keeps G41/G42).
+    "G42 G2 X24 Z12 R9 F0.2",
+    "G1 W-4",
+    "G40 G0 X40",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
 const OFS_LINES: [&str; 6] = [

@@ -70,16 +70,6 @@ pub fn centre_r(
     Ok([mid[0] + offset * theta.cos(), mid[1] + offset * theta.sin()])
 }
 
-/// Checks an I J K arc's centre `c` against start `s` and end `e` (turning order, mm) with
-/// LinuxCNC's tolerances (`abs_tol` in mm for the program's units) and novanc's own.
-pub fn check_ijk(s: [f64; 2], e: [f64; 2], c: [f64; 2], abs_tol: f64) -> Result<(), ArcFault> {
-    let [r0, r1] = check_ijk_linuxcnc(s, e, c, abs_tol)?;
-    if (r0 - r1).abs() > NOVANC_RADIUS_DIFF_MM {
-        return Err(ArcFault::NotOnCircle { r0, r1 });
-    }
-    Ok(())
-}
-
 /// LinuxCNC's tolerances only: the start and end radii of an arc LinuxCNC cuts, as a spiral
 /// where they differ (the milling interpreter cuts a wider one in pieces, `spiral_pieces`).
 pub fn check_ijk_linuxcnc(
@@ -125,34 +115,33 @@ pub fn spiral_pieces(r0: f64, r1: f64, sweep: f64) -> u32 {
     by_radius.max(by_angle).min(1e6) as u32
 }
 
-/// Intersections of the line through `p` with direction `d` (unit) and the circle (`c`, `r`),
-/// as line parameters.
-pub fn line_circle(p: [f64; 2], d: [f64; 2], c: [f64; 2], r: f64) -> Vec<f64> {
-    let f = [p[0] - c[0], p[1] - c[1]];
-    let b = f[0] * d[0] + f[1] * d[1];
-    let cc = f[0] * f[0] + f[1] * f[1] - r * r;
-    let disc = b * b - cc;
-    if disc < 0.0 {
-        return Vec::new();
+/// The angle an arc from `s` to `e` about `c` turns, counter-clockwise if `ccw` (radians, 0
+/// to 2π; a full circle when they meet): both readers' (before stop 51 the lathe's had one of
+/// its own).
+pub fn sweep(s: [f64; 2], e: [f64; 2], c: [f64; 2], ccw: bool) -> f64 {
+    let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
+    let a1 = (e[1] - c[1]).atan2(e[0] - c[0]);
+    let tau = 2.0 * std::f64::consts::PI;
+    let mut d = if ccw { a1 - a0 } else { a0 - a1 };
+    while d <= 1e-12 {
+        d += tau;
     }
-    let s = disc.sqrt();
-    vec![-b - s, -b + s]
+    while d > tau + 1e-12 {
+        d -= tau;
+    }
+    d
 }
 
-/// Intersections of two circles.
-pub fn circle_circle(c0: [f64; 2], r0: f64, c1: [f64; 2], r1: f64) -> Vec<[f64; 2]> {
-    let d = (c1[0] - c0[0]).hypot(c1[1] - c0[1]);
-    if d < 1e-12 || d > r0 + r1 || d < (r0 - r1).abs() {
-        return Vec::new();
-    }
-    let a = (r0 * r0 - r1 * r1 + d * d) / (2.0 * d);
-    let h = (r0 * r0 - a * a).max(0.0).sqrt();
-    let m = [
-        c0[0] + a * (c1[0] - c0[0]) / d,
-        c0[1] + a * (c1[1] - c0[1]) / d,
-    ];
-    let o = [-(c1[1] - c0[1]) / d * h, (c1[0] - c0[0]) / d * h];
-    vec![[m[0] + o[0], m[1] + o[1]], [m[0] - o[0], m[1] - o[1]]]
+/// The point a fraction `f` along LinuxCNC's spiral from `s` about `c` (its radius changing
+/// from `s`'s to `r1` in proportion to the angle turned), turning `total` radians,
+/// counter-clockwise if `ccw`: where a piece of it ends (`spiral_pieces`).
+pub fn spiral_point(s: [f64; 2], c: [f64; 2], r1: f64, total: f64, ccw: bool, f: f64) -> [f64; 2] {
+    let r0 = (s[0] - c[0]).hypot(s[1] - c[1]);
+    let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
+    let dir = if ccw { 1.0 } else { -1.0 };
+    let a = a0 + dir * f * total;
+    let r = r0 + f * (r1 - r0);
+    [c[0] + r * a.cos(), c[1] + r * a.sin()]
 }
 
 /// The lead a thread block gives the kernel for a move of `d` (its amount on each axis) whose
@@ -172,21 +161,6 @@ pub fn lead_on_longest(lead: f64, d: &[f64]) -> f64 {
 /// The distance between two points of a plane.
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-/// `a − b`.
-pub fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-/// `v` of length 1 (0 for a vector of no length).
-pub fn unit(v: [f64; 2]) -> [f64; 2] {
-    let l = v[0].hypot(v[1]);
-    if l < 1e-15 {
-        [0.0, 0.0]
-    } else {
-        [v[0] / l, v[1] / l]
-    }
 }
 
 /// The point `r` from `p` at angle `a` (radians, counter-clockwise from the first axis).
@@ -218,29 +192,30 @@ mod tests {
     }
 
     #[test]
-    fn ijk_tolerance_is_linuxcnc_and_the_pulse_core() {
-        assert!(check_ijk([0.0, 0.0], [20.001, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
-        assert!(check_ijk([0.0, 0.0], [20.02, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_ok());
-        assert!(check_ijk([0.0, 0.0], [20.03, 0.0], [10.0, 0.0], IJK_ABS_TOLERANCE_MM).is_err());
-        // Large radii: LinuxCNC's 0.1 % would allow more; novanc stops at 0.028 mm.
-        assert!(check_ijk(
-            [0.0, 0.0],
-            [2000.05, 0.0],
-            [1000.0, 0.0],
-            IJK_ABS_TOLERANCE_MM
-        )
-        .is_err());
-        // LinuxCNC's tolerance alone lets them through, for the milling interpreter to cut as
-        // a spiral in pieces.
-        assert_eq!(
-            check_ijk_linuxcnc(
-                [0.0, 0.0],
-                [2000.05, 0.0],
-                [1000.0, 0.0],
-                IJK_ABS_TOLERANCE_MM
-            ),
-            Ok([1000.0, 1000.05])
-        );
+    fn ijk_tolerance_is_linuxcnc() {
+        let ok = |e: f64, c: f64| {
+            check_ijk_linuxcnc([0.0, 0.0], [e, 0.0], [c, 0.0], IJK_ABS_TOLERANCE_MM)
+        };
+        assert!(ok(20.001, 10.0).is_ok());
+        assert!(ok(20.02, 10.0).is_ok());
+        // Above the absolute tolerance and 0.1 %: refused.
+        assert!(ok(20.03, 10.0).is_err());
+        // Large radii: 0.1 % lets more through, for both readers to cut as a spiral in pieces
+        // (`spiral_pieces`; the lathe's refused it before stop 51).
+        assert_eq!(ok(2000.05, 1000.0), Ok([1000.0, 1000.05]));
+    }
+
+    #[test]
+    fn a_spiral_point_turns_and_grows_in_proportion() {
+        let c = [0.0, 0.0];
+        let half = std::f64::consts::PI;
+        let p = spiral_point([10.0, 0.0], c, 12.0, half, true, 0.5);
+        assert!((p[0]).abs() < 1e-9 && (p[1] - 11.0).abs() < 1e-9, "{p:?}");
+        let p = spiral_point([10.0, 0.0], c, 12.0, half, false, 0.5);
+        assert!((p[0]).abs() < 1e-9 && (p[1] + 11.0).abs() < 1e-9, "{p:?}");
+        assert!((sweep([10.0, 0.0], [0.0, 10.0], c, true) - half / 2.0).abs() < 1e-12);
+        assert!((sweep([10.0, 0.0], [0.0, 10.0], c, false) - 1.5 * half).abs() < 1e-12);
+        assert!((sweep([10.0, 0.0], [10.0, 0.0], c, true) - 2.0 * half).abs() < 1e-12);
     }
 
     #[test]

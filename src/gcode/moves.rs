@@ -153,14 +153,15 @@ pub fn arc(
     let centre = st.to_machine(centre_p);
     let length = {
         let rad = (su[0] - cuv[0]).hypot(su[1] - cuv[1]);
-        let sweep = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
+        let sweep =
+            geom::sweep(su, eu, cuv, !cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
         let axial = (ep[plane.axes()[2]] - sp[plane.axes()[2]]).abs();
         (rad * sweep).hypot(axial)
     };
     let feed = super::exec::feed_rate(st, x, inverse, length, col)?;
     let r0 = (su[0] - cuv[0]).hypot(su[1] - cuv[1]);
     let r1 = (eu[0] - cuv[0]).hypot(eu[1] - cuv[1]);
-    let total = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
+    let total = geom::sweep(su, eu, cuv, !cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
     let pieces = geom::spiral_pieces(r0, r1, total);
     if pieces > 1 {
         if comp.active() {
@@ -176,15 +177,12 @@ pub fn arc(
         // LinuxCNC's spiral: the radius, and the normal axis, change in proportion to the
         // angle turned. Each piece is an arc about the same centre whose ends are on it.
         let n = plane.axes()[2];
-        let a0 = (su[1] - cuv[1]).atan2(su[0] - cuv[0]);
-        let dir = if cw { -1.0 } else { 1.0 };
         for i in 1..pieces {
             let f = f64::from(i) / f64::from(pieces);
-            let a = a0 + dir * f * total;
-            let r = r0 + f * (r1 - r0);
+            let p = geom::spiral_point(su, cuv, r1, total, !cw, f);
             let mut at = sp;
-            at[u] = cuv[0] + r * a.cos();
-            at[v] = cuv[1] + r * a.sin();
+            at[u] = p[0];
+            at[v] = p[1];
             at[n] = sp[n] + f * (ep[n] - sp[n]);
             let m = st.to_machine(at);
             comp.arc(x, st.pos, m, centre, plane, !cw, feed, col)?;
@@ -204,7 +202,8 @@ pub fn arc(
         // Whole turns first (each a full circle, the normal axis shared out by angle), then
         // the rest of the arc to the end point.
         let n = plane.axes()[2];
-        let total = sweep(su, eu, cuv, cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
+        let total =
+            geom::sweep(su, eu, cuv, !cw) + 2.0 * std::f64::consts::PI * f64::from(turns - 1);
         let per_turn = (ep[n] - sp[n]) * 2.0 * std::f64::consts::PI / total;
         let mut at = sp;
         for _ in 1..turns {
@@ -217,22 +216,6 @@ pub fn arc(
     comp.arc(x, st.pos, e, centre, plane, !cw, feed, col)?;
     st.pos = e;
     Ok(())
-}
-
-/// The angle an arc turns from `s` to `e` about `c` (radians, 0 to 2π; a full circle when
-/// they meet).
-fn sweep(s: [f64; 2], e: [f64; 2], c: [f64; 2], cw: bool) -> f64 {
-    let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
-    let a1 = (e[1] - c[1]).atan2(e[0] - c[0]);
-    let tau = 2.0 * std::f64::consts::PI;
-    let mut d = if cw { a0 - a1 } else { a1 - a0 };
-    while d <= 1e-12 {
-        d += tau;
-    }
-    while d > tau + 1e-12 {
-        d -= tau;
-    }
-    d
 }
 
 /// A length (mm) in the program's units (`k` mm each), with them named.

@@ -11,8 +11,6 @@
 //! implementation of the same rules, which refused an arc as the entry move and joined
 //! corners its own way.
 
-use std::f64::consts::TAU;
-
 /// The direction from the nose centre C to the imaginary tip P for a tip position, `[Z, X]`
 /// (Fanuc's chart with Z to the right and X up; 0 and 9 are the centre itself):
 ///
@@ -45,18 +43,4 @@ pub fn linuxcnc_orientation(tip: u8) -> u8 {
         .get(usize::from(tip))
         .copied()
         .unwrap_or(0)
-}
-
-/// The angle an arc from `s` to `e` about `c` sweeps, in (0, 2π] (a full circle when `s` is
-/// `e`).
-pub fn sweep(c: [f64; 2], s: [f64; 2], e: [f64; 2], ccw: bool) -> f64 {
-    let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
-    let a1 = (e[1] - c[1]).atan2(e[0] - c[0]);
-    let d = if ccw { a1 - a0 } else { a0 - a1 };
-    let d = d.rem_euclid(TAU);
-    if d < 1e-12 {
-        TAU
-    } else {
-        d
-    }
 }

@@ -1,12 +1,12 @@
 //! Lathe cycles (docs/lathe-gcode.md "Cycles"): G76 threading in LinuxCNC's form, G71
 //! roughing and G70 finishing in Fanuc 0i-T's two-block form.
 
-use super::comp::sweep;
 use super::exec::{err, Flow, Reader};
 use super::out::{Kind, Mv};
 use super::MAX_PASSES;
 use crate::block::TranslateError;
 use crate::gcode::geom::lead_on_longest;
+use crate::gcode::geom::sweep;
 use crate::gcode::words::Words;
 use crate::gcode::Lines;
 use std::f64::consts::FRAC_PI_2;
@@ -592,7 +592,7 @@ pub fn g71_moves(
         match m.kind {
             Kind::Thread(_) => return Err(err(m.line, m.col, format!("G33 in a {g} profile"))),
             Kind::Arc { c: ctr, ccw, feed } => {
-                let sw = sweep(ctr, m.start, m.end, ccw);
+                let sw = sweep(m.start, m.end, ctr, ccw);
                 let a0 = (m.start[1] - ctr[1]).atan2(m.start[0] - ctr[0]);
                 for k in 0..4 {
                     let q = k as f64 * FRAC_PI_2;
@@ -670,7 +670,7 @@ fn z_at(segs: &[Mv], x: f64, sx: f64) -> Option<f64> {
             Kind::Arc { c, ccw, .. } => {
                 let rr = (s.start[0] - c[0]).hypot(s.start[1] - c[1]);
                 let h = (rr * rr - (x - c[1]).powi(2)).max(0.0).sqrt();
-                let sw = sweep(c, s.start, s.end, ccw);
+                let sw = sweep(s.start, s.end, c, ccw);
                 let a0 = (s.start[1] - c[1]).atan2(s.start[0] - c[0]);
                 let mut best: Option<(f64, f64)> = None;
                 for z in [c[0] + h, c[0] - h] {

@@ -107,7 +107,37 @@ impl Reader<'_> {
                         } else {
                             geom::IJK_ABS_TOLERANCE_MM
                         };
-                        geom::check_ijk(s, end, ctr, tol).map_err(|e| arc_err(e, n, c))?;
+                        let [r0, r1] = geom::check_ijk_linuxcnc(s, end, ctr, tol)
+                            .map_err(|e| arc_err(e, n, c))?;
+                        // A spiral LinuxCNC reads (its end off its start's circle within
+                        // LinuxCNC's tolerances) is cut in arcs about the same centre, each
+                        // ending on it, as the mill's reader cuts one (docs/gcode.md "Arcs").
+                        let total = geom::sweep(s, end, ctr, ccw);
+                        let pieces = geom::spiral_pieces(r0, r1, total);
+                        if pieces > 1 && self.out.comp_on() {
+                            return Err(err(
+                                n,
+                                c,
+                                format!(
+                                    "a spiral (radius {} at the start, {} at the end) cannot be cut under nose-radius compensation",
+                                    fixed(r0, 4),
+                                    fixed(r1, 4)
+                                ),
+                            ));
+                        }
+                        let kind = Kind::Arc { c: ctr, ccw, feed };
+                        for i in 1..pieces {
+                            let f = f64::from(i) / f64::from(pieces);
+                            let at = geom::spiral_point(s, ctr, r1, total, ccw, f);
+                            let start = self.out.pos;
+                            self.out.motion(Mv {
+                                kind,
+                                start,
+                                end: at,
+                                line: n,
+                                col: c,
+                            })?;
+                        }
                         ctr
                     }
                     (None, false) => {

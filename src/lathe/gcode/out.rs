@@ -693,7 +693,11 @@ impl<'a> Out<'a> {
             ),
             Kind::Arc { c, ccw, feed } => {
                 let r = (s[0] - c[0]).hypot(s[1] - c[1]);
-                (feed, r * comp::sweep(c, s, e, ccw), c[1].abs() + r)
+                (
+                    feed,
+                    r * crate::gcode::geom::sweep(s, e, c, ccw),
+                    c[1].abs() + r,
+                )
             }
         };
         let mm_min = match per_rev {
@@ -791,7 +795,7 @@ impl<'a> Out<'a> {
             self.at[0] as f64 * self.desc.pulse_mm,
         ];
         let a0 = (s[1] - c[1]).atan2(s[0] - c[0]);
-        let sweep = comp::sweep(c, s, e, ccw);
+        let sweep = crate::gcode::geom::sweep(s, e, c, ccw);
         for k in 0..4 {
             let q = k as f64 * std::f64::consts::FRAC_PI_2;
             let d = if ccw { q - a0 } else { a0 - q };
