@@ -117,13 +117,13 @@ fn the_step_mode_and_its_keys_are_on_the_screen() {
     let dir = common::temp_dir("lathe-step-screen");
     let mut c = open(&dir);
     turn_to(&mut c, Key::Alt('6'), "STEP");
-    assert!(novanc::lathe::console::view::LATHE_KEYS
+    assert!(novanc::console::help::LATHE_KEYS
         .iter()
         .any(|l| l.contains("Alt+6 STEP")));
-    assert!(novanc::lathe::console::view::LATHE_HELP
+    assert!(novanc::console::help::LATHE_HELP
         .iter()
         .any(|l| l.starts_with("Alt+1/5/6") && l.contains("STEP")));
-    assert!(novanc::lathe::console::view::LATHE_HELP
+    assert!(novanc::console::help::LATHE_HELP
         .iter()
         .any(|l| l.contains("Alt+w increment")));
     let _ = std::fs::remove_dir_all(&dir);

@@ -18,6 +18,7 @@ pub(crate) mod display;
 pub(crate) mod entry;
 pub(crate) mod front;
 mod gcode_run;
+pub mod help;
 pub mod keys;
 pub(crate) mod manual;
 mod memory;

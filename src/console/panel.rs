@@ -171,4 +171,13 @@ impl Panel {
             Panel::Lathe(c) => (*c).close(interrupted),
         }
     }
+
+    /// [`Panel::close`], saying the recording's summary, or why it could not be finished, on
+    /// stderr: how every front end (the terminal, the window, `novanc script`) ends.
+    pub fn close_saying(self, interrupted: Option<&str>) {
+        match self.close(interrupted) {
+            Ok(Some(line)) | Err(line) => eprintln!("novanc: {line}"),
+            Ok(None) => {}
+        }
+    }
 }

@@ -7,7 +7,7 @@
 //! For a display of R×C the panel needs (C + 39) × (max(R + 2, 14) + 10) cells: 79×24 for
 //! the default 12×40.
 
-use crate::lathe::console::view::{LATHE_HELP, LATHE_KEYS};
+use crate::console::help::{HELP, HELP_EDITOR, LATHE_HELP, LATHE_KEYS};
 use crate::lathe::console::LatheView;
 use crate::panel_model::{DataMode, OpMode, Page, PanelView};
 use novanc_panel::draw::{button, gauge, lamp, rotary};
@@ -186,62 +186,6 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
     );
     s.text(0, top + 9, LEGEND, PANEL);
 }
-
-/// The help screen: every key of the panel.
-pub const HELP: &[&str] = &[
-    "novanc terminal panel: keys",
-    "",
-    "Operation mode selector 17   Alt+1 CONTINUOUS  Alt+2 AUTO  Alt+3 MDI",
-    "                             Alt+4 DATA INPUT  Alt+5 HANDLE  Alt+6 STEP",
-    "                             Alt+7 SINGLE BLOCK",
-    "Data mode selector 16        F1 SEARCH  F2 PROGRAM READ  F3 PROGRAM REVISION",
-    "                             F4 TOOL DATA READ  F5 TOOL DATA REVISION",
-    "                             F6 T-CODE SETTING  F7 MDI",
-    "Relay buttons                F9/Alt+s START  F10/Alt+p STOP (feed hold)",
-    "                             F11/Alt+r RESET  F12/Alt+e EMERGENCY STOP",
-    "Feed override                Alt+= up 10 %   Alt+- down 10 %",
-    "Jog (CONTINUOUS, STEP)       arrows X and Y, PgUp/PgDn Z",
-    "Handwheel (HANDLE)           arrows/PgUp/PgDn: 1 detent on that axis",
-    "                             Alt+, Alt+. turn the wheel; Alt+w x1 x10 x100 x1000",
-    "STEP increment               Alt+w: 0.001 0.01 0.1 1 mm (a CONTINUOUS tap: one step)",
-    "Data keys (DATA INPUT, MDI)  type; Enter = EOB; Backspace = RUBOUT",
-    "Tape reader                  type the file path, then Alt+t; START reads it",
-    "Tape punch (PROGRAM READ)    type PATH (ISO code) or PATH EIA, then Alt+u",
-    "G-code switches              Alt+b BLOCK DELETE  Alt+o OPTIONAL STOP (M01)",
-    "Overrides, switches          Alt+f RPD Alt+[ ] SOV Alt+d DRY Alt+l MLK Alt+z ZNG",
-    "Pages                        Ctrl-P POS  Ctrl-D PROG  Ctrl-O OFS  Ctrl-E MSG",
-    "Other                        F8/Alt+h this help  Ctrl-L redraw  Ctrl-C/Alt+q quit",
-    "F8 again: the editor commands and the page keys. Any other key closes the help",
-    "and acts as on the panel (STOP, RESET and E-STOP too): no key is lost.",
-];
-
-/// The second help page: the editor commands with an example each, and the page keys.
-pub const HELP_EDITOR: &[&str] = &[
-    "novanc terminal panel: the editor commands (DATA INPUT, F3 F5 F7) and the pages",
-    "",
-    "nL   lines: 2L down two, 0L line start, -1L up one     L",
-    "mM   move m characters: -5M back five                  M",
-    "nK   kill through the nth EOB: K the rest of the line  K",
-    "nD   delete n characters: -3D the three before        D",
-    "Itext   insert: IP9 = (10, 20)*  (* is EOB)           I",
-    "Stext   search (either case): Sdrl, 105$              S",
-    "Cold$new  change: CDP20$DP22                           C",
-    "nY   show n lines: 5Y                                  Y",
-    "Several on a line: 2LCNH6$NH5  (a failed line changes nothing)",
-    "Keys: arrows PgUp/PgDn Home/End move the pointer, Delete deletes after it",
-    "",
-    "Pages (any mode; the same key again goes back):",
-    "  Ctrl-P POS   positions, feed, spindle, counters; X Enter zeroes rel X",
-    "  Ctrl-D PROG  programs: Enter selects, C NAME copies, R NAME renames, D deletes",
-    "  Ctrl-O OFS   tool offsets, then G54-G59: value Enter sets, Tab adds",
-    "  Ctrl-E MSG   alarm and message history, newest first",
-    "  Ctrl-G MODAL the G codes, F S T H D and offsets in force, overrides, switches",
-    "  Ctrl-T I/O   outputs and inputs: P3 ON, P3 OFF or E2 4.5 Enter sets an input",
-    "  Ctrl-U MACRO Fanuc #1-#33 #100-#199 #500-#999: #500=12.5 Enter sets",
-    "MDI mode: a statement or a G-code line, Enter, F9; Up/Down recall 20",
-    "",
-    "F8 closes the help; any other key closes it and acts as on the panel.",
-];
 
 /// Draws help page `page` (1: the panel keys, 2: the editor commands and pages).
 pub fn draw_help(s: &mut Screen, page: u8) {

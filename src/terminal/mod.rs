@@ -77,7 +77,7 @@ pub fn run(front: Panel, warnings: Vec<String>, feed: Result<Option<Feed>, Strin
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc: {e}");
-            close(front, None);
+            front.close_saying(None);
             return 1;
         }
     };
@@ -88,7 +88,7 @@ pub fn run(front: Panel, warnings: Vec<String>, feed: Result<Option<Feed>, Strin
         Ok(t) => t,
         Err(e) => {
             eprintln!("novanc: {e}");
-            close(front, None);
+            front.close_saying(None);
             return 1;
         }
     };
@@ -100,17 +100,8 @@ pub fn run(front: Panel, warnings: Vec<String>, feed: Result<Option<Feed>, Strin
     for w in warnings {
         eprintln!("novanc: warning at start: {w}");
     }
-    close(front, interrupted.as_deref());
+    front.close_saying(interrupted.as_deref());
     signals::exit_code(code)
-}
-
-/// Closes the console (the machine stopped, the recording closed) and says the recording's
-/// summary, or its failure, on stderr.
-pub fn close(front: Panel, interrupted: Option<&str>) {
-    match front.close(interrupted) {
-        Ok(Some(line)) | Err(line) => eprintln!("novanc: {line}"),
-        Ok(None) => {}
-    }
 }
 
 /// What the loop does first in each frame: end on a stop signal or on a panic in

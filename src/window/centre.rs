@@ -232,10 +232,7 @@ impl Front for Centre {
         feed.publish(&self.console)
     }
     fn close(self, interrupted: Option<&str>) {
-        crate::terminal::close(
-            crate::console::Panel::Centre(Box::new(self.console)),
-            interrupted,
-        )
+        crate::console::Panel::Centre(Box::new(self.console)).close_saying(interrupted)
     }
 }
 
@@ -295,8 +292,8 @@ impl Centre {
             // The help screen (F8, Alt+H), the terminal's pages: every key of the panel, then
             // the editor's commands and the pages. Any other key closes it and acts.
             let lines = match view.help {
-                2 => crate::terminal::layout::HELP_EDITOR,
-                _ => crate::terminal::layout::HELP,
+                2 => crate::console::help::HELP_EDITOR,
+                _ => crate::console::help::HELP,
             };
             let r = egui::Frame::new().fill(Color32::BLACK).show(ui, |ui| {
                 ui.set_width(max.x);

@@ -219,7 +219,7 @@ pub fn run(
         Ok(f) => f,
         Err(e) => {
             eprintln!("novanc: {e}");
-            crate::terminal::close(panel, None);
+            panel.close_saying(None);
             return 1;
         }
     };

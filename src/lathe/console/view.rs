@@ -1,47 +1,6 @@
 //! What the lathe console shows (docs/lathe.md "The panel"): the summary line of every channel
 //! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
 
-/// The key legend beside the plasma display (the terminal's).
-pub const LATHE_KEYS: [&str; 13] = [
-    "F9  START   F10 STOP",
-    "F11 RESET   F12 E-STOP",
-    "Tab CHANNEL  Ctrl-C quit",
-    "Alt+2 AUTO  Alt+3 MDI",
-    "Alt+4 DATA  Ctrl+O OFS",
-    "Ctrl+E MSG  Ctrl+U MACRO",
-    "Alt+1 CONT Alt+5 HANDLE",
-    "Alt+6 STEP  Alt+7 SINGLE",
-    "Alt+x FAULT Alt+n TARGET",
-    "Alt+o M01   Alt+b /DEL",
-    "Alt+= Alt+- FOV Alt+f RPD",
-    "Enter EOB   F8 help",
-    "Alt+[ ] SOV  Alt+d DRY",
-];
-
-/// The help screen (the terminal's and the window's).
-pub const LATHE_HELP: [&str; 20] = [
-    "LATHE CONSOLE  (F8 or Alt+h: back; any other key closes this and acts)",
-    "Tab / Alt+c   channel selector: the display, data keys and editor act on it",
-    "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
-    "F10 / Alt+p   STOP: feed hold on every channel",
-    "F11 / Alt+r   RESET the selected channel (a fault or alarm); after E-STOP, the machine",
-    "F12 / Alt+e   E-STOP: everything stops at once",
-    "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
-    "Alt+n         set the part target to the typed number",
-    "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (a value Enter, Tab adds)",
-    "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
-    "Ctrl+U        MACRO: the channel's variables #1-#33, #100-#199, #500-#999; #500=12.5 Enter sets one",
-    "Ctrl+G        MODAL: the channel's modal G codes, F, S, tool and the switches, read only",
-    "Ctrl+P        POS: the channel's tool tip and its distance to go in the block, the parts and cycle time",
-    "Alt+o, Alt+b  OPTIONAL STOP (M01), BLOCK DELETE (/); Alt+= / Alt+- feed override ±10 %",
-    "The summary line: channel, state, current block or whom it waits for, parts/target",
-    "Alt+7         SINGLE BLOCK: AUTO, every channel stops after each block; START runs the next",
-    "Alt+1/5/6     CONTINUOUS (hold an arrow) / HANDLE (Alt+, Alt+. turn the wheel) / STEP (an increment)",
-    "              Up/Down X+/X- (a radius), Left/Right Z-/Z+; Alt+w increment x1..x1000; in DATA the editor's cursor keys",
-    "Alt+f, Alt+[] rapid override 100/50/25/F0, spindle override ±10 % (50-120); Alt+d DRY RUN; Alt+l MACHINE LOCK",
-    "Ctrl-C or Alt+q quits; programs, MDI lines and the part counter are stored at every change",
-];
-
 /// Whether the machine runs, from its channels' state words (the RUN lamp, and how long a
 /// "cycle start" message lives): a channel runs (RUN) or moves by hand (JOG), or waits on
 /// another while none stands stopped between blocks or held (a channel waiting on a stopped

@@ -268,10 +268,7 @@ impl Front for Lathe {
         feed.publish_lathe(&self.console)
     }
     fn close(self, interrupted: Option<&str>) {
-        crate::terminal::close(
-            crate::console::Panel::Lathe(Box::new(self.console)),
-            interrupted,
-        )
+        crate::console::Panel::Lathe(Box::new(self.console)).close_saying(interrupted)
     }
 }
 

@@ -194,7 +194,7 @@ pub fn channels(
 
 /// The help screen, in place of the channels.
 pub fn help(ui: &mut Ui) {
-    for (i, l) in crate::lathe::console::view::LATHE_HELP.iter().enumerate() {
+    for (i, l) in crate::console::help::LATHE_HELP.iter().enumerate() {
         let c = if i == 0 { LIT } else { TEXT };
         ui.label(mono(*l, 14.0, c));
     }
