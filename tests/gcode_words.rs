@@ -393,8 +393,12 @@ fn cases() -> Vec<(&'static str, Want)> {
         ("M73", Acts(|r| r.state.saved.iter().any(|s| s.is_some()))),
         ("M98 P100\nM30\nO100\nG1 X1\nM99", Acts(feeds)),
         ("M99", Refused("M99", "M99")),
-        ("M100", Refused("M100", "M100")),
-        ("M150 P1", Refused("M150", "M150")),
+        // M100–M199 and $ with the reason (before stop 51 "unknown or unsupported").
+        (
+            "M100",
+            Refused("M100", "user programs of a LinuxCNC configuration"),
+        ),
+        ("M150 P1", Refused("M150", "USER_M_PATH")),
         ("M199", Refused("M199", "M199")),
         // Letters: the axes novanc does not have, the polar words, spindle selection.
         ("G0 A1", Refused("A1", "word A")),
@@ -407,7 +411,7 @@ fn cases() -> Vec<(&'static str, Want)> {
             "G1 @20 ^0",
             Acts(|r| r.blocks.iter().any(|b| b.end[0] == 320_000)),
         ),
-        ("M3 $1", Refused("$1", "$")),
+        ("M3 $1", Refused("$1", "several spindles")),
         ("E1", Refused("E1", "E word")),
         ("N10 G1 X20", Acts(|r| r.state.line_number == 10.0)),
         ("(MSG, hello)", Acts(|r| message(r, "MSG"))),

@@ -1282,7 +1282,11 @@ impl GcodeSource {
             (true, true) => &words::FANUC4,
             (false, true) => &words::FANUC,
         };
-        let sorted = words::sort_words_into(line_words(line), n, dialect, &mut words);
+        let sorted = match fanuc {
+            false => words::refuse_configuration_words(line_words(line), n),
+            true => Ok(()),
+        }
+        .and_then(|()| words::sort_words_into(line_words(line), n, dialect, &mut words));
         let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
         match self.remap.as_mut() {
             // The line of a remapped M6 just called: kept to finish when the call returns.
@@ -2150,7 +2154,7 @@ fn macro_call_words(
     Ok((p, l, args, g_col, unpointed))
 }
 
-/// The words of a line, as `words::sort_words` takes them.
+/// The words of a line, as `words::sort_words_into` takes them.
 fn line_words(l: &read::Line) -> &read::Line {
     l
 }
