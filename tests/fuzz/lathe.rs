@@ -29,6 +29,11 @@ const LATHE_FRAGMENTS: &[&str] = &[
     "G40",
     "G41 G1 X10 Z2",
     "G42 G0 X14 Z1",
+    // Arcs as entry moves, and I K arcs LinuxCNC reads as spirals (stop 51).
+    "G41 G3 X24 Z1 R5",
+    "G42 G2 X10 Z2 I-4 K-2",
+    "G2 X100.08 Z0 I0 K-100",
+    "G3 X0 Z-120.05 I-100.08 K0",
     "G7",
     "G8",
     "G18",
