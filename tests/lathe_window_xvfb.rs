@@ -13,7 +13,7 @@
 mod xvfb;
 
 use novanc::window::image::read_png;
-use novanc::window::lathe::plot::WORK_COLOURS;
+use novanc::window::lathe::plot::{ARC, FEED, WORK_COLOURS};
 use std::process::Command;
 use std::time::Duration;
 use xvfb::{px, read_plasma, run_with_limit, scratch, window_command, xvfb_or_skip, R};
@@ -171,6 +171,49 @@ fn the_lathe_window_shows_every_channel_with_its_backplot() {
     // 27 s in (the chucks wait for their spindles to stop since issue 22), every channel runs with a work (the summary lines, after the title).
     for (i, l) in shown[1..4].iter().enumerate() {
         assert!(l.contains(&format!("CH{} RUN", i + 1)), "{l}");
+    }
+}
+
+/// Before START each channel's backplot shows its program as START would read it (stop 51;
+/// before, a lathe's plots stayed empty until the machine moved, where the centre's shows its
+/// programmed path): feed moves and arcs in the centre's backplot colours, in the travel box
+/// and in the detail, which shows the program's cuts.
+#[test]
+fn before_start_the_lathe_window_shows_each_channels_programmed_path() {
+    let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
+        return;
+    };
+    let dir = scratch("lathe_programmed");
+    let script = dir.join("look.txt");
+    std::fs::write(
+        &script,
+        "# nothing started: the programs as START would read them
+show
+",
+    )
+    .unwrap();
+    let shot = dir.join("shot.png");
+    let cmd = window_command(&x, &["--machine", "citizen"], &dir, &script, &shot);
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    let s = parse_layout(&out);
+    let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
+    // One-point lines, antialiased on the dark plot: pixels of the path's blue and violet
+    // hue (FEED, ARC), which nothing else of a plot has before START.
+    assert!([FEED, ARC].iter().all(|c| c.b() > c.r() + 60 && c.b() > c.g() + 30));
+    let programmed = |p: [u8; 3]| {
+        let [r, g, b] = p.map(i32::from);
+        b >= 90 && b - r >= 50 && b - g >= 30
+    };
+    for (i, (p, d)) in s.plots.iter().zip(&s.details).enumerate() {
+        let (np, nd) = (count(&img, *p, programmed), count(&img, *d, programmed));
+        assert!(
+            np >= 10 && nd >= 100,
+            "CH{}: {np} programmed-path pixels in the travel box, {nd} in the detail",
+            i + 1
+        );
+        // Nothing is cut yet: no work's colour in the plots.
+        assert_eq!(count(&img, *p, is_work_path), 0, "CH{}", i + 1);
     }
 }
 

@@ -147,6 +147,43 @@ pub struct KernelSpec {
     pub sink: Option<EventSink>,
 }
 
+/// The state channel `ch`'s program is read from at START: what its last program or MDI left
+/// (docs/lathe-gcode.md "What a channel keeps"); for a cycle (not `mdi`) the program zero at
+/// the work's, since a G92 (or G50) shift an MDI run or the last cycle left does not move the
+/// next cycle unasked (docs/lathe-gcode.md "G50 (system A)"; MDI runs keep it until RESET or
+/// G92.1); the spindle as the machine turns it (`dir`: 1 forward, -1 reverse; none or 0:
+/// stopped).
+fn start_state(desc: &LatheDesc, kept: &[Kept], ch: usize, mdi: bool, dir: Option<i8>) -> Kept {
+    let mut from = kept
+        .get(ch)
+        .cloned()
+        .unwrap_or_else(|| Kept::power_on(desc, ch, None));
+    if !mdi {
+        from.modal.origin = [0.0, 0.0];
+    }
+    from.modal.dir = match dir.unwrap_or(0) {
+        1 => 3,
+        -1 => 4,
+        _ => 5,
+    };
+    from
+}
+
+/// Channel `ch`'s program `text` of `desc` read as a cycle's START reads it (`read_cycle`):
+/// from the state `kept` says, the tool post at `at`, the spindle stopped, with `opts`. What
+/// the window's backplot draws as the programmed path (docs/window.md "The lathe window").
+pub fn preview(
+    desc: &LatheDesc,
+    ch: usize,
+    text: &str,
+    opts: &ReadOptions,
+    kept: &[Kept],
+    at: Option<[i64; 2]>,
+) -> Result<Vec<crate::block::Statement>, crate::block::TranslateError> {
+    let from = start_state(desc, kept, ch, false, None);
+    read_kept(text, desc, ch, opts, None, &from, at).map(|r| r.statements)
+}
+
 /// Every channel's program of a cycle of `desc` as `spec` describes it, each read from the
 /// state `kept` says, the tool post where `pos` says, the spindle turning as `dirs` says (1
 /// forward, -1 reverse, 0 stopped). Any error names the channel, the
@@ -174,24 +211,7 @@ fn read_cycle(
             rereads.push(None);
             continue;
         }
-        // Each channel reads from the state its last program or MDI left (docs/lathe-gcode.md
-        // "What a channel keeps"), the tool post where it stands.
-        let mut from = kept
-            .get(ch)
-            .cloned()
-            .unwrap_or_else(|| Kept::power_on(desc, ch, None));
-        // A cycle's programs start with the program zero at the work's: a G92 (or G50) shift
-        // an MDI run or the last cycle left does not move the next cycle unasked
-        // (docs/lathe-gcode.md "G50 (system A)"). MDI runs keep it until RESET or G92.1.
-        if spec.mdi.is_none() {
-            from.modal.origin = [0.0, 0.0];
-        }
-        // The spindle is the machine's: the reader starts from it as the cycle finds it.
-        from.modal.dir = match dirs.get(ch).copied().unwrap_or(0) {
-            1 => 3,
-            -1 => 4,
-            _ => 5,
-        };
+        let from = start_state(desc, kept, ch, spec.mdi.is_some(), dirs.get(ch).copied());
         let r = read_kept(
             text,
             desc,

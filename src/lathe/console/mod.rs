@@ -419,6 +419,31 @@ impl LatheConsole {
         )
     }
 
+    /// Channel `ch`'s program as the next cycle's START would read it: in the dialect it was
+    /// stored in, from the state the channel keeps, the tool post where its axes stand, with
+    /// the panel's switches (the window's backplot draws it, docs/window.md "The lathe
+    /// window"). None: no such channel.
+    pub fn programmed(
+        &self,
+        ch: usize,
+    ) -> Option<Result<Vec<crate::block::Statement>, crate::block::TranslateError>> {
+        let p = self.programs.get(ch)?;
+        let mut desc = self.desc.clone();
+        if let Some(c) = desc.channels.get_mut(ch) {
+            c.dialect = p.dialect.or(c.dialect);
+        }
+        let opts = super::gcode::ReadOptions {
+            block_delete: self.front.switches.block_delete,
+            optional_stop: self.front.switches.optional_stop,
+            parts: Some(super::gcode::Parts::new(
+                &self.counter.counts,
+                self.counter.target,
+            )),
+        };
+        let at = self.cycle.axes().get(ch).copied();
+        Some(glue::preview(&desc, ch, &p.text, &opts, &self.kept, at))
+    }
+
     /// The machine's kernel and what is loaded into it: a cycle, an MDI program or nothing
     /// (`Cycle::loaded`); its state as the kernel published it.
     pub fn cycle(&self) -> &glue::Cycle {

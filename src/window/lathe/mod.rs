@@ -36,11 +36,23 @@ struct Layout {
     panel: Option<Rect>,
 }
 
+/// A channel's programmed path as the backplot draws it (the centre's `backplot::Segment`s),
+/// and what it was read from.
+#[derive(Default)]
+struct Programmed {
+    /// The program text, the channel's tools, the switches and the last load it was read
+    /// with: read again when one of them changes.
+    key: String,
+    path: Vec<crate::backplot::Segment>,
+}
+
 /// The lathe's console in the window.
 pub struct Lathe {
     console: LatheConsole,
     view: LatheView,
     trails: Vec<Trail>,
+    /// Each channel's program as the next START would read it (`LatheConsole::programmed`).
+    programmed: Vec<Programmed>,
     plasma: Plasma,
     hand: HandState,
     layout: Layout,
@@ -52,6 +64,7 @@ impl Lathe {
         let mut l = Lathe {
             view: console.view(),
             trails: Vec::new(),
+            programmed: Vec::new(),
             console,
             plasma: Plasma::new(),
             hand: HandState::default(),
@@ -60,6 +73,39 @@ impl Lathe {
         l.clear_paths();
         l.sample();
         l
+    }
+
+    /// Reads again each channel's program whose text, tools, switches or last load changed,
+    /// for the backplot's programmed path. A program that does not read draws no path (START
+    /// says why).
+    fn look_programs(&mut self) {
+        let c = &self.console;
+        let n = c.desc().channels.len();
+        self.programmed.resize_with(n, Default::default);
+        for (ch, p) in self.programmed.iter_mut().enumerate() {
+            let key = format!(
+                "{}\u{0}{:?}\u{0}{:?}\u{0}{}",
+                c.programs().get(ch).map_or("", |p| p.text.as_str()),
+                c.desc().channels[ch].tools,
+                c.switches(),
+                c.cycle().started_ns()
+            );
+            if key == p.key {
+                continue;
+            }
+            p.key = key;
+            let Some(settings) = crate::settings::MachineSettings::lathe_channel(c.desc(), ch)
+            else {
+                continue;
+            };
+            p.path = match c.programmed(ch) {
+                Some(Ok(st)) => {
+                    crate::backplot::Backplot::from_statements(st.into_iter().map(Ok), &settings)
+                        .segments
+                }
+                _ => Vec::new(),
+            };
+        }
     }
 
     /// Empties every channel's trail.
@@ -140,7 +186,10 @@ impl Lathe {
                 self.layout.plots.clear();
             } else {
                 let target = c.counter().target;
-                self.layout.plots = panel::channels(ui, &v, c.desc(), &self.trails, target, out);
+                let paths: Vec<&[crate::backplot::Segment]> =
+                    self.programmed.iter().map(|p| &p.path[..]).collect();
+                self.layout.plots =
+                    panel::channels(ui, &v, c.desc(), (&self.trails, &paths), target, out);
             }
         });
     }
@@ -217,6 +266,7 @@ impl Front for Lathe {
     }
     fn draw(&mut self, ui: &mut egui::Ui, events: &[egui::Event]) -> bool {
         self.view = self.console.view();
+        self.look_programs();
         let jogs = super::keys::holds_jog(self.console.mode(), self.console.page());
         let (evs, quit) = super::keys::keyboard(events, jogs, &mut self.hand);
         let mut acts: Vec<Act> = (evs.into_iter())

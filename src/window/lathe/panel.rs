@@ -140,7 +140,7 @@ pub fn channels(
     ui: &mut Ui,
     v: &LatheView,
     desc: &LatheDesc,
-    trails: &[Trail],
+    (trails, programmed): (&[Trail], &[&[crate::backplot::Segment]]),
     target: u32,
     out: &mut Vec<Act>,
 ) -> Vec<(Rect, Rect)> {
@@ -156,15 +156,19 @@ pub fn channels(
             let top = ui.cursor().min;
             readout(ui, i, c, desc.pulse_mm, target);
             ui.add_space(4.0);
+            let programmed = programmed.get(i).copied().unwrap_or(&[]);
             let d = plot::PlotData {
                 ch,
                 pulse_mm: desc.pulse_mm,
                 trail,
+                programmed,
                 current: c.work,
                 tip: c.pos,
             };
             let travel = plot::Box2::travel(ch);
-            let detail = plot::detail_box(trail, c.pos, desc.pulse_mm, travel);
+            // Before anything is cut, the detail shows the program's cuts.
+            let detail = plot::detail_box(trail, c.pos, desc.pulse_mm, travel)
+                .or_else(|| plot::cuts_box(programmed, travel));
             // The overview as tall as the travel box at the column's width needs, at most
             // 40 % of the room; the detail takes the rest.
             let w = ui.available_width();

@@ -6,6 +6,8 @@
 //! dimmed, moves with an empty spindle grey.
 
 use crate::lathe::desc::ChannelDesc;
+/// The programmed path's colours: the centre's backplot's.
+pub use crate::window::pathdraw::{ARC, FEED, RAPID};
 use egui::{pos2, vec2, Align2, Color32, FontId, Painter, Pos2, Rect, Shape, Stroke, StrokeKind};
 
 /// A channel's trail: its tool tip's positions, mm [X radius, 0, Z], each with the work in the
@@ -130,21 +132,24 @@ pub fn detail_box(trail: &Trail, tip: [i64; 2], pulse_mm: f64, travel: Box2) -> 
         return None;
     }
     take(tip[0] as f64 * pulse_mm, tip[1] as f64 * pulse_mm);
-    b.map(|b| {
-        let grow = |r: [f64; 2], lim: [f64; 2]| {
-            let m = (r[1] - r[0]) * 0.12 + 1.0;
-            let (mut lo, mut hi) = (r[0] - m, r[1] + m);
-            if hi - lo < 4.0 {
-                let c = (lo + hi) / 2.0;
-                (lo, hi) = (c - 2.0, c + 2.0);
-            }
-            [lo.max(lim[0]), hi.min(lim[1])]
-        };
-        Box2 {
-            x: grow(b.x, travel.x),
-            z: grow(b.z, travel.z),
+    b.map(|b| grown(b, travel))
+}
+
+/// `b` 12 % and 1 mm more on every side, at least 4 mm across, kept inside `travel`.
+fn grown(b: Box2, travel: Box2) -> Box2 {
+    let grow = |r: [f64; 2], lim: [f64; 2]| {
+        let m = (r[1] - r[0]) * 0.12 + 1.0;
+        let (mut lo, mut hi) = (r[0] - m, r[1] + m);
+        if hi - lo < 4.0 {
+            let c = (lo + hi) / 2.0;
+            (lo, hi) = (c - 2.0, c + 2.0);
         }
-    })
+        [lo.max(lim[0]), hi.min(lim[1])]
+    };
+    Box2 {
+        x: grow(b.x, travel.x),
+        z: grow(b.z, travel.z),
+    }
 }
 
 /// The grid's background lines.
@@ -169,6 +174,8 @@ pub struct PlotData<'a> {
     pub pulse_mm: f64,
     /// The trail.
     pub trail: &'a Trail,
+    /// The programmed path: the channel's program as the next START would read it.
+    pub programmed: &'a [crate::backplot::Segment],
     /// The work in the spindle now.
     pub current: Option<u32>,
     /// The tip now, pulses [X radius, Z].
@@ -219,6 +226,7 @@ pub fn draw_overview(p: &Painter, area: Rect, d: &PlotData, detail: Option<Box2>
         ));
     }
     let clip = p.with_clip_rect(r.expand(1.0));
+    draw_programmed(&clip, &f, d.programmed);
     draw_trail(&clip, &f, d.trail, d.current);
     tip_mark(&clip, &f, d.pulse_mm, d.tip);
     r
@@ -269,9 +277,51 @@ pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
         small,
         FRAME,
     );
+    draw_programmed(&clip, &f, d.programmed);
     draw_trail(&clip, &f, d.trail, d.current);
     tip_mark(&clip, &f, d.pulse_mm, d.tip);
     r
+}
+
+/// The programmed path under the trail, in the centre's backplot colours
+/// (`pathdraw::{RAPID, FEED, ARC}`): rapids dashed, feeds and arcs solid and thin.
+fn draw_programmed(p: &Painter, f: &Frame, path: &[crate::backplot::Segment]) {
+    use crate::backplot::PathKind;
+    for s in path {
+        let pts: Vec<Pos2> = s.points().iter().map(|q| f.at(q[0], q[2])).collect();
+        match s.kind {
+            PathKind::Rapid => {
+                p.extend(Shape::dashed_line(&pts, Stroke::new(1.0, RAPID), 5.0, 4.0))
+            }
+            PathKind::Feed => {
+                p.add(Shape::line(pts, Stroke::new(1.0, FEED)));
+            }
+            PathKind::Arc => {
+                p.add(Shape::line(pts, Stroke::new(1.0, ARC)));
+            }
+        }
+    }
+}
+
+/// The box of a programmed path's cuts (its feed moves and arcs), 12 % and 1 mm more on
+/// every side, at least 4 mm across, inside the travel: the detail view before anything is
+/// cut. `None` for a path with no cut.
+pub fn cuts_box(path: &[crate::backplot::Segment], travel: Box2) -> Option<Box2> {
+    let mut b: Option<Box2> = None;
+    for s in path
+        .iter()
+        .filter(|s| s.kind != crate::backplot::PathKind::Rapid)
+    {
+        for q in s.points() {
+            let e = b.get_or_insert(Box2 {
+                x: [q[0], q[0]],
+                z: [q[2], q[2]],
+            });
+            e.x = [e.x[0].min(q[0]), e.x[1].max(q[0])];
+            e.z = [e.z[0].min(q[2]), e.z[1].max(q[2])];
+        }
+    }
+    b.map(|b| grown(b, travel))
 }
 
 /// `v` mm without needless decimals.
