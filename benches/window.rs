@@ -4,12 +4,16 @@
 //! no window. Prints its figures; needs Xvfb (skips with a message without it).
 //!
 //! Two programs: Table B, and a generated 60,000-block milling program (a heavy backplot).
+//! Then the Citizen lathe's window (stop 51): its cycle started, and again after 60 s of
+//! machine time (every channel's trail and programmed path drawn), against the same console
+//! with no window in real time.
 //!
 //! `cargo bench --features window --bench window` (frames: NOVANC_BENCH_FRAMES, default 600).
 
 use novanc::cli::console_opts::config_from_args;
 use novanc::console::Console;
 use novanc::panel_model::PanelEvent;
+use novanc::pulse_core::ClockMode;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -77,8 +81,58 @@ fn big_program() -> String {
     s
 }
 
+/// The Citizen's console with no window in real time: `events` (a `start`; a `wait ms` is let
+/// pass in real time), then ticked at 60 Hz for `wall`. Returns (machine seconds, pulses).
+fn headless_lathe(
+    state: &Path,
+    events: &[PanelEvent],
+    wall: Duration,
+) -> Result<(f64, u64), String> {
+    use novanc::lathe::console::LatheConsole;
+    use novanc::lathe::desc::LatheDesc;
+    let desc = LatheDesc::citizen();
+    let n = desc.channels.len();
+    let (mut c, _) = LatheConsole::open_on(desc, state, (12, 40), None, ClockMode::RealTime)?;
+    for ev in events {
+        match ev {
+            PanelEvent::WaitMs(ms) => std::thread::sleep(Duration::from_millis(*ms)),
+            e => c.handle(e.clone()),
+        }
+    }
+    let pulses = |c: &LatheConsole| -> u64 {
+        (0..n)
+            .map(|ch| c.cycle().totals(ch).1.iter().sum::<u64>())
+            .sum()
+    };
+    c.tick(0);
+    let (t0, m0, p0) = (Instant::now(), c.machine_ns(), pulses(&c));
+    while t0.elapsed() < wall {
+        std::thread::sleep(Duration::from_millis(16));
+        c.tick(16_000_000);
+    }
+    let machine = (c.machine_ns() - m0) as f64 / 1e9;
+    let p = pulses(&c) - p0;
+    let _ = c.close(None);
+    Ok((machine, p))
+}
+
+/// How a scenario's console runs with no window: the centre's or the lathe's.
+type Headless = fn(&Path, &[PanelEvent], Duration) -> Result<(f64, u64), String>;
+
 /// Runs one scenario: the window, then the console without it for the same wall time.
 fn scenario(title: &str, display: &str, script: &str, frames: u64) {
+    scenario_on(title, display, &[], script, frames, headless)
+}
+
+/// [`scenario`] on the machine `machine` names (`--machine ...`; none: the centre).
+fn scenario_on(
+    title: &str,
+    display: &str,
+    machine: &[&str],
+    script: &str,
+    frames: u64,
+    headless: Headless,
+) {
     let dir = scratch(title.split_whitespace().next().unwrap_or("x"));
     let path = dir.join("script.txt");
     if std::fs::write(&path, script).is_err() {
@@ -86,7 +140,9 @@ fn scenario(title: &str, display: &str, script: &str, frames: u64) {
         return;
     }
     let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(["--window", "--size", "1400x860", "--state"])
+        .args(["--window", "--size", "1400x860"])
+        .args(machine)
+        .arg("--state")
         .arg(dir.join("state"))
         .arg("--script")
         .arg(&path)
@@ -177,5 +233,22 @@ fn main() {
         &x.display,
         &script,
         frames,
+    );
+    let citizen = ["--machine", "citizen"];
+    scenario_on(
+        "The Citizen lathe, its cycle started (the window: virtual time at the wall clock's pace)",
+        &x.display,
+        &citizen,
+        "start\n",
+        frames,
+        headless_lathe,
+    );
+    scenario_on(
+        "The Citizen lathe after 60 s of machine time (every trail and programmed path drawn)",
+        &x.display,
+        &citizen,
+        "start\nwait ms 60000\n",
+        frames,
+        headless_lathe,
     );
 }

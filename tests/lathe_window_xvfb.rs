@@ -200,7 +200,9 @@ show
     let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
     // One-point lines, antialiased on the dark plot: pixels of the path's blue and violet
     // hue (FEED, ARC), which nothing else of a plot has before START.
-    assert!([FEED, ARC].iter().all(|c| c.b() > c.r() + 60 && c.b() > c.g() + 30));
+    assert!([FEED, ARC]
+        .iter()
+        .all(|c| c.b() > c.r() + 60 && c.b() > c.g() + 30));
     let programmed = |p: [u8; 3]| {
         let [r, g, b] = p.map(i32::from);
         b >= 90 && b - r >= 50 && b - g >= 30
@@ -215,6 +217,45 @@ show
         // Nothing is cut yet: no work's colour in the plots.
         assert_eq!(count(&img, *p, is_work_path), 0, "CH{}", i + 1);
     }
+}
+
+/// `--bench-frames` on the lathe window (stop 51; refused before): after the script's last
+/// wait, N frames measured and printed as the centre's, the kernel's pulses counted over every
+/// channel, the machine keeping the window's wall clock.
+#[test]
+fn the_lathe_window_measures_its_frames_after_the_script() {
+    let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
+        return;
+    };
+    let dir = scratch("lathe_bench");
+    let script = dir.join("b.txt");
+    std::fs::write(&script, "start\nwait ms 3000\n").unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.args(["--window", "--machine", "citizen", "--state"])
+        .arg(dir.join("state"))
+        .arg("--script")
+        .arg(&script)
+        .args(["--bench-frames", "30"]);
+    xvfb::on_xvfb(&mut cmd, &x);
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("bench-frames 30:"))
+        .unwrap_or_else(|| panic!("no figures: {out}"));
+    let field = |k: &str| -> f64 {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let i = w
+            .iter()
+            .position(|x| *x == k)
+            .unwrap_or_else(|| panic!("{k}: {line}"));
+        w[i + 1].trim_start_matches('(').parse().unwrap()
+    };
+    // The cycle runs: the three channels' axes move during the frames; the 3 s of the
+    // script's wait are not counted in them (a wall of a few seconds at most).
+    assert!(field("pulses") > 0.0, "{line}");
+    let (machine, wall) = (field("machine"), field("wall"));
+    assert!(machine > 0.0 && machine <= wall * 1.5 + 0.2, "{line}");
 }
 
 #[test]

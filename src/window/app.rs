@@ -252,12 +252,14 @@ impl<F: Front> App<F> {
     }
 
     fn measure(&mut self, f: &F, ctx: &egui::Context, frame: &eframe::Frame) {
+        // After the script's last wait too: a script ending in `wait ms T` is measured from
+        // the machine time it leaves (before stop 51 the frames of its wait were counted).
+        if !self.script_done() {
+            return;
+        }
         let (Some(b), Some(n)) = (self.bench.as_mut(), self.drive.bench_frames) else {
             return;
         };
-        if !self.drive.script.is_empty() {
-            return;
-        }
         let cpu = frame.info().cpu_usage;
         if let Some(report) = b.frame(n, f.machine_ns(), cpu, f.pulses()) {
             super::say(&report);

@@ -192,10 +192,6 @@ pub fn run(
     mut cfg: crate::console::ConsoleConfig,
     opts: WindowOptions,
 ) -> i32 {
-    if lathe.is_some() && opts.bench_frames.is_some() {
-        eprintln!("novanc: --bench-frames: the lathe window has no benchmark (docs/window.md)");
-        return 2;
-    }
     let drive = match before_opening(&opts, lathe.as_ref()) {
         Ok(d) => d,
         Err(code) => return code,

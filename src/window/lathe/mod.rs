@@ -311,8 +311,11 @@ impl Front for Lathe {
         )
     }
     fn pulses(&self) -> u64 {
-        // The lathe window has no benchmark (refused before it opens).
-        0
+        // Every channel's axes since the kernel began (`--bench-frames`).
+        let c = self.console.cycle();
+        (0..self.console.desc().channels.len())
+            .map(|ch| c.totals(ch).1.iter().sum::<u64>())
+            .sum()
     }
     fn publish(&self, feed: &mut Feed) {
         feed.publish_lathe(&self.console)
