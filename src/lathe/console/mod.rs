@@ -428,20 +428,32 @@ impl LatheConsole {
         ch: usize,
     ) -> Option<Result<Vec<crate::block::Statement>, crate::block::TranslateError>> {
         let p = self.programs.get(ch)?;
-        let mut desc = self.desc.clone();
-        if let Some(c) = desc.channels.get_mut(ch) {
-            c.dialect = p.dialect.or(c.dialect);
-        }
-        let opts = super::gcode::ReadOptions {
+        let at = self.cycle.axes().get(ch).copied();
+        let (desc, opts) = (self.stored_dialects(), self.read_options());
+        Some(glue::preview(&desc, ch, &p.text, &opts, &self.kept, at))
+    }
+
+    /// How START reads the channels' programs: with the panel's BLOCK DELETE and OPTIONAL
+    /// STOP, and the part counter as Fanuc's #3901/#3902 read it.
+    fn read_options(&self) -> super::gcode::ReadOptions {
+        super::gcode::ReadOptions {
             block_delete: self.front.switches.block_delete,
             optional_stop: self.front.switches.optional_stop,
             parts: Some(super::gcode::Parts::new(
                 &self.counter.counts,
                 self.counter.target,
             )),
-        };
-        let at = self.cycle.axes().get(ch).copied();
-        Some(glue::preview(&desc, ch, &p.text, &opts, &self.kept, at))
+        }
+    }
+
+    /// The machine with each channel's dialect the one its stored program was stored in (one
+    /// stored before programs kept theirs: its channel's), as START reads the programs.
+    fn stored_dialects(&self) -> LatheDesc {
+        let mut desc = self.desc.clone();
+        for (c, p) in desc.channels.iter_mut().zip(&self.programs) {
+            c.dialect = p.dialect.or(c.dialect);
+        }
+        desc
     }
 
     /// The machine's kernel and what is loaded into it: a cycle, an MDI program or nothing
@@ -790,23 +802,14 @@ impl LatheConsole {
     }
 
     fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
-        let opts = super::gcode::ReadOptions {
-            block_delete: self.front.switches.block_delete,
-            optional_stop: self.front.switches.optional_stop,
-            parts: Some(super::gcode::Parts::new(
-                &self.counter.counts,
-                self.counter.target,
-            )),
-        };
+        let opts = self.read_options();
         let target = if mdi { 1 } else { self.counter.target };
-        // Each stored program is read in the dialect it was stored in (one stored before
-        // programs kept theirs, in its channel's); MDI in the channel's.
-        let mut desc = self.desc.clone();
-        if !mdi {
-            for (c, p) in desc.channels.iter_mut().zip(&self.programs) {
-                c.dialect = p.dialect.or(c.dialect);
-            }
-        }
+        // Each stored program is read in the dialect it was stored in; MDI in the channel's.
+        let desc = if mdi {
+            self.desc.clone()
+        } else {
+            self.stored_dialects()
+        };
         let spec = self.spec(texts, opts, target, mdi.then_some(self.sel));
         if let Err(e) = self.cycle.load(&desc, spec, &mut self.kept) {
             self.front.message = e;
