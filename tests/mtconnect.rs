@@ -514,3 +514,43 @@ fn the_centres_partcount_is_the_consoles_part_counter() {
         );
     }
 }
+
+/// `message` means one thing on both machines (stop 51): the operator's message line as the
+/// console shows it. The same script gives the same words from the centre and from the
+/// Citizen. Before, the centre sent the pulse core's latest notice, which the feed override's
+/// turn and a refused START never made, and the lathe its console's message line.
+#[test]
+fn message_is_the_consoles_message_line_on_both_machines() {
+    let d = common::temp_dir("mtc-message");
+    let script = d.join("msg.script");
+    std::fs::write(
+        &script,
+        "override 70\nwait ms 20\nop DATA\nstart\nwait ms 20\n",
+    )
+    .unwrap();
+    for machine in ["centre", "citizen"] {
+        let state = d.join(format!("state-{machine}"));
+        let lines = streamed(&[
+            "script".as_ref(),
+            script.as_os_str(),
+            "--machine".as_ref(),
+            machine.as_ref(),
+            "--state".as_ref(),
+            state.as_os_str(),
+        ]);
+        // A message goes on a line of its own: `TIME|message|NATIVE_CODE|TEXT`.
+        let said: Vec<&str> = lines
+            .iter()
+            .filter_map(|l| l.split_once("|message|"))
+            .filter_map(|(_, v)| v.split_once('|').map(|(_, text)| text))
+            .collect();
+        assert!(
+            said.iter().any(|m| *m == "feed override 70 %"),
+            "{machine}: {said:?}"
+        );
+        assert!(
+            said.iter().any(|m| m.starts_with("START")),
+            "{machine}: {said:?}"
+        );
+    }
+}

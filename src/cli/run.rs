@@ -281,6 +281,7 @@ pub fn main(argv: &[String]) -> i32 {
         tooloffsets: Some(tool_table),
         waiting: false,
         fault: None,
+        message: None,
     };
     if let Some(f) = feed.as_mut() {
         f.publish_status(&core.status(), modes.clone());

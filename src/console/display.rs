@@ -181,9 +181,14 @@ fn jogged_note(c: &Console) -> Option<String> {
     ))
 }
 
-/// The message line(s): a note on a jogged run, what the machine is doing, then the alarm,
-/// then the operator message.
+/// The message line(s): [`message_text`] wrapped to `cols`, at most `max` lines.
 pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String> {
+    wrap(&message_text(c), cols, max)
+}
+
+/// What the message line says: a note on a jogged run, what the machine is doing, then the
+/// alarm, then the operator message (MTConnect's `message` too, `Console::message_line`).
+pub(super) fn message_text(c: &Console) -> String {
     let mut parts: Vec<String> = Vec::new();
     if let Some(n) = jogged_note(c) {
         parts.push(n);
@@ -223,7 +228,7 @@ pub(super) fn message_lines(c: &Console, cols: usize, max: usize) -> Vec<String>
             }
         }
     }
-    wrap(&parts.join(" / "), cols, max)
+    parts.join(" / ")
 }
 
 /// The state line: RUN, mode, feed override, T, S (EP with the error-proportional

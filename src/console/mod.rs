@@ -408,6 +408,13 @@ impl Console {
         &self.front.message
     }
 
+    /// The message line as the display shows it, unwrapped: a note on a jogged run, what the
+    /// machine is doing, the alarm, a program message waiting to be acknowledged, the operator
+    /// message (MTConnect's `message`, docs/mtconnect.md).
+    pub fn message_line(&self) -> String {
+        display::message_text(self)
+    }
+
     /// Why the last script `wait` ended before its condition, if it did.
     pub fn wait_error(&self) -> Option<&str> {
         self.front.wait_error.as_deref()

@@ -212,7 +212,7 @@ impl Feed {
             parts: v.channels.iter().map(|ch| u64::from(ch.parts)).collect(),
             auto_parts: !c.cycle().mdi,
             pulse_mm: c.desc().pulse_mm,
-            message: Some(c.message().to_string()).filter(|m| !m.is_empty()),
+            message: Some(c.message_line()).filter(|m| !m.is_empty()),
         };
         let snap = c.cycle().channels();
         lock(&self.state).publish_lathe(snap, Some(ctx), c.machine_ns());
@@ -261,6 +261,7 @@ impl Feed {
             ))),
             waiting: false,
             fault: None,
+            message: Some(c.message_line()).filter(|m| !m.is_empty()),
         };
         let (parts, seen) = c.part_count();
         {
@@ -344,6 +345,7 @@ fn lathe_items(
             tooloffsets: None,
             waiting: p.sync.is_some_and(|v| v.waits_on.is_some()),
             fault: p.sync.and_then(|v| v.fault.clone()),
+            message: None,
         };
         v.extend(crate::mtconnect::items::path_items(
             s,

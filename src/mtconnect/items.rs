@@ -33,6 +33,10 @@ pub struct Modes {
     /// A fault of the path besides the core's alarm (a lathe channel's injected fault): the
     /// `motion_program` condition, and Execution STOPPED.
     pub fault: Option<String>,
+    /// The controller's `message`: the operator's message line as the console shows it, the
+    /// lathe's as the centre's (None: no console, `novanc run`). Before stop 51 the centre sent
+    /// the pulse core's latest notice there, a lathe its console's message line.
+    pub message: Option<String>,
 }
 
 /// The keys of one path's data items: the mill's names, prefixed `pN_` on a device of several
@@ -162,7 +166,7 @@ pub fn tool_table(tools: &[(u32, [f64; 4])]) -> String {
 
 /// Every data item of the mill (the controller's and its one path's) and its value.
 pub fn items(s: &Status, m: &Modes) -> Vec<(Key, String)> {
-    let mut v = controller_items(s.estop, s.alarm.as_deref(), s.notice.as_deref());
+    let mut v = controller_items(s.estop, s.alarm.as_deref(), m.message.as_deref());
     v.extend(path_items(s, m, &PathKeys::mill()));
     v
 }
@@ -549,7 +553,7 @@ impl Current {
         let c = Controller {
             estop: s.estop,
             alarm: s.alarm.as_deref(),
-            message: s.notice.as_deref(),
+            message: m.message.as_deref(),
         };
         let Current {
             values,
@@ -619,6 +623,7 @@ mod tests {
             tooloffsets: Some(String::new()),
             waiting: false,
             fault: None,
+            message: None,
         }
     }
 

@@ -326,9 +326,15 @@ impl LatheConsole {
         self.message_with(&self.chan_views())
     }
 
+    /// The message line as the plasma shows it (MTConnect's `message`, as the centre's
+    /// `Console::message_line`).
+    pub fn message_line(&self) -> String {
+        self.message_line_of(&self.chan_views())
+    }
+
     /// The message line as the plasma shows it: the newest program message that lives until
     /// acknowledged (the centre's words), then what [`LatheConsole::message`] says.
-    fn message_line(&self, chans: &[ChanView]) -> String {
+    fn message_line_of(&self, chans: &[ChanView]) -> String {
         let said = self.message_with(chans);
         match crate::console::state::unacknowledged_line(&self.book.unacknowledged) {
             Some(m) if said.is_empty() => m,
@@ -1173,7 +1179,7 @@ impl LatheConsole {
             mode,
             self.desc.pulse_mm,
             &listing,
-            &self.message_line(&chans),
+            &self.message_line_of(&chans),
             &self.front.entry,
             self.rows,
             w,
