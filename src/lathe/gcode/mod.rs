@@ -12,7 +12,8 @@
 //! - [`exec`]: one line's words executed against the modal state.
 //! - [`moves`]: end points, feeds, arcs and G33.
 //! - [`out`]: the emitter: tool offsets, nose-radius compensation, travel, pulses, blocks.
-//! - [`comp`]: the nose-radius compensation geometry (G41/G42) in the Z–X plane.
+//! - [`comp`]: the tip chart (P from the nose centre) and LinuxCNC's orientation numbers; the
+//!   compensation itself is the mill's (`crate::gcode::comp`), driven by [`out`].
 //! - [`cycles`]: G76 threading and G71/G70 roughing and finishing.
 //! - [`grooving`]: Fanuc's G74/G75 peck cycles; [`drilling`]: Fanuc's G83 face drilling and
 //!   G84 face tapping.
