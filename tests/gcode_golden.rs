@@ -252,7 +252,8 @@ fn every_golden_program_agrees_with_rs274() {
 /// lathe.machine --golden`; docs/lathe-gcode.md "Agreement with LinuxCNC"): our own programs
 /// of nose-radius compensation in three tip positions (entries into inside corners), arcs as
 /// entry moves (a tip 9 tool: rs274 turns the entry arc of a tool with another tip into a
-/// full circle, docs/lathe-gcode.md), I K arcs LinuxCNC reads as spirals, G76 with Q and E/L taper ends, G33 tapers, G53, G91,
+/// full circle, docs/lathe-gcode.md), G41.1/G42.1 with D and L, I K arcs LinuxCNC reads as
+/// spirals, G76 with Q and E/L taper ends, G33 tapers, G53, G91,
 /// G20, tool offsets, G92 shifts (a G76 at a shifted zero), and an entry move too short,
 /// refused by both. rs274 was given the lathe's start, G18 G21 G7 and the tools with
 /// LinuxCNC's orientation numbers.
@@ -265,7 +266,7 @@ fn the_lathe_golden_programs_agree_with_rs274() {
     };
     assert_eq!(
         agree_with_rs274(&dir, None, |src| lathe_moves(src, &desc)),
-        9
+        10
     );
 }
 

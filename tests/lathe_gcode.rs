@@ -291,6 +291,21 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "puts the nose (radius 0.8000 mm) inside this arc of radius 0.5000 mm",
         ),
         (
+            "G0 X20 Z5\nG42.1 L2\n".into(),
+            "2:1",
+            "G41.1/G42.1 needs D, the nose's diameter",
+        ),
+        (
+            "G0 X20 Z5\nG42.1 D0.8 L12\n".into(),
+            "2:12",
+            "L12: the orientation is 0 to 9",
+        ),
+        (
+            s("G0 X20 Z5\nG42 G0 X10 Z2\nG41.1 D0.8\n"),
+            "4:1",
+            "G41.1/G42.1 with compensation in force: give G40 first",
+        ),
+        (
             s("G0 X30 Z5\nG42 G0 X20 Z2\nG1 Z-10 F1\nX18\nZ-10.5\nX20\nZ-20\nG40 G0 X40\n"),
             "7:1",
             "gouge: the concave corner after line 6 cannot be reached by the nose",

@@ -440,7 +440,9 @@ impl Reader<'_> {
             self.st.css = false;
             spindle = true;
         }
-        if let Some(d) = w.get('D') {
+        // G41.1/G42.1's D is the nose's diameter (below); another line's D is G96's limit.
+        let dynamic = w.has_g(411).or(w.has_g(421)).is_some();
+        if let Some(d) = w.get('D').filter(|_| !dynamic) {
             use_('D');
             if !(d > 0.0 && d <= self.chan.max_rpm) {
                 return Err(err(
@@ -658,6 +660,39 @@ impl Reader<'_> {
                 400 => self.out.comp_stop(n, c)?,
                 410 => self.out.comp_start(true, n, c)?,
                 420 => self.out.comp_start(false, n, c)?,
+                411 | 421 => {
+                    // LinuxCNC's dynamic compensation: D the nose's diameter, L its
+                    // orientation in LinuxCNC's numbering (docs/lathe-gcode.md).
+                    use_('D');
+                    use_('L');
+                    let Some(d) = w.get('D') else {
+                        return Err(err(n, c, "G41.1/G42.1 needs D, the nose's diameter"));
+                    };
+                    if !(0.0..=100.0).contains(&d) {
+                        return Err(err(
+                            n,
+                            col('D'),
+                            format!(
+                                "D{}: the nose's diameter must be 0 to 100 mm",
+                                crate::input_text::short_number(d)
+                            ),
+                        ));
+                    }
+                    let l = w.get('L').unwrap_or(0.0);
+                    if !(l.fract() == 0.0 && (0.0..=9.0).contains(&l)) {
+                        return Err(err(
+                            n,
+                            col('L'),
+                            format!(
+                                "L{}: the orientation is 0 to 9 (LinuxCNC's numbering)",
+                                crate::input_text::short_number(l)
+                            ),
+                        ));
+                    }
+                    let tip = super::comp::linuxcnc_orientation(l as u8);
+                    let radius = d * self.st.factor() / 2.0;
+                    self.out.comp_start_dynamic(g == 411, radius, tip, n, c)?;
+                }
                 900 if !self.system_a => self.st.absolute = true,
                 910 => self.st.absolute = false,
                 _ => {}

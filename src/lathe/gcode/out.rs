@@ -205,6 +205,8 @@ pub struct Out<'a> {
     /// The next move must be a straight line, and why: the exit move after G40, or the entry
     /// move on the other side after G41/G42 changed it.
     straight_next: Option<&'static str>,
+    /// G41.1/G42.1's nose radius (mm) and tip, in place of the tool's.
+    dynamic: Option<(f64, u8)>,
     /// G71 collects its profile here instead of emitting it.
     pub capture: Option<Vec<Mv>>,
     /// Where the last emitted move ended, pulses [X, Z].
@@ -246,6 +248,7 @@ impl<'a> Out<'a> {
             tip_shift: [0.0; 2],
             comp_at: [0.0; 2],
             straight_next: None,
+            dynamic: None,
             capture: None,
             at: super::home(desc, ch),
             speed: (0.0, None),
@@ -392,6 +395,7 @@ impl<'a> Out<'a> {
             self.comp = Comp::default();
             self.comp_side = None;
             self.straight_next = None;
+            self.dynamic = None;
         }
         if self.comp.offsetting() {
             self.handed.line = line;
@@ -449,6 +453,7 @@ impl<'a> Out<'a> {
             ));
         }
         if let Some(side) = self.comp_side {
+            self.dynamic = None;
             if side != left {
                 // The thesis (seed 003, line 2556): the side may change from block to block
                 // without G40. The held moves end one radius off their last point; the next
@@ -476,6 +481,38 @@ impl<'a> Out<'a> {
         Ok(())
     }
 
+    /// LinuxCNC's G41.1 (`left`) or G42.1: compensation with a nose of `radius` mm and tip
+    /// `tip` (Fanuc's chart) given on the line, whatever tool is in place.
+    pub fn comp_start_dynamic(
+        &mut self,
+        left: bool,
+        radius: f64,
+        tip: u8,
+        line: u32,
+        col: u32,
+    ) -> Result<(), TranslateError> {
+        if self.capture.is_some() {
+            return Ok(());
+        }
+        if self.straight_next == Some(EXIT) {
+            return Err(Self::err(
+                line,
+                col,
+                "G41.1/G42.1 after G40 before its exit move: give the exit move first",
+            ));
+        }
+        if self.comp_side.is_some() {
+            return Err(Self::err(
+                line,
+                col,
+                "G41.1/G42.1 with compensation in force: give G40 first",
+            ));
+        }
+        self.comp_side = Some(left);
+        self.dynamic = Some((radius, tip));
+        Ok(())
+    }
+
     /// G40: what compensation holds is emitted, the last move ending one radius off its
     /// end; the next move, the exit move, runs from there to its programmed end and must be
     /// straight.
@@ -490,6 +527,7 @@ impl<'a> Out<'a> {
         self.comp.off(&mut self.handed, col)?;
         self.comp = Comp::default();
         self.comp_side = None;
+        self.dynamic = None;
         self.drain()
     }
 
@@ -534,9 +572,10 @@ impl<'a> Out<'a> {
         }
         if !self.comp.active() {
             // The entry move: compensation takes the nose radius and tip of the tool in place.
-            let (r, tip) = match self.tool() {
-                Some(t) => (t.radius, t.tip),
-                None => (0.0, 0),
+            let (r, tip) = match (self.dynamic, self.tool()) {
+                (Some(d), _) => d,
+                (None, Some(t)) => (t.radius, t.tip),
+                (None, None) => (0.0, 0),
             };
             if r <= 0.0 {
                 return self.emit(&mv);
