@@ -786,3 +786,37 @@ fn a_g92_zero_holds_for_mdi_but_a_cycle_starts_at_the_works_zero() {
     assert_eq!(c.counter().counts, [1]);
     assert_eq!(at(&c), [15_000, 5_000], "the cycle's Z5 is the work's");
 }
+
+/// The programmed path the window draws (`LatheConsole::programmed`, stop 51) is what START
+/// would run: each channel's stored program; in MDI the selected channel's MDI lines, read as
+/// an MDI run reads them; the other channels keep their programs.
+#[test]
+fn the_programmed_path_is_what_start_would_run() {
+    use novanc::block::Motion;
+    use novanc::panel_model::OpMode;
+    let d = common::temp_dir("lathe-programmed");
+    let mut c = common::open_citizen(&d);
+    let moves = |c: &LatheConsole, ch: usize| -> Vec<[i64; 3]> {
+        let st = c.programmed(ch).expect("a channel").expect("it reads");
+        st.iter()
+            .flat_map(|s| &s.blocks)
+            .filter(|b| matches!(b.motion, Motion::Rapid | Motion::Linear))
+            .map(|b| [b.end[0], b.end[1], b.end[2]])
+            .collect()
+    };
+    let auto: Vec<_> = (0..3).map(|ch| moves(&c, ch)).collect();
+    assert!(auto.iter().all(|m| m.len() > 5), "{auto:?}");
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type("G8 G0 X30 Z20".into()));
+    c.handle(PanelEvent::Type("G1 Z-5 F100".into()));
+    // X30 Z20 then Z-5, radius mode: pulses [X radius, 0, Z].
+    assert_eq!(moves(&c, 0), [[30_000, 0, 20_000], [30_000, 0, -5_000]]);
+    assert_eq!(moves(&c, 1), auto[1], "CH2 keeps its program");
+    // A line that does not read: no path, and why.
+    c.handle(PanelEvent::Type("G1 Z-6 F0".into()));
+    assert!(c.programmed(0).expect("a channel").is_err());
+    // Back in AUTO: the stored program again.
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    assert_eq!(moves(&c, 0), auto[0]);
+    assert!(c.programmed(3).is_none());
+}

@@ -169,18 +169,19 @@ fn start_state(desc: &LatheDesc, kept: &[Kept], ch: usize, mdi: bool, dir: Optio
     from
 }
 
-/// Channel `ch`'s program `text` of `desc` read as a cycle's START reads it (`read_cycle`):
-/// from the state `kept` says, the tool post at `at`, the spindle stopped, with `opts`. What
+/// Channel `ch`'s program `text` of `desc` read as START reads it (`read_cycle`): from the
+/// state `kept` says, the tool post at `at`, with `opts`; a cycle's program with the spindle
+/// stopped, an MDI program (`mdi`: the spindle's direction) with the spindle as it turns. What
 /// the window's backplot draws as the programmed path (docs/window.md "The lathe window").
 pub fn preview(
     desc: &LatheDesc,
-    ch: usize,
-    text: &str,
+    (ch, text): (usize, &str),
     opts: &ReadOptions,
     kept: &[Kept],
     at: Option<[i64; 2]>,
+    mdi: Option<i8>,
 ) -> Result<Vec<crate::block::Statement>, crate::block::TranslateError> {
-    let from = start_state(desc, kept, ch, false, None);
+    let from = start_state(desc, kept, ch, mdi.is_some(), mdi);
     read_kept(text, desc, ch, opts, None, &from, at).map(|r| r.statements)
 }
 

@@ -425,7 +425,8 @@ impl LatheConsole {
         )
     }
 
-    /// Channel `ch`'s program as the next cycle's START would read it: in the dialect it was
+    /// Channel `ch`'s program as START would read it ([`LatheConsole::program_to_run`]: the
+    /// MDI lines of the selected channel in MDI): a stored program in the dialect it was
     /// stored in, from the state the channel keeps, the tool post where its axes stand, with
     /// the panel's switches (the window's backplot draws it, docs/window.md "The lathe
     /// window"). None: no such channel.
@@ -433,10 +434,34 @@ impl LatheConsole {
         &self,
         ch: usize,
     ) -> Option<Result<Vec<crate::block::Statement>, crate::block::TranslateError>> {
-        let p = self.programs.get(ch)?;
+        let (text, mdi) = self.program_to_run(ch)?;
         let at = self.cycle.axes().get(ch).copied();
-        let (desc, opts) = (self.stored_dialects(), self.read_options());
-        Some(glue::preview(&desc, ch, &p.text, &opts, &self.kept, at))
+        let opts = self.read_options();
+        Some(if mdi {
+            let dir = (self.cycle.channels().get(ch)).map_or(0, |c| c.status.spindle_dir);
+            glue::preview(&self.desc, (ch, &text), &opts, &self.kept, at, Some(dir))
+        } else {
+            let desc = self.stored_dialects();
+            glue::preview(&desc, (ch, &text), &opts, &self.kept, at, None)
+        })
+    }
+
+    /// What START runs on channel `ch` in the selector's position, as the centre's backplot
+    /// draws the MDI buffer in MDI: the selected channel's MDI lines in MDI (those of the MDI
+    /// run under way once START has cleared the buffer), and whether they are; else its stored
+    /// program. None: no such channel.
+    pub fn program_to_run(&self, ch: usize) -> Option<(String, bool)> {
+        let p = self.programs.get(ch)?;
+        if self.front.op != OpMode::Mdi || ch != self.sel {
+            return Some((p.text.clone(), false));
+        }
+        let running = Some(&self.cycle).filter(|c| !c.is_over() && c.mdi);
+        let lines = match (self.mdi.get(ch), running.and_then(|c| c.mdi_lines(ch))) {
+            (Some(l), Some(run)) if l.is_empty() => run,
+            (Some(l), _) => &l[..],
+            (None, _) => &[],
+        };
+        Some((lines.join("\n") + "\n", true))
     }
 
     /// How START reads the channels' programs: with the panel's BLOCK DELETE and OPTIONAL

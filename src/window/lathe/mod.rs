@@ -75,8 +75,8 @@ impl Lathe {
         l
     }
 
-    /// Reads again each channel's program whose text, tools, switches or last load changed,
-    /// for the backplot's programmed path. A program that does not read draws no path (START
+    /// Reads again each channel's program (the selected channel's MDI lines in MDI) whose
+    /// text, tools, switches or last load changed, for the backplot's programmed path. A program that does not read draws no path (START
     /// says why).
     fn look_programs(&mut self) {
         let c = &self.console;
@@ -84,8 +84,8 @@ impl Lathe {
         self.programmed.resize_with(n, Default::default);
         for (ch, p) in self.programmed.iter_mut().enumerate() {
             let key = format!(
-                "{}\u{0}{:?}\u{0}{:?}\u{0}{}",
-                c.programs().get(ch).map_or("", |p| p.text.as_str()),
+                "{:?}\u{0}{:?}\u{0}{:?}\u{0}{}",
+                c.program_to_run(ch),
                 c.desc().channels[ch].tools,
                 c.switches(),
                 c.cycle().started_ns()
