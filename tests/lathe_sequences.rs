@@ -129,6 +129,28 @@ fn check(s: &mut Seq, what: &str) {
         }
     }
     s.counts = counts.clone();
+    // The programmed path the window draws (stop 51: what START would run, the MDI lines in
+    // MDI), every seventh step: it reads, or says why at a real line; what it reads ends
+    // inside the channel's travel.
+    if s.stats.steps % 7 == 0 {
+        for (ch, cd) in desc.channels.iter().enumerate() {
+            match s.c.programmed(ch).expect("every channel has a path") {
+                Ok(st) => {
+                    let p = |mm: f64| desc.pulses(mm);
+                    let (x, z) = (cd.axes[0].travel, cd.axes[1].travel);
+                    for b in st.iter().flat_map(|s| &s.blocks) {
+                        assert!(
+                            (p(x[0])..=p(x[1])).contains(&b.end[0])
+                                && (p(z[0])..=p(z[1])).contains(&b.end[2]),
+                            "{what}: CH{}'s programmed path leaves the travel: {b:?}",
+                            ch + 1
+                        );
+                    }
+                }
+                Err(e) => assert!(e.line >= 1 && !e.message.is_empty(), "{what}: {e:?}"),
+            }
+        }
+    }
     // The message line says what the machine does only while it does it: never "runs" or
     // "START" with every channel at rest, never a feed hold or an E-STOP that is not there
     // (the acknowledgement of an action that has not yet had a tick is the one exception).
