@@ -132,7 +132,7 @@ fn check(s: &mut Seq, what: &str) {
     // The programmed path the window draws (stop 51: what START would run, the MDI lines in
     // MDI), every seventh step: it reads, or says why at a real line; what it reads ends
     // inside the channel's travel.
-    if s.stats.steps % 7 == 0 {
+    if s.stats.steps.is_multiple_of(7) {
         for (ch, cd) in desc.channels.iter().enumerate() {
             match s.c.programmed(ch).expect("every channel has a path") {
                 Ok(st) => {
