@@ -72,37 +72,46 @@ fn is_work_path(p: [u8; 3]) -> bool {
     })
 }
 
-fn count(img: &(usize, usize, Vec<u8>), r: R, f: impl Fn([u8; 3]) -> bool) -> usize {
+fn count(img: &Image, r: R, f: impl Fn([u8; 3]) -> bool) -> usize {
     (r.y..r.y + r.h)
         .flat_map(|y| (r.x..r.x + r.w).map(move |x| (x, y)))
         .filter(|&(x, y)| f(px(img, x, y)))
         .count()
 }
 
+/// The Citizen's window on Xvfb `x` playing `script` in a fresh folder `name`, recorded, its
+/// screenshot taken: stdout, the layout line and the image. Closing the window closed the
+/// recording.
+fn citizen_shot(x: &xvfb::Xvfb, name: &str, script: &str) -> (String, Shot, Image) {
+    let dir = scratch(name);
+    let path = dir.join("script.txt");
+    std::fs::write(&path, script).unwrap();
+    let shot = dir.join("shot.png");
+    let mut cmd = window_command(x, &["--machine", "citizen"], &dir, &path, &shot);
+    cmd.arg("--record").arg(dir.join("run.mcap"));
+    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
+    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
+    assert!(err.contains("recording"), "no recording summary: {err}");
+    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
+    assert!(mcap.starts_with(b"\x89MCAP0\r\n") && mcap.ends_with(b"\x89MCAP0\r\n"));
+    let s = parse_layout(&out);
+    let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
+    (out, s, img)
+}
+
+/// A screenshot: width, height, RGB bytes.
+type Image = (usize, usize, Vec<u8>);
+
 #[test]
 fn the_lathe_window_shows_every_channel_with_its_backplot() {
     let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
         return;
     };
-    let dir = scratch("lathe");
-    let script = dir.join("run25.txt");
-    std::fs::write(
-        &script,
+    let (out, s, img) = citizen_shot(
+        &x,
+        "lathe",
         "# the cycle, 27 s of machine time: every channel has a work and cuts it\nstart\nwait ms 27000\nshow\n",
-    )
-    .unwrap();
-    let shot = dir.join("shot.png");
-    let mut cmd = window_command(&x, &["--machine", "citizen"], &dir, &script, &shot);
-    cmd.arg("--record").arg(dir.join("run.mcap"));
-    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
-    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
-    // Closing the window closed the recording.
-    assert!(err.contains("recording"), "no recording summary: {err}");
-    let mcap = std::fs::read(dir.join("run.mcap")).unwrap();
-    assert!(mcap.starts_with(b"\x89MCAP0\r\n") && mcap.ends_with(b"\x89MCAP0\r\n"));
-
-    let s = parse_layout(&out);
-    let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
+    );
     assert_eq!((img.0, img.1), s.size, "the PNG's size is the one printed");
     assert_eq!(s.size, (1400, 860));
     // Every control of the operator's panel is inside the default window, none behind its
@@ -183,21 +192,11 @@ fn before_start_the_lathe_window_shows_each_channels_programmed_path() {
     let Some(x) = xvfb_or_skip("lathe_window_xvfb") else {
         return;
     };
-    let dir = scratch("lathe_programmed");
-    let script = dir.join("look.txt");
-    std::fs::write(
-        &script,
-        "# nothing started: the programs as START would read them
-show
-",
-    )
-    .unwrap();
-    let shot = dir.join("shot.png");
-    let cmd = window_command(&x, &["--machine", "citizen"], &dir, &script, &shot);
-    let (code, out, err) = run_with_limit(cmd, Duration::from_secs(240));
-    assert_eq!(code, Some(0), "stdout:\n{out}\nstderr:\n{err}");
-    let s = parse_layout(&out);
-    let img = read_png(&std::fs::read(&shot).unwrap()).expect("a PNG as the window writes it");
+    let (_, s, img) = citizen_shot(
+        &x,
+        "lathe_programmed",
+        "# nothing started: the programs as START would read them\nshow\n",
+    );
     // One-point lines, antialiased on the dark plot: pixels of the path's blue and violet
     // hue (FEED, ARC), which nothing else of a plot has before START.
     assert!([FEED, ARC]
