@@ -84,7 +84,7 @@ impl<T: Held> Queued<T> {
 }
 
 /// What compensation holds and hands on: a machine's canonical items, the mill's [`Canon`] or
-/// the lathe's (`crate::lathe::gcode::out::Held`). Moves are built and their ends moved
+/// the lathe's (`crate::lathe::gcode::out::Item`). Moves are built and their ends moved
 /// through it; anything else (S, M functions, dwells) only waits behind the held moves.
 pub trait Held: Clone + std::fmt::Debug + PartialEq {
     /// A feed move's rate as the machine's reader has it.
@@ -248,10 +248,6 @@ fn gouge<T: Held>(x: &impl Sink<T>, col: u32, what: &str) -> TranslateError {
             T::NAMES.1
         ),
     )
-}
-
-fn straight<T: Held>(rapid: bool, e: [f64; 3], feed: T::Feed) -> T {
-    T::straight(rapid, e, feed)
 }
 
 impl<T: Held> Comp<T> {
@@ -464,7 +460,7 @@ impl<T: Held> Comp<T> {
         self.arc_not_allowed = false;
         self.exit_pending = false;
         if !self.offsetting() {
-            x.put_now(straight(rapid, to, feed), col);
+            x.put_now(T::straight(rapid, to, feed), col);
             return Ok(());
         }
         let (c, p) = (self.uv(from), self.uv(to));
@@ -485,7 +481,7 @@ impl<T: Held> Comp<T> {
             let a = angle(c, p) + if left { FRAC_PI_2 } else { -FRAC_PI_2 };
             let e = polar(p, r, a);
             self.endpoint = Some(c);
-            let canon = straight(rapid, self.at(e, self.normal(to)), feed);
+            let canon = T::straight(rapid, self.at(e, self.normal(to)), feed);
             self.enqueue(
                 x,
                 canon,
@@ -503,7 +499,7 @@ impl<T: Held> Comp<T> {
         let cur = self.uv(self.cur);
         if p == op {
             // No XY motion: it waits behind the held move and follows its end.
-            let canon = straight(rapid, self.at(cur, self.normal(to)), feed);
+            let canon = T::straight(rapid, self.at(cur, self.normal(to)), feed);
             self.enqueue(x, canon, col, Geo::Line { dir: [0.0, 0.0] });
             self.cur = self.at(cur, self.normal(to));
             return Ok(());
@@ -538,7 +534,7 @@ impl<T: Held> Comp<T> {
             // Convex: round the programmed corner (a rapid goes straight to the arc's end).
             self.move_ends_and_emit(x, cur, col)?;
             let c = if rapid {
-                straight(true, self.at(mid, cz), feed)
+                T::straight(true, self.at(mid, cz), feed)
             } else {
                 self.plane_arc(self.at(mid, cz), op, !left, feed)
             };
@@ -601,7 +597,7 @@ impl<T: Held> Comp<T> {
             self.emit(x);
             self.endpoint = Some(cur);
         }
-        let canon = straight(rapid, self.at(end, self.normal(to)), feed);
+        let canon = T::straight(rapid, self.at(end, self.normal(to)), feed);
         self.enqueue(
             x,
             canon,
