@@ -40,9 +40,10 @@ struct Layout {
 /// and what it was read from.
 #[derive(Default)]
 struct Programmed {
-    /// The program text, the channel's tools, the switches and the last load it was read
-    /// with: read again when one of them changes.
-    key: String,
+    /// A hash of the program text, the channel's tools, the switches and the last load it
+    /// was read with: read again when one of them changes (looked at every frame, so no
+    /// text is formatted for it).
+    key: Option<u64>,
     path: Vec<crate::backplot::Segment>,
 }
 
@@ -83,13 +84,22 @@ impl Lathe {
         let n = c.desc().channels.len();
         self.programmed.resize_with(n, Default::default);
         for (ch, p) in self.programmed.iter_mut().enumerate() {
-            let key = format!(
-                "{:?}\u{0}{:?}\u{0}{:?}\u{0}{}",
-                c.program_to_run(ch),
-                c.desc().channels[ch].tools,
-                c.switches(),
-                c.cycle().started_ns()
-            );
+            let key = {
+                use std::hash::{Hash, Hasher};
+                let mut h = std::collections::hash_map::DefaultHasher::new();
+                c.program_to_run(ch).hash(&mut h);
+                for t in &c.desc().channels[ch].tools {
+                    (
+                        t.number,
+                        t.tip,
+                        t.radius.to_bits(),
+                        t.offset.map(f64::to_bits),
+                    )
+                        .hash(&mut h);
+                }
+                (c.switches(), c.cycle().started_ns()).hash(&mut h);
+                Some(h.finish())
+            };
             if key == p.key {
                 continue;
             }
