@@ -430,7 +430,12 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
         (
             "G71 P1 Q2\nN1 G0 X1\nN2 G1 Z1\n".into(),
             "1:1",
-            "needs the first G71 block",
+            "needs its depth of cut: the first G71 block",
+        ),
+        (
+            "G71 Q100 X20 Z2 D0.5 I0.2 R1\n".into(),
+            "1:1",
+            "G71 Q without P is LinuxCNC's own G71 form",
         ),
         (
             s("G42\nG71 U1\nG71 P1 Q2\n"),

@@ -41,6 +41,7 @@ fn random_bytes_and_fragments_never_panic() {
         "G76 P1 J0.1 K0.6 I-0.5 Z",
         "G71 U",
         "G71 P1 Q2 F",
+        "G71 P1 Q2 F1 D",
         "G70 P1 Q",
         "G4 P",
         "G41 X",

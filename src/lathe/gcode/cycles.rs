@@ -406,6 +406,21 @@ pub fn g72(
     rough(r, w, n, c, idx, lines, true)
 }
 
+/// The retract of G71/G72's one-block form (`G71 P Q U W D F`) before any first block has set
+/// one, mm (a Fanuc's parameter 5133, a Haas's setting 73).
+pub const ONE_BLOCK_RETRACT_MM: f64 = 0.5;
+
+/// Letter `l`'s value `v` as a length in program units where the one reader keeps it as
+/// written (D): in Fanuc's dialect a number written without a decimal point is in least
+/// increments (`D1500` is 1.5 mm), unless the input is calculator-type.
+fn fanuc_length(r: &Reader, l: char, v: f64) -> f64 {
+    if r.fanuc && !r.calculator && r.written_without_point(l) {
+        v * r.increment()
+    } else {
+        v
+    }
+}
+
 /// G71 (`face` false) or G72 (`face` true).
 fn rough(
     r: &mut Reader,
@@ -421,6 +436,13 @@ fn rough(
     if w.get('P').is_none() && w.get('Q').is_none() {
         let other = if face { "XZUIKJHEL" } else { "XZWIKJHEL" };
         refuse(w, other, n, &format!("{name} {dl} R"))?;
+        if let Some(c) = w.col('D') {
+            return Err(err(
+                n,
+                c,
+                format!("{name} {dl} R takes no D word (D is the depth of cut of the one-block form {name} P Q U W D F)"),
+            ));
+        }
         let d = need(w, dl, n, c, &format!("{name} (first block)"))? * f;
         let e = w.get('R').unwrap_or(0.0) * f;
         if !(d > 0.0 && d < 1000.0) {
@@ -440,16 +462,40 @@ fn rough(
         r.st.g71 = Some((d, e));
         return Ok(Flow::Next);
     }
+    if w.get('P').is_none() && !r.fanuc {
+        // `G71 Q100 X Z D I R`: Q an O-word subroutine, the profile's start X Z.
+        return Err(err(
+            n,
+            c,
+            format!("{name} Q without P is LinuxCNC's own {name} form (Q an O-word profile), which the lathe does not read: write Fanuc's {name} P Q, the profile's first and last N (docs/lathe-gcode.md)"),
+        ));
+    }
     refuse(w, "XZIKRJHEL", n, &format!("{name} P Q"))?;
     if r.out.comp_on() {
         return Err(err(n, c, format!("{name} with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)")));
     }
-    let Some((depth, retract)) = r.st.g71 else {
-        return Err(err(
-            n,
-            c,
-            format!("{name} P Q needs the first {name} block ({name} {dl} R: depth of cut and retract) before it"),
-        ));
+    let (depth, retract) = match (w.get('D'), r.st.g71) {
+        // The one-block form (Fanuc's FS15 format, Haas): D the depth of cut, the retract the
+        // one the last first block set (Fanuc's parameter 5133), else ONE_BLOCK_RETRACT_MM.
+        (Some(d), kept) => {
+            let d = fanuc_length(r, 'D', d) * f;
+            if !(d > 0.0 && d < 1000.0) {
+                return Err(err(
+                    n,
+                    w.col('D').unwrap_or(c),
+                    format!("{name} D, the depth of cut, must be above 0 and under 1000 mm"),
+                ));
+            }
+            (d, kept.map_or(ONE_BLOCK_RETRACT_MM, |k| k.1))
+        }
+        (None, Some(kept)) => kept,
+        (None, None) => {
+            return Err(err(
+                n,
+                c,
+                format!("{name} P Q needs its depth of cut: the first {name} block ({name} {dl} R: depth of cut and retract) before it, or D on this line ({name} P Q U W D F)"),
+            ))
+        }
     };
     let (p, q) = profile_lines(r, w, n, c, name)?;
     if p <= idx {

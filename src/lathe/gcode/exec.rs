@@ -440,9 +440,11 @@ impl Reader<'_> {
             self.st.css = false;
             spindle = true;
         }
-        // G41.1/G42.1's D is the nose's diameter (below); another line's D is G96's limit.
+        // G41.1/G42.1's D is the nose's diameter (below), G71/G72's the depth of cut of their
+        // one-block form (`cycles::rough`); another line's D is G96's limit.
         let dynamic = w.has_g(411).or(w.has_g(421)).is_some();
-        if let Some(d) = w.get('D').filter(|_| !dynamic) {
+        let roughing = w.has_g(710).or(w.has_g(720)).is_some();
+        if let Some(d) = w.get('D').filter(|_| !dynamic && !roughing) {
             use_('D');
             if !(d > 0.0 && d <= self.chan.max_rpm) {
                 return Err(err(
@@ -771,7 +773,7 @@ impl Reader<'_> {
             }
             Some((700, c)) | Some((710, c)) | Some((720, c)) | Some((760, c)) => {
                 for l in [
-                    'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L',
+                    'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L', 'D',
                 ] {
                     use_(l);
                 }

@@ -584,3 +584,85 @@ fn linuxcnc_reads_5411_in_its_own_numbering() {
         [0, 4, 3, 2, 1, 5, 8, 7, 6, 9]
     );
 }
+
+/// G71's one-block form (Fanuc's FS15 format, Haas): `G71 P Q U W D F`, D the depth of cut, the
+/// retract the last first block's, else `cycles::ONE_BLOCK_RETRACT_MM`; G72's the same along Z.
+/// Before, it was refused, and a D on the second block of the two-block form was taken as G96's
+/// speed limit (`D.025`: 0.025 rpm).
+#[test]
+fn g71_and_g72_read_the_one_block_form_with_d_the_depth_of_cut() {
+    let profile = "N10 G0 X20\nG1 Z-10\nN20 G1 X40 Z-20\nM30\n";
+    let two = blocks(&format!(
+        "G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\n{profile}"
+    ));
+    let one = blocks(&format!(
+        "G0 X40 Z2\nG71 P10 Q20 U0.4 W0.1 D2. F100\n{profile}"
+    ));
+    assert_eq!(moves(&one), moves(&two), "R 0.5 is the default retract");
+    assert_eq!(cycles::ONE_BLOCK_RETRACT_MM, 0.5);
+    // The last first block's retract holds, as a Fanuc's parameter 5133 does.
+    let kept = blocks(&format!(
+        "G0 X40 Z2\nG71 U3 R1\nG71 P10 Q20 U0.4 W0.1 D2. F100\n{profile}"
+    ));
+    let r1 = blocks(&format!(
+        "G0 X40 Z2\nG71 U2 R1\nG71 P10 Q20 U0.4 W0.1 F100\n{profile}"
+    ));
+    assert_eq!(moves(&kept), moves(&r1), "D the depth, R the kept retract");
+    // D is the depth, not the G96 limit: the spindle's limit stays the channel's.
+    let css = blocks(&format!(
+        "G96 S100 M3\nG0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 D2. F100\n{profile}"
+    ));
+    assert!(css
+        .iter()
+        .all(|b| b.css.map_or(true, |c| c.limit_rpm > 1000.0)));
+    // G72: the depth along Z.
+    let face = "N10 G0 Z-10\nG1 X10\nN20 X5 Z0\nM30\n";
+    let two = blocks(&format!("G0 X40 Z2\nG72 W2 R0.5\nG72 P10 Q20 F100\n{face}"));
+    let one = blocks(&format!("G0 X40 Z2\nG72 P10 Q20 D2. F100\n{face}"));
+    assert_eq!(moves(&one), moves(&two));
+    // Refused: D on a first block; no depth at all; D of 0.
+    for (text, says) in [
+        ("G0 X40 Z2\nG71 U2 R0.5 D1\n", "takes no D word"),
+        ("G0 X40 Z2\nG71 P10 Q20 F100\n", "or D on this line"),
+        (
+            "G0 X40 Z2\nG71 P10 Q20 D0 F100\n",
+            "the depth of cut, must be above 0 and under",
+        ),
+    ] {
+        let e = read(&format!("{text}{profile}")).unwrap_err();
+        assert!(e.message.contains(says), "{text}: {e}");
+    }
+}
+
+/// In Fanuc's dialect D written without a decimal point is in least increments, as X and Z
+/// are (`D1500` is 1.5 mm, the FS15 format's textbook form); with `decimal calculator`, as
+/// written.
+#[test]
+fn a_one_block_g71_d_without_a_point_is_in_least_increments_in_fanucs_dialect() {
+    let profile = "N10 G0 X20.\nG1 Z-10.\nN20 G1 X40. Z-20.\nM30\n";
+    let on = |d: &LatheDesc, text: &str| {
+        let st = read_program(text, d, 0, &ReadOptions::default()).unwrap();
+        moves(&flat(st))
+    };
+    let mut d = wide_desc();
+    d.channels[0].dialect = Some(crate::settings::Dialect::Fanuc);
+    let want = on(
+        &d,
+        &format!("G94 G0 X40. Z2.\nG71 P10 Q20 D1.5 F100.\n{profile}"),
+    );
+    let got = on(
+        &d,
+        &format!("G94 G0 X40. Z2.\nG71 P10 Q20 D1500 F100.\n{profile}"),
+    );
+    assert_eq!(got, want);
+    d.channels[0].calculator = Some(true);
+    let calc = on(
+        &d,
+        &format!("G94 G0 X40 Z2\nG71 P10 Q20 D1.5 F100\n{profile}"),
+    );
+    assert_eq!(calc, want);
+    let text = format!("G94 G0 X40 Z2\nG71 P10 Q20 D1500 F100\n{profile}");
+    let e = read_program(&text, &d, 0, &ReadOptions::default()).unwrap_err();
+    assert_eq!((e.line, e.col), (2, 13), "{e}");
+    assert!(e.message.contains("under 1000 mm"), "{e}");
+}
