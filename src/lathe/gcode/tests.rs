@@ -614,7 +614,7 @@ fn g71_and_g72_read_the_one_block_form_with_d_the_depth_of_cut() {
     ));
     assert!(css
         .iter()
-        .all(|b| b.css.map_or(true, |c| c.limit_rpm > 1000.0)));
+        .all(|b| b.css.is_none_or(|c| c.limit_rpm > 1000.0)));
     // G72: the depth along Z.
     let face = "N10 G0 Z-10\nG1 X10\nN20 X5 Z0\nM30\n";
     let two = blocks(&format!("G0 X40 Z2\nG72 W2 R0.5\nG72 P10 Q20 F100\n{face}"));
