@@ -824,3 +824,36 @@ fn the_editor_cursor_keys_are_one_rule() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The batch done, START says to set a new target (Alt+n); the new target begins a new batch
+/// from 0 and START runs it. Until stop 52 the finished cycle refused the target (`target 2: a
+/// channel has already finished`): the operator was told to do what the console refused.
+#[test]
+fn a_new_target_after_the_batch_is_done_lets_start_run_again() {
+    let dir = common::temp_dir("lathe-target-after-batch");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.counter().counts, [1, 1, 1]);
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().contains("set a new target (Alt+n)"),
+        "{}",
+        c.message()
+    );
+    c.handle(PanelEvent::Target(2));
+    assert_eq!(c.message(), "part target 2");
+    assert_eq!(
+        (c.counter().target, c.counter().counts.clone()),
+        (2, vec![0, 0, 0])
+    );
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "cycle start");
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.counter().counts, [2, 2, 2], "{}", c.message());
+    // The target kept across a restart.
+    drop(c);
+    assert_eq!(open(&dir).counter().target, 2);
+}

@@ -728,11 +728,20 @@ impl LatheConsole {
     }
 
     /// Sets the part target. It is taken only once stored: a target that cannot be stored
-    /// (a full disk) leaves the old one, on the display and in the machine.
+    /// (a full disk) leaves the old one, on the display and in the machine. During a cycle the
+    /// machine takes it for the batch under way; with the cycle over (the batch done, as START
+    /// then says: `set a new target (Alt+n) to run again`) it begins a new batch from 0, as
+    /// with nothing loaded. Until stop 52 the finished cycle refused it (`a channel has already
+    /// finished`), and only a RESET first let the operator run again.
     fn set_target(&mut self, n: u32) {
         let mut next = self.counter.clone();
         next.target = n;
-        if self.cycle.loaded() {
+        if self.cycle.loaded() && !self.cycle.mdi && self.cycle.is_over() {
+            // The finished cycle is cleared, as RESET clears it: its counts are the old batch's
+            // (an MDI run that has ended stays: its spindle may turn on into the next).
+            self.clear_cycle();
+        }
+        if self.cycle.loaded() && !self.cycle.is_over() {
             let c = &mut self.cycle;
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
