@@ -820,3 +820,102 @@ fn the_programmed_path_is_what_start_would_run() {
     assert_eq!(moves(&c, 0), auto[0]);
     assert!(c.programmed(3).is_none());
 }
+
+/// PROGRAM READ on a lathe (stop 52): in DATA INPUT the typed path and the tape key (a
+/// script's `tape PATH`) make the file the selected channel's program, journaled: a restart
+/// finds it, START runs it. A punched tape image is decoded as the centre's reader decodes
+/// it. Refused with the reason and nothing changed: another mode, a folder, a missing file,
+/// a file that is neither text nor a tape, a cycle in progress. Before, a lathe had no way to
+/// take a program from a file at its console.
+#[test]
+fn a_program_file_is_read_into_the_selected_channel_and_kept() {
+    let state = common::temp_dir("lathe-program-read");
+    // A shop lathe loaded by hand, whose programs do not work the chuck.
+    let mut d = desc(Some(Dialect::Fanuc), None);
+    d.manual = true;
+    let file = state.join("shaft.nc");
+    let text = "%\r\nO1234 (SHAFT)\r\nG94 G97 S800 M03\r\nG0 X20. Z2.\r\nG1 Z-10. F100.\r\nG0 X30.\r\nM30\r\n%\r\n";
+    std::fs::write(&file, text).unwrap();
+    let mut c = open(&d, &state);
+    let before = c.programs()[0].clone();
+    let said = |c: &mut LatheConsole, ev: PanelEvent| {
+        c.handle(ev);
+        c.message().to_string()
+    };
+    // Not in AUTO: the selector says where programs are read.
+    let m = said(&mut c, PanelEvent::Tape(file.clone()));
+    assert!(m.contains("turn the selector to DATA INPUT"), "{m}");
+    assert_eq!(c.programs()[0], before);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    for (path, says) in [
+        (state.clone(), "is a folder"),
+        (state.join("none.nc"), "none.nc:"),
+    ] {
+        let m = said(&mut c, PanelEvent::Tape(path));
+        assert!(
+            m.contains("PROGRAM READ refused") && m.contains(says),
+            "{m}"
+        );
+        assert!(m.contains("CH1's program unchanged"), "{m}");
+        assert_eq!(c.programs()[0], before);
+    }
+    let bin = state.join("bin.nc");
+    std::fs::write(&bin, [0x00, 0x13, 0xff, 0x41, 0x0a]).unwrap();
+    let m = said(&mut c, PanelEvent::Tape(bin));
+    assert!(m.contains("PROGRAM READ refused"), "{m}");
+    assert_eq!(c.programs()[0], before);
+    // The file: CH1's program, named after it, its line ends `\n`, in Fanuc's dialect.
+    let m = said(&mut c, PanelEvent::Tape(file.clone()));
+    assert_eq!(m, "read shaft.nc (text): CH1's program SHAFT.NC, 8 lines");
+    let p = c.programs()[0].clone();
+    assert_eq!(p.name, "SHAFT.NC");
+    assert_eq!(p.text, text.replace("\r\n", "\n"));
+    assert_eq!(p.dialect, Some(Dialect::Fanuc));
+    assert_eq!(c.pointer(0), 0);
+    // Kept across a restart, and START runs it.
+    drop(c);
+    let mut c = open(&d, &state);
+    assert_eq!(c.programs()[0], p);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.run_for(600_000_000_000, RunUntil::Rest, || false);
+    assert_eq!(
+        at(&c),
+        [15_000, -10_000],
+        "ends at X30 (diameter) Z-10: {}",
+        c.message()
+    );
+    assert_eq!(c.counter().counts[0], 5, "the part target: {}", c.message());
+    // A tape image punched from a program is decoded; a program that does not read says so.
+    let tape = novanc::tape::punch(
+        "G0 X20. Z2.\nG1 Z-10. F100. Q\n",
+        &novanc::tape::PunchOptions {
+            code: novanc::tape::Code::Iso,
+            leader: 20,
+            label: None,
+        },
+    )
+    .unwrap();
+    let image = state.join("bad.tape");
+    std::fs::write(&image, tape).unwrap();
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    let m = said(&mut c, PanelEvent::Tape(image));
+    assert!(
+        m.starts_with(
+            "read bad.tape (ISO tape): CH1's program BAD.TAPE, 2 lines; it does not read: line 2:"
+        ),
+        "{m}"
+    );
+    assert_eq!(c.programs()[0].text, "G0 X20. Z2.\nG1 Z-10. F100. Q\n");
+    // While a cycle is loaded the programs are in use.
+    c.handle(PanelEvent::Tape(file.clone()));
+    c.handle(PanelEvent::Target(10));
+    assert_eq!(c.message(), "part target 10");
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    assert_eq!(c.message(), "cycle start");
+    c.handle(PanelEvent::Stop);
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    let m = said(&mut c, PanelEvent::Tape(file));
+    assert!(m.contains("the programs are in use"), "{m}");
+}

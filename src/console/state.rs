@@ -13,7 +13,7 @@ use novanc_panel::Key;
 pub(crate) const ACKNOWLEDGE: Key = Key::Esc;
 
 /// The tape reader key: the typed line names the tape (recorded as the key, which takes it).
-pub(super) const TAPE_KEY: Key = Key::Alt('t');
+pub(crate) const TAPE_KEY: Key = Key::Alt('t');
 
 /// The punch key: the typed line names the image (recorded as the key, which takes it).
 pub(super) const PUNCH_KEY: Key = Key::Alt('u');

@@ -367,8 +367,9 @@ fn folder_files(dir: &Path) -> Result<Vec<(String, String)>, String> {
 }
 
 /// Reads a tape file or a text file, at most [`MAX_TEXT_BYTES`] (a tape image is held to
-/// [`MAX_TAPE_BYTES`] once it is known to be one).
-fn load(path: &Path) -> Result<Vec<u8>, String> {
+/// [`MAX_TAPE_BYTES`] once it is known to be one). A lathe's PROGRAM READ loads its file here
+/// too (`lathe::console::LatheConsole`'s `program_read`).
+pub(crate) fn load(path: &Path) -> Result<Vec<u8>, String> {
     let f = std::fs::File::open(path).map_err(|e| e.to_string())?;
     let meta = f.metadata().map_err(|e| e.to_string())?;
     if meta.is_dir() {

@@ -221,6 +221,83 @@ impl LatheConsole {
         Ok(())
     }
 
+    /// PROGRAM READ on a lathe (the tape key, a script's `tape PATH`, in DATA INPUT): the file
+    /// at `path` becomes the selected channel's program, stored (journaled) before it is
+    /// taken, named after the file, in the dialect the channel reads now, the editor's pointer
+    /// at its start. A text file is taken as it is, line ends made `\n`; a punched tape image
+    /// is decoded as the centre's reader decodes it (`tape::read_image`), at once: the lathe
+    /// has no tape reader to pass it. What was read is said, and whether it reads as START
+    /// would read it. Err: why not (nothing changed).
+    pub(super) fn program_read(&mut self, path: &std::path::Path) -> Result<String, String> {
+        let ch = self.sel;
+        if self.front.op != OpMode::Data {
+            return Err(format!(
+                "{}: turn the selector to DATA INPUT to read a program into CH{}",
+                self.front.op.name(),
+                ch + 1
+            ));
+        }
+        if !self.cycle.is_over() {
+            return Err("the programs are in use: RESET the cycle first".into());
+        }
+        let file = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if path.is_dir() {
+            return Err(format!(
+                "{file} is a folder: a channel takes one program file"
+            ));
+        }
+        let image = crate::console::tape::load(path).map_err(|e| format!("{file}: {e}"))?;
+        let tape = crate::tape::read_image(&image, Default::default())
+            .map_err(|e| format!("{file}: {e}"))?;
+        let how = match tape.code {
+            None => "text",
+            Some(crate::tape::Code::Iso) => "ISO tape",
+            Some(crate::tape::Code::Eia) => "EIA tape",
+        };
+        let text = tape.text.replace("\r\n", "\n");
+        if text.len() > MAX_PROGRAM {
+            return Err(format!("{file}: a program of more than 1 MB"));
+        }
+        let p = Program {
+            name: program_name(&file, ch),
+            text,
+            dialect: Some(
+                self.desc
+                    .channels
+                    .get(ch)
+                    .and_then(|c| c.dialect)
+                    .unwrap_or_default(),
+            ),
+        };
+        self.store.save_program(ch, &p)?;
+        let lines = p.text.lines().count();
+        let said = format!(
+            "read {file} ({how}): CH{}'s program {}, {lines} lines",
+            ch + 1,
+            p.name
+        );
+        self.programs[ch] = p;
+        self.pointers[ch] = 0;
+        self.edit_line[ch] = 1;
+        self.front.y_output = None;
+        let kept = match self.store.save_pointer(ch, 0) {
+            Ok(()) => String::new(),
+            Err(e) => format!("; {e}"),
+        };
+        // Whether it reads as START would read it: said now, not at START.
+        let reads = match self.programmed(ch) {
+            Some(Err(e)) => format!(
+                "; it does not read: line {}:{}: {}",
+                e.line, e.col, e.message
+            ),
+            _ => String::new(),
+        };
+        Ok(format!("{said}{reads}{kept}"))
+    }
+
     /// The MODAL page of the selected channel (Ctrl+G, the centre's page key): the modal G codes
     /// in the channel's own code system, F, S and the tool as its last read left them (what
     /// its next MDI line starts from; a cycle reads its programs whole at START, so while one
@@ -403,5 +480,24 @@ impl LatheConsole {
                     .map(|l| format!("{}{:04} {l}", if n == cur { '>' } else { ' ' }, n))
             })
             .collect()
+    }
+}
+
+/// The name a program read from `file` takes on channel `ch` (0-based): the file's name in
+/// capitals, its letters, digits, `.`, `_` and `-` kept and any other character `_`, at most 32
+/// characters (`shelton.nc` is `SHELTON.NC`); a name with none of those is `CHn.NGC`.
+fn program_name(file: &str, ch: usize) -> String {
+    let name: String = file
+        .chars()
+        .map(|c| match c {
+            'a'..='z' | 'A'..='Z' | '0'..='9' | '.' | '_' | '-' => c.to_ascii_uppercase(),
+            _ => '_',
+        })
+        .take(32)
+        .collect();
+    if name.chars().any(|c| c.is_ascii_alphanumeric()) {
+        name
+    } else {
+        format!("CH{}.NGC", ch + 1)
     }
 }

@@ -36,7 +36,6 @@ pub fn map_key(k: Key) -> Action {
                 Action::None
             }
             Action::Move(Axis::Y, _)
-            | Action::Tape
             | Action::Punch
             | Action::ZNeglect
             | Action::Page(Page::Prog | Page::Io) => Action::None,
@@ -87,6 +86,7 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::EStop
         | PanelEvent::Fault(..)
         | PanelEvent::Target(_)
+        | PanelEvent::Tape(_)
         | PanelEvent::OptionalStop(_)
         | PanelEvent::BlockDelete(_)
         | PanelEvent::Override(_)

@@ -674,6 +674,15 @@ impl LatheConsole {
                 self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
             PanelEvent::Target(n) => self.set_target(n),
+            PanelEvent::Tape(path) => {
+                self.front.message = match self.program_read(&path) {
+                    Ok(said) => said,
+                    Err(e) => format!(
+                        "PROGRAM READ refused: {e}; CH{}'s program unchanged",
+                        self.sel + 1
+                    ),
+                }
+            }
             _ => {}
         }
     }
@@ -1320,6 +1329,21 @@ impl crate::console::keys::Keyed for LatheConsole {
                     why.trim().to_lowercase()
                 };
                 self.act(PanelEvent::Fault(self.sel, why));
+                self.after();
+            }
+            Action::Tape => {
+                // The typed line names the file; recorded as the key, which takes the line (a
+                // replay types the same path), as on the centre.
+                self.record_key(k);
+                let path = std::mem::take(&mut self.front.entry);
+                let path = path.trim();
+                if path.is_empty() {
+                    self.front.message =
+                        "PROGRAM READ: type the program file's path first, then the tape key"
+                            .into();
+                } else {
+                    self.act(PanelEvent::Tape(path.into()));
+                }
                 self.after();
             }
             Action::Target => {
