@@ -513,6 +513,34 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             }
             return line;
         }
+        88..=89 => {
+            // PROGRAM READ (stop 52): the selected channel's own program from a file (so the
+            // cycle stays what the machine can run), or a file that is refused. Read: the
+            // channel's program is the file's text, its pointer at the start; refused: the
+            // program is unchanged and the message says why.
+            let ch = s.c.selected();
+            let before = s.c.programs()[ch].clone();
+            let good = s.dir.join(format!("read-ch{}.nc", ch + 1));
+            std::fs::write(&good, &before.text).unwrap();
+            let bad = s.dir.join("read-binary.nc");
+            std::fs::write(&bad, [0u8, 0x13, 0xff]).unwrap();
+            let path = [good, bad, s.dir.join("no-such.nc"), s.dir.clone()]
+                [rng.range(0, 3) as usize]
+                .clone();
+            let line = format!("tape {}", path.display());
+            s.fresh = true;
+            s.c.handle(PanelEvent::Tape(path));
+            let m = s.c.message().to_string();
+            let now = &s.c.programs()[ch];
+            if m.starts_with("read ") {
+                assert_eq!(now.text, before.text, "{line}: {m}");
+                assert_eq!(s.c.pointer(ch), 0, "{line}: {m}");
+            } else {
+                assert!(m.starts_with("PROGRAM READ refused: "), "{line}: {m}");
+                assert_eq!(*now, before, "{line}: {m}");
+            }
+            return line;
+        }
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
@@ -537,7 +565,23 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
     };
     let (sel, plus) = (s.c.selected(), ev == PanelEvent::PlusInput);
     let (op, left) = (s.c.mode(), s.c.entry().to_string());
+    let target = match ev {
+        PanelEvent::Target(n) => Some(n),
+        _ => None,
+    };
     s.c.handle(ev);
+    if let Some(n) = target {
+        // With no cycle under way (none loaded, or the batch over) a target is taken: it
+        // begins a new batch (stop 52: a finished batch refused every new target, while START
+        // said to set one). During a cycle it may be refused where it would strand a work.
+        let m = s.c.message();
+        let under_way = s.c.cycle().loaded() && !s.c.cycle().is_over() && !s.c.cycle().mdi;
+        assert!(
+            m == format!("part target {n}") || under_way && m.starts_with(&format!("target {n}: ")),
+            "{line}: {m} (counts {:?})",
+            s.counts
+        );
+    }
     // A turn to another position clears a line left typed, and says so (stop 49): never in
     // silence.
     if s.c.mode() != op && !left.trim().is_empty() {
