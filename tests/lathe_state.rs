@@ -859,13 +859,20 @@ fn a_program_file_is_read_into_the_selected_channel_and_kept() {
         assert!(m.contains("CH1's program unchanged"), "{m}");
         assert_eq!(c.programs()[0], before);
     }
+    std::fs::write(state.join("Twice.nc"), "G0 X1.\n").unwrap();
+    std::fs::write(state.join("twice.NC"), "G0 X2.\n").unwrap();
+    let m = said(&mut c, PanelEvent::Tape(state.join("TWICE.NC")));
+    assert!(m.contains("differ only in case"), "{m}");
     let bin = state.join("bin.nc");
     std::fs::write(&bin, [0x00, 0x13, 0xff, 0x41, 0x0a]).unwrap();
     let m = said(&mut c, PanelEvent::Tape(bin));
     assert!(m.contains("PROGRAM READ refused"), "{m}");
     assert_eq!(c.programs()[0], before);
-    // The file: CH1's program, named after it, its line ends `\n`, in Fanuc's dialect.
-    let m = said(&mut c, PanelEvent::Tape(file.clone()));
+    // The file: CH1's program, named after it, its line ends `\n`, in Fanuc's dialect. The
+    // data keys type capitals: the path is found without regard to case.
+    let caps = std::path::PathBuf::from(file.to_string_lossy().to_uppercase());
+    assert!(!caps.exists());
+    let m = said(&mut c, PanelEvent::Tape(caps));
     assert_eq!(m, "read shaft.nc (text): CH1's program SHAFT.NC, 8 lines");
     let p = c.programs()[0].clone();
     assert_eq!(p.name, "SHAFT.NC");

@@ -240,6 +240,8 @@ impl LatheConsole {
         if !self.cycle.is_over() {
             return Err("the programs are in use: RESET the cycle first".into());
         }
+        // The data keys type capitals: the path is found without regard to case.
+        let path = &path_ignoring_case(path)?;
         let file = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
@@ -500,4 +502,51 @@ fn program_name(file: &str, ch: usize) -> String {
     } else {
         format!("CH{}.NGC", ch + 1)
     }
+}
+
+/// `path`, or where a part of it is not there as written the one entry of its folder whose
+/// name is the same without regard to case: the lathe's data keys type capitals
+/// (`/TMP/SHAFT.NC` finds `/tmp/shaft.nc`), as a memory card's file names are read. Err: no
+/// such file, or two names that differ only in case.
+fn path_ignoring_case(path: &std::path::Path) -> Result<std::path::PathBuf, String> {
+    use std::path::{Component, PathBuf};
+    if path.exists() {
+        return Ok(path.to_path_buf());
+    }
+    let mut at = PathBuf::new();
+    for part in path.components() {
+        let Component::Normal(name) = part else {
+            at.push(part);
+            continue;
+        };
+        if at.join(name).exists() {
+            at.push(name);
+            continue;
+        }
+        let folder = if at.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            at.clone()
+        };
+        let want = name.to_string_lossy();
+        let alike: Vec<_> = std::fs::read_dir(&folder)
+            .map(|d| d.flatten().map(|e| e.file_name()).collect::<Vec<_>>())
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|n| n.to_string_lossy().eq_ignore_ascii_case(&want))
+            .collect();
+        match &alike[..] {
+            [one] => at.push(one),
+            [] => return Err(format!("{}: no such file or folder", path.display())),
+            [a, b, ..] => {
+                return Err(format!(
+                    "{}: {} and {} differ only in case: rename one",
+                    path.display(),
+                    a.to_string_lossy(),
+                    b.to_string_lossy()
+                ))
+            }
+        }
+    }
+    Ok(at)
 }
