@@ -166,9 +166,7 @@ pub fn channels(
                 tip: c.pos,
             };
             let travel = plot::Box2::travel(ch);
-            // Before anything is cut, the detail shows the program's cuts.
-            let detail = plot::detail_box(trail, c.pos, desc.pulse_mm, travel)
-                .or_else(|| plot::cuts_box(programmed, travel));
+            let detail = plot::detail_of(&d, travel);
             // The overview as tall as the travel box at the column's width needs, at most
             // 40 % of the room; the detail takes the rest.
             let w = ui.available_width();

@@ -324,6 +324,15 @@ pub fn cuts_box(path: &[crate::backplot::Segment], travel: Box2) -> Option<Box2>
     b.map(|b| grown(b, travel))
 }
 
+/// The detail view's box for a plot (`PlotData`): the programmed path's cuts ([`cuts_box`]);
+/// with no programmed cut (a program that does not read, an empty one), what the trail cut
+/// ([`detail_box`]). Until stop 52 the trail came first: on a lathe loaded by hand the work
+/// is in the spindle from START to the end, so its returns to the top of the travel counted
+/// as cuts and the detail was the whole travel.
+pub fn detail_of(d: &PlotData, travel: Box2) -> Option<Box2> {
+    cuts_box(d.programmed, travel).or_else(|| detail_box(d.trail, d.tip, d.pulse_mm, travel))
+}
+
 /// `v` mm without needless decimals.
 fn fmt_mm(v: f64) -> String {
     let v = if v.abs() < 1e-9 { 0.0 } else { v };
@@ -449,6 +458,57 @@ mod tests {
         one.push_tagged([5.0, 0.0, -5.0], Some(2));
         let b = detail_box(&one, [5_000, -5_000], 0.001, travel).unwrap();
         assert!((b.z[1] - b.z[0] - 4.0).abs() < 1e-9, "{b:?}");
+    }
+
+    #[test]
+    fn the_detail_is_the_programs_cuts_not_a_return_made_with_a_work_in_the_spindle() {
+        use crate::backplot::{PathKind, Segment};
+        let desc = crate::lathe::testkit::citizen_like(1);
+        let ch = &desc.channels[0];
+        let travel = Box2::travel(ch);
+        let seg = |kind, from: [f64; 3], to: [f64; 3]| Segment {
+            kind,
+            stmt: 1,
+            seq: 1,
+            from,
+            to,
+            arc: None,
+        };
+        // A cut near the work, then G28 to the top of the travel, at rapid.
+        let programmed = [
+            seg(PathKind::Feed, [10.0, 0.0, 1.0], [10.0, 0.0, -10.0]),
+            seg(
+                PathKind::Rapid,
+                [10.0, 0.0, -10.0],
+                [travel.x[1], 0.0, travel.z[1]],
+            ),
+        ];
+        // The trail made the same moves with the work in the spindle all along (loaded by hand).
+        let mut trail = Trail::default();
+        for p in [
+            [10.0, 0.0, 1.0],
+            [10.0, 0.0, -10.0],
+            [travel.x[1], 0.0, travel.z[1]],
+        ] {
+            trail.push_tagged(p, Some(1));
+        }
+        let mut d = PlotData {
+            ch,
+            pulse_mm: desc.pulse_mm,
+            trail: &trail,
+            programmed: &programmed,
+            current: Some(1),
+            tip: [0, 0],
+        };
+        let b = detail_of(&d, travel).unwrap();
+        assert!(
+            b.z[1] < 5.0 && b.x[1] < 15.0,
+            "the return is not a cut: {b:?}"
+        );
+        // No programmed cut: what the trail covered.
+        d.programmed = &[];
+        let t = detail_of(&d, travel).unwrap();
+        assert!(t.x[1] >= travel.x[1] - 1e-9, "{t:?}");
     }
 
     #[test]
