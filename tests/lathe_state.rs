@@ -909,7 +909,7 @@ fn a_program_file_is_read_into_the_selected_channel_and_kept() {
     let m = said(&mut c, PanelEvent::Tape(image));
     assert!(
         m.starts_with(
-            "read bad.tape (ISO tape): CH1's program BAD.TAPE, 2 lines; it does not read: line 2:"
+            "read bad.tape (ISO tape): CH1's program BAD, 2 lines; it does not read: line 2:"
         ),
         "{m}"
     );

@@ -263,8 +263,10 @@ impl LatheConsole {
         if text.len() > MAX_PROGRAM {
             return Err(format!("{file}: a program of more than 1 MB"));
         }
+        // Named as the centre's PROGRAM READ names a file (`shaft.nc` is `SHAFT.NC`).
+        let name = crate::store::program_name_from_file(&file)?.name;
         let p = Program {
-            name: program_name(&file, ch),
+            name,
             text,
             dialect: Some(
                 self.desc
@@ -482,25 +484,6 @@ impl LatheConsole {
                     .map(|l| format!("{}{:04} {l}", if n == cur { '>' } else { ' ' }, n))
             })
             .collect()
-    }
-}
-
-/// The name a program read from `file` takes on channel `ch` (0-based): the file's name in
-/// capitals, its letters, digits, `.`, `_` and `-` kept and any other character `_`, at most 32
-/// characters (`shelton.nc` is `SHELTON.NC`); a name with none of those is `CHn.NGC`.
-fn program_name(file: &str, ch: usize) -> String {
-    let name: String = file
-        .chars()
-        .map(|c| match c {
-            'a'..='z' | 'A'..='Z' | '0'..='9' | '.' | '_' | '-' => c.to_ascii_uppercase(),
-            _ => '_',
-        })
-        .take(32)
-        .collect();
-    if name.chars().any(|c| c.is_ascii_alphanumeric()) {
-        name
-    } else {
-        format!("CH{}.NGC", ch + 1)
     }
 }
 
