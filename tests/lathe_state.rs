@@ -926,3 +926,53 @@ fn a_program_file_is_read_into_the_selected_channel_and_kept() {
     let m = said(&mut c, PanelEvent::Tape(file));
     assert!(m.contains("the programs are in use"), "{m}");
 }
+
+/// The punch key on a lathe (stop 52): in DATA INPUT the selected channel's program is punched
+/// whole to the image the typed line names, as the centre punches its program, and reads back
+/// as the same text; in another mode it is refused and the typed line stays.
+#[test]
+fn the_punch_key_punches_the_selected_channels_program() {
+    let state = common::temp_dir("lathe-punch");
+    let d = desc(Some(Dialect::Fanuc), None);
+    let p = Program {
+        name: "O1000.NC".into(),
+        text: "O1000 (PIN)\nG94 G97 S800 M03\nG0 X20. Z2.\nG1 Z-10. F100.\nM30\n".into(),
+        dialect: Some(Dialect::Fanuc),
+    };
+    save_program(&state, &d, &p);
+    let mut c = open(&d, &state);
+    let text = c.programs()[0].text.clone();
+    let out = state.join("ch1.tape");
+    let punch = |c: &mut LatheConsole, line: &str| {
+        c.handle(PanelEvent::Type(line.into()));
+        c.handle(PanelEvent::Press(novanc_panel::Key::Alt('u')));
+        c.message().to_string()
+    };
+    let m = punch(&mut c, &out.display().to_string());
+    assert!(
+        m.starts_with("punch refused: it punches CH1's program in DATA INPUT (now AUTO)"),
+        "{m}"
+    );
+    assert_eq!(c.entry(), out.display().to_string(), "the typed line stays");
+    assert!(!out.exists());
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Data));
+    let m = punch(&mut c, &out.display().to_string());
+    assert!(m.starts_with("punched "), "{m}");
+    assert!(c.entry().is_empty());
+    let back = novanc::tape::read_image(&std::fs::read(&out).unwrap(), Default::default()).unwrap();
+    assert_eq!(back.code, Some(novanc::tape::Code::Iso));
+    assert_eq!(back.text, text);
+    // EIA, into a folder typed in capitals (the data keys' case).
+    let eia = std::path::PathBuf::from(state.to_string_lossy().to_uppercase()).join("CH1.EIA");
+    let m = punch(&mut c, &format!("{} EIA", eia.display()));
+    assert!(m.contains("in the EIA code"), "{m}");
+    let back = novanc::tape::read_image(
+        &std::fs::read(state.join("CH1.EIA")).unwrap(),
+        Default::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        (back.code, back.text),
+        (Some(novanc::tape::Code::Eia), text)
+    );
+}

@@ -25,7 +25,7 @@ mod memory;
 pub mod pages;
 mod panel;
 mod posmem;
-mod punch;
+pub(crate) mod punch;
 pub mod recording;
 pub(crate) mod relay;
 mod run;

@@ -29,47 +29,48 @@ pub(super) fn punch_from_entry(c: &mut Console) {
         return;
     }
     let line = std::mem::take(&mut c.front.entry);
-    let (path, code) = match parse_punch_line(&line) {
-        Ok(x) => x,
-        Err(e) => {
-            c.front.message = e;
-            return;
-        }
-    };
     let name = c.mem.program_name();
     let text = c.mem.text(crate::store::Target::Program);
+    c.front.message = punch_program(&name, &text, &line, |p| p);
+}
+
+/// Punches program `name`'s `text` to the image the punch key's `line` names (`PATH`, `PATH
+/// EIA`), the path first passed through `path` (a lathe finds its folder without regard to
+/// case): what was punched, or why nothing was written. Every console's punch.
+pub(crate) fn punch_program(
+    name: &str,
+    text: &str,
+    line: &str,
+    path: impl FnOnce(PathBuf) -> PathBuf,
+) -> String {
+    let (path, code) = match parse_punch_line(line) {
+        Ok((p, code)) => (path(p), code),
+        Err(e) => return e,
+    };
     if text.trim().is_empty() {
-        c.front.message = format!("punch refused: program {name} is empty; nothing written");
-        return;
+        return format!("punch refused: program {name} is empty; nothing written");
     }
     let opts = PunchOptions {
         code,
         leader: tape::DEFAULT_LEADER,
-        label: Some(name.clone()),
+        label: Some(name.to_string()),
     };
-    let image = match tape::punch(&text, &opts) {
+    let image = match tape::punch(text, &opts) {
         Ok(i) => i,
-        Err(e) => {
-            c.front.message = format!("punch refused, nothing written: program {name} line {e}");
-            return;
-        }
+        Err(e) => return format!("punch refused, nothing written: program {name} line {e}"),
     };
     match crate::store::fsutil::write_output(&path, &image) {
-        Ok(()) => {
-            c.front.message = format!(
-                "punched {name} to {} in the {} code: {} frames ({:.1} m of tape)",
-                path.display(),
-                code.name(),
-                image.len(),
-                image.len() as f64 * 2.54e-3
-            );
-        }
-        Err(e) => {
-            c.front.message = format!(
-                "punch: cannot write {}: {e}; nothing written",
-                path.display()
-            )
-        }
+        Ok(()) => format!(
+            "punched {name} to {} in the {} code: {} frames ({:.1} m of tape)",
+            path.display(),
+            code.name(),
+            image.len(),
+            image.len() as f64 * 2.54e-3
+        ),
+        Err(e) => format!(
+            "punch: cannot write {}: {e}; nothing written",
+            path.display()
+        ),
     }
 }
 

@@ -302,6 +302,35 @@ impl LatheConsole {
         Ok(format!("{said}{reads}{kept}"))
     }
 
+    /// The punch key (Alt+u) in DATA INPUT: the selected channel's program punched whole to the
+    /// image the typed line names (`PATH`, `PATH EIA`), as the centre punches its current
+    /// program (`console::punch::punch_program`); the folder is found without regard to case,
+    /// as PROGRAM READ finds a file. What was punched, or why not (the typed line stays when
+    /// the key is refused for the mode or a cycle).
+    pub(super) fn punch(&mut self) -> String {
+        let ch = self.sel;
+        if self.front.op != OpMode::Data {
+            return format!(
+                "punch refused: it punches CH{}'s program in DATA INPUT (now {})",
+                ch + 1,
+                self.front.op.name()
+            );
+        }
+        if !self.cycle.is_over() {
+            return "punch refused: the programs are in use: RESET the cycle first".into();
+        }
+        let line = std::mem::take(&mut self.front.entry);
+        let p = &self.programs[ch];
+        crate::console::punch::punch_program(&p.name, &p.text, &line, |path| {
+            match (path.parent(), path.file_name()) {
+                (Some(d), Some(f)) if !d.as_os_str().is_empty() => {
+                    path_ignoring_case(d).map_or(path.clone(), |d| d.join(f))
+                }
+                _ => path,
+            }
+        })
+    }
+
     /// The MODAL page of the selected channel (Ctrl+G, the centre's page key): the modal G codes
     /// in the channel's own code system, F, S and the tool as its last read left them (what
     /// its next MDI line starts from; a cycle reads its programs whole at START, so while one

@@ -35,10 +35,9 @@ pub fn map_key(k: Key) -> Action {
             Action::Event(e) if takes(&e).is_err() || matches!(e, PanelEvent::Press(_)) => {
                 Action::None
             }
-            Action::Move(Axis::Y, _)
-            | Action::Punch
-            | Action::ZNeglect
-            | Action::Page(Page::Prog | Page::Io) => Action::None,
+            Action::Move(Axis::Y, _) | Action::ZNeglect | Action::Page(Page::Prog | Page::Io) => {
+                Action::None
+            }
             a => a,
         },
     }

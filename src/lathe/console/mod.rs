@@ -1346,6 +1346,11 @@ impl crate::console::keys::Keyed for LatheConsole {
                 }
                 self.after();
             }
+            Action::Punch => {
+                self.record_key(k);
+                self.front.message = self.punch();
+                self.after();
+            }
             Action::Target => {
                 self.record_key(k);
                 let typed = std::mem::take(&mut self.front.entry);
