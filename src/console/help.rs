@@ -73,7 +73,7 @@ pub const LATHE_KEYS: [&str; 13] = [
     "Alt+x FAULT Alt+n TARGET",
     "Alt+o M01   Alt+b /DEL",
     "Alt+= Alt+- FOV Alt+f RPD",
-    "F8 help    Alt+t READ",
+    "F8 help  Alt+t/u READ/PCH",
     "Alt+[ ] SOV  Alt+d DRY",
 ];
 
@@ -86,7 +86,7 @@ pub const LATHE_HELP: [&str; 20] = [
     "F11 / Alt+r   RESET the selected channel (a fault or alarm); after E-STOP, the machine",
     "F12 / Alt+e   E-STOP: everything stops at once",
     "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
-    "Alt+n, Alt+t  the part target: the typed number; PROGRAM READ (DATA): the typed file becomes the channel's program",
+    "Alt+n         part target: the typed number; in DATA, Alt+t reads the typed file into the channel, Alt+u punches it",
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (a value Enter, Tab adds)",
     "Ctrl+E        MSG: the alarm and message history, newest first, kept across restarts (Up/Down)",
     "Ctrl+U        MACRO: the channel's variables #1-#33, #100-#199, #500-#999; #500=12.5 Enter sets one",
