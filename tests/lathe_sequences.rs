@@ -98,6 +98,9 @@ struct Stats {
     locked: u64,
     /// Selector turns that cleared a line left typed (and said so).
     turns_cleared: u64,
+    /// Program files read into a channel, and programs punched (stop 52).
+    reads: u64,
+    punches: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -527,12 +530,18 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             let path = [good, bad, s.dir.join("no-such.nc"), s.dir.clone()]
                 [rng.range(0, 3) as usize]
                 .clone();
-            let line = format!("tape {}", path.display());
+            let mut line = format!("tape {}", path.display());
             s.fresh = true;
+            if rng.range(0, 1) == 1 {
+                // Where it reads: DATA INPUT (its typed line, if any, cleared and said).
+                s.c.handle(PanelEvent::Op(OpMode::Data));
+                line = format!("op DATA\n{line}");
+            }
             s.c.handle(PanelEvent::Tape(path));
             let m = s.c.message().to_string();
             let now = &s.c.programs()[ch];
             if m.starts_with("read ") {
+                s.stats.reads += 1;
                 assert_eq!(now.text, before.text, "{line}: {m}");
                 assert_eq!(s.c.pointer(ch), 0, "{line}: {m}");
             } else {
@@ -540,6 +549,37 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 assert_eq!(*now, before, "{line}: {m}");
             }
             return line;
+        }
+        90 => {
+            // The punch key (stop 52): the selected channel's program to an image that reads
+            // back as its text; refused outside DATA INPUT or with a cycle under way.
+            let ch = s.c.selected();
+            let text = s.c.programs()[ch].text.clone();
+            let out = s.dir.join("punched.tape");
+            let _ = std::fs::remove_file(&out);
+            let code = ["", " EIA"][rng.range(0, 1) as usize];
+            let turn = rng.range(0, 1) == 1;
+            if turn {
+                s.c.handle(PanelEvent::Op(OpMode::Data));
+            }
+            s.c.handle(PanelEvent::Type(format!("{}{code}", out.display())));
+            s.fresh = true;
+            s.c.handle(PanelEvent::Press(novanc_panel::Key::Alt('u')));
+            let m = s.c.message().to_string();
+            if m.starts_with("punched ") {
+                s.stats.punches += 1;
+                let image = std::fs::read(&out).unwrap();
+                let back = novanc::tape::read_image(&image, Default::default()).unwrap();
+                assert_eq!(back.text, text, "{m}");
+            } else {
+                assert!(
+                    m.starts_with("punch refused") || m.starts_with("punch:"),
+                    "{m}"
+                );
+                assert!(!out.exists(), "{m}");
+            }
+            let turned = if turn { "op DATA\n" } else { "" };
+            return format!("{turned}type {}{code}\nkey Alt+u", out.display());
         }
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
@@ -707,6 +747,8 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.jogs += s.stats.jogs;
         total.locked += s.stats.locked;
         total.turns_cleared += s.stats.turns_cleared;
+        total.reads += s.stats.reads;
+        total.punches += s.stats.punches;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -758,7 +800,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -770,6 +812,8 @@ fn many_random_operator_sequences() {
             st.jogs,
             st.locked,
             st.turns_cleared,
+            st.reads,
+            st.punches,
             t.elapsed().as_secs_f64()
         );
     }
