@@ -600,6 +600,21 @@ pub fn g71_moves(
         ));
     }
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
+    // Moves that end the profile out of the stock, at or beyond the start's X (shop programs
+    // end a profile with a rapid out and back to the start's Z before G40): no level reaches
+    // them, so the roughing ends before them and leaves by its own way out; G70 runs them as
+    // written. They are not a turn back (docs/lathe-gcode.md "G71 roughing").
+    let outside = |p: [f64; 2]| sx * (p[1] - a[1]) >= -1e-9;
+    let mut prof = prof;
+    while prof.len() > 2 {
+        let m = prof[prof.len() - 1];
+        if matches!(m.kind, Kind::Arc { .. } | Kind::Thread(_))
+            || !(outside(m.start) && outside(m.end))
+        {
+            break;
+        }
+        prof = &prof[..prof.len() - 1];
+    }
     // The way the profile goes along its passes is the way its first move along them goes; a
     // profile that comes back (to where it began, even) turns back at a line of its own, found
     // below, not here.

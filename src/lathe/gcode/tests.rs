@@ -666,3 +666,40 @@ fn a_one_block_g71_d_without_a_point_is_in_least_increments_in_fanucs_dialect() 
     assert_eq!((e.line, e.col), (2, 13), "{e}");
     assert!(e.message.contains("under 1000 mm"), "{e}");
 }
+
+/// A G71 profile that ends with moves out of the stock, at or beyond the start's X (a rapid
+/// out to the start's X, then back along Z to the start's Z, before G40), is roughed as the
+/// profile without them: no level reaches them, and the cycle's way out is the same. Shop
+/// programs write it so; until stop 52 it was refused as turning back in Z. A move back that
+/// dips into the stock is still refused at its line; G70 runs the lines as written.
+#[test]
+fn a_g71_profile_may_end_with_moves_out_of_the_stock() {
+    let profile = "N10 G0 X20\nG1 Z-10\nG1 X40 Z-20\n";
+    let plain = blocks(&format!(
+        "G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\n{profile}N20 G1 X40 Z-20\nM30\n"
+    ));
+    let out = blocks(&format!(
+        "G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\n{profile}G0 X40\nN20 G0 Z2\nM30\n"
+    ));
+    assert_eq!(moves(&out), moves(&plain));
+    // With G70 after it, the finishing runs the rapid out and back as written.
+    let fin = blocks(&format!(
+        "G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\n{profile}G0 X42\nN20 G0 Z2\nG70 P10 Q20\nM30\n"
+    ));
+    let m = moves(&fin);
+    assert_eq!(
+        &m[m.len() - 3..],
+        &[
+            ('R', [21_000, -20_000]),
+            ('R', [21_000, 2_000]),
+            ('R', [20_000, 2_000])
+        ]
+    );
+    // Back along Z below the start's X: into the stock, refused where it turns.
+    let e = read(
+        "G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\nN10 G0 X20\nG1 Z-10\nG1 X36 Z-20\nN20 G0 Z2\nM30\n",
+    )
+    .unwrap_err();
+    assert_eq!(e.line, 7, "{e}");
+    assert!(e.message.contains("turns back in Z"), "{e}");
+}
