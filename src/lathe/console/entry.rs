@@ -180,18 +180,7 @@ impl LatheConsole {
         if text.len() > MAX_PROGRAM {
             return Err("the program would pass 1 MB: refused".into());
         }
-        // The program keeps the dialect it is stored in: the channel's now.
-        let p = Program {
-            name: self.programs[ch].name.clone(),
-            text,
-            dialect: Some(
-                self.desc
-                    .channels
-                    .get(ch)
-                    .and_then(|c| c.dialect)
-                    .unwrap_or_default(),
-            ),
-        };
+        let p = self.to_store(ch, self.programs[ch].name.clone(), text);
         if out.changed {
             self.store
                 .save_program(ch, &p)
@@ -219,6 +208,17 @@ impl LatheConsole {
             };
         }
         Ok(())
+    }
+
+    /// Channel `ch`'s program `name` with `text` as it is stored: in the dialect the channel
+    /// reads now, which the program keeps (docs/lathe.md "Stores").
+    fn to_store(&self, ch: usize, name: String, text: String) -> Program {
+        let dialect = self.desc.channels.get(ch).and_then(|c| c.dialect);
+        Program {
+            name,
+            text,
+            dialect: Some(dialect.unwrap_or_default()),
+        }
     }
 
     /// PROGRAM READ on a lathe (the tape key, a script's `tape PATH`, in DATA INPUT): the file
@@ -265,17 +265,7 @@ impl LatheConsole {
         }
         // Named as the centre's PROGRAM READ names a file (`shaft.nc` is `SHAFT.NC`).
         let name = crate::store::program_name_from_file(&file)?.name;
-        let p = Program {
-            name,
-            text,
-            dialect: Some(
-                self.desc
-                    .channels
-                    .get(ch)
-                    .and_then(|c| c.dialect)
-                    .unwrap_or_default(),
-            ),
-        };
+        let p = self.to_store(ch, name, text);
         self.store.save_program(ch, &p)?;
         let lines = p.text.lines().count();
         let said = format!(
