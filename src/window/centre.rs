@@ -335,7 +335,7 @@ impl Centre {
                     out.push(PanelEvent::Data(DataMode::ALL[i]));
                 }
             });
-            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out, true));
+            ui.vertical(|ui| super::keys::data_keys(ui, &mut self.hand, out));
             ui.vertical(|ui| controls::readout(ui, view));
         });
         ui.label(

@@ -26,10 +26,11 @@ pub const NUMERIC_KEYS: [(char, char); 12] = [
 /// The data keys: alphabetic (15a), numeric with shifted characters (15b), SHIFT (15c),
 /// SPACE, RUBOUT, EOB (INPUT on a page) and +INPUT (a page adds the typed value to the cell
 /// under its cursor: `PanelEvent::PlusInput`, on every machine; the keyboard's Tab on a page);
-/// with `tape`, the machining centre's tape reader and punch keys. Before stop 46 the lathe's
-/// keypad had no +INPUT, and the centre's sent Tab, which on a lathe with nothing typed turns
-/// the channel selector.
-pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>, tape: bool) {
+/// the tape reader (PROGRAM READ) and punch keys, on every machine since stop 52 (a lathe's read
+/// a file into, and punch, its selected channel's program). Before stop 46 the lathe's keypad
+/// had no +INPUT, and the centre's sent Tab, which on a lathe with nothing typed turns the
+/// channel selector.
+pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
     let key = |ui: &mut Ui, label: &str, w: f32, lit: bool| -> bool {
         let b = egui::Button::new(egui::RichText::new(label).monospace().size(13.0))
             .min_size(vec2(w, 26.0))
@@ -76,11 +77,14 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>, t
         if key(ui, "+INPUT", 60.0, false) {
             out.push(PanelEvent::PlusInput);
         }
-        // The tape reader and punch keys are the terminal's Alt+t and Alt+u.
-        if tape && key(ui, "TAPE", 50.0, false) {
+    });
+    // The tape reader and punch keys (the terminal's Alt+t and Alt+u), a row of their own so
+    // that a lathe's panel, with its channel keys, stays inside the window.
+    ui.horizontal(|ui| {
+        if key(ui, "TAPE", 50.0, false) {
             out.push(PanelEvent::Press(Key::Alt('t')));
         }
-        if tape && key(ui, "PUNCH", 56.0, false) {
+        if key(ui, "PUNCH", 56.0, false) {
             out.push(PanelEvent::Press(Key::Alt('u')));
         }
     });

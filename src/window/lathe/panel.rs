@@ -392,7 +392,7 @@ pub fn manual(ui: &mut Ui, mode: OpMode, increment: u32, hand: &mut HandState, o
 /// The data keys (the mill's, without the tape keys), as lathe events.
 pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<Act>) {
     let mut evs = Vec::new();
-    crate::window::keys::data_keys(ui, hand, &mut evs, false);
+    crate::window::keys::data_keys(ui, hand, &mut evs);
     out.extend(evs.into_iter().filter_map(lathe_ev));
 }
 #[cfg(test)]
