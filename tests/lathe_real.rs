@@ -138,17 +138,27 @@ fn g72_refusals_name_g72_and_its_words() {
     );
 }
 
+/// A shop's profile that ends with a rapid back to the start's Z (line 8, its G0), out of the
+/// stock at the start's X: stop 49 refused it at that line (`turns back in Z`); since stop 52
+/// the roughing leaves it out (no level reaches it) and moves as for the profile without it.
+/// Back along Z inside the stock, the same line is still refused where it turns.
 #[test]
-fn a_g71_profile_that_comes_back_to_its_start_z_is_refused_at_the_line_that_turns() {
+fn a_g71_profile_that_comes_back_to_its_start_z_out_of_the_stock_is_roughed_without_it() {
     let desc = lathe();
-    // A shop's profile that ends with a rapid back to the start's Z (line 8, its G0): the profile
-    // turns back in Z there, and that line is the one at fault. The first move (line 5) is
-    // a proper type I move and was named before, with "must move along Z", though the profile
-    // does move along Z.
-    let p = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n\
-             N10 G0 X20.\nG1 Z-10. F0.1\nX40.\nN20 G0 Z2.\n";
+    let head = "G95 T0202 S500 M3\nG0 X40. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.2\n";
+    let ends = |p: &str| -> Vec<novanc::block::Axes> {
+        match read(p, &desc) {
+            Ok(st) => st.iter().flat_map(|s| &s.blocks).map(|b| b.end).collect(),
+            Err(e) => panic!("{e}\n{p}"),
+        }
+    };
+    let back = format!("{head}N10 G0 X20.\nG1 Z-10. F0.1\nX40.\nN20 G0 Z2.\n");
+    let plain = format!("{head}N10 G0 X20.\nG1 Z-10. F0.1\nN20 X40.\n");
+    assert_eq!(ends(&back), ends(&plain));
+    // Back along Z below the start's X: in the stock, refused at the line that turns.
+    let p = format!("{head}N10 G0 X20.\nG1 Z-10. F0.1\nX36.\nN20 G0 Z2.\n");
     assert_eq!(
-        read(p, &desc).err().as_deref(),
+        read(&p, &desc).err().as_deref(),
         Some("8:5: the G71 profile must be monotonic: this move turns back in Z")
     );
     // A profile with no move along Z at all is still refused at its first move.
