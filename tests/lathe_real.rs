@@ -1,7 +1,9 @@
 //! What real Fanuc lathe programs (shop and course programs nobody here wrote, tried by hand
 //! on a one-channel lathe) met in the reader, each in a small program of our own of the same
-//! form: Fanuc 0i-T's G72 face roughing, and a G71 profile that turns back in Z refused at the
-//! line that turns. The moves are worked out by hand from each program, not by the reader.
+//! form: Fanuc 0i-T's G72 face roughing, and a G71 profile that comes back to its start's Z
+//! (roughed without that move out of the stock since stop 52; refused at the line that turns
+//! when the move is inside the stock). The moves are worked out by hand from each program, not
+//! by the reader.
 
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
 
