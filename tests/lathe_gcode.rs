@@ -82,7 +82,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "1:1",
             "the lathe has one work coordinate system, G54",
         ),
-        ("G73\n".into(), "1:1", "G73 is not supported"),
+        ("G73\n".into(), "1:1", "G73 is Fanuc's pattern repeating, read in Fanuc's dialect only"),
         (
             "G90.1\n".into(),
             "1:1",

@@ -497,30 +497,13 @@ fn rough(
             ))
         }
     };
-    let (p, q) = profile_lines(r, w, n, c, name)?;
-    if p <= idx {
-        return Err(err(
-            n,
-            c,
-            format!("the {name} profile (lines P to Q) must follow the {name} line"),
-        ));
-    }
-    let dia = if r.st.diameter { 2.0 } else { 1.0 };
-    let du = w.get('U').unwrap_or(0.0) * f / dia;
-    let dw = w.get('W').unwrap_or(0.0) * f;
-    let Some(feed) = r.st.feed_of() else {
-        return Err(err(n, c, "G71 roughs at the feed in force: give F"));
-    };
-    // Collect the profile without emitting it.
-    let (saved, a) = (r.st.clone(), r.out.pos);
-    r.out.capture = Some(Vec::new());
-    r.in_cycle = true;
-    let res = r.run_range(p, q + 1, lines);
-    r.in_cycle = false;
-    let prof = r.out.capture.take().unwrap_or_default();
-    r.st = saved;
-    r.out.pos = a;
-    res?;
+    let Profile {
+        moves: prof,
+        start: a,
+        allow: [dw, du],
+        feed,
+        q,
+    } = profile(r, w, n, c, idx, lines, name)?;
     let rough = if face {
         // G72 is G71 on the plane mirrored across Z = X: swap each point's parts, cut, swap back.
         let prof: Vec<Mv> = prof.iter().map(swapped).collect();
@@ -545,6 +528,178 @@ fn rough(
         r.out.motion(m)?;
     }
     Ok(Flow::Jump(q + 1))
+}
+
+/// A roughing cycle's profile (G71, G72, G73): its moves as read, not emitted.
+struct Profile {
+    /// The profile's moves, `[Z, X]` mm (X a radius).
+    moves: Vec<Mv>,
+    /// Where the tool stands at the cycle's line: the start point A.
+    start: [f64; 2],
+    /// The finishing allowances `[W, U as a radius]`, mm.
+    allow: [f64; 2],
+    /// The roughing feed (the feed in force, F on the line).
+    feed: super::out::Feed,
+    /// The profile's last line (0-based): reading goes on after it.
+    q: usize,
+}
+
+/// The profile of the cycle `name` on line `n`: the lines P to Q (after the cycle's line) read
+/// without emitting anything and without changing the program's modes, its allowances U
+/// (on the diameter in G07) and W, and the feed in force.
+fn profile(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    idx: usize,
+    lines: &mut dyn Lines,
+    name: &str,
+) -> Result<Profile, TranslateError> {
+    let f = r.st.factor();
+    let (p, q) = profile_lines(r, w, n, c, name)?;
+    if p <= idx {
+        return Err(err(
+            n,
+            c,
+            format!("the {name} profile (lines P to Q) must follow the {name} line"),
+        ));
+    }
+    let dia = if r.st.diameter { 2.0 } else { 1.0 };
+    let du = w.get('U').unwrap_or(0.0) * f / dia;
+    let dw = w.get('W').unwrap_or(0.0) * f;
+    let Some(feed) = r.st.feed_of() else {
+        return Err(err(
+            n,
+            c,
+            format!("{name} roughs at the feed in force: give F"),
+        ));
+    };
+    let (saved, a) = (r.st.clone(), r.out.pos);
+    r.out.capture = Some(Vec::new());
+    r.in_cycle = true;
+    let res = r.run_range(p, q + 1, lines);
+    r.in_cycle = false;
+    let moves = r.out.capture.take().unwrap_or_default();
+    r.st = saved;
+    r.out.pos = a;
+    res?;
+    Ok(Profile {
+        moves,
+        start: a,
+        allow: [dw, du],
+        feed,
+        q,
+    })
+}
+
+/// The most passes of a G73 (its first block's R).
+pub const MAX_G73_PASSES: u32 = 100;
+
+/// G73 U(Δi) W(Δk) R(d), then G73 P Q U W F: Fanuc 0i-T's pattern repeating, in Fanuc's
+/// dialect. The profile of lines P..Q is cut d times, each time shifted by its share of the
+/// relief (Δi, Δk) plus the allowances: the first pass (Δi, Δk) out, the last at the
+/// allowances alone, the ones between evenly. Each pass goes from the start point A along the
+/// shifted profile (its first move in that move's own mode, the rest at the roughing feed, as
+/// written rapids at rapid) and leaves as G71 does: out to A's X, along Z to A's Z, to A.
+/// The lines P..Q are then skipped. The relief and count are kept (the first block's, as a
+/// Fanuc keeps them in parameters 5135 to 5137) for a later G73 P Q.
+pub fn g73(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+    idx: usize,
+    lines: &mut dyn Lines,
+) -> Result<Flow, TranslateError> {
+    if !r.fanuc {
+        return Err(err(
+            n,
+            c,
+            "G73 is Fanuc's pattern repeating, read in Fanuc's dialect only (LinuxCNC's G73 is a mill's drilling cycle)",
+        ));
+    }
+    let f = r.st.factor();
+    if w.get('P').is_none() && w.get('Q').is_none() {
+        refuse(w, "XZIKJHELDF", n, "G73 U W R")?;
+        let relief = [w.get('W').unwrap_or(0.0) * f, w.get('U').unwrap_or(0.0) * f];
+        let d = r.as_written('R', need(w, 'R', n, c, "G73 (first block)")?);
+        if !(d.fract() == 0.0 && (1.0..=f64::from(MAX_G73_PASSES)).contains(&d)) {
+            return Err(err(
+                n,
+                w.col('R').unwrap_or(c),
+                format!(
+                    "G73 R, the number of passes, must be a whole number 1 to {MAX_G73_PASSES}"
+                ),
+            ));
+        }
+        if relief.iter().any(|v| v.abs() >= 1000.0) {
+            return Err(err(n, c, "G73 U and W, the relief, must be under 1000 mm"));
+        }
+        r.st.g73 = Some((relief, d as u32));
+        return Ok(Flow::Next);
+    }
+    refuse(w, "XZIKRJHELD", n, "G73 P Q")?;
+    if r.out.comp_on() {
+        return Err(err(n, c, "G73 with nose-radius compensation in force: give G40 first (the allowances U and W take the nose's place)"));
+    }
+    let Some((relief, d)) = r.st.g73 else {
+        return Err(err(
+            n,
+            c,
+            "G73 P Q needs the first G73 block (G73 U W R: the relief and the number of passes) before it",
+        ));
+    };
+    let pr = profile(r, w, n, c, idx, lines, "G73")?;
+    let a = pr.start;
+    let Some(first) = pr.moves.first() else {
+        return Err(err(n, c, "the G73 profile (lines P to Q) has no move"));
+    };
+    // The side the profile lies on from A, across X: where the way out goes.
+    let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
+    let mut out = Vec::new();
+    for k in 1..=d {
+        let t = if d > 1 {
+            f64::from(d - k) / f64::from(d - 1)
+        } else {
+            0.0
+        };
+        let off = [relief[0] * t + pr.allow[0], relief[1] * t + pr.allow[1]];
+        let shift = |p: [f64; 2]| [p[0] + off[0], p[1] + off[1]];
+        for (i, m) in pr.moves.iter().enumerate() {
+            let mut s = *m;
+            s.start = if i == 0 { a } else { shift(m.start) };
+            s.end = shift(m.end);
+            s.kind = match m.kind {
+                Kind::Thread(_) => {
+                    return Err(err(m.line, m.col, "G33 in a G73 profile"));
+                }
+                Kind::Arc { c: ctr, ccw, .. } => Kind::Arc {
+                    c: shift(ctr),
+                    ccw,
+                    feed: pr.feed,
+                },
+                Kind::Rapid => Kind::Rapid,
+                _ => Kind::Line(pr.feed),
+            };
+            out.push(s);
+        }
+        let e = out.last().map_or(a, |m: &Mv| m.end);
+        let x_out = if sx * (a[1] - e[1]) > 0.0 { a[1] } else { e[1] };
+        out.push(mv(Kind::Rapid, [e[0], x_out], n, c));
+        out.push(mv(Kind::Rapid, [a[0], x_out], n, c));
+        out.push(mv(Kind::Rapid, a, n, c));
+    }
+    let mut at = a;
+    out.retain(|m| {
+        let moves = (m.end[0] - at[0]).abs() > 1e-9 || (m.end[1] - at[1]).abs() > 1e-9;
+        at = m.end;
+        moves
+    });
+    for m in out {
+        r.out.motion(m)?;
+    }
+    Ok(Flow::Jump(pr.q + 1))
 }
 
 /// `m` mirrored across the line Z = X: each point's `[Z, X]` swapped, so an arc turns the other

@@ -36,6 +36,8 @@ pub struct State {
     pub limit: f64,
     /// G71's depth of cut and retract (from its first block), mm radius.
     pub g71: Option<(f64, f64)>,
+    /// G73's relief `[Z, X radius]` mm and number of passes (from its first block).
+    pub g73: Option<([f64; 2], u32)>,
     /// G74/G75's return after each peck (their first block's R), mm.
     pub peck_return: f64,
     /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
@@ -101,6 +103,7 @@ impl State {
             s: 0.0,
             limit: max,
             g71: None,
+            g73: None,
             peck_return: 0.0,
             g76: None,
             drill: None,
@@ -707,7 +710,7 @@ impl Reader<'_> {
                 .find(|x| {
                     matches!(
                         x.0,
-                        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 740 | 750 | 760
+                        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 730 | 740 | 750 | 760
                     ) || (self.system_a && matches!(x.0, 900 | 920 | 940))
                 })
                 .copied();
@@ -771,7 +774,7 @@ impl Reader<'_> {
                 }
                 flow = grooving::g74_75(self, w, n, c, g)?;
             }
-            Some((700, c)) | Some((710, c)) | Some((720, c)) | Some((760, c)) => {
+            Some((700, c)) | Some((710, c)) | Some((720, c)) | Some((730, c)) | Some((760, c)) => {
                 for l in [
                     'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L', 'D',
                 ] {
@@ -792,6 +795,7 @@ impl Reader<'_> {
                     }
                     710 => cycles::g71(self, w, n, c, idx, lines)?,
                     720 => cycles::g72(self, w, n, c, idx, lines)?,
+                    730 => cycles::g73(self, w, n, c, idx, lines)?,
                     _ => cycles::g70(self, w, n, c, lines)?,
                 };
             }

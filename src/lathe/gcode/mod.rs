@@ -122,7 +122,7 @@ fn lathe_a_g_why(g: u32) -> &'static str {
 
 fn lathe_g_group(g: u32) -> Option<u8> {
     Some(match g {
-        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 740 | 750 | 760 => 1,
+        0 | 10 | 20 | 30 | 320 | 330 | 700 | 710 | 720 | 730 | 740 | 750 | 760 => 1,
         170 | 180 | 190 => 2,
         900 | 910 => 3,
         70 | 80 => 4,
@@ -166,7 +166,6 @@ fn lathe_g_why(g: u32) -> &'static str {
         923 => " (the lathe keeps no G92 parameters to restore: give G92 X Z)",
         901 => " (the lathe reads arc centres I and K from the arc's start only: G91.1)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
-        730 => " (the roughing cycles are G71 and G72 with G70; G73 is not supported)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
         500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is D)",

@@ -703,3 +703,82 @@ fn a_g71_profile_may_end_with_moves_out_of_the_stock() {
     assert_eq!(e.line, 7, "{e}");
     assert!(e.message.contains("turns back in Z"), "{e}");
 }
+
+/// G73, Fanuc 0i-T's pattern repeating (stop 52; refused before): the profile cut R times,
+/// shifted by the relief U W (a radius) shared out evenly, the last pass at the allowances
+/// alone; each pass from the start point, its first move in its own mode, then out to the
+/// start's X (or the pass's end X, farther out), along Z and back. Worked out by hand.
+#[test]
+fn g73_repeats_the_profile_shifted_by_the_relief_shared_out() {
+    let mut d = wide_desc();
+    d.channels[0].dialect = Some(crate::settings::Dialect::Fanuc);
+    let on = |d: &LatheDesc, text: &str| read_program(text, d, 0, &ReadOptions::default());
+    let text = "G94 G0 X44. Z2.\nG73 U3. W1. R3\nG73 P10 Q20 U0.4 W0.1 F100.\n\
+                N10 G0 X20. Z2.\nG1 Z-10.\nG2 X30. Z-15. R5.\nG1 X40. Z-25.\nN20 X44.\nM30\n";
+    let got = moves(&flat(on(&d, text).unwrap()));
+    let mut want = vec![('R', [22_000, 2_000])];
+    // Radius offsets 3 + 0.2, 1.5 + 0.2, 0 + 0.2; along Z 1 + 0.1, 0.5 + 0.1, 0.1.
+    for (ox, oz) in [(3_200, 1_100), (1_700, 600), (200, 100)] {
+        want.extend([
+            ('R', [10_000 + ox, 2_000 + oz]),
+            ('F', [10_000 + ox, -10_000 + oz]),
+            ('A', [15_000 + ox, -15_000 + oz]),
+            ('F', [20_000 + ox, -25_000 + oz]),
+            ('F', [22_000 + ox, -25_000 + oz]),
+            // Out: the pass ends beyond the start's X, so along Z there, then in to the start.
+            ('R', [22_000 + ox, 2_000]),
+            ('R', [22_000, 2_000]),
+        ]);
+    }
+    assert_eq!(got, want);
+    // The relief and count are kept for the next G73 P Q, and R1 is one pass at the allowances.
+    let once = "G94 G0 X44. Z2.\nG73 U3. W1. R1\nG73 P10 Q20 F100.\n\
+                N10 G0 X20. Z2.\nN20 G1 Z-10.\nM30\n";
+    let got = moves(&flat(on(&d, once).unwrap()));
+    assert_eq!(
+        got,
+        [
+            ('R', [22_000, 2_000]),
+            ('R', [10_000, 2_000]),
+            ('F', [10_000, -10_000]),
+            ('R', [22_000, -10_000]),
+            ('R', [22_000, 2_000]),
+        ]
+    );
+    // Refused, each at its place and with its reason.
+    let p = "N10 G0 X20. Z2.\nN20 G1 Z-10.\nM30\n";
+    for (text, place, says) in [
+        (
+            "G94 G0 X44. Z2.\nG73 P10 Q20 F100.\n",
+            (2, 1),
+            "needs the first G73 block",
+        ),
+        (
+            "G94 G0 X44. Z2.\nG73 U3. W1. R2.5\n",
+            (2, 13),
+            "a whole number 1 to 100",
+        ),
+        (
+            "G94 G0 X44. Z2.\nG73 U3. W1. R0\n",
+            (2, 13),
+            "a whole number 1 to 100",
+        ),
+        (
+            "G94 G0 X44. Z2.\nG73 U3. W1.\n",
+            (2, 1),
+            "G73 (first block) needs R",
+        ),
+        (
+            "G94 G0 X44. Z2.\nG73 U3. R2 X1.\n",
+            (2, 12),
+            "G73 U W R takes no X word",
+        ),
+    ] {
+        let e = on(&d, &format!("{text}{p}")).unwrap_err();
+        assert_eq!((e.line, e.col), place, "{text}: {e}");
+        assert!(e.message.contains(says), "{text}: {e}");
+    }
+    // In LinuxCNC's dialect G73 is a mill's drilling cycle: refused, saying so.
+    let e = read("G0 X44 Z2\nG73 U3 W1 R3\n").unwrap_err();
+    assert!(e.message.contains("Fanuc's dialect only"), "{e}");
+}
