@@ -685,18 +685,9 @@ pub fn g73(
             out.push(s);
         }
         let e = out.last().map_or(a, |m: &Mv| m.end);
-        let x_out = if sx * (a[1] - e[1]) > 0.0 { a[1] } else { e[1] };
-        out.push(mv(Kind::Rapid, [e[0], x_out], n, c));
-        out.push(mv(Kind::Rapid, [a[0], x_out], n, c));
-        out.push(mv(Kind::Rapid, a, n, c));
+        way_out(&mut out, e, a, sx, n, c);
     }
-    let mut at = a;
-    out.retain(|m| {
-        let moves = (m.end[0] - at[0]).abs() > 1e-9 || (m.end[1] - at[1]).abs() > 1e-9;
-        at = m.end;
-        moves
-    });
-    for m in out {
+    for m in moving(out, a) {
         r.out.motion(m)?;
     }
     Ok(Flow::Jump(pr.q + 1))
@@ -860,19 +851,29 @@ pub fn g71_moves(
     for s in &segs {
         out.push(*s);
     }
-    let e = segs[segs.len() - 1].end;
+    way_out(&mut out, segs[segs.len() - 1].end, a, sx, n, c);
+    Ok(moving(out, a))
+}
+
+/// A roughing cycle's way out from `e` back to its start `a` `[Z, X]`, the stock on side `sx`
+/// of `a` across X: out to A's X (or stays at `e`'s X, if that is farther out), along Z to A's
+/// Z, then to A. G71, G72 and G73 leave so; no such move crosses the stock.
+fn way_out(out: &mut Vec<Mv>, e: [f64; 2], a: [f64; 2], sx: f64, n: u32, c: u32) {
     let x_out = if sx * (a[1] - e[1]) > 0.0 { a[1] } else { e[1] };
     out.push(mv(Kind::Rapid, [e[0], x_out], n, c));
     out.push(mv(Kind::Rapid, [a[0], x_out], n, c));
     out.push(mv(Kind::Rapid, a, n, c));
-    // No standing still: drop moves to where the tool already is.
+}
+
+/// `out` from `a` without its moves to where the tool already stands: no standing still.
+fn moving(mut out: Vec<Mv>, a: [f64; 2]) -> Vec<Mv> {
     let mut at = a;
     out.retain(|m| {
         let keep = (m.end[0] - at[0]).abs() > 1e-9 || (m.end[1] - at[1]).abs() > 1e-9;
         at = m.end;
         keep
     });
-    Ok(out)
+    out
 }
 
 /// Where the profile reaches the level X = `x`, its Z.
