@@ -497,7 +497,7 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "3:1",
             "G71 would make more than 2000 passes",
         ),
-        (long_profile, "8004:1", "the G71 profile is too long"),
+        (long_profile, "8004:1", "the cycle's profile is too long (more than 8000 moves)"),
         (
             many_lines,
             "1",

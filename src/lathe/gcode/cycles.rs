@@ -655,6 +655,15 @@ pub fn g73(
     let Some(first) = pr.moves.first() else {
         return Err(err(n, c, "the G73 profile (lines P to Q) has no move"));
     };
+    if !matches!(first.kind, Kind::Rapid | Kind::Line(_)) {
+        // It is made from the start point to the shifted profile: a G02/G03 there would not be
+        // the arc written.
+        return Err(err(
+            first.line,
+            first.col,
+            "the G73 profile's first move must be G00 or G01",
+        ));
+    }
     // The side the profile lies on from A, across X: where the way out goes.
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
     let mut out = Vec::new();

@@ -545,7 +545,14 @@ impl<'a> Out<'a> {
         self.pos = mv.end;
         if let Some(cap) = self.capture.as_mut() {
             if cap.len() >= super::MAX_PASSES * 4 {
-                return Err(Self::err(mv.line, mv.col, "the G71 profile is too long"));
+                return Err(Self::err(
+                    mv.line,
+                    mv.col,
+                    format!(
+                        "the cycle's profile is too long (more than {} moves)",
+                        super::MAX_PASSES * 4
+                    ),
+                ));
             }
             cap.push(mv);
             return Ok(());

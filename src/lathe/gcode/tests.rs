@@ -778,6 +778,14 @@ fn g73_repeats_the_profile_shifted_by_the_relief_shared_out() {
         assert_eq!((e.line, e.col), place, "{text}: {e}");
         assert!(e.message.contains(says), "{text}: {e}");
     }
+    // An arc as the first move would not be the arc written once made from the start point.
+    let e = on(
+        &d,
+        "G94 G0 X44. Z2.\nG73 U3. W1. R2\nG73 P10 Q20 F100.\nN10 G2 X20. Z-5. R20.\nN20 G1 Z-10.\nM30\n",
+    )
+    .unwrap_err();
+    assert_eq!(e.line, 4, "{e}");
+    assert!(e.message.contains("first move must be G00 or G01"), "{e}");
     // In LinuxCNC's dialect G73 is a mill's drilling cycle: refused, saying so.
     let e = read("G0 X44 Z2\nG73 U3 W1 R3\n").unwrap_err();
     assert!(e.message.contains("Fanuc's dialect only"), "{e}");
