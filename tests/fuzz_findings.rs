@@ -73,3 +73,25 @@ fn a_refused_probe_line_is_not_answered_after_its_refusal() {
         assert!(e.contains("beyond the"), "{e}");
     }
 }
+
+/// stores:0xb7c2ff5f060ceddc (stop 52): an editor insertion in front of a tool file line made
+/// the refusal quote the whole line it found (`found '106106…'`, thousands of characters); it
+/// is now quoted as every message quotes text, cut with its length.
+#[test]
+fn a_tool_file_line_in_a_refusal_is_cut_as_every_quoted_text() {
+    let d = fresh("toolfile-quote");
+    let (mut s, _) = Stores::open(&d, 24).unwrap();
+    let e = s
+        .edit(Target::ToolFile, &format!("I{}$", "106".repeat(400)), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 1 must start with T01 (found '106106"),
+        "{e}"
+    );
+    assert!(
+        e.contains("…(1203 characters)") && e.chars().count() < 300,
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -63,7 +63,8 @@ fn parse_line(t: u32, line: &str) -> Result<Line, String> {
         .and_then(|d| d.parse::<u32>().ok());
     if head_t != Some(t) {
         return Err(format!(
-            "line {t} must start with {want} (found '{head}'); lines cannot be renumbered or reordered"
+            "line {t} must start with {want} (found {}); lines cannot be renumbered or reordered",
+            crate::input_text::quote(head)
         ));
     }
     if line.contains(';') {
