@@ -17,10 +17,9 @@ pub struct MachineSettings {
     pub accel_mm_s2: f64,
     /// Default clearance SCL above the surface where rapid advance ends, mm.
     pub clearance_mm: f64,
-    /// The axes in use, 3 (X Y Z) or 4 (X Y Z A): the first `axes` entries of every axis array
+    /// What each axis is: linear (mm) or rotary (degrees, perhaps wrapped). X, Y and Z are
+    /// linear; A, B and C are the machine's when rotary (`has_axis`), absent when `Linear`
     /// (docs/pulse-core.md, "Axes").
-    pub axes: usize,
-    /// What each axis is: linear (mm) or rotary (degrees, perhaps wrapped).
     pub axis_kinds: Axes<AxisKind>,
     /// Lower travel limit of each axis in machine coordinates, mm (degrees for a rotary axis).
     pub travel_min_mm: Axes<f64>,
@@ -124,7 +123,7 @@ impl Dialect {
 }
 
 /// The letters of the axes, by index.
-pub const AXIS_NAMES: [char; crate::block::MAX_AXES] = ['X', 'Y', 'Z', 'A'];
+pub const AXIS_NAMES: [char; crate::block::MAX_AXES] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
 /// What an axis is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -218,10 +217,9 @@ impl MachineSettings {
             rapid_mm_min: 12_000.0,
             accel_mm_s2: 1_000.0,
             clearance_mm: 2.0,
-            axes: 3,
             axis_kinds: Axes([AxisKind::Linear; crate::block::MAX_AXES]),
-            travel_min_mm: Axes([0.0, 0.0, -600.0, 0.0]),
-            travel_max_mm: Axes([1_000.0, 800.0, 0.0, 0.0]),
+            travel_min_mm: Axes::from([0.0, 0.0, -600.0]),
+            travel_max_mm: Axes::from([1_000.0, 800.0, 0.0]),
             jog_mm_min: 1_000.0,
             rapid_f0_mm_min: 400.0,
             step_mm: 0.1,
@@ -293,7 +291,7 @@ impl MachineSettings {
         pulses as f64 * self.pulse_mm
     }
 
-    /// Travel limits of one axis (0 = X, 1 = Y, 2 = Z, 3 = A) in pulses, (min, max).
+    /// Travel limits of one axis (0 = X, 1 = Y, 2 = Z, 3 = A, 4 = B, 5 = C) in pulses, (min, max).
     pub fn travel_pulses(&self, axis: usize) -> (i64, i64) {
         (
             self.to_pulses(self.travel_min_mm[axis]),
@@ -303,7 +301,7 @@ impl MachineSettings {
 
     /// Whether a machine position in pulses lies inside every travel limit.
     pub fn within_travel(&self, pos: Axes) -> bool {
-        (0..self.axes).all(|a| {
+        self.axis_list().all(|a| {
             let (lo, hi) = self.travel_pulses(a);
             self.wrapped(a) || (pos[a] >= lo && pos[a] <= hi)
         })
@@ -316,6 +314,24 @@ impl MachineSettings {
 
     /// Whether axis `a` is rotary (degrees).
     pub fn rotary(&self, a: usize) -> bool {
-        matches!(self.axis_kinds[a], AxisKind::Rotary { .. })
+        matches!(self.axis_kinds.get(a), Some(AxisKind::Rotary { .. }))
+    }
+
+    /// Whether the machine has axis `a`: X, Y and Z always; A, B and C when its description
+    /// gives them (each is rotary).
+    pub fn has_axis(&self, a: usize) -> bool {
+        a < crate::block::FIRST_ROTARY || self.rotary(a)
+    }
+
+    /// The machine's axes, as indices in the order X Y Z A B C.
+    pub fn axis_list(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..crate::block::MAX_AXES).filter(|&a| self.has_axis(a))
+    }
+
+    /// The rotary axes the machine has, as a mask: bit 0 A, bit 1 B, bit 2 C.
+    pub fn rotary_mask(&self) -> u8 {
+        (0..3).fold(0, |m, r| {
+            m | (u8::from(self.rotary(crate::block::FIRST_ROTARY + r)) << r)
+        })
     }
 }

@@ -220,8 +220,12 @@ fn a_is_refused_with_its_place_where_it_cannot_act() {
             "G17 G2 X10 Y0 I5 J0 A10 F100\n",
             "1:21: A moves with G00 or G01 only",
         ),
-        ("G92 X1 A10\n", "1:8: A moves with G00 or G01 only"),
-        ("G0 G53 A10\n", "1:8: A cannot be given with G53"),
+        ("G92 X1 A10\n", "1:8: A cannot be given with G92"),
+        ("G10 L2 P1 A10\n", "1:11: A cannot be given with G10"),
+        (
+            "G0 X10 B10\n",
+            "1:8: unknown word B (novanc has the axes X, Y, Z and A)",
+        ),
         (
             "G81 X10 Y10 Z-5 R1 A10 F100\n",
             "1:20: A moves with G00 or G01 only",
@@ -283,4 +287,157 @@ fn pos_shows_a_on_a_machine_with_a_and_mdi_turns_it() {
         ["A", "90.000", "90.000", "90.000", "0.000"],
         "{f}"
     );
+}
+
+/// A trunnion table, B tilting and C turning without wrap (the travels rs274's standalone
+/// configuration leaves free), beside the centre's X Y Z.
+const TRUNNION: &str = "machine trunnion\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\ny travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\nb rotary travel -120 120 rapid 9000 accel 800\nc rotary travel -720 720 rapid 9000 accel 800\n";
+
+/// Five axes at once, G91 turns, an inverse-time move of C with X, and G53 bringing the table
+/// back (the rotary axes have no offsets, so G53 moves them as G00 does).
+const FIVE: &str = "G21 G90 G94\nG0 X100 Y100 Z-50\nG0 B-30 C45\nG1 X120 Y110 Z-60 B-35 C90 F600\nG91 G1 C-120 F3600\nG1 X5 B10 C10\nG90 G93 G1 X130 C180 F2\nG94 G0 Z-10\nG53 G0 B0 C0\nM2\n";
+
+/// (B, C) after each line that gives either, from `text` read here (one B and one C word at
+/// most a line, no expressions): G91 adds, G90 goes to the word (unwrapped axes).
+fn bc_rule(text: &str) -> Vec<[f64; 2]> {
+    let (mut inc, mut at, mut out) = (false, [0.0; 2], Vec::new());
+    for line in text.lines() {
+        let mut moved = false;
+        for w in line.split_whitespace() {
+            match w {
+                "G90" => inc = false,
+                "G91" => inc = true,
+                _ => {}
+            }
+            for (i, l) in ['B', 'C'].into_iter().enumerate() {
+                if let Some(v) = w.strip_prefix(l).and_then(|v| v.parse::<f64>().ok()) {
+                    at[i] = if inc { at[i] + v } else { v };
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            out.push(at);
+        }
+    }
+    out
+}
+
+#[test]
+fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
+    let dir = temp_dir("axes-bc");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let prog = dir.join("five.ngc");
+    std::fs::write(&prog, FIVE).unwrap();
+    let (prog_s, desc_s) = (prog.to_str().unwrap(), desc.to_str().unwrap());
+    // The listing: B and C on the blocks that turn them.
+    let out = novanc(&["translate", prog_s, "--machine", desc_s]);
+    let listing = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut at = [0.0; 2];
+    let mut got = Vec::new();
+    for l in listing.lines() {
+        let mut moved = false;
+        for w in l.split_whitespace() {
+            for (i, c) in ['B', 'C'].into_iter().enumerate() {
+                if let Some(v) = w.strip_prefix(c).and_then(|v| v.parse().ok()) {
+                    at[i] = v;
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            got.push(at);
+        }
+    }
+    let want = bc_rule(FIVE);
+    assert_eq!(
+        want,
+        [
+            [-30.0, 45.0],
+            [-35.0, 90.0],
+            [-35.0, -30.0],
+            [-25.0, -20.0],
+            [-25.0, 180.0],
+            [0.0, 0.0]
+        ]
+    );
+    assert_eq!(got, want, "{listing}");
+    // rs274 itself, where it is installed (its default configuration has B and C unwrapped).
+    if let Ok(o) = Command::new("rs274")
+        .arg("-g")
+        .arg(&prog)
+        .env("HOME", &dir)
+        .output()
+    {
+        if o.status.success() {
+            let mut last = [0.0; 2];
+            let mut v = Vec::new();
+            for l in String::from_utf8_lossy(&o.stdout).lines() {
+                let Some(args) = l.split("STRAIGHT_").nth(1) else {
+                    continue;
+                };
+                let nums: Vec<f64> = args
+                    .split(['(', ')', ','])
+                    .filter_map(|w| w.trim().parse().ok())
+                    .collect();
+                if nums.len() >= 6 && [nums[4], nums[5]] != last {
+                    last = [nums[4], nums[5]];
+                    v.push(last);
+                }
+            }
+            assert_eq!(v, want, "rs274 against the rule");
+        }
+    }
+    // The run: each counter is every degree its axis turned, in 0.001° pulses, and the
+    // recording's /nc/pulses of B and C add up to them.
+    let turned = |i: usize| {
+        let mut from = 0.0;
+        let mut sum = 0.0;
+        for p in &want {
+            sum += (p[i] - from).abs();
+            from = p[i];
+        }
+        (sum / 0.001_f64).round()
+    };
+    let rec = dir.join("five.mcap");
+    let out = novanc(&[
+        "run",
+        prog_s,
+        "--machine",
+        desc_s,
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(field(&so, "pulses:", "B"), Some(turned(0)), "{so}");
+    assert_eq!(field(&so, "pulses:", "C"), Some(turned(1)), "{so}");
+    assert_eq!((turned(0), turned(1)), (70_000.0, 600_000.0));
+    assert_eq!(field(&so, "final position:", "C"), Some(0.0), "{so}");
+    assert!(!so.contains(" A "), "no A on this machine: {so}");
+    if let Some((ok, check)) = python_check(&rec, &["--expect-complete"]) {
+        assert!(ok, "{check}");
+        assert_eq!(field(&check, "pulses", "B"), Some(turned(0)), "{check}");
+        assert_eq!(field(&check, "pulses", "C"), Some(turned(1)), "{check}");
+    }
+    // Beyond B's travel, refused at its place before anything moves.
+    std::fs::write(&prog, "G0 B-150\nM2\n").unwrap();
+    let out = novanc(&["translate", prog_s, "--machine", desc_s]);
+    let se = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        se.contains("five.ngc:1:4: B-150.000 (machine) is beyond the B travel"),
+        "{se}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }

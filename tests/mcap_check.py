@@ -110,9 +110,9 @@ def check_field(topic, name, kind, v, where):
         NUM: lambda: (is_int(v) or isinstance(v, float)),
         STR: lambda: isinstance(v, str),
         BOOL: lambda: isinstance(v, bool),
-        # 4 counters on a machine with a rotary A (docs/recording.md).
-        "pulses3": lambda: isinstance(v, list) and len(v) in (3, 4) and all(is_int(p) for p in v),
-        "axis": lambda: v in ("X", "Y", "Z", "A"),
+        # One more counter for each rotary axis A, B, C a machine has (docs/recording.md).
+        "pulses3": lambda: isinstance(v, list) and 3 <= len(v) <= 6 and all(is_int(p) for p in v),
+        "axis": lambda: v in ("X", "Y", "Z", "A", "B", "C"),
         "dir": lambda: is_int(v) and v in (1, -1),
         "times": lambda: isinstance(v, list) and all(is_int(t) and t >= 0 for t in v),
         "strings": lambda: isinstance(v, list) and all(isinstance(s, str) for s in v),
@@ -179,7 +179,7 @@ def check(path, expect_topics, expect_complete, unfinished=False):
 
     counts = {}
     last_log = {}
-    pulses = {"X": 0, "Y": 0, "Z": 0, "A": 0}
+    pulses = {"X": 0, "Y": 0, "Z": 0, "A": 0, "B": 0, "C": 0}
     # channel -> axis -> pulses with their directions (the counters' travel)
     travel = {}
     indexed = []
@@ -240,7 +240,7 @@ def check(path, expect_topics, expect_complete, unfinished=False):
 
     for topic in REQUIRED:
         print(f"{topic:16} {counts.get(topic, 0):10} messages")
-    a = f"  A {pulses['A']}" if pulses["A"] else ""
+    a = "".join(f"  {r} {pulses[r]}" for r in "ABC" if pulses[r])
     print(f"pulses           X {pulses['X']}  Y {pulses['Y']}  Z {pulses['Z']}{a}")
     for ch in sorted(travel):
         t = "  ".join(f"{ax} {travel[ch][ax]:+d}" for ax in sorted(travel[ch]))

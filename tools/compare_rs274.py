@@ -30,9 +30,15 @@ novanc's power-on modes G18 G21 G7 (docs/lathe-gcode.md "Initial modes"), the
 description's tools of channel 1 as its tool table (nose radius as D, tip as the orientation Q,
 offsets X Z), and no quill-up tool change.
 
-usage: compare_rs274.py [--novanc BIN] [--golden DIR] [--machine FILE] PROG.ngc...
+Rotary axes (--rotary): straight moves also compare A, B and C (degrees; rs274's standalone
+configuration has them unwrapped and without offsets, so the --machine description should
+give `a rotary travel ...`, `b ...`, `c ...` without `wrap`). A move of the rotary axes alone
+counts as a move.
+
+usage: compare_rs274.py [--novanc BIN] [--golden DIR] [--machine FILE] [--rotary] PROG.ngc...
   --machine FILE a mill description for novanc translate; its `remap M6 ...` line goes to
                  rs274's INI as REMAP=M6 ...; or a lathe's (above)
+  --rotary       compare A, B and C on straight moves (above)
   --golden DIR   also write DIR/NAME.ngc and DIR/NAME.expect (the rs274 moves in machine mm,
                  or 'ERROR message') for tests/gcode_golden.rs
 Exit 0 if every program agrees.
@@ -50,6 +56,9 @@ sys.setrecursionlimit(100000)
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOL = 0.001 + 1e-6
 
+
+# --rotary: straight moves carry A, B and C.
+ROTARY = [False]
 
 # A lathe description's channel 1 (--machine): {"home": (x, z), "tools": [(n, radius, tip, x, z)]}.
 LATHE = [None]
@@ -230,11 +239,16 @@ def rs274_moves(prog, tbl):
             tlo = [v * factor for v in vals[:3]]
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             e = machine(vals[0], vals[1], vals[2])
+            if ROTARY[0]:
+                # A B C in degrees, whatever the length units.
+                e = e + list(vals[3:6])
             # Shorter than half a pulse from the last move kept (rs274's inch rounding, or CAM
             # output in steps below a pulse): novanc cannot move it. In inches rs274 prints 4
             # decimals: a move below 0.00127 mm is its rounding.
             least = 0.0005 if factor == 1.0 else 0.0013
-            if after_spline or max(abs(e[i] - kept[0][i]) for i in range(3)) >= least or name == "STRAIGHT_PROBE":
+            if len(kept[0]) < len(e):
+                kept[0] = kept[0] + [0.0] * (len(e) - len(kept[0]))
+            if after_spline or max(abs(e[i] - kept[0][i]) for i in range(len(e))) >= least or name == "STRAIGHT_PROBE":
                 kind = {"STRAIGHT_TRAVERSE": "R", "STRAIGHT_FEED": "F", "STRAIGHT_PROBE": "P"}[name]
                 moves.append((kind, *e))
                 inch.append(factor != 1.0)
@@ -330,6 +344,7 @@ def novanc_moves(prog, novanc):
         return [], p.stderr.strip() or "refused"
     moves = []
     pos = [LATHE[0]["home"][0], 0.0, LATHE[0]["home"][1]] if LATHE[0] else [0.0, 0.0, 0.0]
+    abc = [0.0, 0.0, 0.0]
     g = None
     plane = "XY"
     for line in p.stdout.splitlines():
@@ -352,14 +367,17 @@ def novanc_moves(prog, novanc):
                 g = 1
             elif x == 4:
                 pass
-        if 4 in gs or not any(k in words for k in "XYZ"):
+        if 4 in gs or not any(k in words for k in ("XYZABC" if ROTARY[0] else "XYZ")):
             continue
         start = list(pos)
         for i, a in enumerate("XYZ"):
             if a in words:
                 pos[i] = words[a]
+        for i, a in enumerate("ABC"):
+            if a in words:
+                abc[i] = words[a]
         if g in (0, 1, 38):
-            moves.append(({0: "R", 1: "F", 38: "P"}[g], *pos))
+            moves.append(({0: "R", 1: "F", 38: "P"}[g], *pos, *(abc if ROTARY[0] else [])))
         else:
             c = [start[0] + words.get("I", 0.0), start[1] + words.get("J", 0.0), start[2] + words.get("K", 0.0)]
             normal = {"XY": 2, "XZ": 1, "YZ": 0}[plane]
@@ -673,6 +691,8 @@ def main(argv):
         elif a == "--machine":
             MACHINE[0] = next(it)
             LATHE[0] = read_lathe(MACHINE[0])
+        elif a == "--rotary":
+            ROTARY[0] = True
         else:
             progs.append(a)
     with tempfile.NamedTemporaryFile("w", suffix=".tbl", delete=False) as f:

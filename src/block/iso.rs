@@ -294,9 +294,11 @@ fn write_line_in(out: &mut Vec<u8>, b: &Block, st: &MachineSettings, modes: &mut
                     mm(out, w, b.end[i], st);
                 }
             }
-            // A rotary A, in degrees, when it moves (docs/gcode.md "Rotary axis A").
-            if b.delta[3] != 0 {
-                mm(out, b'A', b.end[3], st);
+            // The rotary axes, in degrees, when they move (docs/gcode.md "Rotary axes").
+            for (i, w) in [b'A', b'B', b'C'].into_iter().enumerate() {
+                if b.delta[3 + i] != 0 {
+                    mm(out, w, b.end[3 + i], st);
+                }
             }
         }
         Motion::ArcCw | Motion::ArcCcw => {

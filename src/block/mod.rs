@@ -16,16 +16,20 @@ pub use iso::{iso_line, iso_program, IsoWriter};
 
 use std::fmt;
 
-/// The most axes a channel has: X, Y, Z and one rotary axis (A). Axis arrays are this long;
-/// a machine uses the first [`crate::settings::MachineSettings::axes`] of them, and the
-/// rest stay 0 (docs/pulse-core.md, "Axes").
-pub const MAX_AXES: usize = 4;
+/// The most axes a channel has: X, Y, Z and the rotary axes A, B and C. Axis arrays are this
+/// long; a machine uses X, Y, Z and the rotary axes its description gives
+/// ([`crate::settings::MachineSettings::has_axis`]), and the rest stay 0 (docs/pulse-core.md,
+/// "Axes").
+pub const MAX_AXES: usize = 6;
 
-/// One value per axis, X Y Z A, indexed 0 = X … 3 = A: positions, amounts and counters of the
-/// kernel. An array of [`MAX_AXES`] (it derefs to it, so indexing and the array's methods work
-/// and the pulse loops stay as fast as with three); axes a machine does not have stay 0. It
-/// equals an X Y Z array `[x, y, z]` when its A is 0, and prints as one then, so that what a
-/// 3-axis machine shows and records is unchanged.
+/// The index of the first rotary axis, A (B is 4, C 5).
+pub const FIRST_ROTARY: usize = 3;
+
+/// One value per axis, X Y Z A B C, indexed 0 = X … 3 = A, 4 = B, 5 = C: positions, amounts and
+/// counters of the kernel. An array of [`MAX_AXES`] (it derefs to it, so indexing and the
+/// array's methods work); axes a machine does not have stay 0. It equals an X Y Z array
+/// `[x, y, z]` when its rotary axes are 0, and prints as one then (and as `[x, y, z, a]` with
+/// only A turned), so that what a 3-axis machine shows and records is unchanged.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Axes<T = i64>(pub [T; MAX_AXES]);
 
@@ -50,9 +54,19 @@ impl<T: Copy + Default> Axes<T> {
         [self.0[0], self.0[1], self.0[2]]
     }
 
-    /// X, Y and Z with A `a`.
+    /// X, Y and Z with A `a` (B and C 0).
     pub fn with_a(xyz: [T; 3], a: T) -> Axes<T> {
-        Axes([xyz[0], xyz[1], xyz[2], a])
+        Axes::with_rotary(xyz, [a, T::default(), T::default()])
+    }
+
+    /// X, Y and Z with the rotary axes A, B and C at `abc`.
+    pub fn with_rotary(xyz: [T; 3], abc: [T; 3]) -> Axes<T> {
+        Axes([xyz[0], xyz[1], xyz[2], abc[0], abc[1], abc[2]])
+    }
+
+    /// A, B and C.
+    pub fn rotary(self) -> [T; 3] {
+        [self.0[3], self.0[4], self.0[5]]
     }
 
     /// Each axis by `f` of its index.
@@ -81,9 +95,16 @@ impl<T> From<[T; MAX_AXES]> for Axes<T> {
 }
 
 impl<T: PartialEq + Default> PartialEq<[T; 3]> for Axes<T> {
-    /// Equal to X Y Z when A is 0.
+    /// Equal to X Y Z when A, B and C are 0.
     fn eq(&self, o: &[T; 3]) -> bool {
-        self.0[..3] == o[..] && self.0[3] == T::default()
+        self.0[..3] == o[..] && self.0[FIRST_ROTARY..].iter().all(|v| *v == T::default())
+    }
+}
+
+impl<T: PartialEq + Default> PartialEq<[T; 4]> for Axes<T> {
+    /// Equal to X Y Z A when B and C are 0.
+    fn eq(&self, o: &[T; 4]) -> bool {
+        self.0[..4] == o[..] && self.0[4..].iter().all(|v| *v == T::default())
     }
 }
 
@@ -100,13 +121,14 @@ impl<T: PartialEq> PartialEq<[T; MAX_AXES]> for Axes<T> {
 }
 
 impl<T: std::fmt::Debug + PartialEq + Default> std::fmt::Debug for Axes<T> {
-    /// `[x, y, z]` when A is 0 (as a 3-axis array printed), else `[x, y, z, a]`.
+    /// `[x, y, z]` when A, B and C are 0 (as a 3-axis array printed), else up to the last
+    /// rotary axis not 0 (`[x, y, z, a]` with only A turned).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.0[3] == T::default() {
-            f.debug_list().entries(&self.0[..3]).finish()
-        } else {
-            f.debug_list().entries(&self.0[..]).finish()
-        }
+        let n = (FIRST_ROTARY..MAX_AXES)
+            .rev()
+            .find(|&i| self.0[i] != T::default())
+            .map_or(3, |i| i + 1);
+        f.debug_list().entries(&self.0[..n]).finish()
     }
 }
 

@@ -636,15 +636,14 @@ pub fn summary(st: &Status, s: &MachineSettings) -> String {
         crate::settings::Interpolator::Dda => String::new(),
         i => format!("interpolator: {} (L {} pulses)\n", i.name(), s.ep_l_pulses),
     };
-    // A rotary A: its pulses and its position in degrees, after Z (a 3-axis summary is as it was).
-    let (a_pulses, a_pos) = if s.axes > 3 {
-        (
-            format!(" A {}", st.pulses[3]),
-            format!(" A {:.3} deg", s.to_mm(st.pos[3])),
-        )
-    } else {
-        (String::new(), String::new())
-    };
+    // The rotary axes: their pulses and positions in degrees, after Z (a 3-axis summary is as
+    // it was).
+    let (mut a_pulses, mut a_pos) = (String::new(), String::new());
+    for a in s.axis_list().skip(3) {
+        let l = crate::settings::AXIS_NAMES[a];
+        a_pulses += &format!(" {l} {}", st.pulses[a]);
+        a_pos += &format!(" {l} {:.3} deg", s.to_mm(st.pos[a]));
+    }
     interp + &format!(
         "blocks executed: {}\npulses: X {} Y {} Z {}{a_pulses}\nfinal position: X {:.3} Y {:.3} Z {:.3} mm{a_pos}\nmachine time: {:.3} s\n",
         st.blocks_done,

@@ -37,11 +37,16 @@ impl Kept {
             self.pos[0],
             self.pos[1],
             self.pos[2],
-            // A, only when it is off 0 (a 3-axis file is unchanged).
-            if self.pos[3] != 0 {
-                format!(" {}", self.pos[3])
-            } else {
-                String::new()
+            // A, B and C, up to the last one off 0 (a 3-axis file is unchanged).
+            {
+                let n = (3..crate::block::MAX_AXES)
+                    .rev()
+                    .find(|&a| self.pos[a] != 0)
+                    .map_or(3, |a| a + 1);
+                self.pos[3..n]
+                    .iter()
+                    .map(|v| format!(" {v}"))
+                    .collect::<String>()
             },
             self.tool.map_or("none".to_string(), |t| t.to_string()),
             self.jog_feed
@@ -66,11 +71,10 @@ impl Kept {
             .split(' ')
             .map(|v| v.parse().ok())
             .collect::<Option<_>>()?;
-        let pos = match p[..] {
-            [x, y, z] => crate::block::Axes([x, y, z, 0]),
-            [x, y, z, a] => crate::block::Axes([x, y, z, a]),
-            _ => return None,
-        };
+        if !(3..=crate::block::MAX_AXES).contains(&p.len()) {
+            return None;
+        }
+        let pos = crate::block::Axes::from_fn(|a| p.get(a).copied().unwrap_or(0));
         let tool = match l.next()?.strip_prefix("tool ")? {
             "none" => None,
             t => Some(t.parse().ok()?),
@@ -184,7 +188,11 @@ pub(super) fn restore(c: &mut Console) {
         );
         return;
     };
-    c.core.set_position(k.pos);
+    // A rotary axis the machine no longer has (its description changed) is not taken: its
+    // counter would stand off 0 unseen, on no POS row.
+    let s = &c.cfg.settings;
+    let pos = crate::block::Axes::from_fn(|a| if s.has_axis(a) { k.pos[a] } else { 0 });
+    c.core.set_position(pos);
     c.core.command(Command::SetTool(k.tool));
     c.posmem.jog_feed = k.jog_feed;
     c.posmem.rapid_jog = k.rapid_jog;

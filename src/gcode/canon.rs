@@ -29,13 +29,14 @@ pub enum Canon {
         /// Feed, mm/min.
         feed: f64,
     },
-    /// G00 (`feed` None) or G01 at `feed` mm/min (deg/min for A alone) to `end` with the
-    /// rotary A axis to `a` degrees (docs/gcode.md "Rotary axis A").
+    /// G00 (`feed` None) or G01 at `feed` mm/min (deg/min for rotary axes alone) to `end` with
+    /// the rotary axes A, B and C to `abc` degrees (docs/gcode.md "Rotary axes"; an axis the
+    /// machine has not stays 0).
     Turn {
         /// End point X Y Z.
         end: [f64; 3],
-        /// A, degrees (machine).
-        a: f64,
+        /// A, B and C, degrees (machine).
+        abc: [f64; 3],
         /// Feed of a G01.
         feed: Option<f64>,
     },
@@ -189,7 +190,7 @@ impl Emitter {
                         out.pop();
                         continue;
                     }
-                    b.end = Axes::with_a(end, self.pos[3]);
+                    b.end = Axes::with_rotary(end, self.pos.rotary());
                     match c {
                         Canon::Feed(_, f) => {
                             b.motion = Motion::Linear;
@@ -210,10 +211,10 @@ impl Emitter {
                     }
                     check_point(st, end).map_err(err)?;
                 }
-                Canon::Turn { end, a, feed } => {
+                Canon::Turn { end, abc, feed } => {
                     let e = p3(*end, &[0, 1, 2]).map_err(err)?;
-                    let a = round(a * inv);
-                    let to = Axes::with_a(e, a);
+                    let abc = abc.map(|a| round(a * inv));
+                    let to = Axes::with_rotary(e, abc);
                     if to == self.pos {
                         out.pop();
                         continue;
@@ -227,10 +228,13 @@ impl Emitter {
                         None => b.motion = Motion::Rapid,
                     }
                     check_point(st, e).map_err(err)?;
-                    if st.axes > 3 && !st.wrapped(3) {
-                        let (lo, hi) = st.travel_pulses(3);
-                        if a < lo || a > hi {
-                            return Err(err(beyond(st, 3, st.to_mm(a))));
+                    for (r, &a) in abc.iter().enumerate() {
+                        let i = crate::block::FIRST_ROTARY + r;
+                        if st.rotary(i) && !st.wrapped(i) {
+                            let (lo, hi) = st.travel_pulses(i);
+                            if a < lo || a > hi {
+                                return Err(err(beyond(st, i, st.to_mm(a))));
+                            }
                         }
                     }
                 }
@@ -294,7 +298,7 @@ impl Emitter {
                             st.to_mm(radius as i64)
                         )));
                     }
-                    b.end = Axes::with_a(e, self.pos[3]);
+                    b.end = Axes::with_rotary(e, self.pos.rotary());
                     b.motion = if *ccw { Motion::ArcCcw } else { Motion::ArcCw };
                     b.plane = *plane;
                     b.center = Some([best[a0] - s[a0], best[a1] - s[a1]]);
@@ -364,7 +368,7 @@ fn check_in(st: &MachineSettings, limits: &[(i64, i64); 3], p: [i64; 3]) -> Resu
 
 /// The message for machine coordinate `mm` of `axis` beyond its travel.
 fn beyond(st: &MachineSettings, axis: usize, mm: f64) -> String {
-    let name = ["X", "Y", "Z", "A"][axis];
+    let name = crate::settings::AXIS_NAMES[axis];
     format!(
         "{name}{} (machine) is beyond the {name} travel ({:.3} to {:.3} {})",
         crate::input_text::fixed(mm, 3),

@@ -316,7 +316,8 @@ fn motion_to_be(
         };
         given = Some((m, col));
     }
-    let axis = w.has_axis() || w.get('@').is_some() || w.get('^').is_some() || w.get('A').is_some();
+    let axis =
+        w.has_axis() || w.get('@').is_some() || w.get('^').is_some() || first_rotary(w).is_some();
     let covets = [100, 280, 300, 520, 680, 920]
         .iter()
         .find_map(|&g| w.has_g(g));
@@ -951,9 +952,9 @@ pub fn execute(
             }
         }
     }
-    // A rotary A word moves with G00 or G01 only (docs/gcode.md "Rotary axis A").
-    if let Some(acol) = w.col('A') {
-        rotary_allowed(comp, x, w, motion.map(|m| m.0), acol)?;
+    // A rotary axis word moves with G00 or G01 only (docs/gcode.md "Rotary axes").
+    if let Some(r) = first_rotary(w) {
+        rotary_allowed(comp, x, w, motion.map(|m| m.0), r)?;
     }
     // The motion.
     if let Some((m, col)) = motion {
@@ -971,9 +972,14 @@ pub fn execute(
                     e[i] = v * k;
                 }
             }
-            let feed = feed_for(st, x, inverse_feed, m, e, col)?;
-            comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
-            st.pos = e;
+            if first_rotary(w).is_some() {
+                // The rotary axes' machine position is their program position.
+                rotary_move(st, x, inverse_feed, m, e, w)?;
+            } else {
+                let feed = feed_for(st, x, inverse_feed, m, e, col)?;
+                comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;
+                st.pos = e;
+            }
             if !fanuc_g53(x, w) {
                 st.modal.motion = m;
             }
@@ -1016,70 +1022,80 @@ pub fn execute(
     Ok(Flow::Next)
 }
 
-/// Refuses an A word anywhere but on a G00 or G01 move without cutter compensation, G53 or a
-/// non-modal code (A has no offsets, references or compensation in novanc).
+/// The rotary axes' letters, A B C (their words on a line: `rotary_words`).
+const ROTARY_LETTERS: [char; 3] = ['A', 'B', 'C'];
+
+/// The first rotary axis word on the line (A, B or C), with its letter and column.
+fn first_rotary(w: &Words) -> Option<(char, u32)> {
+    ROTARY_LETTERS
+        .into_iter()
+        .filter_map(|l| Some((l, w.col(l)?)))
+        .min_by_key(|&(_, c)| c)
+}
+
+/// Refuses a rotary axis word (A, B or C) anywhere but on a G00 or G01 move without cutter
+/// compensation or a non-modal code other than G53 (the rotary axes have no offsets,
+/// references or compensation in novanc: their program position is their machine position, so
+/// G53 moves them as G00 or G01 does).
 fn rotary_allowed(
     comp: &Comp,
     x: &Exec,
     w: &Words,
     motion: Option<Motion>,
-    col: u32,
+    (l, col): (char, u32),
 ) -> Result<(), TranslateError> {
-    if !matches!(motion, Some(Motion::Rapid | Motion::Feed)) {
-        return Err(x.err(
-            col,
-            "A moves with G00 or G01 only (arcs, cycles, probes and splines are X Y Z)",
-        ));
-    }
-    for g in [40, 100, 280, 281, 300, 301, 520, 530, 920, 921, 922, 923] {
+    for g in [40, 100, 280, 281, 300, 301, 520, 920, 921, 922, 923] {
         if w.has_g(g).is_some() {
             return Err(x.err(
                 col,
-                format!("A cannot be given with G{}{}: the A axis has no offsets or reference points in novanc", g / 10, if g % 10 != 0 { format!(".{}", g % 10) } else { String::new() }),
+                format!("{l} cannot be given with G{}{}: the {l} axis has no offsets or reference points in novanc", g / 10, if g % 10 != 0 { format!(".{}", g % 10) } else { String::new() }),
             ));
         }
     }
+    if !matches!(motion, Some(Motion::Rapid | Motion::Feed)) {
+        return Err(x.err(
+            col,
+            format!("{l} moves with G00 or G01 only (arcs, cycles, probes and splines are X Y Z)"),
+        ));
+    }
     if comp.active() {
-        return Err(x.err(col, "A cannot move with cutter radius compensation on"));
+        return Err(x.err(
+            col,
+            format!("{l} cannot move with cutter radius compensation on"),
+        ));
     }
     Ok(())
 }
 
-/// A G00 or G01 to `e` (machine mm) with the A word `v` (degrees): G90 to `v` (on a wrapped
-/// axis LinuxCNC's WRAPPED_ROTARY rule: |v| below 360 is the position modulo 360 and its sign
-/// the direction of the turn), G91 by `v`. The feed is along X Y Z; a move of A alone is fed
-/// in degrees per minute (LinuxCNC's rule).
-fn rotary_move(
-    st: &mut InterpState,
-    x: &mut Exec,
-    inverse: Option<f64>,
-    m: Motion,
-    e: [f64; 3],
-    v: f64,
-    col: u32,
-) -> Result<(), TranslateError> {
-    let Some(wrapped) = st.a_axis else {
-        return Err(x.err(col, "unknown word A (novanc has the axes X, Y and Z)"));
-    };
-    let to = if st.modal.incremental {
-        st.a + v
+/// Where a rotary axis word `l``v` (degrees) takes its axis from `at`: G91 by `v`; G90 to `v`,
+/// on a wrapped axis by LinuxCNC's WRAPPED_ROTARY rule (|v| below 360 is the position modulo
+/// 360 and its sign the direction of the turn).
+fn rotary_target(
+    x: &Exec,
+    incremental: bool,
+    wrapped: bool,
+    at: f64,
+    (l, v, col): (char, f64, u32),
+) -> Result<f64, TranslateError> {
+    let to = if incremental {
+        at + v
     } else if wrapped {
         if v.abs() >= 360.0 {
             return Err(x.err(
                 col,
-                format!("A{v}: a wrapped rotary axis takes an absolute position within ±360 (its sign the direction)"),
+                format!("{l}{v}: a wrapped rotary axis takes an absolute position within ±360 (its sign the direction)"),
             ));
         }
         // LinuxCNC's unwrap_rotary: the nearest position ≡ |v| (mod 360) in the direction
         // of v's sign (A-0 turns backwards).
-        let base = (st.a / 360.0).floor() * 360.0 + v.abs();
+        let base = (at / 360.0).floor() * 360.0 + v.abs();
         if v.is_sign_negative() {
-            if base > st.a {
+            if base > at {
                 base - 360.0
             } else {
                 base
             }
-        } else if base < st.a {
+        } else if base < at {
             base + 360.0
         } else {
             base
@@ -1088,7 +1104,34 @@ fn rotary_move(
         v
     };
     if !to.is_finite() || to.abs() > 1e9 {
-        return Err(x.err(col, format!("A{v}: out of all range")));
+        return Err(x.err(col, format!("{l}{v}: out of all range")));
+    }
+    Ok(to)
+}
+
+/// A G00 or G01 to `e` (machine mm) with the rotary axis words of `w` (A, B, C, degrees;
+/// [`rotary_target`]). The feed is along X Y Z; a move of rotary axes alone is fed in degrees
+/// per minute along their combined turn (LinuxCNC's rule).
+fn rotary_move(
+    st: &mut InterpState,
+    x: &mut Exec,
+    inverse: Option<f64>,
+    m: Motion,
+    e: [f64; 3],
+    w: &Words,
+) -> Result<(), TranslateError> {
+    let mut to = st.abc;
+    for (r, l) in ROTARY_LETTERS.into_iter().enumerate() {
+        let (Some(v), Some(col)) = (w.get(l), w.col(l)) else {
+            continue;
+        };
+        let Some(wrapped) = st.rotaries[r] else {
+            return Err(x.err(
+                col,
+                format!("unknown word {l} (novanc has the axes {})", st.axes_named()),
+            ));
+        };
+        to[r] = rotary_target(x, st.modal.incremental, wrapped, st.abc[r], (l, v, col))?;
     }
     let feed = if m == Motion::Rapid {
         0.0
@@ -1096,19 +1139,25 @@ fn rotary_move(
         let d =
             ((e[0] - st.pos[0]).powi(2) + (e[1] - st.pos[1]).powi(2) + (e[2] - st.pos[2]).powi(2))
                 .sqrt();
-        let d = if d > 0.0 { d } else { (to - st.a).abs() };
+        let turn = (0..3)
+            .map(|r| (to[r] - st.abc[r]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let d = if d > 0.0 { d } else { turn };
+        let col = first_rotary(w).map_or(0, |(_, c)| c);
         feed_rate(st, x, inverse, d, col)?
     };
+    let col = first_rotary(w).map_or(0, |(_, c)| c);
     x.push(
         Canon::Turn {
             end: e,
-            a: to,
+            abc: to,
             feed: (m == Motion::Feed).then_some(feed),
         },
         col,
     );
     st.pos = e;
-    st.a = to;
+    st.abc = to;
     Ok(())
 }
 
@@ -1194,8 +1243,8 @@ fn motion_line(
             } else {
                 st.pos
             };
-            if let Some(v) = w.get('A') {
-                return rotary_move(st, x, inverse, m, e, v, w.col('A').unwrap_or(col));
+            if first_rotary(w).is_some() {
+                return rotary_move(st, x, inverse, m, e, w);
             }
             let feed = feed_for(st, x, inverse, m, e, col)?;
             comp.line(x, st.pos, e, m == Motion::Rapid, feed, col)?;

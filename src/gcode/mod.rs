@@ -600,8 +600,11 @@ impl GcodeSource {
             settings.to_mm(machine.pos[1]),
             settings.to_mm(machine.pos[2]),
         ];
-        st.a = settings.to_mm(machine.pos[3]);
-        st.a_axis = (settings.axes > 3).then(|| settings.wrapped(3));
+        st.abc = machine.pos.rotary().map(|p| settings.to_mm(p));
+        st.rotaries = std::array::from_fn(|r| {
+            let a = crate::block::FIRST_ROTARY + r;
+            settings.rotary(a).then(|| settings.wrapped(a))
+        });
         st.tool = machine.tool;
         // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
         // (its synch): after RESET it is off (docs/gcode.md "SEARCH").
@@ -814,9 +817,9 @@ impl GcodeSource {
                 continue;
             }
             if let Some(at) = probe::answer(&mut self.st, m, ask, n, &mut self.events)? {
-                let a = self.emitter.pos[3];
+                let abc = self.emitter.pos.rotary();
                 self.emitter.pos =
-                    crate::block::Axes::with_a(at.map(|v| self.settings.to_pulses(v)), a);
+                    crate::block::Axes::with_rotary(at.map(|v| self.settings.to_pulses(v)), abc);
             }
         }
         Ok(())
@@ -1276,12 +1279,8 @@ impl GcodeSource {
             return r;
         }
         let mut words = self.words_buf.take().unwrap_or_default();
-        let dialect = match (self.st.a_axis.is_some(), fanuc) {
-            (true, false) => &words::MILL4,
-            (false, false) => &words::MILL,
-            (true, true) => &words::FANUC4,
-            (false, true) => &words::FANUC,
-        };
+        let mask = (0..3).fold(0, |m, r| m | (u8::from(self.st.rotaries[r].is_some()) << r));
+        let dialect = words::mill_with(mask, fanuc);
         let sorted = match fanuc {
             false => words::refuse_configuration_words(line_words(line), n),
             true => Ok(()),

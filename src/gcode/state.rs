@@ -248,10 +248,12 @@ pub struct InterpState {
     pub named: HashMap<String, f64>,
     /// Where the spindle's gauge line is, machine mm.
     pub pos: [f64; 3],
-    /// Where a rotary A axis stands, degrees (machine: A has no work offsets in novanc).
-    pub a: f64,
-    /// The machine has a rotary A axis: `Some(wrapped)` (docs/gcode.md "Rotary axis A").
-    pub a_axis: Option<bool>,
+    /// Where the rotary axes A, B and C stand, degrees (machine: they have no work offsets in
+    /// novanc; one the machine has not stays 0).
+    pub abc: [f64; 3],
+    /// The rotary axes A, B and C the machine has: `Some(wrapped)` each (docs/gcode.md
+    /// "Rotary axes").
+    pub rotaries: [Option<bool>; 3],
     /// The offset of the coordinate system in force (machine mm of its zero), as selected;
     /// a change to its parameters takes effect when it is selected again (as in LinuxCNC).
     pub origin: [f64; 3],
@@ -339,8 +341,8 @@ impl Default for InterpState {
             params,
             named: HashMap::new(),
             pos: [0.0; 3],
-            a: 0.0,
-            a_axis: None,
+            abc: [0.0; 3],
+            rotaries: [None; 3],
             origin: [0.0; 3],
             rotation: 0.0,
             g68: None,
@@ -464,6 +466,21 @@ impl InterpState {
     /// The length factor of the units in force.
     pub fn factor(&self) -> f64 {
         self.modal.factor()
+    }
+
+    /// The machine's axes as a message names them: `X, Y, Z`, `X, Y, Z and A`, `X, Y, Z, A
+    /// and C` ...
+    pub fn axes_named(&self) -> String {
+        let mut names = vec!["X, Y, Z"];
+        for (r, l) in ["A", "B", "C"].into_iter().enumerate() {
+            if self.rotaries[r].is_some() {
+                names.push(l);
+            }
+        }
+        match names.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+            _ => names.join(""),
+        }
     }
 
     /// A program point (mm, the program frame: after units, before offsets) in machine

@@ -336,14 +336,17 @@ fn position(n: usize, st: &InterpState) -> Result<f64, String> {
             "#{n} ({what}) cannot be read with cutter radius compensation on"
         ));
     }
-    if axis == 3 && st.a_axis.is_some() {
-        return Ok(st.a);
+    if let Some(r) = axis
+        .checked_sub(3)
+        .filter(|&r| st.rotaries.get(r).is_some_and(|w| w.is_some()))
+    {
+        return Ok(st.abc[r]);
     }
     if axis >= 3 {
         return Err(format!(
-            "#{n} ({what} of axis {}): this machine has the axes X, Y, Z{}",
+            "#{n} ({what} of axis {}): this machine has the axes {}",
             axis + 1,
-            if st.a_axis.is_some() { " and A" } else { "" }
+            st.axes_named()
         ));
     }
     let k = st.factor();
@@ -361,11 +364,11 @@ fn tool_length(n: usize, st: &InterpState) -> Result<f64, String> {
     let axis = n - 5081;
     match axis {
         0..=2 => Ok(st.tlo[axis] / st.factor()),
-        3 if st.a_axis.is_some() => Ok(0.0),
+        3..=5 if st.rotaries[axis - 3].is_some() => Ok(0.0),
         _ => Err(format!(
-            "#{n} (the tool length offset of axis {}): this machine has the axes X, Y, Z{}",
+            "#{n} (the tool length offset of axis {}): this machine has the axes {}",
             axis + 1,
-            if st.a_axis.is_some() { " and A" } else { "" }
+            st.axes_named()
         )),
     }
 }

@@ -37,16 +37,68 @@ pub const MILL: Dialect = Dialect {
     letter_hint: " (novanc has the axes X, Y and Z)",
 };
 
-/// The letters of a mill with a rotary A axis.
-const LETTERS4: &str = "ADEFHIJKLPQRSTXYZ@^";
+/// `base` on a machine with rotary axes: their letters `letters` (all of a line's letters)
+/// and the hint `hint`.
+const fn with_rotary(base: Dialect, letters: &'static str, hint: &'static str) -> Dialect {
+    Dialect {
+        letters,
+        letter_bits: letter_bits(letters),
+        letter_hint: hint,
+        ..base
+    }
+}
 
-/// The mill dialect on a machine with a rotary A axis (docs/gcode.md "Rotary axis A").
-pub const MILL4: Dialect = Dialect {
-    letters: LETTERS4,
-    letter_bits: letter_bits(LETTERS4),
-    letter_hint: " (novanc has the axes X, Y, Z and A)",
-    ..MILL
+/// A mill's letters and hint with each set of rotary axes, by mask (bit 0 A, bit 1 B, bit 2 C).
+const ROTARY_LETTERS: [(&str, &str); 8] = [
+    (LETTERS, " (novanc has the axes X, Y and Z)"),
+    (
+        "ADEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z and A)",
+    ),
+    (
+        "BDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z and B)",
+    ),
+    (
+        "ABDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z, A and B)",
+    ),
+    (
+        "CDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z and C)",
+    ),
+    (
+        "ACDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z, A and C)",
+    ),
+    (
+        "BCDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z, B and C)",
+    ),
+    (
+        "ABCDEFHIJKLPQRSTXYZ@^",
+        " (novanc has the axes X, Y, Z, A, B and C)",
+    ),
+];
+
+/// The mill dialects, LinuxCNC's and Fanuc's, on a machine with each set of rotary axes.
+static MILLS: [[Dialect; 8]; 2] = {
+    let mut out = [[MILL; 8], [FANUC; 8]];
+    let mut i = 0;
+    while i < 8 {
+        let (l, h) = ROTARY_LETTERS[i];
+        out[0][i] = with_rotary(MILL, l, h);
+        out[1][i] = with_rotary(FANUC, l, h);
+        i += 1;
+    }
+    out
 };
+
+/// The mill's dialect, Fanuc's language or LinuxCNC's, on a machine with the rotary axes of
+/// `mask` (bit 0 A, bit 1 B, bit 2 C; docs/gcode.md "Rotary axes").
+pub fn mill_with(mask: u8, fanuc: bool) -> &'static Dialect {
+    &MILLS[usize::from(fanuc)][usize::from(mask & 7)]
+}
 
 /// The mill dialect read in Fanuc's language (docs/gcode.md "Fanuc dialect"): G31 (skip) is
 /// a motion and M29 (rigid tapping) a spindle code besides LinuxCNC's codes.
@@ -55,14 +107,6 @@ pub const FANUC: Dialect = Dialect {
     m_group: fanuc_m_group,
     g_why: fanuc_g_why,
     ..MILL
-};
-
-/// [`FANUC`] on a machine with a rotary A axis.
-pub const FANUC4: Dialect = Dialect {
-    g_group: fanuc_g_group,
-    m_group: fanuc_m_group,
-    g_why: fanuc_g_why,
-    ..MILL4
 };
 
 fn fanuc_m_group(m: u32) -> Option<u8> {

@@ -252,14 +252,16 @@ fn channel_no(w: Option<&&str>, n: usize, what: &str) -> Result<usize, String> {
     Ok(v as usize - 1)
 }
 
-/// Reads a mill's rotary A axis: `a rotary [wrap] [travel MIN MAX] rapid DEG/MIN accel
-/// DEG/S2` (degrees); a wrapped axis has no travel limits, any other needs them. Whether it is
-/// wrapped.
+/// Reads a mill's rotary axis A, B or C: `a rotary [wrap] [travel MIN MAX] rapid DEG/MIN
+/// accel DEG/S2` (degrees); a wrapped axis has no travel limits, any other needs them. Whether
+/// it is wrapped.
 fn rotary(words: &[&str]) -> Result<(AxisDesc, bool), String> {
     if words.get(1) != Some(&"rotary") {
-        return Err(
-            "axis A is rotary: a rotary [wrap] travel MIN MAX rapid DEG/MIN accel DEG/S2".into(),
-        );
+        let l = words[0];
+        return Err(format!(
+            "axis {} is rotary: {l} rotary [wrap] travel MIN MAX rapid DEG/MIN accel DEG/S2",
+            l.to_ascii_uppercase()
+        ));
     }
     let wrap = words.get(2) == Some(&"wrap");
     let rest = &words[if wrap { 3 } else { 2 }..];
@@ -421,7 +423,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut pulse_mm = 0.001;
     let mut tick_us = 100.0;
     let mut mill_axes: [Option<AxisDesc>; 3] = [None, None, None];
-    let mut rotary_a: Option<(AxisDesc, bool)> = None;
+    // The rotary axes A, B and C of a mill.
+    let mut rotaries: [Option<(AxisDesc, bool)>; 3] = Default::default();
     // A mill's spindle line: (max rpm, accel rpm/s, encoder lines), 0 where not given.
     let mut mill_spindle: Option<ChannelDesc> = None;
     let mut channels: Vec<ChannelDesc> = Vec::new();
@@ -638,11 +641,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     _ => 2,
                 }] = Some(a);
             }
-            "a" if kind == Some("mill") => {
-                if rotary_a.is_some() {
-                    return Err(e("axis A is described twice".into()));
+            "a" | "b" | "c" if kind == Some("mill") => {
+                let r = usize::from(head.as_bytes()[0] - b'a');
+                if rotaries[r].is_some() {
+                    return Err(e(format!(
+                        "axis {} is described twice",
+                        head.to_ascii_uppercase()
+                    )));
                 }
-                rotary_a = Some(rotary(&words).map_err(e)?);
+                rotaries[r] = Some(rotary(&words).map_err(e)?);
             }
             "x" | "z" if in_channel => {
                 let a = axis(&words).map_err(e)?;
@@ -697,13 +704,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
         Some("mill") => {
             let mut m = mill(&name, pulse_mm, mill_axes, &links)?;
             if let MachineDesc::Mill(s) = &mut m {
-                if let Some((a, wrap)) = rotary_a {
-                    // A rotary A: degrees, one pulse `pulse` degrees; its rate and acceleration
-                    // join the machine's as the linear axes' do (docs/pulse-core.md, "Axes").
-                    s.axes = 4;
-                    s.axis_kinds[3] = crate::settings::AxisKind::Rotary { wrap };
-                    s.travel_min_mm[3] = a.travel[0];
-                    s.travel_max_mm[3] = a.travel[1];
+                for (r, given) in rotaries.iter().enumerate() {
+                    let Some((a, wrap)) = given else { continue };
+                    // A rotary axis: degrees, one pulse `pulse` degrees; its rate and
+                    // acceleration join the machine's as the linear axes' do
+                    // (docs/pulse-core.md, "Axes").
+                    let i = crate::block::FIRST_ROTARY + r;
+                    s.axis_kinds[i] = crate::settings::AxisKind::Rotary { wrap: *wrap };
+                    s.travel_min_mm[i] = a.travel[0];
+                    s.travel_max_mm[i] = a.travel[1];
                     s.rapid_mm_min = s.rapid_mm_min.min(a.rapid);
                     s.accel_mm_s2 = s.accel_mm_s2.min(a.accel);
                 }

@@ -299,10 +299,15 @@ impl Linear {
                 n_minor += 1;
             }
         }
-        // The path is along X Y Z; a rotary axis moving alone is its own path (degrees), as
-        // LinuxCNC's feed rule (docs/pulse-core.md, "Axes").
+        // The path is along X Y Z; rotary axes moving alone are their own path (degrees, their
+        // combined turn), as LinuxCNC's feed rule (docs/pulse-core.md, "Axes").
         let xyz = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-        let len = (if xyz > 0 { xyz } else { l[3] * l[3] } as f64).sqrt();
+        let len = (if xyz > 0 {
+            xyz
+        } else {
+            l[3] * l[3] + l[4] * l[4] + l[5] * l[5]
+        } as f64)
+            .sqrt();
         let lb = l[major];
         let ds = if lb > 0 { len / lb as f64 } else { 1.0 };
         let dir = Axes::from_fn(|a| delta[a].signum() as i8);

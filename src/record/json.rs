@@ -222,6 +222,8 @@ fn axis_letter(axis: u8) -> &'static [u8] {
         1 => b"\"Y\"",
         2 => b"\"Z\"",
         3 => b"\"A\"",
+        4 => b"\"B\"",
+        5 => b"\"C\"",
         _ => b"\"?\"",
     }
 }
@@ -229,12 +231,13 @@ fn axis_letter(axis: u8) -> &'static [u8] {
 /// Appends the JSON message of `ev` to `out` and returns its machine time in ns (for a pulse
 /// batch, the first pulse's time; 0 for an empty batch): [`encode_event_axes`] for X Y Z.
 pub fn encode_event(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64) -> u64 {
-    encode_event_axes(out, ev, pulse_mm, 3)
+    encode_event_axes(out, ev, pulse_mm, 0)
 }
 
-/// [`encode_event`] on a machine of `axes` axes: positions carry `a` (degrees) and a fourth
-/// counter when the machine has an A axis, and only then.
-pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usize) -> u64 {
+/// [`encode_event`] on a machine with the rotary axes of `rotary` (a mask: bit 0 A, bit 1 B,
+/// bit 2 C; `MachineSettings::rotary_mask`): positions carry `a`, `b`, `c` (degrees) and a
+/// counter each after Z's for the rotary axes the machine has, and only those.
+pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, rotary: u8) -> u64 {
     match ev {
         Event::Block {
             t_ns,
@@ -258,7 +261,7 @@ pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usi
             speed_mm_min,
         } => {
             out.push(b'{');
-            push_place(out, pulses, held, pulse_mm, axes);
+            push_place(out, pulses, held, pulse_mm, rotary);
             out.extend_from_slice(b",\"speed\":");
             push_mm(out, *speed_mm_min);
             out.push(b'}');
@@ -345,7 +348,7 @@ pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usi
             out.extend_from_slice(b",\"stmt\":");
             push_u64(out, u64::from(*stmt));
             out.push(b',');
-            push_place(out, pulses, &Axes::default(), pulse_mm, axes);
+            push_place(out, pulses, &Axes::default(), pulse_mm, rotary);
             out.extend_from_slice(b",\"tripped\":");
             out.extend_from_slice(if *tripped { b"true" } else { b"false" });
             out.extend_from_slice(b",\"at_start\":");
@@ -435,7 +438,7 @@ pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usi
             push_u64(out, u64::from(*channel));
             out.push(b',');
             let at = out.len();
-            let t = encode_event_axes(out, ev, pulse_mm, axes);
+            let t = encode_event_axes(out, ev, pulse_mm, rotary);
             if out.get(at) == Some(&b'{') {
                 out.remove(at);
             }
@@ -447,15 +450,22 @@ pub fn encode_event_axes(out: &mut Vec<u8>, ev: &Event, pulse_mm: f64, axes: usi
 /// `"x":..,"y":..,"z":..,"pulses":[..]`: a position in mm from the counters, and the counters.
 /// `x`, `y`, `z` (mm) of the program position `pulses`, and `pulses`, the axis counters: the
 /// same less what MACHINE LOCK `held` back.
-fn push_place(out: &mut Vec<u8>, pulses: &Axes, held: &Axes, pulse_mm: f64, axes: usize) {
-    let keys = [&b"\"x\":"[..], b",\"y\":", b",\"z\":", b",\"a\":"];
-    let n = axes.clamp(3, crate::block::MAX_AXES);
-    for (i, key) in keys.iter().enumerate().take(n) {
+fn push_place(out: &mut Vec<u8>, pulses: &Axes, held: &Axes, pulse_mm: f64, rotary: u8) {
+    let keys = [
+        &b"\"x\":"[..],
+        b",\"y\":",
+        b",\"z\":",
+        b",\"a\":",
+        b",\"b\":",
+        b",\"c\":",
+    ];
+    let has = |i: usize| i < 3 || rotary & (1 << (i - 3)) != 0;
+    for (i, key) in keys.iter().enumerate().filter(|(i, _)| has(*i)) {
         out.extend_from_slice(key);
         push_mm(out, pulses[i] as f64 * pulse_mm);
     }
     out.extend_from_slice(b",\"pulses\":[");
-    for i in 0..n {
+    for i in (0..crate::block::MAX_AXES).filter(|&i| has(i)) {
         if i > 0 {
             out.push(b',');
         }

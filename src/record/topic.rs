@@ -131,23 +131,44 @@ impl Topic {
         }
     }
 
-    /// [`Topic::schema`] on a machine of `axes` axes: with a rotary A, `/nc/position` and
-    /// `/nc/probe` also give `a` (degrees) and a fourth counter, and `/nc/pulses` names the axis
-    /// A (added, never changed: a 3-axis machine's schema is `schema()`).
-    pub fn schema_for(self, axes: usize) -> std::borrow::Cow<'static, str> {
+    /// [`Topic::schema`] on a machine with the rotary axes of `rotary` (a mask: bit 0 A, bit 1
+    /// B, bit 2 C): `/nc/position` and `/nc/probe` also give `a`, `b`, `c` (degrees) and a
+    /// counter each for those it has, and `/nc/pulses` names them (added, never changed: a
+    /// 3-axis machine's schema is `schema()`, and an A-axis machine's is as it was).
+    pub fn schema_for(self, rotary: u8) -> std::borrow::Cow<'static, str> {
         let s = self.schema();
-        if axes < 4 || !matches!(self, Topic::Position | Topic::Probe | Topic::Pulses) {
+        if rotary & 7 == 0 || !matches!(self, Topic::Position | Topic::Probe | Topic::Pulses) {
             return s.into();
         }
+        let names: Vec<&str> = (0..3)
+            .filter(|r| rotary & (1 << r) != 0)
+            .map(|r| ["A", "B", "C"][r])
+            .collect();
+        let quoted: String = names.iter().map(|l| format!(",\"{l}\"")).collect();
+        let fields: String = names
+            .iter()
+            .map(|l| {
+                format!(
+                    r#""{}":{{"type":"number","description":"{l}, degrees (a rotary axis; only on a machine that has it)"}},"#,
+                    l.to_ascii_lowercase()
+                )
+            })
+            .collect();
+        let n = 3 + names.len();
         s.replace(
             r#""axis":{"type":"string","enum":["X","Y","Z"]}"#,
-            r#""axis":{"type":"string","enum":["X","Y","Z","A"]}"#,
+            &format!(r#""axis":{{"type":"string","enum":["X","Y","Z"{quoted}]}}"#),
         )
         .replace(
             r#""pulses":{"type":"array","items":{"type":"integer"},"minItems":3,"maxItems":3,"#,
-            r#""a":{"type":"number","description":"A, degrees (a rotary axis; only on a machine that has it)"},"pulses":{"type":"array","items":{"type":"integer"},"minItems":4,"maxItems":4,"#,
+            &format!(
+                r#"{fields}"pulses":{{"type":"array","items":{{"type":"integer"}},"minItems":{n},"maxItems":{n},"#
+            ),
         )
-        .replace("pulse counters X, Y, Z", "pulse counters X, Y, Z, A")
+        .replace(
+            "pulse counters X, Y, Z",
+            &format!("pulse counters X, Y, Z, {}", names.join(", ")),
+        )
         .into()
     }
 

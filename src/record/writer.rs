@@ -60,8 +60,9 @@ pub struct RecordWriter<W: RecordOutput = RecordFile> {
     mcap: Option<mcap::Writer<W>>,
     path: PathBuf,
     pulse_mm: f64,
-    /// The machine's axes (3, or 4 with A): positions carry `a` then.
-    axes: usize,
+    /// The machine's rotary axes (`MachineSettings::rotary_mask`): positions carry `a`, `b`,
+    /// `c` for them.
+    rotary: u8,
     /// The MCAP channel id of each slot (None: not declared yet; only `/lathe/event` waits
     /// for its first message).
     channels: [Option<u16>; CHANNELS],
@@ -141,7 +142,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             mcap: None,
             path: path.to_path_buf(),
             pulse_mm: settings.pulse_mm,
-            axes: settings.axes,
+            rotary: settings.rotary_mask(),
             channels: [None; CHANNELS],
             sequence: [0; CHANNELS],
             scenes: scene_on.then(Vec::new),
@@ -234,7 +235,7 @@ impl<W: RecordOutput> RecordWriter<W> {
                 (
                     t.index(),
                     t.schema_name(),
-                    t.schema_for(settings.axes),
+                    t.schema_for(settings.rotary_mask()),
                     t.name(),
                 )
             })
@@ -261,7 +262,7 @@ impl<W: RecordOutput> RecordWriter<W> {
             .add_schema(
                 t.schema_name(),
                 "jsonschema",
-                t.schema_for(self.axes).as_bytes(),
+                t.schema_for(self.rotary).as_bytes(),
             )
             .and_then(|s| mcap.add_channel(s, t.name(), "json", &BTreeMap::new()));
         match r {
@@ -314,7 +315,7 @@ impl<W: RecordOutput> RecordWriter<W> {
         }
         let i = Topic::of(ev).index();
         self.buf.clear();
-        let t = encode_event_axes(&mut self.buf, ev, self.pulse_mm, self.axes);
+        let t = encode_event_axes(&mut self.buf, ev, self.pulse_mm, self.rotary);
         let pulses = match ev.inner() {
             Event::Pulses { t_ns, .. } => t_ns.len() as u64,
             _ => 0,

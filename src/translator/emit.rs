@@ -35,9 +35,9 @@ pub struct Loaded {
 pub struct Machine {
     /// Axis position, pulses.
     pub pos: [i64; 3],
-    /// Where a rotary A axis stands, pulses: the source language does not move it, so every
-    /// block keeps it (docs/language.md).
-    pub a: i64,
+    /// Where the rotary axes A, B and C stand, pulses: the source language does not move them,
+    /// so every block keeps them (docs/language.md).
+    pub abc: [i64; 3],
     /// The tool in the spindle.
     pub tool: Option<Loaded>,
     /// The spindle.
@@ -109,8 +109,10 @@ impl<'s> Out<'s> {
         b.tool_z = self.m.tool.is_some();
         b.seq = self.m.seq;
         b.stmt = self.line;
-        // The source language is X Y Z (docs/language.md): A stays where it is.
-        b.end[3] = self.m.a;
+        // The source language is X Y Z (docs/language.md): A, B and C stay where they are.
+        for (r, &v) in self.m.abc.iter().enumerate() {
+            b.end[3 + r] = v;
+        }
         b.delta = [
             b.end[0] - self.m.pos[0],
             b.end[1] - self.m.pos[1],
@@ -305,7 +307,7 @@ mod tests {
         let st = MachineSettings::default();
         let m = Machine {
             pos: [5, 5, 5],
-            a: 0,
+            abc: [0; 3],
             tool: None,
             spindle: Spindle::Stopped,
             clear: None,

@@ -107,7 +107,7 @@ impl Translator {
         };
         let machine = Machine {
             pos: state.pos.xyz(),
-            a: state.pos[3],
+            abc: state.pos.rotary(),
             tool,
             spindle,
             clear: None,

@@ -133,12 +133,13 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         " {:>9}{:>9}{:>9}{:>9}",
         name, "REL", "MACH", "TO GO"
     ));
-    for a in 0..s.axes {
-        // A has no work offset: its WORK is its machine position (docs/gcode.md "Rotary axis A").
+    for a in s.axis_list() {
+        // A rotary axis has no work offset: its WORK is its machine position (docs/gcode.md
+        // "Rotary axes").
         let work = st.pos[a] - origin.get(a).map_or(0, |&o| s.to_pulses(o));
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
-            ["X", "Y", "Z", "A"][a],
+            crate::settings::AXIS_NAMES[a],
             s.to_mm(work),
             s.to_mm(st.pos[a] - c.pages.rel_origin[a]),
             s.to_mm(st.pos[a]),

@@ -33,20 +33,26 @@ pub fn check_block(settings: &MachineSettings, pos: Axes, b: &Block) -> Result<(
         return Err(format!("feed {} mm/rev is not a number", b.feed));
     }
     // A rotary axis moves in straight blocks, by the DDA (docs/pulse-core.md, "Axes").
-    if b.delta[3] != 0 {
-        if settings.axes < 4 {
-            return Err("axis A: this machine has no A axis".into());
+    for a in crate::block::FIRST_ROTARY..crate::block::MAX_AXES {
+        if b.delta[a] == 0 {
+            continue;
+        }
+        let l = axis_name(a);
+        if !settings.has_axis(a) {
+            return Err(format!("axis {l}: this machine has no {l} axis"));
         }
         if matches!(b.motion, Kind::ArcCw | Kind::ArcCcw) {
-            return Err("axis A does not move in an arc: give it in a G00 or G01".into());
+            return Err(format!(
+                "axis {l} does not move in an arc: give it in a G00 or G01"
+            ));
         }
         if settings.interpolator != crate::settings::Interpolator::Dda {
-            return Err("axis A is run by the DDA interpolator only".into());
+            return Err(format!("axis {l} is run by the DDA interpolator only"));
         }
     }
     let to = Axes::from_fn(|a| pos[a] + b.delta[a]);
     let limit = |p: Axes| -> Result<(), String> {
-        for (a, &v) in p.iter().enumerate().take(settings.axes) {
+        for (a, &v) in p.iter().enumerate().filter(|(a, _)| settings.has_axis(*a)) {
             if settings.wrapped(a) {
                 continue;
             }
@@ -89,9 +95,12 @@ pub fn check_block(settings: &MachineSettings, pos: Axes, b: &Block) -> Result<(
     Ok(())
 }
 
-/// "X", "Y", "Z" or "A".
+/// "X", "Y", "Z", "A", "B" or "C".
 pub fn axis_name(a: usize) -> &'static str {
-    ["X", "Y", "Z", "A"].get(a).copied().unwrap_or("?")
+    ["X", "Y", "Z", "A", "B", "C"]
+        .get(a)
+        .copied()
+        .unwrap_or("?")
 }
 
 /// The arc's centre in machine axes, pulses (the start's coordinate along the normal).

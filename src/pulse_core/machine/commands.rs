@@ -343,11 +343,11 @@ impl Machine {
 /// The return from `from` to `to` in a safe order: up first if the target is higher, else
 /// across first and down last, so the tool never moves sideways below either point.
 pub fn return_path(from: Axes, to: Axes) -> Vec<Axes> {
-    // A rotary axis turns with X and Y.
+    // The rotary axes turn with X and Y.
     let mid = if to[2] > from[2] {
-        Axes([from[0], from[1], to[2], from[3]])
+        Axes::with_rotary([from[0], from[1], to[2]], from.rotary())
     } else {
-        Axes([to[0], to[1], from[2], to[3]])
+        Axes::with_rotary([to[0], to[1], from[2]], to.rotary())
     };
     let mut out = Vec::new();
     for p in [mid, to] {

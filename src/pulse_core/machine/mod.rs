@@ -1600,12 +1600,14 @@ impl Machine {
             }
             Touch::At(t) => {
                 let p = along(a, e, t);
-                b.end = Axes([
-                    st.to_pulses(p[0]),
-                    st.to_pulses(p[1]),
-                    st.to_pulses(p[2] + len),
-                    b.end[3],
-                ]);
+                b.end = Axes::with_rotary(
+                    [
+                        st.to_pulses(p[0]),
+                        st.to_pulses(p[1]),
+                        st.to_pulses(p[2] + len),
+                    ],
+                    b.end.rotary(),
+                );
                 (true, false)
             }
             Touch::Never => (false, false),
@@ -2159,15 +2161,17 @@ impl Machine {
                 self.settings.to_mm(c.block.end[0]),
                 self.settings.to_mm(c.block.end[1]),
                 self.settings.to_mm(c.block.end[2]),
-            ) + &if pos[3] != c.block.end[3] {
-                format!(
-                    "; A at {:.3}, programmed {:.3}",
-                    self.settings.to_mm(pos[3]),
-                    self.settings.to_mm(c.block.end[3])
-                )
-            } else {
-                String::new()
-            };
+            ) + &(3..crate::block::MAX_AXES)
+                .filter(|&a| pos[a] != c.block.end[a])
+                .map(|a| {
+                    format!(
+                        "; {} at {:.3}, programmed {:.3}",
+                        axis_name(a),
+                        self.settings.to_mm(pos[a]),
+                        self.settings.to_mm(c.block.end[a])
+                    )
+                })
+                .collect::<String>();
             self.refuse(&e, Some(&c.block), why);
             return;
         }
