@@ -441,3 +441,60 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The console on `--machine FILE` (the terminal's, the window's and `novanc script`'s one
+/// argument path) has the description's rotary axes: MDI turns them and POS shows a row each.
+/// Until stop 53 the console took the description's travel but not its axes, so a console on
+/// `--machine centre4` refused `A` as an unknown word.
+#[test]
+fn the_console_on_a_described_machine_has_its_rotary_axes() {
+    let dir = temp_dir("axes-console");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let script = dir.join("bc.script");
+    std::fs::write(
+        &script,
+        "op MDI\ntype G0 X10 B30 C-45\neob\nstart\nwait\nkey Ctrl+P\nshow\n",
+    )
+    .unwrap();
+    for (machine, rows) in [
+        (desc.to_str().unwrap(), &["B", "C"][..]),
+        ("centre4", &["A"][..]),
+    ] {
+        let text = std::fs::read_to_string(&script).unwrap();
+        let text = if machine == "centre4" {
+            text.replace("B30 C-45", "A30")
+        } else {
+            text
+        };
+        std::fs::write(&script, text).unwrap();
+        let out = novanc(&[
+            "script",
+            "--machine",
+            machine,
+            "--state",
+            dir.join(format!("state-{}", rows[0])).to_str().unwrap(),
+            script.to_str().unwrap(),
+        ]);
+        let so = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(
+            out.status.success(),
+            "{so}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for r in rows {
+            let row = so
+                .lines()
+                .map(|l| l.trim_start_matches('|'))
+                .find(|l| l.starts_with(r))
+                .unwrap_or_else(|| panic!("{machine}: no {r} row:\n{so}"));
+            let want = if *r == "C" { "-45.000" } else { "30.000" };
+            assert_eq!(
+                row.split_whitespace().nth(3),
+                Some(want),
+                "{machine} {r} MACH:\n{so}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

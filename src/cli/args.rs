@@ -104,9 +104,12 @@ impl Machine {
         s
     }
 
-    /// Puts what the centre's description gives (pulse size, travel, rapid rate,
-    /// acceleration, tool-change height, workpiece, M6 remap, dialect, spindle) and the
+    /// Puts what the centre's description gives (pulse size, its rotary axes, travel, rapid
+    /// rate, acceleration, tool-change height, workpiece, M6 remap, dialect, spindle) and the
     /// dialect asked for into a console's settings, keeping the rest (interpolator, B1, ...).
+    /// Until stop 53 the rotary axes were left out: the terminal and the window on
+    /// `--machine centre4` had no A (`novanc run` and `translate`, which take the whole
+    /// description, had).
     /// Nothing for a lathe.
     pub fn apply(&self, s: &mut MachineSettings) {
         let Machine::Centre(desc, dialect) = self else {
@@ -114,6 +117,7 @@ impl Machine {
         };
         if let Some(m) = desc {
             s.pulse_mm = m.pulse_mm;
+            s.axis_kinds = m.axis_kinds;
             s.travel_min_mm = m.travel_min_mm;
             s.travel_max_mm = m.travel_max_mm;
             s.rapid_mm_min = m.rapid_mm_min;
