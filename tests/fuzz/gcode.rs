@@ -8,7 +8,7 @@ use super::programs::mutate;
 use super::rng::Rng;
 use novanc::block::MachineState;
 use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
-use novanc::settings::{Dialect, MachineSettings};
+use novanc::settings::{AxisKind, Dialect, MachineSettings};
 use novanc::tooldata::sample_magazine;
 
 #[path = "../common/gcode_fragments.rs"]
@@ -70,15 +70,35 @@ pub fn extremes_case(rng: &mut Rng, _ctx: &Ctx) -> Result<(), String> {
 /// Reads `src` to its end or its first error: statements at real lines, a refusal at a real
 /// place with a short message, nothing after it.
 fn read_checked(rng: &mut Rng, src: &str, dialect: Dialect) -> Result<(), String> {
-    note(&format!("G-code program ({dialect:?})"), src);
+    let mut settings = MachineSettings {
+        dialect,
+        ..MachineSettings::default()
+    };
+    // One case in three on a machine with rotary axes (docs/gcode.md "Rotary axes"): each of
+    // A, B, C present or not, wrapped or within ±720°.
+    if rng.chance(0.33) {
+        for a in 3..6 {
+            if rng.chance(0.6) {
+                settings.axis_kinds[a] = AxisKind::Rotary {
+                    wrap: rng.chance(0.5),
+                };
+                settings.travel_min_mm[a] = -720.0;
+                settings.travel_max_mm[a] = 720.0;
+            }
+        }
+    }
+    note(
+        &format!(
+            "G-code program ({dialect:?}, axes {})",
+            settings.rotary_mask()
+        ),
+        src,
+    );
     let lines = src.split_inclusive('\n').count() as u32 + 1;
     let g = GcodeSource::new(
         src.into(),
         sample_magazine(),
-        MachineSettings {
-            dialect,
-            ..MachineSettings::default()
-        },
+        settings,
         MachineState::at([500_000, 400_000, -300_000]),
         WorkOffsets::default(),
         Switches {
