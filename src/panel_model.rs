@@ -727,6 +727,9 @@ pub struct PanelView {
     /// Tool-tip position, mm (Z less the length of the tool in the spindle that POS's WORK Z
     /// takes: the tool file's with no run loaded, the one in force during a run).
     pub tip_mm: [f64; 3],
+    /// The machine's rotary axes (A, B, C, those it has) and where they stand, degrees: the
+    /// readouts show them beside X Y Z (none on a 3-axis machine).
+    pub rotary_deg: Vec<(char, f64)>,
     /// T code in the spindle, if any.
     pub tool: Option<u32>,
     /// Spindle speed, rpm, signed; 0 stopped.

@@ -635,6 +635,9 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             v.axis_mm[i], v.tip_mm[i]
         ));
     }
+    for (r, deg) in &v.rotary_deg {
+        p.body.push(format!("{r} {deg:>10.3} deg"));
+    }
     p.lines()
 }
 

@@ -280,6 +280,9 @@ impl Console {
         // the one in force while a revised one is pending).
         let mut tip_mm = axis_mm;
         tip_mm[2] -= pages::length_in_force(self).0;
+        let rotary_deg = (s.axis_list().skip(3))
+            .map(|a| (crate::settings::AXIS_NAMES[a], s.to_mm(self.status.pos[a])))
+            .collect();
         PanelView {
             display: self.display.clone(),
             op_mode: self.front.op,
@@ -291,6 +294,7 @@ impl Console {
             program_switches: self.front.switches,
             axis_mm,
             tip_mm,
+            rotary_deg,
             tool: self.status.tool,
             spindle: self.status.spindle,
             wheel: self.front.wheel,

@@ -112,12 +112,18 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
     // Position readout.
     s.frame(0, top, dw, 5, "POSITION mm", PANEL);
     for (i, a) in ["X", "Y", "Z"].iter().enumerate() {
-        s.text(
-            1,
-            top + 1 + i,
-            &format!("{a} {:>10.3}  tip {a} {:>10.3}", v.axis_mm[i], v.tip_mm[i]),
-            PLASMA,
-        );
+        // A rotary axis beside each row (A, B, C in the machine's order), degrees; the
+        // readout of a 3-axis machine is as it was.
+        let line = match v.rotary_deg.get(i) {
+            Some((r, deg)) => format!(
+                "{a} {:>10.3} tip {a} {:>10.3} {r}{:>9}",
+                v.axis_mm[i],
+                v.tip_mm[i],
+                degrees_in_9(*deg)
+            ),
+            None => format!("{a} {:>10.3}  tip {a} {:>10.3}", v.axis_mm[i], v.tip_mm[i]),
+        };
+        s.text(1, top + 1 + i, &line, PLASMA);
     }
     // Lamps and machine state.
     s.frame(rx, top, rw, 5, "LAMPS", PANEL);
@@ -266,6 +272,17 @@ pub fn draw_lathe(s: &mut Screen, v: &LatheView) {
     }
 }
 
+/// A rotary axis's degrees in at most 9 characters (the POSITION box's room): three decimals,
+/// fewer for a wrapped axis that has turned far (its counter runs on past 360), `>>>>>>>>>`
+/// past any.
+fn degrees_in_9(deg: f64) -> String {
+    (0..=3)
+        .rev()
+        .map(|d| format!("{deg:.d$}"))
+        .find(|t| t.len() <= 9)
+        .unwrap_or_else(|| ">".repeat(9))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -282,6 +299,7 @@ mod tests {
             switches: Default::default(),
             program_switches: Default::default(),
             axis_mm: [1.0, 2.0, -3.5],
+            rotary_deg: Vec::new(),
             tip_mm: [1.0, 2.0, -153.5],
             tool: Some(2),
             spindle: 1200,
@@ -317,6 +335,24 @@ mod tests {
             assert!(t.contains(want), "missing {want:?} in\n{t}");
         }
         assert!(LEGEND.chars().count() <= 79);
+    }
+
+    /// The rotary axes stand beside X Y Z in the POSITION box, inside its frame, so that a
+    /// turning table is seen in every mode, not only on POS (stop 53).
+    #[test]
+    fn the_position_box_shows_the_rotary_axes_inside_its_frame() {
+        let mut v = view();
+        v.rotary_deg = vec![('A', 0.0), ('B', -30.0), ('C', -10_080.5)];
+        let mut s = Screen::new(79, 24);
+        draw_panel(&mut s, &v);
+        let t = s.to_text();
+        for want in [
+            "│X      1.000 tip X      1.000 A    0.000│",
+            "│Y      2.000 tip Y      2.000 B  -30.000│",
+            "│Z     -3.500 tip Z   -153.500 C-10080.50│",
+        ] {
+            assert!(t.contains(want), "missing {want:?} in\n{t}");
+        }
     }
 
     #[test]

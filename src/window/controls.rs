@@ -453,10 +453,11 @@ pub fn page_keys(ui: &mut Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
 pub fn readout(ui: &mut Ui, view: &PanelView) {
     let big = FontId::monospace(20.0);
     ui.label(egui::RichText::new("POSITION mm").small().color(LEGEND));
-    for (i, a) in ['X', 'Y', 'Z'].iter().enumerate() {
+    let rows = ['X', 'Y', 'Z'].iter().zip(view.axis_mm);
+    for (a, v) in rows.chain(view.rotary_deg.iter().map(|(r, d)| (r, *d))) {
         ui.add(
             egui::Label::new(
-                egui::RichText::new(format!("{a}{:>10.3}", view.axis_mm[i]))
+                egui::RichText::new(format!("{a}{v:>10.3}"))
                     .font(big.clone())
                     .color(Color32::from_rgb(140, 255, 200)),
             )
