@@ -442,6 +442,88 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// G28 and G30 bring the rotary axes home as LinuxCNC does: through the intermediate point
+/// of their words, the named ones (or, with no axis word, every one) to #5164–#5166 or
+/// #5184–#5186, which G28.1 sets. Before stop 53 a bare G28 left B and C where they stood,
+/// and `G28 C10` was refused.
+#[test]
+fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
+    let dir = temp_dir("axes-home");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let text = "G21 G90\nG0 X10 B30 C45\nG28\nG0 X20 B20 C20\nG91 G28 C10 X5\nG90 G0 C50\nG30 B0\nG0 B15 C25\nG28.1\nG0 B0 C0\nG28\nM2\n";
+    let prog = dir.join("home.ngc");
+    std::fs::write(&prog, text).unwrap();
+    let out = novanc(&[
+        "translate",
+        prog.to_str().unwrap(),
+        "--machine",
+        desc.to_str().unwrap(),
+    ]);
+    let listing = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (mut at, mut got) = ([0.0; 2], Vec::new());
+    for l in listing.lines() {
+        let mut moved = false;
+        for w in l.split_whitespace() {
+            for (i, c) in ['B', 'C'].into_iter().enumerate() {
+                if let Some(v) = w.strip_prefix(c).and_then(|v| v.parse().ok()) {
+                    at[i] = v;
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            got.push(at);
+        }
+    }
+    // Worked out by LinuxCNC's rule (interp_convert.cc convert_home): G91 G28 C10 passes C
+    // at 30 and sends C alone home; G30 B0's end is where it passes (#5185 is 0); the last
+    // G28 goes to the B 15, C 25 that G28.1 kept.
+    let want = [
+        [30.0, 45.0],
+        [0.0, 0.0],
+        [20.0, 20.0],
+        [20.0, 30.0],
+        [20.0, 0.0],
+        [20.0, 50.0],
+        [0.0, 50.0],
+        [15.0, 25.0],
+        [0.0, 0.0],
+        [15.0, 25.0],
+    ];
+    assert_eq!(got, want, "{listing}");
+    if let Ok(o) = Command::new("rs274")
+        .arg("-g")
+        .arg(&prog)
+        .env("HOME", &dir)
+        .output()
+    {
+        if o.status.success() {
+            let (mut last, mut v) = ([0.0; 2], Vec::new());
+            for l in String::from_utf8_lossy(&o.stdout).lines() {
+                let Some(args) = l.split("STRAIGHT_").nth(1) else {
+                    continue;
+                };
+                let nums: Vec<f64> = args
+                    .split(['(', ')', ','])
+                    .filter_map(|w| w.trim().parse().ok())
+                    .collect();
+                if nums.len() >= 6 && [nums[4], nums[5]] != last {
+                    last = [nums[4], nums[5]];
+                    v.push(last);
+                }
+            }
+            assert_eq!(v, want, "rs274 against the rule");
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// The console on `--machine FILE` (the terminal's, the window's and `novanc script`'s one
 /// argument path) has the description's rotary axes: MDI turns them and POS shows a row each.
 /// Until stop 53 the console took the description's travel but not its axes, so a console on

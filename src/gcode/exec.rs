@@ -914,7 +914,8 @@ pub fn execute(
                     "G28 and G30 cannot be used with cutter radius compensation on",
                 ));
             }
-            moves::home(st, x, w, w.has_g(300).is_some(), col);
+            let rotary = home_rotary(st, x, w)?;
+            moves::home(st, x, w, w.has_g(300).is_some(), col, rotary);
         } else if let Some(col) = w.has_g(281).or(w.has_g(301)) {
             if comp.active() {
                 return Err(x.err(
@@ -926,6 +927,11 @@ pub fn execute(
             for a in 0..3 {
                 st.params[base + a] = st.pos[a];
                 x.events.push(Event::Param(base + a, st.pos[a]));
+            }
+            // The rotary axes the machine has, as LinuxCNC stores every axis.
+            for r in (0..3).filter(|&r| st.rotaries[r].is_some()) {
+                st.params[base + 3 + r] = st.abc[r];
+                x.events.push(Event::Param(base + 3 + r, st.abc[r]));
             }
         } else if let Some(col) = w
             .has_g(920)
@@ -1033,8 +1039,32 @@ fn first_rotary(w: &Words) -> Option<(char, u32)> {
         .min_by_key(|&(_, c)| c)
 }
 
+/// G28's and G30's rotary axis words: the intermediate A, B, C (as a G00 would take them)
+/// and which are named.
+fn home_rotary(
+    st: &InterpState,
+    x: &Exec,
+    w: &Words,
+) -> Result<([f64; 3], [bool; 3]), TranslateError> {
+    let (mut mid, mut named) = (st.abc, [false; 3]);
+    for (r, l) in ROTARY_LETTERS.into_iter().enumerate() {
+        let (Some(v), Some(col)) = (w.get(l), w.col(l)) else {
+            continue;
+        };
+        let Some(wrapped) = st.rotaries[r] else {
+            return Err(x.err(
+                col,
+                format!("unknown word {l} (novanc has the axes {})", st.axes_named()),
+            ));
+        };
+        mid[r] = rotary_target(x, st.modal.incremental, wrapped, st.abc[r], (l, v, col))?;
+        named[r] = true;
+    }
+    Ok((mid, named))
+}
+
 /// Refuses a rotary axis word (A, B or C) anywhere but on a G00 or G01 move without cutter
-/// compensation or a non-modal code other than G53 (the rotary axes have no offsets,
+/// compensation, G28 or G30, or a non-modal code other than G53 (the rotary axes have no offsets,
 /// references or compensation in novanc: their program position is their machine position, so
 /// G53 moves them as G00 or G01 does).
 fn rotary_allowed(
@@ -1044,7 +1074,11 @@ fn rotary_allowed(
     motion: Option<Motion>,
     (l, col): (char, u32),
 ) -> Result<(), TranslateError> {
-    for g in [40, 100, 280, 281, 300, 301, 520, 920, 921, 922, 923] {
+    if w.has_g(280).or(w.has_g(300)).is_some() {
+        // G28 and G30 take the axis words (the motion in force does not).
+        return Ok(());
+    }
+    for g in [40, 100, 281, 301, 520, 920, 921, 922, 923] {
         if w.has_g(g).is_some() {
             return Err(x.err(
                 col,

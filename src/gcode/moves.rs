@@ -589,25 +589,52 @@ pub fn g92(
     Ok(())
 }
 
-/// G28 and G30: through the intermediate point given by the axis words (program frame) to
-/// the home position (#5161–#5163 or #5181–#5183, machine mm) of the named axes, or of all
-/// three when none is named.
-pub fn home(st: &mut InterpState, x: &mut Exec, w: &Words, g30: bool, col: u32) {
+/// G28 and G30: through the intermediate point given by the axis words (program frame; the
+/// rotary axes' `mid_abc`, those named in `named_abc`) to the home position (#5161–#5166 or
+/// #5181–#5186, machine mm and degrees) of the named axes, or of every axis the machine has
+/// when none is named (LinuxCNC's rule: a bare G28 brings A, B and C home too; before stop 53
+/// novanc left them where they stood).
+pub fn home(
+    st: &mut InterpState,
+    x: &mut Exec,
+    w: &Words,
+    g30: bool,
+    col: u32,
+    (mid_abc, named_abc): ([f64; 3], [bool; 3]),
+) {
     let base = if g30 { 5181 } else { 5161 };
     let home = [st.params[base], st.params[base + 1], st.params[base + 2]];
     let mid = target(st, x, w).unwrap_or(st.pos);
-    x.push(Canon::Rapid(mid), col);
-    st.pos = mid;
-    let mut end = mid;
-    if w.has_axis() {
-        for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-            if w.get(c).is_some() {
-                end[i] = home[i];
-            }
+    rapid_to(st, x, mid, mid_abc, col);
+    let (mut end, mut end_abc) = (mid, mid_abc);
+    let any = w.has_axis() || named_abc.contains(&true);
+    for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+        if !any || w.get(c).is_some() {
+            end[i] = home[i];
         }
-    } else {
-        end = home;
     }
-    x.push(Canon::Rapid(end), col);
-    st.pos = end;
+    for r in 0..3 {
+        if st.rotaries[r].is_some() && (!any || named_abc[r]) {
+            end_abc[r] = st.params[base + 3 + r];
+        }
+    }
+    rapid_to(st, x, end, end_abc, col);
+}
+
+/// A rapid to `to` (machine mm) with the rotary axes to `abc` (a plain rapid when they stay).
+fn rapid_to(st: &mut InterpState, x: &mut Exec, to: [f64; 3], abc: [f64; 3], col: u32) {
+    if abc == st.abc {
+        x.push(Canon::Rapid(to), col);
+    } else {
+        x.push(
+            Canon::Turn {
+                end: to,
+                abc,
+                feed: None,
+            },
+            col,
+        );
+        st.abc = abc;
+    }
+    st.pos = to;
 }
