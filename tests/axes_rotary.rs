@@ -239,7 +239,8 @@ fn a_is_refused_with_its_place_where_it_cannot_act() {
         let e = listed_a(&dir, text, "centre4").unwrap_err();
         assert!(e.contains(want), "{text}: {e}");
     }
-    // The kernel: A is run by the DDA only, and refused before any pulse otherwise.
+    // A is run by the DDA only: refused at its place by the reader (the kernel's own check
+    // behind it), before any pulse and before the line's modes take effect.
     let prog = dir.join("ep.ngc");
     std::fs::write(&prog, "G0 X10 A10\nM2\n").unwrap();
     let out = novanc(&[
@@ -253,7 +254,7 @@ fn a_is_refused_with_its_place_where_it_cannot_act() {
     let se = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(
-        se.contains("axis A is run by the DDA interpolator only"),
+        se.contains("ep.ngc:1:8: A is run by the DDA interpolator only (this machine runs the error-proportional one)"),
         "{se}"
     );
     let _ = std::fs::remove_dir_all(dir);

@@ -1074,6 +1074,18 @@ fn rotary_allowed(
     motion: Option<Motion>,
     (l, col): (char, u32),
 ) -> Result<(), TranslateError> {
+    // Refused here, at its place, rather than by the kernel at the block: a kernel's refusal
+    // came after the line had been read, and the run's modes stood as if it had moved (found
+    // by the operator sequences on a trunnion, stop 53).
+    if x.settings.interpolator != crate::settings::Interpolator::Dda {
+        return Err(x.err(
+            col,
+            format!(
+                "{l} is run by the DDA interpolator only (this machine runs the {} one)",
+                x.settings.interpolator.name()
+            ),
+        ));
+    }
     if w.has_g(280).or(w.has_g(300)).is_some() {
         // G28 and G30 take the axis words (the motion in force does not).
         return Ok(());
