@@ -581,3 +581,28 @@ fn the_console_on_a_described_machine_has_its_rotary_axes() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// MACHINE LOCK holds every axis back, the rotary ones too: the program position turns, the
+/// table does not. Until stop 53 the lock was X Y Z only and a locked run turned A (found by
+/// the operator sequences on a trunnion).
+#[test]
+fn machine_lock_holds_the_rotary_axes_too() {
+    use novanc::console::{Console, ConsoleConfig};
+    use novanc::panel_model::{OpMode, PanelEvent};
+    let mut cfg = ConsoleConfig::new(temp_dir("axes-lock"));
+    cfg.clock = novanc::pulse_core::ClockMode::Virtual;
+    cfg.settings = match novanc::lathe::desc::load("centre4") {
+        Ok(novanc::lathe::desc::MachineDesc::Mill(s)) => s,
+        other => panic!("centre4 is a mill: {other:?}"),
+    };
+    let mut c = Console::open(cfg).unwrap().0;
+    c.handle(PanelEvent::MachineLock(true));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    common::type_line(&mut c, "G0 X10 A90");
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    let st = c.status();
+    assert_eq!(st.pos, [10_000, 0, 0, 90_000], "{}", c.frame_text());
+    assert_eq!(st.machine_pos, [0, 0, 0], "{}", c.frame_text());
+    assert_eq!(st.pulses[3], 0, "no A pulse under MACHINE LOCK");
+}

@@ -203,10 +203,12 @@ impl Machine {
         true
     }
 
-    /// The axes MACHINE LOCK and Z NEGLECT hold back, from the next pulse.
+    /// The axes MACHINE LOCK (every one, the rotary axes too) and Z NEGLECT (Z) hold back,
+    /// from the next pulse. Until stop 53 the lock was X Y Z only, and a locked run turned a
+    /// rotary table (found by the operator sequences on a trunnion).
     fn set_lock(&mut self) {
-        let l = self.machine_lock;
-        self.out.set_lock([l, l, l || self.z_neglect]);
+        let (l, z) = (self.machine_lock, self.z_neglect);
+        self.out.set_lock(Axes::from_fn(|a| l || (a == 2 && z)));
     }
 
     /// RESET without clearing an e-stop or alarm: the run is abandoned, the axes stop where
