@@ -59,13 +59,14 @@ mod seq_gcode;
 mod seq_stats;
 
 use common::temp_dir;
+use novanc::block::MAX_AXES;
 use novanc::console::keys::parse_key;
 use novanc::console::{Console, ConsoleConfig};
 use novanc::panel_model::{OpMode, PanelEvent as E};
 use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
 use novanc::record::{Event, EventSink};
-use novanc::settings::{Dialect, Interpolator};
+use novanc::settings::{AxisKind, Dialect, Interpolator};
 use novanc::tape::{self, ReadOptions};
 use novanc::tooldata::format_record;
 use seq_stats::{count, run_many, Stats};
@@ -144,7 +145,7 @@ struct Session {
     sink: EventSink,
     /// The net recorded pulses per axis at each marker, from the thread reading the events,
     /// with the first recorded speed that broke the rapid override and the speeds checked.
-    counts: Receiver<([i64; 3], Option<String>, u64)>,
+    counts: Receiver<([i64; MAX_AXES], Option<String>, u64)>,
     markers: u64,
     rng: Rng,
     lowest_mm: f64,
@@ -159,6 +160,9 @@ struct Session {
     /// In the Fanuc dialect (one G-code session in two): Table B and the MDI lines with a
     /// decimal point on every length, and the MACRO page takes its writes.
     fanuc: bool,
+    /// The machine has a trunnion table, B and C (the G-code sessions in LinuxCNC's dialect on
+    /// the DDA).
+    trunnion: bool,
     /// The #500-#999 the MACRO page set, and their values: kept across a restart.
     kept: std::collections::BTreeMap<usize, f64>,
     /// Machine time of the last rapid override change, ns (the ramp to the new speed takes
@@ -173,7 +177,7 @@ struct Session {
     home_pressed: bool,
     /// What the positions restored at restarts add to the recorded pulses (a restart sets the
     /// position without pulses).
-    pos_offset: [i64; 3],
+    pos_offset: [i64; MAX_AXES],
 }
 
 /// The machine states E-STOP is pressed in (`Stats::estop_states`, one bit each): every one
@@ -192,9 +196,23 @@ const ESTOP_STATES: [&str; 9] = [
 
 /// The console of a session on `dir`: virtual time, the session's event sink, the pulse
 /// core's audit on (the same at a restart).
-fn console_on(dir: &std::path::Path, ep: bool, fanuc: bool, sink: &EventSink) -> Console {
+fn console_on(
+    dir: &std::path::Path,
+    ep: bool,
+    fanuc: bool,
+    trunnion: bool,
+    sink: &EventSink,
+) -> Console {
     let mut cfg = ConsoleConfig::new(dir.to_path_buf());
     cfg.clock = ClockMode::Virtual;
+    if trunnion {
+        // A trunnion table (stop 53): B tilting within ±120°, C turning wrapped.
+        let s = &mut cfg.settings;
+        s.axis_kinds[4] = AxisKind::Rotary { wrap: false };
+        s.travel_min_mm[4] = -120.0;
+        s.travel_max_mm[4] = 120.0;
+        s.axis_kinds[5] = AxisKind::Rotary { wrap: true };
+    }
     if ep {
         cfg.settings.interpolator = Interpolator::ErrorProportional;
     }
@@ -213,7 +231,7 @@ impl Session {
         let (tx, rx) = std::sync::mpsc::sync_channel(1 << 17);
         let (ctx, counts) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
-            let mut n = [0i64; 3];
+            let mut n = [0i64; MAX_AXES];
             let mut speeds = RapidSpeeds::default();
             for ev in rx {
                 match ev {
@@ -234,7 +252,11 @@ impl Session {
         let ep = seed % 4 == 1;
         let gcode = seed.is_multiple_of(3);
         let fanuc = gcode && seed.is_multiple_of(2);
-        let c = console_on(&dir, ep, fanuc, &sink);
+        // The G-code sessions in LinuxCNC's dialect on the DDA run a machine with a trunnion
+        // table: their MDI lines turn B and C too (the reader refuses them on the other
+        // interpolator, as a random MDI line found).
+        let trunnion = gcode && !fanuc && !ep;
+        let c = console_on(&dir, ep, fanuc, trunnion, &sink);
         let mut s = Session {
             c,
             sink,
@@ -248,12 +270,13 @@ impl Session {
             gcode,
             ep,
             fanuc,
+            trunnion,
             kept: Default::default(),
             rapid_changed_ns: 0,
             dir,
             home_owed: false,
             home_pressed: false,
-            pos_offset: [0; 3],
+            pos_offset: [0; MAX_AXES],
         };
         if gcode {
             let mut path =
@@ -279,7 +302,7 @@ impl Session {
 
     /// The net recorded pulses per axis of every event sent so far: a marker goes through the
     /// same queue after them.
-    fn recorded(&mut self) -> [i64; 3] {
+    fn recorded(&mut self) -> [i64; MAX_AXES] {
         self.markers += 1;
         let mut ev = Event::PanelEvent {
             t_ns: 0,
@@ -294,7 +317,10 @@ impl Session {
                 }
             }
         }
-        let (n, broken, checked) = self.counts.recv().unwrap_or(([i64::MIN; 3], None, 0));
+        let (n, broken, checked) = self
+            .counts
+            .recv()
+            .unwrap_or(([i64::MIN; MAX_AXES], None, 0));
         if let Some(b) = broken {
             panic!("{b}");
         }
@@ -435,7 +461,7 @@ impl Session {
         spare.clock = ClockMode::Virtual;
         let dead = std::mem::replace(&mut self.c, Console::open(spare).unwrap().0);
         drop(dead);
-        self.c = console_on(&self.dir, self.ep, self.fanuc, &self.sink);
+        self.c = console_on(&self.dir, self.ep, self.fanuc, self.trunnion, &self.sink);
         self.log.push("restart".into());
         self.stats.restarts += 1;
         let now = self.c.status().clone();
@@ -465,7 +491,7 @@ impl Session {
             self.stats.macro_kept += 1;
         }
         let rec = self.recorded();
-        self.pos_offset = [0, 1, 2].map(|a| now.machine_pos[a] - rec[a]);
+        self.pos_offset = std::array::from_fn(|a| now.machine_pos[a] - rec[a]);
         if self.home_owed {
             for (op, what) in [("Alt+2", "AUTO"), ("Alt+3", "MDI")] {
                 self.key(op);
@@ -873,7 +899,13 @@ impl Session {
             self.key("F11");
             st = self.c.status().clone();
         }
-        let line = match self.rng.range(0, 11) {
+        // On a trunnion, one line in two is a move (the table turns with it).
+        let pick = if self.trunnion && self.rng.chance(0.5) {
+            11
+        } else {
+            self.rng.range(0, 11)
+        };
+        let line = match pick {
             // A rigid tap 5 mm down from where the tool stands and back (stop 48): it ends
             // where it started, the tip 5 mm lower at the bottom.
             10 => {
@@ -904,11 +936,23 @@ impl Session {
             3 => "G92.1".to_string(),
             4 => "G43 H2".to_string(),
             5 => "G49".to_string(),
-            _ => format!(
-                "G0 X{} Y{}",
-                self.rng.range(-100, 400),
-                self.rng.range(-100, 300)
-            ),
+            _ => {
+                let mut l = format!(
+                    "G0 X{} Y{}",
+                    self.rng.range(-100, 400),
+                    self.rng.range(-100, 300)
+                );
+                if self.trunnion && self.rng.chance(0.7) {
+                    // B within and past its travel (G91 adds up), C anywhere a wrapped
+                    // axis's absolute word may be, its sign the direction.
+                    l += &format!(
+                        " B{} C{}",
+                        self.rng.range(-140, 140),
+                        self.rng.range(-359, 359)
+                    );
+                }
+                l
+            }
         };
         let before = self.c.interp_state().clone();
         let pos = st.pos;
@@ -976,13 +1020,16 @@ impl Session {
             assert_eq!(now.pos, pos, "MDI {line} was refused but moved");
             let after = self.c.interp_state();
             assert_eq!(
-                after.modal, before.modal,
-                "a refused MDI {line} changed the modes"
+                after.modal,
+                before.modal,
+                "a refused MDI {line} changed the modes\n{}",
+                self.c.frame_text()
             );
             assert_eq!(after.g92, before.g92);
             return;
         }
         let words: Vec<f64> = xy.split(' ').map(|w| w[1..].parse().unwrap()).collect();
+        let rotary_words = words.get(2..4).map(|w| [w[0], w[1]]);
         let settings = self.c.settings().clone();
         let mut b = before;
         // A run takes its work system's zero from the stores, as POS shows it; the G-code
@@ -1008,6 +1055,34 @@ impl Session {
                 b.tlo,
                 now.pos
             );
+        }
+        // B and C: G91 adds; G90 puts B at the word, and C (wrapped) at the nearest position
+        // ≡ |word| (mod 360) in the direction of its sign (LinuxCNC's rule, worked out here).
+        let settings_deg = |p: i64| settings.to_mm(p);
+        let (b0, c0) = (settings_deg(pos[4]), settings_deg(pos[5]));
+        let (want_b, want_c) = match rotary_words {
+            None => (b0, c0),
+            Some([wb, wc]) if b.modal.incremental => (b0 + wb, c0 + wc),
+            Some([wb, wc]) => {
+                let mut r = (c0 / 360.0).floor() * 360.0 + wc.abs();
+                if wc.is_sign_negative() && r > c0 {
+                    r -= 360.0;
+                }
+                if !wc.is_sign_negative() && r < c0 {
+                    r += 360.0;
+                }
+                (wb, r)
+            }
+        };
+        assert_eq!(
+            [now.pos[4], now.pos[5]],
+            [settings.to_pulses(want_b), settings.to_pulses(want_c)],
+            "MDI {line}: B and C at {:?}, from {:?}",
+            &now.pos[4..],
+            &pos[4..]
+        );
+        if rotary_words.is_some() {
+            self.stats.rotary_moves += 1;
         }
         self.stats.mdi_moves += 1;
     }
@@ -1396,8 +1471,8 @@ impl Session {
         assert!(!self.sink.is_incomplete(), "no event was dropped");
         let rec = self.recorded();
         assert_eq!(
-            [0, 1, 2].map(|a| rec[a] + self.pos_offset[a]),
-            st.machine_pos,
+            std::array::from_fn::<i64, MAX_AXES, _>(|a| rec[a] + self.pos_offset[a]),
+            st.machine_pos.0,
             "the recorded pulses (and the positions restored at restarts) add up to where the axes are"
         );
         if self.home_pressed
@@ -1578,6 +1653,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.ofs_in_run > 0, "{st:?}");
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
         assert!(st.mdi_moves > 0, "{st:?}");
+        assert!(st.rotary_moves > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.mdi_taps > 0, "{st:?}");
         assert!(st.turns_cleared > 0, "{st:?}");

@@ -67,6 +67,8 @@ pub struct Stats {
     /// a restart.
     pub macro_writes: u64,
     pub macro_kept: u64,
+    /// MDI moves that turned the rotary axes B and C (sessions on a trunnion machine).
+    pub rotary_moves: u64,
     /// The machine states E-STOP was pressed in, one bit each (`ESTOP_STATES` in the test).
     pub estop_states: u32,
 }
@@ -90,6 +92,7 @@ impl Stats {
         self.ep_block_ends += o.ep_block_ends;
         self.mdi_gcode += o.mdi_gcode;
         self.mdi_moves += o.mdi_moves;
+        self.rotary_moves += o.rotary_moves;
         self.mdi_probes += o.mdi_probes;
         self.mdi_taps += o.mdi_taps;
         self.turns_cleared += o.turns_cleared;
