@@ -226,31 +226,44 @@ pub enum Axis {
     Y,
     /// Z axis.
     Z,
+    /// The rotary axis A (on a machine whose description has it).
+    A,
+    /// The rotary axis B.
+    B,
+    /// The rotary axis C.
+    C,
 }
 
 impl Axis {
-    /// Index 0, 1, 2.
+    /// Every axis, in index order.
+    pub const ALL: [Axis; 6] = [Axis::X, Axis::Y, Axis::Z, Axis::A, Axis::B, Axis::C];
+
+    /// Index 0, 1, 2 (X Y Z), 3, 4, 5 (A B C): the kernel's axis arrays'.
     pub fn index(self) -> usize {
         match self {
             Axis::X => 0,
             Axis::Y => 1,
             Axis::Z => 2,
+            Axis::A => 3,
+            Axis::B => 4,
+            Axis::C => 5,
         }
     }
 
     /// The axis letter parsed (case-insensitive).
     pub fn from_word(w: &str) -> Option<Axis> {
-        match w.to_ascii_uppercase().as_str() {
-            "X" => Some(Axis::X),
-            "Y" => Some(Axis::Y),
-            "Z" => Some(Axis::Z),
+        let mut cs = w.chars();
+        match (cs.next(), cs.next()) {
+            (Some(c), None) => Axis::ALL
+                .into_iter()
+                .find(|a| a.letter() == c.to_ascii_uppercase()),
             _ => None,
         }
     }
 
     /// The axis letter.
     pub fn letter(self) -> char {
-        ['X', 'Y', 'Z'][self.index()]
+        crate::settings::AXIS_NAMES[self.index()]
     }
 }
 
@@ -593,7 +606,7 @@ impl PanelEvent {
             "wheel" => match args.as_slice() {
                 [a, n] => {
                     let axis = Axis::from_word(a)
-                        .ok_or_else(|| format!("unknown axis '{a}' (X, Y or Z)"))?;
+                        .ok_or_else(|| format!("unknown axis '{a}' (X, Y, Z, A, B or C)"))?;
                     let n: i32 = whole(n, "detents", i32::MIN, i32::MAX).map_err(String::from)?;
                     PanelEvent::Wheel(axis, n)
                 }

@@ -606,3 +606,67 @@ fn machine_lock_holds_the_rotary_axes_too() {
     assert_eq!(st.machine_pos, [0, 0, 0], "{}", c.frame_text());
     assert_eq!(st.pulses[3], 0, "no A pulse under MACHINE LOCK");
 }
+
+/// The rotary axes are turned by hand (stop 53; before, only X Y Z could be): the handwheel's
+/// axis selector (Alt+a, `wheel AXIS 0`) goes round the machine's axes, HANDLE and STEP turn
+/// B within its travel, and a CONTINUOUS jog turns the wrapped C without end. An axis the
+/// machine has not is refused.
+#[test]
+fn the_handwheel_and_the_jogs_turn_the_rotary_axes() {
+    let dir = temp_dir("axes-jog");
+    let desc = dir.join("trunnion.machine");
+    // C wrapped here (the trunnion of the other tests has it within travel).
+    std::fs::write(
+        &desc,
+        TRUNNION.replace("c rotary travel -720 720", "c rotary wrap"),
+    )
+    .unwrap();
+    let script = dir.join("jog.script");
+    std::fs::write(
+        &script,
+        "key Alt+a\nshow\nkey Alt+a\nkey Alt+a\nkey Alt+a\nshow\n\
+         op HANDLE\nwheelscale 1000\nwheel B -3\nwait\nop STEP\njog B+\nwait\n\
+         jog B+\nwait\nop HANDLE\nwheel B -200\nwait\nshow\n\
+         op CONTINUOUS\njog C-\nwait ms 2000\njogrelease\nwait\nwheel A 0\nshow\nkey Ctrl+P\nshow\n",
+    )
+    .unwrap();
+    let out = novanc(&[
+        "script",
+        "--machine",
+        desc.to_str().unwrap(),
+        "--state",
+        dir.join("state").to_str().unwrap(),
+        script.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let frames: Vec<&str> = so.split("--- display").skip(1).collect();
+    assert_eq!(frames.len(), 5, "{so}");
+    assert!(frames[0].contains("handwheel on Y"), "{}", frames[0]);
+    // X Y Z B C: three more turns of the selector reach C.
+    assert!(frames[1].contains("handwheel on C"), "{}", frames[1]);
+    // B past its travel (-1 - 200 degrees) is refused, and B stays at -1.
+    assert!(frames[2].contains("outside travel"), "{}", frames[2]);
+    assert!(
+        frames[3].contains("this machine has no A axis"),
+        "{}",
+        frames[3]
+    );
+    let row = |l: &str| {
+        frames[4]
+            .lines()
+            .find(|r| r.starts_with(l))
+            .and_then(|r| r.split_whitespace().nth(3))
+            .map(|v| v.parse::<f64>().unwrap())
+    };
+    assert_eq!(row("B"), Some(-1.0), "{}", frames[4]);
+    // 2 s at the jog feed, 1000 degrees a minute, less the ramps: about 33 degrees back
+    // past 0 (a wrapped axis has no limit to stop at).
+    let c = row("C").unwrap();
+    assert!((-34.0..-30.0).contains(&c), "C {c}: {}", frames[4]);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -31,6 +31,9 @@ pub enum Action {
     WheelScale,
     /// Turn the handwheel one detent on its selected axis.
     Wheel(i32),
+    /// The handwheel's axis selector turned to the machine's next axis (X Y Z, then the
+    /// rotary axes it has): `wheel AXIS 0` (Alt+a).
+    WheelAxis,
     /// The typed line names the tape to put in the reader.
     Tape,
     /// The punch: the typed line names the image to punch program memory to (PROGRAM READ).
@@ -86,6 +89,7 @@ pub fn map_key(k: Key) -> Action {
         Key::Alt('w') => A::WheelScale,
         Key::Alt(',') => A::Wheel(-1),
         Key::Alt('.') => A::Wheel(1),
+        Key::Alt('a') => A::WheelAxis,
         super::state::TAPE_KEY => A::Tape,
         super::state::PUNCH_KEY => A::Punch,
         Key::Alt('b') => A::BlockDelete,
@@ -273,6 +277,13 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         Action::Override(d) => PanelEvent::Override((feed as i32 + d).clamp(0, 150) as u32),
         Action::WheelScale => PanelEvent::WheelScale(super::manual::next_scale(wheel.1)),
         Action::Wheel(n) => PanelEvent::Wheel(wheel.0, n),
+        Action::WheelAxis => {
+            let s = c.axis_settings();
+            let list: Vec<usize> = s.axis_list().collect();
+            let at = list.iter().position(|&a| a == wheel.0.index());
+            let next = at.map_or(0, |i| (i + 1) % list.len());
+            PanelEvent::Wheel(Axis::ALL[list.get(next).copied().unwrap_or(0)], 0)
+        }
         Action::BlockDelete => PanelEvent::BlockDelete(!sw.block_delete),
         Action::OptionalStop => PanelEvent::OptionalStop(!sw.optional_stop),
         Action::RapidOverride => {

@@ -48,7 +48,19 @@ pub(crate) fn jog<C: Side>(c: &mut C, axis: Axis, dir: i8) {
 }
 
 /// The handwheel (`wheel X 3`): `n` detents on `axis`, an increment each, in HANDLE only.
+/// No detent (`wheel B 0`, Alt+a) turns the wheel's axis selector alone, in any position.
 pub(crate) fn turn_wheel<C: Side>(c: &mut C, axis: Axis, n: i32) {
+    if n == 0 {
+        let s = c.axis_settings();
+        let f = c.front();
+        f.message = if s.has_axis(axis.index()) {
+            f.wheel.0 = axis;
+            format!("handwheel on {}", axis.letter())
+        } else {
+            format!("this machine has no {} axis", axis.letter())
+        };
+        return;
+    }
     let f = c.front();
     f.wheel.0 = axis;
     match wheel(f.op, n, f.wheel.1) {
@@ -235,6 +247,13 @@ pub(crate) fn wheel(op: OpMode, n: i32, scale: u32) -> Result<i64, String> {
 /// inside it, a jog must have room to go; if not, the operator's message.
 pub(crate) fn check(s: &MachineSettings, pos: Axes, axis: Axis, mv: Move) -> Result<(), String> {
     let a = axis.index();
+    if !s.has_axis(a) {
+        return Err(format!("this machine has no {} axis", axis.letter()));
+    }
+    if s.wrapped(a) {
+        // A wrapped rotary axis turns without end.
+        return Ok(());
+    }
     let (lo, hi) = s.travel_pulses(a);
     match mv {
         Move::Increment(pulses) => {

@@ -390,13 +390,13 @@ impl Centre {
                 ui.horizontal(|ui| {
                     controls::handwheel(ui, &mut self.hand, out);
                     ui.vertical(|ui| {
-                        controls::wheel_selectors(
-                            ui,
-                            &[Axis::X, Axis::Y, Axis::Z],
-                            view.wheel.1,
-                            &mut self.hand,
-                            out,
-                        )
+                        // X Y Z and the machine's rotary axes.
+                        let rotary = view.rotary_deg.iter();
+                        let axes: Vec<Axis> = [Axis::X, Axis::Y, Axis::Z]
+                            .into_iter()
+                            .chain(rotary.filter_map(|(r, _)| Axis::from_word(&r.to_string())))
+                            .collect();
+                        controls::wheel_selectors(ui, &axes, view.wheel.1, &mut self.hand, out)
                     });
                 });
             });

@@ -233,7 +233,9 @@ fn terminal_key(key: egui::Key, m: egui::Modifiers) -> Option<Key> {
     }
 }
 
-/// The terminal key of an axis direction: X on Left/Right, Y on Up/Down, Z on PgUp/PgDn.
+/// The terminal key of an axis direction: X on Left/Right, Y on Up/Down, Z on PgUp/PgDn. The
+/// rotary axes have no jog key (they are turned by the handwheel, its axis selected with
+/// Alt+a): their directions are the wheel's keys, Alt+. and Alt+,.
 pub fn arrow_key(axis: Axis, dir: i8) -> Key {
     match (axis, dir > 0) {
         (Axis::X, false) => Key::Left,
@@ -242,6 +244,8 @@ pub fn arrow_key(axis: Axis, dir: i8) -> Key {
         (Axis::Y, false) => Key::Down,
         (Axis::Z, true) => Key::PageUp,
         (Axis::Z, false) => Key::PageDown,
+        (_, true) => Key::Alt('.'),
+        (_, false) => Key::Alt(','),
     }
 }
 

@@ -35,9 +35,12 @@ pub fn map_key(k: Key) -> Action {
             Action::Event(e) if takes(&e).is_err() || matches!(e, PanelEvent::Press(_)) => {
                 Action::None
             }
-            Action::Move(Axis::Y, _) | Action::ZNeglect | Action::Page(Page::Prog | Page::Io) => {
-                Action::None
-            }
+            // (Alt+a, the handwheel's axis selector: the lathe's jog keys turn the wheel on
+            // their own axis in HANDLE.)
+            Action::Move(Axis::Y, _)
+            | Action::ZNeglect
+            | Action::WheelAxis
+            | Action::Page(Page::Prog | Page::Io) => Action::None,
             a => a,
         },
     }
@@ -49,8 +52,8 @@ pub fn jog_key(axis: Axis, dir: i8) -> Key {
     match (axis, dir > 0) {
         (Axis::X, true) => Key::Up,
         (Axis::X, false) => Key::Down,
-        (Axis::Z, true) | (Axis::Y, true) => Key::Right,
-        (Axis::Z, false) | (Axis::Y, false) => Key::Left,
+        (_, true) => Key::Right,
+        (_, false) => Key::Left,
     }
 }
 

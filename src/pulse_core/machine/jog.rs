@@ -14,8 +14,8 @@ use crate::pulse_core::motion::Motion;
 impl Machine {
     /// The travel limits of `axis` if a manual move may start now; if not, says why.
     pub(super) fn jog_check(&mut self, axis: usize) -> Option<(i64, i64)> {
-        if axis > 2 {
-            self.notice = Some(format!("no axis {axis}"));
+        if !self.settings.has_axis(axis) {
+            self.notice = Some(format!("this machine has no {} axis", axis_name(axis)));
             return None;
         }
         if self.estop {
@@ -49,6 +49,13 @@ impl Machine {
             // After a run under MACHINE LOCK: a manual move starts from where the axes are,
             // and the travel limits are theirs (docs/pulse-core.md, "Machine lock").
             self.out.unshift();
+        }
+        if self.settings.wrapped(axis) {
+            // A wrapped rotary axis turns without end: a CONTINUOUS jog runs until released
+            // (a million degrees each way is the bound of one jog).
+            let far = self.settings.to_pulses(1_000_000.0);
+            let at = self.out.pos[axis];
+            return Some((at.saturating_sub(far), at.saturating_add(far)));
         }
         Some(self.settings.travel_pulses(axis))
     }
@@ -85,7 +92,7 @@ impl Machine {
         while let Some((axis, pulses)) = self.increments.pop_front() {
             let (lo, hi) = self.settings.travel_pulses(axis);
             let to = self.out.pos[axis] + pulses;
-            if to < lo || to > hi {
+            if !self.settings.wrapped(axis) && (to < lo || to > hi) {
                 self.notice = Some(format!(
                     "{} jog refused: {:.3} mm is beyond the travel limit",
                     axis_name(axis),
