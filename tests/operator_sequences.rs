@@ -693,12 +693,14 @@ impl Session {
         let axis = match name {
             "Left" | "Right" => 0,
             "Up" | "Down" => 1,
+            // The handwheel's keys turn its selected axis (a rotary one on a trunnion).
+            "Alt+." | "Alt+," => v.wheel.0.index(),
             _ => 2,
         };
         // The axes (a run under MACHINE LOCK or Z NEGLECT leaves the program position apart
         // from them until the next motion brings it back).
         let now = self.c.status().machine_pos;
-        let moved: Vec<i64> = (0..3).map(|a| now[a] - st.machine_pos[a]).collect();
+        let moved: Vec<i64> = (0..MAX_AXES).map(|a| now[a] - st.machine_pos[a]).collect();
         let manual = matches!(
             v.op_mode,
             OpMode::Continuous | OpMode::Step | OpMode::Handle
@@ -767,7 +769,15 @@ impl Session {
                 self.key(k)
             }
             38..=51 => {
-                let k = self.pick(&["Left", "Right", "Up", "Down", "PgUp", "PgDn"]);
+                let k = if self.trunnion && self.rng.chance(0.3) {
+                    // The handwheel on a trunnion: its axis selector goes round X Y Z B C.
+                    if self.rng.chance(0.4) {
+                        self.key("Alt+a");
+                    }
+                    self.pick(&["Alt+.", "Alt+,"])
+                } else {
+                    self.pick(&["Left", "Right", "Up", "Down", "PgUp", "PgDn"])
+                };
                 self.manual_key(k);
             }
             52..=54 => {
@@ -1161,13 +1171,13 @@ impl Session {
             );
             self.stats.ofs_in_run += u64::from(st.job.is_some());
             if self.gcode && st.job.is_some() {
-                let len = |m: &novanc::tooldata::Magazine| {
-                    st.tool
-                        .and_then(|t| m.tools.get(t))
-                        .map_or(0.0, |r| r.length())
-                };
+                // Any tool's: the run may load a revised tool later (seed 1592590347, stop
+                // 53: tool 1 lengthened before Table B's T1 M6, with no tool in the spindle).
                 let after = self.c.magazine();
-                self.lowest_mm = seq_gcode::revised_in_run(self.lowest_mm, len(&mag), len(&after));
+                let longer = (1..=after.tools.capacity())
+                    .filter_map(|t| Some(after.tools.get(t)?.length() - mag.tools.get(t)?.length()))
+                    .fold(0.0, f64::max);
+                self.lowest_mm = seq_gcode::revised_in_run(self.lowest_mm, 0.0, longer);
             }
         }
         if st.job.is_some() {
