@@ -260,17 +260,21 @@ fn a_is_refused_with_its_place_where_it_cannot_act() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-#[test]
-fn pos_shows_a_on_a_machine_with_a_and_mdi_turns_it() {
-    use novanc::console::{Console, ConsoleConfig};
-    use novanc::panel_model::{OpMode, PanelEvent};
-    let mut cfg = ConsoleConfig::new(temp_dir("axes-pos"));
+/// A console on `centre4` in virtual time, on a state directory of its own named `name`.
+fn centre4_console(name: &str) -> novanc::console::Console {
+    let mut cfg = novanc::console::ConsoleConfig::new(temp_dir(name));
     cfg.clock = novanc::pulse_core::ClockMode::Virtual;
     cfg.settings = match novanc::lathe::desc::load("centre4") {
         Ok(novanc::lathe::desc::MachineDesc::Mill(s)) => s,
         other => panic!("centre4 is a mill: {other:?}"),
     };
-    let mut c = Console::open(cfg).unwrap().0;
+    novanc::console::Console::open(cfg).unwrap().0
+}
+
+#[test]
+fn pos_shows_a_on_a_machine_with_a_and_mdi_turns_it() {
+    use novanc::panel_model::{OpMode, PanelEvent};
+    let mut c = centre4_console("axes-pos");
     c.handle(PanelEvent::Op(OpMode::Mdi));
     common::type_line(&mut c, "G0 X10 A90");
     c.handle(PanelEvent::Start);
@@ -324,6 +328,53 @@ fn bc_rule(text: &str) -> Vec<[f64; 2]> {
     out
 }
 
+/// (B, C) after each block of a listing that turns either (a block prints the axes it moves).
+fn listed_bc(listing: &str) -> Vec<[f64; 2]> {
+    let (mut at, mut got) = ([0.0; 2], Vec::new());
+    for l in listing.lines() {
+        let mut moved = false;
+        for w in l.split_whitespace() {
+            for (i, c) in ['B', 'C'].into_iter().enumerate() {
+                if let Some(v) = w.strip_prefix(c).and_then(|v| v.parse().ok()) {
+                    at[i] = v;
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            got.push(at);
+        }
+    }
+    got
+}
+
+/// (B, C) after each of rs274's straight moves that turns either, where rs274 is installed
+/// and reads `prog` (its default configuration has B and C unwrapped); None otherwise.
+fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
+    let o = Command::new("rs274")
+        .arg("-g")
+        .arg(prog)
+        .env("HOME", dir)
+        .output()
+        .ok()
+        .filter(|o| o.status.success())?;
+    let (mut last, mut v) = ([0.0; 2], Vec::new());
+    for l in String::from_utf8_lossy(&o.stdout).lines() {
+        let Some(args) = l.split("STRAIGHT_").nth(1) else {
+            continue;
+        };
+        let nums: Vec<f64> = args
+            .split(['(', ')', ','])
+            .filter_map(|w| w.trim().parse().ok())
+            .collect();
+        if nums.len() >= 6 && [nums[4], nums[5]] != last {
+            last = [nums[4], nums[5]];
+            v.push(last);
+        }
+    }
+    Some(v)
+}
+
 #[test]
 fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let dir = temp_dir("axes-bc");
@@ -340,22 +391,7 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let mut at = [0.0; 2];
-    let mut got = Vec::new();
-    for l in listing.lines() {
-        let mut moved = false;
-        for w in l.split_whitespace() {
-            for (i, c) in ['B', 'C'].into_iter().enumerate() {
-                if let Some(v) = w.strip_prefix(c).and_then(|v| v.parse().ok()) {
-                    at[i] = v;
-                    moved = true;
-                }
-            }
-        }
-        if moved {
-            got.push(at);
-        }
-    }
+    let got = listed_bc(&listing);
     let want = bc_rule(FIVE);
     assert_eq!(
         want,
@@ -370,30 +406,8 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     );
     assert_eq!(got, want, "{listing}");
     // rs274 itself, where it is installed (its default configuration has B and C unwrapped).
-    if let Ok(o) = Command::new("rs274")
-        .arg("-g")
-        .arg(&prog)
-        .env("HOME", &dir)
-        .output()
-    {
-        if o.status.success() {
-            let mut last = [0.0; 2];
-            let mut v = Vec::new();
-            for l in String::from_utf8_lossy(&o.stdout).lines() {
-                let Some(args) = l.split("STRAIGHT_").nth(1) else {
-                    continue;
-                };
-                let nums: Vec<f64> = args
-                    .split(['(', ')', ','])
-                    .filter_map(|w| w.trim().parse().ok())
-                    .collect();
-                if nums.len() >= 6 && [nums[4], nums[5]] != last {
-                    last = [nums[4], nums[5]];
-                    v.push(last);
-                }
-            }
-            assert_eq!(v, want, "rs274 against the rule");
-        }
+    if let Some(v) = rs274_bc(&prog, &dir) {
+        assert_eq!(v, want, "rs274 against the rule");
     }
     // The run: each counter is every degree its axis turned, in 0.001° pulses, and the
     // recording's /nc/pulses of B and C add up to them.
@@ -467,21 +481,7 @@ fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let (mut at, mut got) = ([0.0; 2], Vec::new());
-    for l in listing.lines() {
-        let mut moved = false;
-        for w in l.split_whitespace() {
-            for (i, c) in ['B', 'C'].into_iter().enumerate() {
-                if let Some(v) = w.strip_prefix(c).and_then(|v| v.parse().ok()) {
-                    at[i] = v;
-                    moved = true;
-                }
-            }
-        }
-        if moved {
-            got.push(at);
-        }
-    }
+    let got = listed_bc(&listing);
     // Worked out by LinuxCNC's rule (interp_convert.cc convert_home): G91 G28 C10 passes C
     // at 30 and sends C alone home; G30 B0's end is where it passes (#5185 is 0); the last
     // G28 goes to the B 15, C 25 that G28.1 kept.
@@ -498,29 +498,8 @@ fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
         [15.0, 25.0],
     ];
     assert_eq!(got, want, "{listing}");
-    if let Ok(o) = Command::new("rs274")
-        .arg("-g")
-        .arg(&prog)
-        .env("HOME", &dir)
-        .output()
-    {
-        if o.status.success() {
-            let (mut last, mut v) = ([0.0; 2], Vec::new());
-            for l in String::from_utf8_lossy(&o.stdout).lines() {
-                let Some(args) = l.split("STRAIGHT_").nth(1) else {
-                    continue;
-                };
-                let nums: Vec<f64> = args
-                    .split(['(', ')', ','])
-                    .filter_map(|w| w.trim().parse().ok())
-                    .collect();
-                if nums.len() >= 6 && [nums[4], nums[5]] != last {
-                    last = [nums[4], nums[5]];
-                    v.push(last);
-                }
-            }
-            assert_eq!(v, want, "rs274 against the rule");
-        }
+    if let Some(v) = rs274_bc(&prog, &dir) {
+        assert_eq!(v, want, "rs274 against the rule");
     }
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -587,15 +566,8 @@ fn the_console_on_a_described_machine_has_its_rotary_axes() {
 /// the operator sequences on a trunnion).
 #[test]
 fn machine_lock_holds_the_rotary_axes_too() {
-    use novanc::console::{Console, ConsoleConfig};
     use novanc::panel_model::{OpMode, PanelEvent};
-    let mut cfg = ConsoleConfig::new(temp_dir("axes-lock"));
-    cfg.clock = novanc::pulse_core::ClockMode::Virtual;
-    cfg.settings = match novanc::lathe::desc::load("centre4") {
-        Ok(novanc::lathe::desc::MachineDesc::Mill(s)) => s,
-        other => panic!("centre4 is a mill: {other:?}"),
-    };
-    let mut c = Console::open(cfg).unwrap().0;
+    let mut c = centre4_console("axes-lock");
     c.handle(PanelEvent::MachineLock(true));
     c.handle(PanelEvent::Op(OpMode::Mdi));
     common::type_line(&mut c, "G0 X10 A90");

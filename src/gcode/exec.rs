@@ -914,7 +914,7 @@ pub fn execute(
                     "G28 and G30 cannot be used with cutter radius compensation on",
                 ));
             }
-            let rotary = home_rotary(st, x, w)?;
+            let rotary = rotary_words(st, x, w)?;
             moves::home(st, x, w, w.has_g(300).is_some(), col, rotary);
         } else if let Some(col) = w.has_g(281).or(w.has_g(301)) {
             if comp.active() {
@@ -1039,9 +1039,9 @@ fn first_rotary(w: &Words) -> Option<(char, u32)> {
         .min_by_key(|&(_, c)| c)
 }
 
-/// G28's and G30's rotary axis words: the intermediate A, B, C (as a G00 would take them)
-/// and which are named.
-fn home_rotary(
+/// The rotary axis words of a line: where they take A, B, C (as a G00 would: the axes not
+/// named stay), and which are named. G28 and G30 take them as their intermediate point.
+fn rotary_words(
     st: &InterpState,
     x: &Exec,
     w: &Words,
@@ -1166,19 +1166,7 @@ fn rotary_move(
     e: [f64; 3],
     w: &Words,
 ) -> Result<(), TranslateError> {
-    let mut to = st.abc;
-    for (r, l) in ROTARY_LETTERS.into_iter().enumerate() {
-        let (Some(v), Some(col)) = (w.get(l), w.col(l)) else {
-            continue;
-        };
-        let Some(wrapped) = st.rotaries[r] else {
-            return Err(x.err(
-                col,
-                format!("unknown word {l} (novanc has the axes {})", st.axes_named()),
-            ));
-        };
-        to[r] = rotary_target(x, st.modal.incremental, wrapped, st.abc[r], (l, v, col))?;
-    }
+    let (to, _) = rotary_words(st, x, w)?;
     let feed = if m == Motion::Rapid {
         0.0
     } else {
