@@ -642,3 +642,40 @@ fn the_handwheel_and_the_jogs_turn_the_rotary_axes() {
     assert!((-34.0..-30.0).contains(&c), "C {c}: {}", frames[4]);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// On the error-proportional interpolator (whose registers are X Y Z) a rotary axis turned by
+/// hand is not brought home by a bare G28 behind the operator's back: the line is refused at
+/// its place before anything moves, as a rotary word is.
+#[test]
+fn a_bare_g28_does_not_turn_a_rotary_axis_on_the_error_proportional_interpolator() {
+    let dir = temp_dir("axes-ep-home");
+    let script = dir.join("home.script");
+    std::fs::write(
+        &script,
+        "op HANDLE\nwheelscale 1000\nwheel A 5\nwait\nop MDI\ntype G28\neob\nstart\nwait\nkey Ctrl+P\nshow\n",
+    )
+    .unwrap();
+    let out = novanc(&[
+        "script",
+        "--machine",
+        "centre4",
+        "--interpolator",
+        "error-proportional",
+        "--state",
+        dir.join("state").to_str().unwrap(),
+        script.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        so.contains("the rotary axes go home with G28 and G30"),
+        "{so}"
+    );
+    let a = so.lines().find(|l| l.starts_with('A')).unwrap_or_default();
+    assert_eq!(a.split_whitespace().nth(3), Some("5.000"), "{so}");
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -915,7 +915,7 @@ pub fn execute(
                 ));
             }
             let rotary = rotary_words(st, x, w)?;
-            moves::home(st, x, w, w.has_g(300).is_some(), col, rotary);
+            moves::home(st, x, w, w.has_g(300).is_some(), col, rotary)?;
         } else if let Some(col) = w.has_g(281).or(w.has_g(301)) {
             if comp.active() {
                 return Err(x.err(

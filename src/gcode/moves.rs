@@ -601,11 +601,11 @@ pub fn home(
     g30: bool,
     col: u32,
     (mid_abc, named_abc): ([f64; 3], [bool; 3]),
-) {
+) -> Result<(), TranslateError> {
     let base = if g30 { 5181 } else { 5161 };
     let home = [st.params[base], st.params[base + 1], st.params[base + 2]];
     let mid = target(st, x, w).unwrap_or(st.pos);
-    rapid_to(st, x, mid, mid_abc, col);
+    rapid_to(st, x, mid, mid_abc, col)?;
     let (mut end, mut end_abc) = (mid, mid_abc);
     let any = w.has_axis() || named_abc.contains(&true);
     for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
@@ -618,11 +618,29 @@ pub fn home(
             end_abc[r] = st.params[base + 3 + r];
         }
     }
-    rapid_to(st, x, end, end_abc, col);
+    rapid_to(st, x, end, end_abc, col)
 }
 
 /// A rapid to `to` (machine mm) with the rotary axes to `abc` (a plain rapid when they stay).
-fn rapid_to(st: &mut InterpState, x: &mut Exec, to: [f64; 3], abc: [f64; 3], col: u32) {
+/// Turning them is refused here on the error-proportional interpolator, whose registers are
+/// X Y Z (a bare G28 brings them home unasked: the kernel would refuse the block after the
+/// line had been read).
+fn rapid_to(
+    st: &mut InterpState,
+    x: &mut Exec,
+    to: [f64; 3],
+    abc: [f64; 3],
+    col: u32,
+) -> Result<(), TranslateError> {
+    if abc != st.abc && x.settings.interpolator != crate::settings::Interpolator::Dda {
+        return Err(x.err(
+            col,
+            format!(
+                "the rotary axes go home with G28 and G30 on the DDA interpolator only (this machine runs the {} one)",
+                x.settings.interpolator.name()
+            ),
+        ));
+    }
     if abc == st.abc {
         x.push(Canon::Rapid(to), col);
     } else {
@@ -637,4 +655,5 @@ fn rapid_to(st: &mut InterpState, x: &mut Exec, to: [f64; 3], abc: [f64; 3], col
         st.abc = abc;
     }
     st.pos = to;
+    Ok(())
 }
