@@ -671,10 +671,7 @@ fn a_bare_g28_does_not_turn_a_rotary_axis_on_the_error_proportional_interpolator
         "{so}{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(
-        so.contains("the rotary axes go home with G28 and G30"),
-        "{so}"
-    );
+    assert!(so.contains("the rotary axes go home"), "{so}");
     let a = so.lines().find(|l| l.starts_with('A')).unwrap_or_default();
     assert_eq!(a.split_whitespace().nth(3), Some("5.000"), "{so}");
     let _ = std::fs::remove_dir_all(dir);
