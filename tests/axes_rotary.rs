@@ -504,6 +504,25 @@ fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// `novanc script --machine MACHINE...` of `text` (a script file in `dir`) on the state
+/// directory `dir/state`: what it printed, having succeeded.
+fn script_run(dir: &Path, machine: &[&str], state: &str, text: &str) -> String {
+    let script = dir.join(format!("{state}.script"));
+    std::fs::write(&script, text).unwrap();
+    let state = dir.join(state);
+    let mut args = vec!["script", "--machine"];
+    args.extend_from_slice(machine);
+    args.extend(["--state", state.to_str().unwrap(), script.to_str().unwrap()]);
+    let out = novanc(&args);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{so}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    so
+}
+
 /// The console on `--machine FILE` (the terminal's, the window's and `novanc script`'s one
 /// argument path) has the description's rotary axes: MDI turns them and POS shows a row each.
 /// Until stop 53 the console took the description's travel but not its axes, so a console on
@@ -513,37 +532,17 @@ fn the_console_on_a_described_machine_has_its_rotary_axes() {
     let dir = temp_dir("axes-console");
     let desc = dir.join("trunnion.machine");
     std::fs::write(&desc, TRUNNION).unwrap();
-    let script = dir.join("bc.script");
-    std::fs::write(
-        &script,
-        "op MDI\ntype G0 X10 B30 C-45\neob\nstart\nwait\nkey Ctrl+P\nshow\n",
-    )
-    .unwrap();
+    let script = "op MDI\ntype G0 X10 B30 C-45\neob\nstart\nwait\nkey Ctrl+P\nshow\n";
     for (machine, rows) in [
         (desc.to_str().unwrap(), &["B", "C"][..]),
         ("centre4", &["A"][..]),
     ] {
-        let text = std::fs::read_to_string(&script).unwrap();
         let text = if machine == "centre4" {
-            text.replace("B30 C-45", "A30")
+            script.replace("B30 C-45", "A30")
         } else {
-            text
+            script.to_string()
         };
-        std::fs::write(&script, text).unwrap();
-        let out = novanc(&[
-            "script",
-            "--machine",
-            machine,
-            "--state",
-            dir.join(format!("state-{}", rows[0])).to_str().unwrap(),
-            script.to_str().unwrap(),
-        ]);
-        let so = String::from_utf8_lossy(&out.stdout).to_string();
-        assert!(
-            out.status.success(),
-            "{so}{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let so = script_run(&dir, &[machine], &format!("state-{}", rows[0]), &text);
         for r in rows {
             let row = so
                 .lines()
@@ -593,28 +592,14 @@ fn the_handwheel_and_the_jogs_turn_the_rotary_axes() {
         TRUNNION.replace("c rotary travel -720 720", "c rotary wrap"),
     )
     .unwrap();
-    let script = dir.join("jog.script");
-    std::fs::write(
-        &script,
+    let so = script_run(
+        &dir,
+        &[desc.to_str().unwrap()],
+        "state",
         "key Alt+a\nshow\nkey Alt+a\nkey Alt+a\nkey Alt+a\nshow\n\
          op HANDLE\nwheelscale 1000\nwheel B -3\nwait\nop STEP\njog B+\nwait\n\
          jog B+\nwait\nop HANDLE\nwheel B -200\nwait\nshow\n\
          op CONTINUOUS\njog C-\nwait ms 2000\njogrelease\nwait\nwheel A 0\nshow\nkey Ctrl+P\nshow\n",
-    )
-    .unwrap();
-    let out = novanc(&[
-        "script",
-        "--machine",
-        desc.to_str().unwrap(),
-        "--state",
-        dir.join("state").to_str().unwrap(),
-        script.to_str().unwrap(),
-    ]);
-    let so = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{so}{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     let frames: Vec<&str> = so.split("--- display").skip(1).collect();
     assert_eq!(frames.len(), 5, "{so}");
@@ -649,27 +634,11 @@ fn the_handwheel_and_the_jogs_turn_the_rotary_axes() {
 #[test]
 fn a_bare_g28_does_not_turn_a_rotary_axis_on_the_error_proportional_interpolator() {
     let dir = temp_dir("axes-ep-home");
-    let script = dir.join("home.script");
-    std::fs::write(
-        &script,
+    let so = script_run(
+        &dir,
+        &["centre4", "--interpolator", "error-proportional"],
+        "state",
         "op HANDLE\nwheelscale 1000\nwheel A 5\nwait\nop MDI\ntype G28\neob\nstart\nwait\nkey Ctrl+P\nshow\n",
-    )
-    .unwrap();
-    let out = novanc(&[
-        "script",
-        "--machine",
-        "centre4",
-        "--interpolator",
-        "error-proportional",
-        "--state",
-        dir.join("state").to_str().unwrap(),
-        script.to_str().unwrap(),
-    ]);
-    let so = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{so}{}",
-        String::from_utf8_lossy(&out.stderr)
     );
     assert!(so.contains("the rotary axes go home"), "{so}");
     let a = so.lines().find(|l| l.starts_with('A')).unwrap_or_default();
