@@ -159,30 +159,8 @@ fn a_moves_agree_with_rs274_on_an_unwrapped_axis_and_with_linuxcnc_s_rule_on_a_w
     let words = a_words(MOVES);
     // Unwrapped: what rs274 makes (its default configuration has an unwrapped A), if it is
     // installed; the rule otherwise.
-    let rs274 = Command::new("rs274")
-        .arg("-g")
-        .arg(dir.join("a.ngc"))
-        .env("HOME", &dir)
-        .output();
-    let want: Vec<f64> = match rs274 {
-        Ok(o) if o.status.success() => {
-            let mut last = 0.0;
-            let mut v = Vec::new();
-            for l in String::from_utf8_lossy(&o.stdout).lines() {
-                let Some(args) = l.split("STRAIGHT_").nth(1) else {
-                    continue;
-                };
-                let nums: Vec<f64> = args
-                    .split(['(', ')', ','])
-                    .filter_map(|w| w.trim().parse().ok())
-                    .collect();
-                if nums.len() >= 4 && nums[3] != last {
-                    last = nums[3];
-                    v.push(nums[3]);
-                }
-            }
-            v
-        }
+    let want: Vec<f64> = match rs274_turns(&dir.join("a.ngc"), &dir, &[3]) {
+        Some(v) => v.into_iter().map(|p| p[0]).collect(),
         _ => {
             eprintln!("rs274 not installed: the unwrapped A checked against the rule");
             let mut v = linuxcnc_a(&words, false);
@@ -348,9 +326,10 @@ fn listed_bc(listing: &str) -> Vec<[f64; 2]> {
     got
 }
 
-/// (B, C) after each of rs274's straight moves that turns either, where rs274 is installed
-/// and reads `prog` (its default configuration has B and C unwrapped); None otherwise.
-fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
+/// The positions of `axes` (3 A, 4 B, 5 C) after each of rs274's straight moves that changes
+/// them, where rs274 is installed and reads `prog` (its default configuration has A, B and C
+/// unwrapped); None otherwise.
+fn rs274_turns(prog: &Path, dir: &Path, axes: &[usize]) -> Option<Vec<Vec<f64>>> {
     let o = Command::new("rs274")
         .arg("-g")
         .arg(prog)
@@ -358,7 +337,7 @@ fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
         .output()
         .ok()
         .filter(|o| o.status.success())?;
-    let (mut last, mut v) = ([0.0; 2], Vec::new());
+    let (mut last, mut v) = (vec![0.0; axes.len()], Vec::new());
     for l in String::from_utf8_lossy(&o.stdout).lines() {
         let Some(args) = l.split("STRAIGHT_").nth(1) else {
             continue;
@@ -367,12 +346,19 @@ fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
             .split(['(', ')', ','])
             .filter_map(|w| w.trim().parse().ok())
             .collect();
-        if nums.len() >= 6 && [nums[4], nums[5]] != last {
-            last = [nums[4], nums[5]];
-            v.push(last);
+        let at: Option<Vec<f64>> = axes.iter().map(|&a| nums.get(a).copied()).collect();
+        if let Some(at) = at.filter(|at| *at != last) {
+            last = at.clone();
+            v.push(at);
         }
     }
     Some(v)
+}
+
+/// (B, C) after each of rs274's straight moves that turns either ([`rs274_turns`]).
+fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
+    let v = rs274_turns(prog, dir, &[4, 5])?;
+    Some(v.into_iter().map(|p| [p[0], p[1]]).collect())
 }
 
 #[test]
