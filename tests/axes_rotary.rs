@@ -198,8 +198,19 @@ fn a_is_refused_with_its_place_where_it_cannot_act() {
             "G17 G2 X10 Y0 I5 J0 A10 F100\n",
             "1:21: A moves with G00 or G01 only",
         ),
-        ("G92 X1 A10\n", "1:8: A cannot be given with G92"),
-        ("G10 L2 P1 A10\n", "1:11: A cannot be given with G10"),
+        (
+            "G92.1 A10\n",
+            "1:7: A with no motion in force (G80): give G00, G01, G02, G03 or a cycle",
+        ),
+        ("G0 X1\nG4 P1 A10\n", "2:7: A cannot be given with G4"),
+        (
+            "G10 L1 P1 Z10 A10\n",
+            "1:15: G10 L1 sets a tool's data: A is not one of its words",
+        ),
+        (
+            "G92 A400\n",
+            "1:5: G92 A400: a wrapped rotary axis takes a position within ±360",
+        ),
         (
             "G0 X10 B10\n",
             "1:8: unknown word B (novanc has the axes X, Y, Z and A)",
@@ -277,7 +288,7 @@ fn pos_shows_a_on_a_machine_with_a_and_mdi_turns_it() {
 const TRUNNION: &str = "machine trunnion\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\ny travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\nb rotary travel -120 120 rapid 9000 accel 800\nc rotary travel -720 720 rapid 9000 accel 800\n";
 
 /// Five axes at once, G91 turns, an inverse-time move of C with X, and G53 bringing the table
-/// back (the rotary axes have no offsets, so G53 moves them as G00 does).
+/// back (with no offsets set, G53 moves them as G00 does).
 const FIVE: &str = "G21 G90 G94\nG0 X100 Y100 Z-50\nG0 B-30 C45\nG1 X120 Y110 Z-60 B-35 C90 F600\nG91 G1 C-120 F3600\nG1 X5 B10 C10\nG90 G93 G1 X130 C180 F2\nG94 G0 Z-10\nG53 G0 B0 C0\nM2\n";
 
 /// (B, C) after each line that gives either, from `text` read here (one B and one C word at
@@ -629,5 +640,151 @@ fn a_bare_g28_does_not_turn_a_rotary_axis_on_the_error_proportional_interpolator
     assert!(so.contains("the rotary axes go home"), "{so}");
     let a = so.lines().find(|l| l.starts_with('A')).unwrap_or_default();
     assert_eq!(a.split_whitespace().nth(3), Some("5.000"), "{so}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The rotary axes' work offsets (stop 54; before, every one of these lines was refused):
+/// G10 L2 and L20 set a system's B and C, G92, G52 and G92.1–.3 their G92 offset, G53 turns to
+/// a machine position whatever the offsets, and #5424, #5425 and #<_c> read the program
+/// position. The machine positions are worked out here by LinuxCNC's rule (a program position
+/// plus the system's offset plus G92's: interp_convert.cc `convert_setup`,
+/// `convert_axis_offsets`); rs274, where installed, prints the program positions.
+const OFFSETS: &str = "G21 G90 G94\nG10 L2 P1 B10 C30\nG54 G0 X100 Y100 Z-50 B0 C0\nG1 B20 C-45 F600\nG10 L20 P1 C90\nG0 C100\nG92 B0\nG0 B5 X#5425\nG91 G0 B-10 C10\nG90 G53 G0 B0 C0\nG52 C10\nG0 B0 C0 X[#5424+100]\nG92.1\nG0 B0 C0\nG92 C20\nG92.2\nG0 C5\nG92.3\nG0 C5\nG55 G0 B0 C0\nG54 G0 B5 C5 Y[#<_c>+200]\nM2\n";
+
+#[test]
+fn rotary_work_offsets_and_g92_turn_b_and_c_as_linuxcnc_does() {
+    let dir = temp_dir("axes-offsets");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let prog = dir.join("offsets.ngc");
+    std::fs::write(&prog, OFFSETS).unwrap();
+    let out = novanc(&[
+        "translate",
+        prog.to_str().unwrap(),
+        "--machine",
+        desc.to_str().unwrap(),
+    ]);
+    let listing = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Each turn's program (B, C) and the offsets then in force (system + G92): G54 B10 C30;
+    // L20 makes C read 90 at machine -15 (G54 C -105); G92 B0 at program B 20 (G92 B 20);
+    // G53 to machine 0; G52 C10; G92.1; G92 C20 at program C 0 (G92 C -20), suspended by
+    // G92.2 and back by G92.3; G55 (no offset) and G54 again.
+    let turns: [([f64; 2], [f64; 2]); 11] = [
+        ([0.0, 0.0], [10.0, 30.0]),
+        ([20.0, -45.0], [10.0, 30.0]),
+        ([20.0, 100.0], [10.0, -105.0]),
+        ([5.0, 100.0], [30.0, -105.0]),
+        ([-5.0, 110.0], [30.0, -105.0]),
+        ([-30.0, 105.0], [30.0, -105.0]),
+        ([0.0, 0.0], [30.0, -95.0]),
+        ([0.0, 0.0], [10.0, -105.0]),
+        ([0.0, 5.0], [10.0, -105.0]),
+        ([0.0, 5.0], [10.0, -125.0]),
+        ([0.0, 0.0], [0.0, -20.0]),
+    ];
+    let mut want: Vec<[f64; 2]> = turns
+        .iter()
+        .map(|(p, o)| [p[0] + o[0], p[1] + o[1]])
+        .collect();
+    want.push([15.0, -120.0]);
+    assert_eq!(listed_bc(&listing), want, "{listing}");
+    // The parameters read the program position: X = #5425 (C 100), X = #5424 + 100 (B -30),
+    // Y = #<_c> + 200 (C 0 in G55, read before the line's G54 takes effect).
+    assert!(listing.contains("N4 G00 B35.000\n"), "{listing}");
+    assert!(listing.contains("X70.000 B30.000 C-95.000"), "{listing}");
+    assert!(listing.contains("Y200.000 B15.000 C-120.000"), "{listing}");
+    if let Some(v) = rs274_bc(&prog, &dir) {
+        // (rs274's first turn is from 0, 0 to 0, 0: not a change.)
+        let mut program: Vec<[f64; 2]> = turns.iter().skip(1).map(|(p, _)| *p).collect();
+        program.dedup();
+        program.push([5.0, 5.0]);
+        let mut v = v;
+        v.dedup();
+        assert_eq!(v, program, "rs274's program positions");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// At the console the rotary offsets are the operator's too: OFS WORK has a column for each
+/// rotary axis (`G54 C30` INPUT sets it, journaled as one record), POS's WORK shows the
+/// program position, and a restart keeps the offset a program's G10 L20 set.
+#[test]
+fn the_console_shows_and_keeps_the_rotary_work_offsets() {
+    let dir = temp_dir("axes-ofs-console");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let d = desc.to_str().unwrap();
+    let wide = [d, "--cols", "80", "--rows", "30"];
+    let so = script_run(
+        &dir,
+        &wide,
+        "state",
+        "key Ctrl+O\nkey End\ntype G54 C30 B-5\nshow\n\
+         op MDI\ntype G54 G0 B0 C15\neob\nstart\nwait\nkey Ctrl+P\nshow\nkey Ctrl+P\n\
+         type G10 L20 P1 C90\neob\nstart\nwait\n",
+    );
+    let frames: Vec<&str> = so.split("--- display").skip(1).collect();
+    assert_eq!(frames.len(), 2, "{so}");
+    assert!(
+        frames[0].contains("G54 X0.000 Y0.000 Z0.000 B-5.000 C30.000"),
+        "{}",
+        frames[0]
+    );
+    let row = |f: &str, r: &str| -> Vec<String> {
+        f.lines()
+            .map(|l| l.trim_start_matches('|'))
+            .find(|l| l.starts_with(r))
+            .unwrap_or_else(|| panic!("no {r} row:\n{f}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    // WORK, REL, MACH: C at 15 in G54 stands at machine 45.
+    let c = row(frames[1], "C");
+    assert_eq!(
+        (c[1].as_str(), c[3].as_str()),
+        ("15.000", "45.000"),
+        "{}",
+        frames[1]
+    );
+    let b = row(frames[1], "B");
+    assert_eq!(
+        (b[1].as_str(), b[3].as_str()),
+        ("0.000", "-5.000"),
+        "{}",
+        frames[1]
+    );
+    // A new console on the same state: G54's C is what G10 L20 made it (45 - 90 = -45).
+    let so = script_run(
+        &dir,
+        &wide,
+        "state",
+        "key Ctrl+P\nshow\nkey Ctrl+O\nkey End\nshow\n",
+    );
+    let frames: Vec<&str> = so.split("--- display").skip(1).collect();
+    let c = row(frames[0], "C");
+    assert_eq!(
+        (c[1].as_str(), c[3].as_str()),
+        ("90.000", "45.000"),
+        "{}",
+        frames[0]
+    );
+    let g54 = row(frames[1], "G54");
+    assert_eq!(
+        g54.last().map(String::as_str),
+        Some("-45.000"),
+        "{}",
+        frames[1]
+    );
+    assert!(
+        frames[1].contains("B         C"),
+        "the rotary columns' heading:\n{}",
+        frames[1]
+    );
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -151,7 +151,7 @@ fn centre_apply(s: &mut Stores, k: u64) -> Result<(), String> {
             } else {
                 k as f64 * 0.001
             };
-            s.set_work_offset(system, [x, -(r.below(1000) as f64), 1.5])
+            s.set_work_offset(system, &[x, -(r.below(1000) as f64), 1.5])
                 .map_err(|e| e.to_string())
         }
         // SEARCH, new and deleted programs.

@@ -185,6 +185,9 @@ def rs274_moves(prog, tbl):
     factor = 1.0
     g5x = [0.0, 0.0, 0.0]
     g92 = [0.0, 0.0, 0.0]
+    # --rotary: the rotary axes' offsets (degrees, added as LinuxCNC's canon adds them).
+    g5x_abc = [0.0, 0.0, 0.0]
+    g92_abc = [0.0, 0.0, 0.0]
     rotation = 0.0
     tlo = [0.0, 0.0, 0.0]
     moves = []
@@ -230,8 +233,10 @@ def rs274_moves(prog, tbl):
             factor = new
         elif name == "SET_G5X_OFFSET":
             g5x = [v * factor for v in vals[1:4]]
+            g5x_abc = list(vals[4:7])
         elif name == "SET_G92_OFFSET":
             g92 = [v * factor for v in vals[:3]]
+            g92_abc = list(vals[3:6])
         elif name == "SET_XY_ROTATION":
             rotation = vals[0]
         elif name == "USE_TOOL_LENGTH_OFFSET":
@@ -240,8 +245,8 @@ def rs274_moves(prog, tbl):
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             e = machine(vals[0], vals[1], vals[2])
             if ROTARY[0]:
-                # A B C in degrees, whatever the length units.
-                e = e + list(vals[3:6])
+                # A B C in degrees, whatever the length units, with their offsets.
+                e = e + [vals[3 + r] + g5x_abc[r] + g92_abc[r] for r in range(3)]
             # Shorter than half a pulse from the last move kept (rs274's inch rounding, or CAM
             # output in steps below a pulse): novanc cannot move it. In inches rs274 prints 4
             # decimals: a move below 0.00127 mm is its rounding.
@@ -391,7 +396,7 @@ def fmt(m):
         return "S %d" % m[1]
     if m[0] == "A":
         return "A%d %s %.4f %.4f %.4f %.4f %.4f %.4f" % m[1:]
-    return "%s %.4f %.4f %.4f" % m
+    return m[0] + "".join(" %.4f" % v for v in m[1:])
 
 
 def agrees(x, y, tol=TOL):

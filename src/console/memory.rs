@@ -354,6 +354,11 @@ impl Memory {
         self.stores.params()
     }
 
+    /// One persistent parameter as the stores keep it (0 when not kept; #5220 then 1).
+    pub fn param(&self, n: usize) -> f64 {
+        self.stores.param(n)
+    }
+
     /// Sets persistent parameters of the G-code interpreter together, journaled.
     pub fn set_params(&mut self, ps: &[(usize, f64)]) -> Result<(), String> {
         let r = self.stores.set_params(ps).map_err(|e| e.to_string());
@@ -409,14 +414,27 @@ impl Memory {
         self.stores.system_offset(cs)
     }
 
-    /// Sets a work offset (0 = G54 … 8 = G59.3), journaled.
-    pub fn set_work_offset(&mut self, system: usize, mm: [f64; 3]) -> Result<(), String> {
-        if system < crate::gcode::state::SYSTEMS && self.stores.system_offset(system) == mm {
+    /// The zero of coordinate system `cs` on every axis, X Y Z (mm) then A B C (degrees).
+    pub fn system_offset_all(&self, cs: usize) -> [f64; crate::block::MAX_AXES] {
+        let (l, r) = (self.stores.system_offset(cs), self.stores.rotary_offset(cs));
+        [l[0], l[1], l[2], r[0], r[1], r[2]]
+    }
+
+    /// Sets a work offset (0 = G54 … 8 = G59.3): X Y Z (mm), then A B C (degrees) as many as
+    /// given, journaled as one record.
+    pub fn set_work_offset(&mut self, system: usize, offs: &[f64]) -> Result<(), String> {
+        if system < crate::gcode::state::SYSTEMS
+            && self
+                .system_offset_all(system)
+                .iter()
+                .zip(offs)
+                .all(|(a, b)| a == b)
+        {
             return Ok(());
         }
         let r = self
             .stores
-            .set_work_offset(system, mm)
+            .set_work_offset(system, offs)
             .map_err(|e| e.to_string());
         self.bump(r)
     }

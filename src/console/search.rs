@@ -99,13 +99,24 @@ pub fn state_lines(st: &InterpState) -> Vec<String> {
         o[1],
         o[2]
     );
+    // The rotary axes' offsets, where not 0 (docs/gcode.md "Rotary axes").
+    let rotary = |o: [f64; 3]| -> String {
+        (0..3)
+            .filter(|&r| o[r] != 0.0)
+            .map(|r| format!(" {}{:.3}", ['A', 'B', 'C'][r], o[r]))
+            .collect()
+    };
+    ofs.push_str(&rotary(st.origin_abc));
     if st.rotation != 0.0 {
         ofs.push_str(&format!(" R{:.3}", st.rotation));
     }
-    if st.g92 != [0.0; 3] {
+    if st.g92 != [0.0; 3] || st.g92_abc != [0.0; 3] {
         ofs.push_str(&format!(
-            "  G92 X{:.3} Y{:.3} Z{:.3}",
-            st.g92[0], st.g92[1], st.g92[2]
+            "  G92 X{:.3} Y{:.3} Z{:.3}{}",
+            st.g92[0],
+            st.g92[1],
+            st.g92[2],
+            rotary(st.g92_abc)
         ));
     }
     out.push(ofs);

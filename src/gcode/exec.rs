@@ -354,16 +354,15 @@ fn motion_to_be(
     let ijk = ['I', 'J', 'K'].iter().any(|&c| w.get(c).is_some());
     if axis {
         if st.modal.motion == Motion::None && w.has_g(431).is_none() {
-            let col = w
-                .col('X')
-                .or(w.col('Y'))
-                .or(w.col('Z'))
-                .or(w.col('@'))
-                .or(w.col('^'))
-                .unwrap_or(1);
+            // The first axis word, named at its place (a rotary one too).
+            let (l, col) = ['X', 'Y', 'Z', '@', '^', 'A', 'B', 'C']
+                .into_iter()
+                .filter_map(|l| Some((l, w.col(l)?)))
+                .min_by_key(|&(_, c)| c)
+                .unwrap_or(('X', 1));
             return Err(x.err(
                 col,
-                "X, Y or Z with no motion in force (G80): give G00, G01, G02, G03 or a cycle",
+                format!("{l} with no motion in force (G80): give G00, G01, G02, G03 or a cycle"),
             ));
         }
         if w.has_g(431).is_none() {
@@ -1029,7 +1028,7 @@ pub fn execute(
 }
 
 /// The rotary axes' letters, A B C (their words on a line: `rotary_words`).
-const ROTARY_LETTERS: [char; 3] = ['A', 'B', 'C'];
+pub(super) const ROTARY_LETTERS: [char; 3] = ['A', 'B', 'C'];
 
 /// The first rotary axis word on the line (A, B or C), with its letter and column.
 fn first_rotary(w: &Words) -> Option<(char, u32)> {
@@ -1039,34 +1038,66 @@ fn first_rotary(w: &Words) -> Option<(char, u32)> {
         .min_by_key(|&(_, c)| c)
 }
 
-/// The rotary axis words of a line: where they take A, B, C (as a G00 would: the axes not
-/// named stay), and which are named. G28 and G30 take them as their intermediate point.
+/// The rotary axis words of a line the machine has (A, B, C: value and column each); a word
+/// of an axis it has not is refused at its place.
+pub(super) fn rotary_given(
+    st: &InterpState,
+    x: &Exec,
+    w: &Words,
+) -> Result<[Option<(f64, u32)>; 3], TranslateError> {
+    let mut given = [None; 3];
+    for (r, l) in ROTARY_LETTERS.into_iter().enumerate() {
+        let (Some(v), Some(col)) = (w.get(l), w.col(l)) else {
+            continue;
+        };
+        if st.rotaries[r].is_none() {
+            return Err(x.err(
+                col,
+                format!("unknown word {l} (novanc has the axes {})", st.axes_named()),
+            ));
+        }
+        given[r] = Some((v, col));
+    }
+    Ok(given)
+}
+
+/// The rotary axis words of a line: where they take A, B, C (machine degrees, as a G00 would:
+/// the axes not named stay), and which are named. G28 and G30 take them as their intermediate
+/// point. A word is a program position (its axis's offsets added, LinuxCNC's order), or with
+/// G53 a machine position.
 fn rotary_words(
     st: &InterpState,
     x: &Exec,
     w: &Words,
 ) -> Result<([f64; 3], [bool; 3]), TranslateError> {
     let (mut mid, mut named) = (st.abc, [false; 3]);
-    for (r, l) in ROTARY_LETTERS.into_iter().enumerate() {
-        let (Some(v), Some(col)) = (w.get(l), w.col(l)) else {
+    let (off, at) = (st.abc_offset(), st.prog_abc());
+    let g53 = w.has_g(530).is_some();
+    for (r, given) in rotary_given(st, x, w)?.into_iter().enumerate() {
+        let Some((v, col)) = given else {
             continue;
         };
-        let Some(wrapped) = st.rotaries[r] else {
-            return Err(x.err(
-                col,
-                format!("unknown word {l} (novanc has the axes {})", st.axes_named()),
-            ));
-        };
-        mid[r] = rotary_target(x, st.modal.incremental, wrapped, st.abc[r], (l, v, col))?;
+        let wrapped = st.rotaries[r] == Some(true);
+        // With G53 the word is where the axis goes on the machine: LinuxCNC takes it to the
+        // program frame and unwraps it there.
+        let commanded = if g53 { v - off[r] } else { v };
+        let l = ROTARY_LETTERS[r];
+        let to = rotary_target(
+            x,
+            st.modal.incremental,
+            wrapped,
+            at[r],
+            (l, v, commanded, col),
+        )?;
+        mid[r] = to + off[r];
         named[r] = true;
     }
     Ok((mid, named))
 }
 
 /// Refuses a rotary axis word (A, B or C) anywhere but on a G00 or G01 move without cutter
-/// compensation, G28 or G30, or a non-modal code other than G53 (the rotary axes have no offsets,
-/// references or compensation in novanc: their program position is their machine position, so
-/// G53 moves them as G00 or G01 does).
+/// compensation (G53 among them), G28 or G30, or the offsets that take it: G10 L2 and L20,
+/// G92 and G52 (their own functions refuse it where it is not theirs).
 fn rotary_allowed(
     comp: &Comp,
     x: &Exec,
@@ -1086,16 +1117,24 @@ fn rotary_allowed(
             ),
         ));
     }
-    if w.has_g(280).or(w.has_g(300)).is_some() {
-        // G28 and G30 take the axis words (the motion in force does not).
+    if [280, 300, 100, 920, 520]
+        .iter()
+        .any(|&g| w.has_g(g).is_some())
+    {
+        // G28 and G30 take the axis words (the motion in force does not), and so do the
+        // offsets.
         return Ok(());
     }
-    for g in [40, 100, 281, 301, 520, 920, 921, 922, 923] {
+    for (g, what) in [
+        (40, "G4"),
+        (281, "G28.1"),
+        (301, "G30.1"),
+        (921, "G92.1"),
+        (922, "G92.2"),
+        (923, "G92.3"),
+    ] {
         if w.has_g(g).is_some() {
-            return Err(x.err(
-                col,
-                format!("{l} cannot be given with G{}{}: the {l} axis has no offsets or reference points in novanc", g / 10, if g % 10 != 0 { format!(".{}", g % 10) } else { String::new() }),
-            ));
+            return Err(x.err(col, format!("{l} cannot be given with {what}")));
         }
     }
     if !matches!(motion, Some(Motion::Rapid | Motion::Feed)) {
@@ -1113,15 +1152,16 @@ fn rotary_allowed(
     Ok(())
 }
 
-/// Where a rotary axis word `l``v` (degrees) takes its axis from `at`: G91 by `v`; G90 to `v`,
-/// on a wrapped axis by LinuxCNC's WRAPPED_ROTARY rule (|v| below 360 is the position modulo
-/// 360 and its sign the direction of the turn).
+/// Where a rotary axis word `l``v` (degrees) takes its axis from `at` (program frame): G91 by
+/// `v`; G90 to `commanded` (`v`, or with G53 `v` in the program frame), on a wrapped axis by
+/// LinuxCNC's WRAPPED_ROTARY rule (|v| below 360, the position modulo 360 that of
+/// |commanded|, and v's sign the direction of the turn).
 fn rotary_target(
     x: &Exec,
     incremental: bool,
     wrapped: bool,
     at: f64,
-    (l, v, col): (char, f64, u32),
+    (l, v, commanded, col): (char, f64, f64, u32),
 ) -> Result<f64, TranslateError> {
     let to = if incremental {
         at + v
@@ -1132,9 +1172,9 @@ fn rotary_target(
                 format!("{l}{v}: a wrapped rotary axis takes an absolute position within ±360 (its sign the direction)"),
             ));
         }
-        // LinuxCNC's unwrap_rotary: the nearest position ≡ |v| (mod 360) in the direction
-        // of v's sign (A-0 turns backwards).
-        let base = (at / 360.0).floor() * 360.0 + v.abs();
+        // LinuxCNC's unwrap_rotary: the nearest position ≡ |commanded| (mod 360) in the
+        // direction of v's sign (A-0 turns backwards).
+        let base = (at / 360.0).floor() * 360.0 + commanded.abs();
         if v.is_sign_negative() {
             if base > at {
                 base - 360.0
@@ -1147,7 +1187,7 @@ fn rotary_target(
             base
         }
     } else {
-        v
+        commanded
     };
     if !to.is_finite() || to.abs() > 1e9 {
         return Err(x.err(col, format!("{l}{v}: out of all range")));

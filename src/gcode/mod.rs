@@ -605,6 +605,12 @@ impl GcodeSource {
             let a = crate::block::FIRST_ROTARY + r;
             settings.rotary(a).then(|| settings.wrapped(a))
         });
+        // An offset kept for a rotary axis the machine has not (its description changed)
+        // turns nothing.
+        for r in (0..3).filter(|&r| st.rotaries[r].is_none()) {
+            st.origin_abc[r] = 0.0;
+            st.g92_abc[r] = 0.0;
+        }
         st.tool = machine.tool;
         // The coolant is the machine's, as LinuxCNC's interpreter takes it at each start
         // (its synch): after RESET it is off (docs/gcode.md "SEARCH").

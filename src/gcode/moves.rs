@@ -265,6 +265,31 @@ fn current_in_system(st: &InterpState, cs: usize) -> [f64; 3] {
     p
 }
 
+/// Where the rotary axes stand in coordinate system `cs`, degrees, the G92 offset applied if in
+/// force (LinuxCNC's `find_current_in_system`).
+fn current_abc_in_system(st: &InterpState, cs: usize) -> [f64; 3] {
+    let b = system_base(cs);
+    std::array::from_fn(|r| {
+        let g92 = if st.params[5210] != 0.0 {
+            st.params[5214 + r]
+        } else {
+            0.0
+        };
+        st.abc[r] - st.params[b + 4 + r] - g92
+    })
+}
+
+/// Refuses a rotary axis word where a code has no use for it (`what` says why).
+fn no_rotary(x: &Exec, w: &Words, what: &str) -> Result<(), TranslateError> {
+    match super::exec::ROTARY_LETTERS
+        .into_iter()
+        .find_map(|l| Some((l, w.col(l)?)))
+    {
+        Some((l, c)) => Err(x.err(c, format!("{what}: {l} is not one of its words"))),
+        None => Ok(()),
+    }
+}
+
 /// G10: L1/L10/L11 the tool table, L2/L20 a coordinate system (with R, its rotation).
 pub fn g10(
     st: &mut InterpState,
@@ -354,6 +379,34 @@ pub fn g10(
         Some(r) => r,
         None => st.params[b + 10],
     };
+    let rotary = super::exec::rotary_given(st, x, w)?;
+    let cur_abc = current_abc_in_system(st, cs);
+    let mut o_abc: [f64; 3] = std::array::from_fn(|r| st.params[b + 4 + r]);
+    for (r, given) in rotary.into_iter().enumerate() {
+        let Some((v, vcol)) = given else {
+            continue;
+        };
+        if l == 20 {
+            if st.rotaries[r] == Some(true) && v.abs() >= 360.0 {
+                return Err(x.err(
+                    vcol,
+                    format!(
+                        "G10 L20 {}{v}: a wrapped rotary axis takes a position within ±360",
+                        super::exec::ROTARY_LETTERS[r]
+                    ),
+                ));
+            }
+            o_abc[r] = cur_abc[r] + st.params[b + 4 + r] - v;
+        } else {
+            o_abc[r] = v;
+        }
+        if !o_abc[r].is_finite() || o_abc[r].abs() > 1e9 {
+            return Err(x.err(
+                vcol,
+                "the rotary axis's work offset would be out of all range",
+            ));
+        }
+    }
     let mut o = [st.params[b + 1], st.params[b + 2], st.params[b + 3]];
     if l == 2 {
         for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
@@ -403,6 +456,12 @@ pub fn g10(
     }
     st.params[b + 10] = r;
     x.events.push(Event::Param(b + 10, r));
+    for (r, v) in o_abc.into_iter().enumerate() {
+        if rotary[r].is_some() {
+            st.params[b + 4 + r] = v;
+            x.events.push(Event::Param(b + 4 + r, v));
+        }
+    }
     if cs == st.modal.cs {
         st.select_system(cs);
     }
@@ -424,6 +483,7 @@ fn fanuc_g10_offset(
     if comp.active() {
         return Err(x.err(col, "G10 cannot be used with cutter radius compensation on"));
     }
+    no_rotary(x, w, &format!("G10 L{l} sets a tool offset"))?;
     for c in ['X', 'Y', 'Z', 'I', 'J', 'K', 'Q'] {
         if let Some(cc) = w.col(c) {
             return Err(x.err(
@@ -470,6 +530,7 @@ fn g10_tool(
         return Err(x.err(pcol, format!("G10 L{l} P{p}: P is the T code, 1 or more")));
     }
     let t = p as u32;
+    no_rotary(x, w, &format!("G10 L{l} sets a tool's data"))?;
     for c in ['X', 'Y', 'I', 'J', 'Q'] {
         if let Some(cc) = w.col(c) {
             return Err(x.err(cc, format!("G10 L{l}: {c} is not kept in this machine's tool file (it has a length Z and a diameter R)")));
@@ -541,6 +602,7 @@ pub fn g92(
         ));
     }
     let k = st.factor();
+    let rotary = super::exec::rotary_given(st, x, w)?;
     let set = |st: &mut InterpState, x: &mut Exec, on: bool| {
         st.params[5210] = if on { 1.0 } else { 0.0 };
         x.events.push(Event::Param(5210, st.params[5210]));
@@ -548,7 +610,17 @@ pub fn g92(
             st.params[5211 + a] = st.g92[a];
             x.events.push(Event::Param(5211 + a, st.g92[a]));
         }
+        // The rotary axes the machine has (an A/B/C parameter of an axis it lacks stays).
+        for r in (0..3).filter(|&r| st.rotaries[r].is_some()) {
+            st.params[5214 + r] = st.g92_abc[r];
+            x.events.push(Event::Param(5214 + r, st.g92_abc[r]));
+        }
     };
+    let in_range = |st: &InterpState| {
+        st.g92.iter().all(|v| v.is_finite() && v.abs() <= 1e5)
+            && st.g92_abc.iter().all(|v| v.is_finite() && v.abs() <= 1e9)
+    };
+    let was = (st.g92, st.g92_abc);
     if w.has_g(520).is_some() {
         // G52: the local offset, given as it is, in the G92 offset (LinuxCNC's).
         for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
@@ -556,33 +628,72 @@ pub fn g92(
                 st.g92[i] = v * k;
             }
         }
-        if st.g92.iter().any(|v| !v.is_finite() || v.abs() > 1e5) {
+        for (r, given) in rotary.into_iter().enumerate() {
+            if let Some((v, _)) = given {
+                st.g92_abc[r] = v;
+            }
+        }
+        if !in_range(st) {
+            (st.g92, st.g92_abc) = was;
             return Err(x.err(col, "G52: the offset would be out of range"));
         }
         set(st, x, true);
     } else if w.has_g(920).is_some() {
-        if !w.has_axis() {
-            return Err(x.err(col, "G92 needs at least one of X, Y and Z"));
+        if !w.has_axis() && rotary.iter().all(Option::is_none) {
+            let names = match st.axes_named() {
+                n if st.rotaries == [None; 3] => n.replace(", Z", " and Z"),
+                n => n,
+            };
+            return Err(x.err(col, format!("G92 needs at least one of {names}")));
+        }
+        for (r, given) in rotary.into_iter().enumerate() {
+            if let Some((v, vcol)) = given {
+                if st.rotaries[r] == Some(true) && v.abs() >= 360.0 {
+                    return Err(x.err(
+                        vcol,
+                        format!(
+                            "G92 {}{v}: a wrapped rotary axis takes a position within ±360",
+                            super::exec::ROTARY_LETTERS[r]
+                        ),
+                    ));
+                }
+            }
         }
         let p = st.prog();
+        let pa = st.prog_abc();
         for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
             if let Some(v) = w.get(c) {
                 st.g92[i] = p[i] + st.g92[i] - v * k;
             }
         }
-        if st.g92.iter().any(|v| !v.is_finite() || v.abs() > 1e5) {
+        for (r, given) in rotary.into_iter().enumerate() {
+            if let Some((v, _)) = given {
+                st.g92_abc[r] = pa[r] + st.g92_abc[r] - v;
+            }
+        }
+        if !in_range(st) {
+            (st.g92, st.g92_abc) = was;
             return Err(x.err(col, "G92: the offset would be out of range"));
         }
         set(st, x, true);
     } else if w.has_g(921).is_some() {
         st.g92 = [0.0; 3];
+        st.g92_abc = [0.0; 3];
         set(st, x, false);
     } else if w.has_g(922).is_some() {
         st.g92 = [0.0; 3];
+        st.g92_abc = [0.0; 3];
         st.params[5210] = 0.0;
         x.events.push(Event::Param(5210, 0.0));
     } else {
         st.g92 = [st.params[5211], st.params[5212], st.params[5213]];
+        st.g92_abc = std::array::from_fn(|r| {
+            if st.rotaries[r].is_some() {
+                st.params[5214 + r]
+            } else {
+                0.0
+            }
+        });
         st.params[5210] = 1.0;
         x.events.push(Event::Param(5210, 1.0));
     }

@@ -248,8 +248,8 @@ pub struct InterpState {
     pub named: HashMap<String, f64>,
     /// Where the spindle's gauge line is, machine mm.
     pub pos: [f64; 3],
-    /// Where the rotary axes A, B and C stand, degrees (machine: they have no work offsets in
-    /// novanc; one the machine has not stays 0).
+    /// Where the rotary axes A, B and C stand, machine degrees (one the machine has not stays
+    /// 0). Their program position is this less `origin_abc` and `g92_abc`.
     pub abc: [f64; 3],
     /// The rotary axes A, B and C the machine has: `Some(wrapped)` each (docs/gcode.md
     /// "Rotary axes").
@@ -257,6 +257,10 @@ pub struct InterpState {
     /// The offset of the coordinate system in force (machine mm of its zero), as selected;
     /// a change to its parameters takes effect when it is selected again (as in LinuxCNC).
     pub origin: [f64; 3],
+    /// The rotary axes' part of that offset (A, B, C, degrees: the system's #5xx4–#5xx6; a run
+    /// takes 0 for an axis the machine has not, `GcodeSource::with_state`). As LinuxCNC's, it is added to a program position; the
+    /// XY rotation does not turn it (docs/gcode.md "Rotary axes").
+    pub origin_abc: [f64; 3],
     /// The XY rotation of the coordinate system in force, degrees.
     pub rotation: f64,
     /// Fanuc's coordinate rotation in force (G68, the Fanuc dialect; G69 cancels): its centre
@@ -265,6 +269,8 @@ pub struct InterpState {
     pub g68: Option<([f64; 2], f64)>,
     /// The G92 offset in force, mm (zero when none).
     pub g92: [f64; 3],
+    /// The G92 offset of the rotary axes A, B, C in force, degrees (#5214–#5216).
+    pub g92_abc: [f64; 3],
     /// The tool length offset in force (G43, G43.1, G43.2), mm, per axis.
     pub tlo: [f64; 3],
     /// The tool whose length G43 applied (for the display), if any.
@@ -344,9 +350,11 @@ impl Default for InterpState {
             abc: [0.0; 3],
             rotaries: [None; 3],
             origin: [0.0; 3],
+            origin_abc: [0.0; 3],
             rotation: 0.0,
             g68: None,
             g92: [0.0; 3],
+            g92_abc: [0.0; 3],
             tlo: [0.0; 3],
             tlo_tool: None,
             tool: None,
@@ -404,6 +412,7 @@ impl InterpState {
         s.select_system(s.modal.cs);
         if s.params[5210] != 0.0 {
             s.g92 = [s.params[5211], s.params[5212], s.params[5213]];
+            s.g92_abc = [s.params[5214], s.params[5215], s.params[5216]];
         }
         s.pos = pos;
         s.tool = tool;
@@ -454,7 +463,20 @@ impl InterpState {
         self.modal.cs = cs;
         self.params[5220] = (cs + 1) as f64;
         self.origin = [self.params[b + 1], self.params[b + 2], self.params[b + 3]];
+        self.origin_abc = [self.params[b + 4], self.params[b + 5], self.params[b + 6]];
         self.rotation = self.params[b + 10];
+    }
+
+    /// What is added to the rotary axes' program positions to give their machine positions:
+    /// the system's offset and G92's, degrees.
+    pub fn abc_offset(&self) -> [f64; 3] {
+        std::array::from_fn(|r| self.origin_abc[r] + self.g92_abc[r])
+    }
+
+    /// Where the rotary axes stand in the program frame, degrees (#5423–#5425).
+    pub fn prog_abc(&self) -> [f64; 3] {
+        let o = self.abc_offset();
+        std::array::from_fn(|r| self.abc[r] - o[r])
     }
 
     /// The work offset of system `cs` as its parameters hold it (machine mm).
@@ -554,7 +576,8 @@ impl InterpState {
         match n {
             5400 => self.tool.map_or(0.0, f64::from),
             5420..=5422 => self.prog_units()[n - 5420],
-            5423..=5428 => 0.0,
+            5423..=5425 => self.prog_abc()[n - 5423],
+            5426..=5428 => 0.0,
             _ => self.params.get(n).copied().unwrap_or(0.0),
         }
     }
@@ -613,11 +636,17 @@ impl InterpState {
             "_x" => self.prog_units()[0],
             "_y" => self.prog_units()[1],
             "_z" => self.prog_units()[2],
-            "_a" | "_b" | "_c" | "_u" | "_v" | "_w" => 0.0,
+            "_a" => self.prog_abc()[0],
+            "_b" => self.prog_abc()[1],
+            "_c" => self.prog_abc()[2],
+            "_u" | "_v" | "_w" => 0.0,
             "_abs_x" => self.pos[0] / k,
             "_abs_y" => self.pos[1] / k,
             "_abs_z" => self.pos[2] / k,
-            "_abs_a" | "_abs_b" | "_abs_c" | "_abs_u" | "_abs_v" | "_abs_w" => 0.0,
+            "_abs_a" => self.abc[0],
+            "_abs_b" => self.abc[1],
+            "_abs_c" => self.abc[2],
+            "_abs_u" | "_abs_v" | "_abs_w" => 0.0,
             "_value" => self.return_value,
             "_value_returned" => b(self.value_returned),
             "_call_level" => self.call_level as f64,

@@ -340,7 +340,12 @@ fn position(n: usize, st: &InterpState) -> Result<f64, String> {
         .checked_sub(3)
         .filter(|&r| st.rotaries.get(r).is_some_and(|w| w.is_some()))
     {
-        return Ok(st.abc[r]);
+        // Degrees: the work positions less the axis's offsets, the machine's as it stands.
+        return Ok(if kind == 1 {
+            st.abc[r]
+        } else {
+            st.prog_abc()[r]
+        });
     }
     if axis >= 3 {
         return Err(format!(

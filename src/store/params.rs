@@ -105,22 +105,49 @@ impl Stores {
         [self.param(b + 1), self.param(b + 2), self.param(b + 3)]
     }
 
-    /// Sets the zero of coordinate system `system` (0 = G54 … 8 = G59.3) to `mm`, journaled
-    /// before it returns Ok; a value that is not a finite number within 100 m changes nothing.
-    pub fn set_work_offset(&mut self, system: usize, mm: [f64; 3]) -> Result<(), StoreError> {
+    /// The rotary axes' part of coordinate system `cs`'s zero (A, B, C), degrees.
+    pub fn rotary_offset(&self, cs: usize) -> [f64; 3] {
+        let b = system_base(cs);
+        [self.param(b + 4), self.param(b + 5), self.param(b + 6)]
+    }
+
+    /// Sets the zero of coordinate system `system` (0 = G54 … 8 = G59.3) to `offs`: X Y Z in
+    /// mm, then A B C in degrees as many as given, in one record journaled before it returns
+    /// Ok; a value that is not a finite number within 100 m (a rotary axis's, within 10⁹
+    /// degrees) changes nothing.
+    pub fn set_work_offset(&mut self, system: usize, offs: &[f64]) -> Result<(), StoreError> {
         if system >= SYSTEMS {
             return Err(serr(format!(
                 "work offset system {system} is not G54 to G59.3"
             )));
         }
         let limit = super::state::OFFSET_LIMIT_NM as f64 / 1e6;
-        if let Some(v) = mm.iter().find(|v| !v.is_finite() || v.abs() > limit) {
+        if let Some(v) = offs
+            .iter()
+            .take(3)
+            .find(|v| !v.is_finite() || v.abs() > limit)
+        {
             return Err(serr(format!(
                 "work offset {v} mm is not a number within {limit} mm"
             )));
         }
+        if let Some(v) = offs
+            .iter()
+            .skip(3)
+            .find(|v| !v.is_finite() || v.abs() > 1e9)
+        {
+            return Err(serr(format!(
+                "work offset {v} degrees is not a number within 10^9 degrees"
+            )));
+        }
         let b = system_base(system);
-        self.set_params(&[(b + 1, mm[0]), (b + 2, mm[1]), (b + 3, mm[2])])
+        let ps: Vec<(usize, f64)> = offs
+            .iter()
+            .take(6)
+            .enumerate()
+            .map(|(a, &v)| (b + 1 + a, v))
+            .collect();
+        self.set_params(&ps)
     }
 }
 

@@ -19,7 +19,6 @@ use super::Console;
 /// `MEASURE …` INPUT on the OFS page; `rest` follows the word.
 pub(super) fn enter(c: &mut Console, rest: &str) -> Result<String, String> {
     let s = c.cfg.settings.clone();
-    let mach = c.status.pos.map(|p| s.to_mm(p));
     let cap = c.mem.magazine().tcodes.capacity();
     let (t, _) = c.pages.ofs;
     let (system, words) = match super::workofs::system_of(rest) {
@@ -27,26 +26,37 @@ pub(super) fn enter(c: &mut Console, rest: &str) -> Result<String, String> {
         None if t > cap => (Some((t - cap - 1) as usize), rest),
         None => (None, rest),
     };
-    let vals =
-        super::workofs::axis_words(words).map_err(|e| format!("OFS MEASURE refused: {e}"))?;
+    let axes = super::workofs::axes(c);
+    let vals = super::workofs::axis_words(words, &axes)
+        .map_err(|e| format!("OFS MEASURE refused: {e}"))?;
     if c.status.moving {
         return Err("OFS MEASURE refused: the machine is moving; STOP first".into());
     }
     let (len, _) = super::pos::length_in_force(c);
-    let g92 = c.interp.g92;
+    let g = &c.interp;
+    let g92 = [
+        g.g92[0],
+        g.g92[1],
+        g.g92[2],
+        g.g92_abc[0],
+        g.g92_abc[1],
+        g.g92_abc[2],
+    ];
     match system {
         Some(cs) => {
-            let mut zero = [None; 3];
-            for a in 0..3 {
+            // Where the tip (a rotary axis: the table) stands reads the value given.
+            let mut zero = [None; crate::block::MAX_AXES];
+            for a in axes {
                 if let Some(v) = vals[a] {
-                    let tip = mach[a] - if a == 2 { len } else { 0.0 };
+                    let tip = s.to_mm(c.status.pos[a]) - if a == 2 { len } else { 0.0 };
                     zero[a] = Some(tip - g92[a] - v);
                 }
             }
             super::workofs::set(c, cs, zero, false)
         }
         None => {
-            let (Some(z), None, None) = (vals[2], vals[0], vals[1]) else {
+            let (Some(z), true) = (vals[2], vals.iter().filter(|v| v.is_some()).count() == 1)
+            else {
                 return Err(
                     "OFS MEASURE refused: a tool row measures its length in Z (MEASURE Z50); a work offset is measured on its row or by name (MEASURE G54 X0)".into(),
                 );
@@ -67,7 +77,7 @@ pub(super) fn enter(c: &mut Console, rest: &str) -> Result<String, String> {
                 c.mem.system_offset(cs)[2]
             };
             let wear = c.mem.magazine().tools.get(t).map_or(0.0, |r| r.wear_length);
-            let set = mach[2] - zero - g92[2] - z - wear;
+            let set = s.to_mm(c.status.pos[2]) - zero - g92[2] - z - wear;
             c.pages.ofs.1 = super::ofs::LENGTH;
             super::ofs::enter(c, &format!("{set:.3}"), false)
         }

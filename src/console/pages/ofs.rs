@@ -30,6 +30,7 @@ pub const LENGTH: usize = 4;
 pub(super) fn arrow(c: &mut Console, k: Key) {
     let cap = c.mem.magazine().tcodes.capacity().max(1);
     let last = cap + crate::gcode::state::SYSTEMS as u32;
+    let last_axis = super::workofs::axes(c).len() - 1;
     let axis = &mut c.pages.ofs_axis;
     let (t, col) = &mut c.pages.ofs;
     match k {
@@ -41,7 +42,7 @@ pub(super) fn arrow(c: &mut Console, k: Key) {
         Key::Home => *t = 1,
         Key::End => *t = cap + 1,
         Key::Left if *t > cap => *axis = axis.saturating_sub(1),
-        Key::Right if *t > cap => *axis = (*axis + 1).min(2),
+        Key::Right if *t > cap => *axis = (*axis + 1).min(last_axis),
         Key::Left => *col = col.saturating_sub(1).max(FIRST),
         Key::Right => *col = (*col + 1).min(COLUMNS.len() - 1),
         _ => {}

@@ -129,14 +129,19 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         .unwrap_or_default();
     let (in_force, pending) = length_in_force(c);
     let (name, origin) = work_origin(c);
+    let origin_abc = rotary_work_offset(c);
     p.body.push(format!(
         " {:>9}{:>9}{:>9}{:>9}",
         name, "REL", "MACH", "TO GO"
     ));
     for a in s.axis_list() {
-        // A rotary axis has no work offset: its WORK is its machine position (docs/gcode.md
-        // "Rotary axes").
-        let work = st.pos[a] - origin.get(a).map_or(0, |&o| s.to_pulses(o));
+        // A rotary axis's WORK is its machine position less its work and G92 offsets
+        // (docs/gcode.md "Rotary axes").
+        let o = match a.checked_sub(crate::block::FIRST_ROTARY) {
+            Some(r) => origin_abc[r],
+            None => origin[a],
+        };
+        let work = st.pos[a] - s.to_pulses(o);
         p.body.push(format!(
             "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
             crate::settings::AXIS_NAMES[a],
@@ -238,6 +243,25 @@ fn work_system(c: &Console) -> (String, [f64; 3]) {
     };
     let zero = [0, 1, 2].map(|a| origin[a] + st.g92[a]);
     (name, zero)
+}
+
+/// What is subtracted from the rotary axes' machine positions to give their WORK positions,
+/// degrees: the system's offset and G92's, as `work_system` takes them for X Y Z.
+pub(crate) fn rotary_work_offset(c: &Console) -> [f64; 3] {
+    let st = &c.interp;
+    let s = &c.cfg.settings;
+    let b = crate::gcode::state::system_base(st.modal.cs);
+    std::array::from_fn(|r| {
+        if !s.rotary(crate::block::FIRST_ROTARY + r) {
+            return 0.0;
+        }
+        let system = if c.status.job.is_some() {
+            st.origin_abc[r]
+        } else {
+            c.mem.param(b + 4 + r)
+        };
+        system + st.g92_abc[r]
+    })
 }
 
 /// The work system's heading and what is subtracted from the axis position (machine mm) to

@@ -1,8 +1,9 @@
 //! OFS, the work offsets G54 to G59.3 (docs/panel.md "Pages", docs/gcode.md "At the console"):
 //! the rows after the last T code. Down from the last T code goes on to G54; the cursor
-//! stands on X, Y or Z. A value typed then INPUT sets the cell, +INPUT adds to it. From any
-//! row, `G55 X100 Y-20.5` INPUT sets the axes it names (+INPUT adds to them). G92, when in
-//! force, is shown under them (set by MDI `G92`, cancelled by `G92.1`).
+//! stands on X, Y or Z, or a rotary axis the machine has (degrees). A value typed then INPUT
+//! sets the cell, +INPUT adds to it. From any row, `G55 X100 Y-20.5` INPUT sets the axes it
+//! names (+INPUT adds to them). G92, when in force, is shown under them (set by MDI `G92`,
+//! cancelled by `G92.1`).
 //!
 //! A change is one journaled record of the stores (as G10 in a program makes). It is taken
 //! with no run loaded, or with the run at rest; a G-code run reads the offsets at its START,
@@ -10,10 +11,14 @@
 
 use super::super::display::{message_lines, split_line, Page as Frame};
 use super::Console;
+use crate::block::{FIRST_ROTARY, MAX_AXES};
 use crate::gcode::state::SYSTEM_NAMES;
+use crate::settings::AXIS_NAMES;
 
-/// The axes' headings.
-const AXES: [&str; 3] = ["X", "Y", "Z"];
+/// The machine's axes, as the table's columns: X Y Z, then its rotary axes.
+pub(super) fn axes(c: &Console) -> Vec<usize> {
+    c.cfg.settings.axis_list().collect()
+}
 
 /// The work offset system a line names (`G54` to `G59`, `G59.1` to `G59.3`, any case), and
 /// the rest of the line.
@@ -33,35 +38,47 @@ pub(super) fn system_of(line: &str) -> Option<(usize, &str)> {
     (54..=59).contains(&n).then(|| (n - 54, &l[3..]))
 }
 
-/// A number typed for an offset, mm.
-fn number(text: &str) -> Result<f64, String> {
+/// A number typed for an offset of axis `a`: mm, a rotary axis's degrees.
+fn number(text: &str, a: usize) -> Result<f64, String> {
+    let unit = if a >= FIRST_ROTARY { "degrees" } else { "mm" };
     text.trim()
         .parse::<f64>()
         .ok()
         .filter(|v| v.is_finite() && v.abs() <= 100_000.0)
-        .ok_or_else(|| format!("'{}' is not an offset in mm (at most 100000)", text.trim()))
+        .ok_or_else(|| {
+            format!(
+                "'{}' is not an offset in {unit} (at most 100000)",
+                text.trim()
+            )
+        })
 }
 
-/// The axis values of `X.. Y.. Z..` (each at most once), by axis.
-pub(super) fn axis_words(text: &str) -> Result<[Option<f64>; 3], String> {
-    let mut out = [None; 3];
+/// The axis values of `X.. Y.. Z..` (each at most once; the letters of `axes`, the machine's),
+/// by axis.
+pub(super) fn axis_words(text: &str, axes: &[usize]) -> Result<[Option<f64>; MAX_AXES], String> {
+    let mut out = [None; MAX_AXES];
     let t = text.trim().to_ascii_uppercase();
     if t.is_empty() {
         return Err("name the axes: G54 X100 Y50 Z-450".into());
     }
     let mut rest = t.as_str();
     while let Some(c) = rest.chars().next() {
-        let Some(a) = AXES.iter().position(|x| x.starts_with(c)) else {
-            return Err(format!("'{c}' is not an axis (X, Y or Z)"));
+        let Some(a) = axes.iter().copied().find(|&a| AXIS_NAMES[a] == c) else {
+            let names: Vec<String> = axes.iter().map(|&a| AXIS_NAMES[a].to_string()).collect();
+            let (last, first) = names.split_last().expect("X Y Z at least");
+            return Err(format!(
+                "'{c}' is not an axis ({} or {last})",
+                first.join(", ")
+            ));
         };
         let after = &rest[1..];
         let end = after
             .find(|ch: char| ch.is_ascii_alphabetic())
             .unwrap_or(after.len());
         if out[a].is_some() {
-            return Err(format!("{} is given twice", AXES[a]));
+            return Err(format!("{} is given twice", AXIS_NAMES[a]));
         }
-        out[a] = Some(number(&after[..end].replace(' ', ""))?);
+        out[a] = Some(number(&after[..end].replace(' ', ""), a)?);
         rest = after[end..].trim_start();
     }
     Ok(out)
@@ -83,19 +100,22 @@ pub(super) fn at_rest(c: &Console, page: &str) -> Result<(), String> {
 pub(super) fn set(
     c: &mut Console,
     system: usize,
-    vals: [Option<f64>; 3],
+    vals: [Option<f64>; MAX_AXES],
     add: bool,
 ) -> Result<String, String> {
     at_rest(c, "OFS")?;
-    let mut o = c.mem.system_offset(system);
-    for a in 0..3 {
+    let mut o = c.mem.system_offset_all(system);
+    for a in 0..MAX_AXES {
         if let Some(v) = vals[a] {
             o[a] = if add { o[a] + v } else { v };
             o[a] = (o[a] * 1000.0).round() / 1000.0;
         }
     }
+    let axes = axes(c);
+    // X Y Z, and the rotary axes up to the machine's last (one it has not keeps its value).
+    let n = axes.last().map_or(3, |&a| a + 1);
     c.mem
-        .set_work_offset(system, o)
+        .set_work_offset(system, &o[..n])
         .map_err(|e| format!("OFS refused: {e}"))?;
     let when = if c.status.job.is_some() {
         ": from the next run"
@@ -103,10 +123,11 @@ pub(super) fn set(
         ""
     };
     c.pages.ofs.0 = c.mem.magazine().tcodes.capacity() + 1 + system as u32;
-    Ok(format!(
-        "{} X{:.3} Y{:.3} Z{:.3}{when}",
-        SYSTEM_NAMES[system], o[0], o[1], o[2]
-    ))
+    let words: String = axes
+        .iter()
+        .map(|&a| format!(" {}{:.3}", AXIS_NAMES[a], o[a]))
+        .collect();
+    Ok(format!("{}{words}{when}", SYSTEM_NAMES[system]))
 }
 
 /// `G5n X.. Y.. Z..` INPUT (or +INPUT).
@@ -116,7 +137,7 @@ pub(super) fn enter_line(
     rest: &str,
     add: bool,
 ) -> Result<String, String> {
-    let v = axis_words(rest).map_err(|e| format!("OFS refused: {e}"))?;
+    let v = axis_words(rest, &axes(c)).map_err(|e| format!("OFS refused: {e}"))?;
     set(c, system, v, add)
 }
 
@@ -128,9 +149,11 @@ pub(super) fn enter_cell(
     text: &str,
     add: bool,
 ) -> Result<String, String> {
-    let v = number(text).map_err(|e| format!("OFS refused: {e}"))?;
-    let mut vals = [None; 3];
-    vals[axis.min(2)] = Some(v);
+    let axes = axes(c);
+    let a = axes[axis.min(axes.len() - 1)];
+    let v = number(text, a).map_err(|e| format!("OFS refused: {e}"))?;
+    let mut vals = [None; MAX_AXES];
+    vals[a] = Some(v);
     set(c, system, vals, add)
 }
 
@@ -149,26 +172,37 @@ pub(super) fn compose(
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
     p.bottom.push(format!("> {}_", c.front.entry));
+    let axes = axes(c);
+    // Six axes fit 66 columns; X Y Z keep the 11 they had.
+    let w = if axes.len() > 3 { 10 } else { 11 };
     let mut table = Vec::new();
     for (i, name) in SYSTEM_NAMES.iter().enumerate() {
-        let o = c.mem.system_offset(i);
+        let o = c.mem.system_offset_all(i);
         let mut line = format!("{name:<6}");
-        for (a, v) in o.iter().enumerate() {
-            let v = format!("{v:.3}");
-            line.push_str(&if i == system && a == axis {
-                format!("{:>11}", format!(">{v}"))
+        for (k, &a) in axes.iter().enumerate() {
+            let v = format!("{:.3}", o[a]);
+            line.push_str(&if i == system && k == axis {
+                format!("{:>w$}", format!(">{v}"))
             } else {
-                format!("{v:>11}")
+                format!("{v:>w$}")
             });
         }
         table.push(line);
     }
     // G92 in force (shown, not set here: MDI G92 / G92.1 set it).
-    let g92 = c.interp.g92;
-    if g92 != [0.0; 3] {
+    let g = &c.interp;
+    let g92 = [
+        g.g92[0],
+        g.g92[1],
+        g.g92[2],
+        g.g92_abc[0],
+        g.g92_abc[1],
+        g.g92_abc[2],
+    ];
+    if axes.iter().any(|&a| g92[a] != 0.0) {
         let mut line = format!("{:<6}", "G92");
-        for v in g92 {
-            line.push_str(&format!("{:>11}", format!("{v:.3}")));
+        for &a in &axes {
+            line.push_str(&format!("{:>w$}", format!("{:.3}", g92[a])));
         }
         table.push(line);
     }
@@ -181,8 +215,11 @@ pub(super) fn compose(
         system + 1
     };
     let first = last.saturating_sub(fit);
-    p.body
-        .push(format!("{:<6}{:>11}{:>11}{:>11}", "", "X", "Y", "Z"));
+    let heading: String = axes
+        .iter()
+        .map(|&a| format!("{:>w$}", AXIS_NAMES[a]))
+        .collect();
+    p.body.push(format!("{:<6}{heading}", ""));
     p.body.extend(table.into_iter().skip(first));
     p.lines()
 }
@@ -198,15 +235,31 @@ mod tests {
         assert_eq!(system_of("g59.2 Z1"), Some((7, " Z1")));
         assert_eq!(system_of("G59 Z1"), Some((5, " Z1")));
         assert_eq!(system_of("X1"), None);
+        let xyz = [0, 1, 2];
         assert_eq!(
-            axis_words(" X100 Y-20.5").unwrap(),
-            [Some(100.0), Some(-20.5), None]
+            axis_words(" X100 Y-20.5", &xyz).unwrap(),
+            [Some(100.0), Some(-20.5), None, None, None, None]
         );
-        assert_eq!(axis_words("z 3").unwrap(), [None, None, Some(3.0)]);
-        assert!(axis_words("X1 X2").unwrap_err().contains("twice"));
-        assert!(axis_words("A1").unwrap_err().contains("not an axis"));
-        assert!(axis_words("Xabc").is_err());
-        assert!(axis_words("X1e9").is_err());
-        assert!(axis_words("").is_err());
+        assert_eq!(
+            axis_words("z 3", &xyz).unwrap(),
+            [None, None, Some(3.0), None, None, None]
+        );
+        assert!(axis_words("X1 X2", &xyz).unwrap_err().contains("twice"));
+        assert_eq!(
+            axis_words("A1", &xyz).unwrap_err(),
+            "'A' is not an axis (X, Y or Z)"
+        );
+        assert!(axis_words("Xabc", &xyz).is_err());
+        assert!(axis_words("X1e9", &xyz).is_err());
+        assert!(axis_words("", &xyz).is_err());
+        // A machine with C: its offset in degrees.
+        assert_eq!(
+            axis_words("c-90 X1", &[0, 1, 2, 5]).unwrap(),
+            [Some(1.0), None, None, None, None, Some(-90.0)]
+        );
+        assert_eq!(
+            axis_words("B1", &[0, 1, 2, 5]).unwrap_err(),
+            "'B' is not an axis (X, Y, Z or C)"
+        );
     }
 }
