@@ -62,6 +62,7 @@ use common::temp_dir;
 use novanc::block::MAX_AXES;
 use novanc::console::keys::parse_key;
 use novanc::console::{Console, ConsoleConfig};
+use novanc::gcode::state::system_base;
 use novanc::panel_model::{OpMode, PanelEvent as E};
 use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
@@ -942,7 +943,11 @@ impl Session {
             }
             0 => "G91".to_string(),
             1 => "G90".to_string(),
+            // On a trunnion, G92 sets the table's zero where it stands too (stop 54).
+            2 if self.trunnion && self.rng.chance(0.5) => "G92 X0 Y0 B0 C0".to_string(),
             2 => "G92 X0 Y0".to_string(),
+            // And G10 L20 makes the system in force read C0 where the table stands.
+            6 if self.trunnion => "G10 L20 P0 C0".to_string(),
             3 => "G92.1".to_string(),
             4 => "G43 H2".to_string(),
             5 => "G49".to_string(),
@@ -1023,6 +1028,19 @@ impl Session {
         }
         let Some(xy) = line.strip_prefix("G0 ") else {
             assert_eq!(now.pos, pos, "MDI {line} moved the machine");
+            if ended && (line.contains(" C0") || line.contains(" B0")) {
+                // The table reads 0 where it stands on the axes the line names.
+                let after = self.c.interp_state().prog_abc();
+                let named = [(1, " B0"), (2, " C0")];
+                for (r, w) in named.into_iter().filter(|(_, w)| line.contains(w)) {
+                    assert!(
+                        after[r].abs() < 1e-9,
+                        "after MDI {line} the program position{w} reads {}",
+                        after[r]
+                    );
+                }
+                self.stats.rotary_zeros += 1;
+            }
             return;
         };
         if !ended {
@@ -1067,9 +1085,12 @@ impl Session {
             );
         }
         // B and C: G91 adds; G90 puts B at the word, and C (wrapped) at the nearest position
-        // ≡ |word| (mod 360) in the direction of its sign (LinuxCNC's rule, worked out here).
+        // ≡ |word| (mod 360) in the direction of its sign (LinuxCNC's rule, worked out here),
+        // in the program frame: the machine's is that plus the system's offset and G92's
+        // (stop 54).
         let settings_deg = |p: i64| settings.to_mm(p);
-        let (b0, c0) = (settings_deg(pos[4]), settings_deg(pos[5]));
+        let off = [1, 2].map(|r| b.params[system_base(b.modal.cs) + 4 + r] + b.g92_abc[r]);
+        let (b0, c0) = (settings_deg(pos[4]) - off[0], settings_deg(pos[5]) - off[1]);
         let (want_b, want_c) = match rotary_words {
             None => (b0, c0),
             Some([wb, wc]) if b.modal.incremental => (b0 + wb, c0 + wc),
@@ -1084,6 +1105,7 @@ impl Session {
                 (wb, r)
             }
         };
+        let (want_b, want_c) = (want_b + off[0], want_c + off[1]);
         assert_eq!(
             [now.pos[4], now.pos[5]],
             [settings.to_pulses(want_b), settings.to_pulses(want_c)],
@@ -1663,7 +1685,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.ofs_in_run > 0, "{st:?}");
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
         assert!(st.mdi_moves > 0, "{st:?}");
-        assert!(st.rotary_moves > 0, "{st:?}");
+        assert!(st.rotary_moves > 0 && st.rotary_zeros > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.mdi_taps > 0, "{st:?}");
         assert!(st.turns_cleared > 0, "{st:?}");

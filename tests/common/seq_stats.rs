@@ -69,6 +69,9 @@ pub struct Stats {
     pub macro_kept: u64,
     /// MDI moves that turned the rotary axes B and C (sessions on a trunnion machine).
     pub rotary_moves: u64,
+    /// MDI G92 B0 C0 and G10 L20 P0 C0 that set the table's zero where it stands (the rotary
+    /// work offsets, stop 54).
+    pub rotary_zeros: u64,
     /// The machine states E-STOP was pressed in, one bit each (`ESTOP_STATES` in the test).
     pub estop_states: u32,
 }
@@ -93,6 +96,7 @@ impl Stats {
         self.mdi_gcode += o.mdi_gcode;
         self.mdi_moves += o.mdi_moves;
         self.rotary_moves += o.rotary_moves;
+        self.rotary_zeros += o.rotary_zeros;
         self.mdi_probes += o.mdi_probes;
         self.mdi_taps += o.mdi_taps;
         self.turns_cleared += o.turns_cleared;
