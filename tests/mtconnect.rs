@@ -551,3 +551,75 @@ fn message_is_the_consoles_message_line_on_both_machines() {
         );
     }
 }
+
+/// A machine with a trunnion table (B and C) streams their angles (stop 54; before, the
+/// adapter sent X Y Z only): `Bact`/`Cact` in the work system, `Bmach`/`Cmach` on the machine,
+/// degrees, every key a DataItem id of the device file `novanc mtconnect-devices` makes for
+/// that machine, where the table's C takes the letter and the spindle is `S`.
+#[test]
+fn a_trunnion_streams_its_table_s_angles_as_its_device_file_names_them() {
+    let d = common::temp_dir("mtc-trunnion");
+    let desc = d.join("trunnion.machine");
+    std::fs::write(
+        &desc,
+        "machine trunnion\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\ny travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\nb rotary travel -120 120 rapid 9000 accel 800\nc rotary wrap rapid 9000 accel 800\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .args(["mtconnect-devices", "--machine"])
+        .arg(&desc)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let xml = String::from_utf8(out.stdout).unwrap();
+    let ids: Vec<&str> = xml
+        .split(" id=\"")
+        .skip(1)
+        .filter_map(|r| r.split('"').next())
+        .collect();
+    for id in ["Bact", "Bmach", "Cact", "Cmach", "Srpm", "Xact"] {
+        assert!(ids.contains(&id), "{id} in\n{xml}");
+    }
+    assert!(!ids.contains(&"Aact") && xml.contains(r#"<Rotary id="s" name="S">"#));
+    let script = d.join("turn.script");
+    std::fs::write(
+        &script,
+        "op MDI\ntype G10 L2 P1 C30\nstart\nwait\ntype G54 G0 X10 B20 C15\nstart\nwait\n",
+    )
+    .unwrap();
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        .arg("script")
+        .arg(&script)
+        .arg("--machine")
+        .arg(&desc)
+        .arg("--state")
+        .arg(d.join("state"))
+        .args(["--mtconnect", &format!("127.0.0.1:{port}")])
+        .args(["--mtconnect-wait", "30"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let lines = read_all(connect(port));
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let last = |k: &str| values(&lines, k).last().cloned();
+    assert_eq!(last("Bact").as_deref(), Some("20.000"), "{lines:?}");
+    assert_eq!(last("Bmach").as_deref(), Some("20.000"));
+    assert_eq!(last("Cact").as_deref(), Some("15.000"));
+    assert_eq!(last("Cmach").as_deref(), Some("45.000"));
+    assert_eq!(last("Xmach").as_deref(), Some("10.000"));
+    // Every key of the data lines is one of the device file's ids (a condition's line, or a
+    // message's, carries one key and its fields).
+    for l in lines.iter().filter(|l| !l.starts_with('*')) {
+        let f: Vec<&str> = l.split('|').collect();
+        let key = f.get(1).copied().unwrap_or("");
+        assert!(ids.contains(&key), "{key} of {l} is not in the device file");
+    }
+    let _ = std::fs::remove_dir_all(d);
+}

@@ -29,6 +29,7 @@ usage:
   novanc run --machine citizen DIR [--parts N] [--record ..] [--realtime] [--feed-override PCT]
   novanc tape read IMAGE [--block-parity] [--holes]
   novanc tape punch FILE --code iso|eia [--leader N] [--label TEXT] -o IMAGE
+  novanc mtconnect-devices [--machine M]      the MTConnect device file of the machine
 
 Each subcommand has --help.
 ";
@@ -61,6 +62,7 @@ pub fn main(argv: Vec<String>) -> i32 {
         Some("edit") => edit::main(&rest[1..]),
         Some("script") => script::main(&rest[1..]),
         Some("tape") => tape::main(&rest[1..]),
+        Some("mtconnect-devices") => mtconnect::devices_main(&rest[1..]),
         Some("-h") | Some("--help") | Some("help") => {
             print!("{USAGE}");
             0

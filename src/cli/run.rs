@@ -276,8 +276,14 @@ pub fn main(argv: &[String]) -> i32 {
         wpo: Some(crate::mtconnect::items::wpo_table(&src.offsets.0)),
         program_alarm: None,
         pulse_mm: settings.pulse_mm,
-        // No console, no POS: positions in G54 (where a run starts), without the tool length.
-        work_origin: src.offsets.0[0],
+        // No console, no POS: positions in G54 (where a run starts), without the tool length;
+        // a rotary axis's G54 offset as the state directory keeps it.
+        work_origin: {
+            let (o, b) = (src.offsets.0[0], crate::gcode::state::system_base(0));
+            let kept = |n: usize| params.iter().find(|p| p.0 == n).map_or(0.0, |p| p.1);
+            [o[0], o[1], o[2], kept(b + 4), kept(b + 5), kept(b + 6)]
+        },
+        rotary_mask: settings.rotary_mask(),
         tooloffsets: Some(tool_table),
         waiting: false,
         fault: None,

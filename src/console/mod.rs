@@ -466,10 +466,12 @@ impl Console {
         self.mem.subroutines()
     }
 
-    /// What is subtracted from the axis position (machine mm) to give the work position POS
-    /// shows: the active system's zero with G92, and the tool length in force on Z.
-    pub fn work_origin(&self) -> [f64; 3] {
-        pages::work_origin(self).1
+    /// What is subtracted from the axis position (machine mm, a rotary axis's degrees) to give
+    /// the work position POS shows: the active system's zero with G92, and the tool length in
+    /// force on Z; X Y Z A B C.
+    pub fn work_origin(&self) -> [f64; crate::block::MAX_AXES] {
+        let (o, r) = (pages::work_origin(self).1, pages::rotary_work_offset(self));
+        [o[0], o[1], o[2], r[0], r[1], r[2]]
     }
 
     /// The pulse core (tests read its audit of block ends).

@@ -256,6 +256,7 @@ impl Feed {
             program_alarm: c.program_alarm().map(|a| a.error.to_string()),
             pulse_mm: c.settings().pulse_mm,
             work_origin: c.work_origin(),
+            rotary_mask: c.settings().rotary_mask(),
             tooloffsets: Some(crate::mtconnect::items::tool_table(&tool_offsets(
                 &c.magazine(),
             ))),
@@ -341,7 +342,8 @@ fn lathe_items(
             wpo: None,
             program_alarm: None,
             pulse_mm,
-            work_origin: [0.0; 3],
+            work_origin: [0.0; crate::block::MAX_AXES],
+            rotary_mask: 0,
             tooloffsets: None,
             waiting: p.sync.is_some_and(|v| v.waits_on.is_some()),
             fault: p.sync.and_then(|v| v.fault.clone()),

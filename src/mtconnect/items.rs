@@ -22,10 +22,13 @@ pub struct Modes {
     pub program_alarm: Option<String>,
     /// mm per pulse.
     pub pulse_mm: f64,
-    /// What is subtracted from the axis position (machine mm) to give the work position POS
-    /// shows: the active system's zero with G92, and on Z the tool length in force
-    /// (`console::pages::pos::work_origin`).
-    pub work_origin: [f64; 3],
+    /// What is subtracted from the axis position (machine mm, a rotary axis's degrees) to give
+    /// the work position POS shows: the active system's zero with G92, and on Z the tool length
+    /// in force (`console::pages::pos::work_origin`, `rotary_work_offset`), X Y Z A B C.
+    pub work_origin: [f64; crate::block::MAX_AXES],
+    /// The rotary axes the path has besides X Y Z (`MachineSettings::rotary_mask`: A 1, B 2,
+    /// C 4): each has its `act` and `mach` items, in degrees.
+    pub rotary_mask: u8,
     /// The `tooloffsets` table ([`tool_table`]). None: not sent (the lathe).
     pub tooloffsets: Option<String>,
     /// The path stands at a sync point waiting for another (a lathe channel): Execution WAIT.
@@ -44,16 +47,24 @@ pub struct Modes {
 #[derive(Clone, Debug)]
 pub struct PathKeys {
     prefix: String,
-    /// Index into the status's axes, and the axis letter of the keys (`Xact`, `Xmach`).
-    axes: &'static [(usize, &'static str)],
+    /// Index into the status's axes, and the axis letter of the keys (`Xact`, `Xmach`; a rotary
+    /// axis's `Aact`, `Amach` in degrees).
+    axes: Vec<(usize, &'static str)>,
 }
 
 impl PathKeys {
-    /// The mill's one path: X, Y, Z, keys unprefixed.
-    pub fn mill() -> PathKeys {
+    /// The mill's one path: X, Y, Z and the rotary axes of `rotary_mask` (A 1, B 2, C 4),
+    /// keys unprefixed.
+    pub fn mill(rotary_mask: u8) -> PathKeys {
+        let mut axes = vec![(0, "X"), (1, "Y"), (2, "Z")];
+        for (r, l) in ["A", "B", "C"].into_iter().enumerate() {
+            if rotary_mask & (1 << r) != 0 {
+                axes.push((crate::block::FIRST_ROTARY + r, l));
+            }
+        }
         PathKeys {
             prefix: String::new(),
-            axes: &[(0, "X"), (1, "Y"), (2, "Z")],
+            axes,
         }
     }
 
@@ -61,8 +72,18 @@ impl PathKeys {
     pub fn lathe(n: usize) -> PathKeys {
         PathKeys {
             prefix: format!("p{n}_"),
-            axes: &[(0, "X"), (2, "Z")],
+            axes: vec![(0, "X"), (2, "Z")],
         }
+    }
+
+    /// The path's axes: index into the status's axes, and letter.
+    pub fn axes(&self) -> &[(usize, &'static str)] {
+        &self.axes
+    }
+
+    /// The prefix of the path's keys (`p2_`; the mill's none).
+    pub fn prefix(&self) -> &str {
+        &self.prefix
     }
 
     fn key(&self, k: &'static str) -> Key {
@@ -167,7 +188,7 @@ pub fn tool_table(tools: &[(u32, [f64; 4])]) -> String {
 /// Every data item of the mill (the controller's and its one path's) and its value.
 pub fn items(s: &Status, m: &Modes) -> Vec<(Key, String)> {
     let mut v = controller_items(s.estop, s.alarm.as_deref(), m.message.as_deref());
-    v.extend(path_items(s, m, &PathKeys::mill()));
+    v.extend(path_items(s, m, &PathKeys::mill(m.rotary_mask)));
     v
 }
 
@@ -255,6 +276,46 @@ impl ControllerItem {
     }
 }
 
+/// Where a path's data item stands in the device model (`devices::xml`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Place {
+    /// Under the path's axis (its place in `PathKeys::axes`).
+    Axis(usize),
+    /// Under the path's spindle.
+    Spindle,
+    /// Under the path itself.
+    Path,
+}
+
+/// A path's data items for the device file: where each stands, its id (the key sent) and its
+/// element's other attributes, in the order sent; `tables`: with `wpo` and `tooloffsets`.
+pub(super) fn device_items(k: &PathKeys, tables: bool) -> Vec<(Place, Key, &'static str)> {
+    PathItem::list_with(k, tables, tables)
+        .into_iter()
+        .map(|it| {
+            let (place, attrs) = it.device(k);
+            (place, it.key(k), attrs)
+        })
+        .collect()
+}
+
+/// The controller's data items for the device file: the device's (`avail`) first, then the
+/// controller's, each with its id and other attributes.
+pub(super) fn device_controller_items() -> Vec<(&'static str, &'static str)> {
+    CONTROLLER
+        .iter()
+        .map(|it| {
+            let attrs = match it {
+                ControllerItem::Avail => r#"category="EVENT" type="AVAILABILITY""#,
+                ControllerItem::Estop => r#"category="EVENT" type="EMERGENCY_STOP""#,
+                ControllerItem::Message => r#"category="EVENT" type="MESSAGE""#,
+                ControllerItem::System => r#"category="CONDITION" type="SYSTEM""#,
+            };
+            (it.key(), attrs)
+        })
+        .collect()
+}
+
 /// A data item of a path. An axis's items hold its place in the path's axes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum PathItem {
@@ -281,19 +342,92 @@ enum PathItem {
 impl PathItem {
     /// The path's items in the order sent: the tables only when the modes have them.
     fn list(k: &PathKeys, m: &Modes) -> Vec<PathItem> {
+        PathItem::list_with(k, m.wpo.is_some(), m.tooloffsets.is_some())
+    }
+
+    /// The path's items in the order sent, with the tables asked for.
+    fn list_with(k: &PathKeys, wpo: bool, tooloffsets: bool) -> Vec<PathItem> {
         use PathItem::*;
         let mut v = vec![Mode, Exec, Program, Block, Line];
         v.extend((0..k.axes.len()).map(Act));
         v.extend((0..k.axes.len()).map(Mach));
         v.extend([Feedrate, Fovr, Rovr, Sovr, Srpm, Tool, Partcount]);
-        if m.wpo.is_some() {
+        if wpo {
             v.push(Wpo);
         }
-        if m.tooloffsets.is_some() {
+        if tooloffsets {
             v.push(ToolOffsets);
         }
         v.extend([Motion, Logic]);
         v
+    }
+
+    /// Where the item stands in the device model, and its `DataItem` element's attributes
+    /// after the id (docs/mtconnect/Devices.xml: the schema's names).
+    fn device(self, k: &PathKeys) -> (Place, &'static str) {
+        use PathItem::*;
+        let rotary = |i: usize| k.axes[i].0 >= crate::block::FIRST_ROTARY;
+        match self {
+            Act(i) if rotary(i) => (
+                Place::Axis(i),
+                r#"category="SAMPLE" type="ANGLE" subType="ACTUAL" units="DEGREE" coordinateSystem="WORK""#,
+            ),
+            Mach(i) if rotary(i) => (
+                Place::Axis(i),
+                r#"category="SAMPLE" type="ANGLE" subType="ACTUAL" units="DEGREE" coordinateSystem="MACHINE""#,
+            ),
+            Act(i) => (
+                Place::Axis(i),
+                r#"category="SAMPLE" type="POSITION" subType="ACTUAL" units="MILLIMETER" coordinateSystem="WORK""#,
+            ),
+            Mach(i) => (
+                Place::Axis(i),
+                r#"category="SAMPLE" type="POSITION" subType="ACTUAL" units="MILLIMETER" coordinateSystem="MACHINE""#,
+            ),
+            Srpm => (
+                Place::Spindle,
+                r#"category="SAMPLE" type="ROTARY_VELOCITY" subType="ACTUAL" units="REVOLUTION/MINUTE""#,
+            ),
+            Sovr => (
+                Place::Spindle,
+                r#"category="EVENT" type="ROTARY_VELOCITY_OVERRIDE" units="PERCENT""#,
+            ),
+            Mode => (Place::Path, r#"category="EVENT" type="CONTROLLER_MODE""#),
+            Exec => (Place::Path, r#"category="EVENT" type="EXECUTION""#),
+            Program => (Place::Path, r#"category="EVENT" type="PROGRAM""#),
+            Block => (Place::Path, r#"category="EVENT" type="BLOCK""#),
+            Line => (
+                Place::Path,
+                r#"category="EVENT" type="LINE_NUMBER" subType="ABSOLUTE""#,
+            ),
+            Feedrate => (
+                Place::Path,
+                r#"category="SAMPLE" type="PATH_FEEDRATE" subType="ACTUAL" units="MILLIMETER/SECOND""#,
+            ),
+            Fovr => (
+                Place::Path,
+                r#"category="EVENT" type="PATH_FEEDRATE_OVERRIDE" subType="PROGRAMMED" units="PERCENT""#,
+            ),
+            Rovr => (
+                Place::Path,
+                r#"category="EVENT" type="PATH_FEEDRATE_OVERRIDE" subType="RAPID" units="PERCENT""#,
+            ),
+            Tool => (Place::Path, r#"category="EVENT" type="TOOL_NUMBER""#),
+            Partcount => (
+                Place::Path,
+                r#"category="EVENT" type="PART_COUNT" subType="ALL""#,
+            ),
+            Wpo => (
+                Place::Path,
+                r#"category="EVENT" type="WORK_OFFSET" representation="TABLE""#,
+            ),
+            ToolOffsets => (
+                Place::Path,
+                r#"category="EVENT" type="TOOL_OFFSET" representation="TABLE""#,
+            ),
+            Logic => (Place::Path, r#"category="CONDITION" type="LOGIC_PROGRAM""#),
+            Motion => (Place::Path, r#"category="CONDITION" type="MOTION_PROGRAM""#),
+        }
     }
 
     fn key(self, k: &PathKeys) -> Key {
@@ -533,10 +667,12 @@ impl Current {
 
     /// Takes the mill's snapshot: the same values as [`items`], made only where they changed.
     pub fn update_mill(&mut self, s: &Status, m: &Modes) {
-        let k = PathKeys::mill();
+        let k = PathKeys::mill(m.rotary_mask);
         let fits = self.mill.as_ref().is_some_and(|p| {
             p.contains(&PathItem::Wpo) == m.wpo.is_some()
                 && p.contains(&PathItem::ToolOffsets) == m.tooloffsets.is_some()
+                && p.contains(&PathItem::Act(k.axes.len() - 1))
+                && !p.contains(&PathItem::Act(k.axes.len()))
         });
         if !fits {
             self.replace(items(s, m));
@@ -619,7 +755,8 @@ mod tests {
             wpo: Some(wpo_table(&[[0.0; 3]; 6])),
             program_alarm: None,
             pulse_mm: 0.001,
-            work_origin: [0.0; 3],
+            work_origin: [0.0; 6],
+            rotary_mask: 0,
             tooloffsets: Some(String::new()),
             waiting: false,
             fault: None,
@@ -638,7 +775,7 @@ mod tests {
             ..Status::default()
         };
         let mut m = modes();
-        m.work_origin = [10.0, -5.0, 150.0];
+        m.work_origin = [10.0, -5.0, 150.0, 0.0, 0.0, 0.0];
         m.tooloffsets = Some(tool_table(&[
             (1, [150.0, 5.0, -0.02, 0.01]),
             (3, [90.5, 3.0, 0.0, 0.0]),

@@ -2,6 +2,7 @@
 //! core's status and the console's modes (`items`), the SHDR line format (`shdr`), and the TCP
 //! server that streams them to agents (`server`). Plain TCP from std.
 
+pub mod devices;
 pub mod feed;
 pub mod items;
 pub mod options;

@@ -35,7 +35,7 @@ use super::Console;
 pub use crate::panel_model::Page;
 use novanc_panel::Key;
 pub(super) use pos::length_in_force;
-pub(crate) use pos::work_origin;
+pub(crate) use pos::{rotary_work_offset, work_origin};
 
 /// The pages' state.
 #[derive(Debug)]
