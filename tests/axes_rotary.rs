@@ -788,3 +788,37 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The rotary axes' jog keys (stop 54; before, only HANDLE, scripts and the window's wheel
+/// could turn them): Alt+a selects the handwheel's axis, and Alt+, / Alt+. jog it in STEP (one
+/// increment) and CONTINUOUS (a tap, one increment), as the arrows jog X and Y; in HANDLE they
+/// stay the wheel's detents.
+#[test]
+fn alt_comma_and_period_jog_the_selected_rotary_axis() {
+    let dir = temp_dir("axes-jog-keys");
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    let so = script_run(
+        &dir,
+        &[desc.to_str().unwrap()],
+        "state",
+        "key Alt+a\nkey Alt+a\nkey Alt+a\nkey Alt+a\nop STEP\nwheelscale 1000\n\
+         key Alt+.\nwait\nkey Alt+.\nwait\nop CONTINUOUS\nkey Alt+,\nwait\n\
+         key Alt+a\nop HANDLE\nkey Alt+.\nwait\nkey Ctrl+P\nshow\n",
+    );
+    let row = |r: &str| -> Vec<String> {
+        so.lines()
+            .map(|l| l.trim_start_matches('|'))
+            .find(|l| l.starts_with(r))
+            .unwrap_or_else(|| panic!("no {r} row:\n{so}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    // C: +1 +1 in STEP, -1 in CONTINUOUS; then the selector goes round to X, and a detent of
+    // the wheel in HANDLE moves X by its increment.
+    assert_eq!(row("C")[3], "1.000", "{so}");
+    assert_eq!(row("B")[3], "0.000", "{so}");
+    assert_eq!(row("X")[3], "1.000", "{so}");
+    let _ = std::fs::remove_dir_all(dir);
+}

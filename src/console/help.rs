@@ -21,6 +21,7 @@ pub const HELP: &[&str] = &[
     "Handwheel (HANDLE)           arrows/PgUp/PgDn: 1 detent on that axis",
     "                             Alt+, Alt+. turn the wheel; Alt+w x1 x10 x100 x1000",
     "                             Alt+a the wheel's axis: X Y Z and the rotary A B C",
+    "                             (CONTINUOUS, STEP: Alt+, Alt+. jog the wheel's axis)",
     "STEP increment               Alt+w: 0.001 0.01 0.1 1 mm (a CONTINUOUS tap: one step)",
     "Data keys (DATA INPUT, MDI)  type; Enter = EOB; Backspace = RUBOUT",
     "Tape reader                  type the file path, then Alt+t; START reads it",

@@ -276,7 +276,13 @@ pub(crate) fn press<C: Keyed>(c: &mut C, k: Key) {
         },
         Action::Override(d) => PanelEvent::Override((feed as i32 + d).clamp(0, 150) as u32),
         Action::WheelScale => PanelEvent::WheelScale(super::manual::next_scale(wheel.1)),
-        Action::Wheel(n) => PanelEvent::Wheel(wheel.0, n),
+        // The handwheel's keys jog its selected axis in CONTINUOUS and STEP (a pendant's axis
+        // selector and jog buttons): the rotary axes' jog keys, since stop 54.
+        Action::Wheel(n) => match op {
+            OpMode::Continuous => return hold(c, k, wheel.0, n.signum() as i8),
+            OpMode::Step => PanelEvent::Jog(wheel.0, n.signum() as i8),
+            _ => PanelEvent::Wheel(wheel.0, n),
+        },
         Action::WheelAxis => {
             let s = c.axis_settings();
             let list: Vec<usize> = s.axis_list().collect();

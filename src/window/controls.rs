@@ -353,7 +353,10 @@ pub fn wheel_selectors(
                 .selectable_label(hand.wheel_axis == a, a.letter().to_string())
                 .clicked()
             {
+                // The console's selector too (the terminal's Alt+a): its Alt+, and Alt+. act on
+                // it, a detent in HANDLE, a jog in CONTINUOUS and STEP.
                 hand.wheel_axis = a;
+                out.push(PanelEvent::Wheel(a, 0));
             }
         }
     });

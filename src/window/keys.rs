@@ -95,10 +95,11 @@ pub fn data_keys(ui: &mut Ui, hand: &mut HandState, out: &mut Vec<PanelEvent>) {
 /// docs/panel.md), so an operator can go from the terminal to the window and back. Typed text
 /// is `Char` (not with Alt or Ctrl held); Enter, Backspace, Tab, Esc, Home, End, Delete, the
 /// arrows and pages, F1–F12, Alt with a letter, a digit or `= + - , . [ ]`, Ctrl with a letter.
-/// Two things the window knows better than a terminal:
-/// - a held axis key in CONTINUOUS (`jogs`: the selector there, no page but POS up) stops its
-///   jog when it is let go (`JogRelease`), not 150 ms after its last repeat;
-/// - Alt+, and Alt+. turn the handwheel whose axis the window's selector shows.
+/// One thing the window knows better than a terminal: a held axis key in CONTINUOUS (`jogs`:
+/// the selector there, no page but POS up) stops its jog when it is let go (`JogRelease`), not
+/// 150 ms after its last repeat. Alt+, and Alt+. are the terminal's keys (before stop 54 the
+/// window's own): the handwheel (HANDLE) or a jog (CONTINUOUS, STEP) of the axis the console's
+/// selector (Alt+a, the window's selector) shows.
 ///
 /// Returns the events and whether a quit key of the terminal (Ctrl-C, Alt+q) was pressed: it
 /// closes the window. Before stop 49 the centre's window had a key map of its own, without
@@ -163,10 +164,6 @@ pub fn keyboard(
         };
         match k {
             Some(Key::Alt('q') | Key::Ctrl('c')) => quit = true,
-            Some(Key::Alt(c @ (',' | '.'))) => out.push(PanelEvent::Wheel(
-                hand.wheel_axis,
-                if c == '.' { 1 } else { -1 },
-            )),
             Some(k) => out.push(PanelEvent::Press(k)),
             None => {}
         }
@@ -234,8 +231,8 @@ fn terminal_key(key: egui::Key, m: egui::Modifiers) -> Option<Key> {
 }
 
 /// The terminal key of an axis direction: X on Left/Right, Y on Up/Down, Z on PgUp/PgDn. The
-/// rotary axes have no jog key (they are turned by the handwheel, its axis selected with
-/// Alt+a): their directions are the wheel's keys, Alt+. and Alt+,.
+/// rotary axes' are the handwheel's keys, Alt+. and Alt+, (the axis selected with Alt+a or the
+/// window's selector): a detent in HANDLE, a jog in CONTINUOUS and STEP.
 pub fn arrow_key(axis: Axis, dir: i8) -> Key {
     match (axis, dir > 0) {
         (Axis::X, false) => Key::Left,
@@ -337,19 +334,15 @@ mod tests {
             Delete,
         ];
         assert_eq!((out, quit), (presses(&want), false));
-        // Alt+, and Alt+. turn the handwheel the window's selector shows.
+        // Alt+, and Alt+. are the terminal's keys: the pipeline turns the handwheel on the
+        // console's selected axis in HANDLE and jogs it in CONTINUOUS and STEP (the window's
+        // selector sets the console's).
         let evs = [
             key(egui::Key::Comma, true, false, true),
             key(egui::Key::Period, true, false, true),
         ];
         let out = run(&evs, false, &mut h).0;
-        assert_eq!(
-            out,
-            [
-                PanelEvent::Wheel(Axis::Z, -1),
-                PanelEvent::Wheel(Axis::Z, 1)
-            ]
-        );
+        assert_eq!(out, presses(&[Alt(','), Alt('.')]));
     }
 
     #[test]
