@@ -375,19 +375,10 @@ fn rs274_bc(prog: &Path, dir: &Path) -> Option<Vec<[f64; 2]>> {
 #[test]
 fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let dir = temp_dir("axes-bc");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
-    let prog = dir.join("five.ngc");
-    std::fs::write(&prog, FIVE).unwrap();
-    let (prog_s, desc_s) = (prog.to_str().unwrap(), desc.to_str().unwrap());
     // The listing: B and C on the blocks that turn them.
-    let out = novanc(&["translate", prog_s, "--machine", desc_s]);
-    let listing = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (listing, prog) = translate_on_trunnion(&dir, "five", FIVE);
+    let desc = dir.join("trunnion.machine");
+    let (prog_s, desc_s) = (prog.to_str().unwrap(), desc.to_str().unwrap());
     let got = listed_bc(&listing);
     let want = bc_rule(FIVE);
     assert_eq!(
@@ -454,17 +445,12 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// G28 and G30 bring the rotary axes home as LinuxCNC does: through the intermediate point
-/// of their words, the named ones (or, with no axis word, every one) to #5164–#5166 or
-/// #5184–#5186, which G28.1 sets. Before stop 53 a bare G28 left B and C where they stood,
-/// and `G28 C10` was refused.
-#[test]
-fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
-    let dir = temp_dir("axes-home");
+/// `novanc translate` of `text` (written to `dir/NAME.ngc`) on the trunnion: its listing,
+/// having succeeded, and the program's path.
+fn translate_on_trunnion(dir: &Path, name: &str, text: &str) -> (String, std::path::PathBuf) {
     let desc = dir.join("trunnion.machine");
     std::fs::write(&desc, TRUNNION).unwrap();
-    let text = "G21 G90\nG0 X10 B30 C45\nG28\nG0 X20 B20 C20\nG91 G28 C10 X5\nG90 G0 C50\nG30 B0\nG0 B15 C25\nG28.1\nG0 B0 C0\nG28\nM2\n";
-    let prog = dir.join("home.ngc");
+    let prog = dir.join(format!("{name}.ngc"));
     std::fs::write(&prog, text).unwrap();
     let out = novanc(&[
         "translate",
@@ -472,12 +458,23 @@ fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
         "--machine",
         desc.to_str().unwrap(),
     ]);
-    let listing = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    (String::from_utf8_lossy(&out.stdout).to_string(), prog)
+}
+
+/// G28 and G30 bring the rotary axes home as LinuxCNC does: through the intermediate point
+/// of their words, the named ones (or, with no axis word, every one) to #5164–#5166 or
+/// #5184–#5186, which G28.1 sets. Before stop 53 a bare G28 left B and C where they stood,
+/// and `G28 C10` was refused.
+#[test]
+fn g28_and_g30_bring_b_and_c_home_as_linuxcnc_does() {
+    let dir = temp_dir("axes-home");
+    let text = "G21 G90\nG0 X10 B30 C45\nG28\nG0 X20 B20 C20\nG91 G28 C10 X5\nG90 G0 C50\nG30 B0\nG0 B15 C25\nG28.1\nG0 B0 C0\nG28\nM2\n";
+    let (listing, prog) = translate_on_trunnion(&dir, "home", text);
     let got = listed_bc(&listing);
     // Worked out by LinuxCNC's rule (interp_convert.cc convert_home): G91 G28 C10 passes C
     // at 30 and sends C alone home; G30 B0's end is where it passes (#5185 is 0); the last
@@ -654,22 +651,7 @@ const OFFSETS: &str = "G21 G90 G94\nG10 L2 P1 B10 C30\nG54 G0 X100 Y100 Z-50 B0 
 #[test]
 fn rotary_work_offsets_and_g92_turn_b_and_c_as_linuxcnc_does() {
     let dir = temp_dir("axes-offsets");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
-    let prog = dir.join("offsets.ngc");
-    std::fs::write(&prog, OFFSETS).unwrap();
-    let out = novanc(&[
-        "translate",
-        prog.to_str().unwrap(),
-        "--machine",
-        desc.to_str().unwrap(),
-    ]);
-    let listing = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (listing, prog) = translate_on_trunnion(&dir, "offsets", OFFSETS);
     // Each turn's program (B, C) and the offsets then in force (system + G92): G54 B10 C30;
     // L20 makes C read 90 at machine -15 (G54 C -105); G92 B0 at program B 20 (G92 B 20);
     // G53 to machine 0; G52 C10; G92.1; G92 C20 at program C 0 (G92 C -20), suspended by

@@ -105,16 +105,12 @@ fn the_citizen_streams_three_paths_to_the_stand_in_agent() {
     );
 }
 
-/// Runs `novanc script SCRIPT ARGS --mtconnect PORT --mtconnect-wait 30` and the stand-in
-/// agent `tests/mtconnect_agent.py FLAGS PORT docs/mtconnect/DEVICES REST` on it; both must
-/// pass. Returns quietly when Python is missing outside CI (the helper says so loudly).
-fn script_to_the_stand_in_agent(
+/// Starts `novanc script SCRIPT ARGS --mtconnect PORT --mtconnect-wait 30` on a free port: the
+/// port and the process, which waits for an agent.
+fn script_for_an_agent(
     script: &std::path::Path,
     args: &[&std::ffi::OsStr],
-    devices: &str,
-    flags: &[&std::ffi::OsStr],
-    rest: &[&std::ffi::OsStr],
-) {
+) -> (u16, std::process::Child) {
     let port = free_port();
     let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
         .arg("script")
@@ -126,6 +122,20 @@ fn script_to_the_stand_in_agent(
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    (port, child)
+}
+
+/// Runs `novanc script SCRIPT ARGS --mtconnect PORT --mtconnect-wait 30` and the stand-in
+/// agent `tests/mtconnect_agent.py FLAGS PORT docs/mtconnect/DEVICES REST` on it; both must
+/// pass. Returns quietly when Python is missing outside CI (the helper says so loudly).
+fn script_to_the_stand_in_agent(
+    script: &std::path::Path,
+    args: &[&std::ffi::OsStr],
+    devices: &str,
+    flags: &[&std::ffi::OsStr],
+    rest: &[&std::ffi::OsStr],
+) {
+    let (port, child) = script_for_an_agent(script, args);
     let devices = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("docs/mtconnect")
         .join(devices);
@@ -587,20 +597,16 @@ fn a_trunnion_streams_its_table_s_angles_as_its_device_file_names_them() {
         "op MDI\ntype G10 L2 P1 C30\nstart\nwait\ntype G54 G0 X10 B20 C15\nstart\nwait\n",
     )
     .unwrap();
-    let port = free_port();
-    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .arg("script")
-        .arg(&script)
-        .arg("--machine")
-        .arg(&desc)
-        .arg("--state")
-        .arg(d.join("state"))
-        .args(["--mtconnect", &format!("127.0.0.1:{port}")])
-        .args(["--mtconnect-wait", "30"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let state = d.join("state");
+    let (port, child) = script_for_an_agent(
+        &script,
+        &[
+            "--machine".as_ref(),
+            desc.as_os_str(),
+            "--state".as_ref(),
+            state.as_os_str(),
+        ],
+    );
     let lines = read_all(connect(port));
     let out = child.wait_with_output().unwrap();
     assert!(

@@ -473,6 +473,12 @@ impl InterpState {
         std::array::from_fn(|r| self.origin_abc[r] + self.g92_abc[r])
     }
 
+    /// The G92 offset in force on every axis: X Y Z (mm), then A B C (degrees).
+    pub fn g92_all(&self) -> [f64; crate::block::MAX_AXES] {
+        let (l, r) = (self.g92, self.g92_abc);
+        [l[0], l[1], l[2], r[0], r[1], r[2]]
+    }
+
     /// Where the rotary axes stand in the program frame, degrees (#5423–#5425).
     pub fn prog_abc(&self) -> [f64; 3] {
         let o = self.abc_offset();

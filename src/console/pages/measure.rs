@@ -33,15 +33,7 @@ pub(super) fn enter(c: &mut Console, rest: &str) -> Result<String, String> {
         return Err("OFS MEASURE refused: the machine is moving; STOP first".into());
     }
     let (len, _) = super::pos::length_in_force(c);
-    let g = &c.interp;
-    let g92 = [
-        g.g92[0],
-        g.g92[1],
-        g.g92[2],
-        g.g92_abc[0],
-        g.g92_abc[1],
-        g.g92_abc[2],
-    ];
+    let g92 = c.interp.g92_all();
     match system {
         Some(cs) => {
             // Where the tip (a rotary axis: the table) stands reads the value given.

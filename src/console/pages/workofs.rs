@@ -190,15 +190,7 @@ pub(super) fn compose(
         table.push(line);
     }
     // G92 in force (shown, not set here: MDI G92 / G92.1 set it).
-    let g = &c.interp;
-    let g92 = [
-        g.g92[0],
-        g.g92[1],
-        g.g92[2],
-        g.g92_abc[0],
-        g.g92_abc[1],
-        g.g92_abc[2],
-    ];
+    let g92 = c.interp.g92_all();
     if axes.iter().any(|&a| g92[a] != 0.0) {
         let mut line = format!("{:<6}", "G92");
         for &a in &axes {
