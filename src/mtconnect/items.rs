@@ -49,22 +49,29 @@ pub struct PathKeys {
     prefix: String,
     /// Index into the status's axes, and the axis letter of the keys (`Xact`, `Xmach`; a rotary
     /// axis's `Aact`, `Amach` in degrees).
-    axes: Vec<(usize, &'static str)>,
+    axes: &'static [(usize, &'static str)],
 }
+
+/// The mill's axes for each set of rotary axes (A 1, B 2, C 4): made once, so that a snapshot
+/// allocates no key list.
+const MILL_AXES: [&[(usize, &str)]; 8] = [
+    &[(0, "X"), (1, "Y"), (2, "Z")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (3, "A")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (4, "B")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (3, "A"), (4, "B")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (5, "C")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (3, "A"), (5, "C")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (4, "B"), (5, "C")],
+    &[(0, "X"), (1, "Y"), (2, "Z"), (3, "A"), (4, "B"), (5, "C")],
+];
 
 impl PathKeys {
     /// The mill's one path: X, Y, Z and the rotary axes of `rotary_mask` (A 1, B 2, C 4),
     /// keys unprefixed.
     pub fn mill(rotary_mask: u8) -> PathKeys {
-        let mut axes = vec![(0, "X"), (1, "Y"), (2, "Z")];
-        for (r, l) in ["A", "B", "C"].into_iter().enumerate() {
-            if rotary_mask & (1 << r) != 0 {
-                axes.push((crate::block::FIRST_ROTARY + r, l));
-            }
-        }
         PathKeys {
             prefix: String::new(),
-            axes,
+            axes: MILL_AXES[usize::from(rotary_mask & 7)],
         }
     }
 
@@ -72,13 +79,13 @@ impl PathKeys {
     pub fn lathe(n: usize) -> PathKeys {
         PathKeys {
             prefix: format!("p{n}_"),
-            axes: vec![(0, "X"), (2, "Z")],
+            axes: &[(0, "X"), (2, "Z")],
         }
     }
 
     /// The path's axes: index into the status's axes, and letter.
     pub fn axes(&self) -> &[(usize, &'static str)] {
-        &self.axes
+        self.axes
     }
 
     /// The prefix of the path's keys (`p2_`; the mill's none).
@@ -761,6 +768,21 @@ mod tests {
             waiting: false,
             fault: None,
             message: None,
+        }
+    }
+
+    #[test]
+    fn the_mill_s_axes_are_x_y_z_and_the_rotary_axes_of_its_mask() {
+        for mask in 0..8u8 {
+            let want: Vec<(usize, &str)> = [(0, "X"), (1, "Y"), (2, "Z")]
+                .into_iter()
+                .chain(
+                    [(3, "A"), (4, "B"), (5, "C")]
+                        .into_iter()
+                        .filter(|&(a, _)| mask & (1 << (a - 3)) != 0),
+                )
+                .collect();
+            assert_eq!(PathKeys::mill(mask).axes(), want.as_slice(), "mask {mask}");
         }
     }
 
