@@ -633,8 +633,9 @@ pub struct Current {
     pub values: Vec<(Key, String)>,
     /// The indices in `values` of the items the last update changed.
     pub changed: Vec<usize>,
-    /// The mill's path items `values` follow after the controller's (None: set by `replace`).
-    mill: Option<Vec<PathItem>>,
+    /// The mill's rotary axes (its `rotary_mask`) and its path items `values` follow after the
+    /// controller's (None: set by `replace`).
+    mill: Option<(u8, Vec<PathItem>)>,
     /// For each item, what its value was made from when it is a number.
     inputs: Vec<Option<[u64; 3]>>,
     scratch: String,
@@ -675,11 +676,10 @@ impl Current {
     /// Takes the mill's snapshot: the same values as [`items`], made only where they changed.
     pub fn update_mill(&mut self, s: &Status, m: &Modes) {
         let k = PathKeys::mill(m.rotary_mask);
-        let fits = self.mill.as_ref().is_some_and(|p| {
-            p.contains(&PathItem::Wpo) == m.wpo.is_some()
+        let fits = self.mill.as_ref().is_some_and(|(mask, p)| {
+            *mask == m.rotary_mask
+                && p.contains(&PathItem::Wpo) == m.wpo.is_some()
                 && p.contains(&PathItem::ToolOffsets) == m.tooloffsets.is_some()
-                && p.contains(&PathItem::Act(k.axes.len() - 1))
-                && !p.contains(&PathItem::Act(k.axes.len()))
         });
         if !fits {
             self.replace(items(s, m));
@@ -689,7 +689,7 @@ impl Current {
                 .map(|_| None)
                 .chain(path.iter().map(|it| it.input(s, m, &k)))
                 .collect();
-            self.mill = Some(path);
+            self.mill = Some((m.rotary_mask, path));
             return;
         }
         self.changed.clear();
@@ -701,7 +701,7 @@ impl Current {
         let Current {
             values,
             changed,
-            mill: Some(path),
+            mill: Some((_, path)),
             inputs,
             scratch,
             numbers_made,
