@@ -768,6 +768,15 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
         "the rotary columns' heading:\n{}",
         frames[1]
     );
+    // On a 40-column display three columns fit: they scroll with the cursor to C.
+    let so = script_run(
+        &dir,
+        &[d],
+        "state",
+        "key Ctrl+O\nkey End\nkey Right\nkey Right\nkey Right\nkey Right\nshow\n",
+    );
+    let g54 = row(&so, "G54");
+    assert_eq!(g54[1..], ["0.000", "-5.000", ">-45.000"], "{so}");
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -172,9 +172,15 @@ pub(super) fn compose(
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
     p.bottom.push(format!("> {}_", c.front.entry));
-    let axes = axes(c);
-    // Six axes fit 66 columns; X Y Z keep the 11 they had.
-    let w = if axes.len() > 3 { 10 } else { 11 };
+    let all = axes(c);
+    // X Y Z keep the 11 columns they had; more axes take 10 each, and those that do not fit
+    // the display (a 40-column plasma shows three) scroll with the cursor, as the rows do.
+    let w = if all.len() > 3 { 10 } else { 11 };
+    let shown = (cols.saturating_sub(6) / w).clamp(1, all.len());
+    let axis = axis.min(all.len() - 1);
+    let from = (axis + 1).saturating_sub(shown);
+    let axes = &all[from..from + shown];
+    let axis = axis - from;
     let mut table = Vec::new();
     for (i, name) in SYSTEM_NAMES.iter().enumerate() {
         let o = c.mem.system_offset_all(i);
@@ -191,9 +197,9 @@ pub(super) fn compose(
     }
     // G92 in force (shown, not set here: MDI G92 / G92.1 set it).
     let g92 = c.interp.g92_all();
-    if axes.iter().any(|&a| g92[a] != 0.0) {
+    if all.iter().any(|&a| g92[a] != 0.0) {
         let mut line = format!("{:<6}", "G92");
-        for &a in &axes {
+        for &a in axes {
             line.push_str(&format!("{:>w$}", format!("{:.3}", g92[a])));
         }
         table.push(line);
