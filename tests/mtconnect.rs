@@ -620,6 +620,12 @@ fn a_trunnion_streams_its_table_s_angles_as_its_device_file_names_them() {
     assert_eq!(last("Cact").as_deref(), Some("15.000"));
     assert_eq!(last("Cmach").as_deref(), Some("45.000"));
     assert_eq!(last("Xmach").as_deref(), Some("10.000"));
+    // The work offset table has the table's axes too.
+    let wpo = last("wpo").unwrap_or_default();
+    assert!(
+        wpo.starts_with("G54={X=0.000 Y=0.000 Z=0.000 B=0.000 C=30.000} G55={X=0.000"),
+        "{wpo}"
+    );
     // Every key of the data lines is one of the device file's ids (a condition's line, or a
     // message's, carries one key and its fields).
     for l in lines.iter().filter(|l| !l.starts_with('*')) {

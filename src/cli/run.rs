@@ -269,20 +269,24 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(f) => f,
         Err(e) => return fail(&format!("novanc run: {e}")),
     };
+    // The work offsets G54–G59 on every axis, a rotary axis's as the state directory keeps it.
+    let systems: [[f64; crate::block::MAX_AXES]; 6] = std::array::from_fn(|cs| {
+        let (o, b) = (src.offsets.0[cs], crate::gcode::state::system_base(cs));
+        let kept = |n: usize| params.iter().find(|p| p.0 == n).map_or(0.0, |p| p.1);
+        [o[0], o[1], o[2], kept(b + 4), kept(b + 5), kept(b + 6)]
+    });
     let modes = crate::mtconnect::Modes {
         mode: crate::mtconnect::items::controller_mode(crate::panel_model::OpMode::Auto),
         program: prog.clone(),
         partcount: 0,
-        wpo: Some(crate::mtconnect::items::wpo_table(&src.offsets.0)),
+        wpo: Some(crate::mtconnect::items::wpo_table(
+            &systems,
+            &settings.axis_list().collect::<Vec<_>>(),
+        )),
         program_alarm: None,
         pulse_mm: settings.pulse_mm,
-        // No console, no POS: positions in G54 (where a run starts), without the tool length;
-        // a rotary axis's G54 offset as the state directory keeps it.
-        work_origin: {
-            let (o, b) = (src.offsets.0[0], crate::gcode::state::system_base(0));
-            let kept = |n: usize| params.iter().find(|p| p.0 == n).map_or(0.0, |p| p.1);
-            [o[0], o[1], o[2], kept(b + 4), kept(b + 5), kept(b + 6)]
-        },
+        // No console, no POS: positions in G54 (where a run starts), without the tool length.
+        work_origin: systems[0],
         rotary_mask: settings.rotary_mask(),
         tooloffsets: Some(tool_table),
         waiting: false,

@@ -346,6 +346,12 @@ impl Console {
         }
     }
 
+    /// The zero of coordinate system `cs` (0 = G54) in the stores on every axis: X Y Z (machine
+    /// mm), then A B C (degrees).
+    pub fn system_offset_all(&self, cs: usize) -> [f64; crate::block::MAX_AXES] {
+        self.mem.system_offset_all(cs)
+    }
+
     /// The work offsets G54 to G59 in the stores, machine mm.
     pub fn work_offsets(&self) -> crate::gcode::WorkOffsets {
         self.mem.work_offsets()

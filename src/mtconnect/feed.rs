@@ -252,7 +252,10 @@ impl Feed {
             mode: crate::mtconnect::items::controller_mode(c.view().op_mode),
             program: c.program_name(),
             partcount: 0,
-            wpo: Some(crate::mtconnect::items::wpo_table(&c.work_offsets().0)),
+            wpo: Some(crate::mtconnect::items::wpo_table(
+                &std::array::from_fn(|cs| c.system_offset_all(cs)),
+                &c.settings().axis_list().collect::<Vec<_>>(),
+            )),
             program_alarm: c.program_alarm().map(|a| a.error.to_string()),
             pulse_mm: c.settings().pulse_mm,
             work_origin: c.work_origin(),

@@ -169,11 +169,19 @@ pub fn controller_mode(op: OpMode) -> &'static str {
     }
 }
 
-/// The `wpo` table of the work offsets G54–G59 (machine mm): `G54={X=… Y=… Z=…} G55=…`.
-pub fn wpo_table(offsets: &[[f64; 3]; 6]) -> String {
+/// The `wpo` table of the work offsets G54–G59 (machine mm, a rotary axis's degrees) on the
+/// machine's `axes` (indices into X Y Z A B C): `G54={X=… Y=… Z=…} G55=…`, `G54={X=… Y=… Z=…
+/// C=…}` on a machine with C (since stop 54).
+pub fn wpo_table(offsets: &[[f64; crate::block::MAX_AXES]; 6], axes: &[usize]) -> String {
     WPO.iter()
         .zip(offsets.iter())
-        .map(|(n, o)| format!("{n}={{X={:.3} Y={:.3} Z={:.3}}}", o[0], o[1], o[2]))
+        .map(|(n, o)| {
+            let cells: Vec<String> = axes
+                .iter()
+                .map(|&a| format!("{}={:.3}", crate::settings::AXIS_NAMES[a], o[a]))
+                .collect();
+            format!("{n}={{{}}}", cells.join(" "))
+        })
         .collect::<Vec<_>>()
         .join(" ")
 }
@@ -759,7 +767,7 @@ mod tests {
             mode: controller_mode(OpMode::Auto),
             program: "O0001".into(),
             partcount: 0,
-            wpo: Some(wpo_table(&[[0.0; 3]; 6])),
+            wpo: Some(wpo_table(&[[0.0; 6]; 6], &[0, 1, 2])),
             program_alarm: None,
             pulse_mm: 0.001,
             work_origin: [0.0; 6],
@@ -983,7 +991,7 @@ mod tests {
         m.program_alarm = some(61, "bad word");
         m.fault = some(67, "chuck");
         m.wpo = match i / 71 % 3 {
-            0 => Some(wpo_table(&[[0.0; 3]; 6])),
+            0 => Some(wpo_table(&[[0.0; 6]; 6], &[0, 1, 2])),
             1 => None,
             _ => Some("G54={X=1.000}".into()),
         };
