@@ -702,13 +702,18 @@ impl Session {
         // from them until the next motion brings it back).
         let now = self.c.status().machine_pos;
         let moved: Vec<i64> = (0..MAX_AXES).map(|a| now[a] - st.machine_pos[a]).collect();
+        // The arrows and pages are a page's cursor keys; the handwheel's keys, which no page
+        // takes, turn the wheel in HANDLE and jog in CONTINUOUS and STEP whatever page is up
+        // (a pendant's buttons do not follow the screen).
+        let wheel_key = name.starts_with("Alt+");
         let manual = matches!(
             v.op_mode,
             OpMode::Continuous | OpMode::Step | OpMode::Handle
-        ) && matches!(
-            v.page,
-            novanc::panel_model::Page::Mode | novanc::panel_model::Page::Pos
-        );
+        ) && (wheel_key
+            || matches!(
+                v.page,
+                novanc::panel_model::Page::Mode | novanc::panel_model::Page::Pos
+            ));
         for (a, d) in moved.iter().enumerate() {
             if a == axis && manual {
                 assert!(
