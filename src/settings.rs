@@ -15,6 +15,13 @@ pub struct MachineSettings {
     pub rapid_mm_min: f64,
     /// Path acceleration and deceleration, mm/s².
     pub accel_mm_s2: f64,
+    /// The rotary axes' own rates, A B C, degrees/min (infinite: none of its own): a move
+    /// that turns one is slowed so that it turns no faster (docs/pulse-core.md "Axes"). Since
+    /// stop 54; before, a rotary axis's rate joined `rapid_mm_min`, which limits the path
+    /// along X Y Z and so let a table turn many times its rate on a move with X Y Z.
+    pub rotary_rate_deg_min: [f64; 3],
+    /// The rotary axes' own accelerations, A B C, degrees/s² (infinite: none of its own).
+    pub rotary_accel_deg_s2: [f64; 3],
     /// Default clearance SCL above the surface where rapid advance ends, mm.
     pub clearance_mm: f64,
     /// What each axis is: linear (mm) or rotary (degrees, perhaps wrapped). X, Y and Z are
@@ -216,6 +223,8 @@ impl MachineSettings {
             pulse_mm: 0.001,
             rapid_mm_min: 12_000.0,
             accel_mm_s2: 1_000.0,
+            rotary_rate_deg_min: [f64::INFINITY; 3],
+            rotary_accel_deg_s2: [f64::INFINITY; 3],
             clearance_mm: 2.0,
             axis_kinds: Axes([AxisKind::Linear; crate::block::MAX_AXES]),
             travel_min_mm: Axes::from([0.0, 0.0, -600.0]),

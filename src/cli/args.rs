@@ -83,6 +83,8 @@ pub fn take_values(
 /// fanuc|linuxcnc`, taken out of its arguments the same way by every subcommand and both
 /// front ends.
 #[derive(Clone, Debug)]
+// Made once when a command starts: a mill's settings inline cost nothing worth a box.
+#[allow(clippy::large_enum_variant)]
 pub enum Machine {
     /// The machining centre: its description's settings when `--machine` named one (else the
     /// built-in centre), and the dialect asked for.

@@ -195,6 +195,8 @@ pub const MAX_TOOLS: usize = 99;
 
 /// A parsed machine description.
 #[derive(Clone, Debug, PartialEq)]
+// Made once when a command starts: a mill's settings inline cost nothing worth a box.
+#[allow(clippy::large_enum_variant)]
 pub enum MachineDesc {
     /// A machining centre: the pulse core's settings (axes X Y Z, and A if described).
     Mill(crate::settings::MachineSettings),
@@ -707,14 +709,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 for (r, given) in rotaries.iter().enumerate() {
                     let Some((a, wrap)) = given else { continue };
                     // A rotary axis: degrees, one pulse `pulse` degrees; its rate and
-                    // acceleration join the machine's as the linear axes' do
-                    // (docs/pulse-core.md, "Axes").
+                    // acceleration are its own, and slow a move that turns it
+                    // (docs/pulse-core.md, "Axes"). Until stop 54 they joined the path's
+                    // along X Y Z, which slowed every rapid and limited no turn.
                     let i = crate::block::FIRST_ROTARY + r;
                     s.axis_kinds[i] = crate::settings::AxisKind::Rotary { wrap: *wrap };
                     s.travel_min_mm[i] = a.travel[0];
                     s.travel_max_mm[i] = a.travel[1];
-                    s.rapid_mm_min = s.rapid_mm_min.min(a.rapid);
-                    s.accel_mm_s2 = s.accel_mm_s2.min(a.accel);
+                    s.rotary_rate_deg_min[r] = a.rapid;
+                    s.rotary_accel_deg_s2[r] = a.accel;
                 }
                 if let Some(sp) = &mill_spindle {
                     // The same words as a lathe channel's spindle (one description format):

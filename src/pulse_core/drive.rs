@@ -27,11 +27,25 @@ impl Drive {
     /// A line or rapid of `delta` pulses at path speed `speed` (pulses/ns), starting at `t0`.
     pub fn linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
         match s.interpolator {
-            Interpolator::Dda => Drive::Dda(Motion::linear(delta, speed, accel, t0)),
+            Interpolator::Dda => Drive::dda_linear(s, delta, speed, accel, t0),
             Interpolator::ErrorProportional => {
                 Drive::Ep(EpMotion::linear(delta.xyz(), speed, s.ep_l_pulses, t0))
             }
         }
+    }
+
+    /// A line of `delta` pulses by the DDA (a rapid, a feed, a jog or a return), no rotary axis
+    /// of it turning faster than its own rate or accelerating harder than its own
+    /// acceleration (`settings.rotary_rate_deg_min`, `rotary_accel_deg_s2`).
+    pub fn dda_linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
+        let rate = s
+            .rotary_rate_deg_min
+            .map(|r| super::motion::speed_pulses_ns(r, s.pulse_mm));
+        let acc = s
+            .rotary_accel_deg_s2
+            .map(|a| super::motion::accel_pulses_ns2(a, s.pulse_mm));
+        let caps = super::motion::rotary_limits(&delta, rate, acc);
+        Drive::Dda(Motion::linear_within(delta, speed, accel, t0, caps))
     }
 
     /// A thread pass of `delta` pulses, `lead_mm` per revolution along its major axis, geared

@@ -358,7 +358,34 @@ pub struct Motion {
     prof: Profile,
     /// Programmed path speed after override, pulses/ns.
     target: f64,
+    /// The highest path speed the axes allow, pulses/ns (a rotary axis's own rate on a move
+    /// that turns it: `rotary_limits`); a new target is held to it.
+    cap: f64,
     hold: bool,
+}
+
+/// The path speed (pulses/ns) and acceleration (pulses/ns²) at which no rotary axis of `delta`
+/// turns faster than its rate `rate` or accelerates harder than `accel` (A B C, in the same
+/// units; infinite: none of its own), on the path `Linear` measures: along X Y Z, or the
+/// rotary axes' combined turn when X Y Z stand (LinuxCNC limits each axis so). Infinite for a
+/// move that turns none.
+pub fn rotary_limits(delta: &Axes, rate: [f64; 3], accel: [f64; 3]) -> (f64, f64) {
+    let l = |a: usize| delta[a].unsigned_abs() as f64;
+    let xyz = (l(0) * l(0) + l(1) * l(1) + l(2) * l(2)).sqrt();
+    let len = if xyz > 0.0 {
+        xyz
+    } else {
+        (l(3) * l(3) + l(4) * l(4) + l(5) * l(5)).sqrt()
+    };
+    let (mut v, mut a) = (f64::INFINITY, f64::INFINITY);
+    for r in 0..3 {
+        let d = l(crate::block::FIRST_ROTARY + r);
+        if d > 0.0 {
+            v = v.min(rate[r] * len / d);
+            a = a.min(accel[r] * len / d);
+        }
+    }
+    (v, a)
 }
 
 /// Acceleration in pulses/ns² from mm/s² and the pulse length.
@@ -374,12 +401,26 @@ pub fn speed_pulses_ns(mm_min: f64, pulse_mm: f64) -> f64 {
 impl Motion {
     /// A linear move of `delta` pulses starting at rest at time `t0`.
     pub fn linear(delta: Axes, speed: f64, accel: f64, t0: u64) -> Motion {
+        Motion::linear_within(delta, speed, accel, t0, (f64::INFINITY, f64::INFINITY))
+    }
+
+    /// [`Motion::linear`] within `(cap, accel_cap)`: its speed, now and after any override,
+    /// and its acceleration held to them ([`rotary_limits`]).
+    pub fn linear_within(
+        delta: Axes,
+        speed: f64,
+        accel: f64,
+        t0: u64,
+        (cap, accel_cap): (f64, f64),
+    ) -> Motion {
         let ln = Linear::new(delta);
         let total = ln.lb as f64 * ln.ds;
+        let speed = speed.min(cap);
         Motion {
             path: Path::Linear(ln),
-            prof: Profile::new(speed, accel, total, t0),
+            prof: Profile::new(speed, accel.min(accel_cap), total, t0),
             target: speed,
+            cap,
             hold: false,
         }
     }
@@ -401,12 +442,14 @@ impl Motion {
             },
             prof: Profile::new(speed, accel, s, t0),
             target: speed,
+            cap: f64::INFINITY,
             hold: false,
         }
     }
 
     /// Sets the programmed speed (feed × override, at an NCBR tick).
     pub fn set_target(&mut self, speed: f64) {
+        let speed = speed.min(self.cap);
         self.target = speed;
         self.prof.vt = if self.hold { 0.0 } else { speed };
         self.prof.anchor();

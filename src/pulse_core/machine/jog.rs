@@ -9,7 +9,6 @@
 use super::{axis_name, Jog, Machine, Phase};
 use crate::block::Axes;
 use crate::pulse_core::drive::Drive;
-use crate::pulse_core::motion::Motion;
 
 impl Machine {
     /// The travel limits of `axis` if a manual move may start now; if not, says why.
@@ -78,7 +77,7 @@ impl Machine {
         delta[axis] = d;
         let v = self.rapid_speed(self.settings.jog_mm_min);
         self.jog = Some(Jog {
-            motion: Drive::Dda(Motion::linear(delta, v, self.accel, t0)),
+            motion: Drive::dda_linear(&self.settings, delta, v, self.accel, t0),
             release,
             deadline: None,
         });
@@ -116,7 +115,7 @@ impl Machine {
             }
             let v = self.rapid_speed(self.settings.jog_mm_min);
             self.ret = Some(Jog {
-                motion: Drive::Dda(Motion::linear(delta, v, self.accel, t)),
+                motion: Drive::dda_linear(&self.settings, delta, v, self.accel, t),
                 release: false,
                 deadline: None,
             });
