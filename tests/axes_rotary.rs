@@ -862,5 +862,14 @@ fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
             "{line}: {t} s, the rule {want:.3} s"
         );
     }
+    // The console on the same description keeps the same rates (until stop 54 it copied the
+    // description's fields one by one and missed these: its B turned in 0.2 s).
+    let so = script_run(
+        &dir,
+        &[desc.to_str().unwrap()],
+        "state",
+        "op MDI\ntype G0 X10 B90\nstart\nwait\nshow\n",
+    );
+    assert!(so.contains("program end: 1 blocks in 0.8 s"), "{so}");
     let _ = std::fs::remove_dir_all(dir);
 }

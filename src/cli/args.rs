@@ -106,32 +106,21 @@ impl Machine {
         s
     }
 
-    /// Puts what the centre's description gives (pulse size, its rotary axes, travel, rapid
-    /// rate, acceleration, tool-change height, workpiece, M6 remap, dialect, spindle) and the
-    /// dialect asked for into a console's settings, keeping the rest (interpolator, B1, ...).
-    /// Until stop 53 the rotary axes were left out: the terminal and the window on
-    /// `--machine centre4` had no A (`novanc run` and `translate`, which take the whole
-    /// description, had).
-    /// Nothing for a lathe.
+    /// Puts the centre's description (`settings`, the settings `novanc run` and `translate`
+    /// take) and the dialect asked for into a console's settings, keeping what the console's
+    /// own options chose: the interpolator and its L (`--interpolator`, `--ep-l`). Nothing for
+    /// a lathe. Until stop 54 it copied the description field by field and forgot what was
+    /// added since: the rotary axes until stop 53 (a console on `--machine centre4` had no A),
+    /// their own rates at stop 54 (a console's table turned as fast as X Y Z went, where
+    /// `novanc run`'s kept to its rate: seen in the window).
     pub fn apply(&self, s: &mut MachineSettings) {
         let Machine::Centre(desc, dialect) = self else {
             return;
         };
         if let Some(m) = desc {
-            s.pulse_mm = m.pulse_mm;
-            s.axis_kinds = m.axis_kinds;
-            s.travel_min_mm = m.travel_min_mm;
-            s.travel_max_mm = m.travel_max_mm;
-            s.rapid_mm_min = m.rapid_mm_min;
-            s.accel_mm_s2 = m.accel_mm_s2;
-            s.remap_m6 = m.remap_m6.clone();
-            s.dialect = m.dialect;
-            s.fanuc = m.fanuc;
-            s.tool_change_z_mm = m.tool_change_z_mm;
-            s.workpiece = m.workpiece.clone();
-            s.spindle_max_rpm = m.spindle_max_rpm;
-            s.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
-            s.spindle_encoder_lines = m.spindle_encoder_lines;
+            let own = (s.interpolator, s.ep_l_pulses);
+            *s = m.clone();
+            (s.interpolator, s.ep_l_pulses) = own;
         }
         if let Some(d) = dialect {
             s.dialect = *d;
