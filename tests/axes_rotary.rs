@@ -517,6 +517,18 @@ fn script_run(dir: &Path, machine: &[&str], state: &str, text: &str) -> String {
     so
 }
 
+/// The words of the first line of a shown display (`text`, a script's output) that starts
+/// with `r`: a POS row (`C`, then WORK, REL, MACH, TO GO) or an OFS WORK row (`G54` ...).
+fn display_row(text: &str, r: &str) -> Vec<String> {
+    text.lines()
+        .map(|l| l.trim_start_matches('|'))
+        .find(|l| l.starts_with(r))
+        .unwrap_or_else(|| panic!("no {r} row:\n{text}"))
+        .split_whitespace()
+        .map(str::to_string)
+        .collect()
+}
+
 /// The console on `--machine FILE` (the terminal's, the window's and `novanc script`'s one
 /// argument path) has the description's rotary axes: MDI turns them and POS shows a row each.
 /// Until stop 53 the console took the description's travel but not its axes, so a console on
@@ -538,17 +550,8 @@ fn the_console_on_a_described_machine_has_its_rotary_axes() {
         };
         let so = script_run(&dir, &[machine], &format!("state-{}", rows[0]), &text);
         for r in rows {
-            let row = so
-                .lines()
-                .map(|l| l.trim_start_matches('|'))
-                .find(|l| l.starts_with(r))
-                .unwrap_or_else(|| panic!("{machine}: no {r} row:\n{so}"));
             let want = if *r == "C" { "-45.000" } else { "30.000" };
-            assert_eq!(
-                row.split_whitespace().nth(3),
-                Some(want),
-                "{machine} {r} MACH:\n{so}"
-            );
+            assert_eq!(display_row(&so, r)[3], want, "{machine} {r} MACH:\n{so}");
         }
     }
     let _ = std::fs::remove_dir_all(dir);
@@ -717,15 +720,7 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
         "{}",
         frames[0]
     );
-    let row = |f: &str, r: &str| -> Vec<String> {
-        f.lines()
-            .map(|l| l.trim_start_matches('|'))
-            .find(|l| l.starts_with(r))
-            .unwrap_or_else(|| panic!("no {r} row:\n{f}"))
-            .split_whitespace()
-            .map(str::to_string)
-            .collect()
-    };
+    let row = display_row;
     // WORK, REL, MACH: C at 15 in G54 stands at machine 45.
     let c = row(frames[1], "C");
     assert_eq!(
@@ -797,15 +792,7 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
          key Alt+.\nwait\nkey Alt+.\nwait\nop CONTINUOUS\nkey Alt+,\nwait\n\
          key Alt+a\nop HANDLE\nkey Alt+.\nwait\nkey Ctrl+P\nshow\n",
     );
-    let row = |r: &str| -> Vec<String> {
-        so.lines()
-            .map(|l| l.trim_start_matches('|'))
-            .find(|l| l.starts_with(r))
-            .unwrap_or_else(|| panic!("no {r} row:\n{so}"))
-            .split_whitespace()
-            .map(str::to_string)
-            .collect()
-    };
+    let row = |r: &str| display_row(&so, r);
     // C: +1 +1 in STEP, -1 in CONTINUOUS; then the selector goes round to X, and a detent of
     // the wheel in HANDLE moves X by its increment.
     assert_eq!(row("C")[3], "1.000", "{so}");
