@@ -279,6 +279,25 @@ fn current_abc_in_system(st: &InterpState, cs: usize) -> [f64; 3] {
     })
 }
 
+/// Refuses the position `v` (at column `col`) that `code` gives rotary axis `r` when the axis
+/// is wrapped and `v` is a turn or more (LinuxCNC's check for G92 and G10 L20).
+fn wrapped_within_a_turn(
+    st: &InterpState,
+    x: &Exec,
+    code: &str,
+    r: usize,
+    (v, col): (f64, u32),
+) -> Result<(), TranslateError> {
+    if st.rotaries[r] == Some(true) && v.abs() >= 360.0 {
+        let l = super::exec::ROTARY_LETTERS[r];
+        return Err(x.err(
+            col,
+            format!("{code} {l}{v}: a wrapped rotary axis takes a position within ±360"),
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses a rotary axis word where a code has no use for it (`what` says why).
 fn no_rotary(x: &Exec, w: &Words, what: &str) -> Result<(), TranslateError> {
     match super::exec::ROTARY_LETTERS
@@ -387,15 +406,7 @@ pub fn g10(
             continue;
         };
         if l == 20 {
-            if st.rotaries[r] == Some(true) && v.abs() >= 360.0 {
-                return Err(x.err(
-                    vcol,
-                    format!(
-                        "G10 L20 {}{v}: a wrapped rotary axis takes a position within ±360",
-                        super::exec::ROTARY_LETTERS[r]
-                    ),
-                ));
-            }
+            wrapped_within_a_turn(st, x, "G10 L20", r, (v, vcol))?;
             o_abc[r] = cur_abc[r] + st.params[b + 4 + r] - v;
         } else {
             o_abc[r] = v;
@@ -647,16 +658,8 @@ pub fn g92(
             return Err(x.err(col, format!("G92 needs at least one of {names}")));
         }
         for (r, given) in rotary.into_iter().enumerate() {
-            if let Some((v, vcol)) = given {
-                if st.rotaries[r] == Some(true) && v.abs() >= 360.0 {
-                    return Err(x.err(
-                        vcol,
-                        format!(
-                            "G92 {}{v}: a wrapped rotary axis takes a position within ±360",
-                            super::exec::ROTARY_LETTERS[r]
-                        ),
-                    ));
-                }
+            if let Some(word) = given {
+                wrapped_within_a_turn(st, x, "G92", r, word)?;
             }
         }
         let p = st.prog();
