@@ -790,12 +790,15 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
         "state",
         "key Alt+a\nkey Alt+a\nkey Alt+a\nkey Alt+a\nop STEP\nwheelscale 1000\n\
          key Alt+.\nwait\nkey Alt+.\nwait\nop CONTINUOUS\nkey Alt+,\nwait\n\
-         key Alt+a\nop HANDLE\nkey Alt+.\nwait\nkey Ctrl+P\nshow\n",
+         op HANDLE\nkey Alt+.\nwait\nshow\nkey Alt+a\nkey Alt+.\nwait\nkey Ctrl+P\nshow\n",
     );
-    let row = |r: &str| display_row(&so, r);
-    // C: +1 +1 in STEP, -1 in CONTINUOUS; then the selector goes round to X, and a detent of
-    // the wheel in HANDLE moves X by its increment.
-    assert_eq!(row("C")[3], "1.000", "{so}");
+    // A detent on C is said in degrees.
+    assert!(so.contains("HANDLE C+ 1.000 deg (x1000)"), "{so}");
+    let pos = so.rsplit("--- display").next().unwrap_or_default();
+    let row = |r: &str| display_row(pos, r);
+    // C: +1 +1 in STEP, -1 in CONTINUOUS, +1 in HANDLE; then the selector goes round to X,
+    // and a detent of the wheel in HANDLE moves X by its increment.
+    assert_eq!(row("C")[3], "2.000", "{so}");
     assert_eq!(row("B")[3], "0.000", "{so}");
     assert_eq!(row("X")[3], "1.000", "{so}");
     let _ = std::fs::remove_dir_all(dir);

@@ -620,9 +620,14 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             super::manual::increment_text(&c.cfg.settings, v.wheel.1)
         ),
         _ => format!(
-            "wheel {} {:.3} mm x{}",
+            "wheel {} {:.3} {} x{}",
             v.wheel.0.letter(),
             c.cfg.settings.to_mm(i64::from(v.wheel.1)),
+            if c.cfg.settings.rotary(v.wheel.0.index()) {
+                "deg"
+            } else {
+                "mm"
+            },
             v.wheel.1
         ),
     };

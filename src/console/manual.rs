@@ -182,7 +182,7 @@ fn motion<C: Side>(c: &mut C, axis: Axis, mv: Move, what: &str) -> Option<usize>
             } else {
                 String::new()
             };
-            let inc = increment_text(&c.axis_settings(), scale);
+            let inc = increment_on(&c.axis_settings(), scale, Some(axis.index()));
             (
                 format!(
                     "{what} {}{}{} {times}{inc}",
@@ -299,7 +299,17 @@ pub(crate) fn next_scale(scale: u32) -> u32 {
 
 /// An increment as the operator reads it: "0.100 mm (x100)".
 pub(crate) fn increment_text(s: &MachineSettings, scale: u32) -> String {
-    format!("{:.3} mm (x{scale})", s.to_mm(i64::from(scale)))
+    increment_on(s, scale, None)
+}
+
+/// [`increment_text`] on `axis` (an index into X Y Z A B C): in degrees on a rotary axis.
+pub(crate) fn increment_on(s: &MachineSettings, scale: u32, axis: Option<usize>) -> String {
+    let unit = if axis.is_some_and(|a| s.rotary(a)) {
+        "deg"
+    } else {
+        "mm"
+    };
+    format!("{:.3} {unit} (x{scale})", s.to_mm(i64::from(scale)))
 }
 
 #[cfg(test)]
