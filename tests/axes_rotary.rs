@@ -377,7 +377,7 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let dir = temp_dir("axes-bc");
     // The listing: B and C on the blocks that turn them.
     let (listing, prog) = translate_on_trunnion(&dir, "five", FIVE);
-    let desc = dir.join("trunnion.machine");
+    let desc = trunnion(&dir);
     let (prog_s, desc_s) = (prog.to_str().unwrap(), desc.to_str().unwrap());
     let got = listed_bc(&listing);
     let want = bc_rule(FIVE);
@@ -445,11 +445,17 @@ fn b_and_c_turn_as_linuxcnc_turns_them_and_record_their_pulses() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// The trunnion's description ([`TRUNNION`]) written to `dir/trunnion.machine`: its path.
+fn trunnion(dir: &Path) -> std::path::PathBuf {
+    let desc = dir.join("trunnion.machine");
+    std::fs::write(&desc, TRUNNION).unwrap();
+    desc
+}
+
 /// `novanc translate` of `text` (written to `dir/NAME.ngc`) on the trunnion: its listing,
 /// having succeeded, and the program's path.
 fn translate_on_trunnion(dir: &Path, name: &str, text: &str) -> (String, std::path::PathBuf) {
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
+    let desc = trunnion(dir);
     let prog = dir.join(format!("{name}.ngc"));
     std::fs::write(&prog, text).unwrap();
     let out = novanc(&[
@@ -536,8 +542,7 @@ fn display_row(text: &str, r: &str) -> Vec<String> {
 #[test]
 fn the_console_on_a_described_machine_has_its_rotary_axes() {
     let dir = temp_dir("axes-console");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
+    let desc = trunnion(&dir);
     let script = "op MDI\ntype G0 X10 B30 C-45\neob\nstart\nwait\nkey Ctrl+P\nshow\n";
     for (machine, rows) in [
         (desc.to_str().unwrap(), &["B", "C"][..]),
@@ -701,8 +706,7 @@ fn rotary_work_offsets_and_g92_turn_b_and_c_as_linuxcnc_does() {
 #[test]
 fn the_console_shows_and_keeps_the_rotary_work_offsets() {
     let dir = temp_dir("axes-ofs-console");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
+    let desc = trunnion(&dir);
     let d = desc.to_str().unwrap();
     let wide = [d, "--cols", "80", "--rows", "30"];
     let so = script_run(
@@ -782,8 +786,7 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
 #[test]
 fn alt_comma_and_period_jog_the_selected_rotary_axis() {
     let dir = temp_dir("axes-jog-keys");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
+    let desc = trunnion(&dir);
     let so = script_run(
         &dir,
         &[desc.to_str().unwrap()],
@@ -813,8 +816,7 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
 #[test]
 fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
     let dir = temp_dir("axes-rates");
-    let desc = dir.join("trunnion.machine");
-    std::fs::write(&desc, TRUNNION).unwrap();
+    let desc = trunnion(&dir);
     // Time of a move of `d` at most `v` per second, accelerating at `a` per second².
     let trapezoid = |d: f64, v: f64, a: f64| {
         if d * a > v * v {
