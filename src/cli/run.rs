@@ -219,6 +219,12 @@ pub fn main(argv: &[String]) -> i32 {
             Err(code) => return code,
         };
     super::signals::install();
+    // The work offsets G54–G59 on every axis, a rotary axis's as the state directory keeps it.
+    let systems: [[f64; crate::block::MAX_AXES]; 6] = std::array::from_fn(|cs| {
+        let (o, b) = (offsets.0[cs], crate::gcode::state::system_base(cs));
+        let kept = |n: usize| params.iter().find(|p| p.0 == n).map_or(0.0, |p| p.1);
+        [o[0], o[1], o[2], kept(b + 4), kept(b + 5), kept(b + 6)]
+    });
     let recorder = match args.value("--record") {
         None => None,
         Some(p) => match Recorder::start_with_info(
@@ -228,7 +234,7 @@ pub fn main(argv: &[String]) -> i32 {
                 program_name: prog.clone(),
                 program_text: source.clone(),
                 magazine: Some(magazine.clone()),
-                work_offsets: offsets.0,
+                work_offsets: systems,
                 ..Default::default()
             },
         ) {
@@ -269,12 +275,6 @@ pub fn main(argv: &[String]) -> i32 {
         Ok(f) => f,
         Err(e) => return fail(&format!("novanc run: {e}")),
     };
-    // The work offsets G54–G59 on every axis, a rotary axis's as the state directory keeps it.
-    let systems: [[f64; crate::block::MAX_AXES]; 6] = std::array::from_fn(|cs| {
-        let (o, b) = (src.offsets.0[cs], crate::gcode::state::system_base(cs));
-        let kept = |n: usize| params.iter().find(|p| p.0 == n).map_or(0.0, |p| p.1);
-        [o[0], o[1], o[2], kept(b + 4), kept(b + 5), kept(b + 6)]
-    });
     let modes = crate::mtconnect::Modes {
         mode: crate::mtconnect::items::controller_mode(crate::panel_model::OpMode::Auto),
         program: prog.clone(),

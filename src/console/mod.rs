@@ -183,7 +183,7 @@ impl Console {
                 program_name: mem.program_name(),
                 program_text: mem.text(crate::store::Target::Program),
                 magazine: Some(mem.magazine()),
-                work_offsets: mem.work_offsets().0,
+                work_offsets: std::array::from_fn(|cs| mem.system_offset_all(cs)),
                 ..Default::default()
             },
             None => Default::default(),

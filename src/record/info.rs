@@ -19,8 +19,9 @@ pub struct RecordingInfo {
     pub program_text: String,
     /// The magazine: T codes and the tool file.
     pub magazine: Option<Magazine>,
-    /// Work offsets G54 to G59, machine mm.
-    pub work_offsets: [[f64; 3]; 6],
+    /// Work offsets G54 to G59: X Y Z in machine mm, then A B C in degrees (those the machine
+    /// has are written).
+    pub work_offsets: [[f64; crate::block::MAX_AXES]; 6],
     /// A kernel's machine (a lathe): its name (empty: the centre's single machine).
     pub machine_name: String,
     /// A kernel's channels, each with its program and tool post (empty: a single machine,
@@ -74,9 +75,20 @@ impl RecordingInfo {
             "text/csv",
             self.tool_csv().into_bytes(),
         ));
-        let mut wpo = String::from("system,x_mm,y_mm,z_mm\n");
+        // A column for each axis the machine has: X Y Z in mm, a rotary axis in degrees.
+        let axes: Vec<usize> = settings.axis_list().collect();
+        let mut wpo = String::from("system");
+        for &a in &axes {
+            let letter = crate::pulse_core::axis_name(a).to_ascii_lowercase();
+            let _ = write!(wpo, ",{letter}_{}", settings.unit(a));
+        }
+        wpo.push('\n');
         for (n, o) in WORK_SYSTEMS.iter().zip(self.work_offsets.iter()) {
-            let _ = writeln!(wpo, "{n},{},{},{}", o[0], o[1], o[2]);
+            wpo.push_str(n);
+            for &a in &axes {
+                let _ = write!(wpo, ",{}", o[a]);
+            }
+            wpo.push('\n');
         }
         out.push(("work_offsets.csv".to_string(), "text/csv", wpo.into_bytes()));
         out.push((
@@ -213,4 +225,41 @@ fn machine_json(s: &MachineSettings) -> String {
     super::json::push_str(&mut o, s.interpolator.name());
     o.push(b'}');
     String::from_utf8(o).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::AxisKind;
+
+    fn offsets_csv(settings: &MachineSettings, info: &RecordingInfo) -> String {
+        let all = info.attachments(settings);
+        let (_, _, bytes) = all.iter().find(|a| a.0 == "work_offsets.csv").unwrap();
+        String::from_utf8(bytes.clone()).unwrap()
+    }
+
+    /// `work_offsets.csv` has a column for each axis the machine has: a 3-axis machine's file
+    /// is as it was, a trunnion's adds B and C in degrees (stop 55; before, a table's zero was
+    /// not in the recording).
+    #[test]
+    fn the_work_offsets_have_a_column_for_each_axis_the_machine_has() {
+        let mut info = RecordingInfo::default();
+        info.work_offsets[1] = [10.0, 20.0, -5.5, 0.0, -5.0, 30.0];
+        let centre = MachineSettings::default();
+        let csv = offsets_csv(&centre, &info);
+        assert!(
+            csv.starts_with("system,x_mm,y_mm,z_mm\nG54,0,0,0\nG55,10,20,-5.5\n"),
+            "{csv}"
+        );
+        let mut trunnion = MachineSettings::default();
+        trunnion.axis_kinds[4] = AxisKind::Rotary { wrap: false };
+        trunnion.axis_kinds[5] = AxisKind::Rotary { wrap: true };
+        let csv = offsets_csv(&trunnion, &info);
+        assert!(
+            csv.starts_with(
+                "system,x_mm,y_mm,z_mm,b_deg,c_deg\nG54,0,0,0,0,0\nG55,10,20,-5.5,-5,30\n"
+            ),
+            "{csv}"
+        );
+    }
 }
