@@ -326,6 +326,15 @@ impl MachineSettings {
         matches!(self.axis_kinds.get(a), Some(AxisKind::Rotary { .. }))
     }
 
+    /// The unit axis `a`'s positions are said in: `deg` on a rotary axis, else `mm`.
+    pub fn unit(&self, a: usize) -> &'static str {
+        if self.rotary(a) {
+            "deg"
+        } else {
+            "mm"
+        }
+    }
+
     /// Whether the machine has axis `a`: X, Y and Z always; A, B and C when its description
     /// gives them (each is rotary).
     pub fn has_axis(&self, a: usize) -> bool {

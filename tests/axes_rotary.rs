@@ -804,6 +804,22 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
     assert_eq!(row("C")[3], "2.000", "{so}");
     assert_eq!(row("B")[3], "0.000", "{so}");
     assert_eq!(row("X")[3], "1.000", "{so}");
+    // The manual pages say the handwheel's axis in its unit: with B selected, a STEP beyond
+    // B's travel is refused in degrees, and the hints name both units (the arrows jog X Y Z).
+    let so = script_run(
+        &dir,
+        &[desc.to_str().unwrap()],
+        "limit",
+        "op MDI\ntype G0 B119.95\neob\nstart\nwait\nkey Alt+a\nkey Alt+a\nkey Alt+a\n\
+         op STEP\nwheelscale 100\nkey Alt+.\nwait\nshow\nop CONTINUOUS\nshow\n",
+    );
+    for want in [
+        "STEP refused: B would go to 120.050 deg,",
+        "0.100 mm/deg (x100) per jog key",
+        "tap 0.100 mm/deg, hold jogs",
+    ] {
+        assert!(so.contains(want), "{want:?} not in\n{so}");
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -610,24 +610,21 @@ pub fn tool_lines(m: &Magazine, focus: u32, n: usize) -> Vec<String> {
 /// CONTINUOUS, HANDLE, STEP: positions, handwheel, tool and spindle.
 fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let v = c.view();
+    // The arrows jog X Y Z in mm; Alt+, and Alt+. the handwheel's axis, in degrees when it is
+    // rotary: the increment is the same number of pulses on both.
+    let unit = match c.cfg.settings.unit(v.wheel.0.index()) {
+        "deg" => "mm/deg",
+        u => u,
+    };
+    let tap = c.cfg.settings.to_mm(i64::from(v.wheel.1));
     let hint = match c.front.op {
-        OpMode::Continuous => format!(
-            "tap {:.3} mm, hold jogs",
-            c.cfg.settings.to_mm(i64::from(v.wheel.1))
-        ),
-        OpMode::Step => format!(
-            "{} per jog key",
-            super::manual::increment_text(&c.cfg.settings, v.wheel.1)
-        ),
+        OpMode::Continuous => format!("tap {tap:.3} {unit}, hold jogs"),
+        OpMode::Step => format!("{tap:.3} {unit} (x{}) per jog key", v.wheel.1),
         _ => format!(
             "wheel {} {:.3} {} x{}",
             v.wheel.0.letter(),
             c.cfg.settings.to_mm(i64::from(v.wheel.1)),
-            if c.cfg.settings.rotary(v.wheel.0.index()) {
-                "deg"
-            } else {
-                "mm"
-            },
+            c.cfg.settings.unit(v.wheel.0.index()),
             v.wheel.1
         ),
     };

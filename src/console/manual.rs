@@ -260,9 +260,10 @@ pub(crate) fn check(s: &MachineSettings, pos: Axes, axis: Axis, mv: Move) -> Res
             let to = pos[a].saturating_add(pulses);
             if to < lo || to > hi {
                 return Err(format!(
-                    "refused: {} would go to {:.3} mm, outside travel {:.3}..{:.3}",
+                    "refused: {} would go to {:.3} {}, outside travel {:.3}..{:.3}",
                     axis.letter(),
                     s.to_mm(to),
+                    s.unit(a),
                     s.to_mm(lo),
                     s.to_mm(hi)
                 ));
@@ -304,11 +305,7 @@ pub(crate) fn increment_text(s: &MachineSettings, scale: u32) -> String {
 
 /// [`increment_text`] on `axis` (an index into X Y Z A B C): in degrees on a rotary axis.
 pub(crate) fn increment_on(s: &MachineSettings, scale: u32, axis: Option<usize>) -> String {
-    let unit = if axis.is_some_and(|a| s.rotary(a)) {
-        "deg"
-    } else {
-        "mm"
-    };
+    let unit = axis.map_or("mm", |a| s.unit(a));
     format!("{:.3} {unit} (x{scale})", s.to_mm(i64::from(scale)))
 }
 

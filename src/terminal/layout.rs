@@ -110,10 +110,16 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
         PANEL,
     );
     // Position readout.
-    s.frame(0, top, dw, 5, "POSITION mm", PANEL);
+    let title = if v.rotary_deg.is_empty() {
+        "POSITION mm"
+    } else {
+        "POSITION mm, deg"
+    };
+    s.frame(0, top, dw, 5, title, PANEL);
     for (i, a) in ["X", "Y", "Z"].iter().enumerate() {
         // A rotary axis beside each row (A, B, C in the machine's order), degrees; the
-        // readout of a 3-axis machine is as it was.
+        // readout of a 3-axis machine is as it was. With fewer rotary axes than rows, every
+        // row keeps the rotary rows' columns.
         let line = match v.rotary_deg.get(i) {
             Some((r, deg)) => format!(
                 "{a} {:>10.3} tip {a} {:>10.3} {r}{:>9}",
@@ -121,6 +127,9 @@ pub fn draw_panel(s: &mut Screen, v: &PanelView) {
                 v.tip_mm[i],
                 degrees_in_9(*deg)
             ),
+            None if !v.rotary_deg.is_empty() => {
+                format!("{a} {:>10.3} tip {a} {:>10.3}", v.axis_mm[i], v.tip_mm[i])
+            }
             None => format!("{a} {:>10.3}  tip {a} {:>10.3}", v.axis_mm[i], v.tip_mm[i]),
         };
         s.text(1, top + 1 + i, &line, PLASMA);
@@ -350,6 +359,19 @@ mod tests {
             "│X      1.000 tip X      1.000 A    0.000│",
             "│Y      2.000 tip Y      2.000 B  -30.000│",
             "│Z     -3.500 tip Z   -153.500 C-10080.50│",
+            "POSITION mm, deg",
+        ] {
+            assert!(t.contains(want), "missing {want:?} in\n{t}");
+        }
+        // A trunnion (B and C): Z's row keeps the columns of the rows above it.
+        v.rotary_deg = vec![('B', 5.0), ('C', 45.0)];
+        let mut s = Screen::new(79, 24);
+        draw_panel(&mut s, &v);
+        let t = s.to_text();
+        for want in [
+            "│X      1.000 tip X      1.000 B    5.000│",
+            "│Y      2.000 tip Y      2.000 C   45.000│",
+            "│Z     -3.500 tip Z   -153.500           │",
         ] {
             assert!(t.contains(want), "missing {want:?} in\n{t}");
         }

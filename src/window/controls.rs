@@ -455,7 +455,13 @@ pub fn page_keys(ui: &mut Ui, view: &PanelView, out: &mut Vec<PanelEvent>) {
 /// The position readout: axis positions, tool tip, tool, spindle, feed override, RUN, time.
 pub fn readout(ui: &mut Ui, view: &PanelView) {
     let big = FontId::monospace(20.0);
-    ui.label(egui::RichText::new("POSITION mm").small().color(LEGEND));
+    // The terminal's heading: degrees named when the machine has a rotary axis.
+    let title = if view.rotary_deg.is_empty() {
+        "POSITION mm"
+    } else {
+        "POSITION mm, deg"
+    };
+    ui.label(egui::RichText::new(title).small().color(LEGEND));
     let rows = ['X', 'Y', 'Z'].iter().zip(view.axis_mm);
     for (a, v) in rows.chain(view.rotary_deg.iter().map(|(r, d)| (r, *d))) {
         ui.add(

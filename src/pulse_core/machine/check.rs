@@ -60,10 +60,11 @@ pub fn check_block(settings: &MachineSettings, pos: Axes, b: &Block) -> Result<(
             if v < lo || v > hi {
                 let lim = if v < lo { lo } else { hi };
                 return Err(format!(
-                    "travel limit: {} would go to {:.3} mm, beyond {:.3} mm",
+                    "travel limit: {} would go to {:.3} {unit}, beyond {:.3} {unit}",
                     axis_name(a),
                     settings.to_mm(v),
-                    settings.to_mm(lim)
+                    settings.to_mm(lim),
+                    unit = settings.unit(a)
                 ));
             }
         }

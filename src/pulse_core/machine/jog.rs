@@ -93,9 +93,10 @@ impl Machine {
             let to = self.out.pos[axis] + pulses;
             if !self.settings.wrapped(axis) && (to < lo || to > hi) {
                 self.notice = Some(format!(
-                    "{} jog refused: {:.3} mm is beyond the travel limit",
+                    "{} jog refused: {:.3} {} is beyond the travel limit",
                     axis_name(axis),
-                    self.settings.to_mm(to)
+                    self.settings.to_mm(to),
+                    self.settings.unit(axis)
                 ));
                 continue;
             }
