@@ -76,8 +76,13 @@ pub struct MachineSettings {
     pub workpiece: crate::workpiece::Workpiece,
     /// M6 remapped to this O-word subroutine (lower case), as LinuxCNC's
     /// `REMAP=M6 modalgroup=6 ngc=NAME`: the machine description's `remap` line
-    /// (docs/gcode.md "Remapping M6"). None: M6 is the built-in change.
+    /// (docs/gcode.md "Remapping M6 and other M codes"). None: M6 is the built-in change.
     pub remap_m6: Option<String>,
+    /// Other M codes remapped to O-word subroutines (code, lower-case name), as LinuxCNC's
+    /// `REMAP=M31 modalgroup=10 ngc=NAME`: codes novanc does not define (a machine builder's,
+    /// such as Haas's M31 chip conveyor), in modal group 10 (docs/gcode.md "Remapping M6 and
+    /// other M codes"). Empty: none.
+    pub remap_m: Vec<(u32, String)>,
     /// The G-code dialect programs are read in: LinuxCNC's (the default) or Fanuc's Custom
     /// Macro B (docs/gcode.md "Fanuc dialect"): the machine description's `dialect` line, or
     /// `--dialect`.
@@ -247,6 +252,7 @@ impl MachineSettings {
             ep_l_pulses: EP_L_DEFAULT,
             workpiece: crate::workpiece::Workpiece::default(),
             remap_m6: None,
+            remap_m: Vec::new(),
             dialect: Dialect::LinuxCnc,
             fanuc: FanucSettings {
                 keep_common: false,

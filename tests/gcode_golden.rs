@@ -244,7 +244,7 @@ fn walk(
 fn every_golden_program_agrees_with_rs274() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/gcode");
     let st = MachineSettings::default();
-    let programs = agree_with_rs274(&dir, None, |src| novanc_moves(src, &st, &[]));
+    let programs = agree_with_rs274(&dir, &[], |src| novanc_moves(src, &st, &[]));
     assert!(programs >= 50, "only {programs} golden programs");
 }
 
@@ -265,16 +265,18 @@ fn the_lathe_golden_programs_agree_with_rs274() {
         other => panic!("lathe.machine: {other:?}"),
     };
     assert_eq!(
-        agree_with_rs274(&dir, None, |src| lathe_moves(src, &desc)),
+        agree_with_rs274(&dir, &[], |src| lathe_moves(src, &desc)),
         10
     );
 }
 
 /// M6 remapped to `o<toolchange>` by the machine description `remap.machine` (docs/gcode.md
-/// "Remapping M6"), its subroutine file beside the programs: the moves rs274 made with
-/// `REMAP=M6 modalgroup=6 ngc=toolchange` (the changer's moves, the built-in M6 inside it,
-/// the rest of the M6 line after it), and the same refusals (an abort in the subroutine, a
-/// subroutine that calls itself without end).
+/// "Remapping M6 and other M codes"), its subroutine file beside the programs: the moves rs274
+/// made with `REMAP=M6 modalgroup=6 ngc=toolchange` (the changer's moves, the built-in M6
+/// inside it, the rest of the M6 line after it), and the same refusals (an abort in the
+/// subroutine, a subroutine that calls itself without end). M31 and M33 remapped in modal
+/// group 10 (`REMAP=M31 modalgroup=10 ngc=chip_on`, a Haas's chip conveyor): the steps of
+/// their line before them run first, its dwell and motion after their subroutine (stop 55).
 #[test]
 fn remapped_m6_agrees_with_rs274() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/remap");
@@ -283,17 +285,24 @@ fn remapped_m6_agrees_with_rs274() {
         other => panic!("remap.machine: {other:?}"),
     };
     assert_eq!(st.remap_m6.as_deref(), Some("toolchange"));
-    let sub = st.remap_m6.as_ref().map(|n| format!("{n}.ngc"));
+    assert_eq!(
+        st.remap_m,
+        [(31, "chip_on".to_string()), (33, "chip_off".to_string())]
+    );
+    let names: Vec<String> = (st.remap_m6.iter())
+        .chain(st.remap_m.iter().map(|r| &r.1))
+        .map(|n| format!("{n}.ngc"))
+        .collect();
     let subs = [dir.clone()];
-    let programs = agree_with_rs274(&dir, sub.as_deref(), |src| novanc_moves(src, &st, &subs));
-    assert_eq!(programs, 4);
+    let programs = agree_with_rs274(&dir, &names, |src| novanc_moves(src, &st, &subs));
+    assert_eq!(programs, 5);
 }
 
-/// Checks every program `NAME.ngc` of `dir` (but `sub_file`, a subroutine) against its
+/// Checks every program `NAME.ngc` of `dir` (but `sub_files`, subroutines) against its
 /// `NAME.expect`, reading it with `read`; returns how many there were.
 fn agree_with_rs274(
     dir: &Path,
-    sub_file: Option<&str>,
+    sub_files: &[String],
     read: impl Fn(&str) -> Result<Vec<Move>, String>,
 ) -> usize {
     let mut names: Vec<_> = std::fs::read_dir(dir)
@@ -301,7 +310,10 @@ fn agree_with_rs274(
         .filter_map(|e| e.ok())
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|x| x == "ngc"))
-        .filter(|p| p.file_name().and_then(|n| n.to_str()) != sub_file)
+        .filter(|p| {
+            let name = p.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+            !sub_files.iter().any(|s| s == name)
+        })
         .collect();
     names.sort();
     let (mut programs, mut moves, mut refused) = (0, 0, 0);
@@ -395,5 +407,53 @@ fn a_remapped_m6_gives_its_subroutine_the_tools_and_names_both_lines() {
         // Without the remap, M6 is the built-in change and the program runs.
         assert!(novanc_moves(&src, &MachineSettings::default(), &[]).is_ok());
         assert!(toolchange.contains("o<toolchange> sub"));
+    }
+}
+
+/// A remapped M code of modal group 10 (stop 55): read only on a machine whose description
+/// remaps it, refused with its reason elsewhere; a missing subroutine is an error of the code;
+/// inside its own subroutine it has no built-in meaning and is refused; in LinuxCNC's
+/// M100–M199 a remap takes the place of the configuration's user program; two on one line
+/// are two codes of group 10.
+#[test]
+fn a_remapped_machine_m_code_calls_its_subroutine_or_says_why_not() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/remap");
+    let remapped = |codes: &[(u32, &str)]| MachineSettings {
+        remap_m: codes.iter().map(|(m, n)| (*m, n.to_string())).collect(),
+        ..MachineSettings::default()
+    };
+    let haas = remapped(&[(31, "chip_on"), (33, "chip_off"), (101, "chip_on")]);
+    let subs = [dir.clone()];
+    let run = |src: &str, st: &MachineSettings| novanc_moves(src, st, &subs);
+    assert!(run("G21 M31\nM33\nM101\nM2\n", &haas).is_ok());
+    for (src, st, want) in [
+        (
+            "G21\nM31\nM2\n",
+            MachineSettings::default(),
+            "2:1: unknown or unsupported code M31",
+        ),
+        (
+            "G21\nM101\nM2\n",
+            MachineSettings::default(),
+            "2:1: M101: M100–M199 run the user programs",
+        ),
+        (
+            "G21\nM31 M33\nM2\n",
+            haas.clone(),
+            "2:5: M33 and M31 are in the same modal group",
+        ),
+        (
+            "G21\nG0 X1 M31\nM2\n",
+            remapped(&[(31, "conveyor")]),
+            "2:7: M31 (remapped to o<conveyor> by the machine description): subroutine o<conveyor> not found",
+        ),
+        (
+            "o<again> sub\nM31\no<again> endsub\nG21\nM31\nM2\n",
+            remapped(&[(31, "again")]),
+            "2:1: M31 inside a remap subroutine",
+        ),
+    ] {
+        let e = run(src, &st).unwrap_err();
+        assert!(e.contains(want), "{src:?}: {e}");
     }
 }

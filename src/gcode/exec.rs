@@ -180,10 +180,12 @@ pub enum Flow {
         /// The column of M98.
         col: u32,
     },
-    /// M6 remapped (docs/gcode.md "Remapping M6"): call the machine's subroutine; the line's
-    /// steps after M6 run when it returns.
+    /// M6 or another M code remapped (docs/gcode.md "Remapping M6 and other M codes"): call
+    /// the machine's subroutine; the line's steps after the code run when it returns.
     Remap {
-        /// The column of M6.
+        /// The code (6, or one of modal group 10).
+        m: u32,
+        /// Its column.
         col: u32,
     },
     /// M99: return from the subprogram.
@@ -193,6 +195,25 @@ pub enum Flow {
     },
     /// M02 or M30: the program ends.
     End,
+}
+
+/// The code of modal group 10 on the line that the machine description remaps, with its
+/// column (at most one: group 10 takes one code a line). Inside a remap subroutine it has no
+/// meaning of its own to fall back on, and is refused.
+fn remapped_m(x: &Exec, w: &Words) -> Result<Option<(u32, u32)>, TranslateError> {
+    let Some((m, col)) = (x.settings.remap_m.iter()).find_map(|r| w.has_m(r.0).map(|c| (r.0, c)))
+    else {
+        return Ok(None);
+    };
+    if !x.remap_free {
+        return Err(x.err(
+            col,
+            format!(
+                "M{m} inside a remap subroutine: it is remapped by the machine description and novanc has no M{m} of its own"
+            ),
+        ));
+    }
+    Ok(Some((m, col)))
 }
 
 /// One line's execution context: what it produced and what it may use.
@@ -214,8 +235,12 @@ pub struct Exec<'a> {
     /// M6 calls the machine's remap subroutine (it is remapped, and no remap runs now:
     /// inside the remap, at any depth, M6 is the built-in change, as in LinuxCNC).
     pub remap_m6: bool,
-    /// The line's remapped M6 has run: execute only its steps after M6.
-    pub after_m6: bool,
+    /// No remap subroutine runs now: a remapped M code of modal group 10 calls its own
+    /// (inside one, it has no built-in meaning to fall back on, and is refused).
+    pub remap_free: bool,
+    /// The line's remapped code has run: execute only its steps after it (6: after M6, 10:
+    /// after modal group 10's code; 0: the whole line).
+    pub after: u8,
 }
 
 impl Exec<'_> {
@@ -667,8 +692,10 @@ pub fn execute(
     if !w.plain() {
         // S and T.
         let mut aux_s = None;
-        // S, T and the I/O codes ran before a remapped M6 called its subroutine.
-        let before_m6 = !x.after_m6;
+        // S, T and the I/O codes ran before a remapped M6 called its subroutine; up to the
+        // override codes, before a remapped code of modal group 10 called its own.
+        let before_m6 = x.after < 6;
+        let before_m10 = x.after < 10;
         if let Some(s) = w.get('S').filter(|_| before_m6) {
             if !(0.0..=crate::translator::MAX_SPEED).contains(&s) {
                 return Err(x.err(
@@ -720,107 +747,116 @@ pub fn execute(
                         w.col('T').or(w.col('S')).unwrap_or(col),
                     );
                 }
-                return Ok(Flow::Remap { col });
+                return Ok(Flow::Remap { m: 6, col });
             }
             tool_change(st, comp, x, t, col);
             aux_t = None;
         }
-        if let Some(col) = w.has_m(61) {
-            let q = int_word(x, w, 'Q', 0.0, 999.0)?
-                .ok_or_else(|| x.err(col, "M61 needs Q, the tool now in the spindle"))?;
-            if q != 0 {
-                x.tool_data(q, w.col('Q').unwrap_or(col), "Q")?;
+        // M61 to the override codes: done before a remapped code of modal group 10 called its
+        // subroutine.
+        if before_m10 {
+            if let Some(col) = w.has_m(61) {
+                let q = int_word(x, w, 'Q', 0.0, 999.0)?
+                    .ok_or_else(|| x.err(col, "M61 needs Q, the tool now in the spindle"))?;
+                if q != 0 {
+                    x.tool_data(q, w.col('Q').unwrap_or(col), "Q")?;
+                }
+                st.tool = (q != 0).then_some(q);
+                st.params[5400] = f64::from(q);
             }
-            st.tool = (q != 0).then_some(q);
-            st.params[5400] = f64::from(q);
-        }
-        let spindle_m = [3u32, 4, 5]
-            .into_iter()
-            .find_map(|m| w.has_m(m).map(|c| (m, c)));
-        if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
-            comp.aux(
-                x,
-                Canon::Aux {
-                    s: aux_s.take(),
-                    t: aux_t,
-                    m: None,
-                },
-                w.col('T').or(w.col('S')).unwrap_or(1),
-            );
-        }
-        if let Some((m, col)) = spindle_m {
-            st.modal.spindle = match m {
-                3 => 1,
-                4 => -1,
-                _ => 0,
-            };
-            let s = if m == 5 {
-                aux_s
-            } else {
-                Some(aux_s.unwrap_or(st.modal.speed.round() as u32))
-            };
-            comp.aux(
-                x,
-                Canon::Aux {
-                    s,
-                    t: None,
-                    m: Some(m as u8),
-                },
-                col,
-            );
-        }
-        if let Some(col) = w.has_m(29) {
-            // Fanuc's rigid tapping mode (only its dialect reads M29): the S on the line or in
-            // force is the tap's speed.
-            if st.modal.speed < 1.0 {
-                return Err(x.err(col, "M29 (rigid tapping) needs S, the tap's rpm: M29 S500"));
+            let spindle_m = [3u32, 4, 5]
+                .into_iter()
+                .find_map(|m| w.has_m(m).map(|c| (m, c)));
+            if aux_t.is_some() || (aux_s.is_some() && spindle_m.is_none()) {
+                comp.aux(
+                    x,
+                    Canon::Aux {
+                        s: aux_s.take(),
+                        t: aux_t,
+                        m: None,
+                    },
+                    w.col('T').or(w.col('S')).unwrap_or(1),
+                );
             }
-            st.cycle.rigid = true;
-        }
-        if let Some(col) = w.has_m(19) {
-            st.modal.spindle = 0;
-            let angle = w.get('R').unwrap_or(0.0);
-            if !(0.0..=360.0).contains(&angle) {
-                return Err(x.err(
-                    w.col('R').unwrap_or(col),
-                    "M19 R (the angle) must be 0 to 360",
-                ));
+            if let Some((m, col)) = spindle_m {
+                st.modal.spindle = match m {
+                    3 => 1,
+                    4 => -1,
+                    _ => 0,
+                };
+                let s = if m == 5 {
+                    aux_s
+                } else {
+                    Some(aux_s.unwrap_or(st.modal.speed.round() as u32))
+                };
+                comp.aux(
+                    x,
+                    Canon::Aux {
+                        s,
+                        t: None,
+                        m: Some(m as u8),
+                    },
+                    col,
+                );
             }
-            if let Some(q) = w.get('Q') {
-                if q <= 0.0 {
+            if let Some(col) = w.has_m(29) {
+                // Fanuc's rigid tapping mode (only its dialect reads M29): the S on the line or in
+                // force is the tap's speed.
+                if st.modal.speed < 1.0 {
+                    return Err(x.err(col, "M29 (rigid tapping) needs S, the tap's rpm: M29 S500"));
+                }
+                st.cycle.rigid = true;
+            }
+            if let Some(col) = w.has_m(19) {
+                st.modal.spindle = 0;
+                let angle = w.get('R').unwrap_or(0.0);
+                if !(0.0..=360.0).contains(&angle) {
                     return Err(x.err(
-                        w.col('Q').unwrap_or(col),
-                        "M19 Q (the time allowed) must be greater than 0",
+                        w.col('R').unwrap_or(col),
+                        "M19 R (the angle) must be 0 to 360",
                     ));
                 }
-            }
-            let dir = int_word(x, w, 'P', 0.0, 2.0)?.unwrap_or(0);
-            comp.aux(
-                x,
-                Canon::Io(Io::Orient {
-                    angle,
-                    dir: dir as u8,
-                }),
-                col,
-            );
-        }
-        modal_state_codes(st, x, w)?;
-        for (m, mist, flood) in [
-            (7u32, Some(true), None),
-            (8, None, Some(true)),
-            (9, Some(false), Some(false)),
-        ] {
-            if let Some(col) = w.has_m(m) {
-                if let Some(v) = mist {
-                    st.modal.mist = v;
+                if let Some(q) = w.get('Q') {
+                    if q <= 0.0 {
+                        return Err(x.err(
+                            w.col('Q').unwrap_or(col),
+                            "M19 Q (the time allowed) must be greater than 0",
+                        ));
+                    }
                 }
-                if let Some(v) = flood {
-                    st.modal.flood = v;
+                let dir = int_word(x, w, 'P', 0.0, 2.0)?.unwrap_or(0);
+                comp.aux(
+                    x,
+                    Canon::Io(Io::Orient {
+                        angle,
+                        dir: dir as u8,
+                    }),
+                    col,
+                );
+            }
+            modal_state_codes(st, x, w)?;
+            for (m, mist, flood) in [
+                (7u32, Some(true), None),
+                (8, None, Some(true)),
+                (9, Some(false), Some(false)),
+            ] {
+                if let Some(col) = w.has_m(m) {
+                    if let Some(v) = mist {
+                        st.modal.mist = v;
+                    }
+                    if let Some(v) = flood {
+                        st.modal.flood = v;
+                    }
+                    comp.aux(x, aux(m as u8), col);
                 }
-                comp.aux(x, aux(m as u8), col);
+            }
+            override_codes(st, comp, x, w)?;
+            // A code of modal group 10 the machine description remaps calls its subroutine;
+            // the line's steps after it (G4, the plane, ..., the motion) run on its return.
+            if let Some((m, col)) = remapped_m(x, w)? {
+                return Ok(Flow::Remap { m, col });
             }
         }
-        override_codes(st, comp, x, w)?;
         // G04.
         if let Some(col) = w.has_g(40) {
             let p = w

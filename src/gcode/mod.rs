@@ -462,7 +462,8 @@ macro_rules! ctx {
             optional_stop: $s.switches.optional_stop,
             asks: Vec::new(),
             remap_m6: $s.settings.remap_m6.is_some() && $s.remap.is_none(),
-            after_m6: false,
+            remap_free: $s.remap.is_none(),
+            after: 0,
         }
     };
 }
@@ -516,8 +517,9 @@ pub struct GcodeSource {
     /// SEARCH is running the lines before its point: the settings' machine answers.
     pub(crate) searching: bool,
     finder: Box<dyn SubFinder>,
-    /// A remapped M6's line, while its subroutine runs: the rest of the line executes when
-    /// the call level falls below `level` (docs/gcode.md "Remapping M6").
+    /// A remapped code's line (M6's, or modal group 10's), while its subroutine runs: the rest
+    /// of the line executes when the call level falls below `level` (docs/gcode.md
+    /// "Remapping M6 and other M codes").
     remap: Option<RemapLine>,
     /// The console's part counter, parts made and required (Fanuc's #3901/#3902).
     parts: Option<(u64, u64)>,
@@ -546,15 +548,18 @@ struct ModalCall {
     level: usize,
 }
 
-/// The line of a remapped M6 whose subroutine is running.
+/// The line of a remapped code whose subroutine is running.
 struct RemapLine {
     /// The call level of the remap subroutine.
     level: usize,
     at: Pos,
     n: u32,
     raw: String,
-    /// The line's words (None until the line has executed up to M6).
+    /// The line's words (None until the line has executed up to the remapped code).
     words: Option<Box<words::Words>>,
+    /// The steps of the line still to run on the return: after M6 (6) or after modal group
+    /// 10 (10).
+    after: u8,
 }
 
 impl GcodeSource {
@@ -867,11 +872,18 @@ impl GcodeSource {
                     n,
                     raw,
                     words: Some(words),
+                    after,
                     ..
                 }) = self.remap.take()
                 {
                     self.st.remap_level = 0;
-                    match self.run_words(at, n, &raw, &words, true) {
+                    let r = self.run_words(at, n, &raw, &words, after);
+                    // The rest of an M6 line may call a remapped code of modal group 10:
+                    // its words are kept again for the steps after that one.
+                    if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
+                        r.words = Some(words);
+                    }
+                    match r {
                         Ok(Some(s)) => return s,
                         Ok(None) => continue,
                         Err(e) => {
@@ -1278,7 +1290,7 @@ impl GcodeSource {
         if line.sorted {
             // Sorted as read, in the mill's dialect or Fanuc's (which a line without A reads
             // the same with an A axis).
-            let r = self.run_words(at, n, raw, &line.sorted_words, false);
+            let r = self.run_words(at, n, raw, &line.sorted_words, 0);
             if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
                 r.words = Some(Box::new(line.sorted_words.clone()));
             }
@@ -1286,13 +1298,19 @@ impl GcodeSource {
         }
         let mut words = self.words_buf.take().unwrap_or_default();
         let mask = (0..3).fold(0, |m, r| m | (u8::from(self.st.rotaries[r].is_some()) << r));
-        let dialect = words::mill_with(mask, fanuc);
+        let remapped;
+        let mut dialect = words::mill_with(mask, fanuc);
+        if !self.settings.remap_m.is_empty() {
+            // The M codes the machine description remaps are read in modal group 10.
+            remapped = dialect.with_remaps(self.settings.remap_m.iter().map(|r| r.0));
+            dialect = &remapped;
+        }
         let sorted = match fanuc {
-            false => words::refuse_configuration_words(line_words(line), n),
+            false => words::refuse_configuration_words(line_words(line), n, dialect),
             true => Ok(()),
         }
         .and_then(|()| words::sort_words_into(line_words(line), n, dialect, &mut words));
-        let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, false));
+        let r = sorted.and_then(|()| self.run_words(at, n, raw, &words, 0));
         match self.remap.as_mut() {
             // The line of a remapped M6 just called: kept to finish when the call returns.
             Some(r) if r.words.is_none() => r.words = Some(words),
@@ -1451,7 +1469,8 @@ impl GcodeSource {
         Ok(Some(self.finish(n, raw, Vec::new(), false)))
     }
 
-    /// Executes a line's sorted words (`after_m6`: only its steps after a remapped M6).
+    /// Executes a line's sorted words (`after`: 0, or only its steps after a remapped M6 (6)
+    /// or a remapped code of modal group 10 (10)).
     #[allow(clippy::type_complexity)]
     fn run_words(
         &mut self,
@@ -1459,11 +1478,11 @@ impl GcodeSource {
         n: u32,
         raw: &str,
         words: &words::Words,
-        after_m6: bool,
+        after: u8,
     ) -> Result<Option<Option<Result<Statement, TranslateError>>>, TranslateError> {
         let end_m = if words.has_m(2).is_some() { 2 } else { 30 };
         let mut x = ctx!(self, n);
-        x.after_m6 = after_m6;
+        x.after = after;
         let r = exec::execute(&mut self.st, &mut self.comp, &mut x, words);
         let Exec {
             out, events, asks, ..
@@ -1507,8 +1526,8 @@ impl GcodeSource {
                     })?;
                 Ok(Some(self.finish(n, raw, out, false)))
             }
-            LineFlow::Remap { col } => {
-                self.remap_m6(at, n, raw, col)?;
+            LineFlow::Remap { m, col } => {
+                self.remap_call(at, n, raw, m, col)?;
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::End => {
@@ -1519,15 +1538,29 @@ impl GcodeSource {
         }
     }
 
-    /// A remapped M6 at `n`:`col`: calls the machine's subroutine with the tool selected and
-    /// the tool in the spindle as its `#<selected_tool>` and `#<tool_in_spindle>` (what
-    /// LinuxCNC's change_prolog gives); the rest of the line waits for its return.
-    fn remap_m6(&mut self, at: Pos, n: u32, raw: &str, col: u32) -> Result<(), TranslateError> {
-        let name = self.settings.remap_m6.clone().unwrap_or_default();
-        let err = |m: String| TranslateError {
+    /// A remapped M`m` (M6, or a code of modal group 10) at `n`:`col`: calls the machine's
+    /// subroutine, M6's with the tool selected and the tool in the spindle as its
+    /// `#<selected_tool>` and `#<tool_in_spindle>` (what LinuxCNC's change_prolog gives); the
+    /// rest of the line waits for its return.
+    fn remap_call(
+        &mut self,
+        at: Pos,
+        n: u32,
+        raw: &str,
+        m: u32,
+        col: u32,
+    ) -> Result<(), TranslateError> {
+        let name = match m {
+            6 => self.settings.remap_m6.clone(),
+            _ => (self.settings.remap_m.iter())
+                .find(|r| r.0 == m)
+                .map(|r| r.1.clone()),
+        }
+        .unwrap_or_default();
+        let err = |e: String| TranslateError {
             line: n,
             col,
-            message: format!("M6 (remapped to o<{name}> by the machine description): {m}"),
+            message: format!("M{m} (remapped to o<{name}> by the machine description): {e}"),
         };
         self.flow
             .call(
@@ -1539,11 +1572,13 @@ impl GcodeSource {
                 self.finder.as_ref(),
             )
             .map_err(err)?;
-        let selected = self.st.selected.map_or(-1.0, f64::from);
-        let in_spindle = self.st.tool.map_or(0.0, f64::from);
-        self.flow.set_local(&mut self.st, "selected_tool", selected);
-        self.flow
-            .set_local(&mut self.st, "tool_in_spindle", in_spindle);
+        if m == 6 {
+            let selected = self.st.selected.map_or(-1.0, f64::from);
+            let in_spindle = self.st.tool.map_or(0.0, f64::from);
+            self.flow.set_local(&mut self.st, "selected_tool", selected);
+            self.flow
+                .set_local(&mut self.st, "tool_in_spindle", in_spindle);
+        }
         self.st.remap_level = 1;
         self.remap = Some(RemapLine {
             level: self.flow.level(),
@@ -1551,6 +1586,7 @@ impl GcodeSource {
             n,
             raw: raw.to_string(),
             words: None,
+            after: if m == 6 { 6 } else { 10 },
         });
         Ok(())
     }

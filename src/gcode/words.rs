@@ -13,6 +13,9 @@ const LETTERS: &str = "DEFHIJKLPQRSTXYZ@^";
 /// reader uses [`MILL`]; the lathe reader (docs/lathe-gcode.md) has its own.
 #[derive(Clone, Copy, Debug)]
 pub struct Dialect {
+    /// M codes a machine description remaps (M0–M255, bit m), read in modal group 10 though
+    /// the dialect does not define them (docs/gcode.md "Remapping M6 and other M codes").
+    pub m_remap: [u64; 4],
     /// The letters a line may hold, besides G and M.
     pub letters: &'static str,
     /// The same letters as bits (`letter_bits(letters)`), tested once per word.
@@ -35,7 +38,30 @@ pub const MILL: Dialect = Dialect {
     m_group,
     g_why: mill_g_why,
     letter_hint: " (novanc has the axes X, Y and Z)",
+    m_remap: [0; 4],
 };
+
+impl Dialect {
+    /// Whether a machine description remaps M code `m` ([`Dialect::m_remap`]).
+    pub fn remapped(&self, m: u32) -> bool {
+        m < 256 && self.m_remap[(m / 64) as usize] >> (m % 64) & 1 == 1
+    }
+
+    /// This dialect with the M codes `codes` remapped.
+    pub fn with_remaps(&self, codes: impl Iterator<Item = u32>) -> Dialect {
+        let mut d = *self;
+        for m in codes.filter(|&m| m < 256) {
+            d.m_remap[(m / 64) as usize] |= 1 << (m % 64);
+        }
+        d
+    }
+}
+
+/// Whether novanc's mill defines M code `m` in either dialect (a machine description may
+/// remap only one it does not: docs/gcode.md "Remapping M6 and other M codes").
+pub fn m_code_known(m: u32) -> bool {
+    m_group(m).is_some() || fanuc_m_group(m).is_some()
+}
 
 /// `base` on a machine with rotary axes: their letters `letters` (all of a line's letters)
 /// and the hint `hint`.
@@ -369,13 +395,18 @@ fn m_group(m: u32) -> Option<u8> {
 /// this machine has not (M100–M199, `$`), with that reason: the mill's reader in LinuxCNC's
 /// dialect asks this before it sorts a line's words. (Until stop 51 this sat in a sorting
 /// function no reader called, and M101 was refused as "unknown or unsupported".)
-pub fn refuse_configuration_words(line: &Line, n: u32) -> Result<(), TranslateError> {
+pub fn refuse_configuration_words(line: &Line, n: u32, d: &Dialect) -> Result<(), TranslateError> {
     for w in &line.words {
         let message = match w.letter {
-            'M' if (100.0..200.0).contains(&w.value) && w.value.fract() == 0.0 => format!(
-                "M{}: M100–M199 run the user programs of a LinuxCNC configuration (its USER_M_PATH): novanc has none",
+            'M' if (100.0..200.0).contains(&w.value)
+                && w.value.fract() == 0.0
+                && !d.remapped(w.value as u32) =>
+            {
+                format!(
+                "M{}: M100–M199 run the user programs of a LinuxCNC configuration (its USER_M_PATH): novanc has none (a machine description may remap one to a subroutine)",
                 w.value
-            ),
+            )
+            }
             '$' => "$ selects one of several spindles (LinuxCNC's multi-spindle machines): novanc has one".into(),
             _ => continue,
         };
@@ -546,7 +577,10 @@ impl Words {
                     ));
                 }
                 let m = value as u32;
-                let Some(grp) = (d.m_group)(m).filter(|&x| x < 11) else {
+                let Some(grp) = (d.m_group)(m)
+                    .or_else(|| d.remapped(m).then_some(10))
+                    .filter(|&x| x < 11)
+                else {
                     return Err(err(col, format!("unknown or unsupported code M{m:02}")));
                 };
                 if let Some((other, _)) = m_seen[grp as usize] {

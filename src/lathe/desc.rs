@@ -432,6 +432,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut channels: Vec<ChannelDesc> = Vec::new();
     let mut links: Vec<(usize, &str, Vec<&str>)> = Vec::new();
     let mut remap_m6 = None;
+    let mut remap_m = Vec::new();
     let mut workpiece = crate::workpiece::Workpiece::default();
     let mut tool_change_z = None;
     let mut dialect = None;
@@ -615,12 +616,14 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     )));
                 }
             }
-            "remap" if kind == Some("mill") => {
-                if remap_m6.is_some() {
-                    return Err(e("M6 is remapped twice".into()));
+            "remap" if kind == Some("mill") => match remap(&words).map_err(e)? {
+                (6, _) if remap_m6.is_some() => return Err(e("M6 is remapped twice".into())),
+                (6, name) => remap_m6 = Some(name),
+                (m, _) if remap_m.iter().any(|r: &(u32, String)| r.0 == m) => {
+                    return Err(e(format!("M{m} is remapped twice")))
                 }
-                remap_m6 = Some(remap(&words).map_err(e)?);
-            }
+                (m, name) => remap_m.push((m, name)),
+            },
             "workpiece" if kind == Some("mill") => {
                 workpiece.boxes.push(work_box(&words).map_err(e)?);
             }
@@ -731,6 +734,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     }
                 }
                 s.remap_m6 = remap_m6;
+                s.remap_m = remap_m;
                 s.dialect = dialect.unwrap_or_default();
                 s.fanuc = crate::settings::FanucSettings {
                     keep_common: fanuc.0.unwrap_or(false),
@@ -797,18 +801,41 @@ fn work_box(words: &[&str]) -> Result<crate::workpiece::Cuboid, String> {
     ))
 }
 
-/// `remap M6 modalgroup=6 ngc=NAME`: LinuxCNC's `REMAP=M6 ...` line (docs/gcode.md
-/// "Remapping M6"); the subroutine's name, in lower case.
-fn remap(words: &[&str]) -> Result<String, String> {
-    if !words.get(1).is_some_and(|c| c.eq_ignore_ascii_case("M6")) {
-        return Err("remap: novanc remaps M6 only (remap M6 modalgroup=6 ngc=NAME)".into());
-    }
+/// `remap M6 modalgroup=6 ngc=NAME`, or `remap Mn modalgroup=10 ngc=NAME` for an M code
+/// novanc does not define (M0–M199): LinuxCNC's `REMAP=...` line (docs/gcode.md "Remapping M6
+/// and other M codes"). The code and the subroutine's name, in lower case.
+fn remap(words: &[&str]) -> Result<(u32, String), String> {
+    let code = words.get(1).and_then(|c| {
+        let c = c.strip_prefix(['M', 'm'])?;
+        c.parse::<u32>().ok()
+    });
+    let m = match code {
+        Some(6) => 6,
+        Some(m) if m < 200 && crate::gcode::words::m_code_known(m) => {
+            return Err(format!(
+                "remap M{m}: novanc defines M{m} itself; remap M6, or an M code it does not define"
+            ))
+        }
+        Some(m) if m < 200 => m,
+        _ => {
+            return Err(
+                "remap: name M6 or an M code novanc does not define, M0 to M199 (remap M6 modalgroup=6 ngc=NAME, remap M31 modalgroup=10 ngc=NAME)"
+                    .into(),
+            )
+        }
+    };
+    let group = if m == 6 { "6" } else { "10" };
     let mut ngc = None;
     for w in &words[2..] {
         match w.split_once('=') {
-            Some(("modalgroup", "6")) => {}
+            Some(("modalgroup", g)) if g == group => {}
             Some(("modalgroup", g)) => {
-                return Err(format!("remap M6: modalgroup={g}: M6 is in modal group 6"))
+                return Err(match m {
+                    6 => format!("remap M6: modalgroup={g}: M6 is in modal group 6"),
+                    _ => format!(
+                        "remap M{m}: modalgroup={g}: novanc remaps other M codes in modal group 10 (run after M48–M53, before G4)"
+                    ),
+                })
             }
             Some(("ngc", n)) => {
                 let n = n.to_ascii_lowercase();
@@ -817,20 +844,26 @@ fn remap(words: &[&str]) -> Result<String, String> {
                     && n.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
                 if !ok {
                     return Err(format!(
-                        "remap M6: ngc={n}: a subroutine name of letters, digits, _ and -"
+                        "remap M{m}: ngc={n}: a subroutine name of letters, digits, _ and -"
                     ));
                 }
                 ngc = Some(n);
             }
             Some((k @ ("prolog" | "epilog" | "python"), _)) => {
                 return Err(format!(
-                    "remap M6: {k}= names a Python function: novanc runs none (the subroutine gets #<selected_tool> and #<tool_in_spindle> as LinuxCNC's change_prolog gives them)"
+                    "remap M{m}: {k}= names a Python function: novanc runs none (an M6 subroutine gets #<selected_tool> and #<tool_in_spindle> as LinuxCNC's change_prolog gives them)"
                 ))
             }
-            _ => return Err(format!("remap M6: '{w}' is not modalgroup=6 or ngc=NAME")),
+            _ => {
+                return Err(format!(
+                    "remap M{m}: '{w}' is not modalgroup={group} or ngc=NAME"
+                ))
+            }
         }
     }
-    ngc.ok_or_else(|| "remap M6 needs ngc=NAME, the O-word subroutine M6 calls".to_string())
+    let ngc =
+        ngc.ok_or_else(|| format!("remap M{m} needs ngc=NAME, the O-word subroutine M{m} calls"))?;
+    Ok((m, ngc))
 }
 
 fn mill(
@@ -1067,12 +1100,32 @@ mod tests {
     #[test]
     fn a_mill_description_remaps_m6_as_linuxcnc_writes_it() {
         let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
-        match parse(&format!("{base}remap M6 modalgroup=6 ngc=ToolChange\n")) {
-            Ok(MachineDesc::Mill(s)) => assert_eq!(s.remap_m6.as_deref(), Some("toolchange")),
+        match parse(&format!(
+            "{base}remap M6 modalgroup=6 ngc=ToolChange\nremap M31 modalgroup=10 ngc=conveyor_on\nremap m33 ngc=Conveyor_off\n"
+        )) {
+            Ok(MachineDesc::Mill(s)) => {
+                assert_eq!(s.remap_m6.as_deref(), Some("toolchange"));
+                assert_eq!(
+                    s.remap_m,
+                    [(31, "conveyor_on".to_string()), (33, "conveyor_off".to_string())]
+                );
+            }
             other => panic!("{other:?}"),
         }
         for (line, want) in [
-            ("remap M3 ngc=x", "6: remap: novanc remaps M6 only"),
+            ("remap M3 ngc=x", "6: remap M3: novanc defines M3 itself"),
+            ("remap M98 ngc=x", "6: remap M98: novanc defines M98 itself"),
+            ("remap G12 ngc=x", "6: remap: name M6 or an M code"),
+            ("remap M200 ngc=x", "6: remap: name M6 or an M code"),
+            (
+                "remap M31 modalgroup=6 ngc=x",
+                "6: remap M31: modalgroup=6: novanc remaps other",
+            ),
+            ("remap M31 modalgroup=10", "6: remap M31 needs ngc=NAME"),
+            (
+                "remap M31 ngc=a\nremap M31 ngc=b",
+                "7: M31 is remapped twice",
+            ),
             ("remap M6 modalgroup=5 ngc=x", "6: remap M6: modalgroup=5"),
             ("remap M6 modalgroup=6", "6: remap M6 needs ngc=NAME"),
             ("remap M6 ngc=../x", "6: remap M6: ngc=../x"),

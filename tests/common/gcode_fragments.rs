@@ -128,6 +128,11 @@ pub const FRAGMENTS: &[&str] = &[
     "G10 L1 P1 A5",
     "G92.1 C0",
     "X#5424 Y#<_c> Z#<_abs_a>",
+    // Remapped machine M codes (stop 55; the fuzz's machine remaps M31 and M101 now and then).
+    "M31",
+    "M8 F200 M31 G4 P0.1 G1 X2",
+    "M101 G0 X1",
+    "M31 M33",
     "G92",
     "G38.2",
     "X",

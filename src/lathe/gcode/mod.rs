@@ -88,6 +88,7 @@ pub const LATHE: Dialect = Dialect {
     m_group: lathe_m_group,
     g_why: lathe_g_why,
     letter_hint: " (the lathe has the axes X and Z; U and W are incremental X and Z)",
+    m_remap: [0; 4],
 };
 
 /// The lathe dialect in Fanuc's G code system A (a channel's `gcode system A`,
