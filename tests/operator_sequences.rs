@@ -161,8 +161,8 @@ struct Session {
     /// In the Fanuc dialect (one G-code session in two): Table B and the MDI lines with a
     /// decimal point on every length, and the MACRO page takes its writes.
     fanuc: bool,
-    /// The machine has a trunnion table, B and C (the G-code sessions in LinuxCNC's dialect on
-    /// the DDA).
+    /// The machine has a trunnion table, B and C, and a chip conveyor whose M31 and M33 its
+    /// description remaps (the G-code sessions in LinuxCNC's dialect on the DDA).
     trunnion: bool,
     /// The #500-#999 the MACRO page set, and their values: kept across a restart.
     kept: std::collections::BTreeMap<usize, f64>,
@@ -213,6 +213,15 @@ fn console_on(
         s.travel_min_mm[4] = -120.0;
         s.travel_max_mm[4] = 120.0;
         s.axis_kinds[5] = AxisKind::Rotary { wrap: true };
+        // And a chip conveyor (stop 55): M31 and M33 remapped to subroutines of the state
+        // directory that set and clear output 1.
+        s.remap_m = vec![(31, "chip_on".into()), (33, "chip_off".into())];
+        let subs = dir.join("subroutines");
+        std::fs::create_dir_all(&subs).unwrap();
+        for (name, m) in [("chip_on", 64), ("chip_off", 65)] {
+            let text = format!("o<{name}> sub\nM{m} P1\no<{name}> endsub\nM2\n");
+            std::fs::write(subs.join(format!("{name}.ngc")), text).unwrap();
+        }
     }
     if ep {
         cfg.settings.interpolator = Interpolator::ErrorProportional;
@@ -919,6 +928,9 @@ impl Session {
         let pick = if self.trunnion && self.rng.chance(0.5) {
             11
         } else if self.trunnion && self.rng.chance(0.3) {
+            // The chip conveyor's remapped codes.
+            12
+        } else if self.trunnion && self.rng.chance(0.3) {
             // The table's zero set where it stands (G92 or G10 L20), more often than one
             // line in eleven (stop 54: 11 in 1,000 sequences at first).
             if self.rng.chance(0.5) {
@@ -961,6 +973,7 @@ impl Session {
             2 => "G92 X0 Y0".to_string(),
             // And G10 L20 makes the system in force read C0 where the table stands.
             6 if self.trunnion => "G10 L20 P0 C0".to_string(),
+            12 => ["M31", "M33", "M8 M31 G4 P0.1", "M9 M33"][self.rng.below(4)].to_string(),
             3 => "G92.1".to_string(),
             4 => "G43 H2".to_string(),
             5 => "G49".to_string(),
@@ -1038,6 +1051,17 @@ impl Session {
             self.ev(E::Type("-999L999KIG90".into()));
             self.key("Alt+3");
             return;
+        }
+        if (line.contains("M31") || line.contains("M33")) && ended {
+            // A remapped code ran its subroutine: the conveyor's output 1 says which.
+            let on = now.outputs.digital & 2 != 0;
+            assert_eq!(
+                on,
+                line.contains("M31"),
+                "after MDI {line} output 1 is {on}\n{}",
+                self.c.frame_text()
+            );
+            self.stats.remap_calls += 1;
         }
         let Some(xy) = line.strip_prefix("G0 ") else {
             assert_eq!(now.pos, pos, "MDI {line} moved the machine");
@@ -1699,6 +1723,7 @@ fn random_operator_sequences_keep_every_block_on_its_programmed_point() {
         assert!(st.gcode_sessions > 0 && st.gcode_ends > 0, "{st:?}");
         assert!(st.mdi_moves > 0, "{st:?}");
         assert!(st.rotary_moves > 0 && st.rotary_zeros > 0, "{st:?}");
+        assert!(st.remap_calls > 0, "{st:?}");
         assert!(st.mdi_probes > 0, "{st:?}");
         assert!(st.mdi_taps > 0, "{st:?}");
         assert!(st.turns_cleared > 0, "{st:?}");

@@ -72,6 +72,9 @@ pub struct Stats {
     /// MDI G92 B0 C0 and G10 L20 P0 C0 that set the table's zero where it stands (the rotary
     /// work offsets, stop 54).
     pub rotary_zeros: u64,
+    /// MDI M31 and M33 that ran their remap subroutines (the conveyor's output 1 on, off;
+    /// stop 55).
+    pub remap_calls: u64,
     /// The machine states E-STOP was pressed in, one bit each (`ESTOP_STATES` in the test).
     pub estop_states: u32,
 }
@@ -97,6 +100,7 @@ impl Stats {
         self.mdi_moves += o.mdi_moves;
         self.rotary_moves += o.rotary_moves;
         self.rotary_zeros += o.rotary_zeros;
+        self.remap_calls += o.remap_calls;
         self.mdi_probes += o.mdi_probes;
         self.mdi_taps += o.mdi_taps;
         self.turns_cleared += o.turns_cleared;
