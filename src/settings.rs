@@ -78,11 +78,11 @@ pub struct MachineSettings {
     /// `REMAP=M6 modalgroup=6 ngc=NAME`: the machine description's `remap` line
     /// (docs/gcode.md "Remapping M6 and other M codes"). None: M6 is the built-in change.
     pub remap_m6: Option<String>,
-    /// Other M codes remapped to O-word subroutines (code, lower-case name), as LinuxCNC's
-    /// `REMAP=M31 modalgroup=10 ngc=NAME`: codes novanc does not define (a machine builder's,
-    /// such as Haas's M31 chip conveyor), in modal group 10 (docs/gcode.md "Remapping M6 and
-    /// other M codes"). Empty: none.
-    pub remap_m: Vec<(u32, String)>,
+    /// Other M codes remapped to O-word subroutines, as LinuxCNC's `REMAP=M31 modalgroup=10
+    /// ngc=NAME`: codes novanc does not define (a machine builder's, such as Haas's M31 chip
+    /// conveyor), in modal group 10 (docs/gcode.md "Remapping M6 and other M codes"). Empty:
+    /// none.
+    pub remap_m: Vec<Remap>,
     /// The G-code dialect programs are read in: LinuxCNC's (the default) or Fanuc's Custom
     /// Macro B (docs/gcode.md "Fanuc dialect"): the machine description's `dialect` line, or
     /// `--dialect`.
@@ -103,6 +103,37 @@ pub struct FanucSettings {
     /// calculator`): `X10` is 10 mm; false: in least increments, 0.010 mm (`decimal
     /// increments`).
     pub calculator: bool,
+}
+
+/// An M code a machine description remaps to an O-word subroutine (`remap M59 modalgroup=10
+/// argspec=Pq ngc=relay`; docs/gcode.md "Remapping M6 and other M codes").
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Remap {
+    /// The M code.
+    pub code: u32,
+    /// The subroutine's name, lower case.
+    pub ngc: String,
+    /// LinuxCNC's `argspec`: the letters of the code's line the subroutine gets as its local
+    /// parameters `#<p>`, `#<q>` ...; a capital letter must be on the line. Empty: none.
+    pub argspec: String,
+}
+
+impl Remap {
+    /// The remap of M`code` to `ngc`, with no arguments.
+    pub fn new(code: u32, ngc: &str) -> Remap {
+        Remap {
+            code,
+            ngc: ngc.to_string(),
+            argspec: String::new(),
+        }
+    }
+
+    /// Whether its subroutine takes the word `letter` of the line (upper case).
+    pub fn takes(&self, letter: char) -> bool {
+        self.argspec
+            .chars()
+            .any(|c| c.eq_ignore_ascii_case(&letter))
+    }
 }
 
 /// The G-code dialect (docs/gcode.md "Fanuc dialect").

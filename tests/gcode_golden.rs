@@ -15,7 +15,7 @@ use novanc::block::{MachineState, Motion, Plane, Statement};
 use novanc::gcode::{GcodeSource, SubPath, Switches, WorkOffsets};
 use novanc::lathe::desc::{load, LatheDesc, MachineDesc};
 use novanc::lathe::gcode::{read_program, ReadOptions};
-use novanc::settings::MachineSettings;
+use novanc::settings::{MachineSettings, Remap};
 use novanc::tooldata::sample_magazine;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -285,17 +285,21 @@ fn remapped_m6_agrees_with_rs274() {
         other => panic!("remap.machine: {other:?}"),
     };
     assert_eq!(st.remap_m6.as_deref(), Some("toolchange"));
+    let relay = Remap {
+        argspec: "Pq".into(),
+        ..Remap::new(59, "relay")
+    };
     assert_eq!(
         st.remap_m,
-        [(31, "chip_on".to_string()), (33, "chip_off".to_string())]
+        [Remap::new(31, "chip_on"), Remap::new(33, "chip_off"), relay]
     );
     let names: Vec<String> = (st.remap_m6.iter())
-        .chain(st.remap_m.iter().map(|r| &r.1))
+        .chain(st.remap_m.iter().map(|r| &r.ngc))
         .map(|n| format!("{n}.ngc"))
         .collect();
     let subs = [dir.clone()];
     let programs = agree_with_rs274(&dir, &names, |src| novanc_moves(src, &st, &subs));
-    assert_eq!(programs, 5);
+    assert_eq!(programs, 7);
 }
 
 /// Checks every program `NAME.ngc` of `dir` (but `sub_files`, subroutines) against its
@@ -419,7 +423,7 @@ fn a_remapped_m6_gives_its_subroutine_the_tools_and_names_both_lines() {
 fn a_remapped_machine_m_code_calls_its_subroutine_or_says_why_not() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/remap");
     let remapped = |codes: &[(u32, &str)]| MachineSettings {
-        remap_m: codes.iter().map(|(m, n)| (*m, n.to_string())).collect(),
+        remap_m: codes.iter().map(|(m, n)| Remap::new(*m, n)).collect(),
         ..MachineSettings::default()
     };
     let haas = remapped(&[(31, "chip_on"), (33, "chip_off"), (101, "chip_on")]);

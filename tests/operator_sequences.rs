@@ -67,7 +67,7 @@ use novanc::panel_model::{OpMode, PanelEvent as E};
 use novanc::pulse_core::testkit::Rng;
 use novanc::pulse_core::ClockMode;
 use novanc::record::{Event, EventSink};
-use novanc::settings::{AxisKind, Dialect, Interpolator};
+use novanc::settings::{AxisKind, Dialect, Interpolator, Remap};
 use novanc::tape::{self, ReadOptions};
 use novanc::tooldata::format_record;
 use seq_stats::{count, run_many, Stats};
@@ -215,7 +215,7 @@ fn console_on(
         s.axis_kinds[5] = AxisKind::Rotary { wrap: true };
         // And a chip conveyor (stop 55): M31 and M33 remapped to subroutines of the state
         // directory that set and clear output 1.
-        s.remap_m = vec![(31, "chip_on".into()), (33, "chip_off".into())];
+        s.remap_m = vec![Remap::new(31, "chip_on"), Remap::new(33, "chip_off")];
         let subs = dir.join("subroutines");
         std::fs::create_dir_all(&subs).unwrap();
         for (name, m) in [("chip_on", 64), ("chip_off", 65)] {

@@ -201,7 +201,8 @@ pub enum Flow {
 /// column (at most one: group 10 takes one code a line). Inside a remap subroutine it has no
 /// meaning of its own to fall back on, and is refused.
 fn remapped_m(x: &Exec, w: &Words) -> Result<Option<(u32, u32)>, TranslateError> {
-    let Some((m, col)) = (x.settings.remap_m.iter()).find_map(|r| w.has_m(r.0).map(|c| (r.0, c)))
+    let Some((m, col)) =
+        (x.settings.remap_m.iter()).find_map(|r| w.has_m(r.code).map(|c| (r.code, c)))
     else {
         return Ok(None);
     };
@@ -414,7 +415,13 @@ fn check_words(x: &Exec, w: &Words, motion: Option<Motion>) -> Result<(), Transl
     let cycle = matches!(motion, Some(Motion::Cycle(_)));
     let g = |c: u32| w.has_g(c).is_some();
     let m = |c: u32| w.has_m(c).is_some();
+    // A remapped M code's argspec takes its letters (docs/gcode.md "Remapping M6 and other M
+    // codes").
+    let remap = (x.settings.remap_m.iter()).find(|r| w.has_m(r.code).is_some());
     let refuse = |c: char, msg: &str| -> Result<(), TranslateError> {
+        if remap.is_some_and(|r| r.takes(c)) {
+            return Ok(());
+        }
         Err(x.err(
             w.col(c).unwrap_or(1),
             format!("{c} word with no {msg} to use it"),

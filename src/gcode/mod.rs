@@ -1302,7 +1302,7 @@ impl GcodeSource {
         let mut dialect = words::mill_with(mask, fanuc);
         if !self.settings.remap_m.is_empty() {
             // The M codes the machine description remaps are read in modal group 10.
-            remapped = dialect.with_remaps(self.settings.remap_m.iter().map(|r| r.0));
+            remapped = dialect.with_remaps(self.settings.remap_m.iter().map(|r| r.code));
             dialect = &remapped;
         }
         let sorted = match fanuc {
@@ -1527,7 +1527,7 @@ impl GcodeSource {
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Remap { m, col } => {
-                self.remap_call(at, n, raw, m, col)?;
+                self.remap_call(at, n, raw, (m, col), words)?;
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::End => {
@@ -1540,21 +1540,22 @@ impl GcodeSource {
 
     /// A remapped M`m` (M6, or a code of modal group 10) at `n`:`col`: calls the machine's
     /// subroutine, M6's with the tool selected and the tool in the spindle as its
-    /// `#<selected_tool>` and `#<tool_in_spindle>` (what LinuxCNC's change_prolog gives); the
-    /// rest of the line waits for its return.
+    /// `#<selected_tool>` and `#<tool_in_spindle>` (what LinuxCNC's change_prolog gives),
+    /// another's with the words of the line its argspec names as `#<p>` ...; the rest of the
+    /// line waits for its return.
     fn remap_call(
         &mut self,
         at: Pos,
         n: u32,
         raw: &str,
-        m: u32,
-        col: u32,
+        (m, col): (u32, u32),
+        words: &words::Words,
     ) -> Result<(), TranslateError> {
+        let remap = (self.settings.remap_m.iter()).find(|r| r.code == m);
+        let argspec = remap.map(|r| r.argspec.clone()).unwrap_or_default();
         let name = match m {
             6 => self.settings.remap_m6.clone(),
-            _ => (self.settings.remap_m.iter())
-                .find(|r| r.0 == m)
-                .map(|r| r.1.clone()),
+            _ => remap.map(|r| r.ngc.clone()),
         }
         .unwrap_or_default();
         let err = |e: String| TranslateError {
@@ -1572,6 +1573,25 @@ impl GcodeSource {
                 self.finder.as_ref(),
             )
             .map_err(err)?;
+        // The argspec's words, as LinuxCNC's add_parameters gives them: a capital letter
+        // missing from the line is an error of the code.
+        let missing: Vec<char> = (argspec.chars())
+            .filter(|c| c.is_ascii_uppercase() && words.get(*c).is_none())
+            .collect();
+        if !missing.is_empty() {
+            let list: Vec<String> = missing.iter().map(char::to_string).collect();
+            let e = format!(
+                "its subroutine needs {} on the line (argspec={argspec})",
+                list.join(", ")
+            );
+            return Err(err(e));
+        }
+        for c in argspec.chars() {
+            if let Some(v) = words.get(c.to_ascii_uppercase()) {
+                let name = c.to_ascii_lowercase().to_string();
+                self.flow.set_local(&mut self.st, &name, v);
+            }
+        }
         if m == 6 {
             let selected = self.st.selected.map_or(-1.0, f64::from);
             let in_spindle = self.st.tool.map_or(0.0, f64::from);

@@ -617,12 +617,17 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 }
             }
             "remap" if kind == Some("mill") => match remap(&words).map_err(e)? {
-                (6, _) if remap_m6.is_some() => return Err(e("M6 is remapped twice".into())),
-                (6, name) => remap_m6 = Some(name),
-                (m, _) if remap_m.iter().any(|r: &(u32, String)| r.0 == m) => {
-                    return Err(e(format!("M{m} is remapped twice")))
+                r if r.code == 6 && remap_m6.is_some() => {
+                    return Err(e("M6 is remapped twice".into()))
                 }
-                (m, name) => remap_m.push((m, name)),
+                r if r.code == 6 => remap_m6 = Some(r.ngc),
+                r if remap_m
+                    .iter()
+                    .any(|o: &crate::settings::Remap| o.code == r.code) =>
+                {
+                    return Err(e(format!("M{} is remapped twice", r.code)))
+                }
+                r => remap_m.push(r),
             },
             "workpiece" if kind == Some("mill") => {
                 workpiece.boxes.push(work_box(&words).map_err(e)?);
@@ -801,10 +806,10 @@ fn work_box(words: &[&str]) -> Result<crate::workpiece::Cuboid, String> {
     ))
 }
 
-/// `remap M6 modalgroup=6 ngc=NAME`, or `remap Mn modalgroup=10 ngc=NAME` for an M code
-/// novanc does not define (M0–M199): LinuxCNC's `REMAP=...` line (docs/gcode.md "Remapping M6
-/// and other M codes"). The code and the subroutine's name, in lower case.
-fn remap(words: &[&str]) -> Result<(u32, String), String> {
+/// `remap M6 modalgroup=6 ngc=NAME`, or `remap Mn modalgroup=10 [argspec=LETTERS] ngc=NAME`
+/// for an M code novanc does not define (M0–M199): LinuxCNC's `REMAP=...` line (docs/gcode.md
+/// "Remapping M6 and other M codes").
+fn remap(words: &[&str]) -> Result<crate::settings::Remap, String> {
     let code = words.get(1).and_then(|c| {
         let c = c.strip_prefix(['M', 'm'])?;
         c.parse::<u32>().ok()
@@ -826,6 +831,7 @@ fn remap(words: &[&str]) -> Result<(u32, String), String> {
     };
     let group = if m == 6 { "6" } else { "10" };
     let mut ngc = None;
+    let mut argspec = String::new();
     for w in &words[2..] {
         match w.split_once('=') {
             Some(("modalgroup", g)) if g == group => {}
@@ -849,6 +855,13 @@ fn remap(words: &[&str]) -> Result<(u32, String), String> {
                 }
                 ngc = Some(n);
             }
+            Some(("argspec", _)) if m == 6 => {
+                return Err(
+                    "remap M6: argspec= is read for the other M codes only (M6's subroutine gets #<selected_tool> and #<tool_in_spindle>)"
+                        .into(),
+                )
+            }
+            Some(("argspec", a)) => argspec = remap_argspec(m, a)?,
             Some((k @ ("prolog" | "epilog" | "python"), _)) => {
                 return Err(format!(
                     "remap M{m}: {k}= names a Python function: novanc runs none (an M6 subroutine gets #<selected_tool> and #<tool_in_spindle> as LinuxCNC's change_prolog gives them)"
@@ -856,14 +869,48 @@ fn remap(words: &[&str]) -> Result<(u32, String), String> {
             }
             _ => {
                 return Err(format!(
-                    "remap M{m}: '{w}' is not modalgroup={group} or ngc=NAME"
+                    "remap M{m}: '{w}' is not modalgroup={group}, argspec=LETTERS or ngc=NAME"
                 ))
             }
         }
     }
     let ngc =
         ngc.ok_or_else(|| format!("remap M{m} needs ngc=NAME, the O-word subroutine M{m} calls"))?;
-    Ok((m, ngc))
+    Ok(crate::settings::Remap {
+        code: m,
+        ngc,
+        argspec,
+    })
+}
+
+/// A remap's `argspec=` (LinuxCNC's): the letters of the line its subroutine gets as locals
+/// (`#<p>`), a capital one required; `-` means none. LinuxCNC's `@` (positional arguments),
+/// `>`, `^` and `N` (a feed, a speed, the line number) are not read, and are refused.
+fn remap_argspec(m: u32, a: &str) -> Result<String, String> {
+    let mut out = String::new();
+    for c in a.chars() {
+        match c {
+            '-' => {}
+            'A'..='F' | 'H'..='L' | 'P'..='T' | 'X'..='Z' | 'a'..='f' | 'h'..='l' | 'p'..='t'
+            | 'x'..='z' => {
+                if out.chars().any(|o| o.eq_ignore_ascii_case(&c)) {
+                    return Err(format!("remap M{m}: argspec={a}: {c} is given twice"));
+                }
+                out.push(c);
+            }
+            '@' | '>' | '^' | 'N' | 'n' => {
+                return Err(format!(
+                    "remap M{m}: argspec={a}: '{c}' is not read (novanc passes the words as named locals #<p> only)"
+                ))
+            }
+            _ => {
+                return Err(format!(
+                    "remap M{m}: argspec={a}: '{c}' is not a word a line may give (A-F, H-L, P-T, X-Z)"
+                ))
+            }
+        }
+    }
+    Ok(out)
 }
 
 fn mill(
@@ -1101,13 +1148,21 @@ mod tests {
     fn a_mill_description_remaps_m6_as_linuxcnc_writes_it() {
         let base = "machine m\nkind mill\nx travel 0 300 rapid 8000 accel 500\ny travel 0 200 rapid 9000 accel 400\nz travel -100 0 rapid 5000 accel 800\n";
         match parse(&format!(
-            "{base}remap M6 modalgroup=6 ngc=ToolChange\nremap M31 modalgroup=10 ngc=conveyor_on\nremap m33 ngc=Conveyor_off\n"
+            "{base}remap M6 modalgroup=6 ngc=ToolChange\nremap M31 modalgroup=10 ngc=conveyor_on\nremap m33 ngc=Conveyor_off\nremap M59 modalgroup=10 argspec=P-q ngc=relay\n"
         )) {
             Ok(MachineDesc::Mill(s)) => {
                 assert_eq!(s.remap_m6.as_deref(), Some("toolchange"));
+                let relay = crate::settings::Remap {
+                    argspec: "Pq".into(),
+                    ..crate::settings::Remap::new(59, "relay")
+                };
                 assert_eq!(
                     s.remap_m,
-                    [(31, "conveyor_on".to_string()), (33, "conveyor_off".to_string())]
+                    [
+                        crate::settings::Remap::new(31, "conveyor_on"),
+                        crate::settings::Remap::new(33, "conveyor_off"),
+                        relay
+                    ]
                 );
             }
             other => panic!("{other:?}"),
@@ -1122,6 +1177,22 @@ mod tests {
                 "6: remap M31: modalgroup=6: novanc remaps other",
             ),
             ("remap M31 modalgroup=10", "6: remap M31 needs ngc=NAME"),
+            (
+                "remap M31 argspec=@P ngc=x",
+                "6: remap M31: argspec=@P: '@' is not read",
+            ),
+            (
+                "remap M31 argspec=PG ngc=x",
+                "6: remap M31: argspec=PG: 'G' is not a word",
+            ),
+            (
+                "remap M31 argspec=Pp ngc=x",
+                "6: remap M31: argspec=Pp: p is given twice",
+            ),
+            (
+                "remap M6 argspec=P ngc=x",
+                "6: remap M6: argspec= is read for the other",
+            ),
             (
                 "remap M31 ngc=a\nremap M31 ngc=b",
                 "7: M31 is remapped twice",

@@ -8,7 +8,7 @@ use super::programs::mutate;
 use super::rng::Rng;
 use novanc::block::MachineState;
 use novanc::gcode::{GcodeSource, Switches, WorkOffsets};
-use novanc::settings::{AxisKind, Dialect, MachineSettings};
+use novanc::settings::{AxisKind, Dialect, MachineSettings, Remap};
 use novanc::tooldata::sample_magazine;
 
 #[path = "../common/gcode_fragments.rs"]
@@ -91,7 +91,13 @@ fn read_checked(rng: &mut Rng, src: &str, dialect: Dialect) -> Result<(), String
     // "Remapping M6 and other M codes"), their subroutine defined first or missing.
     let with_sub;
     let src = if rng.chance(0.25) {
-        settings.remap_m = vec![(31, "chip".into()), (101, "chip".into())];
+        settings.remap_m = vec![
+            Remap::new(31, "chip"),
+            Remap {
+                argspec: "Pq".into(),
+                ..Remap::new(101, "chip")
+            },
+        ];
         with_sub = format!(
             "{}{src}",
             if rng.chance(0.7) {
