@@ -350,30 +350,36 @@ mod tests {
     /// turning table is seen in every mode, not only on POS (stop 53).
     #[test]
     fn the_position_box_shows_the_rotary_axes_inside_its_frame() {
-        let mut v = view();
-        v.rotary_deg = vec![('A', 0.0), ('B', -30.0), ('C', -10_080.5)];
-        let mut s = Screen::new(79, 24);
-        draw_panel(&mut s, &v);
-        let t = s.to_text();
-        for want in [
-            "│X      1.000 tip X      1.000 A    0.000│",
-            "│Y      2.000 tip Y      2.000 B  -30.000│",
-            "│Z     -3.500 tip Z   -153.500 C-10080.50│",
-            "POSITION mm, deg",
+        // A, B and C; then a trunnion (B and C), whose Z row keeps the columns of the rows
+        // above it.
+        let abc = vec![('A', 0.0), ('B', -30.0), ('C', -10_080.5)];
+        let trunnion = vec![('B', 5.0), ('C', 45.0)];
+        for (rotary, rows) in [
+            (
+                abc,
+                [
+                    "│X      1.000 tip X      1.000 A    0.000│",
+                    "│Y      2.000 tip Y      2.000 B  -30.000│",
+                    "│Z     -3.500 tip Z   -153.500 C-10080.50│",
+                ],
+            ),
+            (
+                trunnion,
+                [
+                    "│X      1.000 tip X      1.000 B    5.000│",
+                    "│Y      2.000 tip Y      2.000 C   45.000│",
+                    "│Z     -3.500 tip Z   -153.500           │",
+                ],
+            ),
         ] {
-            assert!(t.contains(want), "missing {want:?} in\n{t}");
-        }
-        // A trunnion (B and C): Z's row keeps the columns of the rows above it.
-        v.rotary_deg = vec![('B', 5.0), ('C', 45.0)];
-        let mut s = Screen::new(79, 24);
-        draw_panel(&mut s, &v);
-        let t = s.to_text();
-        for want in [
-            "│X      1.000 tip X      1.000 B    5.000│",
-            "│Y      2.000 tip Y      2.000 C   45.000│",
-            "│Z     -3.500 tip Z   -153.500           │",
-        ] {
-            assert!(t.contains(want), "missing {want:?} in\n{t}");
+            let mut v = view();
+            v.rotary_deg = rotary;
+            let mut s = Screen::new(79, 24);
+            draw_panel(&mut s, &v);
+            let t = s.to_text();
+            for want in rows.iter().chain(&["POSITION mm, deg"]) {
+                assert!(t.contains(want), "missing {want:?} in\n{t}");
+            }
         }
     }
 
