@@ -29,6 +29,8 @@ pub struct Ctx {
     pub gcode: Vec<String>,
     /// Lathe programs (`programs/citizen/*.ngc`, `tests/golden/lathe_rs274/*.ngc`).
     pub lathe: Vec<String>,
+    /// Machine descriptions (`machines/*.machine`, the remap machine of the golden tests).
+    pub descriptions: Vec<String>,
     /// The sample tool tape.
     pub tape: String,
     /// The sample T-code table.

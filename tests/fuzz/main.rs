@@ -1,8 +1,9 @@
 //! The fuzz command of issue 15 (README, *Limits*): generated part programs (by grammar and by
 //! mutation of `programs/*.ap`), G-code programs (the same two ways, from `programs/*.ngc`),
 //! tool tapes, T-code tables, editor command lines (on a buffer and on the stores), panel
-//! scripts run on a console, damaged state directories, and lathe programs (by grammar and by
-//! mutation of the Citizen's and the lathe golden programs), each case checked for no panic, no
+//! scripts run on a console, damaged state directories, lathe programs (by grammar and by
+//! mutation of the Citizen's and the lathe golden programs), and machine descriptions (by
+//! lines and by mutation of `machines/*.machine`), each case checked for no panic, no
 //! case slower than 5 s, no heap growth over 256 MB, the messages and limits of
 //! docs/language.md and docs/gcode.md, and no store changed by a refused input.
 //!
@@ -20,6 +21,7 @@
 //! `note` with its input and checks it, and add it to `FAMILIES`.
 
 mod console;
+mod desc;
 mod editor;
 mod gcode;
 mod harness;
@@ -80,6 +82,10 @@ const FAMILIES: &[Family] = &[
         name: "lathe-program",
         case: lathe::lathe_case,
     },
+    Family {
+        name: "machine-description",
+        case: desc::description_case,
+    },
 ];
 
 fn ctx() -> Ctx {
@@ -116,10 +122,22 @@ fn ctx() -> Ctx {
     let tmp = std::env::temp_dir().join(format!("novanc-fuzz-{}-{n}", std::process::id()));
     std::fs::create_dir_all(&tmp).expect("a scratch directory");
     assert!(gcode.len() >= 3, "the sample G-code programs");
+    // The machine descriptions: the shipped ones and the remap machine of the golden tests.
+    let mut descriptions: Vec<String> = std::fs::read_dir(format!("{root}/machines"))
+        .expect("machines/")
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "machine"))
+        .filter_map(|e| std::fs::read_to_string(e.path()).ok())
+        .collect();
+    descriptions
+        .extend(std::fs::read_to_string(format!("{root}/tests/golden/remap/remap.machine")).ok());
+    descriptions.sort();
+    assert!(descriptions.len() >= 4, "the machine descriptions");
     Ctx {
         programs,
         gcode,
         lathe,
+        descriptions,
         tape: std::fs::read_to_string(format!("{root}/tooldata/tools.tt")).expect("tools.tt"),
         tcodes: std::fs::read_to_string(format!("{root}/tooldata/magazine.tc"))
             .expect("magazine.tc"),
