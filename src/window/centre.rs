@@ -236,6 +236,15 @@ impl Front for Centre {
     }
 }
 
+/// X Y Z and the machine's rotary axes, as the readout shows them.
+fn machine_axes(view: &PanelView) -> Vec<Axis> {
+    let rotary = view.rotary_deg.iter();
+    [Axis::X, Axis::Y, Axis::Z]
+        .into_iter()
+        .chain(rotary.filter_map(|(r, _)| Axis::from_word(&r.to_string())))
+        .collect()
+}
+
 /// Mouse-wheel movement in notches (one line = one notch, 40 points = one notch), positive up.
 fn scroll_notches(events: &[egui::Event]) -> f32 {
     events
@@ -360,9 +369,10 @@ impl Centre {
                     [l.run, l.hold, l.alarm, l.estop],
                 ));
                 ui.label(egui::RichText::new("JOG").small().color(controls::LEGEND));
+                // X Y Z, and the machine's rotary axes on a row of their own.
                 controls::jog_buttons(
                     ui,
-                    &[Axis::X, Axis::Y, Axis::Z],
+                    &machine_axes(view),
                     view.op_mode == OpMode::Continuous,
                     super::keys::arrow_key,
                     &mut self.hand,
@@ -390,12 +400,7 @@ impl Centre {
                 ui.horizontal(|ui| {
                     controls::handwheel(ui, &mut self.hand, out);
                     ui.vertical(|ui| {
-                        // X Y Z and the machine's rotary axes.
-                        let rotary = view.rotary_deg.iter();
-                        let axes: Vec<Axis> = [Axis::X, Axis::Y, Axis::Z]
-                            .into_iter()
-                            .chain(rotary.filter_map(|(r, _)| Axis::from_word(&r.to_string())))
-                            .collect();
+                        let axes = machine_axes(view);
                         controls::wheel_selectors(ui, &axes, view.wheel.1, &mut self.hand, out)
                     });
                 });

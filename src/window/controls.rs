@@ -377,6 +377,8 @@ pub fn wheel_selectors(
 /// The jog buttons of `axes` (CONTINUOUS, `continuous`: move while held; STEP: one increment
 /// per press): a press is the console's key for the axis direction (`key`), so that a press
 /// does what the keyboard's does; held past [`HOLD_TO_JOG`] in CONTINUOUS, a jog until let go.
+/// A rotary axis's press selects it on the handwheel's selector and is Alt+, or Alt+. (the
+/// keyboard's jog of the selected axis), as an operator with a pendant does.
 pub fn jog_buttons(
     ui: &mut Ui,
     axes: &[Axis],
@@ -402,7 +404,10 @@ pub fn jog_buttons(
         }
     };
     if axes.len() > 2 {
-        ui.horizontal(|ui| buttons(ui, axes));
+        // X Y Z on a row, the rotary axes on the next.
+        for row in axes.chunks(3) {
+            ui.horizontal(|ui| buttons(ui, row));
+        }
     } else {
         // Two axes (a lathe's X and Z): one row each, so that the manual column is no wider
         // than the handwheel (at the default 1400-point window, Z+ was cut off the edge).
@@ -418,7 +423,17 @@ pub fn jog_buttons(
         hand.jog_since = std::time::Instant::now();
         if let Some((a, d)) = held_now {
             // The press is the terminal's key: one increment (docs/panel.md, "Jogging").
-            out.push(PanelEvent::Press(key(a, d)));
+            if a.index() >= crate::block::FIRST_ROTARY {
+                hand.wheel_axis = a;
+                out.push(PanelEvent::Wheel(a, 0));
+                out.push(PanelEvent::Press(novanc_panel::Key::Alt(if d < 0 {
+                    ','
+                } else {
+                    '.'
+                })));
+            } else {
+                out.push(PanelEvent::Press(key(a, d)));
+            }
         }
         hand.jog_held = held_now;
     } else if let Some((a, d)) = held_now {
@@ -650,6 +665,55 @@ mod tests {
             },
         );
         assert_eq!(got, None);
+    }
+
+    /// On a trunnion the JOG buttons have a row for B and C (stop 55; before, a mouse could turn
+    /// the table only with the handwheel in HANDLE): a press selects the axis on the
+    /// handwheel's selector and is the keyboard's Alt+, or Alt+., one increment.
+    #[test]
+    fn a_rotary_axis_s_jog_buttons_select_it_and_press_its_jog_key() {
+        let ctx = egui::Context::default();
+        let mut hand = HandState::default();
+        let axes = [Axis::X, Axis::Y, Axis::Z, Axis::B, Axis::C];
+        let mut pressed = Vec::new();
+        let mut t = 0.0;
+        // Press and let go at every point across the second row, in turn.
+        for x in (2..300).step_by(4) {
+            let at = pos2(x as f32, 42.0);
+            let mut out = Vec::new();
+            for e in [
+                vec![egui::Event::PointerMoved(at)],
+                vec![press(at, true)],
+                vec![press(at, false)],
+            ] {
+                t += 0.05;
+                frame(&ctx, t, e, |ui| {
+                    jog_buttons(
+                        ui,
+                        &axes,
+                        true,
+                        |_, _| novanc_panel::Key::Up,
+                        &mut hand,
+                        &mut out,
+                    )
+                });
+            }
+            match out.as_slice() {
+                [] => {}
+                [PanelEvent::Wheel(a, 0), PanelEvent::Press(novanc_panel::Key::Alt(k))] => {
+                    let d = if *k == '.' { 1 } else { -1 };
+                    if pressed.last() != Some(&(*a, d)) {
+                        pressed.push((*a, d));
+                    }
+                }
+                other => panic!("at x {x}: {other:?}"),
+            }
+        }
+        assert_eq!(
+            pressed,
+            [(Axis::B, -1), (Axis::B, 1), (Axis::C, -1), (Axis::C, 1)]
+        );
+        assert_eq!(hand.wheel_axis, Axis::C);
     }
 
     #[test]
