@@ -725,21 +725,14 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
         frames[0]
     );
     let row = display_row;
+    // A POS row's WORK and MACH.
+    let work_mach = |frame: &str, axis: &str, want: (&str, &str)| {
+        let r = row(frame, axis);
+        assert_eq!((r[1].as_str(), r[3].as_str()), want, "{frame}");
+    };
     // WORK, REL, MACH: C at 15 in G54 stands at machine 45.
-    let c = row(frames[1], "C");
-    assert_eq!(
-        (c[1].as_str(), c[3].as_str()),
-        ("15.000", "45.000"),
-        "{}",
-        frames[1]
-    );
-    let b = row(frames[1], "B");
-    assert_eq!(
-        (b[1].as_str(), b[3].as_str()),
-        ("0.000", "-5.000"),
-        "{}",
-        frames[1]
-    );
+    work_mach(frames[1], "C", ("15.000", "45.000"));
+    work_mach(frames[1], "B", ("0.000", "-5.000"));
     // A new console on the same state: G54's C is what G10 L20 made it (45 - 90 = -45).
     let so = script_run(
         &dir,
@@ -748,13 +741,7 @@ fn the_console_shows_and_keeps_the_rotary_work_offsets() {
         "key Ctrl+P\nshow\nkey Ctrl+O\nkey End\nshow\n",
     );
     let frames: Vec<&str> = so.split("--- display").skip(1).collect();
-    let c = row(frames[0], "C");
-    assert_eq!(
-        (c[1].as_str(), c[3].as_str()),
-        ("90.000", "45.000"),
-        "{}",
-        frames[0]
-    );
+    work_mach(frames[0], "C", ("90.000", "45.000"));
     let g54 = row(frames[1], "G54");
     assert_eq!(
         g54.last().map(String::as_str),
