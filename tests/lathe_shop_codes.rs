@@ -8,8 +8,13 @@ use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
 /// A one-channel lathe: X travel 0..100 (radius), Z −100..100; tool 1 with offsets X 2 (radius)
 /// Z −3, tool 2 without; in `dialect`.
 fn lathe(dialect: &str) -> LatheDesc {
+    lathe_with(dialect, "")
+}
+
+/// [`lathe`] with `more` lines of the description before its channel.
+fn lathe_with(dialect: &str, more: &str) -> LatheDesc {
     let text = format!(
-        "machine shop\nkind lathe\npulse 0.001\ntick 100\ndialect {dialect}\nchannel PATH-1\n\
+        "machine shop\nkind lathe\npulse 0.001\ntick 100\ndialect {dialect}\n{more}channel PATH-1\n\
          x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
          spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3 offset 2 -3\n\
          tool 2 radius 0 tip 3\n"
@@ -55,7 +60,13 @@ fn g28_returns_the_axes_named_through_the_intermediate_point_to_the_reference() 
     // returns both (its G28 goes to the stored position, here the reference).
     assert_eq!(
         read("G0 X40. Z5.\nG28\n", &desc).err().as_deref(),
-        Some("2:1: G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named)")
+        Some("2:1: G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named; a description's 'g28 alone all' returns both, as a Haas does)")
+    );
+    // A Haas returns every axis: the description says so with `g28 alone all`.
+    let haas = lathe_with("fanuc", "g28 alone all\n");
+    assert_eq!(
+        ok("G0 X40. Z5.\nG28\n", &haas),
+        ["R X20.000 Z5.000", "R X100.000 Z100.000"]
     );
     let lcnc = lathe("linuxcnc");
     assert_eq!(
@@ -178,8 +189,39 @@ fn g74_pecks_along_z_and_g75_along_x_as_fanuc_0i_t() {
             "R X15.000 Z-20.000",
         ]
     );
+    // The one-block form (Fanuc's Series 15 format, a Haas's): I, K and D are the second
+    // block's P, Q and R as lengths, `I2.` for `P2000`; the return is the first block's R.
+    let one = "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 R0.5\nG75 X20. Z-23. I2. K3. F0.05\n";
+    let two = "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 R0.5\nG75 X20. Z-23. P2000 Q3000 F0.05\n";
+    assert_eq!(ok(one, &desc), ok(two, &desc));
+    // Without a point, I and K are least increments, as on an arc; with G74, K pecks along Z.
+    let p = "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 R1.\nG74 Z-10. K4000 F0.1\nG0 X50.\n";
+    let q = "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 R1.\nG74 Z-10. Q4000 F0.1\nG0 X50.\n";
+    assert_eq!(ok(p, &desc), ok(q, &desc));
+    // A Haas parting line: from X0.05 (inch, a radius of 0.635 mm), pecks of 0.01 in
+    // (0.254 mm) to the centre, with no return before a first block (each peck follows the
+    // last without backing off), then back out.
+    let p = "G20 T0202 G95 M03 S800\nG0 X0.05 Z0.\nG75 X0. I0.01 F0.002\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            "R X0.635 Z0.000",
+            "F X0.381 Z0.000",
+            "F X0.127 Z0.000",
+            "F X0.000 Z0.000",
+            "R X0.635 Z0.000",
+        ]
+    );
     // Refusals, each at its place.
     for (text, want) in [
+        (
+            "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 X20. Z-23. I2. Q3000 F0.05\n",
+            "3:20: G75 Q beside I: give the one-block form's I, K and D or the two-block form's P, Q and R",
+        ),
+        (
+            "T0202 G95 M03 S800\nG0 X30. Z-20.\nG75 X20. Z-23. I2. F0.05\n",
+            "3:1: G75 needs K, the shift between grooves, above 0",
+        ),
         (
             "T0202 G95 M03 S800\nG0 X0 Z2.\nG74 Z-10. Q4. F0.1\n",
             "3:11: G74 Q: in least increments, without a decimal point (P1000 is 1.000 mm)",
@@ -384,4 +426,127 @@ fn g92_sets_where_the_tool_stands_and_g92_1_puts_the_zero_back() {
     ] {
         assert_eq!(read(text, &lcnc).err().as_deref(), Some(want), "{text}");
     }
+}
+
+/// A machine builder's M codes on a lathe (docs/lathe-gcode.md "A machine builder's M
+/// codes"): a Haas's chip conveyor M31 and M33, remapped to subroutines, run where LinuxCNC
+/// runs modal group 10 (after the spindle and the coolant, before the dwell and the move), the
+/// rest of the line on the return; argspec's words are the subroutine's `#<p>`. Worked out by
+/// hand: the subroutines move, so the order shows in the moves.
+#[test]
+fn a_lathe_calls_the_subroutine_of_an_m_code_its_description_remaps() {
+    let desc = lathe_with(
+        "fanuc",
+        "remap M31 modalgroup=10 ngc=chip_on\nremap M59 modalgroup=10 argspec=Pq ngc=relay\n",
+    );
+    let subs = "o<chip_on> sub\nG0 U2.\no<chip_on> endsub\n\
+                o<relay> sub\nG0 X[#<p>]\no<relay> endsub\n";
+    // The subroutine's U2. (1 mm of radius out) comes before the line's dwell (D, ms) and
+    // its move, as on LinuxCNC.
+    let p = format!("{subs}G95 G0 X40. Z5.\nM8 M31 G4 P500\nM31 G0 X20. Z2.\nM30\n");
+    assert_eq!(
+        lathe_moves::ok(&p, &desc, true),
+        [
+            "R X20.000 Z5.000",
+            "R X21.000 Z5.000",
+            "D 500",
+            "R X22.000 Z5.000",
+            "R X10.000 Z2.000"
+        ]
+    );
+    // The coolant came before the call: its block stands before the subroutine's move.
+    let st = read(&p, &desc).unwrap();
+    let blocks: Vec<_> = st.iter().flat_map(|s| &s.blocks).collect();
+    let m8 = blocks.iter().position(|b| b.m == Some(8));
+    let sub = blocks.iter().position(|b| b.end[0] == 21_000);
+    assert!(m8.is_some() && m8 < sub, "{m8:?} {sub:?}");
+    // argspec=Pq: P required, given to the subroutine as #<p>.
+    let p = format!("{subs}G95 G0 X40. Z5.\nM59 P50.\nM30\n");
+    assert_eq!(
+        lathe_moves::ok(&p, &desc, false),
+        ["R X20.000 Z5.000", "R X25.000 Z5.000"]
+    );
+    let refused = |text: String, d: &LatheDesc| read(&format!("{subs}{text}"), d).err();
+    let e = refused("M59 Q3.\nM30\n".into(), &desc);
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.contains("its subroutine needs P on the line (argspec=Pq)")),
+        "{e:?}"
+    );
+    // Without the description's line, M31 is the lathe's unknown code.
+    let e = refused("M31\nM30\n".into(), &lathe("fanuc"));
+    assert_eq!(e.as_deref(), Some("7:1: unknown or unsupported code M31"));
+    // Inside its own subroutine it means nothing: refused.
+    let own = "o<chip_on> sub\nM31\no<chip_on> endsub\nM31\nM30\n";
+    let e = read(own, &desc).err();
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.contains("M31 inside a remap subroutine")),
+        "{e:?}"
+    );
+    // A subroutine nowhere to be found: an error of the code, at its place.
+    let e = read("G0 X40. Z5.\nM31\nM30\n", &desc).err();
+    assert!(
+        e.as_deref().is_some_and(|e| e.starts_with(
+            "2:1: M31 (remapped to o<chip_on> by the machine description): subroutine o<chip_on>"
+        )),
+        "{e:?}"
+    );
+    // In a G71 profile: refused at its line.
+    let g71 = "G0 X40. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.2 W0.1 F0.2\nN10 G0 X20. M31\nG1 Z-10.\nN20 X40.\nM30\n";
+    let e = refused(g71.into(), &desc);
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.contains("inside a G70/G71 profile")),
+        "{e:?}"
+    );
+}
+
+/// What a lathe's description may remap, and what it refuses with its line.
+#[test]
+fn a_lathe_description_remaps_only_codes_the_lathe_does_not_define() {
+    let refusal = |more: &str| {
+        match parse(&format!(
+        "machine shop\nkind lathe\ndialect fanuc\n{more}channel P\nx travel 0 100 rapid 12000 accel 3000\n\
+         z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n"
+    )) {
+        Ok(_) => String::new(),
+        Err(e) => e,
+    }
+    };
+    assert_eq!(refusal("remap M31 modalgroup=10 ngc=chip_on\n"), "");
+    assert_eq!(
+        refusal("remap M3 modalgroup=10 ngc=x\n"),
+        "4: remap M3: the lathe defines M3 itself; remap an M code it does not define"
+    );
+    assert!(refusal("remap M101 modalgroup=10 ngc=x\n")
+        .starts_with("4: remap M101: M100 to M199 are the lathe's waiting codes"));
+    assert!(refusal("remap M6 modalgroup=6 ngc=x\n")
+        .starts_with("4: remap M6: the lathe's M6 indexes the turret"));
+    assert_eq!(
+        refusal("remap M31 modalgroup=10 ngc=a\nremap M31 modalgroup=10 ngc=b\n"),
+        "5: M31 is remapped twice"
+    );
+    assert_eq!(
+        refusal("g28 alone maybe\n"),
+        "4: g28 takes alone all or alone refuse (what a G28 that names no axis does in the Fanuc dialect)"
+    );
+    // A channel's own line says it for that channel, beside the machine's.
+    let d = match parse(
+        "machine shop\nkind lathe\ntransfer 1 2\nremap M31 modalgroup=10 ngc=a\nchannel P\nremap M33 modalgroup=10 ngc=b\n\
+         x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+         spindle max 4000 accel 4000 encoder 1024\nchannel Q\nx travel 0 100 rapid 12000 accel 3000\n\
+         z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n",
+    ) {
+        Ok(MachineDesc::Lathe(d)) => d,
+        other => panic!("{other:?}"),
+    };
+    let codes = |c: usize| {
+        d.channels[c]
+            .remap_m
+            .iter()
+            .map(|r| r.code)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!((codes(0), codes(1)), (vec![33, 31], vec![31]));
 }

@@ -363,6 +363,11 @@ pub trait Motion {
         let _ = (n, v, fanuc);
         None
     }
+
+    /// The next line this back end executes is the rest of a line whose remapped M code
+    /// ([`Then::Remap`]) has called its subroutine, now returned: only its steps after that
+    /// code run.
+    fn after_remap(&mut self) {}
 }
 
 /// What a back end's line asks of the program's flow.
@@ -388,6 +393,15 @@ pub enum Then {
     End,
     /// Go on at this line, further on in the same unit (past a G71's profile).
     Skip(Pos),
+    /// An M code the machine description remaps (modal group 10), at column `col`: call its
+    /// subroutine; on the return the back end runs the rest of the line
+    /// ([`Motion::after_remap`]).
+    Remap {
+        /// The M code.
+        m: u32,
+        /// Its column.
+        col: u32,
+    },
 }
 
 /// What a back end may ask of the reader while it executes a line.
@@ -408,6 +422,10 @@ pub trait Lines {
     /// The program's units from here on (G20 `inch`, or G21), as the back end keeps them:
     /// the Fanuc dialect's least increment follows them (0.0001 inch, 0.001 mm).
     fn units(&mut self, inch: bool);
+
+    /// A remap subroutine runs now (its M code, called inside it, has no meaning of its
+    /// own: docs/gcode.md "Remapping M6 and other M codes").
+    fn in_remap(&self) -> bool;
 }
 
 /// Whether parameter `n` is refused by a lathe back end when neither it nor the reader
@@ -557,6 +575,9 @@ struct RemapLine {
     raw: String,
     /// The line's words (None until the line has executed up to the remapped code).
     words: Option<Box<words::Words>>,
+    /// A back end's line (the lathe's), read: its back end executes the rest of it on the
+    /// return (`Motion::after_remap`).
+    line: Option<Box<read::Line>>,
     /// The steps of the line still to run on the return: after M6 (6) or after modal group
     /// 10 (10).
     after: u8,
@@ -871,18 +892,30 @@ impl GcodeSource {
                     at,
                     n,
                     raw,
-                    words: Some(words),
+                    words,
+                    line,
                     after,
                     ..
                 }) = self.remap.take()
                 {
                     self.st.remap_level = 0;
-                    let r = self.run_words(at, n, &raw, &words, after);
-                    // The rest of an M6 line may call a remapped code of modal group 10:
-                    // its words are kept again for the steps after that one.
-                    if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
-                        r.words = Some(words);
-                    }
+                    let r = match (words, line, motion.as_deref_mut()) {
+                        (Some(words), _, _) => {
+                            let r = self.run_words(at, n, &raw, &words, after);
+                            // The rest of an M6 line may call a remapped code of modal group
+                            // 10: its words are kept again for the steps after that one.
+                            if let Some(r) = self.remap.as_mut().filter(|r| r.words.is_none()) {
+                                r.words = Some(words);
+                            }
+                            r
+                        }
+                        // A back end's line: it runs the steps after the remapped code.
+                        (None, Some(line), Some(m)) => {
+                            m.after_remap();
+                            self.run_motion(m, at, n, &raw, &line)
+                        }
+                        _ => Ok(None),
+                    };
                     match r {
                         Ok(Some(s)) => return s,
                         Ok(None) => continue,
@@ -1465,6 +1498,16 @@ impl GcodeSource {
                 self.done = true;
             }
             Then::Skip(to) => self.flow.pc = to,
+            Then::Remap { m, col } => {
+                let word = |c: char| {
+                    let w = line.words.iter().rev().find(|w| w.letter == c);
+                    w.map(|w| w.value)
+                };
+                self.remap_call(at, n, raw, (m, col), &word)?;
+                if let Some(r) = self.remap.as_mut() {
+                    r.line = Some(Box::new(line.clone()));
+                }
+            }
         }
         Ok(Some(self.finish(n, raw, Vec::new(), false)))
     }
@@ -1527,7 +1570,7 @@ impl GcodeSource {
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::Remap { m, col } => {
-                self.remap_call(at, n, raw, (m, col), words)?;
+                self.remap_call(at, n, raw, (m, col), &|c| words.get(c))?;
                 Ok(Some(self.finish(n, raw, out, false)))
             }
             LineFlow::End => {
@@ -1549,7 +1592,7 @@ impl GcodeSource {
         n: u32,
         raw: &str,
         (m, col): (u32, u32),
-        words: &words::Words,
+        word: &dyn Fn(char) -> Option<f64>,
     ) -> Result<(), TranslateError> {
         let remap = (self.settings.remap_m.iter()).find(|r| r.code == m);
         let argspec = remap.map(|r| r.argspec.clone()).unwrap_or_default();
@@ -1576,7 +1619,7 @@ impl GcodeSource {
         // The argspec's words, as LinuxCNC's add_parameters gives them: a capital letter
         // missing from the line is an error of the code.
         let missing: Vec<char> = (argspec.chars())
-            .filter(|c| c.is_ascii_uppercase() && words.get(*c).is_none())
+            .filter(|c| c.is_ascii_uppercase() && word(*c).is_none())
             .collect();
         if !missing.is_empty() {
             let list: Vec<String> = missing.iter().map(char::to_string).collect();
@@ -1587,7 +1630,7 @@ impl GcodeSource {
             return Err(err(e));
         }
         for c in argspec.chars() {
-            if let Some(v) = words.get(c.to_ascii_uppercase()) {
+            if let Some(v) = word(c.to_ascii_uppercase()) {
                 let name = c.to_ascii_lowercase().to_string();
                 self.flow.set_local(&mut self.st, &name, v);
             }
@@ -1606,6 +1649,7 @@ impl GcodeSource {
             n,
             raw: raw.to_string(),
             words: None,
+            line: None,
             after: if m == 6 { 6 } else { 10 },
         });
         Ok(())
@@ -1893,6 +1937,10 @@ impl GcodeSource {
 impl Lines for GcodeSource {
     fn units(&mut self, inch: bool) {
         self.st.modal.inch = inch;
+    }
+
+    fn in_remap(&self) -> bool {
+        self.remap.is_some()
     }
 
     fn read_line(

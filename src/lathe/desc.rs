@@ -65,6 +65,14 @@ pub struct ChannelDesc {
     /// Where `o<name> call` and `M98 P` look for a subroutine the program does not hold
     /// (`name.ngc`), in order: the channel's `subroutines` lines, then the machine's.
     pub subroutines: Vec<std::path::PathBuf>,
+    /// The M codes a machine builder adds, each calling an O-word subroutine (the
+    /// description's `remap M31 modalgroup=10 ngc=NAME` lines: the channel's, then the
+    /// machine's before the channels; docs/lathe-gcode.md "A machine builder's M codes").
+    pub remap_m: Vec<crate::settings::Remap>,
+    /// `g28 alone all`: in the Fanuc dialect, a G28 that names no axis returns both, as a
+    /// Haas does (the channel's line, else the machine's); `None` or `false`: it is refused,
+    /// where a Fanuc moves nothing. LinuxCNC's dialect returns both either way.
+    pub g28_all: Option<bool>,
 }
 
 impl ChannelDesc {
@@ -87,6 +95,8 @@ impl ChannelDesc {
             calculator: None,
             per_rev: None,
             subroutines: Vec::new(),
+            remap_m: Vec::new(),
+            g28_all: None,
         }
     }
 
@@ -441,6 +451,9 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     let mut fanuc: (Option<bool>, Option<bool>) = (None, None);
     let mut feed = None;
     let mut sub_path: Vec<std::path::PathBuf> = Vec::new();
+    // A lathe's remaps and G28 setting before the channels: every channel's.
+    let mut lathe_remaps: Vec<crate::settings::Remap> = Vec::new();
+    let mut g28_all = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -616,7 +629,38 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     )));
                 }
             }
-            "remap" if kind == Some("mill") => match remap(&words).map_err(e)? {
+            "remap" if kind == Some("lathe") => {
+                let r = remap(&words, true).map_err(e)?;
+                // In a channel, the channel's; before the channels, every channel's that does
+                // not remap the code itself.
+                let (list, whose) = match channels.last_mut() {
+                    Some(ch) if in_channel => (&mut ch.remap_m, " in this channel"),
+                    _ => (&mut lathe_remaps, ""),
+                };
+                if list.iter().any(|o| o.code == r.code) {
+                    return Err(e(format!("M{} is remapped twice{whose}", r.code)));
+                }
+                list.push(r);
+            }
+            "g28" if kind == Some("lathe") => {
+                let all = match words.as_slice() {
+                    [_, "alone", "all"] => true,
+                    [_, "alone", "refuse"] => false,
+                    _ => return Err(e("g28 takes alone all or alone refuse (what a G28 that names no axis does in the Fanuc dialect)".into())),
+                };
+                let slot = match channels.last_mut() {
+                    Some(ch) if in_channel => &mut ch.g28_all,
+                    _ => &mut g28_all,
+                };
+                if slot.is_some() {
+                    return Err(e(format!(
+                        "g28 is given twice{}",
+                        if in_channel { " in this channel" } else { "" }
+                    )));
+                }
+                *slot = Some(all);
+            }
+            "remap" if kind == Some("mill") => match remap(&words, false).map_err(e)? {
                 r if r.code == 6 && remap_m6.is_some() => {
                     return Err(e("M6 is remapped twice".into()))
                 }
@@ -638,7 +682,13 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     _ => return Err(e("toolchange takes z and a machine Z, mm".into())),
                 });
             }
-            "remap" | "workpiece" | "toolchange" => {
+            "remap" => {
+                return Err(e(
+                    "remap belongs to a mill or a lathe: say 'kind mill' or 'kind lathe' first"
+                        .into(),
+                ))
+            }
+            "workpiece" | "toolchange" => {
                 return Err(e(format!(
                     "{head} belongs to a mill: say 'kind mill' first"
                 )))
@@ -768,6 +818,12 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 ch.calculator = ch.calculator.or(fanuc.1);
                 ch.per_rev = ch.per_rev.or(feed);
                 ch.subroutines.extend(sub_path.iter().cloned());
+                ch.g28_all = ch.g28_all.or(g28_all);
+                for r in &lathe_remaps {
+                    if ch.remap_m.iter().all(|o| o.code != r.code) {
+                        ch.remap_m.push(r.clone());
+                    }
+                }
             }
             // System A is Fanuc's: LinuxCNC's lathe has system B only.
             for &(c, ln) in system_a.iter().filter(|s| s.1 > 0) {
@@ -809,19 +865,41 @@ fn work_box(words: &[&str]) -> Result<crate::workpiece::Cuboid, String> {
 /// `remap M6 modalgroup=6 ngc=NAME`, or `remap Mn modalgroup=10 [argspec=LETTERS] ngc=NAME`
 /// for an M code novanc does not define (M0–M199): LinuxCNC's `REMAP=...` line (docs/gcode.md
 /// "Remapping M6 and other M codes").
-fn remap(words: &[&str]) -> Result<crate::settings::Remap, String> {
+fn remap(words: &[&str], lathe: bool) -> Result<crate::settings::Remap, String> {
     let code = words.get(1).and_then(|c| {
         let c = c.strip_prefix(['M', 'm'])?;
         c.parse::<u32>().ok()
     });
     let m = match code {
+        // The lathe's M6 indexes the turret at once (docs/lathe-gcode.md "T").
+        Some(6) if lathe => {
+            return Err(
+                "remap M6: the lathe's M6 indexes the turret (T0101 M6): remap an M code the lathe does not define".into(),
+            )
+        }
         Some(6) => 6,
-        Some(m) if m < 200 && crate::gcode::words::m_code_known(m) => {
+        Some(m) if (100..200).contains(&m) && lathe => {
+            return Err(format!(
+                "remap M{m}: M100 to M199 are the lathe's waiting codes (docs/lathe.md); remap an M code below M100 it does not define"
+            ))
+        }
+        Some(m) if m < 200 && lathe && crate::lathe::gcode::m_code_known(m) => {
+            return Err(format!(
+                "remap M{m}: the lathe defines M{m} itself; remap an M code it does not define"
+            ))
+        }
+        Some(m) if m < 200 && !lathe && crate::gcode::words::m_code_known(m) => {
             return Err(format!(
                 "remap M{m}: novanc defines M{m} itself; remap M6, or an M code it does not define"
             ))
         }
         Some(m) if m < 200 => m,
+        _ if lathe => {
+            return Err(
+                "remap: name an M code the lathe does not define, M0 to M99 (remap M31 modalgroup=10 ngc=NAME)"
+                    .into(),
+            )
+        }
         _ => {
             return Err(
                 "remap: name M6 or an M code novanc does not define, M0 to M199 (remap M6 modalgroup=6 ngc=NAME, remap M31 modalgroup=10 ngc=NAME)"
@@ -838,6 +916,9 @@ fn remap(words: &[&str]) -> Result<crate::settings::Remap, String> {
             Some(("modalgroup", g)) => {
                 return Err(match m {
                     6 => format!("remap M6: modalgroup={g}: M6 is in modal group 6"),
+                    _ if lathe => format!(
+                        "remap M{m}: modalgroup={g}: the lathe remaps M codes in modal group 10 (run after the coolant, chuck and waiting codes, before G4)"
+                    ),
                     _ => format!(
                         "remap M{m}: modalgroup={g}: novanc remaps other M codes in modal group 10 (run after M48–M53, before G4)"
                     ),
@@ -1209,9 +1290,14 @@ mod tests {
             let e = parse(&format!("{base}{line}\n")).unwrap_err();
             assert!(e.starts_with(want), "{line}: {e}");
         }
+        // A lathe's M6 indexes the turret: a lathe remaps other codes only
+        // (tests/lathe_shop_codes.rs).
         assert!(parse("machine m\nkind lathe\nremap M6 ngc=x\n")
             .unwrap_err()
-            .starts_with("3: remap belongs to a mill"));
+            .starts_with("3: remap M6: the lathe's M6 indexes the turret"));
+        assert!(parse("machine m\nremap M31 ngc=x\n")
+            .unwrap_err()
+            .starts_with("2: remap belongs to a mill or a lathe"));
     }
 
     #[test]

@@ -42,6 +42,8 @@ pub fn channel(name: &str) -> ChannelDesc {
         calculator: None,
         per_rev: None,
         subroutines: Vec::new(),
+        remap_m: Vec::new(),
+        g28_all: None,
     }
 }
 

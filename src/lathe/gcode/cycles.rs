@@ -413,7 +413,7 @@ pub const ONE_BLOCK_RETRACT_MM: f64 = 0.5;
 /// Letter `l`'s value `v` as a length in program units where the one reader keeps it as
 /// written (D): in Fanuc's dialect a number written without a decimal point is in least
 /// increments (`D1500` is 1.5 mm), unless the input is calculator-type.
-fn fanuc_length(r: &Reader, l: char, v: f64) -> f64 {
+pub(super) fn fanuc_length(r: &Reader, l: char, v: f64) -> f64 {
     if r.fanuc && !r.calculator && r.written_without_point(l) {
         v * r.increment()
     } else {

@@ -160,6 +160,14 @@ pub enum Flow {
         /// The column of M99.
         col: u32,
     },
+    /// An M code the machine description remaps: its subroutine is called, then the rest of
+    /// the line runs (`Reader::after_remap`).
+    Remap {
+        /// The M code.
+        m: u32,
+        /// Its column.
+        col: u32,
+    },
 }
 
 /// The reader of one program.
@@ -200,6 +208,13 @@ pub struct Reader<'a> {
     /// Fanuc's dialect: the letters of the line being executed written as plain numbers with
     /// a decimal point (`read::Line::plain` and `dotted`).
     pub pointed: u32,
+    /// The channel's dialect with the M codes its description remaps (read in modal group
+    /// 10); `None`: it remaps none.
+    pub remapped: Option<crate::gcode::words::Dialect>,
+    /// The line being executed is the rest of one whose remapped M code has called its
+    /// subroutine, now returned: only its steps after that code run (docs/lathe-gcode.md "A
+    /// machine builder's M codes").
+    pub after_remap: bool,
 }
 
 /// An error at a line and column.
@@ -243,6 +258,7 @@ impl Motion for Reader<'_> {
             }
             Flow::Call { o, l, col } => Then::Call { o, l, col },
             Flow::Return { col } => Then::Return { col },
+            Flow::Remap { m, col } => Then::Remap { m, col },
         })
     }
 
@@ -263,6 +279,10 @@ impl Motion for Reader<'_> {
         Some(self)
     }
 
+    fn after_remap(&mut self) {
+        self.after_remap = true;
+    }
+
     fn write_param(&mut self, n: usize, _: f64, fanuc: bool) -> Option<Result<(), String>> {
         super::sysvars::write(self, n, fanuc).map(Err)
     }
@@ -270,11 +290,11 @@ impl Motion for Reader<'_> {
 
 impl Reader<'_> {
     /// The letters and codes the program is read with: system B's, or system A's.
-    fn dialect(&self) -> &'static crate::gcode::words::Dialect {
-        if self.system_a {
-            &LATHE_A
-        } else {
-            &LATHE
+    fn dialect(&self) -> &crate::gcode::words::Dialect {
+        match &self.remapped {
+            Some(d) => d,
+            None if self.system_a => &LATHE_A,
+            None => &LATHE,
         }
     }
 
@@ -300,6 +320,15 @@ impl Reader<'_> {
                         (i + 1) as u32,
                         col,
                         "M98 or M99 inside a G70/G71 profile",
+                    ))
+                }
+                Flow::Remap { m, col } => {
+                    return Err(err(
+                        (i + 1) as u32,
+                        col,
+                        format!(
+                            "M{m} (remapped by the machine description) inside a G70/G71 profile"
+                        ),
                     ))
                 }
             }
@@ -385,6 +414,9 @@ impl Reader<'_> {
         let col = |c: char| w.col(c).unwrap_or(1);
         let mut used: u32 = 1 << (b'N' - b'A');
         let mut use_ = |c: char| used |= 1 << (c as u8 - b'A');
+        // The rest of a line whose remapped M code has called its subroutine: the steps
+        // before that code ran before the call (the modes below are set again, as they were).
+        let after = std::mem::take(&mut self.after_remap);
         // Plane, units, diameter mode, feed mode: they change how the rest is read.
         for &(g, c) in w.g.as_slice() {
             match g {
@@ -444,9 +476,12 @@ impl Reader<'_> {
             spindle = true;
         }
         // G41.1/G42.1's D is the nose's diameter (below), G71/G72's the depth of cut of their
-        // one-block form (`cycles::rough`); another line's D is G96's limit.
+        // one-block form (`cycles::rough`), G74/G75's the relief of theirs (`grooving`);
+        // another line's D is G96's limit.
         let dynamic = w.has_g(411).or(w.has_g(421)).is_some();
-        let roughing = w.has_g(710).or(w.has_g(720)).is_some();
+        let roughing = (w.has_g(710).or(w.has_g(720)))
+            .or(w.has_g(740).or(w.has_g(750)))
+            .is_some();
         if let Some(d) = w.get('D').filter(|_| !dynamic && !roughing) {
             use_('D');
             if !(d > 0.0 && d <= self.chan.max_rpm) {
@@ -467,7 +502,9 @@ impl Reader<'_> {
             for l in ['X', 'Z', 'U', 'W'] {
                 use_(l);
             }
-            self.g92(w, n, g, c)?;
+            if !after {
+                self.g92(w, n, g, c)?;
+            }
         }
         if let Some(c) = w.has_g(500) {
             // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T); X Z set the
@@ -475,7 +512,9 @@ impl Reader<'_> {
             for l in ['S', 'X', 'Z', 'U', 'W'] {
                 use_(l);
             }
-            self.g50(w, n, c)?;
+            if !after {
+                self.g50(w, n, c)?;
+            }
             spindle = w.get('S').is_some();
         } else if let Some(s) = w.get('S') {
             use_('S');
@@ -507,7 +546,9 @@ impl Reader<'_> {
         // T: tool change and offsets.
         if let Some(t) = w.get('T') {
             use_('T');
-            self.tool(t, n, col('T'))?;
+            if !after {
+                self.tool(t, n, col('T'))?;
+            }
         }
         // M06: the turret indexed at the T word (a lathe's tool changes at once); M06 is read
         // as LinuxCNC's `T1 M6` asks, and needs a tool.
@@ -522,7 +563,7 @@ impl Reader<'_> {
                 spindle = true;
             }
         }
-        if spindle {
+        if spindle && !after {
             let css = if self.st.css {
                 let k = if self.st.inch { 0.3048 } else { 1.0 };
                 Some(Css {
@@ -548,13 +589,14 @@ impl Reader<'_> {
         }
         // Coolant: the channel's (the kernel keeps it; M09, M02, M30, RESET and E-STOP stop it).
         for &(m, c) in w.m.as_slice() {
-            if (7..=9).contains(&m) {
+            if (7..=9).contains(&m) && !after {
                 self.out.op(n, c, out::m(m as u8))?;
             }
         }
         // Chuck and waiting codes.
         for &(m, c) in w.m.as_slice() {
             match m {
+                _ if after => use_('P'),
                 10 => self.out.op(n, c, out::sync(Sync::ChuckClose))?,
                 11 => self.out.op(n, c, out::sync(Sync::ChuckOpen))?,
                 100..=199 => {
@@ -563,6 +605,20 @@ impl Reader<'_> {
                     self.out.op(n, c, out::sync(Sync::Wait { m, with }))?;
                 }
                 _ => {}
+            }
+        }
+        // A machine builder's M code (modal group 10): its subroutine is called here, the
+        // rest of the line runs on the return (LinuxCNC's order: after the coolant, before the
+        // dwell). Its argspec's words are the subroutine's.
+        if let Some((r, c)) = (self.chan.remap_m.iter()).find_map(|r| {
+            w.m.as_slice()
+                .iter()
+                .find(|x| x.0 == r.code)
+                .map(|x| (r, x.1))
+        }) {
+            r.argspec.chars().for_each(|l| use_(l.to_ascii_uppercase()));
+            if !after {
+                return self.remap(r.code, n, c, lines);
             }
         }
         // Dwell.
@@ -766,7 +822,7 @@ impl Reader<'_> {
         }
         match motion_code {
             Some((g @ (740 | 750), c)) => {
-                for l in ['P', 'Q', 'U', 'W', 'R', 'X', 'Z'] {
+                for l in ['P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'K', 'D'] {
                     use_(l);
                 }
                 if self.in_cycle {
@@ -897,7 +953,8 @@ impl Reader<'_> {
     /// slide where the program started (docs/lathe-gcode.md "The reference position"). An axis
     /// not named does not move. With no axis word, LinuxCNC's dialect returns both axes (its
     /// G28 without axes goes to the stored position, here the reference) and Fanuc's refuses
-    /// the line, where a Fanuc moves nothing.
+    /// the line, where a Fanuc moves nothing, unless the channel's description says `g28
+    /// alone all` (a Haas returns every axis).
     fn g28(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
         if self.in_cycle {
             return Err(err(n, c, "G28 inside a G70/G71 profile"));
@@ -912,11 +969,11 @@ impl Reader<'_> {
         let mut x = w.get('X').is_some() || w.get('U').is_some();
         let mut z = w.get('Z').is_some() || w.get('W').is_some();
         if !x && !z {
-            if self.fanuc {
+            if self.fanuc && self.chan.g28_all != Some(true) {
                 return Err(err(
                     n,
                     c,
-                    "G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named)",
+                    "G28 names no axis: give the axes to return, U0 W0 (a Fanuc returns only the axes named; a description's 'g28 alone all' returns both, as a Haas does)",
                 ));
             }
             (x, z) = (true, true);
@@ -946,6 +1003,26 @@ impl Reader<'_> {
             end[1] = self.chan.axes[0].travel[1] - off[1];
         }
         self.out.motion(rapid(mid, end))
+    }
+
+    /// A remapped M code at `n`:`c`: its subroutine is called (by the one reader), unless the
+    /// line is in a G70/G71 profile or a remap subroutine runs.
+    fn remap(&self, m: u32, n: u32, c: u32, lines: &dyn Lines) -> Result<Flow, TranslateError> {
+        if self.in_cycle {
+            return Err(err(
+                n,
+                c,
+                format!("M{m} (remapped by the machine description) inside a G70/G71 profile"),
+            ));
+        }
+        if lines.in_remap() {
+            return Err(err(
+                n,
+                c,
+                format!("M{m} inside a remap subroutine: it is remapped by the machine description and the lathe has no M{m} of its own"),
+            ));
+        }
+        Ok(Flow::Remap { m, col: c })
     }
 
     /// G53: a move to X and Z in machine coordinates (docs/lathe-gcode.md "G53"): the slide's

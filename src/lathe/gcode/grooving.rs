@@ -1,6 +1,7 @@
 //! Fanuc 0i-T's peck cycles (docs/lathe-gcode.md "G74 and G75"): G74 pecks along Z (end-face
 //! grooving, or peck drilling on the centre line), G75 along X (grooving, or parting), each in
-//! Fanuc's two-block form. Fanuc's dialect only: LinuxCNC has neither.
+//! Fanuc's two-block form or in its one-block form with I, K and D (Fanuc's Series 15 format,
+//! which a Haas writes). Fanuc's dialect only: LinuxCNC has neither.
 
 use super::cycles::mv;
 use super::exec::{err, Flow, Reader};
@@ -16,6 +17,11 @@ use crate::gcode::words::Words;
 /// the bottom of each groove it moves Δd away from the next one, then rapids back to the start
 /// of the cut. The tool ends where it started. P and Q are in least increments, written
 /// without a decimal point (0i-T: `P1000` is 1.000 mm), P as a radius.
+///
+/// The one-block form `G75 X(U) Z(W) I(Δi) K(Δk) D(Δd) F` (Fanuc's Series 15 format, a
+/// Haas's) gives the same amounts as lengths in program units (`I0.005`): I for P, K for Q, D
+/// for R; the return after each peck is the one a first block `G75 R(e)` set (none before
+/// one).
 pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow, TranslateError> {
     let name = format!("G{}", g / 10);
     if !r.fanuc {
@@ -32,15 +38,32 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
             format!("{name} with nose-radius compensation in force: give G40 first"),
         ));
     }
-    for l in ['I', 'K', 'J', 'H', 'E', 'L', 'D'] {
+    for l in ['J', 'H', 'E', 'L'] {
         if let Some(col) = w.col(l) {
             return Err(err(n, col, format!("{name} takes no {l} word")));
+        }
+    }
+    // The one-block form: I, K and D where the two-block form's second block has P, Q and R.
+    let one_block = ['I', 'K', 'D']
+        .iter()
+        .find_map(|&l| w.col(l).map(|c| (l, c)));
+    if let Some((l, _)) = one_block {
+        if let Some((p, col)) = ['P', 'Q', 'R']
+            .iter()
+            .find_map(|&p| w.col(p).map(|c| (p, c)))
+        {
+            return Err(err(
+                n,
+                col,
+                format!("{name} {p} beside {l}: give the one-block form's I, K and D or the two-block form's P, Q and R"),
+            ));
         }
     }
     let f = r.st.factor();
     let axes = ['X', 'Z', 'U', 'W', 'P', 'Q']
         .iter()
-        .any(|&l| w.get(l).is_some());
+        .any(|&l| w.get(l).is_some())
+        || one_block.is_some();
     if !axes {
         // The first block: the return after each peck.
         let e = w.get('R').unwrap_or(0.0) * f;
@@ -64,15 +87,32 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
         ));
     }
     let inc = r.increment();
-    let di = w.get('P').unwrap_or(0.0) * inc * f;
-    let dk = r.in_increments('Q', w.get('Q').unwrap_or(0.0)) * f;
-    let relief = w.get('R').unwrap_or(0.0) * f;
+    let (di, dk, relief) = if one_block.is_some() {
+        // Lengths as any other: without a point, least increments (but with `decimal
+        // calculator`); the one reader has scaled I and K so, as an arc's.
+        let d = super::cycles::fanuc_length(r, 'D', w.get('D').unwrap_or(0.0));
+        let v = |l: char| w.get(l).unwrap_or(0.0) * f;
+        (v('I'), v('K'), d * f)
+    } else {
+        (
+            w.get('P').unwrap_or(0.0) * inc * f,
+            r.in_increments('Q', w.get('Q').unwrap_or(0.0)) * f,
+            w.get('R').unwrap_or(0.0) * f,
+        )
+    };
+    // The words that give each amount in the form used.
+    let word = |two: char| match (one_block.is_some(), two) {
+        (false, l) => l,
+        (true, 'P') => 'I',
+        (true, 'Q') => 'K',
+        (true, _) => 'D',
+    };
     if !(di.is_finite() && dk.is_finite() && di >= 0.0 && dk >= 0.0) {
-        let l = if di.is_finite() && di >= 0.0 {
+        let l = word(if di.is_finite() && di >= 0.0 {
             'Q'
         } else {
             'P'
-        };
+        });
         return Err(err(
             n,
             w.col(l).unwrap_or(c),
@@ -80,10 +120,11 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
         ));
     }
     if !(relief.is_finite() && relief.abs() <= 1000.0) {
+        let l = word('R');
         return Err(err(
             n,
-            w.col('R').unwrap_or(c),
-            format!("{name} R: the relief at the bottom is at most 1000 mm"),
+            w.col(l).unwrap_or(c),
+            format!("{name} {l}: the relief at the bottom is at most 1000 mm"),
         ));
     }
     let start = r.out.pos;
@@ -96,6 +137,7 @@ pub fn g74_75(r: &mut Reader, w: &Words, n: u32, c: u32, g: u32) -> Result<Flow,
         (1, 0, di, dk)
     };
     let (peck_l, step_l) = if g == 740 { ('Q', 'P') } else { ('P', 'Q') };
+    let (peck_l, step_l) = (word(peck_l), word(step_l));
     let depth = (end[cut] - start[cut]).abs();
     let width = (end[shift] - start[shift]).abs();
     if depth > 1e-9 && peck <= 0.0 {

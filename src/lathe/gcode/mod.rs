@@ -154,9 +154,17 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         6 => 6,
         7..=9 => 8,
         100..=199 => 9,
-        98 | 99 => 10,
+        // Not 10: a code a machine description remaps is read in group 10, and may stand
+        // beside M98 (the lathe's own codes are in no group LinuxCNC numbers 10).
+        98 | 99 => 3,
         _ => return None,
     })
+}
+
+/// Whether the lathe defines M code `m` (a machine description may remap only one it does
+/// not: docs/lathe-gcode.md "A machine builder's M codes").
+pub fn m_code_known(m: u32) -> bool {
+    lathe_m_group(m).is_some()
 }
 
 /// Why G98 or G99 is refused in G code system B out of G83's mode (and in LinuxCNC's dialect).
@@ -406,7 +414,13 @@ pub fn read_kept(
         calculator: chan.calculator.unwrap_or(false) && dialect == crate::settings::Dialect::Fanuc,
         unpointed: 0,
         pointed: 0,
+        remapped: None,
+        after_remap: false,
     };
+    if !chan.remap_m.is_empty() {
+        let base = if r.system_a { &LATHE_A } else { &LATHE };
+        r.remapped = Some(base.with_remaps(chan.remap_m.iter().map(|m| m.code)));
+    }
     if r.system_a {
         r.out.feed_codes = ("G98", "G99");
     }
@@ -418,6 +432,7 @@ pub fn read_kept(
             calculator: r.calculator,
             ..Default::default()
         },
+        remap_m: chan.remap_m.clone(),
         ..Default::default()
     };
     let magazine = crate::tooldata::Magazine::load(crate::tooldata::TCodeTable::new(0), &[]);
