@@ -52,6 +52,13 @@ const LATHE: &[&str] = &[
     "transfer 1 2",
     "unloader 2",
     "loading manual",
+    "remap M31 modalgroup=10 ngc=chip",
+    "remap M59 modalgroup=10 argspec=Pq ngc=relay",
+    "remap M6 ngc=chip",
+    "remap M101 ngc=chip",
+    "g28 alone all",
+    "g28 alone refuse",
+    "g28 sometimes",
 ];
 
 /// Description lines that are wrong wherever they stand.
@@ -164,9 +171,14 @@ pub fn description_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
             if d.channels.is_empty() {
                 return Err("a lathe without a channel".into());
             }
-            let src = "G18 G21 G90\nG0 X10 Z5\nG1 Z-5 F0.1\nM30\n";
-            if let Err(e) = read_program_in(src, &d, 0, &ReadOptions::default(), None) {
-                check_refusal(&e, 5)?;
+            // Remapped codes (their subroutines in the program), a bare G28 and G75's
+            // one-block form, on every channel.
+            let src = "o<chip> sub\nG0 U1\no<chip> endsub\no<relay> sub\nG0 W[#<p>]\no<relay> endsub\n\
+                       G18 G21 G90\nG0 X10 Z5\nM31 G1 Z-5 F0.1\nM59 P2 Q3\nG28\nG0 X10 Z0\nG75 X0 I1. F0.05\nM30\n";
+            for ch in 0..d.channels.len() {
+                if let Err(e) = read_program_in(src, &d, ch, &ReadOptions::default(), None) {
+                    check_refusal(&e, 15)?;
+                }
             }
         }
     }

@@ -101,6 +101,13 @@ const LATHE_FRAGMENTS: &[&str] = &[
     "G74 R1",
     "G74 Z-10 Q2000 F0.1",
     "G75 R1",
+    "G75 X0 I1. F0.05",
+    "G74 Z-5 K1. D0.2 F0.1",
+    "M31",
+    "M59 P2",
+    "o<chip> sub",
+    "o<chip> endsub",
+    "o<chip> call",
     "G83 Z-10 Q2000 F0.1",
     "G80",
     "G50 S3000",
@@ -153,12 +160,23 @@ fn by_grammar(rng: &mut Rng) -> String {
 
 /// The Citizen with room to turn (its channel 1; system A on one case in four, read in
 /// Fanuc's dialect there, as a description allows only then).
-fn lathe(system_a: bool) -> LatheDesc {
+fn lathe(system_a: bool, haas: bool) -> LatheDesc {
     let mut d = LatheDesc::citizen();
     for c in &mut d.channels {
         c.axes[0].travel = [-1.0, 100.0];
         c.axes[1].travel = [-200.0, 200.0];
         c.system_a = system_a;
+        if haas {
+            // A Haas's codes: the chip auger and a relay remapped, G28 alone returns both.
+            c.g28_all = Some(true);
+            for (code, ngc, argspec) in [(31, "chip", ""), (59, "relay", "Pq")] {
+                c.remap_m.push(novanc::settings::Remap {
+                    code,
+                    ngc: ngc.into(),
+                    argspec: argspec.into(),
+                });
+            }
+        }
     }
     d
 }
@@ -182,11 +200,20 @@ pub fn lathe_case(rng: &mut Rng, ctx: &Ctx) -> Result<(), String> {
         };
         mutate(rng, &base, &other)
     };
+    // The program's subroutines for the remapped codes, one case in four.
+    let haas = rng.chance(0.25);
+    let src = if haas {
+        format!(
+            "o<chip> sub\nG0 U1\no<chip> endsub\no<relay> sub\nG0 W[#<p>]\no<relay> endsub\n{src}"
+        )
+    } else {
+        src
+    };
     note(
-        &format!("lathe program ({dialect:?}, system A {system_a})"),
+        &format!("lathe program ({dialect:?}, system A {system_a}, Haas codes {haas})"),
         &src,
     );
-    let desc = lathe(system_a);
+    let desc = lathe(system_a, haas);
     let opts = ReadOptions {
         block_delete: rng.chance(0.5),
         optional_stop: rng.chance(0.5),
