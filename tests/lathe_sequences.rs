@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 19] = [
+const MDI_LINES: [&str; 21] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -64,6 +64,10 @@ const MDI_LINES: [&str; 19] = [
     "G42 G2 X24 Z12 R9 F0.2",
     "G1 W-4",
     "G40 G0 X40",
+    // A Haas's codes (stop 56): the chip auger remapped on the lathe loaded by hand (an
+    // unknown code on the Citizen), the rest of the line after its subroutine; a bare G28.
+    "M31 G0 X30 Z20",
+    "G28",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
 const OFS_LINES: [&str; 6] = [
@@ -667,16 +671,26 @@ fn citizen() -> Machine {
 fn by_hand() -> Machine {
     let desc = match novanc::lathe::desc::parse(
         "machine byhand\nkind lathe\npulse 0.001\ntick 100\ndialect fanuc\n\
-         loading manual\nchannel PATH-1\nx travel 0 100 rapid 12000 accel 3000\n\
+         loading manual\ng28 alone all\nremap M31 modalgroup=10 ngc=chip_on\n\
+         remap M33 modalgroup=10 ngc=chip_off\nchannel PATH-1\nx travel 0 100 rapid 12000 accel 3000\n\
          z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n\
          tool 1 radius 0.4 tip 3\ntool 2 radius 0 tip 8\n",
     ) {
         Ok(novanc::lathe::desc::MachineDesc::Lathe(d)) => d,
         other => panic!("{other:?}"),
     };
-    let text = "O1000\nG21 G40 G80 G95\nG28 U0 W0\nT0101\nG96 S120 M03\nM08\n\
+    // The chip auger's subroutines (a Haas's M31 and M33): a simulated lathe has no auger,
+    // and a subroutine that moves the slide back and forth by nothing is read all the same.
+    let subs = common::temp_dir("lathe-seq-chip");
+    for (name, body) in [("chip_on", "G0 U0 W0"), ("chip_off", "")] {
+        let text = format!("o<{name}> sub\n{body}\no<{name}> endsub\n");
+        std::fs::write(subs.join(format!("{name}.ngc")), text).unwrap();
+    }
+    let mut desc = desc;
+    desc.channels[0].subroutines.push(subs);
+    let text = "O1000\nG28\nM31\nG21 G40 G80 G95\nG28 U0 W0\nT0101\nG96 S120 M03\nM08\n\
                 G0 X42. Z2.\nG1 Z-20. F0.2\nX46.\nG0 Z2.\nG28 U0 W0\nT0202\nG97 S800\n\
-                G0 X0 Z5.\nG1 Z-10. F0.1\nG0 Z5.\nG28 U0 W0\nM09 M05\nM30\n";
+                G0 X0 Z5.\nG1 Z-10. F0.1\nG0 Z5.\nG28 U0 W0\nM09 M05\nM33\nM30\n";
     Machine {
         desc,
         programs: Some(vec![Program {
