@@ -602,8 +602,8 @@ fn system_a_and_fanucs_g76_refusals_name_their_place_and_say_why() {
         (s("G76 P010090\n"), "2:5", "a the tool's angle 00 to 80"),
         (
             s("G76 P1 Z-10. I-1 J0.1 K0.5\n"),
-            "2:14",
-            "G76 I: a word of LinuxCNC's one-block G76",
+            "2:18",
+            "G76 J: a word of LinuxCNC's one-block G76",
         ),
         (
             s("G0 X24. Z5.\nG76 P010060\nG76 X18. Z-20. P0.92 Q350 F1.5\n"),
@@ -658,8 +658,8 @@ fn system_a_and_fanucs_g76_refusals_name_their_place_and_say_why() {
         ),
         (
             s("G76 P1 Z-10. I-1 J0.1 K0.5\n"),
-            "2:14",
-            "G76 I: a word of LinuxCNC's one-block G76",
+            "2:18",
+            "G76 J: a word of LinuxCNC's one-block G76",
         ),
     ];
     let bad = misplaced(&fanuc(false), b);

@@ -200,6 +200,82 @@ fn fanucs_two_block_g76_cuts_an_m20_thread_as_worked_by_hand() {
     assert_eq!(moves(&read(&program, &desc)), want);
 }
 
+/// G76's one-block form (Fanuc's Series 15 format, which a Haas writes: `G76 X Z K D F A`),
+/// and M23/M24, the chamfer out of the thread on and off: each the same passes as the
+/// two-block form that says the same.
+#[test]
+fn g76s_one_block_form_and_m24_cut_as_the_two_block_form_says() {
+    let desc = match citizen_with("dialect fanuc") {
+        Ok(d) => d,
+        Err(e) => panic!("{e}"),
+    };
+    let run = |text: &str| {
+        moves(&read(
+            &format!("T0101\nG97 S800 M3\nG0 X24. Z5.\n{text}M30\n"),
+            &desc,
+        ))
+    };
+    let two = run("G76 P010060 Q150 R0.05\nG76 X18.16 Z-20. P920 Q350 F1.5\n");
+    assert!(two.len() > 20, "{two:?}");
+    // K the height and D the first cut as lengths, A the angle; the rest the first block's.
+    let one = run("G76 P010060 Q150 R0.05\nG76 X18.16 Z-20. K0.92 D0.35 A60 F1.5\n");
+    assert_eq!(one, two);
+    // Without a first block: one finishing pass, no least cut, no allowance, the angle A's.
+    assert_eq!(
+        run("G76 X18.16 Z-20. K0.92 D0.35 A60 F1.5\n"),
+        run("G76 P010060 Q0 R0\nG76 X18.16 Z-20. P920 Q350 F1.5\n")
+    );
+    // M24: the chamfer the first block asks (r = 10, one lead) is left out until M23.
+    let chamfered = run("G76 P011060 Q150 R0.05\nG76 X18.16 Z-20. P920 Q350 F1.5\n");
+    assert_ne!(chamfered, two);
+    assert_eq!(
+        run("M24\nG76 P011060 Q150 R0.05\nG76 X18.16 Z-20. P920 Q350 F1.5\n"),
+        two
+    );
+    assert_eq!(
+        run("M24\nM23\nG76 P011060 Q150 R0.05\nG76 X18.16 Z-20. P920 Q350 F1.5\n"),
+        chamfered
+    );
+    // Refused at their place, each with why.
+    let pre = "T0101\nG97 S800 M3\nG0 X24. Z5.\n";
+    for (text, want) in [
+        (
+            "G76 X18.16 Z-20. K0.92 D0.35 Q90 F1.5\n",
+            "4:30: G76 Q in the one-block form is the thread's start angle",
+        ),
+        (
+            "G76 X18.16 Z-20. K0.92 D0.35 P2 F1.5\n",
+            "4:30: G76 P2: the way of cutting",
+        ),
+        (
+            "G76 X18.16 Z-20. K0.92 D0.35 A90 F1.5\n",
+            "4:30: G76 A90: the tool's angle, whole degrees 0 to 80",
+        ),
+        (
+            "G76 X18.16 Z-20. K0.92 D0.35 R0.1 F1.5\n",
+            "4:30: G76 R beside K or D",
+        ),
+        (
+            "G76 X18.16 Z-20. D0.35 F1.5\n",
+            "4:1: G76 (one-block form) needs K",
+        ),
+    ] {
+        let e = read_program(&format!("{pre}{text}"), &desc, 0, &ReadOptions::default())
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(e.starts_with(want), "{text}: {e}");
+    }
+    let e = read_program("M24\n", &LatheDesc::citizen(), 0, &ReadOptions::default())
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        e.as_deref()
+            .is_some_and(|e| e.starts_with("1:1: M24: the thread chamfer on and off")),
+        "{e:?}"
+    );
+}
+
 #[test]
 fn a_system_a_program_turns_faces_and_threads_as_worked_by_hand() {
     let (program, want) = golden("fanuc_system_a");

@@ -932,19 +932,23 @@ fn z_at(segs: &[Mv], x: f64, sx: f64) -> Option<f64> {
 /// taper i, the height k (least increments), the first cut Δd and the lead L, in LinuxCNC's
 /// passes (docs/lathe-gcode.md "G76, Fanuc's two-block form").
 pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
-    for l in ['I', 'J', 'K'] {
+    for l in ['J', 'H', 'E', 'L'] {
         if let Some(col) = w.col(l) {
             return Err(err(
                 n,
                 col,
-                format!("G76 {l}: a word of LinuxCNC's one-block G76; in Fanuc's dialect G76 is Fanuc's two-block form (G76 P(m)(r)(a) Q R, then G76 X Z R P Q F)"),
+                format!("G76 {l}: a word of LinuxCNC's one-block G76; in Fanuc's dialect G76 is Fanuc's two-block form (G76 P(m)(r)(a) Q R, then G76 X Z R P Q F) or its one-block form (G76 X Z I K D F A)"),
             ));
         }
     }
     let col = |l: char| w.col(l).unwrap_or(c);
     let whole = |v: f64| v.fract() == 0.0 && v.is_finite();
     let f = r.st.factor();
-    let second = ['X', 'Z', 'U', 'W'].iter().any(|&l| w.get(l).is_some());
+    // Fanuc's Series 15 form, a Haas's: one block, X Z I K D F A (P1).
+    let one_block = ['I', 'K', 'D', 'A']
+        .iter()
+        .find_map(|&l| w.col(l).map(|c| (l, c)));
+    let second = ['X', 'Z', 'U', 'W'].iter().any(|&l| w.get(l).is_some()) || one_block.is_some();
     if !second {
         refuse(w, "FDSHEL", n, "G76 P Q R (Fanuc's first block)")?;
         let mut g = r.st.g76.unwrap_or_default();
@@ -995,13 +999,38 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
         r.st.g76 = Some(g);
         return Ok(());
     }
-    refuse(w, "DSHEL", n, "G76 X Z R P Q F (Fanuc's second block)")?;
-    let Some(g) = r.st.g76 else {
-        return Err(err(
-            n,
-            c,
-            "G76 X Z needs Fanuc's first G76 block (G76 P(m)(r)(a) Q R) before it",
-        ));
+    let (g, taper, k, q, kl) = match one_block {
+        Some(_) => g76_one_block(r, w, n, c)?,
+        None => {
+            refuse(w, "DSHEL", n, "G76 X Z R P Q F (Fanuc's second block)")?;
+            let Some(g) = r.st.g76 else {
+                return Err(err(
+                    n,
+                    c,
+                    "G76 X Z needs Fanuc's first G76 block (G76 P(m)(r)(a) Q R) before it",
+                ));
+            };
+            let taper = w.get('R').unwrap_or(0.0) * f;
+            // P, the thread's height, in least increments whatever is written (Fanuc).
+            let inc = if r.st.inch { 0.0001 } else { 0.001 };
+            let p = need(w, 'P', n, c, "G76 (second block)")?;
+            if !(whole(p) && p > 0.0 && p < 1e9) {
+                return Err(err(
+                    n,
+                    col('P'),
+                    format!(
+                        "G76 P{}: the thread's height k, a whole number of least increments above 0 (P975 is 0.975 mm)",
+                        crate::input_text::short_number(p)
+                    ),
+                ));
+            }
+            let k = p * inc * f;
+            let q = r.in_increments('Q', need(w, 'Q', n, c, "G76 (second block)")?) * f;
+            if !(q > 0.0 && q < 1000.0) {
+                return Err(err(n, col('Q'), "G76 Q, the first cut Δd, must be above 0"));
+            }
+            (g, taper, k, q, 'P')
+        }
     };
     if r.out.comp_on() {
         return Err(err(
@@ -1015,30 +1044,11 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
     }
     let start = r.out.pos;
     let end = r.target(w, n)?;
-    let taper = w.get('R').unwrap_or(0.0) * f;
-    // P, the thread's height, in least increments whatever is written (Fanuc).
-    let inc = if r.st.inch { 0.0001 } else { 0.001 };
-    let p = need(w, 'P', n, c, "G76 (second block)")?;
-    if !(whole(p) && p > 0.0 && p < 1e9) {
-        return Err(err(
-            n,
-            col('P'),
-            format!(
-                "G76 P{}: the thread's height k, a whole number of least increments above 0 (P975 is 0.975 mm)",
-                crate::input_text::short_number(p)
-            ),
-        ));
-    }
-    let k = p * inc * f;
-    let q = r.in_increments('Q', need(w, 'Q', n, c, "G76 (second block)")?) * f;
-    if !(q > 0.0 && q < 1000.0) {
-        return Err(err(n, col('Q'), "G76 Q, the first cut Δd, must be above 0"));
-    }
     if g.allowance >= k {
         return Err(err(
             n,
-            col('P'),
-            "G76 P, the thread's height, must be greater than the finishing allowance (the first block's R)",
+            col(kl),
+            format!("G76 {kl}, the thread's height, must be greater than the finishing allowance (the first block's R)"),
         ));
     }
     let Some(lead) = r.st.feed.filter(|l| *l > 0.0 && *l <= 100.0) else {
@@ -1070,7 +1080,12 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
             "G76: the start point must stand clear of the thread, beyond its crest (the root X less or more the height P)",
         ));
     }
-    let chamfer = g.chamfer * lead;
+    // M24 (a Haas's, and many a Fanuc lathe's): no chamfer out of the thread until M23.
+    let chamfer = if r.st.no_chamfer {
+        0.0
+    } else {
+        g.chamfer * lead
+    };
     if chamfer >= (end[0] - start[0]).abs() {
         return Err(err(
             n,
@@ -1100,6 +1115,76 @@ pub fn g76_fanuc(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), Transl
         taper_out: 0.0,
     };
     thread_passes(r, &passes, n, c)
+}
+
+/// G76's one-block form (Fanuc's Series 15 format, a Haas's) `G76 X(U) Z(W) I K D F A P1`: I
+/// the taper (the second block's R), K the thread's height (P), D the first cut (Q), as
+/// lengths in program units; A the tool's angle (the first block's a, in degrees as written);
+/// P the way of cutting, 1 only (one edge, the same amount each pass, as the two-block form
+/// cuts). The finishing passes, the chamfer, the least cut and the allowance are the last first
+/// block's (`G76 P Q R`), else none: one finishing pass. The first block's state and its
+/// taper, height and first cut, with the letter of the height for messages.
+fn g76_one_block(
+    r: &mut Reader,
+    w: &Words,
+    n: u32,
+    c: u32,
+) -> Result<(super::exec::FanucG76, f64, f64, f64, char), TranslateError> {
+    let col = |l: char| w.col(l).unwrap_or(c);
+    if let Some(q) = w.col('Q') {
+        return Err(err(
+            n,
+            q,
+            "G76 Q in the one-block form is the thread's start angle: novanc starts every pass at the spindle's index (give none)",
+        ));
+    }
+    if let Some(l) = ['R'].iter().find(|&&l| w.get(l).is_some()) {
+        return Err(err(
+            n,
+            col(*l),
+            "G76 R beside K or D: give the one-block form's I K D or the two-block form's R P Q",
+        ));
+    }
+    if let Some(p) = w.get('P').filter(|&p| p != 1.0) {
+        return Err(err(
+            n,
+            col('P'),
+            format!(
+                "G76 P{}: the way of cutting; novanc cuts with one edge, the same amount each pass (P1): P2, P3 and P4 are not modelled",
+                crate::input_text::short_number(p)
+            ),
+        ));
+    }
+    let f = r.st.factor();
+    let mut g = r.st.g76.unwrap_or_default();
+    if let Some(a) = w.get('A') {
+        let a = r.as_written('A', a);
+        if !(0.0..=80.0).contains(&a) || a.fract() != 0.0 {
+            return Err(err(
+                n,
+                col('A'),
+                format!(
+                    "G76 A{}: the tool's angle, whole degrees 0 to 80 (A60)",
+                    crate::input_text::short_number(a)
+                ),
+            ));
+        }
+        g.angle = a;
+    }
+    let taper = w.get('I').unwrap_or(0.0) * f;
+    let k = need(w, 'K', n, c, "G76 (one-block form)")? * f;
+    if !(k > 0.0 && k < 1000.0) {
+        return Err(err(
+            n,
+            col('K'),
+            "G76 K, the thread's height, must be above 0",
+        ));
+    }
+    let d = fanuc_length(r, 'D', need(w, 'D', n, c, "G76 (one-block form)")?) * f;
+    if !(d > 0.0 && d < 1000.0) {
+        return Err(err(n, col('D'), "G76 D, the first cut, must be above 0"));
+    }
+    Ok((g, taper, k, d, 'K'))
 }
 
 /// Fanuc's G code system A single cycles (0i-T, "Single repetitive cycle"): G90 turning,

@@ -42,6 +42,9 @@ pub struct State {
     pub peck_return: f64,
     /// Fanuc's G76 first block (`G76 P Q R`), kept for the second.
     pub g76: Option<FanucG76>,
+    /// M24: G76 leaves the thread without its chamfer, until M23 (a Haas's codes, and many a
+    /// Fanuc lathe builder's; docs/lathe-gcode.md "G76, Fanuc's one-block form").
+    pub no_chamfer: bool,
     /// G83 or G84 in force (Fanuc's face drilling and tapping; G80 or a group 01 code
     /// cancels it): the cycle, the series' initial level, R, Q and P.
     pub drill: Option<drilling::Drill>,
@@ -106,6 +109,7 @@ impl State {
             g73: None,
             peck_return: 0.0,
             g76: None,
+            no_chamfer: false,
             drill: None,
             drill_to_r: false,
             origin: [0.0, 0.0],
@@ -481,6 +485,7 @@ impl Reader<'_> {
         let dynamic = w.has_g(411).or(w.has_g(421)).is_some();
         let roughing = (w.has_g(710).or(w.has_g(720)))
             .or(w.has_g(740).or(w.has_g(750)))
+            .or(w.has_g(760))
             .is_some();
         if let Some(d) = w.get('D').filter(|_| !dynamic && !roughing) {
             use_('D');
@@ -591,6 +596,16 @@ impl Reader<'_> {
         for &(m, c) in w.m.as_slice() {
             if (7..=9).contains(&m) && !after {
                 self.out.op(n, c, out::m(m as u8))?;
+            }
+            if matches!(m, 23 | 24) && !after {
+                if !self.fanuc {
+                    return Err(err(
+                        n,
+                        c,
+                        format!("M{m}: the thread chamfer on and off (M23, M24) is a Fanuc lathe's code: read the program in the Fanuc dialect"),
+                    ));
+                }
+                self.st.no_chamfer = m == 24;
             }
         }
         // Chuck and waiting codes.
@@ -832,7 +847,7 @@ impl Reader<'_> {
             }
             Some((700, c)) | Some((710, c)) | Some((720, c)) | Some((730, c)) | Some((760, c)) => {
                 for l in [
-                    'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L', 'D',
+                    'P', 'Q', 'U', 'W', 'R', 'X', 'Z', 'I', 'J', 'K', 'H', 'E', 'L', 'D', 'A',
                 ] {
                     use_(l);
                 }
@@ -936,7 +951,7 @@ impl Reader<'_> {
             }
         }
         // Words nothing used.
-        for c in "DEFHIJKLPQRSTUWXZ".chars() {
+        for c in "ADEFHIJKLPQRSTUWXZ".chars() {
             if w.get(c).is_some() && used & (1 << (c as u8 - b'A')) == 0 {
                 return Err(err(
                     n,

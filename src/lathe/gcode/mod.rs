@@ -78,7 +78,7 @@ impl Parts {
     }
 }
 
-const LATHE_LETTERS: &str = "DEFHIJKLNPQRSTUWXZ";
+const LATHE_LETTERS: &str = "ADEFHIJKLNPQRSTUWXZ";
 
 /// The lathe dialect: letters and codes by modal group (docs/lathe-gcode.md "Words").
 pub const LATHE: Dialect = Dialect {
@@ -153,6 +153,8 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         3..=5 => 7,
         6 => 6,
         7..=9 => 8,
+        // The thread chamfer on and off (a Haas's, many a Fanuc lathe builder's).
+        23 | 24 => 2,
         100..=199 => 9,
         // Not 10: a code a machine description remaps is read in group 10, and may stand
         // beside M98 (the lathe's own codes are in no group LinuxCNC numbers 10).
