@@ -22,6 +22,11 @@ pub(super) fn mv(kind: Kind, end: [f64; 2], n: u32, c: u32) -> Mv {
     }
 }
 
+/// How far a G71/G72 profile's arc may come back past its extreme before it turns back:
+/// under a pulse (an end written to the least increment, 0.0001 inch, lies that far off the
+/// circle's top; the arc then passes it by some nanometres).
+const ARC_TURN_TOLERANCE_MM: f64 = 0.0005;
+
 fn need(w: &Words, l: char, n: u32, c: u32, what: &str) -> Result<f64, TranslateError> {
     w.get(l)
         .ok_or_else(|| err(n, c, format!("{what} needs {l}")))
@@ -810,11 +815,22 @@ pub fn g71_moves(
             Kind::Arc { c: ctr, ccw, feed } => {
                 let sw = sweep(m.start, m.end, ctr, ccw);
                 let a0 = (m.start[1] - ctr[1]).atan2(m.start[0] - ctr[0]);
+                let radius = (m.start[0] - ctr[0]).hypot(m.start[1] - ctr[1]);
                 for k in 0..4 {
                     let q = k as f64 * FRAC_PI_2;
                     let d = if ccw { q - a0 } else { a0 - q }.rem_euclid(std::f64::consts::TAU);
                     if d > 1e-9 && d < sw - 1e-9 {
-                        return Err(bad("is an arc that turns back"));
+                        // How far the arc comes back past its extreme, along the axis of that
+                        // extreme: an end written a least increment off the circle's top (a
+                        // CAM's or a hand's rounding) passes it by far less than a pulse.
+                        let axis = k % 2;
+                        let extreme = ctr[axis] + radius * if k < 2 { 1.0 } else { -1.0 };
+                        let back = (extreme - m.start[axis])
+                            .abs()
+                            .min((extreme - m.end[axis]).abs());
+                        if back > ARC_TURN_TOLERANCE_MM {
+                            return Err(bad("is an arc that turns back"));
+                        }
                     }
                 }
                 s.kind = Kind::Arc {

@@ -790,3 +790,27 @@ fn g73_repeats_the_profile_shifted_by_the_relief_shared_out() {
     let e = read("G0 X44 Z2\nG73 U3 W1 R3\n").unwrap_err();
     assert!(e.message.contains("Fanuc's dialect only"), "{e}");
 }
+
+/// An arc of a G71 profile whose end is written a hair past the circle's extreme (a Haas
+/// program's `G02 X1.114 Z-1.7261 R0.564`, its end 0.0001 inch past the top) comes back by
+/// nanometres: it is roughed as the arc that ends on the top, not refused as turning back. An
+/// arc that really comes back (by more than a pulse) is still refused at its line.
+#[test]
+fn a_g71_arc_a_hair_past_its_top_is_not_a_turn_back() {
+    let prog = |arc: &str| {
+        format!("G0 X40 Z2\nG71 U2 R0.5\nG71 P10 Q20 U0.4 W0.1 F100\nN10 G0 X10\nG1 Z-10\n{arc}\nN20 G1 X40\nM30\n")
+    };
+    let on_top = blocks(&prog("G3 X20 Z-15 R5"));
+    let past = blocks(&prog("G3 X20 Z-15.0003 R5"));
+    let (a, b) = (moves(&on_top), moves(&past));
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            x.0 == y.0 && (x.1[0] - y.1[0]).abs() <= 1 && (x.1[1] - y.1[1]).abs() <= 1,
+            "{x:?} {y:?}"
+        );
+    }
+    let e = read(&prog("G3 X20 Z-15.5 R5")).unwrap_err();
+    assert_eq!(e.line, 6, "{e}");
+    assert!(e.message.contains("an arc that turns back"), "{e}");
+}
