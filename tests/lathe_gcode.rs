@@ -457,10 +457,18 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
             "3:1",
             "has no move",
         ),
+        // A G71 profile whose first line names Z is Fanuc's type II (stop 56), whose first
+        // move may go in towards the part; G72's must still move Z only, and type II's must
+        // not move away from the part.
         (
-            "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10 Z0\nN2 G1 Z-5\n".into(),
+            "G0 X40 Z2\nG72 W1\nG72 P1 Q2 F1\nN1 G0 X10 Z0\nN2 G1 X5\n".into(),
             "4:4",
-            "first move must move X only",
+            "first move must move Z only",
+        ),
+        (
+            "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10 Z4\nN2 G1 Z-5\n".into(),
+            "4:4",
+            "its first move turns back in Z",
         ),
         (
             "G0 X40 Z2\nG71 U1\nG71 P1 Q2 F1\nN1 G0 X10\nN2 G1 X20\n".into(),

@@ -508,6 +508,7 @@ fn rough(
         allow: [dw, du],
         feed,
         q,
+        type2,
     } = profile(r, w, n, c, idx, lines, name)?;
     let rough = if face {
         // G72 is G71 on the plane mirrored across Z = X: swap each point's parts, cut, swap back.
@@ -522,12 +523,13 @@ fn rough(
             n,
             c,
             true,
+            false,
         )?
         .iter()
         .map(swapped)
         .collect()
     } else {
-        g71_moves(&prof, a, depth, retract, [dw, du], feed, n, c, false)?
+        g71_moves(&prof, a, depth, retract, [dw, du], feed, n, c, false, type2)?
     };
     for m in rough {
         r.out.motion(m)?;
@@ -547,6 +549,8 @@ struct Profile {
     feed: super::out::Feed,
     /// The profile's last line (0-based): reading goes on after it.
     q: usize,
+    /// Its first line names Z or W: Fanuc's type II (G71 with pockets).
+    type2: bool,
 }
 
 /// The profile of the cycle `name` on line `n`: the lines P to Q (after the cycle's line) read
@@ -595,7 +599,27 @@ fn profile(
         allow: [dw, du],
         feed,
         q,
+        type2: r.lines.get(p).is_some_and(|l| names_z(l)),
     })
+}
+
+/// Whether a line's words name Z or W (its comments and named parameters aside): a G71
+/// profile's first line that does is Fanuc's type II.
+fn names_z(raw: &str) -> bool {
+    let mut depth = 0u32;
+    let mut angle = false;
+    for ch in raw.chars() {
+        match ch {
+            ';' if depth == 0 => return false,
+            '(' => depth += 1,
+            ')' => depth = depth.saturating_sub(1),
+            '<' if depth == 0 => angle = true,
+            '>' => angle = false,
+            'Z' | 'z' | 'W' | 'w' if depth == 0 && !angle => return true,
+            _ => {}
+        }
+    }
+    false
 }
 
 /// The most passes of a G73 (its first block's R).
@@ -726,7 +750,9 @@ fn swapped(m: &Mv) -> Mv {
 
 /// The roughing moves of G71 from the start `a` `[Z, X]` over the profile `prof` (its first
 /// move X only), shifted by `allow` `[W, U radius]`. With `face` the points come swapped,
-/// `[X, Z]`, from G72, and the messages name G72's axes and words.
+/// `[X, Z]`, from G72, and the messages name G72's axes and words. With `pockets` (Fanuc's
+/// type II: the profile's first block names Z or W) the profile may turn back in X, and each
+/// level also cuts the pockets below it (docs/lathe-gcode.md "Type II: pockets").
 #[allow(clippy::too_many_arguments)]
 pub fn g71_moves(
     prof: &[Mv],
@@ -738,6 +764,7 @@ pub fn g71_moves(
     n: u32,
     c: u32,
     face: bool,
+    pockets: bool,
 ) -> Result<Vec<Mv>, TranslateError> {
     // The cycle, the axis of its depth (across the passes) and of its passes, its depth word.
     let (g, ax, along, dl) = if face {
@@ -752,12 +779,16 @@ pub fn g71_moves(
             format!("the {g} profile (lines P to Q) has no move"),
         ));
     };
-    if (first.end[0] - a[0]).abs() > 1e-9 || (first.end[1] - a[1]).abs() < 1e-9 {
-        return Err(err(
-            first.line,
-            first.col,
-            format!("the {g} profile's first move must move {ax} only (Fanuc type I)"),
-        ));
+    // Type I's first move is X only; type II's (its line names Z) may move Z too, towards the
+    // part, from the start point in front of it.
+    let z_first = first.end[0] - a[0];
+    if (z_first.abs() > 1e-9 && !pockets) || (first.end[1] - a[1]).abs() < 1e-9 {
+        let why = if face {
+            format!("the {g} profile's first move must move {ax} only (Fanuc type I)")
+        } else {
+            format!("the {g} profile's first move must move {ax} only (Fanuc type I; a first line that names Z or W is type II, which may move Z too)")
+        };
+        return Err(err(first.line, first.col, why));
     }
     let sx = if first.end[1] < a[1] { 1.0 } else { -1.0 };
     // Moves that end the profile out of the stock, at or beyond the start's X (shop programs
@@ -790,6 +821,13 @@ pub fn g71_moves(
         ));
     };
     let sz = if dz > 0.0 { 1.0 } else { -1.0 };
+    if sz * z_first < -1e-9 {
+        return Err(err(
+            first.line,
+            first.col,
+            format!("the {g} profile must be monotonic: its first move turns back in {along}"),
+        ));
+    }
     // Shift and check monotony: X away from the axis (OD) or towards it (ID), Z one way.
     let shift = |p: [f64; 2]| [p[0] + allow[0], p[1] + allow[1]];
     let mut segs: Vec<Mv> = Vec::with_capacity(prof.len());
@@ -801,8 +839,13 @@ pub fn g71_moves(
                 format!("the {g} profile must be monotonic: this move {what}"),
             )
         };
-        if sx * (m.end[1] - m.start[1]) < -1e-9 {
-            return Err(bad(&format!("turns back in {ax}")));
+        if sx * (m.end[1] - m.start[1]) < -1e-9 && !pockets {
+            let hint = if face {
+                String::new()
+            } else {
+                " (a pocket is Fanuc's type II: name Z or W0 in the profile's first block)".into()
+            };
+            return Err(bad(&format!("turns back in {ax}{hint}")));
         }
         if sz * (m.end[0] - m.start[0]) < -1e-9 {
             return Err(bad(&format!("turns back in {along}")));
@@ -828,7 +871,8 @@ pub fn g71_moves(
                         let back = (extreme - m.start[axis])
                             .abs()
                             .min((extreme - m.end[axis]).abs());
-                        if back > ARC_TURN_TOLERANCE_MM {
+                        // Type II: an arc may turn in X (the bottom of a pocket), not in Z.
+                        if back > ARC_TURN_TOLERANCE_MM && !(pockets && axis == 1) {
                             return Err(bad("is an arc that turns back"));
                         }
                     }
@@ -848,7 +892,16 @@ pub fn g71_moves(
     if span <= 0.0 {
         return Err(err(n, c, format!("the {g} start point must be outside the stock: {ax} beyond the profile's first {ax} and its allowance")));
     }
-    let levels = (span / depth).ceil() as usize;
+    // Type II: the levels go down to the deepest point of the profile (a pocket may be deeper
+    // than its first point).
+    let bottom = if pockets {
+        segs.iter()
+            .flat_map(extremes_x)
+            .fold(x1, |b, x| if sx * (x - b) < 0.0 { x } else { b })
+    } else {
+        x1
+    };
+    let levels = (sx * (a[1] - bottom) / depth).ceil() as usize;
     if levels > MAX_PASSES {
         return Err(err(
             n,
@@ -860,14 +913,57 @@ pub fn g71_moves(
     let mut k = 1usize;
     loop {
         let x = a[1] - sx * depth * k as f64;
-        if sx * (x - x1) <= 1e-9 {
+        if sx * (x - bottom) <= 1e-9 {
             break;
         }
-        let z = z_at(&segs, x, sx).unwrap_or(segs[segs.len() - 1].end[0]);
-        out.push(mv(Kind::Rapid, [a[0], x], n, c));
-        out.push(mv(Kind::Line(feed), [z, x], n, c));
-        out.push(mv(Kind::Rapid, [z - sz * retract, x + sx * retract], n, c));
-        out.push(mv(Kind::Rapid, [a[0], x + sx * retract], n, c));
+        if !pockets {
+            let z = z_at(&segs, x, sx).unwrap_or(segs[segs.len() - 1].end[0]);
+            out.push(mv(Kind::Rapid, [a[0], x], n, c));
+            out.push(mv(Kind::Line(feed), [z, x], n, c));
+            out.push(mv(Kind::Rapid, [z - sz * retract, x + sx * retract], n, c));
+            out.push(mv(Kind::Rapid, [a[0], x + sx * retract], n, c));
+            k += 1;
+            continue;
+        }
+        // Type II: every stretch of the level where the profile lies below it. The first
+        // (from the start's Z) is cut as type I cuts it; a pocket is reached over the profile
+        // at the start's X, down its near side to the last level, then in at the feed.
+        let ivs = below(&segs, x, sx);
+        let x_prev = x + sx * depth;
+        let mut at_a_x = false;
+        for (i, iv) in ivs.iter().enumerate() {
+            let first = (iv[0] - segs[0].start[0]).abs() < 1e-9;
+            if first {
+                out.push(mv(Kind::Rapid, [a[0], x], n, c));
+            } else {
+                if !at_a_x {
+                    let here = out.last().map_or(a, |m| m.end);
+                    out.push(mv(Kind::Rapid, [here[0], a[1]], n, c));
+                }
+                out.push(mv(Kind::Rapid, [iv[0], a[1]], n, c));
+                out.push(mv(Kind::Rapid, [iv[0], x_prev + sx * retract], n, c));
+                out.push(mv(Kind::Line(feed), [iv[0], x], n, c));
+            }
+            out.push(mv(Kind::Line(feed), [iv[1], x], n, c));
+            // Back along Z by the retract, but not past the pocket's start (its near wall).
+            let along = if first {
+                retract
+            } else {
+                retract.min((iv[1] - iv[0]).abs())
+            };
+            let back = [iv[1] - sz * along, x + sx * retract];
+            out.push(mv(Kind::Rapid, back, n, c));
+            if first && i + 1 == ivs.len() {
+                out.push(mv(Kind::Rapid, [a[0], x + sx * retract], n, c));
+                at_a_x = false;
+            } else {
+                out.push(mv(Kind::Rapid, [back[0], a[1]], n, c));
+                at_a_x = true;
+            }
+        }
+        if at_a_x {
+            out.push(mv(Kind::Rapid, [a[0], a[1]], n, c));
+        }
         k += 1;
     }
     // The last pass along the profile with its allowances, then out and back to the start.
@@ -898,6 +994,89 @@ fn moving(mut out: Vec<Mv>, a: [f64; 2]) -> Vec<Mv> {
         at = m.end;
         keep
     });
+    out
+}
+
+/// The X of a segment's ends and of the extremes in X inside an arc's sweep.
+fn extremes_x(s: &Mv) -> Vec<f64> {
+    let mut v = vec![s.start[1], s.end[1]];
+    if let Kind::Arc { c, ccw, .. } = s.kind {
+        let rr = (s.start[0] - c[0]).hypot(s.start[1] - c[1]);
+        let sw = sweep(s.start, s.end, c, ccw);
+        let a0 = (s.start[1] - c[1]).atan2(s.start[0] - c[0]);
+        for (q, x) in [(FRAC_PI_2, c[1] + rr), (3.0 * FRAC_PI_2, c[1] - rr)] {
+            let d = if ccw { q - a0 } else { a0 - q }.rem_euclid(std::f64::consts::TAU);
+            if d < sw {
+                v.push(x);
+            }
+        }
+    }
+    v
+}
+
+/// The stretches `[from Z, to Z]` of the level X = `x`, in the profile's order, where the
+/// profile lies below it (on the stock's side `sx`: there is stock to cut at the level). A
+/// stretch shorter than a nanometre (the level touching a pocket's bottom) is left out.
+fn below(segs: &[Mv], x: f64, sx: f64) -> Vec<[f64; 2]> {
+    let under = |px: f64| sx * (x - px) > 1e-9;
+    let mut out = Vec::new();
+    let mut open = under(segs[0].start[1]).then_some(segs[0].start[0]);
+    let mut toggle = |z: f64, open: &mut Option<f64>| match open.take() {
+        Some(z0) => {
+            if (z - z0).abs() > 1e-9 {
+                out.push([z0, z]);
+            }
+        }
+        None => *open = Some(z),
+    };
+    for s in segs {
+        match s.kind {
+            Kind::Arc { c, ccw, .. } => {
+                let rr = (s.start[0] - c[0]).hypot(s.start[1] - c[1]);
+                let v = (x - c[1]) / rr;
+                if v.abs() < 1.0 {
+                    let sw = sweep(s.start, s.end, c, ccw);
+                    let a0 = (s.start[1] - c[1]).atan2(s.start[0] - c[0]);
+                    let phi = v.asin();
+                    let mut roots: Vec<(f64, f64)> = [phi, std::f64::consts::PI - phi]
+                        .iter()
+                        .map(|&q| {
+                            let d =
+                                if ccw { q - a0 } else { a0 - q }.rem_euclid(std::f64::consts::TAU);
+                            (d, c[0] + rr * q.cos())
+                        })
+                        .filter(|&(d, _)| d > 1e-12 && d < sw - 1e-12)
+                        .collect();
+                    roots.sort_by(|p, q| p.0.total_cmp(&q.0));
+                    for (_, z) in roots {
+                        toggle(z, &mut open);
+                    }
+                }
+                // The end's side decides (a root at the end, or a tangent counted twice).
+                if open.is_some() != under(s.end[1]) {
+                    toggle(s.end[0], &mut open);
+                }
+            }
+            _ => {
+                let (u0, u1) = (under(s.start[1]), under(s.end[1]));
+                if u0 != u1 || open.is_some() != u1 {
+                    let (f0, f1) = (sx * (x - s.start[1]), sx * (x - s.end[1]));
+                    let t = if (f0 - f1).abs() < 1e-15 {
+                        0.0
+                    } else {
+                        (f0 / (f0 - f1)).clamp(0.0, 1.0)
+                    };
+                    toggle(s.start[0] + t * (s.end[0] - s.start[0]), &mut open);
+                }
+            }
+        }
+    }
+    if let Some(z0) = open {
+        let z = segs[segs.len() - 1].end[0];
+        if (z - z0).abs() > 1e-9 {
+            out.push([z0, z]);
+        }
+    }
     out
 }
 

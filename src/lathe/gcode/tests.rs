@@ -814,3 +814,145 @@ fn a_g71_arc_a_hair_past_its_top_is_not_a_turn_back() {
     assert_eq!(e.line, 6, "{e}");
     assert!(e.message.contains("an arc that turns back"), "{e}");
 }
+
+/// Fanuc's type II G71 (the profile's first line names Z): a profile with a pocket, X turning
+/// back, is roughed level by level, each level cutting its stretch from the start's Z and
+/// then each pocket below it, reached over the profile at the start's X, down its near side
+/// to the last level and in at the feed. Worked out by hand (docs/lathe-gcode.md "Type II:
+/// pockets"): radius 5 at the face, a shoulder at 15, a pocket down to 8 between Z-12 and
+/// Z-18, out to 20 at Z-20; U2.5 (radius) levels from 20: 17.5, 15, 12.5, 10, 7.5.
+#[test]
+fn a_type_ii_g71_roughs_the_pocket_level_by_level() {
+    let profile = "N10 G0 X10 Z2\nG1 Z-5\nX30\nZ-10\nX16 Z-12\nZ-18\nX30 Z-20\nN20 X40\n";
+    let got = moves(&blocks(&format!(
+        "G0 X40 Z2\nG71 U2.5 R0.5\nG71 P10 Q20 F100\n{profile}M30\n"
+    )));
+    let p = |x: f64| (x * 1000.0).round() as i64;
+    let (r, f) = ('R', 'F');
+    // [kind, X radius, Z] mm.
+    #[rustfmt::skip]
+    let want: Vec<(char, f64, f64)> = vec![
+        // The program's own move to the start.
+        (r, 20.0, 2.0),
+        // 17.5: one stretch, as type I.
+        (r, 17.5, 2.0), (f, 17.5, -20.0), (r, 18.0, -19.5), (r, 18.0, 2.0),
+        // 15: to the shoulder, then the pocket from where the profile goes down at Z-10.
+        (r, 15.0, 2.0), (f, 15.0, -5.0), (r, 15.5, -4.5), (r, 20.0, -4.5),
+        (r, 20.0, -10.0), (r, 18.0, -10.0), (f, 15.0, -10.0), (f, 15.0, -20.0),
+        (r, 15.5, -19.5), (r, 20.0, -19.5), (r, 20.0, 2.0),
+        // 12.5: the pocket's sides cross the level at Z-10.714 and Z-19.286.
+        (r, 12.5, 2.0), (f, 12.5, -5.0), (r, 13.0, -4.5), (r, 20.0, -4.5),
+        (r, 20.0, -10.0 - 2.0 * 2.5 / 7.0), (r, 15.5, -10.0 - 2.0 * 2.5 / 7.0),
+        (f, 12.5, -10.0 - 2.0 * 2.5 / 7.0), (f, 12.5, -18.0 - 2.0 * 4.5 / 7.0),
+        (r, 13.0, -17.5 - 2.0 * 4.5 / 7.0), (r, 20.0, -17.5 - 2.0 * 4.5 / 7.0),
+        (r, 20.0, 2.0),
+        // 10: Z-11.429 and Z-18.571.
+        (r, 10.0, 2.0), (f, 10.0, -5.0), (r, 10.5, -4.5), (r, 20.0, -4.5),
+        (r, 20.0, -10.0 - 2.0 * 5.0 / 7.0), (r, 13.0, -10.0 - 2.0 * 5.0 / 7.0),
+        (f, 10.0, -10.0 - 2.0 * 5.0 / 7.0), (f, 10.0, -18.0 - 2.0 * 2.0 / 7.0),
+        (r, 10.5, -17.5 - 2.0 * 2.0 / 7.0), (r, 20.0, -17.5 - 2.0 * 2.0 / 7.0),
+        (r, 20.0, 2.0),
+        // 7.5: above the pocket's bottom (8): the face stretch only, as type I.
+        (r, 7.5, 2.0), (f, 7.5, -5.0), (r, 8.0, -4.5), (r, 8.0, 2.0),
+        // The pass along the profile, then out and back to the start.
+        (r, 5.0, 2.0), (f, 5.0, -5.0), (f, 15.0, -5.0), (f, 15.0, -10.0), (f, 8.0, -12.0),
+        (f, 8.0, -18.0), (f, 15.0, -20.0), (f, 20.0, -20.0), (r, 20.0, 2.0),
+    ];
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        let ok = g.0 == w.0 && (g.1[0] - p(w.1)).abs() <= 1 && (g.1[1] - p(w.2)).abs() <= 1;
+        assert!(ok, "got {g:?}, want {w:?}\n{got:?}");
+    }
+    // The same profile with an X-only first line is type I: refused where it turns back,
+    // with what to write.
+    let e = read(&format!(
+        "G0 X40 Z2\nG71 U2.5 R0.5\nG71 P10 Q20 F100\n{}M30\n",
+        profile.replace("N10 G0 X10 Z2", "N10 G0 X10")
+    ))
+    .unwrap_err();
+    assert_eq!(e.line, 8, "{e}");
+    assert!(
+        e.message
+            .contains("name Z or W0 in the profile's first block"),
+        "{e}"
+    );
+}
+
+/// Type II on profiles nobody worked by hand: 300 random pocketed profiles (Z always on, X
+/// up and down between the face and the start's X). No roughing move, rapid or feed, passes
+/// below the profile (into the part), and every level's cut stays within the stock.
+#[test]
+fn type_ii_roughing_never_enters_the_part() {
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..300 {
+        // The profile, [Z, X radius] mm: from the face at Z2 down the start's Z, then Z always on.
+        let mut pts = vec![[2.0, 2.0 + 8.0 * rnd()]];
+        let mut z = 2.0;
+        for _ in 0..(2 + (rnd() * 6.0) as usize) {
+            z -= 0.5 + 6.0 * rnd();
+            pts.push([z, 1.0 + 17.0 * rnd()]);
+        }
+        let end = [z - 1.0, 20.0];
+        pts.push(end);
+        let mut text = format!(
+            "G0 X40 Z2\nG71 U{:.3} R0.3\nG71 P10 Q20 F100\n",
+            0.5 + 2.0 * rnd()
+        );
+        text += &format!("N10 G1 X{:.4} Z2\n", 2.0 * pts[0][1]);
+        for (i, q) in pts[1..].iter().enumerate() {
+            let n = if i + 2 == pts.len() { "N20 " } else { "" };
+            text += &format!("{n}X{:.4} Z{:.4}\n", 2.0 * q[1], q[0]);
+        }
+        text += "M30\n";
+        let b = blocks(&text);
+        // The profile's X at `z` (pulses), by its lines.
+        let under = |zq: f64| -> f64 {
+            for w in pts.windows(2) {
+                let (a, c) = (w[0], w[1]);
+                if zq <= a[0] + 1e-9 && zq >= c[0] - 1e-9 {
+                    let t = if (a[0] - c[0]).abs() < 1e-12 {
+                        1.0
+                    } else {
+                        (a[0] - zq) / (a[0] - c[0])
+                    };
+                    return a[1] + t * (c[1] - a[1]);
+                }
+            }
+            0.0
+        };
+        // The roughing: every move before the finishing pass (the last moves follow the
+        // profile itself).
+        let m = moves(&b);
+        let rough = &m[..m.len() - pts.len() - 1];
+        let mut at = [20_000i64, 2_000i64];
+        for &(k, e) in rough {
+            for step in 0..=20 {
+                let t = step as f64 / 20.0;
+                let x = (at[0] as f64 + t * (e[0] - at[0]) as f64) / 1000.0;
+                let zq = (at[1] as f64 + t * (e[1] - at[1]) as f64) / 1000.0;
+                if zq < end[0] - 1e-6 || zq > 2.0 + 1e-6 {
+                    continue;
+                }
+                // Within two pulses, either way (a steep wall's crossing rounded to a pulse).
+                let near = pts.iter().map(|q| q[0]).filter(|q| (q - zq).abs() <= 0.002);
+                let floor = [zq - 0.002, zq, zq + 0.002]
+                    .into_iter()
+                    .chain(near)
+                    .map(under)
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    x >= floor - 0.002,
+                    "case {case}: {k} to {e:?} passes X {x:.4} at Z {zq:.4}, below the profile's {:.4}\n{text}",
+                    under(zq)
+                );
+            }
+            at = e;
+        }
+    }
+}
