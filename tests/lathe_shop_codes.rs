@@ -550,3 +550,42 @@ fn a_lathe_description_remaps_only_codes_the_lathe_does_not_define() {
     };
     assert_eq!((codes(0), codes(1)), (vec![33, 31], vec![31]));
 }
+
+/// Fanuc's G92 in G code system B is system A's G50: `G92 S` limits the spindle under G96
+/// (a course program's `G92 S3000`, refused before stop 56 as a G92 without X or Z), and
+/// `G92 X Z` sets the coordinate system, as before.
+#[test]
+fn fanucs_g92_s_in_system_b_limits_the_spindle_as_g50_s_in_system_a() {
+    let a = match parse(
+        "machine shop\nkind lathe\ndialect fanuc\nchannel P\ngcode system A\n\
+         x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+         spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3\n",
+    ) {
+        Ok(MachineDesc::Lathe(d)) => d,
+        other => panic!("{other:?}"),
+    };
+    let b = lathe("fanuc");
+    let speeds = |text: &str, d: &LatheDesc| -> Vec<String> {
+        let st = read(text, d).unwrap_or_else(|e| panic!("{e}"));
+        st.iter()
+            .flat_map(|s| &s.blocks)
+            .filter_map(|b| b.css.map(|c| format!("{} {}", c.m_per_min, c.limit_rpm)))
+            .collect()
+    };
+    let in_a = speeds("T0101\nG50 S1500\nG96 S200 M3\nG0 X40. Z5.\n", &a);
+    let in_b = speeds("T0101\nG92 S1500\nG96 S200 M3\nG0 X40. Z5.\n", &b);
+    assert_eq!(in_b, in_a);
+    assert!(in_b.iter().any(|s| s.ends_with(" 1500")), "{in_b:?}");
+    for (text, want) in [
+        ("G92\n", "1:1: G92 needs S (the spindle limit under G96, rpm) or X Z"),
+        ("G92 S9000\n", "1:5: G92 S9000: the G96 speed limit must be above 0 and at most the spindle's maximum 4000 rpm"),
+    ] {
+        let e = read(text, &b).err().unwrap_or_default();
+        assert!(e.starts_with(want), "{text}: {e}");
+    }
+    // LinuxCNC's G92 takes no S: its limit is D.
+    let e = read("G92 S1500\n", &lathe("linuxcnc"))
+        .err()
+        .unwrap_or_default();
+    assert!(e.starts_with("1:1: G92 needs X or Z"), "{e}");
+}

@@ -503,7 +503,10 @@ impl Reader<'_> {
             self.st.limit = d;
             spindle = true;
         }
-        if let Some((g, c)) = g92 {
+        // Fanuc's G92 in system B is system A's G50: X Z set the coordinate system, S the
+        // spindle limit (a Fanuc 0i-T's `G92 S3000`; LinuxCNC's G92 takes no S).
+        let g92_as_g50 = self.fanuc && matches!(g92, Some((920, _)));
+        if let Some((g, c)) = g92.filter(|_| !g92_as_g50) {
             for l in ['X', 'Z', 'U', 'W'] {
                 use_(l);
             }
@@ -511,14 +514,16 @@ impl Reader<'_> {
                 self.g92(w, n, g, c)?;
             }
         }
-        if let Some(c) = w.has_g(500) {
+        let g50 = (w.has_g(500).map(|c| ("G50", c)))
+            .or(g92.filter(|_| g92_as_g50).map(|(_, c)| ("G92", c)));
+        if let Some((name, c)) = g50 {
             // System A's G50: S is the G96 spindle limit, as D (Fanuc 0i-T); X Z set the
             // coordinate system.
             for l in ['S', 'X', 'Z', 'U', 'W'] {
                 use_(l);
             }
             if !after {
-                self.g50(w, n, c)?;
+                self.g50(w, n, c, name)?;
             }
             spindle = w.get('S').is_some();
         } else if let Some(s) = w.get('S') {
@@ -1161,8 +1166,15 @@ impl Reader<'_> {
 
     /// System A's G50 (Fanuc 0i-T): `G50 S` limits the spindle under G96, as LinuxCNC's D;
     /// `G50 X Z` sets the coordinate system: the point where the tool stands becomes X Z.
-    fn g50(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
-        self.set_origin(w, n, c, "G50")?;
+    fn g50(&mut self, w: &Words, n: u32, c: u32, name: &str) -> Result<(), TranslateError> {
+        if self.out.comp_on() && name == "G92" {
+            return Err(err(
+                n,
+                c,
+                "G92 under nose-radius compensation: give G40 first",
+            ));
+        }
+        self.set_origin(w, n, c, name)?;
         let Some(s) = w.get('S') else {
             if w.get('X').is_some() || w.get('Z').is_some() {
                 return Ok(());
@@ -1170,7 +1182,7 @@ impl Reader<'_> {
             return Err(err(
                 n,
                 c,
-                "G50 needs S (the spindle limit under G96, rpm) or X Z (the point where the tool stands)",
+                format!("{name} needs S (the spindle limit under G96, rpm) or X Z (the point where the tool stands)"),
             ));
         };
         if !(s > 0.0 && s <= self.chan.max_rpm) {
@@ -1178,7 +1190,7 @@ impl Reader<'_> {
                 n,
                 w.col('S').unwrap_or(c),
                 format!(
-                    "G50 S{}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
+                    "{name} S{}: the G96 speed limit must be above 0 and at most the spindle's maximum {} rpm",
                     crate::input_text::short_number(s),
                     self.chan.max_rpm
                 ),

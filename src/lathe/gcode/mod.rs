@@ -179,7 +179,7 @@ fn lathe_g_why(g: u32) -> &'static str {
         930 => " (inverse-time feed is not supported: G94 or G95)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
         550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
-        500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is D)",
+        500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is G92 S in Fanuc's dialect, D in LinuxCNC's)",
         _ => "",
     }
 }
