@@ -19,10 +19,15 @@ fn lathe_with(dialect: &str, more: &str) -> LatheDesc {
          spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3 offset 2 -3\n\
          tool 2 radius 0 tip 3\n"
     );
-    match parse(&text) {
+    lathe_desc(&text)
+}
+
+/// The lathe a description's `text` describes; a description that does not parse, or a mill,
+/// fails the test.
+fn lathe_desc(text: &str) -> LatheDesc {
+    match parse(text) {
         Ok(MachineDesc::Lathe(d)) => d,
-        Ok(MachineDesc::Mill(_)) => panic!("a mill"),
-        Err(e) => panic!("{e}"),
+        other => panic!("{other:?}"),
     }
 }
 
@@ -532,15 +537,12 @@ fn a_lathe_description_remaps_only_codes_the_lathe_does_not_define() {
         "4: g28 takes alone all or alone refuse (what a G28 that names no axis does in the Fanuc dialect)"
     );
     // A channel's own line says it for that channel, beside the machine's.
-    let d = match parse(
+    let d = lathe_desc(
         "machine shop\nkind lathe\ntransfer 1 2\nremap M31 modalgroup=10 ngc=a\nchannel P\nremap M33 modalgroup=10 ngc=b\n\
          x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
          spindle max 4000 accel 4000 encoder 1024\nchannel Q\nx travel 0 100 rapid 12000 accel 3000\n\
          z travel -100 100 rapid 15000 accel 3000\nspindle max 4000 accel 4000 encoder 1024\n",
-    ) {
-        Ok(MachineDesc::Lathe(d)) => d,
-        other => panic!("{other:?}"),
-    };
+    );
     let codes = |c: usize| {
         d.channels[c]
             .remap_m
@@ -556,14 +558,11 @@ fn a_lathe_description_remaps_only_codes_the_lathe_does_not_define() {
 /// `G92 X Z` sets the coordinate system, as before.
 #[test]
 fn fanucs_g92_s_in_system_b_limits_the_spindle_as_g50_s_in_system_a() {
-    let a = match parse(
+    let a = lathe_desc(
         "machine shop\nkind lathe\ndialect fanuc\nchannel P\ngcode system A\n\
          x travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
          spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3\n",
-    ) {
-        Ok(MachineDesc::Lathe(d)) => d,
-        other => panic!("{other:?}"),
-    };
+    );
     let b = lathe("fanuc");
     let speeds = |text: &str, d: &LatheDesc| -> Vec<String> {
         let st = read(text, d).unwrap_or_else(|e| panic!("{e}"));

@@ -524,13 +524,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     Some(ch) if in_channel => &mut ch.dialect,
                     _ => &mut dialect,
                 };
-                if slot.is_some() {
-                    return Err(e(format!(
-                        "the dialect is given twice{}",
-                        if in_channel { " in this channel" } else { "" }
-                    )));
-                }
-                *slot = Some(d);
+                set_once(slot, d, "the dialect", in_channel).map_err(e)?;
             }
             "gcode" => {
                 let a = match words.as_slice() {
@@ -566,13 +560,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     Some(ch) if in_channel => &mut ch.per_rev,
                     _ => &mut feed,
                 };
-                if slot.is_some() {
-                    return Err(e(format!(
-                        "feed is given twice{}",
-                        if in_channel { " in this channel" } else { "" }
-                    )));
-                }
-                *slot = Some(v);
+                set_once(slot, v, "feed", in_channel).map_err(e)?;
             }
             "subroutines" if kind == Some("lathe") => {
                 let dir = match words.as_slice() {
@@ -603,19 +591,9 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     Some(ch) if lathe_common && in_channel => &mut ch.calculator,
                     _ => slot,
                 };
-                if slot.is_some() {
-                    return Err(e(format!(
-                        "{head} is given twice{}",
-                        if lathe_common && in_channel {
-                            " in this channel"
-                        } else {
-                            ""
-                        }
-                    )));
-                }
-                *slot = match words.as_slice() {
-                    [_, w] if *w == words_are[0] => Some(true),
-                    [_, w] if *w == words_are[1] => Some(false),
+                let v = match words.as_slice() {
+                    [_, w] if *w == words_are[0] => true,
+                    [_, w] if *w == words_are[1] => false,
                     _ => {
                         return Err(e(format!(
                             "{head} takes {} or {} (the Fanuc dialect's setting)",
@@ -623,6 +601,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                         )))
                     }
                 };
+                set_once(slot, v, head, lathe_common && in_channel).map_err(e)?;
                 if kind != Some("mill") && !lathe_common {
                     return Err(e(format!(
                         "{head}: a setting of the Fanuc dialect: say 'kind mill' or 'kind lathe' first"
@@ -652,13 +631,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     Some(ch) if in_channel => &mut ch.g28_all,
                     _ => &mut g28_all,
                 };
-                if slot.is_some() {
-                    return Err(e(format!(
-                        "g28 is given twice{}",
-                        if in_channel { " in this channel" } else { "" }
-                    )));
-                }
-                *slot = Some(all);
+                set_once(slot, all, "g28", in_channel).map_err(e)?;
             }
             "remap" if kind == Some("mill") => match remap(&words, false).map_err(e)? {
                 r if r.code == 6 && remap_m6.is_some() => {
@@ -841,6 +814,17 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
         }
         None => Err("1: the description has no 'kind lathe' or 'kind mill' line".into()),
     }
+}
+
+/// Sets a setting a description may give once (in a lathe's channel, once there): `what is
+/// given twice`, else.
+fn set_once<T>(slot: &mut Option<T>, v: T, what: &str, in_channel: bool) -> Result<(), String> {
+    if slot.is_some() {
+        let whose = if in_channel { " in this channel" } else { "" };
+        return Err(format!("{what} is given twice{whose}"));
+    }
+    *slot = Some(v);
+    Ok(())
 }
 
 /// `workpiece box X1 Y1 Z1 X2 Y2 Z2`: a box of stock between two corners, machine mm of the
