@@ -478,6 +478,13 @@ fn a_lathe_calls_the_subroutine_of_an_m_code_its_description_remaps() {
             .is_some_and(|e| e.contains("its subroutine needs P on the line (argspec=Pq)")),
         "{e:?}"
     );
+    // A word the code's argspec does not name is not the subroutine's: refused once the
+    // line's rest runs, not dropped.
+    let e = refused("G0 X40. Z5.\nM31 P5\nM30\n".into(), &desc);
+    assert_eq!(
+        e.as_deref(),
+        Some("8:5: the P word is not used by anything on this line")
+    );
     // Without the description's line, M31 is the lathe's unknown code.
     let e = refused("M31\nM30\n".into(), &lathe("fanuc"));
     assert_eq!(e.as_deref(), Some("7:1: unknown or unsupported code M31"));

@@ -914,7 +914,13 @@ impl GcodeSource {
                             m.after_remap();
                             self.run_motion(m, at, n, &raw, &line)
                         }
-                        _ => Ok(None),
+                        // Never in the reader's own use; said rather than the rest of the
+                        // line dropped.
+                        _ => Err(TranslateError {
+                            line: n,
+                            col: 1,
+                            message: "the rest of the line after its remapped M code has no reader to run it: the line is refused".into(),
+                        }),
                     };
                     match r {
                         Ok(Some(s)) => return s,

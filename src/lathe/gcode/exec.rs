@@ -616,13 +616,14 @@ impl Reader<'_> {
         // Chuck and waiting codes.
         for &(m, c) in w.m.as_slice() {
             match m {
-                _ if after => use_('P'),
-                10 => self.out.op(n, c, out::sync(Sync::ChuckClose))?,
-                11 => self.out.op(n, c, out::sync(Sync::ChuckOpen))?,
+                10 if !after => self.out.op(n, c, out::sync(Sync::ChuckClose))?,
+                11 if !after => self.out.op(n, c, out::sync(Sync::ChuckOpen))?,
                 100..=199 => {
                     use_('P');
-                    let with = self.wait_channels(w.get('P'), n, col('P'))?;
-                    self.out.op(n, c, out::sync(Sync::Wait { m, with }))?;
+                    if !after {
+                        let with = self.wait_channels(w.get('P'), n, col('P'))?;
+                        self.out.op(n, c, out::sync(Sync::Wait { m, with }))?;
+                    }
                 }
                 _ => {}
             }
