@@ -1333,10 +1333,10 @@ fn g76_one_block(
             "G76 Q in the one-block form is the thread's start angle: novanc starts every pass at the spindle's index (give none)",
         ));
     }
-    if let Some(l) = ['R'].iter().find(|&&l| w.get(l).is_some()) {
+    if let Some(r) = w.col('R') {
         return Err(err(
             n,
-            col(*l),
+            r,
             "G76 R beside K or D: give the one-block form's I K D or the two-block form's R P Q",
         ));
     }
