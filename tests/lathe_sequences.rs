@@ -688,7 +688,11 @@ fn by_hand() -> Machine {
     }
     let mut desc = desc;
     desc.channels[0].subroutines.push(subs);
+    // A G71 of type II (its profile's first line names Z) roughs a groove: RESET, E-STOP and
+    // the switches meet the cycle inside its pocket too.
     let text = "O1000\nG28\nM31\nG21 G40 G80 G95\nG28 U0 W0\nT0101\nG96 S120 M03\nM08\n\
+                G0 X42. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.2 W0.1 F0.3\nN10 G0 X20. Z2.\n\
+                G1 Z-5.\nX34.\nX26. Z-9.\nZ-13.\nX34. Z-16.\nN20 X42.\n\
                 G0 X42. Z2.\nG1 Z-20. F0.2\nX46.\nG0 Z2.\nG28 U0 W0\nT0202\nG97 S800\n\
                 G0 X0 Z5.\nG1 Z-10. F0.1\nG0 Z5.\nG28 U0 W0\nM09 M05\nM33\nM30\n";
     Machine {
