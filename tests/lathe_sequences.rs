@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 21] = [
+const MDI_LINES: [&str; 23] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -68,6 +68,9 @@ const MDI_LINES: [&str; 21] = [
     // unknown code on the Citizen), the rest of the line after its subroutine; a bare G28.
     "M31 G0 X30 Z20",
     "G28",
+    // A digital output (stop 56), and one out of range.
+    "M64 P2",
+    "M65 P99",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
 const OFS_LINES: [&str; 6] = [

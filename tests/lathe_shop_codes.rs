@@ -465,6 +465,22 @@ fn a_lathe_calls_the_subroutine_of_an_m_code_its_description_remaps() {
     let m8 = blocks.iter().position(|b| b.m == Some(8));
     let sub = blocks.iter().position(|b| b.end[0] == 21_000);
     assert!(m8.is_some() && m8 < sub, "{m8:?} {sub:?}");
+    // A Haas relay, M59 P1101, as a subroutine that switches an output (the lathe's M64).
+    let relay = "o<relay> sub\nM64 P[#<p> - 1100]\no<relay> endsub\nG95 M59 P1101.\nM30\n";
+    let st = read(relay, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let io: Vec<_> = st
+        .iter()
+        .flat_map(|s| &s.blocks)
+        .filter_map(|b| b.io)
+        .collect();
+    assert_eq!(
+        io,
+        [novanc::block::Io::Digital {
+            index: 1,
+            on: true,
+            synced: false
+        }]
+    );
     // argspec=Pq: P required, given to the subroutine as #<p>.
     let p = format!("{subs}G95 G0 X40. Z5.\nM59 P50.\nM30\n");
     assert_eq!(

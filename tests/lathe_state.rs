@@ -415,6 +415,41 @@ fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
     assert!(m.contains("spindle stopped"), "after E-STOP: {m}");
 }
 
+/// A lathe's digital outputs (stop 56; the mill's M64/M65): the channel's machine in the kernel
+/// keeps them, the display says which are on after the coolant (`OUT1,3`), and they keep their
+/// values across RESET and E-STOP as the centre's do (docs/gcode.md "Inputs and outputs").
+#[test]
+fn m64_and_m65_set_a_lathe_channel_s_outputs_and_the_display_says_which() {
+    let state = common::temp_dir("lathe-state-outputs");
+    let d = desc(Some(Dialect::Fanuc), None);
+    let mut c = open(&d, &state);
+    let ch = |c: &LatheConsole| c.view().channels[0].clone();
+    assert_eq!(mdi(&mut c, &["M8 M64 P1", "M64 P3"]), "MDI CH1 runs");
+    assert_eq!(ch(&c).outputs, 0b1010);
+    assert!(c.frame_text().contains("M08 OUT1,3"), "{}", c.frame_text());
+    assert_eq!(mdi(&mut c, &["M65 P1"]), "MDI CH1 runs");
+    assert_eq!(ch(&c).outputs, 0b1000);
+    c.handle(PanelEvent::EStop);
+    c.handle(PanelEvent::Reset);
+    assert_eq!(ch(&c).outputs, 0b1000, "kept across E-STOP and RESET");
+    for (line, want) in [
+        ("M64", "M64 needs P, the digital output 0 to 63"),
+        (
+            "M64 P64",
+            "M64 P64: the digital output is a whole number 0 to 63",
+        ),
+        (
+            "M65 P1.5",
+            "M65 P1.5: the digital output is a whole number 0 to 63",
+        ),
+    ] {
+        let m = mdi_start(&mut c, &[line]);
+        assert!(m.contains(want), "{line}: {m}");
+        c.handle(PanelEvent::Reset);
+    }
+    assert_eq!(ch(&c).outputs, 0b1000, "a refused line sets nothing");
+}
+
 /// A cycle (AUTO) starts with every spindle stopped and the coolant off, whatever an MDI run
 /// left turning: its programs close and open the chucks (M10/M11), which must never act on a
 /// turning spindle, and command the spindle themselves.

@@ -106,6 +106,8 @@ const LATHE_FRAGMENTS: &[&str] = &[
     "G76 X10 Z-10 K1. D0.3 A60 F1.",
     "M23",
     "M24",
+    "M64 P2",
+    "M65 P70",
     "M31",
     "M59 P2",
     "o<chip> sub",

@@ -1048,6 +1048,7 @@ impl Cycle {
                 v.rpm = st.spindle as f64;
                 v.tool = st.tool.unwrap_or(0);
                 v.coolant = st.coolant;
+                v.outputs = st.outputs.digital;
                 if !self.runs(ch) {
                     v.note = st.alarm.clone().unwrap_or_default();
                     return v;

@@ -45,17 +45,29 @@ pub struct ChanView {
     pub parts: u32,
     /// Coolant mist (M07) and flood (M08) on, as the kernel keeps them.
     pub coolant: (bool, bool),
+    /// The digital outputs on (M64/M65), bit n output n, as the kernel keeps them.
+    pub outputs: u64,
 }
 
 impl ChanView {
-    /// The coolant as the display says it: ` M07`, ` M08`, ` M07 M08`, or nothing when off.
-    pub fn coolant_text(&self) -> &'static str {
-        match self.coolant {
+    /// The coolant and the outputs as the display says them: ` M07`, ` M08`, ` M07 M08`, then
+    /// ` OUT1,3` for the digital outputs on; nothing when all are off.
+    pub fn aux_text(&self) -> String {
+        let mut s = match self.coolant {
             (false, false) => "",
             (true, false) => " M07",
             (false, true) => " M08",
             (true, true) => " M07 M08",
         }
+        .to_string();
+        let on: Vec<String> = (0..64)
+            .filter(|i| self.outputs >> i & 1 == 1)
+            .map(|i| i.to_string())
+            .collect();
+        if !on.is_empty() {
+            s += &format!(" OUT{}", on.join(","));
+        }
+        s
     }
 }
 
@@ -127,7 +139,7 @@ pub fn plasma(
             "T{:02} {work} CHUCK {chuck} {}{}",
             c.tool,
             c.state,
-            c.coolant_text()
+            c.aux_text()
         ),
         cols,
     ));

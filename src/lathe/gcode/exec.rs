@@ -602,6 +602,14 @@ impl Reader<'_> {
             if (7..=9).contains(&m) && !after {
                 self.out.op(n, c, out::m(m as u8))?;
             }
+            if matches!(m, 64 | 65) {
+                // A digital output at once (the mill's M64/M65, docs/gcode.md "Inputs and
+                // outputs"): the kernel's channel keeps it and records it on /nc/io.
+                use_('P');
+                if !after {
+                    self.output(w.get('P'), m == 64, n, c, col('P'))?;
+                }
+            }
             if matches!(m, 23 | 24) && !after {
                 if !self.fanuc {
                     return Err(err(
@@ -1024,6 +1032,44 @@ impl Reader<'_> {
             end[1] = self.chan.axes[0].travel[1] - off[1];
         }
         self.out.motion(rapid(mid, end))
+    }
+
+    /// M64 (`on`) or M65 P`p` at `n`:`c`: digital output P, 0 to 63, on or off at once.
+    fn output(
+        &mut self,
+        p: Option<f64>,
+        on: bool,
+        n: u32,
+        c: u32,
+        pc: u32,
+    ) -> Result<(), TranslateError> {
+        let code = if on { 64 } else { 65 };
+        let Some(p) = p else {
+            return Err(err(
+                n,
+                c,
+                format!("M{code} needs P, the digital output 0 to 63"),
+            ));
+        };
+        if !(p.fract() == 0.0 && (0.0..64.0).contains(&p)) {
+            return Err(err(
+                n,
+                pc,
+                format!(
+                    "M{code} P{}: the digital output is a whole number 0 to 63",
+                    crate::input_text::short_number(p)
+                ),
+            ));
+        }
+        let b = crate::block::Block {
+            io: Some(crate::block::Io::Digital {
+                index: p as u8,
+                on,
+                synced: false,
+            }),
+            ..out::aux()
+        };
+        self.out.op(n, c, b)
     }
 
     /// A remapped M code at `n`:`c`: its subroutine is called (by the one reader), unless the

@@ -123,7 +123,7 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
             format!(
                 " CHUCK {}{}  parts {}/{}",
                 if c.chuck { "CLOSED" } else { "OPEN" },
-                c.coolant_text(),
+                c.aux_text(),
                 c.parts,
                 target
             ),
