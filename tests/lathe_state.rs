@@ -416,7 +416,7 @@ fn the_spindle_and_coolant_turn_on_from_one_mdi_run_to_the_next_until_reset() {
 }
 
 /// A lathe's digital outputs (stop 56; the mill's M64/M65): the channel's machine in the kernel
-/// keeps them, the display says which are on after the coolant (`OUT1,3`), and they keep their
+/// keeps them, the display says which are on after the coolant (`OUT 1 3`), and they keep their
 /// values across RESET and E-STOP as the centre's do (docs/gcode.md "Inputs and outputs").
 #[test]
 fn m64_and_m65_set_a_lathe_channel_s_outputs_and_the_display_says_which() {
@@ -426,7 +426,7 @@ fn m64_and_m65_set_a_lathe_channel_s_outputs_and_the_display_says_which() {
     let ch = |c: &LatheConsole| c.view().channels[0].clone();
     assert_eq!(mdi(&mut c, &["M8 M64 P1", "M64 P3"]), "MDI CH1 runs");
     assert_eq!(ch(&c).outputs, 0b1010);
-    assert!(c.frame_text().contains("M08 OUT1,3"), "{}", c.frame_text());
+    assert!(c.frame_text().contains("M08 OUT 1 3"), "{}", c.frame_text());
     assert_eq!(mdi(&mut c, &["M65 P1"]), "MDI CH1 runs");
     assert_eq!(ch(&c).outputs, 0b1000);
     c.handle(PanelEvent::EStop);

@@ -51,7 +51,8 @@ pub struct ChanView {
 
 impl ChanView {
     /// The coolant and the outputs as the display says them: ` M07`, ` M08`, ` M07 M08`, then
-    /// ` OUT1,3` for the digital outputs on; nothing when all are off.
+    /// ` OUT 1 3` for the digital outputs on (spaces: a plasma comma reads as a point); nothing
+    /// when all are off.
     pub fn aux_text(&self) -> String {
         let mut s = match self.coolant {
             (false, false) => "",
@@ -65,7 +66,7 @@ impl ChanView {
             .map(|i| i.to_string())
             .collect();
         if !on.is_empty() {
-            s += &format!(" OUT{}", on.join(","));
+            s += &format!(" OUT {}", on.join(" "));
         }
         s
     }
