@@ -587,6 +587,7 @@ fn profile(
     let (saved, a) = (r.st.clone(), r.out.pos);
     r.out.capture = Some(Vec::new());
     r.in_cycle = true;
+    r.profile_names_z = None;
     let res = r.run_range(p, q + 1, lines);
     r.in_cycle = false;
     let moves = r.out.capture.take().unwrap_or_default();
@@ -599,27 +600,8 @@ fn profile(
         allow: [dw, du],
         feed,
         q,
-        type2: r.lines.get(p).is_some_and(|l| names_z(l)),
+        type2: r.profile_names_z.take().unwrap_or(false),
     })
-}
-
-/// Whether a line's words name Z or W (its comments and named parameters aside): a G71
-/// profile's first line that does is Fanuc's type II.
-fn names_z(raw: &str) -> bool {
-    let mut depth = 0u32;
-    let mut angle = false;
-    for ch in raw.chars() {
-        match ch {
-            ';' if depth == 0 => return false,
-            '(' => depth += 1,
-            ')' => depth = depth.saturating_sub(1),
-            '<' if depth == 0 => angle = true,
-            '>' => angle = false,
-            'Z' | 'z' | 'W' | 'w' if depth == 0 && !angle => return true,
-            _ => {}
-        }
-    }
-    false
 }
 
 /// The most passes of a G73 (its first block's R).

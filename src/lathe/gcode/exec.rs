@@ -219,6 +219,9 @@ pub struct Reader<'a> {
     /// subroutine, now returned: only its steps after that code run (docs/lathe-gcode.md "A
     /// machine builder's M codes").
     pub after_remap: bool,
+    /// Whether the first line of the G70–G73 profile being read names Z or W (Fanuc's type II
+    /// G71), as its words are read; `None` before that line.
+    pub profile_names_z: Option<bool>,
 }
 
 /// An error at a line and column.
@@ -401,6 +404,10 @@ impl Reader<'_> {
             return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, self.dialect())?;
+        if self.in_cycle && self.profile_names_z.is_none() {
+            // A G71 profile's first line, as read: whether it names Z or W (type II).
+            self.profile_names_z = Some(w.get('Z').is_some() || w.get('W').is_some());
+        }
         self.unpointed = l.plain & !l.dotted;
         self.pointed = l.plain & l.dotted;
         let flow = self.execute(&w, n, i, lines);
