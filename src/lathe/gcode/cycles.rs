@@ -587,8 +587,9 @@ fn profile(
     let (saved, a) = (r.st.clone(), r.out.pos);
     r.out.capture = Some(Vec::new());
     r.in_cycle = true;
-    r.profile_names_z = None;
+    (r.profile_first, r.profile_names_z) = (Some(p), None);
     let res = r.run_range(p, q + 1, lines);
+    r.profile_first = None;
     r.in_cycle = false;
     let moves = r.out.capture.take().unwrap_or_default();
     r.st = saved;

@@ -219,8 +219,10 @@ pub struct Reader<'a> {
     /// subroutine, now returned: only its steps after that code run (docs/lathe-gcode.md "A
     /// machine builder's M codes").
     pub after_remap: bool,
-    /// Whether the first line of the G70–G73 profile being read names Z or W (Fanuc's type II
-    /// G71), as its words are read; `None` before that line.
+    /// The first line (P, an index) of the G71–G73 profile being read, and whether it names Z
+    /// or W (Fanuc's type II G71), as its words are read; `None` before that line is read.
+    pub profile_first: Option<usize>,
+    /// See `profile_first`.
     pub profile_names_z: Option<bool>,
 }
 
@@ -404,8 +406,8 @@ impl Reader<'_> {
             return Ok(Flow::Next);
         }
         let w = sort_words_in(&l, n, self.dialect())?;
-        if self.in_cycle && self.profile_names_z.is_none() {
-            // A G71 profile's first line, as read: whether it names Z or W (type II).
+        if self.in_cycle && self.profile_first == Some(i) {
+            // A G71 profile's first line (its P), as read: whether it names Z or W (type II).
             self.profile_names_z = Some(w.get('Z').is_some() || w.get('W').is_some());
         }
         self.unpointed = l.plain & !l.dotted;

@@ -420,6 +420,7 @@ pub fn read_kept(
         pointed: 0,
         remapped: None,
         after_remap: false,
+        profile_first: None,
         profile_names_z: None,
     };
     if !chan.remap_m.is_empty() {
