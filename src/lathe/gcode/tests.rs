@@ -875,6 +875,17 @@ fn a_type_ii_g71_roughs_the_pocket_level_by_level() {
         e.message
             .contains("name Z or W0 in the profile's first block"),
         "{e}"
+    ); // The type is the P line's, as read: an empty P line (`N10`, the Z on the next) names
+       // no Z, so the pocket is refused as type I's.
+    let e = read(&format!(
+        "G0 X40 Z2\nG71 U2.5 R0.5\nG71 P10 Q20 F100\nN10\n{}M30\n",
+        profile.replace("N10 G0 X10 Z2", "G0 X10 Z2")
+    ))
+    .unwrap_err();
+    assert!(
+        e.message
+            .contains("name Z or W0 in the profile's first block"),
+        "{e}"
     );
 }
 
