@@ -357,6 +357,24 @@ fn null_and_the_decimal_point_follow_fanuc() {
     );
 }
 
+/// A Fanuc tape's program numbers: `%O1200` (leader and number on one line) and ISO's `:`
+/// for O, a subprogram numbered so found by M98 (stop 57; refused before). LinuxCNC's dialect
+/// refuses both.
+#[test]
+fn a_tape_s_program_number_may_follow_its_percent_or_be_written_with_a_colon() {
+    let plain = "%\nO1200\nG0 X10. Y10.\nM98 P200\nM30\nO200\nG0 X20.\nM99\n%\n";
+    let iso = "%O1200 (A FLANGE)\nG0 X10. Y10.\nM98 P200\nM30\n:200\nG0 X20.\nM99\n%\n";
+    let want = moves(plain, Fanuc).unwrap();
+    assert_eq!(want.len(), 2);
+    assert_moves(&moves(iso, Fanuc).unwrap(), &want);
+    assert!(moves(iso, LinuxCnc)
+        .unwrap_err()
+        .starts_with("1:1: a word letter was expected, not '%'"));
+    assert!(moves("%\n:200\nM30\n%\n", LinuxCnc)
+        .unwrap_err()
+        .starts_with("2:1: a word letter was expected, not ':'"));
+}
+
 #[test]
 fn the_linuxcnc_dialect_refuses_the_fanuc_words_as_before() {
     assert_eq!(

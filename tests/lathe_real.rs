@@ -254,6 +254,58 @@ fn g32_refusals() {
         .is_some_and(|e| e.starts_with("3:1: G32 is Fanuc's thread cutting")));
 }
 
+/// A Fanuc 0T example of an editor's (TOKARKA, system B): `%O1200(...)` on its first line, and
+/// its threads cut by G33 with the lead in F, as Fanuc's G code systems B and C name G32. Both
+/// were refused until stop 57 (`a word letter was expected, not '%'`, `G33 needs K`).
+#[test]
+fn fanuc_g33_takes_its_lead_in_f_as_g32_does_and_a_tape_may_start_with_its_number() {
+    let desc = lathe();
+    let g32 = "G95 T0202 S500 M3\nG0 X30. Z5.\nX29.\nG32 Z-20. F1.5\nG0 X32.\nZ5.\nX28.6\n\
+               G32 Z-20.\nG0 X32.\nZ5.\n";
+    let g33 = g32.replace("G32", "G33");
+    assert_eq!(ok(&g33, &desc), ok(g32, &desc));
+    assert_eq!(leads(&g33, &desc), [1.5, 1.5]);
+    // K, where given, is still the lead (a LinuxCNC program read in Fanuc's dialect).
+    let p = "G95 T0202 S500 M3\nG0 X30. Z5.\nG33 Z-20. K2. F0.2\n";
+    assert_eq!(leads(p, &desc), [2.0]);
+    assert_eq!(
+        read("G95 T0202 S500 M3\nG0 X30. Z5.\nG33 Z-20.\n", &desc)
+            .err()
+            .as_deref(),
+        Some("3:1: G33 needs F, the lead in mm per revolution")
+    );
+    // The tape's leader and number on one line, ISO's `:` for O, and a `:` subprogram found
+    // by M98: the same moves as the program written with `%` alone and O.
+    let plain = "%\nO1200\nG95 T0202 S500 M3\nG0 X30. Z5.\nM98 P200\nM30\nO200\nG0 X20.\nM99\n%\n";
+    let iso =
+        "%O1200(TOKARKA)\nG95 T0202 S500 M3\nG0 X30. Z5.\nM98 P200\nM30\n:200\nG0 X20.\nM99\n%\n";
+    assert_eq!(ok(iso, &desc), ok(plain, &desc));
+    assert_eq!(ok(iso, &desc).len(), 2);
+    // `:` is a program number and nothing else; after `%` only a number may stand.
+    let e = read("%\n:100 sub\n", &desc).err();
+    assert_eq!(
+        e.as_deref(),
+        Some("2:1: ':' is ISO's program number: a number alone")
+    );
+    let e = read("%G0 X10.\n", &desc).err().unwrap_or_default();
+    assert!(
+        e.starts_with("1:1: a word letter was expected, not '%'"),
+        "{e}"
+    );
+    // LinuxCNC's dialect has neither, and its G33 wants K.
+    let lcnc = linuxcnc_lathe();
+    let e = read("%\n:100\n", &lcnc).err().unwrap_or_default();
+    assert!(
+        e.starts_with("2:1: a word letter was expected, not ':'"),
+        "{e}"
+    );
+    let e = read("G0 X30 Z5\nM3 S500\nG33 Z-20 F1.5\n", &lcnc).err();
+    assert_eq!(
+        e.as_deref(),
+        Some("3:1: G33 needs K, the lead in mm per revolution (in Fanuc's dialect, F: `dialect fanuc`)")
+    );
+}
+
 /// The same lathe with calculator-type input (`decimal calculator`, Fanuc's 3401#0 DPI = 1).
 fn calculator_lathe() -> LatheDesc {
     let mut d = lathe();

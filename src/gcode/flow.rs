@@ -95,6 +95,8 @@ pub fn o_label(raw: &str) -> Option<&str> {
     }
     match b.get(i) {
         Some(b'o' | b'O') => raw.get(i + 1..),
+        // ISO's program number (Fanuc's `:0100`, read as `O0100`).
+        Some(b':') if b.get(i + 1).is_some_and(u8::is_ascii_digit) => raw.get(i + 1..),
         _ => None,
     }
 }

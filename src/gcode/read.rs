@@ -1179,7 +1179,9 @@ pub fn read_into_opts(
     }
     let n = scratch.len;
     let (bytes, cols) = (&scratch.bytes[..n], &scratch.cols[..n]);
-    if bytes == b"%" {
+    if bytes == b"%" || (opts.fanuc && percent_and_number(bytes)) {
+        // (Fanuc: a tape's `%O1200` is the leader and the program's number on one line; the
+        // number names the program, as a bare O line does, and is read over.)
         out.percent = true;
         return Ok(());
     }
@@ -1208,6 +1210,15 @@ pub fn read_into_opts(
     }
     if r.peek() == Some('o') {
         return read_o(&mut r, out, skipping);
+    }
+    if r.fanuc && r.peek() == Some(':') && r.at(1).is_some_and(|c| c.is_ascii_digit()) {
+        // ISO's address of the program number (Fanuc: `:0100` is `O0100`).
+        let col = r.col();
+        read_o(&mut r, out, skipping)?;
+        if out.o.as_ref().is_some_and(|o| o.kind != OKind::Bare) {
+            return Err(r.err(col, "':' is ISO's program number: a number alone"));
+        }
+        return Ok(());
     }
     if skipping.is_some() {
         // Nothing but O-words is read while skipping (LinuxCNC does not evaluate them).
@@ -1554,6 +1565,11 @@ fn fanuc_statement(r: &mut Reader, out: &mut Line) -> Result<bool, TranslateErro
         col,
         format!("'{word}' is not a word: a word is a letter and its value (Fanuc's statements are GOTO, IF, WHILE, DO, END)"),
     ))
+}
+
+/// A line that is `%` and a program number (`%o1200`, `%:1200`), as normalised.
+fn percent_and_number(b: &[u8]) -> bool {
+    matches!(b, [b'%', b'o' | b':', d @ ..] if !d.is_empty() && d.iter().all(u8::is_ascii_digit))
 }
 
 fn read_o(

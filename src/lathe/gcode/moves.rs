@@ -156,16 +156,24 @@ impl Reader<'_> {
             }
             _ => {
                 // G33 (its K the lead) or Fanuc's G32 (the F in force the lead, modal, as
-                // G76's and G92's: `G32 Z-20. F1.5` then `G32 Z-20.` cuts the same lead).
-                let (name, l) = if g == 320 { ("G32", 'F') } else { ("G33", 'K') };
-                let (given, lead) = if g == 320 {
+                // G76's and G92's: `G32 Z-20. F1.5` then `G32 Z-20.` cuts the same lead). In
+                // Fanuc's dialect a G33 without K is Fanuc's: G code systems B and C name G32
+                // G33, its F the lead.
+                let by_f = g == 320 || (self.fanuc && w.get('K').is_none());
+                let name = if g == 320 { "G32" } else { "G33" };
+                let l = if by_f { 'F' } else { 'K' };
+                let (given, lead) = if by_f {
                     let Some(lead) = self.st.feed else {
-                        return Err(err(n, c, "G32 needs F, the lead in mm per revolution"));
+                        return Err(err(
+                            n,
+                            c,
+                            format!("{name} needs F, the lead in mm per revolution"),
+                        ));
                     };
                     (w.get('F').unwrap_or(lead), lead)
                 } else {
                     let Some(k) = w.get('K') else {
-                        return Err(err(n, c, "G33 needs K, the lead in mm per revolution"));
+                        return Err(err(n, c, "G33 needs K, the lead in mm per revolution (in Fanuc's dialect, F: `dialect fanuc`)"));
                     };
                     (k, k * self.st.factor())
                 };
