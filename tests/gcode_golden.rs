@@ -254,9 +254,10 @@ fn every_golden_program_agrees_with_rs274() {
 /// entry moves (a tip 9 tool: rs274 turns the entry arc of a tool with another tip into a
 /// full circle, docs/lathe-gcode.md), G41.1/G42.1 with D and L, I K arcs LinuxCNC reads as
 /// spirals, G76 with Q and E/L taper ends, G33 tapers, G53, G91,
-/// G20, tool offsets, G92 shifts (a G76 at a shifted zero), and an entry move too short,
-/// refused by both. rs274 was given the lathe's start, G18 G21 G7 and the tools with
-/// LinuxCNC's orientation numbers.
+/// G20, tool offsets, G92 shifts (a G76 at a shifted zero), the work offsets G54–G59 (G10 L2
+/// and L20, P0, under a G92 shift, in diameter and radius mode; stop 57), and an entry move
+/// too short, refused by both. rs274 was given the lathe's start, G18 G21 G7 and the tools
+/// with LinuxCNC's orientation numbers.
 #[test]
 fn the_lathe_golden_programs_agree_with_rs274() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden/lathe_rs274");
@@ -266,7 +267,7 @@ fn the_lathe_golden_programs_agree_with_rs274() {
     };
     assert_eq!(
         agree_with_rs274(&dir, &[], |src| lathe_moves(src, &desc)),
-        10
+        11
     );
 }
 

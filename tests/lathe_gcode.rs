@@ -77,11 +77,18 @@ fn cases() -> Vec<(String, &'static str, &'static str)> {
     vec![
         ("G17\n".into(), "1:1", "the lathe works in G18 (Z–X) only"),
         ("G19 G0 X1\n".into(), "1:1", "plane the lathe does not have"),
-        (
-            "G55\n".into(),
-            "1:1",
-            "the lathe has one work coordinate system, G54",
-        ),
+        ("G59.1\n".into(), "1:1", "the lathe's work systems are G54 to G59"),
+        ("G10 L2 X1\n".into(), "1:1", "G10 L2 needs P, the work system: P1 (G54) to P6 (G59)"),
+        ("G10 L2 P7 X1\n".into(), "1:8", "G10 L2 P7: the lathe's work systems are G54 to G59, P1 to P6"),
+        ("G10 L1 P1 X1\n".into(), "1:5", "G10 L1: a lathe program cannot set a tool offset"),
+        ("G10 P1 X1\n".into(), "1:1", "G10 needs L: L2 (a work offset) or L20"),
+        ("G10 L2 P1\n".into(), "1:1", "G10 L2 names no axis: give X or Z"),
+        ("G10 L20 P1 W1\n".into(), "1:12", "U and W are increments"),
+        ("G10 L2 P1 X1 R5\n".into(), "1:14", "a lathe's is not turned"),
+        ("G10 L2 P1 Z20000\n".into(), "1:11", "G10 L2: the work offset's Z would be 20000 mm, beyond the 10000 mm"),
+        ("#5223 = 1\n".into(), "1:1", "#5223: set a work offset with G10 L2 P1–P6"),
+        ("T1 M6\nG0 X1 Z1\nG41\nG10 L2 P1 Z1\n".into(), "4:1", "G10 L2 of the work system in force under nose-radius compensation: give G40 first"),
+        ("T1 M6\nG0 X1 Z1\nG41\nG55\n".into(), "4:1", "G55 under nose-radius compensation: give G40 first"),
         ("G73\n".into(), "1:1", "G73 is Fanuc's pattern repeating, read in Fanuc's dialect only"),
         (
             "G90.1\n".into(),

@@ -476,8 +476,8 @@ fn parameters_that_report_the_mills_state_are_refused_on_the_lathe() {
             .unwrap_or_default()
     };
     // What the lathe keeps is read (docs/lathe-gcode.md "System variables"); the rest is
-    // the mill's: its work offsets, its Y, its machine position.
-    assert!(e("G0 X#5221\n", None).starts_with("1:5: #5221: parameters from #5000"));
+    // the mill's: its G92 offsets, its Y, its machine position.
+    assert!(e("G0 X#5211\n", None).starts_with("1:5: #5211: parameters from #5000"));
     assert!(e("#1 = #<_y>\n", None).contains("#<_y> reports the mill's interpreter state"));
     assert!(e("#1 = #5021\n", Some(Dialect::Fanuc))
         .starts_with("1:6: #5021: the lathe keeps no such system variable"));
@@ -757,7 +757,7 @@ fn the_lathes_system_variables_are_refused_at_their_place() {
         ("#1 = #2401\n", "1:6: #2401: the lathe has no such tool offset variable"),
         ("#1 = #5003\n", "1:6: #5003: the lathe keeps no such system variable"),
         ("#5021 = 1.\n", "1:1: #5021: the lathe keeps no such system variable"),
-        ("#1 = #4008\n", "1:6: #4008: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4010 #4011 #4016 #4109 #4113 #4114 #4115 #4119 #4120)"),
+        ("#1 = #4008\n", "1:6: #4008: novanc keeps no such modal information (it has #4001 #4002 #4003 #4005 #4006 #4007 #4010 #4011 #4014 #4016 #4109 #4113 #4114 #4115 #4119 #4120)"),
     ];
     for (text, want) in cases {
         let got = fanuc(text);

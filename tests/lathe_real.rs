@@ -306,6 +306,54 @@ fn fanuc_g33_takes_its_lead_in_f_as_g32_does_and_a_tape_may_start_with_its_numbe
     );
 }
 
+/// Work offsets G54–G59 in Fanuc's dialect (docs/lathe-gcode.md "Work offsets"; stop 57,
+/// refused before): G10 L2 with X on the diameter, Fanuc's #5221/#5222 numbering (X on the
+/// diameter, Z) read and written at once, #4014 and #5001/#5002 in the program's coordinates,
+/// and a G92 shift on top of the work system in force, kept when it changes. Worked by hand:
+/// the machine X (radius) and Z of each move.
+#[test]
+fn work_offsets_in_fanuc_s_dialect_move_the_program_s_zero() {
+    let desc = lathe();
+    let p = "G10 L2 P1 X0 Z-50.\nG10 L2 P2 X4. Z-80.\nT0101\n\
+             G0 X20. Z2.\nG55 G0 X20. Z2.\n#5242 = #5242 + 10.\nG0 X20. Z2.\n#5241 = 0\nG0 X20.\n\
+             #1 = #5001\n#2 = #5002\n#3 = #4014\nG0 X[#1 + #3 - 55.] Z[#2 + 1.]\n\
+             G92 X30. Z5.\nG0 X20. Z0\nG54 G0 X20. Z0\nM30\n";
+    assert_eq!(
+        ok(p, &desc),
+        [
+            // G54: Z -50.
+            "R X10.000 Z-48.000",
+            // G55: X +2 (a radius: X4. is a diameter), Z -80.
+            "R X12.000 Z-78.000",
+            // #5242 (G55's Z) written: -70 at once.
+            "R X12.000 Z-68.000",
+            // #5241 (G55's X) written 0.
+            "R X10.000 Z-68.000",
+            // #5001 = 20 (the diameter), #5002 = 2, #4014 = 55: X20 Z3.
+            "R X10.000 Z-67.000",
+            // G92 X30. Z5. where the tool stands: the zero shifted by X -5 (radius), Z -2.
+            "R X5.000 Z-72.000",
+            // G54 with the same shift on top.
+            "R X5.000 Z-52.000",
+        ]
+    );
+    // Fanuc's external offset and G10 without L (its tool offsets) are refused.
+    assert_eq!(
+        read("G10 L2 P0 Z1.\n", &desc).err().as_deref(),
+        Some("1:8: G10 L2 P0: Fanuc's external work offset (shifting every work system) is not on this lathe: set G54–G59 with P1–P6")
+    );
+    let e = read("#1 = #5201\n", &desc).err().unwrap_or_default();
+    assert!(
+        e.starts_with("1:6: #5201: Fanuc's external work offset"),
+        "{e}"
+    );
+    let e = read("G10 P1 X1. Z1.\n", &desc).err().unwrap_or_default();
+    assert!(
+        e.starts_with("1:1: G10 P X Z without L is Fanuc's tool offset setting"),
+        "{e}"
+    );
+}
+
 /// The same lathe with calculator-type input (`decimal calculator`, Fanuc's 3401#0 DPI = 1).
 fn calculator_lathe() -> LatheDesc {
     let mut d = lathe();

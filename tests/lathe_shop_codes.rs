@@ -107,10 +107,12 @@ fn a_safe_start_line_and_coolant_are_read_and_act() {
         [8, 3, 9],
         "M08 and M09 each make a block with their code"
     );
-    // The other work systems are refused with what the lathe has instead.
+    // G54–G59 are the lathe's work systems since stop 57 (docs/lathe-gcode.md "Work
+    // offsets"); LinuxCNC's G59.1–G59.3 are refused with what the lathe has instead.
+    assert!(read("G55\n", &desc).is_ok());
     assert_eq!(
-        read("G55\n", &desc).err().as_deref(),
-        Some("1:1: unknown or unsupported code G55 (the lathe has one work coordinate system, G54: Z 0 is the work face)")
+        read("G59.1\n", &desc).err().as_deref(),
+        Some("1:1: unknown or unsupported code G59.1 (the lathe's work systems are G54 to G59)")
     );
 }
 

@@ -282,7 +282,7 @@ pub fn g76(r: &mut Reader, w: &Words, n: u32, c: u32) -> Result<(), TranslateErr
     // An absolute Z from the program's zero (moved by G92 X Z, or system A's G50), as every
     // move reads it.
     let z_end = if r.st.absolute {
-        r.st.origin[0] + z
+        r.zero()[0] + z
     } else {
         r.out.pos[0] + z
     };

@@ -185,7 +185,7 @@ fn hole(r: &Reader, w: &Words, n: u32, c: u32, code: u32) -> Result<Hole, Transl
         level + v * f
     } else if let Some(v) = w.get('Z') {
         if r.st.absolute {
-            r.st.origin[0] + v * f
+            r.zero()[0] + v * f
         } else {
             level + v * f
         }
@@ -210,9 +210,9 @@ fn hole(r: &Reader, w: &Words, n: u32, c: u32, code: u32) -> Result<Hole, Transl
             z_col,
             format!(
                 "{name}: the bottom Z{} is not below the R level Z{} (the initial level Z{} and R{}): the {tool} feeds towards -Z",
-                fixed((bottom - r.st.origin[0]) / f, 3),
-                fixed((level - r.st.origin[0]) / f, 3),
-                fixed((initial - r.st.origin[0]) / f, 3),
+                fixed((bottom - r.zero()[0]) / f, 3),
+                fixed((level - r.zero()[0]) / f, 3),
+                fixed((initial - r.zero()[0]) / f, 3),
                 fixed(rel / f, 3)
             ),
         ));

@@ -51,9 +51,13 @@ pub struct State {
     /// G99 in G code system B: G83 and G84 return to the R level; else (G98, the default) to
     /// the initial level. System A has no such choice: they return to the initial level.
     pub drill_to_r: bool,
-    /// Where the program's zero lies, `[Z, X]` mm (X a radius), in the coordinates the
-    /// channel starts in (its work coordinates): moved by system A's `G50 X Z`.
+    /// How far a `G50 X Z` (system A) or `G92 X Z` (system B, LinuxCNC) has moved the
+    /// program's zero from the work offset's, `[Z, X]` mm (X a radius): LinuxCNC's G92
+    /// offset, on top of the work system in force.
     pub origin: [f64; 2],
+    /// The work coordinate system in force: 0 for G54 to 5 for G59 (docs/lathe-gcode.md
+    /// "Work offsets").
+    pub work: usize,
     /// System A's single cycle (G90, G92, G94) last given: its end `[Z, X]` and taper R, kept
     /// for the lines after it (Fanuc: X, Z and R are modal in the cycle).
     pub single: Option<[f64; 3]>,
@@ -113,6 +117,7 @@ impl State {
             drill: None,
             drill_to_r: false,
             origin: [0.0, 0.0],
+            work: 0,
             single: None,
         }
     }
@@ -224,6 +229,10 @@ pub struct Reader<'a> {
     pub profile_first: Option<usize>,
     /// See `profile_first`.
     pub profile_names_z: Option<bool>,
+    /// The channel's work offsets G54 to G59, `[Z, X]` mm (X a radius) from the machine's
+    /// zero: as the channel keeps them at the read's start, changed by G10 L2/L20 and by a
+    /// program's `#5221=` for the rest of the read (docs/lathe-gcode.md "Work offsets").
+    pub work: super::WorkOffsets,
 }
 
 /// An error at a line and column.
@@ -292,7 +301,10 @@ impl Motion for Reader<'_> {
         self.after_remap = true;
     }
 
-    fn write_param(&mut self, n: usize, _: f64, fanuc: bool) -> Option<Result<(), String>> {
+    fn write_param(&mut self, n: usize, v: f64, fanuc: bool) -> Option<Result<(), String>> {
+        if let Some(done) = super::sysvars::write_work(self, n, v, fanuc) {
+            return Some(done);
+        }
         super::sysvars::write(self, n, fanuc).map(Err)
     }
 }
@@ -391,6 +403,13 @@ impl Reader<'_> {
         }
     }
 
+    /// Where the program's zero lies now, `[Z, X]` mm from the machine's zero (X a radius):
+    /// the work offset in force and a G50/G92 shift on top of it.
+    pub fn zero(&self) -> [f64; 2] {
+        let w = self.work[self.st.work];
+        [w[0] + self.st.origin[0], w[1] + self.st.origin[1]]
+    }
+
     fn line(&mut self, i: usize, lines: &mut dyn Lines) -> Result<Flow, TranslateError> {
         let n = (i + 1) as u32;
         let raw = self.lines[i];
@@ -449,12 +468,33 @@ impl Reader<'_> {
                 }
                 70 => self.st.diameter = true,
                 80 => self.st.diameter = false,
+                540 | 550 | 560 | 570 | 580 | 590 => {
+                    let work = (g / 10 - 54) as usize;
+                    if work != self.st.work && self.out.comp_on() {
+                        return Err(err(
+                            n,
+                            c,
+                            format!("G{} under nose-radius compensation: give G40 first", g / 10),
+                        ));
+                    }
+                    self.st.work = work;
+                }
                 // In system A, G94 is the facing cycle (G95 is refused by its dialect).
                 940 if !self.system_a => self.st.per_rev = false,
                 950 => self.st.per_rev = true,
                 980 if self.system_a => self.st.per_rev = false,
                 990 if self.system_a => self.st.per_rev = true,
                 _ => {}
+            }
+        }
+        // G10 L2/L20: a work offset set (after the work system is chosen, before G92, as
+        // LinuxCNC orders them).
+        if let Some(c) = w.has_g(100) {
+            for l in ['L', 'P', 'X', 'Z', 'U', 'W', 'R'] {
+                use_(l);
+            }
+            if !after {
+                self.g10(w, n, c)?;
             }
         }
         // System B's G92, G92.1, G92.2 (in system A, G92 is the threading cycle).
@@ -811,6 +851,7 @@ impl Reader<'_> {
         let mut flow = Flow::Next;
         // G50's and G92's X and Z set the coordinate system: nothing moves.
         let axes = w.has_g(500).is_none()
+            && w.has_g(100).is_none()
             && g92.is_none()
             && ['X', 'Z', 'U', 'W'].iter().any(|&c| w.get(c).is_some());
         // G83 or G84, its mode and its return level (docs/lathe-gcode.md "G83 face drilling",
@@ -1161,6 +1202,132 @@ impl Reader<'_> {
         self.out.motion(super::cycles::mv(kind, end, n, c))
     }
 
+    /// `G10 L2 P X Z`: work offset P (1 to 6, G54 to G59; in LinuxCNC's dialect P0 the one
+    /// in force) set to X Z, from the machine's zero (X a diameter under G07), either word
+    /// alone; `G10 L20 P X Z`: set so that the point where the tool stands (before the tool's
+    /// offsets, with a G92 shift) is X Z in it. It is in force for the rest of the read at once
+    /// (docs/lathe-gcode.md "Work offsets").
+    fn g10(&mut self, w: &Words, n: u32, c: u32) -> Result<(), TranslateError> {
+        if self.in_cycle {
+            return Err(err(n, c, "G10 inside a G70/G71 profile"));
+        }
+        let col = |l: char| w.col(l).unwrap_or(c);
+        let short = crate::input_text::short_number;
+        let l = match w.get('L') {
+            Some(v) if v == 2.0 || v == 20.0 => v as u32,
+            None if self.fanuc => {
+                return Err(err(
+                    n,
+                    c,
+                    "G10 P X Z without L is Fanuc's tool offset setting: a lathe program cannot set a tool offset (the lathe reads its program whole at START): set it at OFS; G10 L2 P1–P6 sets a work offset",
+                ))
+            }
+            None => {
+                return Err(err(
+                    n,
+                    c,
+                    "G10 needs L: L2 (a work offset) or L20 (a work offset from where the tool stands)",
+                ))
+            }
+            Some(v) if v == 1.0 || v == 10.0 || v == 11.0 => {
+                return Err(err(
+                    n,
+                    col('L'),
+                    format!("G10 L{}: a lathe program cannot set a tool offset (the lathe reads its program whole at START): set it at OFS", short(v)),
+                ))
+            }
+            Some(v) => {
+                return Err(err(
+                    n,
+                    col('L'),
+                    format!("G10 L{}: the lathe has G10 L2 and L20, its work offsets", short(v)),
+                ))
+            }
+        };
+        let name = format!("G10 L{l}");
+        for (letter, why) in [
+            (
+                'U',
+                "G10 takes X and Z, the offset's values: U and W are increments",
+            ),
+            (
+                'W',
+                "G10 takes X and Z, the offset's values: U and W are increments",
+            ),
+            (
+                'R',
+                "G10 R turns a mill's work system: a lathe's is not turned",
+            ),
+        ] {
+            if let Some(cl) = w.col(letter) {
+                return Err(err(n, cl, why));
+            }
+        }
+        let p = w.get('P');
+        let work = match p {
+            Some(v) if v == 0.0 && !self.fanuc => self.st.work,
+            Some(0.0) => {
+                return Err(err(
+                    n,
+                    col('P'),
+                    format!("{name} P0: Fanuc's external work offset (shifting every work system) is not on this lathe: set G54–G59 with P1–P6"),
+                ))
+            }
+            Some(v) if v.fract() == 0.0 && (1.0..=6.0).contains(&v) => v as usize - 1,
+            Some(v) => {
+                return Err(err(
+                    n,
+                    col('P'),
+                    format!("{name} P{}: the lathe's work systems are G54 to G59, P1 to P6", short(v)),
+                ))
+            }
+            None => {
+                return Err(err(
+                    n,
+                    c,
+                    format!("{name} needs P, the work system: P1 (G54) to P6 (G59)"),
+                ))
+            }
+        };
+        if w.get('X').is_none() && w.get('Z').is_none() {
+            return Err(err(n, c, format!("{name} names no axis: give X or Z")));
+        }
+        if work == self.st.work && self.out.comp_on() {
+            return Err(err(
+                n,
+                c,
+                format!("{name} of the work system in force under nose-radius compensation: give G40 first"),
+            ));
+        }
+        let f = self.st.factor();
+        let dia = if self.st.diameter { 2.0 } else { 1.0 };
+        let mut set = self.work[work];
+        for (i, letter) in [(0, 'Z'), (1, 'X')] {
+            if let Some(v) = w.get(letter) {
+                let v = v * f / if letter == 'X' { dia } else { 1.0 };
+                let o = if l == 2 {
+                    v
+                } else {
+                    self.out.pos[i] - v - self.st.origin[i]
+                };
+                if !(o.is_finite() && o.abs() <= super::MAX_WORK_OFFSET_MM) {
+                    return Err(err(
+                        n,
+                        col(letter),
+                        format!(
+                            "{name}: the work offset's {letter} would be {} mm, beyond the {} mm an offset may be",
+                            short(o * if letter == 'X' { 2.0 } else { 1.0 }),
+                            super::MAX_WORK_OFFSET_MM
+                        ),
+                    ));
+                }
+                set[i] = o;
+            }
+        }
+        self.work[work] = set;
+        Ok(())
+    }
+
     /// System A's `G50 X Z` and system B's `G92 X Z` (Fanuc 0i-T's coordinate system setting,
     /// LinuxCNC's G92 offset): the point where the tool stands (before the tool's offsets)
     /// becomes X Z, X a diameter under G07; either word alone. `code` names it in messages.
@@ -1179,7 +1346,7 @@ impl Reader<'_> {
         for (i, l) in [(0, 'Z'), (1, 'X')] {
             if let Some(v) = w.get(l) {
                 let v = v * f / if l == 'X' { dia } else { 1.0 };
-                let o = self.out.pos[i] - v;
+                let o = self.out.pos[i] - v - self.work[self.st.work][i];
                 if !(o.is_finite() && o.abs() < 1e6) {
                     return Err(err(
                         n,

@@ -131,13 +131,13 @@ fn lathe_g_group(g: u32) -> Option<u8> {
         200 | 210 => 6,
         400 | 410 | 420 | 411 | 421 => 7,
         960 | 970 => 8,
-        40 | 280 | 530 | 920 | 921 | 922 => 0,
+        40 | 100 | 280 | 530 | 920 | 921 | 922 => 0,
         800 | 830 | 840 => 9,
         430 | 490 => 10,
         // System B's return levels of G83 and G84 (initial level, R); `exec` refuses them on a
         // line without either and out of their mode, with [`G98_G99_FEEDS`].
         980 | 990 => 11,
-        540 => 12,
+        540 | 550 | 560 | 570 | 580 | 590 => 12,
         610 | 611 | 640 => 13,
         // LinuxCNC's arc-centre distance mode: I and K from the arc's start, the only one the
         // lathe reads (G90.1 is refused, `lathe_g_why`).
@@ -171,6 +171,45 @@ pub fn m_code_known(m: u32) -> bool {
     lathe_m_group(m).is_some()
 }
 
+/// A channel's work offsets G54 to G59, `[Z, X]` mm from the machine's zero (X a radius): the
+/// machine's zero is the work face's of a channel whose offsets are 0 (docs/lathe-gcode.md
+/// "Work offsets").
+pub type WorkOffsets = [[f64; 2]; 6];
+
+/// The largest a work offset may be, mm, either axis.
+pub const MAX_WORK_OFFSET_MM: f64 = 10_000.0;
+
+/// Where the channel keeps work offset `work`'s Z and X: LinuxCNC's parameters, where the
+/// centre keeps its own (`crate::gcode::state::system_base`: #5221 + 20 × (P − 1) X, a
+/// radius; +2 Z), mm.
+pub fn work_params(work: usize) -> [usize; 2] {
+    let base = crate::gcode::state::system_base(work);
+    [base + 3, base + 1]
+}
+
+/// Every parameter the work offsets are kept in.
+pub fn all_work_params() -> impl Iterator<Item = usize> {
+    (0..6).flat_map(work_params)
+}
+
+/// The work offsets as the parameters `p` keep them (a vacant one: 0).
+pub fn work_offsets(p: &[f64]) -> WorkOffsets {
+    std::array::from_fn(|w| {
+        work_params(w).map(|n| p.get(n).copied().filter(|v| v.is_finite()).unwrap_or(0.0))
+    })
+}
+
+/// The work offsets into the parameters `p`.
+pub fn set_work_offsets(p: &mut [f64], work: &WorkOffsets) {
+    for (w, zx) in work.iter().enumerate() {
+        for (n, v) in work_params(w).into_iter().zip(zx) {
+            if let Some(slot) = p.get_mut(n) {
+                *slot = *v;
+            }
+        }
+    }
+}
+
 /// Why G98 or G99 is refused in G code system B out of G83's mode (and in LinuxCNC's dialect).
 pub const G98_G99_FEEDS: &str = "G98 and G99 are the feeds of Fanuc's G code system A: in system B, G94 per minute and G95 per revolution (and with G83 or G84, in the Fanuc dialect, G98 returns to the initial level, G99 to R)";
 
@@ -180,7 +219,7 @@ fn lathe_g_why(g: u32) -> &'static str {
         901 => " (the lathe reads arc centres I and K from the arc's start only: G91.1)",
         930 => " (inverse-time feed is not supported: G94 or G95)",
         810..=890 => " (the lathe's drilling cycles are G83 and G84, on the centre line, in the Fanuc dialect)",
-        550..=590 => " (the lathe has one work coordinate system, G54: Z 0 is the work face)",
+        591..=593 => " (the lathe's work systems are G54 to G59)",
         500 => " (G50 is Fanuc's G code system A: 'gcode system A' in the channel's description; in system B the G96 limit is G92 S in Fanuc's dialect, D in LinuxCNC's)",
         _ => "",
     }
@@ -317,6 +356,10 @@ pub struct Message {
 pub struct Reading {
     /// The statements, as [`read_program`]'s.
     pub statements: Vec<Statement>,
+    /// Each statement's work system and program zero (`[Z, X]` mm from the machine's zero, X
+    /// a radius), as in force when its blocks were made: what the POS page's work position is
+    /// measured from while it runs.
+    pub zeros: Vec<(usize, [f64; 2])>,
     /// The messages, in the order they were read.
     pub messages: Vec<Message>,
     /// The channel's state after the program.
@@ -422,6 +465,7 @@ pub fn read_kept(
         after_remap: false,
         profile_first: None,
         profile_names_z: None,
+        work: work_offsets(&kept.params.params),
     };
     if !chan.remap_m.is_empty() {
         let base = if r.system_a { &LATHE_A } else { &LATHE };
@@ -466,12 +510,14 @@ pub fn read_kept(
         source = source.subroutines(Box::new(crate::gcode::SubPath(chan.subroutines.clone())));
     }
     let mut messages = Vec::new();
+    let mut zeros = Vec::new();
     loop {
         let before = r.out.statements.len();
         let Some(s) = source.next_with(&mut r) else {
             break;
         };
         s?;
+        zeros.resize(r.out.statements.len(), (r.st.work, r.zero()));
         for e in source.take_events() {
             if let crate::gcode::Event::Message { kind, text } = e {
                 messages.push(Message { before, kind, text });
@@ -494,6 +540,9 @@ pub fn read_kept(
         modal.per_rev = false;
         modal.feed = None;
         modal.motion = Some(10);
+        // ... and the work system G54, the G92 shift let go (as G92.2).
+        modal.work = 0;
+        modal.origin = [0.0, 0.0];
     }
     modal.dir = 5;
     if r.ended {
@@ -502,13 +551,18 @@ pub fn read_kept(
         modal.drill = None;
     }
     let tool = r.out.tool_in_place();
+    let mut params = source.into_state();
+    set_work_offsets(&mut params.params, &r.work);
+    // (A statement `finish` added: the zero the read ended in.)
+    zeros.resize(statements.len(), (r.st.work, r.zero()));
     Ok(Reading {
         statements,
+        zeros,
         messages,
         kept: Kept {
             modal,
             tool,
-            params: source.into_state(),
+            params,
         },
     })
 }

@@ -32,7 +32,7 @@ impl Reader<'_> {
         if let Some(x) = w.get('X') {
             let v = x * f / dia;
             p[1] = if self.st.absolute {
-                self.st.origin[1] + v
+                self.zero()[1] + v
             } else {
                 p[1] + v
             };
@@ -43,7 +43,7 @@ impl Reader<'_> {
         if let Some(z) = w.get('Z') {
             let v = z * f;
             p[0] = if self.st.absolute {
-                self.st.origin[0] + v
+                self.zero()[0] + v
             } else {
                 p[0] + v
             };

@@ -94,7 +94,27 @@ fn tool_value(r: &Reader, n: usize, kind: Kind, offset: u32) -> Result<f64, Stri
 /// (the reader refuses it). Fanuc's modal information is [`Modal`]'s.
 pub fn read(r: &Reader, n: usize, fanuc: bool) -> Option<Result<f64, String>> {
     let k = r.st.factor();
-    let [z, x] = r.out.pos;
+    // The programmed point in the program's coordinates (the work offset and a G50/G92 shift
+    // taken off).
+    let zero = r.zero();
+    let [z, x] = [r.out.pos[0] - zero[0], r.out.pos[1] - zero[1]];
+    if let Some(w) = work_var(n, fanuc) {
+        return Some(w.map(|(work, axis)| {
+            let v = r.work[work][axis];
+            match axis {
+                // Fanuc's X as programmed (a diameter under G07), LinuxCNC's a radius.
+                1 if fanuc => x_programmed(r, v),
+                _ => v / k,
+            }
+        }));
+    }
+    if !fanuc && n == 5220 {
+        return Some(Ok((r.st.work + 1) as f64));
+    }
+    if !fanuc && (5221..=5340).contains(&n) {
+        // Y, A, B, C, U, V, W and the rotation R of G54–G59: the lathe has none.
+        return Some(Ok(0.0));
+    }
     if fanuc {
         if let Some((kind, offset)) = tool_var(n) {
             return Some(tool_value(r, n, kind, offset));
@@ -126,6 +146,71 @@ pub fn read(r: &Reader, n: usize, fanuc: bool) -> Option<Result<f64, String>> {
     })
 }
 
+/// Which work offset and axis (0 Z, 1 X) `#n` is, or why the lathe has no such one; `None`
+/// when `#n` is not a work offset's. Fanuc 0i-TF: #5221 X and #5222 Z of G54, 20 on for each
+/// of G55–G59, #5201/#5202 the external offset; LinuxCNC: #5221 X and #5223 Z, #5341– G59.1–.3.
+fn work_var(n: usize, fanuc: bool) -> Option<Result<(usize, usize), String>> {
+    let (first, last, axes): (usize, usize, &[(usize, usize)]) = if fanuc {
+        (5201, 5340, &[(0, 1), (1, 0)])
+    } else {
+        (5221, 5400, &[(0, 1), (2, 0)])
+    };
+    if !(first..=last).contains(&n) {
+        return None;
+    }
+    if fanuc && n < 5221 {
+        return matches!(n, 5201 | 5202).then(|| {
+            Err(format!(
+                "#{n}: Fanuc's external work offset (shifting every work system) is not on this lathe: it has G54–G59, #5221–"
+            ))
+        });
+    }
+    let work = (n - 5221) / 20;
+    let item = (n - 5221) % 20;
+    let axis = axes.iter().find(|a| a.0 == item).map(|a| a.1)?;
+    if work > 5 {
+        return Some(Err(format!(
+            "#{n}: the lathe's work systems are G54 to G59 (#5221–#5340)"
+        )));
+    }
+    Some(Ok((work, axis)))
+}
+
+/// A program's write of a work offset's `#n` (docs/lathe-gcode.md "Work offsets"): set for
+/// the rest of the read, as G10 L2 sets it; `None` when `#n` is not one.
+pub fn write_work(r: &mut Reader, n: usize, v: f64, fanuc: bool) -> Option<Result<(), String>> {
+    let (work, axis) = match work_var(n, fanuc)? {
+        Ok(w) => w,
+        Err(e) => return Some(Err(e)),
+    };
+    if !fanuc {
+        // LinuxCNC keeps the parameter, but its work system in force moves only at the next
+        // G54–G59 (rs274's SET_G5X_OFFSET comes from G10 and the selection): one way here.
+        return Some(Err(format!(
+            "#{n}: set a work offset with G10 L2 P1–P6 (LinuxCNC takes a written #{n} only at the next G54–G59)"
+        )));
+    }
+    if work == r.st.work && r.out.comp_on() {
+        return Some(Err(format!(
+            "#{n}: the work system in force cannot change under nose-radius compensation: give G40 first"
+        )));
+    }
+    let dia = if fanuc && axis == 1 && r.st.diameter {
+        2.0
+    } else {
+        1.0
+    };
+    let mm = v * r.st.factor() / dia;
+    if !(mm.is_finite() && mm.abs() <= super::MAX_WORK_OFFSET_MM) {
+        return Some(Err(format!(
+            "#{n}: a work offset is at most {} mm",
+            super::MAX_WORK_OFFSET_MM
+        )));
+    }
+    r.work[work][axis] = mm;
+    Some(Ok(()))
+}
+
 /// LinuxCNC's predefined named parameter `#<name>` as the lathe keeps it; `None` when it
 /// keeps no such one. `_x` is the radius in G7 as in G8, as LinuxCNC's (its issue #1348).
 pub fn named(r: &Reader, name: &str) -> Option<Result<f64, String>> {
@@ -138,8 +223,9 @@ pub fn named(r: &Reader, name: &str) -> Option<Result<f64, String>> {
                 "#<{name}> (the current position) cannot be read with nose-radius compensation on"
             )))
         }
-        "_x" => r.out.pos[1] / k,
-        "_z" => r.out.pos[0] / k,
+        "_x" => (r.out.pos[1] - r.zero()[1]) / k,
+        "_z" => (r.out.pos[0] - r.zero()[0]) / k,
+        "_coord_system" => 540.0 + 10.0 * st.work as f64,
         "_metric" => b(!st.inch),
         "_imperial" => b(st.inch),
         "_absolute" => b(st.absolute),
@@ -190,11 +276,11 @@ pub fn write(r: &Reader, n: usize, fanuc: bool) -> Option<String> {
 /// The lathe's modal information in Fanuc 0i-TF's groups (G-code system B): #4001 group 1
 /// (G00–G03 as 0–3, G33 as 33; null before one), #4002 G96/G97, #4003 G90/G91, #4005
 /// G94/G95, #4006 G20/G21, #4007 G40/G41/G42, #4010 G80/G83, #4011 G98/G99 (G83's return
-/// level), #4016 the plane (18), #4109 F, #4119 S, #4120 the T code (tool and offset, 101;
+/// level), #4014 the work system (54–59), #4016 the plane (18), #4109 F, #4119 S, #4120 the T code (tool and offset, 101;
 /// null before one).
 impl Modal for Reader<'_> {
     fn items(&self) -> &'static [usize] {
-        &[1, 2, 3, 5, 6, 7, 10, 11, 16, 109, 119, 120]
+        &[1, 2, 3, 5, 6, 7, 10, 11, 14, 16, 109, 119, 120]
     }
 
     fn item(&self, i: usize) -> f64 {
@@ -214,6 +300,7 @@ impl Modal for Reader<'_> {
             10 => st.drill.map_or(80.0, |d| f64::from(d.code)),
             11 if self.system_a => f64::NAN,
             11 => pick(st.drill_to_r, 99.0, 98.0),
+            14 => 54.0 + st.work as f64,
             16 => 18.0,
             109 => st.feed.unwrap_or(0.0) / st.factor(),
             119 => st.s,
