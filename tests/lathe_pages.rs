@@ -377,8 +377,16 @@ fn pos_shows_the_tip_and_what_is_left_of_the_block() {
             [end[0], end[2]]
         );
         assert_ne!(ch.to_go, [0, 0]);
+        // The work position (the Citizen's offsets are 0: the machine's), the machine's, and
+        // what is left.
         let mm = |p: i64| p as f64 * c.desc().pulse_mm;
-        let x = format!("X  {:12.3} {:12.3}", mm(ch.pos[0] * 2), mm(ch.to_go[0] * 2));
+        assert_eq!(ch.work_pos(), ch.pos);
+        let x = format!(
+            "X  {:10.3} {:10.3} {:10.3}",
+            mm(ch.pos[0] * 2),
+            mm(ch.pos[0] * 2),
+            mm(ch.to_go[0] * 2)
+        );
         assert!(
             v.display.iter().any(|l| l.trim_end() == x),
             "{x}\n{:#?}",

@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 23] = [
+const MDI_LINES: [&str; 27] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -71,15 +71,25 @@ const MDI_LINES: [&str; 23] = [
     // A digital output (stop 56), and one out of range.
     "M64 P2",
     "M65 P99",
+    // Work offsets (stop 57): one set by G10 L2 and used, the system kept for the next run
+    // (RESET: G54), one beyond the limit.
+    "G10 L2 P2 Z-3",
+    "G55 G0 X30 Z20",
+    "G54",
+    "G10 L2 P3 Z99999",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
-const OFS_LINES: [&str; 6] = [
+const OFS_LINES: [&str; 9] = [
     "T1 X0.01",
     "T2 Z-0.005",
     "T9 X1",
     "T1 P12",
     "-0.01",
     "0.004",
+    // The work offsets under the tools (stop 57), and one the lathe has not.
+    "G55 Z-2",
+    "G56 X1 Z1",
+    "G60 Z1",
 ];
 
 struct Seq {
@@ -236,6 +246,17 @@ fn check(s: &mut Seq, what: &str) {
             "{what}: CH{} shown otherwise than its machine",
             ch + 1
         );
+        // Its work system is known, and the plasma's X and Z are the tip in it (stop 57).
+        let Some((system, _)) = shown.system else {
+            panic!("{what}: CH{} has no work system", ch + 1);
+        };
+        assert!(system < 6, "{what}");
+        if ch == v.selected && v.display[0].starts_with("CH") {
+            let w = shown.work_pos();
+            let mm = |p: i64| format!("{:9.3}", p as f64 * desc.pulse_mm);
+            let xz = format!("X{} Z{}", mm(w[0] * 2), mm(w[1]));
+            assert!(v.display[1].starts_with(&xz), "{what}: {:?} for {xz}", v.display[1]);
+        }
         if c.status.estop {
             assert_eq!(shown.state, "ESTOP", "{what}: CH{}", ch + 1);
         }

@@ -113,8 +113,20 @@ pub struct LatheState {
 /// The most lines a lathe channel's MDI buffer holds.
 pub const MAX_MDI_LINES: usize = 64;
 
-/// The parameters a lathe channel keeps in the stores: the Fanuc dialect's #500–#999.
+/// The parameters a lathe channel keeps in the stores: the Fanuc dialect's #500–#999 (and its
+/// work offsets, [`kept_param`]).
 pub const KEPT_PARAMS: std::ops::RangeInclusive<usize> = 500..=999;
+
+/// Whether a lathe channel keeps parameter `n` in the stores: #500–#999 and the parameters of
+/// its work offsets G54–G59 (`crate::lathe::gcode::work_params`, LinuxCNC's #5221–).
+pub fn kept_param(n: usize) -> bool {
+    KEPT_PARAMS.contains(&n) || crate::lathe::gcode::all_work_params().any(|w| w == n)
+}
+
+/// Every parameter a lathe channel keeps in the stores.
+pub fn kept_params() -> impl Iterator<Item = usize> {
+    KEPT_PARAMS.chain(crate::lathe::gcode::all_work_params())
+}
 
 /// The tool lines of a table, as the journal and the snapshot keep them.
 pub fn tools_text(tools: &[ToolDesc]) -> String {
@@ -241,12 +253,9 @@ impl LatheState {
             }
             Record::ChannelParams { ch, params } => {
                 let ch = chan(*ch)?;
-                if let Some((n, _)) = params
-                    .iter()
-                    .find(|(n, _)| !KEPT_PARAMS.contains(&usize::from(*n)))
-                {
+                if let Some((n, _)) = params.iter().find(|(n, _)| !kept_param(usize::from(*n))) {
                     return Err(Refusal::Other(format!(
-                        "#{n} is not a parameter a lathe channel keeps (#500-#999)"
+                        "#{n} is not a parameter a lathe channel keeps (#500-#999, the work offsets #5221-)"
                     )));
                 }
                 if let Some((n, v)) = params

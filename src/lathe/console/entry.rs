@@ -103,7 +103,7 @@ impl LatheConsole {
                     == crate::settings::Dialect::Fanuc;
                 let v = if v.is_nan() && !fanuc { 0.0 } else { v };
                 let kept = if v.is_nan() { 0.0 } else { v };
-                if crate::store::lathe::KEPT_PARAMS.contains(&n) {
+                if crate::store::lathe::kept_param(n) {
                     (self.store.save_params(ch, &[(n, kept)]))
                         .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
                 }
@@ -154,9 +154,46 @@ impl LatheConsole {
         if !add && line.trim_start().starts_with(['T', 't']) {
             return self.revise_tool(line);
         }
+        if !add && line.trim_start().starts_with(['G', 'g']) {
+            return self.revise_work(line);
+        }
         let tools = &self.desc.channels[self.sel].tools;
-        let revision = ofs::cell_line(tools, self.ofs_cell, line, add)?;
+        let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
+        let revision = ofs::cell_line(tools, &work, self.ofs_cell, line, add)?;
+        if revision.starts_with('G') {
+            return self.revise_work(&revision);
+        }
         self.revise_tool(&revision)
+    }
+
+    /// OFS: `G55 X0 Z-150.` revises work offset G55 of the selected channel (X as a diameter,
+    /// Z; either), stored at once as the channel's kept parameters (docs/lathe-gcode.md "Work
+    /// offsets"). A cycle under way keeps the offsets its programs were read with: the next
+    /// START (or MDI run) reads the revised one.
+    fn revise_work(&mut self, line: &str) -> Result<(), String> {
+        use crate::lathe::gcode::{set_work_offsets, work_offsets, work_params};
+        let ch = self.sel;
+        let params = &self.kept[ch].params.params;
+        let (work, k) = ofs::revise_work(&work_offsets(params), line)?;
+        let pairs: Vec<(usize, f64)> = work_params(k).into_iter().zip(work[k]).collect();
+        (self.store.save_params(ch, &pairs))
+            .map_err(|e| format!("{e}: the revision is refused"))?;
+        set_work_offsets(&mut self.kept[ch].params.params, &work);
+        let [z, x] = work[k];
+        let under_way = !self.cycle.is_over();
+        self.front.message = format!(
+            "G{} X{} Z{} (CH{}): {}",
+            54 + k,
+            crate::input_text::short_number(x * 2.0),
+            crate::input_text::short_number(z),
+            ch + 1,
+            if under_way {
+                "from the next START (the run under way keeps the offsets it was read with)"
+            } else {
+                "from the next START"
+            }
+        );
+        Ok(())
     }
 
     /// Runs an editor command line on the selected channel's program and stores what it
@@ -369,6 +406,8 @@ impl LatheConsole {
         if let Some(d) = &drill {
             g.push(d);
         }
+        let work = format!("G{}", 54 + m.work);
+        g.push(&work);
         l.extend(fill(&g, cols));
         let feed = m
             .feed
@@ -430,11 +469,30 @@ impl LatheConsole {
     /// tool, the parts and the last cycle's time.
     fn pos_lines(&self, c: &super::view::ChanView) -> Vec<String> {
         let mm = |p: i64| p as f64 * self.desc.pulse_mm;
+        // The work position (the program's coordinates), the machine's, and what is left of
+        // the block (docs/lathe-gcode.md "Work offsets").
+        let work = c.work_pos();
+        let system = c.system.map_or(0, |s| s.0);
         let mut l = vec![
             format!("POS CH{}  X as a diameter", self.sel + 1),
-            format!("   {:>12} {:>12}", "POSITION", "DIST TO GO"),
-            format!("X  {:12.3} {:12.3}", mm(c.pos[0] * 2), mm(c.to_go[0] * 2)),
-            format!("Z  {:12.3} {:12.3}", mm(c.pos[1]), mm(c.to_go[1])),
+            format!(
+                "   {:>10} {:>10} {:>10}",
+                format!("WORK G{}", 54 + system),
+                "MACHINE",
+                "TO GO"
+            ),
+            format!(
+                "X  {:10.3} {:10.3} {:10.3}",
+                mm(work[0] * 2),
+                mm(c.pos[0] * 2),
+                mm(c.to_go[0] * 2)
+            ),
+            format!(
+                "Z  {:10.3} {:10.3} {:10.3}",
+                mm(work[1]),
+                mm(c.pos[1]),
+                mm(c.to_go[1])
+            ),
             format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state),
         ];
         // The batch's count and target, then the counters every console keeps (the centre's
@@ -451,7 +509,16 @@ impl LatheConsole {
         let line = c.line;
         match self.page {
             Page::Pos => return self.pos_lines(c),
-            Page::Ofs => return ofs::table(&self.desc.channels[self.sel].tools, self.ofs_cell),
+            Page::Ofs => {
+                let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
+                let room = self.rows.saturating_sub(5).max(2);
+                return ofs::table(
+                    &self.desc.channels[self.sel].tools,
+                    &work,
+                    self.ofs_cell,
+                    room,
+                );
+            }
             Page::Macro => {
                 // The centre's MACRO page, of the selected channel's variables.
                 let room = self.rows.saturating_sub(6).max(1);

@@ -73,6 +73,27 @@ pub struct Cycle {
     /// How the programs were read, and the machine they were read for.
     opts: ReadOptions,
     desc: LatheDesc,
+    /// Each channel's work system and program zero by block ([`zero_table`]).
+    zeros: Vec<ZeroTable>,
+}
+
+/// Where a channel's program zero lies as its blocks run: from each block sequence number on
+/// (ascending), the work system (0 for G54) and the zero, `[Z, X]` mm from the machine's zero.
+pub type ZeroTable = Vec<(u32, usize, [f64; 2])>;
+
+/// The zero table of a program as read: each statement's zero from its first block on, a
+/// change where it changes.
+fn zero_table(statements: &[crate::block::Statement], zeros: &[(usize, [f64; 2])]) -> ZeroTable {
+    let mut t: ZeroTable = Vec::new();
+    for (s, &(work, at)) in statements.iter().zip(zeros) {
+        let Some(b) = s.blocks.first() else {
+            continue;
+        };
+        if t.last().is_none_or(|l| (l.1, l.2) != (work, at)) {
+            t.push((b.seq, work, at));
+        }
+    }
+    t
 }
 
 /// A channel's program as the cycle read it: its name and text, the state and place its read
@@ -91,6 +112,7 @@ struct Reread {
 /// the kernel reports (the messages' blocks, each program's first and last).
 struct ReadCycle {
     progs: Vec<Vec<crate::block::Statement>>,
+    zeros: Vec<ZeroTable>,
     lines: Vec<Vec<String>>,
     first: Vec<u32>,
     after: Vec<Option<Kept>>,
@@ -160,6 +182,7 @@ fn start_state(desc: &LatheDesc, kept: &[Kept], ch: usize, mdi: bool, dir: Optio
         .unwrap_or_else(|| Kept::power_on(desc, ch, None));
     if !mdi {
         from.modal.origin = [0.0, 0.0];
+        from.modal.work = 0;
     }
     from.modal.dir = match dir.unwrap_or(0) {
         1 => 3,
@@ -197,6 +220,7 @@ fn read_cycle(
     dirs: &[i8],
 ) -> Result<ReadCycle, String> {
     let mut progs = Vec::new();
+    let mut zeros = Vec::new();
     let mut lines = Vec::new();
     let mut after = Vec::new();
     let mut msgs = Vec::new();
@@ -206,6 +230,7 @@ fn read_cycle(
             // The other channels stand still with no program during an MDI run (and every
             // channel with no program loaded).
             progs.push(Vec::new());
+            zeros.push(Vec::new());
             lines.push(Vec::new());
             after.push(None);
             msgs.push(Vec::new());
@@ -252,6 +277,7 @@ fn read_cycle(
                 .collect(),
         );
         after.push(Some(r.kept));
+        zeros.push(zero_table(&p, &r.zeros));
         progs.push(p);
         lines.push(text.lines().map(str::to_string).collect());
     }
@@ -283,6 +309,7 @@ fn read_cycle(
         .collect();
     Ok(ReadCycle {
         progs,
+        zeros,
         lines,
         first,
         after,
@@ -394,6 +421,7 @@ impl Cycle {
             reread: vec![None; n],
             opts: ReadOptions::default(),
             desc: desc.clone(),
+            zeros: vec![Vec::new(); n],
         };
         c.set_modes(spec.op_mode);
         c.refresh();
@@ -478,6 +506,7 @@ impl Cycle {
         self.lines = read.lines;
         self.first = read.first;
         self.msgs = read.msgs;
+        self.zeros = read.zeros;
         self.msg_at = vec![(0, 0); n];
         self.reread = read.rereads;
         self.opts = spec.opts;
@@ -793,7 +822,11 @@ impl Cycle {
         desc.channels.get_mut(ch).ok_or("no such channel")?.tools = tools.to_vec();
         let read = read_kept(&r.text, &desc, ch, &self.opts, None, &r.from, r.at)
             .map_err(|e| format!("{}:{e}", r.name))?;
+        let zeros = zero_table(&read.statements, &read.zeros);
         let at = self.core.replace_program(ch, read.statements)?;
+        if let Some(z) = self.zeros.get_mut(ch) {
+            *z = zeros;
+        }
         self.desc = desc;
         Ok(at)
     }
@@ -1054,6 +1087,14 @@ impl Cycle {
                     return v;
                 }
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
+                // The zero of the block executing (or last executed; before the first, the
+                // program's first).
+                let seq = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq);
+                v.system = self.zeros.get(ch).and_then(|t| {
+                    let i = seq.map_or(0, |s| t.partition_point(|z| z.0 <= s).saturating_sub(1));
+                    t.get(i)
+                        .map(|&(_, w, at)| (w, [desc.pulses(at[1]), desc.pulses(at[0])]))
+                });
                 if v.line == 0 && st.run == 0 && !st.program_end {
                     // An alarm or an E-STOP stops the channel at its block, and the listing
                     // stays there until RESET (an E-STOP's before stop 47 went to the

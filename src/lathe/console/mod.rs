@@ -961,7 +961,7 @@ impl LatheConsole {
         for (ch, k) in self.kept.iter().enumerate() {
             let kept: std::collections::HashMap<usize, f64> =
                 self.store.params(ch).into_iter().collect();
-            let changed: Vec<(usize, f64)> = crate::store::lathe::KEPT_PARAMS
+            let changed: Vec<(usize, f64)> = crate::store::lathe::kept_params()
                 .filter_map(|n| {
                     let v = *k.params.params.get(n)?;
                     let was = kept.get(&n).copied().unwrap_or(0.0);
@@ -1175,8 +1175,19 @@ impl LatheConsole {
     }
 
     fn chan_views(&self) -> Vec<ChanView> {
-        self.cycle
-            .views(&self.desc, &self.programs, &self.counter.counts)
+        let mut v = self
+            .cycle
+            .views(&self.desc, &self.programs, &self.counter.counts);
+        for (c, k) in v.iter_mut().zip(&self.kept) {
+            if c.system.is_none() {
+                // No program of this channel runs: the zero its next MDI run starts from.
+                let w = k.modal.work;
+                let o = crate::lathe::gcode::work_offsets(&k.params.params)[w];
+                let p = |a: usize| self.desc.pulses(o[a] + k.modal.origin[a]);
+                c.system = Some((w, [p(1), p(0)]));
+            }
+        }
+        v
     }
 
     /// The frame as text, as `show` prints it (the mill console's `frame_text`): the title,

@@ -47,9 +47,20 @@ pub struct ChanView {
     pub coolant: (bool, bool),
     /// The digital outputs on (M64/M65), bit n output n, as the kernel keeps them.
     pub outputs: u64,
+    /// The work system in force (0 for G54 to 5 for G59) and the program's zero, pulses [X
+    /// radius, Z] from the machine's zero: the block executing's while a program runs, else
+    /// the one the channel's next MDI run starts in (docs/lathe-gcode.md "Work offsets").
+    pub system: Option<(usize, [i64; 2])>,
 }
 
 impl ChanView {
+    /// The tool tip in the program's coordinates (the work system's and a G50/G92 shift's
+    /// zero taken off), pulses [X radius, Z]: what the display's X and Z say.
+    pub fn work_pos(&self) -> [i64; 2] {
+        let z = self.system.map_or([0, 0], |s| s.1);
+        [self.pos[0] - z[0], self.pos[1] - z[1]]
+    }
+
     /// The coolant and the outputs as the display says them: ` M07`, ` M08`, ` M07 M08`, then
     /// ` OUT 1 3` for the digital outputs on (spaces: a plasma comma reads as a point); nothing
     /// when all are off.
@@ -124,8 +135,8 @@ pub fn plasma(
     out.push(fit(
         &format!(
             "X{} Z{} S{:6.0}",
-            mm(c.pos[0] * 2, pulse_mm),
-            mm(c.pos[1], pulse_mm),
+            mm(c.work_pos()[0] * 2, pulse_mm),
+            mm(c.work_pos()[1], pulse_mm),
             c.rpm
         ),
         cols,

@@ -96,11 +96,14 @@ fn readout(ui: &mut Ui, i: usize, c: &ChanView, pulse_mm: f64, target: u32) {
         String::new()
     };
     ui.label(mono(block, 13.0, TEXT));
+    // The program's coordinates, as the plasma's (docs/lathe-gcode.md "Work offsets").
+    let at = c.work_pos();
     ui.label(mono(
         format!(
-            "X{} (dia)  Z{}",
-            mm(c.pos[0] * 2, pulse_mm),
-            mm(c.pos[1], pulse_mm)
+            "X{} (dia)  Z{}  G{}",
+            mm(at[0] * 2, pulse_mm),
+            mm(at[1], pulse_mm),
+            54 + c.system.map_or(0, |s| s.0)
         ),
         14.0,
         Color32::WHITE,
