@@ -255,7 +255,11 @@ fn check(s: &mut Seq, what: &str) {
             let w = shown.work_pos();
             let mm = |p: i64| format!("{:9.3}", p as f64 * desc.pulse_mm);
             let xz = format!("X{} Z{}", mm(w[0] * 2), mm(w[1]));
-            assert!(v.display[1].starts_with(&xz), "{what}: {:?} for {xz}", v.display[1]);
+            assert!(
+                v.display[1].starts_with(&xz),
+                "{what}: {:?} for {xz}",
+                v.display[1]
+            );
         }
         if c.status.estop {
             assert_eq!(shown.state, "ESTOP", "{what}: CH{}", ch + 1);

@@ -167,6 +167,7 @@ pub fn channels(
                 programmed,
                 current: c.work,
                 tip: c.pos,
+                system: c.system.unwrap_or((0, [0, 0])),
             };
             let travel = plot::Box2::travel(ch);
             let detail = plot::detail_of(&d, travel);

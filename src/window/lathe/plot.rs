@@ -180,6 +180,10 @@ pub struct PlotData<'a> {
     pub current: Option<u32>,
     /// The tip now, pulses [X radius, Z].
     pub tip: [i64; 2],
+    /// The work system in force and its zero, pulses [X radius, Z] from the machine's zero: the
+    /// detail's grid is labelled in its coordinates, as the readout is (docs/lathe-gcode.md
+    /// "Work offsets").
+    pub system: (usize, [i64; 2]),
 }
 
 /// Draws the overview: the whole travel box with the trail and the tip, and the detail view's
@@ -242,9 +246,12 @@ pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
     let step = grid_step((shown.z[1] - shown.z[0]).max(shown.x[1] - shown.x[0]), 8.0);
     let small = FontId::monospace(10.0);
     let clip = p.with_clip_rect(r);
-    let mut z = (shown.z[0] / step).ceil() * step;
-    while z <= shown.z[1] {
-        let x = f.at(0.0, z).x;
+    // Round millimetres of the program's coordinates: the grid stands on the work's zero.
+    let (system, zero) = d.system;
+    let zero = zero.map(|v| v as f64 * d.pulse_mm);
+    let mut z = ((shown.z[0] - zero[1]) / step).ceil() * step;
+    while z + zero[1] <= shown.z[1] {
+        let x = f.at(0.0, z + zero[1]).x;
         clip.line_segment([pos2(x, r.min.y), pos2(x, r.max.y)], Stroke::new(1.0, GRID));
         p.text(
             pos2(x, r.max.y + 2.0),
@@ -255,9 +262,9 @@ pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
         );
         z += step;
     }
-    let mut x = (shown.x[0] / step).ceil() * step;
-    while x <= shown.x[1] {
-        let y = f.at(x, 0.0).y;
+    let mut x = ((shown.x[0] - zero[0]) / step).ceil() * step;
+    while x + zero[0] <= shown.x[1] {
+        let y = f.at(x + zero[0], 0.0).y;
         clip.line_segment([pos2(r.min.x, y), pos2(r.max.x, y)], Stroke::new(1.0, GRID));
         p.text(
             pos2(r.min.x - 2.0, y),
@@ -273,7 +280,11 @@ pub fn draw_detail(p: &Painter, area: Rect, d: &PlotData, b: Box2) -> Rect {
     p.text(
         pos2(r.min.x, r.min.y - 2.0),
         Align2::LEFT_BOTTOM,
-        format!("detail: the cuts, grid {} mm, X radius", fmt_mm(step)),
+        format!(
+            "detail: the cuts, grid {} mm, X radius, G{}",
+            fmt_mm(step),
+            54 + system
+        ),
         small,
         FRAME,
     );
@@ -499,6 +510,7 @@ mod tests {
             programmed: &programmed,
             current: Some(1),
             tip: [0, 0],
+            system: (0, [0, 0]),
         };
         let b = detail_of(&d, travel).unwrap();
         assert!(
