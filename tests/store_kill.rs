@@ -249,7 +249,7 @@ struct Lathe {
     programs: Vec<Program>,
     tools: Vec<Vec<ToolDesc>>,
     counter: Counter,
-    /// Each channel's #500–#999 (docs/lathe-gcode.md "What a channel keeps").
+    /// Each channel's #500–#999 and work offsets (docs/lathe-gcode.md "What a channel keeps").
     params: Vec<std::collections::BTreeMap<usize, f64>>,
     /// Each channel's MDI buffer (the lines typed in MDI, not yet run).
     mdi: Vec<Vec<String>>,
@@ -336,9 +336,13 @@ impl Subject for Lathe {
                 self.store.save_mdi(ch, &lines)?;
                 self.mdi[ch] = lines;
             }
-            // A START whose read changed a channel's #500–#999 (0: vacant again).
+            // A START whose read changed a channel's #500–#999 (0: vacant again), or a work
+            // offset's X or Z (revised at OFS or by a program's G10 L2; stop 57).
             85..=89 => {
-                let n = 500 + r.below(500);
+                let n = match r.below(3) {
+                    0 => novanc::lathe::gcode::work_params(r.below(6))[r.below(2)],
+                    _ => 500 + r.below(500),
+                };
                 let v = if r.below(4) == 0 {
                     0.0
                 } else {
