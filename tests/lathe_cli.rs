@@ -688,6 +688,82 @@ fn tool_offsets_revised_on_ofs_are_stored_per_channel() {
     assert!(so.contains("T01 0.400 3>   0.040  -0.010"), "{so}");
 }
 
+/// Every file below `dir`, by path, with its bytes: what a read-only use must leave alone.
+fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                todo.push(p);
+            } else {
+                out.insert(p.clone(), std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// `novanc run --machine citizen --state DIR` (stop 57): the lathe console's stores, read and
+/// never changed, give the batch the tools revised at OFS and the work offsets (before, a
+/// lathe's run refused --state as the centre's). A G55 offset set on the console's OFS page
+/// moves channel 1's program by it: its Z pulses and its blocks change, its parts do not; a
+/// directory with no stores of this lathe is refused.
+#[test]
+fn run_reads_the_lathe_console_s_offsets_from_its_state_and_leaves_it_alone() {
+    let dir = common::temp_dir("lathe-run-state");
+    let state = dir.join("state");
+    let script = dir.join("ofs.panel");
+    std::fs::write(&script, "op OFS\ntype G54 Z-0.5\nshow\ntype T1 X0.04\n").unwrap();
+    let o = citizen_script(&script, &state, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("G54 X0 Z-0.5 (CH1): from the next START"));
+    let before = files(&state);
+    let run = |more: &[&str]| {
+        let mut a = vec![
+            "run",
+            "--machine",
+            "citizen",
+            "programs/citizen",
+            "--parts",
+            "2",
+        ];
+        a.extend_from_slice(more);
+        novanc(&a)
+    };
+    let pulses = |o: &Output| -> String {
+        let so = text(&o.stdout);
+        so.lines()
+            .find(|l| l.starts_with("CH1 "))
+            .unwrap_or_default()
+            .to_string()
+    };
+    let plain = run(&[]);
+    let stored = run(&["--state", state.to_str().unwrap()]);
+    assert!(
+        plain.status.success() && stored.status.success(),
+        "{}",
+        text(&stored.stderr)
+    );
+    assert_ne!(pulses(&plain), pulses(&stored));
+    assert!(
+        text(&stored.stdout).contains("parts: 2"),
+        "{}",
+        text(&stored.stdout)
+    );
+    // Read, never changed.
+    assert_eq!(files(&state), before);
+    let o = run(&["--state", dir.join("none").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("holds no stores of the lathe"),
+        "{}",
+        text(&o.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Issue 20, item 17: a recording on a full disk says why in the operator's words ("No space
 /// left on device"), not the MCAP writer's wrapping of it.
 #[test]

@@ -76,6 +76,8 @@ on the machining centre:
 
 on a lathe:
   --parts N             the part target (default 5)
+  --state DIR           use the lathe console's stores (read, never changed): each channel's
+                        tools as revised at OFS, its #500-#999 and its work offsets G54-G59
 ";
 
 const OPTS: [Opt; 14] = [
@@ -95,15 +97,9 @@ const OPTS: [Opt; 14] = [
     Opt::flag("-h"),
 ];
 
-/// The options only the machining centre takes (a lathe's tools, offsets and interpolation are
-/// in its description).
-const CENTRE_ONLY: [&str; 5] = [
-    "--tools",
-    "--magazine",
-    "--state",
-    "--interpolator",
-    "--ep-l",
-];
+/// The options only the machining centre takes (a lathe's tools and interpolation are in its
+/// description, and its `--state` is read below).
+const CENTRE_ONLY: [&str; 4] = ["--tools", "--magazine", "--interpolator", "--ep-l"];
 
 /// What `novanc run` takes on every machine.
 struct Common {
@@ -181,7 +177,7 @@ pub fn main(argv: &[String]) -> i32 {
         super::args::Machine::Lathe(d) => {
             if let Some(o) = CENTRE_ONLY.iter().find(|o| args.value(o).is_some()) {
                 return super::usage_error(&format!(
-                    "run --machine {}: {o} is the machining centre's (a lathe's tools and offsets are in its description, docs/lathe.md)",
+                    "run --machine {}: {o} is the machining centre's (a lathe's tools are in its description, revised in its console's --state, docs/lathe.md)",
                     d.name
                 ));
             }
@@ -388,11 +384,30 @@ pub fn main(argv: &[String]) -> i32 {
 
 /// `novanc run --machine M ...` on a lathe: its channel programs to the part target.
 fn lathe(
-    desc: crate::lathe::desc::LatheDesc,
+    mut desc: crate::lathe::desc::LatheDesc,
     args: &Args,
     common: &Common,
     mtc: &super::mtconnect::MtcOpts,
 ) -> i32 {
+    // `--state DIR`: the lathe console's stores, read and never changed: each channel's tools
+    // as revised at OFS, its #500–#999 and its work offsets (docs/cli.md "On a lathe").
+    let mut stored: Vec<Vec<(usize, f64)>> = Vec::new();
+    if let Some(dir) = args.value("--state") {
+        match crate::store::lathe::LatheView::read(Path::new(dir), &desc) {
+            Ok(v) => {
+                for w in &v.warnings {
+                    eprintln!("novanc: warning: {dir}: {w}");
+                }
+                for (c, t) in desc.channels.iter_mut().zip(v.tools) {
+                    if let Some(t) = t {
+                        c.tools = t;
+                    }
+                }
+                stored = v.params;
+            }
+            Err(e) => return fail(&format!("--state {dir}: {e}")),
+        }
+    }
     let target = match args.value("--parts").map(|v| v.trim().parse::<u32>()) {
         None => 5,
         Some(Ok(n)) if (1..=999_999).contains(&n) => n,
@@ -437,7 +452,10 @@ fn lathe(
         .collect();
     let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
     let kept: Vec<_> = (0..desc.channels.len())
-        .map(|c| crate::lathe::gcode::Kept::power_on(&desc, c, None))
+        .map(|c| {
+            let kept = stored.get(c).map_or(&[][..], |v| &v[..]);
+            crate::lathe::gcode::Kept::from_stores(&desc, c, kept)
+        })
         .collect();
     let machine = crate::lathe::console::KernelSpec {
         pos: home,

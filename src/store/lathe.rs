@@ -508,6 +508,47 @@ pub struct Opened {
     pub warnings: Vec<String>,
 }
 
+/// What the command line reads of a lathe console's stores (`novanc run --machine LATHE
+/// --state DIR`): each channel's tools as revised at OFS and its kept parameters (#500–#999
+/// and the work offsets), read without locking or writing the directory, so a console may have
+/// it open, as `store::MemoryView` reads the centre's.
+#[derive(Clone, Debug)]
+pub struct LatheView {
+    /// Each channel's tools as last revised at the console (`None`: the description's).
+    pub tools: Vec<Option<Vec<ToolDesc>>>,
+    /// Each channel's kept parameters that are not vacant, (number, value).
+    pub params: Vec<Vec<(usize, f64)>>,
+    /// What the reading found (a damaged file read around, a journal tail skipped).
+    pub warnings: Vec<String>,
+}
+
+impl LatheView {
+    /// Reads `STATE/lathe-NAME/` as the console of `desc` would open it, without changing a
+    /// byte; a directory with no lathe stores of that name is refused (a name mistyped must
+    /// not run on the description's offsets unsaid).
+    pub fn read(state: &Path, desc: &LatheDesc) -> Result<LatheView, String> {
+        fsutil::check_file_name(&desc.name).map_err(|e| format!("machine name {e}"))?;
+        let dir = state.join(format!("lathe-{}", desc.name));
+        if !dir.is_dir() {
+            return Err(format!(
+                "{} holds no stores of the lathe {} ({} is not a directory)",
+                state.display(),
+                desc.name,
+                dir.display()
+            ));
+        }
+        let l =
+            super::load(&dir, &Base::Lathe(LatheState::defaults(desc))).map_err(|e| e.message)?;
+        let warnings = l.notes.iter().map(|n| n.text.clone()).collect();
+        let s = l.state.lathe.unwrap_or_else(|| LatheState::defaults(desc));
+        Ok(LatheView {
+            tools: s.tools,
+            params: s.params.iter().map(super::params::params_of).collect(),
+            warnings,
+        })
+    }
+}
+
 impl LatheStore {
     /// Opens (creating) `STATE/lathe-NAME/`, replaying its journal. A new store starts on the
     /// defaults (`LatheState::defaults`); a directory that has no journaled store yet but the

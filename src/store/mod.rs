@@ -161,7 +161,7 @@ pub struct Stores {
 }
 
 /// Reads the snapshot and the journal of `dir` and builds the state (docs/stores.md).
-fn load(dir: &Path, base: &Base) -> Result<Loaded, StoreError> {
+pub(crate) fn load(dir: &Path, base: &Base) -> Result<Loaded, StoreError> {
     let io = |what: &Path, e: std::io::Error| serr(format!("cannot read {}: {e}", what.display()));
     let snap_path = dir.join(SNAPSHOT);
     let snap = match std::fs::read(&snap_path) {

@@ -179,17 +179,12 @@ impl LatheConsole {
         let (book, damaged) = Book::open(o.store.dir());
         let mut warnings = o.warnings;
         warnings.extend(damaged);
+        // #500–#999 and the work offsets as the stores kept them (docs/lathe-gcode.md "What a
+        // channel keeps").
         let kept: Vec<_> = (0..n)
             .map(|ch| {
-                let mut k = super::gcode::Kept::power_on(&desc, ch, None);
-                // #500–#999 as the stores kept them (docs/lathe-gcode.md "What a channel
-                // keeps").
-                for &(p, v) in o.params.get(ch).map_or(&[][..], |v| &v[..]) {
-                    if let Some(slot) = k.params.params.get_mut(p) {
-                        *slot = v;
-                    }
-                }
-                k
+                let stored = o.params.get(ch).map_or(&[][..], |v| &v[..]);
+                super::gcode::Kept::from_stores(&desc, ch, stored)
             })
             .collect();
         let front = Front::new(OpMode::Auto, 10);

@@ -296,6 +296,19 @@ impl Kept {
         }
     }
 
+    /// Channel `ch`'s state at power-on with the parameters its stores kept, (number, value):
+    /// #500–#999 and the work offsets (docs/lathe-gcode.md "What a channel keeps"), as the
+    /// console opens it and `novanc run --state` reads it.
+    pub fn from_stores(desc: &LatheDesc, ch: usize, stored: &[(usize, f64)]) -> Kept {
+        let mut k = Kept::power_on(desc, ch, None);
+        for &(p, v) in stored {
+            if let Some(slot) = k.params.params.get_mut(p) {
+                *slot = v;
+            }
+        }
+        k
+    }
+
     /// RESET of the channel (docs/lathe-gcode.md "What a channel keeps"): the modal state and
     /// the tool's offsets back to power-on (Fanuc's RESET with parameter CLR = 1); in the
     /// Fanuc dialect the locals #1–#33 vacant, and the common variables #100–#199 too unless
