@@ -752,6 +752,30 @@ fn run_reads_the_lathe_console_s_offsets_from_its_state_and_leaves_it_alone() {
         "{}",
         text(&stored.stdout)
     );
+    // `translate --state` reads channel 1's program at the same zero: the same blocks, each Z
+    // 0.5 mm lower.
+    let tr = |more: &[&str]| {
+        let mut a = vec![
+            "translate",
+            "programs/citizen/system1.ngc",
+            "--machine",
+            "citizen",
+        ];
+        a.extend_from_slice(more);
+        text(&novanc(&a).stdout)
+    };
+    let (a, b) = (tr(&[]), tr(&["--state", state.to_str().unwrap()]));
+    let zs = |t: &str| -> Vec<f64> {
+        t.split_whitespace()
+            .filter_map(|w| w.strip_prefix('Z')?.parse().ok())
+            .collect()
+    };
+    let (za, zb) = (zs(&a), zs(&b));
+    assert!(!za.is_empty() && za.len() == zb.len(), "{a}\n{b}");
+    assert!(
+        za.iter().zip(&zb).all(|(a, b)| (a - 0.5 - b).abs() < 1e-9),
+        "{za:?}\n{zb:?}"
+    );
     // Read, never changed.
     assert_eq!(files(&state), before);
     let o = run(&["--state", dir.join("none").to_str().unwrap()]);

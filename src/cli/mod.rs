@@ -158,3 +158,27 @@ pub(crate) fn pulses_option(v: &str) -> Result<bool, String> {
         _ => Err(format!("--pulses takes on or off, not '{v}'")),
     }
 }
+
+/// `--state DIR` of `novanc run` and `novanc translate` on a lathe (docs/cli.md "On a
+/// lathe"): the lathe console's stores read without a lock or a write, each channel's tools as
+/// revised at OFS put in `desc`; each channel's kept parameters (#500–#999, the work offsets)
+/// returned for its reads (`lathe::gcode::Kept::from_stores`). No `DIR`: nothing.
+pub(crate) fn lathe_stores(
+    desc: &mut crate::lathe::desc::LatheDesc,
+    dir: Option<&str>,
+) -> Result<Vec<Vec<(usize, f64)>>, String> {
+    let Some(dir) = dir else {
+        return Ok(Vec::new());
+    };
+    let v = crate::store::lathe::LatheView::read(std::path::Path::new(dir), desc)
+        .map_err(|e| format!("--state {dir}: {e}"))?;
+    for w in &v.warnings {
+        eprintln!("novanc: warning: {dir}: {w}");
+    }
+    for (c, t) in desc.channels.iter_mut().zip(v.tools) {
+        if let Some(t) = t {
+            c.tools = t;
+        }
+    }
+    Ok(v.params)
+}

@@ -391,23 +391,10 @@ fn lathe(
 ) -> i32 {
     // `--state DIR`: the lathe console's stores, read and never changed: each channel's tools
     // as revised at OFS, its #500–#999 and its work offsets (docs/cli.md "On a lathe").
-    let mut stored: Vec<Vec<(usize, f64)>> = Vec::new();
-    if let Some(dir) = args.value("--state") {
-        match crate::store::lathe::LatheView::read(Path::new(dir), &desc) {
-            Ok(v) => {
-                for w in &v.warnings {
-                    eprintln!("novanc: warning: {dir}: {w}");
-                }
-                for (c, t) in desc.channels.iter_mut().zip(v.tools) {
-                    if let Some(t) = t {
-                        c.tools = t;
-                    }
-                }
-                stored = v.params;
-            }
-            Err(e) => return fail(&format!("--state {dir}: {e}")),
-        }
-    }
+    let stored = match super::lathe_stores(&mut desc, args.value("--state")) {
+        Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
     let target = match args.value("--parts").map(|v| v.trim().parse::<u32>()) {
         None => 5,
         Some(Ok(n)) if (1..=999_999).contains(&n) => n,

@@ -52,7 +52,9 @@ On a lathe (--machine citizen or a lathe's description), PROG is read as channel
 tool's offsets and the nose-radius compensation applied, Z as the machine has it, starting at
 the channel's reference position (the top of both travels); a thread pass is 'G33 Z K', K its
 lead along its longest axis; the meeting codes print as 'M101 P12' (the channels that meet),
-the chuck as M10 and M11. The part counter reads as at the start of a batch of 5.
+the chuck as M10 and M11. The part counter reads as at the start of a batch of 5. With
+--state DIR, the lathe console's tools as revised at OFS and its parameters and work offsets
+(read, never changed), as `novanc run --state` takes them.
 
 Errors go to stderr as PROG:LINE:COL: message (or FILE:LINE: message for a bad tool tape or
 T-code table), with exit code 1; nothing is printed on stdout then.
@@ -370,8 +372,9 @@ impl Listing<'_> {
 }
 
 /// The options of `novanc translate --machine LATHE`.
-const LATHE_OPTS: [Opt; 5] = [
+const LATHE_OPTS: [Opt; 6] = [
     Opt::value("--channel"),
+    Opt::value("--state"),
     Opt::flag("--block-delete"),
     Opt::flag("--optional-stop"),
     Opt::flag("--help"),
@@ -381,7 +384,7 @@ const LATHE_OPTS: [Opt; 5] = [
 /// `novanc translate --machine LATHE PROG [--channel N]`: one channel's program as its blocks
 /// (docs/cli.md "On a lathe"), read as START reads it in a batch of the run's default
 /// target, the tool post starting at the channel's reference position.
-fn lathe(desc: crate::lathe::desc::LatheDesc, argv: &[String]) -> i32 {
+fn lathe(mut desc: crate::lathe::desc::LatheDesc, argv: &[String]) -> i32 {
     let args = match Args::parse(argv, &LATHE_OPTS) {
         Ok(a) => a,
         Err(e) => return super::usage_error(&e),
@@ -413,8 +416,15 @@ fn lathe(desc: crate::lathe::desc::LatheDesc, argv: &[String]) -> i32 {
         optional_stop: args.flag("--optional-stop"),
         parts: Some(crate::lathe::gcode::Parts::new(&[], 5)),
     };
-    let statements = match crate::lathe::gcode::read_program(&source, &desc, ch, &opts) {
+    // `--state DIR`: the lathe console's tools and work offsets, as `novanc run` reads them.
+    let stored = match super::lathe_stores(&mut desc, args.value("--state")) {
         Ok(s) => s,
+        Err(e) => return fail(&e),
+    };
+    let kept = crate::lathe::gcode::Kept::from_stores(&desc, ch, stored.get(ch).map_or(&[], |v| v));
+    let read = crate::lathe::gcode::read_kept(&source, &desc, ch, &opts, None, &kept, None);
+    let statements = match read {
+        Ok(r) => r.statements,
         Err(e) => return fail(&format!("{prog}:{e}")),
     };
     let Some(settings) = MachineSettings::lathe_channel(&desc, ch) else {
