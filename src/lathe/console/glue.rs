@@ -77,20 +77,24 @@ pub struct Cycle {
     zeros: Vec<ZeroTable>,
 }
 
-/// Where a channel's program zero lies as its blocks run: from each block sequence number on
-/// (ascending), the work system (0 for G54) and the zero, `[Z, X]` mm from the machine's zero.
-pub type ZeroTable = Vec<(u32, usize, [f64; 2])>;
+/// What a channel's blocks are measured from on the display as they run: from each block
+/// sequence number on (ascending), the work system, the zero and the tool's offsets
+/// (`lathe::gcode::Datum`).
+pub type ZeroTable = Vec<(u32, crate::lathe::gcode::Datum)>;
 
-/// The zero table of a program as read: each statement's zero from its first block on, a
+/// The zero table of a program as read: each statement's datum from its first block on, a
 /// change where it changes.
-fn zero_table(statements: &[crate::block::Statement], zeros: &[(usize, [f64; 2])]) -> ZeroTable {
+fn zero_table(
+    statements: &[crate::block::Statement],
+    zeros: &[crate::lathe::gcode::Datum],
+) -> ZeroTable {
     let mut t: ZeroTable = Vec::new();
-    for (s, &(work, at)) in statements.iter().zip(zeros) {
+    for (s, &d) in statements.iter().zip(zeros) {
         let Some(b) = s.blocks.first() else {
             continue;
         };
-        if t.last().is_none_or(|l| (l.1, l.2) != (work, at)) {
-            t.push((b.seq, work, at));
+        if t.last().is_none_or(|l| l.1 != d) {
+            t.push((b.seq, d));
         }
     }
     t
@@ -1090,11 +1094,13 @@ impl Cycle {
                 // The zero of the block executing (or last executed; before the first, the
                 // program's first).
                 let seq = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq);
-                v.system = self.zeros.get(ch).and_then(|t| {
+                let datum = self.zeros.get(ch).and_then(|t| {
                     let i = seq.map_or(0, |s| t.partition_point(|z| z.0 <= s).saturating_sub(1));
-                    t.get(i)
-                        .map(|&(_, w, at)| (w, [desc.pulses(at[1]), desc.pulses(at[0])]))
+                    t.get(i).map(|z| z.1)
                 });
+                if let Some(d) = datum {
+                    v.set_datum(desc, &d);
+                }
                 if v.line == 0 && st.run == 0 && !st.program_end {
                     // An alarm or an E-STOP stops the channel at its block, and the listing
                     // stays there until RESET (an E-STOP's before stop 47 went to the

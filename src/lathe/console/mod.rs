@@ -1173,13 +1173,10 @@ impl LatheConsole {
         let mut v = self
             .cycle
             .views(&self.desc, &self.programs, &self.counter.counts);
-        for (c, k) in v.iter_mut().zip(&self.kept) {
+        for (ch, (c, k)) in v.iter_mut().zip(&self.kept).enumerate() {
             if c.system.is_none() {
-                // No program of this channel runs: the zero its next MDI run starts from.
-                let w = k.modal.work;
-                let o = crate::lathe::gcode::work_offsets(&k.params.params)[w];
-                let p = |a: usize| self.desc.pulses(o[a] + k.modal.origin[a]);
-                c.system = Some((w, [p(1), p(0)]));
+                // No program of this channel runs: what its next MDI run starts from.
+                c.set_datum(&self.desc, &k.datum(&self.desc, ch));
             }
         }
         v

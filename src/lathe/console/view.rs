@@ -51,14 +51,30 @@ pub struct ChanView {
     /// radius, Z] from the machine's zero: the block executing's while a program runs, else
     /// the one the channel's next MDI run starts in (docs/lathe-gcode.md "Work offsets").
     pub system: Option<(usize, [i64; 2])>,
+    /// The offsets of the tool in place, pulses [X radius, Z]: with the zero, what the display
+    /// takes off the tip to show the programmed point.
+    pub offset: [i64; 2],
 }
 
 impl ChanView {
-    /// The tool tip in the program's coordinates (the work system's and a G50/G92 shift's
-    /// zero taken off), pulses [X radius, Z]: what the display's X and Z say.
+    /// The programmed point in the program's coordinates: the tip less the zero (the work
+    /// system's and a G50/G92 shift's) and the offsets of the tool in place, pulses [X radius,
+    /// Z], as a Fanuc's ABSOLUTE position: what the display's X and Z say.
     pub fn work_pos(&self) -> [i64; 2] {
         let z = self.system.map_or([0, 0], |s| s.1);
-        [self.pos[0] - z[0], self.pos[1] - z[1]]
+        let o = self.offset;
+        [self.pos[0] - z[0] - o[0], self.pos[1] - z[1] - o[1]]
+    }
+
+    /// Takes `d` as what the tip is measured from (`lathe::gcode::Datum`, `[Z, X]` mm).
+    pub fn set_datum(
+        &mut self,
+        desc: &crate::lathe::desc::LatheDesc,
+        d: &crate::lathe::gcode::Datum,
+    ) {
+        let p = |v: [f64; 2]| [desc.pulses(v[1]), desc.pulses(v[0])];
+        self.system = Some((d.work, p(d.zero)));
+        self.offset = p(d.offset);
     }
 
     /// The coolant and the outputs as the display says them: ` M07`, ` M08`, ` M07 M08`, then

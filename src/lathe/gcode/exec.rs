@@ -410,6 +410,15 @@ impl Reader<'_> {
         [w[0] + self.st.origin[0], w[1] + self.st.origin[1]]
     }
 
+    /// What the blocks made now are measured from on the display ([`super::Datum`]).
+    pub fn datum(&self) -> super::Datum {
+        super::Datum {
+            work: self.st.work,
+            zero: self.zero(),
+            offset: self.out.offset(),
+        }
+    }
+
     fn line(&mut self, i: usize, lines: &mut dyn Lines) -> Result<Flow, TranslateError> {
         let n = (i + 1) as u32;
         let raw = self.lines[i];

@@ -296,6 +296,26 @@ impl Kept {
         }
     }
 
+    /// What channel `ch`'s next read starts measured from (its work system, zero and tool
+    /// offsets in force; [`Datum`]).
+    pub fn datum(&self, desc: &LatheDesc, ch: usize) -> Datum {
+        let m = &self.modal;
+        let w = work_offsets(&self.params.params)[m.work];
+        let offset = match self.tool {
+            Some((t, true)) => desc
+                .channels
+                .get(ch)
+                .and_then(|c| c.tool(t))
+                .map_or([0.0; 2], |t| [t.offset[1], t.offset[0]]),
+            _ => [0.0; 2],
+        };
+        Datum {
+            work: m.work,
+            zero: [w[0] + m.origin[0], w[1] + m.origin[1]],
+            offset,
+        }
+    }
+
     /// Channel `ch`'s state at power-on with the parameters its stores kept, (number, value):
     /// #500–#999 and the work offsets (docs/lathe-gcode.md "What a channel keeps"), as the
     /// console opens it and `novanc run --state` reads it.
@@ -369,14 +389,28 @@ pub struct Message {
 pub struct Reading {
     /// The statements, as [`read_program`]'s.
     pub statements: Vec<Statement>,
-    /// Each statement's work system and program zero (`[Z, X]` mm from the machine's zero, X
-    /// a radius), as in force when its blocks were made: what the POS page's work position is
-    /// measured from while it runs.
-    pub zeros: Vec<(usize, [f64; 2])>,
+    /// Each statement's work system and program zero, and the offsets of the tool in place,
+    /// as in force when its blocks were made: what the POS page's work position is measured
+    /// from while it runs.
+    pub zeros: Vec<Datum>,
     /// The messages, in the order they were read.
     pub messages: Vec<Message>,
     /// The channel's state after the program.
     pub kept: Kept,
+}
+
+/// What a block's tip is measured from on the display (docs/lathe-gcode.md "Work offsets"):
+/// the work system in force (0 for G54), the program's zero from the machine's, and the
+/// offsets of the tool in place (what the reader added to the programmed point), `[Z, X]` mm,
+/// X a radius. The programmed point is the tip less the zero and the offsets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Datum {
+    /// The work system, 0 (G54) to 5 (G59).
+    pub work: usize,
+    /// The program's zero: the work offset and a G50/G92 shift.
+    pub zero: [f64; 2],
+    /// The tool's offsets in force (zero after T0100, or with no tool).
+    pub offset: [f64; 2],
 }
 
 /// Reads a program from the state `kept` the channel's last read left, the tool post at `at`
@@ -530,7 +564,7 @@ pub fn read_kept(
             break;
         };
         s?;
-        zeros.resize(r.out.statements.len(), (r.st.work, r.zero()));
+        zeros.resize(r.out.statements.len(), r.datum());
         for e in source.take_events() {
             if let crate::gcode::Event::Message { kind, text } = e {
                 messages.push(Message { before, kind, text });
@@ -567,7 +601,7 @@ pub fn read_kept(
     let mut params = source.into_state();
     set_work_offsets(&mut params.params, &r.work);
     // (A statement `finish` added: the zero the read ended in.)
-    zeros.resize(statements.len(), (r.st.work, r.zero()));
+    zeros.resize(statements.len(), r.datum());
     Ok(Reading {
         statements,
         zeros,
