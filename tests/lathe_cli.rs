@@ -776,6 +776,28 @@ fn run_reads_the_lathe_console_s_offsets_from_its_state_and_leaves_it_alone() {
         za.iter().zip(&zb).all(|(a, b)| (a - 0.5 - b).abs() < 1e-9),
         "{za:?}\n{zb:?}"
     );
+    // The recording says the offsets it ran with (channel 1's G54 Z -0.5).
+    let rec = dir.join("run.mcap");
+    let o = run(&[
+        "--state",
+        state.to_str().unwrap(),
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let bytes = std::fs::read(&rec).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let wpo: Vec<String> = (summary.attachment_indexes.iter())
+        .map(|i| mcap::read::attachment(&bytes, i).unwrap())
+        .filter(|a| a.name == "channel1/work_offsets.csv")
+        .map(|a| String::from_utf8_lossy(&a.data).into_owned())
+        .collect();
+    assert_eq!(wpo.len(), 1);
+    assert!(
+        wpo[0].starts_with("system,x_mm,z_mm\nG54,0,-0.5\nG55,0,0\n"),
+        "{}",
+        wpo[0]
+    );
     // Read, never changed.
     assert_eq!(files(&state), before);
     let o = run(&["--state", dir.join("none").to_str().unwrap()]);

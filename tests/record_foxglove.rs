@@ -299,6 +299,13 @@ fn a_lathe_recording_draws_each_channel_and_names_the_machine() {
             (p["tools"].parse::<usize>().unwrap() + 1).to_string()
         );
         assert!(p["tools"] != "0", "{p:?}");
+        // Its work offsets G54–G59 as the recording starts (stop 57): the Citizen's are 0.
+        let (media, wpo) = &r.attachments[&format!("channel{n}/work_offsets.csv")];
+        assert_eq!(media, "text/csv");
+        assert_eq!(
+            String::from_utf8_lossy(wpo),
+            "system,x_mm,z_mm\nG54,0,0\nG55,0,0\nG56,0,0\nG57,0,0\nG58,0,0\nG59,0,0\n"
+        );
         let (media, machine) = &r.attachments[&format!("channel{n}/machine.json")];
         assert_eq!(media, "application/json");
         assert!(

@@ -420,13 +420,19 @@ fn lathe(
         // A batch from none made (Fanuc's #3901 reads 0, #3902 the target).
         parts: Some(crate::lathe::gcode::Parts::new(&[], target)),
     };
+    let kept: Vec<_> = (0..desc.channels.len())
+        .map(|c| {
+            let kept = stored.get(c).map_or(&[][..], |v| &v[..]);
+            crate::lathe::gcode::Kept::from_stores(&desc, c, kept)
+        })
+        .collect();
     let rec = match args.value("--record") {
         None => None,
         Some(p) => {
             let Some(settings) = crate::settings::MachineSettings::lathe_channel(&desc, 0) else {
                 return fail("novanc: the machine has no channel");
             };
-            let info = crate::lathe::console::recording_info(&desc, &texts);
+            let info = crate::lathe::console::recording_info(&desc, &texts, &kept);
             match Recorder::start_with_info(Path::new(p), &settings, &info) {
                 Ok(r) => Some(r),
                 Err(e) => return fail(&format!("novanc: cannot record to {p}: {e}")),
@@ -438,12 +444,6 @@ fn lathe(
         .map(|c| crate::lathe::console::home(&desc, c))
         .collect();
     let names: Vec<String> = texts.iter().map(|(n, _)| n.clone()).collect();
-    let kept: Vec<_> = (0..desc.channels.len())
-        .map(|c| {
-            let kept = stored.get(c).map_or(&[][..], |v| &v[..]);
-            crate::lathe::gcode::Kept::from_stores(&desc, c, kept)
-        })
-        .collect();
     let machine = crate::lathe::console::KernelSpec {
         pos: home,
         clock: common.clock,

@@ -43,6 +43,9 @@ pub struct ChannelInfo {
     /// Its tool post: (tool number, nose radius mm, imaginary tip 0–9, X (radius) and Z
     /// offsets mm).
     pub tools: Vec<(u32, f64, u8, [f64; 2])>,
+    /// Its work offsets G54 to G59 as the recording starts: X (a radius) and Z, mm from the
+    /// machine's zero.
+    pub work_offsets: [[f64; 2]; 6],
 }
 
 /// One attachment: name, media type, bytes.
@@ -113,6 +116,15 @@ impl RecordingInfo {
                 format!("channel{n}/tooldata.csv"),
                 "text/csv",
                 tools.into_bytes(),
+            ));
+            let mut wpo = String::from("system,x_mm,z_mm\n");
+            for (s, [x, z]) in WORK_SYSTEMS.iter().zip(&c.work_offsets) {
+                let _ = writeln!(wpo, "{s},{x},{z}");
+            }
+            out.push((
+                format!("channel{n}/work_offsets.csv"),
+                "text/csv",
+                wpo.into_bytes(),
             ));
             out.push((
                 format!("channel{n}/machine.json"),

@@ -367,6 +367,7 @@ fn make_kernel(desc: &LatheDesc, spec: &KernelSpec, kept: &[Kept]) -> Result<Ker
 pub fn recording_info(
     desc: &LatheDesc,
     programs: &[(String, String)],
+    kept: &[Kept],
 ) -> crate::record::RecordingInfo {
     let channels = desc
         .channels
@@ -384,6 +385,9 @@ pub fn recording_info(
                     .iter()
                     .map(|t| (t.number, t.radius, t.tip, t.offset))
                     .collect(),
+                work_offsets: kept.get(i).map_or([[0.0; 2]; 6], |k| {
+                    crate::lathe::gcode::work_offsets(&k.params.params).map(|[z, x]| [x, z])
+                }),
             })
         })
         .collect();

@@ -162,7 +162,15 @@ impl LatheConsole {
             .iter()
             .map(|p| (p.name.clone(), p.text.clone()))
             .collect();
-        let info = glue::recording_info(&desc, &programs);
+        // #500–#999 and the work offsets as the stores kept them (docs/lathe-gcode.md "What a
+        // channel keeps").
+        let kept: Vec<_> = (0..n)
+            .map(|ch| {
+                let stored = o.params.get(ch).map_or(&[][..], |v| &v[..]);
+                super::gcode::Kept::from_stores(&desc, ch, stored)
+            })
+            .collect();
+        let info = glue::recording_info(&desc, &programs, &kept);
         let recorder = Recording::start(record, None, &settings, &info)?;
         let stale = o
             .counter
@@ -179,14 +187,6 @@ impl LatheConsole {
         let (book, damaged) = Book::open(o.store.dir());
         let mut warnings = o.warnings;
         warnings.extend(damaged);
-        // #500–#999 and the work offsets as the stores kept them (docs/lathe-gcode.md "What a
-        // channel keeps").
-        let kept: Vec<_> = (0..n)
-            .map(|ch| {
-                let stored = o.params.get(ch).map_or(&[][..], |v| &v[..]);
-                super::gcode::Kept::from_stores(&desc, ch, stored)
-            })
-            .collect();
         let front = Front::new(OpMode::Auto, 10);
         // The machine from power-on: every tool post at the top of its travel, the spindles
         // stopped, on the front end's clock.
