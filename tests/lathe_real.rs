@@ -354,6 +354,56 @@ fn work_offsets_in_fanuc_s_dialect_move_the_program_s_zero() {
     );
 }
 
+/// Every cycle measures from the program's zero: a program with G71/G70 (an arc in its
+/// profile), G83, G74, G76 (both blocks) and G32 read in G55 (Z -40) cuts the same moves as in
+/// G54, each one shifted by the offset and nothing else (after its first move, which starts
+/// from the reference position): the same arc centres, feeds and leads. A work offset in X
+/// puts X0 off the spindle's centre line, where the drill cannot go: G83 says so.
+#[test]
+fn every_cycle_is_cut_at_the_work_offset_s_zero() {
+    let desc = lathe();
+    let body = "G21 G95\nT0101\nG97 S800 M3\nG0 X30. Z2.\nG1 Z-20. F0.2\nG0 X40. Z2.\n\
+                G71 U1. R0.5\nG71 P10 Q20 U0.2 W0.1 F0.2\nN10 G0 X20.\nG1 Z-10.\n\
+                G3 X26. Z-13. R3.\nN20 G1 X30.\nG70 P10 Q20\nG0 X0 Z5.\nG83 Z-10. Q2000 F0.1\n\
+                G80\nG0 X0 Z5.\nG74 R1.\nG74 Z-6. Q3000 F0.1\nG0 X40. Z5.\nT0202\nG0 X32. Z4.\n\
+                G76 P010060 Q100 R0.02\nG76 X27.4 Z-15. P1300 Q400 F2.\nG0 X30. Z5.\n\
+                G32 Z-20. F1.5\nG0 X40. Z5.\nM30\n";
+    let plain = lathe_moves::read(body, &desc).unwrap_or_else(|e| panic!("{e}"));
+    let shifted = lathe_moves::read(&format!("G10 L2 P2 X0 Z-40.\nG55\n{body}"), &desc)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let blocks = |p: &[novanc::block::Statement]| -> Vec<novanc::block::Block> {
+        p.iter().flat_map(|s| s.blocks.clone()).collect()
+    };
+    let (a, b) = (blocks(&plain), blocks(&shifted));
+    assert_eq!(a.len(), b.len());
+    assert!(a.len() > 100, "{}", a.len());
+    let mut moves = 0;
+    for (i, (a, b)) in a.iter().zip(&b).enumerate().skip(1) {
+        use novanc::block::Motion;
+        assert_eq!(a.motion, b.motion, "block {i}");
+        if matches!(a.motion, Motion::Aux | Motion::Dwell) {
+            continue;
+        }
+        moves += 1;
+        assert_eq!(
+            [b.end[0] - a.end[0], b.end[2] - a.end[2]],
+            [0, -40_000],
+            "block {i}: {a:?}\n{b:?}"
+        );
+        // An arc's centre is from its start: the same.
+        assert_eq!(a.center, b.center, "block {i}");
+        assert_eq!((a.feed, a.thread), (b.feed, b.thread), "block {i}");
+    }
+    assert!(moves > 100, "{moves}");
+    let e = lathe_moves::read(&format!("G10 L2 P2 X6. Z-40.\nG55\n{body}"), &desc)
+        .err()
+        .unwrap_or_default();
+    assert!(
+        e.starts_with("17:1: G83 with the tool at X0.000, X6.000 from the spindle's centre line: the lathe drills on the centre line only"),
+        "{e}"
+    );
+}
+
 /// The same lathe with calculator-type input (`decimal calculator`, Fanuc's 3401#0 DPI = 1).
 fn calculator_lathe() -> LatheDesc {
     let mut d = lathe();

@@ -167,12 +167,20 @@ fn hole(r: &Reader, w: &Words, n: u32, c: u32, code: u32) -> Result<Hole, Transl
     let x_col = w.col('X').or(w.col('U'));
     let end = r.target(w, n)?;
     if end[1].abs() > ON_CENTRE {
+        // X as programmed, and where that is from the spindle's centre line when a work offset
+        // (or a shift) moves X0 off it.
+        let at = fixed((end[1] - r.zero()[1]) * 2.0 / f, 3);
+        let off = if r.zero()[1].abs() > ON_CENTRE {
+            format!(
+                ", X{} from the spindle's centre line",
+                fixed(end[1] * 2.0 / f, 3)
+            )
+        } else {
+            String::new()
+        };
         let (col, why) = match x_col {
-            Some(col) => (col, format!("{name} at X{}", fixed(end[1] * 2.0 / f, 3))),
-            None => (
-                c,
-                format!("{name} with the tool at X{}", fixed(end[1] * 2.0 / f, 3)),
-            ),
+            Some(col) => (col, format!("{name} at X{at}{off}")),
+            None => (c, format!("{name} with the tool at X{at}{off}")),
         };
         return Err(err(
             n,
