@@ -352,6 +352,12 @@ fn work_offsets_in_fanuc_s_dialect_move_the_program_s_zero() {
         e.starts_with("1:1: G10 P X Z without L is Fanuc's tool offset setting"),
         "{e}"
     );
+    // Fanuc's L20 is its additional work systems (G54.1), not LinuxCNC's measure.
+    let e = read("G10 L20 P1 Z0\n", &desc).err().unwrap_or_default();
+    assert!(
+        e.starts_with("1:5: G10 L20 sets Fanuc's additional work systems (G54.1 P1–P48): the lathe has G54–G59"),
+        "{e}"
+    );
 }
 
 /// Every cycle measures from the program's zero: a program with G71/G70 (an arc in its

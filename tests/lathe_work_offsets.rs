@@ -159,12 +159,14 @@ fn a_work_offset_that_takes_the_tool_past_its_travel_is_refused_before_it_moves(
 }
 
 /// Setting up by touching the face (docs/lathe-gcode.md "Work offsets"): tool 1, with a Z
-/// offset of -1.5, stands where the operator brought it (here by MDI); `G10 L20 P1 Z0` makes
-/// that G54's Z0. The display then reads the programmed point, Z0 and after `G0 Z5.` Z5, as a
-/// Fanuc's ABSOLUTE does (the tool's offset and the zero taken off the tip), the machine's Z
-/// beside it.
+/// offset of -1.5, stands where the operator brought it (here by MDI); `Z0` INPUT on G54's
+/// row of the OFS page (Fanuc's MEASURE) makes that G54's Z0. The display then reads the
+/// programmed point, Z0 and after `G0 Z5.` Z5, as a Fanuc's ABSOLUTE does (the tool's offset
+/// and the zero taken off the tip), the machine's Z beside it. (Fanuc's G10 L20 is another
+/// thing, its additional work systems, and is refused: `tests/lathe_real.rs`; LinuxCNC's is
+/// the same measure, `tests/golden/lathe_rs274/work_offsets.ngc`.)
 #[test]
-fn touching_the_face_and_g10_l20_make_the_work_zero_and_the_display_reads_the_program() {
+fn touching_the_face_and_measuring_makes_the_work_zero_and_the_display_reads_the_program() {
     let dir = common::temp_dir("lathe-work-touch");
     let mut c = open(&dir);
     c.handle(PanelEvent::OfsMode);
@@ -172,14 +174,31 @@ fn touching_the_face_and_g10_l20_make_the_work_zero_and_the_display_reads_the_pr
     mdi(&mut c, "T0101 G0 X50. Z-123.4");
     // The tip: -123.4 less 1.5 of the tool's offset; the display: the programmed -123.4.
     assert_eq!(tip(&c), ([25_000, -123_400], [25_000, -124_900]));
-    mdi(&mut c, "G10 L20 P1 Z0");
-    assert_eq!(tip(&c), ([25_000, 0], [25_000, -124_900]));
     c.handle(PanelEvent::OfsMode);
+    // The cursor down past the three tools onto G54, then right onto its Z.
+    for _ in 0..3 {
+        c.press(Key::Down);
+    }
+    c.press(Key::Right);
+    enter(&mut c, "Z0");
     assert!(
-        shows(&c, "G54            0.000 -123.400"),
+        c.message()
+            .starts_with("measured, T01 at Z0: G54 X0 Z-123.4 (CH1): from the next START"),
+        "{}",
+        c.message()
+    );
+    assert!(
+        shows(&c, "G54            0.000>-123.400"),
         "{:#?}",
         c.view().display
     );
+    assert_eq!(tip(&c), ([25_000, 0], [25_000, -124_900]));
+    // X alike, on the diameter: the tool at X50 reads X40 after `X40.` on G54's X.
+    c.press(Key::Left);
+    enter(&mut c, "X40.");
+    assert_eq!(tip(&c), ([20_000, 0], [25_000, -124_900]));
+    enter(&mut c, "X50.");
+    assert_eq!(tip(&c), ([25_000, 0], [25_000, -124_900]));
     mdi(&mut c, "G0 Z5.");
     assert_eq!(tip(&c), ([25_000, 5_000], [25_000, -119_900]));
     assert!(c.view().display[1].starts_with("X   50.000 Z    5.000"));

@@ -158,12 +158,55 @@ impl LatheConsole {
             return self.revise_work(line);
         }
         let tools = &self.desc.channels[self.sel].tools;
+        if let (Some(k), Some(m), false) =
+            (ofs::work_row(tools, self.ofs_cell), ofs::measure(line), add)
+        {
+            return self.measure_work(k, m?);
+        }
+        let tools = &self.desc.channels[self.sel].tools;
         let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
         let revision = ofs::cell_line(tools, &work, self.ofs_cell, line, add)?;
         if revision.starts_with('G') {
             return self.revise_work(&revision);
         }
         self.revise_tool(&revision)
+    }
+
+    /// OFS, `Z0` INPUT on work offset `k`'s row (Fanuc's MEASURE): the offset is set so that
+    /// the tool in place, where it stands, reads that value (its offsets and a G50/G92 shift
+    /// taken off, as `G10 L20` sets it); X a diameter. Refused while the channel moves.
+    fn measure_work(&mut self, k: usize, (letter, value): (char, f64)) -> Result<(), String> {
+        use crate::lathe::gcode::work_offsets;
+        let ch = self.sel;
+        let moving = (self.cycle.channels().get(ch)).is_some_and(|c| c.status.moving);
+        if moving {
+            return Err(format!(
+                "measure refused: CH{} is moving; measure with the tool at rest",
+                ch + 1
+            ));
+        }
+        let views = self.chan_views();
+        let v = &views[ch];
+        let mm = |p: i64| p as f64 * self.desc.pulse_mm;
+        let (sys, zero) = v.system.unwrap_or((0, [0, 0]));
+        let offs = work_offsets(&self.kept[ch].params.params);
+        // [X radius, Z]: where the tool's programmed point is from the machine's zero, and the
+        // G50/G92 shift on top of the system in force.
+        let point = [mm(v.pos[0] - v.offset[0]), mm(v.pos[1] - v.offset[1])];
+        let shift = [mm(zero[0]) - offs[sys][1], mm(zero[1]) - offs[sys][0]];
+        let set = match letter {
+            'X' => 2.0 * (point[0] - shift[0] - value / 2.0),
+            _ => point[1] - shift[1] - value,
+        };
+        let set = (set * 1000.0).round() / 1000.0;
+        self.revise_work(&format!("G{} {letter}{set}", 54 + k))?;
+        let said = std::mem::take(&mut self.front.message);
+        self.front.message = format!(
+            "measured, T{:02} at {letter}{}: {said}",
+            v.tool,
+            crate::input_text::short_number(value)
+        );
+        Ok(())
     }
 
     /// OFS: `G55 X0 Z-150.` revises work offset G55 of the selected channel (X as a diameter,

@@ -1095,10 +1095,11 @@ impl Cycle {
                     return v;
                 }
                 v.line = st.executing.as_ref().map_or(0, |e| e.stmt.line);
-                // The zero of the block executing (or last executed; before the first, the
-                // program's first).
+                // While its run is loaded (running, held, between blocks): the zero of the
+                // block executing (or last executed; before the first, the program's first).
+                // Ended, the console shows what the next run starts from.
                 let seq = st.executing.as_ref().and_then(|e| e.block()).map(|b| b.seq);
-                let datum = self.zeros.get(ch).and_then(|t| {
+                let datum = self.zeros.get(ch).filter(|_| st.run != 0).and_then(|t| {
                     let i = seq.map_or(0, |s| t.partition_point(|z| z.0 <= s).saturating_sub(1));
                     t.get(i).map(|z| z.1)
                 });

@@ -92,6 +92,23 @@ pub fn cursor_moved(tools: &[ToolDesc], cursor: (usize, usize), k: Key) -> (usiz
     clamp(tools, moved)
 }
 
+/// The work offset (0 for G54) whose row the cursor stands on, if it stands on one.
+pub fn work_row(tools: &[ToolDesc], cursor: (usize, usize)) -> Option<usize> {
+    clamp(tools, cursor).0.checked_sub(tools.len())
+}
+
+/// A measure typed on a work offset's row (Fanuc's MEASURE): `Z0` or `X50.`, the axis and
+/// the value the tool in place is to read where it stands (X a diameter); None if `line` is
+/// not one.
+pub fn measure(line: &str) -> Option<Result<(char, f64), String>> {
+    let t = line.trim();
+    let letter = t.chars().next()?.to_ascii_uppercase();
+    if !matches!(letter, 'X' | 'Z') {
+        return None;
+    }
+    Some(value(t, letter).map(|v| (letter, v)))
+}
+
 /// The revision line of INPUT of `value` on the cell under `cursor` (+INPUT with `add`: the
 /// value added to the cell's): `T1 X0.04`. Err: why it cannot be one.
 pub fn cell_line(

@@ -1223,6 +1223,14 @@ impl Reader<'_> {
         let col = |l: char| w.col(l).unwrap_or(c);
         let short = crate::input_text::short_number;
         let l = match w.get('L') {
+            Some(v) if v == 20.0 && self.fanuc => {
+                // Fanuc's L20 is another thing (the mill's reader refuses it so too).
+                return Err(err(
+                    n,
+                    col('L'),
+                    "G10 L20 sets Fanuc's additional work systems (G54.1 P1–P48): the lathe has G54–G59, set with G10 L2 P1–P6, or measured at OFS (Z0 INPUT on a work offset's row)",
+                ));
+            }
             Some(v) if v == 2.0 || v == 20.0 => v as u32,
             None if self.fanuc => {
                 return Err(err(
