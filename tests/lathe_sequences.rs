@@ -79,7 +79,7 @@ const MDI_LINES: [&str; 27] = [
     "G10 L2 P3 Z99999",
 ];
 const EDIT_LINES: [&str; 6] = ["L", "3L", "-2L", "SM10", "SNOSUCHTEXT", "2Y"];
-const OFS_LINES: [&str; 9] = [
+const OFS_LINES: [&str; 11] = [
     "T1 X0.01",
     "T2 Z-0.005",
     "T9 X1",
@@ -90,6 +90,10 @@ const OFS_LINES: [&str; 9] = [
     "G55 Z-2",
     "G56 X1 Z1",
     "G60 Z1",
+    // A measure (Fanuc's MEASURE) where the cursor stands: on a work row it sets the offset
+    // from where the tool is, elsewhere it is refused.
+    "Z0",
+    "X30.",
 ];
 
 struct Seq {
