@@ -707,9 +707,10 @@ fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 
 /// `novanc run --machine citizen --state DIR` (stop 57): the lathe console's stores, read and
 /// never changed, give the batch the tools revised at OFS and the work offsets (before, a
-/// lathe's run refused --state as the centre's). A G55 offset set on the console's OFS page
-/// moves channel 1's program by it: its Z pulses and its blocks change, its parts do not; a
-/// directory with no stores of this lathe is refused.
+/// lathe's run refused --state as the centre's). G54's Z set on the console's OFS page moves
+/// channel 1's program by it: its pulses change, its parts do not, `translate --state` prints
+/// every Z 0.5 mm lower, and the recording's `channel1/work_offsets.csv` says it; a directory
+/// with no stores of this lathe is refused.
 #[test]
 fn run_reads_the_lathe_console_s_offsets_from_its_state_and_leaves_it_alone() {
     let dir = common::temp_dir("lathe-run-state");
