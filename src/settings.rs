@@ -103,6 +103,10 @@ pub struct FanucSettings {
     /// calculator`): `X10` is 10 mm; false: in least increments, 0.010 mm (`decimal
     /// increments`).
     pub calculator: bool,
+    /// G04's P written with a decimal point is seconds, without one milliseconds (a Haas's
+    /// reading: the description's `g04 p point seconds`); false: a P with a point is refused,
+    /// as Fanuc refuses it (`g04 p point refuse`, the default).
+    pub p_point_seconds: bool,
 }
 
 /// An M code a machine description remaps to an O-word subroutine (`remap M59 modalgroup=10
@@ -288,6 +292,7 @@ impl MachineSettings {
             fanuc: FanucSettings {
                 keep_common: false,
                 calculator: false,
+                p_point_seconds: false,
             },
         }
     }

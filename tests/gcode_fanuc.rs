@@ -701,6 +701,7 @@ fn the_fanuc_settings_are_lines_of_the_machine_description() {
     let set = |keep_common, calculator| novanc::settings::FanucSettings {
         keep_common,
         calculator,
+        ..Default::default()
     };
     assert_eq!(fanuc(""), Ok(set(false, false)));
     assert_eq!(
@@ -907,12 +908,66 @@ fn g04_dwells_as_fanuc_s_x_u_in_seconds_p_in_milliseconds() {
         [1.5, 2.0, 1.5, 2.5, 2.5, 3.0]
     );
     for (src, e) in [
-        ("G04 P1.5", "2:5: G04 P1.5: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds)"),
+        ("G04 P1.5", "2:5: G04 P1.5: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds; a Haas's P with a point is seconds: `g04 p point seconds` in its description)"),
         ("#1=1.5\nG04 P#1", "3:5: G04 P1.5: P is a whole number of milliseconds"),
         ("G04 X1. P10", "2:9: G04 takes one dwell: X or U in seconds, or P in milliseconds"),
         ("G04", "2:1: G04 needs its dwell: X or U in seconds (X1.5), or P in milliseconds (P1500)"),
     ] {
         assert_eq!(dwells(&format!("O1\n{src}\nM30\n")).unwrap_err(), e);
+    }
+}
+
+/// A Haas reads G04's P written with a point as seconds (`G04 P10.` ten seconds, `P10` ten
+/// milliseconds): the description's `g04 p point seconds` says so (stop 57); a mill's line is
+/// the machine's, a lathe's the channel's or every channel's. Without it P with a point stays
+/// refused, as Fanuc refuses it, and the line refuses what it does not know.
+#[test]
+fn a_haas_description_reads_g04_p_with_a_point_as_seconds() {
+    use novanc::lathe::desc::{parse, MachineDesc};
+    let mill = |extra: &str| match parse(&format!(
+        "machine haas\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\n\
+         y travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\n\
+         dialect fanuc\n{extra}"
+    )) {
+        Ok(MachineDesc::Mill(s)) => s,
+        Ok(_) => panic!("not a mill"),
+        Err(e) => panic!("{e}"),
+    };
+    let dwells = |src: &str, st: novanc::settings::MachineSettings| -> Result<Vec<f64>, String> {
+        let mut out = Vec::new();
+        for s in common::gcode_source_with(src, st) {
+            let s = s.map_err(|e| e.to_string())?;
+            for b in s.blocks.iter().filter(|b| b.motion == Motion::Dwell) {
+                out.push(b.dwell_ns as f64 / 1e9);
+            }
+        }
+        Ok(out)
+    };
+    let src = "O1\nG04 P1.5\nG04 P10.\nG04 P10\nG04 X2.\nM30\n";
+    assert_eq!(
+        dwells(src, mill("g04 p point seconds\n")).unwrap(),
+        [1.5, 10.0, 0.01, 2.0]
+    );
+    assert!(dwells(src, mill("g04 p point refuse\n"))
+        .unwrap_err()
+        .starts_with("2:5: G04 P1.5: P is in milliseconds"));
+    assert!(dwells(src, mill("")).is_err());
+    for (line, want) in [
+        (
+            "g04 p point minutes",
+            "g04 takes p point seconds or p point refuse",
+        ),
+        (
+            "g04 p point seconds\ng04 p point seconds",
+            "g04 is given twice",
+        ),
+    ] {
+        let text = format!(
+            "machine haas\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\n\
+             y travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\n{line}\n"
+        );
+        let e = parse(&text).err().unwrap_or_default();
+        assert!(e.contains(want), "{line}: {e}");
     }
 }
 

@@ -613,3 +613,25 @@ fn fanucs_g92_s_in_system_b_limits_the_spindle_as_g50_s_in_system_a() {
         .unwrap_or_default();
     assert!(e.starts_with("1:1: G92 needs X or Z"), "{e}");
 }
+
+/// A Haas lathe's `G04 P3.` (three seconds: a Haas reads P with a point as seconds) with the
+/// description's `g04 p point seconds` (stop 57; the Haas course programs of
+/// docs/lathe-gcode.md "Agreement with LinuxCNC" stopped there), as the channel's line or
+/// every channel's; `P3000` stays milliseconds. Without the line it is refused, as Fanuc does.
+#[test]
+fn a_haas_lathe_reads_g04_p_with_a_point_as_seconds() {
+    let dwells = |desc: &LatheDesc| -> Result<Vec<String>, String> {
+        let p = read("G04 P3.\nG04 P3000\nG04 U1.5\n", desc)?;
+        Ok(lathe_moves::moves(&p, true))
+    };
+    let haas = lathe_with("fanuc", "g04 p point seconds\n");
+    assert_eq!(dwells(&haas).unwrap(), ["D 3000", "D 3000", "D 1500"]);
+    let e = dwells(&lathe("fanuc")).unwrap_err();
+    assert!(e.starts_with("1:5: G04 P3: P is in milliseconds"), "{e}");
+    let d = lathe_desc(
+        "machine m\nkind lathe\npulse 0.001\ntick 100\ndialect fanuc\ng04 p point seconds\n\
+         channel A\nx travel 0 100 rapid 12000 accel 3000\nz travel -100 100 rapid 15000 accel 3000\n\
+         spindle max 4000 accel 4000 encoder 1024\ntool 1 radius 0 tip 3\n",
+    );
+    assert_eq!(d.channels[0].p_point_seconds, Some(true));
+}

@@ -1065,6 +1065,7 @@ impl GcodeSource {
             // The mill's usual line is sorted into its words as it is read (a back end reads
             // its own letters: the lathe's are sorted by its executor).
             let mill = motion.is_none();
+            let p_seconds = self.settings.fanuc.p_point_seconds;
             let opts = read::ReadOpts {
                 sort: mill,
                 ..self.read_opts()
@@ -1072,7 +1073,7 @@ impl GcodeSource {
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, skipping, opts)
                 .and_then(|()| {
                     if opts.fanuc {
-                        fanuc_dwell(&mut line, n, opts.increment)?;
+                        fanuc_dwell(&mut line, n, opts.increment, p_seconds)?;
                         fanuc_mode_q(&mut line, opts.increment);
                         if mill {
                             fanuc_cycle_p(&line, n, self.st.modal.motion)?;
@@ -1974,7 +1975,12 @@ impl Lines for GcodeSource {
             read::read_into_opts(&mut self.scratch, &mut line, raw, n, &env, None, opts)?;
         }
         if opts.fanuc {
-            fanuc_dwell(&mut line, n, opts.increment)?;
+            fanuc_dwell(
+                &mut line,
+                n,
+                opts.increment,
+                self.settings.fanuc.p_point_seconds,
+            )?;
             fanuc_mode_q(&mut line, opts.increment);
         }
         let flow = match (&line.o, &line.fanuc) {
@@ -2098,8 +2104,14 @@ fn as_written(line: &mut read::Line, letter: char, increment: f64) {
 
 /// Fanuc's G04 (docs/gcode.md "Fanuc dialect"): `X` or `U` in seconds (without a decimal
 /// point in least increments of 0.001 s), `P` in milliseconds written without a decimal
-/// point; made LinuxCNC's `P` in seconds for the line's execution.
-fn fanuc_dwell(line: &mut read::Line, n: u32, increment: f64) -> Result<(), TranslateError> {
+/// point (with one, seconds where the machine says so, `p_point_seconds`: a Haas's reading;
+/// else refused); made LinuxCNC's `P` in seconds for the line's execution.
+fn fanuc_dwell(
+    line: &mut read::Line,
+    n: u32,
+    increment: f64,
+    p_point_seconds: bool,
+) -> Result<(), TranslateError> {
     if !line.words.iter().any(|w| w.letter == 'G' && w.value == 4.0) {
         return Ok(());
     }
@@ -2136,10 +2148,13 @@ fn fanuc_dwell(line: &mut read::Line, n: u32, increment: f64) -> Result<(), Tran
     let bit = read::letter_bit(w.letter);
     let plain = line.plain & bit != 0;
     let pointed = line.pointed & bit != 0;
-    let seconds = if w.letter == 'P' {
+    let seconds = if w.letter == 'P' && pointed && p_point_seconds {
+        // A Haas's G04 P10. is ten seconds (P10, ten milliseconds).
+        w.value
+    } else if w.letter == 'P' {
         if pointed {
             return Err(err(w.col, format!(
-                "G04 P{}: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds)",
+                "G04 P{}: P is in milliseconds and takes no decimal point (P1500 is 1.5 s; X1.5 gives seconds; a Haas's P with a point is seconds: `g04 p point seconds` in its description)",
                 crate::input_text::short_number(w.value)
             )));
         }

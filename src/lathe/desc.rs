@@ -73,6 +73,10 @@ pub struct ChannelDesc {
     /// Haas does (the channel's line, else the machine's); `None` or `false`: it is refused,
     /// where a Fanuc moves nothing. LinuxCNC's dialect returns both either way.
     pub g28_all: Option<bool>,
+    /// `g04 p point seconds`: in the Fanuc dialect, G04's P written with a point is seconds,
+    /// as a Haas reads it (the channel's line, else the machine's); `None` or `false`: refused,
+    /// as Fanuc refuses it (docs/gcode.md "Fanuc dialect").
+    pub p_point_seconds: Option<bool>,
 }
 
 impl ChannelDesc {
@@ -97,6 +101,7 @@ impl ChannelDesc {
             subroutines: Vec::new(),
             remap_m: Vec::new(),
             g28_all: None,
+            p_point_seconds: None,
         }
     }
 
@@ -454,6 +459,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
     // A lathe's remaps and G28 setting before the channels: every channel's.
     let mut lathe_remaps: Vec<crate::settings::Remap> = Vec::new();
     let mut g28_all = None;
+    // `g04 p point seconds|refuse`: the machine's (a mill's), or every lathe channel's.
+    let mut p_point = None;
     for (i, raw) in text.lines().enumerate() {
         let ln = i + 1;
         let line = raw.split('#').next().unwrap_or("");
@@ -633,6 +640,18 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 };
                 set_once(slot, all, "g28", in_channel).map_err(e)?;
             }
+            "g04" => {
+                let seconds = match words.as_slice() {
+                    [_, "p", "point", "seconds"] => true,
+                    [_, "p", "point", "refuse"] => false,
+                    _ => return Err(e("g04 takes p point seconds or p point refuse (what G04's P written with a decimal point is in the Fanuc dialect: a Haas's seconds, or refused as Fanuc refuses it)".into())),
+                };
+                let slot = match channels.last_mut() {
+                    Some(ch) if in_channel => &mut ch.p_point_seconds,
+                    _ => &mut p_point,
+                };
+                set_once(slot, seconds, "g04", in_channel).map_err(e)?;
+            }
             "remap" if kind == Some("mill") => match remap(&words, false).map_err(e)? {
                 r if r.code == 6 && remap_m6.is_some() => {
                     return Err(e("M6 is remapped twice".into()))
@@ -767,6 +786,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 s.fanuc = crate::settings::FanucSettings {
                     keep_common: fanuc.0.unwrap_or(false),
                     calculator: fanuc.1.unwrap_or(false),
+                    p_point_seconds: p_point.unwrap_or(false),
                 };
                 s.workpiece = workpiece;
                 if let Some((ln, z)) = tool_change_z {
@@ -792,6 +812,7 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 ch.per_rev = ch.per_rev.or(feed);
                 ch.subroutines.extend(sub_path.iter().cloned());
                 ch.g28_all = ch.g28_all.or(g28_all);
+                ch.p_point_seconds = ch.p_point_seconds.or(p_point);
                 for r in &lathe_remaps {
                     if ch.remap_m.iter().all(|o| o.code != r.code) {
                         ch.remap_m.push(r.clone());

@@ -44,6 +44,7 @@ pub fn channel(name: &str) -> ChannelDesc {
         subroutines: Vec::new(),
         remap_m: Vec::new(),
         g28_all: None,
+        p_point_seconds: None,
     }
 }
 

@@ -527,6 +527,7 @@ pub fn read_kept(
         dialect,
         fanuc: crate::settings::FanucSettings {
             calculator: r.calculator,
+            p_point_seconds: chan.p_point_seconds.unwrap_or(false),
             ..Default::default()
         },
         remap_m: chan.remap_m.clone(),
