@@ -58,6 +58,9 @@ const LATHE: &[&str] = &[
     "remap M101 ngc=chip",
     "g28 alone all",
     "g28 alone refuse",
+    "g04 p point seconds",
+    "g04 p point refuse",
+    "g04 p point",
     "g28 sometimes",
 ];
 

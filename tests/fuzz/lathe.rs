@@ -77,6 +77,8 @@ const LATHE_FRAGMENTS: &[&str] = &[
     "G28 U0 W0",
     "G28",
     "G4 P0.5",
+    "G04 P3.",
+    "G04 P3000",
     "M0",
     "M1",
     "M2",
