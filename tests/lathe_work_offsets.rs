@@ -100,6 +100,10 @@ fn work_offsets_are_revised_on_ofs_used_by_mdi_and_programs_and_kept() {
     assert!(shows(&c, "WORK G55"), "{:#?}", c.view().display);
     assert!(shows(&c, "X      20.000     24.000      0.000"));
     assert!(shows(&c, "Z       2.000   -298.000      0.000"));
+    // MODAL: the system in force and its offset (X a diameter).
+    c.press(Key::Ctrl('g'));
+    assert!(shows(&c, "G55 OFFSET Z-300 X4"), "{:#?}", c.view().display);
+    c.press(Key::Ctrl('g'));
     // The next MDI run goes on in G55 (a channel keeps its modes); RESET goes back to G54
     // and keeps the offsets.
     mdi(&mut c, "G0 X30.");

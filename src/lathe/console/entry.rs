@@ -483,6 +483,16 @@ impl LatheConsole {
             (None, None) => "T--".to_string(),
         };
         l.extend(fill(&[&feed, &speed, spindle, &tool], cols));
+        let offset = crate::lathe::gcode::work_offsets(&k.params.params)[m.work];
+        if offset != [0.0, 0.0] {
+            // The work offset in force, as the OFS page has it (X a diameter).
+            l.push(format!(
+                "G{} OFFSET Z{} X{}",
+                54 + m.work,
+                short_number(offset[0]),
+                short_number(offset[1] * 2.0)
+            ));
+        }
         if m.origin != [0.0, 0.0] {
             // The program zero a G50 X Z (system A) or a G92 X Z (system B) moved, until
             // RESET (or G92.1): named by the code that moves it on this channel.
