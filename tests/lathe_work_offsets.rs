@@ -209,3 +209,50 @@ fn touching_the_face_and_measuring_makes_the_work_zero_and_the_display_reads_the
     c.close(None).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Measuring a tool (Fanuc's MEASURE on the tool offsets): with the tool in place where it
+/// cut, `X49.9` INPUT on its row (the diameter just measured) sets its X offset so the display
+/// reads X49.9 there, `Z0` on its row its Z offset from a face at Z0; a tool not in place is
+/// refused with how to measure it.
+#[test]
+fn a_tool_is_measured_where_it_stands_on_its_row_of_the_ofs_page() {
+    let dir = common::temp_dir("lathe-tool-measure");
+    let mut c = open(&dir);
+    mdi(&mut c, "T0101 G0 X50. Z-10.");
+    assert_eq!(tip(&c), ([25_000, -10_000], [25_000, -10_000]));
+    c.handle(PanelEvent::OfsMode);
+    // The cursor starts on T01's X.
+    enter(&mut c, "X49.9");
+    assert!(
+        c.message()
+            .starts_with("measured, T01 at X49.9: T01 revised"),
+        "{}",
+        c.message()
+    );
+    assert!(
+        shows(&c, "T01 0.000 3>   0.100   0.000"),
+        "{:#?}",
+        c.view().display
+    );
+    assert_eq!(tip(&c), ([24_950, -10_000], [25_000, -10_000]));
+    c.press(Key::Right);
+    enter(&mut c, "Z0");
+    assert!(
+        shows(&c, "T01 0.000 3    0.100>-10.000"),
+        "{:#?}",
+        c.view().display
+    );
+    assert_eq!(tip(&c), ([24_950, 0], [25_000, -10_000]));
+    // T02 is not in place.
+    c.press(Key::Down);
+    enter(&mut c, "Z0");
+    assert!(
+        c.message()
+            .starts_with("measure T02 refused: the tool in place is T01"),
+        "{}",
+        c.message()
+    );
+    assert!(shows(&c, "T02 0.000 3    0.000>  0.000"));
+    c.close(None).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}

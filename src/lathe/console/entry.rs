@@ -158,10 +158,11 @@ impl LatheConsole {
             return self.revise_work(line);
         }
         let tools = &self.desc.channels[self.sel].tools;
-        if let (Some(k), Some(m), false) =
-            (ofs::work_row(tools, self.ofs_cell), ofs::measure(line), add)
-        {
-            return self.measure_work(k, m?);
+        if let (Some(m), false) = (ofs::measure(line), add) {
+            return match ofs::work_row(tools, self.ofs_cell) {
+                Some(k) => self.measure_work(k, m?),
+                None => self.measure_tool(m?),
+            };
         }
         let tools = &self.desc.channels[self.sel].tools;
         let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
@@ -204,6 +205,48 @@ impl LatheConsole {
         self.front.message = format!(
             "measured, T{:02} at {letter}{}: {said}",
             v.tool,
+            crate::input_text::short_number(value)
+        );
+        Ok(())
+    }
+
+    /// OFS, `X50.` INPUT on a tool's row (Fanuc's MEASURE of a tool offset): the tool, which
+    /// must be the one in place, gets the offset that makes it read that value where it stands
+    /// in the work system in force (a diameter just turned and measured, a face touched); X a
+    /// diameter. Refused while the channel moves, or for a tool not in place.
+    fn measure_tool(&mut self, (letter, value): (char, f64)) -> Result<(), String> {
+        let ch = self.sel;
+        let moving = (self.cycle.channels().get(ch)).is_some_and(|c| c.status.moving);
+        if moving {
+            return Err(format!(
+                "measure refused: CH{} is moving; measure with the tool at rest",
+                ch + 1
+            ));
+        }
+        let tools = &self.desc.channels[ch].tools;
+        let row = self.ofs_cell.0.min(tools.len().saturating_sub(1));
+        let Some(t) = tools.get(row).map(|t| t.number) else {
+            return Err("OFS: the channel has no tools".into());
+        };
+        let views = self.chan_views();
+        let v = &views[ch];
+        if v.tool != t {
+            return Err(format!(
+                "measure T{t:02} refused: the tool in place is T{:02}; index T{t:02} (MDI T{t:02}{t:02}) and measure where it cuts",
+                v.tool
+            ));
+        }
+        let mm = |p: i64| p as f64 * self.desc.pulse_mm;
+        let zero = v.system.map_or([0, 0], |s| s.1);
+        let set = match letter {
+            'X' => 2.0 * (mm(v.pos[0] - zero[0]) - value / 2.0),
+            _ => mm(v.pos[1] - zero[1]) - value,
+        };
+        let set = (set * 1000.0).round() / 1000.0;
+        self.revise_tool(&format!("T{t} {letter}{set}"))?;
+        let said = std::mem::take(&mut self.front.message);
+        self.front.message = format!(
+            "measured, T{t:02} at {letter}{}: {said}",
             crate::input_text::short_number(value)
         );
         Ok(())
