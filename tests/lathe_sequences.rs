@@ -122,6 +122,8 @@ struct Stats {
     /// Program files read into a channel, and programs punched (stop 52).
     reads: u64,
     punches: u64,
+    /// SEARCH points set (a line typed in AUTO on the lathe loaded by hand; stop 57).
+    searches: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -182,7 +184,10 @@ fn check(s: &mut Seq, what: &str) {
     let states: Vec<&str> = v.channels.iter().map(|c| c.state.as_str()).collect();
     let any = |w: &[&str]| states.iter().any(|s| w.contains(s));
     if !s.fresh {
-        if m == "START" || m == "cycle start" || m.starts_with("MDI CH") && m.ends_with(" runs") {
+        if m == "START"
+            || m.starts_with("cycle start")
+            || m.starts_with("MDI CH") && m.ends_with(" runs")
+        {
             assert!(
                 any(&["RUN", "WAIT", "STOP"]),
                 "{what}: '{m}' with {states:?}"
@@ -617,6 +622,27 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             let turned = if turn { "op DATA\n" } else { "" };
             return format!("{turned}type {}{code}\nkey Alt+u", out.display());
         }
+        91 => {
+            // SEARCH (stop 57): a line of the program typed in AUTO positions the next START
+            // on the lathe loaded by hand (it runs the rest of one part from there); refused
+            // with a cycle under way, or past the program's last block; on the Citizen,
+            // AUTO's line stays for TARGET and FAULT.
+            s.c.handle(PanelEvent::Op(OpMode::Auto));
+            let n = rng.range(0, 40);
+            s.c.handle(PanelEvent::Type(n.to_string()));
+            s.fresh = true;
+            let m = s.c.message().to_string();
+            if m.starts_with("SEARCH line ") {
+                s.stats.searches += 1;
+                assert_eq!(s.c.desc().channels.len(), 1, "{m}");
+            } else {
+                assert!(
+                    m.starts_with("SEARCH") || m.contains("AUTO takes no line"),
+                    "{m}"
+                );
+            }
+            return format!("op AUTO\ntype {n}");
+        }
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
@@ -799,6 +825,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.turns_cleared += s.stats.turns_cleared;
         total.reads += s.stats.reads;
         total.punches += s.stats.punches;
+        total.searches += s.stats.searches;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -850,7 +877,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {} SEARCH points, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -864,6 +891,7 @@ fn many_random_operator_sequences() {
             st.turns_cleared,
             st.reads,
             st.punches,
+            st.searches,
             t.elapsed().as_secs_f64()
         );
     }

@@ -464,6 +464,7 @@ fn lathe(
         manual: false,
         single_block: false,
         op_mode: crate::panel_model::OpMode::Auto,
+        search: None,
     };
     // The kernel, then the programs loaded into it and started, as the console does.
     let made = crate::lathe::console::Cycle::idle(&desc, &kept, machine).and_then(|mut c| {

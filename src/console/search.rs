@@ -239,7 +239,7 @@ pub(super) fn current_plan(c: &mut Console) -> Option<Result<Plan, String>> {
 /// Finds the statement the operator asked for: a line number, or text to look for (without
 /// regard to case, as the language has none), as whole words: `T1` finds `T1` and `T1 M6`
 /// but not `T16` or `T1.5`, `X1` not `MAX1` (Fanuc's address search).
-fn find_line(source: &str, what: &str) -> Result<Option<u32>, String> {
+pub(crate) fn find_line(source: &str, what: &str) -> Result<Option<u32>, String> {
     let w = what.trim();
     if w.is_empty() || w == "0" {
         return Ok(None);

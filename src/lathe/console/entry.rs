@@ -34,6 +34,9 @@ impl LatheConsole {
             OpMode::Mdi => self.mdi_line(line),
             OpMode::Data if line.is_empty() => Ok(()),
             OpMode::Data => self.edit(line),
+            OpMode::Auto | OpMode::Single if self.desc.manual && self.desc.channels.len() == 1 => {
+                self.search_line(line)
+            }
             _ if line.is_empty() => Ok(()),
             // Before stop 44 this said `turn to MDI or DATA`, and the turn cleared the line.
             op => Err(format!(
@@ -41,6 +44,74 @@ impl LatheConsole {
                 op.word()
             )),
         }
+    }
+
+    /// SEARCH in AUTO (docs/lathe.md "SEARCH"), on a lathe of one channel loaded by hand: a
+    /// line number, or text to find as whole words (the centre's `search::find_line`),
+    /// positions the next START at the first block at or after that line, which runs one part
+    /// from there after restoring the tool, the spindle and the coolant and taking the tool
+    /// there (`glue::restart_from`); `0` or an empty line clears it. Refused while a cycle is
+    /// under way, and where the program makes no block at or after the line. The message says
+    /// what START will do.
+    fn search_line(&mut self, line: &str) -> Result<(), String> {
+        if !self.at_rest_unloaded() {
+            return Err("SEARCH refused: a cycle is under way; RESET it first".into());
+        }
+        let text = self.programs[0].text.clone();
+        let Some(n) = crate::console::search::find_line(&text, line)
+            .map_err(|e| format!("SEARCH refused: {e}"))?
+        else {
+            self.search = None;
+            self.front.message = "SEARCH cleared: AUTO starts at the top".into();
+            return Ok(());
+        };
+        let read = match self.programmed(0) {
+            Some(Ok(p)) => p,
+            Some(Err(e)) => return Err(format!("SEARCH refused: the program does not read: {e}")),
+            None => return Err("SEARCH refused: the channel has no program".into()),
+        };
+        let at = self.cycle.axes().first().copied().unwrap_or([0, 0]);
+        let (k, restore) = super::glue::restart_from(&read, n, at)?;
+        let mm = |p: i64| crate::input_text::short_number(p as f64 * self.desc.pulse_mm);
+        let mut plan: Vec<String> = Vec::new();
+        for b in &restore.blocks {
+            if let Some(t) = b.t {
+                plan.push(format!("T{t:02}"));
+            } else if let Some(m) = b.m {
+                plan.push(match (m, b.s, b.css) {
+                    (3 | 4, Some(s), _) => format!("S{s} M0{m}"),
+                    (3 | 4, None, Some(c)) => {
+                        format!(
+                            "G96 S{} M0{m}",
+                            crate::input_text::short_number(c.m_per_min)
+                        )
+                    }
+                    _ => format!("M0{m}"),
+                });
+            } else if b.motion == crate::block::Motion::Rapid {
+                plan.push(format!("G00 X{} Z{}", mm(b.end[0] * 2), mm(b.end[2])));
+            }
+        }
+        self.search = Some(n);
+        self.front.message = format!(
+            "SEARCH line {}: START restores {} (machine X Z), then runs one part from there",
+            read[k].line,
+            if plan.is_empty() {
+                "nothing".to_string()
+            } else {
+                plan.join(", ")
+            }
+        );
+        Ok(())
+    }
+
+    /// No channel has a run loaded (none running, held or stopped between blocks; a cycle
+    /// RESET stands at its start) and none moves: where SEARCH may position the next START.
+    pub(super) fn at_rest_unloaded(&self) -> bool {
+        self.cycle
+            .channels()
+            .iter()
+            .all(|c| c.status.run == 0 && !c.status.moving)
     }
 
     /// MDI: the line is added to the selected channel's MDI buffer (START runs its lines).
@@ -289,6 +360,8 @@ impl LatheConsole {
         if !self.cycle.is_over() {
             return Err("the programs are in use: RESET the cycle before editing".into());
         }
+        // The program's lines may move: a SEARCH point is let go.
+        self.search = None;
         let ch = self.sel;
         let mut buf = Buffer::from_text(&self.programs[ch].text);
         buf.set_pointer(self.pointers[ch]);
@@ -353,6 +426,7 @@ impl LatheConsole {
     /// would read it. Err: why not (nothing changed).
     pub(super) fn program_read(&mut self, path: &std::path::Path) -> Result<String, String> {
         let ch = self.sel;
+        self.search = None;
         if self.front.op != OpMode::Data {
             return Err(format!(
                 "{}: turn the selector to DATA INPUT to read a program into CH{}",

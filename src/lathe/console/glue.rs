@@ -75,6 +75,11 @@ pub struct Cycle {
     desc: LatheDesc,
     /// Each channel's work system and program zero by block ([`zero_table`]).
     zeros: Vec<ZeroTable>,
+    /// The parts each channel had made before this cycle, added to the kernel's (a SEARCH's
+    /// part goes on with the batch: [`Cycle::count_from`]); empty: none.
+    base: Vec<u32>,
+    /// The cycle is a SEARCH's one part.
+    search_part: bool,
 }
 
 /// What a channel's blocks are measured from on the display as they run: from each block
@@ -145,6 +150,9 @@ pub struct CycleSpec {
     pub single_block: bool,
     /// The operation selector's position, as `/nc/state` records it (`op_mode`).
     pub op_mode: crate::panel_model::OpMode,
+    /// SEARCH (docs/lathe.md "SEARCH"): channel 1's program runs from the first block at or
+    /// after this source line, after the restore blocks ([`restart_from`]), for one part.
+    pub search: Option<u32>,
 }
 
 /// The machine a kernel is made for ([`Cycle::idle`]), as it stands when the kernel is made.
@@ -258,20 +266,43 @@ fn read_cycle(
             from,
             at: pos.get(ch).copied(),
         }));
-        let p = r.statements;
+        let mut p = r.statements;
+        let mut datums = r.zeros;
         if spec.mdi.is_none() && p.is_empty() {
             return Err(format!("CH{} {name}: the program is empty", ch + 1));
         }
-        // A message is shown when the first block of the statement after it begins.
+        // SEARCH: from the statement it found, after the restore blocks; the messages of the
+        // lines before it are not said.
+        let mut skipped = 0;
+        if let Some(line) = spec.search.filter(|_| ch == 0 && spec.mdi.is_none()) {
+            let at = pos.get(ch).copied().unwrap_or_else(|| home(desc, ch));
+            let (k, restore) =
+                restart_from(&p, line, at).map_err(|e| format!("CH{} {name}: {e}", ch + 1))?;
+            let keep = datums.get(k).copied();
+            let mut tail = p.split_off(k);
+            let mut d = datums.split_off(k);
+            p = vec![restore];
+            p.append(&mut tail);
+            datums = keep.into_iter().chain(d.drain(..)).collect();
+            skipped = k;
+            // The tool revised during it is taken from the next START: this read is not
+            // the program's from its start.
+            if let Some(last) = rereads.last_mut() {
+                *last = None;
+            }
+        }
+        // A message is shown when the first block of the statement after it begins (after a
+        // SEARCH, the statement's place is one on: the restore statement stands first).
         let seq_of = |i: usize| {
             p.iter()
-                .skip(i)
+                .skip(if skipped > 0 { i + 1 - skipped } else { i })
                 .find_map(|s| s.blocks.first())
                 .map_or(u32::MAX, |b| b.seq)
         };
         msgs.push(
             r.messages
                 .iter()
+                .filter(|m| m.before >= skipped)
                 .map(|m| {
                     (
                         seq_of(m.before),
@@ -281,7 +312,7 @@ fn read_cycle(
                 .collect(),
         );
         after.push(Some(r.kept));
-        zeros.push(zero_table(&p, &r.zeros));
+        zeros.push(zero_table(&p, &datums));
         progs.push(p);
         lines.push(text.lines().map(str::to_string).collect());
     }
@@ -321,6 +352,82 @@ fn read_cycle(
         rereads,
         starts,
     })
+}
+
+/// SEARCH's restart of a program read whole, `p` (docs/lathe.md "SEARCH"): the index of the
+/// first statement at or after source line `line` that makes a block, and the statement that
+/// restores before it what the program had set by then and takes the tool there from `at`
+/// (pulses [X radius, Z], where the tool post stands): the tool in place, the spindle, the
+/// coolant (each the last block the program made for it before that statement), then
+/// rapids, first out in X (never in), then along Z, then in X to where that statement
+/// starts. Its blocks are numbered 0, as the centre's SEARCH restore (`wait block 0` is
+/// not the lathe's: its blocks count from 1), on line 0.
+pub(crate) fn restart_from(
+    p: &[crate::block::Statement],
+    line: u32,
+    at: [i64; 2],
+) -> Result<(usize, crate::block::Statement), String> {
+    use crate::block::{Block, Motion};
+    let k = p
+        .iter()
+        .position(|s| s.line >= line && !s.blocks.is_empty())
+        .ok_or_else(|| format!("SEARCH: the program makes no block at or after line {line}"))?;
+    let (mut tool, mut spindle) = (None, None);
+    let (mut mist, mut flood) = (false, false);
+    let mut start = [at[0], at[1]];
+    for b in p[..k].iter().flat_map(|s| &s.blocks) {
+        if b.t.is_some() {
+            tool = Some(b.clone());
+        }
+        match b.m {
+            Some(3..=5) => spindle = Some(b.clone()),
+            Some(7) => mist = true,
+            Some(8) => flood = true,
+            Some(9) => (mist, flood) = (false, false),
+            _ => {}
+        }
+        start = [b.end[0], b.end[2]];
+    }
+    let here = |b: Block| Block {
+        seq: 0,
+        stmt: 0,
+        end: [at[0], 0, at[1]].into(),
+        delta: Default::default(),
+        ..b
+    };
+    let css = spindle.as_ref().and_then(|b| b.css);
+    let mut blocks: Vec<Block> = tool.into_iter().chain(spindle).map(here).collect();
+    for (on, m) in [(mist, 7), (flood, 8)] {
+        if on {
+            blocks.push(here(crate::lathe::gcode::out::m(m)));
+        }
+    }
+    // Out in X first (never in), then along Z, then in X.
+    let mut from = at;
+    for to in [
+        [from[0].max(start[0]), from[1]],
+        [from[0].max(start[0]), start[1]],
+        start,
+    ] {
+        if to != from {
+            blocks.push(Block {
+                motion: Motion::Rapid,
+                end: [to[0], 0, to[1]].into(),
+                delta: [to[0] - from[0], 0, to[1] - from[1]].into(),
+                css,
+                ..Block::aux(0, 0, [to[0], 0, to[1]])
+            });
+            from = to;
+        }
+    }
+    Ok((
+        k,
+        crate::block::Statement {
+            line: 0,
+            text: format!("(SEARCH restore: line {})", p[k].line),
+            blocks,
+        },
+    ))
 }
 
 /// The kernel of `desc` with no program loaded, its machines as `spec` describes them, each
@@ -430,6 +537,8 @@ impl Cycle {
             opts: ReadOptions::default(),
             desc: desc.clone(),
             zeros: vec![Vec::new(); n],
+            base: Vec::new(),
+            search_part: false,
         };
         c.set_modes(spec.op_mode);
         c.refresh();
@@ -515,6 +624,8 @@ impl Cycle {
         self.first = read.first;
         self.msgs = read.msgs;
         self.zeros = read.zeros;
+        self.base = Vec::new();
+        self.search_part = false;
         self.msg_at = vec![(0, 0); n];
         self.reread = read.rereads;
         self.opts = spec.opts;
@@ -951,8 +1062,37 @@ impl Cycle {
         self.snap
             .iter()
             .zip(counts)
-            .map(|(c, &old)| c.sync.as_ref().map_or(old, |v| v.parts))
+            .enumerate()
+            .map(|(i, (c, &old))| {
+                let base = self.base.get(i).copied().unwrap_or(0);
+                c.sync.as_ref().map_or(old, |v| base + v.parts)
+            })
             .collect()
+    }
+
+    /// The cycle just loaded counts its parts on from `base`: a SEARCH's one part
+    /// (`search_part`), or the batch going on after it, from the program's top.
+    pub fn count_from(&mut self, base: Vec<u32>, search_part: bool) {
+        self.base = base;
+        self.search_part = search_part;
+    }
+
+    /// The cycle loaded is a SEARCH's one part ([`Cycle::count_from`]): its target is 1
+    /// whatever the batch's.
+    pub fn searching(&self) -> bool {
+        self.search_part
+    }
+
+    /// The cycle loaded counts on from parts made before it: a SEARCH's part or the batch
+    /// after it ([`Cycle::count_from`]).
+    pub fn counts_on(&self) -> bool {
+        !self.base.is_empty()
+    }
+
+    /// The machine's target for the batch's target `n`: less the parts made before this cycle.
+    pub fn machine_target(&self, n: u32) -> u32 {
+        let made = self.base.iter().copied().max().unwrap_or(0);
+        n.saturating_sub(made).max(1)
     }
 
     /// How a cycle at rest stands, for `novanc run`: `Ok(true)` every channel finished,
@@ -1145,5 +1285,60 @@ impl Cycle {
                 v
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::restart_from;
+    use crate::block::Motion;
+    use crate::lathe::desc::{parse, LatheDesc, MachineDesc};
+    use crate::lathe::gcode::{read_program, ReadOptions};
+
+    fn shop() -> LatheDesc {
+        let text = "machine shop\nkind lathe\npulse 0.001\ntick 100\nloading manual\n\
+                    dialect fanuc\nchannel PATH-1\ngcode system A\n\
+                    x travel -5 200 rapid 18000 accel 3000\nz travel -600 100 rapid 24000 accel 3000\n\
+                    spindle max 6000 accel 3000 encoder 1024\ntool 1 radius 0 tip 3\n";
+        match parse(text) {
+            Ok(MachineDesc::Lathe(d)) => d,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    const PROGRAM: &str = "G21 G99 G18\nT0101\nG97 S800 M03\nG00 X40. Z5. M08\nG01 Z-20. F0.2\n\
+                           G00 X45.\nZ5.\nX36.\nG01 Z-20.\nG00 X45.\nZ5.\nM09\nM30\n";
+
+    /// SEARCH's restart (docs/lathe.md "SEARCH"), worked by hand: from line 8 (`X36.`), the
+    /// tool T01, the spindle at 800 rpm forward and the flood coolant the lines before it set,
+    /// then the tool from where it stands to where line 8 starts (X45 Z5: radius 22.5): out in
+    /// X first, never in; along Z; in X. From inside the part's diameter (X10 at Z-5) it goes
+    /// out to X45 before it moves along Z.
+    #[test]
+    fn search_restores_what_the_lines_before_set_and_approaches_out_along_in() {
+        let p = read_program(PROGRAM, &shop(), 0, &ReadOptions::default()).unwrap();
+        let (k, r) = restart_from(&p, 8, [200_000, 100_000]).unwrap();
+        assert_eq!(p[k].line, 8);
+        let b = &r.blocks;
+        assert_eq!((r.line, b.len()), (0, 5), "{b:#?}");
+        assert_eq!(b[0].t, Some(1));
+        assert_eq!((b[1].m, b[1].s), (Some(3), Some(800)));
+        assert_eq!(b[2].m, Some(8));
+        let ends: Vec<[i64; 2]> = b[3..].iter().map(|b| [b.end[0], b.end[2]]).collect();
+        assert_eq!(ends, [[200_000, 5_000], [22_500, 5_000]]);
+        assert!(b[3..].iter().all(|b| b.motion == Motion::Rapid));
+        assert!(b.iter().all(|b| b.seq == 0 && b.stmt == 0));
+        // From inside: out in X to the start's X, along Z, (in X: already there).
+        let (_, r) = restart_from(&p, 8, [5_000, -5_000]).unwrap();
+        let ends: Vec<[i64; 2]> = (r.blocks.iter())
+            .filter(|b| b.motion == Motion::Rapid)
+            .map(|b| [b.end[0], b.end[2]])
+            .collect();
+        assert_eq!(ends, [[22_500, -5_000], [22_500, 5_000]]);
+        // The coolant off (M09) before the line: none restored; past the last block: refused.
+        let (_, r) = restart_from(&p, 13, [22_500, 5_000]).unwrap();
+        assert!(r.blocks.iter().all(|b| b.m != Some(8)), "{:#?}", r.blocks);
+        let e = restart_from(&p, 14, [0, 0]).unwrap_err();
+        assert_eq!(e, "SEARCH: the program makes no block at or after line 14");
     }
 }

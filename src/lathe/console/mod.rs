@@ -103,6 +103,9 @@ pub struct LatheConsole {
     kept: Vec<super::gcode::Kept>,
     /// Asked between the steps of a script's wait (a stop signal ends it).
     interrupt: Option<fn() -> bool>,
+    /// SEARCH (docs/lathe.md "SEARCH"): the source line channel 1's next AUTO START runs
+    /// from, for one part, on a lathe of one channel loaded by hand.
+    search: Option<u32>,
 }
 
 /// What the terminal or the window draws.
@@ -232,6 +235,7 @@ impl LatheConsole {
             stale_counts: stale,
             kept,
             interrupt: None,
+            search: None,
         };
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
@@ -752,14 +756,23 @@ impl LatheConsole {
                 self.front.message = format!("target {n}: a channel has already finished {most}");
                 return;
             }
+            // A SEARCH's part runs once whatever the batch's target (the machine's stays 1);
+            // it makes one more part.
+            if c.searching() && n < most + 1 {
+                self.front.message = format!("target {n}: the part SEARCH runs makes {}", most + 1);
+                return;
+            }
             let old = self.counter.target;
-            if let Err(e) = c.set_target(n) {
+            let told = (!c.searching()).then(|| c.set_target(c.machine_target(n)));
+            if let Err(e) = told.unwrap_or(Ok(())) {
                 self.front.message = e;
                 return;
             }
             if let Err(e) = self.store.save_counter(&next) {
                 // The machine took `n` just now, so it takes its old target back.
-                let _ = c.set_target(old);
+                if !c.searching() {
+                    let _ = c.set_target(c.machine_target(old));
+                }
                 self.front.message = format!("{e}: the target is not changed");
                 return;
             }
@@ -787,9 +800,20 @@ impl LatheConsole {
             );
             return;
         }
+        // A SEARCH point (AUTO or SINGLE BLOCK) loads its own run, whatever stands loaded at
+        // rest (a cycle RESET at its start).
+        let search = self.search.is_some() && matches!(op, OpMode::Auto | OpMode::Single);
+        if search && !self.at_rest_unloaded() {
+            self.search = None;
+        }
+        let auto = matches!(op, OpMode::Auto | OpMode::Single);
+        // After a SEARCH's part (ended, or RESET), the batch goes on from the program's top:
+        // a new load, whatever the SEARCH run left loaded.
+        let search =
+            auto && (self.search.is_some() || self.cycle.counts_on()) && self.at_rest_unloaded();
         {
             let c = &mut self.cycle;
-            if !c.is_over() {
+            if !c.is_over() && !search {
                 if c.loaded() && c.mdi != (op == OpMode::Mdi) {
                     // A cycle held in MDI mode, or an MDI run in AUTO: the machine's words.
                     let kind = if c.mdi { "MDI" } else { "AUTO" };
@@ -847,7 +871,18 @@ impl LatheConsole {
 
     fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
         let opts = self.read_options();
-        let target = if mdi { 1 } else { self.counter.target };
+        // A SEARCH runs one part, which goes on with the batch (its count is kept); after it,
+        // the batch goes on from the program's top to its target.
+        let search = self.search.filter(|_| !mdi);
+        let resume = !mdi && search.is_none() && self.cycle.counts_on();
+        let most = self.counter.counts.iter().copied().max().unwrap_or(0);
+        let target = if mdi || search.is_some() {
+            1
+        } else if resume {
+            self.counter.target.saturating_sub(most).max(1)
+        } else {
+            self.counter.target
+        };
         // Each stored program is read in the dialect it was stored in; MDI in the channel's.
         let desc = if mdi {
             self.desc.clone()
@@ -861,7 +896,11 @@ impl LatheConsole {
         }
         // A new cycle: its channels' faults are new to the history.
         self.book.log.forget_alarms();
-        if !mdi {
+        if search.is_some() || resume {
+            self.cycle
+                .count_from(self.counter.counts.clone(), search.is_some());
+            self.search = None;
+        } else if !mdi {
             let mut next = self.counter.clone();
             next.counts.iter_mut().for_each(|c| *c = 0);
             if let Err(e) = self.store.save_counter(&next) {
@@ -887,6 +926,9 @@ impl LatheConsole {
             Ok(())
         };
         let said = match (mdi, &cleared) {
+            (false, _) if search.is_some() => {
+                format!("cycle start from line {}: one part", search.unwrap_or(0))
+            }
             (false, _) => "cycle start".into(),
             (true, Ok(())) => format!("MDI CH{} runs", self.sel + 1),
             (true, Err(e)) => format!("MDI CH{} runs; {e}: the buffer is kept", self.sel + 1),
@@ -924,6 +966,7 @@ impl LatheConsole {
             mdi,
             single_block: mdi.is_none() && self.front.op == OpMode::Single,
             op_mode: self.front.op,
+            search: self.search.filter(|_| mdi.is_none()),
         }
     }
 
@@ -997,7 +1040,8 @@ impl LatheConsole {
     /// E-STOP every channel's; what it did.
     fn reset(&mut self) -> String {
         // RESET returns the channel's interpreter state to power-on (after an E-STOP, every
-        // channel's): docs/lathe-gcode.md "What a channel keeps".
+        // channel's): docs/lathe-gcode.md "What a channel keeps". A SEARCH point is let go.
+        self.search = None;
         let all = self.estop();
         // It acknowledges that channel's program messages (after an E-STOP, every one), as a
         // Fanuc's RESET clears its path's operator message (the centre's rule).
