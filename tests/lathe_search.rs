@@ -61,6 +61,12 @@ fn search_runs_the_rest_of_the_interrupted_part_and_it_counts_with_the_batch() {
         "{:#?}",
         c.view().display
     );
+    // The listing stands where START will begin.
+    assert!(
+        c.view().display.iter().any(|l| l.starts_with(">0008 X36.")),
+        "{:#?}",
+        c.view().display
+    );
     let t0 = c.machine_ns();
     c.handle(PanelEvent::Start);
     // Its part is one more whatever the batch's target: a target below it is refused.

@@ -727,8 +727,10 @@ impl LatheConsole {
             _ => self.programs[self.sel].text.clone(),
         };
         let lines: Vec<&str> = text.lines().collect();
-        let cur = match self.front.op {
-            OpMode::Data => self.edit_line[self.sel],
+        let cur = match (self.front.op, self.search) {
+            (OpMode::Data, _) => self.edit_line[self.sel],
+            // A SEARCH point: the listing stands where START will begin.
+            (OpMode::Auto | OpMode::Single, Some(n)) => n.max(1) as usize,
             _ => line.max(1) as usize,
         };
         let room = self.rows.saturating_sub(5).max(1);
