@@ -117,6 +117,25 @@ fn search_is_refused_under_way_let_go_at_reset_and_said_where_it_cannot_be() {
     // Text: the first line with the word (line 8's X36.).
     c.handle(PanelEvent::Type("X36.".into()));
     assert!(c.message().starts_with("SEARCH line 8:"), "{}", c.message());
+    // START while a tool post still moves (a jog coming to rest) is refused and the point
+    // kept; at rest, START runs it from where the tool now stands.
+    c.handle(PanelEvent::Op(OpMode::Continuous));
+    c.handle(PanelEvent::Jog(novanc::panel_model::Axis::Z, -1));
+    c.handle(PanelEvent::WaitMs(300));
+    c.handle(PanelEvent::JogRelease);
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message().starts_with(
+            "START refused: a run is loaded or a tool post moves; SEARCH line 8 is kept"
+        ),
+        "{}",
+        c.message()
+    );
+    c.handle(PanelEvent::Wait);
+    c.handle(PanelEvent::Start);
+    c.handle(PanelEvent::Wait);
+    assert_eq!(c.counter().counts, [1]);
     c.handle(PanelEvent::Reset);
     c.handle(PanelEvent::Type("0".into()));
     assert_eq!(c.message(), "SEARCH cleared: AUTO starts at the top");

@@ -801,12 +801,15 @@ impl LatheConsole {
             return;
         }
         // A SEARCH point (AUTO or SINGLE BLOCK) loads its own run, whatever stands loaded at
-        // rest (a cycle RESET at its start).
-        let search = self.search.is_some() && matches!(op, OpMode::Auto | OpMode::Single);
-        if search && !self.at_rest_unloaded() {
-            self.search = None;
-        }
+        // rest (a cycle RESET at its start); with a run loaded, or a tool post moving, START
+        // is refused and the point kept: it is the operator's, never dropped unsaid.
         let auto = matches!(op, OpMode::Auto | OpMode::Single);
+        if let (Some(n), true, false) = (self.search, auto, self.at_rest_unloaded()) {
+            self.front.message = format!(
+                "START refused: a run is loaded or a tool post moves; SEARCH line {n} is kept (wait for the move to end, or RESET the run)"
+            );
+            return;
+        }
         // After a SEARCH's part (ended, or RESET), the batch goes on from the program's top:
         // a new load, whatever the SEARCH run left loaded.
         let search =
