@@ -244,19 +244,24 @@ impl LatheConsole {
         self.revise_tool(&revision)
     }
 
+    /// A measure is taken with channel `ch`'s tool at rest: why not, if it moves.
+    fn measured_at_rest(&self, ch: usize) -> Result<(), String> {
+        if (self.cycle.channels().get(ch)).is_some_and(|c| c.status.moving) {
+            return Err(format!(
+                "measure refused: CH{} is moving; measure with the tool at rest",
+                ch + 1
+            ));
+        }
+        Ok(())
+    }
+
     /// OFS, `Z0` INPUT on work offset `k`'s row (Fanuc's MEASURE): the offset is set so that
     /// the tool in place, where it stands, reads that value (its offsets and a G50/G92 shift
     /// taken off, as `G10 L20` sets it); X a diameter. Refused while the channel moves.
     fn measure_work(&mut self, k: usize, (letter, value): (char, f64)) -> Result<(), String> {
         use crate::lathe::gcode::work_offsets;
         let ch = self.sel;
-        let moving = (self.cycle.channels().get(ch)).is_some_and(|c| c.status.moving);
-        if moving {
-            return Err(format!(
-                "measure refused: CH{} is moving; measure with the tool at rest",
-                ch + 1
-            ));
-        }
+        self.measured_at_rest(ch)?;
         let views = self.chan_views();
         let v = &views[ch];
         let mm = |p: i64| p as f64 * self.desc.pulse_mm;
@@ -287,13 +292,7 @@ impl LatheConsole {
     /// diameter. Refused while the channel moves, or for a tool not in place.
     fn measure_tool(&mut self, (letter, value): (char, f64)) -> Result<(), String> {
         let ch = self.sel;
-        let moving = (self.cycle.channels().get(ch)).is_some_and(|c| c.status.moving);
-        if moving {
-            return Err(format!(
-                "measure refused: CH{} is moving; measure with the tool at rest",
-                ch + 1
-            ));
-        }
+        self.measured_at_rest(ch)?;
         let tools = &self.desc.channels[ch].tools;
         let row = self.ofs_cell.0.min(tools.len().saturating_sub(1));
         let Some(t) = tools.get(row).map(|t| t.number) else {
