@@ -527,11 +527,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                 };
                 // In a lathe's channel, the channel's dialect; before the channels (or on a
                 // mill), the machine's.
-                let slot = match channels.last_mut() {
-                    Some(ch) if in_channel => &mut ch.dialect,
-                    _ => &mut dialect,
-                };
-                set_once(slot, d, "the dialect", in_channel).map_err(e)?;
+                set_here(
+                    &mut channels,
+                    in_channel,
+                    |ch| &mut ch.dialect,
+                    &mut dialect,
+                    d,
+                    "the dialect",
+                )
+                .map_err(e)?;
             }
             "gcode" => {
                 let a = match words.as_slice() {
@@ -563,11 +567,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     _ => return Err(e("feed takes per-rev or per-minute".into())),
                 };
                 // In a channel, the channel's; before the channels, the machine's.
-                let slot = match channels.last_mut() {
-                    Some(ch) if in_channel => &mut ch.per_rev,
-                    _ => &mut feed,
-                };
-                set_once(slot, v, "feed", in_channel).map_err(e)?;
+                set_here(
+                    &mut channels,
+                    in_channel,
+                    |ch| &mut ch.per_rev,
+                    &mut feed,
+                    v,
+                    "feed",
+                )
+                .map_err(e)?;
             }
             "subroutines" if kind == Some("lathe") => {
                 let dir = match words.as_slice() {
@@ -634,11 +642,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     [_, "alone", "refuse"] => false,
                     _ => return Err(e("g28 takes alone all or alone refuse (what a G28 that names no axis does in the Fanuc dialect)".into())),
                 };
-                let slot = match channels.last_mut() {
-                    Some(ch) if in_channel => &mut ch.g28_all,
-                    _ => &mut g28_all,
-                };
-                set_once(slot, all, "g28", in_channel).map_err(e)?;
+                set_here(
+                    &mut channels,
+                    in_channel,
+                    |ch| &mut ch.g28_all,
+                    &mut g28_all,
+                    all,
+                    "g28",
+                )
+                .map_err(e)?;
             }
             "g04" => {
                 let seconds = match words.as_slice() {
@@ -646,11 +658,15 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     [_, "p", "point", "refuse"] => false,
                     _ => return Err(e("g04 takes p point seconds or p point refuse (what G04's P written with a decimal point is in the Fanuc dialect: a Haas's seconds, or refused as Fanuc refuses it)".into())),
                 };
-                let slot = match channels.last_mut() {
-                    Some(ch) if in_channel => &mut ch.p_point_seconds,
-                    _ => &mut p_point,
-                };
-                set_once(slot, seconds, "g04", in_channel).map_err(e)?;
+                set_here(
+                    &mut channels,
+                    in_channel,
+                    |ch| &mut ch.p_point_seconds,
+                    &mut p_point,
+                    seconds,
+                    "g04",
+                )
+                .map_err(e)?;
             }
             "remap" if kind == Some("mill") => match remap(&words, false).map_err(e)? {
                 r if r.code == 6 && remap_m6.is_some() => {
@@ -839,6 +855,24 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
 
 /// Sets a setting a description may give once (in a lathe's channel, once there): `what is
 /// given twice`, else.
+/// [`set_once`] on the channel being described (`field` of the last channel, in a lathe's
+/// channel) or else on the machine's `machine`: a setting a lathe gives per channel or, before
+/// its channels, for every channel (a mill's is the machine's).
+fn set_here<T>(
+    channels: &mut [ChannelDesc],
+    in_channel: bool,
+    field: fn(&mut ChannelDesc) -> &mut Option<T>,
+    machine: &mut Option<T>,
+    v: T,
+    what: &str,
+) -> Result<(), String> {
+    let slot = match channels.last_mut() {
+        Some(ch) if in_channel => field(ch),
+        _ => machine,
+    };
+    set_once(slot, v, what, in_channel)
+}
+
 fn set_once<T>(slot: &mut Option<T>, v: T, what: &str, in_channel: bool) -> Result<(), String> {
     if slot.is_some() {
         let whose = if in_channel { " in this channel" } else { "" };
