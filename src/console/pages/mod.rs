@@ -29,7 +29,7 @@ pub(crate) mod msg;
 mod ofs;
 mod pos;
 mod prog;
-mod workofs;
+pub(crate) mod workofs;
 
 use super::Console;
 pub use crate::panel_model::Page;

@@ -22,7 +22,7 @@ pub(super) fn axes(c: &Console) -> Vec<usize> {
 
 /// The work offset system a line names (`G54` to `G59`, `G59.1` to `G59.3`, any case), and
 /// the rest of the line.
-pub(super) fn system_of(line: &str) -> Option<(usize, &str)> {
+pub(crate) fn system_of(line: &str) -> Option<(usize, &str)> {
     let l = line.trim_start();
     let upper = l.get(..5).map(|h| h.to_ascii_uppercase());
     if let Some(cs) = upper
@@ -39,7 +39,7 @@ pub(super) fn system_of(line: &str) -> Option<(usize, &str)> {
 }
 
 /// A number typed for an offset of axis `a`: mm, a rotary axis's degrees.
-fn number(text: &str, a: usize) -> Result<f64, String> {
+pub(crate) fn number(text: &str, a: usize) -> Result<f64, String> {
     let unit = if a >= FIRST_ROTARY { "degrees" } else { "mm" };
     text.trim()
         .parse::<f64>()
@@ -54,12 +54,16 @@ fn number(text: &str, a: usize) -> Result<f64, String> {
 }
 
 /// The axis values of `X.. Y.. Z..` (each at most once; the letters of `axes`, the machine's),
-/// by axis.
-pub(super) fn axis_words(text: &str, axes: &[usize]) -> Result<[Option<f64>; MAX_AXES], String> {
+/// by axis: the work offset line of every console (the centre's OFS page, a lathe's).
+pub(crate) fn axis_words(text: &str, axes: &[usize]) -> Result<[Option<f64>; MAX_AXES], String> {
     let mut out = [None; MAX_AXES];
     let t = text.trim().to_ascii_uppercase();
     if t.is_empty() {
-        return Err("name the axes: G54 X100 Y50 Z-450".into());
+        let example: Vec<String> = axes
+            .iter()
+            .map(|&a| format!("{}..", AXIS_NAMES[a]))
+            .collect();
+        return Err(format!("name the axes: G54 {}", example.join(" ")));
     }
     let mut rest = t.as_str();
     while let Some(c) = rest.chars().next() {
@@ -78,7 +82,14 @@ pub(super) fn axis_words(text: &str, axes: &[usize]) -> Result<[Option<f64>; MAX
         if out[a].is_some() {
             return Err(format!("{} is given twice", AXIS_NAMES[a]));
         }
-        out[a] = Some(number(&after[..end].replace(' ', ""), a)?);
+        let text = after[..end].replace(' ', "");
+        if text.is_empty() {
+            return Err(format!(
+                "{}: a number after it ({}-150.)",
+                AXIS_NAMES[a], AXIS_NAMES[a]
+            ));
+        }
+        out[a] = Some(number(&text, a)?);
         rest = after[end..].trim_start();
     }
     Ok(out)
@@ -248,6 +259,10 @@ mod tests {
             "'A' is not an axis (X, Y or Z)"
         );
         assert!(axis_words("Xabc", &xyz).is_err());
+        assert_eq!(
+            axis_words("Z Y1", &xyz).unwrap_err(),
+            "Z: a number after it (Z-150.)"
+        );
         assert!(axis_words("X1e9", &xyz).is_err());
         assert!(axis_words("", &xyz).is_err());
         // A machine with C: its offset in degrees.

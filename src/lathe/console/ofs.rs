@@ -6,6 +6,7 @@
 //! offsets G54 to G59 (docs/lathe-gcode.md "Work offsets"), X as a diameter and Z, revised by
 //! `G55 X0 Z-150.` ([`revise_work`]) or a cell's INPUT alike.
 
+use crate::console::pages::workofs::{axis_words, system_of};
 use crate::lathe::desc::ToolDesc;
 use crate::lathe::gcode::{WorkOffsets, MAX_WORK_OFFSET_MM};
 use novanc_panel::Key;
@@ -158,40 +159,27 @@ fn value(w: &str, letter: char) -> Result<f64, String> {
 }
 
 /// Applies a work offset's revision line (`G55 X0 Z-150.`, X a diameter) to `work`: returns
-/// the new offsets and the one revised (0 for G54). Nothing is changed on an error.
+/// the new offsets and the one revised (0 for G54). The line is read as the centre's OFS page
+/// reads one (`console::pages::workofs`), on the lathe's axes X and Z. Nothing is changed on
+/// an error.
 pub fn revise_work(work: &WorkOffsets, line: &str) -> Result<(WorkOffsets, usize), String> {
-    let words: Vec<&str> = line.split_whitespace().collect();
-    let first = words.first().copied().unwrap_or("");
-    let k = match first.to_ascii_uppercase().as_str() {
-        "G54" => 0,
-        "G55" => 1,
-        "G56" => 2,
-        "G57" => 3,
-        "G58" => 4,
-        "G59" => 5,
+    let first = line.split_whitespace().next().unwrap_or("");
+    let (k, rest) = match system_of(line) {
+        Some((k, rest)) if k < WORK_ROWS => (k, rest),
         _ => {
             return Err(format!(
                 "'{first}': the work offsets are G54 to G59 (G55 X0 Z-150.)"
             ))
         }
     };
-    if words.len() == 1 {
-        return Err(format!(
-            "G{}: say what to revise (X as a diameter, Z)",
-            54 + k
-        ));
-    }
+    // X (axis 0) as a diameter, Z (axis 2).
+    let v = axis_words(rest, &[0, 2])?;
     let mut out = *work;
-    for w in &words[1..] {
-        let letter = w.chars().next().unwrap_or(' ').to_ascii_uppercase();
-        if w.len() < 2 {
-            return Err(format!("'{w}': a letter and a number"));
-        }
-        match letter {
-            'X' => out[k][1] = value(w, 'X')? / 2.0,
-            'Z' => out[k][0] = value(w, 'Z')?,
-            c => return Err(format!("'{c}': a work offset takes X (diameter) and Z")),
-        }
+    if let Some(x) = v[0] {
+        out[k][1] = x / 2.0;
+    }
+    if let Some(z) = v[2] {
+        out[k][0] = z;
     }
     if out[k].iter().any(|v| v.abs() > MAX_WORK_OFFSET_MM) {
         return Err(format!(
@@ -348,10 +336,14 @@ mod tests {
         );
         for (line, want) in [
             ("G60 X1", "the work offsets are G54 to G59"),
-            ("G54", "say what to revise"),
-            ("G54 R1", "'R': a work offset takes X (diameter) and Z"),
+            ("G59.1 X1", "the work offsets are G54 to G59"),
+            ("G54", "name the axes: G54 X.. Z.."),
+            ("G54 R1", "'R' is not an axis (X or Z)"),
+            ("G54 Y1", "'Y' is not an axis (X or Z)"),
+            ("G54 Z1 Z2", "Z is given twice"),
             ("G54 Z20000", "within ±10000 mm"),
-            ("G54 Zq", "Z: 'q' is not a number"),
+            ("G54 Zq", "Z: a number after it"),
+            ("G54 Z1.2.3", "'1.2.3' is not an offset in mm"),
         ] {
             match revise_work(&w, line) {
                 Err(e) => assert!(e.contains(want), "{line}: {e}"),
