@@ -20,7 +20,6 @@ fn desc() -> LatheDesc {
     d
 }
 
-/// A small deterministic generator (xorshift).
 #[test]
 fn random_bytes_and_fragments_never_panic() {
     let frags = [

@@ -8,51 +8,11 @@
 use novanc::cli::translate::{iso_text, print_iso, PrintError, HOLD_BYTES};
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
-/// Counts the bytes allocated now and the peak since the last reset.
-struct Counting;
-
-static NOW: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-/// Calls that took memory (allocations and reallocations).
-static CALLS: AtomicUsize = AtomicUsize::new(0);
-
-fn grew(n: usize) {
-    CALLS.fetch_add(1, Ordering::Relaxed);
-    let now = NOW.fetch_add(n, Ordering::Relaxed) + n;
-    PEAK.fetch_max(now, Ordering::Relaxed);
-}
-
-// SAFETY: every call is passed to `System` unchanged; only counters are kept beside it.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(l) };
-        if !p.is_null() {
-            grew(l.size());
-        }
-        p
-    }
-
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) };
-        NOW.fetch_sub(l.size(), Ordering::Relaxed);
-    }
-
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, new: usize) -> *mut u8 {
-        let q = unsafe { System.realloc(p, l, new) };
-        if !q.is_null() {
-            if new >= l.size() {
-                grew(new - l.size());
-            } else {
-                NOW.fetch_sub(l.size() - new, Ordering::Relaxed);
-            }
-        }
-        q
-    }
-}
+#[path = "common/counting.rs"]
+mod counting;
+use counting::Counting;
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -202,9 +162,7 @@ type Measured = (Duration, usize, usize, Result<usize, String>);
 /// Runs what `novanc translate` does on `src` (named `prog`, which says its language), holding
 /// at most `hold` bytes of listing.
 fn measure(prog: &str, src: &str, hold: usize) -> Measured {
-    let base = NOW.load(Ordering::Relaxed);
-    PEAK.store(base, Ordering::Relaxed);
-    let calls = CALLS.load(Ordering::Relaxed);
+    let mark = Counting::mark();
     let t = Instant::now();
     let mut out = Lines::default();
     let r = print_iso(
@@ -220,8 +178,7 @@ fn measure(prog: &str, src: &str, hold: usize) -> Measured {
         &mut out,
     );
     let took = t.elapsed();
-    let peak = PEAK.load(Ordering::Relaxed) - base;
-    let calls = CALLS.load(Ordering::Relaxed) - calls;
+    let (peak, calls) = (mark.peak(), mark.calls());
     let r = match r {
         Ok(()) => Ok(out.0),
         Err(PrintError::Program(e)) => Err(e.to_string()),

@@ -4,11 +4,10 @@
 //! that replays them (`NOVANC_FUZZ_REPLAY=family:seed`).
 
 use super::rng::{case_seed, Rng};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::fmt::Write as _;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -63,46 +62,7 @@ fn input() -> String {
     INPUT.lock().unwrap_or_else(|p| p.into_inner()).clone()
 }
 
-// ---- heap counting ----
-
-/// Counts the bytes allocated now and the peak since the last reset.
-pub struct Counting;
-
-static NOW: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-fn grew(n: usize) {
-    let now = NOW.fetch_add(n, Ordering::Relaxed) + n;
-    PEAK.fetch_max(now, Ordering::Relaxed);
-}
-
-// SAFETY: every call is passed to `System` unchanged; only counters are kept beside it.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(l) };
-        if !p.is_null() {
-            grew(l.size());
-        }
-        p
-    }
-
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) };
-        NOW.fetch_sub(l.size(), Ordering::Relaxed);
-    }
-
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, new: usize) -> *mut u8 {
-        let q = unsafe { System.realloc(p, l, new) };
-        if !q.is_null() {
-            if new >= l.size() {
-                grew(new - l.size());
-            } else {
-                NOW.fetch_sub(l.size() - new, Ordering::Relaxed);
-            }
-        }
-        q
-    }
-}
+pub use super::counting::Counting;
 
 // ---- panics ----
 
@@ -215,12 +175,11 @@ impl Report {
 fn one(family: &Family, seed: u64, ctx: &Ctx) -> (Duration, usize, Option<String>) {
     note("(no input noted)", "");
     *PANIC.lock().unwrap_or_else(|p| p.into_inner()) = None;
-    let base = NOW.load(Ordering::Relaxed);
-    PEAK.store(base, Ordering::Relaxed);
+    let mark = Counting::mark();
     let t = Instant::now();
     let r = catch_unwind(AssertUnwindSafe(|| (family.case)(&mut Rng::new(seed), ctx)));
     let took = t.elapsed();
-    let peak = PEAK.load(Ordering::Relaxed).saturating_sub(base);
+    let peak = mark.peak();
     let what = match r {
         Ok(Ok(())) if took > SLOW => Some(format!("slow: {took:?} (limit {SLOW:?})")),
         Ok(Ok(())) if peak > MEMORY => Some(format!("memory: the heap grew by {peak} bytes")),

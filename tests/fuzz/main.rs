@@ -21,6 +21,8 @@
 //! `note` with its input and checks it, and add it to `FAMILIES`.
 
 mod console;
+#[path = "../common/counting.rs"]
+mod counting;
 mod desc;
 mod editor;
 mod gcode;
