@@ -140,7 +140,7 @@ pub(super) fn compose(c: &Console) -> Vec<String> {
     let rows = c.cfg.rows;
     let cols = c.cfg.cols;
     let loaded = c.status.run != 0 || c.status.job.is_some();
-    if c.pages.page != super::pages::Page::Mode {
+    if c.pages.shown.page != super::pages::Page::Mode {
         return super::pages::compose(c, rows, cols);
     }
     match c.front.op {

@@ -446,11 +446,11 @@ impl Keyed for Console {
             action,
             Action::Event(PanelEvent::Op(_) | PanelEvent::Data(_))
         ) {
-            self.pages.page = Page::Mode;
+            self.pages.shown.page = Page::Mode;
         }
         // What a page takes (a data key, INPUT, a cursor key) is in the recording, as every
         // key that acts: a replay types the same revision.
-        self.pages.page != Page::Mode && pages::press(self, k)
+        self.pages.shown.page != Page::Mode && pages::press(self, k)
     }
     fn own_key(&mut self, _k: Key, action: &Action) -> bool {
         match action {

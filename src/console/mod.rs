@@ -301,7 +301,7 @@ impl Console {
             entry: self.front.entry.clone(),
             machine_ns: self.status.machine_ns,
             help: self.front.help,
-            page: self.pages.page,
+            page: self.pages.shown.page,
             ignored: self.front.screen.ignored().map(str::to_string),
         }
     }
@@ -611,7 +611,7 @@ impl Console {
     fn own_word(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Data(d) => {
-                self.pages.page = pages::Page::Mode;
+                self.pages.shown.page = pages::Page::Mode;
                 if d != self.data {
                     let was = std::mem::replace(&mut self.data, d);
                     let typed = std::mem::take(&mut self.front.entry);

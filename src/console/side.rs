@@ -155,7 +155,7 @@ impl Side for Console {
         self.status.run != 0 && !self.status.hold
     }
     fn leave_page(&mut self) {
-        self.pages.page = crate::panel_model::Page::Mode;
+        self.pages.shown.page = crate::panel_model::Page::Mode;
     }
     fn selected(&self) -> usize {
         0
@@ -199,7 +199,7 @@ impl Side for Console {
         super::tape::apply(self, ev);
     }
     fn page(&self) -> crate::panel_model::Page {
-        self.pages.page
+        self.pages.shown.page
     }
     fn start(&mut self) {
         Console::start(self)

@@ -23,11 +23,6 @@ fn listed(n: usize) -> bool {
     matches!(n, 1..=33 | 100..=199 | 500..=999)
 }
 
-/// The cursor moved by an arrow key.
-pub(super) fn arrow(c: &mut Console, k: novanc_panel::Key, rows: usize) {
-    c.pages.macro_var = cursor_moved(c.pages.macro_var, k, rows);
-}
-
 /// The variable under the cursor after key `k`, from `var`, `rows` a screenful (every console's
 /// MACRO page: the centre's, and a lathe channel's).
 pub(crate) fn cursor_moved(var: usize, k: novanc_panel::Key, rows: usize) -> usize {
@@ -116,9 +111,9 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
             "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into(),
         );
     }
-    let (n, v) = match input(line, c.pages.macro_var, &c.interp.params, add)? {
+    let (n, v) = match input(line, c.pages.shown.macro_var, &c.interp.params, add)? {
         Input::Cursor(n) => {
-            c.pages.macro_var = n;
+            c.pages.shown.macro_var = n;
             return Ok(format!("MACRO: #{n}"));
         }
         Input::Set(n, v) => (n, v),
@@ -132,7 +127,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
             .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
     }
     c.interp.params[n] = v;
-    c.pages.macro_var = n;
+    c.pages.shown.macro_var = n;
     Ok(set_message(n, v))
 }
 
@@ -150,7 +145,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             .push("(the Fanuc dialect's variables: --dialect fanuc)".into());
         return p.lines();
     }
-    p.body = variable_rows(&c.interp.params, c.pages.macro_var, p.body_rows());
+    p.body = variable_rows(&c.interp.params, c.pages.shown.macro_var, p.body_rows());
     p.lines()
 }
 

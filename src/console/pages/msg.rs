@@ -8,12 +8,6 @@ use super::Console;
 use crate::store::history::{Entry, Kind};
 use novanc_panel::Key;
 
-/// Scrolls the history.
-pub(super) fn arrow(c: &mut Console, k: Key) {
-    let n = c.book.log.history.entries().len();
-    scroll(&mut c.pages.msg_first, n, k);
-}
-
 /// A cursor key on a history of `n` entries whose first shown is `first` (0: the newest):
 /// Down and PgDn show older ones, Up and PgUp newer ones, Home the newest, End the oldest.
 pub(crate) fn scroll(first: &mut usize, n: usize, k: Key) {
@@ -35,7 +29,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line("MSG", &format!("{} entries", all.len()), cols),
     );
     let n = p.body_rows();
-    p.body = history_lines(all, c.pages.msg_first, n, cols);
+    p.body = history_lines(all, c.pages.shown.msg_first, n, cols);
     if p.body.len() > n {
         // The rest is further down: said, not cut silently.
         p.body.truncate(n);

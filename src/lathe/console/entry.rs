@@ -163,8 +163,8 @@ impl LatheConsole {
     fn macro_input(&mut self, line: &str, add: bool) -> Result<(), String> {
         use crate::console::pages::macros::{input, set_message, Input};
         let ch = self.sel;
-        match input(line, self.macro_var, &self.kept[ch].params.params, add)? {
-            Input::Cursor(n) => self.macro_var = n,
+        match input(line, self.shown.macro_var, &self.kept[ch].params.params, add)? {
+            Input::Cursor(n) => self.shown.macro_var = n,
             Input::Set(..) if !self.cycle.is_over() => return Err(
                 "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
             ),
@@ -179,7 +179,7 @@ impl LatheConsole {
                         .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
                 }
                 self.kept[ch].params.params[n] = v;
-                self.macro_var = n;
+                self.shown.macro_var = n;
                 self.front.message = format!("CH{} {}", ch + 1, set_message(n, v));
             }
         }
@@ -676,7 +676,7 @@ impl LatheConsole {
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, c: &super::view::ChanView) -> Vec<String> {
         let line = c.line;
-        match self.page {
+        match self.shown.page {
             Page::Pos => return self.pos_lines(c),
             Page::Ofs => {
                 let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
@@ -693,7 +693,7 @@ impl LatheConsole {
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MACRO CH{} #500=12.5 Enter INPUT", self.sel + 1)];
                 let params = &self.kept[self.sel].params.params;
-                l.extend(macros::variable_rows(params, self.macro_var, room));
+                l.extend(macros::variable_rows(params, self.shown.macro_var, room));
                 return l;
             }
             Page::Modal => return self.modal_lines(),
@@ -703,7 +703,12 @@ impl LatheConsole {
                 let all = self.book.log.history.entries();
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
-                l.extend(msg::history_lines(all, self.msg_first, room, self.cols));
+                l.extend(msg::history_lines(
+                    all,
+                    self.shown.msg_first,
+                    room,
+                    self.cols,
+                ));
                 return l;
             }
             _ => {}

@@ -22,7 +22,7 @@ use super::desc::LatheDesc;
 use crate::console::book::Book;
 use crate::console::front::Front;
 use crate::console::keys::Action;
-use crate::console::pages::{macros, msg};
+use crate::console::pages::Shown;
 use crate::console::recording::Recording;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::wait::{WaitFor, WAIT_LIMIT_NS};
@@ -53,10 +53,12 @@ pub struct LatheConsole {
     mdi: Vec<Vec<String>>,
     counter: Counter,
     sel: usize,
-    /// The page up over the mode display (the centre's page rule: in any mode, the page key
-    /// again or a mode turned leaves it): OFS, where the data keys revise the selected
-    /// channel's tools (`T1 X0.02 Z-0.01 R0.8 P3`), or MSG, the alarm and message history.
-    page: Page,
+    /// The page up over the mode display and the MSG and MACRO cursors (the centre's
+    /// `pages::Shown`, its page and cursor rules: in any mode, the page key again or a mode
+    /// turned leaves a page): OFS, where the data keys revise the selected channel's tools
+    /// (`T1 X0.02 Z-0.01 R0.8 P3`), MSG, the alarm and message history, MACRO (the selected
+    /// channel's variables), MODAL, POS.
+    shown: Shown,
     /// The log book, the centre's (`crate::console::book::Book`), in the lathe's state
     /// directory: the alarm and message history the MSG page shows, kept across restarts; the
     /// counters (parts delivered at the unloader in every batch, the last cycle's time from the
@@ -67,10 +69,6 @@ pub struct LatheConsole {
     /// time and forgot its cycle time at a restart, and a `(MSG, ...)` lived until the next
     /// key; before stop 46 it kept the three beside each other, not as the centre's one book.
     book: Book,
-    /// The MSG page's first entry shown (0: the newest).
-    msg_first: usize,
-    /// The MACRO page's cursor: a variable number (of the selected channel).
-    macro_var: usize,
     /// The OFS page's cursor: the selected channel's tool (its row) and column
     /// (`ofs::COLUMNS`).
     ofs_cell: (usize, usize),
@@ -217,10 +215,8 @@ impl LatheConsole {
             desc,
             front,
             sel: 0,
-            page: Page::Mode,
+            shown: Shown::default(),
             book,
-            msg_first: 0,
-            macro_var: 1,
             ofs_cell: (0, ofs::FIRST_COLUMN),
             recall: (0..n).map(|_| Default::default()).collect(),
             last_part_ns: None,
@@ -403,7 +399,7 @@ impl LatheConsole {
 
     /// The page up over the mode display (`Page::Mode`: none).
     pub fn page(&self) -> Page {
-        self.page
+        self.shown.page
     }
 
     /// The alarm and message history, oldest first (the MSG page shows it newest first).
@@ -557,29 +553,19 @@ impl LatheConsole {
         let page = match crate::console::pages::page_of_key(k) {
             Some(p @ (Page::Msg | Page::Macro | Page::Modal | Page::Pos)) => p,
             _ if crate::console::keys::is_cursor_key(k) => {
-                match self.page {
-                    Page::Msg => {
-                        let n = self.book.log.history.entries().len();
-                        msg::scroll(&mut self.msg_first, n, k);
-                    }
-                    Page::Macro => {
-                        let room = self.rows.saturating_sub(6);
-                        self.macro_var = macros::cursor_moved(self.macro_var, k, room);
-                    }
-                    Page::Ofs => {
-                        let tools = &self.desc.channels[self.sel].tools;
-                        self.ofs_cell = ofs::cursor_moved(tools, self.ofs_cell, k);
-                    }
-                    _ => return false,
+                if self.shown.page == Page::Ofs {
+                    let tools = &self.desc.channels[self.sel].tools;
+                    self.ofs_cell = ofs::cursor_moved(tools, self.ofs_cell, k);
+                    return true;
                 }
-                return true;
+                let n = self.book.log.history.entries().len();
+                return (self.shown).cursor(k, n, self.rows.saturating_sub(6));
             }
             // (Tab with a value typed on a page is +INPUT on every machine: `keys::tab_adds`.)
             _ => return false,
         };
         // The page key again leaves it (the centre's rule); the line being typed stays.
-        self.page = if self.page == page { Page::Mode } else { page };
-        self.msg_first = 0;
+        self.shown.key(page);
         self.front.y_output = None;
         true
     }
@@ -651,7 +637,7 @@ impl LatheConsole {
     fn own_word(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::OfsMode => {
-                self.page = Page::Ofs;
+                self.shown.page = Page::Ofs;
                 self.front.y_output = None;
                 // The line being typed stays, as under every page key (stop 41).
                 self.front.message = format!(
@@ -1254,7 +1240,7 @@ impl LatheConsole {
             .collect();
         let c = &chans[self.sel];
         let listing = self.listing(c);
-        let mode = match self.page {
+        let mode = match self.shown.page {
             Page::Mode => self.front.op.word(),
             p => p.label(),
         };
@@ -1355,11 +1341,11 @@ impl crate::console::keys::Keyed for LatheConsole {
         if self.page_key(k) {
             return true;
         }
-        if *action != Action::Event(PanelEvent::OfsMode) || self.page != Page::Ofs {
+        if *action != Action::Event(PanelEvent::OfsMode) || self.shown.page != Page::Ofs {
             return false;
         }
         // The page key again: back to the mode's display (the centre's rule).
-        self.page = Page::Mode;
+        self.shown.page = Page::Mode;
         self.front.message = format!("{} mode", self.front.op.word());
         true
     }
@@ -1452,7 +1438,7 @@ impl crate::console::side::Side for LatheConsole {
         self.cycle.any_state(&["RUN"])
     }
     fn leave_page(&mut self) {
-        self.page = Page::Mode;
+        self.shown.page = Page::Mode;
     }
     fn selected(&self) -> usize {
         self.sel
@@ -1487,7 +1473,7 @@ impl crate::console::side::Side for LatheConsole {
         LatheConsole::act(self, ev)
     }
     fn page(&self) -> Page {
-        self.page
+        self.shown.page
     }
     fn takes_keys(&self, _to: crate::console::entry::To) -> Result<(), String> {
         // Every position has a use for a line: TARGET and FAULT take it in any mode.
