@@ -11,17 +11,20 @@ use crate::block::Axes;
 pub struct MachineSettings {
     /// Length of one feed pulse, mm (the least input increment).
     pub pulse_mm: f64,
-    /// Rapid traverse rate, mm/min (G00).
+    /// Rapid traverse rate, mm/min (G00): the path's fastest, the highest of the linear
+    /// axes' own rates (`axis_rate`), each of which still holds its axis.
     pub rapid_mm_min: f64,
-    /// Path acceleration and deceleration, mm/s².
+    /// Path acceleration and deceleration, mm/s² (the lowest of the linear axes').
     pub accel_mm_s2: f64,
-    /// The rotary axes' own rates, A B C, degrees/min (infinite: none of its own): a move
-    /// that turns one is slowed so that it turns no faster (docs/pulse-core.md "Axes"). Since
-    /// stop 54; before, a rotary axis's rate joined `rapid_mm_min`, which limits the path
-    /// along X Y Z and so let a table turn many times its rate on a move with X Y Z.
-    pub rotary_rate_deg_min: [f64; 3],
-    /// The rotary axes' own accelerations, A B C, degrees/s² (infinite: none of its own).
-    pub rotary_accel_deg_s2: [f64; 3],
+    /// Each axis's own rate, X Y Z mm/min and A B C degrees/min (infinite: none of its own):
+    /// a straight move is slowed so that no axis moves faster than its own (docs/pulse-core.md
+    /// "Axes", LinuxCNC's rule and a Fanuc's linear-interpolation positioning). The rotary
+    /// axes' since stop 54, the linear axes' since stop 58; before, X Y Z kept one rate, the
+    /// lowest of theirs, so an axis with a higher rate never reached it.
+    pub axis_rate: [f64; crate::block::MAX_AXES],
+    /// Each axis's own acceleration, X Y Z mm/s² and A B C degrees/s² (infinite: none of its
+    /// own).
+    pub axis_accel: [f64; crate::block::MAX_AXES],
     /// Default clearance SCL above the surface where rapid advance ends, mm.
     pub clearance_mm: f64,
     /// What each axis is: linear (mm) or rotary (degrees, perhaps wrapped). X, Y and Z are
@@ -263,8 +266,8 @@ impl MachineSettings {
             pulse_mm: 0.001,
             rapid_mm_min: 12_000.0,
             accel_mm_s2: 1_000.0,
-            rotary_rate_deg_min: [f64::INFINITY; 3],
-            rotary_accel_deg_s2: [f64::INFINITY; 3],
+            axis_rate: [f64::INFINITY; crate::block::MAX_AXES],
+            axis_accel: [f64::INFINITY; crate::block::MAX_AXES],
             clearance_mm: 2.0,
             axis_kinds: Axes([AxisKind::Linear; crate::block::MAX_AXES]),
             travel_min_mm: Axes::from([0.0, 0.0, -600.0]),
@@ -298,13 +301,24 @@ impl MachineSettings {
     }
 }
 
+/// Each axis's own rate from the rates given (`(axis, rate)`), the others none of their own
+/// (infinite).
+pub fn own_rates(given: &[(usize, f64)]) -> [f64; crate::block::MAX_AXES] {
+    let mut r = [f64::INFINITY; crate::block::MAX_AXES];
+    for &(a, v) in given {
+        r[a] = v;
+    }
+    r
+}
+
 impl MachineSettings {
     /// The settings of lathe channel `ch` of `desc` as one channel of the multi-channel kernel
     /// (docs/pulse-core.md, "Channels"): X (a radius) is axis 0, Z axis 2, Y travels 0..0; the
     /// pulse size and the NCBR period are the description's (`tick`, 100 µs on the Citizen:
     /// the lockstep tick the channels ran on, so a block starts, a sync point is released and
-    /// E-STOP acts within 100 µs). One rapid rate and one acceleration serve the path, so they
-    /// are the lower of X's and Z's (no axis exceeds its own). The spindle is the channel's
+    /// E-STOP acts within 100 µs). X and Z each keep their own rate (a move is slowed so that
+    /// neither exceeds its own: the path's rapid is the higher, `axis_rate` holds each); one
+    /// acceleration serves the path, the lower of theirs. The spindle is the channel's
     /// (maximum, acceleration, encoder lines); it has no fixed start time, its ramp is its
     /// time (a cut waits for it at speed). None: no such channel.
     pub fn lathe_channel(desc: &crate::lathe::desc::LatheDesc, ch: usize) -> Option<Self> {
@@ -312,8 +326,9 @@ impl MachineSettings {
         let [x, z] = &c.axes;
         Some(MachineSettings {
             pulse_mm: desc.pulse_mm,
-            rapid_mm_min: x.rapid.min(z.rapid),
+            rapid_mm_min: x.rapid.max(z.rapid),
             accel_mm_s2: x.accel.min(z.accel),
+            axis_rate: own_rates(&[(0, x.rapid), (2, z.rapid)]),
             travel_min_mm: [x.travel[0], 0.0, z.travel[0]].into(),
             travel_max_mm: [x.travel[1], 0.0, z.travel[1]].into(),
             tool_change_ns: 0,

@@ -868,3 +868,63 @@ fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
     assert!(so.contains("program end: 1 blocks in 0.8 s"), "{so}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Stop 58: X, Y and Z keep their own rates, by the rule the rotary axes follow (a move is
+/// held so that no axis moves faster than its own; LinuxCNC's rule). Before, X Y Z kept one
+/// rate, the lowest of the three: on this machine every rapid went at Z's 6,000 mm/min.
+#[test]
+fn x_y_and_z_each_move_at_their_own_rate() {
+    let dir = temp_dir("axes-xyz-rates");
+    let desc = dir.join("vmc.machine");
+    std::fs::write(
+        &desc,
+        "machine vmc\nkind mill\npulse 0.001\n\
+         x travel 0 1000 rapid 30000 accel 1000\n\
+         y travel 0 800 rapid 20000 accel 1000\n\
+         z travel -600 0 rapid 6000 accel 1000\n",
+    )
+    .unwrap();
+    let trapezoid = |d: f64, v: f64, a: f64| {
+        if d * a > v * v {
+            d / v + v / a
+        } else {
+            2.0 * (d / a).sqrt()
+        }
+    };
+    let diagonal = (300.0f64 * 300.0 + 60.0 * 60.0).sqrt();
+    for (line, want) in [
+        ("G0 X300", trapezoid(300.0, 500.0, 1000.0)),
+        ("G0 Y200", trapezoid(200.0, 20000.0 / 60.0, 1000.0)),
+        ("G0 Z-60", trapezoid(60.0, 100.0, 1000.0)),
+        // Both: X at 30,000 × 300 / L and Z at 6,000 × 60 / L are at their own rates at once.
+        ("G0 X300 Z-60", trapezoid(diagonal, 500.0, 1000.0)),
+        // A feed past an axis's rate is held to it too.
+        ("G1 Z-60 F20000", trapezoid(60.0, 100.0, 1000.0)),
+        // An arc is held to the lowest of the three, Z's.
+        (
+            "G2 X100 Y0 I50 J0 F20000",
+            trapezoid(50.0 * std::f64::consts::PI, 100.0, 1000.0),
+        ),
+    ] {
+        let prog = dir.join("move.ngc");
+        std::fs::write(&prog, format!("G21 G90 G17\n{line}\nM2\n")).unwrap();
+        let out = novanc(&[
+            "run",
+            prog.to_str().unwrap(),
+            "--machine",
+            desc.to_str().unwrap(),
+        ]);
+        let so = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(out.status.success(), "{line}: {so}");
+        let t: f64 = so
+            .lines()
+            .find_map(|l| l.strip_prefix("machine time: "))
+            .and_then(|l| l.trim_end_matches(" s").parse().ok())
+            .unwrap_or_else(|| panic!("{line}: {so}"));
+        assert!(
+            (t - want).abs() < 0.02,
+            "{line}: {t} s, the rule {want:.3} s"
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

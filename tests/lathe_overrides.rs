@@ -75,7 +75,7 @@ fn the_rapid_override_slows_every_rapid_and_is_kept_for_the_next_cycle() {
     );
     let half = mdi(&mut c, "G0 X20 Z10");
     assert!(
-        half as f64 > 1.6 * full as f64,
+        half as f64 > 1.5 * full as f64,
         "the same rapid took {half} ns at 50 %, {full} ns at 100 %"
     );
     // A cycle begun now runs every channel at the override.

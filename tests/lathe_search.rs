@@ -53,11 +53,11 @@ fn search_runs_the_rest_of_the_interrupted_part_and_it_counts_with_the_batch() {
     c.handle(PanelEvent::Reset);
     assert_eq!(c.counter().counts, [1]);
     // SEARCH line 8: what START will do. The E-STOP left the tool in the first pass (X40
-    // Z-5.22): it goes out in X to the second pass's X45 first, then along Z to Z5.
+    // Z-5.394): it goes out in X to the second pass's X45 first, then along Z to Z5.
     c.handle(PanelEvent::Type("8".into()));
     assert_eq!(
         c.message(),
-        "SEARCH line 8: START restores T01, S800 M03, M08, G00 X45 Z-5.22, G00 X45 Z5 (machine X Z), then runs one part from there",
+        "SEARCH line 8: START restores T01, S800 M03, M08, G00 X45 Z-5.394, G00 X45 Z5 (machine X Z), then runs one part from there",
         "{:#?}",
         c.view().display
     );

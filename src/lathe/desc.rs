@@ -782,8 +782,8 @@ pub fn parse(text: &str) -> Result<MachineDesc, String> {
                     s.axis_kinds[i] = crate::settings::AxisKind::Rotary { wrap: *wrap };
                     s.travel_min_mm[i] = a.travel[0];
                     s.travel_max_mm[i] = a.travel[1];
-                    s.rotary_rate_deg_min[r] = a.rapid;
-                    s.rotary_accel_deg_s2[r] = a.accel;
+                    s.axis_rate[i] = a.rapid;
+                    s.axis_accel[i] = a.accel;
                 }
                 if let Some(sp) = &mill_spindle {
                     // The same words as a lathe channel's spindle (one description format):
@@ -1046,7 +1046,9 @@ fn mill(
         pulse_mm,
         ..crate::settings::MachineSettings::builtin()
     };
-    let mut rapid = f64::INFINITY;
+    // Each axis its own rate (the path's rapid the highest, each axis held to its own); the
+    // path's acceleration the lowest.
+    let mut rapid = 0.0f64;
     let mut accel = f64::INFINITY;
     for (i, a) in axes.iter().enumerate() {
         let a = a
@@ -1054,7 +1056,8 @@ fn mill(
             .ok_or(format!("1: axis {} is not described", ['X', 'Y', 'Z'][i]))?;
         s.travel_min_mm[i] = a.travel[0];
         s.travel_max_mm[i] = a.travel[1];
-        rapid = rapid.min(a.rapid);
+        s.axis_rate[i] = a.rapid;
+        rapid = rapid.max(a.rapid);
         accel = accel.min(a.accel);
     }
     s.rapid_mm_min = rapid;
@@ -1258,7 +1261,11 @@ mod tests {
             Ok(MachineDesc::Mill(s)) => {
                 assert_eq!(s.pulse_mm, 0.002);
                 assert_eq!(s.travel_max_mm, [300.0, 200.0, 0.0]);
-                assert_eq!((s.rapid_mm_min, s.accel_mm_s2), (5000.0, 400.0));
+                // Each axis its own rate, the path's rapid the highest; one acceleration,
+                // the lowest.
+                assert_eq!((s.rapid_mm_min, s.accel_mm_s2), (9000.0, 400.0));
+                assert_eq!(s.axis_rate[..3], [8000.0, 9000.0, 5000.0]);
+                assert!(s.axis_rate[3..].iter().all(|r| r.is_infinite()));
             }
             other => panic!("{other:?}"),
         }

@@ -24,27 +24,40 @@ pub enum Drive {
 }
 
 impl Drive {
-    /// A line or rapid of `delta` pulses at path speed `speed` (pulses/ns), starting at `t0`.
+    /// A line or rapid of `delta` pulses at path speed `speed` (pulses/ns), starting at `t0`,
+    /// no axis of it moving faster than its own rate (`settings.axis_rate`).
     pub fn linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
         match s.interpolator {
             Interpolator::Dda => Drive::dda_linear(s, delta, speed, accel, t0),
             Interpolator::ErrorProportional => {
-                Drive::Ep(EpMotion::linear(delta.xyz(), speed, s.ep_l_pulses, t0))
+                let (cap, _) = Drive::caps(s, &delta);
+                Drive::Ep(EpMotion::linear(
+                    delta.xyz(),
+                    speed.min(cap),
+                    s.ep_l_pulses,
+                    t0,
+                ))
             }
         }
     }
 
-    /// A line of `delta` pulses by the DDA (a rapid, a feed, a jog or a return), no rotary axis
-    /// of it turning faster than its own rate or accelerating harder than its own
-    /// acceleration (`settings.rotary_rate_deg_min`, `rotary_accel_deg_s2`).
-    pub fn dda_linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
+    /// The path speed and acceleration (pulses/ns, pulses/ns²) the axes of `delta` allow, each
+    /// held to its own rate and acceleration (`motion::axis_limits`).
+    fn caps(s: &MachineSettings, delta: &Axes) -> (f64, f64) {
         let rate = s
-            .rotary_rate_deg_min
+            .axis_rate
             .map(|r| super::motion::speed_pulses_ns(r, s.pulse_mm));
         let acc = s
-            .rotary_accel_deg_s2
+            .axis_accel
             .map(|a| super::motion::accel_pulses_ns2(a, s.pulse_mm));
-        let caps = super::motion::rotary_limits(&delta, rate, acc);
+        super::motion::axis_limits(delta, &rate, &acc)
+    }
+
+    /// A line of `delta` pulses by the DDA (a rapid, a feed, a jog or a return), no axis of it
+    /// moving faster than its own rate or accelerating harder than its own acceleration
+    /// (`settings.axis_rate`, `axis_accel`).
+    pub fn dda_linear(s: &MachineSettings, delta: Axes, speed: f64, accel: f64, t0: u64) -> Drive {
+        let caps = Drive::caps(s, &delta);
         Drive::Dda(Motion::linear_within(delta, speed, accel, t0, caps))
     }
 

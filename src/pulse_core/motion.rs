@@ -359,17 +359,18 @@ pub struct Motion {
     /// Programmed path speed after override, pulses/ns.
     target: f64,
     /// The highest path speed the axes allow, pulses/ns (a rotary axis's own rate on a move
-    /// that turns it: `rotary_limits`); a new target is held to it.
+    /// that moves it: `axis_limits`); a new target is held to it.
     cap: f64,
     hold: bool,
 }
 
-/// The path speed (pulses/ns) and acceleration (pulses/ns²) at which no rotary axis of `delta`
-/// turns faster than its rate `rate` or accelerates harder than `accel` (A B C, in the same
+/// The path speed (pulses/ns) and acceleration (pulses/ns²) at which no axis of `delta` moves
+/// faster than its rate `rate` or accelerates harder than `accel` (X Y Z A B C, in the same
 /// units; infinite: none of its own), on the path `Linear` measures: along X Y Z, or the
 /// rotary axes' combined turn when X Y Z stand (LinuxCNC limits each axis so). Infinite for a
-/// move that turns none.
-pub fn rotary_limits(delta: &Axes, rate: [f64; 3], accel: [f64; 3]) -> (f64, f64) {
+/// move of no axis with a limit of its own. One rule for every axis: a rotary axis's since
+/// stop 54, a linear axis's since stop 58.
+pub fn axis_limits(delta: &Axes, rate: &[f64; MAX_AXES], accel: &[f64; MAX_AXES]) -> (f64, f64) {
     let l = |a: usize| delta[a].unsigned_abs() as f64;
     let xyz = (l(0) * l(0) + l(1) * l(1) + l(2) * l(2)).sqrt();
     let len = if xyz > 0.0 {
@@ -378,11 +379,11 @@ pub fn rotary_limits(delta: &Axes, rate: [f64; 3], accel: [f64; 3]) -> (f64, f64
         (l(3) * l(3) + l(4) * l(4) + l(5) * l(5)).sqrt()
     };
     let (mut v, mut a) = (f64::INFINITY, f64::INFINITY);
-    for r in 0..3 {
-        let d = l(crate::block::FIRST_ROTARY + r);
+    for ax in 0..MAX_AXES {
+        let d = l(ax);
         if d > 0.0 {
-            v = v.min(rate[r] * len / d);
-            a = a.min(accel[r] * len / d);
+            v = v.min(rate[ax] * len / d);
+            a = a.min(accel[ax] * len / d);
         }
     }
     (v, a)
@@ -405,7 +406,7 @@ impl Motion {
     }
 
     /// [`Motion::linear`] within `(cap, accel_cap)`: its speed, now and after any override,
-    /// and its acceleration held to them ([`rotary_limits`]).
+    /// and its acceleration held to them ([`axis_limits`]).
     pub fn linear_within(
         delta: Axes,
         speed: f64,

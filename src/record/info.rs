@@ -223,6 +223,9 @@ fn machine_json(s: &MachineSettings) -> String {
     for (i, axis) in ["x", "y", "z"].iter().enumerate() {
         num(&mut o, &format!("{axis}_min_mm"), s.travel_min_mm[i]);
         num(&mut o, &format!("{axis}_max_mm"), s.travel_max_mm[i]);
+        // The axis's own rapid rate (the path's where it has none of its own).
+        let own = s.axis_rate[i].min(s.rapid_mm_min);
+        num(&mut o, &format!("{axis}_rapid_mm_min"), own);
     }
     num(&mut o, "jog_mm_min", s.jog_mm_min);
     num(&mut o, "rapid_f0_mm_min", s.rapid_f0_mm_min);

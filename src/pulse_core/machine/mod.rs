@@ -1288,8 +1288,24 @@ impl Machine {
         } else {
             (feed, self.feed_override)
         };
-        let f = (feed * pct as f64 / 100.0).min(self.settings.rapid_mm_min);
+        // An arc moves each axis of its plane in turn as fast as the path: it is held to the
+        // lowest of the linear axes' own rates (a line is held axis by axis: `Drive::linear`).
+        let top = match b.motion {
+            Kind::ArcCw | Kind::ArcCcw => (self.settings.axis_rate[..3].iter())
+                .fold(self.settings.rapid_mm_min, |m, &r| m.min(r)),
+            _ => self.settings.rapid_mm_min,
+        };
+        let f = (feed * pct as f64 / 100.0).min(top);
         speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
+    }
+
+    /// The full path speed of a rapid of `delta`, mm/min: the rapid rate, held so that no axis
+    /// moves faster than its own (`settings.axis_rate`); the rapid override is a share of it,
+    /// so 50 % halves every axis's speed, as a Fanuc's override scales each axis's rapid.
+    fn rapid_top(&self, delta: &crate::block::Axes) -> f64 {
+        let s = &self.settings;
+        let (cap, _) = super::motion::axis_limits(delta, &s.axis_rate, &s.axis_accel);
+        s.rapid_mm_min.min(cap)
     }
 
     /// Path speed of a rapid, jog or return whose full speed is `full` mm/min, after the rapid
@@ -1316,7 +1332,7 @@ impl Machine {
     pub(super) fn retarget(&mut self) {
         let v = self.current.as_ref().map(|c| &c.block).map(|b| {
             if b.motion == Kind::Rapid {
-                self.rapid_speed(self.settings.rapid_mm_min)
+                self.rapid_speed(self.rapid_top(&b.delta))
             } else {
                 self.feed_speed(b, self.now)
             }
@@ -1661,7 +1677,7 @@ impl Machine {
                         Kind::Rapid => Some(Drive::linear(
                             &self.settings,
                             b.delta,
-                            self.rapid_speed(self.settings.rapid_mm_min),
+                            self.rapid_speed(self.rapid_top(&b.delta)),
                             self.accel,
                             t0,
                         )),
