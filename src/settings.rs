@@ -14,7 +14,9 @@ pub struct MachineSettings {
     /// Rapid traverse rate, mm/min (G00): the path's fastest, the highest of the linear
     /// axes' own rates (`axis_rate`), each of which still holds its axis.
     pub rapid_mm_min: f64,
-    /// Path acceleration and deceleration, mm/s² (the lowest of the linear axes').
+    /// Path acceleration and deceleration, mm/s²: the highest of the linear axes', each of
+    /// which still holds its axis (`axis_accel`) on a straight move; an arc is held to the
+    /// lowest.
     pub accel_mm_s2: f64,
     /// Each axis's own rate, X Y Z mm/min and A B C degrees/min (infinite: none of its own):
     /// a straight move is slowed so that no axis moves faster than its own (docs/pulse-core.md
@@ -301,8 +303,8 @@ impl MachineSettings {
     }
 }
 
-/// Each axis's own rate from the rates given (`(axis, rate)`), the others none of their own
-/// (infinite).
+/// Each axis's own rate (or acceleration) from those given (`(axis, value)`), the others none
+/// of their own (infinite).
 pub fn own_rates(given: &[(usize, f64)]) -> [f64; crate::block::MAX_AXES] {
     let mut r = [f64::INFINITY; crate::block::MAX_AXES];
     for &(a, v) in given {
@@ -316,9 +318,9 @@ impl MachineSettings {
     /// (docs/pulse-core.md, "Channels"): X (a radius) is axis 0, Z axis 2, Y travels 0..0; the
     /// pulse size and the NCBR period are the description's (`tick`, 100 µs on the Citizen:
     /// the lockstep tick the channels ran on, so a block starts, a sync point is released and
-    /// E-STOP acts within 100 µs). X and Z each keep their own rate (a move is slowed so that
-    /// neither exceeds its own: the path's rapid is the higher, `axis_rate` holds each); one
-    /// acceleration serves the path, the lower of theirs. The spindle is the channel's
+    /// E-STOP acts within 100 µs). X and Z each keep their own rate and acceleration (a move
+    /// is held so that neither exceeds its own: the path's are the higher, `axis_rate` and
+    /// `axis_accel` hold each). The spindle is the channel's
     /// (maximum, acceleration, encoder lines); it has no fixed start time, its ramp is its
     /// time (a cut waits for it at speed). None: no such channel.
     pub fn lathe_channel(desc: &crate::lathe::desc::LatheDesc, ch: usize) -> Option<Self> {
@@ -327,8 +329,9 @@ impl MachineSettings {
         Some(MachineSettings {
             pulse_mm: desc.pulse_mm,
             rapid_mm_min: x.rapid.max(z.rapid),
-            accel_mm_s2: x.accel.min(z.accel),
+            accel_mm_s2: x.accel.max(z.accel),
             axis_rate: own_rates(&[(0, x.rapid), (2, z.rapid)]),
+            axis_accel: own_rates(&[(0, x.accel), (2, z.accel)]),
             travel_min_mm: [x.travel[0], 0.0, z.travel[0]].into(),
             travel_max_mm: [x.travel[1], 0.0, z.travel[1]].into(),
             tool_change_ns: 0,

@@ -869,9 +869,10 @@ fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// Stop 58: X, Y and Z keep their own rates, by the rule the rotary axes follow (a move is
-/// held so that no axis moves faster than its own; LinuxCNC's rule). Before, X Y Z kept one
-/// rate, the lowest of the three: on this machine every rapid went at Z's 6,000 mm/min.
+/// Stop 58: X, Y and Z keep their own rates and accelerations, by the rule the rotary axes
+/// follow (a move is held so that no axis moves faster or accelerates harder than its own;
+/// LinuxCNC's rule). Before, X Y Z kept one rate and one acceleration, the lowest of the
+/// three: on this machine every rapid went at Z's 6,000 mm/min and 500 mm/s².
 #[test]
 fn x_y_and_z_each_move_at_their_own_rate() {
     let dir = temp_dir("axes-xyz-rates");
@@ -879,9 +880,9 @@ fn x_y_and_z_each_move_at_their_own_rate() {
     std::fs::write(
         &desc,
         "machine vmc\nkind mill\npulse 0.001\n\
-         x travel 0 1000 rapid 30000 accel 1000\n\
+         x travel 0 1000 rapid 30000 accel 2000\n\
          y travel 0 800 rapid 20000 accel 1000\n\
-         z travel -600 0 rapid 6000 accel 1000\n",
+         z travel -600 0 rapid 6000 accel 500\n",
     )
     .unwrap();
     let trapezoid = |d: f64, v: f64, a: f64| {
@@ -893,17 +894,19 @@ fn x_y_and_z_each_move_at_their_own_rate() {
     };
     let diagonal = (300.0f64 * 300.0 + 60.0 * 60.0).sqrt();
     for (line, want) in [
-        ("G0 X300", trapezoid(300.0, 500.0, 1000.0)),
+        ("G0 X300", trapezoid(300.0, 500.0, 2000.0)),
         ("G0 Y200", trapezoid(200.0, 20000.0 / 60.0, 1000.0)),
-        ("G0 Z-60", trapezoid(60.0, 100.0, 1000.0)),
-        // Both: X at 30,000 × 300 / L and Z at 6,000 × 60 / L are at their own rates at once.
-        ("G0 X300 Z-60", trapezoid(diagonal, 500.0, 1000.0)),
+        ("G0 Z-60", trapezoid(60.0, 100.0, 500.0)),
+        // Both: X at 30,000 × 300 / L and Z at 6,000 × 60 / L are at their own rates at once,
+        // and neither accelerates harder than its own (2,000 × L / 300 and 500 × L / 60 are
+        // both above the path's 2,000).
+        ("G0 X300 Z-60", trapezoid(diagonal, 500.0, 2000.0)),
         // A feed past an axis's rate is held to it too.
-        ("G1 Z-60 F20000", trapezoid(60.0, 100.0, 1000.0)),
-        // An arc is held to the lowest of the three, Z's.
+        ("G1 Z-60 F20000", trapezoid(60.0, 100.0, 500.0)),
+        // An arc is held to the lowest rate and acceleration of the three, Z's.
         (
             "G2 X100 Y0 I50 J0 F20000",
-            trapezoid(50.0 * std::f64::consts::PI, 100.0, 1000.0),
+            trapezoid(50.0 * std::f64::consts::PI, 100.0, 500.0),
         ),
     ] {
         let prog = dir.join("move.ngc");

@@ -1046,10 +1046,10 @@ fn mill(
         pulse_mm,
         ..crate::settings::MachineSettings::builtin()
     };
-    // Each axis its own rate (the path's rapid the highest, each axis held to its own); the
-    // path's acceleration the lowest.
+    // Each axis its own rate and acceleration (the path's the highest, each axis held to its
+    // own).
     let mut rapid = 0.0f64;
-    let mut accel = f64::INFINITY;
+    let mut accel = 0.0f64;
     for (i, a) in axes.iter().enumerate() {
         let a = a
             .as_ref()
@@ -1057,8 +1057,9 @@ fn mill(
         s.travel_min_mm[i] = a.travel[0];
         s.travel_max_mm[i] = a.travel[1];
         s.axis_rate[i] = a.rapid;
+        s.axis_accel[i] = a.accel;
         rapid = rapid.max(a.rapid);
-        accel = accel.min(a.accel);
+        accel = accel.max(a.accel);
     }
     s.rapid_mm_min = rapid;
     s.accel_mm_s2 = accel;
@@ -1261,10 +1262,10 @@ mod tests {
             Ok(MachineDesc::Mill(s)) => {
                 assert_eq!(s.pulse_mm, 0.002);
                 assert_eq!(s.travel_max_mm, [300.0, 200.0, 0.0]);
-                // Each axis its own rate, the path's rapid the highest; one acceleration,
-                // the lowest.
-                assert_eq!((s.rapid_mm_min, s.accel_mm_s2), (9000.0, 400.0));
+                // Each axis its own rate and acceleration, the path's the highest.
+                assert_eq!((s.rapid_mm_min, s.accel_mm_s2), (9000.0, 800.0));
                 assert_eq!(s.axis_rate[..3], [8000.0, 9000.0, 5000.0]);
+                assert_eq!(s.axis_accel[..3], [500.0, 400.0, 800.0]);
                 assert!(s.axis_rate[3..].iter().all(|r| r.is_infinite()));
             }
             other => panic!("{other:?}"),

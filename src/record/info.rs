@@ -226,6 +226,8 @@ fn machine_json(s: &MachineSettings) -> String {
         // The axis's own rapid rate (the path's where it has none of its own).
         let own = s.axis_rate[i].min(s.rapid_mm_min);
         num(&mut o, &format!("{axis}_rapid_mm_min"), own);
+        let own = s.axis_accel[i].min(s.accel_mm_s2);
+        num(&mut o, &format!("{axis}_accel_mm_s2"), own);
     }
     num(&mut o, "jog_mm_min", s.jog_mm_min);
     num(&mut o, "rapid_f0_mm_min", s.rapid_f0_mm_min);

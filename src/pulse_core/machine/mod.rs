@@ -1299,6 +1299,14 @@ impl Machine {
         speed_pulses_ns(f.max(0.0), self.settings.pulse_mm)
     }
 
+    /// The acceleration of an arc, pulses/ns²: the lowest of the linear axes' (an arc moves
+    /// each axis of its plane in turn; a straight move is held axis by axis instead).
+    fn arc_accel(&self) -> f64 {
+        let s = &self.settings;
+        let lowest = (s.axis_accel[..3].iter()).fold(s.accel_mm_s2, |m, &a| m.min(a));
+        accel_pulses_ns2(lowest, s.pulse_mm)
+    }
+
     /// The full path speed of a rapid of `delta`, mm/min: the rapid rate, held so that no axis
     /// moves faster than its own (`settings.axis_rate`); the rapid override is a share of it,
     /// so 50 % halves every axis's speed, as a Fanuc's override scales each axis's rapid.
@@ -1709,7 +1717,7 @@ impl Machine {
                                 &b,
                                 st,
                                 self.feed_speed(&b, t0),
-                                self.accel,
+                                self.arc_accel(),
                                 t0,
                             )
                         }),
