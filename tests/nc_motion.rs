@@ -380,3 +380,52 @@ fn arc_path_speed_is_the_feed_in_every_direction() {
         }
     }
 }
+
+/// Stop 58: each axis keeps its own rate. On a machine whose X rapids at 30,000 mm/min and Z
+/// at 6,000, a Z rapid cruises at Z's rate and an X rapid at X's; the rapid override is a share
+/// of that held rate (50 % halves each), and a jog at a feed above an axis's rate is held to it
+/// and halved by the same override.
+#[test]
+fn each_axis_keeps_its_own_rate_and_the_rapid_override_is_a_share_of_it() {
+    let s = MachineSettings {
+        rapid_mm_min: 30_000.0,
+        axis_rate: novanc::settings::own_rates(&[(0, 30_000.0), (1, 30_000.0), (2, 6_000.0)]),
+        ..MachineSettings::default()
+    };
+    let fresh = || {
+        let mut m = Machine::new(s.clone());
+        assert!(m.set_position(MID));
+        m.set_recording(None, true);
+        m
+    };
+    for (pct, delta, want) in [
+        (100, [0, 0, -200_000], 6_000.0),
+        (50, [0, 0, -200_000], 3_000.0),
+        (100, [400_000, 0, 0], 30_000.0),
+        (50, [400_000, 0, 0], 15_000.0),
+    ] {
+        let mut m = fresh();
+        m.command(Command::RapidOverride(pct));
+        let b = novanc::pulse_core::testkit::block(1, Motion::Rapid, MID, delta, 0.0);
+        let pulses = run(&mut m, vec![b]);
+        let v = cruise_speed_mm_min(&pulses, delta, &s);
+        assert!((v - want).abs() <= want * 0.01, "{pct} % {delta:?}: {v}");
+    }
+    for (pct, want) in [(100, 6_000.0), (50, 3_000.0)] {
+        let mut m = fresh();
+        m.set_jog_feed(30_000.0);
+        m.command(Command::RapidOverride(pct));
+        let mut src = VecSource::default();
+        m.command(Command::Jog { axis: 2, dir: -1 });
+        // Past its ramp (at most 0.2 s at the default 1,000 mm/s²), 0.5 s of cruise.
+        m.advance_to(m.now() + 400_000_000, &mut src);
+        let z0 = m.pos()[2];
+        m.advance_to(m.now() + 500_000_000, &mut src);
+        let v = (z0 - m.pos()[2]) as f64 * s.pulse_mm / 0.5 * 60.0;
+        assert!(
+            (v - want).abs() <= want * 0.02,
+            "jog at {pct} %: {v} mm/min"
+        );
+        m.command(Command::JogRelease);
+    }
+}

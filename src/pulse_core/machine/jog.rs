@@ -75,9 +75,11 @@ impl Machine {
     pub(super) fn start_jog(&mut self, axis: usize, d: i64, release: bool, t0: u64) {
         let mut delta = Axes::default();
         delta[axis] = d;
-        let v = self.rapid_speed(self.settings.jog_mm_min);
+        let top = self.rapid_top(&delta);
+        let v = self.rapid_speed(self.settings.jog_mm_min.min(top));
         self.jog = Some(Jog {
             motion: Drive::dda_linear(&self.settings, delta, v, self.accel, t0),
+            top,
             release,
             deadline: None,
         });
@@ -114,9 +116,11 @@ impl Machine {
             if delta == [0; 3] {
                 continue;
             }
-            let v = self.rapid_speed(self.settings.jog_mm_min);
+            let top = self.rapid_top(&delta);
+            let v = self.rapid_speed(self.settings.jog_mm_min.min(top));
             self.ret = Some(Jog {
                 motion: Drive::dda_linear(&self.settings, delta, v, self.accel, t),
+                top,
                 release: false,
                 deadline: None,
             });

@@ -187,6 +187,9 @@ impl InputWait {
 struct Jog {
     /// Manual moves and returns always use the DDA with its ramps.
     motion: Drive,
+    /// The fastest its axes allow, mm/min (`rapid_top`): its full speed is the jog feed held
+    /// to it, and the rapid override a share of that, as of a rapid's.
+    top: f64,
     /// CONTINUOUS: stop and drop the rest once at rest.
     release: bool,
     /// Machine time at which a CONTINUOUS jog kept alive by `JogAlive` decelerates unless
@@ -1310,7 +1313,7 @@ impl Machine {
     /// The full path speed of a rapid of `delta`, mm/min: the rapid rate, held so that no axis
     /// moves faster than its own (`settings.axis_rate`); the rapid override is a share of it,
     /// so 50 % halves every axis's speed, as a Fanuc's override scales each axis's rapid.
-    fn rapid_top(&self, delta: &crate::block::Axes) -> f64 {
+    pub(super) fn rapid_top(&self, delta: &crate::block::Axes) -> f64 {
         let s = &self.settings;
         let (cap, _) = super::motion::axis_limits(delta, &s.axis_rate, &s.axis_accel);
         s.rapid_mm_min.min(cap)
@@ -1348,9 +1351,14 @@ impl Machine {
         if let (Some(v), Some(m)) = (v, self.current.as_mut().and_then(|c| c.motion.as_mut())) {
             m.set_target(v);
         }
-        let j = self.rapid_speed(self.settings.jog_mm_min);
-        for m in [self.jog.as_mut(), self.ret.as_mut()].into_iter().flatten() {
-            m.motion.set_target(j);
+        let (jog, ret) = (self.jog.as_ref(), self.ret.as_ref());
+        let full = |m: &Jog| self.rapid_speed(self.settings.jog_mm_min.min(m.top));
+        let (j, r) = (jog.map(full), ret.map(full));
+        if let (Some(m), Some(v)) = (self.jog.as_mut(), j) {
+            m.motion.set_target(v);
+        }
+        if let (Some(m), Some(v)) = (self.ret.as_mut(), r) {
+            m.motion.set_target(v);
         }
     }
 
