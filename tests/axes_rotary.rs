@@ -810,6 +810,33 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// Time of a move of `d` at most `v` per second, accelerating at `a` per second².
+fn trapezoid(d: f64, v: f64, a: f64) -> f64 {
+    if d * a > v * v {
+        d / v + v / a
+    } else {
+        2.0 * (d / a).sqrt()
+    }
+}
+
+/// The machine time `novanc run` gives for program `text` on description `desc`, s.
+fn machine_time(dir: &Path, desc: &Path, text: &str) -> f64 {
+    let prog = dir.join("move.ngc");
+    std::fs::write(&prog, text).unwrap();
+    let out = novanc(&[
+        "run",
+        prog.to_str().unwrap(),
+        "--machine",
+        desc.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{text}: {so}");
+    so.lines()
+        .find_map(|l| l.strip_prefix("machine time: "))
+        .and_then(|l| l.trim_end_matches(" s").parse().ok())
+        .unwrap_or_else(|| panic!("{text}: {so}"))
+}
+
 /// A rotary axis turns no faster than its own rate, and accelerates no harder than its own
 /// acceleration, on a move with X Y Z too (stop 54). Before, its rate only joined the path's
 /// rate along X Y Z: `G0 X10 B90` turned the trunnion's B (9,000°/min) at 23,000°/min, `G1 X1
@@ -820,14 +847,6 @@ fn alt_comma_and_period_jog_the_selected_rotary_axis() {
 fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
     let dir = temp_dir("axes-rates");
     let desc = trunnion(&dir);
-    // Time of a move of `d` at most `v` per second, accelerating at `a` per second².
-    let trapezoid = |d: f64, v: f64, a: f64| {
-        if d * a > v * v {
-            d / v + v / a
-        } else {
-            2.0 * (d / a).sqrt()
-        }
-    };
     // X Y Z: 12,000 mm/min and 1,000 mm/s²; B and C: 9,000°/min and 800°/s².
     for (line, want) in [
         ("G0 X100", trapezoid(100.0, 200.0, 1000.0)),
@@ -836,21 +855,7 @@ fn a_rotary_axis_turns_within_its_own_rate_and_x_y_z_keep_theirs() {
         ("G1 X1 C360 F1000", trapezoid(360.0, 150.0, 800.0)),
         ("G1 X100 C10 F600", trapezoid(100.0, 10.0, 1000.0)),
     ] {
-        let prog = dir.join("move.ngc");
-        std::fs::write(&prog, format!("G21 G90\n{line}\nM2\n")).unwrap();
-        let out = novanc(&[
-            "run",
-            prog.to_str().unwrap(),
-            "--machine",
-            desc.to_str().unwrap(),
-        ]);
-        let so = String::from_utf8_lossy(&out.stdout).to_string();
-        assert!(out.status.success(), "{line}: {so}");
-        let t: f64 = so
-            .lines()
-            .find_map(|l| l.strip_prefix("machine time: "))
-            .and_then(|l| l.trim_end_matches(" s").parse().ok())
-            .unwrap_or_else(|| panic!("{line}: {so}"));
+        let t = machine_time(&dir, &desc, &format!("G21 G90\n{line}\nM2\n"));
         // Within two 5 ms ticks and the pulses' own timing.
         assert!(
             (t - want).abs() < 0.02,
@@ -885,13 +890,6 @@ fn x_y_and_z_each_move_at_their_own_rate() {
          z travel -600 0 rapid 6000 accel 500\n",
     )
     .unwrap();
-    let trapezoid = |d: f64, v: f64, a: f64| {
-        if d * a > v * v {
-            d / v + v / a
-        } else {
-            2.0 * (d / a).sqrt()
-        }
-    };
     let diagonal = (300.0f64 * 300.0 + 60.0 * 60.0).sqrt();
     for (line, want) in [
         ("G0 X300", trapezoid(300.0, 500.0, 2000.0)),
@@ -909,21 +907,7 @@ fn x_y_and_z_each_move_at_their_own_rate() {
             trapezoid(50.0 * std::f64::consts::PI, 100.0, 500.0),
         ),
     ] {
-        let prog = dir.join("move.ngc");
-        std::fs::write(&prog, format!("G21 G90 G17\n{line}\nM2\n")).unwrap();
-        let out = novanc(&[
-            "run",
-            prog.to_str().unwrap(),
-            "--machine",
-            desc.to_str().unwrap(),
-        ]);
-        let so = String::from_utf8_lossy(&out.stdout).to_string();
-        assert!(out.status.success(), "{line}: {so}");
-        let t: f64 = so
-            .lines()
-            .find_map(|l| l.strip_prefix("machine time: "))
-            .and_then(|l| l.trim_end_matches(" s").parse().ok())
-            .unwrap_or_else(|| panic!("{line}: {so}"));
+        let t = machine_time(&dir, &desc, &format!("G21 G90 G17\n{line}\nM2\n"));
         assert!(
             (t - want).abs() < 0.02,
             "{line}: {t} s, the rule {want:.3} s"
