@@ -80,8 +80,9 @@ pub struct ChannelDesc {
 }
 
 impl ChannelDesc {
-    /// A channel nothing of which is described yet (travel NaN: "not given").
-    fn unset() -> ChannelDesc {
+    /// A channel nothing of which is described yet (travel NaN: "not given"); every
+    /// setting a line may give at its default.
+    pub(crate) fn unset() -> ChannelDesc {
         ChannelDesc {
             name: String::new(),
             axes: [0, 1].map(|_| AxisDesc {

@@ -36,15 +36,7 @@ pub fn channel(name: &str) -> ChannelDesc {
                 offset: [0.0, 0.0],
             })
             .collect(),
-        dialect: None,
-        system_a: false,
-        keep_common: None,
-        calculator: None,
-        per_rev: None,
-        subroutines: Vec::new(),
-        remap_m: Vec::new(),
-        g28_all: None,
-        p_point_seconds: None,
+        ..ChannelDesc::unset()
     }
 }
 

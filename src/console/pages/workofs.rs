@@ -39,7 +39,7 @@ pub(crate) fn system_of(line: &str) -> Option<(usize, &str)> {
 }
 
 /// A number typed for an offset of axis `a`: mm, a rotary axis's degrees.
-pub(crate) fn number(text: &str, a: usize) -> Result<f64, String> {
+fn number(text: &str, a: usize) -> Result<f64, String> {
     let unit = if a >= FIRST_ROTARY { "degrees" } else { "mm" };
     text.trim()
         .parse::<f64>()
