@@ -566,3 +566,27 @@ fn a_subroutine_defined_inside_another_is_refused_even_if_never_called() {
     // One after the other is not nested.
     assert!(reads("o1 sub\nG0 X1\no1 endsub\no2 sub\nG0 Y1\no2 endsub\no1 call\no2 call") > 0);
 }
+
+/// A label of a repeat, an if or a while defined again at another line is refused with where
+/// it was first (rs274: "... defined twice"); the same line met again (a loop coming round)
+/// is not.
+#[test]
+fn a_control_label_defined_twice() {
+    for body in [
+        "o100 repeat [2]\nG0 X1\no100 endrepeat\no100 repeat [1]\no100 endrepeat",
+        "o100 if [1]\no100 endif\no100 if [1]\no100 endif",
+        "o100 while [0]\no100 endwhile\no100 while [0]\no100 endwhile",
+    ] {
+        let e = error(body);
+        assert!(
+            e.ends_with("o100 is defined twice (first at line 4)"),
+            "{body}: {e}"
+        );
+    }
+    // A repeat comes round to its own line without complaint: three times two moves, after
+    // the preamble's move and before M30.
+    assert_eq!(
+        reads("o100 repeat [3]\nG0 X1\nG0 X0\no100 endrepeat"),
+        1 + 6 + 1
+    );
+}

@@ -407,11 +407,7 @@ impl Flow {
                     kind.name()
                 ));
             }
-            return Err(format!(
-                "{} is defined twice (first at line {})",
-                short(name),
-                l.pos.line + 1
-            ));
+            return Err(twice(name, l.pos));
         }
         self.labels.insert(
             name.to_string(),
@@ -422,6 +418,16 @@ impl Flow {
             },
         );
         Ok(())
+    }
+
+    /// Label `name` met at `at`: defined there the first time, taken again there (a loop
+    /// coming round), refused anywhere else.
+    fn define_here(&mut self, name: &str, kind: OKind, at: Pos) -> Result<(), String> {
+        match self.labels.get(name) {
+            Some(l) if l.pos != at => Err(twice(name, l.pos)),
+            Some(_) => Ok(()),
+            None => self.define(name, kind, at),
+        }
     }
 
     /// Executes an O-word line read at `at` (the line just read). `st` gets the arguments
@@ -555,17 +561,7 @@ impl Flow {
                 Ok(Outcome::Next)
             }
             OKind::Repeat => {
-                match self.labels.get(&name) {
-                    Some(l) if l.pos != at => {
-                        return Err(format!(
-                            "{} is defined twice (first at line {})",
-                            label(o),
-                            l.pos.line + 1
-                        ))
-                    }
-                    Some(_) => {}
-                    None => self.define(&name, OKind::Repeat, at)?,
-                }
+                self.define_here(&name, OKind::Repeat, at)?;
                 self.skipping = None;
                 let count = o.value.unwrap_or(0.0);
                 let l = self.labels.get_mut(&name).ok_or("label lost")?;
@@ -584,11 +580,7 @@ impl Flow {
                 let known = self.labels.get(&name).cloned();
                 if let Some(l) = &known {
                     if l.kind != OKind::Do && l.pos != at {
-                        return Err(format!(
-                            "{} is defined twice (first at line {})",
-                            label(o),
-                            l.pos.line + 1
-                        ));
+                        return Err(twice(&name, l.pos));
                     }
                 }
                 self.skipping = None;
@@ -615,17 +607,7 @@ impl Flow {
                 Ok(Outcome::Next)
             }
             OKind::If => {
-                match self.labels.get(&name) {
-                    Some(l) if l.pos != at => {
-                        return Err(format!(
-                            "{} is defined twice (first at line {})",
-                            label(o),
-                            l.pos.line + 1
-                        ))
-                    }
-                    Some(_) => {}
-                    None => self.define(&name, OKind::If, at)?,
-                }
+                self.define_here(&name, OKind::If, at)?;
                 if o.value.unwrap_or(0.0) != 0.0 {
                     self.skipping = None;
                     self.executed_if = true;
@@ -1126,6 +1108,15 @@ fn short(name: &str) -> String {
 }
 
 /// An O-line's label as written: `o100`, `o<name>`.
+/// Why label `name` cannot be defined again: where it was first.
+fn twice(name: &str, first: Pos) -> String {
+    format!(
+        "{} is defined twice (first at line {})",
+        short(name),
+        first.line + 1
+    )
+}
+
 fn label(o: &OLine) -> String {
     short(&o.label)
 }
