@@ -32,6 +32,17 @@ fn citizen_script(script: &Path, state: &Path, more: &[&str]) -> Output {
     novanc(&args)
 }
 
+/// Plays the panel script `body` on the Citizen with `dir/state` (written to `dir/play.panel`):
+/// it must succeed; what it printed.
+fn played(dir: &Path, body: &str) -> String {
+    let script = dir.join("play.panel");
+    std::fs::write(&script, body).unwrap();
+    let o = citizen_script(&script, &dir.join("state"), &[]);
+    let so = text(&o.stdout);
+    assert!(o.status.success(), "{so}{}", text(&o.stderr));
+    so
+}
+
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
@@ -715,11 +726,8 @@ fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 fn run_reads_the_lathe_console_s_offsets_from_its_state_and_leaves_it_alone() {
     let dir = common::temp_dir("lathe-run-state");
     let state = dir.join("state");
-    let script = dir.join("ofs.panel");
-    std::fs::write(&script, "op OFS\ntype G54 Z-0.5\nshow\ntype T1 X0.04\n").unwrap();
-    let o = citizen_script(&script, &state, &[]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    assert!(text(&o.stdout).contains("G54 X0 Z-0.5 (CH1): from the next START"));
+    let so = played(&dir, "op OFS\ntype G54 Z-0.5\nshow\ntype T1 X0.04\n");
+    assert!(so.contains("G54 X0 Z-0.5 (CH1): from the next START"));
     let before = files(&state);
     let run = |more: &[&str]| {
         let mut a = vec![
@@ -936,15 +944,10 @@ fn the_lathe_shows_the_editors_type_out_and_refuses_the_centres_words_whole() {
 #[test]
 fn the_plasma_shows_the_channels_coolant() {
     let dir = common::temp_dir("lathe-coolant");
-    let script = dir.join("coolant.panel");
-    std::fs::write(
-        &script,
+    let so = played(
+        &dir,
         "op MDI\ntype M8\nstart\nwait\nshow\ntype M7\ntype M8\nstart\nwait\nshow\ntype M9\nstart\nwait\nshow\nkey Tab\nshow\n",
-    )
-    .unwrap();
-    let o = citizen_script(&script, &dir.join("state"), &[]);
-    let so = text(&o.stdout);
-    assert!(o.status.success(), "{so}{}", text(&o.stderr));
+    );
     let tool_lines: Vec<&str> = so.lines().filter(|l| l.starts_with("T00 ")).collect();
     assert_eq!(
         tool_lines,
@@ -964,16 +967,9 @@ fn the_plasma_shows_the_channels_coolant() {
 #[test]
 fn the_editor_pointer_of_each_channel_is_kept_across_a_restart() {
     let dir = common::temp_dir("lathe-pointer");
-    let state = dir.join("state");
-    let script = dir.join("ptr.panel");
-    std::fs::write(&script, "op DATA\ntype 3L\nchannel 2\ntype 5L\nshow\n").unwrap();
-    let o = citizen_script(&script, &state, &[]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    assert!(text(&o.stdout).contains(">0006 "), "{}", text(&o.stdout));
-    std::fs::write(&script, "op DATA\nshow\nchannel 2\nshow\n").unwrap();
-    let o = citizen_script(&script, &state, &[]);
-    let so = text(&o.stdout);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    let so = played(&dir, "op DATA\ntype 3L\nchannel 2\ntype 5L\nshow\n");
+    assert!(so.contains(">0006 "), "{so}");
+    let so = played(&dir, "op DATA\nshow\nchannel 2\nshow\n");
     let frames: Vec<&str> = so.split("--- display").skip(1).collect();
     assert!(frames[0].contains(">0004 "), "CH1 at line 4: {}", frames[0]);
     assert!(frames[1].contains(">0006 "), "CH2 at line 6: {}", frames[1]);
