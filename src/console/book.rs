@@ -218,12 +218,16 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
             .map_or_else(|| alarm_line(&a), |p| p.error.line);
         (a, (t, file.as_str(), line))
     });
-    let warn = c.book.log.alarms(&mut c.recorder, &[now]).err();
+    let warn = c.shell.book.log.alarms(&mut c.shell.recorder, &[now]).err();
     let channels = std::slice::from_ref(&c.status);
     let at = (t, file.as_str(), 0);
-    c.book
-        .log
-        .shown_message(&mut c.recorder, &mut c.front, at, channels, warn);
+    c.shell.book.log.shown_message(
+        &mut c.shell.recorder,
+        &mut c.shell.front,
+        at,
+        channels,
+        warn,
+    );
 }
 
 /// The level a message goes into the history and the recording at, on every console
@@ -247,7 +251,7 @@ pub(crate) fn message_level(message: &str, channels: &[crate::pulse_core::Status
 /// Adds a secondary failure (the history or the counters could not be saved) after the
 /// message shown, never in its place: a refusal the operator must see stays first.
 fn also_say(c: &mut Console, failure: &str) {
-    c.front.say_failure(failure, c.status.machine_ns);
+    c.shell.front.say_failure(failure, c.status.machine_ns);
 }
 
 /// The message line `message` with a secondary `failure` after it, on every console (a
@@ -267,24 +271,25 @@ pub(crate) fn with_failure(message: &str, failure: &str) -> String {
 pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     let line = format!("{kind}: {text}");
     if !super::state::until_acknowledged(kind) {
-        c.book.program_msg = Some(line.clone());
+        c.shell.book.program_msg = Some(line.clone());
     }
     // When the console shows it; the message does not say which line gave it.
     let file = c.mem.program_name();
     let at = (c.status.machine_ns, file.as_str(), 0);
-    let pushed = c
-        .book
-        .program_message(&mut c.recorder, &mut c.front, at, kind, line);
+    let pushed =
+        c.shell
+            .book
+            .program_message(&mut c.shell.recorder, &mut c.shell.front, at, kind, line);
     if let Err(w) = pushed {
         also_say(c, &w);
-        c.book.log.shown(&c.front.message.clone());
+        c.shell.book.log.shown(&c.shell.front.message.clone());
     }
 }
 
 /// A run of program memory reached its end: one more part, its cycle time; every run's time
 /// counts in the run hours.
 pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64) {
-    let k = &mut c.book.counters;
+    let k = &mut c.shell.book.counters;
     k.ran(machine_ns);
     if auto && done {
         k.made(machine_ns);
@@ -300,7 +305,7 @@ pub(super) fn count_run(c: &mut Console, auto: bool, done: bool, machine_ns: u64
 /// Saves the counters; a failure is said after the message shown.
 pub(super) fn save_counters(c: &mut Console) {
     c.counters_unsaved = false;
-    if let Err(e) = c.book.counters.save(&c.cfg.state_dir) {
+    if let Err(e) = c.shell.book.counters.save(&c.cfg.state_dir) {
         also_say(c, &e);
     }
 }
@@ -308,7 +313,7 @@ pub(super) fn save_counters(c: &mut Console) {
 /// Why a new AUTO run may not begin: the part counter has reached its target, as a Fanuc's
 /// part count signal stops the cycle (docs/panel.md, "Pages").
 pub(super) fn target_refusal(c: &Console) -> Option<String> {
-    let k = &c.book.counters;
+    let k = &c.shell.book.counters;
     (k.target > 0 && k.parts >= k.target).then(|| {
         format!(
             "START refused: part count target reached ({}/{}); on the POS page type PARTS 0 or a new TARGET",

@@ -140,10 +140,10 @@ pub(super) fn compose(c: &Console) -> Vec<String> {
     let rows = c.cfg.rows;
     let cols = c.cfg.cols;
     let loaded = c.status.run != 0 || c.status.job.is_some();
-    if c.pages.shown.page != super::pages::Page::Mode {
+    if c.shell.shown.page != super::pages::Page::Mode {
         return super::pages::compose(c, rows, cols);
     }
-    match c.front.op {
+    match c.shell.front.op {
         OpMode::Auto | OpMode::Single | OpMode::Mdi => run_page(c, rows, cols),
         OpMode::Data => data_page(c, rows, cols),
         _ if loaded => run_page(c, rows, cols),
@@ -209,22 +209,24 @@ pub(super) fn message_text(c: &Console) -> String {
     if let Some(n) = machine_note(c) {
         // E-STOP is both what the machine is doing and its alarm: said once, as the alarm
         // (before stop 41 the line said the same words twice).
-        if n != c.front.message && alarm.as_ref() != Some(&n) {
+        if n != c.shell.front.message && alarm.as_ref() != Some(&n) {
             parts.push(n);
         }
     }
     // The newest program message that lives until acknowledged, before the last action's.
-    parts.extend(super::state::unacknowledged_line(&c.book.unacknowledged));
+    parts.extend(super::state::unacknowledged_line(
+        &c.shell.book.unacknowledged,
+    ));
     match alarm {
-        Some(a) if !c.front.message.contains(a.as_str()) => {
-            if !c.front.message.is_empty() {
-                parts.push(c.front.message.clone());
+        Some(a) if !c.shell.front.message.contains(a.as_str()) => {
+            if !c.shell.front.message.is_empty() {
+                parts.push(c.shell.front.message.clone());
             }
             parts.push(format!("ALARM {a}"));
         }
         _ => {
-            if !c.front.message.is_empty() {
-                parts.push(c.front.message.clone());
+            if !c.shell.front.message.is_empty() {
+                parts.push(c.shell.front.message.clone());
             }
         }
     }
@@ -235,14 +237,14 @@ pub(super) fn message_text(c: &Console) -> String {
 /// interpolator; HOLD / E-STOP; the overrides away from 100 % and the switches that are on:
 /// RPD (rapid), SOV (spindle), DRY, MLK, ZNG).
 pub(super) fn state_line(c: &Console) -> String {
-    let mode = c.front.op.names().short;
+    let mode = c.shell.front.op.names().short;
     let t = match c.status.tool {
         Some(t) => format!("T{t:02}"),
         None => "T--".into(),
     };
     let mut s = format!(
         "RUN {} {mode} OVR{:>3}% {t} S{}",
-        c.status.run, c.front.feed_override, c.status.spindle
+        c.status.run, c.shell.front.feed_override, c.status.spindle
     );
     // What the machine is doing comes before the switches, so a narrow display that cuts the
     // line (with its mark) never cuts ESTOP or HOLD.
@@ -252,7 +254,10 @@ pub(super) fn state_line(c: &Console) -> String {
     } else if lamps.hold {
         s.push_str(" HOLD");
     }
-    s.push_str(&super::switch_words(&c.front.switches, &c.status.switches));
+    s.push_str(&super::switch_words(
+        &c.shell.front.switches,
+        &c.status.switches,
+    ));
     if c.cfg.settings.interpolator != crate::settings::Interpolator::Dda {
         // The error-proportional interpolator (seed 001); the DDA is the default, unmarked.
         s.push_str(" EP");
@@ -263,14 +268,18 @@ pub(super) fn state_line(c: &Console) -> String {
 /// The run pages (AUTO, SINGLE BLOCK, MDI): the run the core has loaded, or what START will
 /// run: the statement, its blocks with the executing one marked, the message and the state.
 fn run_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let page = if c.front.op == OpMode::Mdi {
+    let page = if c.shell.front.op == OpMode::Mdi {
         RunKind::Mdi
     } else {
         RunKind::Auto
     };
     let job = c.status.job.as_ref();
     let shown = job.filter(|j| {
-        j.kind == page || !matches!(c.front.op, OpMode::Auto | OpMode::Single | OpMode::Mdi)
+        j.kind == page
+            || !matches!(
+                c.shell.front.op,
+                OpMode::Auto | OpMode::Single | OpMode::Mdi
+            )
     });
     let mut p = Page::new(rows, cols, String::new());
     // The message takes the lines it needs, up to a third of the display; the body the rest.
@@ -407,7 +416,7 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let mut bottom = vec![format!("cmd: {}", c.last_line)];
     bottom.extend(message_lines(c, cols, (rows / 3).max(3)));
     let entry_room = cols.saturating_sub(3);
-    let typed: Vec<char> = c.front.entry.chars().collect();
+    let typed: Vec<char> = c.shell.front.entry.chars().collect();
     let shown: String = typed[typed.len().saturating_sub(entry_room)..]
         .iter()
         .collect();
@@ -447,7 +456,7 @@ fn data_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
                 ),
                 cols,
             );
-            match &c.front.y_output {
+            match &c.shell.front.y_output {
                 Some(y) => {
                     for l in y.split_inclusive('\n').take(n) {
                         p.body.push(format!(" {}", l.replace('\n', "*")));
@@ -617,7 +626,7 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         u => u,
     };
     let tap = c.cfg.settings.to_mm(i64::from(v.wheel.1));
-    let hint = match c.front.op {
+    let hint = match c.shell.front.op {
         OpMode::Continuous => format!("tap {tap:.3} {unit}, hold jogs"),
         OpMode::Step => format!("{tap:.3} {unit} (x{}) per jog key", v.wheel.1),
         _ => format!(
@@ -628,7 +637,11 @@ fn manual_page(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             v.wheel.1
         ),
     };
-    let mut p = Page::new(rows, cols, split_line(op_name(c.front.op), &hint, cols));
+    let mut p = Page::new(
+        rows,
+        cols,
+        split_line(op_name(c.shell.front.op), &hint, cols),
+    );
     p.bottom = message_lines(c, cols, 2);
     p.bottom.push(state_line(c));
     for (i, a) in ["X", "Y", "Z"].iter().enumerate() {

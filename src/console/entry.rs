@@ -191,7 +191,7 @@ pub(super) fn centre_takes_keys(c: &Console, to: To) -> Result<(), String> {
         To::Data => Ok(()),
         To::Other => Err(format!(
             "data keys work in DATA INPUT, MDI or on a page (now {})",
-            c.front.op.name()
+            c.shell.front.op.name()
         )),
     }
 }
@@ -318,14 +318,14 @@ pub(super) fn mdi_line(c: &mut Console, line: &str) -> Result<(), String> {
     if line.trim().is_empty() {
         return Err("MDI: type a statement or a G-code line, Enter, then START".into());
     }
-    c.pages.recall.remember(line);
+    c.shell.recall[0].remember(line);
     if c.status.job.is_some() {
         return Err("MDI refused: a run is loaded; RESET first".into());
     }
     let set = c.mem.set_mdi(line);
     run::recheck_program_alarm(c);
     set.map_err(|e| format!("MDI refused: {e}"))?;
-    c.front.message = "MDI buffer set: START runs it".into();
+    c.shell.front.message = "MDI buffer set: START runs it".into();
     Ok(())
 }
 
@@ -346,12 +346,12 @@ pub(super) fn data_line(c: &mut Console, line: &str) -> Result<(), String> {
     let rev = c.mem.rev();
     let y = c.mem.edit(target, line, Some(rows))?;
     if !y.is_empty() {
-        c.front.y_output = Some(y);
+        c.shell.front.y_output = Some(y);
     }
-    c.front.message = "ok".into();
+    c.shell.front.message = "ok".into();
     if target == Target::Program && c.mem.rev() != rev && c.search.is_some() {
         c.search = None;
-        c.front.message = "ok; SEARCH point cleared (program changed)".into();
+        c.shell.front.message = "ok; SEARCH point cleared (program changed)".into();
     }
     run::recheck_program_alarm(c);
     Ok(())

@@ -219,7 +219,9 @@ pub(crate) trait Keyed: super::side::Side {
     /// The machine's key map (a lathe's is an overlay on [`map_key`]).
     fn action(&self, k: Key) -> Action;
     /// Records the key on `/panel/event` (what a replay presses again).
-    fn record_key(&mut self, k: Key);
+    fn record_key(&mut self, k: Key) {
+        self.record(&PanelEvent::Press(k));
+    }
     /// The machine's pages' keys, taken before the key map (`takes_first`): a page key, and
     /// the keys of the page shown (its cursor, INPUT, +INPUT, its data keys). Whether `k` was
     /// one of them.
@@ -433,10 +435,6 @@ impl Keyed for Console {
     fn action(&self, k: Key) -> Action {
         map_key(k)
     }
-    fn record_key(&mut self, k: Key) {
-        self.recorder
-            .panel_event(&PanelEvent::Press(k), self.status.machine_ns);
-    }
     fn page_keys(&mut self, k: Key, action: &Action) -> bool {
         if let Some(p) = pages::page_of_key(k) {
             pages::page_key(self, p);
@@ -446,11 +444,11 @@ impl Keyed for Console {
             action,
             Action::Event(PanelEvent::Op(_) | PanelEvent::Data(_))
         ) {
-            self.pages.shown.page = Page::Mode;
+            self.shell.shown.page = Page::Mode;
         }
         // What a page takes (a data key, INPUT, a cursor key) is in the recording, as every
         // key that acts: a replay types the same revision.
-        self.pages.shown.page != Page::Mode && pages::press(self, k)
+        self.shell.shown.page != Page::Mode && pages::press(self, k)
     }
     fn own_key(&mut self, _k: Key, action: &Action) -> bool {
         match action {
@@ -471,12 +469,12 @@ impl Console {
     /// Tells the console whether the terminal is large enough for the panel (the terminal
     /// front end calls it every frame).
     pub fn set_screen_fits(&mut self, fits: bool) {
-        self.front.screen.set(fits)
+        self.shell.front.screen.set(fits)
     }
 
     /// Whether the help screen is up.
     pub fn help_shown(&self) -> bool {
-        self.front.help_shown()
+        self.shell.front.help_shown()
     }
 }
 

@@ -32,6 +32,7 @@ mod run;
 mod script_line;
 pub mod search;
 pub(crate) mod selector;
+pub(crate) mod shell;
 pub(crate) mod side;
 pub(crate) mod state;
 pub(crate) mod switches;
@@ -95,9 +96,11 @@ pub struct Console {
     cfg: ConsoleConfig,
     mem: Memory,
     core: PulseCore,
-    /// The operator's side: selector, entry line, message, help, switches, override, wheel
-    /// (`front.rs`, every console's).
-    front: front::Front,
+    /// What every console holds beside its machine (`shell.rs`): the operator's side
+    /// (selector, entry line, message, help, switches, override, wheel), the log book (the
+    /// alarm and message history and the counters), the recording, the page shown and the MDI
+    /// recall.
+    shell: shell::Shell,
     data: DataMode,
     /// The last command line entered (EOB).
     last_line: String,
@@ -134,8 +137,6 @@ pub struct Console {
     read_report: Vec<String>,
     /// The operator pages (POS, PROG, OFS, MSG), the history and the counters.
     pages: pages::Pages,
-    /// The alarm and message history and the counters.
-    book: book::Book,
     /// The selector positions last told to the pulse core (for `/nc/state`).
     modes_told: Option<(OpMode, DataMode)>,
     /// The last pulse-core notice shown.
@@ -154,7 +155,6 @@ pub struct Console {
     feed_back: bool,
     /// RESET since the last G-code run began: its state, when it comes back, is reset.
     reset_seen: bool,
-    recorder: recording::Recording,
 }
 
 impl Console {
@@ -162,7 +162,7 @@ impl Console {
     /// kept across restarts) and the last run end the console has counted: MTConnect's
     /// `partcount` (docs/mtconnect.md).
     pub fn part_count(&self) -> (u64, u64) {
-        (self.book.counters.parts, self.end_seen)
+        (self.shell.book.counters.parts, self.end_seen)
     }
 
     /// Opens the console: the stores in `cfg.state_dir`, the pulse core thread, the recorder.
@@ -210,7 +210,7 @@ impl Console {
             cfg,
             mem,
             core,
-            front: front::Front::new(OpMode::Data, scale),
+            shell: shell::Shell::new(front::Front::new(OpMode::Data, scale), book, recorder, 1),
             data: DataMode::Revise,
             last_line: String::new(),
             start_single: false,
@@ -230,7 +230,6 @@ impl Console {
             tool_focus: 1,
             read_report: Vec::new(),
             pages: pages::Pages::new(),
-            book,
             modes_told: None,
             notice_seen: None,
             end_seen: 0,
@@ -239,10 +238,9 @@ impl Console {
             feed_keep: false,
             feed_back: false,
             reset_seen: false,
-            recorder,
         };
         if let Some(w) = warnings.first() {
-            c.front.message = w.clone();
+            c.shell.front.message = w.clone();
         }
         // Fanuc's power-on: the locals and #100–#199 vacant (the MACRO page shows them so
         // before the first run, as that run would make them).
@@ -285,24 +283,24 @@ impl Console {
             .collect();
         PanelView {
             display: self.display.clone(),
-            op_mode: self.front.op,
+            op_mode: self.shell.front.op,
             data_mode: self.data,
             run: self.status.run,
             lamps: state::lamps(self),
-            feed_override: self.front.feed_override,
+            feed_override: self.shell.front.feed_override,
             switches: self.status.switches,
-            program_switches: self.front.switches,
+            program_switches: self.shell.front.switches,
             axis_mm,
             tip_mm,
             rotary_deg,
             tool: self.status.tool,
             spindle: self.status.spindle,
-            wheel: self.front.wheel,
-            entry: self.front.entry.clone(),
+            wheel: self.shell.front.wheel,
+            entry: self.shell.front.entry.clone(),
             machine_ns: self.status.machine_ns,
-            help: self.front.help,
-            page: self.pages.shown.page,
-            ignored: self.front.screen.ignored().map(str::to_string),
+            help: self.shell.front.help,
+            page: self.shell.shown.page,
+            ignored: self.shell.front.screen.ignored().map(str::to_string),
         }
     }
 
@@ -339,7 +337,7 @@ impl Console {
 
     /// Whether [`Console::run_text`] is ISO G-code.
     pub fn run_text_is_gcode(&self) -> bool {
-        if self.front.op == OpMode::Mdi {
+        if self.shell.front.op == OpMode::Mdi {
             mdi_is_gcode(&self.mem.text(Target::Mdi))
         } else {
             self.program_is_gcode()
@@ -364,7 +362,7 @@ impl Console {
 
     /// Whether START runs the MDI buffer (the operation mode is MDI).
     pub fn run_text_is_mdi(&self) -> bool {
-        self.front.op == OpMode::Mdi
+        self.shell.front.op == OpMode::Mdi
     }
 
     /// The settings a run reads its text with: in AUTO (`auto`) the program's own dialect
@@ -382,7 +380,7 @@ impl Console {
     /// The text START runs in the current operation mode: the MDI buffer in MDI, program memory
     /// otherwise (what a backplot should draw).
     pub fn run_text(&self) -> String {
-        if self.front.op == OpMode::Mdi {
+        if self.shell.front.op == OpMode::Mdi {
             self.mem.text(Target::Mdi)
         } else {
             self.program_text()
@@ -415,7 +413,7 @@ impl Console {
     /// The operator message: what the last action did or why not (empty: nothing said; the
     /// machine's own notes are derived when the frame is drawn).
     pub fn message(&self) -> &str {
-        &self.front.message
+        &self.shell.front.message
     }
 
     /// The message line as the display shows it, unwrapped: a note on a jogged run, what the
@@ -427,7 +425,7 @@ impl Console {
 
     /// Why the last script `wait` ended before its condition, if it did.
     pub fn wait_error(&self) -> Option<&str> {
-        self.front.wait_error.as_deref()
+        self.shell.front.wait_error.as_deref()
     }
 
     /// The tape reader key: the line typed on the data keys names the tape file to put in
@@ -436,21 +434,22 @@ impl Console {
         // Recorded as the key, which takes the typed line: a replay of the recording types
         // the same path and takes it off the entry line (a `tape PATH` event would leave it).
         self.status = self.core.status();
-        self.recorder
+        self.shell
+            .recorder
             .panel_event(&PanelEvent::Press(state::TAPE_KEY), self.status.machine_ns);
         if tape::refuse_key(self, "the tape reader key") {
             self.refresh();
             return;
         }
-        let path = std::mem::take(&mut self.front.entry);
+        let path = std::mem::take(&mut self.shell.front.entry);
         let path = path.trim();
         if path.is_empty() {
-            self.front.message =
+            self.shell.front.message =
                 "tape reader: type the tape's file path first, then the tape key".into();
             self.refresh();
             return;
         }
-        self.front.new_action();
+        self.shell.front.new_action();
         tape::apply(self, PanelEvent::Tape(PathBuf::from(path)));
         self.refresh();
     }
@@ -527,11 +526,11 @@ impl Console {
         posmem::track(&mut self);
         run::note_run_end(&mut self);
         self.frame_written();
-        let Console { core, recorder, .. } = self;
+        let Console { core, shell, .. } = self;
         // The pulse core thread ends first: in real time it goes on publishing, and an event
         // sent after the recording closed would be counted as dropped (RECORDING INCOMPLETE).
         drop(core);
-        recorder.finish()
+        shell.recorder.finish()
     }
 
     /// Polls the status, reports what the core did on its own (a run's end, a refusal),
@@ -541,26 +540,26 @@ impl Console {
         posmem::track(self);
         tape::advance(self);
         let s = &self.status;
-        let over = match self.front.life {
+        let over = match self.shell.front.life {
             MsgLife::NextKey => false,
             MsgLife::WhileBlock(done) => s.run == 0 || s.hold || s.blocks_done != done,
             // Said in this instant, the machine has not answered yet.
             // Not idle: a jog just begun has not moved yet, but it is the machine's.
             MsgLife::WhileRunning => {
                 let runs = s.moving || !s.idle;
-                !runs && self.front.said_ns != s.machine_ns
+                !runs && self.shell.front.said_ns != s.machine_ns
             }
         };
         if over {
-            self.front.message.clear();
-            self.front.life = MsgLife::NextKey;
+            self.shell.front.message.clear();
+            self.shell.front.life = MsgLife::NextKey;
         }
         run::note_run_end(self);
         gcode_run::keep_read(self);
         self.plan_shown = search::current_plan(self);
         if self.status.notice != self.notice_seen {
             if let Some(n) = &self.status.notice {
-                self.front.message = n.clone();
+                self.shell.front.message = n.clone();
             }
             self.notice_seen = self.status.notice.clone();
         }
@@ -572,12 +571,12 @@ impl Console {
             .or_else(|| self.tape_alarm.clone());
         book::log(self, alarm);
         let lines = display::compose(self);
-        (self.recorder).frame(&mut self.display, lines, self.status.machine_ns);
-        self.book.program_msg = None;
-        let modes = (self.front.op, self.data);
+        (self.shell.recorder).frame(&mut self.display, lines, self.status.machine_ns);
+        self.shell.book.program_msg = None;
+        let modes = (self.shell.front.op, self.data);
         if self.modes_told != Some(modes) {
             self.core
-                .set_panel_modes(self.front.op.word(), self.data.word());
+                .set_panel_modes(self.shell.front.op.word(), self.data.word());
             self.modes_told = Some(modes);
         }
     }
@@ -611,14 +610,14 @@ impl Console {
     fn own_word(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::Data(d) => {
-                self.pages.shown.page = pages::Page::Mode;
+                self.shell.shown.page = pages::Page::Mode;
                 if d != self.data {
                     let was = std::mem::replace(&mut self.data, d);
-                    let typed = std::mem::take(&mut self.front.entry);
-                    self.front.y_output = None;
+                    let typed = std::mem::take(&mut self.shell.front.entry);
+                    self.shell.front.y_output = None;
                     self.last_line.clear();
                     // Typed in the MDI position of the operation selector, an MDI line.
-                    let mdi = self.front.op == OpMode::Mdi;
+                    let mdi = self.shell.front.op == OpMode::Mdi;
                     selector::cleared(self, typed, was.name(), mdi);
                 }
             }
@@ -627,7 +626,7 @@ impl Console {
                     .file_name()
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_else(|| path.display().to_string());
-                self.front.message = match (self.front.op, self.data) {
+                self.shell.front.message = match (self.shell.front.op, self.data) {
                     (OpMode::Data, DataMode::Read | DataMode::ToolRead) => {
                         format!("tape {name} in the reader: press START")
                     }
@@ -652,7 +651,7 @@ impl Console {
             | PanelEvent::Fault(..)
             | PanelEvent::Target(_)
             | PanelEvent::OfsMode) => {
-                self.front.message = format!(
+                self.shell.front.message = format!(
                     "{}: this machine has one channel and no work flow",
                     script_line::script_line(&ev)
                 );
@@ -668,12 +667,12 @@ impl Console {
     fn enter_at(&mut self, to: entry::To, line: &str, add: bool) -> Result<(), String> {
         match to {
             entry::To::Page(_) => {
-                self.front.message = pages::enter(self, line, add)?;
+                self.shell.front.message = pages::enter(self, line, add)?;
                 Ok(())
             }
             entry::To::Mdi => entry::mdi_line(self, line),
             entry::To::Data => entry::data_line(self, line),
-            entry::To::Other => Err(format!("{} takes no line", self.front.op.name())),
+            entry::To::Other => Err(format!("{} takes no line", self.shell.front.op.name())),
         }
     }
 
@@ -681,17 +680,17 @@ impl Console {
     /// the tape, by mode.
     fn start(&mut self) {
         if self.tape_alarm.is_some() {
-            self.front.message = "START refused: TAPE ALARM in force, press RESET".into();
+            self.shell.front.message = "START refused: TAPE ALARM in force, press RESET".into();
             return;
         }
-        match self.front.op {
+        match self.shell.front.op {
             OpMode::Auto | OpMode::Single => run::start_program(self, RunKind::Auto),
             OpMode::Mdi => run::start_program(self, RunKind::Mdi),
             OpMode::Data => match self.data {
                 DataMode::Read => tape::start_read(self, tape::ReadTarget::Program),
                 DataMode::ToolRead => tape::start_read(self, tape::ReadTarget::Tools),
                 _ => {
-                    self.front.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
+                    self.shell.front.message = "START in DATA INPUT reads a tape (PROGRAM READ, TOOL DATA READ); turn to AUTO, MDI or SINGLE BLOCK to run".into();
                 }
             },
             // `relay::start_allowed` refused these.

@@ -80,18 +80,25 @@ impl Panel {
     /// The operator's side of the console (`front.rs`): the screen fit and the key it last
     /// refused, why the last wait could not end, the message and the entry line.
     pub(crate) fn front(&self) -> &super::front::Front {
+        &self.shell().front
+    }
+
+    /// What every console holds beside its machine (`shell.rs`).
+    fn shell(&self) -> &super::shell::Shell {
+        use super::side::Side;
         match self {
-            Panel::Centre(c) => &c.front,
-            Panel::Lathe(c) => c.front(),
+            Panel::Centre(c) => c.shell_ref(),
+            Panel::Lathe(c) => c.shell_ref(),
         }
     }
 
     /// Tells the console whether the screen is large enough for the panel: while it is not,
     /// only STOP, RESET and E-STOP act, and another key is refused (`Front::ignored_key`).
     pub fn set_screen_fits(&mut self, fits: bool) {
+        use super::side::Side;
         let front = match self {
-            Panel::Centre(c) => &mut c.front,
-            Panel::Lathe(c) => c.front_mut(),
+            Panel::Centre(c) => c.front(),
+            Panel::Lathe(c) => c.front(),
         };
         front.screen.set(fits)
     }

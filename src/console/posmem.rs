@@ -159,7 +159,10 @@ pub(super) fn before_motion(c: &mut Console) {
         rapid_jog: c.posmem.rapid_jog,
     };
     if let Err(e) = save(&c.cfg.state_dir, &k) {
-        c.front.message = format!("{} (the position could not be kept: {e})", c.front.message);
+        c.shell.front.message = format!(
+            "{} (the position could not be kept: {e})",
+            c.shell.front.message
+        );
         return;
     }
     c.posmem.written = Some(k);
@@ -174,7 +177,7 @@ pub(super) fn restore(c: &mut Console) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return,
         Err(e) => {
             c.posmem.home_needed = true;
-            c.front.message = format!(
+            c.shell.front.message = format!(
                 "the kept position cannot be read ({e}): make the reference return (HOME, Alt+0) before AUTO or MDI"
             );
             return;
@@ -182,7 +185,7 @@ pub(super) fn restore(c: &mut Console) {
     };
     let Some(k) = Kept::parse(&text) else {
         c.posmem.home_needed = true;
-        c.front.message = format!(
+        c.shell.front.message = format!(
             "the kept position ({}) is damaged: make the reference return (HOME, Alt+0) before AUTO or MDI",
             path.display()
         );
@@ -201,7 +204,7 @@ pub(super) fn restore(c: &mut Console) {
     }
     if k.moving {
         c.posmem.home_needed = true;
-        c.front.message = "the console stopped while the axes moved: the position is not known; make the reference return (HOME, Alt+0) before AUTO or MDI".into();
+        c.shell.front.message = "the console stopped while the axes moved: the position is not known; make the reference return (HOME, Alt+0) before AUTO or MDI".into();
     }
     c.posmem.written = Some(k);
 }
@@ -217,11 +220,11 @@ pub(super) fn refusal(c: &Console) -> Option<String> {
 pub(super) fn home(c: &mut Console) {
     c.command(Command::Home);
     if let Some(n) = c.status.notice.clone() {
-        c.front.message = n;
+        c.shell.front.message = n;
         return;
     }
     c.posmem.homing = true;
-    c.front.message = HOMING.into();
+    c.shell.front.message = HOMING.into();
 }
 
 /// What HOME does, said when it is pressed and, while it runs, by the machine's state
@@ -245,7 +248,8 @@ pub(super) fn track(c: &mut Console) {
         c.posmem.homing = false;
         if s.machine_pos == [0; 3] {
             c.posmem.home_needed = false;
-            c.front.message = "HOME: the reference return is made; the position is known".into();
+            c.shell.front.message =
+                "HOME: the reference return is made; the position is known".into();
         }
     }
     // While the reference return is owed the file keeps saying the position is not to be
@@ -269,7 +273,10 @@ pub(super) fn track(c: &mut Console) {
         return;
     }
     if let Err(e) = save(&c.cfg.state_dir, &now) {
-        c.front.message = format!("{} (the position could not be kept: {e})", c.front.message);
+        c.shell.front.message = format!(
+            "{} (the position could not be kept: {e})",
+            c.shell.front.message
+        );
         return;
     }
     c.posmem.written = Some(now);

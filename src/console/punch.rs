@@ -16,22 +16,22 @@ pub(super) fn punch_from_entry(c: &mut Console) {
     if refuse_key(c, "punch") {
         return;
     }
-    if c.front.op != OpMode::Data || c.data != DataMode::Read {
-        c.front.message = format!(
+    if c.shell.front.op != OpMode::Data || c.data != DataMode::Read {
+        c.shell.front.message = format!(
             "punch refused: it punches program memory in DATA INPUT with the data selector on PROGRAM READ (now {} / {})",
-            c.front.op.name(),
+            c.shell.front.op.name(),
             c.data.name()
         );
         return;
     }
     if c.running() {
-        c.front.message = "punch refused: the machine is running".into();
+        c.shell.front.message = "punch refused: the machine is running".into();
         return;
     }
-    let line = std::mem::take(&mut c.front.entry);
+    let line = std::mem::take(&mut c.shell.front.entry);
     let name = c.mem.program_name();
     let text = c.mem.text(crate::store::Target::Program);
-    c.front.message = punch_program(&name, &text, &line, |p| p);
+    c.shell.front.message = punch_program(&name, &text, &line, |p| p);
 }
 
 /// Punches program `name`'s `text` to the image the punch key's `line` names (`PATH`, `PATH

@@ -194,26 +194,26 @@ pub(super) fn run_source(c: &mut Console, kind: RunKind) -> RunSource {
         settings,
         offsets: c.mem.work_offsets(),
         interp: gcode.then(|| c.interp.clone()),
-        switches: c.front.switches,
+        switches: c.shell.front.switches,
         feed: None,
         subroutines: gcode.then(|| Arc::new(c.mem.subroutines())),
-        parts: Some((c.book.counters.parts, c.book.counters.target)),
+        parts: Some((c.shell.book.counters.parts, c.shell.book.counters.target)),
     }
 }
 
 /// START in AUTO, SINGLE BLOCK (kind Auto) or MDI (kind Mdi): the core resumes the run loaded,
 /// or begins a new one from the program source, or says why it cannot.
 pub(super) fn start_program(c: &mut Console, kind: RunKind) {
-    let single = c.front.op == OpMode::Single;
+    let single = c.shell.front.op == OpMode::Single;
     if c.status.job.is_none() {
         if let Some(why) = super::posmem::refusal(c) {
-            c.front.message = why;
+            c.shell.front.message = why;
             return;
         }
     }
     if kind == RunKind::Auto && c.status.job.is_none() {
         if let Some(why) = super::book::target_refusal(c) {
-            c.front.message = why;
+            c.shell.front.message = why;
             return;
         }
     }
@@ -243,10 +243,10 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
     c.status = c.core.start(kind, make);
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {
-        c.front.message = n.clone();
+        c.shell.front.message = n.clone();
         if n.starts_with("START ignored") {
             // It speaks of the block executing: it goes when that block ends.
-            c.front.life = super::MsgLife::WhileBlock(c.status.blocks_done);
+            c.shell.front.life = super::MsgLife::WhileBlock(c.status.blocks_done);
         }
         return;
     }
@@ -256,7 +256,7 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         c.program_alarm = None;
         if kind == RunKind::Auto {
             if let Some(sp) = c.search.take() {
-                c.front.message = format!("running from line {} (SEARCH)", sp.line);
+                c.shell.front.message = format!("running from line {} (SEARCH)", sp.line);
             }
         }
         note_run_end(c);
@@ -287,12 +287,12 @@ pub(super) fn note_run_end(c: &mut Console) {
     let secs = end.machine_ns as f64 / 1e9;
     match end.cause {
         EndCause::ProgramEnd => {
-            c.front.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
-            let k = c.book.counters;
+            c.shell.front.message = format!("program end: {} blocks in {secs:.1} s", end.blocks);
+            let k = c.shell.book.counters;
             if end.kind == RunKind::Auto && k.target > 0 && k.parts >= k.target {
-                c.front.message = format!(
+                c.shell.front.message = format!(
                     "{}; part count target reached ({}/{}): the next AUTO START waits for PARTS 0 or a new TARGET",
-                    c.front.message, k.parts, k.target
+                    c.shell.front.message, k.parts, k.target
                 );
             }
         }
@@ -305,7 +305,7 @@ pub(super) fn note_run_end(c: &mut Console) {
             } else {
                 "the run stopped before the statement in error"
             };
-            c.front.message = format!(
+            c.shell.front.message = format!(
                 "{what}: line {}:{}: {}",
                 error.line, error.col, error.message
             );
@@ -317,11 +317,11 @@ pub(super) fn note_run_end(c: &mut Console) {
         }
         EndCause::Abandoned | EndCause::Alarm => {}
     }
-    if let Some(m) = c.book.program_msg.take() {
-        if c.front.message.is_empty() {
-            c.front.message = m;
-        } else if !c.front.message.contains(&m) {
-            c.front.message = format!("{m}; {}", c.front.message);
+    if let Some(m) = c.shell.book.program_msg.take() {
+        if c.shell.front.message.is_empty() {
+            c.shell.front.message = m;
+        } else if !c.shell.front.message.contains(&m) {
+            c.shell.front.message = format!("{m}; {}", c.shell.front.message);
         }
     }
 }
@@ -341,7 +341,8 @@ pub(super) fn recheck_program_alarm(c: &mut Console) {
     match found {
         None => {
             c.program_alarm = None;
-            c.front
+            c.shell
+                .front
                 .message
                 .push_str("; the program alarm is cleared (the program translates)");
         }

@@ -295,7 +295,7 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<(), String> {
         c.mem
             .select_program(&name)
             .map_err(|e| format!("SEARCH: {e}"))?;
-        c.front.message = format!("program {name} is current; AUTO starts at the top");
+        c.shell.front.message = format!("program {name} is current; AUTO starts at the top");
         c.search = None;
         return Ok(());
     }
@@ -304,14 +304,14 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<(), String> {
         Ok(Some(n)) => n,
         Ok(None) => {
             c.search = None;
-            c.front.message = "SEARCH cleared: AUTO starts at the top".into();
+            c.shell.front.message = "SEARCH cleared: AUTO starts at the top".into();
             return Ok(());
         }
         Err(e) => return Err(format!("SEARCH: {e}")),
     };
     let (at, text, _) =
         make_plan(c, n, c.status.machine_state()).map_err(|e| format!("SEARCH refused: {e}"))?;
-    c.front.message = format!("AUTO starts at line {at}");
+    c.shell.front.message = format!("AUTO starts at line {at}");
     c.search = Some(SearchPoint { line: at, text });
     Ok(())
 }

@@ -7,6 +7,7 @@
 use super::entry::To;
 use super::front::Front;
 use super::manual::ManualTarget;
+use super::shell::Shell;
 use super::wait::WaitFor;
 use super::Console;
 use crate::panel_model::{Axis, OpMode, PanelEvent};
@@ -16,12 +17,21 @@ use crate::settings::MachineSettings;
 
 /// A console's machine side (the centre's `Console`, a lathe's `LatheConsole`).
 pub(crate) trait Side {
+    /// What every console holds beside its machine (`shell::Shell`): the operator's side, the
+    /// log book, the recording, the page shown, the MDI recall.
+    fn shell(&mut self) -> &mut Shell;
+    /// The same, to read.
+    fn shell_ref(&self) -> &Shell;
     /// The operator's side of the console: the selector, the help page, the screen fit, the
     /// message, the panel switches, the feed override and the handwheel.
-    fn front(&mut self) -> &mut Front;
+    fn front(&mut self) -> &mut Front {
+        &mut self.shell().front
+    }
     /// The log book (`book::Book`): the history, the counters and the program messages
     /// waiting to be acknowledged, every console's.
-    fn book(&mut self) -> &mut super::book::Book;
+    fn book(&mut self) -> &mut super::book::Book {
+        &mut self.shell().book
+    }
     /// The machine's switches (rapid and spindle override, DRY RUN, MACHINE LOCK, Z NEGLECT),
     /// the same on every channel.
     fn machine_switches(&self) -> Switches;
@@ -38,7 +48,9 @@ pub(crate) trait Side {
     /// another channel): a selector turn holds it.
     fn channel_runs(&self) -> bool;
     /// Leaves the page up over the mode display.
-    fn leave_page(&mut self);
+    fn leave_page(&mut self) {
+        self.shell().shown.page = crate::panel_model::Page::Mode;
+    }
     /// The channel the panel's manual moves act on (the selected one; the centre's 0).
     fn selected(&self) -> usize;
     /// The machine's own refusal of a manual move of `axis` now (after E-STOP, which the one
@@ -55,8 +67,12 @@ pub(crate) trait Side {
     /// Virtual time: runs the machine until channel `ch`'s manual move is at rest (a
     /// CONTINUOUS tap, docs/panel.md "Jogging").
     fn settle(&mut self, ch: usize);
-    /// Records `ev` on `/panel/event` as the operator's (a tapped key, a key let go).
-    fn record(&mut self, ev: &PanelEvent);
+    /// Records `ev` on `/panel/event` as the operator's (a tapped key, a key let go), at the
+    /// machine's time.
+    fn record(&mut self, ev: &PanelEvent) {
+        let t = self.now_ns();
+        self.shell().recorder.panel_event(ev, t);
+    }
     /// Runs the machine for a script's wait (`wait::wait`): how the wait ended.
     fn run_wait(&mut self, w: WaitFor) -> Reached;
     /// An operator action, recorded already (`keys::handle`): the machine side's own gate
@@ -64,7 +80,9 @@ pub(crate) trait Side {
     /// words), then the rules written once and the machine's own.
     fn act(&mut self, ev: PanelEvent);
     /// The page up over the mode display.
-    fn page(&self) -> crate::panel_model::Page;
+    fn page(&self) -> crate::panel_model::Page {
+        self.shell_ref().shown.page
+    }
     /// The machine's refusal of the data keys where they would type now (`entry::To`): why,
     /// if it has no use for a line there (`entry::key`, written once, says it per key).
     fn takes_keys(&self, to: To) -> Result<(), String>;
@@ -83,7 +101,10 @@ pub(crate) trait Side {
     /// refused (nothing changed).
     fn edit(&mut self, command: &str) -> Result<String, String>;
     /// The selected channel's MDI lines last typed, for recall with Up and Down.
-    fn recall(&mut self) -> &mut super::entry::Recall;
+    fn recall(&mut self) -> &mut super::entry::Recall {
+        let ch = self.selected();
+        &mut self.shell().recall[ch]
+    }
     /// The machine's own START (after the one rule's refusals, `relay::start_allowed`).
     fn start(&mut self);
     /// A word of the panel grammar that is the machine's own (the centre's data selector,
@@ -130,11 +151,11 @@ pub(crate) fn words<C: Side>(c: &mut C, ev: PanelEvent) {
 
 /// The machining centre: a machine of one channel.
 impl Side for Console {
-    fn front(&mut self) -> &mut Front {
-        &mut self.front
+    fn shell(&mut self) -> &mut Shell {
+        &mut self.shell
     }
-    fn book(&mut self) -> &mut super::book::Book {
-        &mut self.book
+    fn shell_ref(&self) -> &Shell {
+        &self.shell
     }
     fn machine_switches(&self) -> Switches {
         self.status.switches
@@ -153,9 +174,6 @@ impl Side for Console {
     }
     fn channel_runs(&self) -> bool {
         self.status.run != 0 && !self.status.hold
-    }
-    fn leave_page(&mut self) {
-        self.pages.shown.page = crate::panel_model::Page::Mode;
     }
     fn selected(&self) -> usize {
         0
@@ -188,18 +206,12 @@ impl Side for Console {
         self.core.run_until_idle(super::manual::SETTLE_LIMIT_NS);
         self.status = self.core.status();
     }
-    fn record(&mut self, ev: &PanelEvent) {
-        self.recorder.panel_event(ev, self.status.machine_ns);
-    }
     fn run_wait(&mut self, w: WaitFor) -> Reached {
         super::run::run_wait(self, w)
     }
     fn act(&mut self, ev: PanelEvent) {
         self.status = self.core.status();
         super::tape::apply(self, ev);
-    }
-    fn page(&self) -> crate::panel_model::Page {
-        self.pages.shown.page
     }
     fn start(&mut self) {
         Console::start(self)
@@ -209,7 +221,7 @@ impl Side for Console {
     }
     fn reset(&mut self) -> String {
         self.command(Command::Reset);
-        self.book.acknowledge();
+        self.shell.book.acknowledge();
         self.reset_seen = true;
         super::gcode_run::reset_state(&mut self.interp, &self.cfg.settings);
         self.program_alarm = None;
@@ -222,9 +234,6 @@ impl Side for Console {
     fn enter_line(&mut self, to: To, line: &str, add: bool) -> Result<(), String> {
         Console::enter_at(self, to, line, add)
     }
-    fn recall(&mut self) -> &mut super::entry::Recall {
-        &mut self.pages.recall
-    }
     fn cursor_command(
         &self,
         k: novanc_panel::Key,
@@ -235,7 +244,7 @@ impl Side for Console {
         super::entry::centre_edit(self, command)
     }
     fn turned(&mut self, was: OpMode) -> bool {
-        let m = self.front.op;
+        let m = self.shell.front.op;
         if m == OpMode::Data {
             // Lines 441–443: DATA INPUT clears RUN. A run in progress is abandoned (an e-stop
             // stays in force).
@@ -243,7 +252,7 @@ impl Side for Console {
             let had_run = self.status.job.is_some() || Console::running(self);
             self.command(Command::Abandon);
             if had_run {
-                self.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
+                self.shell.front.message = "DATA INPUT: RUN cleared, the run was abandoned".into();
             }
             return true;
         }

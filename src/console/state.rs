@@ -75,7 +75,8 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         // handwheel increments); said by the state while it lasts, as a lathe says a jog (stop
         // 44: the centre said nothing, and a held key's repeats cleared the jog's own message).
         // The jog's own message (`CONTINUOUS X+: jogging`) says it while it lives.
-        let said = c.front.life == super::MsgLife::WhileRunning && !c.front.message.is_empty();
+        let said =
+            c.shell.front.life == super::MsgLife::WhileRunning && !c.shell.front.message.is_empty();
         return match (s.moving || !s.idle, super::posmem::homing(c)) {
             (false, _) => None,
             (true, true) => Some(super::posmem::HOMING.into()),
@@ -86,8 +87,8 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         return None;
     }
     let runs_it = match job.kind {
-        RunKind::Auto => matches!(c.front.op, OpMode::Auto | OpMode::Single),
-        RunKind::Mdi => c.front.op == OpMode::Mdi,
+        RunKind::Auto => matches!(c.shell.front.op, OpMode::Auto | OpMode::Single),
+        RunKind::Mdi => c.shell.front.op == OpMode::Mdi,
     };
     if s.hold {
         return Some(if runs_it {
@@ -100,7 +101,7 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
         });
     }
     if s.run != 0 && s.in_block && s.single_block {
-        return match c.front.op {
+        return match c.shell.front.op {
             OpMode::Auto => Some(
                 "AUTO: this block was started in SINGLE BLOCK; the run stops after it, START then runs on"
                     .into(),
@@ -113,7 +114,10 @@ pub(super) fn machine_note(c: &Console) -> Option<String> {
     }
     let waiting = s.run == 0 && !s.in_block && !s.moving;
     if waiting && runs_it && super::gcode_run::program_stop_note(c).is_none() {
-        return Some(format!("{}: press START to continue", c.front.op.name()));
+        return Some(format!(
+            "{}: press START to continue",
+            c.shell.front.op.name()
+        ));
     }
     None
 }

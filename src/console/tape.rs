@@ -192,7 +192,7 @@ impl Console {
     pub fn punch_from_entry(&mut self) {
         // Recorded as the key, which takes the typed line (the tape reader key's rule).
         self.status = self.core.status();
-        self.recorder.panel_event(
+        self.shell.recorder.panel_event(
             &PanelEvent::Press(super::state::PUNCH_KEY),
             self.status.machine_ns,
         );
@@ -207,7 +207,7 @@ impl Console {
 pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
     let what = target.name();
     let Some(path) = c.tape.clone() else {
-        c.front.message = "the tape reader is empty: put a tape in (tape PATH)".into();
+        c.shell.front.message = "the tape reader is empty: put a tape in (tape PATH)".into();
         return;
     };
     let file = path
@@ -221,13 +221,13 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
     let image = match load(&path) {
         Ok(i) => i,
         Err(e) => {
-            c.front.message = format!("{what}: tape {file} cannot be read: {e}");
+            c.shell.front.message = format!("{what}: tape {file} cannot be read: {e}");
             return;
         }
     };
     let plain = tape::is_plain_text(&image);
     if !plain && image.len() as u64 > MAX_TAPE_BYTES {
-        c.front.message = format!(
+        c.shell.front.message = format!(
             "{what}: tape {file} cannot be read: it is longer than the {} MiB the reader takes",
             MAX_TAPE_BYTES >> 20
         );
@@ -254,7 +254,7 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
         return;
     }
     c.tape_read = Some(r);
-    c.front.message =
+    c.shell.front.message =
         format!("reading at {chars_per_s} characters/s: STOP or RESET abandons the read");
     advance(c);
 }
@@ -266,7 +266,7 @@ pub(super) fn start_read(c: &mut Console, target: ReadTarget) {
 fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     let what = target.name();
     if target == ReadTarget::Tools {
-        c.front.message = format!(
+        c.shell.front.message = format!(
             "{what}: {name} is a folder; TOOL DATA READ takes one tool tape, tool file unchanged"
         );
         return;
@@ -274,7 +274,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     let files = match folder_files(dir) {
         Ok(f) => f,
         Err(e) => {
-            c.front.message =
+            c.shell.front.message =
                 format!("{what} refused, program memory unchanged: folder {name}: {e}");
             return;
         }
@@ -283,7 +283,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     for (file, _) in &files {
         match crate::store::program_name_from_file(file) {
             Ok(n) if names.contains(&n.name) => {
-                c.front.message = format!(
+                c.shell.front.message = format!(
                     "{what} refused, program memory unchanged: {file} would be program {} as well as another file of {name}",
                     n.name
                 );
@@ -291,7 +291,8 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
             }
             Ok(n) => names.push(n.name),
             Err(e) => {
-                c.front.message = format!("{what} refused, program memory unchanged: {file}: {e}");
+                c.shell.front.message =
+                    format!("{what} refused, program memory unchanged: {file}: {e}");
                 return;
             }
         }
@@ -305,7 +306,7 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
                 stored.push(r.name);
             }
             Err(e) => {
-                c.front.message = format!(
+                c.shell.front.message = format!(
                     "{what} stopped at {file}: {e}; stored before it: {}",
                     if stored.is_empty() {
                         "none".to_string()
@@ -320,12 +321,12 @@ fn read_folder(c: &mut Console, target: ReadTarget, dir: &Path, name: &str) {
     c.search = None;
     if let Some(first) = stored.first() {
         if let Err(e) = c.mem.select_program(first) {
-            c.front.message =
+            c.shell.front.message =
                 format!("read folder {name}, but program {first} cannot be made current: {e}");
             return;
         }
     }
-    c.front.message = format!(
+    c.shell.front.message = format!(
         "read folder {name}: {} programs ({}), {lines} lines; {} is current",
         stored.len(),
         stored.join(" "),
@@ -448,7 +449,7 @@ fn complete(c: &mut Console, mut r: TapeRead) {
                 ReadTarget::Program => "program memory unchanged",
                 ReadTarget::Tools => "tool file unchanged",
             };
-            c.front.message = format!("{what} stopped, {unchanged}: {e}");
+            c.shell.front.message = format!("{what} stopped, {unchanged}: {e}");
             c.tape_alarm = Some(e.to_string());
             r.failed = Some(e);
             c.tape_stopped = Some(r);
@@ -481,7 +482,7 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
     if c.cfg.settings.dialect == crate::settings::Dialect::Fanuc {
         let programs = crate::gcode::flow::dnc_programs(text);
         if !programs.is_empty() {
-            c.front.message = match c.mem.program_read_dnc(file, &programs) {
+            c.shell.front.message = match c.mem.program_read_dnc(file, &programs) {
                 Ok(names) => {
                     c.search = None;
                     format!(
@@ -509,12 +510,12 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
             } else {
                 ""
             };
-            c.front.message = format!(
+            c.shell.front.message = format!(
                 "read {file} ({how}): program {}{named}, {n} lines{again}",
                 r.name
             );
         }
-        Err(e) => c.front.message = format!("PROGRAM READ refused: {e}"),
+        Err(e) => c.shell.front.message = format!("PROGRAM READ refused: {e}"),
     }
 }
 
@@ -522,7 +523,7 @@ fn store_program(c: &mut Console, file: &str, text: &str, how: &str) {
 fn store_tools(c: &mut Console, file: &str, text: &str, how: &str) {
     match c.mem.tool_read(text, file) {
         Ok(r) => {
-            c.front.message = format!(
+            c.shell.front.message = format!(
                 "read {file} ({how}): {} T codes loaded, {} skipped",
                 r.loaded.len(),
                 r.skipped
@@ -535,7 +536,9 @@ fn store_tools(c: &mut Console, file: &str, text: &str, how: &str) {
             c.read_report = lines;
             c.tool_focus = r.loaded.first().copied().unwrap_or(1);
         }
-        Err(e) => c.front.message = format!("TOOL DATA READ refused, tool file unchanged: {e}"),
+        Err(e) => {
+            c.shell.front.message = format!("TOOL DATA READ refused, tool file unchanged: {e}")
+        }
     }
 }
 
@@ -548,7 +551,7 @@ pub(super) fn apply(c: &mut Console, ev: PanelEvent) {
         Gate::Pass(note) => note,
     };
     let turned = match &ev {
-        PanelEvent::Op(m) => *m != c.front.op,
+        PanelEvent::Op(m) => *m != c.shell.front.op,
         PanelEvent::Data(d) => *d != c.data,
         PanelEvent::Reset => true,
         _ => false,
@@ -558,10 +561,10 @@ pub(super) fn apply(c: &mut Console, ev: PanelEvent) {
     }
     c.apply_event(ev);
     if let Some(n) = note {
-        c.front.message = if c.front.message.is_empty() {
+        c.shell.front.message = if c.shell.front.message.is_empty() {
             n
         } else {
-            format!("{}; {n}", c.front.message)
+            format!("{}; {n}", c.shell.front.message)
         };
     }
 }
@@ -591,7 +594,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
     };
     match ev {
         PanelEvent::Stop => {
-            c.front.message = abandoned("STOP", r);
+            c.shell.front.message = abandoned("STOP", r);
             c.tape_read = None;
             Gate::Done
         }
@@ -605,7 +608,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
             c.tape_read = None;
             Gate::Pass(Some(note))
         }
-        PanelEvent::Op(m) if *m != c.front.op => {
+        PanelEvent::Op(m) if *m != c.shell.front.op => {
             let note = abandoned(&format!("turning to {}", m.name()), r);
             c.tape_read = None;
             Gate::Pass(Some(note))
@@ -633,7 +636,7 @@ pub(super) fn gate(c: &mut Console, ev: &PanelEvent) -> Gate {
         | PanelEvent::WaitMs(_)
         | PanelEvent::Show => Gate::Pass(None),
         other => {
-            c.front.message = refusal(&script_line(other), r);
+            c.shell.front.message = refusal(&script_line(other), r);
             Gate::Done
         }
     }
@@ -654,7 +657,7 @@ fn refusal(what: &str, r: &TapeRead) -> String {
 pub(super) fn refuse_key(c: &mut Console, what: &str) -> bool {
     match &c.tape_read {
         Some(r) => {
-            c.front.message = refusal(what, r);
+            c.shell.front.message = refusal(what, r);
             true
         }
         None => false,

@@ -71,7 +71,7 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<(), String> {
     result.map_err(|e| format!("refused: {e}"))?;
     c.tool_focus = t;
     let m = c.mem.magazine();
-    c.front.message = match m.tcodes.tool_in(t) {
+    c.shell.front.message = match m.tcodes.tool_in(t) {
         Some(n) => match m.tools.get(t) {
             Some(r) if r.number == n => format!("T{t:02} holds tool {n:05}"),
             _ => format!("T{t:02} holds tool {n:05}: read its data (TOOL DATA READ)"),

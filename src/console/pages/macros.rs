@@ -111,9 +111,9 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
             "MACRO refused: the macro variables are the Fanuc dialect's (--dialect fanuc)".into(),
         );
     }
-    let (n, v) = match input(line, c.pages.shown.macro_var, &c.interp.params, add)? {
+    let (n, v) = match input(line, c.shell.shown.macro_var, &c.interp.params, add)? {
         Input::Cursor(n) => {
-            c.pages.shown.macro_var = n;
+            c.shell.shown.macro_var = n;
             return Ok(format!("MACRO: #{n}"));
         }
         Input::Set(n, v) => (n, v),
@@ -127,7 +127,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
             .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
     }
     c.interp.params[n] = v;
-    c.pages.shown.macro_var = n;
+    c.shell.shown.macro_var = n;
     Ok(set_message(n, v))
 }
 
@@ -139,13 +139,13 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line("MACRO", "#500=12.5 / Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.front.entry));
+    p.bottom.push(format!("> {}_", c.shell.front.entry));
     if c.cfg.settings.dialect != Dialect::Fanuc {
         p.body
             .push("(the Fanuc dialect's variables: --dialect fanuc)".into());
         return p.lines();
     }
-    p.body = variable_rows(&c.interp.params, c.pages.shown.macro_var, p.body_rows());
+    p.body = variable_rows(&c.interp.params, c.shell.shown.macro_var, p.body_rows());
     p.lines()
 }
 

@@ -37,39 +37,10 @@ use novanc_panel::Key;
 pub(super) use pos::length_in_force;
 pub(crate) use pos::{rotary_work_offset, work_origin};
 
-/// The page shown and the cursors of the pages every console has (MSG, MACRO), with their
-/// one rule for a page key and a cursor key: the centre's and a lathe's (before stop 58 the
-/// lathe kept the three beside each other and its own copy of the rules).
-#[derive(Clone, Debug)]
-pub struct Shown {
-    /// The page shown (`Page::Mode`: the mode's display program).
-    pub page: Page,
-    /// The MSG page's first entry shown (0: the newest).
-    pub msg_first: usize,
-    /// The MACRO page's cursor: a variable number.
-    pub macro_var: usize,
-}
+pub use super::shell::Shown;
 
-impl Default for Shown {
-    fn default() -> Shown {
-        Shown {
-            page: Page::Mode,
-            msg_first: 0,
-            macro_var: 1,
-        }
-    }
-}
-
+/// The pages' cursor rule (`shell::Shown`'s state).
 impl Shown {
-    /// A page key: its page, or back to the mode's display if it is shown already; the MSG
-    /// page opens at the newest entry. The line being typed stays on the entry line: a page
-    /// key shows a screen, it does not take back what the operator typed (before stop 41 the
-    /// centre cleared it, the lathe kept it).
-    pub fn key(&mut self, p: Page) {
-        self.page = if self.page == p { Page::Mode } else { p };
-        self.msg_first = 0;
-    }
-
     /// A cursor key on the MSG page (a history of `history` entries: it scrolls) or the
     /// MACRO page (`room` rows: the variable cursor moves); whether the page shown took it.
     pub fn cursor(&mut self, k: Key, history: usize, room: usize) -> bool {
@@ -85,8 +56,6 @@ impl Shown {
 /// The pages' state.
 #[derive(Debug)]
 pub struct Pages {
-    /// The page shown and the MSG and MACRO cursors (every console's).
-    pub shown: Shown,
     /// The relative position's origin, pulses (the POS page).
     pub rel_origin: crate::block::Axes,
     /// The PROG page's cursor row.
@@ -98,8 +67,6 @@ pub struct Pages {
     pub ofs: (u32, usize),
     /// The OFS page's axis on the work offset rows (0 = X).
     pub ofs_axis: usize,
-    /// The last MDI lines typed, for recall.
-    pub recall: Recall,
     /// A tool length revised on OFS while a run is loaded, not yet in force (POS marks it).
     pub pending_len: Option<PendingLength>,
 }
@@ -124,13 +91,11 @@ impl Pages {
     /// The pages as a console opens: the mode's display shown.
     pub(in crate::console) fn new() -> Pages {
         Pages {
-            shown: Shown::default(),
             rel_origin: Default::default(),
             prog_row: 0,
             confirm_delete: None,
             ofs: (1, ofs::LENGTH),
             ofs_axis: 0,
-            recall: Recall::default(),
             pending_len: None,
         }
     }
@@ -154,22 +119,22 @@ pub fn page_of_key(k: Key) -> Option<Page> {
 
 /// A page key: its page, or back to the mode's display if it is shown already.
 pub(super) fn page_key(c: &mut Console, p: Page) {
-    c.pages.shown.key(p);
+    c.shell.shown.key(p);
     c.pages.confirm_delete = None;
 }
 
 /// A key while a page is shown; whether the page took it.
 pub(super) fn press(c: &mut Console, k: Key) -> bool {
-    let page = c.pages.shown.page;
+    let page = c.shell.shown.page;
     let take = match k {
         k if super::keys::is_cursor_key(k) => {
             match page {
                 Page::Prog => prog::arrow(c, k),
                 Page::Ofs => ofs::arrow(c, k),
                 Page::Msg | Page::Macro => {
-                    let n = c.book.log.history.entries().len();
+                    let n = c.shell.book.log.history.entries().len();
                     let room = c.cfg.rows.saturating_sub(4);
-                    c.pages.shown.cursor(k, n, room);
+                    c.shell.shown.cursor(k, n, room);
                 }
                 Page::Pos | Page::Modal | Page::Io | Page::Mode => return false,
             }
@@ -178,18 +143,18 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
         Key::Enter => {
             // INPUT: the one entry rule; a refused value stays on the entry line. (Tab, +INPUT
             // with a value typed, is the key pipeline's: `keys::tab_adds`.)
-            let line = std::mem::take(&mut c.front.entry);
+            let line = std::mem::take(&mut c.shell.front.entry);
             super::entry::enter(c, super::entry::To::Page(page), line, false);
             true
         }
         Key::Char(ch) => {
             // A full line refuses the key and says so, as everywhere (before stop 41 a page
             // dropped the 241st key in silence).
-            c.front.key(ch);
+            c.shell.front.key(ch);
             true
         }
         Key::Backspace => {
-            c.front.entry.pop();
+            c.shell.front.entry.pop();
             true
         }
         _ => false,
@@ -202,7 +167,7 @@ pub(super) fn press(c: &mut Console, k: Key) -> bool {
 /// it is refused, and the line stays on the entry line beside the reason (`entry::enter`), as
 /// a Fanuc keeps its key-in buffer on a refused INPUT.
 pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, String> {
-    match c.pages.shown.page {
+    match c.shell.shown.page {
         Page::Pos => pos::enter(c, line),
         Page::Prog => prog::enter(c, line),
         Page::Ofs => ofs::enter(c, line, add),
@@ -218,7 +183,7 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
 
 /// The page's display frame.
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    match c.pages.shown.page {
+    match c.shell.shown.page {
         Page::Pos => pos::compose(c, rows, cols),
         Page::Prog => prog::compose(c, rows, cols),
         Page::Ofs => ofs::compose(c, rows, cols),

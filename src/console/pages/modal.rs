@@ -14,11 +14,11 @@ use crate::panel_model::OpMode;
 fn switches(c: &Console) -> Vec<(&'static str, String)> {
     let s = &c.status.switches;
     let panel = (
-        c.front.op == OpMode::Single,
-        c.front.switches.block_delete,
-        c.front.switches.optional_stop,
+        c.shell.front.op == OpMode::Single,
+        c.shell.front.switches.block_delete,
+        c.shell.front.switches.optional_stop,
     );
-    let mut l = switch_list(c.front.feed_override, s, panel);
+    let mut l = switch_list(c.shell.front.feed_override, s, panel);
     let on = |b: bool| if b { "ON" } else { "off" }.to_string();
     l.insert(4, ("MACHINE LOCK", on(s.machine_lock)));
     l.insert(5, ("Z NEGLECT", on(s.z_neglect)));

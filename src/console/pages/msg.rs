@@ -22,14 +22,14 @@ pub(crate) fn scroll(first: &mut usize, n: usize, k: Key) {
 
 /// The MSG page.
 pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
-    let all = c.book.log.history.entries();
+    let all = c.shell.book.log.history.entries();
     let mut p = Frame::new(
         rows,
         cols,
         split_line("MSG", &format!("{} entries", all.len()), cols),
     );
     let n = p.body_rows();
-    p.body = history_lines(all, c.pages.shown.msg_first, n, cols);
+    p.body = history_lines(all, c.shell.shown.msg_first, n, cols);
     if p.body.len() > n {
         // The rest is further down: said, not cut silently.
         p.body.truncate(n);

@@ -165,9 +165,9 @@ pub(super) fn enter(c: &mut Console, line: &str, add: bool) -> Result<String, St
         format!("T{t:02} {name} {}", cell(&new, col))
     };
     // The program alarm is rechecked against the revised tool, and says so after this.
-    c.front.message = said;
+    c.shell.front.message = said;
     super::super::run::recheck_program_alarm(c);
-    Ok(std::mem::take(&mut c.front.message))
+    Ok(std::mem::take(&mut c.shell.front.message))
 }
 
 /// The OFS page: the T code and tool, then three value columns around the cursor.
@@ -185,7 +185,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line("OFS", "Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.front.entry));
+    p.bottom.push(format!("> {}_", c.shell.front.entry));
     let shown = ((cols.saturating_sub(10)) / 9).clamp(1, COLUMNS.len() - FIRST);
     let first = col
         .saturating_sub(shown / 2)

@@ -42,15 +42,15 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
                 .trim()
                 .parse::<u64>()
                 .map_err(|_| format!("{word} takes a whole number: {word} 100"))?;
-            let was = c.book.counters;
+            let was = c.shell.book.counters;
             if set {
-                c.book.counters.parts = n;
+                c.shell.book.counters.parts = n;
             } else {
-                c.book.counters.target = n;
+                c.shell.book.counters.target = n;
             }
-            if let Err(e) = c.book.counters.save(&c.cfg.state_dir) {
+            if let Err(e) = c.shell.book.counters.save(&c.cfg.state_dir) {
                 // Not kept: nothing changed.
-                c.book.counters = was;
+                c.shell.book.counters = was;
                 return Err(e);
             }
             return Ok(format!("{} {n}", word.to_ascii_lowercase()));
@@ -184,7 +184,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     p.body.push(format!(
         "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
         super::super::posmem::jog_feed(c),
-        s.to_mm(c.front.wheel.1 as i64)
+        s.to_mm(c.shell.front.wheel.1 as i64)
     ));
     let tool = match (st.tool, st.changing_tool) {
         (_, Some(t)) => format!("TOOL CHANGE to T{t:02} in progress"),
@@ -195,7 +195,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     if let (Some(t), None, Some((v, when))) = (st.tool, st.changing_tool, pending) {
         p.body.push(format!("  T{t:02} {v:.3} pending: {when}"));
     }
-    let k = &c.book.counters;
+    let k = &c.shell.book.counters;
     let target = if k.target > 0 {
         format!("/{}", k.target)
     } else {

@@ -107,7 +107,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         split_line(&head, &format!("{} programs", list.len()), cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.front.entry));
+    p.bottom.push(format!("> {}_", c.shell.front.entry));
     let n = p.body_rows().saturating_sub(1);
     let wide = cols >= 56;
     let name_w = if wide { 16 } else { 12 };

@@ -182,7 +182,7 @@ pub(super) fn compose(
         split_line("OFS WORK", "G55 X10 / Enter INPUT  Tab +INPUT", cols),
     );
     p.bottom = message_lines(c, cols, (rows / 4).max(1));
-    p.bottom.push(format!("> {}_", c.front.entry));
+    p.bottom.push(format!("> {}_", c.shell.front.entry));
     let all = axes(c);
     // X Y Z keep the 11 columns they had; more axes take 10 each, and those that do not fit
     // the display (a 40-column plasma shows three) scroll with the cursor, as the rows do.

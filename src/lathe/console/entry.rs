@@ -30,7 +30,7 @@ impl LatheConsole {
             _ => {}
         }
         // POS shows positions only: a line goes where the selector sends it.
-        match self.front.op {
+        match self.shell.front.op {
             OpMode::Mdi => self.mdi_line(line),
             OpMode::Data if line.is_empty() => Ok(()),
             OpMode::Data => self.edit(line),
@@ -62,7 +62,7 @@ impl LatheConsole {
             .map_err(|e| format!("SEARCH refused: {e}"))?
         else {
             self.search = None;
-            self.front.message = "SEARCH cleared: AUTO starts at the top".into();
+            self.shell.front.message = "SEARCH cleared: AUTO starts at the top".into();
             return Ok(());
         };
         let read = match self.programmed(0) {
@@ -93,7 +93,7 @@ impl LatheConsole {
             }
         }
         self.search = Some(n);
-        self.front.message = format!(
+        self.shell.front.message = format!(
             "SEARCH line {}: START restores {} (machine X Z), then runs one part from there",
             read[k].line,
             if plan.is_empty() {
@@ -120,7 +120,7 @@ impl LatheConsole {
             return Err("MDI: type a block, Enter, then START".into());
         }
         // Up recalls it, stored or not (the centre's rule).
-        self.recall[self.sel].remember(line);
+        self.shell.recall[self.sel].remember(line);
         if self.mdi[self.sel].len() >= MAX_MDI_LINES {
             return Err(format!(
                 "the MDI buffer holds {MAX_MDI_LINES} lines: START or RESET it"
@@ -129,7 +129,7 @@ impl LatheConsole {
         let mut lines = self.mdi[self.sel].clone();
         lines.push(line.to_string());
         self.set_mdi(lines)?;
-        self.front.message = format!(
+        self.shell.front.message = format!(
             "MDI CH{}: {} lines; START runs them",
             self.sel + 1,
             self.mdi[self.sel].len()
@@ -163,8 +163,8 @@ impl LatheConsole {
     fn macro_input(&mut self, line: &str, add: bool) -> Result<(), String> {
         use crate::console::pages::macros::{input, set_message, Input};
         let ch = self.sel;
-        match input(line, self.shown.macro_var, &self.kept[ch].params.params, add)? {
-            Input::Cursor(n) => self.shown.macro_var = n,
+        match input(line, self.shell.shown.macro_var, &self.kept[ch].params.params, add)? {
+            Input::Cursor(n) => self.shell.shown.macro_var = n,
             Input::Set(..) if !self.cycle.is_over() => return Err(
                 "MACRO refused: a cycle is under way (its programs read the variables at START); RESET it first".into(),
             ),
@@ -179,8 +179,8 @@ impl LatheConsole {
                         .map_err(|e| format!("MACRO refused: #{n}: {e}"))?;
                 }
                 self.kept[ch].params.params[n] = v;
-                self.shown.macro_var = n;
-                self.front.message = format!("CH{} {}", ch + 1, set_message(n, v));
+                self.shell.shown.macro_var = n;
+                self.shell.front.message = format!("CH{} {}", ch + 1, set_message(n, v));
             }
         }
         Ok(())
@@ -197,7 +197,7 @@ impl LatheConsole {
         // A cycle under way takes it at the channel's next tool call not yet read, in this
         // part or the next, as a real lathe takes a wear offset at the next T.
         let running = Some(&mut self.cycle).filter(|c| !c.is_over() && !c.mdi);
-        self.front.message = match running.map(|c| c.reread(ch, &tools)) {
+        self.shell.front.message = match running.map(|c| c.reread(ch, &tools)) {
             Some(Ok(Some(line))) => format!(
                 "T{t:02} revised: CH{} takes it from its next tool call, line {line}",
                 ch + 1
@@ -277,8 +277,8 @@ impl LatheConsole {
         };
         let set = (set * 1000.0).round() / 1000.0;
         self.revise_work(&format!("G{} {letter}{set}", 54 + k))?;
-        let said = std::mem::take(&mut self.front.message);
-        self.front.message = format!(
+        let said = std::mem::take(&mut self.shell.front.message);
+        self.shell.front.message = format!(
             "measured, T{:02} at {letter}{}: {said}",
             v.tool,
             crate::input_text::short_number(value)
@@ -314,8 +314,8 @@ impl LatheConsole {
         };
         let set = (set * 1000.0).round() / 1000.0;
         self.revise_tool(&format!("T{t} {letter}{set}"))?;
-        let said = std::mem::take(&mut self.front.message);
-        self.front.message = format!(
+        let said = std::mem::take(&mut self.shell.front.message);
+        self.shell.front.message = format!(
             "measured, T{t:02} at {letter}{}: {said}",
             crate::input_text::short_number(value)
         );
@@ -337,7 +337,7 @@ impl LatheConsole {
         set_work_offsets(&mut self.kept[ch].params.params, &work);
         let [z, x] = work[k];
         let under_way = !self.cycle.is_over();
-        self.front.message = format!(
+        self.shell.front.message = format!(
             "G{} X{} Z{} (CH{}): {}",
             54 + k,
             crate::input_text::short_number(x * 2.0),
@@ -388,15 +388,15 @@ impl LatheConsole {
                 // A move alone that cannot be stored is refused: the pointer stays.
                 return Err(format!("{e}: the line is refused"));
             }
-            self.front.message = e;
+            self.shell.front.message = e;
         }
         // `Y` type-out is shown in place of the listing until the next line or mode (the
         // centre's rule): what the operator asked to see is not dropped.
-        self.front.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
+        self.shell.front.y_output = (!out.y_output.is_empty()).then_some(out.y_output);
         self.pointers[ch] = buf.pointer();
         self.edit_line[ch] = buf.line_of(buf.pointer()) + 1;
-        if self.front.message.is_empty() {
-            self.front.message = if out.changed {
+        if self.shell.front.message.is_empty() {
+            self.shell.front.message = if out.changed {
                 "stored".into()
             } else {
                 "ok".into()
@@ -426,10 +426,10 @@ impl LatheConsole {
     pub(super) fn program_read(&mut self, path: &std::path::Path) -> Result<String, String> {
         let ch = self.sel;
         self.search = None;
-        if self.front.op != OpMode::Data {
+        if self.shell.front.op != OpMode::Data {
             return Err(format!(
                 "{}: turn the selector to DATA INPUT to read a program into CH{}",
-                self.front.op.name(),
+                self.shell.front.op.name(),
                 ch + 1
             ));
         }
@@ -472,7 +472,7 @@ impl LatheConsole {
         self.programs[ch] = p;
         self.pointers[ch] = 0;
         self.edit_line[ch] = 1;
-        self.front.y_output = None;
+        self.shell.front.y_output = None;
         let kept = match self.store.save_pointer(ch, 0) {
             Ok(()) => String::new(),
             Err(e) => format!("; {e}"),
@@ -495,17 +495,17 @@ impl LatheConsole {
     /// the key is refused for the mode or a cycle).
     pub(super) fn punch(&mut self) -> String {
         let ch = self.sel;
-        if self.front.op != OpMode::Data {
+        if self.shell.front.op != OpMode::Data {
             return format!(
                 "punch refused: it punches CH{}'s program in DATA INPUT (now {})",
                 ch + 1,
-                self.front.op.name()
+                self.shell.front.op.name()
             );
         }
         if !self.cycle.is_over() {
             return "punch refused: the programs are in use: RESET the cycle first".into();
         }
-        let line = std::mem::take(&mut self.front.entry);
+        let line = std::mem::take(&mut self.shell.front.entry);
         let p = &self.programs[ch];
         crate::console::punch::punch_program(&p.name, &p.text, &line, |path| {
             match (path.parent(), path.file_name()) {
@@ -621,12 +621,16 @@ impl LatheConsole {
             ));
         }
         let panel = (
-            self.front.op == OpMode::Single,
-            self.front.switches.block_delete,
-            self.front.switches.optional_stop,
+            self.shell.front.op == OpMode::Single,
+            self.shell.front.switches.block_delete,
+            self.shell.front.switches.optional_stop,
         );
         l.extend(setting_lines(
-            &switch_list(self.front.feed_override, &self.machine_switches(), panel),
+            &switch_list(
+                self.shell.front.feed_override,
+                &self.machine_switches(),
+                panel,
+            ),
             cols,
         ));
         l
@@ -666,7 +670,7 @@ impl LatheConsole {
         ];
         // The batch's count and target, then the counters every console keeps (the centre's
         // POS words): parts delivered in every batch, the last cycle, the run hours.
-        let k = &self.book.counters;
+        let k = &self.shell.book.counters;
         l.push(format!("PARTS {}/{}", c.parts, self.counter.target));
         l.push(format!("TOTAL {} {}", k.parts, k.times()));
         l
@@ -676,7 +680,7 @@ impl LatheConsole {
     /// in DATA mode, marked `>`.
     pub(super) fn listing(&self, c: &super::view::ChanView) -> Vec<String> {
         let line = c.line;
-        match self.shown.page {
+        match self.shell.shown.page {
             Page::Pos => return self.pos_lines(c),
             Page::Ofs => {
                 let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
@@ -693,19 +697,23 @@ impl LatheConsole {
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MACRO CH{} #500=12.5 Enter INPUT", self.sel + 1)];
                 let params = &self.kept[self.sel].params.params;
-                l.extend(macros::variable_rows(params, self.shown.macro_var, room));
+                l.extend(macros::variable_rows(
+                    params,
+                    self.shell.shown.macro_var,
+                    room,
+                ));
                 return l;
             }
             Page::Modal => return self.modal_lines(),
             Page::Msg => {
                 // The centre's MSG page under the channel's lines: every entry in full,
                 // newest first.
-                let all = self.book.log.history.entries();
+                let all = self.shell.book.log.history.entries();
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
                 l.extend(msg::history_lines(
                     all,
-                    self.shown.msg_first,
+                    self.shell.shown.msg_first,
                     room,
                     self.cols,
                 ));
@@ -713,7 +721,7 @@ impl LatheConsole {
             }
             _ => {}
         }
-        if let (OpMode::Data, Some(y)) = (self.front.op, &self.front.y_output) {
+        if let (OpMode::Data, Some(y)) = (self.shell.front.op, &self.shell.front.y_output) {
             let room = self.rows.saturating_sub(5).max(1);
             return y
                 .split_inclusive('\n')
@@ -725,13 +733,13 @@ impl LatheConsole {
         // buffer is cleared at START: before stop 40 the display went blank while it ran).
         let running = Some(&self.cycle).filter(|c| !c.is_over());
         let run_lines = running.and_then(|c| c.mdi_lines(self.sel));
-        let text = match (self.front.op, run_lines) {
+        let text = match (self.shell.front.op, run_lines) {
             (OpMode::Mdi, Some(l)) if self.mdi[self.sel].is_empty() => l.join("\n"),
             (OpMode::Mdi, _) => self.mdi[self.sel].join("\n"),
             _ => self.programs[self.sel].text.clone(),
         };
         let lines: Vec<&str> = text.lines().collect();
-        let cur = match (self.front.op, self.search) {
+        let cur = match (self.shell.front.op, self.search) {
             (OpMode::Data, _) => self.edit_line[self.sel],
             // A SEARCH point: the listing stands where START will begin.
             (OpMode::Auto | OpMode::Single, Some(n)) => n.max(1) as usize,

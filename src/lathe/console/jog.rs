@@ -63,6 +63,6 @@ impl LatheConsole {
 
     /// The STEP and handwheel increment, pulses.
     pub fn increment(&self) -> u32 {
-        self.front.wheel.1
+        self.shell.front.wheel.1
     }
 }

@@ -22,8 +22,8 @@ use super::desc::LatheDesc;
 use crate::console::book::Book;
 use crate::console::front::Front;
 use crate::console::keys::Action;
-use crate::console::pages::Shown;
 use crate::console::recording::Recording;
+use crate::console::shell::Shell;
 use crate::console::state::{ESTOP_NOTE, HOLD_NOTE};
 use crate::console::wait::{WaitFor, WAIT_LIMIT_NS};
 use crate::console::MsgLife;
@@ -41,9 +41,17 @@ pub(crate) const WAIT_LOOK_NS: u64 = 10_000_000;
 
 /// The lathe console.
 pub struct LatheConsole {
-    /// The operator's side, the centre's (`crate::console::front`): selector (AUTO at
-    /// power-on), entry line, message, help, switches, feed override, handwheel.
-    front: Front,
+    /// What every console holds beside its machine (`crate::console::shell`): the operator's
+    /// side (selector, AUTO at power-on; entry line, message, help, switches, feed override,
+    /// handwheel); the page up over the mode display (OFS, where the data keys revise the
+    /// selected channel's tools, `T1 X0.02 Z-0.01 R0.8 P3`; MSG, the alarm and message
+    /// history; MACRO, the selected channel's variables; MODAL; POS); the log book in the
+    /// lathe's state directory (the history, kept across restarts; the counters: parts
+    /// delivered at the unloader in every batch, the last cycle's time from the part before it,
+    /// the first from START, and the machine time with a cycle or an MDI run under way, the
+    /// batch's target and counts being the part counter's, `counter`; the programs' messages
+    /// that live until acknowledged); each channel's MDI recall; the recording.
+    shell: Shell,
     desc: LatheDesc,
     store: LatheStore,
     programs: Vec<Program>,
@@ -53,29 +61,11 @@ pub struct LatheConsole {
     mdi: Vec<Vec<String>>,
     counter: Counter,
     sel: usize,
-    /// The page up over the mode display and the MSG and MACRO cursors (the centre's
-    /// `pages::Shown`, its page and cursor rules: in any mode, the page key again or a mode
-    /// turned leaves a page): OFS, where the data keys revise the selected channel's tools
-    /// (`T1 X0.02 Z-0.01 R0.8 P3`), MSG, the alarm and message history, MACRO (the selected
-    /// channel's variables), MODAL, POS.
-    shown: Shown,
-    /// The log book, the centre's (`crate::console::book::Book`), in the lathe's state
-    /// directory: the alarm and message history the MSG page shows, kept across restarts; the
-    /// counters (parts delivered at the unloader in every batch, the last cycle's time from the
-    /// part before it, the first from START, and the machine time with a cycle or an MDI run
-    /// under way: the batch's target and counts are the part counter's, `counter`); and the
-    /// programs' messages that live until acknowledged (`MSG`, `NOT KEPT`), oldest first, the
-    /// newest on the message line until Esc or RESET. Before stop 45 the lathe kept no run
-    /// time and forgot its cycle time at a restart, and a `(MSG, ...)` lived until the next
-    /// key; before stop 46 it kept the three beside each other, not as the centre's one book.
-    book: Book,
     /// The OFS page's cursor: the selected channel's tool (its row) and column
     /// (`ofs::COLUMNS`).
     ofs_cell: (usize, usize),
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
-    /// Each channel's MDI lines last typed, for recall with Up and Down in MDI (the centre's).
-    recall: Vec<crate::console::entry::Recall>,
     /// The machine time each channel's latest fault or alarm came at (the kernel's event).
     alarm_at: Vec<Option<u64>>,
     /// The channel the message just said speaks of, when not the selected one (a script's
@@ -89,8 +79,6 @@ pub struct LatheConsole {
     cycle: glue::Cycle,
     rows: usize,
     cols: usize,
-    /// The recording (the one recording of every console: `crate::console::recording`).
-    recorder: Recording,
     last_display: Vec<String>,
     /// Machine time since the console opened, ns (cycles follow one another on it).
     now_ns: u64,
@@ -213,19 +201,15 @@ impl LatheConsole {
             counter: o.counter,
             store: o.store,
             desc,
-            front,
+            shell: Shell::new(front, book, recorder, n),
             sel: 0,
-            shown: Shown::default(),
-            book,
             ofs_cell: (0, ofs::FIRST_COLUMN),
-            recall: (0..n).map(|_| Default::default()).collect(),
             last_part_ns: None,
             alarm_at: vec![None; n],
             msg_of: None,
             cycle,
             rows,
             cols,
-            recorder,
             last_display: Vec::new(),
             now_ns: 0,
             stale_counts: stale,
@@ -235,12 +219,12 @@ impl LatheConsole {
         };
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
-            c.front.message = match warnings.len() {
+            c.shell.front.message = match warnings.len() {
                 1 => w.clone(),
                 n => format!("{w} (and {} more warnings)", n - 1),
             };
         } else if stale {
-            c.front.message = format!(
+            c.shell.front.message = format!(
                 "last batch stopped at {} of {}: START begins anew",
                 c.counter
                     .counts
@@ -305,13 +289,13 @@ impl LatheConsole {
     /// The last cycle's time, ns (the title's `CYCLE`): from the part delivered before it, or
     /// from the batch's START for its first part, to the part delivered at the unloader.
     pub fn cycle_time_ns(&self) -> Option<u64> {
-        Some(self.book.counters.last_cycle_ns).filter(|&t| t > 0)
+        Some(self.shell.book.counters.last_cycle_ns).filter(|&t| t > 0)
     }
 
     /// The counters kept across restarts: parts delivered in every batch, the last cycle's
     /// time and the run time.
     pub fn counters(&self) -> crate::store::history::Counters {
-        self.book.counters
+        self.shell.book.counters
     }
 
     /// The message line: the operator message while it lives ([`MsgLife`]), else what the
@@ -331,7 +315,7 @@ impl LatheConsole {
     /// acknowledged (the centre's words), then what [`LatheConsole::message`] says.
     fn message_line_of(&self, chans: &[ChanView]) -> String {
         let said = self.message_with(chans);
-        match crate::console::state::unacknowledged_line(&self.book.unacknowledged) {
+        match crate::console::state::unacknowledged_line(&self.shell.book.unacknowledged) {
             Some(m) if said.is_empty() => m,
             Some(m) => format!("{m} / {said}"),
             None => said.to_string(),
@@ -340,25 +324,25 @@ impl LatheConsole {
 
     /// The program messages on the message line until acknowledged (newest last).
     pub fn unacknowledged(&self) -> &[String] {
-        &self.book.unacknowledged
+        &self.shell.book.unacknowledged
     }
 
     fn message_with(&self, chans: &[ChanView]) -> &str {
         let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
-        let (life, at) = (self.front.life, self.front.said_ns);
+        let (life, at) = (self.shell.front.life, self.shell.front.said_ns);
         // Said in this instant: the machine has not answered yet (START before its tick).
         let fresh = at == self.now_ns;
         let lives = match life {
             MsgLife::NextKey | MsgLife::WhileBlock(_) => true,
             MsgLife::WhileRunning => fresh || view::runs(chans),
         };
-        if lives && !self.front.message.is_empty() {
-            &self.front.message
+        if lives && !self.shell.front.message.is_empty() {
+            &self.shell.front.message
         } else if any(&["ESTOP"]) {
             ESTOP_NOTE
         } else if any(&["HOLD"]) {
             HOLD_NOTE
-        } else if any(&["STOP"]) && self.front.op == OpMode::Single {
+        } else if any(&["STOP"]) && self.shell.front.op == OpMode::Single {
             "SINGLE BLOCK: a channel stops after each block; START runs the next"
         } else if any(&["STOP"]) {
             "STOP: a program stop; START goes on"
@@ -371,7 +355,7 @@ impl LatheConsole {
 
     /// Says `text` on the message line for as long as `life`.
     fn say(&mut self, text: impl Into<String>, life: MsgLife) {
-        self.front.say(text, life, self.now_ns)
+        self.shell.front.say(text, life, self.now_ns)
     }
 
     /// The rapid override and the spindle override, percent (the centre's switches).
@@ -394,29 +378,29 @@ impl LatheConsole {
 
     /// The operation selector's position.
     pub fn mode(&self) -> OpMode {
-        self.front.op
+        self.shell.front.op
     }
 
     /// The page up over the mode display (`Page::Mode`: none).
     pub fn page(&self) -> Page {
-        self.shown.page
+        self.shell.shown.page
     }
 
     /// The alarm and message history, oldest first (the MSG page shows it newest first).
     pub fn history(&self) -> &[crate::store::history::Entry] {
-        self.book.log.history.entries()
+        self.shell.book.log.history.entries()
     }
 
     /// The feed override, percent.
     pub fn feed_override(&self) -> u32 {
-        self.front.feed_override
+        self.shell.front.feed_override
     }
 
     /// The switches: OPTIONAL STOP, BLOCK DELETE.
     pub fn switches(&self) -> (bool, bool) {
         (
-            self.front.switches.optional_stop,
-            self.front.switches.block_delete,
+            self.shell.front.switches.optional_stop,
+            self.shell.front.switches.block_delete,
         )
     }
 
@@ -447,7 +431,7 @@ impl LatheConsole {
     /// program. None: no such channel.
     pub fn program_to_run(&self, ch: usize) -> Option<(String, bool)> {
         let p = self.programs.get(ch)?;
-        if self.front.op != OpMode::Mdi || ch != self.sel {
+        if self.shell.front.op != OpMode::Mdi || ch != self.sel {
             return Some((p.text.clone(), false));
         }
         let running = Some(&self.cycle).filter(|c| !c.is_over() && c.mdi);
@@ -463,8 +447,8 @@ impl LatheConsole {
     /// STOP, and the part counter as Fanuc's #3901/#3902 read it.
     fn read_options(&self) -> super::gcode::ReadOptions {
         super::gcode::ReadOptions {
-            block_delete: self.front.switches.block_delete,
-            optional_stop: self.front.switches.optional_stop,
+            block_delete: self.shell.front.switches.block_delete,
+            optional_stop: self.shell.front.switches.optional_stop,
             parts: Some(super::gcode::Parts::new(
                 &self.counter.counts,
                 self.counter.target,
@@ -521,17 +505,7 @@ impl LatheConsole {
 
     /// The line being typed on the data keys (the centre's `PanelView::entry`).
     pub fn entry(&self) -> &str {
-        &self.front.entry
-    }
-
-    /// The operator's side of the console, the centre's (`crate::console::front`).
-    pub(crate) fn front(&self) -> &Front {
-        &self.front
-    }
-
-    /// The operator's side of the console, to change (the screen fit, each frame).
-    pub(crate) fn front_mut(&mut self) -> &mut Front {
-        &mut self.front
+        &self.shell.front.entry
     }
 
     /// A key of the terminal, on the one key map (`events::map_key`), with the centre's
@@ -553,20 +527,20 @@ impl LatheConsole {
         let page = match crate::console::pages::page_of_key(k) {
             Some(p @ (Page::Msg | Page::Macro | Page::Modal | Page::Pos)) => p,
             _ if crate::console::keys::is_cursor_key(k) => {
-                if self.shown.page == Page::Ofs {
+                if self.shell.shown.page == Page::Ofs {
                     let tools = &self.desc.channels[self.sel].tools;
                     self.ofs_cell = ofs::cursor_moved(tools, self.ofs_cell, k);
                     return true;
                 }
-                let n = self.book.log.history.entries().len();
-                return (self.shown).cursor(k, n, self.rows.saturating_sub(6));
+                let n = self.shell.book.log.history.entries().len();
+                return (self.shell.shown).cursor(k, n, self.rows.saturating_sub(6));
             }
             // (Tab with a value typed on a page is +INPUT on every machine: `keys::tab_adds`.)
             _ => return false,
         };
         // The page key again leaves it (the centre's rule); the line being typed stays.
-        self.shown.key(page);
-        self.front.y_output = None;
+        self.shell.shown.key(page);
+        self.shell.front.y_output = None;
         true
     }
 
@@ -596,18 +570,25 @@ impl LatheConsole {
                 now[i + 1] = Some((text, (when, ch.program.as_str(), ch.line)));
             }
         }
-        let failed = self.book.log.alarms(&mut self.recorder, &now).err();
+        let failed = self
+            .shell
+            .book
+            .log
+            .alarms(&mut self.shell.recorder, &now)
+            .err();
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
         let chans: Vec<_> = (self.cycle.channels().iter())
             .map(|c| c.status.clone())
             .collect();
         let at = (t, file, 0);
-        (self.book.log).shown_message(&mut self.recorder, &mut self.front, at, &chans, failed);
-    }
-
-    fn record_event(&mut self, ev: &PanelEvent) {
-        self.recorder.panel_event(ev, self.now_ns);
+        (self.shell.book.log).shown_message(
+            &mut self.shell.recorder,
+            &mut self.shell.front,
+            at,
+            &chans,
+            failed,
+        );
     }
 
     /// One event of the panel grammar (the centre's and the lathe's alike), by every
@@ -625,7 +606,7 @@ impl LatheConsole {
     /// machine's state after it (`after`).
     fn act(&mut self, ev: PanelEvent) {
         if let Err(e) = events::takes(&ev) {
-            self.front.message = e;
+            self.shell.front.message = e;
             return;
         }
         crate::console::side::words(self, ev);
@@ -637,30 +618,32 @@ impl LatheConsole {
     fn own_word(&mut self, ev: PanelEvent) {
         match ev {
             PanelEvent::OfsMode => {
-                self.shown.page = Page::Ofs;
-                self.front.y_output = None;
+                self.shell.shown.page = Page::Ofs;
+                self.shell.front.y_output = None;
                 // The line being typed stays, as under every page key (stop 41).
-                self.front.message = format!(
+                self.shell.front.message = format!(
                     "OFS: CH{}'s tools; a value, Enter INPUT, Tab +INPUT (or T1 X.. Z.. R.. P..)",
                     self.sel + 1
                 );
             }
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
-            PanelEvent::Channel(c) => self.front.message = format!("there is no channel {}", c + 1),
+            PanelEvent::Channel(c) => {
+                self.shell.front.message = format!("there is no channel {}", c + 1)
+            }
             PanelEvent::Fault(ch, why) if ch < self.desc.channels.len() && self.cycle.loaded() => {
                 // Filed in the history under the faulted channel's program.
                 self.msg_of = Some(ch);
-                self.front.message = match self.cycle.fault(ch, &why) {
+                self.shell.front.message = match self.cycle.fault(ch, &why) {
                     Ok(()) => format!("CH{} FAULT: {why}", ch + 1),
                     Err(e) => format!("fault CH{}: {e}", ch + 1),
                 };
             }
             PanelEvent::Fault(ch, _) => {
-                self.front.message = format!("fault CH{}: no cycle runs", ch + 1)
+                self.shell.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
             PanelEvent::Target(n) => self.set_target(n),
             PanelEvent::Tape(path) => {
-                self.front.message = match self.program_read(&path) {
+                self.shell.front.message = match self.program_read(&path) {
                     Ok(said) => said,
                     Err(e) => format!(
                         "PROGRAM READ refused: {e}; CH{}'s program unchanged",
@@ -697,7 +680,7 @@ impl LatheConsole {
 
     /// Why the last script wait could not end, if it could not.
     pub fn wait_error(&self) -> Option<&str> {
-        self.front.wait_error.as_deref()
+        self.shell.front.wait_error.as_deref()
     }
 
     /// Asked between the steps of a script's wait: a true answer ends it early (a stop
@@ -715,10 +698,10 @@ impl LatheConsole {
             crate::console::manual::release(self, false);
         }
         self.sel = c;
-        self.front.y_output = None;
+        self.shell.front.y_output = None;
         // The line being typed stays (nothing typed is lost): it is the next channel's now, as
         // the display and the entry box say. Before stop 47 the turn cleared it.
-        self.front.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
+        self.shell.front.message = format!("channel {} {}", c + 1, self.desc.channels[c].name);
     }
 
     /// Sets the part target. It is taken only once stored: a target that cannot be stored
@@ -739,19 +722,21 @@ impl LatheConsole {
             let c = &mut self.cycle;
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
-                self.front.message = format!("target {n}: a channel has already finished {most}");
+                self.shell.front.message =
+                    format!("target {n}: a channel has already finished {most}");
                 return;
             }
             // A SEARCH's part runs once whatever the batch's target (the machine's stays 1);
             // it makes one more part.
             if c.searching() && n < most + 1 {
-                self.front.message = format!("target {n}: the part SEARCH runs makes {}", most + 1);
+                self.shell.front.message =
+                    format!("target {n}: the part SEARCH runs makes {}", most + 1);
                 return;
             }
             let old = self.counter.target;
             let told = (!c.searching()).then(|| c.set_target(c.machine_target(n)));
             if let Err(e) = told.unwrap_or(Ok(())) {
-                self.front.message = e;
+                self.shell.front.message = e;
                 return;
             }
             if let Err(e) = self.store.save_counter(&next) {
@@ -759,28 +744,28 @@ impl LatheConsole {
                 if !c.searching() {
                     let _ = c.set_target(c.machine_target(old));
                 }
-                self.front.message = format!("{e}: the target is not changed");
+                self.shell.front.message = format!("{e}: the target is not changed");
                 return;
             }
         } else {
             next.counts.iter_mut().for_each(|c| *c = 0);
             if let Err(e) = self.store.save_counter(&next) {
-                self.front.message = format!("{e}: the target is not changed");
+                self.shell.front.message = format!("{e}: the target is not changed");
                 return;
             }
             self.stale_counts = false;
         }
         self.counter = next;
-        self.front.message = format!("part target {n}");
+        self.shell.front.message = format!("part target {n}");
     }
 
     fn start(&mut self) {
-        let op = self.front.op;
+        let op = self.shell.front.op;
         if op == OpMode::Data {
             // The centre's words: START runs in AUTO, MDI and SINGLE BLOCK only (before stop
             // 42 a lathe cycle held by a mode turn resumed on START in any mode); the lathe
             // has no tape reader to start.
-            self.front.message = format!(
+            self.shell.front.message = format!(
                 "START refused in {}: use AUTO, MDI or SINGLE BLOCK",
                 op.name()
             );
@@ -791,7 +776,7 @@ impl LatheConsole {
         // is refused and the point kept: it is the operator's, never dropped unsaid.
         let auto = matches!(op, OpMode::Auto | OpMode::Single);
         if let (Some(n), true, false) = (self.search, auto, self.at_rest_unloaded()) {
-            self.front.message = format!(
+            self.shell.front.message = format!(
                 "START refused: a run is loaded or a tool post moves; SEARCH line {n} is kept (wait for the move to end, or RESET the run)"
             );
             return;
@@ -806,7 +791,7 @@ impl LatheConsole {
                 if c.loaded() && c.mdi != (op == OpMode::Mdi) {
                     // A cycle held in MDI mode, or an MDI run in AUTO: the machine's words.
                     let kind = if c.mdi { "MDI" } else { "AUTO" };
-                    self.front.message =
+                    self.shell.front.message =
                         format!("START refused: an {kind} run is loaded; press RESET first");
                     return;
                 }
@@ -815,7 +800,7 @@ impl LatheConsole {
                 }
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
-                    Err(e) => self.front.message = e,
+                    Err(e) => self.shell.front.message = e,
                 }
                 return;
             }
@@ -830,7 +815,7 @@ impl LatheConsole {
                     .all(|&c| c >= self.counter.target)
                     && !self.stale_counts
                 {
-                    self.front.message = format!(
+                    self.shell.front.message = format!(
                         "the target of {} parts is reached: set a new target (Alt+n) to run again",
                         self.counter.target
                     );
@@ -845,7 +830,8 @@ impl LatheConsole {
             }
             OpMode::Mdi => {
                 if self.mdi[self.sel].is_empty() {
-                    self.front.message = "MDI: the buffer is empty; type lines, then START".into();
+                    self.shell.front.message =
+                        "MDI: the buffer is empty; type lines, then START".into();
                     return;
                 }
                 let mut texts = vec![(String::new(), String::new()); self.desc.channels.len()];
@@ -880,11 +866,11 @@ impl LatheConsole {
         };
         let spec = self.spec(texts, opts, target, mdi.then_some(self.sel));
         if let Err(e) = self.cycle.load(&desc, spec, &mut self.kept) {
-            self.front.message = e;
+            self.shell.front.message = e;
             return;
         }
         // A new cycle: its channels' faults are new to the history.
-        self.book.log.forget_alarms();
+        self.shell.book.log.forget_alarms();
         if search.is_some() || resume {
             self.cycle
                 .count_from(self.counter.counts.clone(), search.is_some());
@@ -895,7 +881,7 @@ impl LatheConsole {
             if let Err(e) = self.store.save_counter(&next) {
                 // Loaded and not started: nothing is left loaded either.
                 self.clear_cycle();
-                self.front.message = format!("{e}: the cycle does not start");
+                self.shell.front.message = format!("{e}: the cycle does not start");
                 return;
             }
             self.counter = next;
@@ -904,7 +890,7 @@ impl LatheConsole {
             self.last_part_ns = None;
         }
         if let Err(e) = self.cycle.start() {
-            self.front.message = e;
+            self.shell.front.message = e;
             return;
         }
         // The buffer is cleared once it runs; if the clear cannot be stored, the buffer stays
@@ -953,8 +939,8 @@ impl LatheConsole {
             opts,
             target,
             mdi,
-            single_block: mdi.is_none() && self.front.op == OpMode::Single,
-            op_mode: self.front.op,
+            single_block: mdi.is_none() && self.shell.front.op == OpMode::Single,
+            op_mode: self.shell.front.op,
             search: self.search.filter(|_| mdi.is_none()),
         }
     }
@@ -965,9 +951,9 @@ impl LatheConsole {
         let _ = self.cycle.command_all(Command::Reset);
         let spec = self.spec(Vec::new(), Default::default(), 1, Some(self.sel));
         if let Err(e) = self.cycle.load(&self.desc, spec, &mut self.kept) {
-            self.front.message = e;
+            self.shell.front.message = e;
         }
-        self.book.log.forget_alarms();
+        self.shell.book.log.forget_alarms();
     }
 
     /// Sets the selected channel's MDI buffer, stored first (the stores keep it across a
@@ -1002,7 +988,7 @@ impl LatheConsole {
             if self.store.save_params(ch, &changed).is_err() {
                 for &p in &changed {
                     if let Err(e) = self.store.save_params(ch, &[p]) {
-                        self.front.say(
+                        self.shell.front.say(
                             format!("NOT KEPT: CH{} #{}: {e}", ch + 1, p.0),
                             MsgLife::NextKey,
                             self.now_ns,
@@ -1015,8 +1001,8 @@ impl LatheConsole {
 
     /// Saves the counters (`counters`) atomically; a failure is said on the message line.
     fn save_counters(&mut self) {
-        if let Err(e) = self.book.counters.save(self.store.dir()) {
-            self.front.say_failure(&e, self.now_ns);
+        if let Err(e) = self.shell.book.counters.save(self.store.dir()) {
+            self.shell.front.say_failure(&e, self.now_ns);
         }
     }
 
@@ -1035,7 +1021,8 @@ impl LatheConsole {
         // It acknowledges that channel's program messages (after an E-STOP, every one), as a
         // Fanuc's RESET clears its path's operator message (the centre's rule).
         let of = format!("CH{} ", self.sel + 1);
-        self.book
+        self.shell
+            .book
             .unacknowledged
             .retain(|m| !all && !m.starts_with(&of));
         for (ch, k) in self.kept.iter_mut().enumerate() {
@@ -1090,7 +1077,7 @@ impl LatheConsole {
         let t = self.cycle.now_ns();
         if running {
             // The run hours: machine time with a cycle or an MDI run under way.
-            self.book.counters.ran(t.saturating_sub(self.now_ns));
+            self.shell.book.counters.ran(t.saturating_sub(self.now_ns));
         }
         self.now_ns = t;
         self.after();
@@ -1131,7 +1118,7 @@ impl LatheConsole {
                 match e {
                     E::Part { ch, t, .. } if ch == self.desc.unloader && !c.mdi => {
                         let from = self.last_part_ns.unwrap_or(c.started_ns());
-                        self.book.counters.made(t.saturating_sub(from));
+                        self.shell.book.counters.made(t.saturating_sub(from));
                         self.last_part_ns = Some(t);
                         counted = true;
                     }
@@ -1153,11 +1140,11 @@ impl LatheConsole {
             if !c.mdi && counts != self.counter.counts {
                 self.counter.counts = counts;
                 if let Err(e) = self.store.save_counter(&self.counter) {
-                    self.front.say_failure(&e, self.now_ns);
+                    self.shell.front.say_failure(&e, self.now_ns);
                 }
             }
             if let Some(m) = c.take_message() {
-                self.front.say(m, MsgLife::NextKey, self.now_ns);
+                self.shell.front.say(m, MsgLife::NextKey, self.now_ns);
             }
             // The programs' messages: on the message line (the last one), each in the
             // recording's log as the centre's (docs/recording.md `/foxglove/log`).
@@ -1176,9 +1163,9 @@ impl LatheConsole {
                 let at = (t, file.as_str(), 0);
                 // `CH1 MSG: text`: the kind is the word after the channel.
                 let kind = text.split([' ', ':']).nth(1).unwrap_or("").to_string();
-                let r = (self.book).program_message(
-                    &mut self.recorder,
-                    &mut self.front,
+                let r = (self.shell.book).program_message(
+                    &mut self.shell.recorder,
+                    &mut self.shell.front,
                     at,
                     &kind,
                     text,
@@ -1186,8 +1173,8 @@ impl LatheConsole {
                 failed = failed.or(r.err());
             }
             if let Some(e) = failed {
-                self.front.say_failure(&e, self.now_ns);
-                self.book.log.shown(&self.front.message);
+                self.shell.front.say_failure(&e, self.now_ns);
+                self.shell.book.log.shown(&self.shell.front.message);
             }
         }
         self.log_book();
@@ -1195,11 +1182,11 @@ impl LatheConsole {
     }
 
     fn record_display(&mut self) {
-        if !self.recorder.on() {
+        if !self.shell.recorder.on() {
             return;
         }
         let d = self.view().display;
-        (self.recorder).frame(&mut self.last_display, d, self.now_ns);
+        (self.shell.recorder).frame(&mut self.last_display, d, self.now_ns);
     }
 
     fn chan_views(&self) -> Vec<ChanView> {
@@ -1240,18 +1227,18 @@ impl LatheConsole {
             .collect();
         let c = &chans[self.sel];
         let listing = self.listing(c);
-        let mode = match self.shown.page {
-            Page::Mode => self.front.op.word(),
+        let mode = match self.shell.shown.page {
+            Page::Mode => self.shell.front.op.word(),
             p => p.label(),
         };
         // The switches are the machine's, every channel's: on the title line, where the
         // plasma's 40 columns do not cut them off.
         let sw = self.machine_switches();
-        let feed = match self.front.feed_override {
+        let feed = match self.shell.front.feed_override {
             100 => String::new(),
             f => format!("  F{f}%"),
         };
-        let switches = feed + &crate::console::switch_words(&self.front.switches, &sw);
+        let switches = feed + &crate::console::switch_words(&self.shell.front.switches, &sw);
         let display = view::plasma(
             self.sel,
             c,
@@ -1259,7 +1246,7 @@ impl LatheConsole {
             self.desc.pulse_mm,
             &listing,
             &self.message_line_of(&chans),
-            &self.front.entry,
+            &self.shell.front.entry,
             self.rows,
             w,
         );
@@ -1285,7 +1272,7 @@ impl LatheConsole {
             display,
             channels: chans,
             selected: self.sel,
-            help: self.front.help_shown(),
+            help: self.shell.front.help_shown(),
             machine_ns: self.now_ns,
         }
     }
@@ -1308,11 +1295,9 @@ impl LatheConsole {
         // The run time since the last part (a failure to save is not the recording's).
         self.save_counters();
         // The kernel's thread holds a sink: it ends first, so everything it sent is written.
-        let LatheConsole {
-            cycle, recorder, ..
-        } = self;
+        let LatheConsole { cycle, shell, .. } = self;
         drop(cycle);
-        recorder.finish()
+        shell.recorder.finish()
     }
 
     /// E-STOP for a stop signal, as the centre's: every channel stops at once, spindles too,
@@ -1334,19 +1319,16 @@ impl crate::console::keys::Keyed for LatheConsole {
     fn action(&self, k: Key) -> Action {
         events::map_key(k)
     }
-    fn record_key(&mut self, k: Key) {
-        self.record_event(&PanelEvent::Press(k));
-    }
     fn page_keys(&mut self, k: Key, action: &Action) -> bool {
         if self.page_key(k) {
             return true;
         }
-        if *action != Action::Event(PanelEvent::OfsMode) || self.shown.page != Page::Ofs {
+        if *action != Action::Event(PanelEvent::OfsMode) || self.shell.shown.page != Page::Ofs {
             return false;
         }
         // The page key again: back to the mode's display (the centre's rule).
-        self.shown.page = Page::Mode;
-        self.front.message = format!("{} mode", self.front.op.word());
+        self.shell.shown.page = Page::Mode;
+        self.shell.front.message = format!("{} mode", self.shell.front.op.word());
         true
     }
     fn own_key(&mut self, k: Key, action: &Action) -> bool {
@@ -1358,7 +1340,7 @@ impl crate::console::keys::Keyed for LatheConsole {
             }
             Action::Fault => {
                 self.record_key(k);
-                let why = std::mem::take(&mut self.front.entry);
+                let why = std::mem::take(&mut self.shell.front.entry);
                 let why = if why.trim().is_empty() {
                     "operator".to_string()
                 } else {
@@ -1371,10 +1353,10 @@ impl crate::console::keys::Keyed for LatheConsole {
                 // The typed line names the file; recorded as the key, which takes the line (a
                 // replay types the same path), as on the centre.
                 self.record_key(k);
-                let path = std::mem::take(&mut self.front.entry);
+                let path = std::mem::take(&mut self.shell.front.entry);
                 let path = path.trim();
                 if path.is_empty() {
-                    self.front.message =
+                    self.shell.front.message =
                         "PROGRAM READ: type the program file's path first, then the tape key"
                             .into();
                 } else {
@@ -1384,20 +1366,20 @@ impl crate::console::keys::Keyed for LatheConsole {
             }
             Action::Punch => {
                 self.record_key(k);
-                self.front.message = self.punch();
+                self.shell.front.message = self.punch();
                 self.after();
             }
             Action::Target => {
                 self.record_key(k);
-                let typed = std::mem::take(&mut self.front.entry);
+                let typed = std::mem::take(&mut self.shell.front.entry);
                 match typed.trim().parse::<u32>() {
                     Ok(n) if (1..=999_999).contains(&n) => {
                         self.act(PanelEvent::Target(n));
                         self.after();
                     }
                     _ => {
-                        self.front.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
-                        self.front.entry = typed;
+                        self.shell.front.message = format!("target: type the part count (1 to 999999), then Alt+n; '{typed}' is not one");
+                        self.shell.front.entry = typed;
                     }
                 }
             }
@@ -1410,17 +1392,17 @@ impl crate::console::keys::Keyed for LatheConsole {
 /// The lathe's machine side for the one console's rules (`crate::console::side`): its
 /// channels, every one told a switch at once.
 impl crate::console::side::Side for LatheConsole {
-    fn front(&mut self) -> &mut Front {
-        &mut self.front
+    fn shell(&mut self) -> &mut Shell {
+        &mut self.shell
+    }
+    fn shell_ref(&self) -> &Shell {
+        &self.shell
     }
     fn machine_switches(&self) -> crate::record::Switches {
         LatheConsole::machine_switches(self)
     }
     fn refresh(&mut self) {
         self.after();
-    }
-    fn book(&mut self) -> &mut Book {
-        &mut self.book
     }
     fn command_all(&mut self, cmd: Command) {
         // Every channel takes it or says why not, in its notice (`channels`).
@@ -1436,9 +1418,6 @@ impl crate::console::side::Side for LatheConsole {
     }
     fn channel_runs(&self) -> bool {
         self.cycle.any_state(&["RUN"])
-    }
-    fn leave_page(&mut self) {
-        self.shown.page = Page::Mode;
     }
     fn selected(&self) -> usize {
         self.sel
@@ -1463,17 +1442,11 @@ impl crate::console::side::Side for LatheConsole {
     fn settle(&mut self, ch: usize) {
         LatheConsole::settle(self, ch)
     }
-    fn record(&mut self, ev: &PanelEvent) {
-        self.record_event(ev)
-    }
     fn run_wait(&mut self, w: WaitFor) -> crate::pulse_core::Reached {
         LatheConsole::run_wait(self, w)
     }
     fn act(&mut self, ev: PanelEvent) {
         LatheConsole::act(self, ev)
-    }
-    fn page(&self) -> Page {
-        self.shown.page
     }
     fn takes_keys(&self, _to: crate::console::entry::To) -> Result<(), String> {
         // Every position has a use for a line: TARGET and FAULT take it in any mode.
@@ -1486,9 +1459,6 @@ impl crate::console::side::Side for LatheConsole {
         add: bool,
     ) -> Result<(), String> {
         LatheConsole::enter_line(self, to, line, add)
-    }
-    fn recall(&mut self) -> &mut crate::console::entry::Recall {
-        &mut self.recall[self.sel]
     }
     fn cursor_command(
         &self,
@@ -1509,7 +1479,7 @@ impl crate::console::side::Side for LatheConsole {
         LatheConsole::own_word(self, ev)
     }
     fn turned(&mut self, _was: OpMode) -> bool {
-        let m = self.front.op;
+        let m = self.shell.front.op;
         let c = &mut self.cycle;
         if !c.mdi && !c.is_over() && m == OpMode::Single {
             // SINGLE BLOCK turned on in a cycle: the block each channel is in is its last
