@@ -381,8 +381,11 @@ fn pos_shows_the_tip_and_what_is_left_of_the_block() {
         // what is left.
         let mm = |p: i64| p as f64 * c.desc().pulse_mm;
         assert_eq!(ch.work_pos(), ch.pos);
+        // The centre's table (since stop 59): WORK, REL (its origin 0 until set), MACH,
+        // TO GO.
         let x = format!(
-            "X  {:10.3} {:10.3} {:10.3}",
+            "X{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
+            mm(ch.pos[0] * 2),
             mm(ch.pos[0] * 2),
             mm(ch.pos[0] * 2),
             mm(ch.to_go[0] * 2)
@@ -801,5 +804,79 @@ fn a_machine_refusal_is_a_warning_in_the_lathe_recording() {
     for l in said {
         assert!(l.contains("\"level\":2,"), "{l}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The POS page takes the centre's words on the lathe (stop 59): `X`, `X12.5` (a diameter),
+/// `Z-3`, `XZ` set the selected channel's relative position, shown in the centre's REL column;
+/// `TARGET n` sets the batch's target and `PARTS n` the total; a line POS cannot read stays on
+/// the entry line with the words it takes, and is not an MDI line (before, a line typed under
+/// POS went to the selector's use).
+#[test]
+fn pos_takes_the_centres_words_for_each_channels_relative_position() {
+    let dir = common::temp_dir("lathe-pos-rel");
+    let mut c = open(&dir);
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.press(Key::Ctrl('p'));
+    assert_eq!(c.page(), Page::Pos);
+    // The row of `axis`: WORK, REL, MACH, TO GO.
+    let row = |c: &LatheConsole, axis: &str| -> Vec<f64> {
+        let d = c.view().display;
+        // (The summary line above it starts `X   70.000 Z`.)
+        let l = (d.iter().rev())
+            .find(|l| l.starts_with(axis))
+            .unwrap_or_else(|| panic!("{d:#?}"));
+        l[1..]
+            .split_whitespace()
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let x_mach = row(&c, "X")[2];
+    let z_mach = row(&c, "Z")[2];
+    assert_eq!(
+        row(&c, "X")[1],
+        x_mach,
+        "REL is MACH until an origin is set"
+    );
+    for (line, said, x_rel, z_rel) in [
+        ("X", "relative X preset to 0.000", 0.0, z_mach),
+        ("x12.5", "relative X preset to 12.500", 12.5, z_mach),
+        ("Z-3", "relative Z preset to -3.000", 12.5, -3.0),
+        ("XZ", "relative X Z zeroed", 0.0, 0.0),
+    ] {
+        c.handle(PanelEvent::Type(line.into()));
+        assert_eq!(c.message(), said);
+        assert_eq!((row(&c, "X")[1], row(&c, "Z")[1]), (x_rel, z_rel), "{line}");
+        assert_eq!(c.entry(), "");
+    }
+    // Not POS's: kept, with the words it takes; not an MDI line.
+    for k in "G0X1".chars() {
+        c.handle(PanelEvent::Key(k));
+    }
+    c.handle(PanelEvent::Eob);
+    assert!(c.message().starts_with("POS: type X"), "{}", c.message());
+    assert!(
+        c.message().contains("XZ, PARTS n, TARGET n,"),
+        "{}",
+        c.message()
+    );
+    assert_eq!(c.entry(), "G0X1");
+    assert!(c.mdi_lines(0).is_empty());
+    for _ in 0..4 {
+        c.handle(PanelEvent::Rubout);
+    }
+    // Each channel has its own origin.
+    c.handle(PanelEvent::Channel(1));
+    assert_eq!(row(&c, "X")[1], row(&c, "X")[2]);
+    c.handle(PanelEvent::Channel(0));
+    assert_eq!(row(&c, "X")[1], 0.0);
+    // The counters.
+    c.handle(PanelEvent::Type("TARGET 7".into()));
+    assert_eq!((c.message(), c.counter().target), ("part target 7", 7));
+    c.handle(PanelEvent::Type("PARTS 12".into()));
+    assert_eq!((c.message(), c.counters().parts), ("parts 12", 12));
+    c.handle(PanelEvent::Type("TARGET 0".into()));
+    assert!(c.message().contains("1 to 999999"), "{}", c.message());
+    assert_eq!((c.entry(), c.counter().target), ("TARGET 0", 7));
     let _ = std::fs::remove_dir_all(&dir);
 }

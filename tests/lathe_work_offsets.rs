@@ -98,8 +98,9 @@ fn work_offsets_are_revised_on_ofs_used_by_mdi_and_programs_and_kept() {
     assert_eq!(tip(&c), ([10_000, 2_000], [12_000, -298_000]));
     c.press(Key::Ctrl('p'));
     assert!(shows(&c, "WORK G55"), "{:#?}", c.view().display);
-    assert!(shows(&c, "X      20.000     24.000      0.000"));
-    assert!(shows(&c, "Z       2.000   -298.000      0.000"));
+    // WORK, REL (no origin set: the machine's), MACH, TO GO.
+    assert!(shows(&c, "X   20.000   24.000   24.000    0.000"));
+    assert!(shows(&c, "Z    2.000 -298.000 -298.000    0.000"));
     // MODAL: the system in force and its offset (X a diameter).
     c.press(Key::Ctrl('g'));
     assert!(shows(&c, "G55 OFFSET Z-300 X4"), "{:#?}", c.view().display);

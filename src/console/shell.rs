@@ -36,6 +36,27 @@ impl Shell {
             recall: (0..channels.max(1)).map(|_| Recall::default()).collect(),
         }
     }
+
+    /// `PARTS n` (`parts`) or `TARGET n` on the POS page: the log book's part count or its
+    /// target, saved in `dir` at once; a save that fails changes nothing.
+    pub fn set_count(
+        &mut self,
+        parts: bool,
+        n: u64,
+        dir: &std::path::Path,
+    ) -> Result<String, String> {
+        let was = self.book.counters;
+        if parts {
+            self.book.counters.parts = n;
+        } else {
+            self.book.counters.target = n;
+        }
+        if let Err(e) = self.book.counters.save(dir) {
+            self.book.counters = was;
+            return Err(e);
+        }
+        Ok(format!("{} {n}", if parts { "parts" } else { "target" }))
+    }
 }
 
 /// The page shown and the cursors of the pages every console has (MSG, MACRO), with their

@@ -27,7 +27,7 @@ mod measure;
 pub(crate) mod modal;
 pub(crate) mod msg;
 mod ofs;
-mod pos;
+pub(crate) mod pos;
 mod prog;
 pub(crate) mod workofs;
 

@@ -24,59 +24,118 @@
 use super::super::display::{message_lines, split_line, state_line, Page as Frame};
 use super::Console;
 
-/// A POS page command line: what it did, or why it is refused (nothing changed).
-pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
+/// A line typed on the POS page, read alike on every machine (docs/panel.md "Pages"): what it
+/// asks for. Each machine applies it to its own positions and counters.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum PosLine {
+    /// Zero the relative position of these axes (indices into the machine's letters): two or
+    /// more axis letters (`XYZ`, a lathe's `XZ`), or `ORIGIN` (every axis).
+    Zero(Vec<usize>),
+    /// Preset one axis's relative position, mm (`X12.5`; `X` alone zeroes it).
+    Preset(usize, f64),
+    /// `PARTS n`: the part count.
+    Parts(u64),
+    /// `TARGET n`: the part count's target (0: none).
+    Target(u64),
+    /// `JOG ...` (where the machine has a jog feed to set: `jog`): the rest of the line.
+    Jog(String),
+}
+
+/// Reads a POS line on a machine whose axes are `letters` (the centre's X Y Z and its rotary
+/// axes, a lathe's X Z); `jog`: the machine takes `JOG`. A line it cannot read gives the usage.
+pub(crate) fn read_line(line: &str, letters: &[char], jog: bool) -> Result<PosLine, String> {
     let l = line.trim().to_ascii_uppercase();
-    let s = c.cfg.settings.clone();
-    let pos = c.status.pos;
-    if l == "XYZ" || l == "ORIGIN" {
-        c.pages.rel_origin = pos;
-        return Ok("relative X Y Z zeroed".into());
+    let all: String = letters.iter().collect();
+    if l == "ORIGIN" {
+        return Ok(PosLine::Zero((0..letters.len()).collect()));
     }
-    if let Some(rest) = l.strip_prefix("JOG") {
-        return jog(c, rest.trim());
+    let index = |ch: char| letters.iter().position(|&x| x == ch);
+    // Two or more axis letters, each once.
+    let which: Vec<usize> = l.chars().filter_map(index).collect();
+    let once = (which.iter().enumerate()).all(|(k, i)| !which[..k].contains(i));
+    if which.len() >= 2 && which.len() == l.chars().count() && once {
+        return Ok(PosLine::Zero(which));
     }
-    for (word, set) in [("PARTS", true), ("TARGET", false)] {
+    if jog {
+        if let Some(rest) = l.strip_prefix("JOG") {
+            return Ok(PosLine::Jog(rest.trim().to_string()));
+        }
+    }
+    for word in ["PARTS", "TARGET"] {
         if let Some(rest) = l.strip_prefix(word) {
             let n = rest
                 .trim()
                 .parse::<u64>()
                 .map_err(|_| format!("{word} takes a whole number: {word} 100"))?;
-            let was = c.shell.book.counters;
-            if set {
-                c.shell.book.counters.parts = n;
-            } else {
-                c.shell.book.counters.target = n;
-            }
-            if let Err(e) = c.shell.book.counters.save(&c.cfg.state_dir) {
-                // Not kept: nothing changed.
-                c.shell.book.counters = was;
-                return Err(e);
-            }
-            return Ok(format!("{} {n}", word.to_ascii_lowercase()));
+            return Ok(match word {
+                "PARTS" => PosLine::Parts(n),
+                _ => PosLine::Target(n),
+            });
         }
     }
     let mut chars = l.chars();
-    let axis = match chars.next() {
-        Some('X') => 0,
-        Some('Y') => 1,
-        Some('Z') => 2,
-        _ => return Err("POS: type X (zero the relative X), X12.5 (preset it), XYZ, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter".into()),
+    let Some(axis) = chars.next().and_then(index) else {
+        let x = letters.first().copied().unwrap_or('X');
+        let jog = if jog { ", JOG 500 or JOG RAPID" } else { "" };
+        return Err(format!(
+            "POS: type {x} (zero the relative {x}), {x}12.5 (preset it), {all}, PARTS n, TARGET n{jog}, then Enter"
+        ));
     };
-    let rest: String = chars.collect();
-    let value = if rest.trim().is_empty() {
-        0.0
-    } else {
-        match rest.trim().parse::<f64>() {
-            Ok(v) if v.is_finite() && v.abs() <= 1e6 => v,
-            _ => return Err(format!("'{}' is not a position in mm", rest.trim())),
+    let rest = chars.as_str().trim();
+    if rest.is_empty() {
+        return Ok(PosLine::Preset(axis, 0.0));
+    }
+    match rest.parse::<f64>() {
+        Ok(v) if v.is_finite() && v.abs() <= 1e6 => Ok(PosLine::Preset(axis, v)),
+        _ => Err(format!("'{rest}' is not a position in mm")),
+    }
+}
+
+/// The POS page's axis table, every machine's: the work system's heading (`WORK G54`) over
+/// the relative, machine and to-go columns, then a row an axis: its letter and the four
+/// positions, mm (a lathe's X as a diameter).
+pub(crate) fn axis_table(
+    work: &str,
+    rows: impl IntoIterator<Item = (char, [f64; 4])>,
+) -> Vec<String> {
+    let mut l = vec![format!(" {work:>9}{:>9}{:>9}{:>9}", "REL", "MACH", "TO GO")];
+    l.extend(
+        (rows.into_iter())
+            .map(|(a, v)| format!("{a}{:>9.3}{:>9.3}{:>9.3}{:>9.3}", v[0], v[1], v[2], v[3])),
+    );
+    l
+}
+
+/// What zeroing the relative position of `which` said: `relative X Y Z zeroed`.
+pub(crate) fn zeroed(letters: &[char], which: &[usize]) -> String {
+    let names: Vec<String> = which.iter().map(|&i| letters[i].to_string()).collect();
+    format!("relative {} zeroed", names.join(" "))
+}
+
+/// A POS page command line: what it did, or why it is refused (nothing changed).
+pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
+    let s = c.cfg.settings.clone();
+    let pos = c.status.pos;
+    let axes: Vec<usize> = s.axis_list().collect();
+    let letters: Vec<char> = axes
+        .iter()
+        .map(|&a| crate::settings::AXIS_NAMES[a])
+        .collect();
+    match read_line(line, &letters, true)? {
+        PosLine::Zero(which) => {
+            for &i in &which {
+                c.pages.rel_origin[axes[i]] = pos[axes[i]];
+            }
+            Ok(zeroed(&letters, &which))
         }
-    };
-    c.pages.rel_origin[axis] = pos[axis] - s.to_pulses(value);
-    Ok(format!(
-        "relative {} preset to {value:.3}",
-        ["X", "Y", "Z"][axis]
-    ))
+        PosLine::Preset(i, value) => {
+            c.pages.rel_origin[axes[i]] = pos[axes[i]] - s.to_pulses(value);
+            Ok(format!("relative {} preset to {value:.3}", letters[i]))
+        }
+        PosLine::Parts(n) => c.shell.set_count(true, n, &c.cfg.state_dir),
+        PosLine::Target(n) => c.shell.set_count(false, n, &c.cfg.state_dir),
+        PosLine::Jog(rest) => jog(c, &rest),
+    }
 }
 
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
@@ -130,11 +189,7 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
     let (in_force, pending) = length_in_force(c);
     let (name, origin) = work_origin(c);
     let origin_abc = rotary_work_offset(c);
-    p.body.push(format!(
-        " {:>9}{:>9}{:>9}{:>9}",
-        name, "REL", "MACH", "TO GO"
-    ));
-    for a in s.axis_list() {
+    let rows = s.axis_list().map(|a| {
         // A rotary axis's WORK is its machine position less its work and G92 offsets
         // (docs/gcode.md "Rotary axes").
         let o = match a.checked_sub(crate::block::FIRST_ROTARY) {
@@ -142,15 +197,10 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
             None => origin[a],
         };
         let work = st.pos[a] - s.to_pulses(o);
-        p.body.push(format!(
-            "{}{:>9.3}{:>9.3}{:>9.3}{:>9.3}",
-            crate::settings::AXIS_NAMES[a],
-            s.to_mm(work),
-            s.to_mm(st.pos[a] - c.pages.rel_origin[a]),
-            s.to_mm(st.pos[a]),
-            s.to_mm(togo[a])
-        ));
-    }
+        let row = [work, st.pos[a] - c.pages.rel_origin[a], st.pos[a], togo[a]];
+        (crate::settings::AXIS_NAMES[a], row.map(|p| s.to_mm(p)))
+    });
+    p.body.extend(axis_table(&name, rows));
     // The I/O, when a program or a script has set any: the outputs M62-M68 set, the inputs M66
     // reads (digital ones on, analog ones not 0).
     let (outs, ins) = (signal_list(&st.outputs), signal_list(&st.inputs));
@@ -295,5 +345,52 @@ pub(in crate::console) fn length_in_force(c: &Console) -> (f64, Option<(f64, &'s
             (len.unwrap_or(st.tool_set_length), None)
         }
         _ => (st.tool_set_length, None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{read_line, PosLine};
+
+    #[test]
+    fn a_pos_line_is_read_alike_on_every_machine() {
+        let centre = ['X', 'Y', 'Z', 'A'];
+        let lathe = ['X', 'Z'];
+        assert_eq!(
+            read_line("xyz", &centre, true),
+            Ok(PosLine::Zero(vec![0, 1, 2]))
+        );
+        assert_eq!(
+            read_line("ORIGIN", &lathe, false),
+            Ok(PosLine::Zero(vec![0, 1]))
+        );
+        assert_eq!(
+            read_line("ZX", &lathe, false),
+            Ok(PosLine::Zero(vec![1, 0]))
+        );
+        assert_eq!(
+            read_line("A90", &centre, true),
+            Ok(PosLine::Preset(3, 90.0))
+        );
+        assert_eq!(read_line(" z ", &lathe, false), Ok(PosLine::Preset(1, 0.0)));
+        assert_eq!(read_line("TARGET 5", &lathe, false), Ok(PosLine::Target(5)));
+        assert_eq!(
+            read_line("JOG 500", &centre, true),
+            Ok(PosLine::Jog("500".into()))
+        );
+        // A letter twice is not a zero of both; an axis the machine lacks is not one.
+        assert_eq!(
+            read_line("XZX", &lathe, false),
+            Err("'ZX' is not a position in mm".into())
+        );
+        let usage = read_line("Y1", &lathe, false).unwrap_err();
+        assert!(
+            usage.starts_with("POS: type X") && usage.contains(" XZ, "),
+            "{usage}"
+        );
+        assert!(!usage.contains("JOG"), "{usage}");
+        assert!(read_line("JOG 500", &lathe, false).is_err());
+        assert!(read_line("X1e9", &centre, true).is_err());
+        assert!(read_line("PARTS -1", &centre, true).is_err());
     }
 }

@@ -4,7 +4,7 @@
 
 use super::{ofs, LatheConsole};
 use crate::console::entry::To;
-use crate::console::pages::{macros, msg};
+use crate::console::pages::{macros, msg, pos};
 use crate::panel_model::{OpMode, Page};
 use crate::store::lathe::{Program, MAX_MDI_LINES, MAX_PROGRAM};
 use novanc_editor::{Buffer, ExecOptions};
@@ -22,6 +22,7 @@ impl LatheConsole {
                 return Err("MSG: the history is read only; Up/Down scroll it".into())
             }
             To::Page(Page::Macro) => return self.macro_input(line, add),
+            To::Page(Page::Pos) => return self.pos_line(line),
             To::Page(Page::Modal) => {
                 return Err(
                     "MODAL: the state is read only; MDI sets it (G91, G95, F0.1 ...)".into(),
@@ -44,6 +45,39 @@ impl LatheConsole {
                 op.word()
             )),
         }
+    }
+
+    /// A line typed on the POS page, in the centre's words (`pages::pos::read_line`), for the
+    /// selected channel: `X` zeroes its relative X, `X12.5` presets it (a diameter), `Z`,
+    /// `Z-3.` the same on Z, `XZ` or `ORIGIN` zeroes both; `PARTS n` sets the total part count
+    /// (the log book's, the centre's PARTS; POS shows it as TOTAL), `TARGET n` the batch's
+    /// target (Alt+n's). Before stop 59 a line typed under POS went to the selector's use
+    /// (an MDI line in MDI), where the centre's POS took it.
+    fn pos_line(&mut self, line: &str) -> Result<(), String> {
+        use pos::{read_line, zeroed, PosLine};
+        const LETTERS: [char; 2] = ['X', 'Z'];
+        let tip = self.chan_views()[self.sel].pos;
+        let said = match read_line(line, &LETTERS, false)? {
+            PosLine::Zero(which) => {
+                for &i in &which {
+                    self.rel[self.sel][i] = tip[i];
+                }
+                zeroed(&LETTERS, &which)
+            }
+            PosLine::Preset(i, v) => {
+                let radius = if i == 0 { v / 2.0 } else { v };
+                self.rel[self.sel][i] = tip[i] - self.desc.pulses(radius);
+                format!("relative {} preset to {v:.3}", LETTERS[i])
+            }
+            PosLine::Parts(n) => self.shell.set_count(true, n, self.store.dir())?,
+            PosLine::Target(n) if (1..=999_999).contains(&n) => self.set_target(n as u32)?,
+            PosLine::Target(n) => {
+                return Err(format!("TARGET {n}: the batch's target is 1 to 999999"));
+            }
+            PosLine::Jog(_) => return Err("POS: the lathe's jog feed is not set here".into()),
+        };
+        self.shell.front.message = said;
+        Ok(())
     }
 
     /// SEARCH in AUTO (docs/lathe.md "SEARCH"), on a lathe of one channel loaded by hand: a
@@ -641,33 +675,20 @@ impl LatheConsole {
     /// operator watches proving out a first part at a low override), then its spindle and
     /// tool, the parts and the last cycle's time.
     fn pos_lines(&self, c: &super::view::ChanView) -> Vec<String> {
-        let mm = |p: i64| p as f64 * self.desc.pulse_mm;
-        // The work position (the program's coordinates), the machine's, and what is left of
-        // the block (docs/lathe-gcode.md "Work offsets").
+        // The work position (the program's coordinates), the relative one, the machine's, and
+        // what is left of the block (docs/lathe-gcode.md "Work offsets"), X as a diameter: the
+        // centre's table.
         let work = c.work_pos();
+        let rel = self.rel[self.sel];
+        let rows = [0, 1].map(|i| {
+            let scale = self.desc.pulse_mm * if i == 0 { 2.0 } else { 1.0 };
+            let row = [work[i], c.pos[i] - rel[i], c.pos[i], c.to_go[i]];
+            (['X', 'Z'][i], row.map(|p| p as f64 * scale))
+        });
         let system = c.system.map_or(0, |s| s.0);
-        let mut l = vec![
-            format!("POS CH{}  X as a diameter", self.sel + 1),
-            format!(
-                "   {:>10} {:>10} {:>10}",
-                format!("WORK G{}", 54 + system),
-                "MACHINE",
-                "TO GO"
-            ),
-            format!(
-                "X  {:10.3} {:10.3} {:10.3}",
-                mm(work[0] * 2),
-                mm(c.pos[0] * 2),
-                mm(c.to_go[0] * 2)
-            ),
-            format!(
-                "Z  {:10.3} {:10.3} {:10.3}",
-                mm(work[1]),
-                mm(c.pos[1]),
-                mm(c.to_go[1])
-            ),
-            format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state),
-        ];
+        let mut l = vec![format!("POS CH{}  X as a diameter", self.sel + 1)];
+        l.extend(pos::axis_table(&format!("WORK G{}", 54 + system), rows));
+        l.push(format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state));
         // The batch's count and target, then the counters every console keeps (the centre's
         // POS words): parts delivered in every batch, the last cycle, the run hours.
         let k = &self.shell.book.counters;

@@ -64,6 +64,9 @@ pub struct LatheConsole {
     /// The OFS page's cursor: the selected channel's tool (its row) and column
     /// (`ofs::COLUMNS`).
     ofs_cell: (usize, usize),
+    /// Each channel's relative position's origin, pulses [X radius, Z] (the POS page's REL,
+    /// the centre's: `X`, `X12.5`, `XZ` INPUT on POS).
+    rel: Vec<[i64; 2]>,
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
     /// The machine time each channel's latest fault or alarm came at (the kernel's event).
@@ -204,6 +207,7 @@ impl LatheConsole {
             shell: Shell::new(front, book, recorder, n),
             sel: 0,
             ofs_cell: (0, ofs::FIRST_COLUMN),
+            rel: vec![[0, 0]; n],
             last_part_ns: None,
             alarm_at: vec![None; n],
             msg_of: None,
@@ -641,7 +645,11 @@ impl LatheConsole {
             PanelEvent::Fault(ch, _) => {
                 self.shell.front.message = format!("fault CH{}: no cycle runs", ch + 1)
             }
-            PanelEvent::Target(n) => self.set_target(n),
+            PanelEvent::Target(n) => {
+                self.shell.front.message = match self.set_target(n) {
+                    Ok(said) | Err(said) => said,
+                }
+            }
             PanelEvent::Tape(path) => {
                 self.shell.front.message = match self.program_read(&path) {
                     Ok(said) => said,
@@ -710,7 +718,7 @@ impl LatheConsole {
     /// then says: `set a new target (Alt+n) to run again`) it begins a new batch from 0, as
     /// with nothing loaded. Until stop 52 the finished cycle refused it (`a channel has already
     /// finished`), and only a RESET first let the operator run again.
-    fn set_target(&mut self, n: u32) {
+    fn set_target(&mut self, n: u32) -> Result<String, String> {
         let mut next = self.counter.clone();
         next.target = n;
         if self.cycle.loaded() && !self.cycle.mdi && self.cycle.is_over() {
@@ -722,41 +730,35 @@ impl LatheConsole {
             let c = &mut self.cycle;
             let most = self.counter.counts.iter().copied().max().unwrap_or(0);
             if n < most.max(1) {
-                self.shell.front.message =
-                    format!("target {n}: a channel has already finished {most}");
-                return;
+                return Err(format!("target {n}: a channel has already finished {most}"));
             }
             // A SEARCH's part runs once whatever the batch's target (the machine's stays 1);
             // it makes one more part.
             if c.searching() && n < most + 1 {
-                self.shell.front.message =
-                    format!("target {n}: the part SEARCH runs makes {}", most + 1);
-                return;
+                return Err(format!(
+                    "target {n}: the part SEARCH runs makes {}",
+                    most + 1
+                ));
             }
             let old = self.counter.target;
             let told = (!c.searching()).then(|| c.set_target(c.machine_target(n)));
-            if let Err(e) = told.unwrap_or(Ok(())) {
-                self.shell.front.message = e;
-                return;
-            }
+            told.unwrap_or(Ok(()))?;
             if let Err(e) = self.store.save_counter(&next) {
                 // The machine took `n` just now, so it takes its old target back.
                 if !c.searching() {
                     let _ = c.set_target(c.machine_target(old));
                 }
-                self.shell.front.message = format!("{e}: the target is not changed");
-                return;
+                return Err(format!("{e}: the target is not changed"));
             }
         } else {
             next.counts.iter_mut().for_each(|c| *c = 0);
             if let Err(e) = self.store.save_counter(&next) {
-                self.shell.front.message = format!("{e}: the target is not changed");
-                return;
+                return Err(format!("{e}: the target is not changed"));
             }
             self.stale_counts = false;
         }
         self.counter = next;
-        self.shell.front.message = format!("part target {n}");
+        Ok(format!("part target {n}"))
     }
 
     fn start(&mut self) {
