@@ -114,27 +114,6 @@ impl Log {
         self.put(rec, at, Kind::Message, lvl, text)
     }
 
-    /// The message shown (`front`), if it is new, at its level ([`message_level`] over the
-    /// machine's `channels`); a failure to keep it, or `failed` before it (an alarm the history
-    /// could not keep), is said after the message, never in its place, until the next key, and
-    /// is not logged again. Every console's rule, after each action and each look at the
-    /// machine (before stop 46 each console had its copy).
-    pub(crate) fn shown_message(
-        &mut self,
-        rec: &mut Recording,
-        front: &mut super::front::Front,
-        at: At,
-        channels: &[crate::pulse_core::Status],
-        failed: Option<String>,
-    ) {
-        let lvl = message_level(&front.message, channels);
-        let r = self.message(rec, at, lvl, &front.message);
-        if let Some(e) = failed.or(r.err()) {
-            front.say_failure(&e, at.0);
-            self.shown(&front.message);
-        }
-    }
-
     /// The message line as it stands with a failure of the history added to it: not logged
     /// again.
     pub(crate) fn shown(&mut self, text: &str) {
@@ -160,27 +139,6 @@ pub(crate) struct Book {
 }
 
 impl Book {
-    /// A program's message `line` of `kind` (`MSG: text`; a lathe's after its channel's name),
-    /// every console's rule: in the history at `at` at once (each one, however many a step
-    /// gives), then waiting for acknowledgement, for the kinds `state::until_acknowledged`
-    /// names, or on the message line until the next key. Why the history could not keep it.
-    pub(crate) fn program_message(
-        &mut self,
-        rec: &mut Recording,
-        front: &mut super::front::Front,
-        at: At,
-        kind: &str,
-        line: String,
-    ) -> Result<(), String> {
-        let r = self.log.put(rec, at, Kind::Message, level::INFO, &line);
-        if super::state::until_acknowledged(kind) {
-            self.unacknowledged.push(line);
-        } else {
-            front.say(line, super::MsgLife::NextKey, at.0);
-        }
-        r
-    }
-
     /// Acknowledges the program messages that live until acknowledged (Esc, RESET); whether
     /// there was one.
     pub(crate) fn acknowledge(&mut self) -> bool {
@@ -218,16 +176,8 @@ pub(super) fn log(c: &mut Console, alarm: Option<String>) {
             .map_or_else(|| alarm_line(&a), |p| p.error.line);
         (a, (t, file.as_str(), line))
     });
-    let warn = c.shell.book.log.alarms(&mut c.shell.recorder, &[now]).err();
     let channels = std::slice::from_ref(&c.status);
-    let at = (t, file.as_str(), 0);
-    c.shell.book.log.shown_message(
-        &mut c.shell.recorder,
-        &mut c.shell.front,
-        at,
-        channels,
-        warn,
-    );
+    c.shell.log(&[now], (t, file.as_str(), 0), channels);
 }
 
 /// The level a message goes into the history and the recording at, on every console
@@ -276,10 +226,7 @@ pub(super) fn program_message(c: &mut Console, kind: &str, text: &str) {
     // When the console shows it; the message does not say which line gave it.
     let file = c.mem.program_name();
     let at = (c.status.machine_ns, file.as_str(), 0);
-    let pushed =
-        c.shell
-            .book
-            .program_message(&mut c.shell.recorder, &mut c.shell.front, at, kind, line);
+    let pushed = c.shell.program_message(at, kind, line);
     if let Err(w) = pushed {
         also_say(c, &w);
         c.shell.book.log.shown(&c.shell.front.message.clone());

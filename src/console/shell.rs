@@ -4,11 +4,14 @@
 //! one console's rules (`side::Side`) reach it through `Side::shell`: before stop 59 each
 //! console held the five beside its machine's fields, and `Side` asked for each of them.
 
-use super::book::Book;
+use super::book::{At, Book};
 use super::entry::Recall;
 use super::front::Front;
 use super::recording::Recording;
 use crate::panel_model::Page;
+use crate::pulse_core::Status;
+use crate::record::foxglove::level;
+use crate::store::history::Kind;
 
 /// What every console holds beside its machine.
 pub(crate) struct Shell {
@@ -35,6 +38,37 @@ impl Shell {
             shown: Shown::default(),
             recall: (0..channels.max(1)).map(|_| Recall::default()).collect(),
         }
+    }
+
+    /// Puts in the history each alarm slot's alarm now, when it comes (`book::Log::alarms`:
+    /// the centre's one slot, a lathe's E-STOP and one a channel), then the message shown, if
+    /// it is new, at its level (`book::message_level` over the machine's `channels`), said at
+    /// `at`. A failure to keep either is said after the message, never in its place, until the
+    /// next key, and is not logged again. Every console's rule, after each action and each
+    /// look at the machine (before stop 46 each console had its copy).
+    pub fn log(&mut self, alarms: &[Option<(String, At)>], at: At, channels: &[Status]) {
+        let failed = self.book.log.alarms(&mut self.recorder, alarms).err();
+        let front = &mut self.front;
+        let lvl = super::book::message_level(&front.message, channels);
+        let r = (self.book.log).message(&mut self.recorder, at, lvl, &front.message);
+        if let Some(e) = failed.or(r.err()) {
+            front.say_failure(&e, at.0);
+            self.book.log.shown(&front.message);
+        }
+    }
+
+    /// A program's message `line` of `kind` (`MSG: text`; a lathe's after its channel's name),
+    /// every console's rule: in the history at `at` at once (each one, however many a step
+    /// gives), then waiting for acknowledgement, for the kinds `state::until_acknowledged`
+    /// names, or on the message line until the next key. Why the history could not keep it.
+    pub fn program_message(&mut self, at: At, kind: &str, line: String) -> Result<(), String> {
+        let r = (self.book.log).put(&mut self.recorder, at, Kind::Message, level::INFO, &line);
+        if super::state::until_acknowledged(kind) {
+            self.book.unacknowledged.push(line);
+        } else {
+            self.front.say(line, super::MsgLife::NextKey, at.0);
+        }
+        r
     }
 
     /// `PARTS n` (`parts`) or `TARGET n` on the POS page: the log book's part count or its

@@ -574,25 +574,13 @@ impl LatheConsole {
                 now[i + 1] = Some((text, (when, ch.program.as_str(), ch.line)));
             }
         }
-        let failed = self
-            .shell
-            .book
-            .log
-            .alarms(&mut self.shell.recorder, &now)
-            .err();
         let of = self.msg_of.take().unwrap_or(self.sel);
         let file = self.programs.get(of).map_or("", |p| p.name.as_str());
         let chans: Vec<_> = (self.cycle.channels().iter())
             .map(|c| c.status.clone())
             .collect();
         let at = (t, file, 0);
-        (self.shell.book.log).shown_message(
-            &mut self.shell.recorder,
-            &mut self.shell.front,
-            at,
-            &chans,
-            failed,
-        );
+        self.shell.log(&now, at, &chans);
     }
 
     /// One event of the panel grammar (the centre's and the lathe's alike), by every
@@ -1165,13 +1153,7 @@ impl LatheConsole {
                 let at = (t, file.as_str(), 0);
                 // `CH1 MSG: text`: the kind is the word after the channel.
                 let kind = text.split([' ', ':']).nth(1).unwrap_or("").to_string();
-                let r = (self.shell.book).program_message(
-                    &mut self.shell.recorder,
-                    &mut self.shell.front,
-                    at,
-                    &kind,
-                    text,
-                );
+                let r = self.shell.program_message(at, &kind, text);
                 failed = failed.or(r.err());
             }
             if let Some(e) = failed {
