@@ -124,6 +124,8 @@ struct Stats {
     punches: u64,
     /// SEARCH points set (a line typed in AUTO on the lathe loaded by hand; stop 57).
     searches: u64,
+    /// Relative positions set on POS (stop 59).
+    rel_set: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -643,6 +645,56 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             }
             return format!("op AUTO\ntype {n}");
         }
+        92 => {
+            // POS (stop 59): the centre's words set the selected channel's relative position
+            // (shown in its REL column) and the counters; nothing moves, and a line POS cannot
+            // read stays typed with the words it takes.
+            use novanc_panel::Key;
+            let mut line = String::new();
+            if s.c.page() != Page::Pos {
+                s.c.handle(PanelEvent::Press(Key::Ctrl('p')));
+                line += "key Ctrl+P\n";
+            }
+            let l = [
+                "X", "X12.5", "Z-3.5", "XZ", "ORIGIN", "PARTS 2", "TARGET 3", "Q7", "XZX",
+            ][rng.range(0, 8) as usize];
+            let posts =
+                |c: &LatheConsole| -> Vec<[i64; 2]> { c.tips().into_iter().map(|t| t.0).collect() };
+            let before = posts(&s.c);
+            s.c.handle(PanelEvent::Type(l.into()));
+            s.fresh = true;
+            let m = s.c.message().to_string();
+            line += &format!("type {l}");
+            assert_eq!(posts(&s.c), before, "{line}: {m}");
+            if let Err(e) = common::typed_line_kept_or_taken(l, s.c.entry(), &m) {
+                panic!("{line}: {e}");
+            }
+            let rel = |axis: &str| -> f64 {
+                let d = s.c.view().display;
+                let row = (d.iter().rev())
+                    .find(|r| r.starts_with(axis))
+                    .expect("a POS row");
+                row[1..]
+                    .split_whitespace()
+                    .nth(1)
+                    .expect("REL")
+                    .parse()
+                    .expect("a number")
+            };
+            s.stats.rel_set += u64::from(m.starts_with("relative "));
+            match (l, m.as_str()) {
+                ("X12.5", "relative X preset to 12.500") => assert_eq!(rel("X"), 12.5, "{line}"),
+                ("Z-3.5", "relative Z preset to -3.500") => assert_eq!(rel("Z"), -3.5, "{line}"),
+                ("XZ" | "ORIGIN", "relative X Z zeroed") | ("X", "relative X preset to 0.000") => {
+                    assert_eq!(rel("X"), 0.0, "{line}")
+                }
+                ("PARTS 2", "parts 2") => assert_eq!(s.c.counters().parts, 2, "{line}"),
+                ("TARGET 3", _) if m == "part target 3" || m.starts_with("target 3: ") => {}
+                ("Q7" | "XZX", _) if s.c.entry() == l && !m.is_empty() => {}
+                _ => panic!("{line}: {m}"),
+            }
+            return line;
+        }
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
@@ -826,6 +878,7 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.reads += s.stats.reads;
         total.punches += s.stats.punches;
         total.searches += s.stats.searches;
+        total.rel_set += s.stats.rel_set;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -877,7 +930,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {} SEARCH points, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {} SEARCH points, {} relative positions set on POS, {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -892,6 +945,7 @@ fn many_random_operator_sequences() {
             st.reads,
             st.punches,
             st.searches,
+            st.rel_set,
             t.elapsed().as_secs_f64()
         );
     }
