@@ -83,6 +83,24 @@ impl Front {
         self.said_ns = now_ns;
     }
 
+    /// Whether the message still lives at machine time `now_ns` ([`MsgLife`]), every
+    /// console's one rule: `runs`, the machine runs or moves (a lathe's: a channel runs, jogs,
+    /// or waits on one that is not stopped); `block_over(done)`, the block executing when a
+    /// `WhileBlock(done)` message was said has ended, or the run with it. A `WhileRunning`
+    /// message said in this instant lives: the machine has not answered yet.
+    pub fn message_lives(
+        &self,
+        now_ns: u64,
+        runs: bool,
+        block_over: impl FnOnce(u64) -> bool,
+    ) -> bool {
+        match self.life {
+            MsgLife::NextKey => true,
+            MsgLife::WhileBlock(done) => !block_over(done),
+            MsgLife::WhileRunning => runs || self.said_ns == now_ns,
+        }
+    }
+
     /// A secondary failure (a store that could not keep the counters or the history) said
     /// after the message shown, never in its place, until the next key: every console's rule
     /// (`book::with_failure`).

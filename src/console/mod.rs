@@ -540,17 +540,10 @@ impl Console {
         posmem::track(self);
         tape::advance(self);
         let s = &self.status;
-        let over = match self.shell.front.life {
-            MsgLife::NextKey => false,
-            MsgLife::WhileBlock(done) => s.run == 0 || s.hold || s.blocks_done != done,
-            // Said in this instant, the machine has not answered yet.
-            // Not idle: a jog just begun has not moved yet, but it is the machine's.
-            MsgLife::WhileRunning => {
-                let runs = s.moving || !s.idle;
-                !runs && self.shell.front.said_ns != s.machine_ns
-            }
-        };
-        if over {
+        // Not idle: a jog just begun has not moved yet, but it is the machine's.
+        let runs = s.moving || !s.idle;
+        let block_over = |done| s.run == 0 || s.hold || s.blocks_done != done;
+        if !(self.shell.front).message_lives(s.machine_ns, runs, block_over) {
             self.shell.front.message.clear();
             self.shell.front.life = MsgLife::NextKey;
         }

@@ -333,13 +333,8 @@ impl LatheConsole {
 
     fn message_with(&self, chans: &[ChanView]) -> &str {
         let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
-        let (life, at) = (self.shell.front.life, self.shell.front.said_ns);
-        // Said in this instant: the machine has not answered yet (START before its tick).
-        let fresh = at == self.now_ns;
-        let lives = match life {
-            MsgLife::NextKey | MsgLife::WhileBlock(_) => true,
-            MsgLife::WhileRunning => fresh || view::runs(chans),
-        };
+        // (The lathe says nothing for the life of a block.)
+        let lives = (self.shell.front).message_lives(self.now_ns, view::runs(chans), |_| false);
         if lives && !self.shell.front.message.is_empty() {
             &self.shell.front.message
         } else if any(&["ESTOP"]) {
