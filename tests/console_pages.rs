@@ -47,6 +47,16 @@ fn pos_zeroes_and_presets_the_relative_position_in_two_keys() {
     assert!(shows(&c, "relative Y preset to 12.500"));
     type_line(&mut c, "Q7");
     assert!(shows(&c, "POS: type X"), "{}", c.frame_text());
+    // In MDI a line typed under POS is POS's: the refusal says how to put the page down.
+    c.handle(PanelEvent::Op(novanc::panel_model::OpMode::Mdi));
+    keys(&mut c, &["Ctrl+P"]);
+    type_line(&mut c, "G0X1");
+    assert!(
+        c.message()
+            .ends_with("(POS is up: Ctrl+P puts it down for MDI)"),
+        "{}",
+        c.message()
+    );
 }
 
 #[test]

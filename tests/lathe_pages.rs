@@ -860,6 +860,12 @@ fn pos_takes_the_centres_words_for_each_channels_relative_position() {
         "{}",
         c.message()
     );
+    assert!(
+        c.message()
+            .ends_with("(POS is up: Ctrl+P puts it down for MDI)"),
+        "{}",
+        c.message()
+    );
     assert_eq!(c.entry(), "G0X1");
     assert!(c.mdi_lines(0).is_empty());
     for _ in 0..4 {

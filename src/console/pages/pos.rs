@@ -106,6 +106,19 @@ pub(crate) fn axis_table(
     l
 }
 
+/// A POS refusal `e` with the selector at `op`: in MDI or DATA INPUT, where a line goes with
+/// the page down, it says how to put the page down (an operator typing an MDI line under POS
+/// sees why it is POS's).
+pub(crate) fn refused_at(e: String, op: crate::panel_model::OpMode) -> String {
+    use crate::panel_model::OpMode;
+    match op {
+        OpMode::Mdi | OpMode::Data => {
+            format!("{e} (POS is up: Ctrl+P puts it down for {})", op.name())
+        }
+        _ => e,
+    }
+}
+
 /// What zeroing the relative position of `which` said: `relative X Y Z zeroed`.
 pub(crate) fn zeroed(letters: &[char], which: &[usize]) -> String {
     let names: Vec<String> = which.iter().map(|&i| letters[i].to_string()).collect();
@@ -121,7 +134,8 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
         .iter()
         .map(|&a| crate::settings::AXIS_NAMES[a])
         .collect();
-    match read_line(line, &letters, true)? {
+    let op = c.shell.front.op;
+    match read_line(line, &letters, true).map_err(|e| refused_at(e, op))? {
         PosLine::Zero(which) => {
             for &i in &which {
                 c.pages.rel_origin[axes[i]] = pos[axes[i]];

@@ -57,7 +57,8 @@ impl LatheConsole {
         use pos::{read_line, zeroed, PosLine};
         const LETTERS: [char; 2] = ['X', 'Z'];
         let tip = self.chan_views()[self.sel].pos;
-        let said = match read_line(line, &LETTERS, false)? {
+        let op = self.shell.front.op;
+        let said = match read_line(line, &LETTERS, false).map_err(|e| pos::refused_at(e, op))? {
             PosLine::Zero(which) => {
                 for &i in &which {
                     self.rel[self.sel][i] = tip[i];
