@@ -119,10 +119,17 @@ pub(crate) fn refused_at(e: String, op: crate::panel_model::OpMode) -> String {
     }
 }
 
-/// What zeroing the relative position of `which` said: `relative X Y Z zeroed`.
-pub(crate) fn zeroed(letters: &[char], which: &[usize]) -> String {
-    let names: Vec<String> = which.iter().map(|&i| letters[i].to_string()).collect();
-    format!("relative {} zeroed", names.join(" "))
+/// What setting the relative position said, on every machine: `relative X Y Z zeroed`,
+/// `relative X preset to 12.500` (empty for a line that sets none).
+pub(crate) fn rel_said(letters: &[char], line: &PosLine) -> String {
+    match line {
+        PosLine::Zero(which) => {
+            let names: Vec<String> = which.iter().map(|&i| letters[i].to_string()).collect();
+            format!("relative {} zeroed", names.join(" "))
+        }
+        PosLine::Preset(i, v) => format!("relative {} preset to {v:.3}", letters[*i]),
+        _ => String::new(),
+    }
 }
 
 /// A POS page command line: what it did, or why it is refused (nothing changed).
@@ -135,16 +142,18 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
         .map(|&a| crate::settings::AXIS_NAMES[a])
         .collect();
     let op = c.shell.front.op;
-    match read_line(line, &letters, true).map_err(|e| refused_at(e, op))? {
+    let read = read_line(line, &letters, true).map_err(|e| refused_at(e, op))?;
+    let said = rel_said(&letters, &read);
+    match read {
         PosLine::Zero(which) => {
             for &i in &which {
                 c.pages.rel_origin[axes[i]] = pos[axes[i]];
             }
-            Ok(zeroed(&letters, &which))
+            Ok(said)
         }
         PosLine::Preset(i, value) => {
             c.pages.rel_origin[axes[i]] = pos[axes[i]] - s.to_pulses(value);
-            Ok(format!("relative {} preset to {value:.3}", letters[i]))
+            Ok(said)
         }
         PosLine::Parts(n) => c.shell.set_count(true, n, &c.cfg.state_dir),
         PosLine::Target(n) => c.shell.set_count(false, n, &c.cfg.state_dir),

@@ -54,21 +54,23 @@ impl LatheConsole {
     /// target (Alt+n's). Before stop 59 a line typed under POS went to the selector's use
     /// (an MDI line in MDI), where the centre's POS took it.
     fn pos_line(&mut self, line: &str) -> Result<(), String> {
-        use pos::{read_line, zeroed, PosLine};
+        use pos::{read_line, rel_said, PosLine};
         const LETTERS: [char; 2] = ['X', 'Z'];
         let tip = self.chan_views()[self.sel].pos;
         let op = self.shell.front.op;
-        let said = match read_line(line, &LETTERS, false).map_err(|e| pos::refused_at(e, op))? {
+        let read = read_line(line, &LETTERS, false).map_err(|e| pos::refused_at(e, op))?;
+        let rel = rel_said(&LETTERS, &read);
+        let said = match read {
             PosLine::Zero(which) => {
                 for &i in &which {
                     self.rel[self.sel][i] = tip[i];
                 }
-                zeroed(&LETTERS, &which)
+                rel
             }
             PosLine::Preset(i, v) => {
                 let radius = if i == 0 { v / 2.0 } else { v };
                 self.rel[self.sel][i] = tip[i] - self.desc.pulses(radius);
-                format!("relative {} preset to {v:.3}", LETTERS[i])
+                rel
             }
             PosLine::Parts(n) => self.shell.set_count(true, n, self.store.dir())?,
             PosLine::Target(n) if (1..=999_999).contains(&n) => self.set_target(n as u32)?,
