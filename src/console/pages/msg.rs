@@ -1,7 +1,7 @@
 //! MSG: the alarm and message history with the time of day (and the date on a wide display), newest first, each in full (wrapped,
 //! never cut), kept across restarts (`store::history`). Up and Down scroll it. Every console
 //! shows its history so: the centre on this page, a lathe in its plasma display
-//! ([`history_lines`], [`scroll`]).
+//! ([`body`], [`scroll`]).
 
 use super::super::display::{split_line, wrap, Page as Frame};
 use super::Console;
@@ -28,22 +28,28 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         cols,
         split_line("MSG", &format!("{} entries", all.len()), cols),
     );
-    let n = p.body_rows();
-    p.body = history_lines(all, c.shell.shown.msg_first, n, cols);
-    if p.body.len() > n {
-        // The rest is further down: said, not cut silently.
-        p.body.truncate(n);
-        if let Some(last) = p.body.last_mut() {
+    p.body = body(all, c.shell.shown.msg_first, p.body_rows(), cols);
+    p.lines()
+}
+
+/// The MSG page's body on every machine (the centre's page, a lathe's display under its
+/// channel lines): [`history_lines`] in `rows` lines of `cols` characters, the last line
+/// ending in `CUT` where an entry goes on below (said, not cut silently).
+pub(crate) fn body(all: &[Entry], first: usize, rows: usize, cols: usize) -> Vec<String> {
+    let mut body = history_lines(all, first, rows, cols);
+    if body.len() > rows {
+        body.truncate(rows);
+        if let Some(last) = body.last_mut() {
             let keep: String = last.chars().take(cols.saturating_sub(1)).collect();
             *last = format!("{keep}{}", super::super::display::CUT);
         }
     }
-    p.lines()
+    body
 }
 
 /// The history `all` as lines of `cols` characters, newest first from the `first`-th newest,
 /// each entry in full (wrapped, its continuation indented), at most `most` lines.
-pub(crate) fn history_lines(all: &[Entry], first: usize, most: usize, cols: usize) -> Vec<String> {
+fn history_lines(all: &[Entry], first: usize, most: usize, cols: usize) -> Vec<String> {
     let mut body = Vec::new();
     if all.is_empty() {
         body.push("(no alarm or message yet)".into());
@@ -79,4 +85,34 @@ pub(crate) fn history_lines(all: &[Entry], first: usize, most: usize, cols: usiz
         }
     }
     body
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_body_that_goes_on_below_ends_in_the_cut_mark_on_every_machine() {
+        let e = |ns: u64, text: &str| Entry {
+            machine_ns: ns,
+            wall_s: None,
+            kind: Kind::Message,
+            text: text.into(),
+        };
+        let all = [
+            e(1_000_000_000, &"word ".repeat(30)),
+            e(2_000_000_000, "new"),
+        ];
+        // Newest first; the older entry wraps over the rows left, and its last shown line
+        // says it goes on.
+        let b = body(&all, 0, 3, 30);
+        assert_eq!(b.len(), 3);
+        assert!(b[0].ends_with("new"), "{b:?}");
+        assert!(b[2].ends_with(crate::console::display::CUT), "{b:?}");
+        assert!(b.iter().all(|l| l.chars().count() <= 30), "{b:?}");
+        // Room for all: nothing marked.
+        let b = body(&all, 0, 20, 30);
+        assert!(!b.iter().any(|l| l.contains(crate::console::display::CUT)));
+        assert_eq!(body(&[], 0, 3, 30), ["(no alarm or message yet)"]);
+    }
 }

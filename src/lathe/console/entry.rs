@@ -735,12 +735,7 @@ impl LatheConsole {
                 let all = self.shell.book.log.history.entries();
                 let room = self.rows.saturating_sub(6).max(1);
                 let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
-                l.extend(msg::history_lines(
-                    all,
-                    self.shell.shown.msg_first,
-                    room,
-                    self.cols,
-                ));
+                l.extend(msg::body(all, self.shell.shown.msg_first, room, self.cols));
                 return l;
             }
             _ => {}
