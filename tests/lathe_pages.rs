@@ -886,3 +886,40 @@ fn pos_takes_the_centres_words_for_each_channels_relative_position() {
     assert_eq!((c.entry(), c.counter().target), ("TARGET 0", 7));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn the_msg_page_under_a_long_message_marks_an_entry_it_cuts() {
+    let dir = common::temp_dir("lathe-msg-cut");
+    let mut c = open(&dir);
+    // Entries of three or four lines each, and a message of several lines under them.
+    let why = "the bar feeder stopped with the bar half out of the guide tube and the collet open";
+    c.handle(PanelEvent::Target(1));
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    c.tick(200_000_000);
+    for ch in 0..3 {
+        c.handle(PanelEvent::Fault(ch, why.into()));
+    }
+    c.press(Key::Ctrl('e'));
+    // The oldest entry shown goes on below the page's room: its last line shown says so
+    // (before stop 60 the plasma dropped its last line without a mark).
+    let d = c.view().display;
+    let body: Vec<&str> = d[4..d.len() - 2].iter().map(|l| l.trim_end()).collect();
+    let last = body.iter().rposition(|l| !l.is_empty());
+    let last = last.map(|i| body[i]).unwrap_or_default();
+    assert!(last.ends_with('\u{2026}'), "{d:#?}");
+    // Scrolled down two entries, the rest of it is shown, and nothing is marked.
+    c.press(Key::Down);
+    c.press(Key::Down);
+    let d = c.view().display;
+    assert!(d.iter().all(|l| !l.contains('\u{2026}')), "{d:#?}");
+    assert!(d.iter().any(|l| l.contains("collet open")), "{d:#?}");
+    // A message of two lines under the page: the page has a line less, and still marks it.
+    c.press(Key::Home);
+    c.handle(PanelEvent::Fault(1, why.into()));
+    let d = c.view().display;
+    let n = d.len();
+    assert!(d[n - 3].trim_end().starts_with("CH2 FAULT"), "{d:#?}");
+    assert!(d[n - 4].trim_end().ends_with('\u{2026}'), "{d:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

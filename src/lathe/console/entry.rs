@@ -701,24 +701,26 @@ impl LatheConsole {
     }
 
     /// The program lines around `line` (the current block's), or around the editor's pointer
-    /// in DATA mode, marked `>`.
-    pub(super) fn listing(&self, c: &super::view::ChanView) -> Vec<String> {
+    /// in DATA mode, marked `>`, or the page shown: at most `room` lines, the plasma's body
+    /// under the channel's lines and above the message (`view::plasma`), so that the marked
+    /// line and a page's cut mark are on the screen whatever the message takes.
+    pub(super) fn listing(&self, c: &super::view::ChanView, room: usize) -> Vec<String> {
+        let room = room.max(1);
         let line = c.line;
         match self.shell.shown.page {
             Page::Pos => return self.pos_lines(c),
             Page::Ofs => {
                 let work = crate::lathe::gcode::work_offsets(&self.kept[self.sel].params.params);
-                let room = self.rows.saturating_sub(5).max(2);
                 return ofs::table(
                     &self.desc.channels[self.sel].tools,
                     &work,
                     self.ofs_cell,
-                    room,
+                    room.max(2),
                 );
             }
             Page::Macro => {
                 // The centre's MACRO page, of the selected channel's variables.
-                let room = self.rows.saturating_sub(6).max(1);
+                let room = (room - 1).max(1);
                 let mut l = vec![format!("MACRO CH{} #500=12.5 Enter INPUT", self.sel + 1)];
                 let params = &self.kept[self.sel].params.params;
                 l.extend(macros::variable_rows(
@@ -733,7 +735,7 @@ impl LatheConsole {
                 // The centre's MSG page under the channel's lines: every entry in full,
                 // newest first.
                 let all = self.shell.book.log.history.entries();
-                let room = self.rows.saturating_sub(6).max(1);
+                let room = (room - 1).max(1);
                 let mut l = vec![format!("MSG {} entries, newest first (Up/Down)", all.len())];
                 l.extend(msg::body(all, self.shell.shown.msg_first, room, self.cols));
                 return l;
@@ -741,7 +743,6 @@ impl LatheConsole {
             _ => {}
         }
         if let (OpMode::Data, Some(y)) = (self.shell.front.op, &self.shell.front.y_output) {
-            let room = self.rows.saturating_sub(5).max(1);
             return y
                 .split_inclusive('\n')
                 .take(room)
@@ -764,7 +765,6 @@ impl LatheConsole {
             (OpMode::Auto | OpMode::Single, Some(n)) => n.max(1) as usize,
             _ => line.max(1) as usize,
         };
-        let room = self.rows.saturating_sub(5).max(1);
         let first = cur.saturating_sub(room / 2).max(1);
         (first..first + room)
             .filter_map(|n| {

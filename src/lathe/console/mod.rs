@@ -1205,7 +1205,10 @@ impl LatheConsole {
             .map(|(i, c)| view::summary_line(i, c, self.counter.target, i == self.sel, w))
             .collect();
         let c = &chans[self.sel];
-        let listing = self.listing(c);
+        // The listing's room is what the message leaves (`view::plasma`'s rule).
+        let message = self.message_line_of(&chans);
+        let said = crate::console::display::wrap(&message, w, (self.rows / 3).max(1)).len();
+        let listing = self.listing(c, self.rows.saturating_sub(4 + said));
         let mode = match self.shell.shown.page {
             Page::Mode => self.shell.front.op.word(),
             p => p.label(),
@@ -1224,7 +1227,7 @@ impl LatheConsole {
             mode,
             self.desc.pulse_mm,
             &listing,
-            &self.message_line_of(&chans),
+            &message,
             &self.shell.front.entry,
             self.rows,
             w,
