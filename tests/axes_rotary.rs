@@ -5,16 +5,11 @@
 
 mod common;
 
+use common::novanc;
+
 use common::{python_check, temp_dir};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .output()
-        .expect("run novanc")
-}
+use std::process::Command;
 
 fn repo(p: &str) -> String {
     format!("{}/{p}", env!("CARGO_MANIFEST_DIR"))

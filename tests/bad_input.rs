@@ -9,7 +9,7 @@ use std::ffi::OsStr;
 use std::fs;
 use std::os::unix::ffi::OsStrExt;
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// A fresh directory of this test process.
 fn dir(tag: &str) -> PathBuf {
@@ -17,7 +17,7 @@ fn dir(tag: &str) -> PathBuf {
 }
 
 fn novanc_in(cwd: &PathBuf, args: &[&OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
+    common::novanc_command()
         .args(args)
         .current_dir(cwd)
         .env("NOVANC_STATE", cwd.join("default-state"))

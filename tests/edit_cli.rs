@@ -2,9 +2,11 @@
 
 mod common;
 
+use common::novanc;
+
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 fn file(tag: &str, text: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("edit-cli");
@@ -12,13 +14,6 @@ fn file(tag: &str, text: &str) -> PathBuf {
     let p = d.join(format!("{tag}.ap"));
     fs::write(&p, text).unwrap();
     p
-}
-
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn s(b: &[u8]) -> String {
@@ -213,7 +208,7 @@ fn temporary_files_of_killed_writes_are_cleaned_up() {
         seed = seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
-        let mut c = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        let mut c = common::novanc_command()
             .args(["edit", p.to_str().unwrap(), "-c", "IN1*", "--write"])
             .spawn()
             .unwrap();
@@ -293,7 +288,7 @@ fn concurrent_writes_of_one_file_take_turns_and_lose_no_edit() {
         }
         let kids: Vec<_> = (0..20)
             .map(|i| {
-                Command::new(env!("CARGO_BIN_EXE_novanc"))
+                common::novanc_command()
                     .args(["edit", p.to_str().unwrap(), "-c"])
                     .arg(format!("IE{i:02}*"))
                     .arg("--write")

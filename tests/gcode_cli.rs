@@ -4,21 +4,7 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .output()
-        .expect("run novanc")
-}
-
-fn temp(name: &str, text: &str) -> PathBuf {
-    let p = common::temp_path(name);
-    std::fs::write(&p, text).expect("temp file");
-    p
-}
+use common::{novanc, temp_file};
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
@@ -28,7 +14,7 @@ const PROG: &str = "G21 G90\nG10 L2 P1 X100 Y100 Z-300\nG0 X0 Y0 Z0\nG18 G2 X10 
 
 #[test]
 fn a_file_named_ngc_is_read_as_g_code() {
-    let p = temp("a.ngc", PROG);
+    let p = temp_file("a.ngc", PROG);
     let out = novanc(&["translate", p.to_str().unwrap_or("")]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert_eq!(
@@ -43,7 +29,7 @@ fn a_file_named_ngc_is_read_as_g_code() {
 
 #[test]
 fn a_first_line_of_percent_makes_g_code_of_any_name_and_switches_apply() {
-    let p = temp("prog.txt", &format!("%\n{PROG}%\n"));
+    let p = temp_file("prog.txt", &format!("%\n{PROG}%\n"));
     let out = novanc(&[
         "translate",
         p.to_str().unwrap_or(""),
@@ -61,7 +47,7 @@ fn a_first_line_of_percent_makes_g_code_of_any_name_and_switches_apply() {
 
 #[test]
 fn an_error_names_program_line_and_column_and_prints_nothing() {
-    let p = temp("bad.nc", "G0 X0\nG1 X10\nM30\n");
+    let p = temp_file("bad.nc", "G0 X0\nG1 X10\nM30\n");
     let prog = p.to_str().unwrap_or("");
     let out = novanc(&["translate", prog]);
     assert_eq!(out.status.code(), Some(1));
@@ -86,7 +72,7 @@ fn table_b_in_g_code_translates() {
 
 #[test]
 fn novanc_run_runs_a_g_code_program_to_its_end() {
-    let p = temp(
+    let p = temp_file(
         "run.ngc",
         "G21 G90\nG10 L2 P1 X100 Y50 Z-200\nG0 X1 Y2 Z3\nG91 G1 X-1 F500\nM30\n",
     );
@@ -97,7 +83,7 @@ fn novanc_run_runs_a_g_code_program_to_its_end() {
         s.contains("final position: X 100.000 Y 52.000 Z -197.000 mm"),
         "{s}"
     );
-    let bad = temp("bad.ngc", "G21\nG0 X1 G1 Y1\nM30\n");
+    let bad = temp_file("bad.ngc", "G21\nG0 X1 G1 Y1\nM30\n");
     let out = novanc(&["run", bad.to_str().unwrap_or("")]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
@@ -105,7 +91,7 @@ fn novanc_run_runs_a_g_code_program_to_its_end() {
         "{}",
         text(&out.stderr)
     );
-    let del = temp("del.ngc", "G0 X1\n/G0 X7\nM30\n");
+    let del = temp_file("del.ngc", "G0 X1\n/G0 X7\nM30\n");
     let out = novanc(&["run", del.to_str().unwrap_or(""), "--block-delete"]);
     assert!(
         text(&out.stdout).contains("final position: X 1.000"),
@@ -116,7 +102,7 @@ fn novanc_run_runs_a_g_code_program_to_its_end() {
 
 #[test]
 fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
-    let p = temp("stop.ngc", "G0 X1\nM0\nG0 X2\nM30\n");
+    let p = temp_file("stop.ngc", "G0 X1\nM0\nG0 X2\nM30\n");
     let out = novanc(&["run", p.to_str().unwrap_or("")]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(
@@ -124,7 +110,7 @@ fn novanc_run_goes_on_past_m00_and_scripts_set_the_switches() {
         "{}",
         text(&out.stdout)
     );
-    let script = temp(
+    let script = temp_file(
         "sw.txt",
         &format!(
             "op data\ndata read\ntape {}\nstart\nwait\nblockdelete on\noptionalstop on\nshow\nblockdelete maybe\n",

@@ -11,7 +11,6 @@ use novanc::block::Motion;
 use novanc::panel_model::{DataMode, OpMode, PanelEvent as E};
 use novanc::settings::Dialect::{self, Fanuc, LinuxCnc};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn golden(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -53,11 +52,11 @@ fn assert_moves(got: &[(char, [f64; 3])], want: &[(char, [f64; 3])]) {
 /// `novanc translate --dialect fanuc` of a golden program, compared with (or, with
 /// `UPDATE_GOLDEN=1`, written to) its listing `NAME.iso`; the exit code.
 fn check_listing(name: &str) -> i32 {
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["translate", "--dialect", "fanuc"])
-        // Relative to the manifest directory, so the listing names no checkout's path.
+        // Relative to the project folder (where `novanc_command` runs), so the listing names no
+        // checkout's path.
         .arg(format!("tests/golden/fanuc/{name}.nc"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
     let text = format!(
@@ -411,7 +410,7 @@ fn the_linuxcnc_dialect_refuses_the_fanuc_words_as_before() {
 
 #[test]
 fn the_dialect_is_chosen_by_the_command_line_and_the_machine_description() {
-    let bad = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let bad = common::novanc_command()
         .args(["translate", "--dialect", "heidenhain"])
         .arg(golden("family.nc"))
         .output()
@@ -427,7 +426,7 @@ fn the_dialect_is_chosen_by_the_command_line_and_the_machine_description() {
     .unwrap();
     let desc = d.join("fanuc.machine");
     std::fs::write(&desc, format!("{centre}dialect fanuc\n")).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["translate", "--machine"])
         .arg(&desc)
         .arg(golden("family.nc"))
@@ -437,7 +436,7 @@ fn the_dialect_is_chosen_by_the_command_line_and_the_machine_description() {
     let want = std::fs::read_to_string(golden("family.iso")).unwrap();
     assert_eq!(String::from_utf8_lossy(&out.stdout), want);
     // The command line says last.
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["translate", "--dialect=linuxcnc", "--machine"])
         .arg(&desc)
         .arg(golden("family.nc"))
@@ -1705,7 +1704,7 @@ fn translate_and_run_with_state_read_a_stored_program_in_the_dialect_it_was_stor
         s.program_read("ISO.NGC", "G00 X10 Y6.\nM30\n").unwrap();
     }
     let novanc = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_novanc"))
+        common::novanc_command()
             .args(args)
             .arg("--state")
             .arg(&state)

@@ -107,7 +107,7 @@ fn a_run_records_the_outputs() {
     )
     .unwrap();
     let rec = dir.join("out.mcap");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .arg("run")
         .arg(&prog)
         .arg("--record")

@@ -32,7 +32,7 @@ fn g10_in_mdi_sets_an_offset_that_survives_a_restart_and_g55_uses_it() {
     let prog = common::temp_dir("ofs-run").join("g55.ngc");
     std::fs::write(&prog, "G55 G0 X0 Y0 Z0\nM30\n").unwrap();
     c.finish().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args([
             "run",
             prog.to_str().unwrap(),

@@ -85,7 +85,7 @@ fn g92_survives_a_restart_of_the_console() {
     // novanc translate --state reads the console's memory with its G92 as well.
     let prog = common::temp_dir("state-g92-cli").join("x10.ngc");
     std::fs::write(&prog, "G0 X10\nM30\n").unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args([
             "translate",
             prog.to_str().unwrap(),

@@ -4,19 +4,13 @@
 
 mod common;
 
+use common::novanc;
+
 use novanc::lathe::desc::LatheDesc;
 use novanc::store::lathe::{tools_text, LatheStore};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("novanc runs")
-}
+use std::process::Output;
 
 /// `novanc script SCRIPT --machine citizen --state STATE` and `more` arguments.
 fn citizen_script(script: &Path, state: &Path, more: &[&str]) -> Output {
@@ -485,7 +479,7 @@ fn the_console_takes_the_same_arguments_on_every_machine_and_front_end() {
                 args.extend_from_slice(&["--state", state.to_str().unwrap()]);
                 args.extend_from_slice(bad);
                 // No display: a window that got as far as opening would fail (exit 1).
-                let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+                let o = common::novanc_command()
                     .args(&args)
                     .env_remove("DISPLAY")
                     .env_remove("WAYLAND_DISPLAY")
@@ -846,7 +840,7 @@ fn a_recording_on_a_full_disk_says_no_space() {
 #[test]
 fn the_lathe_window_takes_a_benchmark_as_the_centres_does() {
     let d = common::temp_dir("lathe-bench-nodisplay");
-    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let o = common::novanc_command()
         .args([
             "--window",
             "--machine",

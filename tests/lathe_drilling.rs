@@ -10,7 +10,6 @@ mod common;
 use novanc::block::{Motion, Statement};
 use novanc::lathe::desc::{parse, LatheDesc, MachineDesc};
 use novanc::lathe::gcode::ReadOptions;
-use std::process::Command;
 
 /// The machine's description: one channel, X travel 0..100 (radius), Z −100..100; tool 1 with
 /// offsets X 2 (radius) Z −3, tool 2 (the drill) without; in `dialect`, with `more` lines in
@@ -296,7 +295,7 @@ fn g83_refusals_name_their_line_column_and_reason() {
 
 /// `novanc run --machine M PROG --parts 2` delivers its 2 parts, exit 0.
 fn runs_two_parts(m: &std::path::Path, prog: &std::path::Path) {
-    let o = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let o = common::novanc_command()
         .args(["run", "--machine"])
         .arg(m)
         .arg(prog)

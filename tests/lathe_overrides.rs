@@ -125,7 +125,7 @@ fn the_lathe_records_its_runs_modes_and_switches_as_they_are() {
     )
     .unwrap();
     let mcap = dir.join("r.mcap");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .arg("script")
         .arg(&script)
         .args(["--machine", "citizen", "--record"])

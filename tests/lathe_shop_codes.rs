@@ -291,7 +291,7 @@ fn a_lathe_loaded_by_hand_runs_a_program_without_chuck_codes_part_after_part() {
     std::fs::write(dir.join("byhand.machine"), BY_HAND).unwrap();
     std::fs::write(dir.join("o1000.nc"), prog).unwrap();
     let run = |machine: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+        let out = common::novanc_command()
             .args(["run", "--machine"])
             .arg(dir.join(machine))
             .arg(dir.join("o1000.nc"))
@@ -313,7 +313,7 @@ fn a_lathe_loaded_by_hand_runs_a_program_without_chuck_codes_part_after_part() {
     // The recording says who loaded each work: the operator (its chunks are not compressed,
     // so the event texts stand in the file as written).
     let rec = dir.join("byhand.mcap");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["run", "--machine"])
         .arg(dir.join("byhand.machine"))
         .arg(dir.join("o1000.nc"))

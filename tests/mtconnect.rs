@@ -9,7 +9,7 @@ mod tmux;
 use novanc::mtconnect::Adapter;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 fn free_port() -> u16 {
@@ -112,7 +112,7 @@ fn script_for_an_agent(
     args: &[&std::ffi::OsStr],
 ) -> (u16, std::process::Child) {
     let port = free_port();
-    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let child = common::novanc_command()
         .arg("script")
         .arg(script)
         .args(args)
@@ -173,7 +173,7 @@ fn bad_adapter_options_are_refused() {
         vec!["--mtconnect", "7000", "--mtconnect-wait", "-1"],
         vec!["--mtconnect"],
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+        let out = common::novanc_command()
             .arg("script")
             .arg("nothing.script")
             .args(&args)
@@ -190,7 +190,7 @@ fn no_agent_within_the_wait_stops_the_script() {
     let d = common::temp_dir("mtc-nowait");
     let script = d.join("s.script");
     std::fs::write(&script, "op AUTO\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["script", script.to_str().unwrap()])
         .args([
             "--mtconnect",
@@ -344,7 +344,7 @@ fn citizen_run_streamed(dir: &std::path::Path) -> Vec<String> {
 /// agent got.
 fn streamed(args: &[&std::ffi::OsStr]) -> Vec<String> {
     let port = free_port();
-    let child = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let child = common::novanc_command()
         .args(args)
         .args(["--mtconnect", &format!("127.0.0.1:{port}")])
         .args(["--mtconnect-wait", "30"])
@@ -575,7 +575,7 @@ fn a_trunnion_streams_its_table_s_angles_as_its_device_file_names_them() {
         "machine trunnion\nkind mill\npulse 0.001\nx travel 0 1000 rapid 12000 accel 1000\ny travel 0 800 rapid 12000 accel 1000\nz travel -600 0 rapid 12000 accel 1000\nb rotary travel -120 120 rapid 9000 accel 800\nc rotary wrap rapid 9000 accel 800\n",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["mtconnect-devices", "--machine"])
         .arg(&desc)
         .output()

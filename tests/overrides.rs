@@ -7,7 +7,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// What a recording holds, by topic: JSON texts in log order, and every pulse (axis, time).
 struct Rec {
@@ -310,7 +309,7 @@ fn run_cmd(name: &str, extra: &[&str]) -> (PathBuf, Rec) {
     let p = dir.join("p.ngc");
     std::fs::write(&p, "G21 G90\nG0 X10 Y5\nG1 X0 F2000\nM30\n").unwrap();
     let rec = dir.join("r.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .arg("run")
         .arg(&p)
         .arg("--record")
@@ -344,7 +343,7 @@ fn pulses_off_leaves_the_pulses_out() {
     assert_eq!(on.positions, off.positions);
     let size = |p: &Path| std::fs::metadata(p).unwrap().len();
     assert!(size(&rec_off) < size(&rec_on));
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["run", "x.ngc", "--pulses", "maybe"])
         .output()
         .unwrap();
@@ -361,7 +360,7 @@ fn script_pulses_off() {
     let s = dir.join("s.panel");
     std::fs::write(&s, run_with("").replace("PROG", &p.display().to_string())).unwrap();
     let rec = dir.join("r.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .arg("script")
         .arg(&s)
         .args(["--pulses", "off", "--record"])

@@ -8,7 +8,6 @@ mod common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Where `.ci/run` installs `@foxglove/schemas`.
 fn package() -> PathBuf {
@@ -97,7 +96,7 @@ fn table_b_recording_draws_in_foxglove_with_the_published_schemas() {
     let dir = common::temp_dir("foxglove-tableb");
     let rec = dir.join("t.mcap");
     let prog = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/tableb.ap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .arg("run")
         .arg(&prog)
         .arg("--record")
@@ -222,7 +221,7 @@ fn a_lathe_recording_draws_each_channel_and_names_the_machine() {
     let dir = common::temp_dir("foxglove-lathe");
     let rec = dir.join("l.mcap");
     let progs = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/citizen");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["run", "--machine", "citizen"])
         .arg(&progs)
         .args(["--parts", "2", "--record"])

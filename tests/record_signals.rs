@@ -28,9 +28,8 @@ use std::time::{Duration, Instant};
 /// `novanc ARGS` with SIGINT, SIGTERM and SIGHUP at their default action whatever this test
 /// process inherited (a shell's background job ignores SIGINT), and `ignore` ignored.
 fn novanc(args: &[&str], ignore: Option<libc::c_int>) -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_novanc"));
+    let mut cmd = common::novanc_command();
     cmd.args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());

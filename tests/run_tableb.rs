@@ -3,19 +3,11 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-
-fn novanc() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-}
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn temp(name: &str) -> PathBuf {
-    common::temp_path(name)
 }
 
 /// The integer after `"key":` in a JSON object text.
@@ -123,8 +115,8 @@ fn block_ends(r: &Rec, stmt: i64, g: &str) -> Vec<[i64; 3]> {
 
 #[test]
 fn table_b_runs_to_completion_with_a_complete_recording() {
-    let rec = temp("tableb.mcap");
-    let out = novanc()
+    let rec = common::temp_path("tableb.mcap");
+    let out = common::novanc_command()
         .arg("run")
         .arg(root().join("programs/tableb.ap"))
         .arg("--record")
@@ -222,20 +214,28 @@ fn table_b_runs_to_completion_with_a_complete_recording() {
 
 #[test]
 fn a_translation_error_moves_nothing() {
-    let prog = temp("bad.ap");
+    let prog = common::temp_path("bad.ap");
     std::fs::write(
         &prog,
         "DA1 = (200, 0, -450)\nGD, 10, 0, 0\nDRL, 999/DP20/DA1, P1\n",
     )
     .unwrap();
-    let out = novanc().arg("run").arg(&prog).output().unwrap();
+    let out = common::novanc_command()
+        .arg("run")
+        .arg(&prog)
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.starts_with(&format!("{}:3:", prog.display())), "{err}");
     assert!(out.stdout.is_empty(), "nothing ran");
     // beyond the travel: refused with the statement's line, nothing runs
     std::fs::write(&prog, "GO, 10, 10, -5\nGO, 1200, 10, -5\n").unwrap();
-    let out = novanc().arg("run").arg(&prog).output().unwrap();
+    let out = common::novanc_command()
+        .arg("run")
+        .arg(&prog)
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(err.starts_with(&format!("{}:2:", prog.display())), "{err}");
@@ -246,10 +246,13 @@ fn a_translation_error_moves_nothing() {
 
 #[test]
 fn feed_override_and_help() {
-    let out = novanc().args(["run", "--help"]).output().unwrap();
+    let out = common::novanc_command()
+        .args(["run", "--help"])
+        .output()
+        .unwrap();
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("--feed-override"));
-    let out = novanc()
+    let out = common::novanc_command()
         .arg("run")
         .arg(root().join("programs/tableb.ap"))
         .args(["--feed-override", "200"])
@@ -257,7 +260,7 @@ fn feed_override_and_help() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let t = |pct: &str| -> f64 {
-        let out = novanc()
+        let out = common::novanc_command()
             .arg("run")
             .arg(root().join("programs/tableb.ap"))
             .args(["--feed-override", pct])

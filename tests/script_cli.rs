@@ -3,15 +3,7 @@
 
 mod common;
 
-use std::process::Command;
-
-fn novanc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use common::novanc;
 
 #[test]
 fn a_bad_line_fails_the_script_before_anything_runs() {

@@ -5,7 +5,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 /// Runs one script and compares (or updates) its frames.
 fn check(name: &str) {
@@ -13,8 +12,7 @@ fn check(name: &str) {
     let script = dir.join(format!("{name}.script"));
     let golden = dir.join(format!("{name}.frames"));
     let state = common::temp_dir(name);
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    let out = common::novanc_command()
         .arg("script")
         .arg(&script)
         .arg("--state")

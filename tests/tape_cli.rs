@@ -3,23 +3,12 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use common::novanc;
 
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("run novanc")
-}
+use std::path::Path;
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
-}
-
-fn temp(name: &str) -> PathBuf {
-    common::temp_path(name)
 }
 
 fn file(p: &str) -> Vec<u8> {
@@ -33,7 +22,7 @@ fn punch_makes_the_golden_images_and_read_gives_back_the_files() {
         ("tooldata/tools.tt", "TOOL TAPE", "tools"),
     ] {
         for code in ["iso", "eia"] {
-            let out = temp(&format!("{name}.{code}"));
+            let out = common::temp_path(&format!("{name}.{code}"));
             let o = novanc(&[
                 "tape",
                 "punch",
@@ -79,7 +68,7 @@ fn punch_makes_the_golden_images_and_read_gives_back_the_files() {
 fn a_bad_tape_prints_the_alarm_and_no_text() {
     let mut image = file("tests/golden/tableb.iso.tape");
     image[40] ^= 0x04;
-    let p = temp("bad.iso");
+    let p = common::temp_path("bad.iso");
     std::fs::write(&p, &image).unwrap();
     let o = novanc(&["tape", "read", p.to_str().unwrap()]);
     let _ = std::fs::remove_file(&p);
@@ -102,7 +91,7 @@ fn block_parity_is_checked_on_request() {
     let pad = image.iter().position(|&f| f == 0x8D).unwrap();
     let mut odd = image.clone();
     odd.remove(pad);
-    let p = temp("odd.iso");
+    let p = common::temp_path("odd.iso");
     std::fs::write(&p, &odd).unwrap();
     let lenient = novanc(&["tape", "read", p.to_str().unwrap()]);
     let strict = novanc(&["tape", "read", p.to_str().unwrap(), "--block-parity"]);
@@ -138,7 +127,7 @@ fn holes_draws_every_frame() {
 
 #[test]
 fn bad_usage_and_unpunchable_text_are_refused_and_write_nothing() {
-    let out = temp("never");
+    let out = common::temp_path("never");
     let o = out.to_str().unwrap();
     for (args, code, msg) in [
         (
@@ -211,7 +200,7 @@ fn bad_usage_and_unpunchable_text_are_refused_and_write_nothing() {
         );
         assert!(!out.exists(), "{args:?} wrote an image");
     }
-    let src = temp("prog.ap");
+    let src = common::temp_path("prog.ap");
     std::fs::write(&src, "P1 = (1, 2)\nP2 = (3, 4) ; größer\n").unwrap();
     let r = novanc(&[
         "tape",

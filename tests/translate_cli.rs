@@ -3,21 +3,7 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn novanc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_novanc"))
-        .args(args)
-        .output()
-        .expect("run novanc")
-}
-
-fn temp(name: &str, text: &str) -> PathBuf {
-    let p = common::temp_path(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+use common::{novanc, temp_file};
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
@@ -46,7 +32,7 @@ fn explicit_sample_files_give_the_same_program() {
 
 #[test]
 fn a_program_error_goes_to_stderr_with_prog_line_col() {
-    let p = temp("bad.ap", "DA1 = (200, 0, -450)\nDRL, 106/DP20/DA1, P9\n");
+    let p = temp_file("bad.ap", "DA1 = (200, 0, -450)\nDRL, 106/DP20/DA1, P9\n");
     let ps = p.to_string_lossy().into_owned();
     let out = novanc(&["translate", &ps]);
     assert_eq!(out.status.code(), Some(1));
@@ -59,7 +45,7 @@ fn a_program_error_goes_to_stderr_with_prog_line_col() {
 
 #[test]
 fn bad_tool_tape_and_t_code_table_are_errors() {
-    let tape = temp("bad.tt", "00106 DR 6.2 150.0 40.0 1200 120\n");
+    let tape = temp_file("bad.tt", "00106 DR 6.2 150.0 40.0 1200 120\n");
     let ts = tape.to_string_lossy().into_owned();
     let out = novanc(&["translate", "programs/tableb.ap", "--tools", &ts]);
     assert_eq!(out.status.code(), Some(1));
@@ -70,7 +56,7 @@ fn bad_tool_tape_and_t_code_table_are_errors() {
     );
     assert!(out.stdout.is_empty());
 
-    let tc = temp("bad.tc", "T01 00610\nT99 00106\n");
+    let tc = temp_file("bad.tc", "T01 00610\nT99 00106\n");
     let cs = tc.to_string_lossy().into_owned();
     let out = novanc(&["translate", "programs/tableb.ap", "--magazine", &cs]);
     assert_eq!(out.status.code(), Some(1));
@@ -83,7 +69,7 @@ fn bad_tool_tape_and_t_code_table_are_errors() {
 
 #[test]
 fn a_magazine_without_the_tool_names_the_tool() {
-    let tc = temp("small.tc", "T01 00610\n");
+    let tc = temp_file("small.tc", "T01 00610\n");
     let cs = tc.to_string_lossy().into_owned();
     let out = novanc(&["translate", "programs/tableb.ap", "--magazine", &cs]);
     assert_eq!(out.status.code(), Some(1));
@@ -138,7 +124,7 @@ fn state_uses_the_consoles_memory_and_leaves_it_alone() {
         v
     };
     let before = files(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["translate", "--state"])
         .arg(&dir)
         .output()
@@ -152,7 +138,7 @@ fn state_uses_the_consoles_memory_and_leaves_it_alone() {
     // Drill 106 (T02) goes to tip -470: axis -470 + 155.
     assert!(text.contains("G01 Z-315.000 F120"), "{text}");
     assert!(!text.contains("G01 Z-320.000 F120"), "{text}");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = common::novanc_command()
         .args(["translate", "NOSUCH", "--state"])
         .arg(&dir)
         .output()

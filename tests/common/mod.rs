@@ -7,7 +7,7 @@ use novanc::console::{keys::parse_key, Console, ConsoleConfig};
 use novanc::panel_model::PanelEvent;
 use novanc::pulse_core::{BlockEnd, ClockMode};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// The G-code program `src` as `novanc translate` reads it without `--state`: from machine
 /// zero, the sample magazine, the default settings, no work offsets, both switches off.
@@ -63,6 +63,26 @@ pub fn temp_dir(name: &str) -> PathBuf {
 /// A path for a file `name` in a fresh temporary directory (removed at exit, as `temp_dir`'s).
 pub fn temp_path(name: &str) -> PathBuf {
     temp_dir("file").join(name)
+}
+
+/// `text` written to a file `name` in a fresh temporary directory ([`temp_path`]).
+pub fn temp_file(name: &str, text: &str) -> PathBuf {
+    let p = temp_path(name);
+    std::fs::write(&p, text).expect("temp file");
+    p
+}
+
+/// The novanc binary this test build made, to run in the project's folder (where the tests
+/// name its programs and machines from): the one way every test starts the process.
+pub fn novanc_command() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_novanc"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
+
+/// `novanc ARGS` run to its end: its exit status and output.
+pub fn novanc(args: &[&str]) -> Output {
+    novanc_command().args(args).output().expect("run novanc")
 }
 
 /// The temporary directories this test process made, removed when it exits.
@@ -433,7 +453,7 @@ pub fn recorded_script_with(dir: &Path, script_text: &str, args: &[&str]) -> (Pa
     let s = dir.join("s.panel");
     std::fs::write(&s, script_text).unwrap();
     let rec = dir.join("r.mcap");
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = novanc_command()
         .arg("script")
         .arg(&s)
         .args(args)
@@ -464,7 +484,7 @@ pub fn novanc_on(
     let dir = temp_dir("cli");
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_novanc"))
+    let out = novanc_command()
         .args(args)
         .arg(&p)
         .args(extra.iter().map(|e| match e.starts_with("--") {
