@@ -1,9 +1,11 @@
 //! The cycles, positioning and milling choices of docs/language.md, block by block. The
 //! expected numbers are worked out in the comments from the sample tool data.
 
+mod common;
+
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
-use novanc::translator::{iso_line, translate_all};
+use novanc::translator::translate_all;
 
 /// The ISO lines (without N) of every block, statement by statement.
 fn lines(src: &str) -> Vec<Vec<String>> {
@@ -11,17 +13,7 @@ fn lines(src: &str) -> Vec<Vec<String>> {
     translate_all(src, &sample_magazine(), &st, [0, 0, 0])
         .unwrap_or_else(|e| panic!("{e}"))
         .iter()
-        .map(|s| {
-            s.blocks
-                .iter()
-                .map(|b| {
-                    let l = iso_line(b, &st);
-                    l.split_once(' ')
-                        .map(|x| x.1.to_string())
-                        .unwrap_or_default()
-                })
-                .collect()
-        })
+        .map(common::iso_words)
         .collect()
 }
 

@@ -1,32 +1,17 @@
 //! Bad input: every error carries LINE:COL and an operator's message, and the statement in
 //! error yields no blocks (the translator hands out nothing after it).
 
+mod common;
+
+use common::translate_error as error_with;
 use novanc::pulse_core::testkit::Rng;
 use novanc::settings::MachineSettings;
 use novanc::tooldata::{parse_tape, parse_tcodes, sample_magazine, Magazine};
 use novanc::translator::{TranslateError, Translator};
 
-/// Translates `src` statement by statement; returns the error and checks that every statement
-/// before it came out whole, and that nothing comes after it.
+/// Translates `src` statement by statement (`common::translate_error`).
 fn error_of(src: &str) -> TranslateError {
     error_with(src, sample_magazine())
-}
-
-fn error_with(src: &str, magazine: Magazine) -> TranslateError {
-    let mut t = Translator::new(src, magazine, MachineSettings::default(), [0, 0, 0]);
-    let mut seen = Vec::new();
-    loop {
-        match t.next() {
-            Some(Ok(s)) => seen.push(s.line),
-            Some(Err(e)) => {
-                assert!(!seen.contains(&e.line), "line {} yielded blocks", e.line);
-                assert!(t.next().is_none(), "the translator went on after {e}");
-                assert!(t.next().is_none());
-                return e;
-            }
-            None => panic!("no error in:\n{src}"),
-        }
-    }
 }
 
 fn expect(src: &str, line: u32, col: u32, words: &str) {

@@ -3,6 +3,8 @@
 //! nothing after the error. The reproducers of issue 15 (exponential macros, a dwell and a feed
 //! that never end, `IA0`, a 1 MB line) are among them.
 
+mod common;
+
 use novanc::settings::MachineSettings;
 use novanc::tooldata::{parse_tape, parse_tcodes, sample_magazine, Magazine, SAMPLE_TCODES};
 use novanc::translator::{
@@ -10,23 +12,7 @@ use novanc::translator::{
 };
 use std::time::{Duration, Instant};
 
-/// Translates `src`; the error, after checking that the line in error yielded nothing and that
-/// nothing came after it.
-fn error_with(src: &str, magazine: Magazine) -> TranslateError {
-    let mut t = Translator::new(src, magazine, MachineSettings::default(), [0, 0, 0]);
-    let mut seen = Vec::new();
-    loop {
-        match t.next() {
-            Some(Ok(s)) => seen.push(s.line),
-            Some(Err(e)) => {
-                assert!(!seen.contains(&e.line), "line {} yielded blocks", e.line);
-                assert!(t.next().is_none(), "the translator went on after {e}");
-                return e;
-            }
-            None => panic!("no error in:\n{}", &src[..src.len().min(500)]),
-        }
-    }
-}
+use common::translate_error as error_with;
 
 fn error_of(src: &str) -> TranslateError {
     error_with(src, sample_magazine())

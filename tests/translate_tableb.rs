@@ -2,10 +2,12 @@
 //! every number below is derived in the comments from docs/language.md and the sample tool data, not
 //! copied from the translator's output.
 
+mod common;
+
 use novanc::block::Motion;
 use novanc::settings::MachineSettings;
 use novanc::tooldata::sample_magazine;
-use novanc::translator::{iso_line, iso_program, translate_all, Statement};
+use novanc::translator::{iso_program, translate_all, Statement};
 
 const TABLEB: &str = include_str!("../programs/tableb.ap");
 const GOLDEN: &str = include_str!("golden/tableb.iso");
@@ -22,17 +24,7 @@ fn translate() -> Vec<Statement> {
 
 /// The ISO lines of the statement on source line `line`, without their N words.
 fn lines_of(stmts: &[Statement], line: u32) -> Vec<String> {
-    let st = MachineSettings::default();
-    let s = stmts.iter().find(|s| s.line == line).expect("statement");
-    s.blocks
-        .iter()
-        .map(|b| {
-            let l = iso_line(b, &st);
-            l.split_once(' ')
-                .map(|x| x.1.to_string())
-                .unwrap_or_default()
-        })
-        .collect()
+    common::iso_words(stmts.iter().find(|s| s.line == line).expect("statement"))
 }
 
 #[test]

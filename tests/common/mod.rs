@@ -85,6 +85,44 @@ pub fn novanc(args: &[&str]) -> Output {
     novanc_command().args(args).output().expect("run novanc")
 }
 
+/// Translates the source-language program `src` with `magazine`, statement by statement: its
+/// error, after checking that the statement in error yielded no blocks and that the
+/// translator hands out nothing after it (docs/language.md "Errors").
+pub fn translate_error(
+    src: &str,
+    magazine: novanc::tooldata::Magazine,
+) -> novanc::translator::TranslateError {
+    let settings = novanc::settings::MachineSettings::default();
+    let mut t = novanc::translator::Translator::new(src, magazine, settings, [0, 0, 0]);
+    let mut seen = Vec::new();
+    loop {
+        match t.next() {
+            Some(Ok(s)) => seen.push(s.line),
+            Some(Err(e)) => {
+                assert!(!seen.contains(&e.line), "line {} yielded blocks", e.line);
+                assert!(t.next().is_none(), "the translator went on after {e}");
+                assert!(t.next().is_none());
+                return e;
+            }
+            None => panic!("no error in:\n{}", &src[..src.len().min(500)]),
+        }
+    }
+}
+
+/// A statement's blocks as ISO lines without their N words, on the default settings.
+pub fn iso_words(s: &novanc::translator::Statement) -> Vec<String> {
+    let st = novanc::settings::MachineSettings::default();
+    s.blocks
+        .iter()
+        .map(|b| {
+            let l = novanc::translator::iso_line(b, &st);
+            l.split_once(' ')
+                .map(|x| x.1.to_string())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
 /// The temporary directories this test process made, removed when it exits.
 static MADE: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
