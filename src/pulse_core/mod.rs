@@ -144,6 +144,10 @@ pub enum Command {
     MachineLock(bool),
     /// Z NEGLECT on or off: machine lock for Z alone.
     ZNeglect(bool),
+    /// The jog feed, mm/min (at most the rapid rate): of the jogs, increments and returns
+    /// started from now on, on the channel told (the panel's jog feed and rapid jog, POS's
+    /// `JOG`). Not a finite positive number: ignored.
+    JogFeed(f64),
     /// CONTINUOUS jog: move axis (0..3) in direction ±1 at the jog feed until `JogRelease`.
     Jog {
         /// Axis 0 = X, 1 = Y, 2 = Z.
@@ -202,6 +206,7 @@ impl Command {
                 | Command::DryRun(_)
                 | Command::MachineLock(_)
                 | Command::ZNeglect(_)
+                | Command::JogFeed(_)
         )
     }
 }

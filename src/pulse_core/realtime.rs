@@ -38,8 +38,6 @@ pub enum Op {
     Modes(String, String),
     /// Axis positions set.
     Position(Axes),
-    /// The jog feed, mm/min.
-    JogFeed(f64),
 }
 
 /// Applies an operation to the kernel: the centre's own to channel 0, the panel's mode names
@@ -61,7 +59,6 @@ pub fn apply(k: &mut Kernel, op: &Op) -> Result<(), String> {
         Op::Position(p) => {
             k.first_mut().set_position(*p);
         }
-        Op::JogFeed(f) => k.first_mut().set_jog_feed(*f),
     }
     Ok(())
 }

@@ -94,7 +94,6 @@ enum Msg {
     Magazine(Box<Magazine>),
     Modes(String, String),
     Position(Axes),
-    JogFeed(f64),
     Advance(Wait),
     Audit(bool),
     Watch(Option<super::Watcher>),
@@ -451,7 +450,7 @@ impl PulseCore {
     /// The jog feed, mm/min: of the jogs, the increments and the return after a manual
     /// intervention from now on (the panel's jog feed and rapid jog selection).
     pub fn set_jog_feed(&self, mm_min: f64) {
-        self.send_sync(Msg::JogFeed(mm_min));
+        self.command(Command::JogFeed(mm_min));
     }
 
     /// Keeps a log of every block end (programmed end and actual position), for tests.
@@ -702,9 +701,6 @@ impl Runner {
             }
             Msg::Position(p) => {
                 let _ = self.apply_op(Op::Position(p));
-            }
-            Msg::JogFeed(f) => {
-                let _ = self.apply_op(Op::JogFeed(f));
             }
             Msg::Audit(on) => self.k.first_mut().set_audit(on),
             // Real time publishes at display rate; the watcher is for virtual time

@@ -119,6 +119,7 @@ impl Machine {
                     ));
                 }
             }
+            Command::JogFeed(f) => self.set_jog_feed(f),
             Command::DryRun(on) => {
                 self.dry_run = on;
                 self.retarget();
