@@ -656,8 +656,20 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 line += "key Ctrl+P\n";
             }
             let l = [
-                "X", "X12.5", "Z-3.5", "XZ", "ORIGIN", "PARTS 2", "TARGET 3", "Q7", "XZX",
-            ][rng.range(0, 8) as usize];
+                "X",
+                "X12.5",
+                "Z-3.5",
+                "XZ",
+                "ORIGIN",
+                "PARTS 2",
+                "TARGET 3",
+                "Q7",
+                "XZX",
+                "JOG 300",
+                "JOG RAPID",
+                "JOG",
+                "JOG 0",
+            ][rng.range(0, 12) as usize];
             let posts =
                 |c: &LatheConsole| -> Vec<[i64; 2]> { c.tips().into_iter().map(|t| t.0).collect() };
             let before = posts(&s.c);
@@ -691,6 +703,11 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
                 ("PARTS 2", "parts 2") => assert_eq!(s.c.counters().parts, 2, "{line}"),
                 ("TARGET 3", _) if m == "part target 3" || m.starts_with("target 3: ") => {}
                 ("Q7" | "XZX", _) if s.c.entry() == l && !m.is_empty() => {}
+                // JOG (stop 60): the selected channel's jog feed, said; nothing moves.
+                ("JOG 300", _) if m.ends_with(" jog feed 300 mm/min") => {}
+                ("JOG RAPID", _) if m.contains(" rapid jog: ") => {}
+                ("JOG", _) if m.contains(" jog feed ") => {}
+                ("JOG 0", _) if s.c.entry() == l && m.starts_with("JOG refused") => {}
                 _ => panic!("{line}: {m}"),
             }
             return line;

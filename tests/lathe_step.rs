@@ -857,3 +857,67 @@ fn a_new_target_after_the_batch_is_done_lets_start_run_again() {
     drop(c);
     assert_eq!(open(&dir).counter().target, 2);
 }
+
+/// `JOG 120` typed on POS (the centre's words): the selected channel's jog feed, on its
+/// machine at once and kept across a cycle; the other channels keep theirs. Before stop 60
+/// the kernel's jog feed command reached its first channel only and the lathe's POS refused
+/// `JOG`.
+#[test]
+fn pos_jog_sets_the_selected_channels_jog_feed() {
+    let dir = common::temp_dir("lathe-pos-jog");
+    let mut c = open(&dir);
+    let mm = LatheDesc::citizen().pulse_mm;
+    // Z- for one second of machine time on channel `ch` in CONTINUOUS: how far, mm.
+    let jog_one_second = |c: &mut LatheConsole, ch: usize| {
+        c.handle(PanelEvent::Channel(ch));
+        c.handle(PanelEvent::Op(OpMode::Continuous));
+        let z = posts(c)[ch][1];
+        c.handle(PanelEvent::Jog(Axis::Z, -1));
+        c.run_for(1_000_000_000, RunUntil::Time, || false);
+        c.handle(PanelEvent::JogRelease);
+        c.run_for(1_000_000_000, RunUntil::Time, || false);
+        (z - posts(c)[ch][1]) as f64 * mm
+    };
+    let default = jog_one_second(&mut c, 0);
+    c.handle(PanelEvent::Channel(1));
+    c.press(Key::Ctrl('p'));
+    c.handle(PanelEvent::Type("JOG 120".into()));
+    assert_eq!(c.message(), "CH2 jog feed 120 mm/min");
+    assert!(
+        c.view()
+            .display
+            .iter()
+            .any(|l| l.contains("JOG 120 mm/min")),
+        "{:#?}",
+        c.view().display
+    );
+    // A feed past the rapid rate, or none: refused, kept on the entry line, nothing changed.
+    c.handle(PanelEvent::Type("JOG 0".into()));
+    assert!(c.message().contains("JOG refused"), "{}", c.message());
+    assert_eq!(c.entry(), "JOG 0");
+    c.press(Key::Ctrl('p'));
+    let slow = jog_one_second(&mut c, 1);
+    // 120 mm/min is 2 mm a second, less what the ramps take; the machine's 1000 mm/min
+    // on channel 1 went about 16.
+    assert!((1.5..=2.05).contains(&slow), "CH2 jogged {slow} mm");
+    assert!(default > 10.0, "CH1 jogged {default} mm");
+    assert!((jog_one_second(&mut c, 0) - default).abs() < 0.01);
+    // Kept across an MDI run on the channel.
+    c.handle(PanelEvent::Channel(1));
+    c.handle(PanelEvent::Op(OpMode::Mdi));
+    c.handle(PanelEvent::Type("G4 P0.1".into()));
+    c.handle(PanelEvent::Start);
+    c.run_for(2_000_000_000, RunUntil::Rest, || false);
+    assert!((jog_one_second(&mut c, 1) - slow).abs() < 0.01);
+    // JOG RAPID: the channel's rapid rate; JOG: back to its feed.
+    c.press(Key::Ctrl('p'));
+    c.handle(PanelEvent::Type("JOG RAPID".into()));
+    assert!(
+        c.message().starts_with("CH2 rapid jog: "),
+        "{}",
+        c.message()
+    );
+    c.handle(PanelEvent::Type("JOG".into()));
+    assert_eq!(c.message(), "CH2 jog feed 120 mm/min");
+    let _ = std::fs::remove_dir_all(&dir);
+}

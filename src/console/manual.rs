@@ -22,6 +22,59 @@ use std::time::Instant;
 /// the slowest jog feed takes far less).
 pub(crate) const SETTLE_LIMIT_NS: u64 = 60_000_000_000;
 
+/// The jog feed an operator chose on POS (`JOG 500`, `JOG RAPID`, `JOG`), every machine's
+/// rule: the centre's kept in its position memory, each lathe channel's its own (docs/panel.md
+/// POS, docs/lathe.md "POS").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JogChoice {
+    /// The jog feed chosen, mm/min (None: the machine's).
+    pub feed: Option<f64>,
+    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` or a feed.
+    pub rapid: bool,
+}
+
+impl JogChoice {
+    /// Takes the rest of a POS `JOG` line, on a machine of `rapid` mm/min: `500` (a feed, 1
+    /// to the rapid rate), `RAPID`, or nothing (back to the feed from rapid jog). Err: why
+    /// not, nothing changed.
+    pub fn take(&mut self, rest: &str, rapid: f64) -> Result<(), String> {
+        match rest {
+            "RAPID" => self.rapid = true,
+            "" => self.rapid = false,
+            _ => match rest.parse::<f64>() {
+                Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
+                    self.feed = Some(v);
+                    self.rapid = false;
+                }
+                _ => {
+                    return Err(format!(
+                        "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
+                    ))
+                }
+            },
+        }
+        Ok(())
+    }
+
+    /// The jog feed in force, mm/min: the rapid rate `rapid` with rapid jog, else the one
+    /// chosen, else the machine's `default`.
+    pub fn rate(&self, default: f64, rapid: f64) -> f64 {
+        match (self.rapid, self.feed) {
+            (true, _) => rapid,
+            (false, f) => f.unwrap_or(default),
+        }
+    }
+
+    /// What a `JOG` line taken says, at the rate `f` now in force.
+    pub fn said(&self, f: f64) -> String {
+        if self.rapid {
+            format!("rapid jog: {f:.0} mm/min")
+        } else {
+            format!("jog feed {f:.0} mm/min")
+        }
+    }
+}
+
 /// Where a manual move acts (`Side::manual_target`).
 pub(crate) struct ManualTarget {
     /// The channel.

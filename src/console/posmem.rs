@@ -7,6 +7,7 @@
 //! (HOME, Alt+0, script word `home`) has been made. The jog feed chosen on POS (`JOG 500`,
 //! `JOG RAPID`) is kept in the same file.
 
+use super::manual::JogChoice;
 use super::Console;
 use crate::pulse_core::Command;
 use std::path::Path;
@@ -23,10 +24,8 @@ pub struct Kept {
     pub pos: crate::block::Axes,
     /// The tool in the spindle.
     pub tool: Option<u32>,
-    /// The jog feed chosen on POS, mm/min (None: the settings').
-    pub jog_feed: Option<f64>,
-    /// Rapid jog (`JOG RAPID`).
-    pub rapid_jog: bool,
+    /// The jog feed chosen on POS.
+    pub jog: JogChoice,
 }
 
 impl Kept {
@@ -49,9 +48,10 @@ impl Kept {
                     .collect::<String>()
             },
             self.tool.map_or("none".to_string(), |t| t.to_string()),
-            self.jog_feed
+            self.jog
+                .feed
                 .map_or("default".to_string(), |f| f.to_string()),
-            if self.rapid_jog { " rapid" } else { "" }
+            if self.jog.rapid { " rapid" } else { "" }
         )
     }
 
@@ -80,8 +80,8 @@ impl Kept {
             t => Some(t.parse().ok()?),
         };
         // The jog line came later: a file without it keeps the settings' jog feed.
-        let (jog_feed, rapid_jog) = match l.next() {
-            None => (None, false),
+        let jog = match l.next() {
+            None => JogChoice::default(),
             Some(j) => {
                 let j = j.strip_prefix("jog ")?;
                 let (feed, rapid) = match j.strip_suffix(" rapid") {
@@ -96,15 +96,14 @@ impl Kept {
                             .filter(|v| v.is_finite() && *v > 0.0)?,
                     ),
                 };
-                (feed, rapid)
+                JogChoice { feed, rapid }
             }
         };
         Some(Kept {
             moving,
             pos,
             tool,
-            jog_feed,
-            rapid_jog,
+            jog,
         })
     }
 }
@@ -118,21 +117,15 @@ pub(super) struct PosMem {
     pub home_needed: bool,
     /// HOME was accepted and the return is under way.
     homing: bool,
-    /// The jog feed chosen on POS (`JOG 500`), mm/min; None: the settings' jog feed.
-    pub jog_feed: Option<f64>,
-    /// Rapid jog (`JOG RAPID`): jogs at the rapid rate until `JOG` with a feed.
-    pub rapid_jog: bool,
+    /// The jog feed chosen on POS (`JOG 500`, `JOG RAPID`).
+    pub jog: JogChoice,
 }
 
 /// The jog feed in force, mm/min: the rapid rate with rapid jog, else the one chosen (the
 /// settings' by default).
 pub(super) fn jog_feed(c: &Console) -> f64 {
     let s = &c.cfg.settings;
-    if c.posmem.rapid_jog {
-        s.rapid_mm_min
-    } else {
-        c.posmem.jog_feed.unwrap_or(s.jog_mm_min)
-    }
+    c.posmem.jog.rate(s.jog_mm_min, s.rapid_mm_min)
 }
 
 /// Whether a command can set an axis moving: before it is given, the file says `moving`.
@@ -155,8 +148,7 @@ pub(super) fn before_motion(c: &mut Console) {
         moving: true,
         pos: s.machine_pos,
         tool: s.tool,
-        jog_feed: c.posmem.jog_feed,
-        rapid_jog: c.posmem.rapid_jog,
+        jog: c.posmem.jog,
     };
     if let Err(e) = save(&c.cfg.state_dir, &k) {
         c.shell.front.message = format!(
@@ -197,9 +189,8 @@ pub(super) fn restore(c: &mut Console) {
     let pos = crate::block::Axes::from_fn(|a| if s.has_axis(a) { k.pos[a] } else { 0 });
     c.core.set_position(pos);
     c.core.command(Command::SetTool(k.tool));
-    c.posmem.jog_feed = k.jog_feed;
-    c.posmem.rapid_jog = k.rapid_jog;
-    if k.jog_feed.is_some() || k.rapid_jog {
+    c.posmem.jog = k.jog;
+    if k.jog != JogChoice::default() {
         c.core.set_jog_feed(jog_feed(c));
     }
     if k.moving {
@@ -261,8 +252,7 @@ pub(super) fn track(c: &mut Console) {
         moving: axes_moving || c.posmem.home_needed,
         pos: s.machine_pos,
         tool: s.tool,
-        jog_feed: c.posmem.jog_feed,
-        rapid_jog: c.posmem.rapid_jog,
+        jog: c.posmem.jog,
     };
     let changed = match &c.posmem.written {
         None => true,
@@ -393,25 +383,26 @@ mod tests {
                 moving: false,
                 pos: [1, -2, -300_000].into(),
                 tool: Some(106),
-                jog_feed: Some(512.5),
-                rapid_jog: false,
+                jog: JogChoice {
+                    feed: Some(512.5),
+                    rapid: false,
+                },
             },
             Kept {
                 moving: true,
                 pos: [0; 3].into(),
                 tool: None,
-                jog_feed: None,
-                rapid_jog: true,
+                jog: JogChoice {
+                    feed: None,
+                    rapid: true,
+                },
             },
         ] {
             assert_eq!(Kept::parse(&k.text()), Some(k));
         }
         // A file written before the jog line: the settings' jog feed.
         let old = Kept::parse("novanc-position 1\nat rest\n1 2 3\ntool 2\n").unwrap();
-        assert_eq!(
-            (old.pos, old.jog_feed, old.rapid_jog),
-            ([1, 2, 3].into(), None, false)
-        );
+        assert_eq!((old.pos, old.jog), ([1, 2, 3].into(), JogChoice::default()));
         for bad in [
             "",
             "novanc-position 1\nmoving\n1 2\ntool none\n",

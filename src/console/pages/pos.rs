@@ -164,31 +164,17 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
 /// `JOG 500` (the jog feed, mm/min, up to the rapid rate), `JOG RAPID` (rapid jog), `JOG`
 /// (back to the jog feed from rapid jog).
 fn jog(c: &mut Console, rest: &str) -> Result<String, String> {
-    let rapid = c.cfg.settings.rapid_mm_min;
-    if rest == "RAPID" {
-        c.posmem.rapid_jog = true;
-    } else if rest.is_empty() {
-        c.posmem.rapid_jog = false;
-    } else {
-        match rest.parse::<f64>() {
-            Ok(v) if v.is_finite() && v >= 1.0 && v <= rapid => {
-                c.posmem.jog_feed = Some(v);
-                c.posmem.rapid_jog = false;
-            }
-            _ => {
-                return Err(format!(
-                    "JOG refused: '{rest}' is not a jog feed (1 to {rapid:.0} mm/min), or RAPID"
-                ))
-            }
-        }
-    }
+    c.posmem.jog.take(rest, c.cfg.settings.rapid_mm_min)?;
     let f = super::super::posmem::jog_feed(c);
     c.core.set_jog_feed(f);
-    Ok(if c.posmem.rapid_jog {
-        format!("rapid jog: {f:.0} mm/min")
-    } else {
-        format!("jog feed {f:.0} mm/min")
-    })
+    Ok(c.posmem.jog.said(f))
+}
+
+/// POS's jog line on every machine: the jog feed in force `f` (RAPID with rapid jog) and the
+/// increment of STEP and HANDLE, `step` mm.
+pub(crate) fn jog_line(jog: &crate::console::manual::JogChoice, f: f64, step: f64) -> String {
+    let rapid = if jog.rapid { " RAPID" } else { "" };
+    format!("JOG{rapid} {f:.0} mm/min STEP {step:.3} mm")
 }
 
 /// The POS page.
@@ -253,11 +239,10 @@ pub(super) fn compose(c: &Console, rows: usize, cols: usize) -> Vec<String> {
         st.speed_mm_min,
         st.spindle.abs()
     ));
-    let rapid = if c.posmem.rapid_jog { " RAPID" } else { "" };
-    p.body.push(format!(
-        "JOG{rapid} {:.0} mm/min STEP {:.3} mm",
+    p.body.push(jog_line(
+        &c.posmem.jog,
         super::super::posmem::jog_feed(c),
-        s.to_mm(c.shell.front.wheel.1 as i64)
+        s.to_mm(c.shell.front.wheel.1 as i64),
     ));
     let tool = match (st.tool, st.changing_tool) {
         (_, Some(t)) => format!("TOOL CHANGE to T{t:02} in progress"),

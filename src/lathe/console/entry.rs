@@ -51,14 +51,15 @@ impl LatheConsole {
     /// selected channel: `X` zeroes its relative X, `X12.5` presets it (a diameter), `Z`,
     /// `Z-3.` the same on Z, `XZ` or `ORIGIN` zeroes both; `PARTS n` sets the total part count
     /// (the log book's, the centre's PARTS; POS shows it as TOTAL), `TARGET n` the batch's
-    /// target (Alt+n's). Before stop 59 a line typed under POS went to the selector's use
-    /// (an MDI line in MDI), where the centre's POS took it.
+    /// target (Alt+n's); `JOG 500`, `JOG RAPID` and `JOG` the channel's jog feed (the
+    /// centre's, `manual::JogChoice`). Before stop 59 a line typed under POS went to the
+    /// selector's use (an MDI line in MDI), where the centre's POS took it.
     fn pos_line(&mut self, line: &str) -> Result<(), String> {
         use pos::{read_line, rel_said, PosLine};
         const LETTERS: [char; 2] = ['X', 'Z'];
         let tip = self.chan_views()[self.sel].pos;
         let op = self.shell.front.op;
-        let read = read_line(line, &LETTERS, false).map_err(|e| pos::refused_at(e, op))?;
+        let read = read_line(line, &LETTERS, true).map_err(|e| pos::refused_at(e, op))?;
         let rel = rel_said(&LETTERS, &read);
         let said = match read {
             PosLine::Zero(which) => {
@@ -77,7 +78,16 @@ impl LatheConsole {
             PosLine::Target(n) => {
                 return Err(format!("TARGET {n}: the batch's target is 1 to 999999"));
             }
-            PosLine::Jog(_) => return Err("POS: the lathe's jog feed is not set here".into()),
+            PosLine::Jog(rest) => {
+                let ch = self.sel;
+                let s = self.channel_settings(ch);
+                self.jog[ch].take(&rest, s.rapid_mm_min)?;
+                let f = self.jog[ch].rate(s.jog_mm_min, s.rapid_mm_min);
+                // The channel's machine takes it for the jogs started from now on.
+                self.cycle
+                    .manual(ch, crate::pulse_core::Command::JogFeed(f));
+                format!("CH{} {}", ch + 1, self.jog[ch].said(f))
+            }
         };
         self.shell.front.message = said;
         Ok(())
@@ -692,6 +702,14 @@ impl LatheConsole {
         let mut l = vec![format!("POS CH{}  X as a diameter", self.sel + 1)];
         l.extend(pos::axis_table(&format!("WORK G{}", 54 + system), rows));
         l.push(format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state));
+        let s = self.channel_settings(self.sel);
+        let jog = &self.jog[self.sel];
+        let f = jog.rate(s.jog_mm_min, s.rapid_mm_min);
+        l.push(pos::jog_line(
+            jog,
+            f,
+            s.to_mm(self.shell.front.wheel.1 as i64),
+        ));
         // The batch's count and target, then the counters every console keeps (the centre's
         // POS words): parts delivered in every batch, the last cycle, the run hours.
         let k = &self.shell.book.counters;

@@ -67,6 +67,9 @@ pub struct LatheConsole {
     /// Each channel's relative position's origin, pulses [X radius, Z] (the POS page's REL,
     /// the centre's: `X`, `X12.5`, `XZ` INPUT on POS).
     rel: Vec<[i64; 2]>,
+    /// Each channel's jog feed chosen on POS (`JOG 500`, `JOG RAPID`, the centre's words),
+    /// for the session: a new session jogs at the machine's (docs/lathe.md "POS").
+    jog: Vec<crate::console::manual::JogChoice>,
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
     /// The machine time each channel's latest fault or alarm came at (the kernel's event).
@@ -208,6 +211,7 @@ impl LatheConsole {
             sel: 0,
             ofs_cell: (0, ofs::FIRST_COLUMN),
             rel: vec![[0, 0]; n],
+            jog: vec![Default::default(); n],
             last_part_ns: None,
             alarm_at: vec![None; n],
             msg_of: None,
@@ -495,6 +499,11 @@ impl LatheConsole {
     /// would never end (the centre's `wait` says so too).
     pub fn stalled(&self) -> bool {
         self.cycle.stalled()
+    }
+
+    /// The settings channel `ch`'s machine runs on (its rapid rate, its jog feed...).
+    pub(crate) fn channel_settings(&self, ch: usize) -> crate::settings::MachineSettings {
+        crate::settings::MachineSettings::lathe_channel(&self.desc, ch).unwrap_or_default()
     }
 
     /// The plasma display's size: (rows, columns).
@@ -1396,7 +1405,7 @@ impl crate::console::side::Side for LatheConsole {
             .collect()
     }
     fn axis_settings(&self) -> crate::settings::MachineSettings {
-        crate::settings::MachineSettings::lathe_channel(&self.desc, self.sel).unwrap_or_default()
+        self.channel_settings(self.sel)
     }
     fn channel_runs(&self) -> bool {
         self.cycle.any_state(&["RUN"])
