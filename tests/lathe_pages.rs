@@ -923,3 +923,28 @@ fn the_msg_page_under_a_long_message_marks_an_entry_it_cuts() {
     assert!(d[n - 4].trim_end().ends_with('\u{2026}'), "{d:#?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The terminal's plasma (12 lines of 40): POS whole under a message of one line; under a
+/// longer message its last line shown ends in the cut mark. Before stop 60 a page longer than
+/// the room lost its last lines without a mark.
+#[test]
+fn pos_fits_the_terminals_plasma_and_a_cut_is_marked() {
+    let dir = common::temp_dir("lathe-pos-fit");
+    let mut c = LatheConsole::open(LatheDesc::citizen(), &dir, 12, 40, None)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    c.press(Key::Ctrl('p'));
+    c.handle(PanelEvent::Type("JOG 250".into()));
+    let d = c.view().display;
+    assert_eq!(d.len(), 12, "{d:#?}");
+    for want in ["POS CH1  X DIAMETER  PARTS 0/5", "JOG 250 mm/min", "TOTAL 0 "] {
+        assert!(d.iter().any(|l| l.contains(want)), "{want}: {d:#?}");
+    }
+    assert!(d.iter().all(|l| !l.contains('\u{2026}')), "{d:#?}");
+    // A refusal of two lines: TOTAL goes, and the line above the message says so.
+    c.handle(PanelEvent::Type("JOG 99999".into()));
+    let d = c.view().display;
+    assert!(d[9].starts_with("JOG refused"), "{d:#?}");
+    assert!(d[8].trim_end().ends_with('\u{2026}'), "{d:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

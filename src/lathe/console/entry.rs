@@ -686,7 +686,7 @@ impl LatheConsole {
     /// The POS page of the selected channel (`c`): its tool tip as the plasma shows it (X as
     /// a diameter) and what is left of the block in execution (Fanuc's DIST TO GO, what an
     /// operator watches proving out a first part at a low override), then its spindle and
-    /// tool, the parts and the last cycle's time.
+    /// tool, its jog feed, the parts and the last cycle's time.
     fn pos_lines(&self, c: &super::view::ChanView) -> Vec<String> {
         // The work position (the program's coordinates), the relative one, the machine's, and
         // what is left of the block (docs/lathe-gcode.md "Work offsets"), X as a diameter: the
@@ -699,7 +699,14 @@ impl LatheConsole {
             (['X', 'Z'][i], row.map(|p| p as f64 * scale))
         });
         let system = c.system.map_or(0, |s| s.0);
-        let mut l = vec![format!("POS CH{}  X as a diameter", self.sel + 1)];
+        // The batch's count and target on the heading: the plasma's twelve lines hold the
+        // page under a message of one line (a line of its own cut TOTAL off, stop 60).
+        let mut l = vec![format!(
+            "POS CH{}  X DIAMETER  PARTS {}/{}",
+            self.sel + 1,
+            c.parts,
+            self.counter.target
+        )];
         l.extend(pos::axis_table(&format!("WORK G{}", 54 + system), rows));
         l.push(format!("S {:.0} rpm  T{:02}  {}", c.rpm, c.tool, c.state));
         let s = self.channel_settings(self.sel);
@@ -710,10 +717,9 @@ impl LatheConsole {
             f,
             s.to_mm(self.shell.front.wheel.1 as i64),
         ));
-        // The batch's count and target, then the counters every console keeps (the centre's
-        // POS words): parts delivered in every batch, the last cycle, the run hours.
+        // The counters every console keeps (the centre's POS words): parts delivered in every
+        // batch, the last cycle, the run hours.
         let k = &self.shell.book.counters;
-        l.push(format!("PARTS {}/{}", c.parts, self.counter.target));
         l.push(format!("TOTAL {} {}", k.parts, k.times()));
         l
     }

@@ -175,8 +175,17 @@ pub fn plasma(
     // wrapping: words kept whole, a cut said), the listing the rest.
     let said = crate::console::display::wrap(message, cols, (rows / 3).max(1));
     let body = rows.saturating_sub(out.len() + 1 + said.len());
-    for l in listing.iter().take(body) {
-        out.push(fit(l, cols));
+    for (i, l) in listing.iter().take(body).enumerate() {
+        if i + 1 == body && listing.len() > body {
+            // A page longer than the room left: its last line shown says so.
+            let keep: String = l.chars().take(cols.saturating_sub(1)).collect();
+            out.push(fit(
+                &format!("{keep}{}", crate::console::display::CUT),
+                cols,
+            ));
+        } else {
+            out.push(fit(l, cols));
+        }
     }
     while out.len() < rows.saturating_sub(1 + said.len()) {
         out.push(fit("", cols));
