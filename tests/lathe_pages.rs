@@ -937,7 +937,11 @@ fn pos_fits_the_terminals_plasma_and_a_cut_is_marked() {
     c.handle(PanelEvent::Type("JOG 250".into()));
     let d = c.view().display;
     assert_eq!(d.len(), 12, "{d:#?}");
-    for want in ["POS CH1  X DIAMETER  PARTS 0/5", "JOG 250 mm/min", "TOTAL 0 "] {
+    for want in [
+        "POS CH1  X DIAMETER  PARTS 0/5",
+        "JOG 250 mm/min",
+        "TOTAL 0 ",
+    ] {
         assert!(d.iter().any(|l| l.contains(want)), "{want}: {d:#?}");
     }
     assert!(d.iter().all(|l| !l.contains('\u{2026}')), "{d:#?}");

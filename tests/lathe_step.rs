@@ -861,7 +861,7 @@ fn a_new_target_after_the_batch_is_done_lets_start_run_again() {
 /// `JOG 120` typed on POS (the centre's words): the selected channel's jog feed, on its
 /// machine at once and kept across a cycle; the other channels keep theirs. Before stop 60
 /// the kernel's jog feed command reached its first channel only and the lathe's POS refused
-/// `JOG`.
+/// `JOG`. Stored, it holds across a restart.
 #[test]
 fn pos_jog_sets_the_selected_channels_jog_feed() {
     let dir = common::temp_dir("lathe-pos-jog");
@@ -919,5 +919,31 @@ fn pos_jog_sets_the_selected_channels_jog_feed() {
     );
     c.handle(PanelEvent::Type("JOG".into()));
     assert_eq!(c.message(), "CH2 jog feed 120 mm/min");
+    // Kept across a restart (the stores' `chjog`), on the channel's machine from power-on;
+    // CH3's rapid jog too.
+    c.handle(PanelEvent::Channel(2));
+    c.handle(PanelEvent::Type("JOG RAPID".into()));
+    assert!(
+        c.message().starts_with("CH3 rapid jog: "),
+        "{}",
+        c.message()
+    );
+    assert!(c.finish().is_ok());
+    let mut c = open(&dir);
+    assert!((jog_one_second(&mut c, 1) - slow).abs() < 0.01);
+    assert!(
+        jog_one_second(&mut c, 2) > default,
+        "CH3 jogs at its rapid rate"
+    );
+    c.handle(PanelEvent::Channel(1));
+    c.press(Key::Ctrl('p'));
+    assert!(
+        c.view()
+            .display
+            .iter()
+            .any(|l| l.contains("JOG 120 mm/min")),
+        "{:#?}",
+        c.view().display
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -255,6 +255,8 @@ struct Lathe {
     mdi: Vec<Vec<String>>,
     /// Each channel's editor pointer (characters from its program's start).
     pointers: Vec<usize>,
+    /// Each channel's jog feed chosen on POS, mm/min, and rapid jog (stop 60).
+    jogs: Vec<(Option<f64>, bool)>,
 }
 
 impl Subject for Lathe {
@@ -282,6 +284,7 @@ impl Subject for Lathe {
                 .collect(),
             mdi: o.mdi,
             pointers: o.pointers,
+            jogs: o.jogs,
         };
         Ok((l, o.warnings))
     }
@@ -355,6 +358,17 @@ impl Subject for Lathe {
                     self.params[ch].insert(n, v);
                 }
             }
+            // POS: a channel's jog feed (`JOG 250.5`, `JOG RAPID`, `JOG`).
+            95..=99 => {
+                let (mut feed, mut rapid) = self.jogs[ch];
+                match r.below(3) {
+                    0 => rapid = true,
+                    1 => rapid = false,
+                    _ => (feed, rapid) = (Some(1.0 + (k % 4000) as f64 * 0.5), false),
+                }
+                self.store.save_jog(ch, feed, rapid)?;
+                self.jogs[ch] = (feed, rapid);
+            }
             // The part counter: a channel counts a work, or a new target starts a batch.
             _ => {
                 let mut c = self.counter.clone();
@@ -373,8 +387,14 @@ impl Subject for Lathe {
 
     fn digest(&self) -> u64 {
         fnv(&format!(
-            "{:?}{:?}{:?}{:?}{:?}{:?}",
-            self.programs, self.tools, self.counter, self.params, self.mdi, self.pointers
+            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+            self.programs,
+            self.tools,
+            self.counter,
+            self.params,
+            self.mdi,
+            self.pointers,
+            self.jogs
         ))
     }
 

@@ -108,6 +108,9 @@ pub struct LatheState {
     pub mdi: Vec<String>,
     /// Each channel's editor pointer in its program, characters from the start.
     pub pointers: Vec<usize>,
+    /// Each channel's jog feed chosen on POS: the feed in millionths of a mm/min (None: the
+    /// machine's) and rapid jog.
+    pub jogs: Vec<(Option<i64>, bool)>,
 }
 
 /// The most lines a lathe channel's MDI buffer holds.
@@ -162,6 +165,7 @@ impl LatheState {
             params: vec![Default::default(); n],
             mdi: vec![String::new(); n],
             pointers: vec![0; n],
+            jogs: vec![(None, false); n],
         }
     }
 
@@ -193,6 +197,11 @@ impl LatheState {
         for (ch, &at) in self.pointers.iter().enumerate() {
             if at > 0 {
                 out.push(Record::ChannelPointer { ch, at });
+            }
+        }
+        for (ch, &(feed, rapid)) in self.jogs.iter().enumerate() {
+            if (feed, rapid) != (None, false) {
+                out.push(Record::ChannelJog { ch, feed, rapid });
             }
         }
         for (ch, text) in self.mdi.iter().enumerate() {
@@ -303,6 +312,17 @@ impl LatheState {
                 }
                 let changed = self.mdi[ch] != *text;
                 self.mdi[ch] = text.clone();
+                changed
+            }
+            Record::ChannelJog { ch, feed, rapid } => {
+                let ch = chan(*ch)?;
+                if let Some(f) = feed.filter(|f| !(1..=super::state::PARAM_LIMIT).contains(f)) {
+                    return Err(Refusal::Other(format!(
+                        "a jog feed of {f} millionths of a mm/min is not one"
+                    )));
+                }
+                let changed = self.jogs[ch] != (*feed, *rapid);
+                self.jogs[ch] = (*feed, *rapid);
                 changed
             }
             Record::Parts { target, counts } => {
@@ -504,6 +524,8 @@ pub struct Opened {
     pub mdi: Vec<Vec<String>>,
     /// Each channel's editor pointer in its program, characters from the start.
     pub pointers: Vec<usize>,
+    /// Each channel's jog feed chosen on POS, mm/min (None: the machine's), and rapid jog.
+    pub jogs: Vec<(Option<f64>, bool)>,
     /// What the operator should know (damage found and kept aside, a migration).
     pub warnings: Vec<String>,
 }
@@ -580,6 +602,9 @@ impl LatheStore {
             tools: l.tools,
             params: l.params.iter().map(super::params::params_of).collect(),
             pointers: l.pointers.clone(),
+            jogs: (l.jogs.iter())
+                .map(|&(f, rapid)| (f.map(|f| f as f64 / 1e6), rapid))
+                .collect(),
             mdi: l
                 .mdi
                 .iter()
@@ -670,6 +695,14 @@ impl LatheStore {
                 ch + 1
             )
         })
+    }
+
+    /// Stores channel `ch`'s jog feed chosen on POS (`feed` mm/min, None: the machine's) and
+    /// rapid jog, as one journaled record; when this returns Ok it is on disk.
+    pub fn save_jog(&mut self, ch: usize, feed: Option<f64>, rapid: bool) -> Result<(), String> {
+        let feed = feed.map(|f| (f * 1e6).round() as i64);
+        self.commit(Record::ChannelJog { ch, feed, rapid })
+            .map_err(|e| format!("the jog feed could not be stored: {e}"))
     }
 
     /// Stores channel `ch`'s editor pointer (characters from its program's start); when this

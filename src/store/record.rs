@@ -131,6 +131,16 @@ pub enum Record {
         /// Characters from the program's start.
         at: usize,
     },
+    /// A lathe channel's jog feed chosen on POS (`JOG 500`, `JOG RAPID`; docs/stores.md "A
+    /// lathe's stores").
+    ChannelJog {
+        /// The channel, 0-based (written 1-based).
+        ch: usize,
+        /// The feed, millionths of a mm/min (None: the machine's).
+        feed: Option<i64>,
+        /// Rapid jog.
+        rapid: bool,
+    },
     /// A lathe's part counter: the target and each channel's count.
     Parts {
         /// The number of parts to make.
@@ -197,6 +207,12 @@ impl Record {
             }
             Record::ChannelMdi { ch, text } => format!("chmdi {}\n{text}", ch + 1),
             Record::ChannelPointer { ch, at } => format!("chptr {} {at}", ch + 1),
+            Record::ChannelJog { ch, feed, rapid } => format!(
+                "chjog {} {}{}",
+                ch + 1,
+                feed.map_or("default".to_string(), |f| f.to_string()),
+                if *rapid { " rapid" } else { "" }
+            ),
             Record::Parts { target, counts } => {
                 let mut t = format!("parts {target}");
                 for c in counts {
@@ -307,6 +323,14 @@ impl Record {
             ["chptr", c, at] => Record::ChannelPointer {
                 ch: channel(c, head)?,
                 at: at.parse().map_err(|_| format!("bad pointer in '{head}'"))?,
+            },
+            ["chjog", c, f, rest @ ..] if matches!(rest, [] | ["rapid"]) => Record::ChannelJog {
+                ch: channel(c, head)?,
+                feed: match *f {
+                    "default" => None,
+                    f => Some(f.parse().map_err(|_| format!("bad jog feed in '{head}'"))?),
+                },
+                rapid: !rest.is_empty(),
             },
             ["chmdi", c] => Record::ChannelMdi {
                 ch: channel(c, head)?,
@@ -442,6 +466,16 @@ mod tests {
                 text: String::new(),
             },
             Record::ChannelPointer { ch: 2, at: 417 },
+            Record::ChannelJog {
+                ch: 1,
+                feed: Some(512_500_000),
+                rapid: false,
+            },
+            Record::ChannelJog {
+                ch: 0,
+                feed: None,
+                rapid: true,
+            },
             Record::Parts {
                 target: 5,
                 counts: vec![1, 0, 2],

@@ -235,6 +235,7 @@ impl State {
                 | Record::ChannelParams { .. }
                 | Record::ChannelMdi { .. }
                 | Record::ChannelPointer { .. }
+                | Record::ChannelJog { .. }
                 | Record::Parts { .. }
         );
         match (self.lathe.as_mut(), lathe_rec) {
@@ -431,6 +432,7 @@ impl State {
             | Record::ChannelParams { .. }
             | Record::ChannelMdi { .. }
             | Record::ChannelPointer { .. }
+            | Record::ChannelJog { .. }
             | Record::Parts { .. } => Err(Refusal::Other(
                 "not a record of the centre's stores".to_string(),
             )),

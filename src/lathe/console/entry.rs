@@ -81,8 +81,12 @@ impl LatheConsole {
             PosLine::Jog(rest) => {
                 let ch = self.sel;
                 let s = self.channel_settings(ch);
-                self.jog[ch].take(&rest, s.rapid_mm_min)?;
-                let f = self.jog[ch].rate(s.jog_mm_min, s.rapid_mm_min);
+                let mut jog = self.jog[ch];
+                jog.take(&rest, s.rapid_mm_min)?;
+                // Stored first: a choice the disk did not take changes nothing.
+                self.store.save_jog(ch, jog.feed, jog.rapid)?;
+                self.jog[ch] = jog;
+                let f = jog.rate(s.jog_mm_min, s.rapid_mm_min);
                 // The channel's machine takes it for the jogs started from now on.
                 self.cycle
                     .manual(ch, crate::pulse_core::Command::JogFeed(f));

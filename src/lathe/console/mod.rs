@@ -68,7 +68,7 @@ pub struct LatheConsole {
     /// the centre's: `X`, `X12.5`, `XZ` INPUT on POS).
     rel: Vec<[i64; 2]>,
     /// Each channel's jog feed chosen on POS (`JOG 500`, `JOG RAPID`, the centre's words),
-    /// for the session: a new session jogs at the machine's (docs/lathe.md "POS").
+    /// kept in the stores (docs/lathe.md "POS").
     jog: Vec<crate::console::manual::JogChoice>,
     /// When the last part was delivered in this batch, machine time.
     last_part_ns: Option<u64>,
@@ -211,7 +211,9 @@ impl LatheConsole {
             sel: 0,
             ofs_cell: (0, ofs::FIRST_COLUMN),
             rel: vec![[0, 0]; n],
-            jog: vec![Default::default(); n],
+            jog: (o.jogs.iter())
+                .map(|&(feed, rapid)| crate::console::manual::JogChoice { feed, rapid })
+                .collect(),
             last_part_ns: None,
             alarm_at: vec![None; n],
             msg_of: None,
@@ -225,6 +227,14 @@ impl LatheConsole {
             interrupt: None,
             search: None,
         };
+        // Each channel's jog feed as the stores kept it, on its machine from power-on.
+        for ch in 0..n {
+            if c.jog[ch] != Default::default() {
+                let s = c.channel_settings(ch);
+                let f = c.jog[ch].rate(s.jog_mm_min, s.rapid_mm_min);
+                c.cycle.manual(ch, Command::JogFeed(f));
+            }
+        }
         if let Some(w) = warnings.first() {
             // Damage found at open is the first thing the operator sees (docs/lathe.md).
             c.shell.front.message = match warnings.len() {
