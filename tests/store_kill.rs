@@ -360,12 +360,11 @@ impl Subject for Lathe {
             }
             // POS: a channel's jog feed (`JOG 250.5`, `JOG RAPID`, `JOG`).
             95..=99 => {
-                let (mut feed, mut rapid) = self.jogs[ch];
-                match r.below(3) {
-                    0 => rapid = true,
-                    1 => rapid = false,
-                    _ => (feed, rapid) = (Some(1.0 + (k % 4000) as f64 * 0.5), false),
-                }
+                let (feed, rapid) = match (r.below(3), self.jogs[ch].0) {
+                    (0, feed) => (feed, true),
+                    (1, feed) => (feed, false),
+                    _ => (Some(1.0 + (k % 4000) as f64 * 0.5), false),
+                };
                 self.store.save_jog(ch, feed, rapid)?;
                 self.jogs[ch] = (feed, rapid);
             }
