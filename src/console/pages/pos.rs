@@ -37,13 +37,13 @@ pub(crate) enum PosLine {
     Parts(u64),
     /// `TARGET n`: the part count's target (0: none).
     Target(u64),
-    /// `JOG ...` (where the machine has a jog feed to set: `jog`): the rest of the line.
+    /// `JOG ...`: the rest of the line (`manual::JogChoice::take` reads it).
     Jog(String),
 }
 
 /// Reads a POS line on a machine whose axes are `letters` (the centre's X Y Z and its rotary
-/// axes, a lathe's X Z); `jog`: the machine takes `JOG`. A line it cannot read gives the usage.
-pub(crate) fn read_line(line: &str, letters: &[char], jog: bool) -> Result<PosLine, String> {
+/// axes, a lathe's X Z). A line it cannot read gives the usage.
+pub(crate) fn read_line(line: &str, letters: &[char]) -> Result<PosLine, String> {
     let l = line.trim().to_ascii_uppercase();
     let all: String = letters.iter().collect();
     if l == "ORIGIN" {
@@ -56,10 +56,8 @@ pub(crate) fn read_line(line: &str, letters: &[char], jog: bool) -> Result<PosLi
     if which.len() >= 2 && which.len() == l.chars().count() && once {
         return Ok(PosLine::Zero(which));
     }
-    if jog {
-        if let Some(rest) = l.strip_prefix("JOG") {
-            return Ok(PosLine::Jog(rest.trim().to_string()));
-        }
+    if let Some(rest) = l.strip_prefix("JOG") {
+        return Ok(PosLine::Jog(rest.trim().to_string()));
     }
     for word in ["PARTS", "TARGET"] {
         if let Some(rest) = l.strip_prefix(word) {
@@ -76,9 +74,8 @@ pub(crate) fn read_line(line: &str, letters: &[char], jog: bool) -> Result<PosLi
     let mut chars = l.chars();
     let Some(axis) = chars.next().and_then(index) else {
         let x = letters.first().copied().unwrap_or('X');
-        let jog = if jog { ", JOG 500 or JOG RAPID" } else { "" };
         return Err(format!(
-            "POS: type {x} (zero the relative {x}), {x}12.5 (preset it), {all}, PARTS n, TARGET n{jog}, then Enter"
+            "POS: type {x} (zero the relative {x}), {x}12.5 (preset it), {all}, PARTS n, TARGET n, JOG 500 or JOG RAPID, then Enter"
         ));
     };
     let rest = chars.as_str().trim();
@@ -142,7 +139,7 @@ pub(super) fn enter(c: &mut Console, line: &str) -> Result<String, String> {
         .map(|&a| crate::settings::AXIS_NAMES[a])
         .collect();
     let op = c.shell.front.op;
-    let read = read_line(line, &letters, true).map_err(|e| refused_at(e, op))?;
+    let read = read_line(line, &letters).map_err(|e| refused_at(e, op))?;
     let said = rel_said(&letters, &read);
     match read {
         PosLine::Zero(which) => {
@@ -364,41 +361,29 @@ mod tests {
     fn a_pos_line_is_read_alike_on_every_machine() {
         let centre = ['X', 'Y', 'Z', 'A'];
         let lathe = ['X', 'Z'];
+        assert_eq!(read_line("xyz", &centre), Ok(PosLine::Zero(vec![0, 1, 2])));
+        assert_eq!(read_line("ORIGIN", &lathe), Ok(PosLine::Zero(vec![0, 1])));
+        assert_eq!(read_line("ZX", &lathe), Ok(PosLine::Zero(vec![1, 0])));
+        assert_eq!(read_line("A90", &centre), Ok(PosLine::Preset(3, 90.0)));
+        assert_eq!(read_line(" z ", &lathe), Ok(PosLine::Preset(1, 0.0)));
+        assert_eq!(read_line("TARGET 5", &lathe), Ok(PosLine::Target(5)));
         assert_eq!(
-            read_line("xyz", &centre, true),
-            Ok(PosLine::Zero(vec![0, 1, 2]))
-        );
-        assert_eq!(
-            read_line("ORIGIN", &lathe, false),
-            Ok(PosLine::Zero(vec![0, 1]))
-        );
-        assert_eq!(
-            read_line("ZX", &lathe, false),
-            Ok(PosLine::Zero(vec![1, 0]))
-        );
-        assert_eq!(
-            read_line("A90", &centre, true),
-            Ok(PosLine::Preset(3, 90.0))
-        );
-        assert_eq!(read_line(" z ", &lathe, false), Ok(PosLine::Preset(1, 0.0)));
-        assert_eq!(read_line("TARGET 5", &lathe, false), Ok(PosLine::Target(5)));
-        assert_eq!(
-            read_line("JOG 500", &centre, true),
+            read_line("JOG 500", &centre),
             Ok(PosLine::Jog("500".into()))
         );
         // A letter twice is not a zero of both; an axis the machine lacks is not one.
         assert_eq!(
-            read_line("XZX", &lathe, false),
+            read_line("XZX", &lathe),
             Err("'ZX' is not a position in mm".into())
         );
-        let usage = read_line("Y1", &lathe, false).unwrap_err();
+        let usage = read_line("Y1", &lathe).unwrap_err();
         assert!(
             usage.starts_with("POS: type X") && usage.contains(" XZ, "),
             "{usage}"
         );
-        assert!(!usage.contains("JOG"), "{usage}");
-        assert!(read_line("JOG 500", &lathe, false).is_err());
-        assert!(read_line("X1e9", &centre, true).is_err());
-        assert!(read_line("PARTS -1", &centre, true).is_err());
+        assert!(usage.contains("JOG 500 or JOG RAPID"), "{usage}");
+        assert_eq!(read_line("jog", &lathe), Ok(PosLine::Jog(String::new())));
+        assert!(read_line("X1e9", &centre).is_err());
+        assert!(read_line("PARTS -1", &centre).is_err());
     }
 }

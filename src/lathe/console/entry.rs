@@ -59,7 +59,7 @@ impl LatheConsole {
         const LETTERS: [char; 2] = ['X', 'Z'];
         let tip = self.chan_views()[self.sel].pos;
         let op = self.shell.front.op;
-        let read = read_line(line, &LETTERS, true).map_err(|e| pos::refused_at(e, op))?;
+        let read = read_line(line, &LETTERS).map_err(|e| pos::refused_at(e, op))?;
         let rel = rel_said(&LETTERS, &read);
         let said = match read {
             PosLine::Zero(which) => {
