@@ -18,7 +18,7 @@
 //! - the message line says a cycle runs, a feed hold or an E-STOP only while the machine is so;
 //! - a key the lathe has no use for says so;
 //! - at the end of each sequence, the stores (reopened) hold exactly the console's programs,
-//!   MDI buffers and part counter.
+//!   MDI buffers, part counter, editor pointers and jog feeds.
 //!
 //! The same sequences run on the Citizen and on a one-channel Fanuc lathe that the operator
 //! loads by hand (`loading manual`, a shop program without chuck codes).
@@ -840,6 +840,7 @@ fn stores_hold_the_console(s: Seq, m: &Machine, what: &str) {
     let mdi: Vec<Vec<String>> = (0..n).map(|ch| s.c.mdi_lines(ch).to_vec()).collect();
     let counter = s.c.counter().clone();
     let pointers: Vec<usize> = (0..n).map(|ch| s.c.pointer(ch)).collect();
+    let jogs = s.c.jogs();
     let dir = s.dir.clone();
     drop(s);
     let o = LatheStore::open(&dir, &m.desc).unwrap_or_else(|e| panic!("{e}"));
@@ -847,6 +848,7 @@ fn stores_hold_the_console(s: Seq, m: &Machine, what: &str) {
     assert_eq!(o.mdi, mdi, "{what}: the stored MDI buffers");
     assert_eq!(o.counter, counter, "{what}: the stored part counter");
     assert_eq!(o.pointers, pointers, "{what}: the stored editor pointers");
+    assert_eq!(o.jogs, jogs, "{what}: the stored jog feeds");
 }
 
 fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {

@@ -511,6 +511,11 @@ impl LatheConsole {
         self.cycle.stalled()
     }
 
+    /// Each channel's jog feed chosen on POS, mm/min (None: the machine's), and rapid jog.
+    pub fn jogs(&self) -> Vec<(Option<f64>, bool)> {
+        self.jog.iter().map(|j| (j.feed, j.rapid)).collect()
+    }
+
     /// The settings channel `ch`'s machine runs on (its rapid rate, its jog feed...).
     pub(crate) fn channel_settings(&self, ch: usize) -> crate::settings::MachineSettings {
         crate::settings::MachineSettings::lathe_channel(&self.desc, ch).unwrap_or_default()
