@@ -878,19 +878,13 @@ fn pos_jog_sets_the_selected_channels_jog_feed() {
         c.run_for(1_000_000_000, RunUntil::Time, || false);
         (z - posts(c)[ch][1]) as f64 * mm
     };
+    let shows = |c: &LatheConsole, text: &str| c.view().display.iter().any(|l| l.contains(text));
     let default = jog_one_second(&mut c, 0);
     c.handle(PanelEvent::Channel(1));
     c.press(Key::Ctrl('p'));
     c.handle(PanelEvent::Type("JOG 120".into()));
     assert_eq!(c.message(), "CH2 jog feed 120 mm/min");
-    assert!(
-        c.view()
-            .display
-            .iter()
-            .any(|l| l.contains("JOG 120 mm/min")),
-        "{:#?}",
-        c.view().display
-    );
+    assert!(shows(&c, "JOG 120 mm/min"), "{:#?}", c.view().display);
     // A feed past the rapid rate, or none: refused, kept on the entry line, nothing changed.
     c.handle(PanelEvent::Type("JOG 0".into()));
     assert!(c.message().contains("JOG refused"), "{}", c.message());
@@ -937,13 +931,6 @@ fn pos_jog_sets_the_selected_channels_jog_feed() {
     );
     c.handle(PanelEvent::Channel(1));
     c.press(Key::Ctrl('p'));
-    assert!(
-        c.view()
-            .display
-            .iter()
-            .any(|l| l.contains("JOG 120 mm/min")),
-        "{:#?}",
-        c.view().display
-    );
+    assert!(shows(&c, "JOG 120 mm/min"), "{:#?}", c.view().display);
     let _ = std::fs::remove_dir_all(&dir);
 }
