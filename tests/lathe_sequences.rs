@@ -37,7 +37,7 @@ use novanc::store::lathe::{LatheStore, Program};
 const ROWS: usize = 12;
 const COLS: usize = 40;
 
-const MDI_LINES: [&str; 27] = [
+const MDI_LINES: [&str; 29] = [
     "G0 X30 Z20",
     // The channel keeps its modes between runs (docs/lathe-gcode.md "What a channel keeps"):
     // G91 in one MDI run makes the next one's moves increments from where the tool stands.
@@ -68,9 +68,12 @@ const MDI_LINES: [&str; 27] = [
     // unknown code on the Citizen), the rest of the line after its subroutine; a bare G28.
     "M31 G0 X30 Z20",
     "G28",
-    // A digital output (stop 56), and one out of range.
+    // A digital output (stop 56), and one out of range; with the motion, and an analog one
+    // (stop 60).
     "M64 P2",
     "M65 P99",
+    "M62 P3 G0 X30",
+    "M67 E1 Q2.5",
     // Work offsets (stop 57): one set by G10 L2 and used, the system kept for the next run
     // (RESET: G54), one beyond the limit.
     "G10 L2 P2 Z-3",

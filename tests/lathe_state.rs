@@ -450,6 +450,59 @@ fn m64_and_m65_set_a_lathe_channel_s_outputs_and_the_display_says_which() {
     assert_eq!(ch(&c).outputs, 0b1000, "a refused line sets nothing");
 }
 
+/// M62/M63 (a digital output with the motion) and M67/M68 (an analog output, with the motion
+/// or at once) on a lathe channel (stop 60; the mill's codes and the one kernel's outputs,
+/// docs/gcode.md "Inputs and outputs"): each recorded on `/nc/io` with whether it went with
+/// the motion, an output with the motion when its block is reached, after the move before it.
+#[test]
+fn m62_m63_m67_and_m68_set_a_lathe_channel_s_outputs_with_the_motion_or_at_once() {
+    let state = common::temp_dir("lathe-state-synced-outputs");
+    let rec = state.join("r.mcap");
+    let d = desc(None, None);
+    let mut c = LatheConsole::open(d, &state, 20, 160, Some(&rec))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0;
+    let ch = |c: &LatheConsole| c.view().channels[0].clone();
+    let lines = ["G0 X30 Z20", "M62 P2", "M67 E3 Q2.5", "G0 X40 M68 E4 Q7"];
+    assert_eq!(mdi(&mut c, &lines), "MDI CH1 runs");
+    assert_eq!(ch(&c).outputs, 0b100);
+    assert_eq!(mdi(&mut c, &["M63 P2"]), "MDI CH1 runs");
+    assert_eq!(ch(&c).outputs, 0);
+    for (line, want) in [
+        ("M62", "M62 needs P, the digital output 0 to 63"),
+        ("M67 Q1", "M67 needs E, the analog output 0 to 63"),
+        (
+            "M68 E64 Q1",
+            "M68 E64: the analog output is a whole number 0 to 63",
+        ),
+    ] {
+        let m = mdi_start(&mut c, &[line]);
+        assert!(m.contains(want), "{line}: {m}");
+        // RESET clears the cycle the refusal left, then the MDI buffer.
+        c.handle(PanelEvent::Reset);
+        c.handle(PanelEvent::Reset);
+    }
+    assert!(c.finish().is_ok());
+    let bytes = std::fs::read(&rec).unwrap();
+    let io: Vec<(u64, String)> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .filter(|m| m.channel.topic == "/nc/io")
+        .map(|m| (m.log_time, String::from_utf8_lossy(&m.data).into_owned()))
+        .collect();
+    let has = |i: usize, s: &str| io.get(i).is_some_and(|(_, t)| t.contains(s));
+    assert!(
+        has(0, r#""kind":"digital","index":2,"value":1,"synced":true"#)
+            && has(1, r#""kind":"analog","index":3,"value":2.5,"synced":true"#)
+            && has(2, r#""kind":"analog","index":4,"value":7,"synced":false"#)
+            && has(3, r#""kind":"digital","index":2,"value":0,"synced":true"#)
+            && io.len() == 4,
+        "{io:#?}"
+    );
+    // The output with the motion waited for the rapid before it (well over a few ticks).
+    assert!(io[0].0 > 10_000_000, "{io:#?}");
+}
+
 /// A cycle (AUTO) starts with every spindle stopped and the coolant off, whatever an MDI run
 /// left turning: its programs close and open the chucks (M10/M11), which must never act on a
 /// turning spindle, and command the spindle themselves.

@@ -660,12 +660,21 @@ impl Reader<'_> {
             if (7..=9).contains(&m) && !after {
                 self.out.op(n, c, out::m(m as u8))?;
             }
-            if matches!(m, 64 | 65) {
-                // A digital output at once (the mill's M64/M65, docs/gcode.md "Inputs and
-                // outputs"): the kernel's channel keeps it and records it on /nc/io.
+            if matches!(m, 62..=65) {
+                // A digital output with the motion (M62, M63) or at once (M64, M65): the mill's
+                // codes (docs/gcode.md "Inputs and outputs"); the kernel's channel keeps it and
+                // records it on /nc/io.
                 use_('P');
                 if !after {
-                    self.output(w.get('P'), m == 64, n, c, col('P'))?;
+                    self.output(m, w.get('P'), n, c, col('P'))?;
+                }
+            }
+            if matches!(m, 67 | 68) {
+                // An analog output E to Q, with the motion (M67) or at once (M68).
+                use_('E');
+                use_('Q');
+                if !after {
+                    self.analog_output(m, (w.get('E'), w.get('Q')), n, c, col('E'))?;
                 }
             }
             if matches!(m, 23 | 24) && !after {
@@ -1093,16 +1102,17 @@ impl Reader<'_> {
         self.out.motion(rapid(mid, end))
     }
 
-    /// M64 (`on`) or M65 P`p` at `n`:`c`: digital output P, 0 to 63, on or off at once.
+    /// M`code` P`p` at `n`:`c`: digital output P, 0 to 63, on (M62, M64) or off (M63, M65),
+    /// with the block's motion (M62, M63) or at once (M64, M65).
     fn output(
         &mut self,
+        code: u32,
         p: Option<f64>,
-        on: bool,
         n: u32,
         c: u32,
         pc: u32,
     ) -> Result<(), TranslateError> {
-        let code = if on { 64 } else { 65 };
+        let on = matches!(code, 62 | 64);
         let Some(p) = p else {
             return Err(err(
                 n,
@@ -1124,7 +1134,45 @@ impl Reader<'_> {
             io: Some(crate::block::Io::Digital {
                 index: p as u8,
                 on,
-                synced: false,
+                synced: code <= 63,
+            }),
+            ..out::aux()
+        };
+        self.out.op(n, c, b)
+    }
+
+    /// M67 (with the block's motion) or M68 (at once) E`e` Q`q` at `n`:`c`: analog output E,
+    /// 0 to 63, to the value Q (0 if not written, as LinuxCNC reads it).
+    fn analog_output(
+        &mut self,
+        code: u32,
+        (e, q): (Option<f64>, Option<f64>),
+        n: u32,
+        c: u32,
+        ec: u32,
+    ) -> Result<(), TranslateError> {
+        let Some(e) = e else {
+            return Err(err(
+                n,
+                c,
+                format!("M{code} needs E, the analog output 0 to 63"),
+            ));
+        };
+        if !(e.fract() == 0.0 && (0.0..64.0).contains(&e)) {
+            return Err(err(
+                n,
+                ec,
+                format!(
+                    "M{code} E{}: the analog output is a whole number 0 to 63",
+                    crate::input_text::short_number(e)
+                ),
+            ));
+        }
+        let b = crate::block::Block {
+            io: Some(crate::block::Io::Analog {
+                index: e as u8,
+                value: q.unwrap_or(0.0),
+                synced: code == 67,
             }),
             ..out::aux()
         };

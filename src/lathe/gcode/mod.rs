@@ -155,8 +155,9 @@ fn lathe_m_group(m: u32) -> Option<u8> {
         7..=9 => 8,
         // The thread chamfer on and off (a Haas's, many a Fanuc lathe builder's).
         23 | 24 => 2,
-        // A digital output on and off at once (LinuxCNC's, the mill's).
-        64 | 65 => 1,
+        // A digital output on and off with the motion or at once, an analog output with the
+        // motion or at once (LinuxCNC's, the mill's; M62, M63, M67, M68 since stop 60).
+        62..=65 | 67 | 68 => 1,
         100..=199 => 9,
         // Not 10: a code a machine description remaps is read in group 10, and may stand
         // beside M98 (the lathe's own codes are in no group LinuxCNC numbers 10).
