@@ -666,7 +666,7 @@ impl Reader<'_> {
                 // records it on /nc/io.
                 use_('P');
                 if !after {
-                    self.output(m, w.get('P'), n, c, col('P'))?;
+                    self.output(m, ('P', w.get('P'), col('P')), None, (n, c))?;
                 }
             }
             if matches!(m, 67 | 68) {
@@ -674,7 +674,7 @@ impl Reader<'_> {
                 use_('E');
                 use_('Q');
                 if !after {
-                    self.analog_output(m, (w.get('E'), w.get('Q')), n, c, col('E'))?;
+                    self.output(m, ('E', w.get('E'), col('E')), w.get('Q'), (n, c))?;
                 }
             }
             if matches!(m, 23 | 24) && !after {
@@ -1102,78 +1102,50 @@ impl Reader<'_> {
         self.out.motion(rapid(mid, end))
     }
 
-    /// M`code` P`p` at `n`:`c`: digital output P, 0 to 63, on (M62, M64) or off (M63, M65),
-    /// with the block's motion (M62, M63) or at once (M64, M65).
+    /// M62–M65 P (digital output P, 0 to 63, on with M62 and M64, off with M63 and M65) or
+    /// M67/M68 E Q (analog output E, 0 to 63, to Q: 0 if not written, as LinuxCNC reads it),
+    /// M`code` at `n`:`c`, its index word `(letter, value, column)`: with the block's motion
+    /// (M62, M63, M67) or at once (M64, M65, M68), a block of its own.
     fn output(
         &mut self,
         code: u32,
-        p: Option<f64>,
-        n: u32,
-        c: u32,
-        pc: u32,
+        (letter, index, ic): (char, Option<f64>, u32),
+        q: Option<f64>,
+        (n, c): (u32, u32),
     ) -> Result<(), TranslateError> {
-        let on = matches!(code, 62 | 64);
-        let Some(p) = p else {
+        let what = if letter == 'P' { "digital" } else { "analog" };
+        let Some(i) = index else {
             return Err(err(
                 n,
                 c,
-                format!("M{code} needs P, the digital output 0 to 63"),
+                format!("M{code} needs {letter}, the {what} output 0 to 63"),
             ));
         };
-        if !(p.fract() == 0.0 && (0.0..64.0).contains(&p)) {
+        if !(i.fract() == 0.0 && (0.0..64.0).contains(&i)) {
             return Err(err(
                 n,
-                pc,
+                ic,
                 format!(
-                    "M{code} P{}: the digital output is a whole number 0 to 63",
-                    crate::input_text::short_number(p)
+                    "M{code} {letter}{}: the {what} output is a whole number 0 to 63",
+                    crate::input_text::short_number(i)
                 ),
             ));
         }
-        let b = crate::block::Block {
-            io: Some(crate::block::Io::Digital {
-                index: p as u8,
-                on,
-                synced: code <= 63,
-            }),
-            ..out::aux()
-        };
-        self.out.op(n, c, b)
-    }
-
-    /// M67 (with the block's motion) or M68 (at once) E`e` Q`q` at `n`:`c`: analog output E,
-    /// 0 to 63, to the value Q (0 if not written, as LinuxCNC reads it).
-    fn analog_output(
-        &mut self,
-        code: u32,
-        (e, q): (Option<f64>, Option<f64>),
-        n: u32,
-        c: u32,
-        ec: u32,
-    ) -> Result<(), TranslateError> {
-        let Some(e) = e else {
-            return Err(err(
-                n,
-                c,
-                format!("M{code} needs E, the analog output 0 to 63"),
-            ));
-        };
-        if !(e.fract() == 0.0 && (0.0..64.0).contains(&e)) {
-            return Err(err(
-                n,
-                ec,
-                format!(
-                    "M{code} E{}: the analog output is a whole number 0 to 63",
-                    crate::input_text::short_number(e)
-                ),
-            ));
-        }
-        let b = crate::block::Block {
-            io: Some(crate::block::Io::Analog {
-                index: e as u8,
+        let (index, synced) = (i as u8, matches!(code, 62 | 63 | 67));
+        let io = match code {
+            67 | 68 => crate::block::Io::Analog {
+                index,
                 value: q.unwrap_or(0.0),
-                synced: code == 67,
-            }),
+                synced,
+            },
+            _ => crate::block::Io::Digital {
+                index,
+                on: matches!(code, 62 | 64),
+                synced,
+            },
+        };
+        let b = crate::block::Block {
+            io: Some(io),
             ..out::aux()
         };
         self.out.op(n, c, b)
