@@ -13,7 +13,7 @@ use novanc::panel_model::{OpMode, Page, PanelEvent};
 use novanc::store::history::Kind;
 use novanc_panel::Key;
 
-use common::open_citizen as open;
+use common::{open_citizen as open, recorded};
 
 /// The Citizen's console on `state`, recording to `state/name`, and the recording's path.
 fn open_recorded(state: &std::path::Path, name: &str) -> (LatheConsole, std::path::PathBuf) {
@@ -22,17 +22,6 @@ fn open_recorded(state: &std::path::Path, name: &str) -> (LatheConsole, std::pat
         .unwrap_or_else(|e| panic!("{e}"))
         .0;
     (c, rec)
-}
-
-/// Every message of `topic` in the recording `rec`: its log time and its JSON.
-fn recorded(rec: &std::path::Path, topic: &str) -> Vec<(u64, String)> {
-    let bytes = std::fs::read(rec).unwrap_or_else(|e| panic!("{e}"));
-    mcap::MessageStream::new(&bytes)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .map(|m| m.unwrap_or_else(|e| panic!("{e}")))
-        .filter(|m| m.channel.topic == topic)
-        .map(|m| (m.log_time, String::from_utf8_lossy(&m.data).into_owned()))
-        .collect()
 }
 
 /// The history's entries of `kind`, oldest first.

@@ -483,13 +483,7 @@ fn m62_m63_m67_and_m68_set_a_lathe_channel_s_outputs_with_the_motion_or_at_once(
         c.handle(PanelEvent::Reset);
     }
     assert!(c.finish().is_ok());
-    let bytes = std::fs::read(&rec).unwrap();
-    let io: Vec<(u64, String)> = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(|m| m.unwrap())
-        .filter(|m| m.channel.topic == "/nc/io")
-        .map(|m| (m.log_time, String::from_utf8_lossy(&m.data).into_owned()))
-        .collect();
+    let io = common::recorded(&rec, "/nc/io");
     let has = |i: usize, s: &str| io.get(i).is_some_and(|(_, t)| t.contains(s));
     assert!(
         has(0, r#""kind":"digital","index":2,"value":1,"synced":true"#)

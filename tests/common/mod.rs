@@ -123,6 +123,17 @@ pub fn iso_words(s: &novanc::translator::Statement) -> Vec<String> {
         .collect()
 }
 
+/// Every message of `topic` in the recording `rec`: its log time and its text (JSON).
+pub fn recorded(rec: &Path, topic: &str) -> Vec<(u64, String)> {
+    let bytes = std::fs::read(rec).unwrap_or_else(|e| panic!("{e}"));
+    mcap::MessageStream::new(&bytes)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .map(|m| m.unwrap_or_else(|e| panic!("{e}")))
+        .filter(|m| m.channel.topic == topic)
+        .map(|m| (m.log_time, String::from_utf8_lossy(&m.data).into_owned()))
+        .collect()
+}
+
 /// The temporary directories this test process made, removed when it exits.
 static MADE: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
 
