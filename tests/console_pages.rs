@@ -647,12 +647,9 @@ fn the_keys_typed_on_a_page_are_recorded_once_each() {
             }
         }
         c.finish().unwrap();
-        let bytes = std::fs::read(&rec).unwrap();
-        let events: Vec<String> = mcap::MessageStream::new(&bytes)
-            .unwrap()
-            .map(|m| m.unwrap())
-            .filter(|m| m.channel.topic == "/panel/event")
-            .map(|m| String::from_utf8_lossy(&m.data).into_owned())
+        let events: Vec<String> = common::recorded(&rec, "/panel/event")
+            .into_iter()
+            .map(|(_, e)| e)
             .collect();
         let want: Vec<String> = ["Ctrl+o", "5", "Enter", "F8", "Alt+c"]
             .iter()

@@ -247,14 +247,10 @@ fn input_changes_are_recorded() {
         &dir,
         "key Ctrl+T\ntype P3 ON\ntype E2 4.5\ninput P3 on\ninput P3 off\n",
     );
-    let bytes = std::fs::read(&rec).unwrap();
-    let mut io = Vec::new();
-    for m in mcap::MessageStream::new(&bytes).unwrap() {
-        let m = m.unwrap();
-        if m.channel.topic == "/nc/io" {
-            io.push(String::from_utf8(m.data.to_vec()).unwrap());
-        }
-    }
+    let io: Vec<String> = common::recorded(&rec, "/nc/io")
+        .into_iter()
+        .map(|(_, t)| t)
+        .collect();
     let input = |kind: &str, index: u32, value: &str| {
         format!(
             r#"{{"seq":0,"stmt":0,"kind":"{kind}","index":{index},"value":{value},"synced":false,"dir":"in"}}"#

@@ -139,12 +139,9 @@ fn the_lathe_records_its_runs_modes_and_switches_as_they_are() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let bytes = std::fs::read(&mcap).unwrap();
-    let states: Vec<String> = mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .filter_map(Result::ok)
-        .filter(|m| m.channel.topic == "/nc/state")
-        .map(|m| String::from_utf8_lossy(&m.data).into_owned())
+    let states: Vec<String> = common::recorded(&mcap, "/nc/state")
+        .into_iter()
+        .map(|(_, s)| s)
         .filter(|s| s.starts_with("{\"channel\":1,"))
         .collect();
     let has = |s: &String, w: &[&str]| w.iter().all(|w| s.contains(w));
