@@ -62,6 +62,14 @@ pub struct MachineSettings {
     /// The tools are on a turret: a T word indexes it at once and is the tool in use (a
     /// lathe's channel); otherwise T selects and M6 changes (a magazine).
     pub tool_turret: bool,
+    /// Where the reference return (HOME) takes the axes, machine mm: machine zero on the
+    /// centre, the top of each axis's travel on a lathe's channel (docs/pulse-core.md
+    /// "Position memory and the reference return").
+    pub reference_mm: Axes<f64>,
+    /// The axis that takes the tool away from the work (Z on the centre, X on a lathe): a
+    /// return (HOME, the way back after a manual move in a hold) moves it first when it goes
+    /// up (+), away from the work, and last when it goes down.
+    pub retract_axis: usize,
     /// Number of pockets in the magazine (T codes 1..=capacity).
     pub magazine_capacity: u32,
     /// Capacity of the block buffer B1, in blocks.
@@ -284,6 +292,8 @@ impl MachineSettings {
             spindle_accel_rpm_s: 0.0,
             spindle_encoder_lines: 1024,
             tool_turret: false,
+            reference_mm: Axes::default(),
+            retract_axis: 2,
             magazine_capacity: 24,
             b1_capacity: 4096,
             ncbr_period_ns: 5_000_000,
@@ -340,6 +350,10 @@ impl MachineSettings {
             spindle_accel_rpm_s: c.spindle_accel.max(0.0),
             spindle_encoder_lines: c.encoder.max(1),
             tool_turret: true,
+            // HOME: X out to the top of its travel first, then Z (a lathe program's `G28 U0`
+            // before `G28 W0`).
+            reference_mm: [x.travel[1], 0.0, z.travel[1]].into(),
+            retract_axis: 0,
             ncbr_period_ns: desc.tick_ns.max(1),
             ..MachineSettings::builtin()
         })

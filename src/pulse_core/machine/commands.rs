@@ -285,7 +285,8 @@ impl Machine {
                     r.motion.set_hold(false);
                     r.motion.resume_at(self.now);
                 } else {
-                    self.ret_queue = return_path(self.out.pos, to).into();
+                    let r = self.settings.retract_axis;
+                    self.ret_queue = return_path(self.out.pos, to, r).into();
                     self.next_return(self.now);
                 }
                 if let Some(j) = &mut self.job {
@@ -316,7 +317,9 @@ impl Machine {
             return;
         }
         self.out.unshift();
-        self.ret_queue = return_path(self.out.pos, Axes::default()).into();
+        let s = &self.settings;
+        let to = Axes::from_fn(|a| s.to_pulses(s.reference_mm[a]));
+        self.ret_queue = return_path(self.out.pos, to, s.retract_axis).into();
         self.next_return(self.now);
     }
 
@@ -343,14 +346,19 @@ impl Machine {
     }
 }
 
-/// The return from `from` to `to` in a safe order: up first if the target is higher, else
-/// across first and down last, so the tool never moves sideways below either point.
-pub fn return_path(from: Axes, to: Axes) -> Vec<Axes> {
-    // The rotary axes turn with X and Y.
-    let mid = if to[2] > from[2] {
-        Axes::with_rotary([from[0], from[1], to[2]], from.rotary())
+/// The return from `from` to `to` in a safe order, `retract` the axis that takes the tool
+/// away from the work (Z on the centre, X on a lathe): out first if the target is further out,
+/// else across first and in last, so the tool never moves across the work nearer to it than
+/// either point. The rotary axes turn with the others.
+pub fn return_path(from: Axes, to: Axes, retract: usize) -> Vec<Axes> {
+    let mid = if to[retract] > from[retract] {
+        let mut m = from;
+        m[retract] = to[retract];
+        m
     } else {
-        Axes::with_rotary([to[0], to[1], from[2]], to.rotary())
+        let mut m = to;
+        m[retract] = from[retract];
+        m
     };
     let mut out = Vec::new();
     for p in [mid, to] {
@@ -359,4 +367,36 @@ pub fn return_path(from: Axes, to: Axes) -> Vec<Axes> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_return_moves_the_retract_axis_out_first_and_in_last() {
+        let a = |x: i64, y: i64, z: i64| Axes::from([x, y, z]);
+        // The centre: Z up first; going down, X and Y first and Z last.
+        assert_eq!(
+            return_path(a(5, 6, -100), a(0, 0, 0), 2),
+            vec![a(5, 6, 0), a(0, 0, 0)]
+        );
+        assert_eq!(
+            return_path(a(5, 6, 0), a(1, 2, -50), 2),
+            vec![a(1, 2, 0), a(1, 2, -50)]
+        );
+        // A lathe's channel (X index 0, Z index 2): X out to the top first, then Z; back into
+        // a groove, Z across first and X in last.
+        assert_eq!(
+            return_path(a(10, 0, -5), a(35, 0, 60), 0),
+            vec![a(35, 0, -5), a(35, 0, 60)]
+        );
+        assert_eq!(
+            return_path(a(35, 0, 60), a(10, 0, -5), 0),
+            vec![a(35, 0, -5), a(10, 0, -5)]
+        );
+        // Nothing to do, or one axis only: no empty legs.
+        assert!(return_path(a(1, 2, 3), a(1, 2, 3), 2).is_empty());
+        assert_eq!(return_path(a(1, 2, 3), a(1, 2, 9), 2), vec![a(1, 2, 9)]);
+    }
 }
