@@ -257,6 +257,8 @@ struct Lathe {
     pointers: Vec<usize>,
     /// Each channel's jog feed chosen on POS, mm/min, and rapid jog (stop 60).
     jogs: Vec<(Option<f64>, bool)>,
+    /// Where each tool post stands, and which moves (the position memory, stop 61).
+    posts: Option<Vec<novanc::store::lathe::Post>>,
 }
 
 impl Subject for Lathe {
@@ -285,6 +287,7 @@ impl Subject for Lathe {
             mdi: o.mdi,
             pointers: o.pointers,
             jogs: o.jogs,
+            posts: o.posts,
         };
         Ok((l, o.warnings))
     }
@@ -368,6 +371,27 @@ impl Subject for Lathe {
                 self.store.save_jog(ch, feed, rapid)?;
                 self.jogs[ch] = (feed, rapid);
             }
+            // The position memory: a post set moving before a move, or all at rest where they
+            // stand after one.
+            90..=92 => {
+                let mut posts = self.posts.clone().unwrap_or_else(|| {
+                    vec![
+                        novanc::store::lathe::Post {
+                            moving: false,
+                            pos: [35_000, 60_000],
+                        };
+                        3
+                    ]
+                });
+                if r.below(2) == 0 {
+                    posts[ch].moving = true;
+                } else {
+                    posts[ch].pos = [(k % 35_000) as i64, -((k % 60_000) as i64)];
+                    posts.iter_mut().for_each(|p| p.moving = false);
+                }
+                self.store.save_posts(&posts)?;
+                self.posts = Some(posts);
+            }
             // The part counter: a channel counts a work, or a new target starts a batch.
             _ => {
                 let mut c = self.counter.clone();
@@ -386,14 +410,15 @@ impl Subject for Lathe {
 
     fn digest(&self) -> u64 {
         fnv(&format!(
-            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
             self.programs,
             self.tools,
             self.counter,
             self.params,
             self.mdi,
             self.pointers,
-            self.jogs
+            self.jogs,
+            self.posts
         ))
     }
 

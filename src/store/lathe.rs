@@ -111,6 +111,18 @@ pub struct LatheState {
     /// Each channel's jog feed chosen on POS: the feed in millionths of a mm/min (None: the
     /// machine's) and rapid jog.
     pub jogs: Vec<(Option<i64>, bool)>,
+    /// Where each channel's tool post stands, and whether it was moving when this was stored
+    /// (its position memory; None: never stored, the posts start at the top of their travel).
+    pub posts: Option<Vec<Post>>,
+}
+
+/// One tool post in a lathe's position memory (docs/stores.md "A lathe's stores").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Post {
+    /// It was moving (or its position was not known) when stored: not to be trusted.
+    pub moving: bool,
+    /// Machine position, pulses [X radius, Z].
+    pub pos: [i64; 2],
 }
 
 /// The most lines a lathe channel's MDI buffer holds.
@@ -166,6 +178,7 @@ impl LatheState {
             mdi: vec![String::new(); n],
             pointers: vec![0; n],
             jogs: vec![(None, false); n],
+            posts: None,
         }
     }
 
@@ -203,6 +216,9 @@ impl LatheState {
             if (feed, rapid) != (None, false) {
                 out.push(Record::ChannelJog { ch, feed, rapid });
             }
+        }
+        if let Some(posts) = &self.posts {
+            out.push(Record::Posts(posts.clone()));
         }
         for (ch, text) in self.mdi.iter().enumerate() {
             if !text.is_empty() {
@@ -323,6 +339,17 @@ impl LatheState {
                 }
                 let changed = self.jogs[ch] != (*feed, *rapid);
                 self.jogs[ch] = (*feed, *rapid);
+                changed
+            }
+            Record::Posts(posts) => {
+                if posts.len() != n {
+                    return Err(Refusal::Other(format!(
+                        "{} tool posts for this lathe's {n} channels",
+                        posts.len()
+                    )));
+                }
+                let changed = self.posts.as_ref() != Some(posts);
+                self.posts = Some(posts.clone());
                 changed
             }
             Record::Parts { target, counts } => {
@@ -526,6 +553,8 @@ pub struct Opened {
     pub pointers: Vec<usize>,
     /// Each channel's jog feed chosen on POS, mm/min (None: the machine's), and rapid jog.
     pub jogs: Vec<(Option<f64>, bool)>,
+    /// Each channel's tool post as the position memory kept it (None: never kept).
+    pub posts: Option<Vec<Post>>,
     /// What the operator should know (damage found and kept aside, a migration).
     pub warnings: Vec<String>,
 }
@@ -605,6 +634,7 @@ impl LatheStore {
             jogs: (l.jogs.iter())
                 .map(|&(f, rapid)| (f.map(|f| f as f64 / 1e6), rapid))
                 .collect(),
+            posts: l.posts.clone(),
             mdi: l
                 .mdi
                 .iter()
@@ -703,6 +733,13 @@ impl LatheStore {
         let feed = feed.map(|f| (f * 1e6).round() as i64);
         self.commit(Record::ChannelJog { ch, feed, rapid })
             .map_err(|e| format!("the jog feed could not be stored: {e}"))
+    }
+
+    /// Stores where every tool post stands and which ones move (the position memory), as one
+    /// journaled record; when this returns Ok it is on disk.
+    pub fn save_posts(&mut self, posts: &[Post]) -> Result<(), String> {
+        self.commit(Record::Posts(posts.to_vec()))
+            .map_err(|e| format!("the tool posts' positions could not be stored: {e}"))
     }
 
     /// Stores channel `ch`'s editor pointer (characters from its program's start); when this

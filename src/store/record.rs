@@ -141,6 +141,9 @@ pub enum Record {
         /// Rapid jog.
         rapid: bool,
     },
+    /// A lathe's tool posts (its position memory, docs/stores.md "A lathe's stores"): each
+    /// channel's, in order, moving or at rest, and where.
+    Posts(Vec<super::lathe::Post>),
     /// A lathe's part counter: the target and each channel's count.
     Parts {
         /// The number of parts to make.
@@ -213,6 +216,14 @@ impl Record {
                 feed.map_or("default".to_string(), |f| f.to_string()),
                 if *rapid { " rapid" } else { "" }
             ),
+            Record::Posts(posts) => {
+                let mut t = "posts".to_string();
+                for p in posts {
+                    let state = if p.moving { "moving" } else { "rest" };
+                    t += &format!(" {state} {} {}", p.pos[0], p.pos[1]);
+                }
+                t
+            }
             Record::Parts { target, counts } => {
                 let mut t = format!("parts {target}");
                 for c in counts {
@@ -332,6 +343,23 @@ impl Record {
                 },
                 rapid: !rest.is_empty(),
             },
+            ["posts", rest @ ..] if !rest.is_empty() && rest.len() % 3 == 0 => Record::Posts(
+                rest.chunks(3)
+                    .map(|p| {
+                        let moving = match p[0] {
+                            "moving" => true,
+                            "rest" => false,
+                            _ => return Err(format!("bad tool post state in '{head}'")),
+                        };
+                        let at =
+                            |v: &str| v.parse().map_err(|_| format!("bad position in '{head}'"));
+                        Ok(super::lathe::Post {
+                            moving,
+                            pos: [at(p[1])?, at(p[2])?],
+                        })
+                    })
+                    .collect::<Result<_, String>>()?,
+            ),
             ["chmdi", c] => Record::ChannelMdi {
                 ch: channel(c, head)?,
                 text: body.unwrap_or_default().to_string(),
@@ -476,6 +504,16 @@ mod tests {
                 feed: None,
                 rapid: true,
             },
+            Record::Posts(vec![
+                super::super::lathe::Post {
+                    moving: false,
+                    pos: [35_000, 60_000],
+                },
+                super::super::lathe::Post {
+                    moving: true,
+                    pos: [-1_250, -59_999],
+                },
+            ]),
             Record::Parts {
                 target: 5,
                 counts: vec![1, 0, 2],

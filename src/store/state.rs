@@ -236,6 +236,7 @@ impl State {
                 | Record::ChannelMdi { .. }
                 | Record::ChannelPointer { .. }
                 | Record::ChannelJog { .. }
+                | Record::Posts(_)
                 | Record::Parts { .. }
         );
         match (self.lathe.as_mut(), lathe_rec) {
@@ -433,6 +434,7 @@ impl State {
             | Record::ChannelMdi { .. }
             | Record::ChannelPointer { .. }
             | Record::ChannelJog { .. }
+            | Record::Posts(_)
             | Record::Parts { .. } => Err(Refusal::Other(
                 "not a record of the centre's stores".to_string(),
             )),
