@@ -914,23 +914,23 @@ fn the_lathe_shows_the_editors_type_out_and_refuses_the_centres_words_whole() {
     assert!(!frames[0].contains(">0003"), "{}", frames[0]);
     // The next line brings the listing back, the pointer on line 4.
     assert!(frames[1].contains(">0004 G18"), "{}", frames[1]);
-    std::fs::write(&script, "start\nhome\n").unwrap();
+    std::fs::write(&script, "start\ndata SEARCH\n").unwrap();
     let o = citizen_script(&script, &dir.join("state"), &[]);
     let err = text(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
-        err.contains("keys.panel:2: 'home' is the machining centre's"),
+        err.contains("keys.panel:2: 'data SEARCH' is the machining centre's"),
         "{err}"
     );
     assert!(!err.contains("START"), "nothing ran: {err}");
     // A key is read whatever it is (a recording keeps the keys that do nothing, and plays
     // back): played, it says that it does nothing, as when pressed (refused here before
     // stop 39).
-    std::fs::write(&script, "key Alt+0\nshow\n").unwrap();
+    std::fs::write(&script, "key Alt+z\nshow\n").unwrap();
     let o = citizen_script(&script, &dir.join("state"), &[]);
     let so = text(&o.stdout);
     assert!(o.status.success(), "{so}{}", text(&o.stderr));
-    assert!(so.contains("key Alt+0 does nothing in AUTO"), "{so}");
+    assert!(so.contains("key Alt+z does nothing in AUTO"), "{so}");
 }
 
 /// The screen says what the machine does: a channel's coolant (M07 mist, M08 flood), which the

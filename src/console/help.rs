@@ -86,7 +86,7 @@ pub const LATHE_HELP: [&str; 20] = [
     "F9  / Alt+s   START: begin the cycle (AUTO) or the MDI lines; resume after a stop",
     "F10 / Alt+p   STOP: feed hold on every channel",
     "F11 / Alt+r   RESET the selected channel (a fault or alarm); after E-STOP, the machine",
-    "F12 / Alt+e   E-STOP: everything stops at once",
+    "F12 / Alt+e   E-STOP: everything stops at once; Alt+0 HOME: the channel's reference return",
     "Alt+x         FAULT: stop the selected channel with the typed reason (else 'operator')",
     "Alt+n         part target: the typed number; in DATA, Alt+t reads the typed file into the channel, Alt+u punches it",
     "Alt+2/3/4     AUTO / MDI (Enter adds a line) / DATA (an editor line); Ctrl+O OFS (a value Enter, Tab adds)",

@@ -58,7 +58,7 @@ pub fn jog_key(axis: Axis, dir: i8) -> Key {
 }
 
 /// Whether the lathe console takes `ev`, an event of the one grammar; if not, why (the
-/// centre's own words: HOME, the handwheel, the data selector, tape, DRY RUN ...). A `key
+/// centre's own words: the data selector, Z NEGLECT ...). A `key
 /// NAME` is taken when the key does something on the lathe.
 pub fn takes(ev: &PanelEvent) -> Result<(), String> {
     match ev {
@@ -82,6 +82,7 @@ pub fn takes(ev: &PanelEvent) -> Result<(), String> {
         | PanelEvent::Rubout
         | PanelEvent::Eob
         | PanelEvent::PlusInput
+        | PanelEvent::Home
         | PanelEvent::Start
         | PanelEvent::Stop
         | PanelEvent::Reset
@@ -191,7 +192,9 @@ mod tests {
             parse_line("jog Y+", 3),
             Err("jog Y+: the lathe's axes are X and Z".into())
         );
-        assert!(parse_line("home", 3)
+        // HOME is every machine's (the selected channel's reference return, since stop 61).
+        assert_eq!(parse_line("home", 3), Ok(Some(PanelEvent::Home)));
+        assert!(parse_line("data SEARCH", 3)
             .unwrap_err()
             .contains("machining centre's"));
         assert_eq!(
@@ -265,13 +268,8 @@ mod tests {
             map_key(Key::Alt('7')),
             Action::Event(PanelEvent::Op(OpMode::Single))
         );
-        for k in [
-            Key::Alt('0'),
-            Key::Alt('z'),
-            Key::F(2),
-            Key::Ctrl('d'),
-            Key::Ctrl('t'),
-        ] {
+        assert_eq!(map_key(Key::Alt('0')), Action::Event(PanelEvent::Home));
+        for k in [Key::Alt('z'), Key::F(2), Key::Ctrl('d'), Key::Ctrl('t')] {
             assert_eq!(map_key(k), Action::None, "{k:?}");
         }
         assert_eq!(map_key(Key::Ctrl('p')), Action::Page(Page::Pos));

@@ -37,6 +37,9 @@ impl LatheConsole {
         }
         // Checked from where the axes stand (the centre's rule after a run under MACHINE LOCK).
         let [x, z] = c.axes().get(ch).copied().unwrap_or_default();
+        // The stores say the post moves before it can (the position memory, `posts.rs`).
+        self.before_motion(&[ch])
+            .map_err(|e| format!("{what} refused: {e}"))?;
         Ok(ManualTarget {
             ch,
             pos: [x, 0, z].into(),

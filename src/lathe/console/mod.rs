@@ -14,6 +14,7 @@ pub mod events;
 mod glue;
 mod jog;
 mod ofs;
+mod posts;
 pub mod view;
 
 pub use glue::{home, recording_info, Cycle, CycleSpec, KernelSpec, RunUntil};
@@ -98,6 +99,9 @@ pub struct LatheConsole {
     /// SEARCH (docs/lathe.md "SEARCH"): the source line channel 1's next AUTO START runs
     /// from, for one part, on a lathe of one channel loaded by hand.
     search: Option<u32>,
+    /// The position memory (`posts.rs`): where each tool post was last kept, whether it
+    /// owes the reference return, and each HOME under way.
+    posts: posts::Posts,
 }
 
 /// What the terminal or the window draws.
@@ -183,13 +187,15 @@ impl LatheConsole {
         let mut warnings = o.warnings;
         warnings.extend(damaged);
         let front = Front::new(OpMode::Auto, 10);
-        // The machine from power-on: every tool post at the top of its travel, the spindles
-        // stopped, on the front end's clock.
+        // The machine from power-on: every tool post where the position memory kept it (at
+        // the top of its travel at the first opening), the spindles stopped, on the front
+        // end's clock.
+        let (posts, pos, posts_said) = posts::Posts::restore(&desc, o.posts);
         let cycle = glue::Cycle::idle(
             &desc,
             &kept,
             glue::KernelSpec {
-                pos: (0..n).map(|ch| glue::home(&desc, ch)).collect(),
+                pos,
                 clock,
                 now_ns: 0,
                 feed_override: front.feed_override,
@@ -226,6 +232,7 @@ impl LatheConsole {
             kept,
             interrupt: None,
             search: None,
+            posts,
         };
         // Each channel's jog feed as the stores kept it, on its machine from power-on.
         for ch in 0..n {
@@ -241,6 +248,8 @@ impl LatheConsole {
                 1 => w.clone(),
                 n => format!("{w} (and {} more warnings)", n - 1),
             };
+        } else if let Some(said) = posts_said {
+            c.shell.front.message = said;
         } else if stale {
             c.shell.front.message = format!(
                 "last batch stopped at {} of {}: START begins anew",
@@ -637,6 +646,7 @@ impl LatheConsole {
                     self.sel + 1
                 );
             }
+            PanelEvent::Home => self.home(),
             PanelEvent::Channel(c) if c < self.desc.channels.len() => self.select(c),
             PanelEvent::Channel(c) => {
                 self.shell.front.message = format!("there is no channel {}", c + 1)
@@ -780,6 +790,16 @@ impl LatheConsole {
             );
             return;
         }
+        // The reference return owed since a restart: AUTO runs every channel, MDI the
+        // selected one.
+        let runs: Vec<usize> = match op {
+            OpMode::Mdi => vec![self.sel],
+            _ => (0..self.desc.channels.len()).collect(),
+        };
+        if let Some(why) = self.home_refusal(runs.iter().copied()) {
+            self.shell.front.message = why;
+            return;
+        }
         // A SEARCH point (AUTO or SINGLE BLOCK) loads its own run, whatever stands loaded at
         // rest (a cycle RESET at its start); with a run loaded, or a tool post moving, START
         // is refused and the point kept: it is the operator's, never dropped unsaid.
@@ -807,6 +827,11 @@ impl LatheConsole {
                 if !c.mdi {
                     c.set_single_block(op == OpMode::Single);
                 }
+                if let Err(e) = self.before_motion(&runs) {
+                    self.shell.front.message = format!("START refused: {e}");
+                    return;
+                }
+                let c = &mut self.cycle;
                 match c.start() {
                     Ok(()) => self.say("START", MsgLife::WhileRunning),
                     Err(e) => self.shell.front.message = e,
@@ -897,6 +922,15 @@ impl LatheConsole {
             self.stale_counts = false;
             // A new batch: its first cycle is timed from this START.
             self.last_part_ns = None;
+        }
+        let runs: Vec<usize> = match mdi {
+            true => vec![self.sel],
+            false => (0..self.desc.channels.len()).collect(),
+        };
+        if let Err(e) = self.before_motion(&runs) {
+            self.clear_cycle();
+            self.shell.front.message = format!("START refused: {e}");
+            return;
         }
         if let Err(e) = self.cycle.start() {
             self.shell.front.message = e;
@@ -1180,6 +1214,7 @@ impl LatheConsole {
                 self.shell.book.log.shown(&self.shell.front.message);
             }
         }
+        self.track_posts();
         self.log_book();
         self.record_display();
     }

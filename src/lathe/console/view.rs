@@ -247,7 +247,7 @@ mod tests {
         );
         assert_eq!(d[11].trim_end(), "> ab");
         // A long message wraps on up to a third of the rows, the listing giving way.
-        let long = "key Alt+0 does nothing on the lathe console (F8 shows the keys)";
+        let long = "key Alt+z does nothing on the lathe console (F8 shows the keys)";
         let d = plasma(
             0,
             &c,
@@ -260,7 +260,7 @@ mod tests {
             40,
         );
         assert_eq!(d.len(), 12);
-        assert_eq!(d[9].trim_end(), "key Alt+0 does nothing on the lathe");
+        assert_eq!(d[9].trim_end(), "key Alt+z does nothing on the lathe");
         assert_eq!(d[10].trim_end(), "console (F8 shows the keys)");
     }
 }
