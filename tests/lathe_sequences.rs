@@ -129,6 +129,10 @@ struct Stats {
     searches: u64,
     /// Relative positions set on POS (stop 59).
     rel_set: u64,
+    /// HOMEs accepted, restarts, and restarts after which a channel owed HOME (stop 61).
+    homes: u64,
+    restarts: u64,
+    owed: u64,
 }
 
 fn check(s: &mut Seq, what: &str) {
@@ -278,6 +282,15 @@ fn check(s: &mut Seq, what: &str) {
         if c.status.estop {
             assert_eq!(shown.state, "ESTOP", "{what}: CH{}", ch + 1);
         }
+        // A channel that owes the reference return runs no program (stop 61).
+        if s.c.home_owed()[ch] {
+            assert!(
+                !["RUN", "WAIT", "HOLD"].contains(&shown.state.as_str()),
+                "{what}: CH{} owes HOME and is {}",
+                ch + 1,
+                shown.state
+            );
+        }
         for (a, ax) in desc.channels[ch].axes.iter().enumerate() {
             let lo = desc.pulses(ax.travel[0]);
             let hi = desc.pulses(ax.travel[1]);
@@ -366,8 +379,46 @@ fn advance(s: &mut Seq, ns: u64) {
     }
 }
 
+/// HOME (stop 61) on channel `ch`, selected: its reference return, X out to the top of its
+/// travel, then Z; refused, and said, with a cycle under way, in E-STOP or under MACHINE LOCK.
+/// Run to rest, an accepted return ends at the top of the travel with the channel's position
+/// known.
+fn home(s: &mut Seq, ch: usize) {
+    s.c.handle(PanelEvent::Home);
+    let m = s.c.message().to_string();
+    let top = [
+        s.c.desc().pulses(s.c.desc().channels[ch].axes[0].travel[1]),
+        s.c.desc().pulses(s.c.desc().channels[ch].axes[1].travel[1]),
+    ];
+    // (At the top already: made at once.)
+    if m.starts_with(&format!("CH{} HOME: ", ch + 1)) {
+        s.stats.homes += 1;
+        for _ in 0..40 {
+            advance(s, 500_000_000);
+            let c = &s.c.cycle().channels()[ch].status;
+            if !c.moving && c.idle {
+                break;
+            }
+        }
+        let at = s.c.cycle().axes()[ch];
+        assert_eq!(
+            at,
+            top,
+            "home: CH{} ended off the top: {}",
+            ch + 1,
+            s.c.message()
+        );
+        assert!(!s.c.home_owed()[ch], "home: CH{} still owes it", ch + 1);
+    } else {
+        assert!(
+            m.starts_with(&format!("CH{} ", ch + 1)) && m.contains("HOME refused"),
+            "home: {m}"
+        );
+    }
+}
+
 fn step(s: &mut Seq, rng: &mut Rng) -> String {
-    let ev = match rng.range(0, 99) {
+    let ev = match rng.range(0, 104) {
         0..=14 => PanelEvent::Start,
         15..=19 => PanelEvent::Stop,
         20..=26 => PanelEvent::Reset,
@@ -418,7 +469,7 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             let keys = [
                 Key::Alt('='),
                 Key::Alt('-'),
-                Key::Alt('0'),
+                Key::Alt('z'),
                 Key::F(2),
                 Key::Alt('d'),
                 Key::Alt('l'),
@@ -715,6 +766,91 @@ fn step(s: &mut Seq, rng: &mut Rng) -> String {
             }
             return line;
         }
+        100 => {
+            let ch = s.c.selected();
+            home(s, ch);
+            return "home".into();
+        }
+        101 => {
+            // A restart (stop 61): the console closed, or dropped as a kill -9 leaves it, and
+            // opened again on the same state. A post at rest and known is where it was; one
+            // that moved at the kill, or owed HOME before, owes it now.
+            let before = s.c.cycle().axes();
+            let moving: Vec<bool> = (s.c.cycle().channels().iter())
+                .map(|c| {
+                    let st = &c.status;
+                    st.moving
+                        || (st.job.is_some() && !st.idle)
+                        || c.sync.as_ref().is_some_and(|v| v.progressing)
+                })
+                .collect();
+            let owed = s.c.home_owed().to_vec();
+            let kill = rng.range(0, 1) == 1;
+            let desc = s.c.desc().clone();
+            let dir = s.dir.clone();
+            let c = std::mem::replace(
+                &mut s.c,
+                // A stand-in while the console is gone: the state directory is the sequence's.
+                LatheConsole::open(desc.clone(), &dir.join("standin"), ROWS, COLS, None)
+                    .unwrap()
+                    .0,
+            );
+            if kill {
+                drop(c);
+            } else {
+                let _ = c.close(None);
+            }
+            s.c = LatheConsole::open(desc, &dir, ROWS, COLS, None).unwrap().0;
+            s.stats.restarts += 1;
+            let after = s.c.cycle().axes();
+            for ch in 0..before.len() {
+                let now = s.c.home_owed()[ch];
+                if moving[ch] || owed[ch] {
+                    assert!(
+                        now,
+                        "restart: CH{} moved (or owed HOME) and does not owe it",
+                        ch + 1
+                    );
+                } else {
+                    assert!(!now, "restart: CH{} at rest owes HOME", ch + 1);
+                    assert_eq!(
+                        after[ch],
+                        before[ch],
+                        "restart: CH{} is not where it was",
+                        ch + 1
+                    );
+                }
+            }
+            let mut said = String::new();
+            if s.c.home_owed().iter().any(|&o| o) {
+                s.stats.owed += 1;
+                assert!(
+                    s.c.message().contains("HOME, Alt+0"),
+                    "restart: {}",
+                    s.c.message()
+                );
+                // Half the time the operator makes each owed return at once (else the
+                // sequence goes on with AUTO refused until a HOME step makes them).
+                if rng.range(0, 1) == 1 {
+                    let owing: Vec<usize> =
+                        (0..before.len()).filter(|&c| s.c.home_owed()[c]).collect();
+                    for ch in owing {
+                        s.c.handle(PanelEvent::Channel(ch));
+                        home(s, ch);
+                        said += &format!(" channel {} home wait", ch + 1);
+                    }
+                }
+            }
+            s.fresh = true;
+            return format!(
+                "{}{said}",
+                if kill {
+                    "(killed, opened again)"
+                } else {
+                    "(closed, opened again)"
+                }
+            );
+        }
         64 | 67..=79 => {
             let ms = [1, 7, 50, 400, 2_000, 9_000][rng.range(0, 5) as usize];
             advance(s, ms * 1_000_000);
@@ -901,6 +1037,9 @@ fn run_on(m: &Machine, n: u64, steps: usize) -> Stats {
         total.punches += s.stats.punches;
         total.searches += s.stats.searches;
         total.rel_set += s.stats.rel_set;
+        total.homes += s.stats.homes;
+        total.restarts += s.stats.restarts;
+        total.owed += s.stats.owed;
         stores_hold_the_console(s, m, &format!("{} seed {seed}", m.tag));
         let _ = std::fs::remove_dir_all(dir);
     }
@@ -952,7 +1091,7 @@ fn many_random_operator_sequences() {
         let t = std::time::Instant::now();
         let st = run_on(&m, count(), 60);
         println!(
-            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {} SEARCH points, {} relative positions set on POS, {:.1} s",
+            "{}: {} sequences, {} steps, {} parts delivered, {} faults, {} E-STOPs, {} handovers seen mid-way, {} batches finished, {} manual moves, {} steps under MACHINE LOCK, {} turns that cleared a typed line, {} program files read, {} punched, {} SEARCH points, {} relative positions set on POS, {} HOMEs made, {} restarts ({} owing HOME), {:.1} s",
             m.tag,
             count(),
             st.steps,
@@ -968,6 +1107,9 @@ fn many_random_operator_sequences() {
             st.punches,
             st.searches,
             st.rel_set,
+            st.homes,
+            st.restarts,
+            st.owed,
             t.elapsed().as_secs_f64()
         );
     }
