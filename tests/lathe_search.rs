@@ -86,6 +86,17 @@ fn search_runs_the_rest_of_the_interrupted_part_and_it_counts_with_the_batch() {
     // The point is used: the next START goes on with the batch from the program's top, to
     // its target of 3 (one whole part), and no further.
     c.handle(PanelEvent::Start);
+    c.tick(1_000_000);
+    // The channel's summary counts the batch, as the title does (it said 0 of 3 here).
+    assert_eq!(c.view().channels[0].parts, 2);
+    // A target the parts made before this cycle reach is refused: the cycle makes one more
+    // (before, it was taken, and the batch ended at 3 of 2: the random operator sequences).
+    c.handle(PanelEvent::Target(2));
+    assert_eq!(
+        c.message(),
+        "target 2: 2 made before this cycle, which makes one more (RESET it first)"
+    );
+    assert_eq!(c.counter().target, 3);
     c.handle(PanelEvent::Wait);
     assert_eq!(c.counter().counts, [3]);
     let whole = c.machine_ns() - t0 - took;

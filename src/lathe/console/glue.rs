@@ -1089,10 +1089,15 @@ impl Cycle {
         !self.base.is_empty()
     }
 
-    /// The machine's target for the batch's target `n`: less the parts made before this cycle.
+    /// The parts the batch had made before this cycle began (0 for a new batch).
+    pub fn made_before(&self) -> u32 {
+        self.base.iter().copied().max().unwrap_or(0)
+    }
+
+    /// The machine's target for the batch's target `n`: less the parts made before this cycle
+    /// (at least 1: a cycle makes a part).
     pub fn machine_target(&self, n: u32) -> u32 {
-        let made = self.base.iter().copied().max().unwrap_or(0);
-        n.saturating_sub(made).max(1)
+        n.saturating_sub(self.made_before()).max(1)
     }
 
     /// How a cycle at rest stands, for `novanc run`: `Ok(true)` every channel finished,
@@ -1270,7 +1275,10 @@ impl Cycle {
                     v.work = s.work;
                     v.chuck = s.closed;
                     if !self.mdi {
-                        v.parts = s.parts;
+                        // The batch's count, as the title's (`counts`): a cycle going on with a
+                        // batch after a SEARCH counts on from the parts made before it (the
+                        // summary said `parts 4/5` beside the title's `PARTS 5/5`).
+                        v.parts = self.base.get(ch).copied().unwrap_or(0) + s.parts;
                     }
                     v.note = s.fault.clone().unwrap_or_default();
                 }

@@ -749,6 +749,15 @@ impl LatheConsole {
             if n < most.max(1) {
                 return Err(format!("target {n}: a channel has already finished {most}"));
             }
+            // A cycle that goes on with a batch makes one part at least: a target the parts
+            // made before it already reach would be passed (found by the random operator
+            // sequences, byhand seed 335: 2 of 1).
+            let before = c.made_before();
+            if !c.searching() && before > 0 && n <= before {
+                return Err(format!(
+                    "target {n}: {before} made before this cycle, which makes one more (RESET it first)"
+                ));
+            }
             // A SEARCH's part runs once whatever the batch's target (the machine's stays 1);
             // it makes one more part.
             if c.searching() && n < most + 1 {
