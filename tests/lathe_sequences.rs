@@ -164,6 +164,11 @@ fn check(s: &mut Seq, what: &str) {
         }
     }
     s.counts = counts.clone();
+    // Each channel's summary counts what the part counter counts (stop 61: after a SEARCH the
+    // summary counted the cycle's parts only, beside the title's batch).
+    for (ch, c) in v.channels.iter().enumerate() {
+        assert_eq!(c.parts, counts[ch], "{what}: CH{}'s summary count", ch + 1);
+    }
     // The programmed path the window draws (stop 51: what START would run, the MDI lines in
     // MDI), every seventh step: it reads, or says why at a real line; what it reads ends
     // inside the channel's travel.
@@ -393,7 +398,8 @@ fn home(s: &mut Seq, ch: usize) {
     // (At the top already: made at once.)
     if m.starts_with(&format!("CH{} HOME: ", ch + 1)) {
         s.stats.homes += 1;
-        for _ in 0..40 {
+        // (At POS's slowest jog feed here, JOG 300, the Citizen's longest return takes 31 s.)
+        for _ in 0..400 {
             advance(s, 500_000_000);
             let c = &s.c.cycle().channels()[ch].status;
             if !c.moving && c.idle {
