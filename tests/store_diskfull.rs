@@ -178,3 +178,86 @@ fn a_refused_edit_is_shown_before_the_history_failure() {
         false,
     );
 }
+
+const CHILD_MOTION: &str = "NOVANC_DISKFULL_MOTION";
+
+/// The child: on a full disk neither machine moves an axis its position memory cannot follow.
+#[test]
+fn child_motion_on_a_full_disk() {
+    if std::env::var_os(CHILD_MOTION).is_none() {
+        return;
+    }
+    use novanc::panel_model::{Axis, OpMode, PanelEvent};
+    let mut c = common::open("diskfull-motion");
+    let mut l = common::open_citizen(&common::temp_dir("diskfull-motion-lathe"));
+    let posts = l.tips();
+    common::limit_file_size(1);
+    for ev in [
+        PanelEvent::Op(OpMode::Continuous),
+        PanelEvent::Jog(Axis::X, 1),
+    ] {
+        c.handle(ev.clone());
+        l.handle(ev);
+    }
+    assert!(
+        c.message()
+            .starts_with("jog refused: the position could not be kept: "),
+        "{}",
+        c.message()
+    );
+    assert!(
+        l.message()
+            .starts_with("jog refused: the tool posts' positions could not be stored: "),
+        "{}",
+        l.message()
+    );
+    c.handle(PanelEvent::Home);
+    assert!(
+        c.message()
+            .starts_with("HOME refused: the position could not be kept"),
+        "{}",
+        c.message()
+    );
+    l.handle(PanelEvent::Home);
+    assert!(
+        l.message().starts_with("CH1 HOME refused: the tool posts'"),
+        "{}",
+        l.message()
+    );
+    l.handle(PanelEvent::Op(OpMode::Auto));
+    l.handle(PanelEvent::Start);
+    assert!(
+        l.message().starts_with("START refused: the tool posts'"),
+        "{}",
+        l.message()
+    );
+    c.handle(PanelEvent::Op(OpMode::Auto));
+    c.handle(PanelEvent::Start);
+    assert!(
+        c.message()
+            .starts_with("START refused: the position could not be kept"),
+        "{}",
+        c.message()
+    );
+    c.handle(PanelEvent::WaitMs(500));
+    l.handle(PanelEvent::WaitMs(500));
+    assert_eq!(l.tips(), posts, "a lathe's post moved");
+    assert_eq!(
+        c.core().status().machine_pos,
+        [0; 3],
+        "the centre's axes moved"
+    );
+    println!("\nchild done");
+}
+
+/// Stop 61: an axis moves only once its position memory says it moves, on both machines; on a
+/// full disk a jog, HOME and START are refused with the store's reason and nothing moves
+/// (before, the centre moved and said the position could not be kept).
+#[test]
+fn no_axis_moves_that_the_position_memory_cannot_follow() {
+    common::run_child(
+        "child_motion_on_a_full_disk",
+        &[(CHILD_MOTION, std::ffi::OsStr::new("1"))],
+        false,
+    );
+}

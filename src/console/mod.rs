@@ -584,8 +584,12 @@ impl Console {
         // The core keeps its notice across these (they answer no operator action of their
         // own): forgetting it was shown would show it again, after what it spoke of.
         let keeps_notice = c.keeps_notice();
+        // (Every operator action that can move is refused before it comes here when the
+        // position cannot be kept; this catches any other.)
         if posmem::can_move(&c) {
-            posmem::before_motion(self);
+            if let Err(e) = posmem::before_motion(self) {
+                self.shell.front.message = format!("{} ({e})", self.shell.front.message);
+            }
         }
         self.status = self.core.command(c);
         if !keeps_notice {

@@ -138,10 +138,13 @@ pub(super) fn can_move(c: &Command) -> bool {
 
 /// Before a command that can move an axis (`can_move`, or a run's START): the file says
 /// `moving`, on disk, so that a console killed before its next frame leaves a position that is
-/// not trusted (a refused command is followed by `at rest` again at the next status poll).
-pub(super) fn before_motion(c: &mut Console) {
+/// not trusted (a refused command is followed by `at rest` again at the next status poll). If
+/// it cannot be written the motion is refused (Err, why; since stop 61, a lathe's rule too):
+/// a console killed during it would leave a position kept at rest that the axes no longer
+/// have. Before stop 61 the axes moved and the message said the position could not be kept.
+pub(super) fn before_motion(c: &mut Console) -> Result<(), String> {
     if c.posmem.written.as_ref().is_some_and(|w| w.moving) {
-        return;
+        return Ok(());
     }
     let s = &c.status;
     let k = Kept {
@@ -150,14 +153,9 @@ pub(super) fn before_motion(c: &mut Console) {
         tool: s.tool,
         jog: c.posmem.jog,
     };
-    if let Err(e) = save(&c.cfg.state_dir, &k) {
-        c.shell.front.message = format!(
-            "{} (the position could not be kept: {e})",
-            c.shell.front.message
-        );
-        return;
-    }
+    save(&c.cfg.state_dir, &k).map_err(|e| format!("the position could not be kept: {e}"))?;
     c.posmem.written = Some(k);
+    Ok(())
 }
 
 /// At start: the kept position and tool are given to the core; a position kept while moving
@@ -209,6 +207,10 @@ pub(super) fn refusal(c: &Console) -> Option<String> {
 
 /// HOME: the reference return.
 pub(super) fn home(c: &mut Console) {
+    if let Err(e) = before_motion(c) {
+        c.shell.front.message = format!("HOME refused: {e}");
+        return;
+    }
     c.command(Command::Home);
     if let Some(n) = c.status.notice.clone() {
         c.shell.front.message = n;

@@ -217,6 +217,12 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
             return;
         }
     }
+    // The position file says the axes move before they can (`posmem.rs`); if it cannot,
+    // nothing is made or started.
+    if let Err(e) = super::posmem::before_motion(c) {
+        c.shell.front.message = format!("START refused: {e}");
+        return;
+    }
     // The single-block switch is told only when START can act: a START ignored while a block
     // executes changes nothing, not even whether the run stops after that block.
     let st = &c.status;
@@ -239,7 +245,6 @@ pub(super) fn start_program(c: &mut Console, kind: RunKind) {
         None
     };
     let runs_before = c.status.runs;
-    super::posmem::before_motion(c);
     c.status = c.core.start(kind, make);
     c.notice_seen = c.status.notice.clone();
     if let Some(n) = &c.status.notice {

@@ -184,6 +184,8 @@ impl Side for Console {
         if self.status.run != 0 && !self.status.hold {
             return Err(format!("{what} refused: a program is running (STOP first)"));
         }
+        // The position file says the axes move before they can (`posmem.rs`).
+        super::posmem::before_motion(self).map_err(|e| format!("{what} refused: {e}"))?;
         Ok(ManualTarget {
             ch: 0,
             pos: self.status.machine_state().pos,
