@@ -109,6 +109,14 @@ fn a_console_killed_while_a_post_moved_owes_that_channels_home_until_it_is_made(
     c.handle(PanelEvent::Home);
     assert_eq!(c.message(), "CH3 HOME: reference return, X first, then Z");
     let mut x_first = false;
+    c.tick(10_000_000);
+    // The summary line says what the post does.
+    assert_eq!(c.view().channels[2].state, "HOME");
+    assert!(
+        c.view().summary[2].contains("CH3 HOME"),
+        "{:?}",
+        c.view().summary
+    );
     for _ in 0..400 {
         c.tick(10_000_000);
         let p = post(&c, 2);

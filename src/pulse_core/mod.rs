@@ -341,6 +341,9 @@ pub struct Status {
     pub machine_ns: u64,
     /// Whether any axis is moving.
     pub moving: bool,
+    /// A return moves the axes (HOME's reference return, or the way back to a held run after
+    /// a manual move), or is queued.
+    pub returning: bool,
     /// Whether the last run ended at the end of its program.
     pub program_end: bool,
     /// Nothing happens until the next command: no motion, nothing pending, and RUN = 0 (or a

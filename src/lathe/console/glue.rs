@@ -1190,6 +1190,9 @@ impl Cycle {
         } else if st.job.is_some() && !st.moving {
             // Its run loaded and stopped between two blocks (SINGLE BLOCK): START goes on.
             "STOP"
+        } else if st.returning && st.job.is_none() {
+            // The reference return (HOME): no program runs, and the post goes to the top.
+            "HOME"
         } else if st.moving {
             // A manual move: no program runs, and an axis moves (CONTINUOUS, HANDLE, STEP).
             "JOG"

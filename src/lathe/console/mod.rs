@@ -368,6 +368,8 @@ impl LatheConsole {
             "SINGLE BLOCK: a channel stops after each block; START runs the next"
         } else if any(&["STOP"]) {
             "STOP: a program stop; START goes on"
+        } else if any(&["HOME"]) {
+            "HOME: a tool post makes its reference return, X first, then Z (the summary line says which)"
         } else if any(&["JOG"]) {
             "JOG: a tool post moves by hand (the summary line says which)"
         } else {

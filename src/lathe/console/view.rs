@@ -2,12 +2,13 @@
 //! and the plasma display of the selected one. Pure text; the terminal and the window draw it.
 
 /// Whether the machine runs, from its channels' state words (the RUN lamp, and how long a
-/// "cycle start" message lives): a channel runs (RUN) or moves by hand (JOG), or waits on
+/// "cycle start" message lives): a channel runs (RUN), moves by hand (JOG) or makes its
+/// reference return (HOME), or waits on
 /// another while none stands stopped between blocks or held (a channel waiting on a stopped
 /// one waits on the operator).
 pub fn runs(chans: &[ChanView]) -> bool {
     let any = |w: &[&str]| chans.iter().any(|c| w.contains(&c.state.as_str()));
-    any(&["RUN", "JOG"]) || (any(&["WAIT"]) && !any(&["STOP", "HOLD"]))
+    any(&["RUN", "JOG", "HOME"]) || (any(&["WAIT"]) && !any(&["STOP", "HOLD"]))
 }
 
 /// One channel as the display shows it.

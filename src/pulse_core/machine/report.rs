@@ -269,6 +269,7 @@ impl Machine {
             hold_after_tap: self.hold_after_tap,
             machine_ns: self.now,
             moving: motion.is_some_and(|m| !m.at_rest()),
+            returning: self.ret.is_some() || !self.ret_queue.is_empty(),
             program_end: self.program_end,
             idle: self.is_idle(),
             notice: self.notice.clone(),
