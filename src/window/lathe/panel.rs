@@ -283,6 +283,15 @@ pub fn relay(
             PanelEvent::Press(k) => Act::Press(k),
             e => Act::Ev(e),
         }));
+        // (Here, where the row has room: the rows below are as wide as the panel allows.)
+        if key(ui, "HOME", false, 48.0)
+            .on_hover_text(
+                "the selected channel's reference return: X out to the top, then Z (Alt+0)",
+            )
+            .clicked()
+        {
+            out.push(Act::Ev(PanelEvent::Home));
+        }
     });
     ui.horizontal(|ui| {
         if key(ui, "FAULT", false, 60.0)
