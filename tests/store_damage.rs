@@ -202,7 +202,10 @@ fn a_flipped_byte_anywhere_in_either_file_loses_no_acknowledged_edit() {
 fn lathe_open(state: &Path) -> (String, Vec<String>) {
     match LatheStore::open(state, &LatheDesc::citizen()) {
         Ok(o) => (
-            format!("{:?}\n{:?}\n{:?}", o.programs, o.tools, o.counter),
+            format!(
+                "{:?}\n{:?}\n{:?}\n{:?}",
+                o.programs, o.tools, o.counter, o.posts
+            ),
             o.warnings,
         ),
         Err(e) => panic!("open {}: {e}", state.display()),
@@ -225,6 +228,16 @@ fn lathe_mixed(state: &Path) -> PathBuf {
         let mut c = o.counter.clone();
         c.counts[ch] += 2;
         o.store.save_counter(&c).unwrap();
+        // The position memory (stop 61): a post about to move, then every post at rest.
+        let post = |moving, x| novanc::store::lathe::Post {
+            moving,
+            pos: [x, -1_250],
+        };
+        let x = 20_000 + round as i64;
+        o.store
+            .save_posts(&[post(false, x), post(true, x), post(false, x)])
+            .unwrap();
+        o.store.save_posts(&[post(false, x); 3]).unwrap();
     }
     state.join("lathe-citizen")
 }
@@ -238,6 +251,7 @@ fn a_flipped_byte_in_a_lathes_files_loses_no_acknowledged_change() {
     let (want, w) = lathe_open(&state);
     assert!(w.is_empty(), "{w:?}");
     assert!(want.contains("(ROUND 1)") && want.contains("counts: [2, 0, 2]"));
+    assert!(want.contains("pos: [20001, -1250]"), "{want}");
     // Put back the files as they were before that open compacted them.
     let d2 = lathe_mixed(&fresh("lathe-flips"));
     assert_eq!(d, d2);
@@ -290,7 +304,8 @@ fn a_lathe_journal_record_lost_from_both_copies_is_reported() {
     let state = fresh("lathe-journal");
     let d = lathe_mixed(&state);
     let jour = fs::read(d.join("journal.log")).unwrap();
-    // The second round's journal: its program, its tools, its counter. Damage the tools.
+    // The second round's journal: its program, its tools, its counter, its two `posts`.
+    // Damage the tools.
     let line = b"chtools 2\n";
     let i = find(&jour, line);
     let j = i + 1 + find(&jour[i + 1..], line);
@@ -305,11 +320,13 @@ fn a_lathe_journal_record_lost_from_both_copies_is_reported() {
     );
     assert_eq!(o.tools[1].as_ref().unwrap()[0].offset, [0.01, -0.25]);
     assert_eq!(o.counter.counts, [2, 0, 0], "after it: not replayed");
+    let kept = o.posts.expect("the first round's posts, from the snapshot");
+    assert_eq!(kept[1].pos, [20_000, -1_250], "after it: not replayed");
     assert_eq!(o.warnings.len(), 1, "{:?}", o.warnings);
     assert!(
         o.warnings[0].contains("journal record 2")
             && o.warnings[0]
-                .contains("in both copies; it and the 1 records after it cannot be replayed")
+                .contains("in both copies; it and the 3 records after it cannot be replayed")
             && o.warnings[0].contains("It is kept as journal.log.bad-"),
         "{}",
         o.warnings[0]
