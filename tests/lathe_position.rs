@@ -154,7 +154,7 @@ fn home_is_refused_with_a_cycle_under_way_in_e_stop_and_under_machine_lock() {
     let mut c = open(&dir);
     c.handle(PanelEvent::MachineLock(true));
     c.handle(PanelEvent::Home);
-    assert!(c.message().contains("MACHINE LOCK"), "{}", c.message());
+    assert_eq!(c.message(), "CH1 HOME refused: MACHINE LOCK is on");
     c.handle(PanelEvent::MachineLock(false));
     c.handle(PanelEvent::Start);
     c.tick(100_000_000);
