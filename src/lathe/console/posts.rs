@@ -159,11 +159,6 @@ impl LatheConsole {
             );
             return;
         }
-        // (The kernel's refusal names the centre's Z NEGLECT too, which a lathe has not.)
-        if c.channels().iter().any(|s| s.status.switches.machine_lock) {
-            self.shell.front.message = format!("CH{} HOME refused: MACHINE LOCK is on", ch + 1);
-            return;
-        }
         if let Err(e) = self.before_motion(&[ch]) {
             self.shell.front.message = format!("CH{} HOME refused: {e}", ch + 1);
             return;

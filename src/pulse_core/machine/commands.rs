@@ -298,15 +298,18 @@ impl Machine {
         self.resume_held(self.now);
     }
 
-    /// HOME: the reference return to machine zero, Z first (docs/pulse-core.md, "Position
-    /// memory and the reference return").
+    /// HOME: the reference return to the settings' reference point, the retract axis first
+    /// (docs/pulse-core.md, "Position memory and the reference return"). A refusal names the
+    /// switch that is on (a lathe's channel has no Z NEGLECT to name).
     fn home(&mut self) {
         let why = if self.estop {
             Some("HOME refused: EMERGENCY STOP in force, press RESET")
         } else if self.job.is_some() {
             Some("HOME refused: a run is loaded; RESET first")
-        } else if self.machine_lock || self.z_neglect {
-            Some("HOME refused: MACHINE LOCK or Z NEGLECT is on")
+        } else if self.machine_lock {
+            Some("HOME refused: MACHINE LOCK is on")
+        } else if self.z_neglect {
+            Some("HOME refused: Z NEGLECT is on")
         } else if self.current.is_some() || self.jog.is_some() || self.ret.is_some() {
             Some("HOME refused: an axis is moving")
         } else {
