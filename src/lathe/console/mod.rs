@@ -871,7 +871,7 @@ impl LatheConsole {
                     .iter()
                     .map(|p| (p.name.clone(), p.text.clone()))
                     .collect();
-                self.begin(texts, false);
+                self.begin(texts, &runs);
             }
             OpMode::Mdi => {
                 if self.mdi[self.sel].is_empty() {
@@ -884,12 +884,15 @@ impl LatheConsole {
                     format!("MDI CH{}", self.sel + 1),
                     self.mdi[self.sel].join("\n") + "\n",
                 );
-                self.begin(texts, true);
+                self.begin(texts, &runs);
             }
         }
     }
 
-    fn begin(&mut self, texts: Vec<(String, String)>, mdi: bool) {
+    /// Loads and starts `texts`: every channel's cycle, or (`runs` the selected channel
+    /// alone, in MDI) its MDI program.
+    fn begin(&mut self, texts: Vec<(String, String)>, runs: &[usize]) {
+        let mdi = self.shell.front.op == OpMode::Mdi;
         let opts = self.read_options();
         // A SEARCH runs one part, which goes on with the batch (its count is kept); after it,
         // the batch goes on from the program's top to its target.
@@ -934,11 +937,7 @@ impl LatheConsole {
             // A new batch: its first cycle is timed from this START.
             self.last_part_ns = None;
         }
-        let runs: Vec<usize> = match mdi {
-            true => vec![self.sel],
-            false => (0..self.desc.channels.len()).collect(),
-        };
-        if let Err(e) = self.before_motion(&runs) {
+        if let Err(e) = self.before_motion(runs) {
             self.clear_cycle();
             self.shell.front.message = format!("START refused: {e}");
             return;
